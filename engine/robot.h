@@ -1,0 +1,74 @@
+// robot.h: Roger's numbers and the names of its eight degrees of freedom.
+// Definition structs with defaults (Box2D style): every number of DESIGN.md lives here once.
+#pragma once
+
+#include <array>
+
+#include <Eigen/Core>
+
+namespace roger {
+
+// The eight degrees of freedom every action writes an error for, in this order.
+enum Dof : int {
+  kBaseForward = 0,  // metres along the heading (an odometer)
+  kBaseHeading,      // radians, unwrapped
+  kLeftEye,          // pan relative to the base heading
+  kRightEye,
+  kLeftShoulder,     // relative to the base heading
+  kLeftElbow,        // relative to the upper arm
+  kRightShoulder,
+  kRightElbow,
+  kDofCount
+};
+
+// One value per degree of freedom.
+using DofVector = Eigen::Matrix<double, kDofCount, 1>;
+
+// Display names of the degrees of freedom, for messages and files.
+extern const std::array<const char*, kDofCount> kDofNames;
+
+// The tactile sensors: the base and the two hands (the paper's three elastic bodies).
+enum Tactile : int { kBody = 0, kLeftHand, kRightHand, kTactileCount };
+
+// Left and right eye, left and right arm.
+enum Side : int { kLeft = 0, kRight = 1 };
+
+// A servo's gains and limits. Position error -> desired rate (kp, clamped to max_rate) ->
+// force or torque (kv times the rate error, clamped to max_effort).
+struct ServoParams {
+  double kp = 8.0;           // 1/s
+  double max_rate = 2.0;     // m/s or rad/s
+  double kv = 20.0;          // N/(m/s) or N m/(rad/s) (base only; arm joints use Box2D motors)
+  double max_effort = 20.0;  // N or N m
+};
+
+// Roger's body, from the original Roger-the-Crab simulator.
+struct RobotParams {
+  double base_radius = 0.16;  // m
+  double base_mass = 1.0;     // kg
+  double axle_half_width = 0.20;
+  double link_length[2] = {0.5, 0.5};  // upper arm, forearm (m)
+  double link_mass = 0.2;              // kg each
+  double link_width = 0.04;            // m (drawing only: links do not collide)
+  double hand_radius = 0.08;           // m
+  double hand_mass = 0.05;             // kg
+  double shoulder_y = 0.18;            // shoulders at (0, +-0.18) in the base frame
+  double eye_y = 0.08;                 // eyes at (0, +-0.08) in the base frame
+  double eye_pan_limit = 1.5707963267948966;  // +-pi/2
+  double shoulder_min = -3.0, shoulder_max = 3.0;  // left arm; the right arm is mirrored
+  double elbow_min = -2.9, elbow_max = 2.9;
+  double surface_friction = 1.0;  // Coulomb coefficient of the hands and body
+
+  ServoParams base_forward{6.0, 1.0, 40.0, 40.0};
+  ServoParams base_heading{6.0, 3.0, 4.0, 6.0};
+  ServoParams eye{20.0, 6.0, 0.0, 0.0};  // eyes are light: first-order rate servos
+  ServoParams shoulder{10.0, 4.0, 0.0, 20.0};
+  ServoParams elbow{10.0, 4.0, 0.0, 12.0};
+};
+
+// The camera model: a 1-D pinhole with 128 pixels and a 64-pixel focal length.
+constexpr int kPixels = 128;
+constexpr double kFocalPixels = 64.0;
+constexpr double kPrincipalPixel = 63.5;
+
+}  // namespace roger
