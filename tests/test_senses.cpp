@@ -1,0 +1,114 @@
+// Tests of engine/senses: the 1-D pinhole eyes, stimulus detection, occlusion, stereo.
+#include <catch2/catch.hpp>
+
+#include "senses.h"
+#include "world.h"
+#include "world_fixtures.h"
+
+using namespace roger;
+using namespace roger::test;
+
+namespace {
+SeenSurface disk(Vec2 c, double r, Colour colour, SurfaceKind kind = SurfaceKind::kObject) {
+  SeenSurface s;
+  s.kind = kind, s.index = 0, s.colour = colour, s.is_disk = true, s.center = c, s.radius = r;
+  return s;
+}
+const Colour kRed{220, 30, 30}, kGrey{90, 90, 110}, kWall{200, 200, 200};
+}  // namespace
+
+TEST_CASE("a ball at a known bearing lands on the pixel the pinhole model predicts", "[senses]") {
+  // The ball (8.8 degrees half-width at 1.3 m) stays wholly inside the +-45 degree field of view.
+  for (double bearing_deg : {-35.0, -25.0, -10.0, 0.0, 7.5, 20.0, 35.0}) {
+    const double b = bearing_deg * M_PI / 180.0;
+    const Vec2 eye(0.3, -0.2);
+    const double heading = 0.4;
+    const Vec2 ball = eye + 1.3 * Vec2(std::cos(heading + b), std::sin(heading + b));
+    EyeImage image;
+    paint_eye(eye, heading, {disk(ball, 0.2, kRed)}, kWall, kRed, image);
+    const Sighting s = detect_stimulus(image);
+    const double predicted = 63.5 + 64.0 * std::tan(b);
+    INFO("bearing " << bearing_deg << " deg, predicted pixel " << predicted << ", seen " << s.u);
+    REQUIRE(s.seen);
+    CHECK(std::abs(s.u - predicted) < 1.0);
+    CHECK(image.colour[int(std::lround(predicted))] == kRed);
+    CHECK(std::abs(s.bearing - b) < 1e-4);
+  }
+}
+
+TEST_CASE("pixels carry the colour of the nearest surface", "[senses]") {
+  const Vec2 eye(0, 0);
+  // A grey disk in front of the red one, partly overlapping in angle.
+  EyeImage image;
+  paint_eye(eye, 0.0, {disk({2.0, 0.0}, 0.3, kRed), disk({1.0, 0.1}, 0.1, kGrey, SurfaceKind::kObstacle)},
+            kWall, kRed, image);
+  const int near_pixel = int(std::lround(63.5 + 64.0 * std::tan(std::atan2(0.1, 1.0))));
+  CHECK(image.colour[near_pixel] == kGrey);
+  CHECK(image.kind[near_pixel] == SurfaceKind::kObstacle);
+  CHECK(image.colour[int(std::lround(63.5 + 64.0 * std::tan(-0.1)))] == kRed);
+  CHECK(image.colour[0] == kWall);
+  CHECK(image.colour[127] == kWall);
+  // Out of the field of view: behind the eye.
+  paint_eye(eye, 0.0, {disk({-2.0, 0.0}, 0.3, kRed)}, kWall, kRed, image);
+  CHECK_FALSE(detect_stimulus(image).seen);
+}
+
+TEST_CASE("an obstacle between eye and ball hides it", "[senses]") {
+  WorldSpec spec = open_world(true, Vec2(1.6, 0.0));
+  ObstacleSpec wall;
+  wall.shape = box_shape(0.1, 0.4);
+  wall.pose = {0.8, 0.0, 0.0};
+  World world;
+  world.reset(open_world(true, Vec2(1.6, 0.0)));
+  REQUIRE(world.senses().stimulus[kLeft].seen);
+  REQUIRE(world.senses().stimulus[kRight].seen);
+  spec.obstacles.push_back(wall);
+  world.reset(spec);
+  CHECK_FALSE(world.senses().stimulus[kLeft].seen);
+  CHECK_FALSE(world.senses().stimulus[kRight].seen);
+  CHECK_FALSE(world.senses().stereo_valid);
+  CHECK(world.senses().image[kLeft].colour[64] == wall.colour);
+  // A narrow post hides part of the ball only: it is still seen, and the estimate moves little.
+  spec.obstacles[0].shape = box_shape(0.02, 0.02);
+  spec.obstacles[0].pose = {0.8, 0.12, 0.0};
+  world.reset(spec);
+  CHECK(world.senses().stimulus[kLeft].seen);
+}
+
+TEST_CASE("stereo places the ball within 2 cm at 1 to 2 m in the open", "[senses]") {
+  World world;
+  int checked = 0;
+  for (double range : {1.0, 1.25, 1.5, 1.75, 2.0})
+    for (double bearing : {-0.5, -0.25, 0.0, 0.2, 0.45}) {
+      const Vec2 ball = range * Vec2(std::cos(bearing), std::sin(bearing));
+      WorldSpec spec = open_world(true, ball);
+      spec.robot.pose = {-0.3, 0.0, 0.0};
+      spec.objects[0].pose.x -= 0.3;
+      // Point the eyes at it, as tracking would.
+      spec.robot.left_eye = spec.robot.right_eye = bearing * 0.8;
+      world.reset(spec);
+      const Senses& s = world.senses();
+      INFO("range " << range << " bearing " << bearing);
+      REQUIRE(s.stereo_valid);
+      const Vec2 truth(world.object_pose(0).x, world.object_pose(0).y);
+      CHECK((s.stimulus_world - truth).norm() < 0.02);
+      const Vec2 in_base = to_local(world.base_pose(), truth);
+      CHECK((s.stimulus_base - in_base).norm() < 0.02);
+      ++checked;
+    }
+  CHECK(checked == 25);
+}
+
+TEST_CASE("touch, joints and base pose are reported every tick", "[senses]") {
+  World world;
+  world.reset(open_world(false));
+  DofVector e = DofVector::Zero();
+  e[kLeftEye] = 0.5;
+  world.command(e);
+  run_for(world, 1.0);
+  const Senses& s = world.senses();
+  CHECK(s.time == Approx(world.time()));
+  CHECK(s.q[kLeftEye] == Approx(0.5).margin(0.01));
+  CHECK(s.base.x == Approx(world.base_pose().x));
+  for (const Touch& t : s.touch) CHECK_FALSE(t.contact);
+}

@@ -1,0 +1,208 @@
+// Tests of engine/world: Roger's body on Box2D (kinematics, drive, servos, touch, determinism).
+#include <catch2/catch.hpp>
+
+#include "rng.h"
+#include "world.h"
+#include "world_fixtures.h"
+
+using namespace roger;
+using namespace roger::test;
+
+TEST_CASE("forward kinematics of both arms matches the Box2D bodies within 1 mm", "[world]") {
+  World world;
+  world.reset(open_world(false));
+  Rng rng(7);
+  const RobotParams& r = world.params().robot;
+  for (int trial = 0; trial < 20; ++trial) {
+    DofVector s = world.q();
+    s[kLeftShoulder] = rng.uniform(-1.5, 2.5);
+    s[kLeftElbow] = rng.uniform(-2.5, 2.5);
+    s[kRightShoulder] = rng.uniform(-2.5, 1.5);
+    s[kRightElbow] = rng.uniform(-2.5, 2.5);
+    world.set_setpoints(s);
+    run_for(world, 1.5);
+    const DofVector q = world.q();
+    for (int side = 0; side < 2; ++side) {
+      const ArmPoints fk = arm_forward_kinematics(r, world.base_pose(), side,
+                                                  q[kLeftShoulder + 2 * side], q[kLeftElbow + 2 * side]);
+      const ArmPoints body = world.arm_points(side);
+      CHECK((fk.elbow - body.elbow).norm() < 1e-3);
+      CHECK((fk.hand - body.hand).norm() < 1e-3);
+    }
+  }
+}
+
+TEST_CASE("the base drives and turns without sliding sideways", "[world]") {
+  World world;
+  world.reset(open_world(false));
+  double worst = 0.0, travelled = 0.0, turned = 0.0;
+  const Pose start = world.base_pose();
+  for (int tick = 0; tick < 150; ++tick) {
+    DofVector e = DofVector::Zero();
+    e[kBaseForward] = 0.3;                      // keep driving
+    e[kBaseHeading] = tick < 75 ? 0.6 : -0.6;   // while turning one way, then the other
+    world.command(e);
+    // Sideways speed from the motion itself: over one physics step a wheeled base moves along the
+    // chord of its arc, i.e. along its mid-step heading; anything across it is slip.
+    for (int step = 0; step < world.params().substeps; ++step) {
+      const Pose p0 = world.base_pose();
+      world.step_physics();
+      const Pose p1 = world.base_pose();
+      const double mid = 0.5 * (p0.theta + p1.theta);
+      const double across = -(p1.x - p0.x) * std::sin(mid) + (p1.y - p0.y) * std::cos(mid);
+      worst = std::max(worst, std::abs(across) / world.params().dt);
+    }
+    world.sense();
+    worst = std::max(worst, std::abs(world.base_lateral_speed()));
+  }
+  const Pose end = world.base_pose();
+  travelled = std::hypot(end.x - start.x, end.y - start.y);
+  turned = std::abs(world.senses().q[kBaseHeading] - start.theta);
+  INFO("lateral " << worst << " m/s, travelled " << travelled << " m");
+  CHECK(travelled > 1.0);
+  CHECK(world.senses().qdot[kBaseForward] > 0.5);
+  CHECK(turned > 0.3);
+  CHECK(worst < 0.01);
+}
+
+TEST_CASE("every servo reaches its setpoint in bounded time and holds it", "[world]") {
+  struct Case { int dof; double offset; double tolerance; double within; };
+  const Case cases[] = {
+      {kBaseForward, 0.8, 0.01, 3.0},  {kBaseForward, -0.5, 0.01, 3.0},
+      {kBaseHeading, 2.0, 0.01, 3.0},  {kBaseHeading, -1.2, 0.01, 3.0},
+      {kLeftEye, 1.2, 0.005, 1.0},     {kRightEye, -1.2, 0.005, 1.0},
+      {kLeftShoulder, 0.8, 0.01, 2.0}, {kLeftElbow, 0.9, 0.01, 2.0},
+      {kRightShoulder, -0.8, 0.01, 2.0}, {kRightElbow, -0.9, 0.01, 2.0},
+  };
+  for (const Case& c : cases) {
+    World world;
+    world.reset(open_world(false));
+    DofVector s = world.q();
+    s[c.dof] += c.offset;
+    world.set_setpoints(s);
+    const double target = world.setpoints()[c.dof];
+    double reached_at = -1.0;
+    for (int tick = 0; tick < int(c.within / world.tick_seconds()); ++tick) {
+      world.tick();
+      if (std::abs(world.q()[c.dof] - target) < c.tolerance) {
+        reached_at = world.time();
+        break;
+      }
+    }
+    INFO(kDofNames[c.dof] << " offset " << c.offset << " reached at " << reached_at);
+    REQUIRE(reached_at > 0.0);
+    double worst = 0.0;
+    for (int tick = 0; tick < 50; ++tick) {  // hold for one second
+      world.tick();
+      worst = std::max(worst, std::abs(world.q()[c.dof] - target));
+    }
+    CHECK(worst < 2 * c.tolerance);
+  }
+}
+
+TEST_CASE("a hand pressed on the ball feels a force along the true normal", "[world]") {
+  World world;
+  // Ball to the front-left, inside the left arm's reach.
+  world.reset(open_world(true, Vec2(0.75, 0.55)));
+  DofVector s = world.q();
+  // Aim the left hand at the ball's centre: it cannot get there, so it presses.
+  const Vec2 shoulder(0.0, 0.18), target(0.75, 0.55);
+  const double d = (target - shoulder).norm();
+  const double elbow = std::acos(std::clamp((d * d - 0.5) / 0.5, -1.0, 1.0));
+  const double shoulder_angle = std::atan2(target.y() - 0.18, target.x()) -
+                                std::atan2(0.5 * std::sin(elbow), 0.5 + 0.5 * std::cos(elbow));
+  s[kLeftShoulder] = shoulder_angle;
+  s[kLeftElbow] = elbow;
+  world.set_setpoints(s);
+  run_for(world, 1.5);
+  const Touch& t = world.senses().touch[kLeftHand];
+  REQUIRE(t.contact);
+  CHECK(t.kind == SurfaceKind::kObject);
+  CHECK(t.index == 0);
+  CHECK(t.force > 0.5);
+  const Vec2 ball = Vec2(world.object_pose(0).x, world.object_pose(0).y);
+  const Vec2 true_normal = world.hand_position(kLeft) - ball;
+  INFO("force " << t.force << " N, normal " << t.normal.transpose());
+  CHECK(angle_between_deg(t.normal, true_normal) < 5.0);
+  CHECK_FALSE(world.senses().touch[kRightHand].contact);
+}
+
+TEST_CASE("the body pressed on the ball feels a force along the true normal", "[world]") {
+  World world;
+  world.reset(open_world(true, Vec2(0.9, 0.0)));
+  // Fold the arms out of the way, then drive into the ball.
+  DofVector s = world.q();
+  s[kLeftShoulder] = 2.2, s[kLeftElbow] = 0.6, s[kRightShoulder] = -2.2, s[kRightElbow] = -0.6;
+  world.set_setpoints(s);
+  run_for(world, 1.0);
+  for (int tick = 0; tick < 60; ++tick) {
+    DofVector e = DofVector::Zero();
+    e[kBaseForward] = 0.3;
+    world.command(e);
+    world.tick();
+  }
+  const Touch& t = world.senses().touch[kBody];
+  REQUIRE(t.contact);
+  CHECK(t.kind == SurfaceKind::kObject);
+  CHECK(t.force > 1.0);
+  const Pose b = world.base_pose();
+  const Pose o = world.object_pose(0);
+  const Vec2 true_normal(b.x - o.x, b.y - o.y);
+  INFO("force " << t.force << " N");
+  CHECK(angle_between_deg(t.normal, true_normal) < 5.0);
+}
+
+TEST_CASE("objects resist being pushed below their static-friction threshold", "[world]") {
+  World world;
+  world.reset(open_world(true, Vec2(1.0, 1.0)));
+  for (int i = 0; i < 50; ++i) {
+    world.push_object(0, Vec2(8.0, 0.0));  // below the 10 N threshold
+    world.step_physics();
+  }
+  CHECK(std::abs(world.object_pose(0).x - 1.0) < 1e-3);
+  for (int i = 0; i < 50; ++i) {
+    world.push_object(0, Vec2(14.0, 0.0));  // above it
+    world.step_physics();
+  }
+  CHECK(world.object_pose(0).x > 1.05);
+  // Let go: friction and viscosity stop it.
+  run_for(world, 1.0);
+  CHECK(world.object_velocity(0).norm() < 1e-3);
+}
+
+namespace {
+uint64_t scripted_episode(const WorldSpec& spec, double seconds) {
+  World world;
+  world.reset(spec);
+  const int ticks = int(seconds / world.tick_seconds());
+  for (int i = 0; i < ticks; ++i) {
+    const double t = world.time();
+    DofVector e;
+    e << 0.2 * std::sin(0.7 * t), 0.5 * std::sin(0.3 * t), 0.3 * std::sin(2 * t), 0.3 * std::cos(2 * t),
+        0.4 * std::sin(1.1 * t), 0.4 * std::cos(0.9 * t), 0.4 * std::sin(1.3 * t), 0.4 * std::cos(0.8 * t);
+    world.command(e);
+    world.tick();
+  }
+  return world.state_hash();
+}
+}  // namespace
+
+TEST_CASE("the same world and commands give identical state hashes", "[world][determinism]") {
+  const WorldSpec a = open_world(true, Vec2(0.8, 0.3));
+  const WorldSpec b = open_world(true, Vec2(0.8, 0.31));
+  const uint64_t h1 = scripted_episode(a, 10.0);
+  const uint64_t h2 = scripted_episode(a, 10.0);
+  const uint64_t h3 = scripted_episode(b, 10.0);
+  CHECK(h1 == h2);
+  CHECK(h1 != h3);
+}
+
+TEST_CASE("degenerate shapes are refused before they reach Box2D", "[world]") {
+  WorldSpec w = open_world(false);
+  ObstacleSpec o;
+  o.shape.name = "flat";
+  o.shape.polygons.push_back(Polygon{{{0, 0}, {1, 0}, {2, 0}}});
+  w.obstacles.push_back(o);
+  World world;
+  CHECK_THROWS_WITH(world.reset(w), Catch::Contains("flat") && Catch::Contains("degenerate"));
+}
