@@ -155,6 +155,8 @@ void World::reset(const WorldSpec& spec_in) {
   m.pushes.clear();
   m.world = std::make_unique<b2World>(b2Vec2(0.0f, 0.0f));
   b2World& w = *m.world;
+  // Everything moves slowly against thick walls: continuous collision would cost time for nothing.
+  w.SetContinuousPhysics(false);
   time_ = 0.0;
 
   // Walls: four thick boxes just outside the arena (thick so nothing tunnels through).
@@ -269,16 +271,7 @@ void World::reset(const WorldSpec& spec_in) {
       ld.angle = float(std::atan2(d.y(), d.x()));
       b2Body* link = w.CreateBody(&ld);
       const double half = 0.5 * r.link_length[l];
-      b2PolygonShape ps;
-      ps.SetAsBox(float(half), float(0.5 * r.link_width));
-      b2FixtureDef fd;
-      fd.shape = &ps;
-      fd.density = float(r.link_mass / (r.link_length[l] * r.link_width));
-      fd.filter.categoryBits = kCatRobot;
-      fd.filter.maskBits = 0;  // links never collide
-      fd.filter.groupIndex = -1;
-      link->CreateFixture(&fd);
-      if (l == 1) {
+      if (l == 1) {  // the hand: a tactile disk at the end of the forearm
         b2CircleShape hs;
         hs.m_radius = float(r.hand_radius);
         hs.m_p.Set(float(half), 0.0f);
@@ -290,17 +283,28 @@ void World::reset(const WorldSpec& spec_in) {
         hd.filter.maskBits = kCatWall | kCatObstacle | kCatObject;
         hd.filter.groupIndex = -1;
         link->CreateFixture(&hd);
-        link->GetUserData().pointer = encode(SurfaceKind::kNone, side == kLeft ? kLeftHand : kRightHand);
+        link->GetUserData().pointer =
+            encode(SurfaceKind::kNone, side == kLeft ? kLeftHand : kRightHand);
       }
+      // Links never collide, so they carry mass but no fixture of their own: nothing for the
+      // broad phase to do. Their mass is added to whatever the hand fixture gave the body
+      // (Box2D's I is about the body origin, which is the link's centre).
+      b2MassData md;
+      md.mass = 0.0f, md.center.SetZero(), md.I = 0.0f;
+      // (A dynamic body without fixtures reports Box2D's placeholder mass of 1 kg: skip it.)
+      if (link->GetFixtureList()) link->GetMassData(&md);
+      const double link_mass = r.link_mass, total = md.mass + link_mass;
+      md.center = float(md.mass / total) * md.center;
+      md.I += float(link_mass * r.link_length[l] * r.link_length[l] / 12.0);
+      md.mass = float(total);
+      link->SetMassData(&md);
       b2RevoluteJointDef jd;
       jd.Initialize(parent, link, b2v(from[l]));
       jd.referenceAngle = 0.0f;  // joint angle = absolute joint coordinate, not relative to start
+      // No Box2D joint limits: setpoints are clamped to the limits instead, which keeps the
+      // solver cheaper (limits are the costliest part of a revolute joint) and nothing can push
+      // an arm far past them, since links do not collide.
       const bool elbow = l == 1;
-      double lo = elbow ? r.elbow_min : r.shoulder_min, hi = elbow ? r.elbow_max : r.shoulder_max;
-      if (side == kRight) std::swap(lo, hi), lo = -lo, hi = -hi;
-      jd.enableLimit = true;
-      jd.lowerAngle = float(lo);
-      jd.upperAngle = float(hi);
       jd.enableMotor = true;
       jd.maxMotorTorque = float(elbow ? r.elbow.max_effort : r.shoulder.max_effort);
       m.joint[side][l] = static_cast<b2RevoluteJoint*>(w.CreateJoint(&jd));
