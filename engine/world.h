@@ -26,7 +26,7 @@ struct WorldParams {
 
 // Where the arm's joints and hand are, world frame.
 struct ArmPoints {
-  Vec2 shoulder, elbow, hand;
+  Vec2 shoulder = Vec2::Zero(), elbow = Vec2::Zero(), hand = Vec2::Zero();
 };
 
 // Everything needed to draw one moment of an episode.
@@ -34,8 +34,8 @@ struct Frame {
   double time = 0.0;
   Pose base;
   std::array<ArmPoints, 2> arms;
-  std::array<Vec2, 2> eyes;           // positions
-  std::array<double, 2> eye_heading;  // world angle of each optical axis
+  std::array<Vec2, 2> eyes{Vec2::Zero(), Vec2::Zero()};  // positions
+  std::array<double, 2> eye_heading{0.0, 0.0};          // world angle of each optical axis
   std::vector<Pose> objects;          // poses of WorldSpec objects
   Senses senses;
 };

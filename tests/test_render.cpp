@@ -1,0 +1,378 @@
+// Tests of render.h: pictures load back at the promised size with things where and in the colours
+// they should be, files are written atomically, and bad paths are clear errors.
+#include <cairo.h>
+#include <stdlib.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "error.h"
+#include "render.h"
+#include "senses.h"
+
+namespace fs = std::filesystem;
+using namespace roger;
+
+namespace {
+
+const Vec2 kBall(1.0, 0.8);
+const double kBallRadius = 0.2;
+const Vec2 kObstacle(-1.2, 1.0);
+const Vec2 kGoal(1.0, -1.2);
+const Colour kWallColour{200, 200, 200};
+const Colour kRed{220, 30, 30};
+
+// A fresh, empty directory, removed with its content when the test ends.
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    std::string tmpl = (fs::temp_directory_path() / "test_render_XXXXXX").string();
+    REQUIRE(mkdtemp(tmpl.data()) != nullptr);
+    path = tmpl;
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+  std::vector<std::string> names() const {
+    std::vector<std::string> out;
+    for (const auto& e : fs::directory_iterator(path)) out.push_back(e.path().filename().string());
+    return out;
+  }
+};
+
+WorldSpec make_spec() {
+  WorldSpec spec;
+  spec.scenario = "render_test";
+  spec.seed = 7;
+  ObjectSpec ball;
+  ball.name = "ball";
+  ball.shape.disks.push_back({Vec2::Zero(), kBallRadius});
+  ball.colour = kRed;
+  ball.pose = {kBall.x(), kBall.y(), 0.0};
+  spec.objects.push_back(ball);
+  ObjectSpec tri;
+  tri.name = "triangle";
+  tri.shape.polygons.push_back({{Vec2(0.18, 0), Vec2(-0.12, 0.15), Vec2(-0.12, -0.15)}});
+  tri.colour = {240, 190, 40};
+  tri.pose = {-0.8, -1.1, 0.6};
+  spec.objects.push_back(tri);
+  ObstacleSpec wall;
+  wall.name = "block";
+  wall.shape.polygons.push_back(
+      {{Vec2(-0.3, -0.2), Vec2(0.3, -0.2), Vec2(0.3, 0.2), Vec2(-0.3, 0.2)}});
+  wall.pose = {kObstacle.x(), kObstacle.y(), 0.3};
+  spec.obstacles.push_back(wall);
+  GoalRegion goal;
+  goal.name = "goal";
+  goal.center = kGoal;
+  goal.radius = 0.3;
+  spec.goals.push_back(goal);
+  spec.arena.wall_colour = kWallColour;
+  return spec;
+}
+
+// Roger at the origin facing +x, arms posed by plain trigonometry, both eyes verged on the ball,
+// images painted by casting one ray per pixel at the ball, the left hand pressing the ball.
+Frame make_frame() {
+  const RobotParams rp;
+  Frame f;
+  f.time = 3.25;
+  f.base = {0.0, 0.0, 0.0};
+  // The left hand touches the ball (two-link inverse kinematics); the right arm is folded.
+  const Vec2 left_shoulder(0.0, rp.shoulder_y);
+  const Vec2 target = kBall - (kBallRadius + rp.hand_radius) * (kBall - left_shoulder).normalized();
+  const Vec2 d = target - left_shoulder;
+  const double l1 = rp.link_length[0], l2 = rp.link_length[1];
+  const double left_elbow = -std::acos((d.squaredNorm() - l1 * l1 - l2 * l2) / (2 * l1 * l2));
+  const double left_shoulder_angle =
+      std::atan2(d.y(), d.x()) -
+      std::atan2(l2 * std::sin(left_elbow), l1 + l2 * std::cos(left_elbow));
+  const double shoulder[2] = {left_shoulder_angle, -0.5}, elbow[2] = {left_elbow, 0.9};
+  for (int side = 0; side < 2; ++side) {
+    const double sign = side == kLeft ? 1.0 : -1.0;
+    ArmPoints& a = f.arms[side];
+    a.shoulder = Vec2(0.0, sign * rp.shoulder_y);
+    const double t1 = shoulder[side], t2 = t1 + elbow[side];
+    a.elbow = a.shoulder + l1 * Vec2(std::cos(t1), std::sin(t1));
+    a.hand = a.elbow + l2 * Vec2(std::cos(t2), std::sin(t2));
+    f.eyes[side] = Vec2(0.0, sign * rp.eye_y);
+    const Vec2 to_ball = kBall - f.eyes[side];
+    // Verged near the ball but not on it, so the ball sits off the images' centres.
+    f.eye_heading[side] = std::atan2(to_ball.y(), to_ball.x()) + (side == kLeft ? -0.15 : 0.06);
+  }
+  f.objects = {Pose{kBall.x(), kBall.y(), 0.4}, Pose{-0.8, -1.1, 0.6}};
+
+  Senses& s = f.senses;
+  s.time = f.time;
+  s.base = f.base;
+  for (int side = 0; side < 2; ++side) {
+    EyeImage& img = s.image[side];
+    int lo = kPixels, hi = -1;
+    for (int u = 0; u < kPixels; ++u) {
+      const double a = f.eye_heading[side] + angle_of_pixel(u);
+      const Vec2 d(std::cos(a), std::sin(a));
+      const Vec2 m = kBall - f.eyes[side];
+      const double along = m.dot(d), miss = (m - along * d).norm();
+      const bool hit = along > 0 && miss < kBallRadius;
+      img.colour[u] = hit ? kRed : (u % 32 < 16 ? kWallColour : Colour{180, 180, 185});
+      img.kind[u] = hit ? SurfaceKind::kObject : SurfaceKind::kWall;
+      img.index[u] = hit ? 0 : -1;
+      img.stimulus[u] = hit ? 1.0f : 0.0f;
+      if (hit) lo = std::min(lo, u), hi = std::max(hi, u);
+    }
+    REQUIRE(hi >= lo);
+    Sighting& seen = s.stimulus[side];
+    seen.seen = true;
+    seen.u_lo = lo - 0.5;
+    seen.u_hi = hi + 0.5;
+    seen.bearing = 0.5 * (angle_of_pixel(seen.u_lo) + angle_of_pixel(seen.u_hi));
+    seen.u = pixel_of_angle(seen.bearing);
+  }
+  s.stereo_valid = true;
+  s.stimulus_world = kBall;  // the cross-hair's open centre leaves the ball's centre pixel red
+  s.stimulus_base = s.stimulus_world;
+  Touch& t = s.touch[kLeftHand];
+  t.contact = true;
+  t.kind = SurfaceKind::kObject;
+  t.index = 0;
+  t.force = 6.5;
+  const Vec2 n = (f.arms[kLeft].hand - kBall).normalized();
+  t.normal = n;
+  t.point = kBall + kBallRadius * n;
+  return f;
+}
+
+struct Pixel {
+  int r, g, b;
+};
+
+// Reads one pixel of an opaque ARGB32 PNG.
+Pixel pixel_at(cairo_surface_t* png, const Vec2& at) {
+  const int x = int(std::lround(at.x())), y = int(std::lround(at.y()));
+  REQUIRE(x >= 0);
+  REQUIRE(y >= 0);
+  REQUIRE(x < cairo_image_surface_get_width(png));
+  REQUIRE(y < cairo_image_surface_get_height(png));
+  const unsigned char* row =
+      cairo_image_surface_get_data(png) + y * cairo_image_surface_get_stride(png);
+  const uint32_t v = reinterpret_cast<const uint32_t*>(row)[x];
+  return {int((v >> 16) & 0xff), int((v >> 8) & 0xff), int(v & 0xff)};
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+}  // namespace
+
+TEST_CASE("a PNG shows the ball red, the obstacle grey and the goal green where they are") {
+  TempDir dir;
+  const WorldSpec spec = make_spec();
+  const Frame frame = make_frame();
+  RenderOptions options;
+  options.width_px = 800;
+  options.title = "test picture";
+  const fs::path file = dir.path / "frame.png";
+  render_frame(spec, frame, file.string(), options);
+
+  cairo_surface_t* png = cairo_image_surface_create_from_png(file.c_str());
+  REQUIRE(cairo_surface_status(png) == CAIRO_STATUS_SUCCESS);
+  CHECK(cairo_image_surface_get_width(png) == 800);
+  const PictureSize size = picture_size(spec, options);
+  CHECK(size.width == 800);
+  CHECK(cairo_image_surface_get_height(png) == size.height);
+  CHECK(size.height > size.width);  // a square arena plus the eye strips below it
+
+  auto at = [&](const Vec2& w) {
+    return pixel_at(png, picture_point(spec, options, size.width, size.height, w));
+  };
+  const Pixel ball = at(kBall);
+  CHECK(ball.r > 170);
+  CHECK(ball.g < 80);
+  CHECK(ball.b < 80);
+  const Pixel obstacle = at(kObstacle);
+  CHECK(std::abs(obstacle.r - obstacle.g) < 30);
+  CHECK(std::abs(obstacle.g - obstacle.b) < 40);
+  CHECK(obstacle.r > 50);
+  CHECK(obstacle.r < 160);
+  const Pixel goal = at(kGoal);
+  CHECK(goal.g > goal.r + 20);
+  CHECK(goal.g > goal.b + 20);
+  // The floor far from everything is light and the walls have the wall colour.
+  const Pixel floor = at(Vec2(-1.7, -1.7));
+  CHECK(floor.r > 230);
+  CHECK(floor.g > 230);
+  CHECK(floor.b > 220);
+  const Vec2 corner = picture_point(spec, options, size.width, size.height, Vec2(2.0, 0.0));
+  const Pixel wall = pixel_at(png, corner + Vec2(3.0, 0.0));
+  CHECK(std::abs(wall.r - kWallColour.r) < 12);
+  // Roger's base is drawn in light steel, not in any object's colour.
+  const Pixel base = at(Vec2(-0.1, 0.0));
+  CHECK(base.b > 200);
+  CHECK(base.r > 180);
+  cairo_surface_destroy(png);
+
+  CHECK(dir.names() == std::vector<std::string>{"frame.png"});  // no temporary left behind
+}
+
+TEST_CASE("an SVG is written and is an SVG document") {
+  TempDir dir;
+  const fs::path file = dir.path / "frame.SVG";  // extensions are case-insensitive
+  render_frame(make_spec(), make_frame(), file.string());
+  const std::string text = slurp(file);
+  REQUIRE(!text.empty());
+  CHECK((text.rfind("<?xml", 0) == 0 || text.find("<svg") != std::string::npos));
+  CHECK(text.find("width=\"1000") != std::string::npos);
+  CHECK(dir.names() == std::vector<std::string>{"frame.SVG"});
+}
+
+TEST_CASE("a file with another extension is refused with the accepted ones named") {
+  TempDir dir;
+  const fs::path file = dir.path / "frame.jpg";
+  try {
+    render_frame(make_spec(), make_frame(), file.string());
+    FAIL("no error for .jpg");
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    CHECK(what.find(".jpg") != std::string::npos);
+    CHECK(what.find(".png") != std::string::npos);
+    CHECK(what.find(".svg") != std::string::npos);
+  }
+  CHECK_THROWS_AS(render_frame(make_spec(), make_frame(), (dir.path / "frame").string()), Error);
+  CHECK(dir.names().empty());
+}
+
+TEST_CASE("an unwritable path is an error naming it, and leaves no file") {
+  const std::string path = "/nonexistent_dir_for_render_test/x.png";
+  try {
+    render_frame(make_spec(), make_frame(), path);
+    FAIL("no error for an unwritable path");
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    CHECK(what.find(path) != std::string::npos);
+    CHECK(what.find("No such file or directory") != std::string::npos);
+  }
+  CHECK(!fs::exists(path));
+  CHECK(!fs::exists("/nonexistent_dir_for_render_test"));
+}
+
+TEST_CASE("a picture replaces an existing file whole, and a failed drawing keeps the old one") {
+  TempDir dir;
+  const fs::path file = dir.path / "frame.png";
+  { std::ofstream(file) << "old"; }
+  render_frame(make_spec(), make_frame(), file.string());
+  const std::string png = slurp(file);
+  CHECK(png.substr(1, 3) == "PNG");
+
+  // A frame whose object poses do not match the spec is refused; the old picture stays.
+  Frame bad = make_frame();
+  bad.objects.pop_back();
+  CHECK_THROWS_WITH(render_frame(make_spec(), bad, file.string()),
+                    Catch::Contains("1 object poses") && Catch::Contains("2 objects"));
+  CHECK(slurp(file) == png);
+  CHECK(dir.names() == std::vector<std::string>{"frame.png"});
+}
+
+TEST_CASE("a frame without object poses shows the objects at their starting poses") {
+  TempDir dir;
+  WorldSpec spec = make_spec();
+  Frame frame = make_frame();
+  frame.objects.clear();
+  spec.objects[0].pose = {-1.0, -0.3, 0.0};
+  RenderOptions options;
+  options.width_px = 500;
+  options.show_images = false;
+  options.show_status = false;
+  const fs::path file = dir.path / "preview.png";
+  render_frame(spec, frame, file.string(), options);
+  cairo_surface_t* png = cairo_image_surface_create_from_png(file.c_str());
+  REQUIRE(cairo_surface_status(png) == CAIRO_STATUS_SUCCESS);
+  const PictureSize size = picture_size(spec, options);
+  CHECK(cairo_image_surface_get_height(png) == size.height);
+  CHECK(size.height < size.width + 100);  // without strips, the picture is nearly square
+  const Pixel ball =
+      pixel_at(png, picture_point(spec, options, size.width, size.height, Vec2(-1.0, -0.3)));
+  CHECK(ball.r > 170);
+  CHECK(ball.g < 80);
+  cairo_surface_destroy(png);
+}
+
+TEST_CASE("several frames make a mosaic of equal panels") {
+  TempDir dir;
+  const WorldSpec spec = make_spec();
+  std::vector<Frame> frames(3, make_frame());
+  frames[1].time = 3.5;
+  frames[2].time = 3.75;
+  RenderOptions options;
+  options.width_px = 400;
+  const PictureSize panel = picture_size(spec, options);
+  const fs::path file = dir.path / "mosaic.png";
+  render_frames(spec, frames, file.string(), options, 2);
+  cairo_surface_t* png = cairo_image_surface_create_from_png(file.c_str());
+  REQUIRE(cairo_surface_status(png) == CAIRO_STATUS_SUCCESS);
+  CHECK(cairo_image_surface_get_width(png) == 2 * panel.width);
+  CHECK(cairo_image_surface_get_height(png) == 2 * panel.height);
+  // The third panel (second row, first column) has the ball where a single picture has it.
+  const Vec2 p = picture_point(spec, options, panel.width, panel.height, kBall);
+  const Pixel ball = pixel_at(png, p + Vec2(0, panel.height));
+  CHECK(ball.r > 170);
+  CHECK(ball.g < 80);
+  cairo_surface_destroy(png);
+  CHECK_THROWS_AS(render_frames(spec, {}, file.string(), options), Error);
+  CHECK(dir.names() == std::vector<std::string>{"mosaic.png"});
+}
+
+TEST_CASE("draw_frame draws onto a caller's surface and leaves its state alone") {
+  const WorldSpec spec = make_spec();
+  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, 640, 480);
+  cairo_t* cr = cairo_create(surface);
+  cairo_set_line_width(cr, 7.0);
+  draw_frame(cr, spec, make_frame(), RenderOptions{}, 640, 480);
+  CHECK(cairo_status(cr) == CAIRO_STATUS_SUCCESS);
+  CHECK(cairo_get_line_width(cr) == 7.0);
+  cairo_surface_flush(surface);
+  // Off the centre: at this size the stereo cross-hair covers the middle of the ball.
+  const Vec2 inside = kBall + Vec2(-0.1, 0.08);
+  const Pixel ball = pixel_at(surface, picture_point(spec, RenderOptions{}, 640, 480, inside));
+  CHECK(ball.r > 170);
+  CHECK(ball.g < 80);
+  cairo_destroy(cr);
+  cairo_surface_destroy(surface);
+}
+
+TEST_CASE("impossible sizes and arenas are errors, not crashes") {
+  TempDir dir;
+  const std::string file = (dir.path / "frame.png").string();
+  RenderOptions tiny;
+  tiny.width_px = 10;
+  CHECK_THROWS_WITH(render_frame(make_spec(), make_frame(), file, tiny),
+                    Catch::Contains("width_px"));
+  WorldSpec flat = make_spec();
+  flat.arena.ymax = flat.arena.ymin;
+  CHECK_THROWS_WITH(render_frame(flat, make_frame(), file), Catch::Contains("arena"));
+  CHECK_THROWS_WITH(render_frames(make_spec(), std::vector<Frame>(40, make_frame()), file),
+                    Catch::Contains("32767"));
+  CHECK(dir.names().empty());
+  // A simulation that blew up still draws: non-finite poses are left out, not passed to cairo.
+  Frame broken = make_frame();
+  broken.base.x = std::nan("");
+  broken.arms[kLeft].hand = Vec2(std::nan(""), 0.0);
+  broken.objects[0].theta = std::nan("");
+  CHECK_NOTHROW(render_frame(make_spec(), broken, file));
+  CHECK(fs::file_size(file) > 1000);
+}
+
+TEST_CASE("a sample picture for people to look at") {
+  RenderOptions options;
+  options.title = "reach for the ball";
+  render_frame(make_spec(), make_frame(), "/tmp/render_sample.png", options);
+  render_frame(make_spec(), make_frame(), "/tmp/render_sample.svg", options);
+  CHECK(fs::file_size("/tmp/render_sample.png") > 1000);
+}
