@@ -59,8 +59,8 @@ struct RobotParams {
   double elbow_min = -2.9, elbow_max = 2.9;
   double surface_friction = 1.0;  // Coulomb coefficient of the hands and body
 
-  ServoParams base_forward{6.0, 1.0, 40.0, 40.0};
-  ServoParams base_heading{6.0, 3.0, 4.0, 6.0};
+  ServoParams base_forward{6.0, 1.0, 60.0, 60.0};
+  ServoParams base_heading{6.0, 3.0, 10.0, 12.0};
   ServoParams eye{20.0, 6.0, 0.0, 0.0};  // eyes are light: first-order rate servos
   ServoParams shoulder{10.0, 4.0, 0.0, 20.0};
   ServoParams elbow{10.0, 4.0, 0.0, 12.0};

@@ -86,7 +86,9 @@ struct ArenaSpec {
 struct RobotStart {
   Pose pose;
   // Shoulder and elbow of the left arm, then of the right arm (radians, see RobotParams).
-  double left_shoulder = 1.0, left_elbow = -2.0, right_shoulder = -1.0, right_elbow = 2.0;
+  // The default tucks the hands beside the body (hand centres at (0.22, +-0.33) m), clear of
+  // anything ahead, so that approaching an object never knocks it with a hand.
+  double left_shoulder = 1.9, left_elbow = -2.6, right_shoulder = -1.9, right_elbow = 2.6;
   double left_eye = 0.0, right_eye = 0.0;  // pan relative to the base heading
 };
 

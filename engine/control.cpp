@@ -1,0 +1,225 @@
+#include "control.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/SVD>
+
+#include "error.h"
+#include "shape.h"
+
+namespace roger {
+
+const char* gamma_name(Gamma g) {
+  switch (g) {
+    case Gamma::kNoRef: return "NOREF";
+    case Gamma::kNotConv: return "!CONV";
+    case Gamma::kConv: return "CONV";
+  }
+  return "?";
+}
+
+void Percepts::update(const Senses& s, const RobotParams& robot) {
+  object = VisualObject{};
+  if (s.stereo_valid) {
+    object.seen = true;
+    object.center = s.stimulus_world;
+    object.center_base = s.stimulus_base;
+    // Size from the angular width in the eye with the wider view of it: r = d sin(half width).
+    double half = 0.0;
+    for (int e = 0; e < 2; ++e)
+      if (s.stimulus[e].seen)
+        half = std::max(half, 0.5 * (angle_of_pixel(s.stimulus[e].u_hi) - angle_of_pixel(s.stimulus[e].u_lo)));
+    const double range = s.stimulus_base.norm();
+    object.radius = range * std::sin(half);
+    remembered = object;
+    remembered_time = s.time;
+  }
+  for (int side = 0; side < 2; ++side)
+    arms[side] = arm_forward_kinematics(robot, s.base, side, s.q[kLeftShoulder + 2 * side],
+                                        s.q[kLeftElbow + 2 * side]);
+  int votes[8] = {0};
+  touched_object = -1;
+  for (int t = 0; t < kTactileCount; ++t) {
+    const Touch& touch = s.touch[t];
+    contact_on_object[t] = touch.contact && touch.kind == SurfaceKind::kObject;
+    if (contact_on_object[t] && touch.index >= 0 && touch.index < 8) ++votes[touch.index];
+  }
+  int best = 0;
+  for (int i = 0; i < 8; ++i)
+    if (votes[i] > best) best = votes[i], touched_object = i;
+}
+
+void Controller::reset(uint64_t) {
+  out_ = ControlOutput{};
+  last_tick_ = UINT64_MAX;
+  conv_since_ = -1.0;
+}
+
+const ControlOutput& Controller::evaluate(const ControlInput& in) {
+  if (in.tick == last_tick_) return out_;
+  last_tick_ = in.tick;
+  out_.command.setZero();
+  out_.jacobian.resize(0, kDofCount);
+  out_.phi = out_.residual = 0.0;
+  Gamma raw = Gamma::kNoRef;
+  compute(in, out_, raw);
+  if (params_.gain != 1.0) out_.command *= params_.gain;
+  // Convergence may have to hold for a while before it counts.
+  if (raw == Gamma::kConv) {
+    if (conv_since_ < 0.0) conv_since_ = in.time;
+    out_.gamma = in.time - conv_since_ + 1e-9 >= params_.hold ? Gamma::kConv : Gamma::kNotConv;
+  } else {
+    conv_since_ = -1.0;
+    out_.gamma = raw;
+  }
+  return out_;
+}
+
+DofMatrix nullspace_projector(const TaskJacobian& J, double tolerance) {
+  DofMatrix N = DofMatrix::Identity();
+  if (J.rows() == 0) return N;
+  // J^T J is 8 x 8 whatever the number of task rows; its eigenvectors with non-negligible
+  // eigenvalues span the row space of J, which N removes.
+  const DofMatrix JtJ = J.transpose() * J;
+  Eigen::JacobiSVD<DofMatrix> svd(JtJ, Eigen::ComputeFullV);
+  const auto& sigma = svd.singularValues();
+  if (sigma(0) <= 0.0) return N;
+  const double cutoff = tolerance * sigma(0);
+  for (int k = 0; k < kDofCount; ++k)
+    if (sigma(k) > cutoff) N.noalias() -= svd.matrixV().col(k) * svd.matrixV().col(k).transpose();
+  return N;
+}
+
+SubjectTo::SubjectTo(ControllerPtr subordinate, ControllerPtr superior)
+    : sub_(std::move(subordinate)), sup_(std::move(superior)) {
+  if (!sub_ || !sup_) throw Error("subject_to: both sides must be controllers");
+  set_name(sub_->name() + " <| " + sup_->name());
+}
+
+std::vector<const Controller*> SubjectTo::children() const { return {sub_.get(), sup_.get()}; }
+
+void SubjectTo::reset(uint64_t seed) {
+  Controller::reset(seed);
+  sub_->reset(seed);
+  sup_->reset(seed);
+}
+
+void SubjectTo::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) {
+  const ControlOutput& a = sup_->evaluate(in);
+  const ControlOutput& b = sub_->evaluate(in);
+  const DofMatrix N = nullspace_projector(a.jacobian);
+  out.command = a.command + N * b.command;
+  const int rows = std::min<int>(kMaxTaskRows, int(a.jacobian.rows() + b.jacobian.rows()));
+  out.jacobian.resize(rows, kDofCount);
+  const int top = std::min<int>(rows, int(a.jacobian.rows()));
+  out.jacobian.topRows(top) = a.jacobian.topRows(top);
+  if (rows > top) out.jacobian.bottomRows(rows - top) = b.jacobian.topRows(rows - top);
+  out.phi = a.phi;
+  out.residual = a.residual;
+  Gamma sub = b.gamma;
+  // Blocked by the superior (it asks for motion, none of which survives the projection): the
+  // constrained equilibrium counts as converged. A subordinate asking for nothing keeps its gamma.
+  const double stall = sub_->params().stall;
+  if (sub == Gamma::kNotConv && b.command.norm() > stall && (N * b.command).norm() <= stall)
+    sub = Gamma::kConv;
+  gamma_raw = std::min(a.gamma, sub);
+}
+
+Sequence::Sequence(std::vector<ControllerPtr> steps) : steps_(std::move(steps)) {
+  if (steps_.empty()) throw Error("sequence: needs at least one step");
+  for (const auto& s : steps_)
+    if (!s) throw Error("sequence: every step must be a controller");
+}
+
+std::vector<const Controller*> Sequence::children() const {
+  std::vector<const Controller*> c;
+  for (const auto& s : steps_) c.push_back(s.get());
+  return c;
+}
+
+void Sequence::reset(uint64_t seed) {
+  Controller::reset(seed);
+  for (auto& s : steps_) s->reset(seed);
+  current_ = 0;
+}
+
+void Sequence::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) {
+  const int n = int(steps_.size());
+  // Advance past converged steps, fall back past steps without a reference; at most n moves.
+  for (int moves = 0; moves < n; ++moves) {
+    const Gamma g = steps_[current_]->evaluate(in).gamma;
+    if (g == Gamma::kConv && current_ + 1 < n) {
+      ++current_;
+    } else if (g == Gamma::kNoRef && current_ > 0) {
+      --current_;
+    } else {
+      break;
+    }
+  }
+  const ControlOutput& run = steps_[current_]->evaluate(in);
+  out.command = run.command;
+  out.jacobian = run.jacobian;
+  out.phi = run.phi;
+  out.residual = run.residual;
+  const Gamma last = steps_.back()->evaluate(in).gamma;
+  bool any_reference = false;
+  for (const auto& s : steps_) any_reference |= s->evaluate(in).gamma != Gamma::kNoRef;
+  gamma_raw = last == Gamma::kConv ? Gamma::kConv : any_reference ? Gamma::kNotConv : Gamma::kNoRef;
+}
+
+int gamma_state_index(const std::vector<Gamma>& gammas) {
+  int index = 0;
+  for (Gamma g : gammas) index = index * 3 + int(g);
+  return index;
+}
+
+Policy::Policy(std::vector<ControllerPtr> actions, std::vector<int> table, ControllerPtr done,
+               int fallback)
+    : actions_(std::move(actions)), table_(std::move(table)), done_(std::move(done)), fallback_(fallback) {
+  if (actions_.empty()) throw Error("policy: needs at least one action");
+  if (actions_.size() > 12) throw Error("policy: at most 12 actions (3^12 states)");
+  int states = 1;
+  for (size_t i = 0; i < actions_.size(); ++i) states *= 3;
+  if (int(table_.size()) != states)
+    throw Error("policy: the table must have 3^" + std::to_string(actions_.size()) + " = " +
+                std::to_string(states) + " entries, got " + std::to_string(table_.size()));
+  for (int a : table_)
+    if (a < -1 || a >= int(actions_.size())) throw Error("policy: table entry out of range");
+  scratch_.resize(actions_.size());
+}
+
+std::vector<const Controller*> Policy::children() const {
+  std::vector<const Controller*> c;
+  for (const auto& a : actions_) c.push_back(a.get());
+  if (done_) c.push_back(done_.get());
+  return c;
+}
+
+void Policy::reset(uint64_t seed) {
+  Controller::reset(seed);
+  for (auto& a : actions_) a->reset(seed);
+  if (done_) done_->reset(seed);
+  chosen_ = -1;
+}
+
+void Policy::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) {
+  bool any_reference = false;
+  for (size_t i = 0; i < actions_.size(); ++i) {
+    scratch_[i] = actions_[i]->evaluate(in).gamma;
+    any_reference |= scratch_[i] != Gamma::kNoRef;
+  }
+  const int entry = table_[size_t(gamma_state_index(scratch_))];
+  chosen_ = entry >= 0 ? entry : fallback_;
+  if (chosen_ >= 0) {
+    const ControlOutput& run = actions_[size_t(chosen_)]->evaluate(in);
+    out.command = run.command;
+    out.jacobian = run.jacobian;
+    out.phi = run.phi;
+    out.residual = run.residual;
+  }
+  const bool done = done_ && done_->evaluate(in).gamma == Gamma::kConv;
+  gamma_raw = done ? Gamma::kConv : any_reference ? Gamma::kNotConv : Gamma::kNoRef;
+}
+
+}  // namespace roger

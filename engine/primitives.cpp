@@ -1,0 +1,717 @@
+#include "primitives.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <Eigen/Cholesky>
+
+#include "error.h"
+#include "planner.h"
+#include "rng.h"
+#include "shape.h"
+
+namespace roger {
+namespace {
+
+Vec2 perp(const Vec2& v) { return {-v.y(), v.x()}; }
+Vec2 unit(double angle) { return {std::cos(angle), std::sin(angle)}; }
+double clamp_abs(double v, double limit) { return std::clamp(v, -limit, limit); }
+
+// Where the object is believed to be: this tick's stereo fix, or the last one if it is recent.
+bool object_estimate(const ControlInput& in, double memory, VisualObject& out) {
+  const Percepts& p = *in.percepts;
+  if (p.object.seen) {
+    out = p.object;
+    return true;
+  }
+  if (p.remembered.seen && in.time - p.remembered_time <= memory) {
+    out = p.remembered;
+    return true;
+  }
+  return false;
+}
+
+// Jacobian columns of a world point carried by one arm's hand or by the base, over the 8 DOFs.
+// Moving the base forward carries every point along the heading; turning the base swings it about
+// the base centre; each arm joint swings the hand about that joint.
+void hand_jacobian(const ControlInput& in, int side, Eigen::Matrix<double, 2, kDofCount>& J) {
+  const Senses& s = *in.senses;
+  const ArmPoints& a = in.percepts->arms[side];
+  const Vec2 base(s.base.x, s.base.y);
+  J.setZero();
+  J.col(kBaseForward) = unit(s.base.theta);
+  J.col(kBaseHeading) = perp(a.hand - base);
+  J.col(kLeftShoulder + 2 * side) = perp(a.hand - a.shoulder);
+  J.col(kLeftElbow + 2 * side) = perp(a.hand - a.elbow);
+}
+
+// Damped least squares: dq = J^T (J J^T + lambda^2 I)^-1 e, restricted to the columns in `use`.
+// Damping keeps the step bounded when a target is out of reach or the arm is stretched straight.
+template <int Rows>
+DofVector damped_solve(const Eigen::Matrix<double, Rows, kDofCount>& J_full,
+                       const Eigen::Matrix<double, Rows, 1>& e, const DofVector& use,
+                       double lambda) {
+  Eigen::Matrix<double, Rows, kDofCount> J = J_full;
+  for (int c = 0; c < kDofCount; ++c)
+    if (use[c] == 0.0) J.col(c).setZero();
+  Eigen::Matrix<double, Rows, Rows> A = J * J.transpose();
+  A.diagonal().array() += lambda * lambda;
+  return J.transpose() * A.ldlt().solve(e);
+}
+
+// Caps each joint's step so one tick's command never asks for a leap the linearization cannot
+// justify.
+void cap_steps(DofVector& dq, double linear, double angular) {
+  dq[kBaseForward] = clamp_abs(dq[kBaseForward], linear);
+  for (int i = 1; i < kDofCount; ++i) dq[i] = clamp_abs(dq[i], angular);
+}
+
+// The three contact locations and the unit normals from the object centre towards each, from
+// kinematics (body centre, hand centres).
+struct ContactGeometry {
+  Vec2 point[kTactileCount];
+  Vec2 normal[kTactileCount];
+};
+
+ContactGeometry kinematic_contacts(const ControlInput& in, const Vec2& center) {
+  ContactGeometry g;
+  const Senses& s = *in.senses;
+  g.point[kBody] = Vec2(s.base.x, s.base.y);
+  g.point[kLeftHand] = in.percepts->arms[kLeft].hand;
+  g.point[kRightHand] = in.percepts->arms[kRight].hand;
+  for (int t = 0; t < kTactileCount; ++t) {
+    const Vec2 d = g.point[t] - center;
+    g.normal[t] = d.norm() > 1e-9 ? Vec2(d.normalized()) : Vec2(1.0, 0.0);
+  }
+  return g;
+}
+
+// The grasp quality potential: |sum of unit contact normals|^2, plus the squared moment of the unit
+// normals about the centre (scaled by the object's size) for objects that are not disks.
+double closure_potential(const Vec2 normal[kTactileCount], const Vec2 point[kTactileCount],
+                         const Vec2& center, double size, double moment_weight) {
+  Vec2 sum = Vec2::Zero();
+  double moment = 0.0;
+  for (int t = 0; t < kTactileCount; ++t) {
+    sum += normal[t];
+    const Vec2 r = point[t] - center;
+    moment += r.x() * normal[t].y() - r.y() * normal[t].x();
+  }
+  const double m = moment / std::max(size, 0.05);
+  return sum.squaredNorm() + moment_weight * m * m;
+}
+
+// Targets of a three-contact configuration around an object centre: the body on the line to the
+// object at body_distance, the hands at +-spread from the body's side on a circle of hand_radius.
+struct Targets {
+  double body_distance;
+  Vec2 hand[2];
+};
+
+// A hand still far round the object from its target swings wide (up to `swing` metres further
+// out), so it travels around the object instead of through it; the detour fades as it arrives.
+Targets grasp_targets(const ControlInput& in, const Vec2& center, double body_distance,
+                      double hand_radius, double spread, double swing) {
+  const Senses& s = *in.senses;
+  const Vec2 base(s.base.x, s.base.y);
+  const Vec2 to_base = base - center;
+  const double side_angle = std::atan2(to_base.y(), to_base.x());
+  Targets t;
+  t.body_distance = body_distance;
+  // Facing the object, Roger's left lies clockwise from its side of the object (seen from above).
+  const double target_angle[2] = {side_angle - spread, side_angle + spread};
+  for (int side = 0; side < 2; ++side) {
+    const Vec2 h = in.percepts->arms[side].hand - center;
+    const double gap = std::abs(wrap_angle(target_angle[side] - std::atan2(h.y(), h.x())));
+    const double radius = hand_radius + swing * std::min(1.0, gap / 0.6);
+    t.hand[side] = center + radius * unit(target_angle[side]);
+  }
+  return t;
+}
+
+// Builds the task of placing the hands and the body's distance to the object (and, with `facing`,
+// the heading facing it) and its damped least-squares command towards the targets. The Jacobian
+// covers every DOF that moves the task, so a subordinate's projection respects it; the command
+// uses only the DOFs in `use`.
+void reach_targets(const ControlInput& in, const Vec2& center, const Targets& t, bool facing,
+                   const DofVector& use, double lambda, ControlOutput& out, double& worst_error) {
+  const Senses& s = *in.senses;
+  Eigen::Matrix<double, 6, kDofCount> J = Eigen::Matrix<double, 6, kDofCount>::Zero();
+  Eigen::Matrix<double, 6, 1> e = Eigen::Matrix<double, 6, 1>::Zero();
+  Eigen::Matrix<double, 2, kDofCount> Jh;
+  worst_error = 0.0;
+  for (int side = 0; side < 2; ++side) {
+    hand_jacobian(in, side, Jh);
+    J.middleRows<2>(2 * side) = Jh;
+    const Vec2 err = t.hand[side] - in.percepts->arms[side].hand;
+    e.segment<2>(2 * side) = err;
+    worst_error = std::max(worst_error, err.norm());
+  }
+  // The distance to the object centre, which driving forward shortens by cos(bearing), and the
+  // bearing itself, which turning removes.
+  const Vec2 base(s.base.x, s.base.y);
+  const Vec2 to_obj = center - base;
+  const double d = to_obj.norm();
+  J(4, kBaseForward) = -unit(s.base.theta).dot(to_obj) / std::max(d, 1e-6);
+  e(4) = t.body_distance - d;
+  worst_error = std::max(worst_error, std::abs(e(4)));
+  if (facing) {
+    J(5, kBaseHeading) = 1.0;
+    e(5) = wrap_angle(std::atan2(to_obj.y(), to_obj.x()) - s.base.theta);
+    out.command = damped_solve<6>(J, e, use, lambda);
+    out.jacobian = J;
+  } else {
+    const Eigen::Matrix<double, 5, kDofCount> J5 = J.topRows<5>();
+    const Eigen::Matrix<double, 5, 1> e5 = e.head<5>();
+    out.command = damped_solve<5>(J5, e5, use, lambda);
+    out.jacobian = J5;
+  }
+}
+
+DofVector mask(std::initializer_list<int> dofs) {
+  DofVector m = DofVector::Zero();
+  for (int d : dofs) m[d] = 1.0;
+  return m;
+}
+
+const DofVector kArmsAndForward =
+    mask({kBaseForward, kLeftShoulder, kLeftElbow, kRightShoulder, kRightElbow});
+const DofVector kArmsAndBase =
+    mask({kBaseForward, kBaseHeading, kLeftShoulder, kLeftElbow, kRightShoulder, kRightElbow});
+
+// Rows of the identity for a set of DOFs: a task that owns those DOFs outright.
+void own_dofs(std::initializer_list<int> dofs, TaskJacobian& J) {
+  J.resize(int(dofs.size()), kDofCount);
+  J.setZero();
+  int r = 0;
+  for (int d : dofs) J(r++, d) = 1.0;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+// phi0: centre the stimulus in both eyes (eye pans) and turn the base towards it (heading).
+class Track final : public Primitive {
+ public:
+  Track() : Primitive("phi0", 0.1) {}
+  PrimitivePtr clone() const override { return std::make_shared<Track>(*this); }
+
+ protected:
+  void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
+    own_dofs({kLeftEye, kRightEye, kBaseHeading}, out.jacobian);
+    const Senses& s = *in.senses;
+    if (!s.stimulus[kLeft].seen || !s.stimulus[kRight].seen) {
+      gamma = Gamma::kNoRef;
+      return;
+    }
+    const double el = s.stimulus[kLeft].bearing, er = s.stimulus[kRight].bearing;
+    // The gaze direction relative to the base: the mean of both eyes' lines of sight.
+    const double eb = wrap_angle(0.5 * (s.q[kLeftEye] + el + s.q[kRightEye] + er));
+    out.command[kLeftEye] = el;
+    out.command[kRightEye] = er;
+    out.command[kBaseHeading] = eb;
+    out.phi = 0.5 * (el * el + er * er + eb * eb);
+    out.residual = std::max({std::abs(el), std::abs(er), std::abs(eb)});
+    gamma = out.residual <= epsilon() ? Gamma::kConv : Gamma::kNotConv;
+  }
+};
+
+// search: turn to randomly sampled headings, eyes spread to widen the view, until both eyes see
+// the stimulus; as soon as one eye glimpses it, turn that way.
+class Search final : public Primitive {
+ public:
+  Search() : Primitive("search", 0.0) {
+    declare("spread", 0.6, 0.0, 1.5, "eye pan (rad) each side while looking around");
+    declare("reached", 0.3, 0.01, 3.0, "heading error (rad) at which a new heading is sampled");
+    declare("min_turn", 1.2, 0.0, 6.3, "smallest sampled turn (rad)");
+    declare("max_turn", 3.2, 0.0, 6.3, "largest sampled turn (rad)");
+  }
+  PrimitivePtr clone() const override { return std::make_shared<Search>(*this); }
+  void reset(uint64_t seed) override {
+    Primitive::reset(seed);
+    rng_.reseed(Rng::mix(seed, 0x5ea4c4));
+    has_target_ = false;
+  }
+
+ protected:
+  void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
+    own_dofs({kBaseHeading, kLeftEye, kRightEye}, out.jacobian);
+    const Senses& s = *in.senses;
+    const bool left = s.stimulus[kLeft].seen, right = s.stimulus[kRight].seen;
+    if (left && right) {
+      gamma = Gamma::kConv;  // found: both eyes have it
+      has_target_ = false;
+      return;
+    }
+    gamma = Gamma::kNotConv;
+    const double heading = s.q[kBaseHeading];
+    if (left || right) {
+      // One eye sees it: turn towards it, bring both eyes to bear.
+      const int e = left ? kLeft : kRight;
+      const double rel = wrap_angle(s.q[kLeftEye + e] + s.stimulus[e].bearing);
+      target_ = heading + rel;
+      has_target_ = true;
+      out.command[kLeftEye] = rel - s.q[kLeftEye];
+      out.command[kRightEye] = rel - s.q[kRightEye];
+    } else {
+      if (!has_target_ || std::abs(target_ - heading) < number("reached")) {
+        const double turn = rng_.uniform(number("min_turn"), number("max_turn"));
+        target_ = heading + (rng_.uniform() < 0.5 ? -turn : turn);
+        has_target_ = true;
+      }
+      out.command[kLeftEye] = number("spread") - s.q[kLeftEye];
+      out.command[kRightEye] = -number("spread") - s.q[kRightEye];
+    }
+    out.command[kBaseHeading] = clamp_abs(target_ - heading, 1.0);
+    out.residual = std::abs(target_ - heading);
+  }
+
+ private:
+  Rng rng_{0};
+  double target_ = 0.0;
+  bool has_target_ = false;
+};
+
+// phi1: the harmonic-function path planner. A control point (the base centre, or a point carried
+// ahead of it such as a grasped object) descends the harmonic potential to the goal: an approach
+// ring around the perceived object, or a goal region of the scenario.
+class Navigate final : public Primitive {
+ public:
+  Navigate() : Primitive("phi1", 0.05) {
+    declare_text("goal", {"object", "region"}, "approach the perceived object, or reach a goal region");
+    declare("region", 0, 0, 63, "which goal region (index into the scenario's goals) for goal='region'");
+    declare("approach", 0.62, 0.3, 2.0, "approach distance (m) from the object centre to the base");
+    declare("carry", 0.0, 0.0, 1.0, "control point ahead of the base (m): 0 = base centre");
+    declare("speed", 0.9, 0.05, 2.0, "cruise speed (m/s)");
+    declare("memory", 2.0, 0.0, 60.0, "seconds a lost object's last position stays a goal");
+    declare("margin", 0.05, 0.0, 1.0, "clearance (m) kept around the object when approaching");
+  }
+  Navigate(const Navigate& o) : Primitive(o), planner_() {}
+  PrimitivePtr clone() const override { return std::make_shared<Navigate>(*this); }
+  void reset(uint64_t seed) override {
+    Primitive::reset(seed);
+    grid_ = nullptr;
+    object_cell_ = -1;
+  }
+
+ protected:
+  void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
+    own_dofs({kBaseForward, kBaseHeading}, out.jacobian);
+    const Senses& s = *in.senses;
+    const Vec2 base(s.base.x, s.base.y);
+    const double carry = number("carry");
+    // The control point: the base centre, or a point carried ahead of it. When carrying, vision
+    // says where the carried object really is, if the eyes have it.
+    Vec2 point = base + carry * unit(s.base.theta);
+    if (carry > 0.05 && in.percepts->object.seen &&
+        (in.percepts->object.center - point).norm() < 0.5 * carry)
+      point = in.percepts->object.center;
+    if (!prepare(in)) {
+      gamma = Gamma::kNoRef;
+      return;
+    }
+    if (!planner_.reachable(point)) {
+      gamma = Gamma::kNoRef;
+      return;
+    }
+    out.residual = goal_distance(point);
+    out.phi = planner_.potential(point);
+    if (converged(point)) {
+      gamma = Gamma::kConv;
+      return;
+    }
+    gamma = Gamma::kNotConv;
+    Vec2 dir = planner_.descent(point);
+    if (dir.squaredNorm() < 1e-12) dir = (goal_center_ - point).normalized();
+    const double slow = std::clamp(out.residual / 0.3, 0.25, 1.0);  // ease into the goal
+    const double lookahead = 0.3;                                     // s of motion per command
+    const double speed = number("speed") * slow;
+    const Vec2 fwd = unit(s.base.theta);
+    if (carry > 0.05) {
+      // A point ahead of a differential drive moves holonomically: v = u.f, w = u.left / carry.
+      // Never back away from what is carried: the body would leave it; turn on the spot instead.
+      const Vec2 u = speed * dir;
+      out.command[kBaseForward] = std::max(0.0, u.dot(fwd)) * lookahead;
+      out.command[kBaseHeading] = clamp_abs(u.dot(perp(fwd)) / carry * lookahead, 0.6);
+      // With the way ahead more than a right angle off, rotate towards it at full rate (the
+      // formula above vanishes when the goal lies straight behind).
+      if (u.dot(fwd) < 0.0) out.command[kBaseHeading] = u.dot(perp(fwd)) >= 0.0 ? 0.6 : -0.6;
+    } else {
+      const double turn = wrap_angle(std::atan2(dir.y(), dir.x()) - s.base.theta);
+      const double along = std::max(0.0, std::cos(turn));
+      out.command[kBaseHeading] = clamp_abs(turn, 0.8);
+      out.command[kBaseForward] = speed * lookahead * along * along;
+    }
+  }
+
+ private:
+  // Sets the planner's grid and goal for this tick; false when there is no goal.
+  bool prepare(const ControlInput& in) {
+    if (text("goal") == "region") {
+      const size_t k = size_t(number("region"));
+      if (k >= in.spec->goals.size()) return false;
+      if (grid_ != in.grid) {
+        grid_ = in.grid;
+        planner_.set_grid(*in.grid);
+      }
+      goal_center_ = in.spec->goals[k].center;
+      goal_radius_ = in.spec->goals[k].radius;
+      planner_.set_goal(goal_center_, std::max(0.5 * in.grid->cell, goal_radius_ - number("margin")));
+      return planner_.update();
+    }
+    VisualObject obj;
+    if (!object_estimate(in, number("memory"), obj)) return false;
+    // Re-plan only when the estimate moves by a cell: stereo jitter must not cost solves.
+    int i, j;
+    if (!in.grid->cell_of(obj.center, i, j)) return false;
+    const int cell = j * in.grid->nx + i;
+    if (grid_ != in.grid || cell != object_cell_) {
+      grid_ = in.grid;
+      object_cell_ = cell;
+      goal_center_ = obj.center;
+      object_radius_ = std::clamp(obj.radius, 0.05, 0.5);
+      // The object itself is an obstacle for the base: mark its disk grown by the base radius.
+      with_object_ = *in.grid;
+      const double keep_out = object_radius_ + in.robot->base_radius + number("margin");
+      for (int y = 0; y < with_object_.ny; ++y)
+        for (int x = 0; x < with_object_.nx; ++x)
+          if ((with_object_.center(x, y) - goal_center_).norm() < keep_out)
+            with_object_.occupied[size_t(y) * with_object_.nx + x] = 1;
+      planner_.set_grid(with_object_);
+      goal_radius_ = std::max(number("approach"), keep_out + in.grid->cell * 1.5);
+      planner_.set_goal(goal_center_, goal_radius_);
+    }
+    return planner_.update();
+  }
+
+  double goal_distance(const Vec2& p) const {
+    return std::max(0.0, (p - goal_center_).norm() - goal_radius_);
+  }
+
+  bool converged(const Vec2& p) const {
+    return (p - goal_center_).norm() <= goal_radius_ + epsilon();
+  }
+
+  HarmonicPlanner planner_;
+  const OccupancyGrid* grid_ = nullptr;
+  OccupancyGrid with_object_;
+  int object_cell_ = -1;
+  Vec2 goal_center_ = Vec2::Zero();
+  double goal_radius_ = 0.0, object_radius_ = 0.2;
+};
+
+// phi2: visual preshape. From the stereo estimate of the object, the body goes to a standoff on
+// the line to the object and the hands to a standoff circle at +-spread around it; phi is
+// |sum of unit contact normals|^2 over body and hands. Effectors: base forward and arms; the task
+// (5 rows) leaves the heading, with the arms compensating, free for a subordinate such as phi4.
+class Preshape final : public Primitive {
+ public:
+  Preshape() : Primitive("phi2", 0.04) {
+    declare("standoff", 0.05, 0.0, 0.5, "gap (m) between the object's surface and the hands and body");
+    declare("spread", 1.85, 1.0, 3.0, "angle (rad) of each hand from the body around the object");
+    declare("swing", 0.15, 0.0, 1.0, "how far (m) a hand swings out while going round the object");
+    declare("phi_max", 1.0, 0.0, 9.0, "largest |sum of normals|^2 counted as preshaped");
+    declare("reach", 1.25, 0.3, 3.0, "objects farther (m) than this from the base are out of reach");
+    declare("memory", 2.0, 0.0, 60.0, "seconds a lost object's last position stays usable");
+    declare("damping", 0.05, 0.0, 1.0, "least-squares damping near singular postures");
+  }
+  PrimitivePtr clone() const override { return std::make_shared<Preshape>(*this); }
+
+ protected:
+  void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
+    VisualObject obj;
+    const Senses& s = *in.senses;
+    if (!object_estimate(in, number("memory"), obj) ||
+        (obj.center - Vec2(s.base.x, s.base.y)).norm() > number("reach")) {
+      gamma = Gamma::kNoRef;
+      return;
+    }
+    const double r = std::clamp(obj.radius, 0.05, 0.5);
+    const double standoff = number("standoff");
+    const Targets t = grasp_targets(in, obj.center, r + in.robot->base_radius + standoff,
+                                    r + in.robot->hand_radius + standoff, number("spread"),
+                                    number("swing"));
+    double worst = 0.0;
+    // Hands and body distance, not the heading: it stays free for a subordinate such as phi4.
+    reach_targets(in, obj.center, t, false, kArmsAndForward, number("damping"), out, worst);
+    cap_steps(out.command, 0.3, 0.6);
+    const ContactGeometry g = kinematic_contacts(in, obj.center);
+    out.phi = closure_potential(g.normal, g.point, obj.center, r, 0.0);
+    out.residual = worst;
+    gamma = worst <= epsilon() && out.phi <= number("phi_max") ? Gamma::kConv : Gamma::kNotConv;
+  }
+};
+
+// phi3: contact configuration. Closes body and hands on the object (squeezing slightly inside its
+// surface) at +-spread around it, and reports phi = |sum of unit contact normals|^2 (+ the moment
+// residual for objects that are not disks) measured by touch. CONV needs all three contacts on one
+// object and phi below epsilon.
+class Grasp final : public Primitive {
+ public:
+  Grasp() : Primitive("phi3", 0.1) {
+    declare("squeeze", 0.03, 0.0, 0.2, "how far (m) inside the surface the hands aim");
+    declare("body_squeeze", 0.02, 0.0, 0.2, "how far (m) inside the surface the body aims");
+    declare("spread", 2.0944, 1.0, 3.0, "angle (rad) of each hand from the body around the object");
+    declare("swing", 0.05, 0.0, 1.0, "how far (m) a hand swings out while going round the object");
+    declare("moment", 1.0, 0.0, 10.0, "weight of the moment residual in phi");
+    declare("reach", 1.25, 0.3, 3.0, "objects farther (m) than this from the base are out of reach");
+    declare("memory", 2.0, 0.0, 60.0, "seconds a lost object's last position stays usable");
+    declare("damping", 0.05, 0.0, 1.0, "least-squares damping near singular postures");
+  }
+  PrimitivePtr clone() const override { return std::make_shared<Grasp>(*this); }
+
+ protected:
+  void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
+    const Senses& s = *in.senses;
+    const Percepts& p = *in.percepts;
+    VisualObject obj;
+    const bool seen = object_estimate(in, number("memory"), obj);
+    if (!seen || (obj.center - Vec2(s.base.x, s.base.y)).norm() > number("reach")) {
+      gamma = Gamma::kNoRef;
+      return;
+    }
+    const double r = std::clamp(obj.radius, 0.05, 0.5);
+    // The body closes first; the hands hover just off the surface until it touches, then squeeze.
+    // Squeezing earlier pins the object between the hands and keeps the body from reaching it.
+    const bool body_on = p.contact_on_object[kBody];
+    const double hand_depth = body_on ? -number("squeeze") : 0.01;
+    const Targets t = grasp_targets(in, obj.center,
+                                    r + in.robot->base_radius - number("body_squeeze"),
+                                    r + in.robot->hand_radius + hand_depth, number("spread"),
+                                    number("swing"));
+    double worst = 0.0;
+    reach_targets(in, obj.center, t, true, kArmsAndBase, number("damping"), out, worst);
+    cap_steps(out.command, 0.15, 0.5);
+    // phi from touch when all three contacts are on one object, else from kinematics plus a
+    // penalty per missing contact (so phi falls as contacts are made).
+    int on = 0;
+    for (int k = 0; k < kTactileCount; ++k)
+      on += p.contact_on_object[k] && s.touch[k].index == p.touched_object;
+    if (on == kTactileCount) {
+      Vec2 normal[kTactileCount], point[kTactileCount];
+      for (int k = 0; k < kTactileCount; ++k) normal[k] = s.touch[k].normal, point[k] = s.touch[k].point;
+      out.phi = closure_potential(normal, point, obj.center, r, number("moment"));
+    } else {
+      const ContactGeometry g = kinematic_contacts(in, obj.center);
+      out.phi = closure_potential(g.normal, g.point, obj.center, r, 0.0) + (kTactileCount - on);
+    }
+    out.residual = out.phi;
+    gamma = on == kTactileCount && out.phi <= epsilon() ? Gamma::kConv : Gamma::kNotConv;
+  }
+};
+
+// phi4: kinematic conditioning. phi = sum over arms of cos^2(elbow): zero at the most manipulable
+// posture (elbows at +-90 degrees, where L1 L2 |sin(elbow)| peaks). Its command descends phi on the
+// elbows; as a subordinate, the projection turns it into base and shoulder motions that keep the
+// superior's contacts where they are. It is an optimization, not a constraint: as a superior it
+// protects only its gradient direction (a one-row Jacobian).
+class Condition final : public Primitive {
+ public:
+  Condition() : Primitive("phi4", 0.05) {
+    declare("rate", 0.5, 0.0, 5.0, "step per tick per unit gradient (rad)");
+  }
+  PrimitivePtr clone() const override { return std::make_shared<Condition>(*this); }
+
+ protected:
+  void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
+    const Senses& s = *in.senses;
+    double grad2 = 0.0;
+    out.phi = 0.0;
+    for (int dof : {int(kLeftElbow), int(kRightElbow)}) {
+      const double q = s.q[dof];
+      out.phi += std::cos(q) * std::cos(q);
+      const double g = -std::sin(2.0 * q);  // d/dq cos^2(q)
+      grad2 += g * g;
+      out.command[dof] = -number("rate") * g;
+    }
+    out.jacobian.resize(grad2 > 0.0 ? 1 : 0, kDofCount);
+    if (grad2 > 0.0) out.jacobian.row(0) = -out.command.transpose();
+    out.residual = std::sqrt(grad2);
+    gamma = out.residual <= epsilon() ? Gamma::kConv : Gamma::kNotConv;
+  }
+};
+
+// phi5: dynamic contact adjustment. With all three contacts on the object, each hand presses
+// `squeeze` into the surface along its touch normal, and leads by `lead` seconds of the base's
+// acceleration so the grasp carries the object's inertia; its task is the hands' position in the
+// base frame (the arm joints). NOREF as soon as a contact is lost.
+class Hold final : public Primitive {
+ public:
+  Hold() : Primitive("phi5", 0.3) {
+    declare("squeeze", 0.03, 0.0, 0.2, "press depth (m) of each hand along its contact normal");
+    declare("lead", 0.02, 0.0, 1.0, "hand lead per unit of base acceleration (m per m/s^2)");
+    declare("moment", 1.0, 0.0, 10.0, "weight of the moment residual in phi");
+    declare("damping", 0.05, 0.0, 1.0, "least-squares damping near singular postures");
+  }
+  PrimitivePtr clone() const override { return std::make_shared<Hold>(*this); }
+  void reset(uint64_t seed) override {
+    Primitive::reset(seed);
+    has_velocity_ = false;
+  }
+
+ protected:
+  void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
+    own_dofs({kLeftShoulder, kLeftElbow, kRightShoulder, kRightElbow}, out.jacobian);
+    const Senses& s = *in.senses;
+    const Percepts& p = *in.percepts;
+    // The base's acceleration from its velocity senses (world frame).
+    const Vec2 v = s.qdot[kBaseForward] * unit(s.base.theta);
+    const Vec2 accel = has_velocity_ ? Vec2((v - last_velocity_) / in.dt) : Vec2::Zero();
+    last_velocity_ = v;
+    has_velocity_ = true;
+    for (int k = 0; k < kTactileCount; ++k)
+      if (!p.contact_on_object[k] || s.touch[k].index != p.touched_object) {
+        gamma = Gamma::kNoRef;
+        return;
+      }
+    Eigen::Matrix<double, 4, kDofCount> J;
+    Eigen::Matrix<double, 4, 1> e;
+    Eigen::Matrix<double, 2, kDofCount> Jh;
+    for (int side = 0; side < 2; ++side) {
+      hand_jacobian(in, side, Jh);
+      J.middleRows<2>(2 * side) = Jh;
+      const Touch& touch = s.touch[kLeftHand + side];
+      // Press into the surface, and lead with the base's acceleration where that pushes inward.
+      Vec2 err = -number("squeeze") * touch.normal;
+      const double inward = -accel.dot(touch.normal);
+      if (inward > 0) err += -number("lead") * inward * touch.normal;
+      e.segment<2>(2 * side) = err;
+    }
+    static const DofVector arms = mask({kLeftShoulder, kLeftElbow, kRightShoulder, kRightElbow});
+    out.command = damped_solve<4>(J, e, arms, number("damping"));
+    cap_steps(out.command, 0.1, 0.3);
+    Vec2 normal[kTactileCount], point[kTactileCount];
+    for (int k = 0; k < kTactileCount; ++k) normal[k] = s.touch[k].normal, point[k] = s.touch[k].point;
+    VisualObject obj;
+    const Vec2 center = object_estimate(in, 1e9, obj)
+                            ? obj.center
+                            : Vec2((point[0] + point[1] + point[2]) / 3.0);
+    out.phi = closure_potential(normal, point, center, std::max(obj.radius, 0.1), number("moment"));
+    out.residual = out.phi;
+    gamma = out.phi <= epsilon() ? Gamma::kConv : Gamma::kNotConv;
+  }
+
+ private:
+  Vec2 last_velocity_ = Vec2::Zero();
+  bool has_velocity_ = false;
+};
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+Primitive::Primitive(std::string kind, double default_epsilon) : kind_(std::move(kind)) {
+  set_name(kind_);
+  declare("epsilon", default_epsilon, 0.0, 1e6, "convergence threshold on the residual");
+  declare("gain", 1.0, 0.0, 100.0, "scales the command");
+  declare("hold", 0.0, 0.0, 60.0, "seconds the condition must hold before gamma is CONV");
+  declare("stall", 0.01, 0.0, 1e6, "as a subordinate, converged once its projected command is this small");
+}
+
+void Primitive::declare(const std::string& name, double value, double min, double max,
+                        const std::string& help) {
+  ParamDef d;
+  d.name = name, d.value = value, d.min = min, d.max = max, d.help = help;
+  defs_.push_back(d);
+  on_param(name, value);
+}
+
+void Primitive::declare_text(const std::string& name, std::vector<std::string> choices,
+                             const std::string& help) {
+  ParamDef d;
+  d.name = name, d.choices = std::move(choices), d.help = help;
+  d.text = d.choices.front();
+  defs_.push_back(d);
+}
+
+void Primitive::on_param(const std::string& name, double value) {
+  if (name == "epsilon") params().epsilon = value;
+  if (name == "gain") params().gain = value;
+  if (name == "hold") params().hold = value;
+  if (name == "stall") params().stall = value;
+}
+
+ParamDef& Primitive::find(const std::string& name) {
+  for (auto& d : defs_)
+    if (d.name == name) return d;
+  std::ostringstream os;
+  os << kind_ << ": unknown parameter '" << name << "'; known parameters:";
+  for (size_t i = 0; i < defs_.size(); ++i) os << (i ? ", " : " ") << defs_[i].name;
+  throw Error(os.str());
+}
+
+const ParamDef& Primitive::find(const std::string& name) const {
+  return const_cast<Primitive*>(this)->find(name);
+}
+
+void Primitive::set_number(const std::string& name, double value) {
+  ParamDef& d = find(name);
+  if (!d.choices.empty())
+    throw Error(kind_ + ": parameter '" + name + "' takes a string, one of: " + [&] {
+      std::string s;
+      for (const auto& c : d.choices) s += (s.empty() ? "" : ", ") + c;
+      return s;
+    }());
+  if (!std::isfinite(value) || value < d.min || value > d.max) {
+    std::ostringstream os;
+    os << kind_ << ": parameter '" << name << "' must be a number in [" << d.min << ", " << d.max
+       << "], got " << value;
+    throw Error(os.str());
+  }
+  d.value = value;
+  on_param(name, value);
+  on_params_changed();
+}
+
+void Primitive::set_text(const std::string& name, const std::string& value) {
+  ParamDef& d = find(name);
+  if (d.choices.empty())
+    throw Error(kind_ + ": parameter '" + name + "' takes a number, not '" + value + "'");
+  if (std::find(d.choices.begin(), d.choices.end(), value) == d.choices.end()) {
+    std::string s;
+    for (const auto& c : d.choices) s += (s.empty() ? "" : ", ") + c;
+    throw Error(kind_ + ": parameter '" + name + "' must be one of " + s + ", got '" + value + "'");
+  }
+  d.text = value;
+  on_params_changed();
+}
+
+double Primitive::number(const std::string& name) const {
+  const ParamDef& d = find(name);
+  return d.value;
+}
+
+const std::string& Primitive::text(const std::string& name) const { return find(name).text; }
+
+PrimitivePtr make_primitive(const std::string& name) {
+  if (name == "phi0") return std::make_shared<Track>();
+  if (name == "search") return std::make_shared<Search>();
+  if (name == "phi1") return std::make_shared<Navigate>();
+  if (name == "phi2") return std::make_shared<Preshape>();
+  if (name == "phi3") return std::make_shared<Grasp>();
+  if (name == "phi4") return std::make_shared<Condition>();
+  if (name == "phi5") return std::make_shared<Hold>();
+  std::string known;
+  for (const auto& n : primitive_names()) known += (known.empty() ? "" : ", ") + n;
+  throw Error("unknown primitive '" + name + "'; known primitives: " + known);
+}
+
+const std::vector<std::string>& primitive_names() {
+  static const std::vector<std::string> names = {"phi0", "search", "phi1", "phi2",
+                                                 "phi3", "phi4",   "phi5"};
+  return names;
+}
+
+const std::map<std::string, std::string>& primitive_descriptions() {
+  static const std::map<std::string, std::string> d = {
+      {"phi0", "track: centre the stimulus in both eyes and turn the base to it"},
+      {"search", "turn to sampled headings until both eyes see the stimulus"},
+      {"phi1", "harmonic-function path planner to the object's approach ring or a goal region"},
+      {"phi2", "visual preshape: body and hands to a standoff around the object"},
+      {"phi3", "contact configuration: close on the object, balance the touch normals"},
+      {"phi4", "kinematic conditioning: most manipulable arm posture (subordinate)"},
+      {"phi5", "dynamic contact adjustment: hold the grasp while the base accelerates"}};
+  return d;
+}
+
+}  // namespace roger

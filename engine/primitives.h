@@ -1,0 +1,90 @@
+// primitives.h: the control basis's primitive controllers, written in C++ and parameterized from Lua.
+//
+//   phi0    track: centre the stimulus in both eyes and turn the base to it
+//   search  turn to sampled headings until both eyes see the stimulus
+//   phi1    harmonic-function path planner: drive to an approach pose near the object, or carry the
+//           grasped object into a goal region
+//   phi2    visual preshape: body and hands to a standoff circle around the object (from vision)
+//   phi3    contact configuration: close body and hands on the object, balance the contact normals
+//           measured by touch
+//   phi4    kinematic conditioning: arm posture (manipulability), meant as a subordinate
+//   phi5    dynamic contact adjustment: hold the three-contact grasp while the base accelerates
+//
+// docs/control.md gives each one's potential, effectors, Jacobian, gamma and parameters.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "control.h"
+
+namespace roger {
+
+// One parameter of a primitive: a number within bounds, or a string among choices.
+struct ParamDef {
+  std::string name;
+  double value = 0.0;  // current value (numbers)
+  double min = 0.0, max = 0.0;
+  std::string text;                  // current value (strings)
+  std::vector<std::string> choices;  // non-empty for string parameters
+  std::string help;
+};
+
+// A primitive controller with named, validated parameters.
+class Primitive : public Controller {
+ public:
+  // The primitive's kind ("phi0" ... "phi5", "search").
+  const char* kind() const override { return kind_.c_str(); }
+
+  // Its parameters, including the common epsilon, gain and hold.
+  const std::vector<ParamDef>& param_defs() const { return defs_; }
+
+  // Sets a number parameter. Throws roger::Error naming the primitive and listing the known
+  // parameters for an unknown name, or giving the bounds for a value outside them or not finite.
+  void set_number(const std::string& name, double value);
+
+  // Sets a string parameter. Throws roger::Error listing the choices.
+  void set_text(const std::string& name, const std::string& value);
+
+  // Reads a number parameter (throws for an unknown name).
+  double number(const std::string& name) const;
+
+  // Reads a string parameter (throws for an unknown name).
+  const std::string& text(const std::string& name) const;
+
+  // A copy with the same parameters and fresh state.
+  virtual std::shared_ptr<Primitive> clone() const = 0;
+
+ protected:
+  Primitive(std::string kind, double default_epsilon);
+  // Declares a number parameter with its default, bounds and one-line help.
+  void declare(const std::string& name, double value, double min, double max, const std::string& help);
+  // Declares a string parameter with its choices (the first is the default).
+  void declare_text(const std::string& name, std::vector<std::string> choices, const std::string& help);
+  // Called after any parameter changes, so subclasses can cache them.
+  virtual void on_params_changed() {}
+  // Mirrors the common parameters (epsilon, gain, hold) into ControllerParams.
+  void on_param(const std::string& name, double value);
+  // The convergence threshold in force.
+  double epsilon() const { return params().epsilon; }
+
+ private:
+  ParamDef& find(const std::string& name);
+  const ParamDef& find(const std::string& name) const;
+  std::string kind_;
+  std::vector<ParamDef> defs_;
+};
+
+using PrimitivePtr = std::shared_ptr<Primitive>;
+
+// Makes a primitive by name with default parameters. Throws roger::Error listing the known names.
+PrimitivePtr make_primitive(const std::string& name);
+
+// The names make_primitive knows, in order.
+const std::vector<std::string>& primitive_names();
+
+// One-line descriptions of the primitives, for documentation and `roger check`.
+const std::map<std::string, std::string>& primitive_descriptions();
+
+}  // namespace roger

@@ -1,0 +1,180 @@
+// Tests of engine/control: Equation 1 states, nullspace projection, subject-to, sequences, policies.
+#include <catch2/catch.hpp>
+
+#include <Eigen/Dense>
+
+#include "control.h"
+#include "rng.h"
+
+using namespace roger;
+
+namespace {
+
+// A controller whose output the test scripts directly.
+class Scripted final : public Controller {
+ public:
+  explicit Scripted(std::string name) { set_name(std::move(name)); }
+  const char* kind() const override { return "scripted"; }
+  Gamma next = Gamma::kNotConv;
+  DofVector command = DofVector::Zero();
+  TaskJacobian jacobian;
+  int evaluations = 0;
+
+ protected:
+  void compute(const ControlInput&, ControlOutput& out, Gamma& gamma) override {
+    ++evaluations;
+    out.command = command;
+    out.jacobian = jacobian;
+    gamma = next;
+  }
+};
+
+TaskJacobian random_jacobian(Rng& rng, int rows) {
+  TaskJacobian J(rows, kDofCount);
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < kDofCount; ++c) J(r, c) = rng.uniform(-1.0, 1.0);
+  return J;
+}
+
+DofVector random_vector(Rng& rng) {
+  DofVector v;
+  for (int i = 0; i < kDofCount; ++i) v[i] = rng.uniform(-1.0, 1.0);
+  return v;
+}
+
+ControlInput at_tick(uint64_t tick, double time = 0.0) {
+  ControlInput in;
+  in.tick = tick;
+  in.time = time;
+  return in;
+}
+
+}  // namespace
+
+TEST_CASE("the nullspace projector annihilates the task: J N = 0", "[control]") {
+  Rng rng(3);
+  for (int rows = 1; rows <= 7; ++rows) {
+    const TaskJacobian J = random_jacobian(rng, rows);
+    const DofMatrix N = nullspace_projector(J);
+    CHECK((J * N).norm() < 1e-9);
+    CHECK((N * N - N).norm() < 1e-9);            // a projector
+    CHECK((N - N.transpose()).norm() < 1e-9);    // orthogonal
+    CHECK(std::abs(N.trace() - (kDofCount - rows)) < 1e-9);  // rank of the nullspace
+  }
+  // A rank-deficient task (a repeated row) loses only one dimension, and stays exact.
+  TaskJacobian J = random_jacobian(rng, 3);
+  J.row(2) = 2.0 * J.row(0);
+  const DofMatrix N = nullspace_projector(J);
+  CHECK((J * N).norm() < 1e-9);
+  CHECK(std::abs(N.trace() - (kDofCount - 2)) < 1e-9);
+  // No task: everything is free.
+  CHECK((nullspace_projector(TaskJacobian(0, kDofCount)) - DofMatrix::Identity()).norm() == 0.0);
+}
+
+TEST_CASE("subject-to keeps the superior's objective and projects the subordinate", "[control]") {
+  Rng rng(11);
+  auto sup = std::make_shared<Scripted>("sup");
+  auto sub = std::make_shared<Scripted>("sub");
+  SubjectTo both(sub, sup);
+  CHECK(both.name() == "sub <| sup");
+  for (int trial = 0; trial < 20; ++trial) {
+    sup->jacobian = random_jacobian(rng, 1 + trial % 5);
+    sup->command = random_vector(rng);
+    sub->command = random_vector(rng);
+    const ControlOutput& out = both.evaluate(at_tick(uint64_t(trial)));
+    // Whatever the subordinate adds is invisible to the superior's task...
+    CHECK((sup->jacobian * (out.command - sup->command)).norm() < 1e-9);
+    // ...and is exactly its command's component in the nullspace.
+    const DofMatrix N = nullspace_projector(sup->jacobian);
+    CHECK((out.command - sup->command - N * sub->command).norm() < 1e-12);
+    CHECK(out.jacobian.rows() == sup->jacobian.rows() + sub->jacobian.rows());
+  }
+}
+
+TEST_CASE("a composite's gamma is the weaker of its parts, with the stall rule", "[control]") {
+  auto sup = std::make_shared<Scripted>("sup");
+  auto sub = std::make_shared<Scripted>("sub");
+  SubjectTo both(sub, sup);
+  uint64_t tick = 0;
+  sup->next = Gamma::kConv, sub->next = Gamma::kConv;
+  CHECK(both.evaluate(at_tick(++tick)).gamma == Gamma::kConv);
+  sup->next = Gamma::kNoRef;
+  CHECK(both.evaluate(at_tick(++tick)).gamma == Gamma::kNoRef);
+  sup->next = Gamma::kConv, sub->next = Gamma::kNotConv;
+  sub->command = DofVector::Unit(kBaseForward);
+  CHECK(both.evaluate(at_tick(++tick)).gamma == Gamma::kNotConv);
+  // The superior owns the DOF the subordinate pushes on: nothing survives the projection, so the
+  // subordinate sits at its constrained equilibrium and counts as converged.
+  sup->jacobian = TaskJacobian::Zero(1, kDofCount);
+  sup->jacobian(0, kBaseForward) = 1.0;
+  CHECK(both.evaluate(at_tick(++tick)).gamma == Gamma::kConv);
+  // A subordinate asking for nothing does not converge by that alone.
+  sub->command.setZero();
+  CHECK(both.evaluate(at_tick(++tick)).gamma == Gamma::kNotConv);
+}
+
+TEST_CASE("evaluation is cached per tick, and hold delays convergence", "[control]") {
+  auto c = std::make_shared<Scripted>("c");
+  c->params().hold = 0.1;
+  c->next = Gamma::kConv;
+  CHECK(c->evaluate(at_tick(1, 0.00)).gamma == Gamma::kNotConv);
+  CHECK(c->evaluate(at_tick(1, 0.00)).gamma == Gamma::kNotConv);
+  CHECK(c->evaluations == 1);
+  CHECK(c->evaluate(at_tick(2, 0.06)).gamma == Gamma::kNotConv);
+  CHECK(c->evaluate(at_tick(3, 0.10)).gamma == Gamma::kConv);
+  c->next = Gamma::kNotConv;
+  CHECK(c->evaluate(at_tick(4, 0.12)).gamma == Gamma::kNotConv);
+  c->next = Gamma::kConv;
+  CHECK(c->evaluate(at_tick(5, 0.14)).gamma == Gamma::kNotConv);  // the hold starts again
+}
+
+TEST_CASE("a sequence advances on CONV and falls back on NOREF", "[control]") {
+  auto a = std::make_shared<Scripted>("a"), b = std::make_shared<Scripted>("b"),
+       c = std::make_shared<Scripted>("c");
+  a->command = DofVector::Unit(0), b->command = DofVector::Unit(1), c->command = DofVector::Unit(2);
+  Sequence seq({a, b, c});
+  seq.reset(0);
+  uint64_t tick = 0;
+  a->next = Gamma::kNotConv, b->next = Gamma::kNoRef, c->next = Gamma::kNoRef;
+  CHECK(seq.evaluate(at_tick(++tick)).command == a->command);
+  CHECK(seq.output().gamma == Gamma::kNotConv);
+  a->next = Gamma::kConv, b->next = Gamma::kNotConv;
+  CHECK(seq.evaluate(at_tick(++tick)).command == b->command);
+  CHECK(seq.current() == 1);
+  b->next = Gamma::kConv, c->next = Gamma::kNotConv;
+  seq.evaluate(at_tick(++tick));
+  CHECK(seq.current() == 2);
+  c->next = Gamma::kConv;
+  CHECK(seq.evaluate(at_tick(++tick)).gamma == Gamma::kConv);  // the last step converged
+  // c loses its reference: back to b, which still has one.
+  c->next = Gamma::kNoRef;
+  CHECK(seq.evaluate(at_tick(++tick)).command == b->command);
+  CHECK(seq.current() == 1);
+  a->next = b->next = c->next = Gamma::kNoRef;
+  seq.evaluate(at_tick(++tick));
+  CHECK(seq.output().gamma == Gamma::kNoRef);
+  CHECK(seq.current() == 0);
+}
+
+TEST_CASE("a policy maps the gamma vector of its actions to an action", "[control]") {
+  auto a = std::make_shared<Scripted>("a"), b = std::make_shared<Scripted>("b");
+  a->command = DofVector::Unit(3), b->command = DofVector::Unit(4);
+  std::vector<int> table(9, -1);
+  table[gamma_state_index({Gamma::kNotConv, Gamma::kNoRef})] = 0;
+  table[gamma_state_index({Gamma::kConv, Gamma::kNotConv})] = 1;
+  Policy p({a, b}, table, b);
+  p.reset(0);
+  a->next = Gamma::kNotConv, b->next = Gamma::kNoRef;
+  CHECK(p.evaluate(at_tick(1)).command == a->command);
+  CHECK(p.chosen() == 0);
+  CHECK(p.output().gamma == Gamma::kNotConv);
+  a->next = Gamma::kConv, b->next = Gamma::kNotConv;
+  CHECK(p.evaluate(at_tick(2)).command == b->command);
+  b->next = Gamma::kConv;
+  CHECK(p.evaluate(at_tick(3)).gamma == Gamma::kConv);  // its goal controller converged
+  CHECK(p.chosen() == -1);                               // and the table has no entry there
+  a->next = b->next = Gamma::kNoRef;
+  CHECK(p.evaluate(at_tick(4)).gamma == Gamma::kNoRef);
+  CHECK(gamma_state_index({Gamma::kConv, Gamma::kConv}) == 8);
+  CHECK_THROWS_WITH(Policy({a, b}, std::vector<int>(8, 0), nullptr), Catch::Contains("3^2 = 9"));
+}
