@@ -1,0 +1,77 @@
+-- lib/shapes.lua: the object shapes of the paper (Figure 1) and helpers to make more.
+--
+-- Every shape is a roger.shape: a union of convex polygons (3 to 8 vertices) and disks in the
+-- object's own frame (metres, centred near the origin). The engine validates a shape where it is
+-- made, so a mistake here names this file and line. Scenarios pick a shape by name:
+--
+--   local shapes = require("lib.shapes")
+--   local s = shapes.get(params.shape)      -- circle, pentagon, spade or triangle
+--
+-- All four are about the ball's size (bounding radius about 0.2 m), so the same grasp distances
+-- and placement margins fit all of them.
+local shapes = {}
+
+-- A disk of radius r centred on the origin.
+function shapes.disk(name, r)
+  return roger.shape{ name = name, disks = { { r = r } } }
+end
+
+-- A regular convex polygon: n vertices (3 to 8) on a circle of radius r, the first on +x.
+function shapes.regular(name, n, r)
+  local vertices = {}
+  for i = 0, n - 1 do
+    local a = 2 * math.pi * i / n
+    vertices[#vertices + 1] = { r * math.cos(a), r * math.sin(a) }
+  end
+  return roger.shape{ name = name, polygons = { vertices } }
+end
+
+-- A w x h rectangle centred on the origin.
+function shapes.box(name, w, h)
+  local x, y = w / 2, h / 2
+  return roger.shape{ name = name, polygons = { { { -x, -y }, { x, -y }, { x, y }, { -x, y } } } }
+end
+
+-- The shapes scenarios choose from by name.
+shapes.library = {
+  -- The paper's red ball: radius 0.2 m.
+  circle = shapes.disk("circle", 0.2),
+  -- Equilateral; a slightly larger circumradius than the pentagon's, since a triangle's sides sit
+  -- closer to its centre (inradius 0.11 m).
+  triangle = shapes.regular("triangle", 3, 0.22),
+  pentagon = shapes.regular("pentagon", 5, 0.2),
+  -- Non-convex, like the card suit: a triangular blade pointing to +y over two round lobes, and a
+  -- flared stem below. Four convex parts that overlap; Box2D makes one fixture per part.
+  spade = roger.shape{
+    name = "spade",
+    polygons = {
+      { { -0.165, 0.02 }, { 0.165, 0.02 }, { 0.0, 0.2 } },                      -- blade tip
+      { { -0.07, -0.19 }, { 0.07, -0.19 }, { 0.025, -0.07 }, { -0.025, -0.07 } }, -- stem
+    },
+    disks = {
+      { x = -0.08, y = -0.01, r = 0.09 },  -- left lobe
+      { x = 0.08, y = -0.01, r = 0.09 },   -- right lobe
+    },
+  },
+}
+
+-- The names in shapes.library, sorted.
+function shapes.names()
+  local names = {}
+  for name in pairs(shapes.library) do names[#names + 1] = name end
+  table.sort(names)
+  return names
+end
+
+-- The library shape called `name`; an unknown name is an error at the caller's line that lists
+-- the known shapes.
+function shapes.get(name)
+  local shape = shapes.library[name]
+  if shape == nil then
+    error(string.format("unknown shape '%s'; known shapes: %s", tostring(name),
+                        table.concat(shapes.names(), ", ")), 2)
+  end
+  return shape
+end
+
+return shapes

@@ -1,0 +1,2 @@
+-- Fixture: the other half of the require cycle.
+return require("bad_cycle_a")

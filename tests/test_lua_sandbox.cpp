@@ -1,0 +1,395 @@
+// Tests of the Lua sandbox: errors name file:line with a traceback, runaway scripts are stopped by
+// the instruction budget and the memory cap, the missing libraries explain themselves, bytecode is
+// refused and require stays inside its folders. Run from the repository root (CTest does).
+#include <catch2/catch.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <lua.hpp>
+
+#include "lua_sandbox.h"
+
+using namespace roger;
+namespace fs = std::filesystem;
+using Catch::Matchers::Contains;
+using Catch::Matchers::StartsWith;
+
+namespace {
+
+// Runs a chunk of source text and returns the error it raises (fails the test if none).
+ScriptError error_of(LuaSandbox& sandbox, const std::string& code, const std::string& name = "@chunk.lua") {
+  try {
+    sandbox.load_string(code, name);
+    sandbox.call(0, 0);
+  } catch (const ScriptError& e) {
+    return e;
+  }
+  FAIL("no error from: " << code);
+  throw;  // unreachable
+}
+
+// Runs a file and returns the error it raises.
+ScriptError file_error(LuaSandbox& sandbox, const std::string& path) {
+  try {
+    sandbox.run_file(path, 0);
+  } catch (const ScriptError& e) {
+    return e;
+  }
+  FAIL("no error from " << path);
+  throw;
+}
+
+// A scratch folder under the system temp dir, removed at the end of the test.
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    path = fs::temp_directory_path() /
+           ("roger-lua-test-" + std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
+    fs::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+int dump_writer(lua_State*, const void* p, size_t n, void* out) {
+  static_cast<std::string*>(out)->append(static_cast<const char*>(p), n);
+  return 0;
+}
+
+// Real Lua 5.4 bytecode, made with a plain (unsandboxed) state and lua_dump.
+std::string bytecode() {
+  lua_State* L = luaL_newstate();
+  REQUIRE(luaL_loadstring(L, "return 42") == LUA_OK);
+  std::string out;
+  lua_dump(L, dump_writer, &out, 0);
+  lua_close(L);
+  REQUIRE(out.rfind("\x1bLua", 0) == 0);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("a syntax error names file and line", "[lua_sandbox]") {
+  LuaSandbox sandbox;
+  try {
+    sandbox.load_file("tests/scripts/bad_syntax.lua");
+    FAIL("the syntax error was not reported");
+  } catch (const ScriptError& e) {
+    CHECK(e.file == "tests/scripts/bad_syntax.lua");
+    CHECK(e.line == 5);  // Lua reports the token after the unfinished `if`
+    CHECK_THAT(e.what(), StartsWith("tests/scripts/bad_syntax.lua:5: 'then' expected"));
+  }
+}
+
+TEST_CASE("a runtime error names file and line and carries a traceback", "[lua_sandbox]") {
+  LuaSandbox sandbox;
+  const ScriptError e = error_of(sandbox,
+                                 "local function inner(t)\n"
+                                 "  return t.missing.field\n"
+                                 "end\n"
+                                 "local function outer() return inner({}) + 1 end\n"
+                                 "outer()\n");
+  CHECK(e.file == "chunk.lua");
+  CHECK(e.line == 2);
+  CHECK_THAT(e.message, Contains("attempt to index a nil value (field 'missing')"));
+  CHECK_THAT(e.traceback, StartsWith("stack traceback:"));
+  CHECK_THAT(e.traceback, Contains("chunk.lua:2: in "));  // inner
+  CHECK_THAT(e.traceback, Contains("chunk.lua:4: in "));  // outer
+  CHECK_THAT(std::string(e.what()), StartsWith("chunk.lua:2: attempt to index"));
+  CHECK_THAT(std::string(e.what()), Contains("\nstack traceback:"));
+}
+
+TEST_CASE("error() without a position and non-string errors still get a location", "[lua_sandbox]") {
+  LuaSandbox sandbox;
+  const ScriptError plain = error_of(sandbox, "local x = 1\nerror('no position', 0)\n");
+  CHECK(plain.message == "no position");
+  CHECK(plain.file == "chunk.lua");
+  CHECK(plain.line == 2);
+  const ScriptError table = error_of(sandbox, "error({code = 7})\n");
+  CHECK_THAT(table.message, Contains("error object is a table value"));
+  const ScriptError custom =
+      error_of(sandbox, "error(setmetatable({}, {__tostring = function() return 'custom' end}))");
+  CHECK(custom.message == "custom");
+}
+
+TEST_CASE("an infinite loop is stopped by the instruction budget in well under a second",
+          "[lua_sandbox]") {
+  LuaSandbox sandbox;  // default budget: 50 million instructions
+  const auto start = std::chrono::steady_clock::now();
+  const ScriptError e = file_error(sandbox, "tests/scripts/bad_loop.lua");
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  CHECK(seconds < 1.0);
+  CHECK_THAT(e.message, Contains("instruction budget of 50000000 exceeded"));
+  CHECK(e.file == "tests/scripts/bad_loop.lua");
+  CHECK(e.line == 3);
+
+  SECTION("inline, with a small budget") {
+    LuaSandbox small({100000, 64u << 20});
+    const ScriptError tight = error_of(small, "while true do end");
+    CHECK_THAT(tight.message, Contains("instruction budget of 100000 exceeded"));
+    CHECK(small.instructions_used() > 100000);
+    CHECK(small.instructions_used() < 102000);
+  }
+  SECTION("catching the error with pcall does not escape the budget") {
+    LuaSandbox small({1'000'000, 64u << 20});
+    const ScriptError caught = file_error(small, "tests/scripts/bad_loop_pcall.lua");
+    CHECK_THAT(caught.message, Contains("instruction budget of 1000000 exceeded"));
+  }
+  SECTION("the budget is per call: the sandbox works again afterwards") {
+    sandbox.load_string("local s = 0 for i = 1, 1000 do s = s + i end return s", "=sum");
+    sandbox.call(0, 1);
+    CHECK(lua_tointeger(sandbox.state(), -1) == 500500);
+    lua_pop(sandbox.state(), 1);
+  }
+}
+
+TEST_CASE("gigabyte allocations are refused by the memory cap without crashing", "[lua_sandbox]") {
+  LuaSandbox sandbox({50'000'000, 64u << 20});
+  SECTION("beyond Lua's own string limit") {
+    const ScriptError e = error_of(sandbox, "return string.rep('x', 2^33)");
+    CHECK_THAT(e.message, Contains("resulting string too large"));
+  }
+  SECTION("one huge string") {
+    const ScriptError e = file_error(sandbox, "tests/scripts/bad_memory_string.lua");
+    CHECK_THAT(e.message, Contains("not enough memory (script memory limit of 64 MiB)"));
+    CHECK(e.file == "tests/scripts/bad_memory_string.lua");
+  }
+  SECTION("a table growing without end") {
+    const ScriptError e = file_error(sandbox, "tests/scripts/bad_memory_table.lua");
+    CHECK_THAT(e.message, Contains("not enough memory (script memory limit of 64 MiB)"));
+  }
+  SECTION("string doubling") {
+    const ScriptError e = error_of(sandbox, "local s = 'x' while true do s = s .. s end");
+    CHECK_THAT(e.message, Contains("not enough memory"));
+  }
+  CHECK(sandbox.memory_used() <= (64u << 20));
+  // The state survives and is usable again once the garbage is collected.
+  sandbox.load_string("collectgarbage() return #string.rep('ab', 1000)", "=after");
+  sandbox.call(0, 1);
+  CHECK(lua_tointeger(sandbox.state(), -1) == 2000);
+}
+
+TEST_CASE("os, io, debug and package are not available and say so", "[lua_sandbox]") {
+  LuaSandbox sandbox;
+  const ScriptError os = file_error(sandbox, "tests/scripts/bad_os.lua");
+  CHECK(os.file == "tests/scripts/bad_os.lua");
+  CHECK(os.line == 2);
+  CHECK(os.message ==
+        "os.execute is not available: roger scripts are sandboxed (no os, io, debug, package)");
+  LuaSandbox sandbox2;
+  const ScriptError io = file_error(sandbox2, "tests/scripts/bad_io.lua");
+  CHECK_THAT(io.message, StartsWith("io.open is not available: roger scripts are sandboxed"));
+  CHECK_THAT(error_of(sandbox, "return debug.traceback()").message, StartsWith("debug.traceback is not available"));
+  CHECK_THAT(error_of(sandbox, "return package.path").message, StartsWith("package.path is not available"));
+  CHECK_THAT(error_of(sandbox, "os.exit = print").message, StartsWith("os.exit is not available"));
+  CHECK_THAT(error_of(sandbox, "return dofile('x.lua')").message, Contains("global 'dofile'"));
+  CHECK_THAT(error_of(sandbox, "return loadfile('x.lua')").message, Contains("global 'loadfile'"));
+  CHECK_THAT(error_of(sandbox, "return string.dump(print)").message, Contains("field 'dump'"));
+  CHECK_THAT(error_of(sandbox, "return math.random()").message,
+             StartsWith("math.random is not available in roger scripts: draw from the rng"));
+}
+
+TEST_CASE("bytecode is refused", "[lua_sandbox]") {
+  const std::string chunk = bytecode();
+  TempDir dir;
+  const fs::path file = dir.path / "compiled.lua";
+  std::ofstream(file, std::ios::binary) << chunk;
+
+  LuaSandbox sandbox;
+  try {
+    sandbox.load_file(file.string());
+    FAIL("bytecode was loaded");
+  } catch (const ScriptError& e) {
+    CHECK(e.file == file.string());
+    CHECK_THAT(e.message, StartsWith("attempt to load a binary chunk"));
+  }
+  CHECK_THROWS_AS(sandbox.load_string(chunk, "=bytes"), ScriptError);
+
+  // load() inside a script forces text mode whatever mode it is given.
+  lua_State* L = sandbox.state();
+  lua_pushlstring(L, chunk.data(), chunk.size());
+  lua_setglobal(L, "BYTES");
+  sandbox.load_string("local f, err = load(BYTES, 'x', 'b') return f, err", "=probe");
+  sandbox.call(0, 2);
+  CHECK(lua_isnil(L, -2));
+  CHECK_THAT(std::string(lua_tostring(L, -1)), Contains("attempt to load a binary chunk"));
+  lua_pop(L, 2);
+  // ... while source text still loads, with or without an environment.
+  sandbox.load_string("return load('return 1 + 1')() + load('return x', 'c', 't', {x = 40})()", "=text");
+  sandbox.call(0, 1);
+  CHECK(lua_tointeger(L, -1) == 42);
+  lua_pop(L, 1);
+}
+
+TEST_CASE("require resolves dotted names inside the script folders only", "[lua_sandbox]") {
+  LuaSandbox sandbox;
+  sandbox.set_main_script("tests/scripts/bad_require.lua");
+  sandbox.run_file("tests/scripts/bad_require.lua", 1);
+  lua_State* L = sandbox.state();
+  const int fn = luaL_ref(L, LUA_REGISTRYINDEX);
+  auto require_error = [&](const char* which) -> ScriptError {
+    lua_rawgeti(L, LUA_REGISTRYINDEX, fn);
+    lua_pushstring(L, which);
+    try {
+      sandbox.call(1, 1);
+    } catch (const ScriptError& e) {
+      return e;
+    }
+    FAIL("require(" << which << ") succeeded");
+    throw;
+  };
+
+  SECTION("path tricks are refused") {
+    const ScriptError e = require_error("dots");
+    CHECK_THAT(e.message, StartsWith("require: invalid module name '../../etc/passwd'"));
+    CHECK(e.file == "tests/scripts/bad_require.lua");
+    CHECK(e.line == 3);
+  }
+  SECTION("a missing module lists where it was looked for") {
+    const ScriptError e = require_error("missing");
+    CHECK_THAT(e.message, StartsWith("module 'no.such.module' not found; searched:"));
+    CHECK_THAT(e.message, Contains("tests/scripts/no/such/module.lua"));
+    CHECK_THAT(e.message, Contains("scenarios/no/such/module.lua"));
+    CHECK_THAT(e.message, Contains("curricula/no/such/module.lua"));
+  }
+  SECTION("a non-string name is refused") {
+    sandbox.load_string("return require(42)", "@r.lua");
+    CHECK_THROWS_WITH(sandbox.call(0, 1), Contains("require expects a module name"));
+  }
+  SECTION("a require cycle is reported") {
+    const ScriptError e = require_error("cycle");
+    CHECK_THAT(e.message, Contains("require cycle: bad_cycle_a -> bad_cycle_b -> bad_cycle_a"));
+    CHECK(e.file == "tests/scripts/bad_cycle_b.lua");
+    CHECK(e.line == 2);
+  }
+}
+
+TEST_CASE("require finds modules beside the script and in the project folders, once", "[lua_sandbox]") {
+  TempDir home;
+  fs::create_directories(home.path / "scenarios" / "lib");
+  fs::create_directories(home.path / "curricula");
+  fs::create_directories(home.path / "work");
+  std::ofstream(home.path / "scenarios" / "lib" / "greeting.lua")
+      << "LOADS = (LOADS or 0) + 1\nreturn { text = 'hello' }\n";
+  std::ofstream(home.path / "scenarios" / "lib" / "broken.lua") << "local x = 1\nerror('broken module')\n";
+  std::ofstream(home.path / "curricula" / "stage.lua") << "return 'stage'\n";
+  std::ofstream(home.path / "work" / "sibling.lua") << "return 'sibling'\n";
+  std::ofstream(home.path / "work" / "main.lua")
+      << "local a = require('lib.greeting')\n"
+         "local b = require('lib.greeting')\n"
+         "return a == b and LOADS == 1, a.text, require('stage'), require('sibling')\n";
+  const char* old = std::getenv("ROGER_HOME");
+  const std::string saved = old ? old : "";
+  setenv("ROGER_HOME", home.path.c_str(), 1);
+  {
+    LuaSandbox sandbox;
+    sandbox.run_file((home.path / "work" / "main.lua").string(), 4);
+    lua_State* L = sandbox.state();
+    CHECK(lua_toboolean(L, -4));
+    CHECK(std::string(lua_tostring(L, -3)) == "hello");
+    CHECK(std::string(lua_tostring(L, -2)) == "stage");
+    CHECK(std::string(lua_tostring(L, -1)) == "sibling");
+    const auto roots = sandbox.module_roots();
+    REQUIRE(roots.size() == 4);
+    CHECK(roots[0] == fs::weakly_canonical(home.path / "work"));
+    CHECK(roots[1] == fs::weakly_canonical(home.path / "scenarios"));
+    // A module's errors name it relative to the project root.
+    const ScriptError e = error_of(sandbox, "return require('lib.broken')");
+    CHECK(e.file == "scenarios/lib/broken.lua");
+    CHECK(e.line == 2);
+    CHECK_THAT(e.traceback, Contains("chunk.lua:1:"));
+  }
+  if (old) setenv("ROGER_HOME", saved.c_str(), 1); else unsetenv("ROGER_HOME");
+}
+
+TEST_CASE("require does not follow a link out of the script folders", "[lua_sandbox]") {
+  TempDir dir;
+  fs::create_directories(dir.path / "inside");
+  fs::create_directories(dir.path / "outside");
+  std::ofstream(dir.path / "outside" / "secret.lua") << "return 'secret'\n";
+  std::ofstream(dir.path / "inside" / "main.lua") << "return require('escape')\n";
+  fs::create_symlink(dir.path / "outside" / "secret.lua", dir.path / "inside" / "escape.lua");
+  LuaSandbox sandbox;
+  const ScriptError e = file_error(sandbox, (dir.path / "inside" / "main.lua").string());
+  CHECK_THAT(e.message, Contains("outside the allowed script folders"));
+  CHECK(e.line == 1);
+}
+
+TEST_CASE("long file names are shown in full", "[lua_sandbox]") {
+  TempDir dir;
+  const fs::path deep = dir.path / "a-folder-with-a-rather-long-name" / "and-another-long-folder-name";
+  fs::create_directories(deep);
+  const fs::path file = deep / "script_with_a_long_name.lua";
+  std::ofstream(file) << "local x = 1\nerror('deep')\n";
+  LuaSandbox sandbox;
+  const ScriptError e = file_error(sandbox, file.string());
+  CHECK(e.file == file.string());
+  CHECK(e.line == 2);
+  CHECK_THAT(e.traceback, Contains(file.string() + ":2:"));
+}
+
+TEST_CASE("print goes to the configured sink", "[lua_sandbox]") {
+  LuaSandbox sandbox;
+  std::string printed;
+  sandbox.set_print([&](const std::string& line) { printed += line + "\n"; });
+  sandbox.load_string("print('a', 1, true, nil)", "=p");
+  sandbox.call(0, 0);
+  CHECK(printed == "a\t1\ttrue\tnil\n");
+}
+
+TEST_CASE("LuaFields checks names and types of table arguments", "[lua_sandbox]") {
+  LuaSandbox sandbox;
+  lua_State* L = sandbox.state();
+  // A C function using LuaFields, called from a script so errors carry the script's line.
+  lua_pushcfunction(L, [](lua_State* L) -> int {
+    return lua_protect(L, [L]() {
+      LuaFields f(L, 1, "thing", {"size", "name", "count", "colour", "on"});
+      lua_pushnumber(L, f.number("size") + double(f.integer("count", 1)));
+      f.string("name", "x");
+      f.boolean("on", false);
+      const Colour c = f.colour("colour", Colour{1, 2, 3});
+      lua_pushinteger(L, c.r + c.g + c.b);
+      return 2;
+    });
+  });
+  lua_setglobal(L, "thing");
+  auto message = [&](const char* call) {
+    return error_of(sandbox, std::string("\n") + call).message;
+  };
+  CHECK(message("thing{size = 1, colour = {1, 2, 3}, sise = 2}") ==
+        "thing: unknown field 'sise'; known fields: colour, count, name, on, size");
+  CHECK(message("thing{name = 'a'}") == "thing: missing required field 'size' (a number)");
+  CHECK(message("thing{size = 'big'}") == "thing: field 'size' must be a number, got string");
+  CHECK(message("thing{size = 1, count = 1.5}") == "thing: field 'count' must be an integer, got 1.5");
+  CHECK(message("thing{size = 0/0}") == "thing: field 'size' must be a finite number, got nan");
+  CHECK_THAT(message("thing{size = 1, colour = {300, 0, 0}}"), StartsWith("thing: field 'colour' must be a colour"));
+  CHECK_THAT(message("thing{1, 2}"), StartsWith("thing: expects named fields (name = value), got a value at position 1"));
+  CHECK(message("thing(5)") == "thing: expects a table of named fields, got number");
+  CHECK(error_of(sandbox, "\nthing{}").line == 2);
+  sandbox.load_string("return thing{size = 2, count = 3, colour = '#010203', on = true}", "=ok");
+  sandbox.call(0, 2);
+  CHECK(lua_tonumber(L, -2) == 5.0);
+  CHECK(lua_tointeger(L, -1) == 6);
+}
+
+TEST_CASE("project_root follows ROGER_HOME", "[lua_sandbox]") {
+  const char* old = std::getenv("ROGER_HOME");
+  const std::string saved = old ? old : "";
+  setenv("ROGER_HOME", "/tmp/somewhere", 1);
+  CHECK(project_root() == fs::path("/tmp/somewhere"));
+  if (old) setenv("ROGER_HOME", saved.c_str(), 1); else unsetenv("ROGER_HOME");
+  CHECK(fs::exists(project_root() / "scenarios"));
+}
+
+TEST_CASE("format_number is short and exact", "[lua_sandbox]") {
+  CHECK(format_number(0.95) == "0.95");
+  CHECK(format_number(4.0) == "4");
+  CHECK(format_number(0.1 + 0.2) == "0.30000000000000004");
+}

@@ -1,0 +1,608 @@
+// Tests of scenario scripts: the shipped scenarios keep their constraints over many seeds, worlds
+// are a pure function of (scenario, parameters, seed), and mistakes in a script are reported at
+// the script's file:line. Run from the repository root (CTest does).
+#include <catch2/catch.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "lua_sandbox.h"
+#include "robot.h"
+#include "scenario.h"
+#include "senses.h"
+#include "shape.h"
+#include "world.h"
+
+using namespace roger;
+using Catch::Matchers::Contains;
+using Catch::Matchers::EndsWith;
+using Catch::Matchers::StartsWith;
+
+namespace {
+
+// Every field of a world, bit-exact (hex floats), for equality checks.
+std::string dump(const WorldSpec& w) {
+  std::ostringstream os;
+  char buf[64];
+  auto num = [&](double v) {
+    std::snprintf(buf, sizeof buf, "%a ", v);
+    os << buf;
+  };
+  auto colour = [&](const Colour& c) { os << int(c.r) << ',' << int(c.g) << ',' << int(c.b) << ' '; };
+  auto shape = [&](const Shape& s) {
+    os << s.name << " [";
+    for (const auto& p : s.polygons)
+      for (const auto& v : p.vertices) num(v.x()), num(v.y());
+    for (const auto& d : s.disks) num(d.center.x()), num(d.center.y()), num(d.radius);
+    os << "] ";
+  };
+  auto pose = [&](const Pose& p) { num(p.x), num(p.y), num(p.theta); };
+  os << w.scenario << ' ' << w.seed << '\n';
+  for (const auto& [k, v] : w.params) os << k << '=' << v << ' ';
+  os << "\narena ";
+  num(w.arena.xmin), num(w.arena.xmax), num(w.arena.ymin), num(w.arena.ymax), num(w.arena.cell);
+  colour(w.arena.wall_colour);
+  os << "\nrobot ";
+  pose(w.robot.pose);
+  for (double q : {w.robot.left_shoulder, w.robot.left_elbow, w.robot.right_shoulder,
+                   w.robot.right_elbow, w.robot.left_eye, w.robot.right_eye})
+    num(q);
+  for (const auto& o : w.objects) {
+    os << "\nobject " << o.name << ' ';
+    shape(o.shape), colour(o.colour), pose(o.pose);
+    for (double v : {o.mass, o.friction_force, o.friction_torque, o.viscosity, o.angular_viscosity,
+                     o.surface_friction})
+      num(v);
+  }
+  for (const auto& o : w.obstacles) {
+    os << "\nobstacle " << o.name << ' ';
+    shape(o.shape), colour(o.colour), pose(o.pose);
+  }
+  for (const auto& g : w.goals) {
+    os << "\ngoal " << g.name << ' ';
+    num(g.center.x()), num(g.center.y()), num(g.radius), colour(g.colour);
+  }
+  os << "\nstimulus ";
+  colour(w.stimulus_colour);
+  return os.str();
+}
+
+double wall_distance(const ArenaSpec& a, double x, double y) {
+  return std::min({x - a.xmin, a.xmax - x, y - a.ymin, a.ymax - y});
+}
+
+Shape disk(const Vec2& c, double r) {
+  Shape s;
+  s.name = "disk";
+  s.disks.push_back(Disk{c, r});
+  return s;
+}
+
+// The eyes' view of a shape: one surface per convex part, world frame.
+void add_surfaces(std::vector<SeenSurface>& out, const Shape& shape, const Pose& pose,
+                  SurfaceKind kind, int index, const Colour& colour) {
+  for (const auto& poly : shape.polygons) {
+    SeenSurface s;
+    s.kind = kind, s.index = int16_t(index), s.colour = colour, s.is_disk = false;
+    s.vertex_count = int(poly.vertices.size());
+    Vec2 sum = Vec2::Zero();
+    for (int i = 0; i < s.vertex_count; ++i) sum += (s.vertices[i] = to_world(pose, poly.vertices[i]));
+    s.center = sum / s.vertex_count;
+    out.push_back(s);
+  }
+  for (const auto& d : shape.disks) {
+    SeenSurface s;
+    s.kind = kind, s.index = int16_t(index), s.colour = colour, s.is_disk = true;
+    s.center = to_world(pose, d.center);
+    s.radius = d.radius;
+    out.push_back(s);
+  }
+}
+
+// Whether an eye somewhere on a coarse grid of free floor, looking at the object, sees part of it
+// past the obstacles.
+bool object_visible_somewhere(const WorldSpec& w) {
+  const ObjectSpec& object = w.objects.at(0);
+  std::vector<SeenSurface> surfaces;
+  add_surfaces(surfaces, object.shape, object.pose, SurfaceKind::kObject, 0, object.colour);
+  for (size_t i = 0; i < w.obstacles.size(); ++i)
+    add_surfaces(surfaces, w.obstacles[i].shape, w.obstacles[i].pose, SurfaceKind::kObstacle, int(i),
+                 w.obstacles[i].colour);
+  const ArenaSpec& a = w.arena;
+  const double step = 0.25, margin = 0.2;
+  EyeImage image;
+  for (double x = a.xmin + margin; x <= a.xmax - margin + 1e-9; x += step) {
+    for (double y = a.ymin + margin; y <= a.ymax - margin + 1e-9; y += step) {
+      const Vec2 eye(x, y);
+      // Free floor: room for Roger's base, and not on top of the object.
+      bool free = shape_signed_distance(object.shape, object.pose, eye) > 0.3;
+      for (const auto& o : w.obstacles) free = free && shape_signed_distance(o.shape, o.pose, eye) > 0.16;
+      if (!free) continue;
+      const double heading = std::atan2(object.pose.y - y, object.pose.x - x);
+      paint_eye(eye, heading, surfaces, a.wall_colour, w.stimulus_colour, image);
+      for (int u = 0; u < kPixels; ++u)
+        if (image.kind[u] == SurfaceKind::kObject) return true;
+    }
+  }
+  return false;
+}
+
+ScriptError generate_error(Scenario& s, uint64_t seed = 0) {
+  try {
+    s.generate(seed);
+  } catch (const ScriptError& e) {
+    return e;
+  }
+  FAIL("generate did not fail");
+  throw;
+}
+
+ScriptError load_error(const std::string& path) {
+  try {
+    Scenario::load(path);
+  } catch (const ScriptError& e) {
+    return e;
+  }
+  FAIL("load did not fail: " << path);
+  throw;
+}
+
+}  // namespace
+
+TEST_CASE("the shape library", "[scenario]") {
+  Scenario s = Scenario::load("cluttered");
+  for (const char* name : {"circle", "triangle", "pentagon", "spade"}) {
+    s.set_param("shape", name);
+    const WorldSpec w = s.generate(1);
+    REQUIRE(w.objects.size() == 1);
+    const Shape& shape = w.objects[0].shape;
+    CHECK(shape.name == name);
+    CHECK(w.objects[0].name == name);
+    // All about the ball's size.
+    CHECK(shape_bounding_radius(shape) == Approx(0.2).margin(0.021));
+  }
+  s.set_param("shape", "circle");
+  const Shape circle = s.generate(1).objects[0].shape;
+  REQUIRE(circle.disks.size() == 1);
+  CHECK(circle.polygons.empty());
+  CHECK(circle.disks[0].radius == 0.2);
+  s.set_param("shape", "spade");
+  const Shape spade = s.generate(1).objects[0].shape;
+  CHECK(spade.polygons.size() + spade.disks.size() >= 3);  // non-convex: several parts
+  s.set_param("shape", "pentagon");
+  CHECK(s.generate(1).objects[0].shape.polygons.at(0).vertices.size() == 5);
+  s.set_param("shape", "triangle");
+  CHECK(s.generate(1).objects[0].shape.polygons.at(0).vertices.size() == 3);
+}
+
+TEST_CASE("unobstructed: constraints hold over 1000 seeds", "[scenario]") {
+  Scenario s = Scenario::load("scenarios/unobstructed.lua");
+  CHECK(s.name() == "unobstructed");
+  CHECK(s.path() == "scenarios/unobstructed.lua");
+  // Base and hands in the start posture: more than the base, less than a stretched arm.
+  const double footprint = robot_footprint_radius();
+  CHECK(footprint > 0.16);
+  CHECK(footprint <= 0.18 + 1.0 + 0.08);
+  double headings = 0.0;
+  for (uint64_t seed = 0; seed < 1000; ++seed) {
+    const WorldSpec w = s.generate(seed);
+    INFO("seed " << seed);
+    REQUIRE(w.objects.size() == 1);
+    REQUIRE(w.goals.size() == 1);
+    CHECK(w.obstacles.empty());
+    const ObjectSpec& ball = w.objects[0];
+    const Pose& r = w.robot.pose;
+    CHECK(ball.name == "circle");
+    CHECK(ball.mass == 0.5);
+    CHECK(ball.colour == Colour{220, 30, 30});
+    CHECK(w.stimulus_colour == ball.colour);
+    CHECK(w.arena.xmin == -2.0);
+    CHECK(w.arena.xmax == 2.0);
+    CHECK(wall_distance(w.arena, ball.pose.x, ball.pose.y) >= 0.95);
+    CHECK(std::hypot(ball.pose.x - r.x, ball.pose.y - r.y) >= 1.4);
+    CHECK(wall_distance(w.arena, r.x, r.y) >= 0.5);
+    // Hands and base inside the arena and clear of the ball; nothing starts on the goal.
+    for (const auto& d : robot_footprint(w.robot)) {
+      CHECK(wall_distance(w.arena, d.center.x(), d.center.y()) >= d.radius);
+      CHECK(shape_gap(disk(d.center, d.radius), Pose{}, ball.shape, ball.pose) > 0.0);
+      CHECK((d.center - w.goals[0].center).norm() > d.radius + w.goals[0].radius);
+    }
+    CHECK(w.goals[0].center == Vec2(0.0, 0.0));
+    CHECK(w.goals[0].radius == 0.25);
+    CHECK(std::hypot(ball.pose.x, ball.pose.y) > 0.2 + 0.25);
+    headings += r.theta;
+  }
+  CHECK(std::abs(headings / 1000.0) < 0.2);  // random headings, centred on zero
+}
+
+TEST_CASE("cluttered: no overlaps and the object is never hidden, for every shape, over 1000 seeds",
+          "[scenario]") {
+  Scenario s = Scenario::load("cluttered");
+  for (const char* name : {"circle", "triangle", "pentagon", "spade"}) {
+    s.set_param("shape", name);
+    int boxes = 0, disks = 0;
+    for (uint64_t seed = 0; seed < 1000; ++seed) {
+      const WorldSpec w = s.generate(seed);
+      INFO(name << " seed " << seed);
+      REQUIRE(w.objects.size() == 1);
+      REQUIRE(w.obstacles.size() == 3);
+      const ObjectSpec& object = w.objects[0];
+      CHECK(wall_distance(w.arena, object.pose.x, object.pose.y) >= 0.95);
+      CHECK(std::hypot(object.pose.x - w.robot.pose.x, object.pose.y - w.robot.pose.y) >= 1.4);
+      const auto robot = robot_footprint(w.robot);
+      for (size_t i = 0; i < w.obstacles.size(); ++i) {
+        const ObstacleSpec& o = w.obstacles[i];
+        CHECK(o.colour == Colour{90, 90, 110});
+        const double size = 2.0 * shape_bounding_radius(o.shape);
+        if (o.shape.polygons.empty()) {
+          ++disks;
+          CHECK(size >= 0.15 - 1e-12);
+          CHECK(size <= 0.3 + 1e-12);
+        } else {
+          ++boxes;
+          CHECK(size <= 0.3 * std::sqrt(2.0) + 1e-12);
+        }
+        CHECK(shape_gap(o.shape, o.pose, object.shape, object.pose) >= 0.4 - 1e-9);
+        for (const auto& d : robot) CHECK(shape_gap(o.shape, o.pose, disk(d.center, d.radius), Pose{}) >= 0.4 - 1e-9);
+        CHECK(shape_gap(o.shape, o.pose, disk(w.goals[0].center, w.goals[0].radius), Pose{}) >= 0.4 - 1e-9);
+        for (size_t j = 0; j < i; ++j)
+          CHECK(shape_gap(o.shape, o.pose, w.obstacles[j].shape, w.obstacles[j].pose) >= 0.4 - 1e-9);
+      }
+      CHECK(object_visible_somewhere(w));
+    }
+    CHECK(boxes > 1000);  // both kinds of obstacle occur
+    CHECK(disks > 1000);
+  }
+}
+
+TEST_CASE("the visibility check itself sees occlusion", "[scenario]") {
+  // A ball walled in on all four sides is hidden from everywhere; open one side and it is seen.
+  WorldSpec w;
+  ObjectSpec ball;
+  ball.shape = disk(Vec2::Zero(), 0.2);
+  w.objects.push_back(ball);
+  auto wall = [](double x, double y, double hw, double hh) {
+    ObstacleSpec o;
+    o.shape.name = "wall";
+    o.shape.polygons.push_back(Polygon{{Vec2(-hw, -hh), Vec2(hw, -hh), Vec2(hw, hh), Vec2(-hw, hh)}});
+    o.pose = Pose{x, y, 0.0};
+    return o;
+  };
+  w.obstacles = {wall(0, 0.4, 0.5, 0.1), wall(0, -0.4, 0.5, 0.1), wall(0.4, 0, 0.1, 0.5)};
+  CHECK(object_visible_somewhere(w));
+  w.obstacles.push_back(wall(-0.4, 0, 0.1, 0.5));
+  CHECK_FALSE(object_visible_somewhere(w));
+}
+
+TEST_CASE("a world is a pure function of scenario, parameters and seed", "[scenario]") {
+  Scenario a = Scenario::load("cluttered");
+  Scenario b = Scenario::load("scenarios/cluttered.lua");
+  a.set_param("shape", "spade");
+  b.set_param("shape", "spade");
+  const std::string first = dump(a.generate(42));
+  CHECK(dump(a.generate(7)) != first);
+  CHECK(dump(a.generate(42)) == first);  // no state carried between calls
+  CHECK(dump(b.generate(42)) == first);  // nor between instances
+  CHECK(dump(a.generate(43)) != first);
+  const WorldSpec w = a.generate(42);
+  CHECK(w.seed == 42);
+  CHECK(w.scenario == "scenarios/cluttered.lua");
+  CHECK(w.params.at("shape") == "spade");
+  CHECK(w.params.at("obstacles") == "3");
+  CHECK(w.params.at("obstacle_clearance") == "0.4");
+
+  // Cluttered puts Roger and the object where unobstructed does, then adds obstacles.
+  Scenario open = Scenario::load("unobstructed");
+  open.set_param("shape", "spade");
+  for (uint64_t seed : {0, 1, 99}) {
+    const WorldSpec u = open.generate(seed), c = a.generate(seed);
+    CHECK(u.robot.pose.x == c.robot.pose.x);
+    CHECK(u.robot.pose.theta == c.robot.pose.theta);
+    CHECK(u.objects[0].pose.x == c.objects[0].pose.x);
+    CHECK(u.objects[0].pose.theta == c.objects[0].pose.theta);
+  }
+}
+
+TEST_CASE("scenario parameters", "[scenario]") {
+  Scenario s = Scenario::load("cluttered");
+  const auto params = s.params();
+  auto find = [&](const std::string& name) {
+    for (const auto& p : params)
+      if (p.name == name) return p;
+    FAIL("no parameter " << name);
+    throw;
+  };
+  const ScenarioParam shape = find("shape");
+  CHECK(shape.type == ParamType::kString);
+  CHECK(shape.default_value == "circle");
+  CHECK(shape.choices == std::vector<std::string>{"circle", "pentagon", "spade", "triangle"});
+  CHECK(find("obstacles").type == ParamType::kInteger);
+  CHECK(find("obstacles").default_value == "3");
+  CHECK(find("mass").type == ParamType::kNumber);
+  CHECK_FALSE(find("mass").description.empty());
+
+  SECTION("set_param converts by type and takes effect") {
+    s.set_param("obstacles", "5");
+    s.set_param("mass", "0.75");
+    s.set_param("shape", "pentagon");
+    const WorldSpec w = s.generate(3);
+    CHECK(w.obstacles.size() == 5);
+    CHECK(w.objects[0].mass == 0.75);
+    CHECK(w.objects[0].shape.name == "pentagon");
+    CHECK(w.params.at("mass") == "0.75");
+    s.set_param("obstacles", "0");
+    CHECK(s.generate(3).obstacles.empty());
+  }
+  SECTION("an unknown key lists the known parameters") {
+    CHECK_THROWS_WITH(s.set_param("obstcles", "2"),
+                      StartsWith("scenario 'cluttered' (scenarios/cluttered.lua) has no parameter "
+                                 "'obstcles'; known parameters: goal_radius (number, default 0.25; "
+                                 "min 0.01)") &&
+                          Contains("obstacles (integer, default 3; min 0; max 12)") &&
+                          Contains("shape (string, default circle; one of circle, pentagon, spade, triangle)"));
+  }
+  SECTION("a value of the wrong type says what was expected") {
+    CHECK_THROWS_WITH(s.set_param("obstacles", "2.5"),
+                      "parameter 'obstacles' of scenario 'cluttered' expects an integer, got '2.5'");
+    CHECK_THROWS_WITH(s.set_param("mass", "heavy"),
+                      "parameter 'mass' of scenario 'cluttered' expects a number, got 'heavy'");
+    CHECK_THROWS_WITH(s.set_param("shape", "hexagon"),
+                      "parameter 'shape' of scenario 'cluttered' expects one of circle, pentagon, "
+                      "spade, triangle, got 'hexagon'");
+    CHECK_THROWS_WITH(s.set_param("obstacles", "40"),
+                      "parameter 'obstacles' of scenario 'cluttered' expects at most 12, got '40'");
+    CHECK_THROWS_AS(s.set_param("mass", ""), Error);
+    // A failed set_param leaves the old value.
+    CHECK(s.generate(0).obstacles.size() == 3);
+  }
+}
+
+TEST_CASE("script mistakes are reported at the script's file:line", "[scenario]") {
+  SECTION("syntax error") {
+    const ScriptError e = load_error("tests/scripts/bad_syntax.lua");
+    CHECK(e.file == "tests/scripts/bad_syntax.lua");
+    CHECK(e.line == 5);
+  }
+  SECTION("runtime error inside a generator, with a traceback") {
+    Scenario s = Scenario::load("tests/scripts/bad_runtime.lua");
+    const ScriptError e = generate_error(s);
+    CHECK(e.file == "tests/scripts/bad_runtime.lua");
+    CHECK(e.line == 5);
+    CHECK_THAT(e.message, Contains("attempt to index a nil value (field 'dimensions')"));
+    CHECK_THAT(e.traceback, Contains("tests/scripts/bad_runtime.lua:5: in "));
+    CHECK_THAT(e.traceback, Contains("tests/scripts/bad_runtime.lua:12: in "));
+  }
+  SECTION("a degenerate polygon never reaches Box2D") {
+    Scenario s = Scenario::load("tests/scripts/bad_polygon.lua");
+    const ScriptError e = generate_error(s);
+    CHECK(e.file == "tests/scripts/bad_polygon.lua");
+    CHECK(e.line == 4);
+    CHECK_THAT(e.message, StartsWith("roger.shape: shape 'flat' polygon 1: degenerate"));
+  }
+  SECTION("an unknown shape lists the known ones") {
+    Scenario s = Scenario::load("tests/scripts/bad_shape_name.lua");
+    const ScriptError e = generate_error(s);
+    CHECK(e.file == "tests/scripts/bad_shape_name.lua");
+    CHECK(e.line == 6);
+    CHECK(e.message == "unknown shape 'hexagon'; known shapes: circle, pentagon, spade, triangle");
+  }
+  SECTION("impossible placements end in a clear error after bounded retries") {
+    Scenario s = Scenario::load("tests/scripts/bad_placement.lua");
+    const ScriptError walls = generate_error(s);
+    CHECK(walls.line == 8);
+    CHECK(walls.message ==
+          "world:sample_position: no placement for 'ball': it needs 2.5 m from the walls, which "
+          "leaves no room in a 4 x 4 m arena");
+    s.set_param("mode", "robot");
+    const ScriptError robot = generate_error(s);
+    CHECK(robot.line == 11);
+    CHECK_THAT(robot.message,
+               StartsWith("world:sample_position: no placement for 'ball' after 500 tries: it "
+                          "needs 0.25 m from the walls, ") &&
+                   Contains("10 m from Roger (failed in 500 tries)") &&
+                   EndsWith("in a 4 x 4 m arena"));
+  }
+  SECTION("field names and types") {
+    Scenario s = Scenario::load("tests/scripts/bad_field.lua");
+    const ScriptError unknown = generate_error(s);
+    CHECK(unknown.line == 8);
+    CHECK(unknown.message ==
+          "world:object: unknown field 'mas'; known fields: angular_viscosity, colour, "
+          "friction_force, friction_torque, mass, name, shape, surface_friction, theta, "
+          "viscosity, x, y");
+    s.set_param("mode", "type");
+    CHECK(generate_error(s).message == "world:object: field 'x' must be a number, got string");
+    s.set_param("mode", "missing");
+    CHECK(generate_error(s).message == "world:object: missing required field 'x' (a number)");
+    s.set_param("mode", "overlap");
+    CHECK(generate_error(s).message ==
+          "world:object: object 'object 1' at (0.2, 0) overlaps Roger's base by 0.16 m");
+  }
+  SECTION("a generator that forgets Roger") {
+    Scenario s = Scenario::load("tests/scripts/bad_no_robot.lua");
+    const ScriptError e = generate_error(s);
+    CHECK(e.file == "tests/scripts/bad_no_robot.lua");
+    CHECK(e.line == 4);
+    CHECK_THAT(e.message, StartsWith("the generator did not place Roger"));
+  }
+  SECTION("a runaway generator") {
+    Scenario s = Scenario::load("tests/scripts/bad_runtime.lua", SandboxLimits{200000, 64u << 20});
+    s.sandbox().load_string("while true do end", "@tests/scripts/inline.lua");
+    CHECK_THROWS_WITH(s.sandbox().call(0, 0), Contains("instruction budget of 200000 exceeded"));
+  }
+  SECTION("a missing scenario lists the shipped ones") {
+    CHECK_THROWS_WITH(Scenario::load("clutered"),
+                      "no scenario 'clutered': not a file, and scenarios/clutered.lua does not "
+                      "exist; shipped scenarios: cluttered, unobstructed");
+  }
+}
+
+TEST_CASE("the Lua API checks its arguments where they are given", "[scenario]") {
+  // Scenarios written to temporary files exercise the API through generate().
+  auto run = [](const std::string& body, const std::string& name) -> std::string {
+    const std::string path = "/tmp/roger_api_" + name + ".lua";
+    FILE* f = std::fopen(path.c_str(), "w");
+    std::fputs(("local shapes = require('lib.shapes')\nreturn { generate = function(world, rng)\n" +
+                body + "\nend }\n")
+                   .c_str(),
+               f);
+    std::fclose(f);
+    Scenario s = Scenario::load(path);
+    try {
+      s.generate(0);
+    } catch (const ScriptError& e) {
+      std::remove(path.c_str());
+      CHECK(e.line == 3);
+      return e.message;
+    }
+    std::remove(path.c_str());
+    return "no error";
+  };
+  CHECK(run("world.robot{x = 0, y = 0}", "dot") ==
+        "world:robot: call it with a colon, as world:robot(...) (the first argument is a table, "
+        "not the world)");
+  CHECK(run("world:robot{x = 3, y = 0}", "outside") ==
+        "world:robot: Roger's base at (3, 0) sticks out of the arena [-2, 2] x [-2, 2] by 1.16 m");
+  CHECK(run("world:robot{x = 0, y = 0, left_eye = 2}", "eye") ==
+        "world:robot: field 'left_eye' must be within [-1.5707963267948966, 1.5707963267948966] rad, got 2");
+  CHECK(run("world:robot{x = 0, y = 0} world:arena{xmin = -3}", "late_arena") ==
+        "world:arena: call world:arena first, before anything is placed or sampled (the default "
+        "arena is already in use)");
+  CHECK(run("world:arena{xmin = -2, xmax = 2.1}", "cells") ==
+        "world:arena: the x extent 4.1 m is not a whole number of 0.0625 m cells");
+  CHECK(run("world:object{shape = {}, x = 0, y = 0}", "shape_type") ==
+        "world:object: field 'shape' must be a shape made by roger.shape{...}, got table");
+  CHECK(run("world:goal{x = 5, y = 0}", "goal") ==
+        "world:goal: goal 'goal 1' centre (5, 0) is outside the 4 x 4 m arena");
+  CHECK(run("world:obstacle{shape = shapes.get('circle'), x = 0, y = 0, colour = {1, 2}}", "colour") ==
+        "world:obstacle: field 'colour' must be a colour: {r, g, b} or {r=, g=, b=} with integers "
+        "0-255, or \"#rrggbb\" (component b is missing or not an integer 0-255)");
+  CHECK(run("roger.shape{name = 'big', polygons = {{{0,0},{1,0},{1,1},{0.5,1.5},{0,1},{-1,1},{-1,0.5},{-1,-1},{0,-1}}}}", "verts") ==
+        "roger.shape: shape 'big' polygon 1: expected 3 to 8 vertices, got 9");
+  CHECK(run("roger.shape{name = 'v', polygons = {{{0,0},{1,0},{0.2,0.2},{0,1}}}}", "concave")
+            .find("non-convex") != std::string::npos);
+  CHECK(run("roger.shape{name = 'd', disks = {{x = 0, y = 0, r = -1}}}", "radius") ==
+        "roger.shape: shape 'd' disk 1: radius must be at least 0.01 m, got -1");
+  CHECK(run("rng:int(5, 1)", "range") == "rng:int: the range 5..1 is empty");
+  CHECK(run("rng:choice({})", "choice") == "rng:choice: the list is empty");
+  CHECK(run("rng.uniform(0, 1)", "rng_dot") ==
+        "rng:uniform: call it with a colon, as rng:uniform(...) (the first argument is a number, "
+        "not the rng)");
+  CHECK(run("world:robot{x = 0, y = 0} world:robot{x = 1, y = 1}", "twice") ==
+        "world:robot: Roger is already placed (call world:robot once)");
+  CHECK(run("world:robot{x = 0, y = 0} world:object{name = 'a', shape = shapes.get('circle'), x = 1, y = 1} "
+            "world:object{name = 'a', shape = shapes.get('circle'), x = -1, y = -1}", "dup") ==
+        "world:object: there is already a object named 'a'");
+  const Vec2 hand = robot_footprint(RobotStart{}).at(1).center;  // left hand, robot at the origin
+  CHECK_THAT(run("world:robot{x = 0, y = 0} world:obstacle{shape = shapes.box('b', 0.1, 0.1), x = " +
+                     format_number(hand.x()) + ", y = " + format_number(hand.y()) + "}",
+                 "hand"),
+             StartsWith("world:obstacle: obstacle 'obstacle 1' at (") && Contains("overlaps Roger's left hand"));
+  CHECK(run("world:robot{x = 0, y = 0} local s = shapes.get('circle') local t = s:scaled(2) "
+            "assert(t.radius == 0.4 and s.radius == 0.2 and t.name == 'circle') "
+            "local x, y = world:sample_position{shape = t} "
+            "assert(rng:int(3) >= 1 and rng:uniform(2, 3) >= 2 and #rng:shuffle({1, 2, 3}) == 3) "
+            "assert(rng:fork():uniform() < 1 and rng:angle() < math.pi and rng:normal(1, 0) == 1) "
+            "local xmin, xmax = world:bounds() assert(xmin == -2 and xmax == 2) "
+            "world:stimulus{colour = '#00ff00'} error('reached the end')", "ok") == "reached the end");
+}
+
+TEST_CASE("the stimulus colour defaults to the first object's colour", "[scenario]") {
+  const std::string path = "/tmp/roger_api_stimulus.lua";
+  FILE* f = std::fopen(path.c_str(), "w");
+  std::fputs("local shapes = require('lib.shapes')\n"
+             "return { params = { explicit = false }, generate = function(world, rng, p)\n"
+             "  world:robot{x = -1, y = -1}\n"
+             "  world:object{shape = shapes.get('triangle'), colour = {r = 10, g = 20, b = 30}, x = 1, y = 1}\n"
+             "  if p.explicit then world:stimulus{colour = {1, 2, 3}} end\n"
+             "end }\n", f);
+  std::fclose(f);
+  Scenario s = Scenario::load(path);
+  std::remove(path.c_str());
+  CHECK(s.name() == "roger_api_stimulus");
+  CHECK(s.generate(0).stimulus_colour == Colour{10, 20, 30});
+  s.set_param("explicit", "true");
+  CHECK(s.generate(0).stimulus_colour == Colour{1, 2, 3});
+  CHECK_THROWS_WITH(s.set_param("explicit", "maybe"), Contains("expects a boolean (true or false)"));
+}
+
+TEST_CASE("check_scenario accepts the shipped scenarios and the documented example",
+          "[scenario]") {
+  CHECK(check_scenario("unobstructed").empty());
+  CHECK(check_scenario("cluttered").empty());
+  CHECK(check_scenario("docs/examples/corridor.lua").empty());
+  const auto problems = check_scenario("tests/scripts/bad_placement.lua", 2);
+  REQUIRE(problems.size() == 2);  // one per distinct message: the seeds share the first
+  CHECK_THAT(problems[0], StartsWith("seed 0: tests/scripts/bad_placement.lua:8: "));
+  CHECK_THAT(problems[1], StartsWith("mode=robot, seed 0: tests/scripts/bad_placement.lua:11: "));
+  const auto broken = check_scenario("tests/scripts/bad_syntax.lua");
+  REQUIRE(broken.size() == 1);
+  CHECK_THAT(broken[0], StartsWith("tests/scripts/bad_syntax.lua:5:"));
+}
+
+TEST_CASE("generated worlds go through the physics without tripping Box2D", "[scenario]") {
+  Scenario s = Scenario::load("cluttered");
+  World world;
+  for (const char* name : {"circle", "triangle", "pentagon", "spade"}) {
+    s.set_param("shape", name);
+    world.reset(s.generate(5));
+    for (int i = 0; i < 10; ++i) world.tick();
+    const Pose p = world.object_pose(0);
+    CHECK(std::isfinite(p.x));
+    CHECK(std::abs(p.x - world.spec().objects[0].pose.x) < 0.01);  // nothing pushed it
+  }
+}
+
+TEST_CASE("every complete scenario in docs/scenarios.md loads and generates", "[scenario]") {
+  std::ifstream in("docs/scenarios.md");
+  REQUIRE(in);
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string doc = text.str();
+  int examples = 0;
+  for (size_t start = doc.find("```lua\n"); start != std::string::npos;
+       start = doc.find("```lua\n", start + 1)) {
+    const size_t body = start + 7, end = doc.find("```", body);
+    REQUIRE(end != std::string::npos);
+    const std::string code = doc.substr(body, end - body);
+    if (code.find("generate = function") == std::string::npos) continue;  // a fragment
+    const std::string path = "/tmp/roger_doc_example_" + std::to_string(examples++) + ".lua";
+    std::ofstream(path) << code;
+    const auto problems = check_scenario(path, 20);
+    std::remove(path.c_str());
+    CHECK(problems == std::vector<std::string>{});
+  }
+  CHECK(examples == 2);
+  // The long example is docs/examples/corridor.lua verbatim, after the file's header comment.
+  std::ifstream file_in("docs/examples/corridor.lua");
+  std::stringstream file;
+  file << file_in.rdbuf();
+  const std::string source = file.str();
+  const std::string from_require = source.substr(source.find("local shapes"));
+  CHECK(doc.find(from_require) != std::string::npos);
+}
+
+TEST_CASE("work done in C++ counts against the instruction budget", "[scenario]") {
+  // Each call tests 1000 candidates in C++ for a handful of Lua instructions; without charging that
+  // work the loop would run for minutes before the VM count caught up.
+  const std::string path = "/tmp/roger_api_charge.lua";
+  std::ofstream(path) << "return { generate = function(world, rng)\n"
+                         "  world:robot{x = 0, y = 0}\n"
+                         "  while true do\n"
+                         "    pcall(world.sample_position, world, {radius = 0.2, robot_distance = 10})\n"
+                         "  end\n"
+                         "end }\n";
+  Scenario s = Scenario::load(path, SandboxLimits{5'000'000, 64u << 20});
+  std::remove(path.c_str());
+  const auto start = std::chrono::steady_clock::now();
+  const ScriptError e = generate_error(s);
+  CHECK(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < 5.0);  // ~0.05 s in Release
+  CHECK_THAT(e.message, Contains("instruction budget of 5000000 exceeded"));
+  CHECK(e.file == "/tmp/roger_api_charge.lua");
+  CHECK((e.line == 3 || e.line == 4));
+}
