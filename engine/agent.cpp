@@ -35,6 +35,7 @@ const ControlOutput& Agent::step(Controller& action) {
       if (errors[kLeftEye + e] == 0.0 && s.stimulus[e].seen) errors[kLeftEye + e] = s.stimulus[e].bearing;
   }
   world_.command(errors);
+  last_errors_ = errors;
   world_.tick();
   ++input_.tick;
   refresh_input();

@@ -37,6 +37,8 @@ class Agent {
   const OccupancyGrid& grid() const { return grid_; }
   const AgentParams& params() const { return params_; }
   uint64_t ticks() const { return input_.tick; }
+  // The errors vector written at the last step (the action's command plus the gaze reflex).
+  const DofVector& last_errors() const { return last_errors_; }
 
  private:
   void refresh_input();
@@ -45,6 +47,7 @@ class Agent {
   Percepts percepts_;
   OccupancyGrid grid_;
   ControlInput input_;
+  DofVector last_errors_ = DofVector::Zero();
 };
 
 }  // namespace roger

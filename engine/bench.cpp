@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 
+#include "agent.h"
+
 namespace roger {
 
 DofVector bench_motion(double t) {
@@ -52,6 +54,58 @@ BenchResult bench_world(const WorldSpec& spec, const BenchOptions& options,
   r.physics_rtf = options.sim_seconds / best_physics;
   r.world_rtf = options.sim_seconds / best_world;
   r.senses_overhead = best_world / best_physics - 1.0;
+  return r;
+}
+
+PipelineResult bench_pipeline(const std::vector<WorldSpec>& worlds, Controller& action,
+                              Predicate& goal, double time_limit, int repeats,
+                              const WorldParams& params) {
+  PipelineResult r;
+  r.episodes = int(worlds.size());
+  Agent agent(params);
+  std::vector<std::vector<DofVector>> commands(worlds.size());
+  double best_pipeline = INFINITY, best_replay = INFINITY;
+  for (int rep = 0; rep < std::max(1, repeats); ++rep) {
+    double sim = 0.0;
+    int successes = 0;
+    const auto start = std::chrono::steady_clock::now();
+    for (size_t w = 0; w < worlds.size(); ++w) {
+      agent.reset(worlds[w]);
+      action.reset(w);
+      goal.reset();
+      const int max_ticks = int(std::ceil(time_limit / agent.world().tick_seconds() - 1e-9));
+      auto& log = commands[w];
+      log.clear();
+      log.reserve(size_t(max_ticks));
+      for (int t = 0; t < max_ticks; ++t) {
+        agent.step(action);
+        log.push_back(agent.last_errors());
+        if (goal.holds(agent.input())) {
+          ++successes;
+          break;
+        }
+      }
+      sim += agent.world().time();
+    }
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    best_pipeline = std::min(best_pipeline, wall);
+    if (rep == 0) r.sim_seconds = sim, r.successes = successes;
+    // The same trajectories through physics alone.
+    World& world = agent.world();
+    const auto replay_start = std::chrono::steady_clock::now();
+    for (size_t w = 0; w < worlds.size(); ++w) {
+      world.reset(worlds[w]);
+      for (const DofVector& e : commands[w]) {
+        world.command(e);
+        for (int s = 0; s < params.substeps; ++s) world.step_physics();
+      }
+    }
+    const double replay = std::chrono::duration<double>(std::chrono::steady_clock::now() - replay_start).count();
+    best_replay = std::min(best_replay, replay);
+  }
+  r.pipeline_rtf = r.sim_seconds / best_pipeline;
+  r.replay_rtf = r.sim_seconds / best_replay;
+  r.cost_ratio = best_pipeline / best_replay;
   return r;
 }
 

@@ -2,6 +2,10 @@
 #pragma once
 
 #include <string>
+#include <vector>
+
+#include "control.h"
+#include "predicate.h"
 
 #include "spec.h"
 #include "world.h"
@@ -22,6 +26,23 @@ struct BenchResult {
   double senses_overhead = 0.0;  // (world cost / physics cost) - 1
   uint64_t final_hash = 0;       // state hash at the end, so the work cannot be optimized away
 };
+
+// The full pipeline (physics + senses + controllers + the control loop) running an action
+// through episodes, against physics alone replaying exactly the same commands.
+struct PipelineResult {
+  double sim_seconds = 0.0;    // simulated seconds per measurement
+  int episodes = 0;            // episodes per measurement
+  int successes = 0;           // of the first measurement
+  double pipeline_rtf = 0.0;   // simulated seconds per wall second, whole pipeline
+  double replay_rtf = 0.0;     // physics alone, replaying the pipeline's errors vectors
+  double cost_ratio = 0.0;     // pipeline cost / physics cost on the same trajectories
+};
+
+// Runs `action` on each world until `goal` or the time limit (best of `repeats`), then replays
+// the recorded commands through physics alone. Controllers are reset per episode.
+PipelineResult bench_pipeline(const std::vector<WorldSpec>& worlds, Controller& action,
+                              Predicate& goal, double time_limit, int repeats,
+                              const WorldParams& params = {});
 
 // The fixed scripted motion of base, eyes and arms used by the benchmark (a pure function of time).
 DofVector bench_motion(double t);
