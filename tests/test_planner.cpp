@@ -1,0 +1,359 @@
+// Tests of engine/planner: the harmonic-function path planner behind phi1.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "error.h"
+#include "occupancy.h"
+#include "planner.h"
+#include "rng.h"
+#include "world_fixtures.h"
+
+using namespace roger;
+using namespace roger::test;
+
+namespace {
+
+constexpr double kInflate = 0.2;  // the robot's clearance, as phi1 grows the grid
+constexpr double kStep = 0.02;    // trace step: a third of a 6.25 cm cell
+
+ObstacleSpec obstacle(const Shape& shape, double x, double y, double theta = 0.0) {
+  ObstacleSpec o;
+  o.shape = shape;
+  o.pose = {x, y, theta};
+  return o;
+}
+
+// The default arena with 3 to 8 boxes and disks at random.
+WorldSpec random_world(Rng& rng) {
+  WorldSpec w = open_world(false);
+  const int count = int(rng.integer(3, 8));
+  for (int n = 0; n < count; ++n) {
+    const Shape shape = rng.uniform() < 0.5 ? box_shape(rng.uniform(0.1, 0.4), rng.uniform(0.1, 0.4))
+                                            : ball_shape(rng.uniform(0.1, 0.3));
+    w.obstacles.push_back(obstacle(shape, rng.uniform(-1.6, 1.6), rng.uniform(-1.6, 1.6), rng.uniform(0.0, 3.0)));
+  }
+  return w;
+}
+
+// A random point whose cell is free in the grid.
+Vec2 free_point(Rng& rng, const OccupancyGrid& g) {
+  for (;;) {
+    const Vec2 p(rng.uniform(g.x0, g.x0 + g.nx * g.cell), rng.uniform(g.y0, g.y0 + g.ny * g.cell));
+    int i, j;
+    if (g.cell_of(p, i, j) && !g.at(i, j)) return p;
+  }
+}
+
+bool occupied_at(const OccupancyGrid& g, const Vec2& p) {
+  int i, j;
+  return !g.cell_of(p, i, j) || g.at(i, j);
+}
+
+}  // namespace
+
+TEST_CASE("descending the potential reaches the goal around random obstacles", "[planner]") {
+  for (uint64_t seed = 1; seed <= 20; ++seed) {
+    Rng rng(seed);
+    const WorldSpec world = random_world(rng);
+    const OccupancyGrid plain = build_occupancy(world), grown = build_occupancy(world, kInflate);
+    HarmonicPlanner planner;
+    planner.set_grid(grown);
+    Vec2 goal;
+    do {
+      goal = free_point(rng, grown);
+      planner.set_goal(goal, 0.1);
+    } while (!planner.update());
+    REQUIRE(planner.converged());
+    Vec2 start;
+    do start = free_point(rng, grown);
+    while (!planner.reachable(start) || (start - goal).norm() < 0.5);
+
+    const std::vector<Vec2> path = planner.trace(start, kStep, 5000);
+    INFO("seed " << seed << ": from (" << start.x() << ", " << start.y() << ") to (" << goal.x() << ", "
+                 << goal.y() << "), " << path.size() << " points, omega " << planner.omega() << ", "
+                 << planner.sweeps_last_solve() << " sweeps");
+    CHECK(planner.at_goal(path.back()));
+    int collisions = 0, rises = 0;
+    for (size_t k = 0; k < path.size(); ++k) {
+      collisions += occupied_at(plain, path[k]);
+      // complement() is 1 - potential() without the rounding, so it must rise where u falls.
+      if (k > 0 && !(planner.complement(path[k]) > planner.complement(path[k - 1]))) ++rises;
+      if (k > 0 && planner.potential(path[k]) > planner.potential(path[k - 1])) ++rises;
+    }
+    CHECK(collisions == 0);
+    CHECK(rises == 0);
+  }
+}
+
+TEST_CASE("a goal walled in by a ring of obstacles is unreachable from outside", "[planner]") {
+  // A closed square enclosure of four boxes around (0.8, 0.8): inner half-width 0.45 m.
+  WorldSpec world = open_world(false);
+  world.obstacles.push_back(obstacle(box_shape(0.55, 0.05), 0.8, 0.8 + 0.5));
+  world.obstacles.push_back(obstacle(box_shape(0.55, 0.05), 0.8, 0.8 - 0.5));
+  world.obstacles.push_back(obstacle(box_shape(0.05, 0.55), 0.8 + 0.5, 0.8));
+  world.obstacles.push_back(obstacle(box_shape(0.05, 0.55), 0.8 - 0.5, 0.8));
+  const OccupancyGrid grown = build_occupancy(world, kInflate);
+  const Vec2 centre(0.8, 0.8), outside(-1.0, -1.0), margin(0.8, 0.8 - 0.55 - 0.12);
+  REQUIRE(occupied_at(grown, margin));  // in the inflated rim, outside the ring
+
+  HarmonicPlanner planner;
+  planner.set_grid(grown);
+  SECTION("the goal fills the enclosure: no cell outside the goal is joined to it") {
+    planner.set_goal(centre, 0.5);
+    CHECK(planner.goal_cells() > 0);
+    CHECK_FALSE(planner.update());
+  }
+  SECTION("a small goal: reachable from inside only") {
+    planner.set_goal(centre, 0.1);
+    CHECK(planner.update());
+    CHECK(planner.reachable(centre + Vec2(0.15, 0.1)));
+    CHECK(planner.descent(centre + Vec2(0.15, 0.1)).norm() == Approx(1.0));
+  }
+  CHECK_FALSE(planner.reachable(outside));
+  CHECK(planner.descent(outside) == Vec2::Zero());
+  CHECK_FALSE(planner.reachable(margin));
+  CHECK(planner.descent(margin) == Vec2::Zero());
+  CHECK(planner.potential(outside) == 1.0);
+  CHECK(planner.trace(outside, kStep, 100).size() == 1);
+}
+
+TEST_CASE("a goal inside an obstacle has no cells and is unreachable", "[planner]") {
+  WorldSpec world = open_world(false);
+  world.obstacles.push_back(obstacle(box_shape(0.4, 0.4), 0.0, 0.0));
+  HarmonicPlanner planner;
+  planner.set_grid(build_occupancy(world, kInflate));
+  planner.set_goal(Vec2(0.0, 0.0), 0.1);
+  CHECK(planner.goal_cells() == 0);
+  CHECK_FALSE(planner.update());
+  CHECK_FALSE(planner.reachable(Vec2(1.5, 1.5)));
+  CHECK(planner.descent(Vec2(1.5, 1.5)) == Vec2::Zero());
+}
+
+TEST_CASE("a U-shaped trap between start and goal is routed around", "[planner]") {
+  // The U opens towards -x; the start sits in its cavity, the goal straight behind its bottom, so
+  // an attractive-repulsive field would hold the robot in the cavity.
+  WorldSpec world = open_world(false);
+  world.obstacles.push_back(obstacle(box_shape(0.1, 0.9), 0.3, 0.0));     // bottom of the U
+  world.obstacles.push_back(obstacle(box_shape(0.55, 0.1), -0.25, 0.8));  // upper arm
+  world.obstacles.push_back(obstacle(box_shape(0.55, 0.1), -0.25, -0.8)); // lower arm
+  const OccupancyGrid plain = build_occupancy(world), grown = build_occupancy(world, kInflate);
+  const Vec2 start(-0.2, 0.05), goal(1.3, 0.0);
+  REQUIRE_FALSE(occupied_at(grown, start));
+
+  HarmonicPlanner planner;
+  planner.set_grid(grown);
+  planner.set_goal(goal, 0.1);
+  REQUIRE(planner.update());
+  // At the start the way out is backwards, away from the goal.
+  CHECK(planner.descent(start).x() < 0.0);
+  const std::vector<Vec2> path = planner.trace(start, kStep, 5000);
+  CHECK(planner.at_goal(path.back()));
+  double leftmost = start.x();
+  int collisions = 0;
+  for (const Vec2& p : path) {
+    leftmost = std::min(leftmost, p.x());
+    collisions += occupied_at(plain, p);
+  }
+  CHECK(leftmost < -0.8);  // it left the cavity through the opening
+  CHECK(collisions == 0);
+}
+
+TEST_CASE("deep in a long corridor the potential is 1 to the last bit, yet the way is found", "[planner]") {
+  // A serpentine corridor two cells wide, carved by hand: the potential falls by about e^-pi/3
+  // per cell along it, so 5 legs of 56 cells leave 1 - u near 1e-130 at the far end.
+  OccupancyGrid g;
+  g.nx = g.ny = 64;
+  g.x0 = g.y0 = -2.0;
+  g.cell = 0.0625;
+  g.occupied.assign(64 * 64, 1);
+  auto carve = [&](int i0, int i1, int j0, int j1) {
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) g.occupied[size_t(j) * 64 + i] = 0;
+  };
+  for (int leg = 0; leg < 5; ++leg) {
+    const int j = 4 + 6 * leg;
+    carve(4, 59, j, j + 1);
+    if (leg < 4) {
+      const int i = leg % 2 == 0 ? 58 : 4;  // the bend to the next leg, alternating ends
+      carve(i, i + 1, j, j + 7);
+    }
+  }
+  const Vec2 goal = g.center(4, 4), far_end = g.center(59, 28);
+
+  HarmonicPlanner planner;
+  planner.set_grid(g);
+  planner.set_goal(goal, 0.0);
+  REQUIRE(planner.update());
+  CHECK(planner.converged());
+  CHECK(planner.reachable(far_end));
+  CHECK(planner.potential(far_end) == 1.0);  // the flat far field: u has no digits left
+  CHECK(planner.complement(far_end) > 0.0);
+  CHECK(planner.complement(far_end) < 1e-100);
+  const std::vector<Vec2> path = planner.trace(far_end, kStep, 20000);
+  CHECK(planner.at_goal(path.back()));
+  int collisions = 0;
+  for (const Vec2& p : path) collisions += occupied_at(g, p);
+  CHECK(collisions == 0);
+}
+
+TEST_CASE("a robot in an inflated margin is led out of it", "[planner]") {
+  WorldSpec world = open_world(false);
+  world.obstacles.push_back(obstacle(ball_shape(0.3), 0.0, 0.0));
+  const OccupancyGrid grown = build_occupancy(world, kInflate);
+  HarmonicPlanner planner;
+  planner.set_grid(grown);
+  planner.set_goal(Vec2(1.5, 0.0), 0.1);
+  REQUIRE(planner.update());
+  // 0.42 m from the centre: clear of the disk, inside its 0.2 m margin, on the far side.
+  const Vec2 p(-0.42, 0.0);
+  REQUIRE(occupied_at(grown, p));
+  CHECK(planner.reachable(p));
+  const Vec2 d = planner.descent(p);
+  CHECK(d.norm() == Approx(1.0));
+  CHECK(d.x() < 0.0);  // out of the margin first, not through the disk
+  CHECK(planner.at_goal(planner.trace(p, kStep, 5000).back()));
+}
+
+TEST_CASE("a moved goal is solved from the previous solution", "[planner]") {
+  // Warm and cold planners track the same goal as it steps one cell at a time.
+  long warm_sweeps = 0, cold_sweeps = 0;
+  for (uint64_t seed = 100; seed < 110; ++seed) {
+    Rng rng(seed);
+    const OccupancyGrid grown = build_occupancy(random_world(rng), kInflate);
+    PlannerParams cold_params;
+    cold_params.warm_start = false;
+    HarmonicPlanner warm, cold(cold_params);
+    warm.set_grid(grown);
+    cold.set_grid(grown);
+    Vec2 goal;
+    do {
+      goal = free_point(rng, grown);
+      warm.set_goal(goal, 0.1);
+    } while (!warm.update() || occupied_at(grown, goal + Vec2(grown.cell, 0.0)));
+    goal.x() += grown.cell;
+    warm.set_goal(goal, 0.1);
+    cold.set_goal(goal, 0.1);
+    warm.update();
+    cold.update();
+    INFO("seed " << seed);
+    CHECK(warm.converged());
+    warm_sweeps += warm.sweeps_last_solve();
+    cold_sweeps += cold.sweeps_last_solve();
+    // Both reach the same field, to within the tolerance's reach.
+    double worst = 0.0;
+    for (int j = 0; j < grown.ny; ++j)
+      for (int i = 0; i < grown.nx; ++i) {
+        const double a = warm.complement(grown.center(i, j)), b = cold.complement(grown.center(i, j));
+        if (b > 0.0) worst = std::max(worst, std::abs(a - b) / b);
+      }
+    CHECK(worst < 1e-2);
+  }
+  INFO("sweeps after a one-cell move: warm " << warm_sweeps << ", cold " << cold_sweeps);
+  CHECK(warm_sweeps < 0.9 * cold_sweeps);
+}
+
+TEST_CASE("nothing changed means no work", "[planner]") {
+  Rng rng(7);
+  const OccupancyGrid grown = build_occupancy(random_world(rng), kInflate);
+  HarmonicPlanner planner;
+  CHECK_FALSE(planner.update());  // no grid yet
+  planner.set_grid(grown);
+  planner.set_goal(Vec2(-1.5, -1.5), 0.1);
+  planner.update();
+  REQUIRE(planner.solves() == 1);
+  const long sweeps = planner.total_sweeps();
+  CHECK(sweeps > 0);
+  const bool reachable = planner.update();
+  CHECK(planner.update() == reachable);
+  CHECK(planner.total_sweeps() == sweeps);
+
+  // The same goal again, or one that moves within the same cells: no solve.
+  planner.set_goal(Vec2(-1.5, -1.5), 0.1);
+  planner.set_goal(Vec2(-1.5 + 0.001, -1.5), 0.1 + 0.001);
+  planner.update();
+  CHECK(planner.solves() == 1);
+
+  // An identical grid is not a new grid.
+  const OccupancyGrid copy = grown;
+  planner.set_grid(copy);
+  planner.update();
+  CHECK(planner.solves() == 1);
+  CHECK(planner.total_sweeps() == sweeps);
+
+  // A different grid is, and starts from zero.
+  OccupancyGrid changed = grown;
+  *std::find(changed.occupied.begin(), changed.occupied.end(), uint8_t(0)) = 1;
+  planner.set_grid(changed);
+  planner.update();
+  CHECK(planner.solves() == 2);
+}
+
+TEST_CASE("points off the grid and bad parameters", "[planner]") {
+  HarmonicPlanner planner;
+  planner.set_grid(build_occupancy(open_world(false), kInflate));
+  planner.set_goal(Vec2(1.0, 1.0), 0.2);
+  REQUIRE(planner.update());
+  CHECK_FALSE(planner.reachable(Vec2(5.0, 0.0)));
+  CHECK(planner.descent(Vec2(5.0, 0.0)) == Vec2::Zero());
+  CHECK(planner.at_goal(Vec2(1.0, 1.0)));
+  CHECK(planner.descent(Vec2(1.0, 1.0)) == Vec2::Zero());
+  CHECK(planner.potential(Vec2(1.0, 1.0)) == Approx(0.0));
+  CHECK(planner.residual() < 1e-3);
+  CHECK_THROWS_AS(planner.set_goal(Vec2(NAN, 0.0), 0.1), Error);
+  CHECK_THROWS_AS(planner.set_goal(Vec2(0.0, 0.0), -1.0), Error);
+  CHECK_THROWS_AS(planner.set_grid(OccupancyGrid{}), Error);
+  PlannerParams bad;
+  bad.omega = 2.0;
+  bad.auto_omega = false;
+  CHECK_THROWS_AS(HarmonicPlanner(bad), Error);
+  bad = PlannerParams{};
+  bad.tolerance = 0.0;
+  CHECK_THROWS_AS(HarmonicPlanner(bad), Error);
+}
+
+TEST_CASE("solve timings on the 64 x 64 arena", "[planner][.bench]") {
+  using Clock = std::chrono::steady_clock;
+  for (const bool cluttered : {false, true}) {
+    Rng rng(3);
+    const WorldSpec world = cluttered ? random_world(rng) : open_world(false);
+    const OccupancyGrid grown = build_occupancy(world, kInflate);
+    PlannerParams cold_params;
+    cold_params.warm_start = false;
+    HarmonicPlanner warm, cold(cold_params);
+    warm.set_grid(grown);
+    cold.set_grid(grown);
+    // The goal steps back and forth between two neighbouring cells.
+    Vec2 a(-1.0, -0.9);
+    warm.set_goal(a, 0.1);
+    while (!warm.update() || occupied_at(grown, a + Vec2(grown.cell, 0.0))) {
+      a = free_point(rng, grown);
+      warm.set_goal(a, 0.1);
+    }
+    const Vec2 b = a + Vec2(grown.cell, 0.0);
+    const int rounds = 200;
+    double warm_us = 0.0, cold_us = 0.0;
+    long warm_sweeps = 0, cold_sweeps = 0;
+    for (int r = 0; r < rounds; ++r) {
+      const Vec2& goal = r % 2 == 0 ? b : a;
+      auto t0 = Clock::now();
+      warm.set_goal(goal, 0.1);
+      warm.update();
+      auto t1 = Clock::now();
+      cold.set_goal(goal, 0.1);
+      cold.update();
+      auto t2 = Clock::now();
+      warm_us += std::chrono::duration<double, std::micro>(t1 - t0).count();
+      cold_us += std::chrono::duration<double, std::micro>(t2 - t1).count();
+      warm_sweeps += warm.sweeps_last_solve();
+      cold_sweeps += cold.sweeps_last_solve();
+    }
+    std::printf("%s arena (%d free cells, omega %.3f): warm solve %.0f sweeps %.0f us, cold solve %.0f sweeps %.0f us\n",
+                cluttered ? "cluttered" : "open", grown.nx * grown.ny - grown.count(), warm.omega(),
+                double(warm_sweeps) / rounds, warm_us / rounds, double(cold_sweeps) / rounds, cold_us / rounds);
+    CHECK(warm.converged());
+  }
+}
