@@ -12,7 +12,7 @@ namespace roger {
 
 // How the agent runs its controllers.
 struct AgentParams {
-  double grid_inflate = 0.22;  // obstacles grown by this (m) for the planner: base radius + margin
+  double grid_inflate = 0.36;  // obstacles grown by this (m) for the planner: the folded hands' reach
   bool gaze_reflex = true;     // eyes keep the stimulus centred whenever the action leaves them idle
 };
 

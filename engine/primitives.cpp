@@ -539,6 +539,7 @@ class Hold final : public Primitive {
  public:
   Hold() : Primitive("phi5", 0.3) {
     declare("squeeze", 0.03, 0.0, 0.2, "press depth (m) of each hand along its contact normal");
+    declare("pull", 0.03, 0.0, 0.2, "how far (m) the hands draw the object onto the body");
     declare("lead", 0.02, 0.0, 1.0, "hand lead per unit of base acceleration (m per m/s^2)");
     declare("moment", 1.0, 0.0, 10.0, "weight of the moment residual in phi");
     declare("damping", 0.05, 0.0, 1.0, "least-squares damping near singular postures");
@@ -567,12 +568,14 @@ class Hold final : public Primitive {
     Eigen::Matrix<double, 4, kDofCount> J;
     Eigen::Matrix<double, 4, 1> e;
     Eigen::Matrix<double, 2, kDofCount> Jh;
+    const Vec2 to_body = s.touch[kBody].normal;  // from the object's surface towards the body
     for (int side = 0; side < 2; ++side) {
       hand_jacobian(in, side, Jh);
       J.middleRows<2>(2 * side) = Jh;
       const Touch& touch = s.touch[kLeftHand + side];
-      // Press into the surface, and lead with the base's acceleration where that pushes inward.
-      Vec2 err = -number("squeeze") * touch.normal;
+      // Press into the surface, draw the object onto the body (so its contact is kept while the
+      // base pulls and turns), and lead with the base's acceleration where that pushes inward.
+      Vec2 err = -number("squeeze") * touch.normal + number("pull") * to_body;
       const double inward = -accel.dot(touch.normal);
       if (inward > 0) err += -number("lead") * inward * touch.normal;
       e.segment<2>(2 * side) = err;

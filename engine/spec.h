@@ -86,9 +86,10 @@ struct ArenaSpec {
 struct RobotStart {
   Pose pose;
   // Shoulder and elbow of the left arm, then of the right arm (radians, see RobotParams).
-  // The default tucks the hands beside the body (hand centres at (0.22, +-0.33) m), clear of
-  // anything ahead, so that approaching an object never knocks it with a hand.
-  double left_shoulder = 1.9, left_elbow = -2.6, right_shoulder = -1.9, right_elbow = 2.6;
+  // The default folds the arms with the hands beside the body (hand centres at (0.14, +-0.27) m):
+  // clear of anything ahead, so approaching an object never knocks it with a hand, and a narrow
+  // footprint (0.35 m to each side) for the planner.
+  double left_shoulder = 1.975, left_elbow = -2.81, right_shoulder = -1.975, right_elbow = 2.81;
   double left_eye = 0.0, right_eye = 0.0;  // pan relative to the base heading
 };
 
