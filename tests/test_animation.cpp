@@ -1,0 +1,280 @@
+// Tests of animation.h: a real recorded episode becomes a folder of frames that load back at one
+// size, a replay page that needs no network, and episode.json with every tick's states; re-rendering
+// never mixes episodes, and bad folders or episodes are clear errors.
+#include <cairo.h>
+#include <stdlib.h>
+
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <regex>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "agent.h"
+#include "animation.h"
+#include "episode.h"
+#include "error.h"
+#include "predicate.h"
+#include "primitives.h"
+#include "world_fixtures.h"
+
+namespace fs = std::filesystem;
+using namespace roger;
+
+namespace {
+
+// A fresh, empty directory, removed with its content when the test ends.
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    std::string tmpl = (fs::temp_directory_path() / "test_animation_XXXXXX").string();
+    REQUIRE(mkdtemp(tmpl.data()) != nullptr);
+    path = tmpl;
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// Sorted names of the frame files in a folder, and whether anything else unexpected is there.
+std::vector<std::string> frame_files(const fs::path& dir) {
+  std::vector<std::string> out;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (std::regex_match(name, std::regex(R"(frame_\d+\.png)"))) out.push_back(name);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// Loads a PNG with cairo and returns its size (0 x 0 when it does not load).
+std::pair<int, int> png_size(const fs::path& p) {
+  cairo_surface_t* s = cairo_image_surface_create_from_png(p.string().c_str());
+  std::pair<int, int> size{0, 0};
+  if (cairo_surface_status(s) == CAIRO_STATUS_SUCCESS)
+    size = {cairo_image_surface_get_width(s), cairo_image_surface_get_height(s)};
+  cairo_surface_destroy(s);
+  return size;
+}
+
+// Whether a PNG has a pixel close to colour (r, g, b) in rows [y0, y1).
+bool has_colour(const fs::path& p, int y0, int y1, int r, int g, int b) {
+  cairo_surface_t* s = cairo_image_surface_create_from_png(p.string().c_str());
+  REQUIRE(cairo_surface_status(s) == CAIRO_STATUS_SUCCESS);
+  const int w = cairo_image_surface_get_width(s), h = cairo_image_surface_get_height(s);
+  const int stride = cairo_image_surface_get_stride(s);
+  const unsigned char* data = cairo_image_surface_get_data(s);
+  bool found = false;
+  for (int y = std::max(0, y0); y < std::min(h, y1) && !found; ++y)
+    for (int x = 0; x < w && !found; ++x) {
+      const uint32_t px = *reinterpret_cast<const uint32_t*>(data + y * stride + 4 * x);
+      const int pr = (px >> 16) & 255, pg = (px >> 8) & 255, pb = px & 255;
+      found = std::abs(pr - r) <= 6 && std::abs(pg - g) <= 6 && std::abs(pb - b) <= 6;
+    }
+  cairo_surface_destroy(s);
+  return found;
+}
+
+// Phi6 for real: search until both eyes see the ball behind Roger, then track it with phi0; the
+// two primitives are watched. Frames every 0.2 s.
+struct Phi6Episode {
+  WorldSpec spec = test::open_world(true, Vec2(-1.4, 0.6));
+  PrimitivePtr search = make_primitive("search");
+  PrimitivePtr track = make_primitive("phi0");
+  EpisodeResult run(double time_limit) {
+    search->set_name("search");
+    track->set_name("phi0");
+    spec.seed = 3;
+    Sequence phi6({search, track});
+    phi6.set_name("Phi6");
+    PredicatePtr goal = held(converged(track), 0.2);
+    EpisodeOptions eo;
+    eo.time_limit = time_limit;
+    eo.record_every = 0.2;
+    Agent agent;
+    return run_episode(agent, spec, 11, phi6, *goal, eo, {search, track});
+  }
+};
+
+AnimationOptions small_options() {
+  AnimationOptions o;
+  o.frame.width_px = 320;  // small pictures keep the test fast
+  o.title = "Phi6 <search & track>";
+  return o;
+}
+
+}  // namespace
+
+TEST_CASE("an episode becomes frames, a replay page and episode.json") {
+  Phi6Episode e;
+  const EpisodeResult ep = e.run(4.0);
+  REQUIRE(ep.frames.size() >= 3);
+  REQUIRE(ep.gammas.size() == 2);
+  TempDir dir;
+  const fs::path out = dir.path / "nested" / "anim";  // missing folders are created
+  const AnimationOptions o = small_options();
+  render_episode(e.spec, ep, out.string(), o);
+
+  SECTION("one PNG per frame, all the same size: the world picture and the timeline under it") {
+    const std::vector<std::string> files = frame_files(out);
+    REQUIRE(files.size() == ep.frames.size());
+    CHECK(files.front() == "frame_0000.png");
+    RenderOptions ro = o.frame;
+    const PictureSize world = picture_size(e.spec, ro);
+    for (const std::string& f : files) {
+      const auto [w, h] = png_size(out / f);
+      CHECK(w == 320);
+      // Two controller rows: about an eighth of a 320-pixel width below the world picture.
+      CHECK(h > world.height + 30);
+      CHECK(h < world.height + 60);
+    }
+    // The last frame's timeline shows states in their colours: !CONV amber (searching) and CONV
+    // green (found, tracking), below the world picture.
+    const fs::path last = out / files.back();
+    const int h_total = png_size(last).second;
+    CHECK(has_colour(last, world.height, h_total, 240, 166, 0));
+    CHECK(has_colour(last, world.height, h_total, 44, 160, 84));
+    // No temporaries left behind by the atomic writes.
+    for (const auto& entry : fs::directory_iterator(out))
+      CHECK(entry.path().filename().string()[0] != '.');
+  }
+
+  SECTION("index.html replays the frames without the network") {
+    const std::string html = slurp(out / "index.html");
+    REQUIRE(!html.empty());
+    CHECK(html.find("frame_0000.png") != std::string::npos);
+    CHECK(!std::regex_search(html, std::regex("https?:", std::regex::icase)));
+    CHECK(html.find("<script src") == std::string::npos);
+    CHECK(html.find("<link") == std::string::npos);
+    // The title is escaped in the markup and controller names are in the page's data.
+    CHECK(html.find("Phi6 &lt;search &amp; track&gt;") != std::string::npos);
+    CHECK(html.find("\"search\"") != std::string::npos);
+    CHECK(html.find("\"phi0\"") != std::string::npos);
+    CHECK(html.find(ep.success ? "success after" : "timeout after") != std::string::npos);
+  }
+
+  SECTION("names from scripts cannot break the page") {
+    EpisodeResult odd = ep;
+    odd.gammas[0].name = "</script><b>{{DATA}}";
+    AnimationOptions titled = o;
+    titled.title = "{{DATA}} \xff";  // invalid UTF-8 too
+    render_episode(e.spec, odd, out.string(), titled);
+    const std::string html = slurp(out / "index.html");
+    CHECK(html.find("</script><b>") == std::string::npos);
+    CHECK(html.find("\\u003c/script>\\u003cb>{{DATA}}") != std::string::npos);
+    CHECK(html.find("<h1>{{DATA}} ?</h1>") != std::string::npos);
+    const nlohmann::json j = nlohmann::json::parse(slurp(out / "episode.json"));
+    CHECK(j.at("gammas")[0].at("name") == "</script><b>{{DATA}}");
+  }
+
+  SECTION("episode.json has the outcome, every frame and one state per tick per controller") {
+    const nlohmann::json j = nlohmann::json::parse(slurp(out / "episode.json"));
+    CHECK(j.at("seed").get<uint64_t>() == 11);
+    CHECK(j.at("success").get<bool>() == ep.success);
+    CHECK(j.at("reward").get<double>() == ep.reward);
+    CHECK(j.at("ticks").get<int>() == ep.ticks);
+    CHECK(j.at("sim_seconds").get<double>() == Approx(ep.sim_seconds));
+    REQUIRE(j.at("frames").size() == ep.frames.size());
+    for (size_t i = 0; i < ep.frames.size(); ++i) {
+      const auto& f = j.at("frames")[i];
+      CHECK(f.at("time").get<double>() == Approx(ep.frames[i].time));
+      CHECK(f.at("base").at("x").get<double>() == Approx(ep.frames[i].base.x));
+      CHECK(f.at("base").at("theta").get<double>() == Approx(ep.frames[i].base.theta));
+    }
+    REQUIRE(j.at("gammas").size() == 2);
+    CHECK(j.at("gammas")[0].at("name") == "search");
+    CHECK(j.at("gammas")[1].at("name") == "phi0");
+    const std::set<std::string> names = {"NOREF", "!CONV", "CONV"};
+    for (size_t c = 0; c < 2; ++c) {
+      const auto& states = j.at("gammas")[c].at("states");
+      REQUIRE(states.size() == size_t(ep.ticks));
+      for (size_t t = 0; t < states.size(); ++t) {
+        CHECK(names.count(states[t].get<std::string>()) == 1);
+        CHECK(states[t].get<std::string>() == gamma_name(ep.gammas[c].states[t]));
+      }
+    }
+  }
+
+  SECTION("re-rendering a shorter episode removes the old frames beyond it") {
+    Phi6Episode shorter;
+    const EpisodeResult ep2 = shorter.run(0.5);
+    REQUIRE(ep2.frames.size() < ep.frames.size());
+    render_episode(shorter.spec, ep2, out.string(), o);
+    const std::vector<std::string> files = frame_files(out);
+    CHECK(files.size() == ep2.frames.size());
+    CHECK(files.back() == "frame_" + std::string(4 - std::to_string(ep2.frames.size() - 1).size(), '0') +
+                              std::to_string(ep2.frames.size() - 1) + ".png");
+    const nlohmann::json j = nlohmann::json::parse(slurp(out / "episode.json"));
+    CHECK(j.at("frames").size() == ep2.frames.size());
+  }
+}
+
+TEST_CASE("a summary is one PNG: evenly spaced frames over the timeline") {
+  Phi6Episode e;
+  const EpisodeResult ep = e.run(2.0);
+  TempDir dir;
+  const AnimationOptions o = small_options();
+  const fs::path path = dir.path / "summary.png";
+  render_episode_summary(e.spec, ep, path.string(), o, 3);
+  const auto [w, h] = png_size(path);
+  CHECK(w == 3 * 320);
+  CHECK(h > picture_size(e.spec, o.frame).height);
+
+  // More panels than frames: one panel per frame.
+  EpisodeResult two = ep;
+  two.frames.resize(2);
+  two.frame_ticks.resize(2);
+  render_episode_summary(e.spec, two, path.string(), o, 6);
+  CHECK(png_size(path).first == 2 * 320);
+
+  CHECK_THROWS_AS(render_episode_summary(e.spec, ep, (dir.path / "s.svg").string(), o), Error);
+  CHECK_THROWS_AS(render_episode_summary(e.spec, ep, path.string(), o, 0), Error);
+}
+
+TEST_CASE("bad folders and episodes are clear errors") {
+  Phi6Episode e;
+  const EpisodeResult ep = e.run(0.5);
+  TempDir dir;
+  const AnimationOptions o = small_options();
+
+  SECTION("a folder that cannot be made") {
+    const fs::path file = dir.path / "plain_file";
+    std::ofstream(file) << "not a folder";
+    // Below a regular file nothing can be created, whoever runs the test (root included).
+    CHECK_THROWS_WITH(render_episode(e.spec, ep, (file / "anim").string(), o),
+                      Catch::Contains("cannot create folder"));
+    CHECK_THROWS_WITH(render_episode(e.spec, ep, file.string(), o),
+                      Catch::Contains("not a folder"));
+    CHECK_THROWS_AS(render_episode_summary(e.spec, ep, (file / "s.png").string(), o), Error);
+  }
+
+  SECTION("an episode without frames, or from another world, touches nothing") {
+    EpisodeResult empty = ep;
+    empty.frames.clear();
+    empty.frame_ticks.clear();
+    const fs::path out = dir.path / "never";
+    CHECK_THROWS_WITH(render_episode(e.spec, empty, out.string(), o),
+                      Catch::Contains("no frames"));
+    const WorldSpec no_ball = test::open_world(false);
+    CHECK_THROWS_WITH(render_episode(no_ball, ep, out.string(), o),
+                      Catch::Contains("object poses"));
+    CHECK(!fs::exists(out));
+  }
+
+  SECTION("playback speed must be positive") {
+    AnimationOptions bad = o;
+    bad.fps = 0;
+    CHECK_THROWS_AS(render_episode(e.spec, ep, (dir.path / "a").string(), bad), Error);
+  }
+}
