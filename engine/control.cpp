@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/SVD>
 
 #include "error.h"
 #include "shape.h"
@@ -52,8 +51,18 @@ void Percepts::update(const Senses& s, const RobotParams& robot) {
 
 void Controller::reset(uint64_t) {
   out_ = ControlOutput{};
-  last_tick_ = UINT64_MAX;
+  last_tick_ = state_tick_ = UINT64_MAX;
   conv_since_ = -1.0;
+}
+
+Gamma Controller::settle(Gamma raw, double time) {
+  // Convergence may have to hold for a while before it counts.
+  if (raw != Gamma::kConv) {
+    conv_since_ = -1.0;
+    return raw;
+  }
+  if (conv_since_ < 0.0) conv_since_ = time;
+  return time - conv_since_ + 1e-9 >= params_.hold ? Gamma::kConv : Gamma::kNotConv;
 }
 
 const ControlOutput& Controller::evaluate(const ControlInput& in) {
@@ -65,29 +74,40 @@ const ControlOutput& Controller::evaluate(const ControlInput& in) {
   Gamma raw = Gamma::kNoRef;
   compute(in, out_, raw);
   if (params_.gain != 1.0) out_.command *= params_.gain;
-  // Convergence may have to hold for a while before it counts.
-  if (raw == Gamma::kConv) {
-    if (conv_since_ < 0.0) conv_since_ = in.time;
-    out_.gamma = in.time - conv_since_ + 1e-9 >= params_.hold ? Gamma::kConv : Gamma::kNotConv;
-  } else {
-    conv_since_ = -1.0;
-    out_.gamma = raw;
-  }
+  out_.gamma = settle(raw, in.time);
   return out_;
+}
+
+Gamma Controller::state(const ControlInput& in) {
+  if (in.tick == last_tick_ || in.tick == state_tick_) return out_.gamma;
+  Gamma raw = Gamma::kNoRef;
+  if (!compute_state(in, out_, raw)) return evaluate(in).gamma;
+  state_tick_ = in.tick;
+  out_.gamma = settle(raw, in.time);
+  return out_.gamma;
 }
 
 DofMatrix nullspace_projector(const TaskJacobian& J, double tolerance) {
   DofMatrix N = DofMatrix::Identity();
   if (J.rows() == 0) return N;
-  // J^T J is 8 x 8 whatever the number of task rows; its eigenvectors with non-negligible
-  // eigenvalues span the row space of J, which N removes.
-  const DofMatrix JtJ = J.transpose() * J;
-  Eigen::JacobiSVD<DofMatrix> svd(JtJ, Eigen::ComputeFullV);
-  const auto& sigma = svd.singularValues();
-  if (sigma(0) <= 0.0) return N;
-  const double cutoff = tolerance * sigma(0);
-  for (int k = 0; k < kDofCount; ++k)
-    if (sigma(k) > cutoff) N.noalias() -= svd.matrixV().col(k) * svd.matrixV().col(k).transpose();
+  // An orthonormal basis of J's row space by modified Gram-Schmidt, each row orthogonalized twice
+  // (enough for double precision); a row whose remainder is below `tolerance` times the largest
+  // row norm depends on the others and is dropped, which truncates the pseudoinverse there
+  // instead of letting it blow up. N = I - sum of q q^T. Far cheaper than an SVD per tick.
+  double largest = 0.0;
+  for (int r = 0; r < J.rows(); ++r) largest = std::max(largest, J.row(r).norm());
+  if (largest <= 0.0) return N;
+  Eigen::Matrix<double, kDofCount, kDofCount> basis;
+  int rank = 0;
+  for (int r = 0; r < J.rows() && rank < kDofCount; ++r) {
+    DofVector v = J.row(r).transpose();
+    for (int pass = 0; pass < 2; ++pass)
+      for (int k = 0; k < rank; ++k) v -= basis.col(k).dot(v) * basis.col(k);
+    const double norm = v.norm();
+    if (norm <= tolerance * largest) continue;
+    basis.col(rank++) = v / norm;
+  }
+  N.noalias() -= basis.leftCols(rank) * basis.leftCols(rank).transpose();
   return N;
 }
 
@@ -148,7 +168,7 @@ void Sequence::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_
   const int n = int(steps_.size());
   // Advance past converged steps, fall back past steps without a reference; at most n moves.
   for (int moves = 0; moves < n; ++moves) {
-    const Gamma g = steps_[current_]->evaluate(in).gamma;
+    const Gamma g = steps_[current_]->state(in);
     if (g == Gamma::kConv && current_ + 1 < n) {
       ++current_;
     } else if (g == Gamma::kNoRef && current_ > 0) {
@@ -162,9 +182,9 @@ void Sequence::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_
   out.jacobian = run.jacobian;
   out.phi = run.phi;
   out.residual = run.residual;
-  const Gamma last = steps_.back()->evaluate(in).gamma;
+  const Gamma last = steps_.back()->state(in);
   bool any_reference = false;
-  for (const auto& s : steps_) any_reference |= s->evaluate(in).gamma != Gamma::kNoRef;
+  for (const auto& s : steps_) any_reference |= s->state(in) != Gamma::kNoRef;
   gamma_raw = last == Gamma::kConv ? Gamma::kConv : any_reference ? Gamma::kNotConv : Gamma::kNoRef;
 }
 
@@ -206,7 +226,7 @@ void Policy::reset(uint64_t seed) {
 void Policy::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) {
   bool any_reference = false;
   for (size_t i = 0; i < actions_.size(); ++i) {
-    scratch_[i] = actions_[i]->evaluate(in).gamma;
+    scratch_[i] = actions_[i]->state(in);
     any_reference |= scratch_[i] != Gamma::kNoRef;
   }
   const int entry = table_[size_t(gamma_state_index(scratch_))];
@@ -218,7 +238,7 @@ void Policy::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_ra
     out.phi = run.phi;
     out.residual = run.residual;
   }
-  const bool done = done_ && done_->evaluate(in).gamma == Gamma::kConv;
+  const bool done = done_ && done_->state(in) == Gamma::kConv;
   gamma_raw = done ? Gamma::kConv : any_reference ? Gamma::kNotConv : Gamma::kNoRef;
 }
 

@@ -103,6 +103,11 @@ class Controller {
   // Evaluates for this tick (cached: the second call in the same tick returns the first result).
   const ControlOutput& evaluate(const ControlInput& in);
 
+  // This tick's state alone (cached). Cheaper than evaluate() where a controller can tell its
+  // state without computing its command (phi1 needs no potential solve for it); evaluate() still
+  // gives the full output afterwards.
+  Gamma state(const ControlInput& in);
+
   // The last output.
   const ControlOutput& output() const { return out_; }
 
@@ -116,19 +121,26 @@ class Controller {
   // Computes the output for this tick; gamma_raw before the hold time.
   virtual void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) = 0;
 
+  // Optional fast path of state(): sets gamma_raw (and residual) without the command. Returns
+  // false to fall back on compute(). It must agree with compute() on the state.
+  virtual bool compute_state(const ControlInput&, ControlOutput&, Gamma&) { return false; }
+
  private:
+  // Applies the hold time to a raw state (idempotent within a tick).
+  Gamma settle(Gamma raw, double time);
   std::string name_;
   ControllerParams params_;
   ControlOutput out_;
-  uint64_t last_tick_ = UINT64_MAX;
+  uint64_t last_tick_ = UINT64_MAX;   // tick of the last full evaluation
+  uint64_t state_tick_ = UINT64_MAX;  // tick of the last state-only evaluation
   double conv_since_ = -1.0;
 };
 
 using ControllerPtr = std::shared_ptr<Controller>;
 
-// The nullspace projector N = I - J^+ J of a task Jacobian, from its singular value decomposition:
-// directions whose singular value is below `tolerance` times the largest are treated as free
-// (the pseudoinverse is truncated there rather than blowing up near singularities).
+// The nullspace projector N = I - J^+ J of a task Jacobian (Moore-Penrose), from an orthonormal
+// basis of J's row space: rows that depend on the others to within `tolerance` times the largest
+// row add nothing (the pseudoinverse is truncated there rather than blowing up near singularities).
 DofMatrix nullspace_projector(const TaskJacobian& jacobian, double tolerance = 1e-6);
 
 // c2 <| c1: the subordinate's command projected into the nullspace of the superior's Jacobian.

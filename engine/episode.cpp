@@ -27,7 +27,7 @@ EpisodeResult run_episode(Agent& agent, const WorldSpec& spec, uint64_t seed, Co
   for (int t = 0; t < max_ticks; ++t) {
     agent.step(action);
     const ControlInput& in = agent.input();
-    for (size_t i = 0; i < watch.size(); ++i) r.gammas[i].states.push_back(watch[i]->evaluate(in).gamma);
+    for (size_t i = 0; i < watch.size(); ++i) r.gammas[i].states.push_back(watch[i]->state(in));
     r.ticks = t + 1;
     const bool done = goal.holds(in);
     if (frame_every && (r.ticks % frame_every == 0 || done)) {

@@ -51,8 +51,8 @@ void HarmonicPlanner::set_grid(const OccupancyGrid& grid) {
     return;
   grid_ = grid;
   has_grid_ = true;
-  grid_changed_ = true;
-  solved_ = false;  // the arrays are rebuilt below: no solution until the next update()
+  // The arrays are rebuilt below: no reachability, no solution, nothing to warm-start from.
+  flooded_ = solved_ = have_values_ = false;
   backoffs_ = 0;
   rebuild_structure();
   find_goal_cells(pending_goal_);
@@ -66,7 +66,7 @@ void HarmonicPlanner::set_goal(const Vec2& center, double radius) {
   has_goal_ = true;
   find_goal_cells(pending_goal_);
   // Comparing cell sets, not centres, lets a goal that jitters within a cell cost nothing.
-  goal_changed_ = !solved_ || pending_goal_ != goal_;
+  if (pending_goal_ != goal_) flooded_ = solved_ = false;
 }
 
 void HarmonicPlanner::rebuild_structure() {
@@ -98,6 +98,24 @@ void HarmonicPlanner::rebuild_structure() {
       exit_[m] = k;
       queue_.push_back(m);
     }
+  }
+
+  // Connected components of the free cells (4-neighbourhood, as the Laplacian): reachability of
+  // any goal is then a lookup, with no flood per goal change.
+  component_.assign(n, -1);
+  component_size_.clear();
+  for (int k = 0; k < int(n); ++k) {
+    if (!free_[k] || component_[k] >= 0) continue;
+    const int id = int(component_size_.size());
+    queue_.assign(1, k);
+    component_[k] = id;
+    for (size_t head = 0; head < queue_.size(); ++head) {
+      int nb[4];
+      neighbours(queue_[head], stride_, nb);
+      for (int m : nb)
+        if (free_[m] && component_[m] < 0) component_[m] = id, queue_.push_back(m);
+    }
+    component_size_.push_back(int(queue_.size()));
   }
 
   // Distance from each cell centre to the nearest occupied centre, in cells (two-pass chamfer,
@@ -143,18 +161,40 @@ void HarmonicPlanner::find_goal_cells(std::vector<int>& out) const {
   out.erase(std::unique(out.begin(), out.end()), out.end());
 }
 
-bool HarmonicPlanner::update() {
-  if (solved_ && !grid_changed_ && !goal_changed_) return any_reachable_;
+bool HarmonicPlanner::update_reachability() {
   if (!has_grid_) return false;
-  // After a grid change the old values belong to other obstacles; start from zero then.
-  const bool warm = params_.warm_start && solved_ && !grid_changed_;
-  if (!warm) std::fill(q_.begin(), q_.end(), 0.0);
-  goal_ = pending_goal_;
-  flood_from_goal();
-  solve(warm);
-  grid_changed_ = goal_changed_ = false;
-  solved_ = true;
+  if (!flooded_) {
+    goal_ = pending_goal_;
+    // The goal's components, and whether any of them has a free cell outside the goal.
+    goal_components_.clear();
+    for (int k : goal_)
+      if (std::find(goal_components_.begin(), goal_components_.end(), component_[k]) == goal_components_.end())
+        goal_components_.push_back(component_[k]);
+    int inside = 0;
+    for (int c : goal_components_) inside += component_size_[size_t(c)];
+    any_reachable_ = inside > int(goal_.size());
+    flooded_ = true;
+  }
   return any_reachable_;
+}
+
+bool HarmonicPlanner::update() {
+  if (!update_reachability()) {
+    solved_ = false;
+    return false;
+  }
+  if (solved_) return true;
+  flood_from_goal();  // distances to the goal and the cells to relax
+  // After a grid change the old values belong to other obstacles; start from zero then.
+  const bool warm = params_.warm_start && have_values_;
+  if (!warm) {
+    // Zero everywhere but the goal, which the flood already fixed at q = 1.
+    std::fill(q_.begin(), q_.end(), 0.0);
+    for (int k : goal_) q_[k] = 1.0;
+  }
+  solve(warm);
+  solved_ = have_values_ = true;
+  return true;
 }
 
 void HarmonicPlanner::flood_from_goal() {
@@ -259,9 +299,11 @@ bool HarmonicPlanner::locate(const Vec2& p, int& k) const {
 }
 
 bool HarmonicPlanner::cell_reachable(int k) const {
-  if (!solved_) return false;
-  if (free_[k]) return dist_[k] >= 0;
-  return nearest_[k] >= 0 && dist_[nearest_[k]] >= 0;
+  if (!flooded_) return false;
+  const int cell = free_[k] ? k : nearest_[k];
+  if (cell < 0) return false;
+  return std::find(goal_components_.begin(), goal_components_.end(), component_[cell]) !=
+         goal_components_.end();
 }
 
 bool HarmonicPlanner::reachable(const Vec2& p) const {
@@ -271,7 +313,7 @@ bool HarmonicPlanner::reachable(const Vec2& p) const {
 
 bool HarmonicPlanner::at_goal(const Vec2& p) const {
   int k;
-  return solved_ && locate(p, k) && free_[k] && dist_[k] == 0;
+  return flooded_ && locate(p, k) && free_[k] && std::binary_search(goal_.begin(), goal_.end(), k);
 }
 
 Vec2 HarmonicPlanner::cell_gradient(int k) const {
@@ -306,7 +348,7 @@ double HarmonicPlanner::potential(const Vec2& p) const { return 1.0 - complement
 
 Vec2 HarmonicPlanner::descent(const Vec2& p) const {
   int k;
-  if (!locate(p, k) || !cell_reachable(k) || (free_[k] && dist_[k] == 0)) return Vec2::Zero();
+  if (!solved_ || !locate(p, k) || !cell_reachable(k) || (free_[k] && dist_[k] == 0)) return Vec2::Zero();
   // Descending u is ascending q = 1 - u. The gradient is taken by central differences at the four
   // cell centres around p and interpolated between them, so the direction turns smoothly as the
   // base drives on; the gradient of the bilinear potential itself would jump wherever p crosses

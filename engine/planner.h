@@ -46,6 +46,10 @@ class HarmonicPlanner {
   // Sets the goal: the free cells whose centre lies within radius of center, plus the free cell
   // holding center; a goal covering the same cells as before changes nothing.
   void set_goal(const Vec2& center, double radius);
+  // Brings reachability up to date (component lookups, no flood, no solve): enough for reachable()
+  // and at_goal(), so a controller can report its state without paying for a solve. Returns
+  // whether some free cell outside the goal is joined to it.
+  bool update_reachability();
   // Solves if the grid or the goal changed (from the previous solution when only the goal moved);
   // true when some free cell outside the goal is joined to it. Costs nothing when nothing changed.
   // The queries below answer for the most recent update().
@@ -117,8 +121,13 @@ class HarmonicPlanner {
   std::vector<int> goal_;        // sorted padded indices of the goal cells in force
   std::vector<int> pending_goal_;
   std::vector<int> queue_;       // breadth-first scratch, kept to avoid allocating per change
+  std::vector<int> component_;   // connected component of each free cell (-1 elsewhere)
+  std::vector<int> component_size_;   // cells per component
+  std::vector<int> goal_components_;  // the components holding goal cells
 
-  bool grid_changed_ = false, goal_changed_ = false, solved_ = false;
+  bool flooded_ = false;      // reachability (the flood from the goal) is up to date
+  bool solved_ = false;       // the potential is solved for the current grid and goal
+  bool have_values_ = false;  // q_ holds a solution for the current grid: warm starts may use it
   bool any_reachable_ = false;
   int sweeps_last_ = 0, solves_ = 0;
   long sweeps_total_ = 0;

@@ -10,7 +10,7 @@ class GammaIs final : public Predicate {
   GammaIs(ControllerPtr c, Gamma g, bool short_form) : c_(std::move(c)), g_(g), short_(short_form) {
     if (!c_) throw Error("predicate: needs a controller");
   }
-  bool holds(const ControlInput& in) override { return c_->evaluate(in).gamma == g_; }
+  bool holds(const ControlInput& in) override { return c_->state(in) == g_; }
   std::string describe() const override {
     return short_ ? "converged(" + c_->name() + ")"
                   : "gamma(" + c_->name() + ") == " + gamma_name(g_);

@@ -284,43 +284,31 @@ class Navigate final : public Primitive {
     declare("carry", 0.0, 0.0, 1.0, "control point ahead of the base (m): 0 = base centre");
     declare("speed", 0.9, 0.05, 2.0, "cruise speed (m/s)");
     declare("memory", 2.0, 0.0, 60.0, "seconds a lost object's last position stays a goal");
-    declare("margin", 0.05, 0.0, 1.0, "clearance (m) kept around the object when approaching");
+    declare("margin", 0.05, 0.0, 1.0, "how far (m) inside a goal region's edge the goal cells end");
+    declare("replan", 0.15, 0.0, 1.0, "how far (m) the object estimate must move to plan again");
   }
   Navigate(const Navigate& o) : Primitive(o), planner_() {}
   PrimitivePtr clone() const override { return std::make_shared<Navigate>(*this); }
   void reset(uint64_t seed) override {
     Primitive::reset(seed);
     grid_ = nullptr;
-    object_cell_ = -1;
+    planned_ = false;
   }
 
  protected:
+  // The state needs reachability and the distance to the goal, not the solved potential.
+  bool compute_state(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
+    classify(in, false, out, gamma);
+    return true;
+  }
+
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
     own_dofs({kBaseForward, kBaseHeading}, out.jacobian);
+    const Vec2 point = classify(in, true, out, gamma);
+    if (gamma != Gamma::kNotConv) return;
     const Senses& s = *in.senses;
-    const Vec2 base(s.base.x, s.base.y);
     const double carry = number("carry");
-    // The control point: the base centre, or a point carried ahead of it. When carrying, vision
-    // says where the carried object really is, if the eyes have it.
-    Vec2 point = base + carry * unit(s.base.theta);
-    if (carry > 0.05 && in.percepts->object.seen &&
-        (in.percepts->object.center - point).norm() < 0.5 * carry)
-      point = in.percepts->object.center;
-    if (!prepare(in)) {
-      gamma = Gamma::kNoRef;
-      return;
-    }
-    if (!planner_.reachable(point)) {
-      gamma = Gamma::kNoRef;
-      return;
-    }
-    out.residual = goal_distance(point);
     out.phi = planner_.potential(point);
-    if (converged(point)) {
-      gamma = Gamma::kConv;
-      return;
-    }
-    gamma = Gamma::kNotConv;
     Vec2 dir = planner_.descent(point);
     if (dir.squaredNorm() < 1e-12) dir = (goal_center_ - point).normalized();
     const double slow = std::clamp(out.residual / 0.3, 0.25, 1.0);  // ease into the goal
@@ -345,8 +333,33 @@ class Navigate final : public Primitive {
   }
 
  private:
+  // The control point: the base centre, or a point carried ahead of it. When carrying, vision
+  // says where the carried object really is, if the eyes have it.
+  Vec2 control_point(const ControlInput& in) const {
+    const Senses& s = *in.senses;
+    const double carry = number("carry");
+    const Vec2 point = Vec2(s.base.x, s.base.y) + carry * unit(s.base.theta);
+    if (carry > 0.05 && in.percepts->object.seen &&
+        (in.percepts->object.center - point).norm() < 0.5 * carry)
+      return in.percepts->object.center;
+    return point;
+  }
+
+  // Equation 1 for the planner: NOREF without a goal or when the goal cannot be reached, CONV in
+  // the goal, !CONV on the way. With `solve`, the potential is brought up to date for the command.
+  Vec2 classify(const ControlInput& in, bool solve, ControlOutput& out, Gamma& gamma) {
+    const Vec2 point = control_point(in);
+    if (!prepare(in, solve) || !planner_.reachable(point)) {
+      gamma = Gamma::kNoRef;
+      return point;
+    }
+    out.residual = goal_distance(point);
+    gamma = converged(point) ? Gamma::kConv : Gamma::kNotConv;
+    return point;
+  }
+
   // Sets the planner's grid and goal for this tick; false when there is no goal.
-  bool prepare(const ControlInput& in) {
+  bool prepare(const ControlInput& in, bool solve) {
     if (text("goal") == "region") {
       const size_t k = size_t(number("region"));
       if (k >= in.spec->goals.size()) return false;
@@ -357,31 +370,28 @@ class Navigate final : public Primitive {
       goal_center_ = in.spec->goals[k].center;
       goal_radius_ = in.spec->goals[k].radius;
       planner_.set_goal(goal_center_, std::max(0.5 * in.grid->cell, goal_radius_ - number("margin")));
-      return planner_.update();
+      return solve ? planner_.update() : planner_.update_reachability();
     }
     VisualObject obj;
     if (!object_estimate(in, number("memory"), obj)) return false;
-    // Re-plan only when the estimate moves by a cell: stereo jitter must not cost solves.
     int i, j;
     if (!in.grid->cell_of(obj.center, i, j)) return false;
-    const int cell = j * in.grid->nx + i;
-    if (grid_ != in.grid || cell != object_cell_) {
+    // Re-plan only when the estimate has moved by `replan` metres: stereo jitter must not cost a
+    // solve per tick. The goal is the disk of radius `approach` around the object; the object
+    // itself need not be an obstacle, since the base stops on entering the disk, and keeping the
+    // grid fixed lets every re-plan start warm from the last solution.
+    if (grid_ != in.grid) {
       grid_ = in.grid;
-      object_cell_ = cell;
+      planner_.set_grid(*in.grid);
+      planned_ = false;
+    }
+    if (!planned_ || (obj.center - goal_center_).norm() > number("replan")) {
+      planned_ = true;
       goal_center_ = obj.center;
-      object_radius_ = std::clamp(obj.radius, 0.05, 0.5);
-      // The object itself is an obstacle for the base: mark its disk grown by the base radius.
-      with_object_ = *in.grid;
-      const double keep_out = object_radius_ + in.robot->base_radius + number("margin");
-      for (int y = 0; y < with_object_.ny; ++y)
-        for (int x = 0; x < with_object_.nx; ++x)
-          if ((with_object_.center(x, y) - goal_center_).norm() < keep_out)
-            with_object_.occupied[size_t(y) * with_object_.nx + x] = 1;
-      planner_.set_grid(with_object_);
-      goal_radius_ = std::max(number("approach"), keep_out + in.grid->cell * 1.5);
+      goal_radius_ = number("approach");
       planner_.set_goal(goal_center_, goal_radius_);
     }
-    return planner_.update();
+    return solve ? planner_.update() : planner_.update_reachability();
   }
 
   double goal_distance(const Vec2& p) const {
@@ -394,10 +404,9 @@ class Navigate final : public Primitive {
 
   HarmonicPlanner planner_;
   const OccupancyGrid* grid_ = nullptr;
-  OccupancyGrid with_object_;
-  int object_cell_ = -1;
+  bool planned_ = false;
   Vec2 goal_center_ = Vec2::Zero();
-  double goal_radius_ = 0.0, object_radius_ = 0.2;
+  double goal_radius_ = 0.0;
 };
 
 // phi2: visual preshape. From the stereo estimate of the object, the body goes to a standoff on
