@@ -20,7 +20,8 @@ const char* gamma_name(Gamma g) {
 
 void Percepts::update(const Senses& s, const RobotParams& robot) {
   object = VisualObject{};
-  if (s.stereo_valid) {
+  // A stimulus that runs off either image has no trustworthy centre there: no stereo fix then.
+  if (s.stereo_valid && !s.stimulus[0].clipped && !s.stimulus[1].clipped) {
     object.seen = true;
     object.center = s.stimulus_world;
     object.center_base = s.stimulus_base;
@@ -47,6 +48,23 @@ void Percepts::update(const Senses& s, const RobotParams& robot) {
   int best = 0;
   for (int i = 0; i < 8; ++i)
     if (votes[i] > best) best = votes[i], touched_object = i;
+  // Close up, vision is poor (the object fills the eyes' view, and a polygon shows each eye other
+  // corners) but touch knows where the surface is: each contact on the object puts its centre one
+  // (visually estimated) radius behind the contact point, against the contact normal.
+  if (touched_object >= 0 && remembered.radius > 0.0) {
+    Vec2 sum = Vec2::Zero();
+    int n = 0;
+    for (int t = 0; t < kTactileCount; ++t)
+      if (contact_on_object[t] && s.touch[t].index == touched_object)
+        sum += s.touch[t].point - remembered.radius * s.touch[t].normal, ++n;
+    object.seen = object.by_touch = true;
+    object.center = sum / n;
+    object.center_base = to_local(s.base, object.center);
+    object.radius = remembered.radius;
+    remembered.center = object.center;
+    remembered.center_base = object.center_base;
+    remembered_time = s.time;
+  }
 }
 
 void Controller::reset(uint64_t) {

@@ -33,9 +33,11 @@ using TaskJacobian =
     Eigen::Matrix<double, Eigen::Dynamic, kDofCount, Eigen::RowMajor, kMaxTaskRows, kDofCount>;
 using DofMatrix = Eigen::Matrix<double, kDofCount, kDofCount>;
 
-// The object as vision estimates it: stereo centre and a size from the angular width.
+// The object as Roger estimates it: from vision (stereo centre, size from the angular width), or,
+// when vision cannot tell (the object fills an eye's view) but touch can, from the contacts.
 struct VisualObject {
-  bool seen = false;             // stereo fix on the stimulus this tick
+  bool seen = false;             // an estimate this tick (stereo, or touch when vision is clipped)
+  bool by_touch = false;         // this tick's estimate comes from the contacts
   Vec2 center = Vec2::Zero();    // world frame
   Vec2 center_base = Vec2::Zero();
   double radius = 0.0;           // half the angular width times the range

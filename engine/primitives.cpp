@@ -106,6 +106,7 @@ double closure_potential(const Vec2 normal[kTactileCount], const Vec2 point[kTac
 // object at body_distance, the hands at +-spread from the body's side on a circle of hand_radius.
 struct Targets {
   double body_distance;
+  double body_press = 0.0;  // how far (m) the body may still push once it touches the object
   Vec2 hand[2];
 };
 
@@ -155,6 +156,10 @@ void reach_targets(const ControlInput& in, const Vec2& center, const Targets& t,
   const double d = to_obj.norm();
   J(4, kBaseForward) = -unit(s.base.theta).dot(to_obj) / std::max(d, 1e-6);
   e(4) = t.body_distance - d;
+  // Touch overrides vision: once the body feels the object it is there, whatever the estimate of
+  // the object's size says (a polygon's corner may be nearer than its estimated radius); pushing
+  // on would only shove the object away.
+  if (in.percepts->contact_on_object[kBody]) e(4) = std::max(e(4), -t.body_press);
   worst_error = std::max(worst_error, std::abs(e(4)));
   if (facing) {
     J(5, kBaseHeading) = 1.0;
@@ -454,12 +459,16 @@ class Preshape final : public Primitive {
 // phi3: contact configuration. Closes body and hands on the object (squeezing slightly inside its
 // surface) at +-spread around it, and reports phi = |sum of unit contact normals|^2 (+ the moment
 // residual for objects that are not disks) measured by touch. CONV needs all three contacts on one
-// object and phi below epsilon.
+// object and phi below epsilon. The original's 0.1 was for the ball; the default here is 0.2
+// because polygons cannot always reach 0.1 with face contacts (a pentagon's best three faces leave
+// |sum|^2 = 0.146), and with a friction coefficient near 0.9 such a residual is well inside the
+// contacts' friction cones: the grasp holds.
 class Grasp final : public Primitive {
  public:
-  Grasp() : Primitive("phi3", 0.1) {
+  Grasp() : Primitive("phi3", 0.2) {
     declare("squeeze", 0.03, 0.0, 0.2, "how far (m) inside the surface the hands aim");
     declare("body_squeeze", 0.02, 0.0, 0.2, "how far (m) inside the surface the body aims");
+    declare("creep", 0.04, 0.0, 0.3, "step (m) per command of a body or hand closing until it touches");
     declare("spread", 2.0944, 1.0, 3.0, "angle (rad) of each hand from the body around the object");
     declare("swing", 0.05, 0.0, 1.0, "how far (m) a hand swings out while going round the object");
     declare("moment", 1.0, 0.0, 10.0, "weight of the moment residual in phi");
@@ -480,14 +489,26 @@ class Grasp final : public Primitive {
       return;
     }
     const double r = std::clamp(obj.radius, 0.05, 0.5);
-    // The body closes first; the hands hover just off the surface until it touches, then squeeze.
-    // Squeezing earlier pins the object between the hands and keeps the body from reaching it.
+    // Guarded moves: vision's size estimate bounds the object, but a polygon's face may lie well
+    // inside it, so the body creeps forward until it feels the object, and only then do the hands
+    // close in, each creeping until it touches and then pressing `squeeze` into the surface.
+    // Squeezing before the body touches would pin the object and keep the body from reaching it.
     const bool body_on = p.contact_on_object[kBody];
-    const double hand_depth = body_on ? -number("squeeze") : 0.01;
-    const Targets t = grasp_targets(in, obj.center,
-                                    r + in.robot->base_radius - number("body_squeeze"),
-                                    r + in.robot->hand_radius + hand_depth, number("spread"),
-                                    number("swing"));
+    const Vec2 base(s.base.x, s.base.y);
+    const double creep = number("creep");
+    const double body_distance = body_on ? r + in.robot->base_radius - number("body_squeeze")
+                                         : (obj.center - base).norm() - creep;
+    Targets t = grasp_targets(in, obj.center, std::min(body_distance, r + in.robot->base_radius),
+                              r + in.robot->hand_radius + 0.01, number("spread"), number("swing"));
+    t.body_press = number("body_squeeze");
+    if (body_on) {
+      for (int side = 0; side < 2; ++side) {
+        const Vec2 out_dir = (t.hand[side] - obj.center).normalized();
+        const double now = (in.percepts->arms[side].hand - obj.center).norm();
+        const bool touching = p.contact_on_object[kLeftHand + side];
+        t.hand[side] = obj.center + (now - (touching ? number("squeeze") : creep)) * out_dir;
+      }
+    }
     double worst = 0.0;
     reach_targets(in, obj.center, t, true, kArmsAndBase, number("damping"), out, worst);
     cap_steps(out.command, 0.15, 0.5);

@@ -164,6 +164,7 @@ Sighting detect_stimulus(const EyeImage& image) {
       hi = end - 0.5 + image.stimulus[end];
     }
     best.seen = true;
+    best.clipped = start == 0 || end == kPixels - 1;
     best.u_lo = lo;
     best.u_hi = hi;
     best.bearing = 0.5 * (angle_of_pixel(lo) + angle_of_pixel(hi));
