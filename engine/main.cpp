@@ -70,8 +70,16 @@ int run_check(const CheckArgs& a) {
   // A scenario is a function of its seed: try several, and build each world as an episode would.
   World world;
   for (int seed = 0; seed < a.seeds; ++seed) world.reset(scenario.generate(uint64_t(seed)));
-  std::printf("%s: ok (scenario '%s', %d seeds generated and built)\n", a.script.c_str(),
-              scenario.name().c_str(), a.seeds);
+  // Without --set, also every declared choice of every parameter (each shape, say).
+  if (a.sets.empty()) {
+    const std::vector<std::string> problems = check_scenario(a.script, 2);
+    if (!problems.empty()) {
+      for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.c_str());
+      return 1;
+    }
+  }
+  std::printf("%s: ok (scenario '%s', %d seeds generated and built%s)\n", a.script.c_str(),
+              scenario.name().c_str(), a.seeds, a.sets.empty() ? ", every parameter choice tried" : "");
   return 0;
 }
 

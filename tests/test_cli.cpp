@@ -1,0 +1,140 @@
+// Tests of engine/main (the roger program): bad input ends in one clear message and a non-zero
+// exit, never a crash; good input works end to end.
+#include <catch2/catch.hpp>
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Run {
+  int status = -1;  // exit code, or -1 when killed by a signal
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// Runs the roger program with arguments (from the repository root, as CTest does).
+Run roger(const std::string& args) {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string cmd = std::string(ROGER_BINARY) + " " + args + " >" + (dir / "out").string() +
+                          " 2>" + (dir / "err").string();
+  const int raw = std::system(cmd.c_str());
+  Run r;
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  r.out = slurp(dir / "out");
+  r.err = slurp(dir / "err");
+  fs::remove_all(dir);
+  return r;
+}
+
+fs::path temp_file(const std::string& name, const std::string& content) {
+  const fs::path p = fs::temp_directory_path() / name;
+  std::ofstream(p, std::ios::binary) << content;
+  return p;
+}
+
+}  // namespace
+
+TEST_CASE("roger check accepts the shipped scenarios", "[cli]") {
+  for (const char* s : {"scenarios/unobstructed.lua", "scenarios/cluttered.lua"}) {
+    const Run r = roger(std::string("check ") + s);
+    INFO(s << ": " << r.err);
+    CHECK(r.status == 0);
+    CHECK(r.out.find("ok") != std::string::npos);
+  }
+}
+
+TEST_CASE("bad scripts are refused with file:line, a non-zero exit and no crash", "[cli]") {
+  struct Case { const char* file; const char* expect; bool line; };
+  const Case cases[] = {
+      {"tests/scripts/bad_syntax.lua", "bad_syntax.lua:", true},
+      {"tests/scripts/bad_runtime.lua", "bad_runtime.lua:", true},
+      {"tests/scripts/bad_loop.lua", "instruction budget", true},
+      {"tests/scripts/bad_memory_string.lua", "memory", false},
+      {"tests/scripts/bad_memory_table.lua", "memory", false},
+      {"tests/scripts/bad_os.lua", "sandboxed", true},
+      {"tests/scripts/bad_io.lua", "sandboxed", true},
+      {"tests/scripts/bad_polygon.lua", "collinear", true},
+      {"tests/scripts/bad_shape_name.lua", "known shapes: circle, pentagon, spade, triangle", true},
+      {"tests/scripts/bad_placement.lua", "no placement", true},
+  };
+  for (const Case& c : cases) {
+    for (const std::string& verb : {std::string("check "), std::string("render ")}) {
+      const std::string args = verb + c.file + (verb == "render " ? " --out /tmp/roger_cli_bad.png" : "");
+      const Run r = roger(args);
+      INFO(args << "\nstderr: " << r.err);
+      CHECK(r.status == 1);  // an error exit, not a signal
+      CHECK(r.err.find(c.expect) != std::string::npos);
+      CHECK(r.err.find(fs::path(c.file).filename().string()) != std::string::npos);
+      if (c.line) {
+        // file:line: somewhere in the message
+        const std::string name = fs::path(c.file).filename().string() + ":";
+        const size_t at = r.err.find(name);
+        REQUIRE(at != std::string::npos);
+        CHECK(std::isdigit(static_cast<unsigned char>(r.err[at + name.size()])));
+      }
+    }
+  }
+  CHECK_FALSE(fs::exists("/tmp/roger_cli_bad.png"));
+}
+
+TEST_CASE("a binary chunk is refused", "[cli]") {
+  const fs::path p = temp_file("roger_cli_binary.lua", std::string("\x1bLua\x54\x00\x19\x93\r\n\x1a\n", 12));
+  const Run r = roger("check " + p.string());
+  INFO(r.err);
+  CHECK(r.status == 1);
+  CHECK(r.err.find("binary") != std::string::npos);
+  fs::remove(p);
+}
+
+TEST_CASE("usage errors say what is wrong", "[cli]") {
+  Run r = roger("render scenarios/unobstructed.lua --seed 1 --out /tmp/roger_cli.jpg");
+  CHECK(r.status == 1);
+  CHECK(r.err.find(".png") != std::string::npos);
+  r = roger("render scenarios/unobstructed.lua --set nosuch=1 --out /tmp/roger_cli.png");
+  CHECK(r.status == 1);
+  CHECK(r.err.find("nosuch") != std::string::npos);
+  r = roger("render scenarios/nosuch.lua --out /tmp/roger_cli.png");
+  CHECK(r.status == 1);
+  CHECK(r.err.find("nosuch") != std::string::npos);
+  r = roger("frobnicate");
+  CHECK(r.status != 0);
+}
+
+TEST_CASE("roger render draws a scenario to PNG and SVG", "[cli]") {
+  const fs::path png = fs::temp_directory_path() / "roger_cli_world.png";
+  const fs::path svg = fs::temp_directory_path() / "roger_cli_world.svg";
+  Run r = roger("render scenarios/cluttered.lua --seed 3 --set shape=spade --out " + png.string());
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK(fs::file_size(png) > 10000);
+  r = roger("render scenarios/unobstructed.lua --seed 3 --out " + svg.string());
+  CHECK(r.status == 0);
+  CHECK(slurp(svg).find("<svg") != std::string::npos);
+  fs::remove(png);
+  fs::remove(svg);
+}
+
+TEST_CASE("roger bench --json ends with the figures", "[cli]") {
+  const Run r = roger("bench --seconds 5 --repeats 1 --json");
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  const std::string last = r.out.substr(r.out.rfind('{'));
+  CHECK(last.find("\"physics_rtf\"") != std::string::npos);
+  CHECK(last.find("\"world_rtf\"") != std::string::npos);
+}
