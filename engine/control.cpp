@@ -139,6 +139,7 @@ std::vector<const Controller*> SubjectTo::children() const { return {sub_.get(),
 
 void SubjectTo::reset(uint64_t seed) {
   Controller::reset(seed);
+  history_count_ = history_head_ = 0;
   sub_->reset(seed);
   sup_->reset(seed);
 }
@@ -156,10 +157,23 @@ void SubjectTo::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma
   out.phi = a.phi;
   out.residual = a.residual;
   Gamma sub = b.gamma;
-  // Blocked by the superior (it asks for motion, none of which survives the projection): the
-  // constrained equilibrium counts as converged. A subordinate asking for nothing keeps its gamma.
-  const double stall = sub_->params().stall;
-  if (sub == Gamma::kNotConv && b.command.norm() > stall && (N * b.command).norm() <= stall)
+  // Blocked by the superior (it asks for motion, none of which survives the projection), or
+  // settled where the superior lets it be (its potential no longer falls): the constrained
+  // equilibrium counts as converged. A subordinate asking for nothing keeps its gamma.
+  const ControllerParams& sp = sub_->params();
+  const double stall = sp.stall;
+  history_[size_t(history_head_)] = {in.time, b.phi};
+  history_head_ = (history_head_ + 1) % kHistory;
+  history_count_ = std::min(history_count_ + 1, kHistory);
+  bool settled = false;
+  for (int k = 1; k < history_count_; ++k) {
+    const auto& past = history_[size_t((history_head_ - 1 - k + 2 * kHistory) % kHistory)];
+    if (in.time - past.first + 1e-9 < sp.plateau) continue;
+    settled = std::abs(b.phi - past.second) <= stall;
+    break;
+  }
+  if (sub == Gamma::kNotConv && b.command.norm() > stall &&
+      ((N * b.command).norm() <= stall || settled))
     sub = Gamma::kConv;
   gamma_raw = std::min(a.gamma, sub);
 }

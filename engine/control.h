@@ -82,7 +82,9 @@ struct ControllerParams {
   double epsilon = 0.0;  // convergence threshold on the residual; 0 = the primitive's default
   double gain = 1.0;     // scales the command
   double hold = 0.0;     // seconds the condition must hold before gamma is CONV
-  double stall = 0.01;   // as a subordinate: converged once its projected command is this small
+  double stall = 0.01;   // as a subordinate: converged once its projected command is this small,
+                         // or its potential has changed by less than this over `plateau` seconds
+  double plateau = 0.3;  // seconds over which a subordinate's potential must have settled
 };
 
 // A closed-loop action. Evaluation is cached per tick: a controller shared by several compositions
@@ -149,7 +151,9 @@ DofMatrix nullspace_projector(const TaskJacobian& jacobian, double tolerance = 1
 // Its Jacobian stacks both (so chains nest: phi1 <| (phi4 <| phi5)). Its gamma is the weakest of
 // the two: NOREF if either lacks a reference, CONV only when both have converged, where the
 // subordinate has converged when its own gamma is CONV or when it can make no more progress in the
-// superior's nullspace (its projected command is at most its `stall`): the constrained equilibrium.
+// superior's nullspace (its projected command is at most its `stall`, or its potential has
+// settled: changed by less than `stall` over the last `plateau` seconds, the paper's phi-dot near
+// zero): the constrained equilibrium.
 class SubjectTo final : public Controller {
  public:
   // subordinate <| superior.
@@ -165,6 +169,10 @@ class SubjectTo final : public Controller {
 
  private:
   ControllerPtr sub_, sup_;
+  // The subordinate's recent potentials (time, phi), oldest first, for the plateau test.
+  static constexpr int kHistory = 64;
+  std::array<std::pair<double, double>, kHistory> history_{};
+  int history_count_ = 0, history_head_ = 0;
 };
 
 // A skill that runs its steps in order: the current step runs until it reports CONV, then the next

@@ -116,7 +116,12 @@ Targets grasp_targets(const ControlInput& in, const Vec2& center, double body_di
                       double hand_radius, double spread, double swing) {
   const Senses& s = *in.senses;
   const Vec2 base(s.base.x, s.base.y);
-  const Vec2 to_base = base - center;
+  // The body's side of the object: where the body touches it, the touch normal says which way the
+  // surface there faces (a polygon's face need not face the base centre); else the base's bearing.
+  Vec2 to_base = base - center;
+  const Percepts& p = *in.percepts;
+  if (p.contact_on_object[kBody] && s.touch[kBody].index == p.touched_object)
+    to_base = s.touch[kBody].normal;
   const double side_angle = std::atan2(to_base.y(), to_base.x());
   Targets t;
   t.body_distance = body_distance;
@@ -638,7 +643,10 @@ Primitive::Primitive(std::string kind, double default_epsilon) : kind_(std::move
   declare("epsilon", default_epsilon, 0.0, 1e6, "convergence threshold on the residual");
   declare("gain", 1.0, 0.0, 100.0, "scales the command");
   declare("hold", 0.0, 0.0, 60.0, "seconds the condition must hold before gamma is CONV");
-  declare("stall", 0.01, 0.0, 1e6, "as a subordinate, converged once its projected command is this small");
+  declare("stall", 0.01, 0.0, 1e6,
+          "as a subordinate, converged once its projected command, or the change of its potential "
+          "over `plateau` seconds, is this small");
+  declare("plateau", 0.3, 0.0, 60.0, "seconds over which a subordinate's potential must settle");
 }
 
 void Primitive::declare(const std::string& name, double value, double min, double max,
@@ -662,6 +670,7 @@ void Primitive::on_param(const std::string& name, double value) {
   if (name == "gain") params().gain = value;
   if (name == "hold") params().hold = value;
   if (name == "stall") params().stall = value;
+  if (name == "plateau") params().plateau = value;
 }
 
 ParamDef& Primitive::find(const std::string& name) {
