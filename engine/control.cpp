@@ -32,8 +32,8 @@ void Percepts::update(const Senses& s, const RobotParams& robot) {
         half = std::max(half, 0.5 * (angle_of_pixel(s.stimulus[e].u_hi) - angle_of_pixel(s.stimulus[e].u_lo)));
     const double range = s.stimulus_base.norm();
     object.radius = range * std::sin(half);
-    remembered = object;
-    remembered_time = s.time;
+    remembered = vision = object;
+    remembered_time = vision_time = s.time;
   }
   for (int side = 0; side < 2; ++side)
     arms[side] = arm_forward_kinematics(robot, s.base, side, s.q[kLeftShoulder + 2 * side],

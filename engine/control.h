@@ -46,8 +46,10 @@ struct VisualObject {
 // Per-tick facts shared by every controller, computed once (see Percepts::update).
 struct Percepts {
   VisualObject object;                   // what the eyes say
-  VisualObject remembered;               // the last stereo fix (for controllers that may use it)
-  double remembered_time = -1e9;         // when it was taken
+  VisualObject remembered;               // the last estimate (for controllers that may use it)
+  double remembered_time = -1e9;         // when it was made
+  VisualObject vision;                   // the last estimate from vision alone (no touch)
+  double vision_time = -1e9;             // when it was made
   std::array<ArmPoints, 2> arms;         // forward kinematics from the joint senses
   bool contact_on_object[kTactileCount] = {false, false, false};  // touch on an object
   int touched_object = -1;               // the object touched by most sensors, or -1

@@ -18,9 +18,18 @@ Vec2 perp(const Vec2& v) { return {-v.y(), v.x()}; }
 Vec2 unit(double angle) { return {std::cos(angle), std::sin(angle)}; }
 double clamp_abs(double v, double limit) { return std::clamp(v, -limit, limit); }
 
-// Where the object is believed to be: this tick's stereo fix, or the last one if it is recent.
-bool object_estimate(const ControlInput& in, double memory, VisualObject& out) {
+// Where the object is believed to be: this tick's estimate, or the last one if it is recent. With
+// `vision_only`, touch-based estimates are ignored: controllers that work at a distance (approach,
+// preshape) keep one consistent frame instead of flipping between what vision and a grazing
+// contact say about a polygon.
+bool object_estimate(const ControlInput& in, double memory, VisualObject& out,
+                     bool vision_only = false) {
   const Percepts& p = *in.percepts;
+  if (vision_only) {
+    if (!p.vision.seen || in.time - p.vision_time > memory) return false;
+    out = p.vision;
+    return true;
+  }
   if (p.object.seen) {
     out = p.object;
     return true;
@@ -383,7 +392,7 @@ class Navigate final : public Primitive {
       return solve ? planner_.update() : planner_.update_reachability();
     }
     VisualObject obj;
-    if (!object_estimate(in, number("memory"), obj)) return false;
+    if (!object_estimate(in, number("memory"), obj, true)) return false;
     int i, j;
     if (!in.grid->cell_of(obj.center, i, j)) return false;
     // Re-plan only when the estimate has moved by `replan` metres: stereo jitter must not cost a
@@ -440,7 +449,7 @@ class Preshape final : public Primitive {
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
     VisualObject obj;
     const Senses& s = *in.senses;
-    if (!object_estimate(in, number("memory"), obj) ||
+    if (!object_estimate(in, number("memory"), obj, true) ||
         (obj.center - Vec2(s.base.x, s.base.y)).norm() > number("reach")) {
       gamma = Gamma::kNoRef;
       return;
@@ -474,9 +483,11 @@ class Grasp final : public Primitive {
     declare("squeeze", 0.03, 0.0, 0.2, "how far (m) inside the surface the hands aim");
     declare("body_squeeze", 0.02, 0.0, 0.2, "how far (m) inside the surface the body aims");
     declare("creep", 0.04, 0.0, 0.3, "step (m) per command of a body or hand closing until it touches");
+    declare("slide", 0.5, 0.0, 5.0, "rate at which touching hands slide around to balance the normals");
+    declare("light", 0.005, 0.0, 0.2, "press depth (m) of a hand while it slides");
     declare("spread", 2.0944, 1.0, 3.0, "angle (rad) of each hand from the body around the object");
     declare("swing", 0.05, 0.0, 1.0, "how far (m) a hand swings out while going round the object");
-    declare("moment", 1.0, 0.0, 10.0, "weight of the moment residual in phi");
+    declare("moment", 0.25, 0.0, 10.0, "weight of the moment residual in phi (friction carries the rest)");
     declare("reach", 1.25, 0.3, 3.0, "objects farther (m) than this from the base are out of reach");
     declare("memory", 2.0, 0.0, 60.0, "seconds a lost object's last position stays usable");
     declare("damping", 0.05, 0.0, 1.0, "least-squares damping near singular postures");
@@ -507,11 +518,28 @@ class Grasp final : public Primitive {
                               r + in.robot->hand_radius + 0.01, number("spread"), number("swing"));
     t.body_press = number("body_squeeze");
     if (body_on) {
+      // Sum of the unit normals measured by touch (each from the surface towards its sensor).
+      Vec2 sum = Vec2::Zero();
+      for (int k = 0; k < kTactileCount; ++k)
+        if (p.contact_on_object[k] && s.touch[k].index == p.touched_object) sum += s.touch[k].normal;
+      // Press lightly while the normals are unbalanced, so friction lets the hands slide, and
+      // firmly once they balance.
+      const double press = sum.squaredNorm() > epsilon() ? number("light") : number("squeeze");
       for (int side = 0; side < 2; ++side) {
-        const Vec2 out_dir = (t.hand[side] - obj.center).normalized();
-        const double now = (in.percepts->arms[side].hand - obj.center).norm();
+        const Vec2 hand = in.percepts->arms[side].hand;
+        const double now = (hand - obj.center).norm();
         const bool touching = p.contact_on_object[kLeftHand + side];
-        t.hand[side] = obj.center + (now - (touching ? number("squeeze") : creep)) * out_dir;
+        Vec2 out_dir = (t.hand[side] - obj.center).normalized();
+        if (touching) {
+          // Slide the contact around the object down the gradient of |sum of normals|^2: moving
+          // a contact by d(angle) turns its normal by about d(angle), so d|S|^2/d(angle) is
+          // 2 S . perp(n). This is the contact-configuration descent of the paper's phi3.
+          const Vec2 n = s.touch[kLeftHand + side].normal;
+          const double slide = std::clamp(-number("slide") * sum.dot(Vec2(-n.y(), n.x())), -0.3, 0.3);
+          const Vec2 h = hand - obj.center;
+          out_dir = unit(std::atan2(h.y(), h.x()) + slide);
+        }
+        t.hand[side] = obj.center + (now - (touching ? press : creep)) * out_dir;
       }
     }
     double worst = 0.0;
@@ -576,7 +604,7 @@ class Hold final : public Primitive {
     declare("squeeze", 0.03, 0.0, 0.2, "press depth (m) of each hand along its contact normal");
     declare("pull", 0.03, 0.0, 0.2, "how far (m) the hands draw the object onto the body");
     declare("lead", 0.02, 0.0, 1.0, "hand lead per unit of base acceleration (m per m/s^2)");
-    declare("moment", 1.0, 0.0, 10.0, "weight of the moment residual in phi");
+    declare("moment", 0.25, 0.0, 10.0, "weight of the moment residual in phi (friction carries the rest)");
     declare("damping", 0.05, 0.0, 1.0, "least-squares damping near singular postures");
   }
   PrimitivePtr clone() const override { return std::make_shared<Hold>(*this); }
