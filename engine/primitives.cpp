@@ -571,7 +571,7 @@ class Grasp final : public Primitive {
 class Condition final : public Primitive {
  public:
   Condition() : Primitive("phi4", 0.05) {
-    declare("rate", 0.5, 0.0, 5.0, "step per tick per unit gradient (rad)");
+    declare("rate", 0.15, 0.0, 5.0, "step per tick per unit gradient (rad)");
   }
   PrimitivePtr clone() const override { return std::make_shared<Condition>(*this); }
 
@@ -603,7 +603,7 @@ class Hold final : public Primitive {
   Hold() : Primitive("phi5", 0.3) {
     declare("squeeze", 0.03, 0.0, 0.2, "press depth (m) of each hand along its contact normal");
     declare("pull", 0.03, 0.0, 0.2, "how far (m) the hands draw the object onto the body");
-    declare("lead", 0.02, 0.0, 1.0, "hand lead per unit of base acceleration (m per m/s^2)");
+    declare("lead", 0.04, 0.0, 1.0, "hand lead per unit of base acceleration (m per m/s^2)");
     declare("moment", 0.25, 0.0, 10.0, "weight of the moment residual in phi (friction carries the rest)");
     declare("damping", 0.05, 0.0, 1.0, "least-squares damping near singular postures");
   }
@@ -623,22 +623,31 @@ class Hold final : public Primitive {
     const Vec2 accel = has_velocity_ ? Vec2((v - last_velocity_) / in.dt) : Vec2::Zero();
     last_velocity_ = v;
     has_velocity_ = true;
+    bool on[kTactileCount];
     for (int k = 0; k < kTactileCount; ++k)
-      if (!p.contact_on_object[k] || s.touch[k].index != p.touched_object) {
-        gamma = Gamma::kNoRef;
-        return;
-      }
+      on[k] = p.contact_on_object[k] && s.touch[k].index == p.touched_object;
+    // NOREF as soon as a contact is lost; but while both hands still hold the object the hands
+    // keep pressing and draw it back onto the body, so a grasp that slipped can recover.
+    if (!on[kLeftHand] || !on[kRightHand]) {
+      gamma = Gamma::kNoRef;
+      return;
+    }
     Eigen::Matrix<double, 4, kDofCount> J;
     Eigen::Matrix<double, 4, 1> e;
     Eigen::Matrix<double, 2, kDofCount> Jh;
-    const Vec2 to_body = s.touch[kBody].normal;  // from the object's surface towards the body
+    // From the object towards the body: the body's touch normal, or, with the body off the
+    // object, the direction from the hands' midpoint to the base.
+    const Vec2 base(s.base.x, s.base.y);
+    const Vec2 mid = 0.5 * (in.percepts->arms[kLeft].hand + in.percepts->arms[kRight].hand);
+    const Vec2 to_body = on[kBody] ? s.touch[kBody].normal : Vec2((base - mid).normalized());
+    const double pull = on[kBody] ? number("pull") : 2.0 * number("pull");
     for (int side = 0; side < 2; ++side) {
       hand_jacobian(in, side, Jh);
       J.middleRows<2>(2 * side) = Jh;
       const Touch& touch = s.touch[kLeftHand + side];
       // Press into the surface, draw the object onto the body (so its contact is kept while the
       // base pulls and turns), and lead with the base's acceleration where that pushes inward.
-      Vec2 err = -number("squeeze") * touch.normal + number("pull") * to_body;
+      Vec2 err = -number("squeeze") * touch.normal + pull * to_body;
       const double inward = -accel.dot(touch.normal);
       if (inward > 0) err += -number("lead") * inward * touch.normal;
       e.segment<2>(2 * side) = err;
@@ -654,6 +663,10 @@ class Hold final : public Primitive {
                             : Vec2((point[0] + point[1] + point[2]) / 3.0);
     out.phi = closure_potential(normal, point, center, std::max(obj.radius, 0.1), number("moment"));
     out.residual = out.phi;
+    if (!on[kBody]) {
+      gamma = Gamma::kNoRef;
+      return;
+    }
     gamma = out.phi <= epsilon() ? Gamma::kConv : Gamma::kNotConv;
   }
 
