@@ -8,11 +8,14 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "animation.h"
 #include "bench.h"
+#include "episode.h"
 #include "error.h"
 #include "lua_sandbox.h"
 #include "render.h"
 #include "scenario.h"
+#include "skill_script.h"
 #include "world.h"
 
 namespace {
@@ -37,9 +40,51 @@ struct RenderArgs {
   int width = 1000;
   double seconds = 0.0;
   bool grid = false;
+  std::string policy;         // with a skill script: render an episode of this policy
+  std::string world;          // the scenario of that episode (default: the policy's)
+  double every = 0.1;         // seconds between recorded frames
 };
 
+// The scenario a policy runs in: --scenario if given, else the policy's own, else unobstructed.
+std::string policy_scenario(const SkillScript::NamedPolicy& p, const std::string& chosen) {
+  if (!chosen.empty()) return chosen;
+  return p.scenario.empty() ? "unobstructed" : p.scenario;
+}
+
+// Renders one episode of a skill script's policy: a folder with frames and a replay page, or
+// (for a .png path) one summary strip.
+int run_render_episode(const RenderArgs& a) {
+  SkillScript script = SkillScript::load(a.scenario);
+  const SkillScript::NamedPolicy& policy = script.policy(a.policy);
+  Scenario scenario = Scenario::load(policy_scenario(policy, a.world));
+  apply_sets(scenario, a.sets);
+  const WorldSpec spec = scenario.generate(a.seed);
+  EpisodeOptions options;
+  options.time_limit = policy.time_limit;
+  options.record_every = a.every;
+  // Watch the named controllers (primitives, skills), at most a dozen, so the timeline stays legible.
+  std::vector<ControllerPtr> watch = script.controllers();
+  if (watch.size() > 12) watch.resize(12);
+  Agent agent;
+  const EpisodeResult episode = run_episode(agent, spec, a.seed, *policy.action, *policy.goal, options, watch);
+  AnimationOptions anim;
+  anim.frame.width_px = a.width;
+  anim.frame.robot = agent.world().params().robot;
+  anim.title = script.name() + ": " + policy.name + " in " + scenario.name() + ", seed " + std::to_string(a.seed);
+  const bool summary = a.out.size() > 4 && a.out.compare(a.out.size() - 4, 4, ".png") == 0;
+  if (summary) {
+    render_episode_summary(spec, episode, a.out, anim);
+  } else {
+    render_episode(spec, episode, a.out, anim);
+  }
+  std::printf("wrote %s (%s after %.2f s, reward %.0f; %zu frames)\n", a.out.c_str(),
+              episode.success ? "success" : "timeout", episode.sim_seconds, episode.reward,
+              episode.frames.size());
+  return 0;
+}
+
 int run_render(const RenderArgs& a) {
+  if (!a.policy.empty()) return run_render_episode(a);
   Scenario scenario = Scenario::load(a.scenario);
   apply_sets(scenario, a.sets);
   const WorldSpec spec = scenario.generate(a.seed);
@@ -65,6 +110,17 @@ struct CheckArgs {
 };
 
 int run_check(const CheckArgs& a) {
+  if (is_skill_script(a.script)) {
+    const std::vector<std::string> problems = check_skill_script(a.script);
+    for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.c_str());
+    if (!problems.empty()) return 1;
+    const SkillScript script = SkillScript::load(a.script);
+    std::string names;
+    for (const auto& n : script.policy_names()) names += (names.empty() ? "" : ", ") + n;
+    std::printf("%s: ok (skill script '%s'; policies: %s)\n", a.script.c_str(), script.name().c_str(),
+                names.c_str());
+    return 0;
+  }
   Scenario scenario = Scenario::load(a.script);
   apply_sets(scenario, a.sets);
   // A scenario is a function of its seed: try several, and build each world as an episode would.
@@ -83,12 +139,52 @@ int run_check(const CheckArgs& a) {
   return 0;
 }
 
+struct EvalArgs {
+  std::string script;
+  std::string policy;
+  std::string scenario;
+  std::vector<std::string> sets;
+  int episodes = 50;
+  uint64_t seed = 1000;
+  bool json = false;
+};
+
+int run_eval(const EvalArgs& a) {
+  SkillScript script = SkillScript::load(a.script);
+  const SkillScript::NamedPolicy& policy = script.policy(a.policy);
+  Scenario scenario = Scenario::load(policy_scenario(policy, a.scenario));
+  apply_sets(scenario, a.sets);
+  EpisodeOptions options;
+  options.time_limit = policy.time_limit;
+  const EvalSummary r = evaluate_action([&](uint64_t seed) { return scenario.generate(seed); },
+                                        *policy.action, *policy.goal, a.episodes, a.seed, options);
+  std::printf("roger eval: %s policy '%s' in %s, %d episodes from seed %llu, %.0f s limit\n",
+              script.path().c_str(), policy.name.c_str(), scenario.name().c_str(), a.episodes,
+              static_cast<unsigned long long>(a.seed), policy.time_limit);
+  std::printf("  success rate   %.1f%% (%d of %d)\n", 100.0 * r.success_rate, r.successes, r.episodes);
+  std::printf("  reward         %.1f +- %.1f\n", r.reward_mean, r.reward_std);
+  std::printf("  episode time   %.2f s (mean, simulated)\n", r.time_mean);
+  if (a.json) {
+    nlohmann::json j = {{"script", script.path()},      {"policy", policy.name},
+                        {"scenario", scenario.name()},  {"episodes", r.episodes},
+                        {"first_seed", a.seed},          {"successes", r.successes},
+                        {"success_rate", r.success_rate}, {"reward_mean", r.reward_mean},
+                        {"reward_std", r.reward_std},    {"time_mean", r.time_mean}};
+    for (const auto& p : scenario.params()) j["params"][p.name] = p.value;
+    std::printf("%s\n", j.dump().c_str());
+  }
+  return 0;
+}
+
 struct BenchArgs {
   std::string scenario = "scenarios/unobstructed.lua";
   uint64_t seed = 1;
   double seconds = 300.0;
   int repeats = 5;
   bool json = false;
+  std::string script = "curricula/scripted.lua";
+  std::string policy = "task";
+  int episodes = 20;
 };
 
 int run_bench(const BenchArgs& a) {
@@ -96,11 +192,23 @@ int run_bench(const BenchArgs& a) {
   const WorldSpec spec = scenario.generate(a.seed);
   const WorldParams params;
   const BenchResult r = bench_world(spec, BenchOptions{a.seconds, a.repeats}, params);
+  // The whole pipeline: the hand-written task policy through episodes on 20 seeds of the same
+  // scenario, against physics alone replaying exactly the same commands.
+  SkillScript script = SkillScript::load(a.script);
+  const SkillScript::NamedPolicy& task = script.policy(a.policy);
+  std::vector<WorldSpec> worlds;
+  for (int i = 0; i < a.episodes; ++i) worlds.push_back(scenario.generate(a.seed + uint64_t(i)));
+  const PipelineResult p = bench_pipeline(worlds, *task.action, *task.goal, task.time_limit, a.repeats, params);
   std::printf("roger bench: %s seed %llu, %.0f simulated s per run, best of %d, one core\n",
               a.scenario.c_str(), static_cast<unsigned long long>(a.seed), a.seconds, a.repeats);
   std::printf("  physics alone        %9.0fx real time\n", r.physics_rtf);
   std::printf("  physics + senses     %9.0fx real time  (senses add %.0f%%)\n", r.world_rtf,
               100.0 * r.senses_overhead);
+  std::printf("  full pipeline        %9.0fx real time  (%s policy '%s', %d episodes, %.0f simulated s,\n"
+              "                                           %d successes; %.2fx the cost of physics alone\n"
+              "                                           replaying the same commands at %.0fx)\n",
+              p.pipeline_rtf, a.script.c_str(), a.policy.c_str(), p.episodes, p.sim_seconds,
+              p.successes, p.cost_ratio, p.replay_rtf);
   if (a.json) {
     nlohmann::json j = {{"scenario", a.scenario},
                         {"seed", a.seed},
@@ -110,7 +218,13 @@ int run_bench(const BenchArgs& a) {
                         {"control_dt", params.dt * params.substeps},
                         {"physics_rtf", r.physics_rtf},
                         {"world_rtf", r.world_rtf},
-                        {"senses_overhead", r.senses_overhead}};
+                        {"senses_overhead", r.senses_overhead},
+                        {"pipeline_rtf", p.pipeline_rtf},
+                        {"pipeline_replay_physics_rtf", p.replay_rtf},
+                        {"pipeline_cost_ratio", p.cost_ratio},
+                        {"pipeline_episodes", p.episodes},
+                        {"pipeline_successes", p.successes},
+                        {"pipeline_sim_seconds", p.sim_seconds}};
     std::printf("%s\n", j.dump().c_str());
   }
   return 0;
@@ -135,6 +249,12 @@ int main(int argc, char** argv) {
   render->add_option("--seconds", render_args.seconds, "Simulate this long (Roger idle) first")
       ->check(CLI::Range(0.0, 3600.0));
   render->add_flag("--grid", render_args.grid, "Draw the metric grid across the floor");
+  render->add_option("--policy", render_args.policy,
+                     "With a skill script: render an episode of this policy (a folder with frames "
+                     "and a replay page, or a .png summary)");
+  render->add_option("--scenario", render_args.world, "The episode's scenario (default: the policy's)");
+  render->add_option("--every", render_args.every, "Seconds between recorded frames")
+      ->capture_default_str()->check(CLI::Range(0.02, 10.0));
 
   CheckArgs check_args;
   auto* check = app.add_subcommand("check", "Load and validate a script without running an episode");
@@ -142,6 +262,17 @@ int main(int argc, char** argv) {
   check->add_option("--set", check_args.sets, "Scenario parameter key=value (repeatable)");
   check->add_option("--seeds", check_args.seeds, "Seeds to generate")->capture_default_str()
       ->check(CLI::Range(1, 100000));
+
+  EvalArgs eval_args;
+  auto* eval = app.add_subcommand("eval", "Evaluate a policy of a skill script over seeded episodes");
+  eval->add_option("script", eval_args.script, "Skill script (.lua)")->required();
+  eval->add_option("--policy", eval_args.policy, "Policy name in the script")->required();
+  eval->add_option("--scenario", eval_args.scenario, "Scenario (default: the policy's)");
+  eval->add_option("--set", eval_args.sets, "Scenario parameter key=value (repeatable)");
+  eval->add_option("--episodes", eval_args.episodes, "Episodes")->capture_default_str()
+      ->check(CLI::Range(1, 1000000));
+  eval->add_option("--seed", eval_args.seed, "First seed (then seed+1, ...)")->capture_default_str();
+  eval->add_flag("--json", eval_args.json, "End with one JSON line of the figures");
 
   BenchArgs bench_args;
   auto* bench = app.add_subcommand("bench", "Measure simulated seconds per wall second, per layer");
@@ -152,6 +283,11 @@ int main(int argc, char** argv) {
   bench->add_option("--repeats", bench_args.repeats, "Measurements per layer (best kept)")
       ->capture_default_str()->check(CLI::Range(1, 1000));
   bench->add_flag("--json", bench_args.json, "End with one JSON line of the figures");
+  bench->add_option("--script", bench_args.script, "Skill script for the pipeline measurement")
+      ->capture_default_str();
+  bench->add_option("--policy", bench_args.policy, "Its policy")->capture_default_str();
+  bench->add_option("--episodes", bench_args.episodes, "Pipeline episodes (seeds from --seed)")
+      ->capture_default_str()->check(CLI::Range(1, 10000));
 
   try {
     app.parse(argc, argv);
@@ -162,6 +298,7 @@ int main(int argc, char** argv) {
     if (*render) return run_render(render_args);
     if (*check) return run_check(check_args);
     if (*bench) return run_bench(bench_args);
+    if (*eval) return run_eval(eval_args);
   } catch (const std::exception& e) {
     std::fflush(stdout);
     std::cerr << "roger: error: " << e.what() << "\n";

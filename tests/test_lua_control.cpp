@@ -1,0 +1,476 @@
+// Tests of the control basis in Lua (engine/lua_control, engine/skill_script): the shipped
+// hand-written task loads with the paper's structure, the notation and policy tables mean what
+// they say, parameters reach the C++ primitives, every mistake is reported at the script's
+// file:line, and a loaded policy runs episodes with no Lua state behind it. Run from the
+// repository root (CTest does).
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <lua.hpp>
+
+#include "episode.h"
+#include "lua_control.h"
+#include "lua_sandbox.h"
+#include "primitives.h"
+#include "scenario.h"
+#include "skill_script.h"
+#include "world_fixtures.h"
+
+using namespace roger;
+using Catch::Matchers::Contains;
+
+namespace {
+
+// A sandbox with the control API, for running snippets.
+struct Snippets {
+  LuaSandbox sandbox;
+  Snippets() { install_control_api(sandbox); }
+
+  // Runs code that returns one controller.
+  ControllerPtr controller(const std::string& code) {
+    sandbox.load_string(code, "=snippet");
+    sandbox.call(0, 1);
+    ControllerPtr c = lua_to_controller(sandbox.state(), -1);
+    lua_pop(sandbox.state(), 1);
+    REQUIRE(c);
+    return c;
+  }
+
+  // Runs code that returns one value, converted to a string with tostring().
+  std::string text(const std::string& code) {
+    sandbox.load_string("return tostring((function() " + code + " end)())", "=snippet");
+    sandbox.call(0, 1);
+    std::string out = lua_tostring(sandbox.state(), -1);
+    lua_pop(sandbox.state(), 1);
+    return out;
+  }
+
+  // Runs code expected to fail and returns the error.
+  ScriptError error(const std::string& code) {
+    try {
+      sandbox.load_string(code, "@snippet.lua");
+      sandbox.call(0, 0);
+    } catch (const ScriptError& e) {
+      return e;
+    }
+    FAIL("expected an error from: " << code);
+    return ScriptError("", "", 0, "");
+  }
+};
+
+// The error of loading a skill script that must fail.
+ScriptError load_error(const std::string& path) {
+  try {
+    SkillScript::load(path);
+  } catch (const ScriptError& e) {
+    return e;
+  }
+  FAIL("expected " << path << " to fail");
+  return ScriptError("", "", 0, "");
+}
+
+template <class T>
+std::shared_ptr<T> as(const ControllerPtr& c) {
+  auto out = std::dynamic_pointer_cast<T>(c);
+  REQUIRE(out);
+  return out;
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+}  // namespace
+
+TEST_CASE("curricula/scripted.lua has the paper's skills and compositions", "[lua_control]") {
+  const SkillScript s = SkillScript::load("curricula/scripted.lua");
+  CHECK(s.name() == "scripted");
+  CHECK(s.policy_names() == std::vector<std::string>{"phi6", "search_grasp", "task"});
+
+  const auto& task = s.policy("task");
+  CHECK(task.time_limit == 10.0);
+  CHECK(task.scenario == "unobstructed");
+  CHECK(task.goal->describe() == "converged(phi1 <| phi4 <| phi5)");
+  auto phi_t = as<Sequence>(task.action);
+  CHECK(phi_t->name() == "Phi_T");
+  REQUIRE(phi_t->steps().size() == 2);
+  auto phi_sg = as<Sequence>(phi_t->steps()[0]);
+  CHECK(phi_sg->name() == "Phi_SG");
+
+  // Transport: phi1{goal = "region"} <| (phi4 <| phi5).
+  auto transport = as<SubjectTo>(phi_t->steps()[1]);
+  CHECK(transport->name() == "phi1 <| phi4 <| phi5");
+  auto carry = as<Primitive>(transport->subordinate());
+  CHECK(carry->text("goal") == "region");
+  CHECK(carry->number("carry") == Approx(0.36));
+  CHECK(carry->number("speed") == Approx(0.8));
+  auto keep = as<SubjectTo>(transport->superior());
+  CHECK(keep->name() == "phi4 <| phi5");
+
+  // Phi_SG = {Phi6, Phi7, phi3}; Phi6 = {search, phi0}; Phi7 = {phi1, phi4 <| phi2}.
+  REQUIRE(phi_sg->steps().size() == 3);
+  auto phi6 = as<Sequence>(phi_sg->steps()[0]);
+  auto phi7 = as<Sequence>(phi_sg->steps()[1]);
+  CHECK(phi_sg->steps()[2]->name() == "phi3");
+  CHECK(phi6->name() == "Phi6");
+  REQUIRE(phi6->steps().size() == 2);
+  CHECK(std::string(phi6->steps()[0]->kind()) == "search");
+  CHECK(std::string(phi6->steps()[1]->kind()) == "phi0");
+  CHECK(phi7->name() == "Phi7");
+  REQUIRE(phi7->steps().size() == 2);
+  CHECK(as<Primitive>(phi7->steps()[0])->text("goal") == "object");
+  auto preshape = as<SubjectTo>(phi7->steps()[1]);
+  CHECK(preshape->name() == "phi4 <| phi2");
+  // One phi4, conditioning the arms under phi2 and under phi5, as in the paper.
+  CHECK(preshape->subordinate() == keep->subordinate());
+
+  const auto& sg = s.policy("search_grasp");
+  CHECK(sg.action == phi_sg);
+  CHECK(sg.time_limit == 5.0);
+  CHECK(sg.goal->describe() == "converged(phi3)");
+  CHECK(s.policy("phi6").action == phi6);
+  CHECK(s.policy("phi6").goal->describe() == "converged(phi0)");
+  CHECK_THROWS_WITH(s.policy("transport"), Contains("no policy 'transport'") && Contains("phi6, search_grasp, task"));
+
+  // Every controller once, skills first.
+  const auto all = s.controllers();
+  std::set<const Controller*> unique;
+  std::vector<std::string> names;
+  for (const auto& c : all) unique.insert(c.get()), names.push_back(c->name());
+  CHECK(unique.size() == all.size());
+  CHECK(names.front() == "Phi6");
+  for (const char* n : {"Phi7", "Phi_SG", "Phi_T", "phi3", "phi4 <| phi2", "phi1 <| phi4 <| phi5", "phi5"})
+    CHECK(std::find(names.begin(), names.end(), n) != names.end());
+}
+
+TEST_CASE("compose reads the paper's notation, right-associative", "[lua_control]") {
+  Snippets lua;
+  auto chain = as<SubjectTo>(lua.controller("return roger.compose('phi1 <| phi4 <| phi5')"));
+  CHECK(chain->name() == "phi1 <| phi4 <| phi5");
+  CHECK(chain->subordinate()->name() == "phi1");
+  auto inner = as<SubjectTo>(chain->superior());
+  CHECK(inner->subordinate()->name() == "phi4");
+  CHECK(inner->superior()->name() == "phi5");
+
+  // Parentheses group to the left instead.
+  auto left = as<SubjectTo>(lua.controller("return roger.compose('(phi1 <| phi4) <| phi5')"));
+  CHECK(as<SubjectTo>(left->subordinate())->superior()->name() == "phi4");
+  CHECK(left->superior()->name() == "phi5");
+
+  // The method form nests the same way as the notation.
+  auto method = as<SubjectTo>(lua.controller(
+      "local a, b, c = roger.primitive('phi1'), roger.primitive('phi4'), roger.primitive('phi5')\n"
+      "return a:subject_to(b:subject_to(c))"));
+  CHECK(method->name() == "phi1 <| phi4 <| phi5");
+  CHECK(as<SubjectTo>(method->superior())->superior()->name() == "phi5");
+
+  // Names resolve in the table first, then among named controllers, then as a primitive kind's
+  // shared default instance.
+  auto tabled = as<SubjectTo>(lua.controller(
+      "local carry = roger.primitive('phi1', {goal = 'region', name = 'carry'})\n"
+      "return roger.compose('phi1 <| keep', {phi1 = carry, keep = roger.compose('phi4 <| phi5')})"));
+  CHECK(tabled->subordinate()->name() == "carry");
+  CHECK(as<Primitive>(tabled->subordinate())->text("goal") == "region");
+  auto named = as<SubjectTo>(lua.controller("return roger.compose('carry <| phi2')"));
+  CHECK(named->subordinate() == tabled->subordinate());
+  auto phi4_a = as<SubjectTo>(lua.controller("return roger.compose('phi4 <| phi2')"))->subordinate();
+  auto phi4_b = as<SubjectTo>(lua.controller("return roger.compose('phi4 <| phi5')"))->subordinate();
+  CHECK(phi4_a == phi4_b);
+
+  // The same controller is the same Lua value; tostring shows its name.
+  CHECK(lua.text("local s = roger.sequence('S', {'phi0'}) return s == roger.compose('S')") == "true");
+  CHECK(lua.text("return roger.compose('phi4 <| phi2')") == "controller 'phi4 <| phi2' (subject_to)");
+  CHECK(lua.text("return roger.primitive('phi1', {name = 'carry2'})") == "controller 'carry2' (phi1)");
+  CHECK(lua.text("return roger.primitive('phi1')") == "controller 'phi1'");
+  CHECK(lua.text("return roger.converged(roger.compose('phi4 <| phi2'))") ==
+        "predicate converged(phi4 <| phi2)");
+
+  CHECK_THAT(lua.error("roger.compose('phi1 <| phi8')").what(),
+             Contains("snippet.lua:1: roger.compose(\"phi1 <| phi8\"): unknown controller 'phi8'") &&
+                 Contains("primitive kinds: phi0, search, phi1"));
+  CHECK_THAT(lua.error("roger.compose('phi1 <|')").what(), Contains("expected a controller name or '('"));
+  CHECK_THAT(lua.error("roger.compose('(phi1 <| phi4')").what(), Contains("missing ')'"));
+  CHECK_THAT(lua.error("roger.compose('phi1 <| phi4', {phi4 = 3})").what(),
+             Contains("the table's entry 'phi4' must be a controller, got number 3"));
+  CHECK_THAT(lua.error("roger.subject_to(roger.primitive('phi4'), {})").what(),
+             Contains("roger.subject_to: argument 2 (the superior) must be a controller") && Contains("got a table"));
+  CHECK_THAT(lua.error("roger.subject_to(nil, 'phi5')").what(),
+             Contains("roger.subject_to: argument 1 (the subordinate) must be a controller") && Contains("got nil"));
+}
+
+TEST_CASE("policy tables map states to actions, with wildcards", "[lua_control]") {
+  Snippets lua;
+  auto policy = as<Policy>(lua.controller(R"(
+    local a, b, c = roger.primitive('phi1'), roger.primitive('phi3'), roger.primitive('search')
+    return roger.policy('P', {
+      actions = { a, b, c },
+      table = {
+        ['* * *'] = 3,                    -- anything not listed: search
+        ['CONV * *'] = b,                 -- phi1 converged: grasp
+        ['CONV NOREF CONV'] = 'phi1',     -- by an action's name
+        ['!conv, !conv, !conv'] = 1,      -- commas and lower case are fine
+      },
+      done = b,
+    })
+  )"));
+  CHECK(policy->name() == "P");
+  const auto& table = policy->table();
+  REQUIRE(table.size() == 27);
+  using G = Gamma;
+  auto at = [&](G x, G y, G z) { return table[size_t(gamma_state_index({x, y, z}))]; };
+  CHECK(at(G::kConv, G::kNoRef, G::kConv) == 0);
+  CHECK(at(G::kConv, G::kNotConv, G::kNoRef) == 1);
+  CHECK(at(G::kConv, G::kConv, G::kConv) == 1);
+  CHECK(at(G::kNotConv, G::kNotConv, G::kNotConv) == 0);
+  CHECK(at(G::kNoRef, G::kNoRef, G::kNoRef) == 2);
+  CHECK(at(G::kNotConv, G::kConv, G::kNoRef) == 2);
+  int search = 0;
+  for (int a : table) search += a == 2;
+  CHECK(search == 27 - 9 - 1);  // all but the CONV row and the !CONV !CONV !CONV state
+
+  // A predicate as `done`; a fallback by index.
+  auto with_goal = as<Policy>(lua.controller(
+      "local a = roger.primitive('phi0')\n"
+      "return roger.policy('Q', {actions = {a}, table = {}, fallback = 1, done = roger.held(roger.converged(a), 0.2)})"));
+  CHECK(with_goal->children().back()->name() == "held(converged(phi0), 0.200 s)");
+
+  CHECK_THAT(lua.error("local a, b = roger.primitive('phi1'), roger.primitive('phi3')\n"
+                       "roger.policy('R', {actions = {a, b}, table = {['CONV *'] = 1, ['* CONV'] = 2}})")
+                 .what(),
+             Contains("snippet.lua:2: roger.policy('R'): the keys \"* CONV\" and \"CONV *\" both match the state CONV CONV"));
+  CHECK_THAT(lua.error("roger.policy('R', {actions = {'phi1', 'phi3'}, table = {['CONV'] = 1}})").what(),
+             Contains("the key has 1 states but the policy has 2 actions (phi1, phi3)"));
+  CHECK_THAT(lua.error("roger.policy('R', {actions = {'phi1'}, table = {['DONE'] = 1}})").what(),
+             Contains("'DONE' is not a state; write NOREF, !CONV, CONV or *"));
+  CHECK_THAT(lua.error("roger.policy('R', {actions = {'phi1'}, table = {['*'] = 2}})").what(),
+             Contains("must be an action or its index 1 to 1, got number 2"));
+  CHECK_THAT(lua.error("roger.policy('R', {actions = {'phi1'}, table = {['*'] = 'phi2'}})").what(),
+             Contains("is 'phi2', which is not one of the policy's actions; the actions are phi1"));
+  CHECK_THAT(lua.error("roger.policy('R', {actions = {'phi1'}, tabel = {}})").what(),
+             Contains("unknown field 'tabel'; known fields: actions, done, fallback, table"));
+}
+
+TEST_CASE("primitive parameters reach the C++ controllers", "[lua_control]") {
+  Snippets lua;
+  auto phi3 = as<Primitive>(lua.controller("return roger.primitive('phi3', {epsilon = 0.05, squeeze = 0.02, hold = 0.1})"));
+  CHECK(phi3->number("epsilon") == 0.05);
+  CHECK(phi3->params().epsilon == 0.05);
+  CHECK(phi3->params().hold == 0.1);
+  CHECK(phi3->number("squeeze") == 0.02);
+  CHECK(phi3->name() == "phi3");
+
+  // with{} copies: the original keeps its values, names are not inherited.
+  auto copies = lua.controller(
+      "local base = roger.primitive('phi1', {speed = 0.5, name = 'slow'})\n"
+      "local fast = base:with{speed = 1.5}\n"
+      "assert(base:param('speed') == 0.5 and fast:param('speed') == 1.5 and fast.name == 'phi1')\n"
+      "assert(base.name == 'slow' and base.kind == 'phi1' and fast:params().speed == 1.5)\n"
+      "return roger.sequence('both', {base, fast})");
+  auto both = as<Sequence>(copies);
+  CHECK(as<Primitive>(both->steps()[0])->number("speed") == 0.5);
+  CHECK(as<Primitive>(both->steps()[1])->number("speed") == 1.5);
+  CHECK(both->steps()[0]->name() == "slow");
+
+  CHECK_THAT(lua.error("roger.primitive('phi1', {goal = 'home'})").what(),
+             Contains("parameter 'goal' must be one of object, region, got 'home'"));
+  CHECK_THAT(lua.error("roger.primitive('phi0', {epsilon = 1/0})").what(),
+             Contains("parameter 'epsilon' must be a finite number in [0, 1000000], got inf"));
+  CHECK_THAT(lua.error("roger.primitive('phi0', {0.1})").what(),
+             Contains("parameters are named (name = value), got a value at position 1"));
+  CHECK_THAT(lua.error("roger.compose('phi4 <| phi2'):with{gain = 2}").what(),
+             Contains("c:with: 'phi4 <| phi2' is a subject_to; only primitives have parameters"));
+  CHECK_THAT(lua.error("local c = roger.primitive('phi0') c.name = 'x'").what(),
+             Contains("controllers cannot be changed in place"));
+  CHECK_THAT(lua.error("roger.primitive('phi0').with{gain = 2}").what(), Contains("call it with a colon"));
+  CHECK_THAT(lua.error("roger.primitive('phi0', {name = 'phi1'})").what(),
+             Contains("the name 'phi1' is a primitive kind"));
+  CHECK_THAT(lua.error("roger.sequence('twice', {'phi0'})\nroger.sequence('twice', {'phi1'})").what(),
+             Contains("snippet.lua:2: roger.sequence('twice'): there is already a controller named 'twice' (defined at snippet.lua:1)"));
+}
+
+TEST_CASE("the API extends a `roger` table that a scenario loader made", "[lua_control]") {
+  Scenario scenario = Scenario::load("unobstructed");
+  install_control_api(scenario.sandbox());
+  LuaSandbox& sandbox = scenario.sandbox();
+  sandbox.load_string("return roger.shape ~= nil and roger.robot.base_radius > 0 and "
+                      "roger.primitive('phi0').kind == 'phi0' and #roger.primitive_kinds == 7",
+                      "=extend");
+  sandbox.call(0, 1);
+  CHECK(lua_toboolean(sandbox.state(), -1));
+  lua_pop(sandbox.state(), 1);
+  CHECK(scenario.generate(1).objects.size() == 1);  // the scenario still works
+}
+
+TEST_CASE("predicates", "[lua_control]") {
+  Snippets lua;
+  CHECK(lua.text("local a = roger.primitive('phi1') local b = roger.primitive('phi5')\n"
+                 "return roger.all{roger.converged(a), roger.negate(roger.gamma(b, 'NOREF'))}") ==
+        "predicate all(converged(phi1), not(gamma(phi5) == NOREF))");
+  CHECK(lua.text("return roger.any(roger.converged('phi1'), roger['not'](roger.converged('phi2')))") ==
+        "predicate any(converged(phi1), not(converged(phi2)))");
+  CHECK_THAT(lua.error("roger.all{roger.primitive('phi1')}").what(),
+             Contains("roger.all: element 1 must be a predicate") && Contains("write roger.converged(c)"));
+  CHECK_THAT(lua.error("roger.gamma('phi1', 'DONE')").what(),
+             Contains("roger.gamma: argument 2 must be \"NOREF\", \"!CONV\" or \"CONV\", got string 'DONE'"));
+  CHECK_THAT(lua.error("roger.held(roger.converged('phi1'), -1)").what(),
+             Contains("roger.held: argument 2 must be a duration in seconds"));
+  CHECK_THAT(lua.error("roger.sequence('S', {roger.converged('phi1')})").what(),
+             Contains("step 1 must be a controller") && Contains("a predicate is a condition, not an action"));
+}
+
+TEST_CASE("names used before their definition are bound when the script finishes", "[lua_control]") {
+  Snippets lua;
+  auto outer = as<Sequence>(lua.controller("return roger.sequence('Outer', {'Inner', 'phi3'})"));
+  lua.controller("return roger.sequence('Inner', {'search', 'phi0'})");
+  finish_control_definitions(lua.sandbox);
+  const Controller& ref = *outer->steps()[0];
+  CHECK(is_name_reference(ref));
+  CHECK(ref.name() == "Inner");
+  CHECK(std::string(ref.kind()) == "sequence");
+  REQUIRE(ref.children().size() == 1);
+  CHECK(ref.children()[0]->name() == "Inner");
+  CHECK(named_controllers(lua.sandbox).size() == 2);
+  // After loading, a name must exist.
+  CHECK_THAT(lua.error("roger.sequence('Late', {'Missing'})").what(),
+             Contains("step 1 names 'Missing', which is not a controller; named controllers: Outer, Inner"));
+
+  Snippets never;
+  never.controller("return roger.sequence('A', {'phi0', 'Bee'})");
+  try {
+    finish_control_definitions(never.sandbox);
+    FAIL("an undefined name must be an error");
+  } catch (const ScriptError& e) {
+    CHECK(e.file == "snippet");
+    CHECK(e.line == 1);
+    CHECK_THAT(e.message, Contains("roger.sequence('A'): step 2 names 'Bee', which is not defined anywhere"));
+  }
+}
+
+TEST_CASE("mistakes in skill scripts name the file and line", "[lua_control]") {
+  struct Case {
+    const char* file;
+    int line;
+    std::vector<const char*> says;
+  };
+  const std::vector<Case> cases = {
+      {"bad_skill_primitive.lua", 3,
+       {"roger.primitive: unknown primitive 'phi9'", "known primitives: phi0, search, phi1, phi2, phi3, phi4, phi5"}},
+      {"bad_skill_param.lua", 4,
+       {"unknown parameter 'sped' (did you mean 'speed'?)", "phi1's parameters: epsilon, gain,", "speed, memory"}},
+      {"bad_skill_epsilon.lua", 3, {"roger.primitive('phi3'): parameter 'epsilon' must be within [0, 1000000], got -0.1"}},
+      {"bad_skill_nan.lua", 4, {"parameter 'gain' must be a finite number in [0, 100], got nan"}},
+      {"bad_skill_string.lua", 3, {"parameter 'speed' must be a number in [0.05, 2], got string 'fast'"}},
+      {"bad_skill_self.lua", 4, {"skill 'Looping' contains itself: Looping -> Looping"}},
+      {"bad_skill_cycle.lua", 5, {"skill 'A' contains itself: A -> B -> A"}},
+      {"bad_skill_subject_to.lua", 4, {"c:subject_to: argument 1 (the superior) must be a controller", "got number 5"}},
+      {"bad_skill_no_goal.lua", 7, {"policy 'track': missing required field 'goal'"}},
+      {"bad_skill_field.lua", 9,
+       {"policy 'track': unknown field 'scenaro'; known fields: action, description, goal, scenario, time_limit"}},
+  };
+  for (const auto& c : cases) {
+    const std::string path = std::string("tests/scripts/") + c.file;
+    INFO(path);
+    const ScriptError e = load_error(path);
+    CHECK(e.file == path);
+    CHECK(e.line == c.line);
+    for (const char* text : c.says) CHECK_THAT(e.message, Contains(text));
+    CHECK_THAT(e.what(), Contains(path + ":" + std::to_string(c.line) + ": "));
+  }
+  CHECK(is_skill_script("curricula/scripted.lua"));
+  CHECK(!is_skill_script("scenarios/unobstructed.lua"));
+  CHECK(check_skill_script("curricula/scripted.lua").empty());
+  const auto problems = check_skill_script("tests/scripts/bad_skill_field.lua");
+  REQUIRE(problems.size() == 1);
+  CHECK_THAT(problems[0], Contains("tests/scripts/bad_skill_field.lua:9: "));
+  CHECK_THROWS_WITH(SkillScript::load("no_such_script"),
+                    Contains("no skill script 'no_such_script'") && Contains("scripted"));
+}
+
+TEST_CASE("a loaded skill script runs without its Lua state", "[lua_control]") {
+  // The sandbox is gone when load() returns; the policy is plain C++ from here on.
+  const SkillScript script = SkillScript::load("curricula/scripted.lua");
+  const auto& sg = script.policy("search_grasp");
+  // Roger at the origin facing +x; the ball ahead, beside, behind and diagonally behind him.
+  const std::vector<Vec2> balls = {{1.5, 0.0}, {0.2, 1.5}, {-1.4, 0.5}, {0.8, -1.3}, {-1.0, -1.2}};
+  EpisodeOptions options;
+  options.time_limit = sg.time_limit;
+  const EvalSummary summary = evaluate_action(
+      [&](uint64_t seed) { return test::open_world(true, balls[seed % balls.size()]); }, *sg.action, *sg.goal,
+      int(balls.size()), 0, options);
+  INFO("successes " << summary.successes << " of " << summary.episodes);
+  CHECK(summary.successes >= 4);
+}
+
+TEST_CASE("docs/control.md: the example runs and every primitive parameter is documented", "[lua_control]") {
+  const SkillScript example = SkillScript::load("docs/examples/skills_example.lua");
+  CHECK(!example.policy_names().empty());
+  for (const auto& name : example.policy_names()) CHECK(example.policy(name).action);
+
+  const std::string doc = read_file("docs/control.md");
+  REQUIRE(!doc.empty());
+  const std::string source = read_file("docs/examples/skills_example.lua");
+  const std::string body = source.substr(source.find("local skills"));
+  CHECK(doc.find(body) != std::string::npos);  // the doc shows the example verbatim
+
+  // The common parameters are tabled once under "## Primitives", before the first kind.
+  const size_t primitives = doc.find("\n## Primitives");
+  REQUIRE(primitives != std::string::npos);
+  const std::string common = doc.substr(primitives, doc.find("\n### `", primitives) - primitives);
+  // The parameters every primitive has (those of Primitive itself).
+  std::set<std::string> shared;
+  const PrimitivePtr first = make_primitive(primitive_names().front());
+  for (const auto& d : first->param_defs()) shared.insert(d.name);
+  for (const auto& kind : primitive_names()) {
+    const PrimitivePtr p = make_primitive(kind);
+    std::set<std::string> own, both;
+    for (const auto& d : p->param_defs()) own.insert(d.name);
+    for (const auto& n : shared)
+      if (own.count(n)) both.insert(n);
+    shared = both;
+  }
+  CHECK(shared.count("epsilon"));
+  for (const auto& name : shared) CHECK(common.find("| `" + name + "` |") != std::string::npos);
+
+  // Each primitive has a section "### `kind`" whose table lists its parameters (and its epsilon,
+  // whose default differs) as "| `name` |".
+  for (const auto& kind : primitive_names()) {
+    INFO("primitive " << kind);
+    const size_t section = doc.find("### `" + kind + "`");
+    REQUIRE(section != std::string::npos);
+    const size_t end = std::min(doc.find("\n### ", section + 1), doc.find("\n## ", section + 1));
+    const std::string text = doc.substr(section, end == std::string::npos ? std::string::npos : end - section);
+    const PrimitivePtr p = make_primitive(kind);
+    for (const auto& d : p->param_defs()) {
+      if (shared.count(d.name) && d.name != "epsilon") continue;
+      // The row to add under "### `kind`" when a parameter is new.
+      INFO("parameter " << d.name << " is missing; its row: | `" << d.name << "` | "
+                        << (d.choices.empty() ? format_number(d.value) : "`\"" + d.text + "\"`") << " | "
+                        << format_number(d.min) << " to " << format_number(d.max) << " | " << d.help << " |");
+      CHECK(text.find("| `" + d.name + "` |") != std::string::npos);
+    }
+  }
+
+  // The policy written in the section on policies means what it says.
+  Snippets lua;
+  const size_t at = doc.find("local Phi_SG = roger.policy(");
+  REQUIRE(at != std::string::npos);
+  const std::string snippet = doc.substr(at, doc.find("```", at) - at);
+  auto policy = as<Policy>(lua.controller(
+      "local skills = require('lib.skills')\n"
+      "local p = skills.primitives()\n"
+      "local Phi6, Phi7 = skills.Phi6(p), skills.Phi7(p)\n" + snippet + "\nreturn Phi_SG"));
+  using G = Gamma;
+  CHECK(policy->table()[size_t(gamma_state_index({G::kConv, G::kNotConv, G::kConv}))] == 2);
+  CHECK(policy->table()[size_t(gamma_state_index({G::kConv, G::kConv, G::kNoRef}))] == 2);
+  CHECK(policy->table()[size_t(gamma_state_index({G::kConv, G::kNotConv, G::kNoRef}))] == 1);
+  CHECK(policy->table()[size_t(gamma_state_index({G::kNotConv, G::kConv, G::kConv}))] == 0);
+}
