@@ -395,8 +395,8 @@ class Navigate final : public Primitive {
     if (!object_estimate(in, number("memory"), obj, true)) return false;
     int i, j;
     if (!in.grid->cell_of(obj.center, i, j)) return false;
-    // Re-plan only when the estimate has moved by `replan` metres: stereo jitter must not cost a
-    // solve per tick. The goal is the disk of radius `approach` around the object; the object
+    // Re-plan only when the estimate has moved by `replan` metres (or more, far away): stereo
+    // jitter must not cost a solve per tick. The goal is the disk of radius `approach` around the object; the object
     // itself need not be an obstacle, since the base stops on entering the disk, and keeping the
     // grid fixed lets every re-plan start warm from the last solution.
     if (grid_ != in.grid) {
@@ -404,7 +404,11 @@ class Navigate final : public Primitive {
       planner_.set_grid(*in.grid);
       planned_ = false;
     }
-    if (!planned_ || (obj.center - goal_center_).norm() > number("replan")) {
+    // Far from the object a shift of the estimate barely turns the path: the tolerance grows
+    // with the distance (a quarter of it), so the long approach re-plans rarely.
+    const double distance = (obj.center - Vec2(in.senses->base.x, in.senses->base.y)).norm();
+    if (!planned_ ||
+        (obj.center - goal_center_).norm() > std::max(number("replan"), 0.25 * distance)) {
       planned_ = true;
       goal_center_ = obj.center;
       goal_radius_ = number("approach");
