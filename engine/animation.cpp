@@ -1,5 +1,7 @@
 #include "animation.h"
 
+#include "fileio.h"
+
 #include <cairo.h>
 #include <fcntl.h>
 #include <unistd.h>
@@ -462,97 +464,9 @@ TimelineBox draw_timeline(cairo_t* cr, const Timeline& tl, TimelineMode mode,
 // ---- files
 // ----------------------------------------------------------------------------------------------
 
-std::string reason(int err) { return std::strerror(err); }
-
-// A temporary file beside the destination, renamed over it on commit() and removed otherwise, so
-// a reader (a browser replaying the folder) sees the old file or the new one, never half of one.
-class AtomicFile {
- public:
-  explicit AtomicFile(const std::string& path) : path_(path) {
-    const fs::path target(path);
-    const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-    static std::atomic<unsigned> counter{0};
-    std::random_device rd;
-    for (int attempt = 0; attempt < 100; ++attempt) {
-      const std::string name = "." + target.filename().string() + ".tmp" +
-                               std::to_string(getpid()) + "-" + std::to_string(counter++) + "-" +
-                               std::to_string(rd() % 100000);
-      temp_ = (dir / name).string();
-      // 0666 and O_EXCL: the umask decides the final permissions, and no other file is clobbered.
-      const int fd = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-      if (fd >= 0) {
-        file_ = fdopen(fd, "wb");
-        if (!file_) {
-          const int err = errno;
-          ::close(fd);
-          ::unlink(temp_.c_str());
-          temp_.clear();
-          fail(err);
-        }
-        return;
-      }
-      if (errno != EEXIST) {
-        const int err = errno;
-        temp_.clear();
-        fail(err);
-      }
-    }
-    temp_.clear();
-    fail(EEXIST);
-  }
-
-  ~AtomicFile() {
-    if (file_) std::fclose(file_);
-    if (!committed_ && !temp_.empty()) ::unlink(temp_.c_str());
-  }
-  AtomicFile(const AtomicFile&) = delete;
-  AtomicFile& operator=(const AtomicFile&) = delete;
-
-  // Appends bytes, remembering the first error (reported by commit).
-  void append(const void* data, size_t length) {
-    if (error_ != 0 || length == 0) return;
-    if (std::fwrite(data, 1, length, file_) != length) error_ = errno ? errno : EIO;
-  }
-
-  // The cairo write callback.
-  static cairo_status_t write(void* closure, const unsigned char* data, unsigned int length) {
-    auto* self = static_cast<AtomicFile*>(closure);
-    self->append(data, length);
-    return self->error_ == 0 ? CAIRO_STATUS_SUCCESS : CAIRO_STATUS_WRITE_ERROR;
-  }
-
-  // Flushes to disk and renames over the destination; throws (and removes the temporary) on error.
-  void commit() {
-    if (error_ != 0) fail(error_);
-    if (std::fflush(file_) != 0 || ::fsync(fileno(file_)) != 0) fail(errno);
-    FILE* f = file_;
-    file_ = nullptr;
-    if (std::fclose(f) != 0) fail(errno);
-    if (std::rename(temp_.c_str(), path_.c_str()) != 0) fail(errno);
-    committed_ = true;
-  }
-
-  // Throws for a cairo failure, preferring the operating system's reason when there is one.
-  void check(cairo_status_t status) {
-    if (error_ != 0) fail(error_);
-    if (status != CAIRO_STATUS_SUCCESS)
-      throw Error("animation: cannot write '" + path_ + "': " + cairo_status_to_string(status));
-  }
-
- private:
-  [[noreturn]] void fail(int err) {
-    throw Error("animation: cannot write '" + path_ + "': " + reason(err));
-  }
-
-  std::string path_, temp_;
-  FILE* file_ = nullptr;
-  int error_ = 0;
-  bool committed_ = false;
-};
-
 void write_text_file(const std::string& path, const std::string& content) {
-  AtomicFile file(path);
-  file.append(content.data(), content.size());
+  AtomicFile file(path, "animation: cannot write");
+  file.append(content);
   file.commit();
 }
 
@@ -578,7 +492,7 @@ void write_png(const std::string& path, long width, long height, Paint paint) {
        << " pixels per side (use a smaller frame width or fewer panels)";
     throw Error(os.str());
   }
-  AtomicFile file(path);
+  AtomicFile file(path, "animation: cannot write");
   Canvas canvas;
   canvas.surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, int(width), int(height));
   file.check(cairo_surface_status(canvas.surface));
@@ -588,7 +502,7 @@ void write_png(const std::string& path, long width, long height, Paint paint) {
   paint(canvas.cr);
   file.check(cairo_status(canvas.cr));
   cairo_surface_flush(canvas.surface);
-  file.check(cairo_surface_write_to_png_stream(canvas.surface, &AtomicFile::write, &file));
+  file.check(cairo_surface_write_to_png_stream(canvas.surface, &AtomicFile::cairo_write, &file));
   file.commit();
 }
 

@@ -1,5 +1,7 @@
 #include "learning.h"
 
+#include "fileio.h"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -399,31 +401,7 @@ QTable QTable::from_json(const nlohmann::json& j, const std::vector<std::string>
 }
 
 void QTable::save(const std::string& path, const PolicyMetadata& meta) const {
-  namespace fs = std::filesystem;
-  const std::string text = to_json(meta).dump(1) + "\n";
-  std::error_code ec;
-  const fs::path target(path);
-  if (target.has_parent_path()) fs::create_directories(target.parent_path(), ec);
-  // The temporary lives in the same directory, so the rename is atomic (same file system); the
-  // process id keeps concurrent writers (parallel trials) from sharing a temporary.
-  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error(path + ": cannot write the policy file (cannot create " + tmp + ")");
-    out << text;
-    out.flush();
-    if (!out) {
-      out.close();
-      fs::remove(tmp, ec);
-      throw Error(path + ": cannot write the policy file (write failed)");
-    }
-  }
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw Error(path + ": cannot write the policy file (" + ec.message() + ")");
-  }
+  write_file_atomic(path, to_json(meta).dump(1) + "\n", "cannot write the policy file");
 }
 
 QTable QTable::load(const std::string& path, const std::vector<std::string>& expected,

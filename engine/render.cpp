@@ -1,5 +1,7 @@
 #include "render.h"
 
+#include "fileio.h"
+
 #include <cairo-svg.h>
 #include <fcntl.h>
 #include <unistd.h>
@@ -813,88 +815,6 @@ Format format_of(const std::string& path) {
       "; use .png or .svg");
 }
 
-std::string reason(int err) { return std::strerror(err); }
-
-// A temporary file beside the destination, renamed over it on commit() and removed otherwise, so
-// the destination either keeps its old content or gets the whole new picture.
-class AtomicFile {
- public:
-  explicit AtomicFile(const std::string& path) : path_(path) {
-    namespace fs = std::filesystem;
-    const fs::path target(path);
-    const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-    static std::atomic<unsigned> counter{0};
-    std::random_device rd;
-    for (int attempt = 0; attempt < 100; ++attempt) {
-      const std::string name = "." + target.filename().string() + ".tmp" +
-                               std::to_string(getpid()) + "-" + std::to_string(counter++) + "-" +
-                               std::to_string(rd() % 100000);
-      temp_ = (dir / name).string();
-      // 0666 and O_EXCL: the umask decides the final permissions, and no other file is clobbered.
-      const int fd = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-      if (fd >= 0) {
-        file_ = fdopen(fd, "wb");
-        if (!file_) {
-          const int err = errno;
-          ::close(fd);
-          ::unlink(temp_.c_str());
-          fail(err);
-        }
-        return;
-      }
-      if (errno != EEXIST) fail(errno);
-    }
-    fail(EEXIST);
-  }
-
-  ~AtomicFile() {
-    if (file_) std::fclose(file_);
-    if (!committed_ && !temp_.empty()) ::unlink(temp_.c_str());
-  }
-  AtomicFile(const AtomicFile&) = delete;
-  AtomicFile& operator=(const AtomicFile&) = delete;
-
-  // The cairo write callback: appends data, remembering the first error.
-  static cairo_status_t write(void* closure, const unsigned char* data, unsigned int length) {
-    auto* self = static_cast<AtomicFile*>(closure);
-    if (self->error_ != 0) return CAIRO_STATUS_WRITE_ERROR;
-    if (std::fwrite(data, 1, length, self->file_) != length) {
-      self->error_ = errno ? errno : EIO;
-      return CAIRO_STATUS_WRITE_ERROR;
-    }
-    return CAIRO_STATUS_SUCCESS;
-  }
-
-  // Flushes to disk and renames over the destination; throws (and removes the temporary) on error.
-  void commit() {
-    if (error_ != 0) fail(error_);
-    if (std::fflush(file_) != 0 || ::fsync(fileno(file_)) != 0) fail(errno);
-    FILE* f = file_;
-    file_ = nullptr;
-    if (std::fclose(f) != 0) fail(errno);
-    if (std::rename(temp_.c_str(), path_.c_str()) != 0) fail(errno);
-    committed_ = true;
-  }
-
-  // Throws for a cairo failure, preferring the operating system's reason when there is one.
-  void check(cairo_status_t status) {
-    if (error_ != 0) fail(error_);
-    if (status != CAIRO_STATUS_SUCCESS)
-      throw Error("render: cannot write picture '" + path_ +
-                  "': " + cairo_status_to_string(status));
-  }
-
- private:
-  [[noreturn]] void fail(int err) {
-    throw Error("render: cannot write picture '" + path_ + "': " + reason(err));
-  }
-
-  std::string path_, temp_;
-  FILE* file_ = nullptr;
-  int error_ = 0;
-  bool committed_ = false;
-};
-
 // Owns a cairo surface and context for the length of one drawing.
 struct Canvas {
   cairo_surface_t* surface = nullptr;
@@ -917,10 +837,10 @@ void write_picture(const std::string& path, long width, long height, Paint paint
        << " picture is outside 1 to " << kMaxPicturePixels << " pixels per side";
     throw Error(os.str());
   }
-  AtomicFile file(path);
+  AtomicFile file(path, "render: cannot write picture");
   Canvas canvas;
   if (format == Format::kSvg) {
-    canvas.surface = cairo_svg_surface_create_for_stream(&AtomicFile::write, &file, width, height);
+    canvas.surface = cairo_svg_surface_create_for_stream(&AtomicFile::cairo_write, &file, width, height);
     cairo_svg_surface_set_document_unit(canvas.surface, CAIRO_SVG_UNIT_PX);
   } else {
     canvas.surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, int(width), int(height));
@@ -931,7 +851,7 @@ void write_picture(const std::string& path, long width, long height, Paint paint
   file.check(cairo_status(canvas.cr));
   if (format == Format::kPng) {
     cairo_surface_flush(canvas.surface);
-    file.check(cairo_surface_write_to_png_stream(canvas.surface, &AtomicFile::write, &file));
+    file.check(cairo_surface_write_to_png_stream(canvas.surface, &AtomicFile::cairo_write, &file));
   } else {
     cairo_destroy(canvas.cr);  // the SVG is serialised when the surface finishes
     canvas.cr = nullptr;
