@@ -1,0 +1,121 @@
+// stats.h: honest statistics for reports over trials: location and spread, type-7 quantiles, the
+// interquartile mean, bootstrap confidence intervals, the Mann-Whitney U test, the probability of
+// improvement, right-censored times-to-threshold, and the paper's min:sec formatting.
+//
+// Every function throws roger::Error for input it cannot give a meaningful answer to (an empty
+// sample, a NaN or infinite value, a probability outside [0, 1]); none returns NaN silently.
+//
+// Which standard deviation is which: population_std divides by n and is what the paper's tables
+// report ("96.0 +- 28.0" for 49 episodes at +100 and one at -100); sample_std divides by n - 1 and
+// is the unbiased-variance estimate a statistician would quote for a sample of trials.
+//
+// Censored times: a trial that never reached the success threshold has a time-to-threshold equal
+// to its whole training budget, a right-censored value (CensoredTime{budget, false}). The rank
+// statistics (mann_whitney_u_censored, probability_of_improvement_censored) rank every censored
+// value above every reached value, whatever the budgets, and tie censored values with one another.
+// Means and medians of censored_values() are lower bounds of the true ones; report
+// fraction_reached() beside them.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace roger {
+
+// The arithmetic mean of a non-empty sample.
+double mean(const std::vector<double>& xs);
+
+// Sample standard deviation (divides by n - 1); needs at least two values.
+double sample_std(const std::vector<double>& xs);
+
+// Population standard deviation (divides by n): the paper's "+- Std"; 0 for a single value.
+double population_std(const std::vector<double>& xs);
+
+// The median (the type-7 quantile at 0.5: the mean of the two middle values for even n).
+double median(const std::vector<double>& xs);
+
+// The q-quantile, 0 <= q <= 1, by linear interpolation between order statistics (Hyndman & Fan
+// type 7, the default of R's quantile() and numpy.quantile).
+double quantile(const std::vector<double>& xs, double q);
+
+// The interquartile mean (Agarwal et al. 2021): the mean of the middle 50% of the sorted sample,
+// each value owning 1/n of [0, 1] and weighted by how much of it lies in [0.25, 0.75], so the
+// boundary values count fractionally when n is not a multiple of 4 (scipy's trim_mean(x, 0.25)
+// instead drops floor(n/4) values at each end; the two agree when 4 divides n).
+double interquartile_mean(const std::vector<double>& xs);
+
+// A statistic of a sample, for bootstrap_ci (mean, median, interquartile_mean or any function).
+using Statistic = std::function<double(const std::vector<double>&)>;
+
+// A confidence interval around a point estimate.
+struct ConfidenceInterval {
+  double estimate = 0.0;  // the statistic of the sample itself
+  double low = 0.0;       // lower bound
+  double high = 0.0;      // upper bound
+  double level = 0.95;    // coverage the interval was built for
+};
+
+// Percentile-bootstrap confidence interval of statistic: `resamples` resamples of xs with
+// replacement drawn from roger::Rng(seed) (same inputs and seed, same interval on every machine),
+// bounds at the type-7 quantiles (1 - level) / 2 and (1 + level) / 2 of the resampled statistics.
+ConfidenceInterval bootstrap_ci(const std::vector<double>& xs, const Statistic& statistic,
+                                uint64_t seed, int resamples = 10000, double level = 0.95);
+
+// How mann_whitney_u computes its p-value.
+enum class MannWhitneyMethod {
+  kAuto,        // exact when there are no ties and both samples have at most 20 values
+  kExact,       // the exact null distribution of U (no ties allowed, n1 * n2 <= 10000)
+  kAsymptotic,  // normal approximation with tie correction and continuity correction
+};
+
+// The outcome of a two-sided Mann-Whitney U (Wilcoxon rank-sum) test.
+struct MannWhitneyResult {
+  double u1 = 0.0;       // U of the first sample: pairs with x > y, plus half the ties (scipy's U)
+  double u2 = 0.0;       // U of the second sample, n1 * n2 - u1
+  double p_value = 1.0;  // two-sided p-value, in [0, 1]
+  double z = 0.0;        // continuity-corrected normal score of u1 (0 when exact)
+  bool exact = false;    // whether p_value comes from the exact distribution
+};
+
+// Two-sided Mann-Whitney U test of whether x and y come from the same distribution. Matches
+// scipy.stats.mannwhitneyu(x, y, alternative="two-sided", method="exact" or "asymptotic").
+MannWhitneyResult mann_whitney_u(const std::vector<double>& x, const std::vector<double>& y,
+                                 MannWhitneyMethod method = MannWhitneyMethod::kAuto);
+
+// P(X < Y) + 0.5 P(X = Y) for X drawn from x and Y from y: for training times (lower is better)
+// the probability that x's approach is faster than y's; for rewards (higher is better) swap the
+// arguments. Equals u2 / (n1 n2) of mann_whitney_u(x, y).
+double probability_of_improvement(const std::vector<double>& x, const std::vector<double>& y);
+
+// A trial's time-to-threshold: reached, or right-censored at the trial's whole budget.
+struct CensoredTime {
+  double seconds = 0.0;  // time-to-threshold, or the budget when not reached
+  bool reached = true;   // false: the threshold was never reached (right-censored)
+};
+
+// Fraction of trials, in [0, 1], that reached the threshold; needs at least one trial.
+double fraction_reached(const std::vector<CensoredTime>& times);
+
+// The times with each censored trial at its budget (summaries of these are lower bounds).
+std::vector<double> censored_values(const std::vector<CensoredTime>& times);
+
+// mann_whitney_u on times-to-threshold: censored trials rank above all reached ones, tied.
+MannWhitneyResult mann_whitney_u_censored(
+    const std::vector<CensoredTime>& x, const std::vector<CensoredTime>& y,
+    MannWhitneyMethod method = MannWhitneyMethod::kAuto);
+
+// probability_of_improvement on times (x faster than y), censored trials ranking as slowest.
+double probability_of_improvement_censored(const std::vector<CensoredTime>& x,
+                                           const std::vector<CensoredTime>& y);
+
+// Simulated seconds as the paper's min:sec, rounded to the nearest second, minutes unbounded:
+// 2994 -> "49:54", 90 -> "1:30", 23989 -> "399:49" (no hour field, as in Table II).
+std::string format_min_sec(double seconds);
+
+// The paper's "% Improvement" of a training time over the baseline's: 100 (baseline - value) /
+// baseline (Table I: 49:54 -> 24:55 is 50.07%). The baseline must be positive.
+double percent_improvement(double baseline, double value);
+
+}  // namespace roger
