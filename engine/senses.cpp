@@ -86,6 +86,26 @@ void paint_part(double lo, double hi, const SeenSurface& s, bool is_stimulus, Ey
 
 }  // namespace
 
+void append_seen_surfaces(std::vector<SeenSurface>& out, const Shape& shape, const Pose& pose,
+                          SurfaceKind kind, int index, const Colour& colour) {
+  for (const auto& poly : shape.polygons) {
+    SeenSurface s;
+    s.kind = kind, s.index = int16_t(index), s.colour = colour, s.is_disk = false;
+    s.vertex_count = int(poly.vertices.size());
+    Vec2 sum = Vec2::Zero();
+    for (int i = 0; i < s.vertex_count; ++i) sum += (s.vertices[i] = to_world(pose, poly.vertices[i]));
+    s.center = sum / s.vertex_count;
+    out.push_back(s);
+  }
+  for (const auto& disk : shape.disks) {
+    SeenSurface s;
+    s.kind = kind, s.index = int16_t(index), s.colour = colour, s.is_disk = true;
+    s.center = to_world(pose, disk.center);
+    s.radius = disk.radius;
+    out.push_back(s);
+  }
+}
+
 void paint_eye(const Vec2& eye, double eye_heading, const std::vector<SeenSurface>& surfaces,
                const Colour& wall_colour, const Colour& stimulus_colour, EyeImage& image) {
   // Scratch space reused across calls: no allocation in the control loop once warmed up.

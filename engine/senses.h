@@ -71,6 +71,10 @@ struct SeenSurface {
   std::array<Vec2, 8> vertices;
 };
 
+// Appends the eyes' view of a shape placed at a pose: one world-frame surface per convex part.
+void append_seen_surfaces(std::vector<SeenSurface>& out, const Shape& shape, const Pose& pose,
+                          SurfaceKind kind, int index, const Colour& colour);
+
 // Paints one eye's image analytically: each surface's angular extent, nearest first, clipped by
 // what is already covered (the same result as painting far-to-near, with exact sub-pixel edges).
 // eye_heading is the world angle of the optical axis.

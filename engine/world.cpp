@@ -60,27 +60,6 @@ void add_shape_fixtures(b2Body* body, const Shape& shape, float density, float f
   }
 }
 
-// Appends the world-frame surfaces of a shape at a pose, for the eyes.
-void append_surfaces(std::vector<SeenSurface>& out, const Shape& shape, const Pose& pose,
-                     SurfaceKind kind, int index, const Colour& colour) {
-  for (const auto& poly : shape.polygons) {
-    SeenSurface s;
-    s.kind = kind, s.index = int16_t(index), s.colour = colour, s.is_disk = false;
-    s.vertex_count = int(poly.vertices.size());
-    Vec2 sum = Vec2::Zero();
-    for (int i = 0; i < s.vertex_count; ++i) sum += (s.vertices[i] = to_world(pose, poly.vertices[i]));
-    s.center = sum / s.vertex_count;
-    out.push_back(s);
-  }
-  for (const auto& disk : shape.disks) {
-    SeenSurface s;
-    s.kind = kind, s.index = int16_t(index), s.colour = colour, s.is_disk = true;
-    s.center = to_world(pose, disk.center);
-    s.radius = disk.radius;
-    out.push_back(s);
-  }
-}
-
 // Touch accumulated over the physics steps of one control tick, per touched body.
 struct TouchEntry {
   uintptr_t other = 0;
@@ -191,7 +170,7 @@ void World::reset(const WorldSpec& spec_in) {
     b2Body* body = w.CreateBody(&bd);
     body->GetUserData().pointer = encode(SurfaceKind::kObstacle, int(i));
     add_shape_fixtures(body, o.shape, 0.0f, 0.5f, kCatObstacle, 0xffff);
-    append_surfaces(m.surfaces, o.shape, o.pose, SurfaceKind::kObstacle, int(i), o.colour);
+    append_seen_surfaces(m.surfaces, o.shape, o.pose, SurfaceKind::kObstacle, int(i), o.colour);
   }
   m.static_surfaces = m.surfaces.size();
 
@@ -464,7 +443,7 @@ void World::update_surfaces() {
   m.surfaces.resize(m.static_surfaces);
   for (size_t i = 0; i < spec_.objects.size(); ++i) {
     const auto& o = spec_.objects[i];
-    append_surfaces(m.surfaces, o.shape, object_pose(int(i)), SurfaceKind::kObject, int(i), o.colour);
+    append_seen_surfaces(m.surfaces, o.shape, object_pose(int(i)), SurfaceKind::kObject, int(i), o.colour);
   }
 }
 

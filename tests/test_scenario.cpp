@@ -83,35 +83,15 @@ Shape disk(const Vec2& c, double r) {
   return s;
 }
 
-// The eyes' view of a shape: one surface per convex part, world frame.
-void add_surfaces(std::vector<SeenSurface>& out, const Shape& shape, const Pose& pose,
-                  SurfaceKind kind, int index, const Colour& colour) {
-  for (const auto& poly : shape.polygons) {
-    SeenSurface s;
-    s.kind = kind, s.index = int16_t(index), s.colour = colour, s.is_disk = false;
-    s.vertex_count = int(poly.vertices.size());
-    Vec2 sum = Vec2::Zero();
-    for (int i = 0; i < s.vertex_count; ++i) sum += (s.vertices[i] = to_world(pose, poly.vertices[i]));
-    s.center = sum / s.vertex_count;
-    out.push_back(s);
-  }
-  for (const auto& d : shape.disks) {
-    SeenSurface s;
-    s.kind = kind, s.index = int16_t(index), s.colour = colour, s.is_disk = true;
-    s.center = to_world(pose, d.center);
-    s.radius = d.radius;
-    out.push_back(s);
-  }
-}
 
 // Whether an eye somewhere on a coarse grid of free floor, looking at the object, sees part of it
 // past the obstacles.
 bool object_visible_somewhere(const WorldSpec& w) {
   const ObjectSpec& object = w.objects.at(0);
   std::vector<SeenSurface> surfaces;
-  add_surfaces(surfaces, object.shape, object.pose, SurfaceKind::kObject, 0, object.colour);
+  append_seen_surfaces(surfaces, object.shape, object.pose, SurfaceKind::kObject, 0, object.colour);
   for (size_t i = 0; i < w.obstacles.size(); ++i)
-    add_surfaces(surfaces, w.obstacles[i].shape, w.obstacles[i].pose, SurfaceKind::kObstacle, int(i),
+    append_seen_surfaces(surfaces, w.obstacles[i].shape, w.obstacles[i].pose, SurfaceKind::kObstacle, int(i),
                  w.obstacles[i].colour);
   const ArenaSpec& a = w.arena;
   const double step = 0.25, margin = 0.2;
