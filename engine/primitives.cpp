@@ -305,8 +305,12 @@ class Navigate final : public Primitive {
     declare("memory", 2.0, 0.0, 60.0, "seconds a lost object's last position stays a goal");
     declare("margin", 0.05, 0.0, 1.0, "how far (m) inside a goal region's edge the goal cells end");
     declare("replan", 0.15, 0.0, 1.0, "how far (m) the object estimate must move to plan again");
+    // Steering needs the direction of the gradient, not the potential to 4 digits: a looser
+    // solve than the planner's default halves the sweeps of every plan.
+    declare("tolerance", 2e-3, 1e-8, 0.1, "relative change per sweep at which a plan has converged");
+    on_params_changed();
   }
-  Navigate(const Navigate& o) : Primitive(o), planner_() {}
+  Navigate(const Navigate& o) : Primitive(o), planner_(planner_params()) {}
   PrimitivePtr clone() const override { return std::make_shared<Navigate>(*this); }
   void reset(uint64_t seed) override {
     Primitive::reset(seed);
@@ -315,6 +319,22 @@ class Navigate final : public Primitive {
   }
 
  protected:
+  // A new tolerance needs a new planner.
+  void on_params_changed() override {
+    PlannerParams p = planner_params();
+    if (p.tolerance != planner_.params().tolerance) {
+      planner_ = HarmonicPlanner(p);
+      grid_ = nullptr;
+      planned_ = false;
+    }
+  }
+
+  PlannerParams planner_params() const {
+    PlannerParams p;
+    p.tolerance = number("tolerance");
+    return p;
+  }
+
   // The state needs reachability and the distance to the goal, not the solved potential.
   bool compute_state(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
     classify(in, false, out, gamma);
@@ -382,13 +402,16 @@ class Navigate final : public Primitive {
     if (text("goal") == "region") {
       const size_t k = size_t(number("region"));
       if (k >= in.spec->goals.size()) return false;
-      if (grid_ != in.grid) {
+      // The region and the grid are fixed for the episode: set them once (the planner would
+      // notice that nothing changed, but finding the goal cells each tick is not free).
+      if (grid_ != in.grid || !planned_) {
         grid_ = in.grid;
+        planned_ = true;
         planner_.set_grid(*in.grid);
+        goal_center_ = in.spec->goals[k].center;
+        goal_radius_ = in.spec->goals[k].radius;
+        planner_.set_goal(goal_center_, std::max(0.5 * in.grid->cell, goal_radius_ - number("margin")));
       }
-      goal_center_ = in.spec->goals[k].center;
-      goal_radius_ = in.spec->goals[k].radius;
-      planner_.set_goal(goal_center_, std::max(0.5 * in.grid->cell, goal_radius_ - number("margin")));
       return solve ? planner_.update() : planner_.update_reachability();
     }
     VisualObject obj;
