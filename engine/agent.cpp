@@ -27,6 +27,7 @@ void Agent::refresh_input() {
 
 const ControlOutput& Agent::step(Controller& action) {
   const ControlOutput& out = action.evaluate(input_);
+  action.executed(input_);
   DofVector errors = out.command;
   if (params_.gaze_reflex) {
     // Like a vestibulo-ocular reflex: an eye the action does not move keeps the stimulus centred.

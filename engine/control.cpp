@@ -137,6 +137,18 @@ SubjectTo::SubjectTo(ControllerPtr subordinate, ControllerPtr superior)
 
 std::vector<const Controller*> SubjectTo::children() const { return {sub_.get(), sup_.get()}; }
 
+void SubjectTo::executed(const ControlInput& in) {
+  if (history_count_ > 0) {
+    const auto& newest = history_[size_t((history_head_ - 1 + kHistory) % kHistory)];
+    if (in.time - newest.first > 1.5 * in.dt + 1e-9) history_count_ = history_head_ = 0;
+  }
+  history_[size_t(history_head_)] = {in.time, sub_->output().phi};
+  history_head_ = (history_head_ + 1) % kHistory;
+  history_count_ = std::min(history_count_ + 1, kHistory);
+  sub_->executed(in);
+  sup_->executed(in);
+}
+
 void SubjectTo::reset(uint64_t seed) {
   Controller::reset(seed);
   history_count_ = history_head_ = 0;
@@ -162,15 +174,19 @@ void SubjectTo::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma
   // equilibrium counts as converged. A subordinate asking for nothing keeps its gamma.
   const ControllerParams& sp = sub_->params();
   const double stall = sp.stall;
-  history_[size_t(history_head_)] = {in.time, b.phi};
-  history_head_ = (history_head_ + 1) % kHistory;
-  history_count_ = std::min(history_count_ + 1, kHistory);
+  // The history holds the subordinate's potential at the ticks this composite was executed, and
+  // only an unbroken run of them up to the last tick (executed() clears it after a gap).
   bool settled = false;
-  for (int k = 1; k < history_count_; ++k) {
-    const auto& past = history_[size_t((history_head_ - 1 - k + 2 * kHistory) % kHistory)];
-    if (in.time - past.first + 1e-9 < sp.plateau) continue;
-    settled = std::abs(b.phi - past.second) <= stall;
-    break;
+  if (history_count_ > 0) {
+    const auto& newest = history_[size_t((history_head_ - 1 + kHistory) % kHistory)];
+    if (in.time - newest.first <= 1.5 * in.dt + 1e-9) {
+      for (int k = 0; k < history_count_; ++k) {
+        const auto& past = history_[size_t((history_head_ - 1 - k + 2 * kHistory) % kHistory)];
+        if (in.time - past.first + 1e-9 < sp.plateau) continue;
+        settled = std::abs(b.phi - past.second) <= stall;
+        break;
+      }
+    }
   }
   if (sub == Gamma::kNotConv && b.command.norm() > stall &&
       ((N * b.command).norm() <= stall || settled))
@@ -189,6 +205,8 @@ std::vector<const Controller*> Sequence::children() const {
   for (const auto& s : steps_) c.push_back(s.get());
   return c;
 }
+
+void Sequence::executed(const ControlInput& in) { steps_[size_t(current_)]->executed(in); }
 
 void Sequence::reset(uint64_t seed) {
   Controller::reset(seed);
@@ -246,6 +264,10 @@ std::vector<const Controller*> Policy::children() const {
   for (const auto& a : actions_) c.push_back(a.get());
   if (done_) c.push_back(done_.get());
   return c;
+}
+
+void Policy::executed(const ControlInput& in) {
+  if (chosen_ >= 0) actions_[size_t(chosen_)]->executed(in);
 }
 
 void Policy::reset(uint64_t seed) {

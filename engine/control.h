@@ -120,6 +120,12 @@ class Controller {
   // The controllers this one is made of, for pictures, usage counts and cycle checks.
   virtual std::vector<const Controller*> children() const { return {}; }
 
+  // Told by the control loop that this tick's command (from evaluate()) was written to the robot;
+  // composites pass it on to the children whose commands they used. Evaluations made only to
+  // observe a state are never executed, which is what lets a subordinate's settled potential
+  // mean "stuck while acting" rather than "not running".
+  virtual void executed(const ControlInput&) {}
+
   // A short word for what it is: a primitive's own name, "subject_to", "sequence" or "policy".
   virtual const char* kind() const = 0;
 
@@ -153,9 +159,9 @@ DofMatrix nullspace_projector(const TaskJacobian& jacobian, double tolerance = 1
 // Its Jacobian stacks both (so chains nest: phi1 <| (phi4 <| phi5)). Its gamma is the weakest of
 // the two: NOREF if either lacks a reference, CONV only when both have converged, where the
 // subordinate has converged when its own gamma is CONV or when it can make no more progress in the
-// superior's nullspace (its projected command is at most its `stall`, or its potential has
-// settled: changed by less than `stall` over the last `plateau` seconds, the paper's phi-dot near
-// zero): the constrained equilibrium.
+// superior's nullspace (its projected command is at most its `stall`, or, while the composite is
+// being executed, its potential has settled: changed by less than `stall` over the last `plateau`
+// seconds of execution, the paper's phi-dot near zero): the constrained equilibrium.
 class SubjectTo final : public Controller {
  public:
   // subordinate <| superior.
@@ -165,6 +171,7 @@ class SubjectTo final : public Controller {
   const ControllerPtr& subordinate() const { return sub_; }
   const ControllerPtr& superior() const { return sup_; }
   void reset(uint64_t seed) override;
+  void executed(const ControlInput& in) override;
 
  protected:
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
@@ -187,6 +194,7 @@ class Sequence final : public Controller {
   std::vector<const Controller*> children() const override;
   const char* kind() const override { return "sequence"; }
   void reset(uint64_t seed) override;
+  void executed(const ControlInput& in) override;
   // The step running now.
   int current() const { return current_; }
   const std::vector<ControllerPtr>& steps() const { return steps_; }
@@ -214,6 +222,7 @@ class Policy final : public Controller {
   std::vector<const Controller*> children() const override;
   const char* kind() const override { return "policy"; }
   void reset(uint64_t seed) override;
+  void executed(const ControlInput& in) override;
   // The action chosen at the last evaluation, or -1.
   int chosen() const { return chosen_; }
   const std::vector<ControllerPtr>& actions() const { return actions_; }

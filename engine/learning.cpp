@@ -106,12 +106,14 @@ class LearnedSkill final : public Controller {
     for (auto& a : actions_) a->reset(seed);
     reset_predicate(*absorbing_, seed);
     absorbing_tick_ = UINT64_MAX;
+    last_action_ = -1;
   }
 
  protected:
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override {
     const int s = read_state(in, gamma_raw);
-    const ControlOutput& run = actions_[size_t(action_for(s))]->evaluate(in);
+    last_action_ = action_for(s);
+    const ControlOutput& run = actions_[size_t(last_action_)]->evaluate(in);
     out.command = run.command;
     out.jacobian = run.jacobian;
     out.phi = run.phi;
@@ -122,6 +124,14 @@ class LearnedSkill final : public Controller {
     read_state(in, gamma_raw);
     return true;
   }
+
+ public:
+  // The action whose command this tick used was executed.
+  void executed(const ControlInput& in) override {
+    if (last_action_ >= 0) actions_[size_t(last_action_)]->executed(in);
+  }
+
+ protected:
 
  private:
   // The state index and the skill's own gamma at this tick.
@@ -139,6 +149,8 @@ class LearnedSkill final : public Controller {
     gamma_raw = absorbing_now_ ? Gamma::kConv : any_reference ? Gamma::kNotConv : Gamma::kNoRef;
     return gamma_state_index(scratch_);
   }
+
+  int last_action_ = -1;  // the action run at the last full evaluation
 
   // QTable::policy_action on the snapshot, resolved once per state.
   int action_for(int s) {
