@@ -27,9 +27,9 @@ return {
   policies = {
     task = {
       action = Phi_T,
-      -- The paper's absorbing state of Phi_T: phi1, phi4 and phi5 all CONV, i.e. the transport
-      -- composite converged (object in the goal region, grasp held).
-      goal = roger.converged(transport),
+      -- The paper's absorbing state of Phi_T: phi1, phi4 and phi5 all CONV (the object in the
+      -- goal region, the grasp held).
+      goal = skills.transported(transport),
       time_limit = 10,
       description = "search, grasp and transport the object to the goal region",
     },

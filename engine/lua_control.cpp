@@ -908,22 +908,51 @@ int l_held(lua_State* L) {
 
 // ---- metamethods ----
 
-// c.name, c.kind and the methods.
-int l_controller_index(lua_State* L) {
-  const ControllerPtr& c = *static_cast<ControllerPtr*>(luaL_checkudata(L, 1, kControllerType));
-  const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : "";
-  if (key == "name") {
-    lua_pushstring(L, c->name().c_str());
-  } else if (key == "kind") {
-    lua_pushstring(L, c->kind());
-  } else if (key == "with" || key == "subject_to" || key == "param" || key == "params") {
-    lua_getmetatable(L, 1);
-    lua_getfield(L, -1, key.c_str());
-  } else {
-    return luaL_error(L, "a controller has no field '%s'; it has name, kind and the methods "
-                      "with{...}, subject_to(sup), param(name), params()", key.c_str());
+// Pushes a part of a composite: a name stand-in shows as the controller it is bound to.
+void push_part(lua_State* L, const ControllerPtr& part) {
+  const auto* ref = dynamic_cast<const NameReference*>(part.get());
+  lua_push_controller(L, ref && ref->target() ? ref->target() : part);
+}
+
+// Pushes a list of controllers as a Lua list.
+void push_parts(lua_State* L, const std::vector<ControllerPtr>& parts) {
+  lua_createtable(L, int(parts.size()), 0);
+  for (size_t i = 0; i < parts.size(); ++i) {
+    push_part(L, parts[i]);
+    lua_rawseti(L, -2, lua_Integer(i + 1));
   }
-  return 1;
+}
+
+// c.name, c.kind, the parts of composites (subordinate, superior, steps, actions) and the methods.
+int l_controller_index(lua_State* L) {
+  return lua_protect(L, [L]() {
+    const ControllerPtr c = *static_cast<ControllerPtr*>(luaL_checkudata(L, 1, kControllerType));
+    const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : "";
+    const auto* sub = dynamic_cast<const SubjectTo*>(c.get());
+    const auto* seq = dynamic_cast<const Sequence*>(c.get());
+    const auto* pol = dynamic_cast<const Policy*>(c.get());
+    if (key == "name") {
+      lua_pushstring(L, c->name().c_str());
+    } else if (key == "kind") {
+      lua_pushstring(L, c->kind());
+    } else if (key == "subordinate" && sub) {
+      push_part(L, sub->subordinate());
+    } else if (key == "superior" && sub) {
+      push_part(L, sub->superior());
+    } else if (key == "steps" && seq) {
+      push_parts(L, seq->steps());
+    } else if (key == "actions" && pol) {
+      push_parts(L, pol->actions());
+    } else if (key == "with" || key == "subject_to" || key == "param" || key == "params") {
+      lua_getmetatable(L, 1);
+      lua_getfield(L, -1, key.c_str());
+    } else {
+      const std::string parts = sub ? "subordinate, superior, " : seq ? "steps, " : pol ? "actions, " : "";
+      raise(L, controller_text(*c) + " has no field '" + key + "'; it has name, kind, " +
+                   parts + "and the methods with{...}, subject_to(sup), param(name), params()");
+    }
+    return 1;
+  });
 }
 
 // Controllers are values: changing one in place would change every composition holding it.

@@ -99,7 +99,7 @@ TEST_CASE("curricula/scripted.lua has the paper's skills and compositions", "[lu
   const auto& task = s.policy("task");
   CHECK(task.time_limit == 10.0);
   CHECK(task.scenario == "unobstructed");
-  CHECK(task.goal->describe() == "converged(phi1 <| phi4 <| phi5)");
+  CHECK(task.goal->describe() == "all(converged(phi1), converged(phi4 <| phi5))");
   auto phi_t = as<Sequence>(task.action);
   CHECK(phi_t->name() == "Phi_T");
   REQUIRE(phi_t->steps().size() == 2);
@@ -185,6 +185,18 @@ TEST_CASE("compose reads the paper's notation, right-associative", "[lua_control
   auto phi4_a = as<SubjectTo>(lua.controller("return roger.compose('phi4 <| phi2')"))->subordinate();
   auto phi4_b = as<SubjectTo>(lua.controller("return roger.compose('phi4 <| phi5')"))->subordinate();
   CHECK(phi4_a == phi4_b);
+
+  // The parts of composites, from Lua.
+  CHECK(lua.text("local t = roger.compose('phi1 <| phi4 <| phi5')\n"
+                 "return t.subordinate.name .. ' / ' .. t.superior.name .. ' / ' .. t.superior.superior.kind") ==
+        "phi1 / phi4 <| phi5 / phi5");
+  CHECK(lua.text("local s = roger.sequence('Steps', {'search', 'phi0'}) return #s.steps .. s.steps[2].name") == "2phi0");
+  CHECK(lua.text("local p = roger.policy('Acts', {actions = {'phi1', 'phi3'}, table = {}})\n"
+                 "return p.actions[2] == roger.compose('phi3')") == "true");
+  CHECK_THAT(lua.error("return roger.compose('phi1').steps").what(),
+             Contains("controller 'phi1' has no field 'steps'; it has name, kind, and the methods"));
+  CHECK_THAT(lua.error("return roger.compose('phi1 <| phi2').step").what(),
+             Contains("has no field 'step'; it has name, kind, subordinate, superior, and the methods"));
 
   // The same controller is the same Lua value; tostring shows its name.
   CHECK(lua.text("local s = roger.sequence('S', {'phi0'}) return s == roger.compose('S')") == "true");

@@ -7,6 +7,7 @@
 --   local Phi6 = skills.Phi6(p)                -- search, then track
 --   local Phi7 = skills.Phi7(p)                -- approach while preshaping
 --   local transport = skills.transport(p)      -- phi1 <| phi4 <| phi5, carrying to the goal
+--   local done = skills.transported(transport) -- its absorbing state: phi1, phi4, phi5 CONV
 --
 -- Skill names are unique within a script: pass a second argument to build another copy
 -- (skills.Phi6(p, "Phi6_fast")).
@@ -62,12 +63,19 @@ end
 
 -- The transport composite of Section III-B, phi1 <| phi4 <| phi5 (= phi1 <| (phi4 <| phi5)):
 -- carry the object to the goal region while phi5 keeps the grasp and phi4 the arm posture, the
--- navigation projected into their nullspace so it never pulls the hands off the object. It is
--- CONV when the object is in the goal region with the grasp held: the paper's absorbing state
--- gamma(phi1) = gamma(phi4) = gamma(phi5) = CONV, with phi4 counted as converged once it can make
--- no more progress in phi5's nullspace (the subject-to stall rule, docs/control.md).
+-- navigation projected into their nullspace so it never pulls the hands off the object.
 function skills.transport(p)
   return roger.compose("phi1 <| phi4 <| phi5", { phi1 = p.carry, phi4 = p.phi4, phi5 = p.phi5 })
+end
+
+-- The absorbing state of Phi_T for a transport composite t = phi1 <| (phi4 <| phi5): "gamma(phi1)
+-- = CONV and gamma(phi4) = CONV and gamma(phi5) = CONV", the object grasped at the goal. phi1 must
+-- itself be CONV (the object in the goal region): as the subordinate of t it would also count as
+-- converged once it merely stops making progress, which says nothing about where the object is.
+-- phi4 and phi5 are read through their composite phi4 <| phi5, where phi4 converges when it
+-- reaches its constrained equilibrium under phi5 (docs/control.md, subject-to).
+function skills.transported(t)
+  return roger.all{ roger.converged(t.subordinate), roger.converged(t.superior) }
 end
 
 return skills

@@ -31,7 +31,7 @@ local Phi_T = roger.policy("Phi_T", {
     ["* *"]    = "Phi_STG",          -- until the grasp is formed and held: search and grasp
     ["CONV *"] = carry,              -- holding it: carry it to the goal region
   },
-  done = carry,                      -- Phi_T converges with the transport composite
+  done = skills.transported(carry),  -- Phi_T converges in the paper's absorbing state
 })
 
 return {
@@ -40,7 +40,7 @@ return {
   policies = {
     transport = {
       action = Phi_T,
-      goal = roger.converged(carry),               -- phi1, phi4 and phi5 all CONV
+      goal = skills.transported(carry),            -- phi1, phi4 and phi5 all CONV
       time_limit = 10,
       description = "search, grasp and carry the object to the goal region",
     },
