@@ -168,12 +168,20 @@ void SubjectTo::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma
   if (rows > top) out.jacobian.bottomRows(rows - top) = b.jacobian.topRows(rows - top);
   out.phi = a.phi;
   out.residual = a.residual;
+  gamma_raw = combine(in, a, b, &N);
+}
+
+Gamma SubjectTo::combine(const ControlInput& in, const ControlOutput& a, const ControlOutput& b,
+                         const DofMatrix* N) const {
   Gamma sub = b.gamma;
   // Blocked by the superior (it asks for motion, none of which survives the projection), or
-  // settled where the superior lets it be (its potential no longer falls): the constrained
-  // equilibrium counts as converged. A subordinate asking for nothing keeps its gamma.
+  // settled where the superior lets it be (its potential no longer falls while it is being
+  // executed): the constrained equilibrium counts as converged. A subordinate asking for nothing
+  // keeps its gamma.
   const ControllerParams& sp = sub_->params();
   const double stall = sp.stall;
+  if (sub != Gamma::kNotConv || a.gamma == Gamma::kNoRef || b.command.norm() <= stall)
+    return std::min(a.gamma, sub);
   // The history holds the subordinate's potential at the ticks this composite was executed, and
   // only an unbroken run of them up to the last tick (executed() clears it after a gap).
   bool settled = false;
@@ -188,10 +196,12 @@ void SubjectTo::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma
       }
     }
   }
-  if (sub == Gamma::kNotConv && b.command.norm() > stall &&
-      ((N * b.command).norm() <= stall || settled))
-    sub = Gamma::kConv;
-  gamma_raw = std::min(a.gamma, sub);
+  if (!settled) {
+    const DofMatrix projector = N ? *N : nullspace_projector(a.jacobian);
+    settled = (projector * b.command).norm() <= stall;
+  }
+  if (settled) sub = Gamma::kConv;
+  return std::min(a.gamma, sub);
 }
 
 Sequence::Sequence(std::vector<ControllerPtr> steps) : steps_(std::move(steps)) {

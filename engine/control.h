@@ -177,6 +177,10 @@ class SubjectTo final : public Controller {
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
 
  private:
+  // The composite's gamma from its parts' outputs; N is the superior's nullspace projector, built
+  // on demand (nullptr: not built yet).
+  Gamma combine(const ControlInput& in, const ControlOutput& a, const ControlOutput& b,
+                const DofMatrix* N) const;
   ControllerPtr sub_, sup_;
   // The subordinate's recent potentials (time, phi), oldest first, for the plateau test.
   static constexpr int kHistory = 64;
