@@ -1,5 +1,6 @@
 // roger: the command-line program. Each subcommand is a thin layer over the engine library; every
 // user error ends in one clear message on standard error and a non-zero exit, never a crash.
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <string>
@@ -10,12 +11,14 @@
 
 #include "animation.h"
 #include "bench.h"
+#include "curriculum.h"
 #include "episode.h"
 #include "error.h"
 #include "lua_sandbox.h"
 #include "render.h"
 #include "scenario.h"
 #include "skill_script.h"
+#include "trainer.h"
 #include "world.h"
 
 namespace {
@@ -110,6 +113,20 @@ struct CheckArgs {
 };
 
 int run_check(const CheckArgs& a) {
+  if (is_curriculum_script(a.script)) {
+    const std::vector<std::string> problems = check_curriculum(a.script);
+    for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.c_str());
+    if (!problems.empty()) return 1;
+    const Curriculum cur = Curriculum::load(a.script);
+    std::string stages;
+    for (const auto& st : cur.stages()) {
+      std::string contexts;
+      for (const auto& c : st.contexts) contexts += (contexts.empty() ? "" : " ") + c.name;
+      stages += (stages.empty() ? "" : "; ") + st.name + ": " + contexts;
+    }
+    std::printf("%s: ok (curriculum '%s'; stages %s)\n", a.script.c_str(), cur.name().c_str(), stages.c_str());
+    return 0;
+  }
   if (is_skill_script(a.script)) {
     const std::vector<std::string> problems = check_skill_script(a.script);
     for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.c_str());
@@ -146,10 +163,60 @@ struct EvalArgs {
   std::vector<std::string> sets;
   int episodes = 50;
   uint64_t seed = 1000;
+  bool seed_given = false;
   bool json = false;
 };
 
+// Splits key=value options into pairs.
+std::vector<std::pair<std::string, std::string>> split_sets(const std::vector<std::string>& sets, const char* option) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const std::string& kv : sets) {
+    const size_t eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0) throw Error(std::string(option) + " expects key=value, got '" + kv + "'");
+    out.push_back({kv.substr(0, eq), kv.substr(eq + 1)});
+  }
+  return out;
+}
+
+// eval --policy FILE.json: a policy saved by roger train, its Psi rebuilt from the curriculum.
+int run_eval_policy_file(const EvalArgs& a) {
+  PolicyEvalOptions o;
+  o.curriculum = a.script;
+  o.policy_file = a.policy;
+  o.scenario = a.scenario;
+  o.sets = split_sets(a.sets, "--set");
+  o.episodes = a.episodes;
+  o.first_seed = a.seed_given ? int64_t(a.seed) : -1;
+  const PolicyEvalResult r = evaluate_policy_file(o);
+  std::printf("roger eval: %s stage %s context %s (%s) in %s, %d episodes from seed %llu, %.0f s limit\n",
+              a.script.c_str(), r.stage.c_str(), r.context.c_str(), a.policy.c_str(), r.scenario.c_str(),
+              r.eval.episodes, static_cast<unsigned long long>(r.eval.first_seed), r.time_limit);
+  std::printf("  success rate   %.1f%% (%d of %d)\n", 100.0 * r.eval.success_rate, r.eval.successes, r.eval.episodes);
+  std::printf("  reward         %.1f +- %.1f\n", r.eval.reward_mean, r.eval.reward_std);
+  std::printf("  episode time   %.2f s (mean, simulated)\n", r.eval.time_mean);
+  std::string usage;
+  for (const auto& [name, f] : r.eval.usage) usage += (usage.empty() ? "" : ", ") + name + " " + std::to_string(int(std::lround(100 * f))) + "%";
+  std::printf("  usage          %s\n", usage.c_str());
+  if (a.json) {
+    nlohmann::json j = {{"script", a.script},          {"policy", a.policy},          {"stage", r.stage},
+                        {"context", r.context},        {"scenario", r.scenario},      {"episodes", r.eval.episodes},
+                        {"first_seed", r.eval.first_seed}, {"successes", r.eval.successes},
+                        {"success_rate", r.eval.success_rate}, {"reward_mean", r.eval.reward_mean},
+                        {"reward_std", r.eval.reward_std}, {"time_mean", r.eval.time_mean}};
+    for (const auto& [name, f] : r.eval.usage) j["usage"][name] = f;
+    for (const auto& [k, v] : r.params) j["params"][k] = v;
+    std::printf("%s\n", j.dump().c_str());
+  }
+  return 0;
+}
+
 int run_eval(const EvalArgs& a) {
+  if (is_curriculum_script(resolve_curriculum_path(a.script))) {
+    if (a.policy.size() < 5 || a.policy.compare(a.policy.size() - 5, 5, ".json") != 0)
+      throw Error("with a curriculum, --policy names a policy file written by roger train (policy.json), got '" +
+                  a.policy + "'");
+    return run_eval_policy_file(a);
+  }
   SkillScript script = SkillScript::load(a.script);
   const SkillScript::NamedPolicy& policy = script.policy(a.policy);
   Scenario scenario = Scenario::load(policy_scenario(policy, a.scenario));
@@ -230,6 +297,55 @@ int run_bench(const BenchArgs& a) {
   return 0;
 }
 
+struct TrainArgs {
+  std::string curriculum;
+  std::string stage, context;
+  uint64_t seed = 1;
+  std::string out;
+  bool json = false;
+  std::vector<std::string> skills;
+  std::vector<std::string> sets;
+};
+
+int run_train(const TrainArgs& a) {
+  TrainOptions o;
+  o.curriculum = a.curriculum;
+  o.stage = a.stage;
+  o.context = a.context;
+  o.seed = a.seed;
+  o.sets = split_sets(a.sets, "--set");
+  for (const auto& [name, file] : split_sets(a.skills, "--skill")) o.skill_files[name] = file;
+  const TrainResult r = train_stage(o);
+  write_train_outputs(r, a.out);
+  std::printf("roger train: %s stage %s context %s seed %llu (%zu actions, %d states) in %s\n",
+              r.curriculum_path.c_str(), r.stage.c_str(), r.context.c_str(), static_cast<unsigned long long>(r.seed),
+              r.psi.size(), r.q->states(), r.scenario.c_str());
+  for (const auto& s : r.skills)
+    std::printf("  skill %s        %s\n", s.name.c_str(),
+                s.trained ? ("trained first: stage " + s.stage + " context " + s.context + ", " +
+                             (s.reached ? "reached" : "NOT reached") + " its threshold after " +
+                             std::to_string(s.to_threshold.episodes) + " episodes").c_str()
+                          : ("from " + s.file).c_str());
+  if (r.reached) {
+    std::printf("  threshold      %.0f%% reached after %d episodes, %.1f simulated s, %lld decisions, %.2f wall s\n",
+                100 * r.threshold, r.to_threshold.episodes, r.to_threshold.sim_s,
+                static_cast<long long>(r.to_threshold.decisions), r.to_threshold.wall_s);
+  } else {
+    std::printf("  threshold      %.0f%% NOT reached in %d episodes (%.1f simulated s)\n", 100 * r.threshold,
+                r.totals.episodes, r.totals.sim_s);
+  }
+  std::string usage;
+  for (const auto& [name, f] : r.final_eval.usage)
+    usage += (usage.empty() ? "" : ", ") + name + " " + std::to_string(int(std::lround(100 * f))) + "%";
+  std::printf("  final policy   %.0f%% success over %d held-out episodes, reward %.1f +- %.1f\n",
+              100 * r.final_eval.success_rate, r.final_eval.episodes, r.final_eval.reward_mean, r.final_eval.reward_std);
+  std::printf("  usage          %s\n", usage.c_str());
+  std::printf("  wrote          %s/{policy.json,curve.csv,episodes.jsonl,checkpoints.jsonl,summary.json} (%.2f wall s)\n",
+              a.out.c_str(), r.wall_s);
+  if (a.json) std::printf("%s\n", train_summary_json(r).dump().c_str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -266,13 +382,28 @@ int main(int argc, char** argv) {
   EvalArgs eval_args;
   auto* eval = app.add_subcommand("eval", "Evaluate a policy of a skill script over seeded episodes");
   eval->add_option("script", eval_args.script, "Skill script (.lua)")->required();
-  eval->add_option("--policy", eval_args.policy, "Policy name in the script")->required();
+  eval->add_option("--policy", eval_args.policy,
+                   "Policy name in the skill script, or with a curriculum a policy.json written by roger train")
+      ->required();
   eval->add_option("--scenario", eval_args.scenario, "Scenario (default: the policy's)");
   eval->add_option("--set", eval_args.sets, "Scenario parameter key=value (repeatable)");
   eval->add_option("--episodes", eval_args.episodes, "Episodes")->capture_default_str()
       ->check(CLI::Range(1, 1000000));
-  eval->add_option("--seed", eval_args.seed, "First seed (then seed+1, ...)")->capture_default_str();
+  auto* eval_seed = eval->add_option("--seed", eval_args.seed, "First seed (then seed+1, ...); with a saved "
+                                     "policy the default is its stage's held-out seeds")->capture_default_str();
   eval->add_flag("--json", eval_args.json, "End with one JSON line of the figures");
+
+  TrainArgs train_args;
+  auto* train = app.add_subcommand("train", "Train one stage and context of a curriculum for one seed");
+  train->add_option("curriculum", train_args.curriculum, "Curriculum script (.lua)")->required();
+  train->add_option("--stage", train_args.stage, "Stage name (e.g. SG)")->required();
+  train->add_option("--context", train_args.context, "Developmental context (e.g. DC2)")->required();
+  train->add_option("--seed", train_args.seed, "Trial seed")->capture_default_str();
+  train->add_option("--out", train_args.out, "Output folder")->required();
+  train->add_flag("--json", train_args.json, "End with one JSON line of the figures");
+  train->add_option("--skill", train_args.skills,
+                    "A learned skill's policy NAME=FILE.json (repeatable; default: train its stage first)");
+  train->add_option("--set", train_args.sets, "Scenario parameter key=value (repeatable)");
 
   BenchArgs bench_args;
   auto* bench = app.add_subcommand("bench", "Measure simulated seconds per wall second, per layer");
@@ -298,7 +429,11 @@ int main(int argc, char** argv) {
     if (*render) return run_render(render_args);
     if (*check) return run_check(check_args);
     if (*bench) return run_bench(bench_args);
-    if (*eval) return run_eval(eval_args);
+    if (*eval) {
+      eval_args.seed_given = eval_seed->count() > 0;
+      return run_eval(eval_args);
+    }
+    if (*train) return run_train(train_args);
   } catch (const std::exception& e) {
     std::fflush(stdout);
     std::cerr << "roger: error: " << e.what() << "\n";

@@ -1,0 +1,124 @@
+// Tests of engine/curriculum: the paper's curriculum holds exactly the paper's Psi sets, bad
+// curricula are clear errors at file:line, Lua callbacks that misbehave stop training with the
+// stage, context and line named, and the documented example loads and trains.
+#include <catch2/catch.hpp>
+
+#include <string>
+#include <vector>
+
+#include "curriculum.h"
+#include "error.h"
+#include "learning.h"
+#include "trainer.h"
+
+using namespace roger;
+
+namespace {
+
+std::vector<std::string> names_of(const CurriculumContext& c) { return controller_names(c.actions); }
+
+// The message of the error `f` throws ("" when none).
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("the paper's curriculum holds the paper's Psi sets", "[curriculum]") {
+  Curriculum cur = Curriculum::load("paper");
+  REQUIRE(cur.stages().size() == 2);
+  const CurriculumStage& sg = cur.stage("SG");
+  const CurriculumStage& t = cur.stage("T");
+  CHECK(sg.time_limit == 5.0);
+  CHECK(t.time_limit == 10.0);
+  CHECK(sg.absorbing->describe().find("phi3") != std::string::npos);
+  using V = std::vector<std::string>;
+  CHECK(names_of(sg.context("B1")) == V{"phi1", "phi3", "phi4 <| phi2", "Phi6"});
+  CHECK(names_of(sg.context("DC1")) == V{"phi1", "phi3", "phi4 <| phi2", "Phi6", "Phi7"});
+  CHECK(names_of(sg.context("DC2")) == V{"phi3", "Phi6", "Phi7"});
+  const std::string T = "phi1 <| phi4 <| phi5";
+  CHECK(names_of(t.context("B2")) == V{"phi3", "phi4 <| phi5", "Phi6", "Phi7", T});
+  CHECK(names_of(t.context("DC3")) == V{"phi3", "phi4 <| phi5", "Phi6", "Phi7", "Phi_SG", T});
+  CHECK(names_of(t.context("DC4")) == V{"Phi7", "phi4 <| phi5", "Phi_SG", T});
+  CHECK(names_of(t.context("DC5")) == V{"phi4 <| phi5", "Phi_SG", "Phi_STG", T});
+  CHECK(names_of(t.context("DC6")) == V{"Phi_STG", T});
+  // The order the script writes them in, and the learned skill each T context reaches.
+  V order;
+  for (const auto& c : t.contexts) order.push_back(c.name);
+  CHECK(order == V{"B2", "DC3", "DC4", "DC5", "DC6"});
+  CHECK(t.context("B2").learned.empty());
+  CHECK(t.context("DC6").learned == V{"Phi_SG"});  // through Phi_STG
+  REQUIRE(sg.skill);
+  CHECK(sg.skill->first == "Phi_SG");
+  CHECK(sg.skill->second == "DC2");
+  CHECK(cur.producer("Phi_SG") == &sg);
+  CHECK(check_curriculum("curricula/paper.lua").empty());
+  CHECK(is_curriculum_script("curricula/paper.lua"));
+  CHECK_FALSE(is_curriculum_script("curricula/scripted.lua"));
+  CHECK(error_of([] { (void)Curriculum::load("paper").stage("X"); }).find("its stages: SG, T") != std::string::npos);
+}
+
+TEST_CASE("bad curricula are clear errors at file:line", "[curriculum]") {
+  struct Case {
+    const char* file;
+    std::vector<std::string> parts;
+  };
+  const std::vector<Case> cases = {
+      {"bad_curriculum_skill_context.lua", {"bad_curriculum_skill_context.lua:4:", "stage 'S'", "unknown context 'DC9'", "contexts: A"}},
+      {"bad_curriculum_empty_psi.lua", {"bad_curriculum_empty_psi.lua:4:", "stage 'S', context 'Empty'", "Psi is empty"}},
+      {"bad_curriculum_field.lua", {"bad_curriculum_field.lua:4:", "unknown field 'time_limt'", "time_limit"}},
+      {"bad_curriculum_learned_same.lua", {"bad_curriculum_learned_same.lua:5:", "context 'B'", "this very stage yields"}},
+      {"bad_curriculum_too_many.lua", {"bad_curriculum_too_many.lua:7:", "context 'Wide'", "13 actions", "at most 12"}},
+      {"bad_curriculum_plain_field.lua", {"bad_curriculum_plain_field.lua:5:", "stage 'Plain'", "episodes", "-3"}},
+  };
+  for (const auto& c : cases) {
+    INFO(c.file);
+    const std::string m = error_of([&] { Curriculum::load(std::string("tests/scripts/") + c.file); });
+    INFO("message: " << m);
+    for (const auto& p : c.parts) CHECK(m.find(p) != std::string::npos);
+  }
+}
+
+TEST_CASE("misbehaving Lua callbacks stop training naming stage, context and line", "[curriculum]") {
+  struct Case {
+    const char* file;
+    std::vector<std::string> parts;
+  };
+  const std::vector<Case> cases = {
+      {"bad_curriculum_reward_nan.lua", {"bad_curriculum_reward_nan.lua:5:", "stage 'S', context 'A'", "finite number", "nan"}},
+      {"bad_curriculum_reward_string.lua", {"bad_curriculum_reward_string.lua:4:", "stage 'S', context 'A'", "finite number", "string 'lots'"}},
+      {"bad_curriculum_predicate_raises.lua", {"bad_curriculum_predicate_raises.lua:5:", "stage 'S', context 'A'", "no such sensor"}},
+  };
+  for (const auto& c : cases) {
+    INFO(c.file);
+    TrainOptions o;
+    o.curriculum = std::string("tests/scripts/") + c.file;
+    o.stage = "S";
+    o.context = "A";
+    const std::string m = error_of([&] { train_stage(o); });
+    INFO("message: " << m);
+    for (const auto& p : c.parts) CHECK(m.find(p) != std::string::npos);
+  }
+}
+
+TEST_CASE("the documented example curriculum loads and trains without rebuilding", "[curriculum]") {
+  Curriculum cur = Curriculum::load("docs/examples/curriculum_example.lua");
+  REQUIRE(cur.stages().size() == 1);
+  const CurriculumStage& st = cur.stages()[0];
+  CHECK(st.name == "Look");
+  CHECK(st.reward_lua);
+  TrainOptions o;
+  o.curriculum = "docs/examples/curriculum_example.lua";
+  o.stage = "Look";
+  o.context = "Gaze";
+  o.seed = 3;
+  const TrainResult r = train_stage(o);
+  INFO("final success " << r.final_eval.success_rate);
+  CHECK(r.final_eval.success_rate >= 0.9);
+  CHECK(r.reached);
+}

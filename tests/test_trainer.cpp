@@ -1,0 +1,160 @@
+// Tests of engine/trainer: a trial is repeatable bit for bit, `roger train --json` writes every
+// file and a parseable last line, `roger eval --policy` reproduces the final evaluation from the
+// saved file, and (tag [paper], run explicitly: about two minutes) every context of the paper's
+// curriculum reaches 90% greedy success, with the figures printed for quoting.
+#include <catch2/catch.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "trainer.h"
+
+using namespace roger;
+namespace fs = std::filesystem;
+
+namespace {
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// Runs the roger program; returns its exit status and standard output.
+std::pair<int, std::string> run_roger(const std::string& args) {
+  const fs::path out = fs::temp_directory_path() / ("roger_trainer_out_" + std::to_string(::getpid()));
+  const int raw = std::system((std::string(ROGER_BINARY) + " " + args + " >" + out.string() + " 2>&1").c_str());
+  std::string text = slurp(out);
+  fs::remove(out);
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, text};
+}
+
+std::string last_line(const std::string& text) {
+  std::string t = text;
+  while (!t.empty() && t.back() == '\n') t.pop_back();
+  const size_t nl = t.rfind('\n');
+  return nl == std::string::npos ? t : t.substr(nl + 1);
+}
+
+}  // namespace
+
+TEST_CASE("the same seed gives the same learning curve and policy", "[trainer]") {
+  TrainOptions o;
+  o.curriculum = "paper";
+  o.stage = "SG";
+  o.context = "DC1";
+  o.seed = 11;
+  const TrainResult a = train_stage(o);
+  const TrainResult b = train_stage(o);
+  REQUIRE(a.episodes.size() == b.episodes.size());
+  for (size_t i = 0; i < a.episodes.size(); ++i) {
+    INFO("episode " << i);
+    CHECK(a.episodes[i].episode.seed == b.episodes[i].episode.seed);
+    CHECK(same_bits(a.episodes[i].epsilon, b.episodes[i].epsilon));
+    CHECK(same_bits(a.episodes[i].episode.reward, b.episodes[i].episode.reward));
+    CHECK(same_bits(a.episodes[i].episode.sim_seconds, b.episodes[i].episode.sim_seconds));
+    CHECK(a.episodes[i].episode.actions_taken == b.episodes[i].episode.actions_taken);
+  }
+  REQUIRE(a.checkpoints.size() == b.checkpoints.size());
+  for (size_t i = 0; i < a.checkpoints.size(); ++i) {
+    CHECK(a.checkpoints[i].at.episodes == b.checkpoints[i].at.episodes);
+    CHECK(same_bits(a.checkpoints[i].at.sim_s, b.checkpoints[i].at.sim_s));
+    CHECK(a.checkpoints[i].at.decisions == b.checkpoints[i].at.decisions);
+    CHECK(same_bits(a.checkpoints[i].success_rate, b.checkpoints[i].success_rate));
+    CHECK(same_bits(a.checkpoints[i].reward_mean, b.checkpoints[i].reward_mean));
+  }
+  int differing = 0;
+  for (int s = 0; s < a.q->states(); ++s)
+    for (int k = 0; k < a.q->actions(); ++k)
+      differing += !same_bits(a.q->value(s, k), b.q->value(s, k)) || a.q->visits(s, k) != b.q->visits(s, k);
+  CHECK(differing == 0);
+  CHECK(same_bits(a.to_threshold.sim_s, b.to_threshold.sim_s));
+  CHECK(same_bits(a.final_eval.success_rate, b.final_eval.success_rate));
+  // Another seed trains on other worlds.
+  o.seed = 12;
+  const TrainResult c = train_stage(o);
+  CHECK(c.episodes[0].episode.seed != a.episodes[0].episode.seed);
+}
+
+TEST_CASE("roger train writes every file and eval --policy reproduces its final evaluation", "[trainer][cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_train_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const auto [status, out] =
+      run_roger("train curricula/paper.lua --stage SG --context DC2 --seed 4 --out " + dir.string() + " --json");
+  INFO(out);
+  REQUIRE(status == 0);
+  for (const char* f : {"policy.json", "curve.csv", "episodes.jsonl", "checkpoints.jsonl", "summary.json"})
+    CHECK(fs::is_regular_file(dir / f));
+  const nlohmann::json j = nlohmann::json::parse(last_line(out));
+  for (const char* k : {"time_to_threshold_s", "episodes_to_threshold", "decisions_to_threshold", "wall_to_threshold_s",
+                        "wall_s", "reached", "success_rate", "reward_mean", "reward_std", "usage"})
+    CHECK(j.contains(k));
+  CHECK(j["usage"].contains("Phi7"));
+  CHECK(nlohmann::json::parse(slurp(dir / "summary.json"))["success_rate"] == j["success_rate"]);
+  CHECK(slurp(dir / "curve.csv").rfind("episodes,sim_s,decisions,wall_s,success_rate,reward_mean\n", 0) == 0);
+  const nlohmann::json first_episode = nlohmann::json::parse(slurp(dir / "episodes.jsonl").substr(0, slurp(dir / "episodes.jsonl").find('\n')));
+  for (const char* k : {"index", "seed", "epsilon", "reward", "success", "sim_s", "ticks", "decisions", "actions"})
+    CHECK(first_episode.contains(k));
+  const nlohmann::json policy = nlohmann::json::parse(slurp(dir / "policy.json"));
+  CHECK(policy["stage"] == "SG");
+  CHECK(policy["context"] == "DC2");
+  CHECK(policy["extra"]["psi"] == nlohmann::json({"phi3", "Phi6", "Phi7"}));
+
+  // The saved policy alone plus the curriculum: the same held-out seeds give the same rate.
+  const auto [estatus, eout] = run_roger("eval curricula/paper.lua --policy " + (dir / "policy.json").string() + " --json");
+  INFO(eout);
+  REQUIRE(estatus == 0);
+  const nlohmann::json e = nlohmann::json::parse(last_line(eout));
+  CHECK(e["success_rate"] == j["success_rate"]);
+  CHECK(e["reward_mean"] == j["reward_mean"]);
+  // In another scenario too (a figure, not a comparison).
+  const auto [cstatus, cout] = run_roger("eval curricula/paper.lua --policy " + (dir / "policy.json").string() +
+                                     " --scenario cluttered --set shape=spade --episodes 5 --json");
+  INFO(cout);
+  CHECK(cstatus == 0);
+  // A T policy trained with --skill embeds the skill, so eval needs only the file.
+  const fs::path tdir = dir / "T";
+  const auto [tstatus, tout] = run_roger("train curricula/paper.lua --stage T --context DC6 --seed 4 --out " + tdir.string() +
+                                     " --skill Phi_SG=" + (dir / "policy.json").string() + " --json");
+  INFO(tout);
+  REQUIRE(tstatus == 0);
+  const nlohmann::json t = nlohmann::json::parse(last_line(tout));
+  CHECK(t["skills"]["Phi_SG"]["trained"] == false);
+  const auto [t2status, t2out] = run_roger("eval curricula/paper.lua --policy " + (tdir / "policy.json").string() + " --json");
+  INFO(t2out);
+  REQUIRE(t2status == 0);
+  CHECK(nlohmann::json::parse(last_line(t2out))["success_rate"] == t["success_rate"]);
+  fs::remove_all(dir);
+}
+
+// Each context of the paper, one seeded trial: the figures to quote, and the final success.
+TEST_CASE("every context of the paper's curriculum reaches 90% greedy success", "[.][paper]") {
+  const std::vector<std::pair<std::string, std::string>> contexts = {
+      {"SG", "B1"}, {"SG", "DC1"}, {"SG", "DC2"}, {"T", "B2"}, {"T", "DC3"}, {"T", "DC4"}, {"T", "DC5"}, {"T", "DC6"}};
+  for (const auto& [stage, context] : contexts) {
+    TrainOptions o;
+    o.curriculum = "paper";
+    o.stage = stage;
+    o.context = context;
+    o.seed = 1;
+    o.keep_episodes = false;
+    const TrainResult r = train_stage(o);
+    std::printf("%-3s %-4s reached %-5s time-to-threshold %8.1f sim s, %5d episodes, %6.2f wall s; final success %.2f "
+                "(trial %.1f wall s)\n",
+                stage.c_str(), context.c_str(), r.reached ? "yes" : "no", r.to_threshold.sim_s, r.to_threshold.episodes,
+                r.to_threshold.wall_s, r.final_eval.success_rate, r.wall_s);
+    INFO(stage << "/" << context);
+    CHECK(r.final_eval.success_rate >= 0.9);
+  }
+}
