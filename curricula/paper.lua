@@ -58,8 +58,9 @@ return {
       description = "search, grasp and carry the ball to the goal region, keeping the grasp",
       scenario = "unobstructed",
       time_limit = 10,
-      -- gamma(phi1) = gamma(phi4) = gamma(phi5) = CONV: the transport composite converged.
-      absorbing = roger.converged(transport),
+      -- gamma(phi1) = gamma(phi4) = gamma(phi5) = CONV: the object grasped at the goal. phi1 must be
+      -- CONV itself (in the goal region), not merely settled under phi4 <| phi5 (skills.lua).
+      absorbing = skills.transported(transport),
       reward = { absorbing = 100, timeout = -100, step = 0 },
       learner = learner,
       budget = { episodes = 1500 },
