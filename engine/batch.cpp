@@ -80,14 +80,14 @@ std::vector<TrialOutcome> run_trials(const std::vector<std::string>& ids, const 
     if (!seen.insert(id).second) throw Error("batch: trial id '" + id + "' appears twice");
   }
   std::vector<TrialOutcome> outcomes(ids.size());
-  std::vector<size_t> todo;
+  std::vector<size_t> pending;
   for (size_t i = 0; i < ids.size(); ++i) {
     outcomes[i].id = ids[i];
-    if (!read_finished(trial_dir(options.out_dir, ids[i]), outcomes[i])) todo.push_back(i);
+    if (!read_finished(trial_dir(options.out_dir, ids[i]), outcomes[i])) pending.push_back(i);
   }
   const int jobs = std::max(1, options.jobs > 0 ? options.jobs
                                                 : int(std::max(1u, std::thread::hardware_concurrency())));
-  const size_t total = ids.size(), resumed = total - todo.size();
+  const size_t total = ids.size(), resumed = total - pending.size();
 
   std::mutex mutex;
   std::condition_variable wake;
@@ -99,7 +99,7 @@ std::vector<TrialOutcome> run_trials(const std::vector<std::string>& ids, const 
   auto progress_line = [&](bool final) {
     // Called with the mutex held.
     const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
-    const size_t left = todo.size() - done - running;
+    const size_t left = pending.size() - done - running;
     std::ostringstream os;
     os << "trials: " << resumed + done << "/" << total << " done";
     if (resumed) os << " (" << resumed << " from an earlier run)";
@@ -115,8 +115,8 @@ std::vector<TrialOutcome> run_trials(const std::vector<std::string>& ids, const 
   auto worker = [&]() {
     for (;;) {
       const size_t k = next.fetch_add(1);
-      if (k >= todo.size()) return;
-      const size_t i = todo[k];
+      if (k >= pending.size()) return;
+      const size_t i = pending[k];
       {
         std::lock_guard<std::mutex> lock(mutex);
         ++running;
@@ -168,12 +168,12 @@ std::vector<TrialOutcome> run_trials(const std::vector<std::string>& ids, const 
   // Plain lines are printed on a timer by the reporter only in live mode; in plain mode the
   // main thread prints one every `every` seconds while waiting.
   std::vector<std::thread> pool;
-  const int threads = std::min<int>(jobs, int(std::max<size_t>(1, todo.size())));
+  const int threads = std::min<int>(jobs, int(std::max<size_t>(1, pending.size())));
   for (int t = 0; t < threads; ++t) pool.emplace_back(worker);
   if (options.progress && !options.live) {
     std::unique_lock<std::mutex> lock(mutex);
     auto next_line = Clock::now();
-    while (done < todo.size()) {
+    while (done < pending.size()) {
       if (Clock::now() >= next_line) {
         *options.progress << progress_line(false) << "\n" << std::flush;
         next_line = Clock::now() + std::chrono::duration_cast<Clock::duration>(

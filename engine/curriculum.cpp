@@ -36,7 +36,7 @@ std::string read_text(const std::string& path) {
   return text.str();
 }
 
-// The placeholder roger.learned(name): behaves as the skill bound to it at train time; until then
+// The stand-in roger.learned(name): behaves as the skill bound to it at train time; until then
 // it has no reference (NOREF), so a stage trained without binding it simply never sees it act.
 class LearnedRef final : public Controller {
  public:
@@ -116,12 +116,12 @@ std::pair<std::string, int> caller(lua_State* L) {
   return {"", 0};
 }
 
-// Collects the learned placeholders a controller reaches.
+// Collects the learned stand-ins a controller reaches.
 void find_learned(const Controller* c, std::set<const Controller*>& seen, std::vector<std::string>& out) {
   if (!seen.insert(c).second) return;
   if (dynamic_cast<const LearnedRef*>(c)) {
     if (std::find(out.begin(), out.end(), c->name()) == out.end()) out.push_back(c->name());
-    return;  // a bound placeholder's insides belong to the earlier stage
+    return;  // a bound stand-in's insides belong to the earlier stage
   }
   for (const Controller* child : c->children()) find_learned(child, seen, out);
 }
@@ -375,7 +375,7 @@ int l_stage(lua_State* L) {
   });
 }
 
-// roger.learned("Phi_SG"): the placeholder for a skill an earlier stage yields.
+// roger.learned("Phi_SG"): the stand-in for a skill an earlier stage yields.
 int l_learned(lua_State* L) {
   return lua_protect(L, [&]() {
     Book& book = book_of(L);

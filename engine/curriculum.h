@@ -20,7 +20,7 @@
 // roger.stage{...} validates a stage where it is written (errors at that file:line) and returns
 // the table; plain tables are accepted too and validated when the script returns. Contexts
 // written as a list keep the script's order; written as a map they are ordered by name.
-// roger.learned("Phi_SG") is a placeholder for the skill an earlier stage yields; it is bound
+// roger.learned("Phi_SG") is a stand-in for the skill an earlier stage yields; it is bound
 // to that stage's greedy policy at train time (Curriculum::bind_learned). docs/curricula.md is
 // the reference.
 #pragma once
@@ -102,10 +102,10 @@ class Curriculum {
   // The stage whose `skill` yields a learned skill of this name, or null.
   const CurriculumStage* producer(const std::string& skill) const;
 
-  // Binds the placeholder roger.learned(name) to a skill (a learned policy made with
-  // make_policy_skill). Throws roger::Error when the script has no such placeholder.
+  // Binds the stand-in roger.learned(name) to a skill (a learned policy made with
+  // make_policy_skill). Throws roger::Error when the script has no such stand-in.
   void bind_learned(const std::string& name, ControllerPtr skill);
-  // Whether the script made a placeholder for this learned skill.
+  // Whether the script made a stand-in for this learned skill.
   bool has_learned(const std::string& name) const;
 
   // Calls a stage's Lua absorbing function on a state (the gammas of a context's actions).

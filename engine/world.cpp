@@ -270,7 +270,7 @@ void World::reset(const WorldSpec& spec_in) {
       // (Box2D's I is about the body origin, which is the link's centre).
       b2MassData md;
       md.mass = 0.0f, md.center.SetZero(), md.I = 0.0f;
-      // (A dynamic body without fixtures reports Box2D's placeholder mass of 1 kg: skip it.)
+      // (A dynamic body without fixtures reports Box2D's default mass of 1 kg: skip it.)
       if (link->GetFixtureList()) link->GetMassData(&md);
       const double link_mass = r.link_mass, total = md.mass + link_mass;
       md.center = float(md.mass / total) * md.center;
