@@ -248,6 +248,50 @@ void Sequence::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_
   gamma_raw = last == Gamma::kConv ? Gamma::kConv : any_reference ? Gamma::kNotConv : Gamma::kNoRef;
 }
 
+void StandIn::bind(ControllerPtr target) {
+  target_ = std::move(target);
+  params() = target_->params();
+  params().hold = 0.0;
+  params().gain = 1.0;
+}
+
+std::vector<const Controller*> StandIn::children() const {
+  if (target_) return {target_.get()};
+  return {};
+}
+
+void StandIn::reset(uint64_t seed) {
+  Controller::reset(seed);
+  if (target_) target_->reset(seed);
+}
+
+void StandIn::executed(const ControlInput& in) {
+  if (target_) target_->executed(in);
+}
+
+void StandIn::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) {
+  if (!target_) {
+    gamma_raw = Gamma::kNoRef;
+    return;
+  }
+  const ControlOutput& o = target_->evaluate(in);
+  out.command = o.command;
+  out.jacobian = o.jacobian;
+  out.phi = o.phi;
+  out.residual = o.residual;
+  gamma_raw = o.gamma;  // already after the target's hold time; the stand-in holds for 0 s
+}
+
+bool StandIn::compute_state(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) {
+  if (!target_) {
+    gamma_raw = Gamma::kNoRef;
+    return true;
+  }
+  gamma_raw = target_->state(in);
+  out.residual = target_->output().residual;
+  return true;
+}
+
 int gamma_state_index(const std::vector<Gamma>& gammas) {
   int index = 0;
   for (Gamma g : gammas) index = index * 3 + int(g);

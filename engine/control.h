@@ -211,6 +211,33 @@ class Sequence final : public Controller {
   int current_ = 0;
 };
 
+// A controller that stands in for another: a name used before its definition, a learned skill
+// bound at train time. Once bound it behaves exactly as its target (outputs, state, execution);
+// unbound it has no reference. Subclasses say what kind of stand-in they are.
+class StandIn : public Controller {
+ public:
+  explicit StandIn(std::string name) { set_name(std::move(name)); }
+  // Binds the target. SubjectTo reads a subordinate's parameters (stall, plateau) from the
+  // controller it holds, so the stand-in takes the target's; hold and gain stay neutral, since
+  // the target already applied its own to what the stand-in passes on.
+  void bind(ControllerPtr target);
+  // Drops the target (breaks reference cycles before an error is reported).
+  void unbind() { target_.reset(); }
+  const ControllerPtr& target() const { return target_; }
+  bool bound() const { return target_ != nullptr; }
+  std::vector<const Controller*> children() const override;
+  void reset(uint64_t seed) override;
+  void executed(const ControlInput& in) override;
+
+ protected:
+  void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
+  // The state alone, through the target's own fast path (a policy's state vector reads this).
+  bool compute_state(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
+
+ private:
+  ControllerPtr target_;
+};
+
 // Packs the gammas of a list of controllers into a state index in [0, 3^n).
 int gamma_state_index(const std::vector<Gamma>& gammas);
 

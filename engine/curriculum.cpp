@@ -38,51 +38,10 @@ std::string read_text(const std::string& path) {
 
 // The stand-in roger.learned(name): behaves as the skill bound to it at train time; until then
 // it has no reference (NOREF), so a stage trained without binding it simply never sees it act.
-class LearnedRef final : public Controller {
+class LearnedRef final : public StandIn {
  public:
-  explicit LearnedRef(std::string name) { set_name(std::move(name)); }
-  void bind(ControllerPtr target) {
-    target_ = std::move(target);
-    params() = target_->params();
-    params().hold = 0.0;  // the target applies its own hold; this one passes its state on
-    params().gain = 1.0;
-  }
-  bool bound() const { return target_ != nullptr; }
-  std::vector<const Controller*> children() const override {
-    if (target_) return {target_.get()};
-    return {};
-  }
+  explicit LearnedRef(std::string name) : StandIn(std::move(name)) {}
   const char* kind() const override { return "learned"; }
-  void reset(uint64_t seed) override {
-    Controller::reset(seed);
-    if (target_) target_->reset(seed);
-  }
-
- protected:
-  void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override {
-    if (!target_) {
-      gamma_raw = Gamma::kNoRef;
-      return;
-    }
-    const ControlOutput& o = target_->evaluate(in);
-    out.command = o.command;
-    out.jacobian = o.jacobian;
-    out.phi = o.phi;
-    out.residual = o.residual;
-    gamma_raw = o.gamma;
-  }
-  bool compute_state(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override {
-    if (!target_) {
-      gamma_raw = Gamma::kNoRef;
-      return true;
-    }
-    gamma_raw = target_->state(in);
-    out.residual = target_->output().residual;
-    return true;
-  }
-
- private:
-  ControllerPtr target_;
 };
 
 // A Lua function a stage keeps (absorbing or reward), with where it was defined.

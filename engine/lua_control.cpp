@@ -86,57 +86,10 @@ std::string suggestion(const std::string& given, const std::vector<std::string>&
 
 // The stand-in for a controller named before it was defined. It behaves as the controller it is
 // bound to when the script finishes loading; until then (or if never bound) it has no reference.
-class NameReference final : public Controller {
+class NameReference final : public StandIn {
  public:
-  explicit NameReference(std::string name) { set_name(std::move(name)); }
-  // Binds the target. SubjectTo reads a subordinate's parameters (stall, plateau) from the
-  // controller it holds, so this one takes the target's; hold and gain stay neutral, since the
-  // target already applied its own to what this one passes on.
-  void bind(ControllerPtr target) {
-    target_ = std::move(target);
-    params() = target_->params();
-    params().hold = 0.0;
-    params().gain = 1.0;
-  }
-  // Drops the target (breaks reference cycles before an error is reported).
-  void unbind() { target_.reset(); }
-  const ControllerPtr& target() const { return target_; }
-  std::vector<const Controller*> children() const override {
-    if (target_) return {target_.get()};
-    return {};
-  }
-  const char* kind() const override { return target_ ? target_->kind() : "reference"; }
-  void reset(uint64_t seed) override {
-    Controller::reset(seed);
-    if (target_) target_->reset(seed);
-  }
-
- protected:
-  void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override {
-    if (!target_) {
-      gamma_raw = Gamma::kNoRef;
-      return;
-    }
-    const ControlOutput& o = target_->evaluate(in);
-    out.command = o.command;
-    out.jacobian = o.jacobian;
-    out.phi = o.phi;
-    out.residual = o.residual;
-    gamma_raw = o.gamma;  // already after the target's hold time; this one holds for 0 s
-  }
-  // The state alone, through the target's own fast path (a policy's state vector reads this).
-  bool compute_state(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override {
-    if (!target_) {
-      gamma_raw = Gamma::kNoRef;
-      return true;
-    }
-    gamma_raw = target_->state(in);
-    out.residual = target_->output().residual;
-    return true;
-  }
-
- private:
-  ControllerPtr target_;
+  explicit NameReference(std::string name) : StandIn(std::move(name)) {}
+  const char* kind() const override { return target() ? target()->kind() : "reference"; }
 };
 
 // A predicate used as a policy's `done`: a controller with no command whose gamma is CONV while
