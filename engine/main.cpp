@@ -1,5 +1,7 @@
 // roger: the command-line program. Each subcommand is a thin layer over the engine library; every
 // user error ends in one clear message on standard error and a non-zero exit, never a crash.
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -11,6 +13,7 @@
 
 #include "animation.h"
 #include "bench.h"
+#include "commands.h"
 #include "curriculum.h"
 #include "episode.h"
 #include "error.h"
@@ -405,6 +408,22 @@ int main(int argc, char** argv) {
                     "A learned skill's policy NAME=FILE.json (repeatable; default: train its stage first)");
   train->add_option("--set", train_args.sets, "Scenario parameter key=value (repeatable)");
 
+  RunArgs run_args;
+  auto* run = app.add_subcommand("run", "Run a batch script: many seeded trials in parallel, then the report");
+  run->add_option("script", run_args.script, "Batch script (.lua), or a name in scripts/")->required();
+  run->add_option("--trials", run_args.trials, "Trials per run (overrides the script)")
+      ->check(CLI::Range(1, 100000));
+  run->add_option("--jobs", run_args.jobs, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
+  run->add_option("--out", run_args.out, "Results folder (default: results/<script name>)");
+  run->add_option("--set", run_args.sets, "Scenario parameter key=value for every run (repeatable)");
+  run->add_option("--only", run_args.only, "Only this run, RUN/CONTEXT, or eval/NAME (repeatable)");
+  run->add_flag("--live", run_args.live, "A live progress bar (default on a terminal)");
+  run->add_flag("--no-report", run_args.no_report, "Skip the report at the end");
+
+  ReportArgs report_args;
+  auto* report = app.add_subcommand("report", "Write tables and figures from a results folder");
+  report->add_option("dir", report_args.dir, "Results folder")->required();
+
   BenchArgs bench_args;
   auto* bench = app.add_subcommand("bench", "Measure simulated seconds per wall second, per layer");
   bench->add_option("--scenario", bench_args.scenario, "Scenario script")->capture_default_str();
@@ -434,6 +453,11 @@ int main(int argc, char** argv) {
       return run_eval(eval_args);
     }
     if (*train) return run_train(train_args);
+    if (*run) {
+      if (!run->count("--live")) run_args.live = isatty(fileno(stderr)) != 0;
+      return command_run(run_args);
+    }
+    if (*report) return command_report(report_args);
   } catch (const std::exception& e) {
     std::fflush(stdout);
     std::cerr << "roger: error: " << e.what() << "\n";

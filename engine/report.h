@@ -1,0 +1,32 @@
+// report.h: the report of a results folder written by `roger run` (commands.h): tables.md (the
+// paper's Tables I-III with medians, interquartile means and their bootstrap intervals, the
+// fraction of trials that reached the threshold, Mann-Whitney U p-values and probabilities of
+// improvement against the baseline, and the usage analysis) and the figures (learning curves and
+// cumulative training times, PNG and SVG). Everything is read back from the folder: manifest.json
+// and trials/<id>/result.json. Every file is written atomically.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace roger {
+
+// The common time grid of a run's learning curves, in simulated seconds, and the curves on it.
+struct CurveGrid {
+  std::vector<double> t;                   // grid times (simulated seconds of training)
+  std::vector<std::vector<double>> values; // per trial: its greedy reward at each grid time
+};
+
+// Puts each trial's checkpoints (simulated training seconds, greedy reward) on a common grid of
+// `points` times from the latest first checkpoint to the latest last checkpoint (log-spaced when
+// log_x), by linear interpolation between checkpoints; a trial that stopped early holds its last
+// value. Trials without checkpoints are skipped.
+CurveGrid curve_grid(const std::vector<std::vector<std::pair<double, double>>>& trials, int points, bool log_x);
+
+// Writes tables.md, report.json (the tables' numbers) and every figure of the results folder `dir`.
+// Returns the files written. Throws roger::Error when the folder holds no manifest.json.
+std::vector<std::string> write_report(const std::string& dir);
+
+}  // namespace roger

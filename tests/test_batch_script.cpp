@@ -1,0 +1,99 @@
+// Tests of engine/batch_script: the shipped batch scripts load with the paper's protocol, and bad
+// batch scripts are clear errors naming file:line and what exists.
+#include <catch2/catch.hpp>
+
+#include <string>
+
+#include "batch_script.h"
+#include "error.h"
+
+using namespace roger;
+
+namespace {
+
+// The message of the error loading a script raises ("" when it loads).
+std::string load_error(const std::string& path) {
+  try {
+    load_batch_script(path);
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("scripts/paper.lua describes the paper's protocol", "[batch_script]") {
+  const BatchScript b = load_batch_script("scripts/paper.lua");
+  CHECK(b.name == "paper");
+  REQUIRE(b.runs.size() == 2);
+  CHECK(b.runs[0].contexts == std::vector<std::string>{"B1", "DC1", "DC2"});
+  CHECK(b.runs[1].contexts == std::vector<std::string>{"B2", "DC3", "DC4", "DC5", "DC6"});
+  CHECK(b.runs[0].trials == 50);
+  CHECK(b.runs[1].trials == 50);
+  REQUIRE(b.runs[1].skills.size() == 1);
+  CHECK(b.runs[1].skills[0].skill == "Phi_SG");
+  CHECK(b.runs[1].skills[0].run == "SG");
+  CHECK(b.runs[1].skills[0].context == "DC2");
+  REQUIRE(b.evaluations.size() == 1);
+  CHECK(b.evaluations[0].context == "DC6");
+  CHECK(b.evaluations[0].shapes == std::vector<std::string>{"circle", "triangle", "pentagon", "spade"});
+  CHECK(b.evaluations[0].episodes == 50);
+  CHECK(b.tables.size() == 3);
+  CHECK(b.figures.size() == 3);
+  // The configuration survives the manifest's JSON.
+  CHECK(batch_config_json(batch_config_from_json(batch_config_json(b))) == batch_config_json(b));
+  // Overrides: trials and scenario parameters.
+  BatchOverrides o;
+  o.trials = 3;
+  o.sets = {{"mass", "0.7"}};
+  const BatchScript q = load_batch_script("paper", o);
+  CHECK(q.runs[1].trials == 3);
+  CHECK(q.evaluations[0].trials == 3);
+  CHECK(q.runs[0].params == Params{{"mass", "0.7"}});
+  CHECK(load_batch_script("scripts/quick.lua").trials == 2);
+}
+
+TEST_CASE("bad batch scripts are clear errors at file:line", "[batch_script]") {
+  std::string m = load_error("tests/scripts/bad_batch_unknown_curriculum.lua");
+  INFO(m);
+  CHECK(m.find("bad_batch_unknown_curriculum.lua:4:") != std::string::npos);
+  CHECK(m.find("no_such_curriculum") != std::string::npos);
+
+  m = load_error("tests/scripts/bad_batch_unknown_context.lua");
+  INFO(m);
+  CHECK(m.find("bad_batch_unknown_context.lua:7:") != std::string::npos);
+  CHECK(m.find("no context 'DC9'") != std::string::npos);
+  CHECK(m.find("'B1', 'DC1', 'DC2'") != std::string::npos);
+
+  m = load_error("tests/scripts/bad_batch_unknown_field.lua");
+  INFO(m);
+  CHECK(m.find("bad_batch_unknown_field.lua:7:") != std::string::npos);
+  CHECK(m.find("unknown field 'contxts'") != std::string::npos);
+  CHECK(m.find("contexts") != std::string::npos);
+
+  m = load_error("tests/scripts/bad_batch_unknown_run.lua");
+  INFO(m);
+  CHECK(m.find("bad_batch_unknown_run.lua:8:") != std::string::npos);
+  CHECK(m.find("no earlier run 'SGX'") != std::string::npos);
+  CHECK(m.find("'SG'") != std::string::npos);
+
+  m = load_error("tests/scripts/bad_batch_missing_skill.lua");
+  INFO(m);
+  CHECK(m.find("bad_batch_missing_skill.lua:7:") != std::string::npos);
+  CHECK(m.find("Phi_SG") != std::string::npos);
+
+  m = load_error("tests/scripts/bad_batch_unknown_stage.lua");
+  INFO(m);
+  CHECK(m.find("bad_batch_unknown_stage.lua:5:") != std::string::npos);
+  CHECK(m.find("no stage 'Transport'") != std::string::npos);
+  CHECK(m.find("'SG', 'T'") != std::string::npos);
+
+  m = load_error("tests/scripts/bad_batch_runtime.lua");
+  INFO(m);
+  CHECK(m.find("bad_batch_runtime.lua:3:") != std::string::npos);
+
+  m = load_error("tests/scripts/no_such_batch.lua");
+  INFO(m);
+  CHECK(m.find("no batch script") != std::string::npos);
+}

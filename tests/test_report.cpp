@@ -1,0 +1,296 @@
+// Tests of engine/commands and engine/report: a tiny batch (a copy of the paper's curriculum with
+// 20-episode budgets, 2 trials) writes every file of a results folder; the tables agree with the
+// per-trial records; --jobs 1 and --jobs 2 give the same results apart from wall times; a run cut
+// short resumes to exactly the trials of an uninterrupted run; a folder made by other parameters
+// is refused; a failing trial is recorded without losing the others.
+#include <catch2/catch.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "batch.h"
+#include "commands.h"
+#include "report.h"
+#include "stats.h"
+
+using namespace roger;
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+void spit(const fs::path& p, const std::string& text) {
+  std::ofstream out(p, std::ios::binary);
+  out << text;
+}
+
+// A scratch folder with a small-budget copy of the paper's curriculum and a batch script using it.
+struct Fixture {
+  fs::path root;
+  explicit Fixture(const std::string& tag, const std::string& evaluation_params = "obstacles = 3") {
+    root = fs::temp_directory_path() / ("roger_report_" + tag + "_" + std::to_string(::getpid()));
+    fs::remove_all(root);
+    fs::create_directories(root);
+    std::string cur = slurp("curricula/paper.lua");
+    cur = std::regex_replace(cur, std::regex("budget = \\{ episodes = [0-9]+ \\}"), "budget = { episodes = 20 }");
+    cur = std::regex_replace(cur, std::regex("final = 50"), "final = 10");
+    spit(root / "curriculum.lua", cur);
+    spit(root / "batch.lua",
+         "return {\n"
+         "  name = \"tiny\", curriculum = \"curriculum.lua\", trials = 2, seed = 5,\n"
+         "  runs = {\n"
+         "    { name = \"SG\", stage = \"SG\", contexts = { \"B1\", \"DC2\" } },\n"
+         "    { name = \"T\", stage = \"T\", contexts = { \"DC6\" },\n"
+         "      skills = { Phi_SG = { run = \"SG\", context = \"DC2\" } } },\n"
+         "  },\n"
+         "  evaluations = { { name = \"gen\", run = \"T\", context = \"DC6\", scenario = \"cluttered\",\n"
+         "                    params = { " + evaluation_params + " }, shapes = { \"circle\", \"spade\" }, episodes = 3 } },\n"
+         "  tables = {\n"
+         "    { title = \"Table I\", run = \"SG\", baseline = \"B1\" },\n"
+         "    { title = \"Table II\", run = \"T\" },\n"
+         "    { title = \"Table III\", evaluation = \"gen\" },\n"
+         "  },\n"
+         "  figures = {\n"
+         "    { file = \"figure3\", run = \"SG\" },\n"
+         "    { file = \"figure4\", run = \"T\", log_x = true },\n"
+         "    { file = \"figure5\", run = \"T\", kind = \"cumulative\" },\n"
+         "  },\n"
+         "}\n");
+  }
+  ~Fixture() { fs::remove_all(root); }
+  int run(const std::string& out, int jobs, int max_trials = 0, std::string* log = nullptr) const {
+    RunArgs a;
+    a.script = (root / "batch.lua").string();
+    a.out = (root / out).string();
+    a.jobs = jobs;
+    a.max_trials = max_trials;
+    std::ostringstream os;
+    a.progress = &os;
+    const int status = command_run(a);
+    if (log) *log = os.str();
+    return status;
+  }
+};
+
+const std::vector<std::string> kIds = {
+    "SG/B1/000", "SG/B1/001", "SG/DC2/000", "SG/DC2/001", "T/DC6/000", "T/DC6/001",
+    "eval/gen/circle/000", "eval/gen/circle/001", "eval/gen/spade/000", "eval/gen/spade/001"};
+
+// A result without its wall-clock fields (the only ones that may differ between runs).
+json without_wall(json j) {
+  if (j.is_object()) {
+    json out = json::object();
+    for (auto it = j.begin(); it != j.end(); ++it)
+      if (it.key().find("wall") == std::string::npos) out[it.key()] = without_wall(*it);
+    return out;
+  }
+  if (j.is_array()) {
+    json out = json::array();
+    for (auto& e : j) out.push_back(without_wall(e));
+    return out;
+  }
+  return j;
+}
+
+// summary.csv without its wall_s column.
+std::string csv_without_wall(const std::string& csv) {
+  std::istringstream in(csv);
+  std::string line, out;
+  int wall = -1;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    std::string c;
+    while (std::getline(ss, c, ',')) cells.push_back(c);
+    if (wall < 0)
+      for (size_t i = 0; i < cells.size(); ++i)
+        if (cells[i] == "wall_s") wall = int(i);
+    for (size_t i = 0; i < cells.size(); ++i)
+      if (int(i) != wall) out += cells[i] + ",";
+    out += "\n";
+  }
+  return out;
+}
+
+void same_results(const fs::path& a, const fs::path& b) {
+  for (const auto& id : kIds) {
+    INFO(id);
+    REQUIRE(fs::exists(fs::path(trial_dir(a.string(), id)) / "result.json"));
+    REQUIRE(fs::exists(fs::path(trial_dir(b.string(), id)) / "result.json"));
+    CHECK(without_wall(json::parse(slurp(fs::path(trial_dir(a.string(), id)) / "result.json"))) ==
+          without_wall(json::parse(slurp(fs::path(trial_dir(b.string(), id)) / "result.json"))));
+  }
+  CHECK(csv_without_wall(slurp(a / "summary.csv")) == csv_without_wall(slurp(b / "summary.csv")));
+  CHECK(slurp(a / "tables.md") == slurp(b / "tables.md"));
+  CHECK(slurp(a / "report.json") == slurp(b / "report.json"));
+}
+
+std::vector<std::string> finished_ids(const fs::path& out) {
+  std::vector<std::string> ids;
+  for (const auto& id : kIds)
+    if (fs::exists(fs::path(trial_dir(out.string(), id)) / "result.json")) ids.push_back(id);
+  return ids;
+}
+
+}  // namespace
+
+TEST_CASE("curve_grid interpolates checkpoints onto a common grid", "[report]") {
+  const CurveGrid g = curve_grid({{{10, 0}, {20, 100}}, {{15, 50}, {30, 100}}}, 4, false);
+  REQUIRE(g.t.size() == 4);
+  CHECK(g.t.front() == Approx(15));
+  CHECK(g.t.back() == Approx(30));
+  CHECK(g.values[0][0] == Approx(50));   // halfway between its checkpoints
+  CHECK(g.values[0][3] == Approx(100));  // stopped at 20: holds its last value
+  CHECK(g.values[1][0] == Approx(50));
+  const CurveGrid l = curve_grid({{{10, 0}, {1000, 100}}}, 3, true);
+  CHECK(l.t[1] == Approx(100));
+}
+
+TEST_CASE("a tiny batch writes every file, with tables that match the trials, whatever --jobs", "[report][run]") {
+  Fixture f("jobs");
+  std::string log;
+  REQUIRE(f.run("one", 1, 0, &log) == 0);
+  INFO(log);
+  const fs::path one = f.root / "one";
+  for (const char* file : {"manifest.json", "summary.csv", "tables.md", "report.json", "figure3.png", "figure3.svg",
+                           "figure4.png", "figure4.svg", "figure5.png", "figure5.svg"})
+    CHECK(fs::is_regular_file(one / file));
+  for (const char* file : {"result.json", "policy.json", "curve.csv", "episodes.jsonl", "checkpoints.jsonl", "summary.json"})
+    CHECK(fs::is_regular_file(one / "trials/T/DC6/001" / file));
+  const json manifest = json::parse(slurp(one / "manifest.json"));
+  CHECK(manifest["version"] == ROGER_VERSION);
+  CHECK(manifest["trials"].size() == kIds.size());
+  CHECK(manifest["seeds"]["SG/B1/001"] == 6);
+  // T trial i used the Phi_SG policy of SG/DC2 trial i.
+  const json t1 = json::parse(slurp(one / "trials/T/DC6/001/result.json"));
+  CHECK(t1["skills"]["Phi_SG"]["trial"] == "SG/DC2/001");
+  CHECK(t1["seed"] == 6);
+
+  // Table I's DC2 row: the mean time-to-threshold and the pooled final reward, from the trials.
+  std::vector<double> times, rewards;
+  for (const char* id : {"SG/DC2/000", "SG/DC2/001"}) {
+    const json r = json::parse(slurp(one / "trials" / id / "result.json"));
+    times.push_back(r["time_to_threshold_s"]);
+    rewards.push_back(r["reward_mean"]);
+  }
+  const std::string tables = slurp(one / "tables.md");
+  INFO(tables);
+  char reward[32];
+  std::snprintf(reward, sizeof reward, "%.1f ± ", mean(rewards));
+  std::smatch m;
+  REQUIRE(std::regex_search(tables, m, std::regex("\\| DC2 \\| (≥ )?([0-9]+:[0-9]{2}) \\| [^|]+ \\| ([^|]+) \\|")));
+  CHECK(m[2].str() == format_min_sec(mean(times)));
+  CHECK(m[3].str().rfind(reward, 0) == 0);
+  const json rep = json::parse(slurp(one / "report.json"));
+  CHECK(rep["tables"][0]["rows"][1]["time_mean_s"].get<double>() == Approx(mean(times)));
+  CHECK(tables.find("| **Total** |") != std::string::npos);
+
+  REQUIRE(f.run("two", 2) == 0);
+  same_results(one, f.root / "two");
+
+  // The report alone rewrites the same tables.
+  const std::string before = slurp(one / "tables.md");
+  fs::remove(one / "tables.md");
+  ReportArgs r;
+  r.dir = one.string();
+  std::ostringstream os;
+  r.progress = &os;
+  CHECK(command_report(r) == 0);
+  CHECK(slurp(one / "tables.md") == before);
+  r.dir = f.root.string();
+  CHECK(command_report(r) == 1);
+  CHECK(os.str().find("no manifest.json") != std::string::npos);
+
+  // A run cut short (here: after 3 new trials) resumes to exactly the uninterrupted run's trials.
+  REQUIRE(f.run("cut", 2, 3) == 0);
+  CHECK(finished_ids(f.root / "cut").size() == 3);
+  CHECK(slurp(f.root / "cut/summary.csv").find(",pending,") != std::string::npos);
+  std::string resumed;
+  REQUIRE(f.run("cut", 2, 0, &resumed) == 0);
+  CHECK(resumed.find("resuming") != std::string::npos);
+  CHECK(resumed.find("3 from an earlier run") != std::string::npos);
+  CHECK(finished_ids(f.root / "cut") == kIds);
+  same_results(one, f.root / "cut");
+
+  // A folder made by other parameters is refused.
+  RunArgs other;
+  other.script = (f.root / "batch.lua").string();
+  other.out = one.string();
+  other.trials = 3;
+  std::ostringstream refused;
+  other.progress = &refused;
+  CHECK(command_run(other) == 1);
+  CHECK(refused.str().find("made by another batch script or other parameters") != std::string::npos);
+  CHECK(refused.str().find("trials") != std::string::npos);
+}
+
+TEST_CASE("a failing trial is recorded and does not lose the others", "[report][run]") {
+  Fixture f("fail", "obstacles = 99");  // the cluttered scenario allows at most 12 obstacles
+  std::string log;
+  CHECK(f.run("out", 2, 0, &log) == 1);
+  INFO(log);
+  const fs::path out = f.root / "out";
+  CHECK(finished_ids(out).size() == 6);  // every training trial
+  CHECK(fs::exists(fs::path(trial_dir(out.string(), "eval/gen/circle/000")) / "error.json"));
+  CHECK(log.find("4 trials failed") != std::string::npos);
+  CHECK(log.find("eval/gen/spade/001") != std::string::npos);
+  CHECK(slurp(out / "summary.csv").find(",failed,") != std::string::npos);
+  CHECK(fs::is_regular_file(out / "tables.md"));
+  CHECK(slurp(out / "tables.md").find("4 failed") == std::string::npos);  // per row: 2 failed each
+  CHECK(slurp(out / "tables.md").find("(2 failed)") != std::string::npos);
+}
+
+TEST_CASE("roger run killed with SIGKILL resumes to exactly an uninterrupted run's trials", "[report][run][cli]") {
+  Fixture f("kill");
+  const fs::path whole = f.root / "whole", killed = f.root / "killed";
+  REQUIRE(f.run("whole", 2) == 0);
+  const std::string script = (f.root / "batch.lua").string();
+  // The real program, in a child process, killed without warning once some trials are done.
+  const pid_t child = ::fork();
+  REQUIRE(child >= 0);
+  if (child == 0) {
+    const int devnull = ::open("/dev/null", O_WRONLY);
+    ::dup2(devnull, 1);
+    ::dup2(devnull, 2);
+    ::execl(ROGER_BINARY, ROGER_BINARY, "run", script.c_str(), "--jobs", "2", "--out",
+            killed.string().c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  size_t finished_at_kill = 0;
+  for (int i = 0; i < 3000; ++i) {  // up to 60 s
+    finished_at_kill = finished_ids(killed).size();
+    if (finished_at_kill >= 2) break;
+    ::usleep(20000);
+  }
+  ::kill(child, SIGKILL);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  INFO(finished_at_kill << " trials had finished when the run was killed");
+  CHECK(finished_at_kill >= 2);
+  CHECK(finished_at_kill < kIds.size());  // it really was cut short
+  // No half-written result anywhere: every result.json that exists parses.
+  for (const auto& id : finished_ids(killed))
+    CHECK_NOTHROW(json::parse(slurp(fs::path(trial_dir(killed.string(), id)) / "result.json")));
+  // The same command again completes the run.
+  const std::string again = std::string(ROGER_BINARY) + " run " + script + " --jobs 2 --out " +
+                            killed.string() + " >/dev/null 2>&1";
+  CHECK(std::system(again.c_str()) == 0);
+  CHECK(finished_ids(killed) == kIds);
+  same_results(whole, killed);
+}
