@@ -23,12 +23,6 @@ using json = nlohmann::json;
 
 namespace {
 
-std::string join(const std::vector<std::string>& items, const char* sep = ", ") {
-  std::string out;
-  for (size_t i = 0; i < items.size(); ++i) out += (i ? sep : "") + items[i];
-  return out;
-}
-
 std::string quoted_list(const std::vector<std::string>& items) {
   std::vector<std::string> q;
   for (const auto& s : items) q.push_back("'" + s + "'");
@@ -222,18 +216,7 @@ void merge_params(Params& into, const Params& more) {
 
 // Finds the script: the path itself, or <project>/scripts/<name>.lua for a bare name.
 std::string resolve_script(const std::string& arg) {
-  std::error_code ec;
-  if (fs::is_regular_file(arg, ec)) return arg;
-  const bool bare = arg.find('/') == std::string::npos;
-  const std::string file = fs::path(arg).extension() == ".lua" ? arg : arg + ".lua";
-  const fs::path shipped = project_root() / "scripts" / file;
-  if (bare && fs::is_regular_file(shipped, ec)) return shipped.string();
-  std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(project_root() / "scripts", ec))
-    if (e.path().extension() == ".lua") names.push_back(e.path().stem().string());
-  std::sort(names.begin(), names.end());
-  throw Error("no batch script '" + arg + "': " + (fs::exists(arg, ec) ? "not a regular file" : "no such file") +
-              (names.empty() ? "" : "; batch scripts in scripts/: " + join(names)));
+  return resolve_script_path(arg, "scripts", "batch script", "batch scripts in scripts/");
 }
 
 json params_json(const Params& p) {

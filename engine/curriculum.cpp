@@ -23,12 +23,6 @@ namespace {
 
 char book_key;  // registry key of the loader's book (a light userdata)
 
-std::string join(const std::vector<std::string>& items, const char* sep = ", ") {
-  std::string out;
-  for (size_t i = 0; i < items.size(); ++i) out += (i ? sep : "") + items[i];
-  return out;
-}
-
 std::string read_text(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::ostringstream text;
@@ -593,21 +587,8 @@ double Curriculum::call_reward(const CurriculumStage& stage, const CurriculumCon
 }
 
 std::string resolve_curriculum_path(const std::string& arg) {
-  std::error_code ec;
-  if (fs::is_regular_file(arg, ec)) return arg;
-  const fs::path folder = project_root() / "curricula";
-  const bool bare = arg.find('/') == std::string::npos;
-  const std::string file = fs::path(arg).extension() == ".lua" ? arg : arg + ".lua";
-  if (bare && fs::is_regular_file(folder / file, ec)) return (folder / file).string();
-  std::vector<std::string> shipped;
-  for (const auto& entry : fs::directory_iterator(folder, ec))
-    if (entry.path().extension() == ".lua" && is_curriculum_script(entry.path().string()))
-      shipped.push_back(entry.path().stem().string());
-  std::sort(shipped.begin(), shipped.end());
-  throw Error("no curriculum '" + arg + "': " +
-              (bare ? "not a file, and curricula/" + file + " does not exist"
-                    : std::string(fs::exists(arg, ec) ? "not a regular file" : "no such file")) +
-              (shipped.empty() ? "" : "; curricula in curricula/: " + join(shipped)));
+  return resolve_script_path(arg, "curricula", "curriculum", "curricula in curricula/",
+                             is_curriculum_script);
 }
 
 bool is_curriculum_script(const std::string& path) {

@@ -27,12 +27,6 @@ char book_key;  // mutable, so never merged with another constant
 char cache_key;
 
 // Joins items with a separator.
-std::string join(const std::vector<std::string>& items, const char* sep = ", ") {
-  std::string out;
-  for (size_t i = 0; i < items.size(); ++i) out += (i ? sep : "") + items[i];
-  return out;
-}
-
 // Raises a Lua error with the text as is, located at the Lua caller's file:line.
 [[noreturn]] void raise(lua_State* L, const std::string& message) {
   luaL_error(L, "%s", message.c_str());

@@ -680,11 +680,6 @@ void lua_charge(lua_State* L, uint64_t units) {
 
 namespace {
 // Joins items with a separator.
-std::string join(const std::vector<std::string>& items, const char* sep = ", ") {
-  std::string out;
-  for (size_t i = 0; i < items.size(); ++i) out += (i ? sep : "") + items[i];
-  return out;
-}
 }  // namespace
 
 LuaFields::LuaFields(lua_State* L, int index, std::string context, std::vector<std::string> known)
@@ -866,6 +861,33 @@ std::string format_number(double value) {
     if (std::strtod(buf, nullptr) == value && (!plain || !std::strchr(buf, 'e'))) break;
   }
   return buf;
+}
+
+std::string join(const std::vector<std::string>& items, const char* sep) {
+  std::string out;
+  for (size_t i = 0; i < items.size(); ++i) out += (i ? sep : "") + items[i];
+  return out;
+}
+
+std::string resolve_script_path(const std::string& arg, const std::string& folder_name,
+                                const std::string& kind, const std::string& list_label,
+                                const std::function<bool(const std::string&)>& accept) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_regular_file(arg, ec)) return arg;
+  const fs::path folder = project_root() / folder_name;
+  const bool bare = arg.find('/') == std::string::npos;
+  const std::string file = fs::path(arg).extension() == ".lua" ? arg : arg + ".lua";
+  if (bare && fs::is_regular_file(folder / file, ec)) return (folder / file).string();
+  std::vector<std::string> shipped;
+  for (const auto& entry : fs::directory_iterator(folder, ec))
+    if (entry.path().extension() == ".lua" && (!accept || accept(entry.path().string())))
+      shipped.push_back(entry.path().stem().string());
+  std::sort(shipped.begin(), shipped.end());
+  throw Error("no " + kind + " '" + arg + "': " +
+              (bare ? "not a file, and " + folder_name + "/" + file + " does not exist"
+                    : std::string(fs::exists(arg, ec) ? "not a regular file" : "no such file")) +
+              (shipped.empty() ? "" : "; " + list_label + ": " + join(shipped)));
 }
 
 }  // namespace roger

@@ -584,7 +584,7 @@ void draw_robot(cairo_t* cr, const Layout& l, const Frame& frame, const RobotPar
          l.py(a.hand.y()) + 0.36 * st.size * l.u, st);
   }
 
-  // Eyes: dots in their own colours, with a short stub along the optical axis.
+  // Eyes: dots in their own colours, with a short line along the optical axis.
   for (int side = 0; side < 2; ++side) {
     const Vec2& e = frame.eyes[side];
     if (!finite(e) || !std::isfinite(frame.eye_heading[side])) continue;

@@ -165,12 +165,6 @@ constexpr size_t kMaxThings = 1000;   // objects, obstacles or goals in one worl
 constexpr size_t kMaxParts = 64;      // polygons plus disks in one shape
 
 // Joins items with a separator.
-std::string join(const std::vector<std::string>& items, const char* sep = ", ") {
-  std::string out;
-  for (size_t i = 0; i < items.size(); ++i) out += (i ? sep : "") + items[i];
-  return out;
-}
-
 // A number for messages, with rounding noise near zero shown as 0.
 std::string fmt(double v) { return format_number(std::abs(v) < 5e-13 ? 0.0 : v); }
 
@@ -1298,20 +1292,7 @@ WorldSpec Scenario::generate(uint64_t seed) {
 }
 
 std::string resolve_scenario_path(const std::string& arg) {
-  std::error_code ec;
-  if (fs::is_regular_file(arg, ec)) return arg;
-  const fs::path folder = project_root() / "scenarios";
-  const bool bare = arg.find('/') == std::string::npos;
-  const std::string file = fs::path(arg).extension() == ".lua" ? arg : arg + ".lua";
-  if (bare && fs::is_regular_file(folder / file, ec)) return (folder / file).string();
-  std::vector<std::string> shipped;
-  for (const auto& entry : fs::directory_iterator(folder, ec))
-    if (entry.path().extension() == ".lua") shipped.push_back(entry.path().stem().string());
-  std::sort(shipped.begin(), shipped.end());
-  throw Error("no scenario '" + arg + "': " +
-              (bare ? "not a file, and scenarios/" + file + " does not exist"
-                    : std::string(fs::exists(arg, ec) ? "not a regular file" : "no such file")) +
-              (shipped.empty() ? "" : "; shipped scenarios: " + join(shipped)));
+  return resolve_script_path(arg, "scenarios", "scenario", "shipped scenarios");
 }
 
 std::vector<std::string> check_scenario(const std::string& path, int seeds, const SandboxLimits& limits) {

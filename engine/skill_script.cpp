@@ -24,12 +24,6 @@ namespace fs = std::filesystem;
 namespace {
 
 // Joins items with a separator.
-std::string join(const std::vector<std::string>& items, const char* sep = ", ") {
-  std::string out;
-  for (size_t i = 0; i < items.size(); ++i) out += (i ? sep : "") + items[i];
-  return out;
-}
-
 // ---------------------------------------------------------------------------------------------
 // Where the fields of the returned table are written. A Lua table carries no line numbers, so a
 // missing goal or a misspelt field would otherwise be reported without one: the source text is
@@ -459,21 +453,8 @@ SkillScript SkillScript::load(const std::string& path_in, const SandboxLimits& l
 }
 
 std::string resolve_skill_script_path(const std::string& arg) {
-  std::error_code ec;
-  if (fs::is_regular_file(arg, ec)) return arg;
-  const fs::path folder = project_root() / "curricula";
-  const bool bare = arg.find('/') == std::string::npos;
-  const std::string file = fs::path(arg).extension() == ".lua" ? arg : arg + ".lua";
-  if (bare && fs::is_regular_file(folder / file, ec)) return (folder / file).string();
-  std::vector<std::string> shipped;
-  for (const auto& entry : fs::directory_iterator(folder, ec))
-    if (entry.path().extension() == ".lua" && is_skill_script(entry.path().string()))
-      shipped.push_back(entry.path().stem().string());
-  std::sort(shipped.begin(), shipped.end());
-  throw Error("no skill script '" + arg + "': " +
-              (bare ? "not a file, and curricula/" + file + " does not exist"
-                    : std::string(fs::exists(arg, ec) ? "not a regular file" : "no such file")) +
-              (shipped.empty() ? "" : "; skill scripts in curricula/: " + join(shipped)));
+  return resolve_script_path(arg, "curricula", "skill script", "skill scripts in curricula/",
+                             is_skill_script);
 }
 
 bool is_skill_script(const std::string& path) {
