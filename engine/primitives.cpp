@@ -175,6 +175,18 @@ void reach_targets(const ControlInput& in, const Vec2& center, const Targets& t,
   // on would only shove the object away.
   if (in.percepts->contact_on_object[kBody]) e(4) = std::max(e(4), -t.body_press);
   worst_error = std::max(worst_error, std::abs(e(4)));
+  // When closing a grasp (`facing`: phi3), a hand folded towards its own shoulder (elbow beyond
+  // 2.5 rad) is near a singularity: the shoulder barely moves it, and the least-squares step can
+  // stall it against the body instead of swinging it round to a target on the far side of the
+  // object. While such a hand is far from its target, open the elbow first. (Preshaping starts
+  // from the folded rest posture, where this would only get in the way.)
+  DofVector unfold = DofVector::Zero();
+  for (int side = 0; side < 2; ++side) {
+    const int elbow = kLeftElbow + 2 * side;
+    const double q = s.q[elbow];
+    if (facing && std::abs(q) > 2.5 && e.segment<2>(2 * side).norm() > 0.08)
+      unfold[elbow] = 0.5 * (std::copysign(2.0, q) - q);
+  }
   if (facing) {
     J(5, kBaseHeading) = 1.0;
     e(5) = wrap_angle(std::atan2(to_obj.y(), to_obj.x()) - s.base.theta);
@@ -185,6 +197,10 @@ void reach_targets(const ControlInput& in, const Vec2& center, const Targets& t,
     const Eigen::Matrix<double, 5, 1> e5 = e.head<5>();
     out.command = damped_solve<5>(J5, e5, use, lambda);
     out.jacobian = J5;
+  }
+  for (int side = 0; side < 2; ++side) {
+    const int elbow = kLeftElbow + 2 * side;
+    if (unfold[elbow] != 0.0 && use[elbow] != 0.0) out.command[elbow] = unfold[elbow];
   }
 }
 
