@@ -1,6 +1,7 @@
 #include "animation.h"
 
 #include "fileio.h"
+#include "ink.h"
 
 #include <cairo.h>
 #include <fcntl.h>
@@ -34,23 +35,11 @@ constexpr double kPi = 3.14159265358979323846;
 // ---- colours and text
 // -----------------------------------------------------------------------------------
 
-struct Rgb {
-  double r, g, b;
-};
+using namespace ink;
 
-Rgb rgb(int r, int g, int b) { return {r / 255.0, g / 255.0, b / 255.0}; }
-Rgb darker(Rgb c, double f) { return {c.r * f, c.g * f, c.b * f}; }
-
-void set(cairo_t* cr, Rgb c, double alpha = 1.0) {
-  cairo_set_source_rgba(cr, c.r, c.g, c.b, alpha);
-}
-
-// The same ink as render.cpp, so a frame and its timeline read as one picture.
-const Rgb kInk = rgb(40, 44, 52);
-const Rgb kFaintInk = rgb(120, 124, 132);
+// Beside the shared ink (ink.h): the timeline's own colours.
 const Rgb kRule = rgb(218, 220, 226);
 const Rgb kTrack = rgb(241, 242, 245);
-const Rgb kWhite = rgb(255, 255, 255);
 const Rgb kSuccess = rgb(30, 130, 70);
 const Rgb kFailure = rgb(190, 50, 40);
 

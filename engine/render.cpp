@@ -1,6 +1,7 @@
 #include "render.h"
 
 #include "fileio.h"
+#include "ink.h"
 
 #include <cairo-svg.h>
 #include <fcntl.h>
@@ -38,32 +39,18 @@ constexpr double kStatusBand = 30;  // stereo fix and touch forces
 constexpr double kBottomBand = 8;
 constexpr double kWall = 8;  // drawn wall thickness (the walls' real thickness is not modelled)
 
-// An RGB colour in cairo's 0..1 range.
-struct Rgb {
-  double r, g, b;
-};
-
-Rgb rgb(const Colour& c) { return {c.r / 255.0, c.g / 255.0, c.b / 255.0}; }
-Rgb rgb(int r, int g, int b) { return {r / 255.0, g / 255.0, b / 255.0}; }
-Rgb darker(Rgb c, double f) { return {c.r * f, c.g * f, c.b * f}; }
-
-void set(cairo_t* cr, Rgb c, double alpha = 1.0) {
-  cairo_set_source_rgba(cr, c.r, c.g, c.b, alpha);
-}
+using namespace ink;
 
 // The palette: Roger is light steel with dark arms so he never looks like a grey obstacle; each eye
 // has its own colour, used for its wedge, its sight line and its image strip's label.
 const Rgb kBackground = rgb(255, 255, 255);
 const Rgb kFloor = rgb(248, 247, 242);
-const Rgb kInk = rgb(40, 44, 52);
-const Rgb kFaintInk = rgb(120, 124, 132);
 const Rgb kRobotBody = rgb(214, 222, 234);
 const Rgb kRobotOutline = rgb(38, 44, 56);
 const Rgb kArm = rgb(66, 74, 90);
 const Rgb kWheel = rgb(45, 45, 50);
 const Rgb kEyeColour[2] = {rgb(30, 100, 220), rgb(232, 118, 18)};
 const Rgb kContact = rgb(205, 0, 145);
-const Rgb kWhite = rgb(255, 255, 255);
 const char* const kEyeName[2] = {"left eye", "right eye"};
 const char* const kTouchName[kTactileCount] = {"body", "left hand", "right hand"};
 

@@ -5,6 +5,8 @@
 #include <stdlib.h>
 
 #include <catch2/catch.hpp>
+
+#include "temp_dir.h"
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -28,18 +30,9 @@ using namespace roger;
 
 namespace {
 
-// A fresh, empty directory, removed with its content when the test ends.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "test_animation_XXXXXX").string();
-    REQUIRE(mkdtemp(tmpl.data()) != nullptr);
-    path = tmpl;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
+// A scratch folder named after this test file.
+struct TempDir : roger::test::TempDir {
+  TempDir() : roger::test::TempDir("test_animation") {}
 };
 
 std::string slurp(const fs::path& p) {

@@ -6,6 +6,8 @@
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
+
+#include "temp_dir.h"
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -26,24 +28,9 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-// A fresh, empty directory, removed with its content when the test ends.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "test_plot_XXXXXX").string();
-    REQUIRE(mkdtemp(tmpl.data()) != nullptr);
-    path = tmpl;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  std::string file(const std::string& name) const { return (path / name).string(); }
-  std::vector<std::string> names() const {
-    std::vector<std::string> out;
-    for (const auto& e : fs::directory_iterator(path)) out.push_back(e.path().filename().string());
-    return out;
-  }
+// A scratch folder named after this test file.
+struct TempDir : roger::test::TempDir {
+  TempDir() : roger::test::TempDir("test_plot") {}
 };
 
 std::string read_all(const std::string& path) {

@@ -4,6 +4,8 @@
 #include <stdlib.h>
 
 #include <catch2/catch.hpp>
+
+#include "temp_dir.h"
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -27,23 +29,9 @@ const Vec2 kGoal(1.0, -1.2);
 const Colour kWallColour{200, 200, 200};
 const Colour kRed{220, 30, 30};
 
-// A fresh, empty directory, removed with its content when the test ends.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "test_render_XXXXXX").string();
-    REQUIRE(mkdtemp(tmpl.data()) != nullptr);
-    path = tmpl;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  std::vector<std::string> names() const {
-    std::vector<std::string> out;
-    for (const auto& e : fs::directory_iterator(path)) out.push_back(e.path().filename().string());
-    return out;
-  }
+// A scratch folder named after this test file.
+struct TempDir : roger::test::TempDir {
+  TempDir() : roger::test::TempDir("test_render") {}
 };
 
 WorldSpec make_spec() {
