@@ -111,6 +111,74 @@ double closure_potential(const Vec2 normal[kTactileCount], const Vec2 point[kTac
   return sum.squaredNorm() + moment_weight * m * m;
 }
 
+}  // namespace
+
+GraspResidual grasp_residual(const Vec2 normal[kTactileCount], const Vec2 point[kTactileCount],
+                             const Vec2& center, double size, double moment_weight,
+                             double friction) {
+  // Rows: force x, force y, scaled moment. Column i: what contact i's tangential share adds.
+  const double w = std::sqrt(std::max(moment_weight, 0.0)) / std::max(size, 0.05);
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d A;
+  for (int i = 0; i < kTactileCount; ++i) {
+    const Vec2 r = point[i] - center;
+    const Vec2 tangent(-normal[i].y(), normal[i].x());
+    b += Eigen::Vector3d(normal[i].x(), normal[i].y(),
+                         w * (r.x() * normal[i].y() - r.y() * normal[i].x()));
+    A.col(i) = Eigen::Vector3d(tangent.x(), tangent.y(), w * (r.x() * tangent.y() - r.y() * tangent.x()));
+  }
+  GraspResidual best;
+  best.phi = b.squaredNorm();
+  best.force = b.head<2>();
+  if (!(friction > 0.0)) return best;
+  // A box-constrained least squares in three unknowns: the optimum has each share free or at one
+  // of its bounds, so try all 27 such patterns, solving for the free shares, and keep the best
+  // pattern whose free shares fall within their bounds (the problem is convex). Pattern 0 (all
+  // free) is the unconstrained optimum: when it is feasible it is the answer, which is the common
+  // case of a settled grasp.
+  for (int pattern = 0; pattern < 27; ++pattern) {
+    int code[kTactileCount];
+    for (int i = 0, c = pattern; i < kTactileCount; ++i, c /= 3) code[i] = c % 3;  // 0 free, 1 -, 2 +
+    Eigen::Vector3d t = Eigen::Vector3d::Zero();
+    Eigen::Vector3d rhs = b;
+    int free_index[kTactileCount], free_count = 0;
+    for (int i = 0; i < kTactileCount; ++i) {
+      if (code[i] == 0) {
+        free_index[free_count++] = i;
+      } else {
+        t[i] = code[i] == 1 ? -friction : friction;
+        rhs += A.col(i) * t[i];
+      }
+    }
+    if (free_count > 0) {
+      // Normal equations with a whisker of ridge for parallel tangents; fixed-size storage, so
+      // no allocation in the control loop.
+      using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3>;
+      Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 3> Af(3, free_count);
+      for (int k = 0; k < free_count; ++k) Af.col(k) = A.col(free_index[k]);
+      Small M = Af.transpose() * Af;
+      M.diagonal().array() += 1e-12;
+      const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1> tf = M.ldlt().solve(-Af.transpose() * rhs);
+      bool inside = true;
+      for (int k = 0; k < free_count; ++k) {
+        inside = inside && std::abs(tf[k]) <= friction + 1e-12;
+        t[free_index[k]] = tf[k];
+      }
+      if (!inside) continue;
+    }
+    const Eigen::Vector3d residual = b + A * t;
+    if (residual.squaredNorm() < best.phi) {
+      best.phi = residual.squaredNorm();
+      best.force = residual.head<2>();
+      for (int i = 0; i < kTactileCount; ++i) best.friction_used[i] = t[i];
+    }
+    if (pattern == 0) return best;  // reached only when the unconstrained optimum is feasible
+  }
+  return best;
+}
+
+namespace {
+
 // Targets of a three-contact configuration around an object centre: the body on the line to the
 // object at body_distance, the hands at +-spread from the body's side on a circle of hand_radius.
 struct Targets {
@@ -184,7 +252,8 @@ void reach_targets(const ControlInput& in, const Vec2& center, const Targets& t,
   for (int side = 0; side < 2; ++side) {
     const int elbow = kLeftElbow + 2 * side;
     const double q = s.q[elbow];
-    if (facing && std::abs(q) > 2.5 && e.segment<2>(2 * side).norm() > 0.08)
+    if (facing && std::abs(q) > 2.5 && e.segment<2>(2 * side).norm() > 0.08 &&
+        !in.percepts->contact_on_object[kLeftHand + side])
       unfold[elbow] = 0.5 * (std::copysign(2.0, q) - q);
   }
   if (facing) {
@@ -212,6 +281,7 @@ DofVector mask(std::initializer_list<int> dofs) {
 
 const DofVector kArmsAndForward =
     mask({kBaseForward, kLeftShoulder, kLeftElbow, kRightShoulder, kRightElbow});
+const DofVector kArmsOnly = mask({kLeftShoulder, kLeftElbow, kRightShoulder, kRightElbow});
 const DofVector kArmsAndBase =
     mask({kBaseForward, kBaseHeading, kLeftShoulder, kLeftElbow, kRightShoulder, kRightElbow});
 
@@ -318,6 +388,7 @@ class Navigate final : public Primitive {
     declare("approach", 0.62, 0.3, 2.0, "approach distance (m) from the object centre to the base");
     declare("carry", 0.0, 0.0, 1.0, "control point ahead of the base (m): 0 = base centre");
     declare("speed", 0.9, 0.05, 2.0, "cruise speed (m/s)");
+    declare("carry_turn", 0.6, 0.01, 3.0, "largest heading step (rad) per command while carrying");
     declare("memory", 2.0, 0.0, 60.0, "seconds a lost object's last position stays a goal");
     declare("margin", 0.05, 0.0, 1.0, "how far (m) inside a goal region's edge the goal cells end");
     declare("replan", 0.15, 0.0, 1.0, "how far (m) the object estimate must move to plan again");
@@ -375,10 +446,11 @@ class Navigate final : public Primitive {
       // Never back away from what is carried: the body would leave it; turn on the spot instead.
       const Vec2 u = speed * dir;
       out.command[kBaseForward] = std::max(0.0, u.dot(fwd)) * lookahead;
-      out.command[kBaseHeading] = clamp_abs(u.dot(perp(fwd)) / carry * lookahead, 0.6);
+      const double turn = number("carry_turn");
+      out.command[kBaseHeading] = clamp_abs(u.dot(perp(fwd)) / carry * lookahead, turn);
       // With the way ahead more than a right angle off, rotate towards it at full rate (the
       // formula above vanishes when the goal lies straight behind).
-      if (u.dot(fwd) < 0.0) out.command[kBaseHeading] = u.dot(perp(fwd)) >= 0.0 ? 0.6 : -0.6;
+      if (u.dot(fwd) < 0.0) out.command[kBaseHeading] = u.dot(perp(fwd)) >= 0.0 ? turn : -turn;
     } else {
       const double turn = wrap_angle(std::atan2(dir.y(), dir.x()) - s.base.theta);
       const double along = std::max(0.0, std::cos(turn));
@@ -527,13 +599,17 @@ class Grasp final : public Primitive {
     declare("body_squeeze", 0.02, 0.0, 0.2, "how far (m) inside the surface the body aims");
     declare("creep", 0.04, 0.0, 0.3, "step (m) per command of a body or hand closing until it touches");
     declare("slide", 0.5, 0.0, 5.0, "rate at which touching hands slide around to balance the normals");
-    declare("light", 0.005, 0.0, 0.2, "press depth (m) of a hand while it slides");
+    declare("light", 0.0, 0.0, 0.2, "press depth (m) of a hand while it slides");
     declare("spread", 2.0944, 1.0, 3.0, "angle (rad) of each hand from the body around the object");
     declare("swing", 0.05, 0.0, 1.0, "how far (m) a hand swings out while going round the object");
-    declare("moment", 0.25, 0.0, 10.0, "weight of the moment residual in phi (friction carries the rest)");
+    declare("moment", 0.25, 0.0, 10.0, "weight of the moment residual in phi");
+    declare("friction", 0.25, 0.0, 2.0, "share of each contact's push that friction may carry in phi");
     declare("reach", 1.25, 0.3, 3.0, "objects farther (m) than this from the base are out of reach");
     declare("memory", 2.0, 0.0, 60.0, "seconds a lost object's last position stays usable");
     declare("damping", 0.05, 0.0, 1.0, "least-squares damping near singular postures");
+    // A grasp counts once it has held for a few ticks: a hand that closes with a bounce touches
+    // for a tick and is off again.
+    set_number("hold", 0.1);
   }
   PrimitivePtr clone() const override { return std::make_shared<Grasp>(*this); }
 
@@ -555,38 +631,68 @@ class Grasp final : public Primitive {
     const bool body_on = p.contact_on_object[kBody];
     const Vec2 base(s.base.x, s.base.y);
     const double creep = number("creep");
+    GraspResidual grasp;  // with all three contacts on (has_grasp), computed once per tick
+    bool has_grasp = false;
     const double body_distance = body_on ? r + in.robot->base_radius - number("body_squeeze")
                                          : (obj.center - base).norm() - creep;
     Targets t = grasp_targets(in, obj.center, std::min(body_distance, r + in.robot->base_radius),
                               r + in.robot->hand_radius + 0.01, number("spread"), number("swing"));
     t.body_press = number("body_squeeze");
     if (body_on) {
-      // Sum of the unit normals measured by touch (each from the surface towards its sensor).
+      // What the contacts leave unbalanced: with all three on the object, the grasp residual
+      // (friction included); before that, the sum of the unit normals measured by touch (each
+      // from the surface towards its sensor).
       Vec2 sum = Vec2::Zero();
+      int touching_count = 0;
       for (int k = 0; k < kTactileCount; ++k)
-        if (p.contact_on_object[k] && s.touch[k].index == p.touched_object) sum += s.touch[k].normal;
-      // Press lightly while the normals are unbalanced, so friction lets the hands slide, and
-      // firmly once they balance.
-      const double press = sum.squaredNorm() > epsilon() ? number("light") : number("squeeze");
+        if (p.contact_on_object[k] && s.touch[k].index == p.touched_object)
+          sum += s.touch[k].normal, ++touching_count;
+      double unbalanced = sum.squaredNorm();
+      if (touching_count == kTactileCount) {
+        Vec2 normal[kTactileCount], point[kTactileCount];
+        for (int k = 0; k < kTactileCount; ++k) normal[k] = s.touch[k].normal, point[k] = s.touch[k].point;
+        grasp = grasp_residual(normal, point, obj.center, r, number("moment"), number("friction"));
+        has_grasp = true;
+        sum = grasp.force;
+        unbalanced = grasp.phi;
+      }
+      // Press lightly while the grasp is unbalanced, so the hands can slide, and firmly once it
+      // balances.
+      const double press = unbalanced > epsilon() ? number("light") : number("squeeze");
       for (int side = 0; side < 2; ++side) {
         const Vec2 hand = in.percepts->arms[side].hand;
         const double now = (hand - obj.center).norm();
         const bool touching = p.contact_on_object[kLeftHand + side];
-        Vec2 out_dir = (t.hand[side] - obj.center).normalized();
         if (touching) {
-          // Slide the contact around the object down the gradient of |sum of normals|^2: moving
-          // a contact by d(angle) turns its normal by about d(angle), so d|S|^2/d(angle) is
-          // 2 S . perp(n). This is the contact-configuration descent of the paper's phi3.
+          // Slide the contact along the surface down the gradient of |sum of normals|^2: moving
+          // a contact by d(angle) around the object turns its normal by about d(angle), so
+          // d|S|^2/d(angle) is 2 S . perp(n). The step follows the touched surface (its tangent,
+          // pressing along its normal), not a circle about the centre, which would cut into a
+          // polygon's corner and drag the object round instead of sliding over it.
           const Vec2 n = s.touch[kLeftHand + side].normal;
-          const double slide = std::clamp(-number("slide") * sum.dot(Vec2(-n.y(), n.x())), -0.3, 0.3);
-          const Vec2 h = hand - obj.center;
-          out_dir = unit(std::atan2(h.y(), h.x()) + slide);
+          const Vec2 tangent(-n.y(), n.x());
+          const double slide = std::clamp(-number("slide") * sum.dot(tangent), -0.3, 0.3);
+          t.hand[side] = hand + slide * now * tangent - press * n;
+        } else {
+          const Vec2 out_dir = (t.hand[side] - obj.center).normalized();
+          t.hand[side] = obj.center + (now - creep) * out_dir;
         }
-        t.hand[side] = obj.center + (now - (touching ? press : creep)) * out_dir;
       }
     }
     double worst = 0.0;
-    reach_targets(in, obj.center, t, true, kArmsAndBase, number("damping"), out, worst);
+    // Once the body and a hand touch, the arms alone place the hands: moving the base for them
+    // would shove the object with the body or turn it off the object. The base only keeps the
+    // body pressed on (its own row: the distance to the object along the heading).
+    const bool hand_on = p.contact_on_object[kLeftHand] || p.contact_on_object[kRightHand];
+    reach_targets(in, obj.center, t, true, !body_on ? kArmsAndBase : hand_on ? kArmsOnly : kArmsAndForward,
+                  number("damping"), out, worst);
+    if (body_on && hand_on) {
+      const Vec2 to_obj = obj.center - base;
+      const double d = to_obj.norm();
+      const double along = unit(s.base.theta).dot(to_obj) / std::max(d, 1e-6);  // -d(d)/d(forward)
+      const double e = std::max(t.body_distance - d, -t.body_press);
+      if (along > 0.3) out.command[kBaseForward] = -e / along;
+    }
     cap_steps(out.command, 0.15, 0.5);
     // phi from touch when all three contacts are on one object, else from kinematics plus a
     // penalty per missing contact (so phi falls as contacts are made).
@@ -596,7 +702,8 @@ class Grasp final : public Primitive {
     if (on == kTactileCount) {
       Vec2 normal[kTactileCount], point[kTactileCount];
       for (int k = 0; k < kTactileCount; ++k) normal[k] = s.touch[k].normal, point[k] = s.touch[k].point;
-      out.phi = closure_potential(normal, point, obj.center, r, number("moment"));
+      out.phi = has_grasp ? grasp.phi
+                          : grasp_residual(normal, point, obj.center, r, number("moment"), number("friction")).phi;
     } else {
       const ContactGeometry g = kinematic_contacts(in, obj.center);
       out.phi = closure_potential(g.normal, g.point, obj.center, r, 0.0) + (kTactileCount - on);
@@ -647,7 +754,8 @@ class Hold final : public Primitive {
     declare("squeeze", 0.03, 0.0, 0.2, "press depth (m) of each hand along its contact normal");
     declare("pull", 0.03, 0.0, 0.2, "how far (m) the hands draw the object onto the body");
     declare("lead", 0.04, 0.0, 1.0, "hand lead per unit of base acceleration (m per m/s^2)");
-    declare("moment", 0.25, 0.0, 10.0, "weight of the moment residual in phi (friction carries the rest)");
+    declare("moment", 0.25, 0.0, 10.0, "weight of the moment residual in phi");
+    declare("friction", 0.5, 0.0, 2.0, "share of each contact's push that friction may carry in phi");
     declare("damping", 0.05, 0.0, 1.0, "least-squares damping near singular postures");
   }
   PrimitivePtr clone() const override { return std::make_shared<Hold>(*this); }
@@ -704,7 +812,8 @@ class Hold final : public Primitive {
     const Vec2 center = object_estimate(in, 1e9, obj)
                             ? obj.center
                             : Vec2((point[0] + point[1] + point[2]) / 3.0);
-    out.phi = closure_potential(normal, point, center, std::max(obj.radius, 0.1), number("moment"));
+    out.phi = grasp_residual(normal, point, center, std::max(obj.radius, 0.1), number("moment"),
+                             number("friction")).phi;
     out.residual = out.phi;
     if (!on[kBody]) {
       gamma = Gamma::kNoRef;

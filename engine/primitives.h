@@ -78,6 +78,22 @@ class Primitive : public Controller {
 
 using PrimitivePtr = std::shared_ptr<Primitive>;
 
+// The grasp residual of three contacts (body, left hand, right hand) on an object: how far the
+// contacts' pushes fail to balance. Each contact pushes along its unit normal n_i (from the
+// surface towards the sensor) and may add up to `friction` times that push along the surface;
+// the residual is the least |sum of the contact forces|^2 + moment_weight * (their moment about
+// `center` / size)^2 over those friction allowances. With friction 0 and moment_weight 0 it is the
+// paper's |sum n_i|^2. Friction matters for polygons: a pentagon's best three faces leave
+// |sum n|^2 = 0.38 although the grasp holds firmly.
+struct GraspResidual {
+  double phi = 0.0;             // the residual
+  Vec2 force = Vec2::Zero();    // the unbalanced force (the sum at the optimum)
+  double friction_used[kTactileCount] = {0.0, 0.0, 0.0};  // each contact's tangential share
+};
+GraspResidual grasp_residual(const Vec2 normal[kTactileCount], const Vec2 point[kTactileCount],
+                             const Vec2& center, double size, double moment_weight,
+                             double friction);
+
 // Makes a primitive by name with default parameters. Throws roger::Error listing the known names.
 PrimitivePtr make_primitive(const std::string& name);
 

@@ -377,7 +377,7 @@ TEST_CASE("mistakes in skill scripts name the file and line", "[lua_control]") {
       {"bad_skill_primitive.lua", 3,
        {"roger.primitive: unknown primitive 'phi9'", "known primitives: phi0, search, phi1, phi2, phi3, phi4, phi5"}},
       {"bad_skill_param.lua", 4,
-       {"unknown parameter 'sped' (did you mean 'speed'?)", "phi1's parameters: epsilon, gain,", "speed, memory"}},
+       {"unknown parameter 'sped' (did you mean 'speed'?)", "phi1's parameters: epsilon, gain,", "speed, carry_turn, memory"}},
       {"bad_skill_epsilon.lua", 3, {"roger.primitive('phi3'): parameter 'epsilon' must be within [0, 1000000], got -0.1"}},
       {"bad_skill_nan.lua", 4, {"parameter 'gain' must be a finite number in [0, 100], got nan"}},
       {"bad_skill_string.lua", 3, {"parameter 'speed' must be a number in [0.05, 2], got string 'fast'"}},

@@ -259,3 +259,42 @@ TEST_CASE("phi1 drives around obstacles to the goal without touching them", "[pr
   }
   CHECK(layouts == 20);
 }
+
+TEST_CASE("the grasp residual counts friction: polygons balance, bad grasps do not", "[primitives][grasp]") {
+  // Three contacts on faces of a regular polygon (inradius a) whose outward normals point at the
+  // given angles; contacts at the face centres.
+  auto residual = [](std::array<double, 3> angles, double friction, double moment = 0.25) {
+    const double a = 0.16;
+    Vec2 normal[kTactileCount], point[kTactileCount];
+    for (int k = 0; k < kTactileCount; ++k) {
+      normal[k] = Vec2(std::cos(angles[k]), std::sin(angles[k]));
+      point[k] = a * normal[k];
+    }
+    return grasp_residual(normal, point, Vec2::Zero(), 0.2, moment, friction);
+  };
+  const double deg = M_PI / 180.0;
+  // The ball's ideal grasp balances with or without friction.
+  CHECK(residual({0, 120 * deg, -120 * deg}, 0.0).phi == Approx(0.0).margin(1e-12));
+  CHECK(residual({0, 120 * deg, -120 * deg}, 0.5).phi == Approx(0.0).margin(1e-12));
+  // A pentagon's best three faces: |1 + 2 cos 144|^2 = 0.382 without friction; the hands' tangents
+  // carry 2 f sin 144 of the imbalance, so 0.25 leaves (0.618 - 0.294)^2 = 0.105, and 0.53 enough.
+  const std::array<double, 3> pentagon{0, 144 * deg, 216 * deg};
+  CHECK(residual(pentagon, 0.0).phi == Approx(std::pow(1 + 2 * std::cos(144 * deg), 2)).epsilon(1e-9));
+  CHECK(residual(pentagon, 0.25).phi ==
+        Approx(std::pow(-(1 + 2 * std::cos(144 * deg)) - 0.5 * std::sin(144 * deg), 2)).epsilon(1e-6));
+  CHECK(residual(pentagon, 0.53).phi == Approx(0.0).margin(1e-9));
+  // Hands beside the body (normals at +-60 degrees) cannot be rescued by a little friction.
+  CHECK(residual({0, 60 * deg, -60 * deg}, 0.25).phi > 2.0);
+  // Over random contacts: never above the frictionless value, falling as friction grows, and each
+  // contact's tangential share within its allowance.
+  Rng rng(7);
+  for (int trial = 0; trial < 500; ++trial) {
+    const std::array<double, 3> angles{rng.uniform(-M_PI, M_PI), rng.uniform(-M_PI, M_PI), rng.uniform(-M_PI, M_PI)};
+    const double none = residual(angles, 0.0).phi, some = residual(angles, 0.2).phi;
+    const GraspResidual more = residual(angles, 0.6);
+    CHECK(some <= none + 1e-12);
+    CHECK(more.phi <= some + 1e-12);
+    CHECK(more.phi >= 0.0);
+    for (double t : more.friction_used) CHECK(std::abs(t) <= 0.6 + 1e-9);
+  }
+}
