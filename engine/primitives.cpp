@@ -586,12 +586,11 @@ class Preshape final : public Primitive {
 };
 
 // phi3: contact configuration. Closes body and hands on the object (squeezing slightly inside its
-// surface) at +-spread around it, and reports phi = |sum of unit contact normals|^2 (+ the moment
-// residual for objects that are not disks) measured by touch. CONV needs all three contacts on one
-// object and phi below epsilon. The original's 0.1 was for the ball; the default here is 0.2
-// because polygons cannot always reach 0.1 with face contacts (a pentagon's best three faces leave
-// |sum|^2 = 0.146), and with a friction coefficient near 0.9 such a residual is well inside the
-// contacts' friction cones: the grasp holds.
+// surface) at +-spread around it, and reports phi = the grasp residual of the touch contacts:
+// |sum of unit contact normals|^2 plus the moment residual, less what `friction` lets each contact
+// carry along the surface (grasp_residual). CONV needs all three contacts on one object and phi
+// at most epsilon for `hold` seconds. Without friction a pentagon's best three faces leave 0.38,
+// above any useful epsilon although the grasp holds; with the default 0.25 they leave 0.10.
 class Grasp final : public Primitive {
  public:
   Grasp() : Primitive("phi3", 0.2) {
@@ -664,9 +663,9 @@ class Grasp final : public Primitive {
         const double now = (hand - obj.center).norm();
         const bool touching = p.contact_on_object[kLeftHand + side];
         if (touching) {
-          // Slide the contact along the surface down the gradient of |sum of normals|^2: moving
-          // a contact by d(angle) around the object turns its normal by about d(angle), so
-          // d|S|^2/d(angle) is 2 S . perp(n). The step follows the touched surface (its tangent,
+          // Slide the contact along the surface down the gradient of the residual |S|^2 (S the
+          // unbalanced force): moving a contact by d(angle) around the object turns its normal by
+          // about d(angle), so d|S|^2/d(angle) is about 2 S . perp(n). The step follows the touched surface (its tangent,
           // pressing along its normal), not a circle about the centre, which would cut into a
           // polygon's corner and drag the object round instead of sliding over it.
           const Vec2 n = s.touch[kLeftHand + side].normal;
