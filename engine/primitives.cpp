@@ -96,21 +96,6 @@ ContactGeometry kinematic_contacts(const ControlInput& in, const Vec2& center) {
   return g;
 }
 
-// The grasp quality potential: |sum of unit contact normals|^2, plus the squared moment of the unit
-// normals about the centre (scaled by the object's size) for objects that are not disks.
-double closure_potential(const Vec2 normal[kTactileCount], const Vec2 point[kTactileCount],
-                         const Vec2& center, double size, double moment_weight) {
-  Vec2 sum = Vec2::Zero();
-  double moment = 0.0;
-  for (int t = 0; t < kTactileCount; ++t) {
-    sum += normal[t];
-    const Vec2 r = point[t] - center;
-    moment += r.x() * normal[t].y() - r.y() * normal[t].x();
-  }
-  const double m = moment / std::max(size, 0.05);
-  return sum.squaredNorm() + moment_weight * m * m;
-}
-
 }  // namespace
 
 GraspResidual grasp_residual(const Vec2 normal[kTactileCount], const Vec2 point[kTactileCount],
@@ -579,7 +564,7 @@ class Preshape final : public Primitive {
     reach_targets(in, obj.center, t, false, kArmsAndForward, number("damping"), out, worst);
     cap_steps(out.command, 0.3, 0.6);
     const ContactGeometry g = kinematic_contacts(in, obj.center);
-    out.phi = closure_potential(g.normal, g.point, obj.center, r, 0.0);
+    out.phi = grasp_residual(g.normal, g.point, obj.center, r, 0.0, 0.0).phi;  // |sum n|^2
     out.residual = worst;
     gamma = worst <= epsilon() && out.phi <= number("phi_max") ? Gamma::kConv : Gamma::kNotConv;
   }
@@ -630,8 +615,7 @@ class Grasp final : public Primitive {
     const bool body_on = p.contact_on_object[kBody];
     const Vec2 base(s.base.x, s.base.y);
     const double creep = number("creep");
-    GraspResidual grasp;  // with all three contacts on (has_grasp), computed once per tick
-    bool has_grasp = false;
+    GraspResidual grasp;  // with all three contacts on the object, computed once per tick
     const double body_distance = body_on ? r + in.robot->base_radius - number("body_squeeze")
                                          : (obj.center - base).norm() - creep;
     Targets t = grasp_targets(in, obj.center, std::min(body_distance, r + in.robot->base_radius),
@@ -651,7 +635,6 @@ class Grasp final : public Primitive {
         Vec2 normal[kTactileCount], point[kTactileCount];
         for (int k = 0; k < kTactileCount; ++k) normal[k] = s.touch[k].normal, point[k] = s.touch[k].point;
         grasp = grasp_residual(normal, point, obj.center, r, number("moment"), number("friction"));
-        has_grasp = true;
         sum = grasp.force;
         unbalanced = grasp.phi;
       }
@@ -699,13 +682,10 @@ class Grasp final : public Primitive {
     for (int k = 0; k < kTactileCount; ++k)
       on += p.contact_on_object[k] && s.touch[k].index == p.touched_object;
     if (on == kTactileCount) {
-      Vec2 normal[kTactileCount], point[kTactileCount];
-      for (int k = 0; k < kTactileCount; ++k) normal[k] = s.touch[k].normal, point[k] = s.touch[k].point;
-      out.phi = has_grasp ? grasp.phi
-                          : grasp_residual(normal, point, obj.center, r, number("moment"), number("friction")).phi;
+      out.phi = grasp.phi;  // all three on means the body touches: computed above
     } else {
       const ContactGeometry g = kinematic_contacts(in, obj.center);
-      out.phi = closure_potential(g.normal, g.point, obj.center, r, 0.0) + (kTactileCount - on);
+      out.phi = grasp_residual(g.normal, g.point, obj.center, r, 0.0, 0.0).phi + (kTactileCount - on);
     }
     out.residual = out.phi;
     gamma = on == kTactileCount && out.phi <= epsilon() ? Gamma::kConv : Gamma::kNotConv;
