@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <map>
+#include <tuple>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -161,39 +162,54 @@ TEST_CASE("every context of the paper's curriculum reaches 90% greedy success", 
   }
 }
 
-TEST_CASE("over 10 seeds, the transport contexts' medians order as the paper found", "[trainer][medians]") {
-  // Time-to-threshold (simulated seconds; a trial that never reached it counts at its whole
-  // training time) over seeds 1-10 for each T context. The paper: DC4, DC5 and DC6 far below the
-  // baseline B2 (over 90% faster), DC6 the fastest. The search-grasp half of that finding (DC2
-  // below B1) does not hold in this engine yet: measured over 50 trials, the SG medians were B1
-  // 746 s, DC1 722 s and DC2 1386 s (docs/results.md), so it is not asserted here.
-  const std::vector<std::string> contexts = {"B2", "DC4", "DC5", "DC6"};
-  std::map<std::string, double> median, median_episodes;
-  for (const auto& context : contexts) {
-    std::vector<double> times, episodes;
-    for (uint64_t seed = 1; seed <= 10; ++seed) {
-      TrainOptions o;
-      o.curriculum = "paper";
-      o.stage = "T";
-      o.context = context;
-      o.seed = seed;
-      o.keep_episodes = false;
-      const TrainResult r = train_stage(o);
-      times.push_back(r.reached ? r.to_threshold.sim_s : r.totals.sim_s);
-      episodes.push_back(r.reached ? r.to_threshold.episodes : r.totals.episodes);
-    }
-    std::sort(times.begin(), times.end());
-    std::sort(episodes.begin(), episodes.end());
-    median[context] = 0.5 * (times[4] + times[5]);
-    median_episodes[context] = 0.5 * (episodes[4] + episodes[5]);
-    std::printf("T/%-4s median time-to-threshold over 10 seeds: %.1f simulated s, %.1f episodes\n",
-                context.c_str(), median[context], median_episodes[context]);
+namespace {
+// Median time-to-threshold over seeds 1-10 of one context, in simulated seconds and in episodes;
+// a trial that never reached the threshold counts at its whole training time (censored).
+std::pair<double, double> median_time_to_threshold(const std::string& stage, const std::string& context) {
+  std::vector<double> times, episodes;
+  for (uint64_t seed = 1; seed <= 10; ++seed) {
+    TrainOptions o;
+    o.curriculum = "paper";
+    o.stage = stage;
+    o.context = context;
+    o.seed = seed;
+    o.keep_episodes = false;
+    const TrainResult r = train_stage(o);
+    times.push_back(r.reached ? r.to_threshold.sim_s : r.totals.sim_s);
+    episodes.push_back(r.reached ? r.to_threshold.episodes : r.totals.episodes);
   }
-  INFO("medians: B2 " << median["B2"] << ", DC4 " << median["DC4"] << ", DC5 " << median["DC5"]
+  std::sort(times.begin(), times.end());
+  std::sort(episodes.begin(), episodes.end());
+  const std::pair<double, double> m{0.5 * (times[4] + times[5]), 0.5 * (episodes[4] + episodes[5])};
+  std::printf("%s/%-4s median time-to-threshold over 10 seeds: %.1f simulated s, %.1f episodes\n", stage.c_str(),
+              context.c_str(), m.first, m.second);
+  return m;
+}
+}  // namespace
+
+TEST_CASE("over 10 seeds, the search-grasp contexts' medians order as the paper found", "[trainer][medians]") {
+  // The paper's Table I: DC2 fastest, then DC1, then the baseline B1. Handing over Phi7 (approach
+  // while preshaping) shortens the chain to learn, and DC2, which also drops the primitives Phi7
+  // subsumes, has 27 states against B1's 81.
+  std::map<std::string, double> median;
+  for (const char* c : {"B1", "DC1", "DC2"}) median[c] = median_time_to_threshold("SG", c).first;
+  INFO("medians: B1 " << median["B1"] << ", DC1 " << median["DC1"] << ", DC2 " << median["DC2"] << " simulated s");
+  CHECK(median["DC2"] < median["DC1"]);
+  CHECK(median["DC1"] < median["B1"]);
+  CHECK(median["DC2"] < 0.5 * median["B1"]);
+}
+
+TEST_CASE("over 10 seeds, the transport contexts' medians order as the paper found", "[trainer][medians]") {
+  // The paper: DC4, DC5 and DC6 far below the baseline B2 (over 90% faster), DC6 the fastest, and
+  // DC3 (B2 plus the learned Phi_SG) faster than B2.
+  std::map<std::string, double> median, median_episodes;
+  for (const char* c : {"B2", "DC3", "DC4", "DC5", "DC6"}) std::tie(median[c], median_episodes[c]) = median_time_to_threshold("T", c);
+  INFO("medians: B2 " << median["B2"] << ", DC3 " << median["DC3"] << ", DC4 " << median["DC4"] << ", DC5 " << median["DC5"]
                       << ", DC6 " << median["DC6"] << " simulated s; B2 " << median_episodes["B2"]
                       << ", DC4 " << median_episodes["DC4"] << ", DC5 " << median_episodes["DC5"]
                       << ", DC6 " << median_episodes["DC6"] << " episodes");
-  for (const char* c : {"DC4", "DC5", "DC6"}) CHECK(median[c] < 0.5 * median["B2"]);
+  for (const char* c : {"DC4", "DC5", "DC6"}) CHECK(median[c] < 0.25 * median["B2"]);
+  CHECK(median["DC3"] < median["B2"]);
   // DC6 the lowest, in episodes: DC5 and DC6 both reach the threshold at the first checkpoint
   // (10 episodes), where their simulated seconds differ only by the episodes' lengths, so in this
   // engine the two tie at the measurement's resolution rather than DC6 being clearly faster.
