@@ -69,12 +69,17 @@ void Percepts::update(const Senses& s, const RobotParams& robot) {
 
 void Controller::reset(uint64_t) {
   out_ = ControlOutput{};
-  last_tick_ = state_tick_ = UINT64_MAX;
+  last_tick_ = state_tick_ = settle_tick_ = UINT64_MAX;
   conv_since_ = -1.0;
 }
 
-Gamma Controller::settle(Gamma raw, double time) {
-  // Convergence may have to hold for a while before it counts.
+Gamma Controller::settle(Gamma raw, const ControlInput& in) {
+  // Convergence may have to hold for a while before it counts, and without interruption: a
+  // controller nobody looked at for some ticks (a sequence's idle step, the part of a predicate
+  // that was not needed) starts its hold again.
+  if (in.tick != settle_tick_ + 1) conv_since_ = -1.0;
+  settle_tick_ = in.tick;
+  const double time = in.time;
   if (raw != Gamma::kConv) {
     conv_since_ = -1.0;
     return raw;
@@ -92,7 +97,7 @@ const ControlOutput& Controller::evaluate(const ControlInput& in) {
   Gamma raw = Gamma::kNoRef;
   compute(in, out_, raw);
   if (params_.gain != 1.0) out_.command *= params_.gain;
-  out_.gamma = settle(raw, in.time);
+  out_.gamma = settle(raw, in);
   return out_;
 }
 
@@ -101,21 +106,20 @@ Gamma Controller::state(const ControlInput& in) {
   Gamma raw = Gamma::kNoRef;
   if (!compute_state(in, out_, raw)) return evaluate(in).gamma;
   state_tick_ = in.tick;
-  out_.gamma = settle(raw, in.time);
+  out_.gamma = settle(raw, in);
   return out_.gamma;
 }
 
-DofMatrix nullspace_projector(const TaskJacobian& J, double tolerance) {
-  DofMatrix N = DofMatrix::Identity();
-  if (J.rows() == 0) return N;
-  // An orthonormal basis of J's row space by modified Gram-Schmidt, each row orthogonalized twice
-  // (enough for double precision); a row whose remainder is below `tolerance` times the largest
-  // row norm depends on the others and is dropped, which truncates the pseudoinverse there
-  // instead of letting it blow up. N = I - sum of q q^T. Far cheaper than an SVD per tick.
+namespace {
+
+// An orthonormal basis of J's row space by modified Gram-Schmidt, each row orthogonalized twice
+// (enough for double precision); a row whose remainder is below `tolerance` times the largest row
+// norm depends on the others and is dropped, which truncates the pseudoinverse there instead of
+// letting it blow up. Returns the rank; the basis is its first columns. Far cheaper than an SVD.
+int row_space_basis(const TaskJacobian& J, double tolerance, DofMatrix& basis) {
   double largest = 0.0;
   for (int r = 0; r < J.rows(); ++r) largest = std::max(largest, J.row(r).norm());
-  if (largest <= 0.0) return N;
-  Eigen::Matrix<double, kDofCount, kDofCount> basis;
+  if (largest <= 0.0) return 0;
   int rank = 0;
   for (int r = 0; r < J.rows() && rank < kDofCount; ++r) {
     DofVector v = J.row(r).transpose();
@@ -125,8 +129,27 @@ DofMatrix nullspace_projector(const TaskJacobian& J, double tolerance) {
     if (norm <= tolerance * largest) continue;
     basis.col(rank++) = v / norm;
   }
-  N.noalias() -= basis.leftCols(rank) * basis.leftCols(rank).transpose();
+  return rank;
+}
+
+}  // namespace
+
+DofMatrix nullspace_projector(const TaskJacobian& J, double tolerance) {
+  // N = I - sum of q q^T over the basis, by rank-one updates of fixed size (the product of dynamic
+  // blocks went through Eigen's general matrix kernel, which cost more than the basis itself).
+  DofMatrix N = DofMatrix::Identity();
+  DofMatrix basis;
+  const int rank = row_space_basis(J, tolerance, basis);
+  for (int k = 0; k < rank; ++k) N.noalias() -= basis.col(k) * basis.col(k).transpose();
   return N;
+}
+
+DofVector nullspace_project(const TaskJacobian& J, const DofVector& v, double tolerance) {
+  DofMatrix basis;
+  const int rank = row_space_basis(J, tolerance, basis);
+  DofVector out = v;
+  for (int k = 0; k < rank; ++k) out -= basis.col(k).dot(v) * basis.col(k);
+  return out;
 }
 
 SubjectTo::SubjectTo(ControllerPtr subordinate, ControllerPtr superior)
@@ -159,8 +182,8 @@ void SubjectTo::reset(uint64_t seed) {
 void SubjectTo::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) {
   const ControlOutput& a = sup_->evaluate(in);
   const ControlOutput& b = sub_->evaluate(in);
-  const DofMatrix N = nullspace_projector(a.jacobian);
-  out.command = a.command + N * b.command;
+  const DofVector projected = nullspace_project(a.jacobian, b.command);
+  out.command = a.command + projected;
   const int rows = std::min<int>(kMaxTaskRows, int(a.jacobian.rows() + b.jacobian.rows()));
   out.jacobian.resize(rows, kDofCount);
   const int top = std::min<int>(rows, int(a.jacobian.rows()));
@@ -168,11 +191,11 @@ void SubjectTo::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma
   if (rows > top) out.jacobian.bottomRows(rows - top) = b.jacobian.topRows(rows - top);
   out.phi = a.phi;
   out.residual = a.residual;
-  gamma_raw = combine(in, a, b, &N);
+  gamma_raw = combine(in, a, b, &projected);
 }
 
 Gamma SubjectTo::combine(const ControlInput& in, const ControlOutput& a, const ControlOutput& b,
-                         const DofMatrix* N) const {
+                         const DofVector* projected) const {
   Gamma sub = b.gamma;
   // Blocked by the superior (it asks for motion, none of which survives the projection), or
   // settled where the superior lets it be (its potential no longer falls while it is being
@@ -196,10 +219,7 @@ Gamma SubjectTo::combine(const ControlInput& in, const ControlOutput& a, const C
       }
     }
   }
-  if (!settled) {
-    const DofMatrix projector = N ? *N : nullspace_projector(a.jacobian);
-    settled = (projector * b.command).norm() <= stall;
-  }
+  if (!settled) settled = (projected ? *projected : nullspace_project(a.jacobian, b.command)).norm() <= stall;
   if (settled) sub = Gamma::kConv;
   return std::min(a.gamma, sub);
 }

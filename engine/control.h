@@ -139,12 +139,13 @@ class Controller {
 
  private:
   // Applies the hold time to a raw state (idempotent within a tick).
-  Gamma settle(Gamma raw, double time);
+  Gamma settle(Gamma raw, const ControlInput& in);
   std::string name_;
   ControllerParams params_;
   ControlOutput out_;
   uint64_t last_tick_ = UINT64_MAX;   // tick of the last full evaluation
   uint64_t state_tick_ = UINT64_MAX;  // tick of the last state-only evaluation
+  uint64_t settle_tick_ = UINT64_MAX; // tick of the last settle(), to see gaps in the hold
   double conv_since_ = -1.0;
 };
 
@@ -154,6 +155,8 @@ using ControllerPtr = std::shared_ptr<Controller>;
 // basis of J's row space: rows that depend on the others to within `tolerance` times the largest
 // row add nothing (the pseudoinverse is truncated there rather than blowing up near singularities).
 DofMatrix nullspace_projector(const TaskJacobian& jacobian, double tolerance = 1e-6);
+// N v for the same N, without forming N (what composition needs each tick).
+DofVector nullspace_project(const TaskJacobian& jacobian, const DofVector& v, double tolerance = 1e-6);
 
 // c2 <| c1: the subordinate's command projected into the nullspace of the superior's Jacobian.
 // Its Jacobian stacks both (so chains nest: phi1 <| (phi4 <| phi5)). Its gamma is the weakest of
@@ -177,10 +180,10 @@ class SubjectTo final : public Controller {
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
 
  private:
-  // The composite's gamma from its parts' outputs; N is the superior's nullspace projector, built
-  // on demand (nullptr: not built yet).
+  // The composite's gamma from its parts' outputs; `projected` is the subordinate's command in the
+  // superior's nullspace, computed on demand (nullptr: not computed yet).
   Gamma combine(const ControlInput& in, const ControlOutput& a, const ControlOutput& b,
-                const DofMatrix* N) const;
+                const DofVector* projected) const;
   ControllerPtr sub_, sup_;
   // The subordinate's recent potentials (time, phi), oldest first, for the plateau test.
   static constexpr int kHistory = 64;

@@ -155,10 +155,12 @@ void HarmonicPlanner::find_goal_cells(std::vector<int>& out) const {
   for (int j = j0; j <= j1; ++j)
     for (int i = i0; i <= i1; ++i)
       if (!g.at(i, j) && (g.center(i, j) - goal_center_).norm() <= r) out.push_back(index(i, j));
+  // Listed row by row, so already in index order; the centre's own cell joins in its place.
   int i, j;
-  if (g.cell_of(goal_center_, i, j) && !g.at(i, j)) out.push_back(index(i, j));
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
+  if (g.cell_of(goal_center_, i, j) && !g.at(i, j)) {
+    const auto at = std::lower_bound(out.begin(), out.end(), index(i, j));
+    if (at == out.end() || *at != index(i, j)) out.insert(at, index(i, j));
+  }
 }
 
 bool HarmonicPlanner::update_reachability() {

@@ -26,18 +26,23 @@ class GammaIs final : public Predicate {
 class Combine final : public Predicate {
  public:
   Combine(std::vector<PredicatePtr> parts, bool all) : parts_(std::move(parts)), all_(all) {
-    for (const auto& p : parts_)
+    for (const auto& p : parts_) {
       if (!p) throw Error(std::string(all_ ? "all" : "any") + ": every part must be a predicate");
+      timed_ = timed_ || p->timed();
+    }
   }
   bool holds(const ControlInput& in) override {
-    // Evaluate every part: held() timers must see every tick, so no short-circuit.
+    // With a held() timer inside, every part must see every tick; otherwise the first part that
+    // decides the result ends the evaluation (a controller's own hold restarts after a gap).
     bool result = all_;
     for (auto& p : parts_) {
       const bool h = p->holds(in);
       result = all_ ? (result && h) : (result || h);
+      if (!timed_ && result != all_) break;
     }
     return result;
   }
+  bool timed() const override { return timed_; }
   void reset() override {
     for (auto& p : parts_) p->reset();
   }
@@ -53,6 +58,7 @@ class Combine final : public Predicate {
  private:
   std::vector<PredicatePtr> parts_;
   bool all_;
+  bool timed_ = false;
 };
 
 class Not final : public Predicate {
@@ -64,6 +70,7 @@ class Not final : public Predicate {
   void reset() override { p_->reset(); }
   std::string describe() const override { return "not(" + p_->describe() + ")"; }
   void controllers(std::vector<const Controller*>& out) const override { p_->controllers(out); }
+  bool timed() const override { return p_->timed(); }
 
  private:
   PredicatePtr p_;
@@ -91,6 +98,7 @@ class Held final : public Predicate {
     return "held(" + p_->describe() + ", " + std::to_string(seconds_).substr(0, 5) + " s)";
   }
   void controllers(std::vector<const Controller*>& out) const override { p_->controllers(out); }
+  bool timed() const override { return true; }
 
  private:
   PredicatePtr p_;

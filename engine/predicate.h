@@ -23,6 +23,9 @@ class Predicate {
   virtual std::string describe() const = 0;
   // The controllers it reads, for validation and usage reports.
   virtual void controllers(std::vector<const Controller*>& out) const = 0;
+  // Whether it keeps a timer (held) that must see every tick; all/any without one stop at the
+  // first part that decides them, and so skip evaluating controllers nothing else needs.
+  virtual bool timed() const { return false; }
 };
 
 using PredicatePtr = std::shared_ptr<Predicate>;

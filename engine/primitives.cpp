@@ -309,12 +309,14 @@ class Track final : public Primitive {
 // search: turn to randomly sampled headings, eyes spread to widen the view, until both eyes see
 // the stimulus; as soon as one eye glimpses it, turn that way.
 class Search final : public Primitive {
+  // Where the constructor declared each parameter: reading one is an index, not a name search.
+  struct { ParamSlot spread = 0, reached = 0, min_turn = 0, max_turn = 0; } p_;
  public:
   Search() : Primitive("search", 0.0) {
-    declare("spread", 0.6, 0.0, 1.5, "eye pan (rad) each side while looking around");
-    declare("reached", 0.3, 0.01, 3.0, "heading error (rad) at which a new heading is sampled");
-    declare("min_turn", 1.2, 0.0, 6.3, "smallest sampled turn (rad)");
-    declare("max_turn", 3.2, 0.0, 6.3, "largest sampled turn (rad)");
+    p_.spread = declare("spread", 0.6, 0.0, 1.5, "eye pan (rad) each side while looking around");
+    p_.reached = declare("reached", 0.3, 0.01, 3.0, "heading error (rad) at which a new heading is sampled");
+    p_.min_turn = declare("min_turn", 1.2, 0.0, 6.3, "smallest sampled turn (rad)");
+    p_.max_turn = declare("max_turn", 3.2, 0.0, 6.3, "largest sampled turn (rad)");
   }
   PrimitivePtr clone() const override { return std::make_shared<Search>(*this); }
   void reset(uint64_t seed) override {
@@ -344,13 +346,13 @@ class Search final : public Primitive {
       out.command[kLeftEye] = rel - s.q[kLeftEye];
       out.command[kRightEye] = rel - s.q[kRightEye];
     } else {
-      if (!has_target_ || std::abs(target_ - heading) < number("reached")) {
-        const double turn = rng_.uniform(number("min_turn"), number("max_turn"));
+      if (!has_target_ || std::abs(target_ - heading) < value(p_.reached)) {
+        const double turn = rng_.uniform(value(p_.min_turn), value(p_.max_turn));
         target_ = heading + (rng_.uniform() < 0.5 ? -turn : turn);
         has_target_ = true;
       }
-      out.command[kLeftEye] = number("spread") - s.q[kLeftEye];
-      out.command[kRightEye] = -number("spread") - s.q[kRightEye];
+      out.command[kLeftEye] = value(p_.spread) - s.q[kLeftEye];
+      out.command[kRightEye] = -value(p_.spread) - s.q[kRightEye];
     }
     out.command[kBaseHeading] = clamp_abs(target_ - heading, 1.0);
     out.residual = std::abs(target_ - heading);
@@ -366,23 +368,28 @@ class Search final : public Primitive {
 // ahead of it such as a grasped object) descends the harmonic potential to the goal: an approach
 // ring around the perceived object, or a goal region of the scenario.
 class Navigate final : public Primitive {
+  // Where the constructor declared each parameter: reading one is an index, not a name search.
+  struct {
+    ParamSlot goal = 0, region = 0, approach = 0, carry = 0, speed = 0,
+        carry_turn = 0, memory = 0, margin = 0, replan = 0, tolerance = 0;
+  } p_;
  public:
   Navigate() : Primitive("phi1", 0.05) {
-    declare_text("goal", {"object", "region"}, "approach the perceived object, or reach a goal region");
-    declare("region", 0, 0, 63, "which goal region (index into the scenario's goals) for goal='region'");
-    declare("approach", 0.62, 0.3, 2.0, "approach distance (m) from the object centre to the base");
-    declare("carry", 0.0, 0.0, 1.0, "control point ahead of the base (m): 0 = base centre");
-    declare("speed", 0.9, 0.05, 2.0, "cruise speed (m/s)");
-    declare("carry_turn", 0.6, 0.01, 3.0, "largest heading step (rad) per command while carrying");
-    declare("memory", 2.0, 0.0, 60.0, "seconds a lost object's last position stays a goal");
-    declare("margin", 0.05, 0.0, 1.0, "how far (m) inside a goal region's edge the goal cells end");
-    declare("replan", 0.15, 0.0, 1.0, "how far (m) the object estimate must move to plan again");
+    p_.goal = declare_text("goal", {"object", "region"}, "approach the perceived object, or reach a goal region");
+    p_.region = declare("region", 0, 0, 63, "which goal region (index into the scenario's goals) for goal='region'");
+    p_.approach = declare("approach", 0.62, 0.3, 2.0, "approach distance (m) from the object centre to the base");
+    p_.carry = declare("carry", 0.0, 0.0, 1.0, "control point ahead of the base (m): 0 = base centre");
+    p_.speed = declare("speed", 0.9, 0.05, 2.0, "cruise speed (m/s)");
+    p_.carry_turn = declare("carry_turn", 0.6, 0.01, 3.0, "largest heading step (rad) per command while carrying");
+    p_.memory = declare("memory", 2.0, 0.0, 60.0, "seconds a lost object's last position stays a goal");
+    p_.margin = declare("margin", 0.05, 0.0, 1.0, "how far (m) inside a goal region's edge the goal cells end");
+    p_.replan = declare("replan", 0.15, 0.0, 1.0, "how far (m) the object estimate must move to plan again");
     // Steering needs the direction of the gradient, not the potential to 4 digits: a looser
     // solve than the planner's default halves the sweeps of every plan.
-    declare("tolerance", 2e-3, 1e-8, 0.1, "relative change per sweep at which a plan has converged");
+    p_.tolerance = declare("tolerance", 2e-3, 1e-8, 0.1, "relative change per sweep at which a plan has converged");
     on_params_changed();
   }
-  Navigate(const Navigate& o) : Primitive(o), planner_(planner_params()) {}
+  Navigate(const Navigate& o) : Primitive(o), p_(o.p_), planner_(planner_params()) {}
   PrimitivePtr clone() const override { return std::make_shared<Navigate>(*this); }
   void reset(uint64_t seed) override {
     Primitive::reset(seed);
@@ -403,7 +410,7 @@ class Navigate final : public Primitive {
 
   PlannerParams planner_params() const {
     PlannerParams p;
-    p.tolerance = number("tolerance");
+    p.tolerance = value(p_.tolerance);
     return p;
   }
 
@@ -418,20 +425,20 @@ class Navigate final : public Primitive {
     const Vec2 point = classify(in, true, out, gamma);
     if (gamma != Gamma::kNotConv) return;
     const Senses& s = *in.senses;
-    const double carry = number("carry");
+    const double carry = value(p_.carry);
     out.phi = planner_.potential(point);
     Vec2 dir = planner_.descent(point);
     if (dir.squaredNorm() < 1e-12) dir = (goal_center_ - point).normalized();
     const double slow = std::clamp(out.residual / 0.3, 0.25, 1.0);  // ease into the goal
     const double lookahead = 0.3;                                     // s of motion per command
-    const double speed = number("speed") * slow;
+    const double speed = value(p_.speed) * slow;
     const Vec2 fwd = unit(s.base.theta);
     if (carry > 0.05) {
       // A point ahead of a differential drive moves holonomically: v = u.f, w = u.left / carry.
       // Never back away from what is carried: the body would leave it; turn on the spot instead.
       const Vec2 u = speed * dir;
       out.command[kBaseForward] = std::max(0.0, u.dot(fwd)) * lookahead;
-      const double turn = number("carry_turn");
+      const double turn = value(p_.carry_turn);
       out.command[kBaseHeading] = clamp_abs(u.dot(perp(fwd)) / carry * lookahead, turn);
       // With the way ahead more than a right angle off, rotate towards it at full rate (the
       // formula above vanishes when the goal lies straight behind).
@@ -449,7 +456,7 @@ class Navigate final : public Primitive {
   // says where the carried object really is, if the eyes have it.
   Vec2 control_point(const ControlInput& in) const {
     const Senses& s = *in.senses;
-    const double carry = number("carry");
+    const double carry = value(p_.carry);
     const Vec2 point = Vec2(s.base.x, s.base.y) + carry * unit(s.base.theta);
     if (carry > 0.05 && in.percepts->object.seen &&
         (in.percepts->object.center - point).norm() < 0.5 * carry)
@@ -472,8 +479,8 @@ class Navigate final : public Primitive {
 
   // Sets the planner's grid and goal for this tick; false when there is no goal.
   bool prepare(const ControlInput& in, bool solve) {
-    if (text("goal") == "region") {
-      const size_t k = size_t(number("region"));
+    if (choice(p_.goal) == "region") {
+      const size_t k = size_t(value(p_.region));
       if (k >= in.spec->goals.size()) return false;
       // The region and the grid are fixed for the episode: set them once (the planner would
       // notice that nothing changed, but finding the goal cells each tick is not free).
@@ -483,12 +490,12 @@ class Navigate final : public Primitive {
         planner_.set_grid(*in.grid);
         goal_center_ = in.spec->goals[k].center;
         goal_radius_ = in.spec->goals[k].radius;
-        planner_.set_goal(goal_center_, std::max(0.5 * in.grid->cell, goal_radius_ - number("margin")));
+        planner_.set_goal(goal_center_, std::max(0.5 * in.grid->cell, goal_radius_ - value(p_.margin)));
       }
       return solve ? planner_.update() : planner_.update_reachability();
     }
     VisualObject obj;
-    if (!object_estimate(in, number("memory"), obj, true)) return false;
+    if (!object_estimate(in, value(p_.memory), obj, true)) return false;
     int i, j;
     if (!in.grid->cell_of(obj.center, i, j)) return false;
     // Re-plan only when the estimate has moved by `replan` metres (or more, far away): stereo
@@ -504,10 +511,10 @@ class Navigate final : public Primitive {
     // with the distance (a quarter of it), so the long approach re-plans rarely.
     const double distance = (obj.center - Vec2(in.senses->base.x, in.senses->base.y)).norm();
     if (!planned_ ||
-        (obj.center - goal_center_).norm() > std::max(number("replan"), 0.25 * distance)) {
+        (obj.center - goal_center_).norm() > std::max(value(p_.replan), 0.25 * distance)) {
       planned_ = true;
       goal_center_ = obj.center;
-      goal_radius_ = number("approach");
+      goal_radius_ = value(p_.approach);
       planner_.set_goal(goal_center_, goal_radius_);
     }
     return solve ? planner_.update() : planner_.update_reachability();
@@ -533,15 +540,20 @@ class Navigate final : public Primitive {
 // |sum of unit contact normals|^2 over body and hands. Effectors: base forward and arms; the task
 // (5 rows) leaves the heading, with the arms compensating, free for a subordinate such as phi4.
 class Preshape final : public Primitive {
+  // Where the constructor declared each parameter: reading one is an index, not a name search.
+  struct {
+    ParamSlot standoff = 0, spread = 0, swing = 0, phi_max = 0, reach = 0,
+        memory = 0, damping = 0;
+  } p_;
  public:
   Preshape() : Primitive("phi2", 0.04) {
-    declare("standoff", 0.05, 0.0, 0.5, "gap (m) between the object's surface and the hands and body");
-    declare("spread", 1.85, 1.0, 3.0, "angle (rad) of each hand from the body around the object");
-    declare("swing", 0.15, 0.0, 1.0, "how far (m) a hand swings out while going round the object");
-    declare("phi_max", 1.0, 0.0, 9.0, "largest |sum of normals|^2 counted as preshaped");
-    declare("reach", 1.25, 0.3, 3.0, "objects farther (m) than this from the base are out of reach");
-    declare("memory", 2.0, 0.0, 60.0, "seconds a lost object's last position stays usable");
-    declare("damping", 0.05, 0.0, 1.0, "least-squares damping near singular postures");
+    p_.standoff = declare("standoff", 0.05, 0.0, 0.5, "gap (m) between the object's surface and the hands and body");
+    p_.spread = declare("spread", 1.85, 1.0, 3.0, "angle (rad) of each hand from the body around the object");
+    p_.swing = declare("swing", 0.15, 0.0, 1.0, "how far (m) a hand swings out while going round the object");
+    p_.phi_max = declare("phi_max", 1.0, 0.0, 9.0, "largest |sum of normals|^2 counted as preshaped");
+    p_.reach = declare("reach", 1.25, 0.3, 3.0, "objects farther (m) than this from the base are out of reach");
+    p_.memory = declare("memory", 2.0, 0.0, 60.0, "seconds a lost object's last position stays usable");
+    p_.damping = declare("damping", 0.05, 0.0, 1.0, "least-squares damping near singular postures");
   }
   PrimitivePtr clone() const override { return std::make_shared<Preshape>(*this); }
 
@@ -549,24 +561,24 @@ class Preshape final : public Primitive {
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
     VisualObject obj;
     const Senses& s = *in.senses;
-    if (!object_estimate(in, number("memory"), obj, true) ||
-        (obj.center - Vec2(s.base.x, s.base.y)).norm() > number("reach")) {
+    if (!object_estimate(in, value(p_.memory), obj, true) ||
+        (obj.center - Vec2(s.base.x, s.base.y)).norm() > value(p_.reach)) {
       gamma = Gamma::kNoRef;
       return;
     }
     const double r = std::clamp(obj.radius, 0.05, 0.5);
-    const double standoff = number("standoff");
+    const double standoff = value(p_.standoff);
     const Targets t = grasp_targets(in, obj.center, r + in.robot->base_radius + standoff,
-                                    r + in.robot->hand_radius + standoff, number("spread"),
-                                    number("swing"));
+                                    r + in.robot->hand_radius + standoff, value(p_.spread),
+                                    value(p_.swing));
     double worst = 0.0;
     // Hands and body distance, not the heading: it stays free for a subordinate such as phi4.
-    reach_targets(in, obj.center, t, false, kArmsAndForward, number("damping"), out, worst);
+    reach_targets(in, obj.center, t, false, kArmsAndForward, value(p_.damping), out, worst);
     cap_steps(out.command, 0.3, 0.6);
     const ContactGeometry g = kinematic_contacts(in, obj.center);
     out.phi = grasp_residual(g.normal, g.point, obj.center, r, 0.0, 0.0).phi;  // |sum n|^2
     out.residual = worst;
-    gamma = worst <= epsilon() && out.phi <= number("phi_max") ? Gamma::kConv : Gamma::kNotConv;
+    gamma = worst <= epsilon() && out.phi <= value(p_.phi_max) ? Gamma::kConv : Gamma::kNotConv;
   }
 };
 
@@ -577,20 +589,26 @@ class Preshape final : public Primitive {
 // at most epsilon for `hold` seconds. Without friction a pentagon's best three faces leave 0.38,
 // above any useful epsilon although the grasp holds; with the default 0.25 they leave 0.10.
 class Grasp final : public Primitive {
+  // Where the constructor declared each parameter: reading one is an index, not a name search.
+  struct {
+    ParamSlot squeeze = 0, body_squeeze = 0, creep = 0, slide = 0, light = 0,
+        spread = 0, swing = 0, moment = 0, friction = 0, reach = 0,
+        memory = 0, damping = 0;
+  } p_;
  public:
   Grasp() : Primitive("phi3", 0.2) {
-    declare("squeeze", 0.03, 0.0, 0.2, "how far (m) inside the surface the hands aim");
-    declare("body_squeeze", 0.02, 0.0, 0.2, "how far (m) inside the surface the body aims");
-    declare("creep", 0.04, 0.0, 0.3, "step (m) per command of a body or hand closing until it touches");
-    declare("slide", 0.5, 0.0, 5.0, "rate at which touching hands slide around to balance the normals");
-    declare("light", 0.0, 0.0, 0.2, "press depth (m) of a hand while it slides");
-    declare("spread", 2.0944, 1.0, 3.0, "angle (rad) of each hand from the body around the object");
-    declare("swing", 0.05, 0.0, 1.0, "how far (m) a hand swings out while going round the object");
-    declare("moment", 0.25, 0.0, 10.0, "weight of the moment residual in phi");
-    declare("friction", 0.25, 0.0, 2.0, "share of each contact's push that friction may carry in phi");
-    declare("reach", 1.25, 0.3, 3.0, "objects farther (m) than this from the base are out of reach");
-    declare("memory", 2.0, 0.0, 60.0, "seconds a lost object's last position stays usable");
-    declare("damping", 0.05, 0.0, 1.0, "least-squares damping near singular postures");
+    p_.squeeze = declare("squeeze", 0.03, 0.0, 0.2, "how far (m) inside the surface the hands aim");
+    p_.body_squeeze = declare("body_squeeze", 0.02, 0.0, 0.2, "how far (m) inside the surface the body aims");
+    p_.creep = declare("creep", 0.04, 0.0, 0.3, "step (m) per command of a body or hand closing until it touches");
+    p_.slide = declare("slide", 0.5, 0.0, 5.0, "rate at which touching hands slide around to balance the normals");
+    p_.light = declare("light", 0.0, 0.0, 0.2, "press depth (m) of a hand while it slides");
+    p_.spread = declare("spread", 2.0944, 1.0, 3.0, "angle (rad) of each hand from the body around the object");
+    p_.swing = declare("swing", 0.05, 0.0, 1.0, "how far (m) a hand swings out while going round the object");
+    p_.moment = declare("moment", 0.25, 0.0, 10.0, "weight of the moment residual in phi");
+    p_.friction = declare("friction", 0.25, 0.0, 2.0, "share of each contact's push that friction may carry in phi");
+    p_.reach = declare("reach", 1.25, 0.3, 3.0, "objects farther (m) than this from the base are out of reach");
+    p_.memory = declare("memory", 2.0, 0.0, 60.0, "seconds a lost object's last position stays usable");
+    p_.damping = declare("damping", 0.05, 0.0, 1.0, "least-squares damping near singular postures");
     // A grasp counts once it has held for a few ticks: a hand that closes with a bounce touches
     // for a tick and is off again.
     set_number("hold", 0.1);
@@ -602,8 +620,8 @@ class Grasp final : public Primitive {
     const Senses& s = *in.senses;
     const Percepts& p = *in.percepts;
     VisualObject obj;
-    const bool seen = object_estimate(in, number("memory"), obj);
-    if (!seen || (obj.center - Vec2(s.base.x, s.base.y)).norm() > number("reach")) {
+    const bool seen = object_estimate(in, value(p_.memory), obj);
+    if (!seen || (obj.center - Vec2(s.base.x, s.base.y)).norm() > value(p_.reach)) {
       gamma = Gamma::kNoRef;
       return;
     }
@@ -614,13 +632,13 @@ class Grasp final : public Primitive {
     // Squeezing before the body touches would pin the object and keep the body from reaching it.
     const bool body_on = p.contact_on_object[kBody];
     const Vec2 base(s.base.x, s.base.y);
-    const double creep = number("creep");
+    const double creep = value(p_.creep);
     GraspResidual grasp;  // with all three contacts on the object, computed once per tick
-    const double body_distance = body_on ? r + in.robot->base_radius - number("body_squeeze")
+    const double body_distance = body_on ? r + in.robot->base_radius - value(p_.body_squeeze)
                                          : (obj.center - base).norm() - creep;
     Targets t = grasp_targets(in, obj.center, std::min(body_distance, r + in.robot->base_radius),
-                              r + in.robot->hand_radius + 0.01, number("spread"), number("swing"));
-    t.body_press = number("body_squeeze");
+                              r + in.robot->hand_radius + 0.01, value(p_.spread), value(p_.swing));
+    t.body_press = value(p_.body_squeeze);
     if (body_on) {
       // What the contacts leave unbalanced: with all three on the object, the grasp residual
       // (friction included); before that, the sum of the unit normals measured by touch (each
@@ -634,13 +652,13 @@ class Grasp final : public Primitive {
       if (touching_count == kTactileCount) {
         Vec2 normal[kTactileCount], point[kTactileCount];
         for (int k = 0; k < kTactileCount; ++k) normal[k] = s.touch[k].normal, point[k] = s.touch[k].point;
-        grasp = grasp_residual(normal, point, obj.center, r, number("moment"), number("friction"));
+        grasp = grasp_residual(normal, point, obj.center, r, value(p_.moment), value(p_.friction));
         sum = grasp.force;
         unbalanced = grasp.phi;
       }
       // Press lightly while the grasp is unbalanced, so the hands can slide, and firmly once it
       // balances.
-      const double press = unbalanced > epsilon() ? number("light") : number("squeeze");
+      const double press = unbalanced > epsilon() ? value(p_.light) : value(p_.squeeze);
       for (int side = 0; side < 2; ++side) {
         const Vec2 hand = in.percepts->arms[side].hand;
         const double now = (hand - obj.center).norm();
@@ -653,7 +671,7 @@ class Grasp final : public Primitive {
           // polygon's corner and drag the object round instead of sliding over it.
           const Vec2 n = s.touch[kLeftHand + side].normal;
           const Vec2 tangent(-n.y(), n.x());
-          const double slide = std::clamp(-number("slide") * sum.dot(tangent), -0.3, 0.3);
+          const double slide = std::clamp(-value(p_.slide) * sum.dot(tangent), -0.3, 0.3);
           t.hand[side] = hand + slide * now * tangent - press * n;
         } else {
           const Vec2 out_dir = (t.hand[side] - obj.center).normalized();
@@ -667,7 +685,7 @@ class Grasp final : public Primitive {
     // body pressed on (its own row: the distance to the object along the heading).
     const bool hand_on = p.contact_on_object[kLeftHand] || p.contact_on_object[kRightHand];
     reach_targets(in, obj.center, t, true, !body_on ? kArmsAndBase : hand_on ? kArmsOnly : kArmsAndForward,
-                  number("damping"), out, worst);
+                  value(p_.damping), out, worst);
     if (body_on && hand_on) {
       const Vec2 to_obj = obj.center - base;
       const double d = to_obj.norm();
@@ -698,9 +716,11 @@ class Grasp final : public Primitive {
 // superior's contacts where they are. It is an optimization, not a constraint: as a superior it
 // protects only its gradient direction (a one-row Jacobian).
 class Condition final : public Primitive {
+  // Where the constructor declared each parameter: reading one is an index, not a name search.
+  struct { ParamSlot rate = 0; } p_;
  public:
   Condition() : Primitive("phi4", 0.05) {
-    declare("rate", 0.15, 0.0, 5.0, "step per tick per unit gradient (rad)");
+    p_.rate = declare("rate", 0.15, 0.0, 5.0, "step per tick per unit gradient (rad)");
   }
   PrimitivePtr clone() const override { return std::make_shared<Condition>(*this); }
 
@@ -714,7 +734,7 @@ class Condition final : public Primitive {
       out.phi += std::cos(q) * std::cos(q);
       const double g = -std::sin(2.0 * q);  // d/dq cos^2(q)
       grad2 += g * g;
-      out.command[dof] = -number("rate") * g;
+      out.command[dof] = -value(p_.rate) * g;
     }
     out.jacobian.resize(grad2 > 0.0 ? 1 : 0, kDofCount);
     if (grad2 > 0.0) out.jacobian.row(0) = -out.command.transpose();
@@ -728,14 +748,16 @@ class Condition final : public Primitive {
 // acceleration so the grasp carries the object's inertia; its task is the hands' position in the
 // base frame (the arm joints). NOREF as soon as a contact is lost.
 class Hold final : public Primitive {
+  // Where the constructor declared each parameter: reading one is an index, not a name search.
+  struct { ParamSlot squeeze = 0, pull = 0, lead = 0, moment = 0, friction = 0, damping = 0; } p_;
  public:
   Hold() : Primitive("phi5", 0.3) {
-    declare("squeeze", 0.03, 0.0, 0.2, "press depth (m) of each hand along its contact normal");
-    declare("pull", 0.03, 0.0, 0.2, "how far (m) the hands draw the object onto the body");
-    declare("lead", 0.04, 0.0, 1.0, "hand lead per unit of base acceleration (m per m/s^2)");
-    declare("moment", 0.25, 0.0, 10.0, "weight of the moment residual in phi");
-    declare("friction", 0.5, 0.0, 2.0, "share of each contact's push that friction may carry in phi");
-    declare("damping", 0.05, 0.0, 1.0, "least-squares damping near singular postures");
+    p_.squeeze = declare("squeeze", 0.03, 0.0, 0.2, "press depth (m) of each hand along its contact normal");
+    p_.pull = declare("pull", 0.03, 0.0, 0.2, "how far (m) the hands draw the object onto the body");
+    p_.lead = declare("lead", 0.04, 0.0, 1.0, "hand lead per unit of base acceleration (m per m/s^2)");
+    p_.moment = declare("moment", 0.25, 0.0, 10.0, "weight of the moment residual in phi");
+    p_.friction = declare("friction", 0.5, 0.0, 2.0, "share of each contact's push that friction may carry in phi");
+    p_.damping = declare("damping", 0.05, 0.0, 1.0, "least-squares damping near singular postures");
   }
   PrimitivePtr clone() const override { return std::make_shared<Hold>(*this); }
   void reset(uint64_t seed) override {
@@ -770,20 +792,20 @@ class Hold final : public Primitive {
     const Vec2 base(s.base.x, s.base.y);
     const Vec2 mid = 0.5 * (in.percepts->arms[kLeft].hand + in.percepts->arms[kRight].hand);
     const Vec2 to_body = on[kBody] ? s.touch[kBody].normal : Vec2((base - mid).normalized());
-    const double pull = on[kBody] ? number("pull") : 2.0 * number("pull");
+    const double pull = on[kBody] ? value(p_.pull) : 2.0 * value(p_.pull);
     for (int side = 0; side < 2; ++side) {
       hand_jacobian(in, side, Jh);
       J.middleRows<2>(2 * side) = Jh;
       const Touch& touch = s.touch[kLeftHand + side];
       // Press into the surface, draw the object onto the body (so its contact is kept while the
       // base pulls and turns), and lead with the base's acceleration where that pushes inward.
-      Vec2 err = -number("squeeze") * touch.normal + pull * to_body;
+      Vec2 err = -value(p_.squeeze) * touch.normal + pull * to_body;
       const double inward = -accel.dot(touch.normal);
-      if (inward > 0) err += -number("lead") * inward * touch.normal;
+      if (inward > 0) err += -value(p_.lead) * inward * touch.normal;
       e.segment<2>(2 * side) = err;
     }
     static const DofVector arms = mask({kLeftShoulder, kLeftElbow, kRightShoulder, kRightElbow});
-    out.command = damped_solve<4>(J, e, arms, number("damping"));
+    out.command = damped_solve<4>(J, e, arms, value(p_.damping));
     cap_steps(out.command, 0.1, 0.3);
     Vec2 normal[kTactileCount], point[kTactileCount];
     for (int k = 0; k < kTactileCount; ++k) normal[k] = s.touch[k].normal, point[k] = s.touch[k].point;
@@ -791,8 +813,8 @@ class Hold final : public Primitive {
     const Vec2 center = object_estimate(in, 1e9, obj)
                             ? obj.center
                             : Vec2((point[0] + point[1] + point[2]) / 3.0);
-    out.phi = grasp_residual(normal, point, center, std::max(obj.radius, 0.1), number("moment"),
-                             number("friction")).phi;
+    out.phi = grasp_residual(normal, point, center, std::max(obj.radius, 0.1), value(p_.moment),
+                             value(p_.friction)).phi;
     out.residual = out.phi;
     if (!on[kBody]) {
       gamma = Gamma::kNoRef;
@@ -821,20 +843,22 @@ Primitive::Primitive(std::string kind, double default_epsilon) : kind_(std::move
   declare("plateau", 0.3, 0.0, 60.0, "seconds over which a subordinate's potential must settle");
 }
 
-void Primitive::declare(const std::string& name, double value, double min, double max,
-                        const std::string& help) {
+Primitive::ParamSlot Primitive::declare(const std::string& name, double value, double min, double max,
+                                        const std::string& help) {
   ParamDef d;
   d.name = name, d.value = value, d.min = min, d.max = max, d.help = help;
   defs_.push_back(d);
   on_param(name, value);
+  return defs_.size() - 1;
 }
 
-void Primitive::declare_text(const std::string& name, std::vector<std::string> choices,
-                             const std::string& help) {
+Primitive::ParamSlot Primitive::declare_text(const std::string& name, std::vector<std::string> choices,
+                                             const std::string& help) {
   ParamDef d;
   d.name = name, d.choices = std::move(choices), d.help = help;
   d.text = d.choices.front();
   defs_.push_back(d);
+  return defs_.size() - 1;
 }
 
 void Primitive::on_param(const std::string& name, double value) {
