@@ -67,6 +67,12 @@ TEST_CASE("the nullspace projector annihilates the task: J N = 0", "[control]") 
   const DofMatrix N = nullspace_projector(J);
   CHECK((J * N).norm() < 1e-9);
   CHECK(std::abs(N.trace() - (kDofCount - 2)) < 1e-9);
+  // N v without forming N is the same vector.
+  for (int rows = 0; rows <= 9; ++rows) {
+    const TaskJacobian Jr = random_jacobian(rng, rows);
+    const DofVector v = random_vector(rng);
+    CHECK((nullspace_project(Jr, v) - nullspace_projector(Jr) * v).norm() < 1e-12);
+  }
   // No task: everything is free.
   CHECK((nullspace_projector(TaskJacobian(0, kDofCount)) - DofMatrix::Identity()).norm() == 0.0);
 }
@@ -126,6 +132,22 @@ TEST_CASE("evaluation is cached per tick, and hold delays convergence", "[contro
   CHECK(c->evaluate(at_tick(4, 0.12)).gamma == Gamma::kNotConv);
   c->next = Gamma::kConv;
   CHECK(c->evaluate(at_tick(5, 0.14)).gamma == Gamma::kNotConv);  // the hold starts again
+}
+
+TEST_CASE("a hold must be watched without a gap: ticks nobody evaluated restart it", "[control]") {
+  auto c = std::make_shared<Scripted>("c");
+  c->params().hold = 0.1;
+  c->next = Gamma::kConv;
+  CHECK(c->evaluate(at_tick(1, 0.00)).gamma == Gamma::kNotConv);
+  CHECK(c->evaluate(at_tick(2, 0.02)).gamma == Gamma::kNotConv);
+  // Ticks 3 to 9 unseen (an idle sequence step, a predicate part not needed): CONV at tick 10 is
+  // the start of a new hold, not the end of one begun at tick 1.
+  CHECK(c->evaluate(at_tick(10, 0.18)).gamma == Gamma::kNotConv);
+  for (uint64_t t = 11; t <= 14; ++t) CHECK(c->evaluate(at_tick(t, 0.18 + 0.02 * double(t - 10))).gamma == Gamma::kNotConv);
+  CHECK(c->evaluate(at_tick(15, 0.28)).gamma == Gamma::kConv);
+  // The state-only path keeps the same watch.
+  CHECK(c->state(at_tick(16, 0.30)) == Gamma::kConv);
+  CHECK(c->state(at_tick(20, 0.38)) == Gamma::kNotConv);
 }
 
 TEST_CASE("a sequence advances on CONV and falls back on NOREF", "[control]") {

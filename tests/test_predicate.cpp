@@ -1,0 +1,105 @@
+// Tests of engine/predicate: converged / gamma_is, all / any / not, held for t seconds, and which
+// controllers a predicate evaluates at a tick.
+#include <catch2/catch.hpp>
+
+#include "predicate.h"
+
+using namespace roger;
+
+namespace {
+
+// A controller whose gamma the test sets, counting its evaluations.
+class Scripted final : public Controller {
+ public:
+  explicit Scripted(std::string name) { set_name(std::move(name)); }
+  const char* kind() const override { return "scripted"; }
+  Gamma next = Gamma::kNotConv;
+  int evaluations = 0;
+
+ protected:
+  void compute(const ControlInput&, ControlOutput&, Gamma& gamma) override {
+    ++evaluations;
+    gamma = next;
+  }
+};
+
+ControlInput at_tick(uint64_t tick, double time) {
+  ControlInput in;
+  in.tick = tick;
+  in.time = time;
+  in.dt = 0.02;
+  return in;
+}
+
+}  // namespace
+
+TEST_CASE("converged, gamma_is, all, any and not read the tick's states", "[predicate]") {
+  auto a = std::make_shared<Scripted>("a"), b = std::make_shared<Scripted>("b");
+  auto both = all_of({converged(a), converged(b)});
+  auto either = any_of({converged(a), converged(b)});
+  auto neither = negate(either);
+  auto a_noref = gamma_is(a, Gamma::kNoRef);
+  uint64_t tick = 0;
+  const Gamma gammas[] = {Gamma::kNoRef, Gamma::kNotConv, Gamma::kConv};
+  for (Gamma ga : gammas)
+    for (Gamma gb : gammas) {
+      a->next = ga, b->next = gb;
+      const ControlInput in = at_tick(++tick, 0.02 * double(tick));
+      const bool ca = ga == Gamma::kConv, cb = gb == Gamma::kConv;
+      INFO(gamma_name(ga) << " " << gamma_name(gb));
+      CHECK(both->holds(in) == (ca && cb));
+      CHECK(either->holds(in) == (ca || cb));
+      CHECK(neither->holds(in) == !(ca || cb));
+      CHECK(a_noref->holds(in) == (ga == Gamma::kNoRef));
+    }
+  CHECK(all_of({})->holds(at_tick(++tick, 1.0)));
+  CHECK_FALSE(any_of({})->holds(at_tick(++tick, 1.0)));
+  CHECK(both->describe() == "all(converged(a), converged(b))");
+}
+
+TEST_CASE("all and any evaluate no controller beyond the part that decides them", "[predicate]") {
+  // The transport goal all(converged(phi1), converged(phi4 <| phi5)) must not compute the grasp
+  // keeper on every tick of the search, where phi1 is not even at the goal.
+  auto cheap = std::make_shared<Scripted>("cheap"), costly = std::make_shared<Scripted>("costly");
+  auto both = all_of({converged(cheap), converged(costly)});
+  auto either = any_of({converged(cheap), converged(costly)});
+  cheap->next = Gamma::kNotConv;
+  for (uint64_t t = 1; t <= 10; ++t) CHECK_FALSE(both->holds(at_tick(t, 0.02 * double(t))));
+  CHECK(costly->evaluations == 0);
+  cheap->next = Gamma::kConv;
+  for (uint64_t t = 11; t <= 20; ++t) CHECK(either->holds(at_tick(t, 0.02 * double(t))));
+  CHECK(costly->evaluations == 0);
+  // Once the first part holds, all() needs the second.
+  costly->next = Gamma::kConv;
+  CHECK(both->holds(at_tick(21, 0.42)));
+  CHECK(costly->evaluations == 1);
+}
+
+TEST_CASE("with held() inside, every part sees every tick, and held times without a gap", "[predicate]") {
+  auto a = std::make_shared<Scripted>("a"), b = std::make_shared<Scripted>("b");
+  auto timed = all_of({converged(a), held(converged(b), 0.1)});
+  REQUIRE(timed->timed());
+  CHECK_FALSE(all_of({converged(a), converged(b)})->timed());
+  CHECK(negate(held(converged(b), 0.1))->timed());
+  a->next = Gamma::kNotConv, b->next = Gamma::kConv;
+  uint64_t tick = 0;
+  double time = 0.0;
+  // a is not converged, yet b's timer runs: it must have watched b all along.
+  for (; tick < 10; ++tick, time += 0.02) CHECK_FALSE(timed->holds(at_tick(tick + 1, time)));
+  CHECK(b->evaluations == 10);
+  a->next = Gamma::kConv;
+  CHECK(timed->holds(at_tick(++tick, time)));  // b converged for 0.2 s already
+  // An interruption restarts held().
+  b->next = Gamma::kNotConv;
+  time += 0.02;
+  CHECK_FALSE(timed->holds(at_tick(++tick, time)));
+  b->next = Gamma::kConv;
+  for (int k = 0; k < 5; ++k) {
+    time += 0.02;
+    CHECK_FALSE(timed->holds(at_tick(++tick, time)));  // 0.0 .. 0.08 s held
+  }
+  time += 0.02;
+  CHECK(timed->holds(at_tick(++tick, time)));          // 0.1 s
+  timed->reset();
+  CHECK_FALSE(timed->holds(at_tick(++tick, time + 0.02)));
+}
