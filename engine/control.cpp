@@ -112,10 +112,13 @@ Gamma Controller::state(const ControlInput& in) {
 
 namespace {
 
-// An orthonormal basis of J's row space by modified Gram-Schmidt, each row orthogonalized twice
-// (enough for double precision); a row whose remainder is below `tolerance` times the largest row
-// norm depends on the others and is dropped, which truncates the pseudoinverse there instead of
-// letting it blow up. Returns the rank; the basis is its first columns. Far cheaper than an SVD.
+// An orthonormal basis of J's row space by modified Gram-Schmidt; a row whose orthogonalization
+// cancelled much of it (its norm fell below 1/sqrt 2 of what it was) is orthogonalized once more,
+// which is enough for double precision (Daniel, Gragg, Kaufman and Stewart), while the common
+// rows, unit rows of the dofs a primitive owns, take one pass. A row whose remainder is below
+// `tolerance` times the largest row norm depends on the others and is dropped, which truncates
+// the pseudoinverse there instead of letting it blow up. Returns the rank; the basis is its first
+// columns. Far cheaper than an SVD.
 int row_space_basis(const TaskJacobian& J, double tolerance, DofMatrix& basis) {
   double largest = 0.0;
   for (int r = 0; r < J.rows(); ++r) largest = std::max(largest, J.row(r).norm());
@@ -123,8 +126,11 @@ int row_space_basis(const TaskJacobian& J, double tolerance, DofMatrix& basis) {
   int rank = 0;
   for (int r = 0; r < J.rows() && rank < kDofCount; ++r) {
     DofVector v = J.row(r).transpose();
-    for (int pass = 0; pass < 2; ++pass)
+    for (int pass = 0; pass < 2; ++pass) {
+      const double before = v.squaredNorm();
       for (int k = 0; k < rank; ++k) v -= basis.col(k).dot(v) * basis.col(k);
+      if (v.squaredNorm() >= 0.5 * before) break;
+    }
     const double norm = v.norm();
     if (norm <= tolerance * largest) continue;
     basis.col(rank++) = v / norm;

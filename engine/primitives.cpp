@@ -64,9 +64,12 @@ DofVector damped_solve(const Eigen::Matrix<double, Rows, kDofCount>& J_full,
   Eigen::Matrix<double, Rows, kDofCount> J = J_full;
   for (int c = 0; c < kDofCount; ++c)
     if (use[c] == 0.0) J.col(c).setZero();
-  Eigen::Matrix<double, Rows, Rows> A = J * J.transpose();
+  // Coefficient-wise products: at these sizes Eigen would otherwise route J J^T through its
+  // general matrix kernel, whose set-up costs more than the arithmetic.
+  Eigen::Matrix<double, Rows, Rows> A = J.lazyProduct(J.transpose());
   A.diagonal().array() += lambda * lambda;
-  return J.transpose() * A.ldlt().solve(e);
+  const Eigen::Matrix<double, Rows, 1> y = A.ldlt().solve(e);
+  return J.transpose().lazyProduct(y);
 }
 
 // Caps each joint's step so one tick's command never asks for a leap the linearization cannot
@@ -141,9 +144,11 @@ GraspResidual grasp_residual(const Vec2 normal[kTactileCount], const Vec2 point[
       using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3>;
       Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 3> Af(3, free_count);
       for (int k = 0; k < free_count; ++k) Af.col(k) = A.col(free_index[k]);
-      Small M = Af.transpose() * Af;
+      // (Coefficient-wise products: dynamic sizes would go through the general matrix kernel.)
+      Small M = Af.transpose().lazyProduct(Af);
       M.diagonal().array() += 1e-12;
-      const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1> tf = M.ldlt().solve(-Af.transpose() * rhs);
+      const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1> g = -Af.transpose().lazyProduct(rhs);
+      const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1> tf = M.ldlt().solve(g);
       bool inside = true;
       for (int k = 0; k < free_count; ++k) {
         inside = inside && std::abs(tf[k]) <= friction + 1e-12;

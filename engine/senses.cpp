@@ -32,6 +32,13 @@ bool extent_of(const SeenSurface& s, const Vec2& eye, double eye_heading, Extent
       lo = center_angle - half, hi = center_angle + half, distance = d - s.radius;
     }
   } else {
+    // Outside the field of view even as its bounding disk: skip the per-vertex work (the disk's
+    // extent contains the polygon's, so this never hides what the test below would show).
+    const double d = to_center.norm();
+    if (d > s.radius) {
+      const double half = std::asin(s.radius / d) + 1e-9;
+      if (center_angle + half <= -kHalfFov || center_angle - half >= kHalfFov) return false;
+    }
     // Vertex angles relative to the centre direction: a convex polygon seen from outside spans
     // less than pi, so min and max give its extent without wrap-around trouble.
     const double ref = center_angle + eye_heading;
@@ -95,6 +102,7 @@ void append_seen_surfaces(std::vector<SeenSurface>& out, const Shape& shape, con
     Vec2 sum = Vec2::Zero();
     for (int i = 0; i < s.vertex_count; ++i) sum += (s.vertices[i] = to_world(pose, poly.vertices[i]));
     s.center = sum / s.vertex_count;
+    for (int i = 0; i < s.vertex_count; ++i) s.radius = std::max(s.radius, (s.vertices[i] - s.center).norm());
     out.push_back(s);
   }
   for (const auto& disk : shape.disks) {

@@ -66,7 +66,7 @@ struct SeenSurface {
   Colour colour;
   bool is_disk = true;
   Vec2 center = Vec2::Zero();  // disk centre, or polygon centroid
-  double radius = 0.0;         // disk radius
+  double radius = 0.0;         // disk radius; polygon: the largest distance of a vertex from the centroid
   int vertex_count = 0;        // polygon vertices, world frame
   std::array<Vec2, 8> vertices;
 };
