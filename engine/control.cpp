@@ -197,11 +197,11 @@ void SubjectTo::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma
   if (rows > top) out.jacobian.bottomRows(rows - top) = b.jacobian.topRows(rows - top);
   out.phi = a.phi;
   out.residual = a.residual;
-  gamma_raw = combine(in, a, b, &projected);
+  gamma_raw = combine(in, a, b, projected);
 }
 
 Gamma SubjectTo::combine(const ControlInput& in, const ControlOutput& a, const ControlOutput& b,
-                         const DofVector* projected) const {
+                         const DofVector& projected) const {
   Gamma sub = b.gamma;
   // Blocked by the superior (it asks for motion, none of which survives the projection), or
   // settled where the superior lets it be (its potential no longer falls while it is being
@@ -225,7 +225,7 @@ Gamma SubjectTo::combine(const ControlInput& in, const ControlOutput& a, const C
       }
     }
   }
-  if (!settled) settled = (projected ? *projected : nullspace_project(a.jacobian, b.command)).norm() <= stall;
+  if (!settled) settled = projected.norm() <= stall;
   if (settled) sub = Gamma::kConv;
   return std::min(a.gamma, sub);
 }

@@ -180,10 +180,10 @@ class SubjectTo final : public Controller {
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
 
  private:
-  // The composite's gamma from its parts' outputs; `projected` is the subordinate's command in the
-  // superior's nullspace, computed on demand (nullptr: not computed yet).
+  // The composite's gamma from its parts' outputs and the subordinate's command projected into
+  // the superior's nullspace.
   Gamma combine(const ControlInput& in, const ControlOutput& a, const ControlOutput& b,
-                const DofVector* projected) const;
+                const DofVector& projected) const;
   ControllerPtr sub_, sup_;
   // The subordinate's recent potentials (time, phi), oldest first, for the plateau test.
   static constexpr int kHistory = 64;
