@@ -174,6 +174,9 @@ namespace {
 struct Targets {
   double body_distance;
   double body_press = 0.0;  // how far (m) the body may still push once it touches the object
+  // body_distance only as a least distance: nearer is pushed back out, farther is left free (no
+  // row in the task), so a subordinate may choose the body's distance.
+  bool body_keep_out = false;
   Vec2 hand[2];
 };
 
@@ -232,6 +235,13 @@ void reach_targets(const ControlInput& in, const Vec2& center, const Targets& t,
   // the object's size says (a polygon's corner may be nearer than its estimated radius); pushing
   // on would only shove the object away.
   if (in.percepts->contact_on_object[kBody]) e(4) = std::max(e(4), -t.body_press);
+  if (t.body_keep_out) {
+    // A zero row leaves the command alone and is skipped by the nullspace projection. Once pushing
+    // back, aim 1 cm beyond the bound: approaching it only asymptotically would keep the row
+    // active, and with it the body's distance locked, for ever.
+    if (e(4) <= 0.0) J.row(4).setZero(), e(4) = 0.0;
+    else e(4) += 0.01;
+  }
   worst_error = std::max(worst_error, std::abs(e(4)));
   // When closing a grasp (`facing`: phi3), a hand folded towards its own shoulder (elbow beyond
   // 2.5 rad) is near a singularity: the shoulder barely moves it, and the least-squares step can
@@ -544,11 +554,15 @@ class Navigate final : public Primitive {
 // the line to the object and the hands to a standoff circle at +-spread around it; phi is
 // |sum of unit contact normals|^2 over body and hands. Effectors: base forward and arms; the task
 // (5 rows) leaves the heading, with the arms compensating, free for a subordinate such as phi4.
+// With body = "clear" the body's distance is only bounded below by the standoff (4 rows while
+// clear of it), so a subordinate may also move the base along the line, arms compensating. That
+// is the freedom phi4 needs: with only the heading free, as in "standoff", a preshape symmetric
+// about the line leaves phi4 nothing to gain (turning opens one elbow and closes the other).
 class Preshape final : public Primitive {
   // Where the constructor declared each parameter: reading one is an index, not a name search.
   struct {
     ParamSlot standoff = 0, spread = 0, swing = 0, phi_max = 0, reach = 0,
-        memory = 0, damping = 0;
+        memory = 0, damping = 0, body = 0;
   } p_;
  public:
   Preshape() : Primitive("phi2", 0.04) {
@@ -559,6 +573,8 @@ class Preshape final : public Primitive {
     p_.reach = declare("reach", 1.25, 0.3, 3.0, "objects farther (m) than this from the base are out of reach");
     p_.memory = declare("memory", 2.0, 0.0, 60.0, "seconds a lost object's last position stays usable");
     p_.damping = declare("damping", 0.05, 0.0, 1.0, "least-squares damping near singular postures");
+    p_.body = declare_text("body", {"standoff", "clear"},
+                           "body to the standoff, or only kept clear of it (its distance left to a subordinate)");
   }
   PrimitivePtr clone() const override { return std::make_shared<Preshape>(*this); }
 
@@ -573,9 +589,10 @@ class Preshape final : public Primitive {
     }
     const double r = std::clamp(obj.radius, 0.05, 0.5);
     const double standoff = value(p_.standoff);
-    const Targets t = grasp_targets(in, obj.center, r + in.robot->base_radius + standoff,
-                                    r + in.robot->hand_radius + standoff, value(p_.spread),
-                                    value(p_.swing));
+    Targets t = grasp_targets(in, obj.center, r + in.robot->base_radius + standoff,
+                              r + in.robot->hand_radius + standoff, value(p_.spread),
+                              value(p_.swing));
+    t.body_keep_out = choice(p_.body) == "clear";
     double worst = 0.0;
     // Hands and body distance, not the heading: it stays free for a subordinate such as phi4.
     reach_targets(in, obj.center, t, false, kArmsAndForward, value(p_.damping), out, worst);

@@ -152,20 +152,33 @@ TEST_CASE("phi4 <| phi5 keeps the grasp while the base drives 2 m and turns", "[
   CHECK(kept >= trials - 1);
 }
 
-TEST_CASE("phi4 <| phi2: the superior descends as fast as alone, phi4 acts only in its nullspace",
+TEST_CASE("phi4 <| phi2: the superior descends as fast as alone while phi4 improves in its nullspace",
           "[episode][nullspace]") {
-  // From the same moment (after approaching the ball), run phi2 alone and phi4 <| phi2 for a
-  // second: phi2's residual must fall just as fast either way (within 5%), and on the robot, at
-  // every tick, what phi4 adds must be invisible to phi2's task (J2 N u4 = 0).
+  // From the same moment (after approaching the ball), run phi2 alone and phi4 <| phi2 for 5 s:
+  // phi2's residual must fall just as fast either way (within 5%), phi4's potential must end
+  // well below where phi2 alone leaves it, and on the robot, at every tick, what phi4 adds must
+  // be invisible to phi2's task (J2 N u4 = 0).
+  //
+  // phi2 runs with body = "clear": its task is the hands, and the body only keeps clear of the
+  // object, so the base may move along the line with the arms compensating. (With the default
+  // "standoff" only the heading is free, and for a symmetric preshape turning opens one elbow as
+  // much as it closes the other: phi4 has nothing to gain.) phi4 runs at rate 0.04: its nullspace
+  // motion goes through the base, whose servo follows a step several times slower than the
+  // arms', so part of a fast nullspace step reaches the hands before the base has moved. Measured
+  // on these seeds, the superior's progress differs by about 0.8 x rate: 13% at the default 0.15,
+  // 4% at 0.05, 3.2% at 0.04.
   Scenario scenario = Scenario::load("unobstructed");
-  int compared = 0;
+  int compared = 0, improved = 0;
   double worst_ratio = 0.0, worst_leak = 0.0, largest_added = 0.0;
+  double subordinate_alone = 0.0, subordinate_with = 0.0;
   for (uint64_t seed = 60; seed < 70; ++seed) {
-    auto run = [&](bool composed, std::vector<double>& superior) {
+    auto run = [&](bool composed, std::vector<double>& superior, double& subordinate) {
       Agent agent;
       agent.reset(scenario.generate(seed));
       auto search = make_primitive("search"), phi0 = make_primitive("phi0"), phi1 = make_primitive("phi1");
       auto phi2 = make_primitive("phi2"), phi4 = make_primitive("phi4");
+      phi2->set_text("body", "clear");
+      phi4->set_number("rate", 0.04);
       auto phi6 = std::make_shared<Sequence>(std::vector<ControllerPtr>{search, phi0});
       auto approach = std::make_shared<Sequence>(std::vector<ControllerPtr>{phi6, phi1});
       auto pre = std::make_shared<SubjectTo>(phi4, phi2);
@@ -173,7 +186,7 @@ TEST_CASE("phi4 <| phi2: the superior descends as fast as alone, phi4 acts only 
       for (int t = 0; t < 300 && phi1->state(agent.input()) != Gamma::kConv; ++t) agent.step(*approach);
       if (phi1->state(agent.input()) != Gamma::kConv) return false;
       Controller& action = composed ? static_cast<Controller&>(*pre) : *phi2;
-      for (int t = 0; t < 50; ++t) {
+      for (int t = 0; t < 100; ++t) {
         if (composed) {
           const ControlOutput& both = pre->evaluate(agent.input());
           const ControlOutput& sup = phi2->evaluate(agent.input());
@@ -184,10 +197,12 @@ TEST_CASE("phi4 <| phi2: the superior descends as fast as alone, phi4 acts only 
         agent.step(action);
         superior.push_back(phi2->evaluate(agent.input()).residual);
       }
+      subordinate = phi4->evaluate(agent.input()).phi;
       return true;
     };
     std::vector<double> alone, with;
-    if (!run(false, alone) || !run(true, with)) continue;
+    double phi4_alone = 0.0, phi4_with = 0.0;
+    if (!run(false, alone, phi4_alone) || !run(true, with, phi4_with)) continue;
     ++compared;
     const double start = alone.front();
     for (size_t k = 9; k < alone.size(); k += 10) {
@@ -195,11 +210,18 @@ TEST_CASE("phi4 <| phi2: the superior descends as fast as alone, phi4 acts only 
       if (progress_alone > 0.02)
         worst_ratio = std::max(worst_ratio, std::abs(progress_with - progress_alone) / progress_alone);
     }
+    CHECK(with.back() < 0.04);  // phi2 still converges (its epsilon)
+    improved += phi4_with < 0.5 * phi4_alone;
+    subordinate_alone += phi4_alone / 10.0;
+    subordinate_with += phi4_with / 10.0;
   }
   INFO("largest relative difference in the superior's progress: " << worst_ratio
-       << "; largest |J2 N u4| " << worst_leak << " for |N u4| up to " << largest_added);
+       << "; largest |J2 N u4| " << worst_leak << " for |N u4| up to " << largest_added
+       << "; phi4 after 5 s: " << subordinate_alone << " under phi2 alone, " << subordinate_with
+       << " under phi4 <| phi2 (means); improved by half in " << improved << " of " << compared);
   CHECK(compared >= 8);
   CHECK(worst_ratio <= 0.05);
   CHECK(largest_added > 1e-3);  // the subordinate does act
   CHECK(worst_leak < 1e-9);
+  CHECK(improved == compared);  // ...and gains: phi4 ends below half of where phi2 alone leaves it
 }
