@@ -768,14 +768,18 @@ class Condition final : public Primitive {
 // phi5: dynamic contact adjustment. With all three contacts on the object, each hand presses
 // `squeeze` into the surface along its touch normal, and leads by `lead` seconds of the base's
 // acceleration so the grasp carries the object's inertia; its task is the hands' position in the
-// base frame (the arm joints). NOREF as soon as a contact is lost.
+// base frame (the arm joints). Each hand's press fades as its contact force nears `press`, so the
+// grasp regulates force rather than position. NOREF as soon as a contact is lost.
 class Hold final : public Primitive {
   // Where the constructor declared each parameter: reading one is an index, not a name search.
-  struct { ParamSlot squeeze = 0, pull = 0, lead = 0, moment = 0, friction = 0, damping = 0; } p_;
+  struct { ParamSlot squeeze = 0, pull = 0, press = 0, lead = 0, moment = 0, friction = 0, damping = 0; } p_;
  public:
   Hold() : Primitive("phi5", 0.3) {
     p_.squeeze = declare("squeeze", 0.03, 0.0, 0.2, "press depth (m) of each hand along its contact normal");
     p_.pull = declare("pull", 0.03, 0.0, 0.2, "how far (m) the hands draw the object onto the body");
+    p_.press = declare("press", 50.0, 0.0, 1000.0,
+                       "contact force (N) each hand presses towards: its squeeze and pull fade as its "
+                       "force nears this (0: they never fade)");
     p_.lead = declare("lead", 0.04, 0.0, 1.0, "hand lead per unit of base acceleration (m per m/s^2)");
     p_.moment = declare("moment", 0.25, 0.0, 10.0, "weight of the moment residual in phi");
     p_.friction = declare("friction", 0.5, 0.0, 2.0, "share of each contact's push that friction may carry in phi");
@@ -821,7 +825,14 @@ class Hold final : public Primitive {
       const Touch& touch = s.touch[kLeftHand + side];
       // Press into the surface, draw the object onto the body (so its contact is kept while the
       // base pulls and turns), and lead with the base's acceleration where that pushes inward.
-      Vec2 err = -value(p_.squeeze) * touch.normal + pull * to_body;
+      // The press and the pull fade as the hand's contact force nears `press`. The arms are rate
+      // servos with torque limits: a step that never fades drives both hands to their limits,
+      // which differ with the arms' postures, and in every turn the difference walks the object
+      // round the body until a shoulder reaches its stop. Fading, a hand the object pushes into
+      // stands and resists (up to its limit), and a hand the object leaves presses after it.
+      const double press = value(p_.press);
+      const double fade = press > 0.0 ? std::clamp(1.0 - touch.force / press, 0.0, 1.0) : 1.0;
+      Vec2 err = fade * (-value(p_.squeeze) * touch.normal + pull * to_body);
       const double inward = -accel.dot(touch.normal);
       if (inward > 0) err += -value(p_.lead) * inward * touch.normal;
       e.segment<2>(2 * side) = err;
