@@ -13,6 +13,8 @@
 
 #include "batch.h"
 #include "batch_script.h"
+#include "curriculum.h"
+#include "engine_fingerprint.h"
 #include "error.h"
 #include "fileio.h"
 #include "report.h"
@@ -42,6 +44,20 @@ std::string fingerprint(const std::string& text) {
   char buf[20];
   std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
   return buf;
+}
+
+// The Lua files training with a curriculum reads (docs/batch.md), each with its fingerprint, named
+// relative to the project when inside it: a results folder is resumed only while none changed.
+json source_fingerprints(const std::string& curriculum_file) {
+  const Curriculum cur = Curriculum::load(curriculum_file);
+  const fs::path root = fs::weakly_canonical(project_root());
+  json out = json::object();
+  for (const fs::path& f : curriculum_source_files(cur)) {
+    const fs::path rel = f.lexically_relative(root);
+    const bool inside = !rel.empty() && *rel.begin() != "..";
+    out[inside ? rel.generic_string() : f.generic_string()] = fingerprint(read_text(f.string()));
+  }
+  return out;
 }
 
 std::string csv_field(const std::string& s) {
@@ -180,7 +196,7 @@ int command_run(const RunArgs& a) {
 
     // The manifest: what the folder holds. A folder made by another script or parameters is refused.
     json config = batch_config_json(b);
-    config["curriculum_fingerprint"] = fingerprint(read_text(b.curriculum_file));
+    config["sources"] = source_fingerprints(b.curriculum_file);
     json ids = json::array(), seeds = json::object();
     for (const auto& p : phases)
       for (const auto& t : p) {
@@ -196,6 +212,14 @@ int command_run(const RunArgs& a) {
       } catch (const std::exception& e) {
         throw Error(manifest_path.string() + ": not JSON (" + e.what() + "); use another --out");
       }
+      const std::string old_engine = old.value("engine", std::string());
+      if (old_engine != ROGER_ENGINE_FINGERPRINT)
+        throw Error("the results folder " + out + " was made by " +
+                    (old_engine.empty() ? std::string("a roger that did not record its engine")
+                                        : "another build of the engine (engine " + old_engine + ")") +
+                    ", and this roger's engine is " + ROGER_ENGINE_FINGERPRINT +
+                    ": its trials would mix with this build's. Use another --out, or remove the folder "
+                    "to start over; `roger report " + out + "` still reports what it holds.");
       const json old_config = old.value("config", json());
       if (old_config != config) {
         std::string why;
@@ -210,6 +234,7 @@ int command_run(const RunArgs& a) {
                              {"script", b.path},
                              {"script_file", fs::absolute(b.file).lexically_normal().string()},
                              {"version", ROGER_VERSION},
+                             {"engine", ROGER_ENGINE_FINGERPRINT},
                              {"config", config},
                              {"trials", ids},
                              {"seeds", seeds}};

@@ -375,6 +375,7 @@ Curriculum::~Curriculum() = default;
 const std::string& Curriculum::name() const { return impl_->name; }
 const std::string& Curriculum::description() const { return impl_->description; }
 const std::string& Curriculum::path() const { return impl_->path; }
+const std::vector<std::filesystem::path>& Curriculum::source_files() const { return impl_->sandbox->source_files(); }
 const std::string& Curriculum::file() const { return impl_->file; }
 const std::vector<CurriculumStage>& Curriculum::stages() const { return impl_->stages; }
 
@@ -625,6 +626,18 @@ std::vector<std::string> check_curriculum(const std::string& path, const Sandbox
     }
   }
   return problems;
+}
+
+std::vector<std::filesystem::path> curriculum_source_files(const Curriculum& cur, const SandboxLimits& limits) {
+  std::vector<std::filesystem::path> files = cur.source_files();
+  std::set<std::string> scenarios;
+  for (const auto& st : cur.stages()) {
+    if (!scenarios.insert(st.scenario).second) continue;
+    Scenario s = Scenario::load(st.scenario, limits);
+    for (const auto& f : s.sandbox().source_files())
+      if (std::find(files.begin(), files.end(), f) == files.end()) files.push_back(f);
+  }
+  return files;
 }
 
 }  // namespace roger

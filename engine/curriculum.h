@@ -25,6 +25,7 @@
 // the reference.
 #pragma once
 
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -95,6 +96,9 @@ class Curriculum {
   const std::string& path() const;         // as shown in messages
   const std::string& file() const;         // the file that was run (for reloading)
 
+  // The Lua files the script read: itself, then the modules it required (absolute paths).
+  const std::vector<std::filesystem::path>& source_files() const;
+
   // The stages in order.
   const std::vector<CurriculumStage>& stages() const;
   // A stage by name. Throws roger::Error listing the stages.
@@ -135,5 +139,10 @@ bool is_curriculum_script(const std::string& path);
 // For `roger check`: loads a curriculum and generates one world of every stage's scenario with
 // its parameters. Returns the problems (empty when sound), each a complete message.
 std::vector<std::string> check_curriculum(const std::string& path, const SandboxLimits& limits = {});
+
+// Every Lua file training with this curriculum reads: its own source files, then each stage's
+// scenario and the modules that requires, each once (absolute paths). A batch fingerprints them,
+// so that results are never resumed after any of them changed. Throws like Scenario::load.
+std::vector<std::filesystem::path> curriculum_source_files(const Curriculum& cur, const SandboxLimits& limits = {});
 
 }  // namespace roger

@@ -31,6 +31,7 @@ struct LuaSandbox::Impl {
   std::vector<fs::path> roots;     // require's search folders, absolute and canonical
   std::vector<std::string> chunk_names;  // display names of loaded files (to undo Lua's truncation)
   std::vector<std::string> loading;      // modules being required, outermost first
+  std::vector<fs::path> source_files;    // every file compiled, each once, in load order
   std::function<void(const std::string&)> print;
 
   // Filled by the message handler at the moment of an error.
@@ -313,6 +314,12 @@ std::optional<ScriptError> compile(lua_State* L, LuaSandbox::Impl& s, std::strin
   return ScriptError(msg, shown, 0, "");
 }
 
+// Records a compiled file once.
+void note_source_file(LuaSandbox::Impl& s, const fs::path& file) {
+  if (std::find(s.source_files.begin(), s.source_files.end(), file) == s.source_files.end())
+    s.source_files.push_back(file);
+}
+
 // require(name): dotted names ("lib.shapes" -> lib/shapes.lua) searched in the sandbox's roots
 // only, text chunks only, cached, with cycles reported.
 int sandbox_require(lua_State* L) {
@@ -379,6 +386,7 @@ int sandbox_require(lua_State* L) {
   std::optional<ScriptError> failure;
   lua_protect(L, [&]() {
     failure = compile(L, s, read_file(found, shown, s.limits.memory_bytes), shown);
+    note_source_file(s, found);
     return 0;
   });
   if (failure) {
@@ -562,7 +570,12 @@ void LuaSandbox::load_file(const std::string& path) {
     throw ScriptError(e.what(), "", 0, "");
   }
   if (auto failure = compile(s.L, s, std::move(text), shown)) throw *failure;
+  std::error_code ec;
+  const fs::path real = fs::weakly_canonical(path, ec);  // absolute: the file was just read
+  note_source_file(s, ec ? fs::path(path).lexically_normal() : real);
 }
+
+const std::vector<fs::path>& LuaSandbox::source_files() const { return impl_->source_files; }
 
 void LuaSandbox::load_string(const std::string& code, const std::string& chunkname) {
   Impl& s = *impl_;

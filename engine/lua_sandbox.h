@@ -88,6 +88,10 @@ class LuaSandbox {
   // The name a file is shown under: relative to the project root when inside it, else as given.
   std::string display_name(const std::filesystem::path& path) const;
 
+  // Every source file compiled so far: the scripts run or loaded, then the modules `require`
+  // found, each once, in load order (absolute, canonical paths). What a result depends on.
+  const std::vector<std::filesystem::path>& source_files() const;
+
   // Bytes the Lua state holds now.
   size_t memory_used() const;
 

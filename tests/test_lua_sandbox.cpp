@@ -296,6 +296,12 @@ TEST_CASE("require finds modules beside the script and in the project folders, o
     CHECK(std::string(lua_tostring(L, -3)) == "hello");
     CHECK(std::string(lua_tostring(L, -2)) == "stage");
     CHECK(std::string(lua_tostring(L, -1)) == "sibling");
+    // Every file the script read, each once, in load order: what a batch fingerprints.
+    const std::vector<fs::path> read = {fs::weakly_canonical(home.path / "work" / "main.lua"),
+                                        fs::weakly_canonical(home.path / "scenarios" / "lib" / "greeting.lua"),
+                                        fs::weakly_canonical(home.path / "curricula" / "stage.lua"),
+                                        fs::weakly_canonical(home.path / "work" / "sibling.lua")};
+    CHECK(sandbox.source_files() == read);
     const auto roots = sandbox.module_roots();
     REQUIRE(roots.size() == 4);
     CHECK(roots[0] == fs::weakly_canonical(home.path / "work"));

@@ -238,6 +238,45 @@ TEST_CASE("a tiny batch writes every file, with tables that match the trials, wh
   CHECK(command_run(other) == 1);
   CHECK(refused.str().find("made by another batch script or other parameters") != std::string::npos);
   CHECK(refused.str().find("trials") != std::string::npos);
+
+  // A folder made by another build of the engine is refused, naming both builds.
+  const json cut_manifest = json::parse(slurp(f.root / "cut/manifest.json"));
+  REQUIRE(cut_manifest["engine"].is_string());
+  CHECK(std::regex_match(cut_manifest["engine"].get<std::string>(), std::regex("[0-9a-f]{16}")));
+  json edited = cut_manifest;
+  edited["engine"] = "0123456789abcdef";
+  spit(f.root / "cut/manifest.json", edited.dump(1));
+  std::string other_engine;
+  CHECK(f.run("cut", 2, 0, &other_engine) == 1);
+  CHECK(other_engine.find("another build of the engine (engine 0123456789abcdef)") != std::string::npos);
+  CHECK(other_engine.find(cut_manifest["engine"].get<std::string>()) != std::string::npos);
+  CHECK(finished_ids(f.root / "cut") == kIds);  // nothing lost
+}
+
+TEST_CASE("a results folder is not resumed after a module the curriculum requires changed", "[report][run]") {
+  // The fixture's curriculum requires lib.skills; a copy beside it is found first.
+  Fixture f("module");
+  fs::create_directories(f.root / "lib");
+  spit(f.root / "lib/skills.lua", slurp("curricula/lib/skills.lua"));
+  REQUIRE(f.run("out", 2, 1) == 0);
+  const json manifest = json::parse(slurp(f.root / "out/manifest.json"));
+  const json& sources = manifest["config"]["sources"];
+  INFO(sources.dump());
+  // The curriculum, the module it requires and the scenarios of its stages are all fingerprinted.
+  for (const char* file : {"curriculum.lua", "lib/skills.lua", "scenarios/unobstructed.lua"}) {
+    bool found = false;
+    for (auto it = sources.begin(); it != sources.end(); ++it)
+      found = found || it.key().size() >= std::string(file).size() &&
+                           it.key().compare(it.key().size() - std::string(file).size(), std::string::npos, file) == 0;
+    CHECK(found);
+  }
+  spit(f.root / "lib/skills.lua", slurp("curricula/lib/skills.lua") + "\n-- edited\n");
+  std::string log;
+  CHECK(f.run("out", 2, 0, &log) == 1);
+  INFO(log);
+  CHECK(log.find("made by another batch script or other parameters") != std::string::npos);
+  CHECK(log.find("lib/skills.lua") != std::string::npos);
+  CHECK(finished_ids(f.root / "out").size() == 1);  // the finished trial is kept
 }
 
 TEST_CASE("a failing trial is recorded and does not lose the others", "[report][run]") {
