@@ -778,8 +778,8 @@ class Hold final : public Primitive {
     p_.squeeze = declare("squeeze", 0.03, 0.0, 0.2, "press depth (m) of each hand along its contact normal");
     p_.pull = declare("pull", 0.03, 0.0, 0.2, "how far (m) the hands draw the object onto the body");
     p_.press = declare("press", 50.0, 0.0, 1000.0,
-                       "contact force (N) each hand presses towards: its squeeze and pull fade as its "
-                       "force nears this (0: they never fade)");
+                       "contact force (N) each hand presses towards: its squeeze, and its pull while the "
+                       "body touches the object, fade as its force nears this (0: never)");
     p_.lead = declare("lead", 0.04, 0.0, 1.0, "hand lead per unit of base acceleration (m per m/s^2)");
     p_.moment = declare("moment", 0.25, 0.0, 10.0, "weight of the moment residual in phi");
     p_.friction = declare("friction", 0.5, 0.0, 2.0, "share of each contact's push that friction may carry in phi");
@@ -830,9 +830,11 @@ class Hold final : public Primitive {
       // which differ with the arms' postures, and in every turn the difference walks the object
       // round the body until a shoulder reaches its stop. Fading, a hand the object pushes into
       // stands and resists (up to its limit), and a hand the object leaves presses after it.
+      // With the body off the object the pull does not fade: what the hands feel then is their
+      // own squeeze, not the object resting on the body, and only the pull brings it back.
       const double press = value(p_.press);
       const double fade = press > 0.0 ? std::clamp(1.0 - touch.force / press, 0.0, 1.0) : 1.0;
-      Vec2 err = fade * (-value(p_.squeeze) * touch.normal + pull * to_body);
+      Vec2 err = -fade * value(p_.squeeze) * touch.normal + (on[kBody] ? fade : 1.0) * pull * to_body;
       const double inward = -accel.dot(touch.normal);
       if (inward > 0) err += -value(p_.lead) * inward * touch.normal;
       e.segment<2>(2 * side) = err;
