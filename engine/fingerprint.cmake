@@ -1,15 +1,15 @@
 # engine/fingerprint.cmake: writes OUT, a header defining ROGER_ENGINE_FINGERPRINT, the SHA-256
-# (first 16 hex digits) of the engine's sources: each file's name and text, in name order.
+# (first 16 hex digits) of the engine's sources: each file's path (from engine/) and text, in name order.
 # `roger run` records it in a results folder's manifest and refuses to resume the folder with an
 # engine built from other sources. Run by the build (cmake -P) whenever a source changes; OUT is
 # rewritten only when the value changes.
-file(GLOB sources ${ENGINE_DIR}/*.cpp ${ENGINE_DIR}/*.h)
-list(REMOVE_ITEM sources ${ENGINE_DIR}/main.cpp)
+file(GLOB_RECURSE sources ${ENGINE_DIR}/*.cpp ${ENGINE_DIR}/*.h)
+list(REMOVE_ITEM sources ${ENGINE_DIR}/cli/main.cpp)
 list(SORT sources)
 set(all "")
 foreach(f IN LISTS sources)
   file(READ ${f} text)
-  get_filename_component(name ${f} NAME)
+  file(RELATIVE_PATH name ${ENGINE_DIR} ${f})
   string(APPEND all "${name}\n${text}\n")
 endforeach()
 string(SHA256 hash "${all}")

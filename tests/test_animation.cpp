@@ -17,12 +17,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "agent.h"
-#include "animation.h"
-#include "episode.h"
-#include "error.h"
-#include "predicate.h"
-#include "primitives.h"
+#include "control/agent.h"
+#include "view/animation.h"
+#include "learn/episode.h"
+#include "core/error.h"
+#include "control/predicate.h"
+#include "control/primitives.h"
 #include "world_fixtures.h"
 
 namespace fs = std::filesystem;

@@ -10,9 +10,9 @@
 #include <set>
 #include <sstream>
 
-#include "batch.h"
-#include "error.h"
-#include "rng.h"
+#include "batch/batch.h"
+#include "core/error.h"
+#include "core/rng.h"
 
 using namespace roger;
 namespace fs = std::filesystem;

@@ -4,8 +4,8 @@
 
 #include <string>
 
-#include "batch_script.h"
-#include "error.h"
+#include "script/batch_script.h"
+#include "core/error.h"
 
 using namespace roger;
 

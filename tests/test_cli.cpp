@@ -73,9 +73,12 @@ TEST_CASE("bad scripts are refused with file:line, a non-zero exit and no crash"
       {"tests/scripts/bad_shape_name.lua", "known shapes: circle, pentagon, spade, triangle", true},
       {"tests/scripts/bad_placement.lua", "no placement", true},
   };
+  // A picture that must never be written, in a folder of this test's own.
+  const fs::path bad_png = fs::temp_directory_path() / ("roger_cli_bad_" + std::to_string(::getpid())) / "bad.png";
+  fs::create_directories(bad_png.parent_path());
   for (const Case& c : cases) {
     for (const std::string& verb : {std::string("check "), std::string("render ")}) {
-      const std::string args = verb + c.file + (verb == "render " ? " --out /tmp/roger_cli_bad.png" : "");
+      const std::string args = verb + c.file + (verb == "render " ? " --out " + bad_png.string() : "");
       const Run r = roger(args);
       INFO(args << "\nstderr: " << r.err);
       CHECK(r.status == 1);  // an error exit, not a signal
@@ -90,7 +93,8 @@ TEST_CASE("bad scripts are refused with file:line, a non-zero exit and no crash"
       }
     }
   }
-  CHECK_FALSE(fs::exists("/tmp/roger_cli_bad.png"));
+  CHECK_FALSE(fs::exists(bad_png));
+  fs::remove_all(bad_png.parent_path());
 }
 
 TEST_CASE("a binary chunk is refused", "[cli]") {

@@ -3,8 +3,8 @@
 
 #include <Eigen/Dense>
 
-#include "control.h"
-#include "rng.h"
+#include "control/control.h"
+#include "core/rng.h"
 
 using namespace roger;
 

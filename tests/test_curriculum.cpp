@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "curriculum.h"
-#include "error.h"
-#include "learning.h"
-#include "trainer.h"
+#include "script/curriculum.h"
+#include "core/error.h"
+#include "learn/learning.h"
+#include "batch/trainer.h"
 
 using namespace roger;
 

@@ -7,12 +7,12 @@
 #include <string>
 #include <vector>
 
-#include "agent.h"
-#include "episode.h"
-#include "predicate.h"
-#include "primitives.h"
-#include "scenario.h"
-#include "skill_script.h"
+#include "control/agent.h"
+#include "learn/episode.h"
+#include "control/predicate.h"
+#include "control/primitives.h"
+#include "script/scenario.h"
+#include "script/skill_script.h"
 #include "world_fixtures.h"
 
 using namespace roger;

@@ -10,13 +10,13 @@
 #include <functional>
 #include <unistd.h>
 
-#include "agent.h"
-#include "error.h"
-#include "learning.h"
-#include "predicate.h"
-#include "primitives.h"
-#include "rng.h"
-#include "scenario.h"
+#include "control/agent.h"
+#include "core/error.h"
+#include "learn/learning.h"
+#include "control/predicate.h"
+#include "control/primitives.h"
+#include "core/rng.h"
+#include "script/scenario.h"
 #include "world_fixtures.h"
 
 using namespace roger;

@@ -14,12 +14,12 @@
 
 #include <lua.hpp>
 
-#include "episode.h"
-#include "lua_control.h"
-#include "lua_sandbox.h"
-#include "primitives.h"
-#include "scenario.h"
-#include "skill_script.h"
+#include "learn/episode.h"
+#include "script/lua_control.h"
+#include "script/lua_sandbox.h"
+#include "control/primitives.h"
+#include "script/scenario.h"
+#include "script/skill_script.h"
 #include "world_fixtures.h"
 
 using namespace roger;

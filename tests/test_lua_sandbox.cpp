@@ -11,7 +11,7 @@
 
 #include <lua.hpp>
 
-#include "lua_sandbox.h"
+#include "script/lua_sandbox.h"
 
 using namespace roger;
 namespace fs = std::filesystem;

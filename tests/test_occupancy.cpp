@@ -1,7 +1,7 @@
 // Tests of engine/occupancy: rasterizing walls and obstacles for the planner.
 #include <catch2/catch.hpp>
 
-#include "occupancy.h"
+#include "sim/occupancy.h"
 #include "world_fixtures.h"
 
 using namespace roger;

@@ -6,10 +6,10 @@
 #include <cmath>
 #include <cstdio>
 
-#include "error.h"
-#include "occupancy.h"
-#include "planner.h"
-#include "rng.h"
+#include "core/error.h"
+#include "sim/occupancy.h"
+#include "control/planner.h"
+#include "core/rng.h"
 #include "world_fixtures.h"
 
 using namespace roger;

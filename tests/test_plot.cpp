@@ -18,9 +18,9 @@
 #include <thread>
 #include <vector>
 
-#include "error.h"
-#include "plot.h"
-#include "stats.h"
+#include "core/error.h"
+#include "report/plot.h"
+#include "report/stats.h"
 
 namespace fs = std::filesystem;
 using namespace roger;

@@ -2,7 +2,7 @@
 // controllers a predicate evaluates at a tick.
 #include <catch2/catch.hpp>
 
-#include "predicate.h"
+#include "control/predicate.h"
 
 using namespace roger;
 

@@ -4,11 +4,11 @@
 
 #include <functional>
 
-#include "agent.h"
-#include "predicate.h"
-#include "primitives.h"
-#include "rng.h"
-#include "scenario.h"
+#include "control/agent.h"
+#include "control/predicate.h"
+#include "control/primitives.h"
+#include "core/rng.h"
+#include "script/scenario.h"
 #include "world_fixtures.h"
 
 using namespace roger;

@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "error.h"
-#include "render.h"
-#include "senses.h"
+#include "core/error.h"
+#include "view/render.h"
+#include "senses/senses.h"
 
 namespace fs = std::filesystem;
 using namespace roger;
@@ -357,10 +357,12 @@ TEST_CASE("impossible sizes and arenas are errors, not crashes") {
   CHECK(fs::file_size(file) > 1000);
 }
 
-TEST_CASE("a sample picture for people to look at") {
+TEST_CASE("a titled picture draws as PNG and SVG, inside its own folder") {
+  roger::test::TempDir dir("roger_render_sample");
   RenderOptions options;
   options.title = "reach for the ball";
-  render_frame(make_spec(), make_frame(), "/tmp/render_sample.png", options);
-  render_frame(make_spec(), make_frame(), "/tmp/render_sample.svg", options);
-  CHECK(fs::file_size("/tmp/render_sample.png") > 1000);
+  render_frame(make_spec(), make_frame(), dir.file("sample.png"), options);
+  render_frame(make_spec(), make_frame(), dir.file("sample.svg"), options);
+  CHECK(fs::file_size(dir.file("sample.png")) > 1000);
+  CHECK(fs::file_size(dir.file("sample.svg")) > 1000);
 }

@@ -17,10 +17,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "batch.h"
-#include "commands.h"
-#include "report.h"
-#include "stats.h"
+#include "batch/batch.h"
+#include "cli/commands.h"
+#include "report/report.h"
+#include "report/stats.h"
 
 using namespace roger;
 namespace fs = std::filesystem;

@@ -11,12 +11,12 @@
 #include <string>
 #include <vector>
 
-#include "lua_sandbox.h"
-#include "robot.h"
-#include "scenario.h"
-#include "senses.h"
-#include "shape.h"
-#include "world.h"
+#include "script/lua_sandbox.h"
+#include "core/robot.h"
+#include "script/scenario.h"
+#include "senses/senses.h"
+#include "core/shape.h"
+#include "sim/world.h"
 
 using namespace roger;
 using Catch::Matchers::Contains;

@@ -1,8 +1,8 @@
 // Tests of engine/senses: the 1-D pinhole eyes, stimulus detection, occlusion, stereo.
 #include <catch2/catch.hpp>
 
-#include "senses.h"
-#include "world.h"
+#include "senses/senses.h"
+#include "sim/world.h"
 #include "world_fixtures.h"
 
 using namespace roger;

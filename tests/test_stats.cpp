@@ -5,9 +5,9 @@
 #include <limits>
 #include <vector>
 
-#include "error.h"
-#include "rng.h"
-#include "stats.h"
+#include "core/error.h"
+#include "core/rng.h"
+#include "report/stats.h"
 
 using namespace roger;
 using Catch::Matchers::Contains;

@@ -18,7 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "trainer.h"
+#include "batch/trainer.h"
 
 using namespace roger;
 namespace fs = std::filesystem;

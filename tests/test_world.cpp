@@ -1,8 +1,8 @@
 // Tests of engine/world: Roger's body on Box2D (kinematics, drive, servos, touch, determinism).
 #include <catch2/catch.hpp>
 
-#include "rng.h"
-#include "world.h"
+#include "core/rng.h"
+#include "sim/world.h"
 #include "world_fixtures.h"
 
 using namespace roger;

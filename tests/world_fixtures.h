@@ -3,9 +3,9 @@
 
 #include <cmath>
 
-#include "shape.h"
-#include "spec.h"
-#include "world.h"
+#include "core/shape.h"
+#include "core/spec.h"
+#include "sim/world.h"
 
 namespace roger::test {
 

@@ -1,0 +1,446 @@
+#include "batch/trainer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <unistd.h>
+
+#include "control/agent.h"
+#include "script/curriculum.h"
+#include "core/error.h"
+#include "core/rng.h"
+#include "script/scenario.h"
+
+namespace roger {
+namespace fs = std::filesystem;
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Writes a file atomically: a temporary file beside it, then rename, so a reader (or a resumed
+// run) never sees half of it.
+void write_atomic(const fs::path& path, const std::string& text) {
+  const fs::path tmp = path.string() + ".tmp." + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw Error("cannot write " + tmp.string());
+    out << text;
+    out.flush();
+    if (!out) throw Error("cannot write " + tmp.string() + " (disk full?)");
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw Error("cannot write " + path.string() + ": " + ec.message());
+  }
+}
+
+// One stage/context of a loaded curriculum, ready to run episodes in a scenario.
+struct StageRun {
+  Curriculum& cur;
+  const CurriculumStage& stage;
+  const CurriculumContext& ctx;
+  Scenario scenario;
+  Agent agent;
+
+  // One episode: through run_learning_episode when the stage is declarative (no Lua at all), else
+  // the same semi-MDP with the stage's Lua functions called at decision points only.
+  TrainingEpisode run(QTable& q, uint64_t seed, double epsilon, Rng& rng, bool learn) {
+    const WorldSpec spec = scenario.generate(seed);
+    if (!stage.absorbing_lua && !stage.reward_lua)
+      return run_learning_episode(agent, spec, seed, ctx.actions, *stage.absorbing, q, epsilon, rng, stage.rewards, learn);
+    return run_scripted(spec, q, seed, epsilon, rng, learn);
+  }
+
+  TrainingEpisode run_scripted(const WorldSpec& spec, QTable& q, uint64_t seed, double epsilon, Rng& rng, bool learn) {
+    const auto& psi = ctx.actions;
+    agent.reset(spec);
+    for (const auto& c : psi) c->reset(seed);
+    if (stage.absorbing) stage.absorbing->reset();
+    const int n = int(psi.size());
+    TrainingEpisode ep;
+    ep.seed = seed;
+    ep.action_ticks.assign(size_t(n), 0);
+    const double dt = agent.world().tick_seconds();
+    const int max_ticks = int(std::ceil(stage.time_limit / dt - 1e-9));
+    const double gamma = q.params().discount;
+    std::vector<Gamma> gammas(static_cast<size_t>(n));
+    int state = -1, action = -1;
+    double accumulated = 0.0;
+    auto read_state = [&]() {
+      for (int i = 0; i < n; ++i) gammas[size_t(i)] = psi[size_t(i)]->state(agent.input());
+      return gamma_state_index(gammas);
+    };
+    for (int t = 0; t < max_ticks; ++t) {
+      const double now = agent.input().time;
+      const int s = read_state();
+      if (s != state) {
+        if (stage.absorbing_lua && cur.call_absorbing(stage, ctx, gammas, now)) {
+          ep.success = true;
+          break;
+        }
+        if (action >= 0) {
+          const double r = stage.reward_lua ? cur.call_reward(stage, ctx, gammas, action, "decision", now) : accumulated;
+          if (stage.reward_lua) ep.reward += r;
+          if (learn) q.update(state, action, r, s, false, gamma);
+        }
+        if (learn) {
+          action = q.choose(s, epsilon, rng);
+        } else if (epsilon > 0.0 && rng.uniform() < epsilon) {
+          action = int(rng.integer(0, n - 1));
+        } else {
+          action = q.policy_action(s);
+        }
+        state = s;
+        accumulated = 0.0;
+        ++ep.decisions;
+        ep.actions_taken.push_back(action);
+        ep.decision_states.push_back(s);
+      }
+      agent.step(*psi[size_t(action)]);
+      ++ep.action_ticks[size_t(action)];
+      ep.ticks = t + 1;
+      if (!stage.reward_lua) {
+        accumulated += stage.rewards.step_reward;
+        ep.reward += stage.rewards.step_reward;
+      }
+      if (stage.absorbing && stage.absorbing->holds(agent.input())) {
+        ep.success = true;
+        break;
+      }
+    }
+    ep.sim_seconds = agent.world().time();
+    if (!ep.success && stage.absorbing_lua && ep.ticks > 0) {
+      // The last tick may have reached the absorbing state without a decision point after it.
+      read_state();
+      ep.success = cur.call_absorbing(stage, ctx, gammas, ep.sim_seconds);
+    }
+    if (action >= 0) {
+      double final_reward;
+      if (stage.reward_lua) {
+        read_state();
+        final_reward = cur.call_reward(stage, ctx, gammas, action, ep.success ? "absorbing" : "timeout", ep.sim_seconds);
+      } else {
+        final_reward = ep.success ? stage.rewards.success_reward : stage.rewards.timeout_reward;
+      }
+      ep.reward += final_reward;
+      if (learn) q.update(state, action, accumulated + final_reward, state, true, gamma);
+    }
+    return ep;
+  }
+};
+
+// The scenario of a stage with its parameters, then the caller's.
+Scenario make_scenario(const CurriculumStage& stage, const std::string& name,
+                       const std::vector<std::pair<std::string, std::string>>& sets,
+                       const SandboxLimits& limits, std::vector<std::pair<std::string, std::string>>* used) {
+  const bool own = name.empty() || name == stage.scenario;
+  Scenario s = Scenario::load(own ? stage.scenario : name, limits);
+  if (own)
+    for (const auto& [k, v] : stage.params) s.set_param(k, v);
+  for (const auto& [k, v] : sets) s.set_param(k, v);
+  if (used)
+    for (const auto& p : s.params()) used->push_back({p.name, p.value});
+  return s;
+}
+
+// A greedy evaluation on held-out seeds first_seed, first_seed + 1, ...
+GreedyEval greedy_eval(StageRun& run, QTable& q, uint64_t first_seed, int episodes) {
+  GreedyEval g;
+  g.episodes = episodes;
+  g.first_seed = first_seed;
+  Rng unused(0);
+  std::vector<double> rewards;
+  std::vector<int64_t> counts(size_t(q.actions()), 0);
+  double time = 0.0;
+  for (int i = 0; i < episodes; ++i) {
+    const TrainingEpisode ep = run.run(q, first_seed + uint64_t(i), 0.0, unused, false);
+    g.successes += ep.success;
+    rewards.push_back(ep.reward);
+    time += ep.sim_seconds;
+    for (int a : ep.actions_taken) ++counts[size_t(a)];
+    g.decisions += ep.decisions;
+  }
+  double mean = 0.0, var = 0.0;
+  for (double r : rewards) mean += r;
+  mean /= std::max(1, episodes);
+  for (double r : rewards) var += (r - mean) * (r - mean);
+  g.success_rate = double(g.successes) / std::max(1, episodes);
+  g.reward_mean = mean;
+  g.reward_std = std::sqrt(var / std::max(1, episodes));
+  g.time_mean = time / std::max(1, episodes);
+  for (int a = 0; a < q.actions(); ++a)
+    g.usage.push_back({q.action_names()[size_t(a)], g.decisions ? double(counts[size_t(a)]) / double(g.decisions) : 0.0});
+  return g;
+}
+
+nlohmann::json point_json(const TrainPoint& p) {
+  return {{"episodes", p.episodes}, {"sim_s", p.sim_s}, {"decisions", p.decisions}, {"wall_s", p.wall_s}};
+}
+
+// Binds every learned skill `ctx` uses: from embedded policies (`embedded`: name -> policy JSON),
+// from files, or by training the producing stage with `seed`. Appends where each came from.
+void bind_skills(Curriculum& cur, const CurriculumContext& ctx, const TrainOptions& options,
+                 const nlohmann::json* embedded, std::vector<SkillSource>& sources) {
+  for (const auto& name : ctx.learned) {
+    if (std::any_of(sources.begin(), sources.end(), [&](const SkillSource& s) { return s.name == name; })) continue;
+    const CurriculumStage* producer = cur.producer(name);
+    if (!producer) throw Error("curriculum '" + cur.name() + "': no stage yields the learned skill '" + name + "'");
+    const CurriculumContext& pctx = producer->context(producer->skill->second);
+    // A skill built on other learned skills needs them bound first.
+    bind_skills(cur, pctx, options, embedded, sources);
+    SkillSource src;
+    src.name = name;
+    src.stage = producer->name;
+    src.context = pctx.name;
+    if (embedded && embedded->contains(name)) {
+      const nlohmann::json& e = (*embedded)[name];
+      src.policy = e.at("policy");
+      src.file = e.value("file", "");
+      src.trained = e.value("trained", false);
+      src.trained_seed = e.value("seed", uint64_t(0));
+    } else if (auto it = options.skill_files.find(name); it != options.skill_files.end()) {
+      std::ifstream in(it->second);
+      if (!in) throw Error("--skill " + name + "=" + it->second + ": cannot read the file");
+      try {
+        src.policy = nlohmann::json::parse(in);
+      } catch (const std::exception& e) {
+        throw Error("--skill " + name + "=" + it->second + ": not JSON: " + e.what());
+      }
+      src.file = it->second;
+    } else if (embedded) {
+      throw Error("the policy file does not embed the learned skill '" + name + "' its context uses");
+    } else {
+      // No policy given: train the producing stage and context first, with the same seed.
+      TrainOptions sub = options;
+      sub.stage = producer->name;
+      sub.context = pctx.name;
+      sub.sets.clear();  // the producer's own task, not the caller's parameters
+      sub.keep_episodes = false;
+      const TrainResult r = train_stage(sub);
+      src.trained = true;
+      src.trained_seed = options.seed;
+      src.reached = r.reached;
+      src.to_threshold = r.to_threshold;
+      src.totals = r.totals;
+      src.policy = train_policy_json(r);
+    }
+    PolicyMetadata meta;
+    const QTable q = QTable::from_json(src.policy, controller_names(pctx.actions),
+                                       src.file.empty() ? "the policy of skill '" + name + "'" : src.file, &meta);
+    if (!src.file.empty() && (meta.stage != producer->name || meta.context != pctx.name))
+      throw Error(src.file + ": a policy of stage '" + meta.stage + "', context '" + meta.context + "', but the skill '" +
+                  name + "' comes from stage '" + producer->name + "', context '" + pctx.name + "'");
+    cur.bind_learned(name, make_policy_skill(name, pctx.actions, q, producer->absorbing));
+    sources.push_back(std::move(src));
+  }
+}
+
+}  // namespace
+
+TrainResult train_stage(const TrainOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  // A fresh load per trial: every trial gets its own controllers.
+  Curriculum cur = Curriculum::load(options.curriculum, options.limits);
+  const CurriculumStage& stage = cur.stage(options.stage);
+  const CurriculumContext& ctx = stage.context(options.context);
+  TrainResult res;
+  res.curriculum_path = cur.path();
+  res.curriculum_name = cur.name();
+  res.stage = stage.name;
+  res.context = ctx.name;
+  res.seed = options.seed;
+  res.threshold = stage.checkpoints.threshold;
+  res.psi = controller_names(ctx.actions);
+  bind_skills(cur, ctx, options, nullptr, res.skills);
+
+  StageRun run{cur, stage, ctx, make_scenario(stage, "", options.sets, options.limits, &res.params), Agent()};
+  res.scenario = run.scenario.name();
+  res.q = std::make_shared<QTable>(res.psi, stage.learner);
+  QTable& q = *res.q;
+  const int budget = stage.budget_episodes;
+  const CheckpointSpec& cp = stage.checkpoints;
+  const ExplorationSchedule schedule = ExplorationSchedule::episodes(stage.learner, budget);
+  Rng rng(Rng::mix(options.seed, 0x65787031ull));  // exploration stream, apart from world seeds
+
+  TrainPoint spent;
+  double train_wall = 0.0;
+  int passing = 0;  // consecutive passing checkpoints
+  for (int e = 0; e < budget; ++e) {
+    const auto te = std::chrono::steady_clock::now();
+    const double eps = schedule.epsilon(e);
+    const uint64_t seed = Rng::mix(options.seed, uint64_t(e) + 1);
+    TrainingEpisode ep = run.run(q, seed, eps, rng, true);
+    train_wall += seconds_since(te);
+    spent.episodes = e + 1;
+    spent.sim_s += ep.sim_seconds;
+    spent.decisions += ep.decisions;
+    spent.wall_s = train_wall;
+    if (options.keep_episodes) res.episodes.push_back(EpisodeRecord{e, eps, std::move(ep)});
+    if ((e + 1) % cp.every == 0 || e + 1 == budget) {
+      const auto tc = std::chrono::steady_clock::now();
+      const GreedyEval g = greedy_eval(run, q, cp.seeds, cp.episodes);
+      CheckpointRecord c;
+      c.at = spent;
+      c.success_rate = g.success_rate;
+      c.reward_mean = g.reward_mean;
+      c.reward_std = g.reward_std;
+      c.eval_wall_s = seconds_since(tc);
+      res.checkpoints.push_back(c);
+      passing = g.success_rate >= cp.threshold ? passing + 1 : 0;
+      if (cp.stop_after > 0 && passing >= cp.stop_after && e + 1 < budget) {
+        res.stopped_early = true;
+        break;
+      }
+    }
+  }
+  res.totals = spent;
+  // The first checkpoint from which the rate stays at or above the threshold to the end.
+  res.reached = passing > 0;
+  res.to_threshold = res.reached ? res.checkpoints[res.checkpoints.size() - size_t(passing)].at : spent;
+  res.final_eval = greedy_eval(run, q, cp.seeds, cp.final_episodes);
+  res.wall_s = seconds_since(t0);
+  return res;
+}
+
+nlohmann::json train_policy_json(const TrainResult& r) {
+  PolicyMetadata meta;
+  meta.stage = r.stage;
+  meta.context = r.context;
+  meta.seed = r.seed;
+  nlohmann::json extra = {{"curriculum", r.curriculum_path}, {"curriculum_name", r.curriculum_name},
+                          {"psi", r.psi}, {"scenario", r.scenario}};
+  for (const auto& [k, v] : r.params) extra["params"][k] = v;
+  for (const auto& s : r.skills)
+    extra["skills"][s.name] = {{"stage", s.stage}, {"context", s.context}, {"file", s.file},
+                               {"trained", s.trained}, {"seed", s.trained_seed}, {"policy", s.policy}};
+  meta.extra = extra;
+  return r.q->to_json(meta);
+}
+
+nlohmann::json train_summary_json(const TrainResult& r) {
+  nlohmann::json usage = nlohmann::json::object();
+  for (const auto& [name, f] : r.final_eval.usage) usage[name] = f;
+  nlohmann::json j = {
+      {"curriculum", r.curriculum_path},
+      {"stage", r.stage},
+      {"context", r.context},
+      {"seed", r.seed},
+      {"scenario", r.scenario},
+      {"psi", r.psi},
+      {"states", r.q->states()},
+      {"visited_states", r.q->visited_states()},
+      {"threshold", r.threshold},
+      {"reached", r.reached},
+      {"stopped_early", r.stopped_early},
+      {"time_to_threshold_s", r.to_threshold.sim_s},
+      {"episodes_to_threshold", r.to_threshold.episodes},
+      {"decisions_to_threshold", r.to_threshold.decisions},
+      {"wall_to_threshold_s", r.to_threshold.wall_s},
+      {"train_episodes", r.totals.episodes},
+      {"train_sim_s", r.totals.sim_s},
+      {"train_decisions", r.totals.decisions},
+      {"train_wall_s", r.totals.wall_s},
+      {"wall_s", r.wall_s},
+      {"success_rate", r.final_eval.success_rate},
+      {"reward_mean", r.final_eval.reward_mean},
+      {"reward_std", r.final_eval.reward_std},
+      {"final_episodes", r.final_eval.episodes},
+      {"final_first_seed", r.final_eval.first_seed},
+      {"usage", usage},
+  };
+  for (const auto& s : r.skills) {
+    nlohmann::json k = {{"stage", s.stage}, {"context", s.context}, {"trained", s.trained}};
+    if (s.trained) {
+      k["seed"] = s.trained_seed;
+      k["reached"] = s.reached;
+      k["time_to_threshold"] = point_json(s.to_threshold);
+      k["totals"] = point_json(s.totals);
+    } else {
+      k["file"] = s.file;
+    }
+    j["skills"][s.name] = k;
+  }
+  for (const auto& [k, v] : r.params) j["params"][k] = v;
+  return j;
+}
+
+void write_train_outputs(const TrainResult& r, const std::string& dir_in) {
+  const fs::path dir(dir_in);
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir)) throw Error("cannot create the output folder " + dir_in + (ec ? ": " + ec.message() : ""));
+  write_atomic(dir / "policy.json", train_policy_json(r).dump(1) + "\n");
+  std::ostringstream curve, cps, eps;
+  curve << "episodes,sim_s,decisions,wall_s,success_rate,reward_mean\n";
+  for (const auto& c : r.checkpoints) {
+    curve << c.at.episodes << "," << format_number(c.at.sim_s) << "," << c.at.decisions << ","
+          << format_number(c.at.wall_s) << "," << format_number(c.success_rate) << "," << format_number(c.reward_mean) << "\n";
+    nlohmann::json j = point_json(c.at);
+    j["success_rate"] = c.success_rate;
+    j["reward_mean"] = c.reward_mean;
+    j["reward_std"] = c.reward_std;
+    j["eval_wall_s"] = c.eval_wall_s;
+    cps << j.dump() << "\n";
+  }
+  for (const auto& e : r.episodes) {
+    nlohmann::json counts = nlohmann::json::object();
+    std::vector<int> n(r.psi.size(), 0);
+    for (int a : e.episode.actions_taken) ++n[size_t(a)];
+    for (size_t a = 0; a < r.psi.size(); ++a) counts[r.psi[a]] = n[a];
+    eps << nlohmann::json{{"index", e.index},       {"seed", e.episode.seed},       {"epsilon", e.epsilon},
+                          {"reward", e.episode.reward}, {"success", e.episode.success}, {"sim_s", e.episode.sim_seconds},
+                          {"ticks", e.episode.ticks}, {"decisions", e.episode.decisions}, {"actions", counts}}
+               .dump()
+        << "\n";
+  }
+  write_atomic(dir / "curve.csv", curve.str());
+  write_atomic(dir / "checkpoints.jsonl", cps.str());
+  write_atomic(dir / "episodes.jsonl", eps.str());
+  write_atomic(dir / "summary.json", train_summary_json(r).dump(1) + "\n");
+}
+
+PolicyEvalResult evaluate_policy_file(const PolicyEvalOptions& options) {
+  std::ifstream in(options.policy_file);
+  if (!in) throw Error(options.policy_file + ": cannot read the policy file");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const std::exception& e) {
+    throw Error(options.policy_file + ": not JSON: " + e.what());
+  }
+  PolicyMetadata meta;
+  QTable::from_json(j, {}, options.policy_file, &meta);  // the metadata first, to find the stage
+  if (meta.stage.empty() || meta.context.empty())
+    throw Error(options.policy_file + ": the policy names no curriculum stage and context (not written by roger train?)");
+  Curriculum cur = Curriculum::load(options.curriculum, options.limits);
+  const CurriculumStage& stage = cur.stage(meta.stage);
+  const CurriculumContext& ctx = stage.context(meta.context);
+  QTable q = QTable::from_json(j, controller_names(ctx.actions), options.policy_file);
+  const nlohmann::json embedded =
+      meta.extra.is_object() && meta.extra.contains("skills") ? meta.extra["skills"] : nlohmann::json::object();
+  std::vector<SkillSource> sources;
+  TrainOptions topt;
+  topt.limits = options.limits;
+  bind_skills(cur, ctx, topt, &embedded, sources);
+  PolicyEvalResult out;
+  out.stage = stage.name;
+  out.context = ctx.name;
+  out.time_limit = stage.time_limit;
+  StageRun run{cur, stage, ctx, make_scenario(stage, options.scenario, options.sets, options.limits, &out.params), Agent()};
+  out.scenario = run.scenario.name();
+  const uint64_t first = options.first_seed >= 0 ? uint64_t(options.first_seed) : stage.checkpoints.seeds;
+  out.eval = greedy_eval(run, q, first, options.episodes);
+  return out;
+}
+
+}  // namespace roger

@@ -1,0 +1,136 @@
+// trainer.h: one training trial of one stage and context of a curriculum (curriculum.h), with the
+// paper's measurements: learning curves at greedy checkpoints on held-out seeds, time-to-threshold
+// in simulated seconds, episodes, decisions and wall seconds, and the final policy's success rate,
+// reward and action usage. A trial is a pure function of (curriculum, stage, context, seed,
+// parameters): the same inputs give the same curve and policy bit for bit (wall times aside).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "learn/learning.h"
+#include "script/lua_sandbox.h"
+
+namespace roger {
+
+// What a trial trains and how.
+struct TrainOptions {
+  std::string curriculum;   // script path or bare name ("paper")
+  std::string stage, context;
+  uint64_t seed = 1;
+  std::vector<std::pair<std::string, std::string>> sets;  // scenario parameters over the stage's
+  std::map<std::string, std::string> skill_files;         // learned skill name -> its policy.json
+  SandboxLimits limits;
+  bool keep_episodes = true;  // keep the per-episode records (episodes.jsonl)
+};
+
+// A point of training: what had been spent when it was reached.
+struct TrainPoint {
+  int episodes = 0;
+  double sim_s = 0.0;
+  int64_t decisions = 0;
+  double wall_s = 0.0;  // training wall time, checkpoint evaluations excluded
+};
+
+// One greedy evaluation during training.
+struct CheckpointRecord {
+  TrainPoint at;
+  double success_rate = 0.0, reward_mean = 0.0, reward_std = 0.0;
+  double eval_wall_s = 0.0;
+};
+
+// One training episode.
+struct EpisodeRecord {
+  int index = 0;
+  double epsilon = 0.0;
+  TrainingEpisode episode;
+};
+
+// A greedy evaluation's figures.
+struct GreedyEval {
+  int episodes = 0;
+  uint64_t first_seed = 0;
+  int successes = 0;
+  double success_rate = 0.0, reward_mean = 0.0, reward_std = 0.0, time_mean = 0.0;
+  std::vector<std::pair<std::string, double>> usage;  // per action: share of the decisions
+  int64_t decisions = 0;
+};
+
+// Where a learned skill used by the trial came from.
+struct SkillSource {
+  std::string name;           // "Phi_SG"
+  std::string stage, context; // the stage and context that yield it
+  std::string file;           // the policy file it was read from ("" when trained here)
+  uint64_t trained_seed = 0;  // when trained here: the seed it was trained with
+  bool trained = false;
+  bool reached = false;       // when trained here: whether it reached its threshold
+  TrainPoint to_threshold;    // when trained here: its time-to-threshold (or totals if censored)
+  TrainPoint totals;
+  nlohmann::json policy;      // the policy file's JSON (embedded in the trial's own policy)
+};
+
+// Everything a trial produced.
+struct TrainResult {
+  std::string curriculum_path, curriculum_name, stage, context, scenario;
+  uint64_t seed = 0;
+  std::vector<std::string> psi;
+  std::shared_ptr<QTable> q;
+  std::vector<EpisodeRecord> episodes;
+  std::vector<CheckpointRecord> checkpoints;
+  bool reached = false;       // the threshold was reached and held
+  bool stopped_early = false; // stop_after ended training before the budget
+  TrainPoint to_threshold;    // when reached; else the totals (censored)
+  TrainPoint totals;
+  double threshold = 0.0;
+  double wall_s = 0.0;        // the whole trial, evaluations and skill training included
+  GreedyEval final_eval;
+  std::vector<SkillSource> skills;
+  std::vector<std::pair<std::string, std::string>> params;  // scenario parameters used
+};
+
+// Trains one stage/context for one seed. Learned skills the context uses come from
+// options.skill_files or, when absent, from training their stage and context first with the same
+// seed. Throws roger::Error / ScriptError for bad input (naming the stage, context and file:line).
+TrainResult train_stage(const TrainOptions& options);
+
+// The summary as JSON (the fields of `roger train --json`).
+nlohmann::json train_summary_json(const TrainResult& result);
+
+// The policy file's JSON (QTable format with metadata: curriculum, stage, context, seed, psi,
+// the learned skills used, embedded).
+nlohmann::json train_policy_json(const TrainResult& result);
+
+// Writes policy.json, curve.csv, episodes.jsonl, checkpoints.jsonl and summary.json into `dir`
+// (created if needed), each atomically (temporary file, then rename). Throws roger::Error.
+void write_train_outputs(const TrainResult& result, const std::string& dir);
+
+// What evaluating a saved policy needs.
+struct PolicyEvalOptions {
+  std::string curriculum;                                 // the script that defines its stage
+  std::string policy_file;                                // a policy.json written by roger train
+  std::string scenario;                                   // "" = the stage's
+  std::vector<std::pair<std::string, std::string>> sets;  // scenario parameters
+  int episodes = 50;
+  int64_t first_seed = -1;                                // -1 = the stage's held-out seeds
+  SandboxLimits limits;
+};
+
+// The outcome of evaluating a saved policy.
+struct PolicyEvalResult {
+  std::string stage, context, scenario;
+  double time_limit = 0.0;
+  GreedyEval eval;
+  std::vector<std::pair<std::string, std::string>> params;
+};
+
+// Rebuilds a saved policy's Psi from the curriculum (and its embedded learned skills) and runs it
+// greedily with the stage's absorbing state and time limit in any scenario.
+PolicyEvalResult evaluate_policy_file(const PolicyEvalOptions& options);
+
+}  // namespace roger

@@ -1,0 +1,53 @@
+// agent.h: Roger with a mind: a World, what it perceives, and the control loop that runs one
+// controller (any action: primitive, composition or skill) per control tick.
+#pragma once
+
+#include <cstdint>
+
+#include "control/control.h"
+#include "sim/occupancy.h"
+#include "sim/world.h"
+
+namespace roger {
+
+// How the agent runs its controllers.
+struct AgentParams {
+  double grid_inflate = 0.36;  // obstacles grown by this (m) for the planner: the folded hands' reach
+  bool gaze_reflex = true;     // eyes keep the stimulus centred whenever the action leaves them idle
+};
+
+// The control loop of one episode.
+class Agent {
+ public:
+  explicit Agent(const WorldParams& world = {}, const AgentParams& params = {});
+
+  // Starts an episode in a world; controllers are reset by their owner with the same seed.
+  void reset(const WorldSpec& spec);
+
+  // Runs one control tick: evaluates the action, writes its errors (plus the gaze reflex),
+  // steps the world and perceives. Returns the action's output for the tick that just ran.
+  const ControlOutput& step(Controller& action);
+
+  // The inputs every controller reads at the current tick (evaluate other controllers with it).
+  const ControlInput& input() const { return input_; }
+
+  World& world() { return world_; }
+  const World& world() const { return world_; }
+  const Percepts& percepts() const { return percepts_; }
+  const OccupancyGrid& grid() const { return grid_; }
+  const AgentParams& params() const { return params_; }
+  uint64_t ticks() const { return input_.tick; }
+  // The errors vector written at the last step (the action's command plus the gaze reflex).
+  const DofVector& last_errors() const { return last_errors_; }
+
+ private:
+  void refresh_input();
+  World world_;
+  AgentParams params_;
+  Percepts percepts_;
+  OccupancyGrid grid_;
+  ControlInput input_;
+  DofVector last_errors_ = DofVector::Zero();
+};
+
+}  // namespace roger

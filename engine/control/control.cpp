@@ -1,0 +1,379 @@
+#include "control/control.h"
+
+#include <algorithm>
+#include <cmath>
+
+
+#include "core/error.h"
+#include "core/shape.h"
+
+namespace roger {
+
+const char* gamma_name(Gamma g) {
+  switch (g) {
+    case Gamma::kNoRef: return "NOREF";
+    case Gamma::kNotConv: return "!CONV";
+    case Gamma::kConv: return "CONV";
+  }
+  return "?";
+}
+
+void Percepts::update(const Senses& s, const RobotParams& robot) {
+  object = VisualObject{};
+  // A stimulus that runs off either image has no trustworthy centre there: no stereo fix then.
+  if (s.stereo_valid && !s.stimulus[0].clipped && !s.stimulus[1].clipped) {
+    object.seen = true;
+    object.center = s.stimulus_world;
+    object.center_base = s.stimulus_base;
+    // Size from the angular width in the eye with the wider view of it: r = d sin(half width).
+    double half = 0.0;
+    for (int e = 0; e < 2; ++e)
+      if (s.stimulus[e].seen)
+        half = std::max(half, 0.5 * (angle_of_pixel(s.stimulus[e].u_hi) - angle_of_pixel(s.stimulus[e].u_lo)));
+    const double range = s.stimulus_base.norm();
+    object.radius = range * std::sin(half);
+    remembered = vision = object;
+    remembered_time = vision_time = s.time;
+  }
+  for (int side = 0; side < 2; ++side)
+    arms[side] = arm_forward_kinematics(robot, s.base, side, s.q[kLeftShoulder + 2 * side],
+                                        s.q[kLeftElbow + 2 * side]);
+  int votes[8] = {0};
+  touched_object = -1;
+  for (int t = 0; t < kTactileCount; ++t) {
+    const Touch& touch = s.touch[t];
+    contact_on_object[t] = touch.contact && touch.kind == SurfaceKind::kObject;
+    if (contact_on_object[t] && touch.index >= 0 && touch.index < 8) ++votes[touch.index];
+  }
+  int best = 0;
+  for (int i = 0; i < 8; ++i)
+    if (votes[i] > best) best = votes[i], touched_object = i;
+  // Close up, vision is poor (the object fills the eyes' view, and a polygon shows each eye other
+  // corners) but touch knows where the surface is: each contact on the object puts its centre one
+  // (visually estimated) radius behind the contact point, against the contact normal.
+  if (touched_object >= 0 && remembered.radius > 0.0) {
+    Vec2 sum = Vec2::Zero();
+    int n = 0;
+    for (int t = 0; t < kTactileCount; ++t)
+      if (contact_on_object[t] && s.touch[t].index == touched_object)
+        sum += s.touch[t].point - remembered.radius * s.touch[t].normal, ++n;
+    object.seen = object.by_touch = true;
+    object.center = sum / n;
+    object.center_base = to_local(s.base, object.center);
+    object.radius = remembered.radius;
+    remembered.center = object.center;
+    remembered.center_base = object.center_base;
+    remembered_time = s.time;
+  }
+}
+
+void Controller::reset(uint64_t) {
+  out_ = ControlOutput{};
+  last_tick_ = state_tick_ = settle_tick_ = UINT64_MAX;
+  conv_since_ = -1.0;
+}
+
+Gamma Controller::settle(Gamma raw, const ControlInput& in) {
+  // Convergence may have to hold for a while before it counts, and without interruption: a
+  // controller nobody looked at for some ticks (a sequence's idle step, the part of a predicate
+  // that was not needed) starts its hold again.
+  if (in.tick != settle_tick_ + 1) conv_since_ = -1.0;
+  settle_tick_ = in.tick;
+  const double time = in.time;
+  if (raw != Gamma::kConv) {
+    conv_since_ = -1.0;
+    return raw;
+  }
+  if (conv_since_ < 0.0) conv_since_ = time;
+  return time - conv_since_ + 1e-9 >= params_.hold ? Gamma::kConv : Gamma::kNotConv;
+}
+
+const ControlOutput& Controller::evaluate(const ControlInput& in) {
+  if (in.tick == last_tick_) return out_;
+  last_tick_ = in.tick;
+  out_.command.setZero();
+  out_.jacobian.resize(0, kDofCount);
+  out_.phi = out_.residual = 0.0;
+  Gamma raw = Gamma::kNoRef;
+  compute(in, out_, raw);
+  if (params_.gain != 1.0) out_.command *= params_.gain;
+  out_.gamma = settle(raw, in);
+  return out_;
+}
+
+Gamma Controller::state(const ControlInput& in) {
+  if (in.tick == last_tick_ || in.tick == state_tick_) return out_.gamma;
+  Gamma raw = Gamma::kNoRef;
+  if (!compute_state(in, out_, raw)) return evaluate(in).gamma;
+  state_tick_ = in.tick;
+  out_.gamma = settle(raw, in);
+  return out_.gamma;
+}
+
+namespace {
+
+// An orthonormal basis of J's row space by modified Gram-Schmidt; a row whose orthogonalization
+// cancelled much of it (its norm fell below 1/sqrt 2 of what it was) is orthogonalized once more,
+// which is enough for double precision (Daniel, Gragg, Kaufman and Stewart), while the common
+// rows, unit rows of the dofs a primitive owns, take one pass. A row whose remainder is below
+// `tolerance` times the largest row norm depends on the others and is dropped, which truncates
+// the pseudoinverse there instead of letting it blow up. Returns the rank; the basis is its first
+// columns. Far cheaper than an SVD.
+int row_space_basis(const TaskJacobian& J, double tolerance, DofMatrix& basis) {
+  double largest = 0.0;
+  for (int r = 0; r < J.rows(); ++r) largest = std::max(largest, J.row(r).norm());
+  if (largest <= 0.0) return 0;
+  int rank = 0;
+  for (int r = 0; r < J.rows() && rank < kDofCount; ++r) {
+    DofVector v = J.row(r).transpose();
+    for (int pass = 0; pass < 2; ++pass) {
+      const double before = v.squaredNorm();
+      for (int k = 0; k < rank; ++k) v -= basis.col(k).dot(v) * basis.col(k);
+      if (v.squaredNorm() >= 0.5 * before) break;
+    }
+    const double norm = v.norm();
+    if (norm <= tolerance * largest) continue;
+    basis.col(rank++) = v / norm;
+  }
+  return rank;
+}
+
+}  // namespace
+
+DofMatrix nullspace_projector(const TaskJacobian& J, double tolerance) {
+  // N = I - sum of q q^T over the basis, by rank-one updates of fixed size (the product of dynamic
+  // blocks went through Eigen's general matrix kernel, which cost more than the basis itself).
+  DofMatrix N = DofMatrix::Identity();
+  DofMatrix basis;
+  const int rank = row_space_basis(J, tolerance, basis);
+  for (int k = 0; k < rank; ++k) N.noalias() -= basis.col(k) * basis.col(k).transpose();
+  return N;
+}
+
+DofVector nullspace_project(const TaskJacobian& J, const DofVector& v, double tolerance) {
+  DofMatrix basis;
+  const int rank = row_space_basis(J, tolerance, basis);
+  DofVector out = v;
+  for (int k = 0; k < rank; ++k) out -= basis.col(k).dot(v) * basis.col(k);
+  return out;
+}
+
+SubjectTo::SubjectTo(ControllerPtr subordinate, ControllerPtr superior)
+    : sub_(std::move(subordinate)), sup_(std::move(superior)) {
+  if (!sub_ || !sup_) throw Error("subject_to: both sides must be controllers");
+  set_name(sub_->name() + " <| " + sup_->name());
+}
+
+std::vector<const Controller*> SubjectTo::children() const { return {sub_.get(), sup_.get()}; }
+
+void SubjectTo::executed(const ControlInput& in) {
+  if (history_count_ > 0) {
+    const auto& newest = history_[size_t((history_head_ - 1 + kHistory) % kHistory)];
+    if (in.time - newest.first > 1.5 * in.dt + 1e-9) history_count_ = history_head_ = 0;
+  }
+  history_[size_t(history_head_)] = {in.time, sub_->output().phi};
+  history_head_ = (history_head_ + 1) % kHistory;
+  history_count_ = std::min(history_count_ + 1, kHistory);
+  sub_->executed(in);
+  sup_->executed(in);
+}
+
+void SubjectTo::reset(uint64_t seed) {
+  Controller::reset(seed);
+  history_count_ = history_head_ = 0;
+  sub_->reset(seed);
+  sup_->reset(seed);
+}
+
+void SubjectTo::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) {
+  const ControlOutput& a = sup_->evaluate(in);
+  const ControlOutput& b = sub_->evaluate(in);
+  const DofVector projected = nullspace_project(a.jacobian, b.command);
+  out.command = a.command + projected;
+  const int rows = std::min<int>(kMaxTaskRows, int(a.jacobian.rows() + b.jacobian.rows()));
+  out.jacobian.resize(rows, kDofCount);
+  const int top = std::min<int>(rows, int(a.jacobian.rows()));
+  out.jacobian.topRows(top) = a.jacobian.topRows(top);
+  if (rows > top) out.jacobian.bottomRows(rows - top) = b.jacobian.topRows(rows - top);
+  out.phi = a.phi;
+  out.residual = a.residual;
+  gamma_raw = combine(in, a, b, projected);
+}
+
+Gamma SubjectTo::combine(const ControlInput& in, const ControlOutput& a, const ControlOutput& b,
+                         const DofVector& projected) const {
+  Gamma sub = b.gamma;
+  // Blocked by the superior (it asks for motion, none of which survives the projection), or
+  // settled where the superior lets it be (its potential no longer falls while it is being
+  // executed): the constrained equilibrium counts as converged. A subordinate asking for nothing
+  // keeps its gamma.
+  const ControllerParams& sp = sub_->params();
+  const double stall = sp.stall;
+  if (sub != Gamma::kNotConv || a.gamma == Gamma::kNoRef || b.command.norm() <= stall)
+    return std::min(a.gamma, sub);
+  // The history holds the subordinate's potential at the ticks this composite was executed, and
+  // only an unbroken run of them up to the last tick (executed() clears it after a gap).
+  bool settled = false;
+  if (history_count_ > 0) {
+    const auto& newest = history_[size_t((history_head_ - 1 + kHistory) % kHistory)];
+    if (in.time - newest.first <= 1.5 * in.dt + 1e-9) {
+      for (int k = 0; k < history_count_; ++k) {
+        const auto& past = history_[size_t((history_head_ - 1 - k + 2 * kHistory) % kHistory)];
+        if (in.time - past.first + 1e-9 < sp.plateau) continue;
+        settled = std::abs(b.phi - past.second) <= stall;
+        break;
+      }
+    }
+  }
+  if (!settled) settled = projected.norm() <= stall;
+  if (settled) sub = Gamma::kConv;
+  return std::min(a.gamma, sub);
+}
+
+Sequence::Sequence(std::vector<ControllerPtr> steps) : steps_(std::move(steps)) {
+  if (steps_.empty()) throw Error("sequence: needs at least one step");
+  for (const auto& s : steps_)
+    if (!s) throw Error("sequence: every step must be a controller");
+}
+
+std::vector<const Controller*> Sequence::children() const {
+  std::vector<const Controller*> c;
+  for (const auto& s : steps_) c.push_back(s.get());
+  return c;
+}
+
+void Sequence::executed(const ControlInput& in) { steps_[size_t(current_)]->executed(in); }
+
+void Sequence::reset(uint64_t seed) {
+  Controller::reset(seed);
+  for (auto& s : steps_) s->reset(seed);
+  current_ = 0;
+}
+
+void Sequence::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) {
+  const int n = int(steps_.size());
+  // Advance past converged steps, fall back past steps without a reference; at most n moves.
+  for (int moves = 0; moves < n; ++moves) {
+    const Gamma g = steps_[current_]->state(in);
+    if (g == Gamma::kConv && current_ + 1 < n) {
+      ++current_;
+    } else if (g == Gamma::kNoRef && current_ > 0) {
+      --current_;
+    } else {
+      break;
+    }
+  }
+  const ControlOutput& run = steps_[current_]->evaluate(in);
+  out.command = run.command;
+  out.jacobian = run.jacobian;
+  out.phi = run.phi;
+  out.residual = run.residual;
+  const Gamma last = steps_.back()->state(in);
+  bool any_reference = false;
+  for (const auto& s : steps_) any_reference |= s->state(in) != Gamma::kNoRef;
+  gamma_raw = last == Gamma::kConv ? Gamma::kConv : any_reference ? Gamma::kNotConv : Gamma::kNoRef;
+}
+
+void StandIn::bind(ControllerPtr target) {
+  target_ = std::move(target);
+  params() = target_->params();
+  params().hold = 0.0;
+  params().gain = 1.0;
+}
+
+std::vector<const Controller*> StandIn::children() const {
+  if (target_) return {target_.get()};
+  return {};
+}
+
+void StandIn::reset(uint64_t seed) {
+  Controller::reset(seed);
+  if (target_) target_->reset(seed);
+}
+
+void StandIn::executed(const ControlInput& in) {
+  if (target_) target_->executed(in);
+}
+
+void StandIn::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) {
+  if (!target_) {
+    gamma_raw = Gamma::kNoRef;
+    return;
+  }
+  const ControlOutput& o = target_->evaluate(in);
+  out.command = o.command;
+  out.jacobian = o.jacobian;
+  out.phi = o.phi;
+  out.residual = o.residual;
+  gamma_raw = o.gamma;  // already after the target's hold time; the stand-in holds for 0 s
+}
+
+bool StandIn::compute_state(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) {
+  if (!target_) {
+    gamma_raw = Gamma::kNoRef;
+    return true;
+  }
+  gamma_raw = target_->state(in);
+  out.residual = target_->output().residual;
+  return true;
+}
+
+int gamma_state_index(const std::vector<Gamma>& gammas) {
+  int index = 0;
+  for (Gamma g : gammas) index = index * 3 + int(g);
+  return index;
+}
+
+Policy::Policy(std::vector<ControllerPtr> actions, std::vector<int> table, ControllerPtr done,
+               int fallback)
+    : actions_(std::move(actions)), table_(std::move(table)), done_(std::move(done)), fallback_(fallback) {
+  if (actions_.empty()) throw Error("policy: needs at least one action");
+  if (actions_.size() > 12) throw Error("policy: at most 12 actions (3^12 states)");
+  int states = 1;
+  for (size_t i = 0; i < actions_.size(); ++i) states *= 3;
+  if (int(table_.size()) != states)
+    throw Error("policy: the table must have 3^" + std::to_string(actions_.size()) + " = " +
+                std::to_string(states) + " entries, got " + std::to_string(table_.size()));
+  for (int a : table_)
+    if (a < -1 || a >= int(actions_.size())) throw Error("policy: table entry out of range");
+  scratch_.resize(actions_.size());
+}
+
+std::vector<const Controller*> Policy::children() const {
+  std::vector<const Controller*> c;
+  for (const auto& a : actions_) c.push_back(a.get());
+  if (done_) c.push_back(done_.get());
+  return c;
+}
+
+void Policy::executed(const ControlInput& in) {
+  if (chosen_ >= 0) actions_[size_t(chosen_)]->executed(in);
+}
+
+void Policy::reset(uint64_t seed) {
+  Controller::reset(seed);
+  for (auto& a : actions_) a->reset(seed);
+  if (done_) done_->reset(seed);
+  chosen_ = -1;
+}
+
+void Policy::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) {
+  bool any_reference = false;
+  for (size_t i = 0; i < actions_.size(); ++i) {
+    scratch_[i] = actions_[i]->state(in);
+    any_reference |= scratch_[i] != Gamma::kNoRef;
+  }
+  const int entry = table_[size_t(gamma_state_index(scratch_))];
+  chosen_ = entry >= 0 ? entry : fallback_;
+  if (chosen_ >= 0) {
+    const ControlOutput& run = actions_[size_t(chosen_)]->evaluate(in);
+    out.command = run.command;
+    out.jacobian = run.jacobian;
+    out.phi = run.phi;
+    out.residual = run.residual;
+  }
+  const bool done = done_ && done_->state(in) == Gamma::kConv;
+  gamma_raw = done ? Gamma::kConv : any_reference ? Gamma::kNotConv : Gamma::kNoRef;
+}
+
+}  // namespace roger

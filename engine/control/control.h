@@ -1,0 +1,277 @@
+// control.h: the control basis. A controller phi|sigma,tau descends a potential phi over sensory
+// features sigma through effectors tau (a subset of the 8 degrees of freedom) and reports its state
+// gamma by the paper's Equation 1. Controllers compose by nullspace projection ("subject-to"), and
+// skills (sequences, state-to-action policies) are controllers too, so any of them can be an action.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "sim/occupancy.h"
+#include "core/robot.h"
+#include "senses/senses.h"
+#include "core/spec.h"
+#include "sim/world.h"
+
+namespace roger {
+
+// A controller's state (Equation 1), ordered so that min() of two states is the weaker one.
+enum class Gamma : uint8_t { kNoRef = 0, kNotConv = 1, kConv = 2 };
+
+// "NOREF", "!CONV" or "CONV".
+const char* gamma_name(Gamma g);
+
+// Rows of a task Jacobian over the 8 degrees of freedom. The row count is bounded, so Eigen keeps
+// the storage inline: evaluating a controller never allocates.
+constexpr int kMaxTaskRows = 16;
+using TaskJacobian =
+    Eigen::Matrix<double, Eigen::Dynamic, kDofCount, Eigen::RowMajor, kMaxTaskRows, kDofCount>;
+using DofMatrix = Eigen::Matrix<double, kDofCount, kDofCount>;
+
+// The object as Roger estimates it: from vision (stereo centre, size from the angular width), or,
+// when vision cannot tell (the object fills an eye's view) but touch can, from the contacts.
+struct VisualObject {
+  bool seen = false;             // an estimate this tick (stereo, or touch when vision is clipped)
+  bool by_touch = false;         // this tick's estimate comes from the contacts
+  Vec2 center = Vec2::Zero();    // world frame
+  Vec2 center_base = Vec2::Zero();
+  double radius = 0.0;           // half the angular width times the range
+};
+
+// Per-tick facts shared by every controller, computed once (see Percepts::update).
+struct Percepts {
+  VisualObject object;                   // what the eyes say
+  VisualObject remembered;               // the last estimate (for controllers that may use it)
+  double remembered_time = -1e9;         // when it was made
+  VisualObject vision;                   // the last estimate from vision alone (no touch)
+  double vision_time = -1e9;             // when it was made
+  std::array<ArmPoints, 2> arms;         // forward kinematics from the joint senses
+  bool contact_on_object[kTactileCount] = {false, false, false};  // touch on an object
+  int touched_object = -1;               // the object touched by most sensors, or -1
+  // Recomputes from this tick's senses.
+  void update(const Senses& senses, const RobotParams& robot);
+};
+
+// What a controller may read. Controllers see Roger's senses, its body and the static map (arena,
+// obstacles as an occupancy grid, goal regions); never the simulator's object poses.
+struct ControlInput {
+  const Senses* senses = nullptr;
+  const Percepts* percepts = nullptr;
+  const RobotParams* robot = nullptr;
+  const WorldSpec* spec = nullptr;
+  const OccupancyGrid* grid = nullptr;  // static obstacles, grown by the base radius
+  double time = 0.0;                    // simulated seconds since the episode began
+  double dt = 0.02;                     // control tick (s)
+  uint64_t tick = 0;                    // tick counter, for caching within a tick
+};
+
+// What a controller gives back each tick.
+struct ControlOutput {
+  Gamma gamma = Gamma::kNoRef;          // after the hold time
+  double phi = 0.0;                     // the potential
+  double residual = 0.0;                // the quantity compared with epsilon (see each primitive)
+  DofVector command = DofVector::Zero();// the errors vector to apply
+  TaskJacobian jacobian;                // rows of the task it protects when superior (may be empty)
+};
+
+// Parameters every controller has.
+struct ControllerParams {
+  double epsilon = 0.0;  // convergence threshold on the residual; 0 = the primitive's default
+  double gain = 1.0;     // scales the command
+  double hold = 0.0;     // seconds the condition must hold before gamma is CONV
+  double stall = 0.01;   // as a subordinate: converged once its projected command is this small,
+                         // or its potential has changed by less than this over `plateau` seconds
+  double plateau = 0.3;  // seconds over which a subordinate's potential must have settled
+};
+
+// A closed-loop action. Evaluation is cached per tick: a controller shared by several compositions
+// is computed once.
+class Controller {
+ public:
+  virtual ~Controller() = default;
+
+  // The name shown in policies, tables and pictures ("phi1", "phi4 <| phi2", "Phi7").
+  const std::string& name() const { return name_; }
+  void set_name(std::string name) { name_ = std::move(name); }
+
+  // Parameters common to all controllers.
+  ControllerParams& params() { return params_; }
+  const ControllerParams& params() const { return params_; }
+
+  // Starts an episode: clears hold timers and any internal state; seed makes choices repeatable.
+  virtual void reset(uint64_t seed);
+
+  // Evaluates for this tick (cached: the second call in the same tick returns the first result).
+  const ControlOutput& evaluate(const ControlInput& in);
+
+  // This tick's state alone (cached). Cheaper than evaluate() where a controller can tell its
+  // state without computing its command (phi1 needs no potential solve for it); evaluate() still
+  // gives the full output afterwards.
+  Gamma state(const ControlInput& in);
+
+  // The last output.
+  const ControlOutput& output() const { return out_; }
+
+  // The controllers this one is made of, for pictures, usage counts and cycle checks.
+  virtual std::vector<const Controller*> children() const { return {}; }
+
+  // Told by the control loop that this tick's command (from evaluate()) was written to the robot;
+  // composites pass it on to the children whose commands they used. Evaluations made only to
+  // observe a state are never executed, which is what lets a subordinate's settled potential
+  // mean "stuck while acting" rather than "not running".
+  virtual void executed(const ControlInput&) {}
+
+  // A short word for what it is: a primitive's own name, "subject_to", "sequence" or "policy".
+  virtual const char* kind() const = 0;
+
+ protected:
+  // Computes the output for this tick; gamma_raw before the hold time.
+  virtual void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) = 0;
+
+  // Optional fast path of state(): sets gamma_raw (and residual) without the command. Returns
+  // false to fall back on compute(). It must agree with compute() on the state.
+  virtual bool compute_state(const ControlInput&, ControlOutput&, Gamma&) { return false; }
+
+ private:
+  // Applies the hold time to a raw state (idempotent within a tick).
+  Gamma settle(Gamma raw, const ControlInput& in);
+  std::string name_;
+  ControllerParams params_;
+  ControlOutput out_;
+  uint64_t last_tick_ = UINT64_MAX;   // tick of the last full evaluation
+  uint64_t state_tick_ = UINT64_MAX;  // tick of the last state-only evaluation
+  uint64_t settle_tick_ = UINT64_MAX; // tick of the last settle(), to see gaps in the hold
+  double conv_since_ = -1.0;
+};
+
+using ControllerPtr = std::shared_ptr<Controller>;
+
+// The nullspace projector N = I - J^+ J of a task Jacobian (Moore-Penrose), from an orthonormal
+// basis of J's row space: rows that depend on the others to within `tolerance` times the largest
+// row add nothing (the pseudoinverse is truncated there rather than blowing up near singularities).
+DofMatrix nullspace_projector(const TaskJacobian& jacobian, double tolerance = 1e-6);
+// N v for the same N, without forming N (what composition needs each tick).
+DofVector nullspace_project(const TaskJacobian& jacobian, const DofVector& v, double tolerance = 1e-6);
+
+// c2 <| c1: the subordinate's command projected into the nullspace of the superior's Jacobian.
+// Its Jacobian stacks both (so chains nest: phi1 <| (phi4 <| phi5)). Its gamma is the weakest of
+// the two: NOREF if either lacks a reference, CONV only when both have converged, where the
+// subordinate has converged when its own gamma is CONV or when it can make no more progress in the
+// superior's nullspace (its projected command is at most its `stall`, or, while the composite is
+// being executed, its potential has settled: changed by less than `stall` over the last `plateau`
+// seconds of execution, the paper's phi-dot near zero): the constrained equilibrium.
+class SubjectTo final : public Controller {
+ public:
+  // subordinate <| superior.
+  SubjectTo(ControllerPtr subordinate, ControllerPtr superior);
+  std::vector<const Controller*> children() const override;
+  const char* kind() const override { return "subject_to"; }
+  const ControllerPtr& subordinate() const { return sub_; }
+  const ControllerPtr& superior() const { return sup_; }
+  void reset(uint64_t seed) override;
+  void executed(const ControlInput& in) override;
+
+ protected:
+  void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
+
+ private:
+  // The composite's gamma from its parts' outputs and the subordinate's command projected into
+  // the superior's nullspace.
+  Gamma combine(const ControlInput& in, const ControlOutput& a, const ControlOutput& b,
+                const DofVector& projected) const;
+  ControllerPtr sub_, sup_;
+  // The subordinate's recent potentials (time, phi), oldest first, for the plateau test.
+  static constexpr int kHistory = 64;
+  std::array<std::pair<double, double>, kHistory> history_{};
+  int history_count_ = 0, history_head_ = 0;
+};
+
+// A skill that runs its steps in order: the current step runs until it reports CONV, then the next
+// one starts; if the current step loses its reference (NOREF), the previous step runs again (its
+// precondition was lost, e.g. tracking lost the stimulus, so search again). Its gamma: CONV when the
+// last step is CONV, NOREF when every step is NOREF, !CONV otherwise.
+class Sequence final : public Controller {
+ public:
+  explicit Sequence(std::vector<ControllerPtr> steps);
+  std::vector<const Controller*> children() const override;
+  const char* kind() const override { return "sequence"; }
+  void reset(uint64_t seed) override;
+  void executed(const ControlInput& in) override;
+  // The step running now.
+  int current() const { return current_; }
+  const std::vector<ControllerPtr>& steps() const { return steps_; }
+
+ protected:
+  void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
+
+ private:
+  std::vector<ControllerPtr> steps_;
+  int current_ = 0;
+};
+
+// A controller that stands in for another: a name used before its definition, a learned skill
+// bound at train time. Once bound it behaves exactly as its target (outputs, state, execution);
+// unbound it has no reference. Subclasses say what kind of stand-in they are.
+class StandIn : public Controller {
+ public:
+  explicit StandIn(std::string name) { set_name(std::move(name)); }
+  // Binds the target. SubjectTo reads a subordinate's parameters (stall, plateau) from the
+  // controller it holds, so the stand-in takes the target's; hold and gain stay neutral, since
+  // the target already applied its own to what the stand-in passes on.
+  void bind(ControllerPtr target);
+  // Drops the target (breaks reference cycles before an error is reported).
+  void unbind() { target_.reset(); }
+  const ControllerPtr& target() const { return target_; }
+  bool bound() const { return target_ != nullptr; }
+  std::vector<const Controller*> children() const override;
+  void reset(uint64_t seed) override;
+  void executed(const ControlInput& in) override;
+
+ protected:
+  void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
+  // The state alone, through the target's own fast path (a policy's state vector reads this).
+  bool compute_state(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
+
+ private:
+  ControllerPtr target_;
+};
+
+// Packs the gammas of a list of controllers into a state index in [0, 3^n).
+int gamma_state_index(const std::vector<Gamma>& gammas);
+
+// A skill that maps the state (the gamma vector of its actions) to one of its actions, by a table;
+// states missing from the table run `fallback` (or nothing). Learned stages yield these. Its gamma:
+// CONV when `done` is CONV (its goal), NOREF when no action has a reference, !CONV otherwise.
+class Policy final : public Controller {
+ public:
+  // actions: the state vector's controllers and the choices; table: state index -> action index
+  // (-1 = no entry); done: the controller whose convergence is the skill's goal (may be null).
+  Policy(std::vector<ControllerPtr> actions, std::vector<int> table, ControllerPtr done,
+         int fallback = -1);
+  std::vector<const Controller*> children() const override;
+  const char* kind() const override { return "policy"; }
+  void reset(uint64_t seed) override;
+  void executed(const ControlInput& in) override;
+  // The action chosen at the last evaluation, or -1.
+  int chosen() const { return chosen_; }
+  const std::vector<ControllerPtr>& actions() const { return actions_; }
+  const std::vector<int>& table() const { return table_; }
+
+ protected:
+  void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
+
+ private:
+  std::vector<ControllerPtr> actions_;
+  std::vector<int> table_;
+  ControllerPtr done_;
+  int fallback_ = -1;
+  int chosen_ = -1;
+  std::vector<Gamma> scratch_;
+};
+
+}  // namespace roger

@@ -1,0 +1,396 @@
+#include "control/planner.h"
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <limits>
+
+#include "core/error.h"
+
+namespace roger {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The four neighbours of a padded index: the Laplacian's stencil and the flood fill's steps.
+inline void neighbours(int k, int stride, int out[4]) {
+  out[0] = k - 1, out[1] = k + 1, out[2] = k - stride, out[3] = k + stride;
+}
+
+// Young's optimal over-relaxation for a region whose largest inscribed disk has radius r cells.
+// The slowest error mode of Jacobi on a region is about that of its largest open room, and a disk
+// of radius r has Laplacian eigenvalue (2.405 / r)^2, so the Jacobi spectral radius is
+// mu = 1 - lambda / 4 and omega = 2 / (1 + sqrt(1 - mu^2)). In the open 4 x 4 m arena (56 free
+// cells across) this gives 1.89; among obstacles 1.7 to 1.8, where 1.9 would over-relax and take
+// two to three times as many sweeps.
+double young_omega(double r) {
+  if (r <= 0.0) return 1.0;
+  const double lambda = (2.405 / r) * (2.405 / r);
+  const double mu = std::clamp(1.0 - lambda / 4.0, 0.0, 1.0);
+  return 2.0 / (1.0 + std::sqrt(std::max(0.0, 1.0 - mu * mu)));
+}
+
+}  // namespace
+
+HarmonicPlanner::HarmonicPlanner(const PlannerParams& params) : params_(params) {
+  if (!(params_.omega > 0.0 && params_.omega < 2.0))
+    throw Error("planner: omega must lie in (0, 2) for successive over-relaxation to converge");
+  if (params_.max_sweeps < 1) throw Error("planner: max_sweeps must be at least 1");
+  if (!(params_.tolerance > 0.0) || !std::isfinite(params_.tolerance))
+    throw Error("planner: tolerance must be a positive number");
+  if (params_.warm_smoothing < 0) throw Error("planner: warm_smoothing must not be negative");
+}
+
+void HarmonicPlanner::set_grid(const OccupancyGrid& grid) {
+  if (grid.nx < 1 || grid.ny < 1 || grid.occupied.size() != size_t(grid.nx) * grid.ny ||
+      !(grid.cell > 0.0) || !std::isfinite(grid.x0) || !std::isfinite(grid.y0))
+    throw Error("planner: the occupancy grid is malformed (empty, cells missing, or no cell size)");
+  if (has_grid_ && grid.nx == grid_.nx && grid.ny == grid_.ny && grid.x0 == grid_.x0 &&
+      grid.y0 == grid_.y0 && grid.cell == grid_.cell && grid.occupied == grid_.occupied)
+    return;
+  grid_ = grid;
+  has_grid_ = true;
+  // The arrays are rebuilt below: no reachability, no solution, nothing to warm-start from.
+  flooded_ = solved_ = have_values_ = false;
+  backoffs_ = 0;
+  rebuild_structure();
+  find_goal_cells(pending_goal_);
+}
+
+void HarmonicPlanner::set_goal(const Vec2& center, double radius) {
+  if (!center.allFinite() || !(radius >= 0.0) || !std::isfinite(radius))
+    throw Error("planner: the goal needs a finite centre and a finite, non-negative radius");
+  goal_center_ = center;
+  goal_radius_ = radius;
+  has_goal_ = true;
+  find_goal_cells(pending_goal_);
+  // Comparing cell sets, not centres, lets a goal that jitters within a cell cost nothing.
+  if (pending_goal_ != goal_) flooded_ = solved_ = false;
+}
+
+void HarmonicPlanner::rebuild_structure() {
+  const int nx = grid_.nx, ny = grid_.ny;
+  stride_ = nx + 2;
+  const size_t n = size_t(stride_) * (ny + 2);
+  q_.assign(n, 0.0);
+  dist_.assign(n, -1);
+  free_.assign(n, 0);
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) free_[index(i, j)] = grid_.occupied[size_t(j) * nx + i] ? 0 : 1;
+
+  // Every occupied cell of the grid learns its nearest free cell (breadth first from all free
+  // cells at once) and the neighbour that leads there, so a robot standing in an inflated margin
+  // still gets a direction out of it. The padding ring stays unreachable.
+  nearest_.assign(n, -1);
+  exit_.assign(n, -1);
+  queue_.clear();
+  for (int k = 0; k < int(n); ++k)
+    if (free_[k]) nearest_[k] = exit_[k] = k, queue_.push_back(k);
+  for (size_t head = 0; head < queue_.size(); ++head) {
+    const int k = queue_[head];
+    int nb[4];
+    neighbours(k, stride_, nb);
+    for (int m : nb) {
+      const int i = m % stride_ - 1, j = m / stride_ - 1;
+      if (i < 0 || j < 0 || i >= nx || j >= ny || nearest_[m] >= 0) continue;
+      nearest_[m] = nearest_[k];
+      exit_[m] = k;
+      queue_.push_back(m);
+    }
+  }
+
+  // Connected components of the free cells (4-neighbourhood, as the Laplacian): reachability of
+  // any goal is then a lookup, with no flood per goal change.
+  component_.assign(n, -1);
+  component_size_.clear();
+  for (int k = 0; k < int(n); ++k) {
+    if (!free_[k] || component_[k] >= 0) continue;
+    const int id = int(component_size_.size());
+    queue_.assign(1, k);
+    component_[k] = id;
+    for (size_t head = 0; head < queue_.size(); ++head) {
+      int nb[4];
+      neighbours(queue_[head], stride_, nb);
+      for (int m : nb)
+        if (free_[m] && component_[m] < 0) component_[m] = id, queue_.push_back(m);
+    }
+    component_size_.push_back(int(queue_.size()));
+  }
+
+  // Distance from each cell centre to the nearest occupied centre, in cells (two-pass chamfer,
+  // steps 1 and sqrt 2, within 8 %): its maximum over the relaxed cells sizes omega.
+  clearance_.assign(n, 0.0f);
+  const float diag = float(std::sqrt(2.0));
+  for (int k = 0; k < int(n); ++k) clearance_[k] = free_[k] ? std::numeric_limits<float>::max() : 0.0f;
+  for (int j = 1; j <= ny; ++j)
+    for (int i = 1; i <= nx; ++i) {
+      const int k = j * stride_ + i;
+      float& c = clearance_[k];
+      c = std::min({c, clearance_[k - 1] + 1.0f, clearance_[k - stride_] + 1.0f,
+                    clearance_[k - stride_ - 1] + diag, clearance_[k - stride_ + 1] + diag});
+    }
+  for (int j = ny; j >= 1; --j)
+    for (int i = nx; i >= 1; --i) {
+      const int k = j * stride_ + i;
+      float& c = clearance_[k];
+      c = std::min({c, clearance_[k + 1] + 1.0f, clearance_[k + stride_] + 1.0f,
+                    clearance_[k + stride_ + 1] + diag, clearance_[k + stride_ - 1] + diag});
+    }
+}
+
+void HarmonicPlanner::find_goal_cells(std::vector<int>& out) const {
+  out.clear();
+  if (!has_grid_ || !has_goal_) return;
+  const OccupancyGrid& g = grid_;
+  const double r = goal_radius_;
+  // Clamp in floating point first: a goal far outside the arena must not overflow an int.
+  auto cell_index = [&](double v, double origin, int count) {
+    return int(std::clamp(std::floor((v - origin) / g.cell), -1.0, double(count)));
+  };
+  const int i0 = std::max(0, cell_index(goal_center_.x() - r, g.x0, g.nx));
+  const int i1 = std::min(g.nx - 1, cell_index(goal_center_.x() + r, g.x0, g.nx));
+  const int j0 = std::max(0, cell_index(goal_center_.y() - r, g.y0, g.ny));
+  const int j1 = std::min(g.ny - 1, cell_index(goal_center_.y() + r, g.y0, g.ny));
+  for (int j = j0; j <= j1; ++j)
+    for (int i = i0; i <= i1; ++i)
+      if (!g.at(i, j) && (g.center(i, j) - goal_center_).norm() <= r) out.push_back(index(i, j));
+  // Listed row by row, so already in index order; the centre's own cell joins in its place.
+  int i, j;
+  if (g.cell_of(goal_center_, i, j) && !g.at(i, j)) {
+    const auto at = std::lower_bound(out.begin(), out.end(), index(i, j));
+    if (at == out.end() || *at != index(i, j)) out.insert(at, index(i, j));
+  }
+}
+
+bool HarmonicPlanner::update_reachability() {
+  if (!has_grid_) return false;
+  if (!flooded_) {
+    goal_ = pending_goal_;
+    // The goal's components, and whether any of them has a free cell outside the goal.
+    goal_components_.clear();
+    for (int k : goal_)
+      if (std::find(goal_components_.begin(), goal_components_.end(), component_[k]) == goal_components_.end())
+        goal_components_.push_back(component_[k]);
+    int inside = 0;
+    for (int c : goal_components_) inside += component_size_[size_t(c)];
+    any_reachable_ = inside > int(goal_.size());
+    flooded_ = true;
+  }
+  return any_reachable_;
+}
+
+bool HarmonicPlanner::update() {
+  if (!update_reachability()) {
+    solved_ = false;
+    return false;
+  }
+  if (solved_) return true;
+  flood_from_goal();  // distances to the goal and the cells to relax
+  // After a grid change the old values belong to other obstacles; start from zero then.
+  const bool warm = params_.warm_start && have_values_;
+  if (!warm) {
+    // Zero everywhere but the goal, which the flood already fixed at q = 1.
+    std::fill(q_.begin(), q_.end(), 0.0);
+    for (int k : goal_) q_[k] = 1.0;
+  }
+  solve(warm);
+  solved_ = have_values_ = true;
+  return true;
+}
+
+void HarmonicPlanner::flood_from_goal() {
+  // Breadth first from the goal over free cells, with the same 4-neighbourhood as the Laplacian:
+  // a free cell the flood misses is walled off, its exact potential is 1, and it is held there.
+  std::fill(dist_.begin(), dist_.end(), -1);
+  queue_.assign(goal_.begin(), goal_.end());
+  for (int k : goal_) dist_[k] = 0;
+  for (size_t head = 0; head < queue_.size(); ++head) {
+    const int k = queue_[head];
+    int nb[4];
+    neighbours(k, stride_, nb);
+    for (int m : nb)
+      if (free_[m] && dist_[m] < 0) dist_[m] = dist_[k] + 1, queue_.push_back(m);
+  }
+  any_reachable_ = queue_.size() > goal_.size();
+  // The sweep visits only the cells it relaxes, listed by colour in memory order; everything else
+  // is fixed: goal cells at q = 1, obstacles, padding and walled-off cells at q = 0.
+  red_.clear();
+  black_.clear();
+  float widest = 0.0f;
+  for (int k = 0; k < int(q_.size()); ++k) {
+    if (dist_[k] > 0) {
+      ((k % stride_ + k / stride_) % 2 == 0 ? red_ : black_).push_back(k);
+      widest = std::max(widest, clearance_[k]);
+    } else {
+      q_[k] = dist_[k] == 0 ? 1.0 : 0.0;
+    }
+  }
+  widest_ = widest;
+}
+
+void HarmonicPlanner::solve(bool warm) {
+  const double base = params_.auto_omega ? young_omega(widest_) : params_.omega;
+  omega_ = 1.0 + (base - 1.0) * std::pow(0.75, backoffs_);
+  // If the count of unconverged cells stops falling for this long, over-relaxation is amplifying
+  // rounding errors down a long corridor where q falls by decades (a red-black update there can
+  // multiply a relative error by up to 2 omega - 1): relax less, here and for later solves.
+  const int stall_window = 2 * (grid_.nx + grid_.ny);
+  int sweeps = 0, fewest = INT_MAX, since_fewest = 0;
+  converged_ = !any_reachable_;
+  while (!converged_ && sweeps < params_.max_sweeps) {
+    // A moved goal leaves a sharp local error; over-relaxed at once, it would ring across the
+    // whole grid. A few plain Gauss-Seidel sweeps smooth it where it is first.
+    const int unconverged = sweep(warm && sweeps < params_.warm_smoothing ? 1.0 : omega_);
+    ++sweeps;
+    converged_ = unconverged == 0;
+    if (unconverged < fewest) {
+      fewest = unconverged, since_fewest = 0;
+    } else if (++since_fewest >= stall_window && omega_ > 1.0) {
+      ++backoffs_;
+      omega_ = 1.0 + (omega_ - 1.0) * 0.75;
+      fewest = INT_MAX, since_fewest = 0;
+    }
+  }
+  sweeps_last_ = sweeps;
+  sweeps_total_ += sweeps;
+  ++solves_;
+  residual_ = measure_residual();
+}
+
+int HarmonicPlanner::sweep(double omega) {
+  // Red-black Gauss-Seidel: the cells of one colour depend only on the other colour, so a
+  // half-sweep has no dependency from one cell to the next. The padding ring keeps every
+  // neighbour read in bounds and the lists hold only relaxed cells, so the loop has no branch.
+  //
+  // Convergence is judged relative to each cell's value, not absolutely: far from the goal q is
+  // tiny and an absolute test would stop long before the direction there is right. A cell the
+  // solve has not reached yet (q = 0, no change) fails the strict test, and so does a NaN.
+  const double tol = params_.tolerance;
+  const int s = stride_;
+  double* q = q_.data();
+  int unconverged = 0;
+  for (const std::vector<int>* cells : {&red_, &black_}) {
+    const int* idx = cells->data();
+    const int n = int(cells->size());
+    for (int t = 0; t < n; ++t) {
+      const int k = idx[t];
+      const double change = omega * (0.25 * (q[k - 1] + q[k + 1] + q[k - s] + q[k + s]) - q[k]);
+      q[k] += change;
+      unconverged += !(std::fabs(change) < tol * q[k]);
+    }
+  }
+  return unconverged;
+}
+
+double HarmonicPlanner::measure_residual() const {
+  double worst = 0.0;
+  for (const std::vector<int>* cells : {&red_, &black_})
+    for (int k : *cells) {
+      const double avg = 0.25 * (q_[k - 1] + q_[k + 1] + q_[k - stride_] + q_[k + stride_]);
+      worst = std::max(worst, q_[k] > 0.0 ? std::fabs(q_[k] - avg) / q_[k] : kInf);
+    }
+  return worst;
+}
+
+bool HarmonicPlanner::locate(const Vec2& p, int& k) const {
+  int i, j;
+  if (!has_grid_ || !p.allFinite() || !grid_.cell_of(p, i, j)) return false;
+  k = index(i, j);
+  return true;
+}
+
+bool HarmonicPlanner::cell_reachable(int k) const {
+  if (!flooded_) return false;
+  const int cell = free_[k] ? k : nearest_[k];
+  if (cell < 0) return false;
+  return std::find(goal_components_.begin(), goal_components_.end(), component_[cell]) !=
+         goal_components_.end();
+}
+
+bool HarmonicPlanner::reachable(const Vec2& p) const {
+  int k;
+  return locate(p, k) && cell_reachable(k);
+}
+
+bool HarmonicPlanner::at_goal(const Vec2& p) const {
+  int k;
+  return flooded_ && locate(p, k) && free_[k] && std::binary_search(goal_.begin(), goal_.end(), k);
+}
+
+Vec2 HarmonicPlanner::cell_gradient(int k) const {
+  // Zero on the padding ring (no neighbours outside) and on goal cells: a goal cell's central
+  // difference points away from its lower neighbours, which would set a false stop just outside a
+  // goal in a corner. Obstacle cells keep theirs: it points out into the free space.
+  const int i = k % stride_, j = k / stride_;
+  if (i == 0 || j == 0 || i == stride_ - 1 || j == grid_.ny + 1 || dist_[k] == 0) return Vec2::Zero();
+  return Vec2(q_[k + 1] - q_[k - 1], q_[k + stride_] - q_[k - stride_]) / (2.0 * grid_.cell);
+}
+
+double HarmonicPlanner::bilinear(const Vec2& p, Vec2* gradient) const {
+  // Between the centres of the 2 x 2 cells around p; the padding ring covers the grid's edge.
+  const double fx = (p.x() - grid_.x0) / grid_.cell - 0.5, fy = (p.y() - grid_.y0) / grid_.cell - 0.5;
+  const int i = int(std::floor(fx)), j = int(std::floor(fy));
+  const double tx = fx - i, ty = fy - j;
+  const int k = index(i, j);
+  const double w00 = (1.0 - tx) * (1.0 - ty), w10 = tx * (1.0 - ty), w01 = (1.0 - tx) * ty, w11 = tx * ty;
+  if (gradient)
+    *gradient = w00 * cell_gradient(k) + w10 * cell_gradient(k + 1) + w01 * cell_gradient(k + stride_) +
+                w11 * cell_gradient(k + stride_ + 1);
+  return w00 * q_[k] + w10 * q_[k + 1] + w01 * q_[k + stride_] + w11 * q_[k + stride_ + 1];
+}
+
+double HarmonicPlanner::complement(const Vec2& p) const {
+  int k;
+  if (!solved_ || !locate(p, k)) return 0.0;
+  return bilinear(p, nullptr);
+}
+
+double HarmonicPlanner::potential(const Vec2& p) const { return 1.0 - complement(p); }
+
+Vec2 HarmonicPlanner::descent(const Vec2& p) const {
+  int k;
+  if (!solved_ || !locate(p, k) || !cell_reachable(k) || (free_[k] && dist_[k] == 0)) return Vec2::Zero();
+  // Descending u is ascending q = 1 - u. The gradient is taken by central differences at the four
+  // cell centres around p and interpolated between them, so the direction turns smoothly as the
+  // base drives on; the gradient of the bilinear potential itself would jump wherever p crosses
+  // a row or column of centres, making the heading chatter along a wall. Differences of q keep
+  // their relative precision however small q gets, so this only fails where q has no usable
+  // digits left: all cells at zero (deep in an obstacle margin, or values that underflowed on a
+  // huge grid) or an exact saddle.
+  Vec2 gradient;
+  const double value = bilinear(p, &gradient);
+  const double norm = gradient.norm();
+  if (norm * grid_.cell > 1e-9 * value) return gradient / norm;
+  // There, head for a neighbouring cell one step nearer the goal by the flood fill (from a free
+  // cell) or one step nearer the free space (from an occupied one); both always exist.
+  int target = -1;
+  if (free_[k]) {
+    int nb[4];
+    neighbours(k, stride_, nb);
+    for (int m : nb)
+      if (free_[m] && dist_[m] >= 0 && dist_[m] < dist_[k] && (target < 0 || q_[m] > q_[target]))
+        target = m;
+  } else {
+    target = exit_[k];
+  }
+  if (target < 0) return Vec2::Zero();
+  const Vec2 to = grid_.center(target % stride_ - 1, target / stride_ - 1) - p;
+  const double d = to.norm();
+  return d > 0.0 ? Vec2(to / d) : Vec2::Zero();
+}
+
+std::vector<Vec2> HarmonicPlanner::trace(const Vec2& start, double step, int max_steps) const {
+  std::vector<Vec2> path{start};
+  if (!(step > 0.0)) return path;
+  Vec2 p = start;
+  for (int s = 0; s < max_steps && !at_goal(p); ++s) {
+    const Vec2 d = descent(p);
+    if (d.isZero()) break;
+    p += step * d;
+    path.push_back(p);
+  }
+  return path;
+}
+
+}  // namespace roger

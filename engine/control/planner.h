@@ -1,0 +1,141 @@
+// planner.h: the harmonic-function path planner behind phi1 (Connolly & Grupen). Laplace's equation
+// is solved on the occupancy grid with obstacle and border cells held at 1 and goal cells at 0; the
+// base descends the solution's gradient. A harmonic function has no local minima, so every descent
+// from a cell joined to the goal ends in the goal, around obstacles and out of dead ends.
+//
+// Numerics, and why:
+// - The potential is stored as its complement q = 1 - u (obstacles 0, goal 1). Far from the goal u
+//   is 1 - 1e-12 or closer, where a double keeps no digits of the difference; q keeps full relative
+//   precision down to 1e-308, so its differences, hence the direction, stay meaningful everywhere.
+// - Red-black successive over-relaxation, converged when no cell changes by more than `tolerance`
+//   of its own value in a sweep. An absolute test would stop long before the far field is right.
+// - omega comes from the size of the free space (Young's formula): 1.89 in the open arena, 1.7 to
+//   1.8 among obstacles, where a fixed 1.9 takes two to three times the sweeps. A solve that stalls
+//   (over-relaxation amplifying rounding down a long corridor) lowers omega and carries on.
+// - When only the goal moved, the solve starts from the previous solution. That saves only 15 to
+//   25 % of the sweeps: a move of one cell changes q near the goal by tens of percent, and the
+//   far field must converge to the same relative tolerance either way.
+// - Reachability is an exact flood fill from the goal, so a walled-off goal is reported, not guessed.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "sim/occupancy.h"
+#include "core/spec.h"
+
+namespace roger {
+
+struct PlannerParams {
+  double omega = 1.9;        // SOR over-relaxation factor in (0, 2), used when auto_omega is off
+  bool auto_omega = true;    // pick omega from the size of the free space instead (Young's formula)
+  int max_sweeps = 2000;     // a solve stops here even if not converged
+  double tolerance = 1e-4;   // converged when no cell changes by this fraction of its value in a sweep
+  bool warm_start = true;    // start from the previous solution when only the goal moved
+  int warm_smoothing = 8;    // plain Gauss-Seidel sweeps (omega 1) that begin a warm-started solve
+};
+
+class HarmonicPlanner {
+ public:
+  // Checks the parameters; throws roger::Error on an omega outside (0, 2) or a non-positive limit.
+  // The planner answers "unreachable" everywhere until set_grid, set_goal and update.
+  explicit HarmonicPlanner(const PlannerParams& params = {});
+
+  // Sets the obstacles; an identical grid changes nothing, any other discards the solution.
+  void set_grid(const OccupancyGrid& grid);
+  // Sets the goal: the free cells whose centre lies within radius of center, plus the free cell
+  // holding center; a goal covering the same cells as before changes nothing.
+  void set_goal(const Vec2& center, double radius);
+  // Brings reachability up to date (component lookups, no flood, no solve): enough for reachable()
+  // and at_goal(), so a controller can report its state without paying for a solve. Returns
+  // whether some free cell outside the goal is joined to it.
+  bool update_reachability();
+  // Solves if the grid or the goal changed (from the previous solution when only the goal moved);
+  // true when some free cell outside the goal is joined to it. Costs nothing when nothing changed.
+  // The queries below answer for the most recent update().
+  bool update();
+
+  // Whether a free path of cells joins p's cell to a goal cell. A point inside an occupied cell
+  // (the robot grazing an inflated margin) counts as being in the free cell nearest to it.
+  bool reachable(const Vec2& p) const;
+  // The harmonic potential u at p, bilinear between cell centres: 0 on the goal, 1 on obstacles.
+  double potential(const Vec2& p) const;
+  // 1 - potential(p) without the cancellation: keeps its precision far from the goal.
+  double complement(const Vec2& p) const;
+  // Unit direction of steepest descent of the potential at p (its gradient, interpolated between
+  // cell centres); zero at the goal or when unreachable.
+  Vec2 descent(const Vec2& p) const;
+  // Whether p lies in a goal cell.
+  bool at_goal(const Vec2& p) const;
+  // Follows descent() from start in steps of `step` metres until the goal, a dead stop or
+  // max_steps; returns the points visited, start first (for tests, pictures and debugging).
+  std::vector<Vec2> trace(const Vec2& start, double step, int max_steps) const;
+
+  // Sweeps made by the most recent solve (update() calls that had nothing to do are not solves).
+  int sweeps_last_solve() const { return sweeps_last_; }
+  // Sweeps made since construction, over all solves.
+  long total_sweeps() const { return sweeps_total_; }
+  // Number of solves since construction.
+  int solves() const { return solves_; }
+  // The over-relaxation factor of the most recent solve.
+  double omega() const { return omega_; }
+  // Whether the most recent solve met the tolerance within max_sweeps.
+  bool converged() const { return converged_; }
+  // Largest relative residual |q - mean of its 4 neighbours| / q over the cells of the last solve.
+  double residual() const { return residual_; }
+  // Number of cells in the goal last set (0 before set_grid and set_goal, or when all are occupied).
+  int goal_cells() const { return int(pending_goal_.size()); }
+  // The grid in use.
+  const OccupancyGrid& grid() const { return grid_; }
+  // The parameters it was built with.
+  const PlannerParams& params() const { return params_; }
+
+ private:
+  int index(int i, int j) const { return (j + 1) * stride_ + (i + 1); }  // padded index of cell (i, j)
+  bool locate(const Vec2& p, int& k) const;  // padded index of p's cell; false outside the grid
+  void rebuild_structure();                  // padding, exits, clearance; after a grid change
+  void find_goal_cells(std::vector<int>& out) const;
+  void flood_from_goal();                    // distances to the goal, the cells to relax
+  void solve(bool warm);
+  int sweep(double omega);                   // one red-black SOR sweep; returns unconverged cells
+  double measure_residual() const;
+  Vec2 cell_gradient(int k) const;           // gradient of q at a cell centre, central differences
+  double bilinear(const Vec2& p, Vec2* gradient) const;  // q at p, and its interpolated gradient
+  bool cell_reachable(int k) const;
+
+  PlannerParams params_;
+  OccupancyGrid grid_;
+  bool has_grid_ = false, has_goal_ = false;
+  Vec2 goal_center_ = Vec2::Zero();
+  double goal_radius_ = 0.0;
+
+  // Padded (nx + 2) x (ny + 2) arrays: a ring of occupied cells spares the sweep any bounds checks.
+  int stride_ = 0;
+  std::vector<double> q_;        // the complement potential, 1 - u
+  std::vector<uint8_t> free_;    // 1 on free cells of the grid
+  std::vector<int> dist_;        // steps to the goal through free cells; -1 when not joined
+  std::vector<int> nearest_;     // for occupied cells: the nearest free cell (-1: none)
+  std::vector<int> exit_;        // for occupied cells: the neighbour one step nearer to it
+  std::vector<float> clearance_; // distance in cells from each cell centre to the nearest occupied one
+  std::vector<int> red_, black_;  // the cells the sweep relaxes (free, joined to the goal, not goal)
+  std::vector<int> goal_;        // sorted padded indices of the goal cells in force
+  std::vector<int> pending_goal_;
+  std::vector<int> queue_;       // breadth-first scratch, kept to avoid allocating per change
+  std::vector<int> component_;   // connected component of each free cell (-1 elsewhere)
+  std::vector<int> component_size_;   // cells per component
+  std::vector<int> goal_components_;  // the components holding goal cells
+
+  bool flooded_ = false;      // reachability (the flood from the goal) is up to date
+  bool solved_ = false;       // the potential is solved for the current grid and goal
+  bool have_values_ = false;  // q_ holds a solution for the current grid: warm starts may use it
+  bool any_reachable_ = false;
+  int sweeps_last_ = 0, solves_ = 0;
+  long sweeps_total_ = 0;
+  bool converged_ = false;
+  double residual_ = 0.0;
+  float widest_ = 0.0f;          // largest clearance among the relaxed cells
+  double omega_ = 1.0;
+  int backoffs_ = 0;             // times a stalled solve on this grid lowered omega
+};
+
+}  // namespace roger

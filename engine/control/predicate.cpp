@@ -1,0 +1,128 @@
+#include "control/predicate.h"
+
+#include "core/error.h"
+
+namespace roger {
+namespace {
+
+class GammaIs final : public Predicate {
+ public:
+  GammaIs(ControllerPtr c, Gamma g, bool short_form) : c_(std::move(c)), g_(g), short_(short_form) {
+    if (!c_) throw Error("predicate: needs a controller");
+  }
+  bool holds(const ControlInput& in) override { return c_->state(in) == g_; }
+  std::string describe() const override {
+    return short_ ? "converged(" + c_->name() + ")"
+                  : "gamma(" + c_->name() + ") == " + gamma_name(g_);
+  }
+  void controllers(std::vector<const Controller*>& out) const override { out.push_back(c_.get()); }
+
+ private:
+  ControllerPtr c_;
+  Gamma g_;
+  bool short_;
+};
+
+class Combine final : public Predicate {
+ public:
+  Combine(std::vector<PredicatePtr> parts, bool all) : parts_(std::move(parts)), all_(all) {
+    for (const auto& p : parts_) {
+      if (!p) throw Error(std::string(all_ ? "all" : "any") + ": every part must be a predicate");
+      timed_ = timed_ || p->timed();
+    }
+  }
+  bool holds(const ControlInput& in) override {
+    // With a held() timer inside, every part must see every tick; otherwise the first part that
+    // decides the result ends the evaluation (a controller's own hold restarts after a gap).
+    bool result = all_;
+    for (auto& p : parts_) {
+      const bool h = p->holds(in);
+      result = all_ ? (result && h) : (result || h);
+      if (!timed_ && result != all_) break;
+    }
+    return result;
+  }
+  bool timed() const override { return timed_; }
+  void reset() override {
+    for (auto& p : parts_) p->reset();
+  }
+  std::string describe() const override {
+    std::string s = all_ ? "all(" : "any(";
+    for (size_t i = 0; i < parts_.size(); ++i) s += (i ? ", " : "") + parts_[i]->describe();
+    return s + ")";
+  }
+  void controllers(std::vector<const Controller*>& out) const override {
+    for (const auto& p : parts_) p->controllers(out);
+  }
+
+ private:
+  std::vector<PredicatePtr> parts_;
+  bool all_;
+  bool timed_ = false;
+};
+
+class Not final : public Predicate {
+ public:
+  explicit Not(PredicatePtr p) : p_(std::move(p)) {
+    if (!p_) throw Error("not: needs a predicate");
+  }
+  bool holds(const ControlInput& in) override { return !p_->holds(in); }
+  void reset() override { p_->reset(); }
+  std::string describe() const override { return "not(" + p_->describe() + ")"; }
+  void controllers(std::vector<const Controller*>& out) const override { p_->controllers(out); }
+  bool timed() const override { return p_->timed(); }
+
+ private:
+  PredicatePtr p_;
+};
+
+class Held final : public Predicate {
+ public:
+  Held(PredicatePtr p, double seconds) : p_(std::move(p)), seconds_(seconds) {
+    if (!p_) throw Error("held: needs a predicate");
+    if (!(seconds >= 0.0)) throw Error("held: seconds must be a number >= 0");
+  }
+  bool holds(const ControlInput& in) override {
+    if (!p_->holds(in)) {
+      since_ = -1.0;
+      return false;
+    }
+    if (since_ < 0.0) since_ = in.time;
+    return in.time - since_ + 1e-9 >= seconds_;
+  }
+  void reset() override {
+    since_ = -1.0;
+    p_->reset();
+  }
+  std::string describe() const override {
+    return "held(" + p_->describe() + ", " + std::to_string(seconds_).substr(0, 5) + " s)";
+  }
+  void controllers(std::vector<const Controller*>& out) const override { p_->controllers(out); }
+  bool timed() const override { return true; }
+
+ private:
+  PredicatePtr p_;
+  double seconds_;
+  double since_ = -1.0;
+};
+
+}  // namespace
+
+PredicatePtr converged(ControllerPtr c) {
+  return std::make_shared<GammaIs>(std::move(c), Gamma::kConv, true);
+}
+PredicatePtr gamma_is(ControllerPtr c, Gamma g) {
+  return std::make_shared<GammaIs>(std::move(c), g, false);
+}
+PredicatePtr all_of(std::vector<PredicatePtr> parts) {
+  return std::make_shared<Combine>(std::move(parts), true);
+}
+PredicatePtr any_of(std::vector<PredicatePtr> parts) {
+  return std::make_shared<Combine>(std::move(parts), false);
+}
+PredicatePtr negate(PredicatePtr part) { return std::make_shared<Not>(std::move(part)); }
+PredicatePtr held(PredicatePtr part, double seconds) {
+  return std::make_shared<Held>(std::move(part), seconds);
+}
+
+}  // namespace roger

@@ -1,0 +1,46 @@
+// predicate.h: declarative conditions over controller states, evaluated in C++ every control tick
+// (no Lua in the loop): converged(c), gamma(c) == state, all/any/not, held for t seconds. Absorbing
+// states of stages, success of evaluations and skill goals are written with them.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "control/control.h"
+
+namespace roger {
+
+// A condition over the current tick's controller states.
+class Predicate {
+ public:
+  virtual ~Predicate() = default;
+  // Whether the condition holds at this tick (controllers are evaluated, cached per tick).
+  virtual bool holds(const ControlInput& in) = 0;
+  // Starts an episode (clears timers).
+  virtual void reset() {}
+  // A readable form, e.g. "all(converged(phi1), converged(phi5))".
+  virtual std::string describe() const = 0;
+  // The controllers it reads, for validation and usage reports.
+  virtual void controllers(std::vector<const Controller*>& out) const = 0;
+  // Whether it keeps a timer (held) that must see every tick; all/any without one stop at the
+  // first part that decides them, and so skip evaluating controllers nothing else needs.
+  virtual bool timed() const { return false; }
+};
+
+using PredicatePtr = std::shared_ptr<Predicate>;
+
+// gamma(c) == CONV.
+PredicatePtr converged(ControllerPtr c);
+// gamma(c) == g.
+PredicatePtr gamma_is(ControllerPtr c, Gamma g);
+// Every part holds (true when empty).
+PredicatePtr all_of(std::vector<PredicatePtr> parts);
+// Some part holds (false when empty).
+PredicatePtr any_of(std::vector<PredicatePtr> parts);
+// The part does not hold.
+PredicatePtr negate(PredicatePtr part);
+// The part has held without interruption for at least `seconds` of simulated time.
+PredicatePtr held(PredicatePtr part, double seconds);
+
+}  // namespace roger

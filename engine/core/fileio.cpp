@@ -1,0 +1,98 @@
+#include "core/fileio.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <random>
+
+#include "core/error.h"
+
+namespace roger {
+
+namespace fs = std::filesystem;
+
+AtomicFile::AtomicFile(const std::string& path, std::string context)
+    : path_(path), context_(std::move(context)) {
+  const fs::path target(path);
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  // Process id, a counter and a random number: concurrent writers (threads, processes, a resumed
+  // run beside a stale one) never share a temporary.
+  static std::atomic<unsigned> counter{0};
+  std::random_device rd;
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    const std::string name = "." + target.filename().string() + ".tmp" + std::to_string(getpid()) +
+                             "-" + std::to_string(counter++) + "-" + std::to_string(rd() % 100000);
+    temp_ = (dir / name).string();
+    // 0666 and O_EXCL: the umask decides the final permissions, and no other file is clobbered.
+    const int fd = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd >= 0) {
+      file_ = fdopen(fd, "wb");
+      if (!file_) {
+        const int err = errno;
+        ::close(fd);
+        ::unlink(temp_.c_str());
+        temp_.clear();
+        fail(err);
+      }
+      return;
+    }
+    if (errno != EEXIST) {
+      const int err = errno;
+      temp_.clear();
+      fail(err);
+    }
+  }
+  temp_.clear();
+  fail(EEXIST);
+}
+
+AtomicFile::~AtomicFile() {
+  if (file_) std::fclose(file_);
+  if (!committed_ && !temp_.empty()) ::unlink(temp_.c_str());
+}
+
+void AtomicFile::append(const void* data, size_t length) {
+  if (error_ != 0 || length == 0) return;
+  if (std::fwrite(data, 1, length, file_) != length) error_ = errno ? errno : EIO;
+}
+
+void AtomicFile::check() {
+  if (error_ != 0) fail(error_);
+}
+
+void AtomicFile::fail(const std::string& reason) const {
+  throw Error(context_ + " '" + path_ + "': " + reason);
+}
+
+void AtomicFile::commit() {
+  if (error_ != 0) fail(error_);
+  if (std::fflush(file_) != 0 || ::fsync(fileno(file_)) != 0) fail(errno);
+  FILE* f = file_;
+  file_ = nullptr;
+  if (std::fclose(f) != 0) fail(errno);
+  if (std::rename(temp_.c_str(), path_.c_str()) != 0) fail(errno);
+  committed_ = true;
+}
+
+void AtomicFile::fail(int err) {
+  throw Error(context_ + " '" + path_ + "': " + std::strerror(err));
+}
+
+void write_file_atomic(const std::string& path, const std::string& content,
+                       const std::string& context) {
+  const fs::path target(path);
+  if (target.has_parent_path()) {
+    std::error_code ec;
+    fs::create_directories(target.parent_path(), ec);
+    if (ec) throw Error(context + " '" + path + "': " + ec.message());
+  }
+  AtomicFile file(path, context);
+  file.append(content);
+  file.commit();
+}
+
+}  // namespace roger

@@ -1,0 +1,93 @@
+// plot.h: the paper's figures, drawn with PLplot's cairo driver (devices "pngcairo" and
+// "svgcairo") to PNG and SVG files: learning curves with mean +- std bands (Figures 3 and 4, log x
+// for Figure 4) and stacked bars of cumulative training time (Figure 5).
+//
+// Each path's extension (.png or .svg, any case) chooses its format. Files are written atomically:
+// PLplot draws into a temporary file beside the destination, which is checked to be a complete
+// PNG or SVG and then renamed over it, so a destination either keeps its old content or gets the
+// whole new figure; a failure throws roger::Error and leaves no file behind. Several paths in one
+// call are all drawn before any is renamed into place.
+//
+// PLplot keeps global state and is not thread-safe: every figure takes one process-wide mutex and
+// runs plinit ... plend on its own. PLplot's fatal-error hook is redirected to a roger::Error for
+// the length of a figure, so a PLplot failure never exits the process.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/spec.h"
+
+namespace roger {
+
+// One learning curve: mean +- std of the episodic reward against training time.
+struct CurveSeries {
+  std::string name;          // legend entry, e.g. "DC2"
+  std::vector<double> x;     // training time, increasing (the unit is named by x_label)
+  std::vector<double> mean;  // mean over trials at each x
+  std::vector<double> std;   // std over trials at each x, >= 0; empty for no band
+};
+
+// Where the legend sits: in a corner of the plot area, or beside it on the right (for busy plots).
+enum class LegendPosition { kBottomRight, kBottomLeft, kTopRight, kTopLeft, kOutsideRight };
+
+// How plot_learning_curves draws.
+struct CurveOptions {
+  std::string x_label = "Training time (min)";
+  std::string y_label = "Average episodic reward";
+  bool log_x = false;          // log10 x axis over whole decades (Figure 4); every x must be > 0
+  double y_min = -100.0;       // the y range always shown (the paper's rewards are in [-100, 100])
+  double y_max = 100.0;
+  bool fit_data = true;        // widen the y range to every mean +- std (else clip to it)
+  double band_alpha = 0.2;     // opacity of the mean +- std bands, in [0, 1]
+  int width_px = 1000;         // PNG size in pixels (SVG: the same size in points)
+  int height_px = 650;
+  LegendPosition legend = LegendPosition::kBottomRight;
+};
+
+// One part of every stacked bar (Figure 5: "SG" and "T").
+struct BarStack {
+  std::string name;            // legend entry
+  std::vector<double> values;  // one value >= 0 per category, stacked in the order of the stacks
+};
+
+// How plot_stacked_bars draws.
+struct BarOptions {
+  std::string y_label = "Cumulative training time (min)";
+  // Text of a value label; empty means "%.4g". Figure 5: minutes as min:sec through
+  // [](double m) { return format_min_sec(60 * m); }.
+  std::function<std::string(double)> value_label;
+  bool part_labels = true;   // label each part that is tall enough to hold its text
+  bool total_labels = true;  // label each bar's total above it
+  int width_px = 1000;
+  int height_px = 650;
+  LegendPosition legend = LegendPosition::kTopRight;
+};
+
+// The colour of the index-th series or stack (a colour-blind-safe palette, cycled).
+Colour plot_colour(size_t index);
+
+// Draws learning curves (a line per series over a translucent mean +- std band) to path.
+void plot_learning_curves(const std::string& path, const std::string& title,
+                          const std::vector<CurveSeries>& series,
+                          const CurveOptions& options = CurveOptions());
+
+// Draws the same learning curves to every path (e.g. one .png and one .svg); pass a named vector.
+void plot_learning_curves(const std::vector<std::string>& paths, const std::string& title,
+                          const std::vector<CurveSeries>& series,
+                          const CurveOptions& options = CurveOptions());
+
+// Draws one stacked bar per category (an approach), split into the stacks, to path.
+void plot_stacked_bars(const std::string& path, const std::string& title,
+                       const std::vector<std::string>& categories,
+                       const std::vector<BarStack>& stacks,
+                       const BarOptions& options = BarOptions());
+
+// Draws the same stacked bars to every path (e.g. one .png and one .svg); pass a named vector.
+void plot_stacked_bars(const std::vector<std::string>& paths, const std::string& title,
+                       const std::vector<std::string>& categories,
+                       const std::vector<BarStack>& stacks,
+                       const BarOptions& options = BarOptions());
+
+}  // namespace roger

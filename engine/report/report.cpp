@@ -1,0 +1,478 @@
+#include "report/report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "batch/batch.h"
+#include "script/batch_script.h"
+#include "core/error.h"
+#include "core/fileio.h"
+#include "report/plot.h"
+#include "report/stats.h"
+
+namespace roger {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+constexpr uint64_t kBootstrapSeed = 20240601;  // fixed: the same folder gives the same intervals
+constexpr int kCurvePoints = 200;
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+std::string pct(double fraction) { return fmt("%.1f%%", 100.0 * fraction); }
+
+// One context's (or group's) finished trials.
+struct Results {
+  std::vector<json> ok;  // result.json of every finished trial, in trial order
+  int failed = 0, pending = 0, expected = 0;
+};
+
+// The results folder, read once.
+class Folder {
+ public:
+  explicit Folder(const std::string& dir) : dir_(dir) {}
+  Results trials(const std::vector<std::string>& ids) const {
+    Results r;
+    r.expected = int(ids.size());
+    for (const auto& id : ids) {
+      const fs::path d = trial_dir(dir_, id);
+      std::error_code ec;
+      if (fs::exists(d / "result.json", ec)) {
+        try {
+          r.ok.push_back(json::parse(read_text(d / "result.json")));
+        } catch (const std::exception& e) {
+          throw Error((d / "result.json").string() + ": not JSON: " + e.what());
+        }
+      } else if (fs::exists(d / "error.json", ec)) {
+        ++r.failed;
+      } else {
+        ++r.pending;
+      }
+    }
+    return r;
+  }
+  Results run(const BatchRun& run, const std::string& context) const {
+    std::vector<std::string> ids;
+    for (int i = 0; i < run.trials; ++i) ids.push_back(batch_trial_id(run.name, context, i));
+    return trials(ids);
+  }
+  const std::string& dir() const { return dir_; }
+
+ private:
+  std::string dir_;
+};
+
+double num(const json& j, const char* key) {
+  if (!j.contains(key) || !j[key].is_number()) throw Error(std::string("a trial result has no number '") + key + "'");
+  return j[key].get<double>();
+}
+
+std::vector<CensoredTime> times_of(const Results& r) {
+  std::vector<CensoredTime> t;
+  for (const auto& j : r.ok) t.push_back({num(j, "time_to_threshold_s"), j.value("reached", false)});
+  return t;
+}
+
+// Pooled figures of several greedy evaluations of `episodes` episodes each (rewards and successes).
+struct Pooled {
+  double mean = 0, std = 0, success = 0;
+  int episodes = 0;
+};
+
+Pooled pool(const std::vector<json>& evals, const char* episodes_key) {
+  Pooled p;
+  double sum = 0, sum_sq = 0, succ = 0;
+  for (const auto& j : evals) {
+    const double n = num(j, episodes_key), m = num(j, "reward_mean"), s = num(j, "reward_std");
+    sum += n * m;
+    sum_sq += n * (s * s + m * m);
+    succ += n * num(j, "success_rate");
+    p.episodes += int(n);
+  }
+  if (p.episodes == 0) return p;
+  p.mean = sum / p.episodes;
+  p.std = std::sqrt(std::max(0.0, sum_sq / p.episodes - p.mean * p.mean));
+  p.success = succ / p.episodes;
+  return p;
+}
+
+std::string trials_note(const Results& r) {
+  std::string s = std::to_string(r.ok.size()) + "/" + std::to_string(r.expected);
+  if (r.failed) s += " (" + std::to_string(r.failed) + " failed)";
+  if (r.pending) s += " (" + std::to_string(r.pending) + " pending)";
+  return s;
+}
+
+// Table I / II: a run's contexts against its baseline.
+void run_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep) {
+  const BatchRun& run = *b.run(t.run);
+  const Results base = folder.run(run, t.baseline);
+  const std::vector<CensoredTime> base_times = times_of(base);
+  const double base_mean = base_times.empty() ? 0.0 : mean(censored_values(base_times));
+  md << "## " << (t.title.empty() ? "Stage " + run.stage : t.title) << "\n\n";
+  md << "Run `" << run.name << "`: stage " << run.stage << ", baseline " << t.baseline << ".\n\n";
+  md << "| Approach | Train time (min:sec) | % Improvement | Avg. reward ± std | Success rate | Median time | "
+        "IQM time [95% CI] | Reached | p (Mann-Whitney vs "
+     << t.baseline << ") | P(faster than " << t.baseline << ") | Trials |\n";
+  md << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  json rows = json::array();
+  bool any_censored = false;
+  for (const auto& c : run.contexts) {
+    const Results r = folder.run(run, c);
+    json row = {{"context", c}, {"trials", r.ok.size()}, {"failed", r.failed}, {"pending", r.pending}};
+    if (r.ok.empty()) {
+      md << "| " << c << " | - | - | - | - | - | - | - | - | - | " << trials_note(r) << " |\n";
+      rows.push_back(row);
+      continue;
+    }
+    const std::vector<CensoredTime> times = times_of(r);
+    const std::vector<double> tv = censored_values(times);
+    const double reached = fraction_reached(times);
+    const bool censored = reached < 1.0;
+    any_censored = any_censored || censored;
+    const double m = mean(tv), med = median(tv);
+    const ConfidenceInterval iqm = bootstrap_ci(tv, interquartile_mean, kBootstrapSeed);
+    const Pooled fin = pool(r.ok, "final_episodes");
+    const std::string lb = censored ? "≥ " : "";
+    std::string improvement = "-", p_value = "-", p_faster = "-";
+    row["time_mean_s"] = m;
+    row["time_median_s"] = med;
+    row["time_iqm_s"] = iqm.estimate;
+    row["time_iqm_ci_s"] = {iqm.low, iqm.high};
+    row["fraction_reached"] = reached;
+    row["reward_mean"] = fin.mean;
+    row["reward_std"] = fin.std;
+    row["success_rate"] = fin.success;
+    row["final_episodes"] = fin.episodes;
+    if (c != t.baseline && !base_times.empty()) {
+      if (base_mean > 0) {
+        const double imp = percent_improvement(base_mean, m);
+        improvement = fmt("%.2f%%", imp);
+        row["improvement_percent"] = imp;
+      }
+      try {
+        const MannWhitneyResult mw = mann_whitney_u_censored(times, base_times);
+        p_value = mw.p_value < 1e-4 ? fmt("%.1e", mw.p_value) : fmt("%.4f", mw.p_value);
+        row["mann_whitney_p"] = mw.p_value;
+      } catch (const std::exception&) {
+        p_value = "n/a";
+      }
+      const double pf = probability_of_improvement_censored(times, base_times);
+      p_faster = fmt("%.2f", pf);
+      row["probability_faster"] = pf;
+    }
+    md << "| " << c << " | " << lb << format_min_sec(m) << " | " << improvement << " | " << fmt("%.1f", fin.mean)
+       << " ± " << fmt("%.1f", fin.std) << " | " << pct(fin.success) << " | " << lb << format_min_sec(med) << " | "
+       << lb << format_min_sec(iqm.estimate) << " [" << format_min_sec(iqm.low) << ", " << format_min_sec(iqm.high)
+       << "] | " << pct(reached) << " | " << p_value << " | " << p_faster << " | " << trials_note(r) << " |\n";
+    rows.push_back(row);
+  }
+  md << "\nTrain time is **simulated** time (not wall time) until the greedy policy first reached the "
+        "threshold success rate at a checkpoint, in min:sec; the mean over trials (then median, interquartile "
+        "mean with its 95% percentile-bootstrap interval). % Improvement compares the means with the "
+        "baseline's. Avg. reward ± std (population std) and success rate pool every trial's final greedy "
+        "evaluation. Reached: the fraction of trials that reached the threshold within the budget.";
+  if (any_censored)
+    md << " Trials that never reached it count at their whole training time (right-censored), so the values "
+          "marked ≥ are lower bounds; the Mann-Whitney U test and P(faster) rank them as slower than every trial "
+          "that reached it.";
+  md << " P(faster): the probability that a trial of the row is faster than one of the baseline.\n\n";
+
+  // Usage: share of the final greedy policies' decisions per action, mean over trials.
+  md << "### Usage of the final policies\n\nShare of the decisions of each action in the final greedy "
+        "evaluation, mean over trials.\n\n";
+  json usage_rows = json::object();
+  for (const auto& c : run.contexts) {
+    const Results r = folder.run(run, c);
+    if (r.ok.empty()) continue;
+    std::vector<std::string> order;
+    for (const auto& a : r.ok.front().value("psi", json::array())) order.push_back(a.get<std::string>());
+    std::map<std::string, double> share;
+    for (const auto& j : r.ok)
+      for (auto it = j["usage"].begin(); it != j["usage"].end(); ++it) share[it.key()] += it->get<double>() / double(r.ok.size());
+    md << "- " << c << ":";
+    for (const auto& a : order) {
+      md << " " << a << " " << pct(share[a]) << (a == order.back() ? "" : ",");
+      usage_rows[c][a] = share[a];
+    }
+    md << "\n";
+  }
+  json comparisons = json::array();
+  for (const auto& u : t.usage) {
+    const Results r = folder.run(run, u.context);
+    std::vector<double> ratios;
+    for (const auto& j : r.ok) {
+      const json& us = j["usage"];
+      const double s = us.value(u.skill, 0.0);
+      double total = s;
+      for (const auto& a : u.subsumes) total += us.value(a, 0.0);
+      if (total > 0) ratios.push_back(s / total);
+    }
+    std::string subs;
+    for (const auto& a : u.subsumes) subs += (subs.empty() ? "" : ", ") + a;
+    if (ratios.empty()) {
+      md << "\n" << u.context << ": no trial used " << u.skill << " or " << subs << ".\n";
+      continue;
+    }
+    md << "\n" << u.context << ": " << u.skill << " makes " << pct(mean(ratios)) << " ± " << pct(population_std(ratios))
+       << " of the decisions among itself and the actions it subsumes (" << subs << "), mean ± std over "
+       << ratios.size() << " trials.\n";
+    comparisons.push_back({{"context", u.context}, {"skill", u.skill}, {"subsumes", u.subsumes},
+                           {"share_mean", mean(ratios)}, {"share_std", population_std(ratios)},
+                           {"trials", ratios.size()}});
+  }
+  md << "\n";
+  rep.push_back({{"title", t.title}, {"run", run.name}, {"baseline", t.baseline}, {"rows", rows},
+                 {"usage", usage_rows}, {"usage_comparisons", comparisons}});
+}
+
+// Table III: an evaluation per shape, and a Total row.
+void eval_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep) {
+  const BatchEvaluation* ev = nullptr;
+  for (const auto& e : b.evaluations)
+    if (e.name == t.evaluation) ev = &e;
+  md << "## " << (t.title.empty() ? "Evaluation " + ev->name : t.title) << "\n\n";
+  md << "The final " << ev->run << "/" << ev->context << " policy of each of " << ev->trials << " trials, without "
+     << "retraining, in scenario " << (ev->scenario.empty() ? "(the stage's)" : "`" + ev->scenario + "`");
+  if (!ev->params.empty()) {
+    md << " with";
+    for (const auto& [k, v] : ev->params) md << " " << k << "=" << v;
+  }
+  md << ", " << ev->episodes << " episodes per policy and object.\n\n";
+  md << "| Object | Avg. reward ± std | Success rate | Success rate per policy (mean ± std) | Policies | Episodes |\n";
+  md << "|---|---|---|---|---|---|\n";
+  json rows = json::array();
+  std::vector<json> all;
+  std::vector<double> all_rates;
+  int expected = 0;
+  for (const auto& g : batch_eval_groups(*ev)) {
+    std::vector<std::string> ids;
+    for (int i = 0; i < ev->trials; ++i) ids.push_back(batch_eval_id(ev->name, g, i));
+    const Results r = folder.trials(ids);
+    expected += r.expected;
+    std::string name = g;
+    if (!name.empty()) name[0] = char(std::toupper(static_cast<unsigned char>(name[0])));
+    if (r.ok.empty()) {
+      md << "| " << name << " | - | - | - | " << trials_note(r) << " | 0 |\n";
+      continue;
+    }
+    const Pooled p = pool(r.ok, "episodes");
+    std::vector<double> rates;
+    for (const auto& j : r.ok) rates.push_back(num(j, "success_rate"));
+    all.insert(all.end(), r.ok.begin(), r.ok.end());
+    all_rates.insert(all_rates.end(), rates.begin(), rates.end());
+    md << "| " << name << " | " << fmt("%.1f", p.mean) << " ± " << fmt("%.3f", p.std) << " | " << pct(p.success)
+       << " | " << pct(mean(rates)) << " ± " << pct(population_std(rates)) << " | " << trials_note(r) << " | "
+       << p.episodes << " |\n";
+    rows.push_back({{"object", g}, {"reward_mean", p.mean}, {"reward_std", p.std}, {"success_rate", p.success},
+                    {"policies", r.ok.size()}, {"episodes", p.episodes}});
+  }
+  if (!all.empty()) {
+    const Pooled p = pool(all, "episodes");
+    md << "| **Total** | " << fmt("%.1f", p.mean) << " ± " << fmt("%.3f", p.std) << " | " << pct(p.success) << " | "
+       << pct(mean(all_rates)) << " ± " << pct(population_std(all_rates)) << " | " << all.size() << "/" << expected
+       << " | " << p.episodes << " |\n";
+    rows.push_back({{"object", "Total"}, {"reward_mean", p.mean}, {"reward_std", p.std}, {"success_rate", p.success},
+                    {"policies", all.size()}, {"episodes", p.episodes}});
+  }
+  md << "\nAvg. reward ± std (population std) and success rate pool every episode of every policy; the per-policy "
+        "column shows how much the policies of different trials differ.\n\n";
+  rep.push_back({{"title", t.title}, {"evaluation", ev->name}, {"rows", rows}});
+}
+
+std::vector<std::string> figure_paths(const std::string& dir, const std::string& file) {
+  return {(fs::path(dir) / (file + ".png")).string(), (fs::path(dir) / (file + ".svg")).string()};
+}
+
+// A run's learning curves: greedy reward at the checkpoints against simulated training minutes.
+bool curves_figure(const BatchScript& b, const BatchFigure& f, const Folder& folder, std::vector<std::string>& written) {
+  const BatchRun& run = *b.run(f.run);
+  std::vector<CurveSeries> series;
+  for (const auto& c : run.contexts) {
+    const Results r = folder.run(run, c);
+    std::vector<std::vector<std::pair<double, double>>> trials;
+    for (const auto& j : r.ok) {
+      std::vector<std::pair<double, double>> pts;
+      for (const auto& cp : j.value("checkpoints", json::array())) pts.emplace_back(num(cp, "sim_s"), num(cp, "reward_mean"));
+      trials.push_back(std::move(pts));
+    }
+    const CurveGrid g = curve_grid(trials, kCurvePoints, f.log_x);
+    if (g.t.empty()) continue;
+    CurveSeries s;
+    s.name = c;
+    for (size_t k = 0; k < g.t.size(); ++k) {
+      std::vector<double> v;
+      for (const auto& tr : g.values) v.push_back(tr[k]);
+      s.x.push_back(g.t[k] / 60.0);
+      s.mean.push_back(mean(v));
+      s.std.push_back(population_std(v));
+    }
+    series.push_back(std::move(s));
+  }
+  if (series.empty()) return false;
+  CurveOptions o;
+  o.x_label = "Simulated training time (min)";
+  o.y_label = "Average episodic reward (greedy)";
+  o.log_x = f.log_x;
+  const auto paths = figure_paths(folder.dir(), f.file);
+  plot_learning_curves(paths, f.title.empty() ? "Learning curves: stage " + run.stage : f.title, series, o);
+  written.insert(written.end(), paths.begin(), paths.end());
+  return true;
+}
+
+// Cumulative training time per context: the skills' runs (the trial's own skill source) then the run.
+bool cumulative_figure(const BatchScript& b, const BatchFigure& f, const Folder& folder, std::vector<std::string>& written) {
+  const BatchRun& run = *b.run(f.run);
+  std::vector<std::string> categories;
+  std::vector<BarStack> stacks;
+  for (const auto& s : run.skills) stacks.push_back({s.run + " (" + s.skill + ", " + s.context + ")", {}});
+  stacks.push_back({run.name, {}});
+  for (const auto& c : run.contexts) {
+    const Results r = folder.run(run, c);
+    if (r.ok.empty()) continue;
+    categories.push_back(c);
+    for (size_t k = 0; k < run.skills.size(); ++k) {
+      const BatchSkill& s = run.skills[k];
+      std::vector<double> v;
+      for (const auto& j : r.ok) {
+        const int i = j.value("trial", 0);
+        const Results src = folder.trials({batch_trial_id(s.run, s.context, i)});
+        if (!src.ok.empty()) v.push_back(num(src.ok.front(), "time_to_threshold_s") / 60.0);
+      }
+      stacks[k].values.push_back(v.empty() ? 0.0 : mean(v));
+    }
+    std::vector<double> v;
+    for (const auto& j : r.ok) v.push_back(num(j, "time_to_threshold_s") / 60.0);
+    stacks.back().values.push_back(mean(v));
+  }
+  if (categories.empty()) return false;
+  BarOptions o;
+  o.y_label = "Cumulative simulated training time (min)";
+  o.value_label = [](double m) { return format_min_sec(60.0 * m); };
+  const auto paths = figure_paths(folder.dir(), f.file);
+  plot_stacked_bars(paths, f.title.empty() ? "Cumulative training time" : f.title, categories, stacks, o);
+  written.insert(written.end(), paths.begin(), paths.end());
+  return true;
+}
+
+}  // namespace
+
+CurveGrid curve_grid(const std::vector<std::vector<std::pair<double, double>>>& trials, int points, bool log_x) {
+  CurveGrid g;
+  double lo = -1, hi = -1;
+  for (const auto& tr : trials) {
+    if (tr.empty()) continue;
+    lo = std::max(lo, tr.front().first);
+    hi = std::max(hi, tr.back().first);
+  }
+  if (hi < 0 || points < 2) return g;
+  if (log_x && lo <= 0) {
+    // The first positive checkpoint time of the trial whose first one is latest.
+    lo = hi;
+    for (const auto& tr : trials)
+      for (const auto& [t, v] : tr)
+        if (t > 0) {
+          lo = std::min(lo, t);
+          break;
+        }
+  }
+  if (hi <= lo) {
+    g.t = {lo};
+  } else {
+    for (int k = 0; k < points; ++k) {
+      const double f = double(k) / double(points - 1);
+      g.t.push_back(log_x ? lo * std::pow(hi / lo, f) : lo + (hi - lo) * f);
+    }
+  }
+  for (const auto& tr : trials) {
+    if (tr.empty()) continue;
+    std::vector<double> v;
+    for (double t : g.t) {
+      if (t <= tr.front().first) {
+        v.push_back(tr.front().second);
+        continue;
+      }
+      if (t >= tr.back().first) {
+        v.push_back(tr.back().second);
+        continue;
+      }
+      const auto it = std::lower_bound(tr.begin(), tr.end(), t,
+                                       [](const std::pair<double, double>& p, double x) { return p.first < x; });
+      const auto& b = *it;
+      const auto& a = *(it - 1);
+      const double w = b.first > a.first ? (t - a.first) / (b.first - a.first) : 1.0;
+      v.push_back(a.second + w * (b.second - a.second));
+    }
+    g.values.push_back(std::move(v));
+  }
+  return g;
+}
+
+std::vector<std::string> write_report(const std::string& dir) {
+  const fs::path manifest_path = fs::path(dir) / "manifest.json";
+  std::error_code ec;
+  if (!fs::is_regular_file(manifest_path, ec))
+    throw Error("'" + dir + "' is not a results folder of roger run: it has no manifest.json");
+  json manifest;
+  try {
+    manifest = json::parse(read_text(manifest_path));
+  } catch (const std::exception& e) {
+    throw Error(manifest_path.string() + ": not JSON: " + e.what());
+  }
+  const BatchScript b = batch_config_from_json(manifest.value("config", json::object()));
+  const Folder folder(dir);
+  std::ostringstream md;
+  md << "# Results: " << b.name << "\n\n";
+  if (!b.description.empty()) md << b.description << "\n\n";
+  md << "Batch script `" << manifest.value("script", std::string("?")) << "`, curriculum `" << b.curriculum
+     << "`, roger " << manifest.value("version", std::string("?")) << "; trial i of every run has seed "
+     << b.seed << " + i.\n\n";
+  json rep = json::array();
+  for (const auto& t : b.tables) {
+    if (!t.run.empty()) run_table(b, t, folder, md, rep);
+    else eval_table(b, t, folder, md, rep);
+  }
+  std::vector<std::string> written;
+  std::vector<std::string> figures_md;
+  for (const auto& f : b.figures) {
+    const bool drawn = f.kind == "cumulative" ? cumulative_figure(b, f, folder, written) : curves_figure(b, f, folder, written);
+    figures_md.push_back("- `" + f.file + ".png` / `" + f.file + ".svg`: " +
+                         (f.title.empty() ? f.kind + " of run " + f.run : f.title) + (drawn ? "" : " (not drawn: no finished trial)"));
+  }
+  md << "## Figures\n\n";
+  for (const auto& l : figures_md) md << l << "\n";
+  md << "\nLearning curves: each trial's greedy checkpoint rewards (the mean episodic reward of held-out "
+        "episodes) against its simulated training time, interpolated linearly between checkpoints onto a "
+        "common grid of "
+     << kCurvePoints << " times (log-spaced on a log axis) from the latest first checkpoint to the latest last "
+        "one; a trial that stopped early keeps its last value. Lines are the mean over trials, bands ± one "
+        "(population) std. Cumulative training time: mean simulated time-to-threshold of the skill's source "
+        "trials (each trial uses the policy of the same-numbered source trial) stacked under the run's own.\n";
+  const std::string tables = (fs::path(dir) / "tables.md").string();
+  write_file_atomic(tables, md.str(), "roger report: cannot write tables.md");
+  const std::string report_json = (fs::path(dir) / "report.json").string();
+  write_file_atomic(report_json, json{{"tables", rep}}.dump(1) + "\n", "roger report: cannot write report.json");
+  written.insert(written.begin(), {tables, report_json});
+  return written;
+}
+
+}  // namespace roger

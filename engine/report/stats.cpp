@@ -1,0 +1,350 @@
+// stats.cpp: see stats.h.
+#include "report/stats.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/rng.h"
+
+namespace roger {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+std::string number(double v) {
+  std::ostringstream os;
+  os.precision(17);
+  os << v;
+  return os.str();
+}
+
+// Throws unless xs has at least `minimum` values, all finite; `what` names the caller.
+void check_sample(const std::vector<double>& xs, const char* what, size_t minimum = 1) {
+  if (xs.size() < minimum)
+    throw Error(std::string("stats: ") + what + " needs at least " + std::to_string(minimum) +
+                (minimum == 1 ? " value" : " values") + ", got " + std::to_string(xs.size()));
+  for (size_t i = 0; i < xs.size(); ++i)
+    if (!std::isfinite(xs[i]))
+      throw Error(std::string("stats: ") + what + ": value " + std::to_string(i) + " is " +
+                  number(xs[i]) + ", expected a finite number");
+}
+
+std::vector<double> sorted(std::vector<double> xs) {
+  std::sort(xs.begin(), xs.end());
+  return xs;
+}
+
+// Type-7 quantile of an already sorted, non-empty sample.
+double sorted_quantile(const std::vector<double>& s, double q) {
+  const double h = double(s.size() - 1) * q;
+  const size_t lo = size_t(std::floor(h));
+  if (lo + 1 >= s.size()) return s.back();
+  return s[lo] + (h - double(lo)) * (s[lo + 1] - s[lo]);
+}
+
+// Mean of an already checked sample, with a compensated sum so +-100 rewards stay exact.
+double plain_mean(const std::vector<double>& xs) {
+  double sum = 0.0, c = 0.0;
+  for (double v : xs) {
+    const double y = v - c;
+    const double t = sum + y;
+    c = (t - sum) - y;
+    sum = t;
+  }
+  return sum / double(xs.size());
+}
+
+// Sum of squared deviations from the mean (two-pass).
+double squared_deviations(const std::vector<double>& xs) {
+  const double m = plain_mean(xs);
+  double ss = 0.0;
+  for (double v : xs) ss += (v - m) * (v - m);
+  return ss;
+}
+
+// The pieces of a Mann-Whitney test computed from the pooled midranks. Values may be +infinity
+// (censored trials): they compare equal to one another and above every finite value.
+struct RankSums {
+  double u1 = 0.0;
+  double tie_term = 0.0;  // sum over tie groups of t^3 - t
+  bool ties = false;
+};
+
+RankSums rank_sums(const std::vector<double>& x, const std::vector<double>& y) {
+  struct Item {
+    double value;
+    bool first;
+  };
+  std::vector<Item> pooled;
+  pooled.reserve(x.size() + y.size());
+  for (double v : x) pooled.push_back({v, true});
+  for (double v : y) pooled.push_back({v, false});
+  std::sort(pooled.begin(), pooled.end(),
+            [](const Item& a, const Item& b) { return a.value < b.value; });
+  RankSums out;
+  double r1 = 0.0;
+  for (size_t i = 0; i < pooled.size();) {
+    size_t j = i;
+    while (j < pooled.size() && pooled[j].value == pooled[i].value) ++j;
+    const double t = double(j - i);
+    const double midrank = (double(i + 1) + double(j)) / 2.0;  // ranks i+1 .. j
+    for (size_t k = i; k < j; ++k)
+      if (pooled[k].first) r1 += midrank;
+    if (j - i > 1) {
+      out.ties = true;
+      out.tie_term += t * t * t - t;
+    }
+    i = j;
+  }
+  const double n1 = double(x.size());
+  out.u1 = r1 - n1 * (n1 + 1.0) / 2.0;
+  return out;
+}
+
+// P(U <= u) under the null hypothesis for samples of sizes m and n without ties, by the
+// recurrence over which sample holds the largest value, in probabilities (no overflow).
+double exact_cdf(size_t m, size_t n, double u) {
+  const size_t max_u = m * n;
+  const long target = long(std::floor(u + 1e-9));
+  if (target < 0) return 0.0;
+  if (size_t(target) >= max_u) return 1.0;
+  // p[a][b][k]: probability that U = k for sizes (a, b); rows over a are rolled.
+  const size_t width = max_u + 1;
+  std::vector<double> prev((n + 1) * width, 0.0), cur((n + 1) * width, 0.0);
+  for (size_t b = 0; b <= n; ++b) prev[b * width] = 1.0;  // a = 0: U = 0 surely
+  for (size_t a = 1; a <= m; ++a) {
+    std::fill(cur.begin(), cur.end(), 0.0);
+    cur[0] = 1.0;  // b = 0: U = 0 surely
+    for (size_t b = 1; b <= n; ++b) {
+      const double px = double(a) / double(a + b);  // the largest value is an x: beats all b y's
+      const double py = 1.0 - px;
+      double* row = &cur[b * width];
+      const double* from_x = &prev[b * width];      // (a - 1, b)
+      const double* from_y = &cur[(b - 1) * width];  // (a, b - 1)
+      const size_t top = a * b;
+      for (size_t k = 0; k <= top; ++k) {
+        double p = py * from_y[k];
+        if (k >= b) p += px * from_x[k - b];
+        row[k] = p;
+      }
+    }
+    std::swap(prev, cur);
+  }
+  const double* dist = &prev[n * width];
+  double cdf = 0.0;
+  for (long k = 0; k <= target; ++k) cdf += dist[k];
+  return std::min(1.0, cdf);
+}
+
+MannWhitneyResult mann_whitney_core(const std::vector<double>& x, const std::vector<double>& y,
+                                    MannWhitneyMethod method) {
+  const double n1 = double(x.size()), n2 = double(y.size());
+  const RankSums rs = rank_sums(x, y);
+  MannWhitneyResult r;
+  r.u1 = rs.u1;
+  r.u2 = n1 * n2 - rs.u1;
+  const bool small = x.size() <= 20 && y.size() <= 20;
+  bool exact = method == MannWhitneyMethod::kExact ||
+               (method == MannWhitneyMethod::kAuto && small && !rs.ties);
+  if (method == MannWhitneyMethod::kExact) {
+    if (rs.ties)
+      throw Error(
+          "stats: mann_whitney_u: the exact p-value assumes no ties, but the samples share "
+          "values; use the asymptotic method");
+    if (x.size() * y.size() > 10000)
+      throw Error("stats: mann_whitney_u: the exact p-value is limited to n1 * n2 <= 10000, got " +
+                  std::to_string(x.size()) + " * " + std::to_string(y.size()) +
+                  "; use the asymptotic method");
+  }
+  if (exact) {
+    r.exact = true;
+    const double u = std::min(r.u1, r.u2);
+    r.p_value = std::min(1.0, 2.0 * exact_cdf(x.size(), y.size(), u));
+    return r;
+  }
+  const double n = n1 + n2;
+  const double mu = n1 * n2 / 2.0;
+  const double var = n1 * n2 / 12.0 * ((n + 1.0) - rs.tie_term / (n * (n - 1.0)));
+  if (!(var > 0.0)) {  // every value tied: no evidence either way
+    r.z = 0.0;
+    r.p_value = 1.0;
+    return r;
+  }
+  const double d = r.u1 - mu;
+  const double corrected = std::abs(d) <= 0.5 ? 0.0 : d - std::copysign(0.5, d);
+  r.z = corrected / std::sqrt(var);
+  r.p_value = std::min(1.0, std::erfc(std::abs(r.z) / std::sqrt(2.0)));
+  return r;
+}
+
+// Censored times as rank keys: reached ones at their time, censored ones at +infinity.
+std::vector<double> rank_keys(const std::vector<CensoredTime>& times, const char* what) {
+  std::vector<double> keys;
+  keys.reserve(times.size());
+  for (size_t i = 0; i < times.size(); ++i) {
+    const double s = times[i].seconds;
+    if (!std::isfinite(s) || s < 0.0)
+      throw Error(std::string("stats: ") + what + ": time " + std::to_string(i) + " is " +
+                  number(s) + " s, expected a finite time >= 0");
+    keys.push_back(times[i].reached ? s : kInf);
+  }
+  return keys;
+}
+
+void check_two(const std::vector<double>& x, const std::vector<double>& y, const char* what) {
+  if (x.empty() || y.empty())
+    throw Error(std::string("stats: ") + what + " needs two non-empty samples, got " +
+                std::to_string(x.size()) + " and " + std::to_string(y.size()) + " values");
+}
+
+}  // namespace
+
+double mean(const std::vector<double>& xs) {
+  check_sample(xs, "mean");
+  return plain_mean(xs);
+}
+
+double sample_std(const std::vector<double>& xs) {
+  check_sample(xs, "sample_std", 2);
+  return std::sqrt(squared_deviations(xs) / double(xs.size() - 1));
+}
+
+double population_std(const std::vector<double>& xs) {
+  check_sample(xs, "population_std");
+  return std::sqrt(squared_deviations(xs) / double(xs.size()));
+}
+
+double median(const std::vector<double>& xs) {
+  check_sample(xs, "median");
+  return sorted_quantile(sorted(xs), 0.5);
+}
+
+double quantile(const std::vector<double>& xs, double q) {
+  check_sample(xs, "quantile");
+  if (!(q >= 0.0 && q <= 1.0))
+    throw Error("stats: quantile: q is " + number(q) + ", expected a number in [0, 1]");
+  return sorted_quantile(sorted(xs), q);
+}
+
+double interquartile_mean(const std::vector<double>& xs) {
+  check_sample(xs, "interquartile_mean");
+  const std::vector<double> s = sorted(xs);
+  const double n = double(s.size());
+  double sum = 0.0;
+  for (size_t i = 0; i < s.size(); ++i) {
+    // Value i owns [i/n, (i+1)/n]; its weight is the part of that inside [0.25, 0.75].
+    const double lo = std::max(double(i) / n, 0.25);
+    const double hi = std::min(double(i + 1) / n, 0.75);
+    if (hi > lo) sum += (hi - lo) * s[i];
+  }
+  return sum / 0.5;
+}
+
+ConfidenceInterval bootstrap_ci(const std::vector<double>& xs, const Statistic& statistic,
+                                uint64_t seed, int resamples, double level) {
+  check_sample(xs, "bootstrap_ci");
+  if (!statistic) throw Error("stats: bootstrap_ci: no statistic given");
+  if (resamples < 1)
+    throw Error("stats: bootstrap_ci: resamples is " + std::to_string(resamples) +
+                ", expected at least 1 (10000 is customary)");
+  if (!(level > 0.0 && level < 1.0))
+    throw Error("stats: bootstrap_ci: level is " + number(level) +
+                ", expected a number strictly between 0 and 1 (0.95 for a 95% interval)");
+  ConfidenceInterval ci;
+  ci.level = level;
+  ci.estimate = statistic(xs);
+  Rng rng(seed);
+  const int64_t last = int64_t(xs.size()) - 1;
+  std::vector<double> resample(xs.size()), values;
+  values.reserve(size_t(resamples));
+  for (int b = 0; b < resamples; ++b) {
+    for (double& v : resample) v = xs[size_t(rng.integer(0, last))];
+    const double stat = statistic(resample);
+    if (std::isnan(stat))
+      throw Error("stats: bootstrap_ci: the statistic returned NaN on resample " +
+                  std::to_string(b));
+    values.push_back(stat);
+  }
+  std::sort(values.begin(), values.end());
+  const double alpha = 1.0 - level;
+  ci.low = sorted_quantile(values, alpha / 2.0);
+  ci.high = sorted_quantile(values, 1.0 - alpha / 2.0);
+  return ci;
+}
+
+MannWhitneyResult mann_whitney_u(const std::vector<double>& x, const std::vector<double>& y,
+                                 MannWhitneyMethod method) {
+  check_two(x, y, "mann_whitney_u");
+  check_sample(x, "mann_whitney_u (first sample)");
+  check_sample(y, "mann_whitney_u (second sample)");
+  return mann_whitney_core(x, y, method);
+}
+
+double probability_of_improvement(const std::vector<double>& x, const std::vector<double>& y) {
+  check_two(x, y, "probability_of_improvement");
+  check_sample(x, "probability_of_improvement (first sample)");
+  check_sample(y, "probability_of_improvement (second sample)");
+  const double n1n2 = double(x.size()) * double(y.size());
+  return (n1n2 - rank_sums(x, y).u1) / n1n2;
+}
+
+double fraction_reached(const std::vector<CensoredTime>& times) {
+  if (times.empty()) throw Error("stats: fraction_reached needs at least one trial, got none");
+  size_t reached = 0;
+  for (const auto& t : times) reached += t.reached ? 1 : 0;
+  return double(reached) / double(times.size());
+}
+
+std::vector<double> censored_values(const std::vector<CensoredTime>& times) {
+  rank_keys(times, "censored_values");  // validates every time
+  std::vector<double> out;
+  out.reserve(times.size());
+  for (const auto& t : times) out.push_back(t.seconds);
+  return out;
+}
+
+MannWhitneyResult mann_whitney_u_censored(const std::vector<CensoredTime>& x,
+                                          const std::vector<CensoredTime>& y,
+                                          MannWhitneyMethod method) {
+  const std::vector<double> kx = rank_keys(x, "mann_whitney_u (first sample)");
+  const std::vector<double> ky = rank_keys(y, "mann_whitney_u (second sample)");
+  check_two(kx, ky, "mann_whitney_u");
+  return mann_whitney_core(kx, ky, method);
+}
+
+double probability_of_improvement_censored(const std::vector<CensoredTime>& x,
+                                           const std::vector<CensoredTime>& y) {
+  const std::vector<double> kx = rank_keys(x, "probability_of_improvement (first sample)");
+  const std::vector<double> ky = rank_keys(y, "probability_of_improvement (second sample)");
+  check_two(kx, ky, "probability_of_improvement");
+  const double n1n2 = double(kx.size()) * double(ky.size());
+  return (n1n2 - rank_sums(kx, ky).u1) / n1n2;
+}
+
+std::string format_min_sec(double seconds) {
+  if (!std::isfinite(seconds) || seconds < 0.0)
+    throw Error("stats: format_min_sec: " + number(seconds) +
+                " s is not a duration; expected a finite number of seconds >= 0");
+  if (seconds >= 9.0e15)
+    throw Error("stats: format_min_sec: " + number(seconds) + " s is too long to format");
+  const long long total = std::llround(seconds);
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%lld:%02lld", total / 60, total % 60);
+  return buf;
+}
+
+double percent_improvement(double baseline, double value) {
+  if (!std::isfinite(baseline) || !(baseline > 0.0))
+    throw Error("stats: percent_improvement: the baseline is " + number(baseline) +
+                ", expected a positive finite number");
+  if (!std::isfinite(value))
+    throw Error("stats: percent_improvement: the value is " + number(value) +
+                ", expected a finite number");
+  return 100.0 * (baseline - value) / baseline;
+}
+
+}  // namespace roger

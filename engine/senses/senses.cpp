@@ -1,0 +1,218 @@
+#include "senses/senses.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/shape.h"
+
+namespace roger {
+namespace {
+
+constexpr double kHalfFov = M_PI / 4.0;      // 45 degrees: atan(64 / 64)
+constexpr double kUMin = -0.5, kUMax = kPixels - 0.5;
+
+// One surface's extent in the image, before occlusion.
+struct Extent {
+  double u0, u1;    // pixel coordinates, clipped to the image
+  double distance;  // nearest point of the surface to the eye
+  const SeenSurface* surface;
+};
+
+// Computes a surface's angular extent in the eye frame; false when it is outside the field of view.
+bool extent_of(const SeenSurface& s, const Vec2& eye, double eye_heading, Extent& out) {
+  double lo, hi, distance;
+  const Vec2 to_center = s.center - eye;
+  const double center_angle = wrap_angle(std::atan2(to_center.y(), to_center.x()) - eye_heading);
+  if (s.is_disk) {
+    const double d = to_center.norm();
+    if (d <= s.radius) {
+      lo = -kHalfFov, hi = kHalfFov, distance = 0.0;  // the eye is inside: it sees nothing else
+    } else {
+      const double half = std::asin(s.radius / d);
+      lo = center_angle - half, hi = center_angle + half, distance = d - s.radius;
+    }
+  } else {
+    // Outside the field of view even as its bounding disk: skip the per-vertex work (the disk's
+    // extent contains the polygon's, so this never hides what the test below would show).
+    const double d = to_center.norm();
+    if (d > s.radius) {
+      const double half = std::asin(s.radius / d) + 1e-9;
+      if (center_angle + half <= -kHalfFov || center_angle - half >= kHalfFov) return false;
+    }
+    // Vertex angles relative to the centre direction: a convex polygon seen from outside spans
+    // less than pi, so min and max give its extent without wrap-around trouble.
+    const double ref = center_angle + eye_heading;
+    const double c = std::cos(ref), sn = std::sin(ref);
+    double amin = 0.0, amax = 0.0;
+    bool inside = true;
+    distance = INFINITY;
+    for (int i = 0; i < s.vertex_count; ++i) {
+      const Vec2 v = s.vertices[i] - eye;
+      const double a = std::atan2(-sn * v.x() + c * v.y(), c * v.x() + sn * v.y());
+      amin = std::min(amin, a), amax = std::max(amax, a);
+      const Vec2& p = s.vertices[i];
+      const Vec2& q = s.vertices[(i + 1) % s.vertex_count];
+      const Vec2 e = q - p;
+      if (e.x() * (eye.y() - p.y()) - e.y() * (eye.x() - p.x()) < 0) inside = false;
+      const double t = std::clamp((eye - p).dot(e) / e.squaredNorm(), 0.0, 1.0);
+      distance = std::min(distance, (p + t * e - eye).norm());
+    }
+    if (inside) {
+      lo = -kHalfFov, hi = kHalfFov, distance = 0.0;
+    } else {
+      lo = center_angle + amin, hi = center_angle + amax;
+    }
+  }
+  if (hi <= -kHalfFov || lo >= kHalfFov) return false;
+  lo = std::max(lo, -kHalfFov), hi = std::min(hi, kHalfFov);
+  out.u0 = std::clamp(pixel_of_angle(lo), kUMin, kUMax);
+  out.u1 = std::clamp(pixel_of_angle(hi), kUMin, kUMax);
+  out.distance = distance;
+  out.surface = &s;
+  return out.u1 > out.u0;
+}
+
+// Paints the visible part [lo, hi) of a surface: pixels whose centre it covers take its colour,
+// and stimulus-coloured parts add their exact coverage to the edge pixels.
+void paint_part(double lo, double hi, const SeenSurface& s, bool is_stimulus, EyeImage& image) {
+  const int first = std::max(0, int(std::ceil(lo)));         // centre u >= lo
+  const int last = std::min(kPixels - 1, int(std::ceil(hi)) - 1);  // centre u < hi
+  for (int i = first; i <= last; ++i) {
+    image.colour[i] = s.colour;
+    image.kind[i] = s.kind;
+    image.index[i] = s.index;
+  }
+  if (!is_stimulus) return;
+  const int p0 = std::max(0, int(std::floor(lo + 0.5)));
+  const int p1 = std::min(kPixels - 1, int(std::floor(hi + 0.5)));
+  for (int i = p0; i <= p1; ++i) {
+    const double overlap = std::min(hi, i + 0.5) - std::max(lo, i - 0.5);
+    if (overlap > 0) image.stimulus[i] = float(std::min(1.0, image.stimulus[i] + overlap));
+  }
+}
+
+}  // namespace
+
+void append_seen_surfaces(std::vector<SeenSurface>& out, const Shape& shape, const Pose& pose,
+                          SurfaceKind kind, int index, const Colour& colour) {
+  for (const auto& poly : shape.polygons) {
+    SeenSurface s;
+    s.kind = kind, s.index = int16_t(index), s.colour = colour, s.is_disk = false;
+    s.vertex_count = int(poly.vertices.size());
+    Vec2 sum = Vec2::Zero();
+    for (int i = 0; i < s.vertex_count; ++i) sum += (s.vertices[i] = to_world(pose, poly.vertices[i]));
+    s.center = sum / s.vertex_count;
+    for (int i = 0; i < s.vertex_count; ++i) s.radius = std::max(s.radius, (s.vertices[i] - s.center).norm());
+    out.push_back(s);
+  }
+  for (const auto& disk : shape.disks) {
+    SeenSurface s;
+    s.kind = kind, s.index = int16_t(index), s.colour = colour, s.is_disk = true;
+    s.center = to_world(pose, disk.center);
+    s.radius = disk.radius;
+    out.push_back(s);
+  }
+}
+
+void paint_eye(const Vec2& eye, double eye_heading, const std::vector<SeenSurface>& surfaces,
+               const Colour& wall_colour, const Colour& stimulus_colour, EyeImage& image) {
+  // Scratch space reused across calls: no allocation in the control loop once warmed up.
+  thread_local std::vector<Extent> extents;
+  thread_local std::vector<std::pair<double, double>> covered, next;
+  extents.clear();
+  covered.clear();
+  for (const auto& s : surfaces) {
+    Extent e;
+    if (extent_of(s, eye, eye_heading, e)) extents.push_back(e);
+  }
+  // Nearest first; insertion sort is fastest for the handful of surfaces a world has.
+  for (size_t i = 1; i < extents.size(); ++i)
+    for (size_t j = i; j > 0 && extents[j].distance < extents[j - 1].distance; --j)
+      std::swap(extents[j], extents[j - 1]);
+
+  image.colour.fill(wall_colour);
+  image.kind.fill(SurfaceKind::kWall);
+  image.index.fill(-1);
+  image.stimulus.fill(0.0f);
+
+  for (const Extent& e : extents) {
+    const bool is_stimulus = e.surface->colour == stimulus_colour;
+    // Visible parts: [u0, u1] minus the covered intervals (sorted, disjoint).
+    double cursor = e.u0;
+    for (const auto& c : covered) {
+      if (c.second <= cursor) continue;
+      if (c.first >= e.u1) break;
+      if (c.first > cursor) paint_part(cursor, c.first, *e.surface, is_stimulus, image);
+      cursor = std::max(cursor, c.second);
+      if (cursor >= e.u1) break;
+    }
+    if (cursor < e.u1) paint_part(cursor, e.u1, *e.surface, is_stimulus, image);
+    // Merge [u0, u1] into the covered set.
+    next.clear();
+    double lo = e.u0, hi = e.u1;
+    bool placed = false;
+    for (const auto& c : covered) {
+      if (c.second < lo) {
+        next.push_back(c);
+      } else if (c.first > hi) {
+        if (!placed) next.emplace_back(lo, hi), placed = true;
+        next.push_back(c);
+      } else {
+        lo = std::min(lo, c.first), hi = std::max(hi, c.second);
+      }
+    }
+    if (!placed) next.emplace_back(lo, hi);
+    covered.swap(next);
+    if (covered.size() == 1 && covered[0].first <= kUMin && covered[0].second >= kUMax) break;
+  }
+}
+
+Sighting detect_stimulus(const EyeImage& image) {
+  Sighting best;
+  double best_mass = 0.0;
+  int i = 0;
+  while (i < kPixels) {
+    if (image.stimulus[i] <= 0.0f) {
+      ++i;
+      continue;
+    }
+    const int start = i;
+    double mass = 0.0;
+    while (i < kPixels && image.stimulus[i] > 0.0f) mass += image.stimulus[i++];
+    const int end = i - 1;
+    if (mass <= best_mass) continue;
+    best_mass = mass;
+    // The edge pixels' coverage locates the edges inside them, as area-sampling cameras allow.
+    double lo, hi;
+    if (start == end) {
+      lo = start - 0.5 * image.stimulus[start];
+      hi = start + 0.5 * image.stimulus[start];
+    } else {
+      lo = start + 0.5 - image.stimulus[start];
+      hi = end - 0.5 + image.stimulus[end];
+    }
+    best.seen = true;
+    best.clipped = start == 0 || end == kPixels - 1;
+    best.u_lo = lo;
+    best.u_hi = hi;
+    best.bearing = 0.5 * (angle_of_pixel(lo) + angle_of_pixel(hi));
+    best.u = pixel_of_angle(best.bearing);
+  }
+  return best;
+}
+
+bool triangulate(const Vec2& left_eye, double left_angle, const Vec2& right_eye, double right_angle,
+                 Vec2& out) {
+  const Vec2 dl(std::cos(left_angle), std::sin(left_angle));
+  const Vec2 dr(std::cos(right_angle), std::sin(right_angle));
+  const double denom = dl.x() * dr.y() - dl.y() * dr.x();
+  if (std::abs(denom) < 1e-9) return false;  // parallel rays: the stimulus is at infinity
+  const Vec2 b = right_eye - left_eye;
+  const double tl = (b.x() * dr.y() - b.y() * dr.x()) / denom;
+  const double tr = (b.x() * dl.y() - b.y() * dl.x()) / denom;
+  if (tl <= 0.0 || tr <= 0.0 || tl > 50.0) return false;
+  out = left_eye + tl * dl;
+  return true;
+}
+
+}  // namespace roger

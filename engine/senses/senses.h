@@ -1,0 +1,95 @@
+// senses.h: what Roger perceives at a control tick: two 1-D colour images, the stimulus seen in
+// each, its stereo position, touch on the body and hands, joint angles and the base pose.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "core/robot.h"
+#include "core/spec.h"
+
+namespace roger {
+
+// What a surface seen by a pixel belongs to.
+enum class SurfaceKind : uint8_t { kNone = 0, kWall, kObject, kObstacle };
+
+// One eye's image. Pixel u looks along atan2(u - 63.5, 64) in the eye frame (counter-clockwise
+// positive), so pixel 0 sees 45 degrees to the right and pixel 127 sees 45 degrees to the left.
+struct EyeImage {
+  std::array<Colour, kPixels> colour;        // the nearest surface at the pixel's centre
+  std::array<SurfaceKind, kPixels> kind;     // what that surface is
+  std::array<int16_t, kPixels> index;        // its index in WorldSpec objects or obstacles, or -1
+  std::array<float, kPixels> stimulus;       // fraction of the pixel covered by the stimulus colour
+};
+
+// The stimulus as one eye detects it in its image (sub-pixel, from the edge pixels' coverage).
+struct Sighting {
+  bool seen = false;
+  double u = 0.0;                // centre of the detected extent, in pixels
+  double u_lo = 0.0, u_hi = 0.0; // its edges, in pixels
+  double bearing = 0.0;          // angle of the centre in the eye frame (rad)
+  bool clipped = false;          // the extent runs off the image: its centre is not the stimulus's
+};
+
+// One tactile sensor, averaged over the physics steps of the last control tick.
+struct Touch {
+  bool contact = false;
+  SurfaceKind kind = SurfaceKind::kNone;  // what is touched
+  int index = -1;                 // which object or obstacle (-1 for walls or nothing)
+  double force = 0.0;             // normal force (N)
+  double friction = 0.0;          // tangential force magnitude (N)
+  Vec2 normal = Vec2::Zero();     // unit, world frame, from the touched surface towards the sensor
+  Vec2 point = Vec2::Zero();      // contact point, world frame
+};
+
+// Everything perceived at one control tick.
+struct Senses {
+  double time = 0.0;
+  std::array<EyeImage, 2> image;     // kLeft, kRight
+  std::array<Sighting, 2> stimulus;  // kLeft, kRight
+  bool stereo_valid = false;         // both eyes see it and the rays meet in front
+  Vec2 stimulus_base = Vec2::Zero(); // triangulated position, base frame
+  Vec2 stimulus_world = Vec2::Zero();// the same, world frame
+  std::array<Touch, kTactileCount> touch;  // kBody, kLeftHand, kRightHand
+  DofVector q = DofVector::Zero();         // joint positions (see Dof)
+  DofVector qdot = DofVector::Zero();      // joint velocities
+  Pose base;                               // base pose, world frame
+};
+
+// A surface in the eyes' world: one convex part (disk or polygon) of an object or obstacle,
+// already placed in the world frame. The world refreshes these each tick; the painter reads them.
+struct SeenSurface {
+  SurfaceKind kind = SurfaceKind::kObject;
+  int16_t index = -1;
+  Colour colour;
+  bool is_disk = true;
+  Vec2 center = Vec2::Zero();  // disk centre, or polygon centroid
+  double radius = 0.0;         // disk radius; polygon: the largest distance of a vertex from the centroid
+  int vertex_count = 0;        // polygon vertices, world frame
+  std::array<Vec2, 8> vertices;
+};
+
+// Appends the eyes' view of a shape placed at a pose: one world-frame surface per convex part.
+void append_seen_surfaces(std::vector<SeenSurface>& out, const Shape& shape, const Pose& pose,
+                          SurfaceKind kind, int index, const Colour& colour);
+
+// Paints one eye's image analytically: each surface's angular extent, nearest first, clipped by
+// what is already covered (the same result as painting far-to-near, with exact sub-pixel edges).
+// eye_heading is the world angle of the optical axis.
+void paint_eye(const Vec2& eye, double eye_heading, const std::vector<SeenSurface>& surfaces,
+               const Colour& wall_colour, const Colour& stimulus_colour, EyeImage& image);
+
+// Finds the largest run of stimulus pixels and its sub-pixel centre.
+Sighting detect_stimulus(const EyeImage& image);
+
+// Intersects the two eyes' rays to the stimulus. Returns false when they do not meet in front.
+bool triangulate(const Vec2& left_eye, double left_angle, const Vec2& right_eye, double right_angle,
+                 Vec2& out);
+
+// Pixel coordinate (continuous) of an eye-frame angle, and back.
+inline double pixel_of_angle(double angle) { return kPrincipalPixel + kFocalPixels * std::tan(angle); }
+inline double angle_of_pixel(double u) { return std::atan2(u - kPrincipalPixel, kFocalPixels); }
+
+}  // namespace roger

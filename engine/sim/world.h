@@ -1,0 +1,111 @@
+// world.h: one episode of Roger in a world: Box2D bodies, servos, and senses.
+// A World is reset from an immutable WorldSpec (a fresh b2World each time) and then stepped.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "core/robot.h"
+#include "senses/senses.h"
+#include "core/spec.h"
+
+class b2World;
+
+namespace roger {
+
+// Simulation settings, with the defaults the engine's tests and benchmarks use.
+struct WorldParams {
+  double dt = 0.01;             // physics time step (s)
+  int substeps = 2;             // physics steps per control tick (a tick is 20 ms)
+  int velocity_iterations = 6;  // Box2D solver iterations
+  int position_iterations = 2;
+  RobotParams robot;
+};
+
+// Where the arm's joints and hand are, world frame.
+struct ArmPoints {
+  Vec2 shoulder = Vec2::Zero(), elbow = Vec2::Zero(), hand = Vec2::Zero();
+};
+
+// Everything needed to draw one moment of an episode.
+struct Frame {
+  double time = 0.0;
+  Pose base;
+  std::array<ArmPoints, 2> arms;
+  std::array<Vec2, 2> eyes{Vec2::Zero(), Vec2::Zero()};  // positions
+  std::array<double, 2> eye_heading{0.0, 0.0};          // world angle of each optical axis
+  std::vector<Pose> objects;          // poses of WorldSpec objects
+  Senses senses;
+};
+
+// Forward kinematics of one arm (kLeft or kRight) from the base pose and its two joint angles.
+ArmPoints arm_forward_kinematics(const RobotParams& robot, const Pose& base, int side,
+                                 double shoulder, double elbow);
+
+// An episode's mutable state. Not copyable; reset() makes it new again.
+class World {
+ public:
+  explicit World(const WorldParams& params = {});
+  ~World();
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  // Builds a fresh Box2D world from spec (validated shapes), and senses once.
+  void reset(const WorldSpec& spec);
+
+  // Writes one errors vector: each servo's setpoint becomes its current position plus the error.
+  void command(const DofVector& errors);
+
+  // Sets absolute setpoints (clamped to the joint limits).
+  void set_setpoints(const DofVector& setpoints);
+
+  // One control tick: `substeps` physics steps, then senses.
+  void tick();
+
+  // One physics step: servos, the no-slip constraint, Box2D, touch accumulation. No sensing.
+  void step_physics();
+
+  // Recomputes the senses from the current state (images, stimulus, stereo, touch, joints).
+  void sense();
+
+  const Senses& senses() const { return senses_; }
+  const WorldSpec& spec() const { return spec_; }
+  const WorldParams& params() const { return params_; }
+  double time() const { return time_; }
+  double tick_seconds() const { return params_.dt * params_.substeps; }
+
+  DofVector q() const;                                // joint positions now
+  DofVector qdot() const;                             // joint velocities now
+  const DofVector& setpoints() const { return setpoint_; }
+  Pose base_pose() const;
+  Vec2 base_velocity() const;                         // world frame
+  double base_lateral_speed() const;                  // sideways speed (m/s), ideally 0
+  Pose object_pose(int i) const;
+  Vec2 object_velocity(int i) const;
+  Vec2 hand_position(int side) const;                 // centre of the hand body, world frame
+  ArmPoints arm_points(int side) const;               // from the Box2D bodies
+  Frame frame() const;
+
+  // Pushes an object with a force (world frame, N) at its centre during the next physics step.
+  void push_object(int i, const Vec2& force);
+
+  // A 64-bit hash of every body's position, angle and velocities and the servo state (bitwise).
+  uint64_t state_hash() const;
+
+  // The underlying Box2D world, for tests and tools.
+  b2World* physics();
+
+ private:
+  struct Impl;
+  void update_surfaces();
+  WorldParams params_;
+  WorldSpec spec_;
+  Senses senses_;
+  DofVector setpoint_ = DofVector::Zero();
+  double time_ = 0.0;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace roger

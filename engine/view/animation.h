@@ -1,0 +1,41 @@
+// animation.h: an episode as something to watch, for researchers debugging a controller. A folder
+// holds one PNG per recorded frame (the world picture of render.h with, under it, a timeline of
+// every watched controller's state over the whole episode and a cursor at the frame's time), a
+// self-contained index.html that replays them (no network, no server: open the file), and
+// episode.json with the numbers behind the pictures for anyone who wants to plot them. A single
+// summary PNG (a strip of frames over the same timeline) fits in a report or an issue.
+#pragma once
+
+#include <string>
+
+#include "learn/episode.h"
+#include "view/render.h"
+#include "core/spec.h"
+
+namespace roger {
+
+// How an episode is drawn and replayed.
+struct AnimationOptions {
+  RenderOptions frame;       // each frame's world picture; its title defaults to `title`
+  double fps = 10.0;         // playback frames per second at 1x in index.html
+  std::string title;         // the page's heading and the pictures' title
+  bool show_timeline = true; // the controller-state timeline under each frame
+  bool dim_future = true;    // in a frame's timeline, fade what has not happened yet
+};
+
+// Writes the episode into folder (created if missing): frame_0000.png, ... one per recorded frame,
+// episode.json and index.html, each file atomically. Frames of an earlier, longer rendering beyond
+// the new count are removed, so a folder never mixes episodes. Throws roger::Error for an episode
+// without frames, frames that do not match spec, bad options, or a folder that cannot be written.
+void render_episode(const WorldSpec& spec, const EpisodeResult& episode, const std::string& folder,
+                    const AnimationOptions& options = {});
+
+// Writes one PNG summarising the episode to path: `panels` evenly spaced frames side by side (the
+// first and the last included; one panel shows the last frame) over the timeline, with numbered
+// markers tying each panel to its moment. Same errors as render_episode, plus panels < 1 or a path
+// that is not .png.
+void render_episode_summary(const WorldSpec& spec, const EpisodeResult& episode,
+                            const std::string& path, const AnimationOptions& options = {},
+                            int panels = 4);
+
+}  // namespace roger
