@@ -65,7 +65,7 @@ struct StageRun {
     const auto& psi = ctx.actions;
     agent.reset(spec);
     for (const auto& c : psi) c->reset(seed);
-    if (stage.absorbing) stage.absorbing->reset();
+    if (stage.absorbing) reset_predicate(*stage.absorbing, seed);
     const int n = int(psi.size());
     TrainingEpisode ep;
     ep.seed = seed;
@@ -73,9 +73,14 @@ struct StageRun {
     const double dt = agent.world().tick_seconds();
     const int max_ticks = int(std::ceil(stage.time_limit / dt - 1e-9));
     const double gamma = q.params().discount;
+    const LearningEpisodeOptions& options = stage.rewards;
+    const bool timed = options.discount_seconds > 0.0;
+    auto within = [&](double elapsed) { return timed ? std::pow(gamma, elapsed / options.discount_seconds) : 1.0; };
+    auto bootstrap = [&](double elapsed) { return timed ? std::pow(gamma, elapsed / options.discount_seconds) : gamma; };
     std::vector<Gamma> gammas(static_cast<size_t>(n));
     int state = -1, action = -1;
     double accumulated = 0.0;
+    double decided_at = 0.0;
     auto read_state = [&]() {
       for (int i = 0; i < n; ++i) gammas[size_t(i)] = psi[size_t(i)]->state(agent.input());
       return gamma_state_index(gammas);
@@ -91,7 +96,7 @@ struct StageRun {
         if (action >= 0) {
           const double r = stage.reward_lua ? cur.call_reward(stage, ctx, gammas, action, "decision", now) : accumulated;
           if (stage.reward_lua) ep.reward += r;
-          if (learn) q.update(state, action, r, s, false, gamma);
+          if (learn) q.update(state, action, r, s, false, bootstrap(now - decided_at));
         }
         if (learn) {
           action = q.choose(s, epsilon, rng);
@@ -102,6 +107,7 @@ struct StageRun {
         }
         state = s;
         accumulated = 0.0;
+        decided_at = now;
         ++ep.decisions;
         ep.actions_taken.push_back(action);
         ep.decision_states.push_back(s);
@@ -110,7 +116,7 @@ struct StageRun {
       ++ep.action_ticks[size_t(action)];
       ep.ticks = t + 1;
       if (!stage.reward_lua) {
-        accumulated += stage.rewards.step_reward;
+        accumulated += within(now - decided_at) * stage.rewards.step_reward;
         ep.reward += stage.rewards.step_reward;
       }
       if (stage.absorbing && stage.absorbing->holds(agent.input())) {
@@ -133,7 +139,8 @@ struct StageRun {
         final_reward = ep.success ? stage.rewards.success_reward : stage.rewards.timeout_reward;
       }
       ep.reward += final_reward;
-      if (learn) q.update(state, action, accumulated + final_reward, state, true, gamma);
+      if (learn)
+        q.update(state, action, accumulated + within(ep.sim_seconds - decided_at) * final_reward, state, true, gamma);
     }
     return ep;
   }

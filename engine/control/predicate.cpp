@@ -125,4 +125,13 @@ PredicatePtr held(PredicatePtr part, double seconds) {
   return std::make_shared<Held>(std::move(part), seconds);
 }
 
+void reset_predicate(Predicate& p, uint64_t seed) {
+  // Predicate::controllers lists them as const only because most readers just look; the
+  // controllers themselves are not const objects.
+  std::vector<const Controller*> read;
+  p.controllers(read);
+  for (const Controller* c : read) const_cast<Controller*>(c)->reset(seed);
+  p.reset();
+}
+
 }  // namespace roger

@@ -3,6 +3,7 @@
 // states of stages, success of evaluations and skill goals are written with them.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -42,5 +43,10 @@ PredicatePtr any_of(std::vector<PredicatePtr> parts);
 PredicatePtr negate(PredicatePtr part);
 // The part has held without interruption for at least `seconds` of simulated time.
 PredicatePtr held(PredicatePtr part, double seconds);
+
+// Starts an episode for a predicate and every controller it reads (reset with `seed`): a goal
+// controller outside the action set must not keep hold timers or a per-tick cache from the
+// previous episode. Resetting one that the actions also reset, with the same seed, changes nothing.
+void reset_predicate(Predicate& p, uint64_t seed);
 
 }  // namespace roger

@@ -45,17 +45,6 @@ int nearest_visited_state(int s, int states, int actions, const Visited& visited
   return best;
 }
 
-// Resets a predicate and every controller it reads: a goal controller outside the action set
-// must not keep hold timers or a per-tick cache from the previous episode. Predicate::controllers
-// lists them as const only because most readers just look; the controllers themselves are not
-// const objects. Resetting one that the actions also reset, with the same seed, changes nothing.
-void reset_predicate(Predicate& p, uint64_t seed) {
-  std::vector<const Controller*> read;
-  p.controllers(read);
-  for (const Controller* c : read) const_cast<Controller*>(c)->reset(seed);
-  p.reset();
-}
-
 // Checks that psi is the table's action set, in order.
 void check_psi(const std::vector<ControllerPtr>& psi, const QTable& q, const std::string& where) {
   if (int(psi.size()) != q.actions())
