@@ -332,6 +332,131 @@ const SkillScript::NamedPolicy& SkillScript::policy(const std::string& name) con
   return it->second;
 }
 
+namespace {
+
+// Checks that the returned value at `t` is a table with only the known keys. `line` follows the
+// key being checked.
+void check_script_keys(lua_State* L, int t, const std::vector<std::string>& known, const SourceMap& map,
+                       int& line) {
+  line = map.return_line();
+  if (!lua_istable(L, t))
+    luaL_error(L, "a skill script must return a table {name = ..., description = ..., policies = {...}}, got %s",
+               lua_describe_value(L, t).c_str());
+  lua_pushnil(L);
+  while (lua_next(L, t)) {
+    lua_pop(L, 1);
+    const std::string key = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "";
+    if (std::find(known.begin(), known.end(), key) == known.end()) {
+      line = key.empty() ? map.return_line() : map.top_key(key);
+      luaL_error(L, "the skill script's table has an unknown field %s; known fields: %s",
+                 (key.empty() ? "(a key that is " + lua_describe_value(L, -1) + ")" : "'" + key + "'").c_str(),
+                 join(known).c_str());
+    }
+  }
+}
+
+// Reads the script's name and description; pushes its 'policies' table and returns its index.
+int read_script_fields(lua_State* L, const LuaFields& top, const SourceMap& map, int& line,
+                       const std::string& path, std::string& name, std::string& description) {
+  line = map.top_key("name");
+  name = top.string("name", fs::path(path).stem().string());
+  line = map.top_key("description");
+  description = top.string("description", "");
+  line = map.top_key("policies");
+  if (top.push("policies") == LUA_TNIL)
+    top.fail("missing required field 'policies' (a table of name = {action = ..., goal = ..., time_limit = ...})");
+  if (!lua_istable(L, -1)) top.wrong_type("policies", "a table of name = {action = ..., goal = ..., time_limit = ...}");
+  return lua_gettop(L);
+}
+
+// The names of the policies in the 'policies' table at `ps`, sorted (a table has no order).
+std::vector<std::string> policy_keys(lua_State* L, int ps, const LuaFields& top) {
+  std::vector<std::string> names;
+  lua_pushnil(L);
+  while (lua_next(L, ps)) {
+    lua_pop(L, 1);
+    if (lua_type(L, -1) != LUA_TSTRING)
+      luaL_error(L, "the skill script: policies must be named (name = {...}), got the key %s",
+                 lua_describe_value(L, -1).c_str());
+    names.push_back(lua_tostring(L, -1));
+  }
+  if (names.empty()) top.fail("'policies' is empty: define at least one policy");
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// Reads the policy `name` of the 'policies' table at `ps`, leaving its table on the stack. `line`
+// follows the field being read.
+SkillScript::NamedPolicy read_policy(lua_State* L, int ps, const std::string& name, const SourceMap& map,
+                                     int& line) {
+  const std::vector<std::string> fields{"action", "description", "goal", "scenario", "time_limit"};
+  const std::string context = "policy '" + name + "'";
+  line = map.policy(name);
+  lua_getfield(L, ps, name.c_str());
+  const int p = lua_gettop(L);
+  if (!lua_istable(L, p))
+    luaL_error(L, "%s must be a table {action = ..., goal = ..., time_limit = ...}, got %s", context.c_str(),
+               lua_describe_value(L, p).c_str());
+  lua_pushnil(L);
+  while (lua_next(L, p)) {
+    lua_pop(L, 1);
+    const std::string key = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "";
+    if (std::find(fields.begin(), fields.end(), key) == fields.end()) {
+      line = key.empty() ? map.policy(name) : map.policy_field(name, key);
+      luaL_error(L, "%s: unknown field %s; known fields: %s", context.c_str(),
+                 (key.empty() ? "(a key that is " + lua_describe_value(L, -1) + ")" : "'" + key + "'").c_str(),
+                 join(fields).c_str());
+    }
+  }
+  LuaFields f(L, p, context, fields);
+  SkillScript::NamedPolicy np;
+  np.name = name;
+  line = map.policy(name);
+  if (!f.has("action")) f.fail("missing required field 'action' (the controller to run)");
+  if (!f.has("goal"))
+    f.fail("missing required field 'goal' (a predicate such as roger.converged(c): reaching it ends the "
+           "episode in success)");
+  if (!f.has("time_limit")) f.fail("missing required field 'time_limit' (simulated seconds, e.g. 10)");
+  line = map.policy_field(name, "action");
+  f.push("action");
+  np.action = lua_check_controller(L, -1, context, "field 'action'");
+  lua_pop(L, 1);
+  line = map.policy_field(name, "goal");
+  f.push("goal");
+  np.goal = lua_check_predicate(L, -1, context, "field 'goal'");
+  lua_pop(L, 1);
+  line = map.policy_field(name, "time_limit");
+  np.time_limit = f.number("time_limit");
+  if (!(np.time_limit > 0.0))
+    f.fail("field 'time_limit' must be a positive number of simulated seconds, got " + format_number(np.time_limit));
+  line = map.policy_field(name, "scenario");
+  np.scenario = f.string("scenario", "unobstructed");
+  resolve_scenario_path(np.scenario);  // throws, listing the shipped scenarios
+  line = map.policy_field(name, "description");
+  np.description = f.string("description", "");
+  return np;
+}
+
+// Every controller once: the named ones first, then what the policies reach. children() gives
+// raw pointers; the script's own list gives their shared owners.
+std::vector<ControllerPtr> script_controllers_once(
+    LuaSandbox& sandbox, const std::map<std::string, SkillScript::NamedPolicy>& policies) {
+  std::vector<ControllerPtr> controllers;
+  std::map<const Controller*, ControllerPtr> owners;
+  for (const auto& c : script_controllers(sandbox)) owners.emplace(c.get(), c);
+  std::set<const Controller*> seen;
+  for (const auto& n : named_controllers(sandbox)) collect(n.controller.get(), seen, owners, controllers);
+  for (const auto& [name, p] : policies) {
+    collect(p.action.get(), seen, owners, controllers);
+    std::vector<const Controller*> read;
+    p.goal->controllers(read);
+    for (const Controller* c : read) collect(c, seen, owners, controllers);
+  }
+  return controllers;
+}
+
+}  // namespace
+
 SkillScript SkillScript::load(const std::string& path_in, const SandboxLimits& limits) {
   const std::string path = resolve_skill_script_path(path_in);
   SkillScript script;
@@ -349,106 +474,17 @@ SkillScript SkillScript::load(const std::string& path_in, const SandboxLimits& l
   int line = 0;  // the line of what is being read, for errors raised without one
   read_protected(sandbox, impl.path, [&]() { return line; }, [&](lua_State* L) {
     const int t = lua_gettop(L);
-    line = map.return_line();
-    if (!lua_istable(L, t))
-      luaL_error(L, "a skill script must return a table {name = ..., description = ..., policies = {...}}, got %s",
-                 lua_describe_value(L, t).c_str());
     const std::vector<std::string> known{"description", "name", "policies"};
-    lua_pushnil(L);
-    while (lua_next(L, t)) {
-      lua_pop(L, 1);
-      const std::string key = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "";
-      if (std::find(known.begin(), known.end(), key) == known.end()) {
-        line = key.empty() ? map.return_line() : map.top_key(key);
-        luaL_error(L, "the skill script's table has an unknown field %s; known fields: %s",
-                   (key.empty() ? "(a key that is " + lua_describe_value(L, -1) + ")" : "'" + key + "'").c_str(),
-                   join(known).c_str());
-      }
-    }
+    check_script_keys(L, t, known, map, line);
     LuaFields top(L, t, "the skill script", known);
-    line = map.top_key("name");
-    impl.name = top.string("name", fs::path(path).stem().string());
-    line = map.top_key("description");
-    impl.description = top.string("description", "");
-    line = map.top_key("policies");
-    if (top.push("policies") == LUA_TNIL)
-      top.fail("missing required field 'policies' (a table of name = {action = ..., goal = ..., time_limit = ...})");
-    if (!lua_istable(L, -1)) top.wrong_type("policies", "a table of name = {action = ..., goal = ..., time_limit = ...}");
-    const int ps = lua_gettop(L);
-    std::vector<std::string> names;
-    lua_pushnil(L);
-    while (lua_next(L, ps)) {
-      lua_pop(L, 1);
-      if (lua_type(L, -1) != LUA_TSTRING)
-        luaL_error(L, "the skill script: policies must be named (name = {...}), got the key %s",
-                   lua_describe_value(L, -1).c_str());
-      names.push_back(lua_tostring(L, -1));
-    }
-    if (names.empty()) top.fail("'policies' is empty: define at least one policy");
-    std::sort(names.begin(), names.end());
-    const std::vector<std::string> fields{"action", "description", "goal", "scenario", "time_limit"};
-    for (const auto& name : names) {
-      const std::string context = "policy '" + name + "'";
-      line = map.policy(name);
-      lua_getfield(L, ps, name.c_str());
-      const int p = lua_gettop(L);
-      if (!lua_istable(L, p))
-        luaL_error(L, "%s must be a table {action = ..., goal = ..., time_limit = ...}, got %s", context.c_str(),
-                   lua_describe_value(L, p).c_str());
-      lua_pushnil(L);
-      while (lua_next(L, p)) {
-        lua_pop(L, 1);
-        const std::string key = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "";
-        if (std::find(fields.begin(), fields.end(), key) == fields.end()) {
-          line = key.empty() ? map.policy(name) : map.policy_field(name, key);
-          luaL_error(L, "%s: unknown field %s; known fields: %s", context.c_str(),
-                     (key.empty() ? "(a key that is " + lua_describe_value(L, -1) + ")" : "'" + key + "'").c_str(),
-                     join(fields).c_str());
-        }
-      }
-      LuaFields f(L, p, context, fields);
-      NamedPolicy np;
-      np.name = name;
-      line = map.policy(name);
-      if (!f.has("action")) f.fail("missing required field 'action' (the controller to run)");
-      if (!f.has("goal"))
-        f.fail("missing required field 'goal' (a predicate such as roger.converged(c): reaching it ends the "
-               "episode in success)");
-      if (!f.has("time_limit")) f.fail("missing required field 'time_limit' (simulated seconds, e.g. 10)");
-      line = map.policy_field(name, "action");
-      f.push("action");
-      np.action = lua_check_controller(L, -1, context, "field 'action'");
-      lua_pop(L, 1);
-      line = map.policy_field(name, "goal");
-      f.push("goal");
-      np.goal = lua_check_predicate(L, -1, context, "field 'goal'");
-      lua_pop(L, 1);
-      line = map.policy_field(name, "time_limit");
-      np.time_limit = f.number("time_limit");
-      if (!(np.time_limit > 0.0))
-        f.fail("field 'time_limit' must be a positive number of simulated seconds, got " + format_number(np.time_limit));
-      line = map.policy_field(name, "scenario");
-      np.scenario = f.string("scenario", "unobstructed");
-      resolve_scenario_path(np.scenario);  // throws, listing the shipped scenarios
-      line = map.policy_field(name, "description");
-      np.description = f.string("description", "");
+    const int ps = read_script_fields(L, top, map, line, path, impl.name, impl.description);
+    for (const auto& name : policy_keys(L, ps, top)) {
+      SkillScript::NamedPolicy np = read_policy(L, ps, name, map, line);
       impl.policies.emplace(name, std::move(np));
       lua_settop(L, ps);
     }
   });
-
-  // Every controller once: the named ones first, then what the policies reach. children() gives
-  // raw pointers; the script's own list gives their shared owners.
-  std::map<const Controller*, ControllerPtr> owners;
-  for (const auto& c : script_controllers(sandbox)) owners.emplace(c.get(), c);
-  std::set<const Controller*> seen;
-  for (const auto& n : named_controllers(sandbox)) collect(n.controller.get(), seen, owners, impl.controllers);
-  for (const auto& [name, p] : impl.policies) {
-    collect(p.action.get(), seen, owners, impl.controllers);
-    std::vector<const Controller*> read;
-    p.goal->controllers(read);
-    for (const Controller* c : read) collect(c, seen, owners, impl.controllers);
-  }
+  impl.controllers = script_controllers_once(sandbox, impl.policies);
   return script;
 }
 
