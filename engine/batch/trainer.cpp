@@ -44,6 +44,26 @@ void write_atomic(const fs::path& path, const std::string& text) {
   }
 }
 
+// A stage's Lua reward and absorbing functions as the decision hooks of its semi-MDP.
+class StageHooks final : public DecisionHooks {
+ public:
+  StageHooks(Curriculum& cur, const CurriculumStage& stage, const CurriculumContext& ctx)
+      : cur_(cur), stage_(stage), ctx_(ctx) {}
+  bool has_absorbing() const override { return stage_.absorbing_lua; }
+  bool has_reward() const override { return stage_.reward_lua; }
+  bool absorbing(const std::vector<Gamma>& state, double time) override {
+    return cur_.call_absorbing(stage_, ctx_, state, time);
+  }
+  double reward(const std::vector<Gamma>& state, int action, const char* event, double time) override {
+    return cur_.call_reward(stage_, ctx_, state, action, event, time);
+  }
+
+ private:
+  Curriculum& cur_;
+  const CurriculumStage& stage_;
+  const CurriculumContext& ctx_;
+};
+
 // One stage/context of a loaded curriculum, ready to run episodes in a scenario.
 struct StageRun {
   Curriculum& cur;
@@ -52,97 +72,14 @@ struct StageRun {
   Scenario scenario;
   Agent agent;
 
-  // One episode: through run_learning_episode when the stage is declarative (no Lua at all), else
-  // the same semi-MDP with the stage's Lua functions called at decision points only.
+  // One episode of the stage's semi-MDP through the episode loop; the stage's Lua functions, if
+  // any, are called at decision points only.
   TrainingEpisode run(QTable& q, uint64_t seed, double epsilon, Rng& rng, bool learn) {
     const WorldSpec spec = scenario.generate(seed);
-    if (!stage.absorbing_lua && !stage.reward_lua)
-      return run_learning_episode(agent, spec, seed, ctx.actions, *stage.absorbing, q, epsilon, rng, stage.rewards, learn);
-    return run_scripted(spec, q, seed, epsilon, rng, learn);
-  }
-
-  TrainingEpisode run_scripted(const WorldSpec& spec, QTable& q, uint64_t seed, double epsilon, Rng& rng, bool learn) {
-    const auto& psi = ctx.actions;
-    agent.reset(spec);
-    for (const auto& c : psi) c->reset(seed);
-    if (stage.absorbing) reset_predicate(*stage.absorbing, seed);
-    const int n = int(psi.size());
-    TrainingEpisode ep;
-    ep.seed = seed;
-    ep.action_ticks.assign(size_t(n), 0);
-    const double dt = agent.world().tick_seconds();
-    const int max_ticks = int(std::ceil(stage.time_limit / dt - 1e-9));
-    const double gamma = q.params().discount;
-    const LearningEpisodeOptions& options = stage.rewards;
-    const bool timed = options.discount_seconds > 0.0;
-    auto within = [&](double elapsed) { return timed ? std::pow(gamma, elapsed / options.discount_seconds) : 1.0; };
-    auto bootstrap = [&](double elapsed) { return timed ? std::pow(gamma, elapsed / options.discount_seconds) : gamma; };
-    std::vector<Gamma> gammas(static_cast<size_t>(n));
-    int state = -1, action = -1;
-    double accumulated = 0.0;
-    double decided_at = 0.0;
-    auto read_state = [&]() {
-      for (int i = 0; i < n; ++i) gammas[size_t(i)] = psi[size_t(i)]->state(agent.input());
-      return gamma_state_index(gammas);
-    };
-    for (int t = 0; t < max_ticks; ++t) {
-      const double now = agent.input().time;
-      const int s = read_state();
-      if (s != state) {
-        if (stage.absorbing_lua && cur.call_absorbing(stage, ctx, gammas, now)) {
-          ep.success = true;
-          break;
-        }
-        if (action >= 0) {
-          const double r = stage.reward_lua ? cur.call_reward(stage, ctx, gammas, action, "decision", now) : accumulated;
-          if (stage.reward_lua) ep.reward += r;
-          if (learn) q.update(state, action, r, s, false, bootstrap(now - decided_at));
-        }
-        if (learn) {
-          action = q.choose(s, epsilon, rng);
-        } else if (epsilon > 0.0 && rng.uniform() < epsilon) {
-          action = int(rng.integer(0, n - 1));
-        } else {
-          action = q.policy_action(s);
-        }
-        state = s;
-        accumulated = 0.0;
-        decided_at = now;
-        ++ep.decisions;
-        ep.actions_taken.push_back(action);
-        ep.decision_states.push_back(s);
-      }
-      agent.step(*psi[size_t(action)]);
-      ++ep.action_ticks[size_t(action)];
-      ep.ticks = t + 1;
-      if (!stage.reward_lua) {
-        accumulated += within(now - decided_at) * stage.rewards.step_reward;
-        ep.reward += stage.rewards.step_reward;
-      }
-      if (stage.absorbing && stage.absorbing->holds(agent.input())) {
-        ep.success = true;
-        break;
-      }
-    }
-    ep.sim_seconds = agent.world().time();
-    if (!ep.success && stage.absorbing_lua && ep.ticks > 0) {
-      // The last tick may have reached the absorbing state without a decision point after it.
-      read_state();
-      ep.success = cur.call_absorbing(stage, ctx, gammas, ep.sim_seconds);
-    }
-    if (action >= 0) {
-      double final_reward;
-      if (stage.reward_lua) {
-        read_state();
-        final_reward = cur.call_reward(stage, ctx, gammas, action, ep.success ? "absorbing" : "timeout", ep.sim_seconds);
-      } else {
-        final_reward = ep.success ? stage.rewards.success_reward : stage.rewards.timeout_reward;
-      }
-      ep.reward += final_reward;
-      if (learn)
-        q.update(state, action, accumulated + within(ep.sim_seconds - decided_at) * final_reward, state, true, gamma);
-    }
-    return ep;
+    StageHooks hooks(cur, stage, ctx);
+    SemiMdpDriver driver(ctx.actions, stage.absorbing.get(), q, epsilon, rng, stage.rewards, learn, &hooks);
+    run_episode(agent, spec, seed, driver, stage.time_limit);
+    return driver.episode();
   }
 };
 

@@ -1,45 +1,106 @@
 #include "learn/episode.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
 
 namespace roger {
 
+EpisodeOutcome run_episode(Agent& agent, const WorldSpec& spec, uint64_t seed, EpisodeDriver& driver,
+                           double time_limit, EpisodeObserver* observer) {
+  if (!(time_limit > 0.0)) throw Error("episode: time limit must be positive");
+  agent.reset(spec);
+  driver.begin(seed);
+  if (observer) observer->on_begin(agent, seed);
+  const int max_ticks = int(std::ceil(time_limit / agent.world().tick_seconds() - 1e-9));
+  EpisodeOutcome out;
+  for (int t = 0; t < max_ticks; ++t) {
+    Controller* action = driver.choose(agent.input());
+    if (!action) {
+      out.success = true;
+      break;
+    }
+    agent.step(*action);
+    out.ticks = t + 1;
+    if (observer) observer->on_tick(agent, out.ticks);
+    if (driver.absorbed(agent.input())) {
+      out.success = true;
+      break;
+    }
+  }
+  out.sim_seconds = agent.world().time();
+  out.success = driver.end(agent.input(), out.success, out.ticks, out.sim_seconds);
+  if (observer) observer->on_end(agent, out.success, out.ticks);
+  return out;
+}
+
+namespace {
+
+// One action, run every tick until its goal predicate holds.
+class FixedActionDriver final : public EpisodeDriver {
+ public:
+  FixedActionDriver(Controller& action, Predicate& goal) : action_(action), goal_(goal) {}
+  void begin(uint64_t seed) override {
+    action_.reset(seed);
+    goal_.reset();
+  }
+  Controller* choose(const ControlInput&) override { return &action_; }
+  bool absorbed(const ControlInput& in) override { return goal_.holds(in); }
+  bool end(const ControlInput&, bool success, int, double) override { return success; }
+
+ private:
+  Controller& action_;
+  Predicate& goal_;
+};
+
+// Records frames every `every` ticks (and the last one) and the watched controllers' states.
+class Recorder final : public EpisodeObserver {
+ public:
+  Recorder(EpisodeResult& result, const std::vector<ControllerPtr>& watch, int every)
+      : result_(result), watch_(watch), every_(every) {}
+
+  void on_begin(const Agent& agent, uint64_t seed) override {
+    for (const auto& w : watch_) w->reset(seed);
+    for (const auto& w : watch_) result_.gammas.push_back(GammaTrace{w->name(), {}});
+    if (every_) record(agent, 0);
+  }
+  void on_tick(const Agent& agent, int tick) override {
+    for (size_t i = 0; i < watch_.size(); ++i) result_.gammas[i].states.push_back(watch_[i]->state(agent.input()));
+    if (every_ && tick % every_ == 0) record(agent, tick);
+  }
+  void on_end(const Agent& agent, bool success, int ticks) override {
+    // The moment the goal was reached is always shown, whatever the frame period.
+    if (every_ && success && (result_.frame_ticks.empty() || result_.frame_ticks.back() != ticks))
+      record(agent, ticks);
+  }
+
+ private:
+  void record(const Agent& agent, int tick) {
+    result_.frames.push_back(agent.world().frame());
+    result_.frame_ticks.push_back(tick);
+  }
+  EpisodeResult& result_;
+  const std::vector<ControllerPtr>& watch_;
+  const int every_;
+};
+
+}  // namespace
+
 EpisodeResult run_episode(Agent& agent, const WorldSpec& spec, uint64_t seed, Controller& action,
                           Predicate& goal, const EpisodeOptions& options,
                           const std::vector<ControllerPtr>& watch) {
   if (!(options.time_limit > 0.0)) throw Error("episode: time limit must be positive");
-  agent.reset(spec);
-  action.reset(seed);
-  goal.reset();
-  for (const auto& w : watch) w->reset(seed);
+  const double dt = agent.world().tick_seconds();
+  const int every = options.record_every > 0.0 ? std::max(1, int(std::lround(options.record_every / dt))) : 0;
   EpisodeResult r;
   r.seed = seed;
-  for (const auto& w : watch) r.gammas.push_back(GammaTrace{w->name(), {}});
-  const double dt = agent.world().tick_seconds();
-  const int max_ticks = int(std::ceil(options.time_limit / dt - 1e-9));
-  const int frame_every = options.record_every > 0.0 ? std::max(1, int(std::lround(options.record_every / dt))) : 0;
-  if (frame_every) {
-    r.frames.push_back(agent.world().frame());
-    r.frame_ticks.push_back(0);
-  }
-  for (int t = 0; t < max_ticks; ++t) {
-    agent.step(action);
-    const ControlInput& in = agent.input();
-    for (size_t i = 0; i < watch.size(); ++i) r.gammas[i].states.push_back(watch[i]->state(in));
-    r.ticks = t + 1;
-    const bool done = goal.holds(in);
-    if (frame_every && (r.ticks % frame_every == 0 || done)) {
-      r.frames.push_back(agent.world().frame());
-      r.frame_ticks.push_back(r.ticks);
-    }
-    if (done) {
-      r.success = true;
-      break;
-    }
-  }
-  r.sim_seconds = agent.world().time();
+  FixedActionDriver driver(action, goal);
+  Recorder recorder(r, watch, every);
+  const EpisodeOutcome out = run_episode(agent, spec, seed, driver, options.time_limit, &recorder);
+  r.success = out.success;
+  r.ticks = out.ticks;
+  r.sim_seconds = out.sim_seconds;
   r.reward = r.success ? options.success_reward : options.timeout_reward;
   return r;
 }

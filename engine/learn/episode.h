@@ -1,6 +1,8 @@
-// episode.h: running one action (a primitive, composition or skill) through an episode: until a
-// goal predicate holds or a time limit passes, with the paper's rewards, optionally recording
-// frames and the controllers' states for pictures and animations.
+// episode.h: the one episode loop. Training, greedy checkpoints, `roger eval` and replay recording
+// all run an episode through run_episode(agent, spec, seed, driver, time_limit, observer); what
+// differs between them is the driver (what runs each tick) and the observer (what is recorded).
+// Owns: the loop, the fixed-action driver, frame and gamma recording. Must not depend on Lua,
+// batch or report code: scripts reach the loop only through the driver's virtual functions.
 #pragma once
 
 #include <cstdint>
@@ -15,7 +17,49 @@
 
 namespace roger {
 
-// How an episode runs and pays.
+// What runs at each control tick of an episode and when the episode is over.
+class EpisodeDriver {
+ public:
+  virtual ~EpisodeDriver() = default;
+  // Starts an episode: resets every controller and predicate it uses with the episode's seed.
+  virtual void begin(uint64_t seed) = 0;
+  // The controller to run for the coming tick, or nullptr when the episode has just reached its
+  // absorbing state (a driver may find that at a decision point, before acting).
+  virtual Controller* choose(const ControlInput& in) = 0;
+  // After the tick: whether the absorbing state holds (the episode then ends in success).
+  virtual bool absorbed(const ControlInput& in) = 0;
+  // The episode ended after `ticks` ticks at simulated time `time`, in success or at the time
+  // limit; returns the final success (a driver may still find the absorbing state here).
+  virtual bool end(const ControlInput& in, bool success, int ticks, double time) = 0;
+};
+
+// What an episode loop reports to whoever records it (pictures, timelines). Default: nothing.
+class EpisodeObserver {
+ public:
+  virtual ~EpisodeObserver() = default;
+  // The world is reset and the driver has begun.
+  virtual void on_begin(const Agent&, uint64_t /*seed*/) {}
+  // A tick has run (before the absorbing state is checked); `tick` counts from 1.
+  virtual void on_tick(const Agent&, int /*tick*/) {}
+  // The episode is over.
+  virtual void on_end(const Agent&, bool /*success*/, int /*ticks*/) {}
+};
+
+// How an episode ended.
+struct EpisodeOutcome {
+  bool success = false;     // the absorbing state was reached before the time limit
+  int ticks = 0;            // control ticks run
+  double sim_seconds = 0.0; // simulated time at the end
+};
+
+// The one episode loop: resets the agent into `spec`, begins the driver with `seed`, and then every
+// control tick asks the driver for a controller, runs it for one tick, tells the observer and asks
+// the driver whether the episode is absorbed, until it is or `time_limit` simulated seconds pass.
+// The episode is a pure function of (spec, seed, driver). Throws roger::Error for a bad limit.
+EpisodeOutcome run_episode(Agent& agent, const WorldSpec& spec, uint64_t seed, EpisodeDriver& driver,
+                           double time_limit, EpisodeObserver* observer = nullptr);
+
+// How an episode of one action runs and pays.
 struct EpisodeOptions {
   double time_limit = 10.0;        // simulated seconds
   double success_reward = 100.0;   // reward when the goal predicate holds
@@ -29,7 +73,7 @@ struct GammaTrace {
   std::vector<Gamma> states;
 };
 
-// What happened in one episode.
+// What happened in one episode of one action.
 struct EpisodeResult {
   uint64_t seed = 0;
   bool success = false;
@@ -41,8 +85,10 @@ struct EpisodeResult {
   std::vector<GammaTrace> gammas; // one per watched controller, every tick
 };
 
-// Runs `action` from a fresh world until `goal` holds or the time limit. Every controller it uses
-// is reset with the episode seed, so the episode is a pure function of (spec, seed, action).
+// Runs `action` (a primitive, composition or skill) through the loop from a fresh world until
+// `goal` holds or the time limit, recording frames every options.record_every seconds and the
+// states of the `watch` controllers every tick. Every controller it uses is reset with the
+// episode seed, so the episode is a pure function of (spec, seed, action).
 EpisodeResult run_episode(Agent& agent, const WorldSpec& spec, uint64_t seed, Controller& action,
                           Predicate& goal, const EpisodeOptions& options = {},
                           const std::vector<ControllerPtr>& watch = {});

@@ -29,6 +29,7 @@
 #include "control/predicate.h"
 #include "core/rng.h"
 #include "core/spec.h"
+#include "learn/episode.h"
 
 namespace roger {
 
@@ -186,15 +187,65 @@ struct TrainingEpisode {
   std::vector<int> action_ticks;    // per action of Psi: the ticks it ran (usage frequencies)
 };
 
-// Runs one episode of a stage in a fresh world: resets the agent, every controller of psi (with
-// `seed`) and the absorbing predicate; every control tick reads the state (the gamma of each
-// controller of psi) and, on the first tick and whenever the state changed, backs up the previous
-// decision with the reward accumulated since it (when `learn`) and chooses the next action
-// epsilon-greedily; the chosen action runs for the tick. The episode ends when `absorbing` holds
-// (success_reward, terminal backup) or at the time limit (timeout_reward, terminal backup).
-// With learn = false the table is only read: exploitation uses policy_action() (the rule the
-// learned skill follows), so an evaluation measures the skill a stage yields. psi must be the
-// table's actions (same count and names). Throws roger::Error for a mismatch or bad options.
+// Callbacks a stage may define beside its declarative rewards and absorbing predicate (a
+// curriculum's Lua functions). They are called at decision points only, never every tick.
+class DecisionHooks {
+ public:
+  virtual ~DecisionHooks() = default;
+  // Whether absorbing() is defined: then it is asked at every decision point and at the end.
+  virtual bool has_absorbing() const = 0;
+  // Whether reward() is defined: then it replaces the declarative rewards.
+  virtual bool has_reward() const = 0;
+  // Whether `state` (the gammas of Psi) at simulated time `time` is absorbing.
+  virtual bool absorbing(const std::vector<Gamma>& state, double time) = 0;
+  // The reward of `action`, which ran until `state`; event is "decision", "absorbing" or "timeout".
+  virtual double reward(const std::vector<Gamma>& state, int action, const char* event, double time) = 0;
+};
+
+// A stage's semi-MDP as the driver of the episode loop (episode.h). Every control tick it reads
+// the state (the gamma of each controller of psi); on the first tick and whenever the state
+// changed it backs up the previous decision with the reward accumulated since it (when `learn`)
+// and chooses the next action epsilon-greedily; the chosen action runs until the next decision.
+// The episode ends when `absorbing` holds (success_reward, terminal backup) or at the time limit
+// (timeout_reward, terminal backup). With learn = false the table is only read: exploitation uses
+// policy_action() (the rule the learned skill follows), so an evaluation measures the skill a
+// stage yields. `hooks` (may be null) add Lua rewards and absorbing states at decision points;
+// `absorbing` may be null only when the hooks define absorbing(). psi must be the table's actions
+// (same count and names). Throws roger::Error for a mismatch or bad options.
+class SemiMdpDriver final : public EpisodeDriver {
+ public:
+  SemiMdpDriver(const std::vector<ControllerPtr>& psi, Predicate* absorbing, QTable& q, double epsilon,
+                Rng& rng, const LearningEpisodeOptions& options, bool learn, DecisionHooks* hooks = nullptr);
+  void begin(uint64_t seed) override;
+  Controller* choose(const ControlInput& in) override;
+  bool absorbed(const ControlInput& in) override;
+  bool end(const ControlInput& in, bool success, int ticks, double time) override;
+  // What happened in the episode (complete after end()).
+  const TrainingEpisode& episode() const { return ep_; }
+
+ private:
+  int read_state(const ControlInput& in);
+  void decide(int s, double now);
+  double discount_within(double elapsed) const;
+  double discount_bootstrap(double elapsed) const;
+  const std::vector<ControllerPtr>& psi_;
+  Predicate* absorbing_;
+  QTable& q_;
+  const double epsilon_;
+  Rng& rng_;
+  const LearningEpisodeOptions& options_;
+  const bool learn_;
+  DecisionHooks* hooks_;
+  TrainingEpisode ep_;
+  std::vector<Gamma> gammas_;
+  int state_ = -1, action_ = -1;
+  double accumulated_ = 0.0;  // reward since the last decision, discounted to it
+  double decided_at_ = 0.0;   // simulated time of the last decision
+  double tick_start_ = 0.0;   // simulated time at the start of the running tick
+};
+
+// One episode of a stage through the episode loop with a SemiMdpDriver (no hooks), in a fresh
+// world: resets the agent, every controller of psi (with `seed`) and the absorbing predicate.
 TrainingEpisode run_learning_episode(Agent& agent, const WorldSpec& spec, uint64_t seed,
                                      const std::vector<ControllerPtr>& psi, Predicate& absorbing,
                                      QTable& q, double epsilon, Rng& rng,

@@ -1,0 +1,317 @@
+// qtable.cpp: the action-value table of a stage, its backups and its policy file.
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/fileio.h"
+#include "learn/learning.h"
+#include "learn/learning_internal.h"
+
+namespace roger {
+
+using namespace learning_detail;
+
+namespace {
+
+// Field access with messages naming the source and the field.
+const nlohmann::json& field(const nlohmann::json& j, const char* name, const std::string& source) {
+  auto it = j.find(name);
+  if (it == j.end()) throw Error(source + ": missing field \"" + name + "\"");
+  return *it;
+}
+
+double number(const nlohmann::json& j, const std::string& what, const std::string& source) {
+  if (!j.is_number()) throw Error(source + ": " + what + " must be a number, got " + j.dump());
+  const double v = j.get<double>();
+  if (!finite(v)) throw Error(source + ": " + what + " must be finite");
+  return v;
+}
+
+// The format and version fields of a policy file.
+void check_format(const nlohmann::json& j, const std::string& source) {
+  const auto& format = field(j, "format", source);
+  if (!format.is_string() || format.get<std::string>() != kFormat)
+    throw Error(source + ": field \"format\" must be \"" + kFormat + "\", got " + format.dump());
+  const auto& version = field(j, "version", source);
+  if (!version.is_number_integer() || version.get<int64_t>() != kVersion)
+    throw Error(source + ": field \"version\" must be " + std::to_string(kVersion) + ", got " +
+                version.dump());
+}
+
+// The action names, checked against the caller's Psi (when `expected` is not empty).
+std::vector<std::string> read_action_names(const nlohmann::json& j, const std::vector<std::string>& expected,
+                                           const std::string& source) {
+  const auto& jactions = field(j, "actions", source);
+  if (!jactions.is_array()) throw Error(source + ": field \"actions\" must be a list of names");
+  std::vector<std::string> names;
+  for (const auto& n : jactions) {
+    if (!n.is_string()) throw Error(source + ": field \"actions\" must be a list of names, got " + n.dump());
+    names.push_back(n.get<std::string>());
+  }
+  if (!expected.empty() && names != expected)
+    throw Error(source + ": field \"actions\" is " + list_names(names) +
+                " but this stage's actions are " + list_names(expected) +
+                " (a policy is tied to its action set and order)");
+  return names;
+}
+
+// The learning parameters, validated.
+QParams read_params(const nlohmann::json& j, const std::string& source) {
+  const auto& jp = field(j, "params", source);
+  if (!jp.is_object()) throw Error(source + ": field \"params\" must be an object");
+  QParams p;
+  auto param = [&](const char* name) {
+    return number(field(jp, name, source + ": params"), std::string("params.") + name, source);
+  };
+  p.alpha = param("alpha");
+  p.discount = param("discount");
+  p.epsilon_start = param("epsilon_start");
+  p.epsilon_end = param("epsilon_end");
+  p.initial_q = param("initial_q");
+  p.validate(source + ": params");
+  return p;
+}
+
+// A states x actions table field ("q" or "visits"), its shape checked.
+const nlohmann::json& table_rows(const nlohmann::json& j, const char* name, int states, int actions,
+                                 const std::string& source) {
+  const auto& r = field(j, name, source);
+  if (!r.is_array() || int(r.size()) != states)
+    throw Error(source + ": field \"" + name + "\" must have " + std::to_string(states) +
+                " rows (3^" + std::to_string(actions) + " states), got " +
+                (r.is_array() ? std::to_string(r.size()) : r.type_name()));
+  for (size_t s = 0; s < r.size(); ++s)
+    if (!r[s].is_array() || int(r[s].size()) != actions)
+      throw Error(source + ": field \"" + name + "\" row " + std::to_string(s) + " must have " +
+                  std::to_string(actions) + " entries (one per action)");
+  return r;
+}
+
+// The caller's metadata: stage, context, seed and extra.
+PolicyMetadata read_metadata(const nlohmann::json& j, const std::string& source) {
+  PolicyMetadata m;
+  const auto& stage = field(j, "stage", source);
+  const auto& context = field(j, "context", source);
+  const auto& seed = field(j, "seed", source);
+  if (!stage.is_string()) throw Error(source + ": field \"stage\" must be a string");
+  if (!context.is_string()) throw Error(source + ": field \"context\" must be a string");
+  if (!seed.is_number_unsigned() && !(seed.is_number_integer() && seed.get<int64_t>() >= 0))
+    throw Error(source + ": field \"seed\" must be an integer >= 0");
+  m.stage = stage.get<std::string>();
+  m.context = context.get<std::string>();
+  m.seed = seed.get<uint64_t>();
+  if (auto it = j.find("extra"); it != j.end()) m.extra = *it;
+  return m;
+}
+
+}  // namespace
+
+namespace learning_detail {
+
+// "[a, b, c]" for messages.
+std::string list_names(const std::vector<std::string>& names) {
+  std::string s = "[";
+  for (size_t i = 0; i < names.size(); ++i) s += (i ? ", \"" : "\"") + names[i] + "\"";
+  return s + "]";
+}
+
+}  // namespace learning_detail
+
+void QParams::validate(const std::string& where) const {
+  auto in = [&](const char* name, double v, bool open_below, const char* range) {
+    if (!finite(v) || v > 1.0 || v < 0.0 || (open_below && v == 0.0))
+      throw Error(where + ": " + name + " must be in " + range + ", got " + std::to_string(v));
+  };
+  in("alpha", alpha, true, "(0, 1]");
+  in("discount", discount, false, "[0, 1]");
+  in("epsilon_start", epsilon_start, false, "[0, 1]");
+  in("epsilon_end", epsilon_end, false, "[0, 1]");
+  if (!finite(initial_q)) throw Error(where + ": initial_q must be finite, got " + std::to_string(initial_q));
+}
+
+QTable::QTable(std::vector<std::string> action_names, const QParams& params)
+    : names_(std::move(action_names)), params_(params) {
+  params_.validate();
+  if (names_.empty() || int(names_.size()) > kMaxActions)
+    throw Error("q-table: needs 1 to " + std::to_string(kMaxActions) + " actions (3^n states), got " +
+                std::to_string(names_.size()));
+  for (size_t i = 0; i < names_.size(); ++i) {
+    if (names_[i].empty()) throw Error("q-table: action " + std::to_string(i) + " has no name");
+    for (size_t k = 0; k < i; ++k)
+      if (names_[k] == names_[i])
+        throw Error("q-table: two actions are named \"" + names_[i] +
+                    "\"; names identify actions in policy files");
+  }
+  actions_ = int(names_.size());
+  states_ = 1;
+  for (int i = 0; i < actions_; ++i) states_ *= 3;
+  q_.assign(size_t(states_) * size_t(actions_), params_.initial_q);
+  visits_.assign(q_.size(), 0);
+  state_seen_.assign(size_t(states_), 0);
+}
+
+void QTable::check(int s, int a, const char* what) const {
+  if (s < 0 || s >= states_ || a < 0 || a >= actions_)
+    throw Error(std::string("q-table: ") + what + "(" + std::to_string(s) + ", " + std::to_string(a) +
+                ") outside " + std::to_string(states_) + " states x " + std::to_string(actions_) +
+                " actions");
+}
+
+double QTable::value(int s, int a) const {
+  check(s, a, "value");
+  return q_[size_t(s) * size_t(actions_) + size_t(a)];
+}
+
+void QTable::set(int s, int a, double v) {
+  check(s, a, "set");
+  if (!finite(v)) throw Error("q-table: set() needs a finite value");
+  q_[size_t(s) * size_t(actions_) + size_t(a)] = v;
+}
+
+uint64_t QTable::visits(int s, int a) const {
+  check(s, a, "visits");
+  return visits_[size_t(s) * size_t(actions_) + size_t(a)];
+}
+
+bool QTable::visited(int s) const {
+  check(s, 0, "visited");
+  return state_seen_[size_t(s)] != 0;
+}
+
+int QTable::visited_states() const {
+  return int(std::count(state_seen_.begin(), state_seen_.end(), uint8_t(1)));
+}
+
+int QTable::greedy(int s) const {
+  check(s, 0, "greedy");
+  const double* row = &q_[size_t(s) * size_t(actions_)];
+  int best = 0;
+  for (int a = 1; a < actions_; ++a)
+    if (row[a] > row[best]) best = a;  // strict: ties keep the lowest index
+  return best;
+}
+
+double QTable::max_value(int s) const {
+  return q_[size_t(s) * size_t(actions_) + size_t(greedy(s))];
+}
+
+int QTable::policy_action(int s) const {
+  if (visited(s)) return greedy(s);
+  const int t = nearest_visited_state(s, states_, actions_,
+                                      [this](int k) { return state_seen_[size_t(k)] != 0; });
+  return greedy(t >= 0 ? t : s);
+}
+
+int QTable::choose(int s, double epsilon, Rng& rng) {
+  check(s, 0, "choose");
+  if (!(epsilon >= 0.0 && epsilon <= 1.0)) throw Error("q-table: epsilon must be in [0, 1]");
+  if (epsilon > 0.0 && rng.uniform() < epsilon) return int(rng.integer(0, actions_ - 1));
+  return greedy(s);
+}
+
+double QTable::update(int s, int a, double reward, int s_next, bool terminal, double discount_power) {
+  check(s, a, "update");
+  check(s_next, 0, "update");
+  if (!finite(reward)) throw Error("q-table: update() needs a finite reward");
+  if (!(discount_power >= 0.0 && discount_power <= 1.0))
+    throw Error("q-table: update() needs a discount in [0, 1]");
+  double& v = q_[size_t(s) * size_t(actions_) + size_t(a)];
+  const double target = reward + (terminal ? 0.0 : discount_power * max_value(s_next));
+  const double td = target - v;
+  v += params_.alpha * td;
+  ++visits_[size_t(s) * size_t(actions_) + size_t(a)];
+  state_seen_[size_t(s)] = 1;
+  return td;
+}
+
+nlohmann::json QTable::to_json(const PolicyMetadata& meta) const {
+  nlohmann::json j;
+  j["format"] = kFormat;
+  j["version"] = kVersion;
+  j["stage"] = meta.stage;
+  j["context"] = meta.context;
+  j["seed"] = meta.seed;
+  j["actions"] = names_;
+  j["params"] = {{"alpha", params_.alpha},
+                 {"discount", params_.discount},
+                 {"epsilon_start", params_.epsilon_start},
+                 {"epsilon_end", params_.epsilon_end},
+                 {"initial_q", params_.initial_q}};
+  nlohmann::json q = nlohmann::json::array(), visits = nlohmann::json::array();
+  for (int s = 0; s < states_; ++s) {
+    nlohmann::json qrow = nlohmann::json::array(), vrow = nlohmann::json::array();
+    for (int a = 0; a < actions_; ++a) {
+      qrow.push_back(q_[size_t(s) * size_t(actions_) + size_t(a)]);
+      vrow.push_back(visits_[size_t(s) * size_t(actions_) + size_t(a)]);
+    }
+    q.push_back(std::move(qrow));
+    visits.push_back(std::move(vrow));
+  }
+  j["q"] = std::move(q);
+  j["visits"] = std::move(visits);
+  if (!meta.extra.is_null()) j["extra"] = meta.extra;
+  return j;
+}
+
+QTable QTable::from_json(const nlohmann::json& j, const std::vector<std::string>& expected,
+                         const std::string& source, PolicyMetadata* meta) {
+  if (!j.is_object()) throw Error(source + ": a policy file must hold a JSON object");
+  check_format(j, source);
+  const std::vector<std::string> names = read_action_names(j, expected, source);
+  const QParams p = read_params(j, source);
+  QTable t = [&] {
+    try {
+      return QTable(names, p);
+    } catch (const Error& e) {
+      throw Error(source + ": field \"actions\": " + e.what());
+    }
+  }();
+  const auto& jq = table_rows(j, "q", t.states_, t.actions_, source);
+  const auto& jv = table_rows(j, "visits", t.states_, t.actions_, source);
+  for (int s = 0; s < t.states_; ++s)
+    for (int a = 0; a < t.actions_; ++a) {
+      const size_t k = size_t(s) * size_t(t.actions_) + size_t(a);
+      t.q_[k] = number(jq[size_t(s)][size_t(a)],
+                       "field \"q\" [" + std::to_string(s) + "][" + std::to_string(a) + "]", source);
+      const auto& v = jv[size_t(s)][size_t(a)];
+      if (!v.is_number_unsigned() && !(v.is_number_integer() && v.get<int64_t>() >= 0))
+        throw Error(source + ": field \"visits\" [" + std::to_string(s) + "][" + std::to_string(a) +
+                    "] must be a count (an integer >= 0), got " + v.dump());
+      t.visits_[k] = v.get<uint64_t>();
+      if (t.visits_[k] > 0) t.state_seen_[size_t(s)] = 1;
+    }
+  PolicyMetadata m = read_metadata(j, source);
+  if (meta) *meta = std::move(m);
+  return t;
+}
+
+void QTable::save(const std::string& path, const PolicyMetadata& meta) const {
+  write_file_atomic(path, to_json(meta).dump(1) + "\n", "cannot write the policy file");
+}
+
+QTable QTable::load(const std::string& path, const std::vector<std::string>& expected,
+                    PolicyMetadata* meta) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(path + ": cannot read the policy file");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(buffer.str());
+  } catch (const nlohmann::json::parse_error& e) {
+    throw Error(path + ": not valid JSON: " + e.what());
+  }
+  return from_json(j, expected, path, meta);
+}
+
+std::vector<std::string> controller_names(const std::vector<ControllerPtr>& psi) {
+  std::vector<std::string> names;
+  for (size_t i = 0; i < psi.size(); ++i) {
+    if (!psi[i]) throw Error("psi[" + std::to_string(i) + "] is not a controller");
+    names.push_back(psi[i]->name());
+  }
+  return names;
+}
+
+}  // namespace roger
