@@ -1,15 +1,23 @@
-// batch.h: running many independent trials on a local thread pool, resumably. Each trial is a
-// pure function of its id (the id names its curriculum, stage, context and seed), so results do
-// not depend on the number of threads; each finished trial commits one result file atomically,
-// so a run that is interrupted (Ctrl-C, kill -9) resumes without losing or repeating a trial.
+// batch.h: a run of a batch script. Its trials are planned in phases (a run's trials come after
+// those of the runs whose skills they reuse) and run on a local thread pool, resumably, into one
+// results folder. Owns: the plan, the pool, the manifest, the trial folders and summary.csv.
+// Must not depend on report, view or cli (the report is written by whoever calls run_batch).
+//
+// Each trial is a pure function of its id (the id names its curriculum, stage, context and seed),
+// so results do not depend on the number of threads; each finished trial commits one result file
+// atomically, so a run that is interrupted (Ctrl-C, kill -9) resumes without losing or repeating
+// a trial.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <iosfwd>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "script/batch_script.h"
 
 namespace roger {
 
@@ -47,5 +55,61 @@ std::string trial_dir(const std::string& out_dir, const std::string& id);
 
 // Formats seconds as a short duration for progress lines ("42 s", "3 min 05 s", "1 h 02 min").
 std::string format_duration(double seconds);
+
+// One trial of a batch script: a training trial of a run's context, or an evaluation trial.
+struct PlannedTrial {
+  std::string id;
+  const BatchRun* run = nullptr;               // a training trial
+  const BatchEvaluation* evaluation = nullptr; // or an evaluation trial
+  std::string context, shape;
+  int index = 0;
+  uint64_t seed = 0;
+};
+
+// Every trial of a batch script, phase by phase, and the folder they go to.
+struct BatchPlan {
+  const BatchScript* script = nullptr;
+  std::string out;                                 // the results folder
+  std::vector<std::vector<PlannedTrial>> phases;   // a phase waits for the phases before it
+};
+
+// Plans the trials of `script` into `out` (which must outlive the plan's use of `script`).
+BatchPlan plan_batch(const BatchScript& script, const std::string& out);
+
+// Whether a trial is chosen by `only` ("RUN", "RUN/CONTEXT", "eval" or "eval/NAME"; empty: all).
+bool trial_selected(const PlannedTrial& trial, const std::vector<std::string>& only);
+
+// Throws roger::Error, naming what exists, for a selector of `only` that chooses no trial.
+void check_selectors(const BatchPlan& plan, const std::vector<std::string>& only);
+
+// Opens the results folder: writes its manifest (format, script, engine, configuration, trial
+// ids and seeds), or, when one exists, checks that it was made by this engine build and the same
+// configuration (else roger::Error saying what differs). Returns true when resuming.
+bool open_results_folder(const BatchPlan& plan);
+
+// How run_batch runs the plan.
+struct RunControl {
+  int jobs = 0;                     // worker threads; 0 = all cores
+  bool live = false;                // redraw one progress line in place (a terminal)
+  int max_trials = 0;               // > 0: stop after starting this many new trials
+  std::vector<std::string> only;    // selectors (see trial_selected)
+  std::ostream* log = nullptr;      // progress and messages (nullptr: none)
+};
+
+// What a run of the plan left in its folder.
+struct BatchSummary {
+  size_t trials = 0;                // in the plan
+  std::vector<std::string> failed;  // "id: first line of the error"
+  int pending = 0;                  // not run yet
+  double wall_s = 0.0;              // this invocation's wall time
+};
+
+// Runs the selected trials of the plan that are not finished, phase by phase (trials that failed
+// before are tried again), then writes summary.csv from what is on disk.
+BatchSummary run_batch(const BatchPlan& plan, const RunControl& control);
+
+// Writes <out>/summary.csv, one row per planned trial (pending ones included), and returns what it
+// found: failed trials and the number pending.
+BatchSummary write_summary_csv(const BatchPlan& plan);
 
 }  // namespace roger

@@ -1,7 +1,9 @@
-// commands.h: `roger run` (a batch script: every trial, resumably, then the report) and
-// `roger report` (tables and figures from a results folder). docs/batch.md describes both.
+// commands.h: the commands of the `roger` program, one function each, with their arguments.
+// Owns: what a command prints and its exit status. Everything else is the engine's: a command is
+// a thin layer over batch, report, view and script. docs/cli.md describes every command.
 #pragma once
 
+#include <cstdint>
 #include <iosfwd>
 #include <string>
 #include <utility>
@@ -35,5 +37,76 @@ int command_run(const RunArgs& args);
 
 // Writes tables.md and the figures of a results folder. Returns 0, or 1 with a message.
 int command_report(const ReportArgs& args);
+
+// The arguments of `roger render SCENARIO.lua --seed N --out FILE` (or a skill script's --policy episode).
+struct RenderArgs {
+  std::string scenario;
+  uint64_t seed = 1;
+  std::string out;
+  std::vector<std::string> sets;
+  int width = 1000;
+  double seconds = 0.0;
+  bool grid = false;
+  std::string policy;         // with a skill script: render an episode of this policy
+  std::string world;          // the scenario of that episode (default: the policy's)
+  double every = 0.1;         // seconds between recorded frames
+};
+
+// Draws a scenario's world, or records an episode of a skill script's policy. Returns 0.
+int command_render(const RenderArgs& args);
+
+// The arguments of `roger check SCRIPT.lua`.
+struct CheckArgs {
+  std::string script;
+  std::vector<std::string> sets;
+  int seeds = 20;
+};
+
+// Loads and validates a scenario, skill script or curriculum; returns 0, or 1 listing the problems.
+int command_check(const CheckArgs& args);
+
+// The arguments of `roger eval SCRIPT.lua --policy NAME|FILE.json`.
+struct EvalArgs {
+  std::string script;
+  std::string policy;
+  std::string scenario;
+  std::vector<std::string> sets;
+  int episodes = 50;
+  uint64_t seed = 1000;
+  bool seed_given = false;
+  bool json = false;
+};
+
+// Evaluates a skill script's policy or a saved policy over seeded episodes. Returns 0.
+int command_eval(const EvalArgs& args);
+
+// The arguments of `roger train CURRICULUM.lua --stage S --context C --seed N --out DIR`.
+struct TrainArgs {
+  std::string curriculum;
+  std::string stage, context;
+  uint64_t seed = 1;
+  std::string out;
+  bool json = false;
+  std::vector<std::string> skills;
+  std::vector<std::string> sets;
+};
+
+// Trains one stage and context for one seed and writes its outputs. Returns 0.
+int command_train(const TrainArgs& args);
+
+// The arguments of `roger bench`.
+struct BenchArgs {
+  std::string scenario = "scenarios/unobstructed.lua";
+  uint64_t seed = 1;
+  double seconds = 300.0;
+  int repeats = 5;
+  bool json = false;
+  std::string script = "curricula/scripted.lua";
+  std::string policy = "task";
+  int episodes = 20;
+};
+
+// Measures simulated seconds per wall second of physics, senses and the whole pipeline. Returns 0.
+int command_bench(const BenchArgs& args);
 
 }  // namespace roger

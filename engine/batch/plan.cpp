@@ -1,0 +1,289 @@
+// plan.cpp: the plan of a batch script (its trials, phase by phase), the selectors of --only, and
+// the results folder's manifest and summary.csv.
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "batch/batch.h"
+#include "batch/batch_internal.h"
+#include "batch/trainer.h"
+#include "core/error.h"
+#include "core/fileio.h"
+#include "engine_fingerprint.h"
+#include "script/curriculum.h"
+#include "script/lua_sandbox.h"
+
+namespace roger {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+// FNV-1a, 64 bits, as 16 hex digits: a stable fingerprint of the curriculum's text.
+std::string fingerprint(const std::string& text) {
+  uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : text) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  char buf[20];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+  return buf;
+}
+
+// The Lua files training with a curriculum reads (docs/batch.md), each with its fingerprint, named
+// relative to the project when inside it: a results folder is resumed only while none changed.
+json source_fingerprints(const std::string& curriculum_file) {
+  const Curriculum cur = Curriculum::load(curriculum_file);
+  const fs::path root = fs::weakly_canonical(project_root());
+  json out = json::object();
+  for (const fs::path& f : curriculum_source_files(cur)) {
+    const fs::path rel = f.lexically_relative(root);
+    const bool inside = !rel.empty() && *rel.begin() != "..";
+    out[inside ? rel.generic_string() : f.generic_string()] = fingerprint(read_text(f.string()));
+  }
+  return out;
+}
+
+// The differences between two configurations, as "field: old -> new" lines.
+std::vector<std::string> differences(const json& a, const json& b, const std::string& at = "") {
+  std::vector<std::string> out;
+  if (a.is_object() && b.is_object()) {
+    std::set<std::string> keys;
+    for (auto it = a.begin(); it != a.end(); ++it) keys.insert(it.key());
+    for (auto it = b.begin(); it != b.end(); ++it) keys.insert(it.key());
+    for (const auto& k : keys) {
+      const json na = a.contains(k) ? a[k] : json(), nb = b.contains(k) ? b[k] : json();
+      for (auto& d : differences(na, nb, at.empty() ? k : at + "." + k)) out.push_back(d);
+    }
+    return out;
+  }
+  if (a != b) {
+    std::string sa = a.dump(), sb = b.dump();
+    if (sa.size() > 80) sa = sa.substr(0, 77) + "...";
+    if (sb.size() > 80) sb = sb.substr(0, 77) + "...";
+    out.push_back(at + ": " + sa + " in the folder, " + sb + " now");
+  }
+  return out;
+}
+
+// The training trials of one run, every context.
+std::vector<PlannedTrial> plan_run(const BatchScript& b, const BatchRun* r) {
+  std::vector<PlannedTrial> phase;
+  for (const auto& c : r->contexts)
+    for (int i = 0; i < r->trials; ++i) {
+      PlannedTrial t;
+      t.id = batch_trial_id(r->name, c, i);
+      t.run = r;
+      t.context = c;
+      t.index = i;
+      t.seed = b.seed + uint64_t(i);
+      phase.push_back(t);
+    }
+  return phase;
+}
+
+// The evaluation trials of every evaluation, one group per shape.
+std::vector<PlannedTrial> plan_evaluations(const BatchScript& b) {
+  std::vector<PlannedTrial> phase;
+  for (const auto& e : b.evaluations)
+    for (const auto& g : batch_eval_groups(e))
+      for (int i = 0; i < e.trials; ++i) {
+        PlannedTrial t;
+        t.id = batch_eval_id(e.name, g, i);
+        t.evaluation = &e;
+        t.context = e.context;
+        t.shape = g;
+        t.index = i;
+        t.seed = b.seed + uint64_t(i);
+        phase.push_back(t);
+      }
+  return phase;
+}
+
+// Whether a selector chooses a trial.
+bool matches(const PlannedTrial& t, const std::string& o) {
+  if (t.run) return o == t.run->name || o == t.run->name + "/" + t.context;
+  return o == "eval" || o == "eval/" + t.evaluation->name;
+}
+
+// Checks that an existing manifest was made by this engine and configuration.
+void check_manifest(const BatchPlan& plan, const fs::path& manifest_path, const json& config) {
+  json old;
+  try {
+    old = json::parse(read_text(manifest_path.string()));
+  } catch (const std::exception& e) {
+    throw Error(manifest_path.string() + ": not JSON (" + e.what() + "); use another --out");
+  }
+  const std::string& out = plan.out;
+  const std::string old_engine = old.value("engine", std::string());
+  if (old_engine != ROGER_ENGINE_FINGERPRINT)
+    throw Error("the results folder " + out + " was made by " +
+                (old_engine.empty() ? std::string("a roger that did not record its engine")
+                                    : "another build of the engine (engine " + old_engine + ")") +
+                ", and this roger's engine is " + ROGER_ENGINE_FINGERPRINT +
+                ": its trials would mix with this build's. Use another --out, or remove the folder "
+                "to start over; `roger report " + out + "` still reports what it holds.");
+  const json old_config = old.value("config", json());
+  if (old_config != config) {
+    std::string why;
+    for (const auto& d : differences(old_config, config)) why += "\n  " + d;
+    throw Error("the results folder " + out + " was made by another batch script or other parameters (" +
+                old.value("script", std::string("?")) + "); it cannot be resumed with " + plan.script->path +
+                ". Differences:" + why + "\nUse another --out, or remove the folder to start over.");
+  }
+}
+
+}  // namespace
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::string first_line(const std::string& s) {
+  const size_t nl = s.find('\n');
+  return nl == std::string::npos ? s : s.substr(0, nl);
+}
+
+BatchPlan plan_batch(const BatchScript& b, const std::string& out) {
+  BatchPlan plan;
+  plan.script = &b;
+  plan.out = out;
+  // A phase waits for the phases of the runs it depends on (ordered_runs puts them first).
+  for (const BatchRun* r : b.ordered_runs()) plan.phases.push_back(plan_run(b, r));
+  std::vector<PlannedTrial> evaluations = plan_evaluations(b);
+  if (!evaluations.empty()) plan.phases.push_back(std::move(evaluations));
+  return plan;
+}
+
+bool trial_selected(const PlannedTrial& t, const std::vector<std::string>& only) {
+  if (only.empty()) return true;
+  for (const auto& o : only)
+    if (matches(t, o)) return true;
+  return false;
+}
+
+void check_selectors(const BatchPlan& plan, const std::vector<std::string>& only) {
+  const BatchScript& b = *plan.script;
+  for (const auto& o : only) {
+    bool any = false;
+    for (const auto& p : plan.phases)
+      for (const auto& t : p) any = any || matches(t, o);
+    if (!any) {
+      std::string names;
+      for (const auto& r : b.runs) names += (names.empty() ? "" : ", ") + r.name;
+      for (const auto& e : b.evaluations) names += ", eval/" + e.name;
+      throw Error("--only '" + o + "' names no run, run/context or eval/evaluation of " + b.path + " (they are: " +
+                  names + ")");
+    }
+  }
+}
+
+bool open_results_folder(const BatchPlan& plan) {
+  const BatchScript& b = *plan.script;
+  json config = batch_config_json(b);
+  config["sources"] = source_fingerprints(b.curriculum_file);
+  json ids = json::array(), seeds = json::object();
+  for (const auto& p : plan.phases)
+    for (const auto& t : p) {
+      ids.push_back(t.id);
+      if (t.run) seeds[t.id] = t.seed;
+    }
+  const fs::path manifest_path = fs::path(plan.out) / "manifest.json";
+  std::error_code ec;
+  if (fs::exists(manifest_path, ec)) {
+    check_manifest(plan, manifest_path, config);
+    return true;
+  }
+  const json manifest = {{"format", "roger-results/1"},
+                         {"script", b.path},
+                         {"script_file", fs::absolute(b.file).lexically_normal().string()},
+                         {"version", ROGER_VERSION},
+                         {"engine", ROGER_ENGINE_FINGERPRINT},
+                         {"config", config},
+                         {"trials", ids},
+                         {"seeds", seeds}};
+  write_file_atomic(manifest_path.string(), manifest.dump(1) + "\n", "roger run: cannot write the manifest");
+  return false;
+}
+
+namespace {
+
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+std::string csv_number(const json& j, const char* key) {
+  if (!j.contains(key)) return "";
+  const json& v = j[key];
+  if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
+  if (v.is_number_integer()) return std::to_string(v.get<int64_t>());
+  if (v.is_number()) return format_number(v.get<double>());
+  if (v.is_string()) return csv_field(v.get<std::string>());
+  return "";
+}
+
+// A trial's state on disk: "ok" with its result, "failed" with its error, or "pending".
+std::string trial_status(const std::string& out, const PlannedTrial& t, json& r, std::string& error) {
+  std::string status = "pending";
+  const fs::path d = trial_dir(out, t.id);
+  try {
+    if (fs::exists(d / "result.json")) {
+      r = json::parse(read_text((d / "result.json").string()));
+      status = "ok";
+    } else if (fs::exists(d / "error.json")) {
+      error = json::parse(read_text((d / "error.json").string())).value("error", std::string());
+      status = "failed";
+    }
+  } catch (const std::exception& e) {
+    status = "failed";
+    error = std::string("unreadable result: ") + e.what();
+  }
+  return status;
+}
+
+// One row of summary.csv.
+void summary_row(std::ostream& csv, const PlannedTrial& t, const std::string& status, const json& r,
+                 const std::string& error) {
+  csv << t.id << "," << (t.run ? "train" : "eval") << "," << (t.run ? t.run->name : t.evaluation->run) << ","
+      << (t.run ? t.run->stage : csv_number(r, "stage")) << "," << t.context << ","
+      << (t.evaluation ? t.evaluation->name : "") << "," << t.shape << "," << t.index << ","
+      << (t.run ? std::to_string(t.seed) : "") << "," << status << "," << csv_number(r, "reached") << ","
+      << csv_number(r, "time_to_threshold_s") << "," << csv_number(r, "episodes_to_threshold") << ","
+      << csv_number(r, "decisions_to_threshold") << "," << csv_number(r, "train_episodes") << ","
+      << csv_number(r, "train_sim_s") << "," << csv_number(r, "success_rate") << ","
+      << csv_number(r, "reward_mean") << "," << csv_number(r, "reward_std") << "," << csv_number(r, "wall_s")
+      << "," << csv_field(first_line(error)) << "\n";
+}
+
+}  // namespace
+
+BatchSummary write_summary_csv(const BatchPlan& plan) {
+  std::ostringstream csv;
+  csv << "id,kind,run,stage,context,evaluation,shape,trial,seed,status,reached,time_to_threshold_s,"
+         "episodes_to_threshold,decisions_to_threshold,train_episodes,train_sim_s,success_rate,reward_mean,"
+         "reward_std,wall_s,error\n";
+  BatchSummary s;
+  for (const auto& p : plan.phases)
+    for (const auto& t : p) {
+      json r;
+      std::string error;
+      const std::string status = trial_status(plan.out, t, r, error);
+      if (status == "failed") s.failed.push_back(t.id + ": " + first_line(error));
+      if (status == "pending") ++s.pending;
+      ++s.trials;
+      summary_row(csv, t, status, r, error);
+    }
+  write_file_atomic((fs::path(plan.out) / "summary.csv").string(), csv.str(), "roger run: cannot write summary.csv");
+  return s;
+}
+
+}  // namespace roger

@@ -1,0 +1,375 @@
+// run.cpp: a run of a batch script: its trials on a pool of worker threads, resumably, phase by
+// phase; each trial trains a stage (trainer.h) or evaluates a trained policy.
+#include "batch/batch.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <ostream>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "batch/batch_internal.h"
+#include "batch/trainer.h"
+#include "core/error.h"
+#include "core/fileio.h"
+#include "script/batch_script.h"
+
+namespace roger {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+void check_id(const std::string& id) {
+  if (id.empty()) throw Error("batch: a trial id is empty");
+  std::stringstream ss(id);
+  std::string part;
+  while (std::getline(ss, part, '/')) {
+    if (part.empty() || part == "." || part == "..")
+      throw Error("batch: trial id '" + id + "' has an empty, '.' or '..' segment");
+    for (char c : part)
+      if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-'))
+        throw Error("batch: trial id '" + id + "' has the character '" + std::string(1, c) +
+                    "'; use letters, digits, '.', '_', '-' and '/'");
+  }
+}
+
+// Reads a finished trial's result, or returns false when the trial has not finished.
+bool read_finished(const std::string& dir, TrialOutcome& out) {
+  for (const char* name : {"result.json", "error.json"}) {
+    const fs::path p = fs::path(dir) / name;
+    if (!fs::exists(p)) continue;
+    std::ifstream in(p);
+    try {
+      out.result = nlohmann::json::parse(in);
+    } catch (const std::exception&) {
+      return false;  // cannot happen with atomic writes; treat as unfinished and run again
+    }
+    out.ok = std::string(name) == "result.json";
+    out.resumed = true;
+    return true;
+  }
+  return false;
+}
+
+// The state of one run_trials call, shared by its workers and its progress reporter.
+class TrialPool {
+ public:
+  TrialPool(const std::vector<std::string>& ids, const TrialFunction& run, const BatchOptions& options)
+      : run_(run), options_(options), outcomes_(ids.size()), start_(Clock::now()) {
+    for (size_t i = 0; i < ids.size(); ++i) {
+      outcomes_[i].id = ids[i];
+      if (!read_finished(trial_dir(options.out_dir, ids[i]), outcomes_[i])) pending_.push_back(i);
+    }
+    resumed_ = ids.size() - pending_.size();
+  }
+
+  // Runs the pending trials on `jobs` threads while reporting progress; returns every outcome.
+  std::vector<TrialOutcome> run(int jobs) {
+    std::thread reporter;
+    if (options_.progress && options_.live) reporter = std::thread([this] { report_live(); });
+    std::vector<std::thread> pool;
+    const int threads = std::min<int>(jobs, int(std::max<size_t>(1, pending_.size())));
+    for (int t = 0; t < threads; ++t) pool.emplace_back([this] { work(); });
+    if (options_.progress && !options_.live) report_plain();
+    for (auto& t : pool) t.join();
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      finished_ = true;
+    }
+    wake_.notify_all();
+    if (reporter.joinable()) reporter.join();
+    if (options_.progress) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      *options_.progress << (options_.live ? "\r\033[K" : "") << progress_line(true) << "\n" << std::flush;
+    }
+    return std::move(outcomes_);
+  }
+
+ private:
+  // One progress line; called with the mutex held.
+  std::string progress_line(bool final) const {
+    const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
+    const size_t left = pending_.size() - done_ - running_;
+    std::ostringstream os;
+    os << "trials: " << resumed_ + done_ << "/" << outcomes_.size() << " done";
+    if (resumed_) os << " (" << resumed_ << " from an earlier run)";
+    os << ", " << running_ << " running, " << left << " left, " << format_duration(elapsed) << " elapsed";
+    if (done_ > 0 && !final) {
+      // Each worker finishes a trial every elapsed/done*jobs seconds on average.
+      const double per_trial = elapsed / double(done_);
+      os << ", about " << format_duration(per_trial * double(left + running_)) << " to go";
+    }
+    return os.str();
+  }
+
+  // A worker: takes pending trials one by one until none is left.
+  void work() {
+    for (;;) {
+      const size_t k = next_.fetch_add(1);
+      if (k >= pending_.size()) return;
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        ++running_;
+      }
+      run_one(outcomes_[pending_[k]]);
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        --running_;
+        ++done_;
+      }
+      wake_.notify_all();
+    }
+  }
+
+  // Runs one trial in a fresh folder and commits its result.json, or its error.json.
+  void run_one(TrialOutcome& out) {
+    const std::string dir = trial_dir(options_.out_dir, out.id);
+    std::error_code ec;
+    fs::remove_all(dir, ec);  // a trial cut short: start it afresh
+    fs::create_directories(dir, ec);
+    const auto t0 = Clock::now();
+    try {
+      if (ec) throw Error("batch: cannot create '" + dir + "': " + ec.message());
+      out.result = run_(out.id, dir);
+      out.ok = true;
+      write_file_atomic((fs::path(dir) / "result.json").string(), out.result.dump(1) + "\n",
+                        "batch: cannot write the trial result");
+    } catch (const std::exception& e) {
+      out.ok = false;
+      out.result = nlohmann::json{{"error", e.what()}};
+      try {
+        write_file_atomic((fs::path(dir) / "error.json").string(), out.result.dump(1) + "\n",
+                          "batch: cannot write the trial error");
+      } catch (const std::exception&) {
+        // The outcome still carries the error; the trial will simply run again on resume.
+      }
+    }
+    out.wall_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  }
+
+  // Live mode: one line redrawn in place every quarter second.
+  void report_live() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!finished_) {
+      wake_.wait_for(lock, std::chrono::duration<double>(0.25));
+      if (finished_) break;
+      *options_.progress << "\r\033[K" << progress_line(false) << std::flush;
+    }
+  }
+
+  // Plain mode: the calling thread prints one line every `every` seconds until all are done.
+  void report_plain() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    auto next_line = Clock::now();
+    while (done_ < pending_.size()) {
+      if (Clock::now() >= next_line) {
+        *options_.progress << progress_line(false) << "\n" << std::flush;
+        next_line = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                       std::chrono::duration<double>(options_.every));
+      }
+      wake_.wait_until(lock, next_line);
+    }
+  }
+
+  const TrialFunction& run_;
+  const BatchOptions& options_;
+  std::vector<TrialOutcome> outcomes_;
+  std::vector<size_t> pending_;
+  size_t resumed_ = 0;
+  const Clock::time_point start_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::atomic<size_t> next_{0};
+  size_t done_ = 0, running_ = 0;
+  bool finished_ = false;
+};
+
+}  // namespace
+
+std::string trial_dir(const std::string& out_dir, const std::string& id) {
+  return (fs::path(out_dir) / "trials" / id).string();
+}
+
+std::string format_duration(double seconds) {
+  if (!std::isfinite(seconds) || seconds < 0) return "?";
+  const long s = std::lround(seconds);
+  char buf[64];
+  if (s < 60) std::snprintf(buf, sizeof buf, "%ld s", s);
+  else if (s < 3600) std::snprintf(buf, sizeof buf, "%ld min %02ld s", s / 60, s % 60);
+  else std::snprintf(buf, sizeof buf, "%ld h %02ld min", s / 3600, (s % 3600) / 60);
+  return buf;
+}
+
+std::vector<TrialOutcome> run_trials(const std::vector<std::string>& ids, const TrialFunction& run,
+                                     const BatchOptions& options) {
+  if (options.out_dir.empty()) throw Error("batch: no results folder given");
+  std::set<std::string> seen;
+  for (const auto& id : ids) {
+    check_id(id);
+    if (!seen.insert(id).second) throw Error("batch: trial id '" + id + "' appears twice");
+  }
+  const int jobs = std::max(1, options.jobs > 0 ? options.jobs
+                                                : int(std::max(1u, std::thread::hardware_concurrency())));
+  return TrialPool(ids, run, options).run(jobs);
+}
+
+namespace {
+
+// The policy file a trial reuses, or roger::Error saying why it is not there.
+std::string policy_of(const std::string& out, const std::string& id) {
+  const fs::path p = fs::path(trial_dir(out, id)) / "policy.json";
+  if (fs::exists(p)) return p.string();
+  const fs::path err = fs::path(trial_dir(out, id)) / "error.json";
+  if (fs::exists(err)) {
+    std::string msg;
+    try {
+      msg = nlohmann::json::parse(read_text(err.string())).value("error", std::string());
+    } catch (const std::exception&) {
+    }
+    throw Error("needs the policy of trial " + id + ", which failed: " + first_line(msg));
+  }
+  throw Error("needs the policy of trial " + id + ", which has not run yet (run it first, e.g. --only " +
+              id.substr(0, id.rfind('/')) + ")");
+}
+
+// A training trial: trains the run's stage and context with the trial's seed, reusing the
+// policies of the same trial index of the runs its skills come from.
+nlohmann::json training_trial(const BatchPlan& plan, const PlannedTrial& t, const std::string& dir) {
+  TrainOptions o;
+  o.curriculum = plan.script->curriculum_file;
+  o.stage = t.run->stage;
+  o.context = t.context;
+  o.seed = t.seed;
+  o.sets = t.run->params;
+  std::map<std::string, std::string> skill_ids;
+  for (const auto& s : t.run->skills) {
+    const std::string from = batch_trial_id(s.run, s.context, t.index);
+    o.skill_files[s.skill] = policy_of(plan.out, from);
+    skill_ids[s.skill] = from;
+  }
+  const TrainResult r = train_stage(o);
+  write_train_outputs(r, dir);
+  nlohmann::json j = train_summary_json(r);
+  j["id"] = t.id;
+  j["run"] = t.run->name;
+  j["trial"] = t.index;
+  // Paths inside the results folder, so results do not depend on where the folder is.
+  for (const auto& [skill, from] : skill_ids)
+    if (j.contains("skills") && j["skills"].contains(skill)) {
+      j["skills"][skill]["file"] = "trials/" + from + "/policy.json";
+      j["skills"][skill]["trial"] = from;
+    }
+  nlohmann::json cps = nlohmann::json::array();
+  for (const auto& c : r.checkpoints)
+    cps.push_back({{"episodes", c.at.episodes}, {"sim_s", c.at.sim_s}, {"decisions", c.at.decisions},
+                   {"wall_s", c.at.wall_s}, {"success_rate", c.success_rate}, {"reward_mean", c.reward_mean},
+                   {"reward_std", c.reward_std}});
+  j["checkpoints"] = cps;
+  return j;
+}
+
+// An evaluation trial: the policy of a trained trial, without retraining, in the evaluation's worlds.
+nlohmann::json evaluation_trial(const BatchPlan& plan, const PlannedTrial& t, Clock::time_point t0) {
+  const BatchEvaluation& e = *t.evaluation;
+  const std::string from = batch_trial_id(e.run, e.context, t.index);
+  PolicyEvalOptions o;
+  o.curriculum = plan.script->curriculum_file;
+  o.policy_file = policy_of(plan.out, from);
+  o.scenario = e.scenario;
+  o.sets = e.params;
+  if (!e.shapes.empty()) o.sets.emplace_back("shape", t.shape);
+  o.episodes = e.episodes;
+  o.first_seed = e.first_seed;
+  const PolicyEvalResult r = evaluate_policy_file(o);
+  nlohmann::json usage = nlohmann::json::object();
+  for (const auto& [name, f] : r.eval.usage) usage[name] = f;
+  nlohmann::json params = nlohmann::json::object();
+  for (const auto& [k, v] : r.params) params[k] = v;
+  return {{"id", t.id},
+          {"evaluation", e.name},
+          {"run", e.run},
+          {"context", e.context},
+          {"trial", t.index},
+          {"shape", t.shape},
+          {"policy", "trials/" + from + "/policy.json"},
+          {"stage", r.stage},
+          {"scenario", r.scenario},
+          {"episodes", r.eval.episodes},
+          {"first_seed", r.eval.first_seed},
+          {"successes", r.eval.successes},
+          {"success_rate", r.eval.success_rate},
+          {"reward_mean", r.eval.reward_mean},
+          {"reward_std", r.eval.reward_std},
+          {"time_mean", r.eval.time_mean},
+          {"usage", usage},
+          {"params", params},
+          {"wall_s", std::chrono::duration<double>(Clock::now() - t0).count()}};
+}
+
+// The trials of one phase this invocation runs: selected, and within the budget of new trials.
+// A trial that failed in an earlier invocation is tried again.
+std::vector<std::string> phase_ids(const BatchPlan& plan, const std::vector<PlannedTrial>& phase,
+                                   const RunControl& control, int& budget, std::set<std::string>& names) {
+  std::vector<std::string> ids;
+  std::error_code ec;
+  for (const auto& t : phase) {
+    if (!trial_selected(t, control.only)) continue;
+    const fs::path dir = trial_dir(plan.out, t.id);
+    if (fs::exists(dir / "error.json", ec) && !fs::exists(dir / "result.json", ec)) fs::remove(dir / "error.json", ec);
+    const bool finished = fs::exists(dir / "result.json", ec) || fs::exists(dir / "error.json", ec);
+    if (!finished) {
+      if (budget == 0) continue;
+      if (budget > 0) --budget;
+    }
+    ids.push_back(t.id);
+    names.insert(t.run ? t.run->name : "eval/" + t.evaluation->name);
+  }
+  return ids;
+}
+
+}  // namespace
+
+BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
+  std::map<std::string, const PlannedTrial*> by_id;
+  for (const auto& p : plan.phases)
+    for (const auto& t : p) by_id[t.id] = &t;
+  const TrialFunction trial = [&](const std::string& id, const std::string& dir) -> nlohmann::json {
+    const PlannedTrial& t = *by_id.at(id);
+    const auto t0 = Clock::now();
+    return t.run ? training_trial(plan, t, dir) : evaluation_trial(plan, t, t0);
+  };
+  BatchOptions bo;
+  bo.jobs = control.jobs;
+  bo.out_dir = plan.out;
+  bo.progress = control.log;
+  bo.live = control.live;
+  int budget = control.max_trials > 0 ? control.max_trials : -1;
+  const auto start = Clock::now();
+  for (size_t k = 0; k < plan.phases.size(); ++k) {
+    std::set<std::string> names;
+    const std::vector<std::string> ids = phase_ids(plan, plan.phases[k], control, budget, names);
+    if (ids.empty()) continue;
+    std::string label;
+    for (const auto& n : names) label += (label.empty() ? "" : ", ") + n;
+    if (control.log)
+      *control.log << "roger run: phase " << (k + 1) << "/" << plan.phases.size() << ": " << label << " ("
+                   << ids.size() << " trials)\n";
+    run_trials(ids, trial, bo);
+  }
+  const double wall = std::chrono::duration<double>(Clock::now() - start).count();
+  BatchSummary summary = write_summary_csv(plan);
+  summary.wall_s = wall;
+  return summary;
+}
+
+}  // namespace roger

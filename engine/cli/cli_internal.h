@@ -1,0 +1,22 @@
+// cli_internal.h: helpers the commands share.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "script/scenario.h"
+#include "script/skill_script.h"
+
+namespace roger {
+
+// Applies `--set key=value` options to a scenario.
+void apply_sets(Scenario& scenario, const std::vector<std::string>& sets);
+
+// Splits key=value options into pairs; `option` names the option in the error.
+std::vector<std::pair<std::string, std::string>> split_sets(const std::vector<std::string>& sets, const char* option);
+
+// The scenario a policy runs in: --scenario if given, else the policy's own, else unobstructed.
+std::string policy_scenario(const SkillScript::NamedPolicy& p, const std::string& chosen);
+
+}  // namespace roger

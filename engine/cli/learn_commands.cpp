@@ -1,0 +1,138 @@
+// learn_commands.cpp: `roger eval` (a policy over seeded episodes) and `roger train` (one trial).
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "batch/trainer.h"
+#include "cli/cli_internal.h"
+#include "cli/commands.h"
+#include "core/error.h"
+#include "learn/episode.h"
+#include "script/curriculum.h"
+#include "script/scenario.h"
+#include "script/skill_script.h"
+
+namespace roger {
+
+std::vector<std::pair<std::string, std::string>> split_sets(const std::vector<std::string>& sets, const char* option) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const std::string& kv : sets) {
+    const size_t eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0) throw Error(std::string(option) + " expects key=value, got '" + kv + "'");
+    out.push_back({kv.substr(0, eq), kv.substr(eq + 1)});
+  }
+  return out;
+}
+
+namespace {
+
+// eval --policy FILE.json: a policy saved by roger train, its Psi rebuilt from the curriculum.
+int run_eval_policy_file(const EvalArgs& a) {
+  PolicyEvalOptions o;
+  o.curriculum = a.script;
+  o.policy_file = a.policy;
+  o.scenario = a.scenario;
+  o.sets = split_sets(a.sets, "--set");
+  o.episodes = a.episodes;
+  o.first_seed = a.seed_given ? int64_t(a.seed) : -1;
+  const PolicyEvalResult r = evaluate_policy_file(o);
+  std::printf("roger eval: %s stage %s context %s (%s) in %s, %d episodes from seed %llu, %.0f s limit\n",
+              a.script.c_str(), r.stage.c_str(), r.context.c_str(), a.policy.c_str(), r.scenario.c_str(),
+              r.eval.episodes, static_cast<unsigned long long>(r.eval.first_seed), r.time_limit);
+  std::printf("  success rate   %.1f%% (%d of %d)\n", 100.0 * r.eval.success_rate, r.eval.successes, r.eval.episodes);
+  std::printf("  reward         %.1f +- %.1f\n", r.eval.reward_mean, r.eval.reward_std);
+  std::printf("  episode time   %.2f s (mean, simulated)\n", r.eval.time_mean);
+  std::string usage;
+  for (const auto& [name, f] : r.eval.usage) usage += (usage.empty() ? "" : ", ") + name + " " + std::to_string(int(std::lround(100 * f))) + "%";
+  std::printf("  usage          %s\n", usage.c_str());
+  if (a.json) {
+    nlohmann::json j = {{"script", a.script},          {"policy", a.policy},          {"stage", r.stage},
+                        {"context", r.context},        {"scenario", r.scenario},      {"episodes", r.eval.episodes},
+                        {"first_seed", r.eval.first_seed}, {"successes", r.eval.successes},
+                        {"success_rate", r.eval.success_rate}, {"reward_mean", r.eval.reward_mean},
+                        {"reward_std", r.eval.reward_std}, {"time_mean", r.eval.time_mean}};
+    for (const auto& [name, f] : r.eval.usage) j["usage"][name] = f;
+    for (const auto& [k, v] : r.params) j["params"][k] = v;
+    std::printf("%s\n", j.dump().c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+int command_eval(const EvalArgs& a) {
+  if (is_curriculum_script(resolve_curriculum_path(a.script))) {
+    if (a.policy.size() < 5 || a.policy.compare(a.policy.size() - 5, 5, ".json") != 0)
+      throw Error("with a curriculum, --policy names a policy file written by roger train (policy.json), got '" +
+                  a.policy + "'");
+    return run_eval_policy_file(a);
+  }
+  SkillScript script = SkillScript::load(a.script);
+  const SkillScript::NamedPolicy& policy = script.policy(a.policy);
+  Scenario scenario = Scenario::load(policy_scenario(policy, a.scenario));
+  apply_sets(scenario, a.sets);
+  EpisodeOptions options;
+  options.time_limit = policy.time_limit;
+  const EvalSummary r = evaluate_action([&](uint64_t seed) { return scenario.generate(seed); },
+                                        *policy.action, *policy.goal, a.episodes, a.seed, options);
+  std::printf("roger eval: %s policy '%s' in %s, %d episodes from seed %llu, %.0f s limit\n",
+              script.path().c_str(), policy.name.c_str(), scenario.name().c_str(), a.episodes,
+              static_cast<unsigned long long>(a.seed), policy.time_limit);
+  std::printf("  success rate   %.1f%% (%d of %d)\n", 100.0 * r.success_rate, r.successes, r.episodes);
+  std::printf("  reward         %.1f +- %.1f\n", r.reward_mean, r.reward_std);
+  std::printf("  episode time   %.2f s (mean, simulated)\n", r.time_mean);
+  if (a.json) {
+    nlohmann::json j = {{"script", script.path()},      {"policy", policy.name},
+                        {"scenario", scenario.name()},  {"episodes", r.episodes},
+                        {"first_seed", a.seed},          {"successes", r.successes},
+                        {"success_rate", r.success_rate}, {"reward_mean", r.reward_mean},
+                        {"reward_std", r.reward_std},    {"time_mean", r.time_mean}};
+    for (const auto& p : scenario.params()) j["params"][p.name] = p.value;
+    std::printf("%s\n", j.dump().c_str());
+  }
+  return 0;
+}
+
+int command_train(const TrainArgs& a) {
+  TrainOptions o;
+  o.curriculum = a.curriculum;
+  o.stage = a.stage;
+  o.context = a.context;
+  o.seed = a.seed;
+  o.sets = split_sets(a.sets, "--set");
+  for (const auto& [name, file] : split_sets(a.skills, "--skill")) o.skill_files[name] = file;
+  const TrainResult r = train_stage(o);
+  write_train_outputs(r, a.out);
+  std::printf("roger train: %s stage %s context %s seed %llu (%zu actions, %d states) in %s\n",
+              r.curriculum_path.c_str(), r.stage.c_str(), r.context.c_str(), static_cast<unsigned long long>(r.seed),
+              r.psi.size(), r.q->states(), r.scenario.c_str());
+  for (const auto& s : r.skills)
+    std::printf("  skill %s        %s\n", s.name.c_str(),
+                s.trained ? ("trained first: stage " + s.stage + " context " + s.context + ", " +
+                             (s.reached ? "reached" : "NOT reached") + " its threshold after " +
+                             std::to_string(s.to_threshold.episodes) + " episodes").c_str()
+                          : ("from " + s.file).c_str());
+  if (r.reached) {
+    std::printf("  threshold      %.0f%% reached after %d episodes, %.1f simulated s, %lld decisions, %.2f wall s\n",
+                100 * r.threshold, r.to_threshold.episodes, r.to_threshold.sim_s,
+                static_cast<long long>(r.to_threshold.decisions), r.to_threshold.wall_s);
+  } else {
+    std::printf("  threshold      %.0f%% NOT reached in %d episodes (%.1f simulated s)\n", 100 * r.threshold,
+                r.totals.episodes, r.totals.sim_s);
+  }
+  std::string usage;
+  for (const auto& [name, f] : r.final_eval.usage)
+    usage += (usage.empty() ? "" : ", ") + name + " " + std::to_string(int(std::lround(100 * f))) + "%";
+  std::printf("  final policy   %.0f%% success over %d held-out episodes, reward %.1f +- %.1f\n",
+              100 * r.final_eval.success_rate, r.final_eval.episodes, r.final_eval.reward_mean, r.final_eval.reward_std);
+  std::printf("  usage          %s\n", usage.c_str());
+  std::printf("  wrote          %s/{policy.json,curve.csv,episodes.jsonl,checkpoints.jsonl,summary.json} (%.2f wall s)\n",
+              a.out.c_str(), r.wall_s);
+  if (a.json) std::printf("%s\n", train_summary_json(r).dump().c_str());
+  return 0;
+}
+
+}  // namespace roger

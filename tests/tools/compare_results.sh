@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# compare_results.sh A B: compares two results folders of `roger run` for identical results.
+# tables.md, report.json and every CSV (summary.csv, each trial's curve.csv) must be byte for byte
+# the same, except the columns of wall-clock time (named wall_s or *_wall_s), which measure the
+# machine, not the engine. Prints each difference; exits 0 when there is none, 1 otherwise.
+set -euo pipefail
+if [ $# -ne 2 ] || [ ! -d "$1" ] || [ ! -d "$2" ]; then
+  echo "usage: $0 RESULTS_A RESULTS_B (two folders written by roger run)" >&2
+  exit 2
+fi
+a=$1 b=$2 status=0
+
+# A CSV without its wall-clock columns.
+strip_wall() {
+  awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) keep[i] = ($i !~ /(^|_)wall_s$/) }
+           { line = ""; for (i = 1; i <= NF; i++) if (keep[i]) line = line (line == "" ? "" : ",") $i; print line }' "$1"
+}
+
+for f in tables.md report.json; do
+  if ! cmp -s "$a/$f" "$b/$f"; then echo "differs: $f"; status=1; fi
+done
+files=$( (cd "$a" && find . -name '*.csv'; cd "$b" && find . -name '*.csv') | sort -u)
+count=0
+for f in $files; do
+  count=$((count + 1))
+  if [ ! -f "$a/$f" ] || [ ! -f "$b/$f" ]; then echo "only in one folder: $f"; status=1; continue; fi
+  if ! cmp -s <(strip_wall "$a/$f") <(strip_wall "$b/$f"); then echo "differs: $f"; status=1; fi
+done
+[ $status -eq 0 ] && echo "identical: tables.md, report.json and $count CSV files (wall-clock columns aside)"
+exit $status
