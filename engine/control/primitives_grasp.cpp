@@ -127,46 +127,7 @@ class Grasp final : public Primitive {
     Targets t = grasp_targets(in, obj.center, std::min(body_distance, r + in.robot->base_radius),
                               r + in.robot->hand_radius + 0.01, value(p_.spread), value(p_.swing));
     t.body_press = value(p_.body_squeeze);
-    if (body_on) {
-      // What the contacts leave unbalanced: with all three on the object, the grasp residual
-      // (friction included); before that, the sum of the unit normals measured by touch (each
-      // from the surface towards its sensor).
-      Vec2 sum = Vec2::Zero();
-      int touching_count = 0;
-      for (int k = 0; k < kTactileCount; ++k)
-        if (p.contact_on_object[k] && s.touch[k].index == p.touched_object)
-          sum += s.touch[k].normal, ++touching_count;
-      double unbalanced = sum.squaredNorm();
-      if (touching_count == kTactileCount) {
-        Vec2 normal[kTactileCount], point[kTactileCount];
-        for (int k = 0; k < kTactileCount; ++k) normal[k] = s.touch[k].normal, point[k] = s.touch[k].point;
-        grasp = grasp_residual(normal, point, obj.center, r, value(p_.moment), value(p_.friction));
-        sum = grasp.force;
-        unbalanced = grasp.phi;
-      }
-      // Press lightly while the grasp is unbalanced, so the hands can slide, and firmly once it
-      // balances.
-      const double press = unbalanced > epsilon() ? value(p_.light) : value(p_.squeeze);
-      for (int side = 0; side < 2; ++side) {
-        const Vec2 hand = in.percepts->arms[side].hand;
-        const double now = (hand - obj.center).norm();
-        const bool touching = p.contact_on_object[kLeftHand + side];
-        if (touching) {
-          // Slide the contact along the surface down the gradient of the residual |S|^2 (S the
-          // unbalanced force): moving a contact by d(angle) around the object turns its normal by
-          // about d(angle), so d|S|^2/d(angle) is about 2 S . perp(n). The step follows the touched surface (its tangent,
-          // pressing along its normal), not a circle about the centre, which would cut into a
-          // polygon's corner and drag the object round instead of sliding over it.
-          const Vec2 n = s.touch[kLeftHand + side].normal;
-          const Vec2 tangent(-n.y(), n.x());
-          const double slide = std::clamp(-value(p_.slide) * sum.dot(tangent), -0.3, 0.3);
-          t.hand[side] = hand + slide * now * tangent - press * n;
-        } else {
-          const Vec2 out_dir = (t.hand[side] - obj.center).normalized();
-          t.hand[side] = obj.center + (now - creep) * out_dir;
-        }
-      }
-    }
+    if (body_on) close_hands(in, obj, r, creep, t, grasp);
     double worst = 0.0;
     // Once the body and a hand touch, the arms alone place the hands: moving the base for them
     // would shove the object with the body or turn it off the object. The base only keeps the
@@ -174,24 +135,85 @@ class Grasp final : public Primitive {
     const bool hand_on = p.contact_on_object[kLeftHand] || p.contact_on_object[kRightHand];
     reach_targets(in, obj.center, t, true, !body_on ? kArmsAndBase : hand_on ? kArmsOnly : kArmsAndForward,
                   value(p_.damping), out, worst);
-    if (body_on && hand_on) {
-      const Vec2 to_obj = obj.center - base;
-      const double d = to_obj.norm();
-      const double along = unit(s.base.theta).dot(to_obj) / std::max(d, 1e-6);  // -d(d)/d(forward)
-      const double e = std::max(t.body_distance - d, -t.body_press);
-      if (along > 0.3) out.command[kBaseForward] = -e / along;
-    }
+    if (body_on && hand_on) keep_body_pressed(s, obj.center, base, t, out);
     cap_steps(out.command, 0.15, 0.5);
+    report_phi(in, obj.center, r, grasp, out, gamma);
+  }
+
+ private:
+  // With the body on the object: each touching hand slides along the surface to balance the
+  // grasp and presses in, each other hand creeps in along its line to the object. Fills `grasp`
+  // when all three contacts are on the object.
+  void close_hands(const ControlInput& in, const VisualObject& obj, double r, double creep,
+                   Targets& t, GraspResidual& grasp) const {
+    const Senses& s = *in.senses;
+    const Percepts& p = *in.percepts;
+    // What the contacts leave unbalanced: with all three on the object, the grasp residual
+    // (friction included); before that, the sum of the unit normals measured by touch (each
+    // from the surface towards its sensor).
+    Vec2 sum = Vec2::Zero();
+    int touching_count = 0;
+    for (int k = 0; k < kTactileCount; ++k)
+      if (p.contact_on_object[k] && s.touch[k].index == p.touched_object)
+        sum += s.touch[k].normal, ++touching_count;
+    double unbalanced = sum.squaredNorm();
+    if (touching_count == kTactileCount) {
+      Vec2 normal[kTactileCount], point[kTactileCount];
+      for (int k = 0; k < kTactileCount; ++k) normal[k] = s.touch[k].normal, point[k] = s.touch[k].point;
+      grasp = grasp_residual(normal, point, obj.center, r, value(p_.moment), value(p_.friction));
+      sum = grasp.force;
+      unbalanced = grasp.phi;
+    }
+    // Press lightly while the grasp is unbalanced, so the hands can slide, and firmly once it
+    // balances.
+    const double press = unbalanced > epsilon() ? value(p_.light) : value(p_.squeeze);
+    for (int side = 0; side < 2; ++side) {
+      const Vec2 hand = in.percepts->arms[side].hand;
+      const double now = (hand - obj.center).norm();
+      const bool touching = p.contact_on_object[kLeftHand + side];
+      if (touching) {
+        // Slide the contact along the surface down the gradient of the residual |S|^2 (S the
+        // unbalanced force): moving a contact by d(angle) around the object turns its normal by
+        // about d(angle), so d|S|^2/d(angle) is about 2 S . perp(n). The step follows the touched surface (its tangent,
+        // pressing along its normal), not a circle about the centre, which would cut into a
+        // polygon's corner and drag the object round instead of sliding over it.
+        const Vec2 n = s.touch[kLeftHand + side].normal;
+        const Vec2 tangent(-n.y(), n.x());
+        const double slide = std::clamp(-value(p_.slide) * sum.dot(tangent), -0.3, 0.3);
+        t.hand[side] = hand + slide * now * tangent - press * n;
+      } else {
+        const Vec2 out_dir = (t.hand[side] - obj.center).normalized();
+        t.hand[side] = obj.center + (now - creep) * out_dir;
+      }
+    }
+  }
+
+  // The base command that keeps the body pressed on the object while the arms place the hands:
+  // the distance to the object along the heading, towards t.body_distance.
+  static void keep_body_pressed(const Senses& s, const Vec2& center, const Vec2& base,
+                                const Targets& t, ControlOutput& out) {
+    const Vec2 to_obj = center - base;
+    const double d = to_obj.norm();
+    const double along = unit(s.base.theta).dot(to_obj) / std::max(d, 1e-6);  // -d(d)/d(forward)
+    const double e = std::max(t.body_distance - d, -t.body_press);
+    if (along > 0.3) out.command[kBaseForward] = -e / along;
+  }
+
+  // Sets phi, the residual and gamma (`grasp`: the residual close_hands found, if it found one).
+  void report_phi(const ControlInput& in, const Vec2& center, double r, const GraspResidual& grasp,
+                  ControlOutput& out, Gamma& gamma) const {
+    const Senses& s = *in.senses;
+    const Percepts& p = *in.percepts;
     // phi from touch when all three contacts are on one object, else from kinematics plus a
     // penalty per missing contact (so phi falls as contacts are made).
     int on = 0;
     for (int k = 0; k < kTactileCount; ++k)
       on += p.contact_on_object[k] && s.touch[k].index == p.touched_object;
     if (on == kTactileCount) {
-      out.phi = grasp.phi;  // all three on means the body touches: computed above
+      out.phi = grasp.phi;  // all three on means the body touches: close_hands computed it
     } else {
-      const ContactGeometry g = kinematic_contacts(in, obj.center);
-      out.phi = grasp_residual(g.normal, g.point, obj.center, r, 0.0, 0.0).phi + (kTactileCount - on);
+      const ContactGeometry g = kinematic_contacts(in, center);
+      out.phi = grasp_residual(g.normal, g.point, center, r, 0.0, 0.0).phi + (kTactileCount - on);
     }
     out.residual = out.phi;
     gamma = on == kTactileCount && out.phi <= epsilon() ? Gamma::kConv : Gamma::kNotConv;
@@ -229,11 +251,7 @@ class Hold final : public Primitive {
     own_dofs({kLeftShoulder, kLeftElbow, kRightShoulder, kRightElbow}, out.jacobian);
     const Senses& s = *in.senses;
     const Percepts& p = *in.percepts;
-    // The base's acceleration from its velocity senses (world frame).
-    const Vec2 v = s.qdot[kBaseForward] * unit(s.base.theta);
-    const Vec2 accel = has_velocity_ ? Vec2((v - last_velocity_) / in.dt) : Vec2::Zero();
-    last_velocity_ = v;
-    has_velocity_ = true;
+    const Vec2 accel = base_acceleration(s, in.dt);
     bool on[kTactileCount];
     for (int k = 0; k < kTactileCount; ++k)
       on[k] = p.contact_on_object[k] && s.touch[k].index == p.touched_object;
@@ -243,6 +261,32 @@ class Hold final : public Primitive {
       gamma = Gamma::kNoRef;
       return;
     }
+    press_hands(in, on, accel, out);
+    out.phi = contact_phi(in);
+    out.residual = out.phi;
+    if (!on[kBody]) {
+      gamma = Gamma::kNoRef;
+      return;
+    }
+    gamma = out.phi <= epsilon() ? Gamma::kConv : Gamma::kNotConv;
+  }
+
+ private:
+  // The base's acceleration from its velocity senses (world frame), since the last tick; zero on
+  // the first.
+  Vec2 base_acceleration(const Senses& s, double dt) {
+    const Vec2 v = s.qdot[kBaseForward] * unit(s.base.theta);
+    const Vec2 accel = has_velocity_ ? Vec2((v - last_velocity_) / dt) : Vec2::Zero();
+    last_velocity_ = v;
+    has_velocity_ = true;
+    return accel;
+  }
+
+  // The arms' command: each hand presses into the surface, draws the object onto the body and
+  // leads with the base's acceleration (`on`: which contacts are on the object).
+  void press_hands(const ControlInput& in, const bool on[kTactileCount], const Vec2& accel,
+                   ControlOutput& out) const {
+    const Senses& s = *in.senses;
     Eigen::Matrix<double, 4, kDofCount> J;
     Eigen::Matrix<double, 4, 1> e;
     Eigen::Matrix<double, 2, kDofCount> Jh;
@@ -275,23 +319,22 @@ class Hold final : public Primitive {
     static const DofVector arms = mask({kLeftShoulder, kLeftElbow, kRightShoulder, kRightElbow});
     out.command = damped_solve<4>(J, e, arms, value(p_.damping));
     cap_steps(out.command, 0.1, 0.3);
+  }
+
+  // The grasp residual of the three touch contacts, about the object's estimated centre (or the
+  // contacts' centroid when there is no estimate).
+  double contact_phi(const ControlInput& in) const {
+    const Senses& s = *in.senses;
     Vec2 normal[kTactileCount], point[kTactileCount];
     for (int k = 0; k < kTactileCount; ++k) normal[k] = s.touch[k].normal, point[k] = s.touch[k].point;
     VisualObject obj;
     const Vec2 center = object_estimate(in, 1e9, obj)
                             ? obj.center
                             : Vec2((point[0] + point[1] + point[2]) / 3.0);
-    out.phi = grasp_residual(normal, point, center, std::max(obj.radius, 0.1), value(p_.moment),
-                             value(p_.friction)).phi;
-    out.residual = out.phi;
-    if (!on[kBody]) {
-      gamma = Gamma::kNoRef;
-      return;
-    }
-    gamma = out.phi <= epsilon() ? Gamma::kConv : Gamma::kNotConv;
+    return grasp_residual(normal, point, center, std::max(obj.radius, 0.1), value(p_.moment),
+                          value(p_.friction)).phi;
   }
 
- private:
   Vec2 last_velocity_ = Vec2::Zero();
   bool has_velocity_ = false;
 };

@@ -68,6 +68,8 @@ class Navigate final : public Primitive {
     return true;
   }
 
+  // The reference: once the planner query and the convergence test leave the control point on
+  // its way, the base command down the potential.
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
     own_dofs({kBaseForward, kBaseHeading}, out.jacobian);
     const Vec2 point = classify(in, true, out, gamma);
@@ -80,26 +82,13 @@ class Navigate final : public Primitive {
     const double slow = std::clamp(out.residual / 0.3, 0.25, 1.0);  // ease into the goal
     const double lookahead = 0.3;                                     // s of motion per command
     const double speed = value(p_.speed) * slow;
-    const Vec2 fwd = unit(s.base.theta);
-    if (carry > 0.05) {
-      // A point ahead of a differential drive moves holonomically: v = u.f, w = u.left / carry.
-      // Never back away from what is carried: the body would leave it; turn on the spot instead.
-      const Vec2 u = speed * dir;
-      out.command[kBaseForward] = std::max(0.0, u.dot(fwd)) * lookahead;
-      const double turn = value(p_.carry_turn);
-      out.command[kBaseHeading] = clamp_abs(u.dot(perp(fwd)) / carry * lookahead, turn);
-      // With the way ahead more than a right angle off, rotate towards it at full rate (the
-      // formula above vanishes when the goal lies straight behind).
-      if (u.dot(fwd) < 0.0) out.command[kBaseHeading] = u.dot(perp(fwd)) >= 0.0 ? turn : -turn;
-    } else {
-      const double turn = wrap_angle(std::atan2(dir.y(), dir.x()) - s.base.theta);
-      const double along = std::max(0.0, std::cos(turn));
-      out.command[kBaseHeading] = clamp_abs(turn, 0.8);
-      out.command[kBaseForward] = speed * lookahead * along * along;
-    }
+    if (carry > 0.05) steer_carried(s, dir, speed, lookahead, carry, out);
+    else steer_base(s, dir, speed, lookahead, out);
   }
 
  private:
+  // ---- The planner query ----
+
   // The control point: the base centre, or a point carried ahead of it. When carrying, vision
   // says where the carried object really is, if the eyes have it.
   Vec2 control_point(const ControlInput& in) const {
@@ -112,36 +101,32 @@ class Navigate final : public Primitive {
     return point;
   }
 
-  // Equation 1 for the planner: NOREF without a goal or when the goal cannot be reached, CONV in
-  // the goal, !CONV on the way. With `solve`, the potential is brought up to date for the command.
-  Vec2 classify(const ControlInput& in, bool solve, ControlOutput& out, Gamma& gamma) {
-    const Vec2 point = control_point(in);
-    if (!prepare(in, solve) || !planner_.reachable(point)) {
-      gamma = Gamma::kNoRef;
-      return point;
-    }
-    out.residual = goal_distance(point);
-    gamma = converged(point) ? Gamma::kConv : Gamma::kNotConv;
-    return point;
-  }
-
   // Sets the planner's grid and goal for this tick; false when there is no goal.
   bool prepare(const ControlInput& in, bool solve) {
-    if (choice(p_.goal) == "region") {
-      const size_t k = size_t(value(p_.region));
-      if (k >= in.spec->goals.size()) return false;
-      // The region and the grid are fixed for the episode: set them once (the planner would
-      // notice that nothing changed, but finding the goal cells each tick is not free).
-      if (grid_ != in.grid || !planned_) {
-        grid_ = in.grid;
-        planned_ = true;
-        planner_.set_grid(*in.grid);
-        goal_center_ = in.spec->goals[k].center;
-        goal_radius_ = in.spec->goals[k].radius;
-        planner_.set_goal(goal_center_, std::max(0.5 * in.grid->cell, goal_radius_ - value(p_.margin)));
-      }
-      return solve ? planner_.update() : planner_.update_reachability();
+    if (choice(p_.goal) == "region") return prepare_region(in, solve);
+    return prepare_object(in, solve);
+  }
+
+  // The goal region of the scenario (goal='region'); false when the scenario has no such region.
+  bool prepare_region(const ControlInput& in, bool solve) {
+    const size_t k = size_t(value(p_.region));
+    if (k >= in.spec->goals.size()) return false;
+    // The region and the grid are fixed for the episode: set them once (the planner would
+    // notice that nothing changed, but finding the goal cells each tick is not free).
+    if (grid_ != in.grid || !planned_) {
+      grid_ = in.grid;
+      planned_ = true;
+      planner_.set_grid(*in.grid);
+      goal_center_ = in.spec->goals[k].center;
+      goal_radius_ = in.spec->goals[k].radius;
+      planner_.set_goal(goal_center_, std::max(0.5 * in.grid->cell, goal_radius_ - value(p_.margin)));
     }
+    return solve ? planner_.update() : planner_.update_reachability();
+  }
+
+  // The approach ring around the perceived object (goal='object'); false when the object is not
+  // seen or lies off the grid.
+  bool prepare_object(const ControlInput& in, bool solve) {
     VisualObject obj;
     if (!object_estimate(in, value(p_.memory), obj, true)) return false;
     int i, j;
@@ -168,12 +153,55 @@ class Navigate final : public Primitive {
     return solve ? planner_.update() : planner_.update_reachability();
   }
 
+  // ---- The convergence test ----
+
+  // Equation 1 for the planner: NOREF without a goal or when the goal cannot be reached, CONV in
+  // the goal, !CONV on the way. With `solve`, the potential is brought up to date for the command.
+  Vec2 classify(const ControlInput& in, bool solve, ControlOutput& out, Gamma& gamma) {
+    const Vec2 point = control_point(in);
+    if (!prepare(in, solve) || !planner_.reachable(point)) {
+      gamma = Gamma::kNoRef;
+      return point;
+    }
+    out.residual = goal_distance(point);
+    gamma = converged(point) ? Gamma::kConv : Gamma::kNotConv;
+    return point;
+  }
+
+  // How far (m) the control point is from the goal's edge (0 inside).
   double goal_distance(const Vec2& p) const {
     return std::max(0.0, (p - goal_center_).norm() - goal_radius_);
   }
 
+  // Whether the control point is within epsilon of the goal.
   bool converged(const Vec2& p) const {
     return (p - goal_center_).norm() <= goal_radius_ + epsilon();
+  }
+
+  // ---- The reference ----
+
+  // The base command that moves a point `carry` metres ahead of the base along `dir` at `speed`.
+  void steer_carried(const Senses& s, const Vec2& dir, double speed, double lookahead,
+                     double carry, ControlOutput& out) const {
+    const Vec2 fwd = unit(s.base.theta);
+    // A point ahead of a differential drive moves holonomically: v = u.f, w = u.left / carry.
+    // Never back away from what is carried: the body would leave it; turn on the spot instead.
+    const Vec2 u = speed * dir;
+    out.command[kBaseForward] = std::max(0.0, u.dot(fwd)) * lookahead;
+    const double turn = value(p_.carry_turn);
+    out.command[kBaseHeading] = clamp_abs(u.dot(perp(fwd)) / carry * lookahead, turn);
+    // With the way ahead more than a right angle off, rotate towards it at full rate (the
+    // formula above vanishes when the goal lies straight behind).
+    if (u.dot(fwd) < 0.0) out.command[kBaseHeading] = u.dot(perp(fwd)) >= 0.0 ? turn : -turn;
+  }
+
+  // The base command that turns the base to `dir` and drives along it, slower the more it is off.
+  static void steer_base(const Senses& s, const Vec2& dir, double speed, double lookahead,
+                         ControlOutput& out) {
+    const double turn = wrap_angle(std::atan2(dir.y(), dir.x()) - s.base.theta);
+    const double along = std::max(0.0, std::cos(turn));
+    out.command[kBaseHeading] = clamp_abs(turn, 0.8);
+    out.command[kBaseForward] = speed * lookahead * along * along;
   }
 
   HarmonicPlanner planner_;
