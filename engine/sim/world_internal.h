@@ -93,20 +93,22 @@ struct World::Impl {
   void reset_servos(const RobotParams& r, const RobotStart& start);
 
   // ---- One physics step (world.cpp), in the order World::step_physics calls them ----
+  // (Inline, defined in world.cpp alone, which alone calls them: the physics step is the
+  // simulator's hot loop, and a call per stage would cost about half a per cent of it.)
 
   // The base's forward and heading servos, and the rail turned to the mid-step heading; returns
   // that heading's direction.
-  b2Vec2 drive_base(const RobotParams& r, const DofVector& setpoint, double dt);
+  inline b2Vec2 drive_base(const RobotParams& r, const DofVector& setpoint, double dt);
   // The eyes' first-order rate servos.
-  void drive_eyes(const RobotParams& r, const DofVector& setpoint, double dt);
+  inline void drive_eyes(const RobotParams& r, const DofVector& setpoint, double dt);
   // The arm joints' motor speeds.
-  void drive_arms(const RobotParams& r, const DofVector& setpoint);
+  inline void drive_arms(const RobotParams& r, const DofVector& setpoint);
   // The forces push_object asked for, applied once.
-  void apply_pushes();
+  inline void apply_pushes();
   // Box2D's step, the odometer along the mid-step heading and the wheels' velocity carried on.
-  void advance(const WorldParams& params, const b2Vec2& mid_fwd);
+  inline void advance(const WorldParams& params, const b2Vec2& mid_fwd);
   // Adds this step's contact impulses to each tactile sensor's accumulator.
-  void accumulate_touch();
+  inline void accumulate_touch();
 };
 
 }  // namespace roger
