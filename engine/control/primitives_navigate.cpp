@@ -1,0 +1,219 @@
+// primitives_navigate.cpp: phi1, the harmonic-function path planner as a primitive: its planner
+// query (the goal and grid for this tick), its convergence test, and its reference (the base
+// command down the potential).
+#include <algorithm>
+#include <cmath>
+
+#include "control/planner.h"
+#include "control/primitives_internal.h"
+#include "core/shape.h"
+
+namespace roger {
+namespace primitives_internal {
+namespace {
+
+// phi1: the harmonic-function path planner. A control point (the base centre, or a point carried
+// ahead of it such as a grasped object) descends the harmonic potential to the goal: an approach
+// ring around the perceived object, or a goal region of the scenario.
+class Navigate final : public Primitive {
+  // Where the constructor declared each parameter: reading one is an index, not a name search.
+  struct {
+    ParamSlot goal = 0, region = 0, approach = 0, carry = 0, speed = 0,
+        carry_turn = 0, memory = 0, margin = 0, replan = 0, tolerance = 0;
+  } p_;
+ public:
+  Navigate() : Primitive("phi1", 0.05) {
+    p_.goal = declare_text("goal", {"object", "region"}, "approach the perceived object, or reach a goal region");
+    p_.region = declare("region", 0, 0, 63, "which goal region (index into the scenario's goals) for goal='region'");
+    p_.approach = declare("approach", 0.62, 0.3, 2.0, "approach distance (m) from the object centre to the base");
+    p_.carry = declare("carry", 0.0, 0.0, 1.0, "control point ahead of the base (m): 0 = base centre");
+    p_.speed = declare("speed", 0.9, 0.05, 2.0, "cruise speed (m/s)");
+    p_.carry_turn = declare("carry_turn", 0.6, 0.01, 3.0, "largest heading step (rad) per command while carrying");
+    p_.memory = declare("memory", 2.0, 0.0, 60.0, "seconds a lost object's last position stays a goal");
+    p_.margin = declare("margin", 0.05, 0.0, 1.0, "how far (m) inside a goal region's edge the goal cells end");
+    p_.replan = declare("replan", 0.15, 0.0, 1.0, "how far (m) the object estimate must move to plan again");
+    // Steering needs the direction of the gradient, not the potential to 4 digits: a looser
+    // solve than the planner's default halves the sweeps of every plan.
+    p_.tolerance = declare("tolerance", 2e-3, 1e-8, 0.1, "relative change per sweep at which a plan has converged");
+    on_params_changed();
+  }
+  Navigate(const Navigate& o) : Primitive(o), p_(o.p_), planner_(planner_params()) {}
+  PrimitivePtr clone() const override { return std::make_shared<Navigate>(*this); }
+  void reset(uint64_t seed) override {
+    Primitive::reset(seed);
+    grid_ = nullptr;
+    planned_ = false;
+  }
+
+ protected:
+  // A new tolerance needs a new planner.
+  void on_params_changed() override {
+    PlannerParams p = planner_params();
+    if (p.tolerance != planner_.params().tolerance) {
+      planner_ = HarmonicPlanner(p);
+      grid_ = nullptr;
+      planned_ = false;
+    }
+  }
+
+  PlannerParams planner_params() const {
+    PlannerParams p;
+    p.tolerance = value(p_.tolerance);
+    return p;
+  }
+
+  // The state needs reachability and the distance to the goal, not the solved potential.
+  bool compute_state(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
+    classify(in, false, out, gamma);
+    return true;
+  }
+
+  // The reference: once the planner query and the convergence test leave the control point on
+  // its way, the base command down the potential.
+  void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
+    own_dofs({kBaseForward, kBaseHeading}, out.jacobian);
+    const Vec2 point = classify(in, true, out, gamma);
+    if (gamma != Gamma::kNotConv) return;
+    const Senses& s = *in.senses;
+    const double carry = value(p_.carry);
+    out.phi = planner_.potential(point);
+    Vec2 dir = planner_.descent(point);
+    if (dir.squaredNorm() < 1e-12) dir = (goal_center_ - point).normalized();
+    const double slow = std::clamp(out.residual / 0.3, 0.25, 1.0);  // ease into the goal
+    const double lookahead = 0.3;                                     // s of motion per command
+    const double speed = value(p_.speed) * slow;
+    if (carry > 0.05) steer_carried(s, dir, speed, lookahead, carry, out);
+    else steer_base(s, dir, speed, lookahead, out);
+  }
+
+ private:
+  // ---- The planner query ----
+
+  // The control point: the base centre, or a point carried ahead of it. When carrying, vision
+  // says where the carried object really is, if the eyes have it.
+  Vec2 control_point(const ControlInput& in) const {
+    const Senses& s = *in.senses;
+    const double carry = value(p_.carry);
+    const Vec2 point = Vec2(s.base.x, s.base.y) + carry * unit(s.base.theta);
+    if (carry > 0.05 && in.percepts->object.seen &&
+        (in.percepts->object.center - point).norm() < 0.5 * carry)
+      return in.percepts->object.center;
+    return point;
+  }
+
+  // Sets the planner's grid and goal for this tick; false when there is no goal.
+  bool prepare(const ControlInput& in, bool solve) {
+    if (choice(p_.goal) == "region") return prepare_region(in, solve);
+    return prepare_object(in, solve);
+  }
+
+  // The goal region of the scenario (goal='region'); false when the scenario has no such region.
+  bool prepare_region(const ControlInput& in, bool solve) {
+    const size_t k = size_t(value(p_.region));
+    if (k >= in.spec->goals.size()) return false;
+    // The region and the grid are fixed for the episode: set them once (the planner would
+    // notice that nothing changed, but finding the goal cells each tick is not free).
+    if (grid_ != in.grid || !planned_) {
+      grid_ = in.grid;
+      planned_ = true;
+      planner_.set_grid(*in.grid);
+      goal_center_ = in.spec->goals[k].center;
+      goal_radius_ = in.spec->goals[k].radius;
+      planner_.set_goal(goal_center_, std::max(0.5 * in.grid->cell, goal_radius_ - value(p_.margin)));
+    }
+    return solve ? planner_.update() : planner_.update_reachability();
+  }
+
+  // The approach ring around the perceived object (goal='object'); false when the object is not
+  // seen or lies off the grid.
+  bool prepare_object(const ControlInput& in, bool solve) {
+    VisualObject obj;
+    if (!object_estimate(in, value(p_.memory), obj, true)) return false;
+    int i, j;
+    if (!in.grid->cell_of(obj.center, i, j)) return false;
+    // Re-plan only when the estimate has moved by `replan` metres (or more, far away): stereo
+    // jitter must not cost a solve per tick. The goal is the disk of radius `approach` around the object; the object
+    // itself need not be an obstacle, since the base stops on entering the disk, and keeping the
+    // grid fixed lets every re-plan start warm from the last solution.
+    if (grid_ != in.grid) {
+      grid_ = in.grid;
+      planner_.set_grid(*in.grid);
+      planned_ = false;
+    }
+    // Far from the object a shift of the estimate barely turns the path: the tolerance grows
+    // with the distance (a quarter of it), so the long approach re-plans rarely.
+    const double distance = (obj.center - Vec2(in.senses->base.x, in.senses->base.y)).norm();
+    if (!planned_ ||
+        (obj.center - goal_center_).norm() > std::max(value(p_.replan), 0.25 * distance)) {
+      planned_ = true;
+      goal_center_ = obj.center;
+      goal_radius_ = value(p_.approach);
+      planner_.set_goal(goal_center_, goal_radius_);
+    }
+    return solve ? planner_.update() : planner_.update_reachability();
+  }
+
+  // ---- The convergence test ----
+
+  // Equation 1 for the planner: NOREF without a goal or when the goal cannot be reached, CONV in
+  // the goal, !CONV on the way. With `solve`, the potential is brought up to date for the command.
+  Vec2 classify(const ControlInput& in, bool solve, ControlOutput& out, Gamma& gamma) {
+    const Vec2 point = control_point(in);
+    if (!prepare(in, solve) || !planner_.reachable(point)) {
+      gamma = Gamma::kNoRef;
+      return point;
+    }
+    out.residual = goal_distance(point);
+    gamma = converged(point) ? Gamma::kConv : Gamma::kNotConv;
+    return point;
+  }
+
+  // How far (m) the control point is from the goal's edge (0 inside).
+  double goal_distance(const Vec2& p) const {
+    return std::max(0.0, (p - goal_center_).norm() - goal_radius_);
+  }
+
+  // Whether the control point is within epsilon of the goal.
+  bool converged(const Vec2& p) const {
+    return (p - goal_center_).norm() <= goal_radius_ + epsilon();
+  }
+
+  // ---- The reference ----
+
+  // The base command that moves a point `carry` metres ahead of the base along `dir` at `speed`.
+  void steer_carried(const Senses& s, const Vec2& dir, double speed, double lookahead,
+                     double carry, ControlOutput& out) const {
+    const Vec2 fwd = unit(s.base.theta);
+    // A point ahead of a differential drive moves holonomically: v = u.f, w = u.left / carry.
+    // Never back away from what is carried: the body would leave it; turn on the spot instead.
+    const Vec2 u = speed * dir;
+    out.command[kBaseForward] = std::max(0.0, u.dot(fwd)) * lookahead;
+    const double turn = value(p_.carry_turn);
+    out.command[kBaseHeading] = clamp_abs(u.dot(perp(fwd)) / carry * lookahead, turn);
+    // With the way ahead more than a right angle off, rotate towards it at full rate (the
+    // formula above vanishes when the goal lies straight behind).
+    if (u.dot(fwd) < 0.0) out.command[kBaseHeading] = u.dot(perp(fwd)) >= 0.0 ? turn : -turn;
+  }
+
+  // The base command that turns the base to `dir` and drives along it, slower the more it is off.
+  static void steer_base(const Senses& s, const Vec2& dir, double speed, double lookahead,
+                         ControlOutput& out) {
+    const double turn = wrap_angle(std::atan2(dir.y(), dir.x()) - s.base.theta);
+    const double along = std::max(0.0, std::cos(turn));
+    out.command[kBaseHeading] = clamp_abs(turn, 0.8);
+    out.command[kBaseForward] = speed * lookahead * along * along;
+  }
+
+  HarmonicPlanner planner_;
+  const OccupancyGrid* grid_ = nullptr;
+  bool planned_ = false;
+  Vec2 goal_center_ = Vec2::Zero();
+  double goal_radius_ = 0.0;
+};
+
+}  // namespace
+
+PrimitivePtr make_navigate() { return std::make_shared<Navigate>(); }
+
+}  // namespace primitives_internal
+}  // namespace roger

@@ -1,0 +1,138 @@
+// primitives_simple.cpp: the primitives that own a few DOFs outright and need no shared geometry:
+// phi0 (track), search, and phi4 (kinematic conditioning).
+#include <algorithm>
+#include <cmath>
+
+#include "control/primitives_internal.h"
+#include "core/shape.h"
+#include "core/rng.h"
+
+namespace roger {
+namespace primitives_internal {
+namespace {
+
+// phi0: centre the stimulus in both eyes (eye pans) and turn the base towards it (heading).
+class Track final : public Primitive {
+ public:
+  Track() : Primitive("phi0", 0.1) {}
+  PrimitivePtr clone() const override { return std::make_shared<Track>(*this); }
+
+ protected:
+  void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
+    own_dofs({kLeftEye, kRightEye, kBaseHeading}, out.jacobian);
+    const Senses& s = *in.senses;
+    if (!s.stimulus[kLeft].seen || !s.stimulus[kRight].seen) {
+      gamma = Gamma::kNoRef;
+      return;
+    }
+    const double el = s.stimulus[kLeft].bearing, er = s.stimulus[kRight].bearing;
+    // The gaze direction relative to the base: the mean of both eyes' lines of sight.
+    const double eb = wrap_angle(0.5 * (s.q[kLeftEye] + el + s.q[kRightEye] + er));
+    out.command[kLeftEye] = el;
+    out.command[kRightEye] = er;
+    out.command[kBaseHeading] = eb;
+    out.phi = 0.5 * (el * el + er * er + eb * eb);
+    out.residual = std::max({std::abs(el), std::abs(er), std::abs(eb)});
+    gamma = out.residual <= epsilon() ? Gamma::kConv : Gamma::kNotConv;
+  }
+};
+
+// search: turn to randomly sampled headings, eyes spread to widen the view, until both eyes see
+// the stimulus; as soon as one eye glimpses it, turn that way.
+class Search final : public Primitive {
+  // Where the constructor declared each parameter: reading one is an index, not a name search.
+  struct { ParamSlot spread = 0, reached = 0, min_turn = 0, max_turn = 0; } p_;
+ public:
+  Search() : Primitive("search", 0.0) {
+    p_.spread = declare("spread", 0.6, 0.0, 1.5, "eye pan (rad) each side while looking around");
+    p_.reached = declare("reached", 0.3, 0.01, 3.0, "heading error (rad) at which a new heading is sampled");
+    p_.min_turn = declare("min_turn", 1.2, 0.0, 6.3, "smallest sampled turn (rad)");
+    p_.max_turn = declare("max_turn", 3.2, 0.0, 6.3, "largest sampled turn (rad)");
+  }
+  PrimitivePtr clone() const override { return std::make_shared<Search>(*this); }
+  void reset(uint64_t seed) override {
+    Primitive::reset(seed);
+    rng_.reseed(Rng::mix(seed, 0x5ea4c4));
+    has_target_ = false;
+  }
+
+ protected:
+  void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
+    own_dofs({kBaseHeading, kLeftEye, kRightEye}, out.jacobian);
+    const Senses& s = *in.senses;
+    const bool left = s.stimulus[kLeft].seen, right = s.stimulus[kRight].seen;
+    if (left && right) {
+      gamma = Gamma::kConv;  // found: both eyes have it
+      has_target_ = false;
+      return;
+    }
+    gamma = Gamma::kNotConv;
+    const double heading = s.q[kBaseHeading];
+    if (left || right) {
+      // One eye sees it: turn towards it, bring both eyes to bear.
+      const int e = left ? kLeft : kRight;
+      const double rel = wrap_angle(s.q[kLeftEye + e] + s.stimulus[e].bearing);
+      target_ = heading + rel;
+      has_target_ = true;
+      out.command[kLeftEye] = rel - s.q[kLeftEye];
+      out.command[kRightEye] = rel - s.q[kRightEye];
+    } else {
+      if (!has_target_ || std::abs(target_ - heading) < value(p_.reached)) {
+        const double turn = rng_.uniform(value(p_.min_turn), value(p_.max_turn));
+        target_ = heading + (rng_.uniform() < 0.5 ? -turn : turn);
+        has_target_ = true;
+      }
+      out.command[kLeftEye] = value(p_.spread) - s.q[kLeftEye];
+      out.command[kRightEye] = -value(p_.spread) - s.q[kRightEye];
+    }
+    out.command[kBaseHeading] = clamp_abs(target_ - heading, 1.0);
+    out.residual = std::abs(target_ - heading);
+  }
+
+ private:
+  Rng rng_{0};
+  double target_ = 0.0;
+  bool has_target_ = false;
+};
+
+// phi4: kinematic conditioning. phi = sum over arms of cos^2(elbow): zero at the most manipulable
+// posture (elbows at +-90 degrees, where L1 L2 |sin(elbow)| peaks). Its command descends phi on the
+// elbows; as a subordinate, the projection turns it into base and shoulder motions that keep the
+// superior's contacts where they are. It is an optimization, not a constraint: as a superior it
+// protects only its gradient direction (a one-row Jacobian).
+class Condition final : public Primitive {
+  // Where the constructor declared each parameter: reading one is an index, not a name search.
+  struct { ParamSlot rate = 0; } p_;
+ public:
+  Condition() : Primitive("phi4", 0.05) {
+    p_.rate = declare("rate", 0.15, 0.0, 5.0, "step per tick per unit gradient (rad)");
+  }
+  PrimitivePtr clone() const override { return std::make_shared<Condition>(*this); }
+
+ protected:
+  void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
+    const Senses& s = *in.senses;
+    double grad2 = 0.0;
+    out.phi = 0.0;
+    for (int dof : {int(kLeftElbow), int(kRightElbow)}) {
+      const double q = s.q[dof];
+      out.phi += std::cos(q) * std::cos(q);
+      const double g = -std::sin(2.0 * q);  // d/dq cos^2(q)
+      grad2 += g * g;
+      out.command[dof] = -value(p_.rate) * g;
+    }
+    out.jacobian.resize(grad2 > 0.0 ? 1 : 0, kDofCount);
+    if (grad2 > 0.0) out.jacobian.row(0) = -out.command.transpose();
+    out.residual = std::sqrt(grad2);
+    gamma = out.residual <= epsilon() ? Gamma::kConv : Gamma::kNotConv;
+  }
+};
+
+}  // namespace
+
+PrimitivePtr make_track() { return std::make_shared<Track>(); }
+PrimitivePtr make_search() { return std::make_shared<Search>(); }
+PrimitivePtr make_condition() { return std::make_shared<Condition>(); }
+
+}  // namespace primitives_internal
+}  // namespace roger

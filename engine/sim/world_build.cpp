@@ -1,0 +1,260 @@
+// world_build.cpp: World::reset, which builds an episode's Box2D world from its spec: the walls,
+// the obstacles, the objects, Roger's base and its rail, the arms, and the servos' start state.
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+#include "core/shape.h"
+#include "sim/world_internal.h"
+
+namespace roger {
+
+using namespace world_internal;
+
+namespace {
+
+// Adds the fixtures of a validated shape to a body, spreading `density` over its parts.
+void add_shape_fixtures(b2Body* body, const Shape& shape, float density, float friction,
+                        uint16 category, uint16 mask) {
+  b2FixtureDef fd;
+  fd.density = density;
+  fd.friction = friction;
+  fd.restitution = 0.0f;
+  fd.filter.categoryBits = category;
+  fd.filter.maskBits = mask;
+  for (const auto& poly : shape.polygons) {
+    b2Vec2 pts[kMaxPolygonVertices];
+    const int n = int(poly.vertices.size());
+    for (int i = 0; i < n; ++i) pts[i] = b2v(poly.vertices[i]);
+    b2PolygonShape ps;
+    ps.Set(pts, n);
+    fd.shape = &ps;
+    body->CreateFixture(&fd);
+  }
+  for (const auto& disk : shape.disks) {
+    b2CircleShape cs;
+    cs.m_p = b2v(disk.center);
+    cs.m_radius = float(disk.radius);
+    fd.shape = &cs;
+    body->CreateFixture(&fd);
+  }
+}
+
+// One arm link as a dynamic body from `from` to `to`: the forearm (l == 1) carries the tactile
+// hand disk at its end; both carry the link's mass.
+b2Body* create_link(b2World& w, const RobotParams& r, int side, int l, const Vec2& from,
+                    const Vec2& to) {
+  const Vec2 mid = 0.5 * (from + to);
+  const Vec2 d = to - from;
+  b2BodyDef ld;
+  ld.type = b2_dynamicBody;
+  ld.allowSleep = false;
+  ld.position = b2v(mid);
+  ld.angle = float(std::atan2(d.y(), d.x()));
+  b2Body* link = w.CreateBody(&ld);
+  const double half = 0.5 * r.link_length[l];
+  if (l == 1) {  // the hand: a tactile disk at the end of the forearm
+    b2CircleShape hs;
+    hs.m_radius = float(r.hand_radius);
+    hs.m_p.Set(float(half), 0.0f);
+    b2FixtureDef hd;
+    hd.shape = &hs;
+    hd.density = float(r.hand_mass / (M_PI * r.hand_radius * r.hand_radius));
+    hd.friction = float(r.surface_friction);
+    hd.filter.categoryBits = kCatRobot;
+    hd.filter.maskBits = kCatWall | kCatObstacle | kCatObject;
+    hd.filter.groupIndex = -1;
+    link->CreateFixture(&hd);
+    link->GetUserData().pointer =
+        encode(SurfaceKind::kNone, side == kLeft ? kLeftHand : kRightHand);
+  }
+  // Links never collide, so they carry mass but no fixture of their own: nothing for the
+  // broad phase to do. Their mass is added to whatever the hand fixture gave the body
+  // (Box2D's I is about the body origin, which is the link's centre).
+  b2MassData md;
+  md.mass = 0.0f, md.center.SetZero(), md.I = 0.0f;
+  // (A dynamic body without fixtures reports Box2D's default mass of 1 kg: skip it.)
+  if (link->GetFixtureList()) link->GetMassData(&md);
+  const double link_mass = r.link_mass, total = md.mass + link_mass;
+  md.center = float(md.mass / total) * md.center;
+  md.I += float(link_mass * r.link_length[l] * r.link_length[l] / 12.0);
+  md.mass = float(total);
+  link->SetMassData(&md);
+  return link;
+}
+
+// The motorized revolute joint of link `l` to its parent at `from`.
+b2RevoluteJoint* create_arm_joint(b2World& w, const RobotParams& r, b2Body* parent, b2Body* link,
+                                  const Vec2& from, int l) {
+  b2RevoluteJointDef jd;
+  jd.Initialize(parent, link, b2v(from));
+  jd.referenceAngle = 0.0f;  // joint angle = absolute joint coordinate, not relative to start
+  // No Box2D joint limits: setpoints are clamped to the limits instead, which keeps the
+  // solver cheaper (limits are the costliest part of a revolute joint) and nothing can push
+  // an arm far past them, since links do not collide.
+  const bool elbow = l == 1;
+  jd.enableMotor = true;
+  jd.maxMotorTorque = float(elbow ? r.elbow.max_effort : r.shoulder.max_effort);
+  return static_cast<b2RevoluteJoint*>(w.CreateJoint(&jd));
+}
+
+}  // namespace
+
+void World::reset(const WorldSpec& spec_in) {
+  spec_ = spec_in;
+  for (auto& o : spec_.objects) validate_shape(o.shape);
+  for (auto& o : spec_.obstacles) validate_shape(o.shape);
+  const auto& a = spec_.arena;
+  if (!(a.xmax > a.xmin && a.ymax > a.ymin))
+    throw Error("arena: xmax must exceed xmin and ymax exceed ymin");
+
+  Impl& m = *impl_;
+  m.objects.clear();
+  m.pushes.clear();
+  m.world = std::make_unique<b2World>(b2Vec2(0.0f, 0.0f));
+  // Everything moves slowly against thick walls: continuous collision would cost time for nothing.
+  m.world->SetContinuousPhysics(false);
+  time_ = 0.0;
+
+  m.add_walls(a);
+  m.add_obstacles(spec_.obstacles);
+  m.add_objects(spec_.objects);
+  // Roger.
+  const RobotParams& r = params_.robot;
+  m.add_base(r, spec_.robot.pose);
+  m.add_rail();
+  m.add_arms(r, spec_.robot);
+  m.reset_servos(r, spec_.robot);
+  setpoint_ = q();
+  senses_ = Senses{};
+  sense();
+}
+
+void World::Impl::add_walls(const ArenaSpec& a) {
+  b2World& w = *world;
+  // Walls: four thick boxes just outside the arena (thick so nothing tunnels through).
+  b2BodyDef gd;
+  ground = w.CreateBody(&gd);
+  ground->GetUserData().pointer = encode(SurfaceKind::kWall, -1);
+  const float t = 0.25f;
+  const float cx = float(0.5 * (a.xmin + a.xmax)), cy = float(0.5 * (a.ymin + a.ymax));
+  const float hw = float(0.5 * (a.xmax - a.xmin)), hh = float(0.5 * (a.ymax - a.ymin));
+  b2FixtureDef fd;
+  fd.friction = 0.3f;
+  fd.filter.categoryBits = kCatWall;
+  b2PolygonShape box;
+  const b2Vec2 centers[4] = {{cx, float(a.ymax) + t}, {cx, float(a.ymin) - t},
+                             {float(a.xmin) - t, cy}, {float(a.xmax) + t, cy}};
+  const b2Vec2 halves[4] = {{hw + 2 * t, t}, {hw + 2 * t, t}, {t, hh + 2 * t}, {t, hh + 2 * t}};
+  for (int i = 0; i < 4; ++i) {
+    box.SetAsBox(halves[i].x, halves[i].y, centers[i], 0.0f);
+    fd.shape = &box;
+    ground->CreateFixture(&fd);
+  }
+}
+
+void World::Impl::add_obstacles(const std::vector<ObstacleSpec>& obstacles) {
+  b2World& w = *world;
+  // Obstacles: static bodies at their poses.
+  surfaces.clear();
+  for (size_t i = 0; i < obstacles.size(); ++i) {
+    const auto& o = obstacles[i];
+    b2BodyDef bd;
+    bd.position.Set(float(o.pose.x), float(o.pose.y));
+    bd.angle = float(o.pose.theta);
+    b2Body* body = w.CreateBody(&bd);
+    body->GetUserData().pointer = encode(SurfaceKind::kObstacle, int(i));
+    add_shape_fixtures(body, o.shape, 0.0f, 0.5f, kCatObstacle, 0xffff);
+    append_seen_surfaces(surfaces, o.shape, o.pose, SurfaceKind::kObstacle, int(i), o.colour);
+  }
+  static_surfaces = surfaces.size();
+}
+
+void World::Impl::add_objects(const std::vector<ObjectSpec>& specs) {
+  b2World& w = *world;
+  // Objects: dynamic bodies held to the floor by a friction joint (static friction threshold) and
+  // slowed by damping (viscosity).
+  for (size_t i = 0; i < specs.size(); ++i) {
+    const auto& o = specs[i];
+    if (!(o.mass > 0.0) || !std::isfinite(o.mass))
+      throw Error("object '" + o.name + "': mass must be a positive number");
+    b2BodyDef bd;
+    bd.type = b2_dynamicBody;
+    bd.position.Set(float(o.pose.x), float(o.pose.y));
+    bd.angle = float(o.pose.theta);
+    bd.linearDamping = float(o.viscosity);
+    bd.angularDamping = float(o.angular_viscosity);
+    b2Body* body = w.CreateBody(&bd);
+    body->GetUserData().pointer = encode(SurfaceKind::kObject, int(i));
+    add_shape_fixtures(body, o.shape, float(o.mass / shape_area(o.shape)),
+                       float(o.surface_friction), kCatObject, 0xffff);
+    b2FrictionJointDef fj;
+    fj.Initialize(ground, body, body->GetWorldCenter());
+    fj.maxForce = float(o.friction_force);
+    fj.maxTorque = float(o.friction_torque);
+    w.CreateJoint(&fj);
+    objects.push_back(body);
+  }
+}
+
+void World::Impl::add_base(const RobotParams& r, const Pose& start) {
+  b2BodyDef bd;
+  bd.type = b2_dynamicBody;
+  bd.allowSleep = false;
+  bd.position.Set(float(start.x), float(start.y));
+  bd.angle = float(start.theta);
+  base = world->CreateBody(&bd);
+  base->GetUserData().pointer = encode(SurfaceKind::kNone, int(kBody));
+  b2CircleShape cs;
+  cs.m_radius = float(r.base_radius);
+  b2FixtureDef fd;
+  fd.shape = &cs;
+  fd.density = float(r.base_mass / (M_PI * r.base_radius * r.base_radius));
+  fd.friction = float(r.surface_friction);
+  fd.filter.categoryBits = kCatRobot;
+  fd.filter.maskBits = kCatWall | kCatObstacle | kCatObject;
+  fd.filter.groupIndex = -1;
+  base->CreateFixture(&fd);
+}
+
+void World::Impl::add_rail() {
+  // The no-slip constraint: a wheel joint to a kinematic rail that is moved onto the base before
+  // every step, so the solver itself removes sideways velocity whatever pushes the base.
+  b2BodyDef rd;
+  rd.type = b2_kinematicBody;
+  rd.position = base->GetPosition();
+  rd.angle = base->GetAngle();
+  rail = world->CreateBody(&rd);
+  b2WheelJointDef wj;
+  wj.Initialize(rail, base, base->GetPosition(), rail->GetWorldVector(b2Vec2(1, 0)));
+  wj.stiffness = 0.0f;
+  wj.damping = 0.0f;
+  world->CreateJoint(&wj);
+}
+
+void World::Impl::add_arms(const RobotParams& r, const RobotStart& start) {
+  b2World& w = *world;
+  const double start_q[2][2] = {{start.left_shoulder, start.left_elbow},
+                                {start.right_shoulder, start.right_elbow}};
+  for (int side = 0; side < 2; ++side) {
+    const ArmPoints p = arm_forward_kinematics(r, start.pose, side, start_q[side][0], start_q[side][1]);
+    const Vec2 from[2] = {p.shoulder, p.elbow}, to[2] = {p.elbow, p.hand};
+    b2Body* parent = base;
+    for (int l = 0; l < 2; ++l) {
+      b2Body* body = create_link(w, r, side, l, from[l], to[l]);
+      joint[side][l] = create_arm_joint(w, r, parent, body, from[l], l);
+      link[side][l] = body;
+      parent = body;
+    }
+  }
+}
+
+void World::Impl::reset_servos(const RobotParams& r, const RobotStart& start) {
+  odometer = 0.0;
+  eye[0] = std::clamp(start.left_eye, -r.eye_pan_limit, r.eye_pan_limit);
+  eye[1] = std::clamp(start.right_eye, -r.eye_pan_limit, r.eye_pan_limit);
+  eye_rate[0] = eye_rate[1] = 0.0;
+  for (auto& t : touch) t.clear();
+}
+
+}  // namespace roger
