@@ -1,0 +1,84 @@
+#!/usr/bin/env bash
+# submit.sh SCRIPT N [sbatch options...]: runs a batch script of roger on a Slurm cluster as a job
+# array of N shards (array.sbatch, tasks 0 .. N-1, each `roger run SCRIPT --shard slurm`) and a
+# report job (report.sbatch, `roger report`) that starts once every task has succeeded. Prints the
+# two job ids, one line each:
+#   array 12
+#   report 13
+#
+#   scripts/slurm/submit.sh scripts/paper.lua 50 --partition=short --time=02:00:00 --cpus-per-task=2
+#
+# The sbatch options (--partition, --time, --cpus-per-task, --mem, --account, ...) go to both jobs,
+# after the scripts' own, so they win; --array=LIST goes to the array alone and replaces 0-(N-1):
+# `submit.sh SCRIPT N --array=7` runs shard 7 of N again (what it finds finished it keeps) and a
+# new report after it. Each task runs as many trials at once as it has CPUs (--cpus-per-task).
+#
+# Environment:
+#   ROGER_OUT   the results folder, on a filesystem every node sees   results/<script name>
+#   ROGER_BIN   the roger program, likewise                           build/engine/roger
+#   ROGER_ARGS  more arguments of roger run (e.g. "--set mass=0.7"), split at whitespace
+#   ROGER_LOGS  the jobs' output files                                ROGER_OUT/slurm
+# Relative paths are taken from the current folder; the jobs run in the repository.
+set -euo pipefail
+
+usage="usage: $0 SCRIPT N [sbatch options...] (SCRIPT: a batch script such as scripts/paper.lua; N: the number of shards)"
+die() { echo "submit.sh: $*" >&2; exit 2; }
+
+[ $# -ge 2 ] || die "$usage"
+script=$1 shards=$2
+shift 2
+[[ $shards =~ ^[1-9][0-9]*$ ]] || die "N must be a positive integer (the number of shards), not '$shards'; $usage"
+command -v sbatch >/dev/null 2>&1 ||
+  die "sbatch not found: run this on a Slurm submit host (or put Slurm's commands on PATH)"
+
+here=$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")
+repo=$(cd "$here/../.." && pwd)
+
+# An absolute path of a file named relative to the current folder (which need not exist yet).
+absolute() { case $1 in /*) echo "$1" ;; *) echo "$PWD/$1" ;; esac; }
+
+# The script: a file, or a bare name of one in scripts/ (as roger run takes it).
+if [ -f "$script" ]; then
+  script=$(absolute "$script")
+elif [ ! -f "$repo/scripts/$script" ] && [ ! -f "$repo/scripts/$script.lua" ]; then
+  die "no batch script '$script' (neither a file nor a script in $repo/scripts)"
+fi
+name=$(basename "$script" .lua)
+
+bin=$(absolute "${ROGER_BIN:-$repo/build/engine/roger}")
+[ -x "$bin" ] || die "no roger program at '$bin' (build it: cmake -S . -B build && cmake --build build --target roger; or set ROGER_BIN)"
+out=$(absolute "${ROGER_OUT:-$repo/results/$name}")
+logs=$(absolute "${ROGER_LOGS:-$out/slurm}")
+# Slurm opens the jobs' output files but creates no folder for them.
+mkdir -p "$out" "$logs"
+
+# The jobs read these (sbatch passes the environment on: --export=ALL below).
+export ROGER_BIN=$bin ROGER_SCRIPT=$script ROGER_OUT=$out ROGER_SHARDS=$shards
+export ROGER_ARGS=${ROGER_ARGS:-}
+
+# --array=LIST goes to the array only; every other option to both jobs.
+array="0-$((shards - 1))"
+common=()
+for option in "$@"; do
+  case $option in
+    --array=*) array=${option#--array=} ;;
+    -a | -a* | --array) die "give the array as --array=LIST (got '$option')" ;;
+    *) common+=("$option") ;;
+  esac
+done
+
+# sbatch --parsable prints "ID" or "ID;CLUSTER".
+submit() {
+  local id
+  id=$(cd "$repo" && sbatch --parsable --export=ALL "$@") || die "sbatch failed: sbatch $*"
+  echo "${id%%;*}"
+}
+
+array_id=$(submit --job-name="roger-$name" --array="$array" --output="$logs/shard-%a-%A.out" \
+  ${common[@]+"${common[@]}"} "$repo/scripts/slurm/array.sbatch")
+# afterok: the report only after every task succeeded; a failed task cancels it (instead of
+# leaving it pending forever): redo the shard with --array=K, which submits a new report.
+report_id=$(submit --job-name="roger-report-$name" --dependency="afterok:$array_id" --kill-on-invalid-dep=yes \
+  --output="$logs/report-%j.out" ${common[@]+"${common[@]}"} "$repo/scripts/slurm/report.sbatch")
+echo "array $array_id"
+echo "report $report_id"
