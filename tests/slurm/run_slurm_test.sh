@@ -1,0 +1,272 @@
+#!/usr/bin/env bash
+# run_slurm_test.sh ROGER SOURCE_DIR: runs scripts/slurm/ on a real one-node Slurm cluster that
+# it starts itself, and checks that a sharded run of scripts/quick.lua gives the same results as
+# an unsharded one.
+#
+# As root: a temporary folder holds everything (config, munge key, daemons' state, logs, pid
+# files, results); munged, slurmctld and slurmd run on it, on their own socket and ports, beside
+# whatever Slurm or munge the machine may run. Then submit.sh submits quick.lua as an array of 3
+# shards and its report; once both are done, the report is compared with `roger run` unsharded
+# (tests/tools/compare_results.sh). On exit, whatever happened, the jobs are cancelled, the
+# daemons it started are stopped by their PIDs and the folder is removed.
+#
+# Exit status: 0 passed, 77 skipped (not root, or Slurm/munge not installed: `.ci/install`
+# installs them), 1 failed (with the daemons' and jobs' logs).
+set -euo pipefail
+
+if [ $# -ne 2 ]; then
+  echo "usage: $0 ROGER SOURCE_DIR" >&2
+  exit 1
+fi
+roger=$(readlink -f "$1")
+src=$(readlink -f "$2")
+export PATH=$PATH:/usr/sbin:/sbin
+
+skip() { echo "SKIPPED: $*"; exit 77; }
+[ "$(id -u)" -eq 0 ] || skip "needs root (it starts munged as the munge user, and slurmctld and slurmd)"
+for tool in munged slurmctld slurmd sbatch squeue sinfo scontrol scancel; do
+  command -v "$tool" >/dev/null 2>&1 || skip "$tool is not installed (apt-get install slurm-wlm munge, as .ci/install does)"
+done
+
+# --- the temporary folder, and what to do on the way out ------------------------------------------
+
+tmp=$(mktemp -d /tmp/roger-slurm.XXXXXX)
+# The munge user reads its folder below it, and the jobs (as root) everything.
+chmod 0755 "$tmp"
+mkdir "$tmp/munge" "$tmp/state" "$tmp/spool" "$tmp/log"
+pids=()         # the daemons started here, in the order to stop them (last first)
+jobs_ids=()     # the jobs submitted here
+failed=0
+
+log() { echo "run_slurm_test: $*"; }
+
+print_logs() {
+  local f
+  for f in "$tmp"/log/* "$tmp"/munge/munged.log "$tmp"/sharded/slurm/*.out; do
+    [ -f "$f" ] || continue
+    echo "----- $f"
+    # The tail: a failing daemon's last lines, without pages of startup chatter.
+    tail -n 60 "$f"
+  done
+  echo "-----"
+}
+
+# Stops one process started here: SIGTERM, up to 20 s to go, then SIGKILL; reaps it.
+stop_pid() {
+  local pid=$1 i state
+  kill -TERM "$pid" 2>/dev/null || return 0
+  for ((i = 0; i < 200; i++)); do
+    state=$(awk '{print $3}' "/proc/$pid/stat" 2>/dev/null || true)
+    [ -z "$state" ] || [ "$state" = Z ] && break
+    sleep 0.1
+  done
+  if [ -n "$state" ] && [ "$state" != Z ]; then
+    log "PID $pid did not stop on SIGTERM; killing it"
+    kill -KILL "$pid" 2>/dev/null || true
+  fi
+  wait "$pid" 2>/dev/null || true
+}
+
+cleanup() {
+  local status=$? i
+  set +e
+  [ $failed -eq 1 ] && status=1
+  if [ $status -ne 0 ] && [ $status -ne 77 ]; then
+    log "FAILED (exit status $status); the logs:"
+    print_logs
+  fi
+  # Jobs still running would outlive slurmd (slurmstepd and roger are not its children).
+  if [ ${#jobs_ids[@]} -gt 0 ] && [ ${#pids[@]} -ge 2 ]; then
+    scancel "${jobs_ids[@]}" 2>/dev/null
+    for ((i = 0; i < 30; i++)); do
+      [ -z "$(squeue -h -j "$(IFS=,; echo "${jobs_ids[*]}")" 2>/dev/null)" ] && break
+      sleep 1
+    done
+  fi
+  for ((i = ${#pids[@]} - 1; i >= 0; i--)); do stop_pid "${pids[i]}"; done
+  rm -rf "$tmp"
+  exit $status
+}
+trap cleanup EXIT
+trap 'exit 1' INT TERM HUP
+
+fail() {
+  log "FAILED: $*"
+  failed=1
+  exit 1
+}
+
+# --- submit.sh's refusals, which need no cluster --------------------------------------------------
+
+submit=$src/scripts/slurm/submit.sh
+for n in 0 -1 abc 2x; do
+  if out=$(bash "$submit" scripts/quick.lua "$n" 2>&1); then fail "submit.sh took N=$n"; fi
+  grep -q "positive integer" <<< "$out" || fail "submit.sh N=$n: unclear message: $out"
+done
+if out=$(PATH=/nonexistent /bin/bash "$submit" scripts/quick.lua 3 2>&1); then fail "submit.sh ran without sbatch"; fi
+grep -q "sbatch not found" <<< "$out" || fail "submit.sh without sbatch: unclear message: $out"
+log "submit.sh refuses a bad N and a missing sbatch"
+
+# --- munge --------------------------------------------------------------------------------------
+
+id munge >/dev/null 2>&1 || fail "no munge user (the munge package creates it)"
+# munged checks its files: the key readable by munge only, the socket's folder open to all.
+chown munge:munge "$tmp/munge"
+chmod 0755 "$tmp/munge"
+key=$tmp/munge/munge.key
+if command -v mungekey >/dev/null 2>&1; then
+  mungekey --create --keyfile="$key"
+else
+  dd if=/dev/urandom of="$key" bs=1024 count=1 status=none
+fi
+chown munge:munge "$key"
+chmod 0400 "$key"
+socket=$tmp/munge/munge.socket
+# Foreground (-F) and exec'd by setpriv as the munge user: $! is munged itself.
+setpriv --reuid=munge --regid=munge --init-groups \
+  munged -F --key-file="$key" --socket="$socket" --pid-file="$tmp/munge/munged.pid" \
+  --log-file="$tmp/munge/munged.log" --seed-file="$tmp/munge/munged.seed" \
+  >"$tmp/log/munged.stdout" 2>&1 &
+pids+=($!)
+for ((i = 0; i < 100; i++)); do
+  [ -S "$socket" ] && break
+  kill -0 "${pids[0]}" 2>/dev/null || fail "munged exited"
+  sleep 0.1
+done
+[ -S "$socket" ] || fail "munged made no socket in 10 s"
+log "munged runs (PID ${pids[0]}) on $socket"
+
+# --- slurm.conf ---------------------------------------------------------------------------------
+
+host=$(hostname -s)
+cpus=$(nproc)
+# RealMemory in MB, less a margin for the system; slurmd refuses a node claiming more than it has.
+memory=$(awk '/^MemTotal:/ { m = int($2 / 1024) - 512; print (m < 256 ? 256 : m) }' /proc/meminfo)
+
+# A free TCP port from $1 on (nothing accepts a connection on it).
+free_port() {
+  local p=$1
+  while (exec 3<>"/dev/tcp/127.0.0.1/$p") 2>/dev/null; do p=$((p + 1)); done
+  echo "$p"
+}
+ctld_port=$(free_port 16817)
+slurmd_port=$(free_port $((ctld_port + 1)))
+
+conf=$tmp/slurm.conf
+cat >"$conf" <<EOF
+# A one-node cluster for run_slurm_test.sh; everything under $tmp.
+ClusterName=rogertest
+SlurmctldHost=$host
+SlurmctldPort=$ctld_port
+SlurmdPort=$slurmd_port
+SlurmUser=root
+SlurmdUser=root
+AuthType=auth/munge
+CredType=cred/munge
+AuthInfo=socket=$socket
+StateSaveLocation=$tmp/state
+SlurmdSpoolDir=$tmp/spool
+SlurmctldLogFile=$tmp/log/slurmctld.log
+SlurmdLogFile=$tmp/log/slurmd.log
+SlurmctldPidFile=$tmp/slurmctld.pid
+SlurmdPidFile=$tmp/slurmd.pid
+ProctrackType=proctrack/linuxproc
+TaskPlugin=task/none
+SelectType=select/cons_tres
+SelectTypeParameters=CR_CPU
+ReturnToService=2
+MpiDefault=none
+JobAcctGatherType=jobacct_gather/none
+AccountingStorageType=accounting_storage/none
+MailProg=/bin/true
+# Finished jobs stay known to scontrol long enough to read their state and exit code.
+MinJobAge=3600
+NodeName=$host CPUs=$cpus RealMemory=$memory State=UNKNOWN
+PartitionName=test Nodes=$host Default=YES MaxTime=INFINITE State=UP
+EOF
+# No Slurm or roger settings of the caller's environment (say, a CI job that is itself a Slurm
+# job) leak into the commands and jobs here.
+for v in $(compgen -e | grep -E '^(SLURM|SBATCH|SALLOC|SRUN|ROGER)_' || true); do unset "$v"; done
+export SLURM_CONF=$conf
+
+# --- slurmctld and slurmd, in the foreground (-D) so that $! are their PIDs -----------------------
+
+slurmctld -D -f "$conf" >"$tmp/log/slurmctld.stdout" 2>&1 &
+pids+=($!)
+slurmd -D -f "$conf" >"$tmp/log/slurmd.stdout" 2>&1 &
+pids+=($!)
+log "slurmctld (PID ${pids[1]}, port $ctld_port) and slurmd (PID ${pids[2]}, port $slurmd_port) started on $host: $cpus CPUs, ${memory} MB"
+
+state=
+for ((i = 0; i < 60; i++)); do
+  kill -0 "${pids[1]}" 2>/dev/null || fail "slurmctld exited"
+  kill -0 "${pids[2]}" 2>/dev/null || fail "slurmd exited"
+  state=$(sinfo -h -N -n "$host" -o %T 2>/dev/null || true)
+  [ "$state" = idle ] && break
+  sleep 1
+done
+[ "$state" = idle ] || fail "node $host not idle after 60 s (sinfo says '${state:-nothing}')"
+log "sinfo: node $host is idle"
+
+# --- the sharded run -----------------------------------------------------------------------------
+
+sharded=$tmp/sharded
+cd "$src"
+start=$SECONDS
+submitted=$(ROGER_BIN=$roger ROGER_OUT=$sharded bash "$submit" scripts/quick.lua 3) ||
+  fail "submit.sh failed: $submitted"
+echo "$submitted"
+array_id=$(awk '$1 == "array" { print $2 }' <<< "$submitted")
+report_id=$(awk '$1 == "report" { print $2 }' <<< "$submitted")
+[[ $array_id =~ ^[0-9]+$ && $report_id =~ ^[0-9]+$ ]] || fail "submit.sh printed no job ids: $submitted"
+[ "$(wc -l <<< "$submitted")" -eq 2 ] || fail "submit.sh printed more than the two job ids: $submitted"
+jobs_ids=("$array_id" "$report_id")
+
+# The state of a job (or of every task of an array), from scontrol (no accounting here).
+job_states() { scontrol -o show job "$1" | grep -o 'JobState=[A-Z_]*' | cut -d= -f2 | sort | uniq -c | xargs; }
+job_field() { scontrol -o show job "$1" | grep -oE "(^| )$2=[^ ]*" | cut -d= -f2-; }
+
+deadline=$((SECONDS + 600))
+while :; do
+  queued=$(squeue -h -j "$array_id,$report_id" -o '%i %T %r' 2>&1) || fail "squeue failed: $queued"
+  [ -z "$queued" ] && break
+  # A report held by a failed task would wait forever; submit.sh asks Slurm to cancel it.
+  grep -q DependencyNeverSatisfied <<< "$queued" && fail "the report waits for an array that failed: $queued"
+  [ $SECONDS -lt $deadline ] || fail "the jobs did not finish in 600 s: $queued"
+  sleep 5
+done
+log "both jobs left the queue after $((SECONDS - start)) s"
+
+array_states=$(job_states "$array_id")
+log "array $array_id: $array_states"
+[ "$array_states" = "3 COMPLETED" ] || fail "not every task of the array completed: $array_states"
+for code in $(job_field "$array_id" ExitCode); do
+  [ "$code" = 0:0 ] || fail "a task of the array exited with $code"
+done
+report_state=$(job_field "$report_id" JobState)
+report_code=$(job_field "$report_id" ExitCode)
+log "report $report_id: $report_state, exit code $report_code"
+[ "$report_state" = COMPLETED ] && [ "$report_code" = 0:0 ] || fail "the report job did not succeed"
+
+# What the jobs wrote: one output file per task and the report's, the report itself.
+for k in 0 1 2; do
+  [ -f "$sharded/slurm/shard-$k-$array_id.out" ] || fail "no output of task $k"
+done
+report_out=$sharded/slurm/report-$report_id.out
+[ -f "$report_out" ] || fail "no output of the report job"
+if grep -qiE 'error|missing' "$report_out"; then fail "the report job's output mentions an error"; fi
+for f in tables.md summary.csv report.json manifest.json; do
+  [ -s "$sharded/$f" ] || fail "the sharded folder has no $f"
+done
+log "tables.md, summary.csv, report.json written; the report job's output:"
+sed 's/^/  | /' "$report_out"
+
+# --- the same script unsharded, and the comparison --------------------------------------------------
+
+log "roger run scripts/quick.lua unsharded, for comparison"
+start=$SECONDS
+"$roger" run scripts/quick.lua --out "$tmp/plain" >"$tmp/log/plain.out" 2>&1 ||
+  { cat "$tmp/log/plain.out"; fail "the unsharded run failed"; }
+log "unsharded run took $((SECONDS - start)) s"
+bash "$src/tests/tools/compare_results.sh" "$tmp/plain" "$sharded" || fail "the sharded results differ from the unsharded"
+log "PASSED"
