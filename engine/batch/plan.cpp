@@ -17,6 +17,7 @@
 namespace roger {
 
 namespace fs = std::filesystem;
+using namespace batch_detail;
 using json = nlohmann::json;
 
 namespace {
@@ -138,6 +139,8 @@ void check_manifest(const BatchPlan& plan, const fs::path& manifest_path, const 
 
 }  // namespace
 
+namespace batch_detail {
+
 std::string read_text(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::stringstream ss;
@@ -149,6 +152,8 @@ std::string first_line(const std::string& s) {
   const size_t nl = s.find('\n');
   return nl == std::string::npos ? s : s.substr(0, nl);
 }
+
+}  // namespace batch_detail
 
 BatchPlan plan_batch(const BatchScript& b, const std::string& out) {
   BatchPlan plan;

@@ -25,6 +25,7 @@
 namespace roger {
 
 namespace fs = std::filesystem;
+using namespace batch_detail;
 using Clock = std::chrono::steady_clock;
 
 namespace {
