@@ -1,6 +1,7 @@
 // Tests of engine/batch: parallel, resumable trials with atomic results.
 #include <catch2/catch.hpp>
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -143,4 +144,80 @@ TEST_CASE("progress lines count trials done, running and left", "[batch]") {
   CHECK(format_duration(185) == "3 min 05 s");
   CHECK(format_duration(3720) == "1 h 02 min");
   fs::remove_all(dir);
+}
+
+namespace {
+
+// Runs a shell command line (from the repository root, as CTest does); returns its exit status
+// and, in `err`, what it printed on standard error.
+int shell(const std::string& line, std::string* err = nullptr) {
+  const fs::path log = fresh_dir("shell_log");
+  const int raw = std::system((line + " 2>" + log.string()).c_str());
+  if (err) {
+    std::ifstream in(log);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    *err = ss.str();
+  }
+  fs::remove(log);
+  return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+}
+
+}  // namespace
+
+TEST_CASE("parse_shard reads K/N and a Slurm array's task, and refuses anything else", "[batch][shard]") {
+  const Shard s = parse_shard("2/5");
+  CHECK(s.index == 2);
+  CHECK(s.count == 5);
+  for (const char* bad : {"5/5", "-1/3", "1/0", "1", "a/b", "1/3x", ""})
+    CHECK_THROWS_WITH(parse_shard(bad), Catch::Contains("K/N"));
+  unsetenv("ROGER_SHARDS");
+  unsetenv("SLURM_ARRAY_TASK_ID");
+  unsetenv("SLURM_ARRAY_TASK_COUNT");
+  CHECK_THROWS_WITH(parse_shard("slurm"), Catch::Contains("SLURM_ARRAY_TASK_ID"));
+  setenv("SLURM_ARRAY_TASK_ID", "1", 1);
+  setenv("SLURM_ARRAY_TASK_COUNT", "3", 1);
+  CHECK(parse_shard("slurm").index == 1);
+  CHECK(parse_shard("slurm").count == 3);
+  // A single task resubmitted (--array=2) is an array of one: ROGER_SHARDS keeps the run's N.
+  setenv("SLURM_ARRAY_TASK_ID", "2", 1);
+  setenv("SLURM_ARRAY_TASK_COUNT", "1", 1);
+  CHECK_THROWS_WITH(parse_shard("slurm"), Catch::Contains("ROGER_SHARDS"));
+  setenv("ROGER_SHARDS", "3", 1);
+  CHECK(parse_shard("slurm").index == 2);
+  CHECK(parse_shard("slurm").count == 3);
+  unsetenv("ROGER_SHARDS");
+  unsetenv("SLURM_ARRAY_TASK_ID");
+  unsetenv("SLURM_ARRAY_TASK_COUNT");
+}
+
+TEST_CASE("shards of one script run at once into one folder and report what one run reports", "[batch][shard]") {
+  const fs::path out = fresh_dir("shards");
+  const std::string run = std::string(ROGER_BINARY) + " run scripts/quick.lua --jobs 1 --out " + out.string();
+  // Three shards at once; shard 1 stops after its search-grasp trials, as if its node had died.
+  const std::string all = "(" + run + " --shard 0/3 >/dev/null 2>&1 & " + run + " --shard 1/3 --only SG >/dev/null 2>&1 & " +
+                          run + " --shard 2/3 >/dev/null 2>&1 & wait)";
+  REQUIRE(shell(all) == 0);
+  CHECK(fs::exists(out / "shards" / "0-of-3.json"));
+  CHECK_FALSE(fs::exists(out / "summary.csv"));  // shards write no shared file but the manifest
+  CHECK_FALSE(fs::exists(out / "tables.md"));
+
+  // The report names what is missing and who owns it, and writes nothing.
+  std::string err;
+  CHECK(shell(std::string(ROGER_BINARY) + " report " + out.string() + " >/dev/null", &err) == 1);
+  INFO(err);
+  CHECK(err.find("T/B2/001 (run T, context B2, trial 1; shard 1 of 3)") != std::string::npos);
+  CHECK(err.find("eval/generalization/spade/001") != std::string::npos);
+  CHECK(err.find("T/B2/000") == std::string::npos);
+  CHECK_FALSE(fs::exists(out / "tables.md"));
+  CHECK_FALSE(fs::exists(out / "summary.csv"));
+
+  // The shard resumes with its command; then the report equals an unsharded run's (kept in
+  // tests/golden/quick, made by one roger run of the same script).
+  REQUIRE(shell(run + " --shard 1/3 >/dev/null") == 0);
+  REQUIRE(shell(std::string(ROGER_BINARY) + " report " + out.string() + " >/dev/null", &err) == 0);
+  const int same = shell("bash tests/tools/compare_results.sh --golden tests/golden/quick " + out.string() + " 1>&2", &err);
+  INFO(err);
+  CHECK(same == 0);
+  fs::remove_all(out);
 }

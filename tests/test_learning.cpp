@@ -33,6 +33,8 @@ class Scripted final : public Controller {
     set_name(std::move(name));
   }
   const char* kind() const override { return "scripted"; }
+  // Gives the controller another script (between episodes).
+  void set_script(std::function<Gamma(uint64_t)> gamma) { gamma_ = std::move(gamma); }
 
  protected:
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override {
@@ -408,6 +410,76 @@ TEST_CASE("the semi-MDP decides only when the state changes", "[learning]") {
     CHECK(ep.decisions == changes);  // the first tick's decision plus one per change after it
     CHECK(ep.decision_states == states);
     CHECK(q.visited_states() == 0);  // learn = false touches nothing
+  }
+}
+
+// Decision hooks (what a curriculum's Lua functions become) that pay what the declarative rewards
+// pay: 0 at a decision, +100 absorbing, -100 at the time-out; optionally the absorbing state too,
+// read from the third controller of psi.
+class PayLikeTheTable final : public DecisionHooks {
+ public:
+  explicit PayLikeTheTable(bool absorbing) : absorbing_(absorbing) {}
+  bool has_absorbing() const override { return absorbing_; }
+  bool has_reward() const override { return true; }
+  bool absorbing(const std::vector<Gamma>& state, double) override {
+    ++absorbing_calls;
+    return state[2] == Gamma::kConv;
+  }
+  double reward(const std::vector<Gamma>&, int, const char* event, double) override {
+    ++reward_calls;
+    if (std::strcmp(event, "absorbing") == 0) return 100.0;
+    if (std::strcmp(event, "timeout") == 0) return -100.0;
+    return 0.0;
+  }
+  int absorbing_calls = 0, reward_calls = 0;
+
+ private:
+  bool absorbing_;
+};
+
+TEST_CASE("one loop: a stage paid by decision hooks learns what the declarative stage learns", "[learning]") {
+  // A and B change state now and then; the goal converges at tick 60 in even episodes and never in
+  // odd ones, so both ends (absorbing, time-out) are learned from.
+  auto a = std::make_shared<Scripted>("A", piecewise({0, 10, 40, 70}, {G(0), G(1), G(2), G(1)}));
+  auto b = std::make_shared<Scripted>("B", piecewise({0, 25, 55}, {G(1), G(2), G(1)}));
+  auto goal = std::make_shared<Scripted>("goal", [](uint64_t) { return Gamma::kNotConv; });
+  const std::vector<ControllerPtr> psi = {a, b, goal};
+  PredicatePtr absorbing = converged(goal);
+  LearningEpisodeOptions options;
+  options.time_limit = 2.0;  // 100 ticks
+  auto train = [&](DecisionHooks* hooks, Predicate* predicate, QTable& q) {
+    Agent agent;
+    Rng rng(9);
+    std::vector<TrainingEpisode> episodes;
+    for (int e = 0; e < 8; ++e) {
+      goal->set_script(e % 2 == 0 ? piecewise({0, 60}, {G(1), G(2)}) : piecewise({0}, {G(1)}));
+      SemiMdpDriver driver(psi, predicate, q, 0.5, rng, options, true, hooks);
+      run_episode(agent, open_world(false), uint64_t(e), driver, options.time_limit);
+      episodes.push_back(driver.episode());
+    }
+    return episodes;
+  };
+  QTable declared(controller_names(psi));
+  const std::vector<TrainingEpisode> plain = train(nullptr, absorbing.get(), declared);
+  for (bool hooked_absorbing : {false, true}) {
+    INFO("absorbing state from the hooks: " << hooked_absorbing);
+    PayLikeTheTable hooks(hooked_absorbing);
+    QTable scripted(controller_names(psi));
+    const std::vector<TrainingEpisode> paid = train(&hooks, hooked_absorbing ? nullptr : absorbing.get(), scripted);
+    CHECK(hooks.reward_calls > 8);
+    CHECK((hooks.absorbing_calls > 0) == hooked_absorbing);
+    for (size_t e = 0; e < plain.size(); ++e) {
+      CHECK(paid[e].success == (e % 2 == 0));
+      CHECK(paid[e].success == plain[e].success);
+      CHECK(paid[e].ticks == plain[e].ticks);
+      CHECK(paid[e].reward == plain[e].reward);
+      CHECK(paid[e].actions_taken == plain[e].actions_taken);
+    }
+    for (int s = 0; s < declared.states(); ++s)
+      for (int k = 0; k < declared.actions(); ++k) {
+        CHECK(scripted.value(s, k) == declared.value(s, k));
+        CHECK(scripted.visits(s, k) == declared.visits(s, k));
+      }
   }
 }
 

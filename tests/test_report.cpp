@@ -221,6 +221,23 @@ TEST_CASE("a tiny batch writes every file, with tables that match the trials, wh
   REQUIRE(f.run("cut", 2, 3) == 0);
   CHECK(finished_ids(f.root / "cut").size() == 3);
   CHECK(slurp(f.root / "cut/summary.csv").find(",pending,") != std::string::npos);
+  // roger report alone refuses a folder with trials still to run, naming them, and writes nothing;
+  // --partial reports what is there.
+  {
+    const std::string tables_before = slurp(f.root / "cut/tables.md");
+    fs::remove(f.root / "cut/tables.md");
+    ReportArgs cut;
+    cut.dir = (f.root / "cut").string();
+    std::ostringstream said;
+    cut.progress = &said;
+    CHECK(command_report(cut) == 1);
+    CHECK(said.str().find("have no result yet, so no report was written") != std::string::npos);
+    CHECK(said.str().find("--partial") != std::string::npos);
+    CHECK_FALSE(fs::exists(f.root / "cut/tables.md"));
+    cut.partial = true;
+    CHECK(command_report(cut) == 0);
+    CHECK(slurp(f.root / "cut/tables.md") == tables_before);
+  }
   std::string resumed;
   REQUIRE(f.run("cut", 2, 0, &resumed) == 0);
   CHECK(resumed.find("resuming") != std::string::npos);

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -68,13 +69,41 @@ struct PlannedTrial {
 
 // Every trial of a batch script, phase by phase, and the folder they go to.
 struct BatchPlan {
-  const BatchScript* script = nullptr;
+  std::shared_ptr<const BatchScript> script;
   std::string out;                                 // the results folder
   std::vector<std::vector<PlannedTrial>> phases;   // a phase waits for the phases before it
 };
 
-// Plans the trials of `script` into `out` (which must outlive the plan's use of `script`).
-BatchPlan plan_batch(const BatchScript& script, const std::string& out);
+// Plans the trials of `script` into `out`.
+BatchPlan plan_batch(std::shared_ptr<const BatchScript> script, const std::string& out);
+
+// The plan of the run that made the results folder `dir`, rebuilt from its manifest. Throws
+// roger::Error when `dir` holds no readable manifest.
+BatchPlan read_results_plan(const std::string& dir);
+
+// One slice of a plan's trials for one process of many (a machine of a cluster): trial i of every
+// run and context, and the evaluations of trial i's policies, belong to shard i mod count, so a
+// shard never needs a trial that another shard owns.
+struct Shard {
+  int index = 0;  // K, 0-based
+  int count = 0;  // N; 0 = not sharded (every trial)
+  bool active() const { return count > 0; }
+  bool owns(const PlannedTrial& t) const { return !active() || t.index % count == index; }
+};
+
+// Reads --shard: "K/N" with 0 <= K < N, or "slurm": K from SLURM_ARRAY_TASK_ID and N from
+// ROGER_SHARDS or else SLURM_ARRAY_TASK_COUNT. Throws roger::Error saying what is expected.
+Shard parse_shard(const std::string& text);
+
+// A planned trial that has no result yet (neither result.json nor error.json), and, when shards
+// ran in the folder, which shard owns it ("shard 2 of 3"; "" otherwise).
+struct MissingTrial {
+  const PlannedTrial* trial = nullptr;
+  std::string owner;
+};
+
+// The trials of the plan without a result in its folder, in plan order.
+std::vector<MissingTrial> missing_trials(const BatchPlan& plan);
 
 // Whether a trial is chosen by `only` ("RUN", "RUN/CONTEXT", "eval" or "eval/NAME"; empty: all).
 bool trial_selected(const PlannedTrial& trial, const std::vector<std::string>& only);
@@ -84,7 +113,8 @@ void check_selectors(const BatchPlan& plan, const std::vector<std::string>& only
 
 // Opens the results folder: writes its manifest (format, script, engine, configuration, trial
 // ids and seeds), or, when one exists, checks that it was made by this engine build and the same
-// configuration (else roger::Error saying what differs). Returns true when resuming.
+// configuration (else roger::Error saying what differs). Returns true when resuming. Shards that
+// open one folder at once take turns (a lock file), so the manifest is written exactly once.
 bool open_results_folder(const BatchPlan& plan);
 
 // How run_batch runs the plan.
@@ -94,6 +124,7 @@ struct RunControl {
   int max_trials = 0;               // > 0: stop after starting this many new trials
   std::vector<std::string> only;    // selectors (see trial_selected)
   std::ostream* log = nullptr;      // progress and messages (nullptr: none)
+  Shard shard;                      // only this shard's trials; a shard writes no summary.csv
 };
 
 // What a run of the plan left in its folder.
@@ -105,7 +136,8 @@ struct BatchSummary {
 };
 
 // Runs the selected trials of the plan that are not finished, phase by phase (trials that failed
-// before are tried again), then writes summary.csv from what is on disk.
+// before are tried again), then writes summary.csv from what is on disk; a shard instead records
+// its own outcome in <out>/shards/K-of-N.json, since other shards may still be running.
 BatchSummary run_batch(const BatchPlan& plan, const RunControl& control);
 
 // Writes <out>/summary.csv, one row per planned trial (pending ones included), and returns what it

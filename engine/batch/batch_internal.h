@@ -3,7 +3,7 @@
 
 #include <string>
 
-namespace roger {
+namespace roger::batch_detail {
 
 // The whole content of a file ("" when it cannot be read).
 std::string read_text(const std::string& path);
@@ -11,4 +11,4 @@ std::string read_text(const std::string& path);
 // The first line of a message.
 std::string first_line(const std::string& s);
 
-}  // namespace roger
+}  // namespace roger::batch_detail

@@ -1,5 +1,13 @@
 // plan.cpp: the plan of a batch script (its trials, phase by phase), the selectors of --only, and
 // the results folder's manifest and summary.csv.
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -17,6 +25,7 @@
 namespace roger {
 
 namespace fs = std::filesystem;
+using namespace batch_detail;
 using json = nlohmann::json;
 
 namespace {
@@ -136,7 +145,58 @@ void check_manifest(const BatchPlan& plan, const fs::path& manifest_path, const 
   }
 }
 
+
+// An exclusive lock on a results folder (flock on <out>/.lock), held while it lives: shards that
+// start together open the folder one at a time.
+class FolderLock {
+ public:
+  explicit FolderLock(const std::string& out) {
+    std::error_code ec;
+    fs::create_directories(out, ec);
+    if (ec) throw Error("cannot create the results folder '" + out + "': " + ec.message());
+    const std::string path = (fs::path(out) / ".lock").string();
+    fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+    if (fd_ < 0) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+    while (::flock(fd_, LOCK_EX) != 0)
+      if (errno != EINTR) {
+        const int err = errno;
+        ::close(fd_);
+        throw Error("cannot lock '" + path + "': " + std::strerror(err));
+      }
+  }
+  ~FolderLock() { ::close(fd_); }  // closing releases the lock
+  FolderLock(const FolderLock&) = delete;
+  FolderLock& operator=(const FolderLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
+// A non-negative integer from an environment variable, or -1 when unset; throws when malformed.
+long env_count(const char* name) {
+  const char* v = std::getenv(name);
+  if (!v) return -1;
+  char* end = nullptr;
+  errno = 0;
+  const long n = std::strtol(v, &end, 10);
+  if (errno || end == v || *end || n < 0) throw Error(std::string("--shard slurm: ") + name + "='" + v + "' is not a count");
+  return n;
+}
+
+// The shard count recorded by the shards that ran in a folder (<out>/shards/K-of-N.json), or 0.
+int recorded_shard_count(const std::string& out) {
+  std::error_code ec;
+  int count = 0;
+  for (const auto& e : fs::directory_iterator(fs::path(out) / "shards", ec)) {
+    int k = 0, n = 0;
+    if (std::sscanf(e.path().filename().string().c_str(), "%d-of-%d.json", &k, &n) == 2 && n > count) count = n;
+  }
+  return count;
+}
+
 }  // namespace
+
+namespace batch_detail {
 
 std::string read_text(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -150,9 +210,70 @@ std::string first_line(const std::string& s) {
   return nl == std::string::npos ? s : s.substr(0, nl);
 }
 
-BatchPlan plan_batch(const BatchScript& b, const std::string& out) {
+}  // namespace batch_detail
+
+BatchPlan read_results_plan(const std::string& dir) {
+  const fs::path manifest_path = fs::path(dir) / "manifest.json";
+  std::error_code ec;
+  if (!fs::is_regular_file(manifest_path, ec))
+    throw Error("'" + dir + "' is not a results folder of roger run: it has no manifest.json");
+  json manifest;
+  try {
+    manifest = json::parse(read_text(manifest_path.string()));
+  } catch (const std::exception& e) {
+    throw Error(manifest_path.string() + ": not JSON: " + e.what());
+  }
+  auto script = std::make_shared<BatchScript>(batch_config_from_json(manifest.value("config", json::object())));
+  script->path = manifest.value("script", std::string("?"));
+  return plan_batch(std::move(script), dir);
+}
+
+Shard parse_shard(const std::string& text) {
+  Shard s;
+  if (text == "slurm") {
+    const long id = env_count("SLURM_ARRAY_TASK_ID");
+    long count = env_count("ROGER_SHARDS");
+    if (count < 0) count = env_count("SLURM_ARRAY_TASK_COUNT");
+    if (id < 0 || count < 0)
+      throw Error("--shard slurm: SLURM_ARRAY_TASK_ID and SLURM_ARRAY_TASK_COUNT are not set: run it inside a "
+                  "Slurm job array (sbatch --array=0-(N-1)), or give --shard K/N");
+    if (count < 1 || id >= count)
+      throw Error("--shard slurm: array task " + std::to_string(id) + " is not below the shard count " +
+                  std::to_string(count) + "; submit the array as --array=0-" + std::to_string(count - 1) +
+                  ", or set ROGER_SHARDS=N when resubmitting single tasks of an N-shard run");
+    s.index = int(id);
+    s.count = int(count);
+    return s;
+  }
+  int k = -1, n = -1;
+  char rest = 0;
+  if (std::sscanf(text.c_str(), "%d/%d%c", &k, &n, &rest) != 2 || n < 1 || k < 0 || k >= n)
+    throw Error("--shard '" + text + "': expected K/N with 0 <= K < N (e.g. 0/4), or slurm");
+  s.index = k;
+  s.count = n;
+  return s;
+}
+
+std::vector<MissingTrial> missing_trials(const BatchPlan& plan) {
+  const int shards = recorded_shard_count(plan.out);
+  std::vector<MissingTrial> out;
+  std::error_code ec;
+  for (const auto& p : plan.phases)
+    for (const auto& t : p) {
+      const fs::path d = trial_dir(plan.out, t.id);
+      if (fs::exists(d / "result.json", ec) || fs::exists(d / "error.json", ec)) continue;
+      MissingTrial m;
+      m.trial = &t;
+      if (shards > 0) m.owner = "shard " + std::to_string(t.index % shards) + " of " + std::to_string(shards);
+      out.push_back(m);
+    }
+  return out;
+}
+
+BatchPlan plan_batch(std::shared_ptr<const BatchScript> script, const std::string& out) {
+  const BatchScript& b = *script;
   BatchPlan plan;
-  plan.script = &b;
+  plan.script = std::move(script);
   plan.out = out;
   // A phase waits for the phases of the runs it depends on (ordered_runs puts them first).
   for (const BatchRun* r : b.ordered_runs()) plan.phases.push_back(plan_run(b, r));
@@ -186,6 +307,7 @@ void check_selectors(const BatchPlan& plan, const std::vector<std::string>& only
 
 bool open_results_folder(const BatchPlan& plan) {
   const BatchScript& b = *plan.script;
+  const FolderLock lock(plan.out);
   json config = batch_config_json(b);
   config["sources"] = source_fingerprints(b.curriculum_file);
   json ids = json::array(), seeds = json::object();

@@ -25,6 +25,7 @@
 namespace roger {
 
 namespace fs = std::filesystem;
+using namespace batch_detail;
 using Clock = std::chrono::steady_clock;
 
 namespace {
@@ -323,7 +324,7 @@ std::vector<std::string> phase_ids(const BatchPlan& plan, const std::vector<Plan
   std::vector<std::string> ids;
   std::error_code ec;
   for (const auto& t : phase) {
-    if (!trial_selected(t, control.only)) continue;
+    if (!control.shard.owns(t) || !trial_selected(t, control.only)) continue;
     const fs::path dir = trial_dir(plan.out, t.id);
     if (fs::exists(dir / "error.json", ec) && !fs::exists(dir / "result.json", ec)) fs::remove(dir / "error.json", ec);
     const bool finished = fs::exists(dir / "result.json", ec) || fs::exists(dir / "error.json", ec);
@@ -335,6 +336,39 @@ std::vector<std::string> phase_ids(const BatchPlan& plan, const std::vector<Plan
     names.insert(t.run ? t.run->name : "eval/" + t.evaluation->name);
   }
   return ids;
+}
+
+// A shard's own outcome, in <out>/shards/K-of-N.json (no other shard writes that file): the
+// trials it owns, which failed and how many it has not run yet.
+BatchSummary record_shard(const BatchPlan& plan, const Shard& shard) {
+  BatchSummary s;
+  nlohmann::json failed = nlohmann::json::array();
+  std::error_code ec;
+  for (const auto& p : plan.phases)
+    for (const auto& t : p) {
+      if (!shard.owns(t)) continue;
+      ++s.trials;
+      const fs::path d = trial_dir(plan.out, t.id);
+      if (fs::exists(d / "result.json", ec)) continue;
+      if (!fs::exists(d / "error.json", ec)) {
+        ++s.pending;
+        continue;
+      }
+      std::string msg;
+      try {
+        msg = nlohmann::json::parse(read_text((d / "error.json").string())).value("error", std::string());
+      } catch (const std::exception& e) {
+        msg = std::string("unreadable error: ") + e.what();
+      }
+      s.failed.push_back(t.id + ": " + first_line(msg));
+      failed.push_back(t.id);
+    }
+  const std::string name = std::to_string(shard.index) + "-of-" + std::to_string(shard.count) + ".json";
+  const nlohmann::json record = {{"shard", shard.index}, {"shards", shard.count}, {"trials", s.trials},
+                                 {"failed", failed},     {"pending", s.pending}};
+  write_file_atomic((fs::path(plan.out) / "shards" / name).string(), record.dump(1) + "\n",
+                    "roger run: cannot write the shard's record");
+  return s;
 }
 
 }  // namespace
@@ -367,7 +401,7 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
     run_trials(ids, trial, bo);
   }
   const double wall = std::chrono::duration<double>(Clock::now() - start).count();
-  BatchSummary summary = write_summary_csv(plan);
+  BatchSummary summary = control.shard.active() ? record_shard(plan, control.shard) : write_summary_csv(plan);
   summary.wall_s = wall;
   return summary;
 }

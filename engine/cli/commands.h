@@ -22,12 +22,14 @@ struct RunArgs {
   bool live = false;                // redraw one live progress line (a terminal) instead of plain lines
   bool no_report = false;           // skip the report at the end
   int max_trials = 0;               // > 0: stop after starting this many new trials (tests, partial runs)
+  std::string shard;                // "K/N" or "slurm": only that shard's trials, and no report ("" = all)
   std::ostream* progress = nullptr; // where progress and messages go (nullptr = standard error)
 };
 
 // The arguments of `roger report DIR`.
 struct ReportArgs {
   std::string dir;                  // a results folder written by roger run
+  bool partial = false;             // report what is there even when trials have no result yet
   std::ostream* progress = nullptr; // where messages go (nullptr = standard error)
 };
 
@@ -35,7 +37,9 @@ struct ReportArgs {
 // 0 when every trial succeeded, 1 when some failed (listed) or the input is bad (message printed).
 int command_run(const RunArgs& args);
 
-// Writes tables.md and the figures of a results folder. Returns 0, or 1 with a message.
+// Writes summary.csv, tables.md and the figures of a results folder. Returns 0; or 1 with a message,
+// writing nothing, when the folder is unreadable or (without `partial`) some trials have no
+// result yet: those are listed, each with the shard that owns it.
 int command_report(const ReportArgs& args);
 
 // The arguments of `roger render SCENARIO.lua --seed N --out FILE` (or a skill script's --policy episode).

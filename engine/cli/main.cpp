@@ -80,12 +80,16 @@ CLI::App* add_run(CLI::App& app, RunArgs& a) {
   c->add_option("--only", a.only, "Only this run, RUN/CONTEXT, or eval/NAME (repeatable)");
   c->add_flag("--live", a.live, "A live progress bar (default on a terminal)");
   c->add_flag("--no-report", a.no_report, "Skip the report at the end");
+  c->add_option("--shard", a.shard,
+                "Run only shard K/N (0-based) of the trials, or 'slurm' inside a Slurm job array; "
+                "shards share one results folder, and roger report writes the report when all are done");
   return c;
 }
 
 CLI::App* add_report(CLI::App& app, ReportArgs& a) {
   auto* c = app.add_subcommand("report", "Write tables and figures from a results folder");
   c->add_option("dir", a.dir, "Results folder")->required();
+  c->add_flag("--partial", a.partial, "Report even when some trials have no result yet (marked pending)");
   return c;
 }
 

@@ -1,6 +1,9 @@
 // run.cpp: `roger run` (a batch script: plan, run every trial resumably, then the report) and
 // `roger report` (tables and figures from a results folder). docs/batch.md describes both.
+#include <filesystem>
 #include <iostream>
+#include <memory>
+#include <vector>
 #include <string>
 
 #include "batch/batch.h"
@@ -39,22 +42,44 @@ int print_outcome(const BatchSummary& s, std::ostream& log) {
   return 1;
 }
 
+// Lists the trials a report still needs; returns 1.
+int print_missing(const std::vector<MissingTrial>& missing, const BatchPlan& plan, std::ostream& log) {
+  log << "roger report: " << missing.size() << " trial" << (missing.size() == 1 ? "" : "s") << " of " << plan.out
+      << " have no result yet, so no report was written:\n";
+  for (const auto& m : missing) {
+    const PlannedTrial& t = *m.trial;
+    log << "  " << t.id << " (";
+    if (t.run) log << "run " << t.run->name << ", context " << t.context;
+    else log << "evaluation " << t.evaluation->name << (t.shape.empty() ? "" : ", shape " + t.shape);
+    log << ", trial " << t.index << (m.owner.empty() ? "" : "; " + m.owner) << ")\n";
+  }
+  log << "Run the same roger run command again (with the same --shard for a shard) to finish them, or\n"
+         "roger report --partial " << plan.out << " to report what is there, marked as pending.\n";
+  return 1;
+}
+
 }  // namespace
 
 int command_run(const RunArgs& a) {
   std::ostream& log = a.progress ? *a.progress : std::cerr;
   try {
-    const BatchScript b = load_batch_script(a.script, overrides_of(a));
-    const BatchPlan plan = plan_batch(b, a.out.empty() ? "results/" + b.name : a.out);
+    const Shard shard = a.shard.empty() ? Shard() : parse_shard(a.shard);
+    auto script = std::make_shared<const BatchScript>(load_batch_script(a.script, overrides_of(a)));
+    const BatchScript& b = *script;
+    const BatchPlan plan = plan_batch(script, a.out.empty() ? "results/" + b.name : a.out);
     check_selectors(plan, a.only);
     if (open_results_folder(plan)) log << "roger run: resuming " << plan.out << "\n";
     size_t trials = 0;
     for (const auto& p : plan.phases) trials += p.size();
     log << "roger run: " << b.path << " -> " << plan.out << " (" << trials << " trials, curriculum "
         << b.curriculum << ")\n";
-    const BatchSummary summary = run_batch(plan, RunControl{a.jobs, a.live, a.max_trials, a.only, &log});
+    if (shard.active())
+      log << "roger run: shard " << shard.index << " of " << shard.count << ": trials " << shard.index << ", "
+          << shard.index + shard.count << ", ... of every run; no report (run roger report " << plan.out
+          << " when every shard is done)\n";
+    const BatchSummary summary = run_batch(plan, RunControl{a.jobs, a.live, a.max_trials, a.only, &log, shard});
     int status = 0;
-    if (!a.no_report) {
+    if (!a.no_report && !shard.active()) {
       try {
         for (const auto& f : write_report(plan.out)) log << "roger run: wrote " << f << "\n";
       } catch (const std::exception& e) {
@@ -72,7 +97,13 @@ int command_run(const RunArgs& a) {
 int command_report(const ReportArgs& a) {
   std::ostream& log = a.progress ? *a.progress : std::cerr;
   try {
+    const BatchPlan plan = read_results_plan(a.dir);
+    const std::vector<MissingTrial> missing = missing_trials(plan);
+    if (!missing.empty() && !a.partial) return print_missing(missing, plan, log);
+    const BatchSummary summary = write_summary_csv(plan);
+    log << "roger report: wrote " << (std::filesystem::path(plan.out) / "summary.csv").string() << "\n";
     for (const auto& f : write_report(a.dir)) log << "roger report: wrote " << f << "\n";
+    if (summary.pending) log << "roger report: " << summary.pending << " trials have no result yet (marked pending)\n";
     return 0;
   } catch (const std::exception& e) {
     log << "roger report: " << e.what() << "\n";

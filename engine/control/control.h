@@ -1,3 +1,7 @@
+// Module control: the control basis. Owns controllers and their states, subject-to composition,
+// primitives phi0-phi5, predicates, the harmonic planner and the agent's tick. Depends on sim and
+// below; knows nothing of learning, Lua or files.
+//
 // control.h: the control basis. A controller phi|sigma,tau descends a potential phi over sensory
 // features sigma through effectors tau (a subset of the 8 degrees of freedom) and reports its state
 // gamma by the paper's Equation 1. Controllers compose by nullspace projection ("subject-to"), and

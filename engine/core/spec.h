@@ -1,3 +1,6 @@
+// Module core: the vocabulary every layer speaks (world specs, Roger's dimensions, shapes, seeds,
+// errors, atomic files). Owns plain data and small utilities. Depends on nothing of the engine.
+//
 // spec.h: the immutable description of one world, produced by a scenario script for one seed.
 // A WorldSpec is plain data: the engine compiles it into Box2D bodies at episode reset and never
 // changes it during an episode (MuJoCo's model/data split: this is the model).

@@ -1,3 +1,5 @@
+// learning.cpp: the exploration schedule, the options of a learning episode, and a stage's
+// semi-MDP as the driver of the one episode loop (episode.h).
 #include "learn/learning.h"
 
 #include <cmath>

@@ -1,3 +1,7 @@
+// Module learn: learning over controller states. Owns the Q-table and policy files, the semi-MDP
+// driver, learned skills and the one episode loop (episode.h). Depends on control and below;
+// must not depend on Lua (script), batch or report: scripts reach it through DecisionHooks.
+//
 // learning.h: learning a stage of a developmental curriculum (the paper's Sections II.B and III).
 // A stage is an MDP whose state is the vector of gamma values of its actions Psi (3^|Psi| states);
 // Q-learning with epsilon-greedy exploration (falling linearly from 100% to 5% over the training

@@ -1,3 +1,6 @@
+// Module report: what a results folder says. Owns statistics, tables.md, report.json and the
+// figures. Depends on batch and below (it reads results folders); must not depend on view or cli.
+//
 // report.h: the report of a results folder written by `roger run` (commands.h): tables.md (the
 // paper's Tables I-III with medians, interquartile means and their bootstrap intervals, the
 // fraction of trials that reached the threshold, Mann-Whitney U p-values and probabilities of

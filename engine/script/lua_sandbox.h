@@ -1,3 +1,7 @@
+// Module script: everything Lua. Owns the sandbox and every binding: scenarios, skill scripts,
+// curricula, batch scripts. Lua lives only here. Depends on learn and below; must not depend on
+// batch, report, view or cli.
+//
 // lua_sandbox.h: a Lua 5.4 state that is safe to hand to a researcher's script.
 //
 // Scenario, curriculum and batch scripts are user input, so the state they run in:

@@ -1,3 +1,6 @@
+// Module senses: Roger's sensor models, pure geometry with no physics engine. Owns eye images,
+// sightings, stereo and touch records. Depends only on core (the simulator feeds it, not the reverse).
+//
 // senses.h: what Roger perceives at a control tick: two 1-D colour images, the stimulus seen in
 // each, its stereo position, touch on the body and hands, joint angles and the base pose.
 #pragma once

@@ -1,3 +1,6 @@
+// Module sim: the physical world of one episode. Owns the Box2D world (Box2D lives only here), the
+// servos, touch accumulation and the occupancy grid. Depends only on senses and core.
+//
 // world.h: one episode of Roger in a world: Box2D bodies, servos, and senses.
 // A World is reset from an immutable WorldSpec (a fresh b2World each time) and then stepped.
 #pragma once

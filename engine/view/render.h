@@ -1,3 +1,6 @@
+// Module view: what a person looks at. Owns world pictures, episode animations and the replay
+// page. Depends on learn and below; must not depend on script, batch, report or cli.
+//
 // render.h: pictures of one moment of a world (PNG or SVG) for researchers debugging controllers.
 // A picture shows the arena with a metric scale, goals, obstacles, objects, Roger (base, arms,
 // hands, eyes and their fields of view), the stereo fix, contact forces, and both eyes' 1-D images

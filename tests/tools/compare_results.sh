@@ -1,11 +1,15 @@
 #!/usr/bin/env bash
-# compare_results.sh A B: compares two results folders of `roger run` for identical results.
-# tables.md, report.json and every CSV (summary.csv, each trial's curve.csv) must be byte for byte
-# the same, except the columns of wall-clock time (named wall_s or *_wall_s), which measure the
-# machine, not the engine. Prints each difference; exits 0 when there is none, 1 otherwise.
+# compare_results.sh [--golden] A B: compares two results folders of `roger run` for identical
+# results. tables.md, report.json and every CSV (summary.csv, each trial's curve.csv) must be byte
+# for byte the same, except the columns of wall-clock time (named wall_s or *_wall_s), which
+# measure the machine, not the engine. With --golden, A is a folder of kept files (e.g.
+# tests/golden/quick) and only the files it holds are compared. Prints each difference; exits 0
+# when there is none, 1 otherwise.
 set -euo pipefail
+golden=0
+if [ "${1:-}" = "--golden" ]; then golden=1; shift; fi
 if [ $# -ne 2 ] || [ ! -d "$1" ] || [ ! -d "$2" ]; then
-  echo "usage: $0 RESULTS_A RESULTS_B (two folders written by roger run)" >&2
+  echo "usage: $0 [--golden] RESULTS_A RESULTS_B (two folders written by roger run)" >&2
   exit 2
 fi
 a=$1 b=$2 status=0
@@ -19,7 +23,11 @@ strip_wall() {
 for f in tables.md report.json; do
   if ! cmp -s "$a/$f" "$b/$f"; then echo "differs: $f"; status=1; fi
 done
-files=$( (cd "$a" && find . -name '*.csv'; cd "$b" && find . -name '*.csv') | sort -u)
+if [ $golden -eq 1 ]; then
+  files=$(cd "$a" && find . -name '*.csv' | sort)
+else
+  files=$( (cd "$a" && find . -name '*.csv'; cd "$b" && find . -name '*.csv') | sort -u)
+fi
 count=0
 for f in $files; do
   count=$((count + 1))
