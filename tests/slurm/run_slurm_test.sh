@@ -6,8 +6,10 @@
 # As root: a temporary folder holds everything (config, munge key, daemons' state, logs, pid
 # files, results); munged, slurmctld and slurmd run on it, on their own socket and ports, beside
 # whatever Slurm or munge the machine may run. Then submit.sh submits quick.lua as an array of 3
-# shards and its report; once both are done, the report is compared with `roger run` unsharded
-# (tests/tools/compare_results.sh). On exit, whatever happened, the jobs are cancelled, the
+# shards and its report; once both are done, the results are compared with `roger run` unsharded
+# (tests/tools/compare_results.sh). Then one trial of shard 1 is deleted: `roger report` must fail
+# naming it and its shard, and `submit.sh ... --array=1` must redo that trial alone and give the
+# same results again. submit.sh's refusals (a bad N, no sbatch) are checked first. On exit, whatever happened, the jobs are cancelled, the
 # daemons it started are stopped by their PIDs and the folder is removed.
 #
 # Exit status: 0 passed, 77 skipped (not root, or Slurm/munge not installed: `.ci/install`
@@ -208,60 +210,71 @@ done
 [ "$state" = idle ] || fail "node $host not idle after 60 s (sinfo says '${state:-nothing}')"
 log "sinfo: node $host is idle"
 
-# --- the sharded run -----------------------------------------------------------------------------
+# --- submitting, waiting, checking ----------------------------------------------------------------
 
 sharded=$tmp/sharded
 cd "$src"
-start=$SECONDS
-submitted=$(ROGER_BIN=$roger ROGER_OUT=$sharded bash "$submit" scripts/quick.lua 3) ||
-  fail "submit.sh failed: $submitted"
-echo "$submitted"
-array_id=$(awk '$1 == "array" { print $2 }' <<< "$submitted")
-report_id=$(awk '$1 == "report" { print $2 }' <<< "$submitted")
-[[ $array_id =~ ^[0-9]+$ && $report_id =~ ^[0-9]+$ ]] || fail "submit.sh printed no job ids: $submitted"
-[ "$(wc -l <<< "$submitted")" -eq 2 ] || fail "submit.sh printed more than the two job ids: $submitted"
-jobs_ids=("$array_id" "$report_id")
 
 # The state of a job (or of every task of an array), from scontrol (no accounting here).
 job_states() { scontrol -o show job "$1" | grep -o 'JobState=[A-Z_]*' | cut -d= -f2 | sort | uniq -c | xargs; }
 job_field() { scontrol -o show job "$1" | grep -oE "(^| )$2=[^ ]*" | cut -d= -f2-; }
 
-deadline=$((SECONDS + 600))
-while :; do
-  queued=$(squeue -h -j "$array_id,$report_id" -o '%i %T %r' 2>&1) || fail "squeue failed: $queued"
-  [ -z "$queued" ] && break
-  # A report held by a failed task would wait forever; submit.sh asks Slurm to cancel it.
-  grep -q DependencyNeverSatisfied <<< "$queued" && fail "the report waits for an array that failed: $queued"
-  [ $SECONDS -lt $deadline ] || fail "the jobs did not finish in 600 s: $queued"
-  sleep 5
-done
-log "both jobs left the queue after $((SECONDS - start)) s"
+# submit_and_check TASKS [sbatch options...]: submits quick.lua as 3 shards with submit.sh, waits
+# (600 s at most) until the array and the report have left the queue, and checks that the array's
+# TASKS (task numbers) and the report completed with exit code 0 and wrote their output files.
+submit_and_check() {
+  local tasks=$1 submitted array_id report_id queued states code k report_out start=$SECONDS deadline
+  shift
+  submitted=$(ROGER_BIN=$roger ROGER_OUT=$sharded bash "$submit" scripts/quick.lua 3 "$@") ||
+    fail "submit.sh failed: $submitted"
+  echo "$submitted"
+  array_id=$(awk '$1 == "array" { print $2 }' <<< "$submitted")
+  report_id=$(awk '$1 == "report" { print $2 }' <<< "$submitted")
+  [[ $array_id =~ ^[0-9]+$ && $report_id =~ ^[0-9]+$ ]] || fail "submit.sh printed no job ids: $submitted"
+  [ "$(wc -l <<< "$submitted")" -eq 2 ] || fail "submit.sh printed more than the two job ids: $submitted"
+  jobs_ids+=("$array_id" "$report_id")
 
-array_states=$(job_states "$array_id")
-log "array $array_id: $array_states"
-[ "$array_states" = "3 COMPLETED" ] || fail "not every task of the array completed: $array_states"
-for code in $(job_field "$array_id" ExitCode); do
-  [ "$code" = 0:0 ] || fail "a task of the array exited with $code"
-done
-report_state=$(job_field "$report_id" JobState)
-report_code=$(job_field "$report_id" ExitCode)
-log "report $report_id: $report_state, exit code $report_code"
-[ "$report_state" = COMPLETED ] && [ "$report_code" = 0:0 ] || fail "the report job did not succeed"
+  deadline=$((SECONDS + 600))
+  while :; do
+    queued=$(squeue -h -j "$array_id,$report_id" -o '%i %T %r' 2>&1) || fail "squeue failed: $queued"
+    [ -z "$queued" ] && break
+    # A report held by a failed task would wait forever; submit.sh asks Slurm to cancel it.
+    grep -q DependencyNeverSatisfied <<< "$queued" && fail "the report waits for an array that failed: $queued"
+    [ $SECONDS -lt $deadline ] || fail "the jobs did not finish in 600 s: $queued"
+    sleep 2
+  done
+  log "both jobs left the queue after $((SECONDS - start)) s"
 
-# What the jobs wrote: one output file per task and the report's, the report itself.
-for k in 0 1 2; do
-  [ -f "$sharded/slurm/shard-$k-$array_id.out" ] || fail "no output of task $k"
-done
-report_out=$sharded/slurm/report-$report_id.out
-[ -f "$report_out" ] || fail "no output of the report job"
-if grep -qiE 'error|missing' "$report_out"; then fail "the report job's output mentions an error"; fi
-for f in tables.md summary.csv report.json manifest.json; do
-  [ -s "$sharded/$f" ] || fail "the sharded folder has no $f"
-done
-log "tables.md, summary.csv, report.json written; the report job's output:"
-sed 's/^/  | /' "$report_out"
+  states=$(job_states "$array_id")
+  log "array $array_id: $states"
+  [ "$states" = "$(wc -w <<< "$tasks") COMPLETED" ] || fail "not every task of the array completed: $states"
+  for code in $(job_field "$array_id" ExitCode); do
+    [ "$code" = 0:0 ] || fail "a task of the array exited with $code"
+  done
+  states=$(job_field "$report_id" JobState)
+  code=$(job_field "$report_id" ExitCode)
+  log "report $report_id: $states, exit code $code"
+  [ "$states" = COMPLETED ] && [ "$code" = 0:0 ] || fail "the report job did not succeed"
 
-# --- the same script unsharded, and the comparison --------------------------------------------------
+  for k in $tasks; do
+    [ -f "$sharded/slurm/shard-$k-$array_id.out" ] || fail "no output of task $k"
+    log "task $k's output:"
+    sed 's/^/  | /' "$sharded/slurm/shard-$k-$array_id.out"
+  done
+  report_out=$sharded/slurm/report-$report_id.out
+  [ -f "$report_out" ] || fail "no output of the report job"
+  log "the report job's output:"
+  sed 's/^/  | /' "$report_out"
+  if grep -qiE 'error|missing' "$report_out"; then fail "the report job's output mentions an error"; fi
+  for f in tables.md summary.csv report.json manifest.json; do
+    [ -s "$sharded/$f" ] || fail "the sharded folder has no $f"
+  done
+}
+
+# --- the sharded run, and the same script unsharded -------------------------------------------------
+
+log "quick.lua as 3 shards (trials 0 and 1: shard 2 has nothing to do) and its report"
+submit_and_check "0 1 2"
 
 log "roger run scripts/quick.lua unsharded, for comparison"
 start=$SECONDS
@@ -269,4 +282,24 @@ start=$SECONDS
   { cat "$tmp/log/plain.out"; fail "the unsharded run failed"; }
 log "unsharded run took $((SECONDS - start)) s"
 bash "$src/tests/tools/compare_results.sh" "$tmp/plain" "$sharded" || fail "the sharded results differ from the unsharded"
+
+# --- a lost trial: the report names it and its shard; resubmitting that shard redoes only it ------
+
+victim=eval/generalization/circle/001
+[ -f "$sharded/trials/$victim/result.json" ] || fail "no trial $victim in the sharded folder"
+rm -rf "${sharded:?}/trials/$victim"
+if out=$("$roger" report "$sharded" 2>&1); then fail "roger report succeeded with $victim missing: $out"; fi
+grep -q "$victim" <<< "$out" && grep -q "shard 1 of 3" <<< "$out" ||
+  fail "roger report did not name $victim and shard 1 of 3: $out"
+log "with $victim removed, roger report fails:"
+sed 's/^/  | /' <<< "$out"
+
+touch "$tmp/before-resume"
+sleep 1
+log "shard 1 again (submit.sh ... 3 --array=1) and a new report"
+submit_and_check 1 --array=1
+redone=$(cd "$sharded/trials" && find . -name result.json -newer "$tmp/before-resume" | sort | xargs)
+[ "$redone" = "./$victim/result.json" ] || fail "shard 1 redid '${redone:-nothing}', not just $victim"
+log "shard 1 redid $victim and nothing else"
+bash "$src/tests/tools/compare_results.sh" "$tmp/plain" "$sharded" || fail "the resumed results differ from the unsharded"
 log "PASSED"
