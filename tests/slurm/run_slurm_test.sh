@@ -273,8 +273,17 @@ submit_and_check() {
 
 # --- the sharded run, and the same script unsharded -------------------------------------------------
 
-log "quick.lua as 3 shards (trials 0 and 1: shard 2 has nothing to do) and its report"
-submit_and_check "0 1 2"
+log "quick.lua as 3 shards of 2 CPUs each (trials 0 and 1: shard 2 has nothing to do) and its report"
+submit_and_check "0 1 2" --cpus-per-task=2
+# The sbatch option reached both jobs, and each task runs as many trials at once as it has CPUs.
+for id in "${jobs_ids[@]}"; do
+  for cpus in $(job_field "$id" NumCPUs); do
+    [ "$cpus" = 2 ] || fail "job $id has $cpus CPUs, not the 2 of --cpus-per-task=2"
+  done
+done
+for k in 0 1 2; do
+  grep -q -- "--jobs 2 " "$sharded/slurm/shard-$k-${jobs_ids[0]}.out" || fail "task $k did not run roger with --jobs 2"
+done
 
 log "roger run scripts/quick.lua unsharded, for comparison"
 start=$SECONDS
