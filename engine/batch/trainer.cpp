@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 #include <unistd.h>
@@ -97,8 +98,36 @@ Scenario make_scenario(const CurriculumStage& stage, const std::string& name,
   return s;
 }
 
-// A greedy evaluation on held-out seeds first_seed, first_seed + 1, ...
-GreedyEval greedy_eval(StageRun& run, QTable& q, uint64_t first_seed, int episodes) {
+// The greedy evaluation episodes of one trial, by world seed, as they last ran. A greedy episode
+// is a function of its world seed and of the actions chosen at its decisions: every episode
+// starts afresh (a world rebuilt from the spec, every controller of Psi and the absorbing
+// predicate reset, phi1's planner without its last solution), epsilon 0 draws no random numbers,
+// and the learned skills inside Psi cannot change, since each is a snapshot of its table taken
+// when it was bound (make_policy_skill). Its decisions are q.policy_action(s) at the states it
+// meets. So when policy_action(s) is still the action recorded at each of its decision states, the
+// episode would run again exactly as recorded: the first decision meets the same state and takes
+// the same action, hence the same run to the second decision, and so on. Lua reward or absorbing
+// functions could keep state between calls, so a stage with them gets no cache.
+struct EvalCache {
+  std::map<uint64_t, TrainingEpisode> by_seed;
+  int reused = 0;  // episodes taken from the cache
+
+  // Whether the recorded episode would run again the same with table q.
+  static bool still_valid(const TrainingEpisode& ep, const QTable& q) {
+    for (size_t k = 0; k < ep.decision_states.size(); ++k)
+      if (q.policy_action(ep.decision_states[k]) != ep.actions_taken[k]) return false;
+    return true;
+  }
+  // The episode of `seed` as it last ran, if it would run again the same with table q; else null.
+  const TrainingEpisode* reusable(uint64_t seed, const QTable& q) const {
+    const auto it = by_seed.find(seed);
+    return it != by_seed.end() && still_valid(it->second, q) ? &it->second : nullptr;
+  }
+};
+
+// A greedy evaluation on held-out seeds first_seed, first_seed + 1, ...; with a cache, reusing the
+// episodes that would run again exactly as they last did.
+GreedyEval greedy_eval(StageRun& run, QTable& q, uint64_t first_seed, int episodes, EvalCache* cache = nullptr) {
   GreedyEval g;
   g.episodes = episodes;
   g.first_seed = first_seed;
@@ -107,7 +136,11 @@ GreedyEval greedy_eval(StageRun& run, QTable& q, uint64_t first_seed, int episod
   std::vector<int64_t> counts(size_t(q.actions()), 0);
   double time = 0.0;
   for (int i = 0; i < episodes; ++i) {
-    const TrainingEpisode ep = run.run(q, first_seed + uint64_t(i), 0.0, unused, false);
+    const uint64_t seed = first_seed + uint64_t(i);
+    const TrainingEpisode* kept = cache ? cache->reusable(seed, q) : nullptr;
+    const TrainingEpisode ep = kept ? *kept : run.run(q, seed, 0.0, unused, false);
+    if (kept) ++cache->reused;
+    else if (cache) cache->by_seed[seed] = ep;
     g.successes += ep.success;
     rewards.push_back(ep.reward);
     time += ep.sim_seconds;
@@ -216,6 +249,19 @@ TrainResult train_stage(const TrainOptions& options) {
   const ExplorationSchedule schedule = ExplorationSchedule::episodes(stage.learner, budget);
   Rng rng(Rng::mix(options.seed, 0x65787031ull));  // exploration stream, apart from world seeds
 
+  EvalCache eval_cache;
+  EvalCache* cache = options.eval_cache && !stage.absorbing_lua && !stage.reward_lua ? &eval_cache : nullptr;
+  // One greedy evaluation, counted (every episode reused, or not).
+  auto evaluate = [&](int episodes) {
+    const int reused_before = eval_cache.reused;
+    GreedyEval g = greedy_eval(run, q, cp.seeds, episodes, cache);
+    ++res.evals;
+    res.eval_episodes += episodes;
+    res.eval_episodes_reused += eval_cache.reused - reused_before;
+    res.evals_reused += cache && episodes > 0 && eval_cache.reused - reused_before == episodes;
+    return g;
+  };
+
   TrainPoint spent;
   double train_wall = 0.0;
   int passing = 0;  // consecutive passing checkpoints
@@ -232,7 +278,7 @@ TrainResult train_stage(const TrainOptions& options) {
     if (options.keep_episodes) res.episodes.push_back(EpisodeRecord{e, eps, std::move(ep)});
     if ((e + 1) % cp.every == 0 || e + 1 == budget) {
       const auto tc = std::chrono::steady_clock::now();
-      const GreedyEval g = greedy_eval(run, q, cp.seeds, cp.episodes);
+      const GreedyEval g = evaluate(cp.episodes);
       CheckpointRecord c;
       c.at = spent;
       c.success_rate = g.success_rate;
@@ -251,7 +297,7 @@ TrainResult train_stage(const TrainOptions& options) {
   // The first checkpoint from which the rate stays at or above the threshold to the end.
   res.reached = passing > 0;
   res.to_threshold = res.reached ? res.checkpoints[res.checkpoints.size() - size_t(passing)].at : spent;
-  res.final_eval = greedy_eval(run, q, cp.seeds, cp.final_episodes);
+  res.final_eval = evaluate(cp.final_episodes);
   res.wall_s = seconds_since(t0);
   return res;
 }

@@ -28,6 +28,11 @@ struct TrainOptions {
   std::map<std::string, std::string> skill_files;         // learned skill name -> its policy.json
   SandboxLimits limits;
   bool keep_episodes = true;  // keep the per-episode records (episodes.jsonl)
+  // Reuse a greedy evaluation episode (checkpoints and the final evaluation) instead of running it
+  // again when the table still chooses, at every decision state the episode met on its last run,
+  // the action it chose then: the episode would run again exactly as before. The results are the
+  // same bit for bit either way (only eval_wall_s and wall_s change); false runs every episode.
+  bool eval_cache = true;
 };
 
 // A point of training: what had been spent when it was reached.
@@ -92,6 +97,13 @@ struct TrainResult {
   GreedyEval final_eval;
   std::vector<SkillSource> skills;
   std::vector<std::pair<std::string, std::string>> params;  // scenario parameters used
+  // The evaluation cache's work (TrainOptions::eval_cache), in this stage's evaluations only (not
+  // those of skills trained first). Not written to any result file: the files do not depend on
+  // whether the cache was on.
+  int evals = 0;                  // greedy evaluations: the checkpoints and the final one
+  int evals_reused = 0;           // those whose every episode was reused
+  int eval_episodes = 0;          // their episodes
+  int eval_episodes_reused = 0;   // those reused
 };
 
 // Trains one stage/context for one seed. Learned skills the context uses come from

@@ -93,6 +93,7 @@ struct TrainArgs {
   bool json = false;
   std::vector<std::string> skills;
   std::vector<std::string> sets;
+  bool no_eval_cache = false;  // run every greedy evaluation episode (TrainOptions::eval_cache)
 };
 
 // Trains one stage and context for one seed and writes its outputs. Returns 0.

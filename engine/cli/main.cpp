@@ -67,6 +67,8 @@ CLI::App* add_train(CLI::App& app, TrainArgs& a) {
   c->add_option("--skill", a.skills,
                 "A learned skill's policy NAME=FILE.json (repeatable; default: train its stage first)");
   c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)");
+  c->add_flag("--no-eval-cache", a.no_eval_cache,
+              "Run every evaluation episode, even one the unchanged policy would repeat (same results, slower)");
   return c;
 }
 

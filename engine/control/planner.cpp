@@ -58,6 +58,11 @@ void HarmonicPlanner::set_grid(const OccupancyGrid& grid) {
   find_goal_cells(pending_goal_);
 }
 
+void HarmonicPlanner::forget_solution() {
+  solved_ = have_values_ = false;
+  backoffs_ = 0;
+}
+
 void HarmonicPlanner::set_goal(const Vec2& center, double radius) {
   if (!center.allFinite() || !(radius >= 0.0) || !std::isfinite(radius))
     throw Error("planner: the goal needs a finite centre and a finite, non-negative radius");

@@ -43,6 +43,10 @@ class HarmonicPlanner {
 
   // Sets the obstacles; an identical grid changes nothing, any other discards the solution.
   void set_grid(const OccupancyGrid& grid);
+  // Forgets the solution and what stalled solves taught about omega, keeping the grid's structure:
+  // the next update() solves from scratch, exactly as a new planner on this grid would. For a new
+  // episode, which must not depend on the episodes before it.
+  void forget_solution();
   // Sets the goal: the free cells whose centre lies within radius of center, plus the free cell
   // holding center; a goal covering the same cells as before changes nothing.
   void set_goal(const Vec2& center, double radius);

@@ -43,6 +43,9 @@ class Navigate final : public Primitive {
     Primitive::reset(seed);
     grid_ = nullptr;
     planned_ = false;
+    // The grid often outlives the episode (the same arena), and with it the last solution, which
+    // the next solve would start from: an episode would then depend on the one before it.
+    planner_.forget_solution();
   }
 
  protected:
