@@ -125,6 +125,7 @@ struct RunControl {
   std::vector<std::string> only;    // selectors (see trial_selected)
   std::ostream* log = nullptr;      // progress and messages (nullptr: none)
   Shard shard;                      // only this shard's trials; a shard writes no summary.csv
+  bool eval_cache = true;           // reuse greedy evaluation episodes (TrainOptions::eval_cache)
 };
 
 // What a run of the plan left in its folder.

@@ -245,8 +245,10 @@ std::string policy_of(const std::string& out, const std::string& id) {
 
 // A training trial: trains the run's stage and context with the trial's seed, reusing the
 // policies of the same trial index of the runs its skills come from.
-nlohmann::json training_trial(const BatchPlan& plan, const PlannedTrial& t, const std::string& dir) {
+nlohmann::json training_trial(const BatchPlan& plan, const PlannedTrial& t, const std::string& dir,
+                              bool eval_cache) {
   TrainOptions o;
+  o.eval_cache = eval_cache;
   o.curriculum = plan.script->curriculum_file;
   o.stage = t.run->stage;
   o.context = t.context;
@@ -380,7 +382,7 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
   const TrialFunction trial = [&](const std::string& id, const std::string& dir) -> nlohmann::json {
     const PlannedTrial& t = *by_id.at(id);
     const auto t0 = Clock::now();
-    return t.run ? training_trial(plan, t, dir) : evaluation_trial(plan, t, t0);
+    return t.run ? training_trial(plan, t, dir, control.eval_cache) : evaluation_trial(plan, t, t0);
   };
   BatchOptions bo;
   bo.jobs = control.jobs;

@@ -82,6 +82,9 @@ CLI::App* add_run(CLI::App& app, RunArgs& a) {
   c->add_option("--only", a.only, "Only this run, RUN/CONTEXT, or eval/NAME (repeatable)");
   c->add_flag("--live", a.live, "A live progress bar (default on a terminal)");
   c->add_flag("--no-report", a.no_report, "Skip the report at the end");
+  c->add_flag("--no-eval-cache", a.no_eval_cache,
+              "Run every greedy evaluation episode instead of reusing those the policy would repeat "
+              "(identical results, slower: a check of the cache)");
   c->add_option("--shard", a.shard,
                 "Run only shard K/N (0-based) of the trials, or 'slurm' inside a Slurm job array; "
                 "shards share one results folder, and roger report writes the report when all are done");

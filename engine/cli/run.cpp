@@ -77,7 +77,7 @@ int command_run(const RunArgs& a) {
       log << "roger run: shard " << shard.index << " of " << shard.count << ": trials " << shard.index << ", "
           << shard.index + shard.count << ", ... of every run; no report (run roger report " << plan.out
           << " when every shard is done)\n";
-    const BatchSummary summary = run_batch(plan, RunControl{a.jobs, a.live, a.max_trials, a.only, &log, shard});
+    const BatchSummary summary = run_batch(plan, RunControl{a.jobs, a.live, a.max_trials, a.only, &log, shard, !a.no_eval_cache});
     int status = 0;
     if (!a.no_report && !shard.active()) {
       try {
