@@ -1,7 +1,7 @@
 // Tests of engine/trainer: a trial is repeatable bit for bit, `roger train --json` writes every
 // file and a parseable last line, `roger eval --policy` reproduces the final evaluation from the
-// saved file, and every context of the paper's
-// curriculum reaches 90% greedy success, with the figures printed for quoting.
+// saved file, every context of the paper's curriculum reaches 90% greedy success, with the figures
+// printed for quoting, and the evaluation cache changes no result ("[cache]").
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -19,6 +19,9 @@
 #include <nlohmann/json.hpp>
 
 #include "batch/trainer.h"
+#include "control/agent.h"
+#include "script/curriculum.h"
+#include "script/scenario.h"
 
 using namespace roger;
 namespace fs = std::filesystem;
@@ -216,4 +219,148 @@ TEST_CASE("over 10 seeds, the transport contexts' medians order as the paper fou
   CHECK(median_episodes["DC6"] <= median_episodes["DC5"]);
   CHECK(median_episodes["DC6"] <= median_episodes["DC4"]);
   CHECK(median_episodes["DC6"] < median_episodes["B2"]);
+}
+
+namespace {
+// Trains one context of the paper with the evaluation cache on and off and checks that the two
+// trials agree bit for bit in everything but wall time, and that the cache did work.
+void check_cache_changes_nothing(const std::string& stage, const std::string& context, uint64_t seed) {
+  TrainOptions o;
+  o.curriculum = "paper";
+  o.stage = stage;
+  o.context = context;
+  o.seed = seed;
+  const TrainResult on = train_stage(o);
+  o.eval_cache = false;
+  const TrainResult off = train_stage(o);
+  INFO(stage << "/" << context << " seed " << seed);
+  REQUIRE(on.checkpoints.size() == off.checkpoints.size());
+  for (size_t i = 0; i < on.checkpoints.size(); ++i) {
+    INFO("checkpoint " << i);
+    const CheckpointRecord &a = on.checkpoints[i], &b = off.checkpoints[i];
+    CHECK(same_bits(a.success_rate, b.success_rate));
+    CHECK(same_bits(a.reward_mean, b.reward_mean));
+    CHECK(same_bits(a.reward_std, b.reward_std));
+    CHECK(a.at.episodes == b.at.episodes);
+    CHECK(same_bits(a.at.sim_s, b.at.sim_s));
+    CHECK(a.at.decisions == b.at.decisions);
+  }
+  const GreedyEval &fa = on.final_eval, &fb = off.final_eval;
+  CHECK(fa.episodes == fb.episodes);
+  CHECK(fa.first_seed == fb.first_seed);
+  CHECK(fa.successes == fb.successes);
+  CHECK(same_bits(fa.success_rate, fb.success_rate));
+  CHECK(same_bits(fa.reward_mean, fb.reward_mean));
+  CHECK(same_bits(fa.reward_std, fb.reward_std));
+  CHECK(same_bits(fa.time_mean, fb.time_mean));
+  CHECK(fa.decisions == fb.decisions);
+  REQUIRE(fa.usage.size() == fb.usage.size());
+  for (size_t k = 0; k < fa.usage.size(); ++k) CHECK(same_bits(fa.usage[k].second, fb.usage[k].second));
+  // Training itself saw the same worlds and made the same choices: skipping an evaluation episode
+  // leaves nothing behind that a later training episode could notice.
+  CHECK(on.q->to_json().dump() == off.q->to_json().dump());
+  CHECK(on.reached == off.reached);
+  CHECK(on.to_threshold.episodes == off.to_threshold.episodes);
+  CHECK(same_bits(on.totals.sim_s, off.totals.sim_s));
+  CHECK(on.evals == off.evals);
+  CHECK(on.evals == int(on.checkpoints.size()) + 1);
+  CHECK(on.evals_reused > 0);
+  CHECK(on.eval_episodes_reused > 0);
+  CHECK(off.evals_reused == 0);
+  CHECK(off.eval_episodes_reused == 0);
+  std::printf("%s/%s seed %llu: %d of %d evaluations reused whole, %d of %d evaluation episodes reused\n",
+              stage.c_str(), context.c_str(), static_cast<unsigned long long>(seed), on.evals_reused, on.evals,
+              on.eval_episodes_reused, on.eval_episodes);
+}
+}  // namespace
+
+// The cache's premise: a greedy episode is a function of its world seed and its decisions, so the
+// same controllers give the same episode whatever ran before it.
+TEST_CASE("a greedy episode does not depend on the episodes before it", "[trainer][cache]") {
+  TrainOptions o;
+  o.curriculum = "paper";
+  o.stage = "SG";
+  o.context = "B1";  // phi1 approaches the object: its planner outlives the episodes
+  o.seed = 1;
+  o.keep_episodes = false;
+  const TrainResult trained = train_stage(o);
+  QTable q = *trained.q;
+  Curriculum cur = Curriculum::load("paper");
+  const CurriculumStage& stage = cur.stage("SG");
+  const CurriculumContext& ctx = stage.context("B1");
+  Scenario scenario = Scenario::load(stage.scenario);
+  for (const auto& [k, v] : stage.params) scenario.set_param(k, v);
+  Agent agent;
+  Rng unused(0);
+  // Each seed's episode and the world's final hash, running the seeds in the order given.
+  const auto run_all = [&](const std::vector<uint64_t>& seeds) {
+    std::map<uint64_t, std::pair<TrainingEpisode, uint64_t>> out;
+    for (uint64_t seed : seeds) {
+      const TrainingEpisode ep = run_learning_episode(agent, scenario.generate(seed), seed, ctx.actions, *stage.absorbing,
+                                                      q, 0.0, unused, stage.rewards, false);
+      out[seed] = {ep, agent.world().state_hash()};
+    }
+    return out;
+  };
+  std::vector<uint64_t> seeds;
+  for (uint64_t s = 0; s < 30; ++s) seeds.push_back(stage.checkpoints.seeds + s);
+  const auto forwards = run_all(seeds);
+  std::reverse(seeds.begin(), seeds.end());
+  const auto backwards = run_all(seeds);
+  for (uint64_t seed : seeds) {
+    INFO("seed " << seed);
+    const TrainingEpisode &a = forwards.at(seed).first, &b = backwards.at(seed).first;
+    CHECK(forwards.at(seed).second == backwards.at(seed).second);
+    CHECK(a.ticks == b.ticks);
+    CHECK(same_bits(a.reward, b.reward));
+    CHECK(a.decision_states == b.decision_states);
+    CHECK(a.actions_taken == b.actions_taken);
+  }
+}
+
+TEST_CASE("the evaluation cache changes no result", "[trainer][cache]") {
+  check_cache_changes_nothing("SG", "DC2", 4);
+  // B1 steers with phi1, whose planner once carried its solution from one episode to the next.
+  check_cache_changes_nothing("SG", "B1", 1);
+}
+
+TEST_CASE("roger train writes the same files with and without the evaluation cache", "[trainer][cli][cache]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_train_cache_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  for (const char* flag : {"", " --no-eval-cache"}) {
+    const auto [status, out] = run_roger("train curricula/paper.lua --stage SG --context DC2 --seed 4 --out " +
+                                         (dir / (*flag ? "off" : "on")).string() + flag);
+    INFO(out);
+    REQUIRE(status == 0);
+  }
+  // Byte for byte, but for the wall-clock figures.
+  const auto without_wall = [](nlohmann::json j) {
+    for (const char* k : {"wall_s", "eval_wall_s", "train_wall_s", "wall_to_threshold_s"}) j.erase(k);
+    return j.dump();
+  };
+  const auto lines = [](const std::string& text) {
+    std::vector<std::string> v;
+    std::istringstream in(text);
+    for (std::string l; std::getline(in, l);) v.push_back(l);
+    return v;
+  };
+  for (const char* f : {"policy.json", "episodes.jsonl"}) CHECK(slurp(dir / "on" / f) == slurp(dir / "off" / f));
+  CHECK(without_wall(nlohmann::json::parse(slurp(dir / "on" / "summary.json"))) ==
+        without_wall(nlohmann::json::parse(slurp(dir / "off" / "summary.json"))));
+  const auto cp_on = lines(slurp(dir / "on" / "checkpoints.jsonl")), cp_off = lines(slurp(dir / "off" / "checkpoints.jsonl"));
+  REQUIRE(cp_on.size() == cp_off.size());
+  for (size_t i = 0; i < cp_on.size(); ++i)
+    CHECK(without_wall(nlohmann::json::parse(cp_on[i])) == without_wall(nlohmann::json::parse(cp_off[i])));
+  // curve.csv: episodes,sim_s,decisions,wall_s,success_rate,reward_mean; all but wall_s.
+  const auto curve_on = lines(slurp(dir / "on" / "curve.csv")), curve_off = lines(slurp(dir / "off" / "curve.csv"));
+  REQUIRE(curve_on.size() == curve_off.size());
+  const auto drop_wall = [](const std::string& row) {
+    std::vector<std::string> cells;
+    std::istringstream in(row);
+    for (std::string c; std::getline(in, c, ',');) cells.push_back(c);
+    cells.erase(cells.begin() + 3);
+    return cells;
+  };
+  for (size_t i = 0; i < curve_on.size(); ++i) CHECK(drop_wall(curve_on[i]) == drop_wall(curve_off[i]));
+  fs::remove_all(dir);
 }
