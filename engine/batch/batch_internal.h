@@ -3,6 +3,10 @@
 
 #include <string>
 
+#include <nlohmann/json.hpp>
+
+#include "batch/batch.h"
+
 namespace roger::batch_detail {
 
 // The whole content of a file ("" when it cannot be read).
@@ -10,5 +14,9 @@ std::string read_text(const std::string& path);
 
 // The first line of a message.
 std::string first_line(const std::string& s);
+
+// A trial's state on disk: "ok" (filling `result`), "failed" (filling `error`, also for an
+// unreadable result) or "pending".
+std::string trial_status(const std::string& out, const PlannedTrial& t, nlohmann::json& result, std::string& error);
 
 }  // namespace roger::batch_detail

@@ -210,6 +210,25 @@ std::string first_line(const std::string& s) {
   return nl == std::string::npos ? s : s.substr(0, nl);
 }
 
+// A trial's state on disk (see batch_internal.h): "ok" with its result, "failed" with its error, or "pending".
+std::string trial_status(const std::string& out, const PlannedTrial& t, json& r, std::string& error) {
+  std::string status = "pending";
+  const fs::path d = trial_dir(out, t.id);
+  try {
+    if (fs::exists(d / "result.json")) {
+      r = json::parse(read_text((d / "result.json").string()));
+      status = "ok";
+    } else if (fs::exists(d / "error.json")) {
+      error = json::parse(read_text((d / "error.json").string())).value("error", std::string());
+      status = "failed";
+    }
+  } catch (const std::exception& e) {
+    status = "failed";
+    error = std::string("unreadable result: ") + e.what();
+  }
+  return status;
+}
+
 }  // namespace batch_detail
 
 BatchPlan read_results_plan(const std::string& dir) {
@@ -353,24 +372,6 @@ std::string csv_number(const json& j, const char* key) {
   return "";
 }
 
-// A trial's state on disk: "ok" with its result, "failed" with its error, or "pending".
-std::string trial_status(const std::string& out, const PlannedTrial& t, json& r, std::string& error) {
-  std::string status = "pending";
-  const fs::path d = trial_dir(out, t.id);
-  try {
-    if (fs::exists(d / "result.json")) {
-      r = json::parse(read_text((d / "result.json").string()));
-      status = "ok";
-    } else if (fs::exists(d / "error.json")) {
-      error = json::parse(read_text((d / "error.json").string())).value("error", std::string());
-      status = "failed";
-    }
-  } catch (const std::exception& e) {
-    status = "failed";
-    error = std::string("unreadable result: ") + e.what();
-  }
-  return status;
-}
 
 // One row of summary.csv.
 void summary_row(std::ostream& csv, const PlannedTrial& t, const std::string& status, const json& r,

@@ -345,24 +345,16 @@ std::vector<std::string> phase_ids(const BatchPlan& plan, const std::vector<Plan
 BatchSummary record_shard(const BatchPlan& plan, const Shard& shard) {
   BatchSummary s;
   nlohmann::json failed = nlohmann::json::array();
-  std::error_code ec;
   for (const auto& p : plan.phases)
     for (const auto& t : p) {
       if (!shard.owns(t)) continue;
       ++s.trials;
-      const fs::path d = trial_dir(plan.out, t.id);
-      if (fs::exists(d / "result.json", ec)) continue;
-      if (!fs::exists(d / "error.json", ec)) {
-        ++s.pending;
-        continue;
-      }
-      std::string msg;
-      try {
-        msg = nlohmann::json::parse(read_text((d / "error.json").string())).value("error", std::string());
-      } catch (const std::exception& e) {
-        msg = std::string("unreadable error: ") + e.what();
-      }
-      s.failed.push_back(t.id + ": " + first_line(msg));
+      nlohmann::json result;
+      std::string error;
+      const std::string status = trial_status(plan.out, t, result, error);
+      if (status == "pending") ++s.pending;
+      if (status != "failed") continue;
+      s.failed.push_back(t.id + ": " + first_line(error));
       failed.push_back(t.id);
     }
   const std::string name = std::to_string(shard.index) + "-of-" + std::to_string(shard.count) + ".json";

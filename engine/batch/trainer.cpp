@@ -138,9 +138,10 @@ GreedyEval greedy_eval(StageRun& run, QTable& q, uint64_t first_seed, int episod
   for (int i = 0; i < episodes; ++i) {
     const uint64_t seed = first_seed + uint64_t(i);
     const TrainingEpisode* kept = cache ? cache->reusable(seed, q) : nullptr;
-    const TrainingEpisode ep = kept ? *kept : run.run(q, seed, 0.0, unused, false);
+    TrainingEpisode fresh;
     if (kept) ++cache->reused;
-    else if (cache) cache->by_seed[seed] = ep;
+    else fresh = run.run(q, seed, 0.0, unused, false);
+    const TrainingEpisode& ep = kept ? *kept : cache ? cache->by_seed[seed] = std::move(fresh) : fresh;
     g.successes += ep.success;
     rewards.push_back(ep.reward);
     time += ep.sim_seconds;

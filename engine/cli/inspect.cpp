@@ -17,12 +17,7 @@
 namespace roger {
 
 void apply_sets(Scenario& scenario, const std::vector<std::string>& sets) {
-  for (const std::string& kv : sets) {
-    const size_t eq = kv.find('=');
-    if (eq == std::string::npos || eq == 0)
-      throw Error("--set expects key=value, got '" + kv + "'");
-    scenario.set_param(kv.substr(0, eq), kv.substr(eq + 1));
-  }
+  for (const auto& [key, value] : split_sets(sets, "--set")) scenario.set_param(key, value);
 }
 
 std::string policy_scenario(const SkillScript::NamedPolicy& p, const std::string& chosen) {

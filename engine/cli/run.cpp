@@ -7,6 +7,7 @@
 #include <string>
 
 #include "batch/batch.h"
+#include "cli/cli_internal.h"
 #include "cli/commands.h"
 #include "core/error.h"
 #include "report/report.h"
@@ -20,11 +21,7 @@ namespace {
 BatchOverrides overrides_of(const RunArgs& a) {
   BatchOverrides ov;
   ov.trials = a.trials;
-  for (const auto& s : a.sets) {
-    const size_t eq = s.find('=');
-    if (eq == std::string::npos || eq == 0) throw Error("--set '" + s + "': expected key=value");
-    ov.sets.emplace_back(s.substr(0, eq), s.substr(eq + 1));
-  }
+  ov.sets = split_sets(a.sets, "--set");
   if (a.trials < 0) throw Error("--trials must be positive");
   return ov;
 }

@@ -90,7 +90,6 @@ class Recorder final : public EpisodeObserver {
 EpisodeResult run_episode(Agent& agent, const WorldSpec& spec, uint64_t seed, Controller& action,
                           Predicate& goal, const EpisodeOptions& options,
                           const std::vector<ControllerPtr>& watch) {
-  if (!(options.time_limit > 0.0)) throw Error("episode: time limit must be positive");
   const double dt = agent.world().tick_seconds();
   const int every = options.record_every > 0.0 ? std::max(1, int(std::lround(options.record_every / dt))) : 0;
   EpisodeResult r;

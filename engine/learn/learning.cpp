@@ -70,11 +70,11 @@ SemiMdpDriver::SemiMdpDriver(const std::vector<ControllerPtr>& psi, Predicate* a
                              double epsilon, Rng& rng, const LearningEpisodeOptions& options, bool learn,
                              DecisionHooks* hooks)
     : psi_(psi), absorbing_(absorbing), q_(q), epsilon_(epsilon), rng_(rng), options_(options), learn_(learn),
-      hooks_(hooks) {
+      hooks_(hooks), hooked_reward_(hooks && hooks->has_reward()), hooked_absorbing_(hooks && hooks->has_absorbing()) {
   options.validate();
   check_psi(psi, q, "learning episode");
   if (!(epsilon >= 0.0 && epsilon <= 1.0)) throw Error("learning episode: epsilon must be in [0, 1]");
-  if (!absorbing && !(hooks && hooks->has_absorbing()))
+  if (!absorbing && !hooked_absorbing_)
     throw Error("learning episode: needs an absorbing predicate or an absorbing callback");
   gammas_.resize(psi.size());
 }
@@ -110,9 +110,8 @@ int SemiMdpDriver::read_state(const ControlInput& in) {
 void SemiMdpDriver::decide(int s, double now) {
   // Semi-MDP: the previous action ran until this change of state; its transition ends here.
   if (action_ >= 0) {
-    const bool scripted = hooks_ && hooks_->has_reward();
-    const double r = scripted ? hooks_->reward(gammas_, action_, "decision", now) : accumulated_;
-    if (scripted) ep_.reward += r;
+    const double r = hooked_reward_ ? hooks_->reward(gammas_, action_, "decision", now) : accumulated_;
+    if (hooked_reward_) ep_.reward += r;
     if (learn_) q_.update(state_, action_, r, s, false, discount_bootstrap(now - decided_at_));
   }
   if (learn_) {
@@ -134,7 +133,7 @@ Controller* SemiMdpDriver::choose(const ControlInput& in) {
   tick_start_ = in.time;  // `in` changes under us when the agent steps
   const int s = read_state(in);
   if (s != state_) {
-    if (hooks_ && hooks_->has_absorbing() && hooks_->absorbing(gammas_, tick_start_)) return nullptr;
+    if (hooked_absorbing_ && hooks_->absorbing(gammas_, tick_start_)) return nullptr;
     decide(s, tick_start_);
   }
   return psi_[size_t(action_)].get();
@@ -142,7 +141,7 @@ Controller* SemiMdpDriver::choose(const ControlInput& in) {
 
 bool SemiMdpDriver::absorbed(const ControlInput& in) {
   ++ep_.action_ticks[size_t(action_)];
-  if (!(hooks_ && hooks_->has_reward())) {
+  if (!hooked_reward_) {
     accumulated_ += discount_within(tick_start_ - decided_at_) * options_.step_reward;
     ep_.reward += options_.step_reward;
   }
@@ -153,14 +152,14 @@ bool SemiMdpDriver::end(const ControlInput& in, bool success, int ticks, double 
   ep_.ticks = ticks;
   ep_.sim_seconds = time;
   // The last tick may have reached the absorbing state without a decision point after it.
-  if (!success && hooks_ && hooks_->has_absorbing() && ticks > 0) {
+  if (!success && hooked_absorbing_ && ticks > 0) {
     read_state(in);
     success = hooks_->absorbing(gammas_, time);
   }
   ep_.success = success;
   if (action_ < 0) return success;
   double final_reward;
-  if (hooks_ && hooks_->has_reward()) {
+  if (hooked_reward_) {
     read_state(in);
     final_reward = hooks_->reward(gammas_, action_, success ? "absorbing" : "timeout", time);
   } else {

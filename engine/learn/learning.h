@@ -240,6 +240,7 @@ class SemiMdpDriver final : public EpisodeDriver {
   const LearningEpisodeOptions& options_;
   const bool learn_;
   DecisionHooks* hooks_;
+  const bool hooked_reward_, hooked_absorbing_;  // what the hooks define, asked once
   TrainingEpisode ep_;
   std::vector<Gamma> gammas_;
   int state_ = -1, action_ = -1;
