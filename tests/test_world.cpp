@@ -1,4 +1,6 @@
 // Tests of engine/world: Roger's body on Box2D (kinematics, drive, servos, touch, determinism).
+#include <box2d/box2d.h>
+#include <chrono>
 #include <catch2/catch.hpp>
 
 #include "core/rng.h"
@@ -195,6 +197,25 @@ TEST_CASE("the same world and commands give identical state hashes", "[world][de
   const uint64_t h3 = scripted_episode(b, 10.0);
   CHECK(h1 == h2);
   CHECK(h1 != h3);
+}
+
+// Box2D's step profiler reads the wall clock a dozen times per step; sim/ replaces its timer so
+// that the engine does not pay for a profile it never reads. If a Box2D build stopped letting the
+// executable's b2Timer take the place of its own, this would fail (and physics would cost a third
+// more again).
+TEST_CASE("Box2D's step profiler costs nothing: its timer is the engine's, and reads zero", "[world]") {
+  World world;
+  world.reset(open_world(true, Vec2(0.8, 0.3)));
+  for (int i = 0; i < 50; ++i) world.step_physics();
+  const b2Profile& profile = world.physics()->GetProfile();
+  CHECK(profile.step == 0.0f);
+  CHECK(profile.solve == 0.0f);
+  CHECK(profile.collide == 0.0f);
+  // The library's own timer would read the 5 ms spent here.
+  b2Timer timer;
+  const auto start = std::chrono::steady_clock::now();
+  while (std::chrono::steady_clock::now() - start < std::chrono::milliseconds(5)) {}
+  CHECK(timer.GetMilliseconds() == 0.0f);
 }
 
 TEST_CASE("degenerate shapes are refused before they reach Box2D", "[world]") {

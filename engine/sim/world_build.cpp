@@ -258,3 +258,13 @@ void World::Impl::reset_servos(const RobotParams& r, const RobotStart& start) {
 }
 
 }  // namespace roger
+
+// Box2D 2.4's b2World::Step times its phases for b2World::GetProfile() with b2Timer, which reads
+// the wall clock about a dozen times per step: a quarter of the cost of a physics step of Roger's
+// small world, for a profile the engine never reads. These definitions take the place of the
+// library's (its calls to b2Timer go through the PLT, so the executable's definitions win), and
+// make the profile all zeros. Nothing else changes: the timer never feeds back into the physics.
+// test_world pins both: the profile stays zero, and a stepped world's hash is unchanged.
+b2Timer::b2Timer() : m_start_sec(0), m_start_usec(0) {}
+void b2Timer::Reset() {}
+float b2Timer::GetMilliseconds() const { return 0.0f; }
