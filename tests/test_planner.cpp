@@ -292,6 +292,59 @@ TEST_CASE("nothing changed means no work", "[planner]") {
   CHECK(planner.solves() == 2);
 }
 
+TEST_CASE("a cold solve of the same goal on the same grid is reused, to the last bit", "[planner]") {
+  Rng rng(11);
+  const OccupancyGrid grown = build_occupancy(random_world(rng), kInflate);
+  // What a new planner computes for each of two goals.
+  auto fresh = [&](const Vec2& goal) {
+    HarmonicPlanner p;
+    p.set_grid(grown);
+    p.set_goal(goal, 0.3);
+    p.update();
+    return p;
+  };
+  const Vec2 goal_a(-1.5, -1.5), goal_b(1.4, 1.2);
+  const HarmonicPlanner ref_a = fresh(goal_a), ref_b = fresh(goal_b);
+  auto same_as = [&](const HarmonicPlanner& p, const HarmonicPlanner& ref) {
+    Rng probe(3);
+    for (int t = 0; t < 200; ++t) {
+      const Vec2 x(probe.uniform(-1.9, 1.9), probe.uniform(-1.9, 1.9));
+      if (p.complement(x) != ref.complement(x) || p.descent(x) != ref.descent(x)) return false;
+    }
+    return p.omega() == ref.omega() && p.sweeps_last_solve() == ref.sweeps_last_solve();
+  };
+
+  HarmonicPlanner planner;
+  planner.set_grid(grown);
+  planner.set_goal(goal_a, 0.3);
+  planner.update();
+  const long sweeps = planner.total_sweeps();
+  // A new episode: the solution is forgotten, and the same cold solve is copied, not redone.
+  planner.forget_solution();
+  planner.update();
+  CHECK(planner.reused_solves() == 1);
+  CHECK(planner.total_sweeps() == sweeps);
+  CHECK(same_as(planner, ref_a));
+  // Another goal after forgetting is solved, not copied.
+  planner.forget_solution();
+  planner.set_goal(goal_b, 0.3);
+  planner.update();
+  CHECK(planner.reused_solves() == 1);
+  CHECK(planner.total_sweeps() > sweeps);
+  CHECK(same_as(planner, ref_b));
+  // A warm solve (goal moved without forgetting) is never a copy of a cold one.
+  planner.set_goal(goal_a, 0.3);
+  planner.update();
+  CHECK(planner.reused_solves() == 1);
+  // A changed grid forgets the remembered solve.
+  OccupancyGrid changed = grown;
+  *std::find(changed.occupied.begin(), changed.occupied.end(), uint8_t(0)) = 1;
+  planner.set_grid(changed);
+  planner.set_goal(goal_b, 0.3);
+  planner.update();
+  CHECK(planner.reused_solves() == 1);
+}
+
 TEST_CASE("points off the grid and bad parameters", "[planner]") {
   HarmonicPlanner planner;
   planner.set_grid(build_occupancy(open_world(false), kInflate));

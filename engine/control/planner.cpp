@@ -52,7 +52,7 @@ void HarmonicPlanner::set_grid(const OccupancyGrid& grid) {
   grid_ = grid;
   has_grid_ = true;
   // The arrays are rebuilt below: no reachability, no solution, nothing to warm-start from.
-  flooded_ = solved_ = have_values_ = false;
+  flooded_ = solved_ = have_values_ = cold_.valid = false;
   backoffs_ = 0;
   rebuild_structure();
   find_goal_cells(pending_goal_);
@@ -194,14 +194,48 @@ bool HarmonicPlanner::update() {
   flood_from_goal();  // distances to the goal and the cells to relax
   // After a grid change the old values belong to other obstacles; start from zero then.
   const bool warm = params_.warm_start && have_values_;
-  if (!warm) {
+  if (warm) {
+    solve(true);
+  } else if (!reuse_cold_solve()) {
     // Zero everywhere but the goal, which the flood already fixed at q = 1.
     std::fill(q_.begin(), q_.end(), 0.0);
     for (int k : goal_) q_[k] = 1.0;
+    const int backoffs_before = backoffs_;
+    solve(false);
+    remember_cold_solve(backoffs_before);
   }
-  solve(warm);
   solved_ = have_values_ = true;
   return true;
+}
+
+// A cold solve is a function of the grid, the goal cells and what stalls taught about omega, and of
+// nothing else: the same three give the same solution to the last bit. An episode forgets the
+// solution of the one before (forget_solution), but a fixed goal region in a fixed arena asks
+// for the same cold solve every episode; it is copied, not solved again.
+bool HarmonicPlanner::reuse_cold_solve() {
+  if (!cold_.valid || cold_.backoffs_before != backoffs_ || cold_.goal != goal_) return false;
+  q_ = cold_.q;
+  sweeps_last_ = cold_.sweeps;
+  converged_ = cold_.converged;
+  residual_ = cold_.residual;
+  omega_ = cold_.omega;
+  backoffs_ = cold_.backoffs_after;
+  ++solves_;
+  ++reused_solves_;
+  return true;
+}
+
+// Keeps the cold solve just made, for reuse_cold_solve.
+void HarmonicPlanner::remember_cold_solve(int backoffs_before) {
+  cold_.valid = true;
+  cold_.goal = goal_;
+  cold_.backoffs_before = backoffs_before;
+  cold_.q = q_;
+  cold_.sweeps = sweeps_last_;
+  cold_.converged = converged_;
+  cold_.residual = residual_;
+  cold_.omega = omega_;
+  cold_.backoffs_after = backoffs_;
 }
 
 void HarmonicPlanner::flood_from_goal() {

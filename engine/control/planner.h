@@ -75,12 +75,16 @@ class HarmonicPlanner {
   // max_steps; returns the points visited, start first (for tests, pictures and debugging).
   std::vector<Vec2> trace(const Vec2& start, double step, int max_steps) const;
 
-  // Sweeps made by the most recent solve (update() calls that had nothing to do are not solves).
+  // Sweeps made by the most recent solve (update() calls that had nothing to do are not solves;
+  // a reused solve reports those of the solve it copied).
   int sweeps_last_solve() const { return sweeps_last_; }
-  // Sweeps made since construction, over all solves.
+  // Sweeps made since construction, over all solves (a reused solve makes none).
   long total_sweeps() const { return sweeps_total_; }
-  // Number of solves since construction.
+  // Number of solves since construction (reused ones included).
   int solves() const { return solves_; }
+  // Cold solves answered by copying the last cold solve of the same goal on the same grid, which
+  // it would have repeated to the last bit (each episode of a fixed goal region starts cold).
+  int reused_solves() const { return reused_solves_; }
   // The over-relaxation factor of the most recent solve.
   double omega() const { return omega_; }
   // Whether the most recent solve met the tolerance within max_sweeps.
@@ -101,6 +105,8 @@ class HarmonicPlanner {
   void find_goal_cells(std::vector<int>& out) const;
   void flood_from_goal();                    // distances to the goal, the cells to relax
   void solve(bool warm);
+  bool reuse_cold_solve();                   // the remembered cold solve, if it is this one
+  void remember_cold_solve(int backoffs_before);
   int sweep(double omega);                   // one red-black SOR sweep; returns unconverged cells
   double measure_residual() const;
   Vec2 cell_gradient(int k) const;           // gradient of q at a cell centre, central differences
@@ -140,6 +146,17 @@ class HarmonicPlanner {
   float widest_ = 0.0f;          // largest clearance among the relaxed cells
   double omega_ = 1.0;
   int backoffs_ = 0;             // times a stalled solve on this grid lowered omega
+  int reused_solves_ = 0;
+
+  // The last cold solve on this grid: its inputs beyond the grid, and everything it produced.
+  struct ColdSolve {
+    bool valid = false;
+    std::vector<int> goal;
+    int backoffs_before = 0, backoffs_after = 0, sweeps = 0;
+    std::vector<double> q;
+    bool converged = false;
+    double residual = 0.0, omega = 1.0;
+  } cold_;
 };
 
 }  // namespace roger
