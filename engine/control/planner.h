@@ -107,6 +107,8 @@ class HarmonicPlanner {
   void solve(bool warm);
   bool reuse_cold_solve();                   // the remembered cold solve, if it is this one
   void remember_cold_solve(int backoffs_before);
+  void split_by_colour();                    // q_ into colour_, for the sweeps of a solve
+  void join_colours();                       // colour_ back into q_
   int sweep(double omega);                   // one red-black SOR sweep; returns unconverged cells
   double measure_residual() const;
   Vec2 cell_gradient(int k) const;           // gradient of q at a cell centre, central differences
@@ -128,6 +130,9 @@ class HarmonicPlanner {
   std::vector<int> exit_;        // for occupied cells: the neighbour one step nearer to it
   std::vector<float> clearance_; // distance in cells from each cell centre to the nearest occupied one
   std::vector<int> red_, black_;  // the cells the sweep relaxes (free, joined to the goal, not goal)
+  std::vector<double> colour_[2];   // q_ split by colour during a solve (see split_by_colour)
+  std::vector<int64_t> relaxed_[2]; // all bits set where colour_ holds a cell the sweep relaxes
+  int split_width_ = 0;             // slots per row of colour_
   std::vector<int> goal_;        // sorted padded indices of the goal cells in force
   std::vector<int> pending_goal_;
   std::vector<int> queue_;       // breadth-first scratch, kept to avoid allocating per change
