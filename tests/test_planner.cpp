@@ -309,7 +309,9 @@ TEST_CASE("a cold solve of the same goal on the same grid is reused, to the last
     Rng probe(3);
     for (int t = 0; t < 200; ++t) {
       const Vec2 x(probe.uniform(-1.9, 1.9), probe.uniform(-1.9, 1.9));
-      if (p.complement(x) != ref.complement(x) || p.descent(x) != ref.descent(x)) return false;
+      if (p.complement(x) != ref.complement(x) || p.descent(x) != ref.descent(x) ||
+          p.reachable(x) != ref.reachable(x))
+        return false;
     }
     return p.omega() == ref.omega() && p.sweeps_last_solve() == ref.sweeps_last_solve();
   };

@@ -193,12 +193,13 @@ bool HarmonicPlanner::update() {
     return false;
   }
   if (solved_) return true;
-  flood_from_goal();  // distances to the goal and the cells to relax
   // After a grid change the old values belong to other obstacles; start from zero then.
   const bool warm = params_.warm_start && have_values_;
   if (warm) {
+    flood_from_goal();  // distances to the goal and the cells to relax
     solve(true);
   } else if (!reuse_cold_solve()) {
+    flood_from_goal();
     // Zero everywhere but the goal, which the flood already fixed at q = 1.
     std::fill(q_.begin(), q_.end(), 0.0);
     for (int k : goal_) q_[k] = 1.0;
@@ -216,6 +217,13 @@ bool HarmonicPlanner::update() {
 // for the same cold solve every episode; it is copied, not solved again.
 bool HarmonicPlanner::reuse_cold_solve() {
   if (!cold_.valid || cold_.backoffs_before != backoffs_ || cold_.goal != goal_) return false;
+  // What flood_from_goal would find again...
+  dist_ = cold_.dist;
+  red_ = cold_.red;
+  black_ = cold_.black;
+  widest_ = cold_.widest;
+  any_reachable_ = cold_.any_reachable;
+  // ...and what the solve would.
   q_ = cold_.q;
   sweeps_last_ = cold_.sweeps;
   converged_ = cold_.converged;
@@ -232,6 +240,11 @@ void HarmonicPlanner::remember_cold_solve(int backoffs_before) {
   cold_.valid = true;
   cold_.goal = goal_;
   cold_.backoffs_before = backoffs_before;
+  cold_.dist = dist_;
+  cold_.red = red_;
+  cold_.black = black_;
+  cold_.widest = widest_;
+  cold_.any_reachable = any_reachable_;
   cold_.q = q_;
   cold_.sweeps = sweeps_last_;
   cold_.converged = converged_;

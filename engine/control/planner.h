@@ -153,10 +153,14 @@ class HarmonicPlanner {
   int backoffs_ = 0;             // times a stalled solve on this grid lowered omega
   int reused_solves_ = 0;
 
-  // The last cold solve on this grid: its inputs beyond the grid, and everything it produced.
+  // The last cold solve on this grid: its inputs beyond the grid, and everything it and the flood
+  // before it produced.
   struct ColdSolve {
     bool valid = false;
     std::vector<int> goal;
+    std::vector<int> dist, red, black;
+    float widest = 0.0f;
+    bool any_reachable = false;
     int backoffs_before = 0, backoffs_after = 0, sweeps = 0;
     std::vector<double> q;
     bool converged = false;
