@@ -179,7 +179,38 @@ def markdown_tables(path):
     return tables
 
 
+def write_status(folder, status):
+    with open(os.path.join(folder, "status.js.tmp"), "w") as f:
+        f.write("window.ROGER_STATUS = %s;\n" % json.dumps(status))
+    os.replace(os.path.join(folder, "status.js.tmp"), os.path.join(folder, "status.js"))
+
+
+def check_progress(b, folder):
+    """While a run is running the page follows status.js, and shows the report once it is over."""
+    final = json.load(open(os.path.join(folder, "status.json")))
+    running = dict(final, running=True, done=final["done"] - 5, started=2, eta_s=95,
+                   updated_ms=int(time.time() * 1000))
+    write_status(folder, running)
+    try:
+        b.open(os.path.join(folder, "index.html"), "document.getElementById('progress-line') !== null")
+        line = b.evaluate("document.getElementById('progress-line').textContent")
+        check(line.startswith("Running: %d/%d trials done" % (running["done"], running["trials"])) and "1 min 35 s left" in line,
+              "dashboard: a running run's progress and time left (%s)" % line)
+        check(b.evaluate("document.getElementById('progress').hidden") is False, "dashboard: progress is shown while running")
+        write_status(folder, final)  # the run ends: the page must notice within its 2 s poll
+        deadline, line = time.time() + 8, ""
+        while time.time() < deadline and not line.startswith("Finished"):
+            time.sleep(0.25)
+            line = b.evaluate("document.getElementById('progress-line').textContent")
+        check(line.startswith("Finished: %d/%d" % (final["done"], final["trials"])),
+              "dashboard: the page reloads status.js and sees the run end (%s)" % line)
+        check(b.errors() == [], "dashboard: no console errors while following a run (%s)" % b.errors())
+    finally:
+        write_status(folder, final)
+
+
 def check_dashboard(b, folder, screenshot):
+    check_progress(b, folder)
     page = os.path.join(folder, "index.html")
     b.open(page, "document.body.getAttribute('data-ready') === '1'")
     check(b.errors() == [], "dashboard: no console errors (%s)" % b.errors())
@@ -208,8 +239,7 @@ def check_dashboard(b, folder, screenshot):
     check(not status["running"] and ("%d/%d trials done" % (status["done"], status["trials"])) in line,
           "dashboard: the progress line reads status.js (%s)" % line)
     trials = b.evaluate("document.querySelectorAll('#trials a.trial').length")
-    planned = sum(1 for _ in json.load(open(os.path.join(folder, "manifest.json")))["trials"]) \
-        if isinstance(json.load(open(os.path.join(folder, "manifest.json"))).get("trials"), list) else trials
+    planned = len(json.load(open(os.path.join(folder, "manifest.json")))["trials"])
     check(trials > 0 and trials == planned, "dashboard: a link to every trial's folder (%d)" % trials)
     size = sum(os.path.getsize(os.path.join(folder, f)) for f in ("index.html", "dashboard.js", "status.js"))
     check(size < 2_000_000, "dashboard: page and data weigh %d bytes (< 2 MB)" % size)
