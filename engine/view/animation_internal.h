@@ -110,7 +110,7 @@ struct Cursor {
   long tick;
 };
 
-// Where the bars go, so the page can map clicks on a frame back to times.
+// Where the bars go in the picture (the frame PNGs; the viewer draws its own timeline).
 struct TimelineBox {
   double x0 = 0, x1 = 0, y0 = 0, y1 = 0;
 };
