@@ -143,10 +143,17 @@ TEST_CASE("an episode becomes frames, a replay page and episode.json") {
       CHECK(entry.path().filename().string()[0] != '.');
   }
 
-  SECTION("index.html replays the frames without the network") {
+  SECTION("index.html draws the episode on a canvas from its embedded data, without the network") {
     const std::string html = slurp(out / "index.html");
     REQUIRE(!html.empty());
-    CHECK(html.find("frame_0000.png") != std::string::npos);
+    CHECK(html.find("<canvas id=\"world\"") != std::string::npos);
+    CHECK(html.find("<img") == std::string::npos);  // no pre-drawn frames are replayed
+    // The data embedded is episode.json's, so the page needs no file beside it.
+    const size_t open = html.find("<script type=\"application/json\" id=\"episode\">");
+    REQUIRE(open != std::string::npos);
+    const size_t from = html.find('>', open) + 1;
+    const nlohmann::json embedded = nlohmann::json::parse(html.substr(from, html.find("</script>", from) - from));
+    CHECK(embedded == nlohmann::json::parse(slurp(out / "episode.json")));
     CHECK(!std::regex_search(html, std::regex("https?:", std::regex::icase)));
     CHECK(html.find("<script src") == std::string::npos);
     CHECK(html.find("<link") == std::string::npos);
@@ -197,6 +204,43 @@ TEST_CASE("an episode becomes frames, a replay page and episode.json") {
         CHECK(states[t].get<std::string>() == gamma_name(ep.gammas[c].states[t]));
       }
     }
+  }
+
+  SECTION("episode.json has what the viewer draws: shapes, arms, eyes, images, touch, decisions") {
+    const nlohmann::json j = nlohmann::json::parse(slurp(out / "episode.json"));
+    const auto& world = j.at("world");
+    CHECK(world.at("arena").at("xmax").get<double>() == e.spec.arena.xmax);
+    REQUIRE(world.at("objects").size() == e.spec.objects.size());
+    CHECK(world.at("objects")[0].at("shape").at("disks").size() +
+              world.at("objects")[0].at("shape").at("polygons").size() > 0);
+    CHECK(world.at("robot").at("base_radius").get<double>() == Approx(o.frame.robot.base_radius));
+    for (size_t i = 0; i < ep.frames.size(); ++i) {
+      const auto& f = j.at("frames")[i];
+      const Frame& fr = ep.frames[i];
+      CHECK(f.at("arms")[1][2][0].get<double>() == Approx(fr.arms[1].hand.x()).margin(1e-4));
+      CHECK(f.at("eyes")[0][1].get<double>() == Approx(fr.eyes[0].y()).margin(1e-4));
+      CHECK(f.at("eye_heading")[1].get<double>() == Approx(fr.eye_heading[1]));
+      REQUIRE(f.at("images").size() == 2);
+      const std::string left = f.at("images")[0];
+      REQUIRE(left.size() == 6 * size_t(kPixels));
+      const Colour c = fr.senses.image[0].colour[5];
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "%02x%02x%02x", c.r, c.g, c.b);
+      CHECK(left.substr(5 * 6, 6) == hex);
+      REQUIRE(f.at("touch").size() == size_t(kTactileCount));
+      CHECK(f.at("touch")[0].at("force").get<double>() == Approx(fr.senses.touch[0].force));
+    }
+    // Phi6 searches first, then tracks: two decisions, the second when search has converged.
+    const auto& d = j.at("decisions");
+    REQUIRE(ep.decisions.size() == d.size());
+    REQUIRE(d.size() >= 2);
+    CHECK(d[0].at("tick") == 1);
+    CHECK(d[0].at("path") == nlohmann::json({"Phi6", "search"}));
+    CHECK(d[1].at("path") == nlohmann::json({"Phi6", "phi0"}));
+    const int switched = d[1].at("tick");
+    REQUIRE(switched >= 2);
+    CHECK(ep.gammas[0].states[size_t(switched - 2)] == Gamma::kConv);  // search converged just before
+    CHECK(d[1].at("time").get<double>() == Approx((switched - 1) * j.at("tick_seconds").get<double>()));
   }
 
   SECTION("re-rendering a shorter episode removes the old frames beyond it") {

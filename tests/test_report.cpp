@@ -148,6 +148,77 @@ std::vector<std::string> finished_ids(const fs::path& out) {
   return ids;
 }
 
+// The object a generated script assigns ("window.NAME = {...};"), parsed.
+json script_data(const fs::path& p, const std::string& name) {
+  const std::string text = slurp(p);
+  const std::string head = "window." + name + " = ";
+  const size_t at = text.find(head);
+  REQUIRE(at != std::string::npos);
+  const size_t end = text.rfind(';');
+  return json::parse(text.substr(at + head.size(), end - at - head.size()));
+}
+
+// The dashboard of a finished folder: a page that needs no network, the report's own numbers in
+// dashboard.js (the tables of report.json, every table cell of tables.md, curves whose IQM lies in
+// its interval), every trial linked, and the run's final status.
+void check_dashboard(const fs::path& dir, const std::string& tables, const json& rep) {
+  // No address but the SVG namespace's (a name, never fetched).
+  const std::string page =
+      std::regex_replace(slurp(dir / "index.html"), std::regex("\"http://www.w3.org/2000/svg\""), "SVGNS");
+  REQUIRE(!page.empty());
+  CHECK(!std::regex_search(page, std::regex("https?:")));
+  CHECK(page.find("status.js") != std::string::npos);
+  CHECK(page.find("dashboard.js") != std::string::npos);
+  const json d = script_data(dir / "dashboard.js", "ROGER_REPORT");
+  CHECK(d["tables"] == rep["tables"]);
+  std::vector<std::string> md_rows, page_rows;
+  std::istringstream lines(tables);
+  for (std::string line; std::getline(lines, line);)
+    if (line.rfind("|", 0) == 0 && line.rfind("|---", 0) != 0) md_rows.push_back(line);
+  for (const json& b : d["blocks"]) {
+    if (b["kind"] != "table") continue;
+    for (const json& row : std::vector<json>{b["header"]}) {
+      std::string line = "|";
+      for (const auto& c : row) line += " " + c.get<std::string>() + " |";
+      page_rows.push_back(line);
+    }
+    for (const json& row : b["rows"]) {
+      std::string line = "|";
+      for (const auto& c : row) line += " " + c.get<std::string>() + " |";
+      page_rows.push_back(line);
+    }
+  }
+  CHECK(page_rows == md_rows);
+  int curves = 0;
+  for (const json& fig : d["figures"]) {
+    if (fig["kind"] != "curves") continue;
+    for (const json& s : fig["series"]) {
+      ++curves;
+      REQUIRE(s["iqm"].size() == s["minutes"].size());
+      for (size_t k = 0; k < s["iqm"].size(); ++k) {
+        CHECK(s["iqm_low"][k].get<double>() <= s["iqm"][k].get<double>() + 1e-9);
+        CHECK(s["iqm"][k].get<double>() <= s["iqm_high"][k].get<double>() + 1e-9);
+      }
+    }
+  }
+  CHECK(curves == 3);  // SG: B1, DC2; T: DC6
+  size_t linked = 0;
+  for (const json& run : d["trials"]["runs"])
+    for (const json& c : run["contexts"])
+      for (const json& t : c["trials"]) {
+        CHECK(t["state"] == "ok");
+        CHECK(fs::is_directory(dir / t["folder"].get<std::string>()));
+        ++linked;
+      }
+  for (const json& ev : d["trials"]["evaluations"])
+    for (const json& g : ev["groups"]) linked += g["trials"].size();
+  CHECK(linked == kIds.size());
+  const json status = json::parse(slurp(dir / "status.json"));
+  CHECK(status["running"] == false);
+  CHECK(status["done"] == kIds.size());
+  CHECK(script_data(dir / "status.js", "ROGER_STATUS") == status);
+}
+
 }  // namespace
 
 TEST_CASE("curve_grid interpolates checkpoints onto a common grid", "[report]") {
@@ -201,6 +272,8 @@ TEST_CASE("a tiny batch writes every file, with tables that match the trials, wh
   CHECK(rep["tables"][0]["rows"][1]["time_mean_s"].get<double>() == Approx(mean(times)));
   CHECK(tables.find("| **Total** |") != std::string::npos);
 
+  check_dashboard(one, tables, rep);
+
   REQUIRE(f.run("two", 2) == 0);
   same_results(one, f.root / "two");
 
@@ -220,6 +293,13 @@ TEST_CASE("a tiny batch writes every file, with tables that match the trials, wh
   // A run cut short (here: after 3 new trials) resumes to exactly the uninterrupted run's trials.
   REQUIRE(f.run("cut", 2, 3) == 0);
   CHECK(finished_ids(f.root / "cut").size() == 3);
+  {  // the run's last status says so, for the dashboard of a run that stopped early
+    const json status = json::parse(slurp(f.root / "cut/status.json"));
+    CHECK(status["running"] == false);
+    CHECK(status["done"] == 3);
+    CHECK(status["trials"] == kIds.size());
+    CHECK(slurp(f.root / "cut/status.js").find("window.ROGER_STATUS = {") != std::string::npos);
+  }
   CHECK(slurp(f.root / "cut/summary.csv").find(",pending,") != std::string::npos);
   // roger report alone refuses a folder with trials still to run, naming them, and writes nothing;
   // --partial reports what is there.

@@ -74,6 +74,8 @@ int command_run(const RunArgs& a) {
       log << "roger run: shard " << shard.index << " of " << shard.count << ": trials " << shard.index << ", "
           << shard.index + shard.count << ", ... of every run; no report (run roger report " << plan.out
           << " when every shard is done)\n";
+    // The dashboard from the start: it follows the run's status.js until the report is written.
+    log << "roger run: open " << write_dashboard_page(plan.out) << " to follow the run\n";
     const BatchSummary summary = run_batch(plan, RunControl{a.jobs, a.live, a.max_trials, a.only, &log, shard, !a.no_eval_cache});
     int status = 0;
     if (!a.no_report && !shard.active()) {

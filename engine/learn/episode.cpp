@@ -57,8 +57,9 @@ class FixedActionDriver final : public EpisodeDriver {
 // Records frames every `every` ticks (and the last one) and the watched controllers' states.
 class Recorder final : public EpisodeObserver {
  public:
-  Recorder(EpisodeResult& result, const std::vector<ControllerPtr>& watch, int every)
-      : result_(result), watch_(watch), every_(every) {}
+  Recorder(EpisodeResult& result, const Controller& action, const std::vector<ControllerPtr>& watch,
+           int every)
+      : result_(result), action_(action), watch_(watch), every_(every) {}
 
   void on_begin(const Agent& agent, uint64_t seed) override {
     for (const auto& w : watch_) w->reset(seed);
@@ -68,6 +69,7 @@ class Recorder final : public EpisodeObserver {
   void on_tick(const Agent& agent, int tick) override {
     for (size_t i = 0; i < watch_.size(); ++i) result_.gammas[i].states.push_back(watch_[i]->state(agent.input()));
     if (every_ && tick % every_ == 0) record(agent, tick);
+    if (every_ || !watch_.empty()) note_decision(tick);
   }
   void on_end(const Agent& agent, bool success, int ticks) override {
     // The moment the goal was reached is always shown, whatever the frame period.
@@ -80,9 +82,38 @@ class Recorder final : public EpisodeObserver {
     result_.frames.push_back(agent.world().frame());
     result_.frame_ticks.push_back(tick);
   }
+  // Follows the action down to what runs now (a sequence's current step, a policy's choice, a
+  // stand-in's target) and records a decision when that path differs from the last tick's. The
+  // path is compared as pointers in a reused buffer, so names are copied only at decisions.
+  void note_decision(int tick) {
+    path_.clear();
+    for (const Controller* c = &action_; c && path_.size() < 32;) {
+      path_.push_back(c);
+      if (const auto* seq = dynamic_cast<const Sequence*>(c)) {
+        const int k = seq->current();
+        c = k >= 0 && size_t(k) < seq->steps().size() ? seq->steps()[size_t(k)].get() : nullptr;
+      } else if (const auto* pol = dynamic_cast<const Policy*>(c)) {
+        const int k = pol->chosen();
+        c = k >= 0 && size_t(k) < pol->actions().size() ? pol->actions()[size_t(k)].get() : nullptr;
+      } else if (const auto* stand_in = dynamic_cast<const StandIn*>(c)) {
+        c = stand_in->target().get();
+      } else {
+        c = nullptr;
+      }
+    }
+    if (path_ == last_path_) return;
+    last_path_ = path_;
+    Decision d;
+    d.tick = tick;
+    for (const Controller* c : path_)  // a stand-in and its target usually share a name: once
+      if (d.path.empty() || d.path.back() != c->name()) d.path.push_back(c->name());
+    result_.decisions.push_back(std::move(d));
+  }
   EpisodeResult& result_;
+  const Controller& action_;
   const std::vector<ControllerPtr>& watch_;
   const int every_;
+  std::vector<const Controller*> path_, last_path_;
 };
 
 }  // namespace
@@ -95,7 +126,7 @@ EpisodeResult run_episode(Agent& agent, const WorldSpec& spec, uint64_t seed, Co
   EpisodeResult r;
   r.seed = seed;
   FixedActionDriver driver(action, goal);
-  Recorder recorder(r, watch, every);
+  Recorder recorder(r, action, watch, every);
   const EpisodeOutcome out = run_episode(agent, spec, seed, driver, options.time_limit, &recorder);
   r.success = out.success;
   r.ticks = out.ticks;

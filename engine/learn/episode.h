@@ -73,6 +73,13 @@ struct GammaTrace {
   std::vector<Gamma> states;
 };
 
+// A decision of the action's skills: from `tick` on, the action runs through `path`, the chain of
+// controllers from the action down to the step a sequence runs or the action a policy chose.
+struct Decision {
+  int tick = 0;                    // the control tick (from 1) at which this path first ran
+  std::vector<std::string> path;   // names, outermost first (the action itself alone when flat)
+};
+
 // What happened in one episode of one action.
 struct EpisodeResult {
   uint64_t seed = 0;
@@ -83,11 +90,12 @@ struct EpisodeResult {
   std::vector<Frame> frames;      // when recording
   std::vector<double> frame_ticks;// tick index of each frame
   std::vector<GammaTrace> gammas; // one per watched controller, every tick
+  std::vector<Decision> decisions;// when recording: each change of the running path of the action
 };
 
 // Runs `action` (a primitive, composition or skill) through the loop from a fresh world until
 // `goal` holds or the time limit, recording frames every options.record_every seconds and the
-// states of the `watch` controllers every tick. Every controller it uses is reset with the
+// states of the `watch` controllers every tick (and, when recording either, the decisions). Every controller it uses is reset with the
 // episode seed, so the episode is a pure function of (spec, seed, action).
 EpisodeResult run_episode(Agent& agent, const WorldSpec& spec, uint64_t seed, Controller& action,
                           Predicate& goal, const EpisodeOptions& options = {},

@@ -12,6 +12,7 @@
 #include "script/batch_script.h"
 #include "core/error.h"
 #include "core/fileio.h"
+#include "report/dashboard_internal.h"
 #include "report/plot.h"
 #include "report/stats.h"
 
@@ -344,9 +345,11 @@ std::vector<std::string> figure_paths(const std::string& dir, const std::string&
 }
 
 // A run's learning curves: greedy reward at the checkpoints against simulated training minutes.
-bool curves_figure(const BatchScript& b, const BatchFigure& f, const Folder& folder, std::vector<std::string>& written) {
+bool curves_figure(const BatchScript& b, const BatchFigure& f, const Folder& folder, std::vector<std::string>& written,
+                   json& page) {
   const BatchRun& run = *b.run(f.run);
   std::vector<CurveSeries> series;
+  json page_series = json::array();
   for (const auto& c : run.contexts) {
     const Results r = folder.run(run, c);
     std::vector<std::vector<std::pair<double, double>>> trials;
@@ -366,8 +369,12 @@ bool curves_figure(const BatchScript& b, const BatchFigure& f, const Folder& fol
       s.mean.push_back(mean(v));
       s.std.push_back(population_std(v));
     }
+    page_series.push_back(dashboard::curve_series(c, s.x, g.values));
     series.push_back(std::move(s));
   }
+  page.push_back({{"kind", "curves"}, {"file", f.file}, {"run", run.name}, {"log_x", f.log_x},
+                  {"title", f.title.empty() ? "Learning curves: stage " + run.stage : f.title},
+                  {"series", page_series}});
   if (series.empty()) return false;
   CurveOptions o;
   o.x_label = "Simulated training time (min)";
@@ -380,7 +387,8 @@ bool curves_figure(const BatchScript& b, const BatchFigure& f, const Folder& fol
 }
 
 // Cumulative training time per context: the skills' runs (the trial's own skill source) then the run.
-bool cumulative_figure(const BatchScript& b, const BatchFigure& f, const Folder& folder, std::vector<std::string>& written) {
+bool cumulative_figure(const BatchScript& b, const BatchFigure& f, const Folder& folder, std::vector<std::string>& written,
+                       json& page) {
   const BatchRun& run = *b.run(f.run);
   std::vector<std::string> categories;
   std::vector<BarStack> stacks;
@@ -404,6 +412,10 @@ bool cumulative_figure(const BatchScript& b, const BatchFigure& f, const Folder&
     for (const auto& j : r.ok) v.push_back(num(j, "time_to_threshold_s") / 60.0);
     stacks.back().values.push_back(mean(v));
   }
+  json page_stacks = json::array();
+  for (const auto& st : stacks) page_stacks.push_back({{"name", st.name}, {"minutes", st.values}});
+  page.push_back({{"kind", "cumulative"}, {"file", f.file}, {"run", run.name}, {"categories", categories},
+                  {"title", f.title.empty() ? "Cumulative training time" : f.title}, {"stacks", page_stacks}});
   if (categories.empty()) return false;
   BarOptions o;
   o.y_label = "Cumulative simulated training time (min)";
@@ -493,8 +505,10 @@ std::vector<std::string> write_report(const std::string& dir) {
   }
   std::vector<std::string> written;
   std::vector<std::string> figures_md;
+  json page_figures = json::array();
   for (const auto& f : b.figures) {
-    const bool drawn = f.kind == "cumulative" ? cumulative_figure(b, f, folder, written) : curves_figure(b, f, folder, written);
+    const bool drawn = f.kind == "cumulative" ? cumulative_figure(b, f, folder, written, page_figures)
+                                              : curves_figure(b, f, folder, written, page_figures);
     figures_md.push_back("- `" + f.file + ".png` / `" + f.file + ".svg`: " +
                          (f.title.empty() ? f.kind + " of run " + f.run : f.title) + (drawn ? "" : " (not drawn: no finished trial)"));
   }
@@ -512,6 +526,12 @@ std::vector<std::string> write_report(const std::string& dir) {
   const std::string report_json = (fs::path(dir) / "report.json").string();
   write_file_atomic(report_json, json{{"tables", rep}}.dump(1) + "\n", "roger report: cannot write report.json");
   written.insert(written.begin(), {tables, report_json});
+  const json page = {{"name", b.name}, {"description", b.description},
+                     {"script", manifest.value("script", std::string("?"))}, {"curriculum", b.curriculum},
+                     {"version", manifest.value("version", std::string("?"))}, {"seed", b.seed},
+                     {"blocks", dashboard::markdown_blocks(md.str())}, {"tables", rep},
+                     {"figures", page_figures}, {"trials", dashboard::trial_index(b, dir)}};
+  for (const auto& f : dashboard::write_dashboard(dir, page)) written.push_back(f);
   return written;
 }
 

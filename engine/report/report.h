@@ -6,7 +6,8 @@
 // fraction of trials that reached the threshold, Mann-Whitney U p-values and probabilities of
 // improvement against the baseline, and the usage analysis) and the figures (learning curves and
 // cumulative training times, PNG and SVG). Everything is read back from the folder: manifest.json
-// and trials/<id>/result.json. Every file is written atomically.
+// and trials/<id>/result.json. Every file is written atomically. The dashboard (index.html) shows
+// the same numbers in a browser.
 #pragma once
 
 #include <string>
@@ -28,8 +29,14 @@ struct CurveGrid {
 // value. Trials without checkpoints are skipped.
 CurveGrid curve_grid(const std::vector<std::vector<std::pair<double, double>>>& trials, int points, bool log_x);
 
-// Writes tables.md, report.json (the tables' numbers) and every figure of the results folder `dir`.
+// Writes tables.md, report.json (the tables' numbers), every figure of the results folder `dir`
+// and its dashboard: index.html with dashboard.js, the same numbers for a browser (docs/browser.md).
 // Returns the files written. Throws roger::Error when the folder holds no manifest.json.
 std::vector<std::string> write_report(const std::string& dir);
+
+// Writes the dashboard's page alone (index.html) into the results folder `dir`, atomically, so a
+// run can be watched from its start: the page shows the run's progress from status.js and the
+// report from dashboard.js once there is one. Returns its path; throws roger::Error when it cannot.
+std::string write_dashboard_page(const std::string& dir);
 
 }  // namespace roger

@@ -196,27 +196,25 @@ void render_episode(const WorldSpec& spec, const EpisodeResult& episode, const s
   const double tl_h = options.show_timeline ? timeline_height(tl, TimelineMode::kFrame, u) : 0.0;
   const long width = world.width, height = world.height + long(std::ceil(tl_h));
 
-  TimelineBox box;
   for (size_t i = 0; i < episode.frames.size(); ++i) {
     const Frame& f = episode.frames[i];
     write_png((fs::path(folder) / frame_name(i)).string(), width, height, [&](cairo_t* cr) {
       draw_frame(cr, spec, f, fo, world.width, world.height);
       if (options.show_timeline) {
         const Cursor c{std::isfinite(f.time) ? f.time : 0.0, 0, tl.frame_ticks[i]};
-        box = draw_timeline(cr, tl, TimelineMode::kFrame, {c}, options.dim_future, 0,
+        draw_timeline(cr, tl, TimelineMode::kFrame, {c}, options.dim_future, 0,
                             world.height, world.width, u);
       }
     });
   }
   const fs::path dir(folder);
+  AnimationOptions named = options;
+  named.frame.robot = fo.robot;
+  const json data = episode_json(spec, episode, tl, named);
   write_text_file((dir / "episode.json").string(),
-                  episode_json(spec, episode, tl, options)
-                          .dump(1, ' ', false, json::error_handler_t::replace) +
-                      "\n");
-  // The page last: once it is replaced, every frame it names is already the new one.
-  write_text_file((dir / "index.html").string(),
-                  page_html(spec, episode, tl, options, options.show_timeline ? &box : nullptr,
-                            double(width), double(height)));
+                  data.dump(1, ' ', false, json::error_handler_t::replace) + "\n");
+  // The page last: once it is replaced, every file beside it is already the new one.
+  write_text_file((dir / "index.html").string(), page_html(spec, episode, tl, options, data));
   remove_stale_frames(folder, episode.frames.size());
 }
 

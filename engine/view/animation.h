@@ -1,8 +1,9 @@
 // animation.h: an episode as something to watch, for researchers debugging a controller. A folder
-// holds one PNG per recorded frame (the world picture of render.h with, under it, a timeline of
-// every watched controller's state over the whole episode and a cursor at the frame's time), a
-// self-contained index.html that replays them (no network, no server: open the file), and
-// episode.json with the numbers behind the pictures for anyone who wants to plot them. A single
+// holds episode.json (the world's shapes and, per frame, poses, arms, eyes, both images and touch;
+// every watched controller's state per tick; the decisions of the action's skills), index.html, a
+// self-contained viewer that draws the episode from those numbers on a canvas (no network, no
+// server: open the file; docs/browser.md), and one PNG per recorded frame (the world picture of
+// render.h over a timeline of the controllers' states) for whoever wants pictures. A single
 // summary PNG (a strip of frames over the same timeline) fits in a report or an issue.
 #pragma once
 
@@ -17,14 +18,14 @@ namespace roger {
 // How an episode is drawn and replayed.
 struct AnimationOptions {
   RenderOptions frame;       // each frame's world picture; its title defaults to `title`
-  double fps = 10.0;         // playback frames per second at 1x in index.html
+  double fps = 10.0;         // recorded in episode.json (the viewer plays in simulated time)
   std::string title;         // the page's heading and the pictures' title
   bool show_timeline = true; // the controller-state timeline under each frame
   bool dim_future = true;    // in a frame's timeline, fade what has not happened yet
 };
 
 // Writes the episode into folder (created if missing): frame_0000.png, ... one per recorded frame,
-// episode.json and index.html, each file atomically. Frames of an earlier, longer rendering beyond
+// episode.json and index.html (the viewer, with episode.json's data inside), each file atomically. Frames of an earlier, longer rendering beyond
 // the new count are removed, so a folder never mixes episodes. Throws roger::Error for an episode
 // without frames, frames that do not match spec, bad options, or a folder that cannot be written.
 void render_episode(const WorldSpec& spec, const EpisodeResult& episode, const std::string& folder,

@@ -110,7 +110,7 @@ struct Cursor {
   long tick;
 };
 
-// Where the bars go, so the page can map clicks on a frame back to times.
+// Where the bars go in the picture (the frame PNGs; the viewer draws its own timeline).
 struct TimelineBox {
   double x0 = 0, x1 = 0, y0 = 0, y1 = 0;
 };
@@ -129,14 +129,13 @@ TimelineBox draw_timeline(cairo_t* cr, const Timeline& tl, TimelineMode mode,
 // frame_0000.png, ...; more digits only beyond 9999 frames.
 std::string frame_name(size_t i);
 
-// episode.json: the numbers behind the pictures (episode_page.cpp).
+// episode.json: the world's shapes, every frame (poses, arms, eyes, images, touch), every tick's
+// controller states and the decisions: all the viewer draws (episode_page.cpp).
 json episode_json(const WorldSpec& spec, const EpisodeResult& ep, const Timeline& tl,
                   const AnimationOptions& o);
 
-// index.html: the replay page filled with the episode's data; box is where the frames' timeline
-// bars are (null without a timeline) in a pic_w x pic_h frame (episode_page.cpp).
+// index.html: the vector viewer with `episode` (episode_json's value) embedded (episode_page.cpp).
 std::string page_html(const WorldSpec& spec, const EpisodeResult& ep, const Timeline& tl,
-                      const AnimationOptions& o, const TimelineBox* box, double pic_w,
-                      double pic_h);
+                      const AnimationOptions& o, const json& episode);
 
 }  // namespace roger::anim

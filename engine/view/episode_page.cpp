@@ -1,5 +1,8 @@
-// episode_page.cpp: the episode folder's two text files: episode.json (the numbers behind the
-// pictures) and index.html (the replay page of web/episode.html, filled with the episode's data).
+// episode_page.cpp: the episode folder's two text files: episode.json (everything needed to draw
+// and replay the episode: the world's shapes, every frame's poses, arms, eyes, images and touch,
+// every tick's controller states and the decisions) and index.html (the vector viewer of
+// web/episode.html, with that same data embedded, since a page opened from the file system cannot
+// fetch() a file beside it).
 #include "view/animation_internal.h"
 
 #include <algorithm>
@@ -71,8 +74,98 @@ std::string fill(const std::string& page,
   return out;
 }
 
-// The replay page (web/episode.html, compiled in). Everything is inline so the folder can be
-// zipped, mailed or opened from disk.
+// A colour as "#rrggbb".
+std::string css_colour(const Colour& c) {
+  char buf[8];
+  std::snprintf(buf, sizeof buf, "#%02x%02x%02x", c.r, c.g, c.b);
+  return buf;
+}
+
+// A point as [x, y], rounded to 0.1 mm: the page draws, it does not integrate.
+json point_json(const Vec2& p) {
+  return json::array({std::round(p.x() * 1e4) / 1e4, std::round(p.y() * 1e4) / 1e4});
+}
+
+// A shape in its own frame: convex polygons and disks.
+json shape_json(const Shape& shape) {
+  json polygons = json::array(), disks = json::array();
+  for (const Polygon& poly : shape.polygons) {
+    json vertices = json::array();
+    for (const Vec2& v : poly.vertices) vertices.push_back(point_json(v));
+    polygons.push_back(vertices);
+  }
+  for (const Disk& d : shape.disks) disks.push_back({{"center", point_json(d.center)}, {"radius", d.radius}});
+  return {{"polygons", polygons}, {"disks", disks}};
+}
+
+// What does not change in an episode: the arena, the bodies' shapes and colours, the goals and the
+// dimensions of Roger, so the page can draw every frame from poses alone.
+json world_json(const WorldSpec& spec, const RobotParams& robot) {
+  json objects = json::array(), obstacles = json::array(), goals = json::array();
+  for (const ObjectSpec& obj : spec.objects)
+    objects.push_back({{"name", valid_utf8(obj.name)}, {"colour", css_colour(obj.colour)},
+                       {"shape", shape_json(obj.shape)}});
+  for (const ObstacleSpec& ob : spec.obstacles)
+    obstacles.push_back({{"name", valid_utf8(ob.name)}, {"colour", css_colour(ob.colour)},
+                         {"pose", pose_json(ob.pose)}, {"shape", shape_json(ob.shape)}});
+  for (const GoalRegion& g : spec.goals)
+    goals.push_back({{"name", valid_utf8(g.name)}, {"colour", css_colour(g.colour)},
+                     {"center", point_json(g.center)}, {"radius", g.radius}});
+  const ArenaSpec& a = spec.arena;
+  return {{"arena", {{"xmin", a.xmin}, {"xmax", a.xmax}, {"ymin", a.ymin}, {"ymax", a.ymax},
+                     {"wall_colour", css_colour(a.wall_colour)}}},
+          {"robot", {{"base_radius", robot.base_radius}, {"hand_radius", robot.hand_radius},
+                     {"link_width", robot.link_width}, {"axle_half_width", robot.axle_half_width},
+                     {"field_of_view", std::atan2(kPrincipalPixel + 0.5, kFocalPixels)}}},
+          {"objects", objects},
+          {"obstacles", obstacles},
+          {"goals", goals},
+          {"stimulus_colour", css_colour(spec.stimulus_colour)}};
+}
+
+// One eye's image as 128 colours "rrggbb" in one string, pixel 0 (the right edge of the view) first.
+std::string image_text(const EyeImage& image) {
+  std::string out;
+  out.reserve(kPixels * 6);
+  char buf[8];
+  for (const Colour& c : image.colour) {
+    std::snprintf(buf, sizeof buf, "%02x%02x%02x", c.r, c.g, c.b);
+    out += buf;
+  }
+  return out;
+}
+
+// Everything moving in one frame: the base, arms, eyes and their images, touch and the stereo fix.
+json frame_json(const Frame& f) {
+  json objects = json::array();
+  for (const Pose& p : f.objects) objects.push_back(pose_json(p));
+  json arms = json::array(), eyes = json::array(), headings = json::array(), images = json::array(),
+       sightings = json::array(), touch = json::array();
+  for (const ArmPoints& a : f.arms)
+    arms.push_back({point_json(a.shoulder), point_json(a.elbow), point_json(a.hand)});
+  for (int e = 0; e < 2; ++e) {
+    eyes.push_back(point_json(f.eyes[size_t(e)]));
+    headings.push_back(f.eye_heading[size_t(e)]);
+    images.push_back(image_text(f.senses.image[size_t(e)]));
+    const Sighting& s = f.senses.stimulus[size_t(e)];
+    sightings.push_back(s.seen ? json{{"u", s.u}, {"u_lo", s.u_lo}, {"u_hi", s.u_hi}} : json(nullptr));
+  }
+  static const char* const kSensor[kTactileCount] = {"body", "left hand", "right hand"};
+  for (int k = 0; k < kTactileCount; ++k) {
+    const Touch& t = f.senses.touch[size_t(k)];
+    touch.push_back({{"sensor", kSensor[k]}, {"contact", t.contact}, {"force", t.force},
+                     {"friction", t.friction}, {"normal", point_json(t.normal)},
+                     {"point", point_json(t.point)}});
+  }
+  json j = {{"time", f.time}, {"base", pose_json(f.base)}, {"objects", objects}, {"arms", arms},
+            {"eyes", eyes}, {"eye_heading", headings}, {"images", images},
+            {"sightings", sightings}, {"touch", touch}};
+  j["stereo"] = f.senses.stereo_valid ? point_json(f.senses.stimulus_world) : json(nullptr);
+  return j;
+}
+
+// The viewer (web/episode.html, compiled in). Everything is inline so the folder can be zipped,
+// mailed or opened from disk.
 const char* const kPage = kEpisodePageHtml;
 
 
@@ -82,7 +175,7 @@ json episode_json(const WorldSpec& spec, const EpisodeResult& ep, const Timeline
                   const AnimationOptions& o) {
   json j;
   j["format"] = "roger-episode";
-  j["version"] = 1;
+  j["version"] = 2;
   j["title"] = valid_utf8(o.title);
   j["scenario"] = {{"name", valid_utf8(spec.scenario)}, {"seed", spec.seed}};
   j["seed"] = ep.seed;
@@ -95,16 +188,13 @@ json episode_json(const WorldSpec& spec, const EpisodeResult& ep, const Timeline
   json names = json::array();
   for (const ObjectSpec& obj : spec.objects) names.push_back(valid_utf8(obj.name));
   j["objects"] = names;
+  j["world"] = world_json(spec, o.frame.robot);
   json frames = json::array();
   for (size_t i = 0; i < ep.frames.size(); ++i) {
-    const Frame& f = ep.frames[i];
-    json objects = json::array();
-    for (const Pose& p : f.objects) objects.push_back(pose_json(p));
-    frames.push_back({{"file", frame_name(i)},
-                      {"tick", tl.frame_ticks[i]},
-                      {"time", f.time},
-                      {"base", pose_json(f.base)},
-                      {"objects", objects}});
+    json f = frame_json(ep.frames[i]);
+    f["file"] = frame_name(i);
+    f["tick"] = tl.frame_ticks[i];
+    frames.push_back(std::move(f));
   }
   j["frames"] = frames;
   // One state name per control tick, in the words of the paper's Equation 1.
@@ -115,41 +205,18 @@ json episode_json(const WorldSpec& spec, const EpisodeResult& ep, const Timeline
     gammas.push_back({{"name", valid_utf8(g.name)}, {"states", states}});
   }
   j["gammas"] = gammas;
+  json decisions = json::array();
+  for (const Decision& d : ep.decisions) {
+    json path = json::array();
+    for (const std::string& name : d.path) path.push_back(valid_utf8(name));
+    decisions.push_back({{"tick", d.tick}, {"time", (d.tick - 1) * tl.dt}, {"path", path}});
+  }
+  j["decisions"] = decisions;
   return j;
 }
 
 std::string page_html(const WorldSpec& spec, const EpisodeResult& ep, const Timeline& tl,
-                      const AnimationOptions& o, const TimelineBox* box, double pic_w,
-                      double pic_h) {
-  json data;
-  data["fps"] = o.fps;
-  data["ticks"] = ep.ticks;
-  data["sim_seconds"] = ep.sim_seconds;
-  json frames = json::array();
-  for (size_t i = 0; i < ep.frames.size(); ++i)
-    frames.push_back({{"file", frame_name(i)},
-                      {"time", std::isfinite(ep.frames[i].time) ? ep.frames[i].time : 0.0},
-                      {"tick", tl.frame_ticks[i]}});
-  data["frames"] = frames;
-  // Each controller's state at each frame (-1 before the first tick), so the page needs no
-  // knowledge of control ticks.
-  json controllers = json::array();
-  for (size_t r = 0; r < tl.rows.size(); ++r) {
-    json states = json::array();
-    for (long tick : tl.frame_ticks) {
-      const Gamma* g = tl.state_at(r, tick);
-      states.push_back(g ? int(*g) : -1);
-    }
-    controllers.push_back({{"name", tl.rows[r].name}, {"states", states}});
-  }
-  data["controllers"] = controllers;
-  if (box)
-    data["timeline"] = {{"x0", box->x0 / pic_w}, {"x1", box->x1 / pic_w},
-                        {"y0", box->y0 / pic_h}, {"y1", box->y1 / pic_h},
-                        {"t_end", tl.t_end}};
-  else
-    data["timeline"] = nullptr;
-
+                      const AnimationOptions& o, const json& episode) {
   const std::string title = valid_utf8(o.title);
   std::string meta = spec.scenario.empty() ? std::string("world")
                                            : "scenario " + valid_utf8(spec.scenario);
@@ -164,7 +231,7 @@ std::string page_html(const WorldSpec& spec, const EpisodeResult& ep, const Time
                       {"NOREF", kGammaCss[0]},
                       {"NOTCONV", kGammaCss[1]},
                       {"CONV", kGammaCss[2]},
-                      {"DATA", script_json(data)}});
+                      {"DATA", script_json(episode)}});
 }
 
 }  // namespace roger::anim

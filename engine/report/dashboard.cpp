@@ -1,0 +1,196 @@
+// dashboard.cpp: the results folder's dashboard: index.html (web/dashboard.html of the view
+// folder, compiled in) and dashboard.js (the report's numbers). The page draws what the report
+// computed; it computes no statistic itself.
+#include "report/dashboard_internal.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "batch/batch.h"
+#include "core/error.h"
+#include "core/fileio.h"
+#include "report/report.h"
+#include "report/stats.h"
+
+#include "dashboard_page_html.h"  // generated from engine/view/web/dashboard.html
+
+namespace roger {
+namespace dashboard {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr uint64_t kCurveBootstrapSeed = 20240602;  // fixed: the same folder gives the same bands
+constexpr int kCurveResamples = 1000;  // per grid time; the band is drawn, not tabulated
+
+// Five significant digits: a curve is drawn, and the paper's folder must stay a light page.
+double rounded(double v) {
+  if (!std::isfinite(v) || v == 0.0) return v;
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.5g", v);
+  return std::strtod(buf, nullptr);
+}
+
+json rounded_array(const std::vector<double>& xs) {
+  json a = json::array();
+  for (double x : xs) a.push_back(rounded(x));
+  return a;
+}
+
+// The cells of a markdown table row "| a | b |".
+std::vector<std::string> table_cells(const std::string& line) {
+  std::vector<std::string> cells;
+  std::string cell;
+  for (size_t i = 1; i < line.size(); ++i) {
+    if (line[i] == '|') {
+      const size_t b = cell.find_first_not_of(' '), e = cell.find_last_not_of(' ');
+      cells.push_back(b == std::string::npos ? "" : cell.substr(b, e - b + 1));
+      cell.clear();
+    } else {
+      cell += line[i];
+    }
+  }
+  return cells;
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// One trial's entry: its folder, its state, and from result.json the numbers a list shows.
+json trial_entry(const std::string& dir, const std::string& id, int index) {
+  const std::string folder = "trials/" + id + "/";
+  json t = {{"index", index}, {"id", id}, {"folder", folder}, {"state", "pending"}};
+  const fs::path d = fs::path(trial_dir(dir, id));
+  std::error_code ec;
+  if (fs::exists(d / "result.json", ec)) {
+    t["state"] = "ok";
+    try {
+      const json r = json::parse(read_text(d / "result.json"));
+      for (const char* key : {"time_to_threshold_s", "reached", "success_rate", "reward_mean"})
+        if (r.contains(key)) t[key] = r[key].is_number() ? json(rounded(r[key].get<double>())) : r[key];
+    } catch (const std::exception&) {
+      t["state"] = "failed";
+    }
+  } else if (fs::exists(d / "error.json", ec)) {
+    t["state"] = "failed";
+  }
+  // The files worth opening: the episodes of training, and any episode page rendered there.
+  json files = json::array();
+  for (const char* f : {"episodes.jsonl", "checkpoints.jsonl", "curve.csv", "policy.json", "result.json"})
+    if (fs::exists(d / f, ec)) files.push_back(f);
+  t["files"] = files;
+  json pages = json::array();
+  for (fs::directory_iterator it(d, ec), end; !ec && it != end; it.increment(ec))
+    if (it->is_directory(ec) && fs::exists(it->path() / "index.html", ec))
+      pages.push_back(it->path().filename().string() + "/index.html");
+  std::sort(pages.begin(), pages.end());
+  t["pages"] = pages;
+  return t;
+}
+
+}  // namespace
+
+json curve_series(const std::string& context, const std::vector<double>& minutes,
+                  const std::vector<std::vector<double>>& values) {
+  std::vector<double> mu, sd, iqm, lo, hi;
+  for (size_t k = 0; k < minutes.size(); ++k) {
+    std::vector<double> v;
+    for (const auto& trial : values) v.push_back(trial[k]);
+    mu.push_back(mean(v));
+    sd.push_back(population_std(v));
+    const ConfidenceInterval ci =
+        bootstrap_ci(v, interquartile_mean, kCurveBootstrapSeed + k, kCurveResamples);
+    iqm.push_back(ci.estimate);
+    lo.push_back(ci.low);
+    hi.push_back(ci.high);
+  }
+  return {{"context", context}, {"trials", values.size()}, {"minutes", rounded_array(minutes)},
+          {"mean", rounded_array(mu)}, {"std", rounded_array(sd)}, {"iqm", rounded_array(iqm)},
+          {"iqm_low", rounded_array(lo)}, {"iqm_high", rounded_array(hi)}};
+}
+
+json markdown_blocks(const std::string& md) {
+  json blocks = json::array();
+  std::istringstream in(md);
+  std::string line;
+  json* table = nullptr;
+  while (std::getline(in, line)) {
+    if (line.empty()) {
+      table = nullptr;
+      continue;
+    }
+    if (line[0] == '|') {
+      const std::vector<std::string> cells = table_cells(line);
+      if (!table) {
+        blocks.push_back({{"kind", "table"}, {"header", cells}, {"rows", json::array()}});
+        table = &blocks.back();
+      } else if (line.compare(0, 4, "|---") != 0) {
+        (*table)["rows"].push_back(cells);
+      }
+      continue;
+    }
+    table = nullptr;
+    if (line.compare(0, 4, "### ") == 0) blocks.push_back({{"kind", "h3"}, {"text", line.substr(4)}});
+    else if (line.compare(0, 3, "## ") == 0) blocks.push_back({{"kind", "h2"}, {"text", line.substr(3)}});
+    else if (line.compare(0, 2, "# ") == 0) blocks.push_back({{"kind", "h1"}, {"text", line.substr(2)}});
+    else if (line.compare(0, 2, "- ") == 0) blocks.push_back({{"kind", "li"}, {"text", line.substr(2)}});
+    else blocks.push_back({{"kind", "p"}, {"text", line}});
+  }
+  return blocks;
+}
+
+json trial_index(const BatchScript& b, const std::string& dir) {
+  json runs = json::array();
+  for (const BatchRun& run : b.runs) {
+    json contexts = json::array();
+    for (const std::string& c : run.contexts) {
+      json trials = json::array();
+      for (int i = 0; i < run.trials; ++i) trials.push_back(trial_entry(dir, batch_trial_id(run.name, c, i), i));
+      contexts.push_back({{"context", c}, {"trials", trials}});
+    }
+    runs.push_back({{"run", run.name}, {"stage", run.stage}, {"contexts", contexts}});
+  }
+  json evaluations = json::array();
+  for (const BatchEvaluation& ev : b.evaluations) {
+    json groups = json::array();
+    for (const std::string& g : batch_eval_groups(ev)) {
+      json trials = json::array();
+      for (int i = 0; i < ev.trials; ++i) trials.push_back(trial_entry(dir, batch_eval_id(ev.name, g, i), i));
+      groups.push_back({{"group", g}, {"trials", trials}});
+    }
+    evaluations.push_back({{"evaluation", ev.name}, {"run", ev.run}, {"context", ev.context}, {"groups", groups}});
+  }
+  return {{"runs", runs}, {"evaluations", evaluations}};
+}
+
+std::vector<std::string> write_dashboard(const std::string& dir, const json& data) {
+  // '<' only occurs inside JSON strings, where \u003c means the same: no name closes a script.
+  std::string text = data.dump(-1, ' ', false, json::error_handler_t::replace);
+  std::string safe;
+  safe.reserve(text.size());
+  for (char c : text) safe += c == '<' ? std::string("\\u003c") : std::string(1, c);
+  const std::string script = (fs::path(dir) / "dashboard.js").string();
+  write_file_atomic(script,
+                    "// Generated by roger report: the numbers of the report for index.html.\n"
+                    "window.ROGER_REPORT = " + safe + ";\n",
+                    "roger report: cannot write dashboard.js");
+  return {script, write_dashboard_page(dir)};
+}
+
+}  // namespace dashboard
+
+std::string write_dashboard_page(const std::string& dir) {
+  const std::string page = (std::filesystem::path(dir) / "index.html").string();
+  write_file_atomic(page, kDashboardPageHtml, "roger: cannot write the dashboard");
+  return page;
+}
+
+}  // namespace roger

@@ -1,0 +1,348 @@
+#!/usr/bin/env python3
+"""Opens roger's two pages in a real headless Chromium, from the file system as a user would, and
+checks what they show: the dashboard of a results folder and the episode viewer.
+
+Chromium is driven through its DevTools protocol over --remote-debugging-pipe (file descriptors 3
+and 4, NUL-separated JSON), so nothing beyond Python's standard library and Debian's chromium is
+needed. Exit 0: every check holds; 1: a check failed; 77: no browser could be started (skipped).
+
+  check_pages.py --roger build/engine/roger --work DIR            # run, render, check
+  check_pages.py --roger build/engine/roger --work DIR --screenshots docs/figures
+"""
+import argparse
+import base64
+import json
+import os
+import re
+import select
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+SKIP = 77
+
+
+class Browser:
+    """A headless Chromium with one page, spoken to through the DevTools protocol."""
+
+    def __init__(self, executable, width=1400, height=1000):
+        self.profile = tempfile.mkdtemp(prefix="roger-chromium-")
+        to_child_r, self.to_child = os.pipe()
+        self.from_child, from_child_w = os.pipe()
+
+        def wire():  # in the child: the protocol's fds 3 (commands in) and 4 (answers out)
+            commands, answers = os.dup(to_child_r), os.dup(from_child_w)  # neither is 3 or 4 now
+            os.dup2(commands, 3)
+            os.dup2(answers, 4)
+
+        args = [executable, "--headless=new", "--remote-debugging-pipe", "--disable-gpu",
+                "--no-first-run", "--no-default-browser-check", "--hide-scrollbars",
+                "--allow-file-access-from-files", "--user-data-dir=" + self.profile,
+                "--window-size=%d,%d" % (width, height), "about:blank"]
+        if hasattr(os, "geteuid") and os.geteuid() == 0:
+            args.insert(1, "--no-sandbox")  # Chromium refuses to run as root with its sandbox
+        self.proc = subprocess.Popen(args, preexec_fn=wire, pass_fds=(3, 4),
+                                     stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+        os.close(to_child_r)
+        os.close(from_child_w)
+        self.buffer = b""
+        self.next_id = 0
+        self.events = []
+        self.session = None
+        self.width = width
+        target = self.call("Target.createTarget", {"url": "about:blank"})["targetId"]
+        self.session = self.call("Target.attachToTarget", {"targetId": target, "flatten": True})["sessionId"]
+        for domain in ("Page", "Runtime", "Log"):
+            self.call(domain + ".enable")
+        self.call("Emulation.setDeviceMetricsOverride",
+                  {"width": width, "height": height, "deviceScaleFactor": 1, "mobile": False})
+
+    def _read_message(self, timeout):
+        deadline = time.time() + timeout
+        while b"\0" not in self.buffer:
+            left = deadline - time.time()
+            if left <= 0 or self.proc.poll() is not None and not select.select([self.from_child], [], [], 0)[0]:
+                raise TimeoutError("no answer from chromium")
+            if select.select([self.from_child], [], [], left)[0]:
+                chunk = os.read(self.from_child, 1 << 20)
+                if not chunk:
+                    raise TimeoutError("chromium closed its pipe")
+                self.buffer += chunk
+        raw, self.buffer = self.buffer.split(b"\0", 1)
+        return json.loads(raw)
+
+    def call(self, method, params=None, timeout=30):
+        self.next_id += 1
+        message = {"id": self.next_id, "method": method, "params": params or {}}
+        if self.session:
+            message["sessionId"] = self.session
+        os.write(self.to_child, json.dumps(message).encode() + b"\0")
+        while True:
+            m = self._read_message(timeout)
+            if m.get("id") == self.next_id:
+                if "error" in m:
+                    raise RuntimeError("%s: %s" % (method, m["error"]))
+                return m.get("result", {})
+            self.events.append(m)
+
+    def evaluate(self, expression):
+        r = self.call("Runtime.evaluate", {"expression": expression, "returnByValue": True,
+                                           "awaitPromise": True})
+        if "exceptionDetails" in r:
+            raise RuntimeError("page script failed: %s\n%s" % (expression[:200], r["exceptionDetails"]))
+        return r["result"].get("value")
+
+    def open(self, path, ready, timeout=30):
+        """Navigates to a local file and waits until the expression `ready` is true."""
+        self.events = []
+        self.call("Page.navigate", {"url": "file://" + os.path.abspath(path)})
+        deadline = time.time() + timeout
+        while time.time() < deadline:
+            try:
+                if self.evaluate(ready):
+                    return
+            except RuntimeError:
+                pass
+            time.sleep(0.1)
+        raise AssertionError("%s: not ready after %d s (%s)" % (path, timeout, ready))
+
+    def errors(self):
+        """Console errors and uncaught exceptions since the last open()."""
+        self.call("Runtime.evaluate", {"expression": "1"})  # flush pending events
+        found = []
+        for e in self.events:
+            m, p = e.get("method"), e.get("params", {})
+            if m == "Runtime.exceptionThrown":
+                found.append("exception: %s" % p["exceptionDetails"].get("exception", {}).get("description", p))
+            elif m == "Runtime.consoleAPICalled" and p.get("type") in ("error", "assert"):
+                found.append("console.%s: %s" % (p["type"], [a.get("value", a.get("description")) for a in p["args"]]))
+            elif m == "Log.entryAdded" and p["entry"].get("level") == "error":
+                found.append("log: %s (%s)" % (p["entry"].get("text"), p["entry"].get("url", "")))
+        return found
+
+    def click(self, x, y):
+        for kind in ("mousePressed", "mouseReleased"):
+            self.call("Input.dispatchMouseEvent", {"type": kind, "x": x, "y": y, "button": "left", "clickCount": 1})
+
+    def screenshot(self, path, max_height=1500):
+        """The page from its top, as tall as its content (at most max_height), as a PNG."""
+        height = self.call("Page.getLayoutMetrics")["cssContentSize"]["height"]
+        clip = {"x": 0, "y": 0, "width": self.width, "height": min(max_height, height), "scale": 1}
+        data = self.call("Page.captureScreenshot", {"format": "png", "captureBeyondViewport": True,
+                                                    "clip": clip})["data"]
+        with open(path + ".tmp", "wb") as f:
+            f.write(base64.b64decode(data))
+        os.replace(path + ".tmp", path)
+
+    def close(self):
+        try:
+            self.call("Browser.close", timeout=5)
+        except Exception:
+            pass
+        try:
+            self.proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+        shutil.rmtree(self.profile, ignore_errors=True)
+
+
+failures = []
+
+
+def check(condition, what):
+    print(("ok    " if condition else "FAIL  ") + what)
+    if not condition:
+        failures.append(what)
+
+
+def plain(cell):
+    """A tables.md cell as the page shows it: without the markdown markers."""
+    return re.sub(r"\*\*|`", "", cell).strip()
+
+
+def markdown_tables(path):
+    tables, current = [], None
+    for line in open(path, encoding="utf-8"):
+        line = line.rstrip("\n")
+        if line.startswith("|"):
+            if line.startswith("|---"):
+                continue
+            cells = [plain(c) for c in line.strip().strip("|").split("|")]
+            if current is None:
+                current = []
+                tables.append(current)
+            current.append(cells)
+        else:
+            current = None
+    return tables
+
+
+def write_status(folder, status):
+    with open(os.path.join(folder, "status.js.tmp"), "w") as f:
+        f.write("window.ROGER_STATUS = %s;\n" % json.dumps(status))
+    os.replace(os.path.join(folder, "status.js.tmp"), os.path.join(folder, "status.js"))
+
+
+def check_progress(b, folder):
+    """While a run is running the page follows status.js, and shows the report once it is over."""
+    final = json.load(open(os.path.join(folder, "status.json")))
+    running = dict(final, running=True, done=final["done"] - 5, started=2, eta_s=95,
+                   updated_ms=int(time.time() * 1000))
+    write_status(folder, running)
+    try:
+        b.open(os.path.join(folder, "index.html"), "document.getElementById('progress-line') !== null")
+        line = b.evaluate("document.getElementById('progress-line').textContent")
+        check(line.startswith("Running: %d/%d trials done" % (running["done"], running["trials"])) and "1 min 35 s left" in line,
+              "dashboard: a running run's progress and time left (%s)" % line)
+        check(b.evaluate("document.getElementById('progress').hidden") is False, "dashboard: progress is shown while running")
+        write_status(folder, final)  # the run ends: the page must notice within its 2 s poll
+        deadline, line = time.time() + 8, ""
+        while time.time() < deadline and not line.startswith("Finished"):
+            time.sleep(0.25)
+            line = b.evaluate("document.getElementById('progress-line').textContent")
+        check(line.startswith("Finished: %d/%d" % (final["done"], final["trials"])),
+              "dashboard: the page reloads status.js and sees the run end (%s)" % line)
+        check(b.errors() == [], "dashboard: no console errors while following a run (%s)" % b.errors())
+    finally:
+        write_status(folder, final)
+
+
+def check_dashboard(b, folder, screenshot):
+    check_progress(b, folder)
+    page = os.path.join(folder, "index.html")
+    b.open(page, "document.body.getAttribute('data-ready') === '1'")
+    check(b.errors() == [], "dashboard: no console errors (%s)" % b.errors())
+    shown = b.evaluate("""Array.from(document.querySelectorAll('#report table.md')).map(t =>
+        Array.from(t.rows).map(r => Array.from(r.cells).map(c => c.textContent.trim())))""")
+    expected = markdown_tables(os.path.join(folder, "tables.md"))
+    check(len(expected) >= 2, "tables.md has tables (%d)" % len(expected))
+    check(shown == expected, "dashboard: every table cell equals tables.md's (%d tables)" % len(shown))
+    curves = b.evaluate("document.querySelectorAll('svg[data-figure] polyline[data-context]').length")
+    contexts = b.evaluate("document.querySelectorAll('.legend input[data-context]').length")
+    check(curves >= 2 and curves == contexts, "dashboard: one IQM curve per context (%s of %s)" % (curves, contexts))
+    after = b.evaluate("""(() => { const box = document.querySelector('.legend input[data-context]');
+        box.click(); return document.querySelectorAll('svg[data-figure] polyline[data-context]').length; })()""")
+    check(after == curves - 1, "dashboard: switching a context off removes its curve (%s -> %s)" % (curves, after))
+    b.evaluate("document.querySelector('.legend input[data-context]').click()")
+    hover = b.evaluate("""(() => { const s = document.querySelector('svg[data-figure]');
+        const r = s.getBoundingClientRect();
+        s.dispatchEvent(new MouseEvent('mousemove', {clientX: r.left + r.width * 0.6,
+                                                     clientY: r.top + r.height / 2, bubbles: true}));
+        return [document.getElementById('tip').textContent,
+                s.closest('.figure').querySelectorAll('input[data-context]').length]; })()""")
+    hover, in_figure = hover
+    check("t = " in hover and hover.count("[") == in_figure > 0, "dashboard: hovering a curve shows every context's value")
+    status = json.load(open(os.path.join(folder, "status.json")))
+    line = b.evaluate("document.getElementById('progress-line').textContent")
+    check(not status["running"] and ("%d/%d trials done" % (status["done"], status["trials"])) in line,
+          "dashboard: the progress line reads status.js (%s)" % line)
+    trials = b.evaluate("document.querySelectorAll('#trials a.trial').length")
+    planned = len(json.load(open(os.path.join(folder, "manifest.json")))["trials"])
+    check(trials > 0 and trials == planned, "dashboard: a link to every trial's folder (%d)" % trials)
+    size = sum(os.path.getsize(os.path.join(folder, f)) for f in ("index.html", "dashboard.js", "status.js"))
+    check(size < 2_000_000, "dashboard: page and data weigh %d bytes (< 2 MB)" % size)
+    if screenshot:
+        b.screenshot(screenshot)
+
+
+def canvas_summary(b):
+    """How the world canvas looks: a hash of its pixels and how many pixels are not background."""
+    return b.evaluate("""(() => { const c = document.getElementById('world');
+        const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+        let ink = 0, h = 0;
+        for (let i = 0; i < d.length; i += 4) {
+          const bg = (d[i] === 248 && d[i+1] === 247 && d[i+2] === 242) || d[i+3] === 0;
+          if (!bg) ++ink;
+          h = (h * 31 + d[i] + 7 * d[i+1] + 13 * d[i+2]) >>> 0;
+        }
+        return {ink: ink, total: d.length / 4, hash: h}; })()""")
+
+
+def check_episode(b, folder, screenshot):
+    page = os.path.join(folder, "index.html")
+    b.open(page, "window.viewer !== undefined")
+    check(b.errors() == [], "viewer: no console errors (%s)" % b.errors())
+    ep = json.load(open(os.path.join(folder, "episode.json")))
+    dt, end = ep["tick_seconds"], ep["sim_seconds"]
+    colours = b.evaluate("""["--noref", "--notconv", "--conv"].map(v =>
+        getComputedStyle(document.documentElement).getPropertyValue(v).trim())""")
+    state_index = {"NOREF": 0, "!CONV": 1, "CONV": 2}
+    hashes = []
+    for fraction in (0.1, 0.5, 0.95):
+        tick = max(1, round(fraction * ep["ticks"]))
+        t = tick * dt
+        b.evaluate("viewer.seek(%r)" % t)
+        s = canvas_summary(b)
+        hashes.append(s["hash"])
+        check(s["ink"] > 0.05 * s["total"], "viewer: the world canvas is drawn at t = %.2f s (%d of %d pixels)"
+              % (t, s["ink"], s["total"]))
+        pills = b.evaluate("Array.from(document.querySelectorAll('#states .pill')).map(p => p.textContent)")
+        wanted = [g["states"][tick - 1] for g in ep["gammas"]]
+        check(pills == wanted, "viewer: the states at t = %.2f s are episode.json's (%s)" % (t, ", ".join(wanted)))
+        # The timeline's own pixels: the middle of the tick that ran last, on each controller's row.
+        drawn = b.evaluate("""(() => { const c = document.getElementById('timeline'), g = c.getContext('2d');
+            const r = c.width / c.clientWidth;
+            return %s.map(row => { const p = viewer.timelinePoint(%r, row);
+              const d = g.getImageData(Math.floor(p.x * r), Math.floor(p.y * r), 1, 1).data;
+              return '#' + [d[0], d[1], d[2]].map(v => v.toString(16).padStart(2, '0')).join(''); }); })()"""
+                           % (list(range(len(ep["gammas"]))), t - dt / 2))
+        expected = [colours[state_index[w]] for w in wanted]
+        check(drawn == expected, "viewer: the timeline at t = %.2f s shows those states (%s)" % (t, drawn))
+        if fraction == 0.5 and screenshot:
+            b.screenshot(screenshot)
+    check(len(set(hashes)) == 3, "viewer: the three moments are drawn differently (Roger moves)")
+    # Clicking the timeline seeks there.
+    box = b.evaluate("""(() => { const r = document.getElementById('cursor').getBoundingClientRect();
+        const p = viewer.timelinePoint(%r, 0); return {x: r.left + p.x, y: r.top + p.y}; })()""" % (0.3 * end))
+    b.click(box["x"], box["y"])
+    now = b.evaluate("viewer.time()")
+    check(abs(now - 0.3 * end) < 2 * dt + end / 500, "viewer: clicking the timeline seeks (%.3f s, wanted %.3f s)"
+          % (now, 0.3 * end))
+    strip = b.evaluate("""(() => { const c = document.getElementById('eyes');
+        const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data; const seen = new Set();
+        for (let i = 0; i < d.length; i += 4) seen.add(d[i] << 16 | d[i+1] << 8 | d[i+2]); return seen.size; })()""")
+    check(strip > 3, "viewer: the eye strips are drawn (%d colours)" % strip)
+    b.evaluate("viewer.seek(%r)" % (0.5 * end))
+    check(b.errors() == [], "viewer: still no console errors after playing with it")
+
+
+def run(cmd):
+    print("$ " + " ".join(cmd), flush=True)
+    subprocess.run(cmd, check=True)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--roger", required=True, help="the roger binary")
+    ap.add_argument("--work", required=True, help="a scratch folder for the run and the episode")
+    ap.add_argument("--chromium", default=os.environ.get("ROGER_CHROMIUM", "/usr/bin/chromium"))
+    ap.add_argument("--screenshots", help="also write dashboard.png and episode-viewer.png here")
+    a = ap.parse_args()
+    if not shutil.which(a.chromium):
+        print("SKIP: no chromium at %s (apt-get install chromium)" % a.chromium)
+        return SKIP
+    results, episode = os.path.join(a.work, "results"), os.path.join(a.work, "episode")
+    shutil.rmtree(a.work, ignore_errors=True)
+    os.makedirs(a.work)
+    run([a.roger, "run", "scripts/quick.lua", "--out", results])
+    run([a.roger, "render", "curricula/scripted.lua", "--policy", "search_grasp", "--seed", "3",
+         "--width", "480", "--out", episode])
+    try:
+        b = Browser(a.chromium)
+    except (OSError, TimeoutError, RuntimeError) as e:
+        print("SKIP: chromium did not start: %s" % e)
+        return SKIP
+    try:
+        shots = a.screenshots
+        check_dashboard(b, results, shots and os.path.join(shots, "dashboard.png"))
+        check_episode(b, episode, shots and os.path.join(shots, "episode-viewer.png"))
+    finally:
+        b.close()
+    print("%d check(s) failed" % len(failures) if failures else "all checks hold")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
