@@ -274,7 +274,7 @@ TEST_CASE("a fault of a Lua callback fails its trial only, and error.json says w
       const fs::path dir = trial_dir(out.string(), id);
       CHECK_FALSE(fs::exists(dir / "result.json"));
       REQUIRE(fs::is_regular_file(dir / "error.json"));
-      const nlohmann::json e = nlohmann::json::parse(slurp(dir / "error.json"));
+      nlohmann::json e = nlohmann::json::parse(slurp(dir / "error.json"));  // [] of a missing key gives null
       INFO(e.dump(1));
       CHECK(e["trial"] == id);
       CHECK(e["kind"] == "train");
@@ -306,6 +306,35 @@ TEST_CASE("a fault of a Lua callback fails its trial only, and error.json says w
   CHECK(failed_rows == 10);
   fs::remove_all(out);
 }
+
+namespace {
+
+// A damaged manifest is refused by roger report and by a resumed roger run, naming it and what is
+// wrong, and nothing is written; the manifest is put back afterwards.
+void manifest_refused(const fs::path& out, const std::string& run, const std::string& report,
+                      const std::vector<std::string>& outputs) {
+  std::string err;
+  const std::string manifest = slurp(out / "manifest.json");
+  const std::vector<std::pair<std::string, std::string>> manifests = {
+      {manifest.substr(0, manifest.size() / 3), "not JSON"},
+      {"", "empty (0 bytes)"},
+      {"{}", "not the manifest of a roger run results folder"},
+      {slurp(out / "trials/SG/B1/000/result.json"), "not the manifest"},
+  };
+  for (const auto& [text, says] : manifests) {
+    INFO(says);
+    spit(out / "manifest.json", text);
+    CHECK(shell(report + " >/dev/null", &err) == 1);
+    CHECK(err.find((out / "manifest.json").string() + ": ") != std::string::npos);
+    CHECK(err.find(says) != std::string::npos);
+    CHECK(shell(run + out.string() + " >/dev/null", &err) == 1);
+    CHECK(err.find((out / "manifest.json").string() + ": ") != std::string::npos);
+    for (const auto& o : outputs) CHECK_FALSE(fs::exists(out / o));
+  }
+  spit(out / "manifest.json", manifest);
+}
+
+}  // namespace
 
 TEST_CASE("a corrupt record of a results folder is named, never read as zeros, and run again", "[batch][faults]") {
   const fs::path out = fresh_dir("corrupt"), clean = fresh_dir("corrupt_clean");
@@ -359,25 +388,7 @@ TEST_CASE("a corrupt record of a results folder is named, never read as zeros, a
     spit(file, good);
   }
 
-  // The manifest: refused by roger report and by a resumed roger run, naming it and what is wrong.
-  const std::string manifest = slurp(out / "manifest.json");
-  const std::vector<std::pair<std::string, std::string>> manifests = {
-      {manifest.substr(0, manifest.size() / 3), "not JSON"},
-      {"", "empty (0 bytes)"},
-      {"{}", "not the manifest of a roger run results folder"},
-      {slurp(out / "trials/SG/B1/000/result.json"), "not the manifest"},
-  };
-  for (const auto& [text, says] : manifests) {
-    INFO(says);
-    spit(out / "manifest.json", text);
-    CHECK(shell(report + " >/dev/null", &err) == 1);
-    CHECK(err.find((out / "manifest.json").string() + ": ") != std::string::npos);
-    CHECK(err.find(says) != std::string::npos);
-    CHECK(shell(run + out.string() + " >/dev/null", &err) == 1);
-    CHECK(err.find((out / "manifest.json").string() + ": ") != std::string::npos);
-    for (const auto& o : outputs) CHECK_FALSE(fs::exists(out / o));
-  }
-  spit(out / "manifest.json", manifest);
+  manifest_refused(out, run, report, outputs);
 
   // roger run names corrupt trials and runs them again: the folder ends as an untouched run's.
   spit(out / b1 / "result.json", "{\"id\": \"SG/B1/001\", \"success_rate\": 0");
