@@ -346,7 +346,8 @@ nlohmann::json fault_details(const PlannedTrial& t, const std::exception& e) {
 }
 
 // The trials of one phase this invocation runs: selected, and within the budget of new trials.
-// A trial that failed in an earlier invocation is tried again.
+// A trial that failed in an earlier invocation is tried again, and so is one whose files are
+// corrupt (said on the log): a trial is finished only when its records are sound.
 std::vector<std::string> phase_ids(const BatchPlan& plan, const std::vector<PlannedTrial>& phase,
                                    const RunControl& control, int& budget, std::set<std::string>& names) {
   std::vector<std::string> ids;

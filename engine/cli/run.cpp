@@ -27,7 +27,7 @@ BatchOverrides overrides_of(const RunArgs& a) {
   return ov;
 }
 
-// The closing lines of a run; returns 1 when some trial failed.
+// The closing lines of a run; returns 1 when some trial failed or has corrupt files.
 int print_outcome(const BatchSummary& s, std::ostream& log) {
   log << "roger run: " << (s.trials - s.failed.size() - s.corrupt.size() - size_t(s.pending)) << " of " << s.trials
       << " trials done in " << format_duration(s.wall_s);
