@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <regex>
 #include <unistd.h>
 
 #include "control/agent.h"
@@ -722,7 +723,9 @@ TEST_CASE("a truncated, empty or foreign policy file is refused naming the file,
     INFO("cut at " << at << " of " << whole.size());
     CHECK(refused(whole.substr(0, at), {}));
   }
-  CHECK(refused("", {"JSON"}));
+  CHECK(refused("", {"JSON", "empty"}));
+  // A number out of range, as a hand edit might leave: an error with the path, not a bare exception.
+  CHECK(refused(std::regex_replace(whole, std::regex("\"alpha\": [0-9.e+-]+"), "\"alpha\": 1e999"), {"number overflow"}));
   // Foreign files: another JSON document where a policy belongs.
   CHECK(refused("[1, 2, 3]", {"JSON object"}));
   CHECK(refused("42", {"JSON object"}));
