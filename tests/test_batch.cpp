@@ -389,6 +389,13 @@ TEST_CASE("a corrupt record of a results folder is named, never read as zeros, a
   }
 
   manifest_refused(out, run, report, outputs);
+  // A damaged error.json is named too: a failed trial is a record like any other.
+  fs::rename(out / e0 / "result.json", out / e0 / "result.kept");
+  spit(out / e0 / "error.json", "{\"error\": ");
+  CHECK(shell(report + " >/dev/null", &err) == 1);
+  CHECK(err.find("CORRUPT: " + (out / e0 / "error.json").string() + ": not JSON") != std::string::npos);
+  fs::remove(out / e0 / "error.json");
+  fs::rename(out / e0 / "result.kept", out / e0 / "result.json");
 
   // roger run names corrupt trials and runs them again: the folder ends as an untouched run's.
   spit(out / b1 / "result.json", "{\"id\": \"SG/B1/001\", \"success_rate\": 0");
