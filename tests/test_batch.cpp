@@ -15,6 +15,7 @@
 #include "batch/batch.h"
 #include "core/error.h"
 #include "core/rng.h"
+#include "report/report.h"
 #include "script/scenario.h"
 
 using namespace roger;
@@ -385,6 +386,9 @@ TEST_CASE("a corrupt record of a results folder is named, never read as zeros, a
       CHECK(err.find(d.says) != std::string::npos);
       for (const auto& o : outputs) CHECK_FALSE(fs::exists(out / o));  // nothing written, nothing misleading
     }
+    // The report itself refuses to read it, whoever calls it.
+    CHECK_THROWS_WITH(write_report(out.string()), Catch::Contains(d.says));
+    for (const auto& o : outputs) CHECK_FALSE(fs::exists(out / o));
     spit(file, good);
   }
 

@@ -29,7 +29,8 @@ struct CurveGrid {
 CurveGrid curve_grid(const std::vector<std::vector<std::pair<double, double>>>& trials, int points, bool log_x);
 
 // Writes tables.md, report.json (the tables' numbers) and every figure of the results folder `dir`.
-// Returns the files written. Throws roger::Error when the folder holds no manifest.json.
+// Returns the files written. Throws roger::Error when the folder holds no sound manifest.json, or
+// when a trial's record is corrupt (naming the trial, the file and what is wrong), before writing.
 std::vector<std::string> write_report(const std::string& dir);
 
 }  // namespace roger
