@@ -47,8 +47,9 @@ int print_outcome(const BatchSummary& s, std::ostream& log) {
 
 // Lists the trials a report still needs; returns 1.
 int print_missing(const std::vector<MissingTrial>& missing, const BatchPlan& plan, std::ostream& log) {
+  const bool corrupt = std::any_of(missing.begin(), missing.end(), [](const MissingTrial& m) { return !m.problem.empty(); });
   log << "roger report: " << missing.size() << " trial" << (missing.size() == 1 ? "" : "s") << " of " << plan.out
-      << " have no result yet, so no report was written:\n";
+      << " have no result yet" << (corrupt ? " or a corrupt one" : "") << ", so no report was written:\n";
   for (const auto& m : missing) {
     const PlannedTrial& t = *m.trial;
     log << "  " << t.id << " (";
@@ -58,7 +59,6 @@ int print_missing(const std::vector<MissingTrial>& missing, const BatchPlan& pla
     if (!m.problem.empty()) log << ": CORRUPT: " << m.problem.substr(0, m.problem.find('\n'));
     log << "\n";
   }
-  const bool corrupt = std::any_of(missing.begin(), missing.end(), [](const MissingTrial& m) { return !m.problem.empty(); });
   log << "Run the same roger run command again (with the same --shard for a shard) to finish them"
       << (corrupt ? " (it runs a trial with corrupt files again from scratch).\n"
                   : ", or\nroger report --partial " + plan.out + " to report what is there, marked as pending.\n");
