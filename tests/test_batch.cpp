@@ -8,12 +8,15 @@
 #include <filesystem>
 #include <fstream>
 #include <mutex>
+#include <regex>
 #include <set>
 #include <sstream>
 
 #include "batch/batch.h"
 #include "core/error.h"
 #include "core/rng.h"
+#include "report/report.h"
+#include "script/scenario.h"
 
 using namespace roger;
 namespace fs = std::filesystem;
@@ -220,4 +223,193 @@ TEST_CASE("shards of one script run at once into one folder and report what one 
   INFO(err);
   CHECK(same == 0);
   fs::remove_all(out);
+}
+
+// ---- [faults]: what a misbehaving script or a corrupt file costs (docs/reliability.md) ----
+
+namespace {
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+void spit(const fs::path& p, const std::string& text) {
+  std::ofstream(p, std::ios::binary | std::ios::trunc) << text;
+}
+
+}  // namespace
+
+TEST_CASE("a fault of a Lua callback fails its trial only, and error.json says where", "[batch][faults]") {
+  const fs::path out = fresh_dir("faults");
+  std::string err;
+  // tests/scripts/faults_curriculum.lua: a reward that loops forever after 1,000 calls, an absorbing
+  // function that asks for 1 GiB after 50 calls, a reward that turns NaN after 20, an absorbing
+  // function that returns a string, a scenario that refuses some seeds' worlds; then a sound run.
+  const int status = shell(std::string(ROGER_BINARY) + " run tests/scripts/faults_batch.lua --jobs 2 --out " + out.string(), &err);
+  INFO(err);
+  CHECK(status == 1);
+  CHECK(err.find("roger run: 2 of 12 trials done") != std::string::npos);
+  CHECK(err.find("roger run: 10 trials failed") != std::string::npos);
+  for (const char* id : {"sound/A/000", "sound/A/001"}) CHECK(fs::is_regular_file(fs::path(trial_dir(out.string(), id)) / "result.json"));
+
+  struct Fault {
+    const char* run;
+    const char* file;
+    int line;
+    const char* says;
+  };
+  const std::vector<Fault> faults = {
+      {"loop", "tests/scripts/faults_curriculum.lua", 18, "instruction budget of 50000000 exceeded"},
+      {"bomb", "tests/scripts/faults_curriculum.lua", 26, "not enough memory (script memory limit of 256 MiB)"},
+      {"nan", "tests/scripts/faults_curriculum.lua", 31, "must return a finite number, got number nan"},
+      {"type", "tests/scripts/faults_curriculum.lua", 37, "must return true or false, got string 'yes'"},
+      {"unlucky", "tests/scripts/faults_scenario.lua", 9, "an unlucky world"},
+  };
+  for (const auto& f : faults)
+    for (int i = 0; i < 2; ++i) {
+      const std::string id = std::string(f.run) + "/A/00" + std::to_string(i);
+      INFO(id);
+      const fs::path dir = trial_dir(out.string(), id);
+      CHECK_FALSE(fs::exists(dir / "result.json"));
+      REQUIRE(fs::is_regular_file(dir / "error.json"));
+      nlohmann::json e = nlohmann::json::parse(slurp(dir / "error.json"));  // [] of a missing key gives null
+      INFO(e.dump(1));
+      CHECK(e["trial"] == id);
+      CHECK(e["kind"] == "train");
+      CHECK(e["seed"] == 3 + i);
+      CHECK(e["file"] == f.file);
+      CHECK(e["line"] == f.line);
+      REQUIRE(e["episode"].is_number_integer());
+      REQUIRE(e["world_seed"].is_number_unsigned());
+      REQUIRE(e["phase"].is_string());
+      const std::string message = e["error"];
+      const std::string first = message.substr(0, message.find('\n'));
+      CHECK(first.rfind(std::string(f.file) + ":" + std::to_string(f.line) + ": ", 0) == 0);
+      CHECK(first.find(f.says) != std::string::npos);
+      CHECK(first.find("(" + e["phase"].get<std::string>() + " episode " + std::to_string(e["episode"].get<int>()) +
+                       ", world seed " + std::to_string(e["world_seed"].get<uint64_t>()) + ")") != std::string::npos);
+      // The whole first line is the trial's row in summary.csv and in the closing list.
+      CHECK(err.find("  " + id + ": " + first) != std::string::npos);
+      if (std::string(f.run) == "loop")  // the first 1,000 calls were fine: far beyond the first episodes
+        CHECK_FALSE((e["phase"] == "training" && e["episode"].get<int>() < 100));
+      if (std::string(f.run) == "unlucky") {
+        // The world seed named is the one that fails: the fault can be replayed alone.
+        Scenario s = Scenario::load(f.file);
+        CHECK_THROWS_WITH(s.generate(e["world_seed"].get<uint64_t>()), Catch::Contains("an unlucky world"));
+      }
+    }
+  const std::string csv = slurp(out / "summary.csv");
+  size_t failed_rows = 0;
+  for (size_t at = csv.find(",failed,"); at != std::string::npos; at = csv.find(",failed,", at + 1)) ++failed_rows;
+  CHECK(failed_rows == 10);
+  fs::remove_all(out);
+}
+
+namespace {
+
+// A damaged manifest is refused by roger report and by a resumed roger run, naming it and what is
+// wrong, and nothing is written; the manifest is put back afterwards.
+void manifest_refused(const fs::path& out, const std::string& run, const std::string& report,
+                      const std::vector<std::string>& outputs) {
+  std::string err;
+  const std::string manifest = slurp(out / "manifest.json");
+  const std::vector<std::pair<std::string, std::string>> manifests = {
+      {manifest.substr(0, manifest.size() / 3), "not JSON"},
+      {"", "empty (0 bytes)"},
+      {"{}", "not the manifest of a roger run results folder"},
+      {slurp(out / "trials/SG/B1/000/result.json"), "not the manifest"},
+  };
+  for (const auto& [text, says] : manifests) {
+    INFO(says);
+    spit(out / "manifest.json", text);
+    CHECK(shell(report + " >/dev/null", &err) == 1);
+    CHECK(err.find((out / "manifest.json").string() + ": ") != std::string::npos);
+    CHECK(err.find(says) != std::string::npos);
+    CHECK(shell(run + out.string() + " >/dev/null", &err) == 1);
+    CHECK(err.find((out / "manifest.json").string() + ": ") != std::string::npos);
+    for (const auto& o : outputs) CHECK_FALSE(fs::exists(out / o));
+  }
+  spit(out / "manifest.json", manifest);
+}
+
+}  // namespace
+
+TEST_CASE("a corrupt record of a results folder is named, never read as zeros, and run again", "[batch][faults]") {
+  const fs::path out = fresh_dir("corrupt"), clean = fresh_dir("corrupt_clean");
+  const std::string run = std::string(ROGER_BINARY) + " run tests/scripts/kill_batch.lua --jobs 2 --out ";
+  const std::string report = std::string(ROGER_BINARY) + " report " + out.string();
+  std::string err;
+  REQUIRE(shell(run + out.string(), &err) == 0);
+  fs::copy(out, clean, fs::copy_options::recursive);
+  const std::vector<std::string> outputs = {"summary.csv", "tables.md", "report.json", "figure3.png"};
+
+  struct Damage {
+    const char* file;  // inside the results folder
+    std::function<std::string(const std::string&)> spoil;
+    const char* says;
+  };
+  const std::string b1 = "trials/SG/B1/001/", e0 = "trials/eval/gen/spade/000/";
+  const std::vector<Damage> damages = {
+      {"trials/SG/B1/001/result.json", [](const std::string& t) { return t.substr(0, t.size() / 2); }, "not JSON"},
+      {"trials/SG/B1/001/result.json", [](const std::string&) { return std::string(); }, "empty (0 bytes)"},
+      {"trials/SG/B1/001/result.json", [](const std::string& t) {
+         return std::regex_replace(t, std::regex("\"success_rate\": [0-9.e+-]+"), "\"success_rate\": \"high\""); },
+       "field \"success_rate\" must be a finite number, got \"high\""},
+      {"trials/SG/B1/001/result.json", [](const std::string& t) {
+         return std::regex_replace(t, std::regex("\"reward_mean\": [0-9.e+-]+"), "\"reward_mean\": 1e999"); },
+       "number overflow"},
+      {"trials/SG/B1/001/result.json", [&](const std::string&) { return slurp(out / "trials/SG/B1/000/result.json"); },
+       "it is the result of trial SG/B1/000, not of SG/B1/001"},
+      {"trials/SG/B1/001/result.json", [&](const std::string&) { return slurp(out / "manifest.json"); }, "no trial \"id\""},
+      {"trials/SG/B1/001/result.json", [](const std::string&) { return std::string("[1, 2, 3]\n"); }, "must be a JSON object"},
+      {"trials/SG/B1/001/policy.json", [](const std::string& t) { return t.substr(0, t.size() - 9); }, "policy.json: not JSON"},
+      {"trials/SG/B1/001/policy.json", [](const std::string& t) {
+         return std::regex_replace(t, std::regex("\"format\": \"[^\"]*\""), "\"format\": \"other\""); }, "\"format\""},
+      {"trials/eval/gen/spade/000/result.json", [](const std::string& t) {
+         return std::regex_replace(t, std::regex("\"episodes\": [0-9]+,"), ""); }, "no field \"episodes\""},
+  };
+  for (const auto& d : damages) {
+    const fs::path file = out / d.file;
+    const std::string good = slurp(file);
+    spit(file, d.spoil(good));
+    for (const auto& o : outputs) fs::remove(out / o);
+    INFO(d.file << ": " << d.says);
+    for (const char* partial : {"", " --partial"}) {
+      CHECK(shell(report + partial + " >/dev/null", &err) == 1);
+      INFO(err);
+      const std::string id = std::string(d.file).substr(7, std::string(d.file).rfind('/') - 7);
+      CHECK(err.find("  " + id + " (") != std::string::npos);
+      CHECK(err.find("CORRUPT: " + file.parent_path().string()) != std::string::npos);
+      CHECK(err.find(d.says) != std::string::npos);
+      for (const auto& o : outputs) CHECK_FALSE(fs::exists(out / o));  // nothing written, nothing misleading
+    }
+    // The report itself refuses to read it, whoever calls it.
+    CHECK_THROWS_WITH(write_report(out.string()), Catch::Contains(d.says));
+    for (const auto& o : outputs) CHECK_FALSE(fs::exists(out / o));
+    spit(file, good);
+  }
+
+  manifest_refused(out, run, report, outputs);
+  // A damaged error.json is named too: a failed trial is a record like any other.
+  fs::rename(out / e0 / "result.json", out / e0 / "result.kept");
+  spit(out / e0 / "error.json", "{\"error\": ");
+  CHECK(shell(report + " >/dev/null", &err) == 1);
+  CHECK(err.find("CORRUPT: " + (out / e0 / "error.json").string() + ": not JSON") != std::string::npos);
+  fs::remove(out / e0 / "error.json");
+  fs::rename(out / e0 / "result.kept", out / e0 / "result.json");
+
+  // roger run names corrupt trials and runs them again: the folder ends as an untouched run's.
+  spit(out / b1 / "result.json", "{\"id\": \"SG/B1/001\", \"success_rate\": 0");
+  spit(out / e0 / "result.json", "");
+  REQUIRE(shell(run + out.string() + " >/dev/null", &err) == 0);
+  INFO(err);
+  CHECK(err.find(b1 + "result.json: not JSON") != std::string::npos);
+  CHECK(err.find("running trial SG/B1/001 again") != std::string::npos);
+  CHECK(err.find("running trial eval/gen/spade/000 again") != std::string::npos);
+  CHECK(shell("bash tests/tools/compare_results.sh " + clean.string() + " " + out.string() + " 1>&2", &err) == 0);
+  fs::remove_all(out);
+  fs::remove_all(clean);
 }

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <regex>
 #include <unistd.h>
 
 #include "control/agent.h"
@@ -694,4 +695,42 @@ TEST_CASE("the same seeds give the same learning curve, and learning helps", "[l
     }
   }
   CHECK(skill_ok == after);
+}
+
+TEST_CASE("a truncated, empty or foreign policy file is refused naming the file, never read as zeros", "[learning][faults]") {
+  QTable q({"search", "phi0", "phi4 <| phi2"}, QParams{});
+  Rng rng(7);
+  for (int i = 0; i < 100; ++i)
+    q.update(int(rng.integer(0, 26)), int(rng.integer(0, 2)), rng.uniform(-100, 100), int(rng.integer(0, 26)), false, 0.9);
+  PolicyMetadata meta;
+  meta.stage = "SG";
+  meta.context = "DC2";
+  const std::string path = temp_path("faults_policy.json");
+  q.save(path, meta);
+  std::ifstream in(path, std::ios::binary);
+  const std::string whole((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string damaged = temp_path("faults_damaged.json");
+  auto refused = [&](const std::string& text, const std::vector<std::string>& says) {
+    std::ofstream(damaged, std::ios::binary | std::ios::trunc) << text;
+    std::vector<std::string> parts{damaged};
+    parts.insert(parts.end(), says.begin(), says.end());
+    return throws_with([&] { QTable::load(damaged, q.action_names()); }, parts);
+  };
+  // Cut at 40 seeded points (a write cut short): every one refused, none read as a table.
+  Rng cuts(2026);
+  for (int k = 0; k < 40; ++k) {
+    const size_t at = size_t(cuts.integer(0, int64_t(whole.size()) - 2));
+    INFO("cut at " << at << " of " << whole.size());
+    CHECK(refused(whole.substr(0, at), {}));
+  }
+  CHECK(refused("", {"JSON", "empty"}));
+  // A number out of range, as a hand edit might leave: an error with the path, not a bare exception.
+  CHECK(refused(std::regex_replace(whole, std::regex("\"alpha\": [0-9.e+-]+"), "\"alpha\": 1e999"), {"number overflow"}));
+  // Foreign files: another JSON document where a policy belongs.
+  CHECK(refused("[1, 2, 3]", {"JSON object"}));
+  CHECK(refused("42", {"JSON object"}));
+  CHECK(refused("{\"id\": \"SG/B1/000\", \"success_rate\": 1.0}", {"format"}));
+  CHECK(refused("{\"format\": \"roger-results/1\", \"config\": {}}", {"format"}));
+  std::filesystem::remove(damaged);
+  std::filesystem::remove(path);
 }

@@ -399,3 +399,47 @@ TEST_CASE("format_number is short and exact", "[lua_sandbox]") {
   CHECK(format_number(4.0) == "4");
   CHECK(format_number(0.1 + 0.2) == "0.30000000000000004");
 }
+
+TEST_CASE("budgets hold at every call of a callback: instructions per call, memory for the state", "[lua_sandbox][faults]") {
+  LuaSandbox sandbox({1'000'000, 32u << 20});
+  sandbox.load_string("local n = 0\n"
+                      "function work()\n"
+                      "  for i = 1, 100000 do n = n + 1 end\n"  // about half the budget
+                      "  return n\n"
+                      "end\n"
+                      "function spin() while true do end end\n"
+                      "hoard = {}\n"
+                      "function bomb()\n"
+                      "  for i = 1, 64 do hoard[i] = string.rep('x', (1 << 20) + i) end\n"  // line 9
+                      "end\n",
+                      "@callbacks.lua");
+  sandbox.call(0, 0);
+  lua_State* L = sandbox.state();
+  auto call = [&](const char* name) {
+    lua_getglobal(L, name);
+    sandbox.call(0, 0);
+  };
+  // Twenty calls spend ten budgets in all: each call has its own.
+  for (int k = 0; k < 20; ++k) CHECK_NOTHROW(call("work"));
+  CHECK(sandbox.instructions_used() < 1'000'000);
+  // A runaway call is stopped at its line, and the next call has a fresh budget.
+  try {
+    call("spin");
+    FAIL("no error from spin()");
+  } catch (const ScriptError& e) {
+    CHECK(e.file == "callbacks.lua");
+    CHECK(e.line == 6);
+    CHECK_THAT(e.message, Contains("instruction budget of 1000000 exceeded"));
+  }
+  CHECK_NOTHROW(call("work"));
+  // A memory bomb is refused at the line that asked (a memory error runs no message handler).
+  try {
+    call("bomb");
+    FAIL("no error from bomb()");
+  } catch (const ScriptError& e) {
+    CHECK(e.file == "callbacks.lua");
+    CHECK(e.line == 9);
+    CHECK_THAT(e.message, Contains("not enough memory (script memory limit of 32 MiB)"));
+  }
+  CHECK(sandbox.memory_used() <= (32u << 20));
+}

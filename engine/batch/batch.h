@@ -40,8 +40,17 @@ struct TrialOutcome {
   double wall_seconds = 0.0;  // this run's wall time for it (0 when resumed)
 };
 
+// An error of a trial with facts for its error.json beside the message (where a script failed,
+// which episode, which seeds): error.json is `details` plus "error" (the message).
+struct TrialError : Error {
+  // The message and the facts (a JSON object).
+  TrialError(const std::string& message, nlohmann::json details);
+  nlohmann::json details;
+};
+
 // A trial: given its id and its own folder (created, empty), returns its result. It may write
-// files into the folder (atomically); throwing records the error as the trial's result.
+// files into the folder (atomically); throwing records the error as the trial's result: error.json
+// holds {"error": message, "trial": id} and, for a TrialError, its details.
 using TrialFunction = std::function<nlohmann::json(const std::string& id, const std::string& dir)>;
 
 // Runs the trials not already finished in out_dir, `jobs` at a time, and returns every trial's
@@ -100,9 +109,11 @@ Shard parse_shard(const std::string& text);
 struct MissingTrial {
   const PlannedTrial* trial = nullptr;
   std::string owner;
+  std::string problem;  // for a corrupt record: the file and what is wrong with it; "" when none
 };
 
-// The trials of the plan without a result in its folder, in plan order.
+// The trials of the plan without a sound result or error in its folder, in plan order: those not
+// run yet and those whose files are corrupt (truncated, empty, edited, another trial's).
 std::vector<MissingTrial> missing_trials(const BatchPlan& plan);
 
 // Whether a trial is chosen by `only` ("RUN", "RUN/CONTEXT", "eval" or "eval/NAME"; empty: all).
@@ -132,6 +143,7 @@ struct RunControl {
 struct BatchSummary {
   size_t trials = 0;                // in the plan
   std::vector<std::string> failed;  // "id: first line of the error"
+  std::vector<std::string> corrupt; // "id: <file>: what is wrong" (a record that cannot be read)
   int pending = 0;                  // not run yet
   double wall_s = 0.0;              // this invocation's wall time
 };

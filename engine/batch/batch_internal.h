@@ -15,8 +15,22 @@ std::string read_text(const std::string& path);
 // The first line of a message.
 std::string first_line(const std::string& s);
 
-// A trial's state on disk: "ok" (filling `result`), "failed" (filling `error`, also for an
-// unreadable result) or "pending".
+// ---- records.cpp: reading a results folder back, every file checked ----
+
+// A trial's state on disk: "ok" (filling `result`), "failed" (filling `error` with its message),
+// "corrupt" (filling `error` with the file at fault and what is wrong: a result.json, error.json or
+// a training trial's policy.json that is truncated, empty, edited or another trial's) or "pending".
 std::string trial_status(const std::string& out, const PlannedTrial& t, nlohmann::json& result, std::string& error);
+
+// Why a parsed result.json cannot be trial t's result (not an object, another trial's id, a field
+// missing, of the wrong type or not finite), or "" when it can.
+std::string result_problem(const nlohmann::json& result, const PlannedTrial& t);
+
+// A JSON file, or roger::Error "<path>: ..." saying it is missing, empty or not JSON.
+nlohmann::json read_json_file(const std::string& path);
+
+// A results folder's manifest.json, checked to be one (an object of format roger-results/1 with
+// its config, engine and script), or roger::Error naming the file and what is wrong.
+nlohmann::json read_manifest(const std::string& path);
 
 }  // namespace roger::batch_detail

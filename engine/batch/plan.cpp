@@ -122,9 +122,9 @@ bool matches(const PlannedTrial& t, const std::string& o) {
 void check_manifest(const BatchPlan& plan, const fs::path& manifest_path, const json& config) {
   json old;
   try {
-    old = json::parse(read_text(manifest_path.string()));
+    old = read_manifest(manifest_path.string());
   } catch (const std::exception& e) {
-    throw Error(manifest_path.string() + ": not JSON (" + e.what() + "); use another --out");
+    throw Error(std::string(e.what()) + "; this folder cannot be resumed: use another --out");
   }
   const std::string& out = plan.out;
   const std::string old_engine = old.value("engine", std::string());
@@ -210,25 +210,6 @@ std::string first_line(const std::string& s) {
   return nl == std::string::npos ? s : s.substr(0, nl);
 }
 
-// A trial's state on disk (see batch_internal.h): "ok" with its result, "failed" with its error, or "pending".
-std::string trial_status(const std::string& out, const PlannedTrial& t, json& r, std::string& error) {
-  std::string status = "pending";
-  const fs::path d = trial_dir(out, t.id);
-  try {
-    if (fs::exists(d / "result.json")) {
-      r = json::parse(read_text((d / "result.json").string()));
-      status = "ok";
-    } else if (fs::exists(d / "error.json")) {
-      error = json::parse(read_text((d / "error.json").string())).value("error", std::string());
-      status = "failed";
-    }
-  } catch (const std::exception& e) {
-    status = "failed";
-    error = std::string("unreadable result: ") + e.what();
-  }
-  return status;
-}
-
 }  // namespace batch_detail
 
 BatchPlan read_results_plan(const std::string& dir) {
@@ -236,14 +217,14 @@ BatchPlan read_results_plan(const std::string& dir) {
   std::error_code ec;
   if (!fs::is_regular_file(manifest_path, ec))
     throw Error("'" + dir + "' is not a results folder of roger run: it has no manifest.json");
-  json manifest;
+  const json manifest = read_manifest(manifest_path.string());
+  std::shared_ptr<BatchScript> script;
   try {
-    manifest = json::parse(read_text(manifest_path.string()));
+    script = std::make_shared<BatchScript>(batch_config_from_json(manifest["config"]));
   } catch (const std::exception& e) {
-    throw Error(manifest_path.string() + ": not JSON: " + e.what());
+    throw Error(manifest_path.string() + ": field \"config\": " + e.what());
   }
-  auto script = std::make_shared<BatchScript>(batch_config_from_json(manifest.value("config", json::object())));
-  script->path = manifest.value("script", std::string("?"));
+  script->path = manifest["script"].get<std::string>();
   return plan_batch(std::move(script), dir);
 }
 
@@ -276,13 +257,15 @@ Shard parse_shard(const std::string& text) {
 std::vector<MissingTrial> missing_trials(const BatchPlan& plan) {
   const int shards = recorded_shard_count(plan.out);
   std::vector<MissingTrial> out;
-  std::error_code ec;
   for (const auto& p : plan.phases)
     for (const auto& t : p) {
-      const fs::path d = trial_dir(plan.out, t.id);
-      if (fs::exists(d / "result.json", ec) || fs::exists(d / "error.json", ec)) continue;
+      json result;
+      std::string problem;
+      const std::string status = trial_status(plan.out, t, result, problem);
+      if (status == "ok" || status == "failed") continue;
       MissingTrial m;
       m.trial = &t;
+      if (status == "corrupt") m.problem = problem;
       if (shards > 0) m.owner = "shard " + std::to_string(t.index % shards) + " of " + std::to_string(shards);
       out.push_back(m);
     }
@@ -401,6 +384,7 @@ BatchSummary write_summary_csv(const BatchPlan& plan) {
       std::string error;
       const std::string status = trial_status(plan.out, t, r, error);
       if (status == "failed") s.failed.push_back(t.id + ": " + first_line(error));
+      if (status == "corrupt") s.corrupt.push_back(t.id + ": " + first_line(error));
       if (status == "pending") ++s.pending;
       ++s.trials;
       summary_row(csv, t, status, r, error);

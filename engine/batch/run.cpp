@@ -8,7 +8,6 @@
 #include <cmath>
 #include <condition_variable>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -50,12 +49,12 @@ bool read_finished(const std::string& dir, TrialOutcome& out) {
   for (const char* name : {"result.json", "error.json"}) {
     const fs::path p = fs::path(dir) / name;
     if (!fs::exists(p)) continue;
-    std::ifstream in(p);
     try {
-      out.result = nlohmann::json::parse(in);
+      out.result = read_json_file(p.string());
     } catch (const std::exception&) {
-      return false;  // cannot happen with atomic writes; treat as unfinished and run again
+      return false;  // truncated or edited by hand: treat as unfinished and run again
     }
+    if (!out.result.is_object()) return false;
     out.ok = std::string(name) == "result.json";
     out.resumed = true;
     return true;
@@ -148,7 +147,10 @@ class TrialPool {
                         "batch: cannot write the trial result");
     } catch (const std::exception& e) {
       out.ok = false;
-      out.result = nlohmann::json{{"error", e.what()}};
+      const auto* detailed = dynamic_cast<const TrialError*>(&e);
+      out.result = detailed && detailed->details.is_object() ? detailed->details : nlohmann::json::object();
+      out.result["error"] = e.what();
+      out.result["trial"] = out.id;
       try {
         write_file_atomic((fs::path(dir) / "error.json").string(), out.result.dump(1) + "\n",
                           "batch: cannot write the trial error");
@@ -198,6 +200,9 @@ class TrialPool {
 
 }  // namespace
 
+TrialError::TrialError(const std::string& message, nlohmann::json details_in)
+    : Error(message), details(std::move(details_in)) {}
+
 std::string trial_dir(const std::string& out_dir, const std::string& id) {
   return (fs::path(out_dir) / "trials" / id).string();
 }
@@ -235,8 +240,10 @@ std::string policy_of(const std::string& out, const std::string& id) {
   if (fs::exists(err)) {
     std::string msg;
     try {
-      msg = nlohmann::json::parse(read_text(err.string())).value("error", std::string());
-    } catch (const std::exception&) {
+      const nlohmann::json e = read_json_file(err.string());
+      msg = e.is_object() ? e.value("error", std::string()) : std::string();
+    } catch (const std::exception& e) {
+      msg = e.what();
     }
     throw Error("needs the policy of trial " + id + ", which failed: " + first_line(msg));
   }
@@ -320,8 +327,27 @@ nlohmann::json evaluation_trial(const BatchPlan& plan, const PlannedTrial& t, Cl
           {"wall_s", std::chrono::duration<double>(Clock::now() - t0).count()}};
 }
 
+// What error.json records about a trial's fault beside its message: the trial's kind and seed, and
+// where it happened (the script's file and line, the episode and its world seed) when known.
+nlohmann::json fault_details(const PlannedTrial& t, const std::exception& e) {
+  nlohmann::json d = {{"kind", t.run ? "train" : "eval"}, {"index", t.index}};
+  if (t.run) d["seed"] = t.seed;
+  if (const auto* f = dynamic_cast<const EpisodeFault*>(&e)) {
+    d["phase"] = f->phase;
+    d["episode"] = f->episode;
+    d["world_seed"] = f->world_seed;
+    if (!f->file.empty()) d["file"] = f->file;
+    if (f->line > 0) d["line"] = f->line;
+  } else if (const auto* s = dynamic_cast<const ScriptError*>(&e)) {
+    if (!s->file.empty()) d["file"] = s->file;
+    if (s->line > 0) d["line"] = s->line;
+  }
+  return d;
+}
+
 // The trials of one phase this invocation runs: selected, and within the budget of new trials.
-// A trial that failed in an earlier invocation is tried again.
+// A trial that failed in an earlier invocation is tried again, and so is one whose files are
+// corrupt (said on the log): a trial is finished only when its records are sound.
 std::vector<std::string> phase_ids(const BatchPlan& plan, const std::vector<PlannedTrial>& phase,
                                    const RunControl& control, int& budget, std::set<std::string>& names) {
   std::vector<std::string> ids;
@@ -329,8 +355,16 @@ std::vector<std::string> phase_ids(const BatchPlan& plan, const std::vector<Plan
   for (const auto& t : phase) {
     if (!control.shard.owns(t) || !trial_selected(t, control.only)) continue;
     const fs::path dir = trial_dir(plan.out, t.id);
-    if (fs::exists(dir / "error.json", ec) && !fs::exists(dir / "result.json", ec)) fs::remove(dir / "error.json", ec);
-    const bool finished = fs::exists(dir / "result.json", ec) || fs::exists(dir / "error.json", ec);
+    nlohmann::json result;
+    std::string problem;
+    const std::string status = trial_status(plan.out, t, result, problem);
+    if (status == "corrupt" && control.log)
+      *control.log << "roger run: " << first_line(problem) << "; running trial " << t.id << " again\n";
+    if (status == "failed" || status == "corrupt") {  // run again from an empty folder
+      fs::remove(dir / "result.json", ec);
+      fs::remove(dir / "error.json", ec);
+    }
+    const bool finished = status == "ok";
     if (!finished) {
       if (budget == 0) continue;
       if (budget > 0) --budget;
@@ -354,6 +388,7 @@ BatchSummary record_shard(const BatchPlan& plan, const Shard& shard) {
       std::string error;
       const std::string status = trial_status(plan.out, t, result, error);
       if (status == "pending") ++s.pending;
+      if (status == "corrupt") s.corrupt.push_back(t.id + ": " + first_line(error));
       if (status != "failed") continue;
       s.failed.push_back(t.id + ": " + first_line(error));
       failed.push_back(t.id);
@@ -483,7 +518,11 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
   const TrialFunction trial = [&](const std::string& id, const std::string& dir) -> nlohmann::json {
     const PlannedTrial& t = *by_id.at(id);
     const auto t0 = Clock::now();
-    return t.run ? training_trial(plan, t, dir, control.eval_cache) : evaluation_trial(plan, t, t0);
+    try {
+      return t.run ? training_trial(plan, t, dir, control.eval_cache) : evaluation_trial(plan, t, t0);
+    } catch (const std::exception& e) {
+      throw TrialError(e.what(), fault_details(t, e));
+    }
   };
   BatchOptions bo;
   bo.jobs = control.jobs;

@@ -5,15 +5,15 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
-#include <unistd.h>
 
+#include "batch/batch_internal.h"
 #include "control/agent.h"
 #include "script/curriculum.h"
 #include "core/error.h"
+#include "core/fileio.h"
 #include "core/rng.h"
 #include "script/scenario.h"
 
@@ -26,23 +26,12 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Writes a file atomically: a temporary file beside it, then rename, so a reader (or a resumed
-// run) never sees half of it.
-void write_atomic(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.string() + ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error("cannot write " + tmp.string());
-    out << text;
-    out.flush();
-    if (!out) throw Error("cannot write " + tmp.string() + " (disk full?)");
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw Error("cannot write " + path.string() + ": " + ec.message());
-  }
+// "<first line> (<phase> episode <k>, world seed <s>)<the other lines>".
+std::string episode_fault_text(const std::string& cause, const std::string& phase, int episode, uint64_t seed) {
+  const size_t nl = cause.find('\n');
+  const std::string where = " (" + phase + " episode " + std::to_string(episode) + ", world seed " +
+                            std::to_string(seed) + ")";
+  return nl == std::string::npos ? cause + where : cause.substr(0, nl) + where + cause.substr(nl);
 }
 
 // A stage's Lua reward and absorbing functions as the decision hooks of its semi-MDP.
@@ -75,12 +64,20 @@ struct StageRun {
 
   // One episode of the stage's semi-MDP through the episode loop; the stage's Lua functions, if
   // any, are called at decision points only.
-  TrainingEpisode run(QTable& q, uint64_t seed, double epsilon, Rng& rng, bool learn) {
-    const WorldSpec spec = scenario.generate(seed);
-    StageHooks hooks(cur, stage, ctx);
-    SemiMdpDriver driver(ctx.actions, stage.absorbing.get(), q, epsilon, rng, stage.rewards, learn, &hooks);
-    run_episode(agent, spec, seed, driver, stage.time_limit);
-    return driver.episode();
+  // An error is rethrown as an EpisodeFault naming `phase`, `index` and the world seed.
+  TrainingEpisode run(QTable& q, uint64_t seed, double epsilon, Rng& rng, bool learn, const std::string& phase,
+                      int index) {
+    try {
+      const WorldSpec spec = scenario.generate(seed);
+      StageHooks hooks(cur, stage, ctx);
+      SemiMdpDriver driver(ctx.actions, stage.absorbing.get(), q, epsilon, rng, stage.rewards, learn, &hooks);
+      run_episode(agent, spec, seed, driver, stage.time_limit);
+      return driver.episode();
+    } catch (const EpisodeFault&) {
+      throw;  // from a learned skill's own training: already placed
+    } catch (const std::exception& e) {
+      throw EpisodeFault(e, phase, index, seed);
+    }
   }
 };
 
@@ -127,7 +124,9 @@ struct EvalCache {
 
 // A greedy evaluation on held-out seeds first_seed, first_seed + 1, ...; with a cache, reusing the
 // episodes that would run again exactly as they last did.
-GreedyEval greedy_eval(StageRun& run, QTable& q, uint64_t first_seed, int episodes, EvalCache* cache = nullptr) {
+// `phase` names the evaluation in errors ("final evaluation").
+GreedyEval greedy_eval(StageRun& run, QTable& q, uint64_t first_seed, int episodes, const std::string& phase,
+                       EvalCache* cache = nullptr) {
   GreedyEval g;
   g.episodes = episodes;
   g.first_seed = first_seed;
@@ -140,7 +139,7 @@ GreedyEval greedy_eval(StageRun& run, QTable& q, uint64_t first_seed, int episod
     const TrainingEpisode* kept = cache ? cache->reusable(seed, q) : nullptr;
     TrainingEpisode fresh;
     if (kept) ++cache->reused;
-    else fresh = run.run(q, seed, 0.0, unused, false);
+    else fresh = run.run(q, seed, 0.0, unused, false, phase, i);
     const TrainingEpisode& ep = kept ? *kept : cache ? cache->by_seed[seed] = std::move(fresh) : fresh;
     g.successes += ep.success;
     rewards.push_back(ep.reward);
@@ -187,12 +186,10 @@ void bind_skills(Curriculum& cur, const CurriculumContext& ctx, const TrainOptio
       src.trained = e.value("trained", false);
       src.trained_seed = e.value("seed", uint64_t(0));
     } else if (auto it = options.skill_files.find(name); it != options.skill_files.end()) {
-      std::ifstream in(it->second);
-      if (!in) throw Error("--skill " + name + "=" + it->second + ": cannot read the file");
       try {
-        src.policy = nlohmann::json::parse(in);
+        src.policy = batch_detail::read_json_file(it->second);
       } catch (const std::exception& e) {
-        throw Error("--skill " + name + "=" + it->second + ": not JSON: " + e.what());
+        throw Error("the policy of the learned skill '" + name + "': " + e.what());
       }
       src.file = it->second;
     } else if (embedded) {
@@ -225,6 +222,18 @@ void bind_skills(Curriculum& cur, const CurriculumContext& ctx, const TrainOptio
 
 }  // namespace
 
+EpisodeFault::EpisodeFault(const std::exception& e, std::string phase_in, int episode_in, uint64_t seed_in)
+    : Error(episode_fault_text(e.what(), phase_in, episode_in, seed_in)),
+      cause(e.what()),
+      phase(std::move(phase_in)),
+      episode(episode_in),
+      world_seed(seed_in) {
+  if (const auto* script = dynamic_cast<const ScriptError*>(&e)) {
+    file = script->file;
+    line = script->line;
+  }
+}
+
 TrainResult train_stage(const TrainOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   // A fresh load per trial: every trial gets its own controllers.
@@ -253,9 +262,9 @@ TrainResult train_stage(const TrainOptions& options) {
   EvalCache eval_cache;
   EvalCache* cache = options.eval_cache && !stage.absorbing_lua && !stage.reward_lua ? &eval_cache : nullptr;
   // One greedy evaluation, counted (every episode reused, or not).
-  auto evaluate = [&](int episodes) {
+  auto evaluate = [&](int episodes, const std::string& phase) {
     const int reused_before = eval_cache.reused;
-    GreedyEval g = greedy_eval(run, q, cp.seeds, episodes, cache);
+    GreedyEval g = greedy_eval(run, q, cp.seeds, episodes, phase, cache);
     ++res.evals;
     res.eval_episodes += episodes;
     res.eval_episodes_reused += eval_cache.reused - reused_before;
@@ -270,7 +279,7 @@ TrainResult train_stage(const TrainOptions& options) {
     const auto te = std::chrono::steady_clock::now();
     const double eps = schedule.epsilon(e);
     const uint64_t seed = Rng::mix(options.seed, uint64_t(e) + 1);
-    TrainingEpisode ep = run.run(q, seed, eps, rng, true);
+    TrainingEpisode ep = run.run(q, seed, eps, rng, true, "training", e);
     train_wall += seconds_since(te);
     spent.episodes = e + 1;
     spent.sim_s += ep.sim_seconds;
@@ -279,7 +288,7 @@ TrainResult train_stage(const TrainOptions& options) {
     if (options.keep_episodes) res.episodes.push_back(EpisodeRecord{e, eps, std::move(ep)});
     if ((e + 1) % cp.every == 0 || e + 1 == budget) {
       const auto tc = std::chrono::steady_clock::now();
-      const GreedyEval g = evaluate(cp.episodes);
+      const GreedyEval g = evaluate(cp.episodes, "checkpoint " + std::to_string(res.checkpoints.size() + 1) + " evaluation");
       CheckpointRecord c;
       c.at = spent;
       c.success_rate = g.success_rate;
@@ -298,7 +307,7 @@ TrainResult train_stage(const TrainOptions& options) {
   // The first checkpoint from which the rate stays at or above the threshold to the end.
   res.reached = passing > 0;
   res.to_threshold = res.reached ? res.checkpoints[res.checkpoints.size() - size_t(passing)].at : spent;
-  res.final_eval = evaluate(cp.final_episodes);
+  res.final_eval = evaluate(cp.final_episodes, "final evaluation");
   res.wall_s = seconds_since(t0);
   return res;
 }
@@ -370,7 +379,7 @@ void write_train_outputs(const TrainResult& r, const std::string& dir_in) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir)) throw Error("cannot create the output folder " + dir_in + (ec ? ": " + ec.message() : ""));
-  write_atomic(dir / "policy.json", train_policy_json(r).dump(1) + "\n");
+  write_file_atomic((dir / "policy.json").string(), train_policy_json(r).dump(1) + "\n");
   std::ostringstream curve, cps, eps;
   curve << "episodes,sim_s,decisions,wall_s,success_rate,reward_mean\n";
   for (const auto& c : r.checkpoints) {
@@ -394,21 +403,14 @@ void write_train_outputs(const TrainResult& r, const std::string& dir_in) {
                .dump()
         << "\n";
   }
-  write_atomic(dir / "curve.csv", curve.str());
-  write_atomic(dir / "checkpoints.jsonl", cps.str());
-  write_atomic(dir / "episodes.jsonl", eps.str());
-  write_atomic(dir / "summary.json", train_summary_json(r).dump(1) + "\n");
+  write_file_atomic((dir / "curve.csv").string(), curve.str());
+  write_file_atomic((dir / "checkpoints.jsonl").string(), cps.str());
+  write_file_atomic((dir / "episodes.jsonl").string(), eps.str());
+  write_file_atomic((dir / "summary.json").string(), train_summary_json(r).dump(1) + "\n");
 }
 
 PolicyEvalResult evaluate_policy_file(const PolicyEvalOptions& options) {
-  std::ifstream in(options.policy_file);
-  if (!in) throw Error(options.policy_file + ": cannot read the policy file");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const std::exception& e) {
-    throw Error(options.policy_file + ": not JSON: " + e.what());
-  }
+  const nlohmann::json j = batch_detail::read_json_file(options.policy_file);
   PolicyMetadata meta;
   QTable::from_json(j, {}, options.policy_file, &meta);  // the metadata first, to find the stage
   if (meta.stage.empty() || meta.context.empty())
@@ -430,7 +432,7 @@ PolicyEvalResult evaluate_policy_file(const PolicyEvalOptions& options) {
   StageRun run{cur, stage, ctx, make_scenario(stage, options.scenario, options.sets, options.limits, &out.params), Agent()};
   out.scenario = run.scenario.name();
   const uint64_t first = options.first_seed >= 0 ? uint64_t(options.first_seed) : stage.checkpoints.seeds;
-  out.eval = greedy_eval(run, q, first, options.episodes);
+  out.eval = greedy_eval(run, q, first, options.episodes, "evaluation");
   return out;
 }
 

@@ -19,6 +19,21 @@
 
 namespace roger {
 
+// An error in one episode of a trial (a fault of a reward or absorbing function or of a scenario
+// generator, or any engine error): it names the episode and its world seed, so a fault that only
+// some seeds trigger can be found again. what() is "<the cause's first line> (<phase> episode <k>,
+// world seed <s>)" followed by the cause's other lines (a Lua traceback).
+struct EpisodeFault : Error {
+  // Wraps `cause`, keeping its file:line when it is a ScriptError.
+  EpisodeFault(const std::exception& cause, std::string phase, int episode, uint64_t world_seed);
+  std::string cause;           // the cause's what()
+  std::string phase;           // "training", "checkpoint 3 evaluation", "final evaluation", "evaluation"
+  int episode = 0;             // 0-based index within the phase (as in episodes.jsonl)
+  uint64_t world_seed = 0;     // the seed the scenario generated the episode's world from
+  std::string file;            // the script at fault when the cause is a ScriptError, else ""
+  int line = 0;                // its line, 0 when unknown
+};
+
 // What a trial trains and how.
 struct TrainOptions {
   std::string curriculum;   // script path or bare name ("paper")

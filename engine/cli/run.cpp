@@ -1,5 +1,6 @@
 // run.cpp: `roger run` (a batch script: plan, run every trial resumably, then the report) and
 // `roger report` (tables and figures from a results folder). docs/batch.md describes both.
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -26,13 +27,18 @@ BatchOverrides overrides_of(const RunArgs& a) {
   return ov;
 }
 
-// The closing lines of a run; returns 1 when some trial failed.
+// The closing lines of a run; returns 1 when some trial failed or has corrupt files.
 int print_outcome(const BatchSummary& s, std::ostream& log) {
-  log << "roger run: " << (s.trials - s.failed.size() - size_t(s.pending)) << " of " << s.trials
+  log << "roger run: " << (s.trials - s.failed.size() - s.corrupt.size() - size_t(s.pending)) << " of " << s.trials
       << " trials done in " << format_duration(s.wall_s);
   if (s.pending) log << ", " << s.pending << " not run yet (run the same command again to continue)";
   log << "\n";
-  if (s.failed.empty()) return 0;
+  if (!s.corrupt.empty()) {
+    log << "roger run: " << s.corrupt.size() << " trial" << (s.corrupt.size() == 1 ? " has" : "s have")
+        << " unreadable files (the same command runs them again when it selects them):\n";
+    for (const auto& c : s.corrupt) log << "  " << c << "\n";
+  }
+  if (s.failed.empty()) return s.corrupt.empty() ? 0 : 1;
   log << "roger run: " << s.failed.size() << " trial" << (s.failed.size() == 1 ? "" : "s")
       << " failed (their error.json holds the whole message; the same command tries them again):\n";
   for (const auto& f : s.failed) log << "  " << f << "\n";
@@ -41,17 +47,21 @@ int print_outcome(const BatchSummary& s, std::ostream& log) {
 
 // Lists the trials a report still needs; returns 1.
 int print_missing(const std::vector<MissingTrial>& missing, const BatchPlan& plan, std::ostream& log) {
+  const bool corrupt = std::any_of(missing.begin(), missing.end(), [](const MissingTrial& m) { return !m.problem.empty(); });
   log << "roger report: " << missing.size() << " trial" << (missing.size() == 1 ? "" : "s") << " of " << plan.out
-      << " have no result yet, so no report was written:\n";
+      << " have no result yet" << (corrupt ? " or a corrupt one" : "") << ", so no report was written:\n";
   for (const auto& m : missing) {
     const PlannedTrial& t = *m.trial;
     log << "  " << t.id << " (";
     if (t.run) log << "run " << t.run->name << ", context " << t.context;
     else log << "evaluation " << t.evaluation->name << (t.shape.empty() ? "" : ", shape " + t.shape);
-    log << ", trial " << t.index << (m.owner.empty() ? "" : "; " + m.owner) << ")\n";
+    log << ", trial " << t.index << (m.owner.empty() ? "" : "; " + m.owner) << ")";
+    if (!m.problem.empty()) log << ": CORRUPT: " << m.problem.substr(0, m.problem.find('\n'));
+    log << "\n";
   }
-  log << "Run the same roger run command again (with the same --shard for a shard) to finish them, or\n"
-         "roger report --partial " << plan.out << " to report what is there, marked as pending.\n";
+  log << "Run the same roger run command again (with the same --shard for a shard) to finish them"
+      << (corrupt ? " (it runs a trial with corrupt files again from scratch).\n"
+                  : ", or\nroger report --partial " + plan.out + " to report what is there, marked as pending.\n");
   return 1;
 }
 
@@ -78,7 +88,9 @@ int command_run(const RunArgs& a) {
     log << "roger run: open " << write_dashboard_page(plan.out) << " to follow the run\n";
     const BatchSummary summary = run_batch(plan, RunControl{a.jobs, a.live, a.max_trials, a.only, &log, shard, !a.no_eval_cache});
     int status = 0;
-    if (!a.no_report && !shard.active()) {
+    if (!summary.corrupt.empty() && !a.no_report && !shard.active()) {
+      log << "roger run: no report: some trials' files cannot be read (listed below)\n";
+    } else if (!a.no_report && !shard.active()) {
       try {
         for (const auto& f : write_report(plan.out)) log << "roger run: wrote " << f << "\n";
       } catch (const std::exception& e) {
@@ -98,7 +110,9 @@ int command_report(const ReportArgs& a) {
   try {
     const BatchPlan plan = read_results_plan(a.dir);
     const std::vector<MissingTrial> missing = missing_trials(plan);
-    if (!missing.empty() && !a.partial) return print_missing(missing, plan, log);
+    const bool corrupt = std::any_of(missing.begin(), missing.end(), [](const MissingTrial& m) { return !m.problem.empty(); });
+    // A corrupt record is never reported, not even as pending: the report would be wrong about it.
+    if (!missing.empty() && (!a.partial || corrupt)) return print_missing(missing, plan, log);
     const BatchSummary summary = write_summary_csv(plan);
     log << "roger report: wrote " << (std::filesystem::path(plan.out) / "summary.csv").string() << "\n";
     for (const auto& f : write_report(a.dir)) log << "roger report: wrote " << f << "\n";

@@ -15,6 +15,15 @@ namespace roger {
 
 namespace fs = std::filesystem;
 
+void sync_folder_of(const std::string& path) {
+  const fs::path target(path);
+  const std::string dir = target.has_parent_path() ? target.parent_path().string() : std::string(".");
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;  // best effort: the file itself is already on disk
+  ::fsync(fd);
+  ::close(fd);
+}
+
 AtomicFile::AtomicFile(const std::string& path, std::string context)
     : path_(path), context_(std::move(context)) {
   const fs::path target(path);
@@ -76,6 +85,9 @@ void AtomicFile::commit() {
   if (std::fclose(f) != 0) fail(errno);
   if (std::rename(temp_.c_str(), path_.c_str()) != 0) fail(errno);
   committed_ = true;
+  // The rename itself lives in the folder: without this a crash of the machine could lose it,
+  // or keep a later file's rename and not this one's (a result.json without its policy.json).
+  sync_folder_of(path_);
 }
 
 void AtomicFile::fail(int err) {

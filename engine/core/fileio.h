@@ -32,7 +32,9 @@ class AtomicFile {
   // Throws "<context> '<path>': <reason>" (for a writer's own failure, e.g. an encoder's).
   [[noreturn]] void fail(const std::string& reason) const;
 
-  // Flushes to disk and renames over the destination; throws (and removes the temporary) on error.
+  // Flushes to disk, renames over the destination and flushes the folder; throws (and removes the
+  // temporary) on error. After a crash at any instant the destination is the old file or the new
+  // one, whole.
   void commit();
 
   // The destination path.
@@ -45,6 +47,10 @@ class AtomicFile {
   int error_ = 0;
   bool committed_ = false;
 };
+
+// Flushes to disk the folder holding `path`, so that a rename or removal in it survives a crash of
+// the machine (best effort: a folder that cannot be opened is left as it is).
+void sync_folder_of(const std::string& path);
 
 // Writes a whole file atomically, creating its folder if needed. `context` starts any error
 // message, e.g. "cannot write the policy file".

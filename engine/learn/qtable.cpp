@@ -299,8 +299,8 @@ QTable QTable::load(const std::string& path, const std::vector<std::string>& exp
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(buffer.str());
-  } catch (const nlohmann::json::parse_error& e) {
-    throw Error(path + ": not valid JSON: " + e.what());
+  } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for 1e999
+    throw Error(path + ": not valid JSON" + (buffer.str().empty() ? std::string(" (an empty file)") : "") + ": " + e.what());
   }
   return from_json(j, expected, path, meta);
 }

@@ -24,6 +24,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/fileio.h"
 #include "report/plot_internal.h"
 
 namespace roger {
@@ -128,6 +129,7 @@ class TempFigure {
   void commit() {
     if (std::rename(temp_.c_str(), path_.c_str()) != 0) fail(std::strerror(errno));
     committed_ = true;
+    sync_folder_of(path_);  // the rename survives a crash of the machine, as fileio.h's do
   }
 
  private:

@@ -484,6 +484,11 @@ std::vector<std::string> write_report(const std::string& dir) {
   std::error_code ec;
   if (!fs::is_regular_file(manifest_path, ec))
     throw Error("'" + dir + "' is not a results folder of roger run: it has no manifest.json");
+  // Every record is checked first (engine/batch/records.cpp): a corrupt trial stops the report
+  // before anything is written, rather than being read as whatever its damage says.
+  const BatchPlan plan = read_results_plan(dir);  // outlives the trials missing_trials points to
+  for (const auto& m : missing_trials(plan))
+    if (!m.problem.empty()) throw Error("trial " + m.trial->id + ": " + m.problem);
   json manifest;
   try {
     manifest = json::parse(read_text(manifest_path));

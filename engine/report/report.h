@@ -31,7 +31,8 @@ CurveGrid curve_grid(const std::vector<std::vector<std::pair<double, double>>>& 
 
 // Writes tables.md, report.json (the tables' numbers), every figure of the results folder `dir`
 // and its dashboard: index.html with dashboard.js, the same numbers for a browser (docs/browser.md).
-// Returns the files written. Throws roger::Error when the folder holds no manifest.json.
+// Returns the files written. Throws roger::Error when the folder holds no sound manifest.json, or
+// when a trial's record is corrupt (naming the trial, the file and what is wrong), before writing.
 std::vector<std::string> write_report(const std::string& dir);
 
 // Writes the dashboard's page alone (index.html) into the results folder `dir`, atomically, so a

@@ -170,6 +170,7 @@ void LuaSandbox::call(int nargs, int nresults) {
   const bool top_level = s.call_depth == 0;
   if (top_level) {
     s.instructions_used = 0;
+    s.oom_line = 0;
     s.pending.reset();
     s.pending_text.clear();
     lua_sethook(L, count_hook, LUA_MASKCOUNT, s.hook_interval);
@@ -193,10 +194,12 @@ void LuaSandbox::call(int nargs, int nresults) {
     s.pending.reset();
     throw error;
   }
-  if (status == LUA_ERRMEM)
+  if (status == LUA_ERRMEM) {
+    const bool located = s.oom_line > 0;
     throw ScriptError("not enough memory (script memory limit of " +
                           std::to_string(s.limits.memory_bytes >> 20) + " MiB)",
-                      entry_file, 0, "");
+                      located ? restore_names(s, s.oom_file.data()) : entry_file, located ? s.oom_line : 0, "");
+  }
   if (status == LUA_ERRERR) msg = "error while handling an error (" + msg + ")";
   msg = restore_names(s, msg);
   const std::string traceback = s.err_handled ? restore_names(s, s.err_traceback) : "";

@@ -18,6 +18,24 @@ LuaSandbox::Impl& impl_of(lua_State* L) {
   return **static_cast<LuaSandbox::Impl**>(lua_getextraspace(L));
 }
 
+namespace {
+
+// Records the innermost Lua line running when the memory cap is first hit in a call. Only reads
+// the call stack (lua_getstack and lua_getinfo "Sl" allocate nothing).
+void note_refusal(LuaSandbox::Impl& s) {
+  if (!s.L || s.oom_line > 0) return;
+  lua_Debug ar;
+  for (int level = 0; lua_getstack(s.L, level, &ar); ++level) {
+    if (lua_getinfo(s.L, "Sl", &ar) && ar.currentline > 0) {
+      std::snprintf(s.oom_file.data(), s.oom_file.size(), "%s", ar.short_src);
+      s.oom_line = ar.currentline;
+      return;
+    }
+  }
+}
+
+}  // namespace
+
 // The allocator: the usual realloc/free pair, refusing to grow the state beyond the cap. Lua then
 // runs an emergency collection and retries before raising "not enough memory".
 void* sandbox_alloc(void* ud, void* ptr, size_t osize, size_t nsize) {
@@ -28,8 +46,10 @@ void* sandbox_alloc(void* ud, void* ptr, size_t osize, size_t nsize) {
     s->memory_used -= old;
     return nullptr;
   }
-  if (nsize > old && nsize - old > s->limits.memory_bytes - std::min(s->memory_used, s->limits.memory_bytes))
+  if (nsize > old && nsize - old > s->limits.memory_bytes - std::min(s->memory_used, s->limits.memory_bytes)) {
+    note_refusal(*s);
     return nullptr;
+  }
   void* p = std::realloc(ptr, nsize);
   if (p) s->memory_used = s->memory_used - old + nsize;
   return p;

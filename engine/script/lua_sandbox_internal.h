@@ -5,6 +5,7 @@
 // lua_sandbox_modules.cpp source loading and `require`.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -40,6 +41,11 @@ struct LuaSandbox::Impl {
   std::string err_traceback, err_file;
   int err_line = 0;
   bool err_handled = false;
+
+  // Where the script was when the allocator first refused memory in the current top-level call
+  // (a memory error runs no message handler, so this is the only record of its line).
+  std::array<char, 256> oom_file{};
+  int oom_line = 0;
 
   // A ScriptError thrown by C++ inside a protected C function, re-thrown as is by call().
   std::optional<ScriptError> pending;

@@ -1,0 +1,62 @@
+-- Fixture of the [faults] tests (tests/test_batch.cpp): one sound stage and one stage per kind of
+-- fault a Lua callback can commit while trials run. Each trial loads its own copy, so `calls`
+-- counts the calls of one trial.
+local p3 = roger.primitive("phi3")
+local p0 = roger.primitive("phi0")
+local calls = 0
+bomb = {}  -- a global: what the memory bomb holds stays held
+
+local function sound_reward(state, action, event)
+  calls = calls + 1
+  if event == "absorbing" then return 1 end
+  return 0
+end
+
+local function late_loop(state, action, event)
+  calls = calls + 1
+  if calls > 1000 then
+    while true do end  -- line 18: an infinite loop after 1,000 calls
+  end
+  return 0
+end
+
+local function memory_bomb(state, time)
+  calls = calls + 1
+  if calls > 50 then
+    for i = 1, 64 do bomb[i] = string.rep("x", (16 << 20) + i) end  -- line 26: 1 GiB wanted
+  end
+  return false
+end
+
+local function late_nan(state, action, event)
+  calls = calls + 1
+  if calls > 20 then return 0 / 0 end  -- a NaN: the error names the function (line 31)
+  return 0
+end
+
+local function wrong_type(state, time)
+  return "yes"  -- a string, not a boolean: the error names the function (line 37)
+end
+
+local function stage(name, fields)
+  fields.name = name
+  fields.time_limit = 1
+  fields.budget = { episodes = fields.episodes or 6 }
+  fields.episodes = nil
+  fields.checkpoints = { every = 3, episodes = 2, final = 2 }
+  fields.contexts = { { name = "A", actions = { p3, p0 } } }
+  fields.absorbing = fields.absorbing or roger.converged(p3)
+  return roger.stage(fields)
+end
+
+return {
+  name = "faults",
+  stages = {
+    stage("sound", { reward = sound_reward }),
+    stage("loop", { reward = late_loop, episodes = 2000 }),
+    stage("bomb", { absorbing = memory_bomb, reward = sound_reward, episodes = 200 }),
+    stage("nan", { reward = late_nan, episodes = 200 }),
+    stage("type", { absorbing = wrong_type, reward = sound_reward }),
+    stage("unlucky", { scenario = "tests/scripts/faults_scenario.lua", reward = sound_reward, episodes = 12 }),
+  },
+}
