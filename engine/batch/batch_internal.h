@@ -9,9 +9,6 @@
 
 namespace roger::batch_detail {
 
-// The whole content of a file ("" when it cannot be read).
-std::string read_text(const std::string& path);
-
 // The first line of a message.
 std::string first_line(const std::string& s);
 

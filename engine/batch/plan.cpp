@@ -51,7 +51,7 @@ json source_fingerprints(const std::string& curriculum_file) {
   for (const fs::path& f : curriculum_source_files(cur)) {
     const fs::path rel = f.lexically_relative(root);
     const bool inside = !rel.empty() && *rel.begin() != "..";
-    out[inside ? rel.generic_string() : f.generic_string()] = fingerprint(read_text(f.string()));
+    out[inside ? rel.generic_string() : f.generic_string()] = fingerprint(read_file_text(f.string()));
   }
   return out;
 }
@@ -197,13 +197,6 @@ int recorded_shard_count(const std::string& out) {
 }  // namespace
 
 namespace batch_detail {
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 std::string first_line(const std::string& s) {
   const size_t nl = s.find('\n');

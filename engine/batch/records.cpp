@@ -7,6 +7,7 @@
 
 #include "batch/batch_internal.h"
 #include "core/error.h"
+#include "core/fileio.h"
 #include "learn/learning.h"
 
 namespace roger {
@@ -52,7 +53,7 @@ namespace batch_detail {
 json read_json_file(const std::string& path) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) throw Error(path + ": not a file");
-  const std::string text = read_text(path);
+  const std::string text = read_file_text(path);
   if (text.empty()) throw Error(path + ": empty (0 bytes)");
   try {
     return json::parse(text);

@@ -7,6 +7,7 @@
 #include "cli/cli_internal.h"
 #include "cli/commands.h"
 #include "learn/episode.h"
+#include "script/batch_script.h"
 #include "script/curriculum.h"
 #include "script/scenario.h"
 #include "script/skill_script.h"
@@ -81,6 +82,23 @@ int command_render(const RenderArgs& a) {
   return 0;
 }
 
+namespace {
+
+// roger check on a batch script: loads it and validates it against its curriculum.
+int check_batch(const std::string& path) {
+  const BatchScript b = load_batch_script(path);
+  std::string runs;
+  for (const auto& r : b.runs) {
+    const size_t n = r.contexts.size();
+    runs += (runs.empty() ? "" : ", ") + r.name + " (" + std::to_string(n) + (n == 1 ? " context)" : " contexts)");
+  }
+  std::printf("%s: ok (batch script '%s' on %s; %d trials; runs %s)\n", path.c_str(), b.name.c_str(),
+              b.curriculum.c_str(), b.trials, runs.c_str());
+  return 0;
+}
+
+}  // namespace
+
 int command_check(const CheckArgs& a) {
   if (is_curriculum_script(a.script)) {
     const std::vector<std::string> problems = check_curriculum(a.script);
@@ -107,6 +125,7 @@ int command_check(const CheckArgs& a) {
                 names.c_str());
     return 0;
   }
+  if (is_batch_script(a.script)) return check_batch(a.script);
   Scenario scenario = Scenario::load(a.script);
   apply_sets(scenario, a.sets);
   // A scenario is a function of its seed: try several, and build each world as an episode would.

@@ -7,6 +7,8 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <random>
 
 #include "core/error.h"
@@ -105,6 +107,13 @@ void write_file_atomic(const std::string& path, const std::string& content,
   AtomicFile file(path, context);
   file.append(content);
   file.commit();
+}
+
+std::string read_file_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  if (in) text << in.rdbuf();
+  return text.str();
 }
 
 }  // namespace roger

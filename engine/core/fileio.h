@@ -57,4 +57,8 @@ void sync_folder_of(const std::string& path);
 void write_file_atomic(const std::string& path, const std::string& content,
                        const std::string& context = "cannot write");
 
+// The whole content of a file, bytes as they are; empty when it cannot be read (callers that must
+// tell a missing file from an empty one check for it first).
+std::string read_file_text(const std::string& path);
+
 }  // namespace roger

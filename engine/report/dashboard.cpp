@@ -57,12 +57,7 @@ std::vector<std::string> table_cells(const std::string& line) {
   return cells;
 }
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+std::string read_text(const fs::path& path) { return read_file_text(path.string()); }
 
 // One trial's entry: its folder, its state, and from result.json the numbers a list shows.
 json trial_entry(const std::string& dir, const std::string& id, int index) {

@@ -26,12 +26,7 @@ namespace {
 constexpr uint64_t kBootstrapSeed = 20240601;  // fixed: the same folder gives the same intervals
 constexpr int kCurvePoints = 200;
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+std::string read_text(const fs::path& path) { return read_file_text(path.string()); }
 
 std::string fmt(const char* f, double v) {
   char buf[64];

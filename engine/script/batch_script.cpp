@@ -14,6 +14,7 @@
 #include <lua.hpp>
 
 #include "core/error.h"
+#include "core/fileio.h"
 #include "script/batch_script_internal.h"
 #include "script/curriculum.h"
 
@@ -26,13 +27,6 @@ using batch_detail::quoted_list;
 using batch_detail::Reader;
 
 namespace {
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 void merge_params(Params& into, const Params& more) {
   for (const auto& [k, v] : more) {
@@ -487,7 +481,7 @@ BatchScript load_batch_script(const std::string& path_in, const BatchOverrides& 
   sandbox.set_main_script(path);
   sandbox.run_file(path, 1);
   lua_State* L = sandbox.state();
-  const std::string text = read_text(path);
+  const std::string text = read_file_text(path);
   const Reader rd(b.path, text);
   const int top_line = return_line(text);
   const json top = returned_table(L, rd, top_line);
@@ -584,6 +578,11 @@ BatchScript batch_config_from_json(const json& j) {
     throw Error(std::string("the manifest's configuration is incomplete or not from this version: ") + e.what());
   }
   return b;
+}
+
+bool is_batch_script(const std::string& path) {
+  return script_has_key(path, "runs") || script_has_key(path, "curriculum") ||
+         script_has_key(path, "evaluations");
 }
 
 }  // namespace roger

@@ -118,6 +118,10 @@ struct BatchOverrides {
 BatchScript load_batch_script(const std::string& path, const BatchOverrides& overrides = {},
                               const SandboxLimits& limits = {});
 
+// Whether the file reads as a batch script: it sets `runs`, `curriculum` or `evaluations`
+// (script_has_key), as scripts/paper.lua and scripts/quick.lua (`quick.evaluations = ...`) do.
+bool is_batch_script(const std::string& path);
+
 // The script's resolved configuration as JSON (the manifest's "config"; read back by the report).
 nlohmann::json batch_config_json(const BatchScript& script);
 

@@ -13,6 +13,7 @@
 #include <lua.hpp>
 
 #include "core/error.h"
+#include "core/fileio.h"
 #include "script/curriculum_internal.h"
 #include "script/lua_control.h"
 #include "script/scenario.h"
@@ -27,13 +28,6 @@ using curriculum_detail::parse_stage;
 namespace {
 
 char book_key;  // registry key of the loader's book (a light userdata)
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  if (in) text << in.rdbuf();
-  return text.str();
-}
 
 // What the script's roger.stage / roger.learned calls have made so far.
 struct Book {
@@ -267,7 +261,7 @@ Curriculum Curriculum::load(const std::string& path_in, const SandboxLimits& lim
   finish_control_definitions(sandbox);
 
   // The text, for the lines of plain-table stages (a table carries no lines).
-  const std::string text = read_text(path);
+  const std::string text = read_file_text(path);
   int line = 0;  // for errors raised while C++ reads the returned table
   read_protected(sandbox, impl.path, line, [&](lua_State* L) {
     const int t = lua_gettop(L);
@@ -367,20 +361,7 @@ std::string resolve_curriculum_path(const std::string& arg) {
                              is_curriculum_script);
 }
 
-bool is_curriculum_script(const std::string& path) {
-  const std::string text = read_text(path);
-  if (text.empty()) return false;
-  // Outside comments: a `stages =` key.
-  std::istringstream in(text);
-  std::string l;
-  static const std::regex key("(^|[{,;\\s])stages\\s*=[^=]");
-  while (std::getline(in, l)) {
-    const size_t c = l.find("--");
-    if (c != std::string::npos) l.resize(c);
-    if (std::regex_search(l + " ", key)) return true;
-  }
-  return false;
-}
+bool is_curriculum_script(const std::string& path) { return script_has_key(path, "stages"); }
 
 std::vector<std::string> check_curriculum(const std::string& path, const SandboxLimits& limits) {
   std::vector<std::string> problems;

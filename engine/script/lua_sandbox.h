@@ -193,4 +193,9 @@ std::string resolve_script_path(const std::string& arg, const std::string& folde
 // Formats a number the shortest way that reads back exactly (0.95, not 0.94999999999999996).
 std::string format_number(double value);
 
+// Whether a script's text sets a table field `key` (`key = ...` or `t.key = ...`) outside
+// comments: a quick look at what kind of script a file is (a curriculum has `stages`, a batch
+// script `runs`) without running it.
+bool script_has_key(const std::string& path, const std::string& key);
+
 }  // namespace roger

@@ -5,10 +5,12 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 #include <lua.hpp>
 
+#include "core/fileio.h"
 #include "script/lua_sandbox_internal.h"
 
 namespace roger {
@@ -209,4 +211,17 @@ int sandbox_require(lua_State* L) {
 }
 
 }  // namespace sandbox_detail
+
+bool script_has_key(const std::string& path, const std::string& key) {
+  std::istringstream in(read_file_text(path));
+  const std::regex field("(^|[{,;.\\s])" + key + "\\s*=[^=]");  // also `t.key = ...`
+  std::string line;
+  while (std::getline(in, line)) {
+    const size_t comment = line.find("--");
+    if (comment != std::string::npos) line.resize(comment);
+    if (std::regex_search(line + " ", field)) return true;
+  }
+  return false;
+}
+
 }  // namespace roger

@@ -15,6 +15,7 @@
 #include <lua.hpp>
 
 #include "core/error.h"
+#include "core/fileio.h"
 #include "script/lua_control.h"
 #include "script/scenario.h"
 
@@ -254,14 +255,6 @@ class SourceMap {
   int return_line_ = 0;
 };
 
-// The text of a file ("" when it cannot be read: the sandbox reports that itself).
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  if (in) text << in.rdbuf();
-  return text.str();
-}
-
 // Runs `body` on the sandbox's state inside a protected call. A Lua error without a location
 // (raised by C++ reading the returned table) is placed at `file`:`line()`, the line of the field
 // being read when it happened.
@@ -464,7 +457,7 @@ SkillScript SkillScript::load(const std::string& path_in, const SandboxLimits& l
   Impl& impl = *script.impl_;
   LuaSandbox sandbox(limits);
   impl.path = sandbox.display_name(path);
-  const SourceMap map(read_text(path));
+  const SourceMap map(read_file_text(path));
 
   install_control_api(sandbox);
   sandbox.set_main_script(path);
@@ -494,7 +487,7 @@ std::string resolve_skill_script_path(const std::string& arg) {
 }
 
 bool is_skill_script(const std::string& path) {
-  const std::string text = read_text(path);
+  const std::string text = read_file_text(path);
   return !text.empty() && SourceMap(text).has_policies();
 }
 
