@@ -221,3 +221,27 @@ TEST_CASE("shards of one script run at once into one folder and report what one 
   CHECK(same == 0);
   fs::remove_all(out);
 }
+
+TEST_CASE("a manifest that is JSON but not an object of the right shape is a roger::Error naming it", "[batch]") {
+  // Found by tests/fuzz/fuzz_manifest: `roger report` called value() on whatever the manifest held,
+  // and a manifest reading "file", or one whose "script" was a number, escaped as a json type_error.
+  const fs::path dir = fresh_dir("manifest_shape");
+  fs::create_directories(dir);
+  const std::string path = (dir / "manifest.json").string();
+  for (const auto& [text, what] : std::vector<std::pair<std::string, std::string>>{
+           {"\"file\"", "expected a JSON object, got string"},
+           {"[1, 2]", "expected a JSON object, got array"},
+           {"{\"config\": 3}", "field \"config\" must be an object"},
+           {"{\"script\": 5, \"config\": {}}", "field \"script\" must be a string"},
+           {"{\"version\": null, \"config\": {}}", "field \"version\" must be a string"}}) {
+    std::ofstream(path) << text;
+    INFO(text);
+    try {
+      read_results_plan(dir.string());
+      FAIL("read the manifest " << text);
+    } catch (const Error& e) {
+      CHECK_THAT(e.what(), Catch::Contains(path) && Catch::Contains(what));
+    }
+  }
+  fs::remove_all(dir);
+}

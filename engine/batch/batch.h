@@ -77,6 +77,11 @@ struct BatchPlan {
 // Plans the trials of `script` into `out`.
 BatchPlan plan_batch(std::shared_ptr<const BatchScript> script, const std::string& out);
 
+// The manifest.json of the results folder `dir`: a JSON object whose "config" is an object and
+// whose "script" and "version" are strings where present. Throws roger::Error naming the file
+// when it is missing, not JSON or not of that shape.
+nlohmann::json read_manifest(const std::string& dir);
+
 // The plan of the run that made the results folder `dir`, rebuilt from its manifest. Throws
 // roger::Error when `dir` holds no readable manifest.
 BatchPlan read_results_plan(const std::string& dir);

@@ -231,7 +231,7 @@ std::string trial_status(const std::string& out, const PlannedTrial& t, json& r,
 
 }  // namespace batch_detail
 
-BatchPlan read_results_plan(const std::string& dir) {
+json read_manifest(const std::string& dir) {
   const fs::path manifest_path = fs::path(dir) / "manifest.json";
   std::error_code ec;
   if (!fs::is_regular_file(manifest_path, ec))
@@ -242,6 +242,19 @@ BatchPlan read_results_plan(const std::string& dir) {
   } catch (const std::exception& e) {
     throw Error(manifest_path.string() + ": not JSON: " + e.what());
   }
+  // The readers call value() on these fields, which throws a json type_error on any other shape.
+  const std::string where = manifest_path.string() + ": not a manifest of roger run: ";
+  if (!manifest.is_object()) throw Error(where + "expected a JSON object, got " + manifest.type_name());
+  if (manifest.contains("config") && !manifest["config"].is_object())
+    throw Error(where + "field \"config\" must be an object, got " + manifest["config"].type_name());
+  for (const char* key : {"script", "version"})
+    if (manifest.contains(key) && !manifest[key].is_string())
+      throw Error(where + "field \"" + key + "\" must be a string, got " + manifest[key].type_name());
+  return manifest;
+}
+
+BatchPlan read_results_plan(const std::string& dir) {
+  const json manifest = read_manifest(dir);
   auto script = std::make_shared<BatchScript>(batch_config_from_json(manifest.value("config", json::object())));
   script->path = manifest.value("script", std::string("?"));
   return plan_batch(std::move(script), dir);

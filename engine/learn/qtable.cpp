@@ -299,7 +299,7 @@ QTable QTable::load(const std::string& path, const std::vector<std::string>& exp
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(buffer.str());
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for a number like 1e999
     throw Error(path + ": not valid JSON: " + e.what());
   }
   return from_json(j, expected, path, meta);
