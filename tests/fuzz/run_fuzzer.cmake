@@ -10,5 +10,5 @@ endif()
 execute_process(COMMAND ${FUZZER} ${options} ${WORK}/corpus ${CORPUS} RESULT_VARIABLE status)
 if(NOT status EQUAL 0)
   message(FATAL_ERROR "${FUZZER} found a failing input (exit ${status}); it is saved in ${WORK}/ "
-                      "(replay it: ${FUZZER} ${WORK}/crash-...)")
+                      "(replay it: ${FUZZER} ${WORK}/<crash, leak or timeout>-...)")
 endif()
