@@ -413,3 +413,30 @@ TEST_CASE("a corrupt record of a results folder is named, never read as zeros, a
   fs::remove_all(out);
   fs::remove_all(clean);
 }
+
+TEST_CASE("a manifest that is JSON but not an object of the right shape is a roger::Error naming it", "[batch]") {
+  // Found by tests/fuzz/fuzz_manifest: `roger report` called value() on whatever the manifest held,
+  // and a manifest reading "file", or one whose "script" was a number, escaped as a json type_error.
+  const fs::path dir = fresh_dir("manifest_shape");
+  fs::create_directories(dir);
+  const std::string path = (dir / "manifest.json").string();
+  for (const auto& [text, what] : std::vector<std::pair<std::string, std::string>>{
+           {"\"file\"", "must be a JSON object, got string"},
+           {"[1, 2]", "must be a JSON object, got array"},
+           {"{\"config\": {}}", "not the manifest of a roger run results folder"},
+           {"{\"format\": \"roger-results/1\", \"config\": 3}", "field \"config\" must be an object"},
+           {"{\"format\": \"roger-results/1\", \"config\": {}, \"engine\": \"e\", \"script\": 5}",
+            "field \"script\" must be a string"},
+           {"{\"format\": \"roger-results/1\", \"config\": {}, \"engine\": \"e\", \"script\": \"s\", \"version\": null}",
+            "field \"version\" must be a string"}}) {
+    std::ofstream(path) << text;
+    INFO(text);
+    try {
+      read_results_plan(dir.string());
+      FAIL("read the manifest " << text);
+    } catch (const Error& e) {
+      CHECK_THAT(e.what(), Catch::Contains(path) && Catch::Contains(what));
+    }
+  }
+  fs::remove_all(dir);
+}

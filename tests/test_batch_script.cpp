@@ -2,7 +2,10 @@
 // batch scripts are clear errors naming file:line and what exists.
 #include <catch2/catch.hpp>
 
+#include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "script/batch_script.h"
 #include "core/error.h"
@@ -96,4 +99,37 @@ TEST_CASE("bad batch scripts are clear errors at file:line", "[batch_script]") {
   m = load_error("tests/scripts/no_such_batch.lua");
   INFO(m);
   CHECK(m.find("no batch script") != std::string::npos);
+}
+
+TEST_CASE("a damaged manifest configuration is a roger::Error, never undefined behaviour or a crash",
+          "[batch_script]") {
+  // Found by tests/fuzz/fuzz_manifest: the report follows the configuration's references without
+  // looking (a table naming a missing run was a null dereference), and a count of 1e300 was
+  // converted to int (undefined behaviour).
+  const nlohmann::json good = batch_config_json(load_batch_script("scripts/quick.lua"));
+  CHECK_NOTHROW(batch_config_from_json(good));
+  const std::vector<std::pair<std::string, std::function<void(nlohmann::json&)>>> cases = {
+      {"\"trials\"", [](nlohmann::json& j) { j["trials"] = 1e300; }},
+      {"\"trials\"", [](nlohmann::json& j) { j["runs"][0]["trials"] = -2; }},
+      {"\"episodes\"", [](nlohmann::json& j) { j["evaluations"][0]["episodes"] = 0; }},
+      {"\"seed\"", [](nlohmann::json& j) { j["seed"] = 18446744073709551615u; }},
+      {"run 'nope'", [](nlohmann::json& j) { j["tables"][0]["run"] = "nope"; }},
+      {"evaluation 'nope'", [](nlohmann::json& j) { j["tables"][2]["evaluation"] = "nope"; }},
+      {"run 'nope'", [](nlohmann::json& j) { j["figures"][1]["run"] = "nope"; }},
+      {"kind 'pie'", [](nlohmann::json& j) { j["figures"][0]["kind"] = "pie"; }},
+      {"run 'nope'", [](nlohmann::json& j) { j["evaluations"][0]["run"] = "nope"; }},
+      {"run 'nope'", [](nlohmann::json& j) { j["runs"][1]["skills"][0]["run"] = "nope"; }},
+      {"incomplete", [](nlohmann::json& j) { j.erase("runs"); }},
+  };
+  for (const auto& [what, spoil] : cases) {
+    nlohmann::json j = good;
+    spoil(j);
+    INFO(j.dump());
+    try {
+      batch_config_from_json(j);
+      FAIL("accepted a configuration with " << what);
+    } catch (const Error& e) {
+      CHECK_THAT(e.what(), Catch::Contains(what));
+    }
+  }
 }

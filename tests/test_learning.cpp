@@ -325,6 +325,14 @@ TEST_CASE("a QTable round-trips through a policy file bit for bit", "[learning]"
     CHECK(throws_with([&] { QTable::load(p, {}); }, {p, "JSON"}));
     std::filesystem::remove(p);
   }
+  {
+    // Valid JSON syntax, but a number beyond double (found by tests/fuzz/fuzz_policy): nlohmann
+    // throws out_of_range, not parse_error; the reader still says which file is not valid JSON.
+    const std::string p = temp_path("overflow.json");
+    std::ofstream(p) << "{ \"format\": \"roger-policy\", \"version\": 1e999 }";
+    CHECK(throws_with([&] { QTable::load(p, {}); }, {p, "JSON", "1e999"}));
+    std::filesystem::remove(p);
+  }
   CHECK(throws_with([&] { QTable::load(temp_path("missing.json"), {}); }, {"missing.json"}));
   std::filesystem::remove(path);
 }

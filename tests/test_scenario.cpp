@@ -3,6 +3,8 @@
 // the script's file:line. Run from the repository root (CTest does).
 #include <catch2/catch.hpp>
 
+#include <unistd.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -12,6 +14,7 @@
 #include <vector>
 
 #include "script/lua_sandbox.h"
+#include "core/rng.h"
 #include "core/robot.h"
 #include "script/scenario.h"
 #include "senses/senses.h"
@@ -585,4 +588,31 @@ TEST_CASE("work done in C++ counts against the instruction budget", "[scenario]"
   CHECK_THAT(e.message, Contains("instruction budget of 5000000 exceeded"));
   CHECK(e.file == "/tmp/roger_api_charge.lua");
   CHECK((e.line == 3 || e.line == 4));
+}
+
+TEST_CASE("world:sample_position draws a candidate's y, then its x, whatever the compiler", "[scenario]") {
+  // Both used to be arguments of one call, whose evaluation order C++ leaves unspecified: gcc drew
+  // y first and clang x, so every world (and result) depended on the compiler that built roger.
+  const std::string path = "/tmp/roger_sample_order_" + std::to_string(::getpid()) + ".lua";
+  std::ofstream(path) << "return { generate = function(world, rng, p)\n"
+                         "  local x, y = world:sample_position{radius = 0.1, region = {xmin = -1, xmax = 1, ymin = 0.5, ymax = 1.5}}\n"
+                         "  error(string.format('drawn %.17g %.17g', x, y))\n"
+                         "end }\n";
+  Scenario s = Scenario::load(path);
+  std::remove(path.c_str());
+  for (uint64_t seed : {1, 7, 12345}) {
+    std::string message;
+    try {
+      s.generate(seed);
+    } catch (const ScriptError& e) {
+      message = e.message;
+    }
+    INFO(message);
+    double x = 0, y = 0;
+    REQUIRE(std::sscanf(message.substr(message.find("drawn")).c_str(), "drawn %lf %lf", &x, &y) == 2);
+    Rng rng(seed);  // the generator's rng: its first two draws are the first candidate's
+    const double first = rng.uniform(), second = rng.uniform();
+    CHECK(y == Approx(0.5 + 1.0 * first).margin(1e-12));
+    CHECK(x == Approx(-1.0 + 2.0 * second).margin(1e-12));
+  }
 }

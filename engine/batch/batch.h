@@ -86,6 +86,11 @@ struct BatchPlan {
 // Plans the trials of `script` into `out`.
 BatchPlan plan_batch(std::shared_ptr<const BatchScript> script, const std::string& out);
 
+// The manifest.json of the results folder `dir`, checked: a JSON object of format
+// "roger-results/1" whose "config" is an object, whose "engine" and "script" are strings, and whose
+// "version" is a string where present. Throws roger::Error naming the file and what is wrong.
+nlohmann::json read_manifest(const std::string& dir);
+
 // The plan of the run that made the results folder `dir`, rebuilt from its manifest. Throws
 // roger::Error when `dir` holds no readable manifest.
 BatchPlan read_results_plan(const std::string& dir);

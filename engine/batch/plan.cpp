@@ -205,17 +205,26 @@ std::string first_line(const std::string& s) {
 
 }  // namespace batch_detail
 
-BatchPlan read_results_plan(const std::string& dir) {
+json read_manifest(const std::string& dir) {
   const fs::path manifest_path = fs::path(dir) / "manifest.json";
   std::error_code ec;
   if (!fs::is_regular_file(manifest_path, ec))
     throw Error("'" + dir + "' is not a results folder of roger run: it has no manifest.json");
-  const json manifest = read_manifest(manifest_path.string());
+  // The checked reader (records.cpp): an object with its format, config, engine and script.
+  json manifest = batch_detail::read_manifest(manifest_path.string());
+  // The report reads "version" with value(), which throws a json type_error on any other shape.
+  if (manifest.contains("version") && !manifest["version"].is_string())
+    throw Error(manifest_path.string() + ": field \"version\" must be a string, got " + manifest["version"].type_name());
+  return manifest;
+}
+
+BatchPlan read_results_plan(const std::string& dir) {
+  const json manifest = read_manifest(dir);
   std::shared_ptr<BatchScript> script;
   try {
     script = std::make_shared<BatchScript>(batch_config_from_json(manifest["config"]));
   } catch (const std::exception& e) {
-    throw Error(manifest_path.string() + ": field \"config\": " + e.what());
+    throw Error((fs::path(dir) / "manifest.json").string() + ": field \"config\": " + e.what());
   }
   script->path = manifest["script"].get<std::string>();
   return plan_batch(std::move(script), dir);

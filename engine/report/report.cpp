@@ -42,6 +42,36 @@ struct Results {
   int failed = 0, pending = 0, expected = 0;
 };
 
+// Checks the JSON types of what the report reads from a trial's result.json with value(), get()
+// or [] (num() checks its own numbers): a hand-edited or damaged result is a roger::Error naming
+// the file, not a json type_error, nor an abort on a missing "usage".
+void check_result_shape(const json& j, const fs::path& file) {
+  auto bad = [&](const std::string& what) { throw Error(file.string() + ": " + what); };
+  if (!j.is_object()) bad(std::string("a trial result must be a JSON object, got ") + j.type_name());
+  if (j.contains("reached") && !j["reached"].is_boolean()) bad("field \"reached\" must be true or false");
+  if (j.contains("psi")) {
+    const json& psi = j["psi"];
+    if (!psi.is_array() || !std::all_of(psi.begin(), psi.end(), [](const json& a) { return a.is_string(); }))
+      bad("field \"psi\" must be a list of action names");
+  }
+  if (j.contains("usage")) {
+    const json& usage = j["usage"];
+    if (!usage.is_object() || !std::all_of(usage.begin(), usage.end(), [](const json& f) { return f.is_number(); }))
+      bad("field \"usage\" must map action names to numbers");
+  }
+  if (j.contains("checkpoints") && !j["checkpoints"].is_array()) bad("field \"checkpoints\" must be a list");
+  if (j.contains("trial") &&
+      !(j["trial"].is_number_integer() && j["trial"].get<int64_t>() >= 0 && j["trial"].get<int64_t>() < 100000))
+    bad("field \"trial\" must be a trial index (an integer in [0, 100000))");
+}
+
+// A result's "usage" (checked by check_result_shape), or an empty one when it has none.
+const json& usage_of(const json& j) {
+  static const json none = json::object();
+  const auto it = j.find("usage");
+  return it == j.end() ? none : *it;
+}
+
 // The results folder, read once.
 class Folder {
  public:
@@ -58,6 +88,7 @@ class Folder {
         } catch (const std::exception& e) {
           throw Error((d / "result.json").string() + ": not JSON: " + e.what());
         }
+        check_result_shape(r.ok.back(), d / "result.json");
       } else if (fs::exists(d / "error.json", ec)) {
         ++r.failed;
       } else {
@@ -91,7 +122,7 @@ std::vector<CensoredTime> times_of(const Results& r) {
 // Pooled figures of several greedy evaluations of `episodes` episodes each (rewards and successes).
 struct Pooled {
   double mean = 0, std = 0, success = 0;
-  int episodes = 0;
+  int64_t episodes = 0;  // summed over trials: may pass 2^31
 };
 
 Pooled pool(const std::vector<json>& evals, const char* episodes_key) {
@@ -99,10 +130,12 @@ Pooled pool(const std::vector<json>& evals, const char* episodes_key) {
   double sum = 0, sum_sq = 0, succ = 0;
   for (const auto& j : evals) {
     const double n = num(j, episodes_key), m = num(j, "reward_mean"), s = num(j, "reward_std");
+    if (!(n >= 0 && n <= 1e9 && n == std::floor(n)))  // int64_t(1e300) would be undefined
+      throw Error(std::string("a trial result's '") + episodes_key + "' is not a count of episodes: " + fmt("%g", n));
     sum += n * m;
     sum_sq += n * (s * s + m * m);
     succ += n * num(j, "success_rate");
-    p.episodes += int(n);
+    p.episodes += int64_t(n);
   }
   if (p.episodes == 0) return p;
   p.mean = sum / p.episodes;
@@ -220,7 +253,7 @@ json usage_shares(const BatchRun& run, const Folder& folder, std::ostringstream&
     for (const auto& a : r.ok.front().value("psi", json::array())) order.push_back(a.get<std::string>());
     std::map<std::string, double> share;
     for (const auto& j : r.ok)
-      for (auto it = j["usage"].begin(); it != j["usage"].end(); ++it) share[it.key()] += it->get<double>() / double(r.ok.size());
+      for (auto it = usage_of(j).begin(); it != usage_of(j).end(); ++it) share[it.key()] += it->get<double>() / double(r.ok.size());
     md << "- " << c << ":";
     for (const auto& a : order) {
       md << " " << a << " " << pct(share[a]) << (a == order.back() ? "" : ",");
@@ -239,7 +272,7 @@ json usage_comparisons(const BatchRun& run, const BatchTable& t, const Folder& f
     const Results r = folder.run(run, u.context);
     std::vector<double> ratios;
     for (const auto& j : r.ok) {
-      const json& us = j["usage"];
+      const json& us = usage_of(j);
       const double s = us.value(u.skill, 0.0);
       double total = s;
       for (const auto& a : u.subsumes) total += us.value(a, 0.0);
@@ -475,21 +508,12 @@ CurveGrid curve_grid(const std::vector<std::vector<std::pair<double, double>>>& 
 }
 
 std::vector<std::string> write_report(const std::string& dir) {
-  const fs::path manifest_path = fs::path(dir) / "manifest.json";
-  std::error_code ec;
-  if (!fs::is_regular_file(manifest_path, ec))
-    throw Error("'" + dir + "' is not a results folder of roger run: it has no manifest.json");
   // Every record is checked first (engine/batch/records.cpp): a corrupt trial stops the report
   // before anything is written, rather than being read as whatever its damage says.
   const BatchPlan plan = read_results_plan(dir);  // outlives the trials missing_trials points to
   for (const auto& m : missing_trials(plan))
     if (!m.problem.empty()) throw Error("trial " + m.trial->id + ": " + m.problem);
-  json manifest;
-  try {
-    manifest = json::parse(read_text(manifest_path));
-  } catch (const std::exception& e) {
-    throw Error(manifest_path.string() + ": not JSON: " + e.what());
-  }
+  const json manifest = read_manifest(dir);
   const BatchScript b = batch_config_from_json(manifest.value("config", json::object()));
   const Folder folder(dir);
   std::ostringstream md;

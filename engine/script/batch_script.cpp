@@ -29,8 +29,9 @@ using batch_detail::Reader;
 namespace {
 
 void merge_params(Params& into, const Params& more) {
-  for (const auto& [k, v] : more) {
-    auto it = std::find_if(into.begin(), into.end(), [&](const auto& p) { return p.first == k; });
+  for (const auto& kv : more) {  // not a structured binding: clang 14 cannot capture one in a lambda
+    const auto& [k, v] = kv;
+    auto it = std::find_if(into.begin(), into.end(), [&](const auto& p) { return p.first == kv.first; });
     if (it != into.end()) it->second = v;
     else into.emplace_back(k, v);
   }
@@ -39,18 +40,6 @@ void merge_params(Params& into, const Params& more) {
 // Finds the script: the path itself, or <project>/scripts/<name>.lua for a bare name.
 std::string resolve_script(const std::string& arg) {
   return resolve_script_path(arg, "scripts", "batch script", "batch scripts in scripts/");
-}
-
-json params_json(const Params& p) {
-  json j = json::array();
-  for (const auto& [k, v] : p) j.push_back({k, v});
-  return j;
-}
-
-Params params_from(const json& j) {
-  Params p;
-  for (const auto& e : j) p.emplace_back(e.at(0).get<std::string>(), e.at(1).get<std::string>());
-  return p;
 }
 
 // The line of the final `return` (for errors about the whole table).
@@ -493,90 +482,6 @@ BatchScript load_batch_script(const std::string& path_in, const BatchOverrides& 
   read_tables(top, rd, *cur, b);
   read_figures(top, rd, b);
   b.ordered_runs();  // rejects cycles (impossible with earlier-run skills, kept as a guard)
-  return b;
-}
-
-json batch_config_json(const BatchScript& b) {
-  json runs = json::array(), evals = json::array(), tables = json::array(), figures = json::array();
-  for (const auto& r : b.runs) {
-    json skills = json::array();
-    for (const auto& s : r.skills) skills.push_back({{"skill", s.skill}, {"run", s.run}, {"context", s.context}});
-    runs.push_back({{"name", r.name}, {"stage", r.stage}, {"contexts", r.contexts}, {"trials", r.trials},
-                    {"params", params_json(r.params)}, {"skills", skills}});
-  }
-  for (const auto& e : b.evaluations)
-    evals.push_back({{"name", e.name}, {"run", e.run}, {"context", e.context}, {"scenario", e.scenario},
-                     {"params", params_json(e.params)}, {"shapes", e.shapes}, {"episodes", e.episodes},
-                     {"first_seed", e.first_seed}, {"trials", e.trials}});
-  for (const auto& t : b.tables) {
-    json usage = json::array();
-    for (const auto& u : t.usage) usage.push_back({{"context", u.context}, {"skill", u.skill}, {"subsumes", u.subsumes}});
-    tables.push_back({{"title", t.title}, {"run", t.run}, {"baseline", t.baseline}, {"evaluation", t.evaluation},
-                      {"usage", usage}});
-  }
-  for (const auto& f : b.figures)
-    figures.push_back({{"file", f.file}, {"title", f.title}, {"kind", f.kind}, {"run", f.run}, {"log_x", f.log_x}});
-  return {{"name", b.name}, {"description", b.description}, {"curriculum", b.curriculum},
-          {"curriculum_file", b.curriculum_file}, {"trials", b.trials}, {"seed", b.seed},
-          {"params", params_json(b.params)}, {"runs", runs}, {"evaluations", evals}, {"tables", tables},
-          {"figures", figures}};
-}
-
-BatchScript batch_config_from_json(const json& j) {
-  BatchScript b;
-  try {
-    b.name = j.at("name");
-    b.description = j.value("description", "");
-    b.curriculum = j.at("curriculum");
-    b.curriculum_file = j.value("curriculum_file", "");
-    b.trials = j.at("trials");
-    b.seed = j.at("seed");
-    b.params = params_from(j.at("params"));
-    for (const auto& rj : j.at("runs")) {
-      BatchRun r;
-      r.name = rj.at("name");
-      r.stage = rj.at("stage");
-      r.contexts = rj.at("contexts").get<std::vector<std::string>>();
-      r.trials = rj.at("trials");
-      r.params = params_from(rj.at("params"));
-      for (const auto& s : rj.at("skills")) r.skills.push_back({s.at("skill"), s.at("run"), s.at("context")});
-      b.runs.push_back(std::move(r));
-    }
-    for (const auto& ej : j.at("evaluations")) {
-      BatchEvaluation e;
-      e.name = ej.at("name");
-      e.run = ej.at("run");
-      e.context = ej.at("context");
-      e.scenario = ej.at("scenario");
-      e.params = params_from(ej.at("params"));
-      e.shapes = ej.at("shapes").get<std::vector<std::string>>();
-      e.episodes = ej.at("episodes");
-      e.first_seed = ej.at("first_seed");
-      e.trials = ej.at("trials");
-      b.evaluations.push_back(std::move(e));
-    }
-    for (const auto& tj : j.at("tables")) {
-      BatchTable t;
-      t.title = tj.at("title");
-      t.run = tj.at("run");
-      t.baseline = tj.at("baseline");
-      t.evaluation = tj.at("evaluation");
-      for (const auto& u : tj.at("usage"))
-        t.usage.push_back({u.at("context"), u.at("skill"), u.at("subsumes").get<std::vector<std::string>>()});
-      b.tables.push_back(std::move(t));
-    }
-    for (const auto& fj : j.at("figures")) {
-      BatchFigure f;
-      f.file = fj.at("file");
-      f.title = fj.at("title");
-      f.kind = fj.at("kind");
-      f.run = fj.at("run");
-      f.log_x = fj.at("log_x");
-      b.figures.push_back(std::move(f));
-    }
-  } catch (const json::exception& e) {
-    throw Error(std::string("the manifest's configuration is incomplete or not from this version: ") + e.what());
-  }
   return b;
 }
 

@@ -159,7 +159,12 @@ std::optional<Vec2> draw_position(lua_State* L, const WorldBuilder& w, const Sam
   const Vec2 base(w.spec.robot.pose.x, w.spec.robot.pose.y);
   for (int64_t t = 0; t < r.tries; ++t) {
     lua_charge(L, 1 + occ.list.size() + w.spec.goals.size() + away.size());
-    const Vec2 p(w.rng->uniform(x0, x1), w.rng->uniform(y0, y1));
+    // One draw per statement: the order in which a call's arguments are evaluated is unspecified
+    // (gcc drew y first, clang x), so the worlds, and every result, depended on the compiler.
+    // y first keeps the worlds of the gcc builds that made tests/golden.
+    const double y = w.rng->uniform(y0, y1);
+    const double x = w.rng->uniform(x0, x1);
+    const Vec2 p(x, y);
     bool ok = true;
     auto reject = [&](size_t k) { ++c.list[k].rejected, ok = false; };
     for (size_t i = 0; i < occ.list.size(); ++i) {

@@ -1,0 +1,81 @@
+-- lib/skills.lua: the skills the paper assumes (Section II-C), written as compositions of the
+-- primitive controllers. `require("lib.skills")` returns this module table; nothing is built
+-- until a builder is called, so a script chooses its own primitives and parameters:
+--
+--   local skills = require("lib.skills")
+--   local p = skills.primitives()              -- search, phi0 ... phi5 and the carrying phi1
+--   local Phi6 = skills.Phi6(p)                -- search, then track
+--   local Phi7 = skills.Phi7(p)                -- approach while preshaping
+--   local transport = skills.transport(p)      -- phi1 <| phi4 <| phi5, carrying to the goal
+--   local done = skills.transported(transport) -- its absorbing state: phi1, phi4, phi5 CONV
+--
+-- Skill names are unique within a script: pass a second argument to build another copy
+-- (skills.Phi6(p, "Phi6_fast")).
+local skills = {}
+
+-- One instance of each primitive with default parameters, plus the carrying navigator. The
+-- skills built from one set share them, as in the paper, where phi4 in "phi4 <| phi2" and in
+-- "phi4 <| phi5" is the same controller. `overrides` maps a field of the set to parameters,
+-- e.g. { phi3 = { epsilon = 0.05 } }.
+function skills.primitives(overrides)
+  overrides = overrides or {}
+  local p = {}
+  for _, kind in ipairs({ "search", "phi0", "phi1", "phi2", "phi3", "phi4", "phi5" }) do
+    p[kind] = roger.primitive(kind, overrides[kind])
+  end
+  -- The transport navigator: phi1 towards the scenario's goal region, with its control point
+  -- carried 0.36 m ahead of the base (the grasped object's centre) and a gentler cruise speed so
+  -- the grasp holds through the accelerations. Its name stays "phi1", as in the paper's
+  -- "phi1 <| phi4 <| phi5".
+  local carry = { goal = "region", carry = 0.36, speed = 0.8 }
+  for k, v in pairs(overrides.carry or {}) do carry[k] = v end
+  p.carry = roger.primitive("phi1", carry)
+  return p
+end
+
+-- Phi6: "a control policy that searches for and then tracks prescribed stimuli using phi0".
+-- search turns until both eyes see the stimulus (CONV), then phi0 centres it; if phi0 loses it
+-- (NOREF), the sequence falls back to search.
+function skills.Phi6(p, name)
+  return roger.sequence(name or "Phi6", { p.search, p.phi0 })
+end
+
+-- Phi7: "a control policy that combines phi1 and phi4 <| phi2 sequentially to approach an object
+-- while pre-shaping the arms for prehensile grasping". phi1 drives to the approach ring around
+-- the seen object; then phi2 places body and hands on a standoff circle around it, with phi4
+-- conditioning the arms in phi2's nullspace.
+function skills.Phi7(p, name)
+  return roger.sequence(name or "Phi7", { p.phi1, p.phi4:subject_to(p.phi2) })
+end
+
+-- The grasp keeper phi4 <| phi5: phi5 holds the three contacts while the base moves, phi4
+-- conditions the arms in its nullspace.
+function skills.keep_grasp(p)
+  return p.phi4:subject_to(p.phi5)
+end
+
+-- Phi_STG: "combines the Phi_SG skill with the primitive phi4 <| phi5 in order to Search for and
+-- then Track a Grasp whenever all the contacts are on the ball and Phi_SG is converged". `sg` is
+-- a search-grasp skill (learned or hand-written) whose CONV means the grasp is formed.
+function skills.Phi_STG(sg, p, name)
+  return roger.sequence(name or "Phi_STG", { sg, skills.keep_grasp(p) })
+end
+
+-- The transport composite of Section III-B, phi1 <| phi4 <| phi5 (= phi1 <| (phi4 <| phi5)):
+-- carry the object to the goal region while phi5 keeps the grasp and phi4 the arm posture, the
+-- navigation projected into their nullspace so it never pulls the hands off the object.
+function skills.transport(p)
+  return roger.compose("phi1 <| phi4 <| phi5", { phi1 = p.carry, phi4 = p.phi4, phi5 = p.phi5 })
+end
+
+-- The absorbing state of Phi_T for a transport composite t = phi1 <| (phi4 <| phi5): "gamma(phi1)
+-- = CONV and gamma(phi4) = CONV and gamma(phi5) = CONV", the object grasped at the goal. phi1 must
+-- itself be CONV (the object in the goal region): as the subordinate of t it would also count as
+-- converged once it merely stops making progress, which says nothing about where the object is.
+-- phi4 and phi5 are read through their composite phi4 <| phi5, where phi4 converges when it
+-- reaches its constrained equilibrium under phi5 (docs/control.md, subject-to).
+function skills.transported(t)
+  return roger.all{ roger.converged(t.subordinate), roger.converged(t.superior) }
+end
+
+return skills
