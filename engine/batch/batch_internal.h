@@ -28,6 +28,6 @@ nlohmann::json read_json_file(const std::string& path);
 
 // A results folder's manifest.json, checked to be one (an object of format roger-results/1 with
 // its config, engine and script), or roger::Error naming the file and what is wrong.
-nlohmann::json read_manifest(const std::string& path);
+nlohmann::json read_manifest_file(const std::string& path);
 
 }  // namespace roger::batch_detail

@@ -122,7 +122,7 @@ bool matches(const PlannedTrial& t, const std::string& o) {
 void check_manifest(const BatchPlan& plan, const fs::path& manifest_path, const json& config) {
   json old;
   try {
-    old = read_manifest(manifest_path.string());
+    old = read_manifest_file(manifest_path.string());
   } catch (const std::exception& e) {
     throw Error(std::string(e.what()) + "; this folder cannot be resumed: use another --out");
   }
@@ -211,7 +211,7 @@ json read_manifest(const std::string& dir) {
   if (!fs::is_regular_file(manifest_path, ec))
     throw Error("'" + dir + "' is not a results folder of roger run: it has no manifest.json");
   // The checked reader (records.cpp): an object with its format, config, engine and script.
-  json manifest = batch_detail::read_manifest(manifest_path.string());
+  json manifest = read_manifest_file(manifest_path.string());
   // The report reads "version" with value(), which throws a json type_error on any other shape.
   if (manifest.contains("version") && !manifest["version"].is_string())
     throw Error(manifest_path.string() + ": field \"version\" must be a string, got " + manifest["version"].type_name());

@@ -109,7 +109,7 @@ std::string trial_status(const std::string& out, const PlannedTrial& t, json& re
   return "pending";
 }
 
-json read_manifest(const std::string& path) {
+json read_manifest_file(const std::string& path) {
   const json m = read_json_file(path);
   if (!m.is_object()) throw Error(path + ": a manifest must be a JSON object, got " + std::string(m.type_name()));
   if (!m.contains("format") || m["format"] != "roger-results/1")
