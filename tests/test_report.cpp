@@ -20,6 +20,7 @@
 
 #include "batch/batch.h"
 #include "cli/commands.h"
+#include "learn/learning.h"
 #include "report/report.h"
 #include "report/stats.h"
 
@@ -435,32 +436,38 @@ TEST_CASE("roger run killed with SIGKILL resumes to exactly an uninterrupted run
 TEST_CASE("a damaged trial result is a roger::Error naming its file, never an abort", "[report]") {
   // Found by tests/fuzz/fuzz_result: a result.json without "usage" aborted `roger report` (an
   // assertion inside nlohmann's operator[]), other wrong types escaped as json type_errors, and an
-  // episode count of 1e300 was converted to int (undefined behaviour).
+  // episode count of 1e300 was converted to int (undefined behaviour). Every record is now checked
+  // before the report reads it (engine/batch/records.cpp), and the report's own reading is checked too.
   const fs::path dir = fs::temp_directory_path() / ("roger_report_damaged_" + std::to_string(::getpid()));
-  const json good = json::parse(slurp("tests/fuzz/corpus/result/training.json"));
+  // The fuzzer's seed result, completed with what a finished training trial also records.
+  json good = json::parse(slurp("tests/fuzz/corpus/result/training.json"));
+  good["train_episodes"] = 40;
+  for (auto& c : good["checkpoints"]) c["success_rate"] = 0.5;
+  const std::string policy = QTable({"phi1", "Phi7"}).to_json().dump();
   auto report_with = [&](const json& result) {
     fs::remove_all(dir);
     fs::create_directories(dir);
     fs::copy_file("tests/fuzz/report_manifest.json", dir / "manifest.json");
     for (const auto& phase : read_results_plan(dir.string()).phases)
       for (const auto& t : phase) {
-        fs::create_directories(trial_dir(dir.string(), t.id));
-        spit(fs::path(trial_dir(dir.string(), t.id)) / "result.json", result.dump());
+        const fs::path d = trial_dir(dir.string(), t.id);
+        fs::create_directories(d);
+        json r = result;
+        if (r.is_object()) r["id"] = t.id, r["trial"] = t.index;  // each trial's own, as roger run writes
+        spit(d / "result.json", r.dump());
+        if (t.run) spit(d / "policy.json", policy);
       }
     write_report(dir.string());
   };
   CHECK_NOTHROW(report_with(good));
-  json no_usage = good;
-  no_usage.erase("usage");
-  CHECK_NOTHROW(report_with(no_usage));  // an older result without usage shares is still reported
   const std::vector<std::pair<std::string, std::function<void(json&)>>> cases = {
-      {"a trial result must be a JSON object", [](json& j) { j = json::array({1}); }},
-      {"\"usage\" must map action names to numbers", [](json& j) { j["usage"] = "phi1"; }},
-      {"\"usage\" must map action names to numbers", [](json& j) { j["usage"]["phi1"] = "x"; }},
-      {"\"psi\" must be a list of action names", [](json& j) { j["psi"] = {1, 2}; }},
+      {"must be a JSON object", [](json& j) { j = json::array({1}); }},
+      {"\"usage\" must be an object", [](json& j) { j.erase("usage"); }},
+      {"\"usage\" must be an object", [](json& j) { j["usage"] = "phi1"; }},
+      {"\"usage\" must map actions to shares", [](json& j) { j["usage"]["phi1"] = "x"; }},
+      {"\"psi\" must hold action names", [](json& j) { j["psi"] = {1, 2}; }},
       {"\"reached\" must be true or false", [](json& j) { j["reached"] = "yes"; }},
       {"\"checkpoints\" must be a list", [](json& j) { j["checkpoints"] = 4; }},
-      {"\"trial\" must be a trial index", [](json& j) { j["trial"] = 1e300; }},
       {"is not a count of episodes", [](json& j) { j["episodes"] = 1e300; }},
   };
   for (const auto& [what, spoil] : cases) {
@@ -472,7 +479,7 @@ TEST_CASE("a damaged trial result is a roger::Error naming its file, never an ab
       FAIL("reported a result with " << what);
     } catch (const Error& e) {
       CHECK_THAT(e.what(), Catch::Contains(what));
-      if (std::string(what).find("count") == std::string::npos) CHECK_THAT(e.what(), Catch::Contains("result.json"));
+      if (what.find("count") == std::string::npos) CHECK_THAT(e.what(), Catch::Contains("result.json"));
     }
   }
   fs::remove_all(dir);
