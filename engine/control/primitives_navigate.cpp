@@ -46,6 +46,7 @@ class Navigate final : public Primitive {
     // The grid often outlives the episode (the same arena), and with it the last solution, which
     // the next solve would start from: an episode would then depend on the one before it.
     planner_.forget_solution();
+    turn_sign_ = 0;
   }
 
  protected:
@@ -185,7 +186,7 @@ class Navigate final : public Primitive {
 
   // The base command that moves a point `carry` metres ahead of the base along `dir` at `speed`.
   void steer_carried(const Senses& s, const Vec2& dir, double speed, double lookahead,
-                     double carry, ControlOutput& out) const {
+                     double carry, ControlOutput& out) {
     const Vec2 fwd = unit(s.base.theta);
     // A point ahead of a differential drive moves holonomically: v = u.f, w = u.left / carry.
     // Never back away from what is carried: the body would leave it; turn on the spot instead.
@@ -194,8 +195,18 @@ class Navigate final : public Primitive {
     const double turn = value(p_.carry_turn);
     out.command[kBaseHeading] = clamp_abs(u.dot(perp(fwd)) / carry * lookahead, turn);
     // With the way ahead more than a right angle off, rotate towards it at full rate (the
-    // formula above vanishes when the goal lies straight behind).
-    if (u.dot(fwd) < 0.0) out.command[kBaseHeading] = u.dot(perp(fwd)) >= 0.0 ? turn : -turn;
+    // formula above vanishes when the goal lies straight behind), and keep turning the same way
+    // until it is ahead again. Turning swings the carried point sideways, and behind the base the
+    // descent often splits round an obstacle: the side it points to flips as the point crosses
+    // the split, and a turn that followed it would rock the base on the spot until the time-out.
+    if (u.dot(fwd) < 0.0) {
+      if (turn_sign_ == 0) turn_sign_ = u.dot(perp(fwd)) >= 0.0 ? 1 : -1;
+      out.command[kBaseHeading] = turn_sign_ * turn;
+    } else if (u.dot(fwd) > 0.5 * u.norm()) {
+      turn_sign_ = 0;  // within 60 degrees of ahead: steer by the formula again
+    } else if (turn_sign_ != 0) {
+      out.command[kBaseHeading] = turn_sign_ * turn;  // still finishing the committed turn
+    }
   }
 
   // The base command that turns the base to `dir` and drives along it, slower the more it is off.
@@ -212,6 +223,7 @@ class Navigate final : public Primitive {
   bool planned_ = false;
   Vec2 goal_center_ = Vec2::Zero();
   double goal_radius_ = 0.0;
+  int turn_sign_ = 0;  // a committed turn on the spot while carrying: +1 left, -1 right, 0 none
 };
 
 }  // namespace
