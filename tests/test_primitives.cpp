@@ -298,3 +298,45 @@ TEST_CASE("the grasp residual counts friction: polygons balance, bad grasps do n
     for (double t : more.friction_used) CHECK(std::abs(t) <= 0.6 + 1e-9);
   }
 }
+
+namespace {
+
+// One grasp trial: the object of `shape` (as scenarios/cluttered.lua makes it, without obstacles)
+// turned by a seeded angle, Roger where phi1's approach ring would leave it, at a seeded bearing
+// round the object and facing it; then track, preshape (phi4 <| phi2) and close (phi3). Whether
+// phi3 converged within 4 s.
+bool grasp_closes(Scenario& scenario, uint64_t seed) {
+  WorldSpec spec = scenario.generate(seed);
+  Rng rng(seed);
+  const Vec2 object(rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3));
+  const double bearing = rng.uniform(-M_PI, M_PI);
+  spec.objects[0].pose = {object.x(), object.y(), rng.uniform(-M_PI, M_PI)};
+  // (A heading outside [-pi, pi] keeps phi2 from ever converging: keep it wrapped.)
+  spec.robot.pose = {object.x() + 0.62 * std::cos(bearing), object.y() + 0.62 * std::sin(bearing),
+                     wrap_angle(bearing + M_PI)};
+  Agent agent;
+  agent.reset(spec);
+  Basis b;
+  b.reset(seed);
+  run_until(agent, *b.phi6, [&] { return b.gamma(agent, b.phi0) == Gamma::kConv; }, 2.0);
+  run_until(agent, *b.preshape, [&] { return b.gamma(agent, b.phi2) == Gamma::kConv; }, 3.0);
+  return run_until(agent, *b.phi3, [&] { return b.gamma(agent, b.phi3) == Gamma::kConv; }, 4.0) >= 0;
+}
+
+// phi3 converges on `shape` from at least 19 of 20 seeded approach angles.
+void check_grasp_closes(const char* shape) {
+  Scenario scenario = Scenario::load("cluttered");
+  scenario.set_param("shape", shape);
+  scenario.set_param("obstacles", "0");
+  int closed = 0;
+  for (uint64_t seed = 300; seed < 320; ++seed) closed += grasp_closes(scenario, seed);
+  INFO(shape << ": phi3 converged from " << closed << " of 20 approach angles");
+  CHECK(closed >= 19);
+}
+
+}  // namespace
+
+TEST_CASE("phi3 closes on the circle from 19 of 20 approach angles", "[primitives][grasp]") { check_grasp_closes("circle"); }
+TEST_CASE("phi3 closes on the triangle from 19 of 20 approach angles", "[primitives][grasp]") { check_grasp_closes("triangle"); }
+TEST_CASE("phi3 closes on the pentagon from 19 of 20 approach angles", "[primitives][grasp]") { check_grasp_closes("pentagon"); }
+TEST_CASE("phi3 closes on the spade from 19 of 20 approach angles", "[primitives][grasp]") { check_grasp_closes("spade"); }
