@@ -151,14 +151,20 @@ class Grasp final : public Primitive {
   }
 
  private:
-  // While the body is off the object: a hand that touches it steps `back_off` out along its touch
-  // normal instead of gripping, so the object stays where the body is creeping to.
+  // While the body is off the object: a hand that touches it keeps only the part of its move
+  // along the surface and steps `back_off` out along its touch normal, so it neither grips the
+  // object (which would stay ahead of the creeping body) nor stalls on it while it swings round.
   void back_off_hands(const ControlInput& in, Targets& t) const {
     const Senses& s = *in.senses;
     const Percepts& p = *in.percepts;
-    for (int side = 0; side < 2; ++side)
-      if (p.contact_on_object[kLeftHand + side] && s.touch[kLeftHand + side].index == p.touched_object)
-        t.hand[side] = in.percepts->arms[side].hand + value(p_.back_off) * s.touch[kLeftHand + side].normal;
+    for (int side = 0; side < 2; ++side) {
+      const Touch& touch = s.touch[kLeftHand + side];
+      if (!p.contact_on_object[kLeftHand + side] || touch.index != p.touched_object) continue;
+      const Vec2 hand = in.percepts->arms[side].hand;
+      Vec2 along = t.hand[side] - hand;
+      along -= along.dot(touch.normal) * touch.normal;
+      t.hand[side] = hand + along + value(p_.back_off) * touch.normal;
+    }
   }
 
   // With the body on the object: each touching hand slides along the surface to balance the
@@ -245,7 +251,8 @@ class Grasp final : public Primitive {
 // `squeeze` into the surface along its touch normal, and leads by `lead` seconds of the base's
 // acceleration so the grasp carries the object's inertia; its task is the hands' position in the
 // base frame (the arm joints). Each hand's press fades as its contact force nears `press`, so the
-// grasp regulates force rather than position. NOREF as soon as a contact is lost.
+// grasp regulates force rather than position. NOREF as soon as a hand's contact is lost, or the
+// body's for longer than `grace`.
 class Hold final : public Primitive {
   // Where the constructor declared each parameter: reading one is an index, not a name search.
   struct { ParamSlot squeeze = 0, pull = 0, press = 0, lead = 0, moment = 0, friction = 0, damping = 0, grace = 0; } p_;
