@@ -340,3 +340,15 @@ TEST_CASE("phi3 closes on the circle from 19 of 20 approach angles", "[primitive
 TEST_CASE("phi3 closes on the triangle from 19 of 20 approach angles", "[primitives][grasp]") { check_grasp_closes("triangle"); }
 TEST_CASE("phi3 closes on the pentagon from 19 of 20 approach angles", "[primitives][grasp]") { check_grasp_closes("pentagon"); }
 TEST_CASE("phi3 closes on the spade from 19 of 20 approach angles", "[primitives][grasp]") { check_grasp_closes("spade"); }
+
+TEST_CASE("phi3 closes on the ball straight after phi1, from the folded arms, without a preshape", "[primitives][grasp]") {
+  // A policy may choose phi3 with no preshape (B1 does): the hands then swing round the object
+  // from the folded posture, grazing it before the body touches, and must slide on.
+  const int ok = count_successes(kStarts, [](Agent& agent, Basis& b) {
+    run_until(agent, *b.phi6, [&] { return b.gamma(agent, b.phi0) == Gamma::kConv; }, 4.0);
+    run_until(agent, *b.phi1, [&] { return b.gamma(agent, b.phi1) == Gamma::kConv; }, 4.0);
+    return run_until(agent, *b.phi3, [&] { return b.gamma(agent, b.phi3) == Gamma::kConv; }, 5.0) >= 0;
+  });
+  INFO(ok << " of " << kStarts);
+  CHECK(ok >= kRequired);
+}
