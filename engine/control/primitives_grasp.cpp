@@ -81,7 +81,7 @@ class Grasp final : public Primitive {
   struct {
     ParamSlot squeeze = 0, body_squeeze = 0, creep = 0, slide = 0, light = 0,
         spread = 0, swing = 0, moment = 0, friction = 0, reach = 0,
-        memory = 0, damping = 0, clear = 0, back_off = 0;
+        memory = 0, damping = 0, back_off = 0;
   } p_;
  public:
   Grasp() : Primitive("phi3", 0.2) {
@@ -97,7 +97,6 @@ class Grasp final : public Primitive {
     p_.reach = declare("reach", 1.25, 0.3, 3.0, "objects farther (m) than this from the base are out of reach");
     p_.memory = declare("memory", 2.0, 0.0, 60.0, "seconds a lost object's last position stays usable");
     p_.damping = declare("damping", 0.05, 0.0, 1.0, "least-squares damping near singular postures");
-    p_.clear = declare("clear", 0.07, 0.0, 0.3, "extra gap (m) the hands keep from the object while the body does not touch it");
     p_.back_off = declare("back_off", 0.03, 0.0, 0.3, "step (m) out along its touch normal of a hand that touches the object while the body does not");
     // A grasp counts once it has held for a few ticks: a hand that closes with a bounce touches
     // for a tick and is off again.
@@ -127,14 +126,13 @@ class Grasp final : public Primitive {
     GraspResidual grasp;  // with all three contacts on the object, computed once per tick
     const double body_distance = body_on ? r + in.robot->base_radius - value(p_.body_squeeze)
                                          : (obj.center - base).norm() - creep;
-    // Until the body touches, the hands wait `clear` further out, and a hand that touches steps
-    // back: a polygon's corners reach beyond vision's radius, and hands that grip before the body
-    // arrives carry the object ahead of it (the base drives them forward with it), pushing it
-    // across the floor until a wall stops it. The same when the body loses the object while the
-    // hands close: a triangle turned off the body is released and closed on again, not carried.
-    const double clear = body_on ? 0.01 : 0.01 + value(p_.clear);
+    // While the body does not touch the object, a hand that touches it must not grip it: a
+    // polygon's corners reach beyond vision's radius, and hands that gripped first carried the
+    // object ahead of the creeping body (the base drives them forward with it), pushing it across
+    // the floor until a wall stopped it. The same when the body loses the object while the hands
+    // close: a triangle turned off the body is let go and closed on again, not carried off.
     Targets t = grasp_targets(in, obj.center, std::min(body_distance, r + in.robot->base_radius),
-                              r + in.robot->hand_radius + clear, value(p_.spread), value(p_.swing));
+                              r + in.robot->hand_radius + 0.01, value(p_.spread), value(p_.swing));
     t.body_press = value(p_.body_squeeze);
     if (body_on) close_hands(in, obj, r, creep, t, grasp);
     else back_off_hands(in, t);
