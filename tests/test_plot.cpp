@@ -186,6 +186,62 @@ TEST_CASE("learning curves: log x over whole decades, and non-positive x is an e
   CHECK(dir.names().size() == 2);  // log.png and linear.png, nothing else
 }
 
+TEST_CASE("learning curves: an asymmetric low..high band is drawn where its bounds say", "[plot]") {
+  TempDir dir;
+  const std::string png = dir.file("iqm.png");
+  // An IQM-like series: the line at 0, its band from 20 to 80, wholly above the line.
+  std::vector<CurveSeries> s = flat_series();
+  s[0].std.clear();
+  s[0].low.assign(s[0].x.size(), 20.0);
+  s[0].high.assign(s[0].x.size(), 80.0);
+  CurveOptions o;
+  o.fit_data = false;
+  plot_learning_curves(png, "IQM", s, o);
+  Png image(png);
+  REQUIRE(image.ok());
+  const Colour c = plot_colour(0);
+  const int br = over_white(c.r, o.band_alpha), bg = over_white(c.g, o.band_alpha),
+            bb = over_white(c.b, o.band_alpha);
+  CHECK(image.count(br, bg, bb, 3) > 10000);
+  // In the middle column, every band pixel lies above (a smaller row than) every line pixel.
+  cairo_surface_flush(image.surface);
+  const unsigned char* data = cairo_image_surface_get_data(image.surface);
+  const int stride = cairo_image_surface_get_stride(image.surface);
+  const int x = image.width() / 2;
+  int band_lowest = -1, line_highest = image.height(), band_rows = 0;
+  for (int y = 0; y < image.height(); ++y) {
+    uint32_t px;
+    std::memcpy(&px, data + y * stride + 4 * x, 4);
+    const int r = (px >> 16) & 0xff, g = (px >> 8) & 0xff, b = px & 0xff;
+    if (std::abs(r - br) <= 3 && std::abs(g - bg) <= 3 && std::abs(b - bb) <= 3)
+      band_lowest = std::max(band_lowest, y), ++band_rows;
+    if (std::abs(r - c.r) <= 10 && std::abs(g - c.g) <= 10 && std::abs(b - c.b) <= 10)
+      line_highest = std::min(line_highest, y);
+  }
+  REQUIRE(band_rows > 0);
+  REQUIRE(line_highest < image.height());
+  CHECK(band_lowest < line_highest);
+  // The band spans 60 of the 200 (+12% margin) units of the y axis: about that share of the
+  // plot area's height, not the 100 units of a mean +- 50 band.
+  const double share = double(band_rows) / double(image.height());
+  CHECK(share > 0.15);
+  CHECK(share < 0.3);
+
+  // Bad bands are clear errors: both kinds at once, a missing bound, bounds out of order.
+  std::vector<CurveSeries> bad = s;
+  bad[0].std.assign(bad[0].x.size(), 1.0);
+  CHECK_THROWS_WITH(plot_learning_curves(png, "", bad), Contains("one or the other"));
+  bad = s;
+  bad[0].high.pop_back();
+  CHECK_THROWS_WITH(plot_learning_curves(png, "", bad), Contains("20 band highs"));
+  bad = s;
+  bad[0].low[7] = 90.0;
+  CHECK_THROWS_WITH(plot_learning_curves(png, "", bad), Contains("low[7] = 90 is above high[7] = 80"));
+  bad = s;
+  bad[0].low[3] = std::nan("");
+  CHECK_THROWS_AS(plot_learning_curves(png, "", bad), Error);
+}
+
 TEST_CASE("learning curves: bad input is a clear error", "[plot]") {
   TempDir dir;
   const std::string png = dir.file("x.png");

@@ -298,3 +298,91 @@ TEST_CASE("the grasp residual counts friction: polygons balance, bad grasps do n
     for (double t : more.friction_used) CHECK(std::abs(t) <= 0.6 + 1e-9);
   }
 }
+
+namespace {
+
+// One grasp trial: the object of `shape` (as scenarios/cluttered.lua makes it, without obstacles)
+// turned by a seeded angle, Roger where phi1's approach ring would leave it, at a seeded bearing
+// round the object and facing it; then track, preshape (phi4 <| phi2) and close (phi3). Whether
+// phi3 converged within 4 s.
+bool grasp_closes(Scenario& scenario, uint64_t seed) {
+  WorldSpec spec = scenario.generate(seed);
+  Rng rng(seed);
+  const Vec2 object(rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3));
+  const double bearing = rng.uniform(-M_PI, M_PI);
+  spec.objects[0].pose = {object.x(), object.y(), rng.uniform(-M_PI, M_PI)};
+  // (A heading outside [-pi, pi] keeps phi2 from ever converging: keep it wrapped.)
+  spec.robot.pose = {object.x() + 0.62 * std::cos(bearing), object.y() + 0.62 * std::sin(bearing),
+                     wrap_angle(bearing + M_PI)};
+  Agent agent;
+  agent.reset(spec);
+  Basis b;
+  b.reset(seed);
+  run_until(agent, *b.phi6, [&] { return b.gamma(agent, b.phi0) == Gamma::kConv; }, 2.0);
+  run_until(agent, *b.preshape, [&] { return b.gamma(agent, b.phi2) == Gamma::kConv; }, 3.0);
+  return run_until(agent, *b.phi3, [&] { return b.gamma(agent, b.phi3) == Gamma::kConv; }, 4.0) >= 0;
+}
+
+// phi3 converges on `shape` from at least 19 of 20 seeded approach angles.
+void check_grasp_closes(const char* shape) {
+  Scenario scenario = Scenario::load("cluttered");
+  scenario.set_param("shape", shape);
+  scenario.set_param("obstacles", "0");
+  int closed = 0;
+  for (uint64_t seed = 300; seed < 320; ++seed) closed += grasp_closes(scenario, seed);
+  INFO(shape << ": phi3 converged from " << closed << " of 20 approach angles");
+  CHECK(closed >= 19);
+}
+
+}  // namespace
+
+TEST_CASE("phi3 closes on the circle from 19 of 20 approach angles", "[primitives][grasp]") { check_grasp_closes("circle"); }
+TEST_CASE("phi3 closes on the triangle from 19 of 20 approach angles", "[primitives][grasp]") { check_grasp_closes("triangle"); }
+TEST_CASE("phi3 closes on the pentagon from 19 of 20 approach angles", "[primitives][grasp]") { check_grasp_closes("pentagon"); }
+TEST_CASE("phi3 closes on the spade from 19 of 20 approach angles", "[primitives][grasp]") { check_grasp_closes("spade"); }
+
+TEST_CASE("phi3 closes on the ball straight after phi1, from the folded arms, without a preshape", "[primitives][grasp]") {
+  // A policy may choose phi3 with no preshape (B1 does): the hands then swing round the object
+  // from the folded posture, grazing it before the body touches, and must slide on.
+  const int ok = count_successes(kStarts, [](Agent& agent, Basis& b) {
+    run_until(agent, *b.phi6, [&] { return b.gamma(agent, b.phi0) == Gamma::kConv; }, 4.0);
+    run_until(agent, *b.phi1, [&] { return b.gamma(agent, b.phi1) == Gamma::kConv; }, 4.0);
+    return run_until(agent, *b.phi3, [&] { return b.gamma(agent, b.phi3) == Gamma::kConv; }, 5.0) >= 0;
+  });
+  INFO(ok << " of " << kStarts);
+  CHECK(ok >= kRequired);
+}
+
+TEST_CASE("carrying the ball to the goal behind, phi1 turns once and delivers (seeds it used to rock on)", "[primitives][planner]") {
+  // The hand-written task (curricula/scripted.lua) in cluttered worlds whose goal ends behind
+  // Roger after the grasp, past an obstacle: the descent behind the base splits round it, and a
+  // turn on the spot that followed the side it pointed to reversed every few ticks as the carried
+  // ball crossed the split, until the time-out.
+  Scenario scenario = Scenario::load("cluttered");
+  scenario.set_param("shape", "circle");
+  int delivered = 0;
+  const uint64_t seeds[] = {7050, 7063, 7064, 7096, 7105, 7154};
+  for (uint64_t seed : seeds) {
+    Agent agent;
+    agent.reset(scenario.generate(seed));
+    Basis b;
+    auto carry = make_primitive("phi1");
+    carry->set_text("goal", "region");
+    carry->set_number("carry", 0.36);
+    carry->set_number("speed", 0.8);
+    auto transport = std::make_shared<SubjectTo>(carry, b.hold);
+    auto approach = std::make_shared<Sequence>(std::vector<ControllerPtr>{b.phi1, b.preshape});
+    auto search_grasp = std::make_shared<Sequence>(std::vector<ControllerPtr>{b.phi6, approach, b.phi3});
+    Sequence task(std::vector<ControllerPtr>{search_grasp, transport});
+    b.reset(seed);
+    for (ControllerPtr c : {ControllerPtr(carry), ControllerPtr(transport), ControllerPtr(approach),
+                            ControllerPtr(search_grasp)})
+      c->reset(seed);
+    task.reset(seed);
+    delivered += run_until(agent, task, [&] {
+      return b.gamma(agent, carry) == Gamma::kConv && b.gamma(agent, b.phi5) == Gamma::kConv;
+    }, 10.0) >= 0;
+  }
+  INFO(delivered << " of 6 delivered");
+  CHECK(delivered >= 5);
+}

@@ -27,6 +27,7 @@
 using namespace roger;
 namespace fs = std::filesystem;
 using json = nlohmann::json;
+using Catch::Matchers::Contains;
 
 namespace {
 
@@ -235,6 +236,30 @@ TEST_CASE("curve_grid interpolates checkpoints onto a common grid", "[report]") 
   CHECK(l.t[1] == Approx(100));
 }
 
+TEST_CASE("curve_bands: mean, std and the IQM with its bootstrap interval at each grid point", "[report]") {
+  // Five trials, three grid points; point 1 has an outlier the IQM ignores and the mean does not.
+  const std::vector<std::vector<double>> values{
+      {0, 10, 100}, {0, 20, 100}, {0, 30, 100}, {0, 40, 100}, {0, -1000, 100}};
+  const CurveBands b = curve_bands(values, 7, 500);
+  REQUIRE(b.mean.size() == 3);
+  REQUIRE(b.iqm_high.size() == 3);
+  CHECK(b.mean[1] == Approx(-180));
+  CHECK(b.std[1] == Approx(population_std({10, 20, 30, 40, -1000})));
+  CHECK(b.iqm[1] == Approx(interquartile_mean({10, 20, 30, 40, -1000})));
+  CHECK(b.iqm[1] > 0.0);
+  // Point k is bootstrap_ci of interquartile_mean seeded seed + k.
+  const ConfidenceInterval ci = bootstrap_ci({10, 20, 30, 40, -1000}, interquartile_mean, 8, 500);
+  CHECK(b.iqm_low[1] == ci.low);
+  CHECK(b.iqm_high[1] == ci.high);
+  CHECK(b.iqm_low[1] < b.iqm[1]);
+  // Where every trial agrees the band is a line.
+  CHECK(b.iqm_low[0] == 0.0);
+  CHECK(b.iqm_high[2] == 100.0);
+  CHECK(curve_bands(values, 7, 500).iqm_low == b.iqm_low);  // the same curves, the same bands
+  CHECK_THROWS_WITH(curve_bands({}, 7, 500), Contains("at least one trial"));
+  CHECK_THROWS_WITH(curve_bands({{1, 2}, {1}}, 7, 500), Contains("trial 1 has 1 points but trial 0 has 2"));
+}
+
 TEST_CASE("a tiny batch writes every file, with tables that match the trials, whatever --jobs", "[report][run]") {
   Fixture f("jobs");
   std::string log;
@@ -242,7 +267,8 @@ TEST_CASE("a tiny batch writes every file, with tables that match the trials, wh
   INFO(log);
   const fs::path one = f.root / "one";
   for (const char* file : {"manifest.json", "summary.csv", "tables.md", "report.json", "figure3.png", "figure3.svg",
-                           "figure4.png", "figure4.svg", "figure5.png", "figure5.svg"})
+                           "figure4.png", "figure4.svg", "figure5.png", "figure5.svg", "iqm_SG.png", "iqm_SG.svg",
+                           "iqm_T.png", "iqm_T.svg"})
     CHECK(fs::is_regular_file(one / file));
   for (const char* file : {"result.json", "policy.json", "curve.csv", "episodes.jsonl", "checkpoints.jsonl", "summary.json"})
     CHECK(fs::is_regular_file(one / "trials/T/DC6/001" / file));
@@ -273,6 +299,9 @@ TEST_CASE("a tiny batch writes every file, with tables that match the trials, wh
   const json rep = json::parse(slurp(one / "report.json"));
   CHECK(rep["tables"][0]["rows"][1]["time_mean_s"].get<double>() == Approx(mean(times)));
   CHECK(tables.find("| **Total** |") != std::string::npos);
+  // One IQM figure per stage, in the figure list.
+  CHECK(tables.find("- `iqm_SG.png` / `iqm_SG.svg`: IQM learning curves: stage SG\n") != std::string::npos);
+  CHECK(tables.find("- `iqm_T.png` / `iqm_T.svg`: IQM learning curves: stage T\n") != std::string::npos);
 
   check_dashboard(one, tables, rep);
 

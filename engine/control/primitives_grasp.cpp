@@ -81,7 +81,7 @@ class Grasp final : public Primitive {
   struct {
     ParamSlot squeeze = 0, body_squeeze = 0, creep = 0, slide = 0, light = 0,
         spread = 0, swing = 0, moment = 0, friction = 0, reach = 0,
-        memory = 0, damping = 0;
+        memory = 0, damping = 0, back_off = 0;
   } p_;
  public:
   Grasp() : Primitive("phi3", 0.2) {
@@ -97,6 +97,7 @@ class Grasp final : public Primitive {
     p_.reach = declare("reach", 1.25, 0.3, 3.0, "objects farther (m) than this from the base are out of reach");
     p_.memory = declare("memory", 2.0, 0.0, 60.0, "seconds a lost object's last position stays usable");
     p_.damping = declare("damping", 0.05, 0.0, 1.0, "least-squares damping near singular postures");
+    p_.back_off = declare("back_off", 0.03, 0.0, 0.3, "step (m) out along its touch normal of a hand that touches the object while the body does not");
     // A grasp counts once it has held for a few ticks: a hand that closes with a bounce touches
     // for a tick and is off again.
     set_number("hold", 0.1);
@@ -118,16 +119,23 @@ class Grasp final : public Primitive {
     // inside it, so the body creeps forward until it feels the object, and only then do the hands
     // close in, each creeping until it touches and then pressing `squeeze` into the surface.
     // Squeezing before the body touches would pin the object and keep the body from reaching it.
+    // (A grasp that holds while the body is off is phi5's to keep, not phi3's.)
     const bool body_on = p.contact_on_object[kBody];
     const Vec2 base(s.base.x, s.base.y);
     const double creep = value(p_.creep);
     GraspResidual grasp;  // with all three contacts on the object, computed once per tick
     const double body_distance = body_on ? r + in.robot->base_radius - value(p_.body_squeeze)
                                          : (obj.center - base).norm() - creep;
+    // While the body does not touch the object, a hand that touches it must not grip it: a
+    // polygon's corners reach beyond vision's radius, and hands that gripped first carried the
+    // object ahead of the creeping body (the base drives them forward with it), pushing it across
+    // the floor until a wall stopped it. The same when the body loses the object while the hands
+    // close: a triangle turned off the body is let go and closed on again, not carried off.
     Targets t = grasp_targets(in, obj.center, std::min(body_distance, r + in.robot->base_radius),
                               r + in.robot->hand_radius + 0.01, value(p_.spread), value(p_.swing));
     t.body_press = value(p_.body_squeeze);
     if (body_on) close_hands(in, obj, r, creep, t, grasp);
+    else back_off_hands(in, t);
     double worst = 0.0;
     // Once the body and a hand touch, the arms alone place the hands: moving the base for them
     // would shove the object with the body or turn it off the object. The base only keeps the
@@ -141,6 +149,22 @@ class Grasp final : public Primitive {
   }
 
  private:
+  // While the body is off the object: a hand that touches it keeps only the part of its move
+  // along the surface and steps `back_off` out along its touch normal, so it neither grips the
+  // object (which would stay ahead of the creeping body) nor stalls on it while it swings round.
+  void back_off_hands(const ControlInput& in, Targets& t) const {
+    const Senses& s = *in.senses;
+    const Percepts& p = *in.percepts;
+    for (int side = 0; side < 2; ++side) {
+      const Touch& touch = s.touch[kLeftHand + side];
+      if (!p.contact_on_object[kLeftHand + side] || touch.index != p.touched_object) continue;
+      const Vec2 hand = in.percepts->arms[side].hand;
+      Vec2 along = t.hand[side] - hand;
+      along -= along.dot(touch.normal) * touch.normal;
+      t.hand[side] = hand + along + value(p_.back_off) * touch.normal;
+    }
+  }
+
   // With the body on the object: each touching hand slides along the surface to balance the
   // grasp and presses in, each other hand creeps in along its line to the object. Fills `grasp`
   // when all three contacts are on the object.
@@ -218,16 +242,18 @@ class Grasp final : public Primitive {
     out.residual = out.phi;
     gamma = on == kTactileCount && out.phi <= epsilon() ? Gamma::kConv : Gamma::kNotConv;
   }
+
 };
 
 // phi5: dynamic contact adjustment. With all three contacts on the object, each hand presses
 // `squeeze` into the surface along its touch normal, and leads by `lead` seconds of the base's
 // acceleration so the grasp carries the object's inertia; its task is the hands' position in the
 // base frame (the arm joints). Each hand's press fades as its contact force nears `press`, so the
-// grasp regulates force rather than position. NOREF as soon as a contact is lost.
+// grasp regulates force rather than position. NOREF as soon as a hand's contact is lost, or the
+// body's for longer than `grace`.
 class Hold final : public Primitive {
   // Where the constructor declared each parameter: reading one is an index, not a name search.
-  struct { ParamSlot squeeze = 0, pull = 0, press = 0, lead = 0, moment = 0, friction = 0, damping = 0; } p_;
+  struct { ParamSlot squeeze = 0, pull = 0, press = 0, lead = 0, moment = 0, friction = 0, damping = 0, grace = 0; } p_;
  public:
   Hold() : Primitive("phi5", 0.3) {
     p_.squeeze = declare("squeeze", 0.03, 0.0, 0.2, "press depth (m) of each hand along its contact normal");
@@ -239,11 +265,13 @@ class Hold final : public Primitive {
     p_.moment = declare("moment", 0.25, 0.0, 10.0, "weight of the moment residual in phi");
     p_.friction = declare("friction", 0.5, 0.0, 2.0, "share of each contact's push that friction may carry in phi");
     p_.damping = declare("damping", 0.05, 0.0, 1.0, "least-squares damping near singular postures");
+    p_.grace = declare("grace", 0.1, 0.0, 10.0, "seconds the body may lose the object, both hands holding, before the grasp counts as lost");
   }
   PrimitivePtr clone() const override { return std::make_shared<Hold>(*this); }
   void reset(uint64_t seed) override {
     Primitive::reset(seed);
     has_velocity_ = false;
+    body_off_time_ = 0.0;
   }
 
  protected:
@@ -264,8 +292,12 @@ class Hold final : public Primitive {
     press_hands(in, on, accel, out);
     out.phi = contact_phi(in);
     out.residual = out.phi;
+    // A body contact that breaks for a moment while both hands hold (a light body contact, a
+    // non-convex object rocking on it) is not a lost grasp: the pull is drawing the object back,
+    // so for `grace` seconds the grasp counts as held, unconverged.
+    body_off_time_ = on[kBody] ? 0.0 : body_off_time_ + in.dt;
     if (!on[kBody]) {
-      gamma = Gamma::kNoRef;
+      gamma = body_off_time_ <= value(p_.grace) ? Gamma::kNotConv : Gamma::kNoRef;
       return;
     }
     gamma = out.phi <= epsilon() ? Gamma::kConv : Gamma::kNotConv;
@@ -337,6 +369,7 @@ class Hold final : public Primitive {
 
   Vec2 last_velocity_ = Vec2::Zero();
   bool has_velocity_ = false;
+  double body_off_time_ = 0.0;  // seconds since the body last touched the object
 };
 
 }  // namespace

@@ -46,6 +46,8 @@ class Navigate final : public Primitive {
     // The grid often outlives the episode (the same arena), and with it the last solution, which
     // the next solve would start from: an episode would then depend on the one before it.
     planner_.forget_solution();
+    turn_sign_ = 0;
+    blocked_time_ = 0.0;
   }
 
  protected:
@@ -85,7 +87,7 @@ class Navigate final : public Primitive {
     const double slow = std::clamp(out.residual / 0.3, 0.25, 1.0);  // ease into the goal
     const double lookahead = 0.3;                                     // s of motion per command
     const double speed = value(p_.speed) * slow;
-    if (carry > 0.05) steer_carried(s, dir, speed, lookahead, carry, out);
+    if (carry > 0.05) steer_carried(s, in.dt, dir, speed, lookahead, carry, out);
     else steer_base(s, dir, speed, lookahead, out);
   }
 
@@ -184,8 +186,8 @@ class Navigate final : public Primitive {
   // ---- The reference ----
 
   // The base command that moves a point `carry` metres ahead of the base along `dir` at `speed`.
-  void steer_carried(const Senses& s, const Vec2& dir, double speed, double lookahead,
-                     double carry, ControlOutput& out) const {
+  void steer_carried(const Senses& s, double dt, const Vec2& dir, double speed, double lookahead,
+                     double carry, ControlOutput& out) {
     const Vec2 fwd = unit(s.base.theta);
     // A point ahead of a differential drive moves holonomically: v = u.f, w = u.left / carry.
     // Never back away from what is carried: the body would leave it; turn on the spot instead.
@@ -194,8 +196,23 @@ class Navigate final : public Primitive {
     const double turn = value(p_.carry_turn);
     out.command[kBaseHeading] = clamp_abs(u.dot(perp(fwd)) / carry * lookahead, turn);
     // With the way ahead more than a right angle off, rotate towards it at full rate (the
-    // formula above vanishes when the goal lies straight behind).
-    if (u.dot(fwd) < 0.0) out.command[kBaseHeading] = u.dot(perp(fwd)) >= 0.0 ? turn : -turn;
+    // formula above vanishes when the goal lies straight behind), and keep turning the same way
+    // until it is ahead again. Turning swings the carried point sideways, and behind the base the
+    // descent often splits round an obstacle: the side it points to flips as the point crosses
+    // the split, and a turn that followed it would rock the base on the spot until the time-out.
+    if (u.dot(fwd) < 0.0) {
+      if (turn_sign_ == 0) turn_sign_ = u.dot(perp(fwd)) >= 0.0 ? 1 : -1, blocked_time_ = 0.0;
+      // A turn that makes no headway is blocked (the carried object or an arm against an
+      // obstacle, which the planner's grid, grown for the base alone, does not see): the other
+      // way round may be free.
+      blocked_time_ = std::abs(s.qdot[kBaseHeading]) < kTurnStalled ? blocked_time_ + dt : 0.0;
+      if (blocked_time_ > kTurnPatience) turn_sign_ = -turn_sign_, blocked_time_ = 0.0;
+      out.command[kBaseHeading] = turn_sign_ * turn;
+    } else if (u.dot(fwd) > 0.5 * u.norm()) {
+      turn_sign_ = 0;  // within 60 degrees of ahead: steer by the formula again
+    } else if (turn_sign_ != 0) {
+      out.command[kBaseHeading] = turn_sign_ * turn;  // still finishing the committed turn
+    }
   }
 
   // The base command that turns the base to `dir` and drives along it, slower the more it is off.
@@ -212,6 +229,10 @@ class Navigate final : public Primitive {
   bool planned_ = false;
   Vec2 goal_center_ = Vec2::Zero();
   double goal_radius_ = 0.0;
+  int turn_sign_ = 0;  // a committed turn on the spot while carrying: +1 left, -1 right, 0 none
+  double blocked_time_ = 0.0;  // seconds the committed turn has made no headway
+  static constexpr double kTurnStalled = 0.1;   // rad/s: a turn slower than this makes no headway
+  static constexpr double kTurnPatience = 0.5;  // s of no headway before turning the other way
 };
 
 }  // namespace

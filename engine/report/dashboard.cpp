@@ -24,9 +24,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr uint64_t kCurveBootstrapSeed = 20240602;  // fixed: the same folder gives the same bands
-constexpr int kCurveResamples = 1000;  // per grid time; the band is drawn, not tabulated
-
 // Five significant digits: a curve is drawn, and the paper's folder must stay a light page.
 double rounded(double v) {
   if (!std::isfinite(v) || v == 0.0) return v;
@@ -94,22 +91,11 @@ json trial_entry(const std::string& dir, const std::string& id, int index) {
 }  // namespace
 
 json curve_series(const std::string& context, const std::vector<double>& minutes,
-                  const std::vector<std::vector<double>>& values) {
-  std::vector<double> mu, sd, iqm, lo, hi;
-  for (size_t k = 0; k < minutes.size(); ++k) {
-    std::vector<double> v;
-    for (const auto& trial : values) v.push_back(trial[k]);
-    mu.push_back(mean(v));
-    sd.push_back(population_std(v));
-    const ConfidenceInterval ci =
-        bootstrap_ci(v, interquartile_mean, kCurveBootstrapSeed + k, kCurveResamples);
-    iqm.push_back(ci.estimate);
-    lo.push_back(ci.low);
-    hi.push_back(ci.high);
-  }
-  return {{"context", context}, {"trials", values.size()}, {"minutes", rounded_array(minutes)},
-          {"mean", rounded_array(mu)}, {"std", rounded_array(sd)}, {"iqm", rounded_array(iqm)},
-          {"iqm_low", rounded_array(lo)}, {"iqm_high", rounded_array(hi)}};
+                  const CurveBands& bands, size_t trials) {
+  return {{"context", context}, {"trials", trials}, {"minutes", rounded_array(minutes)},
+          {"mean", rounded_array(bands.mean)}, {"std", rounded_array(bands.std)},
+          {"iqm", rounded_array(bands.iqm)}, {"iqm_low", rounded_array(bands.iqm_low)},
+          {"iqm_high", rounded_array(bands.iqm_high)}};
 }
 
 json markdown_blocks(const std::string& md) {

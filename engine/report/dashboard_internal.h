@@ -9,17 +9,23 @@
 
 #include <nlohmann/json.hpp>
 
+#include "report/stats.h"
 #include "script/batch_script.h"
 
 namespace roger::dashboard {
 
 using json = nlohmann::json;
 
+// The bootstrap of the learning curves' IQM bands (report.cpp computes them once for the IQM
+// figures and the page): a fixed seed, so the same folder gives the same bands, and 1000
+// resamples per grid time, since a band is drawn, not tabulated.
+constexpr uint64_t kCurveBootstrapSeed = 20240602;
+constexpr int kCurveResamples = 1000;
+
 // One context's learning curve for the page: the grid times (minutes), the mean and population std
-// over trials, and the interquartile mean with its 95% bootstrap interval at each time. values holds
-// each trial's values at the grid times.
+// over `trials` trials, and the interquartile mean with its 95% bootstrap interval at each time.
 json curve_series(const std::string& context, const std::vector<double>& minutes,
-                  const std::vector<std::vector<double>>& values);
+                  const CurveBands& bands, size_t trials);
 
 // tables.md as blocks the page renders: headings, paragraphs, list items and tables (header and
 // rows of cells, the cells' text as in tables.md).

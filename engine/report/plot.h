@@ -1,6 +1,7 @@
 // plot.h: the paper's figures, drawn with PLplot's cairo driver (devices "pngcairo" and
 // "svgcairo") to PNG and SVG files: learning curves with mean +- std bands (Figures 3 and 4, log x
-// for Figure 4) and stacked bars of cumulative training time (Figure 5).
+// for Figure 4) or with confidence bands (the IQM figures), and stacked bars of cumulative training
+// time (Figure 5).
 //
 // Each path's extension (.png or .svg, any case) chooses its format. Files are written atomically:
 // PLplot draws into a temporary file beside the destination, which is checked to be a complete
@@ -21,12 +22,16 @@
 
 namespace roger {
 
-// One learning curve: mean +- std of the episodic reward against training time.
+// One learning curve: mean +- std of the episodic reward against training time, or any centre line
+// with its own band (an interquartile mean inside its bootstrap interval).
 struct CurveSeries {
   std::string name;          // legend entry, e.g. "DC2"
   std::vector<double> x;     // training time, increasing (the unit is named by x_label)
-  std::vector<double> mean;  // mean over trials at each x
+  std::vector<double> mean;  // the line: mean over trials at each x (or the IQM, with low/high)
   std::vector<double> std;   // std over trials at each x, >= 0; empty for no band
+  // An asymmetric band instead of mean +- std: low[i] <= high[i] at each x (e.g. a 95% confidence
+  // interval). Both empty for none; when given, std must be empty.
+  std::vector<double> low, high;
 };
 
 // Where the legend sits: in a corner of the plot area, or beside it on the right (for busy plots).

@@ -1,5 +1,6 @@
 // plot_curves.cpp: learning curves (see plot.h): the series are checked, the world window is
-// fitted to them, and each is drawn as a translucent mean +- std band under its mean line.
+// fitted to them, and each is drawn as a translucent band (mean +- std, or its own low..high)
+// under its line.
 #include <plplot.h>
 
 #include <algorithm>
@@ -17,6 +18,32 @@ using namespace plot_internal;
 
 namespace {
 
+// Throws unless a series' own band (low..high) is one pair of bounds per x, in order.
+void check_band(const CurveSeries& c, const std::string& who) {
+  if (c.low.empty() && c.high.empty()) return;
+  if (!c.std.empty())
+    throw Error("plot: " + who + " has both a std and a low..high band; give one or the other");
+  if (c.low.size() != c.x.size() || c.high.size() != c.x.size())
+    throw Error("plot: " + who + " has " + std::to_string(c.x.size()) + " x values but " +
+                std::to_string(c.low.size()) + " band lows and " + std::to_string(c.high.size()) +
+                " band highs (give one of each per x, or none)");
+  check_finite(c.low, who + " low");
+  check_finite(c.high, who + " high");
+  for (size_t i = 0; i < c.x.size(); ++i)
+    if (c.low[i] > c.high[i])
+      throw Error("plot: " + who + " low[" + std::to_string(i) + "] = " + number(c.low[i]) +
+                  " is above high[" + std::to_string(i) + "] = " + number(c.high[i]));
+}
+
+// Whether a series has a band to draw, and its bounds at point i (mean +- std, or low..high).
+bool has_band(const CurveSeries& c) { return !c.std.empty() || !c.low.empty(); }
+double band_low(const CurveSeries& c, size_t i) {
+  return !c.low.empty() ? c.low[i] : c.std.empty() ? c.mean[i] : c.mean[i] - c.std[i];
+}
+double band_high(const CurveSeries& c, size_t i) {
+  return !c.high.empty() ? c.high[i] : c.std.empty() ? c.mean[i] : c.mean[i] + c.std[i];
+}
+
 // Throws unless the series and the options make a drawable figure, naming the first problem.
 void check_series(const std::vector<CurveSeries>& series, const CurveOptions& o) {
   if (series.empty()) throw Error("plot: learning curves need at least one series, got none");
@@ -33,6 +60,7 @@ void check_series(const std::vector<CurveSeries>& series, const CurveOptions& o)
     check_finite(c.x, who + " x");
     check_finite(c.mean, who + " mean");
     check_finite(c.std, who + " std");
+    check_band(c, who);
     for (size_t i = 0; i < c.std.size(); ++i)
       if (c.std[i] < 0.0)
         throw Error("plot: " + who + " std[" + std::to_string(i) + "] is " + number(c.std[i]) +
@@ -71,9 +99,8 @@ CurveWindow curve_window(const std::vector<CurveSeries>& series, const CurveOpti
     x_hi = std::max(x_hi, c.x.back());
     if (!o.fit_data) continue;
     for (size_t i = 0; i < c.x.size(); ++i) {
-      const double s = c.std.empty() ? 0.0 : c.std[i];
-      y_lo = std::min(y_lo, c.mean[i] - s);
-      y_hi = std::max(y_hi, c.mean[i] + s);
+      y_lo = std::min({y_lo, c.mean[i], band_low(c, i)});
+      y_hi = std::max({y_hi, c.mean[i], band_high(c, i)});
     }
   }
   if (o.log_x) {
@@ -100,20 +127,20 @@ PLINT line_index(size_t s) { return PLINT(kFirstSeries + s); }
 // The cmap0 entry of series s's band, after the n lines' entries.
 PLINT band_index(size_t n, size_t s) { return PLINT(kFirstSeries + n + s); }
 
-// The translucent mean +- std band of every series that has one.
+// The translucent band of every series that has one.
 void draw_bands(const std::vector<CurveSeries>& series, const CurveOptions& o) {
   const size_t n = series.size();
   for (size_t s = 0; s < n; ++s) {
     const CurveSeries& c = series[s];
-    if (c.std.empty() || o.band_alpha == 0.0) continue;
+    if (!has_band(c) || o.band_alpha == 0.0) continue;
     std::vector<PLFLT> bx, by;
     for (size_t i = 0; i < c.x.size(); ++i) {
       bx.push_back(world_x(c.x[i], o));
-      by.push_back(c.mean[i] + c.std[i]);
+      by.push_back(band_high(c, i));
     }
     for (size_t i = c.x.size(); i-- > 0;) {
       bx.push_back(world_x(c.x[i], o));
-      by.push_back(c.mean[i] - c.std[i]);
+      by.push_back(band_low(c, i));
     }
     plcol0(band_index(n, s));
     if (bx.size() >= 3) plfill(PLINT(bx.size()), bx.data(), by.data());
@@ -133,9 +160,9 @@ void draw_mean_lines(const std::vector<CurveSeries>& series, const CurveOptions&
       plline(PLINT(lx.size()), lx.data(), ly.data());
       continue;
     }
-    // A single point: a dot with a +- std error bar instead of a line and a band.
-    if (!c.std.empty()) {
-      PLFLT lo = c.mean[0] - c.std[0], hi = c.mean[0] + c.std[0];
+    // A single point: a dot with an error bar over its band instead of a line and a band.
+    if (has_band(c)) {
+      PLFLT lo = band_low(c, 0), hi = band_high(c, 0);
       plerry(1, lx.data(), &lo, &hi);
     }
     plstring(1, lx.data(), ly.data(), "\u25CF");
@@ -150,7 +177,7 @@ void draw_curve_legend(const std::vector<CurveSeries>& series,
   std::vector<PLINT> lines, boxes;
   for (size_t s = 0; s < n; ++s) {
     lines.push_back(line_index(s));
-    boxes.push_back(series[s].std.empty() ? kBackground : band_index(n, s));
+    boxes.push_back(has_band(series[s]) ? band_index(n, s) : kBackground);
   }
   draw_legend(names, lines, boxes, true, position);
 }

@@ -372,12 +372,19 @@ std::vector<std::string> figure_paths(const std::string& dir, const std::string&
   return {(fs::path(dir) / (file + ".png")).string(), (fs::path(dir) / (file + ".svg")).string()};
 }
 
-// A run's learning curves: greedy reward at the checkpoints against simulated training minutes.
-bool curves_figure(const BatchScript& b, const BatchFigure& f, const Folder& folder, std::vector<std::string>& written,
-                   json& page) {
-  const BatchRun& run = *b.run(f.run);
-  std::vector<CurveSeries> series;
-  json page_series = json::array();
+// One context's learning curves on their common grid: the grid in minutes, each trial's values
+// there, and their mean, std and IQM bands.
+struct ContextCurves {
+  std::string context;
+  std::vector<double> minutes;
+  std::vector<std::vector<double>> values;
+  CurveBands bands;
+};
+
+// A run's learning curves per context: greedy reward at the checkpoints against simulated
+// training minutes (contexts without a finished trial are left out).
+std::vector<ContextCurves> run_curves(const BatchRun& run, const Folder& folder, bool log_x) {
+  std::vector<ContextCurves> out;
   for (const auto& c : run.contexts) {
     const Results r = folder.run(run, c);
     std::vector<std::vector<std::pair<double, double>>> trials;
@@ -386,32 +393,68 @@ bool curves_figure(const BatchScript& b, const BatchFigure& f, const Folder& fol
       for (const auto& cp : j.value("checkpoints", json::array())) pts.emplace_back(num(cp, "sim_s"), num(cp, "reward_mean"));
       trials.push_back(std::move(pts));
     }
-    const CurveGrid g = curve_grid(trials, kCurvePoints, f.log_x);
+    CurveGrid g = curve_grid(trials, kCurvePoints, log_x);
     if (g.t.empty()) continue;
-    CurveSeries s;
-    s.name = c;
-    for (size_t k = 0; k < g.t.size(); ++k) {
-      std::vector<double> v;
-      for (const auto& tr : g.values) v.push_back(tr[k]);
-      s.x.push_back(g.t[k] / 60.0);
-      s.mean.push_back(mean(v));
-      s.std.push_back(population_std(v));
-    }
-    page_series.push_back(dashboard::curve_series(c, s.x, g.values));
-    series.push_back(std::move(s));
+    ContextCurves cc{c, {}, std::move(g.values), {}};
+    for (double t : g.t) cc.minutes.push_back(t / 60.0);
+    cc.bands = curve_bands(cc.values, dashboard::kCurveBootstrapSeed, dashboard::kCurveResamples);
+    out.push_back(std::move(cc));
+  }
+  return out;
+}
+
+// The axes of every learning-curve figure.
+CurveOptions curve_options(bool log_x) {
+  CurveOptions o;
+  o.x_label = "Simulated training time (min)";
+  o.y_label = "Average episodic reward (greedy)";
+  o.log_x = log_x;
+  return o;
+}
+
+// A run's learning curves (Figures 3 and 4): mean +- std per context.
+bool curves_figure(const BatchScript& b, const BatchFigure& f, const Folder& folder, std::vector<std::string>& written,
+                   json& page) {
+  const BatchRun& run = *b.run(f.run);
+  std::vector<CurveSeries> series;
+  json page_series = json::array();
+  for (const ContextCurves& cc : run_curves(run, folder, f.log_x)) {
+    page_series.push_back(dashboard::curve_series(cc.context, cc.minutes, cc.bands, cc.values.size()));
+    series.push_back({cc.context, cc.minutes, cc.bands.mean, cc.bands.std, {}, {}});
   }
   page.push_back({{"kind", "curves"}, {"file", f.file}, {"run", run.name}, {"log_x", f.log_x},
                   {"title", f.title.empty() ? "Learning curves: stage " + run.stage : f.title},
                   {"series", page_series}});
   if (series.empty()) return false;
-  CurveOptions o;
-  o.x_label = "Simulated training time (min)";
-  o.y_label = "Average episodic reward (greedy)";
-  o.log_x = f.log_x;
   const auto paths = figure_paths(folder.dir(), f.file);
-  plot_learning_curves(paths, f.title.empty() ? "Learning curves: stage " + run.stage : f.title, series, o);
+  plot_learning_curves(paths, f.title.empty() ? "Learning curves: stage " + run.stage : f.title, series,
+                       curve_options(f.log_x));
   written.insert(written.end(), paths.begin(), paths.end());
   return true;
+}
+
+// The IQM learning curves of a run's stage: per context the interquartile mean over trials inside
+// its 95% bootstrap band, on the time axis of the run's own curves figure (log when it is). Its
+// line for tables.md, whether drawn or not.
+std::string iqm_figure(const BatchScript& b, const BatchRun& run, const Folder& folder,
+                       std::vector<std::string>& written) {
+  bool log_x = false;
+  for (const auto& f : b.figures)
+    if (f.kind != "cumulative" && f.run == run.name) log_x = log_x || f.log_x;
+  std::vector<CurveSeries> series;
+  for (const ContextCurves& cc : run_curves(run, folder, log_x))
+    series.push_back({cc.context, cc.minutes, cc.bands.iqm, {}, cc.bands.iqm_low, cc.bands.iqm_high});
+  const std::string file = "iqm_" + run.name;
+  const std::string title = "IQM learning curves: stage " + run.stage +
+                            (run.name == run.stage ? std::string() : " (run " + run.name + ")");
+  std::string line = "- `" + file + ".png` / `" + file + ".svg`: " + title;
+  if (series.empty()) return line + " (not drawn: no finished trial)";
+  CurveOptions o = curve_options(log_x);
+  o.y_label = "IQM of the greedy episodic reward";
+  const auto paths = figure_paths(folder.dir(), file);
+  plot_learning_curves(paths, title, series, o);
+  written.insert(written.end(), paths.begin(), paths.end());
+  return line;
 }
 
 // Cumulative training time per context: the skills' runs (the trial's own skill source) then the run.
@@ -536,6 +579,7 @@ std::vector<std::string> write_report(const std::string& dir) {
     figures_md.push_back("- `" + f.file + ".png` / `" + f.file + ".svg`: " +
                          (f.title.empty() ? f.kind + " of run " + f.run : f.title) + (drawn ? "" : " (not drawn: no finished trial)"));
   }
+  for (const BatchRun& run : b.runs) figures_md.push_back(iqm_figure(b, run, folder, written));
   md << "## Figures\n\n";
   for (const auto& l : figures_md) md << l << "\n";
   md << "\nLearning curves: each trial's greedy checkpoint rewards (the mean episodic reward of held-out "
@@ -543,7 +587,9 @@ std::vector<std::string> write_report(const std::string& dir) {
         "common grid of "
      << kCurvePoints << " times (log-spaced on a log axis) from the latest first checkpoint to the latest last "
         "one; a trial that stopped early keeps its last value. Lines are the mean over trials, bands ± one "
-        "(population) std. Cumulative training time: mean simulated time-to-threshold of the skill's source "
+        "(population) std. IQM learning curves (one per stage): on the same grid, the interquartile mean over "
+        "trials with its 95% percentile-bootstrap interval at each time (" << dashboard::kCurveResamples
+     << " resamples). Cumulative training time: mean simulated time-to-threshold of the skill's source "
         "trials (each trial uses the policy of the same-numbered source trial) stacked under the run's own.\n";
   const std::string tables = (fs::path(dir) / "tables.md").string();
   write_file_atomic(tables, md.str(), "roger report: cannot write tables.md");

@@ -276,6 +276,29 @@ ConfidenceInterval bootstrap_ci(const std::vector<double>& xs, const Statistic& 
   return ci;
 }
 
+CurveBands curve_bands(const std::vector<std::vector<double>>& values, uint64_t seed, int resamples,
+                       double level) {
+  if (values.empty()) throw Error("stats: curve_bands needs at least one trial's curve, got none");
+  const size_t points = values.front().size();
+  for (size_t t = 1; t < values.size(); ++t)
+    if (values[t].size() != points)
+      throw Error("stats: curve_bands: trial " + std::to_string(t) + " has " +
+                  std::to_string(values[t].size()) + " points but trial 0 has " +
+                  std::to_string(points) + "; every curve must be on the same grid");
+  CurveBands b;
+  std::vector<double> v(values.size());
+  for (size_t k = 0; k < points; ++k) {
+    for (size_t t = 0; t < values.size(); ++t) v[t] = values[t][k];
+    b.mean.push_back(mean(v));
+    b.std.push_back(population_std(v));
+    const ConfidenceInterval ci = bootstrap_ci(v, interquartile_mean, seed + k, resamples, level);
+    b.iqm.push_back(ci.estimate);
+    b.iqm_low.push_back(ci.low);
+    b.iqm_high.push_back(ci.high);
+  }
+  return b;
+}
+
 MannWhitneyResult mann_whitney_u(const std::vector<double>& x, const std::vector<double>& y,
                                  MannWhitneyMethod method) {
   check_two(x, y, "mann_whitney_u");

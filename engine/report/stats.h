@@ -63,6 +63,20 @@ struct ConfidenceInterval {
 ConfidenceInterval bootstrap_ci(const std::vector<double>& xs, const Statistic& statistic,
                                 uint64_t seed, int resamples = 10000, double level = 0.95);
 
+// Learning curves summarized at each point of a common grid, over trials: the mean and population
+// std (Figures 3 and 4) and the interquartile mean with its percentile-bootstrap interval (the
+// IQM figures and the dashboard). One entry per grid point.
+struct CurveBands {
+  std::vector<double> mean, std;              // mean and population std over trials
+  std::vector<double> iqm, iqm_low, iqm_high;  // interquartile mean and its confidence interval
+};
+
+// The bands of curves given as values[trial][point] (every trial with the same number of points,
+// at least one trial). Point k's interval is bootstrap_ci of interquartile_mean with seed
+// `seed + k`, `resamples` resamples and coverage `level`: the same curves give the same bands.
+CurveBands curve_bands(const std::vector<std::vector<double>>& values, uint64_t seed, int resamples,
+                       double level = 0.95);
+
 // How mann_whitney_u computes its p-value.
 enum class MannWhitneyMethod {
   kAuto,        // exact when there are no ties and both samples have at most 20 values
