@@ -242,6 +242,7 @@ TrainResult train_stage(const TrainOptions& options) {
   bind_skills(cur, ctx, options, nullptr, res.skills);
 
   StageRun run{cur, stage, ctx, make_scenario(stage, "", options.sets, options.limits, &res.params), Agent()};
+  cur.set_world(&run.agent.world());  // the Lua callbacks' `world`
   res.scenario = run.scenario.name();
   res.q = std::make_shared<QTable>(res.psi, stage.learner);
   QTable& q = *res.q;
@@ -428,6 +429,7 @@ PolicyEvalResult evaluate_policy_file(const PolicyEvalOptions& options) {
   out.context = ctx.name;
   out.time_limit = stage.time_limit;
   StageRun run{cur, stage, ctx, make_scenario(stage, options.scenario, options.sets, options.limits, &out.params), Agent()};
+  cur.set_world(&run.agent.world());
   out.scenario = run.scenario.name();
   const uint64_t first = options.first_seed >= 0 ? uint64_t(options.first_seed) : stage.checkpoints.seeds;
   out.eval = greedy_eval(run, q, first, options.episodes);

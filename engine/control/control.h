@@ -72,6 +72,12 @@ struct ControlInput {
   double time = 0.0;                    // simulated seconds since the episode began
   double dt = 0.02;                     // control tick (s)
   uint64_t tick = 0;                    // tick counter, for caching within a tick
+  // Bindings (see Binding): what this tick's senses attended to, where a controller may ask the
+  // agent to attend from the next tick on, and the goal region that goal='region' navigators
+  // deliver to instead of their own `region` parameter (-1: their own).
+  const Attention* attention = nullptr;
+  Attention* next_attention = nullptr;
+  int region = -1;
 };
 
 // What a controller gives back each tick.
@@ -243,6 +249,48 @@ class StandIn : public Controller {
 
  private:
   ControllerPtr target_;
+};
+
+// A controller run under bindings set per invocation: the stimulus its eyes attend to (colour,
+// and the goal region whose let-go objects they ignore) and the goal region its goal='region'
+// navigators deliver to. One learned skill serves every binding without retraining: the
+// bindings change what it perceives and where it delivers, not what it learned.
+// An invocation begins when the binding is evaluated on a tick after one on which it was not
+// executed: the target is reset (seed mixed with the invocation count) and the agent is asked
+// to attend to the binding's stimulus; until the senses attend to it (the next tick) the binding
+// commands nothing and is !CONV. While it is not running, its state is the one it ended its last
+// invocation with (NOREF before the first): a bound skill that delivered stays CONV, so the
+// state vector of a stage remembers which bindings have done their work.
+class Binding final : public Controller {
+ public:
+  // target run with `attention` (has_stimulus false: leave the eyes' attention as it is) and
+  // goal region `region` (-1: the target's own).
+  Binding(ControllerPtr target, bool has_stimulus, Attention attention, int region);
+  std::vector<const Controller*> children() const override { return {target_.get()}; }
+  const char* kind() const override { return "binding"; }
+  void reset(uint64_t seed) override;
+  void executed(const ControlInput& in) override;
+  const ControllerPtr& target() const { return target_; }
+  int invocations() const { return invocations_; }
+
+ protected:
+  void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
+  bool compute_state(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
+
+ private:
+  // Whether this tick continues an invocation (executed on the previous tick, or begun on this).
+  bool running(const ControlInput& in) const;
+  // Whether this tick's senses attend to the binding's stimulus.
+  bool attending(const ControlInput& in) const;
+  ControlInput bound(const ControlInput& in) const;
+  ControllerPtr target_;
+  bool has_stimulus_;
+  Attention attention_;
+  int region_;
+  uint64_t seed_ = 0;
+  int invocations_ = 0;
+  uint64_t executed_tick_ = UINT64_MAX, begun_tick_ = UINT64_MAX;
+  Gamma last_ = Gamma::kNoRef;  // the state the last invocation ended with
 };
 
 // Packs the gammas of a list of controllers into a state index in [0, 3^n).

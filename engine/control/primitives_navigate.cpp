@@ -112,13 +112,15 @@ class Navigate final : public Primitive {
 
   // The goal region of the scenario (goal='region'); false when the scenario has no such region.
   bool prepare_region(const ControlInput& in, bool solve) {
-    const size_t k = size_t(value(p_.region));
+    // A binding may name the region (ControlInput::region) instead of the parameter.
+    const size_t k = in.region >= 0 ? size_t(in.region) : size_t(value(p_.region));
     if (k >= in.spec->goals.size()) return false;
-    // The region and the grid are fixed for the episode: set them once (the planner would
+    // The region and the grid are fixed while the region is: set them once (the planner would
     // notice that nothing changed, but finding the goal cells each tick is not free).
-    if (grid_ != in.grid || !planned_) {
+    if (grid_ != in.grid || !planned_ || k != planned_region_) {
       grid_ = in.grid;
       planned_ = true;
+      planned_region_ = k;
       planner_.set_grid(*in.grid);
       goal_center_ = in.spec->goals[k].center;
       goal_radius_ = in.spec->goals[k].radius;
@@ -210,6 +212,7 @@ class Navigate final : public Primitive {
   HarmonicPlanner planner_;
   const OccupancyGrid* grid_ = nullptr;
   bool planned_ = false;
+  size_t planned_region_ = 0;  // the goal region planned for (goal='region')
   Vec2 goal_center_ = Vec2::Zero();
   double goal_radius_ = 0.0;
 };

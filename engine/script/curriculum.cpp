@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -114,6 +115,7 @@ struct Curriculum::Impl {
   Book book;
   std::vector<CurriculumStage> stages;
   std::map<std::string, LuaCallback> absorbing_fns, reward_fns;  // by stage name
+  const World* world = nullptr;  // shown to the callbacks (set_world)
 };
 
 Curriculum::Curriculum() = default;
@@ -312,7 +314,58 @@ void push_state(lua_State* L, const CurriculumContext& ctx, const std::vector<Ga
   }
 }
 
+// The world as the Lua callbacks see it (the task's judge, not Roger's senses): every object with
+// its pose, colour, whether Roger touches it and the goal region its centre lies in; the regions.
+void push_world(lua_State* L, const World& world) {
+  const WorldSpec& spec = world.spec();
+  lua_createtable(L, 0, 2);
+  lua_createtable(L, int(spec.objects.size()), 0);
+  for (size_t i = 0; i < spec.objects.size(); ++i) {
+    const Pose pose = world.object_pose(int(i));
+    lua_createtable(L, 0, 7);
+    lua_pushstring(L, spec.objects[i].name.c_str());
+    lua_setfield(L, -2, "name");
+    const Colour& c = spec.objects[i].colour;
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "#%02x%02x%02x", c.r, c.g, c.b);
+    lua_pushstring(L, hex);
+    lua_setfield(L, -2, "colour");
+    lua_pushnumber(L, pose.x);
+    lua_setfield(L, -2, "x");
+    lua_pushnumber(L, pose.y);
+    lua_setfield(L, -2, "y");
+    bool held = false;
+    for (const Touch& t : world.senses().touch) held |= t.contact && t.kind == SurfaceKind::kObject && t.index == int(i);
+    lua_pushboolean(L, held);
+    lua_setfield(L, -2, "held");
+    for (size_t g = 0; g < spec.goals.size(); ++g) {
+      if ((Vec2(pose.x, pose.y) - spec.goals[g].center).norm() > spec.goals[g].radius) continue;
+      lua_pushstring(L, spec.goals[g].name.c_str());
+      lua_setfield(L, -2, "region");
+      break;
+    }
+    lua_rawseti(L, -2, lua_Integer(i + 1));
+  }
+  lua_setfield(L, -2, "objects");
+  lua_createtable(L, int(spec.goals.size()), 0);
+  for (size_t g = 0; g < spec.goals.size(); ++g) {
+    lua_createtable(L, 0, 4);
+    lua_pushstring(L, spec.goals[g].name.c_str());
+    lua_setfield(L, -2, "name");
+    lua_pushnumber(L, spec.goals[g].center.x());
+    lua_setfield(L, -2, "x");
+    lua_pushnumber(L, spec.goals[g].center.y());
+    lua_setfield(L, -2, "y");
+    lua_pushnumber(L, spec.goals[g].radius);
+    lua_setfield(L, -2, "radius");
+    lua_rawseti(L, -2, lua_Integer(g + 1));
+  }
+  lua_setfield(L, -2, "goals");
+}
+
 }  // namespace
+
+void Curriculum::set_world(const World* world) { impl_->world = world; }
 
 bool Curriculum::call_absorbing(const CurriculumStage& stage, const CurriculumContext& context,
                                 const std::vector<Gamma>& state, double time) {
@@ -322,8 +375,9 @@ bool Curriculum::call_absorbing(const CurriculumStage& stage, const CurriculumCo
   lua_rawgeti(L, LUA_REGISTRYINDEX, fn.ref);
   push_state(L, context, state);
   lua_pushnumber(L, time);
+  if (impl_->world) push_world(L, *impl_->world);
   try {
-    impl_->sandbox->call(2, 1);
+    impl_->sandbox->call(impl_->world ? 3 : 2, 1);
   } catch (const ScriptError& e) {
     throw ScriptError(stage.where(context.name) + ": absorbing function: " + e.message,
                       e.file.empty() ? fn.file : e.file, e.file.empty() ? fn.line : e.line, e.traceback);
@@ -349,8 +403,9 @@ double Curriculum::call_reward(const CurriculumStage& stage, const CurriculumCon
   }
   lua_pushstring(L, event.c_str());
   lua_pushnumber(L, time);
+  if (impl_->world) push_world(L, *impl_->world);
   try {
-    impl_->sandbox->call(4, 1);
+    impl_->sandbox->call(impl_->world ? 5 : 4, 1);
   } catch (const ScriptError& e) {
     throw ScriptError(stage.where(context.name) + ": reward function: " + e.message,
                       e.file.empty() ? fn.file : e.file, e.file.empty() ? fn.line : e.line, e.traceback);

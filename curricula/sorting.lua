@@ -1,0 +1,145 @@
+-- sorting.lua: a third developmental stage after the paper's two (Figure 1): sort 2, 4 or 8 objects
+-- by type, each type into its own region on the arena's edge (scenarios/sorting.lua), by using the
+-- learned transport skill Phi_T again and again. Nothing here is compiled: the stage, its actions,
+-- its reward and its absorbing state are this file.
+--
+--   roger check curricula/sorting.lua
+--   roger train curricula/sorting.lua --stage T --context DC6 --seed 1 --out out/T       (trains SG first)
+--   roger train curricula/sorting.lua --stage Sort2 --context Learned --seed 1 --out out/S2 \
+--         --skill Phi_T=out/T/policy.json
+--   roger train curricula/sorting.lua --stage Hand2 --context Scripted --seed 1 --out out/H2
+--
+-- How one Phi_T serves every type: roger.bind(name, skill, {stimulus = colour, region = k}) runs
+-- the skill with its eyes attending to that colour (ignoring objects already let go of in region k)
+-- and its goal='region' navigator delivering to region k. The learned table is the same for all
+-- four bindings; only what the skill perceives and where it delivers change (docs/curricula.md).
+local skills = require("lib.skills")
+
+local p = skills.primitives()
+local Phi6 = skills.Phi6(p)
+local Phi7 = skills.Phi7(p)
+local transport = skills.transport(p)
+local release = roger.primitive("release")
+
+-- Stages SG and T exactly as curricula/paper.lua writes them (same controllers, rewards, learners
+-- and budgets), except that T also yields its DC6 policy as the skill Phi_T.
+local Phi_SG = roger.learned("Phi_SG")
+local Phi_STG = skills.Phi_STG(Phi_SG, p)
+local Phi_T = roger.learned("Phi_T")
+
+local function learner(alpha)
+  return { alpha = alpha, discount = 0.95, epsilon_start = 1.0, epsilon_end = 0.05, initial_q = -100 }
+end
+
+-- The types in region order (scenarios/sorting.lua: region k - 1 belongs to TYPES[k]) and colours.
+local TYPES = { "circle", "triangle", "pentagon", "spade" }
+local COLOURS = { circle = "#dc1e1e", triangle = "#2850dc", pentagon = "#e6aa14", spade = "#9628aa" }
+
+-- One sorting move for a type: carry one object of that colour into that type's region with the
+-- given transport skill, then let go of it. `tag` keeps names unique.
+local function sort_move(transport_skill, k, tag)
+  local t = TYPES[k]
+  local move = roger.sequence("carry+release " .. t .. tag, { transport_skill, release })
+  return roger.bind("sort " .. t .. tag, move, { stimulus = COLOURS[t], region = k - 1 })
+end
+
+-- The task's judge (Lua, at decision points): an object is sorted when its centre lies in the
+-- region named after its type ("circle 3" belongs in "circle") and Roger has let go of it.
+local function sorted(world)
+  local n = 0
+  for _, o in ipairs(world.objects) do
+    if o.region ~= nil and o.region == o.name:match("^(%a+)") and not o.held then n = n + 1 end
+  end
+  return n, #world.objects
+end
+
+-- Absorbing: every object sorted.
+local function all_sorted(state, time, world)
+  local n, total = sorted(world)
+  return n == total
+end
+
+-- +100 when all are sorted; at the time-out 100 per cent of the objects sorted minus 100, so the
+-- final reward R says how many were sorted: sorted = objects * (R + 100 * timeout) / 100.
+local function sorting_reward(state, action, event, time, world)
+  if event == "absorbing" then return 100 end
+  if event == "timeout" then
+    local n, total = sorted(world)
+    return 100 * n / total - 100
+  end
+  return 0
+end
+
+-- The hand-written reference: sort the objects in the order the scenario's "cycle" mix lays them
+-- out (circle, triangle, pentagon, spade, circle, ...), with the hand-written transport of
+-- curricula/scripted.lua. Eight moves; the episode ends as soon as all objects are sorted.
+local scripted_SG = roger.sequence("scripted Phi_SG", { Phi6, Phi7, p.phi3 })
+local scripted_T = roger.sequence("scripted Phi_T", { scripted_SG, transport })
+local function hand_written()
+  local moves = {}
+  for i = 1, 8 do moves[i] = sort_move(scripted_T, (i - 1) % 4 + 1, " #" .. i) end
+  return roger.sequence("sort by hand", moves)
+end
+local by_hand = hand_written()
+
+-- The learned sorting stage for n objects: Psi is Phi_T bound to each type (then let go); the
+-- state is which bindings ended their last move delivered (CONV), unfinished (!CONV) or were never
+-- tried (NOREF).
+local learned_moves = {}
+for k = 1, 4 do learned_moves[k] = sort_move(Phi_T, k, "") end
+
+local function sorting_stage(name, n, contexts, budget)
+  return roger.stage{
+    name = name,
+    description = "sort " .. n .. " objects by type, each into its region (Figure 1)",
+    scenario = "sorting",
+    params = { objects = n },
+    time_limit = 30 * n,
+    absorbing = all_sorted,
+    reward = sorting_reward,
+    learner = learner(0.2),
+    budget = { episodes = budget },
+    checkpoints = { every = math.max(1, budget // 5), episodes = 10, threshold = 0.8, seeds = 3000000,
+                    stop_after = 0, final = 20 },
+    contexts = contexts,
+  }
+end
+
+local stages = {
+  roger.stage{
+    name = "SG",
+    description = "search for the ball, approach it while preshaping, and grasp it",
+    scenario = "unobstructed",
+    time_limit = 5,
+    absorbing = roger.converged(p.phi3),
+    reward = { absorbing = 100, timeout = -100, step = 0 },
+    learner = learner(0.1),
+    budget = { episodes = 400 },
+    checkpoints = { every = 10, episodes = 20, threshold = 0.9, seeds = 1000000, stop_after = 0, final = 50 },
+    contexts = { { name = "DC2", actions = { p.phi3, Phi6, Phi7 } } },
+    skill = { name = "Phi_SG", context = "DC2" },
+  },
+  roger.stage{
+    name = "T",
+    description = "search, grasp and carry the ball to the goal region, keeping the grasp",
+    scenario = "unobstructed",
+    time_limit = 10,
+    absorbing = skills.transported(transport),
+    reward = { absorbing = 100, timeout = -100, step = 0 },
+    learner = learner(0.2),
+    budget = { episodes = 1500 },
+    checkpoints = { every = 10, episodes = 20, threshold = 0.9, seeds = 2000000, stop_after = 5, final = 50 },
+    contexts = { { name = "DC6", actions = { Phi_STG, transport } } },
+    skill = { name = "Phi_T", context = "DC6" },
+  },
+}
+for _, n in ipairs({ 2, 4, 8 }) do
+  stages[#stages + 1] = sorting_stage("Sort" .. n, n, { { name = "Learned", actions = learned_moves } }, 100)
+  stages[#stages + 1] = sorting_stage("Hand" .. n, n, { { name = "Scripted", actions = { by_hand } } }, 1)
+end
+
+return {
+  name = "sorting",
+  description = "Search-grasp and transport as in the paper, then sorting objects by type with Phi_T.",
+  stages = stages,
+}
