@@ -26,6 +26,7 @@ void Agent::refresh_input() {
   input_.dt = world_.tick_seconds();
   input_.attention = &world_.attention();
   input_.next_attention = &next_attention_;
+  input_.region = world_.attention().region;
 }
 
 const ControlOutput& Agent::step(Controller& action) {
@@ -33,8 +34,10 @@ const ControlOutput& Agent::step(Controller& action) {
   action.executed(input_);
   if (next_attention_ != world_.attention()) {
     // A binding redirected the eyes: what was perceived of the old stimulus is not the new one's.
+    const Attention& now = world_.attention();
+    if (next_attention_.colour != now.colour || next_attention_.ignore_region != now.ignore_region)
+      percepts_ = Percepts{};
     world_.set_attention(next_attention_);
-    percepts_ = Percepts{};
   }
   DofVector errors = out.command;
   if (params_.gaze_reflex) {

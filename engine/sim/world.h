@@ -43,12 +43,18 @@ struct Frame {
   Senses senses;
 };
 
-// What the eyes attend to: the stimulus colour, and optionally a goal region whose objects they
-// ignore once Roger has let go of them (objects already put away draw no attention).
+// What Roger attends to: the stimulus colour the eyes look for, optionally a goal region whose
+// objects they ignore once Roger has let go of them (objects already put away draw no attention),
+// and the goal region that goal='region' navigators deliver to. It belongs to the world, not to
+// one controller, so that everything evaluated on a tick (the running skill, a goal predicate,
+// a recorder watching the controllers) sees the same bindings.
 struct Attention {
   Colour colour{220, 30, 30};
   int ignore_region = -1;  // index into WorldSpec::goals, -1 = none
-  bool operator==(const Attention& o) const { return colour == o.colour && ignore_region == o.ignore_region; }
+  int region = -1;         // the delivery region, index into WorldSpec::goals; -1 = the navigator's own
+  bool operator==(const Attention& o) const {
+    return colour == o.colour && ignore_region == o.ignore_region && region == o.region;
+  }
   bool operator!=(const Attention& o) const { return !(*this == o); }
 };
 
