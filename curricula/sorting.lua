@@ -95,20 +95,21 @@ local scripted_T = roger.policy("scripted Phi_T", {
   actions = { scripted_carry }, table = { ["*"] = scripted_carry }, done = skills.transported(transport),
 })
 
--- Eight moves in a policy that runs the first move not yet converged. A sequence would not do: a
--- binding is NOREF until it is first invoked, and a sequence falls back from a NOREF step to the
--- one before, so it would never start the second move. The episode ends when all are sorted.
-local function hand_written()
+-- n moves, one per object of the cycle mix, in a policy that runs the first move not yet
+-- converged; it converges with the last move, a change of state at which the stage's absorbing
+-- function is asked whether all are sorted. A sequence would not do: a binding is NOREF until it is
+-- first invoked, and a sequence falls back from a NOREF step to the one before, so it would never
+-- start the second move.
+local function hand_written(n)
   local moves, keys = {}, {}
-  for i = 1, 8 do
-    moves[i] = sort_move(scripted_T, CYCLE[(i - 1) % #CYCLE + 1], " #" .. i)
+  for i = 1, n do
+    moves[i] = sort_move(scripted_T, CYCLE[(i - 1) % #CYCLE + 1], " " .. i .. "/" .. n)
     local key = {}
-    for j = 1, 8 do key[j] = j < i and "CONV" or "*" end
+    for j = 1, n do key[j] = j < i and "CONV" or "*" end
     keys[table.concat(key, " ")] = moves[i]
   end
-  return roger.policy("sort by hand", { actions = moves, table = keys })
+  return roger.policy("sort " .. n .. " by hand", { actions = moves, table = keys, done = moves[n] })
 end
-local by_hand = hand_written()
 
 -- The learned sorting stage for n objects: Psi is Phi_T bound to each type (then let go); the
 -- state is which bindings ended their last move delivered (CONV), unfinished (!CONV) or were never
@@ -163,7 +164,7 @@ local stages = {
 }
 for _, n in ipairs({ 2, 4, 8 }) do
   stages[#stages + 1] = sorting_stage("Sort" .. n, n, { { name = "Learned", actions = learned_moves } }, 100)
-  stages[#stages + 1] = sorting_stage("Hand" .. n, n, { { name = "Scripted", actions = { by_hand } } }, 1)
+  stages[#stages + 1] = sorting_stage("Hand" .. n, n, { { name = "Scripted", actions = { hand_written(n) } } }, 1)
 end
 
 return {
