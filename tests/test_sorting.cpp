@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <unistd.h>
 
@@ -17,6 +18,8 @@
 #include "core/error.h"
 #include "script/curriculum.h"
 #include "script/scenario.h"
+#include "learn/episode.h"
+#include "script/skill_script.h"
 #include "sim/occupancy.h"
 
 using namespace roger;
@@ -182,4 +185,20 @@ TEST_CASE("sorting: the learned transport skill is loaded from its policy file, 
   // Psi of the sorting stage: Phi_T bound to each of the four types.
   CHECK(sr.psi == std::vector<std::string>{"sort circle", "sort triangle", "sort pentagon", "sort spade"});
   fs::remove_all(dir);
+}
+
+TEST_CASE("sorting: the documented two-move example runs and is shown verbatim", "[sorting]") {
+  const SkillScript script = SkillScript::load("docs/examples/sorting_moves.lua");
+  const SkillScript::NamedPolicy& policy = script.policy("two_moves");
+  Scenario scenario = Scenario::load("sorting");
+  EpisodeOptions options;
+  options.time_limit = policy.time_limit;
+  const EvalSummary s = evaluate_action([&](uint64_t seed) { return scenario.generate(seed); }, *policy.action,
+                                        *policy.goal, 10, 1000, options, WorldParams{});
+  CHECK(s.successes >= 8);
+  std::ifstream doc_in("docs/control.md"), file_in("docs/examples/sorting_moves.lua");
+  std::stringstream doc, file;
+  doc << doc_in.rdbuf();
+  file << file_in.rdbuf();
+  CHECK(doc.str().find(file.str().substr(file.str().find("local skills"))) != std::string::npos);
 }
