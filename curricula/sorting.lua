@@ -162,8 +162,10 @@ local stages = {
     skill = { name = "Phi_T", context = "DC6" },
   },
 }
+-- Training budgets of the learned sorting stages (episodes), by number of objects.
+local BUDGET = { [2] = 300, [4] = 500, [8] = 800 }
 for _, n in ipairs({ 2, 4, 8 }) do
-  stages[#stages + 1] = sorting_stage("Sort" .. n, n, { { name = "Learned", actions = learned_moves } }, 100)
+  stages[#stages + 1] = sorting_stage("Sort" .. n, n, { { name = "Learned", actions = learned_moves } }, BUDGET[n])
   stages[#stages + 1] = sorting_stage("Hand" .. n, n, { { name = "Scripted", actions = { hand_written(n) } } }, 1)
 end
 
