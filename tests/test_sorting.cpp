@@ -129,6 +129,16 @@ return { name = "probe", stages = { roger.stage{
   CHECK(m.find("probe.lua:9:") != std::string::npos);  // the reward's error(...)
   CHECK(m.find("stage 'S', context 'A'") != std::string::npos);
   CHECK(m.find("reward saw 6 things") != std::string::npos);  // 2 objects + 4 regions: absorbing was called with the world
+
+  // An absorbing function that raises: its line, and the stage and context.
+  std::string bad = script;
+  bad.replace(bad.find("  seen = #world.objects"), 0, "  if world.goals[1].name == \"circle\" then error(\"absorbing raised\") end\n");
+  std::ofstream(dir / "probe.lua") << bad;
+  const std::string a = error_of([&] { train_stage(o); });
+  INFO(a);
+  CHECK(a.find("probe.lua:4:") != std::string::npos);
+  CHECK(a.find("absorbing function") != std::string::npos);
+  CHECK(a.find("absorbing raised") != std::string::npos);
   fs::remove_all(dir);
 }
 
