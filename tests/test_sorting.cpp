@@ -14,6 +14,7 @@
 
 #include "batch/trainer.h"
 #include "control/agent.h"
+#include "control/primitives.h"
 #include "control/planner.h"
 #include "core/error.h"
 #include "script/curriculum.h"
@@ -211,4 +212,39 @@ TEST_CASE("sorting: the documented two-move example runs and is shown verbatim",
   doc << doc_in.rdbuf();
   file << file_in.rdbuf();
   CHECK(doc.str().find(file.str().substr(file.str().find("local skills"))) != std::string::npos);
+}
+
+TEST_CASE("sorting: a binding redirects the world's attention, and gives up after its patience", "[sorting]") {
+  Scenario scenario = Scenario::load("sorting");
+  const WorldSpec spec = scenario.generate(5);
+  Agent agent;
+  agent.reset(spec);
+  Binding::Bindings b;
+  b.stimulus = true;
+  b.colour = Colour{0, 200, 0};  // no object has it: search never converges
+  b.region = 3;
+  b.ignore_region = 3;
+  b.patience = 1.0;
+  auto binding = std::make_shared<Binding>(make_primitive("search"), b);
+  binding->reset(5);
+  CHECK(binding->state(agent.input()) == Gamma::kNoRef);  // never invoked
+  agent.step(*binding);
+  // From the next tick the world attends as the binding asked; the first tick commanded nothing.
+  CHECK(agent.world().attention().colour == Colour{0, 200, 0});
+  CHECK(agent.world().attention().region == 3);
+  CHECK(agent.input().region == 3);
+  CHECK(binding->output().gamma == Gamma::kNotConv);
+  CHECK(binding->output().command.isZero());
+  CHECK(binding->invocations() == 1);
+  // Run it: not converged after 1 s, the invocation is given up (NOREF, no command), and the next
+  // evaluation starts the second.
+  double gave_up_at = -1.0;
+  while (agent.input().time < 3.0 && binding->invocations() == 1) {
+    if (binding->state(agent.input()) == Gamma::kNoRef && gave_up_at < 0.0) gave_up_at = agent.input().time;
+    agent.step(*binding);
+  }
+  CHECK(gave_up_at == Approx(1.0).margin(0.05));
+  CHECK(binding->invocations() == 2);
+  agent.step(*binding);
+  CHECK(binding->output().gamma == Gamma::kNotConv);  // running again
 }
