@@ -248,3 +248,26 @@ TEST_CASE("sorting: a binding redirects the world's attention, and gives up afte
   agent.step(*binding);
   CHECK(binding->output().gamma == Gamma::kNotConv);  // running again
 }
+
+TEST_CASE("sorting: bad roger.bind arguments are errors at file:line naming the field", "[sorting]") {
+  const fs::path dir = temp_dir("roger_sorting_bind");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"{}", "binds nothing: give 'stimulus', 'region' or both"},
+      {"{region = 99}", "field 'region' must be a goal region's index 0 to 63"},
+      {"{stimulus = \"red\"}", "field 'stimulus' must be a colour"},
+      {"{stimulus = \"#ff0000\", patience = -1}", "field 'patience' must be seconds"},
+      {"{stimulus = \"#ff0000\", ignore_delivered = true}", "field 'ignore_delivered' needs 'region'"},
+      {"{stimulus = \"#ff0000\", colour = 1}", "unknown field 'colour'; known fields: ignore_delivered, patience, region, stimulus"},
+  };
+  for (const auto& [fields, message] : cases) {
+    INFO(fields);
+    std::ofstream(dir / "bad.lua") << "local s = roger.primitive(\"search\")\nlocal b = roger.bind(\"b\", s, " << fields
+                                   << ")\nreturn { name = \"x\", policies = { p = { action = b, goal = roger.converged(b), time_limit = 1 } } }\n";
+    const std::string m = error_of([&] { SkillScript::load((dir / "bad.lua").string()); });
+    INFO(m);
+    CHECK(m.find("bad.lua:2:") != std::string::npos);
+    CHECK(m.find("roger.bind('b')") != std::string::npos);
+    CHECK(m.find(message) != std::string::npos);
+  }
+  fs::remove_all(dir);
+}
