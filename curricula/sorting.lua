@@ -22,10 +22,10 @@ local p = skills.primitives({ carry = { depth = 0.15, margin = 0.2 } })
 local Phi6 = skills.Phi6(p)
 local Phi7 = skills.Phi7(p)
 local transport = skills.transport(p)
-local release = roger.primitive("release")
 
--- Stages SG and T exactly as curricula/paper.lua writes them (same controllers, rewards, learners
--- and budgets), except that T also yields its DC6 policy as the skill Phi_T.
+-- Stages SG and T as curricula/paper.lua writes them (same controllers, rewards, learners and
+-- budgets), except for the carrying navigator's `depth` above and that T also yields its DC6
+-- policy as the skill Phi_T.
 local Phi_SG = roger.learned("Phi_SG")
 local Phi_STG = skills.Phi_STG(Phi_SG, p)
 local Phi_T = roger.learned("Phi_T")
@@ -112,8 +112,8 @@ local function hand_written(n)
 end
 
 -- The learned sorting stage for n objects: Psi is Phi_T bound to each type (then let go); the
--- state is which bindings ended their last move delivered (CONV), unfinished (!CONV) or were never
--- tried (NOREF).
+-- state is which bindings ended their last move delivered (CONV), are running (!CONV), or were never
+-- tried or gave up (NOREF).
 local learned_moves = {}
 for k, t in ipairs(TYPES) do learned_moves[k] = sort_move(Phi_T, t, "") end
 
