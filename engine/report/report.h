@@ -15,19 +15,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "report/stats.h"  // CurveGrid, curve_grid
+
 namespace roger {
-
-// The common time grid of a run's learning curves, in simulated seconds, and the curves on it.
-struct CurveGrid {
-  std::vector<double> t;                   // grid times (simulated seconds of training)
-  std::vector<std::vector<double>> values; // per trial: its greedy reward at each grid time
-};
-
-// Puts each trial's checkpoints (simulated training seconds, greedy reward) on a common grid of
-// `points` times from the latest first checkpoint to the latest last checkpoint (log-spaced when
-// log_x), by linear interpolation between checkpoints; a trial that stopped early holds its last
-// value. Trials without checkpoints are skipped.
-CurveGrid curve_grid(const std::vector<std::vector<std::pair<double, double>>>& trials, int points, bool log_x);
 
 // Writes tables.md, report.json (the tables' numbers), every figure of the results folder `dir`
 // and its dashboard: index.html with dashboard.js, the same numbers for a browser (docs/browser.md).

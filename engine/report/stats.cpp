@@ -370,4 +370,55 @@ double percent_improvement(double baseline, double value) {
   return 100.0 * (baseline - value) / baseline;
 }
 
+CurveGrid curve_grid(const std::vector<std::vector<std::pair<double, double>>>& trials, int points, bool log_x) {
+  CurveGrid g;
+  double lo = -1, hi = -1;
+  for (const auto& tr : trials) {
+    if (tr.empty()) continue;
+    lo = std::max(lo, tr.front().first);
+    hi = std::max(hi, tr.back().first);
+  }
+  if (hi < 0 || points < 2) return g;
+  if (log_x && lo <= 0) {
+    // The first positive checkpoint time of the trial whose first one is latest.
+    lo = hi;
+    for (const auto& tr : trials)
+      for (const auto& [t, v] : tr)
+        if (t > 0) {
+          lo = std::min(lo, t);
+          break;
+        }
+  }
+  if (hi <= lo) {
+    g.t = {lo};
+  } else {
+    for (int k = 0; k < points; ++k) {
+      const double f = double(k) / double(points - 1);
+      g.t.push_back(log_x ? lo * std::pow(hi / lo, f) : lo + (hi - lo) * f);
+    }
+  }
+  for (const auto& tr : trials) {
+    if (tr.empty()) continue;
+    std::vector<double> v;
+    for (double t : g.t) {
+      if (t <= tr.front().first) {
+        v.push_back(tr.front().second);
+        continue;
+      }
+      if (t >= tr.back().first) {
+        v.push_back(tr.back().second);
+        continue;
+      }
+      const auto it = std::lower_bound(tr.begin(), tr.end(), t,
+                                       [](const std::pair<double, double>& p, double x) { return p.first < x; });
+      const auto& b = *it;
+      const auto& a = *(it - 1);
+      const double w = b.first > a.first ? (t - a.first) / (b.first - a.first) : 1.0;
+      v.push_back(a.second + w * (b.second - a.second));
+    }
+    g.values.push_back(std::move(v));
+  }
+  return g;
+}
+
 }  // namespace roger

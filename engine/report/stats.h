@@ -132,4 +132,16 @@ std::string format_min_sec(double seconds);
 // baseline (Table I: 49:54 -> 24:55 is 50.07%). The baseline must be positive.
 double percent_improvement(double baseline, double value);
 
+// The common time grid of a run's learning curves, in simulated seconds, and the curves on it.
+struct CurveGrid {
+  std::vector<double> t;                   // grid times (simulated seconds of training)
+  std::vector<std::vector<double>> values; // per trial: its greedy reward at each grid time
+};
+
+// Puts each trial's checkpoints (simulated training seconds, greedy reward) on a common grid of
+// `points` times from the latest first checkpoint to the latest last checkpoint (log-spaced when
+// log_x), by linear interpolation between checkpoints; a trial that stopped early holds its last
+// value. Trials without checkpoints are skipped.
+CurveGrid curve_grid(const std::vector<std::vector<std::pair<double, double>>>& trials, int points, bool log_x);
+
 }  // namespace roger
