@@ -314,7 +314,7 @@ TEST_CASE("the API extends a `roger` table that a scenario loader made", "[lua_c
   install_control_api(scenario.sandbox());
   LuaSandbox& sandbox = scenario.sandbox();
   sandbox.load_string("return roger.shape ~= nil and roger.robot.base_radius > 0 and "
-                      "roger.primitive('phi0').kind == 'phi0' and #roger.primitive_kinds == 7",
+                      "roger.primitive('phi0').kind == 'phi0' and #roger.primitive_kinds == 8",
                       "=extend");
   sandbox.call(0, 1);
   CHECK(lua_toboolean(sandbox.state(), -1));

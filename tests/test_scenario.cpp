@@ -421,7 +421,7 @@ TEST_CASE("script mistakes are reported at the script's file:line", "[scenario]"
   SECTION("a missing scenario lists the shipped ones") {
     CHECK_THROWS_WITH(Scenario::load("clutered"),
                       "no scenario 'clutered': not a file, and scenarios/clutered.lua does not "
-                      "exist; shipped scenarios: cluttered, unobstructed");
+                      "exist; shipped scenarios: cluttered, sorting, unobstructed");
   }
 }
 

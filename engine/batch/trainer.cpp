@@ -164,6 +164,15 @@ nlohmann::json point_json(const TrainPoint& p) {
   return {{"episodes", p.episodes}, {"sim_s", p.sim_s}, {"decisions", p.decisions}, {"wall_s", p.wall_s}};
 }
 
+// A learned skill's policy file given as --skill NAME=FILE.
+nlohmann::json read_skill_file(const std::string& name, const std::string& path) {
+  try {
+    return batch_detail::read_json_file(path);  // checked: truncated, empty or not JSON is named
+  } catch (const std::exception& e) {
+    throw Error("the policy of the learned skill '" + name + "': " + e.what());
+  }
+}
+
 // Binds every learned skill `ctx` uses: from embedded policies (`embedded`: name -> policy JSON),
 // from files, or by training the producing stage with `seed`. Appends where each came from.
 void bind_skills(Curriculum& cur, const CurriculumContext& ctx, const TrainOptions& options,
@@ -173,8 +182,16 @@ void bind_skills(Curriculum& cur, const CurriculumContext& ctx, const TrainOptio
     const CurriculumStage* producer = cur.producer(name);
     if (!producer) throw Error("curriculum '" + cur.name() + "': no stage yields the learned skill '" + name + "'");
     const CurriculumContext& pctx = producer->context(producer->skill->second);
-    // A skill built on other learned skills needs them bound first.
-    bind_skills(cur, pctx, options, embedded, sources);
+    // A skill built on other learned skills needs them bound first; a skill read from a file, with
+    // the ones that file embeds (those it was learned with), not with new ones.
+    nlohmann::json from_file;
+    const nlohmann::json* deps = embedded;
+    const auto file = options.skill_files.find(name);
+    if (!embedded && file != options.skill_files.end()) {
+      from_file = read_skill_file(name, file->second);
+      if (from_file.contains("extra") && from_file["extra"].contains("skills")) deps = &from_file["extra"]["skills"];
+    }
+    bind_skills(cur, pctx, options, deps, sources);
     SkillSource src;
     src.name = name;
     src.stage = producer->name;
@@ -185,13 +202,9 @@ void bind_skills(Curriculum& cur, const CurriculumContext& ctx, const TrainOptio
       src.file = e.value("file", "");
       src.trained = e.value("trained", false);
       src.trained_seed = e.value("seed", uint64_t(0));
-    } else if (auto it = options.skill_files.find(name); it != options.skill_files.end()) {
-      try {
-        src.policy = batch_detail::read_json_file(it->second);
-      } catch (const std::exception& e) {
-        throw Error("the policy of the learned skill '" + name + "': " + e.what());
-      }
-      src.file = it->second;
+    } else if (file != options.skill_files.end()) {
+      src.policy = std::move(from_file);
+      src.file = file->second;
     } else if (embedded) {
       throw Error("the policy file does not embed the learned skill '" + name + "' its context uses");
     } else {
@@ -251,6 +264,7 @@ TrainResult train_stage(const TrainOptions& options) {
   bind_skills(cur, ctx, options, nullptr, res.skills);
 
   StageRun run{cur, stage, ctx, make_scenario(stage, "", options.sets, options.limits, &res.params), Agent()};
+  cur.set_world(&run.agent.world());  // the Lua callbacks' `world`
   res.scenario = run.scenario.name();
   res.q = std::make_shared<QTable>(res.psi, stage.learner);
   QTable& q = *res.q;
@@ -430,6 +444,7 @@ PolicyEvalResult evaluate_policy_file(const PolicyEvalOptions& options) {
   out.context = ctx.name;
   out.time_limit = stage.time_limit;
   StageRun run{cur, stage, ctx, make_scenario(stage, options.scenario, options.sets, options.limits, &out.params), Agent()};
+  cur.set_world(&run.agent.world());
   out.scenario = run.scenario.name();
   const uint64_t first = options.first_seed >= 0 ? uint64_t(options.first_seed) : stage.checkpoints.seeds;
   out.eval = greedy_eval(run, q, first, options.episodes, "evaluation");

@@ -10,6 +10,7 @@ void Agent::reset(const WorldSpec& spec) {
   world_.reset(spec);
   grid_ = build_occupancy(world_.spec(), params_.grid_inflate);
   percepts_ = Percepts{};
+  next_attention_ = world_.attention();
   input_.tick = 0;
   refresh_input();
 }
@@ -23,11 +24,21 @@ void Agent::refresh_input() {
   input_.grid = &grid_;
   input_.time = world_.time();
   input_.dt = world_.tick_seconds();
+  input_.attention = &world_.attention();
+  input_.next_attention = &next_attention_;
+  input_.region = world_.attention().region;
 }
 
 const ControlOutput& Agent::step(Controller& action) {
   const ControlOutput& out = action.evaluate(input_);
   action.executed(input_);
+  if (next_attention_ != world_.attention()) {
+    // A binding redirected the eyes: what was perceived of the old stimulus is not the new one's.
+    const Attention& now = world_.attention();
+    if (next_attention_.colour != now.colour || next_attention_.ignore_region != now.ignore_region)
+      percepts_ = Percepts{};
+    world_.set_attention(next_attention_);
+  }
   DofVector errors = out.command;
   if (params_.gaze_reflex) {
     // Like a vestibulo-ocular reflex: an eye the action does not move keeps the stimulus centred.

@@ -47,6 +47,7 @@ class Agent {
   Percepts percepts_;
   OccupancyGrid grid_;
   ControlInput input_;
+  Attention next_attention_;  // where a binding asked the eyes to attend from the next tick
   DofVector last_errors_ = DofVector::Zero();
 };
 

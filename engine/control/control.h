@@ -72,6 +72,12 @@ struct ControlInput {
   double time = 0.0;                    // simulated seconds since the episode began
   double dt = 0.02;                     // control tick (s)
   uint64_t tick = 0;                    // tick counter, for caching within a tick
+  // Bindings (see Binding): what this tick's senses attended to, where a controller may ask the
+  // agent to attend from the next tick on, and the goal region that goal='region' navigators
+  // deliver to instead of their own `region` parameter (-1: their own; the attention's region).
+  const Attention* attention = nullptr;
+  Attention* next_attention = nullptr;
+  int region = -1;
 };
 
 // What a controller gives back each tick.
@@ -243,6 +249,64 @@ class StandIn : public Controller {
 
  private:
   ControllerPtr target_;
+};
+
+// A controller run under bindings set per invocation: the stimulus its eyes attend to (colour,
+// and the goal region whose let-go objects they ignore) and the goal region its goal='region'
+// navigators deliver to. One learned skill serves every binding without retraining: the
+// bindings change what it perceives and where it delivers, not what it learned.
+// The bindings are the world's attention (Attention): an invocation begins when the binding is
+// evaluated on a tick after one on which it was not executed; the target is reset (seed mixed
+// with the invocation count) and the agent is asked to attend as the binding says. Until the
+// world attends so (the next tick) the binding commands nothing and is !CONV. The attention stays
+// as the last binding left it. While it is not running, its state is the one it ended its last
+// invocation with (NOREF before the first): a bound skill that delivered stays CONV, so the state
+// vector of a stage remembers which bindings have done their work.
+// With `patience` > 0, an invocation that has not converged after that many seconds is given up:
+// the binding reports NOREF (the state changes, so whoever chose it decides again) and commands
+// nothing; evaluated again, it starts a new invocation. Multi-object scenes have dead ends a
+// single object never showed (a stimulus hidden from one eye by another object, a grasp lost on
+// the way): giving up and starting over is how a chooser gets out of them.
+class Binding final : public Controller {
+ public:
+  // What a binding sets; a field it does not set stays as the world's attention has it.
+  struct Bindings {
+    bool stimulus = false;   // sets the colour and the ignored region
+    Colour colour;           // the stimulus colour (when `stimulus`)
+    int ignore_region = -1;  // the region whose let-go objects are ignored (when `stimulus` or >= 0)
+    int region = -1;         // the delivery region (-1: not bound)
+    double patience = 0.0;   // seconds an invocation may run without converging (0: no limit)
+  };
+  Binding(ControllerPtr target, const Bindings& bindings);
+  std::vector<const Controller*> children() const override { return {target_.get()}; }
+  const char* kind() const override { return "binding"; }
+  void reset(uint64_t seed) override;
+  void executed(const ControlInput& in) override;
+  const ControllerPtr& target() const { return target_; }
+  const Bindings& bindings() const { return bindings_; }
+  int invocations() const { return invocations_; }
+
+ protected:
+  void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
+  bool compute_state(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
+
+ private:
+  // Whether this tick continues an invocation (executed on the previous tick, or begun on this).
+  bool running(const ControlInput& in) const;
+  // The attention this binding asks for, given the world's attention now.
+  Attention wanted(const Attention& now) const;
+  // Whether this tick's attention is the one the binding asks for.
+  bool attending(const ControlInput& in) const;
+  // Whether the running invocation has used up its patience without converging.
+  bool out_of_patience(const ControlInput& in) const;
+  ControllerPtr target_;
+  Bindings bindings_;
+  uint64_t seed_ = 0;
+  int invocations_ = 0;
+  uint64_t executed_tick_ = UINT64_MAX, begun_tick_ = UINT64_MAX;
+  double begun_time_ = 0.0;     // when the running invocation began (s)
+  bool gave_up_ = false;        // the last invocation ran out of patience
+  Gamma last_ = Gamma::kNoRef;  // the state the last invocation ended with
 };
 
 // Packs the gammas of a list of controllers into a state index in [0, 3^n).

@@ -152,6 +152,7 @@ PrimitivePtr make_primitive(const std::string& name) {
   if (name == "phi3") return make_grasp();
   if (name == "phi4") return make_condition();
   if (name == "phi5") return make_hold();
+  if (name == "release") return make_release();
   std::string known;
   for (const auto& n : primitive_names()) known += (known.empty() ? "" : ", ") + n;
   throw Error("unknown primitive '" + name + "'; known primitives: " + known);
@@ -159,7 +160,7 @@ PrimitivePtr make_primitive(const std::string& name) {
 
 const std::vector<std::string>& primitive_names() {
   static const std::vector<std::string> names = {"phi0", "search", "phi1", "phi2",
-                                                 "phi3", "phi4",   "phi5"};
+                                                 "phi3", "phi4",   "phi5", "release"};
   return names;
 }
 
@@ -171,7 +172,8 @@ const std::map<std::string, std::string>& primitive_descriptions() {
       {"phi2", "visual preshape: body and hands to a standoff around the object"},
       {"phi3", "contact configuration: close on the object, balance the touch normals"},
       {"phi4", "kinematic conditioning: most manipulable arm posture (subordinate)"},
-      {"phi5", "dynamic contact adjustment: hold the grasp while the base accelerates"}};
+      {"phi5", "dynamic contact adjustment: hold the grasp while the base accelerates"},
+      {"release", "let go: arms back to the start posture, then back the base off"}};
   return d;
 }
 

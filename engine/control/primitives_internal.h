@@ -117,6 +117,7 @@ PrimitivePtr make_preshape();   // phi2 (primitives_grasp.cpp)
 PrimitivePtr make_grasp();      // phi3 (primitives_grasp.cpp)
 PrimitivePtr make_condition();  // phi4 (primitives_simple.cpp)
 PrimitivePtr make_hold();       // phi5 (primitives_grasp.cpp)
+PrimitivePtr make_release();    // release (primitives_release.cpp)
 
 }  // namespace primitives_internal
 }  // namespace roger

@@ -19,7 +19,7 @@ class Navigate final : public Primitive {
   // Where the constructor declared each parameter: reading one is an index, not a name search.
   struct {
     ParamSlot goal = 0, region = 0, approach = 0, carry = 0, speed = 0,
-        carry_turn = 0, memory = 0, margin = 0, replan = 0, tolerance = 0;
+        carry_turn = 0, memory = 0, margin = 0, replan = 0, tolerance = 0, depth = 0;
   } p_;
  public:
   Navigate() : Primitive("phi1", 0.05) {
@@ -31,6 +31,7 @@ class Navigate final : public Primitive {
     p_.carry_turn = declare("carry_turn", 0.6, 0.01, 3.0, "largest heading step (rad) per command while carrying");
     p_.memory = declare("memory", 2.0, 0.0, 60.0, "seconds a lost object's last position stays a goal");
     p_.margin = declare("margin", 0.05, 0.0, 1.0, "how far (m) inside a goal region's edge the goal cells end");
+    p_.depth = declare("depth", 0.0, 0.0, 1.0, "how far (m) inside a goal region's edge the control point must be to converge");
     p_.replan = declare("replan", 0.15, 0.0, 1.0, "how far (m) the object estimate must move to plan again");
     // Steering needs the direction of the gradient, not the potential to 4 digits: a looser
     // solve than the planner's default halves the sweeps of every plan.
@@ -114,13 +115,15 @@ class Navigate final : public Primitive {
 
   // The goal region of the scenario (goal='region'); false when the scenario has no such region.
   bool prepare_region(const ControlInput& in, bool solve) {
-    const size_t k = size_t(value(p_.region));
+    // A binding may name the region (ControlInput::region) instead of the parameter.
+    const size_t k = in.region >= 0 ? size_t(in.region) : size_t(value(p_.region));
     if (k >= in.spec->goals.size()) return false;
-    // The region and the grid are fixed for the episode: set them once (the planner would
+    // The region and the grid are fixed while the region is: set them once (the planner would
     // notice that nothing changed, but finding the goal cells each tick is not free).
-    if (grid_ != in.grid || !planned_) {
+    if (grid_ != in.grid || !planned_ || k != planned_region_) {
       grid_ = in.grid;
       planned_ = true;
+      planned_region_ = k;
       planner_.set_grid(*in.grid);
       goal_center_ = in.spec->goals[k].center;
       goal_radius_ = in.spec->goals[k].radius;
@@ -178,9 +181,11 @@ class Navigate final : public Primitive {
     return std::max(0.0, (p - goal_center_).norm() - goal_radius_);
   }
 
-  // Whether the control point is within epsilon of the goal.
+  // Whether the control point is within epsilon of the goal (`depth` inside a region's edge: a
+  // carried object's centre is then inside the region, not merely at its edge).
   bool converged(const Vec2& p) const {
-    return (p - goal_center_).norm() <= goal_radius_ + epsilon();
+    const double depth = choice(p_.goal) == "region" ? std::min(value(p_.depth), 0.9 * goal_radius_) : 0.0;
+    return (p - goal_center_).norm() <= goal_radius_ - depth + epsilon();
   }
 
   // ---- The reference ----
@@ -227,6 +232,7 @@ class Navigate final : public Primitive {
   HarmonicPlanner planner_;
   const OccupancyGrid* grid_ = nullptr;
   bool planned_ = false;
+  size_t planned_region_ = 0;  // the goal region planned for (goal='region')
   Vec2 goal_center_ = Vec2::Zero();
   double goal_radius_ = 0.0;
   int turn_sign_ = 0;  // a committed turn on the spot while carrying: +1 left, -1 right, 0 none

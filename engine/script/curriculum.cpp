@@ -24,6 +24,7 @@ namespace fs = std::filesystem;
 using curriculum_detail::LearnedRef;
 using curriculum_detail::LuaCallback;
 using curriculum_detail::parse_stage;
+using curriculum_detail::push_world;
 
 namespace {
 
@@ -108,6 +109,7 @@ struct Curriculum::Impl {
   Book book;
   std::vector<CurriculumStage> stages;
   std::map<std::string, LuaCallback> absorbing_fns, reward_fns;  // by stage name
+  const World* world = nullptr;  // shown to the callbacks (set_world)
 };
 
 Curriculum::Curriculum() = default;
@@ -308,6 +310,8 @@ void push_state(lua_State* L, const CurriculumContext& ctx, const std::vector<Ga
 
 }  // namespace
 
+void Curriculum::set_world(const World* world) { impl_->world = world; }
+
 bool Curriculum::call_absorbing(const CurriculumStage& stage, const CurriculumContext& context,
                                 const std::vector<Gamma>& state, double time) {
   const LuaCallback& fn = impl_->absorbing_fns.at(stage.name);
@@ -316,8 +320,9 @@ bool Curriculum::call_absorbing(const CurriculumStage& stage, const CurriculumCo
   lua_rawgeti(L, LUA_REGISTRYINDEX, fn.ref);
   push_state(L, context, state);
   lua_pushnumber(L, time);
+  if (impl_->world) push_world(L, *impl_->world);
   try {
-    impl_->sandbox->call(2, 1);
+    impl_->sandbox->call(impl_->world ? 3 : 2, 1);
   } catch (const ScriptError& e) {
     throw ScriptError(stage.where(context.name) + ": absorbing function: " + e.message,
                       e.file.empty() ? fn.file : e.file, e.file.empty() ? fn.line : e.line, e.traceback);
@@ -343,8 +348,9 @@ double Curriculum::call_reward(const CurriculumStage& stage, const CurriculumCon
   }
   lua_pushstring(L, event.c_str());
   lua_pushnumber(L, time);
+  if (impl_->world) push_world(L, *impl_->world);
   try {
-    impl_->sandbox->call(4, 1);
+    impl_->sandbox->call(impl_->world ? 5 : 4, 1);
   } catch (const ScriptError& e) {
     throw ScriptError(stage.where(context.name) + ": reward function: " + e.message,
                       e.file.empty() ? fn.file : e.file, e.file.empty() ? fn.line : e.line, e.traceback);

@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "control/control.h"
+#include "sim/world.h"
 #include "learn/learning.h"
 #include "script/lua_sandbox.h"
 #include "control/predicate.h"
@@ -111,6 +112,10 @@ class Curriculum {
   void bind_learned(const std::string& name, ControllerPtr skill);
   // Whether the script made a stand-in for this learned skill.
   bool has_learned(const std::string& name) const;
+
+  // The world the Lua callbacks are shown (their last argument, `world`), or null for none: the
+  // episode's world, set by whoever runs the episodes (the trainer).
+  void set_world(const World* world);
 
   // Calls a stage's Lua absorbing function on a state (the gammas of a context's actions).
   // Throws ScriptError naming the stage, the context and file:line.

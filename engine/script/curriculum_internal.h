@@ -11,6 +11,10 @@
 namespace roger {
 namespace curriculum_detail {
 
+// Pushes the world as the Lua callbacks see it (the task's judge, not Roger's senses): a table
+// {objects = {{name, colour, x, y, held, region}, ...}, goals = {{name, x, y, radius}, ...}}.
+void push_world(lua_State* L, const World& world);
+
 // The stand-in roger.learned(name): behaves as the skill bound to it at train time; until then
 // it has no reference (NOREF), so a stage trained without binding it simply never sees it act.
 class LearnedRef final : public StandIn {

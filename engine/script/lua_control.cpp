@@ -236,6 +236,7 @@ int install(lua_State* L) {
                                 {"gamma", l_gamma},         {"all", l_all},
                                 {"any", l_any},             {"negate", l_negate},
                                 {"not", l_negate},          {"held", l_held},
+                                {"bind", l_bind},
                                 {nullptr, nullptr}};
   luaL_setfuncs(L, functions, 0);
   const auto& kinds = primitive_names();

@@ -122,6 +122,7 @@ int l_compose(lua_State* L);
 // lua_control_skills.cpp
 int l_sequence(lua_State* L);
 int l_policy(lua_State* L);
+int l_bind(lua_State* L);
 
 // lua_control_predicates.cpp
 int l_converged(lua_State* L);

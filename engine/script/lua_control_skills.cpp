@@ -303,5 +303,40 @@ int l_policy(lua_State* L) {
   });
 }
 
+// roger.bind(name, controller, {stimulus = colour, region = k, ignore_delivered = true, patience = s})
+int l_bind(lua_State* L) {
+  return lua_protect(L, [L]() {
+    ControlBook& book = book_of(L);
+    const std::string name = skill_name(L, "roger.bind");
+    const std::string context = "roger.bind('" + name + "')";
+    if (lua_gettop(L) != 3)
+      raise(L, context + ": expects (name, controller, {stimulus = colour, region = k}), got " +
+                   std::to_string(lua_gettop(L)) + " arguments");
+    ControllerPtr target = lua_check_controller(L, 2, context, "argument 2 (the controller to bind)");
+    LuaFields f(L, 3, context, {"stimulus", "region", "ignore_delivered", "patience"});
+    if (!f.has("stimulus") && !f.has("region")) f.fail("binds nothing: give 'stimulus', 'region' or both");
+    const int64_t region = f.integer("region", -1);
+    if (f.has("region") && (region < 0 || region > 63))
+      f.fail("field 'region' must be a goal region's index 0 to 63 (as phi1's 'region'), got " + std::to_string(region));
+    Binding::Bindings b;
+    b.stimulus = f.has("stimulus");
+    b.colour = f.colour("stimulus", Colour{});
+    b.region = int(region);
+    if (f.boolean("ignore_delivered", f.has("region"))) {
+      if (!f.has("region")) f.fail("field 'ignore_delivered' needs 'region': the region whose delivered objects to ignore");
+      b.ignore_region = int(region);
+    }
+    b.patience = f.number("patience", 0.0);
+    if (!(b.patience >= 0.0 && b.patience <= 1e6))
+      f.fail("field 'patience' must be seconds from 0 (no limit) to 1e6, got " + std::to_string(b.patience));
+    count_object(L, book);
+    auto binding = made(book, std::make_shared<Binding>(target, b));
+    binding->set_name(name);
+    register_name(L, book, context, name, binding);
+    lua_push_controller(L, binding);
+    return 1;
+  });
+}
+
 }  // namespace lua_control_detail
 }  // namespace roger

@@ -136,7 +136,7 @@ void paint_eye(const Vec2& eye, double eye_heading, const std::vector<SeenSurfac
   image.stimulus.fill(0.0f);
 
   for (const Extent& e : extents) {
-    const bool is_stimulus = e.surface->colour == stimulus_colour;
+    const bool is_stimulus = !e.surface->ignored && e.surface->colour == stimulus_colour;
     // Visible parts: [u0, u1] minus the covered intervals (sorted, disjoint).
     double cursor = e.u0;
     for (const auto& c : covered) {

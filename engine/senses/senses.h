@@ -72,6 +72,7 @@ struct SeenSurface {
   double radius = 0.0;         // disk radius; polygon: the largest distance of a vertex from the centroid
   int vertex_count = 0;        // polygon vertices, world frame
   std::array<Vec2, 8> vertices;
+  bool ignored = false;        // never a stimulus, whatever its colour (attention has put it away)
 };
 
 // Appends the eyes' view of a shape placed at a pose: one world-frame surface per convex part.

@@ -200,8 +200,23 @@ void World::update_surfaces() {
   m.surfaces.resize(m.static_surfaces);
   for (size_t i = 0; i < spec_.objects.size(); ++i) {
     const auto& o = spec_.objects[i];
-    append_seen_surfaces(m.surfaces, o.shape, object_pose(int(i)), SurfaceKind::kObject, int(i), o.colour);
+    const size_t first = m.surfaces.size();
+    const Pose pose = object_pose(int(i));
+    append_seen_surfaces(m.surfaces, o.shape, pose, SurfaceKind::kObject, int(i), o.colour);
+    if (put_away(int(i), pose))
+      for (size_t k = first; k < m.surfaces.size(); ++k) m.surfaces[k].ignored = true;
   }
+}
+
+bool World::put_away(int i, const Pose& pose) const {
+  const int r = attention_.ignore_region;
+  if (r < 0 || size_t(r) >= spec_.goals.size()) return false;
+  const GoalRegion& g = spec_.goals[size_t(r)];
+  if ((Vec2(pose.x, pose.y) - g.center).norm() > g.radius) return false;
+  // Still held (touched by the body or a hand at the last sensing): not put away yet.
+  for (const Touch& t : senses_.touch)
+    if (t.contact && t.kind == SurfaceKind::kObject && t.index == i) return false;
+  return true;
 }
 
 void World::sense() {
@@ -220,7 +235,7 @@ void World::sense() {
     eye_pos[e] = to_world(s.base, Vec2(0.0, e == kLeft ? r.eye_y : -r.eye_y));
     eye_heading[e] = s.base.theta + m.eye[e];
     paint_eye(eye_pos[e], eye_heading[e], m.surfaces, spec_.arena.wall_colour,
-              spec_.stimulus_colour, s.image[e]);
+              attention_.colour, s.image[e]);
     s.stimulus[e] = detect_stimulus(s.image[e]);
   }
   s.stereo_valid = s.stimulus[0].seen && s.stimulus[1].seen &&

@@ -43,6 +43,21 @@ struct Frame {
   Senses senses;
 };
 
+// What Roger attends to: the stimulus colour the eyes look for, optionally a goal region whose
+// objects they ignore once Roger has let go of them (objects already put away draw no attention),
+// and the goal region that goal='region' navigators deliver to. It belongs to the world, not to
+// one controller, so that everything evaluated on a tick (the running skill, a goal predicate,
+// a recorder watching the controllers) sees the same bindings.
+struct Attention {
+  Colour colour{220, 30, 30};
+  int ignore_region = -1;  // index into WorldSpec::goals, -1 = none
+  int region = -1;         // the delivery region, index into WorldSpec::goals; -1 = the navigator's own
+  bool operator==(const Attention& o) const {
+    return colour == o.colour && ignore_region == o.ignore_region && region == o.region;
+  }
+  bool operator!=(const Attention& o) const { return !(*this == o); }
+};
+
 // Forward kinematics of one arm (kLeft or kRight) from the base pose and its two joint angles.
 ArmPoints arm_forward_kinematics(const RobotParams& robot, const Pose& base, int side,
                                  double shoulder, double elbow);
@@ -72,6 +87,11 @@ class World {
 
   // Recomputes the senses from the current state (images, stimulus, stereo, touch, joints).
   void sense();
+
+  // What the eyes attend to from the next sense() on. reset() sets the spec's stimulus colour and
+  // no ignored region, so a world nobody redirects senses exactly as before.
+  void set_attention(const Attention& attention) { attention_ = attention; }
+  const Attention& attention() const { return attention_; }
 
   const Senses& senses() const { return senses_; }
   const WorldSpec& spec() const { return spec_; }
@@ -103,9 +123,12 @@ class World {
  private:
   struct Impl;
   void update_surfaces();
+  // Whether object i, at `pose`, lies in the attention's ignored region and Roger has let go of it.
+  bool put_away(int i, const Pose& pose) const;
   WorldParams params_;
   WorldSpec spec_;
   Senses senses_;
+  Attention attention_;
   DofVector setpoint_ = DofVector::Zero();
   double time_ = 0.0;
   std::unique_ptr<Impl> impl_;

@@ -102,6 +102,7 @@ b2RevoluteJoint* create_arm_joint(b2World& w, const RobotParams& r, b2Body* pare
 
 void World::reset(const WorldSpec& spec_in) {
   spec_ = spec_in;
+  attention_ = Attention{spec_.stimulus_colour, -1, -1};
   for (auto& o : spec_.objects) validate_shape(o.shape);
   for (auto& o : spec_.obstacles) validate_shape(o.shape);
   const auto& a = spec_.arena;

@@ -1,0 +1,99 @@
+// binding.cpp: a controller run under per-invocation bindings (the stimulus it attends to and the
+// goal region it delivers to); see Binding in control.h.
+#include "control/control.h"
+#include "core/error.h"
+#include "core/rng.h"
+
+namespace roger {
+
+Binding::Binding(ControllerPtr target, const Bindings& bindings) : target_(std::move(target)), bindings_(bindings) {
+  if (!target_) throw Error("binding: needs a controller to bind");
+  set_name(target_->name());
+}
+
+void Binding::reset(uint64_t seed) {
+  Controller::reset(seed);
+  target_->reset(seed);
+  seed_ = seed;
+  invocations_ = 0;
+  executed_tick_ = begun_tick_ = UINT64_MAX;
+  begun_time_ = 0.0;
+  gave_up_ = false;
+  last_ = Gamma::kNoRef;
+}
+
+bool Binding::running(const ControlInput& in) const {
+  if (begun_tick_ == in.tick) return true;
+  return !gave_up_ && executed_tick_ != UINT64_MAX && executed_tick_ + 1 == in.tick;
+}
+
+bool Binding::out_of_patience(const ControlInput& in) const {
+  return bindings_.patience > 0.0 && last_ != Gamma::kConv && in.time - begun_time_ >= bindings_.patience;
+}
+
+Attention Binding::wanted(const Attention& now) const {
+  Attention a = now;
+  if (bindings_.stimulus) a.colour = bindings_.colour;
+  if (bindings_.stimulus || bindings_.ignore_region >= 0) a.ignore_region = bindings_.ignore_region;
+  if (bindings_.region >= 0) a.region = bindings_.region;
+  return a;
+}
+
+bool Binding::attending(const ControlInput& in) const {
+  // Without an agent (a controller run on its own) nobody redirects the senses: bindings are moot.
+  return !in.attention || *in.attention == wanted(*in.attention);
+}
+
+void Binding::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) {
+  if (!running(in)) {
+    // A new invocation: the target starts afresh, as an action chosen anew would.
+    ++invocations_;
+    begun_tick_ = in.tick;
+    begun_time_ = in.time;
+    gave_up_ = false;
+    target_->reset(Rng::mix(seed_, uint64_t(invocations_)));
+  }
+  if (!attending(in)) {
+    // The world still attends to another stimulus or region: wait the one tick until it attends
+    // to ours.
+    out.command.setZero();
+    out.jacobian.resize(0, kDofCount);
+    out.phi = out.residual = 0.0;
+    gamma_raw = last_ = Gamma::kNotConv;
+    return;
+  }
+  if (out_of_patience(in)) {
+    gave_up_ = true;
+    gamma_raw = last_ = Gamma::kNoRef;
+    return;
+  }
+  const ControlOutput& t = target_->evaluate(in);
+  out.command = t.command;
+  out.jacobian = t.jacobian;
+  out.phi = t.phi;
+  out.residual = t.residual;
+  gamma_raw = last_ = t.gamma;
+}
+
+bool Binding::compute_state(const ControlInput& in, ControlOutput&, Gamma& gamma_raw) {
+  if (!running(in)) {
+    gamma_raw = last_;  // what its last invocation ended with
+  } else if (!attending(in)) {
+    gamma_raw = Gamma::kNotConv;
+  } else if (out_of_patience(in)) {
+    gave_up_ = true;
+    gamma_raw = last_ = Gamma::kNoRef;
+  } else {
+    gamma_raw = last_ = target_->state(in);
+  }
+  return true;
+}
+
+void Binding::executed(const ControlInput& in) {
+  executed_tick_ = in.tick;
+  if (gave_up_) return;
+  if (in.next_attention && in.attention) *in.next_attention = wanted(*in.attention);
+  if (attending(in)) target_->executed(in);
+}
+
+}  // namespace roger

@@ -1,0 +1,273 @@
+// Tests of the sorting task (Figure 1: scenarios/sorting.lua, curricula/sorting.lua): the scenario
+// makes worlds with every object placed and reachable, the curriculum's Lua reward and absorbing
+// function see the world and their errors name file:line, the hand-written policy sorts two
+// objects, and the learned transport skill is loaded from its file, not trained again.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <unistd.h>
+
+#include "batch/trainer.h"
+#include "control/agent.h"
+#include "control/primitives.h"
+#include "control/planner.h"
+#include "core/error.h"
+#include "script/curriculum.h"
+#include "script/scenario.h"
+#include "learn/episode.h"
+#include "script/skill_script.h"
+#include "sim/occupancy.h"
+
+using namespace roger;
+namespace fs = std::filesystem;
+
+namespace {
+
+// The message of the error `f` throws ("" when none).
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Whether a free path joins `from` to the disk (center, radius) on the planner's grid (obstacles
+// inflated as the agent inflates them).
+bool joined(const OccupancyGrid& grid, const Vec2& from, const Vec2& center, double radius) {
+  HarmonicPlanner planner;
+  planner.set_grid(grid);
+  planner.set_goal(center, radius);
+  return planner.update_reachability() && planner.reachable(from);
+}
+
+Shape disk(const Vec2& c, double r) {
+  Shape s;
+  s.name = "disk";
+  s.disks.push_back(Disk{c, r});
+  return s;
+}
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+}  // namespace
+
+TEST_CASE("sorting: 50 seeds of eight objects and four obstacles, no overlaps, every object reachable",
+          "[sorting]") {
+  Scenario s = Scenario::load("scenarios/sorting.lua");
+  s.set_param("objects", "8");
+  s.set_param("obstacles", "4");
+  const double approach = 0.62;  // phi1's approach ring around an object
+  for (const char* mix : {"cycle", "random"}) {
+    s.set_param("mix", mix);
+    for (uint64_t seed = 0; seed < 50; ++seed) {
+      INFO(mix << " seed " << seed);
+      const WorldSpec w = s.generate(seed);
+      REQUIRE(w.objects.size() == 8);
+      REQUIRE(w.obstacles.size() == 4);
+      REQUIRE(w.goals.size() == 4);
+      const OccupancyGrid grid = build_occupancy(w, AgentParams{}.grid_inflate);
+      const Vec2 start(w.robot.pose.x, w.robot.pose.y);
+      for (size_t i = 0; i < w.objects.size(); ++i) {
+        const ObjectSpec& o = w.objects[i];
+        INFO(o.name);
+        // Its type's region is named after it and drawn in its colour.
+        const std::string type = o.name.substr(0, o.name.find(' '));
+        const auto region = std::find_if(w.goals.begin(), w.goals.end(), [&](const GoalRegion& g) { return g.name == type; });
+        REQUIRE(region != w.goals.end());
+        for (size_t j = 0; j < i; ++j) CHECK(shape_gap(o.shape, o.pose, w.objects[j].shape, w.objects[j].pose) > 0.0);
+        for (const auto& ob : w.obstacles) CHECK(shape_gap(o.shape, o.pose, ob.shape, ob.pose) > 0.0);
+        for (const auto& g : w.goals) CHECK(shape_gap(o.shape, o.pose, disk(g.center, g.radius), Pose{}) > 0.0);
+        for (const auto& d : robot_footprint(w.robot)) CHECK(shape_gap(o.shape, o.pose, disk(d.center, d.radius), Pose{}) > 0.0);
+        // Roger can reach the object, and carry it from there to its region.
+        const Vec2 at(o.pose.x, o.pose.y);
+        CHECK(joined(grid, start, at, approach));
+        CHECK(joined(grid, at, region->center, region->radius));
+      }
+    }
+  }
+}
+
+TEST_CASE("sorting: the Lua reward and absorbing function see the world; their errors name file:line",
+          "[sorting]") {
+  const fs::path dir = temp_dir("roger_sorting_lua");
+  // A stage whose absorbing function reads the world and whose reward raises once an object has
+  // been seen: both must be called (the reward is asked at the time-out at the latest).
+  const std::string script = R"(local p = roger.primitive("search")
+local seen = 0
+local function absorbing(state, time, world)
+  seen = #world.objects + #world.goals
+  return false
+end
+local function reward(state, action, event, time, world)
+  if world.objects[1].name ~= "circle 1" then error("the world is not the sorting world") end
+  error("reward saw " .. seen .. " things")
+end
+return { name = "probe", stages = { roger.stage{
+  name = "S", scenario = "sorting", time_limit = 0.5, absorbing = absorbing, reward = reward,
+  learner = { alpha = 0.1, discount = 0.9 }, budget = { episodes = 1 },
+  checkpoints = { every = 1, episodes = 1, final = 1 },
+  contexts = { { name = "A", actions = { p } } } } } }
+)";
+  std::ofstream(dir / "probe.lua") << script;
+  TrainOptions o;
+  o.curriculum = (dir / "probe.lua").string();
+  o.stage = "S";
+  o.context = "A";
+  const std::string m = error_of([&] { train_stage(o); });
+  INFO(m);
+  CHECK(m.find("probe.lua:9:") != std::string::npos);  // the reward's error(...)
+  CHECK(m.find("stage 'S', context 'A'") != std::string::npos);
+  CHECK(m.find("reward saw 6 things") != std::string::npos);  // 2 objects + 4 regions: absorbing was called with the world
+
+  // An absorbing function that raises: its line, and the stage and context.
+  std::string bad = script;
+  bad.replace(bad.find("  seen = #world.objects"), 0, "  if world.goals[1].name == \"circle\" then error(\"absorbing raised\") end\n");
+  std::ofstream(dir / "probe.lua") << bad;
+  const std::string a = error_of([&] { train_stage(o); });
+  INFO(a);
+  CHECK(a.find("probe.lua:4:") != std::string::npos);
+  CHECK(a.find("absorbing function") != std::string::npos);
+  CHECK(a.find("absorbing raised") != std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("sorting: the hand-written policy sorts both of two objects in at least 80% of 20 episodes",
+          "[sorting]") {
+  TrainOptions o;
+  o.curriculum = "curricula/sorting.lua";
+  o.stage = "Hand2";
+  o.context = "Scripted";
+  o.seed = 1;
+  o.keep_episodes = false;
+  const TrainResult r = train_stage(o);
+  INFO("success " << r.final_eval.success_rate << ", mean time " << r.final_eval.time_mean);
+  CHECK(r.final_eval.episodes == 20);
+  CHECK(r.final_eval.success_rate >= 0.8);
+}
+
+TEST_CASE("sorting: the learned transport skill is loaded from its policy file, not trained again",
+          "[sorting]") {
+  const fs::path dir = temp_dir("roger_sorting_skill");
+  // Phi_T as a learned policy: stage T (which trains its Phi_SG first, with the same seed).
+  TrainOptions t;
+  t.curriculum = "curricula/sorting.lua";
+  t.stage = "T";
+  t.context = "DC6";
+  t.seed = 2;
+  t.keep_episodes = false;
+  const TrainResult tr = train_stage(t);
+  write_train_outputs(tr, (dir / "T").string());
+  const fs::path file = dir / "T" / "policy.json";
+  const nlohmann::json written = nlohmann::json::parse(std::ifstream(file));
+
+  TrainOptions s;
+  s.curriculum = "curricula/sorting.lua";
+  s.stage = "Sort2";
+  s.context = "Learned";
+  s.seed = 3;  // not T's seed: a Phi_SG trained again would differ from the one T learned on
+  s.keep_episodes = false;
+  s.skill_files["Phi_T"] = file.string();
+  const TrainResult sr = train_stage(s);
+  // Phi_T from the file, and the Phi_SG it uses from the copy embedded in that file.
+  REQUIRE(sr.skills.size() == 2);
+  const auto find = [&](const std::string& name) {
+    const auto it = std::find_if(sr.skills.begin(), sr.skills.end(), [&](const SkillSource& k) { return k.name == name; });
+    REQUIRE(it != sr.skills.end());
+    return *it;
+  };
+  const SkillSource phi_t = find("Phi_T");
+  CHECK(phi_t.file == file.string());
+  CHECK(find("Phi_SG").policy == written["extra"]["skills"]["Phi_SG"]["policy"]);
+  CHECK_FALSE(phi_t.trained);
+  CHECK(phi_t.policy == written);  // the very table T learned, embedded in the Sort2 policy as read
+  CHECK(train_policy_json(sr)["extra"]["skills"]["Phi_T"]["trained"] == false);
+  // Psi of the sorting stage: Phi_T bound to each of the four types.
+  CHECK(sr.psi == std::vector<std::string>{"sort circle", "sort triangle", "sort pentagon", "sort spade"});
+  fs::remove_all(dir);
+}
+
+TEST_CASE("sorting: the documented two-move example runs and is shown verbatim", "[sorting]") {
+  const SkillScript script = SkillScript::load("docs/examples/sorting_moves.lua");
+  const SkillScript::NamedPolicy& policy = script.policy("two_moves");
+  Scenario scenario = Scenario::load("sorting");
+  EpisodeOptions options;
+  options.time_limit = policy.time_limit;
+  const EvalSummary s = evaluate_action([&](uint64_t seed) { return scenario.generate(seed); }, *policy.action,
+                                        *policy.goal, 10, 1000, options, WorldParams{});
+  CHECK(s.successes >= 8);
+  std::ifstream doc_in("docs/control.md"), file_in("docs/examples/sorting_moves.lua");
+  std::stringstream doc, file;
+  doc << doc_in.rdbuf();
+  file << file_in.rdbuf();
+  CHECK(doc.str().find(file.str().substr(file.str().find("local skills"))) != std::string::npos);
+}
+
+TEST_CASE("sorting: a binding redirects the world's attention, and gives up after its patience", "[sorting]") {
+  Scenario scenario = Scenario::load("sorting");
+  const WorldSpec spec = scenario.generate(5);
+  Agent agent;
+  agent.reset(spec);
+  Binding::Bindings b;
+  b.stimulus = true;
+  b.colour = Colour{0, 200, 0};  // no object has it: search never converges
+  b.region = 3;
+  b.ignore_region = 3;
+  b.patience = 1.0;
+  auto binding = std::make_shared<Binding>(make_primitive("search"), b);
+  binding->reset(5);
+  CHECK(binding->state(agent.input()) == Gamma::kNoRef);  // never invoked
+  agent.step(*binding);
+  // From the next tick the world attends as the binding asked; the first tick commanded nothing.
+  CHECK(agent.world().attention().colour == Colour{0, 200, 0});
+  CHECK(agent.world().attention().region == 3);
+  CHECK(agent.input().region == 3);
+  CHECK(binding->output().gamma == Gamma::kNotConv);
+  CHECK(binding->output().command.isZero());
+  CHECK(binding->invocations() == 1);
+  // Run it: not converged after 1 s, the invocation is given up (NOREF, no command), and the next
+  // evaluation starts the second.
+  double gave_up_at = -1.0;
+  while (agent.input().time < 3.0 && binding->invocations() == 1) {
+    if (binding->state(agent.input()) == Gamma::kNoRef && gave_up_at < 0.0) gave_up_at = agent.input().time;
+    agent.step(*binding);
+  }
+  CHECK(gave_up_at == Approx(1.0).margin(0.05));
+  CHECK(binding->invocations() == 2);
+  agent.step(*binding);
+  CHECK(binding->output().gamma == Gamma::kNotConv);  // running again
+}
+
+TEST_CASE("sorting: bad roger.bind arguments are errors at file:line naming the field", "[sorting]") {
+  const fs::path dir = temp_dir("roger_sorting_bind");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"{}", "binds nothing: give 'stimulus', 'region' or both"},
+      {"{region = 99}", "field 'region' must be a goal region's index 0 to 63"},
+      {"{stimulus = \"red\"}", "field 'stimulus' must be a colour"},
+      {"{stimulus = \"#ff0000\", patience = -1}", "field 'patience' must be seconds"},
+      {"{stimulus = \"#ff0000\", ignore_delivered = true}", "field 'ignore_delivered' needs 'region'"},
+      {"{stimulus = \"#ff0000\", colour = 1}", "unknown field 'colour'; known fields: ignore_delivered, patience, region, stimulus"},
+  };
+  for (const auto& [fields, message] : cases) {
+    INFO(fields);
+    std::ofstream(dir / "bad.lua") << "local s = roger.primitive(\"search\")\nlocal b = roger.bind(\"b\", s, " << fields
+                                   << ")\nreturn { name = \"x\", policies = { p = { action = b, goal = roger.converged(b), time_limit = 1 } } }\n";
+    const std::string m = error_of([&] { SkillScript::load((dir / "bad.lua").string()); });
+    INFO(m);
+    CHECK(m.find("bad.lua:2:") != std::string::npos);
+    CHECK(m.find("roger.bind('b')") != std::string::npos);
+    CHECK(m.find(message) != std::string::npos);
+  }
+  fs::remove_all(dir);
+}
