@@ -14,25 +14,16 @@
 -- and its goal='region' navigator delivering to region k. The learned table is the same for all
 -- four bindings; only what the skill perceives and where it delivers change (docs/curricula.md).
 local skills = require("lib.skills")
+local paper = require("lib.paper_stages")
 
--- The carrying navigator converges 0.15 m inside a region's edge (`depth`), not at the edge as in
--- the paper's task: the task's judge below asks for the object's centre inside its region, and the
--- control point (the carried object as the eyes see it) may lie a few centimetres off that centre.
-local p = skills.primitives({ carry = { depth = 0.15, margin = 0.2 } })
-local Phi6 = skills.Phi6(p)
-local Phi7 = skills.Phi7(p)
-local transport = skills.transport(p)
-
--- Stages SG and T as curricula/paper.lua writes them (same controllers, rewards, learners and
--- budgets), except for the carrying navigator's `depth` above and that T also yields its DC6
--- policy as the skill Phi_T.
-local Phi_SG = roger.learned("Phi_SG")
-local Phi_STG = skills.Phi_STG(Phi_SG, p)
+-- Stages SG and T are the paper's (lib/paper_stages.lua: the same controllers, contexts, rewards,
+-- learners and budgets), with two differences: the carrying navigator converges 0.25 m inside a
+-- region's edge (`depth`), not at the edge, because this task's judge below asks for the object's
+-- centre inside its region and the control point (the carried object as the eyes see it) may lie
+-- a few centimetres off that centre; and T also yields its DC6 policy as the skill Phi_T.
+local SG, T, c = paper.stages{ primitives = { carry = { depth = 0.25, margin = 0.2 } }, t_skill = "Phi_T" }
+local p, Phi6, Phi7, transport = c.p, c.Phi6, c.Phi7, c.transport
 local Phi_T = roger.learned("Phi_T")
-
-local function learner(alpha)
-  return { alpha = alpha, discount = 0.95, epsilon_start = 1.0, epsilon_end = 0.05, initial_q = -100 }
-end
 
 -- The types in region order (scenarios/sorting.lua: region k - 1 belongs to TYPES[k]), their
 -- colours, and the order the scenario's "cycle" mix lays objects out in.
@@ -126,7 +117,7 @@ local function sorting_stage(name, n, contexts, budget)
     time_limit = 30 * n,
     absorbing = all_sorted,
     reward = sorting_reward,
-    learner = learner(0.2),
+    learner = paper.learner(paper.defaults.t_alpha),  -- T's learner, as in the paper
     budget = { episodes = budget },
     checkpoints = { every = math.max(1, budget // 5), episodes = 10, threshold = 0.8, seeds = 3000000,
                     stop_after = 0, final = 20 },
@@ -134,34 +125,7 @@ local function sorting_stage(name, n, contexts, budget)
   }
 end
 
-local stages = {
-  roger.stage{
-    name = "SG",
-    description = "search for the ball, approach it while preshaping, and grasp it",
-    scenario = "unobstructed",
-    time_limit = 5,
-    absorbing = roger.converged(p.phi3),
-    reward = { absorbing = 100, timeout = -100, step = 0 },
-    learner = learner(0.1),
-    budget = { episodes = 400 },
-    checkpoints = { every = 10, episodes = 20, threshold = 0.9, seeds = 1000000, stop_after = 0, final = 50 },
-    contexts = { { name = "DC2", actions = { p.phi3, Phi6, Phi7 } } },
-    skill = { name = "Phi_SG", context = "DC2" },
-  },
-  roger.stage{
-    name = "T",
-    description = "search, grasp and carry the ball to the goal region, keeping the grasp",
-    scenario = "unobstructed",
-    time_limit = 10,
-    absorbing = skills.transported(transport),
-    reward = { absorbing = 100, timeout = -100, step = 0 },
-    learner = learner(0.2),
-    budget = { episodes = 1500 },
-    checkpoints = { every = 10, episodes = 20, threshold = 0.9, seeds = 2000000, stop_after = 5, final = 50 },
-    contexts = { { name = "DC6", actions = { Phi_STG, transport } } },
-    skill = { name = "Phi_T", context = "DC6" },
-  },
-}
+local stages = { SG, T }
 -- Training budgets of the learned sorting stages (episodes), by number of objects.
 local BUDGET = { [2] = 300, [4] = 500, [8] = 800 }
 for _, n in ipairs({ 2, 4, 8 }) do

@@ -11,13 +11,21 @@ local skills = require("lib.skills")
 
 local M = {}
 
--- The controllers, built once for every stage of the script (require runs this once).
-local p = skills.primitives()
-local Phi6 = skills.Phi6(p)                    -- search, then track with phi0
-local Phi7 = skills.Phi7(p)                    -- phi1, then phi4 <| phi2
-local preshape = p.phi4:subject_to(p.phi2)     -- phi4 <| phi2
-local keep = skills.keep_grasp(p)              -- phi4 <| phi5
-local transport = skills.transport(p)          -- phi1 <| phi4 <| phi5 (carrying to the goal)
+-- The controllers the stages are built from, for one set of primitive overrides
+-- (skills.primitives). Skill names are unique within a script, so the paper's set is built once,
+-- when a script first asks for it, and a script that overrides the primitives never builds it.
+local function controllers(overrides)
+  local p = skills.primitives(overrides)
+  return {
+    p = p,
+    Phi6 = skills.Phi6(p),                  -- search, then track with phi0
+    Phi7 = skills.Phi7(p),                  -- phi1, then phi4 <| phi2
+    preshape = p.phi4:subject_to(p.phi2),   -- phi4 <| phi2
+    keep = skills.keep_grasp(p),            -- phi4 <| phi5
+    transport = skills.transport(p),        -- phi1 <| phi4 <| phi5 (carrying to the goal)
+  }
+end
+local paper_controllers
 
 -- The paper's settings (docs/results.md measures each choice):
 --  * rewards +100 absorbing, -100 at the time-out, 0 otherwise; exploration falling linearly
@@ -35,12 +43,19 @@ local transport = skills.transport(p)          -- phi1 <| phi4 <| phi5 (carrying
 --    flipping them: at 0.2 DC2 reached the threshold in 94% of trials, after B1), T 0.2 (its
 --    chains of four or five decisions need the value of the goal to travel back faster: at 0.1
 --    B2 reached the threshold in 1 of 10 seeds within its budget).
-M.defaults = { suffix = "", initial_q = 0, sg_stop_after = 5, t_stop_after = 5, sg_alpha = 0.1, t_alpha = 0.2 }
+--
+-- Two settings serve curricula that build on these stages (curricula/sorting.lua): `primitives`,
+-- overrides of the primitives' parameters (false: the paper's), and `t_skill`, the name of the
+-- skill stage T yields from its DC6 policy (false: none, as in the paper).
+M.defaults = { suffix = "", initial_q = 0, sg_stop_after = 5, t_stop_after = 5, sg_alpha = 0.1, t_alpha = 0.2,
+               primitives = false, t_skill = false }
 
--- The Q-learner of a stage.
-local function learner(alpha, s)
+-- The Q-learner of a stage, with learning rate `alpha` under `settings` (default: the paper's).
+function M.learner(alpha, settings)
+  local s = settings or M.defaults
   return { alpha = alpha, discount = 0.95, epsilon_start = 1.0, epsilon_end = 0.05, initial_q = s.initial_q }
 end
+local learner = M.learner
 
 -- Settings: M.defaults overridden by the fields of `settings`.
 local function with_defaults(settings)
@@ -54,8 +69,18 @@ local function with_defaults(settings)
 end
 
 -- The two stages under `settings`; their names, and the skill SG yields, end in settings.suffix.
+-- Also returns the controllers they are built from (fields p, Phi6, Phi7, preshape, keep,
+-- transport), for a curriculum that adds stages of its own.
 function M.stages(settings)
   local s = with_defaults(settings)
+  local c
+  if s.primitives then
+    c = controllers(s.primitives)
+  else
+    paper_controllers = paper_controllers or controllers()
+    c = paper_controllers
+  end
+  local p, Phi6, Phi7, preshape, keep, transport = c.p, c.Phi6, c.Phi7, c.preshape, c.keep, c.transport
   local Phi_SG_name = "Phi_SG" .. s.suffix
   -- The skill stage SG yields (its greedy policy in DC2), and Phi_STG built on it: search-grasp,
   -- then hold the grasp with phi4 <| phi5 once Phi_SG has converged.
@@ -97,8 +122,9 @@ function M.stages(settings)
       { name = "DC5", actions = { keep, Phi_SG, Phi_STG, transport } },
       { name = "DC6", actions = { Phi_STG, transport } },
     },
+    skill = s.t_skill and { name = s.t_skill, context = "DC6" } or nil,
   }
-  return sg, t
+  return sg, t, c
 end
 
 return M

@@ -6,8 +6,8 @@
 --   roger render docs/examples/sorting_moves.lua --policy four_moves --set objects=4 --seed 1003 --out out/four.png
 local skills = require("lib.skills")
 
--- The carrying navigator converges 0.15 m inside the region's edge, so the object ends inside it.
-local p = skills.primitives({ carry = { depth = 0.15, margin = 0.2 } })
+-- The carrying navigator converges 0.25 m inside the region's edge, so the object ends inside it.
+local p = skills.primitives({ carry = { depth = 0.25, margin = 0.2 } })
 local transport = skills.transport(p)
 local carry = roger.sequence("carry", {
   roger.sequence("search-grasp", { skills.Phi6(p), skills.Phi7(p), p.phi3 }), transport })

@@ -67,6 +67,7 @@ Primitive::Primitive(std::string kind, double default_epsilon) : kind_(std::move
 
 Primitive::ParamSlot Primitive::declare(const std::string& name, double value, double min, double max,
                                         const std::string& help) {
+  refuse_redeclared(name);
   ParamDef d;
   d.name = name, d.value = value, d.min = min, d.max = max, d.help = help;
   defs_.push_back(d);
@@ -74,8 +75,15 @@ Primitive::ParamSlot Primitive::declare(const std::string& name, double value, d
   return defs_.size() - 1;
 }
 
+void Primitive::refuse_redeclared(const std::string& name) const {
+  // A second parameter of one name would be unreachable: setting it by name finds the first.
+  for (const ParamDef& d : defs_)
+    if (d.name == name) throw Error(kind_ + ": parameter '" + name + "' is declared twice");
+}
+
 Primitive::ParamSlot Primitive::declare_text(const std::string& name, std::vector<std::string> choices,
                                              const std::string& help) {
+  refuse_redeclared(name);
   ParamDef d;
   d.name = name, d.choices = std::move(choices), d.help = help;
   d.text = d.choices.front();

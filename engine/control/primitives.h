@@ -79,6 +79,8 @@ class Primitive : public Controller {
  private:
   ParamDef& find(const std::string& name);
   const ParamDef& find(const std::string& name) const;
+  // Throws when `name` is declared already (a kind's own parameter shadowing a common one).
+  void refuse_redeclared(const std::string& name) const;
   std::string kind_;
   std::vector<ParamDef> defs_;
 };

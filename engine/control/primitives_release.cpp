@@ -1,6 +1,8 @@
 // primitives_release.cpp: release, letting go of an object: the arms return to the start posture
 // (hands beside the body, clear of anything ahead), then the base backs off, so that turning
-// afterwards cannot sweep the object with a hand. The paper stops at transport; any task that
+// afterwards cannot sweep the object with a hand. A hand that touches something first steps out
+// along its touch normal: folding straight back in joint space can drive a hand that has the
+// object pinned against the body further into it, and then neither moves. The paper stops at transport; any task that
 // moves more than one object (sorting, Figure 1) must let go of one before taking the next.
 #include <algorithm>
 #include <cmath>
@@ -12,11 +14,12 @@ namespace primitives_internal {
 namespace {
 
 class Release final : public Primitive {
-  struct { ParamSlot distance = 0, step = 0; } p_;
+  struct { ParamSlot distance = 0, step = 0, clear = 0; } p_;
  public:
   Release() : Primitive("release", 0.05) {
     p_.distance = declare("distance", 0.4, 0.0, 2.0, "how far (m) the base backs off once the arms are folded");
     p_.step = declare("step", 0.1, 0.01, 1.0, "largest backing error (m) per command");
+    p_.clear = declare("clear", 0.05, 0.0, 0.3, "step (m) out along its touch normal of a hand that touches something");
   }
   PrimitivePtr clone() const override { return std::make_shared<Release>(*this); }
   void reset(uint64_t seed) override {
@@ -38,6 +41,8 @@ class Release final : public Primitive {
       out.command[dof] = posture[k] - s.q[dof];
       arm_error = std::max(arm_error, std::abs(out.command[dof]));
     }
+    for (int side = 0; side < 2; ++side)
+      if (s.touch[kLeftHand + side].contact && value(p_.clear) > 0.0) step_out(in, side, out);
     const bool folded = arm_error <= epsilon();
     const Vec2 base(s.base.x, s.base.y);
     // Only its own execution lets go: evaluated while another action runs (a sequence asking its
@@ -59,6 +64,18 @@ class Release final : public Primitive {
   }
 
  private:
+  // The arm's joints move the hand `clear` out along its touch normal (from the touched surface
+  // towards the hand) instead of towards the folded posture.
+  void step_out(const ControlInput& in, int side, ControlOutput& out) const {
+    Eigen::Matrix<double, 2, kDofCount> J;
+    hand_jacobian(in, side, J);
+    const Eigen::Matrix<double, 2, 1> e = value(p_.clear) * in.senses->touch[kLeftHand + side].normal;
+    const int shoulder = kLeftShoulder + 2 * side, elbow = shoulder + 1;
+    const DofVector dq = damped_solve<2>(J, e, mask({shoulder, elbow}), 0.05);
+    out.command[shoulder] = clamp_abs(dq[shoulder], 0.5);
+    out.command[elbow] = clamp_abs(dq[elbow], 0.5);
+  }
+
   bool backing_ = false;        // the arms were folded: the base is backing off
   uint64_t executed_tick_ = UINT64_MAX;  // the last tick its command was applied
   Vec2 origin_ = Vec2::Zero();  // where it started backing

@@ -38,35 +38,55 @@ class Track final : public Primitive {
 };
 
 // search: turn to randomly sampled headings, eyes spread to widen the view, until both eyes see
-// the stimulus; as soon as one eye glimpses it, turn that way.
+// the stimulus; as soon as one eye glimpses it, turn that way. When one eye has had it straight
+// ahead for `one_eye` seconds and the other still has not, something stands in the other eye's line
+// of sight (another object, an obstacle): turning cannot fix that, so the base steps sideways
+// towards the seeing eye's side (turn a quarter, drive `sidestep` metres, turn back), moving the
+// blind eye's line of sight off the occluder.
 class Search final : public Primitive {
   // Where the constructor declared each parameter: reading one is an index, not a name search.
-  struct { ParamSlot spread = 0, reached = 0, min_turn = 0, max_turn = 0; } p_;
+  struct { ParamSlot spread = 0, reached = 0, min_turn = 0, max_turn = 0, one_eye = 0, sidestep = 0; } p_;
+  enum class Step { kNone, kTurnOut, kDrive };
+
  public:
   Search() : Primitive("search", 0.0) {
     p_.spread = declare("spread", 0.6, 0.0, 1.5, "eye pan (rad) each side while looking around");
     p_.reached = declare("reached", 0.3, 0.01, 3.0, "heading error (rad) at which a new heading is sampled");
     p_.min_turn = declare("min_turn", 1.2, 0.0, 6.3, "smallest sampled turn (rad)");
     p_.max_turn = declare("max_turn", 3.2, 0.0, 6.3, "largest sampled turn (rad)");
+    p_.one_eye = declare("one_eye", 1.0, 0.0, 1000.0,
+                       "seconds one eye alone has the stimulus ahead before stepping sideways (0: never)");
+    p_.sidestep = declare("sidestep", 0.3, 0.0, 2.0, "sideways step (m) that clears the blind eye's view");
   }
   PrimitivePtr clone() const override { return std::make_shared<Search>(*this); }
   void reset(uint64_t seed) override {
     Primitive::reset(seed);
     rng_.reseed(Rng::mix(seed, 0x5ea4c4));
     has_target_ = false;
+    one_eye_time_ = 0.0;
+    step_ = Step::kNone;
   }
 
  protected:
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
-    own_dofs({kBaseHeading, kLeftEye, kRightEye}, out.jacobian);
     const Senses& s = *in.senses;
     const bool left = s.stimulus[kLeft].seen, right = s.stimulus[kRight].seen;
     if (left && right) {
       gamma = Gamma::kConv;  // found: both eyes have it
+      own_dofs({kBaseHeading, kLeftEye, kRightEye}, out.jacobian);
       has_target_ = false;
+      one_eye_time_ = 0.0;
+      step_ = Step::kNone;
       return;
     }
     gamma = Gamma::kNotConv;
+    if (step_ == Step::kNone && (left || right)) watch_one_eye(s, in.dt, left ? kLeft : kRight);
+    if (step_ != Step::kNone) {
+      own_dofs({kBaseForward, kBaseHeading, kLeftEye, kRightEye}, out.jacobian);
+      step_aside(s, in.dt, out);
+      return;
+    }
+    own_dofs({kBaseHeading, kLeftEye, kRightEye}, out.jacobian);
     const double heading = s.q[kBaseHeading];
     if (left || right) {
       // One eye sees it: turn towards it, bring both eyes to bear.
@@ -90,9 +110,56 @@ class Search final : public Primitive {
   }
 
  private:
+  // Times how long eye `e` alone has had the stimulus straight ahead; past `one_eye`, starts a
+  // sideways step towards that eye's side.
+  void watch_one_eye(const Senses& s, double dt, int e) {
+    const double rel = wrap_angle(s.q[kLeftEye + e] + s.stimulus[e].bearing);
+    one_eye_time_ = std::abs(rel) < value(p_.reached) ? one_eye_time_ + dt : 0.0;
+    if (value(p_.one_eye) <= 0.0 || one_eye_time_ < value(p_.one_eye)) return;
+    bearing_ = s.q[kBaseHeading] + rel;
+    // The left eye sits on the base's left (positive angles turn left).
+    step_heading_ = bearing_ + (e == kLeft ? 0.5 : -0.5) * M_PI;
+    step_ = Step::kTurnOut;
+    step_time_ = 0.0;
+    one_eye_time_ = 0.0;
+  }
+
+  // One tick of the sideways step: turn to face across the line of sight, drive, then hand back
+  // to the search aimed at the remembered bearing. Each phase is bounded in time, so a wall or
+  // an obstacle in the way ends the step instead of the episode.
+  void step_aside(const Senses& s, double dt, ControlOutput& out) {
+    const double heading = s.q[kBaseHeading];
+    step_time_ += dt;
+    // The eyes keep looking along the remembered bearing, as far as they pan.
+    const double rel = wrap_angle(bearing_ - heading);
+    out.command[kLeftEye] = rel - s.q[kLeftEye];
+    out.command[kRightEye] = rel - s.q[kRightEye];
+    if (step_ == Step::kTurnOut) {
+      out.command[kBaseHeading] = clamp_abs(step_heading_ - heading, 1.0);
+      out.residual = std::abs(step_heading_ - heading);
+      if (out.residual < 0.1 || step_time_ > 3.0) step_ = Step::kDrive, step_time_ = 0.0, odometer_ = s.q[kBaseForward];
+      return;
+    }
+    const double remaining = value(p_.sidestep) - std::abs(s.q[kBaseForward] - odometer_);
+    out.command[kBaseForward] = std::clamp(remaining, 0.0, 0.1);
+    out.command[kBaseHeading] = clamp_abs(step_heading_ - heading, 1.0);
+    out.residual = std::max(remaining, 0.0);
+    if (remaining <= 0.01 || step_time_ > 3.0) {
+      step_ = Step::kNone;
+      target_ = bearing_;  // turn back to where the stimulus was
+      has_target_ = true;
+    }
+  }
+
   Rng rng_{0};
   double target_ = 0.0;
   bool has_target_ = false;
+  double one_eye_time_ = 0.0;  // seconds one eye alone has had the stimulus ahead
+  Step step_ = Step::kNone;     // the phase of a sideways step, if one is under way
+  double step_time_ = 0.0;      // seconds in the current phase
+  double bearing_ = 0.0;        // base heading at which the seeing eye had the stimulus
+  double step_heading_ = 0.0;   // heading the base drives along while stepping
+  double odometer_ = 0.0;       // kBaseForward when the drive began
 };
 
 // phi4: kinematic conditioning. phi = sum over arms of cos^2(elbow): zero at the most manipulable
