@@ -95,12 +95,13 @@ struct LuaCandidate {
   }
 };
 
-// The subgoals' controllers in the order the successful episodes converge them (a controller that
-// converges on its own way is run to its CONV; what else ran meanwhile was the search's noise).
+// The subgoals that converge while they run themselves, in the order the successful episodes
+// reach them: the steps of a sequence. A controller that converges while another runs (a grasp
+// keeper converging as the grasp closes) is a side effect, not a step to run.
 std::vector<int> subgoal_path(const ProbeSummary& s) {
   std::vector<int> path;
   for (const auto& g : s.subgoals)
-    if (path.empty() || path.back() != g.action) path.push_back(g.action);
+    if (g.achiever == g.action && (path.empty() || path.back() != g.action)) path.push_back(g.action);
   return path;
 }
 
@@ -182,7 +183,7 @@ struct Generator {
     for (int a = 0; a < int(probe.psi.size()); ++a)
       if (!contains(members, a) && (!contains(pruned, a) || a == s.final_achiever)) lc.add_action(name(a));
     emit(lc, "macro", "the successful probe episodes converge " + names(members) +
-                          " in this order; the sequence of them replaces them (a composition: no learning cost)" +
+                          ", each while running itself, in this order; the sequence of them replaces them (a composition: no learning cost)" +
                           (pruned.empty() ? std::string() : ", and the pruned actions (" + names(pruned) + ") are left out"));
   }
 
