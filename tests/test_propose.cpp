@@ -176,3 +176,28 @@ TEST_CASE("propose refuses bad input with a clear message", "[propose]") {
   CHECK_THROWS_WITH(propose_curriculum(o), Catch::Contains("DC9") && Catch::Contains("B1"));
   CHECK_FALSE(fs::exists(dir.path / "x" / "proposal.lua"));
 }
+
+TEST_CASE("docs/propose.md: every option of roger propose and the library example", "[propose]") {
+  const std::string doc = slurp("docs/propose.md");
+  const std::string cli = slurp("docs/cli.md");
+  REQUIRE(!doc.empty());
+  test::TempDir dir("roger_propose");
+  REQUIRE(run_status(std::string(ROGER_BINARY) + " propose --help >" + (dir.path / "help").string() + " 2>&1") == 0);
+  const std::string help = slurp(dir.path / "help");
+  int options = 0;
+  for (size_t at = help.find("--"); at != std::string::npos; at = help.find("--", at + 2)) {
+    size_t end = at + 2;
+    while (end < help.size() && (std::isalnum(static_cast<unsigned char>(help[end])) || help[end] == '-')) ++end;
+    const std::string option = help.substr(at, end - at);
+    if (option == "--help" || option.size() < 4) continue;
+    ++options;
+    INFO(option);
+    CHECK(doc.find("`" + option + "`") != std::string::npos);
+    CHECK(cli.find(option) != std::string::npos);
+  }
+  CHECK(options >= 8);
+  // The library example is shown verbatim and is a curriculum roger check accepts.
+  const std::string example = slurp("docs/examples/propose_example.lua");
+  CHECK(doc.find(example.substr(example.find("local propose"))) != std::string::npos);
+  CHECK(check_curriculum("docs/examples/propose_example.lua").empty());
+}

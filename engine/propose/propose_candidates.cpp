@@ -42,6 +42,7 @@ struct SubStage {
   std::string goal;                   // the action's name in Psi
   std::vector<std::string> actions;   // Lua expressions
   std::string skill;                  // the learned skill's name
+  std::vector<std::string> names;     // the actions' names, for people
 };
 
 // Builds one candidate's Lua text.
@@ -74,7 +75,7 @@ struct LuaCandidate {
     for (const auto& s : subs)
       o << "\n-- A subgoal stage: reach CONV of '" << s.goal << "' with the actions that reach it in the\n"
         << "-- probe's successful episodes; its greedy policy becomes the skill " << s.skill << ".\n"
-        << "local " << ident("to_" + s.skill) << " = propose.stage(task, {\n"
+        << "local " << ident("stage_to_" + s.goal) << " = propose.stage(task, {\n"
         << "  name = " << lua_quote(task.stage + "_to_" + ident(s.goal)) << ",\n"
         << "  description = " << lua_quote("reach CONV of " + s.goal + " (a subgoal of " + task.stage + ")") << ",\n"
         << "  goal = " << act(s.goal) << ",\n"
@@ -86,7 +87,7 @@ struct LuaCandidate {
     o << "\nreturn {\n  name = " << lua_quote(task.stage + "_proposed") << ",\n  description = "
       << lua_quote("stage " + task.stage + " of " + task.module + ", candidate " + c.id + ": " + c.summary) << ",\n"
       << "  stages = {\n";
-    for (const auto& s : subs) o << "    " << ident("to_" + s.skill) << ",\n";
+    for (const auto& s : subs) o << "    " << ident("stage_to_" + s.goal) << ",\n";
     o << "    propose.stage(task, {\n      name = " << lua_quote(task.stage) << ",\n      contexts = {\n"
       << "        { name = \"P\", actions = " << list(final_actions) << " },  -- the proposal\n"
       << "        { name = " << lua_quote(task.context) << ", actions = " << list(base)
@@ -156,7 +157,11 @@ struct Generator {
     c.summary = "Psi = {" + [&] { std::string r; for (const auto& x : c.psi) r += (r.empty() ? "" : ", ") + x; return r; }() + "}";
     if (!lc.subs.empty()) {
       std::string subs;
-      for (const auto& sub : lc.subs) subs += (subs.empty() ? "" : ", then ") + sub.skill + " learned first";
+      for (const auto& sub : lc.subs) {
+        std::string acts;
+        for (const auto& a : sub.names) acts += (acts.empty() ? "" : ", ") + a;
+        subs += (subs.empty() ? "" : ", then ") + sub.skill + " learned first from {" + acts + "}";
+      }
       c.summary += ", " + subs;
     }
     c.why = why;
@@ -187,39 +192,55 @@ struct Generator {
                           (pruned.empty() ? std::string() : ", and the pruned actions (" + names(pruned) + ") are left out"));
   }
 
-  // Learned subgoal stages reaching subgoals `chain` (indices into s.subgoals, in order), then the
-  // task with the last skill and the actions the episodes use after it (or all of Psi: `add`).
-  void subgoal_stages(const std::vector<size_t>& chain, bool add) {
+  // The actions chosen, in at least half of the successful episodes that reach both, from the
+  // first CONV of action `from` (-1: the start) to the first CONV of action `to` (-1: the end),
+  // without the actions `pruned`, in Psi's order.
+  std::vector<int> used_between(int from, int to, const std::vector<int>& pruned) const {
+    std::vector<int> count(probe.psi.size(), 0);
+    int episodes = 0;
+    for (const auto& e : probe.successes) {
+      const int lo = from < 0 ? 0 : e.first_conv[size_t(from)];
+      const int hi = to < 0 ? int(e.path.size()) : e.first_conv[size_t(to)];
+      if (lo < 0 || hi < 0) continue;
+      ++episodes;
+      std::vector<bool> seen(probe.psi.size(), false);
+      for (int d = lo; d < hi && d < int(e.path.size()); ++d) seen[size_t(e.path[size_t(d)])] = true;
+      for (size_t a = 0; a < seen.size(); ++a) count[a] += seen[a];
+    }
+    std::vector<int> used;
+    for (int a = 0; a < int(count.size()); ++a)
+      if (episodes > 0 && 2 * count[size_t(a)] >= episodes && !contains(pruned, a)) used.push_back(a);
+    return used;
+  }
+
+  // Learned subgoal stages reaching subgoals `chain` (indices into s.subgoals, in order), each with
+  // the actions the successful episodes choose on the way there (and the subgoal itself), then the
+  // task with the last skill and the actions chosen after it (or all of Psi: `add`).
+  void subgoal_stages(const std::vector<size_t>& chain, bool add, const std::vector<int>& pruned) {
     LuaCandidate lc{task, {}, {}, {}, {}};
     std::vector<std::string> carried;  // the previous subgoal's skill
-    size_t from = 0;
+    int from = -1;
     std::string why;
     for (size_t j : chain) {
       const Subgoal& g = s.subgoals[j];
-      SubStage sub{name(g.action), carried, "Phi_to_" + ident(name(g.action))};
-      std::vector<int> acts;
-      for (size_t k = from; k <= j; ++k)
-        for (int a : {s.subgoals[k].achiever, s.subgoals[k].action})
-          if (a >= 0 && !contains(acts, a)) acts.push_back(a);
-      for (int a : acts) sub.actions.push_back(LuaCandidate::act(name(a)));
+      SubStage sub{name(g.action), carried, "Phi_to_" + ident(name(g.action)), {}};
+      if (!carried.empty()) sub.names.push_back(lc.subs.back().skill);
+      std::vector<int> acts = used_between(from, g.action, pruned);
+      if (!contains(acts, g.action)) acts.push_back(g.action);
+      for (int a : acts) sub.actions.push_back(LuaCandidate::act(name(a))), sub.names.push_back(name(a));
       carried = {ident(sub.skill)};
       lc.subs.push_back(sub);
-      from = j + 1;
+      from = g.action;
       why += (why.empty() ? "" : "; ") + subgoal_why(g);
     }
     lc.final_actions.push_back(carried[0]), lc.final_names.push_back(lc.subs.back().skill);
-    if (add) {
-      for (const auto& n : probe.psi) lc.add_action(n);
-    } else {
-      std::vector<int> after;
-      for (size_t k = from; k < s.subgoals.size(); ++k)
-        for (int a : {s.subgoals[k].achiever, s.subgoals[k].action})
-          if (a >= 0 && !contains(after, a)) after.push_back(a);
-      if (s.final_achiever >= 0 && !contains(after, s.final_achiever)) after.push_back(s.final_achiever);
-      for (int a : after) lc.add_action(name(a));
-    }
+    std::vector<int> after = add ? std::vector<int>{} : used_between(from, -1, pruned);
+    if (!add && s.final_achiever >= 0 && !contains(after, s.final_achiever)) after.push_back(s.final_achiever);
+    for (int a = 0; a < int(probe.psi.size()); ++a)
+      if (add || contains(after, a)) lc.add_action(name(a));
     emit(lc, chain.size() > 1 ? "chain" : "subgoal",
-         why + (add ? "; the task keeps all of Psi beside the skill" : "; the task keeps the skill and the actions used after it"));
+         why + (add ? "; the task keeps all of Psi beside the skill"
+                    : "; the task keeps the skill and the actions chosen after it in half the successful episodes"));
   }
 };
 
@@ -240,10 +261,10 @@ std::vector<CandidateSpec> generate_candidates(const TaskRef& task, const ProbeS
   const std::vector<int> path = subgoal_path(s);
   if (path.size() >= 2) gen.macro(path, pruned);
   const size_t k = s.subgoals.size();
-  if (k >= 1) gen.subgoal_stages({k - 1}, false);
+  if (k >= 1) gen.subgoal_stages({k - 1}, false, pruned);
   if (path.size() >= 2) gen.macro(path, {});
-  if (k >= 2) gen.subgoal_stages({0, k - 1}, false);
-  for (size_t j = k >= 1 ? k - 1 : 0; j-- > 0;) gen.subgoal_stages({j}, false);
+  if (k >= 2) gen.subgoal_stages({0, k - 1}, false, pruned);
+  for (size_t j = k >= 1 ? k - 1 : 0; j-- > 0;) gen.subgoal_stages({j}, false, pruned);
   if (!pruned.empty() && int(pruned.size()) < n) {
     LuaCandidate lc{task, {}, {}, {}, {}};
     std::string list;
@@ -255,7 +276,7 @@ std::vector<CandidateSpec> generate_candidates(const TaskRef& task, const ProbeS
                                " of the successful probe episodes' control ticks: " + list);
   }
   for (size_t i = 0; path.size() >= 3 && i + 1 < path.size(); ++i) gen.macro({path[i], path[i + 1]}, pruned);
-  if (k >= 1) gen.subgoal_stages({k - 1}, true);
+  if (k >= 1) gen.subgoal_stages({k - 1}, true, pruned);
   return gen.out;
 }
 

@@ -16,6 +16,13 @@ std::string fmt(const char* f, double x) {
   return b;
 }
 
+// A markdown table cell: "phi4 <| phi2" keeps its bar.
+std::string cell(const std::string& s) {
+  std::string r;
+  for (char ch : s) r += ch == '|' ? std::string("\\|") : std::string(1, ch);
+  return r;
+}
+
 double spent(const Candidate& c) {
   double s = 0.0;
   for (const auto& t : c.trials) s += t.spent_s;
@@ -30,11 +37,11 @@ void probe_section(std::ostream& md, const ProposeOptions& o, const ProbeStats& 
      << "| action | share of successful time | subgoal: CONV reached in | median decision | most often while running |\n"
      << "|---|---|---|---|---|\n";
   for (size_t a = 0; a < probe.psi.size(); ++a) {
-    md << "| " << probe.psi[a] << " | " << fmt("%.1f%%", 100 * s.tick_share[a]) << " | ";
+    md << "| " << cell(probe.psi[a]) << " | " << fmt("%.1f%%", 100 * s.tick_share[a]) << " | ";
     const auto it = std::find_if(s.subgoals.begin(), s.subgoals.end(), [&](const Subgoal& g) { return g.action == int(a); });
     if (it == s.subgoals.end()) md << "- | - | - |\n";
     else md << fmt("%.0f%%", 100 * it->share) << " | " << fmt("%.1f", it->order) << " | "
-            << (it->achiever >= 0 ? probe.psi[size_t(it->achiever)] : "-") << " |\n";
+            << (it->achiever >= 0 ? cell(probe.psi[size_t(it->achiever)]) : "-") << " |\n";
   }
   md << "\nThe goal was reached most often while "
      << (s.final_achiever >= 0 ? "'" + probe.psi[size_t(s.final_achiever)] + "'" : "nothing (no success)") << " ran. "
@@ -49,7 +56,7 @@ void candidates_section(std::ostream& md, const ProposeResult& r) {
     const Candidate& c = r.candidates[i];
     int reached = 0;
     for (const auto& t : c.trials) reached += t.reached;
-    md << "| " << c.id << " | " << c.kind << " | " << c.summary << " | " << c.trials.size() << " | " << reached << " | "
+    md << "| " << c.id << " | " << c.kind << " | " << cell(c.summary) << " | " << c.trials.size() << " | " << reached << " | "
        << (c.trials.empty() ? "-" : fmt("%.1f", c.score)) << " | " << fmt("%.0f", spent(c)) << " | "
        << (!c.evaluated ? "not evaluated (over --max-candidates)"
            : int(i) == r.winner ? "**winner**"
