@@ -55,9 +55,9 @@ void check_options(const ProposeOptions& o, double time_limit) {
 }
 
 // One training run of a candidate, from its record when an earlier run wrote it.
-CandidateTrial run_trial(const ProposeOptions& o, const CandidateSpec& spec, uint64_t seed, double cap_s,
-                         const std::string& file) {
-  const std::string hash = text_hash(spec.lua);
+CandidateTrial run_trial(const ProposeOptions& o, const CandidateSpec& spec, const std::string& sources, uint64_t seed,
+                         double cap_s, const std::string& file) {
+  const std::string hash = text_hash(spec.lua + sources);
   if (fs::exists(file)) {
     try {
       const nlohmann::json j = nlohmann::json::parse(read_file_text(file));
@@ -110,7 +110,8 @@ CandidateTrial run_trial(const ProposeOptions& o, const CandidateSpec& spec, uin
 // rounds, each given an equal share of what budget remains; in a round every survivor runs
 // options.trials seeded trials capped at an equal share of it, and the better half (by mean loss)
 // goes on. Every trial's simulated seconds are counted; a trial is capped at what remains.
-void successive_halving(const ProposeOptions& o, std::vector<CandidateSpec>& specs, ProposeResult& res) {
+void successive_halving(const ProposeOptions& o, const std::string& sources, std::vector<CandidateSpec>& specs,
+                        ProposeResult& res) {
   std::vector<size_t> alive;
   for (size_t i = 0; i < specs.size(); ++i)
     if (specs[i].c.evaluated) alive.push_back(i);
@@ -127,7 +128,7 @@ void successive_halving(const ProposeOptions& o, std::vector<CandidateSpec>& spe
         const uint64_t seed = Rng::mix(o.seed, 0x747269616cull + uint64_t(r * o.trials + j));
         const std::string file = (fs::path(o.out) / "trials" /
                                   (spec.c.id + "-r" + std::to_string(r + 1) + "-t" + std::to_string(j + 1) + ".json")).string();
-        CandidateTrial tr = run_trial(o, spec, seed, allowed, file);
+        CandidateTrial tr = run_trial(o, spec, sources, seed, allowed, file);
         tr.round = r + 1;
         res.spent_s += tr.spent_s;
         (tr.reused ? res.trials_reused : res.trials_run) += 1;
@@ -171,6 +172,12 @@ ProposeResult propose_curriculum(const ProposeOptions& options) {
                   "own controllers (the proposal's subgoal stages are what learns skills)");
     time_limit = stage.time_limit;
     task.module = module_name(cur.file(), o.out);
+    // Every Lua file the task reads, and the library the proposals are written with: records
+    // made with other versions of any of them are not reused.
+    std::string text;
+    for (const auto& f : curriculum_source_files(cur, o.limits)) text += read_file_text(f.string());
+    text += read_file_text((project_root() / "curricula" / "lib" / "propose.lua").string());
+    task.sources = text_hash(text);
     task.stage = stage.name;
     task.context = ctx.name;
   }
@@ -183,7 +190,7 @@ ProposeResult propose_curriculum(const ProposeOptions& options) {
   ProposeResult res;
   res.budget_s = o.budget_s;
   int probes_reused = 0;
-  const ProbeStats probe = run_probe(o, task.context, o.budget_s * o.probe_share / o.probe_trials, &probes_reused);
+  const ProbeStats probe = run_probe(o, task.context, task.sources, o.budget_s * o.probe_share / o.probe_trials, &probes_reused);
   res.probe_s = probe.sim_s;
   res.spent_s = probe.sim_s;
   res.successful_episodes = int(probe.successes.size());
@@ -196,7 +203,7 @@ ProposeResult propose_curriculum(const ProposeOptions& options) {
     c.evaluated = int(i) < o.max_candidates;
     write_file_atomic(c.file, specs[i].lua, "cannot write the candidate curriculum");
   }
-  successive_halving(o, specs, res);
+  successive_halving(o, task.sources, specs, res);
 
   const CandidateSpec& win = specs[size_t(res.winner)];
   std::string text = win.lua;

@@ -44,7 +44,9 @@ struct ProbeSummary {
 
 // The probe: trains the starting context for options.probe_trials seeds, each capped at cap_s
 // simulated seconds, reusing the probe records already in out/probe/.
-ProbeStats run_probe(const ProposeOptions& options, const std::string& context, double cap_s, int* reused);
+// `sources` fingerprints the Lua the task is read from: a record of other sources is run again.
+ProbeStats run_probe(const ProposeOptions& options, const std::string& context, const std::string& sources,
+                     double cap_s, int* reused);
 
 // The statistics of the successful episodes (a subgoal is reached in at least half of them).
 ProbeSummary summarize_probe(const ProbeStats& probe);
@@ -54,6 +56,7 @@ struct TaskRef {
   std::string module;        // require name of the original curriculum ("paper")
   std::string stage, context;
   std::string command;       // the roger propose command line, for the file's header
+  std::string sources;       // text_hash of every Lua file the task and the proposals read
 };
 
 // A candidate and the text of its curriculum file.

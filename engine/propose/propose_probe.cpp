@@ -42,9 +42,9 @@ nlohmann::json probe_json(const TrainResult& r, const std::vector<ProbeEpisode>&
 }
 
 // One probe trial, from its record when an earlier run wrote it.
-nlohmann::json probe_trial(const ProposeOptions& o, const std::string& context, uint64_t seed, double cap_s,
-                           const std::string& file, bool* reused) {
-  const std::string key = o.stage + "/" + context + "/" + std::to_string(seed);
+nlohmann::json probe_trial(const ProposeOptions& o, const std::string& context, const std::string& sources,
+                           uint64_t seed, double cap_s, const std::string& file, bool* reused) {
+  const std::string key = o.stage + "/" + context + "/" + std::to_string(seed) + "/" + sources;
   if (fs::exists(file)) {
     try {
       nlohmann::json j = nlohmann::json::parse(read_file_text(file));
@@ -76,13 +76,14 @@ nlohmann::json probe_trial(const ProposeOptions& o, const std::string& context, 
 
 }  // namespace
 
-ProbeStats run_probe(const ProposeOptions& o, const std::string& context, double cap_s, int* reused) {
+ProbeStats run_probe(const ProposeOptions& o, const std::string& context, const std::string& sources, double cap_s,
+                     int* reused) {
   ProbeStats stats;
   for (int k = 0; k < o.probe_trials; ++k) {
     const uint64_t seed = Rng::mix(o.seed, 0x70726f6265ull + uint64_t(k));  // apart from the trials' seeds
     const std::string file = (fs::path(o.out) / "probe" / ("probe-" + std::to_string(k + 1) + ".json")).string();
     bool was_reused = false;
-    const nlohmann::json j = probe_trial(o, context, seed, cap_s, file, &was_reused);
+    const nlohmann::json j = probe_trial(o, context, sources, seed, cap_s, file, &was_reused);
     *reused += was_reused;
     stats.psi = j.at("psi").get<std::vector<std::string>>();
     stats.episodes += j.at("episodes").get<int>();
