@@ -33,11 +33,13 @@ std::string slurp(const fs::path& p) {
   return ss.str();
 }
 
-// Every file under `dir`, relative path -> content.
+// Every file under `dir`, relative path -> content; not the hidden temporary a writer killed
+// mid-write leaves (docs/reliability.md), which nothing reads.
 std::map<std::string, std::string> tree(const fs::path& dir) {
   std::map<std::string, std::string> files;
   for (const auto& e : fs::recursive_directory_iterator(dir))
-    if (e.is_regular_file()) files[fs::relative(e.path(), dir).string()] = slurp(e.path());
+    if (e.is_regular_file() && e.path().filename().string()[0] != '.')
+      files[fs::relative(e.path(), dir).string()] = slurp(e.path());
   return files;
 }
 
