@@ -22,12 +22,11 @@ using namespace propose_detail;
 
 namespace {
 
-// The require name of a curriculum file: relative to a folder require searches (the project's
-// curricula/, scenarios/ and scripts/, or the folder the proposal is written to).
-std::string module_name(const std::string& file, const std::string& out) {
+// The require name of a curriculum file: relative to a folder require searches from anywhere (the
+// project's curricula/, scenarios/ and scripts/).
+std::string module_name(const std::string& file) {
   std::error_code ec;
   const fs::path real = fs::weakly_canonical(fs::absolute(file), ec);
-  (void)out;
   std::vector<fs::path> roots;
   for (const char* f : {"curricula", "scenarios", "scripts"}) roots.push_back(fs::weakly_canonical(project_root() / f, ec));
   for (const auto& root : roots) {
@@ -171,7 +170,7 @@ ProposeResult propose_curriculum(const ProposeOptions& options) {
       throw Error("roger propose: " + stage.where(ctx.name) + " uses learned skills; start from a context of the stage's " +
                   "own controllers (the proposal's subgoal stages are what learns skills)");
     time_limit = stage.time_limit;
-    task.module = module_name(cur.file(), o.out);
+    task.module = module_name(cur.file());
     // Every Lua file the task reads, and the library the proposals are written with: records
     // made with other versions of any of them are not reused.
     std::string text;
