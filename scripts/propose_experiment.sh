@@ -9,15 +9,16 @@
 # trials from their summaries.
 #
 #   scripts/propose_experiment.sh [OUT] [TRIALS] [BUDGET]    (defaults: results/propose 50 60000)
-#   ROGER=build/engine/roger JOBS=2 scripts/propose_experiment.sh
+#   ROGER=build/engine/roger JOBS=2 SEED=1 scripts/propose_experiment.sh   (SEED: the search's)
 set -eu
 OUT=${1:-results/propose}
 TRIALS=${2:-50}
 BUDGET=${3:-60000}
 ROGER=${ROGER:-build/engine/roger}
 JOBS=${JOBS:-2}
+SEED=${SEED:-1}
 
-"$ROGER" propose paper --stage T --context B2 --budget "$BUDGET" --probe-share 0.3 --seed 1 --out "$OUT/search"
+"$ROGER" propose paper --stage T --context B2 --budget "$BUDGET" --probe-share 0.3 --seed "$SEED" --out "$OUT/search"
 
 mkdir -p "$OUT/trials"
 # One line per trial to run: curriculum, context, seed; trials with a summary are kept.
