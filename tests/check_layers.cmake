@@ -12,6 +12,7 @@ set(layer_script 5)
 set(layer_batch 6)
 set(layer_report 7)
 set(layer_view 7)
+set(layer_propose 7)
 set(layer_cli 8)
 # Which module alone may include a library's headers.
 set(owner_box2d "sim")    # <box2d/...>

@@ -392,3 +392,44 @@ TEST_CASE("roger train writes the same files with and without the evaluation cac
   for (size_t i = 0; i < curve_on.size(); ++i) CHECK(drop_wall(curve_on[i]) == drop_wall(curve_off[i]));
   fs::remove_all(dir);
 }
+
+TEST_CASE("a trial capped in simulated seconds is the uncapped trial's prefix, skills' training included",
+          "[trainer][cap]") {
+  TrainOptions o;
+  o.curriculum = "paper";
+  o.stage = "SG";
+  o.context = "B1";
+  o.seed = 3;
+  const TrainResult whole = train_stage(o);
+  o.max_sim_s = 100.0;
+  o.final_evaluation = false;
+  const TrainResult capped = train_stage(o);
+  CHECK(capped.totals.sim_s >= 100.0);
+  CHECK(capped.totals.sim_s < 100.0 + 5.0);  // stops at the first episode past the cap
+  REQUIRE(capped.episodes.size() < whole.episodes.size());
+  for (size_t i = 0; i < capped.episodes.size(); ++i) {
+    CHECK(capped.episodes[i].episode.seed == whole.episodes[i].episode.seed);
+    CHECK(same_bits(capped.episodes[i].episode.reward, whole.episodes[i].episode.reward));
+    CHECK(capped.episodes[i].episode.actions_taken == whole.episodes[i].episode.actions_taken);
+  }
+  REQUIRE(capped.checkpoints.size() <= whole.checkpoints.size());
+  for (size_t i = 0; i < capped.checkpoints.size(); ++i)
+    CHECK(same_bits(capped.checkpoints[i].success_rate, whole.checkpoints[i].success_rate));
+  CHECK(capped.final_eval.episodes == 0);  // no final evaluation asked
+
+  // T/DC6 trains Phi_SG (SG/DC2) first: the cap covers both.
+  TrainOptions t;
+  t.curriculum = "paper";
+  t.stage = "T";
+  t.context = "DC6";
+  t.seed = 3;
+  t.max_sim_s = 150.0;
+  t.final_evaluation = false;
+  const TrainResult r = train_stage(t);
+  REQUIRE(r.skills.size() == 1);
+  const double skill_s = r.skills[0].totals.sim_s;
+  INFO("skill " << skill_s << " s, T " << r.totals.sim_s << " s");
+  CHECK(skill_s > 0.0);
+  CHECK(skill_s + r.totals.sim_s >= 150.0);
+  CHECK(skill_s + r.totals.sim_s < 150.0 + 5.0 + 10.0);  // one episode past the cap in each stage
+}

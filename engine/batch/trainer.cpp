@@ -173,6 +173,14 @@ nlohmann::json read_skill_file(const std::string& name, const std::string& path)
   }
 }
 
+// The simulated training seconds of the skills trained for this trial so far.
+double skills_sim_s(const std::vector<SkillSource>& sources) {
+  double s = 0.0;
+  for (const auto& src : sources)
+    if (src.trained) s += src.totals.sim_s;
+  return s;
+}
+
 // Binds every learned skill `ctx` uses: from embedded policies (`embedded`: name -> policy JSON),
 // from files, or by training the producing stage with `seed`. Appends where each came from.
 void bind_skills(Curriculum& cur, const CurriculumContext& ctx, const TrainOptions& options,
@@ -214,6 +222,7 @@ void bind_skills(Curriculum& cur, const CurriculumContext& ctx, const TrainOptio
       sub.context = pctx.name;
       sub.sets.clear();  // the producer's own task, not the caller's parameters
       sub.keep_episodes = false;
+      sub.max_sim_s = options.max_sim_s > 0 ? std::max(1e-9, options.max_sim_s - skills_sim_s(sources)) : 0.0;
       const TrainResult r = train_stage(sub);
       src.trained = true;
       src.trained_seed = options.seed;
@@ -289,7 +298,10 @@ TrainResult train_stage(const TrainOptions& options) {
   TrainPoint spent;
   double train_wall = 0.0;
   int passing = 0;  // consecutive passing checkpoints
+  // The cap of a capped trial, after what its skills spent (TrainOptions::max_sim_s).
+  const double cap = options.max_sim_s > 0 ? options.max_sim_s - skills_sim_s(res.skills) : 0.0;
   for (int e = 0; e < budget; ++e) {
+    if (options.max_sim_s > 0 && spent.sim_s >= cap) break;  // judged at its last checkpoint
     const auto te = std::chrono::steady_clock::now();
     const double eps = schedule.epsilon(e);
     const uint64_t seed = Rng::mix(options.seed, uint64_t(e) + 1);
@@ -321,7 +333,7 @@ TrainResult train_stage(const TrainOptions& options) {
   // The first checkpoint from which the rate stays at or above the threshold to the end.
   res.reached = passing > 0;
   res.to_threshold = res.reached ? res.checkpoints[res.checkpoints.size() - size_t(passing)].at : spent;
-  res.final_eval = evaluate(cp.final_episodes, "final evaluation");
+  if (options.final_evaluation) res.final_eval = evaluate(cp.final_episodes, "final evaluation");
   res.wall_s = seconds_since(t0);
   return res;
 }

@@ -48,6 +48,13 @@ struct TrainOptions {
   // the action it chose then: the episode would run again exactly as before. The results are the
   // same bit for bit either way (only eval_wall_s and wall_s change); false runs every episode.
   bool eval_cache = true;
+  // > 0: stop training once this many simulated seconds of training episodes have been spent, the
+  // learned skills trained first for this trial included (each gets what the earlier ones left).
+  // The trial is then a prefix of the uncapped one (the exploration schedule still runs over the
+  // stage's budget in episodes), and censored when the threshold was not reached by then. For
+  // short search runs (roger propose); 0 trains to the stage's budget.
+  double max_sim_s = 0.0;
+  bool final_evaluation = true;  // false skips the final greedy evaluation (final_eval stays empty)
 };
 
 // A point of training: what had been spent when it was reached.

@@ -115,4 +115,22 @@ struct BenchArgs {
 // Measures simulated seconds per wall second of physics, senses and the whole pipeline. Returns 0.
 int command_bench(const BenchArgs& args);
 
+// The arguments of `roger propose CURRICULUM.lua --stage T --budget SECONDS --out DIR`.
+struct ProposeArgs {
+  std::string curriculum;
+  std::string stage;
+  std::string context;          // the starting Psi ("" = the stage's first context)
+  double budget = 0.0;          // simulated seconds of training the search may spend
+  std::string out;
+  uint64_t seed = 1;
+  int trials = 2;               // seeded trials per candidate and round
+  int probe_trials = 2;
+  double probe_share = 0.2;
+  int max_candidates = 8;
+  double prune_below = 0.05;
+};
+
+// Proposes a curriculum for a stage (engine/propose) and writes it with its report. Returns 0.
+int command_propose(const ProposeArgs& args);
+
 }  // namespace roger

@@ -72,6 +72,24 @@ CLI::App* add_train(CLI::App& app, TrainArgs& a) {
   return c;
 }
 
+CLI::App* add_propose(CLI::App& app, ProposeArgs& a) {
+  auto* c = app.add_subcommand("propose", "Propose a developmental curriculum for a stage by a budgeted search");
+  c->add_option("curriculum", a.curriculum, "Curriculum script (.lua)")->required();
+  c->add_option("--stage", a.stage, "The task stage (e.g. T)")->required();
+  c->add_option("--context", a.context, "The starting Psi: a context of the stage (default: its first)");
+  c->add_option("--budget", a.budget, "Simulated seconds of training the whole search may spend")
+      ->required()->check(CLI::PositiveNumber);
+  c->add_option("--out", a.out, "Folder of the proposal, its report and the search's records (re-run resumes)")->required();
+  c->add_option("--seed", a.seed, "Search seed")->capture_default_str();
+  c->add_option("--trials", a.trials, "Seeded trials per candidate and round")->capture_default_str()->check(CLI::Range(1, 100));
+  c->add_option("--probe-trials", a.probe_trials, "Trials of the probe")->capture_default_str()->check(CLI::Range(1, 100));
+  c->add_option("--probe-share", a.probe_share, "Share of the budget for the probe")->capture_default_str()->check(CLI::Range(0.01, 0.9));
+  c->add_option("--max-candidates", a.max_candidates, "Candidates evaluated")->capture_default_str()->check(CLI::Range(1, 64));
+  c->add_option("--prune-below", a.prune_below, "Prune actions running under this share of successful time")
+      ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+  return c;
+}
+
 CLI::App* add_run(CLI::App& app, RunArgs& a) {
   auto* c = app.add_subcommand("run", "Run a batch script: many seeded trials in parallel, then the report");
   c->add_option("script", a.script, "Batch script (.lua), or a name in scripts/")->required();
@@ -128,6 +146,7 @@ int main(int argc, char** argv) {
   RunArgs run_args;
   ReportArgs report_args;
   BenchArgs bench_args;
+  ProposeArgs propose_args;
   CLI::Option* eval_seed = nullptr;
   auto* render = add_render(app, render_args);
   auto* check = add_check(app, check_args);
@@ -136,6 +155,7 @@ int main(int argc, char** argv) {
   auto* run = add_run(app, run_args);
   auto* report = add_report(app, report_args);
   auto* bench = add_bench(app, bench_args);
+  auto* propose = add_propose(app, propose_args);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -155,6 +175,7 @@ int main(int argc, char** argv) {
       return command_run(run_args);
     }
     if (*report) return command_report(report_args);
+    if (*propose) return command_propose(propose_args);
   } catch (const std::exception& e) {
     std::fflush(stdout);
     std::cerr << "roger: error: " << e.what() << "\n";

@@ -1,0 +1,35 @@
+// propose.cpp: `roger propose`, a thin layer over engine/propose (docs/propose.md).
+#include <cstdio>
+#include <iostream>
+
+#include "cli/commands.h"
+#include "propose/propose.h"
+
+namespace roger {
+
+int command_propose(const ProposeArgs& a) {
+  ProposeOptions o;
+  o.curriculum = a.curriculum;
+  o.stage = a.stage;
+  o.context = a.context;
+  o.budget_s = a.budget;
+  o.out = a.out;
+  o.seed = a.seed;
+  o.trials = a.trials;
+  o.probe_trials = a.probe_trials;
+  o.probe_share = a.probe_share;
+  o.max_candidates = a.max_candidates;
+  o.prune_below = a.prune_below;
+  o.progress = &std::cerr;
+  const ProposeResult r = propose_curriculum(o);
+  const Candidate& w = r.candidates[size_t(r.winner)];
+  std::printf("roger propose: stage %s, %zu candidates, %d round(s), %d trials run, %d reused\n", a.stage.c_str(),
+              r.candidates.size(), r.rounds, r.trials_run, r.trials_reused);
+  std::printf("  spent          %.1f of %.0f simulated s (%.1f%%), the probe %.1f\n", r.spent_s, r.budget_s,
+              100 * r.spent_s / r.budget_s, r.probe_s);
+  std::printf("  winner         %s (%s): %s\n", w.id.c_str(), w.kind.c_str(), w.summary.c_str());
+  std::printf("  wrote          %s (context P), %s\n", r.proposal_file.c_str(), r.report_file.c_str());
+  return 0;
+}
+
+}  // namespace roger

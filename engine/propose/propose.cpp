@@ -1,0 +1,220 @@
+// propose.cpp: the search of roger propose: the probe, the candidates, successive halving over
+// short seeded training runs, and the proposal written as a curriculum.
+#include "propose/propose.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <numeric>
+#include <ostream>
+
+#include "batch/trainer.h"
+#include "core/error.h"
+#include "core/fileio.h"
+#include "core/rng.h"
+#include "propose/propose_internal.h"
+#include "script/curriculum.h"
+
+namespace roger {
+namespace fs = std::filesystem;
+using namespace propose_detail;
+
+namespace {
+
+// The require name of a curriculum file: relative to a folder require searches from anywhere (the
+// project's curricula/, scenarios/ and scripts/).
+std::string module_name(const std::string& file) {
+  std::error_code ec;
+  const fs::path real = fs::weakly_canonical(fs::absolute(file), ec);
+  std::vector<fs::path> roots;
+  for (const char* f : {"curricula", "scenarios", "scripts"}) roots.push_back(fs::weakly_canonical(project_root() / f, ec));
+  for (const auto& root : roots) {
+    fs::path rel = real.lexically_relative(root);
+    if (rel.empty() || *rel.begin() == "..") continue;
+    std::string name = rel.replace_extension().generic_string();
+    std::replace(name.begin(), name.end(), '/', '.');
+    return name;
+  }
+  throw Error("roger propose: " + file + ": the proposal requires the curriculum it starts from, so it must lie in " +
+              (project_root() / "curricula").string() + " (or scenarios/, scripts/), where require finds it");
+}
+
+void check_options(const ProposeOptions& o, double time_limit) {
+  if (o.out.empty()) throw Error("roger propose: --out must name a folder");
+  if (!(o.budget_s > 0) || !std::isfinite(o.budget_s))
+    throw Error("roger propose: --budget must be a positive number of simulated seconds");
+  if (o.budget_s < 30 * time_limit)
+    throw Error("roger propose: --budget " + std::to_string(o.budget_s) + " is under 30 episodes of the stage's time limit (" +
+                std::to_string(30 * time_limit) + " simulated s): too little to learn anything, and one episode past " +
+                "the budget could exceed it by more than 10%");
+  if (!(o.probe_share > 0 && o.probe_share < 1)) throw Error("roger propose: the probe share must be in (0, 1)");
+  if (o.probe_trials < 1 || o.trials < 1 || o.max_candidates < 1)
+    throw Error("roger propose: probe trials, trials and max candidates must be at least 1");
+}
+
+// One training run of a candidate, from its record when an earlier run wrote it.
+CandidateTrial run_trial(const ProposeOptions& o, const CandidateSpec& spec, const std::string& sources, uint64_t seed,
+                         double cap_s, const std::string& file) {
+  const std::string hash = text_hash(spec.lua + sources);
+  if (fs::exists(file)) {
+    try {
+      const nlohmann::json j = nlohmann::json::parse(read_file_text(file));
+      if (j.at("hash") == hash && j.at("seed") == seed && j.at("cap_s") == cap_s) {
+        CandidateTrial tr;
+        tr.seed = seed;
+        tr.cap_s = cap_s;
+        tr.spent_s = j.at("spent_s").get<double>();
+        tr.skills_s = j.at("skills_s").get<double>();
+        tr.reached = j.at("reached").get<bool>();
+        tr.time_s = j.at("time_s").get<double>();
+        tr.last_success = j.at("last_success").get<double>();
+        tr.loss = j.at("loss").get<double>();
+        tr.reused = true;
+        return tr;
+      }
+    } catch (const std::exception&) {
+      // An unreadable record (records are written atomically, so a disk fault) is run again.
+    }
+  }
+  TrainOptions t;
+  t.curriculum = spec.c.file;
+  t.stage = o.stage;
+  t.context = "P";
+  t.seed = seed;
+  t.limits = o.limits;
+  t.keep_episodes = false;
+  t.max_sim_s = cap_s;
+  t.final_evaluation = false;
+  const TrainResult r = train_stage(t);
+  CandidateTrial tr;
+  tr.seed = seed;
+  tr.cap_s = cap_s;
+  for (const auto& s : r.skills)
+    if (s.trained) tr.skills_s += s.totals.sim_s;
+  tr.spent_s = tr.skills_s + r.totals.sim_s;
+  tr.reached = r.reached;
+  tr.time_s = tr.skills_s + r.to_threshold.sim_s;
+  tr.last_success = r.checkpoints.empty() ? 0.0 : r.checkpoints.back().success_rate;
+  tr.loss = tr.reached ? tr.time_s : cap_s * (2.0 - tr.last_success);
+  const nlohmann::json j = {{"format", "roger-propose-trial"}, {"candidate", spec.c.id}, {"hash", hash},
+                            {"seed", seed}, {"cap_s", cap_s}, {"spent_s", tr.spent_s}, {"skills_s", tr.skills_s},
+                            {"reached", tr.reached}, {"time_s", tr.time_s}, {"last_success", tr.last_success},
+                            {"loss", tr.loss}};
+  write_file_atomic(file, j.dump(1) + "\n", "cannot write the trial record");
+  return tr;
+}
+
+// The successive halving of Karnin et al. (2013) as Jamieson and Talwalkar (2016) use it: ceil(log2 n)
+// rounds, each given an equal share of what budget remains; in a round every survivor runs
+// options.trials seeded trials capped at an equal share of it, and the better half (by mean loss)
+// goes on. Every trial's simulated seconds are counted; a trial is capped at what remains.
+void successive_halving(const ProposeOptions& o, const std::string& sources, std::vector<CandidateSpec>& specs,
+                        ProposeResult& res) {
+  std::vector<size_t> alive;
+  for (size_t i = 0; i < specs.size(); ++i)
+    if (specs[i].c.evaluated) alive.push_back(i);
+  const int rounds = alive.size() > 1 ? int(std::ceil(std::log2(double(alive.size())))) : 0;
+  res.rounds = rounds;
+  for (int r = 0; r < rounds && alive.size() > 1; ++r) {
+    const double cap = (res.budget_s - res.spent_s) / double(rounds - r) / double(alive.size() * size_t(o.trials));
+    for (size_t i : alive) {
+      CandidateSpec& spec = specs[i];
+      std::vector<CandidateTrial> now;  // this round's trials
+      for (int j = 0; j < o.trials; ++j) {
+        const double allowed = std::min(cap, res.budget_s - res.spent_s);
+        if (allowed <= 0.0) break;  // the budget is spent: rank on what was measured
+        const uint64_t seed = Rng::mix(o.seed, 0x747269616cull + uint64_t(r * o.trials + j));
+        const std::string file = (fs::path(o.out) / "trials" /
+                                  (spec.c.id + "-r" + std::to_string(r + 1) + "-t" + std::to_string(j + 1) + ".json")).string();
+        CandidateTrial tr = run_trial(o, spec, sources, seed, allowed, file);
+        tr.round = r + 1;
+        res.spent_s += tr.spent_s;
+        (tr.reused ? res.trials_reused : res.trials_run) += 1;
+        if (o.progress) {
+          char line[256];
+          std::snprintf(line, sizeof line, "round %d/%d %s trial %d: %s, loss %.0f, spent %.0f of %.0f simulated s%s\n",
+                        r + 1, rounds, spec.c.id.c_str(), j + 1,
+                        tr.reached ? ("reached after " + std::to_string(int(std::lround(tr.time_s))) + " s").c_str() : "not reached",
+                        tr.loss, res.spent_s, res.budget_s, tr.reused ? " (reused)" : "");
+          *o.progress << line << std::flush;
+        }
+        spec.c.trials.push_back(tr);
+        now.push_back(tr);
+      }
+      const auto& ts = now;
+      spec.c.score = ts.empty() ? HUGE_VAL
+                                : std::accumulate(ts.begin(), ts.end(), 0.0, [](double a, const CandidateTrial& t) { return a + t.loss; }) /
+                                      double(ts.size());
+    }
+    std::stable_sort(alive.begin(), alive.end(), [&](size_t a, size_t b) { return specs[a].c.score < specs[b].c.score; });
+    const size_t keep = (alive.size() + 1) / 2;
+    for (size_t k = keep; k < alive.size(); ++k) specs[alive[k]].c.eliminated_round = r + 1;
+    alive.resize(keep);
+  }
+  res.winner = alive.empty() ? 0 : int(alive.front());
+}
+
+}  // namespace
+
+ProposeResult propose_curriculum(const ProposeOptions& options) {
+  ProposeOptions o = options;
+  TaskRef task;
+  double time_limit = 0.0;
+  {
+    const Curriculum cur = Curriculum::load(o.curriculum, o.limits);
+    const CurriculumStage& stage = cur.stage(o.stage);
+    if (o.context.empty()) o.context = stage.contexts.front().name;
+    const CurriculumContext& ctx = stage.context(o.context);
+    if (!ctx.learned.empty())
+      throw Error("roger propose: " + stage.where(ctx.name) + " uses learned skills; start from a context of the stage's " +
+                  "own controllers (the proposal's subgoal stages are what learns skills)");
+    time_limit = stage.time_limit;
+    task.module = module_name(cur.file());
+    // Every Lua file the task reads, and the library the proposals are written with: records
+    // made with other versions of any of them are not reused.
+    std::string text;
+    for (const auto& f : curriculum_source_files(cur, o.limits)) text += read_file_text(f.string());
+    text += read_file_text((project_root() / "curricula" / "lib" / "propose.lua").string());
+    task.sources = text_hash(text);
+    task.stage = stage.name;
+    task.context = ctx.name;
+  }
+  check_options(o, time_limit);
+  char budget[64];
+  std::snprintf(budget, sizeof budget, "%g", o.budget_s);
+  task.command = "roger propose " + o.curriculum + " --stage " + o.stage + " --context " + task.context +
+                 " --budget " + budget + " --seed " + std::to_string(o.seed);
+
+  ProposeResult res;
+  res.budget_s = o.budget_s;
+  int probes_reused = 0;
+  const ProbeStats probe = run_probe(o, task.context, task.sources, o.budget_s * o.probe_share / o.probe_trials, &probes_reused);
+  res.probe_s = probe.sim_s;
+  res.spent_s = probe.sim_s;
+  res.successful_episodes = int(probe.successes.size());
+  const ProbeSummary summary = summarize_probe(probe);
+
+  std::vector<CandidateSpec> specs = generate_candidates(task, probe, summary, o.prune_below);
+  for (size_t i = 0; i < specs.size(); ++i) {
+    Candidate& c = specs[i].c;
+    c.file = (fs::path(o.out) / "candidates" / (c.id + ".lua")).string();
+    c.evaluated = int(i) < o.max_candidates;
+    write_file_atomic(c.file, specs[i].lua, "cannot write the candidate curriculum");
+  }
+  successive_halving(o, task.sources, specs, res);
+
+  const CandidateSpec& win = specs[size_t(res.winner)];
+  std::string text = win.lua;
+  text = "-- proposal.lua: the curriculum roger propose proposes (its candidate " + win.c.id +
+         "; propose.md beside it says why it won)\n" + text.substr(text.find('\n') + 1);
+  res.proposal_file = (fs::path(o.out) / "proposal.lua").string();
+  write_file_atomic(res.proposal_file, text, "cannot write the proposal");
+  for (auto& s : specs) res.candidates.push_back(std::move(s.c));
+  res.report_file = (fs::path(o.out) / "propose.md").string();
+  o.context = task.context;
+  write_propose_report(o, task, probe, summary, res);
+  return res;
+}
+
+}  // namespace roger

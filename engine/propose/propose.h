@@ -1,0 +1,85 @@
+// Module propose: proposing a developmental curriculum for a task automatically (roger propose).
+// From one stage of a curriculum (its actions, reward and absorbing predicate) it runs a short
+// probe of the task, reads from the probe's successful episodes which controllers they pass
+// through converged (candidate subgoals), in which order and by which action, and how long each
+// action ran (the pruning statistic); it writes candidate curricula as Lua files, evaluates them by
+// short seeded training runs under successive halving, counting every simulated second the search
+// trains, and writes the winner as a curriculum (proposal.lua) with a report (propose.md).
+// Depends on batch (train_stage) and below; must not depend on report, view or cli.
+// docs/propose.md is the reference.
+#pragma once
+
+#include <cstdint>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "script/lua_sandbox.h"
+
+namespace roger {
+
+// What to propose for and how hard to search.
+struct ProposeOptions {
+  std::string curriculum;      // script path or bare name ("paper")
+  std::string stage;           // the task stage ("T")
+  std::string context;         // the starting Psi: a context of the stage ("" = its first)
+  double budget_s = 0.0;       // simulated seconds of training the whole search may spend (> 0)
+  std::string out;             // the folder of candidates, trial records, proposal.lua, propose.md
+  uint64_t seed = 1;
+  double probe_share = 0.2;    // share of the budget for the probe of the starting context
+  int probe_trials = 2;        // probe trials (seeds)
+  int trials = 2;              // trials (seeds) per candidate and round of successive halving
+  int max_candidates = 8;      // candidates evaluated (the rest are listed, not run)
+  double prune_below = 0.05;   // prune an action running under this share of successful time
+  SandboxLimits limits;
+  std::ostream* progress = nullptr;  // one line per trial (nullptr = none)
+};
+
+// One evaluated (or reused) training run of a candidate.
+struct CandidateTrial {
+  uint64_t seed = 0;
+  double cap_s = 0.0;        // the simulated seconds it was allowed
+  double spent_s = 0.0;      // what it spent: its skills' training, then its final stage
+  double skills_s = 0.0;     // of which the learned subgoal stages
+  bool reached = false;      // the final stage reached its threshold within the cap
+  double time_s = 0.0;       // skills_s + the final stage's time-to-threshold (when reached)
+  double last_success = 0.0; // the final stage's last checkpoint's success rate
+  double loss = 0.0;         // time_s when reached, else cap_s * (2 - last_success)
+  bool reused = false;       // read back from the trial record of an earlier run
+  int round = 0;             // the round of successive halving it belongs to (1-based)
+};
+
+// A candidate curriculum.
+struct Candidate {
+  std::string id;            // "C1"
+  std::string kind;          // "base", "pruned", "macro", "subgoal", "chain"
+  std::string summary;       // one line: what its Psi is
+  std::string why;           // where it comes from in the probe
+  std::string file;          // its curriculum file in out/candidates/
+  std::vector<std::string> psi;  // the final stage's actions, by name
+  bool evaluated = false;    // false: generated but over max_candidates
+  int eliminated_round = -1; // the round successive halving dropped it in (-1 = survived)
+  std::vector<CandidateTrial> trials;  // every round's
+  double score = 0.0;        // mean loss of its trials in its last round (lower is better)
+};
+
+// What one proposal search did.
+struct ProposeResult {
+  std::vector<Candidate> candidates;
+  int winner = -1;               // index into candidates
+  double budget_s = 0.0;
+  double probe_s = 0.0;          // simulated seconds the probe trained
+  double spent_s = 0.0;          // the whole search, the probe included
+  int successful_episodes = 0;   // in the probe
+  int rounds = 0;
+  int trials_run = 0, trials_reused = 0;
+  std::string proposal_file;     // out/proposal.lua
+  std::string report_file;       // out/propose.md
+};
+
+// Runs the search (resuming from the trial records already in options.out) and writes
+// candidates/*.lua, trials/*.json, proposal.lua and propose.md into options.out. Throws
+// roger::Error for bad options (naming the option) and ScriptError for a bad curriculum.
+ProposeResult propose_curriculum(const ProposeOptions& options);
+
+}  // namespace roger
