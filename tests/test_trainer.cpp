@@ -141,6 +141,35 @@ TEST_CASE("roger train writes every file and eval --policy reproduces its final 
   INFO(t2out);
   REQUIRE(t2status == 0);
   CHECK(nlohmann::json::parse(last_line(t2out))["success_rate"] == t["success_rate"]);
+
+  // roger render replays one of those greedy episodes through the same loop: the same outcome as
+  // its evaluation, with the frames, the states of Psi and what ran inside it.
+  PolicyEvalOptions po;
+  po.curriculum = "curricula/paper.lua";
+  po.policy_file = (tdir / "policy.json").string();
+  po.scenario = "cluttered";
+  po.sets = {{"shape", "spade"}};
+  for (int64_t seed : {4009, 4010, 4011}) {
+    po.first_seed = seed;
+    po.episodes = 1;
+    const PolicyEvalResult evaluated = evaluate_policy_file(po);
+    const RecordedPolicyEpisode recorded = record_policy_episode(po, 0.5);
+    CHECK(recorded.episode.success == (evaluated.eval.successes == 1));
+    CHECK(recorded.episode.reward == evaluated.eval.reward_mean);
+    CHECK(recorded.episode.sim_seconds == evaluated.eval.time_mean);
+    CHECK(recorded.episode.frames.size() >= size_t(recorded.episode.sim_seconds / 0.5));
+    REQUIRE(recorded.episode.gammas.size() >= 2);
+    CHECK(recorded.episode.gammas[0].name == "Phi_STG");  // Psi first, then what is inside it
+    CHECK(recorded.episode.gammas[0].states.size() == size_t(recorded.episode.ticks));
+    REQUIRE(!recorded.episode.decisions.empty());
+    CHECK(recorded.episode.decisions.front().path.front() == "Phi_STG");
+  }
+  const fs::path movie = dir / "replay";
+  const auto [rstatus, rout] = run_roger("render curricula/paper.lua --policy " + (tdir / "policy.json").string() +
+                                         " --seed 2000000 --out " + movie.string());
+  INFO(rout);
+  CHECK(rstatus == 0);
+  CHECK(fs::is_regular_file(movie / "episode.json"));
   fs::remove_all(dir);
 }
 

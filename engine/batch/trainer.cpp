@@ -1,6 +1,7 @@
 #include "batch/trainer.h"
 
 #include <algorithm>
+#include <functional>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -65,13 +66,14 @@ struct StageRun {
   // One episode of the stage's semi-MDP through the episode loop; the stage's Lua functions, if
   // any, are called at decision points only.
   // An error is rethrown as an EpisodeFault naming `phase`, `index` and the world seed.
+  // `observer`, if any, records it (roger render).
   TrainingEpisode run(QTable& q, uint64_t seed, double epsilon, Rng& rng, bool learn, const std::string& phase,
-                      int index) {
+                      int index, EpisodeObserver* observer = nullptr) {
     try {
       const WorldSpec spec = scenario.generate(seed);
       StageHooks hooks(cur, stage, ctx);
       SemiMdpDriver driver(ctx.actions, stage.absorbing.get(), q, epsilon, rng, stage.rewards, learn, &hooks);
-      run_episode(agent, spec, seed, driver, stage.time_limit);
+      run_episode(agent, spec, seed, driver, stage.time_limit, observer);
       return driver.episode();
     } catch (const EpisodeFault&) {
       throw;  // from a learned skill's own training: already placed
@@ -435,7 +437,12 @@ void write_train_outputs(const TrainResult& r, const std::string& dir_in) {
   write_file_atomic((dir / "summary.json").string(), train_summary_json(r).dump(1) + "\n");
 }
 
-PolicyEvalResult evaluate_policy_file(const PolicyEvalOptions& options) {
+namespace {
+
+// Loads a saved policy with its stage, context and learned skills, and hands its stage run, its
+// table and the first world seed to `use`; fills `out`'s stage, context, scenario and parameters.
+void with_policy_file(const PolicyEvalOptions& options, PolicyEvalResult& out,
+                      const std::function<void(StageRun&, QTable&, uint64_t)>& use) {
   const nlohmann::json j = batch_detail::read_json_file(options.policy_file);
   PolicyMetadata meta;
   QTable::from_json(j, {}, options.policy_file, &meta);  // the metadata first, to find the stage
@@ -451,16 +458,65 @@ PolicyEvalResult evaluate_policy_file(const PolicyEvalOptions& options) {
   TrainOptions topt;
   topt.limits = options.limits;
   bind_skills(cur, ctx, topt, &embedded, sources);
-  PolicyEvalResult out;
   out.stage = stage.name;
   out.context = ctx.name;
   out.time_limit = stage.time_limit;
   StageRun run{cur, stage, ctx, make_scenario(stage, options.scenario, options.sets, options.limits, &out.params), Agent()};
   cur.set_world(&run.agent.world());
   out.scenario = run.scenario.name();
-  const uint64_t first = options.first_seed >= 0 ? uint64_t(options.first_seed) : stage.checkpoints.seeds;
-  out.eval = greedy_eval(run, q, first, options.episodes, "evaluation");
+  use(run, q, options.first_seed >= 0 ? uint64_t(options.first_seed) : stage.checkpoints.seeds);
+}
+
+// Psi and the controllers inside it, breadth first, each once, at most `limit`. A part is held
+// through its action (an aliasing pointer: the action owns it).
+std::vector<ControllerPtr> watched_controllers(const std::vector<ControllerPtr>& psi, size_t limit) {
+  std::vector<ControllerPtr> out;
+  std::vector<ControllerPtr> layer = psi;
+  while (!layer.empty() && out.size() < limit) {
+    std::vector<ControllerPtr> next;
+    for (const ControllerPtr& c : layer) {
+      const bool seen = std::any_of(out.begin(), out.end(), [&](const ControllerPtr& o) { return o.get() == c.get(); });
+      if (out.size() >= limit || seen) continue;
+      out.push_back(c);
+      for (const Controller* child : c->children()) next.push_back(ControllerPtr(c, const_cast<Controller*>(child)));
+    }
+    layer = std::move(next);
+  }
   return out;
+}
+
+}  // namespace
+
+PolicyEvalResult evaluate_policy_file(const PolicyEvalOptions& options) {
+  PolicyEvalResult out;
+  with_policy_file(options, out, [&](StageRun& run, QTable& q, uint64_t first) {
+    out.eval = greedy_eval(run, q, first, options.episodes, "evaluation");
+  });
+  return out;
+}
+
+RecordedPolicyEpisode record_policy_episode(const PolicyEvalOptions& options, double record_every,
+                                            size_t watch_limit) {
+  RecordedPolicyEpisode r;
+  with_policy_file(options, r.about, [&](StageRun& run, QTable& q, uint64_t seed) {
+    const std::vector<ControllerPtr> watch = watched_controllers(run.ctx.actions, watch_limit);
+    const auto recorder = make_recorder(r.episode, watch, record_every, run.agent.world().tick_seconds());
+    Rng unused(0);
+    const TrainingEpisode ep = run.run(q, seed, 0.0, unused, false, "render", 0, recorder.get());
+    r.spec = run.scenario.generate(seed);
+    r.episode.seed = seed;
+    r.episode.success = ep.success;
+    r.episode.reward = ep.reward;
+    r.episode.sim_seconds = ep.sim_seconds;
+    r.episode.ticks = ep.ticks;
+    r.about.eval.episodes = 1;
+    r.about.eval.first_seed = seed;
+    r.about.eval.successes = ep.success;
+    r.about.eval.success_rate = ep.success;
+    r.about.eval.reward_mean = ep.reward;
+    r.about.eval.time_mean = ep.sim_seconds;
+  });
+  return r;
 }
 
 }  // namespace roger

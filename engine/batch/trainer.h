@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "learn/episode.h"
 #include "learn/learning.h"
 #include "script/lua_sandbox.h"
 
@@ -166,5 +167,19 @@ struct PolicyEvalResult {
 // Rebuilds a saved policy's Psi from the curriculum (and its embedded learned skills) and runs it
 // greedily with the stage's absorbing state and time limit in any scenario.
 PolicyEvalResult evaluate_policy_file(const PolicyEvalOptions& options);
+
+// One greedy episode of a saved policy, recorded for replay (roger render).
+struct RecordedPolicyEpisode {
+  PolicyEvalResult about;   // stage, context, scenario and its parameters (eval: this episode alone)
+  WorldSpec spec;           // the episode's world
+  EpisodeResult episode;    // frames, the watched controllers' states, the decisions
+};
+
+// Runs the greedy episode of a saved policy on world seed options.first_seed (-1: the stage's first
+// held-out seed) through the same episode loop as training and evaluation, recording a frame
+// every `record_every` seconds and the states of Psi and the controllers inside it (at most
+// `watch_limit`, outermost first).
+RecordedPolicyEpisode record_policy_episode(const PolicyEvalOptions& options, double record_every,
+                                            size_t watch_limit = 12);
 
 }  // namespace roger

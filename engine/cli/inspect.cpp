@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "batch/trainer.h"
 #include "cli/cli_internal.h"
 #include "cli/commands.h"
 #include "learn/episode.h"
@@ -28,9 +29,49 @@ std::string policy_scenario(const SkillScript::NamedPolicy& p, const std::string
 
 namespace {
 
+// Writes a recorded episode: a folder with frames and a replay page, or (for a .png path) one
+// summary strip; then says what it wrote.
+void write_rendered_episode(const RenderArgs& a, const WorldSpec& spec, const EpisodeResult& episode,
+                            const std::string& title) {
+  AnimationOptions anim;
+  anim.frame.width_px = a.width;
+  anim.frame.robot = RobotParams{};
+  anim.title = title;
+  const bool summary = a.out.size() > 4 && a.out.compare(a.out.size() - 4, 4, ".png") == 0;
+  if (summary) {
+    render_episode_summary(spec, episode, a.out, anim);
+  } else {
+    render_episode(spec, episode, a.out, anim);
+  }
+  std::printf("wrote %s (%s after %.2f s, reward %.0f; %zu frames)\n", a.out.c_str(),
+              episode.success ? "success" : "timeout", episode.sim_seconds, episode.reward,
+              episode.frames.size());
+}
+
+// Renders the greedy episode of a policy saved by roger train (its curriculum is a.scenario).
+int run_render_policy_file(const RenderArgs& a) {
+  PolicyEvalOptions o;
+  o.curriculum = a.scenario;
+  o.policy_file = a.policy;
+  o.scenario = a.world;
+  o.sets = split_sets(a.sets, "--set");
+  o.first_seed = int64_t(a.seed);
+  const RecordedPolicyEpisode r = record_policy_episode(o, a.every);
+  write_rendered_episode(a, r.spec, r.episode,
+                         r.about.stage + "/" + r.about.context + " (" + a.policy + ") in " + r.about.scenario +
+                             ", seed " + std::to_string(a.seed));
+  return 0;
+}
+
 // Renders one episode of a skill script's policy: a folder with frames and a replay page, or
 // (for a .png path) one summary strip.
 int run_render_episode(const RenderArgs& a) {
+  if (is_curriculum_script(resolve_curriculum_path(a.scenario))) {
+    if (a.policy.size() < 5 || a.policy.compare(a.policy.size() - 5, 5, ".json") != 0)
+      throw Error("with a curriculum, --policy names a policy file written by roger train (policy.json), got '" +
+                  a.policy + "'");
+    return run_render_policy_file(a);
+  }
   SkillScript script = SkillScript::load(a.scenario);
   const SkillScript::NamedPolicy& policy = script.policy(a.policy);
   Scenario scenario = Scenario::load(policy_scenario(policy, a.world));
@@ -44,19 +85,8 @@ int run_render_episode(const RenderArgs& a) {
   if (watch.size() > 12) watch.resize(12);
   Agent agent;
   const EpisodeResult episode = run_episode(agent, spec, a.seed, *policy.action, *policy.goal, options, watch);
-  AnimationOptions anim;
-  anim.frame.width_px = a.width;
-  anim.frame.robot = agent.world().params().robot;
-  anim.title = script.name() + ": " + policy.name + " in " + scenario.name() + ", seed " + std::to_string(a.seed);
-  const bool summary = a.out.size() > 4 && a.out.compare(a.out.size() - 4, 4, ".png") == 0;
-  if (summary) {
-    render_episode_summary(spec, episode, a.out, anim);
-  } else {
-    render_episode(spec, episode, a.out, anim);
-  }
-  std::printf("wrote %s (%s after %.2f s, reward %.0f; %zu frames)\n", a.out.c_str(),
-              episode.success ? "success" : "timeout", episode.sim_seconds, episode.reward,
-              episode.frames.size());
+  write_rendered_episode(a, spec, episode,
+                         script.name() + ": " + policy.name + " in " + scenario.name() + ", seed " + std::to_string(a.seed));
   return 0;
 }
 

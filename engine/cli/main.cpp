@@ -25,8 +25,9 @@ CLI::App* add_render(CLI::App& app, RenderArgs& a) {
   c->add_option("--seconds", a.seconds, "Simulate this long (Roger idle) first")->check(CLI::Range(0.0, 3600.0));
   c->add_flag("--grid", a.grid, "Draw the metric grid across the floor");
   c->add_option("--policy", a.policy,
-                "With a skill script: render an episode of this policy (a folder with frames "
-                "and a replay page, or a .png summary)");
+                "With a skill script: render an episode of this policy; with a curriculum: the greedy "
+                "episode of a policy.json written by roger train (a folder with frames and a replay "
+                "page, or a .png summary)");
   c->add_option("--scenario", a.world, "The episode's scenario (default: the policy's)");
   c->add_option("--every", a.every, "Seconds between recorded frames")
       ->capture_default_str()->check(CLI::Range(0.02, 10.0));

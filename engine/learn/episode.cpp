@@ -23,7 +23,7 @@ EpisodeOutcome run_episode(Agent& agent, const WorldSpec& spec, uint64_t seed, E
     }
     agent.step(*action);
     out.ticks = t + 1;
-    if (observer) observer->on_tick(agent, out.ticks);
+    if (observer) observer->on_tick(agent, out.ticks, *action);
     if (driver.absorbed(agent.input())) {
       out.success = true;
       break;
@@ -57,19 +57,18 @@ class FixedActionDriver final : public EpisodeDriver {
 // Records frames every `every` ticks (and the last one) and the watched controllers' states.
 class Recorder final : public EpisodeObserver {
  public:
-  Recorder(EpisodeResult& result, const Controller& action, const std::vector<ControllerPtr>& watch,
-           int every)
-      : result_(result), action_(action), watch_(watch), every_(every) {}
+  Recorder(EpisodeResult& result, const std::vector<ControllerPtr>& watch, int every)
+      : result_(result), watch_(watch), every_(every) {}
 
   void on_begin(const Agent& agent, uint64_t seed) override {
     for (const auto& w : watch_) w->reset(seed);
     for (const auto& w : watch_) result_.gammas.push_back(GammaTrace{w->name(), {}});
     if (every_) record(agent, 0);
   }
-  void on_tick(const Agent& agent, int tick) override {
+  void on_tick(const Agent& agent, int tick, const Controller& ran) override {
     for (size_t i = 0; i < watch_.size(); ++i) result_.gammas[i].states.push_back(watch_[i]->state(agent.input()));
     if (every_ && tick % every_ == 0) record(agent, tick);
-    if (every_ || !watch_.empty()) note_decision(tick);
+    if (every_ || !watch_.empty()) note_decision(tick, ran);
   }
   void on_end(const Agent& agent, bool success, int ticks) override {
     // The moment the goal was reached is always shown, whatever the frame period.
@@ -82,12 +81,13 @@ class Recorder final : public EpisodeObserver {
     result_.frames.push_back(agent.world().frame());
     result_.frame_ticks.push_back(tick);
   }
-  // Follows the action down to what runs now (a sequence's current step, a policy's choice, a
-  // stand-in's target) and records a decision when that path differs from the last tick's. The
-  // path is compared as pointers in a reused buffer, so names are copied only at decisions.
-  void note_decision(int tick) {
+  // Follows what ran down to what runs inside it now (a sequence's current step, a policy's
+  // choice, a stand-in's target) and records a decision when that path differs from the last
+  // tick's. The path is compared as pointers in a reused buffer, so names are copied only at
+  // decisions.
+  void note_decision(int tick, const Controller& ran) {
     path_.clear();
-    for (const Controller* c = &action_; c && path_.size() < 32;) {
+    for (const Controller* c = &ran; c && path_.size() < 32;) {
       path_.push_back(c);
       if (const auto* seq = dynamic_cast<const Sequence*>(c)) {
         const int k = seq->current();
@@ -110,7 +110,6 @@ class Recorder final : public EpisodeObserver {
     result_.decisions.push_back(std::move(d));
   }
   EpisodeResult& result_;
-  const Controller& action_;
   const std::vector<ControllerPtr>& watch_;
   const int every_;
   std::vector<const Controller*> path_, last_path_;
@@ -118,16 +117,20 @@ class Recorder final : public EpisodeObserver {
 
 }  // namespace
 
+std::unique_ptr<EpisodeObserver> make_recorder(EpisodeResult& result, const std::vector<ControllerPtr>& watch,
+                                               double record_every, double tick_seconds) {
+  const int every = record_every > 0.0 ? std::max(1, int(std::lround(record_every / tick_seconds))) : 0;
+  return std::make_unique<Recorder>(result, watch, every);
+}
+
 EpisodeResult run_episode(Agent& agent, const WorldSpec& spec, uint64_t seed, Controller& action,
                           Predicate& goal, const EpisodeOptions& options,
                           const std::vector<ControllerPtr>& watch) {
-  const double dt = agent.world().tick_seconds();
-  const int every = options.record_every > 0.0 ? std::max(1, int(std::lround(options.record_every / dt))) : 0;
   EpisodeResult r;
   r.seed = seed;
   FixedActionDriver driver(action, goal);
-  Recorder recorder(r, action, watch, every);
-  const EpisodeOutcome out = run_episode(agent, spec, seed, driver, options.time_limit, &recorder);
+  const auto recorder = make_recorder(r, watch, options.record_every, agent.world().tick_seconds());
+  const EpisodeOutcome out = run_episode(agent, spec, seed, driver, options.time_limit, recorder.get());
   r.success = out.success;
   r.ticks = out.ticks;
   r.sim_seconds = out.sim_seconds;

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -39,8 +40,9 @@ class EpisodeObserver {
   virtual ~EpisodeObserver() = default;
   // The world is reset and the driver has begun.
   virtual void on_begin(const Agent&, uint64_t /*seed*/) {}
-  // A tick has run (before the absorbing state is checked); `tick` counts from 1.
-  virtual void on_tick(const Agent&, int /*tick*/) {}
+  // A tick has run `ran` (what the driver chose), before the absorbing state is checked; `tick`
+  // counts from 1.
+  virtual void on_tick(const Agent&, int /*tick*/, const Controller& /*ran*/) {}
   // The episode is over.
   virtual void on_end(const Agent&, bool /*success*/, int /*ticks*/) {}
 };
@@ -92,6 +94,14 @@ struct EpisodeResult {
   std::vector<GammaTrace> gammas; // one per watched controller, every tick
   std::vector<Decision> decisions;// when recording: each change of the running path of the action
 };
+
+// An observer that records into `result` what run_episode(action) records: a frame every
+// `record_every` seconds (0: none) and the moment of success, the states of the `watch`
+// controllers every tick, and (when recording either) each change of the path that runs, from the
+// controller the driver chose down to the step or choice running inside it. With any driver
+// (a learned stage's too), so that every kind of episode can be replayed.
+std::unique_ptr<EpisodeObserver> make_recorder(EpisodeResult& result, const std::vector<ControllerPtr>& watch,
+                                               double record_every, double tick_seconds);
 
 // Runs `action` (a primitive, composition or skill) through the loop from a fresh world until
 // `goal` holds or the time limit, recording frames every options.record_every seconds and the
