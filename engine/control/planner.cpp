@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "control/planner_internal.h"
 #include "core/error.h"
 
 namespace roger {
@@ -316,13 +317,15 @@ void HarmonicPlanner::solve(bool warm) {
 
 // The sweep works on q split by colour (a checkerboard layout): row j of colour c holds, in order,
 // the padded cells (i, j) with (i + j) % 2 == c, so that a half-sweep reads its four neighbours
-// from contiguous rows of the other colour and the compiler can relax two cells per instruction.
+// from contiguous rows of the other colour, and the kernel (planner_sweep.cpp) relaxes 2 to 8
+// cells per instruction.
 // Each row has a guard slot at both ends, so the shifted reads of its edge cells stay in bounds;
 // guards and fixed cells are never relaxed. The values are those of q_, exactly.
 void HarmonicPlanner::split_by_colour() {
   const int rows = grid_.ny + 2;
-  // A guard slot at each end, and an even number of slots between them (relax_row takes pairs).
-  split_width_ = ((stride_ + 1) / 2 + 1) / 2 * 2 + 2;
+  // A guard slot at each end, and between them a whole number of the widest kernel's lanes.
+  const int lanes = planner_internal::kRelaxLanes;
+  split_width_ = ((stride_ + 1) / 2 + lanes - 1) / lanes * lanes + 2;
   for (int c = 0; c < 2; ++c) {
     colour_[c].assign(size_t(rows) * split_width_, 0.0);
     relaxed_[c].assign(size_t(rows) * split_width_, 0);
@@ -344,41 +347,6 @@ void HarmonicPlanner::join_colours() {
       q_[j * stride_ + i] = colour_[(i + j) & 1][size_t(j) * split_width_ + 1 + i / 2];
 }
 
-namespace {
-
-// Two doubles, relaxed together (GCC and Clang vector extensions: SSE2 on x86-64, plain code
-// elsewhere). Each lane computes exactly what the scalar code would, operation for operation.
-typedef double Pair __attribute__((vector_size(16)));
-typedef int64_t PairMask __attribute__((vector_size(16)));
-inline Pair load_pair(const double* p) { Pair v; std::memcpy(&v, p, sizeof v); return v; }
-inline void store_pair(double* p, Pair v) { std::memcpy(p, &v, sizeof v); }
-
-// One row of a half-sweep on the split layout (see split_by_colour): relaxes the `count` (even)
-// cells of q whose mask is all ones from their four neighbours in the other colour's rows, and
-// returns how many of them changed by less than `tol` of their new value (a NaN did not). The mask
-// zeroes the change of a fixed cell: bits, not a branch, so two cells go per instruction.
-int relax_row(double* __restrict q, const int64_t* __restrict relaxed, const double* left,
-              const double* right, const double* below, const double* above, int count,
-              double omega, double tol) {
-  const Pair om = {omega, omega}, quarter = {0.25, 0.25}, tolerance = {tol, tol};
-  const PairMask no_sign = {INT64_MAX, INT64_MAX};
-  PairMask converged = {0, 0};  // a true comparison is -1 in its lane
-  for (int m = 0; m < count; m += 2) {
-    PairMask mask;
-    std::memcpy(&mask, relaxed + m, sizeof mask);
-    const Pair value = load_pair(q + m);
-    const Pair sum = load_pair(left + m) + load_pair(right + m) + load_pair(below + m) + load_pair(above + m);
-    const Pair change = Pair(PairMask(om * (quarter * sum - value)) & mask);
-    const Pair next = value + change;
-    store_pair(q + m, next);
-    const Pair size = Pair(PairMask(change) & no_sign);  // |change|
-    converged -= PairMask(size < tolerance * next) & mask;
-  }
-  return int(converged[0] + converged[1]);
-}
-
-}  // namespace
-
 int HarmonicPlanner::sweep(double omega) {
   // Red-black Gauss-Seidel: the cells of one colour depend only on the other colour, so a
   // half-sweep has no dependency from one cell to the next and its order does not matter.
@@ -388,6 +356,7 @@ int HarmonicPlanner::sweep(double omega) {
   // solve has not reached yet (q = 0, no change) fails the strict test, and so does a NaN.
   const size_t w = size_t(split_width_);
   const int rows = grid_.ny + 2;
+  const planner_internal::RelaxRow relax_row = planner_internal::widest_relax_row_kernel();
   int converged = 0;
   for (int c = 0; c < 2; ++c) {
     const double* other = colour_[1 - c].data();
