@@ -297,7 +297,8 @@ void HarmonicPlanner::solve(bool warm) {
   while (!converged_ && sweeps < params_.max_sweeps) {
     // A moved goal leaves a sharp local error; over-relaxed at once, it would ring across the
     // whole grid. A few plain Gauss-Seidel sweeps smooth it where it is first.
-    const int unconverged = sweep(warm && sweeps < params_.warm_smoothing ? 1.0 : omega_);
+    const int unconverged =
+        sweep(warm && sweeps < params_.warm_smoothing ? 1.0 : omega_, warm ? -1 : sweeps);
     ++sweeps;
     converged_ = unconverged == 0;
     if (unconverged < fewest) {
@@ -337,6 +338,37 @@ void HarmonicPlanner::split_by_colour() {
       colour_[c][at] = q_[k];
       relaxed_[c][at] = dist_[k] > 0 ? -1 : 0;  // all bits set
     }
+  find_relaxed_ranges(planner_internal::widest_relax_kernel().lanes);
+}
+
+// The slots of each row that hold relaxed cells, padded to whole lanes: the sweep passes over the
+// rest, fixed cells whose relaxation would change nothing (obstacle margins, walled-off rooms).
+void HarmonicPlanner::find_relaxed_ranges(int lanes) {
+  const int rows = grid_.ny + 2;
+  for (int c = 0; c < 2; ++c) {
+    row_first_[c].assign(size_t(rows), 0);
+    row_count_[c].assign(size_t(rows), 0);
+    row_nearest_[c].assign(size_t(rows), INT_MAX);
+  }
+  for (int j = 0; j < rows; ++j)
+    for (int i = 0; i < stride_; ++i) {
+      const int c = (i + j) & 1, k = j * stride_ + i, slot = 1 + i / 2;
+      if (dist_[k] <= 0) continue;
+      int& first = row_first_[c][size_t(j)];
+      int& count = row_count_[c][size_t(j)];
+      if (count == 0) first = slot;
+      count = slot - first + 1;
+      row_nearest_[c][size_t(j)] = std::min(row_nearest_[c][size_t(j)], dist_[k]);
+    }
+  // Whole lanes; a range that would run into the last guard slot starts earlier instead (the
+  // slots between the guards are a whole number of the widest lanes, so it fits).
+  for (int c = 0; c < 2; ++c)
+    for (int j = 0; j < rows; ++j) {
+      int& first = row_first_[c][size_t(j)];
+      int& count = row_count_[c][size_t(j)];
+      count = (count + lanes - 1) / lanes * lanes;
+      first = std::max(1, std::min(first, split_width_ - 1 - count));
+    }
 }
 
 // Writes the split values back into q_.
@@ -347,26 +379,36 @@ void HarmonicPlanner::join_colours() {
       q_[j * stride_ + i] = colour_[(i + j) & 1][size_t(j) * split_width_ + 1 + i / 2];
 }
 
-int HarmonicPlanner::sweep(double omega) {
+int HarmonicPlanner::sweep(double omega, int front) {
   // Red-black Gauss-Seidel: the cells of one colour depend only on the other colour, so a
   // half-sweep has no dependency from one cell to the next and its order does not matter.
   //
   // Convergence is judged relative to each cell's value, not absolutely: far from the goal q is
   // tiny and an absolute test would stop long before the direction there is right. A cell the
   // solve has not reached yet (q = 0, no change) fails the strict test, and so does a NaN.
+  //
+  // A cold solve (front: the sweeps made so far; -1 when warm) starts from zero everywhere but
+  // the goal, and half-sweep h can carry a value only one step further from it: before it, every
+  // cell more than h flood steps from the goal is still exactly 0, and a cell more than h + 1
+  // steps away, all of whose neighbours are, would relax to exactly 0 again and stay unconverged.
+  // Rows made only of such cells are passed over (they count as unconverged all the same).
   const size_t w = size_t(split_width_);
   const int rows = grid_.ny + 2;
-  const planner_internal::RelaxRow relax_row = planner_internal::widest_relax_row_kernel();
+  const planner_internal::RelaxRow relax_row = planner_internal::widest_relax_kernel().row;
   int converged = 0;
   for (int c = 0; c < 2; ++c) {
     const double* other = colour_[1 - c].data();
+    const long reached = front < 0 ? long(INT_MAX) : 2L * front + c + 1;
     for (int j = 1; j < rows - 1; ++j) {
-      // Cell m of this row is at padded column 2m + p; its left neighbour is cell m + p - 1 of
-      // the other colour's row, its right one m + p, above and below m (slots count from 1).
-      const size_t p = size_t((j + c) & 1), row = size_t(j) * w + 1;
-      converged += relax_row(colour_[c].data() + row, relaxed_[c].data() + row,
-                             other + row + p - 1, other + row + p, other + row - w,
-                             other + row + w, int(w) - 2, omega, params_.tolerance);
+      const int count = row_count_[c][size_t(j)];
+      if (count == 0 || row_nearest_[c][size_t(j)] > reached) continue;
+      // Cell m of the range is at padded column 2 (first + m - 1) + p; its left neighbour is slot
+      // first + m + p - 1 of the other colour's row, its right one first + m + p, and those above
+      // and below slot first + m.
+      const size_t p = size_t((j + c) & 1), at = size_t(j) * w + size_t(row_first_[c][size_t(j)]);
+      converged += relax_row(colour_[c].data() + at, relaxed_[c].data() + at, other + at + p - 1,
+                             other + at + p, other + at - w, other + at + w, count, omega,
+                             params_.tolerance);
     }
   }
   return int(red_.size() + black_.size()) - converged;

@@ -108,8 +108,9 @@ class HarmonicPlanner {
   bool reuse_cold_solve();                   // the remembered cold solve, if it is this one
   void remember_cold_solve(int backoffs_before);
   void split_by_colour();                    // q_ into colour_, for the sweeps of a solve
+  void find_relaxed_ranges(int lanes);       // row_first_, row_count_, row_nearest_
   void join_colours();                       // colour_ back into q_
-  int sweep(double omega);                   // one red-black SOR sweep; returns unconverged cells
+  int sweep(double omega, int front);        // one red-black SOR sweep; returns unconverged cells
   double measure_residual() const;
   Vec2 cell_gradient(int k) const;           // gradient of q at a cell centre, central differences
   double bilinear(const Vec2& p, Vec2* gradient) const;  // q at p, and its interpolated gradient
@@ -133,6 +134,10 @@ class HarmonicPlanner {
   std::vector<double> colour_[2];   // q_ split by colour during a solve (see split_by_colour)
   std::vector<int64_t> relaxed_[2]; // all bits set where colour_ holds a cell the sweep relaxes
   int split_width_ = 0;             // slots per row of colour_
+  // Per colour and row: the first slot the sweep relaxes, how many (a multiple of the kernel's
+  // lanes, covering every relaxed cell of the row; 0 for none), and the least flood distance of
+  // the row's relaxed cells.
+  std::vector<int> row_first_[2], row_count_[2], row_nearest_[2];
   std::vector<int> goal_;        // sorted padded indices of the goal cells in force
   std::vector<int> pending_goal_;
   std::vector<int> queue_;       // breadth-first scratch, kept to avoid allocating per change

@@ -22,8 +22,14 @@ using RelaxRow = int (*)(double* q, const int64_t* relaxed, const double* left, 
 // Null when the processor cannot run that width (only 2 is always available).
 RelaxRow relax_row_kernel(int lanes);
 
+// A kernel and the lanes it relaxes per instruction (the multiple its `count` must be).
+struct RelaxKernel {
+  RelaxRow row = nullptr;
+  int lanes = 2;
+};
+
 // The widest kernel this processor runs, chosen once.
-RelaxRow widest_relax_row_kernel();
+RelaxKernel widest_relax_kernel();
 
 }  // namespace planner_internal
 }  // namespace roger

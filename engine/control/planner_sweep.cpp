@@ -103,11 +103,11 @@ RelaxRow relax_row_kernel(int lanes) {
   return nullptr;
 }
 
-RelaxRow widest_relax_row_kernel() {
-  static const RelaxRow widest = [] {
+RelaxKernel widest_relax_kernel() {
+  static const RelaxKernel widest = [] {
     for (int lanes : {8, 4})
-      if (RelaxRow k = relax_row_kernel(lanes)) return k;
-    return relax_row_kernel(2);
+      if (RelaxRow k = relax_row_kernel(lanes)) return RelaxKernel{k, lanes};
+    return RelaxKernel{relax_row_kernel(2), 2};
   }();
   return widest;
 }
