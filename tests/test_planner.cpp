@@ -353,44 +353,54 @@ TEST_CASE("a cold solve of the same goal on the same grid is reused, to the last
 TEST_CASE("every width of the relaxation kernel gives the same bits", "[planner]") {
   // Rows of a half-sweep with values over many decades, down to subnormal ones (as q is far from
   // the goal; only there is a quarter of a sum inexact), fixed and relaxed cells mixed, against
-  // the 2-lane kernel every processor runs: a wider kernel that fused the multiply into the
-  // subtraction, or lost a lane, would differ in some bit or some count.
+  // the 2-lane kernel every processor runs and the scalar relaxation: a wider kernel that fused
+  // the multiply into the subtraction, or lost a lane, would differ in some bit or some count.
   using namespace planner_internal;
   Rng rng(7);
-  const int count = 8 * kRelaxLanes;
-  const int guarded = count + 2;
+  const int count = 8 * kRelaxLanes, width = count + 2, rows = 4;
   int widths_run = 0;
   for (int lanes : {4, 8}) {
-    const RelaxRow wide = relax_row_kernel(lanes);
+    const RelaxHalfSweep wide = relax_kernel(lanes);
     if (!wide) continue;  // this processor lacks the instruction set
     ++widths_run;
     for (int trial = 0; trial < 200; ++trial) {
-      std::vector<double> q(guarded), below(guarded), above(guarded), other(guarded + 1);
-      std::vector<int64_t> relaxed(guarded);
       // One row in three lies wholly in the subnormal range, where a quarter of a sum rounds.
       const double deepest = trial % 3 ? 300.0 : 322.0, shallowest = trial % 3 ? 0.0 : 308.0;
       auto value = [&] { return std::pow(10.0, -rng.uniform(shallowest, deepest)) * rng.uniform(0.5, 1.0); };
-      for (int k = 0; k < guarded; ++k) {
-        q[k] = value(), below[k] = value(), above[k] = value();
+      std::vector<double> q(size_t(width * rows)), other(q.size());
+      std::vector<int64_t> relaxed(q.size());
+      for (size_t k = 0; k < q.size(); ++k) {
+        q[k] = value(), other[k] = value();
         relaxed[k] = rng.uniform(0.0, 1.0) < 0.8 ? -1 : 0;
       }
-      for (double& v : other) v = value();
+      // Rows 1 and 2, with both shifts; row 2 is passed over when its nearest cell is too far.
+      RelaxRange ranges[2];
+      ranges[0].at = width + 1, ranges[0].shift = trial % 2, ranges[0].count = count, ranges[0].nearest = 3;
+      ranges[1].at = 2 * width + 1, ranges[1].shift = 1 - trial % 2, ranges[1].count = count - lanes;
+      ranges[1].nearest = trial % 4 < 2 ? 4 : 9;
       const double omega = rng.uniform(1.0, 1.95), tol = trial % 2 ? 2e-3 : 1e-300;
       std::vector<double> q2 = q, qw = q;
-      const int c2 = relax_row_kernel(2)(q2.data() + 1, relaxed.data() + 1, other.data(), other.data() + 1,
-                                         below.data() + 1, above.data() + 1, count, omega, tol);
-      const int cw = wide(qw.data() + 1, relaxed.data() + 1, other.data(), other.data() + 1,
-                          below.data() + 1, above.data() + 1, count, omega, tol);
+      const int c2 = relax_kernel(2)(q2.data(), relaxed.data(), other.data(), width, ranges, 2, 5, omega, tol);
+      const int cw = wide(qw.data(), relaxed.data(), other.data(), width, ranges, 2, 5, omega, tol);
       CHECK(cw == c2);
       CHECK(std::memcmp(q2.data(), qw.data(), sizeof(double) * q2.size()) == 0);
       // And the 2-lane kernel is the scalar relaxation, operation for operation.
-      for (int m = 0; m < count; ++m) {
-        const double v = q[m + 1];
-        const double sum = other[m] + other[m + 1] + below[m + 1] + above[m + 1];
-        const double mean = 0.25 * sum;
-        const double expected = relaxed[m + 1] ? v + omega * (mean - v) : v;
-        if (std::memcmp(&expected, &q2[m + 1], sizeof expected) != 0) FAIL("lane " << m << " of trial " << trial);
+      std::vector<double> expected = q;
+      int converged = 0;
+      for (const RelaxRange& range : ranges) {
+        if (range.nearest > 5) continue;
+        for (int m = 0; m < range.count; ++m) {
+          const int64_t k = range.at + m;
+          if (!relaxed[size_t(k)]) continue;
+          const int64_t l = k + range.shift - 1;
+          const double sum = other[size_t(l)] + other[size_t(l + 1)] + other[size_t(k - width)] + other[size_t(k + width)];
+          const double v = q[size_t(k)], mean = 0.25 * sum, change = omega * (mean - v);
+          expected[size_t(k)] = v + change;
+          converged += std::fabs(change) < tol * expected[size_t(k)];
+        }
       }
+      CHECK(c2 == converged);
+      CHECK(std::memcmp(q2.data(), expected.data(), sizeof(double) * q2.size()) == 0);
     }
   }
   INFO("wider kernels this processor runs: " << widths_run);

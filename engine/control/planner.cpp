@@ -273,14 +273,16 @@ void HarmonicPlanner::flood_from_goal() {
   red_.clear();
   black_.clear();
   float widest = 0.0f;
-  for (int k = 0; k < int(q_.size()); ++k) {
-    if (dist_[k] > 0) {
-      ((k % stride_ + k / stride_) % 2 == 0 ? red_ : black_).push_back(k);
-      widest = std::max(widest, clearance_[k]);
-    } else {
-      q_[k] = dist_[k] == 0 ? 1.0 : 0.0;
+  const int rows = grid_.ny + 2;
+  for (int j = 0, k = 0; j < rows; ++j)
+    for (int i = 0; i < stride_; ++i, ++k) {
+      if (dist_[k] > 0) {
+        ((i + j) % 2 == 0 ? red_ : black_).push_back(k);
+        widest = std::max(widest, clearance_[k]);
+      } else {
+        q_[k] = dist_[k] == 0 ? 1.0 : 0.0;
+      }
     }
-  }
   widest_ = widest;
 }
 
@@ -332,11 +334,14 @@ void HarmonicPlanner::split_by_colour() {
     relaxed_[c].assign(size_t(rows) * split_width_, 0);
   }
   for (int j = 0; j < rows; ++j)
-    for (int i = 0; i < stride_; ++i) {
-      const int c = (i + j) & 1, k = j * stride_ + i;
-      const size_t at = size_t(j) * split_width_ + 1 + i / 2;
-      colour_[c][at] = q_[k];
-      relaxed_[c][at] = dist_[k] > 0 ? -1 : 0;  // all bits set
+    for (int c = 0; c < 2; ++c) {
+      // The cells of colour c in row j are every other one, from column (j + c) % 2.
+      double* values = colour_[c].data() + size_t(j) * split_width_ + 1;
+      int64_t* relaxed = relaxed_[c].data() + size_t(j) * split_width_ + 1;
+      for (int i = (j + c) & 1, k = j * stride_ + i; i < stride_; i += 2, k += 2) {
+        values[i / 2] = q_[k];
+        relaxed[i / 2] = dist_[k] > 0 ? -1 : 0;  // all bits set
+      }
     }
   find_relaxed_ranges(planner_internal::widest_relax_kernel().lanes);
 }
@@ -346,37 +351,38 @@ void HarmonicPlanner::split_by_colour() {
 void HarmonicPlanner::find_relaxed_ranges(int lanes) {
   const int rows = grid_.ny + 2;
   for (int c = 0; c < 2; ++c) {
-    row_first_[c].assign(size_t(rows), 0);
-    row_count_[c].assign(size_t(rows), 0);
-    row_nearest_[c].assign(size_t(rows), INT_MAX);
+    ranges_[c].clear();
+    for (int j = 1; j < rows - 1; ++j) {
+      int first = 0, last = -1, nearest = INT_MAX;
+      for (int i = (j + c) & 1; i < stride_; i += 2) {
+        const int k = j * stride_ + i, slot = 1 + i / 2;
+        if (dist_[k] <= 0) continue;
+        if (last < 0) first = slot;
+        last = slot;
+        nearest = std::min(nearest, dist_[k]);
+      }
+      if (last < 0) continue;
+      // Whole lanes; a range that would run into the last guard slot starts earlier instead
+      // (the slots between the guards are a whole number of the widest lanes, so it fits).
+      planner_internal::RelaxRange range;
+      range.count = (last - first + 1 + lanes - 1) / lanes * lanes;
+      first = std::max(1, std::min(first, split_width_ - 1 - range.count));
+      range.at = int64_t(j) * split_width_ + first;
+      range.shift = (j + c) & 1;
+      range.nearest = nearest;
+      ranges_[c].push_back(range);
+    }
   }
-  for (int j = 0; j < rows; ++j)
-    for (int i = 0; i < stride_; ++i) {
-      const int c = (i + j) & 1, k = j * stride_ + i, slot = 1 + i / 2;
-      if (dist_[k] <= 0) continue;
-      int& first = row_first_[c][size_t(j)];
-      int& count = row_count_[c][size_t(j)];
-      if (count == 0) first = slot;
-      count = slot - first + 1;
-      row_nearest_[c][size_t(j)] = std::min(row_nearest_[c][size_t(j)], dist_[k]);
-    }
-  // Whole lanes; a range that would run into the last guard slot starts earlier instead (the
-  // slots between the guards are a whole number of the widest lanes, so it fits).
-  for (int c = 0; c < 2; ++c)
-    for (int j = 0; j < rows; ++j) {
-      int& first = row_first_[c][size_t(j)];
-      int& count = row_count_[c][size_t(j)];
-      count = (count + lanes - 1) / lanes * lanes;
-      first = std::max(1, std::min(first, split_width_ - 1 - count));
-    }
 }
 
 // Writes the split values back into q_.
 void HarmonicPlanner::join_colours() {
   const int rows = grid_.ny + 2;
   for (int j = 0; j < rows; ++j)
-    for (int i = 0; i < stride_; ++i)
-      q_[j * stride_ + i] = colour_[(i + j) & 1][size_t(j) * split_width_ + 1 + i / 2];
+    for (int c = 0; c < 2; ++c) {
+      const double* values = colour_[c].data() + size_t(j) * split_width_ + 1;
+      for (int i = (j + c) & 1, k = j * stride_ + i; i < stride_; i += 2, k += 2) q_[k] = values[i / 2];
+    }
 }
 
 int HarmonicPlanner::sweep(double omega, int front) {
@@ -392,24 +398,13 @@ int HarmonicPlanner::sweep(double omega, int front) {
   // cell more than h flood steps from the goal is still exactly 0, and a cell more than h + 1
   // steps away, all of whose neighbours are, would relax to exactly 0 again and stay unconverged.
   // Rows made only of such cells are passed over (they count as unconverged all the same).
-  const size_t w = size_t(split_width_);
-  const int rows = grid_.ny + 2;
-  const planner_internal::RelaxRow relax_row = planner_internal::widest_relax_kernel().row;
+  const planner_internal::RelaxHalfSweep half_sweep = planner_internal::widest_relax_kernel().half_sweep;
   int converged = 0;
   for (int c = 0; c < 2; ++c) {
-    const double* other = colour_[1 - c].data();
-    const long reached = front < 0 ? long(INT_MAX) : 2L * front + c + 1;
-    for (int j = 1; j < rows - 1; ++j) {
-      const int count = row_count_[c][size_t(j)];
-      if (count == 0 || row_nearest_[c][size_t(j)] > reached) continue;
-      // Cell m of the range is at padded column 2 (first + m - 1) + p; its left neighbour is slot
-      // first + m + p - 1 of the other colour's row, its right one first + m + p, and those above
-      // and below slot first + m.
-      const size_t p = size_t((j + c) & 1), at = size_t(j) * w + size_t(row_first_[c][size_t(j)]);
-      converged += relax_row(colour_[c].data() + at, relaxed_[c].data() + at, other + at + p - 1,
-                             other + at + p, other + at - w, other + at + w, count, omega,
-                             params_.tolerance);
-    }
+    const int64_t reached = front < 0 ? int64_t(INT_MAX) : 2 * int64_t(front) + c + 1;
+    converged += half_sweep(colour_[c].data(), relaxed_[c].data(), colour_[1 - c].data(),
+                            split_width_, ranges_[c].data(), int(ranges_[c].size()), reached,
+                            omega, params_.tolerance);
   }
   return int(red_.size() + black_.size()) - converged;
 }

@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "control/planner_internal.h"
 #include "sim/occupancy.h"
 #include "core/spec.h"
 
@@ -108,7 +109,7 @@ class HarmonicPlanner {
   bool reuse_cold_solve();                   // the remembered cold solve, if it is this one
   void remember_cold_solve(int backoffs_before);
   void split_by_colour();                    // q_ into colour_, for the sweeps of a solve
-  void find_relaxed_ranges(int lanes);       // row_first_, row_count_, row_nearest_
+  void find_relaxed_ranges(int lanes);       // ranges_
   void join_colours();                       // colour_ back into q_
   int sweep(double omega, int front);        // one red-black SOR sweep; returns unconverged cells
   double measure_residual() const;
@@ -134,10 +135,8 @@ class HarmonicPlanner {
   std::vector<double> colour_[2];   // q_ split by colour during a solve (see split_by_colour)
   std::vector<int64_t> relaxed_[2]; // all bits set where colour_ holds a cell the sweep relaxes
   int split_width_ = 0;             // slots per row of colour_
-  // Per colour and row: the first slot the sweep relaxes, how many (a multiple of the kernel's
-  // lanes, covering every relaxed cell of the row; 0 for none), and the least flood distance of
-  // the row's relaxed cells.
-  std::vector<int> row_first_[2], row_count_[2], row_nearest_[2];
+  // Per colour, the slots of each row the sweep relaxes (rows without relaxed cells have none).
+  std::vector<planner_internal::RelaxRange> ranges_[2];
   std::vector<int> goal_;        // sorted padded indices of the goal cells in force
   std::vector<int> pending_goal_;
   std::vector<int> queue_;       // breadth-first scratch, kept to avoid allocating per change
