@@ -74,23 +74,40 @@ bool extent_of(const SeenSurface& s, const Vec2& eye, double eye_heading, Extent
   return out.u1 > out.u0;
 }
 
+// Sets n pixels from `first` to a surface. The values are copied first: bytes written through
+// the image may alias any byte, so the compiler would otherwise read them again for every pixel.
+void fill_pixels(EyeImage& image, int first, int n, Colour colour, SurfaceKind kind, int16_t index) {
+  std::fill_n(image.colour.begin() + first, n, colour);
+  std::fill_n(image.kind.begin() + first, n, kind);
+  std::fill_n(image.index.begin() + first, n, index);
+}
+
 // Paints the visible part [lo, hi) of a surface: pixels whose centre it covers take its colour,
 // and stimulus-coloured parts add their exact coverage to the edge pixels.
 void paint_part(double lo, double hi, const SeenSurface& s, bool is_stimulus, EyeImage& image) {
   const int first = std::max(0, int(std::ceil(lo)));         // centre u >= lo
   const int last = std::min(kPixels - 1, int(std::ceil(hi)) - 1);  // centre u < hi
-  for (int i = first; i <= last; ++i) {
-    image.colour[i] = s.colour;
-    image.kind[i] = s.kind;
-    image.index[i] = s.index;
-  }
+  if (last >= first) fill_pixels(image, first, last - first + 1, s.colour, s.kind, s.index);
   if (!is_stimulus) return;
   const int p0 = std::max(0, int(std::floor(lo + 0.5)));
   const int p1 = std::min(kPixels - 1, int(std::floor(hi + 0.5)));
-  for (int i = p0; i <= p1; ++i) {
+  float* coverage = image.stimulus.data();
+  auto cover = [&](int i) {
     const double overlap = std::min(hi, i + 0.5) - std::max(lo, i - 0.5);
-    if (overlap > 0) image.stimulus[i] = float(std::min(1.0, image.stimulus[i] + overlap));
+    if (overlap > 0) coverage[i] = float(std::min(1.0, coverage[i] + overlap));
+  };
+  // The edge pixels, then the run of pixels wholly inside [lo, hi], whose overlap is exactly 1
+  // ((i + 0.5) - (i - 0.5)): the same sums without the clipping, so they vectorize.
+  int i = p0;
+  for (; i <= p1 && !(i - 0.5 >= lo && i + 0.5 <= hi); ++i) cover(i);
+  int inner_end = i;  // one past the last pixel wholly inside
+  if (i <= p1) {
+    inner_end = std::min(p1, int(std::floor(hi - 0.5))) + 1;
+    while (inner_end > i && (inner_end - 1) + 0.5 > hi) --inner_end;
+    while (inner_end <= p1 && inner_end + 0.5 <= hi) ++inner_end;
   }
+  for (int k = i; k < inner_end; ++k) coverage[k] = float(std::min(1.0, coverage[k] + 1.0));
+  for (i = inner_end; i <= p1; ++i) cover(i);
 }
 
 // Whether the 8 floats from p are all +0 (every bit clear).
@@ -139,9 +156,7 @@ void paint_eye(const Vec2& eye, double eye_heading, const std::vector<SeenSurfac
     for (size_t j = i; j > 0 && extents[j].distance < extents[j - 1].distance; --j)
       std::swap(extents[j], extents[j - 1]);
 
-  image.colour.fill(wall_colour);
-  image.kind.fill(SurfaceKind::kWall);
-  image.index.fill(-1);
+  fill_pixels(image, 0, kPixels, wall_colour, SurfaceKind::kWall, -1);
   image.stimulus.fill(0.0f);
 
   for (const Extent& e : extents) {
