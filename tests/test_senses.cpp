@@ -39,6 +39,7 @@ TEST_CASE("a ball at a known bearing lands on the pixel the pinhole model predic
     CHECK(std::abs(s.u - predicted) < 1.0);
     CHECK(image.colour[int(std::lround(predicted))] == kRed);
     CHECK(std::abs(s.bearing - b) < 1e-4);
+    CHECK(std::abs(s.half_width - std::asin(0.2 / 1.3)) < 1e-3);  // the ball's angular half-width
   }
 }
 

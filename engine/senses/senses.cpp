@@ -225,7 +225,9 @@ Sighting detect_stimulus(const EyeImage& image) {
     best.clipped = start == 0 || end == kPixels - 1;
     best.u_lo = lo;
     best.u_hi = hi;
-    best.bearing = 0.5 * (angle_of_pixel(lo) + angle_of_pixel(hi));
+    const double angle_lo = angle_of_pixel(lo), angle_hi = angle_of_pixel(hi);
+    best.bearing = 0.5 * (angle_lo + angle_hi);
+    best.half_width = 0.5 * (angle_hi - angle_lo);
     best.u = pixel_of_angle(best.bearing);
   }
   return best;
