@@ -56,6 +56,62 @@ bool occupied_at(const OccupancyGrid& g, const Vec2& p) {
   return !g.cell_of(p, i, j) || g.at(i, j);
 }
 
+// The planner's Laplace problem solved the plain way, cell by cell, on the padded grid: goal cells
+// held at q = 1, cells the flood from the goal misses at 0, red-black SOR on the rest until no
+// cell changes by `tol` of its value; the first `smoothing` sweeps with omega 1. Starts from q
+// (cold: empty), and returns the sweeps made.
+struct ReferencePlan {
+  const OccupancyGrid& g;
+  int stride = g.nx + 2;
+  std::vector<double> q = std::vector<double>(size_t(stride) * (g.ny + 2), 0.0);
+
+  int solve(const Vec2& center, double radius, double omega, double tol, int smoothing) {
+    const size_t n = q.size();
+    std::vector<int> dist(n, -1), queue;
+    for (int j = 0; j < g.ny; ++j)
+      for (int i = 0; i < g.nx; ++i)
+        if (!g.at(i, j) && (g.center(i, j) - center).norm() <= radius) queue.push_back(index(i, j));
+    int ci, cj;
+    if (g.cell_of(center, ci, cj) && !g.at(ci, cj) && dist[size_t(index(ci, cj))] < 0)
+      queue.push_back(index(ci, cj));
+    for (int k : queue) dist[size_t(k)] = 0;
+    for (size_t head = 0; head < queue.size(); ++head)
+      for (int m : {queue[head] - 1, queue[head] + 1, queue[head] - stride, queue[head] + stride}) {
+        const int i = m % stride - 1, j = m / stride - 1;
+        if (i < 0 || j < 0 || i >= g.nx || j >= g.ny || g.at(i, j) || dist[size_t(m)] >= 0) continue;
+        dist[size_t(m)] = dist[size_t(queue[head])] + 1, queue.push_back(m);
+      }
+    for (size_t k = 0; k < n; ++k)
+      if (dist[k] <= 0) q[k] = dist[k] == 0 ? 1.0 : 0.0;
+    for (int sweeps = 1; sweeps <= 2000; ++sweeps) {
+      const double w = sweeps <= smoothing ? 1.0 : omega;
+      int unconverged = 0;
+      for (int c = 0; c < 2; ++c)
+        for (int j = 1; j <= g.ny; ++j)
+          for (int i = 1; i <= g.nx; ++i) {
+            const int k = j * stride + i;
+            if ((i + j) % 2 != c || dist[size_t(k)] <= 0) continue;
+            const double sum = q[size_t(k - 1)] + q[size_t(k + 1)] + q[size_t(k - stride)] + q[size_t(k + stride)];
+            const double mean = 0.25 * sum, change = w * (mean - q[size_t(k)]);
+            q[size_t(k)] += change;
+            unconverged += !(std::fabs(change) < tol * q[size_t(k)]);
+          }
+      if (unconverged == 0) return sweeps;
+    }
+    return -1;
+  }
+  int index(int i, int j) const { return (j + 1) * stride + (i + 1); }
+  // q at p between cell centres, as the planner interpolates it.
+  double complement(const Vec2& p) const {
+    const double fx = (p.x() - g.x0) / g.cell - 0.5, fy = (p.y() - g.y0) / g.cell - 0.5;
+    const int i = int(std::floor(fx)), j = int(std::floor(fy));
+    const double tx = fx - i, ty = fy - j;
+    const size_t k = size_t(index(i, j));
+    const double w00 = (1.0 - tx) * (1.0 - ty), w10 = tx * (1.0 - ty), w01 = (1.0 - tx) * ty, w11 = tx * ty;
+    return w00 * q[k] + w10 * q[k + 1] + w01 * q[k + size_t(stride)] + w11 * q[k + size_t(stride) + 1];
+  }
+};
+
 }  // namespace
 
 TEST_CASE("descending the potential reaches the goal around random obstacles", "[planner]") {
@@ -348,6 +404,38 @@ TEST_CASE("a cold solve of the same goal on the same grid is reused, to the last
   planner.set_goal(goal_b, 0.3);
   planner.update();
   CHECK(planner.reused_solves() == 1);
+}
+
+TEST_CASE("the planner's solves are the plain red-black relaxation to the last bit", "[planner]") {
+  // The sweep passes over fixed slots, and a cold solve over rows its front cannot have reached:
+  // neither may change a bit of the potential or the count of sweeps, cold or warm.
+  Rng rng(21);
+  for (int world = 0; world < 4; ++world) {
+    const WorldSpec w = world == 0 ? open_world(false) : random_world(rng);
+    const OccupancyGrid g = build_occupancy(w, kInflate);
+    PlannerParams params;
+    params.tolerance = 2e-3;  // as phi1 plans
+    HarmonicPlanner planner(params);
+    planner.set_grid(g);
+    ReferencePlan reference{g};
+    for (int goal = 0; goal < 3; ++goal) {
+      const Vec2 center = free_point(rng, g);
+      const double radius = rng.uniform(0.1, 0.6);
+      planner.set_goal(center, radius);
+      if (!planner.update()) continue;
+      INFO("world " << world << ", goal " << goal << (goal ? " (warm)" : " (cold)"));
+      REQUIRE(planner.converged());
+      const int sweeps = reference.solve(center, radius, planner.omega(), params.tolerance,
+                                         goal ? params.warm_smoothing : 0);
+      CHECK(planner.sweeps_last_solve() == sweeps);
+      for (int k = 0; k < 200; ++k) {
+        const Vec2 p = free_point(rng, g);
+        const double expected = reference.complement(p), got = planner.complement(p);
+        if (std::memcmp(&expected, &got, sizeof got) != 0) FAIL("q differs at (" << p.x() << ", " << p.y() << ")");
+      }
+    }
+  }
+  SUCCEED();
 }
 
 TEST_CASE("every width of the relaxation kernel gives the same bits", "[planner]") {
