@@ -126,6 +126,12 @@ void HarmonicPlanner::rebuild_structure() {
     component_size_.push_back(int(queue_.size()));
   }
 
+  // What flood_from_goal starts from: -1 on free cells, -2 elsewhere.
+  unreached_.assign(n, -2);
+  for (int k = 0; k < int(n); ++k)
+    if (free_[k]) unreached_[k] = -1;
+  queue_.resize(n);
+
   // Distance from each cell centre to the nearest occupied centre, in cells (two-pass chamfer,
   // steps 1 and sqrt 2, within 8 %): its maximum over the relaxed cells sizes omega.
   clearance_.assign(n, 0.0f);
@@ -257,17 +263,20 @@ void HarmonicPlanner::remember_cold_solve(int backoffs_before) {
 void HarmonicPlanner::flood_from_goal() {
   // Breadth first from the goal over free cells, with the same 4-neighbourhood as the Laplacian:
   // a free cell the flood misses is walled off, its exact potential is 1, and it is held there.
-  std::fill(dist_.begin(), dist_.end(), -1);
-  queue_.assign(goal_.begin(), goal_.end());
-  for (int k : goal_) dist_[k] = 0;
-  for (size_t head = 0; head < queue_.size(); ++head) {
-    const int k = queue_[head];
+  // Unreached free cells start at -1 and all others at -2, so one test tells a cell to visit; the
+  // queue holds at most every free cell once (rebuild_structure sized it).
+  dist_ = unreached_;
+  int* queue = queue_.data();
+  size_t tail = 0;
+  for (int k : goal_) dist_[k] = 0, queue[tail++] = k;
+  for (size_t head = 0; head < tail; ++head) {
+    const int k = queue[head], next = dist_[k] + 1;
     int nb[4];
     neighbours(k, stride_, nb);
     for (int m : nb)
-      if (free_[m] && dist_[m] < 0) dist_[m] = dist_[k] + 1, queue_.push_back(m);
+      if (dist_[m] == -1) dist_[m] = next, queue[tail++] = m;
   }
-  any_reachable_ = queue_.size() > goal_.size();
+  any_reachable_ = tail > goal_.size();
   // The sweep visits only the cells it relaxes, listed by colour in memory order; everything else
   // is fixed: goal cells at q = 1, obstacles, padding and walled-off cells at q = 0.
   red_.clear();

@@ -132,7 +132,8 @@ class HarmonicPlanner {
   int stride_ = 0;
   std::vector<double> q_;        // the complement potential, 1 - u
   std::vector<uint8_t> free_;    // 1 on free cells of the grid
-  std::vector<int> dist_;        // steps to the goal through free cells; -1 when not joined
+  std::vector<int> dist_;        // steps to the goal through free cells; < 0 when not joined
+  std::vector<int> unreached_;   // dist_ before a flood: -1 on free cells, -2 on the others
   std::vector<int> nearest_;     // for occupied cells: the nearest free cell (-1: none)
   std::vector<int> exit_;        // for occupied cells: the neighbour one step nearer to it
   std::vector<float> clearance_; // distance in cells from each cell centre to the nearest occupied one
