@@ -1,4 +1,4 @@
-// planner_sweep.cpp: the harmonic planner's relaxation kernel, the planner's whole cost. One
+// planner_sweep.cpp: the harmonic planner's relaxation kernel, most of the planner's cost. One
 // kernel, instantiated for 2 (SSE2, any x86-64), 4 (AVX) and 8 (AVX-512) doubles per instruction
 // and chosen at run time: each lane computes exactly what the scalar code would, operation for
 // operation and in the same order, so every width gives the same bits, and a solve the same
@@ -62,7 +62,11 @@ __attribute__((always_inline)) inline int relax_lanes(double* __restrict q,
       // Keeps the compiler from fusing the product into the subtraction below: a fused
       // multiply-add rounds once instead of twice, changing the bits. AVX-512 brings FMA with
       // it; SSE2 and plain AVX have none, but the kernel must not depend on that.
+#if defined(__x86_64__) || defined(__i386__)
       asm("" : "+x"(mean));
+#else
+      asm("" : "+m"(mean));
+#endif
       // The mask zeroes the change of a fixed cell: bits, not a branch.
       const Vec change = Vec(Mask(om * (mean - value)) & mask);
       const Vec next = value + change;
