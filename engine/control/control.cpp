@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 
 #include "core/error.h"
@@ -150,34 +149,12 @@ DofMatrix nullspace_projector(const TaskJacobian& J, double tolerance) {
   return N;
 }
 
-namespace {
-
-// v minus its components along the first `rank` columns of an orthonormal basis.
-DofVector remove_components(const DofMatrix& basis, int rank, const DofVector& v) {
-  DofVector out = v;
-  for (int k = 0; k < rank; ++k) out -= basis.col(k).dot(v) * basis.col(k);
-  return out;
-}
-
-}  // namespace
-
 DofVector nullspace_project(const TaskJacobian& J, const DofVector& v, double tolerance) {
   DofMatrix basis;
   const int rank = row_space_basis(J, tolerance, basis);
-  return remove_components(basis, rank, v);
-}
-
-DofVector NullspaceProjector::project(const TaskJacobian& J, const DofVector& v, double tolerance) {
-  // Compared by their bits: equal values of another sign of zero could give another basis.
-  const bool same = rank_ >= 0 && J.rows() == jacobian_.rows() &&
-                    std::memcmp(&tolerance, &tolerance_, sizeof tolerance) == 0 &&
-                    std::memcmp(J.data(), jacobian_.data(), sizeof(double) * size_t(J.size())) == 0;
-  if (!same) {
-    jacobian_ = J;
-    tolerance_ = tolerance;
-    rank_ = row_space_basis(J, tolerance, basis_);
-  }
-  return remove_components(basis_, rank_, v);
+  DofVector out = v;
+  for (int k = 0; k < rank; ++k) out -= basis.col(k).dot(v) * basis.col(k);
+  return out;
 }
 
 SubjectTo::SubjectTo(ControllerPtr subordinate, ControllerPtr superior)
@@ -210,7 +187,7 @@ void SubjectTo::reset(uint64_t seed) {
 void SubjectTo::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) {
   const ControlOutput& a = sup_->evaluate(in);
   const ControlOutput& b = sub_->evaluate(in);
-  const DofVector projected = projector_.project(a.jacobian, b.command);
+  const DofVector projected = nullspace_project(a.jacobian, b.command);
   out.command = a.command + projected;
   const int rows = std::min<int>(kMaxTaskRows, int(a.jacobian.rows() + b.jacobian.rows()));
   out.jacobian.resize(rows, kDofCount);

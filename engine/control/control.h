@@ -162,22 +162,6 @@ DofMatrix nullspace_projector(const TaskJacobian& jacobian, double tolerance = 1
 // N v for the same N, without forming N (what composition needs each tick).
 DofVector nullspace_project(const TaskJacobian& jacobian, const DofVector& v, double tolerance = 1e-6);
 
-// nullspace_project for a Jacobian that seldom changes between calls (a superior's fixed rows of
-// the dofs it owns): keeps the row-space basis of the last Jacobian, which is a function of its
-// bits and the tolerance alone, and computes it again only when those change. Same results as
-// nullspace_project, bit for bit.
-class NullspaceProjector {
- public:
-  // N v, N the nullspace projector of jacobian.
-  DofVector project(const TaskJacobian& jacobian, const DofVector& v, double tolerance = 1e-6);
-
- private:
-  TaskJacobian jacobian_;
-  DofMatrix basis_;
-  int rank_ = -1;  // -1: nothing kept yet
-  double tolerance_ = 0.0;
-};
-
 // c2 <| c1: the subordinate's command projected into the nullspace of the superior's Jacobian.
 // Its Jacobian stacks both (so chains nest: phi1 <| (phi4 <| phi5)). Its gamma is the weakest of
 // the two: NOREF if either lacks a reference, CONV only when both have converged, where the
@@ -205,7 +189,6 @@ class SubjectTo final : public Controller {
   Gamma combine(const ControlInput& in, const ControlOutput& a, const ControlOutput& b,
                 const DofVector& projected) const;
   ControllerPtr sub_, sup_;
-  NullspaceProjector projector_;  // into the superior's nullspace
   // The subordinate's recent potentials (time, phi), oldest first, for the plateau test.
   static constexpr int kHistory = 64;
   std::array<std::pair<double, double>, kHistory> history_{};
