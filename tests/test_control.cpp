@@ -3,10 +3,14 @@
 
 #include <Eigen/Dense>
 
+#include "control/agent.h"
 #include "control/control.h"
 #include "core/rng.h"
+#include "sim/occupancy.h"
+#include "world_fixtures.h"
 
 using namespace roger;
+using namespace roger::test;
 
 namespace {
 
@@ -75,6 +79,33 @@ TEST_CASE("the nullspace projector annihilates the task: J N = 0", "[control]") 
   }
   // No task: everything is free.
   CHECK((nullspace_projector(TaskJacobian(0, kDofCount)) - DofMatrix::Identity()).norm() == 0.0);
+}
+
+TEST_CASE("an agent's occupancy grid follows the arena and obstacles of each episode", "[control]") {
+  // The grid is kept from one episode to the next while the arena and obstacles stay the same; a
+  // moved, reshaped, added or removed obstacle, or another arena, must give that world's grid.
+  auto with_box = [](double x, double half) {
+    WorldSpec w = open_world();
+    ObstacleSpec o;
+    o.shape = box_shape(half, 0.2);
+    o.pose = {x, 0.8, 0.0};
+    w.obstacles.push_back(o);
+    return w;
+  };
+  WorldSpec wide = open_world();
+  wide.arena.xmax = 3.0;
+  const std::vector<WorldSpec> worlds = {with_box(0.5, 0.3), with_box(0.5, 0.3), with_box(-0.7, 0.3),
+                                         with_box(-0.7, 0.5), open_world(), with_box(0.5, 0.3),
+                                         wide, open_world(false), with_box(0.5, 0.3)};
+  Agent agent;
+  for (size_t k = 0; k < worlds.size(); ++k) {
+    agent.reset(worlds[k]);
+    const OccupancyGrid expected = build_occupancy(worlds[k], agent.params().grid_inflate);
+    INFO("world " << k);
+    CHECK(agent.grid().nx == expected.nx);
+    CHECK(agent.grid().x0 == expected.x0);
+    CHECK(agent.grid().occupied == expected.occupied);
+  }
 }
 
 TEST_CASE("subject-to keeps the superior's objective and projects the subordinate", "[control]") {

@@ -5,10 +5,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <vector>
 
 #include "core/error.h"
 #include "sim/occupancy.h"
 #include "control/planner.h"
+#include "control/planner_internal.h"
 #include "core/rng.h"
 #include "world_fixtures.h"
 
@@ -52,6 +55,62 @@ bool occupied_at(const OccupancyGrid& g, const Vec2& p) {
   int i, j;
   return !g.cell_of(p, i, j) || g.at(i, j);
 }
+
+// The planner's Laplace problem solved the plain way, cell by cell, on the padded grid: goal cells
+// held at q = 1, cells the flood from the goal misses at 0, red-black SOR on the rest until no
+// cell changes by `tol` of its value; the first `smoothing` sweeps with omega 1. Starts from q
+// (cold: empty), and returns the sweeps made.
+struct ReferencePlan {
+  const OccupancyGrid& g;
+  int stride = g.nx + 2;
+  std::vector<double> q = std::vector<double>(size_t(stride) * (g.ny + 2), 0.0);
+
+  int solve(const Vec2& center, double radius, double omega, double tol, int smoothing) {
+    const size_t n = q.size();
+    std::vector<int> dist(n, -1), queue;
+    for (int j = 0; j < g.ny; ++j)
+      for (int i = 0; i < g.nx; ++i)
+        if (!g.at(i, j) && (g.center(i, j) - center).norm() <= radius) queue.push_back(index(i, j));
+    int ci, cj;
+    if (g.cell_of(center, ci, cj) && !g.at(ci, cj) && dist[size_t(index(ci, cj))] < 0)
+      queue.push_back(index(ci, cj));
+    for (int k : queue) dist[size_t(k)] = 0;
+    for (size_t head = 0; head < queue.size(); ++head)
+      for (int m : {queue[head] - 1, queue[head] + 1, queue[head] - stride, queue[head] + stride}) {
+        const int i = m % stride - 1, j = m / stride - 1;
+        if (i < 0 || j < 0 || i >= g.nx || j >= g.ny || g.at(i, j) || dist[size_t(m)] >= 0) continue;
+        dist[size_t(m)] = dist[size_t(queue[head])] + 1, queue.push_back(m);
+      }
+    for (size_t k = 0; k < n; ++k)
+      if (dist[k] <= 0) q[k] = dist[k] == 0 ? 1.0 : 0.0;
+    for (int sweeps = 1; sweeps <= 2000; ++sweeps) {
+      const double w = sweeps <= smoothing ? 1.0 : omega;
+      int unconverged = 0;
+      for (int c = 0; c < 2; ++c)
+        for (int j = 1; j <= g.ny; ++j)
+          for (int i = 1; i <= g.nx; ++i) {
+            const int k = j * stride + i;
+            if ((i + j) % 2 != c || dist[size_t(k)] <= 0) continue;
+            const double sum = q[size_t(k - 1)] + q[size_t(k + 1)] + q[size_t(k - stride)] + q[size_t(k + stride)];
+            const double mean = 0.25 * sum, change = w * (mean - q[size_t(k)]);
+            q[size_t(k)] += change;
+            unconverged += !(std::fabs(change) < tol * q[size_t(k)]);
+          }
+      if (unconverged == 0) return sweeps;
+    }
+    return -1;
+  }
+  int index(int i, int j) const { return (j + 1) * stride + (i + 1); }
+  // q at p between cell centres, as the planner interpolates it.
+  double complement(const Vec2& p) const {
+    const double fx = (p.x() - g.x0) / g.cell - 0.5, fy = (p.y() - g.y0) / g.cell - 0.5;
+    const int i = int(std::floor(fx)), j = int(std::floor(fy));
+    const double tx = fx - i, ty = fy - j;
+    const size_t k = size_t(index(i, j));
+    const double w00 = (1.0 - tx) * (1.0 - ty), w10 = tx * (1.0 - ty), w01 = (1.0 - tx) * ty, w11 = tx * ty;
+    return w00 * q[k] + w10 * q[k + 1] + w01 * q[k + size_t(stride)] + w11 * q[k + size_t(stride) + 1];
+  }
+};
 
 }  // namespace
 
@@ -345,6 +404,95 @@ TEST_CASE("a cold solve of the same goal on the same grid is reused, to the last
   planner.set_goal(goal_b, 0.3);
   planner.update();
   CHECK(planner.reused_solves() == 1);
+}
+
+TEST_CASE("the planner's solves are the plain red-black relaxation to the last bit", "[planner]") {
+  // The sweep passes over fixed slots, and a cold solve over rows its front cannot have reached:
+  // neither may change a bit of the potential or the count of sweeps, cold or warm.
+  Rng rng(21);
+  for (int world = 0; world < 4; ++world) {
+    const WorldSpec w = world == 0 ? open_world(false) : random_world(rng);
+    const OccupancyGrid g = build_occupancy(w, kInflate);
+    PlannerParams params;
+    params.tolerance = 2e-3;  // as phi1 plans
+    HarmonicPlanner planner(params);
+    planner.set_grid(g);
+    ReferencePlan reference{g};
+    for (int goal = 0; goal < 3; ++goal) {
+      const Vec2 center = free_point(rng, g);
+      const double radius = rng.uniform(0.1, 0.6);
+      planner.set_goal(center, radius);
+      if (!planner.update()) continue;
+      INFO("world " << world << ", goal " << goal << (goal ? " (warm)" : " (cold)"));
+      REQUIRE(planner.converged());
+      const int sweeps = reference.solve(center, radius, planner.omega(), params.tolerance,
+                                         goal ? params.warm_smoothing : 0);
+      CHECK(planner.sweeps_last_solve() == sweeps);
+      for (int k = 0; k < 200; ++k) {
+        const Vec2 p = free_point(rng, g);
+        const double expected = reference.complement(p), got = planner.complement(p);
+        if (std::memcmp(&expected, &got, sizeof got) != 0) FAIL("q differs at (" << p.x() << ", " << p.y() << ")");
+      }
+    }
+  }
+  SUCCEED();
+}
+
+TEST_CASE("every width of the relaxation kernel gives the same bits", "[planner]") {
+  // Rows of a half-sweep with values over many decades, down to subnormal ones (as q is far from
+  // the goal; only there is a quarter of a sum inexact), fixed and relaxed cells mixed, against
+  // the 2-lane kernel every processor runs and the scalar relaxation: a wider kernel that fused
+  // the multiply into the subtraction, or lost a lane, would differ in some bit or some count.
+  using namespace planner_internal;
+  Rng rng(7);
+  const int count = 8 * kRelaxLanes, width = count + 2, rows = 4;
+  int widths_run = 0;
+  for (int lanes : {4, 8}) {
+    const RelaxHalfSweep wide = relax_kernel(lanes);
+    if (!wide) continue;  // this processor lacks the instruction set
+    ++widths_run;
+    for (int trial = 0; trial < 200; ++trial) {
+      // One row in three lies wholly in the subnormal range, where a quarter of a sum rounds.
+      const double deepest = trial % 3 ? 300.0 : 322.0, shallowest = trial % 3 ? 0.0 : 308.0;
+      auto value = [&] { return std::pow(10.0, -rng.uniform(shallowest, deepest)) * rng.uniform(0.5, 1.0); };
+      std::vector<double> q(size_t(width * rows)), other(q.size());
+      std::vector<int64_t> relaxed(q.size());
+      for (size_t k = 0; k < q.size(); ++k) {
+        q[k] = value(), other[k] = value();
+        relaxed[k] = rng.uniform(0.0, 1.0) < 0.8 ? -1 : 0;
+      }
+      // Rows 1 and 2, with both shifts; row 2 is passed over when its nearest cell is too far.
+      RelaxRange ranges[2];
+      ranges[0].at = width + 1, ranges[0].shift = trial % 2, ranges[0].count = count, ranges[0].nearest = 3;
+      ranges[1].at = 2 * width + 1, ranges[1].shift = 1 - trial % 2, ranges[1].count = count - lanes;
+      ranges[1].nearest = trial % 4 < 2 ? 4 : 9;
+      const double omega = rng.uniform(1.0, 1.95), tol = trial % 2 ? 2e-3 : 1e-300;
+      std::vector<double> q2 = q, qw = q;
+      const int c2 = relax_kernel(2)(q2.data(), relaxed.data(), other.data(), width, ranges, 2, 5, omega, tol);
+      const int cw = wide(qw.data(), relaxed.data(), other.data(), width, ranges, 2, 5, omega, tol);
+      CHECK(cw == c2);
+      CHECK(std::memcmp(q2.data(), qw.data(), sizeof(double) * q2.size()) == 0);
+      // And the 2-lane kernel is the scalar relaxation, operation for operation.
+      std::vector<double> expected = q;
+      int converged = 0;
+      for (const RelaxRange& range : ranges) {
+        if (range.nearest > 5) continue;
+        for (int m = 0; m < range.count; ++m) {
+          const int64_t k = range.at + m;
+          if (!relaxed[size_t(k)]) continue;
+          const int64_t l = k + range.shift - 1;
+          const double sum = other[size_t(l)] + other[size_t(l + 1)] + other[size_t(k - width)] + other[size_t(k + width)];
+          const double v = q[size_t(k)], mean = 0.25 * sum, change = omega * (mean - v);
+          expected[size_t(k)] = v + change;
+          converged += std::fabs(change) < tol * expected[size_t(k)];
+        }
+      }
+      CHECK(c2 == converged);
+      CHECK(std::memcmp(q2.data(), expected.data(), sizeof(double) * q2.size()) == 0);
+    }
+  }
+  INFO("wider kernels this processor runs: " << widths_run);
+  SUCCEED();
 }
 
 TEST_CASE("points off the grid and bad parameters", "[planner]") {

@@ -1,6 +1,12 @@
 // Tests of engine/senses: the 1-D pinhole eyes, stimulus detection, occlusion, stereo.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "core/rng.h"
+#include "core/shape.h"
 #include "senses/senses.h"
 #include "sim/world.h"
 #include "world_fixtures.h"
@@ -33,6 +39,7 @@ TEST_CASE("a ball at a known bearing lands on the pixel the pinhole model predic
     CHECK(std::abs(s.u - predicted) < 1.0);
     CHECK(image.colour[int(std::lround(predicted))] == kRed);
     CHECK(std::abs(s.bearing - b) < 1e-4);
+    CHECK(std::abs(s.half_width - std::asin(0.2 / 1.3)) < 1e-3);  // the ball's angular half-width
   }
 }
 
@@ -51,6 +58,35 @@ TEST_CASE("pixels carry the colour of the nearest surface", "[senses]") {
   // Out of the field of view: behind the eye.
   paint_eye(eye, 0.0, {disk({-2.0, 0.0}, 0.3, kRed)}, kWall, kRed, image);
   CHECK_FALSE(detect_stimulus(image).seen);
+}
+
+TEST_CASE("a stimulus covers each pixel by its exact overlap with the stimulus's extent", "[senses]") {
+  // Random balls wholly or partly in view; the coverage of every pixel must be, to the bit, the
+  // overlap of the pixel [i - 0.5, i + 0.5] with the ball's extent in pixels, capped at 1.
+  Rng rng(5);
+  for (int trial = 0; trial < 500; ++trial) {
+    const Vec2 eye(rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0));
+    const double heading = rng.uniform(-M_PI, M_PI), bearing = rng.uniform(-1.0, 1.0);
+    const double distance = rng.uniform(0.4, 4.0), radius = rng.uniform(0.02, 0.35);
+    const Vec2 ball = eye + distance * Vec2(std::cos(heading + bearing), std::sin(heading + bearing));
+    EyeImage image;
+    paint_eye(eye, heading, {disk(ball, radius, kRed)}, kWall, kRed, image);
+    // The extent as the painter finds it for a disk.
+    const Vec2 to_ball = ball - eye;
+    const double centre = wrap_angle(std::atan2(to_ball.y(), to_ball.x()) - heading);
+    const double half = std::asin(radius / to_ball.norm());
+    const double lo_angle = std::max(centre - half, -M_PI / 4), hi_angle = std::min(centre + half, M_PI / 4);
+    const double lo = std::clamp(pixel_of_angle(lo_angle), -0.5, kPixels - 0.5);
+    const double hi = std::clamp(pixel_of_angle(hi_angle), -0.5, kPixels - 0.5);
+    const bool in_view = centre + half > -M_PI / 4 && centre - half < M_PI / 4 && hi > lo;
+    for (int i = 0; i < kPixels; ++i) {
+      const double overlap = std::min(hi, i + 0.5) - std::max(lo, i - 0.5);
+      const float expected = in_view && overlap > 0 ? float(std::min(1.0, 0.0f + overlap)) : 0.0f;
+      if (std::memcmp(&expected, &image.stimulus[i], sizeof expected) != 0)
+        FAIL("trial " << trial << ", pixel " << i << ": " << image.stimulus[i] << " for " << expected);
+    }
+  }
+  SUCCEED();
 }
 
 TEST_CASE("an obstacle between eye and ball hides it", "[senses]") {

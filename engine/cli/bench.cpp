@@ -26,6 +26,12 @@ DofVector bench_motion(double t) {
 
 namespace {
 
+// Folds bytes into an FNV-1a hash.
+void fnv_mix(uint64_t& h, const void* data, size_t n) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
+}
+
 // Runs one measurement; with_senses chooses between the two layers. Returns wall seconds.
 double measure(World& world, const WorldSpec& spec, double sim_seconds, bool with_senses,
                uint64_t& hash) {
@@ -95,6 +101,13 @@ PipelineResult bench_pipeline(const std::vector<WorldSpec>& worlds, Controller& 
       }
       sim += agent.world().time();
     }
+    if (rep == 0) {
+      // Outside the timed part: a fingerprint of the trajectories, to check a change to the
+      // pipeline's code left every result as it was, bit for bit.
+      r.hash = 1469598103934665603ull;
+      for (size_t w = 0; w < worlds.size(); ++w)
+        for (const DofVector& e : commands[w]) fnv_mix(r.hash, e.data(), sizeof(double) * kDofCount);
+    }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     best_pipeline = std::min(best_pipeline, wall);
     if (rep == 0) r.sim_seconds = sim, r.successes = successes;
@@ -106,6 +119,10 @@ PipelineResult bench_pipeline(const std::vector<WorldSpec>& worlds, Controller& 
       for (const DofVector& e : commands[w]) {
         world.command(e);
         for (int s = 0; s < params.substeps; ++s) world.step_physics();
+      }
+      if (rep == 0) {
+        const uint64_t state = world.state_hash();
+        fnv_mix(r.hash, &state, sizeof state);
       }
     }
     const double replay = std::chrono::duration<double>(std::chrono::steady_clock::now() - replay_start).count();
@@ -154,7 +171,8 @@ int command_bench(const BenchArgs& a) {
                         {"pipeline_cost_ratio", p.cost_ratio},
                         {"pipeline_episodes", p.episodes},
                         {"pipeline_successes", p.successes},
-                        {"pipeline_sim_seconds", p.sim_seconds}};
+                        {"pipeline_sim_seconds", p.sim_seconds},
+                        {"pipeline_hash", p.hash}};
     std::printf("%s\n", j.dump().c_str());
   }
   return 0;

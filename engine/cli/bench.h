@@ -36,6 +36,8 @@ struct PipelineResult {
   double pipeline_rtf = 0.0;   // simulated seconds per wall second, whole pipeline
   double replay_rtf = 0.0;     // physics alone, replaying the pipeline's errors vectors
   double cost_ratio = 0.0;     // pipeline cost / physics cost on the same trajectories
+  uint64_t hash = 0;           // FNV-1a of every errors vector issued and each episode's final
+                               // state (first measurement): any change to a result changes it
 };
 
 // Runs `action` on each world until `goal` or the time limit (best of `repeats`), then replays

@@ -1,14 +1,62 @@
 #include "control/agent.h"
 
 #include <cmath>
+#include <cstring>
 
 namespace roger {
 
 Agent::Agent(const WorldParams& world, const AgentParams& params) : world_(world), params_(params) {}
 
+namespace {
+
+// Whether two numbers have the same bits (a grid built from either would be the same).
+bool same(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool same(const Vec2& a, const Vec2& b) { return same(a.x(), b.x()) && same(a.y(), b.y()); }
+
+// Whether two shapes are the same to the bit.
+bool same(const Shape& a, const Shape& b) {
+  if (a.polygons.size() != b.polygons.size() || a.disks.size() != b.disks.size()) return false;
+  for (size_t i = 0; i < a.polygons.size(); ++i) {
+    const auto &u = a.polygons[i].vertices, &v = b.polygons[i].vertices;
+    if (u.size() != v.size()) return false;
+    for (size_t k = 0; k < u.size(); ++k)
+      if (!same(u[k], v[k])) return false;
+  }
+  for (size_t i = 0; i < a.disks.size(); ++i)
+    if (!same(a.disks[i].center, b.disks[i].center) || !same(a.disks[i].radius, b.disks[i].radius))
+      return false;
+  return true;
+}
+
+// Whether the occupancy grid of one world is that of the other: the same arena bounds and cell,
+// and the same obstacles in the same places (all build_occupancy reads).
+bool same_obstacles(const ArenaSpec& a, const std::vector<ObstacleSpec>& ao, const ArenaSpec& b,
+                    const std::vector<ObstacleSpec>& bo) {
+  if (!same(a.xmin, b.xmin) || !same(a.xmax, b.xmax) || !same(a.ymin, b.ymin) ||
+      !same(a.ymax, b.ymax) || !same(a.cell, b.cell) || ao.size() != bo.size())
+    return false;
+  for (size_t k = 0; k < ao.size(); ++k) {
+    const Pose &p = ao[k].pose, &q = bo[k].pose;
+    if (!same(p.x, q.x) || !same(p.y, q.y) || !same(p.theta, q.theta) || !same(ao[k].shape, bo[k].shape))
+      return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 void Agent::reset(const WorldSpec& spec) {
   world_.reset(spec);
-  grid_ = build_occupancy(world_.spec(), params_.grid_inflate);
+  // Episodes of one scenario mostly share the arena and its obstacles: the grid is built again
+  // only when they differ.
+  const WorldSpec& s = world_.spec();
+  if (!grid_valid_ || !same_obstacles(s.arena, s.obstacles, grid_arena_, grid_obstacles_)) {
+    grid_valid_ = false;  // stays so if the build throws
+    grid_ = build_occupancy(s, params_.grid_inflate);
+    grid_arena_ = s.arena;
+    grid_obstacles_ = s.obstacles;
+    grid_valid_ = true;
+  }
   percepts_ = Percepts{};
   next_attention_ = world_.attention();
   input_.tick = 0;

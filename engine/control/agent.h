@@ -46,6 +46,10 @@ class Agent {
   AgentParams params_;
   Percepts percepts_;
   OccupancyGrid grid_;
+  // What grid_ was built from: an episode in the same arena among the same obstacles reuses it.
+  bool grid_valid_ = false;
+  ArenaSpec grid_arena_;
+  std::vector<ObstacleSpec> grid_obstacles_;
   ControlInput input_;
   Attention next_attention_;  // where a binding asked the eyes to attend from the next tick
   DofVector last_errors_ = DofVector::Zero();

@@ -28,8 +28,7 @@ void Percepts::update(const Senses& s, const RobotParams& robot) {
     // Size from the angular width in the eye with the wider view of it: r = d sin(half width).
     double half = 0.0;
     for (int e = 0; e < 2; ++e)
-      if (s.stimulus[e].seen)
-        half = std::max(half, 0.5 * (angle_of_pixel(s.stimulus[e].u_hi) - angle_of_pixel(s.stimulus[e].u_lo)));
+      if (s.stimulus[e].seen) half = std::max(half, s.stimulus[e].half_width);
     const double range = s.stimulus_base.norm();
     object.radius = range * std::sin(half);
     remembered = vision = object;

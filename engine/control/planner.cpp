@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "control/planner_internal.h"
 #include "core/error.h"
 
 namespace roger {
@@ -124,6 +125,12 @@ void HarmonicPlanner::rebuild_structure() {
     }
     component_size_.push_back(int(queue_.size()));
   }
+
+  // What flood_from_goal starts from: -1 on free cells, -2 elsewhere.
+  unreached_.assign(n, -2);
+  for (int k = 0; k < int(n); ++k)
+    if (free_[k]) unreached_[k] = -1;
+  queue_.resize(n);
 
   // Distance from each cell centre to the nearest occupied centre, in cells (two-pass chamfer,
   // steps 1 and sqrt 2, within 8 %): its maximum over the relaxed cells sizes omega.
@@ -256,30 +263,35 @@ void HarmonicPlanner::remember_cold_solve(int backoffs_before) {
 void HarmonicPlanner::flood_from_goal() {
   // Breadth first from the goal over free cells, with the same 4-neighbourhood as the Laplacian:
   // a free cell the flood misses is walled off, its exact potential is 1, and it is held there.
-  std::fill(dist_.begin(), dist_.end(), -1);
-  queue_.assign(goal_.begin(), goal_.end());
-  for (int k : goal_) dist_[k] = 0;
-  for (size_t head = 0; head < queue_.size(); ++head) {
-    const int k = queue_[head];
+  // Unreached free cells start at -1 and all others at -2, so one test tells a cell to visit; the
+  // queue holds at most every free cell once (rebuild_structure sized it).
+  dist_ = unreached_;
+  int* queue = queue_.data();
+  size_t tail = 0;
+  for (int k : goal_) dist_[k] = 0, queue[tail++] = k;
+  for (size_t head = 0; head < tail; ++head) {
+    const int k = queue[head], next = dist_[k] + 1;
     int nb[4];
     neighbours(k, stride_, nb);
     for (int m : nb)
-      if (free_[m] && dist_[m] < 0) dist_[m] = dist_[k] + 1, queue_.push_back(m);
+      if (dist_[m] == -1) dist_[m] = next, queue[tail++] = m;
   }
-  any_reachable_ = queue_.size() > goal_.size();
+  any_reachable_ = tail > goal_.size();
   // The sweep visits only the cells it relaxes, listed by colour in memory order; everything else
   // is fixed: goal cells at q = 1, obstacles, padding and walled-off cells at q = 0.
   red_.clear();
   black_.clear();
   float widest = 0.0f;
-  for (int k = 0; k < int(q_.size()); ++k) {
-    if (dist_[k] > 0) {
-      ((k % stride_ + k / stride_) % 2 == 0 ? red_ : black_).push_back(k);
-      widest = std::max(widest, clearance_[k]);
-    } else {
-      q_[k] = dist_[k] == 0 ? 1.0 : 0.0;
+  const int rows = grid_.ny + 2;
+  for (int j = 0, k = 0; j < rows; ++j)
+    for (int i = 0; i < stride_; ++i, ++k) {
+      if (dist_[k] > 0) {
+        ((i + j) % 2 == 0 ? red_ : black_).push_back(k);
+        widest = std::max(widest, clearance_[k]);
+      } else {
+        q_[k] = dist_[k] == 0 ? 1.0 : 0.0;
+      }
     }
-  }
   widest_ = widest;
 }
 
@@ -296,7 +308,8 @@ void HarmonicPlanner::solve(bool warm) {
   while (!converged_ && sweeps < params_.max_sweeps) {
     // A moved goal leaves a sharp local error; over-relaxed at once, it would ring across the
     // whole grid. A few plain Gauss-Seidel sweeps smooth it where it is first.
-    const int unconverged = sweep(warm && sweeps < params_.warm_smoothing ? 1.0 : omega_);
+    const int unconverged =
+        sweep(warm && sweeps < params_.warm_smoothing ? 1.0 : omega_, warm ? -1 : sweeps);
     ++sweeps;
     converged_ = unconverged == 0;
     if (unconverged < fewest) {
@@ -316,89 +329,91 @@ void HarmonicPlanner::solve(bool warm) {
 
 // The sweep works on q split by colour (a checkerboard layout): row j of colour c holds, in order,
 // the padded cells (i, j) with (i + j) % 2 == c, so that a half-sweep reads its four neighbours
-// from contiguous rows of the other colour and the compiler can relax two cells per instruction.
+// from contiguous rows of the other colour, and the kernel (planner_sweep.cpp) relaxes 2 to 8
+// cells per instruction.
 // Each row has a guard slot at both ends, so the shifted reads of its edge cells stay in bounds;
 // guards and fixed cells are never relaxed. The values are those of q_, exactly.
 void HarmonicPlanner::split_by_colour() {
   const int rows = grid_.ny + 2;
-  // A guard slot at each end, and an even number of slots between them (relax_row takes pairs).
-  split_width_ = ((stride_ + 1) / 2 + 1) / 2 * 2 + 2;
+  // A guard slot at each end, and between them a whole number of the widest kernel's lanes.
+  const int lanes = planner_internal::kRelaxLanes;
+  split_width_ = ((stride_ + 1) / 2 + lanes - 1) / lanes * lanes + 2;
   for (int c = 0; c < 2; ++c) {
     colour_[c].assign(size_t(rows) * split_width_, 0.0);
     relaxed_[c].assign(size_t(rows) * split_width_, 0);
   }
   for (int j = 0; j < rows; ++j)
-    for (int i = 0; i < stride_; ++i) {
-      const int c = (i + j) & 1, k = j * stride_ + i;
-      const size_t at = size_t(j) * split_width_ + 1 + i / 2;
-      colour_[c][at] = q_[k];
-      relaxed_[c][at] = dist_[k] > 0 ? -1 : 0;  // all bits set
+    for (int c = 0; c < 2; ++c) {
+      // The cells of colour c in row j are every other one, from column (j + c) % 2.
+      double* values = colour_[c].data() + size_t(j) * split_width_ + 1;
+      int64_t* relaxed = relaxed_[c].data() + size_t(j) * split_width_ + 1;
+      for (int i = (j + c) & 1, k = j * stride_ + i; i < stride_; i += 2, k += 2) {
+        values[i / 2] = q_[k];
+        relaxed[i / 2] = dist_[k] > 0 ? -1 : 0;  // all bits set
+      }
     }
+  find_relaxed_ranges(planner_internal::widest_relax_kernel().lanes);
+}
+
+// The slots of each row that hold relaxed cells, padded to whole lanes: the sweep passes over the
+// rest, fixed cells whose relaxation would change nothing (obstacle margins, walled-off rooms).
+void HarmonicPlanner::find_relaxed_ranges(int lanes) {
+  const int rows = grid_.ny + 2;
+  for (int c = 0; c < 2; ++c) {
+    ranges_[c].clear();
+    for (int j = 1; j < rows - 1; ++j) {
+      int first = 0, last = -1, nearest = INT_MAX;
+      for (int i = (j + c) & 1; i < stride_; i += 2) {
+        const int k = j * stride_ + i, slot = 1 + i / 2;
+        if (dist_[k] <= 0) continue;
+        if (last < 0) first = slot;
+        last = slot;
+        nearest = std::min(nearest, dist_[k]);
+      }
+      if (last < 0) continue;
+      // Whole lanes; a range that would run into the last guard slot starts earlier instead
+      // (the slots between the guards are a whole number of the widest lanes, so it fits).
+      planner_internal::RelaxRange range;
+      range.count = (last - first + 1 + lanes - 1) / lanes * lanes;
+      first = std::max(1, std::min(first, split_width_ - 1 - range.count));
+      range.at = int64_t(j) * split_width_ + first;
+      range.shift = (j + c) & 1;
+      range.nearest = nearest;
+      ranges_[c].push_back(range);
+    }
+  }
 }
 
 // Writes the split values back into q_.
 void HarmonicPlanner::join_colours() {
   const int rows = grid_.ny + 2;
   for (int j = 0; j < rows; ++j)
-    for (int i = 0; i < stride_; ++i)
-      q_[j * stride_ + i] = colour_[(i + j) & 1][size_t(j) * split_width_ + 1 + i / 2];
+    for (int c = 0; c < 2; ++c) {
+      const double* values = colour_[c].data() + size_t(j) * split_width_ + 1;
+      for (int i = (j + c) & 1, k = j * stride_ + i; i < stride_; i += 2, k += 2) q_[k] = values[i / 2];
+    }
 }
 
-namespace {
-
-// Two doubles, relaxed together (GCC and Clang vector extensions: SSE2 on x86-64, plain code
-// elsewhere). Each lane computes exactly what the scalar code would, operation for operation.
-typedef double Pair __attribute__((vector_size(16)));
-typedef int64_t PairMask __attribute__((vector_size(16)));
-inline Pair load_pair(const double* p) { Pair v; std::memcpy(&v, p, sizeof v); return v; }
-inline void store_pair(double* p, Pair v) { std::memcpy(p, &v, sizeof v); }
-
-// One row of a half-sweep on the split layout (see split_by_colour): relaxes the `count` (even)
-// cells of q whose mask is all ones from their four neighbours in the other colour's rows, and
-// returns how many of them changed by less than `tol` of their new value (a NaN did not). The mask
-// zeroes the change of a fixed cell: bits, not a branch, so two cells go per instruction.
-int relax_row(double* __restrict q, const int64_t* __restrict relaxed, const double* left,
-              const double* right, const double* below, const double* above, int count,
-              double omega, double tol) {
-  const Pair om = {omega, omega}, quarter = {0.25, 0.25}, tolerance = {tol, tol};
-  const PairMask no_sign = {INT64_MAX, INT64_MAX};
-  PairMask converged = {0, 0};  // a true comparison is -1 in its lane
-  for (int m = 0; m < count; m += 2) {
-    PairMask mask;
-    std::memcpy(&mask, relaxed + m, sizeof mask);
-    const Pair value = load_pair(q + m);
-    const Pair sum = load_pair(left + m) + load_pair(right + m) + load_pair(below + m) + load_pair(above + m);
-    const Pair change = Pair(PairMask(om * (quarter * sum - value)) & mask);
-    const Pair next = value + change;
-    store_pair(q + m, next);
-    const Pair size = Pair(PairMask(change) & no_sign);  // |change|
-    converged -= PairMask(size < tolerance * next) & mask;
-  }
-  return int(converged[0] + converged[1]);
-}
-
-}  // namespace
-
-int HarmonicPlanner::sweep(double omega) {
+int HarmonicPlanner::sweep(double omega, int front) {
   // Red-black Gauss-Seidel: the cells of one colour depend only on the other colour, so a
   // half-sweep has no dependency from one cell to the next and its order does not matter.
   //
   // Convergence is judged relative to each cell's value, not absolutely: far from the goal q is
   // tiny and an absolute test would stop long before the direction there is right. A cell the
   // solve has not reached yet (q = 0, no change) fails the strict test, and so does a NaN.
-  const size_t w = size_t(split_width_);
-  const int rows = grid_.ny + 2;
+  //
+  // A cold solve (front: the sweeps made so far; -1 when warm) starts from zero everywhere but
+  // the goal, and half-sweep h can carry a value only one step further from it: before it, every
+  // cell more than h flood steps from the goal is still exactly 0, and a cell more than h + 1
+  // steps away, all of whose neighbours are, would relax to exactly 0 again and stay unconverged.
+  // Rows made only of such cells are passed over (they count as unconverged all the same).
+  const planner_internal::RelaxHalfSweep half_sweep = planner_internal::widest_relax_kernel().half_sweep;
   int converged = 0;
   for (int c = 0; c < 2; ++c) {
-    const double* other = colour_[1 - c].data();
-    for (int j = 1; j < rows - 1; ++j) {
-      // Cell m of this row is at padded column 2m + p; its left neighbour is cell m + p - 1 of
-      // the other colour's row, its right one m + p, above and below m (slots count from 1).
-      const size_t p = size_t((j + c) & 1), row = size_t(j) * w + 1;
-      converged += relax_row(colour_[c].data() + row, relaxed_[c].data() + row,
-                             other + row + p - 1, other + row + p, other + row - w,
-                             other + row + w, int(w) - 2, omega, params_.tolerance);
-    }
+    const int64_t reached = front < 0 ? int64_t(INT_MAX) : 2 * int64_t(front) + c + 1;
+    converged += half_sweep(colour_[c].data(), relaxed_[c].data(), colour_[1 - c].data(),
+                            split_width_, ranges_[c].data(), int(ranges_[c].size()), reached,
+                            omega, params_.tolerance);
   }
   return int(red_.size() + black_.size()) - converged;
 }

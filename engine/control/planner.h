@@ -16,11 +16,17 @@
 //   25 % of the sweeps: a move of one cell changes q near the goal by tens of percent, and the
 //   far field must converge to the same relative tolerance either way.
 // - Reachability is an exact flood fill from the goal, so a walled-off goal is reported, not guessed.
+//
+// Cost, without changing a bit: the sweep relaxes 2, 4 or 8 cells per instruction (SSE2, AVX,
+// AVX-512, chosen at run time; planner_sweep.cpp), only the part of each row that holds relaxed
+// cells, and in a cold solve only the rows its front from the goal can have reached. A cold solve
+// of the goal solved last is copied.
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
+#include "control/planner_internal.h"
 #include "sim/occupancy.h"
 #include "core/spec.h"
 
@@ -108,8 +114,9 @@ class HarmonicPlanner {
   bool reuse_cold_solve();                   // the remembered cold solve, if it is this one
   void remember_cold_solve(int backoffs_before);
   void split_by_colour();                    // q_ into colour_, for the sweeps of a solve
+  void find_relaxed_ranges(int lanes);       // ranges_
   void join_colours();                       // colour_ back into q_
-  int sweep(double omega);                   // one red-black SOR sweep; returns unconverged cells
+  int sweep(double omega, int front);        // one red-black SOR sweep; returns unconverged cells
   double measure_residual() const;
   Vec2 cell_gradient(int k) const;           // gradient of q at a cell centre, central differences
   double bilinear(const Vec2& p, Vec2* gradient) const;  // q at p, and its interpolated gradient
@@ -125,7 +132,8 @@ class HarmonicPlanner {
   int stride_ = 0;
   std::vector<double> q_;        // the complement potential, 1 - u
   std::vector<uint8_t> free_;    // 1 on free cells of the grid
-  std::vector<int> dist_;        // steps to the goal through free cells; -1 when not joined
+  std::vector<int> dist_;        // steps to the goal through free cells; < 0 when not joined
+  std::vector<int> unreached_;   // dist_ before a flood: -1 on free cells, -2 on the others
   std::vector<int> nearest_;     // for occupied cells: the nearest free cell (-1: none)
   std::vector<int> exit_;        // for occupied cells: the neighbour one step nearer to it
   std::vector<float> clearance_; // distance in cells from each cell centre to the nearest occupied one
@@ -133,6 +141,8 @@ class HarmonicPlanner {
   std::vector<double> colour_[2];   // q_ split by colour during a solve (see split_by_colour)
   std::vector<int64_t> relaxed_[2]; // all bits set where colour_ holds a cell the sweep relaxes
   int split_width_ = 0;             // slots per row of colour_
+  // Per colour, the slots of each row the sweep relaxes (rows without relaxed cells have none).
+  std::vector<planner_internal::RelaxRange> ranges_[2];
   std::vector<int> goal_;        // sorted padded indices of the goal cells in force
   std::vector<int> pending_goal_;
   std::vector<int> queue_;       // breadth-first scratch, kept to avoid allocating per change

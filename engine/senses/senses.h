@@ -33,6 +33,7 @@ struct Sighting {
   double u = 0.0;                // centre of the detected extent, in pixels
   double u_lo = 0.0, u_hi = 0.0; // its edges, in pixels
   double bearing = 0.0;          // angle of the centre in the eye frame (rad)
+  double half_width = 0.0;       // half the angle from u_lo to u_hi (rad)
   bool clipped = false;          // the extent runs off the image: its centre is not the stimulus's
 };
 

@@ -1,0 +1,45 @@
+// planner_internal.h: the harmonic planner's relaxation kernel (planner_sweep.cpp), shared with
+// its tests. Private to control/.
+#pragma once
+
+#include <cstdint>
+
+namespace roger {
+namespace planner_internal {
+
+// Slots a split row's relaxed part is padded to a multiple of: the widest kernel's lanes.
+constexpr int kRelaxLanes = 8;
+
+// A run of slots a half-sweep relaxes: the part of one row of the split layout (see
+// HarmonicPlanner::split_by_colour) that holds relaxed cells, padded to whole lanes.
+struct RelaxRange {
+  int64_t at = 0;       // its first slot, counted from the start of the colour's array
+  int32_t shift = 0;    // 0 or 1: slot at + m has left neighbour at + m + shift - 1 of the other
+                        // colour, right one at + m + shift, and those above and below at + m -+ width
+  int32_t count = 0;    // slots, a multiple of the kernel's lanes
+  int32_t nearest = 0;  // the least flood distance from the goal of its relaxed cells
+};
+
+// One red-black half-sweep over `n` ranges of one colour's array q: relaxes the cells whose mask
+// in `relaxed` is all ones from their four neighbours in the other colour's array, passing over
+// each range whose `nearest` exceeds `reached`, and returns how many cells changed by less than
+// `tol` of their new value (a NaN did not).
+using RelaxHalfSweep = int (*)(double* q, const int64_t* relaxed, const double* other,
+                               int64_t width, const RelaxRange* ranges, int n, int64_t reached,
+                               double omega, double tol);
+
+// The kernel relaxing `lanes` cells per instruction (2, 4 or 8); every width gives the same bits.
+// Null when the processor cannot run that width (only 2 is always available).
+RelaxHalfSweep relax_kernel(int lanes);
+
+// A kernel and the lanes it relaxes per instruction (the multiple each range's count must be).
+struct RelaxKernel {
+  RelaxHalfSweep half_sweep = nullptr;
+  int lanes = 2;
+};
+
+// The widest kernel this processor runs, chosen once.
+RelaxKernel widest_relax_kernel();
+
+}  // namespace planner_internal
+}  // namespace roger
