@@ -130,6 +130,11 @@ class Controller {
   // The controllers this one is made of, for pictures, usage counts and cycle checks.
   virtual std::vector<const Controller*> children() const { return {}; }
 
+  // The part whose command it passed on at its last evaluation (a sequence's step, a policy's
+  // choice, a stand-in's or binding's target), for episode timelines; nullptr when it has none or
+  // runs several at once.
+  virtual const Controller* inner() const { return nullptr; }
+
   // Told by the control loop that this tick's command (from evaluate()) was written to the robot;
   // composites pass it on to the children whose commands they used. Evaluations made only to
   // observe a state are never executed, which is what lets a subordinate's settled potential
@@ -214,6 +219,7 @@ class Sequence final : public Controller {
   void executed(const ControlInput& in) override;
   // The step running now.
   int current() const { return current_; }
+  const Controller* inner() const override { return steps_[size_t(current_)].get(); }
   const std::vector<ControllerPtr>& steps() const { return steps_; }
 
  protected:
@@ -237,6 +243,7 @@ class StandIn : public Controller {
   // Drops the target (breaks reference cycles before an error is reported).
   void unbind() { target_.reset(); }
   const ControllerPtr& target() const { return target_; }
+  const Controller* inner() const override { return target_.get(); }
   bool bound() const { return target_ != nullptr; }
   std::vector<const Controller*> children() const override;
   void reset(uint64_t seed) override;
@@ -283,6 +290,7 @@ class Binding final : public Controller {
   void reset(uint64_t seed) override;
   void executed(const ControlInput& in) override;
   const ControllerPtr& target() const { return target_; }
+  const Controller* inner() const override { return target_.get(); }
   const Bindings& bindings() const { return bindings_; }
   int invocations() const { return invocations_; }
 
@@ -327,6 +335,7 @@ class Policy final : public Controller {
   void executed(const ControlInput& in) override;
   // The action chosen at the last evaluation, or -1.
   int chosen() const { return chosen_; }
+  const Controller* inner() const override { return chosen_ >= 0 ? actions_[size_t(chosen_)].get() : nullptr; }
   const std::vector<ControllerPtr>& actions() const { return actions_; }
   const std::vector<int>& table() const { return table_; }
 

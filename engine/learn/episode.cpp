@@ -81,26 +81,12 @@ class Recorder final : public EpisodeObserver {
     result_.frames.push_back(agent.world().frame());
     result_.frame_ticks.push_back(tick);
   }
-  // Follows what ran down to what runs inside it now (a sequence's current step, a policy's
-  // choice, a stand-in's target) and records a decision when that path differs from the last
-  // tick's. The path is compared as pointers in a reused buffer, so names are copied only at
-  // decisions.
+  // Follows what ran down to what runs inside it now (Controller::inner) and records a decision
+  // when that path differs from the last tick's. The path is compared as pointers in a reused
+  // buffer, so names are copied only at decisions.
   void note_decision(int tick, const Controller& ran) {
     path_.clear();
-    for (const Controller* c = &ran; c && path_.size() < 32;) {
-      path_.push_back(c);
-      if (const auto* seq = dynamic_cast<const Sequence*>(c)) {
-        const int k = seq->current();
-        c = k >= 0 && size_t(k) < seq->steps().size() ? seq->steps()[size_t(k)].get() : nullptr;
-      } else if (const auto* pol = dynamic_cast<const Policy*>(c)) {
-        const int k = pol->chosen();
-        c = k >= 0 && size_t(k) < pol->actions().size() ? pol->actions()[size_t(k)].get() : nullptr;
-      } else if (const auto* stand_in = dynamic_cast<const StandIn*>(c)) {
-        c = stand_in->target().get();
-      } else {
-        c = nullptr;
-      }
-    }
+    for (const Controller* c = &ran; c && path_.size() < 32; c = c->inner()) path_.push_back(c);
     if (path_ == last_path_) return;
     last_path_ = path_;
     Decision d;

@@ -43,6 +43,7 @@ class LearnedSkill final : public Controller {
   }
 
   const char* kind() const override { return "learned"; }
+  const Controller* inner() const override { return last_action_ >= 0 ? actions_[size_t(last_action_)].get() : nullptr; }
 
   void reset(uint64_t seed) override {
     Controller::reset(seed);
