@@ -19,10 +19,10 @@ return {
   seed = 1,
   runs = {
     { name = "SG", stage = "SG", contexts = { "B1", "DC1", "DC2" } },
-    { name = "T", stage = "T", contexts = { "B2", "DC3", "DC6" },
+    { name = "T", stage = "T", contexts = { "B2", "DC3", "DC4", "DC5", "DC6" },
       skills = { Phi_SG = { run = "SG", context = "DC2" } } },
     { name = "SG_q100", stage = "SG_q100", contexts = { "B1", "DC1", "DC2" } },
-    { name = "T_q100", stage = "T_q100", contexts = { "B2", "DC3", "DC6" },
+    { name = "T_q100", stage = "T_q100", contexts = { "B2", "DC3", "DC4", "DC5", "DC6" },
       skills = { Phi_SG_q100 = { run = "SG_q100", context = "DC2" } } },
     { name = "SG_runout", stage = "SG_runout", contexts = { "DC1", "DC2" } },
     { name = "T_runout", stage = "T_runout", contexts = { "DC6" },
