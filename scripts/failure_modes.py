@@ -6,6 +6,10 @@ cluttered worlds (Table III's scenario) and sorts each by what its timeline show
 
   thrash      the learned Phi_SG switched between Phi7's preshape and phi3 at least 20 times
               (each switch undoes the other's progress; the grasp never closes)
+  detour      the learned Phi_SG switched between tracking (Phi6's phi0) and Phi7's approach
+              (phi1) at least 20 times: phi1's path turns the base away from the stimulus round
+              an obstacle, phi0 (which wants the base facing it) is no longer converged, and the
+              policy turns back to it, then forward along the path, tick after tick
   preshape    Phi_SG ended running Phi7's preshape (phi4 <| phi2), which never converged
   grasp       Phi_SG ended running phi3, which never converged
   approach    Phi_SG ended running Phi7's approach (phi1) or the search (Phi6)
@@ -47,13 +51,16 @@ def failing_seeds(exe, policy, shape, first, episodes):
 def classify(episode):
     """The failure mode of one recorded episode (see the module's docstring)."""
     paths = [">".join(d["path"][2:4]) for d in episode["decisions"]]
-    switches = sum(1 for a, b in zip(paths, paths[1:])
-                   if {a, b} == {"Phi7>phi4 <| phi2", "phi3"})
+    def switches_between(x, y):
+        return sum(1 for a, b in zip(paths, paths[1:]) if {a, b} == {x, y})
+    switches = switches_between("Phi7>phi4 <| phi2", "phi3")
     last = {g["name"]: g["states"][-1] for g in episode["gammas"]}
     held = all(t["force"] > 0 for t in episode["frames"][-1]["touch"])
     top = episode["decisions"][-1]["path"][1] if episode["decisions"] and len(episode["decisions"][-1]["path"]) > 1 else ""
     if switches >= 20:
         return "thrash"
+    if switches_between("Phi6>phi0", "Phi7>phi1") >= 20:
+        return "detour"
     if top == "Phi_SG":
         final = paths[-1] if paths else ""
         if final == "Phi7>phi4 <| phi2":
@@ -77,7 +84,7 @@ def main():
     ap.add_argument("--roger", default="build/engine/roger")
     ap.add_argument("--verbose", action="store_true", help="also print each failing episode and its mode")
     a = ap.parse_args()
-    modes = ["thrash", "preshape", "grasp", "approach", "unbalanced", "dropped", "other"]
+    modes = ["thrash", "detour", "preshape", "grasp", "approach", "unbalanced", "dropped", "other"]
     total = collections.Counter()
     episodes_total = 0
     print("| shape | episodes | failures | " + " | ".join(modes) + " |")
