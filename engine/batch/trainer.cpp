@@ -258,6 +258,21 @@ EpisodeFault::EpisodeFault(const std::exception& e, std::string phase_in, int ep
   }
 }
 
+namespace {
+
+// A checkpoint's record: where training stood and what its greedy evaluation gave.
+CheckpointRecord checkpoint_record(const TrainPoint& at, const GreedyEval& g, double eval_wall_s) {
+  CheckpointRecord c;
+  c.at = at;
+  c.success_rate = g.success_rate;
+  c.reward_mean = g.reward_mean;
+  c.reward_std = g.reward_std;
+  c.eval_wall_s = eval_wall_s;
+  return c;
+}
+
+}  // namespace
+
 TrainResult train_stage(const TrainOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   // A fresh load per trial: every trial gets its own controllers.
@@ -317,13 +332,7 @@ TrainResult train_stage(const TrainOptions& options) {
     if ((e + 1) % cp.every == 0 || e + 1 == budget) {
       const auto tc = std::chrono::steady_clock::now();
       const GreedyEval g = evaluate(cp.episodes, "checkpoint " + std::to_string(res.checkpoints.size() + 1) + " evaluation");
-      CheckpointRecord c;
-      c.at = spent;
-      c.success_rate = g.success_rate;
-      c.reward_mean = g.reward_mean;
-      c.reward_std = g.reward_std;
-      c.eval_wall_s = seconds_since(tc);
-      res.checkpoints.push_back(c);
+      res.checkpoints.push_back(checkpoint_record(spent, g, seconds_since(tc)));
       passing = g.success_rate >= cp.threshold ? passing + 1 : 0;
       if (cp.stop_after > 0 && passing >= cp.stop_after && e + 1 < budget) {
         res.stopped_early = true;
