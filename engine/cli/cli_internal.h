@@ -19,4 +19,8 @@ std::vector<std::pair<std::string, std::string>> split_sets(const std::vector<st
 // The scenario a policy runs in: --scenario if given, else the policy's own, else unobstructed.
 std::string policy_scenario(const SkillScript::NamedPolicy& p, const std::string& chosen);
 
+// Whether `script` is a curriculum, so that --policy names a policy.json written by roger train;
+// throws roger::Error when it is and `policy` is not such a file name.
+bool policy_is_saved_file(const std::string& script, const std::string& policy);
+
 }  // namespace roger

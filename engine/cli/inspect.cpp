@@ -27,6 +27,14 @@ std::string policy_scenario(const SkillScript::NamedPolicy& p, const std::string
   return p.scenario.empty() ? "unobstructed" : p.scenario;
 }
 
+bool policy_is_saved_file(const std::string& script, const std::string& policy) {
+  if (!is_curriculum_script(resolve_curriculum_path(script))) return false;
+  if (policy.size() < 5 || policy.compare(policy.size() - 5, 5, ".json") != 0)
+    throw Error("with a curriculum, --policy names a policy file written by roger train (policy.json), got '" +
+                policy + "'");
+  return true;
+}
+
 namespace {
 
 // Writes a recorded episode: a folder with frames and a replay page, or (for a .png path) one
@@ -66,12 +74,7 @@ int run_render_policy_file(const RenderArgs& a) {
 // Renders one episode of a skill script's policy: a folder with frames and a replay page, or
 // (for a .png path) one summary strip.
 int run_render_episode(const RenderArgs& a) {
-  if (is_curriculum_script(resolve_curriculum_path(a.scenario))) {
-    if (a.policy.size() < 5 || a.policy.compare(a.policy.size() - 5, 5, ".json") != 0)
-      throw Error("with a curriculum, --policy names a policy file written by roger train (policy.json), got '" +
-                  a.policy + "'");
-    return run_render_policy_file(a);
-  }
+  if (policy_is_saved_file(a.scenario, a.policy)) return run_render_policy_file(a);
   SkillScript script = SkillScript::load(a.scenario);
   const SkillScript::NamedPolicy& policy = script.policy(a.policy);
   Scenario scenario = Scenario::load(policy_scenario(policy, a.world));

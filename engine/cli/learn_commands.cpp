@@ -64,12 +64,7 @@ int run_eval_policy_file(const EvalArgs& a) {
 }  // namespace
 
 int command_eval(const EvalArgs& a) {
-  if (is_curriculum_script(resolve_curriculum_path(a.script))) {
-    if (a.policy.size() < 5 || a.policy.compare(a.policy.size() - 5, 5, ".json") != 0)
-      throw Error("with a curriculum, --policy names a policy file written by roger train (policy.json), got '" +
-                  a.policy + "'");
-    return run_eval_policy_file(a);
-  }
+  if (policy_is_saved_file(a.script, a.policy)) return run_eval_policy_file(a);
   SkillScript script = SkillScript::load(a.script);
   const SkillScript::NamedPolicy& policy = script.policy(a.policy);
   Scenario scenario = Scenario::load(policy_scenario(policy, a.scenario));
