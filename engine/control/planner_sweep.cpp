@@ -58,15 +58,11 @@ __attribute__((always_inline)) inline int relax_lanes(double* __restrict q,
       std::memcpy(&r, left + m + 1, sizeof r);
       std::memcpy(&b, below + m, sizeof b);
       std::memcpy(&a, above + m, sizeof a);
-      Vec mean = quarter * (l + r + b + a);
-      // Keeps the compiler from fusing the product into the subtraction below: a fused
-      // multiply-add rounds once instead of twice, changing the bits. AVX-512 brings FMA with
-      // it; SSE2 and plain AVX have none, but the kernel must not depend on that.
-#if defined(__x86_64__) || defined(__i386__)
-      asm("" : "+x"(mean));
-#else
-      asm("" : "+m"(mean));
-#endif
+      // No fused multiply-add may join this product to the subtraction below (it would round
+      // once instead of twice, changing the bits): the file is compiled with -ffp-contract=off
+      // (engine/control/CMakeLists.txt). AVX-512 brings FMA with it; SSE2 and plain AVX have none,
+      // but the kernel must not depend on that.
+      const Vec mean = quarter * (l + r + b + a);
       // The mask zeroes the change of a fixed cell: bits, not a branch.
       const Vec change = Vec(Mask(om * (mean - value)) & mask);
       const Vec next = value + change;
