@@ -97,6 +97,57 @@ TEST_CASE("phi0 goes NOREF -> !CONV -> CONV and centres the ball within 2 s", "[
   CHECK(saw_all_three >= kStarts / 2);
 }
 
+namespace {
+
+// Turns the base at a steady rate and nothing else (the eyes are left to the gaze reflex).
+class TurnBase final : public Controller {
+ public:
+  explicit TurnBase(double step) : step_(step) { set_name("turn"); }
+  const char* kind() const override { return "turn"; }
+
+ protected:
+  void compute(const ControlInput&, ControlOutput& out, Gamma& gamma_raw) override {
+    out.command = DofVector::Zero();
+    out.command[kBaseHeading] = step_;
+    gamma_raw = Gamma::kNotConv;
+  }
+
+ private:
+  double step_;
+};
+
+}  // namespace
+
+TEST_CASE("phi0 stays CONV once reached while both eyes keep the stimulus, wherever the base turns", "[primitives]") {
+  // A detour round an obstacle turns the base away from the object with the eyes still on it: the
+  // tracking that Phi6 reached is not lost, and a policy must not turn back to re-track.
+  Agent agent;
+  agent.reset(open_world(true, Vec2(1.5, 0.3)));
+  Basis b;
+  b.reset(2);
+  REQUIRE(run_until(agent, *b.phi0, [&] { return b.gamma(agent, b.phi0) == Gamma::kConv; }, 2.0) >= 0);
+  TurnBase turn(0.3);
+  int both_seen = 0, conv_while_seen = 0, turned_away = 0;
+  for (int t = 0; t < 150; ++t) {
+    agent.step(turn);
+    const Senses& s = agent.world().senses();
+    const bool seen = s.stimulus[kLeft].seen && s.stimulus[kRight].seen;
+    const Gamma g = b.gamma(agent, b.phi0);
+    both_seen += seen;
+    conv_while_seen += seen && g == Gamma::kConv;
+    turned_away += seen && b.phi0->output().residual > 0.3;  // the base well off the stimulus
+    if (!seen) CHECK(g == Gamma::kNoRef);
+  }
+  INFO(both_seen << " ticks with both eyes on it, " << turned_away << " of them with the base turned away");
+  CHECK(turned_away > 10);
+  CHECK(conv_while_seen == both_seen);
+  // Once lost, it must be reached again from the start: facing the stimulus, not only seeing it.
+  agent.reset(open_world(true, Vec2(1.5, 0.3)));
+  b.reset(3);
+  agent.step(*b.phi4);
+  CHECK(b.gamma(agent, b.phi0) == Gamma::kNotConv);
+}
+
 TEST_CASE("phi1 approaches the perceived ball within 4 s", "[primitives]") {
   const int ok = count_successes(kStarts, [](Agent& agent, Basis& b) {
     run_until(agent, *b.phi6, [&] { return b.gamma(agent, b.phi0) == Gamma::kConv; }, 4.0);

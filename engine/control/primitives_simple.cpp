@@ -12,10 +12,21 @@ namespace primitives_internal {
 namespace {
 
 // phi0: centre the stimulus in both eyes (eye pans) and turn the base towards it (heading).
+// CONV once the stimulus is centred in both eyes with the base facing it (within epsilon), and
+// then for as long as both eyes see it; NOREF as soon as one loses it, after which it must be
+// reached again. Tracking, once reached, is not lost by a base that turns away to follow a path
+// round an obstacle with the eyes still on the stimulus: asking for the heading on every tick
+// made phi0 !CONV on each such detour, and a learned search-grasp policy then turned back to the
+// stimulus (Phi6) and forward along the path (Phi7) in turn until the time-out, the most common
+// of Table III's failures (scripts/failure_modes.py, "detour").
 class Track final : public Primitive {
  public:
   Track() : Primitive("phi0", 0.1) {}
   PrimitivePtr clone() const override { return std::make_shared<Track>(*this); }
+  void reset(uint64_t seed) override {
+    Primitive::reset(seed);
+    tracking_ = false;
+  }
 
  protected:
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
@@ -23,6 +34,7 @@ class Track final : public Primitive {
     const Senses& s = *in.senses;
     if (!s.stimulus[kLeft].seen || !s.stimulus[kRight].seen) {
       gamma = Gamma::kNoRef;
+      tracking_ = false;
       return;
     }
     const double el = s.stimulus[kLeft].bearing, er = s.stimulus[kRight].bearing;
@@ -33,8 +45,12 @@ class Track final : public Primitive {
     out.command[kBaseHeading] = eb;
     out.phi = 0.5 * (el * el + er * er + eb * eb);
     out.residual = std::max({std::abs(el), std::abs(er), std::abs(eb)});
-    gamma = out.residual <= epsilon() ? Gamma::kConv : Gamma::kNotConv;
+    tracking_ = tracking_ || out.residual <= epsilon();
+    gamma = tracking_ ? Gamma::kConv : Gamma::kNotConv;
   }
+
+ private:
+  bool tracking_ = false;  // reached; kept while both eyes see the stimulus
 };
 
 // search: turn to randomly sampled headings, eyes spread to widen the view, until both eyes see
