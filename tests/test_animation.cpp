@@ -6,6 +6,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "test_files.h"
 #include "temp_dir.h"
 #include <filesystem>
 #include <fstream>
@@ -27,6 +28,7 @@
 
 namespace fs = std::filesystem;
 using namespace roger;
+using roger::test::slurp;
 
 namespace {
 
@@ -34,11 +36,6 @@ namespace {
 struct TempDir : roger::test::TempDir {
   TempDir() : roger::test::TempDir("test_animation") {}
 };
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
 
 // Sorted names of the frame files in a folder, and whether anything else unexpected is there.
 std::vector<std::string> frame_files(const fs::path& dir) {

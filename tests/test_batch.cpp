@@ -17,9 +17,11 @@
 #include "core/rng.h"
 #include "report/report.h"
 #include "script/scenario.h"
+#include "test_files.h"
 
 using namespace roger;
 namespace fs = std::filesystem;
+using roger::test::slurp;
 
 namespace {
 
@@ -228,13 +230,6 @@ TEST_CASE("shards of one script run at once into one folder and report what one 
 // ---- [faults]: what a misbehaving script or a corrupt file costs (docs/reliability.md) ----
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 void spit(const fs::path& p, const std::string& text) {
   std::ofstream(p, std::ios::binary | std::ios::trunc) << text;

@@ -20,18 +20,13 @@
 #include "propose/propose.h"
 #include "script/curriculum.h"
 #include "temp_dir.h"
+#include "test_files.h"
 
 using namespace roger;
 namespace fs = std::filesystem;
+using roger::test::slurp;
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 // Every file under `dir`, relative path -> content; not the hidden temporary a writer killed
 // mid-write leaves (docs/reliability.md), which nothing reads.

@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include "temp_dir.h"
+#include "test_files.h"
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -19,6 +20,7 @@
 
 namespace fs = std::filesystem;
 using namespace roger;
+using roger::test::slurp;
 
 namespace {
 
@@ -151,11 +153,6 @@ Pixel pixel_at(cairo_surface_t* png, const Vec2& at) {
       cairo_image_surface_get_data(png) + y * cairo_image_surface_get_stride(png);
   const uint32_t v = reinterpret_cast<const uint32_t*>(row)[x];
   return {int((v >> 16) & 0xff), int((v >> 8) & 0xff), int(v & 0xff)};
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 }  // namespace

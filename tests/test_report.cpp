@@ -23,20 +23,15 @@
 #include "learn/learning.h"
 #include "report/report.h"
 #include "report/stats.h"
+#include "test_files.h"
 
 using namespace roger;
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 using Catch::Matchers::Contains;
+using roger::test::slurp;
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 void spit(const fs::path& p, const std::string& text) {
   std::ofstream out(p, std::ios::binary);

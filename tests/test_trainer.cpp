@@ -22,20 +22,15 @@
 #include "control/agent.h"
 #include "script/curriculum.h"
 #include "script/scenario.h"
+#include "test_files.h"
 
 using namespace roger;
 namespace fs = std::filesystem;
+using roger::test::slurp;
 
 namespace {
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 // Runs the roger program; returns its exit status and standard output.
 std::pair<int, std::string> run_roger(const std::string& args) {

@@ -518,12 +518,6 @@ RecordedPolicyEpisode record_policy_episode(const PolicyEvalOptions& options, do
     r.episode.reward = ep.reward;
     r.episode.sim_seconds = ep.sim_seconds;
     r.episode.ticks = ep.ticks;
-    r.about.eval.episodes = 1;
-    r.about.eval.first_seed = seed;
-    r.about.eval.successes = ep.success;
-    r.about.eval.success_rate = ep.success;
-    r.about.eval.reward_mean = ep.reward;
-    r.about.eval.time_mean = ep.sim_seconds;
   });
   return r;
 }

@@ -170,7 +170,7 @@ PolicyEvalResult evaluate_policy_file(const PolicyEvalOptions& options);
 
 // One greedy episode of a saved policy, recorded for replay (roger render).
 struct RecordedPolicyEpisode {
-  PolicyEvalResult about;   // stage, context, scenario and its parameters (eval: this episode alone)
+  PolicyEvalResult about;   // stage, context, scenario and its parameters (`eval` is left empty)
   WorldSpec spec;           // the episode's world
   EpisodeResult episode;    // frames, the watched controllers' states, the decisions
 };
