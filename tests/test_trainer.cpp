@@ -215,11 +215,11 @@ std::pair<double, double> median_time_to_threshold(const std::string& stage, con
 }  // namespace
 
 TEST_CASE("the baseline B1 reaches the threshold where valuing untried actions as failures stalled it", "[trainer][fidelity]") {
-  // Seeds 1 and 30 (two of the 8 of seeds 1-50 where it happens): with initial_q = -100
+  // Seeds 2 and 9 (the first two of the 7 of seeds 1-50 where it happens): with initial_q = -100
   // (curricula/ablation.lua's SG_q100, the setting the paper's curriculum replaced) B1's greedy
   // policy settles on a plateau below 90% and never leaves it; with the paper's settings it
   // reaches the threshold and keeps it.
-  for (uint64_t seed : {1, 30}) {
+  for (uint64_t seed : {2, 9}) {
     TrainOptions o;
     o.curriculum = "paper";
     o.stage = "SG";
