@@ -41,70 +41,86 @@ class Preshape final : public Primitive {
     p_.damping = declare("damping", 0.05, 0.0, 1.0, "least-squares damping near singular postures");
     p_.body = declare_text("body", {"standoff", "clear"},
                            "body to the standoff, or only kept clear of it (its distance left to a subordinate)");
+    on_params_changed();
   }
   PrimitivePtr clone() const override { return std::make_shared<Preshape>(*this); }
-  // Nothing is carried from tick to tick.
+  void reset(uint64_t seed) override {
+    Primitive::reset(seed);
+    view_tick_ = UINT64_MAX;
+  }
+  // Nothing is carried from tick to tick (the view is only this tick's, shared by both paths).
   bool state_is_exact() const override { return true; }
 
  protected:
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
-    VisualObject obj;
-    if (!object_in_reach(in, obj)) {
+    const View& v = view(in);
+    if (!v.in_reach) {
       gamma = Gamma::kNoRef;
       return;
     }
-    const double r = std::clamp(obj.radius, 0.05, 0.5);
-    const Targets t = targets(in, obj, r);
     double worst = 0.0;
     // Hands and body distance, not the heading: it stays free for a subordinate such as phi4.
-    reach_targets(in, obj.center, t, false, kArmsAndForward, value(p_.damping), out, worst);
+    reach_targets(in, v.obj.center, v.targets, false, kArmsAndForward, value(p_.damping), out, worst);
     cap_steps(out.command, 0.3, 0.6);
-    report(in, obj.center, r, worst, out, gamma);
+    report(v, worst, out, gamma);
   }
 
   // The state needs the task's errors, not its least-squares command.
   bool compute_state(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
-    VisualObject obj;
-    if (!object_in_reach(in, obj)) {
+    const View& v = view(in);
+    if (!v.in_reach) {
       out.residual = 0.0;
       gamma = Gamma::kNoRef;
       return true;
     }
-    const double r = std::clamp(obj.radius, 0.05, 0.5);
-    const Targets t = targets(in, obj, r);
     Eigen::Matrix<double, 6, 1> e = Eigen::Matrix<double, 6, 1>::Zero();
     bool body_row = true;
-    const double worst = reach_errors(in, obj.center, t, e, body_row);
-    report(in, obj.center, r, worst, out, gamma);
+    report(v, reach_errors(in, v.obj.center, v.targets, e, body_row), out, gamma);
     return true;
   }
 
  private:
-  // The object as vision has it, if it is within reach.
-  bool object_in_reach(const ControlInput& in, VisualObject& obj) const {
+  // What this tick's senses give both paths: the object, if within reach, its standoff targets
+  // and phi (|sum n|^2 by kinematics). Computed once per tick: a composite may ask for the state
+  // and then for the command.
+  struct View {
+    bool in_reach = false;
+    VisualObject obj;
+    Targets targets{};
+    double phi = 0.0;
+  };
+  const View& view(const ControlInput& in) {
+    if (view_tick_ == in.tick) return view_;
+    view_tick_ = in.tick;
+    View& v = view_;
     const Senses& s = *in.senses;
-    return object_estimate(in, value(p_.memory), obj, true) &&
-           !((obj.center - Vec2(s.base.x, s.base.y)).norm() > value(p_.reach));
-  }
-
-  // The standoff targets around an object of radius r.
-  Targets targets(const ControlInput& in, const VisualObject& obj, double r) const {
+    v.obj = VisualObject{};
+    v.in_reach = object_estimate(in, value(p_.memory), v.obj, true) &&
+                 !((v.obj.center - Vec2(s.base.x, s.base.y)).norm() > value(p_.reach));
+    if (!v.in_reach) return v;
+    const double r = std::clamp(v.obj.radius, 0.05, 0.5);
     const double standoff = value(p_.standoff);
-    Targets t = grasp_targets(in, obj.center, r + in.robot->base_radius + standoff,
+    v.targets = grasp_targets(in, v.obj.center, r + in.robot->base_radius + standoff,
                               r + in.robot->hand_radius + standoff, value(p_.spread),
                               value(p_.swing));
-    t.body_keep_out = choice(p_.body) == "clear";
-    return t;
+    v.targets.body_keep_out = body_clear_;
+    const ContactGeometry g = kinematic_contacts(in, v.obj.center);
+    v.phi = grasp_residual(g.normal, g.point, v.obj.center, r, 0.0, 0.0).phi;
+    return v;
   }
 
-  // Sets phi (|sum n|^2 by kinematics), the residual (the worst task error) and gamma.
-  void report(const ControlInput& in, const Vec2& center, double r, double worst,
-              ControlOutput& out, Gamma& gamma) const {
-    const ContactGeometry g = kinematic_contacts(in, center);
-    out.phi = grasp_residual(g.normal, g.point, center, r, 0.0, 0.0).phi;  // |sum n|^2
+  // Sets phi, the residual (the worst task error) and gamma.
+  void report(const View& v, double worst, ControlOutput& out, Gamma& gamma) const {
+    out.phi = v.phi;
     out.residual = worst;
     gamma = worst <= epsilon() && out.phi <= value(p_.phi_max) ? Gamma::kConv : Gamma::kNotConv;
   }
+
+  void on_params_changed() override { body_clear_ = choice(p_.body) == "clear"; }
+
+  bool body_clear_ = false;  // body = 'clear', read each tick (kept here, not compared as text)
+  uint64_t view_tick_ = UINT64_MAX;
+  View view_;
 };
 
 // phi3: contact configuration. Closes body and hands on the object (squeezing slightly inside its
@@ -344,7 +360,7 @@ class Hold final : public Primitive {
     Primitive::reset(seed);
     has_velocity_ = false;
     body_off_time_ = 0.0;
-    memory_tick_ = UINT64_MAX;
+    memory_tick_ = phi_tick_ = UINT64_MAX;
   }
   // What it carries from tick to tick (the last velocity, the body's time off the object) is
   // updated by the state path as by compute().
@@ -395,8 +411,10 @@ class Hold final : public Primitive {
 
   // Sets phi (the contacts' grasp residual), the residual and gamma, with both hands on.
   void report(const ControlInput& in, const bool on[kTactileCount], ControlOutput& out,
-              Gamma& gamma) const {
-    out.phi = contact_phi(in);
+              Gamma& gamma) {
+    // Once per tick: a composite may ask for the state and then for the command.
+    if (phi_tick_ != in.tick) phi_tick_ = in.tick, phi_ = contact_phi(in);
+    out.phi = phi_;
     out.residual = out.phi;
     if (!on[kBody]) {
       gamma = body_off_time_ <= value(p_.grace) ? Gamma::kNotConv : Gamma::kNoRef;
@@ -473,6 +491,8 @@ class Hold final : public Primitive {
   double body_off_time_ = 0.0;  // seconds since the body last touched the object
   uint64_t memory_tick_ = UINT64_MAX;  // the tick remember() last updated the memory on
   Vec2 accel_ = Vec2::Zero();          // the base's acceleration found on that tick
+  uint64_t phi_tick_ = UINT64_MAX;     // the tick phi_ was found on
+  double phi_ = 0.0;                   // the contacts' grasp residual then
 };
 
 }  // namespace
