@@ -96,7 +96,10 @@ const ControlOutput& Controller::evaluate(const ControlInput& in) {
   Gamma raw = Gamma::kNoRef;
   compute(in, out_, raw);
   if (params_.gain != 1.0) out_.command *= params_.gain;
-  out_.gamma = settle(raw, in);
+  // After the state path found the same raw state this tick, that state is settled already:
+  // settling it again would count the tick twice and restart the hold time. (A binding's state
+  // path may find another: its invocation begins in compute().)
+  if (state_tick_ != in.tick || raw != state_raw_) out_.gamma = settle(raw, in);
   return out_;
 }
 
@@ -105,6 +108,7 @@ Gamma Controller::state(const ControlInput& in) {
   Gamma raw = Gamma::kNoRef;
   if (!compute_state(in, out_, raw)) return evaluate(in).gamma;
   state_tick_ = in.tick;
+  state_raw_ = raw;
   out_.gamma = settle(raw, in);
   return out_.gamma;
 }
@@ -199,6 +203,16 @@ void SubjectTo::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma
   gamma_raw = combine(in, a, b, projected);
 }
 
+bool SubjectTo::compute_state(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) {
+  const Gamma a = sup_->observe(in);
+  const Gamma b = sub_->observe(in);
+  // combine() needs the commands only for a !CONV subordinate under a superior with a reference.
+  if (b == Gamma::kNotConv && a != Gamma::kNoRef) return false;
+  out.residual = sup_->output().residual;
+  gamma_raw = std::min(a, b);
+  return true;
+}
+
 Gamma SubjectTo::combine(const ControlInput& in, const ControlOutput& a, const ControlOutput& b,
                          const DofVector& projected) const {
   Gamma sub = b.gamma;
@@ -247,9 +261,18 @@ void Sequence::reset(uint64_t seed) {
   Controller::reset(seed);
   for (auto& s : steps_) s->reset(seed);
   current_ = 0;
+  advanced_tick_ = UINT64_MAX;
 }
 
-void Sequence::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) {
+bool Sequence::state_is_exact() const {
+  for (const auto& s : steps_)
+    if (!s->state_is_exact()) return false;
+  return true;
+}
+
+void Sequence::advance(const ControlInput& in) {
+  if (advanced_tick_ == in.tick) return;
+  advanced_tick_ = in.tick;
   const int n = int(steps_.size());
   // Advance past converged steps, fall back past steps without a reference; at most n moves.
   for (int moves = 0; moves < n; ++moves) {
@@ -262,15 +285,32 @@ void Sequence::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_
       break;
     }
   }
+}
+
+Gamma Sequence::summary(const ControlInput& in) {
+  const Gamma last = steps_.back()->state(in);
+  bool any_reference = false;
+  for (const auto& s : steps_) any_reference |= s->state(in) != Gamma::kNoRef;
+  return last == Gamma::kConv ? Gamma::kConv : any_reference ? Gamma::kNotConv : Gamma::kNoRef;
+}
+
+void Sequence::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) {
+  advance(in);
   const ControlOutput& run = steps_[current_]->evaluate(in);
   out.command = run.command;
   out.jacobian = run.jacobian;
   out.phi = run.phi;
   out.residual = run.residual;
-  const Gamma last = steps_.back()->state(in);
-  bool any_reference = false;
-  for (const auto& s : steps_) any_reference |= s->state(in) != Gamma::kNoRef;
-  gamma_raw = last == Gamma::kConv ? Gamma::kConv : any_reference ? Gamma::kNotConv : Gamma::kNoRef;
+  gamma_raw = summary(in);
+}
+
+bool Sequence::compute_state(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) {
+  advance(in);
+  Controller& run = *steps_[current_];
+  run.observe(in);
+  out.residual = run.output().residual;
+  gamma_raw = summary(in);
+  return true;
 }
 
 void StandIn::bind(ControllerPtr target) {

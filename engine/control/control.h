@@ -127,6 +127,17 @@ class Controller {
   // The last output.
   const ControlOutput& output() const { return out_; }
 
+  // Whether state() alone leaves this controller, and every part of it, exactly as evaluate()
+  // would: nothing it carries from tick to tick depends on computing its command. A composite
+  // that needs only the state of such a part skips the part's command; any other part it
+  // evaluates as it always did, so that what the part remembers (a planner's warm start, a
+  // search's turn) evolves tick by tick as before.
+  virtual bool state_is_exact() const { return false; }
+
+  // This tick's state where only the state is needed: state() where that is exact, evaluate()
+  // otherwise.
+  Gamma observe(const ControlInput& in) { return state_is_exact() ? state(in) : evaluate(in).gamma; }
+
   // The controllers this one is made of, for pictures, usage counts and cycle checks.
   virtual std::vector<const Controller*> children() const { return {}; }
 
@@ -149,7 +160,8 @@ class Controller {
   virtual void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) = 0;
 
   // Optional fast path of state(): sets gamma_raw (and residual) without the command. Returns
-  // false to fall back on compute(). It must agree with compute() on the state.
+  // false to fall back on compute(). It must agree with compute() on the state. compute() may
+  // follow it in the same tick (the state is then not settled twice: see evaluate()).
   virtual bool compute_state(const ControlInput&, ControlOutput&, Gamma&) { return false; }
 
  private:
@@ -160,6 +172,7 @@ class Controller {
   ControlOutput out_;
   uint64_t last_tick_ = UINT64_MAX;   // tick of the last full evaluation
   uint64_t state_tick_ = UINT64_MAX;  // tick of the last state-only evaluation
+  Gamma state_raw_ = Gamma::kNoRef;   // the raw state it found
   uint64_t settle_tick_ = UINT64_MAX; // tick of the last settle(), to see gaps in the hold
   double conv_since_ = -1.0;
 };
@@ -190,9 +203,13 @@ class SubjectTo final : public Controller {
   const ControllerPtr& superior() const { return sup_; }
   void reset(uint64_t seed) override;
   void executed(const ControlInput& in) override;
+  bool state_is_exact() const override { return sub_->state_is_exact() && sup_->state_is_exact(); }
 
  protected:
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
+  // The state from the parts' states, where it needs no command: a superior without a reference,
+  // or a subordinate that is not !CONV.
+  bool compute_state(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
 
  private:
   // The composite's gamma from its parts' outputs and the subordinate's command projected into
@@ -221,13 +238,23 @@ class Sequence final : public Controller {
   int current() const { return current_; }
   const Controller* inner() const override { return steps_[size_t(current_)].get(); }
   const std::vector<ControllerPtr>& steps() const { return steps_; }
+  bool state_is_exact() const override;
 
  protected:
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
+  // The state without the running step's command where that step's state is exact; otherwise
+  // the step is evaluated, as compute() would.
+  bool compute_state(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
 
  private:
+  // Moves the current step past converged steps and back past steps without a reference, once
+  // per tick (the state path and compute() may both run in one tick).
+  void advance(const ControlInput& in);
+  // The sequence's raw gamma from its steps' states.
+  Gamma summary(const ControlInput& in);
   std::vector<ControllerPtr> steps_;
   int current_ = 0;
+  uint64_t advanced_tick_ = UINT64_MAX;
 };
 
 // A controller that stands in for another: a name used before its definition, a learned skill
@@ -245,6 +272,7 @@ class StandIn : public Controller {
   const ControllerPtr& target() const { return target_; }
   const Controller* inner() const override { return target_.get(); }
   bool bound() const { return target_ != nullptr; }
+  bool state_is_exact() const override { return !target_ || target_->state_is_exact(); }
   std::vector<const Controller*> children() const override;
   void reset(uint64_t seed) override;
   void executed(const ControlInput& in) override;

@@ -114,39 +114,50 @@ Targets grasp_targets(const ControlInput& in, const Vec2& center, double body_di
   return t;
 }
 
+double reach_errors(const ControlInput& in, const Vec2& center, const Targets& t,
+                    Eigen::Matrix<double, 6, 1>& e, bool& body_row) {
+  const Senses& s = *in.senses;
+  double worst = 0.0;
+  for (int side = 0; side < 2; ++side) {
+    const Vec2 err = t.hand[side] - in.percepts->arms[side].hand;
+    e.segment<2>(2 * side) = err;
+    worst = std::max(worst, err.norm());
+  }
+  const Vec2 base(s.base.x, s.base.y);
+  e(4) = t.body_distance - (center - base).norm();
+  // Touch overrides vision: once the body feels the object it is there, whatever the estimate of
+  // the object's size says (a polygon's corner may be nearer than its estimated radius); pushing
+  // on would only shove the object away.
+  if (in.percepts->contact_on_object[kBody]) e(4) = std::max(e(4), -t.body_press);
+  body_row = true;
+  if (t.body_keep_out) {
+    // A zero row leaves the command alone and is skipped by the nullspace projection. Once pushing
+    // back, aim 1 cm beyond the bound: approaching it only asymptotically would keep the row
+    // active, and with it the body's distance locked, for ever.
+    if (e(4) <= 0.0) body_row = false, e(4) = 0.0;
+    else e(4) += 0.01;
+  }
+  return std::max(worst, std::abs(e(4)));
+}
+
 void reach_targets(const ControlInput& in, const Vec2& center, const Targets& t, bool facing,
                    const DofVector& use, double lambda, ControlOutput& out, double& worst_error) {
   const Senses& s = *in.senses;
   Eigen::Matrix<double, 6, kDofCount> J = Eigen::Matrix<double, 6, kDofCount>::Zero();
   Eigen::Matrix<double, 6, 1> e = Eigen::Matrix<double, 6, 1>::Zero();
   Eigen::Matrix<double, 2, kDofCount> Jh;
-  worst_error = 0.0;
+  bool body_row = true;
+  worst_error = reach_errors(in, center, t, e, body_row);
   for (int side = 0; side < 2; ++side) {
     hand_jacobian(in, side, Jh);
     J.middleRows<2>(2 * side) = Jh;
-    const Vec2 err = t.hand[side] - in.percepts->arms[side].hand;
-    e.segment<2>(2 * side) = err;
-    worst_error = std::max(worst_error, err.norm());
   }
   // The distance to the object centre, which driving forward shortens by cos(bearing), and the
   // bearing itself, which turning removes.
   const Vec2 base(s.base.x, s.base.y);
   const Vec2 to_obj = center - base;
   const double d = to_obj.norm();
-  J(4, kBaseForward) = -unit(s.base.theta).dot(to_obj) / std::max(d, 1e-6);
-  e(4) = t.body_distance - d;
-  // Touch overrides vision: once the body feels the object it is there, whatever the estimate of
-  // the object's size says (a polygon's corner may be nearer than its estimated radius); pushing
-  // on would only shove the object away.
-  if (in.percepts->contact_on_object[kBody]) e(4) = std::max(e(4), -t.body_press);
-  if (t.body_keep_out) {
-    // A zero row leaves the command alone and is skipped by the nullspace projection. Once pushing
-    // back, aim 1 cm beyond the bound: approaching it only asymptotically would keep the row
-    // active, and with it the body's distance locked, for ever.
-    if (e(4) <= 0.0) J.row(4).setZero(), e(4) = 0.0;
-    else e(4) += 0.01;
-  }
-  worst_error = std::max(worst_error, std::abs(e(4)));
+  if (body_row) J(4, kBaseForward) = -unit(s.base.theta).dot(to_obj) / std::max(d, 1e-6);
   // When closing a grasp (`facing`: phi3), a hand folded towards its own shoulder (elbow beyond
   // 2.5 rad) is near a singularity: the shoulder barely moves it, and the least-squares step can
   // stall it against the body instead of swinging it round to a target on the far side of the

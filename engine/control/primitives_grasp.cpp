@@ -41,33 +41,86 @@ class Preshape final : public Primitive {
     p_.damping = declare("damping", 0.05, 0.0, 1.0, "least-squares damping near singular postures");
     p_.body = declare_text("body", {"standoff", "clear"},
                            "body to the standoff, or only kept clear of it (its distance left to a subordinate)");
+    on_params_changed();
   }
   PrimitivePtr clone() const override { return std::make_shared<Preshape>(*this); }
+  void reset(uint64_t seed) override {
+    Primitive::reset(seed);
+    view_tick_ = UINT64_MAX;
+  }
+  // Nothing is carried from tick to tick (the view is only this tick's, shared by both paths).
+  bool state_is_exact() const override { return true; }
 
  protected:
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
-    VisualObject obj;
-    const Senses& s = *in.senses;
-    if (!object_estimate(in, value(p_.memory), obj, true) ||
-        (obj.center - Vec2(s.base.x, s.base.y)).norm() > value(p_.reach)) {
+    const View& v = view(in);
+    if (!v.in_reach) {
       gamma = Gamma::kNoRef;
       return;
     }
-    const double r = std::clamp(obj.radius, 0.05, 0.5);
-    const double standoff = value(p_.standoff);
-    Targets t = grasp_targets(in, obj.center, r + in.robot->base_radius + standoff,
-                              r + in.robot->hand_radius + standoff, value(p_.spread),
-                              value(p_.swing));
-    t.body_keep_out = choice(p_.body) == "clear";
     double worst = 0.0;
     // Hands and body distance, not the heading: it stays free for a subordinate such as phi4.
-    reach_targets(in, obj.center, t, false, kArmsAndForward, value(p_.damping), out, worst);
+    reach_targets(in, v.obj.center, v.targets, false, kArmsAndForward, value(p_.damping), out, worst);
     cap_steps(out.command, 0.3, 0.6);
-    const ContactGeometry g = kinematic_contacts(in, obj.center);
-    out.phi = grasp_residual(g.normal, g.point, obj.center, r, 0.0, 0.0).phi;  // |sum n|^2
+    report(v, worst, out, gamma);
+  }
+
+  // The state needs the task's errors, not its least-squares command.
+  bool compute_state(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
+    const View& v = view(in);
+    if (!v.in_reach) {
+      out.residual = 0.0;
+      gamma = Gamma::kNoRef;
+      return true;
+    }
+    Eigen::Matrix<double, 6, 1> e = Eigen::Matrix<double, 6, 1>::Zero();
+    bool body_row = true;
+    report(v, reach_errors(in, v.obj.center, v.targets, e, body_row), out, gamma);
+    return true;
+  }
+
+ private:
+  // What this tick's senses give both paths: the object, if within reach, its standoff targets
+  // and phi (|sum n|^2 by kinematics). Computed once per tick: a composite may ask for the state
+  // and then for the command.
+  struct View {
+    bool in_reach = false;
+    VisualObject obj;
+    Targets targets{};
+    double phi = 0.0;
+  };
+  const View& view(const ControlInput& in) {
+    if (view_tick_ == in.tick) return view_;
+    view_tick_ = in.tick;
+    View& v = view_;
+    const Senses& s = *in.senses;
+    v.obj = VisualObject{};
+    v.in_reach = object_estimate(in, value(p_.memory), v.obj, true) &&
+                 !((v.obj.center - Vec2(s.base.x, s.base.y)).norm() > value(p_.reach));
+    if (!v.in_reach) return v;
+    const double r = std::clamp(v.obj.radius, 0.05, 0.5);
+    const double standoff = value(p_.standoff);
+    v.targets = grasp_targets(in, v.obj.center, r + in.robot->base_radius + standoff,
+                              r + in.robot->hand_radius + standoff, value(p_.spread),
+                              value(p_.swing));
+    v.targets.body_keep_out = body_clear_;
+    const ContactGeometry g = kinematic_contacts(in, v.obj.center);
+    v.phi = grasp_residual(g.normal, g.point, v.obj.center, r, 0.0, 0.0).phi;
+    return v;
+  }
+
+  // Sets phi, the residual (the worst task error) and gamma.
+  void report(const View& v, double worst, ControlOutput& out, Gamma& gamma) const {
+    out.phi = v.phi;
     out.residual = worst;
     gamma = worst <= epsilon() && out.phi <= value(p_.phi_max) ? Gamma::kConv : Gamma::kNotConv;
   }
+
+  void on_params_changed() override { body_clear_ = choice(p_.body) == "clear"; }
+
+  bool body_clear_ = false;  // body = 'clear', read each tick (kept here, not compared as text)
+  uint64_t view_tick_ = UINT64_MAX;
+  View view_;
 };
 
 // phi3: contact configuration. Closes body and hands on the object (squeezing slightly inside its
@@ -107,14 +160,30 @@ class Grasp final : public Primitive {
     set_number("hold", 0.1);
   }
   PrimitivePtr clone() const override { return std::make_shared<Grasp>(*this); }
+  // Nothing is carried from tick to tick.
+  bool state_is_exact() const override { return true; }
 
  protected:
+  // The state needs phi, from the contacts or kinematics, not the guarded moves.
+  bool compute_state(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
+    VisualObject obj;
+    if (!object_in_reach(in, obj)) {
+      out.residual = 0.0;
+      gamma = Gamma::kNoRef;
+      return true;
+    }
+    const double r = std::clamp(obj.radius, 0.05, 0.5);
+    GraspResidual grasp;  // what close_hands computes when all three contacts are on the object
+    if (contacts_on_object(in) == kTactileCount) grasp = touch_residual(in, obj.center, r);
+    report_phi(in, obj.center, r, grasp, out, gamma);
+    return true;
+  }
+
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
     const Senses& s = *in.senses;
     const Percepts& p = *in.percepts;
     VisualObject obj;
-    const bool seen = object_estimate(in, value(p_.memory), obj);
-    if (!seen || (obj.center - Vec2(s.base.x, s.base.y)).norm() > value(p_.reach)) {
+    if (!object_in_reach(in, obj)) {
       gamma = Gamma::kNoRef;
       return;
     }
@@ -153,6 +222,31 @@ class Grasp final : public Primitive {
   }
 
  private:
+  // The object as the senses have it, if it is within reach.
+  bool object_in_reach(const ControlInput& in, VisualObject& obj) const {
+    const Senses& s = *in.senses;
+    return object_estimate(in, value(p_.memory), obj) &&
+           !((obj.center - Vec2(s.base.x, s.base.y)).norm() > value(p_.reach));
+  }
+
+  // How many of the three contacts touch the object touched most.
+  static int contacts_on_object(const ControlInput& in) {
+    const Senses& s = *in.senses;
+    const Percepts& p = *in.percepts;
+    int on = 0;
+    for (int k = 0; k < kTactileCount; ++k)
+      on += p.contact_on_object[k] && s.touch[k].index == p.touched_object;
+    return on;
+  }
+
+  // The grasp residual (friction included) of the three touch contacts.
+  GraspResidual touch_residual(const ControlInput& in, const Vec2& center, double r) const {
+    const Senses& s = *in.senses;
+    Vec2 normal[kTactileCount], point[kTactileCount];
+    for (int k = 0; k < kTactileCount; ++k) normal[k] = s.touch[k].normal, point[k] = s.touch[k].point;
+    return grasp_residual(normal, point, center, r, value(p_.moment), value(p_.friction));
+  }
+
   // While the body is off the object: a hand that touches it keeps only the part of its move
   // along the surface and steps `back_off` out along its touch normal, so it neither grips the
   // object (which would stay ahead of the creeping body) nor stalls on it while it swings round.
@@ -186,9 +280,7 @@ class Grasp final : public Primitive {
         sum += s.touch[k].normal, ++touching_count;
     double unbalanced = sum.squaredNorm();
     if (touching_count == kTactileCount) {
-      Vec2 normal[kTactileCount], point[kTactileCount];
-      for (int k = 0; k < kTactileCount; ++k) normal[k] = s.touch[k].normal, point[k] = s.touch[k].point;
-      grasp = grasp_residual(normal, point, obj.center, r, value(p_.moment), value(p_.friction));
+      grasp = touch_residual(in, obj.center, r);
       sum = grasp.force;
       unbalanced = grasp.phi;
     }
@@ -230,13 +322,9 @@ class Grasp final : public Primitive {
   // Sets phi, the residual and gamma (`grasp`: the residual close_hands found, if it found one).
   void report_phi(const ControlInput& in, const Vec2& center, double r, const GraspResidual& grasp,
                   ControlOutput& out, Gamma& gamma) const {
-    const Senses& s = *in.senses;
-    const Percepts& p = *in.percepts;
     // phi from touch when all three contacts are on one object, else from kinematics plus a
     // penalty per missing contact (so phi falls as contacts are made).
-    int on = 0;
-    for (int k = 0; k < kTactileCount; ++k)
-      on += p.contact_on_object[k] && s.touch[k].index == p.touched_object;
+    const int on = contacts_on_object(in);
     if (on == kTactileCount) {
       out.phi = grasp.phi;  // all three on means the body touches: close_hands computed it
     } else {
@@ -276,17 +364,17 @@ class Hold final : public Primitive {
     Primitive::reset(seed);
     has_velocity_ = false;
     body_off_time_ = 0.0;
+    memory_tick_ = phi_tick_ = UINT64_MAX;
   }
+  // What it carries from tick to tick (the last velocity, the body's time off the object) is
+  // updated by the state path as by compute().
+  bool state_is_exact() const override { return true; }
 
  protected:
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
     own_dofs({kLeftShoulder, kLeftElbow, kRightShoulder, kRightElbow}, out.jacobian);
-    const Senses& s = *in.senses;
-    const Percepts& p = *in.percepts;
-    const Vec2 accel = base_acceleration(s, in.dt);
     bool on[kTactileCount];
-    for (int k = 0; k < kTactileCount; ++k)
-      on[k] = p.contact_on_object[k] && s.touch[k].index == p.touched_object;
+    const Vec2 accel = remember(in, on);
     // NOREF as soon as a contact is lost; but while both hands still hold the object the hands
     // keep pressing and draw it back onto the body, so a grasp that slipped can recover.
     if (!on[kLeftHand] || !on[kRightHand]) {
@@ -294,12 +382,44 @@ class Hold final : public Primitive {
       return;
     }
     press_hands(in, on, accel, out);
-    out.phi = contact_phi(in);
-    out.residual = out.phi;
+    report(in, on, out, gamma);
+  }
+
+  // The state needs phi, not the hands' command.
+  bool compute_state(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
+    bool on[kTactileCount];
+    remember(in, on);
+    out.residual = 0.0;
+    if (!on[kLeftHand] || !on[kRightHand]) gamma = Gamma::kNoRef;
+    else report(in, on, out, gamma);
+    return true;
+  }
+
+ private:
+  // Which contacts are on the object (`on`), and the base's acceleration; updates what is carried
+  // from tick to tick once per tick, however many of the state path and compute() run in it.
+  Vec2 remember(const ControlInput& in, bool on[kTactileCount]) {
+    const Senses& s = *in.senses;
+    const Percepts& p = *in.percepts;
+    for (int k = 0; k < kTactileCount; ++k)
+      on[k] = p.contact_on_object[k] && s.touch[k].index == p.touched_object;
+    if (memory_tick_ == in.tick) return accel_;
+    memory_tick_ = in.tick;
+    accel_ = base_acceleration(s, in.dt);
     // A body contact that breaks for a moment while both hands hold (a light body contact, a
     // non-convex object rocking on it) is not a lost grasp: the pull is drawing the object back,
     // so for `grace` seconds the grasp counts as held, unconverged.
-    body_off_time_ = on[kBody] ? 0.0 : body_off_time_ + in.dt;
+    if (on[kLeftHand] && on[kRightHand]) body_off_time_ = on[kBody] ? 0.0 : body_off_time_ + in.dt;
+    return accel_;
+  }
+
+  // Sets phi (the contacts' grasp residual), the residual and gamma, with both hands on.
+  void report(const ControlInput& in, const bool on[kTactileCount], ControlOutput& out,
+              Gamma& gamma) {
+    // Once per tick: a composite may ask for the state and then for the command.
+    if (phi_tick_ != in.tick) phi_tick_ = in.tick, phi_ = contact_phi(in);
+    out.phi = phi_;
+    out.residual = out.phi;
     if (!on[kBody]) {
       gamma = body_off_time_ <= value(p_.grace) ? Gamma::kNotConv : Gamma::kNoRef;
       return;
@@ -307,7 +427,6 @@ class Hold final : public Primitive {
     gamma = out.phi <= epsilon() ? Gamma::kConv : Gamma::kNotConv;
   }
 
- private:
   // The base's acceleration from its velocity senses (world frame), since the last tick; zero on
   // the first.
   Vec2 base_acceleration(const Senses& s, double dt) {
@@ -374,6 +493,10 @@ class Hold final : public Primitive {
   Vec2 last_velocity_ = Vec2::Zero();
   bool has_velocity_ = false;
   double body_off_time_ = 0.0;  // seconds since the body last touched the object
+  uint64_t memory_tick_ = UINT64_MAX;  // the tick remember() last updated the memory on
+  Vec2 accel_ = Vec2::Zero();          // the base's acceleration found on that tick
+  uint64_t phi_tick_ = UINT64_MAX;     // the tick phi_ was found on
+  double phi_ = 0.0;                   // the contacts' grasp residual then
 };
 
 }  // namespace

@@ -108,6 +108,12 @@ Targets grasp_targets(const ControlInput& in, const Vec2& center, double body_di
 void reach_targets(const ControlInput& in, const Vec2& center, const Targets& t, bool facing,
                    const DofVector& use, double lambda, ControlOutput& out, double& worst_error);
 
+// The errors of that task without its Jacobian or command: the hands' (rows 0-3) and the body's
+// distance (row 4, zero when t.body_keep_out leaves it free). Returns the largest, which is what
+// reach_targets reports as worst_error; `body_row` says whether row 4 is in the task.
+double reach_errors(const ControlInput& in, const Vec2& center, const Targets& t,
+                    Eigen::Matrix<double, 6, 1>& e, bool& body_row);
+
 // ---- Each primitive's factory, for make_primitive ----
 
 PrimitivePtr make_track();      // phi0 (primitives_simple.cpp)

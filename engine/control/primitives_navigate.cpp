@@ -38,7 +38,8 @@ class Navigate final : public Primitive {
     p_.tolerance = declare("tolerance", 2e-3, 1e-8, 0.1, "relative change per sweep at which a plan has converged");
     on_params_changed();
   }
-  Navigate(const Navigate& o) : Primitive(o), p_(o.p_), planner_(planner_params()) {}
+  Navigate(const Navigate& o)
+      : Primitive(o), p_(o.p_), planner_(planner_params()), to_region_(o.to_region_) {}
   PrimitivePtr clone() const override { return std::make_shared<Navigate>(*this); }
   void reset(uint64_t seed) override {
     Primitive::reset(seed);
@@ -54,6 +55,7 @@ class Navigate final : public Primitive {
  protected:
   // A new tolerance needs a new planner.
   void on_params_changed() override {
+    to_region_ = choice(p_.goal) == "region";
     PlannerParams p = planner_params();
     if (p.tolerance != planner_.params().tolerance) {
       planner_ = HarmonicPlanner(p);
@@ -109,7 +111,7 @@ class Navigate final : public Primitive {
 
   // Sets the planner's grid and goal for this tick; false when there is no goal.
   bool prepare(const ControlInput& in, bool solve) {
-    if (choice(p_.goal) == "region") return prepare_region(in, solve);
+    if (to_region_) return prepare_region(in, solve);
     return prepare_object(in, solve);
   }
 
@@ -184,7 +186,7 @@ class Navigate final : public Primitive {
   // Whether the control point is within epsilon of the goal (`depth` inside a region's edge: a
   // carried object's centre is then inside the region, not merely at its edge).
   bool converged(const Vec2& p) const {
-    const double depth = choice(p_.goal) == "region" ? std::min(value(p_.depth), 0.9 * goal_radius_) : 0.0;
+    const double depth = to_region_ ? std::min(value(p_.depth), 0.9 * goal_radius_) : 0.0;
     return (p - goal_center_).norm() <= goal_radius_ - depth + epsilon();
   }
 
@@ -235,6 +237,7 @@ class Navigate final : public Primitive {
   size_t planned_region_ = 0;  // the goal region planned for (goal='region')
   Vec2 goal_center_ = Vec2::Zero();
   double goal_radius_ = 0.0;
+  bool to_region_ = false;  // goal = 'region', read each tick (kept here, not compared as text)
   int turn_sign_ = 0;  // a committed turn on the spot while carrying: +1 left, -1 right, 0 none
   double blocked_time_ = 0.0;  // seconds the committed turn has made no headway
   static constexpr double kTurnStalled = 0.1;   // rad/s: a turn slower than this makes no headway

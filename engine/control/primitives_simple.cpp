@@ -191,6 +191,8 @@ class Condition final : public Primitive {
     p_.rate = declare("rate", 0.15, 0.0, 5.0, "step per tick per unit gradient (rad)");
   }
   PrimitivePtr clone() const override { return std::make_shared<Condition>(*this); }
+  // Nothing is carried from tick to tick (and its command is its state's own arithmetic).
+  bool state_is_exact() const override { return true; }
 
  protected:
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
