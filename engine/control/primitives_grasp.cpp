@@ -147,8 +147,8 @@ class Grasp final : public Primitive {
     p_.swing = declare("swing", 0.05, 0.0, 1.0, "how far (m) a hand swings out while going round the object");
     p_.moment = declare("moment", 0.25, 0.0, 10.0, "weight of the moment residual in phi");
     p_.friction = declare("friction", 0.25, 0.0, 2.0, "share of each contact's push that friction may carry in phi");
-    // Just beyond phi1's approach ring (0.62 m), not the arms' full 1.25 m: phi3
-    // drives the base straight at the object, so from farther it ran into the obstacles phi1
+    // Just beyond phi1's approach ring (0.62 m), not the 1.25 m it was (more than the arms span):
+    // phi3 drives the base straight at the object, so from farther it ran into the obstacles phi1
     // routes round, and learned policies took that shortcut in the paper's open worlds and failed
     // with it in cluttered ones (Table III 91.6% -> 94.6%; 0.8 and 0.7 gave less, docs/results.md).
     p_.reach = declare("reach", 0.9, 0.3, 3.0, "objects farther (m) than this from the base are out of reach");
