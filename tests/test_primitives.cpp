@@ -365,7 +365,7 @@ bool grasp_closes(Scenario& scenario, uint64_t seed) {
   const double bearing = rng.uniform(-M_PI, M_PI);
   spec.objects[0].pose = {object.x(), object.y(), rng.uniform(-M_PI, M_PI)};
   // (A heading outside [-pi, pi] keeps phi2 from ever converging: keep it wrapped.)
-  spec.robot.pose = {object.x() + 0.62 * std::cos(bearing), object.y() + 0.62 * std::sin(bearing),
+  spec.robot.pose = {object.x() + 0.58 * std::cos(bearing), object.y() + 0.58 * std::sin(bearing),
                      wrap_angle(bearing + M_PI)};
   Agent agent;
   agent.reset(spec);
@@ -450,7 +450,7 @@ void find_primitives(const Controller& c, const std::string& kind, std::vector<P
 
 }  // namespace
 
-// Sorting seeds 5003, 5006 and 5007 (the first three of 5000-5039 where it made the difference):
+// Sorting seeds 5003, 5012 and 5018 (the first three of 5000-5039 where it makes the difference):
 // the spade is delivered with the body and the right hand pinching it; folding the arm straight back in joint space drove the hand further into the
 // spade, which the body held in place, and nothing moved until the time-out. Stepping the hand out
 // along its touch normal first lets go (docs/examples/sorting_moves.lua's two moves).
@@ -466,7 +466,7 @@ TEST_CASE("release steps a touching hand out before folding the arm", "[primitiv
   auto sorted = [&](double clear) {
     for (Primitive* p : releases) p->set_number("clear", clear);
     int n = 0;
-    for (uint64_t seed : {5003, 5006, 5007})
+    for (uint64_t seed : {5003, 5012, 5018})
       n += evaluate_action([&](uint64_t s) { return scenario.generate(s); }, *policy.action, *policy.goal, 1,
                            seed, options, WorldParams{}).successes;
     return n;

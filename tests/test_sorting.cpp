@@ -68,7 +68,7 @@ TEST_CASE("sorting: 50 seeds of eight objects and four obstacles, no overlaps, e
   Scenario s = Scenario::load("scenarios/sorting.lua");
   s.set_param("objects", "8");
   s.set_param("obstacles", "4");
-  const double approach = 0.62;  // phi1's approach ring around an object
+  const double approach = 0.58;  // phi1's approach ring around an object
   for (const char* mix : {"cycle", "random"}) {
     s.set_param("mix", mix);
     for (uint64_t seed = 0; seed < 50; ++seed) {
