@@ -196,6 +196,44 @@ TEST_CASE("QTable basics: ties, epsilon-greedy, the backup and the nearest visit
   CHECK(p.policy_action(gamma_state_index({Gamma::kNotConv, Gamma::kNoRef})) == 0);  // tie: lower index
 }
 
+TEST_CASE("an action whose controller has no reference is never chosen, explored or backed up from", "[learning]") {
+  // The paper's Eq. 1: a controller's gradient may be engaged only where gamma != NOREF.
+  QParams on;
+  on.referenced_only = true;
+  QTable q({"x", "y", "z"}, on);
+  const int s = gamma_state_index({Gamma::kNoRef, Gamma::kNotConv, Gamma::kConv});
+  q.set(s, 0, 50.0);  // the best value, on the action without a reference
+  q.set(s, 1, 1.0);
+  q.set(s, 2, 2.0);
+  CHECK_FALSE(q.engageable(s, 0));
+  CHECK(q.engageable(s, 1));
+  CHECK(q.greedy(s) == 2);
+  CHECK(q.max_value(s) == 2.0);
+  CHECK(q.policy_action(s) == 2);
+  Rng rng(3);
+  int counts[3] = {0, 0, 0};
+  for (int i = 0; i < 2000; ++i) ++counts[q.choose(s, 1.0, rng)];
+  CHECK(counts[0] == 0);
+  CHECK(counts[1] > 850);
+  CHECK(counts[2] > 850);
+  // The bootstrap of a backup into s takes its best engageable value, not the 50.
+  const int t = gamma_state_index({Gamma::kConv, Gamma::kConv, Gamma::kConv});
+  CHECK(q.update(t, 1, 0.0, s, false, 0.5) == Approx(0.5 * 2.0));
+  // Every action NOREF: every action may run (something must).
+  const int none = gamma_state_index({Gamma::kNoRef, Gamma::kNoRef, Gamma::kNoRef});
+  for (int a = 0; a < 3; ++a) CHECK(q.engageable(none, a));
+  // An unvisited state borrows the nearest visited state's values, among its own engageable
+  // actions: t was visited (action 1); from (CONV, NOREF, CONV) action 1 has no reference.
+  q.set(t, 1, 10.0);
+  q.set(t, 0, 5.0);
+  const int u = gamma_state_index({Gamma::kConv, Gamma::kNoRef, Gamma::kConv});
+  CHECK(q.policy_action(u) == 0);
+  // Off (the default, the paper's learner), the same table chooses the 50.
+  QTable o({"x", "y", "z"});
+  o.set(s, 0, 50.0);
+  CHECK(o.greedy(s) == 0);
+}
+
 TEST_CASE("the exploration schedule is exact at both ends and linear between", "[learning]") {
   const QParams params;  // 1.0 -> 0.05
   const ExplorationSchedule s = ExplorationSchedule::episodes(params, 100);
@@ -229,6 +267,7 @@ TEST_CASE("a QTable round-trips through a policy file bit for bit", "[learning]"
   params.alpha = 0.1 + 0.2;  // not a short decimal
   params.discount = 1.0 / 3.0;
   params.initial_q = -0.0;
+  params.referenced_only = true;  // not the default
   QTable q({"search", "phi0", "phi4 <| phi2"}, params);
   Rng rng(99);
   // Values with awkward binary expansions, extremes and subnormals, plus real backups.
@@ -259,6 +298,16 @@ TEST_CASE("a QTable round-trips through a policy file bit for bit", "[learning]"
   CHECK(same_bits(r.params().initial_q, q.params().initial_q));
   CHECK(same_bits(r.params().epsilon_start, q.params().epsilon_start));
   CHECK(same_bits(r.params().epsilon_end, q.params().epsilon_end));
+  CHECK(r.params().referenced_only == q.params().referenced_only);
+  // A file from before referenced_only existed was learned with every action allowed.
+  {
+    std::ifstream in(path);
+    nlohmann::json old = nlohmann::json::parse(in);
+    old["params"].erase("referenced_only");
+    const std::string old_path = temp_path("roundtrip_old.json");
+    std::ofstream(old_path) << old.dump();
+    CHECK_FALSE(QTable::load(old_path, q.action_names()).params().referenced_only);
+  }
   int differing = 0;
   for (int s = 0; s < q.states(); ++s) {
     CHECK(r.visited(s) == q.visited(s));

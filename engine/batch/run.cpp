@@ -284,7 +284,7 @@ nlohmann::json training_trial(const BatchPlan& plan, const PlannedTrial& t, cons
   for (const auto& c : r.checkpoints)
     cps.push_back({{"episodes", c.at.episodes}, {"sim_s", c.at.sim_s}, {"decisions", c.at.decisions},
                    {"wall_s", c.at.wall_s}, {"success_rate", c.success_rate}, {"reward_mean", c.reward_mean},
-                   {"reward_std", c.reward_std}});
+                   {"reward_std", c.reward_std}, {"policy_changed", c.policy_changed}});
   j["checkpoints"] = cps;
   return j;
 }

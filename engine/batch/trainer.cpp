@@ -271,6 +271,13 @@ CheckpointRecord checkpoint_record(const TrainPoint& at, const GreedyEval& g, do
   return c;
 }
 
+// The greedy policy as the learned policy plays it: which states were visited, and the greedy
+// action in each (QTable::policy_action is a function of these alone). -1 for a state not visited.
+void greedy_signature(const QTable& q, std::vector<int>& out) {
+  out.resize(size_t(q.states()));
+  for (int s = 0; s < q.states(); ++s) out[size_t(s)] = q.visited(s) ? q.greedy(s) : -1;
+}
+
 }  // namespace
 
 TrainResult train_stage(const TrainOptions& options) {
@@ -315,6 +322,10 @@ TrainResult train_stage(const TrainOptions& options) {
   TrainPoint spent;
   double train_wall = 0.0;
   int passing = 0;  // consecutive passing checkpoints
+  // Consecutive passing checkpoints of one greedy policy, for stop_after (with cp.settle): a
+  // policy that changed since the last checkpoint has passed once, on one set of seeds.
+  int settled = 0;
+  std::vector<int> greedy_before, greedy_now;
   // The cap of a capped trial, after what its skills spent (TrainOptions::max_sim_s).
   const double cap = options.max_sim_s > 0 ? options.max_sim_s - skills_sim_s(res.skills) : 0.0;
   for (int e = 0; e < budget; ++e) {
@@ -333,8 +344,14 @@ TrainResult train_stage(const TrainOptions& options) {
       const auto tc = std::chrono::steady_clock::now();
       const GreedyEval g = evaluate(cp.episodes, "checkpoint " + std::to_string(res.checkpoints.size() + 1) + " evaluation");
       res.checkpoints.push_back(checkpoint_record(spent, g, seconds_since(tc)));
-      passing = g.success_rate >= cp.threshold ? passing + 1 : 0;
-      if (cp.stop_after > 0 && passing >= cp.stop_after && e + 1 < budget) {
+      const bool passed = g.success_rate >= cp.threshold;
+      passing = passed ? passing + 1 : 0;
+      greedy_signature(q, greedy_now);
+      const bool changed = res.checkpoints.size() == 1 || greedy_now != greedy_before;
+      res.checkpoints.back().policy_changed = changed;
+      settled = !passed ? 0 : changed && cp.settle ? 1 : settled + 1;
+      greedy_before.swap(greedy_now);
+      if (cp.stop_after > 0 && settled >= cp.stop_after && e + 1 < budget) {
         res.stopped_early = true;
         break;
       }
@@ -427,6 +444,7 @@ void write_train_outputs(const TrainResult& r, const std::string& dir_in) {
     j["reward_mean"] = c.reward_mean;
     j["reward_std"] = c.reward_std;
     j["eval_wall_s"] = c.eval_wall_s;
+    j["policy_changed"] = c.policy_changed;
     cps << j.dump() << "\n";
   }
   for (const auto& e : r.episodes) {

@@ -71,6 +71,9 @@ struct CheckpointRecord {
   TrainPoint at;
   double success_rate = 0.0, reward_mean = 0.0, reward_std = 0.0;
   double eval_wall_s = 0.0;
+  // Whether the greedy policy (visited states and their greedy actions) differs from the previous
+  // checkpoint's; true at the first. stop_after counts passing checkpoints of one policy.
+  bool policy_changed = true;
 };
 
 // One training episode.

@@ -17,18 +17,11 @@ class LearnedSkill final : public Controller {
  public:
   LearnedSkill(const std::string& name, std::vector<ControllerPtr> psi, const QTable& q,
                PredicatePtr absorbing)
-      : actions_(std::move(psi)), absorbing_(std::move(absorbing)) {
+      // A copy of the table: later training must not change a skill that a later stage already
+      // learned to use.
+      : actions_(std::move(psi)), absorbing_(std::move(absorbing)), q_(q) {
     set_name(name);
-    states_ = q.states();
-    // A snapshot of what policy_action() needs: later training must not change a skill that a
-    // later stage already learned to use.
-    greedy_.resize(size_t(states_));
-    visited_.resize(size_t(states_));
-    for (int s = 0; s < states_; ++s) {
-      greedy_[size_t(s)] = q.greedy(s);
-      visited_[size_t(s)] = q.visited(s) ? 1 : 0;
-    }
-    resolved_.assign(size_t(states_), -1);
+    resolved_.assign(size_t(q_.states()), -1);
     scratch_.resize(actions_.size());
   }
 
@@ -96,21 +89,17 @@ class LearnedSkill final : public Controller {
 
   int last_action_ = -1;  // the action run at the last full evaluation
 
-  // QTable::policy_action on the snapshot, resolved once per state.
+  // QTable::policy_action on the snapshot, resolved once per state (a state never visited
+  // searches the table for its nearest visited one).
   int action_for(int s) {
     int& a = resolved_[size_t(s)];
-    if (a >= 0) return a;
-    if (visited_[size_t(s)]) return a = greedy_[size_t(s)];
-    const int t = nearest_visited_state(s, states_, int(actions_.size()),
-                                        [this](int k) { return visited_[size_t(k)] != 0; });
-    return a = greedy_[size_t(t >= 0 ? t : s)];
+    if (a < 0) a = q_.policy_action(s);
+    return a;
   }
 
   std::vector<ControllerPtr> actions_;
   PredicatePtr absorbing_;
-  int states_ = 0;
-  std::vector<int> greedy_;       // per state: the table's greedy action
-  std::vector<uint8_t> visited_;  // per state: visited in training
+  const QTable q_;
   std::vector<int> resolved_;     // per state: the action taken, -1 until first needed
   std::vector<Gamma> scratch_;
   uint64_t absorbing_tick_ = UINT64_MAX;

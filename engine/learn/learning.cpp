@@ -117,7 +117,7 @@ void SemiMdpDriver::decide(int s, double now) {
   if (learn_) {
     action_ = q_.choose(s, epsilon_, rng_);
   } else if (epsilon_ > 0.0 && rng_.uniform() < epsilon_) {
-    action_ = int(rng_.integer(0, int(psi_.size()) - 1));
+    action_ = q_.explore(s, rng_);
   } else {
     action_ = q_.policy_action(s);
   }

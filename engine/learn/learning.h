@@ -13,7 +13,7 @@
 //   { "format": "roger-policy", "version": 1,
 //     "actions": ["search", "phi0"],            // the names of Psi, in state-vector order
 //     "params": { "alpha": 0.1, "discount": 0.95, "epsilon_start": 1.0, "epsilon_end": 0.05,
-//                 "initial_q": 0.0 },
+//                 "initial_q": 0.0, "referenced_only": false },  // false when absent
 //     "q":      [[Q(s,0), Q(s,1), ...], ...],   // 3^|Psi| rows of |Psi| numbers
 //     "visits": [[n(s,0), n(s,1), ...], ...],   // how many backups each (s, a) received
 //     "stage": "search_grasp", "context": "DC1", "seed": 7,   // the caller's metadata
@@ -44,6 +44,12 @@ struct QParams {
   double epsilon_start = 1.0;  // exploration at the start of training (the paper: 100%)
   double epsilon_end = 0.05;   // exploration at the end of the budget and after it (the paper: 5%)
   double initial_q = 0.0;      // every value before its first backup
+  // Choose only actions with a reference: an action whose gamma is NOREF in the state is not
+  // chosen, explored or backed up from (unless every action is NOREF), as a controller's gradient
+  // is engaged only inside its region of attraction (the paper's Eq. 1). Off, as the paper's
+  // learner: every action may be chosen in every state, and learning which ones run is part of
+  // the stage (scripts/ablation.lua measures the difference).
+  bool referenced_only = false;
   // Throws roger::Error naming `where` and the offending field when a value is out of range or
   // not finite.
   void validate(const std::string& where = "q-learning") const;
@@ -85,21 +91,27 @@ class QTable {
   // The number of states visited.
   int visited_states() const;
 
-  // argmax_a Q(s, a), ties to the lowest index so that the policy is deterministic.
+  // Whether action a may be chosen in state s: always, or with params().referenced_only when its
+  // gamma in s is not NOREF or no action of s has a reference.
+  bool engageable(int s, int a) const;
+  // argmax_a Q(s, a) over the engageable actions, ties to the lowest index so that the policy is
+  // deterministic.
   int greedy(int s) const;
-  // max_a Q(s, a).
+  // max_a Q(s, a) over the engageable actions.
   double max_value(int s) const;
 
   // The action the learned policy takes in s: greedy(s) in a visited state; in a state never
   // visited, greedy() of the nearest visited state (the least sum over actions of |gamma - gamma'|
   // with NOREF < !CONV < CONV, ties to the lowest state index), since a state seen in training
   // that differs in one controller's convergence is a better guide than the initial values;
-  // greedy(s) when nothing was visited at all.
+  // greedy(s) when nothing was visited at all. Only actions engageable in s are chosen.
   int policy_action(int s) const;
 
-  // Epsilon-greedy: with probability epsilon a uniformly random action, else greedy(s). Draws
+  // Epsilon-greedy: with probability epsilon a uniformly random engageable action, else greedy(s). Draws
   // from rng only when epsilon > 0, so a greedy run consumes no random numbers.
   int choose(int s, double epsilon, Rng& rng);
+  // A uniformly random engageable action of s (one draw from rng).
+  int explore(int s, Rng& rng) const;
 
   // The Q-learning backup Q(s,a) += alpha (reward + discount_power max_a' Q(s_next,a') - Q(s,a)),
   // without the bootstrap term when `terminal`. discount_power is the discount of this transition:
@@ -125,6 +137,8 @@ class QTable {
 
  private:
   void check(int s, int a, const char* what) const;
+  uint32_t engageable_mask(int s) const;               // bit a: engageable(s, a)
+  int best_in(int row_state, uint32_t mask) const;     // argmax over mask of row_state's values
   std::vector<std::string> names_;
   QParams params_;
   int actions_ = 0, states_ = 0;

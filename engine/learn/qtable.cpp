@@ -69,6 +69,13 @@ QParams read_params(const nlohmann::json& j, const std::string& source) {
   p.epsilon_start = param("epsilon_start");
   p.epsilon_end = param("epsilon_end");
   p.initial_q = param("initial_q");
+  // Policies written before the field existed were learned choosing NOREF actions too.
+  if (jp.contains("referenced_only")) {
+    if (!jp["referenced_only"].is_boolean())
+      throw Error(source + ": field \"params.referenced_only\" must be true or false, got " +
+                  jp["referenced_only"].dump());
+    p.referenced_only = jp["referenced_only"].get<bool>();
+  }
   p.validate(source + ": params");
   return p;
 }
@@ -183,13 +190,32 @@ int QTable::visited_states() const {
   return int(std::count(state_seen_.begin(), state_seen_.end(), uint8_t(1)));
 }
 
+uint32_t QTable::engageable_mask(int s) const {
+  const uint32_t all = (1u << actions_) - 1u;
+  if (!params_.referenced_only) return all;
+  // The first action is the most significant base-3 digit (gamma_state_index); NOREF is 0.
+  uint32_t mask = 0;
+  for (int a = actions_ - 1; a >= 0; --a, s /= 3)
+    if (s % 3 != 0) mask |= 1u << a;
+  return mask != 0 ? mask : all;
+}
+
+bool QTable::engageable(int s, int a) const {
+  check(s, a, "engageable");
+  return (engageable_mask(s) >> a) & 1u;
+}
+
+int QTable::best_in(int row_state, uint32_t mask) const {
+  const double* row = &q_[size_t(row_state) * size_t(actions_)];
+  int best = -1;
+  for (int a = 0; a < actions_; ++a)
+    if (((mask >> a) & 1u) && (best < 0 || row[a] > row[best])) best = a;  // strict: ties keep the lowest index
+  return best;
+}
+
 int QTable::greedy(int s) const {
   check(s, 0, "greedy");
-  const double* row = &q_[size_t(s) * size_t(actions_)];
-  int best = 0;
-  for (int a = 1; a < actions_; ++a)
-    if (row[a] > row[best]) best = a;  // strict: ties keep the lowest index
-  return best;
+  return best_in(s, engageable_mask(s));
 }
 
 double QTable::max_value(int s) const {
@@ -200,14 +226,25 @@ int QTable::policy_action(int s) const {
   if (visited(s)) return greedy(s);
   const int t = nearest_visited_state(s, states_, actions_,
                                       [this](int k) { return state_seen_[size_t(k)] != 0; });
-  return greedy(t >= 0 ? t : s);
+  // The nearest visited state's values, among the actions that may run here.
+  return best_in(t >= 0 ? t : s, engageable_mask(s));
 }
 
 int QTable::choose(int s, double epsilon, Rng& rng) {
   check(s, 0, "choose");
   if (!(epsilon >= 0.0 && epsilon <= 1.0)) throw Error("q-table: epsilon must be in [0, 1]");
-  if (epsilon > 0.0 && rng.uniform() < epsilon) return int(rng.integer(0, actions_ - 1));
-  return greedy(s);
+  if (epsilon > 0.0 && rng.uniform() < epsilon) return explore(s, rng);
+  return best_in(s, engageable_mask(s));
+}
+
+int QTable::explore(int s, Rng& rng) const {
+  check(s, 0, "explore");
+  const uint32_t mask = engageable_mask(s);
+  // The k-th engageable action, k uniform (with every action engageable, the k-th action).
+  int k = int(rng.integer(0, __builtin_popcount(mask) - 1));
+  for (int a = 0; a < actions_; ++a)
+    if (((mask >> a) & 1u) && k-- == 0) return a;
+  return 0;  // not reached: the mask has popcount bits
 }
 
 double QTable::update(int s, int a, double reward, int s_next, bool terminal, double discount_power) {
@@ -237,7 +274,7 @@ nlohmann::json QTable::to_json(const PolicyMetadata& meta) const {
                  {"discount", params_.discount},
                  {"epsilon_start", params_.epsilon_start},
                  {"epsilon_end", params_.epsilon_end},
-                 {"initial_q", params_.initial_q}};
+                 {"initial_q", params_.initial_q}, {"referenced_only", params_.referenced_only}};
   nlohmann::json q = nlohmann::json::array(), visits = nlohmann::json::array();
   for (int s = 0; s < states_; ++s) {
     nlohmann::json qrow = nlohmann::json::array(), vrow = nlohmann::json::array();

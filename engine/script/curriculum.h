@@ -10,7 +10,7 @@
 //                    learner = {alpha = 0.2, discount = 0.95, epsilon_start = 1, epsilon_end = 0.05},
 //                    budget = {episodes = 300},
 //                    checkpoints = {every = 20, episodes = 20, threshold = 0.9, seeds = 1000000,
-//                                   stop_after = 0, final = 50},
+//                                   stop_after = 0, settle = true, final = 50},
 //                    contexts = { {name = "B1", actions = {...}}, ... },  -- or {B1 = {...}, ...}
 //                    skill = {name = "Phi_SG", context = "DC2"} },
 //       ...
@@ -46,7 +46,8 @@ struct CheckpointSpec {
   int episodes = 20;         // held-out episodes per evaluation
   double threshold = 0.9;    // success rate that counts as learned
   uint64_t seeds = 1000000;  // the first held-out seed (then seeds + 1, ...)
-  int stop_after = 0;        // stop after this many consecutive passing checkpoints (0 = never)
+  int stop_after = 0;        // stop after this many consecutive passing checkpoints (0 = never)...
+  bool settle = true;        // ...of one greedy policy (false: policies that changed count too)
   int final_episodes = 50;   // episodes of the final greedy evaluation (same held-out seeds)
 };
 

@@ -187,12 +187,14 @@ void read_reward(lua_State* L, const LuaFields& f, const std::string& where, Cur
 void read_learner(lua_State* L, const LuaFields& f, const std::string& where, CurriculumStage& st) {
   if (f.push("learner") != LUA_TNIL) {
     if (!lua_istable(L, -1)) f.wrong_type("learner", "a table {alpha = ..., discount = ..., epsilon_start = ..., epsilon_end = ...}");
-    LuaFields q(L, lua_gettop(L), where + ": learner", {"alpha", "discount", "epsilon_start", "epsilon_end", "initial_q"});
+    LuaFields q(L, lua_gettop(L), where + ": learner",
+                {"alpha", "discount", "epsilon_start", "epsilon_end", "initial_q", "referenced_only"});
     st.learner.alpha = q.number("alpha", st.learner.alpha);
     st.learner.discount = q.number("discount", st.learner.discount);
     st.learner.epsilon_start = q.number("epsilon_start", st.learner.epsilon_start);
     st.learner.epsilon_end = q.number("epsilon_end", st.learner.epsilon_end);
     st.learner.initial_q = q.number("initial_q", st.learner.initial_q);
+    st.learner.referenced_only = q.boolean("referenced_only", st.learner.referenced_only);
     try {
       st.learner.validate(where + ": learner");
     } catch (const Error& e) {
@@ -216,7 +218,7 @@ void read_budget_checkpoints(lua_State* L, const LuaFields& f, const std::string
   if (f.push("checkpoints") != LUA_TNIL) {
     if (!lua_istable(L, -1)) f.wrong_type("checkpoints", "a table {every = ..., episodes = ..., threshold = ...}");
     LuaFields c(L, lua_gettop(L), where + ": checkpoints",
-                {"every", "episodes", "threshold", "seeds", "stop_after", "final"});
+                {"every", "episodes", "threshold", "seeds", "stop_after", "settle", "final"});
     st.checkpoints.every = positive_int(c, "every", std::max(1, st.budget_episodes / 20), 1, "a positive integer");
     st.checkpoints.episodes = positive_int(c, "episodes", 20, 1, "a positive integer");
     st.checkpoints.threshold = c.number("threshold", 0.9);
@@ -226,6 +228,7 @@ void read_budget_checkpoints(lua_State* L, const LuaFields& f, const std::string
     if (seeds < 0) c.fail("field 'seeds' must be a non-negative integer, got " + std::to_string(seeds));
     st.checkpoints.seeds = uint64_t(seeds);
     st.checkpoints.stop_after = positive_int(c, "stop_after", 0, 0, "a non-negative integer");
+    st.checkpoints.settle = c.boolean("settle", true);
     st.checkpoints.final_episodes = positive_int(c, "final", 50, 1, "a positive integer");
   } else {
     st.checkpoints.every = std::max(1, st.budget_episodes / 20);
