@@ -32,12 +32,21 @@ local paper_controllers
 --    from 100% to 5% over the budget (the paper's);
 --  * initial_q = 0: an action never tried looks better than one that failed and worse than one
 --    that reached the goal, so a trial whose greedy policy settles on a mediocre action keeps
---    trying the others. At -100 (untried = failed) 9 of 50 B1 and 9 of 50 B2 trials sat on a
---    plateau below the threshold for hundreds of episodes and never reached it;
---  * training stops after 5 consecutive passing checkpoints (stop_after), in both stages, so the
---    policy a stage yields is one that passed. Trained to the end of its budget, one SG/DC2
---    policy of 50 passed 36 checkpoints and then lost its grasp choice in the last 10 episodes,
---    and the T trials built on it could not learn;
+--    trying the others. At -100 (untried = failed) 2 of 50 B2 trials sit on a plateau below the
+--    threshold for their whole budget and never reach it (with earlier primitives, 7 to 9 of 50
+--    B1 and 4 to 16 of 50 B2 trials did);
+--  * SG trains to the end of its budget (sg_stop_after = 0), so the Phi_SG it yields has had
+--    all 400 episodes; T stops after 5 consecutive passing checkpoints of one greedy policy
+--    (stop_after, settle). SG stopped early, its 20 held-out checkpoint seeds cannot tell every
+--    weak policy from a good one: stopped after any 5 passes, 2 SG/DC2 policies of 50 stopped on
+--    a policy changed in the last 10 episodes (at 88.5% on fresh seeds), after 5 passes of one
+--    policy 1 did (passing its checkpoints at 95%, 88.5% on fresh seeds), and the DC4-DC6 trials
+--    built on them stalled at 80%. Trained to the end, every DC4-DC6 trial reaches the threshold
+--    (in an earlier version of the primitives one SG/DC2 policy of 50 lost its grasp choice in
+--    its last 10 episodes that way, which is why stopping was tried);
+--  * every action may be chosen in every state (referenced_only = false), as the paper's
+--    learner: choosing only actions with a reference cuts the baselines' median times to a fifth
+--    (B1) and a tenth (B2), and makes DC3 slower than B2 (docs/results.md, "Ablations");
 --  * learning rates (the paper gives none), one per stage: SG 0.1 (its short greedy chains fail
 --    mostly by bad luck late in training, and a slower average keeps one unlucky time-out from
 --    flipping them: at 0.2 DC2 reached the threshold in 94% of trials, after B1), T 0.2 (its
@@ -47,13 +56,15 @@ local paper_controllers
 -- Two settings serve curricula that build on these stages (curricula/sorting.lua): `primitives`,
 -- overrides of the primitives' parameters (false: the paper's), and `t_skill`, the name of the
 -- skill stage T yields from its DC6 policy (false: none, as in the paper).
-M.defaults = { suffix = "", initial_q = 0, sg_stop_after = 5, t_stop_after = 5, sg_alpha = 0.1, t_alpha = 0.2,
+M.defaults = { suffix = "", initial_q = 0, sg_stop_after = 0, t_stop_after = 5, settle = true,
+               referenced_only = false, sg_alpha = 0.1, t_alpha = 0.2,
                primitives = false, t_skill = false }
 
 -- The Q-learner of a stage, with learning rate `alpha` under `settings` (default: the paper's).
 function M.learner(alpha, settings)
   local s = settings or M.defaults
-  return { alpha = alpha, discount = 0.95, epsilon_start = 1.0, epsilon_end = 0.05, initial_q = s.initial_q }
+  return { alpha = alpha, discount = 0.95, epsilon_start = 1.0, epsilon_end = 0.05, initial_q = s.initial_q,
+           referenced_only = s.referenced_only }
 end
 local learner = M.learner
 
@@ -95,7 +106,8 @@ function M.stages(settings)
     reward = { absorbing = 100, timeout = -100, step = 0 },
     learner = learner(s.sg_alpha, s),
     budget = { episodes = 400 },
-    checkpoints = { every = 10, episodes = 20, threshold = 0.9, seeds = 1000000, stop_after = s.sg_stop_after, final = 50 },
+    checkpoints = { every = 10, episodes = 20, threshold = 0.9, seeds = 1000000, stop_after = s.sg_stop_after,
+                    settle = s.settle, final = 50 },
     contexts = {
       { name = "B1",  actions = { p.phi1, p.phi3, preshape, Phi6 } },
       { name = "DC1", actions = { p.phi1, p.phi3, preshape, Phi6, Phi7 } },
@@ -114,7 +126,8 @@ function M.stages(settings)
     reward = { absorbing = 100, timeout = -100, step = 0 },
     learner = learner(s.t_alpha, s),
     budget = { episodes = 1500 },
-    checkpoints = { every = 10, episodes = 20, threshold = 0.9, seeds = 2000000, stop_after = s.t_stop_after, final = 50 },
+    checkpoints = { every = 10, episodes = 20, threshold = 0.9, seeds = 2000000, stop_after = s.t_stop_after,
+                    settle = s.settle, final = 50 },
     contexts = {
       { name = "B2",  actions = { p.phi3, keep, Phi6, Phi7, transport } },
       { name = "DC3", actions = { p.phi3, keep, Phi6, Phi7, Phi_SG, transport } },
