@@ -38,10 +38,10 @@ local paper_controllers
 --  * SG trains to the end of its budget (sg_stop_after = 0), so the Phi_SG it yields has had
 --    all 400 episodes; T stops after 5 consecutive passing checkpoints of one greedy policy
 --    (stop_after, settle). SG stopped early, its 20 held-out checkpoint seeds cannot tell every
---    weak policy from a good one: stopped after any 5 passes, 2 SG/DC2 policies of 50 stopped on
---    a policy changed in the last 10 episodes (at 88.5% on fresh seeds), after 5 passes of one
---    policy 1 did (passing its checkpoints at 95%, 88.5% on fresh seeds), and the DC4-DC6 trials
---    built on them stalled at 80%. Trained to the end, every DC4-DC6 trial reaches the threshold
+--    weak policy from a good one: stopped after any 5 passes, 2 SG/DC2 policies of 50 were weak
+--    (88.5% on fresh seeds; one had changed in the 10 episodes before its fifth pass), after 5
+--    passes of one policy 1 was (passing its checkpoints at 95%), and the DC4-DC6 trials built
+--    on them stalled at 80%. Trained to the end, every DC4-DC6 trial reaches the threshold
 --    (in an earlier version of the primitives one SG/DC2 policy of 50 lost its grasp choice in
 --    its last 10 episodes that way, which is why stopping was tried);
 --  * every action may be chosen in every state (referenced_only = false), as the paper's
