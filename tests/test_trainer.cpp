@@ -32,6 +32,18 @@ namespace {
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
+// One trial's options: curriculum, stage, context and seed, without keeping its episodes.
+TrainOptions trial_options(const std::string& curriculum, const std::string& stage, const std::string& context,
+                           uint64_t seed) {
+  TrainOptions o;
+  o.curriculum = curriculum;
+  o.stage = stage;
+  o.context = context;
+  o.seed = seed;
+  o.keep_episodes = false;
+  return o;
+}
+
 // Runs the roger program; returns its exit status and standard output.
 std::pair<int, std::string> run_roger(const std::string& args) {
   const fs::path out = fs::temp_directory_path() / ("roger_trainer_out_" + std::to_string(::getpid()));
@@ -173,12 +185,7 @@ TEST_CASE("every context of the paper's curriculum reaches 90% greedy success", 
   const std::vector<std::pair<std::string, std::string>> contexts = {
       {"SG", "B1"}, {"SG", "DC1"}, {"SG", "DC2"}, {"T", "B2"}, {"T", "DC3"}, {"T", "DC4"}, {"T", "DC5"}, {"T", "DC6"}};
   for (const auto& [stage, context] : contexts) {
-    TrainOptions o;
-    o.curriculum = "paper";
-    o.stage = stage;
-    o.context = context;
-    o.seed = 1;
-    o.keep_episodes = false;
+    TrainOptions o = trial_options("paper", stage, context, 1);
     const TrainResult r = train_stage(o);
     std::printf("%-3s %-4s reached %-5s time-to-threshold %8.1f sim s, %5d episodes, %6.2f wall s; final success %.2f "
                 "(trial %.1f wall s)\n",
@@ -196,12 +203,7 @@ std::pair<double, double> median_time_to_threshold(const std::string& stage, con
                                                    int seeds = 10) {
   std::vector<double> times, episodes;
   for (uint64_t seed = 1; seed <= uint64_t(seeds); ++seed) {
-    TrainOptions o;
-    o.curriculum = "paper";
-    o.stage = stage;
-    o.context = context;
-    o.seed = seed;
-    o.keep_episodes = false;
+    TrainOptions o = trial_options("paper", stage, context, seed);
     const TrainResult r = train_stage(o);
     times.push_back(r.reached ? r.to_threshold.sim_s : r.totals.sim_s);
     episodes.push_back(r.reached ? r.to_threshold.episodes : r.totals.episodes);
@@ -220,12 +222,7 @@ TEST_CASE("the baselines reach the threshold, B2 where valuing untried actions a
   // B1, seeds 2 and 9: short runs that reach the threshold and keep it (every B1 trial of the
   // paper run does).
   for (uint64_t seed : {2, 9}) {
-    TrainOptions o;
-    o.curriculum = "paper";
-    o.stage = "SG";
-    o.context = "B1";
-    o.seed = seed;
-    o.keep_episodes = false;
+    TrainOptions o = trial_options("paper", "SG", "B1", seed);
     const TrainResult paper = train_stage(o);
     INFO("B1 seed " << seed);
     CHECK(paper.reached);
@@ -235,12 +232,7 @@ TEST_CASE("the baselines reach the threshold, B2 where valuing untried actions a
   // (curricula/ablation.lua's T_q100, the setting the paper's curriculum replaced) its greedy
   // policy settles on a plateau below 90% and never leaves it; with the paper's settings it
   // reaches the threshold and keeps it.
-  TrainOptions o;
-  o.curriculum = "paper";
-  o.stage = "T";
-  o.context = "B2";
-  o.seed = 18;
-  o.keep_episodes = false;
+  TrainOptions o = trial_options("paper", "T", "B2", 18);
   const TrainResult paper = train_stage(o);
   o.curriculum = "curricula/ablation.lua";
   o.stage = "T_q100";
@@ -257,12 +249,7 @@ TEST_CASE("training stops after stop_after passing checkpoints of one greedy pol
   // episodes before the fifth, which passes too. Counting any passes (settle = false) it stopped
   // there, yielding a Phi_SG that had passed once and succeeds in 88.5% of fresh worlds; with
   // settle (the default) it trains on until one policy has passed five times.
-  TrainOptions o;
-  o.curriculum = "curricula/ablation.lua";
-  o.stage = "SG_stop5";
-  o.context = "DC2";
-  o.seed = 14;
-  o.keep_episodes = false;
+  TrainOptions o = trial_options("curricula/ablation.lua", "SG_stop5", "DC2", 14);
   const TrainResult settled = train_stage(o);
   o.stage = "SG_anypass";
   const TrainResult anypass = train_stage(o);

@@ -234,7 +234,7 @@ int QTable::choose(int s, double epsilon, Rng& rng) {
   check(s, 0, "choose");
   if (!(epsilon >= 0.0 && epsilon <= 1.0)) throw Error("q-table: epsilon must be in [0, 1]");
   if (epsilon > 0.0 && rng.uniform() < epsilon) return explore(s, rng);
-  return best_in(s, engageable_mask(s));
+  return greedy(s);
 }
 
 int QTable::explore(int s, Rng& rng) const {
