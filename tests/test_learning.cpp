@@ -307,6 +307,7 @@ TEST_CASE("a QTable round-trips through a policy file bit for bit", "[learning]"
     const std::string old_path = temp_path("roundtrip_old.json");
     std::ofstream(old_path) << old.dump();
     CHECK_FALSE(QTable::load(old_path, q.action_names()).params().referenced_only);
+    std::filesystem::remove(old_path);
   }
   int differing = 0;
   for (int s = 0; s < q.states(); ++s) {
