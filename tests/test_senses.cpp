@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <vector>
 
 #include "core/rng.h"
 #include "core/shape.h"
@@ -87,6 +88,48 @@ TEST_CASE("a stimulus covers each pixel by its exact overlap with the stimulus's
     }
   }
   SUCCEED();
+}
+
+TEST_CASE("detection scans only the painted stimulus pixels and finds what a full scan finds", "[senses]") {
+  // Scenes of several stimulus and grey disks, some hiding others: the painter narrows the range
+  // detection scans to the pixels it gave coverage; the same image scanned over its whole width
+  // must give the same sighting to the bit, and no pixel outside the range may have coverage.
+  Rng rng(11);
+  int seen = 0, split = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const Vec2 eye(rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0));
+    const double heading = rng.uniform(-M_PI, M_PI);
+    std::vector<SeenSurface> surfaces;
+    const int count = int(rng.integer(1, 5));
+    for (int k = 0; k < count; ++k) {
+      const double bearing = rng.uniform(-1.0, 1.0), distance = rng.uniform(0.4, 4.0);
+      const Vec2 c = eye + distance * Vec2(std::cos(heading + bearing), std::sin(heading + bearing));
+      surfaces.push_back(disk(c, rng.uniform(0.02, 0.4), rng.uniform() < 0.6 ? kRed : kGrey));
+    }
+    EyeImage image;
+    paint_eye(eye, heading, surfaces, kWall, kRed, image);
+    for (int i = 0; i < kPixels; ++i)
+      if (i < image.stimulus_first || i > image.stimulus_last) REQUIRE(image.stimulus[size_t(i)] == 0.0f);
+    EyeImage whole = image;
+    whole.stimulus_first = 0, whole.stimulus_last = kPixels - 1;
+    const Sighting a = detect_stimulus(image), b = detect_stimulus(whole);
+    REQUIRE(a.seen == b.seen);
+    CHECK(a.clipped == b.clipped);
+    CHECK(std::memcmp(&a.u, &b.u, sizeof a.u) == 0);
+    CHECK(std::memcmp(&a.u_lo, &b.u_lo, sizeof a.u_lo) == 0);
+    CHECK(std::memcmp(&a.u_hi, &b.u_hi, sizeof a.u_hi) == 0);
+    CHECK(std::memcmp(&a.bearing, &b.bearing, sizeof a.bearing) == 0);
+    CHECK(std::memcmp(&a.half_width, &b.half_width, sizeof a.half_width) == 0);
+    seen += a.seen;
+    // Runs separated by a grey disk in front: the range spans both, and the larger run wins.
+    int runs = 0;
+    for (int i = 0; i < kPixels; ++i)
+      runs += image.stimulus[size_t(i)] > 0.0f && (i == 0 || image.stimulus[size_t(i - 1)] == 0.0f);
+    split += runs > 1;
+  }
+  // The scenes exercised what matters: sightings, and images with more than one run.
+  CHECK(seen > 200);
+  CHECK(split > 20);
 }
 
 TEST_CASE("an obstacle between eye and ball hides it", "[senses]") {

@@ -113,6 +113,10 @@ void paint_part(double lo, double hi, const SeenSurface& s, bool is_stimulus, Ey
   if (!is_stimulus) return;
   const int p0 = std::max(0, int(std::floor(lo + 0.5)));
   const int p1 = std::min(kPixels - 1, int(std::floor(hi + 0.5)));
+  if (p0 <= p1) {
+    image.stimulus_first = int16_t(std::min<int>(image.stimulus_first, p0));
+    image.stimulus_last = int16_t(std::max<int>(image.stimulus_last, p1));
+  }
   float* coverage = image.stimulus.data();
   auto cover = [&](int i) {
     const double overlap = std::min(hi, i + 0.5) - std::max(lo, i - 0.5);
@@ -180,6 +184,7 @@ void paint_eye(const Vec2& eye, double eye_heading, const std::vector<SeenSurfac
 
   fill_pixels(image, 0, kPixels, wall_colour, SurfaceKind::kWall, -1);
   image.stimulus.fill(0.0f);
+  image.stimulus_first = kPixels, image.stimulus_last = -1;  // nothing painted yet
 
   for (const Extent& e : extents) {
     const bool is_stimulus = !e.surface->ignored && e.surface->colour == stimulus_colour;
@@ -216,8 +221,10 @@ void paint_eye(const Vec2& eye, double eye_heading, const std::vector<SeenSurfac
 Sighting detect_stimulus(const EyeImage& image) {
   Sighting best;
   double best_mass = 0.0;
-  int i = 0;
-  while (i < kPixels) {
+  // Outside [stimulus_first, stimulus_last] no pixel has coverage: no run starts or ends there.
+  int i = std::max(0, int(image.stimulus_first));
+  const int end_scan = std::min(kPixels, int(image.stimulus_last) + 1);
+  while (i < end_scan) {
     // Most of an image has no stimulus: skip 8 pixels at a time whose coverage is +0 by its bits
     // (what fill() and an unpainted pixel hold), which the test below would pass over one by one.
     if (i + 8 <= kPixels && all_zero_bits(&image.stimulus[size_t(i)])) {

@@ -25,6 +25,10 @@ struct EyeImage {
   std::array<SurfaceKind, kPixels> kind;     // what that surface is
   std::array<int16_t, kPixels> index;        // its index in WorldSpec objects or obstacles, or -1
   std::array<float, kPixels> stimulus;       // fraction of the pixel covered by the stimulus colour
+  // Every pixel with stimulus coverage lies in [stimulus_first, stimulus_last] (empty when first >
+  // last): paint_eye narrows it to what it painted, so detection scans only that; an image made
+  // by hand keeps the whole width.
+  int16_t stimulus_first = 0, stimulus_last = kPixels - 1;
 };
 
 // The stimulus as one eye detects it in its image (sub-pixel, from the edge pixels' coverage).
