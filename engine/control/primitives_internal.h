@@ -10,14 +10,15 @@
 #include <Eigen/Cholesky>
 
 #include "control/primitives.h"
+#include "core/shape.h"
 
 namespace roger {
 namespace primitives_internal {
 
 // The vector v turned a quarter turn anticlockwise.
 inline Vec2 perp(const Vec2& v) { return {-v.y(), v.x()}; }
-// The unit vector at `angle`.
-inline Vec2 unit(double angle) { return {std::cos(angle), std::sin(angle)}; }
+// The unit vector at `angle` (remembered per thread for the last angle: see heading_vector).
+inline Vec2 unit(double angle) { return heading_vector(angle); }
 // v clamped to [-limit, limit].
 inline double clamp_abs(double v, double limit) { return std::clamp(v, -limit, limit); }
 

@@ -87,22 +87,11 @@ void fill_pixels(EyeImage& image, int first, int n, Colour colour, SurfaceKind k
   for (; i < n; ++i) indices[i] = index;
 }
 
-// Adds a whole pixel's coverage to n pixels, capped at 1: float(min(1.0, c + 1.0)) for each, four
-// at a time (the compiler leaves this loop scalar at -O2).
-void cover_whole_pixels(float* coverage, int n) {
-  typedef float Floats __attribute__((vector_size(16)));
-  typedef double Doubles __attribute__((vector_size(32)));
-  int k = 0;
-  for (; k + 4 <= n; k += 4) {
-    Floats c;
-    std::memcpy(&c, coverage + k, sizeof c);
-    const Doubles sum = __builtin_convertvector(c, Doubles) + 1.0;
-    // std::min(1.0, sum) is 1.0 unless sum < 1.0 (a NaN gives 1.0 too).
-    const Floats capped = __builtin_convertvector(sum < 1.0 ? sum : Doubles{} + 1.0, Floats);
-    std::memcpy(coverage + k, &capped, sizeof capped);
-  }
-  for (; k < n; ++k) coverage[k] = float(std::min(1.0, coverage[k] + 1.0));
-}
+// Adds a whole pixel's coverage to n pixels, capped at 1: float(min(1.0, c + 1.0)) for each,
+// which is 1 for every coverage a painted image can hold (paint_eye starts each pixel at +0 and
+// only ever adds a positive overlap, so c >= 0, and c + 1 >= 1): the pixels become 1, the same
+// bits without the sums.
+void cover_whole_pixels(float* coverage, int n) { std::fill_n(coverage, std::max(0, n), 1.0f); }
 
 // Paints the visible part [lo, hi) of a surface: pixels whose centre it covers take its colour,
 // and stimulus-coloured parts add their exact coverage to the edge pixels.
