@@ -1,0 +1,76 @@
+// Tests of engine/core: the planar geometry every layer shares (shape.h).
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <thread>
+#include <vector>
+
+#include "core/rng.h"
+#include "core/shape.h"
+
+using namespace roger;
+
+namespace {
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+}  // namespace
+
+TEST_CASE("heading_vector gives the bits of cos and sin whatever was asked before", "[core]") {
+  // It remembers the last angle: asked in any order, repeated or alternating, each answer must be
+  // what computing afresh gives, to the bit.
+  Rng rng(3);
+  std::vector<double> angles = {0.0, -0.0, M_PI, -M_PI, 1e-300, -1e-300, 1e6, 0.1, 0.1};
+  for (int i = 0; i < 2000; ++i) angles.push_back(rng.uniform(-10.0, 10.0));
+  for (int i = 0; i < 200; ++i) angles.push_back(angles[size_t(rng.integer(0, int(angles.size()) - 1))]);
+  int mismatches = 0;
+  for (double a : angles) {
+    const Vec2 v = heading_vector(a);
+    const double c = std::cos(a), s = std::sin(a);
+    mismatches += !same_bits(v.x(), c) || !same_bits(v.y(), s);
+  }
+  CHECK(mismatches == 0);
+  // -0 and +0 compare equal, but their sines differ in sign: the memo must keep them apart.
+  heading_vector(0.0);
+  CHECK(std::signbit(heading_vector(-0.0).y()));
+  CHECK_FALSE(std::signbit(heading_vector(0.0).y()));
+  // A NaN heading gives NaNs, not the last answer.
+  heading_vector(0.3);
+  const Vec2 nan = heading_vector(std::numeric_limits<double>::quiet_NaN());
+  CHECK(std::isnan(nan.x()));
+  CHECK(std::isnan(nan.y()));
+}
+
+TEST_CASE("heading_vector keeps one memory per thread", "[core]") {
+  // Two threads asking for different angles in lockstep-free interleaving: each must get its own
+  // angle's values, which a memory shared between threads would mix up.
+  auto run = [](double base, int& wrong) {
+    for (int i = 0; i < 20000; ++i) {
+      const double a = base + 1e-3 * (i % 7);
+      const Vec2 v = heading_vector(a);
+      wrong += !same_bits(v.x(), std::cos(a)) || !same_bits(v.y(), std::sin(a));
+    }
+  };
+  int wrong_a = 0, wrong_b = 0;
+  std::thread a(run, 0.25, std::ref(wrong_a)), b(run, -2.5, std::ref(wrong_b));
+  a.join();
+  b.join();
+  CHECK(wrong_a == 0);
+  CHECK(wrong_b == 0);
+}
+
+TEST_CASE("to_world and to_local are inverse rigid motions", "[core]") {
+  Rng rng(8);
+  for (int i = 0; i < 500; ++i) {
+    const Pose pose{rng.uniform(-3.0, 3.0), rng.uniform(-3.0, 3.0), rng.uniform(-M_PI, M_PI)};
+    const Vec2 p(rng.uniform(-2.0, 2.0), rng.uniform(-2.0, 2.0));
+    const Vec2 w = to_world(pose, p);
+    // Distances from the frame's origin are kept, and the round trip returns the point.
+    CHECK(std::abs((w - Vec2(pose.x, pose.y)).norm() - p.norm()) < 1e-12);
+    CHECK((to_local(pose, w) - p).norm() < 1e-12);
+  }
+  // A quarter turn takes the body's x axis to the world's y axis.
+  const Vec2 ahead = to_world(Pose{1.0, 2.0, M_PI / 2}, Vec2(1.0, 0.0));
+  CHECK(ahead.x() == Approx(1.0).margin(1e-15));
+  CHECK(ahead.y() == Approx(3.0));
+}
