@@ -112,7 +112,7 @@ void paint_part(double lo, double hi, const SeenSurface& s, bool is_stimulus, Ey
     if (overlap > 0) coverage[i] = float(std::min(1.0, coverage[i] + overlap));
   };
   // The edge pixels, then the run of pixels wholly inside [lo, hi], whose overlap is exactly 1
-  // ((i + 0.5) - (i - 0.5)): the same sums without the clipping, so they vectorize.
+  // ((i + 0.5) - (i - 0.5)): those become 1 (cover_whole_pixels), the same bits as the sums.
   int i = p0;
   for (; i <= p1 && !(i - 0.5 >= lo && i + 0.5 <= hi); ++i) cover(i);
   int inner_end = i;  // one past the last pixel wholly inside
