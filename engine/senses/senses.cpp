@@ -91,7 +91,7 @@ void fill_pixels(EyeImage& image, int first, int n, Colour colour, SurfaceKind k
 // which is 1 for every coverage a painted image can hold (paint_eye starts each pixel at +0 and
 // only ever adds a positive overlap, so c >= 0, and c + 1 >= 1): the pixels become 1, the same
 // bits without the sums.
-void cover_whole_pixels(float* coverage, int n) { std::fill_n(coverage, std::max(0, n), 1.0f); }
+void cover_whole_pixels(float* coverage, int n) { std::fill_n(coverage, n, 1.0f); }
 
 // Paints the visible part [lo, hi) of a surface: pixels whose centre it covers take its colour,
 // and stimulus-coloured parts add their exact coverage to the edge pixels.
