@@ -207,9 +207,6 @@ bool HarmonicPlanner::update() {
     solve(true);
   } else if (!reuse_cold_solve()) {
     flood_from_goal();
-    // Zero everywhere but the goal, which the flood already fixed at q = 1.
-    std::fill(q_.begin(), q_.end(), 0.0);
-    for (int k : goal_) q_[k] = 1.0;
     const int backoffs_before = backoffs_;
     solve(false);
     remember_cold_solve(backoffs_before);
@@ -226,9 +223,7 @@ bool HarmonicPlanner::reuse_cold_solve() {
   if (!cold_.valid || cold_.backoffs_before != backoffs_ || cold_.goal != goal_) return false;
   // What flood_from_goal would find again...
   dist_ = cold_.dist;
-  red_ = cold_.red;
-  black_ = cold_.black;
-  widest_ = cold_.widest;
+  relaxed_cells_ = cold_.relaxed_cells;
   any_reachable_ = cold_.any_reachable;
   // ...and what the solve would.
   q_ = cold_.q;
@@ -248,9 +243,7 @@ void HarmonicPlanner::remember_cold_solve(int backoffs_before) {
   cold_.goal = goal_;
   cold_.backoffs_before = backoffs_before;
   cold_.dist = dist_;
-  cold_.red = red_;
-  cold_.black = black_;
-  cold_.widest = widest_;
+  cold_.relaxed_cells = relaxed_cells_;
   cold_.any_reachable = any_reachable_;
   cold_.q = q_;
   cold_.sweeps = sweeps_last_;
@@ -277,26 +270,11 @@ void HarmonicPlanner::flood_from_goal() {
       if (dist_[m] == -1) dist_[m] = next, queue[tail++] = m;
   }
   any_reachable_ = tail > goal_.size();
-  // The sweep visits only the cells it relaxes, listed by colour in memory order; everything else
-  // is fixed: goal cells at q = 1, obstacles, padding and walled-off cells at q = 0.
-  red_.clear();
-  black_.clear();
-  float widest = 0.0f;
-  const int rows = grid_.ny + 2;
-  for (int j = 0, k = 0; j < rows; ++j)
-    for (int i = 0; i < stride_; ++i, ++k) {
-      if (dist_[k] > 0) {
-        ((i + j) % 2 == 0 ? red_ : black_).push_back(k);
-        widest = std::max(widest, clearance_[k]);
-      } else {
-        q_[k] = dist_[k] == 0 ? 1.0 : 0.0;
-      }
-    }
-  widest_ = widest;
 }
 
 void HarmonicPlanner::solve(bool warm) {
-  const double base = params_.auto_omega ? young_omega(widest_) : params_.omega;
+  const float widest = split_by_colour(warm);
+  const double base = params_.auto_omega ? young_omega(widest) : params_.omega;
   omega_ = 1.0 + (base - 1.0) * std::pow(0.75, backoffs_);
   // If the count of unconverged cells stops falling for this long, over-relaxation is amplifying
   // rounding errors down a long corridor where q falls by decades (a red-black update there can
@@ -304,7 +282,6 @@ void HarmonicPlanner::solve(bool warm) {
   const int stall_window = 2 * (grid_.nx + grid_.ny);
   int sweeps = 0, fewest = INT_MAX, since_fewest = 0;
   converged_ = !any_reachable_;
-  split_by_colour();
   while (!converged_ && sweeps < params_.max_sweeps) {
     // A moved goal leaves a sharp local error; over-relaxed at once, it would ring across the
     // whole grid. A few plain Gauss-Seidel sweeps smooth it where it is first.
@@ -332,56 +309,63 @@ void HarmonicPlanner::solve(bool warm) {
 // from contiguous rows of the other colour, and the kernel (planner_sweep.cpp) relaxes 2 to 8
 // cells per instruction.
 // Each row has a guard slot at both ends, so the shifted reads of its edge cells stay in bounds;
-// guards and fixed cells are never relaxed. The values are those of q_, exactly.
-void HarmonicPlanner::split_by_colour() {
+// guards and fixed cells are never relaxed. The sweep relaxes the cells the flood reached outside
+// the goal; every other cell is fixed: goal cells at q = 1, obstacles, padding and walled-off cells
+// at q = 0. A relaxed cell starts at 0 in a cold solve and at its value in q_ in a warm one.
+// In the same pass: the relaxed cells' count, their widest clearance (returned, for omega) and
+// the slots of each row that hold them (ranges_).
+float HarmonicPlanner::split_by_colour(bool warm) {
   const int rows = grid_.ny + 2;
   // A guard slot at each end, and between them a whole number of the widest kernel's lanes.
-  const int lanes = planner_internal::kRelaxLanes;
-  split_width_ = ((stride_ + 1) / 2 + lanes - 1) / lanes * lanes + 2;
+  split_width_ = ((stride_ + 1) / 2 + planner_internal::kRelaxLanes - 1) / planner_internal::kRelaxLanes *
+                     planner_internal::kRelaxLanes + 2;
+  const int lanes = planner_internal::widest_relax_kernel().lanes;
+  float widest = 0.0f;
+  relaxed_cells_ = 0;
   for (int c = 0; c < 2; ++c) {
     colour_[c].assign(size_t(rows) * split_width_, 0.0);
     relaxed_[c].assign(size_t(rows) * split_width_, 0);
+    ranges_[c].clear();
   }
   for (int j = 0; j < rows; ++j)
     for (int c = 0; c < 2; ++c) {
       // The cells of colour c in row j are every other one, from column (j + c) % 2.
       double* values = colour_[c].data() + size_t(j) * split_width_ + 1;
       int64_t* relaxed = relaxed_[c].data() + size_t(j) * split_width_ + 1;
-      for (int i = (j + c) & 1, k = j * stride_ + i; i < stride_; i += 2, k += 2) {
-        values[i / 2] = q_[k];
-        relaxed[i / 2] = dist_[k] > 0 ? -1 : 0;  // all bits set
-      }
-    }
-  find_relaxed_ranges(planner_internal::widest_relax_kernel().lanes);
-}
-
-// The slots of each row that hold relaxed cells, padded to whole lanes: the sweep passes over the
-// rest, fixed cells whose relaxation would change nothing (obstacle margins, walled-off rooms).
-void HarmonicPlanner::find_relaxed_ranges(int lanes) {
-  const int rows = grid_.ny + 2;
-  for (int c = 0; c < 2; ++c) {
-    ranges_[c].clear();
-    for (int j = 1; j < rows - 1; ++j) {
       int first = 0, last = -1, nearest = INT_MAX;
-      for (int i = (j + c) & 1; i < stride_; i += 2) {
-        const int k = j * stride_ + i, slot = 1 + i / 2;
-        if (dist_[k] <= 0) continue;
+      for (int i = (j + c) & 1, k = j * stride_ + i; i < stride_; i += 2, k += 2) {
+        const int d = dist_[k];
+        if (d <= 0) {
+          values[i / 2] = d == 0 ? 1.0 : 0.0;
+          continue;
+        }
+        values[i / 2] = warm ? q_[k] : 0.0;
+        relaxed[i / 2] = -1;  // all bits set
+        widest = std::max(widest, clearance_[k]);
+        const int slot = 1 + i / 2;
         if (last < 0) first = slot;
         last = slot;
-        nearest = std::min(nearest, dist_[k]);
+        nearest = std::min(nearest, d);
+        ++relaxed_cells_;
       }
-      if (last < 0) continue;
-      // Whole lanes; a range that would run into the last guard slot starts earlier instead
-      // (the slots between the guards are a whole number of the widest lanes, so it fits).
-      planner_internal::RelaxRange range;
-      range.count = (last - first + 1 + lanes - 1) / lanes * lanes;
-      first = std::max(1, std::min(first, split_width_ - 1 - range.count));
-      range.at = int64_t(j) * split_width_ + first;
-      range.shift = (j + c) & 1;
-      range.nearest = nearest;
-      ranges_[c].push_back(range);
+      if (last >= 0) add_relaxed_range(j, c, first, last, nearest, lanes);
     }
-  }
+  return widest;
+}
+
+// Records that row j of colour c relaxes cells in slots first..last, the nearest `nearest` flood
+// steps from the goal: padded to whole lanes, the sweep passes over the rest of the row (fixed
+// cells whose relaxation would change nothing: obstacle margins, walled-off rooms).
+void HarmonicPlanner::add_relaxed_range(int j, int c, int first, int last, int nearest, int lanes) {
+  // Whole lanes; a range that would run into the last guard slot starts earlier instead
+  // (the slots between the guards are a whole number of the widest lanes, so it fits).
+  planner_internal::RelaxRange range;
+  range.count = (last - first + 1 + lanes - 1) / lanes * lanes;
+  first = std::max(1, std::min(first, split_width_ - 1 - range.count));
+  range.at = int64_t(j) * split_width_ + first;
+  range.shift = (j + c) & 1;
+  range.nearest = nearest;
+  ranges_[c].push_back(range);
 }
 
 // Writes the split values back into q_.
@@ -415,13 +399,14 @@ int HarmonicPlanner::sweep(double omega, int front) {
                             split_width_, ranges_[c].data(), int(ranges_[c].size()), reached,
                             omega, params_.tolerance);
   }
-  return int(red_.size() + black_.size()) - converged;
+  return relaxed_cells_ - converged;
 }
 
 double HarmonicPlanner::measure_residual() const {
+  // Over the relaxed cells in memory order; the largest of a set does not depend on the order.
   double worst = 0.0;
-  for (const std::vector<int>* cells : {&red_, &black_})
-    for (int k : *cells) {
+  for (int k = 0; k < int(dist_.size()); ++k)
+    if (dist_[k] > 0) {
       const double avg = 0.25 * (q_[k - 1] + q_[k + 1] + q_[k - stride_] + q_[k + stride_]);
       worst = std::max(worst, q_[k] > 0.0 ? std::fabs(q_[k] - avg) / q_[k] : kInf);
     }

@@ -113,8 +113,8 @@ class HarmonicPlanner {
   void solve(bool warm);
   bool reuse_cold_solve();                   // the remembered cold solve, if it is this one
   void remember_cold_solve(int backoffs_before);
-  void split_by_colour();                    // q_ into colour_, for the sweeps of a solve
-  void find_relaxed_ranges(int lanes);       // ranges_
+  float split_by_colour(bool warm);          // colour_ and ranges_ for the sweeps of a solve
+  void add_relaxed_range(int j, int c, int first, int last, int nearest, int lanes);
   void join_colours();                       // colour_ back into q_
   int sweep(double omega, int front);        // one red-black SOR sweep; returns unconverged cells
   double measure_residual() const;
@@ -137,7 +137,7 @@ class HarmonicPlanner {
   std::vector<int> nearest_;     // for occupied cells: the nearest free cell (-1: none)
   std::vector<int> exit_;        // for occupied cells: the neighbour one step nearer to it
   std::vector<float> clearance_; // distance in cells from each cell centre to the nearest occupied one
-  std::vector<int> red_, black_;  // the cells the sweep relaxes (free, joined to the goal, not goal)
+  int relaxed_cells_ = 0;        // cells the sweep relaxes (free, joined to the goal, not goal)
   std::vector<double> colour_[2];   // q_ split by colour during a solve (see split_by_colour)
   std::vector<int64_t> relaxed_[2]; // all bits set where colour_ holds a cell the sweep relaxes
   int split_width_ = 0;             // slots per row of colour_
@@ -158,7 +158,6 @@ class HarmonicPlanner {
   long sweeps_total_ = 0;
   bool converged_ = false;
   double residual_ = 0.0;
-  float widest_ = 0.0f;          // largest clearance among the relaxed cells
   double omega_ = 1.0;
   int backoffs_ = 0;             // times a stalled solve on this grid lowered omega
   int reused_solves_ = 0;
@@ -168,8 +167,8 @@ class HarmonicPlanner {
   struct ColdSolve {
     bool valid = false;
     std::vector<int> goal;
-    std::vector<int> dist, red, black;
-    float widest = 0.0f;
+    std::vector<int> dist;
+    int relaxed_cells = 0;
     bool any_reachable = false;
     int backoffs_before = 0, backoffs_after = 0, sweeps = 0;
     std::vector<double> q;
