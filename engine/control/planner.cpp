@@ -317,8 +317,9 @@ void HarmonicPlanner::solve(bool warm) {
 float HarmonicPlanner::split_by_colour(bool warm) {
   const int rows = grid_.ny + 2;
   // A guard slot at each end, and between them a whole number of the widest kernel's lanes.
-  split_width_ = ((stride_ + 1) / 2 + planner_internal::kRelaxLanes - 1) / planner_internal::kRelaxLanes *
-                     planner_internal::kRelaxLanes + 2;
+  constexpr int pad = planner_internal::kRelaxLanes;
+  split_width_ = ((stride_ + 1) / 2 + pad - 1) / pad * pad + 2;
+  // The ranges come in whole lanes of the kernel this processor runs.
   const int lanes = planner_internal::widest_relax_kernel().lanes;
   float widest = 0.0f;
   relaxed_cells_ = 0;
