@@ -203,7 +203,7 @@ bool HarmonicPlanner::update() {
   // After a grid change the old values belong to other obstacles; start from zero then.
   const bool warm = params_.warm_start && have_values_;
   if (warm) {
-    flood_from_goal();  // distances to the goal and the cells to relax
+    flood_from_goal();  // distances to the goal: which cells the solve relaxes
     solve(true);
   } else if (!reuse_cold_solve()) {
     flood_from_goal();

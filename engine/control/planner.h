@@ -109,12 +109,12 @@ class HarmonicPlanner {
   bool locate(const Vec2& p, int& k) const;  // padded index of p's cell; false outside the grid
   void rebuild_structure();                  // padding, exits, clearance; after a grid change
   void find_goal_cells(std::vector<int>& out) const;
-  void flood_from_goal();                    // distances to the goal, the cells to relax
+  void flood_from_goal();                    // distances to the goal (dist_)
   void solve(bool warm);
   bool reuse_cold_solve();                   // the remembered cold solve, if it is this one
   void remember_cold_solve(int backoffs_before);
-  float split_by_colour(bool warm);          // colour_ and ranges_ for the sweeps of a solve
-  void add_relaxed_range(int j, int c, int first, int last, int nearest, int lanes);
+  float split_by_colour(bool warm);          // colour_, relaxed_, ranges_; returns the widest clearance
+  void add_relaxed_range(int j, int c, int first, int last, int nearest, int lanes);  // one row's range
   void join_colours();                       // colour_ back into q_
   int sweep(double omega, int front);        // one red-black SOR sweep; returns unconverged cells
   double measure_residual() const;
