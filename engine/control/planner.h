@@ -113,7 +113,8 @@ class HarmonicPlanner {
   void solve(bool warm);
   bool reuse_cold_solve();                   // the remembered cold solve, if it is this one
   void remember_cold_solve(int backoffs_before);
-  float split_by_colour(bool warm);          // colour_, relaxed_, ranges_; returns the widest clearance
+  // colour_, relaxed_, ranges_ and relaxed_cells_; returns the widest relaxed cell's clearance
+  float split_by_colour(bool warm);
   void add_relaxed_range(int j, int c, int first, int last, int nearest, int lanes);  // one row's range
   void join_colours();                       // colour_ back into q_
   int sweep(double omega, int front);        // one red-black SOR sweep; returns unconverged cells
