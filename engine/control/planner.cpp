@@ -256,9 +256,8 @@ void HarmonicPlanner::remember_cold_solve(int backoffs_before) {
 void HarmonicPlanner::flood_from_goal() {
   // Breadth first from the goal over free cells, with the same 4-neighbourhood as the Laplacian:
   // a free cell the flood misses is walled off, its exact potential is 1 (q = 0), and it is held
-  // there.
-  // Unreached free cells start at -1 and all others at -2, so one test tells a cell to visit; the
-  // queue holds at most every free cell once (rebuild_structure sized it).
+  // there. Unreached free cells start at -1 and all others at -2, so one test tells a cell to
+  // visit; the queue holds at most every free cell once (rebuild_structure sized it).
   dist_ = unreached_;
   int* queue = queue_.data();
   size_t tail = 0;
