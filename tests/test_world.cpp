@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include "core/rng.h"
+#include "core/shape.h"
 #include "sim/world.h"
 #include "world_fixtures.h"
 
@@ -197,6 +198,78 @@ TEST_CASE("the same world and commands give identical state hashes", "[world][de
   const uint64_t h3 = scripted_episode(b, 10.0);
   CHECK(h1 == h2);
   CHECK(h1 != h3);
+}
+
+// Angles (docs/control.md): the state a controller reads keeps one convention, whatever the
+// winding of the angles a scenario writes or of Box2D's own, which never wraps.
+TEST_CASE("a start heading or an object's orientation turned by whole turns builds the same world", "[world][angles]") {
+  for (double h : {-3.0, -M_PI / 2, 0.4, 2.5, M_PI}) {
+    WorldSpec spec = open_world(true, Vec2(0.8, 0.3));
+    spec.robot.pose.theta = h;
+    spec.objects[0].pose.theta = 1.0;
+    World reference;
+    reference.reset(spec);
+    const DofVector q0 = reference.q();
+    // The joints read the posture the spec asked for, at every heading.
+    CHECK(q0[kLeftShoulder] == Approx(spec.robot.left_shoulder).margin(1e-6));
+    CHECK(q0[kLeftElbow] == Approx(spec.robot.left_elbow).margin(1e-6));
+    CHECK(q0[kRightShoulder] == Approx(spec.robot.right_shoulder).margin(1e-6));
+    CHECK(q0[kRightElbow] == Approx(spec.robot.right_elbow).margin(1e-6));
+    for (int k = -3; k <= 3; ++k) {
+      INFO("heading " << h << " + 2 pi * " << k);
+      WorldSpec turned = spec;
+      turned.robot.pose.theta = h + 2.0 * M_PI * k;
+      turned.objects[0].pose.theta = 1.0 + 2.0 * M_PI * k;
+      World world;
+      world.reset(turned);
+      const DofVector q = world.q();
+      for (int i = 0; i < kDofCount; ++i) CHECK(q[i] == Approx(q0[i]).margin(1e-6));
+      CHECK(world.object_pose(0).theta == Approx(reference.object_pose(0).theta).margin(1e-6));
+    }
+  }
+}
+
+TEST_CASE("a base that has turned round several times reads a heading in (-pi, pi] and keeps its posture", "[world][angles]") {
+  World world;
+  world.reset(open_world(false));
+  const DofVector start = world.q();
+  double turned = 0.0, previous = start[kBaseHeading];
+  // Three and a half turns anticlockwise, a quarter turn per command.
+  for (int step = 0; step < 14; ++step) {
+    DofVector e = DofVector::Zero();
+    e[kBaseHeading] = 0.5 * M_PI;
+    world.command(e);
+    for (int t = 0; t < 60; ++t) {
+      world.tick();
+      const double now = world.q()[kBaseHeading];
+      CHECK(now > -M_PI);
+      CHECK(now <= M_PI);
+      CHECK(world.base_pose().theta == now);
+      turned += wrap_angle(now - previous);
+      previous = now;
+    }
+  }
+  CHECK(turned > 6.5 * M_PI);
+  const DofVector q = world.q();
+  for (int i = kLeftEye; i < kDofCount; ++i) CHECK(q[i] == Approx(start[i]).margin(0.02));
+  // The heading servo goes the short way to a setpoint across the seam at +-pi: from pi - 0.2 to
+  // -pi + 0.2 is 0.4 rad anticlockwise, not 5.9 rad clockwise.
+  DofVector s = world.q();
+  s[kBaseHeading] = M_PI - 0.2;
+  world.set_setpoints(s);
+  run_for(world, 2.0);
+  CHECK(world.q()[kBaseHeading] == Approx(M_PI - 0.2).margin(0.01));
+  s[kBaseHeading] = -M_PI + 0.2;
+  world.set_setpoints(s);
+  double swept = 0.0;
+  previous = world.q()[kBaseHeading];
+  for (int t = 0; t < 100; ++t) {
+    world.tick();
+    swept += wrap_angle(world.q()[kBaseHeading] - previous);
+    previous = world.q()[kBaseHeading];
+  }
+  CHECK(world.q()[kBaseHeading] == Approx(-M_PI + 0.2).margin(0.01));
+  CHECK(swept == Approx(0.4).margin(0.02));
 }
 
 // Box2D's step profiler reads the wall clock a dozen times per step; sim/ replaces its timer so

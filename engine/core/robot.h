@@ -11,7 +11,7 @@ namespace roger {
 // The eight degrees of freedom every action writes an error for, in this order.
 enum Dof : int {
   kBaseForward = 0,  // metres along the heading (an odometer)
-  kBaseHeading,      // radians, unwrapped
+  kBaseHeading,      // radians, wrapped to (-pi, pi] (docs/control.md, Angles)
   kLeftEye,          // pan relative to the base heading
   kRightEye,
   kLeftShoulder,     // relative to the base heading

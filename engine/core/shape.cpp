@@ -133,6 +133,7 @@ double shape_signed_distance(const Shape& shape, const Pose& pose, const Vec2& p
 }
 
 double wrap_angle(double a) {
+  if (a > -M_PI && a <= M_PI) return a;  // already principal: exactly itself, no rounding
   a = std::fmod(a + M_PI, 2.0 * M_PI);
   if (a <= 0) a += 2.0 * M_PI;
   return a - M_PI;

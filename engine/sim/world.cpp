@@ -42,7 +42,7 @@ DofVector World::q() const {
   const Impl& m = *impl_;
   DofVector v;
   v[kBaseForward] = m.odometer;
-  v[kBaseHeading] = m.base->GetAngle();
+  v[kBaseHeading] = wrap_angle(m.base->GetAngle());  // Box2D's angle winds on; the state does not
   v[kLeftEye] = m.eye[0];
   v[kRightEye] = m.eye[1];
   v[kLeftShoulder] = m.joint[0][0]->GetJointAngle();
@@ -111,8 +111,10 @@ b2Vec2 World::Impl::drive_base(const RobotParams& r, const DofVector& setpoint, 
                                  r.base_forward.max_rate);
   const double force = clamp_abs(r.base_forward.kv * (v_des - v), r.base_forward.max_effort);
   base->ApplyForceToCenter(float(force) * fwd, true);
-  const double w_des = clamp_abs(r.base_heading.kp * (setpoint[kBaseHeading] - base->GetAngle()),
-                                 r.base_heading.max_rate);
+  // The heading setpoint is in the state's convention (wrapped); Box2D's angle winds on. Their
+  // difference, wrapped, is the turn left to make, whatever the turns made so far.
+  const double heading_error = wrap_angle(setpoint[kBaseHeading] - base->GetAngle());
+  const double w_des = clamp_abs(r.base_heading.kp * heading_error, r.base_heading.max_rate);
   const double torque =
       clamp_abs(r.base_heading.kv * (w_des - base->GetAngularVelocity()), r.base_heading.max_effort);
   base->ApplyTorque(float(torque), true);
@@ -271,7 +273,7 @@ void World::sense() {
 
 Pose World::base_pose() const {
   const b2Body* b = impl_->base;
-  return {b->GetPosition().x, b->GetPosition().y, b->GetAngle()};
+  return {b->GetPosition().x, b->GetPosition().y, wrap_angle(b->GetAngle())};
 }
 
 Vec2 World::base_velocity() const { return v2(impl_->base->GetLinearVelocity()); }
@@ -283,7 +285,7 @@ double World::base_lateral_speed() const {
 
 Pose World::object_pose(int i) const {
   const b2Body* b = impl_->objects.at(size_t(i));
-  return {b->GetPosition().x, b->GetPosition().y, b->GetAngle()};
+  return {b->GetPosition().x, b->GetPosition().y, wrap_angle(b->GetAngle())};
 }
 
 Vec2 World::object_velocity(int i) const {

@@ -40,17 +40,20 @@ void add_shape_fixtures(b2Body* body, const Shape& shape, float density, float f
   }
 }
 
-// One arm link as a dynamic body from `from` to `to`: the forearm (l == 1) carries the tactile
-// hand disk at its end; both carry the link's mass.
+// One arm link as a dynamic body from `from` to `to` at world angle `angle`: the forearm (l == 1)
+// carries the tactile hand disk at its end; both carry the link's mass. The angle is the base's
+// heading plus the joint angles before it, not atan2 of the link's direction: Box2D reads a
+// revolute joint's angle as the difference of its bodies' angles, so a link angle wrapped to
+// [-pi, pi] on its own would make the joint read its angle plus or minus 2 pi (a shoulder at 1.975
+// read as -4.308), and the first command clamped to the joint limits would spin the arm round.
 b2Body* create_link(b2World& w, const RobotParams& r, int side, int l, const Vec2& from,
-                    const Vec2& to) {
+                    const Vec2& to, double angle) {
   const Vec2 mid = 0.5 * (from + to);
-  const Vec2 d = to - from;
   b2BodyDef ld;
   ld.type = b2_dynamicBody;
   ld.allowSleep = false;
   ld.position = b2v(mid);
-  ld.angle = float(std::atan2(d.y(), d.x()));
+  ld.angle = float(angle);
   b2Body* link = w.CreateBody(&ld);
   const double half = 0.5 * r.link_length[l];
   if (l == 1) {  // the hand: a tactile disk at the end of the forearm
@@ -102,6 +105,12 @@ b2RevoluteJoint* create_arm_joint(b2World& w, const RobotParams& r, b2Body* pare
 
 void World::reset(const WorldSpec& spec_in) {
   spec_ = spec_in;
+  // One convention for angles (docs/control.md): the world starts from poses whose angles are
+  // wrapped to (-pi, pi], so a heading written as 3 pi / 2 or with turns added builds the same
+  // world as its principal value.
+  spec_.robot.pose.theta = wrap_angle(spec_.robot.pose.theta);
+  for (auto& o : spec_.objects) o.pose.theta = wrap_angle(o.pose.theta);
+  for (auto& o : spec_.obstacles) o.pose.theta = wrap_angle(o.pose.theta);
   attention_ = Attention{spec_.stimulus_colour, -1, -1};
   for (auto& o : spec_.objects) validate_shape(o.shape);
   for (auto& o : spec_.obstacles) validate_shape(o.shape);
@@ -237,12 +246,15 @@ void World::Impl::add_arms(const RobotParams& r, const RobotStart& start) {
   b2World& w = *world;
   const double start_q[2][2] = {{start.left_shoulder, start.left_elbow},
                                 {start.right_shoulder, start.right_elbow}};
+  const Pose& pose = start.pose;
   for (int side = 0; side < 2; ++side) {
-    const ArmPoints p = arm_forward_kinematics(r, start.pose, side, start_q[side][0], start_q[side][1]);
+    const ArmPoints p = arm_forward_kinematics(r, pose, side, start_q[side][0], start_q[side][1]);
     const Vec2 from[2] = {p.shoulder, p.elbow}, to[2] = {p.elbow, p.hand};
+    const double angle[2] = {pose.theta + start_q[side][0],
+                             pose.theta + start_q[side][0] + start_q[side][1]};
     b2Body* parent = base;
     for (int l = 0; l < 2; ++l) {
-      b2Body* body = create_link(w, r, side, l, from[l], to[l]);
+      b2Body* body = create_link(w, r, side, l, from[l], to[l], angle[l]);
       joint[side][l] = create_arm_joint(w, r, parent, body, from[l], l);
       link[side][l] = body;
       parent = body;
