@@ -6,8 +6,10 @@
 --   roger check scenarios/sorting.lua --seeds 50
 --   roger render sorting --seed 3 --set objects=4 --out sorting.png
 --
--- Placement order: the regions, Roger, the objects (each type's colour), then the obstacles, all
--- from the generator's rng, so a world is a pure function of (parameters, seed).
+-- Placement order: the objects' types (drawn first for the "random" mix, since a region's size
+-- follows the number of objects of its type), the regions, Roger, the objects (each type's colour),
+-- then the obstacles, all from the generator's rng, so a world is a pure function of (parameters,
+-- seed).
 local shapes = require("lib.shapes")
 
 -- The types, their colours and their regions, in region order.
@@ -18,18 +20,25 @@ local COLOURS = {
   pentagon = { 230, 170, 20 },  -- amber
   spade = { 150, 40, 170 },     -- purple
 }
-local REGION_RADIUS = 0.4
-local REGION_INSET = 0.8 -- region centre to its wall: the carried object fits in with Roger clear of the wall
+-- Half the arena's side: 5 x 5 m for up to four objects, 6 x 6 m up to eight, 7 x 7 m beyond, so
+-- that every object keeps room around it for the hands; wider by as much as the regions have grown
+-- beyond 0.4 m (a random mix may put many objects of one type in one region).
+local function half_side(objects, radius)
+  local half = (objects <= 4 and 2.5 or objects <= 8 and 3.0 or 3.5) + (radius - 0.4)
+  return math.ceil(half * 4 - 1e-9) / 4  -- a whole number of grid cells across
+end
 
--- Half the arena's side: 5 x 5 m for up to four objects, 6 x 6 m for more, so that every object
--- keeps room around it for the hands (eight in 5 x 5 m often leave no place for the last one).
-local function half_side(objects)
-  return objects <= 4 and 2.5 or 3.0
+-- A region holds every object of its type, each an obstacle to the next one carried in (the planner
+-- grows it by the carried object's reach): 0.4 m of radius for one object, 0.2 m more for each
+-- further one. Its centre sits 0.4 m further from its wall than its radius, so the carried object
+-- fits in with Roger clear of the wall.
+local function region_radius(per_type)
+  return 0.4 + 0.2 * (math.max(per_type, 1) - 1)
 end
 
 -- Region centres: the middle of the east, north, west and south walls.
-local function region_centre(k, half)
-  local d = half - REGION_INSET
+local function region_centre(k, half, radius)
+  local d = half - radius - 0.4
   return ({ { d, 0 }, { 0, d }, { -d, 0 }, { 0, -d } })[k]
 end
 
@@ -38,19 +47,25 @@ end
 -- test sorting rather than that grasp; 4 and 8 objects hold every type.
 local CYCLE = { "circle", "spade", "pentagon", "triangle" }
 
--- The i-th object's type for a mix: "cycle" takes the types in turn (circle, spade, pentagon,
--- triangle, circle, ...), "random" draws each.
-local function object_type(i, mix, rng)
-  if mix == "cycle" then return CYCLE[(i - 1) % #CYCLE + 1] end
-  return rng:choice(TYPES)
+-- The objects' types for a mix: "cycle" takes the types in turn (circle, spade, pentagon,
+-- triangle, circle, ...), "random" draws each. Returns the list and the largest count of one type.
+local function object_types(n, mix, rng)
+  local types, count, most = {}, {}, 0
+  for i = 1, n do
+    local t = mix == "cycle" and CYCLE[(i - 1) % #CYCLE + 1] or rng:choice(TYPES)
+    types[i] = t
+    count[t] = (count[t] or 0) + 1
+    most = math.max(most, count[t])
+  end
+  return types, most
 end
 
 return {
   name = "sorting",
-  description = "Figure 1: 2 to 8 objects of four types, each type to its own region on the arena's edge.",
+  description = "Figure 1: 1 to 12 objects of four types, each type to its own region on the arena's edge.",
 
   params = {
-    objects = { default = 2, min = 1, max = 8, description = "number of objects" },
+    objects = { default = 2, min = 1, max = 12, description = "number of objects" },
     mix = { default = "cycle", choices = { "cycle", "random" },
             description = "types in turn (circle, spade, pentagon, triangle, ...) or drawn at random" },
     obstacles = { default = 0, min = 0, max = 4, description = "number of static obstacles" },
@@ -61,18 +76,20 @@ return {
   },
 
   generate = function(world, rng, p)
-    local half = half_side(p.objects)
+    local types, most = object_types(p.objects, p.mix, rng)
+    local radius = region_radius(most)
+    local half = half_side(p.objects, radius)
     world:arena{ xmin = -half, xmax = half, ymin = -half, ymax = half, cell = 0.0625 }
     for k, t in ipairs(TYPES) do
-      local c = region_centre(k, half)
-      world:goal{ name = t, x = c[1], y = c[2], radius = REGION_RADIUS, colour = COLOURS[t] }
+      local c = region_centre(k, half, radius)
+      world:goal{ name = t, x = c[1], y = c[2], radius = radius, colour = COLOURS[t] }
     end
     local rx, ry = world:sample_position{
       name = "Roger", radius = roger.robot.footprint_radius, wall_margin = 1.0, clearance = 0.2,
     }
     world:robot{ x = rx, y = ry, heading = rng:angle() }
     for i = 1, p.objects do
-      local t = object_type(i, p.mix, rng)
+      local t = types[i]
       local shape = shapes.get(t)
       local x, y = world:sample_position{
         name = t .. " " .. i, shape = shape, clearance = p.object_clearance,

@@ -227,7 +227,7 @@ TEST_CASE("sorting: a binding redirects the world's attention, and gives up afte
   b.patience = 1.0;
   auto binding = std::make_shared<Binding>(make_primitive("search"), b);
   binding->reset(5);
-  CHECK(binding->state(agent.input()) == Gamma::kNoRef);  // never invoked
+  CHECK(binding->state(agent.input()) == Gamma::kNotConv);  // never invoked: nothing says done or impossible
   agent.step(*binding);
   // From the next tick the world attends as the binding asked; the first tick commanded nothing.
   CHECK(agent.world().attention().colour == Colour{0, 200, 0});

@@ -26,8 +26,8 @@ local spade = move("sort spade", "#9628aa", 3)        -- region 3: "spade"
 local pentagon = move("sort pentagon", "#e6aa14", 2)  -- region 2: "pentagon"
 local triangle = move("sort triangle", "#2850dc", 1)  -- region 1: "triangle"
 
--- The first move not yet CONV runs (a binding is NOREF until first invoked, so a sequence, which
--- falls back from a NOREF step, would never start the second).
+-- The first move not yet CONV runs, once each: these policies are for a known number of objects.
+-- curricula/sort_by_hand.lua sorts any number (a move run again carries the next of its type).
 local two_moves = roger.policy("two moves", {
   actions = { circle, spade },
   table = { ["* *"] = circle, ["CONV *"] = spade },

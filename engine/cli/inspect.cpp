@@ -80,8 +80,7 @@ int run_render_episode(const RenderArgs& a) {
   Scenario scenario = Scenario::load(policy_scenario(policy, a.world));
   apply_sets(scenario, a.sets);
   const WorldSpec spec = scenario.generate(a.seed);
-  EpisodeOptions options;
-  options.time_limit = policy.time_limit;
+  EpisodeOptions options = policy.episode_options();
   options.record_every = a.every;
   // Watch the named controllers (primitives, skills), at most a dozen, so the timeline stays legible.
   std::vector<ControllerPtr> watch = script.controllers();

@@ -69,13 +69,15 @@ int command_eval(const EvalArgs& a) {
   const SkillScript::NamedPolicy& policy = script.policy(a.policy);
   Scenario scenario = Scenario::load(policy_scenario(policy, a.scenario));
   apply_sets(scenario, a.sets);
-  EpisodeOptions options;
-  options.time_limit = policy.time_limit;
+  const EpisodeOptions options = policy.episode_options();
   const EvalSummary r = evaluate_action([&](uint64_t seed) { return scenario.generate(seed); },
                                         *policy.action, *policy.goal, a.episodes, a.seed, options);
-  std::printf("roger eval: %s policy '%s' in %s, %d episodes from seed %llu, %.0f s limit\n",
+  const std::string limit = policy.time_per_object > 0.0
+                                ? format_number(policy.time_per_object) + " s per object limit"
+                                : format_number(policy.time_limit) + " s limit";
+  std::printf("roger eval: %s policy '%s' in %s, %d episodes from seed %llu, %s\n",
               script.path().c_str(), policy.name.c_str(), scenario.name().c_str(), a.episodes,
-              static_cast<unsigned long long>(a.seed), policy.time_limit);
+              static_cast<unsigned long long>(a.seed), limit.c_str());
   std::printf("  success rate   %.1f%% (%d of %d)\n", 100.0 * r.success_rate, r.successes, r.episodes);
   std::printf("  reward         %.1f +- %.1f\n", r.reward_mean, r.reward_std);
   std::printf("  episode time   %.2f s (mean, simulated)\n", r.time_mean);

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "core/shape.h"
+
 namespace roger {
 
 Agent::Agent(const WorldParams& world, const AgentParams& params) : world_(world), params_(params) {}
@@ -58,18 +60,40 @@ void Agent::reset(const WorldSpec& spec) {
     grid_valid_ = true;
   }
   percepts_ = Percepts{};
+  objects_.assign(s.objects.size(), MapObject{});
+  for (size_t i = 0; i < s.objects.size(); ++i) {
+    objects_[i].radius = shape_bounding_radius(s.objects[i].shape);
+    objects_[i].colour = s.objects[i].colour;
+  }
   next_attention_ = world_.attention();
   input_.tick = 0;
   refresh_input();
 }
 
+void Agent::refresh_objects() {
+  const WorldSpec& spec = world_.spec();
+  const Senses& s = world_.senses();
+  for (size_t i = 0; i < objects_.size(); ++i) {
+    MapObject& o = objects_[i];
+    const Pose pose = world_.object_pose(int(i));
+    o.center = Vec2(pose.x, pose.y);
+    o.held = false;
+    for (const Touch& t : s.touch) o.held |= t.contact && t.kind == SurfaceKind::kObject && t.index == int(i);
+    o.region = -1;
+    for (size_t g = 0; g < spec.goals.size() && o.region < 0; ++g)
+      if ((o.center - spec.goals[g].center).norm() <= spec.goals[g].radius) o.region = int(g);
+  }
+}
+
 void Agent::refresh_input() {
+  refresh_objects();
   percepts_.update(world_.senses(), world_.params().robot);
   input_.senses = &world_.senses();
   input_.percepts = &percepts_;
   input_.robot = &world_.params().robot;
   input_.spec = &world_.spec();
   input_.grid = &grid_;
+  input_.objects = &objects_;
   input_.time = world_.time();
   input_.dt = world_.tick_seconds();
   input_.attention = &world_.attention();

@@ -35,6 +35,8 @@ class Agent {
   const World& world() const { return world_; }
   const Percepts& percepts() const { return percepts_; }
   const OccupancyGrid& grid() const { return grid_; }
+  // The map of movable objects at the current tick (ControlInput::objects).
+  const std::vector<MapObject>& objects() const { return objects_; }
   const AgentParams& params() const { return params_; }
   uint64_t ticks() const { return input_.tick; }
   // The errors vector written at the last step (the action's command plus the gaze reflex).
@@ -42,6 +44,7 @@ class Agent {
 
  private:
   void refresh_input();
+  void refresh_objects();
   World world_;
   AgentParams params_;
   Percepts percepts_;
@@ -50,6 +53,7 @@ class Agent {
   bool grid_valid_ = false;
   ArenaSpec grid_arena_;
   std::vector<ObstacleSpec> grid_obstacles_;
+  std::vector<MapObject> objects_;
   ControlInput input_;
   Attention next_attention_;  // where a binding asked the eyes to attend from the next tick
   DofVector last_errors_ = DofVector::Zero();

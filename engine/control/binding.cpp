@@ -19,12 +19,17 @@ void Binding::reset(uint64_t seed) {
   executed_tick_ = begun_tick_ = UINT64_MAX;
   begun_time_ = 0.0;
   gave_up_ = false;
-  last_ = Gamma::kNoRef;
+  // Not yet invoked: nothing says its work is done (CONV) or cannot be done (NOREF).
+  last_ = Gamma::kNotConv;
 }
 
 bool Binding::running(const ControlInput& in) const {
   if (begun_tick_ == in.tick) return true;
   return !gave_up_ && executed_tick_ != UINT64_MAX && executed_tick_ + 1 == in.tick;
+}
+
+bool Binding::ended(const ControlInput& in) const {
+  return begun_tick_ != in.tick && last_ == Gamma::kConv;
 }
 
 bool Binding::out_of_patience(const ControlInput& in) const {
@@ -45,7 +50,9 @@ bool Binding::attending(const ControlInput& in) const {
 }
 
 void Binding::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) {
-  if (!running(in)) {
+  // Run again after its work was done (CONV), it starts that work over: a sorting move chosen
+  // again after it delivered carries the next object instead of holding its last CONV for ever.
+  if (!running(in) || ended(in)) {
     // A new invocation: the target starts afresh, as an action chosen anew would.
     ++invocations_;
     begun_tick_ = in.tick;

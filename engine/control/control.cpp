@@ -37,16 +37,20 @@ void Percepts::update(const Senses& s, const RobotParams& robot) {
   for (int side = 0; side < 2; ++side)
     arms[side] = arm_forward_kinematics(robot, s.base, side, s.q[kLeftShoulder + 2 * side],
                                         s.q[kLeftElbow + 2 * side]);
-  int votes[8] = {0};
   touched_object = -1;
   for (int t = 0; t < kTactileCount; ++t) {
     const Touch& touch = s.touch[t];
     contact_on_object[t] = touch.contact && touch.kind == SurfaceKind::kObject;
-    if (contact_on_object[t] && touch.index >= 0 && touch.index < 8) ++votes[touch.index];
   }
+  // The object most sensors touch (the lowest index on a tie), whatever the number of objects.
   int best = 0;
-  for (int i = 0; i < 8; ++i)
-    if (votes[i] > best) best = votes[i], touched_object = i;
+  for (int t = 0; t < kTactileCount; ++t) {
+    const int i = s.touch[t].index;
+    if (!contact_on_object[t] || i < 0) continue;
+    int votes = 0;
+    for (int u = 0; u < kTactileCount; ++u) votes += contact_on_object[u] && s.touch[u].index == i;
+    if (votes > best || (votes == best && i < touched_object)) best = votes, touched_object = i;
+  }
   // Close up, vision is poor (the object fills the eyes' view, and a polygon shows each eye other
   // corners) but touch knows where the surface is: each contact on the object puts its centre one
   // (visually estimated) radius behind the contact point, against the contact normal.
@@ -243,7 +247,8 @@ Gamma SubjectTo::combine(const ControlInput& in, const ControlOutput& a, const C
   return std::min(a.gamma, sub);
 }
 
-Sequence::Sequence(std::vector<ControllerPtr> steps) : steps_(std::move(steps)) {
+Sequence::Sequence(std::vector<ControllerPtr> steps, bool fall_back)
+    : steps_(std::move(steps)), fall_back_(fall_back) {
   if (steps_.empty()) throw Error("sequence: needs at least one step");
   for (const auto& s : steps_)
     if (!s) throw Error("sequence: every step must be a controller");
@@ -279,7 +284,7 @@ void Sequence::advance(const ControlInput& in) {
     const Gamma g = steps_[current_]->state(in);
     if (g == Gamma::kConv && current_ + 1 < n) {
       ++current_;
-    } else if (g == Gamma::kNoRef && current_ > 0) {
+    } else if (g == Gamma::kNoRef && current_ > 0 && fall_back_) {
       --current_;
     } else {
       break;
@@ -288,6 +293,8 @@ void Sequence::advance(const ControlInput& in) {
 }
 
 Gamma Sequence::summary(const ControlInput& in) {
+  // Without falling back, a step that lost its reference is the end of the road.
+  if (!fall_back_ && current_ > 0 && steps_[size_t(current_)]->state(in) == Gamma::kNoRef) return Gamma::kNoRef;
   const Gamma last = steps_.back()->state(in);
   bool any_reference = false;
   for (const auto& s : steps_) any_reference |= s->state(in) != Gamma::kNoRef;
@@ -375,6 +382,7 @@ Policy::Policy(std::vector<ControllerPtr> actions, std::vector<int> table, Contr
                 std::to_string(states) + " entries, got " + std::to_string(table_.size()));
   for (int a : table_)
     if (a < -1 || a >= int(actions_.size())) throw Error("policy: table entry out of range");
+  if (fallback_ < kRotate || fallback_ >= int(actions_.size())) throw Error("policy: fallback out of range");
   scratch_.resize(actions_.size());
 }
 
@@ -394,6 +402,8 @@ void Policy::reset(uint64_t seed) {
   for (auto& a : actions_) a->reset(seed);
   if (done_) done_->reset(seed);
   chosen_ = -1;
+  rotation_ = 0;
+  chosen_tick_ = UINT64_MAX;
 }
 
 void Policy::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) {
@@ -403,7 +413,15 @@ void Policy::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_ra
     any_reference |= scratch_[i] != Gamma::kNoRef;
   }
   const int entry = table_[size_t(gamma_state_index(scratch_))];
-  chosen_ = entry >= 0 ? entry : fallback_;
+  if (entry < 0 && fallback_ == kRotate) {
+    // The one in turn ran on the last tick and has ended: the next one's turn.
+    const bool ran = chosen_ == rotation_ && chosen_tick_ + 1 == in.tick;
+    if (ran && scratch_[size_t(rotation_)] != Gamma::kNotConv) rotation_ = (rotation_ + 1) % int(actions_.size());
+    chosen_ = rotation_;
+  } else {
+    chosen_ = entry >= 0 ? entry : fallback_;
+  }
+  chosen_tick_ = in.tick;
   if (chosen_ >= 0) {
     const ControlOutput& run = actions_[size_t(chosen_)]->evaluate(in);
     out.command = run.command;

@@ -61,14 +61,28 @@ struct Percepts {
   void update(const Senses& senses, const RobotParams& robot);
 };
 
+// An object as the map of movable objects has it: Roger is given this map as it is given the
+// static one (it does not build it from its eyes). The planner treats these objects as obstacles
+// (all but the one it approaches or carries), and a task's judge (roger.sorted) reads where they
+// lie. No controller perceives its stimulus through it: what a controller is after, it sees.
+struct MapObject {
+  Vec2 center = Vec2::Zero();  // the object's pose, world frame
+  double radius = 0.0;         // the smallest circle about that centre holding its shape
+  Colour colour;
+  bool held = false;           // touched by the body or a hand at the last sensing
+  int region = -1;             // the goal region holding its centre (index into goals), or -1
+};
+
 // What a controller may read. Controllers see Roger's senses, its body and the static map (arena,
-// obstacles as an occupancy grid, goal regions); never the simulator's object poses.
+// obstacles as an occupancy grid, goal regions) and the map of movable objects (MapObject); never
+// the simulator's object poses as senses.
 struct ControlInput {
   const Senses* senses = nullptr;
   const Percepts* percepts = nullptr;
   const RobotParams* robot = nullptr;
   const WorldSpec* spec = nullptr;
   const OccupancyGrid* grid = nullptr;  // static obstacles, grown by the base radius
+  const std::vector<MapObject>* objects = nullptr;  // the map of movable objects (may be null)
   double time = 0.0;                    // simulated seconds since the episode began
   double dt = 0.02;                     // control tick (s)
   uint64_t tick = 0;                    // tick counter, for caching within a tick
@@ -227,9 +241,14 @@ class SubjectTo final : public Controller {
 // one starts; if the current step loses its reference (NOREF), the previous step runs again (its
 // precondition was lost, e.g. tracking lost the stimulus, so search again). Its gamma: CONV when the
 // last step is CONV, NOREF when every step is NOREF, !CONV otherwise.
+// Without `fall_back`, a step that loses its reference does not hand back to the step before: the
+// sequence stays on it and is NOREF while it is (it cannot go on; nothing before it can help). For
+// steps that are no precondition of the next: "let go, carry one object, let go" ends NOREF when
+// there is no object to carry, instead of letting go for ever.
 class Sequence final : public Controller {
  public:
-  explicit Sequence(std::vector<ControllerPtr> steps);
+  explicit Sequence(std::vector<ControllerPtr> steps, bool fall_back = true);
+  bool falls_back() const { return fall_back_; }
   std::vector<const Controller*> children() const override;
   const char* kind() const override { return "sequence"; }
   void reset(uint64_t seed) override;
@@ -253,6 +272,7 @@ class Sequence final : public Controller {
   // The sequence's raw gamma from its steps' states.
   Gamma summary(const ControlInput& in);
   std::vector<ControllerPtr> steps_;
+  bool fall_back_ = true;
   int current_ = 0;
   uint64_t advanced_tick_ = UINT64_MAX;
 };
@@ -295,8 +315,11 @@ class StandIn : public Controller {
 // with the invocation count) and the agent is asked to attend as the binding says. Until the
 // world attends so (the next tick) the binding commands nothing and is !CONV. The attention stays
 // as the last binding left it. While it is not running, its state is the one it ended its last
-// invocation with (NOREF before the first): a bound skill that delivered stays CONV, so the state
-// vector of a stage remembers which bindings have done their work.
+// invocation with (!CONV before the first: nothing says yet that its work is done or cannot be
+// done): a bound skill that delivered stays CONV, and one whose skill found nothing to do (a
+// search that looked everywhere) stays NOREF, so the state vector of a stage remembers which
+// bindings have done their work and which have none left. An invocation that reached CONV is
+// over: executed again, the binding starts a new one (the next object of its kind).
 // With `patience` > 0, an invocation that has not converged after that many seconds is given up:
 // the binding reports NOREF (the state changes, so whoever chose it decides again) and commands
 // nothing; evaluated again, it starts a new invocation. Multi-object scenes have dead ends a
@@ -327,6 +350,8 @@ class Binding final : public Controller {
   bool compute_state(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
 
  private:
+  // Whether the invocation under way reached CONV on an earlier tick (its work is done).
+  bool ended(const ControlInput& in) const;
   // Whether this tick continues an invocation (executed on the previous tick, or begun on this).
   bool running(const ControlInput& in) const;
   // The attention this binding asks for, given the world's attention now.
@@ -349,7 +374,10 @@ class Binding final : public Controller {
 int gamma_state_index(const std::vector<Gamma>& gammas);
 
 // A skill that maps the state (the gamma vector of its actions) to one of its actions, by a table;
-// states missing from the table run `fallback` (or nothing). Learned stages yield these. Its gamma:
+// states missing from the table run `fallback` (or nothing), or, with kRotate, the actions in turn:
+// each runs until it has ended (its state is no longer !CONV after it ran), then the next; a way out
+// of a state where every action said it has nothing to do, which running the same one again would
+// not leave. Learned stages yield these. Its gamma:
 // CONV when `done` is CONV (its goal), NOREF when no action has a reference, !CONV otherwise.
 class Policy final : public Controller {
  public:
@@ -357,6 +385,7 @@ class Policy final : public Controller {
   // (-1 = no entry); done: the controller whose convergence is the skill's goal (may be null).
   Policy(std::vector<ControllerPtr> actions, std::vector<int> table, ControllerPtr done,
          int fallback = -1);
+  static constexpr int kRotate = -2;  // `fallback`: the actions in turn
   std::vector<const Controller*> children() const override;
   const char* kind() const override { return "policy"; }
   void reset(uint64_t seed) override;
@@ -376,6 +405,8 @@ class Policy final : public Controller {
   ControllerPtr done_;
   int fallback_ = -1;
   int chosen_ = -1;
+  int rotation_ = 0;                   // the action a kRotate fallback runs
+  uint64_t chosen_tick_ = UINT64_MAX;  // the tick of the last choice
   std::vector<Gamma> scratch_;
 };
 

@@ -106,7 +106,35 @@ class Held final : public Predicate {
   double since_ = -1.0;
 };
 
+// The world's judgement of a sorting task (see sorted_objects).
+class Sorted final : public Predicate {
+ public:
+  bool holds(const ControlInput& in) override {
+    const SortCount c = sorted_objects(in);
+    return c.sorted == c.sortable;
+  }
+  std::string describe() const override { return "sorted()"; }
+  void controllers(std::vector<const Controller*>&) const override {}
+};
+
 }  // namespace
+
+SortCount sorted_objects(const ControlInput& in) {
+  SortCount c;
+  if (!in.objects || !in.spec) return c;
+  const std::vector<GoalRegion>& goals = in.spec->goals;
+  for (const MapObject& o : *in.objects) {
+    bool has_region = false;
+    for (const GoalRegion& g : goals) has_region |= g.colour == o.colour;
+    if (!has_region) continue;
+    ++c.sortable;
+    const bool in_own = o.region >= 0 && goals[size_t(o.region)].colour == o.colour;
+    c.sorted += in_own && !o.held;
+  }
+  return c;
+}
+
+PredicatePtr sorted() { return std::make_shared<Sorted>(); }
 
 PredicatePtr converged(ControllerPtr c) {
   return std::make_shared<GammaIs>(std::move(c), Gamma::kConv, true);

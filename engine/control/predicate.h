@@ -44,6 +44,17 @@ PredicatePtr negate(PredicatePtr part);
 // The part has held without interruption for at least `seconds` of simulated time.
 PredicatePtr held(PredicatePtr part, double seconds);
 
+// How many objects a sorting task counts (those whose colour is some goal region's colour) and
+// how many of them are sorted: their centre in a region of their own colour, not held. The
+// world's judgement, from the map of objects, not from any controller's state.
+struct SortCount {
+  int sortable = 0, sorted = 0;
+};
+SortCount sorted_objects(const ControlInput& in);
+// Every object a sorting task counts is sorted (sorted_objects): the judge of "put every object
+// in the region of its colour", whatever the number of objects.
+PredicatePtr sorted();
+
 // Starts an episode for a predicate and every controller it reads (reset with `seed`): a goal
 // controller outside the action set must not keep hold timers or a per-tick cache from the
 // previous episode. Resetting one that the actions also reset, with the same seed, changes nothing.

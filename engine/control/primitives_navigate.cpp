@@ -19,7 +19,7 @@ class Navigate final : public Primitive {
   // Where the constructor declared each parameter: reading one is an index, not a name search.
   struct {
     ParamSlot goal = 0, region = 0, approach = 0, carry = 0, speed = 0,
-        carry_turn = 0, memory = 0, margin = 0, replan = 0, tolerance = 0, depth = 0;
+        carry_turn = 0, memory = 0, margin = 0, replan = 0, tolerance = 0, depth = 0, objects = 0;
   } p_;
  public:
   Navigate() : Primitive("phi1", 0.05) {
@@ -39,15 +39,22 @@ class Navigate final : public Primitive {
     // Steering needs the direction of the gradient, not the potential to 4 digits: a looser
     // solve than the planner's default halves the sweeps of every plan.
     p_.tolerance = declare("tolerance", 2e-3, 1e-8, 0.1, "relative change per sweep at which a plan has converged");
+    // Other objects are obstacles grown by this much: about the base's radius and the hands'
+    // reach beyond it, or, carrying, the carried object's radius with room for the hands.
+    p_.objects = declare("objects", 0.3, 0.0, 2.0,
+                         "how far (m) other objects are grown as obstacles (0: objects are not obstacles)");
     on_params_changed();
   }
   Navigate(const Navigate& o)
       : Primitive(o), p_(o.p_), planner_(planner_params()), to_region_(o.to_region_) {}
+  // Re-stamps of the object map since construction (each may cost the planner a solve).
+  int object_map_changes() const { return map_changes_; }
   PrimitivePtr clone() const override { return std::make_shared<Navigate>(*this); }
   void reset(uint64_t seed) override {
     Primitive::reset(seed);
     grid_ = nullptr;
     planned_ = false;
+    stamps_.clear();
     // The grid often outlives the episode (the same arena), and with it the last solution, which
     // the next solve would start from: an episode would then depend on the one before it.
     planner_.forget_solution();
@@ -123,13 +130,12 @@ class Navigate final : public Primitive {
     // A binding may name the region (ControlInput::region) instead of the parameter.
     const size_t k = in.region >= 0 ? size_t(in.region) : size_t(value(p_.region));
     if (k >= in.spec->goals.size()) return false;
-    // The region and the grid are fixed while the region is: set them once (the planner would
-    // notice that nothing changed, but finding the goal cells each tick is not free).
-    if (grid_ != in.grid || !planned_ || k != planned_region_) {
-      grid_ = in.grid;
+    const bool map_changed = update_map(in, nullptr);
+    // The region is fixed while the region is: set it once (the planner would notice that
+    // nothing changed, but finding the goal cells each tick is not free).
+    if (map_changed || !planned_ || k != planned_region_) {
       planned_ = true;
       planned_region_ = k;
-      planner_.set_grid(*in.grid);
       goal_center_ = in.spec->goals[k].center;
       goal_radius_ = in.spec->goals[k].radius;
       planner_.set_goal(goal_center_, std::max(0.5 * in.grid->cell, goal_radius_ - value(p_.margin)));
@@ -144,15 +150,11 @@ class Navigate final : public Primitive {
     if (!object_estimate(in, value(p_.memory), obj, true)) return false;
     int i, j;
     if (!in.grid->cell_of(obj.center, i, j)) return false;
+    // The object approached is no obstacle: the base stops on entering the approach disk.
+    if (update_map(in, &obj.center)) planned_ = false;
     // Re-plan only when the estimate has moved by `replan` metres (or more, far away): stereo
-    // jitter must not cost a solve per tick. The goal is the disk of radius `approach` around the object; the object
-    // itself need not be an obstacle, since the base stops on entering the disk, and keeping the
-    // grid fixed lets every re-plan start warm from the last solution.
-    if (grid_ != in.grid) {
-      grid_ = in.grid;
-      planner_.set_grid(*in.grid);
-      planned_ = false;
-    }
+    // jitter must not cost a solve per tick; keeping the goal fixed lets every re-plan start warm
+    // from the last solution.
     // Far from the object a shift of the estimate barely turns the path: the tolerance grows
     // with the distance (a quarter of it), so the long approach re-plans rarely.
     const double distance = (obj.center - Vec2(in.senses->base.x, in.senses->base.y)).norm();
@@ -164,6 +166,89 @@ class Navigate final : public Primitive {
       planner_.set_goal(goal_center_, goal_radius_);
     }
     return solve ? planner_.update() : planner_.update_reachability();
+  }
+
+  // ---- The map: the static grid and the other objects ----
+
+  // Which objects are obstacles this tick: every object but the one approached (the nearest to
+  // `target`, the perceived object) or carried (the one Roger touches). With neither to go by (a
+  // region's navigator asked for its state before anything is held; a target no object is near),
+  // every object of the stimulus colour not yet put away is left out: those are what Roger is
+  // after. An object stays an obstacle wherever it lies, in a goal region too.
+  void choose_obstacles(const ControlInput& in, const Vec2* target, std::vector<uint8_t>& on) const {
+    const std::vector<MapObject>& objects = *in.objects;
+    on.assign(objects.size(), 1);
+    int chosen = -1;
+    if (target) {
+      double best = 1e300;
+      for (size_t i = 0; i < objects.size(); ++i) {
+        const double d = (objects[i].center - *target).norm();
+        if (d <= objects[i].radius + kTargetSlack && d < best) best = d, chosen = int(i);
+      }
+    } else if (in.percepts->touched_object >= 0 && size_t(in.percepts->touched_object) < objects.size()) {
+      chosen = in.percepts->touched_object;
+    }
+    if (chosen >= 0) {
+      on[size_t(chosen)] = 0;
+      return;
+    }
+    if (!in.attention) return;
+    for (size_t i = 0; i < objects.size(); ++i) {
+      const MapObject& o = objects[i];
+      const bool put_away = o.region >= 0 && o.region == in.attention->ignore_region && !o.held;
+      if (o.colour == in.attention->colour && !put_away) on[i] = 0;
+    }
+  }
+
+  // Brings the planner's grid up to date with the objects: the static grid plus a disk for each
+  // obstacle object, re-stamped only when one is added, dropped or has moved half a cell, so a
+  // still scene costs one comparison per object and tick, and never a solve. Returns whether the
+  // grid changed.
+  bool update_map(const ControlInput& in, const Vec2* target) {
+    const bool new_grid = grid_ != in.grid;
+    if (new_grid) {
+      grid_ = in.grid;
+      stamps_.clear();
+    }
+    const double grow = value(p_.objects);
+    if (!in.objects || grow <= 0.0) {
+      if (new_grid) planner_.set_grid(*in.grid);
+      return new_grid;
+    }
+    choose_obstacles(in, target, wanted_);
+    const std::vector<MapObject>& objects = *in.objects;
+    bool changed = new_grid || stamps_.size() != objects.size();
+    stamps_.resize(objects.size());
+    for (size_t i = 0; i < objects.size(); ++i) {
+      Stamp& st = stamps_[i];
+      const bool on = wanted_[i] != 0;
+      if (st.on == on && (!on || (st.center - objects[i].center).norm() <= 0.5 * in.grid->cell)) continue;
+      st.on = on;
+      st.center = objects[i].center;
+      st.radius = objects[i].radius + grow;
+      changed = true;
+    }
+    if (!changed) return false;
+    map_ = *in.grid;
+    for (const Stamp& st : stamps_)
+      if (st.on) stamp_disk(st.center, st.radius);
+    planner_.set_grid(map_);
+    ++map_changes_;
+    return true;
+  }
+
+  // Marks the cells of map_ whose centres lie within `radius` (plus half a cell, as the static
+  // obstacles are grown) of `center`.
+  void stamp_disk(const Vec2& center, double radius) {
+    const double reach = radius + 0.5 * map_.cell;
+    const int i0 = std::max(0, int(std::floor((center.x() - reach - map_.x0) / map_.cell)));
+    const int j0 = std::max(0, int(std::floor((center.y() - reach - map_.y0) / map_.cell)));
+    const int i1 = std::min(map_.nx - 1, int(std::floor((center.x() + reach - map_.x0) / map_.cell)));
+    const int j1 = std::min(map_.ny - 1, int(std::floor((center.y() + reach - map_.y0) / map_.cell)));
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i)
+        if ((map_.center(i, j) - center).squaredNorm() <= reach * reach)
+          map_.occupied[size_t(j) * map_.nx + i] = 1;
   }
 
   // ---- The convergence test ----
@@ -234,8 +319,20 @@ class Navigate final : public Primitive {
     out.command[kBaseForward] = speed * lookahead * along * along;
   }
 
+  // One object's disk in the planner's grid, as last stamped.
+  struct Stamp {
+    bool on = false;
+    Vec2 center = Vec2::Zero();
+    double radius = 0.0;
+  };
+  static constexpr double kTargetSlack = 0.3;  // m beyond its radius a perceived target may lie
+
   HarmonicPlanner planner_;
-  const OccupancyGrid* grid_ = nullptr;
+  const OccupancyGrid* grid_ = nullptr;  // the static grid the map was built on
+  OccupancyGrid map_;                    // the static grid and the obstacle objects
+  std::vector<Stamp> stamps_;            // per object, what map_ holds of it
+  std::vector<uint8_t> wanted_;          // scratch: which objects are obstacles this tick
+  int map_changes_ = 0;
   bool planned_ = false;
   size_t planned_region_ = 0;  // the goal region planned for (goal='region')
   Vec2 goal_center_ = Vec2::Zero();

@@ -1,7 +1,9 @@
 // primitives_simple.cpp: the primitives that own a few DOFs outright and need no shared geometry:
 // phi0 (track), search, and phi4 (kinematic conditioning).
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 
 #include "control/primitives_internal.h"
 #include "core/shape.h"
@@ -53,8 +55,12 @@ class Track final : public Primitive {
   bool tracking_ = false;  // reached; kept while both eyes see the stimulus
 };
 
-// search: turn to randomly sampled headings, eyes spread to widen the view, until both eyes see
-// the stimulus; as soon as one eye glimpses it, turn that way. When one eye has had it straight
+// search: turn by randomly sampled steps, always the same way round (drawn per episode), eyes spread
+// to widen the view, until both eyes see the stimulus; as soon as one eye glimpses it, turn that
+// way. Once the eyes' fields of view have together swept every direction around Roger since the
+// search began (or last glimpsed its stimulus) without a glimpse, there is nothing of its stimulus
+// to be seen from here: NOREF, so that whoever runs it moves on ("nothing left to do" is a state,
+// not a time-out). It goes on turning while it is run, and finds a stimulus that comes into view. When one eye has had it straight
 // ahead for `one_eye` seconds and the other still has not, something stands in the other eye's line
 // of sight (another object, an obstacle): turning cannot fix that, so the base steps sideways
 // towards the seeing eye's side (turn a quarter, drive `sidestep` metres, turn back), moving the
@@ -80,64 +86,127 @@ class Search final : public Primitive {
     rng_.reseed(Rng::mix(seed, 0x5ea4c4));
     has_target_ = false;
     one_eye_time_ = 0.0;
+    one_eye_seen_at_ = -1e9;
+    steps_taken_ = 0;
     step_ = Step::kNone;
+    last_tick_ = UINT64_MAX;
+    direction_ = rng_.uniform() < 0.5 ? -1.0 : 1.0;
+    swept_.fill(false);
+    swept_count_ = 0;
   }
+
+  // Whether the eyes have swept every direction since the search began or last glimpsed its
+  // stimulus (it is NOREF then).
+  bool looked_everywhere() const { return swept_count_ == kSweepBins; }
 
  protected:
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
     const Senses& s = *in.senses;
+    const double heading = s.q[kBaseHeading];
+    count_turn(heading, in.tick);
     const bool left = s.stimulus[kLeft].seen, right = s.stimulus[kRight].seen;
-    if (left && right) {
+    if (left || right) {
+      swept_.fill(false);  // a glimpse: whatever was swept before does not say "nothing here"
+      swept_count_ = 0;
+    } else {
+      sweep(s);
+    }
+    // A sideways step under way is finished first: turning out swings the blind eye's line of
+    // sight across the stimulus for a moment, and a glimpse is not a view.
+    if (left && right && step_ == Step::kNone) {
       gamma = Gamma::kConv;  // found: both eyes have it
       own_dofs({kBaseHeading, kLeftEye, kRightEye}, out.jacobian);
       has_target_ = false;
-      one_eye_time_ = 0.0;
       step_ = Step::kNone;
       return;
     }
-    gamma = Gamma::kNotConv;
-    if (step_ == Step::kNone && (left || right)) watch_one_eye(s, in.dt, left ? kLeft : kRight);
+    gamma = looked_everywhere() ? Gamma::kNoRef : Gamma::kNotConv;
+    if (step_ == Step::kNone && (left != right)) watch_one_eye(s, in.time, in.dt, left ? kLeft : kRight);
     if (step_ != Step::kNone) {
       own_dofs({kBaseForward, kBaseHeading, kLeftEye, kRightEye}, out.jacobian);
       step_aside(s, in.dt, out);
       return;
     }
     own_dofs({kBaseHeading, kLeftEye, kRightEye}, out.jacobian);
-    const double heading = s.q[kBaseHeading];
     if (left || right) {
       // One eye sees it: turn towards it, bring both eyes to bear.
       const int e = left ? kLeft : kRight;
       const double rel = wrap_angle(s.q[kLeftEye + e] + s.stimulus[e].bearing);
-      target_ = heading + rel;
-      has_target_ = true;
+      aim(heading, rel);
       out.command[kLeftEye] = rel - s.q[kLeftEye];
       out.command[kRightEye] = rel - s.q[kRightEye];
     } else {
-      if (!has_target_ || std::abs(target_ - heading) < value(p_.reached)) {
+      if (!has_target_ || std::abs(turn_left_) < value(p_.reached)) {
         const double turn = rng_.uniform(value(p_.min_turn), value(p_.max_turn));
-        target_ = heading + (rng_.uniform() < 0.5 ? -turn : turn);
-        has_target_ = true;
+        aim(heading, direction_ * turn);
       }
       out.command[kLeftEye] = value(p_.spread) - s.q[kLeftEye];
       out.command[kRightEye] = -value(p_.spread) - s.q[kRightEye];
     }
-    out.command[kBaseHeading] = clamp_abs(target_ - heading, 1.0);
-    out.residual = std::abs(target_ - heading);
+    out.command[kBaseHeading] = clamp_abs(turn_left_, 1.0);
+    out.residual = std::abs(turn_left_);
   }
 
  private:
+  // Marks the directions (world bearings, in kSweepBins bins) that lie wholly inside either eye's
+  // field of view this tick.
+  void sweep(const Senses& s) {
+    constexpr double kBin = 2.0 * M_PI / kSweepBins;
+    for (int e = 0; e < 2; ++e) {
+      const double axis = s.base.theta + s.q[kLeftEye + e];
+      const double from = axis - kHalfView, to = axis + kHalfView;
+      const int first = int(std::ceil((from + M_PI) / kBin)), last = int(std::floor((to + M_PI) / kBin)) - 1;
+      for (int b = first; b <= last; ++b) {
+        const int k = ((b % kSweepBins) + kSweepBins) % kSweepBins;
+        if (!swept_[size_t(k)]) swept_[size_t(k)] = true, ++swept_count_;
+      }
+    }
+  }
+
+  // Sets a turn of `turn` radians from `heading` (either sign, and more than half a revolution
+  // if sampled so).
+  void aim(double heading, double turn) {
+    turn_left_ = turn;
+    target_ = wrap_angle(heading + turn);
+    has_target_ = true;
+  }
+
+  // Keeps the turn still to make up to date with the heading, whatever its winding: the heading's
+  // change since the last tick, wrapped, is what was turned. After a gap (another controller had
+  // the base) the turn is what separates the heading from the target, the shorter way.
+  void count_turn(double heading, uint64_t tick) {
+    if (has_target_) {
+      if (tick == last_tick_ + 1) turn_left_ -= wrap_angle(heading - last_heading_);
+      else if (tick != last_tick_) turn_left_ = wrap_angle(target_ - heading);
+    }
+    last_heading_ = heading;
+    last_tick_ = tick;
+  }
+
   // Times how long eye `e` alone has had the stimulus straight ahead; past `one_eye`, starts a
-  // sideways step towards that eye's side.
-  void watch_one_eye(const Senses& s, double dt, int e) {
+  // sideways step towards that eye's side. A glimpse by both eyes that did not last (tracking took
+  // over and lost it at once, the occluder's edge swinging across the blind eye's view) does not
+  // restart the count: otherwise search and tracking hand the stimulus to each other for ever
+  // and the step never comes.
+  void watch_one_eye(const Senses& s, double time, double dt, int e) {
     const double rel = wrap_angle(s.q[kLeftEye + e] + s.stimulus[e].bearing);
-    one_eye_time_ = std::abs(rel) < value(p_.reached) ? one_eye_time_ + dt : 0.0;
+    if (std::abs(rel) >= value(p_.reached)) {
+      one_eye_time_ = 0.0;
+      return;
+    }
+    if (time - one_eye_seen_at_ > kGlimpse) one_eye_time_ = 0.0;
+    one_eye_time_ += dt;
+    one_eye_seen_at_ = time;
     if (value(p_.one_eye) <= 0.0 || one_eye_time_ < value(p_.one_eye)) return;
-    bearing_ = s.q[kBaseHeading] + rel;
+    bearing_ = wrap_angle(s.q[kBaseHeading] + rel);
     // The left eye sits on the base's left (positive angles turn left).
-    step_heading_ = bearing_ + (e == kLeft ? 0.5 : -0.5) * M_PI;
+    step_heading_ = wrap_angle(bearing_ + (e == kLeft ? 0.5 : -0.5) * M_PI);
     step_ = Step::kTurnOut;
     step_time_ = 0.0;
     one_eye_time_ = 0.0;
+    // Each further step in a row goes further: an occluder wider than one step needs more.
+    step_length_ = value(p_.sidestep) * std::min(1.0 + steps_taken_, 3.0);
+    ++steps_taken_;
   }
 
   // One tick of the sideways step: turn to face across the line of sight, drive, then hand back
@@ -150,31 +219,43 @@ class Search final : public Primitive {
     const double rel = wrap_angle(bearing_ - heading);
     out.command[kLeftEye] = rel - s.q[kLeftEye];
     out.command[kRightEye] = rel - s.q[kRightEye];
+    const double turn_out = wrap_angle(step_heading_ - heading);
     if (step_ == Step::kTurnOut) {
-      out.command[kBaseHeading] = clamp_abs(step_heading_ - heading, 1.0);
-      out.residual = std::abs(step_heading_ - heading);
+      out.command[kBaseHeading] = clamp_abs(turn_out, 1.0);
+      out.residual = std::abs(turn_out);
       if (out.residual < 0.1 || step_time_ > 3.0) step_ = Step::kDrive, step_time_ = 0.0, odometer_ = s.q[kBaseForward];
       return;
     }
-    const double remaining = value(p_.sidestep) - std::abs(s.q[kBaseForward] - odometer_);
+    const double remaining = step_length_ - std::abs(s.q[kBaseForward] - odometer_);
     out.command[kBaseForward] = std::clamp(remaining, 0.0, 0.1);
-    out.command[kBaseHeading] = clamp_abs(step_heading_ - heading, 1.0);
+    out.command[kBaseHeading] = clamp_abs(turn_out, 1.0);
     out.residual = std::max(remaining, 0.0);
     if (remaining <= 0.01 || step_time_ > 3.0) {
       step_ = Step::kNone;
-      target_ = bearing_;  // turn back to where the stimulus was
-      has_target_ = true;
+      aim(heading, rel);  // turn back to where the stimulus was
     }
   }
 
+  static constexpr int kSweepBins = 72;                  // 5 degrees each
+  static constexpr double kHalfView = 0.75;             // rad: within the eyes' 45 degrees
   Rng rng_{0};
-  double target_ = 0.0;
+  double direction_ = 1.0;                              // +1 turns left, -1 right
+  std::array<bool, kSweepBins> swept_{};                // directions swept without a glimpse
+  int swept_count_ = 0;
+  double target_ = 0.0;        // the heading the current turn ends at (wrapped)
+  double turn_left_ = 0.0;     // what is still to turn (rad, signed; may exceed pi)
   bool has_target_ = false;
+  double last_heading_ = 0.0;  // the heading at the last tick this search ran
+  uint64_t last_tick_ = UINT64_MAX;
+  static constexpr double kGlimpse = 0.5;  // s: a two-eye sighting shorter than this is a glimpse
   double one_eye_time_ = 0.0;  // seconds one eye alone has had the stimulus ahead
+  double one_eye_seen_at_ = -1e9;  // when one eye alone last had it ahead
+  int steps_taken_ = 0;        // sideways steps so far
+  double step_length_ = 0.0;   // metres of the step under way
   Step step_ = Step::kNone;     // the phase of a sideways step, if one is under way
   double step_time_ = 0.0;      // seconds in the current phase
-  double bearing_ = 0.0;        // base heading at which the seeing eye had the stimulus
-  double step_heading_ = 0.0;   // heading the base drives along while stepping
+  double bearing_ = 0.0;        // world bearing (wrapped) at which the seeing eye had the stimulus
+  double step_heading_ = 0.0;   // heading (wrapped) the base drives along while stepping
   double odometer_ = 0.0;       // kBaseForward when the drive began
 };
 

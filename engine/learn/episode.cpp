@@ -116,7 +116,8 @@ EpisodeResult run_episode(Agent& agent, const WorldSpec& spec, uint64_t seed, Co
   r.seed = seed;
   FixedActionDriver driver(action, goal);
   const auto recorder = make_recorder(r, watch, options.record_every, agent.world().tick_seconds());
-  const EpisodeOutcome out = run_episode(agent, spec, seed, driver, options.time_limit, recorder.get());
+  const double limit = options.time_limit + options.time_per_object * double(spec.objects.size());
+  const EpisodeOutcome out = run_episode(agent, spec, seed, driver, limit, recorder.get());
   r.success = out.success;
   r.ticks = out.ticks;
   r.sim_seconds = out.sim_seconds;

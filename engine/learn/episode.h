@@ -64,6 +64,7 @@ EpisodeOutcome run_episode(Agent& agent, const WorldSpec& spec, uint64_t seed, E
 // How an episode of one action runs and pays.
 struct EpisodeOptions {
   double time_limit = 10.0;        // simulated seconds
+  double time_per_object = 0.0;    // simulated seconds more per object of the world
   double success_reward = 100.0;   // reward when the goal predicate holds
   double timeout_reward = -100.0;  // reward at the time limit without it
   double record_every = 0.0;       // seconds between recorded frames; 0 = no frames

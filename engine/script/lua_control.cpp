@@ -232,7 +232,7 @@ int install(lua_State* L) {
   }
   const luaL_Reg functions[] = {{"primitive", l_primitive}, {"subject_to", l_subject_to},
                                 {"compose", l_compose},     {"sequence", l_sequence},
-                                {"policy", l_policy},       {"converged", l_converged},
+                                {"policy", l_policy},       {"converged", l_converged}, {"sorted", l_sorted},
                                 {"gamma", l_gamma},         {"all", l_all},
                                 {"any", l_any},             {"negate", l_negate},
                                 {"not", l_negate},          {"held", l_held},

@@ -126,6 +126,7 @@ int l_bind(lua_State* L);
 
 // lua_control_predicates.cpp
 int l_converged(lua_State* L);
+int l_sorted(lua_State* L);
 int l_gamma(lua_State* L);
 int l_all(lua_State* L);
 int l_any(lua_State* L);

@@ -1,5 +1,5 @@
 // The predicates of the control API: roger.converged, roger.gamma, roger.all, roger.any,
-// roger.negate and roger.held.
+// roger.negate, roger.held and roger.sorted.
 #include <cmath>
 
 #include "script/lua_control_internal.h"
@@ -20,6 +20,15 @@ void push_new_predicate(lua_State* L, PredicatePtr p) {
 int l_converged(lua_State* L) {
   return lua_protect(L, [L]() {
     push_new_predicate(L, converged(lua_check_controller(L, 1, "roger.converged", "argument 1")));
+    return 1;
+  });
+}
+
+// roger.sorted(): the world's judgement of a sorting task
+int l_sorted(lua_State* L) {
+  return lua_protect(L, [L]() {
+    if (lua_gettop(L) != 0) raise(L, "roger.sorted: takes no arguments, got " + std::to_string(lua_gettop(L)));
+    push_new_predicate(L, sorted());
     return 1;
   });
 }

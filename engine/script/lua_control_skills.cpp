@@ -77,17 +77,20 @@ std::vector<ControllerPtr> controller_list(lua_State* L, int index, const std::s
 
 }  // namespace
 
-// roger.sequence(name, {step, step, ...})
+// roger.sequence(name, {step, step, ...} [, {fall_back = false}])
 int l_sequence(lua_State* L) {
   return lua_protect(L, [L]() {
     ControlBook& book = book_of(L);
     const std::string name = skill_name(L, "roger.sequence");
     const std::string context = "roger.sequence('" + name + "')";
-    if (lua_gettop(L) > 2)
-      raise(L, context + ": expects (name, {step, ...}), got " + std::to_string(lua_gettop(L)) + " arguments");
+    if (lua_gettop(L) > 3)
+      raise(L, context + ": expects (name, {step, ...} [, {fall_back = false}]), got " +
+                   std::to_string(lua_gettop(L)) + " arguments");
     auto steps = controller_list(L, 2, context, "the steps", "step");
+    bool fall_back = true;
+    if (lua_gettop(L) == 3 && !lua_isnil(L, 3)) fall_back = LuaFields(L, 3, context, {"fall_back"}).boolean("fall_back", true);
     count_object(L, book);
-    auto seq = made(book, std::make_shared<Sequence>(std::move(steps)));
+    auto seq = made(book, std::make_shared<Sequence>(std::move(steps), fall_back));
     register_name(L, book, context, name, seq);
     lua_push_controller(L, seq);
     return 1;
@@ -292,7 +295,8 @@ int l_policy(lua_State* L) {
     std::vector<int> table = policy_table(L, book, f, context, actions, states);
 
     int fallback = -1;
-    if (f.push("fallback") != LUA_TNIL) fallback = action_index(L, book, -1, actions, context + ": fallback");
+    if (f.push("fallback") == LUA_TSTRING && std::string(lua_tostring(L, -1)) == "rotate") fallback = Policy::kRotate;
+    else if (!lua_isnil(L, -1)) fallback = action_index(L, book, -1, actions, context + ": fallback (an action, or \"rotate\")");
     lua_pop(L, 1);
     ControllerPtr done = policy_done(L, book, f, context);
     count_object(L, book);

@@ -23,6 +23,7 @@
 #include "control/control.h"
 #include "script/lua_sandbox.h"
 #include "control/predicate.h"
+#include "learn/episode.h"
 
 namespace roger {
 
@@ -34,6 +35,14 @@ class SkillScript {
     ControllerPtr action;
     PredicatePtr goal;
     double time_limit = 0.0;    // simulated seconds
+    double time_per_object = 0.0;  // simulated seconds per object of the world, added to time_limit
+    // The options an episode of this policy runs with (its time limit).
+    EpisodeOptions episode_options() const {
+      EpisodeOptions o;
+      o.time_limit = time_limit;
+      o.time_per_object = time_per_object;
+      return o;
+    }
     std::string scenario;       // the scenario evaluations use by default ("unobstructed")
     std::string description;
   };

@@ -1,0 +1,70 @@
+-- lib/sorting.lua: what every sorting policy shares, hand-written or learned (curricula/sorting.lua,
+-- curricula/sort_by_hand.lua): the four types of scenarios/sorting.lua with their colours and
+-- regions, the sorting move (one transport skill bound to a type), and the hand-written chooser.
+--
+--   local sorting = require("lib.sorting")
+--   local moves = sorting.moves(Phi_T)          -- Phi_T bound to each type, in region order
+--   local sort = sorting.by_hand(moves)         -- the first type with something left to do
+--
+-- Nothing here counts objects: a move carries one object of its type, and run again carries the
+-- next; a move whose search has looked everywhere and seen none of its type left is NOREF
+-- (docs/control.md, search and Bindings). So one policy serves any number of objects.
+local sorting = {}
+
+-- The types in region order (scenarios/sorting.lua: region k - 1 belongs to TYPES[k]) and their
+-- colours; the order the scenario's "cycle" mix lays objects out in.
+sorting.TYPES = { "circle", "triangle", "pentagon", "spade" }
+sorting.COLOURS = { circle = "#dc1e1e", triangle = "#2850dc", pentagon = "#e6aa14", spade = "#9628aa" }
+sorting.CYCLE = { "circle", "spade", "pentagon", "triangle" }
+sorting.REGION = {}
+for k, t in ipairs(sorting.TYPES) do sorting.REGION[t] = k - 1 end
+
+-- How long (s) one move may run without delivering before it is given up and started over (a
+-- grasp lost on the way, a stimulus hidden from one eye by another object).
+sorting.PATIENCE = 30
+
+-- One sorting move for type `t`: let go of whatever the hands hold and back off, carry one object
+-- of that colour into that type's region with `transport` (which must converge only once the
+-- object is delivered, as a learned Phi_T does), then let go of it. Without falling back, a
+-- transport that finds nothing to carry ends the move NOREF instead of letting go for ever.
+-- `tag` keeps names unique.
+function sorting.move(transport, t, tag)
+  tag = tag or ""
+  local steps = roger.sequence("move " .. t .. tag,
+                               { roger.primitive("release"), transport, roger.primitive("release") },
+                               { fall_back = false })
+  return roger.bind("sort " .. t .. tag, steps,
+                    { stimulus = sorting.COLOURS[t], region = sorting.REGION[t], patience = sorting.PATIENCE })
+end
+
+-- The four moves, in region order.
+function sorting.moves(transport, tag)
+  local moves = {}
+  for k, t in ipairs(sorting.TYPES) do moves[k] = sorting.move(transport, t, tag) end
+  return moves
+end
+
+-- The hand-written chooser over `moves`: run the first move that is not NOREF (a move that
+-- delivered, CONV, runs again for the next object of its type; one not yet run is !CONV). When
+-- every move is NOREF (each found nothing from where it looked, or gave up) while the world is not
+-- sorted yet, run them again in turn, each until it ends ("rotate"): one of them, searching from
+-- where Roger now is, finds what is left.
+function sorting.by_hand(moves, name)
+  local n = #moves
+  local table_ = {}
+  for state = 0, 3 ^ n - 1 do
+    local key, chosen, rest = {}, nil, state
+    for i = n, 1, -1 do
+      local g = rest % 3
+      rest = rest // 3
+      key[i] = ({ "NOREF", "!CONV", "CONV" })[g + 1]
+    end
+    for i = 1, n do
+      if key[i] ~= "NOREF" then chosen = moves[i] break end
+    end
+    if chosen then table_[table.concat(key, " ")] = chosen end
+  end
+  return roger.policy(name or "sort by hand", { actions = moves, table = table_, fallback = "rotate" })
+end
+
+return sorting
