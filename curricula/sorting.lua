@@ -25,28 +25,9 @@ local SG, T, c = paper.stages{ primitives = { carry = { depth = 0.25, margin = 0
 local p, Phi6, Phi7, transport = c.p, c.Phi6, c.Phi7, c.transport
 local Phi_T = roger.learned("Phi_T")
 
--- The types in region order (scenarios/sorting.lua: region k - 1 belongs to TYPES[k]), their
--- colours, and the order the scenario's "cycle" mix lays objects out in.
-local TYPES = { "circle", "triangle", "pentagon", "spade" }
-local COLOURS = { circle = "#dc1e1e", triangle = "#2850dc", pentagon = "#e6aa14", spade = "#9628aa" }
-local CYCLE = { "circle", "spade", "pentagon", "triangle" }
-local REGION = {}
-for k, t in ipairs(TYPES) do REGION[t] = k - 1 end
-
--- How long (s) one move may run without delivering before it is given up and started over (a
--- stimulus hidden from one eye by another object, a grasp lost on the way).
-local PATIENCE = 20
-
--- One sorting move for a type: let go of whatever the hands hold and back off (a no-op but for the
--- backing at the start), carry one object of that colour into that type's region with the given
--- transport skill, then let go of it. The transport skill must converge only when the object is
--- delivered (a learned Phi_T does: its goal is the T stage's absorbing state). `tag` keeps names
--- unique.
-local function sort_move(transport_skill, t, tag)
-  local move = roger.sequence("move " .. t .. tag,
-                              { roger.primitive("release"), transport_skill, roger.primitive("release") })
-  return roger.bind("sort " .. t .. tag, move, { stimulus = COLOURS[t], region = REGION[t], patience = PATIENCE })
-end
+-- The types, their colours and regions, and the sorting move are lib/sorting.lua's, shared with
+-- the hand-written curricula/sort_by_hand.lua.
+local sorting = require("lib.sorting")
 
 -- The task's judge (Lua, at decision points): an object is sorted when its centre lies in the
 -- region named after its type ("circle 3" belongs in "circle") and Roger has let go of it.
@@ -75,38 +56,21 @@ local function sorting_reward(state, action, event, time, world)
   return 0
 end
 
--- The hand-written reference: sort the objects in the order the scenario's "cycle" mix lays them
--- out (circle, spade, pentagon, triangle, circle, ...), with the hand-written transport of
--- curricula/scripted.lua, converging (as a learned Phi_T does) only once the object is delivered:
--- the composite phi1 <| phi4 <| phi5 alone also counts as converged where phi5 keeps phi1 from
--- making progress, which would let go before the carrying began.
+-- The hand-written reference, as curricula/sort_by_hand.lua: the hand-written transport of
+-- curricula/scripted.lua, converging (as a learned Phi_T does) only once the object is delivered,
+-- bound to each type, the first type with something left to do run again and again. One policy
+-- for every number of objects.
 local scripted_SG = roger.sequence("scripted Phi_SG", { Phi6, Phi7, p.phi3 })
 local scripted_carry = roger.sequence("scripted carry", { scripted_SG, transport })
 local scripted_T = roger.policy("scripted Phi_T", {
   actions = { scripted_carry }, table = { ["*"] = scripted_carry }, done = skills.transported(transport),
 })
+local by_hand = sorting.by_hand(sorting.moves(scripted_T, " (by hand)"))
 
--- n moves, one per object of the cycle mix, in a policy that runs the first move not yet
--- converged; it converges with the last move, a change of state at which the stage's absorbing
--- function is asked whether all are sorted. A sequence would not do: a binding is NOREF until it is
--- first invoked, and a sequence falls back from a NOREF step to the one before, so it would never
--- start the second move.
-local function hand_written(n)
-  local moves, keys = {}, {}
-  for i = 1, n do
-    moves[i] = sort_move(scripted_T, CYCLE[(i - 1) % #CYCLE + 1], " " .. i .. "/" .. n)
-    local key = {}
-    for j = 1, n do key[j] = j < i and "CONV" or "*" end
-    keys[table.concat(key, " ")] = moves[i]
-  end
-  return roger.policy("sort " .. n .. " by hand", { actions = moves, table = keys, done = moves[n] })
-end
-
--- The learned sorting stage for n objects: Psi is Phi_T bound to each type (then let go); the
--- state is which bindings ended their last move delivered (CONV), are running (!CONV), or were never
--- tried or gave up (NOREF).
-local learned_moves = {}
-for k, t in ipairs(TYPES) do learned_moves[k] = sort_move(Phi_T, t, "") end
+-- The learned sorting stage: Psi is Phi_T bound to each of the four types; the state is which
+-- bindings delivered on their last run (CONV), are running or not yet run (!CONV), or found none
+-- of their type left or gave up (NOREF): 81 states whatever the number of objects.
+local learned_moves = sorting.moves(Phi_T)
 
 local function sorting_stage(name, n, contexts, budget)
   return roger.stage{
@@ -130,7 +94,7 @@ local stages = { SG, T }
 local BUDGET = { [2] = 300, [4] = 500, [8] = 800 }
 for _, n in ipairs({ 2, 4, 8 }) do
   stages[#stages + 1] = sorting_stage("Sort" .. n, n, { { name = "Learned", actions = learned_moves } }, BUDGET[n])
-  stages[#stages + 1] = sorting_stage("Hand" .. n, n, { { name = "Scripted", actions = { hand_written(n) } } }, 1)
+  stages[#stages + 1] = sorting_stage("Hand" .. n, n, { { name = "Scripted", actions = { by_hand } } }, 1)
 end
 
 return {

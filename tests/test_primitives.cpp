@@ -614,3 +614,91 @@ TEST_CASE("every primitive and composite commands the same when the heading and 
     CHECK(worst <= 1e-12);
   }
 }
+
+namespace {
+
+// Approaches the red ball at (1.2, 0) from (-1.5, 0) with phi1, a blue disk standing off the line
+// of sight but in the base's way; returns whether phi1 arrived, and how far the blue disk moved and
+// how near the base centre came to it.
+struct PassBy {
+  bool arrived = false;
+  double moved = 0.0, nearest = 1e9;
+};
+PassBy approach_past_another_object(double objects) {
+  WorldSpec spec = open_world(true, Vec2(1.2, 0.0));
+  ObjectSpec other;
+  other.name = "blue";
+  other.shape = ball_shape(0.15);
+  other.colour = Colour{40, 80, 220};
+  other.pose = {-0.2, 0.3, 0.0};
+  spec.objects.push_back(other);
+  spec.robot.pose = {-1.5, 0.0, 0.0};
+  auto phi1 = make_primitive("phi1");
+  phi1->set_number("objects", objects);
+  Agent agent;
+  agent.reset(spec);
+  phi1->reset(1);
+  PassBy r;
+  for (int t = 0; t < 400 && !r.arrived; ++t) {
+    agent.step(*phi1);
+    const Pose b = agent.world().base_pose(), o = agent.world().object_pose(1);
+    r.nearest = std::min(r.nearest, std::hypot(b.x - o.x, b.y - o.y));
+    r.moved = std::hypot(o.x - other.pose.x, o.y - other.pose.y);
+    r.arrived = phi1->evaluate(agent.input()).gamma == Gamma::kConv;
+  }
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("phi1 routes around another object, not around the one it approaches", "[primitives][planner]") {
+  // Objects as obstacles (the default): the base keeps its footprint and hands off the blue disk,
+  // which stays where it was, and still reaches the approach ring of the red ball.
+  const PassBy around = approach_past_another_object(0.3);
+  INFO("nearest " << around.nearest << " m, moved " << around.moved << " m");
+  CHECK(around.arrived);
+  CHECK(around.nearest > 0.15 + 0.16 + 0.2);
+  CHECK(around.moved < 0.01);
+  // Without them (objects = 0), the straight way runs the hands into it and pushes it aside.
+  const PassBy through = approach_past_another_object(0.0);
+  INFO("objects = 0: nearest " << through.nearest << " m, moved " << through.moved << " m");
+  CHECK(through.moved > 0.05);
+}
+
+TEST_CASE("a search with no stimulus left ends NOREF within one scan, and finds one that comes into view",
+          "[primitives]") {
+  for (uint64_t seed = 0; seed < 10; ++seed) {
+    INFO("seed " << seed);
+    WorldSpec spec = open_world(true, Vec2(1.0, 0.8));
+    spec.objects[0].colour = Colour{40, 80, 220};  // only a blue object: nothing red to find
+    spec.robot.pose.theta = -M_PI + 0.6 * double(seed);
+    auto search = make_primitive("search");
+    Agent agent;
+    agent.reset(spec);
+    search->reset(seed);
+    double noref_at = -1.0;
+    for (int t = 0; t < 250 && noref_at < 0.0; ++t) {
+      agent.step(*search);
+      if (search->evaluate(agent.input()).gamma == Gamma::kNoRef) noref_at = agent.world().time();
+    }
+    // One scan: the eyes' two fields of view swept round, under a turn of the base.
+    CHECK(noref_at > 0.5);
+    CHECK(noref_at < 3.0);
+    // It stays NOREF while nothing is to be seen, and turns on.
+    for (int t = 0; t < 50; ++t) agent.step(*search);
+    CHECK(search->evaluate(agent.input()).gamma == Gamma::kNoRef);
+  }
+  // A red ball in the room: found (CONV), never NOREF on the way.
+  WorldSpec spec = open_world(true, Vec2(-1.0, 0.8));
+  Agent agent;
+  agent.reset(spec);
+  auto search = make_primitive("search");
+  search->reset(3);
+  bool noref = false;
+  const double found = run_until(agent, *search, [&] {
+    noref |= search->evaluate(agent.input()).gamma == Gamma::kNoRef;
+    return search->evaluate(agent.input()).gamma == Gamma::kConv;
+  }, 4.0);
+  CHECK(found >= 0.0);
+  CHECK_FALSE(noref);
+}

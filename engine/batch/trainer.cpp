@@ -410,6 +410,7 @@ nlohmann::json train_summary_json(const TrainResult& r) {
       {"reward_std", r.final_eval.reward_std},
       {"final_episodes", r.final_eval.episodes},
       {"final_first_seed", r.final_eval.first_seed},
+      {"final_time_mean", r.final_eval.time_mean},
       {"usage", usage},
   };
   for (const auto& s : r.skills) {

@@ -52,13 +52,22 @@ void HarmonicPlanner::set_grid(const OccupancyGrid& grid) {
   if (has_grid_ && grid.nx == grid_.nx && grid.ny == grid_.ny && grid.x0 == grid_.x0 &&
       grid.y0 == grid_.y0 && grid.cell == grid_.cell && grid.occupied == grid_.occupied)
     return;
+  // The same arena with some cells changed (an object moved, in or out of the grid): the last
+  // solution, on the cells free in both, is a closer start than zeros for the next solve.
+  const bool keep = params_.warm_start && have_values_ && has_grid_ && grid.nx == grid_.nx &&
+                    grid.ny == grid_.ny && grid.x0 == grid_.x0 && grid.y0 == grid_.y0 && grid.cell == grid_.cell;
+  if (keep) kept_.swap(q_);
   grid_ = grid;
   has_grid_ = true;
-  // The arrays are rebuilt below: no reachability, no solution, nothing to warm-start from.
+  // The arrays are rebuilt below: no reachability, no solution.
   flooded_ = solved_ = have_values_ = cold_.valid = false;
   backoffs_ = 0;
   rebuild_structure();
   find_goal_cells(pending_goal_);
+  if (keep) {
+    for (size_t k = 0; k < q_.size(); ++k) q_[k] = free_[k] ? kept_[k] : 0.0;
+    have_values_ = true;
+  }
 }
 
 void HarmonicPlanner::forget_solution() {

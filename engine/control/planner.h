@@ -47,7 +47,9 @@ class HarmonicPlanner {
   // The planner answers "unreachable" everywhere until set_grid, set_goal and update.
   explicit HarmonicPlanner(const PlannerParams& params = {});
 
-  // Sets the obstacles; an identical grid changes nothing, any other discards the solution.
+  // Sets the obstacles; an identical grid changes nothing. Another grid of the same arena (objects
+  // moved) keeps the solution on the cells free in both as the next solve's warm start; any other
+  // discards it.
   void set_grid(const OccupancyGrid& grid);
   // Forgets the solution and what stalled solves taught about omega, keeping the grid's structure:
   // the next update() solves from scratch, exactly as a new planner on this grid would. For a new
@@ -132,6 +134,7 @@ class HarmonicPlanner {
   // Padded (nx + 2) x (ny + 2) arrays: a ring of occupied cells spares the sweep any bounds checks.
   int stride_ = 0;
   std::vector<double> q_;        // the complement potential, 1 - u
+  std::vector<double> kept_;     // scratch: the solution across a change of grid
   std::vector<uint8_t> free_;    // 1 on free cells of the grid
   std::vector<int> dist_;        // steps to the goal through free cells; < 0 when not joined
   std::vector<int> unreached_;   // dist_ before a flood: -1 on free cells, -2 on the others

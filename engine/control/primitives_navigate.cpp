@@ -55,6 +55,7 @@ class Navigate final : public Primitive {
     grid_ = nullptr;
     planned_ = false;
     stamps_.clear();
+    left_out_ = -1;
     // The grid often outlives the episode (the same arena), and with it the last solution, which
     // the next solve would start from: an episode would then depend on the one before it.
     planner_.forget_solution();
@@ -171,23 +172,41 @@ class Navigate final : public Primitive {
   // ---- The map: the static grid and the other objects ----
 
   // Which objects are obstacles this tick: every object but the one approached (the nearest to
-  // `target`, the perceived object) or carried (the one Roger touches). With neither to go by (a
-  // region's navigator asked for its state before anything is held; a target no object is near),
-  // every object of the stimulus colour not yet put away is left out: those are what Roger is
-  // after. An object stays an obstacle wherever it lies, in a goal region too.
-  void choose_obstacles(const ControlInput& in, const Vec2* target, std::vector<uint8_t>& on) const {
+  // `target`, the perceived object) or carried (the one Roger touches, or else the one at the
+  // control point: a contact that lapses for a tick must not turn the carried object into an
+  // obstacle and back). With neither to go by (a region's navigator asked for its state before
+  // anything is held; a target no object is near), every object of the stimulus colour not yet put
+  // away is left out: those are what Roger is after. An object stays an obstacle wherever it lies,
+  // in a goal region too.
+  // The object the one left out stays, while the perception still lies near it: two objects of the
+  // stimulus colour side by side (stereo may pair one eye's view of one with the other eye's view
+  // of the other) must not swap in and out of the grid every tick, each swap a solve.
+  void choose_obstacles(const ControlInput& in, const Vec2* target, std::vector<uint8_t>& on) {
     const std::vector<MapObject>& objects = *in.objects;
     on.assign(objects.size(), 1);
+    if (left_out_ >= int(objects.size())) left_out_ = -1;
+    auto near = [&](int i, const Vec2& p, double slack) {
+      return (objects[size_t(i)].center - p).norm() <= objects[size_t(i)].radius + slack;
+    };
+    auto nearest_to = [&](const Vec2& p) {
+      if (left_out_ >= 0 && near(left_out_, p, 2.0 * kTargetSlack)) return left_out_;
+      double best = 1e300;
+      int found = -1;
+      for (size_t i = 0; i < objects.size(); ++i) {
+        const double d = (objects[i].center - p).norm();
+        if (near(int(i), p, kTargetSlack) && d < best) best = d, found = int(i);
+      }
+      return found;
+    };
     int chosen = -1;
     if (target) {
-      double best = 1e300;
-      for (size_t i = 0; i < objects.size(); ++i) {
-        const double d = (objects[i].center - *target).norm();
-        if (d <= objects[i].radius + kTargetSlack && d < best) best = d, chosen = int(i);
-      }
+      chosen = nearest_to(*target);
     } else if (in.percepts->touched_object >= 0 && size_t(in.percepts->touched_object) < objects.size()) {
       chosen = in.percepts->touched_object;
+    } else if (value(p_.carry) > 0.05) {
+      chosen = nearest_to(control_point(in));
     }
+    left_out_ = chosen;
     if (chosen >= 0) {
       on[size_t(chosen)] = 0;
       return;
@@ -201,9 +220,9 @@ class Navigate final : public Primitive {
   }
 
   // Brings the planner's grid up to date with the objects: the static grid plus a disk for each
-  // obstacle object, re-stamped only when one is added, dropped or has moved half a cell, so a
-  // still scene costs one comparison per object and tick, and never a solve. Returns whether the
-  // grid changed.
+  // obstacle object, re-stamped only when one is added, dropped or has moved a cell (the growth
+  // leaves room for that), so a still scene costs one comparison per object and tick, and never a
+  // solve. Returns whether the grid changed.
   bool update_map(const ControlInput& in, const Vec2* target) {
     const bool new_grid = grid_ != in.grid;
     if (new_grid) {
@@ -222,7 +241,7 @@ class Navigate final : public Primitive {
     for (size_t i = 0; i < objects.size(); ++i) {
       Stamp& st = stamps_[i];
       const bool on = wanted_[i] != 0;
-      if (st.on == on && (!on || (st.center - objects[i].center).norm() <= 0.5 * in.grid->cell)) continue;
+      if (st.on == on && (!on || (st.center - objects[i].center).norm() <= in.grid->cell)) continue;
       st.on = on;
       st.center = objects[i].center;
       st.radius = objects[i].radius + grow;
@@ -332,6 +351,7 @@ class Navigate final : public Primitive {
   OccupancyGrid map_;                    // the static grid and the obstacle objects
   std::vector<Stamp> stamps_;            // per object, what map_ holds of it
   std::vector<uint8_t> wanted_;          // scratch: which objects are obstacles this tick
+  int left_out_ = -1;                    // the object approached or carried, last tick
   int map_changes_ = 0;
   bool planned_ = false;
   size_t planned_region_ = 0;  // the goal region planned for (goal='region')

@@ -42,8 +42,11 @@ json batch_config_json(const BatchScript& b) {
   for (const auto& t : b.tables) {
     json usage = json::array();
     for (const auto& u : t.usage) usage.push_back({{"context", u.context}, {"skill", u.skill}, {"subsumes", u.subsumes}});
-    tables.push_back({{"title", t.title}, {"run", t.run}, {"baseline", t.baseline}, {"evaluation", t.evaluation},
-                      {"usage", usage}});
+    json table = {{"title", t.title}, {"run", t.run}, {"baseline", t.baseline}, {"evaluation", t.evaluation},
+                  {"usage", usage}};
+    for (const auto& r : t.sorting)
+      table["sorting"].push_back({{"objects", r.objects}, {"learned", r.learned}, {"hand", r.hand}});
+    tables.push_back(std::move(table));
   }
   for (const auto& f : b.figures)
     figures.push_back({{"file", f.file}, {"title", f.title}, {"kind", f.kind}, {"run", f.run}, {"log_x", f.log_x}});
@@ -81,10 +84,15 @@ void check_config_references(const BatchScript& b) {
       if (!b.run(s.run)) fail("run '" + r.name + "' takes a skill from run '" + s.run + "', which it lacks");
   for (const auto& e : b.evaluations)
     if (!b.run(e.run)) fail("evaluation '" + e.name + "' names run '" + e.run + "', which it lacks");
-  for (const auto& t : b.tables)
+  for (const auto& t : b.tables) {
+    for (const auto& r : t.sorting)
+      for (const std::string* name : {&r.learned, &r.hand})
+        if (!name->empty() && !b.run(*name)) fail("table '" + t.title + "' names run '" + *name + "', which it lacks");
+    if (!t.sorting.empty()) continue;
     if (t.run.empty() ? !evaluation(t.evaluation) : !b.run(t.run))
       fail("table '" + t.title + "' names " + (t.run.empty() ? "evaluation '" + t.evaluation : "run '" + t.run) +
            "', which it lacks");
+  }
   for (const auto& f : b.figures) {
     if (!b.run(f.run)) fail("figure '" + f.file + "' names run '" + f.run + "', which it lacks");
     if (f.kind != "curves" && f.kind != "cumulative")
@@ -135,6 +143,8 @@ BatchScript batch_config_from_json(const json& j) {
       t.evaluation = tj.at("evaluation");
       for (const auto& u : tj.at("usage"))
         t.usage.push_back({u.at("context"), u.at("skill"), u.at("subsumes").get<std::vector<std::string>>()});
+      for (const auto& r : tj.value("sorting", json::array()))
+        t.sorting.push_back({int(config_integer(r, "objects", 1, 1000)), r.at("learned"), r.at("hand")});
       b.tables.push_back(std::move(t));
     }
     for (const auto& fj : j.at("figures")) {

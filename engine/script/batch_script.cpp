@@ -303,6 +303,28 @@ void read_usage(const json& tj, const Reader& rd, const std::string& what, int u
   }
 }
 
+// Reads a sorting table's rows: {objects = n, learned = run, hand = run}, each run one of the script's.
+void read_sorting_rows(const json& rows, const Reader& rd, const std::string& what, int l, const BatchScript& b,
+                       BatchTable& t) {
+  if (!rows.is_array() || rows.empty())
+    rd.fail(l, what + ": 'sorting' must be a list of {objects = n, learned = run, hand = run}");
+  for (const json& rj : rows) {
+    rd.check_object(rj, what + ", a sorting row", {"objects", "learned", "hand"}, l);
+    BatchSortingRow row;
+    if (!rj.contains("objects") || !rj["objects"].is_number_integer() || rj["objects"].get<int64_t>() < 1 ||
+        rj["objects"].get<int64_t>() > 1000)
+      rd.fail(l, what + ": a sorting row's 'objects' must be a whole number of objects, 1 to 1000");
+    row.objects = int(rj["objects"].get<int64_t>());
+    row.learned = rd.str(rj, "learned", what, l, "");
+    row.hand = rd.str(rj, "hand", what, l, "");
+    if (row.learned.empty() && row.hand.empty()) rd.fail(l, what + ": a sorting row needs 'learned', 'hand' or both");
+    for (const std::string* name : {&row.learned, &row.hand})
+      if (!name->empty() && !b.run(*name))
+        rd.fail(l, what + ": no run '" + *name + "'; the runs are " + quoted_list(run_names(b)));
+    t.sorting.push_back(std::move(row));
+  }
+}
+
 // Reads one table of 'tables'; `at` is the line to search from, moved past this table.
 BatchTable read_table(const json& tj, const Reader& rd, int& at, const Curriculum& cur, const BatchScript& b) {
   BatchTable t;
@@ -310,11 +332,17 @@ BatchTable read_table(const json& tj, const Reader& rd, int& at, const Curriculu
   const int l = title.empty() ? at : std::max(at, rd.line_of_key("title", at));
   at = l + 1;
   const std::string what = title.empty() ? "a table" : "table '" + title + "'";
-  rd.check_object(tj, what, {"title", "run", "baseline", "evaluation", "usage"}, l);
+  rd.check_object(tj, what, {"title", "run", "baseline", "evaluation", "usage", "sorting"}, l);
   t.title = title;
+  if (tj.contains("sorting")) {
+    if (tj.contains("run") || tj.contains("evaluation") || tj.contains("baseline") || tj.contains("usage"))
+      rd.fail(l, what + ": a sorting table has rows of its own: no 'run', 'evaluation', 'baseline' or 'usage'");
+    read_sorting_rows(tj["sorting"], rd, what, rd.line_of_key("sorting", l), b, t);
+    return t;
+  }
   t.run = rd.str(tj, "run", what, l, "");
   t.evaluation = rd.str(tj, "evaluation", what, l, "");
-  if (t.run.empty() == t.evaluation.empty()) rd.fail(l, what + ": give either 'run' or 'evaluation'");
+  if (t.run.empty() == t.evaluation.empty()) rd.fail(l, what + ": give 'run', 'evaluation' or 'sorting'");
   if (!t.evaluation.empty()) {
     if (std::none_of(b.evaluations.begin(), b.evaluations.end(), [&](const auto& e) { return e.name == t.evaluation; })) {
       std::vector<std::string> names;

@@ -70,12 +70,21 @@ struct BatchUsage {
   std::vector<std::string> subsumes;
 };
 
-// One table of the report: a run against its baseline context, or an evaluation.
+// One row of a sorting table: a number of objects, and the runs (their first context) of the
+// learned and the hand-written sorting stage for it (either may be empty).
+struct BatchSortingRow {
+  int objects = 0;
+  std::string learned, hand;
+};
+
+// One table of the report: a run against its baseline context, an evaluation, or a sorting table
+// (one row per number of objects).
 struct BatchTable {
   std::string title;
   std::string run, baseline;  // a run's table (baseline: one of its contexts)
   std::string evaluation;     // or an evaluation's table
   std::vector<BatchUsage> usage;
+  std::vector<BatchSortingRow> sorting;  // or a sorting table
 };
 
 // One figure of the report (written as <file>.png and <file>.svg).

@@ -207,9 +207,10 @@ void paint_eye(const Vec2& eye, double eye_heading, const std::vector<SeenSurfac
   }
 }
 
-Sighting detect_stimulus(const EyeImage& image) {
+Sighting detect_stimulus(const EyeImage& image, int prefer_index) {
   Sighting best;
   double best_mass = 0.0;
+  bool best_preferred = false;
   // Outside [stimulus_first, stimulus_last] no pixel has coverage: no run starts or ends there.
   int i = std::max(0, int(image.stimulus_first));
   const int end_scan = std::min(kPixels, int(image.stimulus_last) + 1);
@@ -228,8 +229,14 @@ Sighting detect_stimulus(const EyeImage& image) {
     double mass = 0.0;
     while (i < kPixels && image.stimulus[i] > 0.0f) mass += image.stimulus[i++];
     const int end = i - 1;
-    if (mass <= best_mass) continue;
+    // With several objects of the stimulus colour in view, stereo must pair the same one in both
+    // eyes: a run of the preferred surface beats any other, whatever their sizes.
+    const bool preferred = prefer_index >= 0 && image.index[size_t((start + end) / 2)] == prefer_index;
+    if (best_preferred && !preferred) continue;
+    if (mass <= best_mass && preferred == best_preferred) continue;
     best_mass = mass;
+    best_preferred = preferred;
+    best.index = image.index[size_t((start + end) / 2)];
     // The edge pixels' coverage locates the edges inside them, as area-sampling cameras allow.
     double lo, hi;
     if (start == end) {

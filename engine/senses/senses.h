@@ -39,6 +39,7 @@ struct Sighting {
   double bearing = 0.0;          // angle of the centre in the eye frame (rad)
   double half_width = 0.0;       // half the angle from u_lo to u_hi (rad)
   bool clipped = false;          // the extent runs off the image: its centre is not the stimulus's
+  int index = -1;                // the surface it is of (its middle pixel's index), for stereo pairing
 };
 
 // One tactile sensor, averaged over the physics steps of the last control tick.
@@ -91,7 +92,7 @@ void paint_eye(const Vec2& eye, double eye_heading, const std::vector<SeenSurfac
                const Colour& wall_colour, const Colour& stimulus_colour, EyeImage& image);
 
 // Finds the largest run of stimulus pixels and its sub-pixel centre.
-Sighting detect_stimulus(const EyeImage& image);
+Sighting detect_stimulus(const EyeImage& image, int prefer_index = -1);
 
 // Intersects the two eyes' rays to the stimulus. Returns false when they do not meet in front.
 bool triangulate(const Vec2& left_eye, double left_angle, const Vec2& right_eye, double right_angle,

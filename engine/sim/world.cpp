@@ -238,9 +238,10 @@ void World::sense() {
     eye_heading[e] = s.base.theta + m.eye[e];
     paint_eye(eye_pos[e], eye_heading[e], m.surfaces, spec_.arena.wall_colour,
               attention_.colour, s.image[e]);
-    s.stimulus[e] = detect_stimulus(s.image[e]);
+    s.stimulus[e] = detect_stimulus(s.image[e], e == kRight ? s.stimulus[kLeft].index : -1);
   }
-  s.stereo_valid = s.stimulus[0].seen && s.stimulus[1].seen &&
+  // Stereo pairs the same object in both eyes (the right eye looks first for the left eye's).
+  s.stereo_valid = s.stimulus[0].seen && s.stimulus[1].seen && s.stimulus[0].index == s.stimulus[1].index &&
                    triangulate(eye_pos[0], eye_heading[0] + s.stimulus[0].bearing, eye_pos[1],
                                eye_heading[1] + s.stimulus[1].bearing, s.stimulus_world);
   if (s.stereo_valid) s.stimulus_base = to_local(s.base, s.stimulus_world);
