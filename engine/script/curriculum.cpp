@@ -239,6 +239,17 @@ void check_learned_order(const std::vector<CurriculumStage>& stages) {
 
 }  // namespace
 
+void install_curriculum_api(LuaSandbox& sandbox) {
+  install_control_api(sandbox);
+  lua_State* L = sandbox.state();
+  lua_getglobal(L, "roger");
+  lua_pushcfunction(L, l_stage);
+  lua_setfield(L, -2, "stage");
+  lua_pushcfunction(L, l_learned);
+  lua_setfield(L, -2, "learned");
+  lua_pop(L, 1);
+}
+
 Curriculum Curriculum::load(const std::string& path_in, const SandboxLimits& limits) {
   const std::string path = resolve_curriculum_path(path_in);
   Curriculum cur;
@@ -248,16 +259,10 @@ Curriculum Curriculum::load(const std::string& path_in, const SandboxLimits& lim
   LuaSandbox& sandbox = *impl.sandbox;
   impl.file = path;
   impl.path = sandbox.display_name(path);
-  install_control_api(sandbox);
+  install_curriculum_api(sandbox);
   lua_State* L = sandbox.state();
   lua_pushlightuserdata(L, &impl.book);
   lua_rawsetp(L, LUA_REGISTRYINDEX, &book_key);
-  lua_getglobal(L, "roger");
-  lua_pushcfunction(L, l_stage);
-  lua_setfield(L, -2, "stage");
-  lua_pushcfunction(L, l_learned);
-  lua_setfield(L, -2, "learned");
-  lua_pop(L, 1);
   sandbox.set_main_script(path);
   sandbox.run_file(path, 1);
   finish_control_definitions(sandbox);

@@ -134,6 +134,11 @@ class Curriculum {
   std::unique_ptr<Impl> impl_;
 };
 
+// Installs what a curriculum reaches (the control API of lua_control.h, roger.stage and
+// roger.learned) into a fresh sandbox, as Curriculum::load does. Throws ScriptError if the state
+// is out of memory.
+void install_curriculum_api(LuaSandbox& sandbox);
+
 // The file a curriculum argument names: the path itself if it is a file, else
 // <project>/curricula/<name>.lua. Throws roger::Error when neither exists.
 std::string resolve_curriculum_path(const std::string& name_or_path);

@@ -80,6 +80,11 @@ void Scenario::Impl::read_table(lua_State* L) {
   generate_ref = luaL_ref(L, LUA_REGISTRYINDEX);
 }
 
+void install_scenario_api(LuaSandbox& sandbox) {
+  lua_pushcfunction(sandbox.state(), install_api);
+  sandbox.call(0, 0);
+}
+
 Scenario::Scenario() = default;
 Scenario::Scenario(Scenario&&) noexcept = default;
 Scenario& Scenario::operator=(Scenario&&) noexcept = default;
@@ -90,10 +95,8 @@ Scenario Scenario::load(const std::string& path_in, const SandboxLimits& limits)
   Scenario s;
   s.impl_ = std::make_unique<Impl>(limits);
   Impl& impl = *s.impl_;
-  lua_State* L = impl.sandbox.state();
   impl.path = impl.sandbox.display_name(path);
-  lua_pushcfunction(L, install_api);
-  impl.sandbox.call(0, 0);
+  install_scenario_api(impl.sandbox);
   impl.sandbox.set_main_script(path);
   impl.sandbox.run_file(path, 1);
   impl.protect([&](lua_State* L) { impl.read_table(L); }, 1);

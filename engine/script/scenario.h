@@ -76,6 +76,11 @@ class Scenario {
   std::unique_ptr<Impl> impl_;
 };
 
+// Installs what a scenario script reaches (roger.shape, roger.robot, roger.version and the world,
+// rng and shape objects) into a fresh sandbox, as Scenario::load does. Throws ScriptError if the
+// state is out of memory.
+void install_scenario_api(LuaSandbox& sandbox);
+
 // The file a scenario argument names: the path itself if it is a file, else
 // <project>/scenarios/<name>.lua for a bare name. Throws roger::Error listing the shipped
 // scenarios when neither exists.

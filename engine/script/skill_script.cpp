@@ -17,6 +17,7 @@
 #include "core/error.h"
 #include "core/fileio.h"
 #include "script/lua_control.h"
+#include "script/lua_tokens.h"
 #include "script/scenario.h"
 
 namespace roger {
@@ -31,137 +32,53 @@ namespace {
 // scanned for the table constructors instead (tokens, with strings, comments and blocks handled),
 // and each key remembers its line.
 
-struct Token {
-  enum Type { kName, kString, kNumber, kOp, kEnd } type;
-  std::string text;  // names and operators as written; strings without their quotes
-  int line;
-};
-
-// The length of a long bracket "[==[" at s[i] (its level + 2), or 0 when there is none.
-size_t long_bracket(const std::string& s, size_t i) {
-  if (i >= s.size() || s[i] != '[') return 0;
-  size_t j = i + 1;
-  while (j < s.size() && s[j] == '=') ++j;
-  return j < s.size() && s[j] == '[' ? j - i + 1 : 0;
-}
-
-// Splits Lua source into tokens with their lines. Never fails: the compiler has already accepted
-// the text, and anything odd simply yields fewer keys.
-std::vector<Token> tokenize(const std::string& s) {
-  std::vector<Token> out;
-  int line = 1;
-  size_t i = 0;
-  // Skips a long bracket body whose opening bracket (of `open` characters) starts at i.
-  auto skip_long = [&](size_t open, std::string* text) {
-    const std::string close = "]" + std::string(open - 2, '=') + "]";
-    const size_t start = i + open;
-    const size_t end = s.find(close, start);
-    const size_t stop = end == std::string::npos ? s.size() : end;
-    for (size_t k = i; k < stop; ++k) line += s[k] == '\n';
-    if (text) *text = s.substr(start, stop - start);
-    i = end == std::string::npos ? s.size() : end + close.size();
-  };
-  if (s.rfind("#", 0) == 0) i = s.find('\n') == std::string::npos ? s.size() : s.find('\n');
-  while (i < s.size()) {
-    const char c = s[i];
-    if (c == '\n') {
-      ++line, ++i;
-    } else if (std::isspace(static_cast<unsigned char>(c))) {
-      ++i;
-    } else if (s.compare(i, 2, "--") == 0) {
-      i += 2;
-      if (const size_t open = long_bracket(s, i)) {
-        skip_long(open, nullptr);
-      } else {
-        while (i < s.size() && s[i] != '\n') ++i;
-      }
-    } else if (c == '"' || c == '\'') {
-      const int at = line;
-      std::string text;
-      for (++i; i < s.size() && s[i] != c; ++i) {
-        if (s[i] == '\\' && i + 1 < s.size()) text += s[i++];
-        line += s[i] == '\n';
-        text += s[i];
-      }
-      ++i;
-      out.push_back({Token::kString, text, at});
-    } else if (const size_t open = long_bracket(s, i)) {
-      const int at = line;
-      std::string text;
-      skip_long(open, &text);
-      out.push_back({Token::kString, text, at});
-    } else if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
-      const size_t start = i;
-      while (i < s.size() && (std::isalnum(static_cast<unsigned char>(s[i])) || s[i] == '_')) ++i;
-      out.push_back({Token::kName, s.substr(start, i - start), line});
-    } else if (std::isdigit(static_cast<unsigned char>(c)) ||
-               (c == '.' && i + 1 < s.size() && std::isdigit(static_cast<unsigned char>(s[i + 1])))) {
-      const size_t start = i;
-      while (i < s.size() && (std::isalnum(static_cast<unsigned char>(s[i])) || s[i] == '.' ||
-                              ((s[i] == '+' || s[i] == '-') && std::strchr("eEpP", s[i - 1]))))
-        ++i;
-      out.push_back({Token::kNumber, s.substr(start, i - start), line});
-    } else {
-      size_t len = 1;
-      if (s.compare(i, 3, "...") == 0) len = 3;
-      else
-        for (const char* op : {"==", "~=", "<=", ">=", "..", "::", "//", "<<", ">>"})
-          if (s.compare(i, 2, op) == 0) len = 2;
-      out.push_back({Token::kOp, s.substr(i, len), line});
-      i += len;
-    }
-  }
-  out.push_back({Token::kEnd, "", line});
-  return out;
-}
-
 // The keys of the table constructors in a source text, and which constructor is returned.
 class SourceMap {
  public:
   explicit SourceMap(const std::string& text) {
-    const std::vector<Token> t = tokenize(text);
+    const std::vector<LuaToken> t = lua_tokenize(text);
     enum Frame { kBrace, kParen, kBracket, kBlock };
     std::vector<std::pair<Frame, int>> stack;  // frame and, for braces, its node
     int link_entry_node = -1, link_entry = -1;  // an entry whose value is the next token
     for (size_t i = 0; i + 1 < t.size(); ++i) {
-      const Token& tok = t[i];
+      const LuaToken& tok = t[i];
       const bool in_brace = !stack.empty() && stack.back().first == kBrace;
       const int here = in_brace ? stack.back().second : -1;
-      const bool value_follows = link_entry >= 0 && i > 0 && t[i - 1].text == "=" && t[i - 1].type == Token::kOp;
+      const bool value_follows = link_entry >= 0 && i > 0 && t[i - 1].text == "=" && t[i - 1].type == LuaToken::kOp;
       if (!value_follows) link_entry_node = link_entry = -1;
       // key = value, or ["key"] = value, directly inside a constructor.
-      if (in_brace && tok.type == Token::kName && !keyword(tok.text) && t[i + 1].type == Token::kOp &&
+      if (in_brace && tok.type == LuaToken::kName && !keyword(tok.text) && t[i + 1].type == LuaToken::kOp &&
           t[i + 1].text == "=") {
         add_entry(here, tok.text, tok.line, t, i + 2, link_entry_node, link_entry);
         ++i;
         continue;
       }
-      if (in_brace && tok.type == Token::kOp && tok.text == "[" && i + 3 < t.size() &&
-          t[i + 1].type == Token::kString && t[i + 2].text == "]" && t[i + 3].text == "=") {
+      if (in_brace && tok.type == LuaToken::kOp && tok.text == "[" && i + 3 < t.size() &&
+          t[i + 1].type == LuaToken::kString && t[i + 2].text == "]" && t[i + 3].text == "=") {
         add_entry(here, t[i + 1].text, tok.line, t, i + 4, link_entry_node, link_entry);
         i += 3;
         continue;
       }
-      if (tok.type == Token::kOp && tok.text == "{") {
+      if (tok.type == LuaToken::kOp && tok.text == "{") {
         const int node = int(nodes_.size());
         nodes_.push_back(Node{tok.line, {}});
         if (link_entry >= 0 && t[i - 1].text == "=") {
           nodes_[size_t(link_entry_node)].entries[size_t(link_entry)].child = node;
-        } else if (i >= 2 && t[i - 1].text == "=" && t[i - 2].type == Token::kName && !in_brace) {
+        } else if (i >= 2 && t[i - 1].text == "=" && t[i - 2].type == LuaToken::kName && !in_brace) {
           variables_.emplace(t[i - 2].text, node);  // local X = { ... } (the first one counts)
         }
-        if (i >= 1 && t[i - 1].type == Token::kName && t[i - 1].text == "return" && stack.empty())
+        if (i >= 1 && t[i - 1].type == LuaToken::kName && t[i - 1].text == "return" && stack.empty())
           returned_ = node;
         stack.push_back({kBrace, node});
         link_entry_node = link_entry = -1;
         continue;
       }
-      if (tok.type == Token::kName && tok.text == "return" && stack.empty()) return_line_ = tok.line;
-      if (tok.type == Token::kOp) {
+      if (tok.type == LuaToken::kName && tok.text == "return" && stack.empty()) return_line_ = tok.line;
+      if (tok.type == LuaToken::kOp) {
         if (tok.text == "(") stack.push_back({kParen, -1});
         if (tok.text == "[") stack.push_back({kBracket, -1});
         if ((tok.text == "}" || tok.text == ")" || tok.text == "]") && !stack.empty()) stack.pop_back();
-      } else if (tok.type == Token::kName) {
+      } else if (tok.type == LuaToken::kName) {
         if (tok.text == "function" || tok.text == "do" || tok.text == "if" || tok.text == "repeat")
           stack.push_back({kBlock, -1});
         if ((tok.text == "end" || tok.text == "until") && !stack.empty()) stack.pop_back();
@@ -210,19 +127,13 @@ class SourceMap {
     std::vector<Entry> entries;
   };
 
-  static bool keyword(const std::string& w) {
-    static const std::set<std::string> words = {"and", "break", "do", "else", "elseif", "end", "false",
-                                                "for", "function", "goto", "if", "in", "local", "nil",
-                                                "not", "or", "repeat", "return", "then", "true", "until",
-                                                "while"};
-    return words.count(w) > 0;
-  }
+  static bool keyword(const std::string& w) { return lua_keyword(w); }
 
   // Records key at `line` in node; `value` is the index of the token after '='.
-  void add_entry(int node, const std::string& key, int line, const std::vector<Token>& t, size_t value,
+  void add_entry(int node, const std::string& key, int line, const std::vector<LuaToken>& t, size_t value,
                  int& link_node, int& link_entry) {
     Entry e{key, line, -1, ""};
-    if (value + 1 < t.size() && t[value].type == Token::kName && !keyword(t[value].text) &&
+    if (value + 1 < t.size() && t[value].type == LuaToken::kName && !keyword(t[value].text) &&
         (t[value + 1].text == "," || t[value + 1].text == ";" || t[value + 1].text == "}"))
       e.value_name = t[value].text;
     nodes_[size_t(node)].entries.push_back(e);
