@@ -15,11 +15,11 @@
 
 #include <lua.hpp>
 
-#include "script/curriculum.h"
-#include "script/lua_sandbox.h"
-#include "script/lua_static_check.h"
-#include "script/scenario.h"
-#include "script/script_api.h"
+#include "script/curriculum/curriculum.h"
+#include "script/sandbox/lua_sandbox.h"
+#include "script/authoring/lua_static_check.h"
+#include "script/scenario/scenario.h"
+#include "script/authoring/script_api.h"
 #include "sim/world.h"
 
 using namespace roger;
