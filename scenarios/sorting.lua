@@ -71,8 +71,10 @@ return {
     obstacles = { default = 0, min = 0, max = 4, description = "number of static obstacles" },
     object_clearance = { default = 0.35, min = 0.1,
                          description = "free floor around each object (m): room for the hands" },
-    object_wall_margin = { default = 1.0, min = 0.3, description = "least distance from the walls to an object's centre (m)" },
-    robot_distance = { default = 0.9, min = 0.0, description = "least distance from Roger's base centre to an object's centre (m)" },
+    object_wall_margin = { default = 1.0, min = 0.3,
+                           description = "least distance from the walls to an object's centre (m)" },
+    robot_distance = { default = 0.9, min = 0.0,
+                       description = "least distance from Roger's base centre to an object's centre (m)" },
   },
 
   generate = function(world, rng, p)

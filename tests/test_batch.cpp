@@ -16,7 +16,7 @@
 #include "core/error.h"
 #include "core/rng.h"
 #include "report/report.h"
-#include "script/scenario.h"
+#include "script/scenario/scenario.h"
 #include "test_files.h"
 
 using namespace roger;

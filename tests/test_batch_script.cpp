@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "script/batch_script.h"
+#include "script/batch/batch_script.h"
 #include "core/error.h"
 
 using namespace roger;

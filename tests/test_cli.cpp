@@ -116,6 +116,17 @@ TEST_CASE("bad scripts are refused with file:line, a non-zero exit and no crash"
   fs::remove_all(bad_png.parent_path());
 }
 
+TEST_CASE("roger check reports a misspelt roger member and an undefined global before running", "[cli]") {
+  const Run r = roger("check tests/lint/misspelt_member.lua");
+  INFO(r.err);
+  CHECK(r.status == 1);
+  CHECK(r.err.find("tests/lint/misspelt_member.lua:5: roger.sequnce is not in the API of a skill script; did you "
+                   "mean roger.sequence?") != std::string::npos);
+  CHECK(r.err.find("tests/lint/misspelt_member.lua:6: undefined global 'phi'; did you mean ") != std::string::npos);
+  // Both found at once, by reading: the script never ran (it would have stopped at line 5).
+  CHECK(r.err.find("attempt to call") == std::string::npos);
+}
+
 TEST_CASE("a binary chunk is refused", "[cli]") {
   const fs::path p = temp_file("roger_cli_binary.lua", std::string("\x1bLua\x54\x00\x19\x93\r\n\x1a\n", 12));
   const Run r = roger("check " + p.string());

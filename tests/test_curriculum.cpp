@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "script/curriculum.h"
+#include "script/curriculum/curriculum.h"
 #include "core/error.h"
 #include "learn/learning.h"
 #include "batch/trainer.h"

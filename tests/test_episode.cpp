@@ -11,8 +11,8 @@
 #include "learn/episode.h"
 #include "control/predicate.h"
 #include "control/primitives.h"
-#include "script/scenario.h"
-#include "script/skill_script.h"
+#include "script/scenario/scenario.h"
+#include "script/skills/skill_script.h"
 #include "world_fixtures.h"
 
 using namespace roger;

@@ -17,7 +17,7 @@
 #include "control/predicate.h"
 #include "control/primitives.h"
 #include "core/rng.h"
-#include "script/scenario.h"
+#include "script/scenario/scenario.h"
 #include "world_fixtures.h"
 
 using namespace roger;

@@ -15,11 +15,11 @@
 #include <lua.hpp>
 
 #include "learn/episode.h"
-#include "script/lua_control.h"
-#include "script/lua_sandbox.h"
+#include "script/control/lua_control.h"
+#include "script/sandbox/lua_sandbox.h"
 #include "control/primitives.h"
-#include "script/scenario.h"
-#include "script/skill_script.h"
+#include "script/scenario/scenario.h"
+#include "script/skills/skill_script.h"
 #include "world_fixtures.h"
 
 using namespace roger;

@@ -7,11 +7,20 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
 #include <string>
 
 #include <lua.hpp>
 
-#include "script/lua_sandbox.h"
+#include "script/curriculum/curriculum.h"
+#include "script/sandbox/lua_sandbox.h"
+#include "script/authoring/lua_static_check.h"
+#include "script/scenario/scenario.h"
+#include "script/authoring/script_api.h"
+#include "sim/world.h"
 
 using namespace roger;
 namespace fs = std::filesystem;
@@ -442,4 +451,346 @@ TEST_CASE("budgets hold at every call of a callback: instructions per call, memo
     CHECK_THAT(e.message, Contains("not enough memory (script memory limit of 32 MiB)"));
   }
   CHECK(sandbox.memory_used() <= (32u << 20));
+}
+
+// ---- the API description (api/*.lua) against the live sandbox ----
+
+namespace {
+
+// What one definition file of api/ describes, read as its LuaCATS lines are written.
+struct ApiFile {
+  std::set<std::string> members;                               // "roger.shape", "roger.robot.base_radius"
+  std::map<std::string, std::set<std::string>> methods;        // class -> methods
+  std::map<std::string, std::map<std::string, bool>> fields;   // class -> field -> optional
+  std::set<std::string> deprecated;                            // "dofile", "string.dump"
+  std::set<std::string> classes;                               // every ---@class
+};
+
+ApiFile read_api(const std::string& file) {
+  static const std::regex member_fn(R"(^function (roger(?:\.\w+)+)\s*\()");
+  static const std::regex member_value(R"(^(roger(?:\.\w+)+)\s*=)");
+  static const std::regex member_index(R"rx(^roger\["(\w+)"\]\s*=)rx");
+  static const std::regex class_line(R"(^---@class ([\w.]+))");
+  static const std::regex field_line(R"(^---@field (\w+)(\??) )");
+  static const std::regex alias_line(R"(^local (\w+) = \{\})");
+  static const std::regex method_line(R"(^function (\w+)[:.](\w+)\s*\()");
+  static const std::regex function_line(R"(^function ([\w.]+)\s*\()");
+  ApiFile api;
+  std::ifstream in(file);
+  REQUIRE(in);
+  std::map<std::string, std::string> aliases;  // local Shape = {} -> roger.Shape
+  std::string cls, line;
+  bool deprecated = false;
+  std::smatch m;
+  while (std::getline(in, line)) {
+    if (std::regex_search(line, m, class_line)) api.classes.insert(cls = m[1]);
+    if (std::regex_search(line, m, field_line)) api.fields[cls][m[1]] = m[2] == "?";
+    if (std::regex_search(line, m, alias_line)) aliases[m[1]] = cls;
+    if (std::regex_search(line, m, member_fn) || std::regex_search(line, m, member_value)) api.members.insert(m[1]);
+    if (std::regex_search(line, m, member_index)) api.members.insert("roger." + m[1].str());
+    if (std::regex_search(line, m, method_line) && aliases.count(m[1])) api.methods[aliases[m[1]]].insert(m[2]);
+    if (deprecated && std::regex_search(line, m, function_line)) api.deprecated.insert(m[1]);
+    deprecated = line.rfind("---@deprecated", 0) == 0 || (deprecated && line.rfind("---", 0) == 0);
+  }
+  return api;
+}
+
+// The api/ files that describe what each kind of script adds to the plain sandbox, as its loader
+// installs it (a curriculum has the control basis too).
+std::vector<std::string> api_files_of(ScriptKind kind) {
+  switch (kind) {
+    case ScriptKind::kScenario: return {"api/scenario.lua"};
+    case ScriptKind::kSkillScript: return {"api/control.lua"};
+    case ScriptKind::kCurriculum: return {"api/control.lua", "api/curriculum.lua"};
+    case ScriptKind::kBatchScript: return {"api/batch.lua"};
+  }
+  return {};
+}
+
+// Every userdata class the sandbox registered ("roger.World" ...: the registry's metatables), with the methods its objects
+// have: the __index table's functions, or the metatable's own non-metamethod entries when
+// __index is a function serving fields.
+std::map<std::string, std::set<std::string>> live_classes(LuaSandbox& sandbox) {
+  lua_State* L = sandbox.state();
+  LuaStackGuard guard(L);
+  std::map<std::string, std::set<std::string>> out;
+  lua_pushvalue(L, LUA_REGISTRYINDEX);
+  lua_pushnil(L);
+  while (lua_next(L, -2) != 0) {
+    bool metatable = false;  // luaL_newmetatable names its tables
+    if (lua_istable(L, -1)) {
+      metatable = lua_getfield(L, -1, "__name") == LUA_TSTRING;
+      lua_pop(L, 1);
+    }
+    if (lua_type(L, -2) == LUA_TSTRING && metatable && std::string(lua_tostring(L, -2)).rfind("roger.", 0) == 0) {
+      std::set<std::string>& methods = out[lua_tostring(L, -2)];
+      lua_getfield(L, -1, "__index");
+      const bool table = lua_istable(L, -1);
+      if (!table) lua_pop(L, 1);
+      lua_pushnil(L);
+      while (lua_next(L, -2) != 0) {
+        if (lua_type(L, -2) == LUA_TSTRING && std::string(lua_tostring(L, -2)).rfind("__", 0) != 0)
+          methods.insert(lua_tostring(L, -2));
+        lua_pop(L, 1);
+      }
+      if (table) lua_pop(L, 1);
+    }
+    lua_pop(L, 1);
+  }
+  return out;
+}
+
+// Evaluates `code` in the sandbox and returns its string result.
+std::string eval_string(LuaSandbox& sandbox, const std::string& code) {
+  sandbox.load_string(code, "=probe");
+  sandbox.call(0, 1);
+  const std::string out = lua_tostring(sandbox.state(), -1) ? lua_tostring(sandbox.state(), -1) : "";
+  lua_pop(sandbox.state(), 1);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("api/*.lua describes every roger.* member each kind of script reaches, and nothing else",
+          "[lua_sandbox][api]") {
+  const auto plain = script_api_names(ScriptKind::kBatchScript);  // the sandbox before any API
+  for (ScriptKind kind : script_kinds()) {
+    std::set<std::string> registered, described;
+    for (const auto& [name, table] : script_api_names(kind))
+      if (!plain.count(name)) registered.insert(name);
+    for (const auto& file : api_files_of(kind))
+      for (const auto& m : read_api(file).members) described.insert(m);
+    if (!described.empty()) described.insert("roger");
+    std::set<std::string> undescribed, missing;
+    for (const auto& n : registered)
+      if (!described.count(n)) undescribed.insert(n);
+    for (const auto& n : described)
+      if (!registered.count(n)) missing.insert(n);
+    INFO("a " << script_kind_name(kind) << ": registered without a definition: " << join({undescribed.begin(), undescribed.end()})
+              << "; defined but not registered: " << join({missing.begin(), missing.end()}));
+    CHECK(undescribed.empty());
+    CHECK(missing.empty());
+    if (kind == ScriptKind::kBatchScript) CHECK(registered.empty());
+    else CHECK(registered.size() > 3);  // the walk saw the API
+  }
+}
+
+TEST_CASE("api/*.lua describes the methods of every object the sandbox registers, and their fields",
+          "[lua_sandbox][api]") {
+  std::map<std::string, std::set<std::string>> described;
+  std::map<std::string, std::map<std::string, bool>> fields;
+  std::set<std::string> classes;
+  for (const char* file : {"api/scenario.lua", "api/control.lua", "api/curriculum.lua", "api/batch.lua"}) {
+    const ApiFile api = read_api(file);
+    classes.insert(api.classes.begin(), api.classes.end());
+    for (const auto& [cls, ms] : api.methods) described[cls].insert(ms.begin(), ms.end());
+    for (const auto& [cls, fs_] : api.fields) fields[cls].insert(fs_.begin(), fs_.end());
+  }
+  std::map<std::string, std::set<std::string>> live;
+  for (ScriptKind kind : script_kinds()) {
+    LuaSandbox sandbox;
+    install_script_api(sandbox, kind);
+    for (const auto& [cls, ms] : live_classes(sandbox)) live[cls].insert(ms.begin(), ms.end());
+  }
+  REQUIRE(live.count("roger.World"));
+  for (const auto& [cls, methods] : live) {
+    if (cls == "roger.ControlBook") continue;  // the control API's own bookkeeping, never a script's value
+    INFO("class " << cls);
+    REQUIRE(classes.count(cls));
+    CHECK(join({methods.begin(), methods.end()}) == join({described[cls].begin(), described[cls].end()}));
+  }
+  for (const auto& [cls, methods] : described) {
+    INFO("class " << cls << " has methods in api/ but no metatable in the sandbox");
+    CHECK(live.count(cls));
+  }
+  // Fields served by an __index function cannot be walked: read each described one on real
+  // objects (an optional one on at least one of them).
+  LuaSandbox sandbox;
+  install_script_api(sandbox, ScriptKind::kScenario);
+  install_script_api(sandbox, ScriptKind::kSkillScript);
+  const std::map<std::string, std::vector<std::string>> samples{
+      {"roger.Shape", {"roger.shape{name = 's', disks = {{r = 0.1}}, polygons = {{{0, 0}, {0.2, 0}, {0, 0.2}}}}"}},
+      {"roger.Controller",
+       {"roger.primitive('phi1')", "roger.subject_to('phi4', 'phi2')", "roger.sequence('s', {'phi0'})",
+        "roger.policy('p', {actions = {'phi0'}, table = {['*'] = 'phi0'}})"}}};
+  for (const auto& [cls, exprs] : samples) {
+    REQUIRE(fields.count(cls));
+    eval_string(sandbox, "samples = {" + join(exprs) + "}\nreturn ''");
+    for (const auto& [field, optional] : fields[cls]) {
+      const int readable = std::stoi(eval_string(
+          sandbox, "local n = 0\nfor _, o in ipairs(samples) do\n  if pcall(function() return o['" + field +
+                       "'] end) then n = n + 1 end\nend\nreturn tostring(n)"));
+      INFO(cls << "." << field);
+      CHECK((optional ? readable >= 1 : readable == int(exprs.size())));
+    }
+  }
+}
+
+TEST_CASE("what api/sandbox.lua marks deprecated and .luarc.json disables, the sandbox refuses",
+          "[lua_sandbox][api]") {
+  const ApiFile api = read_api("api/sandbox.lua");
+  REQUIRE(api.deprecated.size() >= 4);
+  for (const auto& name : api.deprecated) {
+    LuaSandbox sandbox;
+    INFO(name);
+    CHECK(eval_string(sandbox, "local f = " + name + "\nif f == nil then return 'absent' end\n"
+                               "return pcall(f) and 'works' or 'refused'") != "works");
+  }
+  std::ifstream in(".luarc.json");
+  const std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::regex disabled(R"rx("(\w+)"\s*:\s*"disable")rx");
+  int libraries = 0;
+  for (std::sregex_iterator it(json.begin(), json.end(), disabled), end; it != end; ++it, ++libraries) {
+    LuaSandbox sandbox;
+    INFO((*it)[1]);
+    CHECK_THAT(eval_string(sandbox, "return select(2, pcall(function() return " + (*it)[1].str() + ".x end))"),
+               Contains("sandboxed"));
+  }
+  CHECK(libraries == 4);
+}
+
+TEST_CASE("api/curriculum.lua describes the world table a curriculum's callbacks receive", "[lua_sandbox][api]") {
+  TempDir dir;
+  const fs::path file = dir.path / "keys.lua";
+  // The absorbing function raises the keys it was given, sorted: the world, an object, a goal.
+  std::ofstream(file) << R"(local function keys(t)
+  local out = {}
+  for k in pairs(t) do out[#out + 1] = k end
+  table.sort(out)
+  return table.concat(out, ",")
+end
+return { stages = { roger.stage{ name = "S", scenario = "sorting", time_limit = 1, budget = { episodes = 1 },
+  contexts = { { name = "C", actions = { "phi0" } } },
+  absorbing = function(_, _, world)
+    error("world=" .. keys(world) .. ";object=" .. keys(world.objects[1]) .. ";goal=" .. keys(world.goals[1]), 0)
+  end } } }
+)";
+  Curriculum cur = Curriculum::load(file.string());
+  Scenario scenario = Scenario::load("sorting");
+  World world;
+  world.reset(scenario.generate(1));
+  cur.set_world(&world);
+  std::string message;
+  try {
+    cur.call_absorbing(cur.stage("S"), cur.stage("S").contexts[0], {Gamma::kNoRef}, 0.0);
+  } catch (const ScriptError& e) {
+    message = e.message;
+  }
+  const std::map<std::string, std::string> classes{
+      {"world", "roger.CallbackWorld"}, {"object", "roger.WorldObject"}, {"goal", "roger.WorldGoal"}};
+  const ApiFile api = read_api("api/curriculum.lua");
+  for (const auto& [part, cls] : classes) {
+    const std::smatch m = [&] {
+      std::smatch r;
+      std::regex_search(message, r, std::regex(part + "=([a-z_,]*)"));
+      return r;
+    }();
+    REQUIRE(m.size() == 2);
+    std::set<std::string> seen;
+    std::stringstream list(m[1].str());
+    for (std::string k; std::getline(list, k, ',');) seen.insert(k);
+    INFO(part << " has " << m[1].str());
+    REQUIRE(api.fields.count(cls));
+    for (const auto& k : seen) CHECK(api.fields.at(cls).count(k));
+    for (const auto& [field, optional] : api.fields.at(cls))
+      if (!optional) CHECK(seen.count(field));
+  }
+}
+
+// ---- roger check's static pass ----
+
+namespace {
+
+// The static pass over text, each problem as "line: message".
+std::vector<std::string> problems_in(const std::string& code, ScriptKind kind = ScriptKind::kSkillScript) {
+  std::vector<std::string> out;
+  for (const auto& p : static_check_text(code, "t.lua", kind)) out.push_back(std::to_string(p.line) + ": " + p.message);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("the static pass finds a misspelt roger member and names the nearest", "[lua_sandbox][static]") {
+  const auto p = problems_in("local a = roger.primitive('phi0')\nlocal s = roger.sequnce('s', {a})\nreturn s\n");
+  REQUIRE(p.size() == 1);
+  CHECK(p[0] == "2: roger.sequnce is not in the API of a skill script; did you mean roger.sequence?");
+  // Nested tables, and roger["name"].
+  const auto nested = problems_in("return roger.robot.base_radus", ScriptKind::kScenario);
+  REQUIRE(nested.size() == 1);
+  CHECK_THAT(nested[0], Contains("roger.robot.base_radus is not in the API of a scenario; did you mean roger.robot.base_radius?"));
+  CHECK_THAT(problems_in("return roger['nto']").at(0), Contains("did you mean roger.not?"));
+  // A member of another kind of script says whose it is; far from everything, lists what exists.
+  CHECK_THAT(problems_in("return roger.stage{}").at(0),
+             Contains("roger.stage is not in the API of a skill script (a curriculum has it)"));
+  CHECK_THAT(problems_in("return roger.zzzzzzzz", ScriptKind::kScenario).at(0),
+             Contains("; roger has: robot, shape, version"));
+  // A batch script has no roger at all.
+  CHECK_THAT(problems_in("return roger.sequence", ScriptKind::kBatchScript).at(0),
+             Contains("undefined global 'roger': a batch script reaches no roger.* API"));
+}
+
+TEST_CASE("the static pass finds undefined globals and follows Lua's scopes", "[lua_sandbox][static]") {
+  CHECK(problems_in("pirnt('x')\n") == std::vector<std::string>{"1: undefined global 'pirnt'; did you mean print?"});
+  // A local of one branch is not visible in the other, nor after its block.
+  CHECK(problems_in("if true then\n  local inner = 1\nelse\n  return inner\nend\nreturn inner\n").size() == 2);
+  CHECK(problems_in("do local x = 1 end\nreturn x\n").size() == 1);
+  CHECK(problems_in("local function f() return g end\nreturn f\n").size() == 1);
+  // Sound code yields nothing: parameters, loops, methods, recursion, attributes, repeat-until,
+  // globals the script assigns (before or after their use), keys, fields, labels, strings and
+  // comments that mention undefined names.
+  const std::string sound = R"(-- roger.sequnce in a comment, undefined_here too
+--[==[ a long comment: pirnt(roger.nothing) ]==]
+local s = "roger.sequnce " .. [[roger.zzz]] .. 'x'
+local M = {}
+function M.go(a, b, ...) return a, b, select('#', ...) end
+function M:method() return self end
+local function fact(n) if n <= 1 then return 1 end return n * fact(n - 1) end
+local limit <const> = 3
+for i = 1, limit do M[i] = i end
+for k, v in pairs(M) do M[k] = v end
+local n = 0
+repeat local step = 1; n = n + step until step > 0 and n > 2
+while n > 0 do n = n - 1 end
+for i = 1, 3 do
+  if i == 2 then goto continue end
+  ::continue::
+end
+helper = function(x) return later(x) end
+function later(x) return x end
+local t = { key = 1, ["other"] = 2, nested = { deep = s }, f = function(world) return world.objects end }
+t.key, t.other = t.other, t.key
+a_global, another = 1, 2
+return fact(5) + helper(1) + a_global + another + roger.converged(roger["not"]).x + #t
+)";
+  CHECK(problems_in(sound).empty());
+}
+
+TEST_CASE("no shipped Lua file has a static problem", "[lua_sandbox][static]") {
+  int files = 0;
+  for (const char* folder : {"scenarios", "curricula", "scripts", "docs/examples", "tests/scripts"}) {
+    for (const auto& entry : fs::recursive_directory_iterator(folder)) {
+      if (entry.path().extension() != ".lua" || entry.path().parent_path().filename() == "lib") continue;
+      const std::string path = entry.path().string();
+      ++files;
+      std::vector<std::string> found;
+      const auto kind = script_kind_of(path);
+      for (const auto& p : static_check(path, kind)) found.push_back(p.what());
+      INFO(path << " (" << (kind ? script_kind_name(*kind) : "of no known kind") << "): " << join(found, "\n"));
+      CHECK(found.empty());
+    }
+  }
+  CHECK(files > 60);
+}
+
+TEST_CASE("the static pass follows literal requires and reports at the module's line", "[lua_sandbox][static]") {
+  TempDir dir;
+  fs::create_directories(dir.path / "lib");
+  std::ofstream(dir.path / "lib" / "helper.lua") << "local M = {}\nfunction M.make() return roger.sequnce('s', {'phi0'}) end\nreturn M\n";
+  std::ofstream(dir.path / "main.lua") << "local h = require(\"lib.helper\")\nreturn { policies = { p = { action = h.make(), "
+                                          "goal = roger.converged('phi0'), time_limit = 1 } } }\n";
+  const auto problems = static_check((dir.path / "main.lua").string(), ScriptKind::kSkillScript);
+  REQUIRE(problems.size() == 1);
+  CHECK(fs::path(problems[0].file).filename() == "helper.lua");
+  CHECK(problems[0].line == 2);
+  CHECK_THAT(problems[0].message, Contains("did you mean roger.sequence?"));
 }

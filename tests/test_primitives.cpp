@@ -9,8 +9,8 @@
 #include "control/primitives.h"
 #include "core/rng.h"
 #include "learn/episode.h"
-#include "script/scenario.h"
-#include "script/skill_script.h"
+#include "script/scenario/scenario.h"
+#include "script/skills/skill_script.h"
 #include "world_fixtures.h"
 
 using namespace roger;

@@ -18,7 +18,7 @@
 #include "batch/trainer.h"
 #include "core/error.h"
 #include "propose/propose.h"
-#include "script/curriculum.h"
+#include "script/curriculum/curriculum.h"
 #include "temp_dir.h"
 #include "test_files.h"
 

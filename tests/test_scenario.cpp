@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
-#include "script/lua_sandbox.h"
+#include "script/sandbox/lua_sandbox.h"
 #include "core/rng.h"
 #include "core/robot.h"
-#include "script/scenario.h"
+#include "script/scenario/scenario.h"
 #include "senses/senses.h"
 #include "core/shape.h"
 #include "sim/world.h"

@@ -17,10 +17,10 @@
 #include "control/primitives.h"
 #include "control/planner.h"
 #include "core/error.h"
-#include "script/curriculum.h"
-#include "script/scenario.h"
+#include "script/curriculum/curriculum.h"
+#include "script/scenario/scenario.h"
 #include "learn/episode.h"
-#include "script/skill_script.h"
+#include "script/skills/skill_script.h"
 #include "sim/occupancy.h"
 
 using namespace roger;

@@ -20,8 +20,8 @@
 
 #include "batch/trainer.h"
 #include "control/agent.h"
-#include "script/curriculum.h"
-#include "script/scenario.h"
+#include "script/curriculum/curriculum.h"
+#include "script/scenario/scenario.h"
 #include "test_files.h"
 
 using namespace roger;

@@ -18,7 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "script/batch_script.h"
+#include "script/batch/batch_script.h"
 
 namespace roger {
 

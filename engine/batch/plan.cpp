@@ -19,8 +19,8 @@
 #include "core/error.h"
 #include "core/fileio.h"
 #include "engine_fingerprint.h"
-#include "script/curriculum.h"
-#include "script/lua_sandbox.h"
+#include "script/curriculum/curriculum.h"
+#include "script/sandbox/lua_sandbox.h"
 
 namespace roger {
 

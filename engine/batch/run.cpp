@@ -20,7 +20,7 @@
 #include "batch/trainer.h"
 #include "core/error.h"
 #include "core/fileio.h"
-#include "script/batch_script.h"
+#include "script/batch/batch_script.h"
 
 namespace roger {
 

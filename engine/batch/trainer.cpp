@@ -12,11 +12,11 @@
 
 #include "batch/batch_internal.h"
 #include "control/agent.h"
-#include "script/curriculum.h"
+#include "script/curriculum/curriculum.h"
 #include "core/error.h"
 #include "core/fileio.h"
 #include "core/rng.h"
-#include "script/scenario.h"
+#include "script/scenario/scenario.h"
 
 namespace roger {
 namespace fs = std::filesystem;

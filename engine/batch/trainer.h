@@ -16,7 +16,7 @@
 
 #include "learn/episode.h"
 #include "learn/learning.h"
-#include "script/lua_sandbox.h"
+#include "script/sandbox/lua_sandbox.h"
 
 namespace roger {
 

@@ -5,8 +5,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
-#include "script/scenario.h"
-#include "script/skill_script.h"
+#include "script/scenario/scenario.h"
+#include "script/skills/skill_script.h"
 
 #include <algorithm>
 #include <chrono>

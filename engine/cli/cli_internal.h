@@ -5,8 +5,8 @@
 #include <utility>
 #include <vector>
 
-#include "script/scenario.h"
-#include "script/skill_script.h"
+#include "script/scenario/scenario.h"
+#include "script/skills/skill_script.h"
 
 namespace roger {
 

@@ -1,6 +1,7 @@
 // inspect.cpp: `roger render` (a picture of a world, or an episode of a skill script's policy)
 // and `roger check` (a script validated without running an episode).
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -8,10 +9,11 @@
 #include "cli/cli_internal.h"
 #include "cli/commands.h"
 #include "learn/episode.h"
-#include "script/batch_script.h"
-#include "script/curriculum.h"
-#include "script/scenario.h"
-#include "script/skill_script.h"
+#include "script/batch/batch_script.h"
+#include "script/curriculum/curriculum.h"
+#include "script/authoring/lua_static_check.h"
+#include "script/scenario/scenario.h"
+#include "script/skills/skill_script.h"
 #include "sim/world.h"
 #include "view/animation.h"
 #include "view/render.h"
@@ -131,7 +133,23 @@ int check_batch(const std::string& path) {
 
 }  // namespace
 
+namespace {
+
+// The static pass (a misspelt roger.* member, an undefined global), before anything runs: prints
+// each problem as file:line and returns their number. A name that is not a file is left to the
+// loader, which says what exists.
+size_t report_static_problems(const std::string& script) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(script, ec)) return 0;
+  const std::vector<StaticProblem> problems = static_check(script, script_kind_of(script));
+  for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.what().c_str());
+  return problems.size();
+}
+
+}  // namespace
+
 int command_check(const CheckArgs& a) {
+  if (report_static_problems(a.script) > 0) return 1;
   if (is_curriculum_script(a.script)) {
     const std::vector<std::string> problems = check_curriculum(a.script);
     for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.c_str());

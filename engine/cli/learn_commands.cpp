@@ -11,9 +11,9 @@
 #include "cli/commands.h"
 #include "core/error.h"
 #include "learn/episode.h"
-#include "script/curriculum.h"
-#include "script/scenario.h"
-#include "script/skill_script.h"
+#include "script/curriculum/curriculum.h"
+#include "script/scenario/scenario.h"
+#include "script/skills/skill_script.h"
 
 namespace roger {
 

@@ -12,7 +12,7 @@
 #include "cli/commands.h"
 #include "core/error.h"
 #include "report/report.h"
-#include "script/batch_script.h"
+#include "script/batch/batch_script.h"
 
 namespace roger {
 

@@ -14,7 +14,7 @@
 #include "core/fileio.h"
 #include "core/rng.h"
 #include "propose/propose_internal.h"
-#include "script/curriculum.h"
+#include "script/curriculum/curriculum.h"
 
 namespace roger {
 namespace fs = std::filesystem;

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "script/lua_sandbox.h"
+#include "script/sandbox/lua_sandbox.h"
 
 namespace roger {
 

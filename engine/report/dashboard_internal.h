@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "report/stats.h"
-#include "script/batch_script.h"
+#include "script/batch/batch_script.h"
 
 namespace roger::dashboard {
 

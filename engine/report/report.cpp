@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "batch/batch.h"
-#include "script/batch_script.h"
+#include "script/batch/batch_script.h"
 #include "core/error.h"
 #include "core/fileio.h"
 #include "report/dashboard_internal.h"

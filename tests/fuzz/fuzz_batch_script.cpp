@@ -3,7 +3,7 @@
 // manifest does (batch_config_json / batch_config_from_json) and planned.
 #include "batch/batch.h"
 #include "fuzz_lua_script.h"
-#include "script/batch_script.h"
+#include "script/batch/batch_script.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string path = roger::fuzz::lua_file("batch.lua", data, size);

@@ -2,7 +2,7 @@
 // the sandbox, the control-basis bindings (engine/script/lua_control*.cpp), the curriculum's stages
 // (engine/script/curriculum*.cpp) and the converters must turn every mistake into a roger::Error.
 #include "fuzz_lua_script.h"
-#include "script/curriculum.h"
+#include "script/curriculum/curriculum.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string path = roger::fuzz::lua_file("curriculum.lua", data, size);

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "fuzz_support.h"
-#include "script/lua_sandbox.h"
+#include "script/sandbox/lua_sandbox.h"
 
 namespace roger::fuzz {
 

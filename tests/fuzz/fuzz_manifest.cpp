@@ -1,5 +1,5 @@
 // fuzz_manifest: a results folder's manifest.json on arbitrary bytes, read as `roger report` reads
-// it (engine/batch/plan.cpp read_results_plan, engine/script/batch_script.cpp
+// it (engine/batch/plan.cpp read_results_plan, engine/script/batch/batch_script.cpp
 // batch_config_from_json, engine/report/report.cpp write_report). The folder holds no trial yet,
 // so every table and figure is reported as pending.
 #include "batch/batch.h"

@@ -1,8 +1,8 @@
 // fuzz_scenario: arbitrary Lua source loaded as a scenario script (Scenario::load, then generate()
 // for two seeds): the sandbox, the world-building API (engine/script/scenario_*.cpp) and the
-// Lua-value converters (engine/script/lua_fields.cpp) must turn every mistake into a roger::Error.
+// Lua-value converters (engine/script/sandbox/lua_fields.cpp) must turn every mistake into a roger::Error.
 #include "fuzz_lua_script.h"
-#include "script/scenario.h"
+#include "script/scenario/scenario.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string path = roger::fuzz::lua_file("scenario.lua", data, size);

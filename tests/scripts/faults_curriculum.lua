@@ -4,7 +4,7 @@
 local p3 = roger.primitive("phi3")
 local p0 = roger.primitive("phi0")
 local calls = 0
-bomb = {}  -- a global: what the memory bomb holds stays held
+bomb = {}  -- luacheck: ignore (a global: what the memory bomb holds stays held)
 
 local function sound_reward(state, action, event)
   calls = calls + 1
@@ -23,7 +23,7 @@ end
 local function memory_bomb(state, time)
   calls = calls + 1
   if calls > 50 then
-    for i = 1, 64 do bomb[i] = string.rep("x", (16 << 20) + i) end  -- line 26: 1 GiB wanted
+    for i = 1, 64 do bomb[i] = string.rep("x", (16 << 20) + i) end  -- luacheck: ignore (line 26: 1 GiB wanted)
   end
   return false
 end

@@ -1,0 +1,53 @@
+---@meta
+-- api/batch.lua: what a batch script returns (docs/batch.md). A batch script reaches no roger.*
+-- function: it runs in the plain sandbox and returns a table, described here for editors.
+
+---A training run: one stage's contexts, `trials` seeded trials each.
+---@class roger.BatchRun
+---@field name string unique; the first segment of its trial ids
+---@field stage string a stage of the curriculum
+---@field contexts? string[] some of its contexts, in the tables' order (default: all)
+---@field trials? integer overrides the script's `trials`
+---@field params? table<string, any> scenario parameters over the script's
+---@field skills? table<string, {run: string, context: string?}> where each learned skill comes from
+
+---Greedy runs of the final policies of a run's trials elsewhere, without retraining.
+---@class roger.BatchEvaluation
+---@field name string
+---@field run string
+---@field context string
+---@field scenario? string default: the stage's
+---@field params? table<string, any>
+---@field shapes? string[] one group per shape (shape=<name>)
+---@field episodes? integer episodes per shape
+---@field first_seed? integer default: the stage's held-out seeds
+---@field trials? integer the first `trials` trials of the run (default all)
+
+---A table of the report.
+---@class roger.BatchTable
+---@field title string
+---@field run? string a run's table
+---@field baseline? string the context the others are compared with (default: the first)
+---@field evaluation? string or an evaluation's table
+---@field usage? {context: string, skill: string, subsumes: string[]}[]
+
+---A figure of the report.
+---@class roger.BatchFigure
+---@field file string written as <file>.png and <file>.svg
+---@field title? string
+---@field kind? "curves"|"cumulative" default "curves"
+---@field run string
+---@field log_x? boolean
+
+---What a batch script returns (roger run SCRIPT.lua).
+---@class roger.BatchScript
+---@field name? string default results folder results/<name> (default: the file name)
+---@field description? string one line for the report
+---@field curriculum string a curriculum path or a bare name in curricula/
+---@field trials? integer trials per context of every run (default 1)
+---@field seed? integer trial i trains with seed `seed + i` (default 1)
+---@field params? table<string, any> scenario parameters of every training run
+---@field runs roger.BatchRun[] in order
+---@field evaluations? roger.BatchEvaluation[]
+---@field tables? roger.BatchTable[]
+---@field figures? roger.BatchFigure[]

@@ -1,0 +1,157 @@
+---@meta
+-- api/control.lua: the control basis in Lua (docs/control.md), reached by skill scripts and
+-- curricula: primitives, subject-to compositions, sequences, policies, bindings, predicates.
+-- tests/test_lua_sandbox.cpp keeps it equal to what the sandbox registers.
+
+---A controller's state (Equation 1 of the paper).
+---@alias roger.GammaName "NOREF"|"!CONV"|"CONV"
+
+---A primitive kind.
+---@alias roger.PrimitiveKind "phi0"|"search"|"phi1"|"phi2"|"phi3"|"phi4"|"phi5"|"release"
+
+---Where a controller is expected, its name works too: a named controller (defined before or
+---after this line) or a primitive kind (that kind's shared default instance).
+---@alias roger.ControllerRef roger.Controller|string
+
+---A controller: a primitive, a composition, a sequence, a policy, a binding or a learned skill.
+---Immutable; the same controller is the same Lua value.
+---@class roger.Controller
+---@field name string its name, shown in policies, pictures and messages
+---@field kind string a primitive kind, "subject_to", "sequence", "policy", ...
+---@field subordinate? roger.Controller a composition's subordinate (c2 of c2 <| c1)
+---@field superior? roger.Controller a composition's superior (c1 of c2 <| c1)
+---@field steps? roger.Controller[] a sequence's steps
+---@field actions? roger.Controller[] a policy's actions
+local Controller = {}
+
+---A copy of this primitive with some parameters changed (and a fresh state).
+---@param params table<string, number|string>
+---@return roger.Controller
+function Controller:with(params) end
+
+---This controller subject to `superior` (self <| superior).
+---@param superior roger.ControllerRef
+---@return roger.Controller
+function Controller:subject_to(superior) end
+
+---A primitive's parameter value.
+---@param name string
+---@return number|string
+function Controller:param(name) end
+
+---All of a primitive's parameters, as a table.
+---@return table<string, number|string>
+function Controller:params() end
+
+---A condition over controller states, evaluated in C++ every control tick. It has no fields.
+---@class roger.Predicate
+
+---A new primitive of `kind` with its default parameters, then `params` (docs/control.md,
+---Primitives); `params.name` makes it a named controller.
+---@param kind roger.PrimitiveKind
+---@param params? table<string, number|string>
+---@return roger.Controller
+function roger.primitive(kind, params) end
+
+---`sub <| sup`: sub runs in the nullspace of sup's task.
+---@param sub roger.ControllerRef
+---@param sup roger.ControllerRef
+---@return roger.Controller
+function roger.subject_to(sub, sup) end
+
+---Parses the paper's notation ("phi1 <| phi4 <| phi5", right-associative), names looked up in
+---`names`, then among named controllers, then as primitive kinds.
+---@param expression string
+---@param names? table<string, roger.Controller>
+---@return roger.Controller
+function roger.compose(expression, names) end
+
+---A skill running its steps in order: each until it converges, falling back a step when the
+---current one loses its reference.
+---@param name string
+---@param steps roger.ControllerRef[]
+---@return roger.Controller
+function roger.sequence(name, steps) end
+
+---A skill mapping the state (its actions' gammas) to one of its actions by a table.
+---@param name string
+---@param spec roger.PolicySpec
+---@return roger.Controller
+function roger.policy(name, spec) end
+
+---Runs `c` under bindings set per invocation: the stimulus colour attended to and the goal region
+---its navigators deliver to.
+---@param name string
+---@param c roger.ControllerRef
+---@param spec roger.BindSpec
+---@return roger.Controller
+function roger.bind(name, c, spec) end
+
+---Holds when gamma(c) is CONV.
+---@param c roger.ControllerRef
+---@return roger.Predicate
+function roger.converged(c) end
+
+---Holds when gamma(c) is the given state.
+---@param c roger.ControllerRef
+---@param state roger.GammaName
+---@return roger.Predicate
+function roger.gamma(c, state) end
+
+---Holds when every part holds (true when empty): roger.all{p1, p2} or roger.all(p1, p2).
+---@param ... roger.Predicate|roger.Predicate[]
+---@return roger.Predicate
+function roger.all(...) end
+
+---Holds when some part holds (false when empty): roger.any{p1, p2} or roger.any(p1, p2).
+---@param ... roger.Predicate|roger.Predicate[]
+---@return roger.Predicate
+function roger.any(...) end
+
+---Holds when `p` does not.
+---@param p roger.Predicate
+---@return roger.Predicate
+function roger.negate(p) end
+
+---Holds when `p` does not (the same as roger.negate).
+---@param p roger.Predicate
+---@return roger.Predicate
+roger["not"] = function(p) end
+
+---Holds once `p` has held without interruption for `seconds` of simulated time.
+---@param p roger.Predicate
+---@param seconds number
+---@return roger.Predicate
+function roger.held(p, seconds) end
+
+---The primitive kinds, in order.
+---@type roger.PrimitiveKind[]
+roger.primitive_kinds = {}
+
+---The fields of roger.policy(name, {...}).
+---@class roger.PolicySpec
+---@field actions roger.ControllerRef[] 1 to 12 actions
+---@field table table<string, roger.ControllerRef|integer> state keys ("CONV * NOREF") to actions
+---@field done? roger.ControllerRef|roger.Predicate the policy is CONV when this is
+---@field fallback? roger.ControllerRef|integer the action of states no key matches
+
+---The fields of roger.bind(name, c, {...}).
+---@class roger.BindSpec
+---@field stimulus? roger.Colour the colour the eyes attend to
+---@field region? integer the goal region (0 to 63) that goal = "region" navigators deliver to
+---@field ignore_delivered? boolean objects already delivered to `region` are no stimulus
+---@field patience? number seconds before an invocation is given up (0: no limit)
+
+---A policy of a skill script.
+---@class roger.SkillPolicy
+---@field action roger.ControllerRef the controller to run
+---@field goal roger.Predicate success ends the episode
+---@field time_limit number simulated seconds (> 0)
+---@field scenario? string scenario name or path (default "unobstructed")
+---@field description? string
+
+---What a skill script returns (docs/control.md).
+---@class roger.SkillScript
+---@field name? string default: the file name
+---@field description? string
+---@field policies table<string, roger.SkillPolicy> at least one

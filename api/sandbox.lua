@@ -1,0 +1,26 @@
+---@meta
+-- api/sandbox.lua: the standard library as every roger script has it (docs/scenarios.md, The
+-- sandbox): Lua 5.4's base, math, string, table and utf8 libraries, with `require` finding
+-- dotted module names in the script's folder and the project's scenarios/, curricula/ and
+-- scripts/, and `print` writing to standard error. The io, os, debug and package libraries are
+-- not there (.luarc.json disables them for the editor; touching one raises an error that says
+-- the script is sandboxed), and neither is anything marked deprecated below: an editor strikes
+-- it through, the linter (.luacheckrc) reports it, and tests/test_lua_sandbox.cpp checks that
+-- the sandbox indeed refuses it.
+
+---@deprecated Not in roger's sandbox (it reads any file): use require("dotted.name").
+function dofile(filename) end
+
+---@deprecated Not in roger's sandbox (it reads any file): use require("dotted.name").
+function loadfile(filename, mode, env) end
+
+---@deprecated Not in roger's sandbox: bytecode is refused, in and out.
+function string.dump(f, strip) end
+
+---@deprecated Not in roger's sandbox: draw from the rng your function receives (rng:uniform,
+---rng:int, ...), so a run is reproducible from its seed.
+function math.random(m, n) end
+
+---@deprecated Not in roger's sandbox: the rng your function receives is seeded from the world's
+---seed.
+function math.randomseed(x, y) end

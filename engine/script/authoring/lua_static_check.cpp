@@ -1,0 +1,397 @@
+// lua_static_check.cpp: the static pass of `roger check` (lua_static_check.h): a scan of the
+// tokens that follows Lua's scoping closely enough to tell locals from globals, and lists the
+// globals read and written, the roger.* members used and the modules required.
+#include "script/authoring/lua_static_check.h"
+
+#include <algorithm>
+#include <deque>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include "core/fileio.h"
+#include "script/sandbox/lua_tokens.h"
+
+namespace roger {
+namespace fs = std::filesystem;
+namespace {
+
+struct Access {
+  enum Kind { kRead, kWrite, kMember, kMemberWrite, kRequire } kind;
+  std::string name;  // a global, a dotted member path ("roger.robot.base_radius") or a module
+  int line;
+  std::vector<std::string> locals = {};  // of a read: the locals in scope, for suggestions
+};
+
+// A scope (block, function, loop, branch) or a bracket; locals live in scopes only.
+struct Frame {
+  enum Kind { kBlock, kFunction, kLoopHeader, kIf, kRepeat, kBrace, kParen, kBracket } kind;
+  std::set<std::string> locals;
+  bool bracket() const { return kind == kBrace || kind == kParen || kind == kBracket; }
+};
+
+// One pass over a file's tokens, in order, keeping the stack of scopes and brackets.
+class Scanner {
+ public:
+  explicit Scanner(const std::string& text) : t_(lua_tokenize(text)) {
+    frames_.push_back({Frame::kBlock, {}});  // the chunk
+    for (i_ = 0; t_[i_].type != LuaToken::kEnd; ++i_) step();
+  }
+  std::vector<Access> accesses;
+
+ private:
+  const LuaToken& at(size_t k) const { return t_[std::min(k, t_.size() - 1)]; }
+  bool op(size_t k, const char* s) const { return at(k).type == LuaToken::kOp && at(k).text == s; }
+  bool word(size_t k, const char* w) const { return at(k).type == LuaToken::kName && at(k).text == w; }
+  bool name(size_t k) const { return at(k).type == LuaToken::kName && !lua_keyword(at(k).text); }
+  bool after(const char* s) const { return i_ > 0 && op(i_ - 1, s); }
+  Frame& top() { return frames_.back(); }
+  void note(Access::Kind kind, const std::string& n, int line) { accesses.push_back({kind, n, line}); }
+
+  // Declares a local in the innermost scope (brackets hold none).
+  void declare(const std::string& n) {
+    for (auto it = frames_.rbegin(); it != frames_.rend(); ++it)
+      if (!it->bracket()) return void(it->locals.insert(n));
+  }
+  bool is_local(const std::string& n) const {
+    for (const Frame& f : frames_)
+      if (f.locals.count(n)) return true;
+    return n == "_ENV";
+  }
+  // Whether the current token starts a statement rather than sits inside an expression's brackets.
+  bool statement_level() const { return !frames_.back().bracket(); }
+
+  void step() {
+    const LuaToken& tok = t_[i_];
+    if (tok.type == LuaToken::kOp) return punctuation(tok.text);
+    if (tok.type != LuaToken::kName) return;
+    if (lua_keyword(tok.text)) return keyword(tok.text);
+    if (after(".") || after(":") || after("::") || (i_ > 0 && word(i_ - 1, "goto"))) return;
+    const bool key = top().kind == Frame::kBrace && op(i_ + 1, "=") && (after("{") || after(",") || after(";"));
+    if (!key) variable();
+  }
+
+  void punctuation(const std::string& p) {
+    if (p == "{") frames_.push_back({Frame::kBrace, {}});
+    if (p == "(") frames_.push_back({Frame::kParen, {}});
+    if (p == "[") frames_.push_back({Frame::kBracket, {}});
+    const Frame::Kind closes = p == "}" ? Frame::kBrace : p == ")" ? Frame::kParen : Frame::kBracket;
+    if ((p == "}" || p == ")" || p == "]") && frames_.size() > 1 && top().kind == closes) frames_.pop_back();
+  }
+
+  void keyword(const std::string& w) {
+    if (w == "local") return local();
+    if (w == "function") return function();
+    if (w == "for") {
+      frames_.push_back({Frame::kLoopHeader, {}});
+      size_t k = i_ + 1;
+      while (name(k)) {
+        declare(at(k).text);
+        if (!op(k + 1, ",")) break;
+        k += 2;
+      }
+      i_ = k;
+    } else if (w == "while") {
+      frames_.push_back({Frame::kLoopHeader, {}});
+    } else if (w == "do") {
+      if (top().kind == Frame::kLoopHeader) top().kind = Frame::kBlock;
+      else frames_.push_back({Frame::kBlock, {}});
+    } else if (w == "if") {
+      frames_.push_back({Frame::kIf, {}});
+    } else if (w == "elseif" || w == "else") {
+      if (top().kind == Frame::kIf) top().locals.clear();  // each branch is its own block
+    } else if (w == "repeat") {
+      frames_.push_back({Frame::kRepeat, {}});
+    } else if (w == "until") {
+      close_repeat();
+    } else if (w == "end") {
+      close_block();
+    }
+  }
+
+  // `until cond` still sees the loop body's locals: they move to the enclosing scope (so a name
+  // the body declared is never reported; the price is not reporting its later misuse).
+  void close_repeat() {
+    while (frames_.size() > 1 && top().bracket()) frames_.pop_back();
+    if (frames_.size() < 2 || top().kind != Frame::kRepeat) return;
+    std::set<std::string> body = std::move(top().locals);
+    frames_.pop_back();
+    for (const auto& n : body) declare(n);
+  }
+
+  void close_block() {
+    while (frames_.size() > 1 && top().bracket()) frames_.pop_back();
+    if (frames_.size() > 1) frames_.pop_back();
+  }
+
+  // local function f ... | local a <const>, b = ...
+  void local() {
+    if (word(i_ + 1, "function")) {
+      if (name(i_ + 2)) declare(at(i_ + 2).text);  // visible in its own body (recursion)
+      i_ += 2;
+      return open_function(false);
+    }
+    size_t k = i_ + 1;
+    while (name(k)) {
+      declare(at(k).text);
+      ++k;
+      if (op(k, "<") && name(k + 1) && op(k + 2, ">")) k += 3;  // <const>, <close>
+      if (!op(k, ",")) break;
+      ++k;
+    }
+    i_ = k - 1;
+  }
+
+  // function name.field:method(params) ... end, or an anonymous function(params).
+  void function() {
+    bool method = false;
+    if (name(i_ + 1)) {
+      size_t k = i_ + 1;
+      const std::string first = at(k).text;
+      const int line = at(k).line;
+      std::string path = first;
+      while (op(k + 1, ".") && at(k + 2).type == LuaToken::kName) path += "." + at(k + 2).text, k += 2;
+      if (op(k + 1, ":") && at(k + 2).type == LuaToken::kName) method = true, k += 2;
+      if (!is_local(first)) {
+        const bool plain = path == first && !method;
+        note(plain ? Access::kWrite : Access::kRead, first, line);
+        if (first == "roger" && path != first) note(method ? Access::kMember : Access::kMemberWrite, path, line);
+      }
+      i_ = k;
+    }
+    open_function(method);
+  }
+
+  // Opens a function scope holding its parameters; i_ is on the token before "(".
+  void open_function(bool method) {
+    Frame f{Frame::kFunction, {}};
+    if (method) f.locals.insert("self");
+    size_t k = i_ + 1;
+    if (op(k, "(")) {
+      for (++k; !op(k, ")") && at(k).type != LuaToken::kEnd; ++k)
+        if (name(k)) f.locals.insert(at(k).text);
+    }
+    frames_.push_back(std::move(f));
+    i_ = k;
+  }
+
+  // The end of a variable starting at k (a name, then .field or [index] suffixes).
+  size_t skip_suffixes(size_t k) const {
+    for (;;) {
+      if (op(k + 1, ".") && at(k + 2).type == LuaToken::kName) {
+        k += 2;
+      } else if (op(k + 1, "[")) {
+        int depth = 0;
+        size_t j = k + 1;
+        for (; at(j).type != LuaToken::kEnd; ++j) {
+          if (op(j, "[")) ++depth;
+          if (op(j, "]") && --depth == 0) break;
+        }
+        k = j;
+      } else {
+        return k;
+      }
+    }
+  }
+
+  // Whether the name at k is a target of an assignment: `a = ...`, `a, b.c, d[1] = ...`.
+  bool assigned(size_t k) const {
+    if (!statement_level()) return false;
+    while (op(k + 1, ",") && name(k + 2)) k = skip_suffixes(k + 2);
+    return op(k + 1, "=");
+  }
+
+  void variable() {
+    const std::string n = at(i_).text;
+    const int line = at(i_).line;
+    if (is_local(n)) return;
+    if (n == "roger") return member_chain(line);
+    if (n == "require") {
+      if (at(i_ + 1).type == LuaToken::kString) note(Access::kRequire, at(i_ + 1).text, line);
+      if (op(i_ + 1, "(") && at(i_ + 2).type == LuaToken::kString && op(i_ + 3, ")"))
+        note(Access::kRequire, at(i_ + 2).text, line);
+    }
+    note(assigned(i_) ? Access::kWrite : Access::kRead, n, line);
+    if (accesses.back().kind == Access::kRead)
+      for (const Frame& f : frames_) accesses.back().locals.insert(accesses.back().locals.end(), f.locals.begin(), f.locals.end());
+  }
+
+  // roger.a.b or roger["a"]: the member path as far as it is written with constant names.
+  void member_chain(int line) {
+    size_t k = i_;
+    std::string path = "roger";
+    for (;;) {
+      if (op(k + 1, ".") && at(k + 2).type == LuaToken::kName) {
+        path += "." + at(k + 2).text, k += 2;
+      } else if (op(k + 1, "[") && at(k + 2).type == LuaToken::kString && op(k + 3, "]")) {
+        path += "." + at(k + 2).text, k += 3;
+      } else {
+        break;
+      }
+    }
+    const bool write = statement_level() && op(k + 1, "=");
+    note(write && path == "roger" ? Access::kWrite : Access::kRead, "roger", line);
+    if (path != "roger") note(write ? Access::kMemberWrite : Access::kMember, path, line);
+    i_ = k;
+  }
+
+  std::vector<LuaToken> t_;
+  std::vector<Frame> frames_;
+  size_t i_ = 0;
+};
+
+// Insertions, deletions, substitutions and swaps of neighbours (pirnt -> print is one).
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
+  for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (size_t i = 1; i <= a.size(); ++i)
+    for (size_t j = 1; j <= b.size(); ++j) {
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  return d[a.size()][b.size()];
+}
+
+struct ScannedFile {
+  std::string shown;
+  std::vector<Access> accesses;
+};
+
+// What the files define and what the kind's sandbox has; judges each access.
+class Judge {
+ public:
+  Judge(std::optional<ScriptKind> kind, const std::vector<ScannedFile>& files) : kind_(kind), api_(script_api_names(kind)) {
+    for (const auto& f : files)
+      for (const auto& a : f.accesses) {
+        if (a.kind == Access::kWrite) written_.insert(a.name);
+        if (a.kind == Access::kMemberWrite) written_.insert(a.name);
+      }
+  }
+
+  void judge(const ScannedFile& f, std::vector<StaticProblem>& out) const {
+    std::set<std::pair<int, std::string>> seen;  // one report per name and line
+    for (const auto& a : f.accesses) {
+      std::string message;
+      if (a.kind == Access::kRead) message = global(a.name, a.locals);
+      if (a.kind == Access::kMember) message = member(a.name);
+      if (!message.empty() && seen.insert({a.line, message}).second) out.push_back({f.shown, a.line, message});
+    }
+  }
+
+ private:
+  bool known(const std::string& n) const { return api_.count(n) || written_.count(n); }
+
+  std::string global(const std::string& n, std::vector<std::string> names) const {
+    if (known(n)) return "";
+    for (const auto& [k, table] : api_)
+      if (k.find('.') == std::string::npos) names.push_back(k);
+    for (const auto& k : written_)
+      if (k.find('.') == std::string::npos) names.push_back(k);
+    std::string m = "undefined global '" + n + "'";
+    if (n == "roger") return m + ": " + what() + " reaches no roger.* API";
+    const auto near = nearest_names(n, names);
+    if (!near.empty()) return m + "; did you mean " + join(near, " or ") + "?";
+    return m + " (not a local in scope, not assigned in the script, not in the sandbox)";
+  }
+
+  // The first segment of a member path that does not exist, with what exists beside it.
+  std::string member(const std::string& path) const {
+    if (!api_.count("roger")) return "";  // reported as an undefined global
+    size_t dot = path.find('.');
+    while (dot != std::string::npos) {
+      const size_t next = path.find('.', dot + 1);
+      const std::string prefix = path.substr(0, dot), full = path.substr(0, next);
+      if (!known(full)) return unknown_member(prefix, full);
+      const auto it = api_.find(full);
+      if (it == api_.end() || !it->second) return "";  // not a table (or the script's own): stop
+      dot = next;
+    }
+    return "";
+  }
+
+  std::string unknown_member(const std::string& prefix, const std::string& full) const {
+    std::vector<std::string> siblings;
+    for (const auto& [k, table] : api_)
+      if (k.rfind(prefix + ".", 0) == 0 && k.find('.', prefix.size() + 1) == std::string::npos)
+        siblings.push_back(k.substr(prefix.size() + 1));
+    std::string m = full + " is not in the API of " + what();
+    std::vector<std::string> elsewhere;
+    for (ScriptKind other : script_kinds())
+      if (kind_ && other != *kind_ && script_api_names(other).count(full)) elsewhere.push_back(script_kind_name(other));
+    if (!elsewhere.empty()) m += " (a " + join(elsewhere, " or a ") + " has it)";
+    auto near = nearest_names(full.substr(prefix.size() + 1), siblings);
+    if (!near.empty()) {
+      for (auto& n : near) n = prefix + "." + n;
+      return m + "; did you mean " + join(near, " or ") + "?";
+    }
+    return m + "; " + prefix + " has: " + join(siblings);
+  }
+
+  // "a scenario", or "any script" when the kind is not known.
+  std::string what() const { return kind_ ? std::string("a ") + script_kind_name(*kind_) : "any script"; }
+
+  std::optional<ScriptKind> kind_;
+  std::map<std::string, bool> api_;
+  std::set<std::string> written_;
+};
+
+// The file a literal require names, searched as the sandbox's require does, or empty.
+fs::path find_module(const LuaSandbox& sandbox, std::string name) {
+  std::replace(name.begin(), name.end(), '.', '/');
+  std::error_code ec;
+  for (const auto& root : sandbox.module_roots()) {
+    const fs::path candidate = root / (name + ".lua");
+    if (fs::is_regular_file(candidate, ec)) return fs::weakly_canonical(candidate, ec);
+  }
+  return {};
+}
+
+}  // namespace
+
+std::vector<std::string> nearest_names(const std::string& name, const std::vector<std::string>& known) {
+  const size_t limit = std::max<size_t>(1, name.size() / 3);
+  std::vector<std::pair<size_t, std::string>> scored;
+  for (const auto& k : known) {
+    const size_t d = edit_distance(name, k);
+    if (d <= limit && k != name) scored.push_back({d, k});
+  }
+  std::sort(scored.begin(), scored.end());
+  scored.erase(std::unique(scored.begin(), scored.end()), scored.end());
+  std::vector<std::string> out;
+  for (size_t i = 0; i < scored.size() && i < 3; ++i) out.push_back(scored[i].second);
+  return out;
+}
+
+std::vector<StaticProblem> static_check_text(const std::string& text, const std::string& shown,
+                                             std::optional<ScriptKind> kind) {
+  const std::vector<ScannedFile> files{{shown, Scanner(text).accesses}};
+  std::vector<StaticProblem> out;
+  Judge(kind, files).judge(files[0], out);
+  return out;
+}
+
+std::vector<StaticProblem> static_check(const std::string& path, std::optional<ScriptKind> kind) {
+  LuaSandbox sandbox;  // for its module folders and how it shows file names
+  sandbox.set_main_script(path);
+  std::error_code ec;
+  std::deque<fs::path> queue{fs::weakly_canonical(path, ec)};
+  std::set<fs::path> seen{queue.front()};
+  std::vector<ScannedFile> files;
+  while (!queue.empty()) {
+    const fs::path file = queue.front();
+    queue.pop_front();
+    files.push_back({sandbox.display_name(file), Scanner(read_file_text(file.string())).accesses});
+    for (const auto& a : files.back().accesses) {
+      if (a.kind != Access::kRequire) continue;
+      const fs::path module = find_module(sandbox, a.name);
+      if (!module.empty() && seen.insert(module).second) queue.push_back(module);
+    }
+  }
+  const Judge judge(kind, files);
+  std::vector<StaticProblem> out;
+  for (const auto& f : files) judge.judge(f, out);
+  return out;
+}
+
+}  // namespace roger

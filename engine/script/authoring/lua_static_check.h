@@ -1,0 +1,40 @@
+// lua_static_check.h: `roger check`'s static pass, run before anything of a script runs. Reads the
+// source (and the modules it requires by a literal name) without compiling it, and reports at
+// file:line
+//   - a `roger.` member the script's kind does not have (roger.sequnce), with the nearest names;
+//   - a read of a global that neither the sandbox nor any of those files defines (a misspelt
+//     local, print written pirnt).
+// Names come from a live sandbox of the script's kind (script_api.h). Scoping is followed as Lua
+// does (locals of blocks, functions, loops, parameters, `local function`), so a sound script
+// yields nothing; what the pass cannot see (a name built at run time) it does not report.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "script/authoring/script_api.h"
+
+namespace roger {
+
+// One finding: what() is "file:line: message".
+struct StaticProblem {
+  std::string file;  // as shown to the user
+  int line = 0;
+  std::string message;
+  std::string what() const { return file + ":" + std::to_string(line) + ": " + message; }
+};
+
+// Checks a script file as a script of `kind` (without one, against every kind's names), and every
+// module it requires by a literal name that the sandbox would find. Problems are in file order,
+// then line order.
+std::vector<StaticProblem> static_check(const std::string& path, std::optional<ScriptKind> kind);
+
+// The same over source text (shown as `shown`), without following requires.
+std::vector<StaticProblem> static_check_text(const std::string& text, const std::string& shown,
+                                             std::optional<ScriptKind> kind);
+
+// The names nearest to `name` among `known` (edits, a swap of two neighbours counting as one, at
+// most a third of its length and at least 1), nearest first, at most three.
+std::vector<std::string> nearest_names(const std::string& name, const std::vector<std::string>& known);
+
+}  // namespace roger

@@ -1,0 +1,166 @@
+// batch_config.cpp: a batch script's resolved configuration as the JSON a results folder's
+// manifest keeps, and read back from it for `roger report` (checked: the manifest is a file anyone
+// can edit or damage, and the report follows its references).
+#include <algorithm>
+#include <string>
+
+#include "core/error.h"
+#include "script/batch/batch_script.h"
+
+namespace roger {
+
+using json = nlohmann::json;
+
+namespace {
+
+json params_json(const Params& p) {
+  json j = json::array();
+  for (const auto& [k, v] : p) j.push_back({k, v});
+  return j;
+}
+
+Params params_from(const json& j) {
+  Params p;
+  for (const auto& e : j) p.emplace_back(e.at(0).get<std::string>(), e.at(1).get<std::string>());
+  return p;
+}
+
+}  // namespace
+
+json batch_config_json(const BatchScript& b) {
+  json runs = json::array(), evals = json::array(), tables = json::array(), figures = json::array();
+  for (const auto& r : b.runs) {
+    json skills = json::array();
+    for (const auto& s : r.skills) skills.push_back({{"skill", s.skill}, {"run", s.run}, {"context", s.context}});
+    runs.push_back({{"name", r.name}, {"stage", r.stage}, {"contexts", r.contexts}, {"trials", r.trials},
+                    {"params", params_json(r.params)}, {"skills", skills}});
+  }
+  for (const auto& e : b.evaluations)
+    evals.push_back({{"name", e.name}, {"run", e.run}, {"context", e.context}, {"scenario", e.scenario},
+                     {"params", params_json(e.params)}, {"shapes", e.shapes}, {"episodes", e.episodes},
+                     {"first_seed", e.first_seed}, {"trials", e.trials}});
+  for (const auto& t : b.tables) {
+    json usage = json::array();
+    for (const auto& u : t.usage) usage.push_back({{"context", u.context}, {"skill", u.skill}, {"subsumes", u.subsumes}});
+    json table = {{"title", t.title}, {"run", t.run}, {"baseline", t.baseline}, {"evaluation", t.evaluation},
+                  {"usage", usage}};
+    for (const auto& r : t.sorting)
+      table["sorting"].push_back({{"objects", r.objects}, {"learned", r.learned}, {"hand", r.hand}});
+    tables.push_back(std::move(table));
+  }
+  for (const auto& f : b.figures)
+    figures.push_back({{"file", f.file}, {"title", f.title}, {"kind", f.kind}, {"run", f.run}, {"log_x", f.log_x}});
+  return {{"name", b.name}, {"description", b.description}, {"curriculum", b.curriculum},
+          {"curriculum_file", b.curriculum_file}, {"trials", b.trials}, {"seed", b.seed},
+          {"params", params_json(b.params)}, {"runs", runs}, {"evaluations", evals}, {"tables", tables},
+          {"figures", figures}};
+}
+
+namespace {
+
+// An integer field of the manifest's configuration in [lo, hi]. Not get<int>(): converting 1e300
+// to int is undefined behaviour, and a negative or huge count would plan absurd trials.
+int64_t config_integer(const json& j, const char* key, int64_t lo, int64_t hi) {
+  const json& v = j.at(key);
+  if (!v.is_number_integer() || (v.is_number_unsigned() && v.get<uint64_t>() > uint64_t(hi)) ||
+      v.get<int64_t>() < lo || v.get<int64_t>() > hi)
+    throw Error(std::string("the manifest's configuration: field \"") + key + "\" must be an integer in [" +
+                std::to_string(lo) + ", " + std::to_string(hi) + "], got " + v.dump());
+  return v.get<int64_t>();
+}
+
+// The references between runs, evaluations, tables and figures that load_batch_script checked when
+// the manifest was written: the report follows them without looking, so a hand-edited or damaged
+// manifest is refused here instead of crashing it.
+void check_config_references(const BatchScript& b) {
+  auto fail = [](const std::string& what) {
+    throw Error("the manifest's configuration is inconsistent: " + what);
+  };
+  auto evaluation = [&](const std::string& name) {
+    return std::any_of(b.evaluations.begin(), b.evaluations.end(), [&](const auto& e) { return e.name == name; });
+  };
+  for (const auto& r : b.runs)
+    for (const auto& s : r.skills)
+      if (!b.run(s.run)) fail("run '" + r.name + "' takes a skill from run '" + s.run + "', which it lacks");
+  for (const auto& e : b.evaluations)
+    if (!b.run(e.run)) fail("evaluation '" + e.name + "' names run '" + e.run + "', which it lacks");
+  for (const auto& t : b.tables) {
+    for (const auto& r : t.sorting)
+      for (const std::string* name : {&r.learned, &r.hand})
+        if (!name->empty() && !b.run(*name)) fail("table '" + t.title + "' names run '" + *name + "', which it lacks");
+    if (!t.sorting.empty()) continue;
+    if (t.run.empty() ? !evaluation(t.evaluation) : !b.run(t.run))
+      fail("table '" + t.title + "' names " + (t.run.empty() ? "evaluation '" + t.evaluation : "run '" + t.run) +
+           "', which it lacks");
+  }
+  for (const auto& f : b.figures) {
+    if (!b.run(f.run)) fail("figure '" + f.file + "' names run '" + f.run + "', which it lacks");
+    if (f.kind != "curves" && f.kind != "cumulative")
+      fail("figure '" + f.file + "' is of kind '" + f.kind + "', not curves or cumulative");
+  }
+}
+
+}  // namespace
+
+BatchScript batch_config_from_json(const json& j) {
+  BatchScript b;
+  try {
+    b.name = j.at("name");
+    b.description = j.value("description", "");
+    b.curriculum = j.at("curriculum");
+    b.curriculum_file = j.value("curriculum_file", "");
+    b.trials = int(config_integer(j, "trials", 1, 100000));
+    b.seed = uint64_t(config_integer(j, "seed", 0, int64_t(1) << 53));
+    b.params = params_from(j.at("params"));
+    for (const auto& rj : j.at("runs")) {
+      BatchRun r;
+      r.name = rj.at("name");
+      r.stage = rj.at("stage");
+      r.contexts = rj.at("contexts").get<std::vector<std::string>>();
+      r.trials = int(config_integer(rj, "trials", 1, 100000));
+      r.params = params_from(rj.at("params"));
+      for (const auto& s : rj.at("skills")) r.skills.push_back({s.at("skill"), s.at("run"), s.at("context")});
+      b.runs.push_back(std::move(r));
+    }
+    for (const auto& ej : j.at("evaluations")) {
+      BatchEvaluation e;
+      e.name = ej.at("name");
+      e.run = ej.at("run");
+      e.context = ej.at("context");
+      e.scenario = ej.at("scenario");
+      e.params = params_from(ej.at("params"));
+      e.shapes = ej.at("shapes").get<std::vector<std::string>>();
+      e.episodes = int(config_integer(ej, "episodes", 1, 1000000));
+      e.first_seed = config_integer(ej, "first_seed", -1, int64_t(1) << 53);
+      e.trials = int(config_integer(ej, "trials", 1, 100000));
+      b.evaluations.push_back(std::move(e));
+    }
+    for (const auto& tj : j.at("tables")) {
+      BatchTable t;
+      t.title = tj.at("title");
+      t.run = tj.at("run");
+      t.baseline = tj.at("baseline");
+      t.evaluation = tj.at("evaluation");
+      for (const auto& u : tj.at("usage"))
+        t.usage.push_back({u.at("context"), u.at("skill"), u.at("subsumes").get<std::vector<std::string>>()});
+      for (const auto& r : tj.value("sorting", json::array()))
+        t.sorting.push_back({int(config_integer(r, "objects", 1, 1000)), r.at("learned"), r.at("hand")});
+      b.tables.push_back(std::move(t));
+    }
+    for (const auto& fj : j.at("figures")) {
+      BatchFigure f;
+      f.file = fj.at("file");
+      f.title = fj.at("title");
+      f.kind = fj.at("kind");
+      f.run = fj.at("run");
+      f.log_x = fj.at("log_x");
+      b.figures.push_back(std::move(f));
+    }
+  } catch (const json::exception& e) {
+    throw Error(std::string("the manifest's configuration is incomplete or not from this version: ") + e.what());
+  }
+  check_config_references(b);
+  return b;
+}
+
+}  // namespace roger

@@ -1,0 +1,521 @@
+#include "script/batch/batch_script.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include <lua.hpp>
+
+#include "core/error.h"
+#include "core/fileio.h"
+#include "script/batch/batch_script_internal.h"
+#include "script/curriculum/curriculum.h"
+
+namespace roger {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+using batch_detail::lua_to_json;
+using batch_detail::quoted_list;
+using batch_detail::Reader;
+
+namespace {
+
+void merge_params(Params& into, const Params& more) {
+  for (const auto& kv : more) {  // not a structured binding: clang 14 cannot capture one in a lambda
+    const auto& [k, v] = kv;
+    auto it = std::find_if(into.begin(), into.end(), [&](const auto& p) { return p.first == kv.first; });
+    if (it != into.end()) it->second = v;
+    else into.emplace_back(k, v);
+  }
+}
+
+// Finds the script: the path itself, or <project>/scripts/<name>.lua for a bare name.
+std::string resolve_script(const std::string& arg) {
+  return resolve_script_path(arg, "scripts", "batch script", "batch scripts in scripts/");
+}
+
+// The line of the final `return` (for errors about the whole table).
+int return_line(const std::string& text) {
+  int top_line = 1;
+  {
+    std::istringstream in(text);
+    std::string l;
+    for (int n = 1; std::getline(in, l); ++n)
+      if (std::regex_search(l, std::regex("^\\s*return\\b"))) top_line = n;
+  }
+  return top_line;
+}
+
+// The table the script returned (on top of the stack, then popped) as JSON.
+json returned_table(lua_State* L, const Reader& rd, int top_line) {
+  if (!lua_istable(L, -1))
+    rd.fail(top_line, "a batch script must return a table {name = ..., curriculum = ..., runs = {...}}, got " +
+                          std::string(luaL_typename(L, -1)));
+  json top;
+  try {
+    top = lua_to_json(L, -1, "the batch script");
+  } catch (const ScriptError&) {
+    throw;
+  } catch (const Error& e) {
+    rd.fail(top_line, e.what());
+  }
+  lua_pop(L, 1);
+  return top;
+}
+
+// Reads the script's own fields (name, description, curriculum, trials, seed, params), with the
+// command line's overrides.
+void read_header(const json& top, const Reader& rd, int top_line, const std::string& path,
+                 const BatchOverrides& overrides, BatchScript& b) {
+  rd.check_object(top, "the batch script",
+                  {"name", "description", "curriculum", "trials", "seed", "params", "runs", "evaluations", "tables",
+                   "figures"},
+                  top_line);
+  b.name = rd.str(top, "name", "the batch script", top_line, fs::path(path).stem().string());
+  b.description = rd.str(top, "description", "the batch script", top_line, "");
+  b.curriculum = rd.str(top, "curriculum", "the batch script", top_line, "", true);
+  b.trials = int(rd.integer(top, "trials", "the batch script", top_line, 1, 1, 100000));
+  b.seed = uint64_t(rd.integer(top, "seed", "the batch script", top_line, 1, 0, int64_t(1) << 53));
+  b.params = rd.params(top, "params", "the batch script", top_line);
+  merge_params(b.params, overrides.sets);
+  if (overrides.trials > 0) b.trials = overrides.trials;
+}
+
+// Loads the script's curriculum and records its file.
+std::unique_ptr<Curriculum> load_curriculum(const Reader& rd, const std::string& path, const SandboxLimits& limits,
+                                            BatchScript& b) {
+  // The curriculum: relative to the current folder, else the script's folder, else a shipped name.
+  std::string cur_arg = b.curriculum;
+  {
+    std::error_code ec;
+    const fs::path beside = fs::path(path).parent_path() / b.curriculum;
+    const fs::path in_project = project_root() / b.curriculum;
+    if (!fs::is_regular_file(cur_arg, ec)) {
+      if (fs::is_regular_file(beside, ec)) cur_arg = beside.string();
+      else if (fs::is_regular_file(in_project, ec)) cur_arg = in_project.string();
+    }
+  }
+  std::unique_ptr<Curriculum> cur;
+  try {
+    cur = std::make_unique<Curriculum>(Curriculum::load(cur_arg, limits));
+  } catch (const ScriptError& e) {
+    rd.fail(rd.line_of_key("curriculum", 1), "the curriculum '" + b.curriculum + "' does not load: " + e.what());
+  } catch (const Error& e) {
+    rd.fail(rd.line_of_key("curriculum", 1), e.what());
+  }
+  b.curriculum_file = fs::absolute(cur->file()).lexically_normal().string();
+  return cur;
+}
+
+// Reads a run's 'skills' (for each learned skill its contexts use, the earlier run that trains
+// it) and checks that every skill it needs is given.
+void read_run_skills(const json& rj, const Reader& rd, const std::string& what, const Curriculum& cur,
+                     const CurriculumStage* stage, const BatchScript& b, BatchRun& r) {
+  // The learned skills its contexts use, and where each comes from.
+  std::set<std::string> needed;
+  for (const auto& c : r.contexts)
+    for (const auto& l : stage->context(c).learned) needed.insert(l);
+  if (rj.contains("skills")) {
+    const json& sj = rj["skills"];
+    const int sl = rd.line_of_key("skills", r.line);
+    if (!sj.is_object()) rd.fail(sl, what + ": 'skills' must be a table {Skill = {run = ..., context = ...}}");
+    for (auto it = sj.begin(); it != sj.end(); ++it) {
+      const std::string sw = what + ", skill '" + it.key() + "'";
+      const int l = rd.line_of_key(it.key(), sl);
+      rd.check_object(*it, sw, {"run", "context"}, l);
+      BatchSkill s;
+      s.skill = it.key();
+      s.run = rd.str(*it, "run", sw, l, "", true);
+      const BatchRun* from = b.run(s.run);
+      if (!from) {
+        std::vector<std::string> earlier;
+        for (const auto& e : b.runs) earlier.push_back(e.name);
+        rd.fail(l, sw + ": no earlier run '" + s.run + "'; the runs before it are " + quoted_list(earlier));
+      }
+      const CurriculumStage* producer = cur.producer(s.skill);
+      if (!producer)
+        rd.fail(l, sw + ": the curriculum yields no skill '" + s.skill + "'");
+      if (producer->name != from->stage)
+        rd.fail(l, sw + ": run '" + s.run + "' trains stage '" + from->stage + "', but '" + s.skill +
+                       "' is yielded by stage '" + producer->name + "'");
+      s.context = rd.str(*it, "context", sw, l, producer->skill ? producer->skill->second : "");
+      if (std::find(from->contexts.begin(), from->contexts.end(), s.context) == from->contexts.end())
+        rd.fail(l, sw + ": run '" + s.run + "' has no context '" + s.context + "'; its contexts are " +
+                       quoted_list(from->contexts));
+      if (from->trials < r.trials)
+        rd.fail(l, sw + ": run '" + s.run + "' has " + std::to_string(from->trials) + " trials, fewer than the " +
+                       std::to_string(r.trials) + " of run '" + r.name + "' (trial i uses trial i's policy)");
+      if (!needed.count(s.skill))
+        rd.fail(l, sw + ": no context of run '" + r.name + "' uses the learned skill '" + s.skill + "'");
+      r.skills.push_back(s);
+    }
+  }
+  for (const auto& n : needed)
+    if (std::none_of(r.skills.begin(), r.skills.end(), [&](const BatchSkill& s) { return s.skill == n; }))
+      rd.fail(r.line, what + ": its contexts use the learned skill '" + n +
+                          "': say which run trains it, e.g. skills = { " + n + " = { run = \"...\", context = \"...\" } }");
+}
+
+// Reads one run of 'runs' (written from line `runs_line` on).
+BatchRun read_run(const json& rj, const Reader& rd, int runs_line, const Curriculum& cur,
+                  const std::vector<std::string>& stage_names, const BatchOverrides& overrides, const BatchScript& b) {
+  BatchRun r;
+  const std::string nm = rj.is_object() && rj.contains("name") && rj["name"].is_string() ? rj["name"].get<std::string>() : "";
+  r.line = nm.empty() ? runs_line : std::max(rd.line_of_name(nm, runs_line), runs_line);
+  const std::string what = nm.empty() ? "a run" : "run '" + nm + "'";
+  rd.check_object(rj, what, {"name", "stage", "contexts", "trials", "params", "skills"}, r.line);
+  r.name = rd.str(rj, "name", what, r.line, "", true);
+  if (!std::regex_match(r.name, std::regex("[A-Za-z0-9_.-]+")) || r.name == "eval")
+    rd.fail(r.line, what + ": a run name uses letters, digits, '.', '_' and '-' (and is not 'eval')");
+  if (b.run(r.name)) rd.fail(r.line, "a second run named '" + r.name + "'");
+  r.stage = rd.str(rj, "stage", what, r.line, "", true);
+  const CurriculumStage* stage = nullptr;
+  for (const auto& st : cur.stages())
+    if (st.name == r.stage) stage = &st;
+  if (!stage)
+    rd.fail(rd.line_of_key("stage", r.line), what + ": the curriculum " + cur.path() + " has no stage '" + r.stage +
+                                                 "'; its stages are " + quoted_list(stage_names));
+  std::vector<std::string> ctx_names;
+  for (const auto& c : stage->contexts) ctx_names.push_back(c.name);
+  r.contexts = rd.strings(rj, "contexts", what, r.line, false);
+  if (r.contexts.empty()) r.contexts = ctx_names;
+  for (const auto& c : r.contexts)
+    if (std::find(ctx_names.begin(), ctx_names.end(), c) == ctx_names.end())
+      rd.fail(rd.line_of_key("contexts", r.line), what + ": stage '" + r.stage + "' has no context '" + c +
+                                                      "'; its contexts are " + quoted_list(ctx_names));
+  r.trials = int(rd.integer(rj, "trials", what, r.line, b.trials, 1, 100000));
+  if (overrides.trials > 0) r.trials = overrides.trials;
+  r.params = b.params;
+  merge_params(r.params, rd.params(rj, "params", what, r.line));
+  merge_params(r.params, overrides.sets);
+  read_run_skills(rj, rd, what, cur, stage, b, r);
+  return r;
+}
+
+// Reads 'runs', in order (a run takes skills only from the runs before it).
+void read_runs(const json& top, const Reader& rd, int top_line, const Curriculum& cur,
+               const BatchOverrides& overrides, BatchScript& b) {
+  std::vector<std::string> stage_names;
+  for (const auto& st : cur.stages()) stage_names.push_back(st.name);
+
+  if (!top.contains("runs")) rd.fail(top_line, "the batch script: missing required field 'runs' (a list of runs)");
+  const int runs_line = rd.line_of_key("runs", 1);
+  if (!top["runs"].is_array() || top["runs"].empty())
+    rd.fail(runs_line, "the batch script: 'runs' must be a non-empty list of {name = ..., stage = ..., contexts = {...}}");
+  for (const json& rj : top["runs"]) {
+    BatchRun r = read_run(rj, rd, runs_line, cur, stage_names, overrides, b);
+    b.runs.push_back(std::move(r));
+  }
+}
+
+// Reads one evaluation of 'evaluations' (written from line `el` on).
+BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const BatchOverrides& overrides,
+                                const BatchScript& b) {
+  BatchEvaluation e;
+  const std::string nm = ej.is_object() && ej.contains("name") && ej["name"].is_string() ? ej["name"].get<std::string>() : "";
+  e.line = nm.empty() ? el : std::max(rd.line_of_name(nm, el), el);
+  const std::string what = nm.empty() ? "an evaluation" : "evaluation '" + nm + "'";
+  rd.check_object(ej, what,
+                  {"name", "run", "context", "scenario", "params", "shapes", "episodes", "first_seed", "trials"},
+                  e.line);
+  e.name = rd.str(ej, "name", what, e.line, "", true);
+  if (!std::regex_match(e.name, std::regex("[A-Za-z0-9_.-]+")))
+    rd.fail(e.line, what + ": a name uses letters, digits, '.', '_' and '-'");
+  for (const auto& o : b.evaluations)
+    if (o.name == e.name) rd.fail(e.line, "a second evaluation named '" + e.name + "'");
+  e.run = rd.str(ej, "run", what, e.line, "", true);
+  const BatchRun* from = b.run(e.run);
+  if (!from) {
+    std::vector<std::string> names;
+    for (const auto& r : b.runs) names.push_back(r.name);
+    rd.fail(rd.line_of_key("run", e.line), what + ": no run '" + e.run + "'; the runs are " + quoted_list(names));
+  }
+  e.context = rd.str(ej, "context", what, e.line, from->contexts.back());
+  if (std::find(from->contexts.begin(), from->contexts.end(), e.context) == from->contexts.end())
+    rd.fail(rd.line_of_key("context", e.line), what + ": run '" + e.run + "' has no context '" + e.context +
+                                                   "'; its contexts are " + quoted_list(from->contexts));
+  e.scenario = rd.str(ej, "scenario", what, e.line, "");
+  e.params = rd.params(ej, "params", what, e.line);
+  e.shapes = rd.strings(ej, "shapes", what, e.line, false);
+  for (const auto& s : e.shapes)
+    if (!std::regex_match(s, std::regex("[A-Za-z0-9_.-]+")))
+      rd.fail(rd.line_of_key("shapes", e.line), what + ": shape '" + s + "' is not a plain name");
+  if (std::any_of(e.params.begin(), e.params.end(), [](const auto& p) { return p.first == "shape"; }) &&
+      !e.shapes.empty())
+    rd.fail(rd.line_of_key("shapes", e.line), what + ": give the shape either in 'params' or in 'shapes', not both");
+  e.episodes = int(rd.integer(ej, "episodes", what, e.line, 50, 1, 1000000));
+  e.first_seed = rd.integer(ej, "first_seed", what, e.line, -1, -1, int64_t(1) << 53);
+  e.trials = int(rd.integer(ej, "trials", what, e.line, from->trials, 1, from->trials));
+  if (overrides.trials > 0) e.trials = std::min(overrides.trials, from->trials);
+  return e;
+}
+
+// Reads the optional 'evaluations'.
+void read_evaluations(const json& top, const Reader& rd, const BatchOverrides& overrides, BatchScript& b) {
+  if (top.contains("evaluations")) {
+    const int el = rd.line_of_key("evaluations", 1);
+    if (!top["evaluations"].is_array()) rd.fail(el, "the batch script: 'evaluations' must be a list");
+    for (const json& ej : top["evaluations"]) {
+      BatchEvaluation e = read_evaluation(ej, rd, el, overrides, b);
+      b.evaluations.push_back(std::move(e));
+    }
+  }
+}
+
+// The names of the runs read so far.
+std::vector<std::string> run_names(const BatchScript& b) {
+  std::vector<std::string> n;
+  for (const auto& r : b.runs) n.push_back(r.name);
+  return n;
+}
+
+// Reads a run's table's 'usage' rows (written at line `ul`): which action of a context a skill
+// subsumes.
+void read_usage(const json& tj, const Reader& rd, const std::string& what, int ul, const BatchRun* r,
+                const Curriculum& cur, BatchTable& t) {
+  if (!tj["usage"].is_array()) rd.fail(ul, what + ": 'usage' must be a list of {context = ..., skill = ..., subsumes = {...}}");
+  for (const json& uj : tj["usage"]) {
+    rd.check_object(uj, what + ", usage", {"context", "skill", "subsumes"}, ul);
+    BatchUsage u;
+    u.context = rd.str(uj, "context", what + ", usage", ul, "", true);
+    if (std::find(r->contexts.begin(), r->contexts.end(), u.context) == r->contexts.end())
+      rd.fail(ul, what + ", usage: run '" + t.run + "' has no context '" + u.context + "'; its contexts are " +
+                      quoted_list(r->contexts));
+    u.skill = rd.str(uj, "skill", what + ", usage", ul, "", true);
+    u.subsumes = rd.strings(uj, "subsumes", what + ", usage", ul, true);
+    std::vector<std::string> psi;
+    for (const auto& a : cur.stage(r->stage).context(u.context).actions) psi.push_back(a->name());
+    std::vector<std::string> all = u.subsumes;
+    all.push_back(u.skill);
+    for (const auto& a : all)
+      if (std::find(psi.begin(), psi.end(), a) == psi.end())
+        rd.fail(ul, what + ", usage: context '" + u.context + "' has no action '" + a + "'; its actions are " +
+                        quoted_list(psi));
+    t.usage.push_back(std::move(u));
+  }
+}
+
+// Reads a sorting table's rows: {objects = n, learned = run, hand = run}, each run one of the script's.
+void read_sorting_rows(const json& rows, const Reader& rd, const std::string& what, int l, const BatchScript& b,
+                       BatchTable& t) {
+  if (!rows.is_array() || rows.empty())
+    rd.fail(l, what + ": 'sorting' must be a list of {objects = n, learned = run, hand = run}");
+  for (const json& rj : rows) {
+    rd.check_object(rj, what + ", a sorting row", {"objects", "learned", "hand"}, l);
+    BatchSortingRow row;
+    if (!rj.contains("objects") || !rj["objects"].is_number_integer() || rj["objects"].get<int64_t>() < 1 ||
+        rj["objects"].get<int64_t>() > 1000)
+      rd.fail(l, what + ": a sorting row's 'objects' must be a whole number of objects, 1 to 1000");
+    row.objects = int(rj["objects"].get<int64_t>());
+    row.learned = rd.str(rj, "learned", what, l, "");
+    row.hand = rd.str(rj, "hand", what, l, "");
+    if (row.learned.empty() && row.hand.empty()) rd.fail(l, what + ": a sorting row needs 'learned', 'hand' or both");
+    for (const std::string* name : {&row.learned, &row.hand})
+      if (!name->empty() && !b.run(*name))
+        rd.fail(l, what + ": no run '" + *name + "'; the runs are " + quoted_list(run_names(b)));
+    t.sorting.push_back(std::move(row));
+  }
+}
+
+// Reads one table of 'tables'; `at` is the line to search from, moved past this table.
+BatchTable read_table(const json& tj, const Reader& rd, int& at, const Curriculum& cur, const BatchScript& b) {
+  BatchTable t;
+  const std::string title = tj.is_object() && tj.contains("title") && tj["title"].is_string() ? tj["title"].get<std::string>() : "";
+  const int l = title.empty() ? at : std::max(at, rd.line_of_key("title", at));
+  at = l + 1;
+  const std::string what = title.empty() ? "a table" : "table '" + title + "'";
+  rd.check_object(tj, what, {"title", "run", "baseline", "evaluation", "usage", "sorting"}, l);
+  t.title = title;
+  if (tj.contains("sorting")) {
+    if (tj.contains("run") || tj.contains("evaluation") || tj.contains("baseline") || tj.contains("usage"))
+      rd.fail(l, what + ": a sorting table has rows of its own: no 'run', 'evaluation', 'baseline' or 'usage'");
+    read_sorting_rows(tj["sorting"], rd, what, rd.line_of_key("sorting", l), b, t);
+    return t;
+  }
+  t.run = rd.str(tj, "run", what, l, "");
+  t.evaluation = rd.str(tj, "evaluation", what, l, "");
+  if (t.run.empty() == t.evaluation.empty()) rd.fail(l, what + ": give 'run', 'evaluation' or 'sorting'");
+  if (!t.evaluation.empty()) {
+    if (std::none_of(b.evaluations.begin(), b.evaluations.end(), [&](const auto& e) { return e.name == t.evaluation; })) {
+      std::vector<std::string> names;
+      for (const auto& e : b.evaluations) names.push_back(e.name);
+      rd.fail(l, what + ": no evaluation '" + t.evaluation + "'; the evaluations are " + quoted_list(names));
+    }
+    if (tj.contains("baseline") || tj.contains("usage"))
+      rd.fail(l, what + ": 'baseline' and 'usage' belong to a run's table");
+  } else {
+    const BatchRun* r = b.run(t.run);
+    if (!r) rd.fail(l, what + ": no run '" + t.run + "'; the runs are " + quoted_list(run_names(b)));
+    t.baseline = rd.str(tj, "baseline", what, l, r->contexts.front());
+    if (std::find(r->contexts.begin(), r->contexts.end(), t.baseline) == r->contexts.end())
+      rd.fail(rd.line_of_key("baseline", l), what + ": run '" + t.run + "' has no context '" + t.baseline +
+                                                 "'; its contexts are " + quoted_list(r->contexts));
+    if (tj.contains("usage")) read_usage(tj, rd, what, rd.line_of_key("usage", l), r, cur, t);
+  }
+  return t;
+}
+
+// Reads 'tables' (default: one per run against its first context, one per evaluation).
+void read_tables(const json& top, const Reader& rd, const Curriculum& cur, BatchScript& b) {
+  if (top.contains("tables")) {
+    const int tl = rd.line_of_key("tables", 1);
+    if (!top["tables"].is_array()) rd.fail(tl, "the batch script: 'tables' must be a list");
+    int at = tl;
+    for (const json& tj : top["tables"]) {
+      BatchTable t = read_table(tj, rd, at, cur, b);
+      b.tables.push_back(std::move(t));
+    }
+  } else {
+    for (const auto& r : b.runs) {
+      BatchTable t;
+      t.title = "Stage " + r.stage + " (run " + r.name + ")";
+      t.run = r.name;
+      t.baseline = r.contexts.front();
+      b.tables.push_back(t);
+    }
+    for (const auto& e : b.evaluations) {
+      BatchTable t;
+      t.title = "Evaluation " + e.name;
+      t.evaluation = e.name;
+      b.tables.push_back(t);
+    }
+  }
+}
+
+// Reads one figure of 'figures'; `at` is the line to search from, moved past this figure.
+BatchFigure read_figure(const json& fj, const Reader& rd, int& at, const BatchScript& b) {
+  BatchFigure f;
+  const std::string file = fj.is_object() && fj.contains("file") && fj["file"].is_string() ? fj["file"].get<std::string>() : "";
+  const int l = file.empty() ? at : std::max(at, rd.line_of_key("file", at));
+  at = l + 1;
+  const std::string what = file.empty() ? "a figure" : "figure '" + file + "'";
+  rd.check_object(fj, what, {"file", "title", "kind", "run", "log_x"}, l);
+  f.file = rd.str(fj, "file", what, l, "", true);
+  if (!std::regex_match(f.file, std::regex("[A-Za-z0-9_.-]+")))
+    rd.fail(l, what + ": 'file' is a plain name (no folder, no extension): <file>.png and <file>.svg are written");
+  f.title = rd.str(fj, "title", what, l, "");
+  f.kind = rd.str(fj, "kind", what, l, "curves");
+  if (f.kind != "curves" && f.kind != "cumulative")
+    rd.fail(rd.line_of_key("kind", l), what + ": 'kind' is \"curves\" or \"cumulative\", got '" + f.kind + "'");
+  f.run = rd.str(fj, "run", what, l, "", true);
+  const BatchRun* r = b.run(f.run);
+  if (!r) rd.fail(rd.line_of_key("run", l), what + ": no run '" + f.run + "'; the runs are " + quoted_list(run_names(b)));
+  if (f.kind == "cumulative" && r->skills.empty())
+    rd.fail(l, what + ": a cumulative figure needs a run that takes skills from an earlier run; '" + f.run +
+                   "' takes none");
+  f.log_x = rd.boolean(fj, "log_x", what, l, false);
+  for (const auto& o : b.figures)
+    if (o.file == f.file) rd.fail(l, "a second figure written to '" + f.file + "'");
+  return f;
+}
+
+// Reads 'figures' (default: learning curves of every run, cumulative times of every run with
+// skills).
+void read_figures(const json& top, const Reader& rd, BatchScript& b) {
+  if (top.contains("figures")) {
+    const int fl = rd.line_of_key("figures", 1);
+    if (!top["figures"].is_array()) rd.fail(fl, "the batch script: 'figures' must be a list");
+    int at = fl;
+    for (const json& fj : top["figures"]) {
+      BatchFigure f = read_figure(fj, rd, at, b);
+      b.figures.push_back(std::move(f));
+    }
+  } else {
+    for (const auto& r : b.runs) {
+      BatchFigure f;
+      f.file = "curves_" + r.name;
+      f.title = "Learning curves: stage " + r.stage;
+      f.run = r.name;
+      b.figures.push_back(f);
+      if (!r.skills.empty()) {
+        f.file = "cumulative_" + r.name;
+        f.title = "Cumulative training time: stage " + r.stage;
+        f.kind = "cumulative";
+        b.figures.push_back(f);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+const BatchRun* BatchScript::run(const std::string& n) const {
+  for (const auto& r : runs)
+    if (r.name == n) return &r;
+  return nullptr;
+}
+
+std::vector<const BatchRun*> BatchScript::ordered_runs() const {
+  std::vector<const BatchRun*> out;
+  std::set<std::string> placed;
+  while (out.size() < runs.size()) {
+    bool progress = false;
+    for (const auto& r : runs) {
+      if (placed.count(r.name)) continue;
+      bool ready = true;
+      for (const auto& s : r.skills) ready = ready && placed.count(s.run) > 0;
+      if (!ready) continue;
+      out.push_back(&r);
+      placed.insert(r.name);
+      progress = true;
+    }
+    if (!progress) throw Error("batch script: runs take skills from each other in a cycle");
+  }
+  return out;
+}
+
+std::string batch_trial_id(const std::string& run, const std::string& context, int trial) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "%03d", trial);
+  return run + "/" + context + "/" + buf;
+}
+
+std::string batch_eval_id(const std::string& evaluation, const std::string& shape, int trial) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "%03d", trial);
+  return "eval/" + evaluation + "/" + shape + "/" + buf;
+}
+
+std::vector<std::string> batch_eval_groups(const BatchEvaluation& e) {
+  return e.shapes.empty() ? std::vector<std::string>{"all"} : e.shapes;
+}
+
+BatchScript load_batch_script(const std::string& path_in, const BatchOverrides& overrides,
+                              const SandboxLimits& limits) {
+  const std::string path = resolve_script(path_in);
+  LuaSandbox sandbox(limits);
+  BatchScript b;
+  b.file = path;
+  b.path = sandbox.display_name(path);
+  sandbox.set_main_script(path);
+  sandbox.run_file(path, 1);
+  lua_State* L = sandbox.state();
+  const std::string text = read_file_text(path);
+  const Reader rd(b.path, text);
+  const int top_line = return_line(text);
+  const json top = returned_table(L, rd, top_line);
+
+  read_header(top, rd, top_line, path, overrides, b);
+  const std::unique_ptr<Curriculum> cur = load_curriculum(rd, path, limits, b);
+  read_runs(top, rd, top_line, *cur, overrides, b);
+  read_evaluations(top, rd, overrides, b);
+  read_tables(top, rd, *cur, b);
+  read_figures(top, rd, b);
+  b.ordered_runs();  // rejects cycles (impossible with earlier-run skills, kept as a guard)
+  return b;
+}
+
+bool is_batch_script(const std::string& path) {
+  return script_has_key(path, "runs") || script_has_key(path, "curriculum") ||
+         script_has_key(path, "evaluations");
+}
+
+}  // namespace roger

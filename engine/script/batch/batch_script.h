@@ -1,0 +1,147 @@
+// batch_script.h: batch scripts (scripts/paper.lua), the Lua description of a whole experiment:
+// which curriculum, how many trials of which stage and contexts, which learned skills each run
+// takes from which earlier run, which saved policies are evaluated where, and which tables and
+// figures the report draws. docs/batch.md is the reference of every field.
+//
+//   return {
+//     name = "paper", curriculum = "curricula/paper.lua", trials = 50, seed = 1,
+//     runs = {
+//       { name = "SG", stage = "SG", contexts = {"B1", "DC1", "DC2"} },
+//       { name = "T", stage = "T", contexts = {"B2", "DC3", "DC4", "DC5", "DC6"},
+//         skills = { Phi_SG = { run = "SG", context = "DC2" } } },
+//     },
+//     evaluations = { { name = "generalization", run = "T", context = "DC6", scenario = "cluttered",
+//                       params = {obstacles = 3}, shapes = {"circle", "spade"}, episodes = 50 } },
+//     tables = { ... }, figures = { ... },   -- optional: defaults follow the runs
+//   }
+//
+// The script runs in the sandbox (lua_sandbox.h). Every mistake (an unknown field, curriculum,
+// stage, context, run or skill) is a ScriptError naming the batch script's file:line and listing
+// what exists.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "script/sandbox/lua_sandbox.h"
+
+namespace roger {
+
+using Params = std::vector<std::pair<std::string, std::string>>;
+
+// Where a run takes a learned skill from: trial i uses the policy of trial i of run/context.
+struct BatchSkill {
+  std::string skill;    // "Phi_SG"
+  std::string run;      // the earlier run that trains it ("SG")
+  std::string context;  // the context of that run whose policy is used ("DC2")
+};
+
+// Trials of one curriculum stage in several contexts.
+struct BatchRun {
+  std::string name;                   // unique; the first segment of its trial ids
+  std::string stage;                  // a stage of the curriculum
+  std::vector<std::string> contexts;  // contexts of that stage, in table order
+  int trials = 0;                     // trials per context
+  Params params;                      // scenario parameters (batch params, then these)
+  std::vector<BatchSkill> skills;     // learned skills taken from earlier runs
+  int line = 0;                       // where it is written
+};
+
+// Greedy runs of one run/context's final policies in another scenario, per object shape.
+struct BatchEvaluation {
+  std::string name;                 // unique; ids are eval/<name>/<shape>/<trial>
+  std::string run, context;         // whose policies (every trial's, up to `trials`)
+  std::string scenario;             // "" = the stage's
+  Params params;                    // scenario parameters
+  std::vector<std::string> shapes;  // one group per shape (sets shape=...); empty = one group "all"
+  int episodes = 50;                // episodes per policy and shape
+  int64_t first_seed = -1;          // -1 = the stage's held-out seeds
+  int trials = 0;                   // how many of the run's trials are evaluated
+  int line = 0;
+};
+
+// A usage comparison: a skill's share of the decisions against the actions it subsumes.
+struct BatchUsage {
+  std::string context, skill;
+  std::vector<std::string> subsumes;
+};
+
+// One row of a sorting table: a number of objects, and the runs (their first context) of the
+// learned and the hand-written sorting stage for it (either may be empty).
+struct BatchSortingRow {
+  int objects = 0;
+  std::string learned, hand;
+};
+
+// One table of the report: a run against its baseline context, an evaluation, or a sorting table
+// (one row per number of objects).
+struct BatchTable {
+  std::string title;
+  std::string run, baseline;  // a run's table (baseline: one of its contexts)
+  std::string evaluation;     // or an evaluation's table
+  std::vector<BatchUsage> usage;
+  std::vector<BatchSortingRow> sorting;  // or a sorting table
+};
+
+// One figure of the report (written as <file>.png and <file>.svg).
+struct BatchFigure {
+  std::string file, title;
+  std::string kind = "curves";  // "curves": learning curves of a run; "cumulative": stacked times
+  std::string run;
+  bool log_x = false;
+};
+
+// A loaded and validated batch script.
+struct BatchScript {
+  std::string file;             // the script as given
+  std::string path;             // as shown in messages
+  std::string name, description;
+  std::string curriculum;       // as written (resolved by the trainer)
+  std::string curriculum_file;  // the resolved file
+  int trials = 0;
+  uint64_t seed = 1;
+  Params params;                // scenario parameters of every training run (script, then --set)
+  std::vector<BatchRun> runs;
+  std::vector<BatchEvaluation> evaluations;
+  std::vector<BatchTable> tables;
+  std::vector<BatchFigure> figures;
+
+  // A run by name, or null.
+  const BatchRun* run(const std::string& name) const;
+  // Runs in an order where every run comes after the runs it takes skills from.
+  std::vector<const BatchRun*> ordered_runs() const;
+};
+
+// What the command line changes in a script.
+struct BatchOverrides {
+  int trials = 0;  // > 0: every run's and evaluation's trial count
+  Params sets;     // scenario parameters added to every training run
+};
+
+// Loads a batch script, applies the overrides and validates it against its curriculum.
+// Throws ScriptError (file:line) or roger::Error.
+BatchScript load_batch_script(const std::string& path, const BatchOverrides& overrides = {},
+                              const SandboxLimits& limits = {});
+
+// Whether the file reads as a batch script: it sets `runs`, `curriculum` or `evaluations`
+// (script_has_key), as scripts/paper.lua and scripts/quick.lua (`quick.evaluations = ...`) do.
+bool is_batch_script(const std::string& path);
+
+// The script's resolved configuration as JSON (the manifest's "config"; read back by the report).
+nlohmann::json batch_config_json(const BatchScript& script);
+
+// Rebuilds a script from batch_config_json (no validation against the curriculum).
+BatchScript batch_config_from_json(const nlohmann::json& config);
+
+// A training trial's id: "SG/B1/003".
+std::string batch_trial_id(const std::string& run, const std::string& context, int trial);
+// An evaluation trial's id: "eval/generalization/circle/003".
+std::string batch_eval_id(const std::string& evaluation, const std::string& shape, int trial);
+// The group name of an evaluation's shape ("all" when it names no shapes).
+std::vector<std::string> batch_eval_groups(const BatchEvaluation& evaluation);
+
+}  // namespace roger

@@ -1,0 +1,71 @@
+// batch_script_internal.h: what the batch script loader (batch_script.cpp) shares with
+// batch_script_reader.cpp (the returned table as JSON, and reading its fields with their lines).
+// Private to engine/script/batch.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "script/batch/batch_script.h"
+
+struct lua_State;
+
+namespace roger {
+namespace batch_detail {
+
+using json = nlohmann::json;
+
+// "'a', 'b'" (or "(none)") for messages.
+std::string quoted_list(const std::vector<std::string>& items);
+
+// The Lua value at `index` as JSON: tables with keys 1..n are arrays, tables with string keys
+// objects; numbers, strings and booleans as they are. `where` names the value for messages.
+json lua_to_json(lua_State* L, int index, const std::string& where, int depth = 0);
+
+// Reads a validated script out of the JSON the Lua script returned, with lines for messages.
+class Reader {
+ public:
+  Reader(std::string display, std::string text) : display_(std::move(display)), text_(std::move(text)) {}
+
+  // Throws a ScriptError at the script's line.
+  [[noreturn]] void fail(int line, const std::string& message) const;
+
+  // The line where `name = "value"` is first written at or after line `from` (0 when not found).
+  int line_of_name(const std::string& value, int from = 1) const;
+  // The line where `key =` is first written at or after line `from`, else `from`.
+  int line_of_key(const std::string& key, int from = 1) const;
+
+  // Checks that a value is an object with only known keys.
+  void check_object(const json& j, const std::string& what, const std::vector<std::string>& known, int line) const;
+
+  // A string field (the fallback when absent; a required one must be present and not empty).
+  std::string str(const json& o, const char* key, const std::string& what, int line, const std::string& fallback,
+                  bool required = false) const;
+
+  // An integer field within [lo, hi] (the fallback when absent).
+  int64_t integer(const json& o, const char* key, const std::string& what, int line, int64_t fallback, int64_t lo,
+                  int64_t hi) const;
+
+  // A boolean field (the fallback when absent).
+  bool boolean(const json& o, const char* key, const std::string& what, int line, bool fallback) const;
+
+  // A list of distinct names (a required one must be present and not empty).
+  std::vector<std::string> strings(const json& o, const char* key, const std::string& what, int line,
+                                   bool required) const;
+
+  // Scenario parameters: a table of name = number, string or boolean.
+  Params params(const json& o, const char* key, const std::string& what, int line) const;
+
+ private:
+  // The text with every character but letters, digits and '_' matching any character.
+  static std::string escape(const std::string& s);
+  // The line where `pattern` first matches at or after line `from` (0 when not found).
+  int line_of(const std::string& pattern, int from) const;
+  std::string display_, text_;
+};
+
+}  // namespace batch_detail
+}  // namespace roger

@@ -1,0 +1,198 @@
+// Reading a batch script's returned table: the Lua value as JSON, and its fields checked one by
+// one with the lines where they are written.
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <regex>
+
+#include <lua.hpp>
+
+#include "core/error.h"
+#include "script/batch/batch_script_internal.h"
+
+namespace roger {
+namespace batch_detail {
+
+// "'a', 'b'" (or "(none)") for messages.
+std::string quoted_list(const std::vector<std::string>& items) {
+  std::vector<std::string> q;
+  for (const auto& s : items) q.push_back("'" + s + "'");
+  return q.empty() ? "(none)" : join(q);
+}
+
+// The Lua value at `index` as JSON: tables with keys 1..n are arrays, tables with string keys
+// objects; numbers, strings and booleans as they are. `where` names the value for messages.
+json lua_to_json(lua_State* L, int index, const std::string& where, int depth) {
+  index = lua_absindex(L, index);
+  if (depth > 32) throw Error(where + ": nested too deeply");
+  switch (lua_type(L, index)) {
+    case LUA_TNIL: return nullptr;
+    case LUA_TBOOLEAN: return bool(lua_toboolean(L, index));
+    case LUA_TNUMBER:
+      if (lua_isinteger(L, index)) return int64_t(lua_tointeger(L, index));
+      {
+        const double v = lua_tonumber(L, index);
+        if (!std::isfinite(v)) throw Error(where + " must be a finite number");
+        return v;
+      }
+    case LUA_TSTRING: return std::string(lua_tostring(L, index));
+    case LUA_TTABLE: {
+      json obj = json::object();
+      std::map<lua_Integer, json> items;
+      lua_pushnil(L);
+      while (lua_next(L, index) != 0) {
+        if (lua_type(L, -2) == LUA_TSTRING) {
+          const std::string key = lua_tostring(L, -2);
+          obj[key] = lua_to_json(L, -1, where + "." + key, depth + 1);
+        } else if (lua_isinteger(L, -2)) {
+          const lua_Integer k = lua_tointeger(L, -2);
+          items[k] = lua_to_json(L, -1, where + "[" + std::to_string(k) + "]", depth + 1);
+        } else {
+          lua_pop(L, 2);
+          throw Error(where + ": keys must be names or list positions");
+        }
+        lua_pop(L, 1);
+      }
+      if (!items.empty() && !obj.empty())
+        throw Error(where + ": mixes named fields (" + obj.begin().key() + ") with list items");
+      if (items.empty()) return obj.empty() ? json::array() : obj;
+      json arr = json::array();
+      lua_Integer expect = 1;
+      for (auto& [k, v] : items) {
+        if (k != expect) throw Error(where + ": a list with a hole at position " + std::to_string(expect));
+        arr.push_back(std::move(v));
+        ++expect;
+      }
+      return arr;
+    }
+    default:
+      throw Error(where + " cannot be a " + std::string(lua_typename(L, lua_type(L, index))) +
+                  " (batch scripts hold names, numbers, strings and tables)");
+  }
+}
+
+// Throws a ScriptError at the script's line.
+void Reader::fail(int line, const std::string& message) const {
+  throw ScriptError(message, display_, line, "");
+}
+
+// The line where `name = "value"` is first written at or after line `from` (0 when not found).
+int Reader::line_of_name(const std::string& value, int from) const {
+  return line_of("name\\s*=\\s*[\"']" + escape(value) + "[\"']", from);
+}
+
+// The line where `key =` is first written at or after line `from`, else `from`.
+int Reader::line_of_key(const std::string& key, int from) const {
+  const int l = line_of("(^|[^A-Za-z0-9_])" + escape(key) + "\\s*=[^=]", from);
+  return l ? l : from;
+}
+
+// Checks that a value is an object with only known keys.
+void Reader::check_object(const json& j, const std::string& what, const std::vector<std::string>& known,
+                          int line) const {
+  if (!j.is_object()) fail(line, what + " must be a table of named fields");
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (std::find(known.begin(), known.end(), it.key()) == known.end())
+      fail(line_of_key(it.key(), line), what + ": unknown field '" + it.key() + "'; the fields are " + join(known));
+}
+
+// A string field (the fallback when absent; a required one must be present and not empty).
+std::string Reader::str(const json& o, const char* key, const std::string& what, int line,
+                        const std::string& fallback, bool required) const {
+  if (!o.contains(key)) {
+    if (required) fail(line, what + ": missing required field '" + key + "'");
+    return fallback;
+  }
+  if (!o[key].is_string()) fail(line_of_key(key, line), what + ": field '" + key + "' must be a string");
+  const std::string s = o[key];
+  if (required && s.empty()) fail(line_of_key(key, line), what + ": field '" + key + "' is empty");
+  return s;
+}
+
+// An integer field within [lo, hi] (the fallback when absent).
+int64_t Reader::integer(const json& o, const char* key, const std::string& what, int line, int64_t fallback,
+                        int64_t lo, int64_t hi) const {
+  if (!o.contains(key)) return fallback;
+  const json& v = o[key];
+  int64_t x = 0;
+  if (v.is_number_integer()) x = v.get<int64_t>();
+  else if (v.is_number_float() && std::floor(v.get<double>()) == v.get<double>() && std::fabs(v.get<double>()) < 9e15)
+    x = int64_t(v.get<double>());
+  else fail(line_of_key(key, line), what + ": field '" + key + "' must be an integer");
+  if (x < lo || x > hi)
+    fail(line_of_key(key, line), what + ": field '" + key + "' must be between " + std::to_string(lo) + " and " +
+                                     std::to_string(hi) + ", got " + std::to_string(x));
+  return x;
+}
+
+// A boolean field (the fallback when absent).
+bool Reader::boolean(const json& o, const char* key, const std::string& what, int line, bool fallback) const {
+  if (!o.contains(key)) return fallback;
+  if (!o[key].is_boolean()) fail(line_of_key(key, line), what + ": field '" + key + "' must be true or false");
+  return o[key].get<bool>();
+}
+
+// A list of distinct names (a required one must be present and not empty).
+std::vector<std::string> Reader::strings(const json& o, const char* key, const std::string& what, int line,
+                                         bool required) const {
+  std::vector<std::string> out;
+  if (!o.contains(key)) {
+    if (required) fail(line, what + ": missing required field '" + key + "' (a list of names)");
+    return out;
+  }
+  const json& v = o[key];
+  if (!v.is_array()) fail(line_of_key(key, line), what + ": field '" + key + "' must be a list of names");
+  for (const auto& s : v) {
+    if (!s.is_string()) fail(line_of_key(key, line), what + ": field '" + key + "' must be a list of names");
+    const std::string n = s;
+    if (std::find(out.begin(), out.end(), n) != out.end())
+      fail(line_of_key(key, line), what + ": field '" + key + "' names '" + n + "' twice");
+    out.push_back(n);
+  }
+  if (required && out.empty()) fail(line_of_key(key, line), what + ": field '" + key + "' is empty");
+  return out;
+}
+
+// Scenario parameters: a table of name = number, string or boolean.
+Params Reader::params(const json& o, const char* key, const std::string& what, int line) const {
+  Params out;
+  if (!o.contains(key)) return out;
+  const json& v = o[key];
+  if (v.is_array() && v.empty()) return out;
+  if (!v.is_object()) fail(line_of_key(key, line), what + ": field '" + key + "' must be a table of name = value");
+  for (auto it = v.begin(); it != v.end(); ++it) {
+    std::string text;
+    if (it->is_string()) text = it->get<std::string>();
+    else if (it->is_number_integer()) text = std::to_string(it->get<int64_t>());
+    else if (it->is_number_float()) text = format_number(it->get<double>());
+    else if (it->is_boolean()) text = it->get<bool>() ? "true" : "false";
+    else fail(line_of_key(key, line), what + ": parameter '" + it.key() + "' must be a number, string or boolean");
+    out.emplace_back(it.key(), text);
+  }
+  return out;
+}
+
+// The text with every character but letters, digits and '_' matching any character.
+std::string Reader::escape(const std::string& s) {
+  return std::regex_replace(s, std::regex("[^A-Za-z0-9_]"), ".");
+}
+
+// The line where `pattern` first matches at or after line `from` (0 when not found).
+int Reader::line_of(const std::string& pattern, int from) const {
+  size_t pos = 0;
+  for (int l = 1; l < from && pos != std::string::npos; ++l) {
+    pos = text_.find('\n', pos);
+    if (pos != std::string::npos) ++pos;
+  }
+  if (pos == std::string::npos) return 0;
+  std::smatch m;
+  const std::regex re(pattern);
+  auto begin = text_.cbegin() + long(pos);
+  if (std::regex_search(begin, text_.cend(), m, re))
+    return int(std::count(text_.cbegin(), begin + m.position(0), '\n')) + 1 +
+           (m.length(1) > 0 && m.str(1) == "\n" ? 1 : 0);
+  return 0;
+}
+
+}  // namespace batch_detail
+}  // namespace roger

@@ -1,0 +1,448 @@
+// The script's book of definitions, the shared helpers of the control API's files, the value
+// bridge (pushing and checking controllers and predicates) and the installation of it all.
+#include "script/control/lua_control.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <set>
+
+#include <lua.hpp>
+
+#include "core/error.h"
+#include "control/primitives.h"
+#include "script/control/lua_control_internal.h"
+
+namespace roger {
+namespace lua_control_detail {
+namespace {
+
+constexpr const char* kBookType = "roger.ControlBook";
+constexpr size_t kMaxObjects = 20000;             // controllers and predicates one script may make
+
+// Registry keys: the addresses of these are unique and need no allocation to look up.
+char book_key;  // mutable, so never merged with another constant
+char cache_key;
+
+// Where the Lua function that called the running C function is; empty when the caller is C++.
+Location caller_location(lua_State* L) {
+  lua_Debug ar;
+  Location where;
+  if (lua_getstack(L, 1, &ar) && lua_getinfo(L, "Sl", &ar) && ar.currentline > 0) {
+    // `source` holds the full chunk name; `short_src` may be truncated for long paths.
+    where.file = ar.source && ar.source[0] == '@' ? ar.source + 1 : ar.short_src;
+    where.line = ar.currentline;
+  }
+  return where;
+}
+
+// Levenshtein distance, for "did you mean" hints.
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+}  // namespace
+
+// Raises a Lua error with the text as is, located at the Lua caller's file:line.
+[[noreturn]] void raise(lua_State* L, const std::string& message) {
+  luaL_error(L, "%s", message.c_str());
+  std::abort();  // unreachable: luaL_error does not return
+}
+
+// " (did you mean 'x'?)" when one known word is within two edits of the given one.
+std::string suggestion(const std::string& given, const std::vector<std::string>& known) {
+  std::string best;
+  size_t best_distance = 3;
+  for (const auto& k : known) {
+    const size_t d = edit_distance(given, k);
+    if (d < best_distance && d < std::max(given.size(), k.size())) best = k, best_distance = d;
+  }
+  return best.empty() ? "" : " (did you mean '" + best + "'?)";
+}
+
+// The book of the state, or a Lua error when the control API is not installed.
+ControlBook& book_of(lua_State* L) {
+  lua_rawgetp(L, LUA_REGISTRYINDEX, &book_key);
+  auto* book = static_cast<ControlBook*>(luaL_testudata(L, -1, kBookType));
+  lua_pop(L, 1);
+  if (!book) raise(L, "the control API (roger.primitive, ...) is not installed in this Lua state");
+  return *book;
+}
+
+// Counts one more object made by the script against the cap, and a little work against the
+// instruction budget (constructing a controller costs far more than one VM instruction).
+void count_object(lua_State* L, ControlBook& book) {
+  if (++book.objects > kMaxObjects)
+    raise(L, "too many controllers and predicates (a script may make at most " +
+                 std::to_string(kMaxObjects) + ")");
+  lua_charge(L, 50);
+}
+
+// "phi0, search, phi1, ..." in make_primitive's order.
+std::string kinds_text() { return join(primitive_names()); }
+
+// Whether a name is one of the primitive kinds.
+bool is_kind(const std::string& name) {
+  const auto& kinds = primitive_names();
+  return std::find(kinds.begin(), kinds.end(), name) != kinds.end();
+}
+
+// "named controllers: A, B; primitive kinds: phi0, ..." for unknown-name messages.
+std::string known_names(const ControlBook& book) {
+  std::vector<std::string> names;
+  for (const auto& n : book.named) names.push_back(n.name);
+  return (names.empty() ? std::string("the script has named no controllers")
+                        : "named controllers: " + join(names)) +
+         "; primitive kinds: " + kinds_text();
+}
+
+// "controller 'Phi7' (sequence)", or "controller 'phi1'" when the name is the kind.
+std::string controller_text(const Controller& c) {
+  const std::string kind = c.kind();
+  return "controller '" + c.name() + "'" + (kind == c.name() ? "" : " (" + kind + ")");
+}
+
+// Resolves a name among the script's named controllers, then as a primitive kind (that kind's
+// shared default instance, made on first use). Null when it is neither.
+ControllerPtr resolve_now(lua_State* L, ControlBook& book, const std::string& name) {
+  if (auto it = book.by_name.find(name); it != book.by_name.end()) return book.named[it->second].controller;
+  if (!is_kind(name)) return nullptr;
+  auto& slot = book.defaults[name];
+  if (!slot) {
+    count_object(L, book);
+    slot = made(book, make_primitive(name));
+  }
+  return slot;
+}
+
+// Checks a new controller name and records the controller under it, with the caller's location.
+void register_name(lua_State* L, ControlBook& book, const std::string& context, const std::string& name,
+                   const ControllerPtr& c) {
+  if (name.empty()) raise(L, context + ": a name must not be empty");
+  if (name.find("<|") != std::string::npos)
+    raise(L, context + ": the name '" + name + "' contains '<|', which roger.compose reads as subject-to");
+  if (is_kind(name))
+    raise(L, context + ": the name '" + name + "' is a primitive kind, which always means that kind's "
+             "default primitive; choose another name (e.g. '" + name + "_tuned')");
+  if (auto it = book.by_name.find(name); it != book.by_name.end()) {
+    const auto& other = book.named[it->second];
+    raise(L, context + ": there is already a controller named '" + name + "'" +
+                 (other.file.empty() ? "" : " (defined at " + other.file + ":" + std::to_string(other.line) + ")"));
+  }
+  c->set_name(name);
+  const Location where = caller_location(L);
+  book.by_name[name] = book.named.size();
+  book.named.push_back(NamedController{name, c, where.file, where.line});
+}
+
+// The controller held by the value at index, or null.
+ControllerPtr* test_controller(lua_State* L, int index) {
+  return static_cast<ControllerPtr*>(luaL_testudata(L, index, kControllerType));
+}
+
+// The predicate held by the value at index, or null.
+PredicatePtr* test_predicate(lua_State* L, int index) {
+  return static_cast<PredicatePtr*>(luaL_testudata(L, index, kPredicateType));
+}
+
+// The controller a method is called on, with a hint for the `c.with{...}` slip.
+ControllerPtr self_controller(lua_State* L, const char* method) {
+  ControllerPtr* c = test_controller(L, 1);
+  if (!c)
+    raise(L, std::string("c:") + method + ": call it with a colon, as c:" + method +
+                 "(...) (the first argument is " + lua_describe_value(L, 1) + ", not a controller)");
+  return *c;
+}
+
+namespace {
+
+// ---- installation ----
+
+// __gc of userdata holding a C++ object.
+template <class T>
+int destroy(lua_State* L) {
+  static_cast<T*>(lua_touserdata(L, 1))->~T();
+  return 0;
+}
+
+// Registers a metatable with the given metamethods; __metatable hides it from scripts.
+void new_class(lua_State* L, const char* type, const luaL_Reg* entries) {
+  luaL_newmetatable(L, type);
+  luaL_setfuncs(L, entries, 0);
+  lua_pushboolean(L, 0);
+  lua_setfield(L, -2, "__metatable");
+  lua_pop(L, 1);
+}
+
+// Installs the metatables, the book, the userdata cache and the functions (run protected).
+int install(lua_State* L) {
+  lua_rawgetp(L, LUA_REGISTRYINDEX, &book_key);
+  const bool installed = !lua_isnil(L, -1);
+  lua_pop(L, 1);
+  if (installed) return 0;
+
+  const luaL_Reg controller_entries[] = {{"__index", l_controller_index},
+                                         {"__newindex", l_controller_newindex},
+                                         {"__tostring", l_controller_tostring},
+                                         {"__gc", destroy<ControllerPtr>},
+                                         {"with", l_with},
+                                         {"subject_to", l_subject_to_method},
+                                         {"param", l_param},
+                                         {"params", l_params},
+                                         {nullptr, nullptr}};
+  const luaL_Reg predicate_entries[] = {{"__index", l_predicate_index},
+                                        {"__tostring", l_predicate_tostring},
+                                        {"__gc", destroy<PredicatePtr>},
+                                        {nullptr, nullptr}};
+  const luaL_Reg book_entries[] = {{"__gc", destroy<ControlBook>}, {nullptr, nullptr}};
+  new_class(L, kControllerType, controller_entries);
+  new_class(L, kPredicateType, predicate_entries);
+  new_class(L, kBookType, book_entries);
+
+  new (lua_newuserdatauv(L, sizeof(ControlBook), 0)) ControlBook();
+  luaL_setmetatable(L, kBookType);
+  lua_rawsetp(L, LUA_REGISTRYINDEX, &book_key);
+
+  // One userdata per controller (weak values): the same controller is the same Lua value.
+  lua_newtable(L);
+  lua_newtable(L);
+  lua_pushliteral(L, "v");
+  lua_setfield(L, -2, "__mode");
+  lua_setmetatable(L, -2);
+  lua_rawsetp(L, LUA_REGISTRYINDEX, &cache_key);
+
+  if (lua_getglobal(L, "roger") != LUA_TTABLE) {
+    lua_pop(L, 1);
+    lua_newtable(L);
+    lua_pushvalue(L, -1);
+    lua_setglobal(L, "roger");
+  }
+  const luaL_Reg functions[] = {{"primitive", l_primitive}, {"subject_to", l_subject_to},
+                                {"compose", l_compose},     {"sequence", l_sequence},
+                                {"policy", l_policy},       {"converged", l_converged}, {"sorted", l_sorted},
+                                {"gamma", l_gamma},         {"all", l_all},
+                                {"any", l_any},             {"negate", l_negate},
+                                {"not", l_negate},          {"held", l_held},
+                                {"bind", l_bind},
+                                {nullptr, nullptr}};
+  luaL_setfuncs(L, functions, 0);
+  const auto& kinds = primitive_names();
+  lua_createtable(L, int(kinds.size()), 0);
+  for (size_t i = 0; i < kinds.size(); ++i) {
+    lua_pushstring(L, kinds[i].c_str());
+    lua_rawseti(L, -2, lua_Integer(i + 1));
+  }
+  lua_setfield(L, -2, "primitive_kinds");
+  lua_pop(L, 1);
+  return 0;
+}
+
+// Runs `body` on the sandbox's state inside a protected call.
+void with_state(LuaSandbox& sandbox, const std::function<void(lua_State*)>& body) {
+  lua_State* L = sandbox.state();
+  lua_pushcfunction(L, [](lua_State* L) -> int {
+    auto* fn = static_cast<const std::function<void(lua_State*)>*>(lua_touserdata(L, 1));
+    return lua_protect(L, [&]() {
+      (*fn)(L);
+      return 0;
+    });
+  });
+  lua_pushlightuserdata(L, const_cast<std::function<void(lua_State*)>*>(&body));
+  sandbox.call(1, 0);
+}
+
+// Finds a path from `from` back to `target` through children(), appending the nodes passed.
+bool path_back(const Controller* from, const Controller* target, std::set<const Controller*>& seen,
+               std::vector<const Controller*>& path) {
+  for (const Controller* child : from->children()) {
+    if (child == target) return true;
+    if (!seen.insert(child).second) continue;
+    path.push_back(child);
+    if (path_back(child, target, seen, path)) return true;
+    path.pop_back();
+  }
+  return false;
+}
+
+}  // namespace
+}  // namespace lua_control_detail
+
+using namespace lua_control_detail;
+
+
+void install_control_api(LuaSandbox& sandbox) {
+  lua_State* L = sandbox.state();
+  lua_pushcfunction(L, install);
+  sandbox.call(0, 0);
+}
+
+void finish_control_definitions(LuaSandbox& sandbox) {
+  ControlBook* book = nullptr;
+  with_state(sandbox, [&](lua_State* L) { book = &book_of(L); });
+  auto unbind_all = [&]() {
+    for (auto& [name, r] : book->references) r.ref->unbind();
+  };
+  for (const auto& name : book->reference_order) {
+    const Reference& r = book->references.at(name);
+    auto it = book->by_name.find(name);
+    if (it == book->by_name.end()) {
+      unbind_all();
+      std::vector<std::string> candidates = primitive_names();
+      for (const auto& n : book->named) candidates.push_back(n.name);
+      throw ScriptError(r.context + " names '" + name + "', which is not defined anywhere in the script" +
+                            suggestion(name, candidates) + "; " + known_names(*book),
+                        r.where.file, r.where.line, "");
+    }
+    r.ref->bind(book->named[it->second].controller);
+  }
+  // A cycle must pass through a reference, and every reference is bound to a named controller:
+  // checking whether each named controller can reach itself finds them all.
+  for (const auto& n : book->named) {
+    std::set<const Controller*> seen;
+    std::vector<const Controller*> path;
+    if (!path_back(n.controller.get(), n.controller.get(), seen, path)) continue;
+    std::string chain = n.name;
+    for (const Controller* c : path)
+      if (!is_name_reference(*c)) chain += " -> " + c->name();
+    chain += " -> " + n.name;
+    unbind_all();
+    throw ScriptError("skill '" + n.name + "' contains itself: " + chain, n.file, n.line, "");
+  }
+  book->finished = true;
+}
+
+std::vector<NamedController> named_controllers(LuaSandbox& sandbox) {
+  std::vector<NamedController> out;
+  with_state(sandbox, [&](lua_State* L) { out = book_of(L).named; });
+  return out;
+}
+
+std::vector<ControllerPtr> script_controllers(LuaSandbox& sandbox) {
+  std::vector<ControllerPtr> out;
+  with_state(sandbox, [&](lua_State* L) { out = book_of(L).made; });
+  return out;
+}
+
+void lua_push_controller(lua_State* L, const ControllerPtr& controller) {
+  if (!controller) {
+    lua_pushnil(L);
+    return;
+  }
+  lua_rawgetp(L, LUA_REGISTRYINDEX, &cache_key);
+  if (!lua_istable(L, -1)) raise(L, "the control API (roger.primitive, ...) is not installed in this Lua state");
+  if (lua_rawgetp(L, -1, controller.get()) != LUA_TNIL) {
+    lua_remove(L, -2);
+    return;
+  }
+  lua_pop(L, 1);
+  new (lua_newuserdatauv(L, sizeof(ControllerPtr), 0)) ControllerPtr(controller);
+  luaL_setmetatable(L, kControllerType);
+  lua_pushvalue(L, -1);
+  lua_rawsetp(L, -3, controller.get());
+  lua_remove(L, -2);
+}
+
+void lua_push_predicate(lua_State* L, const PredicatePtr& predicate) {
+  if (!predicate) {
+    lua_pushnil(L);
+    return;
+  }
+  new (lua_newuserdatauv(L, sizeof(PredicatePtr), 0)) PredicatePtr(predicate);
+  luaL_setmetatable(L, kPredicateType);
+}
+
+ControllerPtr lua_to_controller(lua_State* L, int index) {
+  ControllerPtr* c = test_controller(L, index);
+  return c ? *c : nullptr;
+}
+
+PredicatePtr lua_to_predicate(lua_State* L, int index) {
+  PredicatePtr* p = test_predicate(L, index);
+  return p ? *p : nullptr;
+}
+
+ControllerPtr lua_check_controller(lua_State* L, int index, const std::string& context,
+                                   const std::string& what) {
+  index = lua_absindex(L, index);
+  if (ControllerPtr* c = test_controller(L, index)) return *c;
+  const std::string prefix = context + ": " + what;
+  if (lua_type(L, index) != LUA_TSTRING) {
+    const std::string hint = test_predicate(L, index)
+                                 ? " (a predicate is a condition, not an action)"
+                                 : "";
+    raise(L, prefix + " must be a controller (made by roger.primitive, roger.subject_to, roger.compose, "
+                      "roger.sequence or roger.policy) or the name of one, got " +
+                 lua_describe_value(L, index) + hint);
+  }
+  ControlBook& book = book_of(L);
+  const std::string name = lua_tostring(L, index);
+  if (name.empty()) raise(L, prefix + " is an empty name");
+  if (ControllerPtr c = resolve_now(L, book, name)) return c;
+  if (book.finished) {
+    std::vector<std::string> candidates = primitive_names();
+    for (const auto& n : book.named) candidates.push_back(n.name);
+    raise(L, prefix + " names '" + name + "', which is not a controller" + suggestion(name, candidates) +
+                 "; " + known_names(book));
+  }
+  // Defined later (or never): a stand-in, bound when the script finishes loading.
+  auto it = book.references.find(name);
+  if (it == book.references.end()) {
+    count_object(L, book);
+    it = book.references.emplace(name, Reference{std::make_shared<NameReference>(name), prefix, caller_location(L)}).first;
+    book.reference_order.push_back(name);
+  }
+  return it->second.ref;
+}
+
+PredicatePtr lua_check_predicate(lua_State* L, int index, const std::string& context, const std::string& what) {
+  if (PredicatePtr* p = test_predicate(L, index)) return *p;
+  const std::string hint = test_controller(L, index)
+                               ? " (a controller is an action, not a condition: write roger.converged(c) "
+                                 "or roger.gamma(c, \"CONV\"))"
+                               : "";
+  raise(L, context + ": " + what + " must be a predicate (roger.converged, roger.gamma, roger.all, "
+                                   "roger.any, roger.negate, roger.held), got " +
+               lua_describe_value(L, index) + hint);
+}
+
+std::string lua_describe_value(lua_State* L, int index) {
+  index = lua_absindex(L, index);
+  switch (lua_type(L, index)) {
+    case LUA_TNONE:
+    case LUA_TNIL: return "nil";
+    case LUA_TBOOLEAN: return lua_toboolean(L, index) ? "boolean true" : "boolean false";
+    case LUA_TNUMBER:
+      return "number " + (lua_isinteger(L, index) ? std::to_string(lua_tointeger(L, index))
+                                                  : format_number(lua_tonumber(L, index)));
+    case LUA_TSTRING: {
+      std::string s = lua_tostring(L, index);
+      if (s.size() > 40) s = s.substr(0, 37) + "...";
+      return "string '" + s + "'";
+    }
+    case LUA_TTABLE: return "a table";
+    case LUA_TFUNCTION: return "a function";
+    default: break;
+  }
+  if (ControllerPtr* c = test_controller(L, index)) return controller_text(**c);
+  if (PredicatePtr* p = test_predicate(L, index)) return "predicate " + (*p)->describe();
+  return std::string("a ") + luaL_typename(L, index);
+}
+
+bool is_name_reference(const Controller& controller) {
+  return dynamic_cast<const NameReference*>(&controller) != nullptr;
+}
+
+}  // namespace roger

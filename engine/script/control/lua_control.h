@@ -1,0 +1,87 @@
+// lua_control.h: the control basis in Lua. Installs into a LuaSandbox the functions that build
+// controllers (primitives, subject-to compositions, sequences, state-to-action policies) and
+// predicates over their states:
+//
+//   roger.primitive(kind, {param = value, ..., name = "..."})   c:with{...}   c:subject_to(sup)
+//   roger.subject_to(sub, sup)   roger.compose("phi1 <| phi4 <| phi5", {phi1 = carry})
+//   roger.sequence(name, {step, ...})   roger.policy(name, {actions = {...}, table = {...}, ...})
+//   roger.converged(c)   roger.gamma(c, "NOREF")   roger.all{...}   roger.any{...}
+//   roger.negate(p) (also roger["not"])   roger.held(p, seconds)
+//
+// Controllers and predicates are Lua userdata that share ownership of the C++ objects, so what a
+// script builds stays valid in C++ after the Lua state is closed. Every mistake is a Lua error at
+// the calling script's file:line naming the function and what exists. docs/control.md is the
+// reference.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "control/control.h"
+#include "script/sandbox/lua_sandbox.h"
+#include "control/predicate.h"
+
+struct lua_State;
+
+namespace roger {
+
+// Installs the control-basis API into the sandbox's global `roger` table, creating the table if
+// the sandbox has none yet (a scenario loader may already have made it: it is extended, not
+// replaced). Throws ScriptError if the state is out of memory. Call once per sandbox.
+void install_control_api(LuaSandbox& sandbox);
+
+// Ends the definition phase, once the script has finished loading: binds every controller that
+// was referred to by name before it was defined, and checks that no skill contains itself.
+// Throws ScriptError at the file:line of the reference or definition at fault ("skill 'A' contains
+// itself: A -> B -> A"). After this, a name given where a controller is expected must name an
+// existing controller.
+void finish_control_definitions(LuaSandbox& sandbox);
+
+// A controller the script gave a name (a sequence, a policy, or a primitive made with name=).
+struct NamedController {
+  std::string name;
+  ControllerPtr controller;
+  std::string file;  // where it was defined, as shown in messages
+  int line = 0;
+};
+
+// The controllers the script named so far, in the order they were defined.
+std::vector<NamedController> named_controllers(LuaSandbox& sandbox);
+
+// Every controller the script made (primitives, defaults used by name, compositions, skills,
+// policies' `done` predicates), in the order made; name stand-ins are not included.
+std::vector<ControllerPtr> script_controllers(LuaSandbox& sandbox);
+
+// Pushes a controller as a Lua value (the same userdata each time for the same controller).
+void lua_push_controller(lua_State* L, const ControllerPtr& controller);
+
+// Pushes a predicate as a Lua value.
+void lua_push_predicate(lua_State* L, const PredicatePtr& predicate);
+
+// The controller a Lua value holds, or null when it is not a controller.
+ControllerPtr lua_to_controller(lua_State* L, int index);
+
+// The predicate a Lua value holds, or null when it is not a predicate.
+PredicatePtr lua_to_predicate(lua_State* L, int index);
+
+// Reads a controller where one is expected: a controller value, or a string naming one (a
+// controller the script named, before or after this point; or a primitive kind, meaning that
+// kind's shared default instance). Anything else raises "context: <what> must be a controller ...,
+// got <value>" at the caller's file:line. For sandboxes with the control API installed.
+ControllerPtr lua_check_controller(lua_State* L, int index, const std::string& context,
+                                   const std::string& what);
+
+// Reads a predicate where one is expected, or raises "context: <what> must be a predicate ...".
+PredicatePtr lua_check_predicate(lua_State* L, int index, const std::string& context,
+                                 const std::string& what);
+
+// A Lua value as messages show it: "number 3", "string 'x'", "nil", "a table",
+// "controller 'phi1'", "predicate converged(phi3)".
+std::string lua_describe_value(lua_State* L, int index);
+
+// Whether a controller is the stand-in for a name used before its controller was defined. It
+// behaves exactly as the controller it names (children() gives that controller); pictures and
+// usage counts may look through it.
+bool is_name_reference(const Controller& controller);
+
+}  // namespace roger

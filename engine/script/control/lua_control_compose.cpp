@@ -1,0 +1,162 @@
+// Subject-to compositions in the control API: roger.subject_to(sub, sup), sub:subject_to(sup) and
+// roger.compose's "phi1 <| phi4 <| phi5" notation.
+#include <algorithm>
+#include <cctype>
+
+#include "script/control/lua_control_internal.h"
+
+namespace roger {
+namespace lua_control_detail {
+namespace {
+
+// Makes sub <| sup and pushes it.
+void push_subject_to(lua_State* L, ControlBook& book, ControllerPtr sub, ControllerPtr sup) {
+  count_object(L, book);
+  lua_push_controller(L, made(book, std::make_shared<SubjectTo>(std::move(sub), std::move(sup))));
+}
+
+}  // namespace
+
+// sub:subject_to(sup)
+int l_subject_to_method(lua_State* L) {
+  return lua_protect(L, [L]() {
+    ControlBook& book = book_of(L);
+    ControllerPtr sub = self_controller(L, "subject_to");
+    ControllerPtr sup = lua_check_controller(L, 2, "c:subject_to", "argument 1 (the superior)");
+    push_subject_to(L, book, std::move(sub), std::move(sup));
+    return 1;
+  });
+}
+
+// roger.subject_to(sub, sup)
+int l_subject_to(lua_State* L) {
+  return lua_protect(L, [L]() {
+    ControlBook& book = book_of(L);
+    ControllerPtr sub = lua_check_controller(L, 1, "roger.subject_to", "argument 1 (the subordinate)");
+    ControllerPtr sup = lua_check_controller(L, 2, "roger.subject_to", "argument 2 (the superior)");
+    push_subject_to(L, book, std::move(sub), std::move(sup));
+    return 1;
+  });
+}
+
+namespace {
+
+// The parser of roger.compose's notation: names, "<|" (right-associative) and parentheses.
+class ComposeParser {
+ public:
+  ComposeParser(lua_State* L, ControlBook& book, std::string text, int table)
+      : L_(L), book_(book), text_(std::move(text)), table_(table) {}
+
+  ControllerPtr parse() {
+    skip_space();
+    if (pos_ >= text_.size()) fail("the expression is empty; write e.g. \"phi1 <| phi4 <| phi5\"");
+    ControllerPtr c = expression();
+    skip_space();
+    if (pos_ < text_.size()) fail("expected '<|' or the end at column " + std::to_string(pos_ + 1) + ", got '" + text_.substr(pos_) + "'");
+    return c;
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& message) {
+    raise(L_, "roger.compose(\"" + text_ + "\"): " + message);
+  }
+
+  void skip_space() {
+    while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
+  }
+
+  bool at_operator() const { return text_.compare(pos_, 2, "<|") == 0; }
+
+  // expression := term [ "<|" expression ]
+  ControllerPtr expression() {
+    ControllerPtr left = term();
+    skip_space();
+    if (!at_operator()) return left;
+    pos_ += 2;
+    ControllerPtr right = expression();
+    count_object(L_, book_);
+    return made(book_, std::make_shared<SubjectTo>(std::move(left), std::move(right)));
+  }
+
+  // term := name | "(" expression ")"
+  ControllerPtr term() {
+    skip_space();
+    if (pos_ >= text_.size()) fail("expected a controller name or '(' at the end");
+    if (text_[pos_] == '(') {
+      ++pos_;
+      ControllerPtr inner = expression();
+      skip_space();
+      if (pos_ >= text_.size() || text_[pos_] != ')') fail("missing ')' at column " + std::to_string(pos_ + 1));
+      ++pos_;
+      return inner;
+    }
+    const size_t start = pos_;
+    while (pos_ < text_.size() && !std::isspace(static_cast<unsigned char>(text_[pos_])) && text_[pos_] != '(' &&
+           text_[pos_] != ')' && !at_operator())
+      ++pos_;
+    if (pos_ == start) fail("expected a controller name at column " + std::to_string(start + 1) + ", got '" + text_.substr(start) + "'");
+    return lookup(text_.substr(start, pos_ - start));
+  }
+
+  // The table entry, else a named controller, else a primitive kind's default instance.
+  ControllerPtr lookup(const std::string& name) {
+    if (table_) {
+      lua_pushstring(L_, name.c_str());
+      if (lua_rawget(L_, table_) != LUA_TNIL) {
+        ControllerPtr* c = test_controller(L_, -1);
+        if (!c) fail("the table's entry '" + name + "' must be a controller, got " + lua_describe_value(L_, -1));
+        ControllerPtr out = *c;
+        lua_pop(L_, 1);
+        return out;
+      }
+      lua_pop(L_, 1);
+    }
+    if (ControllerPtr c = resolve_now(L_, book_, name)) return c;
+    std::vector<std::string> candidates = primitive_names();
+    for (const auto& n : book_.named) candidates.push_back(n.name);
+    std::string table_keys;
+    if (table_) {
+      std::vector<std::string> keys;
+      lua_pushnil(L_);
+      while (lua_next(L_, table_)) {
+        lua_pop(L_, 1);
+        if (lua_type(L_, -1) == LUA_TSTRING) keys.push_back(lua_tostring(L_, -1));
+      }
+      std::sort(keys.begin(), keys.end());
+      candidates.insert(candidates.end(), keys.begin(), keys.end());
+      table_keys = keys.empty() ? "the table is empty; " : "the table has " + join(keys) + "; ";
+    }
+    fail("unknown controller '" + name + "'" + suggestion(name, candidates) + "; " + table_keys +
+         known_names(book_));
+  }
+
+  lua_State* L_;
+  ControlBook& book_;
+  std::string text_;
+  int table_;
+  size_t pos_ = 0;
+};
+
+}  // namespace
+
+// roger.compose("phi1 <| phi4 <| phi5" [, {phi1 = carry, ...}])
+int l_compose(lua_State* L) {
+  return lua_protect(L, [L]() {
+    ControlBook& book = book_of(L);
+    if (lua_type(L, 1) != LUA_TSTRING)
+      raise(L, "roger.compose: argument 1 must be an expression such as \"phi1 <| phi4 <| phi5\", got " +
+                   lua_describe_value(L, 1));
+    int table = 0;
+    if (!lua_isnoneornil(L, 2)) {
+      if (!lua_istable(L, 2))
+        raise(L, "roger.compose: argument 2 must be a table {name = controller, ...}, got " + lua_describe_value(L, 2));
+      table = 2;
+    }
+    ComposeParser parser(L, book, lua_tostring(L, 1), table);
+    lua_push_controller(L, parser.parse());
+    return 1;
+  });
+}
+
+}  // namespace lua_control_detail
+}  // namespace roger

@@ -1,0 +1,107 @@
+// The predicates of the control API: roger.converged, roger.gamma, roger.all, roger.any,
+// roger.negate, roger.held and roger.sorted.
+#include <cmath>
+
+#include "script/control/lua_control_internal.h"
+
+namespace roger {
+namespace lua_control_detail {
+namespace {
+
+// Makes a predicate (may throw roger::Error) and pushes it.
+void push_new_predicate(lua_State* L, PredicatePtr p) {
+  count_object(L, book_of(L));
+  lua_push_predicate(L, p);
+}
+
+}  // namespace
+
+// roger.converged(c)
+int l_converged(lua_State* L) {
+  return lua_protect(L, [L]() {
+    push_new_predicate(L, converged(lua_check_controller(L, 1, "roger.converged", "argument 1")));
+    return 1;
+  });
+}
+
+// roger.sorted(): the world's judgement of a sorting task
+int l_sorted(lua_State* L) {
+  return lua_protect(L, [L]() {
+    if (lua_gettop(L) != 0) raise(L, "roger.sorted: takes no arguments, got " + std::to_string(lua_gettop(L)));
+    push_new_predicate(L, sorted());
+    return 1;
+  });
+}
+
+// roger.gamma(c, "NOREF" | "!CONV" | "CONV")
+int l_gamma(lua_State* L) {
+  return lua_protect(L, [L]() {
+    ControllerPtr c = lua_check_controller(L, 1, "roger.gamma", "argument 1");
+    const std::string given = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : "";
+    for (Gamma g : {Gamma::kNoRef, Gamma::kNotConv, Gamma::kConv}) {
+      if (given == gamma_name(g)) {
+        push_new_predicate(L, gamma_is(c, g));
+        return 1;
+      }
+    }
+    raise(L, "roger.gamma: argument 2 must be \"NOREF\", \"!CONV\" or \"CONV\", got " + lua_describe_value(L, 2));
+  });
+}
+
+namespace {
+
+// roger.all{p, ...} / roger.any{p, ...} (or the predicates as separate arguments).
+int combine(lua_State* L, bool all) {
+  return lua_protect(L, [L, all]() {
+    const std::string context = all ? "roger.all" : "roger.any";
+    std::vector<PredicatePtr> parts;
+    if (lua_gettop(L) == 1 && lua_istable(L, 1)) {
+      const lua_Integer n = lua_Integer(lua_rawlen(L, 1));
+      lua_pushnil(L);
+      while (lua_next(L, 1)) {
+        lua_pop(L, 1);
+        if (!lua_isinteger(L, -1) || lua_tointeger(L, -1) < 1 || lua_tointeger(L, -1) > n)
+          raise(L, context + ": expects a list of predicates {p1, p2, ...}, but it has the key " +
+                       lua_describe_value(L, -1));
+      }
+      for (lua_Integer i = 1; i <= n; ++i) {
+        lua_rawgeti(L, 1, i);
+        parts.push_back(lua_check_predicate(L, -1, context, "element " + std::to_string(i)));
+        lua_pop(L, 1);
+      }
+    } else {
+      for (int i = 1; i <= lua_gettop(L); ++i)
+        parts.push_back(lua_check_predicate(L, i, context, "argument " + std::to_string(i)));
+    }
+    push_new_predicate(L, all ? all_of(std::move(parts)) : any_of(std::move(parts)));
+    return 1;
+  });
+}
+}  // namespace
+
+int l_all(lua_State* L) { return combine(L, true); }
+int l_any(lua_State* L) { return combine(L, false); }
+
+// roger.negate(p), also roger["not"](p)
+int l_negate(lua_State* L) {
+  return lua_protect(L, [L]() {
+    push_new_predicate(L, negate(lua_check_predicate(L, 1, "roger.negate", "argument 1")));
+    return 1;
+  });
+}
+
+// roger.held(p, seconds)
+int l_held(lua_State* L) {
+  return lua_protect(L, [L]() {
+    PredicatePtr p = lua_check_predicate(L, 1, "roger.held", "argument 1");
+    const double seconds = lua_tonumber(L, 2);
+    if (lua_type(L, 2) != LUA_TNUMBER || !std::isfinite(seconds) || seconds < 0.0)
+      raise(L, "roger.held: argument 2 must be a duration in seconds (a finite number >= 0), got " +
+                   lua_describe_value(L, 2));
+    push_new_predicate(L, held(p, seconds));
+    return 1;
+  });
+}
+
+}  // namespace lua_control_detail
+}  // namespace roger

@@ -1,0 +1,410 @@
+#include "script/curriculum/curriculum.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include <lua.hpp>
+
+#include "core/error.h"
+#include "core/fileio.h"
+#include "script/curriculum/curriculum_internal.h"
+#include "script/control/lua_control.h"
+#include "script/scenario/scenario.h"
+
+namespace roger {
+namespace fs = std::filesystem;
+
+using curriculum_detail::LearnedRef;
+using curriculum_detail::LuaCallback;
+using curriculum_detail::parse_stage;
+using curriculum_detail::push_world;
+
+namespace {
+
+char book_key;  // registry key of the loader's book (a light userdata)
+
+// What the script's roger.stage / roger.learned calls have made so far.
+struct Book {
+  std::vector<CurriculumStage> stages;                   // parsed by roger.stage, in call order
+  std::vector<LuaCallback> absorbing_fns, reward_fns;    // aligned with stages
+  std::map<const void*, size_t> tables;                  // stage table -> index in stages
+  std::map<std::string, std::shared_ptr<LearnedRef>> learned;
+};
+
+Book& book_of(lua_State* L) {
+  lua_rawgetp(L, LUA_REGISTRYINDEX, &book_key);
+  auto* b = static_cast<Book*>(lua_touserdata(L, -1));
+  lua_pop(L, 1);
+  if (!b) luaL_error(L, "the curriculum API is not installed in this Lua state");
+  return *b;
+}
+
+// Where the caller of the running C function is, "" when it is C++.
+std::pair<std::string, int> caller(lua_State* L) {
+  lua_Debug ar;
+  if (lua_getstack(L, 1, &ar) && lua_getinfo(L, "Sl", &ar) && ar.currentline > 0)
+    return {ar.source && ar.source[0] == '@' ? ar.source + 1 : ar.short_src, ar.currentline};
+  return {"", 0};
+}
+
+// roger.stage{...}: validates a stage where it is written and returns the same table.
+int l_stage(lua_State* L) {
+  return lua_protect(L, [&]() {
+    Book& book = book_of(L);
+    CurriculumStage st;
+    LuaCallback a, r;
+    parse_stage(L, 1, st, a, r);
+    const auto [file, line] = caller(L);
+    st.file = file, st.line = line;
+    book.tables[lua_topointer(L, 1)] = book.stages.size();
+    book.stages.push_back(std::move(st));
+    book.absorbing_fns.push_back(a);
+    book.reward_fns.push_back(r);
+    lua_settop(L, 1);
+    return 1;
+  });
+}
+
+// roger.learned("Phi_SG"): the stand-in for a skill an earlier stage yields.
+int l_learned(lua_State* L) {
+  return lua_protect(L, [&]() {
+    Book& book = book_of(L);
+    if (lua_type(L, 1) != LUA_TSTRING)
+      luaL_error(L, "roger.learned: expects the name of a skill an earlier stage yields (a string), got %s",
+                 lua_describe_value(L, 1).c_str());
+    const std::string name = lua_tostring(L, 1);
+    if (name.empty()) luaL_error(L, "roger.learned: the name must not be empty");
+    auto it = book.learned.find(name);
+    if (it == book.learned.end()) it = book.learned.emplace(name, std::make_shared<LearnedRef>(name)).first;
+    lua_push_controller(L, it->second);
+    return 1;
+  });
+}
+
+}  // namespace
+
+std::string CurriculumStage::where(const std::string& context) const {
+  return "stage '" + name + "'" + (context.empty() ? "" : ", context '" + context + "'");
+}
+
+const CurriculumContext& CurriculumStage::context(const std::string& n) const {
+  std::vector<std::string> names;
+  for (const auto& c : contexts) {
+    if (c.name == n) return c;
+    names.push_back(c.name);
+  }
+  throw Error(where() + " has no context '" + n + "'; its contexts: " + join(names));
+}
+
+struct Curriculum::Impl {
+  std::unique_ptr<LuaSandbox> sandbox;
+  std::string path, file, name, description;
+  Book book;
+  std::vector<CurriculumStage> stages;
+  std::map<std::string, LuaCallback> absorbing_fns, reward_fns;  // by stage name
+  const World* world = nullptr;  // shown to the callbacks (set_world)
+};
+
+Curriculum::Curriculum() = default;
+Curriculum::Curriculum(Curriculum&&) noexcept = default;
+Curriculum& Curriculum::operator=(Curriculum&&) noexcept = default;
+Curriculum::~Curriculum() = default;
+
+const std::string& Curriculum::name() const { return impl_->name; }
+const std::string& Curriculum::description() const { return impl_->description; }
+const std::string& Curriculum::path() const { return impl_->path; }
+const std::vector<std::filesystem::path>& Curriculum::source_files() const { return impl_->sandbox->source_files(); }
+const std::string& Curriculum::file() const { return impl_->file; }
+const std::vector<CurriculumStage>& Curriculum::stages() const { return impl_->stages; }
+
+const CurriculumStage& Curriculum::stage(const std::string& n) const {
+  std::vector<std::string> names;
+  for (const auto& s : impl_->stages) {
+    if (s.name == n) return s;
+    names.push_back(s.name);
+  }
+  throw Error("curriculum '" + impl_->name + "' (" + impl_->path + ") has no stage '" + n + "'; its stages: " + join(names));
+}
+
+const CurriculumStage* Curriculum::producer(const std::string& skill) const {
+  for (const auto& s : impl_->stages)
+    if (s.skill && s.skill->first == skill) return &s;
+  return nullptr;
+}
+
+bool Curriculum::has_learned(const std::string& n) const { return impl_->book.learned.count(n) > 0; }
+
+void Curriculum::bind_learned(const std::string& n, ControllerPtr skill) {
+  auto it = impl_->book.learned.find(n);
+  if (it == impl_->book.learned.end()) throw Error("curriculum '" + impl_->name + "' never uses roger.learned('" + n + "')");
+  it->second->bind(std::move(skill));
+}
+
+namespace {
+
+// The line where a plain-table stage's name is written (a table carries no lines), 0 if none.
+int line_of_stage(const std::string& text, const std::string& name) {
+  const std::regex re("name\\s*=\\s*[\"']" + std::regex_replace(name, std::regex("[^A-Za-z0-9_]"), ".") + "[\"']");
+  std::smatch m;
+  if (std::regex_search(text, m, re)) return int(std::count(text.begin(), text.begin() + m.position(0), '\n')) + 1;
+  return 0;
+}
+
+// Runs `body` on the value on top of the sandbox's stack inside a protected call. A Lua error
+// without a location (raised by C++ reading the returned table) is placed at `file`:`line`, as
+// `line` is when the error happens.
+void read_protected(LuaSandbox& sandbox, const std::string& file, const int& line,
+                    const std::function<void(lua_State*)>& body) {
+  lua_State* L = sandbox.state();
+  lua_pushcfunction(L, [](lua_State* L) -> int {
+    auto* fn = static_cast<const std::function<void(lua_State*)>*>(lua_touserdata(L, -1));
+    lua_pop(L, 1);
+    return lua_protect(L, [&]() {
+      (*fn)(L);
+      return 0;
+    });
+  });
+  lua_insert(L, -2);
+  lua_pushlightuserdata(L, const_cast<std::function<void(lua_State*)>*>(&body));
+  try {
+    sandbox.call(2, 0);
+  } catch (const ScriptError& e) {
+    if (!e.file.empty()) throw;
+    throw ScriptError(e.message, file, line, "");
+  }
+}
+
+// The stage on top of the stack: as roger.stage read it, or read now from a plain table (`line`
+// is then where its name is written, and the stage's file is `display`).
+CurriculumStage take_stage(lua_State* L, const Book& book, const std::string& display, const std::string& text,
+                           int& line, LuaCallback& a, LuaCallback& r) {
+  auto it = book.tables.find(lua_topointer(L, -1));
+  CurriculumStage st;
+  if (it != book.tables.end()) {
+    st = book.stages[it->second];
+    a = book.absorbing_fns[it->second];
+    r = book.reward_fns[it->second];
+  } else {
+    lua_getfield(L, -1, "name");
+    line = lua_type(L, -1) == LUA_TSTRING ? line_of_stage(text, lua_tostring(L, -1)) : 0;
+    lua_pop(L, 1);
+    parse_stage(L, -1, st, a, r);
+    st.file = display, st.line = line;
+  }
+  return st;
+}
+
+// Across stages: a skill is yielded by one stage only, and a learned skill must come from an
+// earlier stage.
+void check_learned_order(const std::vector<CurriculumStage>& stages) {
+  std::map<std::string, size_t> produced;
+  for (size_t i = 0; i < stages.size(); ++i) {
+    const CurriculumStage& st = stages[i];
+    if (st.skill) {
+      if (produced.count(st.skill->first))
+        throw ScriptError(st.where() + ": a second stage yields the skill '" + st.skill->first + "'", st.file, st.line, "");
+      produced[st.skill->first] = i;
+    }
+  }
+  for (size_t i = 0; i < stages.size(); ++i) {
+    const CurriculumStage& st = stages[i];
+    for (const auto& ctx : st.contexts)
+      for (const auto& name : ctx.learned) {
+        auto it = produced.find(name);
+        std::vector<std::string> known;
+        for (const auto& [k, v] : produced) known.push_back(k);
+        if (it == produced.end())
+          throw ScriptError(st.where(ctx.name) + ": roger.learned('" + name + "') names no skill of this curriculum; " +
+                                (known.empty() ? "no stage yields one (give a stage skill = {name = ..., context = ...})"
+                                               : "skills: " + join(known)),
+                            st.file, st.line, "");
+        if (it->second == i)
+          throw ScriptError(st.where(ctx.name) + ": uses the learned skill '" + name +
+                                "', which this very stage yields; a learned skill can only be used by later stages",
+                            st.file, st.line, "");
+        if (it->second > i)
+          throw ScriptError(st.where(ctx.name) + ": uses the learned skill '" + name + "', which the later stage '" +
+                                stages[it->second].name + "' yields; move that stage before this one",
+                            st.file, st.line, "");
+      }
+  }
+}
+
+}  // namespace
+
+void install_curriculum_api(LuaSandbox& sandbox) {
+  install_control_api(sandbox);
+  lua_State* L = sandbox.state();
+  lua_getglobal(L, "roger");
+  lua_pushcfunction(L, l_stage);
+  lua_setfield(L, -2, "stage");
+  lua_pushcfunction(L, l_learned);
+  lua_setfield(L, -2, "learned");
+  lua_pop(L, 1);
+}
+
+Curriculum Curriculum::load(const std::string& path_in, const SandboxLimits& limits) {
+  const std::string path = resolve_curriculum_path(path_in);
+  Curriculum cur;
+  cur.impl_ = std::make_unique<Impl>();
+  Impl& impl = *cur.impl_;
+  impl.sandbox = std::make_unique<LuaSandbox>(limits);
+  LuaSandbox& sandbox = *impl.sandbox;
+  impl.file = path;
+  impl.path = sandbox.display_name(path);
+  install_curriculum_api(sandbox);
+  lua_State* L = sandbox.state();
+  lua_pushlightuserdata(L, &impl.book);
+  lua_rawsetp(L, LUA_REGISTRYINDEX, &book_key);
+  sandbox.set_main_script(path);
+  sandbox.run_file(path, 1);
+  finish_control_definitions(sandbox);
+
+  // The text, for the lines of plain-table stages (a table carries no lines).
+  const std::string text = read_file_text(path);
+  int line = 0;  // for errors raised while C++ reads the returned table
+  read_protected(sandbox, impl.path, line, [&](lua_State* L) {
+    const int t = lua_gettop(L);
+    if (!lua_istable(L, t))
+      luaL_error(L, "a curriculum must return a table {name = ..., description = ..., stages = {...}}, got %s",
+                 lua_describe_value(L, t).c_str());
+    LuaFields top(L, t, "the curriculum", {"name", "description", "stages"});
+    impl.name = top.string("name", fs::path(path).stem().string());
+    impl.description = top.string("description", "");
+    if (top.push("stages") == LUA_TNIL) top.fail("missing required field 'stages' (a list of roger.stage{...})");
+    const int ss = lua_gettop(L);
+    if (!lua_istable(L, ss)) top.wrong_type("stages", "a list of stages");
+    const lua_Integer n = lua_Integer(lua_rawlen(L, ss));
+    if (n == 0) top.fail("'stages' is empty (or not a list): define at least one stage");
+    for (lua_Integer i = 1; i <= n; ++i) {
+      lua_rawgeti(L, ss, i);
+      LuaCallback a, r;
+      CurriculumStage st = take_stage(L, impl.book, impl.path, text, line, a, r);
+      for (const auto& other : impl.stages)
+        if (other.name == st.name) {
+          line = st.line;
+          luaL_error(L, "a second stage named '%s'", st.name.c_str());
+        }
+      impl.absorbing_fns[st.name] = a;
+      impl.reward_fns[st.name] = r;
+      impl.stages.push_back(std::move(st));
+      lua_pop(L, 1);
+    }
+  });
+  check_learned_order(impl.stages);
+  return cur;
+}
+
+namespace {
+
+// Pushes a state as a Lua table {[action name] = "CONV" | "!CONV" | "NOREF"}.
+void push_state(lua_State* L, const CurriculumContext& ctx, const std::vector<Gamma>& state) {
+  lua_createtable(L, 0, int(state.size()));
+  for (size_t i = 0; i < state.size() && i < ctx.actions.size(); ++i) {
+    lua_pushstring(L, gamma_name(state[i]));
+    lua_setfield(L, -2, ctx.actions[i]->name().c_str());
+  }
+}
+
+}  // namespace
+
+void Curriculum::set_world(const World* world) { impl_->world = world; }
+
+bool Curriculum::call_absorbing(const CurriculumStage& stage, const CurriculumContext& context,
+                                const std::vector<Gamma>& state, double time) {
+  const LuaCallback& fn = impl_->absorbing_fns.at(stage.name);
+  lua_State* L = impl_->sandbox->state();
+  LuaStackGuard guard(L);
+  lua_rawgeti(L, LUA_REGISTRYINDEX, fn.ref);
+  push_state(L, context, state);
+  lua_pushnumber(L, time);
+  if (impl_->world) push_world(L, *impl_->world);
+  try {
+    impl_->sandbox->call(impl_->world ? 3 : 2, 1);
+  } catch (const ScriptError& e) {
+    throw ScriptError(stage.where(context.name) + ": absorbing function: " + e.message,
+                      e.file.empty() ? fn.file : e.file, e.file.empty() ? fn.line : e.line, e.traceback);
+  }
+  if (!lua_isboolean(L, -1))
+    throw ScriptError(stage.where(context.name) + ": the absorbing function must return true or false, got " +
+                          lua_describe_value(L, -1),
+                      fn.file, fn.line, "");
+  return lua_toboolean(L, -1);
+}
+
+double Curriculum::call_reward(const CurriculumStage& stage, const CurriculumContext& context,
+                               const std::vector<Gamma>& state, int action, const std::string& event, double time) {
+  const LuaCallback& fn = impl_->reward_fns.at(stage.name);
+  lua_State* L = impl_->sandbox->state();
+  LuaStackGuard guard(L);
+  lua_rawgeti(L, LUA_REGISTRYINDEX, fn.ref);
+  push_state(L, context, state);
+  if (action >= 0 && size_t(action) < context.actions.size()) {
+    lua_pushstring(L, context.actions[size_t(action)]->name().c_str());
+  } else {
+    lua_pushnil(L);
+  }
+  lua_pushstring(L, event.c_str());
+  lua_pushnumber(L, time);
+  if (impl_->world) push_world(L, *impl_->world);
+  try {
+    impl_->sandbox->call(impl_->world ? 5 : 4, 1);
+  } catch (const ScriptError& e) {
+    throw ScriptError(stage.where(context.name) + ": reward function: " + e.message,
+                      e.file.empty() ? fn.file : e.file, e.file.empty() ? fn.line : e.line, e.traceback);
+  }
+  if (lua_type(L, -1) != LUA_TNUMBER || !std::isfinite(lua_tonumber(L, -1)))
+    throw ScriptError(stage.where(context.name) + ": the reward function must return a finite number, got " +
+                          lua_describe_value(L, -1) + " (event '" + event + "')",
+                      fn.file, fn.line, "");
+  return lua_tonumber(L, -1);
+}
+
+std::string resolve_curriculum_path(const std::string& arg) {
+  return resolve_script_path(arg, "curricula", "curriculum", "curricula in curricula/",
+                             is_curriculum_script);
+}
+
+bool is_curriculum_script(const std::string& path) { return script_has_key(path, "stages"); }
+
+std::vector<std::string> check_curriculum(const std::string& path, const SandboxLimits& limits) {
+  std::vector<std::string> problems;
+  std::optional<Curriculum> cur;
+  try {
+    cur.emplace(Curriculum::load(path, limits));
+  } catch (const std::exception& e) {
+    problems.push_back(e.what());
+    return problems;
+  }
+  for (const auto& st : cur->stages()) {
+    try {
+      Scenario s = Scenario::load(st.scenario, limits);
+      for (const auto& [k, v] : st.params) s.set_param(k, v);
+      s.generate(0);
+    } catch (const std::exception& e) {
+      problems.push_back(st.where() + ": scenario '" + st.scenario + "': " + e.what());
+    }
+  }
+  return problems;
+}
+
+std::vector<std::filesystem::path> curriculum_source_files(const Curriculum& cur, const SandboxLimits& limits) {
+  std::vector<std::filesystem::path> files = cur.source_files();
+  std::set<std::string> scenarios;
+  for (const auto& st : cur.stages()) {
+    if (!scenarios.insert(st.scenario).second) continue;
+    Scenario s = Scenario::load(st.scenario, limits);
+    for (const auto& f : s.sandbox().source_files())
+      if (std::find(files.begin(), files.end(), f) == files.end()) files.push_back(f);
+  }
+  return files;
+}
+
+}  // namespace roger

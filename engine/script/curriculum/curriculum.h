@@ -1,0 +1,159 @@
+// curriculum.h: developmental curricula written in Lua (curricula/paper.lua). A curriculum script
+// builds controllers with the control-basis API (lua_control.h) and returns its stages:
+//
+//   return {
+//     name = "paper", description = "...",
+//     stages = {
+//       roger.stage{ name = "SG", scenario = "unobstructed", params = {}, time_limit = 5,
+//                    absorbing = roger.converged(p.phi3),         -- or function(state) ... end
+//                    reward = {absorbing = 100, timeout = -100, step = 0},  -- or a function
+//                    learner = {alpha = 0.2, discount = 0.95, epsilon_start = 1, epsilon_end = 0.05},
+//                    budget = {episodes = 300},
+//                    checkpoints = {every = 20, episodes = 20, threshold = 0.9, seeds = 1000000,
+//                                   stop_after = 0, settle = true, final = 50},
+//                    contexts = { {name = "B1", actions = {...}}, ... },  -- or {B1 = {...}, ...}
+//                    skill = {name = "Phi_SG", context = "DC2"} },
+//       ...
+//     },
+//   }
+//
+// roger.stage{...} validates a stage where it is written (errors at that file:line) and returns
+// the table; plain tables are accepted too and validated when the script returns. Contexts
+// written as a list keep the script's order; written as a map they are ordered by name.
+// roger.learned("Phi_SG") is a stand-in for the skill an earlier stage yields; it is bound
+// to that stage's greedy policy at train time (Curriculum::bind_learned). docs/curricula.md is
+// the reference.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "control/control.h"
+#include "sim/world.h"
+#include "learn/learning.h"
+#include "script/sandbox/lua_sandbox.h"
+#include "control/predicate.h"
+
+namespace roger {
+
+// When greedy evaluations happen during training and what counts as reaching the threshold.
+struct CheckpointSpec {
+  int every = 0;             // training episodes between greedy evaluations (0 = budget / 20)
+  int episodes = 20;         // held-out episodes per evaluation
+  double threshold = 0.9;    // success rate that counts as learned
+  uint64_t seeds = 1000000;  // the first held-out seed (then seeds + 1, ...)
+  int stop_after = 0;        // stop after this many consecutive passing checkpoints (0 = never)...
+  bool settle = true;        // ...of one greedy policy (false: policies that changed count too)
+  int final_episodes = 50;   // episodes of the final greedy evaluation (same held-out seeds)
+};
+
+// One developmental context: a named action set Psi.
+struct CurriculumContext {
+  std::string name;
+  std::vector<ControllerPtr> actions;  // in the script's order (the state-vector order)
+  std::vector<std::string> learned;    // the learned skills (roger.learned names) it reaches
+};
+
+// One stage of a curriculum: an MDP per context, with shared task definition.
+struct CurriculumStage {
+  std::string name;
+  std::string description;
+  std::string scenario = "unobstructed";
+  std::vector<std::pair<std::string, std::string>> params;  // scenario parameters, as text
+  double time_limit = 0.0;
+  PredicatePtr absorbing;            // null when absorbing is a Lua function
+  bool absorbing_lua = false;        // called at decision points only
+  LearningEpisodeOptions rewards;    // time_limit and the fixed rewards
+  bool reward_lua = false;           // a Lua function(state, action, event) at decision points
+  QParams learner;
+  int budget_episodes = 0;
+  CheckpointSpec checkpoints;
+  std::vector<CurriculumContext> contexts;
+  std::optional<std::pair<std::string, std::string>> skill;  // {skill name, context}
+  std::string file;  // where the stage is written
+  int line = 0;
+  // "stage 'SG'" or "stage 'SG', context 'B1'", for messages.
+  std::string where(const std::string& context = "") const;
+  // The context by name. Throws roger::Error listing the stage's contexts.
+  const CurriculumContext& context(const std::string& name) const;
+};
+
+class Curriculum {
+ public:
+  // Runs the script at `path` (or curricula/<path>.lua for a bare name) and validates its stages.
+  // Every call builds fresh controllers, so each training trial loads its own copy. Throws
+  // ScriptError (file:line) or roger::Error.
+  static Curriculum load(const std::string& path, const SandboxLimits& limits = {});
+
+  Curriculum(Curriculum&&) noexcept;
+  Curriculum& operator=(Curriculum&&) noexcept;
+  ~Curriculum();
+
+  const std::string& name() const;         // its `name` (or the file name)
+  const std::string& description() const;  // "" when none
+  const std::string& path() const;         // as shown in messages
+  const std::string& file() const;         // the file that was run (for reloading)
+
+  // The Lua files the script read: itself, then the modules it required (absolute paths).
+  const std::vector<std::filesystem::path>& source_files() const;
+
+  // The stages in order.
+  const std::vector<CurriculumStage>& stages() const;
+  // A stage by name. Throws roger::Error listing the stages.
+  const CurriculumStage& stage(const std::string& name) const;
+  // The stage whose `skill` yields a learned skill of this name, or null.
+  const CurriculumStage* producer(const std::string& skill) const;
+
+  // Binds the stand-in roger.learned(name) to a skill (a learned policy made with
+  // make_policy_skill). Throws roger::Error when the script has no such stand-in.
+  void bind_learned(const std::string& name, ControllerPtr skill);
+  // Whether the script made a stand-in for this learned skill.
+  bool has_learned(const std::string& name) const;
+
+  // The world the Lua callbacks are shown (their last argument, `world`), or null for none: the
+  // episode's world, set by whoever runs the episodes (the trainer).
+  void set_world(const World* world);
+
+  // Calls a stage's Lua absorbing function on a state (the gammas of a context's actions).
+  // Throws ScriptError naming the stage, the context and file:line.
+  bool call_absorbing(const CurriculumStage& stage, const CurriculumContext& context,
+                      const std::vector<Gamma>& state, double time);
+  // Calls a stage's Lua reward function for the action that ran until this state; event is
+  // "decision", "absorbing" or "timeout". The result must be a finite number: otherwise a
+  // ScriptError naming the stage, the context and the function's file:line.
+  double call_reward(const CurriculumStage& stage, const CurriculumContext& context,
+                     const std::vector<Gamma>& state, int action, const std::string& event, double time);
+
+ private:
+  Curriculum();
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Installs what a curriculum reaches (the control API of lua_control.h, roger.stage and
+// roger.learned) into a fresh sandbox, as Curriculum::load does. Throws ScriptError if the state
+// is out of memory.
+void install_curriculum_api(LuaSandbox& sandbox);
+
+// The file a curriculum argument names: the path itself if it is a file, else
+// <project>/curricula/<name>.lua. Throws roger::Error when neither exists.
+std::string resolve_curriculum_path(const std::string& name_or_path);
+
+// Whether the file looks like a curriculum: its source writes a `stages` field (reads the text
+// only). For `roger check` and `roger eval`, to pick the loader.
+bool is_curriculum_script(const std::string& path);
+
+// For `roger check`: loads a curriculum and generates one world of every stage's scenario with
+// its parameters. Returns the problems (empty when sound), each a complete message.
+std::vector<std::string> check_curriculum(const std::string& path, const SandboxLimits& limits = {});
+
+// Every Lua file training with this curriculum reads: its own source files, then each stage's
+// scenario and the modules that requires, each once (absolute paths). A batch fingerprints them,
+// so that results are never resumed after any of them changed. Throws like Scenario::load.
+std::vector<std::filesystem::path> curriculum_source_files(const Curriculum& cur, const SandboxLimits& limits = {});
+
+}  // namespace roger

@@ -1,0 +1,296 @@
+// Reading one stage table of a curriculum (roger.stage{...} or a plain table in 'stages'): its
+// scenario, absorbing state, reward, learner, budget, checkpoints, contexts and skill.
+#include <algorithm>
+#include <set>
+
+#include "core/error.h"
+#include "script/curriculum/curriculum_internal.h"
+#include "script/control/lua_control.h"
+#include "script/scenario/scenario.h"
+
+namespace roger {
+namespace curriculum_detail {
+namespace {
+
+// Collects the learned stand-ins a controller reaches.
+void find_learned(const Controller* c, std::set<const Controller*>& seen, std::vector<std::string>& out) {
+  if (!seen.insert(c).second) return;
+  if (dynamic_cast<const LearnedRef*>(c)) {
+    if (std::find(out.begin(), out.end(), c->name()) == out.end()) out.push_back(c->name());
+    return;  // a bound stand-in's insides belong to the earlier stage
+  }
+  for (const Controller* child : c->children()) find_learned(child, seen, out);
+}
+
+// A positive integer field.
+int positive_int(const LuaFields& f, const char* key, int64_t fallback, int64_t lo, const std::string& what) {
+  const int64_t v = f.integer(key, fallback);
+  if (v < lo || v > 100000000)
+    f.fail("field '" + std::string(key) + "' must be " + what + ", got " + std::to_string(v));
+  return int(v);
+}
+
+// Reads the contexts of a stage (the value on top of the stack).
+void parse_contexts(lua_State* L, CurriculumStage& st) {
+  const int t = lua_gettop(L);
+  const std::string where = st.where();
+  if (!lua_istable(L, t))
+    luaL_error(L, "%s: field 'contexts' must be a table: a list {{name = 'B1', actions = {...}}, ...} or a map "
+               "{B1 = {...}, ...}, got %s", where.c_str(), lua_describe_value(L, t).c_str());
+  // Each entry: its name and the stack index of its action list.
+  std::vector<std::pair<std::string, int>> entries;
+  if (lua_rawlen(L, t) > 0) {
+    const lua_Integer n = lua_Integer(lua_rawlen(L, t));
+    for (lua_Integer i = 1; i <= n; ++i) {
+      lua_rawgeti(L, t, i);
+      const int e = lua_gettop(L);
+      const std::string ctx = where + ": context " + std::to_string(i);
+      if (!lua_istable(L, e))
+        luaL_error(L, "%s must be a table {name = ..., actions = {...}}, got %s", ctx.c_str(),
+                   lua_describe_value(L, e).c_str());
+      LuaFields f(L, e, ctx, {"name", "actions"});
+      const std::string name = f.string("name");
+      if (name.empty()) f.fail("field 'name' must not be empty");
+      if (f.push("actions") == LUA_TNIL) f.fail("missing required field 'actions' (the list of controllers, Psi)");
+      entries.push_back({name, lua_gettop(L)});
+    }
+  } else {
+    std::vector<std::string> names;
+    lua_pushnil(L);
+    while (lua_next(L, t)) {
+      lua_pop(L, 1);
+      if (lua_type(L, -1) != LUA_TSTRING)
+        luaL_error(L, "%s: contexts must be named (B1 = {...}) or a list of {name = ..., actions = ...}, got the key %s",
+                   where.c_str(), lua_describe_value(L, -1).c_str());
+      names.push_back(lua_tostring(L, -1));
+    }
+    std::sort(names.begin(), names.end());  // a map has no order: name order is reproducible
+    for (const auto& name : names) {
+      lua_getfield(L, t, name.c_str());
+      entries.push_back({name, lua_gettop(L)});
+    }
+  }
+  if (entries.empty()) luaL_error(L, "%s: field 'contexts' is empty: define at least one context", where.c_str());
+  std::set<std::string> seen_names;
+  for (const auto& [name, idx] : entries) {
+    const std::string ctx = st.where(name);
+    if (!seen_names.insert(name).second) luaL_error(L, "%s: a second context named '%s'", where.c_str(), name.c_str());
+    if (!lua_istable(L, idx))
+      luaL_error(L, "%s: the actions must be a list of controllers, got %s", ctx.c_str(),
+                 lua_describe_value(L, idx).c_str());
+    CurriculumContext c;
+    c.name = name;
+    const lua_Integer n = lua_Integer(lua_rawlen(L, idx));
+    lua_pushnil(L);
+    while (lua_next(L, idx)) {  // only 1..n: a named key is a slip
+      lua_pop(L, 1);
+      if (!lua_isinteger(L, -1) || lua_tointeger(L, -1) < 1 || lua_tointeger(L, -1) > n)
+        luaL_error(L, "%s: the actions must be a plain list {a, b, ...}, got the key %s", ctx.c_str(),
+                   lua_describe_value(L, -1).c_str());
+    }
+    if (n == 0) luaL_error(L, "%s: Psi is empty: a context needs at least one action", ctx.c_str());
+    if (n > 12)
+      luaL_error(L, "%s: Psi has %d actions; at most 12 are allowed (3^12 states)", ctx.c_str(), int(n));
+    std::set<std::string> action_names;
+    for (lua_Integer i = 1; i <= n; ++i) {
+      lua_rawgeti(L, idx, i);
+      ControllerPtr a = lua_check_controller(L, -1, ctx, "action " + std::to_string(i));
+      lua_pop(L, 1);
+      if (!action_names.insert(a->name()).second)
+        luaL_error(L, "%s: two actions are named '%s'; the names of Psi must differ", ctx.c_str(), a->name().c_str());
+      c.actions.push_back(std::move(a));
+    }
+    std::set<const Controller*> visited;
+    for (const auto& a : c.actions) find_learned(a.get(), visited, c.learned);
+    st.contexts.push_back(std::move(c));
+  }
+  lua_settop(L, t);
+}
+
+// Reads the stage's 'params' (scenario parameters), sorted by key.
+void read_stage_params(lua_State* L, const LuaFields& f, CurriculumStage& st) {
+  if (f.push("params") != LUA_TNIL) {
+    const int p = lua_gettop(L);
+    if (!lua_istable(L, p)) f.wrong_type("params", "a table of scenario parameters {key = value}");
+    lua_pushnil(L);
+    while (lua_next(L, p)) {
+      if (lua_type(L, -2) != LUA_TSTRING) f.fail("field 'params' must have string keys");
+      const std::string key = lua_tostring(L, -2);
+      std::string value;
+      switch (lua_type(L, -1)) {
+        case LUA_TNUMBER: value = lua_isinteger(L, -1) ? std::to_string(lua_tointeger(L, -1)) : format_number(lua_tonumber(L, -1)); break;
+        case LUA_TBOOLEAN: value = lua_toboolean(L, -1) ? "true" : "false"; break;
+        case LUA_TSTRING: value = lua_tostring(L, -1); break;
+        default: f.fail("params." + key + " must be a number, string or boolean, got " + lua_describe_value(L, -1));
+      }
+      st.params.push_back({key, value});
+      lua_pop(L, 1);
+    }
+    std::sort(st.params.begin(), st.params.end());
+  }
+  lua_pop(L, 1);
+}
+
+// Reads the stage's 'absorbing': a predicate, or a Lua function kept in the registry.
+void read_absorbing(lua_State* L, const LuaFields& f, const std::string& where, CurriculumStage& st,
+                    LuaCallback& absorb_fn) {
+  // absorbing: a predicate (evaluated in C++ every tick) or a Lua function (at decision points).
+  const int at = f.push("absorbing");
+  if (at == LUA_TNIL) f.fail("missing required field 'absorbing' (a predicate such as roger.converged(c), or a function(state))");
+  if (at == LUA_TFUNCTION) {
+    lua_Debug ar;
+    lua_pushvalue(L, -1);
+    lua_getinfo(L, ">S", &ar);
+    absorb_fn.file = ar.source && ar.source[0] == '@' ? ar.source + 1 : ar.short_src;
+    absorb_fn.line = ar.linedefined;
+    absorb_fn.ref = luaL_ref(L, LUA_REGISTRYINDEX);
+    st.absorbing_lua = true;
+  } else {
+    st.absorbing = lua_check_predicate(L, -1, where, "field 'absorbing'");
+    lua_pop(L, 1);
+  }
+}
+
+// Reads the stage's 'reward' (a table of constants or a Lua function kept in the registry) and
+// checks the constants.
+void read_reward(lua_State* L, const LuaFields& f, const std::string& where, CurriculumStage& st,
+                 LuaCallback& reward_fn) {
+  // reward: the paper's constants by default, a table of them, or a Lua function.
+  const int rt = f.push("reward");
+  if (rt == LUA_TFUNCTION) {
+    lua_Debug ar;
+    lua_pushvalue(L, -1);
+    lua_getinfo(L, ">S", &ar);
+    reward_fn.file = ar.source && ar.source[0] == '@' ? ar.source + 1 : ar.short_src;
+    reward_fn.line = ar.linedefined;
+    reward_fn.ref = luaL_ref(L, LUA_REGISTRYINDEX);
+    st.reward_lua = true;
+  } else if (rt == LUA_TTABLE) {
+    LuaFields r(L, lua_gettop(L), where + ": reward", {"absorbing", "timeout", "step"});
+    st.rewards.success_reward = r.number("absorbing", 100.0);
+    st.rewards.timeout_reward = r.number("timeout", -100.0);
+    st.rewards.step_reward = r.number("step", 0.0);
+    lua_pop(L, 1);
+  } else if (rt != LUA_TNIL) {
+    f.wrong_type("reward", "a table {absorbing = 100, timeout = -100, step = 0} or a function(state, action, event)");
+  } else {
+    lua_pop(L, 1);
+  }
+  try {
+    st.rewards.validate();
+  } catch (const Error& e) {
+    f.fail(e.what());
+  }
+}
+
+// Reads the stage's optional 'learner' settings over the defaults and checks them.
+void read_learner(lua_State* L, const LuaFields& f, const std::string& where, CurriculumStage& st) {
+  if (f.push("learner") != LUA_TNIL) {
+    if (!lua_istable(L, -1)) f.wrong_type("learner", "a table {alpha = ..., discount = ..., epsilon_start = ..., epsilon_end = ...}");
+    LuaFields q(L, lua_gettop(L), where + ": learner",
+                {"alpha", "discount", "epsilon_start", "epsilon_end", "initial_q", "referenced_only"});
+    st.learner.alpha = q.number("alpha", st.learner.alpha);
+    st.learner.discount = q.number("discount", st.learner.discount);
+    st.learner.epsilon_start = q.number("epsilon_start", st.learner.epsilon_start);
+    st.learner.epsilon_end = q.number("epsilon_end", st.learner.epsilon_end);
+    st.learner.initial_q = q.number("initial_q", st.learner.initial_q);
+    st.learner.referenced_only = q.boolean("referenced_only", st.learner.referenced_only);
+    try {
+      st.learner.validate(where + ": learner");
+    } catch (const Error& e) {
+      q.fail(e.what());
+    }
+  }
+  lua_pop(L, 1);
+}
+
+// Reads the stage's 'budget' (training episodes) and its 'checkpoints' (every budget/20 episodes
+// by default).
+void read_budget_checkpoints(lua_State* L, const LuaFields& f, const std::string& where, CurriculumStage& st) {
+  if (f.push("budget") == LUA_TNIL) f.fail("missing required field 'budget' ({episodes = N})");
+  if (!lua_istable(L, -1)) f.wrong_type("budget", "a table {episodes = N}");
+  {
+    LuaFields b(L, lua_gettop(L), where + ": budget", {"episodes"});
+    if (!b.has("episodes")) b.fail("missing required field 'episodes' (training episodes)");
+    st.budget_episodes = positive_int(b, "episodes", 0, 1, "a positive integer");
+  }
+  lua_pop(L, 1);
+  if (f.push("checkpoints") != LUA_TNIL) {
+    if (!lua_istable(L, -1)) f.wrong_type("checkpoints", "a table {every = ..., episodes = ..., threshold = ...}");
+    LuaFields c(L, lua_gettop(L), where + ": checkpoints",
+                {"every", "episodes", "threshold", "seeds", "stop_after", "settle", "final"});
+    st.checkpoints.every = positive_int(c, "every", std::max(1, st.budget_episodes / 20), 1, "a positive integer");
+    st.checkpoints.episodes = positive_int(c, "episodes", 20, 1, "a positive integer");
+    st.checkpoints.threshold = c.number("threshold", 0.9);
+    if (!(st.checkpoints.threshold > 0.0 && st.checkpoints.threshold <= 1.0))
+      c.fail("field 'threshold' must be a success rate in (0, 1], got " + format_number(st.checkpoints.threshold));
+    const int64_t seeds = c.integer("seeds", 1000000);
+    if (seeds < 0) c.fail("field 'seeds' must be a non-negative integer, got " + std::to_string(seeds));
+    st.checkpoints.seeds = uint64_t(seeds);
+    st.checkpoints.stop_after = positive_int(c, "stop_after", 0, 0, "a non-negative integer");
+    st.checkpoints.settle = c.boolean("settle", true);
+    st.checkpoints.final_episodes = positive_int(c, "final", 50, 1, "a positive integer");
+  } else {
+    st.checkpoints.every = std::max(1, st.budget_episodes / 20);
+  }
+  lua_pop(L, 1);
+}
+
+// Reads the stage's optional 'skill' {name, context}: the skill the stage yields.
+void read_skill(lua_State* L, const LuaFields& f, const std::string& where, CurriculumStage& st) {
+  if (f.push("skill") != LUA_TNIL) {
+    if (!lua_istable(L, -1)) f.wrong_type("skill", "a table {name = ..., context = ...}");
+    LuaFields s(L, lua_gettop(L), where + ": skill", {"name", "context"});
+    const std::string name = s.string("name");
+    const std::string ctx = s.string("context");
+    if (name.empty()) s.fail("field 'name' must not be empty");
+    std::vector<std::string> names;
+    for (const auto& c : st.contexts) names.push_back(c.name);
+    if (std::find(names.begin(), names.end(), ctx) == names.end())
+      s.fail("unknown context '" + ctx + "'; the stage's contexts: " + join(names));
+    if (st.absorbing_lua)
+      s.fail("a stage whose absorbing state is a Lua function cannot yield a skill (its gamma is evaluated "
+             "every tick): write absorbing as a predicate such as roger.converged(c)");
+    st.skill = std::make_pair(name, ctx);
+  }
+  lua_pop(L, 1);
+}
+
+}  // namespace
+
+// Reads a stage table at `index` into `st`, raising Lua errors "stage 'X': ..." (at the caller's
+// file:line when called from Lua). Functions given for absorbing/reward are kept in the registry.
+void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& absorb_fn, LuaCallback& reward_fn) {
+  index = lua_absindex(L, index);
+  if (!lua_istable(L, index))
+    luaL_error(L, "a stage must be a table {name = ..., time_limit = ..., absorbing = ..., contexts = ...}, got %s",
+               lua_describe_value(L, index).c_str());
+  lua_getfield(L, index, "name");
+  st.name = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "";
+  lua_pop(L, 1);
+  const std::string where = st.name.empty() ? std::string("a stage") : st.where();
+  LuaFields f(L, index, where,
+              {"absorbing", "budget", "checkpoints", "contexts", "description", "learner", "name", "params",
+               "reward", "scenario", "skill", "time_limit"});
+  if (st.name.empty()) f.fail("missing required field 'name' (a string such as \"SG\")");
+  st.description = f.string("description", "");
+  st.scenario = f.string("scenario", "unobstructed");
+  resolve_scenario_path(st.scenario);  // lists the shipped scenarios when unknown
+  read_stage_params(L, f, st);
+  if (!f.has("time_limit")) f.fail("missing required field 'time_limit' (simulated seconds, e.g. 5)");
+  st.time_limit = f.number("time_limit");
+  if (!(st.time_limit > 0.0 && st.time_limit <= 3600.0))
+    f.fail("field 'time_limit' must be in (0, 3600] simulated seconds, got " + format_number(st.time_limit));
+  st.rewards.time_limit = st.time_limit;
+  read_absorbing(L, f, where, st, absorb_fn);
+  read_reward(L, f, where, st, reward_fn);
+  read_learner(L, f, where, st);
+  read_budget_checkpoints(L, f, where, st);
+  if (f.push("contexts") == LUA_TNIL) f.fail("missing required field 'contexts' (named action sets Psi)");
+  parse_contexts(L, st);
+  lua_pop(L, 1);
+  read_skill(L, f, where, st);
+}
+
+}  // namespace curriculum_detail
+}  // namespace roger

@@ -1,0 +1,59 @@
+// curriculum_world.cpp: the world as a curriculum's Lua callbacks see it (their `world` argument).
+#include <cstdio>
+
+#include "script/curriculum/curriculum_internal.h"
+
+namespace roger {
+namespace curriculum_detail {
+
+// The world as the Lua callbacks see it (the task's judge, not Roger's senses): every object with
+// its pose, colour, whether Roger touches it and the goal region its centre lies in; the regions.
+void push_world(lua_State* L, const World& world) {
+  const WorldSpec& spec = world.spec();
+  lua_createtable(L, 0, 2);
+  lua_createtable(L, int(spec.objects.size()), 0);
+  for (size_t i = 0; i < spec.objects.size(); ++i) {
+    const Pose pose = world.object_pose(int(i));
+    lua_createtable(L, 0, 7);
+    lua_pushstring(L, spec.objects[i].name.c_str());
+    lua_setfield(L, -2, "name");
+    const Colour& c = spec.objects[i].colour;
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "#%02x%02x%02x", c.r, c.g, c.b);
+    lua_pushstring(L, hex);
+    lua_setfield(L, -2, "colour");
+    lua_pushnumber(L, pose.x);
+    lua_setfield(L, -2, "x");
+    lua_pushnumber(L, pose.y);
+    lua_setfield(L, -2, "y");
+    bool held = false;
+    for (const Touch& t : world.senses().touch) held |= t.contact && t.kind == SurfaceKind::kObject && t.index == int(i);
+    lua_pushboolean(L, held);
+    lua_setfield(L, -2, "held");
+    for (size_t g = 0; g < spec.goals.size(); ++g) {
+      if ((Vec2(pose.x, pose.y) - spec.goals[g].center).norm() > spec.goals[g].radius) continue;
+      lua_pushstring(L, spec.goals[g].name.c_str());
+      lua_setfield(L, -2, "region");
+      break;
+    }
+    lua_rawseti(L, -2, lua_Integer(i + 1));
+  }
+  lua_setfield(L, -2, "objects");
+  lua_createtable(L, int(spec.goals.size()), 0);
+  for (size_t g = 0; g < spec.goals.size(); ++g) {
+    lua_createtable(L, 0, 4);
+    lua_pushstring(L, spec.goals[g].name.c_str());
+    lua_setfield(L, -2, "name");
+    lua_pushnumber(L, spec.goals[g].center.x());
+    lua_setfield(L, -2, "x");
+    lua_pushnumber(L, spec.goals[g].center.y());
+    lua_setfield(L, -2, "y");
+    lua_pushnumber(L, spec.goals[g].radius);
+    lua_setfield(L, -2, "radius");
+    lua_rawseti(L, -2, lua_Integer(g + 1));
+  }
+  lua_setfield(L, -2, "goals");
+}
+
+}  // namespace curriculum_detail
+}  // namespace roger

@@ -1,0 +1,202 @@
+// lua_fields.cpp: converting Lua values for the bindings (named-field tables, colours) and the
+// text helpers their messages use.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+#include <lua.hpp>
+
+#include "script/sandbox/lua_sandbox.h"
+
+namespace roger {
+
+LuaFields::LuaFields(lua_State* L, int index, std::string context, std::vector<std::string> known)
+    : L_(L), index_(lua_absindex(L, index)), context_(std::move(context)) {
+  if (!lua_istable(L_, index_))
+    fail(std::string("expects a table of named fields, got ") + luaL_typename(L_, index_));
+  std::sort(known.begin(), known.end());
+  std::vector<std::string> unknown;
+  lua_pushnil(L_);
+  while (lua_next(L_, index_)) {
+    lua_pop(L_, 1);
+    if (lua_type(L_, -1) != LUA_TSTRING) {
+      const std::string what = lua_isinteger(L_, -1)
+                                   ? "a value at position " + std::to_string(lua_tointeger(L_, -1))
+                                   : std::string("a key of type ") + luaL_typename(L_, -1);
+      lua_pop(L_, 1);
+      fail("expects named fields (name = value), got " + what + "; known fields: " + join(known));
+    }
+    const std::string key = lua_tostring(L_, -1);
+    if (!std::binary_search(known.begin(), known.end(), key)) unknown.push_back(key);
+  }
+  if (!unknown.empty()) {
+    std::sort(unknown.begin(), unknown.end());
+    fail(std::string(unknown.size() == 1 ? "unknown field '" : "unknown fields '") +
+         join(unknown, "', '") + "'; known fields: " + join(known));
+  }
+}
+
+void LuaFields::fail(const std::string& message) const {
+  luaL_error(L_, "%s: %s", context_.c_str(), message.c_str());
+  std::abort();  // unreachable: luaL_error does not return
+}
+
+void LuaFields::wrong_type(const char* key, const char* expected) const {
+  push(key);
+  const std::string got = luaL_typename(L_, -1);
+  lua_pop(L_, 1);
+  fail(std::string("field '") + key + "' must be " + expected + ", got " + got);
+}
+
+int LuaFields::push(const char* key) const {
+  lua_pushstring(L_, key);
+  return lua_rawget(L_, index_);
+}
+
+bool LuaFields::has(const char* key) const {
+  const bool present = push(key) != LUA_TNIL;
+  lua_pop(L_, 1);
+  return present;
+}
+
+double LuaFields::number(const char* key) const {
+  if (!has(key)) fail(std::string("missing required field '") + key + "' (a number)");
+  return number(key, 0.0);
+}
+
+double LuaFields::number(const char* key, double fallback) const {
+  const int type = push(key);
+  if (type == LUA_TNIL) {
+    lua_pop(L_, 1);
+    return fallback;
+  }
+  if (type != LUA_TNUMBER) {
+    lua_pop(L_, 1);
+    wrong_type(key, "a number");
+  }
+  const double v = lua_tonumber(L_, -1);
+  lua_pop(L_, 1);
+  if (!std::isfinite(v)) fail(std::string("field '") + key + "' must be a finite number, got " + format_number(v));
+  return v;
+}
+
+int64_t LuaFields::integer(const char* key) const {
+  if (!has(key)) fail(std::string("missing required field '") + key + "' (an integer)");
+  return integer(key, 0);
+}
+
+int64_t LuaFields::integer(const char* key, int64_t fallback) const {
+  const int type = push(key);
+  if (type == LUA_TNIL) {
+    lua_pop(L_, 1);
+    return fallback;
+  }
+  int ok = 0;
+  const lua_Integer v = type == LUA_TNUMBER ? lua_tointegerx(L_, -1, &ok) : 0;
+  const std::string shown = type == LUA_TNUMBER ? format_number(lua_tonumber(L_, -1)) : "";
+  lua_pop(L_, 1);
+  if (type != LUA_TNUMBER) wrong_type(key, "an integer");
+  if (!ok) fail(std::string("field '") + key + "' must be an integer, got " + shown);
+  return v;
+}
+
+std::string LuaFields::string(const char* key) const {
+  if (!has(key)) fail(std::string("missing required field '") + key + "' (a string)");
+  return string(key, "");
+}
+
+std::string LuaFields::string(const char* key, const std::string& fallback) const {
+  const int type = push(key);
+  if (type == LUA_TNIL) {
+    lua_pop(L_, 1);
+    return fallback;
+  }
+  if (type != LUA_TSTRING) {
+    lua_pop(L_, 1);
+    wrong_type(key, "a string");
+  }
+  std::string v = lua_tostring(L_, -1);
+  lua_pop(L_, 1);
+  return v;
+}
+
+bool LuaFields::boolean(const char* key, bool fallback) const {
+  const int type = push(key);
+  if (type == LUA_TNIL) {
+    lua_pop(L_, 1);
+    return fallback;
+  }
+  if (type != LUA_TBOOLEAN) {
+    lua_pop(L_, 1);
+    wrong_type(key, "a boolean");
+  }
+  const bool v = lua_toboolean(L_, -1);
+  lua_pop(L_, 1);
+  return v;
+}
+
+Colour LuaFields::colour(const char* key, const Colour& fallback) const {
+  if (push(key) == LUA_TNIL) {
+    lua_pop(L_, 1);
+    return fallback;
+  }
+  const Colour c = lua_to_colour(L_, -1, context_ + ": field '" + key + "'");
+  lua_pop(L_, 1);
+  return c;
+}
+
+Colour lua_to_colour(lua_State* L, int index, const std::string& context) {
+  index = lua_absindex(L, index);
+  const char* expected = "a colour: {r, g, b} or {r=, g=, b=} with integers 0-255, or \"#rrggbb\"";
+  if (lua_type(L, index) == LUA_TSTRING) {
+    const std::string text = lua_tostring(L, index);
+    unsigned r, g, b;
+    char tail;
+    if (text.size() == 7 && std::sscanf(text.c_str(), "#%2x%2x%2x%c", &r, &g, &b, &tail) == 3)
+      return Colour{uint8_t(r), uint8_t(g), uint8_t(b)};
+    luaL_error(L, "%s must be %s, got \"%s\"", context.c_str(), expected, text.c_str());
+  }
+  if (!lua_istable(L, index))
+    luaL_error(L, "%s must be %s, got %s", context.c_str(), expected, luaL_typename(L, index));
+  const bool named = lua_getfield(L, index, "r") != LUA_TNIL;
+  lua_pop(L, 1);
+  const char* names[3] = {"r", "g", "b"};
+  uint8_t out[3];
+  for (int i = 0; i < 3; ++i) {
+    const int type = named ? lua_getfield(L, index, names[i]) : lua_rawgeti(L, index, i + 1);
+    int ok = 0;
+    const lua_Integer v = type == LUA_TNUMBER ? lua_tointegerx(L, -1, &ok) : 0;
+    lua_pop(L, 1);
+    if (!ok || v < 0 || v > 255)
+      luaL_error(L, "%s must be %s (component %s is missing or not an integer 0-255)",
+                 context.c_str(), expected, names[i]);
+    out[i] = uint8_t(v);
+  }
+  return Colour{out[0], out[1], out[2]};
+}
+
+LuaStackGuard::LuaStackGuard(lua_State* L) : L_(L), top_(lua_gettop(L)) {}
+LuaStackGuard::~LuaStackGuard() { lua_settop(L_, top_); }
+
+std::string format_number(double value) {
+  if (std::isnan(value)) return "nan";
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+  // Exponent notation only for very large or small magnitudes ("10", not "1e+01").
+  const bool plain = value == 0.0 || (std::abs(value) >= 1e-4 && std::abs(value) < 1e15);
+  char buf[40];
+  for (int precision = 1; precision <= 17; ++precision) {
+    std::snprintf(buf, sizeof buf, "%.*g", precision, value);
+    if (std::strtod(buf, nullptr) == value && (!plain || !std::strchr(buf, 'e'))) break;
+  }
+  return buf;
+}
+
+std::string join(const std::vector<std::string>& items, const char* sep) {
+  std::string out;
+  for (size_t i = 0; i < items.size(); ++i) out += (i ? sep : "") + items[i];
+  return out;
+}
+
+}  // namespace roger

@@ -1,0 +1,240 @@
+// lua_sandbox.cpp: the LuaSandbox class (the state, the main script, loading and protected calls),
+// ScriptError and where scripts are found.
+#include "script/sandbox/lua_sandbox.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <iostream>
+
+#include <lua.hpp>
+
+#include "script/sandbox/lua_sandbox_internal.h"
+
+namespace roger {
+namespace fs = std::filesystem;
+using namespace sandbox_detail;
+
+namespace {
+// "file:line: message\ntraceback", leaving out the parts that are unknown.
+std::string compose(const std::string& message, const std::string& file, int line,
+                    const std::string& traceback) {
+  std::string text;
+  if (!file.empty()) text = file + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": ";
+  text += message;
+  if (!traceback.empty()) text += "\n" + traceback;
+  return text;
+}
+}  // namespace
+
+ScriptError::ScriptError(std::string message_in, std::string file_in, int line_in,
+                         std::string traceback_in)
+    : Error(compose(message_in, file_in, line_in, traceback_in)),
+      message(std::move(message_in)),
+      file(std::move(file_in)),
+      line(line_in),
+      traceback(std::move(traceback_in)) {}
+
+fs::path project_root() {
+  if (const char* home = std::getenv("ROGER_HOME"); home && *home) return fs::path(home);
+  return fs::path(ROGER_SOURCE_DIR);
+}
+
+LuaSandbox::LuaSandbox(const SandboxLimits& limits) : impl_(std::make_unique<Impl>()) {
+  Impl& s = *impl_;
+  s.limits = limits;
+  s.hook_interval = int(std::clamp<uint64_t>(limits.instructions, 1, 1000));
+  s.print = [](const std::string& line) { std::cerr << line << '\n'; };
+  s.L = lua_newstate(sandbox_alloc, &s);
+  if (!s.L)
+    throw Error("cannot create a Lua state within the script memory limit of " +
+                std::to_string(limits.memory_bytes) + " bytes");
+  *static_cast<Impl**>(lua_getextraspace(s.L)) = &s;
+  lua_atpanic(s.L, sandbox_panic);
+  lua_sethook(s.L, count_hook, LUA_MASKCOUNT, s.hook_interval);
+  lua_pushcfunction(s.L, open_sandbox);
+  if (lua_pcall(s.L, 0, 0, 0) != LUA_OK) {
+    const std::string msg = lua_isstring(s.L, -1) ? lua_tostring(s.L, -1) : "unknown error";
+    lua_close(s.L);
+    s.L = nullptr;
+    throw Error("cannot open the Lua libraries: " + msg);
+  }
+  const fs::path root = project_root();
+  for (const char* folder : {"scenarios", "curricula", "scripts"}) {
+    std::error_code ec;
+    const fs::path p = fs::weakly_canonical(root / folder, ec);
+    if (!ec) s.roots.push_back(p);
+  }
+}
+
+LuaSandbox::~LuaSandbox() {
+  if (impl_ && impl_->L) {
+    // Finalizers written in Lua run at close: give them a fresh budget so they cannot hang us.
+    impl_->instructions_used = 0;
+    lua_sethook(impl_->L, count_hook, LUA_MASKCOUNT, impl_->hook_interval);
+    lua_close(impl_->L);
+  }
+}
+
+LuaSandbox::LuaSandbox(LuaSandbox&&) noexcept = default;
+LuaSandbox& LuaSandbox::operator=(LuaSandbox&& other) noexcept {
+  if (this != &other) {
+    LuaSandbox doomed(std::move(*this));
+    impl_ = std::move(other.impl_);
+  }
+  return *this;
+}
+
+lua_State* LuaSandbox::state() const { return impl_->L; }
+const SandboxLimits& LuaSandbox::limits() const { return impl_->limits; }
+size_t LuaSandbox::memory_used() const { return impl_->memory_used; }
+uint64_t LuaSandbox::instructions_used() const { return impl_->instructions_used; }
+
+void LuaSandbox::set_print(std::function<void(const std::string&)> sink) {
+  impl_->print = std::move(sink);
+}
+
+void LuaSandbox::set_main_script(const std::string& path) {
+  Impl& s = *impl_;
+  std::error_code ec;
+  const fs::path folder = fs::weakly_canonical(fs::absolute(fs::path(path), ec).parent_path(), ec);
+  s.main_dir = folder;
+  s.main_dir_display = fs::path(path).parent_path().string();
+  std::vector<fs::path> roots{folder};
+  const fs::path root = project_root();
+  for (const char* name : {"scenarios", "curricula", "scripts"}) {
+    const fs::path p = fs::weakly_canonical(root / name, ec);
+    if (!ec && std::find(roots.begin(), roots.end(), p) == roots.end()) roots.push_back(p);
+  }
+  s.roots = std::move(roots);
+  s.main_set = true;
+}
+
+std::vector<fs::path> LuaSandbox::module_roots() const { return impl_->roots; }
+
+std::string LuaSandbox::display_name(const fs::path& path) const {
+  std::error_code ec;
+  const fs::path real = fs::weakly_canonical(fs::absolute(path, ec), ec);
+  const fs::path root = fs::weakly_canonical(project_root(), ec);
+  if (!ec && path.is_absolute() && inside(root, real)) return real.lexically_relative(root).string();
+  return path.string();
+}
+
+void LuaSandbox::load_file(const std::string& path) {
+  Impl& s = *impl_;
+  const std::string shown = display_name(path);
+  std::string text;
+  try {
+    text = read_file(path, shown, s.limits.memory_bytes);
+  } catch (const Error& e) {
+    throw ScriptError(e.what(), "", 0, "");
+  }
+  if (auto failure = compile(s.L, s, std::move(text), shown)) throw *failure;
+  std::error_code ec;
+  const fs::path real = fs::weakly_canonical(path, ec);  // absolute: the file was just read
+  note_source_file(s, ec ? fs::path(path).lexically_normal() : real);
+}
+
+const std::vector<fs::path>& LuaSandbox::source_files() const { return impl_->source_files; }
+
+void LuaSandbox::load_string(const std::string& code, const std::string& chunkname) {
+  Impl& s = *impl_;
+  if (!chunkname.empty() && chunkname[0] == '@') {
+    if (auto failure = compile(s.L, s, code, chunkname.substr(1))) throw *failure;
+    return;
+  }
+  if (code.rfind(LUA_SIGNATURE, 0) == 0)
+    throw ScriptError("attempt to load a binary chunk: roger loads Lua source text only", chunkname,
+                      0, "");
+  const int status = luaL_loadbufferx(s.L, code.data(), code.size(), chunkname.c_str(), "t");
+  if (status == LUA_OK) return;
+  std::string msg = lua_isstring(s.L, -1) ? lua_tostring(s.L, -1) : "cannot compile";
+  lua_pop(s.L, 1);
+  std::string file, rest;
+  int line = 0;
+  if (split_location(msg, file, line, rest)) throw ScriptError(rest, file, line, "");
+  throw ScriptError(msg, "", 0, "");
+}
+
+void LuaSandbox::call(int nargs, int nresults) {
+  Impl& s = *impl_;
+  lua_State* L = s.L;
+  const int base = lua_gettop(L) - nargs;  // the function's slot
+  if (!lua_checkstack(L, 2)) throw Error("Lua stack exhausted");
+  // Where the called function lives, for errors that carry no location (memory).
+  lua_Debug ar;
+  lua_pushvalue(L, base);
+  std::string entry_file;
+  if (lua_getinfo(L, ">S", &ar) && ar.source && ar.source[0] == '@') entry_file = ar.source + 1;
+  lua_pushcfunction(L, message_handler);
+  lua_insert(L, base);
+  const bool top_level = s.call_depth == 0;
+  if (top_level) {
+    s.instructions_used = 0;
+    s.oom_line = 0;
+    s.pending.reset();
+    s.pending_text.clear();
+    lua_sethook(L, count_hook, LUA_MASKCOUNT, s.hook_interval);
+  }
+  s.err_handled = false;
+  int status;
+  {
+    struct Depth {  // restored even if a panic unwinds through lua_pcall
+      int& depth;
+      ~Depth() { --depth; }
+    } depth{++s.call_depth};
+    status = lua_pcall(L, nargs, nresults, base);
+  }
+  lua_remove(L, base);
+  if (status == LUA_OK) return;
+
+  std::string msg = lua_isstring(L, -1) ? lua_tostring(L, -1) : "unknown error";
+  lua_pop(L, 1);
+  if (s.pending && msg == s.pending_text) {
+    ScriptError error = *s.pending;
+    s.pending.reset();
+    throw error;
+  }
+  if (status == LUA_ERRMEM) {
+    const bool located = s.oom_line > 0;
+    throw ScriptError("not enough memory (script memory limit of " +
+                          std::to_string(s.limits.memory_bytes >> 20) + " MiB)",
+                      located ? restore_names(s, s.oom_file.data()) : entry_file, located ? s.oom_line : 0, "");
+  }
+  if (status == LUA_ERRERR) msg = "error while handling an error (" + msg + ")";
+  msg = restore_names(s, msg);
+  const std::string traceback = s.err_handled ? restore_names(s, s.err_traceback) : "";
+  std::string file, rest;
+  int line = 0;
+  if (split_location(msg, file, line, rest)) throw ScriptError(rest, file, line, traceback);
+  throw ScriptError(msg, s.err_handled ? restore_names(s, s.err_file) : entry_file,
+                    s.err_handled ? s.err_line : 0, traceback);
+}
+
+void LuaSandbox::run_file(const std::string& path, int nresults) {
+  if (!impl_->main_set) set_main_script(path);
+  load_file(path);
+  call(0, nresults);
+}
+
+std::string resolve_script_path(const std::string& arg, const std::string& folder_name,
+                                const std::string& kind, const std::string& list_label,
+                                const std::function<bool(const std::string&)>& accept) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_regular_file(arg, ec)) return arg;
+  const fs::path folder = project_root() / folder_name;
+  const bool bare = arg.find('/') == std::string::npos;
+  const std::string file = fs::path(arg).extension() == ".lua" ? arg : arg + ".lua";
+  if (bare && fs::is_regular_file(folder / file, ec)) return (folder / file).string();
+  std::vector<std::string> shipped;
+  for (const auto& entry : fs::directory_iterator(folder, ec))
+    if (entry.path().extension() == ".lua" && (!accept || accept(entry.path().string())))
+      shipped.push_back(entry.path().stem().string());
+  std::sort(shipped.begin(), shipped.end());
+  throw Error("no " + kind + " '" + arg + "': " +
+              (bare ? "not a file, and " + folder_name + "/" + file + " does not exist"
+                    : std::string(fs::exists(arg, ec) ? "not a regular file" : "no such file")) +
+              (shipped.empty() ? "" : "; " + list_label + ": " + join(shipped)));
+}
+
+}  // namespace roger

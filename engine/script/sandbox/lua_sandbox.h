@@ -1,0 +1,202 @@
+// Module script: everything Lua. Owns the sandbox and every binding: scenarios, skill scripts,
+// curricula, batch scripts. Lua lives only here. Depends on learn and below; must not depend on
+// batch, report, view or cli. Its sub-folders, lowest first: sandbox < scenario, control < skills,
+// curriculum < batch < authoring (docs/architecture.md); this one, sandbox, includes no other.
+//
+// lua_sandbox.h: a Lua 5.4 state that is safe to hand to a researcher's script.
+//
+// Scenario, curriculum and batch scripts are user input, so the state they run in:
+//   - opens only the base, math, string, table and utf8 libraries (no io, os, debug, package:
+//     touching them raises an error saying the script is sandboxed);
+//   - loads source text only (no bytecode: a binary chunk can crash the VM), with a `require` that
+//     resolves dotted module names inside a fixed list of folders;
+//   - stops runaway scripts with an instruction budget per call and a memory cap for the state;
+//   - turns every Lua error into a roger::ScriptError naming file:line with a traceback.
+// Nothing here aborts the process: all calls into Lua are protected.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/spec.h"
+
+struct lua_State;
+
+namespace roger {
+
+// Resource limits of one sandbox.
+struct SandboxLimits {
+  uint64_t instructions = 50'000'000;   // Lua VM instructions per top-level protected call
+  size_t memory_bytes = 256u << 20;     // bytes the whole Lua state may hold
+};
+
+// A Lua error with its location. what() is "file:line: message" followed by the traceback.
+struct ScriptError : Error {
+  // Builds the error; file may be empty and line 0 when unknown.
+  ScriptError(std::string message, std::string file, int line, std::string traceback);
+  std::string message;    // the error text without its location
+  std::string file;       // the script as shown to the user ("scenarios/cluttered.lua")
+  int line = 0;           // 0 when unknown
+  std::string traceback;  // Lua's "stack traceback:" text, empty when none
+};
+
+// The project folder holding scenarios/, curricula/ and scripts/: $ROGER_HOME if set, else the
+// source tree the engine was built from.
+std::filesystem::path project_root();
+
+class LuaSandbox {
+ public:
+  // Opens a fresh sandboxed state. Throws roger::Error if the limits leave no room for Lua itself.
+  explicit LuaSandbox(const SandboxLimits& limits = {});
+  ~LuaSandbox();
+  LuaSandbox(LuaSandbox&&) noexcept;
+  LuaSandbox& operator=(LuaSandbox&&) noexcept;
+  LuaSandbox(const LuaSandbox&) = delete;
+  LuaSandbox& operator=(const LuaSandbox&) = delete;
+
+  // The raw state, for bindings. Call into Lua only through call()/run_file()/load_*().
+  lua_State* state() const;
+
+  // The limits this sandbox enforces.
+  const SandboxLimits& limits() const;
+
+  // Declares the main script: `require` then searches its folder first, then
+  // <project>/scenarios, <project>/curricula and <project>/scripts. run_file() does this for its
+  // first file when no main script was declared.
+  void set_main_script(const std::string& path);
+
+  // The folders `require` searches, in order (absolute paths).
+  std::vector<std::filesystem::path> module_roots() const;
+
+  // Compiles a source file (text only) and pushes the chunk. `path` is shown in messages as given.
+  void load_file(const std::string& path);
+
+  // Compiles source text and pushes the chunk; chunkname is shown in messages ("@file" or "=name").
+  void load_string(const std::string& code, const std::string& chunkname);
+
+  // Calls the function below nargs arguments on the stack, like lua_pcall, with a fresh
+  // instruction budget (unless already inside a call) and a traceback on error. Throws ScriptError.
+  void call(int nargs, int nresults);
+
+  // load_file() then call() with no arguments; leaves nresults values on the stack.
+  void run_file(const std::string& path, int nresults = 1);
+
+  // Where print() output goes (default: standard error, so standard output stays machine-readable).
+  void set_print(std::function<void(const std::string&)> sink);
+
+  // The name a file is shown under: relative to the project root when inside it, else as given.
+  std::string display_name(const std::filesystem::path& path) const;
+
+  // Every source file compiled so far: the scripts run or loaded, then the modules `require`
+  // found, each once, in load order (absolute, canonical paths). What a result depends on.
+  const std::vector<std::filesystem::path>& source_files() const;
+
+  // Bytes the Lua state holds now.
+  size_t memory_used() const;
+
+  // Instructions counted in the current or last top-level call (to the nearest hook interval).
+  uint64_t instructions_used() const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+// Runs a C function's body, turning any std::exception (roger::Error included) into a Lua error at
+// the Lua caller's file:line. Every lua_CFunction that runs C++ code which may throw goes through
+// it: a C++ exception must never cross the Lua VM. A ScriptError keeps its own file:line. For states
+// owned by a LuaSandbox only.
+int lua_protect(lua_State* L, const std::function<int()>& body);
+
+// Counts `units` of work done in C++ on behalf of a script (for example one per placement candidate
+// tested) against the instruction budget, so loops inside engine functions cannot outrun it.
+// Raises the budget error at the Lua caller's file:line when the budget is spent. For states owned
+// by a LuaSandbox only.
+void lua_charge(lua_State* L, uint64_t units);
+
+// Reads the named fields of a table argument such as world:object{...}. The constructor rejects
+// keys that are not in `known` (listing the known ones) and positional values; the accessors check
+// types. Every message starts with the context ("world:object") and is raised with luaL_error, so
+// it carries the calling script's file:line.
+class LuaFields {
+ public:
+  // Checks that the value at `index` is a table with only known string keys.
+  LuaFields(lua_State* L, int index, std::string context, std::vector<std::string> known);
+
+  // Whether the field is present (not nil).
+  bool has(const char* key) const;
+  // A required finite number.
+  double number(const char* key) const;
+  // An optional finite number.
+  double number(const char* key, double fallback) const;
+  // A required integer (a float with an integral value is accepted).
+  int64_t integer(const char* key) const;
+  // An optional integer.
+  int64_t integer(const char* key, int64_t fallback) const;
+  // A required string.
+  std::string string(const char* key) const;
+  // An optional string.
+  std::string string(const char* key, const std::string& fallback) const;
+  // An optional boolean.
+  bool boolean(const char* key, bool fallback) const;
+  // An optional colour: {r, g, b}, {r=, g=, b=} (integers 0-255) or "#rrggbb".
+  Colour colour(const char* key, const Colour& fallback) const;
+  // Pushes the raw value of a field (nil when absent) and returns its Lua type.
+  int push(const char* key) const;
+  // Raises a Lua error "context: message" at the caller's file:line.
+  [[noreturn]] void fail(const std::string& message) const;
+  // Raises "context: field 'key' must be <expected>, got <type>".
+  [[noreturn]] void wrong_type(const char* key, const char* expected) const;
+
+  const std::string& context() const { return context_; }
+  lua_State* state() const { return L_; }
+
+ private:
+  lua_State* L_;
+  int index_;
+  std::string context_;
+};
+
+// Converts the value at `index` into a colour, or raises "context: ..." at the caller's line.
+Colour lua_to_colour(lua_State* L, int index, const std::string& context);
+
+// Restores the Lua stack top when it goes out of scope (for C++ code that pushes temporaries).
+class LuaStackGuard {
+ public:
+  explicit LuaStackGuard(lua_State* L);
+  ~LuaStackGuard();
+  LuaStackGuard(const LuaStackGuard&) = delete;
+  LuaStackGuard& operator=(const LuaStackGuard&) = delete;
+
+ private:
+  lua_State* L_;
+  int top_;
+};
+
+// Joins items with a separator ("a, b, c"), for messages that list what exists.
+std::string join(const std::vector<std::string>& items, const char* sep = ", ");
+
+// The file a script argument names: the path itself if it is a file, else
+// <project>/<folder>/<name>.lua for a bare name. Otherwise a roger::Error: "no <kind> '<arg>': ..."
+// ending with "; <list_label>: " and the scripts of that folder that `accept` takes (every .lua
+// file when it is empty).
+std::string resolve_script_path(const std::string& arg, const std::string& folder,
+                                const std::string& kind, const std::string& list_label,
+                                const std::function<bool(const std::string&)>& accept = {});
+
+// Formats a number the shortest way that reads back exactly (0.95, not 0.94999999999999996).
+std::string format_number(double value);
+
+// Whether a script's text sets a table field `key` (`key = ...` or `t.key = ...`) outside
+// comments: a quick look at what kind of script a file is (a curriculum has `stages`, a batch
+// script `runs`) without running it.
+bool script_has_key(const std::string& path, const std::string& key);
+
+}  // namespace roger

@@ -1,0 +1,195 @@
+// lua_sandbox_hooks.cpp: the sandbox's budgets (memory, instructions) and how Lua errors are
+// located and described.
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include <lua.hpp>
+
+#include "script/sandbox/lua_sandbox_internal.h"
+
+namespace roger {
+namespace sandbox_detail {
+
+// The sandbox a state belongs to (its address lives in the state's extra space, which threads share).
+LuaSandbox::Impl& impl_of(lua_State* L) {
+  return **static_cast<LuaSandbox::Impl**>(lua_getextraspace(L));
+}
+
+namespace {
+
+// Records the innermost Lua line running when the memory cap is first hit in a call. Only reads
+// the call stack (lua_getstack and lua_getinfo "Sl" allocate nothing).
+void note_refusal(LuaSandbox::Impl& s) {
+  if (!s.L || s.oom_line > 0) return;
+  lua_Debug ar;
+  for (int level = 0; lua_getstack(s.L, level, &ar); ++level) {
+    if (lua_getinfo(s.L, "Sl", &ar) && ar.currentline > 0) {
+      std::snprintf(s.oom_file.data(), s.oom_file.size(), "%s", ar.short_src);
+      s.oom_line = ar.currentline;
+      return;
+    }
+  }
+}
+
+}  // namespace
+
+// The allocator: the usual realloc/free pair, refusing to grow the state beyond the cap. Lua then
+// runs an emergency collection and retries before raising "not enough memory".
+void* sandbox_alloc(void* ud, void* ptr, size_t osize, size_t nsize) {
+  auto* s = static_cast<LuaSandbox::Impl*>(ud);
+  const size_t old = ptr ? osize : 0;  // for new blocks osize encodes the object type
+  if (nsize == 0) {
+    std::free(ptr);
+    s->memory_used -= old;
+    return nullptr;
+  }
+  if (nsize > old && nsize - old > s->limits.memory_bytes - std::min(s->memory_used, s->limits.memory_bytes)) {
+    note_refusal(*s);
+    return nullptr;
+  }
+  void* p = std::realloc(ptr, nsize);
+  if (p) s->memory_used = s->memory_used - old + nsize;
+  return p;
+}
+
+// Last resort: an error outside any protected call. Throwing unwinds out of the Lua API (the
+// library is compiled as C++) instead of letting Lua call abort().
+int sandbox_panic(lua_State* L) {
+  const char* msg = lua_tostring(L, -1);
+  throw Error(std::string("Lua panic (error outside a protected call): ") + (msg ? msg : "?"));
+}
+
+namespace {
+
+// What Lua shows for a "@name" chunk: names over LUA_IDSIZE - 1 bytes keep only their end.
+std::string lua_short_src(const std::string& name) {
+  constexpr size_t kKeep = LUA_IDSIZE - 4;
+  if (name.size() + 1 <= size_t(LUA_IDSIZE)) return name;
+  return "..." + name.substr(name.size() - kKeep);
+}
+
+// Replaces every occurrence of `from` in text.
+void replace_all(std::string& text, const std::string& from, const std::string& to) {
+  if (from.empty()) return;
+  for (size_t pos = text.find(from); pos != std::string::npos; pos = text.find(from, pos + to.size()))
+    text.replace(pos, from.size(), to);
+}
+
+}  // namespace
+
+// Puts back the full names of files whose names Lua truncated in a message or traceback.
+std::string restore_names(const LuaSandbox::Impl& s, std::string text) {
+  for (const auto& name : s.chunk_names) {
+    const std::string short_name = lua_short_src(name);
+    if (short_name != name) replace_all(text, short_name, name);
+  }
+  return text;
+}
+
+// Splits "file:line: message" into its parts; false when the text has no such prefix.
+bool split_location(const std::string& text, std::string& file, int& line, std::string& rest) {
+  const size_t eol = text.find('\n');
+  for (size_t colon = text.find(':'); colon != std::string::npos && colon < eol;
+       colon = text.find(':', colon + 1)) {
+    size_t i = colon + 1;
+    while (i < text.size() && std::isdigit(static_cast<unsigned char>(text[i]))) ++i;
+    if (i == colon + 1 || i + 1 >= text.size() || text[i] != ':' || text[i + 1] != ' ') continue;
+    file = text.substr(0, colon);
+    line = std::atoi(text.substr(colon + 1, i - colon - 1).c_str());
+    rest = text.substr(i + 2);
+    return true;
+  }
+  return false;
+}
+
+// The message handler of every protected call: records the innermost Lua frame and a traceback
+// (the stack is gone once lua_pcall returns) and leaves the message as a string.
+int message_handler(lua_State* L) {
+  auto& s = impl_of(L);
+  if (!lua_isstring(L, 1)) {
+    if (!(luaL_callmeta(L, 1, "__tostring") && lua_type(L, -1) == LUA_TSTRING))
+      lua_pushfstring(L, "(error object is a %s value)", luaL_typename(L, 1));
+    lua_replace(L, 1);
+  }
+  lua_settop(L, 1);
+  try {
+    s.err_file.clear();
+    s.err_line = 0;
+    lua_Debug ar;
+    for (int level = 1; lua_getstack(L, level, &ar); ++level) {
+      if (lua_getinfo(L, "Sl", &ar) && ar.currentline > 0) {
+        s.err_file = ar.short_src;
+        s.err_line = ar.currentline;
+        break;
+      }
+    }
+    luaL_traceback(L, L, nullptr, 1);
+    s.err_traceback = lua_tostring(L, -1);
+    lua_pop(L, 1);
+    s.err_handled = true;
+  } catch (const std::exception&) {
+    // Out of C++ memory while describing an error: report the message without a traceback.
+  }
+  return 1;
+}
+
+// The instruction budget: a count hook every hook_interval instructions. Once the budget is spent
+// it fires on every instruction, so a script that catches the error with pcall is stopped again
+// at its next instruction until the error reaches the engine.
+void count_hook(lua_State* L, lua_Debug* ar) {
+  auto& s = impl_of(L);
+  s.instructions_used += uint64_t(lua_gethookcount(L));
+  if (s.instructions_used <= s.limits.instructions) return;
+  lua_sethook(L, count_hook, LUA_MASKCOUNT, 1);
+  const auto budget = static_cast<unsigned long long>(s.limits.instructions);
+  char text[96];
+  std::snprintf(text, sizeof text, "instruction budget of %llu exceeded (runaway loop?)", budget);
+  if (lua_getinfo(L, "Sl", ar) && ar->currentline > 0)
+    lua_pushfstring(L, "%s:%d: %s", ar->short_src, ar->currentline, text);
+  else
+    lua_pushstring(L, text);
+  lua_error(L);
+}
+
+}  // namespace sandbox_detail
+
+using sandbox_detail::count_hook;
+using sandbox_detail::impl_of;
+
+int lua_protect(lua_State* L, const std::function<int()>& body) {
+  std::string message;
+  bool located = false;
+  try {
+    return body();
+  } catch (const ScriptError& e) {
+    // Keep the original location; call() re-throws the very same error.
+    message = e.file.empty() ? e.message
+                             : e.file + (e.line > 0 ? ":" + std::to_string(e.line) : "") + ": " +
+                                   e.message;
+    located = !e.file.empty();
+    auto& s = impl_of(L);
+    s.pending = e;
+    s.pending_text = message;
+  } catch (const std::exception& e) {
+    message = e.what();
+  }
+  // Raised outside the catch blocks, once the C++ exception is destroyed.
+  if (located) {
+    lua_pushstring(L, message.c_str());
+    return lua_error(L);
+  }
+  return luaL_error(L, "%s", message.c_str());
+}
+
+void lua_charge(lua_State* L, uint64_t units) {
+  auto& s = impl_of(L);
+  s.instructions_used += units;
+  if (s.instructions_used <= s.limits.instructions) return;
+  lua_sethook(L, count_hook, LUA_MASKCOUNT, 1);  // as in count_hook: no escaping through pcall
+  luaL_error(L, "instruction budget of %I exceeded (runaway loop?)", lua_Integer(s.limits.instructions));
+}
+
+}  // namespace roger

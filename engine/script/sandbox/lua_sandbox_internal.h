@@ -1,0 +1,107 @@
+// lua_sandbox_internal.h: the sandbox's state and the helpers its files share (private to script/sandbox/).
+//
+// lua_sandbox.cpp holds the LuaSandbox class, lua_sandbox_hooks.cpp the memory and instruction
+// budgets and the error reporting, lua_sandbox_libs.cpp the library set a script sees and
+// lua_sandbox_modules.cpp source loading and `require`.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "script/sandbox/lua_sandbox.h"
+
+struct lua_Debug;
+
+namespace roger {
+
+struct LuaSandbox::Impl {
+  SandboxLimits limits;
+  lua_State* L = nullptr;
+  size_t memory_used = 0;
+  uint64_t instructions_used = 0;
+  int hook_interval = 1000;
+  int call_depth = 0;
+
+  bool main_set = false;
+  std::filesystem::path main_dir;  // absolute folder of the main script
+  std::string main_dir_display;    // the same folder as the user wrote it ("" for the cwd)
+  std::vector<std::filesystem::path> roots;  // require's search folders, absolute and canonical
+  std::vector<std::string> chunk_names;  // display names of loaded files (to undo Lua's truncation)
+  std::vector<std::string> loading;      // modules being required, outermost first
+  std::vector<std::filesystem::path> source_files;  // every file compiled, each once, in load order
+  std::function<void(const std::string&)> print;
+
+  // Filled by the message handler at the moment of an error.
+  std::string err_traceback, err_file;
+  int err_line = 0;
+  bool err_handled = false;
+
+  // Where the script was when the allocator first refused memory in the current top-level call
+  // (a memory error runs no message handler, so this is the only record of its line).
+  std::array<char, 256> oom_file{};
+  int oom_line = 0;
+
+  // A ScriptError thrown by C++ inside a protected C function, re-thrown as is by call().
+  std::optional<ScriptError> pending;
+  std::string pending_text;
+};
+
+namespace sandbox_detail {
+
+// ---- lua_sandbox_hooks.cpp: budgets and error reporting ----
+
+// The sandbox a state belongs to (its address lives in the state's extra space, which threads share).
+LuaSandbox::Impl& impl_of(lua_State* L);
+
+// The allocator: realloc/free refusing to grow the state beyond the memory cap.
+void* sandbox_alloc(void* ud, void* ptr, size_t osize, size_t nsize);
+
+// Last resort for an error outside any protected call: throws roger::Error.
+int sandbox_panic(lua_State* L);
+
+// Puts back the full names of files whose names Lua truncated in a message or traceback.
+std::string restore_names(const LuaSandbox::Impl& s, std::string text);
+
+// Splits "file:line: message" into its parts; false when the text has no such prefix.
+bool split_location(const std::string& text, std::string& file, int& line, std::string& rest);
+
+// The message handler of every protected call: records the error's location and traceback.
+int message_handler(lua_State* L);
+
+// The instruction budget's count hook.
+void count_hook(lua_State* L, lua_Debug* ar);
+
+// ---- lua_sandbox_libs.cpp: what a script sees ----
+
+// Opens the permitted libraries and installs the replacements (run protected: it allocates).
+int open_sandbox(lua_State* L);
+
+// ---- lua_sandbox_modules.cpp: source files and require ----
+
+// The registry key of require's module cache.
+constexpr const char* kModulesKey = "roger.modules";
+
+// Whether `file` lies under `folder` (both normalized, absolute).
+bool inside(const std::filesystem::path& folder, const std::filesystem::path& file);
+
+// The contents of a script file; refuses files larger than the memory cap before reading them.
+std::string read_file(const std::filesystem::path& path, const std::string& shown, size_t limit);
+
+// Compiles source text as a "@shown" chunk and pushes it, or returns the error as a ScriptError.
+std::optional<ScriptError> compile(lua_State* L, LuaSandbox::Impl& s, std::string text,
+                                   const std::string& shown);
+
+// Records a compiled file once.
+void note_source_file(LuaSandbox::Impl& s, const std::filesystem::path& file);
+
+// require(name), the sandbox's replacement for the package library's.
+int sandbox_require(lua_State* L);
+
+}  // namespace sandbox_detail
+}  // namespace roger

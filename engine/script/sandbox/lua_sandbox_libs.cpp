@@ -1,0 +1,136 @@
+// lua_sandbox_libs.cpp: the libraries a sandboxed script sees, with guards standing in for the
+// missing ones and safe replacements of load, print and require.
+#include <string>
+
+#include <lua.hpp>
+
+#include "script/sandbox/lua_sandbox_internal.h"
+
+namespace roger {
+namespace sandbox_detail {
+namespace {
+
+constexpr const char* kSandboxNote = "roger scripts are sandboxed (no os, io, debug, package)";
+
+// Guard tables stand in for the missing libraries so that `os.execute` explains itself.
+int guard_access(lua_State* L) {
+  const char* lib = lua_tostring(L, lua_upvalueindex(1));
+  if (lua_type(L, 2) == LUA_TSTRING)
+    return luaL_error(L, "%s.%s is not available: %s", lib, lua_tostring(L, 2), kSandboxNote);
+  return luaL_error(L, "%s is not available: %s", lib, kSandboxNote);
+}
+
+// Calling a guard table (`os()`) explains the sandbox too.
+int guard_call(lua_State* L) {
+  return luaL_error(L, "%s is not available: %s", lua_tostring(L, lua_upvalueindex(1)), kSandboxNote);
+}
+
+// Pushes the guard table standing in for library `lib`; its metatable is hidden from scripts.
+void push_guard(lua_State* L, const char* lib) {
+  lua_newtable(L);
+  lua_newtable(L);
+  lua_pushstring(L, lib);
+  lua_pushcclosure(L, guard_access, 1);
+  lua_setfield(L, -2, "__index");
+  lua_pushstring(L, lib);
+  lua_pushcclosure(L, guard_access, 1);
+  lua_setfield(L, -2, "__newindex");
+  lua_pushstring(L, lib);
+  lua_pushcclosure(L, guard_call, 1);
+  lua_setfield(L, -2, "__call");
+  lua_pushboolean(L, 0);
+  lua_setfield(L, -2, "__metatable");  // getmetatable(os) cannot reach the guard
+  lua_setmetatable(L, -2);
+}
+
+// A function that only raises the message in its upvalue.
+int refuse_function(lua_State* L) {
+  return luaL_error(L, "%s", lua_tostring(L, lua_upvalueindex(1)));
+}
+
+// Replaces table[field] by a function raising `message`.
+void set_refusal(lua_State* L, int table, const char* field, const char* message) {
+  lua_pushstring(L, message);
+  lua_pushcclosure(L, refuse_function, 1);
+  lua_setfield(L, table, field);
+}
+
+// load(chunk [, chunkname [, mode [, env]]]) with the mode forced to text: the original load is
+// the upvalue; the argument count is kept because an explicit nil env means "no environment".
+int sandbox_load(lua_State* L) {
+  const int n = lua_gettop(L);
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_pushvalue(L, 1);
+  if (n >= 2) lua_pushvalue(L, 2); else lua_pushnil(L);
+  lua_pushliteral(L, "t");
+  if (n >= 4) lua_pushvalue(L, 4);
+  lua_call(L, n >= 4 ? 4 : 3, LUA_MULTRET);
+  return lua_gettop(L) - n;
+}
+
+// print(...): tab-separated tostring() of the arguments, one line to the sandbox's sink.
+int sandbox_print(lua_State* L) {
+  const int n = lua_gettop(L);
+  luaL_Buffer b;
+  luaL_buffinit(L, &b);
+  for (int i = 1; i <= n; ++i) {
+    if (i > 1) luaL_addchar(&b, '\t');
+    luaL_tolstring(L, i, nullptr);
+    luaL_addvalue(&b);
+  }
+  luaL_pushresult(&b);
+  std::string line = lua_tostring(L, -1);
+  return lua_protect(L, [&]() {
+    auto& s = impl_of(L);
+    if (s.print) s.print(line);
+    return 0;
+  });
+}
+
+}  // namespace
+
+// Opens the permitted libraries and installs the replacements (run protected: it allocates).
+int open_sandbox(lua_State* L) {
+  const luaL_Reg libs[] = {{LUA_GNAME, luaopen_base},      {LUA_MATHLIBNAME, luaopen_math},
+                           {LUA_STRLIBNAME, luaopen_string}, {LUA_TABLIBNAME, luaopen_table},
+                           {LUA_UTF8LIBNAME, luaopen_utf8}};
+  for (const auto& lib : libs) {
+    luaL_requiref(L, lib.name, lib.func, 1);
+    lua_pop(L, 1);
+  }
+  lua_pushglobaltable(L);
+  const int g = lua_gettop(L);
+  lua_pushnil(L);
+  lua_setfield(L, g, "dofile");  // reads arbitrary files
+  lua_pushnil(L);
+  lua_setfield(L, g, "loadfile");
+  lua_getfield(L, g, "load");
+  lua_pushcclosure(L, sandbox_load, 1);
+  lua_setfield(L, g, "load");
+  lua_pushcfunction(L, sandbox_require);
+  lua_setfield(L, g, "require");
+  lua_pushcfunction(L, sandbox_print);
+  lua_setfield(L, g, "print");
+  for (const char* lib : {"os", "io", "debug", "package"}) {
+    push_guard(L, lib);
+    lua_setfield(L, g, lib);
+  }
+  lua_getfield(L, g, "string");
+  lua_pushnil(L);
+  lua_setfield(L, -2, "dump");  // bytecode out is as unwelcome as bytecode in
+  lua_pop(L, 1);
+  // math.random is seeded from the clock: a script using it would not be reproducible.
+  lua_getfield(L, g, "math");
+  const char* no_random =
+      "math.random is not available in roger scripts: draw from the rng object your function "
+      "receives (rng:uniform, rng:int, rng:normal, ...) so every run is reproducible from its seed";
+  set_refusal(L, lua_gettop(L), "random", no_random);
+  set_refusal(L, lua_gettop(L), "randomseed", no_random);
+  lua_pop(L, 1);
+  lua_newtable(L);
+  lua_setfield(L, LUA_REGISTRYINDEX, kModulesKey);
+  return 0;
+}
+
+}  // namespace sandbox_detail
+}  // namespace roger

@@ -1,0 +1,227 @@
+// lua_sandbox_modules.cpp: reading and compiling script files, and `require` resolving dotted
+// module names inside the sandbox's folders.
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include <lua.hpp>
+
+#include "core/fileio.h"
+#include "script/sandbox/lua_sandbox_internal.h"
+
+namespace roger {
+namespace sandbox_detail {
+namespace fs = std::filesystem;
+
+namespace {
+
+// Dotted identifiers only, so a module name can never climb out of a folder ("..", "/").
+bool valid_module_name(const std::string& name) {
+  if (name.empty() || name.front() == '.' || name.back() == '.') return false;
+  char prev = 0;
+  for (char c : name) {
+    const bool ok = std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.';
+    if (!ok || (c == '.' && prev == '.')) return false;
+    prev = c;
+  }
+  return true;
+}
+
+}  // namespace
+
+// Whether `file` lies under `folder` (both normalized, absolute).
+bool inside(const fs::path& folder, const fs::path& file) {
+  const fs::path rel = file.lexically_relative(folder);
+  return !rel.empty() && *rel.begin() != "..";
+}
+
+// The contents of a script file; refuses files larger than the memory cap before reading them.
+std::string read_file(const fs::path& path, const std::string& shown, size_t limit) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
+    throw Error("cannot open '" + shown + "': " +
+                (fs::exists(path, ec) ? "not a regular file" : "no such file"));
+  const auto size = fs::file_size(path, ec);
+  if (!ec && size > limit)
+    throw Error("cannot load '" + shown + "': the file is larger than the script memory limit");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot open '" + shown + "': " + std::strerror(errno));
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+namespace {
+
+// How a module file is shown in messages: relative to the project root when inside it, else
+// under the main script's folder as the user wrote it, else absolute.
+std::string module_display(const LuaSandbox::Impl& s, const fs::path& root, const std::string& rel) {
+  std::error_code ec;
+  const fs::path proot = fs::weakly_canonical(project_root(), ec);
+  const fs::path file = root / rel;
+  if (inside(proot, file)) return file.lexically_relative(proot).string();
+  if (s.main_set && root == s.main_dir)
+    return (fs::path(s.main_dir_display) / rel).lexically_normal().string();
+  return file.string();
+}
+
+}  // namespace
+
+// Compiles source text as a "@shown" chunk and pushes it, or returns the error as a ScriptError.
+// Like luaL_loadfilex: skips a UTF-8 byte-order mark and a first line starting with '#' (keeping
+// the line count); refuses bytecode.
+std::optional<ScriptError> compile(lua_State* L, LuaSandbox::Impl& s, std::string text,
+                                   const std::string& shown) {
+  if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);
+  if (text.rfind(LUA_SIGNATURE, 0) == 0)
+    return ScriptError("attempt to load a binary chunk: roger loads Lua source text only "
+                       "(precompiled bytecode is refused)", shown, 0, "");
+  if (!text.empty() && text[0] == '#') text.erase(0, std::min(text.find('\n'), text.size()));
+  if (std::find(s.chunk_names.begin(), s.chunk_names.end(), shown) == s.chunk_names.end())
+    s.chunk_names.push_back(shown);
+  const std::string chunkname = "@" + shown;
+  const int status = luaL_loadbufferx(L, text.data(), text.size(), chunkname.c_str(), "t");
+  if (status == LUA_OK) return std::nullopt;
+  std::string msg = lua_isstring(L, -1) ? lua_tostring(L, -1) : "cannot compile";
+  lua_pop(L, 1);
+  if (status == LUA_ERRMEM)
+    return ScriptError("not enough memory to compile (script memory limit of " +
+                       std::to_string(s.limits.memory_bytes >> 20) + " MiB)", shown, 0, "");
+  msg = restore_names(s, msg);
+  std::string file, rest;
+  int line = 0;
+  if (split_location(msg, file, line, rest)) return ScriptError(rest, file, line, "");
+  return ScriptError(msg, shown, 0, "");
+}
+
+// Records a compiled file once.
+void note_source_file(LuaSandbox::Impl& s, const fs::path& file) {
+  if (std::find(s.source_files.begin(), s.source_files.end(), file) == s.source_files.end())
+    s.source_files.push_back(file);
+}
+
+namespace {
+
+// Finds module `name` in the sandbox's roots: sets `found` and `shown`, or `error` (an invalid
+// name, a require cycle, a file outside the roots or no file at all).
+void locate_module(const LuaSandbox::Impl& s, const std::string& name, fs::path& found,
+                   std::string& shown, std::string& error) {
+  if (!valid_module_name(name)) {
+    error = "require: invalid module name '" + name +
+            "': use dotted names of letters, digits and underscores (\"lib.shapes\" loads "
+            "lib/shapes.lua inside the script folders)";
+    return;
+  }
+  if (std::find(s.loading.begin(), s.loading.end(), name) != s.loading.end()) {
+    error = "require cycle: ";
+    for (auto it = std::find(s.loading.begin(), s.loading.end(), name); it != s.loading.end(); ++it)
+      error += *it + " -> ";
+    error += name;
+    return;
+  }
+  std::string rel = name;
+  std::replace(rel.begin(), rel.end(), '.', '/');
+  rel += ".lua";
+  std::vector<std::string> tried;
+  std::error_code ec;
+  for (const auto& root : s.roots) {
+    const fs::path candidate = root / rel;
+    if (!fs::is_regular_file(candidate, ec)) {
+      tried.push_back(module_display(s, root, rel));
+      continue;
+    }
+    const fs::path real = fs::weakly_canonical(candidate, ec);
+    if (ec || !inside(root, real)) {
+      error = "require: module '" + name + "' resolves to " + real.string() +
+              ", outside the allowed script folders";
+      return;
+    }
+    found = real;
+    shown = module_display(s, root, rel);
+    return;
+  }
+  error = "module '" + name + "' not found; searched:";
+  for (const auto& t : tried) error += "\n\t" + t;
+}
+
+// Compiles the module file and runs it with (name, shown), leaving its one result on the stack.
+// Lua errors propagate to the caller's protected call as they are.
+void run_module(lua_State* L, LuaSandbox::Impl& s, const std::string& name, const fs::path& found,
+                const std::string& shown) {
+  struct LoadingGuard {
+    std::vector<std::string>& stack;
+    ~LoadingGuard() { stack.pop_back(); }
+  };
+  std::optional<ScriptError> failure;
+  lua_protect(L, [&]() {
+    failure = compile(L, s, read_file(found, shown, s.limits.memory_bytes), shown);
+    note_source_file(s, found);
+    return 0;
+  });
+  if (failure) {
+    lua_protect(L, [&]() -> int { throw *failure; });
+  }
+  s.loading.push_back(name);
+  {
+    LoadingGuard guard{s.loading};
+    lua_pushstring(L, name.c_str());
+    lua_pushstring(L, shown.c_str());
+    lua_call(L, 2, 1);
+  }
+}
+
+}  // namespace
+
+// require(name): dotted names ("lib.shapes" -> lib/shapes.lua) searched in the sandbox's roots
+// only, text chunks only, cached, with cycles reported.
+int sandbox_require(lua_State* L) {
+  if (lua_type(L, 1) != LUA_TSTRING)
+    return luaL_error(L, "require expects a module name (a string such as \"lib.shapes\"), got %s",
+                      luaL_typename(L, 1));
+  const std::string name = lua_tostring(L, 1);
+  lua_settop(L, 1);
+  lua_getfield(L, LUA_REGISTRYINDEX, kModulesKey);  // index 2: the cache
+  lua_getfield(L, 2, name.c_str());
+  if (!lua_isnil(L, -1)) return 1;
+  lua_pop(L, 1);
+  auto& s = impl_of(L);
+
+  std::string error;  // raised after the C++ objects of the search are gone
+  fs::path found;
+  std::string shown;
+  lua_protect(L, [&]() {
+    locate_module(s, name, found, shown, error);
+    return 0;
+  });
+  if (!error.empty()) return luaL_error(L, "%s", error.c_str());
+
+  // Load and run the module; Lua errors propagate to the caller's protected call as they are.
+  run_module(L, s, name, found, shown);
+  if (lua_isnil(L, -1)) {
+    lua_pop(L, 1);
+    lua_pushboolean(L, 1);
+  }
+  lua_pushvalue(L, -1);
+  lua_setfield(L, 2, name.c_str());
+  return 1;
+}
+
+}  // namespace sandbox_detail
+
+bool script_has_key(const std::string& path, const std::string& key) {
+  std::istringstream in(read_file_text(path));
+  const std::regex field("(^|[{,;.\\s])" + key + "\\s*=[^=]");  // also `t.key = ...`
+  std::string line;
+  while (std::getline(in, line)) {
+    const size_t comment = line.find("--");
+    if (comment != std::string::npos) line.resize(comment);
+    if (std::regex_search(line + " ", field)) return true;
+  }
+  return false;
+}
+
+}  // namespace roger

@@ -1,0 +1,211 @@
+// scenario.cpp: the Scenario class: loading a script, checking the table it returns, and
+// running its generator; and `roger check` for scenarios.
+#include "script/scenario/scenario.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <set>
+
+#include <lua.hpp>
+
+#include "core/error.h"
+#include "core/shape.h"
+#include "script/scenario/scenario_internal.h"
+
+namespace roger {
+namespace fs = std::filesystem;
+using namespace scenario_detail;
+
+// Runs `body` inside a protected call (body may use the Lua API and throw). Errors without a
+// location are attributed to the scenario file.
+void Scenario::Impl::protect(const std::function<void(lua_State*)>& body, int nargs) {
+  lua_State* L = sandbox.state();
+  lua_pushcfunction(L, [](lua_State* L) -> int {
+    auto* fn = static_cast<const std::function<void(lua_State*)>*>(lua_touserdata(L, -1));
+    lua_pop(L, 1);
+    return lua_protect(L, [&]() {
+      (*fn)(L);
+      return 0;
+    });
+  });
+  lua_insert(L, -(nargs + 1));
+  lua_pushlightuserdata(L, const_cast<std::function<void(lua_State*)>*>(&body));
+  try {
+    sandbox.call(nargs + 1, 0);
+  } catch (const ScriptError& e) {
+    if (!e.file.empty()) throw;
+    throw ScriptError(e.message, path, 0, e.traceback);
+  }
+}
+
+// Checks the table the script returned (on the stack top) and keeps its generator.
+void Scenario::Impl::read_table(lua_State* L) {
+  const int t = lua_gettop(L);
+  if (!lua_istable(L, t))
+    throw error(std::string("a scenario script must return a table {name=..., params={...}, "
+                            "generate=function(world, rng, params) ... end}, got ") +
+                luaL_typename(L, t));
+  const std::vector<std::string> known{"description", "generate", "name", "params"};
+  lua_pushnil(L);
+  while (lua_next(L, t)) {
+    lua_pop(L, 1);
+    const std::string key = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "";
+    if (std::find(known.begin(), known.end(), key) == known.end())
+      throw error("the scenario table has an unknown field " +
+                  (key.empty() ? std::string("(a non-string key)") : "'" + key + "'") +
+                  "; known fields: " + join(known));
+  }
+  auto text_field = [&](const char* key, const std::string& fallback) {
+    const int type = lua_getfield(L, t, key);
+    std::string v = fallback;
+    if (type == LUA_TSTRING) v = lua_tostring(L, -1);
+    else if (type != LUA_TNIL)
+      throw error(std::string("the scenario's '") + key + "' must be a string, got " + luaL_typename(L, -1));
+    lua_pop(L, 1);
+    return v;
+  };
+  name = text_field("name", fs::path(path).stem().string());
+  description = text_field("description", "");
+  if (lua_getfield(L, t, "params") != LUA_TNIL) read_params(L, -1);
+  lua_settop(L, t);
+  if (lua_getfield(L, t, "generate") != LUA_TFUNCTION)
+    throw error(std::string("the scenario table needs generate = function(world, rng, params) ... "
+                            "end, got ") + luaL_typename(L, -1));
+  lua_Debug ar;
+  lua_pushvalue(L, -1);
+  lua_getinfo(L, ">S", &ar);
+  generate_line = ar.linedefined;
+  generate_ref = luaL_ref(L, LUA_REGISTRYINDEX);
+}
+
+void install_scenario_api(LuaSandbox& sandbox) {
+  lua_pushcfunction(sandbox.state(), install_api);
+  sandbox.call(0, 0);
+}
+
+Scenario::Scenario() = default;
+Scenario::Scenario(Scenario&&) noexcept = default;
+Scenario& Scenario::operator=(Scenario&&) noexcept = default;
+Scenario::~Scenario() = default;
+
+Scenario Scenario::load(const std::string& path_in, const SandboxLimits& limits) {
+  const std::string path = resolve_scenario_path(path_in);
+  Scenario s;
+  s.impl_ = std::make_unique<Impl>(limits);
+  Impl& impl = *s.impl_;
+  impl.path = impl.sandbox.display_name(path);
+  install_scenario_api(impl.sandbox);
+  impl.sandbox.set_main_script(path);
+  impl.sandbox.run_file(path, 1);
+  impl.protect([&](lua_State* L) { impl.read_table(L); }, 1);
+  return s;
+}
+
+const std::string& Scenario::name() const { return impl_->name; }
+const std::string& Scenario::description() const { return impl_->description; }
+const std::string& Scenario::path() const { return impl_->path; }
+LuaSandbox& Scenario::sandbox() { return impl_->sandbox; }
+
+std::vector<ScenarioParam> Scenario::params() const {
+  std::vector<ScenarioParam> out;
+  for (const auto& [key, slot] : impl_->params) out.push_back(slot.info);
+  return out;
+}
+
+void Scenario::set_param(const std::string& key, const std::string& value) {
+  auto it = impl_->params.find(key);
+  if (it == impl_->params.end()) {
+    std::vector<std::string> known;
+    for (const auto& [k, slot] : impl_->params) known.push_back(describe_param(slot.info));
+    throw Error("scenario '" + impl_->name + "' (" + impl_->path + ") has no parameter '" + key +
+                "'; " + (known.empty() ? "it has no parameters" : "known parameters: " + join(known, "; ")));
+  }
+  ParamSlot updated = it->second;
+  std::string why;
+  if (!parse_slot(updated, value, why))
+    throw Error("parameter '" + key + "' of scenario '" + impl_->name + "' expects " + why +
+                ", got '" + value + "'");
+  updated.info.value = slot_text(updated);
+  it->second = std::move(updated);
+}
+
+WorldSpec Scenario::generate(uint64_t seed) {
+  Impl& impl = *impl_;
+  WorldSpec out;
+  impl.protect([&](lua_State* L) {
+    lua_rawgeti(L, LUA_REGISTRYINDEX, impl.generate_ref);
+    auto* w = static_cast<WorldBuilder*>(lua_newuserdatauv(L, sizeof(WorldBuilder), 1));
+    new (w) WorldBuilder();
+    luaL_setmetatable(L, kWorldType);
+    const int world = lua_gettop(L);
+    w->rng = &push_rng(L, seed);
+    lua_pushvalue(L, -1);
+    lua_setiuservalue(L, world, 1);  // the world keeps the rng alive
+    lua_createtable(L, 0, int(impl.params.size()));
+    for (const auto& [key, slot] : impl.params) {
+      push_slot(L, slot);
+      lua_setfield(L, -2, key.c_str());
+    }
+    lua_pushvalue(L, world);  // keep the world on this frame after the call
+    lua_insert(L, world - 1);
+    {
+      // The world is read-only once generate returns or fails (a script may have kept it).
+      struct Finish {
+        WorldBuilder* w;
+        ~Finish() { w->finished = true; }
+      } finish{w};
+      lua_call(L, 3, 0);
+    }
+    if (!w->robot_set)
+      throw impl.error("the generator did not place Roger: call world:robot{x=..., y=..., heading=...}",
+                       impl.generate_line);
+    WorldSpec spec = w->spec;
+    if (!w->stimulus_set && !spec.objects.empty()) spec.stimulus_colour = spec.objects.front().colour;
+    try {
+      for (auto& o : spec.objects) validate_shape(o.shape);
+      for (auto& o : spec.obstacles) validate_shape(o.shape);
+    } catch (const Error& e) {
+      throw impl.error(e.what(), impl.generate_line);
+    }
+    spec.scenario = impl.path;
+    spec.seed = seed;
+    for (const auto& [key, slot] : impl.params) spec.params[key] = slot_text(slot);
+    out = std::move(spec);
+  });
+  return out;
+}
+
+std::string resolve_scenario_path(const std::string& arg) {
+  return resolve_script_path(arg, "scenarios", "scenario", "shipped scenarios");
+}
+
+std::vector<std::string> check_scenario(const std::string& path, int seeds, const SandboxLimits& limits) {
+  std::vector<std::string> problems;
+  std::set<std::string> seen;  // a mistake that every seed hits is reported once
+  auto attempt = [&](const std::string& what, const std::function<void()>& body) {
+    try {
+      body();
+    } catch (const std::exception& e) {
+      if (seen.insert(e.what()).second) problems.push_back(what.empty() ? e.what() : what + ": " + e.what());
+    }
+  };
+  std::optional<Scenario> scenario;
+  attempt("", [&]() { scenario = Scenario::load(path, limits); });
+  if (!scenario) return problems;
+  for (int seed = 0; seed < seeds; ++seed)
+    attempt("seed " + std::to_string(seed), [&]() { scenario->generate(uint64_t(seed)); });
+  for (const auto& p : scenario->params()) {
+    for (const auto& choice : p.choices) {
+      attempt(p.name + "=" + choice + ", seed 0", [&]() {
+        scenario->set_param(p.name, choice);
+        scenario->generate(0);
+      });
+    }
+    if (!p.choices.empty()) scenario->set_param(p.name, p.value);
+  }
+  return problems;
+}
+
+}  // namespace roger

@@ -1,0 +1,106 @@
+// scenario.h: world generators written in Lua (scenarios/*.lua), run in a LuaSandbox.
+//
+// A scenario script returns a table
+//   { name = "...", description = "...", params = { shape = "circle", obstacles = 3, ... },
+//     generate = function(world, rng, params) ... end }
+// and generate() turns (script, parameters, seed) into a WorldSpec: a world is a pure function of
+// the three. The Lua API (world:arena/robot/object/obstacle/goal/stimulus/sample_position,
+// roger.shape, the rng object) validates every call where it is made, so a mistake names the
+// script's file:line. docs/scenarios.md is the reference.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "script/sandbox/lua_sandbox.h"
+#include "core/spec.h"
+
+namespace roger {
+
+// The type of a scenario parameter, taken from its default value.
+enum class ParamType { kNumber, kInteger, kString, kBoolean };
+
+// "number", "integer", "string" or "boolean".
+const char* param_type_name(ParamType type);
+
+// One scenario parameter: its default, current value (both as text) and constraints.
+struct ScenarioParam {
+  std::string name;
+  ParamType type = ParamType::kNumber;
+  std::string default_value;
+  std::string value;
+  std::string description;
+  std::vector<std::string> choices;  // allowed values; empty when any value of the type goes
+  std::optional<double> min, max;    // bounds of numbers and integers
+};
+
+class Scenario {
+ public:
+  // Runs the script at `path` (or scenarios/<path>.lua for a bare name such as "cluttered") and
+  // checks the table it returns. Throws ScriptError (file:line) or roger::Error.
+  static Scenario load(const std::string& path, const SandboxLimits& limits = {});
+
+  Scenario(Scenario&&) noexcept;
+  Scenario& operator=(Scenario&&) noexcept;
+  ~Scenario();
+
+  // The scenario's name (its `name` field, or the file name without .lua).
+  const std::string& name() const;
+  // Its one-paragraph description ("" when none).
+  const std::string& description() const;
+  // The script as shown in messages.
+  const std::string& path() const;
+
+  // The parameters, sorted by name, with their defaults and current values.
+  std::vector<ScenarioParam> params() const;
+
+  // Sets a parameter from text (the CLI's --set key=value), converting by the default's type.
+  // Throws roger::Error for an unknown key (listing the known ones), a value of the wrong type or
+  // one outside the declared choices or bounds.
+  void set_param(const std::string& key, const std::string& value);
+
+  // Runs the generator for a seed with a fresh Rng(seed) and the current parameters, and returns
+  // the validated world. Throws ScriptError (file:line) on any problem. Not thread-safe: use one
+  // Scenario per thread.
+  WorldSpec generate(uint64_t seed);
+
+  // The sandbox the script runs in.
+  LuaSandbox& sandbox();
+
+ private:
+  Scenario();
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Installs what a scenario script reaches (roger.shape, roger.robot, roger.version and the world,
+// rng and shape objects) into a fresh sandbox, as Scenario::load does. Throws ScriptError if the
+// state is out of memory.
+void install_scenario_api(LuaSandbox& sandbox);
+
+// The file a scenario argument names: the path itself if it is a file, else
+// <project>/scenarios/<name>.lua for a bare name. Throws roger::Error listing the shipped
+// scenarios when neither exists.
+std::string resolve_scenario_path(const std::string& name_or_path);
+
+// For `roger check`: loads a scenario and generates worlds for seeds 0..seeds-1, and one world for
+// every choice of every parameter that declares choices. Returns the problems found (empty when
+// the scenario is sound); each is a complete message with file:line where known.
+std::vector<std::string> check_scenario(const std::string& path, int seeds = 5,
+                                        const SandboxLimits& limits = {});
+
+// Gap between two placed shapes: the distance between them when apart, minus the penetration
+// depth when they overlap (exact for unions of convex polygons and disks).
+double shape_gap(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb);
+
+// Roger's footprint in a start posture: the base disk and the two hand disks, world frame.
+std::vector<Disk> robot_footprint(const RobotStart& start);
+
+// The largest distance from Roger's base centre to the edge of its footprint in the default start
+// posture (0.65 m): a disk of this radius holds Roger at any heading.
+double robot_footprint_radius();
+
+}  // namespace roger

@@ -1,0 +1,203 @@
+// scenario_internal.h: what the scenario's files share (private to script/scenario/).
+//
+// scenario_geometry.cpp measures placed shapes, scenario_shapes.cpp holds roger.shape and the shape
+// values, scenario_rng.cpp the rng object, scenario_world.cpp the world builder's methods and the
+// installation of the Lua API, scenario_placement.cpp world:sample_position, scenario_params.cpp
+// the parameters, and scenario.cpp the Scenario class.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <lua.hpp>
+
+#include "core/rng.h"
+#include "script/scenario/scenario.h"
+
+namespace roger {
+namespace scenario_detail {
+
+constexpr const char* kShapeType = "roger.Shape";
+constexpr const char* kRngType = "roger.Rng";
+constexpr const char* kWorldType = "roger.World";
+constexpr size_t kMaxThings = 1000;   // objects, obstacles or goals in one world
+constexpr size_t kMaxParts = 64;      // polygons plus disks in one shape
+
+// A number for messages, with rounding noise near zero shown as 0.
+inline std::string fmt(double v) { return format_number(std::abs(v) < 5e-13 ? 0.0 : v); }
+
+// "(x, y)" for messages.
+inline std::string point_text(double x, double y) { return "(" + fmt(x) + ", " + fmt(y) + ")"; }
+
+// A shape value: validated when made, immutable afterwards.
+struct ShapeBox {
+  Shape shape;
+  double radius = 0.0;
+  double area = 0.0;
+};
+
+// The world being built by one generate() call.
+struct WorldBuilder {
+  WorldSpec spec;
+  bool arena_set = false;    // world:arena was called
+  bool arena_fixed = false;  // something depends on the arena: it can no longer change
+  bool robot_set = false;
+  bool stimulus_set = false;
+  bool finished = false;     // generate returned: the world is read-only
+  Rng* rng = nullptr;        // the generator's rng, kept alive as the world's user value
+};
+
+// __gc of userdata holding a C++ object.
+template <class T>
+int destroy(lua_State* L) {
+  static_cast<T*>(lua_touserdata(L, 1))->~T();
+  return 0;
+}
+
+// The object a method is called on, with a hint for the common `world.object{...}` slip.
+template <class T>
+T& self(lua_State* L, const char* type, const char* call) {
+  void* p = luaL_testudata(L, 1, type);
+  if (!p) {
+    const std::string c = call;
+    const std::string object = c.substr(0, c.find(':'));
+    luaL_error(L, "%s: call it with a colon, as %s(...) (the first argument is a %s, not the %s)",
+               call, call, luaL_typename(L, 1), object.c_str());
+  }
+  return *static_cast<T*>(p);
+}
+
+// ---- scenario_geometry.cpp ----
+
+// How far inside the arena walls the shape stays (negative: by how much it sticks out).
+double arena_inset(const ArenaSpec& arena, const Shape& shape, const Pose& pose);
+
+// A one-disk shape, for Roger's base and hands and goal regions.
+Shape disk_shape(const std::string& name, const Vec2& c, double r);
+
+// ---- scenario_shapes.cpp ----
+
+// roger.shape{...}.
+int l_shape(lua_State* L);
+// shape.name, .radius, .area, .polygons, .disks and :scaled.
+int l_shape_index(lua_State* L);
+// shape:scaled(factor [, name]).
+int l_shape_scaled(lua_State* L);
+// tostring(shape).
+int l_shape_tostring(lua_State* L);
+// The shape value at index, or null.
+ShapeBox* test_shape(lua_State* L, int index);
+
+// ---- scenario_rng.cpp ----
+
+// Pushes a new rng value seeded with `seed`.
+Rng& push_rng(lua_State* L, uint64_t seed);
+// rng:uniform, rng:int, rng:normal, rng:angle, rng:choice, rng:shuffle and rng:fork.
+int l_rng_uniform(lua_State* L);
+int l_rng_int(lua_State* L);
+int l_rng_normal(lua_State* L);
+int l_rng_angle(lua_State* L);
+int l_rng_choice(lua_State* L);
+int l_rng_shuffle(lua_State* L);
+int l_rng_fork(lua_State* L);
+
+// ---- scenario_world.cpp ----
+
+// "4 x 4 m arena", for messages.
+std::string arena_text(const ArenaSpec& a);
+
+// A named thing already in the world that new things must not overlap.
+struct Occupant {
+  std::string what;  // "obstacle 'box'", "Roger's left hand"
+  const Shape* shape;
+  Pose pose;
+};
+
+// Everything placed so far that blocks space (the robot's footprint disks own their shapes).
+struct Occupants {
+  std::vector<Shape> robot_shapes;
+  std::vector<Occupant> list;
+};
+
+// Roger's footprint (when placed), then the objects, then the obstacles, as requested.
+Occupants occupants(const WorldBuilder& w, bool objects, bool obstacles);
+
+// The world a method is called on, refusing a world whose generate call is over.
+WorldBuilder& world_self(lua_State* L, const char* call);
+
+// Once something depends on the arena, world:arena may no longer change it.
+void fix_arena(WorldBuilder& w);
+
+// Installs the metatables and the `roger` table (run protected).
+int install_api(lua_State* L);
+
+// ---- scenario_placement.cpp ----
+
+// world:sample_position{...}.
+int l_world_sample(lua_State* L);
+
+// ---- scenario_params.cpp ----
+
+// A parameter's current value in its own type.
+struct ParamSlot {
+  ScenarioParam info;
+  double number = 0.0;
+  int64_t integer = 0;
+  std::string text;
+  bool flag = false;
+};
+
+// The canonical text of a parameter value (what WorldSpec::params records).
+std::string slot_text(const ParamSlot& s);
+
+// Pushes a parameter value with its Lua type.
+void push_slot(lua_State* L, const ParamSlot& s);
+
+// Parses text into a slot of the slot's type; false (and `why`) when it does not fit.
+bool parse_slot(ParamSlot& s, const std::string& text, std::string& why);
+
+// "name (type, default d; one of ...)", for the unknown-parameter message.
+std::string describe_param(const ScenarioParam& p);
+
+}  // namespace scenario_detail
+
+struct Scenario::Impl {
+  LuaSandbox sandbox;
+  std::string path;  // as shown
+  std::string name, description;
+  int generate_ref = LUA_NOREF;
+  int generate_line = 0;
+  std::map<std::string, scenario_detail::ParamSlot> params;
+
+  explicit Impl(const SandboxLimits& limits) : sandbox(limits) {}
+
+  // Runs `body` inside a protected call (body may use the Lua API and throw). Errors without a
+  // location are attributed to the scenario file.
+  void protect(const std::function<void(lua_State*)>& body, int nargs = 0);
+
+  // A ScriptError at the scenario file (and line, when known).
+  ScriptError error(const std::string& message, int line = 0) const {
+    return ScriptError(message, path, line, "");
+  }
+
+  // Reads the `params` table (scenario_params.cpp).
+  void read_params(lua_State* L, int index);
+  // Checks the table the script returned and keeps its generator (scenario.cpp).
+  void read_table(lua_State* L);
+
+ private:
+  // The parts of read_params (scenario_params.cpp).
+  scenario_detail::ParamSlot read_param(lua_State* L) const;
+  int read_param_table(lua_State* L, int value, const std::string& ctx,
+                       scenario_detail::ParamSlot& slot, std::vector<std::string>& choices) const;
+  void read_choices(lua_State* L, const LuaFields& f, const std::string& ctx,
+                    std::vector<std::string>& choices) const;
+  void read_default(lua_State* L, int value, const std::string& ctx,
+                    scenario_detail::ParamSlot& slot) const;
+};
+
+}  // namespace roger

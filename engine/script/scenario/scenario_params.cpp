@@ -1,0 +1,206 @@
+// scenario_params.cpp: scenario parameters: their types, reading the script's `params` table,
+// and parsing values given as text.
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+#include "script/scenario/scenario_internal.h"
+
+namespace roger {
+
+const char* param_type_name(ParamType type) {
+  switch (type) {
+    case ParamType::kNumber: return "number";
+    case ParamType::kInteger: return "integer";
+    case ParamType::kString: return "string";
+    case ParamType::kBoolean: return "boolean";
+  }
+  return "?";
+}
+
+namespace scenario_detail {
+
+// The canonical text of a parameter value (what WorldSpec::params records).
+std::string slot_text(const ParamSlot& s) {
+  switch (s.info.type) {
+    case ParamType::kNumber: return format_number(s.number);
+    case ParamType::kInteger: return std::to_string(s.integer);
+    case ParamType::kString: return s.text;
+    case ParamType::kBoolean: return s.flag ? "true" : "false";
+  }
+  return "";
+}
+
+// Pushes a parameter value with its Lua type.
+void push_slot(lua_State* L, const ParamSlot& s) {
+  switch (s.info.type) {
+    case ParamType::kNumber: lua_pushnumber(L, s.number); break;
+    case ParamType::kInteger: lua_pushinteger(L, s.integer); break;
+    case ParamType::kString: lua_pushstring(L, s.text.c_str()); break;
+    case ParamType::kBoolean: lua_pushboolean(L, s.flag); break;
+  }
+}
+
+// Parses text into a slot of the slot's type; false (and `why`) when it does not fit.
+bool parse_slot(ParamSlot& s, const std::string& text, std::string& why) {
+  const char* begin = text.c_str();
+  char* end = nullptr;
+  errno = 0;
+  switch (s.info.type) {
+    case ParamType::kInteger: {
+      const long long v = std::strtoll(begin, &end, 10);
+      if (text.empty() || *end || errno) return why = "an integer", false;
+      s.integer = v;
+      break;
+    }
+    case ParamType::kNumber: {
+      const double v = std::strtod(begin, &end);
+      if (text.empty() || *end || errno || !std::isfinite(v)) return why = "a number", false;
+      s.number = v;
+      break;
+    }
+    case ParamType::kBoolean: {
+      std::string t = text;
+      std::transform(t.begin(), t.end(), t.begin(), ::tolower);
+      if (t == "true" || t == "1" || t == "yes" || t == "on") s.flag = true;
+      else if (t == "false" || t == "0" || t == "no" || t == "off") s.flag = false;
+      else return why = "a boolean (true or false)", false;
+      break;
+    }
+    case ParamType::kString: s.text = text; break;
+  }
+  const std::string canonical = slot_text(s);
+  if (!s.info.choices.empty() &&
+      std::find(s.info.choices.begin(), s.info.choices.end(), canonical) == s.info.choices.end())
+    return why = "one of " + join(s.info.choices), false;
+  const double value = s.info.type == ParamType::kInteger ? double(s.integer) : s.number;
+  if (s.info.type == ParamType::kNumber || s.info.type == ParamType::kInteger) {
+    if (s.info.min && value < *s.info.min) return why = "at least " + format_number(*s.info.min), false;
+    if (s.info.max && value > *s.info.max) return why = "at most " + format_number(*s.info.max), false;
+  }
+  return true;
+}
+
+// "name (type, default d; one of ...)", for the unknown-parameter message.
+std::string describe_param(const ScenarioParam& p) {
+  std::string text = p.name + " (" + param_type_name(p.type) + ", default " + p.default_value;
+  if (!p.choices.empty()) text += "; one of " + join(p.choices);
+  if (p.min) text += "; min " + format_number(*p.min);
+  if (p.max) text += "; max " + format_number(*p.max);
+  return text + ")";
+}
+
+}  // namespace scenario_detail
+
+namespace {
+
+// Parameter names must be usable as params.name in Lua.
+bool is_identifier(const std::string& s) {
+  if (s.empty() || std::isdigit(static_cast<unsigned char>(s[0]))) return false;
+  return std::all_of(s.begin(), s.end(),
+                     [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
+}
+
+}  // namespace
+
+using namespace scenario_detail;
+
+// Reads the `params` table: short (name = default) and long ({default=, ...}) forms.
+void Scenario::Impl::read_params(lua_State* L, int index) {
+  index = lua_absindex(L, index);
+  if (!lua_istable(L, index))
+    throw error(std::string("the scenario's 'params' must be a table of name = default, got ") +
+                luaL_typename(L, index));
+  lua_pushnil(L);
+  while (lua_next(L, index)) {
+    const int key_slot = lua_gettop(L) - 1;
+    ParamSlot slot = read_param(L);
+    params[slot.info.name] = std::move(slot);
+    lua_settop(L, key_slot);  // keep the key for lua_next
+  }
+}
+
+// Reads one parameter: its name (the key at -2) and its short or long form (the value at -1).
+ParamSlot Scenario::Impl::read_param(lua_State* L) const {
+  if (lua_type(L, -2) != LUA_TSTRING || !is_identifier(lua_tostring(L, -2)))
+    throw error("parameter names must be identifiers (name = default), got " +
+                std::string(lua_type(L, -2) == LUA_TSTRING ? "'" + std::string(lua_tostring(L, -2)) + "'"
+                                                           : luaL_typename(L, -2)));
+  ParamSlot slot;
+  slot.info.name = lua_tostring(L, -2);
+  const std::string ctx = "parameter '" + slot.info.name + "'";
+  int value = lua_gettop(L);
+  std::vector<std::string> choices;
+  if (lua_istable(L, value)) value = read_param_table(L, value, ctx, slot, choices);
+  read_default(L, value, ctx, slot);
+  slot.info.choices = choices;
+  slot.info.default_value = slot.info.value = slot_text(slot);
+  std::string why;
+  ParamSlot check = slot;
+  if (!parse_slot(check, slot.info.default_value, why))
+    throw error(ctx + ": the default " + slot.info.default_value + " is not " + why);
+  return slot;
+}
+
+// The long form {default=, description=, choices=, min=, max=}: fills the slot's description and
+// bounds and `choices`, pushes the default and returns its stack index.
+int Scenario::Impl::read_param_table(lua_State* L, int value, const std::string& ctx, ParamSlot& slot,
+                                     std::vector<std::string>& choices) const {
+  LuaFields f(L, value, ctx, {"default", "description", "choices", "min", "max"});
+  slot.info.description = f.string("description", "");
+  if (f.has("min")) slot.info.min = f.number("min");
+  if (f.has("max")) slot.info.max = f.number("max");
+  if (f.push("choices") != LUA_TNIL) read_choices(L, f, ctx, choices);
+  f.push("default");
+  value = lua_gettop(L);
+  if (lua_isnil(L, value)) throw error(ctx + ": missing its 'default'");
+  return value;
+}
+
+// The list of allowed values (on the stack top) as their canonical texts.
+void Scenario::Impl::read_choices(lua_State* L, const LuaFields& f, const std::string& ctx,
+                                  std::vector<std::string>& choices) const {
+  if (!lua_istable(L, -1)) f.wrong_type("choices", "a list of allowed values");
+  for (lua_Integer i = 1; i <= lua_Integer(lua_rawlen(L, -1)); ++i) {
+    lua_rawgeti(L, -1, i);
+    if (lua_type(L, -1) == LUA_TNUMBER || lua_type(L, -1) == LUA_TSTRING)
+      choices.push_back(lua_isinteger(L, -1) ? std::to_string(lua_tointeger(L, -1))
+                        : lua_type(L, -1) == LUA_TNUMBER ? format_number(lua_tonumber(L, -1))
+                                                          : lua_tostring(L, -1));
+    else
+      throw error(ctx + ": choices must be numbers or strings");
+    lua_pop(L, 1);
+  }
+  if (choices.empty()) throw error(ctx + ": choices is empty");
+}
+
+// The parameter's type and value, taken from its default (at `value`).
+void Scenario::Impl::read_default(lua_State* L, int value, const std::string& ctx,
+                                  ParamSlot& slot) const {
+  switch (lua_type(L, value)) {
+    case LUA_TNUMBER:
+      if (lua_isinteger(L, value)) {
+        slot.info.type = ParamType::kInteger;
+        slot.integer = lua_tointeger(L, value);
+      } else {
+        slot.info.type = ParamType::kNumber;
+        slot.number = lua_tonumber(L, value);
+      }
+      break;
+    case LUA_TSTRING:
+      slot.info.type = ParamType::kString;
+      slot.text = lua_tostring(L, value);
+      break;
+    case LUA_TBOOLEAN:
+      slot.info.type = ParamType::kBoolean;
+      slot.flag = lua_toboolean(L, value);
+      break;
+    default:
+      throw error(ctx + ": the default must be a number, integer, string or boolean, got " +
+                  luaL_typename(L, value));
+  }
+}
+
+}  // namespace roger

@@ -1,0 +1,120 @@
+// scenario_rng.cpp: the rng object a generator draws from.
+#include <cmath>
+
+#include "script/scenario/scenario_internal.h"
+
+namespace roger {
+namespace scenario_detail {
+
+// Pushes a new rng value seeded with `seed`.
+Rng& push_rng(lua_State* L, uint64_t seed) {
+  auto* rng = static_cast<Rng*>(lua_newuserdatauv(L, sizeof(Rng), 0));
+  new (rng) Rng(seed);
+  luaL_setmetatable(L, kRngType);
+  return *rng;
+}
+
+namespace {
+
+// A finite number argument, or an error naming the call and the argument.
+double arg_number(lua_State* L, int index, const char* call, const char* name) {
+  if (lua_type(L, index) != LUA_TNUMBER)
+    luaL_error(L, "%s: argument '%s' must be a number, got %s", call, name, luaL_typename(L, index));
+  const double v = lua_tonumber(L, index);
+  if (!std::isfinite(v)) luaL_error(L, "%s: argument '%s' must be finite", call, name);
+  return v;
+}
+
+// An integer argument, or an error naming the call and the argument.
+lua_Integer arg_integer(lua_State* L, int index, const char* call, const char* name) {
+  int ok = 0;
+  const lua_Integer v = lua_tointegerx(L, index, &ok);
+  if (!ok || lua_type(L, index) != LUA_TNUMBER)
+    luaL_error(L, "%s: argument '%s' must be an integer, got %s", call, name,
+               lua_type(L, index) == LUA_TNUMBER ? fmt(lua_tonumber(L, index)).c_str()
+                                                 : luaL_typename(L, index));
+  return v;
+}
+
+}  // namespace
+
+// rng:uniform() in [0, 1), rng:uniform(a, b) in [a, b).
+int l_rng_uniform(lua_State* L) {
+  Rng& rng = self<Rng>(L, kRngType, "rng:uniform");
+  if (lua_gettop(L) == 1) {
+    lua_pushnumber(L, rng.uniform());
+    return 1;
+  }
+  const double a = arg_number(L, 2, "rng:uniform", "a"), b = arg_number(L, 3, "rng:uniform", "b");
+  if (a > b) return luaL_error(L, "rng:uniform: a (%s) must not exceed b (%s)", fmt(a).c_str(), fmt(b).c_str());
+  lua_pushnumber(L, rng.uniform(a, b));
+  return 1;
+}
+
+// rng:int(n) in 1..n, rng:int(a, b) in a..b (inclusive).
+int l_rng_int(lua_State* L) {
+  Rng& rng = self<Rng>(L, kRngType, "rng:int");
+  lua_Integer a = 1, b;
+  if (lua_gettop(L) <= 2) {
+    b = arg_integer(L, 2, "rng:int", "n");
+  } else {
+    a = arg_integer(L, 2, "rng:int", "a");
+    b = arg_integer(L, 3, "rng:int", "b");
+  }
+  if (a > b) return luaL_error(L, "rng:int: the range %I..%I is empty", a, b);
+  lua_pushinteger(L, rng.integer(a, b));
+  return 1;
+}
+
+// rng:normal([mu [, sigma]]).
+int l_rng_normal(lua_State* L) {
+  Rng& rng = self<Rng>(L, kRngType, "rng:normal");
+  const double mu = lua_isnoneornil(L, 2) ? 0.0 : arg_number(L, 2, "rng:normal", "mu");
+  const double sigma = lua_isnoneornil(L, 3) ? 1.0 : arg_number(L, 3, "rng:normal", "sigma");
+  if (sigma < 0.0) return luaL_error(L, "rng:normal: sigma must not be negative");
+  lua_pushnumber(L, rng.normal(mu, sigma));
+  return 1;
+}
+
+// rng:angle(): uniform in [-pi, pi).
+int l_rng_angle(lua_State* L) {
+  Rng& rng = self<Rng>(L, kRngType, "rng:angle");
+  lua_pushnumber(L, rng.uniform(-M_PI, M_PI));
+  return 1;
+}
+
+// rng:choice(list): one element, uniformly.
+int l_rng_choice(lua_State* L) {
+  Rng& rng = self<Rng>(L, kRngType, "rng:choice");
+  if (!lua_istable(L, 2)) return luaL_error(L, "rng:choice: expects a list, got %s", luaL_typename(L, 2));
+  const lua_Integer n = lua_Integer(lua_rawlen(L, 2));
+  if (n == 0) return luaL_error(L, "rng:choice: the list is empty");
+  lua_rawgeti(L, 2, rng.integer(1, n));
+  return 1;
+}
+
+// rng:shuffle(list): shuffles in place (Fisher-Yates) and returns the list.
+int l_rng_shuffle(lua_State* L) {
+  Rng& rng = self<Rng>(L, kRngType, "rng:shuffle");
+  if (!lua_istable(L, 2)) return luaL_error(L, "rng:shuffle: expects a list, got %s", luaL_typename(L, 2));
+  for (lua_Integer i = lua_Integer(lua_rawlen(L, 2)); i > 1; --i) {
+    const lua_Integer j = rng.integer(1, i);
+    lua_rawgeti(L, 2, i);
+    lua_rawgeti(L, 2, j);
+    lua_rawseti(L, 2, i);
+    lua_rawseti(L, 2, j);
+  }
+  lua_settop(L, 2);
+  return 1;
+}
+
+// rng:fork(): an independent generator seeded from this one (for streams that must not shift
+// when another part of the script draws more or fewer numbers).
+int l_rng_fork(lua_State* L) {
+  Rng& rng = self<Rng>(L, kRngType, "rng:fork");
+  push_rng(L, rng.next());
+  return 1;
+}
+
+}  // namespace scenario_detail
+}  // namespace roger

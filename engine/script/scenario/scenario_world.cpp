@@ -1,0 +1,340 @@
+// scenario_world.cpp: the world builder's methods (arena, robot, objects, obstacles, goals,
+// stimulus) with their checks, and the installation of the scenario's Lua API.
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+
+#include "core/robot.h"
+#include "script/scenario/scenario_internal.h"
+
+namespace roger {
+namespace scenario_detail {
+
+// The world a method is called on, refusing a world whose generate call is over.
+WorldBuilder& world_self(lua_State* L, const char* call) {
+  WorldBuilder& w = self<WorldBuilder>(L, kWorldType, call);
+  if (w.finished)
+    luaL_error(L, "%s: this world is finished (world methods work only while generate runs)", call);
+  return w;
+}
+
+// "4 x 4 m arena", for messages.
+std::string arena_text(const ArenaSpec& a) {
+  return fmt(a.xmax - a.xmin) + " x " + fmt(a.ymax - a.ymin) + " m arena";
+}
+
+// Roger's footprint (when placed), then the objects, then the obstacles, as requested.
+Occupants occupants(const WorldBuilder& w, bool objects, bool obstacles) {
+  Occupants out;
+  if (w.robot_set) {
+    const char* names[3] = {"Roger's base", "Roger's left hand", "Roger's right hand"};
+    const auto disks = robot_footprint(w.spec.robot);
+    for (size_t i = 0; i < disks.size(); ++i)
+      out.robot_shapes.push_back(disk_shape(names[i], disks[i].center, disks[i].radius));
+    for (const auto& s : out.robot_shapes) out.list.push_back(Occupant{s.name, &s, Pose{}});
+  }
+  if (objects)
+    for (const auto& o : w.spec.objects) out.list.push_back(Occupant{"object '" + o.name + "'", &o.shape, o.pose});
+  if (obstacles)
+    for (const auto& o : w.spec.obstacles)
+      out.list.push_back(Occupant{"obstacle '" + o.name + "'", &o.shape, o.pose});
+  return out;
+}
+
+namespace {
+
+// Raises an error if the shape sticks out of the arena or overlaps an occupant.
+void check_free(const LuaFields& f, const WorldBuilder& w, const std::string& what, const Shape& shape,
+                const Pose& pose, bool against_obstacles) {
+  const double inset = arena_inset(w.spec.arena, shape, pose);
+  const std::string at = what + " at " + point_text(pose.x, pose.y);
+  if (inset < -1e-9) {
+    const auto& a = w.spec.arena;
+    f.fail(at + " sticks out of the arena [" + fmt(a.xmin) + ", " + fmt(a.xmax) + "] x [" +
+           fmt(a.ymin) + ", " + fmt(a.ymax) + "] by " + fmt(-inset) + " m");
+  }
+  const Occupants occ = occupants(w, true, against_obstacles);
+  lua_charge(f.state(), occ.list.size() * (shape.polygons.size() + shape.disks.size()));
+  for (const auto& o : occ.list) {
+    const double gap = shape_gap(shape, pose, *o.shape, o.pose);
+    if (gap < -1e-9) f.fail(at + " overlaps " + o.what + " by " + fmt(-gap) + " m");
+  }
+}
+
+}  // namespace
+
+// Once something depends on the arena, world:arena may no longer change it.
+void fix_arena(WorldBuilder& w) { w.arena_fixed = true; }
+
+namespace {
+
+// The given name, or "<kind> N"; refuses a name already used by a thing of the same kind.
+std::string unique_name(const LuaFields& f, const std::string& given, const char* kind, size_t count,
+                        const std::vector<std::string>& taken) {
+  const std::string name = given.empty() ? std::string(kind) + " " + std::to_string(count + 1) : given;
+  if (std::find(taken.begin(), taken.end(), name) != taken.end())
+    f.fail("there is already a " + std::string(kind) + " named '" + name + "'");
+  return name;
+}
+
+// world:arena{xmin=, xmax=, ymin=, ymax=, cell=, wall_colour=}
+int l_world_arena(lua_State* L) {
+  return lua_protect(L, [L]() {
+    WorldBuilder& w = world_self(L, "world:arena");
+    LuaFields f(L, 2, "world:arena", {"xmin", "xmax", "ymin", "ymax", "cell", "wall_colour"});
+    if (w.arena_set) f.fail("the arena is already set (call world:arena once)");
+    if (w.arena_fixed)
+      f.fail("call world:arena first, before anything is placed or sampled (the default arena is "
+             "already in use)");
+    ArenaSpec a;
+    a.xmin = f.number("xmin", a.xmin);
+    a.xmax = f.number("xmax", a.xmax);
+    a.ymin = f.number("ymin", a.ymin);
+    a.ymax = f.number("ymax", a.ymax);
+    a.cell = f.number("cell", a.cell);
+    a.wall_colour = f.colour("wall_colour", a.wall_colour);
+    for (auto [lo, hi, axis] : {std::tuple{a.xmin, a.xmax, "x"}, std::tuple{a.ymin, a.ymax, "y"}}) {
+      if (!(hi - lo >= 0.5) || hi - lo > 1000.0)
+        f.fail(std::string("the ") + axis + " extent must be 0.5 to 1000 m, got [" + fmt(lo) + ", " + fmt(hi) + "]");
+      if (!(a.cell > 0.0)) f.fail("cell must be a positive size in metres, got " + fmt(a.cell));
+      const double cells = (hi - lo) / a.cell;
+      if (std::abs(cells - std::round(cells)) > 1e-6 * std::max(1.0, cells))
+        f.fail(std::string("the ") + axis + " extent " + fmt(hi - lo) + " m is not a whole number of " +
+               fmt(a.cell) + " m cells");
+      if (cells < 4 || cells > 1024)
+        f.fail("the occupancy grid needs 4 to 1024 cells per side, got " + fmt(std::round(cells)) +
+               " along " + axis);
+    }
+    w.spec.arena = a;
+    w.arena_set = true;
+    return 0;
+  });
+}
+
+// world:bounds() -> xmin, xmax, ymin, ymax (fixes the arena).
+int l_world_bounds(lua_State* L) {
+  WorldBuilder& w = world_self(L, "world:bounds");
+  fix_arena(w);
+  const auto& a = w.spec.arena;
+  for (double v : {a.xmin, a.xmax, a.ymin, a.ymax}) lua_pushnumber(L, v);
+  return 4;
+}
+
+// world:robot{x=, y=, heading=, left_shoulder=, left_elbow=, right_shoulder=, right_elbow=,
+//             left_eye=, right_eye=}
+int l_world_robot(lua_State* L) {
+  return lua_protect(L, [L]() {
+    WorldBuilder& w = world_self(L, "world:robot");
+    LuaFields f(L, 2, "world:robot",
+                {"x", "y", "heading", "left_shoulder", "left_elbow", "right_shoulder", "right_elbow",
+                 "left_eye", "right_eye"});
+    if (w.robot_set) f.fail("Roger is already placed (call world:robot once)");
+    fix_arena(w);
+    RobotStart r;
+    r.pose = Pose{f.number("x"), f.number("y"), f.number("heading", 0.0)};
+    const RobotParams p;
+    auto joint = [&](const char* key, double fallback, double lo, double hi) {
+      const double v = f.number(key, fallback);
+      if (v < lo || v > hi)
+        f.fail(std::string("field '") + key + "' must be within [" + fmt(lo) + ", " + fmt(hi) +
+               "] rad, got " + fmt(v));
+      return v;
+    };
+    r.left_shoulder = joint("left_shoulder", r.left_shoulder, p.shoulder_min, p.shoulder_max);
+    r.left_elbow = joint("left_elbow", r.left_elbow, p.elbow_min, p.elbow_max);
+    r.right_shoulder = joint("right_shoulder", r.right_shoulder, -p.shoulder_max, -p.shoulder_min);
+    r.right_elbow = joint("right_elbow", r.right_elbow, -p.elbow_max, -p.elbow_min);
+    r.left_eye = joint("left_eye", r.left_eye, -p.eye_pan_limit, p.eye_pan_limit);
+    r.right_eye = joint("right_eye", r.right_eye, -p.eye_pan_limit, p.eye_pan_limit);
+    const char* names[3] = {"Roger's base", "Roger's left hand", "Roger's right hand"};
+    const auto disks = robot_footprint(r);
+    for (size_t i = 0; i < disks.size(); ++i)
+      check_free(f, w, names[i], disk_shape(names[i], Vec2::Zero(), disks[i].radius),
+                 Pose{disks[i].center.x(), disks[i].center.y(), 0.0}, true);
+    w.spec.robot = r;
+    w.robot_set = true;
+    return 0;
+  });
+}
+
+// The shape field of world:object and world:obstacle.
+const Shape& shape_field(lua_State* L, const LuaFields& f) {
+  f.push("shape");
+  ShapeBox* box = test_shape(L, -1);
+  if (!box) {
+    const bool missing = lua_isnil(L, -1);
+    lua_pop(L, 1);
+    if (missing) f.fail("missing required field 'shape' (a shape made by roger.shape{...})");
+    f.wrong_type("shape", "a shape made by roger.shape{...}");
+  }
+  lua_pop(L, 1);  // the userdata stays alive: the argument table holds it
+  return box->shape;
+}
+
+// world:object{name=, shape=, colour=, x=, y=, theta=, mass=, friction_force=, friction_torque=,
+//              viscosity=, angular_viscosity=, surface_friction=}
+int l_world_object(lua_State* L) {
+  return lua_protect(L, [L]() {
+    WorldBuilder& w = world_self(L, "world:object");
+    LuaFields f(L, 2, "world:object",
+                {"name", "shape", "colour", "x", "y", "theta", "mass", "friction_force",
+                 "friction_torque", "viscosity", "angular_viscosity", "surface_friction"});
+    if (w.spec.objects.size() >= kMaxThings) f.fail("too many objects (the limit is 1000)");
+    fix_arena(w);
+    ObjectSpec o;
+    std::vector<std::string> taken;
+    for (const auto& other : w.spec.objects) taken.push_back(other.name);
+    o.name = unique_name(f, f.string("name", ""), "object", w.spec.objects.size(), taken);
+    o.shape = shape_field(L, f);
+    o.colour = f.colour("colour", o.colour);
+    o.pose = Pose{f.number("x"), f.number("y"), f.number("theta", 0.0)};
+    auto positive = [&](const char* key, double fallback, bool allow_zero) {
+      const double v = f.number(key, fallback);
+      if (v < 0.0 || (!allow_zero && v == 0.0))
+        f.fail(std::string("field '") + key + "' must be " + (allow_zero ? "zero or more" : "positive") +
+               ", got " + fmt(v));
+      return v;
+    };
+    o.mass = positive("mass", o.mass, false);
+    o.friction_force = positive("friction_force", o.friction_force, true);
+    o.friction_torque = positive("friction_torque", o.friction_torque, true);
+    o.viscosity = positive("viscosity", o.viscosity, true);
+    o.angular_viscosity = positive("angular_viscosity", o.angular_viscosity, true);
+    o.surface_friction = positive("surface_friction", o.surface_friction, true);
+    check_free(f, w, "object '" + o.name + "'", o.shape, o.pose, true);
+    w.spec.objects.push_back(std::move(o));
+    return 0;
+  });
+}
+
+// world:obstacle{name=, shape=, colour=, x=, y=, theta=}. Obstacles may overlap each other (to
+// build compound walls) but not Roger or the objects.
+int l_world_obstacle(lua_State* L) {
+  return lua_protect(L, [L]() {
+    WorldBuilder& w = world_self(L, "world:obstacle");
+    LuaFields f(L, 2, "world:obstacle", {"name", "shape", "colour", "x", "y", "theta"});
+    if (w.spec.obstacles.size() >= kMaxThings) f.fail("too many obstacles (the limit is 1000)");
+    fix_arena(w);
+    ObstacleSpec o;
+    std::vector<std::string> taken;
+    for (const auto& other : w.spec.obstacles) taken.push_back(other.name);
+    o.name = unique_name(f, f.string("name", ""), "obstacle", w.spec.obstacles.size(), taken);
+    o.shape = shape_field(L, f);
+    o.colour = f.colour("colour", o.colour);
+    o.pose = Pose{f.number("x"), f.number("y"), f.number("theta", 0.0)};
+    check_free(f, w, "obstacle '" + o.name + "'", o.shape, o.pose, false);
+    w.spec.obstacles.push_back(std::move(o));
+    return 0;
+  });
+}
+
+// world:goal{name=, x=, y=, radius=, colour=}: a floor region, seen by the planner only.
+int l_world_goal(lua_State* L) {
+  return lua_protect(L, [L]() {
+    WorldBuilder& w = world_self(L, "world:goal");
+    LuaFields f(L, 2, "world:goal", {"name", "x", "y", "radius", "colour"});
+    if (w.spec.goals.size() >= kMaxThings) f.fail("too many goals (the limit is 1000)");
+    fix_arena(w);
+    GoalRegion g;
+    std::vector<std::string> taken;
+    for (const auto& other : w.spec.goals) taken.push_back(other.name);
+    g.name = unique_name(f, f.string("name", ""), "goal", w.spec.goals.size(), taken);
+    g.center = Vec2(f.number("x"), f.number("y"));
+    g.radius = f.number("radius", g.radius);
+    g.colour = f.colour("colour", g.colour);
+    const auto& a = w.spec.arena;
+    if (!(g.radius > 0.0)) f.fail("field 'radius' must be positive, got " + fmt(g.radius));
+    if (g.center.x() <= a.xmin || g.center.x() >= a.xmax || g.center.y() <= a.ymin || g.center.y() >= a.ymax)
+      f.fail("goal '" + g.name + "' centre " + point_text(g.center.x(), g.center.y()) +
+             " is outside the " + arena_text(a));
+    w.spec.goals.push_back(std::move(g));
+    return 0;
+  });
+}
+
+// world:stimulus{colour=}: the colour the eyes track (default: the first object's colour).
+int l_world_stimulus(lua_State* L) {
+  WorldBuilder& w = world_self(L, "world:stimulus");
+  LuaFields f(L, 2, "world:stimulus", {"colour"});
+  if (!f.has("colour")) f.fail("missing required field 'colour'");
+  w.spec.stimulus_colour = f.colour("colour", w.spec.stimulus_colour);
+  w.stimulus_set = true;
+  return 0;
+}
+
+// tostring(world), for print-debugging.
+int l_world_tostring(lua_State* L) {
+  const auto& w = *static_cast<WorldBuilder*>(luaL_checkudata(L, 1, kWorldType));
+  lua_pushfstring(L, "world (%s, %d objects, %d obstacles, %d goals)", arena_text(w.spec.arena).c_str(),
+                  int(w.spec.objects.size()), int(w.spec.obstacles.size()), int(w.spec.goals.size()));
+  return 1;
+}
+
+// Registers a userdata metatable with its methods, finalizer and tostring.
+void new_class(lua_State* L, const char* type, const luaL_Reg* methods, lua_CFunction gc,
+               lua_CFunction tostring) {
+  luaL_newmetatable(L, type);
+  if (methods) {
+    lua_newtable(L);
+    luaL_setfuncs(L, methods, 0);
+    lua_setfield(L, -2, "__index");
+  }
+  if (gc) {
+    lua_pushcfunction(L, gc);
+    lua_setfield(L, -2, "__gc");
+  }
+  if (tostring) {
+    lua_pushcfunction(L, tostring);
+    lua_setfield(L, -2, "__tostring");
+  }
+  lua_pushboolean(L, 0);
+  lua_setfield(L, -2, "__metatable");
+  lua_pop(L, 1);
+}
+
+}  // namespace
+
+// Installs the metatables and the `roger` table (run protected).
+int install_api(lua_State* L) {
+  const luaL_Reg world_methods[] = {{"arena", l_world_arena},       {"bounds", l_world_bounds},
+                                    {"robot", l_world_robot},       {"object", l_world_object},
+                                    {"obstacle", l_world_obstacle}, {"goal", l_world_goal},
+                                    {"stimulus", l_world_stimulus}, {"sample_position", l_world_sample},
+                                    {nullptr, nullptr}};
+  const luaL_Reg rng_methods[] = {{"uniform", l_rng_uniform}, {"int", l_rng_int},
+                                  {"normal", l_rng_normal},   {"angle", l_rng_angle},
+                                  {"choice", l_rng_choice},   {"shuffle", l_rng_shuffle},
+                                  {"fork", l_rng_fork},       {nullptr, nullptr}};
+  new_class(L, kWorldType, world_methods, destroy<WorldBuilder>, l_world_tostring);
+  new_class(L, kRngType, rng_methods, nullptr, nullptr);
+  new_class(L, kShapeType, nullptr, destroy<ShapeBox>, l_shape_tostring);
+  luaL_getmetatable(L, kShapeType);
+  lua_pushcfunction(L, l_shape_index);
+  lua_setfield(L, -2, "__index");
+  lua_pushcfunction(L, l_shape_scaled);
+  lua_setfield(L, -2, "scaled");
+  lua_pop(L, 1);
+
+  lua_newtable(L);  // roger
+  lua_pushcfunction(L, l_shape);
+  lua_setfield(L, -2, "shape");
+  lua_pushstring(L, ROGER_VERSION);
+  lua_setfield(L, -2, "version");
+  const RobotParams p;
+  lua_newtable(L);  // roger.robot: Roger's dimensions, for placement arithmetic
+  const std::pair<const char*, double> numbers[] = {
+      {"base_radius", p.base_radius},   {"hand_radius", p.hand_radius},
+      {"upper_arm", p.link_length[0]},  {"forearm", p.link_length[1]},
+      {"shoulder_y", p.shoulder_y},     {"eye_y", p.eye_y},
+      {"footprint_radius", robot_footprint_radius()}};
+  for (const auto& [key, value] : numbers) {
+    lua_pushnumber(L, value);
+    lua_setfield(L, -2, key);
+  }
+  lua_setfield(L, -2, "robot");
+  lua_setglobal(L, "roger");
+  return 0;
+}
+
+}  // namespace scenario_detail
+}  // namespace roger

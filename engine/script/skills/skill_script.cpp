@@ -1,0 +1,439 @@
+#include "script/skills/skill_script.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+
+#include <lua.hpp>
+
+#include "core/error.h"
+#include "core/fileio.h"
+#include "script/control/lua_control.h"
+#include "script/sandbox/lua_tokens.h"
+#include "script/scenario/scenario.h"
+
+namespace roger {
+namespace fs = std::filesystem;
+
+namespace {
+
+// Joins items with a separator.
+// ---------------------------------------------------------------------------------------------
+// Where the fields of the returned table are written. A Lua table carries no line numbers, so a
+// missing goal or a misspelt field would otherwise be reported without one: the source text is
+// scanned for the table constructors instead (tokens, with strings, comments and blocks handled),
+// and each key remembers its line.
+
+// The keys of the table constructors in a source text, and which constructor is returned.
+class SourceMap {
+ public:
+  explicit SourceMap(const std::string& text) {
+    const std::vector<LuaToken> t = lua_tokenize(text);
+    enum Frame { kBrace, kParen, kBracket, kBlock };
+    std::vector<std::pair<Frame, int>> stack;  // frame and, for braces, its node
+    int link_entry_node = -1, link_entry = -1;  // an entry whose value is the next token
+    for (size_t i = 0; i + 1 < t.size(); ++i) {
+      const LuaToken& tok = t[i];
+      const bool in_brace = !stack.empty() && stack.back().first == kBrace;
+      const int here = in_brace ? stack.back().second : -1;
+      const bool value_follows = link_entry >= 0 && i > 0 && t[i - 1].text == "=" && t[i - 1].type == LuaToken::kOp;
+      if (!value_follows) link_entry_node = link_entry = -1;
+      // key = value, or ["key"] = value, directly inside a constructor.
+      if (in_brace && tok.type == LuaToken::kName && !keyword(tok.text) && t[i + 1].type == LuaToken::kOp &&
+          t[i + 1].text == "=") {
+        add_entry(here, tok.text, tok.line, t, i + 2, link_entry_node, link_entry);
+        ++i;
+        continue;
+      }
+      if (in_brace && tok.type == LuaToken::kOp && tok.text == "[" && i + 3 < t.size() &&
+          t[i + 1].type == LuaToken::kString && t[i + 2].text == "]" && t[i + 3].text == "=") {
+        add_entry(here, t[i + 1].text, tok.line, t, i + 4, link_entry_node, link_entry);
+        i += 3;
+        continue;
+      }
+      if (tok.type == LuaToken::kOp && tok.text == "{") {
+        const int node = int(nodes_.size());
+        nodes_.push_back(Node{tok.line, {}});
+        if (link_entry >= 0 && t[i - 1].text == "=") {
+          nodes_[size_t(link_entry_node)].entries[size_t(link_entry)].child = node;
+        } else if (i >= 2 && t[i - 1].text == "=" && t[i - 2].type == LuaToken::kName && !in_brace) {
+          variables_.emplace(t[i - 2].text, node);  // local X = { ... } (the first one counts)
+        }
+        if (i >= 1 && t[i - 1].type == LuaToken::kName && t[i - 1].text == "return" && stack.empty())
+          returned_ = node;
+        stack.push_back({kBrace, node});
+        link_entry_node = link_entry = -1;
+        continue;
+      }
+      if (tok.type == LuaToken::kName && tok.text == "return" && stack.empty()) return_line_ = tok.line;
+      if (tok.type == LuaToken::kOp) {
+        if (tok.text == "(") stack.push_back({kParen, -1});
+        if (tok.text == "[") stack.push_back({kBracket, -1});
+        if ((tok.text == "}" || tok.text == ")" || tok.text == "]") && !stack.empty()) stack.pop_back();
+      } else if (tok.type == LuaToken::kName) {
+        if (tok.text == "function" || tok.text == "do" || tok.text == "if" || tok.text == "repeat")
+          stack.push_back({kBlock, -1});
+        if ((tok.text == "end" || tok.text == "until") && !stack.empty()) stack.pop_back();
+      }
+    }
+    if (returned_ < 0) {
+      for (size_t n = 0; n < nodes_.size() && returned_ < 0; ++n)
+        if (entry(int(n), "policies")) returned_ = int(n);
+    }
+  }
+
+  // The line of the returned table's constructor (or of the last top-level return), else 0.
+  int return_line() const { return returned_ >= 0 ? nodes_[size_t(returned_)].line : return_line_; }
+
+  // The line of a key of the returned table, else return_line().
+  int top_key(const std::string& key) const {
+    const Entry* e = entry(returned_, key);
+    return e ? e->line : return_line();
+  }
+
+  // Whether the returned table is written with a `policies` key.
+  bool has_policies() const { return entry(returned_, "policies") != nullptr; }
+
+  // The line of policies[name], else of `policies`, else return_line().
+  int policy(const std::string& name) const {
+    const Entry* e = entry(policies_node(), name);
+    return e ? e->line : top_key("policies");
+  }
+
+  // The line of a field of policies[name], else policy(name).
+  int policy_field(const std::string& name, const std::string& field) const {
+    const Entry* p = entry(policies_node(), name);
+    const Entry* e = p ? entry(value_node(*p), field) : nullptr;
+    return e ? e->line : policy(name);
+  }
+
+ private:
+  struct Entry {
+    std::string key;
+    int line;
+    int child = -1;          // the constructor written as its value
+    std::string value_name;  // or the variable named as its value
+  };
+  struct Node {
+    int line;
+    std::vector<Entry> entries;
+  };
+
+  static bool keyword(const std::string& w) { return lua_keyword(w); }
+
+  // Records key at `line` in node; `value` is the index of the token after '='.
+  void add_entry(int node, const std::string& key, int line, const std::vector<LuaToken>& t, size_t value,
+                 int& link_node, int& link_entry) {
+    Entry e{key, line, -1, ""};
+    if (value + 1 < t.size() && t[value].type == LuaToken::kName && !keyword(t[value].text) &&
+        (t[value + 1].text == "," || t[value + 1].text == ";" || t[value + 1].text == "}"))
+      e.value_name = t[value].text;
+    nodes_[size_t(node)].entries.push_back(e);
+    link_node = node;
+    link_entry = int(nodes_[size_t(node)].entries.size()) - 1;
+  }
+
+  const Entry* entry(int node, const std::string& key) const {
+    if (node < 0) return nullptr;
+    for (const auto& e : nodes_[size_t(node)].entries)
+      if (e.key == key) return &e;
+    return nullptr;
+  }
+
+  // The constructor an entry's value was written with: inline, or a variable assigned one.
+  int value_node(const Entry& e) const {
+    if (e.child >= 0) return e.child;
+    if (auto it = variables_.find(e.value_name); !e.value_name.empty() && it != variables_.end()) return it->second;
+    return -1;
+  }
+
+  int policies_node() const {
+    const Entry* e = entry(returned_, "policies");
+    return e ? value_node(*e) : -1;
+  }
+
+  std::vector<Node> nodes_;
+  std::map<std::string, int> variables_;
+  int returned_ = -1;
+  int return_line_ = 0;
+};
+
+// Runs `body` on the sandbox's state inside a protected call. A Lua error without a location
+// (raised by C++ reading the returned table) is placed at `file`:`line()`, the line of the field
+// being read when it happened.
+void read_protected(LuaSandbox& sandbox, const std::string& file, const std::function<int()>& line,
+                    const std::function<void(lua_State*)>& body) {
+  lua_State* L = sandbox.state();
+  lua_pushcfunction(L, [](lua_State* L) -> int {
+    auto* fn = static_cast<const std::function<void(lua_State*)>*>(lua_touserdata(L, -1));
+    lua_pop(L, 1);
+    return lua_protect(L, [&]() {
+      (*fn)(L);
+      return 0;
+    });
+  });
+  lua_insert(L, -2);  // below the value being read
+  lua_pushlightuserdata(L, const_cast<std::function<void(lua_State*)>*>(&body));
+  try {
+    sandbox.call(2, 0);
+  } catch (const ScriptError& e) {
+    if (!e.file.empty()) throw;
+    throw ScriptError(e.message, file, line(), "");
+  }
+}
+
+// Depth-first walk adding every controller once (name stand-ins are looked through).
+void collect(const Controller* c, std::set<const Controller*>& seen,
+             const std::map<const Controller*, ControllerPtr>& owners, std::vector<ControllerPtr>& out) {
+  if (!seen.insert(c).second) return;
+  if (!is_name_reference(*c)) {
+    auto it = owners.find(c);
+    if (it != owners.end()) out.push_back(it->second);
+  }
+  for (const Controller* child : c->children()) collect(child, seen, owners, out);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+struct SkillScript::Impl {
+  std::string path;  // as shown
+  std::string name, description;
+  std::map<std::string, NamedPolicy> policies;
+  std::vector<ControllerPtr> controllers;
+};
+
+SkillScript::SkillScript() = default;
+SkillScript::SkillScript(SkillScript&&) noexcept = default;
+SkillScript& SkillScript::operator=(SkillScript&&) noexcept = default;
+SkillScript::~SkillScript() = default;
+
+const std::string& SkillScript::name() const { return impl_->name; }
+const std::string& SkillScript::description() const { return impl_->description; }
+const std::string& SkillScript::path() const { return impl_->path; }
+std::vector<ControllerPtr> SkillScript::controllers() const { return impl_->controllers; }
+
+std::vector<std::string> SkillScript::policy_names() const {
+  std::vector<std::string> names;
+  for (const auto& [name, p] : impl_->policies) names.push_back(name);
+  return names;
+}
+
+const SkillScript::NamedPolicy& SkillScript::policy(const std::string& name) const {
+  auto it = impl_->policies.find(name);
+  if (it == impl_->policies.end())
+    throw Error("skill script '" + impl_->name + "' (" + impl_->path + ") has no policy '" + name +
+                "'; its policies: " + join(policy_names()));
+  return it->second;
+}
+
+namespace {
+
+// Checks that the returned value at `t` is a table with only the known keys. `line` follows the
+// key being checked.
+void check_script_keys(lua_State* L, int t, const std::vector<std::string>& known, const SourceMap& map,
+                       int& line) {
+  line = map.return_line();
+  if (!lua_istable(L, t))
+    luaL_error(L, "a skill script must return a table {name = ..., description = ..., policies = {...}}, got %s",
+               lua_describe_value(L, t).c_str());
+  lua_pushnil(L);
+  while (lua_next(L, t)) {
+    lua_pop(L, 1);
+    const std::string key = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "";
+    if (std::find(known.begin(), known.end(), key) == known.end()) {
+      line = key.empty() ? map.return_line() : map.top_key(key);
+      luaL_error(L, "the skill script's table has an unknown field %s; known fields: %s",
+                 (key.empty() ? "(a key that is " + lua_describe_value(L, -1) + ")" : "'" + key + "'").c_str(),
+                 join(known).c_str());
+    }
+  }
+}
+
+// Reads the script's name and description; pushes its 'policies' table and returns its index.
+int read_script_fields(lua_State* L, const LuaFields& top, const SourceMap& map, int& line,
+                       const std::string& path, std::string& name, std::string& description) {
+  line = map.top_key("name");
+  name = top.string("name", fs::path(path).stem().string());
+  line = map.top_key("description");
+  description = top.string("description", "");
+  line = map.top_key("policies");
+  if (top.push("policies") == LUA_TNIL)
+    top.fail("missing required field 'policies' (a table of name = {action = ..., goal = ..., time_limit = ...})");
+  if (!lua_istable(L, -1)) top.wrong_type("policies", "a table of name = {action = ..., goal = ..., time_limit = ...}");
+  return lua_gettop(L);
+}
+
+// The names of the policies in the 'policies' table at `ps`, sorted (a table has no order).
+std::vector<std::string> policy_keys(lua_State* L, int ps, const LuaFields& top) {
+  std::vector<std::string> names;
+  lua_pushnil(L);
+  while (lua_next(L, ps)) {
+    lua_pop(L, 1);
+    if (lua_type(L, -1) != LUA_TSTRING)
+      luaL_error(L, "the skill script: policies must be named (name = {...}), got the key %s",
+                 lua_describe_value(L, -1).c_str());
+    names.push_back(lua_tostring(L, -1));
+  }
+  if (names.empty()) top.fail("'policies' is empty: define at least one policy");
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// Reads the policy `name` of the 'policies' table at `ps`, leaving its table on the stack. `line`
+// follows the field being read.
+SkillScript::NamedPolicy read_policy(lua_State* L, int ps, const std::string& name, const SourceMap& map,
+                                     int& line) {
+  const std::vector<std::string> fields{"action", "description", "goal", "scenario", "time_limit"};
+  const std::string context = "policy '" + name + "'";
+  line = map.policy(name);
+  lua_getfield(L, ps, name.c_str());
+  const int p = lua_gettop(L);
+  if (!lua_istable(L, p))
+    luaL_error(L, "%s must be a table {action = ..., goal = ..., time_limit = ...}, got %s", context.c_str(),
+               lua_describe_value(L, p).c_str());
+  lua_pushnil(L);
+  while (lua_next(L, p)) {
+    lua_pop(L, 1);
+    const std::string key = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "";
+    if (std::find(fields.begin(), fields.end(), key) == fields.end()) {
+      line = key.empty() ? map.policy(name) : map.policy_field(name, key);
+      luaL_error(L, "%s: unknown field %s; known fields: %s", context.c_str(),
+                 (key.empty() ? "(a key that is " + lua_describe_value(L, -1) + ")" : "'" + key + "'").c_str(),
+                 join(fields).c_str());
+    }
+  }
+  LuaFields f(L, p, context, fields);
+  SkillScript::NamedPolicy np;
+  np.name = name;
+  line = map.policy(name);
+  if (!f.has("action")) f.fail("missing required field 'action' (the controller to run)");
+  if (!f.has("goal"))
+    f.fail("missing required field 'goal' (a predicate such as roger.converged(c): reaching it ends the "
+           "episode in success)");
+  if (!f.has("time_limit")) f.fail("missing required field 'time_limit' (simulated seconds, e.g. 10)");
+  line = map.policy_field(name, "action");
+  f.push("action");
+  np.action = lua_check_controller(L, -1, context, "field 'action'");
+  lua_pop(L, 1);
+  line = map.policy_field(name, "goal");
+  f.push("goal");
+  np.goal = lua_check_predicate(L, -1, context, "field 'goal'");
+  lua_pop(L, 1);
+  line = map.policy_field(name, "time_limit");
+  if (f.push("time_limit") == LUA_TTABLE) {
+    // {per_object = s}: a task over however many objects the world holds (sorting).
+    LuaFields limit(L, -1, context + ": field 'time_limit'", {"per_object"});
+    np.time_per_object = limit.number("per_object");
+    if (!(np.time_per_object > 0.0))
+      limit.fail("field 'per_object' must be a positive number of simulated seconds, got " +
+                 format_number(np.time_per_object));
+    lua_pop(L, 1);
+  } else {
+    lua_pop(L, 1);
+    np.time_limit = f.number("time_limit");
+    if (!(np.time_limit > 0.0))
+      f.fail("field 'time_limit' must be a positive number of simulated seconds, or {per_object = s}, got " +
+             format_number(np.time_limit));
+  }
+  line = map.policy_field(name, "scenario");
+  np.scenario = f.string("scenario", "unobstructed");
+  resolve_scenario_path(np.scenario);  // throws, listing the shipped scenarios
+  line = map.policy_field(name, "description");
+  np.description = f.string("description", "");
+  return np;
+}
+
+// Every controller once: the named ones first, then what the policies reach. children() gives
+// raw pointers; the script's own list gives their shared owners.
+std::vector<ControllerPtr> script_controllers_once(
+    LuaSandbox& sandbox, const std::map<std::string, SkillScript::NamedPolicy>& policies) {
+  std::vector<ControllerPtr> controllers;
+  std::map<const Controller*, ControllerPtr> owners;
+  for (const auto& c : script_controllers(sandbox)) owners.emplace(c.get(), c);
+  std::set<const Controller*> seen;
+  for (const auto& n : named_controllers(sandbox)) collect(n.controller.get(), seen, owners, controllers);
+  for (const auto& [name, p] : policies) {
+    collect(p.action.get(), seen, owners, controllers);
+    std::vector<const Controller*> read;
+    p.goal->controllers(read);
+    for (const Controller* c : read) collect(c, seen, owners, controllers);
+  }
+  return controllers;
+}
+
+}  // namespace
+
+SkillScript SkillScript::load(const std::string& path_in, const SandboxLimits& limits) {
+  const std::string path = resolve_skill_script_path(path_in);
+  SkillScript script;
+  script.impl_ = std::make_unique<Impl>();
+  Impl& impl = *script.impl_;
+  LuaSandbox sandbox(limits);
+  impl.path = sandbox.display_name(path);
+  const SourceMap map(read_file_text(path));
+
+  install_control_api(sandbox);
+  sandbox.set_main_script(path);
+  sandbox.run_file(path, 1);
+  finish_control_definitions(sandbox);
+
+  int line = 0;  // the line of what is being read, for errors raised without one
+  read_protected(sandbox, impl.path, [&]() { return line; }, [&](lua_State* L) {
+    const int t = lua_gettop(L);
+    const std::vector<std::string> known{"description", "name", "policies"};
+    check_script_keys(L, t, known, map, line);
+    LuaFields top(L, t, "the skill script", known);
+    const int ps = read_script_fields(L, top, map, line, path, impl.name, impl.description);
+    for (const auto& name : policy_keys(L, ps, top)) {
+      SkillScript::NamedPolicy np = read_policy(L, ps, name, map, line);
+      impl.policies.emplace(name, std::move(np));
+      lua_settop(L, ps);
+    }
+  });
+  impl.controllers = script_controllers_once(sandbox, impl.policies);
+  return script;
+}
+
+std::string resolve_skill_script_path(const std::string& arg) {
+  return resolve_script_path(arg, "curricula", "skill script", "skill scripts in curricula/",
+                             is_skill_script);
+}
+
+bool is_skill_script(const std::string& path) {
+  const std::string text = read_file_text(path);
+  return !text.empty() && SourceMap(text).has_policies();
+}
+
+std::vector<std::string> check_skill_script(const std::string& path, const SandboxLimits& limits) {
+  std::vector<std::string> problems;
+  std::optional<SkillScript> script;
+  try {
+    script.emplace(SkillScript::load(path, limits));
+  } catch (const std::exception& e) {
+    problems.push_back(e.what());
+    return problems;
+  }
+  std::set<std::string> tried;
+  for (const auto& name : script->policy_names()) {
+    const std::string& scenario = script->policy(name).scenario;
+    if (!tried.insert(scenario).second) continue;
+    try {
+      Scenario::load(scenario, limits).generate(0);
+    } catch (const std::exception& e) {
+      problems.push_back("policy '" + name + "': scenario '" + scenario + "': " + e.what());
+    }
+  }
+  return problems;
+}
+
+}  // namespace roger
