@@ -67,11 +67,16 @@ function roger.subject_to(sub, sup) end
 function roger.compose(expression, names) end
 
 ---A skill running its steps in order: each until it converges, falling back a step when the
----current one loses its reference.
+---current one loses its reference (with {fall_back = false}: NOREF there instead).
 ---@param name string
 ---@param steps roger.ControllerRef[]
+---@param options? roger.SequenceOptions
 ---@return roger.Controller
-function roger.sequence(name, steps) end
+function roger.sequence(name, steps, options) end
+
+---The options of roger.sequence(name, steps, {...}).
+---@class roger.SequenceOptions
+---@field fall_back? boolean false: a step that loses its reference ends the sequence NOREF (default true)
 
 ---A skill mapping the state (its actions' gammas) to one of its actions by a table.
 ---@param name string
@@ -124,6 +129,11 @@ roger["not"] = function(p) end
 ---@return roger.Predicate
 function roger.held(p, seconds) end
 
+---The world's judge of a sorting task: every object whose colour is a goal region's colour lies in a
+---region of its colour and is not held.
+---@return roger.Predicate
+function roger.sorted() end
+
 ---The primitive kinds, in order.
 ---@type roger.PrimitiveKind[]
 roger.primitive_kinds = {}
@@ -133,7 +143,7 @@ roger.primitive_kinds = {}
 ---@field actions roger.ControllerRef[] 1 to 12 actions
 ---@field table table<string, roger.ControllerRef|integer> state keys ("CONV * NOREF") to actions
 ---@field done? roger.ControllerRef|roger.Predicate the policy is CONV when this is
----@field fallback? roger.ControllerRef|integer the action of states no key matches
+---@field fallback? roger.ControllerRef|integer|"rotate" the action of states no key matches, or "rotate": the actions in turn
 
 ---The fields of roger.bind(name, c, {...}).
 ---@class roger.BindSpec
@@ -142,11 +152,15 @@ roger.primitive_kinds = {}
 ---@field ignore_delivered? boolean objects already delivered to `region` are no stimulus
 ---@field patience? number seconds before an invocation is given up (0: no limit)
 
+---A time limit that grows with the world: `per_object` simulated seconds for each object.
+---@class roger.TimePerObject
+---@field per_object number
+
 ---A policy of a skill script.
 ---@class roger.SkillPolicy
 ---@field action roger.ControllerRef the controller to run
 ---@field goal roger.Predicate success ends the episode
----@field time_limit number simulated seconds (> 0)
+---@field time_limit number|roger.TimePerObject simulated seconds (> 0), or per object of the world
 ---@field scenario? string scenario name or path (default "unobstructed")
 ---@field description? string
 
