@@ -432,7 +432,8 @@ void write_train_outputs(const TrainResult& r, const std::string& dir_in) {
   const fs::path dir(dir_in);
   std::error_code ec;
   fs::create_directories(dir, ec);
-  if (ec || !fs::is_directory(dir)) throw Error("cannot create the output folder " + dir_in + (ec ? ": " + ec.message() : ""));
+  if (ec) throw FileError("cannot create the output folder '" + dir_in + "': " + ec.message(), dir_in, ec.value());
+  if (!fs::is_directory(dir)) throw Error("cannot create the output folder '" + dir_in + "': it is a file");
   write_file_atomic((dir / "policy.json").string(), train_policy_json(r).dump(1) + "\n");
   std::ostringstream curve, cps, eps;
   curve << "episodes,sim_s,decisions,wall_s,success_rate,reward_mean\n";

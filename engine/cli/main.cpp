@@ -9,7 +9,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include "cli/cli_internal.h"
 #include "cli/commands.h"
+#include "core/error.h"
 
 namespace {
 
@@ -177,6 +179,10 @@ int main(int argc, char** argv) {
     }
     if (*report) return command_report(report_args);
     if (*propose) return command_propose(propose_args);
+  } catch (const FileError& e) {
+    std::fflush(stdout);
+    std::cerr << "roger: error: " << file_error_line(e, false) << "\n";
+    return 1;
   } catch (const std::exception& e) {
     std::fflush(stdout);
     std::cerr << "roger: error: " << e.what() << "\n";

@@ -541,9 +541,9 @@ std::vector<std::string> write_report(const std::string& dir) {
      << " resamples). Cumulative training time: mean simulated time-to-threshold of the skill's source "
         "trials (each trial uses the policy of the same-numbered source trial) stacked under the run's own.\n";
   const std::string tables = (fs::path(dir) / "tables.md").string();
-  write_file_atomic(tables, md.str(), "roger report: cannot write tables.md");
+  write_file_atomic(tables, md.str(), "cannot write tables.md");
   const std::string report_json = (fs::path(dir) / "report.json").string();
-  write_file_atomic(report_json, json{{"tables", rep}}.dump(1) + "\n", "roger report: cannot write report.json");
+  write_file_atomic(report_json, json{{"tables", rep}}.dump(1) + "\n", "cannot write report.json");
   written.insert(written.begin(), {tables, report_json});
   const json page = {{"name", b.name}, {"description", b.description},
                      {"script", manifest.value("script", std::string("?"))}, {"curriculum", b.curriculum},
