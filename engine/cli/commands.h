@@ -95,6 +95,7 @@ struct TrainArgs {
   std::vector<std::string> skills;
   std::vector<std::string> sets;
   bool no_eval_cache = false;  // run every greedy evaluation episode (TrainOptions::eval_cache)
+  bool explain = false;        // say why even when the threshold was reached (TrainOptions::explain)
 };
 
 // Trains one stage and context for one seed and writes its outputs. Returns 0.

@@ -72,6 +72,9 @@ CLI::App* add_train(CLI::App& app, TrainArgs& a) {
   c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)");
   c->add_flag("--no-eval-cache", a.no_eval_cache,
               "Run every evaluation episode, even one the unchanged policy would repeat (same results, slower)");
+  c->add_flag("--explain", a.explain,
+              "Say what the data shows (greedy cycles, actions never run, time-outs) even when the threshold "
+              "was reached; a trial that missed it always says why");
   return c;
 }
 
