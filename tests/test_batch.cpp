@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "batch/batch.h"
+#include "batch/batch_internal.h"
 #include "core/error.h"
 #include "core/rng.h"
 #include "report/report.h"
@@ -138,6 +139,32 @@ TEST_CASE("a file error of the machine stops the trials and fails none of them",
   for (size_t i = 0; i < all.size(); ++i) {
     CHECK(out[i].ok);
     CHECK(out[i].resumed == (i < 5));
+  }
+  fs::remove_all(dir);
+}
+
+TEST_CASE("a run notices a script of its curriculum removed or edited under it", "[batch][faults]") {
+  const fs::path dir = fresh_dir("source_watch");
+  fs::create_directories(dir);
+  const fs::path curriculum = dir / "kill_curriculum.lua";
+  fs::copy_file("tests/scripts/kill_curriculum.lua", curriculum);
+  const batch_detail::SourceWatch watch(curriculum.string());
+  CHECK_NOTHROW(watch.check());
+  std::ofstream(curriculum, std::ios::app) << "-- edited\n";
+  try {
+    watch.check();
+    FAIL("an edited curriculum went unnoticed");
+  } catch (const FileError& e) {
+    CHECK(e.error_number == 0);
+    CHECK(std::string(e.what()) == "'" + curriculum.string() + "' changed while the run was using it");
+  }
+  fs::remove(curriculum);
+  try {
+    watch.check();
+    FAIL("a removed curriculum went unnoticed");
+  } catch (const FileError& e) {
+    CHECK(e.error_number == ENOENT);
+    CHECK(std::string(e.what()) == "cannot read '" + curriculum.string() + "': it was removed while the run was using it");
   }
   fs::remove_all(dir);
 }
