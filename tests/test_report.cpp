@@ -527,8 +527,10 @@ TEST_CASE("the report says why the trials that missed the threshold missed it", 
   CHECK(tables.find("### Why trials did not reach the threshold") != std::string::npos);
   CHECK(tables.find("- A, trial 0 (`trials/L/A/000`): greedy cycle: (go0=") != std::string::npos);
   CHECK(tables.find("- A, trial 0 (`trials/U/A/000`): state never left: (go0=CONV nowhere=NOREF)") != std::string::npos);
+  CHECK_FALSE(json::parse(slurp(out / "trials/R/A/000/result.json")).contains("diagnosis"));  // it reached
   const json rep = json::parse(slurp(out / "report.json"));
-  REQUIRE(rep["tables"].size() == 2);
+  REQUIRE(rep["tables"].size() == 3);
+  CHECK_FALSE(rep["tables"][2].contains("why_not_reached"));
   CHECK(rep["tables"][0]["why_not_reached"][0]["causes"][0].get<std::string>().rfind("greedy cycle:", 0) == 0);
   CHECK(rep["tables"][1]["why_not_reached"][0]["causes"][1] == "never able to run: nowhere (NOREF at every decision)");
   // The dashboard shows the same section (its blocks come from tables.md).
@@ -538,5 +540,17 @@ TEST_CASE("the report says why the trials that missed the threshold missed it", 
   edited["diagnosis"]["causes"] = 3;
   spit(out / "trials/L/A/000/result.json", edited.dump());
   CHECK_THROWS_WITH(write_report(out.string()), Catch::Contains("result.json: field \"diagnosis\" must be an object"));
+  fs::remove_all(out);
+
+  // roger run --explain: every training result says what its data shows, and the report still
+  // lists only the trials that missed the threshold.
+  a.explain = true;
+  REQUIRE(command_run(a) == 0);
+  const json reached = json::parse(slurp(out / "trials/R/A/000/result.json"));
+  CHECK(reached["reached"] == true);
+  CHECK(reached.contains("diagnosis"));
+  const std::string explained = slurp(out / "tables.md");
+  CHECK(explained.find("(`trials/L/A/000`): greedy cycle") != std::string::npos);
+  CHECK(explained.find("`trials/R/A/000`") == std::string::npos);
   fs::remove_all(out);
 }

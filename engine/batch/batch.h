@@ -146,6 +146,7 @@ struct RunControl {
   std::ostream* log = nullptr;      // progress and messages (nullptr: none)
   Shard shard;                      // only this shard's trials; a shard writes no summary.csv
   bool eval_cache = true;           // reuse greedy evaluation episodes (TrainOptions::eval_cache)
+  bool explain = false;             // a diagnosis in every training result (TrainOptions::explain)
 };
 
 // What a run of the plan left in its folder.

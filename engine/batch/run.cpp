@@ -269,9 +269,10 @@ std::string policy_of(const std::string& out, const std::string& id) {
 // A training trial: trains the run's stage and context with the trial's seed, reusing the
 // policies of the same trial index of the runs its skills come from.
 nlohmann::json training_trial(const BatchPlan& plan, const PlannedTrial& t, const std::string& dir,
-                              bool eval_cache) {
+                              const RunControl& control) {
   TrainOptions o;
-  o.eval_cache = eval_cache;
+  o.eval_cache = control.eval_cache;
+  o.explain = control.explain;
   o.curriculum = plan.script->curriculum_file;
   o.stage = t.run->stage;
   o.context = t.context;
@@ -536,7 +537,7 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
     const auto t0 = Clock::now();
     try {
       sources.check();
-      return t.run ? training_trial(plan, t, dir, control.eval_cache) : evaluation_trial(plan, t, t0);
+      return t.run ? training_trial(plan, t, dir, control) : evaluation_trial(plan, t, t0);
     } catch (const FileError&) {
       throw;  // not the trial's fault: the run stops (run_trials)
     } catch (const std::exception& e) {

@@ -24,6 +24,7 @@ struct RunArgs {
   int max_trials = 0;               // > 0: stop after starting this many new trials (tests, partial runs)
   std::string shard;                // "K/N" or "slurm": only that shard's trials, and no report ("" = all)
   bool no_eval_cache = false;       // run every greedy evaluation episode (same results, slower)
+  bool explain = false;             // every training trial's result.json says why, reached or not
   std::ostream* progress = nullptr; // where progress and messages go (nullptr = standard error)
 };
 

@@ -109,6 +109,9 @@ CLI::App* add_run(CLI::App& app, RunArgs& a) {
   c->add_flag("--no-eval-cache", a.no_eval_cache,
               "Run every greedy evaluation episode instead of reusing those the policy would repeat "
               "(identical results, slower: a check of the cache)");
+  c->add_flag("--explain", a.explain,
+              "Every training trial's result.json says what its data shows (greedy cycles, actions never run, "
+              "time-outs), not only those that missed the threshold");
   c->add_option("--shard", a.shard,
                 "Run only shard K/N (0-based) of the trials, or 'slurm' inside a Slurm job array; "
                 "shards share one results folder, and roger report writes the report when all are done");

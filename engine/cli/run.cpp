@@ -106,7 +106,7 @@ int command_run(const RunArgs& a) {
           << " when every shard is done)\n";
     // The dashboard from the start: it follows the run's status.js until the report is written.
     log << "roger run: open " << write_dashboard_page(plan.out) << " to follow the run\n";
-    const BatchSummary summary = run_batch(plan, RunControl{a.jobs, a.live, a.max_trials, a.only, &log, shard, !a.no_eval_cache});
+    const BatchSummary summary = run_batch(plan, RunControl{a.jobs, a.live, a.max_trials, a.only, &log, shard, !a.no_eval_cache, a.explain});
     int status = 0;
     if (!summary.corrupt.empty() && !a.no_report && !shard.active()) {
       log << "roger run: no report: some trials' files cannot be read (listed below)\n";

@@ -308,7 +308,7 @@ json why_not_reached(const BatchRun& run, const Folder& folder, std::ostringstre
   for (const auto& c : run.contexts) {
     const Results r = folder.run(run, c);
     for (const auto& j : r.ok) {
-      if (!j.contains("diagnosis")) continue;
+      if (!j.contains("diagnosis") || j.value("reached", true)) continue;  // --explain explains them all
       const int trial = j.value("trial", 0);
       std::vector<std::string> causes = j["diagnosis"]["causes"].get<std::vector<std::string>>();
       if (causes.empty()) causes.push_back("nothing stands out in the data");

@@ -6,6 +6,7 @@
 --     (NOREF throughout).
 --   unused: the absorbing state needs that navigator to converge, and a learner that chooses only
 --     actions with a reference never runs it: go0 arrives, and the state is never left.
+--   reach: go0 alone, absorbed on arrival: reaches its threshold (explained only when asked).
 local go0 = roger.primitive("phi1", { goal = "region", region = 0, name = "go0" })
 local go1 = roger.primitive("phi1", { goal = "region", region = 1, name = "go1" })
 local nowhere = roger.primitive("phi1", { goal = "region", region = 9, name = "nowhere" })
@@ -34,5 +35,7 @@ return {
     stage{ name = "unused", actions = { go0, nowhere }, absorbing = roger.converged(nowhere),
            learner = { referenced_only = true }, time_limit = 6, budget = { episodes = 6 },
            checkpoints = { every = 3, episodes = 2, final = 2 } },
+    stage{ name = "reach", actions = { go0 }, absorbing = roger.converged(go0), time_limit = 6,
+           budget = { episodes = 2 }, checkpoints = { every = 2, episodes = 2, final = 2 } },
   },
 }
