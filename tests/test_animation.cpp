@@ -254,6 +254,40 @@ TEST_CASE("an episode becomes frames, a replay page and episode.json") {
   }
 }
 
+TEST_CASE("episode.json marks the cycle a timed-out episode ended in") {
+  Phi6Episode e;
+  EpisodeResult ep = e.run(4.0);
+  REQUIRE(ep.ticks > 40);
+  TempDir dir;
+  // Rewritten as a livelock: from tick 11 on, "a" runs in states (CONV, !CONV) and "b" in
+  // (!CONV, CONV), every 5 ticks, until the time-out.
+  ep.success = false;
+  ep.decisions = {{1, {"start"}}};
+  for (auto& g : ep.gammas) g.states.assign(size_t(ep.ticks), Gamma::kNoRef);
+  for (int tick = 11, k = 0; tick + 5 <= ep.ticks; tick += 5, ++k) {
+    ep.decisions.push_back({tick, {"skill", k % 2 ? "b" : "a"}});
+    for (int t = tick - 2; t < tick + 3; ++t) {  // the states seen at the decision, and after it
+      ep.gammas[0].states[size_t(t)] = k % 2 ? Gamma::kNotConv : Gamma::kConv;
+      ep.gammas[1].states[size_t(t)] = k % 2 ? Gamma::kConv : Gamma::kNotConv;
+    }
+  }
+  if (ep.decisions.size() % 2 == 0) ep.decisions.pop_back();  // whole turns: a, b, ..., a, b
+  render_episode(e.spec, ep, dir.path.string(), small_options());
+  const nlohmann::json cycle = nlohmann::json::parse(slurp(dir.path / "episode.json"))["cycle"];
+  REQUIRE(cycle.is_object());
+  CHECK(cycle["from_tick"] == 11);
+  CHECK(cycle["first_decision"] == 1);
+  CHECK(cycle["period"] == 2);
+  CHECK(cycle["turns"].get<int>() == int(ep.decisions.size() - 1) / 2);
+  CHECK(cycle["actions"].size() == 2);
+  CHECK(slurp(dir.path / "index.html").find("E.cycle") != std::string::npos);  // the page draws it
+
+  // An episode that reached its goal, or never repeats itself, has none.
+  ep.success = true;
+  render_episode(e.spec, ep, dir.path.string(), small_options());
+  CHECK(nlohmann::json::parse(slurp(dir.path / "episode.json"))["cycle"].is_null());
+}
+
 TEST_CASE("a summary is one PNG: evenly spaced frames over the timeline") {
   Phi6Episode e;
   const EpisodeResult ep = e.run(2.0);

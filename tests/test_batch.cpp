@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -13,6 +14,7 @@
 #include <sstream>
 
 #include "batch/batch.h"
+#include "batch/batch_internal.h"
 #include "core/error.h"
 #include "core/rng.h"
 #include "report/report.h"
@@ -104,6 +106,67 @@ TEST_CASE("an interrupted batch resumes without losing or repeating a trial", "[
   }
   fs::remove_all(dir);
   fs::remove_all(clean);
+}
+
+TEST_CASE("a file error of the machine stops the trials and fails none of them", "[batch][faults]") {
+  // The sixth trial meets a full disk: no trial is recorded as failed (no error.json, not even the
+  // sixth's), none starts after it, and run_trials rethrows it; the same call resumes the rest.
+  const fs::path dir = fresh_dir("disk_full");
+  const auto all = ids(10);
+  std::atomic<int> calls{0};
+  const auto full_at_sixth = [&](const std::string& id, const std::string& d) {
+    if (++calls == 6) throw FileError("cannot write the policy file '" + d + "/policy.json': No space left on device",
+                                      d + "/policy.json", ENOSPC);
+    return work(id, d);
+  };
+  try {
+    run_trials(all, full_at_sixth, BatchOptions{1, dir.string()});
+    FAIL("no FileError");
+  } catch (const FileError& e) {
+    CHECK(e.error_number == ENOSPC);
+    CHECK(std::string(e.what()).find("policy.json") != std::string::npos);
+  }
+  CHECK(calls == 6);
+  int finished = 0;
+  for (const auto& id : all) {
+    CHECK_FALSE(fs::exists(fs::path(trial_dir(dir.string(), id)) / "error.json"));
+    finished += fs::exists(fs::path(trial_dir(dir.string(), id)) / "result.json");
+  }
+  CHECK(finished == 5);
+  CHECK_FALSE(fs::exists(trial_dir(dir.string(), all[5])));  // its partial files removed
+  const auto out = run_trials(all, full_at_sixth, BatchOptions{2, dir.string()});
+  CHECK(calls == 11);  // the five left, once each
+  for (size_t i = 0; i < all.size(); ++i) {
+    CHECK(out[i].ok);
+    CHECK(out[i].resumed == (i < 5));
+  }
+  fs::remove_all(dir);
+}
+
+TEST_CASE("a run notices a script of its curriculum removed or edited under it", "[batch][faults]") {
+  const fs::path dir = fresh_dir("source_watch");
+  fs::create_directories(dir);
+  const fs::path curriculum = dir / "kill_curriculum.lua";
+  fs::copy_file("tests/scripts/kill_curriculum.lua", curriculum);
+  const batch_detail::SourceWatch watch(curriculum.string());
+  CHECK_NOTHROW(watch.check());
+  std::ofstream(curriculum, std::ios::app) << "-- edited\n";
+  try {
+    watch.check();
+    FAIL("an edited curriculum went unnoticed");
+  } catch (const FileError& e) {
+    CHECK(e.error_number == 0);
+    CHECK(std::string(e.what()) == "'" + curriculum.string() + "' changed while the run was using it");
+  }
+  fs::remove(curriculum);
+  try {
+    watch.check();
+    FAIL("a removed curriculum went unnoticed");
+  } catch (const FileError& e) {
+    CHECK(e.error_number == ENOENT);
+    CHECK(std::string(e.what()) == "cannot read '" + curriculum.string() + "': it was removed while the run was using it");
+  }
+  fs::remove_all(dir);
 }
 
 TEST_CASE("a failing trial is recorded and does not lose the others", "[batch]") {

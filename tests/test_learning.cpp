@@ -13,6 +13,7 @@
 
 #include "control/agent.h"
 #include "core/error.h"
+#include "learn/decision_cycle.h"
 #include "learn/learning.h"
 #include "control/predicate.h"
 #include "control/primitives.h"
@@ -791,4 +792,27 @@ TEST_CASE("a truncated, empty or foreign policy file is refused naming the file,
   CHECK(refused("{\"format\": \"roger-results/1\", \"config\": {}}", {"format"}));
   std::filesystem::remove(damaged);
   std::filesystem::remove(path);
+}
+
+TEST_CASE("a cycle of decisions is found at the end of an episode, whatever its phase", "[learning][explain]") {
+  // states 7, 3, 7, 3, ... with actions 1, 0, ...: a turn of two decisions, three turns.
+  const DecisionCycle c = find_decision_cycle({5, 7, 3, 7, 3, 7, 3}, {2, 1, 0, 1, 0, 1, 0});
+  CHECK(c.turns == 3);
+  CHECK(c.first == 1);
+  CHECK(c.states == std::vector<int>{3, 7});  // rotated to its least (state, action)
+  CHECK(c.actions == std::vector<int>{0, 1});
+  // Entered at the other point of its turn, the same cycle.
+  const DecisionCycle d = find_decision_cycle({3, 7, 3, 7}, {0, 1, 0, 1});
+  CHECK(d.states == c.states);
+  CHECK(d.actions == c.actions);
+  CHECK(d.turns == 2);
+  // A longer turn, and the shortest period wins.
+  const DecisionCycle e = find_decision_cycle({1, 2, 4, 1, 2, 4}, {0, 0, 1, 0, 0, 1});
+  CHECK(e.states == std::vector<int>{1, 2, 4});
+  CHECK(e.turns == 2);
+  // No repetition up to the end, or one turn only: no cycle.
+  CHECK(find_decision_cycle({1, 2, 3, 4}, {0, 1, 0, 1}).turns == 0);
+  CHECK(find_decision_cycle({1, 2, 1, 2, 9}, {0, 1, 0, 1, 0}).turns == 0);
+  CHECK(find_decision_cycle({3, 7, 3, 7}, {0, 1, 0, 0}).turns == 0);  // same states, other actions
+  CHECK(find_decision_cycle({}, {}).turns == 0);
 }

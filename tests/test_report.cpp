@@ -508,3 +508,49 @@ TEST_CASE("a damaged trial result is a roger::Error naming its file, never an ab
   }
   fs::remove_all(dir);
 }
+
+TEST_CASE("the report says why the trials that missed the threshold missed it", "[report][explain]") {
+  // tests/scripts/explain_batch.lua: a livelocked stage and one that never runs the action it needs.
+  const fs::path out = fs::temp_directory_path() / ("roger_report_explain_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  RunArgs a;
+  a.script = "tests/scripts/explain_batch.lua";
+  a.out = out.string();
+  a.jobs = 2;
+  std::ostringstream log;
+  a.progress = &log;
+  REQUIRE(command_run(a) == 0);  // a trial that misses its threshold has not failed
+  const json result = json::parse(slurp(out / "trials/L/A/000/result.json"));
+  REQUIRE(result.contains("diagnosis"));
+  CHECK(result["diagnosis"]["cycle"]["turns"].get<int>() >= 2);
+  const std::string tables = slurp(out / "tables.md");
+  CHECK(tables.find("### Why trials did not reach the threshold") != std::string::npos);
+  CHECK(tables.find("- A, trial 0 (`trials/L/A/000`): greedy cycle: (go0=") != std::string::npos);
+  CHECK(tables.find("- A, trial 0 (`trials/U/A/000`): state never left: (go0=CONV nowhere=NOREF)") != std::string::npos);
+  CHECK_FALSE(json::parse(slurp(out / "trials/R/A/000/result.json")).contains("diagnosis"));  // it reached
+  const json rep = json::parse(slurp(out / "report.json"));
+  REQUIRE(rep["tables"].size() == 3);
+  CHECK_FALSE(rep["tables"][2].contains("why_not_reached"));
+  CHECK(rep["tables"][0]["why_not_reached"][0]["causes"][0].get<std::string>().rfind("greedy cycle:", 0) == 0);
+  CHECK(rep["tables"][1]["why_not_reached"][0]["causes"][1] == "never able to run: nowhere (NOREF at every decision)");
+  // The dashboard shows the same section (its blocks come from tables.md).
+  CHECK(slurp(out / "dashboard.js").find("Why trials did not reach the threshold") != std::string::npos);
+  // A hand-edited diagnosis is named, not read as something else.
+  json edited = result;
+  edited["diagnosis"]["causes"] = 3;
+  spit(out / "trials/L/A/000/result.json", edited.dump());
+  CHECK_THROWS_WITH(write_report(out.string()), Catch::Contains("result.json: field \"diagnosis\" must be an object"));
+  fs::remove_all(out);
+
+  // roger run --explain: every training result says what its data shows, and the report still
+  // lists only the trials that missed the threshold.
+  a.explain = true;
+  REQUIRE(command_run(a) == 0);
+  const json reached = json::parse(slurp(out / "trials/R/A/000/result.json"));
+  CHECK(reached["reached"] == true);
+  CHECK(reached.contains("diagnosis"));
+  const std::string explained = slurp(out / "tables.md");
+  CHECK(explained.find("(`trials/L/A/000`): greedy cycle") != std::string::npos);
+  CHECK(explained.find("`trials/R/A/000`") == std::string::npos);
+  fs::remove_all(out);
+}

@@ -18,6 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "batch/explain.h"
 #include "batch/trainer.h"
 #include "control/agent.h"
 #include "script/curriculum/curriculum.h"
@@ -492,4 +493,113 @@ TEST_CASE("a trial capped in simulated seconds is the uncapped trial's prefix, s
   CHECK(skill_s > 0.0);
   CHECK(skill_s + r.totals.sim_s >= 150.0);
   CHECK(skill_s + r.totals.sim_s < 150.0 + 5.0 + 10.0);  // one episode past the cap in each stage
+}
+
+namespace {
+
+// A stage of tests/scripts/explain_curriculum.lua (built to fail), trained for seed 1.
+TrainResult train_fixture(const std::string& stage) {
+  TrainOptions o;
+  o.curriculum = "tests/scripts/explain_curriculum.lua";
+  o.stage = stage;
+  o.context = "A";
+  o.seed = 1;
+  return train_stage(o);
+}
+
+}  // namespace
+
+TEST_CASE("a livelocked stage is explained by its greedy cycle", "[trainer][explain]") {
+  // Arrivals pay and nothing absorbs: the greedy policy shuttles between the two regions.
+  const TrainResult r = train_fixture("livelock");
+  REQUIRE_FALSE(r.reached);
+  const TrainingDiagnosis d = diagnose_training(r);
+  REQUIRE(d.cycle.turns >= 3);
+  CHECK(d.cycle_episodes == d.final_episodes);
+  CHECK(d.final_timeouts == d.final_episodes);
+  std::vector<std::string> actions;
+  for (int a : d.cycle.actions) actions.push_back(r.psi[size_t(a)]);
+  std::sort(actions.begin(), actions.end());
+  CHECK(actions == std::vector<std::string>{"go0", "go1"});
+  for (int s : d.cycle.states) CHECK(d.state_text(s).find("nowhere=NOREF") != std::string::npos);
+  CHECK(d.never_referenced == std::vector<int>{2});  // nowhere: its region does not exist
+  CHECK(d.stuck.empty());
+  CHECK(d.train_timeouts == d.train_episodes);
+  const std::vector<std::string> causes = d.causes();
+  REQUIRE_FALSE(causes.empty());
+  CHECK(causes.front().rfind("greedy cycle: (", 0) == 0);
+  // result.json and summary.json carry the same, because the threshold was not reached.
+  const nlohmann::json j = train_summary_json(r);
+  REQUIRE(j.contains("diagnosis"));
+  CHECK(j["diagnosis"]["cycle"]["actions"].size() == 2);
+  CHECK(j["diagnosis"]["never_referenced"] == nlohmann::json::array({"nowhere"}));
+  CHECK(j["diagnosis"]["timeouts"]["final"] == 1.0);
+}
+
+TEST_CASE("a stage that never runs the action it needs is explained", "[trainer][explain]") {
+  // Only referenced actions are chosen, and the one the absorbing state needs is NOREF throughout.
+  const TrainResult r = train_fixture("unused");
+  REQUIRE_FALSE(r.reached);
+  const TrainingDiagnosis d = diagnose_training(r);
+  CHECK(d.cycle.turns == 0);
+  CHECK(d.never_tried == std::vector<int>{1});
+  CHECK(d.never_chosen == std::vector<int>{1});
+  CHECK(d.never_referenced == std::vector<int>{1});
+  REQUIRE(d.stuck.size() == 1);
+  CHECK(d.state_text(d.stuck[0].state) == "go0=CONV nowhere=NOREF");
+  CHECK(r.psi[size_t(d.stuck[0].action)] == "go0");
+  CHECK(d.stuck[0].episodes == d.final_episodes);
+  const std::vector<std::string> causes = d.causes();
+  REQUIRE(causes.size() >= 3);
+  CHECK(causes[0] == "state never left: (go0=CONV nowhere=NOREF), where go0 ran until the time-out in 2 of 2 final "
+                     "greedy episodes");
+  CHECK(causes[1] == "never able to run: nowhere (NOREF at every decision)");
+  CHECK(causes[2] == "never chosen in training: nowhere");
+}
+
+TEST_CASE("roger train says why it missed the threshold, and --explain why it reached it", "[trainer][explain][cli]") {
+  const fs::path out = fs::temp_directory_path() / ("roger_explain_" + std::to_string(::getpid()));
+  const auto [status, text] = run_roger("train tests/scripts/explain_curriculum.lua --stage livelock --context A --out " +
+                                        out.string());
+  CHECK(status == 0);
+  CHECK(text.find("  why            greedy cycle: (go0=") != std::string::npos);
+  CHECK(text.find("never able to run: nowhere") != std::string::npos);
+  CHECK(nlohmann::json::parse(slurp(out / "summary.json")).contains("diagnosis"));
+  // A stage that reaches its threshold says why only when asked.
+  const auto [quiet_status, quiet] = run_roger("train curricula/paper.lua --stage SG --context DC2 --seed 1 --out " +
+                                               out.string());
+  CHECK(quiet_status == 0);
+  CHECK(quiet.find("why ") == std::string::npos);
+  CHECK_FALSE(nlohmann::json::parse(slurp(out / "summary.json")).contains("diagnosis"));
+  const auto [asked_status, asked] = run_roger("train curricula/paper.lua --stage SG --context DC2 --seed 1 --explain --out " +
+                                               out.string());
+  CHECK(asked_status == 0);
+  CHECK(asked.find("  why ") != std::string::npos);
+  CHECK(nlohmann::json::parse(slurp(out / "summary.json")).contains("diagnosis"));
+  fs::remove_all(out);
+}
+
+TEST_CASE("checkpoints that passed and then failed are named", "[trainer][explain]") {
+  TrainResult r;
+  r.psi = {"a", "b"};
+  r.threshold = 0.9;
+  const double rates[] = {0.5, 0.95, 0.6, 0.95, 1.0};
+  for (int k = 0; k < 5; ++k) {
+    CheckpointRecord c;
+    c.at.episodes = 20 * (k + 1);
+    c.success_rate = rates[k];
+    c.policy_changed = true;
+    r.checkpoints.push_back(c);
+  }
+  const TrainingDiagnosis d = diagnose_training(r);
+  REQUIRE(d.drops.size() == 1);
+  CHECK(d.drops[0].passed == 2);
+  CHECK(d.drops[0].failed == 3);
+  CHECK(d.causes() == std::vector<std::string>{
+                          "checkpoint 2 passed (95%) and checkpoint 3 failed (60%, after 60 episodes: the greedy "
+                          "policy changed)"});
+  // Without episodes (none kept), nothing is claimed about actions or time-outs.
+  CHECK(d.never_tried.empty());
+  CHECK(d.never_referenced.empty());
+  CHECK(d.train_episodes == 0);
 }

@@ -50,13 +50,17 @@ struct TrialError : Error {
 
 // A trial: given its id and its own folder (created, empty), returns its result. It may write
 // files into the folder (atomically); throwing records the error as the trial's result: error.json
-// holds {"error": message, "trial": id} and, for a TrialError, its details.
+// holds {"error": message, "trial": id} and, for a TrialError, its details. A roger::FileError (a
+// full disk, a folder not writable, a script removed: the machine's fault, not the trial's) records
+// nothing and stops the run (run_trials).
 using TrialFunction = std::function<nlohmann::json(const std::string& id, const std::string& dir)>;
 
 // Runs the trials not already finished in out_dir, `jobs` at a time, and returns every trial's
 // outcome in the order of `ids`. A trial is finished when <dir>/result.json (or error.json)
 // exists; a folder without either (a trial cut short) is emptied and run again. Ids are paths
 // of safe characters ([A-Za-z0-9._-] segments separated by '/'), unique: otherwise roger::Error.
+// After a trial throws a FileError no other trial starts; the running ones end, and the first
+// FileError is rethrown (the trials finished so far are kept, so the same call resumes).
 std::vector<TrialOutcome> run_trials(const std::vector<std::string>& ids, const TrialFunction& run,
                                      const BatchOptions& options);
 
@@ -142,6 +146,7 @@ struct RunControl {
   std::ostream* log = nullptr;      // progress and messages (nullptr: none)
   Shard shard;                      // only this shard's trials; a shard writes no summary.csv
   bool eval_cache = true;           // reuse greedy evaluation episodes (TrainOptions::eval_cache)
+  bool explain = false;             // a diagnosis in every training result (TrainOptions::explain)
 };
 
 // What a run of the plan left in its folder.

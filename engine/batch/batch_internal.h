@@ -2,6 +2,8 @@
 #pragma once
 
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -11,6 +13,22 @@ namespace roger::batch_detail {
 
 // The first line of a message.
 std::string first_line(const std::string& s);
+
+// ---- plan.cpp ----
+
+// The Lua files a run's trials read (the curriculum, what it requires, its scenarios) as they were
+// when the run started. Every trial loads them again, so one removed or edited meanwhile would fail
+// every later trial, or train them on another curriculum than the manifest records.
+class SourceWatch {
+ public:
+  // Loads the curriculum once to list its files and fingerprints them.
+  explicit SourceWatch(const std::string& curriculum_file);
+  // Throws roger::FileError naming the first file that is gone (ENOENT) or changed (0).
+  void check() const;
+
+ private:
+  std::vector<std::pair<std::string, std::string>> files_;  // path, fingerprint
+};
 
 // ---- records.cpp: reading a results folder back, every file checked ----
 

@@ -153,10 +153,13 @@ class FolderLock {
   explicit FolderLock(const std::string& out) {
     std::error_code ec;
     fs::create_directories(out, ec);
-    if (ec) throw Error("cannot create the results folder '" + out + "': " + ec.message());
+    if (ec) throw FileError("cannot create the results folder '" + out + "': " + ec.message(), out, ec.value());
     const std::string path = (fs::path(out) / ".lock").string();
     fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
-    if (fd_ < 0) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+    if (fd_ < 0) {
+      const int err = errno;
+      throw FileError("cannot open '" + path + "': " + std::strerror(err), path, err);
+    }
     while (::flock(fd_, LOCK_EX) != 0)
       if (errno != EINTR) {
         const int err = errno;
@@ -197,6 +200,21 @@ int recorded_shard_count(const std::string& out) {
 }  // namespace
 
 namespace batch_detail {
+
+SourceWatch::SourceWatch(const std::string& curriculum_file) {
+  for (const fs::path& f : curriculum_source_files(Curriculum::load(curriculum_file)))
+    files_.emplace_back(f.string(), fingerprint(read_file_text(f.string())));
+}
+
+void SourceWatch::check() const {
+  for (const auto& [path, print] : files_) {
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec))
+      throw FileError("cannot read '" + path + "': it was removed while the run was using it", path, ENOENT);
+    if (fingerprint(read_file_text(path)) != print)
+      throw FileError("'" + path + "' changed while the run was using it", path, 0);
+  }
+}
 
 std::string first_line(const std::string& s) {
   const size_t nl = s.find('\n');
@@ -334,7 +352,7 @@ bool open_results_folder(const BatchPlan& plan) {
                          {"config", config},
                          {"trials", ids},
                          {"seeds", seeds}};
-  write_file_atomic(manifest_path.string(), manifest.dump(1) + "\n", "roger run: cannot write the manifest");
+  write_file_atomic(manifest_path.string(), manifest.dump(1) + "\n", "cannot write the manifest");
   return false;
 }
 
@@ -391,7 +409,7 @@ BatchSummary write_summary_csv(const BatchPlan& plan) {
       ++s.trials;
       summary_row(csv, t, status, r, error);
     }
-  write_file_atomic((fs::path(plan.out) / "summary.csv").string(), csv.str(), "roger run: cannot write summary.csv");
+  write_file_atomic((fs::path(plan.out) / "summary.csv").string(), csv.str(), "cannot write summary.csv");
   return s;
 }
 

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
+#include <exception>
 #include <filesystem>
 #include <map>
 #include <mutex>
@@ -93,6 +94,7 @@ class TrialPool {
       std::lock_guard<std::mutex> lock(mutex_);
       *options_.progress << (options_.live ? "\r\033[K" : "") << progress_line(true) << "\n" << std::flush;
     }
+    if (stop_) std::rethrow_exception(stop_);
     return std::move(outcomes_);
   }
 
@@ -113,38 +115,49 @@ class TrialPool {
     return os.str();
   }
 
-  // A worker: takes pending trials one by one until none is left.
+  // A worker: takes pending trials one by one until none is left or the run stops.
   void work() {
     for (;;) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (stop_) return;
+      }
       const size_t k = next_.fetch_add(1);
       if (k >= pending_.size()) return;
       {
         std::lock_guard<std::mutex> lock(mutex_);
         ++running_;
       }
-      run_one(outcomes_[pending_[k]]);
+      const bool finished = run_one(outcomes_[pending_[k]]);
       {
         std::lock_guard<std::mutex> lock(mutex_);
         --running_;
-        ++done_;
+        finished ? ++done_ : ++stopped_;
       }
       wake_.notify_all();
     }
   }
 
-  // Runs one trial in a fresh folder and commits its result.json, or its error.json.
-  void run_one(TrialOutcome& out) {
+  // Runs one trial in a fresh folder and commits its result.json, or its error.json; returns false
+  // when a FileError (a full disk, a folder not writable, a script removed) stopped it: the trial is
+  // not at fault, so it records nothing and the run stops (run() rethrows the first such error).
+  bool run_one(TrialOutcome& out) {
     const std::string dir = trial_dir(options_.out_dir, out.id);
     std::error_code ec;
     fs::remove_all(dir, ec);  // a trial cut short: start it afresh
     fs::create_directories(dir, ec);
     const auto t0 = Clock::now();
     try {
-      if (ec) throw Error("batch: cannot create '" + dir + "': " + ec.message());
+      if (ec) throw FileError("cannot create the trial folder '" + dir + "': " + ec.message(), dir, ec.value());
       out.result = run_(out.id, dir);
       out.ok = true;
       write_file_atomic((fs::path(dir) / "result.json").string(), out.result.dump(1) + "\n",
-                        "batch: cannot write the trial result");
+                        "cannot write the trial result");
+    } catch (const FileError&) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!stop_) stop_ = std::current_exception();
+      fs::remove_all(dir, ec);  // its partial files: the resumed run starts it afresh anyway
+      return false;
     } catch (const std::exception& e) {
       out.ok = false;
       const auto* detailed = dynamic_cast<const TrialError*>(&e);
@@ -153,12 +166,13 @@ class TrialPool {
       out.result["trial"] = out.id;
       try {
         write_file_atomic((fs::path(dir) / "error.json").string(), out.result.dump(1) + "\n",
-                          "batch: cannot write the trial error");
+                          "cannot write the trial error");
       } catch (const std::exception&) {
         // The outcome still carries the error; the trial will simply run again on resume.
       }
     }
     out.wall_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    return true;
   }
 
   // Live mode: one line redrawn in place every quarter second.
@@ -175,7 +189,7 @@ class TrialPool {
   void report_plain() {
     std::unique_lock<std::mutex> lock(mutex_);
     auto next_line = Clock::now();
-    while (done_ < pending_.size()) {
+    while (done_ + stopped_ < pending_.size() && !(stop_ && running_ == 0)) {
       if (Clock::now() >= next_line) {
         *options_.progress << progress_line(false) << "\n" << std::flush;
         next_line = Clock::now() + std::chrono::duration_cast<Clock::duration>(
@@ -194,7 +208,8 @@ class TrialPool {
   std::mutex mutex_;
   std::condition_variable wake_;
   std::atomic<size_t> next_{0};
-  size_t done_ = 0, running_ = 0;
+  size_t done_ = 0, running_ = 0, stopped_ = 0;
+  std::exception_ptr stop_;  // the first FileError: no worker starts another trial after it
   bool finished_ = false;
 };
 
@@ -254,9 +269,10 @@ std::string policy_of(const std::string& out, const std::string& id) {
 // A training trial: trains the run's stage and context with the trial's seed, reusing the
 // policies of the same trial index of the runs its skills come from.
 nlohmann::json training_trial(const BatchPlan& plan, const PlannedTrial& t, const std::string& dir,
-                              bool eval_cache) {
+                              const RunControl& control) {
   TrainOptions o;
-  o.eval_cache = eval_cache;
+  o.eval_cache = control.eval_cache;
+  o.explain = control.explain;
   o.curriculum = plan.script->curriculum_file;
   o.stage = t.run->stage;
   o.context = t.context;
@@ -397,7 +413,7 @@ BatchSummary record_shard(const BatchPlan& plan, const Shard& shard) {
   const nlohmann::json record = {{"shard", shard.index}, {"shards", shard.count}, {"trials", s.trials},
                                  {"failed", failed},     {"pending", s.pending}};
   write_file_atomic((fs::path(plan.out) / "shards" / name).string(), record.dump(1) + "\n",
-                    "roger run: cannot write the shard's record");
+                    "cannot write the shard's record");
   return s;
 }
 
@@ -488,11 +504,11 @@ class StatusWriter {
     try {
       const nlohmann::json j = scan(running);
       write_file_atomic((fs::path(plan_.out) / "status.json").string(), j.dump(1) + "\n",
-                        "roger run: cannot write status.json");
+                        "cannot write status.json");
       write_file_atomic((fs::path(plan_.out) / "status.js").string(),
                         "// Generated by roger run: its progress for index.html (a copy of status.json).\n"
                         "window.ROGER_STATUS = " + j.dump() + ";\n",
-                        "roger run: cannot write status.js");
+                        "cannot write status.js");
     } catch (const std::exception&) {
       // Progress for a page is a convenience: a full disk must not stop the trials.
     }
@@ -515,12 +531,17 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
   std::map<std::string, const PlannedTrial*> by_id;
   for (const auto& p : plan.phases)
     for (const auto& t : p) by_id[t.id] = &t;
+  const SourceWatch sources(plan.script->curriculum_file);
   const TrialFunction trial = [&](const std::string& id, const std::string& dir) -> nlohmann::json {
     const PlannedTrial& t = *by_id.at(id);
     const auto t0 = Clock::now();
     try {
-      return t.run ? training_trial(plan, t, dir, control.eval_cache) : evaluation_trial(plan, t, t0);
+      sources.check();
+      return t.run ? training_trial(plan, t, dir, control) : evaluation_trial(plan, t, t0);
+    } catch (const FileError&) {
+      throw;  // not the trial's fault: the run stops (run_trials)
     } catch (const std::exception& e) {
+      sources.check();  // a script removed or edited under the trial is the cause, not the trial
       throw TrialError(e.what(), fault_details(t, e));
     }
   };

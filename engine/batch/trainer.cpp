@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "batch/batch_internal.h"
+#include "batch/explain.h"
 #include "control/agent.h"
 #include "script/curriculum/curriculum.h"
 #include "core/error.h"
@@ -127,8 +128,9 @@ struct EvalCache {
 // A greedy evaluation on held-out seeds first_seed, first_seed + 1, ...; with a cache, reusing the
 // episodes that would run again exactly as they last did.
 // `phase` names the evaluation in errors ("final evaluation").
+// `keep`: keep the episodes in GreedyEval::runs (the final evaluation, for the diagnosis).
 GreedyEval greedy_eval(StageRun& run, QTable& q, uint64_t first_seed, int episodes, const std::string& phase,
-                       EvalCache* cache = nullptr) {
+                       EvalCache* cache = nullptr, bool keep = false) {
   GreedyEval g;
   g.episodes = episodes;
   g.first_seed = first_seed;
@@ -148,6 +150,7 @@ GreedyEval greedy_eval(StageRun& run, QTable& q, uint64_t first_seed, int episod
     time += ep.sim_seconds;
     for (int a : ep.actions_taken) ++counts[size_t(a)];
     g.decisions += ep.decisions;
+    if (keep) g.runs.push_back(ep);
   }
   double mean = 0.0, var = 0.0;
   for (double r : rewards) mean += r;
@@ -309,9 +312,9 @@ TrainResult train_stage(const TrainOptions& options) {
   EvalCache eval_cache;
   EvalCache* cache = options.eval_cache && !stage.absorbing_lua && !stage.reward_lua ? &eval_cache : nullptr;
   // One greedy evaluation, counted (every episode reused, or not).
-  auto evaluate = [&](int episodes, const std::string& phase) {
+  auto evaluate = [&](int episodes, const std::string& phase, bool keep = false) {
     const int reused_before = eval_cache.reused;
-    GreedyEval g = greedy_eval(run, q, cp.seeds, episodes, phase, cache);
+    GreedyEval g = greedy_eval(run, q, cp.seeds, episodes, phase, cache, keep);
     ++res.evals;
     res.eval_episodes += episodes;
     res.eval_episodes_reused += eval_cache.reused - reused_before;
@@ -361,7 +364,8 @@ TrainResult train_stage(const TrainOptions& options) {
   // The first checkpoint from which the rate stays at or above the threshold to the end.
   res.reached = passing > 0;
   res.to_threshold = res.reached ? res.checkpoints[res.checkpoints.size() - size_t(passing)].at : spent;
-  if (options.final_evaluation) res.final_eval = evaluate(cp.final_episodes, "final evaluation");
+  if (options.final_evaluation) res.final_eval = evaluate(cp.final_episodes, "final evaluation", true);
+  res.explain = options.explain;
   res.wall_s = seconds_since(t0);
   return res;
 }
@@ -426,6 +430,7 @@ nlohmann::json train_summary_json(const TrainResult& r) {
     j["skills"][s.name] = k;
   }
   for (const auto& [k, v] : r.params) j["params"][k] = v;
+  if (!r.reached || r.explain) j["diagnosis"] = diagnose_training(r).to_json();
   return j;
 }
 
@@ -433,7 +438,8 @@ void write_train_outputs(const TrainResult& r, const std::string& dir_in) {
   const fs::path dir(dir_in);
   std::error_code ec;
   fs::create_directories(dir, ec);
-  if (ec || !fs::is_directory(dir)) throw Error("cannot create the output folder " + dir_in + (ec ? ": " + ec.message() : ""));
+  if (ec) throw FileError("cannot create the output folder '" + dir_in + "': " + ec.message(), dir_in, ec.value());
+  if (!fs::is_directory(dir)) throw Error("cannot create the output folder '" + dir_in + "': it is a file");
   write_file_atomic((dir / "policy.json").string(), train_policy_json(r).dump(1) + "\n");
   std::ostringstream curve, cps, eps;
   curve << "episodes,sim_s,decisions,wall_s,success_rate,reward_mean\n";

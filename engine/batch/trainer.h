@@ -56,6 +56,9 @@ struct TrainOptions {
   // short search runs (roger propose); 0 trains to the stage's budget.
   double max_sim_s = 0.0;
   bool final_evaluation = true;  // false skips the final greedy evaluation (final_eval stays empty)
+  // Say why in the summary (train_summary_json's "diagnosis", batch/explain.h) even when the
+  // threshold was reached; a trial that did not reach it always says why.
+  bool explain = false;
 };
 
 // A point of training: what had been spent when it was reached.
@@ -91,6 +94,7 @@ struct GreedyEval {
   double success_rate = 0.0, reward_mean = 0.0, reward_std = 0.0, time_mean = 0.0;
   std::vector<std::pair<std::string, double>> usage;  // per action: share of the decisions
   int64_t decisions = 0;
+  std::vector<TrainingEpisode> runs;  // the final evaluation's episodes (for batch/explain.h)
 };
 
 // Where a learned skill used by the trial came from.
@@ -116,6 +120,7 @@ struct TrainResult {
   std::vector<CheckpointRecord> checkpoints;
   bool reached = false;       // the threshold was reached and held
   bool stopped_early = false; // stop_after ended training before the budget
+  bool explain = false;       // TrainOptions::explain
   TrainPoint to_threshold;    // when reached; else the totals (censored)
   TrainPoint totals;
   double threshold = 0.0;
@@ -137,7 +142,8 @@ struct TrainResult {
 // seed. Throws roger::Error / ScriptError for bad input (naming the stage, context and file:line).
 TrainResult train_stage(const TrainOptions& options);
 
-// The summary as JSON (the fields of `roger train --json`).
+// The summary as JSON (the fields of `roger train --json`), with "diagnosis" (batch/explain.h)
+// when the threshold was not reached or result.explain.
 nlohmann::json train_summary_json(const TrainResult& result);
 
 // The policy file's JSON (QTable format with metadata: curriculum, stage, context, seed, psi,

@@ -5,10 +5,16 @@
 #include <utility>
 #include <vector>
 
+#include "core/error.h"
 #include "script/scenario/scenario.h"
 #include "script/skills/skill_script.h"
 
 namespace roger {
+
+// One line for a file the machine could not write or read (core/error.h): the message, what went
+// wrong in plain words (a full disk, no permission, a script removed) and what to do. `resumes`:
+// the command resumes where it stopped when run again (roger run, roger report).
+std::string file_error_line(const FileError& e, bool resumes = true);
 
 // Applies `--set key=value` options to a scenario.
 void apply_sets(Scenario& scenario, const std::vector<std::string>& sets);

@@ -24,6 +24,7 @@ struct RunArgs {
   int max_trials = 0;               // > 0: stop after starting this many new trials (tests, partial runs)
   std::string shard;                // "K/N" or "slurm": only that shard's trials, and no report ("" = all)
   bool no_eval_cache = false;       // run every greedy evaluation episode (same results, slower)
+  bool explain = false;             // every training trial's result.json says why, reached or not
   std::ostream* progress = nullptr; // where progress and messages go (nullptr = standard error)
 };
 
@@ -95,6 +96,7 @@ struct TrainArgs {
   std::vector<std::string> skills;
   std::vector<std::string> sets;
   bool no_eval_cache = false;  // run every greedy evaluation episode (TrainOptions::eval_cache)
+  bool explain = false;        // say why even when the threshold was reached (TrainOptions::explain)
 };
 
 // Trains one stage and context for one seed and writes its outputs. Returns 0.

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "batch/explain.h"
 #include "batch/trainer.h"
 #include "cli/cli_internal.h"
 #include "cli/commands.h"
@@ -102,6 +103,7 @@ int command_train(const TrainArgs& a) {
   o.sets = split_sets(a.sets, "--set");
   for (const auto& [name, file] : split_sets(a.skills, "--skill")) o.skill_files[name] = file;
   o.eval_cache = !a.no_eval_cache;
+  o.explain = a.explain;
   const TrainResult r = train_stage(o);
   write_train_outputs(r, a.out);
   std::printf("roger train: %s stage %s context %s seed %llu (%zu actions, %d states) in %s\n",
@@ -127,6 +129,11 @@ int command_train(const TrainArgs& a) {
   std::printf("  final policy   %.0f%% success over %d held-out episodes, reward %.1f +- %.1f\n",
               100 * r.final_eval.success_rate, r.final_eval.episodes, r.final_eval.reward_mean, r.final_eval.reward_std);
   std::printf("  usage          %s\n", usage.c_str());
+  if (!r.reached || r.explain) {
+    const std::vector<std::string> causes = diagnose_training(r).causes();
+    for (size_t k = 0; k < causes.size(); ++k) std::printf("  %-15s%s\n", k ? "" : "why", causes[k].c_str());
+    if (causes.empty()) std::printf("  why            nothing stands out in the data\n");
+  }
   std::printf("  evaluations    %d of %d reused whole, %d of %d episodes reused%s\n", r.evals_reused, r.evals,
               r.eval_episodes_reused, r.eval_episodes, o.eval_cache ? "" : " (--no-eval-cache)");
   std::printf("  wrote          %s/{policy.json,curve.csv,episodes.jsonl,checkpoints.jsonl,summary.json} (%.2f wall s)\n",

@@ -9,7 +9,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include "cli/cli_internal.h"
 #include "cli/commands.h"
+#include "core/error.h"
 
 namespace {
 
@@ -70,6 +72,9 @@ CLI::App* add_train(CLI::App& app, TrainArgs& a) {
   c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)");
   c->add_flag("--no-eval-cache", a.no_eval_cache,
               "Run every evaluation episode, even one the unchanged policy would repeat (same results, slower)");
+  c->add_flag("--explain", a.explain,
+              "Say what the data shows (greedy cycles, actions never run, time-outs) even when the threshold "
+              "was reached; a trial that missed it always says why");
   return c;
 }
 
@@ -104,6 +109,9 @@ CLI::App* add_run(CLI::App& app, RunArgs& a) {
   c->add_flag("--no-eval-cache", a.no_eval_cache,
               "Run every greedy evaluation episode instead of reusing those the policy would repeat "
               "(identical results, slower: a check of the cache)");
+  c->add_flag("--explain", a.explain,
+              "Every training trial's result.json says what its data shows (greedy cycles, actions never run, "
+              "time-outs), not only those that missed the threshold");
   c->add_option("--shard", a.shard,
                 "Run only shard K/N (0-based) of the trials, or 'slurm' inside a Slurm job array; "
                 "shards share one results folder, and roger report writes the report when all are done");
@@ -177,6 +185,10 @@ int main(int argc, char** argv) {
     }
     if (*report) return command_report(report_args);
     if (*propose) return command_propose(propose_args);
+  } catch (const FileError& e) {
+    std::fflush(stdout);
+    std::cerr << "roger: error: " << file_error_line(e, false) << "\n";
+    return 1;
   } catch (const std::exception& e) {
     std::fflush(stdout);
     std::cerr << "roger: error: " << e.what() << "\n";

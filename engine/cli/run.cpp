@@ -1,6 +1,7 @@
 // run.cpp: `roger run` (a batch script: plan, run every trial resumably, then the report) and
 // `roger report` (tables and figures from a results folder). docs/batch.md describes both.
 #include <algorithm>
+#include <cerrno>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -67,6 +68,25 @@ int print_missing(const std::vector<MissingTrial>& missing, const BatchPlan& pla
 
 }  // namespace
 
+std::string file_error_line(const FileError& e, bool resumes) {
+  const std::string again =
+      std::string("then run the same command again") + (resumes ? ": it resumes where this one stopped" : "");
+  switch (e.error_number) {
+    case ENOSPC:
+    case EDQUOT:
+      return std::string("the disk is full: ") + e.what() + ". Free some space, " + again;
+    case EACCES:
+    case EPERM:
+    case EROFS:
+      return std::string(e.what()) + ". Make the folder writable (or give another with --out), " + again;
+    case ENOENT:
+    case 0:
+      return std::string(e.what()) + ". Put it back as it was, " + again;
+    default:
+      return std::string(e.what()) + ". Once the cause is fixed, " + again;
+  }
+}
+
 int command_run(const RunArgs& a) {
   std::ostream& log = a.progress ? *a.progress : std::cerr;
   try {
@@ -86,19 +106,24 @@ int command_run(const RunArgs& a) {
           << " when every shard is done)\n";
     // The dashboard from the start: it follows the run's status.js until the report is written.
     log << "roger run: open " << write_dashboard_page(plan.out) << " to follow the run\n";
-    const BatchSummary summary = run_batch(plan, RunControl{a.jobs, a.live, a.max_trials, a.only, &log, shard, !a.no_eval_cache});
+    const BatchSummary summary = run_batch(plan, RunControl{a.jobs, a.live, a.max_trials, a.only, &log, shard, !a.no_eval_cache, a.explain});
     int status = 0;
     if (!summary.corrupt.empty() && !a.no_report && !shard.active()) {
       log << "roger run: no report: some trials' files cannot be read (listed below)\n";
     } else if (!a.no_report && !shard.active()) {
       try {
         for (const auto& f : write_report(plan.out)) log << "roger run: wrote " << f << "\n";
+      } catch (const FileError&) {
+        throw;  // the machine's fault, not the report's: said below, with what to do
       } catch (const std::exception& e) {
         log << "roger run: the report failed: " << e.what() << "\n";
         status = 1;
       }
     }
     return print_outcome(summary, log) ? 1 : status;
+  } catch (const FileError& e) {
+    log << "roger run: " << file_error_line(e) << "\n";
+    return 1;
   } catch (const std::exception& e) {
     log << "roger run: " << e.what() << "\n";
     return 1;
@@ -118,6 +143,9 @@ int command_report(const ReportArgs& a) {
     for (const auto& f : write_report(a.dir)) log << "roger report: wrote " << f << "\n";
     if (summary.pending) log << "roger report: " << summary.pending << " trials have no result yet (marked pending)\n";
     return 0;
+  } catch (const FileError& e) {
+    log << "roger report: " << file_error_line(e) << "\n";
+    return 1;
   } catch (const std::exception& e) {
     log << "roger report: " << e.what() << "\n";
     return 1;

@@ -93,7 +93,7 @@ void AtomicFile::commit() {
 }
 
 void AtomicFile::fail(int err) {
-  throw Error(context_ + " '" + path_ + "': " + std::strerror(err));
+  throw FileError(context_ + " '" + path_ + "': " + std::strerror(err), path_, err);
 }
 
 void write_file_atomic(const std::string& path, const std::string& content,
@@ -102,7 +102,7 @@ void write_file_atomic(const std::string& path, const std::string& content,
   if (target.has_parent_path()) {
     std::error_code ec;
     fs::create_directories(target.parent_path(), ec);
-    if (ec) throw Error(context + " '" + path + "': " + ec.message());
+    if (ec) throw FileError(context + " '" + path + "': " + ec.message(), path, ec.value());
   }
   AtomicFile file(path, context);
   file.append(content);

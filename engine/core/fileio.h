@@ -9,7 +9,8 @@
 namespace roger {
 
 // A temporary file beside the destination, renamed over it on commit() and removed otherwise.
-// Errors are roger::Error with "<context> '<path>': <reason>".
+// Errors are roger::Error with "<context> '<path>': <reason>"; those of the system (a full disk, no
+// permission) are roger::FileError with its errno.
 class AtomicFile {
  public:
   // Creates the temporary (0666 before the umask, never clobbering another file).

@@ -6,6 +6,7 @@
 
 #include <fcntl.h>
 #include <plplot.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -81,7 +82,7 @@ class TempFigure {
       if (errno != EEXIST) {
         const int err = errno;
         temp_.clear();
-        fail(std::strerror(err));
+        fail(std::strerror(err), err);
       }
     }
     temp_.clear();
@@ -113,6 +114,7 @@ class TempFigure {
       whole = data.find("<svg") != std::string::npos && close != std::string::npos &&
               data.find_first_not_of(" \t\r\n", close + 6) == std::string::npos;
     }
+    if (!whole && nearly_full(temp_)) fail(std::strerror(ENOSPC), ENOSPC);
     if (!whole)
       fail("PLplot wrote an incomplete " + std::string(format_ == Format::kPng ? "PNG" : "SVG") +
            " (" + std::to_string(data.size()) + " bytes): is the disk full?");
@@ -120,21 +122,33 @@ class TempFigure {
     if (fd < 0 || ::fsync(fd) != 0) {
       const int err = errno;
       if (fd >= 0) ::close(fd);
-      fail(std::strerror(err));
+      fail(std::strerror(err), err);
     }
     ::close(fd);
   }
 
   // Renames the verified temporary over the destination.
   void commit() {
-    if (std::rename(temp_.c_str(), path_.c_str()) != 0) fail(std::strerror(errno));
+    if (std::rename(temp_.c_str(), path_.c_str()) != 0) fail(std::strerror(errno), errno);
     committed_ = true;
     sync_folder_of(path_);  // the rename survives a crash of the machine, as fileio.h's do
   }
 
  private:
-  [[noreturn]] void fail(const std::string& why) const {
-    throw Error("plot: cannot write figure '" + path_ + "': " + why);
+  // A failure of the system (err: its errno) is a FileError, which stops a batch run.
+  [[noreturn]] void fail(const std::string& why, int err = 0) const {
+    const std::string message = "plot: cannot write figure '" + path_ + "': " + why;
+    if (err != 0) throw FileError(message, path_, err);
+    throw Error(message);
+  }
+
+  // Whether the file's filesystem has under 1 MiB left: PLplot reports no failed write, so a
+  // figure cut short on such a disk is taken as a full disk.
+  static bool nearly_full(const std::string& file) {
+    struct statvfs fs_info;
+    const fs::path dir = fs::path(file).parent_path();
+    if (::statvfs(dir.empty() ? "." : dir.c_str(), &fs_info) != 0) return false;
+    return uint64_t(fs_info.f_bavail) * fs_info.f_frsize < (uint64_t(1) << 20);
   }
 
   std::string path_, temp_;

@@ -60,6 +60,13 @@ void check_result_shape(const json& j, const fs::path& file) {
       bad("field \"usage\" must map action names to numbers");
   }
   if (j.contains("checkpoints") && !j["checkpoints"].is_array()) bad("field \"checkpoints\" must be a list");
+  if (j.contains("diagnosis")) {
+    const json& d = j["diagnosis"];
+    const json* causes = d.is_object() && d.contains("causes") ? &d["causes"] : nullptr;
+    if (!causes || !causes->is_array() ||
+        !std::all_of(causes->begin(), causes->end(), [](const json& c) { return c.is_string(); }))
+      bad("field \"diagnosis\" must be an object whose \"causes\" is a list of sentences");
+  }
   if (j.contains("trial") &&
       !(j["trial"].is_number_integer() && j["trial"].get<int64_t>() >= 0 && j["trial"].get<int64_t>() < 100000))
     bad("field \"trial\" must be a trial index (an integer in [0, 100000))");
@@ -294,6 +301,28 @@ json usage_comparisons(const BatchRun& run, const BatchTable& t, const Folder& f
   return comparisons;
 }
 
+// Why the trials of a run that missed the threshold missed it: the causes their result.json names
+// (batch/explain.h), one line per trial; returns them ([] when every trial reached it).
+json why_not_reached(const BatchRun& run, const Folder& folder, std::ostringstream& md) {
+  json out = json::array();
+  for (const auto& c : run.contexts) {
+    const Results r = folder.run(run, c);
+    for (const auto& j : r.ok) {
+      if (!j.contains("diagnosis") || j.value("reached", true)) continue;  // --explain explains them all
+      const int trial = j.value("trial", 0);
+      std::vector<std::string> causes = j["diagnosis"]["causes"].get<std::vector<std::string>>();
+      if (causes.empty()) causes.push_back("nothing stands out in the data");
+      if (out.empty()) md << "\n### Why trials did not reach the threshold\n\nWhat each trial's own data shows "
+                             "(its result.json, \"diagnosis\"; docs/curricula.md, Why a training failed).\n\n";
+      md << "- " << c << ", trial " << trial << " (`trials/" << batch_trial_id(run.name, c, trial) << "`): ";
+      for (size_t k = 0; k < causes.size(); ++k) md << (k ? "; " : "") << causes[k];
+      md << ".\n";
+      out.push_back({{"context", c}, {"trial", trial}, {"causes", causes}});
+    }
+  }
+  return out;
+}
+
 // Table I / II: a run's contexts against its baseline.
 void run_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep) {
   const BatchRun& run = *b.run(t.run);
@@ -309,9 +338,11 @@ void run_table(const BatchScript& b, const BatchTable& t, const Folder& folder, 
 
   const json usage_rows = usage_shares(run, folder, md);
   const json comparisons = usage_comparisons(run, t, folder, md);
+  const json why = why_not_reached(run, folder, md);
   md << "\n";
   rep.push_back({{"title", t.title}, {"run", run.name}, {"baseline", t.baseline}, {"rows", rows},
                  {"usage", usage_rows}, {"usage_comparisons", comparisons}});
+  if (!why.empty()) rep.back()["why_not_reached"] = why;  // absent when all reached: reports stay as they were
 }
 
 // Table III: an evaluation per shape, and a Total row.
@@ -610,9 +641,9 @@ std::vector<std::string> write_report(const std::string& dir) {
      << " resamples). Cumulative training time: mean simulated time-to-threshold of the skill's source "
         "trials (each trial uses the policy of the same-numbered source trial) stacked under the run's own.\n";
   const std::string tables = (fs::path(dir) / "tables.md").string();
-  write_file_atomic(tables, md.str(), "roger report: cannot write tables.md");
+  write_file_atomic(tables, md.str(), "cannot write tables.md");
   const std::string report_json = (fs::path(dir) / "report.json").string();
-  write_file_atomic(report_json, json{{"tables", rep}}.dump(1) + "\n", "roger report: cannot write report.json");
+  write_file_atomic(report_json, json{{"tables", rep}}.dump(1) + "\n", "cannot write report.json");
   written.insert(written.begin(), {tables, report_json});
   const json page = {{"name", b.name}, {"description", b.description},
                      {"script", manifest.value("script", std::string("?"))}, {"curriculum", b.curriculum},

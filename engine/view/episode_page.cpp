@@ -7,7 +7,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <string>
+#include <vector>
 
+#include "learn/decision_cycle.h"
 #include "episode_page_html.h"  // generated from web/episode.html by embed_text.cmake
 
 namespace roger::anim {
@@ -169,6 +173,34 @@ json frame_json(const Frame& f) {
 const char* const kPage = kEpisodePageHtml;
 
 
+// The cycle a timed-out episode ended in (learn/decision_cycle.h), or null: each decision's path is
+// its action and the states of every watched controller when it began are its state, so a greedy
+// policy that repeats the same decisions in the same states until the time-out is found.
+json cycle_json(const EpisodeResult& ep, const Timeline& tl) {
+  if (ep.success || ep.decisions.size() < 2) return nullptr;
+  std::map<std::vector<std::string>, int> path_ids;
+  std::map<std::vector<Gamma>, int> state_ids;
+  std::vector<int> states, actions;
+  for (const Decision& d : ep.decisions) {
+    // The states the decision was made on: those recorded at the end of the tick before it.
+    const size_t seen = size_t(std::max(0, d.tick - 2));
+    std::vector<Gamma> state;
+    for (const GammaTrace& g : ep.gammas)
+      if (!g.states.empty()) state.push_back(g.states[std::min(g.states.size() - 1, seen)]);
+    actions.push_back(path_ids.emplace(d.path, int(path_ids.size())).first->second);
+    states.push_back(state_ids.emplace(state, int(state_ids.size())).first->second);
+  }
+  const DecisionCycle c = find_decision_cycle(states, actions);
+  if (c.turns == 0) return nullptr;
+  const Decision& from = ep.decisions[size_t(c.first)];
+  json turn = json::array();
+  const size_t period = c.actions.size();
+  for (size_t k = ep.decisions.size() - period; k < ep.decisions.size(); ++k)
+    turn.push_back(ep.decisions[k].path.empty() ? std::string() : valid_utf8(ep.decisions[k].path.back()));
+  return {{"from_tick", from.tick}, {"from_time", (from.tick - 1) * tl.dt}, {"first_decision", c.first},
+          {"turns", c.turns}, {"period", period}, {"actions", turn}};
+}
+
 }  // namespace
 
 json episode_json(const WorldSpec& spec, const EpisodeResult& ep, const Timeline& tl,
@@ -212,6 +244,7 @@ json episode_json(const WorldSpec& spec, const EpisodeResult& ep, const Timeline
     decisions.push_back({{"tick", d.tick}, {"time", (d.tick - 1) * tl.dt}, {"path", path}});
   }
   j["decisions"] = decisions;
+  j["cycle"] = cycle_json(ep, tl);
   return j;
 }
 

@@ -15,7 +15,7 @@
 #
 # Environment:
 #   ROGER_OUT   the results folder, on a filesystem every node sees   results/<script name>
-#   ROGER_BIN   the roger program, likewise                           build/engine/roger
+#   ROGER_BIN   the roger program, likewise                           build/engine/roger (installed: bin/roger)
 #   ROGER_ARGS  more arguments of roger run (e.g. "--set mass=0.7"), split at whitespace
 #   ROGER_LOGS  the jobs' output files                                ROGER_OUT/slurm
 # Relative paths are taken from the current folder; the jobs run in the repository.
@@ -45,7 +45,10 @@ elif [ ! -f "$repo/scripts/$script" ] && [ ! -f "$repo/scripts/$script.lua" ]; t
 fi
 name=$(basename "$script" .lua)
 
-bin=$(absolute "${ROGER_BIN:-$repo/build/engine/roger}")
+# The program: the repository's build, else (installed: <prefix>/share/roger/scripts/slurm) <prefix>/bin/roger.
+default_bin=$repo/build/engine/roger
+[ -x "$default_bin" ] || [ ! -x "$repo/../../bin/roger" ] || default_bin=$(cd "$repo/../../bin" && pwd)/roger
+bin=$(absolute "${ROGER_BIN:-$default_bin}")
 [ -x "$bin" ] || die "no roger program at '$bin' (build it: cmake -S . -B build && cmake --build build --target roger; or set ROGER_BIN)"
 out=$(absolute "${ROGER_OUT:-$repo/results/$name}")
 logs=$(absolute "${ROGER_LOGS:-$out/slurm}")

@@ -8,6 +8,7 @@
 
 #include <lua.hpp>
 
+#include "core/install.h"
 #include "script/sandbox/lua_sandbox_internal.h"
 
 namespace roger {
@@ -36,6 +37,7 @@ ScriptError::ScriptError(std::string message_in, std::string file_in, int line_i
 
 fs::path project_root() {
   if (const char* home = std::getenv("ROGER_HOME"); home && *home) return fs::path(home);
+  if (std::optional<fs::path> installed = installed_data_dir()) return *installed;
   return fs::path(ROGER_SOURCE_DIR);
 }
 

@@ -47,7 +47,8 @@ struct ScriptError : Error {
 };
 
 // The project folder holding scenarios/, curricula/ and scripts/: $ROGER_HOME if set, else the
-// source tree the engine was built from.
+// installed data beside the program (<prefix>/share/roger, core/install.h), else the source tree
+// the engine was built from (a program run from its build tree).
 std::filesystem::path project_root();
 
 class LuaSandbox {

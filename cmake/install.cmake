@@ -1,0 +1,28 @@
+# install.cmake: what `cmake --install build --prefix P` puts under P, and the Debian package
+# `cpack -G DEB` (run in the build folder) makes of the same files. The program finds its data
+# relative to itself (engine/core/install.h), so the tree works wherever it is copied:
+#   P/bin/roger
+#   P/share/roger/{scenarios,curricula,scripts}   the Lua libraries, shipped scenarios and scripts
+#   P/share/roger/web                             the pages (also compiled into roger)
+#   P/share/doc/roger                             README.md and docs/, examples included
+install(TARGETS roger RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(DIRECTORY scenarios curricula scripts DESTINATION ${CMAKE_INSTALL_DATADIR}/roger
+        USE_SOURCE_PERMISSIONS PATTERN "__pycache__" EXCLUDE)
+install(DIRECTORY engine/view/web/ DESTINATION ${CMAKE_INSTALL_DATADIR}/roger/web)
+install(FILES README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
+install(DIRECTORY docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR})
+
+set(CPACK_PACKAGE_NAME roger)
+set(CPACK_PACKAGE_VENDOR "roger")
+set(CPACK_PACKAGE_CONTACT "roger maintainers <roger@localhost>")
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY
+    "Simulated mobile manipulator learning skills by developmental curricula (Lua-scripted)")
+set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
+set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
+set(CPACK_DEBIAN_PACKAGE_SECTION science)
+# The shared libraries roger links (Lua, Box2D, cairo, PLplot...) become the package's Depends.
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+# PLplot loads its cairo driver at run time, which shlibdeps cannot see.
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "plplot-driver-cairo")
+include(CPack)

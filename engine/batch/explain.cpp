@@ -1,0 +1,194 @@
+// explain.cpp: see explain.h.
+#include "batch/explain.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <utility>
+
+#include "control/control.h"
+
+namespace roger {
+
+namespace {
+
+// The gamma of action a in state s of n actions (the first action is the most significant base-3
+// digit, as gamma_state_index makes it).
+Gamma gamma_in(int s, int a, int n) {
+  for (int k = n - 1; k > a; --k) s /= 3;
+  return Gamma(s % 3);
+}
+
+// A share as a whole percentage: "40%".
+std::string percent(double fraction) { return std::to_string(int(std::lround(100.0 * fraction))) + "%"; }
+std::string percent(int part, int whole) { return percent(whole ? double(part) / whole : 0.0); }
+
+// The names of some actions, comma-separated.
+std::string names(const std::vector<int>& actions, const std::vector<std::string>& psi) {
+  std::string out;
+  for (int a : actions) out += (out.empty() ? "" : ", ") + psi[size_t(a)];
+  return out;
+}
+
+}  // namespace
+
+std::string TrainingDiagnosis::state_text(int state) const {
+  std::string out;
+  for (size_t a = 0; a < psi.size(); ++a)
+    out += (a ? " " : "") + psi[a] + "=" + gamma_name(gamma_in(state, int(a), int(psi.size())));
+  return out;
+}
+
+std::string TrainingDiagnosis::cycle_cause() const {
+  std::string text = "greedy cycle:";
+  for (size_t k = 0; k < cycle.states.size(); ++k)
+    text += " (" + state_text(cycle.states[k]) + ") -> " + psi[size_t(cycle.actions[k])] + " ->";
+  return text + " back, repeating without reaching the absorbing state in " + std::to_string(cycle_episodes) +
+         " of " + std::to_string(final_episodes) + " final greedy episodes (up to " + std::to_string(cycle.turns) +
+         " turns)";
+}
+
+std::vector<std::string> TrainingDiagnosis::action_causes() const {
+  std::vector<std::string> out;
+  if (!never_referenced.empty())
+    out.push_back("never able to run: " + names(never_referenced, psi) + " (NOREF at every decision)");
+  if (!never_tried.empty()) out.push_back("never chosen in training: " + names(never_tried, psi));
+  // Those never tried are said above; the greedy policy's own omissions are the others.
+  std::vector<int> unused_greedy;
+  for (int a : never_chosen)
+    if (std::find(never_tried.begin(), never_tried.end(), a) == never_tried.end()) unused_greedy.push_back(a);
+  if (!unused_greedy.empty()) out.push_back("never chosen by the final greedy policy: " + names(unused_greedy, psi));
+  return out;
+}
+
+std::vector<std::string> TrainingDiagnosis::causes() const {
+  std::vector<std::string> out;
+  if (cycle.turns > 0) out.push_back(cycle_cause());
+  for (const Stuck& st : stuck)
+    out.push_back("state never left: (" + state_text(st.state) + "), where " + psi[size_t(st.action)] +
+                  " ran until the time-out in " + std::to_string(st.episodes) + " of " +
+                  std::to_string(final_episodes) + " final greedy episodes");
+  for (std::string& c : action_causes()) out.push_back(std::move(c));
+  if (train_timeouts > 0 || final_timeouts > 0)
+    out.push_back("time-outs: " + percent(train_timeouts, train_episodes) + " of the training episodes (" +
+                  percent(last_quarter_timeouts, last_quarter_episodes) + " of the last quarter), " +
+                  percent(final_timeouts, final_episodes) + " of the final evaluation");
+  for (const Drop& d : drops)
+    out.push_back("checkpoint " + std::to_string(d.passed) + " passed (" + percent(d.passed_rate) +
+                  ") and checkpoint " + std::to_string(d.failed) + " failed (" + percent(d.failed_rate) + ", after " +
+                  std::to_string(d.failed_at_episodes) + " episodes" +
+                  (d.policy_changed ? ": the greedy policy changed" : "") + ")");
+  return out;
+}
+
+nlohmann::json TrainingDiagnosis::to_json() const {
+  using json = nlohmann::json;
+  const auto action_names = [&](const std::vector<int>& v) {
+    json out = json::array();
+    for (int a : v) out.push_back(psi[size_t(a)]);
+    return out;
+  };
+  json j = {{"causes", causes()},
+            {"never_chosen", action_names(never_chosen)},
+            {"never_tried", action_names(never_tried)},
+            {"never_referenced", action_names(never_referenced)},
+            {"timeouts", {{"training", train_episodes ? double(train_timeouts) / train_episodes : 0.0},
+                          {"training_last_quarter",
+                           last_quarter_episodes ? double(last_quarter_timeouts) / last_quarter_episodes : 0.0},
+                          {"final", final_episodes ? double(final_timeouts) / final_episodes : 0.0}}}};
+  if (cycle.turns > 0) {
+    json states = json::array();
+    for (int s : cycle.states) states.push_back(state_text(s));
+    j["cycle"] = {{"states", states}, {"actions", action_names(cycle.actions)}, {"episodes", cycle_episodes},
+                  {"turns", cycle.turns}};
+  }
+  json stuck_list = json::array();
+  for (const Stuck& st : stuck)
+    stuck_list.push_back({{"state", state_text(st.state)}, {"action", psi[size_t(st.action)]}, {"episodes", st.episodes}});
+  j["stuck"] = stuck_list;
+  json drop_list = json::array();
+  for (const Drop& d : drops)
+    drop_list.push_back({{"passed", d.passed}, {"failed", d.failed}, {"passed_rate", d.passed_rate},
+                         {"failed_rate", d.failed_rate}, {"failed_at_episodes", d.failed_at_episodes},
+                         {"policy_changed", d.policy_changed}});
+  j["checkpoint_drops"] = drop_list;
+  return j;
+}
+
+namespace {
+
+// The final greedy episodes that timed out: the cycle most of them end in, and the states the
+// others never left.
+void read_final_episodes(const std::vector<TrainingEpisode>& episodes, TrainingDiagnosis& d) {
+  std::map<std::pair<std::vector<int>, std::vector<int>>, std::pair<int, int>> cycles;  // -> episodes, turns
+  std::map<std::pair<int, int>, int> stuck;
+  for (const TrainingEpisode& ep : episodes) {
+    ++d.final_episodes;
+    if (ep.success) continue;
+    ++d.final_timeouts;
+    const DecisionCycle c = find_decision_cycle(ep.decision_states, ep.actions_taken);
+    if (c.turns > 0) {
+      auto& [count, turns] = cycles[{c.states, c.actions}];
+      ++count;
+      turns = std::max(turns, c.turns);
+    } else if (!ep.decision_states.empty()) {
+      ++stuck[{ep.decision_states.back(), ep.actions_taken.back()}];
+    }
+  }
+  for (const auto& [key, value] : cycles)
+    if (value.first > d.cycle_episodes) {
+      d.cycle = DecisionCycle{key.first, key.second, value.second, 0};
+      d.cycle_episodes = value.first;
+    }
+  for (const auto& [key, count] : stuck) d.stuck.push_back({key.first, key.second, count});
+  std::stable_sort(d.stuck.begin(), d.stuck.end(),
+                   [](const auto& x, const auto& y) { return x.episodes > y.episodes; });
+}
+
+// Which actions training chose, and which ever had a reference at a decision.
+void read_decisions(const TrainResult& r, TrainingDiagnosis& d) {
+  const int n = int(r.psi.size());
+  std::vector<bool> tried(size_t(n), false), chosen(size_t(n), false), referenced(size_t(n), false);
+  const auto note_states = [&](const TrainingEpisode& ep) {
+    for (int s : ep.decision_states)
+      for (int a = 0; a < n; ++a) referenced[size_t(a)] = referenced[size_t(a)] || gamma_in(s, a, n) != Gamma::kNoRef;
+  };
+  const int quarter_from = int(r.episodes.size()) - int(r.episodes.size()) / 4;
+  for (const EpisodeRecord& e : r.episodes) {
+    for (int a : e.episode.actions_taken) tried[size_t(a)] = true;
+    note_states(e.episode);
+    ++d.train_episodes;
+    d.train_timeouts += !e.episode.success;
+    if (int(&e - r.episodes.data()) >= quarter_from) {
+      ++d.last_quarter_episodes;
+      d.last_quarter_timeouts += !e.episode.success;
+    }
+  }
+  for (const TrainingEpisode& ep : r.final_eval.runs) {
+    for (int a : ep.actions_taken) chosen[size_t(a)] = true;
+    note_states(ep);
+  }
+  const bool any_decision = d.train_episodes > 0 || !r.final_eval.runs.empty();
+  for (int a = 0; a < n; ++a) {
+    if (!r.episodes.empty() && !tried[size_t(a)]) d.never_tried.push_back(a);
+    if (!r.final_eval.runs.empty() && !chosen[size_t(a)]) d.never_chosen.push_back(a);
+    if (any_decision && !referenced[size_t(a)]) d.never_referenced.push_back(a);
+  }
+}
+
+}  // namespace
+
+TrainingDiagnosis diagnose_training(const TrainResult& r) {
+  TrainingDiagnosis d;
+  d.psi = r.psi;
+  read_final_episodes(r.final_eval.runs, d);
+  read_decisions(r, d);
+  for (size_t k = 1; k < r.checkpoints.size(); ++k) {
+    const CheckpointRecord &before = r.checkpoints[k - 1], &now = r.checkpoints[k];
+    if (before.success_rate >= r.threshold && now.success_rate < r.threshold)
+      d.drops.push_back({int(k), int(k) + 1, now.at.episodes, before.success_rate, now.success_rate, now.policy_changed});
+  }
+  return d;
+}
+
+}  // namespace roger
