@@ -14,6 +14,7 @@ set(layer_report 7)
 set(layer_view 7)
 set(layer_propose 7)
 set(layer_cli 8)
+set(layer_python 9)  # the Python module, on batch; nothing includes it
 # Which module alone may include a library's headers.
 set(owner_box2d "sim")    # <box2d/...>
 set(owner_lua "script")   # <lua.hpp>, <lua.h>, <lauxlib.h>, <lualib.h>

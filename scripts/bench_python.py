@@ -1,0 +1,133 @@
+#!/usr/bin/env python3
+"""bench_python.py: what the Python module costs and gains (docs/python.md, Performance).
+
+    PYTHONPATH=build/python python3 scripts/bench_python.py [--roger build/engine/roger] [--rounds 5]
+
+1. Batched stepping: make_vec with N worlds stepped by 1 thread and by 2 threads, and the same N
+   worlds as separate environments stepped one after the other from Python; steps (decisions) per
+   wall second and simulated seconds per wall second, the same seeded random actions in all three.
+2. Overhead over the engine alone: `roger eval` of a policy (C++ only) against the Python loop
+   `env.step(policy.act(obs))` over the same episodes, which runs the same ticks.
+
+Each measurement is paired: the variants run one after the other within a round, rounds repeat,
+and the ratio is taken within each round, so a shared machine's load moves both sides alike. The
+median ratio is reported, with the load average before and after.
+"""
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+import roger
+
+CURRICULUM = "curricula/paper.lua"
+
+
+def vec_run(num_envs, threads, steps, seed):
+    vec = roger.make_vec(CURRICULUM, "T", "B2", num_envs=num_envs, threads=threads)
+    rng = np.random.default_rng(seed)
+    vec.reset(seed=seed)
+    actions = [rng.integers(0, len(vec.actions), size=num_envs) for _ in range(steps)]
+    ticks = 0
+    t0 = time.perf_counter()
+    for a in actions:
+        obs, rew, term, trunc, info = vec.step(a)
+        ticks += int(info["episode_ticks"].sum())
+    wall = time.perf_counter() - t0
+    return wall, steps * num_envs
+
+
+def separate_run(num_envs, steps, seed):
+    envs = [roger.make(CURRICULUM, "T", "B2") for _ in range(num_envs)]
+    rng = np.random.default_rng(seed)
+    for i, e in enumerate(envs):
+        e.reset(seed=seed + i)
+    started = [1] * num_envs
+    actions = [rng.integers(0, len(envs[0].actions), size=num_envs) for _ in range(steps)]
+    t0 = time.perf_counter()
+    for a in actions:
+        for i, e in enumerate(envs):
+            _, _, term, trunc, _ = e.step(int(a[i]))
+            if term or trunc:
+                e.reset(seed=seed + i + started[i] * num_envs)
+                started[i] += 1
+    return time.perf_counter() - t0, steps * num_envs
+
+
+def python_eval(policy_file, episodes, seed):
+    t0 = time.perf_counter()
+    env = roger.make(CURRICULUM, "T", "B2")
+    policy = roger.load_policy(policy_file)
+    ticks = 0
+    for i in range(episodes):
+        obs, _ = env.reset(seed=seed + i)
+        done = False
+        while not done:
+            obs, _, term, trunc, info = env.step(policy.act(obs))
+            done = term or trunc
+        ticks += info["ticks"]
+    return time.perf_counter() - t0, ticks
+
+
+def cpp_eval(roger_bin, policy_file, episodes, seed):
+    t0 = time.perf_counter()
+    out = subprocess.run([roger_bin, "eval", CURRICULUM, "--policy", policy_file, "--episodes", str(episodes),
+                          "--seed", str(seed), "--json"], check=True, capture_output=True, text=True).stdout
+    wall = time.perf_counter() - t0
+    return wall, json.loads(out.strip().splitlines()[-1])
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--roger", default="build/engine/roger")
+    ap.add_argument("--rounds", type=int, default=5)
+    ap.add_argument("--envs", type=int, default=8)
+    ap.add_argument("--steps", type=int, default=60, help="vec steps per round")
+    ap.add_argument("--episodes", type=int, default=50, help="evaluation episodes per round")
+    ap.add_argument("--policy", help="a T/B2 policy.json (default: roger train --seed 1 into a temporary folder)")
+    a = ap.parse_args()
+    load0 = os.getloadavg()
+    policy = a.policy
+    if not policy:
+        out = tempfile.mkdtemp(prefix="bench-python-")
+        subprocess.run([a.roger, "train", CURRICULUM, "--stage", "T", "--context", "B2", "--seed", "1", "--out", out],
+                       check=True, capture_output=True)
+        policy = os.path.join(out, "policy.json")
+
+    speedups, vs_separate, rates = [], [], {1: [], 2: [], "separate": []}
+    overheads = []
+    for r in range(a.rounds):
+        seed = 10 * r + 1
+        w1, n = vec_run(a.envs, 1, a.steps, seed)
+        w2, _ = vec_run(a.envs, 2, a.steps, seed)
+        ws, _ = separate_run(a.envs, a.steps, seed)
+        rates[1].append(n / w1)
+        rates[2].append(n / w2)
+        rates["separate"].append(n / ws)
+        speedups.append(w1 / w2)
+        vs_separate.append(ws / w2)
+        wc, summary = cpp_eval(a.roger, policy, a.episodes, 1000000)
+        wp, ticks = python_eval(policy, a.episodes, 1000000)
+        overheads.append(wp / wc - 1.0)
+        print(f"round {r + 1}: vec 1 thread {n / w1:7.1f} steps/s, 2 threads {n / w2:7.1f} steps/s "
+              f"(x{w1 / w2:.2f}), separate envs {n / ws:7.1f} steps/s; eval C++ {wc:.2f} s, "
+              f"Python {wp:.2f} s ({100 * (wp / wc - 1):+.1f}%)", flush=True)
+    load1 = os.getloadavg()
+    med = statistics.median
+    print(f"\nmake_vec, {a.envs} worlds of T/B2, random actions, {a.steps} steps x {a.rounds} rounds:")
+    print(f"  1 thread            {med(rates[1]):8.1f} steps/s")
+    print(f"  2 threads           {med(rates[2]):8.1f} steps/s   speed-up x{med(speedups):.2f} (median of paired rounds)")
+    print(f"  separate Envs       {med(rates['separate']):8.1f} steps/s   2-thread make_vec is x{med(vs_separate):.2f}")
+    print(f"Python loop over roger eval, {a.episodes} episodes of T/B2 from seed 1000000: "
+          f"overhead {100 * med(overheads):+.1f}% (median; rounds {', '.join(f'{100 * o:+.1f}%' for o in overheads)})")
+    print(f"load average before {load0[0]:.2f}, after {load1[0]:.2f} on {os.cpu_count()} cores")
+
+
+if __name__ == "__main__":
+    sys.exit(main())
