@@ -268,17 +268,18 @@ PYBIND11_MODULE(_roger, m) {
   // Errors: roger::Error (bad arguments, files, fields) as RogerError(ValueError); a Lua fault as
   // ScriptError(RogerError) with .file and .line. Registered most derived first.
   static py::exception<Error> error(m, "RogerError", PyExc_ValueError);
-  static py::object script_error = py::reinterpret_steal<py::object>(
-      PyErr_NewException("roger._roger.ScriptError", error.ptr(), nullptr));
-  m.attr("ScriptError") = script_error;
+  // A reference kept for the life of the process (never released: a static py::object would be
+  // released after the interpreter is gone).
+  static PyObject* script_error = PyErr_NewException("roger._roger.ScriptError", error.ptr(), nullptr);
+  m.attr("ScriptError") = py::handle(script_error);
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const ScriptError& e) {
-      py::object exc = script_error(e.what());
+      py::object exc = py::handle(script_error)(e.what());
       exc.attr("file") = e.file;
       exc.attr("line") = e.line;
-      PyErr_SetObject(script_error.ptr(), exc.ptr());
+      PyErr_SetObject(script_error, exc.ptr());
     } catch (const Error& e) {
       PyErr_SetString(error.ptr(), e.what());
     }

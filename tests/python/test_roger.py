@@ -45,19 +45,27 @@ def roger_eval(curriculum, policy, episodes, seed):
     return json.loads(out.strip().splitlines()[-1])
 
 
-def python_eval(env, policy, episodes, seed):
-    """The Python loop of docs/python.md: successes and per-episode returns."""
-    successes, returns = 0, []
+def python_eval(env, policy, episodes, seed, details=None):
+    """The Python loop of docs/python.md: successes and per-episode returns. `details`, if given,
+    receives the mean simulated time and each action's share of the decisions, as roger eval
+    computes them."""
+    successes, returns, time, counts = 0, [], 0.0, [0] * len(env.actions)
     for i in range(episodes):
         obs, info = env.reset(seed=seed + i)
         total, done = 0.0, False
         while not done:
-            obs, reward, terminated, truncated, info = env.step(policy.act(obs))
+            a = policy.act(obs)
+            counts[a] += 1
+            obs, reward, terminated, truncated, info = env.step(a)
             total += reward
             done = terminated or truncated
         successes += int(terminated)
         returns.append(total)
+        time += info["sim_seconds"]
         assert total == info["episode_reward"], (total, info["episode_reward"])
+    if details is not None:
+        details["time_mean"] = time / episodes
+        details["usage"] = {name: c / sum(counts) for name, c in zip(env.actions, counts)}
     return successes, returns
 
 
@@ -81,11 +89,15 @@ class EvalMatches(unittest.TestCase):
         env = roger.make(curriculum, stage=stage, context=context, skills=skills)
         policy = roger.load_policy(policy_file)
         self.assertEqual(policy.actions, env.actions)
-        successes, returns = python_eval(env, policy, 20, FIRST_SEED)
+        details = {}
+        successes, returns = python_eval(env, policy, 20, FIRST_SEED, details)
         self.assertEqual(successes, expected["successes"])
         mean, std = summary(returns)
         self.assertEqual(mean, expected["reward_mean"])
         self.assertEqual(std, expected["reward_std"])
+        # The same episodes, not only the same outcomes: their simulated times and decisions too.
+        self.assertEqual(details["time_mean"], expected["time_mean"])
+        self.assertEqual(details["usage"], expected["usage"])
         return expected
 
     def test_lua_reward_stage(self):
