@@ -16,6 +16,7 @@ median ratio is reported, with the load average before and after.
 import argparse
 import json
 import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -34,13 +35,10 @@ def vec_run(num_envs, threads, steps, seed):
     rng = np.random.default_rng(seed)
     vec.reset(seed=seed)
     actions = [rng.integers(0, len(vec.actions), size=num_envs) for _ in range(steps)]
-    ticks = 0
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     for a in actions:
-        obs, rew, term, trunc, info = vec.step(a)
-        ticks += int(info["episode_ticks"].sum())
-    wall = time.perf_counter() - t0
-    return wall, steps * num_envs
+        vec.step(a)
+    return time.perf_counter() - t0, steps * num_envs, time.process_time() - c0
 
 
 def separate_run(num_envs, steps, seed):
@@ -61,26 +59,30 @@ def separate_run(num_envs, steps, seed):
 
 
 def python_eval(policy_file, episodes, seed):
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     env = roger.make(CURRICULUM, "T", "B2")
     policy = roger.load_policy(policy_file)
-    ticks = 0
+    decisions = 0
     for i in range(episodes):
         obs, _ = env.reset(seed=seed + i)
         done = False
         while not done:
             obs, _, term, trunc, info = env.step(policy.act(obs))
             done = term or trunc
-        ticks += info["ticks"]
-    return time.perf_counter() - t0, ticks
+        decisions += info["decisions"]
+    return time.perf_counter() - t0, decisions, time.process_time() - c0
+
+
+def children_cpu():
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
 
 
 def cpp_eval(roger_bin, policy_file, episodes, seed):
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), children_cpu()
     out = subprocess.run([roger_bin, "eval", CURRICULUM, "--policy", policy_file, "--episodes", str(episodes),
                           "--seed", str(seed), "--json"], check=True, capture_output=True, text=True).stdout
-    wall = time.perf_counter() - t0
-    return wall, json.loads(out.strip().splitlines()[-1])
+    return time.perf_counter() - t0, json.loads(out.strip().splitlines()[-1]), children_cpu() - c0
 
 
 def main():
@@ -88,8 +90,8 @@ def main():
     ap.add_argument("--roger", default="build/engine/roger")
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--envs", type=int, default=8)
-    ap.add_argument("--steps", type=int, default=60, help="vec steps per round")
-    ap.add_argument("--episodes", type=int, default=50, help="evaluation episodes per round")
+    ap.add_argument("--steps", type=int, default=200, help="vec steps per round")
+    ap.add_argument("--episodes", type=int, default=400, help="evaluation episodes per round")
     ap.add_argument("--policy", help="a T/B2 policy.json (default: roger train --seed 1 into a temporary folder)")
     a = ap.parse_args()
     load0 = os.getloadavg()
@@ -101,31 +103,37 @@ def main():
         policy = os.path.join(out, "policy.json")
 
     speedups, vs_separate, rates = [], [], {1: [], 2: [], "separate": []}
-    overheads = []
+    cpu_ratio, overheads, cpu_overheads, per_step = [], [], [], []
     for r in range(a.rounds):
         seed = 10 * r + 1
-        w1, n = vec_run(a.envs, 1, a.steps, seed)
-        w2, _ = vec_run(a.envs, 2, a.steps, seed)
+        w1, n, c1 = vec_run(a.envs, 1, a.steps, seed)
+        w2, _, c2 = vec_run(a.envs, 2, a.steps, seed)
         ws, _ = separate_run(a.envs, a.steps, seed)
         rates[1].append(n / w1)
         rates[2].append(n / w2)
         rates["separate"].append(n / ws)
         speedups.append(w1 / w2)
         vs_separate.append(ws / w2)
-        wc, summary = cpp_eval(a.roger, policy, a.episodes, 1000000)
-        wp, ticks = python_eval(policy, a.episodes, 1000000)
+        cpu_ratio.append(c2 / c1)
+        wc, summary, cc = cpp_eval(a.roger, policy, a.episodes, 1000000)
+        wp, decisions, cp = python_eval(policy, a.episodes, 1000000)
         overheads.append(wp / wc - 1.0)
+        cpu_overheads.append(cp / cc - 1.0)
+        per_step.append((cp - cc) / decisions * 1e6)
         print(f"round {r + 1}: vec 1 thread {n / w1:7.1f} steps/s, 2 threads {n / w2:7.1f} steps/s "
-              f"(x{w1 / w2:.2f}), separate envs {n / ws:7.1f} steps/s; eval C++ {wc:.2f} s, "
-              f"Python {wp:.2f} s ({100 * (wp / wc - 1):+.1f}%)", flush=True)
+              f"(x{w1 / w2:.2f}; CPU x{c2 / c1:.2f}), separate envs {n / ws:7.1f} steps/s; eval C++ {wc:.2f} s "
+              f"({cc:.2f} CPU s), Python {wp:.2f} s ({cp:.2f} CPU s): {100 * (wp / wc - 1):+.1f}% wall, "
+              f"{100 * (cp / cc - 1):+.1f}% CPU", flush=True)
     load1 = os.getloadavg()
     med = statistics.median
     print(f"\nmake_vec, {a.envs} worlds of T/B2, random actions, {a.steps} steps x {a.rounds} rounds:")
     print(f"  1 thread            {med(rates[1]):8.1f} steps/s")
     print(f"  2 threads           {med(rates[2]):8.1f} steps/s   speed-up x{med(speedups):.2f} (median of paired rounds)")
     print(f"  separate Envs       {med(rates['separate']):8.1f} steps/s   2-thread make_vec is x{med(vs_separate):.2f}")
-    print(f"Python loop over roger eval, {a.episodes} episodes of T/B2 from seed 1000000: "
-          f"overhead {100 * med(overheads):+.1f}% (median; rounds {', '.join(f'{100 * o:+.1f}%' for o in overheads)})")
+    print(f"  CPU time per step, 2 threads over 1: x{med(cpu_ratio):.2f} (the work the threads add)")
+    print(f"Python loop over roger eval, {a.episodes} episodes of T/B2 from seed 1000000: overhead "
+          f"{100 * med(overheads):+.1f}% of wall time, {100 * med(cpu_overheads):+.1f}% of CPU time "
+          f"({med(per_step):.1f} CPU us per step; medians of the rounds)")
     print(f"load average before {load0[0]:.2f}, after {load1[0]:.2f} on {os.cpu_count()} cores")
 
 
