@@ -5,7 +5,7 @@
 
 Run from the repository root. Needs numpy and the built module, never torch or gymnasium. Each
 class is one CTest test. Policies come from short `roger train` runs, made once per process in
-ROGER_TEST_WORK (default: a temporary folder).
+ROGER_TEST_WORK (emptied first) or a temporary folder.
 """
 import json
 import os
@@ -21,6 +21,9 @@ import roger
 
 ROGER = os.environ.get("ROGER", "build/engine/roger")
 WORK = os.environ.get("ROGER_TEST_WORK") or tempfile.mkdtemp(prefix="roger-python-")
+if os.environ.get("ROGER_TEST_WORK"):  # every run trains its policies afresh, with this build
+    shutil.rmtree(WORK, ignore_errors=True)
+    os.makedirs(WORK)
 EXAMPLE = "docs/examples/curriculum_example.lua"
 BAD_REWARD = "tests/python/fixtures/bad_reward.lua"
 PAPER = "curricula/paper.lua"
