@@ -128,7 +128,8 @@ def main():
     med = statistics.median
     print(f"\nmake_vec, {a.envs} worlds of T/B2, random actions, {a.steps} steps x {a.rounds} rounds:")
     print(f"  1 thread            {med(rates[1]):8.1f} steps/s")
-    print(f"  2 threads           {med(rates[2]):8.1f} steps/s   speed-up x{med(speedups):.2f} (median of paired rounds)")
+    print(f"  2 threads           {med(rates[2]):8.1f} steps/s   "
+          f"speed-up x{med(speedups):.2f} (median of paired rounds)")
     print(f"  separate Envs       {med(rates['separate']):8.1f} steps/s   2-thread make_vec is x{med(vs_separate):.2f}")
     print(f"  CPU time per step, 2 threads over 1: x{med(cpu_ratio):.2f} (the work the threads add)")
     print(f"Python loop over roger eval, {a.episodes} episodes of T/B2 from seed 1000000: overhead "

@@ -269,8 +269,9 @@ def table(results, contexts, out, threshold=0.9):
                          f"{minsec(statistics.median(times))} | {first} | "
                          f"{100 * statistics.mean(x['success_rate'] for x in xs):.1f}% | "
                          f"{statistics.mean(x['wall_s'] for x in xs):.1f} |")
-    return ("\n".join(lines) + "\n\nA trial that did not reach the threshold counts its whole training time (censored). "
-            "First pass: the first checkpoint at or above the threshold, whether or not the rate stayed there.\n")
+    return ("\n".join(lines) + "\n\nA trial that did not reach the threshold counts its whole training time "
+            "(censored). First pass: the first checkpoint at or above the threshold, whether or not the rate "
+            "stayed there.\n")
 
 
 def parse_seeds(text):

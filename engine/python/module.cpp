@@ -115,8 +115,8 @@ class Policy {
   explicit Policy(const std::string& path) : path_(path), q_(QTable::load(path, {}, &meta_)) {}
   int act(py::array_t<int64_t, py::array::c_style | py::array::forcecast> obs) const {
     if (obs.ndim() != 1 || obs.shape(0) != q_.actions())
-      throw Error(path_ + ": the policy has " + std::to_string(q_.actions()) + " actions " + "but the observation has " +
-                  std::to_string(obs.size()) + " values");
+      throw Error(path_ + ": the policy has " + std::to_string(q_.actions()) +
+                  " actions but the observation has " + std::to_string(obs.size()) + " values");
     std::vector<Gamma> g(size_t(q_.actions()));
     for (int a = 0; a < q_.actions(); ++a) {
       const int64_t v = obs.at(a);
