@@ -4,11 +4,14 @@
 #   P/bin/roger
 #   P/share/roger/{scenarios,curricula,scripts}   the Lua libraries, shipped scenarios and scripts
 #   P/share/roger/web                             the pages (also compiled into roger)
+#   P/share/roger/api, .luarc.json, .luacheckrc   the Lua API for editors and the linter (docs/authoring.md)
 #   P/share/doc/roger                             README.md and docs/, examples included
 install(TARGETS roger RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(DIRECTORY scenarios curricula scripts DESTINATION ${CMAKE_INSTALL_DATADIR}/roger
         USE_SOURCE_PERMISSIONS PATTERN "__pycache__" EXCLUDE)
 install(DIRECTORY engine/view/web/ DESTINATION ${CMAKE_INSTALL_DATADIR}/roger/web)
+install(DIRECTORY api DESTINATION ${CMAKE_INSTALL_DATADIR}/roger)
+install(FILES .luarc.json .luacheckrc DESTINATION ${CMAKE_INSTALL_DATADIR}/roger)
 install(FILES README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
 install(DIRECTORY docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR})
 

@@ -816,3 +816,49 @@ TEST_CASE("a cycle of decisions is found at the end of an episode, whatever its 
   CHECK(find_decision_cycle({3, 7, 3, 7}, {0, 1, 0, 0}).turns == 0);  // same states, other actions
   CHECK(find_decision_cycle({}, {}).turns == 0);
 }
+
+TEST_CASE("decisions given from outside, one tick at a time, replay the driver's own episode bit for bit", "[learning]") {
+  // What an environment stepped from Python does (batch/environment.h): EpisodeRun paused at
+  // each decision point by a driver in external mode, given QTable::policy_action of the state.
+  Scenario scenario = Scenario::load("unobstructed");
+  TrackStage stage;
+  train(stage, scenario, 30, 20, 7);
+  Agent agent;
+  Rng unused(0);
+  for (uint64_t seed = 0; seed < 6; ++seed) {
+    INFO("seed " << seed);
+    const WorldSpec spec = scenario.generate(seed);
+    const TrainingEpisode own =
+        run_learning_episode(agent, spec, seed, stage.psi, *stage.absorbing, stage.q, 0.0, unused, stage.options, false);
+    const uint64_t own_hash = agent.world().state_hash();
+
+    SemiMdpDriver driver(stage.psi, stage.absorbing.get(), stage.q, 0.0, unused, stage.options, false);
+    driver.choose_externally(true);
+    EpisodeRun run(agent, spec, seed, driver, stage.options.time_limit);
+    CHECK_THROWS_WITH(driver.act(0), Catch::Contains("no decision is pending"));
+    int pauses = 0;
+    double rewards = 0.0;
+    for (;;) {
+      while (run.tick()) {
+      }
+      if (!run.paused()) break;
+      ++pauses;
+      rewards += driver.transition_reward();
+      CHECK_THROWS_WITH(driver.act(2), Catch::Contains("action index 2 is not in [0, 2)"));
+      driver.act(stage.q.policy_action(gamma_state_index(driver.gammas())));
+    }
+    const EpisodeOutcome out = run.finish();
+    rewards += driver.transition_reward();
+    const TrainingEpisode& ep = driver.episode();
+    CHECK(pauses == own.decisions);
+    CHECK(ep.decision_states == own.decision_states);
+    CHECK(ep.actions_taken == own.actions_taken);
+    CHECK(ep.ticks == own.ticks);
+    CHECK(out.ticks == own.ticks);
+    CHECK(out.success == own.success);
+    CHECK(same_bits(ep.sim_seconds, own.sim_seconds));
+    CHECK(ep.reward == own.reward);
+    CHECK(rewards == own.reward);  // the steps' rewards add up to the episode's
+    CHECK(agent.world().state_hash() == own_hash);
+  }
+}

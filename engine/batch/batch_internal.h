@@ -8,6 +8,10 @@
 #include <nlohmann/json.hpp>
 
 #include "batch/batch.h"
+#include "batch/trainer.h"
+#include "learn/learning.h"
+#include "script/curriculum/curriculum.h"
+#include "script/scenario/scenario.h"
 
 namespace roger::batch_detail {
 
@@ -47,5 +51,39 @@ nlohmann::json read_json_file(const std::string& path);
 // A results folder's manifest.json, checked to be one (an object of format roger-results/1 with
 // its config, engine and script), or roger::Error naming the file and what is wrong.
 nlohmann::json read_manifest_file(const std::string& path);
+
+// ---- trainer.cpp: what a trial and an environment (environment.cpp) both build a stage from ----
+
+// A stage's Lua reward and absorbing functions as the decision hooks of its semi-MDP.
+class StageHooks final : public DecisionHooks {
+ public:
+  StageHooks(Curriculum& cur, const CurriculumStage& stage, const CurriculumContext& ctx)
+      : cur_(cur), stage_(stage), ctx_(ctx) {}
+  bool has_absorbing() const override { return stage_.absorbing_lua; }
+  bool has_reward() const override { return stage_.reward_lua; }
+  bool absorbing(const std::vector<Gamma>& state, double time) override {
+    return cur_.call_absorbing(stage_, ctx_, state, time);
+  }
+  double reward(const std::vector<Gamma>& state, int action, const char* event, double time) override {
+    return cur_.call_reward(stage_, ctx_, state, action, event, time);
+  }
+
+ private:
+  Curriculum& cur_;
+  const CurriculumStage& stage_;
+  const CurriculumContext& ctx_;
+};
+
+// The scenario of a stage with its parameters, then the caller's `sets`; `name` another scenario
+// ("" = the stage's, whose parameters then do not apply). Appends the parameters used to `used`.
+Scenario make_scenario(const CurriculumStage& stage, const std::string& name,
+                       const std::vector<std::pair<std::string, std::string>>& sets,
+                       const SandboxLimits& limits, std::vector<std::pair<std::string, std::string>>* used);
+
+// Binds every learned skill `ctx` uses: from embedded policies (`embedded`: name -> policy JSON),
+// from options.skill_files, or by training the producing stage with options.seed. Appends where
+// each came from.
+void bind_skills(Curriculum& cur, const CurriculumContext& ctx, const TrainOptions& options,
+                 const nlohmann::json* embedded, std::vector<SkillSource>& sources);
 
 }  // namespace roger::batch_detail

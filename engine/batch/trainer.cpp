@@ -21,6 +21,9 @@
 
 namespace roger {
 namespace fs = std::filesystem;
+using batch_detail::StageHooks;
+using batch_detail::bind_skills;
+using batch_detail::make_scenario;
 
 namespace {
 
@@ -35,26 +38,6 @@ std::string episode_fault_text(const std::string& cause, const std::string& phas
                             std::to_string(seed) + ")";
   return nl == std::string::npos ? cause + where : cause.substr(0, nl) + where + cause.substr(nl);
 }
-
-// A stage's Lua reward and absorbing functions as the decision hooks of its semi-MDP.
-class StageHooks final : public DecisionHooks {
- public:
-  StageHooks(Curriculum& cur, const CurriculumStage& stage, const CurriculumContext& ctx)
-      : cur_(cur), stage_(stage), ctx_(ctx) {}
-  bool has_absorbing() const override { return stage_.absorbing_lua; }
-  bool has_reward() const override { return stage_.reward_lua; }
-  bool absorbing(const std::vector<Gamma>& state, double time) override {
-    return cur_.call_absorbing(stage_, ctx_, state, time);
-  }
-  double reward(const std::vector<Gamma>& state, int action, const char* event, double time) override {
-    return cur_.call_reward(stage_, ctx_, state, action, event, time);
-  }
-
- private:
-  Curriculum& cur_;
-  const CurriculumStage& stage_;
-  const CurriculumContext& ctx_;
-};
 
 // One stage/context of a loaded curriculum, ready to run episodes in a scenario.
 struct StageRun {
@@ -84,8 +67,10 @@ struct StageRun {
   }
 };
 
+}  // namespace
+
 // The scenario of a stage with its parameters, then the caller's.
-Scenario make_scenario(const CurriculumStage& stage, const std::string& name,
+Scenario batch_detail::make_scenario(const CurriculumStage& stage, const std::string& name,
                        const std::vector<std::pair<std::string, std::string>>& sets,
                        const SandboxLimits& limits, std::vector<std::pair<std::string, std::string>>* used) {
   const bool own = name.empty() || name == stage.scenario;
@@ -97,6 +82,8 @@ Scenario make_scenario(const CurriculumStage& stage, const std::string& name,
     for (const auto& p : s.params()) used->push_back({p.name, p.value});
   return s;
 }
+
+namespace {
 
 // The greedy evaluation episodes of one trial, by world seed, as they last ran. A greedy episode
 // is a function of its world seed and of the actions chosen at its decisions: every episode
@@ -186,9 +173,9 @@ double skills_sim_s(const std::vector<SkillSource>& sources) {
   return s;
 }
 
-// Binds every learned skill `ctx` uses: from embedded policies (`embedded`: name -> policy JSON),
-// from files, or by training the producing stage with `seed`. Appends where each came from.
-void bind_skills(Curriculum& cur, const CurriculumContext& ctx, const TrainOptions& options,
+}  // namespace
+
+void batch_detail::bind_skills(Curriculum& cur, const CurriculumContext& ctx, const TrainOptions& options,
                  const nlohmann::json* embedded, std::vector<SkillSource>& sources) {
   for (const auto& name : ctx.learned) {
     if (std::any_of(sources.begin(), sources.end(), [&](const SkillSource& s) { return s.name == name; })) continue;
@@ -246,8 +233,6 @@ void bind_skills(Curriculum& cur, const CurriculumContext& ctx, const TrainOptio
     sources.push_back(std::move(src));
   }
 }
-
-}  // namespace
 
 EpisodeFault::EpisodeFault(const std::exception& e, std::string phase_in, int episode_in, uint64_t seed_in)
     : Error(episode_fault_text(e.what(), phase_in, episode_in, seed_in)),

@@ -7,32 +7,53 @@
 
 namespace roger {
 
-EpisodeOutcome run_episode(Agent& agent, const WorldSpec& spec, uint64_t seed, EpisodeDriver& driver,
-                           double time_limit, EpisodeObserver* observer) {
+EpisodeRun::EpisodeRun(Agent& agent, const WorldSpec& spec, uint64_t seed, EpisodeDriver& driver,
+                       double time_limit, EpisodeObserver* observer)
+    : agent_(agent), driver_(driver), observer_(observer) {
   if (!(time_limit > 0.0)) throw Error("episode: time limit must be positive");
   agent.reset(spec);
   driver.begin(seed);
   if (observer) observer->on_begin(agent, seed);
-  const int max_ticks = int(std::ceil(time_limit / agent.world().tick_seconds() - 1e-9));
-  EpisodeOutcome out;
-  for (int t = 0; t < max_ticks; ++t) {
-    Controller* action = driver.choose(agent.input());
-    if (!action) {
-      out.success = true;
-      break;
-    }
-    agent.step(*action);
-    out.ticks = t + 1;
-    if (observer) observer->on_tick(agent, out.ticks, *action);
-    if (driver.absorbed(agent.input())) {
-      out.success = true;
-      break;
-    }
+  max_ticks_ = int(std::ceil(time_limit / agent.world().tick_seconds() - 1e-9));
+  over_ = max_ticks_ <= 0;
+}
+
+bool EpisodeRun::tick() {
+  paused_ = false;
+  if (over_) return false;
+  Controller* action = driver_.choose(agent_.input());
+  if (!action) {
+    paused_ = driver_.paused();
+    over_ = out_.success = !paused_;
+    return false;
   }
-  out.sim_seconds = agent.world().time();
-  out.success = driver.end(agent.input(), out.success, out.ticks, out.sim_seconds);
-  if (observer) observer->on_end(agent, out.success, out.ticks);
-  return out;
+  agent_.step(*action);
+  out_.ticks += 1;
+  if (observer_) observer_->on_tick(agent_, out_.ticks, *action);
+  if (driver_.absorbed(agent_.input())) {
+    over_ = out_.success = true;
+    return false;
+  }
+  over_ = out_.ticks >= max_ticks_;
+  return !over_;
+}
+
+EpisodeOutcome EpisodeRun::finish() {
+  if (finished_) throw Error("episode: finished twice");
+  finished_ = true;
+  out_.sim_seconds = agent_.world().time();
+  out_.success = driver_.end(agent_.input(), out_.success, out_.ticks, out_.sim_seconds);
+  if (observer_) observer_->on_end(agent_, out_.success, out_.ticks);
+  return out_;
+}
+
+EpisodeOutcome run_episode(Agent& agent, const WorldSpec& spec, uint64_t seed, EpisodeDriver& driver,
+                           double time_limit, EpisodeObserver* observer) {
+  EpisodeRun run(agent, spec, seed, driver, time_limit, observer);
+  while (run.tick()) {
+  }
+  if (run.paused()) throw Error("episode: the driver paused a loop that cannot be resumed");
+  return run.finish();
 }
 
 namespace {

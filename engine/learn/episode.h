@@ -32,6 +32,10 @@ class EpisodeDriver {
   // The episode ended after `ticks` ticks at simulated time `time`, in success or at the time
   // limit; returns the final success (a driver may still find the absorbing state here).
   virtual bool end(const ControlInput& in, bool success, int ticks, double time) = 0;
+  // Whether the last choose() returned nullptr because the driver waits for a choice from outside
+  // (an environment's step), not because the episode is absorbed: the loop then pauses before the
+  // tick and asks choose() again once the choice is given.
+  virtual bool paused() const { return false; }
 };
 
 // What an episode loop reports to whoever records it (pictures, timelines). Default: nothing.
@@ -54,10 +58,42 @@ struct EpisodeOutcome {
   double sim_seconds = 0.0; // simulated time at the end
 };
 
-// The one episode loop: resets the agent into `spec`, begins the driver with `seed`, and then every
-// control tick asks the driver for a controller, runs it for one tick, tells the observer and asks
-// the driver whether the episode is absorbed, until it is or `time_limit` simulated seconds pass.
-// The episode is a pure function of (spec, seed, driver). Throws roger::Error for a bad limit.
+// The one episode loop, one control tick at a time, for a caller that must return between ticks
+// (an environment stepped from Python): run_episode below is begin, tick() until it returns false,
+// then finish(), so a stepped episode is the same episode bit for bit. Each tick asks the driver
+// for a controller, runs it for one tick, tells the observer and asks the driver whether the
+// episode is absorbed, until it is or `time_limit` simulated seconds pass. A driver may pause the
+// loop before a tick (EpisodeDriver::paused): tick() then returns without running anything and
+// runs that tick when called again.
+class EpisodeRun {
+ public:
+  // Resets the agent into `spec` and begins the driver with `seed`. Throws roger::Error for a bad
+  // limit. The agent, driver and observer must outlive the run.
+  EpisodeRun(Agent& agent, const WorldSpec& spec, uint64_t seed, EpisodeDriver& driver, double time_limit,
+             EpisodeObserver* observer = nullptr);
+  // Runs one control tick. False when the episode is over (then call finish()), or when the driver
+  // paused before the tick (paused() says which).
+  bool tick();
+  // Whether the last tick() stopped because the driver waits for a choice from outside.
+  bool paused() const { return paused_; }
+  // Whether the episode has ended (absorbed or out of time); finish() is still to be called.
+  bool over() const { return over_; }
+  // Control ticks run so far.
+  int ticks() const { return out_.ticks; }
+  // Ends the episode: tells the driver and the observer; returns how it ended. Call once, when over.
+  EpisodeOutcome finish();
+
+ private:
+  Agent& agent_;
+  EpisodeDriver& driver_;
+  EpisodeObserver* observer_;
+  int max_ticks_ = 0;
+  bool over_ = false, paused_ = false, finished_ = false;
+  EpisodeOutcome out_;
+};
+
+// The one episode loop (EpisodeRun) from start to end. The episode is a pure function of (spec,
+// seed, driver). Throws roger::Error for a bad limit.
 EpisodeOutcome run_episode(Agent& agent, const WorldSpec& spec, uint64_t seed, EpisodeDriver& driver,
                            double time_limit, EpisodeObserver* observer = nullptr);
 

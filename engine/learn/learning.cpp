@@ -85,8 +85,9 @@ void SemiMdpDriver::begin(uint64_t seed) {
   ep_ = TrainingEpisode();
   ep_.seed = seed;
   ep_.action_ticks.assign(psi_.size(), 0);
-  state_ = action_ = -1;
-  accumulated_ = decided_at_ = tick_start_ = 0.0;
+  state_ = action_ = pending_state_ = -1;
+  accumulated_ = decided_at_ = tick_start_ = running_reward_ = transition_reward_ = 0.0;
+  awaiting_ = resumed_ = false;
 }
 
 // The discount of a reward `elapsed` seconds into a decision, and of the bootstrap at the next
@@ -108,19 +109,33 @@ int SemiMdpDriver::read_state(const ControlInput& in) {
 
 // A decision in state s at time `now`: backs up the previous one and chooses the next action.
 void SemiMdpDriver::decide(int s, double now) {
-  // Semi-MDP: the previous action ran until this change of state; its transition ends here.
-  if (action_ >= 0) {
-    const double r = hooked_reward_ ? hooks_->reward(gammas_, action_, "decision", now) : accumulated_;
-    if (hooked_reward_) ep_.reward += r;
-    if (learn_) q_.update(state_, action_, r, s, false, discount_bootstrap(now - decided_at_));
-  }
+  close_transition(s, now);
+  int a;
   if (learn_) {
-    action_ = q_.choose(s, epsilon_, rng_);
+    a = q_.choose(s, epsilon_, rng_);
   } else if (epsilon_ > 0.0 && rng_.uniform() < epsilon_) {
-    action_ = q_.explore(s, rng_);
+    a = q_.explore(s, rng_);
   } else {
-    action_ = q_.policy_action(s);
+    a = q_.policy_action(s);
   }
+  open_decision(s, now, a);
+}
+
+// Semi-MDP: the previous action ran until this change of state; its transition ends here.
+void SemiMdpDriver::close_transition(int s, double now) {
+  if (action_ < 0) return;
+  const double r = hooked_reward_ ? hooks_->reward(gammas_, action_, "decision", now) : accumulated_;
+  if (hooked_reward_) {
+    ep_.reward += r;
+    running_reward_ += r;
+  }
+  if (learn_) q_.update(state_, action_, r, s, false, discount_bootstrap(now - decided_at_));
+  transition_reward_ = running_reward_;
+  running_reward_ = 0.0;
+}
+
+void SemiMdpDriver::open_decision(int s, double now, int a) {
+  action_ = a;
   state_ = s;
   accumulated_ = 0.0;
   decided_at_ = now;
@@ -129,12 +144,33 @@ void SemiMdpDriver::decide(int s, double now) {
   ep_.decision_states.push_back(s);
 }
 
+void SemiMdpDriver::act(int a) {
+  if (!awaiting_) throw Error("learning episode: no decision is pending (the episode is over or not begun)");
+  if (a < 0 || a >= int(psi_.size()))
+    throw Error("learning episode: action index " + std::to_string(a) + " is not in [0, " +
+                std::to_string(psi_.size()) + ")");
+  open_decision(pending_state_, tick_start_, a);
+  awaiting_ = false;
+  resumed_ = true;
+}
+
 Controller* SemiMdpDriver::choose(const ControlInput& in) {
+  if (resumed_) {  // the tick paused for act(): its state was read and its transition closed
+    resumed_ = false;
+    return psi_[size_t(action_)].get();
+  }
   tick_start_ = in.time;  // `in` changes under us when the agent steps
   const int s = read_state(in);
-  if (s != state_) {
+  if (s != state_ || every_tick_) {
     if (hooked_absorbing_ && hooks_->absorbing(gammas_, tick_start_)) return nullptr;
-    decide(s, tick_start_);
+    if (!external_) {
+      decide(s, tick_start_);
+    } else {
+      close_transition(s, tick_start_);
+      pending_state_ = s;
+      awaiting_ = true;
+      return nullptr;
+    }
   }
   return psi_[size_t(action_)].get();
 }
@@ -144,6 +180,7 @@ bool SemiMdpDriver::absorbed(const ControlInput& in) {
   if (!hooked_reward_) {
     accumulated_ += discount_within(tick_start_ - decided_at_) * options_.step_reward;
     ep_.reward += options_.step_reward;
+    running_reward_ += options_.step_reward;
   }
   return absorbing_ && absorbing_->holds(in);
 }
@@ -166,6 +203,8 @@ bool SemiMdpDriver::end(const ControlInput& in, bool success, int ticks, double 
     final_reward = success ? options_.success_reward : options_.timeout_reward;
   }
   ep_.reward += final_reward;
+  running_reward_ += final_reward;
+  transition_reward_ = running_reward_;
   // Both ends are terminal: the absorbing state by definition, and the time-out because the
   // paper's episode simply stops there as a failure (no value beyond it to bootstrap from).
   if (learn_)

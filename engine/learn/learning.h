@@ -238,12 +238,32 @@ class SemiMdpDriver final : public EpisodeDriver {
   Controller* choose(const ControlInput& in) override;
   bool absorbed(const ControlInput& in) override;
   bool end(const ControlInput& in, bool success, int ticks, double time) override;
+  bool paused() const override { return awaiting_; }
   // What happened in the episode (complete after end()).
   const TrainingEpisode& episode() const { return ep_; }
+
+  // Decisions from outside (an environment stepped from Python): at a decision point the driver
+  // closes the previous transition (its reward, and its backup when learning) and pauses the loop
+  // until act() gives the action, instead of choosing from the table. Set before begin().
+  void choose_externally(bool on) { external_ = on; }
+  // Makes every control tick a decision point, not only a change of state (raw-senses learners).
+  void decide_every_tick(bool on) { every_tick_ = on; }
+  // Whether the driver waits for act().
+  bool awaiting() const { return awaiting_; }
+  // Gives the action of the pending decision. Throws roger::Error when none is pending or `a` is
+  // not an action of psi.
+  void act(int a);
+  // The gammas of psi at the last decision point (or at the end of the episode).
+  const std::vector<Gamma>& gammas() const { return gammas_; }
+  // The undiscounted reward of the transition that ended at the last decision point or at the
+  // end of the episode: its step rewards and the Lua reward or the final reward that closed it.
+  double transition_reward() const { return transition_reward_; }
 
  private:
   int read_state(const ControlInput& in);
   void decide(int s, double now);
+  void close_transition(int s, double now);
+  void open_decision(int s, double now, int a);
   double discount_within(double elapsed) const;
   double discount_bootstrap(double elapsed) const;
   const std::vector<ControllerPtr>& psi_;
@@ -261,6 +281,11 @@ class SemiMdpDriver final : public EpisodeDriver {
   double accumulated_ = 0.0;  // reward since the last decision, discounted to it
   double decided_at_ = 0.0;   // simulated time of the last decision
   double tick_start_ = 0.0;   // simulated time at the start of the running tick
+  bool external_ = false, every_tick_ = false;
+  bool awaiting_ = false;     // paused at a decision point until act()
+  bool resumed_ = false;      // act() gave the action of this tick's decision
+  int pending_state_ = -1;    // the state of the decision act() completes
+  double running_reward_ = 0.0, transition_reward_ = 0.0;  // undiscounted, see transition_reward()
 };
 
 // One episode of a stage through the episode loop with a SemiMdpDriver (no hooks), in a fresh
