@@ -554,3 +554,48 @@ TEST_CASE("the report says why the trials that missed the threshold missed it", 
   CHECK(explained.find("`trials/R/A/000`") == std::string::npos);
   fs::remove_all(out);
 }
+
+// The sorting report's own table (docs/batch.md, Sorting tables): one row per number of objects,
+// its figures those of the trials' results.
+TEST_CASE("a sorting table has one row per number of objects, from the trials' final evaluations", "[report][run]") {
+  const fs::path root = fs::temp_directory_path() / ("roger_report_sorting_" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  fs::create_directories(root);
+  spit(root / "batch.lua",
+       "return {\n"
+       "  name = \"sorting table\", curriculum = \"" + fs::absolute("curricula/sorting.lua").string() + "\",\n"
+       "  trials = 1, seed = 3,\n"
+       "  runs = { { name = \"Hand2\", stage = \"Hand2\", contexts = { \"Scripted\" } },\n"
+       "           { name = \"Hand4\", stage = \"Hand4\", contexts = { \"Scripted\" } } },\n"
+       "  tables = { { title = \"Sorting\", sorting = { { objects = 2, hand = \"Hand2\" }, { objects = 4, hand = \"Hand4\" } } } },\n"
+       "  figures = {},\n"
+       "}\n");
+  RunArgs a;
+  a.script = (root / "batch.lua").string();
+  a.out = (root / "out").string();
+  a.jobs = 2;
+  std::ostringstream os;
+  a.progress = &os;
+  REQUIRE(command_run(a) == 0);
+  const std::string tables = slurp(root / "out" / "tables.md");
+  INFO(tables);
+  const json rep = json::parse(slurp(root / "out" / "report.json"));
+  const json& rows = rep["tables"][0]["sorting"];
+  REQUIRE(rows.size() == 2);
+  for (const auto& [objects, run] : {std::pair<int, const char*>{2, "Hand2"}, {4, "Hand4"}}) {
+    const json r = json::parse(slurp(root / "out" / "trials" / run / "Scripted" / "000" / "result.json"));
+    const double s = r["success_rate"], reward = r["reward_mean"];
+    const json& row = rows[size_t(objects / 2 - 1)];
+    CHECK(row["objects"] == objects);
+    CHECK(row["hand"]["success_rate"].get<double>() == Approx(s));
+    // Objects sorted per episode, from the reward as curricula/sorting.lua pays it.
+    const double sorted = objects * s + objects * (reward + 100.0 - 200.0 * s) / 100.0;
+    CHECK(row["hand"]["sorted"].get<double>() == Approx(sorted));
+    CHECK(row["hand"]["sorted"].get<double>() <= objects);
+    CHECK(row["hand"]["seconds_per_object"].get<double>() ==
+          Approx(r["final_time_mean"].get<double>() / sorted));
+    CHECK(!row.contains("learned"));
+    CHECK(tables.find("| " + std::to_string(objects) + " | ") != std::string::npos);
+  }
+  fs::remove_all(root);
+}
