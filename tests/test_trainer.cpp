@@ -229,16 +229,16 @@ TEST_CASE("the baselines reach the threshold, B2 where valuing untried actions a
     CHECK(paper.reached);
     CHECK(paper.final_eval.success_rate >= 0.9);
   }
-  // B2, seed 18 (one of the 2 of seeds 1-50 where it happens): with initial_q = -100
-  // (curricula/ablation.lua's T_q100, the setting the paper's curriculum replaced) its greedy
-  // policy settles on a plateau below 90% and never leaves it; with the paper's settings it
-  // reaches the threshold and keeps it.
-  TrainOptions o = trial_options("paper", "T", "B2", 18);
+  // B2, seed 6 (the first of seeds 1-9 where it happens since the arms start in the posture the
+  // spec asks for; it was seed 18 before): with initial_q = -100 (curricula/ablation.lua's T_q100,
+  // the setting the paper's curriculum replaced) its greedy policy settles on a plateau below 90%
+  // and never leaves it; with the paper's settings it reaches the threshold and keeps it.
+  TrainOptions o = trial_options("paper", "T", "B2", 6);
   const TrainResult paper = train_stage(o);
   o.curriculum = "curricula/ablation.lua";
   o.stage = "T_q100";
   const TrainResult q100 = train_stage(o);
-  INFO("B2 seed 18: reached with the paper's settings " << paper.reached << ", with initial_q = -100 " << q100.reached);
+  INFO("B2 seed 6: reached with the paper's settings " << paper.reached << ", with initial_q = -100 " << q100.reached);
   CHECK(paper.reached);
   CHECK(paper.final_eval.success_rate >= 0.9);
   CHECK_FALSE(q100.reached);
