@@ -174,15 +174,17 @@ int sorted_by_hand(int objects, int obstacles, uint64_t first, int n) {
 
 }  // namespace
 
-// One hand-written policy for any number of objects, judged by the world (roger.sorted). The
-// issue's bar for eight objects is 17 of 20; what holds today is pinned here (docs/results.md,
-// Sorting, gives the held-out rates and what still fails).
+// One hand-written policy for any number of objects, judged by the world (roger.sorted). What
+// holds today is pinned here, on ten seeds each (the sanitizer build runs this too): 9 of 10 with
+// four objects and 8 of 10 with eight (19 and 15 of seeds 60000-60019). The bar the work aims at
+// for eight objects is 17 of 20; docs/results.md, Sorting, gives the held-out rates and what still
+// fails.
 TEST_CASE("sorting: one hand-written policy sorts 4 and 8 objects, its time limit per object", "[sorting]") {
-  const int four = sorted_by_hand(4, 0, 60000, 20);
-  const int eight = sorted_by_hand(8, 0, 60000, 20);
-  INFO("4 objects: " << four << " of 20; 8 objects: " << eight << " of 20");
-  CHECK(four >= 17);
-  CHECK(eight >= 12);
+  const int four = sorted_by_hand(4, 0, 60000, 10);
+  const int eight = sorted_by_hand(8, 0, 60000, 10);
+  INFO("4 objects: " << four << " of 10; 8 objects: " << eight << " of 10");
+  CHECK(four >= 8);
+  CHECK(eight >= 7);
 }
 
 TEST_CASE("sorting: a bound move whose objects are all put away ends NOREF within a scan", "[sorting]") {
