@@ -47,8 +47,6 @@ class Navigate final : public Primitive {
   }
   Navigate(const Navigate& o)
       : Primitive(o), p_(o.p_), planner_(planner_params()), to_region_(o.to_region_) {}
-  // Re-stamps of the object map since construction (each may cost the planner a solve).
-  int object_map_changes() const { return map_changes_; }
   PrimitivePtr clone() const override { return std::make_shared<Navigate>(*this); }
   void reset(uint64_t seed) override {
     Primitive::reset(seed);
@@ -252,7 +250,6 @@ class Navigate final : public Primitive {
     for (const Stamp& st : stamps_)
       if (st.on) stamp_disk(st.center, st.radius);
     planner_.set_grid(map_);
-    ++map_changes_;
     return true;
   }
 
@@ -352,7 +349,6 @@ class Navigate final : public Primitive {
   std::vector<Stamp> stamps_;            // per object, what map_ holds of it
   std::vector<uint8_t> wanted_;          // scratch: which objects are obstacles this tick
   int left_out_ = -1;                    // the object approached or carried, last tick
-  int map_changes_ = 0;
   bool planned_ = false;
   size_t planned_region_ = 0;  // the goal region planned for (goal='region')
   Vec2 goal_center_ = Vec2::Zero();
