@@ -680,11 +680,8 @@ return { stages = { roger.stage{ name = "S", scenario = "sorting", time_limit = 
       {"world", "roger.CallbackWorld"}, {"object", "roger.WorldObject"}, {"goal", "roger.WorldGoal"}};
   const ApiFile api = read_api("api/curriculum.lua");
   for (const auto& [part, cls] : classes) {
-    const std::smatch m = [&] {
-      std::smatch r;
-      std::regex_search(message, r, std::regex(part + "=([a-z_,]*)"));
-      return r;
-    }();
+    std::smatch m;
+    std::regex_search(message, m, std::regex(part + "=([a-z_,]*)"));
     REQUIRE(m.size() == 2);
     std::set<std::string> seen;
     std::stringstream list(m[1].str());
