@@ -191,3 +191,43 @@ TEST_CASE("touch, joints and base pose are reported every tick", "[senses]") {
   CHECK(s.base.x == Approx(world.base_pose().x));
   for (const Touch& t : s.touch) CHECK_FALSE(t.contact);
 }
+
+TEST_CASE("the eyes keep to one of two objects of the stimulus colour while it stays in view", "[senses]") {
+  // Two red balls ahead, the nearer one larger in the image; Roger turns right so that the nearer
+  // one slides out of the left edge of the view. Choosing the largest run each tick would jump to
+  // the other ball while part of the first is still in view, and back and forth as they trade
+  // sizes; the eyes keep to the one they had until none of it is left.
+  WorldSpec spec = open_world(true, Vec2(1.0, 0.35));
+  ObjectSpec far = spec.objects[0];
+  far.name = "ball 2";
+  far.pose = {2.0, -0.5, 0.0};
+  spec.objects.push_back(far);
+  World world;
+  world.reset(spec);
+  const Senses& s = world.senses();
+  REQUIRE(s.stimulus[kLeft].index == 0);
+  auto mass = [&](int index) {
+    double m = 0.0;
+    for (int u = 0; u < kPixels; ++u)
+      if (s.image[kLeft].index[size_t(u)] == index) m += s.image[kLeft].stimulus[size_t(u)];
+    return m;
+  };
+  int switches = 0, last = s.stimulus[kLeft].index;
+  bool other_larger_while_first_in_view = false;
+  DofVector turn = DofVector::Zero();
+  turn[kBaseHeading] = -0.15;
+  for (int tick = 0; tick < 200 && last != 1; ++tick) {
+    world.command(turn);
+    world.tick();
+    if (mass(0) > 0.0 && mass(1) > mass(0)) other_larger_while_first_in_view = true;
+    const int now = s.stimulus[kLeft].index;
+    if (now != last) ++switches, last = now;
+    if (mass(0) > 0.0) CHECK(now == 0);
+    // The right eye pairs the left eye's object whenever it has some of it in view.
+    const auto& right = s.image[kRight].index;
+    if (std::find(right.begin(), right.end(), now) != right.end()) CHECK(s.stimulus[kRight].index == now);
+  }
+  CHECK(other_larger_while_first_in_view);  // the case the test is about did arise
+  CHECK(last == 1);                          // and once the first was gone, the other was taken
+  CHECK(switches == 1);
+}

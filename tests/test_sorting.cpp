@@ -253,6 +253,12 @@ TEST_CASE("sorting: the learned transport skill is loaded from its policy file, 
   const SkillSource phi_t = find("Phi_T");
   CHECK(phi_t.file == file.string());
   CHECK(find("Phi_SG").policy == written["extra"]["skills"]["Phi_SG"]["policy"]);
+  // Its training is the embedding file's to tell: the summary claims no figures for it.
+  CHECK(find("Phi_SG").embedded);
+  CHECK_FALSE(phi_t.embedded);
+  const nlohmann::json summary = train_summary_json(sr);
+  CHECK(summary["skills"]["Phi_SG"]["embedded"] == true);
+  CHECK_FALSE(summary["skills"]["Phi_SG"].contains("reached"));
   CHECK_FALSE(phi_t.trained);
   CHECK(phi_t.policy == written);  // the very table T learned, embedded in the Sort2 policy as read
   CHECK(train_policy_json(sr)["extra"]["skills"]["Phi_T"]["trained"] == false);

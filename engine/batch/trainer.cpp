@@ -202,6 +202,7 @@ void batch_detail::bind_skills(Curriculum& cur, const CurriculumContext& ctx, co
       src.file = e.value("file", "");
       src.trained = e.value("trained", false);
       src.trained_seed = e.value("seed", uint64_t(0));
+      src.embedded = true;
     } else if (file != options.skill_files.end()) {
       src.policy = std::move(from_file);
       src.file = file->second;
@@ -404,7 +405,11 @@ nlohmann::json train_summary_json(const TrainResult& r) {
   };
   for (const auto& s : r.skills) {
     nlohmann::json k = {{"stage", s.stage}, {"context", s.context}, {"trained", s.trained}};
-    if (s.trained) {
+    if (s.embedded) {
+      // Read with the skill that embeds it: how its training went is that file's to say.
+      k["embedded"] = true;
+      if (s.trained) k["seed"] = s.trained_seed;
+    } else if (s.trained) {
       k["seed"] = s.trained_seed;
       k["reached"] = s.reached;
       k["time_to_threshold"] = point_json(s.to_threshold);

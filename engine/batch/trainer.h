@@ -104,6 +104,7 @@ struct SkillSource {
   std::string file;           // the policy file it was read from ("" when trained here)
   uint64_t trained_seed = 0;  // when trained here: the seed it was trained with
   bool trained = false;
+  bool embedded = false;      // read from the policy file of a skill learned with it (no figures)
   bool reached = false;       // when trained here: whether it reached its threshold
   TrainPoint to_threshold;    // when trained here: its time-to-threshold (or totals if censored)
   TrainPoint totals;

@@ -94,6 +94,17 @@ int command_eval(const EvalArgs& a) {
   return 0;
 }
 
+// Where a skill of the trial came from, as roger train says it.
+static std::string skill_origin(const SkillSource& s) {
+  if (s.embedded)
+    return "embedded in the policy file of the skill learned with it (stage " + s.stage + " context " +
+           s.context + ")";
+  if (!s.trained) return "from " + s.file;
+  return "trained first: stage " + s.stage + " context " + s.context + ", " +
+         (s.reached ? "reached" : "NOT reached") + " its threshold after " +
+         std::to_string(s.to_threshold.episodes) + " episodes";
+}
+
 int command_train(const TrainArgs& a) {
   TrainOptions o;
   o.curriculum = a.curriculum;
@@ -110,11 +121,7 @@ int command_train(const TrainArgs& a) {
               r.curriculum_path.c_str(), r.stage.c_str(), r.context.c_str(), static_cast<unsigned long long>(r.seed),
               r.psi.size(), r.q->states(), r.scenario.c_str());
   for (const auto& s : r.skills)
-    std::printf("  skill %s        %s\n", s.name.c_str(),
-                s.trained ? ("trained first: stage " + s.stage + " context " + s.context + ", " +
-                             (s.reached ? "reached" : "NOT reached") + " its threshold after " +
-                             std::to_string(s.to_threshold.episodes) + " episodes").c_str()
-                          : ("from " + s.file).c_str());
+    std::printf("  skill %s        %s\n", s.name.c_str(), skill_origin(s).c_str());
   if (r.reached) {
     std::printf("  threshold      %.0f%% reached after %d episodes, %.1f simulated s, %lld decisions, %.2f wall s\n",
                 100 * r.threshold, r.to_threshold.episodes, r.to_threshold.sim_s,

@@ -238,7 +238,11 @@ void World::sense() {
     eye_heading[e] = s.base.theta + m.eye[e];
     paint_eye(eye_pos[e], eye_heading[e], m.surfaces, spec_.arena.wall_colour,
               attention_.colour, s.image[e]);
-    s.stimulus[e] = detect_stimulus(s.image[e], e == kRight ? s.stimulus[kLeft].index : -1);
+    // The left eye keeps to the object it saw last tick while that object is in view: with two
+    // objects of the stimulus colour in view, picking the larger each tick would flip between them
+    // as they turn or hide each other, and everything downstream (the estimate, the planner's
+    // goal, which object is no obstacle) would flip with it. The right eye looks for the left's.
+    s.stimulus[e] = detect_stimulus(s.image[e], s.stimulus[kLeft].index);
   }
   // Stereo pairs the same object in both eyes (the right eye looks first for the left eye's).
   s.stereo_valid = s.stimulus[0].seen && s.stimulus[1].seen && s.stimulus[0].index == s.stimulus[1].index &&
