@@ -221,6 +221,12 @@ bool World::put_away(int i, const Pose& pose) const {
   return true;
 }
 
+int World::stimulus_objects() const {
+  int n = 0;
+  for (const ObjectSpec& o : spec_.objects) n += o.colour == attention_.colour;
+  return n;
+}
+
 void World::sense() {
   Impl& m = *impl_;
   const RobotParams& r = params_.robot;
@@ -233,18 +239,28 @@ void World::sense() {
   update_surfaces();
   Vec2 eye_pos[2];
   double eye_heading[2];
+  // With several objects of the stimulus colour, both eyes keep to the object they saw last tick
+  // (the left eye's, or the right's when the left saw none) while it stays in view: picking the
+  // larger each tick would flip between them as they turn or hide each other, and everything
+  // downstream (the estimate, the planner's goal, which object is no obstacle) would flip with it.
+  // With one, nothing changes: its runs are all of the same object.
+  const bool several = stimulus_objects() > 1;
+  const int kept = !several ? -1 : s.stimulus[kLeft].seen ? s.stimulus[kLeft].index : s.stimulus[kRight].index;
   for (int e = 0; e < 2; ++e) {
     eye_pos[e] = to_world(s.base, Vec2(0.0, e == kLeft ? r.eye_y : -r.eye_y));
     eye_heading[e] = s.base.theta + m.eye[e];
     paint_eye(eye_pos[e], eye_heading[e], m.surfaces, spec_.arena.wall_colour,
               attention_.colour, s.image[e]);
-    // The left eye keeps to the object it saw last tick while that object is in view: with two
-    // objects of the stimulus colour in view, picking the larger each tick would flip between them
-    // as they turn or hide each other, and everything downstream (the estimate, the planner's
-    // goal, which object is no obstacle) would flip with it. The right eye looks for the left's.
-    s.stimulus[e] = detect_stimulus(s.image[e], s.stimulus[kLeft].index);
+    // The right eye looks first for the left eye's object.
+    s.stimulus[e] = detect_stimulus(s.image[e], e == kRight ? s.stimulus[kLeft].index : kept);
   }
-  // Stereo pairs the same object in both eyes (the right eye looks first for the left eye's).
+  // ...and, with several, for no other: were it to take another one (the left's hidden from it),
+  // each eye would centre its own object and search would call that found, with no stereo fix to
+  // approach. Seen by one eye only, search steps aside instead.
+  if (several && s.stimulus[kLeft].seen && s.stimulus[kRight].seen &&
+      s.stimulus[kRight].index != s.stimulus[kLeft].index)
+    s.stimulus[kRight] = Sighting{};
+  // Stereo pairs the same object in both eyes.
   s.stereo_valid = s.stimulus[0].seen && s.stimulus[1].seen && s.stimulus[0].index == s.stimulus[1].index &&
                    triangulate(eye_pos[0], eye_heading[0] + s.stimulus[0].bearing, eye_pos[1],
                                eye_heading[1] + s.stimulus[1].bearing, s.stimulus_world);

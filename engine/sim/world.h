@@ -125,6 +125,8 @@ class World {
   void update_surfaces();
   // Whether object i, at `pose`, lies in the attention's ignored region and Roger has let go of it.
   bool put_away(int i, const Pose& pose) const;
+  // How many objects have the colour the eyes attend to (put away or not).
+  int stimulus_objects() const;
   WorldParams params_;
   WorldSpec spec_;
   Senses senses_;
