@@ -11,6 +11,8 @@
 #include <sstream>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -171,4 +173,25 @@ TEST_CASE("roger bench --json ends with the figures", "[cli]") {
   const std::string last = r.out.substr(r.out.rfind('{'));
   CHECK(last.find("\"physics_rtf\"") != std::string::npos);
   CHECK(last.find("\"world_rtf\"") != std::string::npos);
+}
+
+TEST_CASE("roger eval runs a learned Sort4 policy from its file, loaded and not trained again", "[cli][sorting]") {
+  // tests/policies/sort4_learned.json is what `roger train curricula/sorting.lua --stage Sort4
+  // --context Learned --seed 1 --skill Phi_T=<T/DC6 seed 1>/policy.json` wrote: the sorting
+  // stage's Q-table, with the learned Phi_T and the Phi_SG it uses embedded. Nothing is trained
+  // here; the file alone drives four bound moves over four objects.
+  const Run r = roger("eval curricula/sorting.lua --policy tests/policies/sort4_learned.json --set objects=4 "
+                      "--episodes 10 --seed 3000000 --json");
+  INFO(r.out << r.err);
+  REQUIRE(r.status == 0);
+  CHECK(r.out.find("stage Sort4 context Learned (tests/policies/sort4_learned.json)") != std::string::npos);
+  CHECK(r.out.find("train") == std::string::npos);
+  const nlohmann::json j = nlohmann::json::parse(r.out.substr(r.out.rfind("\n{") + 1));
+  CHECK(j["params"]["objects"] == "4");
+  CHECK(j["episodes"] == 10);
+  // The policy sorted 16 of its 20 final evaluation episodes when it was trained; a policy that
+  // lost its skills or its bindings on the way in sorts none.
+  CHECK(j["successes"].get<int>() >= 6);
+  for (const char* move : {"sort circle", "sort triangle", "sort pentagon", "sort spade"})
+    CHECK(j["usage"][move].get<double>() > 0.0);
 }
