@@ -67,7 +67,8 @@ function roger.subject_to(sub, sup) end
 function roger.compose(expression, names) end
 
 ---A skill running its steps in order: each until it converges, falling back a step when the
----current one loses its reference (with {fall_back = false}: NOREF there instead).
+---current one loses its reference (with {fall_back = false}: NOREF there instead). NOREF when
+---every step is, or when the first step is running without a reference.
 ---@param name string
 ---@param steps roger.ControllerRef[]
 ---@param options? roger.SequenceOptions

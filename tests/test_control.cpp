@@ -209,6 +209,26 @@ TEST_CASE("a sequence advances on CONV and falls back on NOREF", "[control]") {
   CHECK(seq.current() == 0);
 }
 
+TEST_CASE("a sequence stuck on its first step without a reference is NOREF, whatever later steps have",
+          "[control]") {
+  // A sorting move's search that has looked everywhere (the first step, NOREF) while an object
+  // pressed against the body gives the grasp step a reference: the sequence cannot get to that
+  // step, so it has nothing to do.
+  auto search = std::make_shared<Scripted>("search"), grasp = std::make_shared<Scripted>("grasp");
+  Sequence seq({search, grasp});
+  seq.reset(0);
+  search->next = Gamma::kNoRef, grasp->next = Gamma::kNotConv;
+  CHECK(seq.evaluate(at_tick(1)).gamma == Gamma::kNoRef);
+  CHECK(seq.current() == 0);
+  // Further on, a step without a reference falls back and the sequence is !CONV, as before.
+  search->next = Gamma::kConv;
+  seq.evaluate(at_tick(2));
+  REQUIRE(seq.current() == 1);
+  grasp->next = Gamma::kNoRef, search->next = Gamma::kNotConv;
+  CHECK(seq.evaluate(at_tick(3)).gamma == Gamma::kNotConv);
+  CHECK(seq.current() == 0);
+}
+
 TEST_CASE("a policy maps the gamma vector of its actions to an action", "[control]") {
   auto a = std::make_shared<Scripted>("a"), b = std::make_shared<Scripted>("b");
   a->command = DofVector::Unit(3), b->command = DofVector::Unit(4);

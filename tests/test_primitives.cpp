@@ -463,16 +463,45 @@ TEST_CASE("release steps a touching hand out before folding the arm", "[primitiv
   Scenario scenario = Scenario::load("sorting");
   EpisodeOptions options;
   options.time_limit = policy.time_limit;
-  auto sorted = [&](double clear) {
-    for (Primitive* p : releases) p->set_number("clear", clear);
+  auto sorted = [&](double clear, double blocked) {
+    for (Primitive* p : releases) p->set_number("clear", clear), p->set_number("blocked", blocked);
     int n = 0;
     for (uint64_t seed : {5010, 5012, 5020})
       n += evaluate_action([&](uint64_t s) { return scenario.generate(s); }, *policy.action, *policy.goal, 1,
                            seed, options, WorldParams{}).successes;
     return n;
   };
-  CHECK(sorted(0.0) == 0);  // folding in joint space alone: stuck until the time-out
-  CHECK(sorted(0.05) == 3);
+  CHECK(sorted(0.0, 0.0) == 0);  // folding in joint space alone: stuck until the time-out
+  CHECK(sorted(0.05, 0.0) == 3);
+  CHECK(sorted(0.05, 1.0) == 3);  // the defaults
+}
+
+// Sorting seed 91007 with 8 objects and 2 obstacles: after the circles, a triangle wedged between
+// the arms and the body kept the arms from folding, and every move that began by letting go waited
+// there for its patience until the time-out (2 of 8 sorted). Backing off once the arms have stopped
+// short of their posture for `blocked` seconds frees them.
+TEST_CASE("release backs off when an object between the arms keeps them from folding", "[primitives]") {
+  const SkillScript script = SkillScript::load("curricula/sort_by_hand.lua");
+  const SkillScript::NamedPolicy& policy = script.policy("sort");
+  std::vector<Primitive*> releases;
+  find_primitives(*policy.action, "release", releases);
+  REQUIRE(!releases.empty());
+  Scenario scenario = Scenario::load("sorting");
+  scenario.set_param("objects", "8");
+  scenario.set_param("obstacles", "2");
+  const WorldSpec spec = scenario.generate(91007);
+  auto sorted_by_the_end = [&](double blocked) {
+    for (Primitive* p : releases) p->set_number("blocked", blocked);
+    Agent agent;
+    EpisodeOptions options;
+    options.time_limit = 150.0;
+    run_episode(agent, spec, 91007, *policy.action, *policy.goal, options);
+    return sorted_objects(agent.input()).sorted;
+  };
+  const int waiting = sorted_by_the_end(0.0), backing = sorted_by_the_end(1.0);
+  INFO("sorted after 150 s: " << waiting << " waiting for the arms, " << backing << " backing off");
+  CHECK(waiting <= 2);
+  CHECK(backing >= 4);
 }
 
 namespace {

@@ -293,8 +293,10 @@ void Sequence::advance(const ControlInput& in) {
 }
 
 Gamma Sequence::summary(const ControlInput& in) {
-  // Without falling back, a step that lost its reference is the end of the road.
-  if (!fall_back_ && current_ > 0 && steps_[size_t(current_)]->state(in) == Gamma::kNoRef) return Gamma::kNoRef;
+  // Without falling back, a step that lost its reference is the end of the road; so is the first
+  // step without one, with nothing before it to fall back to: the later steps' references (a touch
+  // on some object, an object seen) are moot while the sequence cannot get to them.
+  if ((!fall_back_ || current_ == 0) && steps_[size_t(current_)]->state(in) == Gamma::kNoRef) return Gamma::kNoRef;
   const Gamma last = steps_.back()->state(in);
   bool any_reference = false;
   for (const auto& s : steps_) any_reference |= s->state(in) != Gamma::kNoRef;

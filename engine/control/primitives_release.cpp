@@ -2,8 +2,11 @@
 // (hands beside the body, clear of anything ahead), then the base backs off, so that turning
 // afterwards cannot sweep the object with a hand. A hand that touches something first steps out
 // along its touch normal: folding straight back in joint space can drive a hand that has the
-// object pinned against the body further into it, and then neither moves. The paper stops at transport; any task that
-// moves more than one object (sorting, Figure 1) must let go of one before taking the next.
+// object pinned against the body further into it, and then neither moves. Arms that still do not
+// fold (an object wedged between them and the body) back off first, and a base that cannot back
+// (a wall behind it) has backed off as far as it can: release always ends. The paper stops at
+// transport; any task that moves more than one object (sorting, Figure 1) must let go of one
+// before taking the next.
 #include <algorithm>
 #include <cmath>
 
@@ -14,18 +17,23 @@ namespace primitives_internal {
 namespace {
 
 class Release final : public Primitive {
-  struct { ParamSlot distance = 0, step = 0, clear = 0; } p_;
+  struct { ParamSlot distance = 0, step = 0, clear = 0, blocked = 0; } p_;
  public:
   Release() : Primitive("release", 0.05) {
     p_.distance = declare("distance", 0.4, 0.0, 2.0, "how far (m) the base backs off once the arms are folded");
     p_.step = declare("step", 0.1, 0.01, 1.0, "largest backing error (m) per command");
     p_.clear = declare("clear", 0.05, 0.0, 0.3, "step (m) out along its touch normal of a hand that touches something");
+    p_.blocked = declare("blocked", 1.0, 0.0, 10.0,
+                         "seconds the arms may come no nearer their posture, or the base back no further, "
+                         "before release goes on regardless (0: wait for ever)");
   }
   PrimitivePtr clone() const override { return std::make_shared<Release>(*this); }
   void reset(uint64_t seed) override {
     Primitive::reset(seed);
     backing_ = false;
     executed_tick_ = UINT64_MAX;
+    fold_stalled_ = back_stalled_ = 0.0;
+    best_fold_ = best_back_ = kInfinity;
   }
   void executed(const ControlInput& in) override { executed_tick_ = in.tick; }
 
@@ -48,14 +56,27 @@ class Release final : public Primitive {
     // Only its own execution lets go: evaluated while another action runs (a sequence asking its
     // last step's state), or after a pause, it starts over.
     const bool acting = executed_tick_ != UINT64_MAX && executed_tick_ + 1 == in.tick;
-    if (!acting) backing_ = false;
-    if (folded && acting && !backing_) {
+    if (!acting) {
+      backing_ = false;
+      fold_stalled_ = back_stalled_ = 0.0;
+      best_fold_ = best_back_ = kInfinity;
+    }
+    // Arms that come no nearer their posture are blocked (an object wedged between them and the
+    // body, a hand stepping out and folding back in turn): backing away first frees them, where
+    // folding on the spot would wait for ever.
+    const double patience = value(p_.blocked);
+    if (acting && !folded && !backing_) fold_stalled_ = stalled(arm_error, kFoldProgress, in.dt, best_fold_, fold_stalled_);
+    if ((folded || (patience > 0.0 && fold_stalled_ > patience)) && acting && !backing_) {
       backing_ = true;
       origin_ = base;
     }
     double remaining = value(p_.distance);
     if (backing_) {
       remaining = std::max(0.0, value(p_.distance) - (base - origin_).norm());
+      // A base that backs no further (a wall or an obstacle behind it) has backed off as far as
+      // it can.
+      back_stalled_ = stalled(remaining, kBackProgress, in.dt, best_back_, back_stalled_);
+      if (patience > 0.0 && back_stalled_ > patience) remaining = 0.0;
       out.command[kBaseForward] = -std::min(remaining, value(p_.step));
     }
     out.phi = arm_error + remaining;
@@ -76,7 +97,22 @@ class Release final : public Primitive {
     out.command[elbow] = clamp_abs(dq[elbow], 0.5);
   }
 
-  bool backing_ = false;        // the arms were folded: the base is backing off
+  // Seconds an error has gone without falling `progress` below its best (`best`, updated).
+  static double stalled(double error, double progress, double dt, double& best, double since) {
+    if (error < best - progress) {
+      best = error;
+      return 0.0;
+    }
+    return since + dt;
+  }
+  static constexpr double kInfinity = 1e300;
+  static constexpr double kFoldProgress = 0.02;  // rad of the largest joint error: progress folding
+  static constexpr double kBackProgress = 0.01;  // m of the distance left: progress backing
+
+  bool backing_ = false;        // the arms were folded (or blocked): the base is backing off
+  double fold_stalled_ = 0.0;   // s the arms have come no nearer their posture
+  double back_stalled_ = 0.0;   // s the base has backed no further
+  double best_fold_ = kInfinity, best_back_ = kInfinity;  // the least errors so far
   uint64_t executed_tick_ = UINT64_MAX;  // the last tick its command was applied
   Vec2 origin_ = Vec2::Zero();  // where it started backing
 };
