@@ -174,17 +174,16 @@ int sorted_by_hand(int objects, int obstacles, uint64_t first, int n) {
 
 }  // namespace
 
-// One hand-written policy for any number of objects, judged by the world (roger.sorted). What
-// holds today is pinned here, on ten seeds each (the sanitizer build runs this too): 9 of 10 with
-// four objects and 8 of 10 with eight (19 and 15 of seeds 60000-60019). The bar the work aims at
-// for eight objects is 17 of 20; docs/results.md, Sorting, gives the held-out rates and what still
-// fails.
+// One hand-written policy for any number of objects, judged by the world (roger.sorted), within
+// 30 simulated seconds per object: the bar, 17 of 20 with eight objects (today 17 of
+// seeds 60000-60019, and all 20 with four). docs/results.md, Sorting, gives the held-out rates and
+// what still fails.
 TEST_CASE("sorting: one hand-written policy sorts 4 and 8 objects, its time limit per object", "[sorting]") {
   const int four = sorted_by_hand(4, 0, 60000, 10);
-  const int eight = sorted_by_hand(8, 0, 60000, 10);
-  INFO("4 objects: " << four << " of 10; 8 objects: " << eight << " of 10");
-  CHECK(four >= 8);
-  CHECK(eight >= 7);
+  const int eight = sorted_by_hand(8, 0, 60000, 20);
+  INFO("4 objects: " << four << " of 10; 8 objects: " << eight << " of 20");
+  CHECK(four >= 9);
+  CHECK(eight >= 17);
 }
 
 TEST_CASE("sorting: a bound move whose objects are all put away ends NOREF within a scan", "[sorting]") {
