@@ -448,6 +448,14 @@ void find_primitives(const Controller& c, const std::string& kind, std::vector<P
   for (const Controller* child : c.children()) find_primitives(*child, kind, out);
 }
 
+// Every release primitive of a named policy of a skill script (at least one).
+std::vector<Primitive*> releases_of(const SkillScript::NamedPolicy& policy) {
+  std::vector<Primitive*> releases;
+  find_primitives(*policy.action, "release", releases);
+  REQUIRE(!releases.empty());
+  return releases;
+}
+
 }  // namespace
 
 // Sorting seeds 5003, 5012 and 5018 (the first three of 5000-5039 where it makes the difference):
@@ -457,9 +465,7 @@ void find_primitives(const Controller& c, const std::string& kind, std::vector<P
 TEST_CASE("release steps a touching hand out before folding the arm", "[primitives]") {
   const SkillScript script = SkillScript::load("docs/examples/sorting_moves.lua");
   const SkillScript::NamedPolicy& policy = script.policy("two_moves");
-  std::vector<Primitive*> releases;
-  find_primitives(*policy.action, "release", releases);
-  REQUIRE(!releases.empty());
+  const std::vector<Primitive*> releases = releases_of(policy);
   Scenario scenario = Scenario::load("sorting");
   EpisodeOptions options;
   options.time_limit = policy.time_limit;
@@ -483,9 +489,7 @@ TEST_CASE("release steps a touching hand out before folding the arm", "[primitiv
 TEST_CASE("release backs off when an object between the arms keeps them from folding", "[primitives]") {
   const SkillScript script = SkillScript::load("curricula/sort_by_hand.lua");
   const SkillScript::NamedPolicy& policy = script.policy("sort");
-  std::vector<Primitive*> releases;
-  find_primitives(*policy.action, "release", releases);
-  REQUIRE(!releases.empty());
+  const std::vector<Primitive*> releases = releases_of(policy);
   Scenario scenario = Scenario::load("sorting");
   scenario.set_param("objects", "8");
   scenario.set_param("obstacles", "2");

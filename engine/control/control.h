@@ -240,7 +240,8 @@ class SubjectTo final : public Controller {
 // A skill that runs its steps in order: the current step runs until it reports CONV, then the next
 // one starts; if the current step loses its reference (NOREF), the previous step runs again (its
 // precondition was lost, e.g. tracking lost the stimulus, so search again). Its gamma: CONV when the
-// last step is CONV, NOREF when every step is NOREF, !CONV otherwise.
+// last step is CONV, NOREF when every step is NOREF or the first step runs without a reference
+// (nothing before it to fall back to; the later steps' references are moot), !CONV otherwise.
 // Without `fall_back`, a step that loses its reference does not hand back to the step before: the
 // sequence stays on it and is NOREF while it is (it cannot go on; nothing before it can help). For
 // steps that are no precondition of the next: "let go, carry one object, let go" ends NOREF when
