@@ -31,9 +31,7 @@ class Release final : public Primitive {
   void reset(uint64_t seed) override {
     Primitive::reset(seed);
     backing_ = false;
-    executed_tick_ = UINT64_MAX;
-    fold_stalled_ = back_stalled_ = 0.0;
-    best_fold_ = best_back_ = kInfinity;
+    executed_tick_ = UINT64_MAX;  // not acting: compute() starts the stall watches over
   }
   void executed(const ControlInput& in) override { executed_tick_ = in.tick; }
 

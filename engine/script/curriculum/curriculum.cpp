@@ -162,19 +162,8 @@ int line_of_stage(const std::string& text, const std::string& name) {
 // `line` is when the error happens.
 void read_protected(LuaSandbox& sandbox, const std::string& file, const int& line,
                     const std::function<void(lua_State*)>& body) {
-  lua_State* L = sandbox.state();
-  lua_pushcfunction(L, [](lua_State* L) -> int {
-    auto* fn = static_cast<const std::function<void(lua_State*)>*>(lua_touserdata(L, -1));
-    lua_pop(L, 1);
-    return lua_protect(L, [&]() {
-      (*fn)(L);
-      return 0;
-    });
-  });
-  lua_insert(L, -2);
-  lua_pushlightuserdata(L, const_cast<std::function<void(lua_State*)>*>(&body));
   try {
-    sandbox.call(2, 0);
+    sandbox.call_protected(1, body);
   } catch (const ScriptError& e) {
     if (!e.file.empty()) throw;
     throw ScriptError(e.message, file, line, "");

@@ -157,6 +157,21 @@ void LuaSandbox::load_string(const std::string& code, const std::string& chunkna
   throw ScriptError(msg, "", 0, "");
 }
 
+void LuaSandbox::call_protected(int nargs, const std::function<void(lua_State*)>& body) {
+  lua_State* L = impl_->L;
+  lua_pushcfunction(L, [](lua_State* L) -> int {
+    auto* fn = static_cast<const std::function<void(lua_State*)>*>(lua_touserdata(L, -1));
+    lua_pop(L, 1);
+    return lua_protect(L, [&]() {
+      (*fn)(L);
+      return 0;
+    });
+  });
+  lua_insert(L, -(nargs + 1));  // below the values the body reads
+  lua_pushlightuserdata(L, const_cast<std::function<void(lua_State*)>*>(&body));
+  call(nargs + 1, 0);
+}
+
 void LuaSandbox::call(int nargs, int nresults) {
   Impl& s = *impl_;
   lua_State* L = s.L;

@@ -85,6 +85,10 @@ class LuaSandbox {
   // instruction budget (unless already inside a call) and a traceback on error. Throws ScriptError.
   void call(int nargs, int nresults);
 
+  // Runs `body`, C++ that reads the nargs values on top of the stack with the Lua API and may
+  // throw, inside a protected call as call() runs Lua (budget, ScriptError out); pops the values.
+  void call_protected(int nargs, const std::function<void(lua_State*)>& body);
+
   // load_file() then call() with no arguments; leaves nresults values on the stack.
   void run_file(const std::string& path, int nresults = 1);
 

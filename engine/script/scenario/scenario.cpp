@@ -21,19 +21,8 @@ using namespace scenario_detail;
 // Runs `body` inside a protected call (body may use the Lua API and throw). Errors without a
 // location are attributed to the scenario file.
 void Scenario::Impl::protect(const std::function<void(lua_State*)>& body, int nargs) {
-  lua_State* L = sandbox.state();
-  lua_pushcfunction(L, [](lua_State* L) -> int {
-    auto* fn = static_cast<const std::function<void(lua_State*)>*>(lua_touserdata(L, -1));
-    lua_pop(L, 1);
-    return lua_protect(L, [&]() {
-      (*fn)(L);
-      return 0;
-    });
-  });
-  lua_insert(L, -(nargs + 1));
-  lua_pushlightuserdata(L, const_cast<std::function<void(lua_State*)>*>(&body));
   try {
-    sandbox.call(nargs + 1, 0);
+    sandbox.call_protected(nargs, body);
   } catch (const ScriptError& e) {
     if (!e.file.empty()) throw;
     throw ScriptError(e.message, path, 0, e.traceback);

@@ -166,24 +166,13 @@ class SourceMap {
   int return_line_ = 0;
 };
 
-// Runs `body` on the sandbox's state inside a protected call. A Lua error without a location
-// (raised by C++ reading the returned table) is placed at `file`:`line()`, the line of the field
-// being read when it happened.
+// Runs `body` on the value on top of the sandbox's stack inside a protected call. A Lua error
+// without a location (raised by C++ reading the returned table) is placed at `file`:`line()`, the
+// line of the field being read when it happened.
 void read_protected(LuaSandbox& sandbox, const std::string& file, const std::function<int()>& line,
                     const std::function<void(lua_State*)>& body) {
-  lua_State* L = sandbox.state();
-  lua_pushcfunction(L, [](lua_State* L) -> int {
-    auto* fn = static_cast<const std::function<void(lua_State*)>*>(lua_touserdata(L, -1));
-    lua_pop(L, 1);
-    return lua_protect(L, [&]() {
-      (*fn)(L);
-      return 0;
-    });
-  });
-  lua_insert(L, -2);  // below the value being read
-  lua_pushlightuserdata(L, const_cast<std::function<void(lua_State*)>*>(&body));
   try {
-    sandbox.call(2, 0);
+    sandbox.call_protected(1, body);
   } catch (const ScriptError& e) {
     if (!e.file.empty()) throw;
     throw ScriptError(e.message, file, line(), "");
