@@ -131,9 +131,11 @@ roger["not"] = function(p) end
 function roger.held(p, seconds) end
 
 ---The world's judge of a sorting task: every object whose colour is a goal region's colour lies in a
----region of its colour and is not held.
+---region of its colour and is not held. With a colour, the objects of that colour alone (true when
+---there is none).
+---@param colour? roger.Colour
 ---@return roger.Predicate
-function roger.sorted() end
+function roger.sorted(colour) end
 
 ---The primitive kinds, in order.
 ---@type roger.PrimitiveKind[]
@@ -145,6 +147,7 @@ roger.primitive_kinds = {}
 ---@field table table<string, roger.ControllerRef|integer> state keys ("CONV * NOREF") to actions
 ---@field done? roger.ControllerRef|roger.Predicate the policy is CONV when this is
 ---@field fallback? roger.ControllerRef|integer|"rotate" the action of states no key matches, or "rotate": the actions in turn
+---@field rest_when_done? boolean run nothing while `done` holds (default false; needs `done`)
 
 ---The fields of roger.bind(name, c, {...}).
 ---@class roger.BindSpec

@@ -251,3 +251,47 @@ TEST_CASE("a policy maps the gamma vector of its actions to an action", "[contro
   CHECK(gamma_state_index({Gamma::kConv, Gamma::kConv}) == 8);
   CHECK_THROWS_WITH(Policy({a, b}, std::vector<int>(8, 0), nullptr), Catch::Contains("3^2 = 9"));
 }
+
+TEST_CASE("a policy asked only for its state runs none of its actions", "[control]") {
+  // A stage reads the state of every action each tick; a policy not chosen must not run (and so
+  // restart or advance) the action its table would pick.
+  auto a = std::make_shared<Scripted>("a"), goal = std::make_shared<Scripted>("goal");
+  Policy p({a}, std::vector<int>(3, 0), goal);
+  p.reset(0);
+  a->next = Gamma::kNotConv, goal->next = Gamma::kNotConv;
+  CHECK(p.state(at_tick(1)) == Gamma::kNotConv);
+  CHECK(p.chosen() == -1);
+  CHECK(a->evaluations == 1);  // its state was read: one evaluation of the scripted controller
+  a->next = Gamma::kNoRef;
+  CHECK(p.state(at_tick(2)) == Gamma::kNoRef);
+  goal->next = Gamma::kConv;
+  CHECK(p.state(at_tick(3)) == Gamma::kConv);
+  CHECK(p.chosen() == -1);
+  // Evaluated after its state in the same tick, it runs its action with the same state.
+  a->next = Gamma::kNotConv, goal->next = Gamma::kNotConv;
+  a->command = DofVector::Unit(2);
+  CHECK(p.state(at_tick(4)) == Gamma::kNotConv);
+  CHECK(p.evaluate(at_tick(4)).command == a->command);
+  CHECK(p.output().gamma == Gamma::kNotConv);
+  CHECK(p.chosen() == 0);
+}
+
+TEST_CASE("a policy that rests when done runs nothing while its goal holds", "[control]") {
+  auto a = std::make_shared<Scripted>("a"), goal = std::make_shared<Scripted>("goal");
+  a->command = DofVector::Unit(1);
+  Policy runs_on({a}, std::vector<int>(3, 0), goal), rests({a}, std::vector<int>(3, 0), goal);
+  rests.set_rest_when_done(true);
+  CHECK_FALSE(runs_on.rest_when_done());
+  runs_on.reset(0), rests.reset(0);
+  a->next = Gamma::kNotConv, goal->next = Gamma::kNotConv;
+  CHECK(rests.evaluate(at_tick(1)).command == a->command);  // not there yet: runs its action
+  goal->next = Gamma::kConv;
+  const ControlOutput& at_rest = rests.evaluate(at_tick(2));
+  CHECK(at_rest.gamma == Gamma::kConv);
+  CHECK(at_rest.command.isZero());
+  CHECK(rests.chosen() == -1);
+  CHECK(rests.inner() == nullptr);
+  CHECK(runs_on.evaluate(at_tick(2)).command == a->command);  // the default: its table runs on
+  goal->next = Gamma::kNotConv;  // the goal lost again (an object knocked out of its region)
+  CHECK(rests.evaluate(at_tick(3)).command == a->command);
+}

@@ -268,7 +268,19 @@ TEST_CASE("policy tables map states to actions, with wildcards", "[lua_control]"
   CHECK_THAT(lua.error("roger.policy('R', {actions = {'phi1'}, table = {['*'] = 'phi2'}})").what(),
              Contains("is 'phi2', which is not one of the policy's actions; the actions are phi1"));
   CHECK_THAT(lua.error("roger.policy('R', {actions = {'phi1'}, tabel = {}})").what(),
-             Contains("unknown field 'tabel'; known fields: actions, done, fallback, table"));
+             Contains("unknown field 'tabel'; known fields: actions, done, fallback, rest_when_done, table"));
+
+  // rest_when_done: off unless asked, and only with a goal to rest at.
+  CHECK_FALSE(with_goal->rest_when_done());
+  auto resting = as<Policy>(lua.controller(
+      "local a = roger.primitive('phi0')\n"
+      "return roger.policy('Rest', {actions = {a}, table = {['*'] = a}, done = roger.sorted('#dc1e1e'), rest_when_done = true})"));
+  CHECK(resting->rest_when_done());
+  CHECK(resting->children().back()->name() == "sorted(\"#dc1e1e\")");
+  CHECK_THAT(lua.error("roger.policy('R', {actions = {'phi1'}, table = {['*'] = 1},\n rest_when_done = true})").what(),
+             Contains("snippet.lua:1: roger.policy('R'): field 'rest_when_done' needs 'done'"));
+  CHECK_THAT(lua.error("roger.policy('R', {actions = {'phi1'}, table = {['*'] = 1}, done = 'phi1', rest_when_done = 1})").what(),
+             Contains("rest_when_done"));
 }
 
 TEST_CASE("primitive parameters reach the C++ controllers", "[lua_control]") {
@@ -335,6 +347,12 @@ TEST_CASE("predicates", "[lua_control]") {
              Contains("roger.gamma: argument 2 must be \"NOREF\", \"!CONV\" or \"CONV\", got string 'DONE'"));
   CHECK_THAT(lua.error("roger.held(roger.converged('phi1'), -1)").what(),
              Contains("roger.held: argument 2 must be a duration in seconds"));
+  CHECK(lua.text("return roger.sorted()") == "predicate sorted()");
+  CHECK(lua.text("return roger.sorted('#2850DC')") == "predicate sorted(\"#2850dc\")");
+  CHECK(lua.text("return roger.sorted({40, 80, 220})") == "predicate sorted(\"#2850dc\")");
+  CHECK_THAT(lua.error("roger.sorted('blue')").what(),
+             Contains("snippet.lua:1:") && Contains("roger.sorted: argument 1 must be a colour") && Contains("\"blue\""));
+  CHECK_THAT(lua.error("roger.sorted('#2850dc', 2)").what(), Contains("roger.sorted: takes no argument or a colour, got 2"));
   CHECK_THAT(lua.error("roger.sequence('S', {roger.converged('phi1')})").what(),
              Contains("step 1 must be a controller") && Contains("a predicate is a condition, not an action"));
 }

@@ -1,5 +1,5 @@
-// Tests of engine/predicate: converged / gamma_is, all / any / not, held for t seconds, and which
-// controllers a predicate evaluates at a tick.
+// Tests of engine/predicate: converged / gamma_is, all / any / not, held for t seconds, which
+// controllers a predicate evaluates at a tick, and the world's sorting judgement.
 #include <catch2/catch.hpp>
 
 #include "control/predicate.h"
@@ -102,4 +102,41 @@ TEST_CASE("with held() inside, every part sees every tick, and held times withou
   CHECK(timed->holds(at_tick(++tick, time)));          // 0.1 s
   timed->reset();
   CHECK_FALSE(timed->holds(at_tick(++tick, time + 0.02)));
+}
+
+TEST_CASE("sorted() judges every colour with a region, sorted(colour) one of them", "[predicate]") {
+  const Colour red{220, 30, 30}, blue{40, 80, 220}, grey{128, 128, 128};
+  WorldSpec spec;
+  spec.goals.resize(2);
+  spec.goals[0].colour = red;
+  spec.goals[1].colour = blue;
+  std::vector<MapObject> objects(4);
+  objects[0].colour = red, objects[0].region = 0;   // red, in the red region
+  objects[1].colour = blue, objects[1].region = 0;  // blue, in the red region: not sorted
+  objects[2].colour = blue, objects[2].region = 1;  // blue, in the blue region
+  objects[3].colour = grey;                         // no region has its colour: not counted
+  ControlInput in = at_tick(1, 0.02);
+  in.spec = &spec;
+  in.objects = &objects;
+  const SortCount all = sorted_objects(in), reds = sorted_objects(in, &red), blues = sorted_objects(in, &blue);
+  CHECK(all.sortable == 3);
+  CHECK(all.sorted == 2);
+  CHECK(reds.sortable == 1);
+  CHECK(reds.sorted == 1);
+  CHECK(blues.sortable == 2);
+  CHECK(blues.sorted == 1);
+  CHECK_FALSE(sorted()->holds(in));
+  CHECK(sorted(red)->holds(in));
+  CHECK_FALSE(sorted(blue)->holds(in));
+  CHECK(sorted(grey)->holds(in));  // nothing of that colour to sort
+  CHECK(sorted(blue)->describe() == "sorted(\"#2850dc\")");
+  // Held in the hand, an object in its region is not yet sorted.
+  objects[0].held = true;
+  ControlInput later = at_tick(2, 0.04);
+  later.spec = &spec;
+  later.objects = &objects;
+  CHECK_FALSE(sorted(red)->holds(later));
+  objects[1].region = 1;
+  objects[0].held = false;
+  CHECK(sorted()->holds(later));
 }

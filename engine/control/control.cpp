@@ -408,11 +408,28 @@ void Policy::reset(uint64_t seed) {
   chosen_tick_ = UINT64_MAX;
 }
 
-void Policy::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) {
+Gamma Policy::read_state(const ControlInput& in) {
   bool any_reference = false;
   for (size_t i = 0; i < actions_.size(); ++i) {
     scratch_[i] = actions_[i]->state(in);
     any_reference |= scratch_[i] != Gamma::kNoRef;
+  }
+  const bool done = done_ && done_->state(in) == Gamma::kConv;
+  return done ? Gamma::kConv : any_reference ? Gamma::kNotConv : Gamma::kNoRef;
+}
+
+bool Policy::compute_state(const ControlInput& in, ControlOutput&, Gamma& gamma_raw) {
+  // Its state from its actions' states and its goal alone: asking a policy that is not running
+  // what state it is in must not run (and so restart) the action its table would choose.
+  gamma_raw = read_state(in);
+  return true;
+}
+
+void Policy::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) {
+  gamma_raw = read_state(in);
+  if (rest_when_done_ && gamma_raw == Gamma::kConv) {
+    chosen_ = -1;  // at its goal: no command
+    return;
   }
   const int entry = table_[size_t(gamma_state_index(scratch_))];
   if (entry < 0 && fallback_ == kRotate) {
@@ -431,8 +448,6 @@ void Policy::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_ra
     out.phi = run.phi;
     out.residual = run.residual;
   }
-  const bool done = done_ && done_->state(in) == Gamma::kConv;
-  gamma_raw = done ? Gamma::kConv : any_reference ? Gamma::kNotConv : Gamma::kNoRef;
 }
 
 }  // namespace roger

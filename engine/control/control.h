@@ -396,15 +396,25 @@ class Policy final : public Controller {
   const Controller* inner() const override { return chosen_ >= 0 ? actions_[size_t(chosen_)].get() : nullptr; }
   const std::vector<ControllerPtr>& actions() const { return actions_; }
   const std::vector<int>& table() const { return table_; }
+  // Whether it runs nothing while `done` holds (off: its table's action runs on). On, a policy
+  // chosen again once its goal holds does not disturb what it achieved: a task whose objects are
+  // put away does not go looking for them.
+  void set_rest_when_done(bool rest) { rest_when_done_ = rest; }
+  bool rest_when_done() const { return rest_when_done_; }
 
  protected:
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
+  bool compute_state(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
 
  private:
+  // Reads the actions' states into scratch_ and returns the policy's own: CONV when `done` has
+  // converged, else !CONV while some action has a reference, else NOREF.
+  Gamma read_state(const ControlInput& in);
   std::vector<ControllerPtr> actions_;
   std::vector<int> table_;
   ControllerPtr done_;
   int fallback_ = -1;
+  bool rest_when_done_ = false;
   int chosen_ = -1;
   int rotation_ = 0;                   // the action a kRotate fallback runs
   uint64_t chosen_tick_ = UINT64_MAX;  // the tick of the last choice

@@ -1,5 +1,7 @@
 #include "control/predicate.h"
 
+#include <cstdio>
+
 #include "core/error.h"
 
 namespace roger {
@@ -106,24 +108,35 @@ class Held final : public Predicate {
   double since_ = -1.0;
 };
 
-// The world's judgement of a sorting task (see sorted_objects).
+// The world's judgement of a sorting task (see sorted_objects), over every colour or one.
 class Sorted final : public Predicate {
  public:
+  explicit Sorted(const Colour* colour) : only_(colour != nullptr), colour_(colour ? *colour : Colour{}) {}
   bool holds(const ControlInput& in) override {
-    const SortCount c = sorted_objects(in);
+    const SortCount c = sorted_objects(in, only_ ? &colour_ : nullptr);
     return c.sorted == c.sortable;
   }
-  std::string describe() const override { return "sorted()"; }
+  std::string describe() const override {
+    if (!only_) return "sorted()";
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "#%02x%02x%02x", colour_.r, colour_.g, colour_.b);
+    return std::string("sorted(\"") + hex + "\")";
+  }
   void controllers(std::vector<const Controller*>&) const override {}
+
+ private:
+  bool only_;
+  Colour colour_;
 };
 
 }  // namespace
 
-SortCount sorted_objects(const ControlInput& in) {
+SortCount sorted_objects(const ControlInput& in, const Colour* only) {
   SortCount c;
   if (!in.objects || !in.spec) return c;
   const std::vector<GoalRegion>& goals = in.spec->goals;
   for (const MapObject& o : *in.objects) {
+    if (only && !(o.colour == *only)) continue;
     bool has_region = false;
     for (const GoalRegion& g : goals) has_region |= g.colour == o.colour;
     if (!has_region) continue;
@@ -134,7 +147,8 @@ SortCount sorted_objects(const ControlInput& in) {
   return c;
 }
 
-PredicatePtr sorted() { return std::make_shared<Sorted>(); }
+PredicatePtr sorted() { return std::make_shared<Sorted>(nullptr); }
+PredicatePtr sorted(const Colour& colour) { return std::make_shared<Sorted>(&colour); }
 
 PredicatePtr converged(ControllerPtr c) {
   return std::make_shared<GammaIs>(std::move(c), Gamma::kConv, true);

@@ -50,10 +50,14 @@ PredicatePtr held(PredicatePtr part, double seconds);
 struct SortCount {
   int sortable = 0, sorted = 0;
 };
-SortCount sorted_objects(const ControlInput& in);
+// `only` (may be null) counts the objects of that colour alone.
+SortCount sorted_objects(const ControlInput& in, const Colour* only = nullptr);
 // Every object a sorting task counts is sorted (sorted_objects): the judge of "put every object
 // in the region of its colour", whatever the number of objects.
 PredicatePtr sorted();
+// Every object of `colour` is sorted (true when there is none, or no region has that colour): one
+// type's part of the judgement, e.g. the goal of a move that puts away one type.
+PredicatePtr sorted(const Colour& colour);
 
 // Starts an episode for a predicate and every controller it reads (reset with `seed`): a goal
 // controller outside the action set must not keep hold timers or a per-tick cache from the

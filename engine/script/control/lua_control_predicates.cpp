@@ -24,11 +24,16 @@ int l_converged(lua_State* L) {
   });
 }
 
-// roger.sorted(): the world's judgement of a sorting task
+// roger.sorted() / roger.sorted(colour): the world's judgement of a sorting task, or of one type
 int l_sorted(lua_State* L) {
   return lua_protect(L, [L]() {
-    if (lua_gettop(L) != 0) raise(L, "roger.sorted: takes no arguments, got " + std::to_string(lua_gettop(L)));
-    push_new_predicate(L, sorted());
+    const int n = lua_gettop(L);
+    if (n > 1) raise(L, "roger.sorted: takes no argument or a colour, got " + std::to_string(n) + " arguments");
+    if (n == 0 || lua_isnil(L, 1)) {
+      push_new_predicate(L, sorted());
+    } else {
+      push_new_predicate(L, sorted(lua_to_colour(L, 1, "roger.sorted: argument 1")));
+    }
     return 1;
   });
 }

@@ -283,13 +283,14 @@ ControllerPtr policy_done(lua_State* L, ControlBook& book, const LuaFields& f, c
 
 }  // namespace
 
-// roger.policy(name, {actions = {...}, table = {[state] = action, ...}, done = c_or_p, fallback = a})
+// roger.policy(name, {actions = {...}, table = {[state] = action, ...}, done = c_or_p, fallback = a,
+//                     rest_when_done = false})
 int l_policy(lua_State* L) {
   return lua_protect(L, [L]() {
     ControlBook& book = book_of(L);
     const std::string name = skill_name(L, "roger.policy");
     const std::string context = "roger.policy('" + name + "')";
-    LuaFields f(L, 2, context, {"actions", "table", "done", "fallback"});
+    LuaFields f(L, 2, context, {"actions", "table", "done", "fallback", "rest_when_done"});
     size_t states = 0;
     std::vector<ControllerPtr> actions = policy_actions(L, book, f, context, states);
     std::vector<int> table = policy_table(L, book, f, context, actions, states);
@@ -299,8 +300,11 @@ int l_policy(lua_State* L) {
     else if (!lua_isnil(L, -1)) fallback = action_index(L, book, -1, actions, context + ": fallback (an action, or \"rotate\")");
     lua_pop(L, 1);
     ControllerPtr done = policy_done(L, book, f, context);
+    const bool rest = f.boolean("rest_when_done", false);
+    if (rest && !done) f.fail("field 'rest_when_done' needs 'done': the goal at which the policy rests");
     count_object(L, book);
     auto policy = made(book, std::make_shared<Policy>(std::move(actions), std::move(table), std::move(done), fallback));
+    policy->set_rest_when_done(rest);
     register_name(L, book, context, name, policy);
     lua_push_controller(L, policy);
     return 1;
