@@ -77,8 +77,8 @@ function roger.learned(name) end
 ---@field scenario? string scenario name or path (default "unobstructed")
 ---@field params? table<string, any> scenario parameters
 ---@field time_limit number simulated seconds per episode
----@field absorbing roger.Predicate|fun(state: roger.State, time: number, world: roger.CallbackWorld): boolean
----@field reward? roger.Reward|fun(state: roger.State, action: string, event: roger.Event, time: number, world: roger.CallbackWorld): number
+---@field absorbing roger.Predicate|fun(state: roger.State, time: number, world: roger.CallbackWorld, episode: table): boolean
+---@field reward? roger.Reward|fun(state: roger.State, action: string, event: roger.Event, time: number, world: roger.CallbackWorld, episode: table): number
 ---@field learner? roger.Learner
 ---@field budget {episodes: integer}
 ---@field checkpoints? roger.Checkpoints

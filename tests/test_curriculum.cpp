@@ -122,3 +122,19 @@ TEST_CASE("the documented example curriculum loads and trains without rebuilding
   CHECK(r.final_eval.success_rate >= 0.9);
   CHECK(r.reached);
 }
+
+TEST_CASE("the callbacks' episode table starts empty every episode", "[curriculum]") {
+  Curriculum cur = Curriculum::load("tests/scripts/curriculum_episode_notes.lua");
+  const CurriculumStage& st = cur.stage("S");
+  const CurriculumContext& ctx = st.context("A");
+  const std::vector<Gamma> state = {Gamma::kNotConv, Gamma::kNotConv};
+  cur.begin_episode();
+  CHECK(cur.call_reward(st, ctx, state, 0, "decision", 0.1) == 1.0);
+  CHECK(cur.call_reward(st, ctx, state, 1, "decision", 0.2) == 2.0);
+  CHECK_FALSE(cur.call_absorbing(st, ctx, state, 0.2));
+  CHECK(cur.call_reward(st, ctx, state, 1, "decision", 0.3) == 3.0);
+  CHECK(cur.call_absorbing(st, ctx, state, 0.3));  // both callbacks see the same table
+  cur.begin_episode();
+  CHECK_FALSE(cur.call_absorbing(st, ctx, state, 0.0));
+  CHECK(cur.call_reward(st, ctx, state, 0, "timeout", 0.5) == 1.0);
+}

@@ -584,13 +584,15 @@ TEST_CASE("a sorting table has one row per number of objects, from the trials' f
   REQUIRE(rows.size() == 2);
   for (const auto& [objects, run] : {std::pair<int, const char*>{2, "Hand2"}, {4, "Hand4"}}) {
     const json r = json::parse(slurp(root / "out" / "trials" / run / "Scripted" / "000" / "result.json"));
-    const double s = r["success_rate"], reward = r["reward_mean"];
+    const double s = r["success_rate"];
     const json& row = rows[size_t(objects / 2 - 1)];
     CHECK(row["objects"] == objects);
     CHECK(row["hand"]["success_rate"].get<double>() == Approx(s));
-    // Objects sorted per episode, from the reward as curricula/sorting.lua pays it.
-    const double sorted = objects * s + objects * (reward + 100.0 - 200.0 * s) / 100.0;
+    // Objects sorted per episode: the world's count at the end of each final-evaluation episode.
+    CHECK(r["final_sortable"] == objects);
+    const double sorted = r["final_sorted_mean"];
     CHECK(row["hand"]["sorted"].get<double>() == Approx(sorted));
+    CHECK(sorted >= objects * s);  // every successful episode sorted them all
     CHECK(row["hand"]["sorted"].get<double>() <= objects);
     CHECK(row["hand"]["seconds_per_object"].get<double>() ==
           Approx(r["final_time_mean"].get<double>() / sorted));

@@ -61,6 +61,9 @@ class StageHooks final : public DecisionHooks {
       : cur_(cur), stage_(stage), ctx_(ctx) {}
   bool has_absorbing() const override { return stage_.absorbing_lua; }
   bool has_reward() const override { return stage_.reward_lua; }
+  void begin() override {
+    if (stage_.reward_lua || stage_.absorbing_lua) cur_.begin_episode();
+  }
   bool absorbing(const std::vector<Gamma>& state, double time) override {
     return cur_.call_absorbing(stage_, ctx_, state, time);
   }

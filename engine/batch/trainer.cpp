@@ -135,6 +135,8 @@ GreedyEval greedy_eval(StageRun& run, QTable& q, uint64_t first_seed, int episod
     g.successes += ep.success;
     rewards.push_back(ep.reward);
     time += ep.sim_seconds;
+    g.sortable = std::max(g.sortable, ep.objects_sortable);
+    g.sorted_mean += ep.objects_sorted;
     for (int a : ep.actions_taken) ++counts[size_t(a)];
     g.decisions += ep.decisions;
     if (keep) g.runs.push_back(ep);
@@ -147,6 +149,7 @@ GreedyEval greedy_eval(StageRun& run, QTable& q, uint64_t first_seed, int episod
   g.reward_mean = mean;
   g.reward_std = std::sqrt(var / std::max(1, episodes));
   g.time_mean = time / std::max(1, episodes);
+  g.sorted_mean /= std::max(1, episodes);
   for (int a = 0; a < q.actions(); ++a)
     g.usage.push_back({q.action_names()[size_t(a)], g.decisions ? double(counts[size_t(a)]) / double(g.decisions) : 0.0});
   return g;
@@ -403,6 +406,10 @@ nlohmann::json train_summary_json(const TrainResult& r) {
       {"final_time_mean", r.final_eval.time_mean},
       {"usage", usage},
   };
+  if (r.final_eval.sortable > 0) {
+    j["final_sortable"] = r.final_eval.sortable;
+    j["final_sorted_mean"] = r.final_eval.sorted_mean;
+  }
   for (const auto& s : r.skills) {
     nlohmann::json k = {{"stage", s.stage}, {"context", s.context}, {"trained", s.trained}};
     if (s.embedded) {

@@ -92,6 +92,10 @@ struct GreedyEval {
   uint64_t first_seed = 0;
   int successes = 0;
   double success_rate = 0.0, reward_mean = 0.0, reward_std = 0.0, time_mean = 0.0;
+  // Objects a sorting task counts (the most in any episode; 0 when the worlds have none) and the
+  // mean number sorted at the end of an episode (TrainingEpisode::objects_sorted).
+  int sortable = 0;
+  double sorted_mean = 0.0;
   std::vector<std::pair<std::string, double>> usage;  // per action: share of the decisions
   int64_t decisions = 0;
   std::vector<TrainingEpisode> runs;  // the final evaluation's episodes (for batch/explain.h)

@@ -88,6 +88,7 @@ void SemiMdpDriver::begin(uint64_t seed) {
   state_ = action_ = pending_state_ = -1;
   accumulated_ = decided_at_ = tick_start_ = running_reward_ = transition_reward_ = 0.0;
   awaiting_ = resumed_ = false;
+  if (hooks_) hooks_->begin();
 }
 
 // The discount of a reward `elapsed` seconds into a decision, and of the bootstrap at the next
@@ -188,6 +189,9 @@ bool SemiMdpDriver::absorbed(const ControlInput& in) {
 bool SemiMdpDriver::end(const ControlInput& in, bool success, int ticks, double time) {
   ep_.ticks = ticks;
   ep_.sim_seconds = time;
+  const SortCount sort = sorted_objects(in);
+  ep_.objects_sortable = sort.sortable;
+  ep_.objects_sorted = sort.sorted;
   // The last tick may have reached the absorbing state without a decision point after it.
   if (!success && hooked_absorbing_ && ticks > 0) {
     read_state(in);

@@ -200,6 +200,9 @@ struct TrainingEpisode {
   double sim_seconds = 0.0;         // simulated time the episode lasted
   int ticks = 0;                    // control ticks run
   int decisions = 0;                // choices made (first tick plus every state change)
+  // At the end, the objects a sorting task counts and how many of them are sorted
+  // (sorted_objects, the world's judgement; both 0 in a world without goal regions' colours).
+  int objects_sortable = 0, objects_sorted = 0;
   std::vector<int> actions_taken;   // the action chosen at each decision
   std::vector<int> decision_states; // the state index at each decision
   std::vector<int> action_ticks;    // per action of Psi: the ticks it ran (usage frequencies)
@@ -214,6 +217,9 @@ class DecisionHooks {
   virtual bool has_absorbing() const = 0;
   // Whether reward() is defined: then it replaces the declarative rewards.
   virtual bool has_reward() const = 0;
+  // An episode begins (before its first decision): what the callbacks keep per episode starts
+  // afresh.
+  virtual void begin() {}
   // Whether `state` (the gammas of Psi) at simulated time `time` is absorbing.
   virtual bool absorbing(const std::vector<Gamma>& state, double time) = 0;
   // The reward of `action`, which ran until `state`; event is "decision", "absorbing" or "timeout".

@@ -531,9 +531,11 @@ bool cumulative_figure(const BatchScript& b, const BatchFigure& f, const Folder&
 }  // namespace
 
 // One stage's sorting figures over its trials' final greedy evaluations. The objects sorted per
-// episode follow from the reward as curricula/sorting.lua pays it (100 when every object is
-// sorted; 100 k / n - 100 at the time-out with k of n sorted): a trial with success rate s and mean
-// reward R sorted n s + n (R + 100 - 200 s) / 100 per episode.
+// episode are the world's count at the end of each episode (final_sorted_mean). Results written
+// before the trainer counted them have only the reward, from which they follow as
+// curricula/sorting.lua paid it then (100 when every object is sorted; 100 k / n - 100 at the
+// time-out with k of n sorted): a trial with success rate s and mean reward R sorted
+// n s + n (R + 100 - 200 s) / 100 per episode.
 struct SortingFigures {
   bool any = false;
   std::vector<double> rates;
@@ -549,7 +551,8 @@ SortingFigures sorting_figures(const Results& r, int n) {
   for (const auto& j : r.ok) {
     const double s = num(j, "success_rate"), reward = num(j, "reward_mean");
     f.rates.push_back(s);
-    sorted += n * s + n * (reward + 100.0 - 200.0 * s) / 100.0;
+    sorted += j.contains("final_sorted_mean") ? num(j, "final_sorted_mean")
+                                              : n * s + n * (reward + 100.0 - 200.0 * s) / 100.0;
     seconds += j.contains("final_time_mean") ? num(j, "final_time_mean") : 0.0;
     f.reached += j.value("reached", false) ? 1 : 0;
   }
@@ -591,8 +594,8 @@ void sorting_table(const BatchScript& b, const BatchTable& t, const Folder& fold
     rows.push_back(j);
   }
   md << "\nEach stage's final greedy policy per trial, evaluated on its held-out seeds. Success: every object "
-        "in the region of its type and let go. Objects sorted per episode follow from the reward (100 when "
-        "all are sorted; 100 k / n - 100 at the time-out with k of n); simulated seconds per object are the "
+        "in the region of its type and let go. Objects sorted per episode: the world's count at the end of "
+        "each episode; simulated seconds per object are the "
         "evaluation's mean episode time (time-outs in full) over the objects sorted per episode. A hand-written "
         "policy learns nothing: its trials are the same policy evaluated again.\n\n";
   rep.push_back({{"title", t.title}, {"sorting", rows}});

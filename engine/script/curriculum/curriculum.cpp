@@ -110,6 +110,7 @@ struct Curriculum::Impl {
   std::vector<CurriculumStage> stages;
   std::map<std::string, LuaCallback> absorbing_fns, reward_fns;  // by stage name
   const World* world = nullptr;  // shown to the callbacks (set_world)
+  int episode_ref = LUA_NOREF;    // the callbacks' per-episode table (begin_episode)
 };
 
 Curriculum::Curriculum() = default;
@@ -306,6 +307,33 @@ void push_state(lua_State* L, const CurriculumContext& ctx, const std::vector<Ga
 
 void Curriculum::set_world(const World* world) { impl_->world = world; }
 
+void Curriculum::begin_episode() {
+  // Protected: a script at its memory budget makes even an empty table an error, not an abort.
+  int& ref = impl_->episode_ref;
+  impl_->sandbox->call_protected(0, [&ref](lua_State* L) {
+    luaL_unref(L, LUA_REGISTRYINDEX, ref);
+    ref = LUA_NOREF;
+    lua_newtable(L);
+    ref = luaL_ref(L, LUA_REGISTRYINDEX);
+  });
+}
+
+namespace {
+
+// The callbacks' last two arguments: the world (nil without one) and the episode's table (a fresh
+// one when no episode was begun, so a callback may always write to it).
+void push_world_and_episode(lua_State* L, const World* world, int& episode_ref) {
+  if (world) push_world(L, *world);
+  else lua_pushnil(L);
+  if (episode_ref == LUA_NOREF) {
+    lua_newtable(L);
+    episode_ref = luaL_ref(L, LUA_REGISTRYINDEX);
+  }
+  lua_rawgeti(L, LUA_REGISTRYINDEX, episode_ref);
+}
+
+}  // namespace
+
 bool Curriculum::call_absorbing(const CurriculumStage& stage, const CurriculumContext& context,
                                 const std::vector<Gamma>& state, double time) {
   const LuaCallback& fn = impl_->absorbing_fns.at(stage.name);
@@ -314,9 +342,9 @@ bool Curriculum::call_absorbing(const CurriculumStage& stage, const CurriculumCo
   lua_rawgeti(L, LUA_REGISTRYINDEX, fn.ref);
   push_state(L, context, state);
   lua_pushnumber(L, time);
-  if (impl_->world) push_world(L, *impl_->world);
+  push_world_and_episode(L, impl_->world, impl_->episode_ref);
   try {
-    impl_->sandbox->call(impl_->world ? 3 : 2, 1);
+    impl_->sandbox->call(4, 1);
   } catch (const ScriptError& e) {
     throw ScriptError(stage.where(context.name) + ": absorbing function: " + e.message,
                       e.file.empty() ? fn.file : e.file, e.file.empty() ? fn.line : e.line, e.traceback);
@@ -342,9 +370,9 @@ double Curriculum::call_reward(const CurriculumStage& stage, const CurriculumCon
   }
   lua_pushstring(L, event.c_str());
   lua_pushnumber(L, time);
-  if (impl_->world) push_world(L, *impl_->world);
+  push_world_and_episode(L, impl_->world, impl_->episode_ref);
   try {
-    impl_->sandbox->call(impl_->world ? 5 : 4, 1);
+    impl_->sandbox->call(6, 1);
   } catch (const ScriptError& e) {
     throw ScriptError(stage.where(context.name) + ": reward function: " + e.message,
                       e.file.empty() ? fn.file : e.file, e.file.empty() ? fn.line : e.line, e.traceback);

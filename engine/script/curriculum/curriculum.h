@@ -114,9 +114,12 @@ class Curriculum {
   // Whether the script made a stand-in for this learned skill.
   bool has_learned(const std::string& name) const;
 
-  // The world the Lua callbacks are shown (their last argument, `world`), or null for none: the
+  // The world the Lua callbacks are shown (their argument `world`), or null for none (nil): the
   // episode's world, set by whoever runs the episodes (the trainer).
   void set_world(const World* world);
+  // An episode begins: the callbacks' last argument, `episode`, is a new empty table from now on
+  // (what they keep there, e.g. a count at the last decision, lasts one episode).
+  void begin_episode();
 
   // Calls a stage's Lua absorbing function on a state (the gammas of a context's actions).
   // Throws ScriptError naming the stage, the context and file:line.
