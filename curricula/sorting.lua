@@ -45,15 +45,18 @@ local function all_sorted(state, time, world)
   return n == total
 end
 
--- +100 when all are sorted; at the time-out 100 per cent of the objects sorted minus 100, so the
--- final reward R says how many were sorted: sorted = objects * (R + 100 * timeout) / 100.
-local function sorting_reward(state, action, event, time, world)
-  if event == "absorbing" then return 100 end
-  if event == "timeout" then
-    local n, total = sorted(world)
-    return 100 * n / total - 100
-  end
-  return 0
+-- 100 / n for each object sorted since the last decision (less for one knocked out of its region),
+-- and -100 at the time-out: the return is 100 when all are sorted and 100 k / n - 100 when k of n
+-- are at the time-out. Paying as objects are sorted, not all at the end, makes idling out the
+-- clock worse than any try: with the k sorted paid only at the time-out, a chooser resting on a
+-- type already put away with one object left kept almost all of the reward that trying the last
+-- one could earn. `episode` (a table that lasts one episode) keeps the count at the last decision.
+local function sorting_reward(state, action, event, time, world, episode)
+  local n, total = sorted(world)
+  local paid = 100 * (n - (episode.sorted or 0)) / total
+  episode.sorted = n
+  if event == "timeout" then return paid - 100 end
+  return paid
 end
 
 -- The hand-written reference, as curricula/sort_by_hand.lua: the hand-written transport of
@@ -67,10 +70,10 @@ local scripted_T = roger.policy("scripted Phi_T", {
 })
 local by_hand = sorting.by_hand(sorting.moves(scripted_T, " (by hand)"))
 
--- The learned sorting stage: Psi is Phi_T bound to each of the four types; the state is which
--- bindings delivered on their last run (CONV), are running or not yet run (!CONV), or found none
--- of their type left or gave up (NOREF): 81 states whatever the number of objects.
-local learned_moves = sorting.moves(Phi_T)
+-- The learned sorting stage: Psi is Phi_T bound to each of the four types, each run as that
+-- type's task (sorting.task); the state is, per type, put away (CONV), its move gave up or saw
+-- none left (NOREF), or something left to try (!CONV): 81 states whatever the number of objects.
+local learned_moves = sorting.tasks(sorting.moves(Phi_T))
 
 local function sorting_stage(name, n, contexts, budget)
   return roger.stage{
@@ -91,7 +94,7 @@ end
 
 local stages = { SG, T }
 -- Training budgets of the learned sorting stages (episodes), by number of objects.
-local BUDGET = { [2] = 300, [4] = 500, [8] = 800 }
+local BUDGET = { [2] = 300, [4] = 500, [8] = 1500 }
 for _, n in ipairs({ 2, 4, 8 }) do
   stages[#stages + 1] = sorting_stage("Sort" .. n, n, { { name = "Learned", actions = learned_moves } }, BUDGET[n])
   stages[#stages + 1] = sorting_stage("Hand" .. n, n, { { name = "Scripted", actions = { by_hand } } }, 1)

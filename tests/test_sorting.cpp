@@ -219,6 +219,57 @@ TEST_CASE("sorting: a bound move whose objects are all put away ends NOREF withi
   CHECK(noref_at < 5.0);  // backing off (about 1 s) and one sweep (under 2 s), not the patience
 }
 
+TEST_CASE("sorting: a type's task is CONV and rests once its objects are put away, !CONV while one is left",
+          "[sorting]") {
+  // The actions of the learned sorting stages (sorting.task in curricula/lib/sorting.lua). Resting
+  // runs none of the move, so the learned Phi_T inside need not even be bound here.
+  Curriculum cur = Curriculum::load("curricula/sorting.lua");
+  const std::vector<ControllerPtr>& tasks = cur.stage("Sort8").context("Learned").actions;
+  REQUIRE(tasks.size() == 4);
+  const ControllerPtr circle = tasks[0], triangle = tasks[1];
+  CHECK(circle->name() == "put away circle");
+  Scenario scenario = Scenario::load("sorting");
+  scenario.set_param("objects", "8");  // the cycle mix: circles 1 and 5
+  WorldSpec spec = scenario.generate(3);
+  const GoalRegion& region = spec.goals[0];
+  int moved = 0;
+  for (auto& o : spec.objects)
+    if (o.name.rfind("circle", 0) == 0) {
+      o.pose.x = region.center.x() + (moved == 0 ? -0.25 : 0.25);
+      o.pose.y = region.center.y();
+      ++moved;
+    }
+  REQUIRE(moved == 2);
+  Agent agent;
+  agent.reset(spec);
+  for (const auto& t : tasks) t->reset(3);
+  // Put away once the circles have lain sorted for sorting.SETTLE (1 s): a touch that comes and
+  // goes does not make the task flicker. Meanwhile the eyes turn (phi0) and nothing else moves.
+  const PrimitivePtr look = make_primitive("phi0");
+  look->reset(3);
+  double conv_at = -1.0;
+  for (int t = 0; t < 100 && conv_at < 0.0; ++t) {
+    agent.step(*look);
+    CHECK(triangle->state(agent.input()) == Gamma::kNotConv);  // triangles are left, its move not yet run
+    if (circle->state(agent.input()) == Gamma::kConv) conv_at = agent.world().time();
+  }
+  INFO("CONV at " << conv_at << " s");
+  CHECK(conv_at >= 0.98);
+  CHECK(conv_at <= 1.04);
+  for (int t = 0; t < 50; ++t) {
+    agent.step(*circle);
+    CHECK(agent.last_errors().isZero());  // at rest: no command, Roger holds still
+    CHECK(circle->output().gamma == Gamma::kConv);
+    CHECK(circle->inner() == nullptr);
+  }
+  // One circle back out of its region: the task has something to do again.
+  spec.objects[0].pose.x = 0.0, spec.objects[0].pose.y = 0.0;
+  REQUIRE(spec.objects[0].name.rfind("circle", 0) == 0);
+  agent.reset(spec);
+  for (const auto& t : tasks) t->reset(3);
+  CHECK(circle->state(agent.input()) == Gamma::kNotConv);
+}
+
 TEST_CASE("sorting: the learned transport skill is loaded from its policy file, not trained again",
           "[sorting]") {
   const fs::path dir = temp_dir("roger_sorting_skill");
@@ -261,8 +312,8 @@ TEST_CASE("sorting: the learned transport skill is loaded from its policy file, 
   CHECK_FALSE(phi_t.trained);
   CHECK(phi_t.policy == written);  // the very table T learned, embedded in the Sort2 policy as read
   CHECK(train_policy_json(sr)["extra"]["skills"]["Phi_T"]["trained"] == false);
-  // Psi of the sorting stage: Phi_T bound to each of the four types.
-  CHECK(sr.psi == std::vector<std::string>{"sort circle", "sort triangle", "sort pentagon", "sort spade"});
+  // Psi of the sorting stage: per type, Phi_T bound to it, run as that type's task.
+  CHECK(sr.psi == std::vector<std::string>{"put away circle", "put away triangle", "put away pentagon", "put away spade"});
   fs::remove_all(dir);
 }
 

@@ -5,6 +5,7 @@
 --   local sorting = require("lib.sorting")
 --   local moves = sorting.moves(Phi_T)          -- Phi_T bound to each type, in region order
 --   local sort = sorting.by_hand(moves)         -- the first type with something left to do
+--   local tasks = sorting.tasks(moves)          -- per type, its move until the type is put away
 --
 -- Nothing here counts objects: a move carries one object of its type, and run again carries the
 -- next; a move whose search has looked everywhere and seen none of its type left is NOREF
@@ -45,6 +46,35 @@ function sorting.moves(transport, tag)
   local moves = {}
   for k, t in ipairs(sorting.TYPES) do moves[k] = sorting.move(transport, t, tag) end
   return moves
+end
+
+-- How long (s) a type's objects must have lain sorted before its task counts it put away. The
+-- judge's "not held" turns true the moment the hands part from the object, while the move's
+-- last release is still backing off; resting then, Roger stopped with a hand at the object, and
+-- the touch came and went every few ticks, each a change of state, each a decision.
+sorting.SETTLE = 1.0
+
+-- One type's task for a learned chooser: `move` (sorting.move for type `t`) run until every object
+-- of that type has lain sorted for SETTLE seconds (roger.sorted(colour), the world's judgement, as
+-- the stage's absorbing state is). Its gamma is what a chooser needs to know of that type: CONV when the type is put
+-- away, NOREF when its move gave up or looked everywhere and saw none left, !CONV otherwise (not
+-- yet tried, running, or one delivered and more left). A bare move's gamma tells neither "put
+-- away" (it is CONV after each delivery, more left or not) nor "gave up" from "none left" (NOREF).
+-- Delivering one of several objects of the type changes nothing a chooser sees: the move runs
+-- again for the next one, without a decision. Chosen once its type is put away, it rests: a move
+-- run again would turn about looking for more and might knock a put-away object out of its region.
+function sorting.task(move, t, tag)
+  return roger.policy("put away " .. t .. (tag or ""), {
+    actions = { move }, table = { ["*"] = move }, rest_when_done = true,
+    done = roger.held(roger.sorted(sorting.COLOURS[t]), sorting.SETTLE),
+  })
+end
+
+-- The four tasks over `moves` (sorting.moves), in region order.
+function sorting.tasks(moves, tag)
+  local tasks = {}
+  for k, t in ipairs(sorting.TYPES) do tasks[k] = sorting.task(moves[k], t, tag) end
+  return tasks
 end
 
 -- The hand-written chooser over `moves`: run the first move that is not NOREF (a move that
