@@ -186,16 +186,13 @@ TEST_CASE("sorting: one hand-written policy sorts 4 and 8 objects, its time limi
   CHECK(eight >= 17);
 }
 
-TEST_CASE("sorting: a bound move whose objects are all put away ends NOREF within a scan", "[sorting]") {
-  // Two circles already in the circle region (region 0), let go: the circle move backs off, its
-  // search sweeps round without a glimpse (the eyes ignore what is put away), and the move is NOREF.
-  const SkillScript script = SkillScript::load("curricula/sort_by_hand.lua");
-  const SkillScript::NamedPolicy& sort = script.policy("sort");
-  auto* policy = dynamic_cast<const Policy*>(sort.action.get());
-  REQUIRE(policy != nullptr);
-  const ControllerPtr circle = policy->actions().front();
+namespace {
+
+// An 8-object sorting world (seed 3, the cycle mix) with both its circles (1 and 5) lying in the
+// circle region (region 0), let go.
+WorldSpec circles_put_away() {
   Scenario scenario = Scenario::load("sorting");
-  scenario.set_param("objects", "8");  // the cycle mix: circles 1 and 5
+  scenario.set_param("objects", "8");
   WorldSpec spec = scenario.generate(3);
   const GoalRegion& region = spec.goals[0];
   int moved = 0;
@@ -206,6 +203,20 @@ TEST_CASE("sorting: a bound move whose objects are all put away ends NOREF withi
       ++moved;
     }
   REQUIRE(moved == 2);
+  return spec;
+}
+
+}  // namespace
+
+TEST_CASE("sorting: a bound move whose objects are all put away ends NOREF within a scan", "[sorting]") {
+  // Two circles already in the circle region (region 0), let go: the circle move backs off, its
+  // search sweeps round without a glimpse (the eyes ignore what is put away), and the move is NOREF.
+  const SkillScript script = SkillScript::load("curricula/sort_by_hand.lua");
+  const SkillScript::NamedPolicy& sort = script.policy("sort");
+  auto* policy = dynamic_cast<const Policy*>(sort.action.get());
+  REQUIRE(policy != nullptr);
+  const ControllerPtr circle = policy->actions().front();
+  WorldSpec spec = circles_put_away();
   Agent agent;
   agent.reset(spec);
   circle->reset(3);
@@ -228,18 +239,7 @@ TEST_CASE("sorting: a type's task is CONV and rests once its objects are put awa
   REQUIRE(tasks.size() == 4);
   const ControllerPtr circle = tasks[0], triangle = tasks[1];
   CHECK(circle->name() == "put away circle");
-  Scenario scenario = Scenario::load("sorting");
-  scenario.set_param("objects", "8");  // the cycle mix: circles 1 and 5
-  WorldSpec spec = scenario.generate(3);
-  const GoalRegion& region = spec.goals[0];
-  int moved = 0;
-  for (auto& o : spec.objects)
-    if (o.name.rfind("circle", 0) == 0) {
-      o.pose.x = region.center.x() + (moved == 0 ? -0.25 : 0.25);
-      o.pose.y = region.center.y();
-      ++moved;
-    }
-  REQUIRE(moved == 2);
+  WorldSpec spec = circles_put_away();
   Agent agent;
   agent.reset(spec);
   for (const auto& t : tasks) t->reset(3);
