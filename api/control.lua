@@ -155,6 +155,7 @@ roger.primitive_kinds = {}
 ---@field region? integer the goal region (0 to 63) that goal = "region" navigators deliver to
 ---@field ignore_delivered? boolean objects already delivered to `region` are no stimulus
 ---@field patience? number seconds before an invocation is given up (0: no limit)
+---@field sticky_noref? boolean after a NOREF, NOREF through later invocations until one converges (default false)
 
 ---A time limit that grows with the world: `per_object` simulated seconds for each object.
 ---@class roger.TimePerObject

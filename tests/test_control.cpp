@@ -295,3 +295,58 @@ TEST_CASE("a policy that rests when done runs nothing while its goal holds", "[c
   goal->next = Gamma::kNotConv;  // the goal lost again (an object knocked out of its region)
   CHECK(rests.evaluate(at_tick(3)).command == a->command);
 }
+
+TEST_CASE("a sticky binding stays NOREF through retries until an invocation converges", "[control]") {
+  // A chooser that runs again a move it was told is stuck must see a retry, not the fresh !CONV
+  // of an episode's start; the move acts as it always did (its command passes through).
+  auto plain_target = std::make_shared<Scripted>("move"), sticky_target = std::make_shared<Scripted>("move");
+  Binding::Bindings b;
+  b.region = 1;
+  b.patience = 1.0;
+  Binding plain(plain_target, b);
+  b.sticky_noref = true;
+  Binding sticky(sticky_target, b);
+  plain.reset(0), sticky.reset(0);
+  uint64_t tick = 0;
+  // One control tick of both (1/8 s apart, exact in binary), the target reporting g; returns the two states.
+  auto step = [&](Gamma g) {
+    plain_target->next = sticky_target->next = g;
+    plain_target->command = sticky_target->command = DofVector::Unit(0);
+    const ControlInput in = at_tick(tick, 0.125 * double(tick));
+    ++tick;
+    const std::pair<Gamma, Gamma> gammas{plain.evaluate(in).gamma, sticky.evaluate(in).gamma};
+    plain.executed(in), sticky.executed(in);
+    return gammas;
+  };
+  using G = std::pair<Gamma, Gamma>;
+  CHECK(step(Gamma::kNotConv) == G{Gamma::kNotConv, Gamma::kNotConv});
+  CHECK(step(Gamma::kNoRef) == G{Gamma::kNoRef, Gamma::kNoRef});
+  // The target finds a reference again: the plain binding shows it, the sticky one does not, and
+  // still passes the target's command on.
+  CHECK(step(Gamma::kNotConv) == G{Gamma::kNotConv, Gamma::kNoRef});
+  CHECK(sticky.output().command == DofVector::Unit(0));
+  // Not run for a tick, then read for its state alone: what the invocation ended with, or NOREF.
+  ++tick;
+  CHECK(plain.state(at_tick(tick)) == Gamma::kNotConv);
+  CHECK(sticky.state(at_tick(tick)) == Gamma::kNoRef);
+  // Run again: a new invocation, still NOREF for the sticky binding, until one converges.
+  CHECK(step(Gamma::kNotConv) == G{Gamma::kNotConv, Gamma::kNoRef});
+  CHECK(sticky.invocations() == 2);
+  CHECK(step(Gamma::kConv) == G{Gamma::kConv, Gamma::kConv});
+  CHECK(step(Gamma::kNotConv) == G{Gamma::kNotConv, Gamma::kNotConv});  // the next object: cleared
+  CHECK(sticky.invocations() == 3);
+  // Given up after its patience (1 s, 8 ticks, without converging): NOREF for both; evaluated again, both
+  // start over, and the sticky one says it is a retry while it acts.
+  const uint64_t begun = tick - 1;
+  G gave_up{Gamma::kNotConv, Gamma::kNotConv};
+  while (tick < begun + 8) gave_up = step(Gamma::kNotConv);
+  CHECK(gave_up == G{Gamma::kNotConv, Gamma::kNotConv});
+  CHECK(step(Gamma::kNotConv) == G{Gamma::kNoRef, Gamma::kNoRef});
+  CHECK(sticky.output().command.isZero());
+  CHECK(step(Gamma::kNotConv) == G{Gamma::kNotConv, Gamma::kNoRef});
+  CHECK(sticky.invocations() == 4);
+  CHECK(sticky.output().command == DofVector::Unit(0));
+  // A new episode forgets it.
+  sticky.reset(0);
+  CHECK(sticky.state(at_tick(tick)) == Gamma::kNotConv);
+}

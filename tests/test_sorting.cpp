@@ -376,7 +376,8 @@ TEST_CASE("sorting: bad roger.bind arguments are errors at file:line naming the 
       {"{stimulus = \"red\"}", "field 'stimulus' must be a colour"},
       {"{stimulus = \"#ff0000\", patience = -1}", "field 'patience' must be seconds"},
       {"{stimulus = \"#ff0000\", ignore_delivered = true}", "field 'ignore_delivered' needs 'region'"},
-      {"{stimulus = \"#ff0000\", colour = 1}", "unknown field 'colour'; known fields: ignore_delivered, patience, region, stimulus"},
+      {"{stimulus = \"#ff0000\", sticky_noref = 1}", "field 'sticky_noref' must be a boolean, got number"},
+      {"{stimulus = \"#ff0000\", colour = 1}", "unknown field 'colour'; known fields: ignore_delivered, patience, region, sticky_noref, stimulus"},
   };
   for (const auto& [fields, message] : cases) {
     INFO(fields);

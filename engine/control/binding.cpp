@@ -19,6 +19,7 @@ void Binding::reset(uint64_t seed) {
   executed_tick_ = begun_tick_ = UINT64_MAX;
   begun_time_ = 0.0;
   gave_up_ = false;
+  failed_ = false;
   // Not yet invoked: nothing says its work is done (CONV) or cannot be done (NOREF).
   last_ = Gamma::kNotConv;
 }
@@ -66,11 +67,13 @@ void Binding::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_r
     out.command.setZero();
     out.jacobian.resize(0, kDofCount);
     out.phi = out.residual = 0.0;
-    gamma_raw = last_ = Gamma::kNotConv;
+    last_ = Gamma::kNotConv;
+    gamma_raw = failed_ ? Gamma::kNoRef : Gamma::kNotConv;
     return;
   }
   if (out_of_patience(in)) {
     gave_up_ = true;
+    failed_ = bindings_.sticky_noref;
     gamma_raw = last_ = Gamma::kNoRef;
     return;
   }
@@ -79,19 +82,29 @@ void Binding::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_r
   out.jacobian = t.jacobian;
   out.phi = t.phi;
   out.residual = t.residual;
-  gamma_raw = last_ = t.gamma;
+  last_ = t.gamma;
+  gamma_raw = sticky(t.gamma);
+}
+
+Gamma Binding::sticky(Gamma g) {
+  if (!bindings_.sticky_noref) return g;
+  if (g == Gamma::kConv) failed_ = false;
+  if (g == Gamma::kNoRef) failed_ = true;
+  return failed_ ? Gamma::kNoRef : g;
 }
 
 bool Binding::compute_state(const ControlInput& in, ControlOutput&, Gamma& gamma_raw) {
   if (!running(in)) {
-    gamma_raw = last_;  // what its last invocation ended with
+    gamma_raw = failed_ ? Gamma::kNoRef : last_;  // what its last invocation ended with
   } else if (!attending(in)) {
-    gamma_raw = Gamma::kNotConv;
+    gamma_raw = failed_ ? Gamma::kNoRef : Gamma::kNotConv;
   } else if (out_of_patience(in)) {
     gave_up_ = true;
+    failed_ = bindings_.sticky_noref;
     gamma_raw = last_ = Gamma::kNoRef;
   } else {
-    gamma_raw = last_ = target_->state(in);
+    last_ = target_->state(in);
+    gamma_raw = sticky(last_);
   }
   return true;
 }

@@ -326,6 +326,10 @@ class StandIn : public Controller {
 // nothing; evaluated again, it starts a new invocation. Multi-object scenes have dead ends a
 // single object never showed (a stimulus hidden from one eye by another object, a grasp lost on
 // the way): giving up and starting over is how a chooser gets out of them.
+// With `sticky_noref`, NOREF outlasts the invocation that ended with it (given up, or its target
+// NOREF): the binding reports NOREF, through later invocations too, until one converges. Its
+// command is the target's as ever; only the state it shows differs. A chooser that runs a type
+// it was told is stuck then sees a retry, not the fresh !CONV every episode starts with.
 class Binding final : public Controller {
  public:
   // What a binding sets; a field it does not set stays as the world's attention has it.
@@ -335,6 +339,7 @@ class Binding final : public Controller {
     int ignore_region = -1;  // the region whose let-go objects are ignored (when `stimulus` or >= 0)
     int region = -1;         // the delivery region (-1: not bound)
     double patience = 0.0;   // seconds an invocation may run without converging (0: no limit)
+    bool sticky_noref = false;  // after an invocation ends NOREF, NOREF until one converges
   };
   Binding(ControllerPtr target, const Bindings& bindings);
   std::vector<const Controller*> children() const override { return {target_.get()}; }
@@ -361,6 +366,8 @@ class Binding final : public Controller {
   bool attending(const ControlInput& in) const;
   // Whether the running invocation has used up its patience without converging.
   bool out_of_patience(const ControlInput& in) const;
+  // The state shown for the target's g: with sticky_noref, NOREF from a NOREF until a CONV.
+  Gamma sticky(Gamma g);
   ControllerPtr target_;
   Bindings bindings_;
   uint64_t seed_ = 0;
@@ -368,6 +375,7 @@ class Binding final : public Controller {
   uint64_t executed_tick_ = UINT64_MAX, begun_tick_ = UINT64_MAX;
   double begun_time_ = 0.0;     // when the running invocation began (s)
   bool gave_up_ = false;        // the last invocation ran out of patience
+  bool failed_ = false;         // sticky_noref: a NOREF since the last CONV
   Gamma last_ = Gamma::kNoRef;  // the state the last invocation ended with
 };
 
