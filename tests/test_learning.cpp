@@ -388,7 +388,7 @@ TEST_CASE("a QTable round-trips through a policy file bit for bit", "[learning]"
   std::filesystem::remove(path);
 }
 
-TEST_CASE("the semi-MDP decides only when the state changes", "[learning]") {
+TEST_CASE("the semi-MDP decides when the state changes, and at no other tick", "[learning]") {
   SECTION("scripted controllers") {
     // A: NOREF, then !CONV at 10, CONV at 40, !CONV at 70. B: !CONV, CONV at 25, !CONV at 55.
     auto a = std::make_shared<Scripted>("A", piecewise({0, 10, 40, 70}, {G(0), G(1), G(2), G(1)}));
@@ -471,6 +471,39 @@ TEST_CASE("the semi-MDP decides only when the state changes", "[learning]") {
     CHECK(ep.decision_states == states);
     CHECK(q.visited_states() == 0);  // learn = false touches nothing
   }
+}
+
+TEST_CASE("the semi-MDP decides when the running action gives up, though the state stays", "[learning]") {
+  // A sticky binding retried after a give-up stays NOREF; when the retry gives up too, nothing
+  // changes the state, yet the action has ended: without a decision there the stage would be
+  // locked into retrying until the time-out.
+  auto stuck = std::make_shared<Scripted>("stuck", [](uint64_t) { return Gamma::kNotConv; }, 1.0);
+  auto other = std::make_shared<Scripted>("other", [](uint64_t) { return Gamma::kNotConv; }, 2.0);
+  Binding::Bindings b;
+  b.stimulus = true;
+  b.colour = Colour{0, 200, 0};
+  b.patience = 0.4;
+  b.sticky_noref = true;
+  auto bound = std::make_shared<Binding>(stuck, b);
+  const std::vector<ControllerPtr> psi = {bound, other};
+  QTable q(controller_names(psi));
+  for (int s = 0; s < q.states(); ++s) q.set(s, 0, 1.0);  // greedy: always the bound action
+  auto never = std::make_shared<Scripted>("never", [](uint64_t) { return Gamma::kNotConv; });
+  PredicatePtr absorbing = converged(never);
+  Agent agent;
+  Rng rng(0);
+  LearningEpisodeOptions options;
+  options.time_limit = 2.0;  // 100 ticks: a give-up about every 20
+  const TrainingEpisode ep =
+      run_learning_episode(agent, open_world(false), 3, psi, *absorbing, q, 0.0, rng, options, false);
+  CHECK(ep.ticks == 100);
+  // The first decision, then one per give-up; each give-up starts the next invocation at once.
+  CHECK(bound->invocations() >= 4);
+  CHECK(ep.decisions == bound->invocations());
+  REQUIRE(ep.decision_states.size() >= 3);
+  const int noref = gamma_state_index({Gamma::kNoRef, Gamma::kNotConv});
+  CHECK(ep.decision_states[0] == gamma_state_index({Gamma::kNotConv, Gamma::kNotConv}));
+  for (size_t k = 1; k < ep.decision_states.size(); ++k) CHECK(ep.decision_states[k] == noref);
 }
 
 // Decision hooks (what a curriculum's Lua functions become) that pay what the declarative rewards

@@ -19,6 +19,7 @@ void Binding::reset(uint64_t seed) {
   executed_tick_ = begun_tick_ = UINT64_MAX;
   begun_time_ = 0.0;
   gave_up_ = false;
+  gave_up_tick_ = UINT64_MAX;
   failed_ = false;
   // Not yet invoked: nothing says its work is done (CONV) or cannot be done (NOREF).
   last_ = Gamma::kNotConv;
@@ -72,8 +73,7 @@ void Binding::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_r
     return;
   }
   if (out_of_patience(in)) {
-    gave_up_ = true;
-    failed_ = bindings_.sticky_noref;
+    give_up(in);
     gamma_raw = last_ = Gamma::kNoRef;
     return;
   }
@@ -84,6 +84,12 @@ void Binding::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_r
   out.residual = t.residual;
   last_ = t.gamma;
   gamma_raw = sticky(t.gamma);
+}
+
+void Binding::give_up(const ControlInput& in) {
+  gave_up_ = true;
+  gave_up_tick_ = in.tick;
+  failed_ = bindings_.sticky_noref;
 }
 
 Gamma Binding::sticky(Gamma g) {
@@ -99,8 +105,7 @@ bool Binding::compute_state(const ControlInput& in, ControlOutput&, Gamma& gamma
   } else if (!attending(in)) {
     gamma_raw = failed_ ? Gamma::kNoRef : Gamma::kNotConv;
   } else if (out_of_patience(in)) {
-    gave_up_ = true;
-    failed_ = bindings_.sticky_noref;
+    give_up(in);
     gamma_raw = last_ = Gamma::kNoRef;
   } else {
     last_ = target_->state(in);

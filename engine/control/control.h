@@ -160,6 +160,14 @@ class Controller {
   // runs several at once.
   virtual const Controller* inner() const { return nullptr; }
 
+  // Whether this controller, or the part it runs now (down the inner() chain), gave up an
+  // invocation on `tick` (a binding out of patience). A stage takes it as the end of the running
+  // action, a decision point, even when the state did not change (a sticky binding's NOREF).
+  virtual bool gave_up_on(uint64_t tick) const {
+    const Controller* part = inner();
+    return part && part->gave_up_on(tick);
+  }
+
   // Told by the control loop that this tick's command (from evaluate()) was written to the robot;
   // composites pass it on to the children whose commands they used. Evaluations made only to
   // observe a state are never executed, which is what lets a subordinate's settled potential
@@ -348,6 +356,7 @@ class Binding final : public Controller {
   void executed(const ControlInput& in) override;
   const ControllerPtr& target() const { return target_; }
   const Controller* inner() const override { return target_.get(); }
+  bool gave_up_on(uint64_t tick) const override { return gave_up_tick_ == tick || Controller::gave_up_on(tick); }
   const Bindings& bindings() const { return bindings_; }
   int invocations() const { return invocations_; }
 
@@ -366,6 +375,8 @@ class Binding final : public Controller {
   bool attending(const ControlInput& in) const;
   // Whether the running invocation has used up its patience without converging.
   bool out_of_patience(const ControlInput& in) const;
+  // Ends the running invocation as given up.
+  void give_up(const ControlInput& in);
   // The state shown for the target's g: with sticky_noref, NOREF from a NOREF until a CONV.
   Gamma sticky(Gamma g);
   ControllerPtr target_;
@@ -375,6 +386,7 @@ class Binding final : public Controller {
   uint64_t executed_tick_ = UINT64_MAX, begun_tick_ = UINT64_MAX;
   double begun_time_ = 0.0;     // when the running invocation began (s)
   bool gave_up_ = false;        // the last invocation ran out of patience
+  uint64_t gave_up_tick_ = UINT64_MAX;  // the tick it did
   bool failed_ = false;         // sticky_noref: a NOREF since the last CONV
   Gamma last_ = Gamma::kNoRef;  // the state the last invocation ended with
 };

@@ -162,7 +162,8 @@ Controller* SemiMdpDriver::choose(const ControlInput& in) {
   }
   tick_start_ = in.time;  // `in` changes under us when the agent steps
   const int s = read_state(in);
-  if (s != state_ || every_tick_) {
+  // A decision at every change of state, and when the running action gave up without one.
+  if (s != state_ || every_tick_ || (action_ >= 0 && psi_[size_t(action_)]->gave_up_on(in.tick))) {
     if (hooked_absorbing_ && hooks_->absorbing(gammas_, tick_start_)) return nullptr;
     if (!external_) {
       decide(s, tick_start_);

@@ -128,8 +128,9 @@ class Env(_EnvBase):
         return self._observe(state), self._info(state)
 
     def step(self, action):
-        """Runs one decision: `action` until the state changes. Returns (observation, reward,
-        terminated, truncated, info); truncated is the time limit."""
+        """Runs one decision: `action` until the next decision point (the state changes, or the
+        action gives up). Returns (observation, reward, terminated, truncated, info); truncated
+        is the time limit."""
         a = _action(action, len(self.actions), f"step ({self.stage_info['stage']}/{self.stage_info['context']})")
         state, reward, terminated, truncated = self._env.step(a)
         return self._observe(state), reward, terminated, truncated, self._info(state, terminated or truncated)
