@@ -73,7 +73,8 @@ local by_hand = sorting.by_hand(sorting.moves(scripted_T, " (by hand)"))
 -- The learned sorting stage: Psi is Phi_T bound to each of the four types, each run as that
 -- type's task (sorting.task); the state is, per type, put away (CONV), its move gave up or saw
 -- none left (NOREF), or something left to try (!CONV): 81 states whatever the number of objects.
-local learned_moves = sorting.tasks(sorting.moves(Phi_T))
+-- The moves' NOREF is sticky: a type given up stays NOREF when retried, until it delivers again.
+local learned_moves = sorting.tasks(sorting.moves(Phi_T, nil, true))
 
 local function sorting_stage(name, n, contexts, budget)
   return roger.stage{

@@ -31,20 +31,25 @@ sorting.PATIENCE = 15
 -- of that colour into that type's region with `transport` (which must converge only once the
 -- object is delivered, as a learned Phi_T does), then let go of it. Without falling back, a
 -- transport that finds nothing to carry ends the move NOREF instead of letting go for ever.
--- `tag` keeps names unique.
-function sorting.move(transport, t, tag)
+-- `tag` keeps names unique. With `sticky`, a move that gave up (or found none left) stays
+-- NOREF until it delivers again (roger.bind's sticky_noref): a learned chooser that retries
+-- such a type sees the retry as what it is, not as the all-!CONV state every episode starts
+-- in. The hand-written chooser does not use it: its rotate fallback waits for a given-up
+-- move's NOREF to clear.
+function sorting.move(transport, t, tag, sticky)
   tag = tag or ""
   local steps = roger.sequence("move " .. t .. tag,
                                { roger.primitive("release"), transport, roger.primitive("release") },
                                { fall_back = false })
   return roger.bind("sort " .. t .. tag, steps,
-                    { stimulus = sorting.COLOURS[t], region = sorting.REGION[t], patience = sorting.PATIENCE })
+                    { stimulus = sorting.COLOURS[t], region = sorting.REGION[t],
+                      patience = sorting.PATIENCE, sticky_noref = sticky or false })
 end
 
--- The four moves, in region order.
-function sorting.moves(transport, tag)
+-- The four moves, in region order (`sticky` as for sorting.move).
+function sorting.moves(transport, tag, sticky)
   local moves = {}
-  for k, t in ipairs(sorting.TYPES) do moves[k] = sorting.move(transport, t, tag) end
+  for k, t in ipairs(sorting.TYPES) do moves[k] = sorting.move(transport, t, tag, sticky) end
   return moves
 end
 
