@@ -5,8 +5,8 @@
 // learning.h: learning a stage of a developmental curriculum (the paper's Sections II.B and III).
 // A stage is an MDP whose state is the vector of gamma values of its actions Psi (3^|Psi| states);
 // Q-learning with epsilon-greedy exploration (falling linearly from 100% to 5% over the training
-// budget) learns it as a semi-MDP: a decision is made only when the state changes, and the chosen
-// action runs until then. An episode ends in an absorbing state (+100) or at the time-out (-100,
+// budget) learns it as a semi-MDP: a decision is made when the state changes (or the running
+// action gives up, see SemiMdpDriver), and the chosen action runs until then. An episode ends in an absorbing state (+100) or at the time-out (-100,
 // also terminal). The greedy policy of a learned stage becomes a skill, one action of later stages.
 //
 // Policy files (QTable::save/load) are JSON:
@@ -199,7 +199,7 @@ struct TrainingEpisode {
   bool success = false;             // the absorbing predicate held before the time limit
   double sim_seconds = 0.0;         // simulated time the episode lasted
   int ticks = 0;                    // control ticks run
-  int decisions = 0;                // choices made (first tick plus every state change)
+  int decisions = 0;                // choices made (first tick, every state change, every give-up)
   // At the end, the objects a sorting task counts and how many of them are sorted
   // (sorted_objects, the world's judgement; both 0 in a world without goal regions' colours).
   int objects_sortable = 0, objects_sorted = 0;
@@ -227,9 +227,10 @@ class DecisionHooks {
 };
 
 // A stage's semi-MDP as the driver of the episode loop (episode.h). Every control tick it reads
-// the state (the gamma of each controller of psi); on the first tick and whenever the state
-// changed it backs up the previous decision with the reward accumulated since it (when `learn`)
-// and chooses the next action epsilon-greedily; the chosen action runs until the next decision.
+// the state (the gamma of each controller of psi); on the first tick, whenever the state changed,
+// and when the running action gave up (Controller::gave_up_on) it backs up the previous decision
+// with the reward accumulated since it (when `learn`) and chooses the next action
+// epsilon-greedily; the chosen action runs until the next decision.
 // The episode ends when `absorbing` holds (success_reward, terminal backup) or at the time limit
 // (timeout_reward, terminal backup). With learn = false the table is only read: exploitation uses
 // policy_action() (the rule the learned skill follows), so an evaluation measures the skill a
