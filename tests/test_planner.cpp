@@ -277,6 +277,51 @@ TEST_CASE("a robot in an inflated margin is led out of it", "[planner]") {
   CHECK(planner.at_goal(planner.trace(p, kStep, 5000).back()));
 }
 
+TEST_CASE("after grids come and go, the planner answers as a new one on the last grid", "[planner]") {
+  // The ways out of occupied cells and what a solve starts from are built on first use after a
+  // grid change: one left from an earlier grid would lead a robot in a margin the wrong way.
+  Rng rng(31);
+  WorldSpec world = open_world(false);
+  world.obstacles.push_back(obstacle(ball_shape(0.3), 0.0, 0.0));
+  const OccupancyGrid first = build_occupancy(world, kInflate);
+  world.obstacles[0].pose = {0.9, -0.4, 0.0};
+  world.obstacles.push_back(obstacle(box_shape(0.2, 0.6), -0.8, 0.7));
+  const OccupancyGrid last = build_occupancy(world, kInflate);
+  PlannerParams params;
+  params.warm_start = false;  // a new planner starts cold: so must the used one, for equal bits
+  HarmonicPlanner used(params), fresh(params);
+  const Vec2 goal(1.6, 1.6);
+  used.set_goal(goal, 0.2);
+  fresh.set_goal(goal, 0.2);
+  used.set_grid(first);
+  REQUIRE(used.update());
+  // Queries on the first grid build its exits (a point in the first disk's margin)...
+  CHECK(used.reachable(Vec2(-0.42, 0.0)));
+  CHECK(used.descent(Vec2(-0.42, 0.0)).x() < 0.0);
+  // ...then the grid changes twice, the second time with nothing but reachability asked.
+  used.set_grid(last);
+  used.update_reachability();
+  CHECK(used.reachable(Vec2(0.9 - 0.42, -0.4)));
+  used.set_grid(first);
+  used.set_grid(last);
+  fresh.set_grid(last);
+  REQUIRE(used.update());
+  REQUIRE(fresh.update());
+  for (int n = 0; n < 400; ++n) {
+    // Half the points in occupied cells, where the exits decide.
+    Vec2 p;
+    do p = Vec2(rng.uniform(-1.95, 1.95), rng.uniform(-1.95, 1.95));
+    while (n % 2 == 0 && !occupied_at(last, p));
+    INFO("point (" << p.x() << ", " << p.y() << ")");
+    CHECK(used.reachable(p) == fresh.reachable(p));
+    const Vec2 a = used.descent(p), b = fresh.descent(p);
+    CHECK(std::memcmp(a.data(), b.data(), sizeof(double) * 2) == 0);
+    const double qa = used.complement(p), qb = fresh.complement(p);
+    CHECK(std::memcmp(&qa, &qb, sizeof qa) == 0);
+  }
+  CHECK(used.sweeps_last_solve() == fresh.sweeps_last_solve());
+}
+
 TEST_CASE("a moved goal is solved from the previous solution", "[planner]") {
   // Warm and cold planners track the same goal as it steps one cell at a time.
   long warm_sweeps = 0, cold_sweeps = 0;

@@ -86,6 +86,10 @@ void HarmonicPlanner::set_goal(const Vec2& center, double radius) {
   if (pending_goal_ != goal_) flooded_ = solved_ = false;
 }
 
+// What every grid needs at once: the free cells and their components (reachability is a lookup in
+// them). What only some queries need waits for its first use: the way out of occupied cells
+// (ensure_exits) and what a solve starts from (ensure_solve_structure). A navigator that only
+// reports its state, as most do while another moves, then pays for none of it when objects move.
 void HarmonicPlanner::rebuild_structure() {
   const int nx = grid_.nx, ny = grid_.ny;
   stride_ = nx + 2;
@@ -93,59 +97,85 @@ void HarmonicPlanner::rebuild_structure() {
   q_.assign(n, 0.0);
   dist_.assign(n, -1);
   free_.assign(n, 0);
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) free_[index(i, j)] = grid_.occupied[size_t(j) * nx + i] ? 0 : 1;
-
-  // Every occupied cell of the grid learns its nearest free cell (breadth first from all free
-  // cells at once) and the neighbour that leads there, so a robot standing in an inflated margin
-  // still gets a direction out of it. The padding ring stays unreachable.
-  nearest_.assign(n, -1);
-  exit_.assign(n, -1);
-  queue_.clear();
-  for (int k = 0; k < int(n); ++k)
-    if (free_[k]) nearest_[k] = exit_[k] = k, queue_.push_back(k);
-  for (size_t head = 0; head < queue_.size(); ++head) {
-    const int k = queue_[head];
-    int nb[4];
-    neighbours(k, stride_, nb);
-    for (int m : nb) {
-      const int i = m % stride_ - 1, j = m / stride_ - 1;
-      if (i < 0 || j < 0 || i >= nx || j >= ny || nearest_[m] >= 0) continue;
-      nearest_[m] = nearest_[k];
-      exit_[m] = k;
-      queue_.push_back(m);
-    }
+  for (int j = 0; j < ny; ++j) {
+    const uint8_t* occupied = grid_.occupied.data() + size_t(j) * nx;
+    uint8_t* row = free_.data() + index(0, j);
+    for (int i = 0; i < nx; ++i) row[i] = occupied[i] ? 0 : 1;
   }
+  exits_ready_ = solve_structure_ready_ = false;
 
   // Connected components of the free cells (4-neighbourhood, as the Laplacian): reachability of
   // any goal is then a lookup, with no flood per goal change.
   component_.assign(n, -1);
   component_size_.clear();
+  queue_.resize(n);
+  int* queue = queue_.data();
   for (int k = 0; k < int(n); ++k) {
     if (!free_[k] || component_[k] >= 0) continue;
     const int id = int(component_size_.size());
-    queue_.assign(1, k);
+    size_t tail = 0;
+    queue[tail++] = k;
     component_[k] = id;
-    for (size_t head = 0; head < queue_.size(); ++head) {
+    for (size_t head = 0; head < tail; ++head) {
       int nb[4];
-      neighbours(queue_[head], stride_, nb);
+      neighbours(queue[head], stride_, nb);
       for (int m : nb)
-        if (free_[m] && component_[m] < 0) component_[m] = id, queue_.push_back(m);
+        if (free_[m] && component_[m] < 0) component_[m] = id, queue[tail++] = m;
     }
-    component_size_.push_back(int(queue_.size()));
+    component_size_.push_back(int(tail));
   }
+}
 
-  // What flood_from_goal starts from: -1 on free cells, -2 elsewhere.
-  unreached_.assign(n, -2);
+// Every occupied cell of the grid learns its nearest free cell (breadth first from all free cells
+// at once) and the neighbour that leads there, so a robot standing in an inflated margin still gets
+// a direction out of it. The padding ring stays unreachable. Built on first use after a grid
+// change; the queries that read it are const, hence the mutable arrays.
+void HarmonicPlanner::ensure_exits() const {
+  if (exits_ready_) return;
+  const int nx = grid_.nx, ny = grid_.ny;
+  const size_t n = free_.size();
+  nearest_.assign(n, -1);
+  exit_.assign(n, -1);
+  // The ring is marked -2 while the search runs, so one test (-1) tells a grid cell not yet found.
+  for (int i = 0; i < stride_; ++i) nearest_[size_t(i)] = nearest_[n - 1 - size_t(i)] = -2;
+  for (int j = 0; j < ny; ++j) nearest_[size_t(index(-1, j))] = nearest_[size_t(index(nx, j))] = -2;
+  std::vector<int>& queue = exit_queue_;
+  queue.resize(n);
+  size_t tail = 0;
   for (int k = 0; k < int(n); ++k)
+    if (free_[size_t(k)]) nearest_[size_t(k)] = exit_[size_t(k)] = k, queue[tail++] = k;
+  for (size_t head = 0; head < tail; ++head) {
+    const int k = queue[head];
+    int nb[4];
+    neighbours(k, stride_, nb);
+    for (int m : nb) {
+      if (nearest_[size_t(m)] != -1) continue;
+      nearest_[size_t(m)] = nearest_[size_t(k)];
+      exit_[size_t(m)] = k;
+      queue[tail++] = m;
+    }
+  }
+  for (int& v : nearest_)
+    if (v == -2) v = -1;
+  exits_ready_ = true;
+}
+
+// What flood_from_goal starts from, and the clearance that sizes omega: built before the first
+// solve on a grid.
+void HarmonicPlanner::ensure_solve_structure() {
+  if (solve_structure_ready_) return;
+  const int nx = grid_.nx, ny = grid_.ny;
+  const size_t n = free_.size();
+  // -1 on free cells, -2 elsewhere.
+  unreached_.assign(n, -2);
+  for (size_t k = 0; k < n; ++k)
     if (free_[k]) unreached_[k] = -1;
-  queue_.resize(n);
 
   // Distance from each cell centre to the nearest occupied centre, in cells (two-pass chamfer,
   // steps 1 and sqrt 2, within 8 %): its maximum over the relaxed cells sizes omega.
   clearance_.assign(n, 0.0f);
   const float diag = float(std::sqrt(2.0));
-  for (int k = 0; k < int(n); ++k) clearance_[k] = free_[k] ? std::numeric_limits<float>::max() : 0.0f;
+  for (size_t k = 0; k < n; ++k) clearance_[k] = free_[k] ? std::numeric_limits<float>::max() : 0.0f;
   for (int j = 1; j <= ny; ++j)
     for (int i = 1; i <= nx; ++i) {
       const int k = j * stride_ + i;
@@ -160,6 +190,7 @@ void HarmonicPlanner::rebuild_structure() {
       c = std::min({c, clearance_[k + 1] + 1.0f, clearance_[k + stride_] + 1.0f,
                     clearance_[k + stride_ + 1] + diag, clearance_[k + stride_ - 1] + diag});
     }
+  solve_structure_ready_ = true;
 }
 
 void HarmonicPlanner::find_goal_cells(std::vector<int>& out) const {
@@ -212,9 +243,11 @@ bool HarmonicPlanner::update() {
   // After a grid change the old values belong to other obstacles; start from zero then.
   const bool warm = params_.warm_start && have_values_;
   if (warm) {
+    ensure_solve_structure();
     flood_from_goal();  // distances to the goal: which cells the solve relaxes
     solve(true);
   } else if (!reuse_cold_solve()) {
+    ensure_solve_structure();
     flood_from_goal();
     const int backoffs_before = backoffs_;
     solve(false);
@@ -432,6 +465,7 @@ bool HarmonicPlanner::locate(const Vec2& p, int& k) const {
 
 bool HarmonicPlanner::cell_reachable(int k) const {
   if (!flooded_) return false;
+  if (!free_[k]) ensure_exits();
   const int cell = free_[k] ? k : nearest_[k];
   if (cell < 0) return false;
   return std::find(goal_components_.begin(), goal_components_.end(), component_[cell]) !=
@@ -502,6 +536,7 @@ Vec2 HarmonicPlanner::descent(const Vec2& p) const {
       if (free_[m] && dist_[m] >= 0 && dist_[m] < dist_[k] && (target < 0 || q_[m] > q_[target]))
         target = m;
   } else {
+    ensure_exits();
     target = exit_[k];
   }
   if (target < 0) return Vec2::Zero();

@@ -109,7 +109,9 @@ class HarmonicPlanner {
  private:
   int index(int i, int j) const { return (j + 1) * stride_ + (i + 1); }  // padded index of cell (i, j)
   bool locate(const Vec2& p, int& k) const;  // padded index of p's cell; false outside the grid
-  void rebuild_structure();                  // padding, exits, clearance; after a grid change
+  void rebuild_structure();                  // padding, free cells, components; after a grid change
+  void ensure_exits() const;                 // nearest_ and exit_, on first use after a grid change
+  void ensure_solve_structure();             // unreached_ and clearance_, before a solve
   void find_goal_cells(std::vector<int>& out) const;
   void flood_from_goal();                    // distances to the goal (dist_)
   void solve(bool warm);
@@ -138,8 +140,13 @@ class HarmonicPlanner {
   std::vector<uint8_t> free_;    // 1 on free cells of the grid
   std::vector<int> dist_;        // steps to the goal through free cells; < 0 when not joined
   std::vector<int> unreached_;   // dist_ before a flood: -1 on free cells, -2 on the others
-  std::vector<int> nearest_;     // for occupied cells: the nearest free cell (-1: none)
-  std::vector<int> exit_;        // for occupied cells: the neighbour one step nearer to it
+  // For occupied cells: the nearest free cell (-1: none), and the neighbour one step nearer to it.
+  // Built lazily by const queries (ensure_exits), hence mutable.
+  mutable std::vector<int> nearest_;
+  mutable std::vector<int> exit_;
+  mutable std::vector<int> exit_queue_;  // breadth-first scratch of ensure_exits
+  mutable bool exits_ready_ = false;
+  bool solve_structure_ready_ = false;   // unreached_ and clearance_ match the grid
   std::vector<float> clearance_; // distance in cells from each cell centre to the nearest occupied one
   int relaxed_cells_ = 0;        // cells the sweep relaxes (free, joined to the goal, not goal)
   std::vector<double> colour_[2];   // q_ split by colour during a solve (see split_by_colour)
