@@ -176,20 +176,23 @@ void HarmonicPlanner::ensure_solve_structure() {
   clearance_.assign(n, 0.0f);
   const float diag = float(std::sqrt(2.0));
   for (size_t k = 0; k < n; ++k) clearance_[k] = free_[k] ? std::numeric_limits<float>::max() : 0.0f;
-  for (int j = 1; j <= ny; ++j)
-    for (int i = 1; i <= nx; ++i) {
-      const int k = j * stride_ + i;
-      float& c = clearance_[k];
-      c = std::min({c, clearance_[k - 1] + 1.0f, clearance_[k - stride_] + 1.0f,
-                    clearance_[k - stride_ - 1] + diag, clearance_[k - stride_ + 1] + diag});
-    }
-  for (int j = ny; j >= 1; --j)
-    for (int i = nx; i >= 1; --i) {
-      const int k = j * stride_ + i;
-      float& c = clearance_[k];
-      c = std::min({c, clearance_[k + 1] + 1.0f, clearance_[k + stride_] + 1.0f,
-                    clearance_[k + stride_ + 1] + diag, clearance_[k + stride_ - 1] + diag});
-    }
+  // Each pass takes the row before it whole (a loop the compiler vectorizes), then the cell before
+  // it along the row (the one serial chain); min is exact, so the order changes no bit.
+  float* c = clearance_.data();
+  for (int j = 1; j <= ny; ++j) {
+    float* row = c + j * stride_;
+    const float* before = row - stride_;
+    for (int i = 1; i <= nx; ++i)
+      row[i] = std::min(std::min(row[i], before[i] + 1.0f), std::min(before[i - 1] + diag, before[i + 1] + diag));
+    for (int i = 1; i <= nx; ++i) row[i] = std::min(row[i], row[i - 1] + 1.0f);
+  }
+  for (int j = ny; j >= 1; --j) {
+    float* row = c + j * stride_;
+    const float* after = row + stride_;
+    for (int i = nx; i >= 1; --i)
+      row[i] = std::min(std::min(row[i], after[i] + 1.0f), std::min(after[i + 1] + diag, after[i - 1] + diag));
+    for (int i = nx; i >= 1; --i) row[i] = std::min(row[i], row[i + 1] + 1.0f);
+  }
   solve_structure_ready_ = true;
 }
 
@@ -367,14 +370,14 @@ float HarmonicPlanner::split_by_colour(bool warm) {
   relaxed_cells_ = 0;
   for (int c = 0; c < 2; ++c) {
     colour_[c].assign(size_t(rows) * split_width_, 0.0);
-    relaxed_[c].assign(size_t(rows) * split_width_, 0);
+    relaxed_[c].assign(size_t(planner_internal::relax_mask_bytes(int64_t(rows) * split_width_)), 0);
     ranges_[c].clear();
   }
   for (int j = 0; j < rows; ++j)
     for (int c = 0; c < 2; ++c) {
       // The cells of colour c in row j are every other one, from column (j + c) % 2.
       double* values = colour_[c].data() + size_t(j) * split_width_ + 1;
-      int64_t* relaxed = relaxed_[c].data() + size_t(j) * split_width_ + 1;
+      const int64_t row_start = int64_t(j) * split_width_ + 1;  // the slot of column 0 (or 1)
       int first = 0, last = -1, nearest = INT_MAX;
       for (int i = (j + c) & 1, k = j * stride_ + i; i < stride_; i += 2, k += 2) {
         const int d = dist_[k];
@@ -383,7 +386,7 @@ float HarmonicPlanner::split_by_colour(bool warm) {
           continue;
         }
         values[i / 2] = warm ? q_[k] : 0.0;
-        relaxed[i / 2] = -1;  // all bits set
+        planner_internal::set_relaxed(relaxed_[c].data(), row_start + i / 2);
         widest = std::max(widest, clearance_[k]);
         const int slot = 1 + i / 2;
         if (last < 0) first = slot;

@@ -150,7 +150,7 @@ class HarmonicPlanner {
   std::vector<float> clearance_; // distance in cells from each cell centre to the nearest occupied one
   int relaxed_cells_ = 0;        // cells the sweep relaxes (free, joined to the goal, not goal)
   std::vector<double> colour_[2];   // q_ split by colour during a solve (see split_by_colour)
-  std::vector<int64_t> relaxed_[2]; // all bits set where colour_ holds a cell the sweep relaxes
+  std::vector<uint8_t> relaxed_[2]; // one bit per slot of colour_: set where the sweep relaxes it
   int split_width_ = 0;             // slots per row of colour_
   // Per colour, the slots of each row the sweep relaxes (rows without relaxed cells have none).
   std::vector<planner_internal::RelaxRange> ranges_[2];

@@ -20,11 +20,18 @@ struct RelaxRange {
   int32_t nearest = 0;  // the least flood distance from the goal of its relaxed cells
 };
 
-// One red-black half-sweep over `n` ranges of one colour's array q: relaxes the cells whose mask
-// in `relaxed` is all ones from their four neighbours in the other colour's array, passing over
-// each range whose `nearest` exceeds `reached`, and returns how many cells changed by less than
-// `tol` of their new value (a NaN did not).
-using RelaxHalfSweep = int (*)(double* q, const int64_t* relaxed, const double* other,
+// Bytes of the bit mask over `slots` slots: one bit per slot, and a byte to spare, since a kernel
+// reads the mask two bytes at a time.
+inline int64_t relax_mask_bytes(int64_t slots) { return slots / 8 + 2; }
+// Marks slot k of a bit mask as relaxed (bit k % 8 of byte k / 8).
+inline void set_relaxed(uint8_t* relaxed, int64_t k) { relaxed[k / 8] |= uint8_t(1u << (k % 8)); }
+
+// One red-black half-sweep over `n` ranges of one colour's array q: relaxes the cells whose bit
+// in `relaxed` is set from their four neighbours in the other colour's array, passing over each
+// range whose `nearest` exceeds `reached`, and returns how many cells changed by less than `tol`
+// of their new value (a NaN did not). A bit, not a mask of 64 per cell: the values and their
+// mask then stay in the first-level cache through a solve's sweeps.
+using RelaxHalfSweep = int (*)(double* q, const uint8_t* relaxed, const double* other,
                                int64_t width, const RelaxRange* ranges, int n, int64_t reached,
                                double omega, double tol);
 

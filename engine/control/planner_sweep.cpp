@@ -9,6 +9,10 @@
 #include <cstring>
 #include <initializer_list>
 
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
+
 namespace roger {
 namespace planner_internal {
 namespace {
@@ -23,36 +27,40 @@ template <> struct Lanes_<4> {
   typedef double Vec __attribute__((vector_size(32)));
   typedef int64_t Mask __attribute__((vector_size(32)));
 };
-template <> struct Lanes_<8> {
-  typedef double Vec __attribute__((vector_size(64)));
-  typedef int64_t Mask __attribute__((vector_size(64)));
-};
 
-// `Lanes` cells relaxed together. Always inlined into a wrapper compiled for the instruction set
-// of that width.
+// The `lanes` bits of the mask from slot k on, in the low bits.
+inline unsigned mask_bits(const uint8_t* relaxed, int64_t k, int lanes) {
+  uint16_t two;
+  std::memcpy(&two, relaxed + k / 8, sizeof two);
+  return (unsigned(two) >> (k % 8)) & ((1u << lanes) - 1u);
+}
+
+// `Lanes` cells relaxed together, with vector extensions. Always inlined into a wrapper compiled
+// for the instruction set of that width.
 template <int Lanes>
 __attribute__((always_inline)) inline int relax_lanes(double* __restrict q,
-                                                     const int64_t* __restrict relaxed,
+                                                     const uint8_t* __restrict relaxed,
                                                      const double* other, int64_t width,
                                                      const RelaxRange* ranges, int n,
                                                      int64_t reached, double omega, double tol) {
   typedef typename Lanes_<Lanes>::Vec Vec;
   typedef typename Lanes_<Lanes>::Mask Mask;
   Vec om, quarter, tolerance;
-  Mask no_sign, converged;  // a true comparison is -1 in its lane
-  for (int k = 0; k < Lanes; ++k)
+  Mask no_sign, converged, lane_bit;  // a true comparison is -1 in its lane
+  for (int k = 0; k < Lanes; ++k) {
     om[k] = omega, quarter[k] = 0.25, tolerance[k] = tol, no_sign[k] = INT64_MAX, converged[k] = 0;
+    lane_bit[k] = int64_t(1) << k;
+  }
   for (const RelaxRange* range = ranges; range != ranges + n; ++range) {
     if (range->nearest > reached) continue;
     double* row = q + range->at;
-    const int64_t* mask_row = relaxed + range->at;
     const double* left = other + range->at + range->shift - 1;
     const double* below = other + range->at - width;
     const double* above = other + range->at + width;
     for (int m = 0; m < range->count; m += Lanes) {
-      Mask mask;
+      Mask bits = Mask{} + int64_t(mask_bits(relaxed, range->at + m, Lanes));
+      const Mask mask = (bits & lane_bit) != 0;
       Vec value, l, r, b, a;
-      std::memcpy(&mask, mask_row + m, sizeof mask);
       std::memcpy(&value, row + m, sizeof value);
       std::memcpy(&l, left + m, sizeof l);
       std::memcpy(&r, left + m + 1, sizeof r);
@@ -60,8 +68,7 @@ __attribute__((always_inline)) inline int relax_lanes(double* __restrict q,
       std::memcpy(&a, above + m, sizeof a);
       // No fused multiply-add may join this product to the subtraction below (it would round
       // once instead of twice, changing the bits): the file is compiled with -ffp-contract=off
-      // (engine/control/CMakeLists.txt). AVX-512 brings FMA with it; SSE2 and plain AVX have none,
-      // but the kernel must not depend on that.
+      // (engine/control/CMakeLists.txt).
       const Vec mean = quarter * (l + r + b + a);
       // The mask zeroes the change of a fixed cell: bits, not a branch.
       const Vec change = Vec(Mask(om * (mean - value)) & mask);
@@ -77,7 +84,7 @@ __attribute__((always_inline)) inline int relax_lanes(double* __restrict q,
 }
 
 #define ROGER_RELAX_PARAMS                                                                   \
-  double *__restrict q, const int64_t *__restrict relaxed, const double *other, int64_t width, \
+  double *__restrict q, const uint8_t *__restrict relaxed, const double *other, int64_t width, \
       const RelaxRange *ranges, int n, int64_t reached, double omega, double tol
 #define ROGER_RELAX_ARGS q, relaxed, other, width, ranges, n, reached, omega, tol
 
@@ -88,8 +95,35 @@ int relax_2(ROGER_RELAX_PARAMS) { return relax_lanes<2>(ROGER_RELAX_ARGS); }
 __attribute__((target("avx"))) int relax_4(ROGER_RELAX_PARAMS) {
   return relax_lanes<4>(ROGER_RELAX_ARGS);
 }
+
+// Eight cells at once with AVX-512's own mask registers: the byte of the bit mask is the lane
+// mask, and the same operations, in the same order, as relax_lanes. A multiply-add is never
+// formed from intrinsics unless asked for, so the bits are those of the narrower kernels.
 __attribute__((target("avx512f"))) int relax_8(ROGER_RELAX_PARAMS) {
-  return relax_lanes<8>(ROGER_RELAX_ARGS);
+  const __m512d om = _mm512_set1_pd(omega), quarter = _mm512_set1_pd(0.25), tolerance = _mm512_set1_pd(tol);
+  const __m512i no_sign = _mm512_set1_epi64(INT64_MAX);
+  int total = 0;
+  for (const RelaxRange* range = ranges; range != ranges + n; ++range) {
+    if (range->nearest > reached) continue;
+    double* row = q + range->at;
+    const double* left = other + range->at + range->shift - 1;
+    const double* below = other + range->at - width;
+    const double* above = other + range->at + width;
+    for (int m = 0; m < range->count; m += 8) {
+      const __mmask8 mask = __mmask8(mask_bits(relaxed, range->at + m, 8));
+      const __m512d value = _mm512_loadu_pd(row + m);
+      const __m512d sum = _mm512_add_pd(_mm512_add_pd(_mm512_add_pd(_mm512_loadu_pd(left + m), _mm512_loadu_pd(left + m + 1)),
+                                                      _mm512_loadu_pd(below + m)),
+                                        _mm512_loadu_pd(above + m));
+      const __m512d mean = _mm512_mul_pd(quarter, sum);
+      const __m512d change = _mm512_maskz_mul_pd(mask, om, _mm512_sub_pd(mean, value));
+      const __m512d next = _mm512_add_pd(value, change);
+      _mm512_storeu_pd(row + m, next);
+      const __m512d size = _mm512_castsi512_pd(_mm512_and_si512(_mm512_castpd_si512(change), no_sign));
+      total += __builtin_popcount(unsigned(_mm512_mask_cmp_pd_mask(mask, size, _mm512_mul_pd(tolerance, next), _CMP_LT_OQ)));
+    }
+  }
+  return total;
 }
 #endif
 
