@@ -274,7 +274,6 @@ bool HarmonicPlanner::reuse_cold_solve() {
   q_ = cold_.q;
   sweeps_last_ = cold_.sweeps;
   converged_ = cold_.converged;
-  residual_ = cold_.residual;
   omega_ = cold_.omega;
   backoffs_ = cold_.backoffs_after;
   ++solves_;
@@ -293,7 +292,6 @@ void HarmonicPlanner::remember_cold_solve(int backoffs_before) {
   cold_.q = q_;
   cold_.sweeps = sweeps_last_;
   cold_.converged = converged_;
-  cold_.residual = residual_;
   cold_.omega = omega_;
   cold_.backoffs_after = backoffs_;
 }
@@ -346,7 +344,6 @@ void HarmonicPlanner::solve(bool warm) {
   sweeps_last_ = sweeps;
   sweeps_total_ += sweeps;
   ++solves_;
-  residual_ = measure_residual();
 }
 
 // The sweep works on q split by colour (a checkerboard layout): row j of colour c holds, in order,

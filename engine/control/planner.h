@@ -18,9 +18,12 @@
 // - Reachability is an exact flood fill from the goal, so a walled-off goal is reported, not guessed.
 //
 // Cost, without changing a bit: the sweep relaxes 2, 4 or 8 cells per instruction (SSE2, AVX,
-// AVX-512, chosen at run time; planner_sweep.cpp), only the part of each row that holds relaxed
-// cells, and in a cold solve only the rows its front from the goal can have reached. A cold solve
-// of the goal solved last is copied.
+// AVX-512, chosen at run time; planner_sweep.cpp) with a bit of mask per cell, only the part of
+// each row that holds relaxed cells, and in a cold solve only the rows its front from the goal
+// can have reached. A cold solve of the goal solved last is copied. A grid change builds only
+// what reachability needs; the ways out of occupied cells and what a solve starts from wait for
+// the first query or solve that reads them (a navigator that only reports its state, as most do
+// while objects move, never pays for them).
 #pragma once
 
 #include <cstdint>
@@ -97,8 +100,9 @@ class HarmonicPlanner {
   double omega() const { return omega_; }
   // Whether the most recent solve met the tolerance within max_sweeps.
   bool converged() const { return converged_; }
-  // Largest relative residual |q - mean of its 4 neighbours| / q over the cells of the last solve.
-  double residual() const { return residual_; }
+  // Largest relative residual |q - mean of its 4 neighbours| / q over the cells of the last solve,
+  // measured when asked (a solve does not pay for it; valid until the grid changes).
+  double residual() const { return measure_residual(); }
   // Number of cells in the goal last set (0 before set_grid and set_goal, or when all are occupied).
   int goal_cells() const { return int(pending_goal_.size()); }
   // The grid in use.
@@ -168,7 +172,6 @@ class HarmonicPlanner {
   int sweeps_last_ = 0, solves_ = 0;
   long sweeps_total_ = 0;
   bool converged_ = false;
-  double residual_ = 0.0;
   double omega_ = 1.0;
   int backoffs_ = 0;             // times a stalled solve on this grid lowered omega
   int reused_solves_ = 0;
@@ -184,7 +187,7 @@ class HarmonicPlanner {
     int backoffs_before = 0, backoffs_after = 0, sweeps = 0;
     std::vector<double> q;
     bool converged = false;
-    double residual = 0.0, omega = 1.0;
+    double omega = 1.0;
   } cold_;
 };
 
