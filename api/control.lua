@@ -156,6 +156,7 @@ roger.primitive_kinds = {}
 ---@field ignore_delivered? boolean objects already delivered to `region` are no stimulus
 ---@field patience? number seconds before an invocation is given up (0: no limit)
 ---@field sticky_noref? boolean after a NOREF, NOREF through later invocations until one converges (default false)
+---@field retry_after? number seconds after its start that a NOREF is forgotten: !CONV again, worth a try (0: never)
 
 ---A time limit that grows with the world: `per_object` simulated seconds for each object.
 ---@class roger.TimePerObject

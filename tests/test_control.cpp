@@ -350,3 +350,67 @@ TEST_CASE("a sticky binding stays NOREF through retries until an invocation conv
   sticky.reset(0);
   CHECK(sticky.state(at_tick(tick)) == Gamma::kNotConv);
 }
+
+TEST_CASE("a binding with retry_after forgets a NOREF that long after it began", "[control]") {
+  // A greedy chooser shown a type stuck for good never tries it again; a view blocked by another
+  // object, or an object pinned for a while, may have cleared meanwhile.
+  constexpr uint64_t kPatience = 64, kRetryAfter = 16;  // ticks of 1/8 s: 8 s and 2 s
+  auto target = std::make_shared<Scripted>("move"), other_target = std::make_shared<Scripted>("move");
+  Binding::Bindings b;
+  b.region = 1;
+  b.patience = 0.125 * kPatience;
+  b.sticky_noref = true;
+  b.retry_after = 0.125 * kRetryAfter;
+  Binding forgetful(target, b);
+  b.retry_after = 0.0;
+  Binding remembers(other_target, b);
+  forgetful.reset(0), remembers.reset(0);
+  uint64_t tick = 0;
+  // One tick (1/8 s, exact in binary): `run` evaluates both bindings, else only their states are read.
+  auto step = [&](Gamma g, bool run) {
+    target->next = other_target->next = g;
+    const ControlInput in = at_tick(tick, 0.125 * double(tick));
+    ++tick;
+    if (!run) return std::pair<Gamma, Gamma>{forgetful.state(in), remembers.state(in)};
+    const std::pair<Gamma, Gamma> gammas{forgetful.evaluate(in).gamma, remembers.evaluate(in).gamma};
+    forgetful.executed(in), remembers.executed(in);
+    return gammas;
+  };
+  using G = std::pair<Gamma, Gamma>;
+  CHECK(step(Gamma::kNotConv, true) == G{Gamma::kNotConv, Gamma::kNotConv});
+  while (tick < kPatience) step(Gamma::kNotConv, true);
+  CHECK(step(Gamma::kNotConv, true) == G{Gamma::kNoRef, Gamma::kNoRef});  // given up
+  // Not run: NOREF until retry_after has passed since the give-up, then !CONV for the forgetful one.
+  G resting{};
+  while (tick < kPatience + kRetryAfter) resting = step(Gamma::kNotConv, false);
+  CHECK(resting == G{Gamma::kNoRef, Gamma::kNoRef});
+  CHECK(step(Gamma::kNotConv, false) == G{Gamma::kNotConv, Gamma::kNoRef});
+  // Run again, it is a fresh try; given up again, the memory starts over from that give-up.
+  CHECK(step(Gamma::kNotConv, true) == G{Gamma::kNotConv, Gamma::kNoRef});
+  const uint64_t begun = tick - 1;
+  while (tick < begun + kPatience) step(Gamma::kNotConv, true);
+  CHECK(step(Gamma::kNotConv, true) == G{Gamma::kNoRef, Gamma::kNoRef});
+  const uint64_t gave_up = tick - 1;
+  while (tick < gave_up + kRetryAfter) resting = step(Gamma::kNotConv, false);
+  CHECK(resting == G{Gamma::kNoRef, Gamma::kNoRef});
+  CHECK(step(Gamma::kNotConv, false).first == Gamma::kNotConv);
+  // A target that itself says NOREF is shown NOREF however long it lasts; once it has a reference
+  // again, the sticky NOREF lasts until retry_after after the target's NOREF began.
+  CHECK(step(Gamma::kNoRef, true).first == Gamma::kNoRef);
+  const uint64_t noref_began = tick - 1;
+  while (tick < noref_began + kRetryAfter - 4) CHECK(step(Gamma::kNoRef, true).first == Gamma::kNoRef);
+  CHECK(step(Gamma::kNotConv, true).first == Gamma::kNoRef);  // sticky: not yet forgotten
+  while (tick < noref_began + kRetryAfter) step(Gamma::kNotConv, true);
+  CHECK(step(Gamma::kNotConv, true).first == Gamma::kNotConv);  // forgotten
+  CHECK(step(Gamma::kNoRef, true).first == Gamma::kNoRef);  // a fresh NOREF: remembered from now
+  const uint64_t fresh = tick - 1;
+  CHECK(step(Gamma::kNotConv, true).first == Gamma::kNoRef);
+  // Another fresh NOREF while that one is remembered starts the memory over.
+  while (tick < fresh + 10) step(Gamma::kNotConv, true);
+  CHECK(step(Gamma::kNoRef, true).first == Gamma::kNoRef);
+  while (tick < fresh + 10 + kRetryAfter) CHECK(step(Gamma::kNotConv, true).first == Gamma::kNoRef);
+  CHECK(step(Gamma::kNotConv, true).first == Gamma::kNotConv);
+  // A new episode forgets it all.
+  forgetful.reset(0);
+  CHECK(forgetful.state(at_tick(tick)) == Gamma::kNotConv);
+}

@@ -377,7 +377,8 @@ TEST_CASE("sorting: bad roger.bind arguments are errors at file:line naming the 
       {"{stimulus = \"#ff0000\", patience = -1}", "field 'patience' must be seconds"},
       {"{stimulus = \"#ff0000\", ignore_delivered = true}", "field 'ignore_delivered' needs 'region'"},
       {"{stimulus = \"#ff0000\", sticky_noref = 1}", "field 'sticky_noref' must be a boolean, got number"},
-      {"{stimulus = \"#ff0000\", colour = 1}", "unknown field 'colour'; known fields: ignore_delivered, patience, region, sticky_noref, stimulus"},
+      {"{stimulus = \"#ff0000\", retry_after = -5}", "field 'retry_after' must be seconds from 0"},
+      {"{stimulus = \"#ff0000\", colour = 1}", "unknown field 'colour'; known fields: ignore_delivered, patience, region, retry_after, sticky_noref, stimulus"},
   };
   for (const auto& [fields, message] : cases) {
     INFO(fields);
@@ -389,5 +390,38 @@ TEST_CASE("sorting: bad roger.bind arguments are errors at file:line naming the 
     CHECK(m.find("roger.bind('b')") != std::string::npos);
     CHECK(m.find(message) != std::string::npos);
   }
+  fs::remove_all(dir);
+}
+
+TEST_CASE("sorting: bad options of lib/sorting's moves are errors at the caller's file:line", "[sorting]") {
+  const fs::path dir = temp_dir("roger_sorting_moves");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"{ stiky_noref = true }", "unknown option 'stiky_noref' (known: retry_after, sticky_noref, tag)"},
+      {"{ retry_after = \"30\" }", "option 'retry_after' must be a number, got string"},
+      {"\" (tag)\"", "options must be a table {tag, sticky_noref, retry_after}, got string"},
+  };
+  for (const auto& [options, message] : cases) {
+    INFO(options);
+    std::ofstream(dir / "bad.lua") << "local sorting = require(\"lib.sorting\")\n"
+                                   << "local moves = sorting.moves(roger.primitive(\"search\"), " << options << ")\n"
+                                   << "return { name = \"x\", policies = { p = { action = moves[1], "
+                                      "goal = roger.converged(moves[1]), time_limit = 1 } } }\n";
+    const std::string m = error_of([&] { SkillScript::load((dir / "bad.lua").string()); });
+    INFO(m);
+    CHECK(m.find("bad.lua:2:") != std::string::npos);
+    CHECK(m.find(message) != std::string::npos);
+  }
+  // Good options reach the bindings (docs/control.md's snippet).
+  std::ofstream(dir / "good.lua") << "local sorting = require(\"lib.sorting\")\n"
+                                  << "local moves = sorting.moves(roger.primitive(\"search\"), "
+                                     "{ sticky_noref = true, retry_after = 30 })\n"
+                                  << "return { name = \"x\", policies = { p = { action = moves[1], "
+                                     "goal = roger.converged(moves[1]), time_limit = 1 } } }\n";
+  const SkillScript script = SkillScript::load((dir / "good.lua").string());
+  const auto* move = dynamic_cast<const Binding*>(script.policy("p").action.get());
+  REQUIRE(move);
+  CHECK(move->bindings().sticky_noref);
+  CHECK(move->bindings().retry_after == 30.0);
+  CHECK(move->bindings().patience == 15.0);
   fs::remove_all(dir);
 }

@@ -31,25 +31,50 @@ sorting.PATIENCE = 15
 -- of that colour into that type's region with `transport` (which must converge only once the
 -- object is delivered, as a learned Phi_T does), then let go of it. Without falling back, a
 -- transport that finds nothing to carry ends the move NOREF instead of letting go for ever.
--- `tag` keeps names unique. With `sticky`, a move that gave up (or found none left) stays
--- NOREF until it delivers again (roger.bind's sticky_noref): a learned chooser that retries
--- such a type sees the retry as what it is, not as the all-!CONV state every episode starts
--- in. The hand-written chooser does not use it: its rotate fallback waits for a given-up
--- move's NOREF to clear.
-function sorting.move(transport, t, tag, sticky)
-  tag = tag or ""
+-- `options` (all optional):
+--   tag          text appended to the names, to keep them unique ("" by default)
+--   sticky_noref a move that gave up (or found none left) stays NOREF until it delivers again
+--                (roger.bind's sticky_noref): a learned chooser that retries such a type sees the
+--                retry as what it is, not as the all-!CONV state every episode starts in
+--   retry_after  seconds after which that NOREF is forgotten and the type shows !CONV again,
+--                worth another try (roger.bind's retry_after; 0, the default: never)
+-- The hand-written chooser uses neither: its rotate fallback waits for a given-up move's NOREF to
+-- clear.
+local MOVE_OPTIONS = { tag = "string", sticky_noref = "boolean", retry_after = "number" }
+
+local function check_options(options, level)
+  if options == nil then return {} end
+  if type(options) ~= "table" then
+    error("sorting.move: options must be a table {tag, sticky_noref, retry_after}, got " .. type(options), level)
+  end
+  for k, v in pairs(options) do
+    local want = MOVE_OPTIONS[k]
+    if not want then
+      error("sorting.move: unknown option '" .. tostring(k) .. "' (known: retry_after, sticky_noref, tag)", level)
+    elseif type(v) ~= want then
+      error("sorting.move: option '" .. k .. "' must be a " .. want .. ", got " .. type(v), level)
+    end
+  end
+  return options
+end
+
+function sorting.move(transport, t, options)
+  options = check_options(options, 3)
+  local tag = options.tag or ""
   local steps = roger.sequence("move " .. t .. tag,
                                { roger.primitive("release"), transport, roger.primitive("release") },
                                { fall_back = false })
   return roger.bind("sort " .. t .. tag, steps,
                     { stimulus = sorting.COLOURS[t], region = sorting.REGION[t],
-                      patience = sorting.PATIENCE, sticky_noref = sticky or false })
+                      patience = sorting.PATIENCE, sticky_noref = options.sticky_noref or false,
+                      retry_after = options.retry_after or 0 })
 end
 
--- The four moves, in region order (`sticky` as for sorting.move).
-function sorting.moves(transport, tag, sticky)
+-- The four moves, in region order (`options` as for sorting.move).
+function sorting.moves(transport, options)
+  options = check_options(options, 3)
   local moves = {}
-  for k, t in ipairs(sorting.TYPES) do moves[k] = sorting.move(transport, t, tag, sticky) end
+  for k, t in ipairs(sorting.TYPES) do moves[k] = sorting.move(transport, t, options) end
   return moves
 end
 

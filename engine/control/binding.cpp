@@ -20,7 +20,8 @@ void Binding::reset(uint64_t seed) {
   begun_time_ = 0.0;
   gave_up_ = false;
   gave_up_tick_ = UINT64_MAX;
-  failed_ = false;
+  failed_ = noref_ = target_noref_ = false;
+  noref_since_ = 0.0;
   // Not yet invoked: nothing says its work is done (CONV) or cannot be done (NOREF).
   last_ = Gamma::kNotConv;
 }
@@ -69,7 +70,7 @@ void Binding::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_r
     out.jacobian.resize(0, kDofCount);
     out.phi = out.residual = 0.0;
     last_ = Gamma::kNotConv;
-    gamma_raw = failed_ ? Gamma::kNoRef : Gamma::kNotConv;
+    gamma_raw = sticky(Gamma::kNotConv, in);
     return;
   }
   if (out_of_patience(in)) {
@@ -83,33 +84,62 @@ void Binding::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_r
   out.phi = t.phi;
   out.residual = t.residual;
   last_ = t.gamma;
-  gamma_raw = sticky(t.gamma);
+  gamma_raw = sticky(t.gamma, in);
 }
 
 void Binding::give_up(const ControlInput& in) {
   gave_up_ = true;
   gave_up_tick_ = in.tick;
   failed_ = bindings_.sticky_noref;
+  mark_noref(in, true);
 }
 
-Gamma Binding::sticky(Gamma g) {
-  if (!bindings_.sticky_noref) return g;
+void Binding::mark_noref(const ControlInput& in, bool fresh) {
+  if (fresh || !noref_) noref_since_ = in.time;
+  noref_ = true;
+}
+
+bool Binding::noref_forgotten(const ControlInput& in) const {
+  return bindings_.retry_after > 0.0 && noref_ && in.time - noref_since_ >= bindings_.retry_after;
+}
+
+Gamma Binding::sticky(Gamma g, const ControlInput& in) {
+  const bool target_was_noref = target_noref_;
+  target_noref_ = g == Gamma::kNoRef;
+  if (g == Gamma::kNoRef) {
+    // The target itself says NOREF: shown whatever the memory, and remembered from when it began.
+    failed_ = bindings_.sticky_noref;
+    mark_noref(in, !target_was_noref);
+    return g;
+  }
   if (g == Gamma::kConv) failed_ = false;
-  if (g == Gamma::kNoRef) failed_ = true;
+  if (failed_ && noref_forgotten(in)) failed_ = false;
+  noref_ = failed_;
   return failed_ ? Gamma::kNoRef : g;
+}
+
+Gamma Binding::resting_state(const ControlInput& in) {
+  if (failed_ || last_ == Gamma::kNoRef) {
+    if (!noref_forgotten(in)) return mark_noref(in, false), Gamma::kNoRef;
+    // Forgotten: as a binding not yet invoked, with nothing to say its work is done or cannot be.
+    failed_ = noref_ = false;
+    last_ = Gamma::kNotConv;
+  }
+  noref_ = false;
+  return last_;
 }
 
 bool Binding::compute_state(const ControlInput& in, ControlOutput&, Gamma& gamma_raw) {
   if (!running(in)) {
-    gamma_raw = failed_ ? Gamma::kNoRef : last_;  // what its last invocation ended with
+    gamma_raw = resting_state(in);
   } else if (!attending(in)) {
-    gamma_raw = failed_ ? Gamma::kNoRef : Gamma::kNotConv;
+    gamma_raw = sticky(Gamma::kNotConv, in);
   } else if (out_of_patience(in)) {
     give_up(in);
     gamma_raw = last_ = Gamma::kNoRef;
   } else {
     last_ = target_->state(in);
-    gamma_raw = sticky(last_);
+    gamma_raw = sticky(last_, in);
   }
   return true;
 }

@@ -338,6 +338,10 @@ class StandIn : public Controller {
 // NOREF): the binding reports NOREF, through later invocations too, until one converges. Its
 // command is the target's as ever; only the state it shows differs. A chooser that runs a type
 // it was told is stuck then sees a retry, not the fresh !CONV every episode starts with.
+// With `retry_after` > 0, a NOREF is forgotten that many seconds after it began (its last give-up,
+// or its target turning NOREF): the binding shows !CONV again, as one worth another try, unless
+// its target still says NOREF. A greedy chooser whose state showed a type stuck for good would
+// otherwise never try it again, though a blocked view or a pinned object may clear meanwhile.
 class Binding final : public Controller {
  public:
   // What a binding sets; a field it does not set stays as the world's attention has it.
@@ -348,6 +352,7 @@ class Binding final : public Controller {
     int region = -1;         // the delivery region (-1: not bound)
     double patience = 0.0;   // seconds an invocation may run without converging (0: no limit)
     bool sticky_noref = false;  // after an invocation ends NOREF, NOREF until one converges
+    double retry_after = 0.0;   // seconds after which a NOREF is forgotten (0: never)
   };
   Binding(ControllerPtr target, const Bindings& bindings);
   std::vector<const Controller*> children() const override { return {target_.get()}; }
@@ -378,7 +383,14 @@ class Binding final : public Controller {
   // Ends the running invocation as given up.
   void give_up(const ControlInput& in);
   // The state shown for the target's g: with sticky_noref, NOREF from a NOREF until a CONV.
-  Gamma sticky(Gamma g);
+  Gamma sticky(Gamma g, const ControlInput& in);
+  // Notes that the binding shows NOREF now (for retry_after): a fresh one (a give-up, the target
+  // turning NOREF) starts the memory over; one that lasts keeps its start.
+  void mark_noref(const ControlInput& in, bool fresh);
+  // Whether retry_after has passed since the NOREF began: the binding may be tried again.
+  bool noref_forgotten(const ControlInput& in) const;
+  // The state of a binding that is not running: what its last invocation ended with.
+  Gamma resting_state(const ControlInput& in);
   ControllerPtr target_;
   Bindings bindings_;
   uint64_t seed_ = 0;
@@ -388,6 +400,9 @@ class Binding final : public Controller {
   bool gave_up_ = false;        // the last invocation ran out of patience
   uint64_t gave_up_tick_ = UINT64_MAX;  // the tick it did
   bool failed_ = false;         // sticky_noref: a NOREF since the last CONV
+  bool noref_ = false;          // the state shown was NOREF on the last tick it was asked
+  bool target_noref_ = false;   // the target's own state was NOREF when last read
+  double noref_since_ = 0.0;    // when that NOREF began (s)
   Gamma last_ = Gamma::kNoRef;  // the state the last invocation ended with
 };
 

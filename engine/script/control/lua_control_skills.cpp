@@ -321,7 +321,7 @@ int l_bind(lua_State* L) {
       raise(L, context + ": expects (name, controller, {stimulus = colour, region = k}), got " +
                    std::to_string(lua_gettop(L)) + " arguments");
     ControllerPtr target = lua_check_controller(L, 2, context, "argument 2 (the controller to bind)");
-    LuaFields f(L, 3, context, {"stimulus", "region", "ignore_delivered", "patience", "sticky_noref"});
+    LuaFields f(L, 3, context, {"stimulus", "region", "ignore_delivered", "patience", "sticky_noref", "retry_after"});
     if (!f.has("stimulus") && !f.has("region")) f.fail("binds nothing: give 'stimulus', 'region' or both");
     const int64_t region = f.integer("region", -1);
     if (f.has("region") && (region < 0 || region > 63))
@@ -336,6 +336,9 @@ int l_bind(lua_State* L) {
     }
     b.patience = f.number("patience", 0.0);
     b.sticky_noref = f.boolean("sticky_noref", false);
+    b.retry_after = f.number("retry_after", 0.0);
+    if (!(b.retry_after >= 0.0 && b.retry_after <= 1e6))
+      f.fail("field 'retry_after' must be seconds from 0 (never forget a NOREF) to 1e6, got " + std::to_string(b.retry_after));
     if (!(b.patience >= 0.0 && b.patience <= 1e6))
       f.fail("field 'patience' must be seconds from 0 (no limit) to 1e6, got " + std::to_string(b.patience));
     count_object(L, book);
