@@ -143,7 +143,7 @@ return { name = "probe", stages = { roger.stage{
   fs::remove_all(dir);
 }
 
-TEST_CASE("sorting: the hand-written policy sorts both of two objects in at least 80% of 20 episodes",
+TEST_CASE("sorting: the hand-written policy sorts both of two objects in at least 80% of 50 episodes",
           "[sorting]") {
   TrainOptions o;
   o.curriculum = "curricula/sorting.lua";
@@ -153,7 +153,7 @@ TEST_CASE("sorting: the hand-written policy sorts both of two objects in at leas
   o.keep_episodes = false;
   const TrainResult r = train_stage(o);
   INFO("success " << r.final_eval.success_rate << ", mean time " << r.final_eval.time_mean);
-  CHECK(r.final_eval.episodes == 20);
+  CHECK(r.final_eval.episodes == 50);  // the sorting stages' final evaluation
   CHECK(r.final_eval.success_rate >= 0.8);
 }
 

@@ -35,6 +35,16 @@ inline unsigned mask_bits(const uint8_t* relaxed, int64_t k, int lanes) {
   return (unsigned(two) >> (k % 8)) & ((1u << lanes) - 1u);
 }
 
+// The rows one range of a half-sweep reads and writes: its own slots, and in the other colour's
+// array the left neighbours (the right ones are one further), those below and those above.
+struct RangeRows {
+  double* row;
+  const double *left, *below, *above;
+  RangeRows(const RelaxRange& range, double* q, const double* other, int64_t width)
+      : row(q + range.at), left(other + range.at + range.shift - 1), below(other + range.at - width),
+        above(other + range.at + width) {}
+};
+
 // `Lanes` cells relaxed together, with vector extensions. Always inlined into a wrapper compiled
 // for the instruction set of that width.
 template <int Lanes>
@@ -53,10 +63,9 @@ __attribute__((always_inline)) inline int relax_lanes(double* __restrict q,
   }
   for (const RelaxRange* range = ranges; range != ranges + n; ++range) {
     if (range->nearest > reached) continue;
-    double* row = q + range->at;
-    const double* left = other + range->at + range->shift - 1;
-    const double* below = other + range->at - width;
-    const double* above = other + range->at + width;
+    const RangeRows rows(*range, q, other, width);
+    double* row = rows.row;
+    const double *left = rows.left, *below = rows.below, *above = rows.above;
     for (int m = 0; m < range->count; m += Lanes) {
       Mask bits = Mask{} + int64_t(mask_bits(relaxed, range->at + m, Lanes));
       const Mask mask = (bits & lane_bit) != 0;
@@ -97,18 +106,17 @@ __attribute__((target("avx"))) int relax_4(ROGER_RELAX_PARAMS) {
 }
 
 // Eight cells at once with AVX-512's own mask registers: the byte of the bit mask is the lane
-// mask, and the same operations, in the same order, as relax_lanes. A multiply-add is never
-// formed from intrinsics unless asked for, so the bits are those of the narrower kernels.
+// mask, and the same operations, in the same order, as relax_lanes. No multiply-add is formed
+// from them (-ffp-contract=off, as above), so the bits are those of the narrower kernels.
 __attribute__((target("avx512f"))) int relax_8(ROGER_RELAX_PARAMS) {
   const __m512d om = _mm512_set1_pd(omega), quarter = _mm512_set1_pd(0.25), tolerance = _mm512_set1_pd(tol);
   const __m512i no_sign = _mm512_set1_epi64(INT64_MAX);
   int total = 0;
   for (const RelaxRange* range = ranges; range != ranges + n; ++range) {
     if (range->nearest > reached) continue;
-    double* row = q + range->at;
-    const double* left = other + range->at + range->shift - 1;
-    const double* below = other + range->at - width;
-    const double* above = other + range->at + width;
+    const RangeRows rows(*range, q, other, width);
+    double* row = rows.row;
+    const double *left = rows.left, *below = rows.below, *above = rows.above;
     for (int m = 0; m < range->count; m += 8) {
       const __mmask8 mask = __mmask8(mask_bits(relaxed, range->at + m, 8));
       const __m512d value = _mm512_loadu_pd(row + m);
