@@ -3,6 +3,7 @@
 // stage, context and line named, and the documented example loads and trains.
 #include <catch2/catch.hpp>
 
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,7 @@
 #include "core/error.h"
 #include "learn/learning.h"
 #include "batch/trainer.h"
+#include "temp_dir.h"
 
 using namespace roger;
 
@@ -75,6 +77,8 @@ TEST_CASE("bad curricula are clear errors at file:line", "[curriculum]") {
       {"bad_curriculum_learned_same.lua", {"bad_curriculum_learned_same.lua:5:", "context 'B'", "this very stage yields"}},
       {"bad_curriculum_too_many.lua", {"bad_curriculum_too_many.lua:7:", "context 'Wide'", "13 actions", "at most 12"}},
       {"bad_curriculum_plain_field.lua", {"bad_curriculum_plain_field.lua:5:", "stage 'Plain'", "episodes", "-3"}},
+      {"bad_curriculum_discount_clock.lua",
+       {"bad_curriculum_discount_clock.lua:4:", "stage 'Clock'", "learner", "discount_seconds", "got -2"}},
   };
   for (const auto& c : cases) {
     INFO(c.file);
@@ -104,6 +108,25 @@ TEST_CASE("misbehaving Lua callbacks stop training naming stage, context and lin
     INFO("message: " << m);
     for (const auto& p : c.parts) CHECK(m.find(p) != std::string::npos);
   }
+}
+
+TEST_CASE("a stage's learner may discount by the seconds a decision ran", "[curriculum]") {
+  // The semi-MDP's clock (SemiMdpDriver, tested in tests/test_learning.cpp): once per
+  // decision by default, as the paper; by elapsed time when a stage asks ("a semi-MDP transition pays
+  // the rewards since its decision and discounts the bootstrap").
+  const test::TempDir tmp("roger_curriculum_clock");
+  std::ofstream(tmp.path / "clock.lua")
+      << "local p3 = roger.primitive(\"phi3\")\n"
+         "local function stage(name, learner)\n"
+         "  return roger.stage{ name = name, time_limit = 5, absorbing = roger.converged(p3),\n"
+         "    budget = { episodes = 3 }, learner = learner, contexts = { { name = \"A\", actions = { p3 } } } }\n"
+         "end\n"
+         "return { stages = { stage(\"PerDecision\", { alpha = 0.2 }),\n"
+         "                    stage(\"PerSecond\", { discount = 0.9, discount_seconds = 2.5 }) } }\n";
+  Curriculum cur = Curriculum::load((tmp.path / "clock.lua").string());
+  CHECK(cur.stage("PerDecision").rewards.discount_seconds == 0.0);
+  CHECK(cur.stage("PerSecond").rewards.discount_seconds == 2.5);
+  CHECK(cur.stage("PerSecond").learner.discount == 0.9);
 }
 
 TEST_CASE("the documented example curriculum loads and trains without rebuilding", "[curriculum]") {

@@ -95,6 +95,7 @@ StageEnvironment::StageEnvironment(const EnvironmentOptions& o) {
   info_.tick_seconds = impl_->agent.world().tick_seconds();
   info_.budget_episodes = st.budget_episodes;
   info_.learner = st.learner;
+  info_.discount_seconds = st.rewards.discount_seconds;
   info_.checkpoint_every = st.checkpoints.every;
   info_.checkpoint_episodes = st.checkpoints.episodes;
   info_.threshold = st.checkpoints.threshold;

@@ -44,6 +44,7 @@ struct EnvironmentInfo {
   double time_limit = 0.0, tick_seconds = 0.0;
   int budget_episodes = 0;
   QParams learner;
+  double discount_seconds = 0.0;  // the discount's clock: 0 once per decision, else per these seconds
   int checkpoint_every = 0, checkpoint_episodes = 0, stop_after = 0, final_episodes = 0;
   double threshold = 0.0;
   uint64_t checkpoint_seeds = 0;

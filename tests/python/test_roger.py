@@ -182,6 +182,9 @@ class Interface(unittest.TestCase):
         self.assertGreater(info["ticks"], 0)
         self.assertAlmostEqual(info["sim_seconds"], info["ticks"] * env.stage_info["tick_seconds"])
         self.assertIn(info["state"]["search"], roger.GAMMA_NAMES)
+        # The example's learner discounts once per decision, as roger train does with it.
+        self.assertEqual(env.stage_info["learner"]["discount_seconds"], 0.0)
+        self.assertEqual(env.stage_info["learner"]["discount"], 0.95)
 
     def test_tick_mode(self):
         env = roger.make(EXAMPLE, stage="Look", context="Gaze", mode="tick")

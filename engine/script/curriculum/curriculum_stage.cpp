@@ -186,15 +186,22 @@ void read_reward(lua_State* L, const LuaFields& f, const std::string& where, Cur
 // Reads the stage's optional 'learner' settings over the defaults and checks them.
 void read_learner(lua_State* L, const LuaFields& f, const std::string& where, CurriculumStage& st) {
   if (f.push("learner") != LUA_TNIL) {
-    if (!lua_istable(L, -1)) f.wrong_type("learner", "a table {alpha = ..., discount = ..., epsilon_start = ..., epsilon_end = ...}");
+    if (!lua_istable(L, -1))
+      f.wrong_type("learner", "a table {alpha = ..., discount = ..., discount_seconds = ..., epsilon_start = ..., epsilon_end = ...}");
     LuaFields q(L, lua_gettop(L), where + ": learner",
-                {"alpha", "discount", "epsilon_start", "epsilon_end", "initial_q", "referenced_only"});
+                {"alpha", "discount", "discount_seconds", "epsilon_start", "epsilon_end", "initial_q",
+                 "referenced_only"});
     st.learner.alpha = q.number("alpha", st.learner.alpha);
     st.learner.discount = q.number("discount", st.learner.discount);
     st.learner.epsilon_start = q.number("epsilon_start", st.learner.epsilon_start);
     st.learner.epsilon_end = q.number("epsilon_end", st.learner.epsilon_end);
     st.learner.initial_q = q.number("initial_q", st.learner.initial_q);
     st.learner.referenced_only = q.boolean("referenced_only", st.learner.referenced_only);
+    // The discount's clock lives with the episode's options, where the semi-MDP reads it.
+    st.rewards.discount_seconds = q.number("discount_seconds", st.rewards.discount_seconds);
+    if (!(st.rewards.discount_seconds >= 0.0 && st.rewards.discount_seconds <= 1e6))
+      q.fail("field 'discount_seconds' must be 0 (discount once per decision) or seconds up to 1e6, got " +
+             format_number(st.rewards.discount_seconds));
     try {
       st.learner.validate(where + ": learner");
     } catch (const Error& e) {
