@@ -139,7 +139,7 @@ void HarmonicPlanner::ensure_exits() const {
   // The ring is marked -2 while the search runs, so one test (-1) tells a grid cell not yet found.
   for (int i = 0; i < stride_; ++i) nearest_[size_t(i)] = nearest_[n - 1 - size_t(i)] = -2;
   for (int j = 0; j < ny; ++j) nearest_[size_t(index(-1, j))] = nearest_[size_t(index(nx, j))] = -2;
-  std::vector<int>& queue = exit_queue_;
+  std::vector<int>& queue = queue_;  // scratch, shared with the components and the flood
   queue.resize(n);
   size_t tail = 0;
   for (int k = 0; k < int(n); ++k)

@@ -148,7 +148,6 @@ class HarmonicPlanner {
   // Built lazily by const queries (ensure_exits), hence mutable.
   mutable std::vector<int> nearest_;
   mutable std::vector<int> exit_;
-  mutable std::vector<int> exit_queue_;  // breadth-first scratch of ensure_exits
   mutable bool exits_ready_ = false;
   bool solve_structure_ready_ = false;   // unreached_ and clearance_ match the grid
   std::vector<float> clearance_; // distance in cells from each cell centre to the nearest occupied one
@@ -160,7 +159,8 @@ class HarmonicPlanner {
   std::vector<planner_internal::RelaxRange> ranges_[2];
   std::vector<int> goal_;        // sorted padded indices of the goal cells in force
   std::vector<int> pending_goal_;
-  std::vector<int> queue_;       // breadth-first scratch, kept to avoid allocating per change
+  // Breadth-first scratch, kept to avoid allocating per change; ensure_exits (const) uses it too.
+  mutable std::vector<int> queue_;
   std::vector<int> component_;   // connected component of each free cell (-1 elsewhere)
   std::vector<int> component_size_;   // cells per component
   std::vector<int> goal_components_;  // the components holding goal cells
