@@ -90,6 +90,60 @@ TEST_CASE("a stimulus covers each pixel by its exact overlap with the stimulus's
   SUCCEED();
 }
 
+TEST_CASE("a surface at the edge of the field of view is painted as far as it reaches in", "[senses]") {
+  // Squares and disks all around the eye, turned about it so that their nearest part lies a
+  // micro-radian inside or outside an edge of the field of view (45 degrees either side): inside,
+  // the edge pixel gets its sliver of coverage; outside, nothing is painted. A polygon goes through
+  // its own path (the bounding-disk test, then its vertices' angles), so both shapes are tried.
+  Rng rng(23);
+  int inside = 0, outside = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const Vec2 eye(rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0));
+    const double heading = rng.uniform(-M_PI, M_PI), distance = rng.uniform(0.5, 6.0);
+    const bool left = rng.uniform() < 0.5, square = rng.uniform() < 0.5, in_view = rng.uniform() < 0.5;
+    const double size = rng.uniform(0.05, 0.4), turn = rng.uniform(-M_PI, M_PI);
+    SeenSurface s = disk(eye + distance * Vec2(std::cos(heading), std::sin(heading)), size, kRed);
+    if (square) {
+      s.is_disk = false, s.vertex_count = 4, s.radius = size * M_SQRT2;
+      for (int k = 0; k < 4; ++k) {
+        const double a = turn + k * M_PI / 2 + M_PI / 4;
+        s.vertices[size_t(k)] = s.center + s.radius * Vec2(std::cos(a), std::sin(a));
+      }
+    }
+    // Its angular extent about the optical axis, from its points, then the turn about the eye that
+    // puts its edge nearest the axis at 45 degrees plus or minus a micro-radian.
+    auto angle_of = [&](const Vec2& p) { return wrap_angle(std::atan2(p.y() - eye.y(), p.x() - eye.x()) - heading); };
+    double lo = angle_of(s.center) - std::asin(size / distance), hi = angle_of(s.center) + std::asin(size / distance);
+    if (square) {
+      lo = INFINITY, hi = -INFINITY;
+      for (int k = 0; k < 4; ++k) lo = std::min(lo, angle_of(s.vertices[size_t(k)])), hi = std::max(hi, angle_of(s.vertices[size_t(k)]));
+    }
+    const double edge = M_PI / 4 + (in_view ? -1e-6 : 1e-6);
+    const double rotate = left ? edge - lo : -edge - hi;
+    auto turned = [&](const Vec2& p) {
+      const Vec2 d = p - eye;
+      return Vec2(eye + Vec2(std::cos(rotate) * d.x() - std::sin(rotate) * d.y(), std::sin(rotate) * d.x() + std::cos(rotate) * d.y()));
+    };
+    s.center = turned(s.center);
+    for (int k = 0; k < s.vertex_count; ++k) s.vertices[size_t(k)] = turned(s.vertices[size_t(k)]);
+    EyeImage image;
+    paint_eye(eye, heading, {s}, kWall, kRed, image);
+    const int edge_pixel = left ? kPixels - 1 : 0;
+    INFO("trial " << trial << (square ? ": square" : ": disk") << (left ? " at the left edge" : " at the right edge")
+                  << (in_view ? ", a micro-radian in" : ", a micro-radian out"));
+    if (in_view) {
+      CHECK(image.stimulus[size_t(edge_pixel)] > 0.0f);
+      ++inside;
+    } else {
+      CHECK(std::all_of(image.stimulus.begin(), image.stimulus.end(), [](float c) { return c == 0.0f; }));
+      CHECK(std::all_of(image.colour.begin(), image.colour.end(), [](const Colour& c) { return c == kWall; }));
+      ++outside;
+    }
+  }
+  CHECK(inside > 150);
+  CHECK(outside > 150);
+}
+
 TEST_CASE("detection scans only the painted stimulus pixels and finds what a full scan finds", "[senses]") {
   // Scenes of several stimulus and grey disks, some hiding others: the painter narrows the range
   // detection scans to the pixels it gave coverage; the same image scanned over its whole width
