@@ -77,7 +77,7 @@ function roger.learned(name) end
 ---@field description? string
 ---@field scenario? string scenario name or path (default "unobstructed")
 ---@field params? table<string, any> scenario parameters
----@field time_limit number simulated seconds per episode
+---@field time_limit number|roger.TimePerObject simulated seconds per episode (> 0, at most 3600), or per object of its world
 ---@field absorbing roger.Predicate|fun(state: roger.State, time: number, world: roger.CallbackWorld, episode: table): boolean
 ---@field reward? roger.Reward|fun(state: roger.State, action: string, event: roger.Event, time: number, world: roger.CallbackWorld, episode: table): number
 ---@field learner? roger.Learner

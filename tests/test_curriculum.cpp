@@ -79,6 +79,10 @@ TEST_CASE("bad curricula are clear errors at file:line", "[curriculum]") {
       {"bad_curriculum_plain_field.lua", {"bad_curriculum_plain_field.lua:5:", "stage 'Plain'", "episodes", "-3"}},
       {"bad_curriculum_discount_clock.lua",
        {"bad_curriculum_discount_clock.lua:4:", "stage 'Clock'", "learner", "discount_seconds", "got -2"}},
+      {"bad_curriculum_time_per_object.lua",
+       {"bad_curriculum_time_per_object.lua:4:", "stage 'Slow'", "field 'time_limit'", "per_object", "got 0"}},
+      {"bad_curriculum_time_field.lua",
+       {"bad_curriculum_time_field.lua:4:", "stage 'Typo'", "field 'time_limit'", "per_objects", "per_object"}},
   };
   for (const auto& c : cases) {
     INFO(c.file);
@@ -127,6 +131,28 @@ TEST_CASE("a stage's learner may discount by the seconds a decision ran", "[curr
   CHECK(cur.stage("PerDecision").rewards.discount_seconds == 0.0);
   CHECK(cur.stage("PerSecond").rewards.discount_seconds == 2.5);
   CHECK(cur.stage("PerSecond").learner.discount == 0.9);
+}
+
+TEST_CASE("a stage's time limit may be given per object of its world", "[curriculum]") {
+  const test::TempDir tmp("roger_curriculum_per_object");
+  std::ofstream(tmp.path / "limits.lua")
+      << "local p3 = roger.primitive(\"phi3\")\n"
+         "local function stage(name, limit)\n"
+         "  return roger.stage{ name = name, scenario = \"sorting\", time_limit = limit,\n"
+         "    absorbing = roger.converged(p3), budget = { episodes = 3 }, contexts = { { name = \"A\", actions = { p3 } } } }\n"
+         "end\n"
+         "return { stages = { stage(\"Fixed\", 12), stage(\"PerObject\", { per_object = 30 }) } }\n";
+  Curriculum cur = Curriculum::load((tmp.path / "limits.lua").string());
+  WorldSpec two, eight;
+  two.objects.resize(2);
+  eight.objects.resize(8);
+  const CurriculumStage &fixed = cur.stage("Fixed"), &per_object = cur.stage("PerObject");
+  CHECK(fixed.episode_time_limit(two) == 12.0);
+  CHECK(fixed.episode_time_limit(eight) == 12.0);
+  CHECK(fixed.time_limit_text() == "12 s limit");
+  CHECK(per_object.episode_time_limit(two) == 60.0);
+  CHECK(per_object.episode_time_limit(eight) == 240.0);
+  CHECK(per_object.time_limit_text() == "30 s per object limit");
 }
 
 TEST_CASE("the documented example curriculum loads and trains without rebuilding", "[curriculum]") {

@@ -23,6 +23,7 @@
 #include "control/agent.h"
 #include "script/curriculum/curriculum.h"
 #include "script/scenario/scenario.h"
+#include "temp_dir.h"
 #include "test_files.h"
 
 using namespace roger;
@@ -179,6 +180,46 @@ TEST_CASE("roger train writes every file and eval --policy reproduces its final 
   CHECK(rstatus == 0);
   CHECK(fs::is_regular_file(movie / "episode.json"));
   fs::remove_all(dir);
+}
+
+TEST_CASE("a time limit per object follows the objects of each world in training and in eval", "[trainer][cli]") {
+  // time_limit = {per_object = s}: an episode in a world of n objects times out after n s, so a
+  // saved policy evaluated with another number of objects gets the time that number needs.
+  const test::TempDir tmp("roger_trainer_per_object");
+  std::ofstream(tmp.path / "per_object.lua")
+      << "local p3 = roger.primitive(\"phi3\")\n"
+         "return { stages = { roger.stage{\n"
+         "  name = \"Never\", scenario = \"sorting\", params = { objects = 3 }, time_limit = { per_object = 0.4 },\n"
+         "  absorbing = function() return false end, budget = { episodes = 2 },\n"
+         "  checkpoints = { every = 2, episodes = 1, final = 2 },\n"
+         "  contexts = { { name = \"A\", actions = { p3 } } },\n"
+         "} } }\n";
+  const std::string curriculum = (tmp.path / "per_object.lua").string();
+  const auto [status, out] = run_roger("train " + curriculum + " --stage Never --context A --seed 1 --out " +
+                                       (tmp.path / "out").string());
+  INFO(out);
+  REQUIRE(status == 0);
+  std::istringstream episodes(slurp(tmp.path / "out" / "episodes.jsonl"));
+  int count = 0;
+  for (std::string line; std::getline(episodes, line); ++count)
+    CHECK(nlohmann::json::parse(line)["sim_s"].get<double>() == Approx(1.2).margin(1e-9));  // 3 objects
+  CHECK(count == 2);
+  PolicyEvalOptions po;
+  po.curriculum = curriculum;
+  po.policy_file = (tmp.path / "out" / "policy.json").string();
+  po.episodes = 2;
+  for (int objects : {1, 5}) {
+    po.sets = {{"objects", std::to_string(objects)}};
+    const PolicyEvalResult r = evaluate_policy_file(po);
+    CHECK(r.eval.successes == 0);
+    CHECK(r.eval.time_mean == Approx(0.4 * objects).margin(1e-9));
+    CHECK(r.time_limit == "0.4 s per object limit");
+  }
+  const auto [estatus, eout] = run_roger("eval " + curriculum + " --policy " + po.policy_file + " --set objects=5 --episodes 1");
+  INFO(eout);
+  CHECK(estatus == 0);
+  CHECK(eout.find("0.4 s per object limit") != std::string::npos);
+  CHECK(eout.find("2.00 s (mean, simulated)") != std::string::npos);
 }
 
 // Each context of the paper, one seeded trial: the figures to quote, and the final success.

@@ -92,6 +92,7 @@ StageEnvironment::StageEnvironment(const EnvironmentOptions& o) {
   info_.scenario = impl_->scenario.name();
   info_.actions = controller_names(impl_->ctx.actions);
   info_.time_limit = st.time_limit;
+  info_.time_per_object = st.time_per_object;
   info_.tick_seconds = impl_->agent.world().tick_seconds();
   info_.budget_episodes = st.budget_episodes;
   info_.learner = st.learner;
@@ -113,7 +114,7 @@ const std::vector<Gamma>& StageEnvironment::reset(uint64_t seed) {
   m.run.reset();
   seed_ = seed;
   const WorldSpec spec = m.scenario.generate(seed);
-  m.run.emplace(m.agent, spec, seed, m.driver, m.stage.time_limit);
+  m.run.emplace(m.agent, spec, seed, m.driver, m.stage.episode_time_limit(spec));
   m.ended = false;
   m.advance();
   return m.driver.gammas();

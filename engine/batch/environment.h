@@ -41,7 +41,8 @@ struct EnvironmentInfo {
   std::string curriculum, stage, context, scenario;
   std::vector<std::string> actions;                        // Psi, in state-vector order
   std::vector<std::pair<std::string, std::string>> params; // scenario parameters used
-  double time_limit = 0.0, tick_seconds = 0.0;
+  // An episode's time-out: time_limit + time_per_object x the objects of its world.
+  double time_limit = 0.0, time_per_object = 0.0, tick_seconds = 0.0;
   int budget_episodes = 0;
   QParams learner;
   double discount_seconds = 0.0;  // the discount's clock: 0 once per decision, else per these seconds

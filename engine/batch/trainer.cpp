@@ -57,7 +57,7 @@ struct StageRun {
       const WorldSpec spec = scenario.generate(seed);
       StageHooks hooks(cur, stage, ctx);
       SemiMdpDriver driver(ctx.actions, stage.absorbing.get(), q, epsilon, rng, stage.rewards, learn, &hooks);
-      run_episode(agent, spec, seed, driver, stage.time_limit, observer);
+      run_episode(agent, spec, seed, driver, stage.episode_time_limit(spec), observer);
       return driver.episode();
     } catch (const EpisodeFault&) {
       throw;  // from a learned skill's own training: already placed
@@ -491,7 +491,7 @@ void with_policy_file(const PolicyEvalOptions& options, PolicyEvalResult& out,
   bind_skills(cur, ctx, topt, &embedded, sources);
   out.stage = stage.name;
   out.context = ctx.name;
-  out.time_limit = stage.time_limit;
+  out.time_limit = stage.time_limit_text();
   StageRun run{cur, stage, ctx, make_scenario(stage, options.scenario, options.sets, options.limits, &out.params), Agent()};
   cur.set_world(&run.agent.world());
   out.scenario = run.scenario.name();

@@ -173,7 +173,7 @@ struct PolicyEvalOptions {
 // The outcome of evaluating a saved policy.
 struct PolicyEvalResult {
   std::string stage, context, scenario;
-  double time_limit = 0.0;
+  std::string time_limit;  // the stage's time-out, as text: "12 s limit", "30 s per object limit"
   GreedyEval eval;
   std::vector<std::pair<std::string, std::string>> params;
 };

@@ -40,9 +40,9 @@ int run_eval_policy_file(const EvalArgs& a) {
   o.episodes = a.episodes;
   o.first_seed = a.seed_given ? int64_t(a.seed) : -1;
   const PolicyEvalResult r = evaluate_policy_file(o);
-  std::printf("roger eval: %s stage %s context %s (%s) in %s, %d episodes from seed %llu, %.0f s limit\n",
+  std::printf("roger eval: %s stage %s context %s (%s) in %s, %d episodes from seed %llu, %s\n",
               a.script.c_str(), r.stage.c_str(), r.context.c_str(), a.policy.c_str(), r.scenario.c_str(),
-              r.eval.episodes, static_cast<unsigned long long>(r.eval.first_seed), r.time_limit);
+              r.eval.episodes, static_cast<unsigned long long>(r.eval.first_seed), r.time_limit.c_str());
   std::printf("  success rate   %.1f%% (%d of %d)\n", 100.0 * r.eval.success_rate, r.eval.successes, r.eval.episodes);
   std::printf("  reward         %.1f +- %.1f\n", r.eval.reward_mean, r.eval.reward_std);
   std::printf("  episode time   %.2f s (mean, simulated)\n", r.eval.time_mean);

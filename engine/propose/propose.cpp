@@ -15,6 +15,7 @@
 #include "core/rng.h"
 #include "propose/propose_internal.h"
 #include "script/curriculum/curriculum.h"
+#include "script/scenario/scenario.h"
 
 namespace roger {
 namespace fs = std::filesystem;
@@ -38,6 +39,15 @@ std::string module_name(const std::string& file) {
   }
   throw Error("roger propose: " + file + ": the proposal requires the curriculum it starts from, so it must lie in " +
               (project_root() / "curricula").string() + " (or scenarios/, scripts/), where require finds it");
+}
+
+// A stage's time-out in a world of its own scenario (the held-out seeds' first): a limit per
+// object depends on the world.
+double stage_time_limit(const CurriculumStage& stage, const SandboxLimits& limits) {
+  if (!(stage.time_per_object > 0.0)) return stage.time_limit;
+  Scenario scenario = Scenario::load(stage.scenario, limits);
+  for (const auto& [key, value] : stage.params) scenario.set_param(key, value);
+  return stage.episode_time_limit(scenario.generate(stage.checkpoints.seeds));
 }
 
 void check_options(const ProposeOptions& o, double time_limit) {
@@ -169,7 +179,7 @@ ProposeResult propose_curriculum(const ProposeOptions& options) {
     if (!ctx.learned.empty())
       throw Error("roger propose: " + stage.where(ctx.name) + " uses learned skills; start from a context of the stage's " +
                   "own controllers (the proposal's subgoal stages are what learns skills)");
-    time_limit = stage.time_limit;
+    time_limit = stage_time_limit(stage, o.limits);
     task.module = module_name(cur.file());
     // Every Lua file the task reads, and the library the proposals are written with: records
     // made with other versions of any of them are not reused.

@@ -62,6 +62,7 @@ py::dict info_dict(const EnvironmentInfo& i) {
   for (const auto& [k, v] : i.params) params[py::str(k)] = v;
   d["params"] = params;
   d["time_limit"] = i.time_limit;
+  d["time_per_object"] = i.time_per_object;
   d["tick_seconds"] = i.tick_seconds;
   d["budget_episodes"] = i.budget_episodes;
   d["learner"] = py::dict(py::arg("alpha") = i.learner.alpha, py::arg("discount") = i.learner.discount,

@@ -185,6 +185,14 @@ class Interface(unittest.TestCase):
         # The example's learner discounts once per decision, as roger train does with it.
         self.assertEqual(env.stage_info["learner"]["discount_seconds"], 0.0)
         self.assertEqual(env.stage_info["learner"]["discount"], 0.95)
+        self.assertEqual(env.stage_info["time_limit"], 4.0)
+        self.assertEqual(env.stage_info["time_per_object"], 0.0)
+
+    def test_time_limit_per_object(self):
+        # The sorting stages time out after 30 s per object of the episode's world.
+        env = roger.make("curricula/sorting.lua", stage="Hand2", context="Scripted")
+        self.assertEqual(env.stage_info["time_limit"], 0.0)
+        self.assertEqual(env.stage_info["time_per_object"], 30.0)
 
     def test_tick_mode(self):
         env = roger.make(EXAMPLE, stage="Look", context="Gaze", mode="tick")

@@ -90,6 +90,13 @@ int l_learned(lua_State* L) {
 
 }  // namespace
 
+std::string CurriculumStage::time_limit_text() const {
+  if (time_per_object > 0.0 && time_limit > 0.0)
+    return format_number(time_limit) + " s + " + format_number(time_per_object) + " s per object limit";
+  if (time_per_object > 0.0) return format_number(time_per_object) + " s per object limit";
+  return format_number(time_limit) + " s limit";
+}
+
 std::string CurriculumStage::where(const std::string& context) const {
   return "stage '" + name + "'" + (context.empty() ? "" : ", context '" + context + "'");
 }

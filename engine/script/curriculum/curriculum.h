@@ -64,10 +64,13 @@ struct CurriculumStage {
   std::string description;
   std::string scenario = "unobstructed";
   std::vector<std::pair<std::string, std::string>> params;  // scenario parameters, as text
+  // An episode's time-out: time_limit seconds, plus time_per_object for each object of its world
+  // (a stage written with time_limit = {per_object = s} has only the second).
   double time_limit = 0.0;
+  double time_per_object = 0.0;
   PredicatePtr absorbing;            // null when absorbing is a Lua function
   bool absorbing_lua = false;        // called at decision points only
-  LearningEpisodeOptions rewards;    // time_limit and the fixed rewards
+  LearningEpisodeOptions rewards;    // the fixed rewards and the discount's clock (not its time_limit)
   bool reward_lua = false;           // a Lua function(state, action, event) at decision points
   QParams learner;
   int budget_episodes = 0;
@@ -76,6 +79,12 @@ struct CurriculumStage {
   std::optional<std::pair<std::string, std::string>> skill;  // {skill name, context}
   std::string file;  // where the stage is written
   int line = 0;
+  // The time-out of an episode in `world`: time_limit + time_per_object x its objects.
+  double episode_time_limit(const WorldSpec& world) const {
+    return time_limit + time_per_object * double(world.objects.size());
+  }
+  // "12 s limit" or "30 s per object limit", for messages.
+  std::string time_limit_text() const;
   // "stage 'SG'" or "stage 'SG', context 'B1'", for messages.
   std::string where(const std::string& context = "") const;
   // The context by name. Throws roger::Error listing the stage's contexts.

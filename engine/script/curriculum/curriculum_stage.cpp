@@ -263,6 +263,27 @@ void read_skill(lua_State* L, const LuaFields& f, const std::string& where, Curr
   lua_pop(L, 1);
 }
 
+// time_limit: simulated seconds, or {per_object = s} for a task over however many objects its
+// world holds (sorting), as a skill script's policy may have it.
+void read_time_limit(lua_State* L, LuaFields& f, const std::string& where, CurriculumStage& st) {
+  if (!f.has("time_limit"))
+    f.fail("missing required field 'time_limit' (simulated seconds, e.g. 5, or {per_object = s})");
+  if (f.push("time_limit") == LUA_TTABLE) {
+    LuaFields limit(L, -1, where + ": field 'time_limit'", {"per_object"});
+    if (!limit.has("per_object")) limit.fail("missing required field 'per_object' (simulated seconds per object)");
+    st.time_per_object = limit.number("per_object");
+    if (!(st.time_per_object > 0.0 && st.time_per_object <= 3600.0))
+      limit.fail("field 'per_object' must be in (0, 3600] simulated seconds, got " + format_number(st.time_per_object));
+    lua_pop(L, 1);
+    return;
+  }
+  lua_pop(L, 1);
+  st.time_limit = f.number("time_limit");
+  if (!(st.time_limit > 0.0 && st.time_limit <= 3600.0))
+    f.fail("field 'time_limit' must be in (0, 3600] simulated seconds, or {per_object = s}, got " +
+           format_number(st.time_limit));
+}
+
 }  // namespace
 
 // Reads a stage table at `index` into `st`, raising Lua errors "stage 'X': ..." (at the caller's
@@ -284,11 +305,7 @@ void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& abso
   st.scenario = f.string("scenario", "unobstructed");
   resolve_scenario_path(st.scenario);  // lists the shipped scenarios when unknown
   read_stage_params(L, f, st);
-  if (!f.has("time_limit")) f.fail("missing required field 'time_limit' (simulated seconds, e.g. 5)");
-  st.time_limit = f.number("time_limit");
-  if (!(st.time_limit > 0.0 && st.time_limit <= 3600.0))
-    f.fail("field 'time_limit' must be in (0, 3600] simulated seconds, got " + format_number(st.time_limit));
-  st.rewards.time_limit = st.time_limit;
+  read_time_limit(L, f, where, st);
   read_absorbing(L, f, where, st, absorb_fn);
   read_reward(L, f, where, st, reward_fn);
   read_learner(L, f, where, st);
