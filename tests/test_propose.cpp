@@ -160,7 +160,14 @@ TEST_CASE("propose stays within 10% of its budget", "[propose]") {
 TEST_CASE("propose refuses bad input with a clear message", "[propose]") {
   test::TempDir dir("roger_propose");
   ProposeOptions o = sg_options(dir.path / "x", 100);
-  CHECK_THROWS_WITH(propose_curriculum(o), Catch::Contains("--budget") && Catch::Contains("30 episodes"));
+  CHECK_THROWS_WITH(propose_curriculum(o), Catch::Contains("--budget 100 ") && Catch::Contains("30 episodes") &&
+                                               Catch::Contains("(150 simulated s)"));
+  // A stage timed per object: 30 episodes of its scenario's world (2 objects at 30 s each).
+  o = sg_options(dir.path / "x", 1000);
+  o.curriculum = "curricula/sorting.lua";
+  o.stage = "Hand2";
+  o.context = "Scripted";
+  CHECK_THROWS_WITH(propose_curriculum(o), Catch::Contains("--budget 1000 ") && Catch::Contains("(1800 simulated s)"));
   o = sg_options(dir.path / "x");
   o.stage = "Nope";
   CHECK_THROWS_WITH(propose_curriculum(o), Catch::Contains("Nope") && Catch::Contains("SG"));

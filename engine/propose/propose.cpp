@@ -55,8 +55,8 @@ void check_options(const ProposeOptions& o, double time_limit) {
   if (!(o.budget_s > 0) || !std::isfinite(o.budget_s))
     throw Error("roger propose: --budget must be a positive number of simulated seconds");
   if (o.budget_s < 30 * time_limit)
-    throw Error("roger propose: --budget " + std::to_string(o.budget_s) + " is under 30 episodes of the stage's time limit (" +
-                std::to_string(30 * time_limit) + " simulated s): too little to learn anything, and one episode past " +
+    throw Error("roger propose: --budget " + format_number(o.budget_s) + " is under 30 episodes of the stage's time limit (" +
+                format_number(30 * time_limit) + " simulated s): too little to learn anything, and one episode past " +
                 "the budget could exceed it by more than 10%");
   if (!(o.probe_share > 0 && o.probe_share < 1)) throw Error("roger propose: the probe share must be in (0, 1)");
   if (o.probe_trials < 1 || o.trials < 1 || o.max_candidates < 1)
