@@ -577,6 +577,51 @@ TEST_CASE("a livelocked stage is explained by its greedy cycle", "[trainer][expl
   CHECK(j["diagnosis"]["timeouts"]["final"] == 1.0);
 }
 
+TEST_CASE("every greedy cycle the failed final episodes ended in is counted", "[trainer][explain]") {
+  // A final evaluation of 7 episodes, built by hand: 2 end in one cycle, 3 in three others, one in
+  // a state never left, and one succeeds. With many actions (sorting) a policy's failures end in
+  // several cycles, and naming only the most frequent left most of them unexplained.
+  TrainResult r;
+  r.psi = {"a", "b", "c"};
+  const auto episode = [](std::vector<int> states, std::vector<int> actions, bool success) {
+    TrainingEpisode ep;
+    ep.decision_states = std::move(states);
+    ep.actions_taken = std::move(actions);
+    ep.success = success;
+    return ep;
+  };
+  r.final_eval.runs = {episode({1, 2, 1, 2, 1, 2}, {0, 1, 0, 1, 0, 1}, false),
+                       episode({5, 1, 2, 1, 2}, {2, 0, 1, 0, 1}, false),
+                       episode({3, 3, 3}, {2, 2, 2}, false),
+                       episode({4, 4}, {1, 1}, false),
+                       episode({5, 6, 6, 6}, {0, 2, 2, 2}, false),
+                       episode({7}, {0}, false),
+                       episode({1, 8}, {0, 2}, true)};
+  const TrainingDiagnosis d = diagnose_training(r);
+  CHECK(d.final_episodes == 7);
+  CHECK(d.final_timeouts == 6);
+  REQUIRE(d.cycles.size() == 4);
+  CHECK(d.cycle_episodes == 2);
+  CHECK(d.cycles[0].episodes == 2);
+  CHECK(d.cycles[0].cycle.actions == d.cycle.actions);
+  int accounted = 0;
+  for (const auto& c : d.cycles) accounted += c.episodes;
+  for (const auto& s : d.stuck) accounted += s.episodes;
+  CHECK(accounted == d.final_timeouts);  // every time-out has its cause
+  const std::vector<std::string> causes = d.causes();
+  REQUIRE(causes.size() >= 5);
+  CHECK(causes[0].rfind("greedy cycle: (", 0) == 0);
+  CHECK(causes[0].find("in 2 of 7 final greedy episodes") != std::string::npos);
+  CHECK(causes[1].rfind("another greedy cycle: (", 0) == 0);
+  CHECK(causes[2].rfind("another greedy cycle: (", 0) == 0);
+  CHECK(causes[3] == "1 more of the final greedy episodes ended in 1 other greedy cycle");
+  CHECK(causes[4].rfind("state never left: (", 0) == 0);
+  const nlohmann::json j = d.to_json();
+  REQUIRE(j["cycles"].size() == 4);
+  CHECK(j["cycles"][0] == j["cycle"]);
+  CHECK(j["cycles"][3]["episodes"] == 1);
+}
+
 TEST_CASE("a stage that never runs the action it needs is explained", "[trainer][explain]") {
   // Only referenced actions are chosen, and the one the absorbing state needs is NOREF throughout.
   const TrainResult r = train_fixture("unused");

@@ -39,13 +39,37 @@ std::string TrainingDiagnosis::state_text(int state) const {
   return out;
 }
 
-std::string TrainingDiagnosis::cycle_cause() const {
-  std::string text = "greedy cycle:";
-  for (size_t k = 0; k < cycle.states.size(); ++k)
-    text += " (" + state_text(cycle.states[k]) + ") -> " + psi[size_t(cycle.actions[k])] + " ->";
-  return text + " back, repeating without reaching the absorbing state in " + std::to_string(cycle_episodes) +
-         " of " + std::to_string(final_episodes) + " final greedy episodes (up to " + std::to_string(cycle.turns) +
-         " turns)";
+namespace {
+
+// "greedy cycle: (...) -> a -> back, repeating ... in k of n final greedy episodes (up to t turns)".
+std::string cycle_text(const TrainingDiagnosis& d, const std::string& lead, const DecisionCycle& c, int episodes) {
+  std::string text = lead + ":";
+  for (size_t k = 0; k < c.states.size(); ++k)
+    text += " (" + d.state_text(c.states[k]) + ") -> " + d.psi[size_t(c.actions[k])] + " ->";
+  return text + " back, repeating without reaching the absorbing state in " + std::to_string(episodes) + " of " +
+         std::to_string(d.final_episodes) + " final greedy episodes (up to " + std::to_string(c.turns) + " turns)";
+}
+
+}  // namespace
+
+std::string TrainingDiagnosis::cycle_cause() const { return cycle_text(*this, "greedy cycle", cycle, cycle_episodes); }
+
+std::vector<std::string> TrainingDiagnosis::other_cycle_causes() const {
+  constexpr size_t kInFull = 2;  // other cycles told in full; the rest are counted
+  std::vector<std::string> out;
+  int rest_episodes = 0, rest_cycles = 0;
+  for (size_t k = 1; k < cycles.size(); ++k) {
+    if (k <= kInFull) {
+      out.push_back(cycle_text(*this, "another greedy cycle", cycles[k].cycle, cycles[k].episodes));
+    } else {
+      rest_episodes += cycles[k].episodes;
+      ++rest_cycles;
+    }
+  }
+  if (rest_cycles > 0)
+    out.push_back(std::to_string(rest_episodes) + " more of the final greedy episodes ended in " +
+                  std::to_string(rest_cycles) + " other greedy cycle" + (rest_cycles > 1 ? "s" : ""));
+  return out;
 }
 
 std::vector<std::string> TrainingDiagnosis::action_causes() const {
@@ -64,6 +88,7 @@ std::vector<std::string> TrainingDiagnosis::action_causes() const {
 std::vector<std::string> TrainingDiagnosis::causes() const {
   std::vector<std::string> out;
   if (cycle.turns > 0) out.push_back(cycle_cause());
+  for (std::string& c : other_cycle_causes()) out.push_back(std::move(c));
   for (const Stuck& st : stuck)
     out.push_back("state never left: (" + state_text(st.state) + "), where " + psi[size_t(st.action)] +
                   " ran until the time-out in " + std::to_string(st.episodes) + " of " +
@@ -96,12 +121,15 @@ nlohmann::json TrainingDiagnosis::to_json() const {
                           {"training_last_quarter",
                            last_quarter_episodes ? double(last_quarter_timeouts) / last_quarter_episodes : 0.0},
                           {"final", final_episodes ? double(final_timeouts) / final_episodes : 0.0}}}};
-  if (cycle.turns > 0) {
+  const auto cycle_json = [&](const DecisionCycle& c, int episodes) {
     json states = json::array();
-    for (int s : cycle.states) states.push_back(state_text(s));
-    j["cycle"] = {{"states", states}, {"actions", action_names(cycle.actions)}, {"episodes", cycle_episodes},
-                  {"turns", cycle.turns}};
-  }
+    for (int s : c.states) states.push_back(state_text(s));
+    return json{{"states", states}, {"actions", action_names(c.actions)}, {"episodes", episodes}, {"turns", c.turns}};
+  };
+  if (cycle.turns > 0) j["cycle"] = cycle_json(cycle, cycle_episodes);
+  json cycle_list = json::array();
+  for (const CycleCount& c : cycles) cycle_list.push_back(cycle_json(c.cycle, c.episodes));
+  j["cycles"] = cycle_list;
   json stuck_list = json::array();
   for (const Stuck& st : stuck)
     stuck_list.push_back({{"state", state_text(st.state)}, {"action", psi[size_t(st.action)]}, {"episodes", st.episodes}});
@@ -136,10 +164,14 @@ void read_final_episodes(const std::vector<TrainingEpisode>& episodes, TrainingD
     }
   }
   for (const auto& [key, value] : cycles)
-    if (value.first > d.cycle_episodes) {
-      d.cycle = DecisionCycle{key.first, key.second, value.second, 0};
-      d.cycle_episodes = value.first;
-    }
+    d.cycles.push_back({DecisionCycle{key.first, key.second, value.second, 0}, value.first});
+  // The most frequent first; among as frequent, the map's order (the first found before).
+  std::stable_sort(d.cycles.begin(), d.cycles.end(),
+                   [](const auto& x, const auto& y) { return x.episodes > y.episodes; });
+  if (!d.cycles.empty()) {
+    d.cycle = d.cycles.front().cycle;
+    d.cycle_episodes = d.cycles.front().episodes;
+  }
   for (const auto& [key, count] : stuck) d.stuck.push_back({key.first, key.second, count});
   std::stable_sort(d.stuck.begin(), d.stuck.end(),
                    [](const auto& x, const auto& y) { return x.episodes > y.episodes; });

@@ -24,6 +24,13 @@ struct TrainingDiagnosis {
   int final_episodes = 0, final_timeouts = 0;
   DecisionCycle cycle;
   int cycle_episodes = 0;
+  // Every cycle a timed-out episode ended in, the most frequent first (cycles[0] is `cycle`): with
+  // many actions (sorting), the episodes a policy fails end in several.
+  struct CycleCount {
+    DecisionCycle cycle;
+    int episodes = 0;
+  };
+  std::vector<CycleCount> cycles;
   // A state whose chosen action ran until the time-out (no cycle), and in how many episodes.
   struct Stuck {
     int state = 0, action = 0, episodes = 0;
@@ -48,6 +55,8 @@ struct TrainingDiagnosis {
   std::vector<std::string> causes() const;
   // The sentence of the greedy cycle (when cycle.turns > 0), and those of the actions.
   std::string cycle_cause() const;
+  // The sentences of the other cycles: the next two in full, then how many episodes the rest hold.
+  std::vector<std::string> other_cycle_causes() const;
   std::vector<std::string> action_causes() const;
   // The diagnosis for result.json and summary.json (its "causes" are causes()).
   nlohmann::json to_json() const;
