@@ -135,13 +135,13 @@ TEST_CASE("a stage's learner may discount by the seconds a decision ran", "[curr
 
 TEST_CASE("a stage's time limit may be given per object of its world", "[curriculum]") {
   const test::TempDir tmp("roger_curriculum_per_object");
-  std::ofstream(tmp.path / "limits.lua")
-      << "local p3 = roger.primitive(\"phi3\")\n"
-         "local function stage(name, limit)\n"
-         "  return roger.stage{ name = name, scenario = \"sorting\", time_limit = limit,\n"
-         "    absorbing = roger.converged(p3), budget = { episodes = 3 }, contexts = { { name = \"A\", actions = { p3 } } } }\n"
-         "end\n"
-         "return { stages = { stage(\"Fixed\", 12), stage(\"PerObject\", { per_object = 30 }) } }\n";
+  std::ofstream(tmp.path / "limits.lua") << R"(local p3 = roger.primitive("phi3")
+local function stage(name, limit)
+  return roger.stage{ name = name, scenario = "sorting", time_limit = limit, absorbing = roger.converged(p3),
+                      budget = { episodes = 3 }, contexts = { { name = "A", actions = { p3 } } } }
+end
+return { stages = { stage("Fixed", 12), stage("PerObject", { per_object = 30 }) } }
+)";
   Curriculum cur = Curriculum::load((tmp.path / "limits.lua").string());
   WorldSpec two, eight;
   two.objects.resize(2);

@@ -186,14 +186,14 @@ TEST_CASE("a time limit per object follows the objects of each world in training
   // time_limit = {per_object = s}: an episode in a world of n objects times out after n s, so a
   // saved policy evaluated with another number of objects gets the time that number needs.
   const test::TempDir tmp("roger_trainer_per_object");
-  std::ofstream(tmp.path / "per_object.lua")
-      << "local p3 = roger.primitive(\"phi3\")\n"
-         "return { stages = { roger.stage{\n"
-         "  name = \"Never\", scenario = \"sorting\", params = { objects = 3 }, time_limit = { per_object = 0.4 },\n"
-         "  absorbing = function() return false end, budget = { episodes = 2 },\n"
-         "  checkpoints = { every = 2, episodes = 1, final = 2 },\n"
-         "  contexts = { { name = \"A\", actions = { p3 } } },\n"
-         "} } }\n";
+  std::ofstream(tmp.path / "per_object.lua") << R"(local p3 = roger.primitive("phi3")
+return { stages = { roger.stage{
+  name = "Never", scenario = "sorting", params = { objects = 3 }, time_limit = { per_object = 0.4 },
+  absorbing = function() return false end, budget = { episodes = 2 },
+  checkpoints = { every = 2, episodes = 1, final = 2 },
+  contexts = { { name = "A", actions = { p3 } } },
+} } }
+)";
   const std::string curriculum = (tmp.path / "per_object.lua").string();
   const auto [status, out] = run_roger("train " + curriculum + " --stage Never --context A --seed 1 --out " +
                                        (tmp.path / "out").string());
