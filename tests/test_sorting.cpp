@@ -374,10 +374,10 @@ TEST_CASE("sorting: bad roger.bind arguments are errors at file:line naming the 
       {"{}", "binds nothing: give 'stimulus', 'region' or both"},
       {"{region = 99}", "field 'region' must be a goal region's index 0 to 63"},
       {"{stimulus = \"red\"}", "field 'stimulus' must be a colour"},
-      {"{stimulus = \"#ff0000\", patience = -1}", "field 'patience' must be seconds"},
+      {"{stimulus = \"#ff0000\", patience = -1}", "field 'patience' must be seconds from 0 (no limit) to 1e6, got -1"},
       {"{stimulus = \"#ff0000\", ignore_delivered = true}", "field 'ignore_delivered' needs 'region'"},
       {"{stimulus = \"#ff0000\", sticky_noref = 1}", "field 'sticky_noref' must be a boolean, got number"},
-      {"{stimulus = \"#ff0000\", retry_after = -5}", "field 'retry_after' must be seconds from 0"},
+      {"{stimulus = \"#ff0000\", retry_after = -5}", "field 'retry_after' must be seconds from 0 (never forget a NOREF) to 1e6, got -5"},
       {"{stimulus = \"#ff0000\", colour = 1}", "unknown field 'colour'; known fields: ignore_delivered, patience, region, retry_after, sticky_noref, stimulus"},
   };
   for (const auto& [fields, message] : cases) {

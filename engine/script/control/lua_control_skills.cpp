@@ -338,9 +338,9 @@ int l_bind(lua_State* L) {
     b.sticky_noref = f.boolean("sticky_noref", false);
     b.retry_after = f.number("retry_after", 0.0);
     if (!(b.retry_after >= 0.0 && b.retry_after <= 1e6))
-      f.fail("field 'retry_after' must be seconds from 0 (never forget a NOREF) to 1e6, got " + std::to_string(b.retry_after));
+      f.fail("field 'retry_after' must be seconds from 0 (never forget a NOREF) to 1e6, got " + format_number(b.retry_after));
     if (!(b.patience >= 0.0 && b.patience <= 1e6))
-      f.fail("field 'patience' must be seconds from 0 (no limit) to 1e6, got " + std::to_string(b.patience));
+      f.fail("field 'patience' must be seconds from 0 (no limit) to 1e6, got " + format_number(b.patience));
     count_object(L, book);
     auto binding = made(book, std::make_shared<Binding>(target, b));
     binding->set_name(name);
