@@ -59,6 +59,7 @@ function roger.learned(name) end
 ---@field epsilon_end? number default 0.05
 ---@field initial_q? number default 0
 ---@field referenced_only? boolean never choose an action whose gamma is NOREF (default false)
+---@field unconverged_first? boolean while some action is !CONV, choose only among those (default false)
 ---@field discount_seconds? number 0: discount once per decision (default, the paper); s > 0: discount^(elapsed / s)
 
 ---Greedy checkpoints and the final evaluation.

@@ -79,6 +79,8 @@ TEST_CASE("bad curricula are clear errors at file:line", "[curriculum]") {
       {"bad_curriculum_plain_field.lua", {"bad_curriculum_plain_field.lua:5:", "stage 'Plain'", "episodes", "-3"}},
       {"bad_curriculum_discount_clock.lua",
        {"bad_curriculum_discount_clock.lua:4:", "stage 'Clock'", "learner", "discount_seconds", "got -2"}},
+      {"bad_curriculum_unconverged.lua",
+       {"bad_curriculum_unconverged.lua:4:", "stage 'Eager'", "learner", "unconverged_first", "a boolean"}},
       {"bad_curriculum_time_per_object.lua",
        {"bad_curriculum_time_per_object.lua:4:", "stage 'Slow'", "field 'time_limit'", "per_object", "got 0"}},
       {"bad_curriculum_time_field.lua",
@@ -131,6 +133,19 @@ TEST_CASE("a stage's learner may discount by the seconds a decision ran", "[curr
   CHECK(cur.stage("PerDecision").rewards.discount_seconds == 0.0);
   CHECK(cur.stage("PerSecond").rewards.discount_seconds == 2.5);
   CHECK(cur.stage("PerSecond").learner.discount == 0.9);
+  CHECK_FALSE(cur.stage("PerDecision").learner.unconverged_first);
+}
+
+TEST_CASE("a stage's learner may choose among the actions still on their way first", "[curriculum]") {
+  const test::TempDir tmp("roger_curriculum_unconverged");
+  std::ofstream(tmp.path / "eager.lua") << R"(local p3 = roger.primitive("phi3")
+return { stages = { roger.stage{ name = "Eager", time_limit = 5, absorbing = roger.converged(p3),
+  budget = { episodes = 3 }, learner = { unconverged_first = true, referenced_only = true },
+  contexts = { { name = "A", actions = { p3 } } } } } }
+)";
+  const Curriculum cur = Curriculum::load((tmp.path / "eager.lua").string());
+  CHECK(cur.stage("Eager").learner.unconverged_first);
+  CHECK(cur.stage("Eager").learner.referenced_only);
 }
 
 TEST_CASE("a stage's time limit may be given per object of its world", "[curriculum]") {

@@ -235,6 +235,44 @@ TEST_CASE("an action whose controller has no reference is never chosen, explored
   CHECK(o.greedy(s) == 0);
 }
 
+TEST_CASE("while some action is still on its way, a converged or unreferenced one is never chosen", "[learning]") {
+  // unconverged_first: a CONV controller is at its attractor and a NOREF one has no reference;
+  // only a !CONV one has work to do.
+  QParams on;
+  on.unconverged_first = true;
+  QTable q({"x", "y", "z"}, on);
+  const int s = gamma_state_index({Gamma::kNoRef, Gamma::kNotConv, Gamma::kConv});
+  q.set(s, 0, 50.0);  // the best values, on the actions without work
+  q.set(s, 1, 1.0);
+  q.set(s, 2, 40.0);
+  CHECK_FALSE(q.engageable(s, 0));
+  CHECK(q.engageable(s, 1));
+  CHECK_FALSE(q.engageable(s, 2));
+  CHECK(q.greedy(s) == 1);
+  CHECK(q.max_value(s) == 1.0);
+  CHECK(q.policy_action(s) == 1);
+  Rng rng(5);
+  for (int i = 0; i < 200; ++i) CHECK(q.choose(s, 1.0, rng) == 1);
+  // The bootstrap of a backup into s takes the !CONV action's value.
+  const int t = gamma_state_index({Gamma::kConv, Gamma::kConv, Gamma::kConv});
+  CHECK(q.update(t, 1, 0.0, s, false, 0.5) == Approx(0.5 * 1.0));
+  // No action on its way: every action may run, or with referenced_only as well, those with a
+  // reference.
+  const int rest = gamma_state_index({Gamma::kNoRef, Gamma::kConv, Gamma::kConv});
+  for (int a = 0; a < 3; ++a) CHECK(q.engageable(rest, a));
+  QParams both = on;
+  both.referenced_only = true;
+  QTable b({"x", "y", "z"}, both);
+  CHECK_FALSE(b.engageable(rest, 0));
+  CHECK(b.engageable(rest, 1));
+  CHECK(b.engageable(s, 1));
+  CHECK_FALSE(b.engageable(s, 2));
+  // Off (the default, the paper's learner), the same table chooses the 50.
+  QTable o({"x", "y", "z"});
+  o.set(s, 0, 50.0);
+  CHECK(o.greedy(s) == 0);
+}
+
 TEST_CASE("the exploration schedule is exact at both ends and linear between", "[learning]") {
   const QParams params;  // 1.0 -> 0.05
   const ExplorationSchedule s = ExplorationSchedule::episodes(params, 100);
@@ -269,6 +307,7 @@ TEST_CASE("a QTable round-trips through a policy file bit for bit", "[learning]"
   params.discount = 1.0 / 3.0;
   params.initial_q = -0.0;
   params.referenced_only = true;  // not the default
+  params.unconverged_first = true;  // nor this
   QTable q({"search", "phi0", "phi4 <| phi2"}, params);
   Rng rng(99);
   // Values with awkward binary expansions, extremes and subnormals, plus real backups.
@@ -300,14 +339,19 @@ TEST_CASE("a QTable round-trips through a policy file bit for bit", "[learning]"
   CHECK(same_bits(r.params().epsilon_start, q.params().epsilon_start));
   CHECK(same_bits(r.params().epsilon_end, q.params().epsilon_end));
   CHECK(r.params().referenced_only == q.params().referenced_only);
-  // A file from before referenced_only existed was learned with every action allowed.
+  CHECK(r.params().unconverged_first == q.params().unconverged_first);
+  // A file from before referenced_only and unconverged_first existed was learned with every
+  // action allowed.
   {
     std::ifstream in(path);
     nlohmann::json old = nlohmann::json::parse(in);
     old["params"].erase("referenced_only");
+    old["params"].erase("unconverged_first");
     const std::string old_path = temp_path("roundtrip_old.json");
     std::ofstream(old_path) << old.dump();
-    CHECK_FALSE(QTable::load(old_path, q.action_names()).params().referenced_only);
+    const QTable o = QTable::load(old_path, q.action_names());
+    CHECK_FALSE(o.params().referenced_only);
+    CHECK_FALSE(o.params().unconverged_first);
     std::filesystem::remove(old_path);
   }
   int differing = 0;

@@ -50,6 +50,10 @@ struct QParams {
   // learner: every action may be chosen in every state, and learning which ones run is part of
   // the stage (scripts/ablation.lua measures the difference).
   bool referenced_only = false;
+  // Choose only actions still on their way: while some action's gamma is !CONV in the state, an
+  // action whose gamma is CONV (nothing left to do) or NOREF (no reference) is not chosen, explored
+  // or backed up from; in a state with no !CONV action the rule above decides. Off, as the paper.
+  bool unconverged_first = false;
   // Throws roger::Error naming `where` and the offending field when a value is out of range or
   // not finite.
   void validate(const std::string& where = "q-learning") const;

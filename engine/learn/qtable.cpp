@@ -76,6 +76,12 @@ QParams read_params(const nlohmann::json& j, const std::string& source) {
                   jp["referenced_only"].dump());
     p.referenced_only = jp["referenced_only"].get<bool>();
   }
+  if (jp.contains("unconverged_first")) {
+    if (!jp["unconverged_first"].is_boolean())
+      throw Error(source + ": field \"params.unconverged_first\" must be true or false, got " +
+                  jp["unconverged_first"].dump());
+    p.unconverged_first = jp["unconverged_first"].get<bool>();
+  }
   p.validate(source + ": params");
   return p;
 }
@@ -192,12 +198,17 @@ int QTable::visited_states() const {
 
 uint32_t QTable::engageable_mask(int s) const {
   const uint32_t all = (1u << actions_) - 1u;
-  if (!params_.referenced_only) return all;
-  // The first action is the most significant base-3 digit (gamma_state_index); NOREF is 0.
-  uint32_t mask = 0;
-  for (int a = actions_ - 1; a >= 0; --a, s /= 3)
-    if (s % 3 != 0) mask |= 1u << a;
-  return mask != 0 ? mask : all;
+  if (!params_.referenced_only && !params_.unconverged_first) return all;
+  // The first action is the most significant base-3 digit (gamma_state_index); NOREF is 0,
+  // !CONV 1, CONV 2.
+  uint32_t referenced = 0, unconverged = 0;
+  for (int a = actions_ - 1; a >= 0; --a, s /= 3) {
+    if (s % 3 != 0) referenced |= 1u << a;
+    if (s % 3 == 1) unconverged |= 1u << a;
+  }
+  if (params_.unconverged_first && unconverged != 0) return unconverged;
+  if (params_.referenced_only && referenced != 0) return referenced;
+  return all;
 }
 
 bool QTable::engageable(int s, int a) const {
@@ -274,7 +285,8 @@ nlohmann::json QTable::to_json(const PolicyMetadata& meta) const {
                  {"discount", params_.discount},
                  {"epsilon_start", params_.epsilon_start},
                  {"epsilon_end", params_.epsilon_end},
-                 {"initial_q", params_.initial_q}, {"referenced_only", params_.referenced_only}};
+                 {"initial_q", params_.initial_q}, {"referenced_only", params_.referenced_only},
+                 {"unconverged_first", params_.unconverged_first}};
   nlohmann::json q = nlohmann::json::array(), visits = nlohmann::json::array();
   for (int s = 0; s < states_; ++s) {
     nlohmann::json qrow = nlohmann::json::array(), vrow = nlohmann::json::array();

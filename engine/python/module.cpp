@@ -69,6 +69,7 @@ py::dict info_dict(const EnvironmentInfo& i) {
                           py::arg("epsilon_start") = i.learner.epsilon_start,
                           py::arg("epsilon_end") = i.learner.epsilon_end, py::arg("initial_q") = i.learner.initial_q,
                           py::arg("referenced_only") = i.learner.referenced_only,
+                          py::arg("unconverged_first") = i.learner.unconverged_first,
                           py::arg("discount_seconds") = i.discount_seconds);
   d["checkpoints"] = py::dict(py::arg("every") = i.checkpoint_every, py::arg("episodes") = i.checkpoint_episodes,
                               py::arg("threshold") = i.threshold, py::arg("seeds") = i.checkpoint_seeds,

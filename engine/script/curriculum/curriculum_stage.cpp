@@ -190,13 +190,14 @@ void read_learner(lua_State* L, const LuaFields& f, const std::string& where, Cu
       f.wrong_type("learner", "a table {alpha = ..., discount = ..., discount_seconds = ..., epsilon_start = ..., epsilon_end = ...}");
     LuaFields q(L, lua_gettop(L), where + ": learner",
                 {"alpha", "discount", "discount_seconds", "epsilon_start", "epsilon_end", "initial_q",
-                 "referenced_only"});
+                 "referenced_only", "unconverged_first"});
     st.learner.alpha = q.number("alpha", st.learner.alpha);
     st.learner.discount = q.number("discount", st.learner.discount);
     st.learner.epsilon_start = q.number("epsilon_start", st.learner.epsilon_start);
     st.learner.epsilon_end = q.number("epsilon_end", st.learner.epsilon_end);
     st.learner.initial_q = q.number("initial_q", st.learner.initial_q);
     st.learner.referenced_only = q.boolean("referenced_only", st.learner.referenced_only);
+    st.learner.unconverged_first = q.boolean("unconverged_first", st.learner.unconverged_first);
     // The discount's clock lives with the episode's options, where the semi-MDP reads it.
     st.rewards.discount_seconds = q.number("discount_seconds", st.rewards.discount_seconds);
     if (!(st.rewards.discount_seconds >= 0.0 && st.rewards.discount_seconds <= 1e6))
