@@ -185,6 +185,7 @@ class Interface(unittest.TestCase):
         # The example's learner discounts once per decision, as roger train does with it.
         self.assertEqual(env.stage_info["learner"]["discount_seconds"], 0.0)
         self.assertEqual(env.stage_info["learner"]["discount"], 0.95)
+        self.assertFalse(env.stage_info["learner"]["unconverged_first"])
         self.assertEqual(env.stage_info["time_limit"], 4.0)
         self.assertEqual(env.stage_info["time_per_object"], 0.0)
 
@@ -193,6 +194,8 @@ class Interface(unittest.TestCase):
         env = roger.make("curricula/sorting.lua", stage="Hand2", context="Scripted")
         self.assertEqual(env.stage_info["time_limit"], 0.0)
         self.assertEqual(env.stage_info["time_per_object"], 30.0)
+        # ...and their learner chooses among the types still on their way first.
+        self.assertTrue(env.stage_info["learner"]["unconverged_first"])
 
     def test_tick_mode(self):
         env = roger.make(EXAMPLE, stage="Look", context="Gaze", mode="tick")
