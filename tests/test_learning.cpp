@@ -862,6 +862,13 @@ TEST_CASE("a truncated, empty or foreign policy file is refused naming the file,
   CHECK(refused("", {"JSON", "empty"}));
   // A number out of range, as a hand edit might leave: an error with the path, not a bare exception.
   CHECK(refused(std::regex_replace(whole, std::regex("\"alpha\": [0-9.e+-]+"), "\"alpha\": 1e999"), {"number overflow"}));
+  // An action rule that is not a boolean: refused with the field and what it holds.
+  for (const char* rule : {"referenced_only", "unconverged_first"}) {
+    const std::string field = std::string("\"") + rule + "\": false";
+    REQUIRE(whole.find(field) != std::string::npos);
+    CHECK(refused(std::regex_replace(whole, std::regex(field), std::string("\"") + rule + "\": \"yes\""),
+                  {std::string("params.") + rule, "true or false", "\"yes\""}));
+  }
   // Foreign files: another JSON document where a policy belongs.
   CHECK(refused("[1, 2, 3]", {"JSON object"}));
   CHECK(refused("42", {"JSON object"}));
