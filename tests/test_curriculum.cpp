@@ -133,17 +133,19 @@ TEST_CASE("a stage's learner may discount by the seconds a decision ran", "[curr
   CHECK(cur.stage("PerDecision").rewards.discount_seconds == 0.0);
   CHECK(cur.stage("PerSecond").rewards.discount_seconds == 2.5);
   CHECK(cur.stage("PerSecond").learner.discount == 0.9);
-  CHECK_FALSE(cur.stage("PerDecision").learner.unconverged_first);
 }
 
 TEST_CASE("a stage's learner may choose among the actions still on their way first", "[curriculum]") {
   const test::TempDir tmp("roger_curriculum_unconverged");
   std::ofstream(tmp.path / "eager.lua") << R"(local p3 = roger.primitive("phi3")
-return { stages = { roger.stage{ name = "Eager", time_limit = 5, absorbing = roger.converged(p3),
-  budget = { episodes = 3 }, learner = { unconverged_first = true, referenced_only = true },
-  contexts = { { name = "A", actions = { p3 } } } } } }
+local function stage(name, learner)
+  return roger.stage{ name = name, time_limit = 5, absorbing = roger.converged(p3), budget = { episodes = 3 },
+                      learner = learner, contexts = { { name = "A", actions = { p3 } } } }
+end
+return { stages = { stage("Paper", nil), stage("Eager", { unconverged_first = true, referenced_only = true }) } }
 )";
   const Curriculum cur = Curriculum::load((tmp.path / "eager.lua").string());
+  CHECK_FALSE(cur.stage("Paper").learner.unconverged_first);  // the paper's learner, by default
   CHECK(cur.stage("Eager").learner.unconverged_first);
   CHECK(cur.stage("Eager").learner.referenced_only);
 }

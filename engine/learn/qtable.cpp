@@ -69,19 +69,16 @@ QParams read_params(const nlohmann::json& j, const std::string& source) {
   p.epsilon_start = param("epsilon_start");
   p.epsilon_end = param("epsilon_end");
   p.initial_q = param("initial_q");
-  // Policies written before the field existed were learned choosing NOREF actions too.
-  if (jp.contains("referenced_only")) {
-    if (!jp["referenced_only"].is_boolean())
-      throw Error(source + ": field \"params.referenced_only\" must be true or false, got " +
-                  jp["referenced_only"].dump());
-    p.referenced_only = jp["referenced_only"].get<bool>();
-  }
-  if (jp.contains("unconverged_first")) {
-    if (!jp["unconverged_first"].is_boolean())
-      throw Error(source + ": field \"params.unconverged_first\" must be true or false, got " +
-                  jp["unconverged_first"].dump());
-    p.unconverged_first = jp["unconverged_first"].get<bool>();
-  }
+  // A rule of which actions may be chosen: false when absent, since policies written before the
+  // field existed were learned choosing every action.
+  auto rule = [&](const char* name) {
+    if (!jp.contains(name)) return false;
+    if (!jp[name].is_boolean())
+      throw Error(source + ": field \"params." + name + "\" must be true or false, got " + jp[name].dump());
+    return jp[name].get<bool>();
+  };
+  p.referenced_only = rule("referenced_only");
+  p.unconverged_first = rule("unconverged_first");
   p.validate(source + ": params");
   return p;
 }
