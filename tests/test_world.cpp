@@ -173,6 +173,19 @@ TEST_CASE("objects resist being pushed below their static-friction threshold", "
   CHECK(world.object_velocity(0).norm() < 1e-3);
 }
 
+// The floor's friction holds every object, and the walls stop them: an object pushed at a wall
+// with three times its friction threshold rests against the wall's face, not inside it.
+TEST_CASE("an object pushed at a wall stops at its face", "[world]") {
+  World world;
+  world.reset(open_world(true, Vec2(1.5, 0.0)));  // a ball of radius 0.2; the wall's face at x = 2
+  for (int i = 0; i < 300; ++i) {
+    world.push_object(0, Vec2(30.0, 0.0));
+    world.step_physics();
+  }
+  CHECK(world.object_pose(0).x > 1.7);               // it was pushed all the way...
+  CHECK(world.object_pose(0).x < 2.0 - 0.2 + 0.02);  // ...and the wall stopped it
+}
+
 namespace {
 uint64_t scripted_episode(const WorldSpec& spec, double seconds) {
   World world;

@@ -217,6 +217,9 @@ void World::Impl::add_objects(const std::vector<ObjectSpec>& specs) {
     fj.Initialize(ground, body, body->GetWorldCenter());
     fj.maxForce = float(o.friction_force);
     fj.maxTorque = float(o.friction_torque);
+    // The floor's friction acts through a joint to the ground body, which also carries the walls;
+    // Box2D lets jointed bodies pass through each other unless told otherwise.
+    fj.collideConnected = true;
     w.CreateJoint(&fj);
     objects.push_back(body);
   }
