@@ -30,7 +30,7 @@ class Release final : public Primitive {
   PrimitivePtr clone() const override { return std::make_shared<Release>(*this); }
   void reset(uint64_t seed) override {
     Primitive::reset(seed);
-    backing_ = false;
+    backing_ = blocked_ = false;
     executed_tick_ = UINT64_MAX;  // not acting: compute() starts the stall watches over
   }
   void executed(const ControlInput& in) override { executed_tick_ = in.tick; }
@@ -55,7 +55,7 @@ class Release final : public Primitive {
     // last step's state), or after a pause, it starts over.
     const bool acting = executed_tick_ != UINT64_MAX && executed_tick_ + 1 == in.tick;
     if (!acting) {
-      backing_ = false;
+      backing_ = blocked_ = false;
       fold_stalled_ = back_stalled_ = 0.0;
       best_fold_ = best_back_ = kInfinity;
     }
@@ -66,6 +66,7 @@ class Release final : public Primitive {
     if (acting && !folded && !backing_) fold_stalled_ = stalled(arm_error, kFoldProgress, in.dt, best_fold_, fold_stalled_);
     if ((folded || (patience > 0.0 && fold_stalled_ > patience)) && acting && !backing_) {
       backing_ = true;
+      blocked_ = !folded;
       origin_ = base;
     }
     double remaining = value(p_.distance);
@@ -79,7 +80,9 @@ class Release final : public Primitive {
     }
     out.phi = arm_error + remaining;
     out.residual = out.phi;
-    gamma = folded && remaining <= 0.02 ? Gamma::kConv : Gamma::kNotConv;
+    // Arms that were blocked may still be (the object came along, wedged): once the base has
+    // backed off, release has done what it can, and ends.
+    gamma = (folded || blocked_) && remaining <= 0.02 ? Gamma::kConv : Gamma::kNotConv;
   }
 
  private:
@@ -108,6 +111,7 @@ class Release final : public Primitive {
   static constexpr double kBackProgress = 0.01;  // m of the distance left: progress backing
 
   bool backing_ = false;        // the arms were folded (or blocked): the base is backing off
+  bool blocked_ = false;        // ...and it was because they were blocked
   double fold_stalled_ = 0.0;   // s the arms have come no nearer their posture
   double back_stalled_ = 0.0;   // s the base has backed no further
   double best_fold_ = kInfinity, best_back_ = kInfinity;  // the least errors so far
