@@ -20,8 +20,11 @@ local paper = require("lib.paper_stages")
 -- learners and budgets), with two differences: the carrying navigator converges 0.25 m inside a
 -- region's edge (`depth`), not at the edge, because this task's judge below asks for the object's
 -- centre inside its region and the control point (the carried object as the eyes see it) may lie
--- a few centimetres off that centre; and T also yields its DC6 policy as the skill Phi_T.
-local SG, T, c = paper.stages{ primitives = { carry = { depth = 0.25, margin = 0.2 } }, t_skill = "Phi_T" }
+-- a few centimetres off that centre; and T also yields its DC6 policy as the skill Phi_T. The
+-- carrying navigator grows other objects by 0.25 m, as curricula/sort_by_hand.lua's does (T's
+-- worlds hold one object, so T's training is unchanged).
+local SG, T, c = paper.stages{ primitives = { carry = { depth = 0.25, margin = 0.2, objects = 0.25 } },
+                               t_skill = "Phi_T" }
 local p, Phi6, Phi7, transport = c.p, c.Phi6, c.Phi7, c.transport
 local Phi_T = roger.learned("Phi_T")
 

@@ -482,10 +482,12 @@ TEST_CASE("release steps a touching hand out before folding the arm", "[primitiv
   CHECK(sorted(0.05, 1.0) == 3);  // the defaults
 }
 
-// Sorting seed 91007 with 8 objects and 2 obstacles: after the circles, a triangle wedged between
-// the arms and the body kept the arms from folding, and every move that began by letting go waited
-// there for its patience until the time-out (2 of 8 sorted). Backing off once the arms have stopped
-// short of their posture for `blocked` seconds frees them.
+// Sorting seed 91027 with 8 objects and 2 obstacles: from 44 s on, an object wedged between the
+// arms and the body kept the arms from folding, and every move that began by letting go waited
+// there for its whole patience until the time-out (2 of 8 sorted). Backing off once the arms have
+// stopped short of their posture for `blocked` seconds frees them. (Seed 91007 showed it first;
+// since the carrying navigator grows other objects by 0.25 m, not 0.4, that episode no longer
+// wedges anything.)
 TEST_CASE("release backs off when an object between the arms keeps them from folding", "[primitives]") {
   const SkillScript script = SkillScript::load("curricula/sort_by_hand.lua");
   const SkillScript::NamedPolicy& policy = script.policy("sort");
@@ -493,19 +495,17 @@ TEST_CASE("release backs off when an object between the arms keeps them from fol
   Scenario scenario = Scenario::load("sorting");
   scenario.set_param("objects", "8");
   scenario.set_param("obstacles", "2");
-  const WorldSpec spec = scenario.generate(91007);
+  const WorldSpec spec = scenario.generate(91027);
   auto sorted_by_the_end = [&](double blocked) {
     for (Primitive* p : releases) p->set_number("blocked", blocked);
     Agent agent;
-    EpisodeOptions options;
-    options.time_limit = 150.0;
-    run_episode(agent, spec, 91007, *policy.action, *policy.goal, options);
+    run_episode(agent, spec, 91027, *policy.action, *policy.goal, policy.episode_options());
     return sorted_objects(agent.input()).sorted;
   };
   const int waiting = sorted_by_the_end(0.0), backing = sorted_by_the_end(1.0);
-  INFO("sorted after 150 s: " << waiting << " waiting for the arms, " << backing << " backing off");
+  INFO("sorted after 240 s: " << waiting << " waiting for the arms, " << backing << " backing off");
   CHECK(waiting <= 2);
-  CHECK(backing >= 4);
+  CHECK(backing == 8);
 }
 
 // Sorting seed 170008 with 8 objects: at 92 s a spade lies pinched between the right hand and the
