@@ -13,11 +13,8 @@
 local skills = require("lib.skills")
 local sorting = require("lib.sorting")
 
--- The carrying navigator converges 0.25 m inside a region's edge, so the object ends inside it,
--- and grows the other objects by 0.25 m, not the 0.4 m that keeps preshaped hands off them: what
--- it steers is the carried object, and at 0.4 m one object put away near a region's centre left
--- no goal cell for the next of its type (docs/control.md, phi1).
-local p = skills.primitives({ carry = { depth = 0.25, margin = 0.2, objects = 0.25 } })
+-- The carrying navigator of sorting (lib/sorting.lua): the object ends inside its region.
+local p = skills.primitives({ carry = sorting.CARRY })
 local transport = skills.transport(p)
 local carry = roger.sequence("carry", {
   roger.sequence("search-grasp", { skills.Phi6(p), skills.Phi7(p), p.phi3 }), transport })

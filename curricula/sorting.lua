@@ -15,22 +15,18 @@
 -- four bindings; only what the skill perceives and where it delivers change (docs/curricula.md).
 local skills = require("lib.skills")
 local paper = require("lib.paper_stages")
+-- The types, their colours and regions, the carrying navigator's parameters and the sorting move
+-- are lib/sorting.lua's, shared with the hand-written curricula/sort_by_hand.lua.
+local sorting = require("lib.sorting")
 
 -- Stages SG and T are the paper's (lib/paper_stages.lua: the same controllers, contexts, rewards,
--- learners and budgets), with two differences: the carrying navigator converges 0.25 m inside a
--- region's edge (`depth`), not at the edge, because this task's judge below asks for the object's
--- centre inside its region and the control point (the carried object as the eyes see it) may lie
--- a few centimetres off that centre; and T also yields its DC6 policy as the skill Phi_T. The
--- carrying navigator grows other objects by 0.25 m, as curricula/sort_by_hand.lua's does (T's
--- worlds hold one object, so T's training is unchanged).
-local SG, T, c = paper.stages{ primitives = { carry = { depth = 0.25, margin = 0.2, objects = 0.25 } },
-                               t_skill = "Phi_T" }
+-- learners and budgets), with two differences: the carrying navigator is sorting's
+-- (sorting.CARRY: it converges inside a region's edge, and grows other objects less; T's worlds
+-- hold one object, so only the first matters to T); and T also yields its DC6 policy as the
+-- skill Phi_T.
+local SG, T, c = paper.stages{ primitives = { carry = sorting.CARRY }, t_skill = "Phi_T" }
 local p, Phi6, Phi7, transport = c.p, c.Phi6, c.Phi7, c.transport
 local Phi_T = roger.learned("Phi_T")
-
--- The types, their colours and regions, and the sorting move are lib/sorting.lua's, shared with
--- the hand-written curricula/sort_by_hand.lua.
-local sorting = require("lib.sorting")
 
 -- The task's judge (Lua, at decision points): an object is sorted when its centre lies in the
 -- region named after its type ("circle 3" belongs in "circle") and Roger has let go of it.

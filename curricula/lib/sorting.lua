@@ -27,6 +27,15 @@ for k, t in ipairs(sorting.TYPES) do sorting.REGION[t] = k - 1 end
 -- obstacles, 91000-91019: 77, 72 and 70 of 80 fully sorted with 15, 20 and 30 s).
 sorting.PATIENCE = 15
 
+-- The carrying navigator's parameters for sorting (skills.primitives' `carry` overrides): it
+-- converges 0.25 m inside a region's edge (`depth`), not at the edge, because sorting's judge asks
+-- for the object's centre inside its region and the control point (the carried object as the eyes
+-- see it) may lie a few centimetres off that centre; and it grows other objects by 0.25 m, not the
+-- 0.4 m that keeps preshaped hands off them: what it steers is the carried object, and at 0.4 m
+-- one object put away near a region's centre left no goal cell for the next of its type
+-- (docs/control.md, phi1).
+sorting.CARRY = { depth = 0.25, margin = 0.2, objects = 0.25 }
+
 -- One sorting move for type `t`: let go of whatever the hands hold and back off, carry one object
 -- of that colour into that type's region with `transport` (which must converge only once the
 -- object is delivered, as a learned Phi_T does), then let go of it. Without falling back, a
