@@ -414,3 +414,71 @@ TEST_CASE("a binding with retry_after forgets a NOREF that long after it began",
   forgetful.reset(0);
   CHECK(forgetful.state(at_tick(tick)) == Gamma::kNotConv);
 }
+
+// Touch locates the object perceived only on an object of the stimulus colour: a bystander of
+// another colour bumped on the way is not taken for it (it was what the grasp then closed on and
+// shoved into a wall), and a neighbour of the same colour brushed against while one is held does
+// not take the held one's place.
+TEST_CASE("touch locates the object only on an object of the stimulus colour", "[control][percepts]") {
+  const Colour blue{40, 80, 220}, yellow{230, 170, 20};
+  std::vector<MapObject> objects(3);
+  objects[0].colour = blue, objects[1].colour = yellow, objects[2].colour = blue;
+  const RobotParams robot;
+  Senses s;
+  // Tick 1: stereo fixes the blue object 1 m ahead, 0.1 m in radius.
+  s.stereo_valid = true;
+  for (auto& st : s.stimulus) st.seen = true, st.half_width = std::asin(0.1);
+  s.stimulus_world = s.stimulus_base = Vec2(1.0, 0.0);
+  Percepts with_map, without_map;
+  with_map.update(s, robot, &objects, &blue);
+  without_map.update(s, robot);
+  REQUIRE(with_map.object.seen);
+  REQUIRE_FALSE(with_map.object.by_touch);
+  REQUIRE(with_map.remembered.radius == Approx(0.1));
+
+  // Tick 2: the eyes lose it, and the body bumps the yellow object at (0.3, 0.3).
+  s.time = 0.02;
+  s.stereo_valid = false;
+  auto touch = [&](int sensor, int index, const Vec2& point, const Vec2& normal) {
+    Touch& t = s.touch[size_t(sensor)];
+    t.contact = true, t.kind = SurfaceKind::kObject, t.index = index, t.point = point, t.normal = normal;
+  };
+  touch(kBody, 1, Vec2(0.3, 0.3), Vec2(-1.0, 0.0));
+  with_map.update(s, robot, &objects, &blue);
+  without_map.update(s, robot);
+  CHECK(with_map.touched_object == 1);
+  CHECK_FALSE(with_map.object.seen);  // nothing perceived this tick: vision lost it, touch is not it
+  CHECK(with_map.felt_object == -1);
+  CHECK(with_map.remembered.center.isApprox(Vec2(1.0, 0.0)));
+  // Without the map and the colour, whatever is touched most is taken for the object.
+  CHECK(without_map.object.by_touch);
+  CHECK(without_map.object.center.isApprox(Vec2(0.4, 0.3)));
+
+  // Tick 3: the body and the left hand touch the blue object: touch locates it.
+  s.time = 0.04;
+  s.touch = {};
+  touch(kBody, 0, Vec2(0.9, 0.0), Vec2(-1.0, 0.0));
+  touch(kLeftHand, 0, Vec2(1.0, 0.1), Vec2(0.0, 1.0));
+  with_map.update(s, robot, &objects, &blue);
+  REQUIRE(with_map.object.by_touch);
+  CHECK(with_map.felt_object == 0);
+  CHECK(with_map.object.center.isApprox(Vec2(1.0, 0.0)));
+
+  // Tick 4: the other blue object is touched by two sensors, the held one by the body alone: the
+  // held one stays the object.
+  s.time = 0.06;
+  s.touch = {};
+  touch(kBody, 0, Vec2(0.9, 0.0), Vec2(-1.0, 0.0));
+  touch(kLeftHand, 2, Vec2(1.2, 0.5), Vec2(0.0, -1.0));
+  touch(kRightHand, 2, Vec2(1.3, 0.4), Vec2(-1.0, 0.0));
+  with_map.update(s, robot, &objects, &blue);
+  CHECK(with_map.touched_object == 2);
+  CHECK(with_map.felt_object == 0);
+  CHECK(with_map.object.center.isApprox(Vec2(1.0, 0.0)));
+
+  // Tick 5: the held one is let go: the blue object touched is now the one located.
+  s.time = 0.08;
+  s.touch[size_t(kBody)] = Touch{};
+  with_map.update(s, robot, &objects, &blue);
+  CHECK(with_map.felt_object == 2);
+}

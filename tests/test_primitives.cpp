@@ -613,7 +613,7 @@ struct TurnedInput {
     senses = *in.senses;
     senses.q[kBaseHeading] += shift;
     senses.base.theta += shift;
-    percepts.update(senses, *in.robot);  // keeps its own memory, as the agent's does
+    percepts.update(senses, *in.robot, in.objects, &in.attention->colour);  // keeps its own memory, as the agent's does
     spec = *in.spec;
     for (auto& o : spec.objects) o.pose.theta += shift;
     next_attention = *in.attention;
@@ -651,7 +651,7 @@ TEST_CASE("every primitive and composite commands the same when the heading and 
     int compared = 0, states_differ = 0;
     for (int tick = 0; tick < 400; ++tick) {  // 8 s: search, approach, grasp and part of the carry
       ControlInput in = agent.input();
-      reference_percepts.update(*in.senses, *in.robot);
+      reference_percepts.update(*in.senses, *in.robot, in.objects, &in.attention->colour);
       reference_attention = *in.attention;
       in.percepts = &reference_percepts;
       in.next_attention = &reference_attention;

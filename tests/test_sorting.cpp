@@ -186,6 +186,15 @@ TEST_CASE("sorting: one hand-written policy sorts 4 and 8 objects, its time limi
   CHECK(eight >= 17);
 }
 
+// A bystander is not the object: in 4-object seed 300050 the eyes lost the triangle behind the
+// pentagon while phi3 closed in, the body bumped the pentagon, and touch took it for the triangle;
+// the grasp closed on it and the creeping body shoved it 3 m across the arena into the wall, where
+// no grasp could take it again (a time-out at 120 s). Touch now locates only an object of the
+// stimulus colour (Percepts::update).
+TEST_CASE("sorting: a grasp does not close on a bystander of another colour and shove it away", "[sorting]") {
+  CHECK(sorted_by_hand(4, 0, 300050, 1) == 1);
+}
+
 namespace {
 
 // An 8-object sorting world (seed 3, the cycle mix) with both its circles (1 and 5) lying in the

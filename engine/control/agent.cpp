@@ -87,7 +87,7 @@ void Agent::refresh_objects() {
 
 void Agent::refresh_input() {
   refresh_objects();
-  percepts_.update(world_.senses(), world_.params().robot);
+  percepts_.update(world_.senses(), world_.params().robot, &objects_, &world_.attention().colour);
   input_.senses = &world_.senses();
   input_.percepts = &percepts_;
   input_.robot = &world_.params().robot;

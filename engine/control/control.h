@@ -47,6 +47,8 @@ struct VisualObject {
   double radius = 0.0;           // half the angular width times the range
 };
 
+struct MapObject;
+
 // Per-tick facts shared by every controller, computed once (see Percepts::update).
 struct Percepts {
   VisualObject object;                   // what the eyes say
@@ -57,8 +59,15 @@ struct Percepts {
   std::array<ArmPoints, 2> arms;         // forward kinematics from the joint senses
   bool contact_on_object[kTactileCount] = {false, false, false};  // touch on an object
   int touched_object = -1;               // the object touched by most sensors, or -1
-  // Recomputes from this tick's senses.
-  void update(const Senses& senses, const RobotParams& robot);
+  int felt_object = -1;                  // the object touch located this tick (see update), or -1
+  // Recomputes from this tick's senses. With the map of objects and the stimulus colour, touch
+  // locates only an object of that colour (see update); without them, whatever it touches most.
+  void update(const Senses& senses, const RobotParams& robot,
+              const std::vector<MapObject>* objects = nullptr, const Colour* stimulus = nullptr);
+
+ private:
+  int felt_object_of(const Senses& senses, const std::vector<MapObject>* objects,
+                     const Colour* stimulus) const;
 };
 
 // An object as the map of movable objects has it: Roger is given this map as it is given the
