@@ -175,7 +175,7 @@ int sorted_by_hand(int objects, int obstacles, uint64_t first, int n) {
 }  // namespace
 
 // One hand-written policy for any number of objects, judged by the world (roger.sorted), within
-// 30 simulated seconds per object: the bar, 17 of 20 with eight objects (today 19 of
+// 30 simulated seconds per object: the bar, 17 of 20 with eight objects (today all 20 of
 // seeds 60000-60019, and all 10 with four). docs/results.md, Sorting, gives the held-out rates and
 // what still fails.
 TEST_CASE("sorting: one hand-written policy sorts 4 and 8 objects, its time limit per object", "[sorting]") {
