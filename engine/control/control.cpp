@@ -18,6 +18,30 @@ const char* gamma_name(Gamma g) {
   return "?";
 }
 
+namespace {
+
+// How many touch sensors are on object i (`on`: which sensors touch an object at all).
+int contacts_on(const Senses& s, const bool (&on)[kTactileCount], int i) {
+  int n = 0;
+  for (int t = 0; t < kTactileCount; ++t) n += on[t] && s.touch[t].index == i;
+  return n;
+}
+
+// The object most sensors touch among those `eligible` accepts (the lowest index on a tie), or -1.
+template <class Eligible>
+int most_touched(const Senses& s, const bool (&on)[kTactileCount], Eligible eligible) {
+  int best = -1, most = 0;
+  for (int t = 0; t < kTactileCount; ++t) {
+    const int i = s.touch[t].index;
+    if (!on[t] || i < 0 || !eligible(i)) continue;
+    const int n = contacts_on(s, on, i);
+    if (n > most || (n == most && i < best)) most = n, best = i;
+  }
+  return best;
+}
+
+}  // namespace
+
 void Percepts::update(const Senses& s, const RobotParams& robot, const std::vector<MapObject>* objects,
                       const Colour* stimulus) {
   object = VisualObject{};
@@ -38,20 +62,12 @@ void Percepts::update(const Senses& s, const RobotParams& robot, const std::vect
   for (int side = 0; side < 2; ++side)
     arms[side] = arm_forward_kinematics(robot, s.base, side, s.q[kLeftShoulder + 2 * side],
                                         s.q[kLeftElbow + 2 * side]);
-  touched_object = -1;
   for (int t = 0; t < kTactileCount; ++t) {
     const Touch& touch = s.touch[t];
     contact_on_object[t] = touch.contact && touch.kind == SurfaceKind::kObject;
   }
   // The object most sensors touch (the lowest index on a tie), whatever the number of objects.
-  int best = 0;
-  for (int t = 0; t < kTactileCount; ++t) {
-    const int i = s.touch[t].index;
-    if (!contact_on_object[t] || i < 0) continue;
-    int votes = 0;
-    for (int u = 0; u < kTactileCount; ++u) votes += contact_on_object[u] && s.touch[u].index == i;
-    if (votes > best || (votes == best && i < touched_object)) best = votes, touched_object = i;
-  }
+  touched_object = most_touched(s, contact_on_object, [](int) { return true; });
   // Close up, vision is poor (the object fills the eyes' view, and a polygon shows each eye other
   // corners) but touch knows where the surface is: each contact on the object puts its centre one
   // (visually estimated) radius behind the contact point, against the contact normal.
@@ -84,21 +100,10 @@ void Percepts::update(const Senses& s, const RobotParams& robot, const std::vect
 int Percepts::felt_object_of(const Senses& s, const std::vector<MapObject>* objects,
                              const Colour* stimulus) const {
   if (!objects || !stimulus) return touched_object;
-  auto touches = [&](int i) {
-    int n = 0;
-    for (int t = 0; t < kTactileCount; ++t) n += contact_on_object[t] && s.touch[t].index == i;
-    return n;
-  };
-  if (felt_object >= 0 && touches(felt_object) > 0) return felt_object;
-  int best = -1, most = 0;
-  for (int t = 0; t < kTactileCount; ++t) {
-    const int i = s.touch[t].index;
-    if (!contact_on_object[t] || i < 0 || size_t(i) >= objects->size()) continue;
-    if (!((*objects)[size_t(i)].colour == *stimulus)) continue;
-    const int n = touches(i);
-    if (n > most || (n == most && i < best)) most = n, best = i;
-  }
-  return best;
+  if (felt_object >= 0 && contacts_on(s, contact_on_object, felt_object) > 0) return felt_object;
+  return most_touched(s, contact_on_object, [&](int i) {
+    return size_t(i) < objects->size() && (*objects)[size_t(i)].colour == *stimulus;
+  });
 }
 
 void Controller::reset(uint64_t) {
