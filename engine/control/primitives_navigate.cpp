@@ -170,8 +170,8 @@ class Navigate final : public Primitive {
 
   // ---- The map: the static grid and the other objects ----
 
-  // Which objects are obstacles this tick: every object but the one approached (the nearest to
-  // `target`, the perceived object) or carried (the one Roger touches, or else the one at the
+  // Which objects are obstacles this tick: every object but the one approached (the object of the
+  // stimulus colour nearest to `target`, the perceived object) or carried (the one Roger touches, or else the one at the
   // control point: a contact that lapses for a tick must not turn the carried object into an
   // obstacle and back). With neither to go by (a region's navigator asked for its state before
   // anything is held; a target no object is near), every object of the stimulus colour not yet put
@@ -187,23 +187,29 @@ class Navigate final : public Primitive {
     auto near = [&](int i, const Vec2& p, double slack) {
       return (objects[size_t(i)].center - p).norm() <= objects[size_t(i)].radius + slack;
     };
-    auto nearest_to = [&](const Vec2& p) {
-      if (left_out_ >= 0 && near(left_out_, p, 2.0 * kTargetSlack)) return left_out_;
+    // Approaching, only an object of the stimulus colour is what Roger is after: a neighbour of
+    // another colour nearer the perception (one half hiding the other biases stereo towards the
+    // nearer) stays an obstacle. Carrying, the object is whichever is held, as touch says.
+    auto nearest_to = [&](const Vec2& p, bool stimulus_only) {
+      auto sought = [&](int i) {
+        return !stimulus_only || !in.attention || objects[size_t(i)].colour == in.attention->colour;
+      };
+      if (left_out_ >= 0 && sought(left_out_) && near(left_out_, p, 2.0 * kTargetSlack)) return left_out_;
       double best = 1e300;
       int found = -1;
       for (size_t i = 0; i < objects.size(); ++i) {
         const double d = (objects[i].center - p).norm();
-        if (near(int(i), p, kTargetSlack) && d < best) best = d, found = int(i);
+        if (sought(int(i)) && near(int(i), p, kTargetSlack) && d < best) best = d, found = int(i);
       }
       return found;
     };
     int chosen = -1;
     if (target) {
-      chosen = nearest_to(*target);
+      chosen = nearest_to(*target, true);
     } else if (in.percepts->touched_object >= 0 && size_t(in.percepts->touched_object) < objects.size()) {
       chosen = in.percepts->touched_object;
     } else if (value(p_.carry) > 0.05) {
-      chosen = nearest_to(control_point(in));
+      chosen = nearest_to(control_point(in), false);
     }
     left_out_ = chosen;
     if (chosen >= 0) {
