@@ -758,6 +758,46 @@ TEST_CASE("phi1 keeps a neighbour of another colour an obstacle when it half hid
   }
 }
 
+TEST_CASE("phi1 delivers into a region that the objects put away there fill on the grid",
+          "[primitives][planner]") {
+  // A blue disk lies at the centre of a goal region of radius 0.6 m. With the sorting curricula's
+  // carrying settings (goal cells 0.2 m inside the edge, other objects grown by 0.25 m) its grown
+  // disk covers every goal cell, and phi1 was NOREF: the next object of the type could not be
+  // delivered (8-object development seed 511029). The region's objects are then stamped at their
+  // own size, and the base reaches the region beside the disk without shoving it out.
+  WorldSpec spec = open_world(false);
+  GoalRegion region;
+  region.center = Vec2(1.2, 0.0);
+  region.radius = 0.6;
+  spec.goals.push_back(region);
+  ObjectSpec put_away;
+  put_away.name = "blue";
+  put_away.shape = ball_shape(0.2);
+  put_away.colour = Colour{40, 80, 220};
+  put_away.pose = {1.2, 0.0, 0.0};
+  spec.objects.push_back(put_away);
+  spec.robot.pose = {-1.0, 0.3, 0.0};
+  auto phi1 = make_primitive("phi1");
+  phi1->set_text("goal", "region");
+  phi1->set_number("margin", 0.2);
+  phi1->set_number("objects", 0.25);
+  Agent agent;
+  agent.reset(spec);
+  phi1->reset(1);
+  bool noref = false, arrived = false;
+  for (int t = 0; t < 400 && !arrived; ++t) {
+    agent.step(*phi1);
+    const Gamma g = phi1->evaluate(agent.input()).gamma;
+    noref |= g == Gamma::kNoRef;
+    arrived = g == Gamma::kConv;
+  }
+  const Pose o = agent.world().object_pose(0);
+  INFO("blue disk at (" << o.x << ", " << o.y << ")");
+  CHECK_FALSE(noref);
+  CHECK(arrived);
+  CHECK(std::hypot(o.x - 1.2, o.y) < 0.6 - 0.2);  // still well inside its region
+}
+
 TEST_CASE("a search with no stimulus left ends NOREF within one scan, and finds one that comes into view",
           "[primitives]") {
   for (uint64_t seed = 0; seed < 10; ++seed) {

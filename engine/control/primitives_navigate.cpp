@@ -55,6 +55,7 @@ class Navigate final : public Primitive {
     planned_ = false;
     stamps_.clear();
     left_out_ = -1;
+    bare_region_ = -1;
     // The grid often outlives the episode (the same arena), and with it the last solution, which
     // the next solve would start from: an episode would then depend on the one before it.
     planner_.forget_solution();
@@ -130,6 +131,10 @@ class Navigate final : public Primitive {
     // A binding may name the region (ControlInput::region) instead of the parameter.
     const size_t k = in.region >= 0 ? size_t(in.region) : size_t(value(p_.region));
     if (k >= in.spec->goals.size()) return false;
+    if (bare_region_ >= 0 && size_t(bare_region_) != k) {
+      bare_region_ = -1;  // another region: the objects put away in the last are grown again
+      if (grid_ == in.grid) build_map();
+    }
     const bool map_changed = update_map(in, nullptr);
     // The region is fixed while the region is: set it once (the planner would notice that
     // nothing changed, but finding the goal cells each tick is not free).
@@ -140,7 +145,21 @@ class Navigate final : public Primitive {
       goal_radius_ = in.spec->goals[k].radius;
       planner_.set_goal(goal_center_, std::max(0.5 * in.grid->cell, goal_radius_ - value(p_.margin)));
     }
+    // A region whose every goal cell lies under the growth of objects already put away in it is
+    // full only for the grid, not for the floor: the next of the type goes in beside them. From
+    // then on, for this navigator, the objects in that region are stamped at their own size.
+    if (planner_.goal_cells() == 0 && bare_region_ < 0 && grown_in_region(int(k))) {
+      bare_region_ = int(k);
+      build_map();  // set_grid finds the goal cells again on the new grid
+    }
     return solve ? planner_.update() : planner_.update_reachability();
+  }
+
+  // Whether an obstacle object lying in region k is stamped with its growth.
+  bool grown_in_region(int k) const {
+    for (const Stamp& st : stamps_)
+      if (st.on && st.region == k && st.grown > st.radius) return true;
+    return false;
   }
 
   // The approach ring around the perceived object (goal='object'); false when the object is not
@@ -246,18 +265,29 @@ class Navigate final : public Primitive {
     for (size_t i = 0; i < objects.size(); ++i) {
       Stamp& st = stamps_[i];
       const bool on = wanted_[i] != 0;
-      if (st.on == on && (!on || (st.center - objects[i].center).norm() <= in.grid->cell)) continue;
+      // Which region an object lies in matters only to a region stamped at the objects' own size.
+      const bool region_same = bare_region_ < 0 || st.region == objects[i].region;
+      if (st.on == on && region_same && (!on || (st.center - objects[i].center).norm() <= in.grid->cell))
+        continue;
       st.on = on;
       st.center = objects[i].center;
-      st.radius = objects[i].radius + grow;
+      st.radius = objects[i].radius;
+      st.grown = objects[i].radius + grow;
+      st.region = objects[i].region;
       changed = true;
     }
     if (!changed) return false;
-    map_ = *in.grid;
-    for (const Stamp& st : stamps_)
-      if (st.on) stamp_disk(st.center, st.radius);
-    planner_.set_grid(map_);
+    build_map();
     return true;
+  }
+
+  // The planner's grid from the static grid and the stamps: each obstacle object a disk of its
+  // grown radius, or of its own in the region bare_region_.
+  void build_map() {
+    map_ = *grid_;
+    for (const Stamp& st : stamps_)
+      if (st.on) stamp_disk(st.center, st.region >= 0 && st.region == bare_region_ ? st.radius : st.grown);
+    planner_.set_grid(map_);
   }
 
   // Marks the cells of map_ whose centres lie within `radius` (plus half a cell, as the static
@@ -346,7 +376,9 @@ class Navigate final : public Primitive {
   struct Stamp {
     bool on = false;
     Vec2 center = Vec2::Zero();
-    double radius = 0.0;
+    double radius = 0.0;  // the object's own
+    double grown = 0.0;   // grown by `objects`
+    int region = -1;      // the goal region holding its centre, or -1
   };
   static constexpr double kTargetSlack = 0.3;  // m beyond its radius a perceived target may lie
 
@@ -356,6 +388,7 @@ class Navigate final : public Primitive {
   std::vector<Stamp> stamps_;            // per object, what map_ holds of it
   std::vector<uint8_t> wanted_;          // scratch: which objects are obstacles this tick
   int left_out_ = -1;                    // the object approached or carried, last tick
+  int bare_region_ = -1;                 // a goal region whose objects are stamped ungrown, or -1
   bool planned_ = false;
   size_t planned_region_ = 0;  // the goal region planned for (goal='region')
   Vec2 goal_center_ = Vec2::Zero();
