@@ -190,12 +190,12 @@ class Navigate final : public Primitive {
   // ---- The map: the static grid and the other objects ----
 
   // Which objects are obstacles this tick: every object but the one approached (the object of the
-  // stimulus colour nearest to `target`, the perceived object) or carried (the one Roger touches, or else the one at the
-  // control point: a contact that lapses for a tick must not turn the carried object into an
-  // obstacle and back). With neither to go by (a region's navigator asked for its state before
-  // anything is held; a target no object is near), every object of the stimulus colour not yet put
-  // away is left out: those are what Roger is after. An object stays an obstacle wherever it lies,
-  // in a goal region too.
+  // stimulus colour nearest to `target`, the perceived object) or carried (the one Roger touches,
+  // or else the one at the control point: a contact that lapses for a tick must not turn the
+  // carried object into an obstacle and back). With neither to go by (a region's navigator asked
+  // for its state before anything is held; a target no object of the stimulus colour is near),
+  // every object of the stimulus colour not yet put away is left out: those are what Roger is
+  // after. An object stays an obstacle wherever it lies, in a goal region too.
   // The object the one left out stays, while the perception still lies near it: two objects of the
   // stimulus colour side by side (stereo may pair one eye's view of one with the other eye's view
   // of the other) must not swap in and out of the grid every tick, each swap a solve.
