@@ -155,10 +155,11 @@ class Navigate final : public Primitive {
     return solve ? planner_.update() : planner_.update_reachability();
   }
 
-  // Whether an obstacle object lying in region k is stamped with its growth.
+  // Whether an obstacle object lying in region k is stamped with a growth.
   bool grown_in_region(int k) const {
+    if (!(value(p_.objects) > 0.0)) return false;
     for (const Stamp& st : stamps_)
-      if (st.on && st.region == k && st.grown > st.radius) return true;
+      if (st.on && st.region == k) return true;
     return false;
   }
 
@@ -272,7 +273,6 @@ class Navigate final : public Primitive {
       st.on = on;
       st.center = objects[i].center;
       st.radius = objects[i].radius;
-      st.grown = objects[i].radius + grow;
       st.region = objects[i].region;
       changed = true;
     }
@@ -282,11 +282,12 @@ class Navigate final : public Primitive {
   }
 
   // The planner's grid from the static grid and the stamps: each obstacle object a disk of its
-  // grown radius, or of its own in the region bare_region_.
+  // radius grown by `objects`, or of its own radius in the region bare_region_.
   void build_map() {
     map_ = *grid_;
+    const double grow = value(p_.objects);
     for (const Stamp& st : stamps_)
-      if (st.on) stamp_disk(st.center, st.region >= 0 && st.region == bare_region_ ? st.radius : st.grown);
+      if (st.on) stamp_disk(st.center, st.region >= 0 && st.region == bare_region_ ? st.radius : st.radius + grow);
     planner_.set_grid(map_);
   }
 
@@ -376,8 +377,7 @@ class Navigate final : public Primitive {
   struct Stamp {
     bool on = false;
     Vec2 center = Vec2::Zero();
-    double radius = 0.0;  // the object's own
-    double grown = 0.0;   // grown by `objects`
+    double radius = 0.0;  // the object's own (build_map grows it)
     int region = -1;      // the goal region holding its centre, or -1
   };
   static constexpr double kTargetSlack = 0.3;  // m beyond its radius a perceived target may lie
