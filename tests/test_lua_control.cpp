@@ -305,7 +305,7 @@ TEST_CASE("primitive parameters reach the C++ controllers", "[lua_control]") {
   CHECK(both->steps()[0]->name() == "slow");
 
   CHECK_THAT(lua.error("roger.primitive('phi1', {goal = 'home'})").what(),
-             Contains("parameter 'goal' must be one of object, region, got 'home'"));
+             Contains("parameter 'goal' must be one of object, region, elsewhere, got 'home'"));
   CHECK_THAT(lua.error("roger.primitive('phi0', {epsilon = 1/0})").what(),
              Contains("parameter 'epsilon' must be a finite number in [0, 1000000], got inf"));
   CHECK_THAT(lua.error("roger.primitive('phi0', {0.1})").what(),

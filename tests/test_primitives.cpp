@@ -835,3 +835,129 @@ TEST_CASE("a search with no stimulus left ends NOREF within one scan, and finds 
   CHECK(found >= 0.0);
   CHECK_FALSE(noref);
 }
+
+namespace {
+
+// One run of a goal='elsewhere' navigator, from wherever the agent stands, until it is CONV or
+// NOREF or `seconds` pass: where it set out, where it ended, and how it ended.
+struct ElsewhereRun {
+  Vec2 from = Vec2::Zero(), to = Vec2::Zero();
+  Gamma gamma = Gamma::kNotConv;
+};
+
+ElsewhereRun run_elsewhere(Agent& agent, Controller& phi1, double seconds) {
+  ElsewhereRun r;
+  const Pose start = agent.world().base_pose();
+  r.from = Vec2(start.x, start.y);
+  const int ticks = int(seconds / agent.world().tick_seconds());
+  for (int t = 0; t < ticks && r.gamma == Gamma::kNotConv; ++t) {
+    agent.step(phi1);
+    r.gamma = phi1.state(agent.input());
+  }
+  const Pose end = agent.world().base_pose();
+  r.to = Vec2(end.x, end.y);
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("phi1 goes elsewhere: away from a place looked from, each time to a new vantage point",
+          "[primitives][planner]") {
+  // A 6 x 6 m room with three blue objects and nothing of the stimulus colour (red) to see. A run
+  // is a stretch of ticks on which the navigator runs; a tick of something else ends it. The first
+  // run notes the place and ends at once; each run that begins where the last ended, nothing seen
+  // since, drives at least `away` off, around the objects.
+  for (uint64_t seed = 0; seed < 5; ++seed) {
+    INFO("seed " << seed);
+    WorldSpec spec = open_world(false);
+    spec.arena = ArenaSpec{-3.0, 3.0, -3.0, 3.0};
+    for (const Vec2 at : {Vec2(0.8, 0.6), Vec2(-1.0, 1.2), Vec2(1.5, -1.4)}) {
+      ObjectSpec o;
+      o.name = "other";
+      o.shape = ball_shape(0.2);
+      o.colour = Colour{40, 80, 220};
+      o.pose = {at.x(), at.y(), 0.0};
+      spec.objects.push_back(o);
+    }
+    spec.robot.pose = {-1.5, -1.5, 0.3 * double(seed)};
+    auto phi1 = make_primitive("phi1");
+    phi1->set_text("goal", "elsewhere");
+    phi1->set_number("away", 2.0);
+    auto other = make_primitive("phi4");  // anything else, for one tick: the run ends
+    Agent agent;
+    agent.reset(spec);
+    phi1->reset(seed);
+    other->reset(seed);
+    // Not yet run: somewhere to go (!CONV), nothing planned.
+    CHECK(phi1->state(agent.input()) == Gamma::kNotConv);
+    // A place not looked from: the run ends at once, where it began.
+    const ElsewhereRun here = run_elsewhere(agent, *phi1, 15.0);
+    CHECK(here.gamma == Gamma::kConv);
+    CHECK((here.to - here.from).norm() < 0.05);
+    std::vector<Vec2> ends;
+    for (int run = 0; run < 2; ++run) {
+      agent.step(*other);
+      CHECK(phi1->state(agent.input()) == Gamma::kNotConv);  // between runs
+      const ElsewhereRun away = run_elsewhere(agent, *phi1, 15.0);
+      INFO("run " << run << " from " << away.from.transpose() << " to " << away.to.transpose());
+      CHECK(away.gamma == Gamma::kConv);
+      CHECK((away.to - away.from).norm() > 2.0 - 0.3 - 0.1);  // the goal disk is 0.3 m round the point
+      ends.push_back(away.to);
+    }
+    // Every object where it was: the planner's grid holds them all, none is sought.
+    for (size_t k = 0; k < spec.objects.size(); ++k) {
+      const Pose o = agent.world().object_pose(int(k));
+      CHECK(std::hypot(o.x - spec.objects[k].pose.x, o.y - spec.objects[k].pose.y) < 0.01);
+    }
+    // The same seed, the same runs: the same vantage point.
+    Agent again;
+    again.reset(spec);
+    phi1->reset(seed);
+    run_elsewhere(again, *phi1, 15.0);
+    again.step(*other);
+    CHECK((run_elsewhere(again, *phi1, 15.0).to - ends[0]).norm() < 1e-9);
+  }
+}
+
+TEST_CASE("phi1 going elsewhere stays where the eyes have had a stimulus since the last run",
+          "[primitives][planner]") {
+  // The red ball straight ahead: from here something is to be seen, so no run leaves.
+  WorldSpec spec = open_world(true, Vec2(1.0, 0.0));
+  spec.arena = ArenaSpec{-3.0, 3.0, -3.0, 3.0};
+  auto phi1 = make_primitive("phi1");
+  phi1->set_text("goal", "elsewhere");
+  auto other = make_primitive("phi4");
+  Agent agent;
+  agent.reset(spec);
+  phi1->reset(0);
+  for (int run = 0; run < 3; ++run) {
+    INFO("run " << run);
+    const ElsewhereRun r = run_elsewhere(agent, *phi1, 5.0);
+    CHECK(r.gamma == Gamma::kConv);
+    CHECK((r.to - r.from).norm() < 0.05);
+    agent.step(*other);
+    REQUIRE(agent.input().percepts->object.seen);
+    CHECK(phi1->state(agent.input()) == Gamma::kNotConv);  // asked between runs: it sees the ball
+  }
+}
+
+TEST_CASE("phi1 going elsewhere is NOREF where the base can reach no other place", "[primitives][planner]") {
+  // A ring of posts round the base: no free cell beyond it is joined to the base's.
+  WorldSpec spec = open_world(false);
+  spec.robot.pose = {0.0, 0.0, 0.0};
+  for (int k = 0; k < 20; ++k) {
+    ObstacleSpec post;
+    post.shape = ball_shape(0.12);
+    post.pose = {0.75 * std::cos(k * M_PI / 10), 0.75 * std::sin(k * M_PI / 10), 0.0};
+    spec.obstacles.push_back(post);
+  }
+  auto phi1 = make_primitive("phi1");
+  phi1->set_text("goal", "elsewhere");
+  auto other = make_primitive("phi4");
+  Agent agent;
+  agent.reset(spec);
+  phi1->reset(0);
+  CHECK(run_elsewhere(agent, *phi1, 2.0).gamma == Gamma::kConv);  // the place is noted
+  agent.step(*other);
+  CHECK(run_elsewhere(agent, *phi1, 2.0).gamma == Gamma::kNoRef);  // and there is nowhere else
+}

@@ -6,6 +6,7 @@
 
 #include "control/planner.h"
 #include "control/primitives_internal.h"
+#include "core/rng.h"
 #include "core/shape.h"
 
 namespace roger {
@@ -14,16 +15,18 @@ namespace {
 
 // phi1: the harmonic-function path planner. A control point (the base centre, or a point carried
 // ahead of it such as a grasped object) descends the harmonic potential to the goal: an approach
-// ring around the perceived object, or a goal region of the scenario.
+// ring around the perceived object, a goal region of the scenario, or a vantage point elsewhere.
 class Navigate final : public Primitive {
   // Where the constructor declared each parameter: reading one is an index, not a name search.
   struct {
-    ParamSlot goal = 0, region = 0, approach = 0, carry = 0, speed = 0,
-        carry_turn = 0, memory = 0, margin = 0, replan = 0, tolerance = 0, depth = 0, objects = 0;
+    ParamSlot goal = 0, region = 0, approach = 0, carry = 0, speed = 0, carry_turn = 0, memory = 0,
+        margin = 0, replan = 0, tolerance = 0, depth = 0, objects = 0, away = 0;
   } p_;
+  enum class GoalKind { kObject, kRegion, kElsewhere };
  public:
   Navigate() : Primitive("phi1", 0.05) {
-    p_.goal = declare_text("goal", {"object", "region"}, "approach the perceived object, or reach a goal region");
+    p_.goal = declare_text("goal", {"object", "region", "elsewhere"},
+                           "approach the perceived object, reach a goal region, or go and look from elsewhere");
     p_.region = declare("region", 0, 0, 63, "which goal region (index into the scenario's goals) for goal='region'");
     // 0.58, not 0.62: from a ring 4 cm nearer, phi2 has less to travel to its standoff, and the
     // hand-written task in cluttered worlds loses fewer triangles to a preshape that pushes the
@@ -44,10 +47,12 @@ class Navigate final : public Primitive {
     // 0.4 and 0.5 on 8-object sorting).
     p_.objects = declare("objects", 0.4, 0.0, 2.0,
                          "how far (m) other objects are grown as obstacles (0: objects are not obstacles)");
+    p_.away = declare("away", 2.0, 0.2, 50.0,
+                      "how far (m) from where it set out a goal='elsewhere' run's vantage point lies, at least");
     on_params_changed();
   }
   Navigate(const Navigate& o)
-      : Primitive(o), p_(o.p_), planner_(planner_params()), to_region_(o.to_region_) {}
+      : Primitive(o), p_(o.p_), planner_(planner_params()), goal_kind_(o.goal_kind_) {}
   PrimitivePtr clone() const override { return std::make_shared<Navigate>(*this); }
   void reset(uint64_t seed) override {
     Primitive::reset(seed);
@@ -61,12 +66,18 @@ class Navigate final : public Primitive {
     planner_.forget_solution();
     turn_sign_ = 0;
     blocked_time_ = 0.0;
+    rng_.reseed(Rng::mix(seed, 0xe15e4e7e));
+    trip_ = Trip::kNone;
+    looked_from_valid_ = seen_since_run_ = false;
+    executed_tick_ = drawn_tick_ = UINT64_MAX;
   }
+  void executed(const ControlInput& in) override { executed_tick_ = in.tick; }
 
  protected:
   // A new tolerance needs a new planner.
   void on_params_changed() override {
-    to_region_ = choice(p_.goal) == "region";
+    const std::string& goal = choice(p_.goal);
+    goal_kind_ = goal == "region" ? GoalKind::kRegion : goal == "elsewhere" ? GoalKind::kElsewhere : GoalKind::kObject;
     PlannerParams p = planner_params();
     if (p.tolerance != planner_.params().tolerance) {
       planner_ = HarmonicPlanner(p);
@@ -122,7 +133,7 @@ class Navigate final : public Primitive {
 
   // Sets the planner's grid and goal for this tick; false when there is no goal.
   bool prepare(const ControlInput& in, bool solve) {
-    if (to_region_) return prepare_region(in, solve);
+    if (goal_kind_ == GoalKind::kRegion) return prepare_region(in, solve);
     return prepare_object(in, solve);
   }
 
@@ -188,6 +199,109 @@ class Navigate final : public Primitive {
     return solve ? planner_.update() : planner_.update_reachability();
   }
 
+  // goal='elsewhere': away from a place where looking shows nothing. A run (a tick on which it runs
+  // after one on which it did not) that begins within kSameSpot of where the last run ended, the
+  // eyes having had no stimulus since (as its state was asked between runs), draws a vantage point
+  // at random (from the seed) among the free cells the base can reach at least `away` metres off
+  // (the farthest it can reach, if none is that far) and drives there. Any other run notes the
+  // place and is CONV at once: Roger has not looked from there yet, or saw something from there.
+  // A chooser that runs it after each round of searches then leaves only a place from which two
+  // rounds saw nothing. A drive that makes no headway for kStuckSeconds gives up (NOREF).
+  void classify_elsewhere(const ControlInput& in, bool solve, const Vec2& point, ControlOutput& out,
+                          Gamma& gamma) {
+    out.residual = 0.0;
+    if (!continuing_run(in) && !solve) {
+      // Between runs: somewhere to go whenever it runs, and no planning; only what the eyes see.
+      seen_since_run_ |= in.percepts->object.seen;
+      gamma = Gamma::kNotConv;
+      return;
+    }
+    if (solve && !continuing_run(in) && drawn_tick_ != in.tick) begin_elsewhere(in, point);
+    if (trip_ == Trip::kStay || trip_ == Trip::kArrived) {
+      gamma = Gamma::kConv;
+      return;
+    }
+    if (trip_ == Trip::kNone || !prepare_elsewhere(in, solve) || !planner_.reachable(point)) {
+      gamma = Gamma::kNoRef;
+      return;
+    }
+    out.residual = goal_distance(point);
+    gamma = converged(point) ? Gamma::kConv : Gamma::kNotConv;
+    watch_trip(in, solve, point, out.residual, gamma);
+  }
+
+  // The first tick of a run: stay and note the place, or draw a vantage point away from it.
+  void begin_elsewhere(const ControlInput& in, const Vec2& base) {
+    drawn_tick_ = in.tick;
+    const bool saw = seen_since_run_;
+    seen_since_run_ = false;
+    if (saw || !looked_from_valid_ || (base - looked_from_).norm() > kSameSpot) {
+      looked_from_valid_ = true;
+      looked_from_ = base;
+      trip_ = Trip::kStay;
+      return;
+    }
+    update_map(in, nullptr);
+    trip_ = draw_vantage(base) ? Trip::kDriving : Trip::kNone;
+    if (trip_ == Trip::kNone) looked_from_ = base;
+    planned_ = false;
+    best_residual_ = INFINITY;
+    no_headway_ = 0.0;
+  }
+
+  // Ends a drive that arrived (whether its command or a look at its state finds it there) or,
+  // counted on its commands, makes no headway; where it ends is the place looked from next.
+  void watch_trip(const ControlInput& in, bool commanding, const Vec2& base, double residual, Gamma& gamma) {
+    if (commanding) {
+      if (residual < best_residual_ - kHeadway) best_residual_ = residual, no_headway_ = 0.0;
+      else no_headway_ += in.dt;
+    }
+    if (gamma == Gamma::kConv || no_headway_ > kStuckSeconds) {
+      trip_ = gamma == Gamma::kConv ? Trip::kArrived : Trip::kNone;
+      looked_from_ = base;
+      if (trip_ == Trip::kNone) gamma = Gamma::kNoRef;
+    }
+  }
+
+  // The drive's planner query: the vantage point on the grid with the objects as they lie.
+  bool prepare_elsewhere(const ControlInput& in, bool solve) {
+    if (update_map(in, nullptr) || !planned_) {
+      planned_ = true;
+      goal_center_ = vantage_;
+      goal_radius_ = kVantageRadius;
+      planner_.set_goal(goal_center_, goal_radius_);
+    }
+    return solve ? planner_.update() : planner_.update_reachability();
+  }
+
+  // Whether this tick continues a run: its command was applied on the tick before.
+  bool continuing_run(const ControlInput& in) const {
+    return executed_tick_ != UINT64_MAX && executed_tick_ + 1 == in.tick;
+  }
+
+  // Draws vantage_ from the cells of the planner's grid joined to the base's; false if none is.
+  bool draw_vantage(const Vec2& base) {
+    planner_.set_goal(base, kVantageRadius);
+    if (!planner_.update_reachability()) return false;
+    const OccupancyGrid& grid = planner_.grid();
+    const double away = value(p_.away);
+    int far = 0;
+    double farthest = -1.0;
+    vantages_.clear();
+    for (int j = 0; j < grid.ny; ++j)
+      for (int i = 0; i < grid.nx; ++i) {
+        const Vec2 c = grid.center(i, j);
+        if (grid.occupied[size_t(j) * grid.nx + i] || !planner_.reachable(c)) continue;
+        const double d = (c - base).norm();
+        if (d >= away) vantages_.push_back(c);
+        if (d > farthest) farthest = d, far = j * grid.nx + i;
+      }
+    if (farthest <= kVantageRadius) return false;  // nowhere to go but where it stands
+    vantage_ = vantages_.empty() ? grid.center(far % grid.nx, far / grid.nx)
+                                 : vantages_[size_t(rng_.integer(0, int64_t(vantages_.size()) - 1))];
+    return true;
+  }
+
   // ---- The map: the static grid and the other objects ----
 
   // Which objects are obstacles this tick: every object but the one approached (the object of the
@@ -236,7 +350,8 @@ class Navigate final : public Primitive {
       on[size_t(chosen)] = 0;
       return;
     }
-    if (!in.attention) return;
+    // Going elsewhere, nothing is sought: every object untouched is an obstacle.
+    if (!in.attention || goal_kind_ == GoalKind::kElsewhere) return;
     for (size_t i = 0; i < objects.size(); ++i) {
       const MapObject& o = objects[i];
       const bool put_away = o.region >= 0 && o.region == in.attention->ignore_region && !o.held;
@@ -311,6 +426,10 @@ class Navigate final : public Primitive {
   // the goal, !CONV on the way. With `solve`, the potential is brought up to date for the command.
   Vec2 classify(const ControlInput& in, bool solve, ControlOutput& out, Gamma& gamma) {
     const Vec2 point = control_point(in);
+    if (goal_kind_ == GoalKind::kElsewhere) {
+      classify_elsewhere(in, solve, point, out, gamma);
+      return point;
+    }
     if (!prepare(in, solve) || !planner_.reachable(point)) {
       gamma = Gamma::kNoRef;
       return point;
@@ -328,7 +447,7 @@ class Navigate final : public Primitive {
   // Whether the control point is within epsilon of the goal (`depth` inside a region's edge: a
   // carried object's centre is then inside the region, not merely at its edge).
   bool converged(const Vec2& p) const {
-    const double depth = to_region_ ? std::min(value(p_.depth), 0.9 * goal_radius_) : 0.0;
+    const double depth = goal_kind_ == GoalKind::kRegion ? std::min(value(p_.depth), 0.9 * goal_radius_) : 0.0;
     return (p - goal_center_).norm() <= goal_radius_ - depth + epsilon();
   }
 
@@ -393,7 +512,24 @@ class Navigate final : public Primitive {
   size_t planned_region_ = 0;  // the goal region planned for (goal='region')
   Vec2 goal_center_ = Vec2::Zero();
   double goal_radius_ = 0.0;
-  bool to_region_ = false;  // goal = 'region', read each tick (kept here, not compared as text)
+  GoalKind goal_kind_ = GoalKind::kObject;  // the `goal` parameter (kept here, not compared as text)
+  // goal='elsewhere': what this run does, decided on its first tick (begin_elsewhere).
+  enum class Trip { kNone, kStay, kDriving, kArrived };  // kNone: nowhere to go, or gave up
+  Trip trip_ = Trip::kNone;
+  Rng rng_{0};                             // draws the vantage points
+  Vec2 vantage_ = Vec2::Zero();            // where this run drives
+  bool looked_from_valid_ = false;
+  Vec2 looked_from_ = Vec2::Zero();        // where the last run ended: the place looked from
+  bool seen_since_run_ = false;            // the eyes had a stimulus between runs
+  double best_residual_ = INFINITY;        // the drive's nearest approach so far (m)
+  double no_headway_ = 0.0;                // s since it last came kHeadway nearer
+  std::vector<Vec2> vantages_;             // scratch: the cells a vantage point is drawn from
+  uint64_t executed_tick_ = UINT64_MAX;    // the last tick its command was applied
+  uint64_t drawn_tick_ = UINT64_MAX;       // the first tick of the current run
+  static constexpr double kVantageRadius = 0.3;  // m: the goal disk around a vantage point
+  static constexpr double kSameSpot = 0.5;       // m: a run beginning this near leaves the place
+  static constexpr double kHeadway = 0.1;        // m nearer that counts as headway
+  static constexpr double kStuckSeconds = 3.0;   // s without headway that end a drive
   int turn_sign_ = 0;  // a committed turn on the spot while carrying: +1 left, -1 right, 0 none
   double blocked_time_ = 0.0;  // seconds the committed turn has made no headway
   static constexpr double kTurnStalled = 0.1;   // rad/s: a turn slower than this makes no headway
