@@ -276,6 +276,30 @@ TEST_CASE("a policy asked only for its state runs none of its actions", "[contro
   CHECK(p.chosen() == 0);
 }
 
+TEST_CASE("a rotate fallback runs its actions in turn, passing at once over one that ends as its turn begins",
+          "[control]") {
+  // No table entry: the actions take turns, each until it has ended. An action that ends on the tick
+  // its turn begins (sorting.by_hand's phi1 going elsewhere, with no need to) costs no tick.
+  auto a = std::make_shared<Scripted>("a"), b = std::make_shared<Scripted>("b"),
+       c = std::make_shared<Scripted>("c");
+  a->command = DofVector::Unit(1), b->command = DofVector::Unit(2), c->command = DofVector::Unit(3);
+  Policy p({a, b, c}, std::vector<int>(27, -1), nullptr, Policy::kRotate);
+  p.reset(0);
+  CHECK(p.evaluate(at_tick(1)).command == a->command);  // a's turn
+  CHECK(p.evaluate(at_tick(2)).command == a->command);  // still !CONV: still a's
+  a->next = Gamma::kNoRef;                              // a has ended,
+  b->next = Gamma::kConv;                               // and b is done as soon as it is asked:
+  CHECK(p.evaluate(at_tick(3)).command == c->command);  // c runs on the very tick
+  CHECK(p.chosen() == 2);
+  CHECK(p.evaluate(at_tick(4)).command == c->command);
+  // c ends, and a and b would end at once: a (the next) runs for a tick, as the old rule had it.
+  c->next = Gamma::kNoRef;
+  CHECK(p.evaluate(at_tick(5)).command == a->command);
+  // A gap (another skill ran on tick 6): the turn begins again with the action in turn.
+  a->next = Gamma::kNotConv;
+  CHECK(p.evaluate(at_tick(7)).command == a->command);
+}
+
 TEST_CASE("a policy that rests when done runs nothing while its goal holds", "[control]") {
   auto a = std::make_shared<Scripted>("a"), goal = std::make_shared<Scripted>("goal");
   a->command = DofVector::Unit(1);

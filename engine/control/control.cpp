@@ -444,6 +444,23 @@ void Policy::reset(uint64_t seed) {
   chosen_tick_ = UINT64_MAX;
 }
 
+int Policy::next_in_turn(const ControlInput& in) {
+  const int n = int(actions_.size());
+  const bool ran = chosen_ == rotation_ && chosen_tick_ + 1 == in.tick;
+  if (ran && scratch_[size_t(rotation_)] == Gamma::kNotConv) return rotation_;  // still its turn
+  // The one in turn ran on the last tick and has ended: the next one's turn. A turn that begins
+  // with an action that ends as soon as it is evaluated (a phi1 going elsewhere with no need to)
+  // passes on at once, so that action costs the round no tick; each at most once a tick.
+  if (ran) rotation_ = (rotation_ + 1) % n;
+  const int first = rotation_;
+  for (int passed = 0; passed + 1 < n; ++passed) {
+    if (actions_[size_t(rotation_)]->evaluate(in).gamma == Gamma::kNotConv) return rotation_;
+    rotation_ = (rotation_ + 1) % n;
+  }
+  rotation_ = first;  // every other one ends at once too: the first of them runs, for a tick
+  return rotation_;
+}
+
 Gamma Policy::read_state(const ControlInput& in) {
   bool any_reference = false;
   for (size_t i = 0; i < actions_.size(); ++i) {
@@ -469,10 +486,7 @@ void Policy::compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_ra
   }
   const int entry = table_[size_t(gamma_state_index(scratch_))];
   if (entry < 0 && fallback_ == kRotate) {
-    // The one in turn ran on the last tick and has ended: the next one's turn.
-    const bool ran = chosen_ == rotation_ && chosen_tick_ + 1 == in.tick;
-    if (ran && scratch_[size_t(rotation_)] != Gamma::kNotConv) rotation_ = (rotation_ + 1) % int(actions_.size());
-    chosen_ = rotation_;
+    chosen_ = next_in_turn(in);
   } else {
     chosen_ = entry >= 0 ? entry : fallback_;
   }

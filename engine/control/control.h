@@ -422,7 +422,8 @@ int gamma_state_index(const std::vector<Gamma>& gammas);
 // states missing from the table run `fallback` (or nothing), or, with kRotate, the actions in turn:
 // each runs until it has ended (its state is no longer !CONV after it ran), then the next; a way out
 // of a state where every action said it has nothing to do, which running the same one again would
-// not leave. Learned stages yield these. Its gamma:
+// not leave. An action that ends on the tick its turn begins (its state no longer !CONV once
+// evaluated) hands the tick to the next at once. Learned stages yield these. Its gamma:
 // CONV when `done` is CONV (its goal), NOREF when no action has a reference, !CONV otherwise.
 class Policy final : public Controller {
  public:
@@ -454,6 +455,9 @@ class Policy final : public Controller {
   // Reads the actions' states into scratch_ and returns the policy's own: CONV when `done` has
   // converged, else !CONV while some action has a reference, else NOREF.
   Gamma read_state(const ControlInput& in);
+  // The kRotate fallback's action for this tick (see the class comment); evaluates the actions it
+  // passes over.
+  int next_in_turn(const ControlInput& in);
   std::vector<ControllerPtr> actions_;
   std::vector<int> table_;
   ControllerPtr done_;
