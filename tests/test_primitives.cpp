@@ -888,8 +888,8 @@ TEST_CASE("phi1 goes elsewhere: away from a place looked from, each time to a ne
     agent.reset(spec);
     phi1->reset(seed);
     other->reset(seed);
-    // Not yet run: somewhere to go (!CONV), nothing planned.
-    CHECK(phi1->state(agent.input()) == Gamma::kNotConv);
+    // Not yet run: no goal (NOREF), nothing planned.
+    CHECK(phi1->state(agent.input()) == Gamma::kNoRef);
     // A place not looked from: the run ends at once, where it began.
     const ElsewhereRun here = run_elsewhere(agent, *phi1, 15.0);
     CHECK(here.gamma == Gamma::kConv);
@@ -897,7 +897,7 @@ TEST_CASE("phi1 goes elsewhere: away from a place looked from, each time to a ne
     std::vector<Vec2> ends;
     for (int run = 0; run < 2; ++run) {
       agent.step(*other);
-      CHECK(phi1->state(agent.input()) == Gamma::kNotConv);  // between runs
+      CHECK(phi1->state(agent.input()) == Gamma::kNoRef);  // between runs
       const ElsewhereRun away = run_elsewhere(agent, *phi1, 15.0);
       INFO("run " << run << " from " << away.from.transpose() << " to " << away.to.transpose());
       CHECK(away.gamma == Gamma::kConv);
@@ -937,7 +937,7 @@ TEST_CASE("phi1 going elsewhere stays where the eyes have had a stimulus since t
     CHECK((r.to - r.from).norm() < 0.05);
     agent.step(*other);
     REQUIRE(agent.input().percepts->object.seen);
-    CHECK(phi1->state(agent.input()) == Gamma::kNotConv);  // asked between runs: it sees the ball
+    CHECK(phi1->state(agent.input()) == Gamma::kNoRef);  // asked between runs: it sees the ball
   }
 }
 

@@ -205,15 +205,19 @@ class Navigate final : public Primitive {
   // at random (from the seed) among the free cells the base can reach at least `away` metres off
   // (the farthest it can reach, if none is that far) and drives there. Any other run notes the
   // place and is CONV at once: Roger has not looked from there yet, or saw something from there.
-  // A chooser that runs it after each round of searches then leaves only a place from which two
-  // rounds saw nothing. A drive that makes no headway for kStuckSeconds gives up (NOREF).
+  // Between runs it is NOREF: it has no goal until a run draws one.
+  // A chooser that runs it after each round of searches then leaves only a place from which a
+  // whole round saw nothing, where the round before ended. A drive that makes no headway for
+  // kStuckSeconds gives up (NOREF).
   void classify_elsewhere(const ControlInput& in, bool solve, const Vec2& point, ControlOutput& out,
                           Gamma& gamma) {
     out.residual = 0.0;
     if (!continuing_run(in) && !solve) {
-      // Between runs: somewhere to go whenever it runs, and no planning; only what the eyes see.
+      // Between runs: no goal until a run draws one (NOREF, as phi1 with no object in view), and
+      // no planning; only what the eyes see. A chooser whose other actions have nothing to do is
+      // then NOREF too, which is a decision point of a stage.
       seen_since_run_ |= in.percepts->object.seen;
-      gamma = Gamma::kNotConv;
+      gamma = Gamma::kNoRef;
       return;
     }
     if (solve && !continuing_run(in) && drawn_tick_ != in.tick) begin_elsewhere(in, point);
