@@ -64,6 +64,16 @@ int count_successes(int n, Trial trial) {
 constexpr int kStarts = 50;
 constexpr int kRequired = 48;  // 95% of 50, rounded up
 
+// A blue ball (not the stimulus colour) of `radius` lying at `at`.
+ObjectSpec blue_ball(const Vec2& at, double radius = 0.2) {
+  ObjectSpec o;
+  o.name = "blue";
+  o.shape = ball_shape(radius);
+  o.colour = Colour{40, 80, 220};
+  o.pose = {at.x(), at.y(), 0.0};
+  return o;
+}
+
 }  // namespace
 
 TEST_CASE("search finds the ball from random starts within 4 s", "[primitives]") {
@@ -684,11 +694,7 @@ struct PassBy {
 };
 PassBy approach_past_another_object(double objects) {
   WorldSpec spec = open_world(true, Vec2(1.2, 0.0));
-  ObjectSpec other;
-  other.name = "blue";
-  other.shape = ball_shape(0.15);
-  other.colour = Colour{40, 80, 220};
-  other.pose = {-0.2, 0.3, 0.0};
+  const ObjectSpec other = blue_ball(Vec2(-0.2, 0.3), 0.15);
   spec.objects.push_back(other);
   spec.robot.pose = {-1.5, 0.0, 0.0};
   auto phi1 = make_primitive("phi1");
@@ -733,12 +739,7 @@ TEST_CASE("phi1 keeps a neighbour of another colour an obstacle when it half hid
   for (const Vec2 blue : {Vec2(0.2, 0.15), Vec2(0.2, -0.25), Vec2(0.4, 0.15), Vec2(0.4, -0.25),
                           Vec2(0.2, -0.15), Vec2(0.2, 0.25), Vec2(0.4, -0.15), Vec2(0.4, 0.25)}) {
     WorldSpec spec = open_world(true, Vec2(1.2, 0.0));
-    ObjectSpec other;
-    other.name = "blue";
-    other.shape = ball_shape(0.2);
-    other.colour = Colour{40, 80, 220};
-    other.pose = {blue.x(), blue.y(), 0.0};
-    spec.objects.push_back(other);
+    spec.objects.push_back(blue_ball(blue));
     spec.robot.pose = {-1.5, 0.0, 0.0};
     auto phi1 = make_primitive("phi1");
     Agent agent;
@@ -770,12 +771,7 @@ TEST_CASE("phi1 delivers into a region that the objects put away there fill on t
   region.center = Vec2(1.2, 0.0);
   region.radius = 0.6;
   spec.goals.push_back(region);
-  ObjectSpec put_away;
-  put_away.name = "blue";
-  put_away.shape = ball_shape(0.2);
-  put_away.colour = Colour{40, 80, 220};
-  put_away.pose = {1.2, 0.0, 0.0};
-  spec.objects.push_back(put_away);
+  spec.objects.push_back(blue_ball(Vec2(1.2, 0.0)));
   spec.robot.pose = {-1.0, 0.3, 0.0};
   auto phi1 = make_primitive("phi1");
   phi1->set_text("goal", "region");
@@ -845,19 +841,35 @@ struct ElsewhereRun {
   Gamma gamma = Gamma::kNotConv;
 };
 
-ElsewhereRun run_elsewhere(Agent& agent, Controller& phi1, double seconds) {
-  ElsewhereRun r;
-  const Pose start = agent.world().base_pose();
-  r.from = Vec2(start.x, start.y);
-  const int ticks = int(seconds / agent.world().tick_seconds());
-  for (int t = 0; t < ticks && r.gamma == Gamma::kNotConv; ++t) {
-    agent.step(phi1);
-    r.gamma = phi1.state(agent.input());
+// A goal='elsewhere' navigator in `spec`, and something else to run for a tick between its runs.
+struct Elsewhere {
+  PrimitivePtr phi1 = make_primitive("phi1"), other = make_primitive("phi4");
+  Agent agent;
+  Elsewhere(const WorldSpec& spec, uint64_t seed) {
+    phi1->set_text("goal", "elsewhere");
+    phi1->set_number("away", 2.0);
+    agent.reset(spec);
+    phi1->reset(seed);
+    other->reset(seed);
   }
-  const Pose end = agent.world().base_pose();
-  r.to = Vec2(end.x, end.y);
-  return r;
-}
+  Gamma state() { return phi1->state(agent.input()); }
+  // One run, until it is CONV or NOREF or `seconds` pass.
+  ElsewhereRun run(double seconds) {
+    ElsewhereRun r;
+    const Pose start = agent.world().base_pose();
+    r.from = Vec2(start.x, start.y);
+    const int ticks = int(seconds / agent.world().tick_seconds());
+    for (int t = 0; t < ticks && r.gamma == Gamma::kNotConv; ++t) {
+      agent.step(*phi1);
+      r.gamma = state();
+    }
+    const Pose end = agent.world().base_pose();
+    r.to = Vec2(end.x, end.y);
+    return r;
+  }
+  // A tick of something else: the run ends.
+  void pause() { agent.step(*other); }
+};
 
 }  // namespace
 
@@ -871,34 +883,19 @@ TEST_CASE("phi1 goes elsewhere: away from a place looked from, each time to a ne
     INFO("seed " << seed);
     WorldSpec spec = open_world(false);
     spec.arena = ArenaSpec{-3.0, 3.0, -3.0, 3.0};
-    for (const Vec2 at : {Vec2(0.8, 0.6), Vec2(-1.0, 1.2), Vec2(1.5, -1.4)}) {
-      ObjectSpec o;
-      o.name = "other";
-      o.shape = ball_shape(0.2);
-      o.colour = Colour{40, 80, 220};
-      o.pose = {at.x(), at.y(), 0.0};
-      spec.objects.push_back(o);
-    }
+    for (const Vec2 at : {Vec2(0.8, 0.6), Vec2(-1.0, 1.2), Vec2(1.5, -1.4)}) spec.objects.push_back(blue_ball(at));
     spec.robot.pose = {-1.5, -1.5, 0.3 * double(seed)};
-    auto phi1 = make_primitive("phi1");
-    phi1->set_text("goal", "elsewhere");
-    phi1->set_number("away", 2.0);
-    auto other = make_primitive("phi4");  // anything else, for one tick: the run ends
-    Agent agent;
-    agent.reset(spec);
-    phi1->reset(seed);
-    other->reset(seed);
-    // Not yet run: no goal (NOREF), nothing planned.
-    CHECK(phi1->state(agent.input()) == Gamma::kNoRef);
+    Elsewhere e(spec, seed);
+    CHECK(e.state() == Gamma::kNoRef);  // not yet run: no goal, nothing planned
     // A place not looked from: the run ends at once, where it began.
-    const ElsewhereRun here = run_elsewhere(agent, *phi1, 15.0);
+    const ElsewhereRun here = e.run(15.0);
     CHECK(here.gamma == Gamma::kConv);
     CHECK((here.to - here.from).norm() < 0.05);
     std::vector<Vec2> ends;
     for (int run = 0; run < 2; ++run) {
-      agent.step(*other);
-      CHECK(phi1->state(agent.input()) == Gamma::kNoRef);  // between runs
-      const ElsewhereRun away = run_elsewhere(agent, *phi1, 15.0);
+      e.pause();
+      CHECK(e.state() == Gamma::kNoRef);  // between runs
+      const ElsewhereRun away = e.run(15.0);
       INFO("run " << run << " from " << away.from.transpose() << " to " << away.to.transpose());
       CHECK(away.gamma == Gamma::kConv);
       CHECK((away.to - away.from).norm() > 2.0 - 0.3 - 0.1);  // the goal disk is 0.3 m round the point
@@ -906,16 +903,14 @@ TEST_CASE("phi1 goes elsewhere: away from a place looked from, each time to a ne
     }
     // Every object where it was: the planner's grid holds them all, none is sought.
     for (size_t k = 0; k < spec.objects.size(); ++k) {
-      const Pose o = agent.world().object_pose(int(k));
+      const Pose o = e.agent.world().object_pose(int(k));
       CHECK(std::hypot(o.x - spec.objects[k].pose.x, o.y - spec.objects[k].pose.y) < 0.01);
     }
     // The same seed, the same runs: the same vantage point.
-    Agent again;
-    again.reset(spec);
-    phi1->reset(seed);
-    run_elsewhere(again, *phi1, 15.0);
-    again.step(*other);
-    CHECK((run_elsewhere(again, *phi1, 15.0).to - ends[0]).norm() < 1e-9);
+    Elsewhere again(spec, seed);
+    again.run(15.0);
+    again.pause();
+    CHECK((again.run(15.0).to - ends[0]).norm() < 1e-9);
   }
 }
 
@@ -924,20 +919,15 @@ TEST_CASE("phi1 going elsewhere stays where the eyes have had a stimulus since t
   // The red ball straight ahead: from here something is to be seen, so no run leaves.
   WorldSpec spec = open_world(true, Vec2(1.0, 0.0));
   spec.arena = ArenaSpec{-3.0, 3.0, -3.0, 3.0};
-  auto phi1 = make_primitive("phi1");
-  phi1->set_text("goal", "elsewhere");
-  auto other = make_primitive("phi4");
-  Agent agent;
-  agent.reset(spec);
-  phi1->reset(0);
+  Elsewhere e(spec, 0);
   for (int run = 0; run < 3; ++run) {
     INFO("run " << run);
-    const ElsewhereRun r = run_elsewhere(agent, *phi1, 5.0);
+    const ElsewhereRun r = e.run(5.0);
     CHECK(r.gamma == Gamma::kConv);
     CHECK((r.to - r.from).norm() < 0.05);
-    agent.step(*other);
-    REQUIRE(agent.input().percepts->object.seen);
-    CHECK(phi1->state(agent.input()) == Gamma::kNoRef);  // asked between runs: it sees the ball
+    e.pause();
+    REQUIRE(e.agent.input().percepts->object.seen);
+    CHECK(e.state() == Gamma::kNoRef);  // asked between runs: it sees the ball
   }
 }
 
@@ -951,13 +941,8 @@ TEST_CASE("phi1 going elsewhere is NOREF where the base can reach no other place
     post.pose = {0.75 * std::cos(k * M_PI / 10), 0.75 * std::sin(k * M_PI / 10), 0.0};
     spec.obstacles.push_back(post);
   }
-  auto phi1 = make_primitive("phi1");
-  phi1->set_text("goal", "elsewhere");
-  auto other = make_primitive("phi4");
-  Agent agent;
-  agent.reset(spec);
-  phi1->reset(0);
-  CHECK(run_elsewhere(agent, *phi1, 2.0).gamma == Gamma::kConv);  // the place is noted
-  agent.step(*other);
-  CHECK(run_elsewhere(agent, *phi1, 2.0).gamma == Gamma::kNoRef);  // and there is nowhere else
+  Elsewhere e(spec, 0);
+  CHECK(e.run(2.0).gamma == Gamma::kConv);  // the place is noted
+  e.pause();
+  CHECK(e.run(2.0).gamma == Gamma::kNoRef);  // and there is nowhere else
 }
