@@ -306,6 +306,14 @@ TEST_CASE("primitive parameters reach the C++ controllers", "[lua_control]") {
 
   CHECK_THAT(lua.error("roger.primitive('phi1', {goal = 'home'})").what(),
              Contains("parameter 'goal' must be one of object, region, elsewhere, got 'home'"));
+  // docs/control.md's line for looking from elsewhere, as shown there.
+  const std::string look = "local look = roger.primitive(\"phi1\", { goal = \"elsewhere\", away = 1 })";
+  CHECK(read_file("docs/control.md").find(look) != std::string::npos);
+  auto elsewhere = as<Primitive>(lua.controller(look + "\nreturn look"));
+  CHECK(elsewhere->text("goal") == "elsewhere");
+  CHECK(elsewhere->number("away") == 1.0);
+  CHECK_THAT(lua.error("roger.primitive('phi1', {goal = 'elsewhere', away = 0.1})").what(),
+             Contains("parameter 'away' must be within [0.2, 50], got 0.1"));
   CHECK_THAT(lua.error("roger.primitive('phi0', {epsilon = 1/0})").what(),
              Contains("parameter 'epsilon' must be a finite number in [0, 1000000], got inf"));
   CHECK_THAT(lua.error("roger.primitive('phi0', {0.1})").what(),
