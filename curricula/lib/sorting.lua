@@ -126,9 +126,10 @@ sorting.AWAY = 1.0
 -- where Roger now is, finds what is left. After the last move of each round comes phi1 with
 -- goal = "elsewhere": where a whole round saw nothing from the spot the round before it ended at,
 -- what is left is hidden from there, and it drives to a vantage point at least AWAY metres off;
--- otherwise it ends at once (docs/control.md, phi1). Rounds from one spot alone searched for 158 s for a
--- triangle hidden behind a pentagon put away (sorting seed 182003, random mix); going elsewhere
--- before any round instead sorted fewer development worlds, as most rounds find what is left.
+-- otherwise it ends at once, and the round goes on in the same tick (docs/control.md, phi1 and
+-- policies). Rounds from one spot alone searched for 158 s for a triangle hidden behind a pentagon
+-- put away (sorting seed 182003, random mix); going elsewhere before any round instead sorted
+-- fewer development worlds, as most rounds find what is left.
 function sorting.by_hand(moves, name)
   local n = #moves
   local actions = {}
