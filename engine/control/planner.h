@@ -19,8 +19,8 @@
 //
 // Cost, without changing a bit: the sweep relaxes 2, 4 or 8 cells per instruction (SSE2, AVX,
 // AVX-512, chosen at run time; planner_sweep.cpp) with a bit of mask per cell, only the part of
-// each row that holds relaxed cells, and in a cold solve only the rows its front from the goal
-// can have reached. A cold solve of the goal solved last is copied. A grid change builds only
+// each row that holds relaxed cells (from a 64-byte line, so its loads do not straddle two), and
+// in a cold solve only the rows its front from the goal can have reached. A cold solve of the goal solved last is copied. A grid change builds only
 // what reachability needs; the ways out of occupied cells and what a solve starts from wait for
 // the first query or solve that reads them (a navigator that only reports its state, as most do
 // while objects move, never pays for them).
@@ -153,6 +153,12 @@ class HarmonicPlanner {
   std::vector<float> clearance_; // distance in cells from each cell centre to the nearest occupied one
   int relaxed_cells_ = 0;        // cells the sweep relaxes (free, joined to the goal, not goal)
   std::vector<double> colour_[2];   // q_ split by colour during a solve (see split_by_colour)
+  static constexpr int kAlignSlots = 8;  // spare slots, so the rows can start on a 64-byte line
+  // Where colour c's slots begin: the first 64-byte boundary in colour_[c].
+  double* colour_base(int c) {
+    const auto at = reinterpret_cast<uintptr_t>(colour_[c].data());
+    return colour_[c].data() + ((64 - at % 64) % 64) / sizeof(double);
+  }
   std::vector<uint8_t> relaxed_[2]; // one bit per slot of colour_: set where the sweep relaxes it
   int split_width_ = 0;             // slots per row of colour_
   // Per colour, the slots of each row the sweep relaxes (rows without relaxed cells have none).
