@@ -352,9 +352,9 @@ void HarmonicPlanner::solve(bool warm) {
 // cells per instruction.
 // Each row has a guard slot at both ends, so the shifted reads of its edge cells stay in bounds,
 // and is a whole number of 64-byte lines wide, starting on a line (colour_base); guards and fixed
-// cells are never relaxed. The sweep relaxes the cells the flood reached outside
-// the goal; every other cell is fixed: goal cells at q = 1, obstacles, padding and walled-off cells
-// at q = 0. A relaxed cell starts at 0 in a cold solve and at its value in q_ in a warm one.
+// cells are never relaxed. The sweep relaxes the cells the flood reached outside the goal; every
+// other cell is fixed: goal cells at q = 1, obstacles, padding and walled-off cells at q = 0. A
+// relaxed cell starts at 0 in a cold solve and at its value in q_ in a warm one.
 // In the same pass: the relaxed cells' count, their widest clearance (returned, for omega) and
 // the slots of each row that hold them (ranges_).
 float HarmonicPlanner::split_by_colour(bool warm) {

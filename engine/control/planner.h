@@ -20,10 +20,10 @@
 // Cost, without changing a bit: the sweep relaxes 2, 4 or 8 cells per instruction (SSE2, AVX,
 // AVX-512, chosen at run time; planner_sweep.cpp) with a bit of mask per cell, only the part of
 // each row that holds relaxed cells (from a 64-byte line, so its loads do not straddle two), and
-// in a cold solve only the rows its front from the goal can have reached. A cold solve of the goal solved last is copied. A grid change builds only
-// what reachability needs; the ways out of occupied cells and what a solve starts from wait for
-// the first query or solve that reads them (a navigator that only reports its state, as most do
-// while objects move, never pays for them).
+// in a cold solve only the rows its front from the goal can have reached. A cold solve of the
+// goal solved last is copied. A grid change builds only what reachability needs; the ways out of
+// occupied cells and what a solve starts from wait for the first query or solve that reads them
+// (a navigator that only reports its state, as most do while objects move, never pays for them).
 #pragma once
 
 #include <cstdint>
