@@ -931,6 +931,31 @@ TEST_CASE("phi1 going elsewhere stays where the eyes have had a stimulus since t
   }
 }
 
+TEST_CASE("phi1 going elsewhere gives up a drive that makes no headway for 3 s", "[primitives][planner]") {
+  // With its command scaled to nothing the base cannot move: the drive is NOREF after 3 s without
+  // coming 0.1 m nearer, and the place it gave up at is the place looked from, so the next run
+  // (the command restored) leaves it.
+  WorldSpec spec = open_world(false);
+  spec.arena = ArenaSpec{-3.0, 3.0, -3.0, 3.0};
+  spec.robot.pose = {-1.5, -1.5, 0.0};
+  Elsewhere e(spec, 0);
+  CHECK(e.run(1.0).gamma == Gamma::kConv);  // the place is noted
+  e.pause();
+  e.phi1->set_number("gain", 0.0);
+  const double start = e.agent.world().time();
+  const ElsewhereRun stuck = e.run(6.0);
+  const double gave_up_after = e.agent.world().time() - start;
+  CHECK(stuck.gamma == Gamma::kNoRef);
+  CHECK(gave_up_after > 3.0);
+  CHECK(gave_up_after < 3.5);
+  CHECK((stuck.to - stuck.from).norm() < 0.05);
+  e.pause();
+  e.phi1->set_number("gain", 1.0);
+  const ElsewhereRun away = e.run(15.0);
+  CHECK(away.gamma == Gamma::kConv);
+  CHECK((away.to - away.from).norm() > 2.0 - 0.3 - 0.1);
+}
+
 TEST_CASE("phi1 going elsewhere is NOREF where the base can reach no other place", "[primitives][planner]") {
   // A ring of posts round the base: no free cell beyond it is joined to the base's.
   WorldSpec spec = open_world(false);
