@@ -311,13 +311,16 @@ class Grasp final : public Primitive {
   }
 
   // The base command that keeps the body pressed on the object while the arms place the hands:
-  // the distance to the object along the heading, towards t.body_distance.
+  // the distance to the object along the heading, towards t.body_distance, but never away from
+  // it. The body touches, so the surface is where it is; vision's radius puts a polygon's face
+  // further out than that, and backing off to it with both hands gripping dragged the object
+  // across the floor for as long as phi3 ran (tests/test_primitives.cpp).
   static void keep_body_pressed(const Senses& s, const Vec2& center, const Vec2& base,
                                 const Targets& t, ControlOutput& out) {
     const Vec2 to_obj = center - base;
     const double d = to_obj.norm();
     const double along = unit(s.base.theta).dot(to_obj) / std::max(d, 1e-6);  // -d(d)/d(forward)
-    const double e = std::max(t.body_distance - d, -t.body_press);
+    const double e = std::clamp(t.body_distance - d, -t.body_press, 0.0);
     if (along > 0.3) out.command[kBaseForward] = -e / along;
   }
 
