@@ -1003,3 +1003,39 @@ TEST_CASE("phi1 going elsewhere is NOREF where the base can reach no other place
   e.pause();
   CHECK(e.run(2.0).gamma == Gamma::kNoRef);  // and there is nowhere else
 }
+
+// Sorting seed 562005 (8 objects, 4 obstacles): a release backed the base into an obstacle behind
+// it, and the body stayed pressed on it; search turned into it, and neither the search nor the
+// tracking of any move turned the base again for the last 90 s. Here the release backs Roger
+// into a box the same way: a search whose turn is blocked for `stuck` seconds turns the other
+// way, first driving away from what the body touches, and looks everywhere; one that never gives
+// up its turn (stuck = 0) stays pressed on the box.
+TEST_CASE("a search whose turn is blocked drives off what the body touches and turns the other way",
+          "[primitives]") {
+  auto noref_after = [](double stuck, uint64_t seed) {
+    WorldSpec spec = open_world(true, Vec2(1.5, 1.2));
+    spec.objects[0].colour = Colour{40, 80, 220};  // nothing red: the search must look everywhere
+    ObstacleSpec box;
+    box.shape = box_shape(0.0966, 0.133);
+    box.pose = {-0.5, -0.25, 1.44};
+    spec.obstacles.push_back(box);
+    Agent agent;
+    agent.reset(spec);
+    auto release = make_primitive("release");
+    release->reset(seed);
+    run_until(agent, *release, [&] { return release->evaluate(agent.input()).gamma == Gamma::kConv; }, 5.0);
+    auto search = make_primitive("search");
+    search->set_number("stuck", stuck);
+    search->reset(seed);
+    const double start = agent.world().time();
+    return run_until(agent, *search, [&] { return search->evaluate(agent.input()).gamma == Gamma::kNoRef; }, 10.0) -
+           start;
+  };
+  for (uint64_t seed : {0, 1}) {
+    INFO("seed " << seed);
+    CHECK(noref_after(0.0, seed) < 0.0);  // never: pressed on the box
+    const double t = noref_after(1.0, seed);
+    CHECK(t > 0.0);
+    CHECK(t < 9.0);
+  }
+}

@@ -67,8 +67,8 @@ class Track final : public Primitive {
 // blind eye's line of sight off the occluder.
 class Search final : public Primitive {
   // Where the constructor declared each parameter: reading one is an index, not a name search.
-  struct { ParamSlot spread = 0, reached = 0, min_turn = 0, max_turn = 0, one_eye = 0, sidestep = 0; } p_;
-  enum class Step { kNone, kTurnOut, kDrive };
+  struct { ParamSlot spread = 0, reached = 0, min_turn = 0, max_turn = 0, one_eye = 0, sidestep = 0, stuck = 0; } p_;
+  enum class Step { kNone, kTurnOut, kDrive, kBackAway };
 
  public:
   Search() : Primitive("search", 0.0) {
@@ -79,6 +79,8 @@ class Search final : public Primitive {
     p_.one_eye = declare("one_eye", 1.0, 0.0, 1000.0,
                        "seconds one eye alone has the stimulus ahead before stepping sideways (0: never)");
     p_.sidestep = declare("sidestep", 0.3, 0.0, 2.0, "sideways step (m) that clears the blind eye's view");
+    p_.stuck = declare("stuck", 1.0, 0.0, 60.0,
+                       "seconds the base may fail to turn before the search turns the other way (0: never)");
   }
   PrimitivePtr clone() const override { return std::make_shared<Search>(*this); }
   void reset(uint64_t seed) override {
@@ -93,6 +95,7 @@ class Search final : public Primitive {
     direction_ = rng_.uniform() < 0.5 ? -1.0 : 1.0;
     swept_.fill(false);
     swept_count_ = 0;
+    stuck_time_ = 0.0;
   }
 
   // Whether the eyes have swept every direction since the search began or last glimpsed its
@@ -103,6 +106,7 @@ class Search final : public Primitive {
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
     const Senses& s = *in.senses;
     const double heading = s.q[kBaseHeading];
+    const bool turned = watch_turning(heading, in.tick, in.dt);
     count_turn(heading, in.tick);
     const bool left = s.stimulus[kLeft].seen, right = s.stimulus[kRight].seen;
     if (left || right) {
@@ -136,7 +140,8 @@ class Search final : public Primitive {
       out.command[kLeftEye] = rel - s.q[kLeftEye];
       out.command[kRightEye] = rel - s.q[kRightEye];
     } else {
-      if (!has_target_ || std::abs(turn_left_) < value(p_.reached)) {
+      if (!turned) turn_back(s);  // the way it was turning is blocked
+      if (!turned || !has_target_ || std::abs(turn_left_) < value(p_.reached)) {
         const double turn = rng_.uniform(value(p_.min_turn), value(p_.max_turn));
         aim(heading, direction_ * turn);
       }
@@ -183,6 +188,35 @@ class Search final : public Primitive {
     last_tick_ = tick;
   }
 
+  // Whether the base still turns as the search asks: false once it has turned less than
+  // kStuckRate for `stuck` seconds in a row, ticks on which this search ran one after another (a
+  // body or an arm pressed against an obstacle, and the turn pressing them on: Roger stayed there
+  // until the time-out, every move's search and tracking waiting for a turn that never came).
+  bool watch_turning(double heading, uint64_t tick, double dt) {
+    const bool running = has_target_ && tick == last_tick_ + 1 && step_ == Step::kNone;
+    if (!running || std::abs(wrap_angle(heading - last_heading_)) >= kStuckRate * dt) {
+      stuck_time_ = 0.0;
+      return true;
+    }
+    stuck_time_ += dt;
+    if (value(p_.stuck) <= 0.0 || stuck_time_ < value(p_.stuck)) return true;
+    stuck_time_ = 0.0;
+    return false;
+  }
+
+  // A blocked turn: the search turns the other way from now on, and if the body touches what
+  // blocks it, first drives kBackAwayLength away from it (forward or back, whichever the touch
+  // normal favours), so the body is not turning pressed against it.
+  void turn_back(const Senses& s) {
+    direction_ = -direction_;
+    const Touch& body = s.touch[kBody];
+    if (!body.contact) return;
+    back_away_sign_ = body.normal.dot(unit(s.base.theta)) >= 0.0 ? 1.0 : -1.0;
+    step_ = Step::kBackAway;
+    step_time_ = 0.0;
+    odometer_ = s.q[kBaseForward];
+  }
+
   // Times how long eye `e` alone has had the stimulus straight ahead; past `one_eye`, starts a
   // sideways step towards that eye's side. A glimpse by both eyes that did not last (tracking took
   // over and lost it at once, the occluder's edge swinging across the blind eye's view) does not
@@ -215,6 +249,15 @@ class Search final : public Primitive {
   void step_aside(const Senses& s, double dt, ControlOutput& out) {
     const double heading = s.q[kBaseHeading];
     step_time_ += dt;
+    if (step_ == Step::kBackAway) {
+      const double remaining = kBackAwayLength - std::abs(s.q[kBaseForward] - odometer_);
+      out.command[kBaseForward] = back_away_sign_ * std::clamp(remaining, 0.0, 0.1);
+      out.command[kLeftEye] = value(p_.spread) - s.q[kLeftEye];
+      out.command[kRightEye] = -value(p_.spread) - s.q[kRightEye];
+      out.residual = std::max(remaining, 0.0);
+      if (remaining <= 0.01 || step_time_ > 1.5) step_ = Step::kNone, has_target_ = false;
+      return;
+    }
     // The eyes keep looking along the remembered bearing, as far as they pan.
     const double rel = wrap_angle(bearing_ - heading);
     out.command[kLeftEye] = rel - s.q[kLeftEye];
@@ -248,6 +291,10 @@ class Search final : public Primitive {
   double last_heading_ = 0.0;  // the heading at the last tick this search ran
   uint64_t last_tick_ = UINT64_MAX;
   static constexpr double kGlimpse = 0.5;  // s: a two-eye sighting shorter than this is a glimpse
+  static constexpr double kStuckRate = 0.05;  // rad/s: turning slower than this is not turning
+  double stuck_time_ = 0.0;    // seconds in a row the base has not turned while asked to
+  static constexpr double kBackAwayLength = 0.2;  // m the base drives away from what blocks a turn
+  double back_away_sign_ = 1.0;  // +1 forward, -1 back
   double one_eye_time_ = 0.0;  // seconds one eye alone has had the stimulus ahead
   double one_eye_seen_at_ = -1e9;  // when one eye alone last had it ahead
   int steps_taken_ = 0;        // sideways steps so far
