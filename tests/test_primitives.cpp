@@ -1039,3 +1039,32 @@ TEST_CASE("a search whose turn is blocked drives off what the body touches and t
     CHECK(t < 9.0);
   }
 }
+
+// The watch counts only ticks on which the search's own command was applied: a search whose state
+// a chooser reads while another action has the base (here phi4, which leaves the base still) does
+// not take the still heading for a blocked turn. Run again, it turns the way it turned before,
+// as a search that nobody read meanwhile does.
+TEST_CASE("a search read only for its state does not take another action's still base for a blocked turn",
+          "[primitives]") {
+  auto turn_after_a_pause = [](bool read_meanwhile) {
+    WorldSpec spec = open_world(true, Vec2(1.5, 1.2));
+    spec.objects[0].colour = Colour{40, 80, 220};  // nothing red: it keeps turning
+    Agent agent;
+    agent.reset(spec);
+    auto search = make_primitive("search"), phi4 = make_primitive("phi4");
+    search->reset(1);
+    phi4->reset(1);
+    agent.step(*search);  // one tick of its own: it has a turn to make
+    for (int t = 0; t < 100; ++t) {  // 2 s of phi4
+      agent.step(*phi4);
+      if (read_meanwhile) search->evaluate(agent.input());
+    }
+    const double before = agent.world().frame().base.theta;
+    for (int t = 0; t < 10; ++t) agent.step(*search);
+    return wrap_angle(agent.world().frame().base.theta - before);
+  };
+  const double unread = turn_after_a_pause(false), read = turn_after_a_pause(true);
+  INFO("turned " << unread << " rad unread, " << read << " rad read meanwhile");
+  CHECK(std::abs(unread) > 0.05);
+  CHECK(read * unread > 0.0);  // the same way round
+}

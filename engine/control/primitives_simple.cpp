@@ -96,7 +96,9 @@ class Search final : public Primitive {
     swept_.fill(false);
     swept_count_ = 0;
     stuck_time_ = 0.0;
+    executed_tick_ = UINT64_MAX;
   }
+  void executed(const ControlInput& in) override { executed_tick_ = in.tick; }
 
   // Whether the eyes have swept every direction since the search began or last glimpsed its
   // stimulus (it is NOREF then).
@@ -189,11 +191,14 @@ class Search final : public Primitive {
   }
 
   // Whether the base still turns as the search asks: false once it has turned less than
-  // kStuckRate for `stuck` seconds in a row, ticks on which this search ran one after another (a
-  // body or an arm pressed against an obstacle, and the turn pressing them on: Roger stayed there
-  // until the time-out, every move's search and tracking waiting for a turn that never came).
+  // kStuckRate for `stuck` seconds in a row, each tick's turn the answer to the search's own
+  // command of the tick before (a body or an arm pressed against an obstacle, and the turn
+  // pressing them on: Roger stayed there until the time-out, every move's search and tracking
+  // waiting for a turn that never came). Evaluations made only to read its state do not count:
+  // another controller has the base then.
   bool watch_turning(double heading, uint64_t tick, double dt) {
-    const bool running = has_target_ && tick == last_tick_ + 1 && step_ == Step::kNone;
+    const bool running = has_target_ && step_ == Step::kNone && tick == last_tick_ + 1 &&
+                         executed_tick_ != UINT64_MAX && executed_tick_ + 1 == tick;
     if (!running || std::abs(wrap_angle(heading - last_heading_)) >= kStuckRate * dt) {
       stuck_time_ = 0.0;
       return true;
@@ -295,6 +300,7 @@ class Search final : public Primitive {
   double stuck_time_ = 0.0;    // seconds in a row the base has not turned while asked to
   static constexpr double kBackAwayLength = 0.2;  // m the base drives away from what blocks a turn
   double back_away_sign_ = 1.0;  // +1 forward, -1 back
+  uint64_t executed_tick_ = UINT64_MAX;  // the last tick its command was applied
   double one_eye_time_ = 0.0;  // seconds one eye alone has had the stimulus ahead
   double one_eye_seen_at_ = -1e9;  // when one eye alone last had it ahead
   int steps_taken_ = 0;        // sideways steps so far
