@@ -56,6 +56,14 @@ class Primitive : public Controller {
   // A copy with the same parameters and fresh state.
   virtual std::shared_ptr<Primitive> clone() const = 0;
 
+  // Forgets the run it was in: the next tick it runs begins a new one (acted_last_tick).
+  void reset(uint64_t seed) override {
+    Controller::reset(seed);
+    executed_tick_ = UINT64_MAX;
+  }
+  // Notes that this tick's command was applied.
+  void executed(const ControlInput& in) override { executed_tick_ = in.tick; }
+
  protected:
   Primitive(std::string kind, double default_epsilon);
   // Where a parameter sits among param_defs(): the hot loops read parameters by slot, since a name
@@ -75,6 +83,12 @@ class Primitive : public Controller {
   void on_param(const std::string& name, double value);
   // The convergence threshold in force.
   double epsilon() const { return params().epsilon; }
+  // Whether its command was applied on the tick before, so this tick continues its own run. A tick
+  // after one on which it was only evaluated to read its state (another action had the robot)
+  // begins a new run.
+  bool acted_last_tick(const ControlInput& in) const {
+    return executed_tick_ != UINT64_MAX && executed_tick_ + 1 == in.tick;
+  }
 
  private:
   ParamDef& find(const std::string& name);
@@ -83,6 +97,7 @@ class Primitive : public Controller {
   void refuse_redeclared(const std::string& name) const;
   std::string kind_;
   std::vector<ParamDef> defs_;
+  uint64_t executed_tick_ = UINT64_MAX;  // the last tick its command was applied
 };
 
 using PrimitivePtr = std::shared_ptr<Primitive>;

@@ -69,9 +69,8 @@ class Navigate final : public Primitive {
     rng_.reseed(Rng::mix(seed, 0xe15e4e7e));
     trip_ = Trip::kNone;
     looked_from_valid_ = seen_since_run_ = false;
-    executed_tick_ = drawn_tick_ = UINT64_MAX;
+    drawn_tick_ = UINT64_MAX;
   }
-  void executed(const ControlInput& in) override { executed_tick_ = in.tick; }
 
  protected:
   // A new tolerance needs a new planner.
@@ -212,7 +211,7 @@ class Navigate final : public Primitive {
   void classify_elsewhere(const ControlInput& in, bool solve, const Vec2& point, ControlOutput& out,
                           Gamma& gamma) {
     out.residual = 0.0;
-    if (!continuing_run(in) && !solve) {
+    if (!acted_last_tick(in) && !solve) {
       // Between runs: no goal until a run draws one (NOREF, as phi1 with no object in view), and
       // no planning; only what the eyes see. A chooser whose other actions have nothing to do is
       // then NOREF too, which is a decision point of a stage.
@@ -220,7 +219,7 @@ class Navigate final : public Primitive {
       gamma = Gamma::kNoRef;
       return;
     }
-    if (solve && !continuing_run(in) && drawn_tick_ != in.tick) begin_elsewhere(in, point);
+    if (solve && !acted_last_tick(in) && drawn_tick_ != in.tick) begin_elsewhere(in, point);
     if (trip_ == Trip::kStay || trip_ == Trip::kArrived) {
       gamma = Gamma::kConv;
       return;
@@ -276,11 +275,6 @@ class Navigate final : public Primitive {
       planner_.set_goal(goal_center_, goal_radius_);
     }
     return solve ? planner_.update() : planner_.update_reachability();
-  }
-
-  // Whether this tick continues a run: its command was applied on the tick before.
-  bool continuing_run(const ControlInput& in) const {
-    return executed_tick_ != UINT64_MAX && executed_tick_ + 1 == in.tick;
   }
 
   // Draws vantage_ from the cells of the planner's grid joined to the base's; false if none is.
@@ -528,7 +522,6 @@ class Navigate final : public Primitive {
   double best_residual_ = INFINITY;        // the drive's nearest approach so far (m)
   double no_headway_ = 0.0;                // s since it last came kHeadway nearer
   std::vector<Vec2> vantages_;             // scratch: the cells a vantage point is drawn from
-  uint64_t executed_tick_ = UINT64_MAX;    // the last tick its command was applied
   uint64_t drawn_tick_ = UINT64_MAX;       // the first tick of the current run
   static constexpr double kVantageRadius = 0.3;  // m: the goal disk around a vantage point
   static constexpr double kSameSpot = 0.5;       // m: a run beginning this near leaves the place

@@ -30,10 +30,9 @@ class Release final : public Primitive {
   PrimitivePtr clone() const override { return std::make_shared<Release>(*this); }
   void reset(uint64_t seed) override {
     Primitive::reset(seed);
+    // Not acting (Primitive::reset): compute() starts the stall watches over.
     backing_ = blocked_ = false;
-    executed_tick_ = UINT64_MAX;  // not acting: compute() starts the stall watches over
   }
-  void executed(const ControlInput& in) override { executed_tick_ = in.tick; }
 
  protected:
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
@@ -53,7 +52,7 @@ class Release final : public Primitive {
     const Vec2 base(s.base.x, s.base.y);
     // Only its own execution lets go: evaluated while another action runs (a sequence asking its
     // last step's state), or after a pause, it starts over.
-    const bool acting = executed_tick_ != UINT64_MAX && executed_tick_ + 1 == in.tick;
+    const bool acting = acted_last_tick(in);
     if (!acting) {
       backing_ = blocked_ = false;
       fold_stalled_ = back_stalled_ = 0.0;
@@ -115,7 +114,6 @@ class Release final : public Primitive {
   double fold_stalled_ = 0.0;   // s the arms have come no nearer their posture
   double back_stalled_ = 0.0;   // s the base has backed no further
   double best_fold_ = kInfinity, best_back_ = kInfinity;  // the least errors so far
-  uint64_t executed_tick_ = UINT64_MAX;  // the last tick its command was applied
   Vec2 origin_ = Vec2::Zero();  // where it started backing
 };
 

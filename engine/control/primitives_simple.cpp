@@ -67,7 +67,9 @@ class Track final : public Primitive {
 // blind eye's line of sight off the occluder.
 class Search final : public Primitive {
   // Where the constructor declared each parameter: reading one is an index, not a name search.
-  struct { ParamSlot spread = 0, reached = 0, min_turn = 0, max_turn = 0, one_eye = 0, sidestep = 0, stuck = 0; } p_;
+  struct {
+    ParamSlot spread = 0, reached = 0, min_turn = 0, max_turn = 0, one_eye = 0, sidestep = 0, stuck = 0;
+  } p_;
   enum class Step { kNone, kTurnOut, kDrive, kBackAway };
 
  public:
@@ -96,9 +98,7 @@ class Search final : public Primitive {
     swept_.fill(false);
     swept_count_ = 0;
     stuck_time_ = 0.0;
-    executed_tick_ = UINT64_MAX;
   }
-  void executed(const ControlInput& in) override { executed_tick_ = in.tick; }
 
   // Whether the eyes have swept every direction since the search began or last glimpsed its
   // stimulus (it is NOREF then).
@@ -108,7 +108,7 @@ class Search final : public Primitive {
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
     const Senses& s = *in.senses;
     const double heading = s.q[kBaseHeading];
-    const bool turned = watch_turning(heading, in.tick, in.dt);
+    const bool turned = watch_turning(heading, in);
     count_turn(heading, in.tick);
     const bool left = s.stimulus[kLeft].seen, right = s.stimulus[kRight].seen;
     if (left || right) {
@@ -196,14 +196,14 @@ class Search final : public Primitive {
   // pressing them on: Roger stayed there until the time-out, every move's search and tracking
   // waiting for a turn that never came). Evaluations made only to read its state do not count:
   // another controller has the base then.
-  bool watch_turning(double heading, uint64_t tick, double dt) {
-    const bool running = has_target_ && step_ == Step::kNone && tick == last_tick_ + 1 &&
-                         executed_tick_ != UINT64_MAX && executed_tick_ + 1 == tick;
-    if (!running || std::abs(wrap_angle(heading - last_heading_)) >= kStuckRate * dt) {
+  bool watch_turning(double heading, const ControlInput& in) {
+    const bool running =
+        has_target_ && step_ == Step::kNone && in.tick == last_tick_ + 1 && acted_last_tick(in);
+    if (!running || std::abs(wrap_angle(heading - last_heading_)) >= kStuckRate * in.dt) {
       stuck_time_ = 0.0;
       return true;
     }
-    stuck_time_ += dt;
+    stuck_time_ += in.dt;
     if (value(p_.stuck) <= 0.0 || stuck_time_ < value(p_.stuck)) return true;
     stuck_time_ = 0.0;
     return false;
@@ -300,7 +300,6 @@ class Search final : public Primitive {
   double stuck_time_ = 0.0;    // seconds in a row the base has not turned while asked to
   static constexpr double kBackAwayLength = 0.2;  // m the base drives away from what blocks a turn
   double back_away_sign_ = 1.0;  // +1 forward, -1 back
-  uint64_t executed_tick_ = UINT64_MAX;  // the last tick its command was applied
   double one_eye_time_ = 0.0;  // seconds one eye alone has had the stimulus ahead
   double one_eye_seen_at_ = -1e9;  // when one eye alone last had it ahead
   int steps_taken_ = 0;        // sideways steps so far
