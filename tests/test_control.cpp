@@ -150,6 +150,67 @@ TEST_CASE("a composite's gamma is the weaker of its parts, with the stall rule",
   CHECK(both.evaluate(at_tick(++tick)).gamma == Gamma::kNotConv);
 }
 
+namespace {
+
+// A subordinate whose potential stays at 1 while the distance it reports as its residual falls by
+// `step` a tick (a navigator far from its goal); it measures its progress by that distance when
+// `by_distance`.
+class Travelling final : public Controller {
+ public:
+  explicit Travelling(bool by_distance) : by_distance_(by_distance) { set_name("travelling"); }
+  const char* kind() const override { return "scripted"; }
+  double progress(const ControlOutput& out) const override { return by_distance_ ? out.residual : out.phi; }
+  double distance = 5.0, step = 0.02;
+
+ protected:
+  void compute(const ControlInput&, ControlOutput& out, Gamma& gamma) override {
+    out.command = DofVector::Unit(kBaseForward);
+    out.phi = 1.0;
+    out.residual = distance;
+    distance = std::max(0.0, distance - step);
+    gamma = Gamma::kNotConv;
+  }
+
+ private:
+  bool by_distance_;
+};
+
+// Runs `both` (executed each tick, 20 ms apart) for `ticks` ticks from `first`; returns the ticks
+// on which it read CONV.
+int conv_ticks(SubjectTo& both, uint64_t first, int ticks) {
+  int conv = 0;
+  for (uint64_t t = first; t < first + uint64_t(ticks); ++t) {
+    ControlInput in = at_tick(t, 0.02 * double(t));
+    in.dt = 0.02;
+    conv += both.evaluate(in).gamma == Gamma::kConv;
+    both.executed(in);
+  }
+  return conv;
+}
+
+}  // namespace
+
+TEST_CASE("a subordinate settles when its progress stops, not while its potential is flat", "[control]") {
+  // The plateau rule: executed for `plateau` seconds with its progress changed by less than
+  // `stall`, a subordinate counts as converged where its superior lets it be.
+  for (const bool by_distance : {true, false}) {
+    auto sub = std::make_shared<Travelling>(by_distance);
+    auto sup = std::make_shared<Scripted>("sup");
+    sup->next = Gamma::kConv;
+    SubjectTo both(sub, sup);
+    both.reset(0);
+    // Making headway (1 m/s) with a flat potential: measured by its distance it never settles;
+    // measured by its potential it "settles" once `plateau` has passed.
+    const int moving = conv_ticks(both, 1, 50);
+    // Stopped: settled after `plateau` (0.3 s) either way.
+    sub->step = 0.0;
+    const int stopped = conv_ticks(both, 51, 50);
+    INFO((by_distance ? "by distance" : "by potential") << ": " << moving << " CONV moving, " << stopped << " stopped");
+    CHECK((by_distance ? moving == 0 : moving > 0));
+    CHECK(stopped >= 30);
+  }
+}
+
 TEST_CASE("evaluation is cached per tick, and hold delays convergence", "[control]") {
   auto c = std::make_shared<Scripted>("c");
   c->params().hold = 0.1;

@@ -214,7 +214,7 @@ void SubjectTo::executed(const ControlInput& in) {
     const auto& newest = history_[size_t((history_head_ - 1 + kHistory) % kHistory)];
     if (in.time - newest.first > 1.5 * in.dt + 1e-9) history_count_ = history_head_ = 0;
   }
-  history_[size_t(history_head_)] = {in.time, sub_->output().phi};
+  history_[size_t(history_head_)] = {in.time, sub_->progress(sub_->output())};
   history_head_ = (history_head_ + 1) % kHistory;
   history_count_ = std::min(history_count_ + 1, kHistory);
   sub_->executed(in);
@@ -273,7 +273,7 @@ Gamma SubjectTo::combine(const ControlInput& in, const ControlOutput& a, const C
       for (int k = 0; k < history_count_; ++k) {
         const auto& past = history_[size_t((history_head_ - 1 - k + 2 * kHistory) % kHistory)];
         if (in.time - past.first + 1e-9 < sp.plateau) continue;
-        settled = std::abs(b.phi - past.second) <= stall;
+        settled = std::abs(sub_->progress(b) - past.second) <= stall;
         break;
       }
     }

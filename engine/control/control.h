@@ -118,8 +118,9 @@ struct ControllerParams {
   double gain = 1.0;     // scales the command
   double hold = 0.0;     // seconds the condition must hold before gamma is CONV
   double stall = 0.01;   // as a subordinate: converged once its projected command is this small,
-                         // or its potential has changed by less than this over `plateau` seconds
-  double plateau = 0.3;  // seconds over which a subordinate's potential must have settled
+                         // or its progress (Controller::progress) has changed by less than this
+                         // over `plateau` seconds
+  double plateau = 0.3;  // seconds over which a subordinate's progress must have settled
 };
 
 // A closed-loop action. Evaluation is cached per tick: a controller shared by several compositions
@@ -149,6 +150,11 @@ class Controller {
 
   // The last output.
   const ControlOutput& output() const { return out_; }
+
+  // How far it still has to go, for a composite's plateau test (SubjectTo): its potential by
+  // default. A controller whose potential is flat over most of its range (phi1's harmonic
+  // potential far from the goal) gives a measure that falls while it makes headway.
+  virtual double progress(const ControlOutput& out) const { return out.phi; }
 
   // Whether state() alone leaves this controller, and every part of it, exactly as evaluate()
   // would: nothing it carries from tick to tick depends on computing its command. A composite

@@ -60,9 +60,9 @@ Primitive::Primitive(std::string kind, double default_epsilon) : kind_(std::move
   declare("gain", 1.0, 0.0, 100.0, "scales the command");
   declare("hold", 0.0, 0.0, 60.0, "seconds the condition must hold before gamma is CONV");
   declare("stall", 0.01, 0.0, 1e6,
-          "as a subordinate, converged once its projected command, or the change of its potential "
-          "over `plateau` seconds, is this small");
-  declare("plateau", 0.3, 0.0, 60.0, "seconds over which a subordinate's potential must settle");
+          "as a subordinate, converged once its projected command, or the change of its progress "
+          "(its potential; phi1's distance to its goal) over `plateau` seconds, is this small");
+  declare("plateau", 0.3, 0.0, 60.0, "seconds over which a subordinate's progress must settle");
 }
 
 Primitive::ParamSlot Primitive::declare(const std::string& name, double value, double min, double max,

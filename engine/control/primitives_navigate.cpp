@@ -59,6 +59,10 @@ class Navigate final : public Primitive {
   Navigate(const Navigate& o)
       : Primitive(o), p_(o.p_), planner_(planner_params()), goal_kind_(o.goal_kind_) {}
   PrimitivePtr clone() const override { return std::make_shared<Navigate>(*this); }
+  // The distance to the goal, not the potential: far from the goal the harmonic potential lies
+  // within a hair of 1 and changes by less than `stall` over `plateau` even at full speed, so a
+  // carry under the grasp keeper (phi1 <| phi4 <| phi5) counted as settled, CONV, every 16 ticks.
+  double progress(const ControlOutput& out) const override { return out.residual; }
   void reset(uint64_t seed) override {
     Primitive::reset(seed);
     grid_ = nullptr;
