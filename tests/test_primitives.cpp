@@ -1133,3 +1133,39 @@ TEST_CASE("a search read only for its state does not take another action's still
   CHECK(std::abs(unread) > 0.05);
   CHECK(read * unread > 0.0);  // the same way round
 }
+
+TEST_CASE("a carry read for its command while another action runs commits to no turn before its run",
+          "[primitives][planner]") {
+  // A transport's state needs its navigator's command while the grasp keeper has a reference, so
+  // the navigator is evaluated on every tick of a grasp, with the base held still by the grasp.
+  // The turn it would commit to, carried over from those reads, was read as blocked every 0.5 s
+  // and reversed; its run then turned away from the goal.
+  auto turn_after_reads = [](int reads) {
+    WorldSpec spec = open_world(false);
+    GoalRegion goal;
+    goal.center = Vec2(-1.5, 0.4);  // behind Roger, on its left
+    goal.radius = 0.4;
+    spec.goals.push_back(goal);
+    Agent agent;
+    agent.reset(spec);
+    auto carry = make_primitive("phi1"), phi4 = make_primitive("phi4");
+    carry->set_text("goal", "region");
+    carry->set_number("carry", 0.36);
+    carry->reset(1);
+    phi4->reset(1);
+    for (int t = 0; t < 100; ++t) {  // 2 s of phi4, the base still, the carry read at the end
+      agent.step(*phi4);
+      if (t >= 100 - reads) carry->evaluate(agent.input());
+    }
+    const double before = agent.world().frame().base.theta;
+    for (int t = 0; t < 15; ++t) agent.step(*carry);
+    return wrap_angle(agent.world().frame().base.theta - before);
+  };
+  // Read for 0.6, 1.1 and 1.6 s: a turn blocked for 0.5 s reverses, so carried over, the first
+  // and the last began the run turning away.
+  for (const int reads : {0, 30, 55, 80}) {
+    const double turned = turn_after_reads(reads);
+    INFO("turned " << turned << " rad after " << reads << " reads");
+    CHECK(turned > 0.05);  // towards the goal's side
+  }
+}

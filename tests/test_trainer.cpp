@@ -242,10 +242,10 @@ namespace {
 // Median time-to-threshold over seeds 1 to `seeds` of one context, in simulated seconds and in episodes;
 // a trial that never reached the threshold counts at its whole training time (censored).
 std::pair<double, double> median_time_to_threshold(const std::string& stage, const std::string& context,
-                                                   int seeds = 10) {
+                                                   int seeds = 10, const std::string& curriculum = "paper") {
   std::vector<double> times, episodes;
   for (uint64_t seed = 1; seed <= uint64_t(seeds); ++seed) {
-    TrainOptions o = trial_options("paper", stage, context, seed);
+    TrainOptions o = trial_options(curriculum, stage, context, seed);
     const TrainResult r = train_stage(o);
     times.push_back(r.reached ? r.to_threshold.sim_s : r.totals.sim_s);
     episodes.push_back(r.reached ? r.to_threshold.episodes : r.totals.episodes);
@@ -260,9 +260,9 @@ std::pair<double, double> median_time_to_threshold(const std::string& stage, con
 }
 }  // namespace
 
-TEST_CASE("the baselines reach the threshold, B2 where valuing untried actions as failures stalls it", "[trainer][fidelity]") {
-  // B1, seeds 2 and 9: short runs that reach the threshold and keep it (every B1 trial of the
-  // paper run does).
+TEST_CASE("the baselines reach the threshold, and valuing untried actions as failures slows B2", "[trainer][fidelity]") {
+  // B1, seeds 2 and 9, and B2, seed 6: short runs that reach the threshold and keep it (every B1
+  // and B2 trial of the paper run does).
   for (uint64_t seed : {2, 9}) {
     TrainOptions o = trial_options("paper", "SG", "B1", seed);
     const TrainResult paper = train_stage(o);
@@ -270,19 +270,17 @@ TEST_CASE("the baselines reach the threshold, B2 where valuing untried actions a
     CHECK(paper.reached);
     CHECK(paper.final_eval.success_rate >= 0.9);
   }
-  // B2, seed 6 (the first of seeds 1-9 where it happens since the arms start in the posture the
-  // spec asks for; it was seed 18 before): with initial_q = -100 (curricula/ablation.lua's T_q100,
-  // the setting the paper's curriculum replaced) its greedy policy settles on a plateau below 90%
-  // and never leaves it; with the paper's settings it reaches the threshold and keeps it.
-  TrainOptions o = trial_options("paper", "T", "B2", 6);
-  const TrainResult paper = train_stage(o);
-  o.curriculum = "curricula/ablation.lua";
-  o.stage = "T_q100";
-  const TrainResult q100 = train_stage(o);
-  INFO("B2 seed 6: reached with the paper's settings " << paper.reached << ", with initial_q = -100 " << q100.reached);
-  CHECK(paper.reached);
-  CHECK(paper.final_eval.success_rate >= 0.9);
-  CHECK_FALSE(q100.reached);
+  const TrainResult b2 = train_stage(trial_options("paper", "T", "B2", 6));
+  CHECK(b2.reached);
+  CHECK(b2.final_eval.success_rate >= 0.9);
+  // With initial_q = -100 (curricula/ablation.lua's T_q100, the setting the paper's curriculum
+  // replaced) untried actions stop being tried once exploration falls: over seeds 1-10 B2 needs
+  // 295 episodes to the threshold by the median, against 120 with the paper's settings. (It used
+  // to stall some trials for good, seed 6 among them; since phi1 read for its state neither solves
+  // nor commits to a turn, none of seeds 1-60 stalls.)
+  const auto paper = median_time_to_threshold("T", "B2");
+  const auto q100 = median_time_to_threshold("T_q100", "B2", 10, "curricula/ablation.lua");
+  CHECK(q100.second > 1.5 * paper.second);
 }
 
 TEST_CASE("training stops after stop_after passing checkpoints of one greedy policy", "[trainer]") {

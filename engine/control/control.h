@@ -156,11 +156,11 @@ class Controller {
   // potential far from the goal) gives a measure that falls while it makes headway.
   virtual double progress(const ControlOutput& out) const { return out.phi; }
 
-  // Whether state() alone leaves this controller, and every part of it, exactly as evaluate()
-  // would: nothing it carries from tick to tick depends on computing its command. A composite
-  // that needs only the state of such a part skips the part's command; any other part it
-  // evaluates as it always did, so that what the part remembers (a planner's warm start, a
-  // search's turn) evolves tick by tick as before.
+  // Whether state() alone serves where only the state is needed: it gives the state evaluate()
+  // would, and skipping the command changes nothing the controller's later commands follow from,
+  // but for rounding (phi1's next solve starts from an older solution and converges to the same
+  // tolerance). A composite that needs only the state of such a part skips the part's command;
+  // any other part (search, whose turn is its memory) it evaluates as before.
   virtual bool state_is_exact() const { return false; }
 
   // This tick's state where only the state is needed: state() where that is exact, evaluate()
