@@ -95,6 +95,8 @@ TEST_CASE("a surface at the edge of the field of view is painted as far as it re
   // micro-radian inside or outside an edge of the field of view (45 degrees either side): inside,
   // the edge pixel gets its sliver of coverage; outside, nothing is painted. A polygon goes through
   // its own path (the bounding-disk test, then its vertices' angles), so both shapes are tried.
+  // Both pass the view cone's cull first (two half-planes, widened by a micro-radian), which must
+  // keep every surface a micro-radian in.
   Rng rng(23);
   int inside = 0, outside = 0;
   for (int trial = 0; trial < 400; ++trial) {
