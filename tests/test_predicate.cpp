@@ -44,7 +44,8 @@ TEST_CASE("converged, gamma_is, all, any and not read the tick's states", "[pred
   for (Gamma ga : gammas)
     for (Gamma gb : gammas) {
       a->next = ga, b->next = gb;
-      const ControlInput in = at_tick(++tick, 0.02 * double(tick));
+      ++tick;  // before the call: its arguments are evaluated in no set order
+      const ControlInput in = at_tick(tick, 0.02 * double(tick));
       const bool ca = ga == Gamma::kConv, cb = gb == Gamma::kConv;
       INFO(gamma_name(ga) << " " << gamma_name(gb));
       CHECK(both->holds(in) == (ca && cb));
