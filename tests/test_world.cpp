@@ -186,6 +186,31 @@ TEST_CASE("an object pushed at a wall stops at its face", "[world]") {
   CHECK(world.object_pose(0).x < 2.0 - 0.2 + 0.02);  // ...and the wall stopped it
 }
 
+// The eyes place an object's surfaces again only when it has moved since they last looked: one
+// pushed across the floor must be seen where it is at every tick, and one at rest where it lies.
+TEST_CASE("the eyes see an object where it is while it is pushed and after it comes to rest", "[world]") {
+  World world;
+  world.reset(open_world(true, Vec2(1.2, 0.1)));
+  auto seen_where_it_is = [&](const char* when) {
+    const Pose p = world.object_pose(0);
+    INFO(when << ": ball at (" << p.x << ", " << p.y << "), stereo at (" << world.senses().stimulus_world.x()
+              << ", " << world.senses().stimulus_world.y() << ")");
+    REQUIRE(world.senses().stereo_valid);
+    CHECK((world.senses().stimulus_world - Vec2(p.x, p.y)).norm() < 0.03);
+  };
+  world.tick();
+  seen_where_it_is("at the start");
+  const double y0 = world.object_pose(0).y;
+  for (int t = 0; t < 10; ++t) {  // 0.2 s of a push along y, above the friction threshold
+    for (int s = 0; s < world.params().substeps; ++s) world.push_object(0, Vec2(0.0, 20.0));
+    world.tick();
+    seen_where_it_is("pushed");
+  }
+  for (int t = 0; t < 50; ++t) world.tick();
+  CHECK(world.object_pose(0).y > y0 + 0.2);  // it went somewhere
+  seen_where_it_is("at rest");
+}
+
 namespace {
 uint64_t scripted_episode(const WorldSpec& spec, double seconds) {
   World world;

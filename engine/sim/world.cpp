@@ -199,14 +199,30 @@ void World::tick() {
 
 void World::update_surfaces() {
   Impl& m = *impl_;
-  m.surfaces.resize(m.static_surfaces);
-  for (size_t i = 0; i < spec_.objects.size(); ++i) {
+  const size_t n = spec_.objects.size();
+  const bool first_sensing = m.surface_poses.size() != n;
+  if (first_sensing) {
+    m.surfaces.resize(m.static_surfaces);
+    m.surface_poses.resize(n);
+  }
+  // Each object's surfaces follow the static ones, in object order, as many as its shape has
+  // parts; only an object that moved since the last sensing is placed again (most lie still).
+  size_t first = m.static_surfaces;
+  for (size_t i = 0; i < n; ++i) {
     const auto& o = spec_.objects[i];
-    const size_t first = m.surfaces.size();
     const Pose pose = object_pose(int(i));
-    append_seen_surfaces(m.surfaces, o.shape, pose, SurfaceKind::kObject, int(i), o.colour);
-    if (put_away(int(i), pose))
-      for (size_t k = first; k < m.surfaces.size(); ++k) m.surfaces[k].ignored = true;
+    Pose& last = m.surface_poses[i];
+    const size_t parts = o.shape.polygons.size() + o.shape.disks.size();
+    if (first_sensing || pose.x != last.x || pose.y != last.y || pose.theta != last.theta) {
+      m.placed.clear();
+      append_seen_surfaces(m.placed, o.shape, pose, SurfaceKind::kObject, int(i), o.colour);
+      if (first_sensing) m.surfaces.insert(m.surfaces.end(), m.placed.begin(), m.placed.end());
+      else std::copy(m.placed.begin(), m.placed.end(), m.surfaces.begin() + std::ptrdiff_t(first));
+      last = pose;
+    }
+    const bool away = put_away(int(i), pose);
+    for (size_t k = first; k < first + parts; ++k) m.surfaces[k].ignored = away;
+    first += parts;
   }
 }
 

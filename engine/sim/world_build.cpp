@@ -182,6 +182,7 @@ void World::Impl::add_obstacles(const std::vector<ObstacleSpec>& obstacles) {
   b2World& w = *world;
   // Obstacles: static bodies at their poses.
   surfaces.clear();
+  surface_poses.clear();
   for (size_t i = 0; i < obstacles.size(); ++i) {
     const auto& o = obstacles[i];
     b2BodyDef bd;

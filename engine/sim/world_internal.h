@@ -73,6 +73,10 @@ struct World::Impl {
   std::array<world_internal::TouchAccumulator, kTactileCount> touch;
   std::vector<SeenSurface> surfaces;  // obstacles (static) first, then objects (moved each tick)
   size_t static_surfaces = 0;
+  // Each object's pose when its surfaces were last placed (empty until the first sensing of an
+  // episode): an object at rest keeps its surfaces, bit for bit, without placing them again.
+  std::vector<Pose> surface_poses;
+  std::vector<SeenSurface> placed;    // scratch: one object's surfaces, placed anew
   b2Body* tactile(int t) const { return t == kBody ? base : link[t == kLeftHand ? 0 : 1][1]; }
 
   // ---- Building (world_build.cpp), in the order World::reset calls them ----
