@@ -188,6 +188,49 @@ TEST_CASE("detection scans only the painted stimulus pixels and finds what a ful
   CHECK(split > 20);
 }
 
+TEST_CASE("two objects of the stimulus colour side by side in the image are two runs", "[senses]") {
+  // Two red balls, objects 0 and 1, next to each other as the eye sees them: apart by a sliver of
+  // wall (up to two pixels), touching, or ball 1 partly behind ball 0. Each is found as itself,
+  // whichever detection prefers: its centre within half a pixel of where it lies alone, or, half
+  // hidden, within the part of it in view. As one run, the centre lay between the two balls.
+  const Vec2 eye(0.0, 0.0);
+  const double heading = 0.0, r = 0.15;
+  int cases = 0;
+  for (double gap_px = -6.0; gap_px <= 2.0; gap_px += 0.25) {
+    // Ball 0 at 1.5 m, 8 degrees left; ball 1 to its right, `gap_px` pixels of wall between their
+    // edges (negative: ball 1, 0.5 m further, overlaps ball 0 by that much and is behind it).
+    const double half0 = std::asin(r / 1.5), b0 = 8.0 * M_PI / 180.0;
+    const double d1 = gap_px < 0.0 ? 2.0 : 1.5, half1 = std::asin(r / d1);
+    const double edge0 = angle_of_pixel(pixel_of_angle(b0 - half0) - gap_px);  // ball 1's left edge
+    const double b1 = edge0 - half1;
+    SeenSurface s0 = disk(eye + 1.5 * Vec2(std::cos(b0), std::sin(b0)), r, kRed);
+    SeenSurface s1 = disk(eye + d1 * Vec2(std::cos(b1), std::sin(b1)), r, kRed);
+    s0.index = 0, s1.index = 1;
+    EyeImage both, alone0, alone1;
+    paint_eye(eye, heading, {s0, s1}, kWall, kRed, both);
+    paint_eye(eye, heading, {s0}, kWall, kRed, alone0);
+    paint_eye(eye, heading, {s1}, kWall, kRed, alone1);
+    const Sighting a0 = detect_stimulus(alone0), a1 = detect_stimulus(alone1);
+    const Sighting p0 = detect_stimulus(both, 0), p1 = detect_stimulus(both, 1);
+    INFO("gap " << gap_px << " px: ball 0 alone at " << a0.u << ", found at " << p0.u << " [" << p0.u_lo << ", "
+                << p0.u_hi << "]; ball 1 alone at " << a1.u << " [" << a1.u_lo << ", " << a1.u_hi << "], found at "
+                << p1.u << " [" << p1.u_lo << ", " << p1.u_hi << "]");
+    REQUIRE(p0.seen);
+    REQUIRE(p1.seen);
+    CHECK(p0.index == 0);
+    CHECK(p1.index == 1);
+    CHECK(std::abs(p0.u - a0.u) < 0.5);  // ball 0 is in front: all of it is in view
+    if (gap_px >= 0.0) {
+      CHECK(std::abs(p1.u - a1.u) < 0.5);
+    } else {  // what is in view of ball 1: from its right edge to ball 0's
+      CHECK(std::abs(p1.u_lo - a1.u_lo) < 0.5);
+      CHECK(std::abs(p1.u_hi - a0.u_lo) < 0.5);
+    }
+    ++cases;
+  }
+  CHECK(cases == 33);
+}
+
 TEST_CASE("an obstacle between eye and ball hides it", "[senses]") {
   WorldSpec spec = open_world(true, Vec2(1.6, 0.0));
   ObstacleSpec wall;

@@ -25,6 +25,7 @@ struct EyeImage {
   std::array<SurfaceKind, kPixels> kind;     // what that surface is
   std::array<int16_t, kPixels> index;        // its index in WorldSpec objects or obstacles, or -1
   std::array<float, kPixels> stimulus;       // fraction of the pixel covered by the stimulus colour
+  Colour stimulus_colour{};                  // the colour painted as stimulus (paint_eye sets it)
   // Every pixel with stimulus coverage lies in [stimulus_first, stimulus_last] (empty when first >
   // last): paint_eye narrows it to what it painted, so detection scans only that; an image made
   // by hand keeps the whole width.
@@ -91,7 +92,9 @@ void append_seen_surfaces(std::vector<SeenSurface>& out, const Shape& shape, con
 void paint_eye(const Vec2& eye, double eye_heading, const std::vector<SeenSurface>& surfaces,
                const Colour& wall_colour, const Colour& stimulus_colour, EyeImage& image);
 
-// Finds the largest run of stimulus pixels and its sub-pixel centre.
+// Finds the largest run of stimulus pixels and its sub-pixel centre. A run whose pixels' centres
+// lie on two objects of the stimulus colour (side by side in the image) is two runs, split where
+// the one ends and the other begins.
 Sighting detect_stimulus(const EyeImage& image, int prefer_index = -1);
 
 // Intersects the two eyes' rays to the stimulus. Returns false when they do not meet in front.
