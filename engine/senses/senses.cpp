@@ -240,9 +240,8 @@ struct RunChoice {
   // Weighs the run of pixels [start, end] of `image`, of object `index`. An edge pixel shared with
   // a neighbouring run of another object holds both runs' coverage, of which this run's is under
   // half (the pixel's centre is on neither): it counts for at most half a pixel.
-  void consider(const EyeImage& image, int start, int end, int index, bool shared_lo, bool shared_hi) {
-    double mass = 0.0;
-    for (int k = start; k <= end; ++k) mass += image.stimulus[size_t(k)];
+  void consider(const EyeImage& image, int start, int end, int index, bool shared_lo, bool shared_hi,
+                double mass) {
     // With several objects of the stimulus colour in view, stereo must pair the same one in both
     // eyes: a run of the preferred surface beats any other, whatever their sizes.
     const bool preferred = prefer_index >= 0 && index == prefer_index;
@@ -273,9 +272,18 @@ struct RunChoice {
   }
 };
 
+constexpr int kNoObject = -2;  // no pixel centre of a run on an object of the stimulus colour yet
+
 // Whether pixel k's centre lies on a surface of the stimulus colour (whose index it carries).
 inline bool on_stimulus(const EyeImage& image, int k) {
   return image.colour[size_t(k)] == image.stimulus_colour && image.kind[size_t(k)] != SurfaceKind::kWall;
+}
+
+// The coverage of pixels [first, last], summed in order.
+inline double coverage_sum(const EyeImage& image, int first, int last) {
+  double mass = 0.0;
+  for (int k = first; k <= last; ++k) mass += image.stimulus[size_t(k)];
+  return mass;
 }
 
 // Weighs the covered pixels [start, end], split into one run per object of the stimulus colour
@@ -284,12 +292,17 @@ inline bool on_stimulus(const EyeImage& image, int k) {
 // between them: stereo then paired it with the other eye's view of one of them and placed the
 // object metres off (8-object sorting, seed 180006), every other tick as the base rocked.
 void consider_runs(const EyeImage& image, int start, int end, RunChoice& choice) {
-  int first = start, object = -1, last_own = -1;  // the run being built: from, of, last centre on it
+  int first = start, object = kNoObject, last_own = -1;  // the run being built: from, of, last centre on it
   bool shared_lo = false;
   for (int k = start; k <= end; ++k) {
-    if (!on_stimulus(image, k)) continue;
     const int index = image.index[size_t(k)];
-    if (object < 0 || index == object) {
+    // Most pixels of a run are the same object's: two comparisons, not the colour's.
+    if (index == object && image.kind[size_t(k)] == SurfaceKind::kObject) {
+      last_own = k;
+      continue;
+    }
+    if (!on_stimulus(image, k)) continue;
+    if (object == kNoObject) {
       object = index, last_own = k;
       continue;
     }
@@ -298,15 +311,13 @@ void consider_runs(const EyeImage& image, int start, int end, RunChoice& choice)
     // both runs), or two, the first the one's and the second the other's.
     const int between = k - last_own - 1;
     const bool shared = between == 1;
-    choice.consider(image, first, between > 0 ? last_own + 1 : last_own, object, shared_lo, shared);
+    const int last = between > 0 ? last_own + 1 : last_own;
+    choice.consider(image, first, last, object, shared_lo, shared, coverage_sum(image, first, last));
     first = between > 0 ? k - 1 : k;
     shared_lo = shared;
     object = index, last_own = k;
   }
-  // A run of one object (every run in a world with one object of the stimulus colour) keeps its
-  // middle pixel's index, as before the split.
-  const int index = first == start ? image.index[size_t((start + end) / 2)] : object;
-  choice.consider(image, first, end, index, shared_lo, false);
+  choice.consider(image, first, end, object, shared_lo, false, coverage_sum(image, first, end));
 }
 
 }  // namespace
@@ -328,9 +339,27 @@ Sighting detect_stimulus(const EyeImage& image, int prefer_index) {
       ++i;
       continue;
     }
+    // A run, and whether its pixels' centres lie on more than one object of the stimulus colour
+    // (rare: most pixels are the first object's, found by two comparisons).
     const int start = i;
-    while (i < kPixels && image.stimulus[i] > 0.0f) ++i;
-    consider_runs(image, start, i - 1, choice);
+    double mass = 0.0;
+    int object = kNoObject;
+    bool several = false;
+    for (; i < kPixels && image.stimulus[i] > 0.0f; ++i) {
+      mass += image.stimulus[i];
+      const int index = image.index[size_t(i)];
+      if (index == object && image.kind[size_t(i)] == SurfaceKind::kObject) continue;
+      if (!on_stimulus(image, i)) continue;
+      if (object == kNoObject) object = index;
+      else several = true;
+    }
+    if (several) {
+      consider_runs(image, start, i - 1, choice);
+    } else {
+      // One object's run (every run of a world with one object of the stimulus colour): its index
+      // is its middle pixel's.
+      choice.consider(image, start, i - 1, image.index[size_t((start + i - 1) / 2)], false, false, mass);
+    }
   }
   return choice.best;
 }
