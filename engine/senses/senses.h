@@ -25,7 +25,9 @@ struct EyeImage {
   std::array<SurfaceKind, kPixels> kind;     // what that surface is
   std::array<int16_t, kPixels> index;        // its index in WorldSpec objects or obstacles, or -1
   std::array<float, kPixels> stimulus;       // fraction of the pixel covered by the stimulus colour
-  Colour stimulus_colour{};                  // the colour painted as stimulus (paint_eye sets it)
+  // The colour painted as stimulus (paint_eye sets it): pixels of that colour are centred on an
+  // object detection may tell apart from another (an image made by hand has none: its runs whole).
+  Colour stimulus_colour{};
   // Every pixel with stimulus coverage lies in [stimulus_first, stimulus_last] (empty when first >
   // last): paint_eye narrows it to what it painted, so detection scans only that; an image made
   // by hand keeps the whole width.
