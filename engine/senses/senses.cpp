@@ -274,6 +274,12 @@ struct RunChoice {
 
 constexpr int kNoObject = -2;  // no pixel centre of a run on an object of the stimulus colour yet
 
+// Whether pixel k's centre lies on object `object` (two comparisons: most pixels of a run are one
+// object's, and need not be tested for the stimulus colour).
+inline bool on_object(const EyeImage& image, int k, int object) {
+  return image.index[size_t(k)] == object && image.kind[size_t(k)] == SurfaceKind::kObject;
+}
+
 // Whether pixel k's centre lies on a surface of the stimulus colour (whose index it carries).
 inline bool on_stimulus(const EyeImage& image, int k) {
   return image.colour[size_t(k)] == image.stimulus_colour && image.kind[size_t(k)] != SurfaceKind::kWall;
@@ -295,13 +301,12 @@ void consider_runs(const EyeImage& image, int start, int end, RunChoice& choice)
   int first = start, object = kNoObject, last_own = -1;  // the run being built: from, of, last centre on it
   bool shared_lo = false;
   for (int k = start; k <= end; ++k) {
-    const int index = image.index[size_t(k)];
-    // Most pixels of a run are the same object's: two comparisons, not the colour's.
-    if (index == object && image.kind[size_t(k)] == SurfaceKind::kObject) {
+    if (on_object(image, k, object)) {
       last_own = k;
       continue;
     }
     if (!on_stimulus(image, k)) continue;
+    const int index = image.index[size_t(k)];
     if (object == kNoObject) {
       object = index, last_own = k;
       continue;
@@ -340,17 +345,15 @@ Sighting detect_stimulus(const EyeImage& image, int prefer_index) {
       continue;
     }
     // A run, and whether its pixels' centres lie on more than one object of the stimulus colour
-    // (rare: most pixels are the first object's, found by two comparisons).
+    // (rare).
     const int start = i;
     double mass = 0.0;
     int object = kNoObject;
     bool several = false;
     for (; i < kPixels && image.stimulus[i] > 0.0f; ++i) {
       mass += image.stimulus[i];
-      const int index = image.index[size_t(i)];
-      if (index == object && image.kind[size_t(i)] == SurfaceKind::kObject) continue;
-      if (!on_stimulus(image, i)) continue;
-      if (object == kNoObject) object = index;
+      if (on_object(image, i, object) || !on_stimulus(image, i)) continue;
+      if (object == kNoObject) object = image.index[size_t(i)];
       else several = true;
     }
     if (several) {

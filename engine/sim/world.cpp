@@ -213,11 +213,13 @@ void World::update_surfaces() {
     const Pose pose = object_pose(int(i));
     Pose& last = m.surface_poses[i];
     const size_t parts = o.shape.polygons.size() + o.shape.disks.size();
-    if (first_sensing || pose.x != last.x || pose.y != last.y || pose.theta != last.theta) {
+    if (first_sensing) {
+      append_seen_surfaces(m.surfaces, o.shape, pose, SurfaceKind::kObject, int(i), o.colour);
+      last = pose;
+    } else if (pose.x != last.x || pose.y != last.y || pose.theta != last.theta) {
       m.placed.clear();
       append_seen_surfaces(m.placed, o.shape, pose, SurfaceKind::kObject, int(i), o.colour);
-      if (first_sensing) m.surfaces.insert(m.surfaces.end(), m.placed.begin(), m.placed.end());
-      else std::copy(m.placed.begin(), m.placed.end(), m.surfaces.begin() + std::ptrdiff_t(first));
+      std::copy(m.placed.begin(), m.placed.end(), m.surfaces.begin() + std::ptrdiff_t(first));
       last = pose;
     }
     const bool away = put_away(int(i), pose);

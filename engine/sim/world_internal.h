@@ -71,7 +71,7 @@ struct World::Impl {
   double odometer = 0.0;
   double eye[2] = {0.0, 0.0}, eye_rate[2] = {0.0, 0.0};
   std::array<world_internal::TouchAccumulator, kTactileCount> touch;
-  std::vector<SeenSurface> surfaces;  // obstacles (static) first, then objects (moved each tick)
+  std::vector<SeenSurface> surfaces;  // obstacles (static), then objects (placed anew when moved)
   size_t static_surfaces = 0;
   // Each object's pose when its surfaces were last placed (empty until the first sensing of an
   // episode): an object at rest keeps its surfaces, bit for bit, without placing them again.
