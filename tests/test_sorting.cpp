@@ -200,16 +200,16 @@ TEST_CASE("sorting: one hand-written policy sorts 4 and 8 objects, its time limi
 TEST_CASE("sorting: an episode of many objects is the same whatever ran before it", "[sorting][determinism]") {
   const SkillScript script = SkillScript::load("curricula/sort_by_hand.lua");
   const SkillScript::NamedPolicy& sort = script.policy("sort");
-  struct World {
+  struct Case {
     const char* objects;
     const char* obstacles;
     const char* mix;
     uint64_t seed;
   };
-  const std::vector<World> worlds = {
+  const std::vector<Case> worlds = {
       {"8", "0", "cycle", 61000}, {"4", "1", "cycle", 61001}, {"8", "2", "random", 61002}, {"8", "0", "random", 61003}};
   std::vector<WorldSpec> specs;
-  for (const World& w : worlds) {
+  for (const Case& w : worlds) {
     Scenario scenario = Scenario::load("sorting");
     scenario.set_param("objects", w.objects);
     scenario.set_param("obstacles", w.obstacles);
