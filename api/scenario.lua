@@ -46,9 +46,63 @@ roger.robot.shoulder_y = 0.18
 ---@type number
 roger.robot.eye_y = 0.08
 
----A disk of this radius about the base centre holds Roger in its start posture at any heading.
+---A disk of this radius about the base centre holds the default Roger in its start posture at any
+---heading (another body's: roger.body_metrics{body = ...}.footprint_radius).
 ---@type number
 roger.robot.footprint_radius = 0.0
+
+---A servo's gains and limits (docs/scenarios.md, Bodies).
+---@class roger.ServoSpec
+---@field kp? number position gain (1/s), 0.01-1000
+---@field max_rate? number largest rate (m/s or rad/s), 0.01-100
+---@field kv? number rate gain of the base's servos, 0-1000
+---@field max_effort? number largest force or torque (N or N m), 0-1000
+
+---Roger's body (world:robot's `body`); an omitted field keeps the paper's Roger.
+---@class roger.BodySpec
+---@field upper_arm? number upper arm length (m), 0.1-2 (0.5)
+---@field forearm? number forearm length (m), 0.1-2 (0.5)
+---@field base_radius? number base radius (m), 0.05-1 (0.16)
+---@field axle_half_width? number wheel axle half width (m), 0.02-1 (0.2)
+---@field base_mass? number kg, 0.01-100 (1)
+---@field link_mass? number kg per link, 0.001-100 (0.2)
+---@field hand_radius? number hand radius (m), 0.01-0.3 (0.08)
+---@field hand_mass? number kg, 0.001-100 (0.05)
+---@field shoulder_y? number shoulders at (0, +-shoulder_y) in the base frame (m), 0-1 (0.18)
+---@field eye_y? number eyes at (0, +-eye_y) (m), inside the base (0.08)
+---@field shoulder? {min: number?, max: number?} the left shoulder's range (rad, within +-pi; the right mirrors it)
+---@field elbow? {min: number?, max: number?} the left elbow's range (rad)
+---@field eye_pan? number each eye pans within +-eye_pan of the heading (rad), 0.05-pi/2
+---@field friction? number Coulomb coefficient of the base and hands, 0-10 (1)
+---@field servos? {base_forward: roger.ServoSpec?, base_heading: roger.ServoSpec?, eye: roger.ServoSpec?, shoulder: roger.ServoSpec?, elbow: roger.ServoSpec?}
+---@field locked? ("left_eye"|"right_eye"|"left_shoulder"|"left_elbow"|"right_shoulder"|"right_elbow")[] joints held at their start angle
+
+---Roger's eyes (world:robot's `eyes`).
+---@class roger.EyesSpec
+---@field pixels? integer pixels of each 1-D camera, 16-512 (128)
+---@field fov? number the full field of view (rad), 0.1-2.8 (pi/2)
+
+---What follows from a body: the controllers' body-derived numbers (docs/control.md, Bodies).
+---@class roger.BodyMetrics
+---@field footprint_radius number a disk of this radius holds Roger, arms folded, at any heading (m)
+---@field approach number phi1's approach ring (m)
+---@field preshape_reach number phi2's reach (m)
+---@field grasp_reach number phi3's reach (m)
+---@field grid_inflate number the planner's obstacle growth (m)
+---@field objects_growth number phi1's growth of other objects (m)
+---@field squeeze number phi1's narrower growth (m)
+---@field release_distance number how far release backs off (m)
+---@field half_view number search's half view (rad)
+---@field sidestep number search's sideways step (m)
+---@field carry number the grasped object's centre ahead of the base (m)
+---@field fold_shoulder number the left shoulder's fold angle (rad; the right mirrors it)
+---@field fold_elbow number the left elbow's fold angle (rad)
+
+---The numbers that follow from a body and its eyes (the default Roger's without arguments); a
+---body that cannot be built is an error naming why.
+---@param spec? {body: roger.BodySpec?, eyes: roger.EyesSpec?}
+---@return roger.BodyMetrics
+function roger.body_metrics(spec) end
 
 ---A colour: {r, g, b}, {r = , g = , b = } (integers 0-255) or "#rrggbb".
 ---@alias roger.Colour integer[]|{r: integer, g: integer, b: integer}|string
@@ -92,8 +146,8 @@ function World:arena(spec) end
 ---@return number ymax
 function World:bounds() end
 
----Places Roger: base pose and start posture. Call it once.
----@param spec {x: number, y: number, heading: number?, left_shoulder: number?, left_elbow: number?, right_shoulder: number?, right_elbow: number?, left_eye: number?, right_eye: number?}
+---Places Roger: base pose, start posture (the body's folded one by default), body and eyes. Call it once.
+---@param spec {x: number, y: number, heading: number?, left_shoulder: number?, left_elbow: number?, right_shoulder: number?, right_elbow: number?, left_eye: number?, right_eye: number?, body: roger.BodySpec?, eyes: roger.EyesSpec?}
 function World:robot(spec) end
 
 ---Places a movable object (what Roger searches for, grasps and transports).

@@ -9,12 +9,13 @@
 -- leave room for the hands around the object.
 local shapes = require("lib.shapes")
 local place = require("lib.place")
+local body = require("lib.body")
 
 return {
   name = "cluttered",
   description = "Section IV: the unobstructed world plus random obstacles; circle, triangle, pentagon or spade.",
 
-  params = {
+  params = body.with_params{
     shape = { default = "circle", choices = shapes.names(),
               description = "the object: circle, triangle, pentagon or spade" },
     obstacles = { default = 3, min = 0, max = 12, description = "number of obstacles" },

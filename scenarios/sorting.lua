@@ -11,6 +11,7 @@
 -- then the obstacles, all from the generator's rng, so a world is a pure function of (parameters,
 -- seed).
 local shapes = require("lib.shapes")
+local body = require("lib.body")
 
 -- The types, their colours and their regions, in region order.
 local TYPES = { "circle", "triangle", "pentagon", "spade" }
@@ -64,7 +65,7 @@ return {
   name = "sorting",
   description = "Figure 1: 1 to 12 objects of four types, each type to its own region on the arena's edge.",
 
-  params = {
+  params = body.with_params{
     objects = { default = 2, min = 1, max = 12, description = "number of objects" },
     mix = { default = "cycle", choices = { "cycle", "random" },
             description = "types in turn (circle, spade, pentagon, triangle, ...) or drawn at random" },
@@ -86,10 +87,11 @@ return {
       local c = region_centre(k, half, radius)
       world:goal{ name = t, x = c[1], y = c[2], radius = radius, colour = COLOURS[t] }
     end
+    local b = body.of(p)
     local rx, ry = world:sample_position{
-      name = "Roger", radius = roger.robot.footprint_radius, wall_margin = 1.0, clearance = 0.2,
+      name = "Roger", radius = roger.body_metrics(b).footprint_radius, wall_margin = 1.0, clearance = 0.2,
     }
-    world:robot{ x = rx, y = ry, heading = rng:angle() }
+    world:robot{ x = rx, y = ry, heading = rng:angle(), body = b.body, eyes = b.eyes }
     for i = 1, p.objects do
       local t = types[i]
       local shape = shapes.get(t)

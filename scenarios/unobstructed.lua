@@ -12,12 +12,13 @@
 -- The `shape` parameter runs the same world with the other shapes of Section IV.
 local shapes = require("lib.shapes")
 local place = require("lib.place")
+local body = require("lib.body")
 
 return {
   name = "unobstructed",
   description = "Section III: Roger, a red object and the goal at the origin in an empty 4 x 4 m arena.",
 
-  params = {
+  params = body.with_params{
     shape = { default = "circle", choices = shapes.names(),
               description = "the object: circle (the paper's ball), triangle, pentagon or spade" },
     mass = { default = 0.5, min = 0.01, description = "object mass (kg)" },

@@ -210,7 +210,7 @@ TEST_CASE("an episode becomes frames, a replay page and episode.json") {
     REQUIRE(world.at("objects").size() == e.spec.objects.size());
     CHECK(world.at("objects")[0].at("shape").at("disks").size() +
               world.at("objects")[0].at("shape").at("polygons").size() > 0);
-    CHECK(world.at("robot").at("base_radius").get<double>() == Approx(o.frame.robot.base_radius));
+    CHECK(world.at("robot").at("base_radius").get<double>() == Approx(e.spec.body.base_radius));
     for (size_t i = 0; i < ep.frames.size(); ++i) {
       const auto& f = j.at("frames")[i];
       const Frame& fr = ep.frames[i];
@@ -219,7 +219,7 @@ TEST_CASE("an episode becomes frames, a replay page and episode.json") {
       CHECK(f.at("eye_heading")[1].get<double>() == Approx(fr.eye_heading[1]));
       REQUIRE(f.at("images").size() == 2);
       const std::string left = f.at("images")[0];
-      REQUIRE(left.size() == 6 * size_t(kPixels));
+      REQUIRE(left.size() == 6 * size_t(e.spec.eyes.pixels));
       const Colour c = fr.senses.image[0].colour[5];
       char hex[8];
       std::snprintf(hex, sizeof hex, "%02x%02x%02x", c.r, c.g, c.b);

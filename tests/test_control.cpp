@@ -100,7 +100,7 @@ TEST_CASE("an agent's occupancy grid follows the arena and obstacles of each epi
   Agent agent;
   for (size_t k = 0; k < worlds.size(); ++k) {
     agent.reset(worlds[k]);
-    const OccupancyGrid expected = build_occupancy(worlds[k], agent.params().grid_inflate);
+    const OccupancyGrid expected = build_occupancy(worlds[k], body_metrics(worlds[k].body, worlds[k].eyes).grid_inflate);
     INFO("world " << k);
     CHECK(agent.grid().nx == expected.nx);
     CHECK(agent.grid().x0 == expected.x0);

@@ -720,7 +720,7 @@ TEST_CASE("the static pass finds a misspelt roger member and names the nearest",
   CHECK_THAT(problems_in("return roger.stage{}").at(0),
              Contains("roger.stage is not in the API of a skill script (a curriculum has it)"));
   CHECK_THAT(problems_in("return roger.zzzzzzzz", ScriptKind::kScenario).at(0),
-             Contains("; roger has: robot, shape, version"));
+             Contains("; roger has: body_metrics, robot, shape, version"));
   // A batch script has no roger at all.
   CHECK_THAT(problems_in("return roger.sequence", ScriptKind::kBatchScript).at(0),
              Contains("undefined global 'roger': a batch script reaches no roger.* API"));

@@ -103,9 +103,9 @@ Frame make_frame() {
   s.base = f.base;
   for (int side = 0; side < 2; ++side) {
     EyeImage& img = s.image[side];
-    int lo = kPixels, hi = -1;
-    for (int u = 0; u < kPixels; ++u) {
-      const double a = f.eye_heading[side] + angle_of_pixel(u);
+    int lo = Camera{}.pixels, hi = -1;
+    for (int u = 0; u < Camera{}.pixels; ++u) {
+      const double a = f.eye_heading[side] + Camera{}.angle_of_pixel(u);
       const Vec2 d(std::cos(a), std::sin(a));
       const Vec2 m = kBall - f.eyes[side];
       const double along = m.dot(d), miss = (m - along * d).norm();
@@ -121,8 +121,8 @@ Frame make_frame() {
     seen.seen = true;
     seen.u_lo = lo - 0.5;
     seen.u_hi = hi + 0.5;
-    seen.bearing = 0.5 * (angle_of_pixel(seen.u_lo) + angle_of_pixel(seen.u_hi));
-    seen.u = pixel_of_angle(seen.bearing);
+    seen.bearing = 0.5 * (Camera{}.angle_of_pixel(seen.u_lo) + Camera{}.angle_of_pixel(seen.u_hi));
+    seen.u = Camera{}.pixel_of_angle(seen.bearing);
   }
   s.stereo_valid = true;
   s.stimulus_world = kBall;  // the cross-hair's open centre leaves the ball's centre pixel red

@@ -107,8 +107,8 @@ bool object_visible_somewhere(const WorldSpec& w) {
       for (const auto& o : w.obstacles) free = free && shape_signed_distance(o.shape, o.pose, eye) > 0.16;
       if (!free) continue;
       const double heading = std::atan2(object.pose.y - y, object.pose.x - x);
-      paint_eye(eye, heading, surfaces, a.wall_colour, w.stimulus_colour, image);
-      for (int u = 0; u < kPixels; ++u)
+      paint_eye(Camera{}, eye, heading, surfaces, a.wall_colour, w.stimulus_colour, image);
+      for (int u = 0; u < Camera{}.pixels; ++u)
         if (image.kind[u] == SurfaceKind::kObject) return true;
     }
   }
@@ -324,8 +324,9 @@ TEST_CASE("scenario parameters", "[scenario]") {
   SECTION("an unknown key lists the known parameters") {
     CHECK_THROWS_WITH(s.set_param("obstcles", "2"),
                       StartsWith("scenario 'cluttered' (scenarios/cluttered.lua) has no parameter "
-                                 "'obstcles'; known parameters: goal_radius (number, default 0.25; "
-                                 "min 0.01)") &&
+                                 "'obstcles'; known parameters: base_radius (number, default 0.16; "
+                                 "min 0.05; max 1)") &&
+                          Contains("goal_radius (number, default 0.25; min 0.01)") &&
                           Contains("obstacles (integer, default 3; min 0; max 12)") &&
                           Contains("shape (string, default circle; one of circle, pentagon, spade, triangle)"));
   }

@@ -32,7 +32,7 @@ TEST_CASE("a ball at a known bearing lands on the pixel the pinhole model predic
     const double heading = 0.4;
     const Vec2 ball = eye + 1.3 * Vec2(std::cos(heading + b), std::sin(heading + b));
     EyeImage image;
-    paint_eye(eye, heading, {disk(ball, 0.2, kRed)}, kWall, kRed, image);
+    paint_eye(Camera{}, eye, heading, {disk(ball, 0.2, kRed)}, kWall, kRed, image);
     const Sighting s = detect_stimulus(image);
     const double predicted = 63.5 + 64.0 * std::tan(b);
     INFO("bearing " << bearing_deg << " deg, predicted pixel " << predicted << ", seen " << s.u);
@@ -48,7 +48,7 @@ TEST_CASE("pixels carry the colour of the nearest surface", "[senses]") {
   const Vec2 eye(0, 0);
   // A grey disk in front of the red one, partly overlapping in angle.
   EyeImage image;
-  paint_eye(eye, 0.0, {disk({2.0, 0.0}, 0.3, kRed), disk({1.0, 0.1}, 0.1, kGrey, SurfaceKind::kObstacle)},
+  paint_eye(Camera{}, eye, 0.0, {disk({2.0, 0.0}, 0.3, kRed), disk({1.0, 0.1}, 0.1, kGrey, SurfaceKind::kObstacle)},
             kWall, kRed, image);
   const int near_pixel = int(std::lround(63.5 + 64.0 * std::tan(std::atan2(0.1, 1.0))));
   CHECK(image.colour[near_pixel] == kGrey);
@@ -57,7 +57,7 @@ TEST_CASE("pixels carry the colour of the nearest surface", "[senses]") {
   CHECK(image.colour[0] == kWall);
   CHECK(image.colour[127] == kWall);
   // Out of the field of view: behind the eye.
-  paint_eye(eye, 0.0, {disk({-2.0, 0.0}, 0.3, kRed)}, kWall, kRed, image);
+  paint_eye(Camera{}, eye, 0.0, {disk({-2.0, 0.0}, 0.3, kRed)}, kWall, kRed, image);
   CHECK_FALSE(detect_stimulus(image).seen);
 }
 
@@ -71,16 +71,16 @@ TEST_CASE("a stimulus covers each pixel by its exact overlap with the stimulus's
     const double distance = rng.uniform(0.4, 4.0), radius = rng.uniform(0.02, 0.35);
     const Vec2 ball = eye + distance * Vec2(std::cos(heading + bearing), std::sin(heading + bearing));
     EyeImage image;
-    paint_eye(eye, heading, {disk(ball, radius, kRed)}, kWall, kRed, image);
+    paint_eye(Camera{}, eye, heading, {disk(ball, radius, kRed)}, kWall, kRed, image);
     // The extent as the painter finds it for a disk.
     const Vec2 to_ball = ball - eye;
     const double centre = wrap_angle(std::atan2(to_ball.y(), to_ball.x()) - heading);
     const double half = std::asin(radius / to_ball.norm());
     const double lo_angle = std::max(centre - half, -M_PI / 4), hi_angle = std::min(centre + half, M_PI / 4);
-    const double lo = std::clamp(pixel_of_angle(lo_angle), -0.5, kPixels - 0.5);
-    const double hi = std::clamp(pixel_of_angle(hi_angle), -0.5, kPixels - 0.5);
+    const double lo = std::clamp(Camera{}.pixel_of_angle(lo_angle), -0.5, Camera{}.pixels - 0.5);
+    const double hi = std::clamp(Camera{}.pixel_of_angle(hi_angle), -0.5, Camera{}.pixels - 0.5);
     const bool in_view = centre + half > -M_PI / 4 && centre - half < M_PI / 4 && hi > lo;
-    for (int i = 0; i < kPixels; ++i) {
+    for (int i = 0; i < Camera{}.pixels; ++i) {
       const double overlap = std::min(hi, i + 0.5) - std::max(lo, i - 0.5);
       const float expected = in_view && overlap > 0 ? float(std::min(1.0, 0.0f + overlap)) : 0.0f;
       if (std::memcmp(&expected, &image.stimulus[i], sizeof expected) != 0)
@@ -129,16 +129,17 @@ TEST_CASE("a surface at the edge of the field of view is painted as far as it re
     s.center = turned(s.center);
     for (int k = 0; k < s.vertex_count; ++k) s.vertices[size_t(k)] = turned(s.vertices[size_t(k)]);
     EyeImage image;
-    paint_eye(eye, heading, {s}, kWall, kRed, image);
-    const int edge_pixel = left ? kPixels - 1 : 0;
+    paint_eye(Camera{}, eye, heading, {s}, kWall, kRed, image);
+    const int edge_pixel = left ? Camera{}.pixels - 1 : 0;
     INFO("trial " << trial << (square ? ": square" : ": disk") << (left ? " at the left edge" : " at the right edge")
                   << (in_view ? ", a micro-radian in" : ", a micro-radian out"));
     if (in_view) {
       CHECK(image.stimulus[size_t(edge_pixel)] > 0.0f);
       ++inside;
     } else {
-      CHECK(std::all_of(image.stimulus.begin(), image.stimulus.end(), [](float c) { return c == 0.0f; }));
-      CHECK(std::all_of(image.colour.begin(), image.colour.end(), [](const Colour& c) { return c == kWall; }));
+      const int n = image.pixels();
+      CHECK(std::all_of(image.stimulus.begin(), image.stimulus.begin() + n, [](float c) { return c == 0.0f; }));
+      CHECK(std::all_of(image.colour.begin(), image.colour.begin() + n, [](const Colour& c) { return c == kWall; }));
       ++outside;
     }
   }
@@ -163,11 +164,11 @@ TEST_CASE("detection scans only the painted stimulus pixels and finds what a ful
       surfaces.push_back(disk(c, rng.uniform(0.02, 0.4), rng.uniform() < 0.6 ? kRed : kGrey));
     }
     EyeImage image;
-    paint_eye(eye, heading, surfaces, kWall, kRed, image);
-    for (int i = 0; i < kPixels; ++i)
+    paint_eye(Camera{}, eye, heading, surfaces, kWall, kRed, image);
+    for (int i = 0; i < Camera{}.pixels; ++i)
       if (i < image.stimulus_first || i > image.stimulus_last) REQUIRE(image.stimulus[size_t(i)] == 0.0f);
     EyeImage whole = image;
-    whole.stimulus_first = 0, whole.stimulus_last = kPixels - 1;
+    whole.stimulus_first = 0, whole.stimulus_last = Camera{}.pixels - 1;
     const Sighting a = detect_stimulus(image), b = detect_stimulus(whole);
     REQUIRE(a.seen == b.seen);
     CHECK(a.clipped == b.clipped);
@@ -179,7 +180,7 @@ TEST_CASE("detection scans only the painted stimulus pixels and finds what a ful
     seen += a.seen;
     // Runs separated by a grey disk in front: the range spans both, and the larger run wins.
     int runs = 0;
-    for (int i = 0; i < kPixels; ++i)
+    for (int i = 0; i < Camera{}.pixels; ++i)
       runs += image.stimulus[size_t(i)] > 0.0f && (i == 0 || image.stimulus[size_t(i - 1)] == 0.0f);
     split += runs > 1;
   }
@@ -201,15 +202,15 @@ TEST_CASE("two objects of the stimulus colour side by side in the image are two 
     // edges (negative: ball 1, 0.5 m further, overlaps ball 0 by that much and is behind it).
     const double half0 = std::asin(r / 1.5), b0 = 8.0 * M_PI / 180.0;
     const double d1 = gap_px < 0.0 ? 2.0 : 1.5, half1 = std::asin(r / d1);
-    const double edge0 = angle_of_pixel(pixel_of_angle(b0 - half0) - gap_px);  // ball 1's left edge
+    const double edge0 = Camera{}.angle_of_pixel(Camera{}.pixel_of_angle(b0 - half0) - gap_px);  // ball 1's left edge
     const double b1 = edge0 - half1;
     SeenSurface s0 = disk(eye + 1.5 * Vec2(std::cos(b0), std::sin(b0)), r, kRed);
     SeenSurface s1 = disk(eye + d1 * Vec2(std::cos(b1), std::sin(b1)), r, kRed);
     s0.index = 0, s1.index = 1;
     EyeImage both, alone0, alone1;
-    paint_eye(eye, heading, {s0, s1}, kWall, kRed, both);
-    paint_eye(eye, heading, {s0}, kWall, kRed, alone0);
-    paint_eye(eye, heading, {s1}, kWall, kRed, alone1);
+    paint_eye(Camera{}, eye, heading, {s0, s1}, kWall, kRed, both);
+    paint_eye(Camera{}, eye, heading, {s0}, kWall, kRed, alone0);
+    paint_eye(Camera{}, eye, heading, {s1}, kWall, kRed, alone1);
     const Sighting a0 = detect_stimulus(alone0), a1 = detect_stimulus(alone1);
     const Sighting p0 = detect_stimulus(both, 0), p1 = detect_stimulus(both, 1);
     INFO("gap " << gap_px << " px: ball 0 alone at " << a0.u << ", found at " << p0.u << " [" << p0.u_lo << ", "
@@ -307,7 +308,7 @@ TEST_CASE("the eyes keep to one of two objects of the stimulus colour while it s
   REQUIRE(s.stimulus[kLeft].index == 0);
   auto mass = [&](int index) {
     double m = 0.0;
-    for (int u = 0; u < kPixels; ++u)
+    for (int u = 0; u < Camera{}.pixels; ++u)
       if (s.image[kLeft].index[size_t(u)] == index) m += s.image[kLeft].stimulus[size_t(u)];
     return m;
   };
@@ -324,7 +325,8 @@ TEST_CASE("the eyes keep to one of two objects of the stimulus colour while it s
     if (mass(0) > 0.0) CHECK(now == 0);
     // The right eye pairs the left eye's object whenever it has some of it in view.
     const auto& right = s.image[kRight].index;
-    if (std::find(right.begin(), right.end(), now) != right.end()) CHECK(s.stimulus[kRight].index == now);
+    const auto right_end = right.begin() + s.image[kRight].pixels();
+    if (std::find(right.begin(), right_end, now) != right_end) CHECK(s.stimulus[kRight].index == now);
   }
   CHECK(other_larger_while_first_in_view);  // the case the test is about did arise
   CHECK(last == 1);                          // and once the first was gone, the other was taken

@@ -78,7 +78,7 @@ TEST_CASE("sorting: 50 seeds of eight objects and four obstacles, no overlaps, e
       REQUIRE(w.objects.size() == 8);
       REQUIRE(w.obstacles.size() == 4);
       REQUIRE(w.goals.size() == 4);
-      const OccupancyGrid grid = build_occupancy(w, AgentParams{}.grid_inflate);
+      const OccupancyGrid grid = build_occupancy(w, body_metrics(w.body, w.eyes).grid_inflate);
       const Vec2 start(w.robot.pose.x, w.robot.pose.y);
       for (size_t i = 0; i < w.objects.size(); ++i) {
         const ObjectSpec& o = w.objects[i];

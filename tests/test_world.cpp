@@ -15,7 +15,7 @@ TEST_CASE("forward kinematics of both arms matches the Box2D bodies within 1 mm"
   World world;
   world.reset(open_world(false));
   Rng rng(7);
-  const RobotParams& r = world.params().robot;
+  const RobotParams& r = world.body();
   for (int trial = 0; trial < 20; ++trial) {
     DofVector s = world.q();
     s[kLeftShoulder] = rng.uniform(-1.5, 2.5);

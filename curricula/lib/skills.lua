@@ -24,10 +24,10 @@ function skills.primitives(overrides)
     p[kind] = roger.primitive(kind, overrides[kind])
   end
   -- The transport navigator: phi1 towards the scenario's goal region, with its control point
-  -- carried 0.36 m ahead of the base (the grasped object's centre) and a gentler cruise speed so
-  -- the grasp holds through the accelerations. Its name stays "phi1", as in the paper's
-  -- "phi1 <| phi4 <| phi5".
-  local carry = { goal = "region", carry = 0.36, speed = 0.8 }
+  -- carried ahead of the base at the grasped object's centre (carry = "body": 0.36 m for the
+  -- default Roger, docs/control.md, Bodies) and a gentler cruise speed so the grasp holds through
+  -- the accelerations. Its name stays "phi1", as in the paper's "phi1 <| phi4 <| phi5".
+  local carry = { goal = "region", carry = "body", speed = 0.8 }
   for k, v in pairs(overrides.carry or {}) do carry[k] = v end
   p.carry = roger.primitive("phi1", carry)
   return p

@@ -77,9 +77,10 @@ class StageHooks final : public DecisionHooks {
   const CurriculumContext& ctx_;
 };
 
-// The scenario of a stage with its parameters, then the caller's `sets`; `name` another scenario
-// ("" = the stage's, whose parameters then do not apply). Appends the parameters used to `used`.
-Scenario make_scenario(const CurriculumStage& stage, const std::string& name,
+// The scenario of a stage with its parameters and the context's over them, then the caller's
+// `sets`; `name` another scenario ("" = the stage's, whose parameters then do not apply). Appends
+// the parameters used to `used`.
+Scenario make_scenario(const CurriculumStage& stage, const CurriculumContext& context, const std::string& name,
                        const std::vector<std::pair<std::string, std::string>>& sets,
                        const SandboxLimits& limits, std::vector<std::pair<std::string, std::string>>* used);
 

@@ -34,7 +34,7 @@ struct StageEnvironment::Impl {
       : cur(std::move(c)),
         stage(cur.stage(stage_name)),
         ctx(stage.context(context)),
-        scenario(batch_detail::make_scenario(stage, o.scenario, o.sets, o.limits, &info.params)),
+        scenario(batch_detail::make_scenario(stage, ctx, o.scenario, o.sets, o.limits, &info.params)),
         table(controller_names(ctx.actions), stage.learner),
         hooks(cur, stage, ctx),
         driver(ctx.actions, stage.absorbing.get(), table, 0.0, unused, stage.rewards, false, &hooks) {

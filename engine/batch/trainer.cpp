@@ -70,13 +70,14 @@ struct StageRun {
 }  // namespace
 
 // The scenario of a stage with its parameters, then the caller's.
-Scenario batch_detail::make_scenario(const CurriculumStage& stage, const std::string& name,
+Scenario batch_detail::make_scenario(const CurriculumStage& stage, const CurriculumContext& context,
+                                     const std::string& name,
                        const std::vector<std::pair<std::string, std::string>>& sets,
                        const SandboxLimits& limits, std::vector<std::pair<std::string, std::string>>* used) {
   const bool own = name.empty() || name == stage.scenario;
   Scenario s = Scenario::load(own ? stage.scenario : name, limits);
   if (own)
-    for (const auto& [k, v] : stage.params) s.set_param(k, v);
+    for (const auto& [k, v] : stage.scenario_params(context)) s.set_param(k, v);
   for (const auto& [k, v] : sets) s.set_param(k, v);
   if (used)
     for (const auto& p : s.params()) used->push_back({p.name, p.value});
@@ -288,7 +289,7 @@ TrainResult train_stage(const TrainOptions& options) {
   res.psi = controller_names(ctx.actions);
   bind_skills(cur, ctx, options, nullptr, res.skills);
 
-  StageRun run{cur, stage, ctx, make_scenario(stage, "", options.sets, options.limits, &res.params), Agent()};
+  StageRun run{cur, stage, ctx, make_scenario(stage, ctx, "", options.sets, options.limits, &res.params), Agent()};
   cur.set_world(&run.agent.world());  // the Lua callbacks' `world`
   res.scenario = run.scenario.name();
   res.q = std::make_shared<QTable>(res.psi, stage.learner);
@@ -492,7 +493,7 @@ void with_policy_file(const PolicyEvalOptions& options, PolicyEvalResult& out,
   out.stage = stage.name;
   out.context = ctx.name;
   out.time_limit = stage.time_limit_text();
-  StageRun run{cur, stage, ctx, make_scenario(stage, options.scenario, options.sets, options.limits, &out.params), Agent()};
+  StageRun run{cur, stage, ctx, make_scenario(stage, ctx, options.scenario, options.sets, options.limits, &out.params), Agent()};
   cur.set_world(&run.agent.world());
   out.scenario = run.scenario.name();
   use(run, q, options.first_seed >= 0 ? uint64_t(options.first_seed) : stage.checkpoints.seeds);

@@ -45,7 +45,6 @@ void write_rendered_episode(const RenderArgs& a, const WorldSpec& spec, const Ep
                             const std::string& title) {
   AnimationOptions anim;
   anim.frame.width_px = a.width;
-  anim.frame.robot = RobotParams{};
   anim.title = title;
   const bool summary = a.out.size() > 4 && a.out.compare(a.out.size() - 4, 4, ".png") == 0;
   if (summary) {
@@ -109,7 +108,6 @@ int command_render(const RenderArgs& a) {
   RenderOptions options;
   options.width_px = a.width;
   options.show_grid = a.grid;
-  options.robot = world.params().robot;
   render_frame(spec, world.frame(), a.out, options);
   std::printf("wrote %s (%s, seed %llu)\n", a.out.c_str(), a.scenario.c_str(),
               static_cast<unsigned long long>(a.seed));

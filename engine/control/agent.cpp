@@ -49,12 +49,16 @@ bool same_obstacles(const ArenaSpec& a, const std::vector<ObstacleSpec>& ao, con
 
 void Agent::reset(const WorldSpec& spec) {
   world_.reset(spec);
-  // Episodes of one scenario mostly share the arena and its obstacles: the grid is built again
-  // only when they differ.
   const WorldSpec& s = world_.spec();
-  if (!grid_valid_ || !same_obstacles(s.arena, s.obstacles, grid_arena_, grid_obstacles_)) {
+  metrics_ = roger::body_metrics(s.body, s.eyes);
+  const double inflate = params_.grid_inflate >= 0.0 ? params_.grid_inflate : metrics_.grid_inflate;
+  // Episodes of one scenario mostly share the arena, its obstacles and Roger's body: the grid is
+  // built again only when they differ.
+  if (!grid_valid_ || !same(inflate, grid_inflate_) ||
+      !same_obstacles(s.arena, s.obstacles, grid_arena_, grid_obstacles_)) {
     grid_valid_ = false;  // stays so if the build throws
-    grid_ = build_occupancy(s, params_.grid_inflate);
+    grid_ = build_occupancy(s, inflate);
+    grid_inflate_ = inflate;
     grid_arena_ = s.arena;
     grid_obstacles_ = s.obstacles;
     grid_valid_ = true;
@@ -87,10 +91,12 @@ void Agent::refresh_objects() {
 
 void Agent::refresh_input() {
   refresh_objects();
-  percepts_.update(world_.senses(), world_.params().robot, &objects_, &world_.attention().colour);
+  percepts_.update(world_.senses(), world_.body(), &objects_, &world_.attention().colour);
   input_.senses = &world_.senses();
   input_.percepts = &percepts_;
-  input_.robot = &world_.params().robot;
+  input_.robot = &world_.body();
+  input_.body = &metrics_;
+  input_.camera = &world_.camera();
   input_.spec = &world_.spec();
   input_.grid = &grid_;
   input_.objects = &objects_;

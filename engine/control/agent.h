@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "control/control.h"
+#include "core/body.h"
 #include "sim/occupancy.h"
 #include "sim/world.h"
 
@@ -12,7 +13,9 @@ namespace roger {
 
 // How the agent runs its controllers.
 struct AgentParams {
-  double grid_inflate = 0.36;  // obstacles grown by this (m) for the planner: the folded hands' reach
+  // Obstacles grown by this (m) for the planner; negative: the body's (BodyMetrics::grid_inflate,
+  // the folded footprint's half width: 0.36 m for the default Roger).
+  double grid_inflate = -1.0;
   bool gaze_reflex = true;     // eyes keep the stimulus centred whenever the action leaves them idle
 };
 
@@ -38,6 +41,10 @@ class Agent {
   // The map of movable objects at the current tick (ControlInput::objects).
   const std::vector<MapObject>& objects() const { return objects_; }
   const AgentParams& params() const { return params_; }
+  // The controllers' numbers that follow from this episode's body (ControlInput::body).
+  const BodyMetrics& body_metrics() const { return metrics_; }
+  // The growth of the obstacles in grid() (m).
+  double grid_inflate() const { return grid_inflate_; }
   uint64_t ticks() const { return input_.tick; }
   // The errors vector written at the last step (the action's command plus the gaze reflex).
   const DofVector& last_errors() const { return last_errors_; }
@@ -48,9 +55,11 @@ class Agent {
   World world_;
   AgentParams params_;
   Percepts percepts_;
+  BodyMetrics metrics_;
   OccupancyGrid grid_;
   // What grid_ was built from: an episode in the same arena among the same obstacles reuses it.
   bool grid_valid_ = false;
+  double grid_inflate_ = 0.0;
   ArenaSpec grid_arena_;
   std::vector<ObstacleSpec> grid_obstacles_;
   std::vector<MapObject> objects_;

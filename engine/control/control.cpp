@@ -110,6 +110,7 @@ void Controller::reset(uint64_t) {
   out_ = ControlOutput{};
   last_tick_ = state_tick_ = settle_tick_ = UINT64_MAX;
   conv_since_ = -1.0;
+  body_ = nullptr;
 }
 
 Gamma Controller::settle(Gamma raw, const ControlInput& in) {
@@ -130,6 +131,7 @@ Gamma Controller::settle(Gamma raw, const ControlInput& in) {
 const ControlOutput& Controller::evaluate(const ControlInput& in) {
   if (in.tick == last_tick_) return out_;
   last_tick_ = in.tick;
+  body_ = in.body;
   out_.command.setZero();
   out_.jacobian.resize(0, kDofCount);
   out_.phi = out_.residual = 0.0;
@@ -146,6 +148,7 @@ const ControlOutput& Controller::evaluate(const ControlInput& in) {
 Gamma Controller::state(const ControlInput& in) {
   if (in.tick == last_tick_ || in.tick == state_tick_) return out_.gamma;
   Gamma raw = Gamma::kNoRef;
+  body_ = in.body;
   if (!compute_state(in, out_, raw)) return evaluate(in).gamma;
   state_tick_ = in.tick;
   state_raw_ = raw;

@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 
 #include "sim/occupancy.h"
+#include "core/body.h"
 #include "core/robot.h"
 #include "senses/senses.h"
 #include "core/spec.h"
@@ -89,6 +90,8 @@ struct ControlInput {
   const Senses* senses = nullptr;
   const Percepts* percepts = nullptr;
   const RobotParams* robot = nullptr;
+  const BodyMetrics* body = nullptr;    // the numbers that follow from the body (core/body.h)
+  const Camera* camera = nullptr;       // the eyes' pinhole model
   const WorldSpec* spec = nullptr;
   const OccupancyGrid* grid = nullptr;  // static obstacles, grown by the base radius
   const std::vector<MapObject>* objects = nullptr;  // the map of movable objects (may be null)
@@ -201,6 +204,10 @@ class Controller {
   // follow it in the same tick (the state is then not settled twice: see evaluate()).
   virtual bool compute_state(const ControlInput&, ControlOutput&, Gamma&) { return false; }
 
+  // The numbers of the body it is evaluated for (ControlInput::body, at its last evaluation in this
+  // episode; null before the first).
+  const BodyMetrics* body() const { return body_; }
+
  private:
   // Applies the hold time to a raw state (idempotent within a tick).
   Gamma settle(Gamma raw, const ControlInput& in);
@@ -212,6 +219,7 @@ class Controller {
   Gamma state_raw_ = Gamma::kNoRef;   // the raw state it found
   uint64_t settle_tick_ = UINT64_MAX; // tick of the last settle(), to see gaps in the hold
   double conv_since_ = -1.0;
+  const BodyMetrics* body_ = nullptr;
 };
 
 using ControllerPtr = std::shared_ptr<Controller>;

@@ -75,6 +75,13 @@ Primitive::ParamSlot Primitive::declare(const std::string& name, double value, d
   return defs_.size() - 1;
 }
 
+void Primitive::follow_body(ParamSlot slot, double BodyMetrics::*metric, bool from_body) {
+  ParamDef& d = defs_[slot];
+  d.body = metric;
+  d.from_body = from_body;
+  if (from_body) d.value = BodyMetrics{}.*metric;
+}
+
 void Primitive::refuse_redeclared(const std::string& name) const {
   // A second parameter of one name would be unreachable: setting it by name finds the first.
   for (const ParamDef& d : defs_)
@@ -127,12 +134,19 @@ void Primitive::set_number(const std::string& name, double value) {
     throw Error(os.str());
   }
   d.value = value;
+  d.from_body = false;
   on_param(name, value);
   on_params_changed();
 }
 
 void Primitive::set_text(const std::string& name, const std::string& value) {
   ParamDef& d = find(name);
+  if (d.body && value == "body") {
+    d.from_body = true;
+    d.value = BodyMetrics{}.*d.body;
+    on_params_changed();
+    return;
+  }
   if (d.choices.empty())
     throw Error(kind_ + ": parameter '" + name + "' takes a number, not '" + value + "'");
   if (std::find(d.choices.begin(), d.choices.end(), value) == d.choices.end()) {

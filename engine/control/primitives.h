@@ -29,6 +29,10 @@ struct ParamDef {
   std::string text;                  // current value (strings)
   std::vector<std::string> choices;  // non-empty for string parameters
   std::string help;
+  // A number the body decides (core/body.h): while from_body, the value in force is the episode's
+  // BodyMetrics' member, and `value` is the default Roger's, for display.
+  double BodyMetrics::*body = nullptr;
+  bool from_body = false;
 };
 
 // A primitive controller with named, validated parameters.
@@ -44,7 +48,8 @@ class Primitive : public Controller {
   // parameters for an unknown name, or giving the bounds for a value outside them or not finite.
   void set_number(const std::string& name, double value);
 
-  // Sets a string parameter. Throws roger::Error listing the choices.
+  // Sets a string parameter. Throws roger::Error listing the choices. A number the body can decide
+  // takes the string "body": it follows the episode's body again.
   void set_text(const std::string& name, const std::string& value);
 
   // Reads a number parameter (throws for an unknown name).
@@ -73,8 +78,15 @@ class Primitive : public Controller {
   ParamSlot declare(const std::string& name, double value, double min, double max, const std::string& help);
   // Declares a string parameter with its choices (the first is the default); returns its slot.
   ParamSlot declare_text(const std::string& name, std::vector<std::string> choices, const std::string& help);
-  // The value of the number parameter declared at `slot`.
-  double value(ParamSlot slot) const { return defs_[slot].value; }
+  // Makes the number parameter at `slot` one the body can decide, following it from now on when
+  // `from_body` (until set to a number).
+  void follow_body(ParamSlot slot, double BodyMetrics::*metric, bool from_body = true);
+  // The value in force of the number parameter declared at `slot`: the body's where it follows
+  // the body (the body it is evaluated for; the default Roger's outside an evaluation).
+  double value(ParamSlot slot) const {
+    const ParamDef& d = defs_[slot];
+    return d.from_body && body() ? body()->*d.body : d.value;
+  }
   // The value of the string parameter declared at `slot`.
   const std::string& choice(ParamSlot slot) const { return defs_[slot].text; }
   // Called after any parameter changes, so subclasses can cache them.

@@ -81,6 +81,7 @@ class Search final : public Primitive {
     p_.one_eye = declare("one_eye", 1.0, 0.0, 1000.0,
                        "seconds one eye alone has the stimulus ahead before stepping sideways (0: never)");
     p_.sidestep = declare("sidestep", 0.3, 0.0, 2.0, "sideways step (m) that clears the blind eye's view");
+    follow_body(p_.sidestep, &BodyMetrics::sidestep);
     p_.stuck = declare("stuck", 1.0, 0.0, 60.0,
                        "seconds the base may fail to turn before the search turns the other way (0: never)");
   }
@@ -161,7 +162,8 @@ class Search final : public Primitive {
     constexpr double kBin = 2.0 * M_PI / kSweepBins;
     for (int e = 0; e < 2; ++e) {
       const double axis = s.base.theta + s.q[kLeftEye + e];
-      const double from = axis - kHalfView, to = axis + kHalfView;
+      const double half_view = body() ? body()->half_view : BodyMetrics{}.half_view;
+      const double from = axis - half_view, to = axis + half_view;
       const int first = int(std::ceil((from + M_PI) / kBin)), last = int(std::floor((to + M_PI) / kBin)) - 1;
       for (int b = first; b <= last; ++b) {
         const int k = ((b % kSweepBins) + kSweepBins) % kSweepBins;
@@ -285,7 +287,6 @@ class Search final : public Primitive {
   }
 
   static constexpr int kSweepBins = 72;                  // 5 degrees each
-  static constexpr double kHalfView = 0.75;             // rad: within the eyes' 45 degrees
   Rng rng_{0};
   double direction_ = 1.0;                              // +1 turns left, -1 right
   std::array<bool, kSweepBins> swept_{};                // directions swept without a glimpse

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 
 #include <Eigen/Core>
 
@@ -58,6 +59,10 @@ struct RobotParams {
   double shoulder_min = -3.0, shoulder_max = 3.0;  // left arm; the right arm is mirrored
   double elbow_min = -2.9, elbow_max = 2.9;
   double surface_friction = 1.0;  // Coulomb coefficient of the hands and body
+  // Joints held at their start angle (bit 1 << Dof of an eye, shoulder or elbow): the freezing of
+  // degrees of freedom of developmental robotics. Their setpoints never move and their limits
+  // close on the start angle.
+  unsigned locked = 0;
 
   ServoParams base_forward{6.0, 1.0, 60.0, 60.0};
   ServoParams base_heading{6.0, 3.0, 10.0, 12.0};
@@ -66,9 +71,34 @@ struct RobotParams {
   ServoParams elbow{10.0, 4.0, 0.0, 12.0};
 };
 
-// The camera model: a 1-D pinhole with 128 pixels and a 64-pixel focal length.
-constexpr int kPixels = 128;
-constexpr double kFocalPixels = 64.0;
-constexpr double kPrincipalPixel = 63.5;
+// Whether degree of freedom d is locked in `body`.
+inline bool is_locked(const RobotParams& body, int d) { return (body.locked >> d) & 1u; }
+
+// The eyes: two 1-D pinhole cameras, 128 pixels over a 90 degree field of view by default.
+struct EyeParams {
+  int pixels = 128;
+  double fov = 1.5707963267948966;  // the full field of view (rad)
+};
+
+// The pixel counts an eye may have, and the largest image the senses hold.
+constexpr int kMinPixels = 16, kMaxPixels = 512;
+// The field of view an eye may have (rad): a pinhole sees less than pi.
+constexpr double kMinFov = 0.1, kMaxFov = 2.8;
+
+// One eye's pinhole model, derived from EyeParams: pixel u looks along atan2(u - principal, focal)
+// in the eye frame, and the image's edges (u = -0.5 and pixels - 0.5) lie at -+half_fov.
+struct Camera {
+  int pixels = 128;
+  double focal = 64.0;       // pixels
+  double principal = 63.5;   // the pixel coordinate of the optical axis
+  double half_fov = 0.7853981633974483;
+  // Pixel coordinate (continuous) of an eye-frame angle, and back.
+  double pixel_of_angle(double angle) const { return principal + focal * std::tan(angle); }
+  double angle_of_pixel(double u) const { return std::atan2(u - principal, focal); }
+};
+
+// The camera of eyes with these parameters. A focal length within a nano-pixel of a whole number
+// is that number, so the default eye's is 64 exactly (tan(pi/4) is 1 - 1e-16 in doubles).
+Camera camera_of(const EyeParams& eyes);
 
 }  // namespace roger

@@ -13,6 +13,8 @@
 
 #include <Eigen/Core>
 
+#include "core/robot.h"
+
 namespace roger {
 
 using Vec2 = Eigen::Vector2d;
@@ -103,6 +105,8 @@ struct WorldSpec {
   std::map<std::string, std::string> params;  // the scenario parameters in force, as text
   ArenaSpec arena;
   RobotStart robot;
+  RobotParams body;  // Roger's body (world:robot{ body = ... }); the default is the paper's Roger
+  EyeParams eyes;    // its eyes (world:robot{ eyes = ... })
   std::vector<ObjectSpec> objects;
   std::vector<ObstacleSpec> obstacles;
   std::vector<GoalRegion> goals;

@@ -81,10 +81,11 @@ py::dict info_dict(const EnvironmentInfo& i) {
 // The raw senses of the tick that just ran: what a per-tick learner observes.
 py::dict senses_dict(const Agent& agent) {
   const Senses& s = agent.world().senses();
-  py::array_t<uint8_t> images({2, kPixels, 3});
-  py::array_t<float> stimulus({2, kPixels});
+  const int pixels = agent.world().camera().pixels;  // the body's eyes decide the shapes
+  py::array_t<uint8_t> images({2, pixels, 3});
+  py::array_t<float> stimulus({2, pixels});
   for (int e = 0; e < 2; ++e)
-    for (int u = 0; u < kPixels; ++u) {
+    for (int u = 0; u < pixels; ++u) {
       const Colour& c = s.image[size_t(e)].colour[size_t(u)];
       images.mutable_at(e, u, 0) = c.r;
       images.mutable_at(e, u, 1) = c.g;

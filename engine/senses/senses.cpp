@@ -10,8 +10,7 @@
 namespace roger {
 namespace {
 
-constexpr double kHalfFov = M_PI / 4.0;      // 45 degrees: atan(64 / 64)
-constexpr double kUMin = -0.5, kUMax = kPixels - 0.5;
+constexpr double kUMin = -0.5;  // the image's right edge, in pixels (its left is pixels - 0.5)
 
 // One surface's extent in the image, before occlusion.
 struct Extent {
@@ -27,9 +26,9 @@ struct Extent {
 // extent_of would keep, so the images are the same to the bit.
 struct ViewCone {
   Vec2 eye, inward_left, inward_right;  // unit normals of the boundary lines, pointing inside
-  ViewCone(const Vec2& at, double heading) : eye(at) {
+  ViewCone(const Vec2& at, double heading, double half_fov) : eye(at) {
     constexpr double kMargin = 1e-6;
-    const double left = heading + kHalfFov + kMargin, right = heading - kHalfFov - kMargin;
+    const double left = heading + half_fov + kMargin, right = heading - half_fov - kMargin;
     inward_left = Vec2(std::sin(left), -std::cos(left));
     inward_right = Vec2(-std::sin(right), std::cos(right));
   }
@@ -40,14 +39,15 @@ struct ViewCone {
 };
 
 // Computes a surface's angular extent in the eye frame; false when it is outside the field of view.
-bool extent_of(const SeenSurface& s, const Vec2& eye, double eye_heading, Extent& out) {
+bool extent_of(const SeenSurface& s, const Vec2& eye, double eye_heading, const Camera& cam, Extent& out) {
+  const double half_fov = cam.half_fov;
   double lo, hi, distance;
   const Vec2 to_center = s.center - eye;
   const double center_angle = wrap_angle(std::atan2(to_center.y(), to_center.x()) - eye_heading);
   if (s.is_disk) {
     const double d = to_center.norm();
     if (d <= s.radius) {
-      lo = -kHalfFov, hi = kHalfFov, distance = 0.0;  // the eye is inside: it sees nothing else
+      lo = -half_fov, hi = half_fov, distance = 0.0;  // the eye is inside: it sees nothing else
     } else {
       const double half = std::asin(s.radius / d);
       lo = center_angle - half, hi = center_angle + half, distance = d - s.radius;
@@ -58,7 +58,7 @@ bool extent_of(const SeenSurface& s, const Vec2& eye, double eye_heading, Extent
     const double d = to_center.norm();
     if (d > s.radius) {
       const double half = std::asin(s.radius / d) + 1e-9;
-      if (center_angle + half <= -kHalfFov || center_angle - half >= kHalfFov) return false;
+      if (center_angle + half <= -half_fov || center_angle - half >= half_fov) return false;
     }
     // Vertex angles relative to the centre direction: a convex polygon seen from outside spans
     // less than pi, so min and max give its extent without wrap-around trouble.
@@ -79,15 +79,16 @@ bool extent_of(const SeenSurface& s, const Vec2& eye, double eye_heading, Extent
       distance = std::min(distance, (p + t * e - eye).norm());
     }
     if (inside) {
-      lo = -kHalfFov, hi = kHalfFov, distance = 0.0;
+      lo = -half_fov, hi = half_fov, distance = 0.0;
     } else {
       lo = center_angle + amin, hi = center_angle + amax;
     }
   }
-  if (hi <= -kHalfFov || lo >= kHalfFov) return false;
-  lo = std::max(lo, -kHalfFov), hi = std::min(hi, kHalfFov);
-  out.u0 = std::clamp(pixel_of_angle(lo), kUMin, kUMax);
-  out.u1 = std::clamp(pixel_of_angle(hi), kUMin, kUMax);
+  if (hi <= -half_fov || lo >= half_fov) return false;
+  lo = std::max(lo, -half_fov), hi = std::min(hi, half_fov);
+  const double u_max = cam.pixels - 0.5;
+  out.u0 = std::clamp(cam.pixel_of_angle(lo), kUMin, u_max);
+  out.u1 = std::clamp(cam.pixel_of_angle(hi), kUMin, u_max);
   out.distance = distance;
   out.surface = &s;
   return out.u1 > out.u0;
@@ -116,11 +117,12 @@ void cover_whole_pixels(float* coverage, int n) { std::fill_n(coverage, n, 1.0f)
 // and stimulus-coloured parts add their exact coverage to the edge pixels.
 void paint_part(double lo, double hi, const SeenSurface& s, bool is_stimulus, EyeImage& image) {
   const int first = std::max(0, int(std::ceil(lo)));         // centre u >= lo
-  const int last = std::min(kPixels - 1, int(std::ceil(hi)) - 1);  // centre u < hi
+  const int pixels = image.pixels();
+  const int last = std::min(pixels - 1, int(std::ceil(hi)) - 1);  // centre u < hi
   if (last >= first) fill_pixels(image, first, last - first + 1, s.colour, s.kind, s.index);
   if (!is_stimulus) return;
   const int p0 = std::max(0, int(std::floor(lo + 0.5)));
-  const int p1 = std::min(kPixels - 1, int(std::floor(hi + 0.5)));
+  const int p1 = std::min(pixels - 1, int(std::floor(hi + 0.5)));
   if (p0 <= p1) {
     image.stimulus_first = int16_t(std::min<int>(image.stimulus_first, p0));
     image.stimulus_last = int16_t(std::max<int>(image.stimulus_last, p1));
@@ -174,27 +176,31 @@ void append_seen_surfaces(std::vector<SeenSurface>& out, const Shape& shape, con
   }
 }
 
-void paint_eye(const Vec2& eye, double eye_heading, const std::vector<SeenSurface>& surfaces,
-               const Colour& wall_colour, const Colour& stimulus_colour, EyeImage& image) {
+void paint_eye(const Camera& camera, const Vec2& eye, double eye_heading,
+               const std::vector<SeenSurface>& surfaces, const Colour& wall_colour,
+               const Colour& stimulus_colour, EyeImage& image) {
   // Scratch space reused across calls: no allocation in the control loop once warmed up.
   thread_local std::vector<Extent> extents;
   thread_local std::vector<std::pair<double, double>> covered, next;
   extents.clear();
   covered.clear();
-  const ViewCone cone(eye, eye_heading);
+  const ViewCone cone(eye, eye_heading, camera.half_fov);
   for (const auto& s : surfaces) {
     Extent e;
-    if (!cone.misses(s) && extent_of(s, eye, eye_heading, e)) extents.push_back(e);
+    if (!cone.misses(s) && extent_of(s, eye, eye_heading, camera, e)) extents.push_back(e);
   }
   // Nearest first; insertion sort is fastest for the handful of surfaces a world has.
   for (size_t i = 1; i < extents.size(); ++i)
     for (size_t j = i; j > 0 && extents[j].distance < extents[j - 1].distance; --j)
       std::swap(extents[j], extents[j - 1]);
 
-  fill_pixels(image, 0, kPixels, wall_colour, SurfaceKind::kWall, -1);
-  image.stimulus.fill(0.0f);
+  image.camera = camera;
+  const int pixels = camera.pixels;
+  const double u_max = pixels - 0.5;
+  fill_pixels(image, 0, pixels, wall_colour, SurfaceKind::kWall, -1);
+  std::fill_n(image.stimulus.begin(), pixels, 0.0f);
   image.stimulus_colour = stimulus_colour;
-  image.stimulus_first = kPixels, image.stimulus_last = -1;  // nothing painted yet
+  image.stimulus_first = int16_t(pixels), image.stimulus_last = -1;  // nothing painted yet
 
   for (const Extent& e : extents) {
     const bool is_stimulus = !e.surface->ignored && e.surface->colour == stimulus_colour;
@@ -224,7 +230,7 @@ void paint_eye(const Vec2& eye, double eye_heading, const std::vector<SeenSurfac
     }
     if (!placed) next.emplace_back(lo, hi);
     covered.swap(next);
-    if (covered.size() == 1 && covered[0].first <= kUMin && covered[0].second >= kUMax) break;
+    if (covered.size() == 1 && covered[0].first <= kUMin && covered[0].second >= u_max) break;
   }
 }
 
@@ -262,13 +268,14 @@ struct RunChoice {
       hi = end - 0.5 + c_hi;
     }
     best.seen = true;
-    best.clipped = start == 0 || end == kPixels - 1;
+    best.clipped = start == 0 || end == image.pixels() - 1;
     best.u_lo = lo;
     best.u_hi = hi;
-    const double angle_lo = angle_of_pixel(lo), angle_hi = angle_of_pixel(hi);
+    const Camera& cam = image.camera;
+    const double angle_lo = cam.angle_of_pixel(lo), angle_hi = cam.angle_of_pixel(hi);
     best.bearing = 0.5 * (angle_lo + angle_hi);
     best.half_width = 0.5 * (angle_hi - angle_lo);
-    best.u = pixel_of_angle(best.bearing);
+    best.u = cam.pixel_of_angle(best.bearing);
   }
 };
 
@@ -331,12 +338,13 @@ Sighting detect_stimulus(const EyeImage& image, int prefer_index) {
   RunChoice choice;
   choice.prefer_index = prefer_index;
   // Outside [stimulus_first, stimulus_last] no pixel has coverage: no run starts or ends there.
+  const int pixels = image.pixels();
   int i = std::max(0, int(image.stimulus_first));
-  const int end_scan = std::min(kPixels, int(image.stimulus_last) + 1);
+  const int end_scan = std::min(pixels, int(image.stimulus_last) + 1);
   while (i < end_scan) {
     // Most of an image has no stimulus: skip 8 pixels at a time whose coverage is +0 by its bits
     // (what fill() and an unpainted pixel hold), which the test below would pass over one by one.
-    if (i + 8 <= kPixels && all_zero_bits(&image.stimulus[size_t(i)])) {
+    if (i + 8 <= pixels && all_zero_bits(&image.stimulus[size_t(i)])) {
       i += 8;
       continue;
     }
@@ -350,7 +358,7 @@ Sighting detect_stimulus(const EyeImage& image, int prefer_index) {
     double mass = 0.0;
     int object = kNoObject;
     bool several = false;
-    for (; i < kPixels && image.stimulus[i] > 0.0f; ++i) {
+    for (; i < pixels && image.stimulus[i] > 0.0f; ++i) {
       mass += image.stimulus[i];
       if (on_object(image, i, object) || !on_stimulus(image, i)) continue;
       if (object == kNoObject) object = image.index[size_t(i)];

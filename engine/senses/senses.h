@@ -18,20 +18,24 @@ namespace roger {
 // What a surface seen by a pixel belongs to.
 enum class SurfaceKind : uint8_t { kNone = 0, kWall, kObject, kObstacle };
 
-// One eye's image. Pixel u looks along atan2(u - 63.5, 64) in the eye frame (counter-clockwise
-// positive), so pixel 0 sees 45 degrees to the right and pixel 127 sees 45 degrees to the left.
+// One eye's image, of camera.pixels pixels (the arrays hold the largest eye; pixels beyond
+// camera.pixels are never read). Pixel u looks along camera.angle_of_pixel(u) in the eye frame
+// (counter-clockwise positive): pixel 0 sees half the field of view to the right, the last pixel
+// half of it to the left (45 degrees for the default eye of 128 pixels).
 struct EyeImage {
-  std::array<Colour, kPixels> colour;        // the nearest surface at the pixel's centre
-  std::array<SurfaceKind, kPixels> kind;     // what that surface is
-  std::array<int16_t, kPixels> index;        // its index in WorldSpec objects or obstacles, or -1
-  std::array<float, kPixels> stimulus;       // fraction of the pixel covered by the stimulus colour
+  Camera camera;                                // the eye that made it (paint_eye sets it)
+  std::array<Colour, kMaxPixels> colour;        // the nearest surface at the pixel's centre
+  std::array<SurfaceKind, kMaxPixels> kind;     // what that surface is
+  std::array<int16_t, kMaxPixels> index;        // its index in WorldSpec objects or obstacles, or -1
+  std::array<float, kMaxPixels> stimulus;       // fraction of the pixel covered by the stimulus colour
   // The colour painted as stimulus (paint_eye sets it): pixels of that colour are centred on an
   // object detection may tell apart from another (an image made by hand has none: its runs whole).
   Colour stimulus_colour{};
   // Every pixel with stimulus coverage lies in [stimulus_first, stimulus_last] (empty when first >
   // last): paint_eye narrows it to what it painted, so detection scans only that; an image made
   // by hand keeps the whole width.
-  int16_t stimulus_first = 0, stimulus_last = kPixels - 1;
+  int16_t stimulus_first = 0, stimulus_last = kMaxPixels - 1;
+  int pixels() const { return camera.pixels; }
 };
 
 // The stimulus as one eye detects it in its image (sub-pixel, from the edge pixels' coverage).
@@ -88,11 +92,12 @@ struct SeenSurface {
 void append_seen_surfaces(std::vector<SeenSurface>& out, const Shape& shape, const Pose& pose,
                           SurfaceKind kind, int index, const Colour& colour);
 
-// Paints one eye's image analytically: each surface's angular extent, nearest first, clipped by
-// what is already covered (the same result as painting far-to-near, with exact sub-pixel edges).
-// eye_heading is the world angle of the optical axis.
-void paint_eye(const Vec2& eye, double eye_heading, const std::vector<SeenSurface>& surfaces,
-               const Colour& wall_colour, const Colour& stimulus_colour, EyeImage& image);
+// Paints one eye's image through `camera` analytically: each surface's angular extent, nearest
+// first, clipped by what is already covered (the same result as painting far-to-near, with exact
+// sub-pixel edges). eye_heading is the world angle of the optical axis.
+void paint_eye(const Camera& camera, const Vec2& eye, double eye_heading,
+               const std::vector<SeenSurface>& surfaces, const Colour& wall_colour,
+               const Colour& stimulus_colour, EyeImage& image);
 
 // Finds the largest run of stimulus pixels and its sub-pixel centre. A run whose pixels' centres
 // lie on two objects of the stimulus colour (side by side in the image) is two runs, split where
@@ -102,9 +107,5 @@ Sighting detect_stimulus(const EyeImage& image, int prefer_index = -1);
 // Intersects the two eyes' rays to the stimulus. Returns false when they do not meet in front.
 bool triangulate(const Vec2& left_eye, double left_angle, const Vec2& right_eye, double right_angle,
                  Vec2& out);
-
-// Pixel coordinate (continuous) of an eye-frame angle, and back.
-inline double pixel_of_angle(double angle) { return kPrincipalPixel + kFocalPixels * std::tan(angle); }
-inline double angle_of_pixel(double u) { return std::atan2(u - kPrincipalPixel, kFocalPixels); }
 
 }  // namespace roger

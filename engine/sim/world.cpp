@@ -67,7 +67,7 @@ DofVector World::qdot() const {
 }
 
 void World::set_setpoints(const DofVector& s) {
-  const RobotParams& r = params_.robot;
+  const RobotParams& r = spec_.body;
   setpoint_ = s;
   if (!setpoint_.allFinite()) {  // a NaN or infinite command holds that joint still
     const DofVector now = q();
@@ -80,6 +80,9 @@ void World::set_setpoints(const DofVector& s) {
   setpoint_[kLeftElbow] = std::clamp(setpoint_[kLeftElbow], r.elbow_min, r.elbow_max);
   setpoint_[kRightShoulder] = std::clamp(setpoint_[kRightShoulder], -r.shoulder_max, -r.shoulder_min);
   setpoint_[kRightElbow] = std::clamp(setpoint_[kRightElbow], -r.elbow_max, -r.elbow_min);
+  if (r.locked)
+    for (int d = kLeftEye; d < kDofCount; ++d)
+      if (is_locked(r, d)) setpoint_[d] = locked_at_[d];
 }
 
 void World::command(const DofVector& errors) { set_setpoints(q() + errors); }
@@ -92,7 +95,7 @@ void World::push_object(int i, const Vec2& force) {
 
 void World::step_physics() {
   Impl& m = *impl_;
-  const RobotParams& r = params_.robot;
+  const RobotParams& r = spec_.body;
   const double dt = params_.dt;
   const b2Vec2 mid_fwd = m.drive_base(r, setpoint_, dt);
   m.drive_eyes(r, setpoint_, dt);
@@ -247,7 +250,7 @@ int World::stimulus_objects() const {
 
 void World::sense() {
   Impl& m = *impl_;
-  const RobotParams& r = params_.robot;
+  const RobotParams& r = spec_.body;
   Senses& s = senses_;
   s.time = time_;
   s.q = q();
@@ -267,7 +270,7 @@ void World::sense() {
   for (int e = 0; e < 2; ++e) {
     eye_pos[e] = to_world(s.base, Vec2(0.0, e == kLeft ? r.eye_y : -r.eye_y));
     eye_heading[e] = s.base.theta + m.eye[e];
-    paint_eye(eye_pos[e], eye_heading[e], m.surfaces, spec_.arena.wall_colour,
+    paint_eye(camera_, eye_pos[e], eye_heading[e], m.surfaces, spec_.arena.wall_colour,
               attention_.colour, s.image[e]);
     // The right eye looks first for the left eye's object.
     s.stimulus[e] = detect_stimulus(s.image[e], e == kRight ? s.stimulus[kLeft].index : kept);
@@ -333,12 +336,12 @@ Vec2 World::object_velocity(int i) const {
 
 Vec2 World::hand_position(int side) const {
   const b2Body* forearm = impl_->link[side][1];
-  return v2(forearm->GetWorldPoint(b2Vec2(float(0.5 * params_.robot.link_length[1]), 0.0f)));
+  return v2(forearm->GetWorldPoint(b2Vec2(float(0.5 * spec_.body.link_length[1]), 0.0f)));
 }
 
 ArmPoints World::arm_points(int side) const {
   const Impl& m = *impl_;
-  const RobotParams& r = params_.robot;
+  const RobotParams& r = spec_.body;
   ArmPoints p;
   p.shoulder = v2(m.base->GetWorldPoint(
       b2Vec2(0.0f, float(side == kLeft ? r.shoulder_y : -r.shoulder_y))));
@@ -348,7 +351,7 @@ ArmPoints World::arm_points(int side) const {
 }
 
 Frame World::frame() const {
-  const RobotParams& r = params_.robot;
+  const RobotParams& r = spec_.body;
   Frame f;
   f.time = time_;
   f.base = base_pose();

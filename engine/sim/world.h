@@ -24,7 +24,6 @@ struct WorldParams {
   int substeps = 2;             // physics steps per control tick (a tick is 20 ms)
   int velocity_iterations = 6;  // Box2D solver iterations
   int position_iterations = 2;
-  RobotParams robot;
 };
 
 // Where the arm's joints and hand are, world frame.
@@ -96,6 +95,9 @@ class World {
   const Senses& senses() const { return senses_; }
   const WorldSpec& spec() const { return spec_; }
   const WorldParams& params() const { return params_; }
+  // Roger's body and eyes in this world (the spec's), and the eyes' camera model.
+  const RobotParams& body() const { return spec_.body; }
+  const Camera& camera() const { return camera_; }
   double time() const { return time_; }
   double tick_seconds() const { return params_.dt * params_.substeps; }
 
@@ -130,6 +132,8 @@ class World {
   WorldParams params_;
   WorldSpec spec_;
   Senses senses_;
+  Camera camera_;
+  DofVector locked_at_ = DofVector::Zero();  // where each locked joint is held (its start angle)
   Attention attention_;
   DofVector setpoint_ = DofVector::Zero();
   double time_ = 0.0;

@@ -6,6 +6,7 @@
 #include <xmmintrin.h>
 #endif
 
+#include "core/body.h"
 #include "core/error.h"
 #include "core/shape.h"
 #include "sim/world_internal.h"
@@ -132,6 +133,8 @@ void World::reset(const WorldSpec& spec_in) {
   const auto& a = spec_.arena;
   if (!(a.xmax > a.xmin && a.ymax > a.ymin))
     throw Error("arena: xmax must exceed xmin and ymax exceed ymin");
+  if (const auto problems = body_problems(spec_.body, spec_.eyes); !problems.empty())
+    throw Error("Roger's body: " + problems.front());
 
   Impl& m = *impl_;
   m.objects.clear();
@@ -145,12 +148,15 @@ void World::reset(const WorldSpec& spec_in) {
   m.add_obstacles(spec_.obstacles);
   m.add_objects(spec_.objects);
   // Roger.
-  const RobotParams& r = params_.robot;
+  const RobotParams& r = spec_.body;
   m.add_base(r, spec_.robot.pose);
   m.add_rail();
   m.add_arms(r, spec_.robot);
   m.reset_servos(r, spec_.robot);
+  camera_ = camera_of(spec_.eyes);
   setpoint_ = q();
+  locked_at_ = setpoint_;
+  if (r.locked) m.lock_joints(r);
   senses_ = Senses{};
   sense();
 }
@@ -279,6 +285,19 @@ void World::Impl::add_arms(const RobotParams& r, const RobotStart& start) {
       parent = body;
     }
   }
+}
+
+void World::Impl::lock_joints(const RobotParams& r) {
+  // A locked arm joint is held by Box2D's limits closed on its start angle, whatever pushes it
+  // (its setpoint stays there too: World::set_setpoints).
+  for (int side = 0; side < 2; ++side)
+    for (int l = 0; l < 2; ++l)
+      if (is_locked(r, kLeftShoulder + 2 * side + l)) {
+        b2RevoluteJoint* j = joint[side][l];
+        const float at = j->GetJointAngle();
+        j->SetLimits(at, at);
+        j->EnableLimit(true);
+      }
 }
 
 void World::Impl::reset_servos(const RobotParams& r, const RobotStart& start) {

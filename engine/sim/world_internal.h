@@ -95,6 +95,8 @@ struct World::Impl {
   void add_arms(const RobotParams& r, const RobotStart& start);
   // The odometer, the eyes' pans and rates, and the touch accumulators, as at the start.
   void reset_servos(const RobotParams& r, const RobotStart& start);
+  // Closes the limits of the locked arm joints on their angles now.
+  void lock_joints(const RobotParams& r);
 
   // ---- One physics step (world.cpp), in the order World::step_physics calls them ----
   // (Inline, defined in world.cpp alone, which alone calls them: the physics step is the

@@ -208,9 +208,7 @@ void render_episode(const WorldSpec& spec, const EpisodeResult& episode, const s
     });
   }
   const fs::path dir(folder);
-  AnimationOptions named = options;
-  named.frame.robot = fo.robot;
-  const json data = episode_json(spec, episode, tl, named);
+  const json data = episode_json(spec, episode, tl, options);
   write_text_file((dir / "episode.json").string(),
                   data.dump(1, ' ', false, json::error_handler_t::replace) + "\n");
   // The page last: once it is replaced, every file beside it is already the new one.

@@ -104,7 +104,8 @@ json shape_json(const Shape& shape) {
 
 // What does not change in an episode: the arena, the bodies' shapes and colours, the goals and the
 // dimensions of Roger, so the page can draw every frame from poses alone.
-json world_json(const WorldSpec& spec, const RobotParams& robot) {
+json world_json(const WorldSpec& spec) {
+  const RobotParams& robot = spec.body;
   json objects = json::array(), obstacles = json::array(), goals = json::array();
   for (const ObjectSpec& obj : spec.objects)
     objects.push_back({{"name", valid_utf8(obj.name)}, {"colour", css_colour(obj.colour)},
@@ -120,19 +121,23 @@ json world_json(const WorldSpec& spec, const RobotParams& robot) {
                      {"wall_colour", css_colour(a.wall_colour)}}},
           {"robot", {{"base_radius", robot.base_radius}, {"hand_radius", robot.hand_radius},
                      {"link_width", robot.link_width}, {"axle_half_width", robot.axle_half_width},
-                     {"field_of_view", std::atan2(kPrincipalPixel + 0.5, kFocalPixels)}}},
+                     {"upper_arm", robot.link_length[0]}, {"forearm", robot.link_length[1]},
+                     {"shoulder_y", robot.shoulder_y}, {"eye_y", robot.eye_y},
+                     {"pixels", spec.eyes.pixels}, {"field_of_view", 0.5 * spec.eyes.fov}}},
           {"objects", objects},
           {"obstacles", obstacles},
           {"goals", goals},
           {"stimulus_colour", css_colour(spec.stimulus_colour)}};
 }
 
-// One eye's image as 128 colours "rrggbb" in one string, pixel 0 (the right edge of the view) first.
+// One eye's image as its pixels' colours "rrggbb" in one string, pixel 0 (the right edge of the
+// view) first.
 std::string image_text(const EyeImage& image) {
   std::string out;
-  out.reserve(kPixels * 6);
+  out.reserve(size_t(image.pixels()) * 6);
   char buf[8];
-  for (const Colour& c : image.colour) {
+  for (int u = 0; u < image.pixels(); ++u) {
+    const Colour& c = image.colour[size_t(u)];
     std::snprintf(buf, sizeof buf, "%02x%02x%02x", c.r, c.g, c.b);
     out += buf;
   }
@@ -220,7 +225,7 @@ json episode_json(const WorldSpec& spec, const EpisodeResult& ep, const Timeline
   json names = json::array();
   for (const ObjectSpec& obj : spec.objects) names.push_back(valid_utf8(obj.name));
   j["objects"] = names;
-  j["world"] = world_json(spec, o.frame.robot);
+  j["world"] = world_json(spec);
   json frames = json::array();
   for (size_t i = 0; i < ep.frames.size(); ++i) {
     json f = frame_json(ep.frames[i]);

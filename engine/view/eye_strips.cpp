@@ -24,9 +24,10 @@ std::string bearing_text(double angle) {
 struct StripBox {
   double sx, sw, cw;
   double st_top, st_h;
+  int pixels;
 
-  // The x of image coordinate u (pixel 127 at the left end).
-  double x_of(double u) const { return sx + (kPixels - 0.5 - u) * cw; }
+  // The x of image coordinate u (the last pixel at the left end).
+  double x_of(double u) const { return sx + (pixels - 0.5 - u) * cw; }
 };
 
 // The row above the strip: the eye's name on the left, what it sees on the right.
@@ -54,7 +55,7 @@ void draw_strip_cells(cairo_t* cr, const Layout& l, const EyeImage& img, const S
   // anti-aliased seams between cells nor gaps.
   cairo_save(cr);
   cairo_set_antialias(cr, CAIRO_ANTIALIAS_NONE);
-  for (int i = kPixels - 1; i >= 0; --i) {
+  for (int i = b.pixels - 1; i >= 0; --i) {
     const double x0 = std::round(b.x_of(i + 0.5)), x1 = std::round(b.x_of(i - 0.5));
     cairo_rectangle(cr, x0, std::round(b.st_top), x1 - x0,
                     std::round(b.st_top + b.st_h) - std::round(b.st_top));
@@ -113,14 +114,16 @@ void draw_stimulus_bracket(cairo_t* cr, const Layout& l, const Sighting& s, cons
 
 }  // namespace
 
-// One eye's image as a strip of 128 cells. Pixel 127 looks 45 degrees left, so it is drawn at the
-// left end: the strip reads like the view from behind the eye. The detected stimulus is bracketed.
+// One eye's image as a strip of one cell per pixel. The last pixel looks furthest left, so it is
+// drawn at the left end: the strip reads like the view from behind the eye. The detected stimulus
+// is bracketed.
 void draw_eye_strip(cairo_t* cr, const Layout& l, const Senses& senses, int side, double top) {
+  const int pixels = senses.image[side].pixels();
   const double sx = l.block_x, sw = l.block_w;
-  const double cw = sw / kPixels;
+  const double cw = sw / pixels;
   const double label_base = top + 14 * l.u;
   const double st_top = top + 22 * l.u, st_h = 24 * l.u;
-  const StripBox b{sx, sw, cw, st_top, st_h};
+  const StripBox b{sx, sw, cw, st_top, st_h, pixels};
 
   const Sighting& s = senses.stimulus[side];
   draw_strip_label(cr, l, s, side, b, label_base);

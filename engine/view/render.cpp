@@ -239,10 +239,10 @@ void draw_frame(cairo_t* cr, const WorldSpec& spec, const Frame& frame,
   draw_header(cr, l, spec, frame, options, width);
   draw_arena(cr, l, spec, options);
   draw_goals(cr, l, spec);
-  if (options.show_fields_of_view) draw_fields_of_view(cr, l, frame);
+  if (options.show_fields_of_view) draw_fields_of_view(cr, l, frame, camera_of(spec.eyes).half_fov);
   draw_things(cr, l, spec, poses);
   if (options.show_fields_of_view) draw_sight_lines(cr, l, frame);
-  draw_robot(cr, l, frame, options.robot);
+  draw_robot(cr, l, frame, spec.body);
   if (options.show_fields_of_view) draw_stereo_fix(cr, l, frame.senses);
   if (options.show_labels) draw_labels(cr, l, spec, poses);
   if (options.show_contacts) draw_contacts(cr, l, frame.senses, options);

@@ -22,7 +22,7 @@ namespace roger {
 // What to draw and how large. Lengths in metres are world lengths; the rest scales with width_px.
 struct RenderOptions {
   int width_px = 1000;              // picture width; the height follows from the arena's shape
-  bool show_fields_of_view = true;  // the eyes' +-45 degree wedges and their sight lines
+  bool show_fields_of_view = true;  // the eyes' fields of view as wedges, and their sight lines
   bool show_images = true;          // the two 1-D images as colour strips below the arena
   bool show_contacts = true;        // touch forces as arrows at the contact points
   bool show_grid = false;           // light lines at every metric tick across the floor
@@ -31,7 +31,6 @@ struct RenderOptions {
   std::string title;                // drawn top left; the scenario and seed are added beside it
   double arrow_metres_per_newton = 0.02;  // contact arrow length per newton of normal force
   double arrow_max_metres = 0.45;         // cap, so a collision spike does not cross the arena
-  RobotParams robot;  // body dimensions (the Frame carries only points and poses)
 };
 
 // A picture's size in pixels (an SVG's size is in px as well).

@@ -22,7 +22,6 @@
 namespace roger::picture {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kHalfFov = kPi / 4;  // the eyes see +-45 degrees about their axis
 
 // The picture's furniture, in design units (one unit is a pixel of a 1000-pixel-wide picture), so
 // every picture size has the same proportions.
@@ -122,7 +121,7 @@ void draw_labels(cairo_t* cr, const Layout& l, const WorldSpec& spec,
 
 // Each eye's +-45 degree wedge on the floor (clipped to the arena) and its dotted optical axis
 // (robot_picture.cpp, as the three below).
-void draw_fields_of_view(cairo_t* cr, const Layout& l, const Frame& frame);
+void draw_fields_of_view(cairo_t* cr, const Layout& l, const Frame& frame, double half_fov);
 
 // Each eye's line of sight to the stimulus, over the objects.
 void draw_sight_lines(cairo_t* cr, const Layout& l, const Frame& frame);

@@ -48,7 +48,7 @@ void draw_stereo_fix(cairo_t* cr, const Layout& l, const Senses& senses) {
 }
 
 // Each eye's +-45 degree wedge on the floor (clipped to the arena) and its dotted optical axis.
-void draw_fields_of_view(cairo_t* cr, const Layout& l, const Frame& frame) {
+void draw_fields_of_view(cairo_t* cr, const Layout& l, const Frame& frame, double half_fov) {
   const double reach = std::hypot(l.xmax - l.xmin, l.ymax - l.ymin);
   cairo_save(cr);
   cairo_rectangle(cr, l.x0, l.y0, l.aw, l.ah);
@@ -61,13 +61,13 @@ void draw_fields_of_view(cairo_t* cr, const Layout& l, const Frame& frame) {
     l.move_to(cr, eye);
     constexpr int kArcSteps = 32;
     for (int i = 0; i <= kArcSteps; ++i)
-      l.line_to(cr, along(eye, h - kHalfFov + 2 * kHalfFov * i / kArcSteps, reach));
+      l.line_to(cr, along(eye, h - half_fov + 2 * half_fov * i / kArcSteps, reach));
     cairo_close_path(cr);
     set(cr, kEyeColour[side], 0.05);
     cairo_fill(cr);
     cairo_set_line_width(cr, 1.0 * l.u);
     set(cr, kEyeColour[side], 0.35);
-    for (double edge : {-kHalfFov, kHalfFov}) {
+    for (double edge : {-half_fov, half_fov}) {
       l.move_to(cr, eye);
       l.line_to(cr, along(eye, h + edge, reach));
       cairo_stroke(cr);

@@ -6,6 +6,7 @@
 -- same seed and parameters, cluttered.lua therefore puts Roger and the object exactly where
 -- unobstructed.lua does, and only adds obstacles around them.
 local shapes = require("lib.shapes")
+local body = require("lib.body")
 
 local place = {}
 
@@ -17,17 +18,19 @@ function place.goal(world, p)
   world:goal{ name = "goal", x = p.goal_x, y = p.goal_y, radius = p.goal_radius }
 end
 
--- Roger at a random position and heading. The sampled disk is Roger's whole footprint (base and
--- both hands in the start posture: roger.robot.footprint_radius), so no heading puts a hand in a
--- wall or on the goal; p.robot_wall_margin is the least distance from the walls to the base centre
--- (the footprint may make it larger). Returns the base position.
+-- Roger, with the body and eyes of p (lib/body.lua), at a random position and heading. The sampled
+-- disk is Roger's whole footprint (base and both hands folded as that body folds them:
+-- roger.body_metrics(...).footprint_radius), so no heading puts a hand in a wall or on the goal;
+-- p.robot_wall_margin is the least distance from the walls to the base centre (the footprint may
+-- make it larger). Returns the base position.
 function place.robot(world, rng, p)
+  local b = body.of(p)
   local x, y = world:sample_position{
     name = "Roger",
-    radius = roger.robot.footprint_radius,
+    radius = roger.body_metrics(b).footprint_radius,
     wall_margin = p.robot_wall_margin,
   }
-  world:robot{ x = x, y = y, heading = rng:angle() }
+  world:robot{ x = x, y = y, heading = rng:angle(), body = b.body, eyes = b.eyes }
   return x, y
 end
 

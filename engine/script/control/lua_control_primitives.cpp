@@ -81,7 +81,13 @@ void apply_params(lua_State* L, Primitive& p, int index, const std::string& cont
     }
     const std::string param = context + ": parameter '" + key + "'";
     if (def->choices.empty()) {
-      const std::string expected = "a number in " + range_text(*def);
+      const std::string expected =
+          "a number in " + range_text(*def) + (def->body ? " or \"body\" (the episode's body decides)" : "");
+      if (def->body && lua_type(L, -1) == LUA_TSTRING && std::string(lua_tostring(L, -1)) == "body") {
+        p.set_text(key, "body");
+        lua_pop(L, 1);
+        continue;
+      }
       if (lua_type(L, -1) != LUA_TNUMBER)
         raise(L, param + " must be " + expected + ", got " + lua_describe_value(L, -1));
       const double v = lua_tonumber(L, -1);

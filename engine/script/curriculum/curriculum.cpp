@@ -110,6 +110,13 @@ const CurriculumContext& CurriculumStage::context(const std::string& n) const {
   throw Error(where() + " has no context '" + n + "'; its contexts: " + join(names));
 }
 
+std::vector<std::pair<std::string, std::string>> CurriculumStage::scenario_params(
+    const CurriculumContext& context) const {
+  std::map<std::string, std::string> merged(params.begin(), params.end());
+  for (const auto& [key, value] : context.params) merged[key] = value;
+  return {merged.begin(), merged.end()};
+}
+
 struct Curriculum::Impl {
   std::unique_ptr<LuaSandbox> sandbox;
   std::string path, file, name, description;
@@ -407,13 +414,20 @@ std::vector<std::string> check_curriculum(const std::string& path, const Sandbox
     problems.push_back(e.what());
     return problems;
   }
+  // Each context's world: its parameters may change the body or the senses (contexts of the same
+  // parameters are one check).
   for (const auto& st : cur->stages()) {
-    try {
-      Scenario s = Scenario::load(st.scenario, limits);
-      for (const auto& [k, v] : st.params) s.set_param(k, v);
-      s.generate(0);
-    } catch (const std::exception& e) {
-      problems.push_back(st.where() + ": scenario '" + st.scenario + "': " + e.what());
+    std::set<std::vector<std::pair<std::string, std::string>>> checked;
+    for (const auto& ctx : st.contexts) {
+      if (!checked.insert(st.scenario_params(ctx)).second) continue;
+      const std::string where = ctx.params.empty() ? st.where() : st.where(ctx.name);
+      try {
+        Scenario s = Scenario::load(st.scenario, limits);
+        for (const auto& [k, v] : st.scenario_params(ctx)) s.set_param(k, v);
+        s.generate(0);
+      } catch (const std::exception& e) {
+        problems.push_back(where + ": scenario '" + st.scenario + "': " + e.what());
+      }
     }
   }
   return problems;

@@ -56,6 +56,9 @@ struct CurriculumContext {
   std::string name;
   std::vector<ControllerPtr> actions;  // in the script's order (the state-vector order)
   std::vector<std::string> learned;    // the learned skills (roger.learned names) it reaches
+  // Scenario parameters of this context, over the stage's (a developmental context that restricts
+  // the body or the senses: eyes of 32 pixels, locked elbows), sorted by key.
+  std::vector<std::pair<std::string, std::string>> params;
 };
 
 // One stage of a curriculum: an MDP per context, with shared task definition.
@@ -89,6 +92,8 @@ struct CurriculumStage {
   std::string where(const std::string& context = "") const;
   // The context by name. Throws roger::Error listing the stage's contexts.
   const CurriculumContext& context(const std::string& name) const;
+  // The scenario parameters of an episode in `context`: the stage's, with the context's over them.
+  std::vector<std::pair<std::string, std::string>> scenario_params(const CurriculumContext& context) const;
 };
 
 class Curriculum {

@@ -30,6 +30,62 @@ int positive_int(const LuaFields& f, const char* key, int64_t fallback, int64_t 
   return int(v);
 }
 
+// Reads a table of scenario parameters {key = value} at `index` into `out`, sorted by key.
+void read_params_table(lua_State* L, int index, const std::string& where,
+                       std::vector<std::pair<std::string, std::string>>& out) {
+  if (!lua_istable(L, index))
+    luaL_error(L, "%s: field 'params' must be a table of scenario parameters {key = value}, got %s", where.c_str(),
+               lua_describe_value(L, index).c_str());
+  lua_pushnil(L);
+  while (lua_next(L, index)) {
+    if (lua_type(L, -2) != LUA_TSTRING) luaL_error(L, "%s: field 'params' must have string keys", where.c_str());
+    const std::string key = lua_tostring(L, -2);
+    std::string value;
+    switch (lua_type(L, -1)) {
+      case LUA_TNUMBER: value = lua_isinteger(L, -1) ? std::to_string(lua_tointeger(L, -1)) : format_number(lua_tonumber(L, -1)); break;
+      case LUA_TBOOLEAN: value = lua_toboolean(L, -1) ? "true" : "false"; break;
+      case LUA_TSTRING: value = lua_tostring(L, -1); break;
+      default:
+        luaL_error(L, "%s: params.%s must be a number, string or boolean, got %s", where.c_str(), key.c_str(),
+                   lua_describe_value(L, -1).c_str());
+    }
+    out.push_back({key, value});
+    lua_pop(L, 1);
+  }
+  std::sort(out.begin(), out.end());
+}
+
+// A context's entry: its name, the stack index of its action list and of its params (0: none).
+struct ContextEntry {
+  std::string name;
+  int actions = 0, params = 0;
+};
+
+// A context given as a table {name = ..., actions = {...}, params = {...}} (`named`) or, in the
+// map form, {actions = {...}, params = {...}} (a table with a field 'actions'): pushes its fields.
+void read_context_fields(lua_State* L, int e, const std::string& ctx, bool named, ContextEntry& entry) {
+  std::vector<std::string> known = {"actions", "params"};
+  if (named) known.push_back("name");
+  LuaFields f(L, e, ctx, known);
+  if (named) {
+    entry.name = f.string("name");
+    if (entry.name.empty()) f.fail("field 'name' must not be empty");
+  }
+  if (f.push("actions") == LUA_TNIL) f.fail("missing required field 'actions' (the list of controllers, Psi)");
+  entry.actions = lua_gettop(L);
+  if (f.push("params") == LUA_TNIL) lua_pop(L, 1);
+  else entry.params = lua_gettop(L);
+}
+
+// Whether the table at `index` has a string key 'actions' (a context with fields, not a list).
+bool has_actions_field(lua_State* L, int index) {
+  if (!lua_istable(L, index)) return false;
+  lua_getfield(L, index, "actions");
+  const bool has = !lua_isnil(L, -1);
+  lua_pop(L, 1);
+  return has;
+}
+
 // Reads the contexts of a stage (the value on top of the stack).
 void parse_contexts(lua_State* L, CurriculumStage& st) {
   const int t = lua_gettop(L);
@@ -37,8 +93,7 @@ void parse_contexts(lua_State* L, CurriculumStage& st) {
   if (!lua_istable(L, t))
     luaL_error(L, "%s: field 'contexts' must be a table: a list {{name = 'B1', actions = {...}}, ...} or a map "
                "{B1 = {...}, ...}, got %s", where.c_str(), lua_describe_value(L, t).c_str());
-  // Each entry: its name and the stack index of its action list.
-  std::vector<std::pair<std::string, int>> entries;
+  std::vector<ContextEntry> entries;
   if (lua_rawlen(L, t) > 0) {
     const lua_Integer n = lua_Integer(lua_rawlen(L, t));
     for (lua_Integer i = 1; i <= n; ++i) {
@@ -48,11 +103,9 @@ void parse_contexts(lua_State* L, CurriculumStage& st) {
       if (!lua_istable(L, e))
         luaL_error(L, "%s must be a table {name = ..., actions = {...}}, got %s", ctx.c_str(),
                    lua_describe_value(L, e).c_str());
-      LuaFields f(L, e, ctx, {"name", "actions"});
-      const std::string name = f.string("name");
-      if (name.empty()) f.fail("field 'name' must not be empty");
-      if (f.push("actions") == LUA_TNIL) f.fail("missing required field 'actions' (the list of controllers, Psi)");
-      entries.push_back({name, lua_gettop(L)});
+      ContextEntry entry;
+      read_context_fields(L, e, ctx, true, entry);
+      entries.push_back(entry);
     }
   } else {
     std::vector<std::string> names;
@@ -67,12 +120,16 @@ void parse_contexts(lua_State* L, CurriculumStage& st) {
     std::sort(names.begin(), names.end());  // a map has no order: name order is reproducible
     for (const auto& name : names) {
       lua_getfield(L, t, name.c_str());
-      entries.push_back({name, lua_gettop(L)});
+      ContextEntry entry;
+      entry.name = name;
+      entry.actions = lua_gettop(L);
+      if (has_actions_field(L, entry.actions)) read_context_fields(L, entry.actions, st.where(name), false, entry);
+      entries.push_back(entry);
     }
   }
   if (entries.empty()) luaL_error(L, "%s: field 'contexts' is empty: define at least one context", where.c_str());
   std::set<std::string> seen_names;
-  for (const auto& [name, idx] : entries) {
+  for (const auto& [name, idx, params_idx] : entries) {
     const std::string ctx = st.where(name);
     if (!seen_names.insert(name).second) luaL_error(L, "%s: a second context named '%s'", where.c_str(), name.c_str());
     if (!lua_istable(L, idx))
@@ -80,6 +137,7 @@ void parse_contexts(lua_State* L, CurriculumStage& st) {
                  lua_describe_value(L, idx).c_str());
     CurriculumContext c;
     c.name = name;
+    if (params_idx) read_params_table(L, params_idx, ctx, c.params);
     const lua_Integer n = lua_Integer(lua_rawlen(L, idx));
     lua_pushnil(L);
     while (lua_next(L, idx)) {  // only 1..n: a named key is a slip
@@ -112,21 +170,7 @@ void read_stage_params(lua_State* L, const LuaFields& f, CurriculumStage& st) {
   if (f.push("params") != LUA_TNIL) {
     const int p = lua_gettop(L);
     if (!lua_istable(L, p)) f.wrong_type("params", "a table of scenario parameters {key = value}");
-    lua_pushnil(L);
-    while (lua_next(L, p)) {
-      if (lua_type(L, -2) != LUA_TSTRING) f.fail("field 'params' must have string keys");
-      const std::string key = lua_tostring(L, -2);
-      std::string value;
-      switch (lua_type(L, -1)) {
-        case LUA_TNUMBER: value = lua_isinteger(L, -1) ? std::to_string(lua_tointeger(L, -1)) : format_number(lua_tonumber(L, -1)); break;
-        case LUA_TBOOLEAN: value = lua_toboolean(L, -1) ? "true" : "false"; break;
-        case LUA_TSTRING: value = lua_tostring(L, -1); break;
-        default: f.fail("params." + key + " must be a number, string or boolean, got " + lua_describe_value(L, -1));
-      }
-      st.params.push_back({key, value});
-      lua_pop(L, 1);
-    }
-    std::sort(st.params.begin(), st.params.end());
+    read_params_table(L, p, f.context(), st.params);
   }
   lua_pop(L, 1);
 }

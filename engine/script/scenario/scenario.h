@@ -97,10 +97,10 @@ std::vector<std::string> check_scenario(const std::string& path, int seeds = 5,
 double shape_gap(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb);
 
 // Roger's footprint in a start posture: the base disk and the two hand disks, world frame.
-std::vector<Disk> robot_footprint(const RobotStart& start);
+std::vector<Disk> robot_footprint(const RobotStart& start, const RobotParams& body = RobotParams{});
 
-// The largest distance from Roger's base centre to the edge of its footprint in the default start
-// posture (0.65 m): a disk of this radius holds Roger at any heading.
-double robot_footprint_radius();
+// The largest distance from Roger's base centre to the edge of its footprint in the body's folded
+// start posture (0.65 m for the default Roger): a disk of this radius holds Roger at any heading.
+double robot_footprint_radius(const RobotParams& body = RobotParams{});
 
 }  // namespace roger

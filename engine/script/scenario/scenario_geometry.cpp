@@ -123,8 +123,7 @@ double shape_gap(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb)
   return gap;
 }
 
-std::vector<Disk> robot_footprint(const RobotStart& start) {
-  const RobotParams robot;
+std::vector<Disk> robot_footprint(const RobotStart& start, const RobotParams& robot) {
   std::vector<Disk> disks{Disk{Vec2(start.pose.x, start.pose.y), robot.base_radius}};
   disks.push_back(Disk{arm_forward_kinematics(robot, start.pose, kLeft, start.left_shoulder,
                                               start.left_elbow).hand,
@@ -135,9 +134,9 @@ std::vector<Disk> robot_footprint(const RobotStart& start) {
   return disks;
 }
 
-double robot_footprint_radius() {
+double robot_footprint_radius(const RobotParams& body) {
   double r = 0.0;
-  for (const auto& d : robot_footprint(RobotStart{})) r = std::max(r, d.center.norm() + d.radius);
+  for (const auto& d : robot_footprint(folded_start(body), body)) r = std::max(r, d.center.norm() + d.radius);
   return r;
 }
 

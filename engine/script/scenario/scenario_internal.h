@@ -15,7 +15,9 @@
 
 #include <lua.hpp>
 
+#include "core/body.h"
 #include "core/rng.h"
+#include "script/sandbox/lua_sandbox.h"
 #include "script/scenario/scenario.h"
 
 namespace roger {
@@ -50,6 +52,15 @@ struct WorldBuilder {
   bool finished = false;     // generate returned: the world is read-only
   Rng* rng = nullptr;        // the generator's rng, kept alive as the world's user value
 };
+
+// world:robot's body = {...} and eyes = {...} fields (the defaults when absent); each bad value
+// raises "context: body: field ..." with the range and the known fields.
+RobotParams read_body(const LuaFields& parent);
+EyeParams read_eyes(const LuaFields& parent);
+// Raises when the body cannot be built (core/body.h, body_problems), naming every problem.
+void check_body(const LuaFields& f, const RobotParams& body, const EyeParams& eyes);
+// roger.body_metrics{ body = ..., eyes = ... }.
+int l_body_metrics(lua_State* L);
 
 // __gc of userdata holding a C++ object.
 template <class T>

@@ -28,7 +28,7 @@ Occupants occupants(const WorldBuilder& w, bool objects, bool obstacles) {
   Occupants out;
   if (w.robot_set) {
     const char* names[3] = {"Roger's base", "Roger's left hand", "Roger's right hand"};
-    const auto disks = robot_footprint(w.spec.robot);
+    const auto disks = robot_footprint(w.spec.robot, w.spec.body);
     for (size_t i = 0; i < disks.size(); ++i)
       out.robot_shapes.push_back(disk_shape(names[i], disks[i].center, disks[i].radius));
     for (const auto& s : out.robot_shapes) out.list.push_back(Occupant{s.name, &s, Pose{}});
@@ -121,18 +121,21 @@ int l_world_bounds(lua_State* L) {
 }
 
 // world:robot{x=, y=, heading=, left_shoulder=, left_elbow=, right_shoulder=, right_elbow=,
-//             left_eye=, right_eye=}
+//             left_eye=, right_eye=, body=, eyes=}
 int l_world_robot(lua_State* L) {
   return lua_protect(L, [L]() {
     WorldBuilder& w = world_self(L, "world:robot");
     LuaFields f(L, 2, "world:robot",
                 {"x", "y", "heading", "left_shoulder", "left_elbow", "right_shoulder", "right_elbow",
-                 "left_eye", "right_eye"});
+                 "left_eye", "right_eye", "body", "eyes"});
     if (w.robot_set) f.fail("Roger is already placed (call world:robot once)");
     fix_arena(w);
-    RobotStart r;
+    const RobotParams p = read_body(f);
+    const EyeParams eyes = read_eyes(f);
+    check_body(f, p, eyes);
+    // The arms start folded as this body folds them, unless the script says otherwise.
+    RobotStart r = folded_start(p);
     r.pose = Pose{f.number("x"), f.number("y"), f.number("heading", 0.0)};
-    const RobotParams p;
     auto joint = [&](const char* key, double fallback, double lo, double hi) {
       const double v = f.number(key, fallback);
       if (v < lo || v > hi)
@@ -147,11 +150,13 @@ int l_world_robot(lua_State* L) {
     r.left_eye = joint("left_eye", r.left_eye, -p.eye_pan_limit, p.eye_pan_limit);
     r.right_eye = joint("right_eye", r.right_eye, -p.eye_pan_limit, p.eye_pan_limit);
     const char* names[3] = {"Roger's base", "Roger's left hand", "Roger's right hand"};
-    const auto disks = robot_footprint(r);
+    const auto disks = robot_footprint(r, p);
     for (size_t i = 0; i < disks.size(); ++i)
       check_free(f, w, names[i], disk_shape(names[i], Vec2::Zero(), disks[i].radius),
                  Pose{disks[i].center.x(), disks[i].center.y(), 0.0}, true);
     w.spec.robot = r;
+    w.spec.body = p;
+    w.spec.eyes = eyes;
     w.robot_set = true;
     return 0;
   });
@@ -332,6 +337,8 @@ int install_api(lua_State* L) {
     lua_setfield(L, -2, key);
   }
   lua_setfield(L, -2, "robot");
+  lua_pushcfunction(L, l_body_metrics);
+  lua_setfield(L, -2, "body_metrics");
   lua_setglobal(L, "roger");
   return 0;
 }

@@ -1,0 +1,176 @@
+// scenario_body.cpp: Roger's body and eyes as fields of world:robot (body = {...}, eyes = {...}),
+// and roger.body_metrics, which tells a generator what follows from a body before it places Roger.
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "core/body.h"
+#include "script/sandbox/lua_sandbox.h"
+#include "script/scenario/scenario_internal.h"
+
+namespace roger {
+namespace scenario_detail {
+namespace {
+
+// An optional number field within [lo, hi] (the message names the field, the range and the value).
+double ranged(const LuaFields& f, const char* key, double fallback, double lo, double hi, const char* unit) {
+  const double v = f.number(key, fallback);
+  if (!(v >= lo && v <= hi))
+    f.fail(std::string("field '") + key + "' must be within [" + fmt(lo) + ", " + fmt(hi) + "] " + unit +
+           ", got " + fmt(v));
+  return v;
+}
+
+// A {min, max} field (or {lo, hi} by position) of joint limits within [-lim, lim].
+void joint_range(const LuaFields& f, const char* key, double& lo, double& hi, double lim) {
+  if (f.push(key) == LUA_TNIL) return lua_pop(f.state(), 1);
+  lua_State* L = f.state();
+  const int t = lua_gettop(L);
+  if (!lua_istable(L, t)) f.wrong_type(key, "a table {min = ..., max = ...}");
+  LuaFields r(L, t, f.context() + ": " + key, {"min", "max"});
+  lo = ranged(r, "min", lo, -lim, lim, "rad");
+  hi = ranged(r, "max", hi, -lim, lim, "rad");
+  if (!(lo < hi)) r.fail("min must be below max, got " + fmt(lo) + " and " + fmt(hi));
+  lua_pop(L, 1);
+}
+
+// One servo's gains and limits: servos.<key> = {kp, max_rate, kv, max_effort}.
+void servo(const LuaFields& f, const char* key, ServoParams& s) {
+  if (f.push(key) == LUA_TNIL) return lua_pop(f.state(), 1);
+  lua_State* L = f.state();
+  const int t = lua_gettop(L);
+  if (!lua_istable(L, t)) f.wrong_type(key, "a table {kp = ..., max_rate = ..., kv = ..., max_effort = ...}");
+  LuaFields v(L, t, f.context() + "." + key, {"kp", "max_rate", "kv", "max_effort"});
+  s.kp = ranged(v, "kp", s.kp, 0.01, 1000.0, "1/s");
+  s.max_rate = ranged(v, "max_rate", s.max_rate, 0.01, 100.0, "m/s or rad/s");
+  s.kv = ranged(v, "kv", s.kv, 0.0, 1000.0, "N/(m/s) or N m/(rad/s)");
+  s.max_effort = ranged(v, "max_effort", s.max_effort, 0.0, 1000.0, "N or N m");
+  lua_pop(L, 1);
+}
+
+// body.servos = {base_forward = ..., base_heading = ..., eye = ..., shoulder = ..., elbow = ...}.
+void servos(const LuaFields& f, RobotParams& b) {
+  if (f.push("servos") == LUA_TNIL) return lua_pop(f.state(), 1);
+  lua_State* L = f.state();
+  const int t = lua_gettop(L);
+  if (!lua_istable(L, t)) f.wrong_type("servos", "a table of servos {shoulder = {kp = ...}, ...}");
+  LuaFields s(L, t, f.context() + ": servos", {"base_forward", "base_heading", "eye", "shoulder", "elbow"});
+  servo(s, "base_forward", b.base_forward);
+  servo(s, "base_heading", b.base_heading);
+  servo(s, "eye", b.eye);
+  servo(s, "shoulder", b.shoulder);
+  servo(s, "elbow", b.elbow);
+  lua_pop(L, 1);
+}
+
+// body.locked = {"left_elbow", ...}: joints held at their start angle.
+unsigned locked_joints(const LuaFields& f) {
+  if (f.push("locked") == LUA_TNIL) return lua_pop(f.state(), 1), 0u;
+  lua_State* L = f.state();
+  const int t = lua_gettop(L);
+  std::vector<std::string> names;
+  for (const auto& [name, dof] : lockable_joints()) names.push_back(name);
+  if (!lua_istable(L, t)) f.wrong_type("locked", "a list of joint names {\"left_elbow\", ...}");
+  unsigned mask = 0;
+  const lua_Integer n = lua_Integer(lua_rawlen(L, t));
+  for (lua_Integer i = 1; i <= n; ++i) {
+    lua_rawgeti(L, t, i);
+    const std::string name = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "";
+    lua_pop(L, 1);
+    int dof = -1;
+    for (const auto& [known, d] : lockable_joints())
+      if (known == name) dof = d;
+    if (dof < 0)
+      f.fail("field 'locked' entry " + std::to_string(i) + " must be a joint name, one of " + join(names) +
+             (name.empty() ? std::string() : ", got '" + name + "'"));
+    mask |= 1u << unsigned(dof);
+  }
+  lua_pop(L, 1);
+  return mask;
+}
+
+}  // namespace
+
+RobotParams read_body(const LuaFields& parent) {
+  RobotParams b;
+  lua_State* L = parent.state();
+  if (parent.push("body") == LUA_TNIL) return lua_pop(L, 1), b;
+  const int t = lua_gettop(L);
+  if (!lua_istable(L, t)) parent.wrong_type("body", "a table of body fields {upper_arm = ..., ...}");
+  LuaFields f(L, t, parent.context() + ": body",
+              {"upper_arm", "forearm", "base_radius", "axle_half_width", "base_mass", "link_mass",
+               "hand_radius", "hand_mass", "shoulder_y", "eye_y", "shoulder", "elbow", "eye_pan",
+               "friction", "servos", "locked"});
+  b.link_length[0] = ranged(f, "upper_arm", b.link_length[0], 0.1, 2.0, "m");
+  b.link_length[1] = ranged(f, "forearm", b.link_length[1], 0.1, 2.0, "m");
+  b.base_radius = ranged(f, "base_radius", b.base_radius, 0.05, 1.0, "m");
+  b.axle_half_width = ranged(f, "axle_half_width", b.axle_half_width, 0.02, 1.0, "m");
+  b.base_mass = ranged(f, "base_mass", b.base_mass, 0.01, 100.0, "kg");
+  b.link_mass = ranged(f, "link_mass", b.link_mass, 0.001, 100.0, "kg");
+  b.hand_radius = ranged(f, "hand_radius", b.hand_radius, 0.01, 0.3, "m");
+  b.hand_mass = ranged(f, "hand_mass", b.hand_mass, 0.001, 100.0, "kg");
+  b.shoulder_y = ranged(f, "shoulder_y", b.shoulder_y, 0.0, 1.0, "m");
+  b.eye_y = ranged(f, "eye_y", b.eye_y, 0.005, 1.0, "m");
+  joint_range(f, "shoulder", b.shoulder_min, b.shoulder_max, M_PI);
+  joint_range(f, "elbow", b.elbow_min, b.elbow_max, M_PI);
+  b.eye_pan_limit = ranged(f, "eye_pan", b.eye_pan_limit, 0.05, M_PI / 2, "rad");
+  b.surface_friction = ranged(f, "friction", b.surface_friction, 0.0, 10.0, "");
+  servos(f, b);
+  b.locked = locked_joints(f);
+  lua_pop(L, 1);
+  return b;
+}
+
+EyeParams read_eyes(const LuaFields& parent) {
+  EyeParams e;
+  lua_State* L = parent.state();
+  if (parent.push("eyes") == LUA_TNIL) return lua_pop(L, 1), e;
+  const int t = lua_gettop(L);
+  if (!lua_istable(L, t)) parent.wrong_type("eyes", "a table {pixels = ..., fov = ...}");
+  LuaFields f(L, t, parent.context() + ": eyes", {"pixels", "fov"});
+  const int64_t pixels = f.integer("pixels", e.pixels);
+  if (pixels < kMinPixels || pixels > kMaxPixels)
+    f.fail("field 'pixels' must be within [" + std::to_string(kMinPixels) + ", " + std::to_string(kMaxPixels) +
+           "], got " + std::to_string(pixels));
+  e.pixels = int(pixels);
+  e.fov = ranged(f, "fov", e.fov, kMinFov, kMaxFov, "rad (the full field of view)");
+  lua_pop(L, 1);
+  return e;
+}
+
+void check_body(const LuaFields& f, const RobotParams& body, const EyeParams& eyes) {
+  const auto problems = body_problems(body, eyes);
+  if (!problems.empty()) f.fail("Roger's body cannot be built: " + join(problems, "; "));
+}
+
+// roger.body_metrics{ body = {...}, eyes = {...} } -> the numbers that follow from that body.
+int l_body_metrics(lua_State* L) {
+  return lua_protect(L, [L]() {
+    if (lua_isnoneornil(L, 1)) {
+      lua_settop(L, 0);
+      lua_newtable(L);
+    }
+    LuaFields f(L, 1, "roger.body_metrics", {"body", "eyes"});
+    const RobotParams body = read_body(f);
+    const EyeParams eyes = read_eyes(f);
+    check_body(f, body, eyes);
+    const BodyMetrics m = body_metrics(body, eyes);
+    lua_newtable(L);
+    const std::pair<const char*, double> numbers[] = {
+        {"footprint_radius", m.footprint_radius}, {"approach", m.approach},
+        {"preshape_reach", m.preshape_reach},     {"grasp_reach", m.grasp_reach},
+        {"grid_inflate", m.grid_inflate},         {"objects_growth", m.objects_growth},
+        {"squeeze", m.squeeze},                   {"release_distance", m.release_distance},
+        {"half_view", m.half_view},               {"sidestep", m.sidestep},
+        {"carry", m.carry},                       {"fold_shoulder", m.fold_shoulder},
+        {"fold_elbow", m.fold_elbow}};
+    for (const auto& [key, value] : numbers) {
+      lua_pushnumber(L, value);
+      lua_setfield(L, -2, key);
+    }
+    return 1;
+  });
+}
+
+}  // namespace scenario_detail
+}  // namespace roger
