@@ -100,7 +100,7 @@ double shape_gap(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb)
 std::vector<Disk> robot_footprint(const RobotStart& start, const RobotParams& body = RobotParams{});
 
 // The largest distance from Roger's base centre to the edge of its footprint in the body's folded
-// start posture (0.65 m for the default Roger): a disk of this radius holds Roger at any heading.
+// start posture (0.383 m for the default Roger): a disk of this radius holds Roger at any heading.
 double robot_footprint_radius(const RobotParams& body = RobotParams{});
 
 }  // namespace roger
