@@ -204,3 +204,64 @@ TEST_CASE("the callbacks' episode table starts empty every episode", "[curriculu
   CHECK_FALSE(cur.call_absorbing(st, ctx, state, 0.0));
   CHECK(cur.call_reward(st, ctx, state, 0, "timeout", 0.5) == 1.0);
 }
+
+// curricula/maturation.lua (docs/curricula.md, Contexts that change the body): a context's scenario
+// parameters lie over its stage's, so SG is learned with coarse eyes and T with the full body.
+TEST_CASE("a context's scenario params restrict the body of its worlds alone", "[curriculum]") {
+  Curriculum cur = Curriculum::load("curricula/maturation.lua");
+  const CurriculumStage& sg = cur.stage("SG_coarse");
+  const CurriculumStage& t = cur.stage("T_coarse");
+  const auto restricted = sg.scenario_params(sg.context("DC2"));
+  CHECK(restricted == std::vector<std::pair<std::string, std::string>>{{"eye_fov", "1.0472"}, {"eye_pixels", "32"}});
+  CHECK(t.scenario_params(t.context("DC6")).empty());
+  TrainOptions o;
+  o.curriculum = "curricula/maturation.lua";
+  o.stage = "SG_coarse";
+  o.context = "DC2";
+  o.seed = 1;
+  const TrainResult r = train_stage(o);
+  auto param = [](const TrainResult& res, const std::string& key) {
+    for (const auto& [k, v] : res.params)
+      if (k == key) return v;
+    return std::string("absent");
+  };
+  CHECK(param(r, "eye_pixels") == "32");
+  CHECK(r.reached);  // Phi_SG is learned with 32-pixel eyes too
+  o.stage = "T_coarse";
+  o.context = "DC6";
+  const TrainResult tr = train_stage(o);
+  CHECK(param(tr, "eye_pixels") == "128");
+  CHECK(tr.reached);
+}
+
+TEST_CASE("a map context with fields, and bad context params, are read where they are written", "[curriculum]") {
+  roger::test::TempDir dir;
+  const std::string path = (dir.path / "ctx.lua").string();
+  std::ofstream(path) << "local p = require('lib.skills').primitives()\n"
+                         "return { stages = { roger.stage{ name = 'S', time_limit = 2,\n"
+                         "  absorbing = roger.converged(p.phi0), budget = { episodes = 1 },\n"
+                         "  params = { eye_pixels = 64, shape = 'spade' },\n"
+                         "  contexts = { A = { actions = { p.phi0 }, params = { eye_pixels = 16 } }, B = { p.phi0 } } } } }\n";
+  Curriculum cur = Curriculum::load(path);
+  const CurriculumStage& s = cur.stage("S");
+  CHECK(s.scenario_params(s.context("A")) ==
+        std::vector<std::pair<std::string, std::string>>{{"eye_pixels", "16"}, {"shape", "spade"}});
+  CHECK(s.scenario_params(s.context("B")) ==
+        std::vector<std::pair<std::string, std::string>>{{"eye_pixels", "64"}, {"shape", "spade"}});
+  const std::string bad = (dir.path / "bad.lua").string();
+  std::ofstream(bad) << "local p = require('lib.skills').primitives()\n"
+                        "return { stages = { roger.stage{ name = 'S', time_limit = 2,\n"
+                        "  absorbing = roger.converged(p.phi0), budget = { episodes = 1 },\n"
+                        "  contexts = { { name = 'A', actions = { p.phi0 }, params = { eye_pixels = {} } } } } } }\n";
+  CHECK_THROWS_WITH(Curriculum::load(bad), Catch::Matchers::Contains("bad.lua:2:") &&
+                                               Catch::Matchers::Contains("params.eye_pixels must be a number, string or boolean"));
+  const std::string unbuildable = (dir.path / "unbuildable.lua").string();
+  std::ofstream(unbuildable) << "local p = require('lib.skills').primitives()\n"
+                                "return { stages = { roger.stage{ name = 'S', time_limit = 2,\n"
+                                "  absorbing = roger.converged(p.phi0), budget = { episodes = 1 },\n"
+                                "  contexts = { { name = 'A', actions = { p.phi0 } },\n"
+                                "               { name = 'Tiny', actions = { p.phi0 }, params = { eye_pixels = 4 } } } } } }\n";
+  const auto problems = check_curriculum(unbuildable);
+  REQUIRE(problems.size() == 1);
+  CHECK_THAT(problems[0], Catch::Matchers::Contains("context 'Tiny'") && Catch::Matchers::Contains("eye_pixels"));
+}

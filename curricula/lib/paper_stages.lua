@@ -55,10 +55,12 @@ local paper_controllers
 --
 -- Two settings serve curricula that build on these stages (curricula/sorting.lua): `primitives`,
 -- overrides of the primitives' parameters (false: the paper's), and `t_skill`, the name of the
--- skill stage T yields from its DC6 policy (false: none, as in the paper).
+-- skill stage T yields from its DC6 policy (false: none, as in the paper). `sg_params`, scenario
+-- parameters of every SG context (false: none), lets a maturational curriculum learn Phi_SG with a
+-- restricted body or senses and T with the full body (curricula/maturation.lua).
 M.defaults = { suffix = "", initial_q = 0, sg_stop_after = 0, t_stop_after = 5, settle = true,
                referenced_only = false, sg_alpha = 0.1, t_alpha = 0.2,
-               primitives = false, t_skill = false }
+               primitives = false, t_skill = false, sg_params = false }
 
 -- The Q-learner of a stage, with learning rate `alpha` under `settings` (default: the paper's).
 function M.learner(alpha, settings)
@@ -93,6 +95,7 @@ function M.stages(settings)
   end
   local p, Phi6, Phi7, preshape, keep, transport = c.p, c.Phi6, c.Phi7, c.preshape, c.keep, c.transport
   local Phi_SG_name = "Phi_SG" .. s.suffix
+  local sg_params = s.sg_params or nil
   -- The skill stage SG yields (its greedy policy in DC2), and Phi_STG built on it: search-grasp,
   -- then hold the grasp with phi4 <| phi5 once Phi_SG has converged.
   local Phi_SG = roger.learned(Phi_SG_name)
@@ -109,9 +112,9 @@ function M.stages(settings)
     checkpoints = { every = 10, episodes = 20, threshold = 0.9, seeds = 1000000, stop_after = s.sg_stop_after,
                     settle = s.settle, final = 50 },
     contexts = {
-      { name = "B1",  actions = { p.phi1, p.phi3, preshape, Phi6 } },
-      { name = "DC1", actions = { p.phi1, p.phi3, preshape, Phi6, Phi7 } },
-      { name = "DC2", actions = { p.phi3, Phi6, Phi7 } },
+      { name = "B1",  actions = { p.phi1, p.phi3, preshape, Phi6 }, params = sg_params },
+      { name = "DC1", actions = { p.phi1, p.phi3, preshape, Phi6, Phi7 }, params = sg_params },
+      { name = "DC2", actions = { p.phi3, Phi6, Phi7 }, params = sg_params },
     },
     skill = { name = Phi_SG_name, context = "DC2" },
   }

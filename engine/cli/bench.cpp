@@ -152,6 +152,16 @@ PipelineResult bench_many_objects(const BenchArgs& a, const WorldParams& params)
                         a.repeats, params);
 }
 
+constexpr int kWidePixels = 256;
+
+// The same episodes as the full pipeline's with eyes of 256 pixels: what a finer camera costs.
+PipelineResult bench_wide_eyes(const std::vector<WorldSpec>& worlds, Controller& action, Predicate& goal,
+                               double time_limit, int repeats, const WorldParams& params) {
+  std::vector<WorldSpec> wide = worlds;
+  for (WorldSpec& w : wide) w.eyes.pixels = kWidePixels;
+  return bench_pipeline(wide, action, goal, time_limit, repeats, params);
+}
+
 }  // namespace
 
 int command_bench(const BenchArgs& a) {
@@ -166,6 +176,8 @@ int command_bench(const BenchArgs& a) {
   std::vector<WorldSpec> worlds;
   for (int i = 0; i < a.episodes; ++i) worlds.push_back(scenario.generate(a.seed + uint64_t(i)));
   const PipelineResult p = bench_pipeline(worlds, *task.action, *task.goal, task.time_limit, a.repeats, params);
+  const PipelineResult wide =
+      bench_wide_eyes(worlds, *task.action, *task.goal, task.time_limit, a.repeats, params);
   const PipelineResult many = bench_many_objects(a, params);
   std::printf("roger bench: %s seed %llu, %.0f simulated s per run, best of %d, one core\n",
               a.scenario.c_str(), static_cast<unsigned long long>(a.seed), a.seconds, a.repeats);
@@ -177,6 +189,9 @@ int command_bench(const BenchArgs& a) {
               "                                           replaying the same commands at %.0fx)\n",
               p.pipeline_rtf, a.script.c_str(), a.policy.c_str(), p.episodes, p.sim_seconds,
               p.successes, p.cost_ratio, p.replay_rtf);
+  std::printf("  256-pixel eyes       %9.0fx real time  (the same episodes with eyes of %d pixels, %d successes;\n"
+              "                                           %.2fx the cost of physics alone replaying its commands)\n",
+              wide.pipeline_rtf, kWidePixels, wide.successes, wide.cost_ratio);
   std::printf("  8-object pipeline    %9.0fx real time  (%s policy 'sort' in sorting, objects=8, %d episodes,\n"
               "                                           %.0f simulated s, %d successes; %.2fx the cost of\n"
               "                                           physics alone replaying the same commands at %.0fx)\n",
@@ -199,6 +214,12 @@ int command_bench(const BenchArgs& a) {
                         {"pipeline_successes", p.successes},
                         {"pipeline_sim_seconds", p.sim_seconds},
                         {"pipeline_hash", p.hash},
+                        {"pixels256_pipeline_rtf", wide.pipeline_rtf},
+                        {"pixels256_replay_physics_rtf", wide.replay_rtf},
+                        {"pixels256_cost_ratio", wide.cost_ratio},
+                        {"pixels256_successes", wide.successes},
+                        {"pixels256_sim_seconds", wide.sim_seconds},
+                        {"pixels256_hash", wide.hash},
                         {"objects8_pipeline_rtf", many.pipeline_rtf},
                         {"objects8_replay_physics_rtf", many.replay_rtf},
                         {"objects8_cost_ratio", many.cost_ratio},
