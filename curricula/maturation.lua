@@ -13,11 +13,13 @@
 --   roger train curricula/maturation.lua --stage T_coarse --context DC6 --seed 1 --out out/T-coarse
 local paper = require("lib.paper_stages")
 
+-- The paper's stages (SG, T) with the full body, to compare against (scripts/transfer.lua).
+local SG, T = paper.stages{}
 local SG_coarse, T_coarse = paper.stages{ suffix = "_coarse", sg_params = { eye_pixels = 32, eye_fov = 1.0472 } }
 local SG_frozen, T_frozen = paper.stages{ suffix = "_frozen", sg_params = { locked = "left_eye,right_eye" } }
 
 return {
   name = "maturation",
-  description = "Phi_SG learned with coarse or frozen eyes, then the transport with the full body.",
-  stages = { SG_coarse, T_coarse, SG_frozen, T_frozen },
+  description = "The paper's stages, and Phi_SG learned with coarse or frozen eyes, then the transport with the full body.",
+  stages = { SG, T, SG_coarse, T_coarse, SG_frozen, T_frozen },
 }

@@ -26,6 +26,21 @@ std::string load_error(const std::string& path) {
 
 }  // namespace
 
+TEST_CASE("an evaluation may take a learned skill from another run", "[batch_script]") {
+  const BatchScript b = load_batch_script("tests/scripts/batch_eval_skill.lua");
+  REQUIRE(b.evaluations.size() == 2);
+  CHECK(b.evaluations[0].skills.empty());
+  REQUIRE(b.evaluations[1].skills.size() == 1);
+  CHECK(b.evaluations[1].skills[0].skill == "Phi_SG");
+  CHECK(b.evaluations[1].skills[0].run == "SG_wide");
+  CHECK(b.evaluations[1].skills[0].context == "DC2");
+  // The manifest keeps them, and an evaluation without them writes what it wrote before.
+  const nlohmann::json config = batch_config_json(b);
+  CHECK(batch_config_json(batch_config_from_json(config)) == config);
+  CHECK_FALSE(config["evaluations"][0].contains("skills"));
+  CHECK(config["evaluations"][1]["skills"][0]["run"] == "SG_wide");
+}
+
 TEST_CASE("scripts/paper.lua describes the paper's protocol", "[batch_script]") {
   const BatchScript b = load_batch_script("scripts/paper.lua");
   CHECK(b.name == "paper");
@@ -95,6 +110,12 @@ TEST_CASE("bad batch scripts are clear errors at file:line", "[batch_script]") {
   m = load_error("tests/scripts/bad_batch_runtime.lua");
   INFO(m);
   CHECK(m.find("bad_batch_runtime.lua:3:") != std::string::npos);
+
+  m = load_error("tests/scripts/bad_batch_eval_skill.lua");
+  INFO(m);
+  CHECK(m.find("bad_batch_eval_skill.lua:9:") != std::string::npos);
+  CHECK(m.find("evaluation 'e', skill 'Phi_SG': context 'B2' of run 'T' uses no learned skill 'Phi_SG'; it uses none") !=
+        std::string::npos);
 
   m = load_error("tests/scripts/no_such_batch.lua");
   INFO(m);

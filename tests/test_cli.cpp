@@ -173,6 +173,51 @@ TEST_CASE("roger bench --json ends with the figures", "[cli]") {
   const std::string last = r.out.substr(r.out.rfind('{'));
   CHECK(last.find("\"physics_rtf\"") != std::string::npos);
   CHECK(last.find("\"world_rtf\"") != std::string::npos);
+  CHECK(last.find("\"pixels256_cost_ratio\"") != std::string::npos);  // eyes of 256 pixels
+}
+
+// scripts/transfer.lua in small (docs/results.md, Transfer across bodies): a T/DC6 policy on a wider
+// base over the Phi_SG it embeds and over one retrained on that base, as a batch and as roger eval.
+TEST_CASE("an evaluation over a retrained skill is roger eval --skill, whatever the jobs", "[cli][body]") {
+  const fs::path one = fs::temp_directory_path() / ("roger_cli_transfer1_" + std::to_string(::getpid()));
+  const fs::path two = fs::temp_directory_path() / ("roger_cli_transfer2_" + std::to_string(::getpid()));
+  fs::remove_all(one);
+  fs::remove_all(two);
+  Run r = roger("run tests/scripts/batch_eval_skill.lua --jobs 1 --out " + one.string());
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  r = roger("run tests/scripts/batch_eval_skill.lua --jobs 2 --out " + two.string());
+  REQUIRE(r.status == 0);
+  auto result = [](const fs::path& dir, const std::string& eval) {
+    return nlohmann::json::parse(slurp(dir / "trials" / "eval" / eval / "all" / "000" / "result.json"));
+  };
+  const nlohmann::json retrained = result(one, "retrained");
+  CHECK(retrained["skills"]["Phi_SG"] == "trials/SG_wide/DC2/000/policy.json");
+  CHECK(result(one, "as_learned")["skills"].empty());
+  for (const char* e : {"as_learned", "retrained"}) {
+    INFO(e);
+    CHECK(result(one, e)["successes"] == result(two, e)["successes"]);
+    CHECK(result(one, e)["reward_mean"] == result(two, e)["reward_mean"]);
+  }
+  CHECK(slurp(one / "trials" / "SG_wide" / "DC2" / "000" / "policy.json") ==
+        slurp(two / "trials" / "SG_wide" / "DC2" / "000" / "policy.json"));
+  const std::string policy = (one / "trials" / "T" / "DC6" / "000" / "policy.json").string();
+  const std::string sg = (one / "trials" / "SG_wide" / "DC2" / "000" / "policy.json").string();
+  r = roger("eval curricula/paper.lua --policy " + policy + " --set base_radius=0.24 --episodes 10 --json --skill Phi_SG=" + sg);
+  REQUIRE(r.status == 0);
+  const size_t last_line = r.out.rfind('\n', r.out.find_last_not_of('\n'));
+  const nlohmann::json cli = nlohmann::json::parse(r.out.substr(last_line == std::string::npos ? 0 : last_line + 1));
+  CHECK(cli["successes"] == retrained["successes"]);
+  CHECK(cli["reward_mean"] == retrained["reward_mean"]);
+  // --skill names a skill the policy uses, and only a saved policy has any.
+  r = roger("eval curricula/paper.lua --policy " + policy + " --skill Phi_X=" + sg);
+  CHECK(r.status != 0);
+  CHECK(r.err.find("the policy uses no learned skill 'Phi_X' to replace") != std::string::npos);
+  r = roger("eval curricula/scripted.lua --policy task --skill Phi_SG=" + sg);
+  CHECK(r.status != 0);
+  CHECK(r.err.find("--skill replaces a learned skill of a saved policy") != std::string::npos);
+  fs::remove_all(one);
+  fs::remove_all(two);
 }
 
 TEST_CASE("roger eval runs a learned Sort4 policy from its file, loaded and not trained again", "[cli][sorting]") {

@@ -317,6 +317,12 @@ nlohmann::json evaluation_trial(const BatchPlan& plan, const PlannedTrial& t, Cl
   if (!e.shapes.empty()) o.sets.emplace_back("shape", t.shape);
   o.episodes = e.episodes;
   o.first_seed = e.first_seed;
+  nlohmann::json skills = nlohmann::json::object();
+  for (const BatchSkill& s : e.skills) {
+    const std::string source = batch_trial_id(s.run, s.context, t.index);
+    o.skill_files[s.skill] = policy_of(plan.out, source);
+    skills[s.skill] = "trials/" + source + "/policy.json";
+  }
   const PolicyEvalResult r = evaluate_policy_file(o);
   nlohmann::json usage = nlohmann::json::object();
   for (const auto& [name, f] : r.eval.usage) usage[name] = f;
@@ -340,6 +346,7 @@ nlohmann::json evaluation_trial(const BatchPlan& plan, const PlannedTrial& t, Cl
           {"time_mean", r.eval.time_mean},
           {"usage", usage},
           {"params", params},
+          {"skills", skills},
           {"wall_s", std::chrono::duration<double>(Clock::now() - t0).count()}};
 }
 

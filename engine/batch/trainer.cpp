@@ -191,7 +191,7 @@ void batch_detail::bind_skills(Curriculum& cur, const CurriculumContext& ctx, co
     nlohmann::json from_file;
     const nlohmann::json* deps = embedded;
     const auto file = options.skill_files.find(name);
-    if (!embedded && file != options.skill_files.end()) {
+    if ((!embedded || !embedded->contains(name)) && file != options.skill_files.end()) {
       from_file = read_skill_file(name, file->second);
       if (from_file.contains("extra") && from_file["extra"].contains("skills")) deps = &from_file["extra"]["skills"];
     }
@@ -484,11 +484,17 @@ void with_policy_file(const PolicyEvalOptions& options, PolicyEvalResult& out,
   const CurriculumStage& stage = cur.stage(meta.stage);
   const CurriculumContext& ctx = stage.context(meta.context);
   QTable q = QTable::from_json(j, controller_names(ctx.actions), options.policy_file);
-  const nlohmann::json embedded =
+  nlohmann::json embedded =
       meta.extra.is_object() && meta.extra.contains("skills") ? meta.extra["skills"] : nlohmann::json::object();
+  for (const auto& [name, file] : options.skill_files) {
+    if (!embedded.contains(name))
+      throw Error(options.policy_file + ": the policy uses no learned skill '" + name + "' to replace");
+    embedded.erase(name);  // bound from the file instead (bind_skills)
+  }
   std::vector<SkillSource> sources;
   TrainOptions topt;
   topt.limits = options.limits;
+  topt.skill_files = options.skill_files;
   bind_skills(cur, ctx, topt, &embedded, sources);
   out.stage = stage.name;
   out.context = ctx.name;

@@ -167,6 +167,8 @@ struct PolicyEvalOptions {
   std::vector<std::pair<std::string, std::string>> sets;  // scenario parameters
   int episodes = 50;
   int64_t first_seed = -1;                                // -1 = the stage's held-out seeds
+  // Learned skills from these policy files instead of the ones the policy embeds (skill -> file).
+  std::map<std::string, std::string> skill_files;
   SandboxLimits limits;
 };
 

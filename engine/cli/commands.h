@@ -77,6 +77,7 @@ struct EvalArgs {
   std::string policy;
   std::string scenario;
   std::vector<std::string> sets;
+  std::vector<std::string> skills;  // NAME=FILE.json: a learned skill instead of the embedded one
   int episodes = 50;
   uint64_t seed = 1000;
   bool seed_given = false;

@@ -39,6 +39,7 @@ int run_eval_policy_file(const EvalArgs& a) {
   o.sets = split_sets(a.sets, "--set");
   o.episodes = a.episodes;
   o.first_seed = a.seed_given ? int64_t(a.seed) : -1;
+  for (const auto& [name, file] : split_sets(a.skills, "--skill")) o.skill_files[name] = file;
   const PolicyEvalResult r = evaluate_policy_file(o);
   std::printf("roger eval: %s stage %s context %s (%s) in %s, %d episodes from seed %llu, %s\n",
               a.script.c_str(), r.stage.c_str(), r.context.c_str(), a.policy.c_str(), r.scenario.c_str(),
@@ -66,6 +67,9 @@ int run_eval_policy_file(const EvalArgs& a) {
 
 int command_eval(const EvalArgs& a) {
   if (policy_is_saved_file(a.script, a.policy)) return run_eval_policy_file(a);
+  if (!a.skills.empty())
+    throw Error("roger eval: --skill replaces a learned skill of a saved policy (--policy FILE.json); policy '" +
+                a.policy + "' of " + a.script + " is a skill script's, which learns nothing");
   SkillScript script = SkillScript::load(a.script);
   const SkillScript::NamedPolicy& policy = script.policy(a.policy);
   Scenario scenario = Scenario::load(policy_scenario(policy, a.scenario));

@@ -52,6 +52,9 @@ CLI::App* add_eval(CLI::App& app, EvalArgs& a, CLI::Option*& seed) {
       ->required();
   c->add_option("--scenario", a.scenario, "Scenario (default: the policy's)");
   c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)");
+  c->add_option("--skill", a.skills,
+                "With a saved policy: a learned skill's policy NAME=FILE.json instead of the one it embeds "
+                "(repeatable), e.g. a Phi_SG retrained on another body");
   c->add_option("--episodes", a.episodes, "Episodes")->capture_default_str()->check(CLI::Range(1, 1000000));
   seed = c->add_option("--seed", a.seed, "First seed (then seed+1, ...); with a saved "
                        "policy the default is its stage's held-out seeds")->capture_default_str();

@@ -35,10 +35,14 @@ json batch_config_json(const BatchScript& b) {
     runs.push_back({{"name", r.name}, {"stage", r.stage}, {"contexts", r.contexts}, {"trials", r.trials},
                     {"params", params_json(r.params)}, {"skills", skills}});
   }
-  for (const auto& e : b.evaluations)
-    evals.push_back({{"name", e.name}, {"run", e.run}, {"context", e.context}, {"scenario", e.scenario},
-                     {"params", params_json(e.params)}, {"shapes", e.shapes}, {"episodes", e.episodes},
-                     {"first_seed", e.first_seed}, {"trials", e.trials}});
+  for (const auto& e : b.evaluations) {
+    json ej = {{"name", e.name}, {"run", e.run}, {"context", e.context}, {"scenario", e.scenario},
+               {"params", params_json(e.params)}, {"shapes", e.shapes}, {"episodes", e.episodes},
+               {"first_seed", e.first_seed}, {"trials", e.trials}};
+    // Written only when given, so the configuration of an evaluation without them reads as before.
+    for (const auto& s : e.skills) ej["skills"].push_back({{"skill", s.skill}, {"run", s.run}, {"context", s.context}});
+    evals.push_back(std::move(ej));
+  }
   for (const auto& t : b.tables) {
     json usage = json::array();
     for (const auto& u : t.usage) usage.push_back({{"context", u.context}, {"skill", u.skill}, {"subsumes", u.subsumes}});
@@ -82,8 +86,11 @@ void check_config_references(const BatchScript& b) {
   for (const auto& r : b.runs)
     for (const auto& s : r.skills)
       if (!b.run(s.run)) fail("run '" + r.name + "' takes a skill from run '" + s.run + "', which it lacks");
-  for (const auto& e : b.evaluations)
+  for (const auto& e : b.evaluations) {
     if (!b.run(e.run)) fail("evaluation '" + e.name + "' names run '" + e.run + "', which it lacks");
+    for (const auto& s : e.skills)
+      if (!b.run(s.run)) fail("evaluation '" + e.name + "' takes a skill from run '" + s.run + "', which it lacks");
+  }
   for (const auto& t : b.tables) {
     for (const auto& r : t.sorting)
       for (const std::string* name : {&r.learned, &r.hand})
@@ -133,6 +140,8 @@ BatchScript batch_config_from_json(const json& j) {
       e.episodes = int(config_integer(ej, "episodes", 1, 1000000));
       e.first_seed = config_integer(ej, "first_seed", -1, int64_t(1) << 53);
       e.trials = int(config_integer(ej, "trials", 1, 100000));
+      if (ej.contains("skills"))
+        for (const auto& s : ej.at("skills")) e.skills.push_back({s.at("skill"), s.at("run"), s.at("context")});
       b.evaluations.push_back(std::move(e));
     }
     for (const auto& tj : j.at("tables")) {

@@ -117,6 +117,36 @@ std::unique_ptr<Curriculum> load_curriculum(const Reader& rd, const std::string&
 
 // Reads a run's 'skills' (for each learned skill its contexts use, the earlier run that trains
 // it) and checks that every skill it needs is given.
+// Reads one entry `Skill = {run = ..., context = ...}` of a 'skills' table at line l: the run that
+// trains it, which must have at least `trials` trials (trial i uses trial i's policy).
+BatchSkill read_skill_source(const std::string& skill, const json& entry, const Reader& rd, const std::string& sw,
+                             int l, const Curriculum& cur, const BatchScript& b, int trials,
+                             const std::string& user) {
+  rd.check_object(entry, sw, {"run", "context"}, l);
+  BatchSkill s;
+  s.skill = skill;
+  s.run = rd.str(entry, "run", sw, l, "", true);
+  const BatchRun* from = b.run(s.run);
+  if (!from) {
+    std::vector<std::string> earlier;
+    for (const auto& e : b.runs) earlier.push_back(e.name);
+    rd.fail(l, sw + ": no earlier run '" + s.run + "'; the runs before it are " + quoted_list(earlier));
+  }
+  const CurriculumStage* producer = cur.producer(s.skill);
+  if (!producer) rd.fail(l, sw + ": the curriculum yields no skill '" + s.skill + "'");
+  if (producer->name != from->stage)
+    rd.fail(l, sw + ": run '" + s.run + "' trains stage '" + from->stage + "', but '" + s.skill +
+                   "' is yielded by stage '" + producer->name + "'");
+  s.context = rd.str(entry, "context", sw, l, producer->skill ? producer->skill->second : "");
+  if (std::find(from->contexts.begin(), from->contexts.end(), s.context) == from->contexts.end())
+    rd.fail(l, sw + ": run '" + s.run + "' has no context '" + s.context + "'; its contexts are " +
+                   quoted_list(from->contexts));
+  if (from->trials < trials)
+    rd.fail(l, sw + ": run '" + s.run + "' has " + std::to_string(from->trials) + " trials, fewer than the " +
+                   std::to_string(trials) + " of " + user + " (trial i uses trial i's policy)");
+  return s;
+}
+
 void read_run_skills(const json& rj, const Reader& rd, const std::string& what, const Curriculum& cur,
                      const CurriculumStage* stage, const BatchScript& b, BatchRun& r) {
   // The learned skills its contexts use, and where each comes from.
@@ -130,29 +160,7 @@ void read_run_skills(const json& rj, const Reader& rd, const std::string& what, 
     for (auto it = sj.begin(); it != sj.end(); ++it) {
       const std::string sw = what + ", skill '" + it.key() + "'";
       const int l = rd.line_of_key(it.key(), sl);
-      rd.check_object(*it, sw, {"run", "context"}, l);
-      BatchSkill s;
-      s.skill = it.key();
-      s.run = rd.str(*it, "run", sw, l, "", true);
-      const BatchRun* from = b.run(s.run);
-      if (!from) {
-        std::vector<std::string> earlier;
-        for (const auto& e : b.runs) earlier.push_back(e.name);
-        rd.fail(l, sw + ": no earlier run '" + s.run + "'; the runs before it are " + quoted_list(earlier));
-      }
-      const CurriculumStage* producer = cur.producer(s.skill);
-      if (!producer)
-        rd.fail(l, sw + ": the curriculum yields no skill '" + s.skill + "'");
-      if (producer->name != from->stage)
-        rd.fail(l, sw + ": run '" + s.run + "' trains stage '" + from->stage + "', but '" + s.skill +
-                       "' is yielded by stage '" + producer->name + "'");
-      s.context = rd.str(*it, "context", sw, l, producer->skill ? producer->skill->second : "");
-      if (std::find(from->contexts.begin(), from->contexts.end(), s.context) == from->contexts.end())
-        rd.fail(l, sw + ": run '" + s.run + "' has no context '" + s.context + "'; its contexts are " +
-                       quoted_list(from->contexts));
-      if (from->trials < r.trials)
-        rd.fail(l, sw + ": run '" + s.run + "' has " + std::to_string(from->trials) + " trials, fewer than the " +
-                       std::to_string(r.trials) + " of run '" + r.name + "' (trial i uses trial i's policy)");
+      const BatchSkill s = read_skill_source(it.key(), *it, rd, sw, l, cur, b, r.trials, "run '" + r.name + "'");
       if (!needed.count(s.skill))
         rd.fail(l, sw + ": no context of run '" + r.name + "' uses the learned skill '" + s.skill + "'");
       r.skills.push_back(s);
@@ -217,14 +225,37 @@ void read_runs(const json& top, const Reader& rd, int top_line, const Curriculum
 }
 
 // Reads one evaluation of 'evaluations' (written from line `el` on).
+// Reads an evaluation's optional 'skills': learned skills of the evaluated context taken from
+// another run than the ones its policies embed (a Phi_SG retrained on another body, say).
+void read_evaluation_skills(const json& ej, const Reader& rd, const std::string& what, const Curriculum& cur,
+                            const BatchScript& b, BatchEvaluation& e) {
+  if (!ej.contains("skills")) return;
+  const BatchRun* from = b.run(e.run);
+  const CurriculumStage& stage = cur.stage(from->stage);
+  const std::vector<std::string>& uses = stage.context(e.context).learned;
+  const json& sj = ej["skills"];
+  const int sl = rd.line_of_key("skills", e.line);
+  if (!sj.is_object()) rd.fail(sl, what + ": 'skills' must be a table {Skill = {run = ..., context = ...}}");
+  for (auto it = sj.begin(); it != sj.end(); ++it) {
+    const std::string sw = what + ", skill '" + it.key() + "'";
+    const int l = rd.line_of_key(it.key(), sl);
+    const BatchSkill s = read_skill_source(it.key(), *it, rd, sw, l, cur, b, e.trials, "evaluation '" + e.name + "'");
+    if (std::find(uses.begin(), uses.end(), s.skill) == uses.end())
+      rd.fail(l, sw + ": context '" + e.context + "' of run '" + e.run + "' uses no learned skill '" + s.skill +
+                     "'; it uses " + (uses.empty() ? std::string("none") : quoted_list(uses)));
+    e.skills.push_back(s);
+  }
+}
+
 BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const BatchOverrides& overrides,
-                                const BatchScript& b) {
+                                const Curriculum& cur, const BatchScript& b) {
   BatchEvaluation e;
   const std::string nm = ej.is_object() && ej.contains("name") && ej["name"].is_string() ? ej["name"].get<std::string>() : "";
   e.line = nm.empty() ? el : std::max(rd.line_of_name(nm, el), el);
   const std::string what = nm.empty() ? "an evaluation" : "evaluation '" + nm + "'";
   rd.check_object(ej, what,
-                  {"name", "run", "context", "scenario", "params", "shapes", "episodes", "first_seed", "trials"},
+                  {"name", "run", "context", "scenario", "params", "shapes", "episodes", "first_seed", "trials",
+                   "skills"},
                   e.line);
   e.name = rd.str(ej, "name", what, e.line, "", true);
   if (!std::regex_match(e.name, std::regex("[A-Za-z0-9_.-]+")))
@@ -255,16 +286,18 @@ BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const 
   e.first_seed = rd.integer(ej, "first_seed", what, e.line, -1, -1, int64_t(1) << 53);
   e.trials = int(rd.integer(ej, "trials", what, e.line, from->trials, 1, from->trials));
   if (overrides.trials > 0) e.trials = std::min(overrides.trials, from->trials);
+  read_evaluation_skills(ej, rd, what, cur, b, e);
   return e;
 }
 
 // Reads the optional 'evaluations'.
-void read_evaluations(const json& top, const Reader& rd, const BatchOverrides& overrides, BatchScript& b) {
+void read_evaluations(const json& top, const Reader& rd, const BatchOverrides& overrides, const Curriculum& cur,
+                      BatchScript& b) {
   if (top.contains("evaluations")) {
     const int el = rd.line_of_key("evaluations", 1);
     if (!top["evaluations"].is_array()) rd.fail(el, "the batch script: 'evaluations' must be a list");
     for (const json& ej : top["evaluations"]) {
-      BatchEvaluation e = read_evaluation(ej, rd, el, overrides, b);
+      BatchEvaluation e = read_evaluation(ej, rd, el, overrides, cur, b);
       b.evaluations.push_back(std::move(e));
     }
   }
@@ -506,7 +539,7 @@ BatchScript load_batch_script(const std::string& path_in, const BatchOverrides& 
   read_header(top, rd, top_line, path, overrides, b);
   const std::unique_ptr<Curriculum> cur = load_curriculum(rd, path, limits, b);
   read_runs(top, rd, top_line, *cur, overrides, b);
-  read_evaluations(top, rd, overrides, b);
+  read_evaluations(top, rd, overrides, *cur, b);
   read_tables(top, rd, *cur, b);
   read_figures(top, rd, b);
   b.ordered_runs();  // rejects cycles (impossible with earlier-run skills, kept as a guard)

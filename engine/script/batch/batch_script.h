@@ -61,6 +61,9 @@ struct BatchEvaluation {
   int episodes = 50;                // episodes per policy and shape
   int64_t first_seed = -1;          // -1 = the stage's held-out seeds
   int trials = 0;                   // how many of the run's trials are evaluated
+  // Learned skills taken from these runs instead of those the policies embed: trial i's policy runs
+  // over trial i's skill (a Phi_SG retrained on another body under the same transport policy).
+  std::vector<BatchSkill> skills;
   int line = 0;
 };
 
