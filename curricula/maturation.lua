@@ -20,6 +20,7 @@ local SG_frozen, T_frozen = paper.stages{ suffix = "_frozen", sg_params = { lock
 
 return {
   name = "maturation",
-  description = "The paper's stages, and Phi_SG learned with coarse or frozen eyes, then the transport with the full body.",
+  description = "The paper's stages, and Phi_SG learned with coarse or frozen eyes, "
+    .. "then the transport with the full body.",
   stages = { SG, T, SG_coarse, T_coarse, SG_frozen, T_frozen },
 }

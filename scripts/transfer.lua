@@ -45,7 +45,8 @@ end
 
 return {
   name = "transfer",
-  description = "Transfer across bodies: the paper's T/DC6 on eight bodies, with and without a retrained Phi_SG; maturation.",
+  description = "Transfer across bodies: the paper's T/DC6 on eight bodies, with and without a retrained "
+    .. "Phi_SG; maturation.",
   curriculum = "curricula/maturation.lua",
   trials = 20,
   seed = 1,
