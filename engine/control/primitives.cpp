@@ -75,6 +75,13 @@ Primitive::ParamSlot Primitive::declare(const std::string& name, double value, d
   return defs_.size() - 1;
 }
 
+Primitive::ParamSlot Primitive::declare_body(const std::string& name, double BodyMetrics::*metric, double min,
+                                             double max, const std::string& help) {
+  const ParamSlot slot = declare(name, BodyMetrics{}.*metric, min, max, help);
+  follow_body(slot, metric);
+  return slot;
+}
+
 void Primitive::follow_body(ParamSlot slot, double BodyMetrics::*metric, bool from_body) {
   ParamDef& d = defs_[slot];
   d.body = metric;

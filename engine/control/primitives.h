@@ -78,6 +78,10 @@ class Primitive : public Controller {
   ParamSlot declare(const std::string& name, double value, double min, double max, const std::string& help);
   // Declares a string parameter with its choices (the first is the default); returns its slot.
   ParamSlot declare_text(const std::string& name, std::vector<std::string> choices, const std::string& help);
+  // Declares a number parameter the body decides (its default: the default Roger's value of
+  // `metric`, core/body.h); returns its slot.
+  ParamSlot declare_body(const std::string& name, double BodyMetrics::*metric, double min, double max,
+                         const std::string& help);
   // Makes the number parameter at `slot` one the body can decide, following it from now on when
   // `from_body` (until set to a number).
   void follow_body(ParamSlot slot, double BodyMetrics::*metric, bool from_body = true);

@@ -38,8 +38,7 @@ class Preshape final : public Primitive {
     p_.spread = declare("spread", 1.7, 1.0, 3.0, "angle (rad) of each hand from the body around the object");
     p_.swing = declare("swing", 0.15, 0.0, 1.0, "how far (m) a hand swings out while going round the object");
     p_.phi_max = declare("phi_max", 1.0, 0.0, 9.0, "largest |sum of normals|^2 counted as preshaped");
-    p_.reach = declare("reach", 1.25, 0.3, 3.0, "objects farther (m) than this from the base are out of reach");
-    follow_body(p_.reach, &BodyMetrics::preshape_reach);
+    p_.reach = declare_body("reach", &BodyMetrics::preshape_reach, 0.3, 3.0, "objects farther (m) than this from the base are out of reach");
     p_.memory = declare("memory", 2.0, 0.0, 60.0, "seconds a lost object's last position stays usable");
     p_.damping = declare("damping", 0.05, 0.0, 1.0, "least-squares damping near singular postures");
     p_.body = declare_text("body", {"standoff", "clear"},
@@ -154,8 +153,7 @@ class Grasp final : public Primitive {
     // phi3 drives the base straight at the object, so from farther it ran into the obstacles phi1
     // routes round, and learned policies took that shortcut in the paper's open worlds and failed
     // with it in cluttered ones (Table III 91.6% -> 94.6%; 0.8 and 0.7 gave less, docs/results.md).
-    p_.reach = declare("reach", 0.9, 0.3, 3.0, "objects farther (m) than this from the base are out of reach");
-    follow_body(p_.reach, &BodyMetrics::grasp_reach);
+    p_.reach = declare_body("reach", &BodyMetrics::grasp_reach, 0.3, 3.0, "objects farther (m) than this from the base are out of reach");
     p_.memory = declare("memory", 2.0, 0.0, 60.0, "seconds a lost object's last position stays usable");
     p_.damping = declare("damping", 0.05, 0.0, 1.0, "least-squares damping near singular postures");
     p_.back_off = declare("back_off", 0.03, 0.0, 0.3, "step (m) out along its touch normal of a hand that touches the object while the body does not");

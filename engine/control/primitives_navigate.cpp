@@ -31,8 +31,7 @@ class Navigate final : public Primitive {
     // 0.58, not 0.62: from a ring 4 cm nearer, phi2 has less to travel to its standoff, and the
     // hand-written task in cluttered worlds loses fewer triangles to a preshape that pushes the
     // object ahead of it (docs/results.md, "The triangle at 95%").
-    p_.approach = declare("approach", 0.58, 0.3, 2.0, "approach distance (m) from the object centre to the base");
-    follow_body(p_.approach, &BodyMetrics::approach);
+    p_.approach = declare_body("approach", &BodyMetrics::approach, 0.3, 2.0, "approach distance (m) from the object centre to the base");
     p_.carry = declare("carry", 0.0, 0.0, 1.0,
                        "control point ahead of the base (m): 0 = base centre; \"body\": the grasped object's centre");
     follow_body(p_.carry, &BodyMetrics::carry, false);
@@ -48,15 +47,13 @@ class Navigate final : public Primitive {
     // Other objects are obstacles grown by this much: the base's radius and the preshaped hands'
     // reach to its sides, so the hands do not land on a neighbour (docs/control.md measures 0.3,
     // 0.4 and 0.5 on 8-object sorting).
-    p_.objects = declare("objects", 0.4, 0.0, 2.0,
+    p_.objects = declare_body("objects", &BodyMetrics::objects_growth, 0.0, 2.0,
                          "how far (m) other objects are grown as obstacles (0: objects are not obstacles)");
-    follow_body(p_.objects, &BodyMetrics::objects_growth);
     // More than the base's radius (0.16 m): the base itself still keeps off the neighbours. 0.25 as
     // the sorting curricula's carry, which steers between the same neighbours.
-    p_.squeeze = declare("squeeze", 0.25, 0.0, 2.0,
+    p_.squeeze = declare_body("squeeze", &BodyMetrics::squeeze, 0.0, 2.0,
                          "how far (m) other objects are grown instead when the `objects` growth leaves an "
                          "approach no goal cell or no way to it (0: never)");
-    follow_body(p_.squeeze, &BodyMetrics::squeeze);
     p_.away = declare("away", 2.0, 0.2, 50.0,
                       "how far (m) from where it set out a goal='elsewhere' run's vantage point lies, at least");
     on_params_changed();

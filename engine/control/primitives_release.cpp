@@ -20,8 +20,7 @@ class Release final : public Primitive {
   struct { ParamSlot distance = 0, step = 0, clear = 0, blocked = 0; } p_;
  public:
   Release() : Primitive("release", 0.05) {
-    p_.distance = declare("distance", 0.4, 0.0, 2.0, "how far (m) the base backs off once the arms are folded");
-    follow_body(p_.distance, &BodyMetrics::release_distance);
+    p_.distance = declare_body("distance", &BodyMetrics::release_distance, 0.0, 2.0, "how far (m) the base backs off once the arms are folded");
     p_.step = declare("step", 0.1, 0.01, 1.0, "largest backing error (m) per command");
     p_.clear = declare("clear", 0.05, 0.0, 0.3, "step (m) out along its touch normal of a hand that touches something");
     p_.blocked = declare("blocked", 1.0, 0.0, 10.0,

@@ -80,8 +80,7 @@ class Search final : public Primitive {
     p_.max_turn = declare("max_turn", 3.2, 0.0, 6.3, "largest sampled turn (rad)");
     p_.one_eye = declare("one_eye", 1.0, 0.0, 1000.0,
                        "seconds one eye alone has the stimulus ahead before stepping sideways (0: never)");
-    p_.sidestep = declare("sidestep", 0.3, 0.0, 2.0, "sideways step (m) that clears the blind eye's view");
-    follow_body(p_.sidestep, &BodyMetrics::sidestep);
+    p_.sidestep = declare_body("sidestep", &BodyMetrics::sidestep, 0.0, 2.0, "sideways step (m) that clears the blind eye's view");
     p_.stuck = declare("stuck", 1.0, 0.0, 60.0,
                        "seconds the base may fail to turn before the search turns the other way (0: never)");
   }
