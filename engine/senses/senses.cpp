@@ -96,8 +96,16 @@ bool extent_of(const SeenSurface& s, const Vec2& eye, double eye_heading, const 
 
 // Sets n pixels from `first` to a surface. The values are copied first: bytes written through
 // the image may alias any byte, so the compiler would otherwise read them again for every pixel.
-void fill_pixels(EyeImage& image, int first, int n, Colour colour, SurfaceKind kind, int16_t index) {
-  std::fill_n(image.colour.begin() + first, n, colour);
+// Inlined in both callers: a call per painted part cost more than the fill of a few pixels.
+[[gnu::always_inline]] inline void fill_pixels(EyeImage& image, int first, int n, Colour colour, SurfaceKind kind,
+                                               int16_t index) {
+  // Eight colours per 24-byte copy (std::fill_n of a 3-byte colour is a loop of byte stores).
+  Colour eight[8];
+  std::fill_n(eight, 8, colour);
+  Colour* colours = image.colour.data() + first;
+  int c = 0;
+  for (; c + 8 <= n; c += 8) std::memcpy(colours + c, eight, sizeof eight);
+  for (; c < n; ++c) colours[c] = colour;
   std::fill_n(image.kind.begin() + first, n, kind);
   // Four indices per 8-byte store (a loop of 2-byte stores is what the compiler makes otherwise).
   const uint64_t four = uint64_t(uint16_t(index)) * 0x0001000100010001ull;
