@@ -25,6 +25,7 @@ struct StripBox {
   double sx, sw, cw;
   double st_top, st_h;
   int pixels;
+  double half_fov;  // rad: the angle of each end from the optical axis
 
   // The x of image coordinate u (the last pixel at the left end).
   double x_of(double u) const { return sx + (pixels - 0.5 - u) * cw; }
@@ -69,7 +70,7 @@ void draw_strip_cells(cairo_t* cr, const Layout& l, const EyeImage& img, const S
   cairo_stroke(cr);
 }
 
-// Angle ticks under the strip every 16 pixels, labelled at both ends and the centre.
+// Angle ticks under the strip every eighth of its width, labelled at both ends and the centre.
 void draw_strip_ticks(cairo_t* cr, const Layout& l, const StripBox& b) {
   const double sx = b.sx, sw = b.sw, st_top = b.st_top, st_h = b.st_h;
   set(cr, kFaintInk);
@@ -83,12 +84,13 @@ void draw_strip_ticks(cairo_t* cr, const Layout& l, const StripBox& b) {
   tick.size = 10;
   tick.colour = kFaintInk;
   const double tick_base = st_top + st_h + 16 * l.u;
+  const double degrees = b.half_fov * 180.0 / M_PI;
   tick.align = 0.0;
-  text(cr, l, "45\u00b0 left (pixel 127)", sx, tick_base, tick);
+  text(cr, l, format("%.0f\u00b0 left (pixel %d)", degrees, b.pixels - 1), sx, tick_base, tick);
   tick.align = 0.5;
   text(cr, l, "ahead", sx + 0.5 * sw, tick_base, tick);
   tick.align = 1.0;
-  text(cr, l, "(pixel 0) 45\u00b0 right", sx + sw, tick_base, tick);
+  text(cr, l, format("(pixel 0) %.0f\u00b0 right", degrees), sx + sw, tick_base, tick);
 }
 
 // The detected stimulus bracketed on the strip, with a notch over its centre.
@@ -123,7 +125,7 @@ void draw_eye_strip(cairo_t* cr, const Layout& l, const Senses& senses, int side
   const double cw = sw / pixels;
   const double label_base = top + 14 * l.u;
   const double st_top = top + 22 * l.u, st_h = 24 * l.u;
-  const StripBox b{sx, sw, cw, st_top, st_h, pixels};
+  const StripBox b{sx, sw, cw, st_top, st_h, pixels, senses.image[side].camera.half_fov};
 
   const Sighting& s = senses.stimulus[side];
   draw_strip_label(cr, l, s, side, b, label_base);
