@@ -22,6 +22,7 @@
 ---@field episodes? integer episodes per shape
 ---@field first_seed? integer default: the stage's held-out seeds
 ---@field trials? integer the first `trials` trials of the run (default all)
+---@field skills? table<string, {run: string, context: string?}> learned skills from these runs instead of the embedded ones (trial i's)
 
 ---A table of the report.
 ---@class roger.BatchTable

@@ -40,10 +40,12 @@ function roger.learned(name) end
 ---@field objects roger.WorldObject[] every object, in the scenario's order
 ---@field goals roger.WorldGoal[] the goal regions
 
----A developmental context: a name and its action set Psi.
+---A developmental context: a name, its action set Psi, and optionally scenario parameters over
+---the stage's (a context that restricts the body or the senses: docs/curricula.md).
 ---@class roger.Context
 ---@field name string
 ---@field actions roger.ControllerRef[] 1 to 12 actions with distinct names
+---@field params? table<string, number|string|boolean> scenario parameters over the stage's
 
 ---A stage's reward: the defaults are absorbing 100, timeout -100, step 0.
 ---@class roger.Reward
@@ -84,7 +86,7 @@ function roger.learned(name) end
 ---@field learner? roger.Learner
 ---@field budget {episodes: integer}
 ---@field checkpoints? roger.Checkpoints
----@field contexts roger.Context[]|table<string, {actions: roger.ControllerRef[]}>
+---@field contexts roger.Context[]|table<string, roger.ControllerRef[]|{actions: roger.ControllerRef[], params: table<string, number|string|boolean>?}>
 ---@field skill? {name: string, context: string} the context whose greedy policy becomes a skill
 
 ---What a curriculum returns.
