@@ -38,7 +38,8 @@ json batch_config_json(const BatchScript& b) {
   for (const auto& e : b.evaluations)
     evals.push_back({{"name", e.name}, {"run", e.run}, {"context", e.context}, {"scenario", e.scenario},
                      {"params", params_json(e.params)}, {"shapes", e.shapes}, {"episodes", e.episodes},
-                     {"first_seed", e.first_seed}, {"trials", e.trials}});
+                     {"first_seed", e.first_seed}, {"worlds", e.shared_worlds ? "shared" : "own"},
+                     {"trials", e.trials}});
   for (const auto& t : b.tables) {
     json usage = json::array();
     for (const auto& u : t.usage) usage.push_back({{"context", u.context}, {"skill", u.skill}, {"subsumes", u.subsumes}});
@@ -132,6 +133,8 @@ BatchScript batch_config_from_json(const json& j) {
       e.shapes = ej.at("shapes").get<std::vector<std::string>>();
       e.episodes = int(config_integer(ej, "episodes", 1, 1000000));
       e.first_seed = config_integer(ej, "first_seed", -1, int64_t(1) << 53);
+      // Folders written before evaluations had worlds of their own shared them.
+      e.shared_worlds = ej.value("worlds", std::string("shared")) != "own";
       e.trials = int(config_integer(ej, "trials", 1, 100000));
       b.evaluations.push_back(std::move(e));
     }
