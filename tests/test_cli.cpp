@@ -129,6 +129,26 @@ TEST_CASE("roger check reports a misspelt roger member and an undefined global b
   CHECK(r.err.find("attempt to call") == std::string::npos);
 }
 
+TEST_CASE("roger check runs the static pass on a scenario named bare, as the loader finds it", "[cli]") {
+  // A project tree (ROGER_HOME) whose scenarios/ holds a scenario with a misspelt member reached
+  // through an alias: `roger check misspelt_here` reads scenarios/misspelt_here.lua before running it.
+  const fs::path home = fs::temp_directory_path() / ("roger_cli_home_" + std::to_string(::getpid()));
+  fs::remove_all(home);
+  fs::create_directories(home / "scenarios");
+  fs::copy("scenarios/lib", home / "scenarios/lib", fs::copy_options::recursive);
+  std::ofstream(home / "scenarios/misspelt_here.lua")
+      << "local R = roger\nlocal radius = R.robot.base_radus\n" << slurp("scenarios/unobstructed.lua");
+  setenv("ROGER_HOME", home.c_str(), 1);
+  const Run r = roger("check misspelt_here");
+  unsetenv("ROGER_HOME");
+  fs::remove_all(home);
+  INFO(r.err);
+  CHECK(r.status == 1);
+  CHECK(r.err.find("misspelt_here.lua:2: roger.robot.base_radus is not in the API of a scenario; did you mean "
+                   "roger.robot.base_radius?") != std::string::npos);
+  CHECK(r.out.find(": ok") == std::string::npos);
+}
+
 TEST_CASE("a binary chunk is refused", "[cli]") {
   const fs::path p = temp_file("roger_cli_binary.lua", std::string("\x1bLua\x54\x00\x19\x93\r\n\x1a\n", 12));
   const Run r = roger("check " + p.string());
