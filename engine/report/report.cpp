@@ -382,7 +382,7 @@ EvalRow eval_row(const std::vector<json>& evals, int64_t worlds = -1) {
   r.p = pool(evals, "episodes");
   for (const auto& j : evals) r.rates.push_back(num(j, "success_rate"));
   r.worlds = worlds >= 0 ? worlds : distinct_worlds(evals);
-  if (worlds > 0) r.ci = wilson_interval(r.p.success * double(worlds), double(worlds));
+  if (r.worlds > 0) r.ci = wilson_interval(r.p.success * double(r.worlds), double(r.worlds));
   return r;
 }
 
