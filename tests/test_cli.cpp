@@ -209,9 +209,10 @@ TEST_CASE("roger eval runs a learned Sort4 policy from its file, loaded and not 
   const nlohmann::json j = nlohmann::json::parse(r.out.substr(r.out.rfind("\n{") + 1));
   CHECK(j["params"]["objects"] == "4");
   CHECK(j["episodes"] == 10);
-  // The policy sorted 50 of its 50 final evaluation episodes in the run (these 10 among them);
-  // a policy that lost its skills or its bindings on the way in sorts none.
-  CHECK(j["successes"].get<int>() >= 6);
+  // The policy sorted 50 of its 50 final evaluation episodes in the run (these 10 among them, all
+  // sorted here too); a policy that lost its skills or its bindings on the way in sorts none. One
+  // world may go with a change of numerics; a second is a regression.
+  CHECK(j["successes"].get<int>() >= 9);
   for (const char* task : {"put away circle", "put away triangle", "put away pentagon", "put away spade"})
     CHECK(j["usage"][task].get<double>() > 0.0);
 }
