@@ -21,6 +21,7 @@
 ---@field shapes? string[] one group per shape (shape=<name>)
 ---@field episodes? integer episodes per shape
 ---@field first_seed? integer default: the stage's held-out seeds
+---@field worlds? "own"|"shared" default "own": trial i from first_seed + i * episodes; "shared": the same worlds for every policy (common random numbers)
 ---@field trials? integer the first `trials` trials of the run (default all)
 ---@field skills? table<string, {run: string, context: string?}> learned skills from these runs instead of the embedded ones (trial i's)
 

@@ -57,10 +57,18 @@ TEST_CASE("scripts/paper.lua describes the paper's protocol", "[batch_script]") 
   CHECK(b.evaluations[0].context == "DC6");
   CHECK(b.evaluations[0].shapes == std::vector<std::string>{"circle", "triangle", "pentagon", "spade"});
   CHECK(b.evaluations[0].episodes == 50);
+  CHECK(!b.evaluations[0].shared_worlds);  // each policy its own worlds (docs/batch.md)
   CHECK(b.tables.size() == 3);
   CHECK(b.figures.size() == 3);
   // The configuration survives the manifest's JSON.
   CHECK(batch_config_json(batch_config_from_json(batch_config_json(b))) == batch_config_json(b));
+  BatchScript shared = b;
+  shared.evaluations[0].shared_worlds = true;
+  CHECK(batch_config_from_json(batch_config_json(shared)).evaluations[0].shared_worlds);
+  // A folder written before evaluations had worlds of their own: its policies shared them.
+  nlohmann::json old = batch_config_json(b);
+  old["evaluations"][0].erase("worlds");
+  CHECK(batch_config_from_json(old).evaluations[0].shared_worlds);
   // Overrides: trials and scenario parameters.
   BatchOverrides o;
   o.trials = 3;
@@ -106,6 +114,12 @@ TEST_CASE("bad batch scripts are clear errors at file:line", "[batch_script]") {
   CHECK(m.find("bad_batch_unknown_stage.lua:5:") != std::string::npos);
   CHECK(m.find("no stage 'Transport'") != std::string::npos);
   CHECK(m.find("'SG', 'T'") != std::string::npos);
+
+  m = load_error("tests/scripts/bad_batch_worlds.lua");
+  INFO(m);
+  CHECK(m.find("bad_batch_worlds.lua:8:") != std::string::npos);
+  CHECK(m.find("'own'") != std::string::npos);
+  CHECK(m.find("not 'same'") != std::string::npos);
 
   m = load_error("tests/scripts/bad_batch_runtime.lua");
   INFO(m);

@@ -129,6 +129,26 @@ TEST_CASE("roger check reports a misspelt roger member and an undefined global b
   CHECK(r.err.find("attempt to call") == std::string::npos);
 }
 
+TEST_CASE("roger check runs the static pass on a scenario named bare, as the loader finds it", "[cli]") {
+  // A project tree (ROGER_HOME) whose scenarios/ holds a scenario with a misspelt member reached
+  // through an alias: `roger check misspelt_here` reads scenarios/misspelt_here.lua before running it.
+  const fs::path home = fs::temp_directory_path() / ("roger_cli_home_" + std::to_string(::getpid()));
+  fs::remove_all(home);
+  fs::create_directories(home / "scenarios");
+  fs::copy("scenarios/lib", home / "scenarios/lib", fs::copy_options::recursive);
+  std::ofstream(home / "scenarios/misspelt_here.lua")
+      << "local R = roger\nlocal radius = R.robot.base_radus\n" << slurp("scenarios/unobstructed.lua");
+  setenv("ROGER_HOME", home.c_str(), 1);
+  const Run r = roger("check misspelt_here");
+  unsetenv("ROGER_HOME");
+  fs::remove_all(home);
+  INFO(r.err);
+  CHECK(r.status == 1);
+  CHECK(r.err.find("misspelt_here.lua:2: roger.robot.base_radus is not in the API of a scenario; did you mean "
+                   "roger.robot.base_radius?") != std::string::npos);
+  CHECK(r.out.find(": ok") == std::string::npos);
+}
+
 TEST_CASE("a binary chunk is refused", "[cli]") {
   const fs::path p = temp_file("roger_cli_binary.lua", std::string("\x1bLua\x54\x00\x19\x93\r\n\x1a\n", 12));
   const Run r = roger("check " + p.string());
@@ -234,9 +254,10 @@ TEST_CASE("roger eval runs a learned Sort4 policy from its file, loaded and not 
   const nlohmann::json j = nlohmann::json::parse(r.out.substr(r.out.rfind("\n{") + 1));
   CHECK(j["params"]["objects"] == "4");
   CHECK(j["episodes"] == 10);
-  // The policy sorted 50 of its 50 final evaluation episodes in the run (these 10 among them);
-  // a policy that lost its skills or its bindings on the way in sorts none.
-  CHECK(j["successes"].get<int>() >= 6);
+  // The policy sorted 50 of its 50 final evaluation episodes in the run (these 10 among them, all
+  // sorted here too); a policy that lost its skills or its bindings on the way in sorts none. One
+  // world may go with a change of numerics; a second is a regression.
+  CHECK(j["successes"].get<int>() >= 9);
   for (const char* task : {"put away circle", "put away triangle", "put away pentagon", "put away spade"})
     CHECK(j["usage"][task].get<double>() > 0.0);
 }

@@ -217,6 +217,49 @@ void check_dashboard(const fs::path& dir, const std::string& tables, const json&
   CHECK(script_data(dir / "status.js", "ROGER_STATUS") == status);
 }
 
+// Table III of a finished tiny run (2 policies, 3 episodes per shape), each policy in worlds of its
+// own: trial 1's worlds start where trial 0's end, so each shape's row holds 6 distinct worlds and
+// the Total 12, with the success rate's Wilson interval over them. Rewritten as if both policies
+// had met the same worlds, each shape holds 3 and the interval widens.
+void check_own_worlds(const fs::path& dir, const std::string& tables, const json& rep) {
+  const json e0 = json::parse(slurp(fs::path(trial_dir(dir.string(), "eval/gen/spade/000")) / "result.json"));
+  const json e1 = json::parse(slurp(fs::path(trial_dir(dir.string(), "eval/gen/spade/001")) / "result.json"));
+  CHECK(e1["first_seed"].get<int64_t>() == e0["first_seed"].get<int64_t>() + 3);
+  CHECK(tables.find("each policy in worlds of its own") != std::string::npos);
+  const json& rows = rep["tables"][2]["rows"];
+  REQUIRE(rows.size() == 3);
+  CHECK(rows[0]["worlds"] == 6);
+  CHECK(rows[1]["worlds"] == 6);
+  CHECK(rows[2]["worlds"] == 12);
+  for (const auto& [row, worlds] : {std::pair<int, double>{0, 6}, {1, 6}, {2, 12}}) {
+    const double rate = rows[row]["success_rate"].get<double>();
+    CHECK(rows[row]["success_low"].get<double>() == Approx(wilson_interval(rate * worlds, worlds).low));
+    CHECK(rows[row]["success_high"].get<double>() == Approx(wilson_interval(rate * worlds, worlds).high));
+  }
+  CHECK(tables.find("| 12 |\n") != std::string::npos);
+
+  const fs::path shared = dir.string() + "_shared";
+  fs::remove_all(shared);
+  fs::copy(dir, shared, fs::copy_options::recursive);
+  json manifest = json::parse(slurp(shared / "manifest.json"));
+  manifest["config"]["evaluations"][0]["worlds"] = "shared";
+  spit(shared / "manifest.json", manifest.dump(1));
+  for (const char* id : {"eval/gen/circle/001", "eval/gen/spade/001"}) {
+    const fs::path p = fs::path(trial_dir(shared.string(), id)) / "result.json";
+    json r = json::parse(slurp(p));
+    r["first_seed"] = e0["first_seed"];
+    spit(p, r.dump());
+  }
+  write_report(shared.string());
+  const json srep = json::parse(slurp(shared / "report.json"));
+  CHECK(srep["tables"][2]["rows"][0]["worlds"] == 3);
+  CHECK(srep["tables"][2]["rows"][2]["worlds"] == 6);
+  CHECK(srep["tables"][2]["rows"][2]["success_low"].get<double>() ==
+        Approx(wilson_interval(srep["tables"][2]["rows"][2]["success_rate"].get<double>() * 6, 6).low));
+  CHECK(slurp(shared / "tables.md").find("every policy in the same worlds") != std::string::npos);
+  fs::remove_all(shared);
+}
+
 }  // namespace
 
 TEST_CASE("curve_grid interpolates checkpoints onto a common grid", "[report]") {
@@ -299,6 +342,7 @@ TEST_CASE("a tiny batch writes every file, with tables that match the trials, wh
   CHECK(tables.find("- `iqm_T.png` / `iqm_T.svg`: IQM learning curves: stage T\n") != std::string::npos);
 
   check_dashboard(one, tables, rep);
+  check_own_worlds(one, tables, rep);
 
   REQUIRE(f.run("two", 2) == 0);
   same_results(one, f.root / "two");
@@ -466,6 +510,7 @@ TEST_CASE("a damaged trial result is a roger::Error naming its file, never an ab
   // The fuzzer's seed result, completed with what a finished training trial also records.
   json good = json::parse(slurp("tests/fuzz/corpus/result/training.json"));
   good["train_episodes"] = 40;
+  good["first_seed"] = 2000000;  // an evaluation's first world
   for (auto& c : good["checkpoints"]) c["success_rate"] = 0.5;
   const std::string policy = QTable({"phi1", "Phi7"}).to_json().dump();
   auto report_with = [&](const json& result) {
@@ -493,6 +538,7 @@ TEST_CASE("a damaged trial result is a roger::Error naming its file, never an ab
       {"\"reached\" must be true or false", [](json& j) { j["reached"] = "yes"; }},
       {"\"checkpoints\" must be a list", [](json& j) { j["checkpoints"] = 4; }},
       {"is not a count of episodes", [](json& j) { j["episodes"] = 1e300; }},
+      {"'first_seed' is not a seed", [](json& j) { j["first_seed"] = -3; }},
   };
   for (const auto& [what, spoil] : cases) {
     json bad = good;
@@ -503,7 +549,7 @@ TEST_CASE("a damaged trial result is a roger::Error naming its file, never an ab
       FAIL("reported a result with " << what);
     } catch (const Error& e) {
       CHECK_THAT(e.what(), Catch::Contains(what));
-      if (what.find("count") == std::string::npos) CHECK_THAT(e.what(), Catch::Contains("result.json"));
+      if (what.find("count") == std::string::npos && what.find("seed") == std::string::npos) CHECK_THAT(e.what(), Catch::Contains("result.json"));
     }
   }
   fs::remove_all(dir);

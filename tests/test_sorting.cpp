@@ -144,7 +144,7 @@ return { name = "probe", stages = { roger.stage{
   fs::remove_all(dir);
 }
 
-TEST_CASE("sorting: the hand-written policy sorts both of two objects in at least 80% of 50 episodes",
+TEST_CASE("sorting: the hand-written policy sorts both of two objects in at least 48 of 50 episodes",
           "[sorting]") {
   TrainOptions o;
   o.curriculum = "curricula/sorting.lua";
@@ -155,10 +155,12 @@ TEST_CASE("sorting: the hand-written policy sorts both of two objects in at leas
   const TrainResult r = train_stage(o);
   INFO("success " << r.final_eval.success_rate << ", mean time " << r.final_eval.time_mean);
   CHECK(r.final_eval.episodes == 50);  // the sorting stages' final evaluation
-  CHECK(r.final_eval.success_rate >= 0.8);
-  // An episode ends at the decision point at which both lie sorted (about 27 s), not at the 60 s
-  // limit: the chooser is NOREF once its moves have nothing left to do, which is that point.
-  CHECK(r.final_eval.time_mean < 40.0);
+  // All 50 today: a change of numerics may lose one or two worlds, a regression more.
+  CHECK(r.final_eval.success_rate >= 0.96);
+  // An episode ends at the decision point at which both lie sorted (26.3 s on average today), not
+  // at the 60 s limit: the chooser is NOREF once its moves have nothing left to do, which is that
+  // point. Under 28 s: episodes 7% slower, or three that wait for the limit, cross it.
+  CHECK(r.final_eval.time_mean < 28.0);
 }
 
 namespace {
@@ -179,15 +181,16 @@ int sorted_by_hand(int objects, int obstacles, uint64_t first, int n) {
 }  // namespace
 
 // One hand-written policy for any number of objects, judged by the world (roger.sorted), within
-// 30 simulated seconds per object: the issue's bar, 17 of 20 with eight objects (today all 20 of
-// seeds 60000-60019, and all 10 with four). docs/results.md, Sorting, gives the held-out rates and
-// what still fails.
+// 30 simulated seconds per object: all 10 of seeds 60000-60009 with four objects and all 20 of
+// seeds 60000-60019 with eight, every time (the engine is deterministic). With eight, one world
+// may be lost to a change of numerics; a second is a regression (the first bar, 17 of 20, let
+// three go). docs/results.md, Sorting, gives the held-out rates and what still fails.
 TEST_CASE("sorting: one hand-written policy sorts 4 and 8 objects, its time limit per object", "[sorting]") {
   const int four = sorted_by_hand(4, 0, 60000, 10);
   const int eight = sorted_by_hand(8, 0, 60000, 20);
   INFO("4 objects: " << four << " of 10; 8 objects: " << eight << " of 20");
-  CHECK(four >= 9);
-  CHECK(eight >= 17);
+  CHECK(four == 10);
+  CHECK(eight >= 19);
 }
 
 // What `--jobs` relies on: a worker's agent and policy run whichever episodes come to it, in any
@@ -323,8 +326,10 @@ TEST_CASE("sorting: a bound move whose objects are all put away ends NOREF withi
     if (circle->state(agent.input()) == Gamma::kNoRef) noref_at = agent.world().time();
   }
   INFO("NOREF at " << noref_at << " s");
-  CHECK(noref_at > 0.0);
-  CHECK(noref_at < 5.0);  // backing off (about 1 s) and one sweep (under 2 s), not the patience
+  // Backing off (about 1 s) and one sweep (1.4 s, test_primitives): 2.22 s. A second sweep or a
+  // back-off twice as long crosses 2.6 s; under 1.8 s the move gave up without sweeping round.
+  CHECK(noref_at > 1.8);
+  CHECK(noref_at < 2.6);
 }
 
 TEST_CASE("sorting: a type's task is CONV and rests once its objects are put away, !CONV while one is left",

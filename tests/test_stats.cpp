@@ -94,6 +94,25 @@ TEST_CASE("interquartile mean, with fractional boundary values", "[stats]") {
   CHECK_THROWS_AS(interquartile_mean({}), Error);
 }
 
+TEST_CASE("Wilson score interval of a success rate", "[stats]") {
+  // 8 of 10: statsmodels' proportion_confint(8, 10, method="wilson") gives (0.49016, 0.94332).
+  const ConfidenceInterval a = wilson_interval(8, 10);
+  CHECK(a.estimate == Approx(0.8));
+  CHECK(a.low == Approx(0.4901625).margin(1e-6));
+  CHECK(a.high == Approx(0.9433178).margin(1e-6));
+  // At 0 and n successes the interval is not empty: z^2 / (n + z^2) = 3.8415 / 13.8415 from the edge.
+  CHECK(wilson_interval(0, 10).low == 0.0);
+  CHECK(wilson_interval(0, 10).high == Approx(0.2775328).margin(1e-6));
+  CHECK(wilson_interval(10, 10).low == Approx(0.7224672).margin(1e-6));
+  CHECK(wilson_interval(10, 10).high == Approx(1.0));
+  // More draws, a narrower interval: 97.5% of 200 worlds against 97.5% of 10000.
+  CHECK(wilson_interval(195, 200).low == Approx(0.9428217).margin(1e-6));
+  CHECK(wilson_interval(9750, 10000).low == Approx(0.9717528).margin(1e-6));
+  CHECK(wilson_interval(8, 10, 0.99).low < a.low);
+  CHECK_THROWS_WITH(wilson_interval(11, 10), Contains("11 successes of 10"));
+  CHECK_THROWS_WITH(wilson_interval(0, 0), Contains("positive number"));
+}
+
 TEST_CASE("bootstrap CI contains the true mean, is reproducible and honest", "[stats]") {
   Rng rng(7);
   std::vector<double> sample;

@@ -305,7 +305,9 @@ nlohmann::json training_trial(const BatchPlan& plan, const PlannedTrial& t, cons
   return j;
 }
 
-// An evaluation trial: the policy of a trained trial, without retraining, in the evaluation's worlds.
+// An evaluation trial: the policy of a trained trial, without retraining, in the evaluation's worlds:
+// its own (the first seed offset by trial * episodes, so no two policies meet the same world) unless
+// the evaluation shares them.
 nlohmann::json evaluation_trial(const BatchPlan& plan, const PlannedTrial& t, Clock::time_point t0) {
   const BatchEvaluation& e = *t.evaluation;
   const std::string from = batch_trial_id(e.run, e.context, t.index);
@@ -317,6 +319,7 @@ nlohmann::json evaluation_trial(const BatchPlan& plan, const PlannedTrial& t, Cl
   if (!e.shapes.empty()) o.sets.emplace_back("shape", t.shape);
   o.episodes = e.episodes;
   o.first_seed = e.first_seed;
+  o.seed_offset = e.shared_worlds ? 0 : uint64_t(t.index) * uint64_t(e.episodes);
   nlohmann::json skills = nlohmann::json::object();
   for (const BatchSkill& s : e.skills) {
     const std::string source = batch_trial_id(s.run, s.context, t.index);

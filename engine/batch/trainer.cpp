@@ -502,7 +502,7 @@ void with_policy_file(const PolicyEvalOptions& options, PolicyEvalResult& out,
   StageRun run{cur, stage, ctx, make_scenario(stage, ctx, options.scenario, options.sets, options.limits, &out.params), Agent()};
   cur.set_world(&run.agent.world());
   out.scenario = run.scenario.name();
-  use(run, q, options.first_seed >= 0 ? uint64_t(options.first_seed) : stage.checkpoints.seeds);
+  use(run, q, (options.first_seed >= 0 ? uint64_t(options.first_seed) : stage.checkpoints.seeds) + options.seed_offset);
 }
 
 // Psi and the controllers inside it, breadth first, each once, at most `limit`. A part is held

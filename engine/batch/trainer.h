@@ -167,6 +167,7 @@ struct PolicyEvalOptions {
   std::vector<std::pair<std::string, std::string>> sets;  // scenario parameters
   int episodes = 50;
   int64_t first_seed = -1;                                // -1 = the stage's held-out seeds
+  uint64_t seed_offset = 0;                               // added to the first seed (a policy's own worlds)
   // Learned skills from these policy files instead of the ones the policy embeds (skill -> file).
   std::map<std::string, std::string> skill_files;
   SandboxLimits limits;

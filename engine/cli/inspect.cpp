@@ -134,12 +134,17 @@ int check_batch(const std::string& path) {
 namespace {
 
 // The static pass (a misspelt roger.* member, an undefined global), before anything runs: prints
-// each problem as file:line and returns their number. A name that is not a file is left to the
-// loader, which says what exists.
+// each problem as file:line and returns their number. A bare name is the scenario it names, as
+// for the loader below (scenarios/<name>.lua of the project or the installed tree); a name that
+// is neither is left to the loader, which says what exists.
 size_t report_static_problems(const std::string& script) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(script, ec)) return 0;
-  const std::vector<StaticProblem> problems = static_check(script, script_kind_of(script));
+  std::string path;
+  try {
+    path = resolve_scenario_path(script);
+  } catch (const Error&) {
+    return 0;
+  }
+  const std::vector<StaticProblem> problems = static_check(path, script_kind_of(path));
   for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.what().c_str());
   return problems.size();
 }

@@ -1,5 +1,5 @@
 // dashboard_internal.h: the results folder's dashboard (private to report/): index.html, the page
-// of engine/view/web/dashboard.html compiled in, and dashboard.js, the numbers report.cpp computed
+// of engine/view/web/dashboard.html compiled in, and dashboard.js, the numbers report_*.cpp computed
 // for tables.md and the figures, as data the page draws (a page opened from the file system cannot
 // fetch() JSON, but it can load a script). dashboard.cpp writes both.
 #pragma once
@@ -16,7 +16,7 @@ namespace roger::dashboard {
 
 using json = nlohmann::json;
 
-// The bootstrap of the learning curves' IQM bands (report.cpp computes them once for the IQM
+// The bootstrap of the learning curves' IQM bands (report_figures.cpp computes them once for the IQM
 // figures and the page): a fixed seed, so the same folder gives the same bands, and 1000
 // resamples per grid time, since a band is drawn, not tabulated.
 constexpr uint64_t kCurveBootstrapSeed = 20240602;

@@ -181,6 +181,16 @@ MannWhitneyResult mann_whitney_core(const std::vector<double>& x, const std::vec
   return r;
 }
 
+// The standard normal quantile z with P(|Z| <= z) = level, by bisection on erfc (0 < level < 1).
+double two_sided_z(double level) {
+  double lo = 0.0, hi = 40.0;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (std::erfc(mid / std::sqrt(2.0)) > 1.0 - level ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
 // Censored times as rank keys: reached ones at their time, censored ones at +infinity.
 std::vector<double> rank_keys(const std::vector<CensoredTime>& times, const char* what) {
   std::vector<double> keys;
@@ -273,6 +283,24 @@ ConfidenceInterval bootstrap_ci(const std::vector<double>& xs, const Statistic& 
   const double alpha = 1.0 - level;
   ci.low = sorted_quantile(values, alpha / 2.0);
   ci.high = sorted_quantile(values, 1.0 - alpha / 2.0);
+  return ci;
+}
+
+ConfidenceInterval wilson_interval(double successes, double n, double level) {
+  if (!(n > 0.0 && std::isfinite(n)))
+    throw Error("stats: wilson_interval: n is " + number(n) + ", expected a positive number of draws");
+  if (!(successes >= 0.0 && successes <= n))
+    throw Error("stats: wilson_interval: " + number(successes) + " successes of " + number(n) + " draws");
+  if (!(level > 0.0 && level < 1.0))
+    throw Error("stats: wilson_interval: level is " + number(level) + ", expected a number strictly between 0 and 1");
+  const double z = two_sided_z(level), z2 = z * z, p = successes / n;
+  const double centre = (p + z2 / (2.0 * n)) / (1.0 + z2 / n);
+  const double half = z / (1.0 + z2 / n) * std::sqrt(p * (1.0 - p) / n + z2 / (4.0 * n * n));
+  ConfidenceInterval ci;
+  ci.level = level;
+  ci.estimate = p;
+  ci.low = std::max(0.0, centre - half);
+  ci.high = std::min(1.0, centre + half);
   return ci;
 }
 

@@ -63,6 +63,12 @@ struct ConfidenceInterval {
 ConfidenceInterval bootstrap_ci(const std::vector<double>& xs, const Statistic& statistic,
                                 uint64_t seed, int resamples = 10000, double level = 0.95);
 
+// Wilson score interval of a success rate: `successes` of `n` independent Bernoulli draws (n > 0,
+// 0 <= successes <= n; both may be fractional, an effective sample), at coverage `level`. Unlike
+// the normal approximation it stays inside [0, 1] and is not empty at 0 or n successes
+// (0 of 10: [0, 27.8%]).
+ConfidenceInterval wilson_interval(double successes, double n, double level = 0.95);
+
 // Learning curves summarized at each point of a common grid, over trials: the mean and population
 // std (Figures 3 and 4) and the interquartile mean with its percentile-bootstrap interval (the
 // IQM figures and the dashboard). One entry per grid point.

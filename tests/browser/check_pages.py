@@ -4,7 +4,8 @@ checks what they show: the dashboard of a results folder and the episode viewer.
 
 Chromium is driven through its DevTools protocol over --remote-debugging-pipe (file descriptors 3
 and 4, NUL-separated JSON), so nothing beyond Python's standard library and Debian's chromium is
-needed. Exit 0: every check holds; 1: a check failed; 77: no browser could be started (skipped).
+needed. Exit 0: every check holds; 1: a check failed; 77: no browser could be started (skipped;
+a failure under CI=true).
 
   check_pages.py --roger build/engine/roger --work DIR            # run, render, check
   check_pages.py --roger build/engine/roger --work DIR --screenshots docs/figures
@@ -22,6 +23,15 @@ import tempfile
 import time
 
 SKIP = 77
+
+
+def skip(why):
+    """Skips (77), or fails under CI (CI=true), where .ci/install installs chromium."""
+    if os.environ.get("CI") == "true":
+        print("FAILED (would skip, but CI=true): %s" % why)
+        return 1
+    print("SKIP: %s" % why)
+    return SKIP
 
 
 class Browser:
@@ -321,8 +331,7 @@ def main():
     ap.add_argument("--screenshots", help="also write dashboard.png and episode-viewer.png here")
     a = ap.parse_args()
     if not shutil.which(a.chromium):
-        print("SKIP: no chromium at %s (apt-get install chromium)" % a.chromium)
-        return SKIP
+        return skip("no chromium at %s (apt-get install chromium)" % a.chromium)
     results, episode = os.path.join(a.work, "results"), os.path.join(a.work, "episode")
     shutil.rmtree(a.work, ignore_errors=True)
     os.makedirs(a.work)
@@ -332,8 +341,7 @@ def main():
     try:
         b = Browser(a.chromium)
     except (OSError, TimeoutError, RuntimeError) as e:
-        print("SKIP: chromium did not start: %s" % e)
-        return SKIP
+        return skip("chromium did not start: %s" % e)
     try:
         shots = a.screenshots
         check_dashboard(b, results, shots and os.path.join(shots, "dashboard.png"))

@@ -14,7 +14,7 @@
 #                   run goes, then put back
 #
 # Exit status: 0 passed, 1 failed, 77 skipped (disk_full and, as root, not_writable need to mount a
-# tmpfs: root with CAP_SYS_ADMIN, as CI has).
+# tmpfs: root with CAP_SYS_ADMIN, as CI has; under CI=true a test that cannot mount one fails).
 set -euo pipefail
 
 if [ $# -ne 4 ]; then
@@ -25,7 +25,8 @@ case=$1 roger=$(readlink -f "$2") source=$(readlink -f "$3") work=$(mkdir -p "$4
 script=tests/scripts/kill_batch.lua
 reference=$work/reference
 fail() { echo "FAILED ($case): $*"; [ -f "${log:-}" ] && sed 's/^/  | /' "$log"; exit 1; }
-skip() { echo "SKIPPED ($case): $*"; exit 77; }
+# shellcheck source=tests/tools/skip.sh
+. "$source/tests/tools/skip.sh"  # skip: exit 77, or a failure under CI=true
 cd "$source"
 
 if [ "$case" = reference ]; then
@@ -52,8 +53,8 @@ trap cleanup EXIT
 # Mounts a tmpfs of `size` on folder $1 (skips the test when the machine does not let us).
 mount_tmpfs() {
   mkdir -p "$1"
-  [ "$(id -u)" = 0 ] || skip "mounting a tmpfs needs root"
-  mount -t tmpfs -o "size=$2" tmpfs "$1" 2>/dev/null || skip "cannot mount a tmpfs here (no CAP_SYS_ADMIN?)"
+  [ "$(id -u)" = 0 ] || skip "($case) mounting a tmpfs needs root"
+  mount -t tmpfs -o "size=$2" tmpfs "$1" 2>/dev/null || skip "($case) cannot mount a tmpfs here (no CAP_SYS_ADMIN?)"
   mounted=$1
 }
 

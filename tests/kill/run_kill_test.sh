@@ -13,7 +13,8 @@
 # policy.json and episodes.jsonl byte for byte (the folder's own path aside). The first kill of the report comes before any
 # report exists, so the resumed run is what finishes it.
 #
-# Exit status: 0 passed, 1 failed, 77 skipped (jq is not installed: .ci/install installs it).
+# Exit status: 0 passed, 1 failed, 77 skipped (jq is not installed: .ci/install installs it;
+# under CI=true that fails).
 set -euo pipefail
 
 if [ $# -lt 2 ]; then
@@ -23,7 +24,9 @@ fi
 roger=$(readlink -f "$1")
 cd "$2"
 RANDOM=${3:-20261125}  # the kill delays are a function of the seed
-command -v jq >/dev/null 2>&1 || { echo "SKIPPED: jq is not installed (apt-get install jq, as .ci/install does)"; exit 77; }
+# shellcheck source=tests/tools/skip.sh
+. tests/tools/skip.sh  # skip: exit 77, or a failure under CI=true
+command -v jq >/dev/null 2>&1 || skip "jq is not installed (apt-get install jq, as .ci/install does)"
 
 work=$(mktemp -d /tmp/roger_kill_XXXXXX)
 child=

@@ -13,7 +13,7 @@
 # daemons it started are stopped by their PIDs and the folder is removed.
 #
 # Exit status: 0 passed, 77 skipped (not root, or Slurm/munge not installed: `.ci/install`
-# installs them), 1 failed (with the daemons' and jobs' logs).
+# installs them; under CI=true these fail instead), 1 failed (with the daemons' and jobs' logs).
 set -euo pipefail
 
 if [ $# -ne 2 ]; then
@@ -24,7 +24,8 @@ roger=$(readlink -f "$1")
 src=$(readlink -f "$2")
 export PATH=$PATH:/usr/sbin:/sbin
 
-skip() { echo "SKIPPED: $*"; exit 77; }
+# shellcheck source=tests/tools/skip.sh
+. "$src/tests/tools/skip.sh"  # skip: exit 77, or a failure under CI=true
 [ "$(id -u)" -eq 0 ] || skip "needs root (it starts munged as the munge user, and slurmctld and slurmd)"
 for tool in munged slurmctld slurmd sbatch squeue sinfo scontrol scancel; do
   command -v "$tool" >/dev/null 2>&1 || skip "$tool is not installed (apt-get install slurm-wlm munge, as .ci/install does)"

@@ -23,19 +23,43 @@ struct Access {
   std::vector<std::string> locals = {};  // of a read: the locals in scope, for suggestions
 };
 
-// A scope (block, function, loop, branch) or a bracket; locals live in scopes only.
+// A scope (block, function, loop, branch) or a bracket; locals live in scopes only. Aliases are
+// the locals that hold `roger` itself (local R = roger), whose members are roger's.
 struct Frame {
   enum Kind { kBlock, kFunction, kLoopHeader, kIf, kRepeat, kBrace, kParen, kBracket } kind;
   std::set<std::string> locals;
+  std::set<std::string> aliases = {};
   bool bracket() const { return kind == kBrace || kind == kParen || kind == kBracket; }
 };
+
+// Locals of a `local` statement, declared once its expression list has been read: Lua evaluates
+// `local x = x` before x is in scope, so that x is the global.
+struct PendingLocals {
+  size_t end;                      // the last token of the expression list
+  std::vector<std::string> names;
+  bool alias;                      // local R = roger
+};
+
+// Binary operators: after an operand, one of these continues the expression.
+bool binary_operator(const LuaToken& t) {
+  static const std::set<std::string> ops = {"+", "-", "*", "/", "//", "%", "^", "..", "==", "~=", "<",
+                                            "<=", ">", ">=", "&", "|", "~", "<<", ">>"};
+  if (t.type == LuaToken::kName) return t.text == "and" || t.text == "or";
+  return t.type == LuaToken::kOp && ops.count(t.text);
+}
 
 // One pass over a file's tokens, in order, keeping the stack of scopes and brackets.
 class Scanner {
  public:
   explicit Scanner(const std::string& text) : t_(lua_tokenize(text)) {
     frames_.push_back({Frame::kBlock, {}});  // the chunk
-    for (i_ = 0; t_[i_].type != LuaToken::kEnd; ++i_) step();
+    for (i_ = 0; t_[i_].type != LuaToken::kEnd; ++i_) {
+      step();
+      while (!pending_.empty() && i_ >= pending_.back().end) {
+        for (const auto& n : pending_.back().names) declare(n, pending_.back().alias);
+        pending_.pop_back();
+      }
+    }
   }
   std::vector<Access> accesses;
 
@@ -48,15 +72,77 @@ class Scanner {
   Frame& top() { return frames_.back(); }
   void note(Access::Kind kind, const std::string& n, int line) { accesses.push_back({kind, n, line}); }
 
-  // Declares a local in the innermost scope (brackets hold none).
-  void declare(const std::string& n) {
+  // Declares a local in the innermost scope (brackets hold none), an alias of roger or not.
+  void declare(const std::string& n, bool alias = false) {
     for (auto it = frames_.rbegin(); it != frames_.rend(); ++it)
-      if (!it->bracket()) return void(it->locals.insert(n));
+      if (!it->bracket()) {
+        it->locals.insert(n);
+        if (alias) it->aliases.insert(n);
+        else it->aliases.erase(n);
+        return;
+      }
   }
   bool is_local(const std::string& n) const {
     for (const Frame& f : frames_)
       if (f.locals.count(n)) return true;
     return n == "_ENV";
+  }
+  // The scope whose local n is (the innermost), or null for a global.
+  Frame* owner(const std::string& n) {
+    for (auto it = frames_.rbegin(); it != frames_.rend(); ++it)
+      if (it->locals.count(n)) return &*it;
+    return nullptr;
+  }
+  bool is_alias(const std::string& n) {
+    const Frame* f = owner(n);
+    return f && f->aliases.count(n);
+  }
+
+  // Whether the expression list starting at k is the global `roger` alone.
+  bool bare_roger(size_t k) const { return word(k, "roger") && !is_local("roger") && expression_list_end(k) == k; }
+
+  // Whether token k ends an operand: a name, number, string, vararg or closing bracket.
+  bool operand_end(size_t k) const {
+    const LuaToken& t = at(k);
+    if (t.type == LuaToken::kString || t.type == LuaToken::kNumber) return true;
+    if (t.type == LuaToken::kName) return !lua_keyword(t.text) || t.text == "true" || t.text == "false" || t.text == "nil";
+    return op(k, ")") || op(k, "}") || op(k, "]") || op(k, "...");
+  }
+
+  // The bracket closing the one opened at k (or the end).
+  size_t matching(size_t k) const {
+    int depth = 0;
+    for (;; ++k) {
+      if (at(k).type == LuaToken::kEnd) return k;
+      if (op(k, "(") || op(k, "{") || op(k, "[")) ++depth;
+      if ((op(k, ")") || op(k, "}") || op(k, "]")) && --depth == 0) return k;
+    }
+  }
+
+  // The `end` of the function whose keyword is at k (or the end).
+  size_t function_end(size_t k) const {
+    int depth = 0;
+    for (;; ++k) {
+      if (at(k).type == LuaToken::kEnd) return k;
+      if (word(k, "function") || word(k, "if") || word(k, "do") || word(k, "repeat")) ++depth;
+      if ((word(k, "end") || word(k, "until")) && --depth == 0) return k;
+    }
+  }
+
+  // The last token of the expression list starting at k: brackets and function bodies whole; it
+  // ends at an operand that no suffix, call, comma or binary operator follows.
+  size_t expression_list_end(size_t k) const {
+    for (;; ++k) {
+      if (at(k).type == LuaToken::kEnd) return k;
+      if (op(k, "(") || op(k, "{") || op(k, "[")) k = matching(k);
+      else if (word(k, "function")) k = function_end(k);
+      else if (!operand_end(k)) continue;
+      const size_t n = k + 1;
+      if (at(n).type == LuaToken::kString || op(n, "(") || op(n, "{") || op(n, "[") || op(n, ".") || op(n, ":") ||
+          op(n, ",") || binary_operator(at(n)))
+        continue;
+      return k;
+    }
   }
   // Whether the current token starts a statement rather than sits inside an expression's brackets.
   bool statement_level() const { return !frames_.back().bracket(); }
@@ -132,12 +218,18 @@ class Scanner {
       return open_function(false);
     }
     size_t k = i_ + 1;
+    std::vector<std::string> names;
     while (name(k)) {
-      declare(at(k).text);
+      names.push_back(at(k).text);
       ++k;
       if (op(k, "<") && name(k + 1) && op(k + 2, ">")) k += 3;  // <const>, <close>
       if (!op(k, ",")) break;
       ++k;
+    }
+    if (op(k, "=")) {
+      pending_.push_back({expression_list_end(k + 1), names, names.size() == 1 && bare_roger(k + 1)});
+    } else {
+      for (const auto& n : names) declare(n);
     }
     i_ = k - 1;
   }
@@ -156,6 +248,8 @@ class Scanner {
         const bool plain = path == first && !method;
         note(plain ? Access::kWrite : Access::kRead, first, line);
         if (first == "roger" && path != first) note(method ? Access::kMember : Access::kMemberWrite, path, line);
+      } else if (is_alias(first) && path != first) {
+        note(method ? Access::kMember : Access::kMemberWrite, "roger" + path.substr(first.size()), line);
       }
       i_ = k;
     }
@@ -204,7 +298,7 @@ class Scanner {
   void variable() {
     const std::string n = at(i_).text;
     const int line = at(i_).line;
-    if (is_local(n)) return;
+    if (is_local(n)) return local_variable(n, line);
     if (n == "roger") return member_chain(line);
     if (n == "require") {
       if (at(i_ + 1).type == LuaToken::kString) note(Access::kRequire, at(i_ + 1).text, line);
@@ -216,8 +310,22 @@ class Scanner {
       for (const Frame& f : frames_) accesses.back().locals.insert(accesses.back().locals.end(), f.locals.begin(), f.locals.end());
   }
 
-  // roger.a.b or roger["a"]: the member path as far as it is written with constant names.
-  void member_chain(int line) {
+  // A local or upvalue: an alias of roger reaches roger's members. `R = roger` makes R one; any
+  // other assignment to R alone unmakes it.
+  void local_variable(const std::string& n, int line) {
+    if (statement_level() && op(i_ + 1, "=")) {
+      Frame* f = owner(n);
+      if (!f) return;  // _ENV
+      if (bare_roger(i_ + 2)) f->aliases.insert(n);
+      else f->aliases.erase(n);
+      return;
+    }
+    if (is_alias(n)) member_chain(line, true);
+  }
+
+  // roger.a.b or roger["a"] (or through an alias of roger): the member path as far as it is
+  // written with constant names.
+  void member_chain(int line, bool alias = false) {
     size_t k = i_;
     std::string path = "roger";
     for (;;) {
@@ -230,13 +338,14 @@ class Scanner {
       }
     }
     const bool write = statement_level() && op(k + 1, "=");
-    note(write && path == "roger" ? Access::kWrite : Access::kRead, "roger", line);
+    if (!alias) note(write && path == "roger" ? Access::kWrite : Access::kRead, "roger", line);
     if (path != "roger") note(write ? Access::kMemberWrite : Access::kMember, path, line);
     i_ = k;
   }
 
   std::vector<LuaToken> t_;
   std::vector<Frame> frames_;
+  std::vector<PendingLocals> pending_;  // innermost last
   size_t i_ = 0;
 };
 

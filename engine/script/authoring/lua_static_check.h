@@ -1,9 +1,11 @@
 // lua_static_check.h: `roger check`'s static pass, run before anything of a script runs. Reads the
 // source (and the modules it requires by a literal name) without compiling it, and reports at
 // file:line
-//   - a `roger.` member the script's kind does not have (roger.sequnce), with the nearest names;
+//   - a `roger.` member the script's kind does not have (roger.sequnce), with the nearest names,
+//     also through a local or upvalue holding roger itself (local R = roger; R.sequnce);
 //   - a read of a global that neither the sandbox nor any of those files defines (a misspelt
-//     local, print written pirnt).
+//     local, print written pirnt, `local pirnt = pirnt`: a local is in scope only after its
+//     statement's expression list).
 // Names come from a live sandbox of the script's kind (script_api.h). Scoping is followed as Lua
 // does (locals of blocks, functions, loops, parameters, `local function`), so a sound script
 // yields nothing; what the pass cannot see (a name built at run time) it does not report.

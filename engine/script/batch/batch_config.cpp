@@ -38,7 +38,8 @@ json batch_config_json(const BatchScript& b) {
   for (const auto& e : b.evaluations) {
     json ej = {{"name", e.name}, {"run", e.run}, {"context", e.context}, {"scenario", e.scenario},
                {"params", params_json(e.params)}, {"shapes", e.shapes}, {"episodes", e.episodes},
-               {"first_seed", e.first_seed}, {"trials", e.trials}};
+               {"first_seed", e.first_seed}, {"worlds", e.shared_worlds ? "shared" : "own"},
+               {"trials", e.trials}};
     // Written only when given, so the configuration of an evaluation without them reads as before.
     for (const auto& s : e.skills) ej["skills"].push_back({{"skill", s.skill}, {"run", s.run}, {"context", s.context}});
     evals.push_back(std::move(ej));
@@ -139,6 +140,8 @@ BatchScript batch_config_from_json(const json& j) {
       e.shapes = ej.at("shapes").get<std::vector<std::string>>();
       e.episodes = int(config_integer(ej, "episodes", 1, 1000000));
       e.first_seed = config_integer(ej, "first_seed", -1, int64_t(1) << 53);
+      // Folders written before evaluations had worlds of their own shared them.
+      e.shared_worlds = ej.value("worlds", std::string("shared")) != "own";
       e.trials = int(config_integer(ej, "trials", 1, 100000));
       if (ej.contains("skills"))
         for (const auto& s : ej.at("skills")) e.skills.push_back({s.at("skill"), s.at("run"), s.at("context")});

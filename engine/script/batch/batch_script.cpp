@@ -254,8 +254,8 @@ BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const 
   e.line = nm.empty() ? el : std::max(rd.line_of_name(nm, el), el);
   const std::string what = nm.empty() ? "an evaluation" : "evaluation '" + nm + "'";
   rd.check_object(ej, what,
-                  {"name", "run", "context", "scenario", "params", "shapes", "episodes", "first_seed", "trials",
-                   "skills"},
+                  {"name", "run", "context", "scenario", "params", "shapes", "episodes", "first_seed", "worlds",
+                   "trials", "skills"},
                   e.line);
   e.name = rd.str(ej, "name", what, e.line, "", true);
   if (!std::regex_match(e.name, std::regex("[A-Za-z0-9_.-]+")))
@@ -284,6 +284,11 @@ BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const 
     rd.fail(rd.line_of_key("shapes", e.line), what + ": give the shape either in 'params' or in 'shapes', not both");
   e.episodes = int(rd.integer(ej, "episodes", what, e.line, 50, 1, 1000000));
   e.first_seed = rd.integer(ej, "first_seed", what, e.line, -1, -1, int64_t(1) << 53);
+  const std::string worlds = rd.str(ej, "worlds", what, e.line, "own");
+  if (worlds != "own" && worlds != "shared")
+    rd.fail(rd.line_of_key("worlds", e.line), what + ": worlds is 'own' (each policy its own) or 'shared' (the same "
+                                                     "worlds for every policy), not '" + worlds + "'");
+  e.shared_worlds = worlds == "shared";
   e.trials = int(rd.integer(ej, "trials", what, e.line, from->trials, 1, from->trials));
   if (overrides.trials > 0) e.trials = std::min(overrides.trials, from->trials);
   read_evaluation_skills(ej, rd, what, cur, b, e);

@@ -60,6 +60,8 @@ struct BatchEvaluation {
   std::vector<std::string> shapes;  // one group per shape (sets shape=...); empty = one group "all"
   int episodes = 50;                // episodes per policy and shape
   int64_t first_seed = -1;          // -1 = the stage's held-out seeds
+  bool shared_worlds = false;       // every policy on the same worlds (common random numbers);
+                                    // false: trial i's worlds start at first_seed + i * episodes
   int trials = 0;                   // how many of the run's trials are evaluated
   // Learned skills taken from these runs instead of those the policies embed: trial i's policy runs
   // over trial i's skill (a Phi_SG retrained on another body under the same transport policy).

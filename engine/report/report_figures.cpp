@@ -1,0 +1,149 @@
+// report_figures.cpp: the report's figures (report_internal.h): learning curves per context (Figures
+// 3 and 4), the IQM curves per stage with their bootstrap bands, cumulative training time (Figure 5).
+#include "report/report_internal.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <sstream>
+
+#include "report/dashboard_internal.h"
+#include "report/plot.h"
+
+namespace roger::report_detail {
+namespace {
+
+std::vector<std::string> figure_paths(const std::string& dir, const std::string& file) {
+  return {(fs::path(dir) / (file + ".png")).string(), (fs::path(dir) / (file + ".svg")).string()};
+}
+
+// One context's learning curves on their common grid: the grid in minutes, each trial's values
+// there, and their mean, std and IQM bands.
+struct ContextCurves {
+  std::string context;
+  std::vector<double> minutes;
+  std::vector<std::vector<double>> values;
+  CurveBands bands;
+};
+
+// A run's learning curves per context: greedy reward at the checkpoints against simulated
+// training minutes (contexts without a finished trial are left out).
+std::vector<ContextCurves> run_curves(const BatchRun& run, const Folder& folder, bool log_x) {
+  std::vector<ContextCurves> out;
+  for (const auto& c : run.contexts) {
+    const Results r = folder.run(run, c);
+    std::vector<std::vector<std::pair<double, double>>> trials;
+    for (const auto& j : r.ok) {
+      std::vector<std::pair<double, double>> pts;
+      for (const auto& cp : j.value("checkpoints", json::array())) pts.emplace_back(num(cp, "sim_s"), num(cp, "reward_mean"));
+      trials.push_back(std::move(pts));
+    }
+    CurveGrid g = curve_grid(trials, kCurvePoints, log_x);
+    if (g.t.empty()) continue;
+    ContextCurves cc{c, {}, std::move(g.values), {}};
+    for (double t : g.t) cc.minutes.push_back(t / 60.0);
+    cc.bands = curve_bands(cc.values, dashboard::kCurveBootstrapSeed, dashboard::kCurveResamples);
+    out.push_back(std::move(cc));
+  }
+  return out;
+}
+
+// The axes of every learning-curve figure.
+CurveOptions curve_options(bool log_x) {
+  CurveOptions o;
+  o.x_label = "Simulated training time (min)";
+  o.y_label = "Average episodic reward (greedy)";
+  o.log_x = log_x;
+  return o;
+}
+
+}  // namespace
+
+// A run's learning curves (Figures 3 and 4): mean +- std per context.
+bool curves_figure(const BatchScript& b, const BatchFigure& f, const Folder& folder, std::vector<std::string>& written,
+                   json& page) {
+  const BatchRun& run = *b.run(f.run);
+  std::vector<CurveSeries> series;
+  json page_series = json::array();
+  for (const ContextCurves& cc : run_curves(run, folder, f.log_x)) {
+    page_series.push_back(dashboard::curve_series(cc.context, cc.minutes, cc.bands, cc.values.size()));
+    series.push_back({cc.context, cc.minutes, cc.bands.mean, cc.bands.std, {}, {}});
+  }
+  page.push_back({{"kind", "curves"}, {"file", f.file}, {"run", run.name}, {"log_x", f.log_x},
+                  {"title", f.title.empty() ? "Learning curves: stage " + run.stage : f.title},
+                  {"series", page_series}});
+  if (series.empty()) return false;
+  const auto paths = figure_paths(folder.dir(), f.file);
+  plot_learning_curves(paths, f.title.empty() ? "Learning curves: stage " + run.stage : f.title, series,
+                       curve_options(f.log_x));
+  written.insert(written.end(), paths.begin(), paths.end());
+  return true;
+}
+
+// The IQM learning curves of a run's stage: per context the interquartile mean over trials inside
+// its 95% bootstrap band, on the time axis of the run's own curves figure (log when it is). Its
+// line for tables.md, whether drawn or not.
+std::string iqm_figure(const BatchScript& b, const BatchRun& run, const Folder& folder,
+                       std::vector<std::string>& written) {
+  bool log_x = false;
+  for (const auto& f : b.figures)
+    if (f.kind != "cumulative" && f.run == run.name) log_x = log_x || f.log_x;
+  std::vector<CurveSeries> series;
+  for (const ContextCurves& cc : run_curves(run, folder, log_x))
+    series.push_back({cc.context, cc.minutes, cc.bands.iqm, {}, cc.bands.iqm_low, cc.bands.iqm_high});
+  const std::string file = "iqm_" + run.name;
+  const std::string title = "IQM learning curves: stage " + run.stage +
+                            (run.name == run.stage ? std::string() : " (run " + run.name + ")");
+  std::string line = "- `" + file + ".png` / `" + file + ".svg`: " + title;
+  if (series.empty()) return line + " (not drawn: no finished trial)";
+  CurveOptions o = curve_options(log_x);
+  o.y_label = "IQM of the greedy episodic reward";
+  const auto paths = figure_paths(folder.dir(), file);
+  plot_learning_curves(paths, title, series, o);
+  written.insert(written.end(), paths.begin(), paths.end());
+  return line;
+}
+
+// Cumulative training time per context: the skills' runs (the trial's own skill source) then the run.
+bool cumulative_figure(const BatchScript& b, const BatchFigure& f, const Folder& folder, std::vector<std::string>& written,
+                       json& page) {
+  const BatchRun& run = *b.run(f.run);
+  std::vector<std::string> categories;
+  std::vector<BarStack> stacks;
+  for (const auto& s : run.skills) stacks.push_back({s.run + " (" + s.skill + ", " + s.context + ")", {}});
+  stacks.push_back({run.name, {}});
+  for (const auto& c : run.contexts) {
+    const Results r = folder.run(run, c);
+    if (r.ok.empty()) continue;
+    categories.push_back(c);
+    for (size_t k = 0; k < run.skills.size(); ++k) {
+      const BatchSkill& s = run.skills[k];
+      std::vector<double> v;
+      for (const auto& j : r.ok) {
+        const int i = j.value("trial", 0);
+        const Results src = folder.trials({batch_trial_id(s.run, s.context, i)});
+        if (!src.ok.empty()) v.push_back(num(src.ok.front(), "time_to_threshold_s") / 60.0);
+      }
+      stacks[k].values.push_back(v.empty() ? 0.0 : mean(v));
+    }
+    std::vector<double> v;
+    for (const auto& j : r.ok) v.push_back(num(j, "time_to_threshold_s") / 60.0);
+    stacks.back().values.push_back(mean(v));
+  }
+  json page_stacks = json::array();
+  for (const auto& st : stacks) page_stacks.push_back({{"name", st.name}, {"minutes", st.values}});
+  page.push_back({{"kind", "cumulative"}, {"file", f.file}, {"run", run.name}, {"categories", categories},
+                  {"title", f.title.empty() ? "Cumulative training time" : f.title}, {"stacks", page_stacks}});
+  if (categories.empty()) return false;
+  BarOptions o;
+  o.y_label = "Cumulative simulated training time (min)";
+  o.value_label = [](double m) { return format_min_sec(60.0 * m); };
+  const auto paths = figure_paths(folder.dir(), f.file);
+  plot_stacked_bars(paths, f.title.empty() ? "Cumulative training time" : f.title, categories, stacks, o);
+  written.insert(written.end(), paths.begin(), paths.end());
+  return true;
+}
+
+}  // namespace roger::report_detail

@@ -1,0 +1,132 @@
+// report_folder.cpp: a results folder read once for the report (report_internal.h): every trial's
+// result.json parsed and checked, pooled evaluations, formatting.
+#include "report/report_internal.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/fileio.h"
+
+namespace roger::report_detail {
+namespace {
+
+std::string read_text(const fs::path& path) { return read_file_text(path.string()); }
+
+
+// Checks the JSON types of what the report reads from a trial's result.json with value(), get()
+// or [] (num() checks its own numbers): a hand-edited or damaged result is a roger::Error naming
+// the file, not a json type_error, nor an abort on a missing "usage".
+void check_result_shape(const json& j, const fs::path& file) {
+  auto bad = [&](const std::string& what) { throw Error(file.string() + ": " + what); };
+  if (!j.is_object()) bad(std::string("a trial result must be a JSON object, got ") + j.type_name());
+  if (j.contains("reached") && !j["reached"].is_boolean()) bad("field \"reached\" must be true or false");
+  if (j.contains("psi")) {
+    const json& psi = j["psi"];
+    if (!psi.is_array() || !std::all_of(psi.begin(), psi.end(), [](const json& a) { return a.is_string(); }))
+      bad("field \"psi\" must be a list of action names");
+  }
+  if (j.contains("usage")) {
+    const json& usage = j["usage"];
+    if (!usage.is_object() || !std::all_of(usage.begin(), usage.end(), [](const json& f) { return f.is_number(); }))
+      bad("field \"usage\" must map action names to numbers");
+  }
+  if (j.contains("checkpoints") && !j["checkpoints"].is_array()) bad("field \"checkpoints\" must be a list");
+  if (j.contains("diagnosis")) {
+    const json& d = j["diagnosis"];
+    const json* causes = d.is_object() && d.contains("causes") ? &d["causes"] : nullptr;
+    if (!causes || !causes->is_array() ||
+        !std::all_of(causes->begin(), causes->end(), [](const json& c) { return c.is_string(); }))
+      bad("field \"diagnosis\" must be an object whose \"causes\" is a list of sentences");
+  }
+  if (j.contains("trial") &&
+      !(j["trial"].is_number_integer() && j["trial"].get<int64_t>() >= 0 && j["trial"].get<int64_t>() < 100000))
+    bad("field \"trial\" must be a trial index (an integer in [0, 100000))");
+}
+
+}  // namespace
+
+std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+std::string pct(double fraction) { return fmt("%.1f%%", 100.0 * fraction); }
+
+Results Folder::trials(const std::vector<std::string>& ids) const {
+  Results r;
+  r.expected = int(ids.size());
+  for (const auto& id : ids) {
+    const fs::path d = trial_dir(dir_, id);
+    std::error_code ec;
+    if (fs::exists(d / "result.json", ec)) {
+      try {
+        r.ok.push_back(json::parse(read_text(d / "result.json")));
+      } catch (const std::exception& e) {
+        throw Error((d / "result.json").string() + ": not JSON: " + e.what());
+      }
+      check_result_shape(r.ok.back(), d / "result.json");
+    } else if (fs::exists(d / "error.json", ec)) {
+      ++r.failed;
+    } else {
+      ++r.pending;
+    }
+  }
+  return r;
+}
+
+Results Folder::run(const BatchRun& run, const std::string& context) const {
+  std::vector<std::string> ids;
+  for (int i = 0; i < run.trials; ++i) ids.push_back(batch_trial_id(run.name, context, i));
+  return trials(ids);
+}
+
+const json& usage_of(const json& j) {
+  static const json none = json::object();
+  const auto it = j.find("usage");
+  return it == j.end() ? none : *it;
+}
+
+double num(const json& j, const char* key) {
+  if (!j.contains(key) || !j[key].is_number()) throw Error(std::string("a trial result has no number '") + key + "'");
+  return j[key].get<double>();
+}
+
+std::vector<CensoredTime> times_of(const Results& r) {
+  std::vector<CensoredTime> t;
+  for (const auto& j : r.ok) t.push_back({num(j, "time_to_threshold_s"), j.value("reached", false)});
+  return t;
+}
+
+Pooled pool(const std::vector<json>& evals, const char* episodes_key) {
+  Pooled p;
+  double sum = 0, sum_sq = 0, succ = 0;
+  for (const auto& j : evals) {
+    const double n = num(j, episodes_key), m = num(j, "reward_mean"), s = num(j, "reward_std");
+    if (!(n >= 0 && n <= 1e9 && n == std::floor(n)))  // int64_t(1e300) would be undefined
+      throw Error(std::string("a trial result's '") + episodes_key + "' is not a count of episodes: " + fmt("%g", n));
+    sum += n * m;
+    sum_sq += n * (s * s + m * m);
+    succ += n * num(j, "success_rate");
+    p.episodes += int64_t(n);
+  }
+  if (p.episodes == 0) return p;
+  p.mean = sum / p.episodes;
+  p.std = std::sqrt(std::max(0.0, sum_sq / p.episodes - p.mean * p.mean));
+  p.success = succ / p.episodes;
+  return p;
+}
+
+std::string trials_note(const Results& r) {
+  std::string s = std::to_string(r.ok.size()) + "/" + std::to_string(r.expected);
+  if (r.failed) s += " (" + std::to_string(r.failed) + " failed)";
+  if (r.pending) s += " (" + std::to_string(r.pending) + " pending)";
+  return s;
+}
+
+}  // namespace roger::report_detail

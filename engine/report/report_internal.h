@@ -1,0 +1,101 @@
+// report_internal.h: what the files of report/ share, private to the folder. The report is one
+// concept told in several parts, a file each, around one reading of the results folder:
+//   report_folder.cpp       Folder (the folder read once), the checks of each result.json, numbers
+//                           pooled over evaluations, formatting
+//   report_runs.cpp         Tables I and II: a run's contexts against its baseline, usage, misses
+//   report_evaluations.cpp  Table III: evaluations per shape, their distinct worlds, 95% intervals
+//   report_sorting.cpp      sorting tables: hand-written and learned policies per number of objects
+//   report_figures.cpp      learning curves, IQM curves, cumulative training time
+//   report.cpp              write_report: tables.md, report.json, the figures' list, the dashboard
+// Each table appends its Markdown to `md` and its numbers to `rep` (report.json's "tables").
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "batch/batch.h"
+#include "report/stats.h"
+#include "script/batch/batch_script.h"
+
+namespace roger::report_detail {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+constexpr uint64_t kBootstrapSeed = 20240601;  // fixed: the same folder gives the same intervals
+constexpr int kCurvePoints = 200;              // the learning curves' common grid
+
+// One number formatted by printf's format f.
+std::string fmt(const char* f, double v);
+
+// A fraction as a percentage with one decimal: 0.975 -> "97.5%".
+std::string pct(double fraction);
+
+// One context's (or group's) finished trials.
+struct Results {
+  std::vector<json> ok;  // result.json of every finished trial, in trial order
+  int failed = 0, pending = 0, expected = 0;
+};
+
+// The results folder, read once.
+class Folder {
+ public:
+  explicit Folder(const std::string& dir) : dir_(dir) {}
+  // The trials of these ids: each finished one's checked result.json, and how many failed or wait.
+  Results trials(const std::vector<std::string>& ids) const;
+  // Every trial of one context of a run.
+  Results run(const BatchRun& run, const std::string& context) const;
+  const std::string& dir() const { return dir_; }
+
+ private:
+  std::string dir_;
+};
+
+// A trial result's number `key`; a roger::Error when it has none.
+double num(const json& j, const char* key);
+
+// A result's "usage" (checked when read), or an empty one when it has none.
+const json& usage_of(const json& j);
+
+// The trials' times-to-threshold, censored where the threshold was never reached.
+std::vector<CensoredTime> times_of(const Results& r);
+
+// Pooled figures of several greedy evaluations of `episodes` episodes each (rewards and successes).
+struct Pooled {
+  double mean = 0, std = 0, success = 0;
+  int64_t episodes = 0;  // summed over trials: may pass 2^31
+};
+
+// Pools evaluations whose episode counts are under `episodes_key`.
+Pooled pool(const std::vector<json>& evals, const char* episodes_key);
+
+// "48/50", with how many failed or are pending.
+std::string trials_note(const Results& r);
+
+// Table I / II: a run's contexts against its baseline (report_runs.cpp).
+void run_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep);
+
+// Table III: an evaluation per shape, and a Total row (report_evaluations.cpp).
+void eval_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep);
+
+// A sorting table, one row per number of objects (report_sorting.cpp).
+void sorting_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep);
+
+// A run's learning curves (Figures 3 and 4); whether drawn (report_figures.cpp).
+bool curves_figure(const BatchScript& b, const BatchFigure& f, const Folder& folder, std::vector<std::string>& written,
+                   json& page);
+
+// The IQM learning curves of a run's stage; its line for tables.md (report_figures.cpp).
+std::string iqm_figure(const BatchScript& b, const BatchRun& run, const Folder& folder,
+                       std::vector<std::string>& written);
+
+// Cumulative training time per context; whether drawn (report_figures.cpp).
+bool cumulative_figure(const BatchScript& b, const BatchFigure& f, const Folder& folder, std::vector<std::string>& written,
+                       json& page);
+
+}  // namespace roger::report_detail
