@@ -8,6 +8,10 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <random>
+#include <array>
+#include <cstring>
+#include <functional>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -790,4 +794,180 @@ TEST_CASE("the static pass follows literal requires and reports at the module's 
   CHECK(fs::path(problems[0].file).filename() == "helper.lua");
   CHECK(problems[0].line == 2);
   CHECK_THAT(problems[0].message, Contains("did you mean roger.sequence?"));
+}
+
+// ---- escapes from the budgets: finalizers, patterns, C functions looping over their input ----
+
+namespace {
+
+// Runs `code` (a chunk named @escape.lua) in a fresh sandbox with the default budget, and returns
+// its error and the seconds it took to be stopped.
+std::pair<ScriptError, double> stopped(const std::string& code, const SandboxLimits& limits = {}) {
+  LuaSandbox sandbox(limits);
+  const auto start = std::chrono::steady_clock::now();
+  ScriptError e = error_of(sandbox, code, "@escape.lua");
+  return {e, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()};
+}
+
+// What one corpus case gives, each pattern function called plainly, as a method and with every
+// kind of replacement; errors are part of the result (their messages must agree too).
+const char* const kPatternProbe = R"lua(
+local function show(ok, ...)
+  local t = {ok and "ok" or "error"}
+  for i = 1, select("#", ...) do t[#t + 1] = tostring((select(i, ...))) end
+  return table.concat(t, "|")
+end
+local function all(s, p, init)
+  local r = {}
+  for a, b in string.gmatch(s, p, init) do r[#r + 1] = tostring(a) .. "," .. tostring(b) end
+  return table.concat(r, ";")
+end
+return function(s, p, init, repl)
+  return table.concat({
+    show(pcall(string.find, s, p, init)),
+    show(pcall(string.find, s, p, init, true)),
+    show(pcall(string.match, s, p, init)),
+    show(pcall(s.match, s, p)),
+    show(pcall(all, s, p, init)),
+    show(pcall(string.gsub, s, p, repl)),
+    show(pcall(string.gsub, s, p, repl, 2)),
+    show(pcall(string.gsub, s, p, function(a, b) if b then return a .. "<" .. tostring(b) .. ">" end end)),
+    show(pcall(string.gsub, s, p, {a = "A", ["1"] = false, ab = 7})),
+  }, "\n")
+end
+)lua";
+
+// A pattern of 1-6 random items of Lua's pattern language, malformed ones included.
+std::string random_pattern(std::mt19937& rng) {
+  static const std::vector<std::string> items = {
+      "a", "b", ".", "%a", "%d", "%s", "%w", "%p", "%x", "%u", "%l", "%c", "%g", "%A", "%S", "[ab]",
+      "[^a]", "[a-c]", "[%d.]", "[]]", "[^]a]", "%%", "%.", "(", ")", "()", "*", "+", "-", "?", "^",
+      "$", "%b()", "%bab", "%f[%w]", "%f[%s]", "%1", "%2", "%0", "%", "[", "%f", "%b", "\0", "%z"};
+  std::string p;
+  for (int n = int(rng() % 6) + 1; n > 0; --n) p += items[rng() % items.size()];
+  return p;
+}
+
+// A subject of 0-14 characters from a small alphabet.
+std::string random_subject(std::mt19937& rng) {
+  static const std::string alphabet = "aab(c) 1.A\tb-";
+  std::string s;
+  for (int n = int(rng() % 15); n > 0; --n) s += alphabet[rng() % alphabet.size()];
+  return s;
+}
+
+// Calls the probe function on top of L's stack with one case; its text.
+std::string probe(lua_State* L, const std::function<void(int)>& call, const std::string& s, const std::string& p,
+                  lua_Integer init, const std::string& repl) {
+  lua_pushvalue(L, -1);
+  lua_pushlstring(L, s.data(), s.size());
+  lua_pushlstring(L, p.data(), p.size());
+  lua_pushinteger(L, init);
+  lua_pushlstring(L, repl.data(), repl.size());
+  call(4);
+  std::string out = lua_tostring(L, -1);
+  lua_pop(L, 1);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("the budgeted pattern functions give Lua's results, side by side on a corpus", "[lua_sandbox][faults]") {
+  LuaSandbox sandbox;
+  lua_State* S = sandbox.state();
+  sandbox.load_string(kPatternProbe, "=probe");
+  sandbox.call(0, 1);
+  lua_State* L = luaL_newstate();  // plain Lua 5.4 with its own string library
+  luaL_openlibs(L);
+  REQUIRE(luaL_loadbuffer(L, kPatternProbe, std::strlen(kPatternProbe), "=probe") == LUA_OK);
+  REQUIRE(lua_pcall(L, 0, 1, 0) == LUA_OK);
+  auto sandboxed = [&](int n) { sandbox.call(n, 1); };
+  auto plain = [&](int n) { REQUIRE(lua_pcall(L, n, 1, 0) == LUA_OK); };
+  const std::vector<std::string> repls = {"%0", "<%1>", "x", "%%", "%2", "%", "%a", "()", ""};
+  // The shipped scripts' and the docs' patterns first, then a seeded random corpus.
+  std::vector<std::array<std::string, 2>> cases = {
+      {"Red1", "^(%a+)"}, {"blue_2", "^(%a+)"}, {"  x = 1 ", "^%s*(.-)%s*$"}, {"a,b,,c", "([^,]*)"},
+      {"hello world from Lua", "(%w+)"}, {"f(a(b)c)d", "%b()"}, {"THE (quick) fox", "%f[%a]%a+"},
+      {"key=val", "(%w+)=(%w+)"}, {"aaa", "a-b"}, {"abc", "()b()"}, {"abcabc", "(abc)%1"}, {"", ""},
+      {"x", "[a-"}, {"x", "%"}, {"x", "(()"}, {"x", "%f"}, {"a.b", "."}, {"a+b", "a+b"}};
+  std::mt19937 rng(5501);
+  for (int k = 0; k < 3000; ++k) cases.push_back({random_subject(rng), random_pattern(rng)});
+  int compared = 0;
+  for (const auto& c : cases) {
+    const lua_Integer init = lua_Integer(rng() % 9) - 3;
+    const std::string& repl = repls[rng() % repls.size()];
+    const std::string ours = probe(S, sandboxed, c[0], c[1], init, repl);
+    const std::string theirs = probe(L, plain, c[0], c[1], init, repl);
+    INFO("subject '" << c[0] << "' pattern '" << c[1] << "' init " << init << " repl '" << repl << "'");
+    CHECK(ours == theirs);
+    ++compared;
+  }
+  lua_close(L);
+  CHECK(compared > 3000);
+}
+
+TEST_CASE("a finalizer is refused wherever a script sets one, naming file and line", "[lua_sandbox][faults]") {
+  SECTION("at load time") {
+    const auto [e, seconds] = stopped("local t = {}\nsetmetatable(t, { __gc = function() while true do end end })\n");
+    CHECK(e.file == "escape.lua");
+    CHECK(e.line == 2);
+    CHECK_THAT(e.message, Contains("a metatable with __gc is refused"));
+    CHECK_THAT(e.message, Contains("outside the instruction budget"));
+    CHECK(seconds < 1.0);
+  }
+  SECTION("a __gc that is not a function, and one added before the metatable is reused") {
+    CHECK_THAT(stopped("setmetatable({}, {__gc = true})").first.message, Contains("__gc is refused"));
+    CHECK_THAT(stopped("local mt = {}\nsetmetatable({}, mt)\nmt.__gc = print\nsetmetatable({}, mt)").first.message,
+               Contains("__gc is refused"));
+  }
+  SECTION("a __gc added after setmetatable is never run, even at close") {
+    LuaSandbox sandbox({1'000'000, 64u << 20});
+    sandbox.load_string("local mt = {}\nlocal t = setmetatable({}, mt)\n"
+                        "mt.__gc = function() while true do end end\nt = nil\ncollectgarbage()\n"
+                        "keep = {setmetatable({}, {}), mt}",
+                        "@late.lua");
+    const auto start = std::chrono::steady_clock::now();
+    sandbox.call(0, 0);
+    { LuaSandbox doomed(std::move(sandbox)); }  // lua_close would run any finalizer left
+    CHECK(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < 1.0);
+  }
+  SECTION("setmetatable keeps Lua's behaviour otherwise") {
+    LuaSandbox sandbox;
+    CHECK(eval_string(sandbox, "local t = setmetatable({}, {__index = function() return 'x' end}) return t.y") == "x");
+    CHECK_THAT(error_of(sandbox, "setmetatable(1, {})").message,
+               Contains("bad argument #1 to 'setmetatable' (table expected, got number)"));
+    CHECK_THAT(error_of(sandbox, "local t = setmetatable({}, {__metatable = 1}) setmetatable(t, {})").message,
+               Contains("cannot change a protected metatable"));
+  }
+}
+
+TEST_CASE("a backtracking pattern is stopped by the call's budget however it is called", "[lua_sandbox][faults]") {
+  const std::string subject = "local s = string.rep('a', 30000)\n";
+  const std::vector<std::pair<std::string, std::string>> calls = {
+      {"string.find", "return string.find(s, '.-.-.-.-.-.-.-.-b')"},
+      {"string.find", "return s:find('.-.-.-.-.-.-.-.-b')"},
+      {"string.find", "return ('a'):rep(30000):find('.-.-.-.-.-.-.-.-b')"},
+      {"string.match", "return s:match('(.-)(.-)(.-)(.-)(.-)b')"},
+      {"string.gmatch", "for x in s:gmatch('.-.-.-.-.-.-b') do end"},
+      {"string.gsub", "return s:gsub('a*a*a*a*a*a*a*b', '')"},
+      {"string.match", "local ok = pcall(string.match, s, '.-.-.-.-.-.-.-.-b') while true do end"}};
+  for (const auto& [what, call] : calls) {
+    INFO(call);
+    const auto [e, seconds] = stopped(subject + call + "\n");
+    CHECK(e.file == "escape.lua");
+    CHECK(e.line == 2);
+    CHECK_THAT(e.message, StartsWith(what + ": instruction budget of 50000000 exceeded: the pattern backtracks"));
+    CHECK(seconds < 1.0);
+  }
+}
+
+TEST_CASE("the raw pattern functions are out of a script's reach", "[lua_sandbox]") {
+  LuaSandbox sandbox;
+  CHECK(eval_string(sandbox, "return tostring(('').find == string.find and getmetatable('').__index == string "
+                             "and ('').gsub == string.gsub and ('').gmatch == string.gmatch and "
+                             "('').match == string.match)") == "true");
+  // The plain search is linear: a pattern that would cost Lua's memcmp loop n * m is quick.
+  const auto start = std::chrono::steady_clock::now();
+  CHECK(eval_string(sandbox, "local s = string.rep('a', 1000000) return tostring(s:find(string.rep('a', 20000) .. 'b', 1, true))") == "nil");
+  CHECK(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < 1.0);
 }

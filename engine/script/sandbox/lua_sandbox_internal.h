@@ -27,6 +27,9 @@ struct LuaSandbox::Impl {
   uint64_t instructions_used = 0;
   int hook_interval = 1000;
   int call_depth = 0;
+  // What spent the budget when C code did (charge_budget), for the count hook to say it again.
+  const char* spent_what = nullptr;
+  const char* spent_why = nullptr;
 
   bool main_set = false;
   std::filesystem::path main_dir;  // absolute folder of the main script
@@ -76,6 +79,16 @@ int message_handler(lua_State* L);
 
 // The instruction budget's count hook.
 void count_hook(lua_State* L, lua_Debug* ar);
+
+// Counts `units` of work done in C against the call's budget; once it is spent, raises
+// "<what>: instruction budget of N exceeded: <why>" at the Lua caller's file:line (lua_charge's
+// message when what is null). Saturates: a huge count cannot wrap the total around.
+void charge_budget(lua_State* L, uint64_t units, const char* what, const char* why);
+
+// ---- lua_patterns.cpp: string.find, match, gmatch, gsub counting their steps ----
+
+// Replaces the pattern functions of the string table at `string_table` by the budgeted ones.
+void install_patterns(lua_State* L, int string_table);
 
 // ---- lua_sandbox_libs.cpp: what a script sees ----
 

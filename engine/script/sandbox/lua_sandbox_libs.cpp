@@ -87,6 +87,28 @@ int sandbox_print(lua_State* L) {
   });
 }
 
+// setmetatable(t, mt) as Lua's, refusing a metatable with a __gc field: Lua runs finalizers with
+// debug hooks off, so no budget could stop one that loops. Lua marks an object for finalization
+// only if its metatable has __gc when it is set (a raw look-up, as here), so a field added later
+// is never called; debug.setmetatable is out of reach (no debug library).
+int sandbox_setmetatable(lua_State* L) {
+  const int t = lua_type(L, 2);
+  luaL_checktype(L, 1, LUA_TTABLE);
+  luaL_argexpected(L, t == LUA_TNIL || t == LUA_TTABLE, 2, "nil or table");
+  if (luaL_getmetafield(L, 1, "__metatable") != LUA_TNIL)
+    return luaL_error(L, "cannot change a protected metatable");
+  if (t == LUA_TTABLE) {
+    lua_pushliteral(L, "__gc");
+    if (lua_rawget(L, 2) != LUA_TNIL)
+      return luaL_error(L, "setmetatable: a metatable with __gc is refused: roger scripts cannot "
+                           "have finalizers (Lua runs them outside the instruction budget, so one "
+                           "that never returned would hang the run)");
+  }
+  lua_settop(L, 2);
+  lua_setmetatable(L, 1);
+  return 1;
+}
+
 }  // namespace
 
 // Opens the permitted libraries and installs the replacements (run protected: it allocates).
@@ -111,6 +133,8 @@ int open_sandbox(lua_State* L) {
   lua_setfield(L, g, "require");
   lua_pushcfunction(L, sandbox_print);
   lua_setfield(L, g, "print");
+  lua_pushcfunction(L, sandbox_setmetatable);
+  lua_setfield(L, g, "setmetatable");
   for (const char* lib : {"os", "io", "debug", "package"}) {
     push_guard(L, lib);
     lua_setfield(L, g, lib);
@@ -118,6 +142,7 @@ int open_sandbox(lua_State* L) {
   lua_getfield(L, g, "string");
   lua_pushnil(L);
   lua_setfield(L, -2, "dump");  // bytecode out is as unwelcome as bytecode in
+  install_patterns(L, lua_gettop(L));
   lua_pop(L, 1);
   // math.random is seeded from the clock: a script using it would not be reproducible.
   lua_getfield(L, g, "math");
