@@ -414,10 +414,10 @@ TEST_CASE("format_number is short and exact", "[lua_sandbox]") {
 }
 
 TEST_CASE("budgets hold at every call of a callback: instructions per call, memory for the state", "[lua_sandbox][faults]") {
-  LuaSandbox sandbox({1'000'000, 32u << 20});
+  LuaSandbox sandbox({10'000'000, 32u << 20});
   sandbox.load_string("local n = 0\n"
                       "function work()\n"
-                      "  for i = 1, 100000 do n = n + 1 end\n"  // about half the budget
+                      "  for i = 1, 1000000 do n = n + 1 end\n"  // about half the budget
                       "  return n\n"
                       "end\n"
                       "function spin() while true do end end\n"
@@ -434,7 +434,7 @@ TEST_CASE("budgets hold at every call of a callback: instructions per call, memo
   };
   // Twenty calls spend ten budgets in all: each call has its own.
   for (int k = 0; k < 20; ++k) CHECK_NOTHROW(call("work"));
-  CHECK(sandbox.instructions_used() < 1'000'000);
+  CHECK(sandbox.instructions_used() < 10'000'000);
   // A runaway call is stopped at its line, and the next call has a fresh budget.
   try {
     call("spin");
@@ -442,7 +442,7 @@ TEST_CASE("budgets hold at every call of a callback: instructions per call, memo
   } catch (const ScriptError& e) {
     CHECK(e.file == "callbacks.lua");
     CHECK(e.line == 6);
-    CHECK_THAT(e.message, Contains("instruction budget of 1000000 exceeded"));
+    CHECK_THAT(e.message, Contains("instruction budget of 10000000 exceeded"));
   }
   CHECK_NOTHROW(call("work"));
   // A memory bomb is refused at the line that asked (a memory error runs no message handler).
@@ -970,4 +970,72 @@ TEST_CASE("the raw pattern functions are out of a script's reach", "[lua_sandbox
   const auto start = std::chrono::steady_clock::now();
   CHECK(eval_string(sandbox, "local s = string.rep('a', 1000000) return tostring(s:find(string.rep('a', 20000) .. 'b', 1, true))") == "nil");
   CHECK(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < 1.0);
+}
+
+TEST_CASE("C functions looping over their input are charged to the call's budget", "[lua_sandbox][faults]") {
+  // Each line 2 once ran for minutes or for ever: a C loop between two VM instructions, or a
+  // loop whose every instruction did a million steps of C work. Line 1 builds the input.
+  const std::vector<std::pair<std::string, std::string>> escapes = {
+      {"string.rep", "local n = 1 << 62\nreturn string.rep('', n)"},
+      {"string.rep", "local s = ''\nwhile true do s = string.rep('', 1 << 40, '') end"},
+      {"table.move", "local t = {}\nreturn table.move(t, 1, math.maxinteger - 1, 2)"},
+      {"table.concat", "local t = {} for i = 1, 200000 do t[i] = '' end\nwhile true do local s = table.concat(t) end"},
+      {"table.unpack", "local t = {} for i = 1, 200000 do t[i] = i end\nwhile true do local n = select('#', table.unpack(t)) end"},
+      {"table.insert", "local t = {} for i = 1, 200000 do t[i] = i end\nwhile true do table.insert(t, 1, 0) end"},
+      {"table.remove", "local t = {} for i = 1, 200000 do t[i] = i end\nwhile true do table.remove(t, 1) t[#t + 1] = 0 end"},
+      {"table.sort", "local mt = {__lt = rawequal} local t = {} for i = 1, 100000 do t[i] = setmetatable({}, mt) end\n"
+                     "while true do table.sort(t) end"},
+      {"table.sort", "local t = {} for i = 1, 100000 do t[i] = i end\nwhile true do table.sort(t, math.ult) end"},
+      {"string.byte", "local s = string.rep('a', 900000)\nwhile true do local n = select('#', s:byte(1, -1)) end"},
+      {"string.char", "local t = {} for i = 1, 200000 do t[i] = 97 end local function f(...)\n"
+                      "while true do local s = string.char(...) end end return f(table.unpack(t))"},
+      {"utf8.len", "local s = string.rep('a', 10000000)\nwhile true do local n = utf8.len(s) end"},
+      {"utf8.codes", "local s = string.rep('\\x80', 10000000) local next_code = utf8.codes(s)\nwhile true do next_code(s, 0) end"},
+      {"tonumber", "local s = string.rep('1', 10000000)\nwhile true do local n = tonumber(s, 10) end"},
+      {"string.unpack", "local f = string.rep('b', 200000) local d = string.rep('a', 200000)\nwhile true do string.unpack(f, d) end"},
+      {"collectgarbage", "local t = {} for i = 1, 300000 do t[i] = {} end\nwhile true do collectgarbage() end"},
+      {"load", "local s = string.rep(' ', 20000000)\nwhile true do load(s) end"},
+      {"load", "local s = string.rep(' ', 20000000)\nwhile true do local k = 0 load(function() k = k + 1 return k < 1e9 and s or nil end) end"},
+      {"copying and allocating", "local s = string.rep('a', 10000000)\nwhile true do local t = s .. 'x' end"},
+      {"copying and allocating", "local s = string.rep('a', 10000000)\nwhile true do local t = s:upper() end"},
+      {"copying and allocating", "local s = string.rep('a', 10000000)\nwhile true do local t = string.format('%s', s) end"}};
+  for (const auto& [what, code] : escapes) {
+    INFO(code);
+    const auto [e, seconds] = stopped(code + "\n");
+    CHECK(e.file == "escape.lua");
+    CHECK(e.line == 2);
+    CHECK_THAT(e.message, StartsWith(what + ": instruction budget of 50000000 exceeded"));
+    CHECK(seconds < 1.0);
+  }
+}
+
+TEST_CASE("charged functions keep Lua's results and messages", "[lua_sandbox]") {
+  LuaSandbox sandbox;
+  CHECK(eval_string(sandbox, "return string.rep('ab', 3, '-')") == "ab-ab-ab");
+  CHECK(eval_string(sandbox, "local t = {3, 1, 2} table.sort(t) return table.concat(t, ',')") == "1,2,3");
+  CHECK(eval_string(sandbox, "local t = {3, 1, 2} table.sort(t, function(a, b) return a > b end) return table.concat(t)") == "321");
+  CHECK(eval_string(sandbox, "local t = {1, 2} table.insert(t, 1, 0) table.remove(t) return table.concat(t)") == "01");
+  CHECK(eval_string(sandbox, "return table.concat(table.move({1, 2, 3}, 1, 3, 2), ',')") == "1,1,2,3");
+  CHECK(eval_string(sandbox, "return select('#', table.unpack({1, 2, 3})) .. utf8.len('h\\u{e9}') .. utf8.char(72, 105)") == "32Hi");
+  CHECK(eval_string(sandbox, "local r = {} for p, c in utf8.codes('a\\u{e9}b') do r[#r + 1] = p .. ':' .. c end return table.concat(r, ' ')") ==
+        "1:97 2:233 4:98");
+  CHECK(eval_string(sandbox, "return tostring(tonumber('ff', 16)) .. ('abc'):byte(-1) .. tostring(load('return 1 + 1')())") == "255992");
+  CHECK(eval_string(sandbox, "return select(2, string.unpack('i2', string.pack('i2', 7)))") == "3");
+  const std::vector<std::pair<std::string, std::string>> messages = {
+      {"table.concat(nil)", "bad argument #1 to 'concat' (table expected, got nil)"},
+      {"table.sort({}, 1)", "bad argument #2 to 'sort' (function expected, got number)"},
+      {"string.rep()", "bad argument #1 to 'rep' (string expected, got no value)"},
+      {"('x'):rep({})", "bad argument #1 to 'rep' (number expected, got table)"},
+      {"table.concat({{}})", "invalid value (table) at index 1 in table for 'concat'"},
+      {"table.sort({{}, {}})", "attempt to compare two table values"},
+      {"table.insert({}, 1, 2, 3)", "wrong number of arguments to 'insert'"},
+      {"tonumber('z', 99)", "bad argument #2 to 'tonumber' (base out of range)"},
+      {"collectgarbage('nope')", "bad argument #1 to 'collectgarbage' (invalid option 'nope')"},
+      {"string.rep('x', 2^40)", "resulting string too large"}};
+  for (const auto& [code, says] : messages) {
+    INFO(code);
+    const ScriptError e = error_of(sandbox, "local x = 1\n" + code + "\n");
+    CHECK(e.line == 2);
+    CHECK_THAT(e.message, Contains(says));
+  }
 }

@@ -34,6 +34,19 @@ void note_refusal(LuaSandbox::Impl& s) {
   }
 }
 
+// Charges allocated bytes to the call's budget. The allocator cannot raise an error, so once the
+// budget is spent it arms the count hook to raise it at the next VM instruction.
+void charge_allocation(LuaSandbox::Impl& s, size_t bytes) {
+  s.bytes_uncharged += bytes;
+  if (s.bytes_uncharged < kBytesPerInstruction) return;
+  s.instructions_used += s.bytes_uncharged / kBytesPerInstruction;
+  s.bytes_uncharged %= kBytesPerInstruction;
+  if (s.instructions_used <= s.limits.instructions || s.call_depth == 0 || !s.L || s.spent_what) return;
+  s.spent_what = "copying and allocating";
+  s.spent_why = "the script built more strings or tables than the budget allows (16 bytes count as one instruction)";
+  lua_sethook(s.L, count_hook, LUA_MASKCOUNT, 1);
+}
+
 }  // namespace
 
 // The allocator: the usual realloc/free pair, refusing to grow the state beyond the cap. Lua then
@@ -52,6 +65,7 @@ void* sandbox_alloc(void* ud, void* ptr, size_t osize, size_t nsize) {
   }
   void* p = std::realloc(ptr, nsize);
   if (p) s->memory_used = s->memory_used - old + nsize;
+  if (p && nsize > old) charge_allocation(*s, nsize - old);
   return p;
 }
 

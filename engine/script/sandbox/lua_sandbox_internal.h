@@ -25,6 +25,7 @@ struct LuaSandbox::Impl {
   lua_State* L = nullptr;
   size_t memory_used = 0;
   uint64_t instructions_used = 0;
+  size_t bytes_uncharged = 0;  // allocated but not yet charged (kBytesPerInstruction at a time)
   int hook_interval = 1000;
   int call_depth = 0;
   // What spent the budget when C code did (charge_budget), for the count hook to say it again.
@@ -62,6 +63,10 @@ namespace sandbox_detail {
 // The sandbox a state belongs to (its address lives in the state's extra space, which threads share).
 LuaSandbox::Impl& impl_of(lua_State* L);
 
+// Bytes allocated that count as one instruction: copying and building strings and tables is
+// charged to the budget too (a = a .. b copies all of a in one instruction).
+constexpr size_t kBytesPerInstruction = 16;
+
 // The allocator: realloc/free refusing to grow the state beyond the memory cap.
 void* sandbox_alloc(void* ud, void* ptr, size_t osize, size_t nsize);
 
@@ -84,6 +89,11 @@ void count_hook(lua_State* L, lua_Debug* ar);
 // "<what>: instruction budget of N exceeded: <why>" at the Lua caller's file:line (lua_charge's
 // message when what is null). Saturates: a huge count cannot wrap the total around.
 void charge_budget(lua_State* L, uint64_t units, const char* what, const char* why);
+
+// ---- lua_sandbox_costs.cpp: library functions charged for the work their arguments ask ----
+
+// Replaces string.rep, table.concat, table.sort, utf8.len, ... by versions charging their work.
+void install_charges(lua_State* L);
 
 // ---- lua_patterns.cpp: string.find, match, gmatch, gsub counting their steps ----
 

@@ -55,12 +55,31 @@ void set_refusal(lua_State* L, int table, const char* field, const char* message
   lua_setfield(L, table, field);
 }
 
+// Charges compiling `bytes` of source text (the lexer may skip them all, allocating nothing).
+void charge_source(lua_State* L, size_t bytes) {
+  charge_budget(L, bytes / 8, "load", "the chunk is too long to compile within the budget left");
+}
+
+// The reader load() calls: the script's (upvalue 1), each piece it returns charged.
+int charged_reader(lua_State* L) {
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_call(L, 0, 1);
+  if (lua_type(L, -1) == LUA_TSTRING) charge_source(L, lua_rawlen(L, -1));
+  return 1;
+}
+
 // load(chunk [, chunkname [, mode [, env]]]) with the mode forced to text: the original load is
 // the upvalue; the argument count is kept because an explicit nil env means "no environment".
 int sandbox_load(lua_State* L) {
   const int n = lua_gettop(L);
   lua_pushvalue(L, lua_upvalueindex(1));
-  lua_pushvalue(L, 1);
+  if (lua_type(L, 1) == LUA_TFUNCTION) {  // each piece the reader gives is charged
+    lua_pushvalue(L, 1);
+    lua_pushcclosure(L, charged_reader, 1);
+  } else {
+    if (lua_type(L, 1) == LUA_TSTRING) charge_source(L, lua_rawlen(L, 1));
+    lua_pushvalue(L, 1);
+  }
   if (n >= 2) lua_pushvalue(L, 2); else lua_pushnil(L);
   lua_pushliteral(L, "t");
   if (n >= 4) lua_pushvalue(L, 4);
@@ -152,6 +171,7 @@ int open_sandbox(lua_State* L) {
   set_refusal(L, lua_gettop(L), "random", no_random);
   set_refusal(L, lua_gettop(L), "randomseed", no_random);
   lua_pop(L, 1);
+  install_charges(L);
   lua_newtable(L);
   lua_setfield(L, LUA_REGISTRYINDEX, kModulesKey);
   return 0;
