@@ -1,8 +1,9 @@
 // lua_sandbox_internal.h: the sandbox's state and the helpers its files share (private to script/sandbox/).
 //
 // lua_sandbox.cpp holds the LuaSandbox class, lua_sandbox_hooks.cpp the memory and instruction
-// budgets and the error reporting, lua_sandbox_libs.cpp the library set a script sees and
-// lua_sandbox_modules.cpp source loading and `require`.
+// budgets and the error reporting, lua_sandbox_libs.cpp the library set a script sees,
+// lua_sandbox_costs.cpp the library functions charged for their work, lua_patterns.cpp the
+// pattern functions counting their steps and lua_sandbox_modules.cpp source loading and `require`.
 #pragma once
 
 #include <array>

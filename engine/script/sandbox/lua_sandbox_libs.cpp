@@ -55,9 +55,10 @@ void set_refusal(lua_State* L, int table, const char* field, const char* message
   lua_setfield(L, table, field);
 }
 
-// Charges compiling `bytes` of source text (the lexer may skip them all, allocating nothing).
+// Charges compiling `bytes` of source text, one instruction a byte (the lexer may skip them all,
+// allocating nothing).
 void charge_source(lua_State* L, size_t bytes) {
-  charge_budget(L, bytes / 8, "load", "the chunk is too long to compile within the budget left");
+  charge_budget(L, bytes, "load", "the chunk is too long to compile within the budget left");  // 5 ns a byte
 }
 
 // The reader load() calls: the script's (upvalue 1), each piece it returns charged.
@@ -128,6 +129,27 @@ int sandbox_setmetatable(lua_State* L) {
   return 1;
 }
 
+// The message handler xpcall installs: the script's (upvalue 1), except for the budget's error.
+// That one is raised from the count hook, and Lua calls the handler with hooks still off: a
+// handler that looped would never be stopped, so the error goes on unhandled.
+int budget_aware_handler(lua_State* L) {
+  const auto& s = impl_of(L);
+  if (s.instructions_used > s.limits.instructions) return 1;
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  lua_call(L, lua_gettop(L) - 1, 1);
+  return 1;
+}
+
+// xpcall(f, handler, ...): Lua's (upvalue 1, run in this frame), the handler wrapped as above.
+int sandbox_xpcall(lua_State* L) {
+  luaL_checktype(L, 2, LUA_TFUNCTION);
+  lua_pushvalue(L, 2);
+  lua_pushcclosure(L, budget_aware_handler, 1);
+  lua_replace(L, 2);
+  return lua_tocfunction(L, lua_upvalueindex(1))(L);
+}
+
 }  // namespace
 
 // Opens the permitted libraries and installs the replacements (run protected: it allocates).
@@ -152,6 +174,9 @@ int open_sandbox(lua_State* L) {
   lua_setfield(L, g, "require");
   lua_pushcfunction(L, sandbox_print);
   lua_setfield(L, g, "print");
+  lua_getfield(L, g, "xpcall");
+  lua_pushcclosure(L, sandbox_xpcall, 1);
+  lua_setfield(L, g, "xpcall");
   lua_pushcfunction(L, sandbox_setmetatable);
   lua_setfield(L, g, "setmetatable");
   for (const char* lib : {"os", "io", "debug", "package"}) {
