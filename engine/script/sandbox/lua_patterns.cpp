@@ -51,6 +51,7 @@ void tick(MatchState* ms, uint64_t n) {
                 "the pattern backtracks too much over its subject: simplify or anchor it");
 }
 
+// The capture index a back reference %1-%9 names, checked.
 int check_capture(MatchState* ms, int l) {
   l -= '1';
   if (l < 0 || l >= ms->level || ms->capture[l].len == kUnfinished)
@@ -58,6 +59,7 @@ int check_capture(MatchState* ms, int l) {
   return l;
 }
 
+// The innermost capture still open, for a ')'.
 int capture_to_close(MatchState* ms) {
   for (int level = ms->level - 1; level >= 0; level--)
     if (ms->capture[level].len == kUnfinished) return level;
@@ -82,6 +84,7 @@ const char* class_end(MatchState* ms, const char* p) {
   }
 }
 
+// Whether c is in the class %cl (upper case: its complement; any other character: itself).
 bool match_class(int c, int cl) {
   int res;
   switch (std::tolower(cl)) {
@@ -121,6 +124,7 @@ bool match_bracket_class(int c, const char* p, const char* ec) {
   return !sig;
 }
 
+// Whether the subject character at s matches the single-character class p..ep.
 bool single_match(MatchState* ms, const char* s, const char* p, const char* ep) {
   if (s >= ms->src_end) return false;
   const int c = uchar(*s);
@@ -134,6 +138,7 @@ bool single_match(MatchState* ms, const char* s, const char* p, const char* ep) 
 
 const char* do_match(MatchState* ms, const char* s, const char* p);
 
+// %bxy: a balanced run from x to its matching y at s; the end of it, or nullptr.
 const char* match_balance(MatchState* ms, const char* s, const char* p) {
   if (p >= ms->p_end - 1) luaL_error(ms->L, "malformed pattern (missing arguments to '%%b')");
   if (*s != *p) return nullptr;
@@ -154,6 +159,7 @@ const char* match_balance(MatchState* ms, const char* s, const char* p) {
   return nullptr;  // the subject ends out of balance
 }
 
+// item* and item+: the longest run that lets the rest match.
 const char* max_expand(MatchState* ms, const char* s, const char* p, const char* ep) {
   ptrdiff_t i = 0;  // the longest run of the item
   while (single_match(ms, s + i, p, ep)) i++;
@@ -163,6 +169,7 @@ const char* max_expand(MatchState* ms, const char* s, const char* p, const char*
   return nullptr;
 }
 
+// item-: the shortest run that lets the rest match.
 const char* min_expand(MatchState* ms, const char* s, const char* p, const char* ep) {
   for (;;) {
     if (const char* res = do_match(ms, s, ep + 1)) return res;
@@ -171,6 +178,7 @@ const char* min_expand(MatchState* ms, const char* s, const char* p, const char*
   }
 }
 
+// Opens a capture (or records a position) and matches the rest.
 const char* start_capture(MatchState* ms, const char* s, const char* p, ptrdiff_t what) {
   const int level = ms->level;
   if (level >= kMaxCaptures) luaL_error(ms->L, "too many captures");
@@ -182,6 +190,7 @@ const char* start_capture(MatchState* ms, const char* s, const char* p, ptrdiff_
   return res;
 }
 
+// Closes the innermost open capture and matches the rest.
 const char* end_capture(MatchState* ms, const char* s, const char* p) {
   const int l = capture_to_close(ms);
   ms->capture[l].len = s - ms->capture[l].init;
@@ -190,6 +199,7 @@ const char* end_capture(MatchState* ms, const char* s, const char* p) {
   return res;
 }
 
+// A back reference: the text of capture l again at s.
 const char* match_capture(MatchState* ms, const char* s, int l) {
   l = check_capture(ms, l);
   const size_t len = size_t(ms->capture[l].len);  // a position capture's is huge: no match
@@ -300,6 +310,7 @@ ptrdiff_t get_capture(MatchState* ms, int i, const char* s, const char* e, const
   return capl;
 }
 
+// Pushes capture i (the whole match s..e when there are none).
 void push_capture(MatchState* ms, int i, const char* s, const char* e) {
   const char* cap;
   const ptrdiff_t l = get_capture(ms, i, s, e, &cap);
@@ -314,6 +325,7 @@ int push_captures(MatchState* ms, const char* s, const char* e) {
   return n;
 }
 
+// Whether the pattern has none of the magic characters (find then searches plainly).
 bool no_specials(const char* p, size_t l) {
   size_t upto = 0;
   do {
@@ -323,6 +335,7 @@ bool no_specials(const char* p, size_t l) {
   return true;
 }
 
+// Sets up a match of pattern p over subject s for the function `what`.
 void prepare(MatchState* ms, lua_State* L, const char* what, const char* s, size_t ls, const char* p,
              size_t lp) {
   ms->L = L;
@@ -346,6 +359,7 @@ const char* plain_find(lua_State* L, const char* s, size_t ls, const char* p, si
   return static_cast<const char*>(memmem(s, ls, p, lp));
 }
 
+// string.find (find) and string.match (!find).
 int find_aux(lua_State* L, bool find) {
   size_t ls, lp;
   const char* s = luaL_checklstring(L, 1, &ls);
@@ -382,9 +396,12 @@ int find_aux(lua_State* L, bool find) {
   return 1;
 }
 
+// string.find(s, pattern [, init [, plain]]).
 int str_find(lua_State* L) { return find_aux(L, true); }
+// string.match(s, pattern [, init]).
 int str_match(lua_State* L) { return find_aux(L, false); }
 
+// What the iterator of one gmatch keeps between calls.
 struct GMatchState {
   const char* src;        // where the next search starts
   const char* p;          // the pattern
@@ -392,6 +409,7 @@ struct GMatchState {
   MatchState ms;
 };
 
+// The iterator gmatch returns: the next match's captures, or nothing.
 int gmatch_aux(lua_State* L) {
   auto* gm = static_cast<GMatchState*>(lua_touserdata(L, lua_upvalueindex(3)));
   gm->ms.L = L;
@@ -406,6 +424,7 @@ int gmatch_aux(lua_State* L) {
   return 0;
 }
 
+// string.gmatch(s, pattern [, init]).
 int str_gmatch(lua_State* L) {
   size_t ls, lp;
   const char* s = luaL_checklstring(L, 1, &ls);
@@ -473,6 +492,7 @@ bool add_value(MatchState* ms, luaL_Buffer* b, const char* s, const char* e, int
   return true;
 }
 
+// string.gsub(s, pattern, repl [, n]).
 int str_gsub(lua_State* L) {
   size_t srcl, lp;
   const char* src = luaL_checklstring(L, 1, &srcl);
