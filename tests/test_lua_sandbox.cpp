@@ -990,6 +990,7 @@ TEST_CASE("C functions looping over their input are charged to the call's budget
       {"string.rep", "local n = 1 << 62\nreturn string.rep('', n)"},
       {"string.rep", "local s = ''\nwhile true do s = string.rep('', 1 << 40, '') end"},
       {"table.move", "local t = {}\nreturn table.move(t, 1, math.maxinteger - 1, 2)"},
+      {"table.concat", "local t = setmetatable({}, {__index = type})\nreturn table.concat(t, '', math.mininteger, math.maxinteger)"},
       {"table.concat", "local t = {} for i = 1, 200000 do t[i] = '' end\nwhile true do local s = table.concat(t) end"},
       {"table.unpack", "local t = {} for i = 1, 200000 do t[i] = i end\nwhile true do local n = select('#', table.unpack(t)) end"},
       {"table.insert", "local t = {} for i = 1, 200000 do t[i] = i end\nwhile true do table.insert(t, 1, 0) end"},

@@ -3,8 +3,8 @@
 // hook's reach: string.rep("", 2^62) loops for ever allocating nothing, table.move over a huge
 // range too, and table.concat, unpack, insert or sort over a big table cost thousands of steps for
 // one instruction, again and again. Each one here first charges the work its arguments ask for
-// (an element, or 8 bytes scanned, per instruction), then runs Lua's own function in the same
-// frame, so results, messages and their file:line are Lua's.
+// (rates below), then runs Lua's own function in the same frame, so results, messages and their
+// file:line are Lua's. A table's __len, when it has one, is called twice (here and by Lua's).
 #include <algorithm>
 #include <cstdint>
 
@@ -24,9 +24,12 @@ constexpr uint64_t kBytesPerUnit = 1;      // bytes scanned per instruction char
 constexpr uint64_t kElementCost = 8;       // instructions charged per table element or format item
 constexpr uint64_t kComparisonCost = 32;   // instructions charged per comparison of table.sort
 
-// The count of integers from `from` to `to` (0 when empty), without overflow.
+// The count of integers from `from` to `to` (0 when empty), saturating: the whole range of
+// integers holds 2^64 of them, one more than a uint64_t can say.
 uint64_t span(lua_Integer from, lua_Integer to) {
-  return from > to ? 0 : uint64_t(lua_Unsigned(to) - lua_Unsigned(from)) + 1;
+  if (from > to) return 0;
+  const uint64_t gaps = uint64_t(lua_Unsigned(to) - lua_Unsigned(from));
+  return gaps == UINT64_MAX ? UINT64_MAX : gaps + 1;
 }
 
 // The instructions charged for n elements, saturating (a range can hold 2^64 of them).
