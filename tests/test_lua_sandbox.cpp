@@ -1006,6 +1006,8 @@ TEST_CASE("C functions looping over their input are charged to the call's budget
       {"tonumber", "local s = string.rep('1', 10000000)\nwhile true do local n = tonumber(s, 10) end"},
       {"string.unpack", "local f = string.rep('b', 200000) local d = string.rep('a', 200000)\nwhile true do string.unpack(f, d) end"},
       {"collectgarbage", "local t = {} for i = 1, 300000 do t[i] = {} end\nwhile true do collectgarbage() end"},
+      {"collectgarbage", "local t = {} for i = 1, 300000 do t[i] = {} end\n"
+                         "while true do collectgarbage('generational') collectgarbage('incremental') end"},
       {"load", "local s = string.rep(' ', 20000000)\nwhile true do load(s) end"},
       {"load", "local s = string.rep(' ', 20000000)\nwhile true do local k = 0 load(function() k = k + 1 return k < 1e9 and s or nil end) end"},
       {"copying and allocating", "local s = string.rep('a', 10000000)\nwhile true do local t = s .. 'x' end"},
@@ -1068,6 +1070,7 @@ TEST_CASE("metamethods Lua calls from C, and message handlers, are stopped like 
       "local ok = xpcall(function() while true do end end, function() while true do end end)\nreturn ok",
       "local ok = xpcall(function() while true do end end, function() return 'handled' end)\nreturn ok",
       "local s = string.rep('a', 100)\nreturn s:gsub('a', function() while true do end end)",
+      "local e = setmetatable({}, {__tostring = function() while true do end end})\nerror(e)",
   };
   for (const auto& code : escapes) {
     INFO(code);

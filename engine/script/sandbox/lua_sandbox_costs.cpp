@@ -135,11 +135,13 @@ uint64_t cost_tonumber(lua_State* L) {
   }
   return lua_type(L, 1) == LUA_TSTRING ? uint64_t(lua_rawlen(L, 1)) / kBytesPerUnit : 0;
 }
-uint64_t cost_collectgarbage(lua_State* L) {  // a collection or a step walks the whole heap
+// A collection, a step, or a switch of mode (which collects or marks everything) walks the heap.
+uint64_t cost_collectgarbage(lua_State* L) {
   static const char* const options[] = {"stop", "restart", "collect", "count", "step", "setpause",
                                         "setstepmul", "isrunning", "generational", "incremental", nullptr};
   const int o = luaL_checkoption(L, 1, "collect", options);
-  return (o == 2 || o == 4) ? impl_of(L).memory_used / kBytesPerUnit : 0;
+  const bool walks = o == 2 || o == 4 || o == 8 || o == 9;
+  return walks ? impl_of(L).memory_used / kBytesPerUnit : 0;
 }
 
 using Cost = uint64_t (*)(lua_State*);
