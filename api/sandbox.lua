@@ -6,7 +6,9 @@
 -- not there (.luarc.json disables them for the editor; touching one raises an error that says
 -- the script is sandboxed), and neither is anything marked deprecated below: an editor strikes
 -- it through, the linter (.luacheckrc) reports it, and tests/test_lua_sandbox.cpp checks that
--- the sandbox indeed refuses it.
+-- the sandbox indeed refuses it. `setmetatable` refuses a metatable with a `__gc` field (a
+-- finalizer would run outside the instruction budget), and the budget counts the work of the
+-- library's C functions too (docs/scenarios.md).
 
 ---@deprecated Not in roger's sandbox (it reads any file): use require("dotted.name").
 function dofile(filename) end

@@ -131,6 +131,10 @@ TEST_CASE("bad batch scripts are clear errors at file:line", "[batch_script]") {
   CHECK(m.find("evaluation 'e', skill 'Phi_SG': context 'B2' of run 'T' uses no learned skill 'Phi_SG'; it uses none") !=
         std::string::npos);
 
+  m = load_error("tests/scripts/bad_batch_escape.lua");  // once a hang in Lua's matcher
+  INFO(m);
+  CHECK(m.find("bad_batch_escape.lua:3: string.gsub: instruction budget of 50000000 exceeded") != std::string::npos);
+
   m = load_error("tests/scripts/no_such_batch.lua");
   INFO(m);
   CHECK(m.find("no batch script") != std::string::npos);

@@ -38,6 +38,22 @@ local function wrong_type(state, time)
   return "yes"  -- a string, not a boolean: the error names the function (line 37)
 end
 
+local function late_finalizer(state, action, event)
+  calls = calls + 1
+  if calls > 10 then  -- a finalizer that never returns: refused at line 44
+    setmetatable({}, { __gc = function() while true do end end })
+  end
+  return 0
+end
+
+local function late_pattern(state, time)
+  calls = calls + 1
+  if calls > 10 then  -- a pattern that backtracks for hours: stopped at line 52
+    return string.rep("a", 30000):find(".-.-.-.-.-.-.-.-b") ~= nil
+  end
+  return false
+end
+
 local function stage(name, fields)
   fields.name = name
   fields.time_limit = 1
@@ -57,6 +73,9 @@ return {
     stage("bomb", { absorbing = memory_bomb, reward = sound_reward, episodes = 200 }),
     stage("nan", { reward = late_nan, episodes = 200 }),
     stage("type", { absorbing = wrong_type, reward = sound_reward }),
+    stage("finalizer", { reward = late_finalizer, episodes = 200 }),
+    stage("pattern", { absorbing = late_pattern, reward = sound_reward, episodes = 200 }),
+    stage("escape", { scenario = "tests/scripts/faults_escape_scenario.lua", reward = sound_reward, episodes = 12 }),
     stage("unlucky", { scenario = "tests/scripts/faults_scenario.lua", reward = sound_reward, episodes = 12 }),
   },
 }

@@ -70,7 +70,8 @@ LuaSandbox::LuaSandbox(const SandboxLimits& limits) : impl_(std::make_unique<Imp
 
 LuaSandbox::~LuaSandbox() {
   if (impl_ && impl_->L) {
-    // Finalizers written in Lua run at close: give them a fresh budget so they cannot hang us.
+    // No finalizer written in Lua exists (setmetatable refuses __gc); to-be-closed variables
+    // still pending run their __close at close, under a fresh budget.
     impl_->instructions_used = 0;
     lua_sethook(impl_->L, count_hook, LUA_MASKCOUNT, impl_->hook_interval);
     lua_close(impl_->L);
@@ -187,6 +188,7 @@ void LuaSandbox::call(int nargs, int nresults) {
   const bool top_level = s.call_depth == 0;
   if (top_level) {
     s.instructions_used = 0;
+    s.spent_what = s.spent_why = nullptr;
     s.oom_line = 0;
     s.pending.reset();
     s.pending_text.clear();

@@ -11,6 +11,9 @@
 //   - loads source text only (no bytecode: a binary chunk can crash the VM), with a `require` that
 //     resolves dotted module names inside a fixed list of folders;
 //   - stops runaway scripts with an instruction budget per call and a memory cap for the state;
+//     the budget also counts the work of C library functions (pattern matching steps, elements
+//     of table functions, bytes allocated), and setmetatable refuses __gc (finalizers run with
+//     the budget's hook off);
 //   - turns every Lua error into a roger::ScriptError naming file:line with a traceback.
 // Nothing here aborts the process: all calls into Lua are protected.
 #pragma once

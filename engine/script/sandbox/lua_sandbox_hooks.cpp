@@ -34,6 +34,19 @@ void note_refusal(LuaSandbox::Impl& s) {
   }
 }
 
+// Charges allocated bytes to the call's budget. The allocator cannot raise an error, so once the
+// budget is spent it arms the count hook to raise it at the next VM instruction.
+void charge_allocation(LuaSandbox::Impl& s, size_t bytes) {
+  s.bytes_uncharged += bytes;
+  if (s.bytes_uncharged < kBytesPerInstruction) return;
+  s.instructions_used += s.bytes_uncharged / kBytesPerInstruction;
+  s.bytes_uncharged %= kBytesPerInstruction;
+  if (s.instructions_used <= s.limits.instructions || s.call_depth == 0 || !s.L || s.spent_what) return;
+  s.spent_what = "copying and allocating";
+  s.spent_why = "the script built more strings or tables than the budget allows (16 bytes count as one instruction)";
+  lua_sethook(s.L, count_hook, LUA_MASKCOUNT, 1);
+}
+
 }  // namespace
 
 // The allocator: the usual realloc/free pair, refusing to grow the state beyond the cap. Lua then
@@ -52,6 +65,7 @@ void* sandbox_alloc(void* ud, void* ptr, size_t osize, size_t nsize) {
   }
   void* p = std::realloc(ptr, nsize);
   if (p) s->memory_used = s->memory_used - old + nsize;
+  if (p && nsize > old) charge_allocation(*s, nsize - old);
   return p;
 }
 
@@ -145,8 +159,11 @@ void count_hook(lua_State* L, lua_Debug* ar) {
   if (s.instructions_used <= s.limits.instructions) return;
   lua_sethook(L, count_hook, LUA_MASKCOUNT, 1);
   const auto budget = static_cast<unsigned long long>(s.limits.instructions);
-  char text[96];
-  std::snprintf(text, sizeof text, "instruction budget of %llu exceeded (runaway loop?)", budget);
+  char text[256];
+  if (s.spent_what)  // C code spent it, and the script caught that error: say it again
+    std::snprintf(text, sizeof text, "%s: instruction budget of %llu exceeded: %s", s.spent_what, budget, s.spent_why);
+  else
+    std::snprintf(text, sizeof text, "instruction budget of %llu exceeded (runaway loop?)", budget);
   if (lua_getinfo(L, "Sl", ar) && ar->currentline > 0)
     lua_pushfstring(L, "%s:%d: %s", ar->short_src, ar->currentline, text);
   else
@@ -185,11 +202,25 @@ int lua_protect(lua_State* L, const std::function<int()>& body) {
 }
 
 void lua_charge(lua_State* L, uint64_t units) {
+  sandbox_detail::charge_budget(L, units, nullptr, nullptr);
+}
+
+namespace sandbox_detail {
+
+// Counts work done in C against the budget; once it is spent, raises the budget error naming
+// `what` and `why` (or the plain runaway-loop message) at the Lua caller's file:line.
+void charge_budget(lua_State* L, uint64_t units, const char* what, const char* why) {
   auto& s = impl_of(L);
-  s.instructions_used += units;
+  s.instructions_used += std::min<uint64_t>(units, s.limits.instructions + 1);
   if (s.instructions_used <= s.limits.instructions) return;
   lua_sethook(L, count_hook, LUA_MASKCOUNT, 1);  // as in count_hook: no escaping through pcall
-  luaL_error(L, "instruction budget of %I exceeded (runaway loop?)", lua_Integer(s.limits.instructions));
+  const auto budget = lua_Integer(s.limits.instructions);
+  s.spent_what = what;
+  s.spent_why = why;
+  if (!what) luaL_error(L, "instruction budget of %I exceeded (runaway loop?)", budget);
+  luaL_error(L, "%s: instruction budget of %I exceeded: %s", what, budget, why);
 }
+
+}  // namespace sandbox_detail
 
 }  // namespace roger

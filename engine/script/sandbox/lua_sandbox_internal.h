@@ -1,8 +1,9 @@
 // lua_sandbox_internal.h: the sandbox's state and the helpers its files share (private to script/sandbox/).
 //
 // lua_sandbox.cpp holds the LuaSandbox class, lua_sandbox_hooks.cpp the memory and instruction
-// budgets and the error reporting, lua_sandbox_libs.cpp the library set a script sees and
-// lua_sandbox_modules.cpp source loading and `require`.
+// budgets and the error reporting, lua_sandbox_libs.cpp the library set a script sees,
+// lua_sandbox_costs.cpp the library functions charged for their work, lua_patterns.cpp the
+// pattern functions counting their steps and lua_sandbox_modules.cpp source loading and `require`.
 #pragma once
 
 #include <array>
@@ -25,8 +26,12 @@ struct LuaSandbox::Impl {
   lua_State* L = nullptr;
   size_t memory_used = 0;
   uint64_t instructions_used = 0;
+  size_t bytes_uncharged = 0;  // allocated but not yet charged (kBytesPerInstruction at a time)
   int hook_interval = 1000;
   int call_depth = 0;
+  // What spent the budget when C code did (charge_budget), for the count hook to say it again.
+  const char* spent_what = nullptr;
+  const char* spent_why = nullptr;
 
   bool main_set = false;
   std::filesystem::path main_dir;  // absolute folder of the main script
@@ -59,6 +64,10 @@ namespace sandbox_detail {
 // The sandbox a state belongs to (its address lives in the state's extra space, which threads share).
 LuaSandbox::Impl& impl_of(lua_State* L);
 
+// Bytes allocated that count as one instruction: copying and building strings and tables is
+// charged to the budget too (a = a .. b copies all of a in one instruction).
+constexpr size_t kBytesPerInstruction = 16;
+
 // The allocator: realloc/free refusing to grow the state beyond the memory cap.
 void* sandbox_alloc(void* ud, void* ptr, size_t osize, size_t nsize);
 
@@ -76,6 +85,21 @@ int message_handler(lua_State* L);
 
 // The instruction budget's count hook.
 void count_hook(lua_State* L, lua_Debug* ar);
+
+// Counts `units` of work done in C against the call's budget; once it is spent, raises
+// "<what>: instruction budget of N exceeded: <why>" at the Lua caller's file:line (lua_charge's
+// message when what is null). Saturates: a huge count cannot wrap the total around.
+void charge_budget(lua_State* L, uint64_t units, const char* what, const char* why);
+
+// ---- lua_sandbox_costs.cpp: library functions charged for the work their arguments ask ----
+
+// Replaces string.rep, table.concat, table.sort, utf8.len, ... by versions charging their work.
+void install_charges(lua_State* L);
+
+// ---- lua_patterns.cpp: string.find, match, gmatch, gsub counting their steps ----
+
+// Replaces the pattern functions of the string table at `string_table` by the budgeted ones.
+void install_patterns(lua_State* L, int string_table);
 
 // ---- lua_sandbox_libs.cpp: what a script sees ----
 

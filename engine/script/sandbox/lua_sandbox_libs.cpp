@@ -55,12 +55,32 @@ void set_refusal(lua_State* L, int table, const char* field, const char* message
   lua_setfield(L, table, field);
 }
 
+// Charges compiling `bytes` of source text, one instruction a byte (the lexer may skip them all,
+// allocating nothing).
+void charge_source(lua_State* L, size_t bytes) {
+  charge_budget(L, bytes, "load", "the chunk is too long to compile within the budget left");  // 5 ns a byte
+}
+
+// The reader load() calls: the script's (upvalue 1), each piece it returns charged.
+int charged_reader(lua_State* L) {
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_call(L, 0, 1);
+  if (lua_type(L, -1) == LUA_TSTRING) charge_source(L, lua_rawlen(L, -1));
+  return 1;
+}
+
 // load(chunk [, chunkname [, mode [, env]]]) with the mode forced to text: the original load is
 // the upvalue; the argument count is kept because an explicit nil env means "no environment".
 int sandbox_load(lua_State* L) {
   const int n = lua_gettop(L);
   lua_pushvalue(L, lua_upvalueindex(1));
-  lua_pushvalue(L, 1);
+  if (lua_type(L, 1) == LUA_TFUNCTION) {  // each piece the reader gives is charged
+    lua_pushvalue(L, 1);
+    lua_pushcclosure(L, charged_reader, 1);
+  } else {
+    if (lua_type(L, 1) == LUA_TSTRING) charge_source(L, lua_rawlen(L, 1));
+    lua_pushvalue(L, 1);
+  }
   if (n >= 2) lua_pushvalue(L, 2); else lua_pushnil(L);
   lua_pushliteral(L, "t");
   if (n >= 4) lua_pushvalue(L, 4);
@@ -87,6 +107,49 @@ int sandbox_print(lua_State* L) {
   });
 }
 
+// setmetatable(t, mt) as Lua's, refusing a metatable with a __gc field: Lua runs finalizers with
+// debug hooks off, so no budget could stop one that loops. Lua marks an object for finalization
+// only if its metatable has __gc when it is set (a raw look-up, as here), so a field added later
+// is never called; debug.setmetatable is out of reach (no debug library).
+int sandbox_setmetatable(lua_State* L) {
+  const int t = lua_type(L, 2);
+  luaL_checktype(L, 1, LUA_TTABLE);
+  luaL_argexpected(L, t == LUA_TNIL || t == LUA_TTABLE, 2, "nil or table");
+  if (luaL_getmetafield(L, 1, "__metatable") != LUA_TNIL)
+    return luaL_error(L, "cannot change a protected metatable");
+  if (t == LUA_TTABLE) {
+    lua_pushliteral(L, "__gc");
+    if (lua_rawget(L, 2) != LUA_TNIL)
+      return luaL_error(L, "setmetatable: a metatable with __gc is refused: roger scripts cannot "
+                           "have finalizers (Lua runs them outside the instruction budget, so one "
+                           "that never returned would hang the run)");
+  }
+  lua_settop(L, 2);
+  lua_setmetatable(L, 1);
+  return 1;
+}
+
+// The message handler xpcall installs: the script's (upvalue 1), except for the budget's error.
+// That one is raised from the count hook, and Lua calls the handler with hooks still off: a
+// handler that looped would never be stopped, so the error goes on unhandled.
+int budget_aware_handler(lua_State* L) {
+  const auto& s = impl_of(L);
+  if (s.instructions_used > s.limits.instructions) return 1;
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  lua_call(L, lua_gettop(L) - 1, 1);
+  return 1;
+}
+
+// xpcall(f, handler, ...): Lua's (upvalue 1, run in this frame), the handler wrapped as above.
+int sandbox_xpcall(lua_State* L) {
+  luaL_checktype(L, 2, LUA_TFUNCTION);
+  lua_pushvalue(L, 2);
+  lua_pushcclosure(L, budget_aware_handler, 1);
+  lua_replace(L, 2);
+  return lua_tocfunction(L, lua_upvalueindex(1))(L);
+}
+
 }  // namespace
 
 // Opens the permitted libraries and installs the replacements (run protected: it allocates).
@@ -111,6 +174,11 @@ int open_sandbox(lua_State* L) {
   lua_setfield(L, g, "require");
   lua_pushcfunction(L, sandbox_print);
   lua_setfield(L, g, "print");
+  lua_getfield(L, g, "xpcall");
+  lua_pushcclosure(L, sandbox_xpcall, 1);
+  lua_setfield(L, g, "xpcall");
+  lua_pushcfunction(L, sandbox_setmetatable);
+  lua_setfield(L, g, "setmetatable");
   for (const char* lib : {"os", "io", "debug", "package"}) {
     push_guard(L, lib);
     lua_setfield(L, g, lib);
@@ -118,6 +186,7 @@ int open_sandbox(lua_State* L) {
   lua_getfield(L, g, "string");
   lua_pushnil(L);
   lua_setfield(L, -2, "dump");  // bytecode out is as unwelcome as bytecode in
+  install_patterns(L, lua_gettop(L));
   lua_pop(L, 1);
   // math.random is seeded from the clock: a script using it would not be reproducible.
   lua_getfield(L, g, "math");
@@ -127,6 +196,7 @@ int open_sandbox(lua_State* L) {
   set_refusal(L, lua_gettop(L), "random", no_random);
   set_refusal(L, lua_gettop(L), "randomseed", no_random);
   lua_pop(L, 1);
+  install_charges(L);
   lua_newtable(L);
   lua_setfield(L, LUA_REGISTRYINDEX, kModulesKey);
   return 0;
