@@ -8,6 +8,7 @@
 #include <fstream>
 #include <string>
 
+#include "batch/batch.h"
 #include "control/agent.h"
 #include "learn/episode.h"
 #include "script/scenario/scenario.h"
@@ -238,4 +239,35 @@ TEST_CASE("an episode's noise owes nothing to the previous episode's", "[noise]"
     CHECK(alone.results[0].reward == r.reward);
     CHECK(alone.results[0].success == r.success);
   }
+}
+
+// Episodes under noise run as a batch's trials, one or three at a time: the same results, as the
+// noise is a function of the world's seed alone, not of the thread or the order.
+TEST_CASE("noisy episodes do not depend on the number of jobs", "[noise]") {
+  auto episode = [](const std::string& id, const std::string&) {
+    const SkillScript script = SkillScript::load("curricula/scripted.lua");
+    const SkillScript::NamedPolicy& task = script.policy("task");
+    Scenario scenario = Scenario::load("cluttered");
+    set_moderate(scenario, 2.0);
+    EpisodeOptions options;
+    options.time_limit = task.time_limit;
+    const uint64_t seed = 7360000 + std::stoull(id.substr(id.find('-') + 1));
+    const EvalSummary r = evaluate_action([&](uint64_t s) { return scenario.generate(s); }, *task.action,
+                                          *task.goal, 1, seed, options);
+    return nlohmann::json{{"ticks", r.results[0].ticks}, {"reward", r.results[0].reward},
+                          {"success", r.results[0].success}};
+  };
+  std::vector<std::string> ids;
+  for (int i = 0; i < 6; ++i) ids.push_back("noise/seed-" + std::to_string(i));
+  const auto dir = std::filesystem::temp_directory_path() / "roger_test_noise_jobs";
+  std::filesystem::remove_all(dir);
+  const auto one = run_trials(ids, episode, BatchOptions{1, (dir / "one").string()});
+  const auto three = run_trials(ids, episode, BatchOptions{3, (dir / "three").string()});
+  REQUIRE(one.size() == ids.size());
+  for (size_t i = 0; i < ids.size(); ++i) {
+    INFO(ids[i]);
+    CHECK(one[i].ok);
+    CHECK(one[i].result == three[i].result);
+  }
+  std::filesystem::remove_all(dir);
 }
