@@ -8,6 +8,26 @@
 namespace roger {
 namespace {
 
+// Standard normal values drawn two at a time (Box-Muller's both outputs, one logarithm and one
+// square root per pair): the image noise draws three per pixel, six per pair of pixels.
+class NormalPairs {
+ public:
+  explicit NormalPairs(Rng& rng) : rng_(rng) {}
+  double next() {
+    if (has_spare_) return has_spare_ = false, spare_;
+    double u1 = rng_.uniform();
+    while (u1 <= 0.0) u1 = rng_.uniform();
+    const double r = std::sqrt(-2.0 * std::log(u1)), a = 6.283185307179586 * rng_.uniform();
+    spare_ = r * std::sin(a), has_spare_ = true;
+    return r * std::cos(a);
+  }
+
+ private:
+  Rng& rng_;
+  double spare_ = 0.0;
+  bool has_spare_ = false;
+};
+
 // The noisy reading of one colour channel, rounded and clamped to a byte.
 uint8_t noisy_channel(uint8_t value, double noise) {
   return uint8_t(std::clamp(std::lround(double(value) + noise), 0L, 255L));
@@ -43,9 +63,10 @@ void add_image_noise(EyeImage& image, double sigma, Rng& rng) {
   if (!(sigma > 0.0)) return;
   const Colour grey{128, 128, 128};
   const Colour s = image.stimulus_colour;
+  NormalPairs normal(rng);
   for (int u = 0; u < image.pixels(); ++u) {
     Colour& c = image.colour[size_t(u)];
-    const double n[3] = {rng.normal(0.0, sigma), rng.normal(0.0, sigma), rng.normal(0.0, sigma)};
+    const double n[3] = {sigma * normal.next(), sigma * normal.next(), sigma * normal.next()};
     // A pixel whose centre is on the stimulus has no colour of its own to mix with: grey stands in.
     const double e = coverage_noise(s, c == s ? grey : c, n);
     float& coverage = image.stimulus[size_t(u)];
