@@ -83,6 +83,16 @@ roger.robot.footprint_radius = 0.0
 ---@field fov? number the full field of view (rad), 0.1-2.8 (pi/2)
 
 ---What follows from a body: the controllers' body-derived numbers (docs/control.md, Bodies).
+---Roger's sensor and actuator noise (world:robot's `noise`): standard deviations of Gaussian noise
+---drawn every tick from a stream seeded by the world's seed alone; 0 (the default) draws nothing.
+---The controllers read the noisy senses; the judges of success read the true world.
+---@class roger.NoiseSpec
+---@field image? number colour levels added to each channel of each pixel of both eyes (0-255)
+---@field joints? number rad on each joint angle read: eye pans, shoulders, elbows (0-1)
+---@field base? number m on the base position and odometer, rad on its heading (0-1)
+---@field touch? number a fraction of each contact force (0-5)
+---@field effort? number a fraction of each commanded force, torque and servo rate (0-5)
+
 ---@class roger.BodyMetrics
 ---@field footprint_radius number a disk of this radius holds Roger, arms folded, at any heading (m)
 ---@field approach number phi1's approach ring (m)
@@ -146,8 +156,8 @@ function World:arena(spec) end
 ---@return number ymax
 function World:bounds() end
 
----Places Roger: base pose, start posture (the body's folded one by default), body and eyes. Call it once.
----@param spec {x: number, y: number, heading: number?, left_shoulder: number?, left_elbow: number?, right_shoulder: number?, right_elbow: number?, left_eye: number?, right_eye: number?, body: roger.BodySpec?, eyes: roger.EyesSpec?}
+---Places Roger: base pose, start posture (the body's folded one by default), body, eyes and noise. Call it once.
+---@param spec {x: number, y: number, heading: number?, left_shoulder: number?, left_elbow: number?, right_shoulder: number?, right_elbow: number?, left_eye: number?, right_eye: number?, body: roger.BodySpec?, eyes: roger.EyesSpec?, noise: roger.NoiseSpec?}
 function World:robot(spec) end
 
 ---Places a movable object (what Roger searches for, grasps and transports).

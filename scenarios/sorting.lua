@@ -91,7 +91,7 @@ return {
     local rx, ry = world:sample_position{
       name = "Roger", radius = roger.body_metrics(b).footprint_radius, wall_margin = 1.0, clearance = 0.2,
     }
-    world:robot{ x = rx, y = ry, heading = rng:angle(), body = b.body, eyes = b.eyes }
+    world:robot{ x = rx, y = ry, heading = rng:angle(), body = b.body, eyes = b.eyes, noise = body.noise_of(p) }
     for i = 1, p.objects do
       local t = types[i]
       local shape = shapes.get(t)

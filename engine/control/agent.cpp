@@ -76,7 +76,8 @@ void Agent::reset(const WorldSpec& spec) {
 
 void Agent::refresh_objects() {
   const WorldSpec& spec = world_.spec();
-  const Senses& s = world_.senses();
+  // The map's `held` judges the task (sorted_objects): the true touch, never the noisy one.
+  const Senses& s = world_.true_senses();
   for (size_t i = 0; i < objects_.size(); ++i) {
     MapObject& o = objects_[i];
     const Pose pose = world_.object_pose(int(i));

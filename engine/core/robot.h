@@ -85,6 +85,18 @@ constexpr int kMinPixels = 16, kMaxPixels = 512;
 // The field of view an eye may have (rad): a pinhole sees less than pi.
 constexpr double kMinFov = 0.1, kMaxFov = 2.8;
 
+// Sensor and actuator noise (world:robot{ noise = ... }): standard deviations of independent
+// Gaussian noise drawn every control tick from a stream seeded by the world's seed alone. Zero
+// draws nothing: a world without noise senses and moves exactly as before.
+struct NoiseParams {
+  double image = 0.0;   // colour levels (0-255) added to each channel of each pixel of both eyes
+  double joints = 0.0;  // rad on each joint angle the controllers read (eye pans, shoulders, elbows)
+  double base = 0.0;    // m on the base position and the odometer, rad on its heading
+  double touch = 0.0;   // a fraction of each contact force (normal and friction)
+  double effort = 0.0;  // a fraction of each commanded force, torque and servo rate
+  bool any() const { return image > 0.0 || joints > 0.0 || base > 0.0 || touch > 0.0 || effort > 0.0; }
+};
+
 // One eye's pinhole model, derived from EyeParams: pixel u looks along atan2(u - principal, focal)
 // in the eye frame, and the image's edges (u = -0.5 and pixels - 0.5) lie at -+half_fov.
 struct Camera {

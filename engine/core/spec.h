@@ -107,6 +107,7 @@ struct WorldSpec {
   RobotStart robot;
   RobotParams body;  // Roger's body (world:robot{ body = ... }); the default is the paper's Roger
   EyeParams eyes;    // its eyes (world:robot{ eyes = ... })
+  NoiseParams noise; // its senses' and motors' noise (world:robot{ noise = ... }); none by default
   std::vector<ObjectSpec> objects;
   std::vector<ObstacleSpec> obstacles;
   std::vector<GoalRegion> goals;

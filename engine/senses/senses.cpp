@@ -208,6 +208,7 @@ void paint_eye(const Camera& camera, const Vec2& eye, double eye_heading,
   fill_pixels(image, 0, pixels, wall_colour, SurfaceKind::kWall, -1);
   std::fill_n(image.stimulus.begin(), pixels, 0.0f);
   image.stimulus_colour = stimulus_colour;
+  image.noisy = false;
   image.stimulus_first = int16_t(pixels), image.stimulus_last = -1;  // nothing painted yet
 
   for (const Extent& e : extents) {
@@ -295,8 +296,10 @@ inline bool on_object(const EyeImage& image, int k, int object) {
   return image.index[size_t(k)] == object && image.kind[size_t(k)] == SurfaceKind::kObject;
 }
 
-// Whether pixel k's centre lies on a surface of the stimulus colour (whose index it carries).
+// Whether pixel k's centre lies on a surface of the stimulus colour (whose index it carries). In a
+// noisy image no colour equals the stimulus's: a pixel reads as it when its coverage does.
 inline bool on_stimulus(const EyeImage& image, int k) {
+  if (image.noisy) return image.stimulus[size_t(k)] >= 0.5f && image.kind[size_t(k)] == SurfaceKind::kObject;
   return image.colour[size_t(k)] == image.stimulus_colour && image.kind[size_t(k)] != SurfaceKind::kWall;
 }
 

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/shape.h"
+#include "senses/noise.h"
 #include "sim/world_internal.h"
 
 namespace roger {
@@ -97,29 +98,32 @@ void World::step_physics() {
   Impl& m = *impl_;
   const RobotParams& r = spec_.body;
   const double dt = params_.dt;
-  const b2Vec2 mid_fwd = m.drive_base(r, setpoint_, dt);
-  m.drive_eyes(r, setpoint_, dt);
-  m.drive_arms(r, setpoint_);
+  // Effort noise scales each command of this tick (none: no factor, not a factor of 1).
+  const double* gain = spec_.noise.effort > 0.0 ? effort_.data() : nullptr;
+  const b2Vec2 mid_fwd = m.drive_base(r, setpoint_, dt, gain);
+  m.drive_eyes(r, setpoint_, dt, gain);
+  m.drive_arms(r, setpoint_, gain);
   m.apply_pushes();
   m.advance(params_, mid_fwd);
   time_ += dt;
   m.accumulate_touch();
 }
 
-b2Vec2 World::Impl::drive_base(const RobotParams& r, const DofVector& setpoint, double dt) {
+b2Vec2 World::Impl::drive_base(const RobotParams& r, const DofVector& setpoint, double dt, const double* gain) {
   // Base servos: position error -> desired rate -> force, both clamped.
   const b2Vec2 fwd = base->GetWorldVector(b2Vec2(1, 0));
   const double v = b2Dot(base->GetLinearVelocity(), fwd);
   const double v_des = clamp_abs(r.base_forward.kp * (setpoint[kBaseForward] - odometer),
                                  r.base_forward.max_rate);
-  const double force = clamp_abs(r.base_forward.kv * (v_des - v), r.base_forward.max_effort);
+  double force = clamp_abs(r.base_forward.kv * (v_des - v), r.base_forward.max_effort);
+  if (gain) force *= gain[kBaseForward];
   base->ApplyForceToCenter(float(force) * fwd, true);
   // The heading setpoint is in the state's convention (wrapped); Box2D's angle winds on. Their
   // difference, wrapped, is the turn left to make, whatever the turns made so far.
   const double heading_error = wrap_angle(setpoint[kBaseHeading] - base->GetAngle());
   const double w_des = clamp_abs(r.base_heading.kp * heading_error, r.base_heading.max_rate);
-  const double torque =
-      clamp_abs(r.base_heading.kv * (w_des - base->GetAngularVelocity()), r.base_heading.max_effort);
+  double torque = clamp_abs(r.base_heading.kv * (w_des - base->GetAngularVelocity()), r.base_heading.max_effort);
+  if (gain) torque *= gain[kBaseHeading];
   base->ApplyTorque(float(torque), true);
   // Over a step a wheeled base moves along the chord of its arc, which lies along the mid-step
   // heading: point the rail there (predicted from the current turn rate).
@@ -128,23 +132,26 @@ b2Vec2 World::Impl::drive_base(const RobotParams& r, const DofVector& setpoint, 
   return b2Vec2(std::cos(mid_heading), std::sin(mid_heading));
 }
 
-void World::Impl::drive_eyes(const RobotParams& r, const DofVector& setpoint, double dt) {
+void World::Impl::drive_eyes(const RobotParams& r, const DofVector& setpoint, double dt, const double* gain) {
   // Eyes: light, first-order rate servos.
   for (int e = 0; e < 2; ++e) {
-    const double rate = clamp_abs(r.eye.kp * (setpoint[kLeftEye + e] - eye[e]), r.eye.max_rate);
+    double rate = clamp_abs(r.eye.kp * (setpoint[kLeftEye + e] - eye[e]), r.eye.max_rate);
+    if (gain) rate *= gain[kLeftEye + e];
     eye[e] = std::clamp(eye[e] + rate * dt, -r.eye_pan_limit, r.eye_pan_limit);
     eye_rate[e] = rate;
   }
 }
 
-void World::Impl::drive_arms(const RobotParams& r, const DofVector& setpoint) {
+void World::Impl::drive_arms(const RobotParams& r, const DofVector& setpoint, const double* gain) {
   // Arms: Box2D motors are implicit velocity servos with a torque limit: stable at any gain.
   for (int side = 0; side < 2; ++side)
     for (int l = 0; l < 2; ++l) {
       const ServoParams& sp = l == 0 ? r.shoulder : r.elbow;
       b2RevoluteJoint* j = joint[side][l];
       const int dof = kLeftShoulder + 2 * side + l;
-      j->SetMotorSpeed(float(clamp_abs(sp.kp * (setpoint[dof] - j->GetJointAngle()), sp.max_rate)));
+      double speed = clamp_abs(sp.kp * (setpoint[dof] - j->GetJointAngle()), sp.max_rate);
+      if (gain) speed *= gain[dof];
+      j->SetMotorSpeed(float(speed));
     }
 }
 
@@ -196,6 +203,7 @@ void World::Impl::accumulate_touch() {
 }
 
 void World::tick() {
+  draw_effort_noise(effort_, spec_.noise.effort, noise_rng_);
   for (int i = 0; i < params_.substeps; ++i) step_physics();
   sense();
 }
@@ -248,6 +256,24 @@ int World::stimulus_objects() const {
   return n;
 }
 
+int World::kept_object(const Senses& s, bool several) {
+  return !several ? -1 : s.stimulus[kLeft].seen ? s.stimulus[kLeft].index : s.stimulus[kRight].index;
+}
+
+void World::fix_stereo(Senses& s, const Vec2 eye_pos[2], const double eye_heading[2], bool several) {
+  // ...and, with several, for no other: were it to take another one (the left's hidden from it),
+  // each eye would centre its own object and search would call that found, with no stereo fix to
+  // approach. Seen by one eye only, search steps aside instead.
+  if (several && s.stimulus[kLeft].seen && s.stimulus[kRight].seen &&
+      s.stimulus[kRight].index != s.stimulus[kLeft].index)
+    s.stimulus[kRight] = Sighting{};
+  // Stereo pairs the same object in both eyes.
+  s.stereo_valid = s.stimulus[0].seen && s.stimulus[1].seen && s.stimulus[0].index == s.stimulus[1].index &&
+                   triangulate(eye_pos[0], eye_heading[0] + s.stimulus[0].bearing, eye_pos[1],
+                               eye_heading[1] + s.stimulus[1].bearing, s.stimulus_world);
+  if (s.stereo_valid) s.stimulus_base = to_local(s.base, s.stimulus_world);
+}
+
 void World::sense() {
   Impl& m = *impl_;
   const RobotParams& r = spec_.body;
@@ -266,7 +292,7 @@ void World::sense() {
   // downstream (the estimate, the planner's goal, which object is no obstacle) would flip with it.
   // With one, nothing changes: its runs are all of the same object.
   const bool several = stimulus_objects() > 1;
-  const int kept = !several ? -1 : s.stimulus[kLeft].seen ? s.stimulus[kLeft].index : s.stimulus[kRight].index;
+  const int kept = kept_object(s, several);
   for (int e = 0; e < 2; ++e) {
     eye_pos[e] = to_world(s.base, Vec2(0.0, e == kLeft ? r.eye_y : -r.eye_y));
     eye_heading[e] = s.base.theta + m.eye[e];
@@ -275,18 +301,13 @@ void World::sense() {
     // The right eye looks first for the left eye's object.
     s.stimulus[e] = detect_stimulus(s.image[e], e == kRight ? s.stimulus[kLeft].index : kept);
   }
-  // ...and, with several, for no other: were it to take another one (the left's hidden from it),
-  // each eye would centre its own object and search would call that found, with no stereo fix to
-  // approach. Seen by one eye only, search steps aside instead.
-  if (several && s.stimulus[kLeft].seen && s.stimulus[kRight].seen &&
-      s.stimulus[kRight].index != s.stimulus[kLeft].index)
-    s.stimulus[kRight] = Sighting{};
-  // Stereo pairs the same object in both eyes.
-  s.stereo_valid = s.stimulus[0].seen && s.stimulus[1].seen && s.stimulus[0].index == s.stimulus[1].index &&
-                   triangulate(eye_pos[0], eye_heading[0] + s.stimulus[0].bearing, eye_pos[1],
-                               eye_heading[1] + s.stimulus[1].bearing, s.stimulus_world);
-  if (s.stereo_valid) s.stimulus_base = to_local(s.base, s.stimulus_world);
+  fix_stereo(s, eye_pos, eye_heading, several);
+  sense_touch();
+  if (noisy_on_) sense_noise(several);
+}
 
+void World::sense_touch() {
+  Impl& m = *impl_;
   const double tick_time = params_.dt * params_.substeps;
   for (int t = 0; t < kTactileCount; ++t) {
     TouchAccumulator& acc = m.touch[t];
@@ -308,9 +329,35 @@ void World::sense() {
         out.point = best->last_point;
       }
     }
-    s.touch[t] = out;
+    senses_.touch[t] = out;
     acc.clear();
   }
+}
+
+void World::sense_noise(bool several) {
+  const NoiseParams& n = spec_.noise;
+  const RobotParams& r = spec_.body;
+  Senses& z = noisy_;
+  // What the noisy eyes saw last tick decides which object they keep to, and a stereo fix that
+  // fails keeps the last one they made (as the true senses do).
+  const int kept = kept_object(z, several);
+  const Vec2 last_world = z.stimulus_world, last_base = z.stimulus_base;
+  z = senses_;
+  z.stimulus_world = last_world, z.stimulus_base = last_base;
+  add_pose_noise(z, n, noise_rng_);
+  Vec2 eye_pos[2];
+  double eye_heading[2];
+  for (int e = 0; e < 2; ++e) {
+    // Where Roger believes its eyes are, and where they look: the noisy base and pans.
+    eye_pos[e] = to_world(z.base, Vec2(0.0, e == kLeft ? r.eye_y : -r.eye_y));
+    eye_heading[e] = z.base.theta + z.q[kLeftEye + e];
+    if (n.image > 0.0) {
+      add_image_noise(z.image[e], n.image, noise_rng_);
+      z.stimulus[e] = detect_stimulus(z.image[e], e == kRight ? z.stimulus[kLeft].index : kept);
+    }
+  }
+  fix_stereo(z, eye_pos, eye_heading, several);
+  add_touch_noise(z, n.touch, noise_rng_);
 }
 
 Pose World::base_pose() const {
@@ -361,7 +408,7 @@ Frame World::frame() const {
     f.eye_heading[side] = f.base.theta + impl_->eye[side];
   }
   for (size_t i = 0; i < spec_.objects.size(); ++i) f.objects.push_back(object_pose(int(i)));
-  f.senses = senses_;
+  f.senses = senses();
   return f;
 }
 

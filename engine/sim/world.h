@@ -10,6 +10,7 @@
 #include <memory>
 #include <vector>
 
+#include "core/rng.h"
 #include "core/robot.h"
 #include "senses/senses.h"
 #include "core/spec.h"
@@ -92,7 +93,11 @@ class World {
   void set_attention(const Attention& attention) { attention_ = attention; }
   const Attention& attention() const { return attention_; }
 
-  const Senses& senses() const { return senses_; }
+  // What the controllers perceive: the senses with the spec's noise (world:robot{ noise = ... }),
+  // the true senses when it has none.
+  const Senses& senses() const { return noisy_on_ ? noisy_ : senses_; }
+  // The true senses, without noise: what judges of success read (who holds what).
+  const Senses& true_senses() const { return senses_; }
   const WorldSpec& spec() const { return spec_; }
   const WorldParams& params() const { return params_; }
   // Roger's body and eyes in this world (the spec's), and the eyes' camera model.
@@ -125,6 +130,15 @@ class World {
  private:
   struct Impl;
   void update_surfaces();
+  // The object both eyes keep to this tick, from the last tick's sightings in s (-1: the larger).
+  static int kept_object(const Senses& s, bool several);
+  // Pairs the two eyes' sightings (several: the right eye keeps to the left's object) and
+  // triangulates the stimulus from eyes at these positions and headings.
+  static void fix_stereo(Senses& s, const Vec2 eye_pos[2], const double eye_heading[2], bool several);
+  // The touch sensors' records of the last tick, into senses_.
+  void sense_touch();
+  // The noisy senses (noisy_) from the true ones, with the spec's noise.
+  void sense_noise(bool several);
   // Whether object i, at `pose`, lies in the attention's ignored region and Roger has let go of it.
   bool put_away(int i, const Pose& pose) const;
   // How many objects have the colour the eyes attend to (put away or not).
@@ -132,6 +146,10 @@ class World {
   WorldParams params_;
   WorldSpec spec_;
   Senses senses_;
+  Senses noisy_;            // senses_ with the spec's noise (only when it has some)
+  bool noisy_on_ = false;   // spec_.noise.any()
+  Rng noise_rng_;           // the noise's stream, seeded by the spec's seed alone
+  DofVector effort_ = DofVector::Ones();  // this tick's effort noise factors, one per degree of freedom
   Camera camera_;
   DofVector locked_at_ = DofVector::Zero();  // where each locked joint is held (its start angle)
   Attention attention_;

@@ -158,6 +158,12 @@ void World::reset(const WorldSpec& spec_in) {
   locked_at_ = setpoint_;
   if (r.locked) m.lock_joints(r);
   senses_ = Senses{};
+  noisy_ = Senses{};
+  noisy_on_ = spec_.noise.any();
+  // The noise's own stream, a function of the world's seed alone (not of the episode's order,
+  // the thread or --jobs).
+  noise_rng_.reseed(Rng::mix(spec_.seed, 0x6E6F697365ull));  // "noise"
+  effort_ = DofVector::Ones();
   sense();
 }
 

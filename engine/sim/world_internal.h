@@ -103,12 +103,12 @@ struct World::Impl {
   // simulator's hot loop, and a call per stage would cost about half a per cent of it.)
 
   // The base's forward and heading servos, and the rail turned to the mid-step heading; returns
-  // that heading's direction.
-  inline b2Vec2 drive_base(const RobotParams& r, const DofVector& setpoint, double dt);
+  // that heading's direction. `gain` (null: none) scales each degree of freedom's command.
+  inline b2Vec2 drive_base(const RobotParams& r, const DofVector& setpoint, double dt, const double* gain);
   // The eyes' first-order rate servos.
-  inline void drive_eyes(const RobotParams& r, const DofVector& setpoint, double dt);
+  inline void drive_eyes(const RobotParams& r, const DofVector& setpoint, double dt, const double* gain);
   // The arm joints' motor speeds.
-  inline void drive_arms(const RobotParams& r, const DofVector& setpoint);
+  inline void drive_arms(const RobotParams& r, const DofVector& setpoint, const double* gain);
   // The forces push_object asked for, applied once.
   inline void apply_pushes();
   // Box2D's step, the odometer along the mid-step heading and the wheels' velocity carried on.

@@ -27,7 +27,7 @@ void push_world(lua_State* L, const World& world) {
     lua_pushnumber(L, pose.y);
     lua_setfield(L, -2, "y");
     bool held = false;
-    for (const Touch& t : world.senses().touch) held |= t.contact && t.kind == SurfaceKind::kObject && t.index == int(i);
+    for (const Touch& t : world.true_senses().touch) held |= t.contact && t.kind == SurfaceKind::kObject && t.index == int(i);
     lua_pushboolean(L, held);
     lua_setfield(L, -2, "held");
     for (size_t g = 0; g < spec.goals.size(); ++g) {

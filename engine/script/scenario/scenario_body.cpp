@@ -138,6 +138,22 @@ EyeParams read_eyes(const LuaFields& parent) {
   return e;
 }
 
+NoiseParams read_noise(const LuaFields& parent) {
+  NoiseParams n;
+  lua_State* L = parent.state();
+  if (parent.push("noise") == LUA_TNIL) return lua_pop(L, 1), n;
+  const int t = lua_gettop(L);
+  if (!lua_istable(L, t)) parent.wrong_type("noise", "a table {image = ..., joints = ..., base = ..., touch = ..., effort = ...}");
+  LuaFields f(L, t, parent.context() + ": noise", {"image", "joints", "base", "touch", "effort"});
+  n.image = ranged(f, "image", n.image, 0.0, 255.0, "colour levels");
+  n.joints = ranged(f, "joints", n.joints, 0.0, 1.0, "rad");
+  n.base = ranged(f, "base", n.base, 0.0, 1.0, "m and rad");
+  n.touch = ranged(f, "touch", n.touch, 0.0, 5.0, "(a fraction of the force)");
+  n.effort = ranged(f, "effort", n.effort, 0.0, 5.0, "(a fraction of the command)");
+  lua_pop(L, 1);
+  return n;
+}
+
 void check_body(const LuaFields& f, const RobotParams& body, const EyeParams& eyes) {
   const auto problems = body_problems(body, eyes);
   if (!problems.empty()) f.fail("Roger's body cannot be built: " + join(problems, "; "));

@@ -57,6 +57,8 @@ struct WorldBuilder {
 // raises "context: body: field ..." with the range and the known fields.
 RobotParams read_body(const LuaFields& parent);
 EyeParams read_eyes(const LuaFields& parent);
+// world:robot's noise = {image, joints, base, touch, effort} (sigmas, each range-checked); none if absent.
+NoiseParams read_noise(const LuaFields& parent);
 // Raises when the body cannot be built (core/body.h, body_problems), naming every problem.
 void check_body(const LuaFields& f, const RobotParams& body, const EyeParams& eyes);
 // roger.body_metrics{ body = ..., eyes = ... }.

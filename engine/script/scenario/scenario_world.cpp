@@ -121,18 +121,19 @@ int l_world_bounds(lua_State* L) {
 }
 
 // world:robot{x=, y=, heading=, left_shoulder=, left_elbow=, right_shoulder=, right_elbow=,
-//             left_eye=, right_eye=, body=, eyes=}
+//             left_eye=, right_eye=, body=, eyes=, noise=}
 int l_world_robot(lua_State* L) {
   return lua_protect(L, [L]() {
     WorldBuilder& w = world_self(L, "world:robot");
     LuaFields f(L, 2, "world:robot",
                 {"x", "y", "heading", "left_shoulder", "left_elbow", "right_shoulder", "right_elbow",
-                 "left_eye", "right_eye", "body", "eyes"});
+                 "left_eye", "right_eye", "body", "eyes", "noise"});
     if (w.robot_set) f.fail("Roger is already placed (call world:robot once)");
     fix_arena(w);
     const RobotParams p = read_body(f);
     const EyeParams eyes = read_eyes(f);
     check_body(f, p, eyes);
+    const NoiseParams noise = read_noise(f);
     // The arms start folded as this body folds them, unless the script says otherwise.
     RobotStart r = folded_start(p);
     r.pose = Pose{f.number("x"), f.number("y"), f.number("heading", 0.0)};
@@ -157,6 +158,7 @@ int l_world_robot(lua_State* L) {
     w.spec.robot = r;
     w.spec.body = p;
     w.spec.eyes = eyes;
+    w.spec.noise = noise;
     w.robot_set = true;
     return 0;
   });
