@@ -13,7 +13,7 @@
 -- --set ...` (docs/results.md gives the commands and the seeds).
 --
 -- 20 trials per setting, not the paper's 50: the 8 bodies' Phi_SG runs and 32 evaluations of 50
--- episodes per policy take about 5 minutes on 2 cores this way.
+-- episodes per policy take 3 minutes on 2 cores (7 on a busy machine) this way.
 local bodies = require("lib.bodies")
 
 local runs = {
