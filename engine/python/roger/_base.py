@@ -21,9 +21,12 @@ class _Seeded:
 
     @property
     def np_random(self):
-        """The learner's random generator, seeded by reset(seed=...); unseeded, from the OS."""
+        """The learner's random generator, seeded by reset(seed=...) (made when first used);
+        unseeded, from the OS."""
         if self._np_random is None:
-            self._seed_np_random(None)
+            if self._np_random_seed is None:
+                self._np_random_seed = int(np.random.SeedSequence().entropy)
+            self._np_random = np.random.Generator(np.random.PCG64(np.random.SeedSequence(self._np_random_seed)))
         return self._np_random
 
     @np_random.setter
@@ -32,14 +35,11 @@ class _Seeded:
 
     @property
     def np_random_seed(self):
-        if self._np_random_seed is None:
-            self._seed_np_random(None)
+        self.np_random
         return self._np_random_seed
 
     def _seed_np_random(self, seed):
-        if seed is None:
-            seed = int(np.random.SeedSequence().entropy)
-        self._np_random, self._np_random_seed = np.random.Generator(np.random.PCG64(np.random.SeedSequence(seed))), seed
+        self._np_random, self._np_random_seed = None, seed
 
     @property
     def unwrapped(self):
