@@ -26,7 +26,7 @@ for e in range(episodes):
         a = int(rng.integers(n)) if rng.random() < epsilon else int(np.argmax(q[s]))
         obs, reward, terminated, truncated, info = env.step(a)   # a runs until the state changes
         done = terminated or truncated
-        target = reward if done else reward + discount * q[roger.state_index(obs)].max()
+        target = reward if terminated else reward + discount * q[roger.state_index(obs)].max()
         q[s, a] += alpha * (target - q[s, a])
 
 # The greedy policy on held-out worlds (the stage's checkpoint seeds).
