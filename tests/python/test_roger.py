@@ -602,7 +602,9 @@ class GymnasiumJudges(unittest.TestCase):
     def test_vector_env(self):
         vec = roger.make_vec(EXAMPLE, "Look", "Gaze", num_envs=4, threads=2)
         self.assertIsInstance(vec, self.gym.vector.VectorEnv)
-        self.assertIs(vec.metadata["autoreset_mode"], self.gym.vector.AutoresetMode.NEXT_STEP)
+        # gymnasium 1.0 names no modes (it autoresets at the next step only): then the package's enum.
+        modes = getattr(self.gym.vector, "AutoresetMode", roger.AutoresetMode)
+        self.assertIs(vec.metadata["autoreset_mode"], modes.NEXT_STEP)
         stats = self.gym.wrappers.vector.RecordEpisodeStatistics(vec)
         stats.reset(seed=5)
         stats.action_space.seed(5)

@@ -27,8 +27,11 @@ from ._roger import RogerError, ScriptError, mix, state_index
 try:  # gymnasium is optional: its base classes and spaces when present, the same contracts otherwise
     import gymnasium as _gym
     from gymnasium import spaces
-    from gymnasium.vector import AutoresetMode
     from gymnasium.vector.utils import batch_space as _batch_space
+    try:
+        from gymnasium.vector import AutoresetMode
+    except ImportError:  # gymnasium 1.0 names no modes: it autoresets at the next step only
+        from ._base import AutoresetMode
     _EnvBase, _VecBase = _gym.Env, _gym.vector.VectorEnv
 except ImportError:  # exercised where gymnasium is absent
     _gym = None
