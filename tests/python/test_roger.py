@@ -292,6 +292,10 @@ class GymnasiumApi(unittest.TestCase):
             first = env.np_random.integers(1 << 30, size=4)
             env.reset(seed=11)
             np.testing.assert_array_equal(env.np_random.integers(1 << 30, size=4), first)
+            env.reset()  # an unseeded reset does not seed it again: it runs on, as Gymnasium's
+            reference = np.random.default_rng(11)  # = gymnasium.utils.seeding.np_random(11)
+            np.testing.assert_array_equal(reference.integers(1 << 30, size=4), first)
+            np.testing.assert_array_equal(env.np_random.integers(1 << 30, size=4), reference.integers(1 << 30, size=4))
             env.reset(seed=12)
             self.assertFalse(np.array_equal(env.np_random.integers(1 << 30, size=4), first))
         self.assertRaisesRegex(roger.RogerError, "closed", env.step, 0)  # the with block closed it

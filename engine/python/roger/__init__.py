@@ -151,9 +151,10 @@ class Env(_EnvBase):
         """Starts the episode in the world of `seed` (roger eval's --seed); without one, the seed
         after the last episode's (0 first). Seeds np_random as Gymnasium does. Returns (observation, info)."""
         env = self._open("reset")
-        seed = self._next_seed if seed is None else _seed(seed, "reset")
+        given = None if seed is None else _seed(seed, "reset")
         _options(options, "reset")
-        super().reset(seed=seed)
+        super().reset(seed=given)  # an unseeded reset leaves np_random running on
+        seed = self._next_seed if given is None else given
         state, running = env.reset(seed)
         self._has_world = True
         self._next_seed = (seed + 1) % 2**64
