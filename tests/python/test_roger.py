@@ -333,19 +333,56 @@ class GymnasiumApi(unittest.TestCase):
         png = os.path.join(WORK, "render-9.png")
         subprocess.run([ROGER, "render", "scenarios/unobstructed.lua", "--seed", "9", "--width", "400", "--out", png],
                        check=True, capture_output=True)
-        frame = env.render()
-        self.assertEqual(frame.shape[:2], png_size(png))
+        np.testing.assert_array_equal(env.render(), read_png(png))
 
     def test_tick_mode_render_fps(self):
         env = roger.make(EXAMPLE, "Look", "Gaze", mode="tick")
         self.assertEqual(env.metadata["render_fps"], round(1 / env.stage_info["tick_seconds"]))
 
 
-def png_size(path):
-    """(height, width) of a PNG file, from its IHDR chunk."""
+def read_png(path):
+    """An 8-bit RGB or RGBA PNG (what cairo writes) as an H x W x 3 uint8 array, with zlib alone."""
+    import struct
+    import zlib
     with open(path, "rb") as f:
-        head = f.read(24)
-    return int.from_bytes(head[20:24], "big"), int.from_bytes(head[16:20], "big")
+        data = f.read()
+    pos, idat, header = 8, b"", None
+    while pos < len(data):
+        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + length]
+        if kind == b"IHDR":
+            header = struct.unpack(">IIBBBBB", body)
+        elif kind == b"IDAT":
+            idat += body
+        pos += 12 + length
+    width, height, depth, colour = header[:4]
+    assert depth == 8 and colour in (2, 6), header
+    channels = 3 if colour == 2 else 4
+    raw, stride = zlib.decompress(idat), width * channels
+    rows, prev = [], np.zeros(stride, np.int32)
+    for y in range(height):
+        kind, line = raw[y * (stride + 1)], np.frombuffer(raw, np.uint8, stride, y * (stride + 1) + 1).astype(np.int32)
+        if kind == 0:
+            cur = line
+        elif kind == 2:
+            cur = (line + prev) & 255
+        else:  # Sub, Average, Paeth: left-neighbour filters, one byte at a time
+            cur = np.zeros(stride, np.int32)
+            for i in range(stride):
+                a = cur[i - channels] if i >= channels else 0
+                b, c = prev[i], (prev[i - channels] if i >= channels else 0)
+                if kind == 1:
+                    pred = a
+                elif kind == 3:
+                    pred = (a + b) // 2
+                else:
+                    p = a + b - c
+                    pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                    pred = a if pa <= pb and pa <= pc else (b if pb <= pc else c)
+                cur[i] = (line[i] + pred) & 255
+        rows.append(cur)
+        prev = cur
+    return np.array(rows, np.uint8).reshape(height, width, channels)[:, :, :3]
 
 
 class VectorApi(unittest.TestCase):
