@@ -46,7 +46,7 @@ def separate_run(num_envs, steps, seed):
     rng = np.random.default_rng(seed)
     for i, e in enumerate(envs):
         e.reset(seed=seed + i)
-    started = [1] * num_envs
+    started, ended = [1] * num_envs, [False] * num_envs
     actions = [rng.integers(0, len(envs[0].actions), size=num_envs) for _ in range(steps)]
     bound_wall = 0.0
     t0 = time.perf_counter()
@@ -54,10 +54,13 @@ def separate_run(num_envs, steps, seed):
         job_times = []
         for i, e in enumerate(envs):
             tj = time.perf_counter()
-            _, _, term, trunc, _ = e.step(int(a[i]))
-            if term or trunc:
+            if ended[i]:  # make_vec's NEXT_STEP autoreset: the step after an end begins the next episode
                 e.reset(seed=seed + i + started[i] * num_envs)
                 started[i] += 1
+                ended[i] = False
+            else:
+                _, _, term, trunc, _ = e.step(int(a[i]))
+                ended[i] = term or trunc
             job_times.append(time.perf_counter() - tj)
         bound_wall += two_thread_wall(job_times)
     wall = time.perf_counter() - t0

@@ -125,11 +125,11 @@ def run_episode(env, seed, act, on_step=None):
         a = act(obs)
         decisions.append((tuple(int(v) for v in obs), a))
         obs2, reward, terminated, truncated, info = env.step(a)
-        if on_step:
-            on_step(obs, a, reward, obs2, terminated or truncated)
+        if on_step:  # no bootstrap beyond a terminal state (the stage's time-out is one); a truncation bootstraps
+            on_step(obs, a, reward, obs2, terminated)
         obs = obs2
         if terminated or truncated:
-            return terminated, info["sim_seconds"], decisions
+            return info.get("success", False), info["sim_seconds"], decisions
 
 
 class EvalCache:

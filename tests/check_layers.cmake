@@ -24,7 +24,7 @@ set(script_layer_skills 2)
 set(script_layer_curriculum 2)
 set(script_layer_batch 3)
 set(script_layer_authoring 4)
-set(layer_python 9)  # the Python module, on batch; nothing includes it
+set(layer_python 9)  # the Python module, on batch and view; nothing includes it
 # Which module alone may include a library's headers.
 set(owner_box2d "sim")    # <box2d/...>
 set(owner_lua "script")   # <lua.hpp>, <lua.h>, <lauxlib.h>, <lualib.h>

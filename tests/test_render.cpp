@@ -363,3 +363,43 @@ TEST_CASE("a titled picture draws as PNG and SVG, inside its own folder") {
   CHECK(fs::file_size(dir.file("sample.png")) > 1000);
   CHECK(fs::file_size(dir.file("sample.svg")) > 1000);
 }
+
+TEST_CASE("render_rgb is the PNG's picture, in memory, as rows of RGB bytes") {
+  TempDir dir;
+  const WorldSpec spec = make_spec();
+  const Frame frame = make_frame();
+  RenderOptions options;
+  options.width_px = 400;
+  const fs::path file = dir.path / "frame.png";
+  render_frame(spec, frame, file.string(), options);
+  const RgbPicture rgb = render_rgb(spec, frame, options);
+  const PictureSize size = picture_size(spec, options);
+  REQUIRE(rgb.width == size.width);
+  REQUIRE(rgb.height == size.height);
+  REQUIRE(rgb.pixels.size() == size_t(rgb.width) * size_t(rgb.height) * 3);
+
+  cairo_surface_t* png = cairo_image_surface_create_from_png(file.c_str());
+  REQUIRE(cairo_surface_status(png) == CAIRO_STATUS_SUCCESS);
+  REQUIRE(cairo_image_surface_get_width(png) == rgb.width);
+  REQUIRE(cairo_image_surface_get_height(png) == rgb.height);
+  int differing = 0;
+  for (int y = 0; y < rgb.height; ++y) {
+    const unsigned char* row = cairo_image_surface_get_data(png) + y * cairo_image_surface_get_stride(png);
+    for (int x = 0; x < rgb.width; ++x) {
+      const uint32_t v = reinterpret_cast<const uint32_t*>(row)[x];
+      const uint8_t* q = &rgb.pixels[(size_t(y) * size_t(rgb.width) + size_t(x)) * 3];
+      differing += q[0] != ((v >> 16) & 0xff) || q[1] != ((v >> 8) & 0xff) || q[2] != (v & 0xff);
+    }
+  }
+  cairo_surface_destroy(png);
+  CHECK(differing == 0);
+  // The ball is red where the picture puts it.
+  const Vec2 at = picture_point(spec, options, rgb.width, rgb.height, kBall);
+  const uint8_t* ball = &rgb.pixels[(size_t(std::lround(at.y())) * size_t(rgb.width) + size_t(std::lround(at.x()))) * 3];
+  CHECK(int(ball[0]) > 170);
+  CHECK(int(ball[1]) < 80);
+
+  RenderOptions tiny = options;
+  tiny.width_px = 10;
+  CHECK_THROWS_AS(render_rgb(spec, frame, tiny), Error);
+}

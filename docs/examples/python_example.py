@@ -26,7 +26,7 @@ for e in range(episodes):
         a = int(rng.integers(n)) if rng.random() < epsilon else int(np.argmax(q[s]))
         obs, reward, terminated, truncated, info = env.step(a)   # a runs until the state changes
         done = terminated or truncated
-        target = reward if done else reward + discount * q[roger.state_index(obs)].max()
+        target = reward if terminated else reward + discount * q[roger.state_index(obs)].max()
         q[s, a] += alpha * (target - q[s, a])
 
 # The greedy policy on held-out worlds (the stage's checkpoint seeds).
@@ -37,16 +37,22 @@ for i in range(20):
     while not done:
         obs, reward, terminated, truncated, info = env.step(int(np.argmax(q[roger.state_index(obs)])))
         done = terminated or truncated
-    successes += terminated
+    successes += info["success"]           # terminated: the goal, or the stage's time-out (info["time_out"])
     sim_s += info["sim_seconds"]
 print(f"greedy policy: {successes}/20 episodes reached the goal, {sim_s / 20:.2f} simulated s each")
 
-# Many worlds at once: C++ threads, numpy arrays, finished worlds reset automatically.
+# Many worlds at once: C++ threads, numpy arrays, a finished world begins its next episode at its
+# next step (Gymnasium's NEXT_STEP autoreset).
 vec = roger.make_vec("docs/examples/curriculum_example.lua", "Look", "Gaze", num_envs=4, threads=2)
 obs, info = vec.reset(seed=0)
-ended = 0
+ended, goals = 0, 0
 for _ in range(10):
     actions = np.array([np.argmax(q[roger.state_index(o)]) for o in obs])
     obs, rewards, terminated, truncated, info = vec.step(actions)
-    ended += int(info["_episode"].sum())
-print(f"{ended} episodes ended in 10 steps of {vec.num_envs} worlds")
+    ended += int(np.count_nonzero(terminated | truncated))
+    goals += int(np.count_nonzero(info["success"] & info["_success"]))
+print(f"{ended} episodes ended in 10 steps of {vec.num_envs} worlds, {goals} at the goal")
+
+# What the run must show (the tests run this file): the learner learned, and the batch ran.
+assert successes >= 15, f"the greedy policy reached the goal in {successes} of 20 episodes"
+assert 0 < goals <= ended, (goals, ended)

@@ -129,8 +129,8 @@ EnvironmentStep StageEnvironment::step(int action) {
   EnvironmentStep r;
   r.reward = m.driver.transition_reward();
   if (m.ended) {
-    r.terminated = m.driver.episode().success;
-    r.truncated = !r.terminated;
+    r.terminated = true;
+    r.time_out = !m.driver.episode().success;
   }
   return r;
 }
@@ -144,19 +144,14 @@ const Agent& StageEnvironment::agent() const { return impl_->agent; }
 
 // ---- VecEnvironment ----
 
-VecEnvironment::VecEnvironment(const EnvironmentOptions& options, int n, int threads) {
+VecEnvironment::VecEnvironment(const EnvironmentOptions& options, int n, int threads, Autoreset autoreset)
+    : autoreset_(autoreset) {
   if (n < 1) throw Error("make_vec: num_envs must be at least 1, got " + std::to_string(n));
   if (threads < 1) throw Error("make_vec: threads must be at least 1, got " + std::to_string(threads));
   threads_ = std::min(threads, n);
   for (int i = 0; i < n; ++i) envs_.push_back(std::make_unique<StageEnvironment>(options));
-  episodes_started_.assign(size_t(n), 0);
-  results_.resize(size_t(n));
-  ended_.resize(size_t(n));
-  final_.resize(size_t(n));
-  final_sim_s_.resize(size_t(n));
-  final_reward_.resize(size_t(n));
-  final_seed_.resize(size_t(n));
-  final_ticks_.resize(size_t(n));
+  slots_.resize(size_t(n));
+  for (int i = 0; i < n; ++i) slots_[size_t(i)].base_seed = uint64_t(i);
   errors_.resize(size_t(n));
   for (int t = 1; t < threads_; ++t) workers_.emplace_back([this] { worker(); });
 }
@@ -170,34 +165,57 @@ VecEnvironment::~VecEnvironment() {
   for (auto& w : workers_) w.join();
 }
 
-// Environment i's next episode: its world seed follows from i and how many it has begun.
-void VecEnvironment::job(int i) {
-  StageEnvironment& env = *envs_[size_t(i)];
-  const uint64_t n = envs_.size();
-  try {
-    ended_[size_t(i)] = 0;
-    if (!resetting_) {
-      results_[size_t(i)] = env.step(int(actions_[i]));
-      if (env.running()) return;
-      ended_[size_t(i)] = 1;
-      final_[size_t(i)] = env.state();
-      final_sim_s_[size_t(i)] = env.sim_seconds();
-      final_ticks_[size_t(i)] = env.ticks();
-      final_seed_[size_t(i)] = env.seed();
-      final_reward_[size_t(i)] = env.episode().reward;
-    }
-    // An episode that ends before its first decision (a Lua absorbing function that holds at
-    // once) is skipped: a learner has nothing to decide in it.
-    for (int tries = 0; tries < 1000; ++tries) {
-      env.reset(first_seed_ + uint64_t(i) + episodes_started_[size_t(i)]++ * n);
-      if (env.running()) return;
-    }
-    throw Error("make_vec: 1000 episodes in a row ended before their first decision");
-  } catch (...) {
-    errors_[size_t(i)] = std::current_exception();
+// An episode that ends before its first decision (a Lua absorbing function that holds at once) is
+// skipped: a learner has nothing to decide in it.
+void VecEnvironment::begin(int i) {
+  Slot& s = slots_[size_t(i)];
+  s.needs_reset = false;
+  s.restarted = true;
+  for (int tries = 0; tries < 1000; ++tries) {
+    envs_[size_t(i)]->reset(s.base_seed + s.started++ * envs_.size());
+    if (envs_[size_t(i)]->running()) return;
   }
+  s.needs_reset = true;
+  throw Error("make_vec: 1000 episodes in a row ended before their first decision");
 }
 
+void VecEnvironment::keep_last(int i) {
+  const StageEnvironment& env = *envs_[size_t(i)];
+  Slot& s = slots_[size_t(i)];
+  s.ended = true;
+  s.last_state = env.state();
+  s.last_seed = env.seed();
+  s.last_sim_s = env.sim_seconds();
+  s.last_ticks = env.ticks();
+  s.last_decisions = env.episode().decisions;
+  s.last_reward = env.episode().reward;
+  s.last_success = env.episode().success;
+}
+
+void VecEnvironment::step_one(int i) {
+  Slot& s = slots_[size_t(i)];
+  if (s.needs_reset) return begin(i);  // next-step autoreset (or a fault's successor): the action is ignored
+  s.result = envs_[size_t(i)]->step(int(actions_[i]));
+  if (envs_[size_t(i)]->running()) return;
+  keep_last(i);
+  if (autoreset_ == Autoreset::kSameStep) return begin(i);
+  s.needs_reset = true;
+}
+
+void VecEnvironment::job(int i) {
+  Slot& s = slots_[size_t(i)];
+  s.result = {};
+  s.restarted = s.ended = s.failed = false;
+  try {
+    if (!resetting_) return step_one(i);
+    if (s.reset_requested) begin(i);
+  } catch (...) {
+    errors_[size_t(i)] = std::current_exception();
+    if (!s.ended && !resetting_) keep_last(i);
+    s.failed = true;
+    s.needs_reset = true;
+  }
+}
 void VecEnvironment::run_jobs() {
   for (int i = next_++; i < size(); i = next_++) job(i);
 }
@@ -236,6 +254,10 @@ void VecEnvironment::run_all() {
     std::unique_lock<std::mutex> lock(mutex_);
     done_.wait(lock, [&] { return busy_ == 0; });
   }
+}
+
+// The error of the lowest environment that failed in the last call, if any.
+void VecEnvironment::rethrow_first() const {
   for (auto& e : errors_)
     if (e) std::rethrow_exception(e);
 }
@@ -248,40 +270,64 @@ void write_state(const std::vector<Gamma>& g, uint8_t* out) {
 
 }  // namespace
 
-void VecEnvironment::reset(uint64_t first_seed, uint8_t* states, uint64_t* seeds) {
-  first_seed_ = first_seed;
-  episodes_started_.assign(envs_.size(), 0);
-  resetting_ = true;
-  run_all();
+void VecEnvironment::write_now(const Episodes& out) const {
   const size_t k = info().actions.size();
   for (size_t i = 0; i < envs_.size(); ++i) {
-    write_state(envs_[i]->state(), states + i * k);
-    seeds[i] = envs_[i]->seed();
+    const StageEnvironment& env = *envs_[i];
+    write_state(env.state(), out.states + i * k);
+    out.seeds[i] = env.seed();
+    out.sim_seconds[i] = env.sim_seconds();
+    out.ticks[i] = env.ticks();
+    out.decisions[i] = env.episode().decisions;
   }
+}
+
+void VecEnvironment::reset(const ResetRequest& request, const Episodes& out) {
+  for (size_t i = 0; i < envs_.size(); ++i) {
+    Slot& s = slots_[i];
+    s.reset_requested = !request.mask || request.mask[i];
+    if (s.reset_requested && request.seeded && request.seeded[i]) {
+      s.base_seed = request.seeds[i];
+      s.started = 0;
+    }
+  }
+  resetting_ = true;
+  run_all();
+  write_now(out);
+  rethrow_first();
 }
 
 void VecEnvironment::step(const int64_t* actions, const StepOutput& out) {
   const size_t k = info().actions.size();
-  for (size_t i = 0; i < envs_.size(); ++i)
-    if (actions[i] < 0 || actions[i] >= int64_t(k))
+  for (size_t i = 0; i < envs_.size(); ++i) {
+    if (slots_[i].needs_reset && autoreset_ == Autoreset::kDisabled)
+      throw Error("step: the episode of environment " + std::to_string(i) +
+                  " is over and autoreset is disabled: reset it first (options={'reset_mask': ...})");
+    if (!slots_[i].needs_reset && (actions[i] < 0 || actions[i] >= int64_t(k)))
       throw Error("step: action " + std::to_string(actions[i]) + " of environment " + std::to_string(i) +
                   " is not in [0, " + std::to_string(k) + ")");
+  }
   resetting_ = false;
   actions_ = actions;
   run_all();
+  write_now(out.now);
   for (size_t i = 0; i < envs_.size(); ++i) {
-    write_state(envs_[i]->state(), out.states + i * k);
-    out.rewards[i] = results_[i].reward;
-    out.terminated[i] = results_[i].terminated;
-    out.truncated[i] = results_[i].truncated;
-    out.seeds[i] = envs_[i]->seed();
-    const bool ended = ended_[i];
-    for (size_t a = 0; a < k; ++a) out.final_states[i * k + a] = ended ? uint8_t(final_[i][a]) : 0;
-    out.episode_seeds[i] = ended ? final_seed_[i] : 0;
-    out.episode_sim_s[i] = ended ? final_sim_s_[i] : 0.0;
-    out.episode_ticks[i] = ended ? final_ticks_[i] : 0;
-    out.episode_rewards[i] = ended ? final_reward_[i] : 0.0;
+    const Slot& s = slots_[i];
+    out.rewards[i] = s.result.reward;
+    out.terminated[i] = s.result.terminated;
+    out.time_out[i] = s.result.time_out;
+    out.restarted[i] = s.restarted;
+    out.ended[i] = s.ended;
+    out.failed[i] = s.failed;
+    for (size_t a = 0; a < k; ++a) out.last.states[i * k + a] = s.ended ? uint8_t(s.last_state[a]) : 0;
+    out.last.seeds[i] = s.ended ? s.last_seed : 0;
+    out.last.sim_seconds[i] = s.ended ? s.last_sim_s : 0.0;
+    out.last.ticks[i] = s.ended ? s.last_ticks : 0;
+    out.last.decisions[i] = s.ended ? s.last_decisions : 0;
+    out.episode_rewards[i] = s.ended ? s.last_reward : 0.0;
+    out.success[i] = s.ended && s.last_success;
   }
+  rethrow_first();
 }
 
 }  // namespace roger

@@ -52,11 +52,12 @@ struct EnvironmentInfo {
   bool settle = true;
 };
 
-// What one step gave.
+// What one step gave. The stage's time-out ends the episode as its absorbing state does: the
+// engine's learner pays its reward and does not bootstrap beyond it (learn/learning.cpp).
 struct EnvironmentStep {
   double reward = 0.0;      // undiscounted, of the transition this step ran
-  bool terminated = false;  // the absorbing state was reached
-  bool truncated = false;   // the time limit passed without it
+  bool terminated = false;  // the episode ended: the absorbing state, or the time-out
+  bool time_out = false;    // it ended because the stage's time limit passed
 };
 
 class StageEnvironment {
@@ -97,61 +98,100 @@ class StageEnvironment {
   uint64_t seed_ = 0;
 };
 
-// N environments of one stage stepped together on worker threads. Environment i's k-th episode
-// (k from 0) runs in the world of seed first_seed + i + k * N, and an environment whose episode
-// ended is reset at once (its next episode's state is what step() returns for it), so what every
-// environment does is a function of the seeds and the actions alone, whatever the thread count.
+// How a VecEnvironment begins an ended episode's successor: Gymnasium's autoreset modes.
+enum class Autoreset {
+  kNextStep,  // at the environment's next step, whose action is then ignored (Gymnasium's default)
+  kSameStep,  // at once, within the step in which the episode ended
+  kDisabled,  // never: the caller resets it (reset with a mask); stepping it is an error
+};
+
+// N environments of one stage stepped together on worker threads. Environment i's episodes run in
+// the worlds of its base seed b_i, b_i + N, b_i + 2N, ... (reset(first_seed) sets b_i = first_seed
+// + i; a reset without a seed goes on along the schedule), so what every environment does is a
+// function of the seeds and the actions alone, whatever the thread count.
 class VecEnvironment {
  public:
   // Builds `n` environments (each with its own Lua state) and `threads` - 1 workers (the caller's
   // thread is the other). Throws like StageEnvironment, or roger::Error for n or threads < 1.
-  VecEnvironment(const EnvironmentOptions& options, int n, int threads);
+  VecEnvironment(const EnvironmentOptions& options, int n, int threads, Autoreset autoreset = Autoreset::kNextStep);
   ~VecEnvironment();
   VecEnvironment(const VecEnvironment&) = delete;
   VecEnvironment& operator=(const VecEnvironment&) = delete;
 
   int size() const { return int(envs_.size()); }
   int threads() const { return threads_; }
+  Autoreset autoreset() const { return autoreset_; }
   const EnvironmentInfo& info() const { return envs_.front()->info(); }
-  // Resets every environment (i with first_seed + i). Writes each state into states (n x |Psi|
-  // bytes, the gamma values 0, 1, 2) and each world seed into seeds.
-  void reset(uint64_t first_seed, uint8_t* states, uint64_t* seeds);
-  // Where step() writes, one entry per environment (states: n x |Psi| bytes).
-  struct StepOutput {
-    uint8_t* states;         // the state after the step; after the reset when the episode ended
-    double* rewards;         // the reward of the step
-    uint8_t* terminated;     // the episode reached the absorbing state
-    uint8_t* truncated;      // the episode reached the time limit
-    uint8_t* final_states;   // for an episode that ended: its last state (else zeros)
-    uint64_t* seeds;         // the world seed of the running episode
-    uint64_t* episode_seeds; // for an episode that ended: its world seed, simulated seconds,
-    double* episode_sim_s;   // control ticks and return (the engine's sum of its rewards);
-    int32_t* episode_ticks;  // zeros otherwise
-    double* episode_rewards;
+  const StageEnvironment& env(int i) const { return *envs_[size_t(i)]; }
+  // A running (or the last) episode of every environment, one entry each (states: n x |Psi| bytes,
+  // the gamma values 0, 1, 2).
+  struct Episodes {
+    uint8_t* states;
+    uint64_t* seeds;
+    double* sim_seconds;
+    int32_t* ticks;
+    int32_t* decisions;
   };
-  // Steps environment i with actions[i] and writes the outcomes. Throws roger::Error for an action
-  // out of range (before anything runs); rethrows the error of the lowest environment that failed
-  // (the others have stepped; the failed one needs reset()).
+  // Which environments reset() begins anew: all when mask is null, else those with mask[i] != 0;
+  // each in the world of seeds[i] when seeded[i] != 0 (its base seed from then on), else of the
+  // next seed of its schedule. seeded and seeds may be null (no seeds given).
+  struct ResetRequest {
+    const uint8_t* mask = nullptr;
+    const uint8_t* seeded = nullptr;
+    const uint64_t* seeds = nullptr;
+  };
+  // Resets the requested environments and writes every environment's running episode.
+  void reset(const ResetRequest& request, const Episodes& out);
+  // Where step() writes, one entry per environment.
+  struct StepOutput {
+    Episodes now;            // the episode running after the step (the new one after a reset)
+    double* rewards;         // the reward of the step (0 for a step that only reset)
+    uint8_t* terminated;     // the episode ended: its absorbing state or the stage's time-out
+    uint8_t* time_out;       // it ended by the stage's time-out
+    uint8_t* restarted;      // the environment began a new episode in this step
+    uint8_t* ended;          // its episode ended in this step (by its stage, or by a fault)
+    uint8_t* failed;         // its step raised an error (a Lua fault): the episode is over
+    Episodes last;           // for an ended episode: its last state, seed, time, ticks, decisions
+    double* episode_rewards; // for an ended episode: its return (the engine's sum of its rewards)
+    uint8_t* success;        // for an ended episode: it reached the absorbing state
+  };
+  // Steps environment i with actions[i] (or, for one whose episode ended at the last step under
+  // kNextStep, or failed, begins its next episode) and writes the outcomes of all. Throws
+  // roger::Error before anything runs for an action out of range, or under kDisabled for an
+  // environment whose episode is over. After a fault it writes every environment's outcome, then
+  // rethrows the error of the lowest environment that failed (failed[] marks them all; their next
+  // step begins a new episode, or under kDisabled their reset).
   void step(const int64_t* actions, const StepOutput& out);
 
  private:
-  void run_all();     // every environment's job, shared among the threads
-  void worker();      // a worker's loop
-  void run_jobs();    // takes jobs until none is left
-  void job(int i);    // one environment's step (or reset)
+  // One environment's part of the current call and what follows its episode.
+  struct Slot {
+    uint64_t base_seed = 0, started = 0;  // its schedule: the next episode's seed is base + started * N
+    bool reset_requested = false, needs_reset = false;
+    EnvironmentStep result;
+    bool restarted = false, ended = false, failed = false;
+    std::vector<Gamma> last_state;
+    uint64_t last_seed = 0;
+    double last_sim_s = 0.0, last_reward = 0.0;
+    int last_ticks = 0, last_decisions = 0;
+    bool last_success = false;
+  };
+  void run_all();        // every environment's job, shared among the threads
+  void worker();         // a worker's loop
+  void run_jobs();       // takes jobs until none is left
+  void job(int i);       // one environment's step (or reset)
+  void step_one(int i);  // job(i) of a step
+  void begin(int i);     // environment i's next episode along its schedule
+  void keep_last(int i); // records the episode that just ended in its slot
+  void write_now(const Episodes& out) const;
+  void rethrow_first() const;
   std::vector<std::unique_ptr<StageEnvironment>> envs_;
-  std::vector<uint64_t> episodes_started_;
-  uint64_t first_seed_ = 0;
+  std::vector<Slot> slots_;
+  Autoreset autoreset_ = Autoreset::kNextStep;
   int threads_ = 1;
   // The work of one call, read by job().
   bool resetting_ = false;
   const int64_t* actions_ = nullptr;
-  std::vector<EnvironmentStep> results_;
-  std::vector<uint8_t> ended_;
-  std::vector<std::vector<Gamma>> final_;
-  std::vector<double> final_sim_s_, final_reward_;
-  std::vector<uint64_t> final_seed_;
-  std::vector<int> final_ticks_;
   std::vector<std::exception_ptr> errors_;
   // The pool: a generation number wakes the workers; next_ hands out environments.
   std::vector<std::thread> workers_;

@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <map>
 #include <memory>
 #include <string>
@@ -17,6 +18,7 @@
 #include "core/rng.h"
 #include "learn/learning.h"
 #include "script/sandbox/lua_sandbox.h"
+#include "view/render.h"
 
 namespace py = pybind11;
 using namespace roger;
@@ -113,6 +115,22 @@ py::dict senses_dict(const Agent& agent) {
   return d;
 }
 
+// The picture `roger render --width width` draws of the environment's world now, H x W x 3 uint8.
+py::array_t<uint8_t> render_array(const StageEnvironment& e, int width) {
+  const World& world = e.agent().world();
+  RenderOptions options;
+  options.width_px = width;
+  options.robot = world.params().robot;
+  RgbPicture p;
+  {
+    py::gil_scoped_release nogil;
+    p = render_rgb(world.spec(), world.frame(), options);
+  }
+  py::array_t<uint8_t> a({py::ssize_t(p.height), py::ssize_t(p.width), py::ssize_t(3)});
+  std::copy(p.pixels.begin(), p.pixels.end(), a.mutable_data());
+  return a;
+}
+
 // A saved policy.json: the greedy action of a state, as `roger eval` takes it.
 class Policy {
  public:
@@ -169,9 +187,10 @@ void bind_environment(py::module_& m) {
                py::gil_scoped_release nogil;
                r = e.step(action);
              }
-             return py::make_tuple(state_array(e.state()), r.reward, r.terminated, r.truncated);
+             return py::make_tuple(state_array(e.state()), r.reward, r.terminated, r.time_out);
            },
            py::arg("action"))
+      .def("render", &render_array, py::arg("width"))
       .def_property_readonly("running", &StageEnvironment::running)
       .def_property_readonly("seed", &StageEnvironment::seed)
       .def_property_readonly("sim_seconds", &StageEnvironment::sim_seconds)
@@ -182,68 +201,163 @@ void bind_environment(py::module_& m) {
       .def("senses", [](const StageEnvironment& e) { return senses_dict(e.agent()); });
 }
 
+using IntArray = py::array_t<int64_t, py::array::c_style | py::array::forcecast>;
+using ByteArray = py::array_t<uint8_t, py::array::c_style | py::array::forcecast>;
+using SeedArray = py::array_t<uint64_t, py::array::c_style | py::array::forcecast>;
+
+// The exception types of the module (set once by PYBIND11_MODULE; never released).
+PyObject* roger_error_type = nullptr;
+PyObject* script_error_type = nullptr;
+
+// Numpy arrays for one VecEnvironment::Episodes block, under names with a common prefix.
+struct EpisodeArrays {
+  py::array_t<uint8_t> states;
+  py::array_t<uint64_t> seeds;
+  py::array_t<double> sim_seconds;
+  py::array_t<int32_t> ticks, decisions;
+  EpisodeArrays(py::ssize_t n, py::ssize_t k) : states({n, k}), seeds(n), sim_seconds(n), ticks(n), decisions(n) {}
+  VecEnvironment::Episodes out() {
+    return {states.mutable_data(), seeds.mutable_data(), sim_seconds.mutable_data(), ticks.mutable_data(),
+            decisions.mutable_data()};
+  }
+  void put(py::dict& d, const std::string& prefix) const {
+    d[py::str(prefix + "states")] = states;
+    d[py::str(prefix + "seed")] = seeds;
+    d[py::str(prefix + "sim_seconds")] = sim_seconds;
+    d[py::str(prefix + "ticks")] = ticks;
+    d[py::str(prefix + "decisions")] = decisions;
+  }
+};
+
+// n flags, zero, written as bytes and handed to Python as booleans.
+py::array_t<uint8_t> flags(py::ssize_t n) {
+  py::array_t<uint8_t> a(n);
+  std::fill(a.mutable_data(), a.mutable_data() + n, uint8_t(0));
+  return a;
+}
+py::object as_bool(const py::array_t<uint8_t>& a) { return a.attr("view")("bool"); }
+
+Autoreset autoreset_of(const std::string& mode) {
+  if (mode == "NextStep") return Autoreset::kNextStep;
+  if (mode == "SameStep") return Autoreset::kSameStep;
+  if (mode == "Disabled") return Autoreset::kDisabled;
+  throw Error("make_vec: autoreset_mode must be NextStep, SameStep or Disabled, got '" + mode + "'");
+}
+
+// Raises the fault of environment `first` as RogerError or ScriptError naming it, with the step's
+// outcomes of every environment as .results, the failed ones as .failed and the first as .env.
+[[noreturn]] void raise_vec_fault(std::exception_ptr error, int first, uint64_t seed, int n, const py::dict& results,
+                                  py::object failed) {
+  const std::string where = "environment " + std::to_string(first) + " of " + std::to_string(n) + " (seed " +
+                            std::to_string(seed) + ", its episode is over): ";
+  py::object exc;
+  PyObject* type = roger_error_type;
+  try {
+    std::rethrow_exception(error);
+  } catch (const ScriptError& e) {
+    type = script_error_type;
+    exc = py::handle(type)(where + e.what());
+    exc.attr("file") = e.file;
+    exc.attr("line") = e.line;
+  } catch (const Error& e) {
+    exc = py::handle(type)(where + e.what());
+  }
+  exc.attr("env") = first;
+  exc.attr("failed") = failed;
+  exc.attr("results") = results;
+  PyErr_SetObject(type, exc.ptr());
+  throw py::error_already_set();
+}
+
+py::dict vec_reset(VecEnvironment& v, const ByteArray& mask, const ByteArray& seeded, const SeedArray& seeds) {
+  const py::ssize_t n = v.size(), k = py::ssize_t(v.info().actions.size());
+  if (mask.size() != n || seeded.size() != n || seeds.size() != n)
+    throw Error("reset: expected one mask entry and one seed per environment (" + std::to_string(n) + ")");
+  EpisodeArrays now(n, k);
+  const VecEnvironment::ResetRequest request{mask.data(), seeded.data(), seeds.data()};
+  {
+    py::gil_scoped_release nogil;
+    v.reset(request, now.out());
+  }
+  py::dict d;
+  now.put(d, "");
+  return d;
+}
+
+py::dict vec_step(VecEnvironment& v, const IntArray& actions) {
+  const py::ssize_t n = v.size(), k = py::ssize_t(v.info().actions.size());
+  if (actions.ndim() != 1 || actions.shape(0) != n)
+    throw Error("step: expected " + std::to_string(n) + " actions, one per environment, got an array of " +
+                std::to_string(actions.size()));
+  EpisodeArrays now(n, k), last(n, k);
+  py::array_t<double> rewards(n), episode_rewards(n);
+  auto term = flags(n), time_out = flags(n), restarted = flags(n), ended = flags(n), failed = flags(n),
+       success = flags(n);
+  const VecEnvironment::StepOutput out{now.out(),
+                                       rewards.mutable_data(),
+                                       term.mutable_data(),
+                                       time_out.mutable_data(),
+                                       restarted.mutable_data(),
+                                       ended.mutable_data(),
+                                       failed.mutable_data(),
+                                       last.out(),
+                                       episode_rewards.mutable_data(),
+                                       success.mutable_data()};
+  std::exception_ptr error;
+  {
+    py::gil_scoped_release nogil;
+    try {
+      v.step(actions.data(), out);
+    } catch (...) {
+      error = std::current_exception();
+    }
+  }
+  const uint8_t* f = failed.data();
+  const int first = int(std::find(f, f + n, uint8_t(1)) - f);
+  if (error && first == n) std::rethrow_exception(error);  // refused before anything ran
+  py::dict d;
+  now.put(d, "");
+  last.put(d, "last_");
+  d["rewards"] = rewards;
+  d["terminated"] = as_bool(term);
+  d["time_out"] = as_bool(time_out);
+  d["restarted"] = as_bool(restarted);
+  d["ended"] = as_bool(ended);
+  d["failed"] = as_bool(failed);
+  d["episode_reward"] = episode_rewards;
+  d["success"] = as_bool(success);
+  if (error) {
+    const uint64_t seed = ended.data()[first] ? last.seeds.at(first) : now.seeds.at(first);
+    raise_vec_fault(error, first, seed, int(n), d, d["failed"]);
+  }
+  return d;
+}
+
 void bind_vec(py::module_& m) {
   py::class_<VecEnvironment>(m, "VecEnvironment")
       .def(py::init([](const std::string& curriculum, const std::string& stage, const std::string& context,
                        const std::string& scenario, const py::dict& params, const py::dict& skills, int num_envs,
-                       int threads) {
+                       int threads, const std::string& autoreset) {
              const EnvironmentOptions o = make_options(curriculum, stage, context, scenario, params, skills, false);
+             const Autoreset mode = autoreset_of(autoreset);
              py::gil_scoped_release nogil;
-             return std::make_unique<VecEnvironment>(o, num_envs, threads);
+             return std::make_unique<VecEnvironment>(o, num_envs, threads, mode);
            }),
            py::arg("curriculum"), py::arg("stage"), py::arg("context"), py::arg("scenario") = "",
            py::arg("params") = py::dict(), py::arg("skills") = py::dict(), py::arg("num_envs") = 1,
-           py::arg("threads") = 1)
+           py::arg("threads") = 1, py::arg("autoreset") = "NextStep")
       .def_property_readonly("info", [](const VecEnvironment& v) { return info_dict(v.info()); })
       .def_property_readonly("num_envs", &VecEnvironment::size)
       .def_property_readonly("threads", &VecEnvironment::threads)
-      .def("reset",
-           [](VecEnvironment& v, uint64_t seed) {
-             const py::ssize_t n = v.size(), k = py::ssize_t(v.info().actions.size());
-             py::array_t<uint8_t> states({n, k});
-             py::array_t<uint64_t> seeds(n);
-             uint8_t* s = states.mutable_data();
-             uint64_t* d = seeds.mutable_data();
-             {
-               py::gil_scoped_release nogil;
-               v.reset(seed, s, d);
-             }
-             return py::make_tuple(states, seeds);
-           },
-           py::arg("seed"))
-      .def("step",
-           [](VecEnvironment& v, py::array_t<int64_t, py::array::c_style | py::array::forcecast> actions) {
-             const py::ssize_t n = v.size(), k = py::ssize_t(v.info().actions.size());
-             if (actions.ndim() != 1 || actions.shape(0) != n)
-               throw Error("step: expected " + std::to_string(n) + " actions, one per environment, got an array of " +
-                           std::to_string(actions.size()));
-             py::array_t<uint8_t> states({n, k}), finals({n, k}), term(n), trunc(n);
-             py::array_t<double> rewards(n), sim_s(n), ep_rewards(n);
-             py::array_t<uint64_t> seeds(n), ep_seeds(n);
-             py::array_t<int32_t> ticks(n);
-             const VecEnvironment::StepOutput out{states.mutable_data(), rewards.mutable_data(), term.mutable_data(),
-                                                  trunc.mutable_data(),  finals.mutable_data(),  seeds.mutable_data(),
-                                                  ep_seeds.mutable_data(), sim_s.mutable_data(), ticks.mutable_data(),
-                                                  ep_rewards.mutable_data()};
-             const int64_t* a = actions.data();
-             {
-               py::gil_scoped_release nogil;
-               v.step(a, out);
-             }
-             py::dict d;
-             d["states"] = states;
-             d["rewards"] = rewards;
-             d["terminated"] = term.attr("astype")("bool");
-             d["truncated"] = trunc.attr("astype")("bool");
-             d["final_states"] = finals;
-             d["seeds"] = seeds;
-             d["episode_seeds"] = ep_seeds;
-             d["episode_sim_s"] = sim_s;
-             d["episode_ticks"] = ticks;
-             d["episode_rewards"] = ep_rewards;
-             return d;
-           },
-           py::arg("actions"));
+      .def("reset", &vec_reset, py::arg("mask"), py::arg("seeded"), py::arg("seeds"))
+      .def("step", &vec_step, py::arg("actions"))
+      .def(
+          "render",
+          [](const VecEnvironment& v, int i, int width) {
+            if (i < 0 || i >= v.size()) throw Error("render: no environment " + std::to_string(i));
+            return render_array(v.env(i), width);
+          },
+          py::arg("i"), py::arg("width"));
 }
 
 void bind_policy(py::module_& m) {
@@ -276,6 +390,8 @@ PYBIND11_MODULE(_roger, m) {
   // released after the interpreter is gone).
   static PyObject* script_error = PyErr_NewException("roger._roger.ScriptError", error.ptr(), nullptr);
   m.attr("ScriptError") = py::handle(script_error);
+  roger_error_type = error.ptr();
+  script_error_type = script_error;
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
@@ -293,6 +409,9 @@ PYBIND11_MODULE(_roger, m) {
   m.def(
       "state_index",
       [](const std::vector<int>& obs) {
+        if (obs.size() > 19)
+          throw Error("state_index: a state of " + std::to_string(obs.size()) + " actions has 3^" +
+                      std::to_string(obs.size()) + " rows, more than a Q table's index holds (at most 19 actions)");
         std::vector<Gamma> g;
         for (int v : obs) {
           if (v < 0 || v > 2) throw Error("state_index: a controller state is 0, 1 or 2, got " + std::to_string(v));

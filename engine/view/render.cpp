@@ -268,6 +268,33 @@ void render_frame(const WorldSpec& spec, const Frame& frame, const std::string& 
   });
 }
 
+RgbPicture render_rgb(const WorldSpec& spec, const Frame& frame, const RenderOptions& options) {
+  const PictureSize size = picture_size(spec, options);
+  if (size.height > kMaxPicturePixels)
+    throw Error("render: a " + std::to_string(size.width) + " x " + std::to_string(size.height) +
+                " picture is outside 1 to " + std::to_string(kMaxPicturePixels) + " pixels per side");
+  Canvas canvas;
+  canvas.surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, size.width, size.height);
+  canvas.cr = cairo_create(canvas.surface);
+  draw_frame(canvas.cr, spec, frame, options, size.width, size.height);
+  if (cairo_status(canvas.cr) != CAIRO_STATUS_SUCCESS)
+    throw Error(std::string("render: cannot draw the picture: ") + cairo_status_to_string(cairo_status(canvas.cr)));
+  cairo_surface_flush(canvas.surface);
+  RgbPicture p{size.width, size.height, std::vector<uint8_t>(size_t(size.width) * size_t(size.height) * 3)};
+  const unsigned char* data = cairo_image_surface_get_data(canvas.surface);
+  const int stride = cairo_image_surface_get_stride(canvas.surface);
+  uint8_t* out = p.pixels.data();
+  for (int y = 0; y < size.height; ++y) {
+    const uint32_t* row = reinterpret_cast<const uint32_t*>(data + size_t(y) * size_t(stride));
+    for (int x = 0; x < size.width; ++x, out += 3) {  // RGB24: 0x00RRGGBB in native byte order
+      out[0] = uint8_t(row[x] >> 16);
+      out[1] = uint8_t(row[x] >> 8);
+      out[2] = uint8_t(row[x]);
+    }
+  }
+  return p;
+}
+
 void render_frames(const WorldSpec& spec, const std::vector<Frame>& frames, const std::string& path,
                    const RenderOptions& options, int columns) {
   format_of(path);

@@ -10,6 +10,7 @@
 
 #include <cairo.h>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -56,6 +57,17 @@ Vec2 picture_point(const WorldSpec& spec, const RenderOptions& options, double w
 // roger::Error for another extension, an unwritable path, or frame poses that do not match spec.
 void render_frame(const WorldSpec& spec, const Frame& frame, const std::string& path,
                   const RenderOptions& options = {});
+
+// A picture in memory: height rows of width pixels, each 3 bytes (red, green, blue), row after row
+// from the top: what the Python module hands a Gymnasium user as an H x W x 3 uint8 array.
+struct RgbPicture {
+  int width = 0, height = 0;
+  std::vector<uint8_t> pixels;  // width * height * 3
+};
+
+// Draws one moment of a world as render_frame does, into memory. Throws roger::Error like
+// render_frame for sizes, arenas and frames it cannot draw.
+RgbPicture render_rgb(const WorldSpec& spec, const Frame& frame, const RenderOptions& options = {});
 
 // Draws several frames of one world as a mosaic of panels, each picture_size(spec, options), with
 // `columns` panels per row (0: all in one row). Same file rules as render_frame; no frames is an

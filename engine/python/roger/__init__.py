@@ -1,4 +1,4 @@
-"""roger: the stages of roger's curricula as Gymnasium-style environments.
+"""roger: the stages of roger's curricula as Gymnasium 1.x environments.
 
     import roger
     env = roger.make("curricula/paper.lua", stage="T", context="B2")
@@ -7,11 +7,14 @@
 
 One step is one decision of the stage's semi-MDP: the chosen action (an index of Psi, `env.actions`)
 runs until the controller-state vector changes, through the engine's own episode loop. The
-observation is that vector, one value per action: 0 NOREF, 1 !CONV, 2 CONV. `make(...,
-mode="tick")` makes every control tick a decision and observes the raw senses too. `make_vec` steps
-many worlds on C++ threads; `load_policy(path).act(obs)` is the greedy action of a policy.json
-written by `roger train`. docs/python.md is the guide. The module needs numpy alone; when gymnasium
-is importable, environments are `gymnasium.Env`s and the spaces are gymnasium's.
+observation is that vector, one value per action: 0 NOREF, 1 !CONV, 2 CONV. The stage's time-out
+is terminal (terminated, info["time_out"]), as for the engine's learner. `make(...,
+mode="tick")` makes every control tick a decision and observes the raw senses too;
+`render_mode="rgb_array"` draws what `roger render` draws. `make_vec` steps many worlds on C++
+threads; `load_policy(path).act(obs)` is the greedy action of a policy.json written by `roger
+train`. docs/python.md is the guide. The module needs numpy alone; when gymnasium is importable,
+environments are `gymnasium.Env`s, `make_vec` a `gymnasium.vector.VectorEnv`, the spaces are
+gymnasium's and the ids roger/SG-B1-v0 ... roger/T-DC6-v0 and roger/Stage-v0 are registered.
 """
 
 import numbers
@@ -21,20 +24,29 @@ import numpy as np
 from . import _roger
 from ._roger import RogerError, ScriptError, mix, state_index
 
-try:  # gymnasium is optional: its base class and spaces when present, the same shapes otherwise
+try:  # gymnasium is optional: its base classes and spaces when present, the same contracts otherwise
     import gymnasium as _gym
     from gymnasium import spaces
-    _EnvBase = _gym.Env
-except ImportError:  # pragma: no cover - exercised where gymnasium is absent
+    from gymnasium.vector.utils import batch_space as _batch_space
+    try:
+        from gymnasium.vector import AutoresetMode
+    except ImportError:  # gymnasium 1.0 names no modes: it autoresets at the next step only
+        from ._base import AutoresetMode
+    _EnvBase, _VecBase = _gym.Env, _gym.vector.VectorEnv
+except ImportError:  # exercised where gymnasium is absent
     _gym = None
     from . import _spaces as spaces
-    _EnvBase = object
+    from ._base import AutoresetMode
+    from ._base import Env as _EnvBase, VectorEnv as _VecBase
+    _batch_space = None
 
 __all__ = ["make", "make_vec", "load_policy", "Env", "VecEnv", "Policy", "RogerError", "ScriptError",
-           "GAMMA_NAMES", "mix", "state_index", "spaces"]
+           "AutoresetMode", "GAMMA_NAMES", "PAPER_IDS", "mix", "state_index", "spaces"]
 
 GAMMA_NAMES = ("NOREF", "!CONV", "CONV")
 _MODES = ("decision", "tick")
+_RENDER_MODES = ["rgb_array"]
+_DECISION_FPS = 4  # frames per second of a video of decisions (a decision lasts about 0.1 to 1 s)
 
 
 def _text_dict(d, what):
@@ -46,6 +58,8 @@ def _text_dict(d, what):
 
 
 def _seed(seed, what):
+    if isinstance(seed, np.integer):
+        seed = int(seed)
     if isinstance(seed, bool) or not isinstance(seed, numbers.Integral) or not 0 <= int(seed) < 2**64:
         raise RogerError(f"{what}: a seed is an integer in [0, 2^64), got {seed!r}")
     return int(seed)
@@ -61,41 +75,59 @@ def _action(action, n, where):
     return int(action)
 
 
+def _render_mode(render_mode, where):
+    if render_mode is not None and render_mode not in _RENDER_MODES:
+        raise RogerError(f"{where}: render_mode must be None or one of {_RENDER_MODES}, got {render_mode!r}")
+    return render_mode
+
+
+def _render_width(width, where):
+    if isinstance(width, bool) or not isinstance(width, numbers.Integral) or not 100 <= width <= 16000:
+        raise RogerError(f"{where}: render_width is an integer number of pixels in [100, 16000], got {width!r}")
+    return int(width)
+
+
 def _state_space(n):
     return spaces.MultiDiscrete(np.full(n, 3, dtype=np.int64))
+
+
+def _options(options, where):
+    if options is not None and not isinstance(options, dict):
+        raise RogerError(f"{where}: options must be a dict or None, got {type(options).__name__}")
+    return dict(options or {})
 
 
 class Env(_EnvBase):
     """One stage and context of a curriculum as an environment (see the module's doc)."""
 
-    metadata = {"render_modes": []}
+    metadata = {"render_modes": _RENDER_MODES, "render_fps": _DECISION_FPS}
 
-    def __init__(self, curriculum, stage, context, params=None, skills=None, scenario=None, mode="decision"):
+    def __init__(self, curriculum, stage, context, params=None, skills=None, scenario=None, mode="decision",
+                 render_mode=None, render_width=1000):
         if mode not in _MODES:
             raise RogerError(f"make: mode must be one of {_MODES}, got {mode!r}")
+        self.render_mode = _render_mode(render_mode, "make")
+        self.render_width = _render_width(render_width, "make")
         self._env = _roger.Environment(str(curriculum), str(stage), str(context), scenario or "",
                                        _text_dict(params, "params"), _text_dict(skills, "skills"), mode == "tick")
         self.stage_info = self._env.info
         self.actions = tuple(self.stage_info["actions"])
         self.mode = mode
+        fps = round(1.0 / self.stage_info["tick_seconds"]) if mode == "tick" else _DECISION_FPS
+        self.metadata = {"render_modes": _RENDER_MODES, "render_fps": fps}
         self.action_space = spaces.Discrete(len(self.actions))
-        state = _state_space(len(self.actions))
-        if mode == "tick":
-            self.observation_space = spaces.Dict({
-                "state": state,
-                "images": spaces.Box(0, 255, (2, 128, 3), np.uint8),
-                "stimulus": spaces.Box(0.0, 1.0, (2, 128), np.float32),
-                "touch": spaces.Box(-np.inf, np.inf, (3, 5), np.float32),
-                "joints": spaces.Box(-np.inf, np.inf, (8,), np.float64),
-                "joint_velocities": spaces.Box(-np.inf, np.inf, (8,), np.float64),
-            })
-        else:
-            self.observation_space = state
+        self.observation_space = _tick_space(len(self.actions)) if mode == "tick" else _state_space(len(self.actions))
         self._next_seed = 0
+        self._has_world = False
 
     def __repr__(self):
         i = self.stage_info
         return f"<roger.Env {i['curriculum']} stage {i['stage']} context {i['context']} ({self.mode})>"
+
+    def _open(self, what):
+        if self._env is None:
+            raise RogerError(f"{what}: the environment is closed (make a new one)")
+        return self._env
 
     def _observe(self, state):
         state = state.astype(np.int64)
@@ -105,22 +137,26 @@ class Env(_EnvBase):
         obs["state"] = state
         return obs
 
-    def _info(self, state, ended=False):
+    def _info(self, state, ended=False, time_out=False):
         e = self._env
         info = {"sim_seconds": e.sim_seconds, "ticks": e.ticks, "decisions": e.decisions, "seed": e.seed,
                 "state": {a: GAMMA_NAMES[g] for a, g in zip(self.actions, state)}}
         if ended:
             info["episode_reward"] = e.episode_reward
             info["success"] = e.success
+            info["time_out"] = time_out
         return info
 
     def reset(self, *, seed=None, options=None):
         """Starts the episode in the world of `seed` (roger eval's --seed); without one, the seed
-        after the last episode's (0 first). Returns (observation, info)."""
-        if _gym is not None:
-            super().reset(seed=seed)
-        seed = self._next_seed if seed is None else _seed(seed, "reset")
-        state, running = self._env.reset(seed)
+        after the last episode's (0 first). Seeds np_random as Gymnasium does. Returns (observation, info)."""
+        env = self._open("reset")
+        given = None if seed is None else _seed(seed, "reset")
+        _options(options, "reset")
+        super().reset(seed=given)  # an unseeded reset leaves np_random running on
+        seed = self._next_seed if given is None else given
+        state, running = env.reset(seed)
+        self._has_world = True
         self._next_seed = (seed + 1) % 2**64
         if not running:
             raise RogerError(f"reset: the episode of seed {seed} ended before its first decision "
@@ -129,62 +165,189 @@ class Env(_EnvBase):
 
     def step(self, action):
         """Runs one decision: `action` until the next decision point (the state changes, or the
-        action gives up). Returns (observation, reward, terminated, truncated, info); truncated
-        is the time limit."""
+        action gives up). Returns (observation, reward, terminated, truncated, info): terminated
+        when the absorbing state is reached or the stage's time-out passes (info["time_out"]
+        tells which), truncated never (it is for limits a wrapper adds)."""
+        env = self._open("step")
         a = _action(action, len(self.actions), f"step ({self.stage_info['stage']}/{self.stage_info['context']})")
-        state, reward, terminated, truncated = self._env.step(a)
-        return self._observe(state), reward, terminated, truncated, self._info(state, terminated or truncated)
+        state, reward, terminated, time_out = env.step(a)
+        return self._observe(state), reward, terminated, False, self._info(state, terminated, time_out)
+
+    def render(self):
+        """With render_mode "rgb_array": the world now as `roger render --width render_width`
+        draws it, an H x W x 3 uint8 array; else None."""
+        env = self._open("render")
+        if self.render_mode is None:
+            return None
+        if not self._has_world:
+            raise RogerError("render: no world yet (call reset first)")
+        return env.render(self.render_width)
 
     def close(self):
+        """Frees the world and the Lua state; every later call but close raises RogerError."""
         self._env = None
 
 
-class VecEnv:
-    """num_envs environments of one stage, stepped together on C++ threads with the GIL released.
+def _tick_space(n):
+    return spaces.Dict({
+        "state": _state_space(n),
+        "images": spaces.Box(0, 255, (2, 128, 3), np.uint8),
+        "stimulus": spaces.Box(0.0, 1.0, (2, 128), np.float32),
+        "touch": spaces.Box(-np.inf, np.inf, (3, 5), np.float32),
+        "joints": spaces.Box(-np.inf, np.inf, (8,), np.float64),
+        "joint_velocities": spaces.Box(-np.inf, np.inf, (8,), np.float64),
+    })
 
-    Environment i's k-th episode runs in the world of seed + i + k * num_envs; an environment whose
-    episode ends is reset at once (its step returns the new episode's first observation, the last
-    one in info["final_observation"]). Results depend on the seeds and actions only, never on the
-    thread count."""
 
-    def __init__(self, curriculum, stage, context, num_envs, threads=None, params=None, skills=None, scenario=None):
+def _reset_seeds(seed, n):
+    """reset's seed as the extension takes it: which environments are given one, and which."""
+    seeded, seeds = np.zeros(n, np.uint8), np.zeros(n, np.uint64)
+    if seed is None:
+        return seeded, seeds
+    if isinstance(seed, (list, tuple, np.ndarray)):
+        if len(seed) != n:
+            raise RogerError(f"reset: a list of seeds has one per environment ({n}), got {len(seed)}")
+        for i, s in enumerate(seed):
+            if s is not None:
+                seeded[i], seeds[i] = 1, _seed(s, f"reset (seed of environment {i})")
+        return seeded, seeds
+    first = _seed(seed, "reset")
+    for i in range(n):
+        seeded[i], seeds[i] = 1, (first + i) % 2**64
+    return seeded, seeds
+
+
+def _reset_mask(options, n):
+    mask = options.pop("reset_mask", None)
+    if mask is None:
+        return np.ones(n, np.uint8)
+    if not isinstance(mask, np.ndarray) or mask.dtype != np.bool_ or mask.shape != (n,) or not mask.any():
+        raise RogerError(f"reset: options['reset_mask'] must be a numpy bool array of shape ({n},) with at least "
+                         f"one True, got {mask!r}")
+    return mask.astype(np.uint8)
+
+
+def _masked(info, key, values, mask):
+    info[key], info["_" + key] = values, mask
+
+
+class VecEnv(_VecBase):
+    """num_envs environments of one stage, stepped together on C++ threads with the GIL released:
+    a gymnasium.vector.VectorEnv when gymnasium is importable (docs/python.md, "Batches").
+
+    Environment i's episodes run in the worlds of seeds b_i, b_i + num_envs, b_i + 2 num_envs, ...
+    (reset(seed=S) makes b_i = S + i; an unseeded reset goes on along the schedule). An ended
+    episode's successor begins as metadata["autoreset_mode"] says: at the environment's next step
+    (NEXT_STEP, the default), at once (SAME_STEP, the last observation in info["final_obs"]), or
+    when the caller resets it (DISABLED). Results depend on the seeds and actions only, never on
+    the thread count."""
+
+    def __init__(self, curriculum, stage, context, num_envs, threads=None, params=None, skills=None, scenario=None,
+                 autoreset_mode=AutoresetMode.NEXT_STEP, render_mode=None, render_width=1000):
         if isinstance(num_envs, bool) or not isinstance(num_envs, numbers.Integral) or num_envs < 1:
             raise RogerError(f"make_vec: num_envs must be a positive integer, got {num_envs!r}")
+        try:
+            mode = AutoresetMode(autoreset_mode)
+        except ValueError:
+            raise RogerError(f"make_vec: autoreset_mode must be one of {[m.value for m in AutoresetMode]}, "
+                             f"got {autoreset_mode!r}") from None
+        self.render_mode = _render_mode(render_mode, "make_vec")
+        self.render_width = _render_width(render_width, "make_vec")
         if threads is None:
             import os
             threads = min(int(num_envs), len(os.sched_getaffinity(0)))
         self._vec = _roger.VecEnvironment(str(curriculum), str(stage), str(context), scenario or "",
                                           _text_dict(params, "params"), _text_dict(skills, "skills"),
-                                          int(num_envs), int(threads))
+                                          int(num_envs), int(threads), mode.value)
+        self.metadata = {"autoreset_mode": mode, "render_modes": _RENDER_MODES, "render_fps": _DECISION_FPS}
+        self.autoreset_mode = mode
         self.stage_info = self._vec.info
         self.actions = tuple(self.stage_info["actions"])
         self.num_envs = int(num_envs)
         self.threads = self._vec.threads
         self.single_action_space = spaces.Discrete(len(self.actions))
         self.single_observation_space = _state_space(len(self.actions))
-        self.action_space = spaces.MultiDiscrete(np.full(self.num_envs, len(self.actions), dtype=np.int64))
-        self.observation_space = spaces.MultiDiscrete(np.full((self.num_envs, len(self.actions)), 3, dtype=np.int64))
+        if _batch_space is not None:
+            self.action_space = _batch_space(self.single_action_space, self.num_envs)
+            self.observation_space = _batch_space(self.single_observation_space, self.num_envs)
+        else:
+            self.action_space = spaces.MultiDiscrete(np.full(self.num_envs, len(self.actions), dtype=np.int64))
+            self.observation_space = spaces.MultiDiscrete(np.full((self.num_envs, len(self.actions)), 3,
+                                                                  dtype=np.int64))
 
-    def reset(self, *, seed=0, options=None):
-        """Resets every environment; returns (observations [num_envs, |Psi|], info)."""
-        states, seeds = self._vec.reset(_seed(seed, "reset"))
-        return states.astype(np.int64), {"seed": seeds}
+    def __repr__(self):
+        i = self.stage_info
+        return f"<roger.VecEnv {i['curriculum']} stage {i['stage']} context {i['context']} x{self.num_envs}>"
+
+    def _open(self, what):
+        if self._vec is None:
+            raise RogerError(f"{what}: the vector environment is closed (make a new one)")
+        return self._vec
+
+    def reset(self, *, seed=None, options=None):
+        """Resets every environment (those of options["reset_mask"] alone, when given): seed None
+        (each goes on along its schedule), an int S (environment i in world S + i) or a list of
+        one int or None per environment. Returns (observations [num_envs, |Psi|], info)."""
+        vec = self._open("reset")
+        options = _options(options, "reset")
+        mask = _reset_mask(options, self.num_envs)
+        seeded, seeds = _reset_seeds(seed, self.num_envs)
+        super().reset(seed=_seed(seed, "reset") if isinstance(seed, (numbers.Integral, np.integer)) else None)
+        r = vec.reset(mask, seeded, seeds)
+        info, m = {}, mask.astype(bool)
+        for key in ("seed", "sim_seconds", "ticks", "decisions"):
+            _masked(info, key, r[key], m)
+        return r["states"].astype(np.int64), info
 
     def step(self, actions):
-        """Steps every environment with its action; returns numpy arrays (observations, rewards,
-        terminated, truncated) and info with the ended episodes' final_observation, episode_seed,
-        episode_sim_s, episode_ticks, episode_reward and a boolean mask `_episode`."""
+        """Steps every environment with its action (an environment that begins its next episode
+        in this step ignores its action). Returns numpy arrays (observations, rewards, terminated,
+        truncated) and info as Gymnasium 1.x's vector environments give it. A Lua fault in one
+        environment raises ScriptError naming it (.env, .failed), with every environment's
+        outcome of the step as .results; the faulted episodes are over (truncated)."""
+        vec = self._open("step")
         a = np.asarray(actions)
         if a.shape != (self.num_envs,) or not np.issubdtype(a.dtype, np.integer):
             raise RogerError(f"step: expected {self.num_envs} integer actions, got {a.dtype} array of shape {a.shape}")
-        r = self._vec.step(a.astype(np.int64))
-        ended = r["terminated"] | r["truncated"]
-        info = {"seed": r["seeds"], "final_observation": r["final_states"].astype(np.int64), "_episode": ended,
-                "episode_seed": r["episode_seeds"], "episode_sim_s": r["episode_sim_s"],
-                "episode_ticks": r["episode_ticks"], "episode_reward": r["episode_rewards"]}
-        return r["states"].astype(np.int64), r["rewards"], r["terminated"], r["truncated"], info
+        try:
+            r = vec.step(a.astype(np.int64))
+        except RogerError as e:
+            if hasattr(e, "results"):
+                e.results = self._outcome(e.results)
+            raise
+        return self._outcome(r)
 
-    def close(self):
+    def _outcome(self, r):
+        everyone = np.ones(self.num_envs, bool)
+        info = {}
+        for key in ("seed", "sim_seconds", "ticks", "decisions"):
+            _masked(info, key, r[key], everyone)
+        ended = r["ended"]
+        last = {}
+        for key in ("seed", "sim_seconds", "ticks", "decisions"):
+            _masked(last, key, r["last_" + key], ended)
+        for key in ("episode_reward", "success", "time_out"):
+            _masked(last, key, r[key], ended)
+        if self.autoreset_mode == AutoresetMode.SAME_STEP:
+            final_obs = np.full(self.num_envs, None, dtype=object)
+            for i in np.flatnonzero(ended):
+                final_obs[i] = r["last_states"][i].astype(np.int64)
+            _masked(info, "final_obs", final_obs, ended)
+            _masked(info, "final_info", last, ended)
+        else:
+            for key in ("episode_reward", "success", "time_out"):
+                _masked(info, key, last[key], ended)
+        return r["states"].astype(np.int64), r["rewards"], r["terminated"], r["failed"].copy(), info
+
+    def render(self):
+        """With render_mode "rgb_array": every environment's world now (a tuple of H x W x 3
+        uint8 arrays, as Env.render); else None."""
+        vec = self._open("render")
+        if self.render_mode is None:
+            return None
+        return tuple(vec.render(i, self.render_width) for i in range(self.num_envs))
+
+    def close_extras(self, **kwargs):
         self._vec = None
 
 
@@ -198,8 +361,12 @@ class Policy:
         self.stage, self.context, self.seed = self._p.stage, self._p.context, self._p.seed
 
     def act(self, obs):
-        """The greedy action (QTable::policy_action) of a controller-state vector."""
-        return self._p.act(np.asarray(obs, dtype=np.int64))
+        """The greedy action (QTable::policy_action) of a controller-state vector: integers 0, 1,
+        2 (floats only when whole numbers)."""
+        o = np.asarray(obs)
+        if o.dtype.kind not in "iuf" or (o.dtype.kind == "f" and not np.array_equal(o, np.trunc(o))):
+            raise RogerError(f"act: an observation holds the integers 0 (NOREF), 1 (!CONV), 2 (CONV), got {obs!r}")
+        return self._p.act(o.astype(np.int64))
 
     @property
     def q(self):
@@ -210,23 +377,57 @@ class Policy:
         return f"<roger.Policy {self.path}: stage {self.stage} context {self.context}, actions {self.actions}>"
 
 
-def make(curriculum, stage, context, params=None, skills=None, scenario=None, mode="decision"):
+def make(curriculum, stage, context, params=None, skills=None, scenario=None, mode="decision", render_mode=None,
+         render_width=1000):
     """An environment of `stage` in `context` of a curriculum (a path or a bare name: "paper").
 
     params: scenario parameters over the stage's ({"shape": "spade"}, as --set); skills: each
     learned skill the context uses, {"Phi_SG": "out/sg/policy.json"} (as --skill); scenario:
     another scenario than the stage's; mode: "decision" (semi-MDP) or "tick" (every control tick,
-    raw senses in a Dict observation)."""
-    return Env(curriculum, stage, context, params=params, skills=skills, scenario=scenario, mode=mode)
+    raw senses in a Dict observation); render_mode: None or "rgb_array" (render() draws what
+    `roger render --width render_width` draws). With gymnasium importable, env.spec is that of
+    roger/Stage-v0 with these arguments, so spec.make() builds the same environment."""
+    kwargs = {"curriculum": curriculum, "stage": stage, "context": context, "params": params, "skills": skills,
+              "scenario": scenario, "mode": mode, "render_mode": render_mode, "render_width": render_width}
+    env = Env(**kwargs)
+    if _gym is not None:
+        env.spec = _gym.envs.registration.EnvSpec("roger/Stage-v0", entry_point="roger:Env", kwargs=kwargs)
+    return env
 
 
-def make_vec(curriculum, stage, context, num_envs, threads=None, params=None, skills=None, scenario=None):
+def make_vec(curriculum, stage, context, num_envs, threads=None, params=None, skills=None, scenario=None,
+             autoreset_mode=AutoresetMode.NEXT_STEP, render_mode=None, render_width=1000):
     """num_envs environments stepped together in C++ threads (VecEnv); threads defaults to
-    min(num_envs, the cores this process may use)."""
+    min(num_envs, the cores this process may use); autoreset_mode an AutoresetMode (or its value,
+    "NextStep", "SameStep", "Disabled")."""
     return VecEnv(curriculum, stage, context, num_envs, threads=threads, params=params, skills=skills,
-                  scenario=scenario)
+                  scenario=scenario, autoreset_mode=autoreset_mode, render_mode=render_mode,
+                  render_width=render_width)
 
 
 def load_policy(path):
     """A saved policy.json (Policy); raises RogerError naming the file and field when malformed."""
     return Policy(path)
+
+
+# The paper's stages (curricula/paper.lua): search-grasp in B1, DC1, DC2 and transport in B2,
+# DC3-DC6. T in DC3-DC6 reuses the learned Phi_SG: gymnasium.make("roger/T-DC6-v0",
+# skills={"Phi_SG": ".../policy.json"}) with the policy of `roger train curricula/paper.lua --stage SG
+# --context DC2` (as `roger run` trains T on SG/DC2's policy of the same seed).
+PAPER_IDS = {f"roger/{stage}-{context}-v0": (stage, context)
+             for stage, contexts in (("SG", ("B1", "DC1", "DC2")), ("T", ("B2", "DC3", "DC4", "DC5", "DC6")))
+             for context in contexts}
+
+
+def _register():
+    registry = _gym.envs.registration.registry
+    if "roger/Stage-v0" not in registry:
+        _gym.register("roger/Stage-v0", entry_point="roger:Env")
+    for env_id, (stage, context) in PAPER_IDS.items():
+        if env_id not in registry:
+            _gym.register(env_id, entry_point="roger:Env",
+                          kwargs={"curriculum": "paper", "stage": stage, "context": context})
+
+
+if _gym is not None:
+    _register()
