@@ -120,7 +120,6 @@ py::array_t<uint8_t> render_array(const StageEnvironment& e, int width) {
   const World& world = e.agent().world();
   RenderOptions options;
   options.width_px = width;
-  options.robot = world.params().robot;
   RgbPicture p;
   {
     py::gil_scoped_release nogil;
