@@ -104,6 +104,9 @@ StageEnvironment::StageEnvironment(const EnvironmentOptions& o) {
   info_.stop_after = st.checkpoints.stop_after;
   info_.settle = st.checkpoints.settle;
   info_.final_episodes = st.checkpoints.final_episodes;
+  // The body is the world's (a scenario parameter, the same in every world of the stage's
+  // scenarios): the tick mode's image shapes follow the held-out worlds' eyes.
+  info_.eye_pixels = impl_->scenario.generate(st.checkpoints.seeds).eyes.pixels;
 }
 
 StageEnvironment::~StageEnvironment() = default;

@@ -50,6 +50,7 @@ struct EnvironmentInfo {
   double threshold = 0.0;
   uint64_t checkpoint_seeds = 0;
   bool settle = true;
+  int eye_pixels = 128;  // each eye's pixels in the stage's worlds (its first held-out world's)
 };
 
 // What one step gave. The stage's time-out ends the episode as its absorbing state does: the

@@ -66,6 +66,7 @@ py::dict info_dict(const EnvironmentInfo& i) {
   d["time_limit"] = i.time_limit;
   d["time_per_object"] = i.time_per_object;
   d["tick_seconds"] = i.tick_seconds;
+  d["eye_pixels"] = i.eye_pixels;
   d["budget_episodes"] = i.budget_episodes;
   d["learner"] = py::dict(py::arg("alpha") = i.learner.alpha, py::arg("discount") = i.learner.discount,
                           py::arg("epsilon_start") = i.learner.epsilon_start,

@@ -249,6 +249,16 @@ class Interface(unittest.TestCase):
             self.assertEqual(info["ticks"], k + 1)  # one control tick per step
         self.assertTrue(env.observation_space.contains(obs))
 
+    def test_tick_mode_images_follow_the_body(self):
+        # Eyes of 32 pixels (docs/scenarios.md, Bodies): the observations and their space say so.
+        env = roger.make(EXAMPLE, stage="Look", context="Gaze", mode="tick", params={"eye_pixels": 32})
+        self.assertEqual(env.observation_space["images"].shape, (2, 32, 3))
+        obs, info = env.reset(seed=7)
+        self.assertEqual(obs["images"].shape, (2, 32, 3))
+        self.assertEqual(obs["stimulus"].shape, (2, 32))
+        obs, reward, terminated, truncated, info = env.step(0)
+        self.assertTrue(env.observation_space.contains(obs))
+
     def test_gymnasium_base_when_present(self):
         try:
             import gymnasium

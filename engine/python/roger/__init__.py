@@ -116,7 +116,8 @@ class Env(_EnvBase):
         fps = round(1.0 / self.stage_info["tick_seconds"]) if mode == "tick" else _DECISION_FPS
         self.metadata = {"render_modes": _RENDER_MODES, "render_fps": fps}
         self.action_space = spaces.Discrete(len(self.actions))
-        self.observation_space = _tick_space(len(self.actions)) if mode == "tick" else _state_space(len(self.actions))
+        n = len(self.actions)
+        self.observation_space = _tick_space(n, self.stage_info["eye_pixels"]) if mode == "tick" else _state_space(n)
         self._next_seed = 0
         self._has_world = False
 
@@ -188,11 +189,12 @@ class Env(_EnvBase):
         self._env = None
 
 
-def _tick_space(n):
+def _tick_space(n, pixels):
+    """The tick mode's observations: the state and the raw senses, images of the body's eye pixels."""
     return spaces.Dict({
         "state": _state_space(n),
-        "images": spaces.Box(0, 255, (2, 128, 3), np.uint8),
-        "stimulus": spaces.Box(0.0, 1.0, (2, 128), np.float32),
+        "images": spaces.Box(0, 255, (2, pixels, 3), np.uint8),
+        "stimulus": spaces.Box(0.0, 1.0, (2, pixels), np.float32),
         "touch": spaces.Box(-np.inf, np.inf, (3, 5), np.float32),
         "joints": spaces.Box(-np.inf, np.inf, (8,), np.float64),
         "joint_velocities": spaces.Box(-np.inf, np.inf, (8,), np.float64),
