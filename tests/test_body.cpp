@@ -14,30 +14,14 @@
 #include "script/scenario/scenario.h"
 #include "script/skills/skill_script.h"
 #include "sim/world.h"
+#include "scenario_text.h"
 
 using namespace roger;
+using roger::test::robot_error;
+using roger::test::scenario_from;
 using Catch::Matchers::Contains;
 
 namespace {
-
-// A scenario written to a file of its own, loaded (errors name this file and its lines).
-Scenario scenario_from(const std::string& name, const std::string& text) {
-  const auto path = std::filesystem::temp_directory_path() / ("roger_test_body_" + name + ".lua");
-  std::ofstream(path) << text;
-  return Scenario::load(path.string());
-}
-
-// The message of generating seed 0 of a scenario whose world:robot call is `robot`.
-std::string robot_error(const std::string& name, const std::string& robot) {
-  Scenario s = scenario_from(name, "return { generate = function(world, rng, p)\n"
-                                   "  world:robot" + robot + "\nend }\n");
-  try {
-    s.generate(0);
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "no error";
-}
 
 // The family of bodies the task is checked on (docs/results.md, Transfer across bodies), as
 // scenario parameters: arms 0.35-0.7 m, base 0.12-0.24 m, hands 0.05-0.1 m, eyes of 32-256 pixels
@@ -129,29 +113,29 @@ TEST_CASE("a body that cannot be built says why", "[body]") {
   EyeParams e;
   e.pixels = 8;
   CHECK_THAT(body_problems(RobotParams{}, e).at(0), Contains("eyes.pixels must be within [16, 512], got 8"));
-  RobotParams stubby;  // arms too short to fold beside a base this large
-  stubby.base_radius = 0.8, stubby.link_length[0] = 0.2, stubby.link_length[1] = 0.2;
-  CHECK_THAT(body_problems(stubby, EyeParams{}).at(0), Contains("cannot fold clear of the base"));
+  RobotParams cramped;  // a base this large leaves 0.2 m links no room to fold beside it
+  cramped.base_radius = 0.8, cramped.link_length[0] = 0.2, cramped.link_length[1] = 0.2;
+  CHECK_THAT(body_problems(cramped, EyeParams{}).at(0), Contains("cannot fold clear of the base"));
   WorldSpec spec;
-  spec.body = stubby;
+  spec.body = cramped;
   World world;
   CHECK_THROWS_WITH(world.reset(spec), Contains("Roger's body: the hands cannot fold clear of the base"));
 }
 
 TEST_CASE("world:robot refuses a bad body or eyes with the file, line, field and range", "[body]") {
-  CHECK_THAT(robot_error("negative", "{ x = 0, y = 0, body = { upper_arm = -1 } }"),
+  CHECK_THAT(robot_error("body_negative", "{ x = 0, y = 0, body = { upper_arm = -1 } }"),
              Contains("roger_test_body_negative.lua:2:") &&
                  Contains("world:robot: body: field 'upper_arm' must be within [0.1, 2] m, got -1"));
-  CHECK_THAT(robot_error("unknown", "{ x = 0, y = 0, body = { legs = 4 } }"),
+  CHECK_THAT(robot_error("body_unknown", "{ x = 0, y = 0, body = { legs = 4 } }"),
              Contains(":2:") && Contains("unknown field 'legs'; known fields: axle_half_width, base_mass"));
-  CHECK_THAT(robot_error("pixels", "{ x = 0, y = 0, eyes = { pixels = 1024 } }"),
+  CHECK_THAT(robot_error("body_pixels", "{ x = 0, y = 0, eyes = { pixels = 1024 } }"),
              Contains(":2:") && Contains("world:robot: eyes: field 'pixels' must be within [16, 512], got 1024"));
-  CHECK_THAT(robot_error("locked", "{ x = 0, y = 0, body = { locked = { 'left_knee' } } }"),
+  CHECK_THAT(robot_error("body_locked", "{ x = 0, y = 0, body = { locked = { 'left_knee' } } }"),
              Contains("entry 1 must be a joint name, one of left_eye, right_eye") && Contains("got 'left_knee'"));
-  CHECK_THAT(robot_error("fold", "{ x = 0, y = 0, body = { base_radius = 0.8, upper_arm = 0.2, forearm = 0.2 } }"),
+  CHECK_THAT(robot_error("body_fold", "{ x = 0, y = 0, body = { base_radius = 0.8, upper_arm = 0.2, forearm = 0.2 } }"),
              Contains(":2:") && Contains("Roger's body cannot be built: the hands cannot fold clear of the base"));
   // A body that can be built: the world carries it, and the arms start folded as it folds them.
-  Scenario ok = scenario_from("ok", "return { generate = function(world, rng, p)\n"
+  Scenario ok = scenario_from("body_ok", "return { generate = function(world, rng, p)\n"
                                     "  world:robot{ x = 0, y = 0, body = { base_radius = 0.2, locked = { 'left_elbow' } },\n"
                                     "               eyes = { pixels = 64, fov = 1.2 } }\nend }\n");
   const WorldSpec w = ok.generate(0);

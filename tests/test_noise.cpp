@@ -15,24 +15,14 @@
 #include "script/skills/skill_script.h"
 #include "senses/noise.h"
 #include "sim/world.h"
+#include "scenario_text.h"
 #include "world_fixtures.h"
 
 using namespace roger;
 using Catch::Matchers::Contains;
+using roger::test::robot_error;
 
 namespace {
-
-// The message of generating seed 0 of a scenario whose world:robot call is `robot`.
-std::string robot_error(const std::string& name, const std::string& robot) {
-  const auto path = std::filesystem::temp_directory_path() / ("roger_test_noise_" + name + ".lua");
-  std::ofstream(path) << "return { generate = function(world, rng, p)\n  world:robot" + robot + "\nend }\n";
-  try {
-    Scenario::load(path.string()).generate(0);
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "no error";
-}
 
 // The moderate level M (docs/results.md, Noise), scaled.
 NoiseParams moderate(double scale) {
@@ -77,14 +67,14 @@ uint64_t drive(World& w, const WorldSpec& spec, int ticks) {
 }  // namespace
 
 TEST_CASE("world:robot refuses bad noise with the file, line, field and range", "[noise]") {
-  CHECK_THAT(robot_error("image", "{ x = 0, y = 0, noise = { image = 300 } }"),
+  CHECK_THAT(robot_error("noise_image", "{ x = 0, y = 0, noise = { image = 300 } }"),
              Contains("roger_test_noise_image.lua:2:") &&
                  Contains("world:robot: noise: field 'image' must be within [0, 255] colour levels, got 300"));
-  CHECK_THAT(robot_error("negative", "{ x = 0, y = 0, noise = { joints = -0.1 } }"),
+  CHECK_THAT(robot_error("noise_negative", "{ x = 0, y = 0, noise = { joints = -0.1 } }"),
              Contains(":2:") && Contains("field 'joints' must be within [0, 1] rad, got -0.1"));
-  CHECK_THAT(robot_error("unknown", "{ x = 0, y = 0, noise = { odometry = 1 } }"),
+  CHECK_THAT(robot_error("noise_unknown", "{ x = 0, y = 0, noise = { odometry = 1 } }"),
              Contains(":2:") && Contains("unknown field 'odometry'; known fields: base, effort, image, joints, touch"));
-  CHECK_THAT(robot_error("type", "{ x = 0, y = 0, noise = 3 }"), Contains(":2:") && Contains("noise"));
+  CHECK_THAT(robot_error("noise_type", "{ x = 0, y = 0, noise = 3 }"), Contains(":2:") && Contains("noise"));
   Scenario s = Scenario::load("unobstructed");
   set_moderate(s, 2.0);
   const WorldSpec w = s.generate(5);
