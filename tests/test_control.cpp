@@ -19,6 +19,7 @@ class Scripted final : public Controller {
  public:
   explicit Scripted(std::string name) { set_name(std::move(name)); }
   const char* kind() const override { return "scripted"; }
+  ControllerPtr copy() const override { return std::make_shared<Scripted>(*this); }
   Gamma next = Gamma::kNotConv;
   DofVector command = DofVector::Zero();
   TaskJacobian jacobian;
@@ -566,4 +567,32 @@ TEST_CASE("touch locates the object only on an object of the stimulus colour", "
   s.touch[size_t(kBody)] = Touch{};
   with_map.update(s, robot, &objects, &blue);
   CHECK(with_map.felt_object == 2);
+}
+
+TEST_CASE("duplicate copies a skill and its parts once each, keeping what they share", "[control]") {
+  auto x = std::make_shared<Scripted>("x"), y = std::make_shared<Scripted>("y");
+  auto both = std::make_shared<SubjectTo>(x, y);
+  auto policy = std::make_shared<Policy>(std::vector<ControllerPtr>{x, both}, std::vector<int>(9, 1), both);
+  auto steps = std::make_shared<Sequence>(std::vector<ControllerPtr>{policy, both});
+  steps->set_name("steps");
+  Duplicates done;
+  const ControllerPtr copy = duplicate(steps, done);
+  REQUIRE(copy != steps);
+  CHECK(copy->name() == "steps");
+  CHECK(done.controllers.size() == 5);  // steps, policy, both, x, y: each once
+  const auto& s = static_cast<const Sequence&>(*copy);
+  const auto& p = static_cast<const Policy&>(*s.steps()[0]);
+  const auto& b = static_cast<const SubjectTo&>(*s.steps()[1]);
+  CHECK(p.actions()[1].get() == &b);  // `both` is one controller in the copy, as in the original
+  CHECK(p.actions()[0] == b.subordinate());
+  CHECK(b.subordinate() != x);
+  CHECK(b.superior() != y);
+  CHECK(p.table() == policy->table());
+  // The copies evaluate on their own: the originals are not asked.
+  x->next = y->next = Gamma::kConv;
+  ControlInput in;
+  in.tick = 1;
+  copy->evaluate(in);
+  CHECK(x->evaluations == 0);
+  CHECK(y->evaluations == 0);
 }

@@ -13,6 +13,7 @@ class Scripted final : public Controller {
  public:
   explicit Scripted(std::string name) { set_name(std::move(name)); }
   const char* kind() const override { return "scripted"; }
+  ControllerPtr copy() const override { return std::make_shared<Scripted>(*this); }
   Gamma next = Gamma::kNotConv;
   int evaluations = 0;
 
@@ -140,4 +141,48 @@ TEST_CASE("sorted() judges every colour with a region, sorted(colour) one of the
   objects[1].region = 1;
   objects[0].held = false;
   CHECK(sorted()->holds(later));
+}
+
+TEST_CASE("duplicate copies a predicate and its controllers once each, with their own state", "[predicate]") {
+  auto a = std::make_shared<Scripted>("a");
+  auto p = all_of({converged(a), held(gamma_is(a, Gamma::kConv), 0.04)});
+  Duplicates done;
+  const PredicatePtr q = duplicate(p, done);
+  REQUIRE(q != p);
+  CHECK(q->describe() == p->describe());
+  std::vector<const Controller*> read;
+  q->controllers(read);
+  REQUIRE(read.size() == 2);
+  CHECK(read[0] == read[1]);  // `a` read twice: one copy, shared as the original is
+  CHECK(read[0] != a.get());
+  CHECK(done.controllers.size() == 1);
+  // The copy keeps its own hold timer and its own controller.
+  a->next = Gamma::kConv;
+  for (uint64_t t = 0; t < 3; ++t) CHECK(p->holds(at_tick(t, 0.02 * double(t))) == (t == 2));
+  CHECK(a->evaluations == 3);
+  CHECK_FALSE(q->holds(at_tick(3, 0.06)));  // its copy of `a` still says !CONV, as `a` did when copied
+  CHECK(a->evaluations == 3);
+}
+
+TEST_CASE("a judge asks the predicate itself without truth and copies of it on the truth", "[predicate]") {
+  auto a = std::make_shared<Scripted>("a");
+  auto p = converged(a);
+  Judge judge(p.get());
+  judge.reset(1);
+  ControlInput in = at_tick(0, 0.0);
+  a->next = Gamma::kConv;
+  CHECK(judge.holds(in));  // no truth: the predicate itself
+  CHECK(a->evaluations == 1);
+  // With the true tick given, the judge evaluates copies: the original is not asked again, and
+  // what the actions' controller says next does not reach the copy.
+  ControlInput truth = at_tick(1, 0.02);
+  in = at_tick(1, 0.02);
+  in.truth = &truth;
+  CHECK(judge.holds(in));
+  a->next = Gamma::kNoRef;
+  in.tick = truth.tick = 2;
+  CHECK(judge.holds(in));
+  CHECK(a->evaluations == 1);
+  CHECK_FALSE(p->holds(in));
+  CHECK_FALSE(Judge().holds(in));  // no predicate: never done
 }

@@ -64,6 +64,7 @@ void Agent::reset(const WorldSpec& spec) {
     grid_valid_ = true;
   }
   percepts_ = Percepts{};
+  true_percepts_ = Percepts{};
   objects_.assign(s.objects.size(), MapObject{});
   for (size_t i = 0; i < s.objects.size(); ++i) {
     objects_[i].radius = shape_bounding_radius(s.objects[i].shape);
@@ -106,6 +107,24 @@ void Agent::refresh_input() {
   input_.attention = &world_.attention();
   input_.next_attention = &next_attention_;
   input_.region = world_.attention().region;
+  refresh_truth();
+}
+
+void Agent::refresh_truth() {
+  const bool noisy = &world_.senses() != &world_.true_senses();
+  if (!noisy && !params_.always_judge_truth) {
+    input_.truth = nullptr;
+    return;
+  }
+  if (noisy) true_percepts_.update(world_.true_senses(), world_.body(), &objects_, &world_.attention().colour);
+  true_input_ = input_;
+  true_input_.senses = &world_.true_senses();
+  true_input_.percepts = noisy ? &true_percepts_ : &percepts_;
+  true_input_.truth = nullptr;
+  // A judge never steers the eyes: a binding among its copies asks a scratch attention.
+  judge_next_attention_ = next_attention_;
+  true_input_.next_attention = &judge_next_attention_;
+  input_.truth = &true_input_;
 }
 
 const ControlOutput& Agent::step(Controller& action) {
@@ -115,7 +134,7 @@ const ControlOutput& Agent::step(Controller& action) {
     // A binding redirected the eyes: what was perceived of the old stimulus is not the new one's.
     const Attention& now = world_.attention();
     if (next_attention_.colour != now.colour || next_attention_.ignore_region != now.ignore_region)
-      percepts_ = Percepts{};
+      percepts_ = true_percepts_ = Percepts{};
     world_.set_attention(next_attention_);
   }
   DofVector errors = out.command;

@@ -17,6 +17,9 @@ struct AgentParams {
   // the folded footprint's half width: 0.36 m for the default Roger).
   double grid_inflate = -1.0;
   bool gaze_reflex = true;     // eyes keep the stimulus centred whenever the action leaves them idle
+  // Gives the judges the true world's tick (ControlInput::truth) even without noise, where it is
+  // the same as the senses': how tests show that judging through copies changes nothing.
+  bool always_judge_truth = false;
 };
 
 // The control loop of one episode.
@@ -33,6 +36,9 @@ class Agent {
 
   // The inputs every controller reads at the current tick (evaluate other controllers with it).
   const ControlInput& input() const { return input_; }
+  // What judges read under noise: the same tick from the true senses (input().truth, or input()
+  // itself when the senses are true).
+  const ControlInput& true_input() const { return input_.truth ? *input_.truth : input_; }
 
   World& world() { return world_; }
   const World& world() const { return world_; }
@@ -52,9 +58,14 @@ class Agent {
  private:
   void refresh_input();
   void refresh_objects();
+  // Points input_.truth at the tick as the true senses give it, where judges need it.
+  void refresh_truth();
   World world_;
   AgentParams params_;
   Percepts percepts_;
+  Percepts true_percepts_;  // what the true senses make of the world (under noise only)
+  ControlInput true_input_; // the tick as the true world gives it, for judges (under noise only)
+  Attention judge_next_attention_;  // where judges' bindings ask to attend: ignored
   BodyMetrics metrics_;
   OccupancyGrid grid_;
   // What grid_ was built from: an episode in the same arena among the same obstacles reuses it.

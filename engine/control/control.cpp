@@ -113,6 +113,39 @@ void Controller::reset(uint64_t) {
   body_ = nullptr;
 }
 
+ControllerPtr Controller::copy() const {
+  throw Error("controller '" + name_ + "' (" + kind() +
+              ") cannot be copied, so it cannot be judged on the true world under noise");
+}
+
+ControllerPtr duplicate(const ControllerPtr& c, Duplicates& done) {
+  if (!c) return nullptr;
+  for (const auto& [original, copy] : done.controllers)
+    if (original == c.get()) return copy;
+  ControllerPtr copy = c->copy();
+  done.controllers.emplace_back(c.get(), copy);  // before the parts: a cycle finds it
+  copy->relink(done);
+  return copy;
+}
+
+void SubjectTo::relink(Duplicates& done) {
+  sub_ = duplicate(sub_, done);
+  sup_ = duplicate(sup_, done);
+}
+
+void Sequence::relink(Duplicates& done) {
+  for (auto& s : steps_) s = duplicate(s, done);
+}
+
+void StandIn::relink(Duplicates& done) { target_ = duplicate(target_, done); }
+
+void Binding::relink(Duplicates& done) { target_ = duplicate(target_, done); }
+
+void Policy::relink(Duplicates& done) {
+  for (auto& a : actions_) a = duplicate(a, done);
+  done_ = duplicate(done_, done);
+}
+
 Gamma Controller::settle(Gamma raw, const ControlInput& in) {
   // Convergence may have to hold for a while before it counts, and without interruption: a
   // controller nobody looked at for some ticks (a sequence's idle step, the part of a predicate

@@ -88,6 +88,9 @@ struct MapObject {
 // the simulator's object poses as senses.
 struct ControlInput {
   const Senses* senses = nullptr;
+  // The same tick as the true world gives it (true senses and what they make of them, all else
+  // alike), for judges (Judge in predicate.h); null when the senses are the true ones (no noise).
+  const ControlInput* truth = nullptr;
   const Percepts* percepts = nullptr;
   const RobotParams* robot = nullptr;
   const BodyMetrics* body = nullptr;    // the numbers that follow from the body (core/body.h)
@@ -128,6 +131,16 @@ struct ControllerParams {
 
 // A closed-loop action. Evaluation is cached per tick: a controller shared by several compositions
 // is computed once.
+class Controller;
+class Predicate;
+
+// Copies already made while duplicating controllers and predicates (Controller::duplicate): a
+// part shared by several owners is copied once and stays shared among the copies.
+struct Duplicates {
+  std::vector<std::pair<const Controller*, std::shared_ptr<Controller>>> controllers;
+  std::vector<std::pair<const Predicate*, std::shared_ptr<Predicate>>> predicates;
+};
+
 class Controller {
  public:
   virtual ~Controller() = default;
@@ -195,6 +208,13 @@ class Controller {
   // A short word for what it is: a primitive's own name, "subject_to", "sequence" or "policy".
   virtual const char* kind() const = 0;
 
+  // A copy of this controller alone (its parts still the originals'): same parameters, name and
+  // state. Through roger::duplicate only, which then relinks the parts. The default refuses: a
+  // controller that cannot be copied cannot be judged on the true world under noise.
+  virtual std::shared_ptr<Controller> copy() const;
+  // Replaces the parts of a fresh copy by their duplicates (nothing for a leaf).
+  virtual void relink(Duplicates&) {}
+
  protected:
   // Computes the output for this tick; gamma_raw before the hold time.
   virtual void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) = 0;
@@ -224,6 +244,11 @@ class Controller {
 
 using ControllerPtr = std::shared_ptr<Controller>;
 
+// A deep copy with its own state: the controller and every part it is made of, each copied once
+// (`done` records the copies, so shared parts stay shared). A judge reads the true world through
+// such copies while the originals act on the noisy senses (Judge in predicate.h).
+ControllerPtr duplicate(const ControllerPtr& c, Duplicates& done);
+
 // The nullspace projector N = I - J^+ J of a task Jacobian (Moore-Penrose), from an orthonormal
 // basis of J's row space: rows that depend on the others to within `tolerance` times the largest
 // row add nothing (the pseudoinverse is truncated there rather than blowing up near singularities).
@@ -247,6 +272,8 @@ class SubjectTo final : public Controller {
   const ControllerPtr& subordinate() const { return sub_; }
   const ControllerPtr& superior() const { return sup_; }
   void reset(uint64_t seed) override;
+  ControllerPtr copy() const override { return std::make_shared<SubjectTo>(*this); }
+  void relink(Duplicates& done) override;
   void executed(const ControlInput& in) override;
   bool state_is_exact() const override { return sub_->state_is_exact() && sup_->state_is_exact(); }
 
@@ -284,6 +311,8 @@ class Sequence final : public Controller {
   std::vector<const Controller*> children() const override;
   const char* kind() const override { return "sequence"; }
   void reset(uint64_t seed) override;
+  ControllerPtr copy() const override { return std::make_shared<Sequence>(*this); }
+  void relink(Duplicates& done) override;
   void executed(const ControlInput& in) override;
   // The step running now.
   int current() const { return current_; }
@@ -327,6 +356,7 @@ class StandIn : public Controller {
   bool state_is_exact() const override { return !target_ || target_->state_is_exact(); }
   std::vector<const Controller*> children() const override;
   void reset(uint64_t seed) override;
+  void relink(Duplicates& done) override;
   void executed(const ControlInput& in) override;
 
  protected:
@@ -381,6 +411,8 @@ class Binding final : public Controller {
   std::vector<const Controller*> children() const override { return {target_.get()}; }
   const char* kind() const override { return "binding"; }
   void reset(uint64_t seed) override;
+  ControllerPtr copy() const override { return std::make_shared<Binding>(*this); }
+  void relink(Duplicates& done) override;
   void executed(const ControlInput& in) override;
   const ControllerPtr& target() const { return target_; }
   const Controller* inner() const override { return target_.get(); }
@@ -449,6 +481,8 @@ class Policy final : public Controller {
   std::vector<const Controller*> children() const override;
   const char* kind() const override { return "policy"; }
   void reset(uint64_t seed) override;
+  ControllerPtr copy() const override { return std::make_shared<Policy>(*this); }
+  void relink(Duplicates& done) override;
   void executed(const ControlInput& in) override;
   // The action chosen at the last evaluation, or -1.
   int chosen() const { return chosen_; }

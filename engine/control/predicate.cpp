@@ -18,6 +18,8 @@ class GammaIs final : public Predicate {
                   : "gamma(" + c_->name() + ") == " + gamma_name(g_);
   }
   void controllers(std::vector<const Controller*>& out) const override { out.push_back(c_.get()); }
+  PredicatePtr copy() const override { return std::make_shared<GammaIs>(*this); }
+  void relink(Duplicates& done) override { c_ = duplicate(c_, done); }
 
  private:
   ControllerPtr c_;
@@ -56,6 +58,10 @@ class Combine final : public Predicate {
   void controllers(std::vector<const Controller*>& out) const override {
     for (const auto& p : parts_) p->controllers(out);
   }
+  PredicatePtr copy() const override { return std::make_shared<Combine>(*this); }
+  void relink(Duplicates& done) override {
+    for (auto& p : parts_) p = duplicate(p, done);
+  }
 
  private:
   std::vector<PredicatePtr> parts_;
@@ -73,6 +79,8 @@ class Not final : public Predicate {
   std::string describe() const override { return "not(" + p_->describe() + ")"; }
   void controllers(std::vector<const Controller*>& out) const override { p_->controllers(out); }
   bool timed() const override { return p_->timed(); }
+  PredicatePtr copy() const override { return std::make_shared<Not>(*this); }
+  void relink(Duplicates& done) override { p_ = duplicate(p_, done); }
 
  private:
   PredicatePtr p_;
@@ -101,6 +109,8 @@ class Held final : public Predicate {
   }
   void controllers(std::vector<const Controller*>& out) const override { p_->controllers(out); }
   bool timed() const override { return true; }
+  PredicatePtr copy() const override { return std::make_shared<Held>(*this); }
+  void relink(Duplicates& done) override { p_ = duplicate(p_, done); }
 
  private:
   PredicatePtr p_;
@@ -123,6 +133,8 @@ class Sorted final : public Predicate {
     return std::string("sorted(\"") + hex + "\")";
   }
   void controllers(std::vector<const Controller*>&) const override {}
+  PredicatePtr copy() const override { return std::make_shared<Sorted>(*this); }
+  void relink(Duplicates&) override {}
 
  private:
   bool only_;
@@ -165,6 +177,33 @@ PredicatePtr any_of(std::vector<PredicatePtr> parts) {
 PredicatePtr negate(PredicatePtr part) { return std::make_shared<Not>(std::move(part)); }
 PredicatePtr held(PredicatePtr part, double seconds) {
   return std::make_shared<Held>(std::move(part), seconds);
+}
+
+PredicatePtr duplicate(const PredicatePtr& p, Duplicates& done) {
+  if (!p) return nullptr;
+  for (const auto& [original, copy] : done.predicates)
+    if (original == p.get()) return copy;
+  PredicatePtr copy = p->copy();
+  done.predicates.emplace_back(p.get(), copy);
+  copy->relink(done);
+  return copy;
+}
+
+void Judge::reset(uint64_t seed) {
+  seed_ = seed;
+  if (copy_) reset_predicate(*copy_, seed);
+}
+
+bool Judge::holds(const ControlInput& in) {
+  if (!predicate_) return false;
+  if (!in.truth) return predicate_->holds(in);
+  if (!copy_) {
+    // The predicate is not owned here; an aliasing pointer lets duplicate() read it.
+    Duplicates done;
+    copy_ = duplicate(PredicatePtr(PredicatePtr(), predicate_), done);
+    reset_predicate(*copy_, seed_);
+  }
+  return copy_->holds(*in.truth);
 }
 
 void reset_predicate(Predicate& p, uint64_t seed) {

@@ -27,9 +27,38 @@ class Predicate {
   // Whether it keeps a timer (held) that must see every tick; all/any without one stop at the
   // first part that decides them, and so skip evaluating controllers nothing else needs.
   virtual bool timed() const { return false; }
+  // A copy of this predicate alone (parts still the originals'), for duplicate() only.
+  virtual std::shared_ptr<Predicate> copy() const = 0;
+  // Replaces the parts of a fresh copy (predicates and controllers) by their duplicates.
+  virtual void relink(Duplicates& done) = 0;
 };
 
 using PredicatePtr = std::shared_ptr<Predicate>;
+
+// A deep copy with its own state and its own copies of the controllers it reads (see the
+// controllers' duplicate, which shares `done`).
+PredicatePtr duplicate(const PredicatePtr& p, Duplicates& done);
+
+// A predicate that judges the true world. Under noise the controllers a predicate reads see the
+// noisy senses, as the actions sharing them must; the judge then evaluates copies of the
+// predicate and its controllers (duplicate, made at the first noisy tick) on the same tick read
+// from the true senses (ControlInput::truth). Without noise it asks the predicate itself, so
+// noise-free episodes run exactly as before. The copies are never executed: a composite's plateau
+// test, which needs execution, does not apply to them (docs/control.md, noise).
+class Judge {
+ public:
+  // Judges `p` (may be null: then it never holds). The predicate must outlive the judge.
+  explicit Judge(Predicate* p = nullptr) : predicate_(p) {}
+  // Starts an episode: resets the copies, if made, with `seed` (the predicate's owner resets it).
+  void reset(uint64_t seed);
+  // Whether the predicate holds of the true world at this tick.
+  bool holds(const ControlInput& in);
+
+ private:
+  Predicate* predicate_ = nullptr;
+  PredicatePtr copy_;  // the copy judged on the truth, once a noisy tick asked for it
+  uint64_t seed_ = 0;
+};
 
 // gamma(c) == CONV.
 PredicatePtr converged(ControllerPtr c);

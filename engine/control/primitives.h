@@ -60,6 +60,8 @@ class Primitive : public Controller {
 
   // A copy with the same parameters and fresh state.
   virtual std::shared_ptr<Primitive> clone() const = 0;
+  // For duplicate(): the clone, a leaf.
+  std::shared_ptr<Controller> copy() const override { return clone(); }
 
   // Forgets the run it was in: the next tick it runs begins a new one (acted_last_tick).
   void reset(uint64_t seed) override {

@@ -61,18 +61,21 @@ namespace {
 // One action, run every tick until its goal predicate holds.
 class FixedActionDriver final : public EpisodeDriver {
  public:
-  FixedActionDriver(Controller& action, Predicate& goal) : action_(action), goal_(goal) {}
+  FixedActionDriver(Controller& action, Predicate& goal) : action_(action), goal_(goal), judge_(&goal) {}
   void begin(uint64_t seed) override {
     action_.reset(seed);
     goal_.reset();
+    judge_.reset(seed);
   }
   Controller* choose(const ControlInput&) override { return &action_; }
-  bool absorbed(const ControlInput& in) override { return goal_.holds(in); }
+  // Success is the true world's: under noise the goal is judged on the true senses.
+  bool absorbed(const ControlInput& in) override { return judge_.holds(in); }
   bool end(const ControlInput&, bool success, int, double) override { return success; }
 
  private:
   Controller& action_;
   Predicate& goal_;
+  Judge judge_;
 };
 
 // Records frames every `every` ticks (and the last one) and the watched controllers' states.

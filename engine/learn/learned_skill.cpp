@@ -36,6 +36,11 @@ class LearnedSkill final : public Controller {
   }
 
   const char* kind() const override { return "learned"; }
+  ControllerPtr copy() const override { return std::make_shared<LearnedSkill>(*this); }
+  void relink(Duplicates& done) override {
+    for (auto& a : actions_) a = duplicate(a, done);
+    absorbing_ = duplicate(absorbing_, done);
+  }
   const Controller* inner() const override { return last_action_ >= 0 ? actions_[size_t(last_action_)].get() : nullptr; }
 
   void reset(uint64_t seed) override {

@@ -69,7 +69,7 @@ void LearningEpisodeOptions::validate() const {
 SemiMdpDriver::SemiMdpDriver(const std::vector<ControllerPtr>& psi, Predicate* absorbing, QTable& q,
                              double epsilon, Rng& rng, const LearningEpisodeOptions& options, bool learn,
                              DecisionHooks* hooks)
-    : psi_(psi), absorbing_(absorbing), q_(q), epsilon_(epsilon), rng_(rng), options_(options), learn_(learn),
+    : psi_(psi), absorbing_(absorbing), judge_(absorbing), q_(q), epsilon_(epsilon), rng_(rng), options_(options), learn_(learn),
       hooks_(hooks), hooked_reward_(hooks && hooks->has_reward()), hooked_absorbing_(hooks && hooks->has_absorbing()) {
   options.validate();
   check_psi(psi, q, "learning episode");
@@ -82,6 +82,7 @@ SemiMdpDriver::SemiMdpDriver(const std::vector<ControllerPtr>& psi, Predicate* a
 void SemiMdpDriver::begin(uint64_t seed) {
   for (const auto& c : psi_) c->reset(seed);
   if (absorbing_) reset_predicate(*absorbing_, seed);
+  judge_.reset(seed);
   ep_ = TrainingEpisode();
   ep_.seed = seed;
   ep_.action_ticks.assign(psi_.size(), 0);
@@ -184,7 +185,7 @@ bool SemiMdpDriver::absorbed(const ControlInput& in) {
     ep_.reward += options_.step_reward;
     running_reward_ += options_.step_reward;
   }
-  return absorbing_ && absorbing_->holds(in);
+  return judge_.holds(in);
 }
 
 bool SemiMdpDriver::end(const ControlInput& in, bool success, int ticks, double time) {

@@ -279,6 +279,7 @@ class SemiMdpDriver final : public EpisodeDriver {
   double discount_bootstrap(double elapsed) const;
   const std::vector<ControllerPtr>& psi_;
   Predicate* absorbing_;
+  Judge judge_;  // the absorbing predicate judged on the true world (noise never decides success)
   QTable& q_;
   const double epsilon_;
   Rng& rng_;

@@ -40,6 +40,7 @@ class NameReference final : public StandIn {
  public:
   explicit NameReference(std::string name) : StandIn(std::move(name)) {}
   const char* kind() const override { return target() ? target()->kind() : "reference"; }
+  ControllerPtr copy() const override { return std::make_shared<NameReference>(*this); }
 };
 
 // A name used before its controller was defined, with where it was first used.

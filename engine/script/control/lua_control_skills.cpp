@@ -23,6 +23,8 @@ class PredicateGoal final : public Controller {
     return out;
   }
   const char* kind() const override { return "predicate"; }
+  ControllerPtr copy() const override { return std::make_shared<PredicateGoal>(*this); }
+  void relink(Duplicates& done) override { p_ = duplicate(p_, done); }
   void reset(uint64_t seed) override {
     Controller::reset(seed);
     p_->reset();

@@ -21,6 +21,7 @@ class LearnedRef final : public StandIn {
  public:
   explicit LearnedRef(std::string name) : StandIn(std::move(name)) {}
   const char* kind() const override { return "learned"; }
+  ControllerPtr copy() const override { return std::make_shared<LearnedRef>(*this); }
 };
 
 // A Lua function a stage keeps (absorbing or reward), with where it was defined.
