@@ -1,0 +1,132 @@
+#!/usr/bin/env python3
+"""noise_figure.py RESULTS [OUT.svg] [--roger PATH]: the figure of docs/results.md, "Noise".
+
+Success against the scale of the moderate noise M (0, 0.5, 1, 2, 4, 8) for
+  - the scripted task, unobstructed and in clutter: `roger eval curricula/scripted.lua --policy task`,
+    200 episodes per point from seed 9200000 (run here; the figures go to RESULTS/scripted_noise.json);
+  - Table III's noise-free T/DC6 policies: the evaluations III_x<scale> of a `roger run
+    scripts/noise.lua` results folder (its summary.csv), every policy's episodes pooled.
+Each point has its 95% Wilson interval. Standard library only; writes the SVG atomically.
+"""
+import json
+import math
+import os
+import subprocess
+import sys
+
+SCALES = [0, 0.5, 1, 2, 4, 8]
+M = {"noise_image": "10", "noise_joints": "0.01", "noise_base": "0.01", "noise_touch": "0.1", "noise_effort": "0.1"}
+SERIES = [("scripted, unobstructed", "#1f4e8c"), ("scripted, cluttered", "#7da7d9"),
+          ("T/DC6 policies, 3 obstacles", "#c0571b")]
+
+
+def wilson(k, n, z=1.959964):
+    """The 95% Wilson score interval of k successes in n draws."""
+    if n == 0:
+        return 0.0, 0.0
+    p = k / n
+    d = 1 + z * z / n
+    c = (p + z * z / (2 * n)) / d
+    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
+    return max(0.0, c - h), min(1.0, c + h)
+
+
+def scale_name(s):
+    return str(s).replace(".", "_")
+
+
+def scripted(roger, scenario, scale):
+    """(successes, episodes) of the scripted task at one scale."""
+    cmd = [roger, "eval", "curricula/scripted.lua", "--policy", "task", "--scenario", scenario,
+           "--episodes", "200", "--seed", "9200000", "--json", "--set", f"noise_scale={scale}"]
+    for k, v in M.items():
+        cmd += ["--set", f"{k}={v}"]
+    out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
+    r = json.loads(out.strip().splitlines()[-1])
+    return r["successes"], r["episodes"]
+
+
+def table_three(results):
+    """(successes, episodes) per scale of the noise-free T/DC6 policies: every evaluation trial's
+    result.json under RESULTS/trials/eval/III_x<scale>/."""
+    points = {}
+    for s in SCALES:
+        folder = os.path.join(results, "trials", "eval", f"III_x{scale_name(s)}")
+        k = n = 0
+        for root, _, files in os.walk(folder):
+            if "result.json" in files:
+                with open(os.path.join(root, "result.json")) as f:
+                    r = json.load(f)
+                k, n = k + r["successes"], n + r["episodes"]
+        if n:
+            points[s] = (k, n)
+    return points
+
+
+def svg(points):
+    w, h, left, top, bottom = 760, 440, 60, 40, 80
+    plot_w, plot_h = w - left - 30, h - top - bottom
+    x = lambda i: left + plot_w * i / (len(SCALES) - 1)
+    y = lambda r: top + plot_h * (1 - r)
+    out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" font-family="sans-serif" font-size="12">',
+           f'<rect width="{w}" height="{h}" fill="white"/>',
+           f'<text x="{left}" y="22" font-size="15" font-weight="bold">Success against the scale of the noise M</text>']
+    for k in range(6):
+        r = k / 5
+        out.append(f'<line x1="{left}" x2="{w - 30}" y1="{y(r):.1f}" y2="{y(r):.1f}" stroke="#ddd"/>')
+        out.append(f'<text x="{left - 6}" y="{y(r) + 4:.1f}" text-anchor="end">{100 * r:.0f}%</text>')
+    for i, s in enumerate(SCALES):
+        out.append(f'<text x="{x(i):.1f}" y="{top + plot_h + 18}" text-anchor="middle">{s} M</text>')
+    for (label, colour) in SERIES:
+        pts = points.get(label, {})
+        line = [(x(SCALES.index(s)), y(k / n)) for s, (k, n) in sorted(pts.items()) if n]
+        if line:
+            out.append(f'<polyline fill="none" stroke="{colour}" stroke-width="2" points="' +
+                       " ".join(f"{a:.1f},{b:.1f}" for a, b in line) + '"/>')
+        for s, (k, n) in pts.items():
+            if not n:
+                continue
+            lo, hi = wilson(k, n)
+            cx = x(SCALES.index(s))
+            out.append(f'<line x1="{cx:.1f}" x2="{cx:.1f}" y1="{y(lo):.1f}" y2="{y(hi):.1f}" stroke="{colour}"/>')
+            out.append(f'<circle cx="{cx:.1f}" cy="{y(k / n):.1f}" r="3.5" fill="{colour}"/>')
+    for j, (label, colour) in enumerate(SERIES):
+        lx = left + j * 230
+        out.append(f'<rect x="{lx}" y="{h - 44}" width="14" height="14" fill="{colour}"/>')
+        out.append(f'<text x="{lx + 20}" y="{h - 32}">{label}</text>')
+    out.append(f'<text x="{left}" y="{h - 10}" fill="#555">M = image 10 levels, joints 0.01 rad, base 0.01 m/rad, '
+               'touch 0.1, effort 0.1. Whiskers: 95% Wilson intervals.</text>')
+    out.append("</svg>")
+    return "\n".join(out) + "\n"
+
+
+def main():
+    args = [a for a in sys.argv[1:]]
+    roger = "build/engine/roger"
+    if "--roger" in args:
+        i = args.index("--roger")
+        roger = args[i + 1]
+        del args[i:i + 2]
+    if len(args) not in (1, 2):
+        sys.exit("usage: noise_figure.py RESULTS_FOLDER [OUT.svg] [--roger PATH]")
+    results = args[0]
+    table = table_three(results)
+    if not table:
+        sys.exit(f"{results} holds no evaluation III_x... of scripts/noise.lua (trials/eval/III_x*)")
+    points = {SERIES[2][0]: table}
+    for label, scenario in ((SERIES[0][0], "unobstructed"), (SERIES[1][0], "cluttered")):
+        points[label] = {s: scripted(roger, scenario, s) for s in SCALES}
+    with open(os.path.join(results, "scripted_noise.json"), "w") as f:
+        json.dump({label: {str(s): {"successes": k, "episodes": n} for s, (k, n) in pts.items()}
+                   for label, pts in points.items()}, f, indent=1)
+    out = args[1] if len(args) == 2 else os.path.join(results, "noise.svg")
+    with open(out + ".tmp", "w") as f:
+        f.write(svg(points))
+    os.replace(out + ".tmp", out)
+    print("wrote", out)
+    for label, pts in points.items():
+        print(label + ": " + ", ".join(f"{s} M {100 * k / n:.1f}% ({k}/{n})" for s, (k, n) in sorted(pts.items()) if n))
+
+
+if __name__ == "__main__":
+    main()
