@@ -188,7 +188,7 @@ TEST_CASE("no noise reaches the object map's held", "[noise]") {
   const SkillScript script = SkillScript::load("curricula/scripted.lua");
   const SkillScript::NamedPolicy& task = script.policy("search_grasp");
   Scenario scenario = Scenario::load("unobstructed");
-  set_moderate(scenario, 4.0);
+  set_moderate(scenario, 2.0);
   scenario.set_param("noise_touch", "1");  // forces that swing by their own size
   Agent agent;
   agent.reset(scenario.generate(7390001));

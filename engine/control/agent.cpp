@@ -65,6 +65,11 @@ void Agent::reset(const WorldSpec& spec) {
   }
   percepts_ = Percepts{};
   true_percepts_ = Percepts{};
+  // How far a stereo fix of the noisy senses may be off: each eye's world bearing carries its
+  // pan's noise and the image's (about a hundredth of a pixel per colour level, measured on the
+  // stimulus' centre), the base its own.
+  const NoiseParams& n = s.noise;
+  stereo_noise_ = StereoNoise{std::hypot(n.joints, n.image / 100.0 / world_.camera().focal), n.base};
   objects_.assign(s.objects.size(), MapObject{});
   for (size_t i = 0; i < s.objects.size(); ++i) {
     objects_[i].radius = shape_bounding_radius(s.objects[i].shape);
@@ -93,7 +98,7 @@ void Agent::refresh_objects() {
 
 void Agent::refresh_input() {
   refresh_objects();
-  percepts_.update(world_.senses(), world_.body(), &objects_, &world_.attention().colour);
+  percepts_.update(world_.senses(), world_.body(), &objects_, &world_.attention().colour, stereo_noise_);
   input_.senses = &world_.senses();
   input_.percepts = &percepts_;
   input_.robot = &world_.body();

@@ -64,6 +64,7 @@ class Agent {
   AgentParams params_;
   Percepts percepts_;
   Percepts true_percepts_;  // what the true senses make of the world (under noise only)
+  StereoNoise stereo_noise_;  // how noisy this episode's stereo fixes are (none without noise)
   ControlInput true_input_; // the tick as the true world gives it, for judges (under noise only)
   Attention judge_next_attention_;  // where judges' bindings ask to attend: ignored
   BodyMetrics metrics_;

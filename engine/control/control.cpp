@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/LU>
 
 #include "core/error.h"
 #include "core/shape.h"
@@ -42,19 +43,55 @@ int most_touched(const Senses& s, const bool (&on)[kTactileCount], Eligible elig
 
 }  // namespace
 
+Vec2 StereoFilter::fuse(const Vec2& z, const Vec2& eyes_mid, double baseline, const StereoNoise& noise, double t) {
+  // The fix's covariance: along the line of sight the range error d^2 / b times the vergence's
+  // (two bearings' worth); across it d times one bearing's, and the base's own error in both.
+  // The range is the estimate's where there is one: weighing each fix by its own range would
+  // favour the fixes that happen to fall short (their variance is smaller) and pull it closer.
+  const Vec2 ray = (valid ? center : z) - eyes_mid;
+  const double d = std::max(ray.norm(), 1e-6);
+  const Vec2 along = ray / d, across(-along.y(), along.x());
+  const double vergence = std::sqrt(2.0) * noise.bearing;
+  const double sr = d * d / std::max(baseline, 1e-6) * vergence, sl = d * std::hypot(noise.bearing, noise.base);
+  const Eigen::Matrix2d R = sr * sr * along * along.transpose() + sl * sl * across * across.transpose() +
+                            noise.base * noise.base * Eigen::Matrix2d::Identity();
+  // An object lost from view for a while, or pushed, may be elsewhere: it moves at up to about
+  // kDrift m/s; an estimate older than kForget seconds starts over. A fix more than four standard
+  // deviations off is an outlier and left out, unless it is the third in a row: the object may
+  // not be where it was, so that one is fused (starting over from it did worse under 4M).
+  constexpr double kDrift = 0.3, kForget = 1.0, kGate = 16.0;
+  if (valid && t - time <= kForget) {
+    const Eigen::Matrix2d P = covariance + kDrift * kDrift * (t - time) * Eigen::Matrix2d::Identity();
+    const Eigen::Matrix2d S_inv = (P + R).inverse();
+    const Vec2 innovation = z - center;
+    if (innovation.dot(S_inv * innovation) > kGate && ++rejected < 3) return center;
+    const Eigen::Matrix2d K = P * S_inv;
+    center += K * innovation;
+    covariance = (Eigen::Matrix2d::Identity() - K) * P;
+  } else {
+    center = z, covariance = R;
+  }
+  valid = true, time = t, rejected = 0;
+  return center;
+}
+
 void Percepts::update(const Senses& s, const RobotParams& robot, const std::vector<MapObject>* objects,
-                      const Colour* stimulus) {
+                      const Colour* stimulus, const StereoNoise& noise) {
   object = VisualObject{};
   // A stimulus that runs off either image has no trustworthy centre there: no stereo fix then.
   if (s.stereo_valid && !s.stimulus[0].clipped && !s.stimulus[1].clipped) {
     object.seen = true;
     object.center = s.stimulus_world;
     object.center_base = s.stimulus_base;
+    if (noise.any()) {
+      object.center = stereo.fuse(s.stimulus_world, to_world(s.base, Vec2::Zero()), 2.0 * robot.eye_y, noise, s.time);
+      object.center_base = to_local(s.base, object.center);
+    }
     // Size from the angular width in the eye with the wider view of it: r = d sin(half width).
     double half = 0.0;
     for (int e = 0; e < 2; ++e)
       if (s.stimulus[e].seen) half = std::max(half, s.stimulus[e].half_width);
-    const double range = s.stimulus_base.norm();
+    const double range = object.center_base.norm();
     object.radius = range * std::sin(half);
     remembered = vision = object;
     remembered_time = vision_time = s.time;
@@ -83,6 +120,7 @@ void Percepts::update(const Senses& s, const RobotParams& robot, const std::vect
     object.seen = object.by_touch = true;
     object.center = sum / n;
     object.center_base = to_local(s.base, object.center);
+    if (noise.any()) stereo.valid = false;  // touch says where it is now: a later fix starts over
     object.radius = remembered.radius;
     remembered.center = object.center;
     remembered.center_base = object.center_base;

@@ -50,6 +50,30 @@ struct VisualObject {
 
 struct MapObject;
 
+// How noisy the stereo fix is, from the senses' noise (NoiseParams): the standard deviation of
+// each eye's world bearing of the stimulus (rad: its pan's noise and the image's) and of the base
+// pose (m and rad). All zero for true senses: the fix is then taken as it is.
+struct StereoNoise {
+  double bearing = 0.0;
+  double base = 0.0;
+  bool any() const { return bearing > 0.0 || base > 0.0; }
+};
+
+// The object's centre as fused over the ticks: a Kalman filter in the world frame whose
+// measurements are the stereo fixes, each with the covariance its geometry gives (the range error
+// grows with the square of the range over the eyes' baseline), and a process noise that lets
+// the object be pushed. Used only under noise (StereoNoise::any), so true senses are untouched.
+struct StereoFilter {
+  bool valid = false;
+  Vec2 center = Vec2::Zero();
+  Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
+  double time = -1e9;  // of the last fix fused
+  int rejected = 0;    // fixes in a row too far from the estimate to be the same object
+  // Fuses a fix `z` seen from eyes at `eyes_mid` (baseline `baseline`) at time `t`; returns the
+  // estimate.
+  Vec2 fuse(const Vec2& z, const Vec2& eyes_mid, double baseline, const StereoNoise& noise, double t);
+};
+
 // Per-tick facts shared by every controller, computed once (see Percepts::update).
 struct Percepts {
   VisualObject object;                   // what the eyes say
@@ -61,10 +85,13 @@ struct Percepts {
   bool contact_on_object[kTactileCount] = {false, false, false};  // touch on an object
   int touched_object = -1;               // the object touched by most sensors, or -1
   int felt_object = -1;                  // the object touch located this tick (see update), or -1
+  StereoFilter stereo;                   // the fused fix, under noise only
   // Recomputes from this tick's senses. With the map of objects and the stimulus colour, touch
   // locates only an object of that colour (see update); without them, whatever it touches most.
+  // Under noise (`noise` any) the stereo fix is fused over the ticks (StereoFilter).
   void update(const Senses& senses, const RobotParams& robot,
-              const std::vector<MapObject>* objects = nullptr, const Colour* stimulus = nullptr);
+              const std::vector<MapObject>* objects = nullptr, const Colour* stimulus = nullptr,
+              const StereoNoise& noise = {});
 
  private:
   int felt_object_of(const Senses& senses, const std::vector<MapObject>* objects,
