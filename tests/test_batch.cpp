@@ -307,12 +307,14 @@ TEST_CASE("a fault of a Lua callback fails its trial only, and error.json says w
   // function that asks for 1 GiB after 50 calls, a reward that turns NaN after 20, an absorbing
   // function that returns a string, a scenario that refuses some seeds' worlds, a reward setting a
   // finalizer, an absorbing function with a backtracking pattern, a scenario whose generator asks
-  // string.rep for 2^62 empty strings (each once an endless hang); then a sound run.
+  // string.rep for 2^62 empty strings (each once an endless hang), a reward reading an __index
+  // chain that loops and a generator comparing two 4 MB strings for ever (each one instruction of
+  // long C work, stopped by the processor-time budget); then a sound run.
   const int status = shell(std::string(ROGER_BINARY) + " run tests/scripts/faults_batch.lua --jobs 2 --out " + out.string(), &err);
   INFO(err);
   CHECK(status == 1);
-  CHECK(err.find("roger run: 2 of 18 trials done") != std::string::npos);
-  CHECK(err.find("roger run: 16 trials failed") != std::string::npos);
+  CHECK(err.find("roger run: 2 of 22 trials done") != std::string::npos);
+  CHECK(err.find("roger run: 20 trials failed") != std::string::npos);
   for (const char* id : {"sound/A/000", "sound/A/001"}) CHECK(fs::is_regular_file(fs::path(trial_dir(out.string(), id)) / "result.json"));
 
   struct Fault {
@@ -330,6 +332,8 @@ TEST_CASE("a fault of a Lua callback fails its trial only, and error.json says w
       {"finalizer", "tests/scripts/faults_curriculum.lua", 44, "a metatable with __gc is refused"},
       {"pattern", "tests/scripts/faults_curriculum.lua", 52, "string.find: instruction budget of 50000000 exceeded"},
       {"escape", "tests/scripts/faults_escape_scenario.lua", 10, "string.rep: instruction budget of 50000000 exceeded"},
+      {"chain", "tests/scripts/faults_curriculum.lua", 61, "processor time budget exceeded: "},
+      {"compare", "tests/scripts/faults_compare_scenario.lua", 11, "processor time budget exceeded: "},
   };
   for (const auto& f : faults)
     for (int i = 0; i < 2; ++i) {
@@ -367,7 +371,7 @@ TEST_CASE("a fault of a Lua callback fails its trial only, and error.json says w
   const std::string csv = slurp(out / "summary.csv");
   size_t failed_rows = 0;
   for (size_t at = csv.find(",failed,"); at != std::string::npos; at = csv.find(",failed,", at + 1)) ++failed_rows;
-  CHECK(failed_rows == 16);
+  CHECK(failed_rows == 20);
   fs::remove_all(out);
 }
 

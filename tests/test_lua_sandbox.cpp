@@ -1076,6 +1076,65 @@ TEST_CASE("C functions looping over their input are charged to the call's budget
   }
 }
 
+// One VM instruction may do long work in C that no count sees: follow an __index or __newindex
+// chain (Lua follows up to 2000 links), compare or convert a very long string, copy a huge `...`.
+// A loop of them once ran for minutes or hours within the instruction budget; the processor-time
+// budget (0.2 s plus 50 ns per instruction used) stops each at its line. Line 1 builds the input.
+TEST_CASE("single instructions doing long C work are stopped by the processor-time budget", "[lua_sandbox][faults]") {
+  const std::vector<std::string> escapes = {
+      "local mt = {} mt.__index = mt setmetatable(mt, mt)\nwhile true do pcall(function() return mt.x end) end",
+      "local head = {} local t = head for i = 1, 1990 do local u = {} setmetatable(t, {__index = u}) t = u end\n"
+      "while true do local x = head.y end",
+      "local head = {} local t = head for i = 1, 1990 do local u = {} setmetatable(t, {__newindex = u}) t = u end\n"
+      "while true do head.y = nil end",
+      "local a, b = string.rep('a', 4000000), string.rep('a', 3999999) .. 'a'\nwhile true do local _ = a == b end",
+      "local a, b = string.rep('a', 4000000), string.rep('a', 3999999) .. 'b'\nwhile true do local _ = a < b end",
+      "local s = string.rep('1', 20000000)\nwhile true do pcall(function() return s + 1 end) end",
+      "local t = {} for i = 1, 200000 do t[i] = i end local function f(...)\n"
+      "while true do local n = select('#', ...) end end return f(table.unpack(t))",
+  };
+  for (const auto& code : escapes) {
+    INFO(code);
+    const auto [e, seconds] = stopped(code + "\n");
+    CHECK(e.file == "escape.lua");
+    CHECK(e.line == 2);
+    CHECK_THAT(e.message, StartsWith("processor time budget exceeded: "));
+    CHECK_THAT(e.message, Contains("(a call may spend 0.20 s plus 50 ns per instruction): single instructions did long work in C"));
+    CHECK(as_soon_as_a_loop(seconds));
+  }
+  // A plain loop spends its instructions first, and says so.
+  CHECK_THAT(stopped("while true do end").first.message, StartsWith("instruction budget of 50000000 exceeded"));
+  // The limit can be set.
+  SandboxLimits tight;
+  tight.seconds = 0.1;
+  const auto [e, seconds] = stopped("local mt = {} mt.__index = mt setmetatable(mt, mt)\nwhile true do pcall(function() return mt.x end) end\n", tight);
+  CHECK_THAT(e.message, Contains("a call may spend 0.10 s plus 50 ns per instruction"));
+  CHECK(seconds < 0.5 * kInstrumentedSlowdown);
+}
+
+TEST_CASE("time in the engine's own functions does not count against the processor-time budget", "[lua_sandbox]") {
+  SandboxLimits limits;
+  limits.seconds = 0.2;
+  LuaSandbox sandbox(limits);
+  lua_State* L = sandbox.state();
+  // An engine function that works for 0.1 s, as a binding that builds a world or trains would.
+  lua_pushcfunction(L, [](lua_State* L) -> int {
+    return lua_protect(L, [] {
+      const auto start = std::chrono::steady_clock::now();
+      while (std::chrono::steady_clock::now() - start < std::chrono::milliseconds(100)) {
+      }
+      return 0;
+    });
+  });
+  lua_setglobal(L, "engine_work");
+  const auto start = std::chrono::steady_clock::now();
+  CHECK(eval_string(sandbox, "for i = 1, 6 do engine_work() end return 'done'") == "done");
+  CHECK(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > 0.6);
+  // Big blocks shorten the hook's interval; what the script computes is the same.
+  CHECK(eval_string(sandbox, "local s = string.rep('a', 1 << 20) local n = 0 for i = 1, 100000 do n = n + #s end return tostring(n)") ==
+        "104857600000");
+}
+
 TEST_CASE("charged functions keep Lua's results and messages", "[lua_sandbox]") {
   LuaSandbox sandbox;
   CHECK(eval_string(sandbox, "return string.rep('ab', 3, '-')") == "ab-ab-ab");

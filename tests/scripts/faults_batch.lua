@@ -9,6 +9,8 @@ return {
     { name = "type", stage = "type", contexts = { "A" } },
     { name = "finalizer", stage = "finalizer", contexts = { "A" } },
     { name = "pattern", stage = "pattern", contexts = { "A" } },
+    { name = "chain", stage = "chain", contexts = { "A" } },
+    { name = "compare", stage = "compare", contexts = { "A" } },
     { name = "escape", stage = "escape", contexts = { "A" } },
     { name = "unlucky", stage = "unlucky", contexts = { "A" } },
     { name = "sound", stage = "sound", contexts = { "A" } },

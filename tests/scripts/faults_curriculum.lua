@@ -54,6 +54,15 @@ local function late_pattern(state, time)
   return false
 end
 
+local function late_chain(state, action, event)
+  calls = calls + 1
+  if calls > 10 then  -- an __index chain that loops: 2,000 links per read, stopped by time at line 61
+    local mt = {} mt.__index = mt setmetatable(mt, mt)
+    while true do pcall(function() return mt.x end) end
+  end
+  return 0
+end
+
 local function stage(name, fields)
   fields.name = name
   fields.time_limit = 1
@@ -75,6 +84,8 @@ return {
     stage("type", { absorbing = wrong_type, reward = sound_reward }),
     stage("finalizer", { reward = late_finalizer, episodes = 200 }),
     stage("pattern", { absorbing = late_pattern, reward = sound_reward, episodes = 200 }),
+    stage("chain", { reward = late_chain, episodes = 200 }),
+    stage("compare", { scenario = "tests/scripts/faults_compare_scenario.lua", reward = sound_reward, episodes = 12 }),
     stage("escape", { scenario = "tests/scripts/faults_escape_scenario.lua", reward = sound_reward, episodes = 12 }),
     stage("unlucky", { scenario = "tests/scripts/faults_scenario.lua", reward = sound_reward, episodes = 12 }),
   },

@@ -44,7 +44,22 @@ fs::path project_root() {
 LuaSandbox::LuaSandbox(const SandboxLimits& limits) : impl_(std::make_unique<Impl>()) {
   Impl& s = *impl_;
   s.limits = limits;
-  s.hook_interval = int(std::clamp<uint64_t>(limits.instructions, 1, 1000));
+  s.hook_interval = s.interval = int(std::clamp<uint64_t>(limits.instructions, 1, 1000));
+  // The engine's own C++ (the pattern matcher, the charged functions) is instrumented under the
+  // sanitizers and runs several times slower there; Lua itself is not.
+#if defined(__SANITIZE_ADDRESS__) || defined(ROGER_SANITIZED)
+  constexpr double kSlower = 8.0;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(undefined_behavior_sanitizer)
+  constexpr double kSlower = 8.0;
+#else
+  constexpr double kSlower = 1.0;
+#endif
+#else
+  constexpr double kSlower = 1.0;
+#endif
+  s.time_floor_ns = int64_t(std::clamp(limits.seconds, 0.0, 1e6) * 1e9 * kSlower);
+  s.ns_per_instruction = std::clamp(limits.seconds_per_instruction, 0.0, 1.0) * 1e9 * kSlower;
   s.print = [](const std::string& line) { std::cerr << line << '\n'; };
   s.L = lua_newstate(sandbox_alloc, &s);
   if (!s.L)
@@ -73,6 +88,8 @@ LuaSandbox::~LuaSandbox() {
     // No finalizer written in Lua exists (setmetatable refuses __gc); to-be-closed variables
     // still pending run their __close at close, under a fresh budget.
     impl_->instructions_used = 0;
+    impl_->out_of_time = false;
+    impl_->interval = impl_->hook_interval;
     lua_sethook(impl_->L, count_hook, LUA_MASKCOUNT, impl_->hook_interval);
     lua_close(impl_->L);
   }
@@ -187,12 +204,11 @@ void LuaSandbox::call(int nargs, int nresults) {
   lua_insert(L, base);
   const bool top_level = s.call_depth == 0;
   if (top_level) {
-    s.instructions_used = 0;
     s.spent_what = s.spent_why = nullptr;
     s.oom_line = 0;
     s.pending.reset();
     s.pending_text.clear();
-    lua_sethook(L, count_hook, LUA_MASKCOUNT, s.hook_interval);
+    sandbox_detail::start_budgets(s);
   }
   s.err_handled = false;
   int status;

@@ -13,7 +13,8 @@
 //   - stops runaway scripts with an instruction budget per call and a memory cap for the state;
 //     the budget also counts the work of C library functions (pattern matching steps, elements
 //     of table functions, bytes allocated), and setmetatable refuses __gc (finalizers run with
-//     the budget's hook off);
+//     the budget's hook off); a processor-time limit per call stops what one instruction can do
+//     in C and no count sees (long __index chains, long strings compared, huge `...` lists);
 //   - turns every Lua error into a roger::ScriptError naming file:line with a traceback.
 // Nothing here aborts the process: all calls into Lua are protected.
 #pragma once
@@ -37,6 +38,14 @@ namespace roger {
 struct SandboxLimits {
   uint64_t instructions = 50'000'000;   // Lua VM instructions per top-level protected call
   size_t memory_bytes = 256u << 20;     // bytes the whole Lua state may hold
+  // The processor-time backstop, for single instructions that do long work in C where no count
+  // sees it: a top-level call may spend `seconds` plus `seconds_per_instruction` for every VM
+  // instruction it has run (half that per unit charged for C work or allocation) of
+  // processor time in Lua; the engine's own functions it calls do not count. A plain loop spends
+  // 5 ns per instruction, so only instructions ten times as slow on average, for longer than
+  // `seconds`, ever meet it. Both are 8 times larger under the sanitizers.
+  double seconds = 0.2;
+  double seconds_per_instruction = 50e-9;
 };
 
 // A Lua error with its location. what() is "file:line: message" followed by the traceback.

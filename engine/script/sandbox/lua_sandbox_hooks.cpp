@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <ctime>
 
 #include <lua.hpp>
 
@@ -40,11 +41,26 @@ void charge_allocation(LuaSandbox::Impl& s, size_t bytes) {
   s.bytes_uncharged += bytes;
   if (s.bytes_uncharged < kBytesPerInstruction) return;
   s.instructions_used += s.bytes_uncharged / kBytesPerInstruction;
+  s.charged_units += s.bytes_uncharged / kBytesPerInstruction;
   s.bytes_uncharged %= kBytesPerInstruction;
   if (s.instructions_used <= s.limits.instructions || s.call_depth == 0 || !s.L || s.spent_what) return;
   s.spent_what = "copying and allocating";
   s.spent_why = "the script built more strings or tables than the budget allows (16 bytes count as one instruction)";
   lua_sethook(s.L, count_hook, LUA_MASKCOUNT, 1);
+}
+
+// Counts the live blocks of kBigBlock bytes or more as one grows past the size or shrinks below
+// it. The first one shortens the count hook's interval at once, so the time limit is checked
+// between the slow instructions it allows (the instructions run since the last hook are then not
+// counted: at most an interval's, where the block itself was charged kBigBlock / 16).
+void note_block(LuaSandbox::Impl& s, size_t before, size_t after) {
+  const bool was = before >= kBigBlock, is = after >= kBigBlock;
+  if (was == is) return;
+  s.big_blocks += is ? 1 : -1;
+  if (is && s.L && s.call_depth > 0 && s.interval > kBigInterval) {
+    s.interval = kBigInterval;
+    lua_sethook(s.L, count_hook, LUA_MASKCOUNT, kBigInterval);
+  }
 }
 
 }  // namespace
@@ -57,6 +73,7 @@ void* sandbox_alloc(void* ud, void* ptr, size_t osize, size_t nsize) {
   if (nsize == 0) {
     std::free(ptr);
     s->memory_used -= old;
+    note_block(*s, old, 0);
     return nullptr;
   }
   if (nsize > old && nsize - old > s->limits.memory_bytes - std::min(s->memory_used, s->limits.memory_bytes)) {
@@ -65,6 +82,7 @@ void* sandbox_alloc(void* ud, void* ptr, size_t osize, size_t nsize) {
   }
   void* p = std::realloc(ptr, nsize);
   if (p) s->memory_used = s->memory_used - old + nsize;
+  if (p) note_block(*s, old, nsize);
   if (p && nsize > old) charge_allocation(*s, nsize - old);
   return p;
 }
@@ -150,13 +168,98 @@ int message_handler(lua_State* L) {
   return 1;
 }
 
-// The instruction budget: a count hook every hook_interval instructions. Once the budget is spent
-// it fires on every instruction, so a script that catches the error with pcall is stopped again
-// at its next instruction until the error reaches the engine.
+int64_t monotonic_ns() {
+  timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return int64_t(t.tv_sec) * 1'000'000'000 + t.tv_nsec;
+}
+
+int64_t thread_cpu_ns() {
+  timespec t;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return int64_t(t.tv_sec) * 1'000'000'000 + t.tv_nsec;
+}
+
+void start_budgets(LuaSandbox::Impl& s) {
+  s.instructions_used = 0;
+  s.charged_units = 0;
+  s.out_of_time = false;
+  s.excluded_ns = 0;
+  s.call_start_ns = monotonic_ns();
+  s.call_start_cpu_ns = thread_cpu_ns();
+  s.interval = s.big_blocks > 0 ? kBigInterval : s.hook_interval;
+  lua_sethook(s.L, count_hook, LUA_MASKCOUNT, s.interval);
+}
+
+namespace {
+
+// Raises a budget error at the running Lua line: "<file>:<line>: <text>".
+[[noreturn]] void raise_at_line(lua_State* L, lua_Debug* ar, const char* text) {
+  if (lua_getinfo(L, "Sl", ar) && ar->currentline > 0)
+    lua_pushfstring(L, "%s:%d: %s", ar->short_src, ar->currentline, text);
+  else
+    lua_pushstring(L, text);
+  lua_error(L);
+  std::abort();  // lua_error does not return
+}
+
+// The processor time a call has been allowed so far (SandboxLimits::seconds and
+// seconds_per_instruction).
+// Units charged for C work and allocation are allowed half a VM instruction's time: they stand
+// for 16 bytes allocated and written (25 ns covers the page faults of fresh memory: a memory
+// bomb filling 256 MiB spends about 17 ns per unit) or a step matched, and a script that built
+// long strings must not earn seconds to spend on comparing them.
+int64_t allowed_ns(const LuaSandbox::Impl& s) {
+  const uint64_t charged = std::min(s.charged_units, s.instructions_used);
+  const double units = double(s.instructions_used - charged) + 0.5 * double(charged);
+  return s.time_floor_ns + int64_t(units * s.ns_per_instruction);
+}
+
+// The processor-time backstop. The monotonic clock (cheap) says when the allowance may have run
+// out; the thread's own processor time decides, so a thread kept waiting on a busy machine is not
+// stopped. Time in the engine's functions (lua_protect) counts for neither.
+void check_time(lua_State* L, LuaSandbox::Impl& s, lua_Debug* ar) {
+  if (s.call_depth == 0) return;
+  int64_t spent = 0;
+  if (!s.out_of_time) {
+    const int64_t allowed = allowed_ns(s);
+    if (monotonic_ns() - s.call_start_ns - s.excluded_ns <= allowed) return;
+    spent = thread_cpu_ns() - s.call_start_cpu_ns - s.excluded_ns;
+    if (spent <= allowed) return;
+    s.out_of_time = true;
+    s.spent_seconds = double(spent) * 1e-9;
+  }
+  s.interval = 1;  // as for the instruction budget: no escaping through pcall
+  lua_sethook(L, count_hook, LUA_MASKCOUNT, 1);
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "processor time budget exceeded: %.2f s for %llu instructions (a call may spend %.2f s plus "
+                "%.0f ns per instruction): single instructions did long work in C (a long __index or "
+                "__newindex chain, comparing or converting very long strings, or calls with very many ... values)",
+                s.spent_seconds, static_cast<unsigned long long>(s.instructions_used), double(s.time_floor_ns) * 1e-9,
+                s.ns_per_instruction);
+  raise_at_line(L, ar, text);
+}
+
+}  // namespace
+
+// The instruction budget: a count hook every `interval` instructions (hook_interval, or
+// kBigInterval while big blocks live). Once the budget is spent it fires on every instruction, so
+// a script that catches the error with pcall is stopped again at its next instruction until the
+// error reaches the engine. Each time it also checks the processor-time limit.
 void count_hook(lua_State* L, lua_Debug* ar) {
   auto& s = impl_of(L);
   s.instructions_used += uint64_t(lua_gethookcount(L));
-  if (s.instructions_used <= s.limits.instructions) return;
+  if (s.instructions_used <= s.limits.instructions) {
+    check_time(L, s, ar);
+    const int wanted = s.big_blocks > 0 ? kBigInterval : s.hook_interval;
+    if (wanted != lua_gethookcount(L)) {
+      s.interval = wanted;
+      lua_sethook(L, count_hook, LUA_MASKCOUNT, wanted);
+    }
+    return;
+  }
+  s.interval = 1;
   lua_sethook(L, count_hook, LUA_MASKCOUNT, 1);
   const auto budget = static_cast<unsigned long long>(s.limits.instructions);
   char text[256];
@@ -164,11 +267,7 @@ void count_hook(lua_State* L, lua_Debug* ar) {
     std::snprintf(text, sizeof text, "%s: instruction budget of %llu exceeded: %s", s.spent_what, budget, s.spent_why);
   else
     std::snprintf(text, sizeof text, "instruction budget of %llu exceeded (runaway loop?)", budget);
-  if (lua_getinfo(L, "Sl", ar) && ar->currentline > 0)
-    lua_pushfstring(L, "%s:%d: %s", ar->short_src, ar->currentline, text);
-  else
-    lua_pushstring(L, text);
-  lua_error(L);
+  raise_at_line(L, ar, text);
 }
 
 }  // namespace sandbox_detail
@@ -176,10 +275,24 @@ void count_hook(lua_State* L, lua_Debug* ar) {
 using sandbox_detail::count_hook;
 using sandbox_detail::impl_of;
 
+namespace {
+
+// Counts the time of an engine function called from Lua out of the processor-time limit: what
+// the engine does (building a world, training) is not the script's single instructions.
+struct EngineTime {
+  explicit EngineTime(LuaSandbox::Impl& s) : s(s), start(sandbox_detail::monotonic_ns()) {}
+  ~EngineTime() { s.excluded_ns += sandbox_detail::monotonic_ns() - start; }
+  LuaSandbox::Impl& s;
+  int64_t start;
+};
+
+}  // namespace
+
 int lua_protect(lua_State* L, const std::function<int()>& body) {
   std::string message;
   bool located = false;
   try {
+    EngineTime engine_time(impl_of(L));
     return body();
   } catch (const ScriptError& e) {
     // Keep the original location; call() re-throws the very same error.
@@ -212,6 +325,7 @@ namespace sandbox_detail {
 void charge_budget(lua_State* L, uint64_t units, const char* what, const char* why) {
   auto& s = impl_of(L);
   s.instructions_used += std::min<uint64_t>(units, s.limits.instructions + 1);
+  s.charged_units += std::min<uint64_t>(units, s.limits.instructions + 1);
   if (s.instructions_used <= s.limits.instructions) return;
   lua_sethook(L, count_hook, LUA_MASKCOUNT, 1);  // as in count_hook: no escaping through pcall
   const auto budget = lua_Integer(s.limits.instructions);

@@ -28,7 +28,18 @@ struct LuaSandbox::Impl {
   uint64_t instructions_used = 0;
   size_t bytes_uncharged = 0;  // allocated but not yet charged (kBytesPerInstruction at a time)
   int hook_interval = 1000;
+  int interval = 1000;        // the count hook's interval in force (kBigInterval while big blocks live)
   int call_depth = 0;
+  // The processor-time backstop (lua_sandbox_hooks.cpp, check_time).
+  int64_t time_floor_ns = 0;        // SandboxLimits::seconds
+  double ns_per_instruction = 0.0;   // SandboxLimits::seconds_per_instruction
+  int64_t call_start_ns = 0;      // monotonic clock at the top-level call's start
+  int64_t call_start_cpu_ns = 0;  // the thread's processor time then
+  int64_t excluded_ns = 0;        // monotonic time in the engine's own functions since (lua_protect)
+  bool out_of_time = false;       // the limit was passed in this call
+  double spent_seconds = 0.0;     // the processor time it had spent then
+  uint64_t charged_units = 0;     // of instructions_used, those charged for C work and allocation
+  int big_blocks = 0;             // live blocks of kBigBlock bytes or more
   // What spent the budget when C code did (charge_budget), for the count hook to say it again.
   const char* spent_what = nullptr;
   const char* spent_why = nullptr;
@@ -83,8 +94,22 @@ bool split_location(const std::string& text, std::string& file, int& line, std::
 // The message handler of every protected call: records the error's location and traceback.
 int message_handler(lua_State* L);
 
-// The instruction budget's count hook.
+// The instruction budget's count hook; also checks the processor-time limit.
 void count_hook(lua_State* L, lua_Debug* ar);
+
+// A block this large or larger (a long string, a big table, a stack grown for a huge `...`) makes
+// single instructions slow: while one lives, the count hook runs every kBigInterval instructions,
+// so the time limit is checked between them. Smaller blocks bound an instruction's work to tens
+// of microseconds, a thousand of them to tens of milliseconds.
+constexpr size_t kBigBlock = 256u << 10;
+constexpr int kBigInterval = 8;
+
+// The monotonic clock and the thread's processor time, in nanoseconds.
+int64_t monotonic_ns();
+int64_t thread_cpu_ns();
+
+// Starts a top-level call's budgets: its instruction count, its clock and the hook's interval.
+void start_budgets(LuaSandbox::Impl& s);
 
 // Counts `units` of work done in C against the call's budget; once it is spent, raises
 // "<what>: instruction budget of N exceeded: <why>" at the Lua caller's file:line (lua_charge's
