@@ -135,6 +135,10 @@ TEST_CASE("bad batch scripts are clear errors at file:line", "[batch_script]") {
   INFO(m);
   CHECK(m.find("bad_batch_escape.lua:3: string.gsub: instruction budget of 50000000 exceeded") != std::string::npos);
 
+  m = load_error("tests/scripts/bad_batch_chain.lua");  // once minutes of C work within the instruction budget
+  INFO(m);
+  CHECK(m.find("bad_batch_chain.lua:4: processor time budget exceeded: ") != std::string::npos);
+
   m = load_error("tests/scripts/no_such_batch.lua");
   INFO(m);
   CHECK(m.find("no batch script") != std::string::npos);
