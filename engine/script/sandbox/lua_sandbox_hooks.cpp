@@ -205,13 +205,13 @@ namespace {
 
 // The processor time a call has been allowed so far (SandboxLimits::seconds and
 // seconds_per_instruction).
-// Units charged for C work and allocation are allowed half a VM instruction's time: they stand
-// for 16 bytes allocated and written (25 ns covers the page faults of fresh memory: a memory
-// bomb filling 256 MiB spends about 17 ns per unit) or a step matched, and a script that built
-// long strings must not earn seconds to spend on comparing them.
+// Units charged for C work and allocation are allowed a quarter of a VM instruction's time (50
+// ns): they stand for 16 bytes allocated and written or a step matched (a memory bomb filling 256
+// MiB spends about 17 ns per unit), and a script that built long strings must not earn seconds
+// to spend on comparing them.
 int64_t allowed_ns(const LuaSandbox::Impl& s) {
   const uint64_t charged = std::min(s.charged_units, s.instructions_used);
-  const double units = double(s.instructions_used - charged) + 0.5 * double(charged);
+  const double units = double(s.instructions_used - charged) + 0.25 * double(charged);
   return s.time_floor_ns + int64_t(units * s.ns_per_instruction);
 }
 
