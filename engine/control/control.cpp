@@ -157,13 +157,7 @@ ControllerPtr Controller::copy() const {
 }
 
 ControllerPtr duplicate(const ControllerPtr& c, Duplicates& done) {
-  if (!c) return nullptr;
-  for (const auto& [original, copy] : done.controllers)
-    if (original == c.get()) return copy;
-  ControllerPtr copy = c->copy();
-  done.controllers.emplace_back(c.get(), copy);  // before the parts: a cycle finds it
-  copy->relink(done);
-  return copy;
+  return control_detail::duplicate_in(c, done, done.controllers);
 }
 
 void SubjectTo::relink(Duplicates& done) {

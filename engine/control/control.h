@@ -271,6 +271,22 @@ class Controller {
 
 using ControllerPtr = std::shared_ptr<Controller>;
 
+namespace control_detail {
+// What duplicate() does for controllers and predicates alike: the copy `made` already holds, or a
+// fresh copy, recorded before its parts are relinked (a cycle then finds it).
+template <class T>
+std::shared_ptr<T> duplicate_in(const std::shared_ptr<T>& p, Duplicates& done,
+                                std::vector<std::pair<const T*, std::shared_ptr<T>>>& made) {
+  if (!p) return nullptr;
+  for (const auto& [original, copy] : made)
+    if (original == p.get()) return copy;
+  std::shared_ptr<T> copy = p->copy();
+  made.emplace_back(p.get(), copy);
+  copy->relink(done);
+  return copy;
+}
+}  // namespace control_detail
+
 // A deep copy with its own state: the controller and every part it is made of, each copied once
 // (`done` records the copies, so shared parts stay shared). A judge reads the true world through
 // such copies while the originals act on the noisy senses (Judge in predicate.h).

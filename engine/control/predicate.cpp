@@ -180,13 +180,7 @@ PredicatePtr held(PredicatePtr part, double seconds) {
 }
 
 PredicatePtr duplicate(const PredicatePtr& p, Duplicates& done) {
-  if (!p) return nullptr;
-  for (const auto& [original, copy] : done.predicates)
-    if (original == p.get()) return copy;
-  PredicatePtr copy = p->copy();
-  done.predicates.emplace_back(p.get(), copy);
-  copy->relink(done);
-  return copy;
+  return control_detail::duplicate_in(p, done, done.predicates);
 }
 
 void Judge::reset(uint64_t seed) {

@@ -44,7 +44,7 @@ fs::path project_root() {
 LuaSandbox::LuaSandbox(const SandboxLimits& limits) : impl_(std::make_unique<Impl>()) {
   Impl& s = *impl_;
   s.limits = limits;
-  s.hook_interval = s.interval = int(std::clamp<uint64_t>(limits.instructions, 1, 1000));
+  s.hook_interval = int(std::clamp<uint64_t>(limits.instructions, 1, 1000));
   // The engine's own C++ (the pattern matcher, the charged functions) is instrumented under the
   // sanitizers and runs several times slower there; Lua itself is not.
 #if defined(__SANITIZE_ADDRESS__) || defined(ROGER_SANITIZED)
@@ -89,7 +89,6 @@ LuaSandbox::~LuaSandbox() {
     // still pending run their __close at close, under a fresh budget.
     impl_->instructions_used = 0;
     impl_->out_of_time = false;
-    impl_->interval = impl_->hook_interval;
     lua_sethook(impl_->L, count_hook, LUA_MASKCOUNT, impl_->hook_interval);
     lua_close(impl_->L);
   }

@@ -4,8 +4,8 @@
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
-#include <string>
 #include <ctime>
+#include <string>
 
 #include <lua.hpp>
 
@@ -20,6 +20,12 @@ LuaSandbox::Impl& impl_of(lua_State* L) {
 }
 
 namespace {
+
+// Counts units of C work or allocation as instructions, and apart (the time budget allows them less).
+void add_charged_units(LuaSandbox::Impl& s, uint64_t units) {
+  s.instructions_used += units;
+  s.charged_units += units;
+}
 
 // Records the innermost Lua line running when the memory cap is first hit in a call. Only reads
 // the call stack (lua_getstack and lua_getinfo "Sl" allocate nothing).
@@ -40,8 +46,7 @@ void note_refusal(LuaSandbox::Impl& s) {
 void charge_allocation(LuaSandbox::Impl& s, size_t bytes) {
   s.bytes_uncharged += bytes;
   if (s.bytes_uncharged < kBytesPerInstruction) return;
-  s.instructions_used += s.bytes_uncharged / kBytesPerInstruction;
-  s.charged_units += s.bytes_uncharged / kBytesPerInstruction;
+  add_charged_units(s, s.bytes_uncharged / kBytesPerInstruction);
   s.bytes_uncharged %= kBytesPerInstruction;
   if (s.instructions_used <= s.limits.instructions || s.call_depth == 0 || !s.L || s.spent_what) return;
   s.spent_what = "copying and allocating";
@@ -57,10 +62,8 @@ void note_block(LuaSandbox::Impl& s, size_t before, size_t after) {
   const bool was = before >= kBigBlock, is = after >= kBigBlock;
   if (was == is) return;
   s.big_blocks += is ? 1 : -1;
-  if (is && s.L && s.call_depth > 0 && s.interval > kBigInterval) {
-    s.interval = kBigInterval;
+  if (is && s.L && s.call_depth > 0 && lua_gethookcount(s.L) > kBigInterval)
     lua_sethook(s.L, count_hook, LUA_MASKCOUNT, kBigInterval);
-  }
 }
 
 }  // namespace
@@ -187,8 +190,7 @@ void start_budgets(LuaSandbox::Impl& s) {
   s.excluded_ns = 0;
   s.call_start_ns = monotonic_ns();
   s.call_start_cpu_ns = thread_cpu_ns();
-  s.interval = s.big_blocks > 0 ? kBigInterval : s.hook_interval;
-  lua_sethook(s.L, count_hook, LUA_MASKCOUNT, s.interval);
+  lua_sethook(s.L, count_hook, LUA_MASKCOUNT, s.big_blocks > 0 ? kBigInterval : s.hook_interval);
 }
 
 namespace {
@@ -204,11 +206,10 @@ namespace {
 }
 
 // The processor time a call has been allowed so far (SandboxLimits::seconds and
-// seconds_per_instruction).
-// Units charged for C work and allocation are allowed a quarter of a VM instruction's time (50
-// ns): they stand for 16 bytes allocated and written or a step matched (a memory bomb filling 256
-// MiB spends about 17 ns per unit), and a script that built long strings must not earn seconds
-// to spend on comparing them.
+// seconds_per_instruction). Units charged for C work and allocation are allowed a quarter of a VM
+// instruction's time (50 ns): they stand for 16 bytes allocated and written or a step matched (a
+// memory bomb filling 256 MiB spends about 17 ns per unit), and a script that built long strings
+// must not earn seconds to spend on comparing them.
 int64_t allowed_ns(const LuaSandbox::Impl& s) {
   const uint64_t charged = std::min(s.charged_units, s.instructions_used);
   const double units = double(s.instructions_used - charged) + 0.25 * double(charged);
@@ -220,17 +221,15 @@ int64_t allowed_ns(const LuaSandbox::Impl& s) {
 // stopped. Time in the engine's functions (lua_protect) counts for neither.
 void check_time(lua_State* L, LuaSandbox::Impl& s, lua_Debug* ar) {
   if (s.call_depth == 0) return;
-  int64_t spent = 0;
   if (!s.out_of_time) {
     const int64_t allowed = allowed_ns(s);
     if (monotonic_ns() - s.call_start_ns - s.excluded_ns <= allowed) return;
-    spent = thread_cpu_ns() - s.call_start_cpu_ns - s.excluded_ns;
+    const int64_t spent = thread_cpu_ns() - s.call_start_cpu_ns - s.excluded_ns;
     if (spent <= allowed) return;
     s.out_of_time = true;
     s.spent_seconds = double(spent) * 1e-9;
   }
-  s.interval = 1;  // as for the instruction budget: no escaping through pcall
-  lua_sethook(L, count_hook, LUA_MASKCOUNT, 1);
+  lua_sethook(L, count_hook, LUA_MASKCOUNT, 1);  // as for the instruction budget: no escaping through pcall
   char text[400];
   std::snprintf(text, sizeof text,
                 "processor time budget exceeded: %.2f s for %llu instructions (a call may spend %.2f s plus "
@@ -253,13 +252,9 @@ void count_hook(lua_State* L, lua_Debug* ar) {
   if (s.instructions_used <= s.limits.instructions) {
     check_time(L, s, ar);
     const int wanted = s.big_blocks > 0 ? kBigInterval : s.hook_interval;
-    if (wanted != lua_gethookcount(L)) {
-      s.interval = wanted;
-      lua_sethook(L, count_hook, LUA_MASKCOUNT, wanted);
-    }
+    if (wanted != lua_gethookcount(L)) lua_sethook(L, count_hook, LUA_MASKCOUNT, wanted);
     return;
   }
-  s.interval = 1;
   lua_sethook(L, count_hook, LUA_MASKCOUNT, 1);
   const auto budget = static_cast<unsigned long long>(s.limits.instructions);
   char text[256];
@@ -324,8 +319,7 @@ namespace sandbox_detail {
 // `what` and `why` (or the plain runaway-loop message) at the Lua caller's file:line.
 void charge_budget(lua_State* L, uint64_t units, const char* what, const char* why) {
   auto& s = impl_of(L);
-  s.instructions_used += std::min<uint64_t>(units, s.limits.instructions + 1);
-  s.charged_units += std::min<uint64_t>(units, s.limits.instructions + 1);
+  add_charged_units(s, std::min<uint64_t>(units, s.limits.instructions + 1));
   if (s.instructions_used <= s.limits.instructions) return;
   lua_sethook(L, count_hook, LUA_MASKCOUNT, 1);  // as in count_hook: no escaping through pcall
   const auto budget = lua_Integer(s.limits.instructions);

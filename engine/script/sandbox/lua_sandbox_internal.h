@@ -28,7 +28,6 @@ struct LuaSandbox::Impl {
   uint64_t instructions_used = 0;
   size_t bytes_uncharged = 0;  // allocated but not yet charged (kBytesPerInstruction at a time)
   int hook_interval = 1000;
-  int interval = 1000;        // the count hook's interval in force (kBigInterval while big blocks live)
   int call_depth = 0;
   // The processor-time backstop (lua_sandbox_hooks.cpp, check_time).
   int64_t time_floor_ns = 0;        // SandboxLimits::seconds
