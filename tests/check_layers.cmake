@@ -12,7 +12,7 @@ set(layer_learn 5)
 set(layer_script 6)
 set(layer_batch 7)
 set(layer_report 8)
-set(layer_view 8)
+set(layer_view 6)     # on learn, beside script: pictures and pages of worlds and episodes
 set(layer_propose 8)
 set(layer_cli 9)
 # engine/script/ is grouped by concept in sub-folders, with layers of their own (lowest first;
