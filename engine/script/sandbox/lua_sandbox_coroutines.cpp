@@ -9,7 +9,10 @@
 //     resumed it (Impl::running);
 //   - a budget spent inside it is not handed back as resume's `false, message`, which the caller
 //     could catch and go on: its error goes on up, naming the coroutine's line, and the caller's
-//     hook fires at its next instruction whatever happens.
+//     hook fires at its next instruction whatever happens;
+//   - a coroutine the budget's error killed keeps its hooks off for good (Lua leaves them so for
+//     an error raised in a hook), so its pending __close handlers are never run: neither by
+//     wrap's error path nor by a later coroutine.close.
 // Everything else (create, yield, status, running, isyieldable, the messages) is Lua's own.
 #include <lua.hpp>
 
@@ -45,16 +48,39 @@ void before_running(lua_State* L, lua_State* co) {
   if (lua_gethook(co) != count_hook || lua_gethookcount(co) > wanted) lua_sethook(co, count_hook, LUA_MASKCOUNT, wanted);
 }
 
-// After the coroutine ran: when it spent the budget, the caller's hook fires at its next
-// instruction, and an error the coroutine ended with (the budget's own) is raised again here, at
-// the coroutine's line, instead of being returned as a value. `error` is the stack index of that
-// error message, 0 when the coroutine did not fail.
-void after_running(lua_State* L, int error) {
+// The registry table (weak keys) of the coroutines a spent budget stopped, each with its error.
+constexpr const char* kStoppedKey = "roger.stopped_coroutines";
+
+// After the coroutine at stack index `co` ran on behalf of L: when it spent the budget, the
+// caller's hook fires at its next instruction; and a coroutine that died of it (the budget's error
+// comes from the count hook, which leaves the dead coroutine's hooks off for good) is noted as
+// stopped, and its error (at stack index `error`, 0 when none) raised again here, at the
+// coroutine's line, instead of being returned as a value.
+void after_running(lua_State* L, int co, int error) {
   if (!budget_spent(impl_of(L))) return;
   lua_sethook(L, count_hook, LUA_MASKCOUNT, 1);
+  const int status = lua_status(lua_tothread(L, co));
+  if (status == LUA_OK || status == LUA_YIELD) return;
+  luaL_getsubtable(L, LUA_REGISTRYINDEX, kStoppedKey);
+  lua_pushvalue(L, co);
+  if (error != 0) lua_pushvalue(L, error); else lua_pushliteral(L, "stopped by the budget");
+  lua_rawset(L, -3);
+  lua_pop(L, 1);
   if (error == 0) return;
   lua_pushvalue(L, error);
   lua_error(L);
+}
+
+// Whether the coroutine at stack index `co` was stopped by a budget (pushes its error if so).
+bool stopped_coroutine(lua_State* L, int co) {
+  luaL_getsubtable(L, LUA_REGISTRYINDEX, kStoppedKey);
+  lua_pushvalue(L, co);
+  if (lua_rawget(L, -2) != LUA_TNIL) {
+    lua_remove(L, -2);
+    return true;
+  }
+  lua_pop(L, 2);
+  return false;
 }
 
 // coroutine.resume(co, ...): Lua's (upvalue 1, run in this frame so its messages are Lua's).
@@ -66,8 +92,7 @@ int sandbox_resume(lua_State* L) {
     Entered entered(impl_of(L), co ? co : L);
     n = lua_tocfunction(L, lua_upvalueindex(1))(L);
   }
-  const bool failed = !lua_toboolean(L, -n);
-  after_running(L, failed ? lua_gettop(L) : 0);
+  if (co) after_running(L, 1, lua_toboolean(L, -n) ? 0 : lua_gettop(L));
   return n;
 }
 
@@ -85,9 +110,10 @@ int sandbox_wrapped(lua_State* L) {
     n = lua_tocfunction(L, lua_upvalueindex(2))(L);  // true, results or false, message
   }
   if (lua_toboolean(L, -n)) {
-    after_running(L, 0);
+    after_running(L, 1, 0);
     return n - 1;
   }
+  after_running(L, 1, lua_gettop(L));
   // As Lua's auxwrap: close the failed coroutine's pending variables, then raise its error with
   // the caller's position in front when it is a string.
   int status = lua_status(co);
@@ -96,7 +122,6 @@ int sandbox_wrapped(lua_State* L) {
     status = lua_resetthread(co);
     lua_xmove(co, L, 1);
   }
-  after_running(L, lua_gettop(L));
   if (status != LUA_ERRMEM && lua_type(L, -1) == LUA_TSTRING) {
     luaL_where(L, 1);
     lua_insert(L, -2);
@@ -115,16 +140,24 @@ int sandbox_wrap(lua_State* L) {
 }
 
 // coroutine.close(co): Lua's (upvalue 1). A suspended coroutine's pending to-be-closed variables
-// run their __close in it, under the budget.
+// run their __close in it, under the budget. Those of a coroutine a budget stopped never run (its
+// hooks stay off): closing it gives false and the budget's error.
 int sandbox_close(lua_State* L) {
   lua_State* co = lua_tothread(L, 1);
-  if (co) before_running(L, co);
+  if (co) {
+    before_running(L, co);
+    if (stopped_coroutine(L, 1)) {
+      lua_pushboolean(L, 0);
+      lua_insert(L, -2);
+      return 2;
+    }
+  }
   int n;
   {
     Entered entered(impl_of(L), co ? co : L);
     n = lua_tocfunction(L, lua_upvalueindex(1))(L);
   }
-  after_running(L, n == 2 ? lua_gettop(L) : 0);
+  if (co) after_running(L, 1, n == 2 ? lua_gettop(L) : 0);
   return n;
 }
 

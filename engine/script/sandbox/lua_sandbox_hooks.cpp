@@ -283,8 +283,23 @@ void raise_spent_budget(lua_State* L) {
   lua_sethook(L, count_hook, LUA_MASKCOUNT, 1);
   char text[400];
   spent_message(s, text, sizeof text);
-  luaL_error(L, "%s", text);
-  std::abort();  // luaL_error does not return
+  raise_at_lua_line(L, text);
+}
+
+// Raises `text` at the line of the innermost Lua function calling: a charge made in a C function
+// that a C function called (table.sort's comparisons) names the line that called table.sort, also
+// when the error leaves a coroutine, where no message handler looks for it.
+void raise_at_lua_line(lua_State* L, const char* text) {
+  lua_Debug ar;
+  for (int level = 1; lua_getstack(L, level, &ar); ++level) {
+    if (lua_getinfo(L, "Sl", &ar) && ar.currentline > 0) {
+      lua_pushfstring(L, "%s:%d: %s", ar.short_src, ar.currentline, text);
+      lua_error(L);
+    }
+  }
+  lua_pushstring(L, text);
+  lua_error(L);
+  std::abort();  // lua_error does not return
 }
 
 }  // namespace sandbox_detail
@@ -344,11 +359,11 @@ void charge_budget(lua_State* L, uint64_t units, const char* what, const char* w
   add_charged_units(s, std::min<uint64_t>(units, s.limits.instructions + 1));
   if (s.instructions_used <= s.limits.instructions) return;
   lua_sethook(L, count_hook, LUA_MASKCOUNT, 1);  // as in count_hook: no escaping through pcall
-  const auto budget = lua_Integer(s.limits.instructions);
   s.spent_what = what;
   s.spent_why = why;
-  if (!what) luaL_error(L, "instruction budget of %I exceeded (runaway loop?)", budget);
-  luaL_error(L, "%s: instruction budget of %I exceeded: %s", what, budget, why);
+  char text[400];
+  spent_message(s, text, sizeof text);
+  raise_at_lua_line(L, text);
 }
 
 }  // namespace sandbox_detail

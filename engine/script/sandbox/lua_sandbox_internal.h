@@ -126,6 +126,9 @@ bool budget_spent(const LuaSandbox::Impl& s);
 // arms L's hook to say it again at its every instruction.
 [[noreturn]] void raise_spent_budget(lua_State* L);
 
+// Raises `text` at the innermost calling Lua function's file:line.
+[[noreturn]] void raise_at_lua_line(lua_State* L, const char* text);
+
 // Counts `units` of work done in C against the call's budget; once it is spent, raises
 // "<what>: instruction budget of N exceeded: <why>" at the Lua caller's file:line (lua_charge's
 // message when what is null). Saturates: a huge count cannot wrap the total around.

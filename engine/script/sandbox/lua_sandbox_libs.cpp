@@ -63,29 +63,44 @@ void charge_source(lua_State* L, size_t bytes) {
   charge_budget(L, bytes, "load", "the chunk is too long to compile within the budget left");  // 5 ns a byte
 }
 
-// A string chunk handed to the compiler a slice at a time, each charged as it is read: the
-// compiler stops reading at the first syntax error, and so does the charge.
-struct SourceSlices {
-  const char* text;
-  size_t left;
+// Refuses a binary chunk by its first byte, whatever mode load was given: the compiler never sees
+// bytecode. (Text is accepted or refused by the mode, as Lua does.)
+void refuse_bytecode(lua_State* L, const char* piece, size_t size) {
+  if (size > 0 && piece[0] == LUA_SIGNATURE[0]) {
+    lua_pushliteral(L, "attempt to load a binary chunk: roger loads Lua source text only");
+    lua_error(L);
+  }
+}
+
+// What load reads: a string a slice at a time, each charged as it is read (the compiler stops
+// reading at the first syntax error, and so does the charge), or the pieces of the script's reader
+// (argument 1), each charged.
+struct Source {
+  const char* text = nullptr;
+  size_t left = 0;
+  bool first = true;
 };
 
 constexpr size_t kSlice = 4096;
+// A piece from a reader function costs its call and the compiler's taking it on, about as long as
+// 64 instructions, besides its bytes (a reader giving a byte at a time is stopped as a loop is).
+constexpr size_t kPieceCost = 64;
 
 const char* read_slice(lua_State* L, void* data, size_t* size) {
-  auto* slices = static_cast<SourceSlices*>(data);
-  *size = std::min(kSlice, slices->left);
+  auto* source = static_cast<Source*>(data);
+  *size = std::min(kSlice, source->left);
   if (*size == 0) return nullptr;
+  if (source->first) refuse_bytecode(L, source->text, *size);
+  source->first = false;
   charge_source(L, *size);
-  const char* piece = slices->text;
-  slices->text += *size;
-  slices->left -= *size;
+  const char* piece = source->text;
+  source->text += *size;
+  source->left -= *size;
   return piece;
 }
 
-// lbaselib's generic_reader, each piece the script's reader (argument 1) returns charged. The
-// piece is kept in the reserved slot 5 while the compiler reads it.
-const char* read_function(lua_State* L, void*, size_t* size) {
+// lbaselib's generic_reader: the piece is kept in the reserved slot 5 while the compiler reads it.
+const char* read_function(lua_State* L, void* data, size_t* size) {
   luaL_checkstack(L, 2, "too many nested functions");
   lua_pushvalue(L, 1);
   lua_call(L, 0, 1);
@@ -97,28 +112,32 @@ const char* read_function(lua_State* L, void*, size_t* size) {
   if (!lua_isstring(L, -1)) luaL_error(L, "reader function must return a string");
   lua_replace(L, 5);
   const char* piece = lua_tolstring(L, 5, size);
-  charge_source(L, *size);
+  auto* source = static_cast<Source*>(data);
+  if (source->first && *size > 0) refuse_bytecode(L, piece, *size);
+  if (*size > 0) source->first = false;
+  charge_source(L, kPieceCost + *size);
   return piece;
 }
 
-// load(chunk [, chunkname [, mode [, env]]]): lbaselib's luaB_load with the mode forced to text
-// (the mode argument is checked as Lua checks it, and ignored), charging the source as the
-// compiler reads it.
+// load(chunk [, chunkname [, mode [, env]]]): lbaselib's luaB_load, refusing binary chunks
+// whatever the mode and charging the source as the compiler reads it.
 int sandbox_load(lua_State* L) {
   size_t len;
   const char* s = lua_tolstring(L, 1, &len);
-  luaL_optstring(L, 3, "bt");
+  const char* mode = luaL_optstring(L, 3, "bt");
   const int env = !lua_isnone(L, 4) ? 4 : 0;
+  Source source;
   int status;
   if (s) {
     const char* chunkname = luaL_optstring(L, 2, s);
-    SourceSlices slices{s, len};
-    status = lua_load(L, read_slice, &slices, chunkname, "t");
+    source.text = s;
+    source.left = len;
+    status = lua_load(L, read_slice, &source, chunkname, mode);
   } else {
     const char* chunkname = luaL_optstring(L, 2, "=(load)");
     luaL_checktype(L, 1, LUA_TFUNCTION);
     lua_settop(L, 5);  // the reserved slot
-    status = lua_load(L, read_function, nullptr, chunkname, "t");
+    status = lua_load(L, read_function, &source, chunkname, mode);
   }
   if (status != LUA_OK) {  // fail and the message
     luaL_pushfail(L);
