@@ -873,14 +873,18 @@ bool as_soon_as_a_loop(double seconds) {
   return seconds < kInstrumentedSlowdown * std::max(1.0, 2 * plain_loop_seconds());
 }
 
-// What one corpus case gives, each pattern function called plainly, as a method and with every
-// kind of replacement; errors are part of the result (their messages must agree too).
-const char* const kPatternProbe = R"lua(
+// What a protected call gave, as text: "ok|v1|v2..." or "error|message" (no addresses shown).
+const std::string kShowResults = R"lua(
 local function show(ok, ...)
   local t = {ok and "ok" or "error"}
   for i = 1, select("#", ...) do t[#t + 1] = tostring((select(i, ...))) end
   return table.concat(t, "|")
 end
+)lua";
+
+// What one corpus case gives, each pattern function called plainly, as a method and with every
+// kind of replacement; errors are part of the result (their messages must agree too).
+const std::string kPatternProbe = kShowResults + R"lua(
 local function all(s, p, init)
   local r = {}
   for a, b in string.gmatch(s, p, init) do r[#r + 1] = tostring(a) .. "," .. tostring(b) end
@@ -936,19 +940,34 @@ std::string probe(lua_State* L, const std::function<void(int)>& call, const std:
   return out;
 }
 
+// A probe chunk run in the sandbox and in a plain Lua 5.4 state (with its own libraries), each
+// leaving the function it returns on top of its stack, for the side-by-side corpora.
+struct ProbePair {
+  explicit ProbePair(const std::string& probe) {
+    sandbox.load_string(probe, "=probe");
+    sandbox.call(0, 1);
+    luaL_openlibs(plain);
+    REQUIRE(luaL_loadbuffer(plain, probe.data(), probe.size(), "=probe") == LUA_OK);
+    REQUIRE(lua_pcall(plain, 0, 1, 0) == LUA_OK);
+  }
+  ~ProbePair() { lua_close(plain); }
+  ProbePair(const ProbePair&) = delete;
+  ProbePair& operator=(const ProbePair&) = delete;
+  LuaSandbox sandbox;
+  lua_State* plain = luaL_newstate();
+  // Calls the sandbox's probe, or the plain state's, with n arguments; leaves its one result.
+  void call_sandboxed(int n) { sandbox.call(n, 1); }
+  void call_plain(int n) { REQUIRE(lua_pcall(plain, n, 1, 0) == LUA_OK); }
+};
+
 }  // namespace
 
 TEST_CASE("the budgeted pattern functions give Lua's results, side by side on a corpus", "[lua_sandbox][faults]") {
-  LuaSandbox sandbox;
-  lua_State* S = sandbox.state();
-  sandbox.load_string(kPatternProbe, "=probe");
-  sandbox.call(0, 1);
-  lua_State* L = luaL_newstate();  // plain Lua 5.4 with its own string library
-  luaL_openlibs(L);
-  REQUIRE(luaL_loadbuffer(L, kPatternProbe, std::strlen(kPatternProbe), "=probe") == LUA_OK);
-  REQUIRE(lua_pcall(L, 0, 1, 0) == LUA_OK);
-  auto sandboxed = [&](int n) { sandbox.call(n, 1); };
-  auto plain = [&](int n) { REQUIRE(lua_pcall(L, n, 1, 0) == LUA_OK); };
+  ProbePair pair(kPatternProbe);
+  lua_State* S = pair.sandbox.state();
+  lua_State* L = pair.plain;
+  auto sandboxed = [&](int n) { pair.call_sandboxed(n); };
+  auto plain = [&](int n) { pair.call_plain(n); };
   const std::vector<std::string> repls = {"%0", "<%1>", "x", "%%", "%2", "%", "%a", "()", ""};
   // The shipped scripts' and the docs' patterns first, then a seeded random corpus.
   std::vector<std::array<std::string, 2>> cases = {
@@ -978,7 +997,6 @@ TEST_CASE("the budgeted pattern functions give Lua's results, side by side on a 
     CHECK(ours == theirs);
     ++compared;
   }
-  lua_close(L);
   CHECK(compared > 3000);
 }
 
@@ -1248,12 +1266,7 @@ TEST_CASE("metamethods Lua calls from C, and message handlers, are stopped like 
 namespace {
 
 // Runs one case (a chunk of Lua) and shows what it gave: "ok|v1|v2..." or "error|message".
-const char* const kLibraryProbe = R"lua(
-local function show(ok, ...)
-  local t = {ok and "ok" or "error"}
-  for i = 1, select("#", ...) do t[#t + 1] = tostring((select(i, ...))) end
-  return table.concat(t, "|")
-end
+const std::string kLibraryProbe = kShowResults + R"lua(
 return function(code)
   local f, err = load(code, "=case")
   if not f then return "compile|" .. err end
@@ -1390,14 +1403,7 @@ const std::vector<std::string> kLibraryCases = {
 }  // namespace
 
 TEST_CASE("the library functions and coroutines give Lua's results and messages, side by side", "[lua_sandbox]") {
-  LuaSandbox sandbox;
-  lua_State* S = sandbox.state();
-  sandbox.load_string(kLibraryProbe, "=probe");
-  sandbox.call(0, 1);
-  lua_State* L = luaL_newstate();  // plain Lua 5.4
-  luaL_openlibs(L);
-  REQUIRE(luaL_loadbuffer(L, kLibraryProbe, std::strlen(kLibraryProbe), "=probe") == LUA_OK);
-  REQUIRE(lua_pcall(L, 0, 1, 0) == LUA_OK);
+  ProbePair pair(kLibraryProbe);
   auto run = [](lua_State* state, const std::function<void(int)>& call, const std::string& code) {
     lua_pushvalue(state, -1);
     lua_pushlstring(state, code.data(), code.size());
@@ -1408,11 +1414,10 @@ TEST_CASE("the library functions and coroutines give Lua's results and messages,
   };
   for (const auto& code : kLibraryCases) {
     INFO(code);
-    const std::string ours = run(S, [&](int n) { sandbox.call(n, 1); }, code);
-    const std::string theirs = run(L, [&](int n) { REQUIRE(lua_pcall(L, n, 1, 0) == LUA_OK); }, code);
+    const std::string ours = run(pair.sandbox.state(), [&](int n) { pair.call_sandboxed(n); }, code);
+    const std::string theirs = run(pair.plain, [&](int n) { pair.call_plain(n); }, code);
     CHECK(ours == theirs);
   }
-  lua_close(L);
 }
 
 TEST_CASE("a call Lua refuses or answers before its loop costs only its checks", "[lua_sandbox][faults]") {
