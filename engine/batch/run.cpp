@@ -297,10 +297,7 @@ nlohmann::json training_trial(const BatchPlan& plan, const PlannedTrial& t, cons
       j["skills"][skill]["trial"] = from;
     }
   nlohmann::json cps = nlohmann::json::array();
-  for (const auto& c : r.checkpoints)
-    cps.push_back({{"episodes", c.at.episodes}, {"sim_s", c.at.sim_s}, {"decisions", c.at.decisions},
-                   {"wall_s", c.at.wall_s}, {"success_rate", c.success_rate}, {"reward_mean", c.reward_mean},
-                   {"reward_std", c.reward_std}, {"policy_changed", c.policy_changed}});
+  for (const auto& c : r.checkpoints) cps.push_back(checkpoint_json(c));
   j["checkpoints"] = cps;
   return j;
 }
@@ -327,30 +324,22 @@ nlohmann::json evaluation_trial(const BatchPlan& plan, const PlannedTrial& t, Cl
     skills[s.skill] = "trials/" + source + "/policy.json";
   }
   const PolicyEvalResult r = evaluate_policy_file(o);
-  nlohmann::json usage = nlohmann::json::object();
-  for (const auto& [name, f] : r.eval.usage) usage[name] = f;
   nlohmann::json params = nlohmann::json::object();
   for (const auto& [k, v] : r.params) params[k] = v;
-  return {{"id", t.id},
-          {"evaluation", e.name},
-          {"run", e.run},
-          {"context", e.context},
-          {"trial", t.index},
-          {"shape", t.shape},
-          {"policy", "trials/" + from + "/policy.json"},
-          {"stage", r.stage},
-          {"scenario", r.scenario},
-          {"episodes", r.eval.episodes},
-          {"first_seed", r.eval.first_seed},
-          {"successes", r.eval.successes},
-          {"success_rate", r.eval.success_rate},
-          {"reward_mean", r.eval.reward_mean},
-          {"reward_std", r.eval.reward_std},
-          {"time_mean", r.eval.time_mean},
-          {"usage", usage},
-          {"params", params},
-          {"skills", skills},
-          {"wall_s", std::chrono::duration<double>(Clock::now() - t0).count()}};
+  nlohmann::json j = eval_summary_json(r.eval);
+  j.update({{"id", t.id},
+            {"evaluation", e.name},
+            {"run", e.run},
+            {"context", e.context},
+            {"trial", t.index},
+            {"shape", t.shape},
+            {"policy", "trials/" + from + "/policy.json"},
+            {"stage", r.stage},
+            {"scenario", r.scenario},
+            {"params", params},
+            {"skills", skills},
+            {"wall_s", std::chrono::duration<double>(Clock::now() - t0).count()}});
+  return j;
 }
 
 // What error.json records about a trial's fault beside its message: the trial's kind and seed, and

@@ -51,12 +51,9 @@ int run_eval_policy_file(const EvalArgs& a) {
   for (const auto& [name, f] : r.eval.usage) usage += (usage.empty() ? "" : ", ") + name + " " + std::to_string(int(std::lround(100 * f))) + "%";
   std::printf("  usage          %s\n", usage.c_str());
   if (a.json) {
-    nlohmann::json j = {{"script", a.script},          {"policy", a.policy},          {"stage", r.stage},
-                        {"context", r.context},        {"scenario", r.scenario},      {"episodes", r.eval.episodes},
-                        {"first_seed", r.eval.first_seed}, {"successes", r.eval.successes},
-                        {"success_rate", r.eval.success_rate}, {"reward_mean", r.eval.reward_mean},
-                        {"reward_std", r.eval.reward_std}, {"time_mean", r.eval.time_mean}};
-    for (const auto& [name, f] : r.eval.usage) j["usage"][name] = f;
+    nlohmann::json j = eval_summary_json(r.eval);
+    j.update({{"script", a.script}, {"policy", a.policy}, {"stage", r.stage}, {"context", r.context},
+              {"scenario", r.scenario}});
     for (const auto& [k, v] : r.params) j["params"][k] = v;
     std::printf("%s\n", j.dump().c_str());
   }

@@ -17,6 +17,16 @@ namespace {
 
 using namespace roger;
 
+// The flags of the commands that train (train, run): one declaration, one help text each.
+void add_training_flags(CLI::App* c, bool& no_eval_cache, bool& explain) {
+  c->add_flag("--no-eval-cache", no_eval_cache,
+              "Run every greedy evaluation episode instead of reusing those the unchanged policy would "
+              "repeat (identical results, slower: a check of the cache)");
+  c->add_flag("--explain", explain,
+              "Say what each training trial's data shows (greedy cycles, actions never run, time-outs) even "
+              "when it reached its threshold; a trial that missed it always says why");
+}
+
 CLI::App* add_render(CLI::App& app, RenderArgs& a) {
   auto* c = app.add_subcommand("render", "Draw a scenario's world for one seed (PNG or SVG)");
   c->add_option("scenario", a.scenario, "Scenario script (.lua)")->required();
@@ -73,11 +83,7 @@ CLI::App* add_train(CLI::App& app, TrainArgs& a) {
   c->add_option("--skill", a.skills,
                 "A learned skill's policy NAME=FILE.json (repeatable; default: train its stage first)");
   c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)");
-  c->add_flag("--no-eval-cache", a.no_eval_cache,
-              "Run every evaluation episode, even one the unchanged policy would repeat (same results, slower)");
-  c->add_flag("--explain", a.explain,
-              "Say what the data shows (greedy cycles, actions never run, time-outs) even when the threshold "
-              "was reached; a trial that missed it always says why");
+  add_training_flags(c, a.no_eval_cache, a.explain);
   return c;
 }
 
@@ -109,12 +115,7 @@ CLI::App* add_run(CLI::App& app, RunArgs& a) {
   c->add_option("--only", a.only, "Only this run, RUN/CONTEXT, or eval/NAME (repeatable)");
   c->add_flag("--live", a.live, "A live progress bar (default on a terminal)");
   c->add_flag("--no-report", a.no_report, "Skip the report at the end");
-  c->add_flag("--no-eval-cache", a.no_eval_cache,
-              "Run every greedy evaluation episode instead of reusing those the policy would repeat "
-              "(identical results, slower: a check of the cache)");
-  c->add_flag("--explain", a.explain,
-              "Every training trial's result.json says what its data shows (greedy cycles, actions never run, "
-              "time-outs), not only those that missed the threshold");
+  add_training_flags(c, a.no_eval_cache, a.explain);
   c->add_option("--shard", a.shard,
                 "Run only shard K/N (0-based) of the trials, or 'slurm' inside a Slurm job array; "
                 "shards share one results folder, and roger report writes the report when all are done");
