@@ -271,6 +271,7 @@ std::string policy_of(const std::string& out, const std::string& id) {
 nlohmann::json training_trial(const BatchPlan& plan, const PlannedTrial& t, const std::string& dir,
                               const RunControl& control) {
   TrainOptions o;
+  o.limits = plan.script->limits;
   o.eval_cache = control.eval_cache;
   o.explain = control.explain;
   o.curriculum = plan.script->curriculum_file;
@@ -309,6 +310,7 @@ nlohmann::json evaluation_trial(const BatchPlan& plan, const PlannedTrial& t, Cl
   const BatchEvaluation& e = *t.evaluation;
   const std::string from = batch_trial_id(e.run, e.context, t.index);
   PolicyEvalOptions o;
+  o.limits = plan.script->limits;
   o.curriculum = plan.script->curriculum_file;
   o.policy_file = policy_of(plan.out, from);
   o.scenario = e.scenario;
@@ -530,7 +532,7 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
   std::map<std::string, const PlannedTrial*> by_id;
   for (const auto& p : plan.phases)
     for (const auto& t : p) by_id[t.id] = &t;
-  const SourceWatch sources(plan.script->curriculum_file);
+  const SourceWatch sources(plan.script->curriculum_file, plan.script->limits);
   const TrialFunction trial = [&](const std::string& id, const std::string& dir) -> nlohmann::json {
     const PlannedTrial& t = *by_id.at(id);
     const auto t0 = Clock::now();
