@@ -33,11 +33,14 @@ local CHANNELS = {
   { name = "joints", max = 1, unit = "rad", quantum = 1, quantum_unit = "rad" },
   { name = "base", max = 1, unit = "m and rad", quantum = 1, quantum_unit = "m and rad" },
   { name = "touch", max = 5, unit = "a fraction of each contact force", quantum = 1000, quantum_unit = "N" },
-  { name = "effort", max = 5, unit = "a fraction of each command", quantum = 1, quantum_unit = "m or rad of a commanded error" },
+  { name = "effort", max = 5, unit = "a fraction of each command", quantum = 1,
+    quantum_unit = "m or rad of a commanded error" },
 }
 for _, c in ipairs(CHANNELS) do
   local n = "noise_" .. c.name
-  body.PARAMS[n] = { default = 0.0, min = 0, max = c.max, description = "white noise sigma of " .. c.name .. " (" .. c.unit .. ")" }
+  local readings = c.name == "effort" and "command" or "reading"
+  body.PARAMS[n] = { default = 0.0, min = 0, max = c.max,
+                     description = "white noise sigma of " .. c.name .. " (" .. c.unit .. ")" }
   body.PARAMS[n .. "_bias"] = { default = 0.0, min = 0, max = c.max,
                                 description = "sigma of " .. c.name .. "'s bias, drawn per episode (" .. c.unit .. ")" }
   body.PARAMS[n .. "_drift"] = { default = 0.0, min = 0, max = c.max,
@@ -45,9 +48,10 @@ for _, c in ipairs(CHANNELS) do
   body.PARAMS[n .. "_tau"] = { default = 10.0, min = 0.001, max = 3600,
                                description = "correlation time of " .. c.name .. "'s drift (s)" }
   body.PARAMS[n .. "_delay"] = { default = 0, min = 0, max = 50,
-                                 description = c.name .. (c.name == "effort" and " commands" or " readings") .. " late by this many ticks" }
+                                 description = c.name .. " " .. readings .. "s late by this many ticks" }
   body.PARAMS[n .. "_dropout"] = { default = 0.0, min = 0, max = 1,
-                                   description = "probability per tick that a " .. c.name .. (c.name == "effort" and " command" or " reading") .. " is lost" }
+                                   description = "probability per tick that a " .. c.name .. " " .. readings
+                                     .. " is lost" }
   body.PARAMS[n .. "_quantum"] = { default = 0.0, min = 0, max = c.quantum,
                                    description = c.name .. " rounded to multiples of this (" .. c.quantum_unit .. ")" }
 end
