@@ -8,6 +8,7 @@ set(layer_senses 1)
 set(layer_sim 2)
 set(layer_control 3)
 set(layer_learn 4)
+set(layer_teach 4)   # task spaces and teachers: on core alone, beside learn
 set(layer_script 5)
 set(layer_batch 6)
 set(layer_report 7)
