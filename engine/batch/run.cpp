@@ -297,10 +297,12 @@ nlohmann::json training_trial(const BatchPlan& plan, const PlannedTrial& t, cons
       j["skills"][skill]["trial"] = from;
     }
   nlohmann::json cps = nlohmann::json::array();
-  for (const auto& c : r.checkpoints)
+  for (const auto& c : r.checkpoints) {
     cps.push_back({{"episodes", c.at.episodes}, {"sim_s", c.at.sim_s}, {"decisions", c.at.decisions},
                    {"wall_s", c.at.wall_s}, {"success_rate", c.success_rate}, {"reward_mean", c.reward_mean},
                    {"reward_std", c.reward_std}, {"policy_changed", c.policy_changed}});
+    if (!c.teacher.is_null()) cps.back()["teacher"] = c.teacher;  // the teacher's state then
+  }
   j["checkpoints"] = cps;
   return j;
 }
