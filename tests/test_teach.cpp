@@ -4,13 +4,24 @@
 // what is recorded, determinism across --jobs, and bad input refused at file:line.
 #include <catch2/catch.hpp>
 
+#include <unistd.h>
+#include <sys/wait.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <map>
+#include <regex>
 #include <set>
+#include <sstream>
 
+#include "batch/trainer.h"
 #include "core/error.h"
+#include "script/curriculum/curriculum.h"
+#include "temp_dir.h"
 #include "core/rng.h"
 #include "teach/teach.h"
 #include "teach/teach_internal.h"
@@ -378,4 +389,369 @@ TEST_CASE("ALP-GMM's fits cost milliseconds over a stage's budget", "[teach]") {
   const double s_used = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   CHECK(t->state()["fits"] == 30);
   WARN("ALP-GMM, 1500 episodes with 30 fits: " << s_used * 1000 << " ms");
+}
+
+// ---- the teachers in real stages: tests/scripts/teach_curriculum.lua over teach_reach.lua, whose
+// `level` axis has a trivial part (< 0.4), a learnable band [0.4, 0.6] and an unreachable part.
+
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+std::vector<json> read_jsonl(const fs::path& p) {
+  std::ifstream in(p);
+  REQUIRE(in.good());
+  std::vector<json> out;
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty()) out.push_back(json::parse(line));
+  return out;
+}
+
+json read_json(const fs::path& p) {
+  std::ifstream in(p);
+  REQUIRE(in.good());
+  return json::parse(in);
+}
+
+int run_shell(const std::string& line) {
+  const int raw = std::system(line.c_str());
+  return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+}
+
+// One trial of a stage of the teachers' curriculum, its episodes kept.
+TrainResult train_reach(const std::string& stage, uint64_t seed) {
+  TrainOptions o;
+  o.curriculum = "tests/scripts/teach_curriculum.lua";
+  o.stage = stage;
+  o.context = "A";
+  o.seed = seed;
+  return train_stage(o);
+}
+
+bool in_band(const json& task) { return task["level"] >= 0.4 && task["level"] <= 0.6; }
+
+// A file's text without its wall-clock figures (the machine's, not the engine's): every JSON field
+// whose name holds "wall", and a CSV's wall_s column.
+std::string without_wall(const std::string& text, bool csv) {
+  if (!csv) return std::regex_replace(text, std::regex("\"[a-z_]*wall[a-z_]*\": ?[-0-9.e+]+"), "");
+  std::istringstream in(text);
+  std::string out, line;
+  int wall = -1;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string c; std::getline(row, c, ',');) cells.push_back(c);
+    if (wall < 0) wall = int(std::find(cells.begin(), cells.end(), "wall_s") - cells.begin());
+    for (size_t i = 0; i < cells.size(); ++i)
+      if (int(i) != wall) out += cells[i] + ",";
+    out += "\n";
+  }
+  return out;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// The teachers' batch (teach_batch.lua: one trial per teacher) run once for every test below.
+struct TeachBatch {
+  fs::path dir = fs::temp_directory_path() / ("roger_teach_batch_" + std::to_string(::getpid()));
+  TeachBatch() {
+    fs::remove_all(dir);
+    REQUIRE(run_shell(std::string(ROGER_BINARY) + " run tests/scripts/teach_batch.lua --jobs 2 --out " + dir.string() +
+                      " > /dev/null 2>&1") == 0);
+  }
+  ~TeachBatch() {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+};
+
+const fs::path& teach_batch() {
+  static const TeachBatch batch;
+  return batch.dir;
+}
+
+fs::path trial_of(const std::string& run) { return teach_batch() / "trials" / run / "A" / "000"; }
+
+}  // namespace
+
+TEST_CASE("in a real stage, ALP-GMM samples the learnable band at least twice as often as random", "[teach][stage]") {
+  // Over episodes 100 to 300 of three trials each (the band is 20% of the space, what random
+  // samples; ALP-GMM fits every 25 episodes, so by episode 100 it has fitted four times). Measured:
+  // random 24%, 23.5%, 20%; ALP-GMM 45.5%, 71%, 53%.
+  int random_band = 0, alp_band = 0, n = 0;
+  for (uint64_t seed : {1, 2, 3}) {
+    const TrainResult r = train_reach("Random", seed), a = train_reach("Alp", seed);
+    for (size_t e = 100; e < 300; ++e, ++n) {
+      random_band += in_band(r.episodes[e].task);
+      alp_band += in_band(a.episodes[e].task);
+    }
+    // The mixture it ended with puts most of its progress on the band.
+    const json& parts = a.teacher["state"]["components"];
+    double alp_total = 0, alp_band_mass = 0;
+    for (const auto& c : parts) {
+      alp_total += c["alp"].get<double>();
+      if (in_band(c["task"])) alp_band_mass += c["alp"].get<double>();
+    }
+    INFO("seed " << seed << ": " << parts.dump());
+    CHECK(alp_band_mass > 0.5 * alp_total);
+  }
+  INFO("random " << random_band << ", alp_gmm " << alp_band << " band tasks of " << n);
+  CHECK(double(random_band) / n == Approx(0.2).margin(0.05));
+  CHECK(alp_band >= 2 * random_band);
+}
+
+TEST_CASE("in a real stage, PLR replays the levels with the highest scores", "[teach][stage]") {
+  for (const std::string run : {"Plr", "PlrFail"}) {
+    // Levels are (task, world seed); each episode's score is in its record (td_error), or 1 -
+    // success for PlrFail. A replay is an episode in another episode's world.
+    const std::vector<json> eps = read_jsonl(trial_of(run) / "episodes.jsonl");
+    std::map<uint64_t, double> score;  // level (by world seed) -> its last score
+    int replays = 0, top = 0;
+    for (const json& e : eps) {
+      const uint64_t seed = e["seed"];
+      const double s = run == "Plr" ? e["td_error"].get<double>() : (e["success"] ? 0.0 : 1.0);
+      if (score.count(seed)) {
+        ++replays;
+        std::vector<double> all;
+        for (const auto& [k, v] : score) all.push_back(v);
+        std::sort(all.rbegin(), all.rend());
+        // Among the top 3 scores (ties count as the top), or a staleness draw (10%).
+        top += score[seed] >= all[std::min<size_t>(2, all.size() - 1)];
+      }
+      score[seed] = s;
+    }
+    INFO(run << ": " << top << " of " << replays << " replays among the top 3 scores");
+    CHECK(replays == Approx(150).margin(30));  // replay = 0.5
+    CHECK(double(top) / replays >= 0.85);
+  }
+}
+
+TEST_CASE("in a real stage, sequence promotes and demotes exactly at its thresholds", "[teach][stage]") {
+  // Steps: level 0.1 (promote at 0.9 over 10), the band (promote at 0.8, demote below 0.2 over
+  // 20), the whole space. Replaying the rule over the recorded outcomes gives the teacher's moves,
+  // and every episode's task lies in its step.
+  const std::vector<json> eps = read_jsonl(trial_of("Sequence") / "episodes.jsonl");
+  const json moves = read_json(trial_of("Sequence") / "result.json")["teacher"]["state"]["moves"];
+  const double promote[] = {0.9, 0.8, 1.0}, demote[] = {-1, 0.2, -1};
+  const size_t window[] = {10, 20, 20};
+  int step = 0;
+  std::vector<bool> outcomes;
+  json expected = json::array();
+  for (size_t e = 0; e < eps.size(); ++e) {
+    const double level = eps[e]["task"]["level"];
+    if (step == 0) CHECK(level == 0.1);
+    if (step == 1) CHECK((level >= 0.4 && level <= 0.6));
+    outcomes.push_back(eps[e]["success"]);
+    if (outcomes.size() < window[step]) continue;
+    const double rate =
+        std::count(outcomes.end() - long(window[step]), outcomes.end(), true) / double(window[step]);
+    const int to = step < 2 && rate >= promote[step] ? step + 1 : demote[step] >= 0 && rate < demote[step] ? step - 1 : step;
+    if (to == step) continue;
+    expected.push_back({{"episode", e + 1}, {"from", step + 1}, {"to", to + 1}});
+    step = to;
+    outcomes.clear();
+  }
+  REQUIRE(moves.size() == expected.size());
+  REQUIRE(moves.size() >= 2);  // it reached the whole space
+  for (size_t k = 0; k < moves.size(); ++k) {
+    CHECK(moves[k]["episode"] == expected[k]["episode"]);
+    CHECK(moves[k]["to"] == expected[k]["to"]);
+  }
+}
+
+TEST_CASE("in a real stage, LCAS lifts only after saturation and never before", "[teach][stage]") {
+  // lift = {level = {0.1, 0.5, 0.9}}, window 20, slope 0.05: at each level, the teacher lifts at
+  // the first episode where the last 20 succeeded less than 5 points more often than the 20
+  // before, and at no episode before it.
+  for (const std::string run : {"Lcas", "LiftOnly"}) {
+    const std::vector<json> eps = read_jsonl(trial_of(run) / "episodes.jsonl");
+    const json lifts = read_json(trial_of(run) / "result.json")["teacher"]["state"]["lifts"];
+    REQUIRE(lifts.size() == 2);
+    const std::string param = run == "Lcas" ? "level" : "distance";
+    size_t start = 0;
+    for (size_t k = 0; k <= lifts.size(); ++k) {
+      const size_t end = k < lifts.size() ? lifts[k]["episode"].get<size_t>() : eps.size();
+      for (size_t e = start; e < end; ++e) {
+        const json& v = eps[e]["task"][param];
+        CHECK((v.is_string() ? std::stod(v.get<std::string>()) : v.get<double>()) ==
+              Approx(run == "Lcas" ? std::vector<double>{0.1, 0.5, 0.9}[k] : double(k)));
+        if (k == lifts.size() || e + 1 < start + 40) continue;  // the last level, or fewer than two windows
+        int last = 0, before = 0;
+        for (size_t i = e + 1 - 20; i <= e; ++i) last += eps[i]["success"].get<bool>();
+        for (size_t i = e + 1 - 40; i < e + 1 - 20; ++i) before += eps[i]["success"].get<bool>();
+        const bool saturated = (last - before) / 20.0 < 0.05;
+        INFO(run << " level " << k << ", episode " << e + 1);
+        CHECK(saturated == (e + 1 == end));  // lifted at the first saturated episode, never before
+      }
+      start = end;
+    }
+  }
+}
+
+TEST_CASE("every teacher gives the same trial to the bit with --jobs 1 and --jobs 2", "[teach][stage]") {
+  const fs::path one = fs::temp_directory_path() / ("roger_teach_jobs1_" + std::to_string(::getpid()));
+  fs::remove_all(one);
+  REQUIRE(run_shell(std::string(ROGER_BINARY) + " run tests/scripts/teach_batch.lua --jobs 1 --out " + one.string() +
+                    " > /dev/null 2>&1") == 0);
+  int compared = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(teach_batch() / "trials")) {
+    if (!entry.is_regular_file()) continue;
+    const fs::path rel = fs::relative(entry.path(), teach_batch());
+    INFO(rel);
+    REQUIRE(fs::exists(one / rel));
+    const bool csv = rel.extension() == ".csv";
+    CHECK(without_wall(slurp(entry.path()), csv) == without_wall(slurp(one / rel), csv));
+    ++compared;
+  }
+  CHECK(compared == 8 * 7);  // 8 teachers, 7 files each
+  fs::remove_all(one);
+}
+
+// ---- bad input: refused where it is written, naming the field and what is allowed
+
+namespace {
+
+// A curriculum whose one stage (over scenarios/cluttered.lua) gets `fields`, written on line 8.
+fs::path write_stage(const fs::path& dir, const std::string& name, const std::string& fields) {
+  const fs::path file = dir / (name + ".lua");
+  std::ofstream(file) << "local p = { phi0 = roger.primitive(\"phi0\") }\n"
+                         "local function stage(fields)\n"
+                         "  local s = { name = \"S\", scenario = \"cluttered\", time_limit = 1, absorbing = roger.converged(p.phi0),\n"
+                         "              budget = { episodes = 4 }, checkpoints = { every = 4 }, contexts = { { name = \"A\", actions = { p.phi0 } } } }\n"
+                         "  for k, v in pairs(fields) do s[k] = v end\n"
+                         "  return roger.stage(s)\n"
+                         "end\n"
+                         "return { stages = { stage(" << fields << ") } }\n";
+  return file;
+}
+
+// The message of loading a curriculum that must fail.
+std::string load_error(const fs::path& file) {
+  try {
+    Curriculum::load(file.string());
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  FAIL("loaded " << file << " without an error");
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("a bad task space or teacher is refused at load with file:line, the field and what is allowed",
+          "[teach][errors]") {
+  test::TempDir dir("roger_teach_bad");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"{ tasks = { obstacle = roger.int(0, 6) } }",
+       ":8: stage 'S': tasks.obstacle = roger.int(0, 6): scenario 'cluttered' (scenarios/cluttered.lua) has no "
+       "parameter 'obstacle'; known parameters: "},
+      {"{ tasks = { obstacles = roger.int(5, 2) } }", ":8: roger.int(5, 2): the range is reversed (lo must not exceed hi)"},
+      {"{ tasks = { mass = roger.real(1, 1) } }", ":8: roger.real(1, 1): the range is empty"},
+      {"{ tasks = { shape = roger.choice{} } }", ":8: roger.choice{...}: the list is empty"},
+      {"{ tasks = { obstacles = roger.int(0, 20) } }",
+       ":8: stage 'S': tasks.obstacles = roger.int(0, 20): parameter 'obstacles' of scenario 'cluttered' expects at "
+       "most 12, got '20'"},
+      {"{ tasks = { shape = roger.choice{\"circle\", \"square\"} } }",
+       ":8: stage 'S': tasks.shape = roger.choice{circle, square}: parameter 'shape' of scenario 'cluttered' expects "
+       "one of circle, pentagon, spade, triangle, got 'square'"},
+      {"{ tasks = { obstacles = roger.real(0, 3) } }", "'obstacles' is an integer parameter of scenario 'cluttered': use roger.int"},
+      {"{ tasks = { obstacles = 3 } }",
+       ":6: stage 'S': tasks.obstacles must be roger.int(lo, hi), roger.real(lo, hi) or roger.choice{...}, got number 3"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, params = { obstacles = 2 } }",
+       ":8: stage 'S': tasks.obstacles = roger.int(0, 3) varies 'obstacles', which the stage's params fix"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, contexts = { { name = 'A', actions = { 'phi0' }, params = { obstacles = 1 } } } }",
+       "stage 'S', context 'A': the context's params fix 'obstacles', which tasks.obstacles = roger.int(0, 3) varies"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = 3 }",
+       ":6: stage 'S': field 'teacher' must be a teacher (roger.teacher.random{}, .sequence{...}, .lcas{...}, "
+       ".alp_gmm{...}, .plr{...}) or a function(history, rng), got number 3"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.sequence{ { obstacles = 9 } } }",
+       ":8: stage 'S': roger.teacher.sequence ("},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.lcas{ lift = { obstacles = { 0, 20 } } } }",
+       "the level obstacles = 20 is outside the task space: obstacles takes an integer in roger.int(0, 3)"},
+      {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 3 } } } }",
+       ":8: stage 'S': roger.teacher.lcas: lift.eye_pixels: parameter 'eye_pixels' of scenario 'cluttered' expects at least 16, got '3'"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, test = { list = { { obstacles = 7 } } } }",
+       ":6: stage 'S': test: list[1]: obstacles = 7 is outside the task space: obstacles takes an integer in roger.int(0, 3)"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, test = { tasks = 10 }, checkpoints = { episodes = 5 } }",
+       "checkpoints.episodes does not apply with a test set"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.alp_gmm{ k = 3 } }",
+       ":8: roger.teacher.alp_gmm: unknown field 'k'; known fields: fit_every, history, k_max, random_share"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.plr{ score = 'loss' } }",
+       "field 'score' must be \"td\" (the episode's mean |TD error|) or \"success\" (1 - success), got 'loss'"},
+      {"{ teacher = roger.teacher.random{} }", "roger.teacher.random needs a task space"},
+  };
+  for (size_t k = 0; k < cases.size(); ++k) {
+    const fs::path file = write_stage(dir.path, "c" + std::to_string(k), cases[k].first);
+    const std::string message = load_error(file);
+    INFO(cases[k].first << "\n" << message);
+    CHECK_THAT(message, Contains(cases[k].second));
+    CHECK_THAT(message, Contains(file.filename().string() + ":"));  // every one names the file and line
+  }
+  // roger check also builds the worlds at the ends of a task space: 12 obstacles do not fit.
+  const fs::path crowded = write_stage(dir.path, "crowded", "{ tasks = { obstacles = roger.int(0, 12) } }");
+  const std::vector<std::string> problems = check_curriculum(crowded.string());
+  REQUIRE(problems.size() == 1);
+  CHECK_THAT(problems[0], Contains("crowded.lua:8: stage 'S': scenario 'cluttered' with obstacles = 12 (an end of the "
+                                   "stage's task space): ") && Contains("no placement for"));
+}
+
+TEST_CASE("a Lua teacher's history, and its faults: each fails its trial alone at file:line", "[teach][errors]") {
+  test::TempDir dir("roger_teach_fn");
+  // The function sees every earlier episode in order: it returns its history's length as the task.
+  const fs::path counting = write_stage(
+      dir.path, "counting",
+      "{ tasks = { obstacles = roger.int(0, 3), shape = roger.choice{'circle', 'spade'} },\n"
+      "  test = { tasks = 2 },\n"
+      "  teacher = function(history, rng)\n"
+      "    for i, e in ipairs(history) do\n"
+      "      assert(e.task.obstacles == (i - 1) % 4 and type(e.success) == 'boolean' and e.time > 0 and e.reward ~= nil)\n"
+      "    end\n"
+      "    return { obstacles = #history % 4 }\n"
+      "  end }");
+  TrainOptions o;
+  o.curriculum = counting.string();
+  o.stage = "S";
+  o.context = "A";
+  const TrainResult r = train_stage(o);
+  REQUIRE(r.episodes.size() == 4);
+  std::set<std::string> shapes;
+  for (size_t e = 0; e < 4; ++e) {
+    CHECK(r.episodes[e].task["obstacles"] == int(e));
+    CHECK(r.episodes[e].world.obstacles == int(e));  // what the world placed
+    shapes.insert(r.episodes[e].task["shape"].get<std::string>());  // left out: drawn uniformly
+  }
+  CHECK(r.teacher["kind"] == "function");
+
+  const std::vector<std::pair<std::string, std::string>> faults = {
+      {"function() return { obstacles = 9 } end",
+       "stage 'S': teacher function returned obstacles = 9, outside the task space: obstacles takes an integer in "
+       "roger.int(0, 3)"},
+      {"function() return { mass = 1 } end",
+       "stage 'S': teacher function returned 'mass', which is not a parameter of the task space (obstacles = roger.int(0, 3))"},
+      {"function() return 3 end", "stage 'S': teacher function must return a table of task parameters"},
+      {"function() error('no idea') end", "stage 'S': teacher function: "},
+      {"function() while true do end end", "stage 'S': teacher function: instruction budget of 50000000 exceeded"},
+  };
+  for (size_t k = 0; k < faults.size(); ++k) {
+    const fs::path file = write_stage(dir.path, "fault" + std::to_string(k),
+                                      "{ tasks = { obstacles = roger.int(0, 3) }, teacher = " + faults[k].first + " }");
+    o.curriculum = file.string();
+    std::string message;
+    std::string where;
+    try {
+      train_stage(o);
+    } catch (const ScriptError& e) {
+      message = e.what();
+      where = e.file + ":" + std::to_string(e.line);
+    }
+    INFO(message);
+    CHECK_THAT(message, Contains(faults[k].second));
+    CHECK(where == file.string() + ":8");
+  }
 }

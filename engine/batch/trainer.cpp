@@ -312,6 +312,14 @@ void greedy_signature(const QTable& q, std::vector<int>& out) {
 
 namespace {
 
+// A parameter's text as JSON: a number when it reads as one, else the text.
+nlohmann::json json_value(const std::string& text) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (!text.empty() && *end == '\0' && std::isfinite(v)) return v;
+  return text;
+}
+
 // The teacher of one trial of a stage that teaches: the trial's task space (the stage's, less the
 // parameters --set fixes), the teacher drawing from its own stream of the trial's seed, and the
 // test sets of the checkpoints and of the final evaluation. Times its own work.
@@ -356,7 +364,7 @@ class TrialTeacher {
     teacher_->record(o);
     wall_s_ += seconds_since(t0);
     nlohmann::json task = space_.to_json(pick_.task);
-    for (const auto& [k, v] : pick_.extra) task[k] = v;
+    for (const auto& [k, v] : pick_.extra) task[k] = json_value(v);
     return task;
   }
   EvalWorlds worlds(uint64_t first_seed, bool final) const {

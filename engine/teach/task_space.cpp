@@ -53,7 +53,7 @@ std::string TaskDim::text() const {
   switch (kind) {
     case Kind::kInt: return "roger.int(" + int_text(lo) + ", " + int_text(hi) + ")";
     case Kind::kReal: return "roger.real(" + format_number(lo) + ", " + format_number(hi) + ")";
-    case Kind::kChoice: return "roger.choice{" + join(choices) + "}";
+    case Kind::kChoice: return choices.size() == 1 ? choices[0] : "roger.choice{" + join(choices) + "}";  // a value
   }
   return "";
 }

@@ -425,33 +425,37 @@ void check_task_space_ends(const CurriculumStage& st, const SandboxLimits& limit
   if (st.tasks.empty() && !(st.teacher && st.teacher->kind == TeacherSpec::Kind::kLcas)) return;
   const TaskPoint low = st.tasks.from_unit(std::vector<double>(st.tasks.size(), 0.0));
   const TaskPoint high = st.tasks.from_unit(std::vector<double>(st.tasks.size(), 1.0));
-  std::vector<std::pair<std::string, std::string>> tries;  // (parameter, value) over the low corner
+  struct Try {
+    std::string name, value, at;  // at: "file:line: " of the axis or teacher, "" when unknown
+  };
+  auto at = [](const std::string& file, int line) { return file.empty() ? "" : file + ":" + std::to_string(line) + ": "; };
+  std::vector<Try> tries;  // over the low corner
   for (size_t i = 0; i < st.tasks.size(); ++i) {
     const TaskDim& d = st.tasks.dims()[i];
     if (d.kind == TaskDim::Kind::kChoice) {
-      for (const auto& c : d.choices) tries.push_back({d.name, c});
+      for (const auto& c : d.choices) tries.push_back({d.name, c, at(d.file, d.line)});
     } else {
-      tries.push_back({d.name, st.tasks.params(low)[i].second});
-      tries.push_back({d.name, st.tasks.params(high)[i].second});
+      tries.push_back({d.name, st.tasks.params(low)[i].second, at(d.file, d.line)});
+      tries.push_back({d.name, st.tasks.params(high)[i].second, at(d.file, d.line)});
     }
   }
   if (st.teacher && st.teacher->kind == TeacherSpec::Kind::kLcas && st.tasks.index(st.teacher->lift) < 0)
-    for (const auto& level : st.teacher->levels) tries.push_back({st.teacher->lift, level});
+    for (const auto& level : st.teacher->levels)
+      tries.push_back({st.teacher->lift, level, at(st.teacher->file, st.teacher->line)});
   try {
     Scenario s = Scenario::load(st.scenario, limits);
     for (const auto& [k, v] : st.scenario_params(st.contexts.front())) s.set_param(k, v);
     for (const auto& [k, v] : st.tasks.params(low)) s.set_param(k, v);
-    for (const auto& [name, value] : tries) {
-      const int i = st.tasks.index(name);
-      const std::string before = i >= 0 ? st.tasks.params(low)[size_t(i)].second : "";
+    for (const Try& t : tries) {
+      const int i = st.tasks.index(t.name);
       try {
-        s.set_param(name, value);
+        s.set_param(t.name, t.value);
         s.generate(0);
       } catch (const std::exception& e) {
-        problems.push_back(st.where() + ": scenario '" + st.scenario + "' with " + name + " = " + value +
+        problems.push_back(t.at + st.where() + ": scenario '" + st.scenario + "' with " + t.name + " = " + t.value +
                            " (an end of the stage's task space): " + e.what());
       }
-      if (i >= 0) s.set_param(name, before);
+      if (i >= 0) s.set_param(t.name, st.tasks.params(low)[size_t(i)].second);
     }
   } catch (const std::exception& e) {
     problems.push_back(st.where() + ": scenario '" + st.scenario + "': " + e.what());
