@@ -36,6 +36,8 @@ std::vector<std::string> write_report(const std::string& dir) {
   json rep = json::array();
   for (const auto& t : b.tables) {
     if (!t.sorting.empty()) sorting_table(b, t, folder, md, rep);
+    else if (!t.compare.empty()) compare_table(b, t, folder, md, rep);
+    else if (!t.by.empty()) by_table(b, t, folder, md, rep);
     else if (!t.run.empty()) run_table(b, t, folder, md, rep);
     else eval_table(b, t, folder, md, rep);
   }
@@ -44,6 +46,7 @@ std::vector<std::string> write_report(const std::string& dir) {
   json page_figures = json::array();
   for (const auto& f : b.figures) {
     const bool drawn = f.kind == "cumulative" ? cumulative_figure(b, f, folder, written, page_figures)
+                       : f.kind == "tasks"    ? tasks_figure(b, f, folder, written, page_figures)
                                               : curves_figure(b, f, folder, written, page_figures);
     figures_md.push_back("- `" + f.file + ".png` / `" + f.file + ".svg`: " +
                          (f.title.empty() ? f.kind + " of run " + f.run : f.title) + (drawn ? "" : " (not drawn: no finished trial)"));

@@ -5,10 +5,21 @@ local runs = {}
 for _, stage in ipairs({ "Random", "Alp", "Plr", "PlrFail", "Sequence", "Lcas", "Function", "LiftOnly" }) do
   runs[#runs + 1] = { name = stage, stage = stage, contexts = { "A" } }
 end
+local rows = {}
+for _, run in ipairs(runs) do rows[#rows + 1] = run.name .. "/A" end
 return {
   name = "teach",
   curriculum = "tests/scripts/teach_curriculum.lua",
   trials = 1,
   seed = 3,
   runs = runs,
+  tables = {
+    { title = "Teachers: time to 90% mastered", compare = rows },
+    { title = "Teachers: final % mastered by level", compare = { "Random/A", "Alp/A" }, by = "level" },
+  },
+  figures = {
+    { file = "teachers", title = "% of the test tasks mastered", compare = rows, y = "success" },
+    { file = "tasks_Alp", kind = "tasks", run = "Alp", param = "level", title = "Where ALP-GMM sampled" },
+    { file = "tasks_Sequence", kind = "tasks", run = "Sequence", param = "level" },
+  },
 }
