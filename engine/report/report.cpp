@@ -18,7 +18,7 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 using namespace report_detail;
 
-std::vector<std::string> write_report(const std::string& dir) {
+std::vector<std::string> write_report(const std::string& dir, const std::vector<std::string>& by) {
   // Every record is checked first (engine/batch/records.cpp): a corrupt trial stops the report
   // before anything is written, rather than being read as whatever its damage says.
   const BatchPlan plan = read_results_plan(dir);  // outlives the trials missing_trials points to
@@ -40,6 +40,13 @@ std::vector<std::string> write_report(const std::string& dir) {
     else if (!t.by.empty()) by_table(b, t, folder, md, rep);
     else if (!t.run.empty()) run_table(b, t, folder, md, rep);
     else eval_table(b, t, folder, md, rep);
+    if (!t.by.empty() || (t.run.empty() && t.compare.empty())) continue;
+    for (const auto& feature : by) {  // roger report --by: the same rows split by each feature
+      BatchTable split = t;
+      split.by = feature;
+      split.title = (t.title.empty() ? "Run " + t.run : t.title) + ": final success by " + feature;
+      by_table(b, split, folder, md, rep);
+    }
   }
   std::vector<std::string> written;
   std::vector<std::string> figures_md;

@@ -4,12 +4,14 @@
 #include "report/report_internal.h"
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
 
 #include "core/error.h"
+#include "report/plot.h"
 
 namespace roger::report_detail {
 namespace {
@@ -81,8 +83,7 @@ void by_table(const BatchScript& b, const BatchTable& t, const Folder& folder, s
     int64_t episodes = 0, successes = 0;
   };
   std::vector<BatchRow> rows = rows_of(b, t);
-  std::vector<std::map<std::string, Cell>> cells(rows.size());
-  std::set<std::string, decltype(&value_less)> values(&value_less);
+  std::vector<std::vector<std::pair<std::string, bool>>> seen(rows.size());  // (value, success) per row
   for (size_t k = 0; k < rows.size(); ++k) {
     const BatchRun& run = *b.run(rows[k].run);
     for (int i = 0; i < run.trials; ++i) {
@@ -100,14 +101,38 @@ void by_table(const BatchScript& b, const BatchTable& t, const Folder& folder, s
           throw Error(file.string() + ":" + std::to_string(line_no) + ": not JSON: " + e.what());
         }
         const std::string v = feature_of(record, t.by);
-        if (v.empty()) continue;
-        values.insert(v);
-        Cell& c = cells[k][v];
-        ++c.episodes;
-        c.successes += record.value("success", false);
+        if (!v.empty()) seen[k].push_back({v, record.value("success", false)});
       }
     }
   }
+  // Columns: each value, or five equal bins of the range when the values are many fractions (a
+  // real axis of a task space).
+  std::set<std::string, decltype(&value_less)> distinct(&value_less);
+  bool fractions = true;
+  double lo = 1e300, hi = -1e300;
+  for (const auto& row : seen)
+    for (const auto& [v, ok] : row) {
+      distinct.insert(v);
+      char* end = nullptr;
+      const double x = std::strtod(v.c_str(), &end);
+      fractions = fractions && *end == '\0' && !v.empty();
+      if (fractions) lo = std::min(lo, x), hi = std::max(hi, x);
+    }
+  const bool binned = fractions && distinct.size() > 8 && hi > lo;
+  auto column_of = [&](const std::string& v) {
+    if (!binned) return v;
+    const int bin = std::min(4, int((std::strtod(v.c_str(), nullptr) - lo) / (hi - lo) * 5));
+    return fmt("%.2f", lo + (hi - lo) * bin / 5) + " to " + fmt("%.2f", lo + (hi - lo) * (bin + 1) / 5);
+  };
+  std::vector<std::map<std::string, Cell>> cells(rows.size());
+  std::set<std::string, decltype(&value_less)> values(&value_less);
+  for (size_t k = 0; k < rows.size(); ++k)
+    for (const auto& [v, ok] : seen[k]) {
+      const std::string col = column_of(v);
+      values.insert(col);
+      ++cells[k][col].episodes;
+      cells[k][col].successes += ok;
+    }
   md << "## " << t.title << "\n\nSuccess rate of the final greedy evaluations (every trial's episodes pooled) by `" << t.by
      << "`, with the episodes in each cell.\n\n| Approach |";
   for (const auto& v : values) md << " " << t.by << " = " << v << " |";
@@ -136,8 +161,111 @@ void by_table(const BatchScript& b, const BatchTable& t, const Folder& folder, s
   rep.push_back({{"title", t.title}, {"by", t.by}, {"rows", out}});
 }
 
-bool tasks_figure(const BatchScript&, const BatchFigure&, const Folder&, std::vector<std::string>&, json&) {
-  return false;  // drawn below, once written
+namespace {
+
+// The values of `param` the training episodes of a run's context drew, by episode index, over its
+// finished trials (episodes.jsonl); numbers as numbers, other values as text.
+struct Drawn {
+  std::vector<std::pair<int, json>> draws;  // (episode index, value)
+  int episodes = 0;                         // the longest trial's training episodes
+  int trials = 0;
+};
+
+Drawn drawn_values(const BatchRun& run, const std::string& context, const std::string& param, const Folder& folder) {
+  Drawn d;
+  for (int i = 0; i < run.trials; ++i) {
+    const fs::path file = fs::path(trial_dir(folder.dir(), batch_trial_id(run.name, context, i))) / "episodes.jsonl";
+    std::ifstream in(file);
+    if (!in) continue;
+    ++d.trials;
+    int line_no = 0;
+    for (std::string line; std::getline(in, line);) {
+      ++line_no;
+      if (line.empty()) continue;
+      json e;
+      try {
+        e = json::parse(line);
+      } catch (const std::exception& ex) {
+        throw Error(file.string() + ":" + std::to_string(line_no) + ": not JSON: " + ex.what());
+      }
+      const int index = e.value("index", line_no - 1);
+      d.episodes = std::max(d.episodes, index + 1);
+      if (e.contains("task") && e["task"].is_object() && e["task"].contains(param))
+        d.draws.push_back({index, e["task"][param]});
+    }
+  }
+  return d;
+}
+
+// The heat map of the draws: 25 columns of episodes; a row per value drawn (integers and text),
+// or 10 bins over the range drawn (other numbers).
+HeatMap heat_of(const Drawn& d) {
+  HeatMap m;
+  const int columns = std::max(1, std::min(25, d.episodes));
+  for (int c = 0; c <= columns; ++c) m.x_edges.push_back(double(d.episodes) * c / columns);
+  bool reals = false;
+  double lo = 1e300, hi = -1e300;
+  std::set<std::string, decltype(&value_less)> values(&value_less);
+  for (const auto& [i, v] : d.draws) {
+    if (v.is_number() && !v.is_number_integer() && v.get<double>() != std::floor(v.get<double>())) reals = true;
+    if (v.is_number()) lo = std::min(lo, v.get<double>()), hi = std::max(hi, v.get<double>());
+    values.insert(v.is_string() ? v.get<std::string>() : v.is_number() ? fmt("%g", v.get<double>()) : v.dump());
+  }
+  const int bins = 10;
+  std::vector<std::string> rows = reals ? std::vector<std::string>{} : std::vector<std::string>(values.begin(), values.end());
+  if (reals)
+    for (int b = 0; b < bins; ++b) rows.push_back(fmt("%.2g", lo + (hi - lo) * b / bins) + " to " + fmt("%.2g", lo + (hi - lo) * (b + 1) / bins));
+  std::vector<std::vector<double>> count(rows.size(), std::vector<double>(size_t(columns), 0.0));
+  std::vector<double> total(size_t(columns), 0.0);
+  for (const auto& [i, v] : d.draws) {
+    const size_t c = std::min<size_t>(size_t(columns) - 1, size_t(double(i) * columns / std::max(1, d.episodes)));
+    size_t r = 0;
+    if (reals) {
+      r = hi > lo ? std::min<size_t>(bins - 1, size_t((v.get<double>() - lo) / (hi - lo) * bins)) : 0;
+    } else {
+      const std::string text = v.is_string() ? v.get<std::string>() : v.is_number() ? fmt("%g", v.get<double>()) : v.dump();
+      r = size_t(std::find(rows.begin(), rows.end(), text) - rows.begin());
+    }
+    count[r][c] += 1.0;
+    total[c] += 1.0;
+  }
+  for (auto& row : count)
+    for (size_t c = 0; c < row.size(); ++c) row[c] = total[c] > 0 ? row[c] / total[c] : 0.0;
+  m.rows = std::move(rows);
+  m.share = std::move(count);
+  return m;
+}
+
+}  // namespace
+
+bool tasks_figure(const BatchScript& b, const BatchFigure& f, const Folder& folder, std::vector<std::string>& written,
+                  json& page) {
+  const Drawn d = drawn_values(*b.run(f.run), f.context, f.param, folder);
+  const std::string title = f.title.empty() ? "Tasks drawn: " + f.param + ", " + f.run + "/" + f.context : f.title;
+  json fig = {{"kind", "tasks"}, {"file", f.file}, {"run", f.run}, {"context", f.context}, {"param", f.param},
+              {"title", title}, {"trials", d.trials}};
+  if (d.draws.empty()) {
+    page.push_back(fig);
+    return false;
+  }
+  const HeatMap m = heat_of(d);
+  fig["x_edges"] = m.x_edges;
+  fig["rows"] = m.rows;
+  json share = json::array();
+  for (const auto& row : m.share) {
+    json r = json::array();
+    for (double v : row) r.push_back(std::round(v * 1e4) / 1e4);
+    share.push_back(r);
+  }
+  fig["share"] = share;
+  page.push_back(fig);
+  HeatOptions o;
+  o.y_label = f.param;
+  const std::vector<std::string> paths = {(fs::path(folder.dir()) / (f.file + ".png")).string(),
+                                          (fs::path(folder.dir()) / (f.file + ".svg")).string()};
+  plot_heat_map(paths, title + " (" + std::to_string(d.trials) + (d.trials == 1 ? " trial)" : " trials)"), m, o);
+  written.insert(written.end(), paths.begin(), paths.end());
+  return true;
 }
 
 }  // namespace roger::report_detail
