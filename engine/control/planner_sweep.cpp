@@ -24,14 +24,6 @@ template <> struct Lanes_<2> {
   typedef int64_t Mask __attribute__((vector_size(16)));
 };
 
-// The `lanes` bits of the mask from slot k on, in the low bits.
-inline unsigned mask_bits(const uint8_t* relaxed, int64_t k, int lanes) {
-  const uint64_t slot = uint64_t(k);  // never negative: shifts, not signed division
-  uint16_t two;
-  std::memcpy(&two, relaxed + slot / 8, sizeof two);
-  return (unsigned(two) >> (slot % 8)) & ((1u << lanes) - 1u);
-}
-
 // The rows one range of a half-sweep reads and writes: its own slots, and in the other colour's
 // array the left neighbours (the right ones are one further), those below and those above.
 struct RangeRows {
@@ -113,33 +105,57 @@ struct LaneMasks4 {
 };
 constexpr LaneMasks4 kLaneMasks4;
 
+// One group of four cells (masked: only the lanes set in `mask` change and count).
+struct Relax4 {
+  __m256d om, quarter, tolerance, no_sign, one, counts;
+  __attribute__((target("avx"), always_inline)) inline void group(double* row, const double* left,
+                                                                  const double* below, const double* above,
+                                                                  __m256d mask, bool masked) {
+    const __m256d value = _mm256_loadu_pd(row);
+    const __m256d sum = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(_mm256_loadu_pd(left), _mm256_loadu_pd(left + 1)),
+                                                    _mm256_loadu_pd(below)),
+                                      _mm256_loadu_pd(above));
+    const __m256d mean = _mm256_mul_pd(quarter, sum);
+    __m256d change = _mm256_mul_pd(om, _mm256_sub_pd(mean, value));
+    if (masked) change = _mm256_and_pd(change, mask);
+    const __m256d next = _mm256_add_pd(value, change);
+    _mm256_storeu_pd(row, next);
+    const __m256d size = _mm256_and_pd(change, no_sign);
+    __m256d met = _mm256_cmp_pd(size, _mm256_mul_pd(tolerance, next), _CMP_LT_OQ);
+    if (masked) met = _mm256_and_pd(met, mask);
+    counts = _mm256_add_pd(counts, _mm256_and_pd(met, one));
+  }
+};
+
 __attribute__((target("avx"))) int relax_4(ROGER_RELAX_PARAMS) {
-  const __m256d om = _mm256_set1_pd(omega), quarter = _mm256_set1_pd(0.25), tolerance = _mm256_set1_pd(tol);
-  const __m256d no_sign = _mm256_castsi256_pd(_mm256_set1_epi64x(INT64_MAX)), one = _mm256_set1_pd(1.0);
-  __m256d counts = _mm256_setzero_pd();
+  Relax4 k;
+  k.om = _mm256_set1_pd(omega), k.quarter = _mm256_set1_pd(0.25), k.tolerance = _mm256_set1_pd(tol);
+  k.no_sign = _mm256_castsi256_pd(_mm256_set1_epi64x(INT64_MAX)), k.one = _mm256_set1_pd(1.0);
+  k.counts = _mm256_setzero_pd();
+  const __m256d all = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
   for (const RelaxRange* range = ranges; range != ranges + n; ++range) {
     if (range->nearest > reached) continue;
     const RangeRows rows(*range, q, other, width);
     double* row = rows.row;
     const double *left = rows.left, *below = rows.below, *above = rows.above;
+    if (range->full) {
+      // Every lane relaxed: no mask to read or apply (an all-ones mask changes no bit).
+      int m = 0;
+      for (; m + 8 <= range->count; m += 8) {
+        k.group(row + m, left + m, below + m, above + m, all, false);
+        k.group(row + m + 4, left + m + 4, below + m + 4, above + m + 4, all, false);
+      }
+      if (m < range->count) k.group(row + m, left + m, below + m, above + m, all, false);
+      continue;
+    }
     for (int m = 0; m < range->count; m += 4) {
       const __m256d mask = _mm256_load_pd(reinterpret_cast<const double*>(
           kLaneMasks4.lanes[mask_bits(relaxed, range->at + m, 4)]));
-      const __m256d value = _mm256_loadu_pd(row + m);
-      const __m256d sum = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(_mm256_loadu_pd(left + m), _mm256_loadu_pd(left + m + 1)),
-                                                      _mm256_loadu_pd(below + m)),
-                                        _mm256_loadu_pd(above + m));
-      const __m256d mean = _mm256_mul_pd(quarter, sum);
-      const __m256d change = _mm256_and_pd(_mm256_mul_pd(om, _mm256_sub_pd(mean, value)), mask);
-      const __m256d next = _mm256_add_pd(value, change);
-      _mm256_storeu_pd(row + m, next);
-      const __m256d size = _mm256_and_pd(change, no_sign);
-      const __m256d met = _mm256_and_pd(_mm256_cmp_pd(size, _mm256_mul_pd(tolerance, next), _CMP_LT_OQ), mask);
-      counts = _mm256_add_pd(counts, _mm256_and_pd(met, one));
+      k.group(row + m, left + m, below + m, above + m, mask, true);
     }
   }
   alignas(32) double lanes[4];
-  _mm256_store_pd(lanes, counts);
+  _mm256_store_pd(lanes, k.counts);
   return int(lanes[0]) + int(lanes[1]) + int(lanes[2]) + int(lanes[3]);
 }
 
@@ -159,7 +175,7 @@ __attribute__((target("avx512f"))) int relax_8(ROGER_RELAX_PARAMS) {
     double* row = rows.row;
     const double *left = rows.left, *below = rows.below, *above = rows.above;
     for (int m = 0; m < range->count; m += 8) {
-      const __mmask8 mask = __mmask8(mask_bits(relaxed, range->at + m, 8));
+      const __mmask8 mask = range->full ? __mmask8(0xFF) : __mmask8(mask_bits(relaxed, range->at + m, 8));
       const __m512d value = _mm512_loadu_pd(row + m);
       const __m512d sum = _mm512_add_pd(_mm512_add_pd(_mm512_add_pd(_mm512_loadu_pd(left + m), _mm512_loadu_pd(left + m + 1)),
                                                       _mm512_loadu_pd(below + m)),
