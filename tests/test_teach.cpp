@@ -755,3 +755,39 @@ TEST_CASE("a Lua teacher's history, and its faults: each fails its trial alone a
     CHECK(where == file.string() + ":8");
   }
 }
+
+TEST_CASE("the report compares the teachers, splits their success by level and maps where they sampled",
+          "[teach][stage]") {
+  const fs::path dir = teach_batch();
+  const std::string md = slurp(dir / "tables.md");
+  // The comparison: a row per teacher against the first, Mann-Whitney and all.
+  CHECK_THAT(md, Contains("## Teachers: time to 90% mastered\n\nRows: a context of a run each, against `Random/A`."));
+  for (const char* row : {"| Random/A |", "| Alp/A |", "| Plr/A |", "| PlrFail/A |", "| Sequence/A |", "| Lcas/A |",
+                          "| Function/A |", "| LiftOnly/A |"})
+    CHECK_THAT(md, Contains(row));
+  // The split by level: five bins of the real axis, each cell the final episodes of that bin.
+  const json report = read_json(dir / "report.json");
+  const json& by = report["tables"][1];
+  REQUIRE(by["by"] == "level");
+  REQUIRE(by["rows"].size() == 2);
+  int episodes = 0;
+  for (const auto& [bin, cell] : by["rows"][0]["cells"].items()) episodes += cell["episodes"].get<int>();
+  CHECK(by["rows"][0]["cells"].size() == 5);
+  CHECK(episodes == 20);  // the whole test set
+  // Where ALP-GMM sampled: the heat map the dashboard draws, every column's shares adding to 1.
+  const std::string js = slurp(dir / "dashboard.js");
+  const json page = json::parse(js.substr(js.find('=') + 1, js.rfind(';') - js.find('=') - 1));
+  int maps = 0;
+  for (const auto& f : page["figures"]) {
+    if (f["kind"] != "tasks") continue;
+    ++maps;
+    CHECK(fs::exists(dir / (f["file"].get<std::string>() + ".png")));
+    REQUIRE(f["rows"].size() == 10);
+    for (size_t c = 0; c + 1 < f["x_edges"].size(); ++c) {
+      double total = 0;
+      for (const auto& row : f["share"]) total += row[c].get<double>();
+      CHECK(total == Approx(1.0).margin(1e-3));
+    }
+  }
+  CHECK(maps == 2);
+}
