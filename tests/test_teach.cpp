@@ -791,3 +791,51 @@ TEST_CASE("the report compares the teachers, splits their success by level and m
   }
   CHECK(maps == 2);
 }
+
+TEST_CASE("docs/examples/teachers_example.lua: every block of the docs' Teachers section is in it, each stage trains",
+          "[teach][stage]") {
+  // Each ```lua block of docs/curricula.md's "Teachers" is in the example file (leading spaces
+  // aside), so the documented calls are the ones that run below.
+  const auto trimmed_lines = [](const std::string& text) {
+    std::string out;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) out += line.substr(std::min(line.find_first_not_of(' '), line.size())) + "\n";
+    return out;
+  };
+  const std::string example = trimmed_lines(slurp("docs/examples/teachers_example.lua"));
+  const std::string doc = slurp("docs/curricula.md");
+  const size_t begin = doc.find("\n## Teachers\n"), end = doc.find("\n## ", begin + 1);
+  REQUIRE(begin != std::string::npos);
+  const std::string section = doc.substr(begin, end - begin);
+  int blocks = 0;
+  for (size_t at = section.find("```lua\n"); at != std::string::npos; at = section.find("```lua\n", at + 1)) {
+    const size_t from = at + 7, to = section.find("```\n", from);
+    const std::string block = trimmed_lines(section.substr(from, to - from));
+    INFO(block);
+    CHECK(example.find(block) != std::string::npos);
+    ++blocks;
+  }
+  CHECK(blocks == 6);
+  // Each stage trains to its threshold on its test set (measured: all at 20 episodes, 100%), and
+  // its teacher did what the stage shows: sequence and LCAS moved, PLR replayed, the function ran.
+  for (const std::string stage : {"Look", "LookRandom", "LookSequence", "LookLcas", "LookPlr", "LookFunction"}) {
+    TrainOptions o;
+    o.curriculum = "docs/examples/teachers_example.lua";
+    o.stage = stage;
+    o.context = "Gaze";
+    o.seed = 1;
+    const TrainResult r = train_stage(o);
+    INFO(stage << ": " << r.teacher.dump());
+    CHECK(r.reached);
+    CHECK(r.final_eval.success_rate >= 0.9);
+    const json& state = r.teacher["state"];
+    if (stage == "LookSequence") CHECK(state["step"] == 3);
+    if (stage == "LookLcas") CHECK(state["value"] == "128");
+    if (stage == "LookPlr") CHECK(state["replays"].get<int>() > 10);
+    if (stage == "LookFunction") {  // named by where it is written
+      const std::string text = slurp("docs/examples/teachers_example.lua");
+      const auto line = 1 + std::count(text.begin(), text.begin() + text.find("teacher = function(history"), '\n');
+      CHECK(state["function"] == "docs/examples/teachers_example.lua:" + std::to_string(line));
+    }
+  }
+}
