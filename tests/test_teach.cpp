@@ -839,3 +839,24 @@ TEST_CASE("docs/examples/teachers_example.lua: every block of the docs' Teachers
     }
   }
 }
+
+TEST_CASE("a task parameter given by --set is fixed: the axis leaves the trial's space", "[teach][stage]") {
+  // LookRandom varies obstacles (0-4) and robot_distance; --set obstacles=2 holds every training
+  // and test world at 2 obstacles while the distance still varies, and the summary's space says so.
+  TrainOptions o;
+  o.curriculum = "docs/examples/teachers_example.lua";
+  o.stage = "LookRandom";
+  o.context = "Gaze";
+  o.seed = 1;
+  o.sets = {{"obstacles", "2"}};
+  const TrainResult r = train_stage(o);
+  std::set<double> distances;
+  for (const auto& e : r.episodes) {
+    CHECK(e.world.obstacles == 2);
+    CHECK_FALSE(e.task.contains("obstacles"));
+    distances.insert(e.task["robot_distance"].get<double>());
+  }
+  CHECK(distances.size() == r.episodes.size());  // a real axis: every draw its own
+  o.sets = {{"obstacles", "22"}};
+  CHECK_THROWS_WITH(train_stage(o), Contains("parameter 'obstacles' of scenario 'cluttered' expects at most 12, got '22'"));
+}
