@@ -20,8 +20,10 @@ return {
   name = "teach_reach",
   description = "Roger faces the ball straight ahead: trivial, learnable or beyond reach by one parameter.",
   params = {
-    level = { default = 0.5, min = 0.0, max = 1.0, description = "difficulty: < 0.4 trivial, to 0.6 learnable, above beyond reach" },
-    distance = { default = -1.0, min = -1.0, max = 4.5, description = "distance from the approach ring to Roger (m); -1: from level" },
+    level = { default = 0.5, min = 0.0, max = 1.0,
+              description = "difficulty: < 0.4 trivial, to 0.6 learnable, above beyond reach" },
+    distance = { default = -1.0, min = -1.0, max = 4.5,
+                 description = "distance from the approach ring to Roger (m); -1: from level" },
   },
   generate = function(world, rng, p)
     world:arena{ xmin = -3, xmax = 3, ymin = -1.5, ymax = 1.5, cell = 0.1 }
