@@ -13,6 +13,78 @@ function roger.stage(stage) end
 ---@return roger.Controller
 function roger.learned(name) end
 
+---A task-space axis: the integers lo..hi of a scenario parameter (docs/curricula.md, Teachers).
+---@param lo integer
+---@param hi integer at least lo
+---@return roger.TaskAxis
+function roger.int(lo, hi) end
+
+---A task-space axis: the numbers in [lo, hi] of a scenario parameter.
+---@param lo number
+---@param hi number above lo
+---@return roger.TaskAxis
+function roger.real(lo, hi) end
+
+---A task-space axis: these values of a scenario parameter (numbers, strings or booleans).
+---@param values (number|string|boolean)[] at least one, distinct
+---@return roger.TaskAxis
+function roger.choice(values) end
+
+---A value of a task space's axis (`tasks = { obstacles = roger.int(0, 6) }`).
+---@class roger.TaskAxis
+
+---A stage's teacher (`teacher = roger.teacher.alp_gmm{}`): it picks each training episode's task.
+---@class roger.Teacher
+
+---The teachers (docs/curricula.md, Teachers). Each draws from its own stream of the trial's seed.
+roger.teacher = {}
+
+---Domain randomization: every task of the space alike (the default when a stage gives `tasks`).
+---@param options? {}
+---@return roger.Teacher
+function roger.teacher.random(options) end
+
+---Fixed steps, each a part of the space (`{obstacles = 0}`, `{obstacles = roger.int(0, 3)}`, `{}` the
+---whole); the next begins when the success rate over the step's last `window` episodes reaches
+---`promote` (default 0.9, window 20), the previous comes back below `demote` (default: never).
+---@param steps table[] {param = value|roger.TaskAxis, ..., promote?: number, demote?: number, window?: integer}
+---@return roger.Teacher
+function roger.teacher.sequence(steps) end
+
+---Lift-Constraint-Act-Saturate: `lift = {eye_pixels = {32, 64, 128}}` holds one parameter at a level
+---until the success rate of the last `window` episodes (default 50) beats the window before by less
+---than `slope` (default 0.05), then lifts it to the next level.
+---@param options {lift: table<string, (number|string|boolean)[]>, window?: integer, slope?: number}
+---@return roger.Teacher
+function roger.teacher.lcas(options) end
+
+---ALP-GMM (Portelas et al. 2019): Gaussian mixtures of 2..k_max (6) components fitted every `fit_every`
+---(50) episodes to the last `history` (250) pairs of task and absolute learning progress; tasks from a
+---component in proportion to its progress, `random_share` (0.2) of them uniform.
+---@param options? {fit_every?: integer, k_max?: integer, random_share?: number, history?: integer}
+---@return roger.Teacher
+function roger.teacher.alp_gmm(options) end
+
+---Prioritized Level Replay (Jiang et al. 2021) over levels (task, world seed): replays a seen level with
+---probability `replay` (0.5), rank-based priorities at `temperature` (0.1) mixed with `staleness` (0.1);
+---`score` "td" (the episode's mean |TD error|, default) or "success" (1 - success); `buffer` (500) levels.
+---@param options? {replay?: number, temperature?: number, staleness?: number, score?: "td"|"success", buffer?: integer}
+---@return roger.Teacher
+function roger.teacher.plr(options) end
+
+---An earlier training episode as a teacher function's `history` shows it.
+---@class roger.TeacherEpisode
+---@field task table<string, number|string|boolean> the parameters the episode's task gave
+---@field success boolean
+---@field reward number
+---@field time number simulated seconds it lasted
+
+---A stage's test set: `tasks` drawn from the space with Rng(`seed`), or the tasks of `list`.
+---@class roger.TestSet
+---@field tasks? integer default 200
+---@field seed? integer default: checkpoints.seeds
+---@field list? table<string, number|string|boolean>[] every axis of the space in each
+
 ---A stage's state as a callback sees it: each action's name to its gamma.
 ---@alias roger.State table<string, roger.GammaName>
 
@@ -22,6 +94,7 @@ function roger.learned(name) end
 ---An object as a callback's `world` shows it (the task's judge, not Roger's senses).
 ---@class roger.WorldObject
 ---@field name string
+---@field shape string its shape's name
 ---@field colour string "#rrggbb"
 ---@field x number centre (m)
 ---@field y number
@@ -35,10 +108,18 @@ function roger.learned(name) end
 ---@field y number
 ---@field radius number
 
+---A static obstacle as a callback's `world` shows it.
+---@class roger.WorldObstacle
+---@field name string
+---@field x number centre (m)
+---@field y number
+---@field shape string its shape's name
+
 ---The last argument of a curriculum's absorbing and reward functions.
 ---@class roger.CallbackWorld
 ---@field objects roger.WorldObject[] every object, in the scenario's order
 ---@field goals roger.WorldGoal[] the goal regions
+---@field obstacles roger.WorldObstacle[] the static obstacles, in the scenario's order
 
 ---A developmental context: a name, its action set Psi, and optionally scenario parameters over
 ---the stage's (a context that restricts the body or the senses: docs/curricula.md).
@@ -88,6 +169,9 @@ function roger.learned(name) end
 ---@field checkpoints? roger.Checkpoints
 ---@field contexts roger.Context[]|table<string, roger.ControllerRef[]|{actions: roger.ControllerRef[], params: table<string, number|string|boolean>?}>
 ---@field skill? {name: string, context: string} the context whose greedy policy becomes a skill
+---@field tasks? table<string, roger.TaskAxis> scenario parameters each training episode draws (docs/curricula.md, Teachers)
+---@field teacher? roger.Teacher|fun(history: roger.TeacherEpisode[], rng: roger.Rng): table<string, number|string|boolean> who draws them (default roger.teacher.random{})
+---@field test? roger.TestSet the tasks the checkpoints and the final evaluation run
 
 ---What a curriculum returns.
 ---@class roger.Curriculum

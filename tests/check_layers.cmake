@@ -9,6 +9,7 @@ set(layer_sim 2)
 set(layer_perception 3)
 set(layer_control 4)
 set(layer_learn 5)
+set(layer_teach 5)   # task spaces and teachers: on core alone, beside learn
 set(layer_script 6)
 set(layer_batch 7)
 set(layer_report 8)

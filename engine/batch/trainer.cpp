@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -52,9 +53,14 @@ struct StageRun {
   // An error is rethrown as an EpisodeFault naming `phase`, `index` and the world seed.
   // `observer`, if any, records it (roger render).
   TrainingEpisode run(QTable& q, uint64_t seed, double epsilon, Rng& rng, bool learn, const std::string& phase,
-                      int index, EpisodeObserver* observer = nullptr) {
+                      int index, EpisodeObserver* observer = nullptr, EpisodeWorld* world = nullptr) {
     try {
       const WorldSpec spec = scenario.generate(seed);
+      if (world) {
+        world->obstacles = int(spec.obstacles.size());
+        world->shapes.clear();
+        for (const auto& o : spec.objects) world->shapes.push_back(o.shape.name);
+      }
       StageHooks hooks(cur, stage, ctx);
       SemiMdpDriver driver(ctx.actions, stage.absorbing.get(), q, epsilon, rng, stage.rewards, learn, &hooks);
       run_episode(agent, spec, seed, driver, stage.episode_time_limit(spec), observer);
@@ -97,7 +103,11 @@ namespace {
 // the same action, hence the same run to the second decision, and so on. Lua reward or absorbing
 // functions could keep state between calls, so a stage with them gets no cache.
 struct EvalCache {
-  std::map<uint64_t, TrainingEpisode> by_seed;
+  struct Kept {
+    TrainingEpisode episode;
+    EpisodeWorld world;
+  };
+  std::map<uint64_t, Kept> by_seed;
   int reused = 0;  // episodes taken from the cache
 
   // Whether the recorded episode would run again the same with table q.
@@ -107,18 +117,36 @@ struct EvalCache {
     return true;
   }
   // The episode of `seed` as it last ran, if it would run again the same with table q; else null.
-  const TrainingEpisode* reusable(uint64_t seed, const QTable& q) const {
+  const Kept* reusable(uint64_t seed, const QTable& q) const {
     const auto it = by_seed.find(seed);
-    return it != by_seed.end() && still_valid(it->second, q) ? &it->second : nullptr;
+    return it != by_seed.end() && still_valid(it->second.episode, q) ? &it->second : nullptr;
   }
 };
+
+// The worlds of a greedy evaluation: seeds first_seed, first_seed + 1, ...; with a test set, the
+// task of each (its parameters set before its episode, with `extra` beside them).
+struct EvalWorlds {
+  uint64_t first_seed = 0;
+  int episodes = 0;
+  const TaskSpace* space = nullptr;          // null: the stage's own parameters
+  const std::vector<TaskPoint>* tasks = nullptr;
+  ParamList extra = {};
+};
+
+// Sets a task's parameters (and those beside it) on the scenario, for the next episodes.
+void set_params(Scenario& scenario, const ParamList& task, const ParamList& extra) {
+  for (const auto& [k, v] : task) scenario.set_param(k, v);
+  for (const auto& [k, v] : extra) scenario.set_param(k, v);
+}
 
 // A greedy evaluation on held-out seeds first_seed, first_seed + 1, ...; with a cache, reusing the
 // episodes that would run again exactly as they last did.
 // `phase` names the evaluation in errors ("final evaluation").
 // `keep`: keep the episodes in GreedyEval::runs (the final evaluation, for the diagnosis).
-GreedyEval greedy_eval(StageRun& run, QTable& q, uint64_t first_seed, int episodes, const std::string& phase,
+GreedyEval greedy_eval(StageRun& run, QTable& q, const EvalWorlds& worlds, const std::string& phase,
                        EvalCache* cache = nullptr, bool keep = false) {
+  const uint64_t first_seed = worlds.first_seed;
+  const int episodes = worlds.episodes;
   GreedyEval g;
   g.episodes = episodes;
   g.first_seed = first_seed;
@@ -128,11 +156,16 @@ GreedyEval greedy_eval(StageRun& run, QTable& q, uint64_t first_seed, int episod
   double time = 0.0;
   for (int i = 0; i < episodes; ++i) {
     const uint64_t seed = first_seed + uint64_t(i);
-    const TrainingEpisode* kept = cache ? cache->reusable(seed, q) : nullptr;
-    TrainingEpisode fresh;
-    if (kept) ++cache->reused;
-    else fresh = run.run(q, seed, 0.0, unused, false, phase, i);
-    const TrainingEpisode& ep = kept ? *kept : cache ? cache->by_seed[seed] = std::move(fresh) : fresh;
+    const EvalCache::Kept* kept = cache ? cache->reusable(seed, q) : nullptr;
+    EvalCache::Kept fresh;
+    if (kept) {
+      ++cache->reused;
+    } else {
+      if (worlds.tasks) set_params(run.scenario, worlds.space->params((*worlds.tasks)[size_t(i)]), worlds.extra);
+      fresh.episode = run.run(q, seed, 0.0, unused, false, phase, i, nullptr, &fresh.world);
+    }
+    const EvalCache::Kept& done = kept ? *kept : cache ? cache->by_seed[seed] = std::move(fresh) : fresh;
+    const TrainingEpisode& ep = done.episode;
     g.successes += ep.success;
     rewards.push_back(ep.reward);
     time += ep.sim_seconds;
@@ -140,7 +173,11 @@ GreedyEval greedy_eval(StageRun& run, QTable& q, uint64_t first_seed, int episod
     g.sorted_mean += ep.objects_sorted;
     for (int a : ep.actions_taken) ++counts[size_t(a)];
     g.decisions += ep.decisions;
-    if (keep) g.runs.push_back(ep);
+    if (keep) {
+      g.runs.push_back(ep);
+      g.worlds.push_back(done.world);
+      g.tasks.push_back(worlds.tasks ? worlds.space->to_json((*worlds.tasks)[size_t(i)]) : nlohmann::json());
+    }
   }
   double mean = 0.0, var = 0.0;
   for (double r : rewards) mean += r;
@@ -194,6 +231,7 @@ nlohmann::json checkpoint_json(const CheckpointRecord& c) {
   j["reward_std"] = c.reward_std;
   j["eval_wall_s"] = c.eval_wall_s;
   j["policy_changed"] = c.policy_changed;
+  if (!c.teacher.is_null()) j["teacher"] = c.teacher;  // the teacher's state then
   return j;
 }
 
@@ -291,6 +329,84 @@ void greedy_signature(const QTable& q, std::vector<int>& out) {
 
 }  // namespace
 
+namespace {
+
+// A parameter's text as JSON: a number when it reads as one, else the text.
+nlohmann::json json_value(const std::string& text) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (!text.empty() && *end == '\0' && std::isfinite(v)) return v;
+  return text;
+}
+
+// The teacher of one trial of a stage that teaches: the trial's task space (the stage's, less the
+// parameters --set fixes), the teacher drawing from its own stream of the trial's seed, and the
+// test sets of the checkpoints and of the final evaluation. Times its own work.
+class TrialTeacher {
+ public:
+  TrialTeacher(Curriculum& cur, const CurriculumStage& stage, const TrainOptions& options) {
+    std::vector<std::string> fixed;
+    for (const auto& [k, v] : options.sets) fixed.push_back(k);
+    if (stage.teacher && stage.teacher->kind == TeacherSpec::Kind::kLcas && stage.tasks.index(stage.teacher->lift) < 0 &&
+        std::find(fixed.begin(), fixed.end(), stage.teacher->lift) != fixed.end())
+      throw Error(stage.where() + ": --set " + stage.teacher->lift + " fixes the parameter its teacher (" +
+                  stage.teacher->name() + ") lifts; leave it to the teacher or use a stage without one");
+    space_ = stage.tasks.without(fixed);
+    teacher_ = cur.make_teacher(stage, space_, Rng::mix(options.seed, 0x7465616368ull));  // "teach"
+    const int cp_n = stage.test.given ? stage.test.tasks : stage.checkpoints.episodes;
+    const int final_n = stage.test.given ? stage.test.tasks : stage.checkpoints.final_episodes;
+    final_tasks_ = stage.test_tasks(space_, std::max(cp_n, final_n));
+    checkpoint_tasks_.assign(final_tasks_.begin(), final_tasks_.begin() + std::min<size_t>(size_t(cp_n), final_tasks_.size()));
+    final_tasks_.resize(std::min<size_t>(size_t(final_n), final_tasks_.size()));
+    extra_ = teacher_->test_params();
+  }
+
+  // The next training episode's task, set on the scenario; its world seed (the episode's own,
+  // unless the teacher replays a level).
+  uint64_t pick(Scenario& scenario, uint64_t own_seed) {
+    const auto t0 = std::chrono::steady_clock::now();
+    pick_ = teacher_->next();
+    wall_s_ += seconds_since(t0);
+    set_params(scenario, space_.params(pick_.task), pick_.extra);
+    return pick_.world_seed.value_or(own_seed);
+  }
+  // What came of it, told to the teacher; the task as the episode's record keeps it.
+  nlohmann::json tell(const TrainingEpisode& ep) {
+    const auto t0 = std::chrono::steady_clock::now();
+    TaskOutcome o;
+    o.task = pick_.task;
+    o.world_seed = ep.seed;
+    o.success = ep.success;
+    o.reward = ep.reward;
+    o.sim_s = ep.sim_seconds;
+    o.td_error = ep.backups > 0 ? ep.td_abs_sum / ep.backups : 0.0;
+    teacher_->record(o);
+    wall_s_ += seconds_since(t0);
+    nlohmann::json task = space_.to_json(pick_.task);
+    for (const auto& [k, v] : pick_.extra) task[k] = json_value(v);
+    return task;
+  }
+  EvalWorlds worlds(uint64_t first_seed, bool final) const {
+    const std::vector<TaskPoint>& tasks = final ? final_tasks_ : checkpoint_tasks_;
+    return {first_seed, int(tasks.size()), &space_, &tasks, extra_};
+  }
+  nlohmann::json state() const { return teacher_->state(); }
+  std::string kind() const { return teacher_->kind(); }
+  double wall_s() const { return wall_s_; }
+  const TaskSpace& space() const { return space_; }
+  int test_tasks() const { return int(checkpoint_tasks_.size()); }
+
+ private:
+  TaskSpace space_;
+  std::unique_ptr<Teacher> teacher_;
+  std::vector<TaskPoint> checkpoint_tasks_, final_tasks_;
+  ParamList extra_;
+  TaskPick pick_;
+  double wall_s_ = 0.0;
+};
+
+}  // namespace
+
 TrainResult train_stage(const TrainOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   // A fresh load per trial: every trial gets its own controllers.
@@ -317,12 +433,16 @@ TrainResult train_stage(const TrainOptions& options) {
   const ExplorationSchedule schedule = ExplorationSchedule::episodes(stage.learner, budget);
   Rng rng(Rng::mix(options.seed, 0x65787031ull));  // exploration stream, apart from world seeds
 
+  std::optional<TrialTeacher> teacher;
+  if (stage.teaches()) teacher.emplace(cur, stage, options);
   EvalCache eval_cache;
   EvalCache* cache = options.eval_cache && !stage.absorbing_lua && !stage.reward_lua ? &eval_cache : nullptr;
-  // One greedy evaluation, counted (every episode reused, or not).
+  // One greedy evaluation, counted (every episode reused, or not); with a teacher, on its test set.
   auto evaluate = [&](int episodes, const std::string& phase, bool keep = false) {
     const int reused_before = eval_cache.reused;
-    GreedyEval g = greedy_eval(run, q, cp.seeds, episodes, phase, cache, keep);
+    const EvalWorlds worlds = teacher ? teacher->worlds(cp.seeds, keep) : EvalWorlds{cp.seeds, episodes};
+    episodes = worlds.episodes;
+    GreedyEval g = greedy_eval(run, q, worlds, phase, cache, keep);
     ++res.evals;
     res.eval_episodes += episodes;
     res.eval_episodes_reused += eval_cache.reused - reused_before;
@@ -343,18 +463,23 @@ TrainResult train_stage(const TrainOptions& options) {
     if (options.max_sim_s > 0 && spent.sim_s >= cap) break;  // judged at its last checkpoint
     const auto te = std::chrono::steady_clock::now();
     const double eps = schedule.epsilon(e);
-    const uint64_t seed = Rng::mix(options.seed, uint64_t(e) + 1);
-    TrainingEpisode ep = run.run(q, seed, eps, rng, true, "training", e);
+    uint64_t seed = Rng::mix(options.seed, uint64_t(e) + 1);
+    if (teacher) seed = teacher->pick(run.scenario, seed);
+    EpisodeWorld world;
+    TrainingEpisode ep = run.run(q, seed, eps, rng, true, "training", e, nullptr, &world);
+    nlohmann::json task = teacher ? teacher->tell(ep) : nlohmann::json();
     train_wall += seconds_since(te);
     spent.episodes = e + 1;
     spent.sim_s += ep.sim_seconds;
     spent.decisions += ep.decisions;
     spent.wall_s = train_wall;
-    if (options.keep_episodes) res.episodes.push_back(EpisodeRecord{e, eps, std::move(ep)});
+    if (options.keep_episodes)
+      res.episodes.push_back(EpisodeRecord{e, eps, std::move(ep), std::move(world), std::move(task)});
     if ((e + 1) % cp.every == 0 || e + 1 == budget) {
       const auto tc = std::chrono::steady_clock::now();
       const GreedyEval g = evaluate(cp.episodes, "checkpoint " + std::to_string(res.checkpoints.size() + 1) + " evaluation");
       res.checkpoints.push_back(checkpoint_record(spent, g, seconds_since(tc)));
+      if (teacher) res.checkpoints.back().teacher = teacher->state();
       const bool passed = g.success_rate >= cp.threshold;
       passing = passed ? passing + 1 : 0;
       greedy_signature(q, greedy_now);
@@ -373,6 +498,14 @@ TrainResult train_stage(const TrainOptions& options) {
   res.reached = passing > 0;
   res.to_threshold = res.reached ? res.checkpoints[res.checkpoints.size() - size_t(passing)].at : spent;
   if (options.final_evaluation) res.final_eval = evaluate(cp.final_episodes, "final evaluation", true);
+  if (teacher) {
+    res.teaches = true;
+    res.task_space = teacher->space().describe();
+    res.teacher_wall_s = teacher->wall_s();
+    res.teacher = {{"kind", teacher->kind()}, {"wall_s", teacher->wall_s()}, {"state", teacher->state()}};
+    res.test_tasks = teacher->test_tasks();
+    res.test_seed = stage.test.seed;
+  }
   res.explain = options.explain;
   res.wall_s = seconds_since(t0);
   return res;
@@ -446,6 +579,12 @@ nlohmann::json train_summary_json(const TrainResult& r) {
     j["skills"][s.name] = k;
   }
   for (const auto& [k, v] : r.params) j["params"][k] = v;
+  if (r.teaches) {
+    j["tasks"] = r.task_space;
+    j["teacher"] = r.teacher;
+    j["teacher_wall_s"] = r.teacher_wall_s;
+    j["test"] = {{"tasks", r.test_tasks}, {"seed", r.test_seed}};
+  }
   if (!r.reached || r.explain) j["diagnosis"] = diagnose_training(r).to_json();
   return j;
 }
@@ -469,15 +608,30 @@ void write_train_outputs(const TrainResult& r, const std::string& dir_in) {
     std::vector<int> n(r.psi.size(), 0);
     for (int a : e.episode.actions_taken) ++n[size_t(a)];
     for (size_t a = 0; a < r.psi.size(); ++a) counts[r.psi[a]] = n[a];
-    eps << nlohmann::json{{"index", e.index},       {"seed", e.episode.seed},       {"epsilon", e.epsilon},
-                          {"reward", e.episode.reward}, {"success", e.episode.success}, {"sim_s", e.episode.sim_seconds},
-                          {"ticks", e.episode.ticks}, {"decisions", e.episode.decisions}, {"actions", counts}}
-               .dump()
-        << "\n";
+    nlohmann::json line = {{"index", e.index},       {"seed", e.episode.seed},       {"epsilon", e.epsilon},
+                           {"reward", e.episode.reward}, {"success", e.episode.success}, {"sim_s", e.episode.sim_seconds},
+                           {"ticks", e.episode.ticks}, {"decisions", e.episode.decisions}, {"actions", counts},
+                           {"world", e.world.to_json()}};
+    if (!e.task.is_null()) {
+      line["task"] = e.task;
+      line["td_error"] = e.episode.backups > 0 ? e.episode.td_abs_sum / e.episode.backups : 0.0;  // PLR's score
+    }
+    eps << line.dump() << "\n";
+  }
+  // The final evaluation's episodes, one line each: a success rate split by task or world.
+  std::ostringstream fin;
+  const GreedyEval& g = r.final_eval;
+  for (size_t i = 0; i < g.runs.size(); ++i) {
+    nlohmann::json line = {{"index", i}, {"seed", g.runs[i].seed}, {"reward", g.runs[i].reward},
+                           {"success", g.runs[i].success}, {"sim_s", g.runs[i].sim_seconds},
+                           {"world", g.worlds[i].to_json()}};
+    if (!g.tasks[i].is_null()) line["task"] = g.tasks[i];
+    fin << line.dump() << "\n";
   }
   write_file_atomic((dir / "curve.csv").string(), curve.str());
   write_file_atomic((dir / "checkpoints.jsonl").string(), cps.str());
   write_file_atomic((dir / "episodes.jsonl").string(), eps.str());
+  write_file_atomic((dir / "final.jsonl").string(), fin.str());
   write_file_atomic((dir / "summary.json").string(), train_summary_json(r).dump(1) + "\n");
 }
 
@@ -541,7 +695,7 @@ std::vector<ControllerPtr> watched_controllers(const std::vector<ControllerPtr>&
 PolicyEvalResult evaluate_policy_file(const PolicyEvalOptions& options) {
   PolicyEvalResult out;
   with_policy_file(options, out, [&](StageRun& run, QTable& q, uint64_t first) {
-    out.eval = greedy_eval(run, q, first, options.episodes, "evaluation");
+    out.eval = greedy_eval(run, q, EvalWorlds{first, options.episodes}, "evaluation");
   });
   return out;
 }

@@ -69,6 +69,14 @@ struct TrainPoint {
   double wall_s = 0.0;  // training wall time, checkpoint evaluations excluded
 };
 
+// What an episode's world held, as its generator placed it: the obstacles and each object's shape
+// (episodes.jsonl's "world": a success rate can be split by them, roger report --by).
+struct EpisodeWorld {
+  int obstacles = 0;
+  std::vector<std::string> shapes;  // per object, in the scenario's order
+  nlohmann::json to_json() const { return {{"obstacles", obstacles}, {"objects", shapes.size()}, {"shapes", shapes}}; }
+};
+
 // One greedy evaluation during training.
 struct CheckpointRecord {
   TrainPoint at;
@@ -77,6 +85,7 @@ struct CheckpointRecord {
   // Whether the greedy policy (visited states and their greedy actions) differs from the previous
   // checkpoint's; true at the first. stop_after counts passing checkpoints of one policy.
   bool policy_changed = true;
+  nlohmann::json teacher;  // the teacher's state then (teach.h); null without a teacher
 };
 
 // One training episode.
@@ -84,6 +93,8 @@ struct EpisodeRecord {
   int index = 0;
   double epsilon = 0.0;
   TrainingEpisode episode;
+  EpisodeWorld world;
+  nlohmann::json task;  // the task the teacher chose ({"obstacles": 3, ...}); null without a teacher
 };
 
 // A greedy evaluation's figures.
@@ -99,6 +110,8 @@ struct GreedyEval {
   std::vector<std::pair<std::string, double>> usage;  // per action: share of the decisions
   int64_t decisions = 0;
   std::vector<TrainingEpisode> runs;  // the final evaluation's episodes (for batch/explain.h)
+  std::vector<EpisodeWorld> worlds;   // and their worlds
+  std::vector<nlohmann::json> tasks;  // and their test tasks (null entries without a test set)
 };
 
 // Where a learned skill used by the trial came from.
@@ -133,6 +146,15 @@ struct TrainResult {
   GreedyEval final_eval;
   std::vector<SkillSource> skills;
   std::vector<std::pair<std::string, std::string>> params;  // scenario parameters used
+  // A stage that teaches (curriculum.h, CurriculumStage::teaches): its task space as the trial
+  // had it (less what --set fixed), the teacher's kind and final state, the processor time its
+  // choices and fits took (inside the training wall time), and the test set.
+  bool teaches = false;
+  std::string task_space;
+  nlohmann::json teacher;     // {"kind", "state", "wall_s"}
+  double teacher_wall_s = 0.0;
+  int test_tasks = 0;         // tasks of the checkpoints' test set
+  uint64_t test_seed = 0;
   // The evaluation cache's work (TrainOptions::eval_cache), in this stage's evaluations only (not
   // those of skills trained first). Not written to any result file: the files do not depend on
   // whether the cache was on.
@@ -158,7 +180,8 @@ nlohmann::json eval_summary_json(const GreedyEval& eval);
 
 // One checkpoint as checkpoints.jsonl and a trial's result.json write it: where training stood
 // (episodes, sim_s, decisions, wall_s), the greedy evaluation's success rate and reward, its wall
-// time, and whether the policy had changed since the last checkpoint.
+// time, whether the policy had changed since the last checkpoint, and the teacher's state then
+// (a stage that teaches).
 nlohmann::json checkpoint_json(const CheckpointRecord& checkpoint);
 
 // The policy file's JSON (QTable format with metadata: curriculum, stage, context, seed, psi,

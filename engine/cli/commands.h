@@ -40,6 +40,7 @@ struct RunArgs {
 struct ReportArgs {
   std::string dir;                  // a results folder written by roger run
   bool partial = false;             // report what is there even when trials have no result yet
+  std::vector<std::string> by;      // also split each run's final success by these recorded features
   std::ostream* progress = nullptr; // where messages go (nullptr = standard error)
 };
 

@@ -140,6 +140,9 @@ CLI::App* add_report(CLI::App& app, ReportArgs& a) {
   auto* c = app.add_subcommand("report", "Write tables and figures from a results folder");
   c->add_option("dir", a.dir, "Results folder")->required();
   c->add_flag("--partial", a.partial, "Report even when some trials have no result yet (marked pending)");
+  c->add_option("--by", a.by,
+                "After each run's table, its final success split by this feature of the episodes' worlds or tasks "
+                "(obstacles, objects, shape, or a task parameter); repeatable");
   return c;
 }
 

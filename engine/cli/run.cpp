@@ -142,7 +142,7 @@ int command_report(const ReportArgs& a) {
     if (!missing.empty() && (!a.partial || corrupt)) return print_missing(missing, plan, log);
     const BatchSummary summary = write_summary_csv(plan);
     log << "roger report: wrote " << (std::filesystem::path(plan.out) / "summary.csv").string() << "\n";
-    for (const auto& f : write_report(a.dir)) log << "roger report: wrote " << f << "\n";
+    for (const auto& f : write_report(a.dir, a.by)) log << "roger report: wrote " << f << "\n";
     if (summary.pending) log << "roger report: " << summary.pending << " trials have no result yet (marked pending)\n";
     return 0;
   } catch (const FileError& e) {

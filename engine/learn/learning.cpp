@@ -131,9 +131,14 @@ void SemiMdpDriver::close_transition(int s, double now) {
     ep_.reward += r;
     running_reward_ += r;
   }
-  if (learn_) q_.update(state_, action_, r, s, false, discount_bootstrap(now - decided_at_));
+  if (learn_) backed_up(q_.update(state_, action_, r, s, false, discount_bootstrap(now - decided_at_)));
   transition_reward_ = running_reward_;
   running_reward_ = 0.0;
+}
+
+void SemiMdpDriver::backed_up(double td_error) {
+  ++ep_.backups;
+  ep_.td_abs_sum += std::abs(td_error);
 }
 
 void SemiMdpDriver::open_decision(int s, double now, int a) {
@@ -214,8 +219,8 @@ bool SemiMdpDriver::end(const ControlInput& in, bool success, int ticks, double 
   // Both ends are terminal: the absorbing state by definition, and the time-out because the
   // paper's episode simply stops there as a failure (no value beyond it to bootstrap from).
   if (learn_)
-    q_.update(state_, action_, accumulated_ + discount_within(time - decided_at_) * final_reward, state_, true,
-              q_.params().discount);
+    backed_up(q_.update(state_, action_, accumulated_ + discount_within(time - decided_at_) * final_reward, state_,
+                        true, q_.params().discount));
   return success;
 }
 

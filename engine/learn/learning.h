@@ -210,6 +210,10 @@ struct TrainingEpisode {
   std::vector<int> actions_taken;   // the action chosen at each decision
   std::vector<int> decision_states; // the state index at each decision
   std::vector<int> action_ticks;    // per action of Psi: the ticks it ran (usage frequencies)
+  // The backups of a learning episode: how many, and the sum of their |TD error| (a teacher's
+  // measure of how much the episode still had to teach, PLR's score). 0 when not learning.
+  int backups = 0;
+  double td_abs_sum = 0.0;
 };
 
 // Callbacks a stage may define beside its declarative rewards and absorbing predicate (a
@@ -276,6 +280,7 @@ class SemiMdpDriver final : public EpisodeDriver {
   void decide(int s, double now);
   void close_transition(int s, double now);
   void open_decision(int s, double now, int a);
+  void backed_up(double td_error);  // counts a backup's |TD error| into the episode
   double discount_within(double elapsed) const;
   double discount_bootstrap(double elapsed) const;
   const std::vector<ControllerPtr>& psi_;

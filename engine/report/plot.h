@@ -1,7 +1,7 @@
 // plot.h: the paper's figures, drawn with PLplot's cairo driver (devices "pngcairo" and
 // "svgcairo") to PNG and SVG files: learning curves with mean +- std bands (Figures 3 and 4, log x
-// for Figure 4) or with confidence bands (the IQM figures), and stacked bars of cumulative training
-// time (Figure 5).
+// for Figure 4) or with confidence bands (the IQM figures), stacked bars of cumulative training
+// time (Figure 5), and heat maps (where a teacher sampled a parameter over training).
 //
 // Each path's extension (.png or .svg, any case) chooses its format. Files are written atomically:
 // PLplot draws into a temporary file beside the destination, which is checked to be a complete
@@ -69,6 +69,27 @@ struct BarOptions {
   int height_px = 650;
   LegendPosition legend = LegendPosition::kTopRight;
 };
+
+// A heat map: a share in [0, 1] per cell of a grid of columns (bins of the x axis) and rows
+// (labelled values, bottom to top). Where a teacher sampled a parameter against training episodes.
+struct HeatMap {
+  std::vector<double> x_edges;             // the columns' edges, increasing (columns + 1 of them)
+  std::vector<std::string> rows;           // the rows' labels, bottom to top
+  std::vector<std::vector<double>> share;  // [row][column], each in [0, 1]
+};
+
+// How plot_heat_map draws.
+struct HeatOptions {
+  std::string x_label = "Training episodes";
+  std::string y_label;
+  int width_px = 1000;
+  int height_px = 650;
+};
+
+// Draws the heat map to every path (e.g. one .png and one .svg), shaded in ten steps from white
+// (0) to deep blue (1) with a key beside it.
+void plot_heat_map(const std::vector<std::string>& paths, const std::string& title, const HeatMap& map,
+                   const HeatOptions& options = HeatOptions());
 
 // The colour of the index-th series or stack (a colour-blind-safe palette, cycled).
 Colour plot_colour(size_t index);

@@ -18,7 +18,7 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 using namespace report_detail;
 
-std::vector<std::string> write_report(const std::string& dir) {
+std::vector<std::string> write_report(const std::string& dir, const std::vector<std::string>& by) {
   // Every record is checked first (engine/batch/records.cpp): a corrupt trial stops the report
   // before anything is written, rather than being read as whatever its damage says.
   const BatchPlan plan = read_results_plan(dir);  // outlives the trials missing_trials points to
@@ -36,14 +36,24 @@ std::vector<std::string> write_report(const std::string& dir) {
   json rep = json::array();
   for (const auto& t : b.tables) {
     if (!t.sorting.empty()) sorting_table(b, t, folder, md, rep);
+    else if (!t.compare.empty()) compare_table(b, t, folder, md, rep);
+    else if (!t.by.empty()) by_table(b, t, folder, md, rep);
     else if (!t.run.empty()) run_table(b, t, folder, md, rep);
     else eval_table(b, t, folder, md, rep);
+    if (!t.by.empty() || (t.run.empty() && t.compare.empty())) continue;
+    for (const auto& feature : by) {  // roger report --by: the same rows split by each feature
+      BatchTable split = t;
+      split.by = feature;
+      split.title = (t.title.empty() ? "Run " + t.run : t.title) + ": final success by " + feature;
+      by_table(b, split, folder, md, rep);
+    }
   }
   std::vector<std::string> written;
   std::vector<std::string> figures_md;
   json page_figures = json::array();
   for (const auto& f : b.figures) {
     const bool drawn = f.kind == "cumulative" ? cumulative_figure(b, f, folder, written, page_figures)
+                       : f.kind == "tasks"    ? tasks_figure(b, f, folder, written, page_figures)
                                               : curves_figure(b, f, folder, written, page_figures);
     figures_md.push_back("- `" + f.file + ".png` / `" + f.file + ".svg`: " +
                          (f.title.empty() ? f.kind + " of run " + f.run : f.title) + (drawn ? "" : " (not drawn: no finished trial)"));

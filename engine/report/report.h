@@ -25,7 +25,9 @@ namespace roger {
 // and its dashboard: index.html with dashboard.js, the same numbers for a browser (docs/browser.md).
 // Returns the files written. Throws roger::Error when the folder holds no sound manifest.json, or
 // when a trial's record is corrupt (naming the trial, the file and what is wrong), before writing.
-std::vector<std::string> write_report(const std::string& dir);
+// `by`: features (a world's "obstacles", "objects", "shape", or a task parameter) to split each run
+// table's final success by, a table after it per feature (as a batch script's `by` tables do).
+std::vector<std::string> write_report(const std::string& dir, const std::vector<std::string>& by = {});
 
 // Writes the dashboard's page alone (index.html) into the results folder `dir`, atomically, so a
 // run can be watched from its start: the page shows the run's progress from status.js and the

@@ -28,21 +28,26 @@ struct ContextCurves {
   CurveBands bands;
 };
 
-// A run's learning curves per context: greedy reward at the checkpoints against simulated
-// training minutes (contexts without a finished trial are left out).
-std::vector<ContextCurves> run_curves(const BatchRun& run, const Folder& folder, bool log_x) {
+// Learning curves per row (a run's context): the greedy reward (or, with `success`, the success
+// rate: the share of a test set mastered, in %) at the checkpoints against simulated training
+// minutes (rows without a finished trial are left out). Each is named by its context, or by
+// "run/context" when the rows come from several runs.
+std::vector<ContextCurves> row_curves(const BatchScript& b, const std::vector<BatchRow>& rows, const Folder& folder,
+                                      bool log_x, bool success = false) {
   std::vector<ContextCurves> out;
-  for (const auto& c : run.contexts) {
-    const Results r = folder.run(run, c);
+  const bool runs = std::any_of(rows.begin(), rows.end(), [&](const BatchRow& r) { return r.run != rows.front().run; });
+  for (const auto& row : rows) {
+    const Results r = folder.run(*b.run(row.run), row.context);
     std::vector<std::vector<std::pair<double, double>>> trials;
     for (const auto& j : r.ok) {
       std::vector<std::pair<double, double>> pts;
-      for (const auto& cp : j.value("checkpoints", json::array())) pts.emplace_back(num(cp, "sim_s"), num(cp, "reward_mean"));
+      for (const auto& cp : j.value("checkpoints", json::array()))
+        pts.emplace_back(num(cp, "sim_s"), success ? 100.0 * num(cp, "success_rate") : num(cp, "reward_mean"));
       trials.push_back(std::move(pts));
     }
     CurveGrid g = curve_grid(trials, kCurvePoints, log_x);
     if (g.t.empty()) continue;
-    ContextCurves cc{c, {}, std::move(g.values), {}};
+    ContextCurves cc{runs ? row.label() : row.context, {}, std::move(g.values), {}};
     for (double t : g.t) cc.minutes.push_back(t / 60.0);
     cc.bands = curve_bands(cc.values, dashboard::kCurveBootstrapSeed, dashboard::kCurveResamples);
     out.push_back(std::move(cc));
@@ -50,11 +55,19 @@ std::vector<ContextCurves> run_curves(const BatchRun& run, const Folder& folder,
   return out;
 }
 
-// The axes of every learning-curve figure.
-CurveOptions curve_options(bool log_x) {
+// A run's contexts as rows.
+std::vector<BatchRow> rows_of_run(const BatchRun& run) {
+  std::vector<BatchRow> rows;
+  for (const auto& c : run.contexts) rows.push_back({run.name, c});
+  return rows;
+}
+
+// The axes of every learning-curve figure (the greedy reward, or the % of test tasks mastered).
+CurveOptions curve_options(bool log_x, bool success = false) {
   CurveOptions o;
   o.x_label = "Simulated training time (min)";
-  o.y_label = "Average episodic reward (greedy)";
+  o.y_label = success ? "Test tasks mastered (%, greedy)" : "Average episodic reward (greedy)";
+  if (success) o.y_min = 0.0, o.y_max = 100.0;
   o.log_x = log_x;
   return o;
 }
@@ -65,19 +78,21 @@ CurveOptions curve_options(bool log_x) {
 bool curves_figure(const BatchScript& b, const BatchFigure& f, const Folder& folder, std::vector<std::string>& written,
                    json& page) {
   const BatchRun& run = *b.run(f.run);
+  const bool success = f.y == "success";
   std::vector<CurveSeries> series;
   json page_series = json::array();
-  for (const ContextCurves& cc : run_curves(run, folder, f.log_x)) {
+  for (const ContextCurves& cc : row_curves(b, f.compare.empty() ? rows_of_run(run) : f.compare, folder, f.log_x, success)) {
     page_series.push_back(dashboard::curve_series(cc.context, cc.minutes, cc.bands, cc.values.size()));
     series.push_back({cc.context, cc.minutes, cc.bands.mean, cc.bands.std, {}, {}});
   }
-  page.push_back({{"kind", "curves"}, {"file", f.file}, {"run", run.name}, {"log_x", f.log_x},
-                  {"title", f.title.empty() ? "Learning curves: stage " + run.stage : f.title},
-                  {"series", page_series}});
+  const std::string title = !f.title.empty() ? f.title
+                            : f.compare.empty() ? "Learning curves: stage " + run.stage
+                                                : "Learning curves";
+  page.push_back({{"kind", "curves"}, {"file", f.file}, {"run", f.compare.empty() ? run.name : std::string()},
+                  {"log_x", f.log_x}, {"y", f.y}, {"title", title}, {"series", page_series}});
   if (series.empty()) return false;
   const auto paths = figure_paths(folder.dir(), f.file);
-  plot_learning_curves(paths, f.title.empty() ? "Learning curves: stage " + run.stage : f.title, series,
-                       curve_options(f.log_x));
+  plot_learning_curves(paths, title, series, curve_options(f.log_x, success));
   written.insert(written.end(), paths.begin(), paths.end());
   return true;
 }
@@ -89,9 +104,9 @@ std::string iqm_figure(const BatchScript& b, const BatchRun& run, const Folder& 
                        std::vector<std::string>& written) {
   bool log_x = false;
   for (const auto& f : b.figures)
-    if (f.kind != "cumulative" && f.run == run.name) log_x = log_x || f.log_x;
+    if (f.kind == "curves" && f.compare.empty() && f.run == run.name) log_x = log_x || f.log_x;
   std::vector<CurveSeries> series;
-  for (const ContextCurves& cc : run_curves(run, folder, log_x))
+  for (const ContextCurves& cc : row_curves(b, rows_of_run(run), folder, log_x))
     series.push_back({cc.context, cc.minutes, cc.bands.iqm, {}, cc.bands.iqm_low, cc.bands.iqm_high});
   const std::string file = "iqm_" + run.name;
   const std::string title = "IQM learning curves: stage " + run.stage +

@@ -77,11 +77,26 @@ Pooled pool(const std::vector<json>& evals, const char* episodes_key);
 // "48/50", with how many failed or are pending.
 std::string trials_note(const Results& r);
 
+// A row of a run table (label: the context, or "run/context" in a comparison) against the baseline's
+// times; appends its numbers to rows; returns whether some trials never reached the threshold.
+bool run_table_row(const std::string& label, const Results& r, const BatchTable& t,
+                   const std::vector<CensoredTime>& base_times, double base_mean, std::ostringstream& md, json& rows);
+// The paragraph under a run table saying what its columns mean.
+void run_table_notes(bool any_censored, std::ostringstream& md);
+
 // Table I / II: a run's contexts against its baseline (report_runs.cpp).
 void run_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep);
 
 // Table III: an evaluation per shape, and a Total row (report_evaluations.cpp).
 void eval_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep);
+
+// A comparison of contexts of several runs (teachers on one context) against the first, with the
+// run table's columns (report_teachers.cpp).
+void compare_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep);
+
+// The final evaluations' success rate split by a recorded feature of each episode (its task's
+// parameter or its world's obstacles, objects or shape), a row per context (report_teachers.cpp).
+void by_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep);
 
 // A sorting table, one row per number of objects (report_sorting.cpp).
 void sorting_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep);
@@ -93,6 +108,11 @@ bool curves_figure(const BatchScript& b, const BatchFigure& f, const Folder& fol
 // The IQM learning curves of a run's stage; its line for tables.md (report_figures.cpp).
 std::string iqm_figure(const BatchScript& b, const BatchRun& run, const Folder& folder,
                        std::vector<std::string>& written);
+
+// Where a run's teacher sampled one parameter against training episodes, pooled over its trials
+// (a heat map); whether drawn (report_teachers.cpp).
+bool tasks_figure(const BatchScript& b, const BatchFigure& f, const Folder& folder, std::vector<std::string>& written,
+                  json& page);
 
 // Cumulative training time per context; whether drawn (report_figures.cpp).
 bool cumulative_figure(const BatchScript& b, const BatchFigure& f, const Folder& folder, std::vector<std::string>& written,

@@ -52,6 +52,8 @@ BaselineColumns compare_with_baseline(const std::vector<CensoredTime>& times, co
   return col;
 }
 
+}  // namespace
+
 // Writes context c's row of a run table (and appends its numbers to rows); returns whether some of
 // its trials never reached the threshold.
 bool run_table_row(const std::string& c, const Results& r, const BatchTable& t,
@@ -102,6 +104,8 @@ void run_table_notes(bool any_censored, std::ostringstream& md) {
           "that reached it.";
   md << " P(faster): the probability that a trial of the row is faster than one of the baseline.\n\n";
 }
+
+namespace {
 
 // Usage: share of the final greedy policies' decisions per action, mean over trials, listed per
 // context; returns the shares by context and action.

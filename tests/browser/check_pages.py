@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Opens roger's two pages in a real headless Chromium, from the file system as a user would, and
-checks what they show: the dashboard of a results folder and the episode viewer.
+checks what they show: the dashboard of a results folder (a teachers' comparison among them) and
+the episode viewer.
 
 Chromium is driven through its DevTools protocol over --remote-debugging-pipe (file descriptors 3
 and 4, NUL-separated JSON), so nothing beyond Python's standard library and Debian's chromium is
@@ -257,6 +258,38 @@ def check_dashboard(b, folder, screenshot):
         b.screenshot(screenshot)
 
 
+def check_teachers(b, folder):
+    """A teachers' comparison (tests/scripts/teach_batch.lua): % mastered per teacher, and where each
+    teacher sampled, drawn from the report's numbers."""
+    b.open(os.path.join(folder, "index.html"), "document.body.getAttribute('data-ready') === '1'")
+    check(b.errors() == [], "teachers: no console errors (%s)" % b.errors())
+    report = json.loads(open(os.path.join(folder, "dashboard.js")).read().split("=", 1)[1].strip().rstrip(";"))
+    shown = b.evaluate("""Array.from(document.querySelectorAll('#report table.md')).map(t =>
+        Array.from(t.rows).map(r => Array.from(r.cells).map(c => c.textContent.trim())))""")
+    check(shown == markdown_tables(os.path.join(folder, "tables.md")),
+          "teachers: every table cell equals tables.md's, the comparison and the split by level included")
+    curves = [f for f in report["figures"] if f["kind"] == "curves" and f.get("y") == "success"][0]
+    lines = b.evaluate("""Array.from(document.querySelectorAll('svg[data-figure="%s"] polyline[data-context]'))
+        .map(p => p.getAttribute('data-context'))""" % curves["file"])
+    check(lines == [s["context"] for s in curves["series"]] and len(lines) == 8,
+          "teachers: one %% mastered curve per teacher (%s)" % lines)
+    axis = b.evaluate("""Array.from(document.querySelectorAll('svg[data-figure="%s"] text')).map(t => t.textContent)"""
+                      % curves["file"])
+    check("Test tasks mastered (%)" in axis, "teachers: the curves' axis says what they measure")
+    for fig in [f for f in report["figures"] if f["kind"] == "tasks"]:
+        cells = b.evaluate("""Array.from(document.querySelectorAll('svg[data-figure="%s"] rect[data-share]'))
+            .map(r => [+r.getAttribute('data-row'), +r.getAttribute('data-column'), +r.getAttribute('data-share')])"""
+                           % fig["file"])
+        want = [[r, c, v] for r, row in enumerate(fig["share"]) for c, v in enumerate(row) if v > 0]
+        columns = [sum(row[c] for row in fig["share"]) for c in range(len(fig["x_edges"]) - 1)]
+        check(cells == want and len(cells) > 0, "teachers: %s draws every cell of the report's heat map (%d)"
+              % (fig["file"], len(cells)))
+        check(all(abs(t - 1) < 1e-3 for t in columns), "teachers: %s: each column's shares add up to 1" % fig["file"])
+        labels = b.evaluate("""Array.from(document.querySelectorAll('svg[data-figure="%s"] text')).map(t => t.textContent)"""
+                            % fig["file"])
+        check(all(r in labels for r in fig["rows"]), "teachers: %s labels its rows (%s)" % (fig["file"], fig["rows"]))
+
+
 def canvas_summary(b):
     """How the world canvas looks: a hash of its pixels and how many pixels are not background."""
     return b.evaluate("""(() => { const c = document.getElementById('world');
@@ -333,9 +366,11 @@ def main():
     if not shutil.which(a.chromium):
         return skip("no chromium at %s (apt-get install chromium)" % a.chromium)
     results, episode = os.path.join(a.work, "results"), os.path.join(a.work, "episode")
+    teachers = os.path.join(a.work, "teachers")
     shutil.rmtree(a.work, ignore_errors=True)
     os.makedirs(a.work)
     run([a.roger, "run", "scripts/quick.lua", "--out", results])
+    run([a.roger, "run", "tests/scripts/teach_batch.lua", "--out", teachers])
     run([a.roger, "render", "curricula/scripted.lua", "--policy", "search_grasp", "--seed", "3",
          "--width", "480", "--out", episode])
     try:
@@ -346,6 +381,7 @@ def main():
         shots = a.screenshots
         check_dashboard(b, results, shots and os.path.join(shots, "dashboard.png"))
         check_episode(b, episode, shots and os.path.join(shots, "episode-viewer.png"))
+        check_teachers(b, teachers)
     finally:
         b.close()
     print("%d check(s) failed" % len(failures) if failures else "all checks hold")

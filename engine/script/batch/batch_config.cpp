@@ -19,6 +19,14 @@ json params_json(const Params& p) {
   return j;
 }
 
+// A "run/context" row of a comparison.
+BatchRow row_from(const json& j) {
+  const std::string text = j.get<std::string>();
+  const size_t slash = text.find('/');
+  if (slash == std::string::npos) throw Error("the manifest's configuration: a comparison row is \"run/context\", got " + j.dump());
+  return {text.substr(0, slash), text.substr(slash + 1)};
+}
+
 Params params_from(const json& j) {
   Params p;
   for (const auto& e : j) p.emplace_back(e.at(0).get<std::string>(), e.at(1).get<std::string>());
@@ -51,10 +59,18 @@ json batch_config_json(const BatchScript& b) {
                   {"usage", usage}};
     for (const auto& r : t.sorting)
       table["sorting"].push_back({{"objects", r.objects}, {"learned", r.learned}, {"hand", r.hand}});
+    // Written only when given, so the configuration of a script without them reads as before.
+    for (const auto& r : t.compare) table["compare"].push_back(r.label());
+    if (!t.by.empty()) table["by"] = t.by;
     tables.push_back(std::move(table));
   }
-  for (const auto& f : b.figures)
-    figures.push_back({{"file", f.file}, {"title", f.title}, {"kind", f.kind}, {"run", f.run}, {"log_x", f.log_x}});
+  for (const auto& f : b.figures) {
+    json fig = {{"file", f.file}, {"title", f.title}, {"kind", f.kind}, {"run", f.run}, {"log_x", f.log_x}};
+    for (const auto& r : f.compare) fig["compare"].push_back(r.label());
+    if (f.y != "reward") fig["y"] = f.y;
+    if (f.kind == "tasks") fig["context"] = f.context, fig["param"] = f.param;
+    figures.push_back(std::move(fig));
+  }
   // The budgets every script of the run had: a result made under other limits may differ (a trial
   // that failed for its budget, or one that passed only with a larger one), so they are part of
   // the folder's configuration and a run under other limits does not resume into it.
@@ -88,6 +104,12 @@ void check_config_references(const BatchScript& b) {
   auto evaluation = [&](const std::string& name) {
     return std::any_of(b.evaluations.begin(), b.evaluations.end(), [&](const auto& e) { return e.name == name; });
   };
+  // A comparison's row names a run and one of its contexts.
+  auto context_of = [&](const BatchRow& row, const std::string& who) {
+    const BatchRun* r = b.run(row.run);
+    if (!r || std::find(r->contexts.begin(), r->contexts.end(), row.context) == r->contexts.end())
+      fail(who + " names '" + row.label() + "', which it lacks");
+  };
   for (const auto& r : b.runs)
     for (const auto& s : r.skills)
       if (!b.run(s.run)) fail("run '" + r.name + "' takes a skill from run '" + s.run + "', which it lacks");
@@ -101,14 +123,20 @@ void check_config_references(const BatchScript& b) {
       for (const std::string* name : {&r.learned, &r.hand})
         if (!name->empty() && !b.run(*name)) fail("table '" + t.title + "' names run '" + *name + "', which it lacks");
     if (!t.sorting.empty()) continue;
+    if (!t.compare.empty()) {
+      for (const auto& r : t.compare) context_of(r, "table '" + t.title + "'");
+      continue;
+    }
     if (t.run.empty() ? !evaluation(t.evaluation) : !b.run(t.run))
       fail("table '" + t.title + "' names " + (t.run.empty() ? "evaluation '" + t.evaluation : "run '" + t.run) +
            "', which it lacks");
   }
   for (const auto& f : b.figures) {
     if (!b.run(f.run)) fail("figure '" + f.file + "' names run '" + f.run + "', which it lacks");
-    if (f.kind != "curves" && f.kind != "cumulative")
-      fail("figure '" + f.file + "' is of kind '" + f.kind + "', not curves or cumulative");
+    if (f.kind != "curves" && f.kind != "cumulative" && f.kind != "tasks")
+      fail("figure '" + f.file + "' is of kind '" + f.kind + "', not curves, cumulative or tasks");
+    for (const auto& r : f.compare) context_of(r, "figure '" + f.file + "'");
+    if (f.kind == "tasks") context_of({f.run, f.context}, "figure '" + f.file + "'");
   }
 }
 
@@ -165,6 +193,8 @@ BatchScript batch_config_from_json(const json& j) {
         t.usage.push_back({u.at("context"), u.at("skill"), u.at("subsumes").get<std::vector<std::string>>()});
       for (const auto& r : tj.value("sorting", json::array()))
         t.sorting.push_back({int(config_integer(r, "objects", 1, 1000)), r.at("learned"), r.at("hand")});
+      for (const auto& r : tj.value("compare", json::array())) t.compare.push_back(row_from(r));
+      t.by = tj.value("by", std::string());
       b.tables.push_back(std::move(t));
     }
     for (const auto& fj : j.at("figures")) {
@@ -174,6 +204,10 @@ BatchScript batch_config_from_json(const json& j) {
       f.kind = fj.at("kind");
       f.run = fj.at("run");
       f.log_x = fj.at("log_x");
+      for (const auto& r : fj.value("compare", json::array())) f.compare.push_back(row_from(r));
+      f.y = fj.value("y", std::string("reward"));
+      f.context = fj.value("context", std::string());
+      f.param = fj.value("param", std::string());
       b.figures.push_back(std::move(f));
     }
   } catch (const json::exception& e) {

@@ -385,6 +385,40 @@ void read_sorting_rows(const json& rows, const Reader& rd, const std::string& wh
   }
 }
 
+// Reads a list of "run/context" rows (a comparison across runs), each of a run and context the
+// script trains.
+std::vector<BatchRow> read_rows(const json& j, const Reader& rd, const std::string& what, int l, const BatchScript& b) {
+  if (!j.is_array() || j.empty()) rd.fail(l, what + ": 'compare' must be a list of \"run/context\" rows");
+  std::vector<BatchRow> rows;
+  for (const json& rj : j) {
+    const std::string text = rj.is_string() ? rj.get<std::string>() : "";
+    const size_t slash = text.find('/');
+    if (slash == std::string::npos)
+      rd.fail(l, what + ": a row of 'compare' is \"run/context\", got " + rj.dump());
+    BatchRow row{text.substr(0, slash), text.substr(slash + 1)};
+    const BatchRun* r = b.run(row.run);
+    if (!r) rd.fail(l, what + ": no run '" + row.run + "'; the runs are " + quoted_list(run_names(b)));
+    if (std::find(r->contexts.begin(), r->contexts.end(), row.context) == r->contexts.end())
+      rd.fail(l, what + ": run '" + row.run + "' has no context '" + row.context + "'; its contexts are " +
+                     quoted_list(r->contexts));
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+// Reads a comparison table {compare = {"run/context", ...}, baseline = "run/context"}.
+void read_compare_table(const json& tj, const Reader& rd, const std::string& what, int l, const BatchScript& b,
+                        BatchTable& t) {
+  if (tj.contains("run") || tj.contains("evaluation") || tj.contains("usage"))
+    rd.fail(l, what + ": a comparison's rows are its 'compare' list: no 'run', 'evaluation' or 'usage'");
+  t.compare = read_rows(tj["compare"], rd, what, rd.line_of_key("compare", l), b);
+  t.baseline = rd.str(tj, "baseline", what, l, t.compare.front().label());
+  const auto it = std::find_if(t.compare.begin(), t.compare.end(), [&](const BatchRow& r) { return r.label() == t.baseline; });
+  if (it == t.compare.end())
+    rd.fail(rd.line_of_key("baseline", l), what + ": the baseline '" + t.baseline + "' is not one of its rows");
+  std::rotate(t.compare.begin(), it, it + 1);  // the baseline first
+}
+
 // Reads one table of 'tables'; `at` is the line to search from, moved past this table.
 BatchTable read_table(const json& tj, const Reader& rd, int& at, const Curriculum& cur, const BatchScript& b) {
   BatchTable t;
@@ -392,8 +426,15 @@ BatchTable read_table(const json& tj, const Reader& rd, int& at, const Curriculu
   const int l = title.empty() ? at : std::max(at, rd.line_of_key("title", at));
   at = l + 1;
   const std::string what = title.empty() ? "a table" : "table '" + title + "'";
-  rd.check_object(tj, what, {"title", "run", "baseline", "evaluation", "usage", "sorting"}, l);
+  rd.check_object(tj, what, {"title", "run", "baseline", "evaluation", "usage", "sorting", "compare", "by"}, l);
   t.title = title;
+  t.by = rd.str(tj, "by", what, l, "");
+  if (!t.by.empty() && (tj.contains("evaluation") || tj.contains("sorting") || tj.contains("usage")))
+    rd.fail(l, what + ": 'by' splits the final evaluations of a run's contexts or of 'compare''s rows");
+  if (tj.contains("compare")) {
+    read_compare_table(tj, rd, what, l, b, t);
+    return t;
+  }
   if (tj.contains("sorting")) {
     if (tj.contains("run") || tj.contains("evaluation") || tj.contains("baseline") || tj.contains("usage"))
       rd.fail(l, what + ": a sorting table has rows of its own: no 'run', 'evaluation', 'baseline' or 'usage'");
@@ -457,20 +498,43 @@ BatchFigure read_figure(const json& fj, const Reader& rd, int& at, const BatchSc
   const int l = file.empty() ? at : std::max(at, rd.line_of_key("file", at));
   at = l + 1;
   const std::string what = file.empty() ? "a figure" : "figure '" + file + "'";
-  rd.check_object(fj, what, {"file", "title", "kind", "run", "log_x"}, l);
+  rd.check_object(fj, what, {"file", "title", "kind", "run", "log_x", "compare", "y", "context", "param"}, l);
   f.file = rd.str(fj, "file", what, l, "", true);
   if (!std::regex_match(f.file, std::regex("[A-Za-z0-9_.-]+")))
     rd.fail(l, what + ": 'file' is a plain name (no folder, no extension): <file>.png and <file>.svg are written");
   f.title = rd.str(fj, "title", what, l, "");
   f.kind = rd.str(fj, "kind", what, l, "curves");
-  if (f.kind != "curves" && f.kind != "cumulative")
-    rd.fail(rd.line_of_key("kind", l), what + ": 'kind' is \"curves\" or \"cumulative\", got '" + f.kind + "'");
+  if (f.kind != "curves" && f.kind != "cumulative" && f.kind != "tasks")
+    rd.fail(rd.line_of_key("kind", l), what + ": 'kind' is \"curves\", \"cumulative\" or \"tasks\", got '" + f.kind + "'");
+  f.y = rd.str(fj, "y", what, l, "reward");
+  if (f.y != "reward" && f.y != "success")
+    rd.fail(rd.line_of_key("y", l), what + ": 'y' is \"reward\" (the greedy episodic reward) or \"success\" (the share "
+                                        "of test tasks mastered), got '" + f.y + "'");
+  if (fj.contains("compare")) {
+    if (f.kind != "curves") rd.fail(l, what + ": 'compare' draws the curves of several runs' contexts (kind \"curves\")");
+    if (fj.contains("run")) rd.fail(l, what + ": give 'run' or 'compare', not both");
+    f.compare = read_rows(fj["compare"], rd, what, rd.line_of_key("compare", l), b);
+    f.run = f.compare.front().run;
+    f.log_x = rd.boolean(fj, "log_x", what, l, false);
+    for (const auto& o : b.figures)
+      if (o.file == f.file) rd.fail(l, "a second figure written to '" + f.file + "'");
+    return f;
+  }
   f.run = rd.str(fj, "run", what, l, "", true);
   const BatchRun* r = b.run(f.run);
   if (!r) rd.fail(rd.line_of_key("run", l), what + ": no run '" + f.run + "'; the runs are " + quoted_list(run_names(b)));
   if (f.kind == "cumulative" && r->skills.empty())
     rd.fail(l, what + ": a cumulative figure needs a run that takes skills from an earlier run; '" + f.run +
                    "' takes none");
+  if (f.kind == "tasks") {
+    f.context = rd.str(fj, "context", what, l, r->contexts.front());
+    if (std::find(r->contexts.begin(), r->contexts.end(), f.context) == r->contexts.end())
+      rd.fail(rd.line_of_key("context", l), what + ": run '" + f.run + "' has no context '" + f.context +
+                                                "'; its contexts are " + quoted_list(r->contexts));
+    f.param = rd.str(fj, "param", what, l, "", true);
+  } else if (fj.contains("param") || fj.contains("context")) {
+    rd.fail(l, what + ": 'param' and 'context' belong to a figure of kind \"tasks\"");
+  }
   f.log_x = rd.boolean(fj, "log_x", what, l, false);
   for (const auto& o : b.figures)
     if (o.file == f.file) rd.fail(l, "a second figure written to '" + f.file + "'");

@@ -82,22 +82,37 @@ struct BatchSortingRow {
   std::string learned, hand;
 };
 
-// One table of the report: a run against its baseline context, an evaluation, or a sorting table
-// (one row per number of objects).
+// A row of a comparison across runs: one context of one run ("T_alp/B2").
+struct BatchRow {
+  std::string run, context;
+  std::string label() const { return run + "/" + context; }
+};
+
+// One table of the report: a run against its baseline context, an evaluation, a sorting table
+// (one row per number of objects), or a comparison of contexts of several runs (teachers on one
+// context) against the first. With `by`, a run's or a comparison's table is instead the final
+// evaluations' success rate split by a recorded feature of each episode's world or task.
 struct BatchTable {
   std::string title;
   std::string run, baseline;  // a run's table (baseline: one of its contexts)
   std::string evaluation;     // or an evaluation's table
   std::vector<BatchUsage> usage;
   std::vector<BatchSortingRow> sorting;  // or a sorting table
+  std::vector<BatchRow> compare;         // or rows of several runs, the first the baseline
+  std::string by;                        // "obstacles", "shape", a task parameter: the split
 };
 
 // One figure of the report (written as <file>.png and <file>.svg).
 struct BatchFigure {
   std::string file, title;
-  std::string kind = "curves";  // "curves": learning curves of a run; "cumulative": stacked times
+  // "curves": learning curves of a run's contexts (or of `compare`'s rows); "cumulative": stacked
+  // times; "tasks": where a run's teacher sampled `param` against training episodes.
+  std::string kind = "curves";
   std::string run;
   bool log_x = false;
+  std::vector<BatchRow> compare;  // curves of these rows instead of a run's contexts
+  std::string y = "reward";       // curves of the greedy "reward" or "success" (% of test tasks mastered)
+  std::string context, param;     // a tasks figure: the context and the parameter drawn
 };
 
 // A loaded and validated batch script.

@@ -33,7 +33,7 @@ char book_key;  // registry key of the loader's book (a light userdata)
 // What the script's roger.stage / roger.learned calls have made so far.
 struct Book {
   std::vector<CurriculumStage> stages;                   // parsed by roger.stage, in call order
-  std::vector<LuaCallback> absorbing_fns, reward_fns;    // aligned with stages
+  std::vector<LuaCallback> absorbing_fns, reward_fns, teacher_fns;  // aligned with stages
   std::map<const void*, size_t> tables;                  // stage table -> index in stages
   std::map<std::string, std::shared_ptr<LearnedRef>> learned;
 };
@@ -59,14 +59,15 @@ int l_stage(lua_State* L) {
   return lua_protect(L, [&]() {
     Book& book = book_of(L);
     CurriculumStage st;
-    LuaCallback a, r;
-    parse_stage(L, 1, st, a, r);
+    LuaCallback a, r, t;
+    parse_stage(L, 1, st, a, r, t);
     const auto [file, line] = caller(L);
     st.file = file, st.line = line;
     book.tables[lua_topointer(L, 1)] = book.stages.size();
     book.stages.push_back(std::move(st));
     book.absorbing_fns.push_back(a);
     book.reward_fns.push_back(r);
+    book.teacher_fns.push_back(t);
     lua_settop(L, 1);
     return 1;
   });
@@ -122,7 +123,7 @@ struct Curriculum::Impl {
   std::string path, file, name, description;
   Book book;
   std::vector<CurriculumStage> stages;
-  std::map<std::string, LuaCallback> absorbing_fns, reward_fns;  // by stage name
+  std::map<std::string, LuaCallback> absorbing_fns, reward_fns, teacher_fns;  // by stage name
   const World* world = nullptr;  // shown to the callbacks (set_world)
   int episode_ref = LUA_NOREF;    // the callbacks' per-episode table (begin_episode)
 };
@@ -188,18 +189,19 @@ void read_protected(LuaSandbox& sandbox, const std::string& file, const int& lin
 // The stage on top of the stack: as roger.stage read it, or read now from a plain table (`line`
 // is then where its name is written, and the stage's file is `display`).
 CurriculumStage take_stage(lua_State* L, const Book& book, const std::string& display, const std::string& text,
-                           int& line, LuaCallback& a, LuaCallback& r) {
+                           int& line, LuaCallback& a, LuaCallback& r, LuaCallback& teacher) {
   auto it = book.tables.find(lua_topointer(L, -1));
   CurriculumStage st;
   if (it != book.tables.end()) {
     st = book.stages[it->second];
     a = book.absorbing_fns[it->second];
     r = book.reward_fns[it->second];
+    teacher = book.teacher_fns[it->second];
   } else {
     lua_getfield(L, -1, "name");
     line = lua_type(L, -1) == LUA_TSTRING ? line_of_stage(text, lua_tostring(L, -1)) : 0;
     lua_pop(L, 1);
-    parse_stage(L, -1, st, a, r);
+    parse_stage(L, -1, st, a, r, teacher);
     st.file = display, st.line = line;
   }
   return st;
@@ -252,6 +254,7 @@ void install_curriculum_api(LuaSandbox& sandbox) {
   lua_pushcfunction(L, l_learned);
   lua_setfield(L, -2, "learned");
   lua_pop(L, 1);
+  sandbox.call_protected(0, [](lua_State* L) { curriculum_detail::install_teaching_api(L); });
 }
 
 Curriculum Curriculum::load(const std::string& path_in, const SandboxLimits& limits) {
@@ -289,8 +292,8 @@ Curriculum Curriculum::load(const std::string& path_in, const SandboxLimits& lim
     if (n == 0) top.fail("'stages' is empty (or not a list): define at least one stage");
     for (lua_Integer i = 1; i <= n; ++i) {
       lua_rawgeti(L, ss, i);
-      LuaCallback a, r;
-      CurriculumStage st = take_stage(L, impl.book, impl.path, text, line, a, r);
+      LuaCallback a, r, teacher;
+      CurriculumStage st = take_stage(L, impl.book, impl.path, text, line, a, r, teacher);
       for (const auto& other : impl.stages)
         if (other.name == st.name) {
           line = st.line;
@@ -298,6 +301,7 @@ Curriculum Curriculum::load(const std::string& path_in, const SandboxLimits& lim
         }
       impl.absorbing_fns[st.name] = a;
       impl.reward_fns[st.name] = r;
+      impl.teacher_fns[st.name] = teacher;
       impl.stages.push_back(std::move(st));
       lua_pop(L, 1);
     }
@@ -320,6 +324,13 @@ void push_state(lua_State* L, const CurriculumContext& ctx, const std::vector<Ga
 }  // namespace
 
 void Curriculum::set_world(const World* world) { impl_->world = world; }
+
+std::unique_ptr<Teacher> Curriculum::make_teacher(const CurriculumStage& stage, const TaskSpace& space, uint64_t seed) {
+  if (stage.teacher_lua)
+    return curriculum_detail::make_lua_teacher(*impl_->sandbox, stage, impl_->teacher_fns.at(stage.name), space, seed);
+  if (stage.teacher) return roger::make_teacher(*stage.teacher, space, seed);
+  return nullptr;
+}
 
 void Curriculum::begin_episode() {
   // Protected: a script at its memory budget makes even an empty table an error, not an abort.
@@ -405,6 +416,54 @@ std::string resolve_curriculum_path(const std::string& arg) {
 
 bool is_curriculum_script(const std::string& path) { return script_has_key(path, "stages"); }
 
+namespace {
+
+// The worlds at the ends of a stage's task space: each axis at its lowest and highest value (each
+// value of a choice, each level an LCAS teacher lifts), the other axes at their first value, in
+// the first context's parameters: where placements fail first.
+void check_task_space_ends(const CurriculumStage& st, const SandboxLimits& limits, std::vector<std::string>& problems) {
+  if (st.tasks.empty() && !(st.teacher && st.teacher->kind == TeacherSpec::Kind::kLcas)) return;
+  const TaskPoint low = st.tasks.from_unit(std::vector<double>(st.tasks.size(), 0.0));
+  const TaskPoint high = st.tasks.from_unit(std::vector<double>(st.tasks.size(), 1.0));
+  struct Try {
+    std::string name, value, at;  // at: "file:line: " of the axis or teacher, "" when unknown
+  };
+  auto at = [](const std::string& file, int line) { return file.empty() ? "" : file + ":" + std::to_string(line) + ": "; };
+  std::vector<Try> tries;  // over the low corner
+  for (size_t i = 0; i < st.tasks.size(); ++i) {
+    const TaskDim& d = st.tasks.dims()[i];
+    if (d.kind == TaskDim::Kind::kChoice) {
+      for (const auto& c : d.choices) tries.push_back({d.name, c, at(d.file, d.line)});
+    } else {
+      tries.push_back({d.name, st.tasks.params(low)[i].second, at(d.file, d.line)});
+      tries.push_back({d.name, st.tasks.params(high)[i].second, at(d.file, d.line)});
+    }
+  }
+  if (st.teacher && st.teacher->kind == TeacherSpec::Kind::kLcas && st.tasks.index(st.teacher->lift) < 0)
+    for (const auto& level : st.teacher->levels)
+      tries.push_back({st.teacher->lift, level, at(st.teacher->file, st.teacher->line)});
+  try {
+    Scenario s = Scenario::load(st.scenario, limits);
+    for (const auto& [k, v] : st.scenario_params(st.contexts.front())) s.set_param(k, v);
+    for (const auto& [k, v] : st.tasks.params(low)) s.set_param(k, v);
+    for (const Try& t : tries) {
+      const int i = st.tasks.index(t.name);
+      try {
+        s.set_param(t.name, t.value);
+        s.generate(0);
+      } catch (const std::exception& e) {
+        problems.push_back(t.at + st.where() + ": scenario '" + st.scenario + "' with " + t.name + " = " + t.value +
+                           " (an end of the stage's task space): " + e.what());
+      }
+      if (i >= 0) s.set_param(t.name, st.tasks.params(low)[size_t(i)].second);
+    }
+  } catch (const std::exception& e) {
+    problems.push_back(st.where() + ": scenario '" + st.scenario + "': " + e.what());
+  }
+}
+
+}  // namespace
+
 std::vector<std::string> check_curriculum(const std::string& path, const SandboxLimits& limits) {
   std::vector<std::string> problems;
   std::optional<Curriculum> cur;
@@ -429,6 +488,7 @@ std::vector<std::string> check_curriculum(const std::string& path, const Sandbox
         problems.push_back(where + ": scenario '" + st.scenario + "': " + e.what());
       }
     }
+    check_task_space_ends(st, limits, problems);
   }
   return problems;
 }

@@ -37,6 +37,7 @@
 #include "learn/learning.h"
 #include "script/sandbox/lua_sandbox.h"
 #include "control/predicate.h"
+#include "teach/teach.h"
 
 namespace roger {
 
@@ -61,6 +62,15 @@ struct CurriculumContext {
   std::vector<std::pair<std::string, std::string>> params;
 };
 
+// A stage's test set (field `test`): the tasks every greedy evaluation runs, one episode each in
+// world seed checkpoints.seeds + i, so the learning curve is the share of them mastered.
+struct TestSetSpec {
+  bool given = false;              // written by the stage; else drawn from the space
+  int tasks = 0;                   // {tasks = N, seed = S}: N tasks drawn uniformly with Rng(S)...
+  uint64_t seed = 0;
+  std::vector<ParamList> list;     // ...or {list = {...}}: the tasks themselves
+};
+
 // One stage of a curriculum: an MDP per context, with shared task definition.
 struct CurriculumStage {
   std::string name;
@@ -80,8 +90,21 @@ struct CurriculumStage {
   CheckpointSpec checkpoints;
   std::vector<CurriculumContext> contexts;
   std::optional<std::pair<std::string, std::string>> skill;  // {skill name, context}
+  // Teachers (docs/curricula.md, Teachers): each training episode's scenario parameters drawn
+  // from a task space by a teacher, greedy evaluations on a test set of tasks.
+  TaskSpace tasks;                     // empty: every episode has the stage's own parameters
+  std::optional<TeacherSpec> teacher;  // a built-in teacher (random when only tasks are given)
+  bool teacher_lua = false;            // a Lua function(history, rng): Curriculum::make_teacher
+  TestSetSpec test;
   std::string file;  // where the stage is written
   int line = 0;
+  // Whether training episodes have tasks chosen by a teacher (then evaluations run a test set).
+  bool teaches() const { return !tasks.empty() || teacher.has_value() || teacher_lua; }
+  // The test set's tasks for a trial whose task space is `space` (the stage's, less what --set
+  // fixes): the list written, or `count` tasks drawn (the first `count` of one sequence, so a
+  // shorter evaluation runs a prefix of a longer one). Throws roger::Error for a listed task
+  // outside the space.
+  std::vector<TaskPoint> test_tasks(const TaskSpace& space, int count) const;
   // The time-out of an episode in `world`: time_limit + time_per_object x its objects.
   double episode_time_limit(const WorldSpec& world) const {
     return time_limit + time_per_object * double(world.objects.size());
@@ -131,6 +154,11 @@ class Curriculum {
   // The world the Lua callbacks are shown (their argument `world`), or null for none (nil): the
   // episode's world, set by whoever runs the episodes (the trainer).
   void set_world(const World* world);
+  // The teacher of a stage that teaches, over `space` (the stage's task space less what --set
+  // fixes), drawing from Rng(seed): a built-in one, or one that calls the stage's Lua function
+  // between episodes (under the sandbox's budgets; a fault or a task outside the space is a
+  // ScriptError at the function's file:line). Null for a stage without teacher or tasks.
+  std::unique_ptr<Teacher> make_teacher(const CurriculumStage& stage, const TaskSpace& space, uint64_t seed);
   // An episode begins: the callbacks' last argument, `episode`, is a new empty table from now on
   // (what they keep there, e.g. a count at the last decision, lasts one episode).
   void begin_episode();

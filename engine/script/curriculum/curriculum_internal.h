@@ -2,6 +2,7 @@
 // with curriculum_stage.cpp (reading one stage table). Private to engine/script/curriculum.
 #pragma once
 
+#include <memory>
 #include <string>
 
 #include <lua.hpp>
@@ -12,7 +13,8 @@ namespace roger {
 namespace curriculum_detail {
 
 // Pushes the world as the Lua callbacks see it (the task's judge, not Roger's senses): a table
-// {objects = {{name, colour, x, y, held, region}, ...}, goals = {{name, x, y, radius}, ...}}.
+// {objects = {{name, shape, colour, x, y, held, region}, ...}, goals = {{name, x, y, radius}, ...},
+//  obstacles = {{name, x, y, shape}, ...}}.
 void push_world(lua_State* L, const World& world);
 
 // The stand-in roger.learned(name): behaves as the skill bound to it at train time; until then
@@ -32,8 +34,27 @@ struct LuaCallback {
 };
 
 // Reads a stage table at `index` into `st`, raising Lua errors "stage 'X': ..." (at the caller's
-// file:line when called from Lua). Functions given for absorbing/reward are kept in the registry.
-void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& absorb_fn, LuaCallback& reward_fn);
+// file:line when called from Lua). Functions given for absorbing, reward and teacher are kept in
+// the registry.
+void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& absorb_fn, LuaCallback& reward_fn,
+                 LuaCallback& teacher_fn);
+
+// ---- teachers (curriculum_tasks.cpp, curriculum_teacher.cpp)
+
+// The value at `index` as a scenario parameter's text (a number, string or boolean), or a Lua
+// error "<where> must be a number, string or boolean, got ...".
+std::string param_text(lua_State* L, int index, const std::string& where);
+// A table {key = value} of scenario parameters at `index`, appended to `out` sorted by key.
+void read_params_into(lua_State* L, int index, const std::string& where, ParamList& out);
+// Registers roger.int, roger.real, roger.choice and roger.teacher.* (on the `roger` global).
+void install_teaching_api(lua_State* L);
+// Reads a stage's `tasks`, `teacher` and `test` (after its contexts), checking them against the
+// stage's scenario and params; `episodes_given`/`final_given`: its checkpoints write those fields.
+void parse_teaching(lua_State* L, const LuaFields& f, CurriculumStage& st, LuaCallback& teacher_fn,
+                    bool episodes_given, bool final_given);
+// A teacher that calls the stage's Lua function(history, rng) before each training episode.
+std::unique_ptr<Teacher> make_lua_teacher(LuaSandbox& sandbox, const CurriculumStage& stage, const LuaCallback& fn,
+                                          const TaskSpace& space, uint64_t seed);
 
 }  // namespace curriculum_detail
 }  // namespace roger

@@ -40,16 +40,7 @@ void read_params_table(lua_State* L, int index, const std::string& where,
   while (lua_next(L, index)) {
     if (lua_type(L, -2) != LUA_TSTRING) luaL_error(L, "%s: field 'params' must have string keys", where.c_str());
     const std::string key = lua_tostring(L, -2);
-    std::string value;
-    switch (lua_type(L, -1)) {
-      case LUA_TNUMBER: value = lua_isinteger(L, -1) ? std::to_string(lua_tointeger(L, -1)) : format_number(lua_tonumber(L, -1)); break;
-      case LUA_TBOOLEAN: value = lua_toboolean(L, -1) ? "true" : "false"; break;
-      case LUA_TSTRING: value = lua_tostring(L, -1); break;
-      default:
-        luaL_error(L, "%s: params.%s must be a number, string or boolean, got %s", where.c_str(), key.c_str(),
-                   lua_describe_value(L, -1).c_str());
-    }
-    out.push_back({key, value});
+    out.push_back({key, param_text(L, -1, where + ": params." + key)});
     lua_pop(L, 1);
   }
   std::sort(out.begin(), out.end());
@@ -329,11 +320,24 @@ void read_time_limit(lua_State* L, LuaFields& f, const std::string& where, Curri
            format_number(st.time_limit));
 }
 
+// Whether the stage's checkpoints table writes `key` (a test set replaces episodes and final).
+bool checkpoints_field(lua_State* L, const LuaFields& f, const char* key) {
+  bool has = false;
+  if (f.push("checkpoints") == LUA_TTABLE) {
+    lua_getfield(L, -1, key);
+    has = !lua_isnil(L, -1);
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+  return has;
+}
+
 }  // namespace
 
 // Reads a stage table at `index` into `st`, raising Lua errors "stage 'X': ..." (at the caller's
 // file:line when called from Lua). Functions given for absorbing/reward are kept in the registry.
-void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& absorb_fn, LuaCallback& reward_fn) {
+void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& absorb_fn, LuaCallback& reward_fn,
+                 LuaCallback& teacher_fn) {
   index = lua_absindex(L, index);
   if (!lua_istable(L, index))
     luaL_error(L, "a stage must be a table {name = ..., time_limit = ..., absorbing = ..., contexts = ...}, got %s",
@@ -344,7 +348,7 @@ void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& abso
   const std::string where = st.name.empty() ? std::string("a stage") : st.where();
   LuaFields f(L, index, where,
               {"absorbing", "budget", "checkpoints", "contexts", "description", "learner", "name", "params",
-               "reward", "scenario", "skill", "time_limit"});
+               "reward", "scenario", "skill", "tasks", "teacher", "test", "time_limit"});
   if (st.name.empty()) f.fail("missing required field 'name' (a string such as \"SG\")");
   st.description = f.string("description", "");
   st.scenario = f.string("scenario", "unobstructed");
@@ -359,6 +363,8 @@ void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& abso
   parse_contexts(L, st);
   lua_pop(L, 1);
   read_skill(L, f, where, st);
+  // After the contexts: a task parameter may not be one a context fixes.
+  parse_teaching(L, f, st, teacher_fn, checkpoints_field(L, f, "episodes"), checkpoints_field(L, f, "final"));
 }
 
 }  // namespace curriculum_detail

@@ -6,17 +6,43 @@
 namespace roger {
 namespace curriculum_detail {
 
+namespace {
+
+// The static obstacles as the callbacks see them: {name, x, y, shape} each, in the scenario's order.
+void push_obstacles(lua_State* L, const WorldSpec& spec) {
+  lua_createtable(L, int(spec.obstacles.size()), 0);
+  for (size_t i = 0; i < spec.obstacles.size(); ++i) {
+    const ObstacleSpec& o = spec.obstacles[i];
+    lua_createtable(L, 0, 4);
+    lua_pushstring(L, o.name.c_str());
+    lua_setfield(L, -2, "name");
+    lua_pushnumber(L, o.pose.x);
+    lua_setfield(L, -2, "x");
+    lua_pushnumber(L, o.pose.y);
+    lua_setfield(L, -2, "y");
+    lua_pushstring(L, o.shape.name.c_str());
+    lua_setfield(L, -2, "shape");
+    lua_rawseti(L, -2, lua_Integer(i + 1));
+  }
+  lua_setfield(L, -2, "obstacles");
+}
+
+}  // namespace
+
 // The world as the Lua callbacks see it (the task's judge, not Roger's senses): every object with
-// its pose, colour, whether Roger touches it and the goal region its centre lies in; the regions.
+// its pose, shape, colour, whether Roger touches it and the goal region its centre lies in; the
+// regions; the obstacles.
 void push_world(lua_State* L, const World& world) {
   const WorldSpec& spec = world.spec();
-  lua_createtable(L, 0, 2);
+  lua_createtable(L, 0, 3);
   lua_createtable(L, int(spec.objects.size()), 0);
   for (size_t i = 0; i < spec.objects.size(); ++i) {
     const Pose pose = world.object_pose(int(i));
-    lua_createtable(L, 0, 7);
+    lua_createtable(L, 0, 8);
     lua_pushstring(L, spec.objects[i].name.c_str());
     lua_setfield(L, -2, "name");
+    lua_pushstring(L, spec.objects[i].shape.name.c_str());
+    lua_setfield(L, -2, "shape");
     const Colour& c = spec.objects[i].colour;
     char hex[8];
     std::snprintf(hex, sizeof hex, "#%02x%02x%02x", c.r, c.g, c.b);
@@ -49,6 +75,7 @@ void push_world(lua_State* L, const World& world) {
     lua_rawseti(L, -2, lua_Integer(g + 1));
   }
   lua_setfield(L, -2, "goals");
+  push_obstacles(L, spec);
 }
 
 }  // namespace curriculum_detail

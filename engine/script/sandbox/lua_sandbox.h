@@ -31,6 +31,7 @@
 
 #include "core/error.h"
 #include "core/spec.h"
+#include "core/text.h"  // format_number, join (messages)
 
 struct lua_State;
 
@@ -200,9 +201,6 @@ class LuaStackGuard {
   int top_;
 };
 
-// Joins items with a separator ("a, b, c"), for messages that list what exists.
-std::string join(const std::vector<std::string>& items, const char* sep = ", ");
-
 // The file a script argument names: the path itself if it is a file, else
 // <project>/<folder>/<name>.lua for a bare name. Otherwise a roger::Error: "no <kind> '<arg>': ..."
 // ending with "; <list_label>: " and the scripts of that folder that `accept` takes (every .lua
@@ -210,9 +208,6 @@ std::string join(const std::vector<std::string>& items, const char* sep = ", ");
 std::string resolve_script_path(const std::string& arg, const std::string& folder,
                                 const std::string& kind, const std::string& list_label,
                                 const std::function<bool(const std::string&)>& accept = {});
-
-// Formats a number the shortest way that reads back exactly (0.95, not 0.94999999999999996).
-std::string format_number(double value);
 
 // Whether a script's text sets a table field `key` (`key = ...` or `t.key = ...`) outside
 // comments: a quick look at what kind of script a file is (a curriculum has `stages`, a batch

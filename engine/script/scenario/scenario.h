@@ -81,6 +81,11 @@ class Scenario {
 // state is out of memory.
 void install_scenario_api(LuaSandbox& sandbox);
 
+// Pushes an rng object (a generator's `rng`: uniform, int, normal, angle, choice, shuffle, fork)
+// seeded with `seed`, registering its class in this Lua state on first use: a curriculum's teacher
+// function gets one. Raises Lua errors: call it inside a protected call.
+void lua_push_rng(lua_State* L, uint64_t seed);
+
 // The file a scenario argument names: the path itself if it is a file, else
 // <project>/scenarios/<name>.lua for a bare name. Throws roger::Error listing the shipped
 // scenarios when neither exists.

@@ -301,6 +301,15 @@ void new_class(lua_State* L, const char* type, const luaL_Reg* methods, lua_CFun
   lua_pop(L, 1);
 }
 
+// The rng object's class.
+void new_rng_class(lua_State* L) {
+  const luaL_Reg rng_methods[] = {{"uniform", l_rng_uniform}, {"int", l_rng_int},
+                                  {"normal", l_rng_normal},   {"angle", l_rng_angle},
+                                  {"choice", l_rng_choice},   {"shuffle", l_rng_shuffle},
+                                  {"fork", l_rng_fork},       {nullptr, nullptr}};
+  new_class(L, kRngType, rng_methods, nullptr, nullptr);
+}
+
 }  // namespace
 
 // Installs the metatables and the `roger` table (run protected).
@@ -310,12 +319,8 @@ int install_api(lua_State* L) {
                                     {"obstacle", l_world_obstacle}, {"goal", l_world_goal},
                                     {"stimulus", l_world_stimulus}, {"sample_position", l_world_sample},
                                     {nullptr, nullptr}};
-  const luaL_Reg rng_methods[] = {{"uniform", l_rng_uniform}, {"int", l_rng_int},
-                                  {"normal", l_rng_normal},   {"angle", l_rng_angle},
-                                  {"choice", l_rng_choice},   {"shuffle", l_rng_shuffle},
-                                  {"fork", l_rng_fork},       {nullptr, nullptr}};
   new_class(L, kWorldType, world_methods, destroy<WorldBuilder>, l_world_tostring);
-  new_class(L, kRngType, rng_methods, nullptr, nullptr);
+  new_rng_class(L);
   new_class(L, kShapeType, nullptr, destroy<ShapeBox>, l_shape_tostring);
   luaL_getmetatable(L, kShapeType);
   lua_pushcfunction(L, l_shape_index);
@@ -348,4 +353,11 @@ int install_api(lua_State* L) {
 }
 
 }  // namespace scenario_detail
+
+void lua_push_rng(lua_State* L, uint64_t seed) {
+  if (luaL_getmetatable(L, scenario_detail::kRngType) == LUA_TNIL) scenario_detail::new_rng_class(L);
+  lua_pop(L, 1);
+  scenario_detail::push_rng(L, seed);
+}
+
 }  // namespace roger

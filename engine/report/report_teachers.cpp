@@ -1,0 +1,271 @@
+// report_teachers.cpp: the tables that compare across runs (report_internal.h): one context under
+// several teachers against the first (time to the threshold of % mastered, Mann-Whitney tests),
+// and the final evaluations' success split by what each episode's world or task held.
+#include "report/report_internal.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "core/error.h"
+#include "report/plot.h"
+
+namespace roger::report_detail {
+namespace {
+
+Results rows_results(const BatchScript& b, const BatchRow& row, const Folder& folder) {
+  return folder.run(*b.run(row.run), row.context);
+}
+
+// The rows a table is about: its comparison's, or every context of its run.
+std::vector<BatchRow> rows_of(const BatchScript& b, const BatchTable& t) {
+  if (!t.compare.empty()) return t.compare;
+  std::vector<BatchRow> rows;
+  for (const auto& c : b.run(t.run)->contexts) rows.push_back({t.run, c});
+  return rows;
+}
+
+// The value of `feature` in a final-evaluation record (final.jsonl): a task parameter when the
+// task has it, else what the world held ("obstacles", "objects", "shape": the first object's).
+std::string feature_of(const json& record, const std::string& feature) {
+  const json none;
+  const json& task = record.contains("task") ? record["task"] : none;
+  const json& world = record.contains("world") ? record["world"] : none;
+  const json* v = nullptr;
+  if (task.is_object() && task.contains(feature)) v = &task[feature];
+  else if (world.is_object() && world.contains(feature)) v = &world[feature];
+  else if (feature == "shape" && world.is_object() && world.contains("shapes") && !world["shapes"].empty())
+    v = &world["shapes"][0];
+  if (!v) return "";
+  if (v->is_string()) return v->get<std::string>();
+  if (v->is_number_integer()) return std::to_string(v->get<int64_t>());
+  if (v->is_number()) return fmt("%.2f", v->get<double>());
+  return v->dump();
+}
+
+// Sorts feature values as numbers when they all read as numbers, else as text.
+bool value_less(const std::string& a, const std::string& b) {
+  char* ea = nullptr;
+  char* eb = nullptr;
+  const double x = std::strtod(a.c_str(), &ea), y = std::strtod(b.c_str(), &eb);
+  if (!a.empty() && !b.empty() && *ea == '\0' && *eb == '\0') return x < y;
+  return a < b;
+}
+
+}  // namespace
+
+void compare_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep) {
+  if (!t.by.empty()) return by_table(b, t, folder, md, rep);
+  const Results base = rows_results(b, t.compare.front(), folder);
+  const std::vector<CensoredTime> base_times = times_of(base);
+  const double base_mean = base_times.empty() ? 0.0 : mean(censored_values(base_times));
+  md << "## " << t.title << "\n\nRows: a context of a run each, against `" << t.baseline << "`.\n\n";
+  md << "| Approach | Train time (min:sec) | % Improvement | Avg. reward ± std | Success rate | Median time | "
+        "IQM time [95% CI] | Reached | p (Mann-Whitney vs "
+     << t.baseline << ") | P(faster than " << t.baseline << ") | Trials |\n";
+  md << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  json rows = json::array();
+  bool any_censored = false;
+  for (const BatchRow& row : t.compare)
+    any_censored |= run_table_row(row.label(), rows_results(b, row, folder), t, base_times, base_mean, md, rows);
+  run_table_notes(any_censored, md);
+  md << "With a test set (a stage that teaches), the success rate is the share of its tasks the final greedy "
+        "policies master, and train time runs to the first checkpoint from which that share stays at or above "
+        "the threshold.\n\n";
+  rep.push_back({{"title", t.title}, {"compare", rows.size()}, {"baseline", t.baseline}, {"rows", rows}});
+}
+
+void by_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep) {
+  struct Cell {
+    int64_t episodes = 0, successes = 0;
+  };
+  std::vector<BatchRow> rows = rows_of(b, t);
+  std::vector<std::vector<std::pair<std::string, bool>>> seen(rows.size());  // (value, success) per row
+  for (size_t k = 0; k < rows.size(); ++k) {
+    const BatchRun& run = *b.run(rows[k].run);
+    for (int i = 0; i < run.trials; ++i) {
+      const fs::path file = fs::path(trial_dir(folder.dir(), batch_trial_id(run.name, rows[k].context, i))) / "final.jsonl";
+      std::ifstream in(file);
+      if (!in) continue;  // pending or failed, or written before final.jsonl existed
+      int line_no = 0;
+      for (std::string line; std::getline(in, line);) {
+        ++line_no;
+        if (line.empty()) continue;
+        json record;
+        try {
+          record = json::parse(line);
+        } catch (const std::exception& e) {
+          throw Error(file.string() + ":" + std::to_string(line_no) + ": not JSON: " + e.what());
+        }
+        const std::string v = feature_of(record, t.by);
+        if (!v.empty()) seen[k].push_back({v, record.value("success", false)});
+      }
+    }
+  }
+  // Columns: each value, or five equal bins of the range when the values are many fractions (a
+  // real axis of a task space).
+  std::set<std::string, decltype(&value_less)> distinct(&value_less);
+  bool fractions = true;
+  double lo = 1e300, hi = -1e300;
+  for (const auto& row : seen)
+    for (const auto& [v, ok] : row) {
+      distinct.insert(v);
+      char* end = nullptr;
+      const double x = std::strtod(v.c_str(), &end);
+      fractions = fractions && *end == '\0' && !v.empty();
+      if (fractions) lo = std::min(lo, x), hi = std::max(hi, x);
+    }
+  const bool binned = fractions && distinct.size() > 8 && hi > lo;
+  auto column_of = [&](const std::string& v) {
+    if (!binned) return v;
+    const int bin = std::min(4, int((std::strtod(v.c_str(), nullptr) - lo) / (hi - lo) * 5));
+    return fmt("%.2f", lo + (hi - lo) * bin / 5) + " to " + fmt("%.2f", lo + (hi - lo) * (bin + 1) / 5);
+  };
+  std::vector<std::map<std::string, Cell>> cells(rows.size());
+  std::set<std::string, decltype(&value_less)> values(&value_less);
+  for (size_t k = 0; k < rows.size(); ++k)
+    for (const auto& [v, ok] : seen[k]) {
+      const std::string col = column_of(v);
+      values.insert(col);
+      ++cells[k][col].episodes;
+      cells[k][col].successes += ok;
+    }
+  md << "## " << t.title << "\n\nSuccess rate of the final greedy evaluations (every trial's episodes pooled) by `" << t.by
+     << "`, with the episodes in each cell.\n\n| Approach |";
+  for (const auto& v : values) md << " " << t.by << " = " << v << " |";
+  md << "\n|---|";
+  for (size_t i = 0; i < values.size(); ++i) md << "---|";
+  md << "\n";
+  json out = json::array();
+  for (size_t k = 0; k < rows.size(); ++k) {
+    md << "| " << (t.compare.empty() ? rows[k].context : rows[k].label()) << " |";
+    json row = {{"run", rows[k].run}, {"context", rows[k].context}, {"cells", json::object()}};
+    for (const auto& v : values) {
+      const auto it = cells[k].find(v);
+      if (it == cells[k].end() || it->second.episodes == 0) {
+        md << " - |";
+        continue;
+      }
+      const double rate = double(it->second.successes) / double(it->second.episodes);
+      md << " " << pct(rate) << " (" << it->second.episodes << ") |";
+      row["cells"][v] = {{"success_rate", rate}, {"episodes", it->second.episodes}};
+    }
+    md << "\n";
+    out.push_back(row);
+  }
+  if (values.empty()) md << "\nNo trial has recorded its final evaluation's episodes (final.jsonl) yet.\n";
+  md << "\n";
+  rep.push_back({{"title", t.title}, {"by", t.by}, {"rows", out}});
+}
+
+namespace {
+
+// The values of `param` the training episodes of a run's context drew, by episode index, over its
+// finished trials (episodes.jsonl); numbers as numbers, other values as text.
+struct Drawn {
+  std::vector<std::pair<int, json>> draws;  // (episode index, value)
+  int episodes = 0;                         // the longest trial's training episodes
+  int trials = 0;
+};
+
+Drawn drawn_values(const BatchRun& run, const std::string& context, const std::string& param, const Folder& folder) {
+  Drawn d;
+  for (int i = 0; i < run.trials; ++i) {
+    const fs::path file = fs::path(trial_dir(folder.dir(), batch_trial_id(run.name, context, i))) / "episodes.jsonl";
+    std::ifstream in(file);
+    if (!in) continue;
+    ++d.trials;
+    int line_no = 0;
+    for (std::string line; std::getline(in, line);) {
+      ++line_no;
+      if (line.empty()) continue;
+      json e;
+      try {
+        e = json::parse(line);
+      } catch (const std::exception& ex) {
+        throw Error(file.string() + ":" + std::to_string(line_no) + ": not JSON: " + ex.what());
+      }
+      const int index = e.value("index", line_no - 1);
+      d.episodes = std::max(d.episodes, index + 1);
+      if (e.contains("task") && e["task"].is_object() && e["task"].contains(param))
+        d.draws.push_back({index, e["task"][param]});
+    }
+  }
+  return d;
+}
+
+// The heat map of the draws: 25 columns of episodes; a row per value drawn (integers and text),
+// or 10 bins over the range drawn (other numbers).
+HeatMap heat_of(const Drawn& d) {
+  HeatMap m;
+  const int columns = std::max(1, std::min(25, d.episodes));
+  for (int c = 0; c <= columns; ++c) m.x_edges.push_back(double(d.episodes) * c / columns);
+  bool reals = false;
+  double lo = 1e300, hi = -1e300;
+  std::set<std::string, decltype(&value_less)> values(&value_less);
+  for (const auto& [i, v] : d.draws) {
+    if (v.is_number() && !v.is_number_integer() && v.get<double>() != std::floor(v.get<double>())) reals = true;
+    if (v.is_number()) lo = std::min(lo, v.get<double>()), hi = std::max(hi, v.get<double>());
+    values.insert(v.is_string() ? v.get<std::string>() : v.is_number() ? fmt("%g", v.get<double>()) : v.dump());
+  }
+  const int bins = 10;
+  std::vector<std::string> rows = reals ? std::vector<std::string>{} : std::vector<std::string>(values.begin(), values.end());
+  if (reals)
+    for (int b = 0; b < bins; ++b) rows.push_back(fmt("%.2g", lo + (hi - lo) * b / bins) + " to " + fmt("%.2g", lo + (hi - lo) * (b + 1) / bins));
+  std::vector<std::vector<double>> count(rows.size(), std::vector<double>(size_t(columns), 0.0));
+  std::vector<double> total(size_t(columns), 0.0);
+  for (const auto& [i, v] : d.draws) {
+    const size_t c = std::min<size_t>(size_t(columns) - 1, size_t(double(i) * columns / std::max(1, d.episodes)));
+    size_t r = 0;
+    if (reals) {
+      r = hi > lo ? std::min<size_t>(bins - 1, size_t((v.get<double>() - lo) / (hi - lo) * bins)) : 0;
+    } else {
+      const std::string text = v.is_string() ? v.get<std::string>() : v.is_number() ? fmt("%g", v.get<double>()) : v.dump();
+      r = size_t(std::find(rows.begin(), rows.end(), text) - rows.begin());
+    }
+    count[r][c] += 1.0;
+    total[c] += 1.0;
+  }
+  for (auto& row : count)
+    for (size_t c = 0; c < row.size(); ++c) row[c] = total[c] > 0 ? row[c] / total[c] : 0.0;
+  m.rows = std::move(rows);
+  m.share = std::move(count);
+  return m;
+}
+
+}  // namespace
+
+bool tasks_figure(const BatchScript& b, const BatchFigure& f, const Folder& folder, std::vector<std::string>& written,
+                  json& page) {
+  const Drawn d = drawn_values(*b.run(f.run), f.context, f.param, folder);
+  const std::string title = f.title.empty() ? "Tasks drawn: " + f.param + ", " + f.run + "/" + f.context : f.title;
+  json fig = {{"kind", "tasks"}, {"file", f.file}, {"run", f.run}, {"context", f.context}, {"param", f.param},
+              {"title", title}, {"trials", d.trials}};
+  if (d.draws.empty()) {
+    page.push_back(fig);
+    return false;
+  }
+  const HeatMap m = heat_of(d);
+  fig["x_edges"] = m.x_edges;
+  fig["rows"] = m.rows;
+  json share = json::array();
+  for (const auto& row : m.share) {
+    json r = json::array();
+    for (double v : row) r.push_back(std::round(v * 1e4) / 1e4);
+    share.push_back(r);
+  }
+  fig["share"] = share;
+  page.push_back(fig);
+  HeatOptions o;
+  o.y_label = f.param;
+  const std::vector<std::string> paths = {(fs::path(folder.dir()) / (f.file + ".png")).string(),
+                                          (fs::path(folder.dir()) / (f.file + ".svg")).string()};
+  plot_heat_map(paths, title + " (" + std::to_string(d.trials) + (d.trials == 1 ? " trial)" : " trials)"), m, o);
+  written.insert(written.end(), paths.begin(), paths.end());
+  return true;
+}
+
+}  // namespace roger::report_detail

@@ -1,0 +1,512 @@
+// curriculum_tasks.cpp: teachers in Lua (docs/curricula.md, Teachers): the task-space axes
+// roger.int, roger.real and roger.choice, the teachers roger.teacher.*, and a stage's fields
+// `tasks`, `teacher` and `test`, checked against the stage's scenario where they are written.
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "core/error.h"
+#include "script/control/lua_control.h"
+#include "script/curriculum/curriculum_internal.h"
+#include "script/scenario/scenario.h"
+
+namespace roger {
+namespace curriculum_detail {
+namespace {
+
+constexpr const char* kAxisType = "roger.TaskAxis";
+constexpr const char* kTeacherType = "roger.Teacher";
+
+template <class T>
+int destroy(lua_State* L) {
+  static_cast<T*>(lua_touserdata(L, 1))->~T();
+  return 0;
+}
+
+// Where the Lua caller of the running C function is ("", 0 from C++).
+std::pair<std::string, int> caller_of(lua_State* L) {
+  lua_Debug ar;
+  if (lua_getstack(L, 1, &ar) && lua_getinfo(L, "Sl", &ar) && ar.currentline > 0)
+    return {ar.source && ar.source[0] == '@' ? ar.source + 1 : ar.short_src, ar.currentline};
+  return {"", 0};
+}
+
+void push_axis(lua_State* L, TaskDim d) {
+  std::tie(d.file, d.line) = caller_of(L);
+  new (lua_newuserdatauv(L, sizeof(TaskDim), 0)) TaskDim(std::move(d));
+  luaL_setmetatable(L, kAxisType);
+}
+
+// A bound of roger.int / roger.real: a finite number, an integer for roger.int.
+double bound(lua_State* L, int index, const char* call, bool integer) {
+  if (lua_type(L, index) != LUA_TNUMBER)
+    luaL_error(L, "%s(lo, hi): %s must be a number, got %s", call, index == 1 ? "lo" : "hi",
+               lua_describe_value(L, index).c_str());
+  const double v = lua_tonumber(L, index);
+  if (!std::isfinite(v) || (integer && v != std::floor(v)))
+    luaL_error(L, "%s(lo, hi): %s must be %s, got %s", call, index == 1 ? "lo" : "hi",
+               integer ? "an integer" : "finite", format_number(v).c_str());
+  return v;
+}
+
+int l_int(lua_State* L) {
+  TaskDim d;
+  d.kind = TaskDim::Kind::kInt;
+  d.lo = bound(L, 1, "roger.int", true), d.hi = bound(L, 2, "roger.int", true);
+  if (d.lo > d.hi)
+    luaL_error(L, "roger.int(%s, %s): the range is reversed (lo must not exceed hi)", format_number(d.lo).c_str(),
+               format_number(d.hi).c_str());
+  push_axis(L, std::move(d));
+  return 1;
+}
+
+int l_real(lua_State* L) {
+  TaskDim d;
+  d.kind = TaskDim::Kind::kReal;
+  d.lo = bound(L, 1, "roger.real", false), d.hi = bound(L, 2, "roger.real", false);
+  if (d.lo >= d.hi)
+    luaL_error(L, "roger.real(%s, %s): the range is %s (lo must be below hi; a single value needs no axis)",
+               format_number(d.lo).c_str(), format_number(d.hi).c_str(), d.lo == d.hi ? "empty" : "reversed");
+  push_axis(L, std::move(d));
+  return 1;
+}
+
+int l_choice(lua_State* L) {
+  if (!lua_istable(L, 1))
+    luaL_error(L, "roger.choice{...}: expects a list of values, got %s", lua_describe_value(L, 1).c_str());
+  TaskDim d;
+  d.kind = TaskDim::Kind::kChoice;
+  const lua_Integer n = lua_Integer(lua_rawlen(L, 1));
+  lua_pushnil(L);
+  while (lua_next(L, 1)) {  // only 1..n: a named key is a slip
+    lua_pop(L, 1);
+    if (!lua_isinteger(L, -1) || lua_tointeger(L, -1) < 1 || lua_tointeger(L, -1) > n)
+      luaL_error(L, "roger.choice{...}: expects a plain list of values, got the key %s", lua_describe_value(L, -1).c_str());
+  }
+  std::set<std::string> seen;
+  for (lua_Integer i = 1; i <= n; ++i) {
+    lua_rawgeti(L, 1, i);
+    const std::string v = param_text(L, -1, "roger.choice{...}: value " + std::to_string(i));
+    if (!seen.insert(v).second) luaL_error(L, "roger.choice{...}: the value '%s' is listed twice", v.c_str());
+    d.choices.push_back(v);
+    lua_pop(L, 1);
+  }
+  if (d.choices.empty()) luaL_error(L, "roger.choice{...}: the list is empty; give at least one value");
+  push_axis(L, std::move(d));
+  return 1;
+}
+
+int l_axis_tostring(lua_State* L) {
+  lua_pushstring(L, static_cast<TaskDim*>(luaL_checkudata(L, 1, kAxisType))->text().c_str());
+  return 1;
+}
+
+// ---- roger.teacher.*
+
+void push_teacher(lua_State* L, TeacherSpec spec) {
+  std::tie(spec.file, spec.line) = caller_of(L);
+  new (lua_newuserdatauv(L, sizeof(TeacherSpec), 0)) TeacherSpec(std::move(spec));
+  luaL_setmetatable(L, kTeacherType);
+}
+
+// The options table of roger.teacher.<kind>{...} (none: {}).
+LuaFields options(lua_State* L, const TeacherSpec& spec, std::vector<std::string> known) {
+  if (lua_isnoneornil(L, 1)) lua_newtable(L), lua_replace(L, 1);
+  return LuaFields(L, 1, spec.name(), std::move(known));
+}
+
+int whole(const LuaFields& f, const char* key, int fallback, int lo, int hi) {
+  const int64_t v = f.integer(key, fallback);
+  if (v < lo || v > hi)
+    f.fail("field '" + std::string(key) + "' must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+           "], got " + std::to_string(v));
+  return int(v);
+}
+
+double fraction(const LuaFields& f, const char* key, double fallback, double lo, double hi, bool open_lo = false) {
+  const double v = f.number(key, fallback);
+  if (v < lo || v > hi || (open_lo && v == lo))
+    f.fail("field '" + std::string(key) + "' must be in " + (open_lo ? "(" : "[") + format_number(lo) + ", " +
+           format_number(hi) + "], got " + format_number(v));
+  return v;
+}
+
+int l_teacher_random(lua_State* L) {
+  TeacherSpec spec;
+  options(L, spec, {});
+  push_teacher(L, std::move(spec));
+  return 1;
+}
+
+// One step of roger.teacher.sequence: its parameters (a value, or an axis inside the task space's)
+// and its promote, demote and window.
+TeacherSpec::Step read_step(lua_State* L, int t, const std::string& where) {
+  TeacherSpec::Step step;
+  if (!lua_istable(L, t))
+    luaL_error(L, "%s must be a table {param = value, ..., promote = 0.9, window = 20}, got %s", where.c_str(),
+               lua_describe_value(L, t).c_str());
+  lua_pushnil(L);
+  while (lua_next(L, t)) {
+    if (lua_type(L, -2) != LUA_TSTRING)
+      luaL_error(L, "%s: expects named fields (param = value), got %s", where.c_str(), lua_describe_value(L, -2).c_str());
+    const std::string key = lua_tostring(L, -2);
+    if (key == "promote" || key == "demote" || key == "window") {
+      lua_pop(L, 1);
+      continue;
+    }
+    TaskDim d;
+    if (auto* axis = static_cast<TaskDim*>(luaL_testudata(L, -1, kAxisType))) {
+      d = *axis;
+    } else {
+      d.kind = TaskDim::Kind::kChoice;  // a single value: an axis of one
+      d.choices = {param_text(L, -1, where + ": " + key)};
+    }
+    d.name = key;
+    step.restrict.push_back(std::move(d));
+    lua_pop(L, 1);
+  }
+  std::vector<std::string> known = {"promote", "demote", "window"};
+  for (const auto& d : step.restrict) known.push_back(d.name);
+  LuaFields f(L, t, where, known);
+  step.promote = fraction(f, "promote", 0.9, 0.0, 1.0, true);
+  step.demote = f.has("demote") ? fraction(f, "demote", 0.0, 0.0, 1.0) : -1.0;
+  if (step.demote >= step.promote)
+    f.fail("field 'demote' (" + format_number(step.demote) + ") must be below 'promote' (" +
+           format_number(step.promote) + ")");
+  step.window = whole(f, "window", 20, 1, 100000);
+  return step;
+}
+
+int l_teacher_sequence(lua_State* L) {
+  TeacherSpec spec;
+  spec.kind = TeacherSpec::Kind::kSequence;
+  if (!lua_istable(L, 1))
+    luaL_error(L, "roger.teacher.sequence{...}: expects a list of steps {{param = value, promote = 0.9, window = 20}, "
+               "...}, got %s", lua_describe_value(L, 1).c_str());
+  const lua_Integer n = lua_Integer(lua_rawlen(L, 1));
+  lua_pushnil(L);
+  while (lua_next(L, 1)) {
+    lua_pop(L, 1);
+    if (!lua_isinteger(L, -1) || lua_tointeger(L, -1) < 1 || lua_tointeger(L, -1) > n)
+      luaL_error(L, "roger.teacher.sequence{...}: expects a plain list of steps, got the key %s",
+                 lua_describe_value(L, -1).c_str());
+  }
+  if (n == 0) luaL_error(L, "roger.teacher.sequence{...}: the list of steps is empty");
+  for (lua_Integer i = 1; i <= n; ++i) {
+    lua_rawgeti(L, 1, i);
+    spec.steps.push_back(read_step(L, lua_gettop(L), "roger.teacher.sequence: step " + std::to_string(i)));
+    lua_pop(L, 1);
+  }
+  push_teacher(L, std::move(spec));
+  return 1;
+}
+
+int l_teacher_lcas(lua_State* L) {
+  TeacherSpec spec;
+  spec.kind = TeacherSpec::Kind::kLcas;
+  LuaFields f = options(L, spec, {"lift", "window", "slope"});
+  if (f.push("lift") != LUA_TTABLE) f.wrong_type("lift", "a table {param = {level 1, level 2, ...}}");
+  const int lift = lua_gettop(L);
+  lua_pushnil(L);
+  while (lua_next(L, lift)) {
+    if (lua_type(L, -2) != LUA_TSTRING || !spec.lift.empty())
+      f.fail("field 'lift' must name one parameter {param = {level 1, level 2, ...}}");
+    spec.lift = lua_tostring(L, -2);
+    const int levels = lua_gettop(L);
+    if (!lua_istable(L, levels) || lua_rawlen(L, levels) == 0)
+      f.fail("lift." + spec.lift + " must be a list of levels, the most constrained first, got " +
+             lua_describe_value(L, levels));
+    for (lua_Integer i = 1; i <= lua_Integer(lua_rawlen(L, levels)); ++i) {
+      lua_rawgeti(L, levels, i);
+      spec.levels.push_back(param_text(L, -1, "roger.teacher.lcas: lift." + spec.lift + "[" + std::to_string(i) + "]"));
+      lua_pop(L, 1);
+    }
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+  if (spec.lift.empty()) f.fail("field 'lift' must name one parameter {param = {level 1, level 2, ...}}");
+  spec.window = whole(f, "window", 50, 1, 100000);
+  spec.slope = fraction(f, "slope", 0.05, 0.0, 1.0, true);
+  push_teacher(L, std::move(spec));
+  return 1;
+}
+
+int l_teacher_alp_gmm(lua_State* L) {
+  TeacherSpec spec;
+  spec.kind = TeacherSpec::Kind::kAlpGmm;
+  LuaFields f = options(L, spec, {"fit_every", "k_max", "random_share", "history"});
+  spec.k_max = whole(f, "k_max", 6, 2, 20);
+  spec.fit_every = whole(f, "fit_every", 50, 2, 100000);
+  spec.random_share = fraction(f, "random_share", 0.2, 0.0, 1.0);
+  spec.history = whole(f, "history", 250, spec.k_max, 100000);
+  push_teacher(L, std::move(spec));
+  return 1;
+}
+
+int l_teacher_plr(lua_State* L) {
+  TeacherSpec spec;
+  spec.kind = TeacherSpec::Kind::kPlr;
+  LuaFields f = options(L, spec, {"replay", "temperature", "staleness", "score", "buffer"});
+  spec.replay = fraction(f, "replay", 0.5, 0.0, 1.0);
+  spec.temperature = fraction(f, "temperature", 0.1, 0.0, 10.0, true);
+  spec.staleness = fraction(f, "staleness", 0.1, 0.0, 1.0);
+  const std::string score = f.string("score", "td");
+  if (score != "td" && score != "success")
+    f.fail("field 'score' must be \"td\" (the episode's mean |TD error|) or \"success\" (1 - success), got '" + score + "'");
+  spec.score_td = score == "td";
+  spec.buffer = whole(f, "buffer", 500, 1, 1000000);
+  push_teacher(L, std::move(spec));
+  return 1;
+}
+
+int l_teacher_tostring(lua_State* L) {
+  lua_pushstring(L, static_cast<TeacherSpec*>(luaL_checkudata(L, 1, kTeacherType))->name().c_str());
+  return 1;
+}
+
+// ---- the stage's fields
+
+// "stage 'T': tasks.obstacles = roger.int(0, 99)", for messages.
+std::string axis_where(const CurriculumStage& st, const TaskDim& d) {
+  return st.where() + ": tasks." + d.name + " = " + d.text();
+}
+
+[[noreturn]] void fail_at(const std::string& message, const std::string& file, int line) {
+  throw ScriptError(message, file, line, "");
+}
+
+// Every axis, and the lifted parameter of an LCAS teacher, against the stage's scenario: each
+// must be a parameter of it, and each end of a range and each choice a value it takes.
+void check_against_scenario(const CurriculumStage& st) {
+  Scenario s = Scenario::load(st.scenario);
+  std::map<std::string, ScenarioParam> params;
+  for (auto& p : s.params()) params[p.name] = p;
+  auto check_value = [&](const std::string& name, const std::string& value, const std::string& where,
+                         const std::string& file, int line) {
+    try {
+      s.set_param(name, value);
+    } catch (const Error& e) {
+      fail_at(where + ": " + e.what(), file, line);
+    }
+  };
+  for (const TaskDim& d : st.tasks.dims()) {
+    const std::string where = axis_where(st, d);
+    const auto it = params.find(d.name);
+    if (it == params.end()) {
+      check_value(d.name, "", where, d.file, d.line);  // the scenario's message names the known ones
+      continue;
+    }
+    if (it->second.type == ParamType::kInteger && d.kind == TaskDim::Kind::kReal)
+      fail_at(where + ": '" + d.name + "' is an integer parameter of scenario '" + s.name() + "': use roger.int",
+              d.file, d.line);
+    if ((it->second.type == ParamType::kString || it->second.type == ParamType::kBoolean) && d.kind != TaskDim::Kind::kChoice)
+      fail_at(where + ": '" + d.name + "' is a " + param_type_name(it->second.type) + " parameter of scenario '" +
+                  s.name() + "': use roger.choice{...}", d.file, d.line);
+    if (d.kind == TaskDim::Kind::kChoice)
+      for (const auto& c : d.choices) check_value(d.name, c, where, d.file, d.line);
+    else
+      for (double v : {d.lo, d.hi}) check_value(d.name, format_number(v), where, d.file, d.line);
+  }
+  if (st.teacher && st.teacher->kind == TeacherSpec::Kind::kLcas && st.tasks.index(st.teacher->lift) < 0)
+    for (const auto& level : st.teacher->levels)
+      check_value(st.teacher->lift, level, st.where() + ": " + st.teacher->name() + ": lift." + st.teacher->lift,
+                  st.teacher->file, st.teacher->line);
+}
+
+// A parameter given a fixed value by the stage or a context may not also vary.
+void check_no_fixed(const CurriculumStage& st, const std::string& name, const std::string& what,
+                    const std::string& file, int line) {
+  auto set_by = [&](const std::vector<std::pair<std::string, std::string>>& params) {
+    return std::any_of(params.begin(), params.end(), [&](const auto& p) { return p.first == name; });
+  };
+  if (set_by(st.params))
+    fail_at(st.where() + ": " + what + " varies '" + name + "', which the stage's params fix; remove one of them",
+            file, line);
+  for (const auto& c : st.contexts)
+    if (set_by(c.params))
+      fail_at(st.where(c.name) + ": the context's params fix '" + name + "', which " + what +
+                  " varies; a task parameter is the teacher's (use --set to fix it for a run)", file, line);
+}
+
+void read_tasks(lua_State* L, const LuaFields& f, CurriculumStage& st) {
+  if (f.push("tasks") == LUA_TNIL) {
+    lua_pop(L, 1);
+    return;
+  }
+  const int t = lua_gettop(L);
+  if (!lua_istable(L, t)) f.wrong_type("tasks", "a table {param = roger.int(lo, hi) | roger.real(lo, hi) | roger.choice{...}}");
+  std::vector<TaskDim> dims;
+  lua_pushnil(L);
+  while (lua_next(L, t)) {
+    if (lua_type(L, -2) != LUA_TSTRING)
+      f.fail("field 'tasks' must map scenario parameters to spaces {obstacles = roger.int(0, 6)}, got the key " +
+             lua_describe_value(L, -2));
+    const std::string key = lua_tostring(L, -2);
+    auto* axis = static_cast<TaskDim*>(luaL_testudata(L, -1, kAxisType));
+    if (!axis)
+      f.fail("tasks." + key + " must be roger.int(lo, hi), roger.real(lo, hi) or roger.choice{...}, got " +
+             lua_describe_value(L, -1) + " (a fixed value belongs in params)");
+    dims.push_back(*axis);
+    dims.back().name = key;
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+  if (dims.empty()) f.fail("field 'tasks' is empty: give at least one parameter {obstacles = roger.int(0, 6)}");
+  st.tasks = TaskSpace(std::move(dims));
+}
+
+void read_teacher(lua_State* L, const LuaFields& f, CurriculumStage& st, LuaCallback& teacher_fn) {
+  const int type = f.push("teacher");
+  if (type == LUA_TFUNCTION) {
+    lua_Debug ar;
+    lua_pushvalue(L, -1);
+    lua_getinfo(L, ">S", &ar);
+    teacher_fn.file = ar.source && ar.source[0] == '@' ? ar.source + 1 : ar.short_src;
+    teacher_fn.line = ar.linedefined;
+    teacher_fn.ref = luaL_ref(L, LUA_REGISTRYINDEX);
+    st.teacher_lua = true;
+    if (st.tasks.empty()) f.fail("a teacher function needs a task space to choose from: give 'tasks'");
+    return;
+  }
+  if (type != LUA_TNIL) {
+    auto* spec = static_cast<TeacherSpec*>(luaL_testudata(L, -1, kTeacherType));
+    if (!spec)
+      f.fail("field 'teacher' must be a teacher (roger.teacher.random{}, .sequence{...}, .lcas{...}, "
+             ".alp_gmm{...}, .plr{...}) or a function(history, rng), got " + lua_describe_value(L, -1));
+    st.teacher = *spec;
+  } else if (!st.tasks.empty()) {
+    st.teacher = TeacherSpec{};  // domain randomization
+  }
+  lua_pop(L, 1);
+  if (!st.teacher) return;
+  const TeacherSpec& spec = *st.teacher;
+  if (spec.kind != TeacherSpec::Kind::kLcas && st.tasks.empty())
+    f.fail(spec.name() + " needs a task space: give 'tasks' (only lcas may lift a parameter without one)");
+  try {
+    make_teacher(spec, st.tasks, 0);  // the steps and levels against the space
+  } catch (const Error& e) {
+    fail_at(st.where() + ": " + e.what(), spec.file, spec.line);
+  }
+  if (spec.kind == TeacherSpec::Kind::kLcas && st.tasks.index(spec.lift) < 0)
+    check_no_fixed(st, spec.lift, spec.name() + " (" + spec.file + ":" + std::to_string(spec.line) + ")", spec.file,
+                   spec.line);
+}
+
+void read_test(lua_State* L, const LuaFields& f, CurriculumStage& st, bool episodes_given, bool final_given) {
+  if (f.push("test") == LUA_TNIL) {
+    lua_pop(L, 1);
+    if (!st.teaches()) return;
+    st.test.tasks = st.checkpoints.episodes;
+    st.test.seed = st.checkpoints.seeds;
+    return;
+  }
+  if (!st.teaches()) f.fail("field 'test' needs a task space or a teacher: give 'tasks' (or 'teacher')");
+  if (!lua_istable(L, -1)) f.wrong_type("test", "a table {tasks = N, seed = S} or {list = {{param = value, ...}, ...}}");
+  LuaFields t(L, lua_gettop(L), st.where() + ": test", {"tasks", "seed", "list"});
+  if (episodes_given || final_given)
+    t.fail(std::string("checkpoints.") + (episodes_given ? "episodes" : "final") +
+           " does not apply with a test set: every checkpoint and the final evaluation run its tasks");
+  st.test.given = true;
+  st.test.seed = uint64_t(t.integer("seed", int64_t(st.checkpoints.seeds)));
+  if (t.push("list") != LUA_TNIL) {
+    if (t.has("tasks")) t.fail("give either 'tasks' (a number drawn from the space) or 'list', not both");
+    const int list = lua_gettop(L);
+    if (!lua_istable(L, list) || lua_rawlen(L, list) == 0) t.wrong_type("list", "a non-empty list of tasks {{param = value, ...}, ...}");
+    for (lua_Integer i = 1; i <= lua_Integer(lua_rawlen(L, list)); ++i) {
+      lua_rawgeti(L, list, i);
+      const std::string where = st.where() + ": test.list[" + std::to_string(i) + "]";
+      ParamList task;
+      read_params_into(L, lua_gettop(L), where, task);
+      std::string why;
+      if (!st.tasks.task_of(task, &why)) t.fail("list[" + std::to_string(i) + "]: " + why);
+      st.test.list.push_back(std::move(task));
+      lua_pop(L, 1);
+    }
+    st.test.tasks = int(st.test.list.size());
+  } else {
+    const int64_t n = t.integer("tasks", 200);
+    if (n < 1 || n > 100000) t.fail("field 'tasks' must be an integer in [1, 100000], got " + std::to_string(n));
+    st.test.tasks = int(n);
+  }
+  lua_pop(L, 2);
+}
+
+}  // namespace
+
+std::string param_text(lua_State* L, int index, const std::string& where) {
+  switch (lua_type(L, index)) {
+    case LUA_TNUMBER:
+      return lua_isinteger(L, index) ? std::to_string(lua_tointeger(L, index)) : format_number(lua_tonumber(L, index));
+    case LUA_TBOOLEAN: return lua_toboolean(L, index) ? "true" : "false";
+    case LUA_TSTRING: return lua_tostring(L, index);
+    default:
+      luaL_error(L, "%s must be a number, string or boolean, got %s", where.c_str(), lua_describe_value(L, index).c_str());
+  }
+  return "";
+}
+
+void read_params_into(lua_State* L, int index, const std::string& where, ParamList& out) {
+  index = lua_absindex(L, index);
+  if (!lua_istable(L, index))
+    luaL_error(L, "%s must be a table of scenario parameters {key = value}, got %s", where.c_str(),
+               lua_describe_value(L, index).c_str());
+  lua_pushnil(L);
+  while (lua_next(L, index)) {
+    if (lua_type(L, -2) != LUA_TSTRING) luaL_error(L, "%s must have string keys", where.c_str());
+    const std::string key = lua_tostring(L, -2);
+    out.push_back({key, param_text(L, -1, where + "." + key)});
+    lua_pop(L, 1);
+  }
+  std::sort(out.begin(), out.end());
+}
+
+void install_teaching_api(lua_State* L) {
+  const luaL_Reg axis_entries[] = {{"__tostring", l_axis_tostring}, {"__gc", destroy<TaskDim>}, {nullptr, nullptr}};
+  const luaL_Reg teacher_entries[] = {{"__tostring", l_teacher_tostring}, {"__gc", destroy<TeacherSpec>},
+                                      {nullptr, nullptr}};
+  for (const auto& [type, entries] : {std::make_pair(kAxisType, axis_entries), std::make_pair(kTeacherType, teacher_entries)}) {
+    luaL_newmetatable(L, type);
+    luaL_setfuncs(L, entries, 0);
+    lua_pushboolean(L, 0);
+    lua_setfield(L, -2, "__metatable");
+    lua_pop(L, 1);
+  }
+  lua_getglobal(L, "roger");
+  const luaL_Reg axes[] = {{"int", l_int}, {"real", l_real}, {"choice", l_choice}, {nullptr, nullptr}};
+  luaL_setfuncs(L, axes, 0);
+  lua_newtable(L);
+  const luaL_Reg teachers[] = {{"random", l_teacher_random}, {"sequence", l_teacher_sequence},
+                               {"lcas", l_teacher_lcas},     {"alp_gmm", l_teacher_alp_gmm},
+                               {"plr", l_teacher_plr},       {nullptr, nullptr}};
+  luaL_setfuncs(L, teachers, 0);
+  lua_setfield(L, -2, "teacher");
+  lua_pop(L, 1);
+}
+
+void parse_teaching(lua_State* L, const LuaFields& f, CurriculumStage& st, LuaCallback& teacher_fn,
+                    bool episodes_given, bool final_given) {
+  read_tasks(L, f, st);
+  for (const TaskDim& d : st.tasks.dims()) check_no_fixed(st, d.name, "tasks." + d.name + " = " + d.text(), d.file, d.line);
+  read_teacher(L, f, st, teacher_fn);
+  read_test(L, f, st, episodes_given, final_given);
+  if (st.teaches()) check_against_scenario(st);
+}
+
+}  // namespace curriculum_detail
+
+std::vector<TaskPoint> CurriculumStage::test_tasks(const TaskSpace& space, int count) const {
+  if (!test.given || test.list.empty()) return draw_test_tasks(space, count, test.seed);
+  std::vector<TaskPoint> out;
+  for (size_t i = 0; i < test.list.size(); ++i) {
+    ParamList kept;  // without the parameters the trial fixed (--set)
+    for (const auto& p : test.list[i])
+      if (space.index(p.first) >= 0) kept.push_back(p);
+    std::string why;
+    const auto t = space.task_of(kept, &why);
+    if (!t) throw Error(where() + ": test.list[" + std::to_string(i + 1) + "]: " + why);
+    out.push_back(*t);
+  }
+  return out;
+}
+
+}  // namespace roger

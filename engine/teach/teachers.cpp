@@ -1,0 +1,193 @@
+// teachers.cpp: the teachers that need no model of the learner's progress beyond its success
+// rate (random, sequence, LCAS), and make_teacher.
+#include <algorithm>
+#include <deque>
+#include <numeric>
+
+#include "core/error.h"
+#include "core/text.h"
+#include "teach/teach_internal.h"
+
+namespace roger {
+namespace {
+
+using json = nlohmann::json;
+
+// "<spec> (file:line): message", for settings the space cannot take.
+[[noreturn]] void fail(const TeacherSpec& spec, const std::string& message) {
+  const std::string at = spec.file.empty() ? "" : " (" + spec.file + ":" + std::to_string(spec.line) + ")";
+  throw Error(spec.name() + at + ": " + message);
+}
+
+double mean_of(const std::deque<bool>& xs, size_t from, size_t to) {
+  double s = 0.0;
+  for (size_t i = from; i < to; ++i) s += xs[i];
+  return to > from ? s / double(to - from) : 0.0;
+}
+
+// Domain randomization: every task equally likely.
+class RandomTeacher final : public Teacher {
+ public:
+  RandomTeacher(const TaskSpace& space, uint64_t seed) : space_(space), rng_(seed) {}
+  std::string kind() const override { return "random"; }
+  TaskPick next() override { return {space_.sample(rng_), {}, std::nullopt}; }
+  void record(const TaskOutcome&) override { ++episodes_; }
+  json state() const override { return {{"kind", kind()}, {"episodes", episodes_}}; }
+
+ private:
+  TaskSpace space_;
+  Rng rng_;
+  int episodes_ = 0;
+};
+
+// Fixed steps, each a restriction of the space; the next step begins when the success rate over
+// the last `window` episodes of this step reaches `promote`, the previous one comes back when it
+// falls below `demote`. Each move starts the window afresh.
+class SequenceTeacher final : public Teacher {
+ public:
+  SequenceTeacher(const TeacherSpec& spec, const TaskSpace& space, uint64_t seed) : space_(space), rng_(seed) {
+    if (spec.steps.empty()) fail(spec, "needs at least one step");
+    for (size_t k = 0; k < spec.steps.size(); ++k) {
+      const TeacherSpec::Step& s = spec.steps[k];
+      try {
+        steps_.push_back({restrict_space(space, s.restrict), s.promote, s.demote, s.window});
+      } catch (const Error& e) {
+        fail(spec, "step " + std::to_string(k + 1) + ": " + e.what());
+      }
+    }
+  }
+  std::string kind() const override { return "sequence"; }
+  TaskPick next() override {
+    const Step& s = steps_[size_t(step_)];
+    return {*space_.task_of(s.space.params(s.space.sample(rng_))), {}, std::nullopt};
+  }
+  void record(const TaskOutcome& o) override {
+    ++episodes_;
+    const Step& s = steps_[size_t(step_)];
+    window_.push_back(o.success);
+    if (int(window_.size()) > s.window) window_.pop_front();
+    if (int(window_.size()) < s.window) return;
+    const double rate = mean_of(window_, 0, window_.size());
+    if (step_ + 1 < int(steps_.size()) && rate >= s.promote) move(step_ + 1, rate);
+    else if (s.demote >= 0.0 && step_ > 0 && rate < s.demote) move(step_ - 1, rate);
+  }
+  json state() const override {
+    json j = {{"kind", kind()}, {"episodes", episodes_}, {"step", step_ + 1}, {"steps", steps_.size()},
+              {"moves", moves_}};
+    j["rate"] = window_.empty() ? json(nullptr) : json(mean_of(window_, 0, window_.size()));
+    return j;
+  }
+
+ private:
+  struct Step {
+    TaskSpace space;
+    double promote, demote;
+    int window;
+  };
+  void move(int to, double rate) {
+    moves_.push_back({{"episode", episodes_}, {"from", step_ + 1}, {"to", to + 1}, {"rate", rate}});
+    step_ = to;
+    window_.clear();
+  }
+  TaskSpace space_;
+  std::vector<Step> steps_;
+  Rng rng_;
+  int step_ = 0, episodes_ = 0;
+  std::deque<bool> window_;  // this step's last outcomes
+  json moves_ = json::array();
+};
+
+// Lift-Constraint-Act-Saturate: one parameter held at a level while the learner acts, lifted to the
+// next once the success curve saturates: the last `window` episodes at this level succeeded at a
+// rate higher than the `window` before them by less than `slope`. A parameter of the task space
+// is held at its level while the other axes vary; any other scenario parameter is set beside the
+// task.
+class LcasTeacher final : public Teacher {
+ public:
+  LcasTeacher(const TeacherSpec& spec, const TaskSpace& space, uint64_t seed)
+      : space_(space), lift_(spec.lift), window_(spec.window), slope_(spec.slope), rng_(seed) {
+    if (spec.levels.empty()) fail(spec, "lift needs at least one level");
+    axis_ = space.index(spec.lift);
+    for (const auto& level : spec.levels) {
+      if (axis_ < 0) {
+        levels_.push_back(0.0);
+        continue;
+      }
+      std::string allowed;
+      const auto v = space.value_of(size_t(axis_), level, &allowed);
+      if (!v) fail(spec, "the level " + spec.lift + " = " + level + " is outside the task space: " + spec.lift +
+                             " takes " + allowed);
+      levels_.push_back(*v);
+    }
+    texts_ = spec.levels;
+  }
+  std::string kind() const override { return "lcas"; }
+  TaskPick next() override {
+    TaskPick p{space_.sample(rng_), {}, std::nullopt};
+    if (axis_ >= 0) p.task[size_t(axis_)] = levels_[size_t(level_)];
+    else p.extra.emplace_back(lift_, texts_[size_t(level_)]);
+    return p;
+  }
+  void record(const TaskOutcome& o) override {
+    ++episodes_;
+    outcomes_.push_back(o.success);
+    const size_t w = size_t(window_);
+    if (outcomes_.size() > 2 * w) outcomes_.pop_front();
+    if (level_ + 1 >= int(levels_.size()) || outcomes_.size() < 2 * w) return;
+    const double gain = mean_of(outcomes_, w, 2 * w) - mean_of(outcomes_, 0, w);
+    if (gain >= slope_) return;  // still learning at this level
+    lifts_.push_back({{"episode", episodes_}, {"to", texts_[size_t(level_ + 1)]},
+                      {"rate", mean_of(outcomes_, w, 2 * w)}, {"gain", gain}});
+    ++level_;
+    outcomes_.clear();
+  }
+  json state() const override {
+    json j = {{"kind", kind()}, {"episodes", episodes_}, {"param", lift_}, {"level", level_ + 1},
+              {"levels", texts_.size()}, {"value", texts_[size_t(level_)]}, {"lifts", lifts_}};
+    const size_t w = size_t(window_);
+    j["rate"] = outcomes_.size() >= w ? json(mean_of(outcomes_, outcomes_.size() - w, outcomes_.size())) : json(nullptr);
+    return j;
+  }
+  ParamList test_params() const override {
+    return axis_ >= 0 ? ParamList{} : ParamList{{lift_, texts_.back()}};
+  }
+
+ private:
+  TaskSpace space_;
+  std::string lift_;
+  int axis_ = -1, window_, level_ = 0, episodes_ = 0;
+  double slope_;
+  std::vector<double> levels_;       // on the space's axis
+  std::vector<std::string> texts_;   // as written
+  Rng rng_;
+  std::deque<bool> outcomes_;        // the last 2 windows at this level
+  json lifts_ = json::array();
+};
+
+}  // namespace
+
+std::string TeacherSpec::name() const {
+  switch (kind) {
+    case Kind::kRandom: return "roger.teacher.random";
+    case Kind::kSequence: return "roger.teacher.sequence";
+    case Kind::kLcas: return "roger.teacher.lcas";
+    case Kind::kAlpGmm: return "roger.teacher.alp_gmm";
+    case Kind::kPlr: return "roger.teacher.plr";
+  }
+  return "roger.teacher";
+}
+
+std::unique_ptr<Teacher> make_teacher(const TeacherSpec& spec, const TaskSpace& space, uint64_t seed) {
+  switch (spec.kind) {
+    case TeacherSpec::Kind::kRandom: return std::make_unique<RandomTeacher>(space, seed);
+    case TeacherSpec::Kind::kSequence: return std::make_unique<SequenceTeacher>(spec, space, seed);
+    case TeacherSpec::Kind::kLcas: return std::make_unique<LcasTeacher>(spec, space, seed);
+    case TeacherSpec::Kind::kAlpGmm:
+      if (space.empty()) fail(spec, "needs a task space with at least one parameter");
+      return teach_detail::make_alp_gmm(spec, space, seed);
+    case TeacherSpec::Kind::kPlr: return teach_detail::make_plr(spec, space, seed);
+  }
+  fail(spec, "unknown teacher");
+}
+
+}  // namespace roger

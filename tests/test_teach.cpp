@@ -1,0 +1,862 @@
+// Tests of the teachers (engine/teach, docs/curricula.md "Teachers"): task spaces, each teacher
+// against a simulated learner whose answer is known, the Gaussian mixtures ALP-GMM fits; then the
+// teachers in real stages through the trainer (tests/scripts/teach_*.lua): where each samples,
+// what is recorded, determinism across --jobs, and bad input refused at file:line.
+#include <catch2/catch.hpp>
+
+#include <unistd.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "batch/trainer.h"
+#include "core/error.h"
+#include "script/curriculum/curriculum.h"
+#include "temp_dir.h"
+#include "core/rng.h"
+#include "teach/teach.h"
+#include "teach/teach_internal.h"
+
+using namespace roger;
+using Catch::Matchers::Contains;
+
+namespace {
+
+TaskDim int_dim(const std::string& name, int lo, int hi) {
+  TaskDim d;
+  d.name = name, d.kind = TaskDim::Kind::kInt, d.lo = lo, d.hi = hi;
+  return d;
+}
+TaskDim real_dim(const std::string& name, double lo, double hi) {
+  TaskDim d;
+  d.name = name, d.kind = TaskDim::Kind::kReal, d.lo = lo, d.hi = hi;
+  return d;
+}
+TaskDim choice_dim(const std::string& name, std::vector<std::string> choices) {
+  TaskDim d;
+  d.name = name, d.kind = TaskDim::Kind::kChoice, d.choices = std::move(choices);
+  return d;
+}
+
+// The paper's two worlds as one space: obstacles 0-6, the four shapes, near and far starts.
+TaskSpace paper_space() {
+  return TaskSpace({int_dim("obstacles", 0, 6), choice_dim("shape", {"circle", "triangle", "pentagon", "spade"}),
+                    real_dim("robot_distance", 0.8, 2.0)});
+}
+
+TaskOutcome outcome(const TaskPick& p, bool success, double td = 0.0, uint64_t seed = 0) {
+  TaskOutcome o;
+  o.task = p.task;
+  o.world_seed = p.world_seed.value_or(seed);
+  o.success = success;
+  o.reward = success ? 100 : -100;
+  o.td_error = td;
+  return o;
+}
+
+// Outcomes whose success rate follows p exactly (error diffusion): every window's rate is the
+// mean of p over it, so a test can say when the curve rose and when it stopped.
+struct ExactLearner {
+  double carry = 0.0;
+  bool operator()(double p) {
+    carry += p;
+    if (carry >= 1.0 - 1e-12) {
+      carry -= 1.0;
+      return true;
+    }
+    return false;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("a task space samples every task alike and maps onto the unit cube", "[teach]") {
+  const TaskSpace s = paper_space();
+  REQUIRE(s.size() == 3);
+  CHECK(s.dims()[0].name == "obstacles");  // sorted by name
+  CHECK(s.dims()[1].name == "robot_distance");
+  CHECK(s.describe() == "obstacles = roger.int(0, 6), robot_distance = roger.real(0.8, 2), "
+                        "shape = roger.choice{circle, triangle, pentagon, spade}");
+  Rng rng(7);
+  std::map<int, int> obstacles;
+  std::map<int, int> shapes;
+  double lo = 10, hi = -10;
+  for (int i = 0; i < 28000; ++i) {
+    const TaskPoint t = s.sample(rng);
+    ++obstacles[int(t[0])];
+    ++shapes[int(t[2])];
+    lo = std::min(lo, t[1]), hi = std::max(hi, t[1]);
+    // The unit cube and back give the same task; a discrete value sits at its slice's centre.
+    CHECK(s.from_unit(s.to_unit(t)) == t);
+  }
+  REQUIRE(obstacles.size() == 7);
+  for (const auto& [k, n] : obstacles) CHECK(std::abs(n - 4000) < 300);  // 7 values alike (sd 59)
+  for (const auto& [k, n] : shapes) CHECK(std::abs(n - 7000) < 400);     // 4 shapes alike (sd 72)
+  CHECK(lo >= 0.8);
+  CHECK(hi < 2.0);
+  CHECK(lo < 0.81);
+  CHECK(hi > 1.99);
+  CHECK(s.to_unit({0, 0.8, 0})[0] == Approx(0.5 / 7));
+  CHECK(s.from_unit({1.0, 1.0, 1.0}) == TaskPoint{6, 2.0, 3});  // the cube's far corner is the last value
+
+  const TaskPoint t{3, 1.25, 3};
+  CHECK(s.params(t) == ParamList{{"obstacles", "3"}, {"robot_distance", "1.25"}, {"shape", "spade"}});
+  CHECK(s.to_json(t).dump() == R"({"obstacles":3,"robot_distance":1.25,"shape":"spade"})");
+  CHECK(s.task_of(s.params(t)) == t);
+}
+
+TEST_CASE("a task space names what it allows when a value lies outside it", "[teach]") {
+  const TaskSpace s = paper_space();
+  std::string why;
+  CHECK_FALSE(s.value_of(0, "7", &why));
+  CHECK(why == "an integer in roger.int(0, 6)");
+  CHECK_FALSE(s.value_of(0, "2.5", &why));
+  CHECK(s.value_of(0, "2") == 2.0);
+  CHECK_FALSE(s.value_of(2, "square", &why));
+  CHECK(why == "a value of roger.choice{circle, triangle, pentagon, spade}");
+  CHECK_FALSE(s.task_of({{"obstacles", "9"}, {"robot_distance", "1"}, {"shape", "spade"}}, &why));
+  CHECK(why == "obstacles = 9 is outside the task space: obstacles takes an integer in roger.int(0, 6)");
+  CHECK_FALSE(s.task_of({{"obstacles", "1"}, {"shape", "spade"}}, &why));
+  CHECK(why == "no value for 'robot_distance' (roger.real(0.8, 2))");
+  CHECK_FALSE(s.task_of({{"mass", "1"}}, &why));
+  CHECK_THAT(why, Contains("'mass' is not a parameter of the task space"));
+
+  CHECK_THROWS_WITH(TaskSpace({int_dim("obstacles", 4, 2)}), Contains("reversed"));
+  CHECK_THROWS_WITH(TaskSpace({real_dim("d", 1, 1)}), Contains("empty"));
+  CHECK_THROWS_WITH(TaskSpace({choice_dim("shape", {})}), Contains("at least one value"));
+  CHECK_THROWS_WITH(TaskSpace({int_dim("a", 0, 1), int_dim("a", 0, 2)}), Contains("two axes"));
+
+  // Restrictions (the steps of a sequence) must lie inside the space.
+  const TaskSpace easy = restrict_space(s, {int_dim("obstacles", 0, 0), choice_dim("shape", {"circle"})});
+  Rng rng(1);
+  for (int i = 0; i < 50; ++i) {
+    const TaskPoint t = *s.task_of(easy.params(easy.sample(rng)));
+    CHECK(t[0] == 0);
+    CHECK(t[2] == 0);
+  }
+  CHECK_THROWS_WITH(restrict_space(s, {int_dim("obstacles", 0, 9)}),
+                    Contains("obstacles = roger.int(0, 9) is outside the task space's roger.int(0, 6)"));
+  CHECK_THROWS_WITH(restrict_space(s, {choice_dim("shape", {"square"})}), Contains("outside"));
+  CHECK_THROWS_WITH(restrict_space(s, {int_dim("mass", 0, 1)}), Contains("not a parameter"));
+}
+
+TEST_CASE("every teacher draws the same tasks from the same seed and outcomes, others from another", "[teach]") {
+  const TaskSpace s = paper_space();
+  std::vector<TeacherSpec> specs(5);
+  specs[0].kind = TeacherSpec::Kind::kRandom;
+  specs[1].kind = TeacherSpec::Kind::kSequence;
+  specs[1].steps = {{{int_dim("obstacles", 0, 0)}, 0.5, -1, 10}, {{}, 0.9, 0.2, 10}};
+  specs[2].kind = TeacherSpec::Kind::kLcas;
+  specs[2].lift = "obstacles", specs[2].levels = {"0", "3", "6"}, specs[2].window = 10;
+  specs[3].kind = TeacherSpec::Kind::kAlpGmm;
+  specs[3].fit_every = 20;
+  specs[4].kind = TeacherSpec::Kind::kPlr;
+  for (const TeacherSpec& spec : specs) {
+    auto run = [&](uint64_t seed) {
+      auto t = make_teacher(spec, s, seed);
+      std::vector<double> trace;
+      for (int e = 0; e < 200; ++e) {
+        const TaskPick p = t->next();
+        trace.insert(trace.end(), p.task.begin(), p.task.end());
+        trace.push_back(double(p.world_seed.value_or(0)));
+        // A learner better on fewer obstacles and nearer starts.
+        const bool ok = (e * 7919 % 100) < 90 - 12 * p.task[0] - 20 * (p.task[1] - 0.8);
+        t->record(outcome(p, ok, 1.0 + p.task[0], 1000 + uint64_t(e)));
+      }
+      return std::make_pair(trace, t->state().dump());
+    };
+    INFO(spec.name());
+    CHECK(run(5) == run(5));
+    CHECK(run(5).first != run(6).first);
+  }
+}
+
+TEST_CASE("sequence promotes at its threshold over a full window, and demotes below its own", "[teach]") {
+  const TaskSpace s = paper_space();
+  TeacherSpec spec;
+  spec.kind = TeacherSpec::Kind::kSequence;
+  // Unobstructed first, then up to 3 obstacles, then the whole space.
+  spec.steps = {{{int_dim("obstacles", 0, 0)}, 0.8, -1, 10},
+                {{int_dim("obstacles", 0, 3)}, 0.8, 0.3, 10},
+                {{}, 0.9, 0.3, 10}};
+  auto t = make_teacher(spec, s, 3);
+  auto step = [&] { return t->state()["step"].get<int>(); };
+  auto play = [&](bool ok) {
+    const TaskPick p = t->next();
+    t->record(outcome(p, ok));
+    return p;
+  };
+  // 7 of 10 is below 0.8: no promotion however long it goes on.
+  for (int e = 0; e < 50; ++e) {
+    const TaskPick p = play(e % 10 < 7);
+    CHECK(p.task[0] == 0);
+  }
+  CHECK(step() == 1);
+  // A window of 8 of 10: promoted at that very episode, not before the window is full.
+  for (int e = 0; e < 10; ++e) play(true);  // the last 10 are all successes: promoted
+  CHECK(step() == 2);
+  CHECK(t->state()["moves"].size() == 1);
+  CHECK(t->state()["moves"][0]["episode"] == 58);  // the last 10 hold 8 successes from the 58th episode
+  // Step 2 draws 0-3 obstacles; a window at 2 of 10 (< 0.3) sends it back, not a fuller one.
+  std::set<int> seen;
+  for (int e = 0; e < 9; ++e) seen.insert(int(play(e < 3).task[0]));
+  CHECK(step() == 2);  // 9 episodes: the window is not full yet
+  for (int v : seen) CHECK(v <= 3);
+  play(false);  // 3 of 10: not below 0.3
+  CHECK(step() == 2);
+  play(false);  // 2 of 10
+  CHECK(step() == 1);
+  CHECK(t->state()["moves"][1]["to"] == 1);
+}
+
+TEST_CASE("LCAS lifts only once the success curve has saturated, never while it rises", "[teach]") {
+  const TaskSpace s = paper_space();
+  TeacherSpec spec;
+  spec.kind = TeacherSpec::Kind::kLcas;
+  spec.lift = "eye_pixels";  // outside the space: set beside each task
+  spec.levels = {"32", "64", "128"};
+  spec.window = 50;
+  spec.slope = 0.05;
+  auto t = make_teacher(spec, s, 11);
+  CHECK(t->test_params() == ParamList{{"eye_pixels", "128"}});
+  ExactLearner learner;
+  // Level 1: the rate rises 0 -> 0.9 over 400 episodes (0.1125 per window), then stays.
+  int lifted_at = -1;
+  for (int e = 0; e < 800 && lifted_at < 0; ++e) {
+    const TaskPick p = t->next();
+    REQUIRE(p.extra == ParamList{{"eye_pixels", "32"}});
+    t->record(outcome(p, learner(std::min(0.9, 0.9 * e / 400.0))));
+    if (t->state()["level"] == 2) lifted_at = e;
+  }
+  // Not while it rose (gain 0.1125 per window >= 0.05); within two windows of its plateau.
+  CHECK(lifted_at >= 400);
+  CHECK(lifted_at < 500);
+  // Level 2: a slower rise, 0.1 per window (0.06 at least, with the rounding to whole successes),
+  // for 450 episodes: never lifted.
+  for (int e = 0; e < 450; ++e) {
+    const TaskPick p = t->next();
+    REQUIRE(p.extra == ParamList{{"eye_pixels", "64"}});
+    t->record(outcome(p, learner(0.002 * e)));
+  }
+  CHECK(t->state()["level"] == 2);
+  // A lifted axis of the space is held at its level while the others vary.
+  TeacherSpec in_space = spec;
+  in_space.lift = "obstacles";
+  in_space.levels = {"0", "3", "6"};
+  auto u = make_teacher(in_space, s, 11);
+  CHECK(u->test_params().empty());
+  std::set<int> shapes;
+  for (int e = 0; e < 60; ++e) {
+    const TaskPick p = u->next();
+    CHECK(p.task[0] == 0);
+    CHECK(p.extra.empty());
+    shapes.insert(int(p.task[2]));
+    u->record(outcome(p, true));
+  }
+  CHECK(shapes.size() == 4);
+  in_space.levels = {"0", "9"};
+  CHECK_THROWS_WITH(make_teacher(in_space, s, 1), Contains("obstacles = 9 is outside the task space"));
+}
+
+TEST_CASE("Gaussian mixtures recover separated clusters and AIC picks their number", "[teach]") {
+  Rng rng(3);
+  Eigen::MatrixXd x(300, 2);
+  for (int i = 0; i < 300; ++i) {
+    const bool a = i % 3 != 0;  // 200 around (0.2, 0.3), 100 around (0.8, 0.7)
+    x(i, 0) = (a ? 0.2 : 0.8) + 0.03 * rng.normal();
+    x(i, 1) = (a ? 0.3 : 0.7) + 0.03 * rng.normal();
+  }
+  Rng fit_rng(9);
+  const teach_detail::Mixture m = teach_detail::best_mixture(x, 2, 6, fit_rng);
+  REQUIRE(m.parts.size() == 2);
+  std::vector<teach_detail::Gaussian> g = m.parts;
+  std::sort(g.begin(), g.end(), [](const auto& a, const auto& b) { return a.mean[0] < b.mean[0]; });
+  CHECK(g[0].mean[0] == Approx(0.2).margin(0.01));
+  CHECK(g[0].mean[1] == Approx(0.3).margin(0.01));
+  CHECK(g[1].mean[0] == Approx(0.8).margin(0.01));
+  CHECK(g[0].weight == Approx(2.0 / 3).margin(0.01));
+  // The covariance is the cluster's (0.03^2) plus the regularisation (1e-3).
+  CHECK(g[0].cov(0, 0) == Approx(0.0009 + 0.001).margin(0.0003));
+  // A draw from a component lies around its mean.
+  double mean0 = 0.0;
+  for (int i = 0; i < 2000; ++i) mean0 += teach_detail::sample_marginal(g[1], 1, fit_rng)[0] / 2000;
+  CHECK(mean0 == Approx(0.8).margin(0.01));
+}
+
+TEST_CASE("ALP-GMM samples the learnable band at least twice as often as random does", "[teach]") {
+  // One axis, x in [0, 1]: below 0.4 the task is trivial (always succeeds), above 0.6 unlearnable
+  // (never), between them a band where competence grows with practice there, up to 0.9. Random
+  // samples the band 20% of the time; ALP-GMM, whose progress lives only in the band, samples it
+  // at least twice as often over episodes 200 to 1000 (after its first four fits).
+  const TaskSpace s({real_dim("x", 0, 1)});
+  auto band_share = [&](TeacherSpec spec, uint64_t seed) {
+    auto t = make_teacher(spec, s, seed);
+    Rng world(seed + 100);
+    double practice = 0.0;
+    int in_band = 0;
+    for (int e = 0; e < 1000; ++e) {
+      const TaskPick p = t->next();
+      const double x = p.task[0];
+      const bool band = x >= 0.4 && x <= 0.6;
+      const double competence = std::min(0.9, practice / 150.0);
+      const bool ok = x < 0.4 || (band && world.uniform() < competence);
+      if (band) practice += 1.0;
+      if (e >= 200) in_band += band;
+      t->record(outcome(p, ok));
+    }
+    return in_band / 800.0;
+  };
+  TeacherSpec random;
+  TeacherSpec alp;
+  alp.kind = TeacherSpec::Kind::kAlpGmm;
+  alp.fit_every = 50;
+  for (uint64_t seed : {1, 2, 3}) {
+    const double r = band_share(random, seed), a = band_share(alp, seed);
+    INFO("seed " << seed << ": random " << r << ", alp_gmm " << a);
+    CHECK(r == Approx(0.2).margin(0.05));
+    CHECK(a >= 2 * r);
+  }
+}
+
+TEST_CASE("PLR replays the levels with the highest scores", "[teach]") {
+  // Each level's score is known: its task's x (a TD error that grows with x). PLR's replays, at
+  // temperature 0.1, go to the top-ranked levels, but for the staleness share.
+  const TaskSpace s({real_dim("x", 0, 1)});
+  TeacherSpec spec;
+  spec.kind = TeacherSpec::Kind::kPlr;
+  auto t = make_teacher(spec, s, 4);
+  std::vector<std::pair<double, uint64_t>> seen;  // (score, world seed) of every level played
+  int replays = 0, top_replays = 0, new_levels = 0;
+  for (int e = 0; e < 600; ++e) {
+    const TaskPick p = t->next();
+    const uint64_t world = p.world_seed.value_or(50000 + uint64_t(e));
+    if (p.world_seed) {
+      ++replays;
+      // The replayed level is among the 3 highest scores of those seen.
+      std::vector<double> scores;
+      for (const auto& l : seen) scores.push_back(l.first);
+      std::sort(scores.rbegin(), scores.rend());
+      if (p.task[0] >= scores[std::min<size_t>(2, scores.size() - 1)]) ++top_replays;
+      // A replay is the level's own task in its own world.
+      const auto it = std::find_if(seen.begin(), seen.end(), [&](const auto& l) { return l.second == world; });
+      REQUIRE(it != seen.end());
+      CHECK(it->first == p.task[0]);
+    } else {
+      ++new_levels;
+      seen.push_back({p.task[0], world});
+    }
+    t->record(outcome(p, false, p.task[0], world));
+  }
+  CHECK(replays == Approx(300).margin(40));  // replay = 0.5
+  CHECK(double(top_replays) / replays >= 0.85);
+  CHECK(t->state()["levels"] == new_levels);
+  CHECK(t->state()["top"][0]["score"].get<double>() == Approx(std::max_element(seen.begin(), seen.end())->first));
+
+  // With score = 1 - success, failed levels come back.
+  spec.score_td = false;
+  auto f = make_teacher(spec, s, 4);
+  int replayed_failures = 0, replayed = 0;
+  for (int e = 0; e < 400; ++e) {
+    const TaskPick p = f->next();
+    const bool ok = p.task[0] < 0.5;  // the upper half fails
+    if (p.world_seed) ++replayed, replayed_failures += !ok;
+    f->record(outcome(p, ok, 0.0, 90000 + uint64_t(e)));
+  }
+  CHECK(double(replayed_failures) / replayed >= 0.85);
+}
+
+TEST_CASE("ALP-GMM's fits cost milliseconds over a stage's budget", "[teach]") {
+  // The teacher's work for 1500 episodes of the paper's 3-axis space, fits every 50 included:
+  // the trainer records it per trial (teacher_wall_s); docs/curricula.md quotes both figures.
+  const TaskSpace s = paper_space();
+  TeacherSpec spec;
+  spec.kind = TeacherSpec::Kind::kAlpGmm;
+  auto t = make_teacher(spec, s, 2);
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int e = 0; e < 1500; ++e) {
+    const TaskPick p = t->next();
+    t->record(outcome(p, (e * 31 % 100) < 100 - 14 * p.task[0]));
+  }
+  const double s_used = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  CHECK(t->state()["fits"] == 30);
+  WARN("ALP-GMM, 1500 episodes with 30 fits: " << s_used * 1000 << " ms");
+}
+
+// ---- the teachers in real stages: tests/scripts/teach_curriculum.lua over teach_reach.lua, whose
+// `level` axis has a trivial part (< 0.4), a learnable band [0.4, 0.6] and an unreachable part.
+
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+std::vector<json> read_jsonl(const fs::path& p) {
+  std::ifstream in(p);
+  REQUIRE(in.good());
+  std::vector<json> out;
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty()) out.push_back(json::parse(line));
+  return out;
+}
+
+json read_json(const fs::path& p) {
+  std::ifstream in(p);
+  REQUIRE(in.good());
+  return json::parse(in);
+}
+
+int run_shell(const std::string& line) {
+  const int raw = std::system(line.c_str());
+  return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+}
+
+// One trial of a stage of the teachers' curriculum, its episodes kept.
+TrainResult train_reach(const std::string& stage, uint64_t seed) {
+  TrainOptions o;
+  o.curriculum = "tests/scripts/teach_curriculum.lua";
+  o.stage = stage;
+  o.context = "A";
+  o.seed = seed;
+  return train_stage(o);
+}
+
+bool in_band(const json& task) { return task["level"] >= 0.4 && task["level"] <= 0.6; }
+
+// A file's text without its wall-clock figures (the machine's, not the engine's): every JSON field
+// whose name holds "wall", and a CSV's wall_s column.
+std::string without_wall(const std::string& text, bool csv) {
+  if (!csv) return std::regex_replace(text, std::regex("\"[a-z_]*wall[a-z_]*\": ?[-0-9.e+]+"), "");
+  std::istringstream in(text);
+  std::string out, line;
+  int wall = -1;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string c; std::getline(row, c, ',');) cells.push_back(c);
+    if (wall < 0) wall = int(std::find(cells.begin(), cells.end(), "wall_s") - cells.begin());
+    for (size_t i = 0; i < cells.size(); ++i)
+      if (int(i) != wall) out += cells[i] + ",";
+    out += "\n";
+  }
+  return out;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// The teachers' batch (teach_batch.lua: one trial per teacher) run once for every test below.
+struct TeachBatch {
+  fs::path dir = fs::temp_directory_path() / ("roger_teach_batch_" + std::to_string(::getpid()));
+  TeachBatch() {
+    fs::remove_all(dir);
+    REQUIRE(run_shell(std::string(ROGER_BINARY) + " run tests/scripts/teach_batch.lua --jobs 2 --out " + dir.string() +
+                      " > /dev/null 2>&1") == 0);
+  }
+  ~TeachBatch() {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+};
+
+const fs::path& teach_batch() {
+  static const TeachBatch batch;
+  return batch.dir;
+}
+
+fs::path trial_of(const std::string& run) { return teach_batch() / "trials" / run / "A" / "000"; }
+
+}  // namespace
+
+TEST_CASE("in a real stage, ALP-GMM samples the learnable band at least twice as often as random", "[teach][stage]") {
+  // Over episodes 100 to 300 of three trials each (the band is 20% of the space, what random
+  // samples; ALP-GMM fits every 25 episodes, so by episode 100 it has fitted four times). Measured:
+  // random 24%, 23.5%, 20%; ALP-GMM 45.5%, 71%, 53%.
+  int random_band = 0, alp_band = 0, n = 0;
+  for (uint64_t seed : {1, 2, 3}) {
+    const TrainResult r = train_reach("Random", seed), a = train_reach("Alp", seed);
+    for (size_t e = 100; e < 300; ++e, ++n) {
+      random_band += in_band(r.episodes[e].task);
+      alp_band += in_band(a.episodes[e].task);
+    }
+    // The mixture it ended with puts most of its progress on the band.
+    const json& parts = a.teacher["state"]["components"];
+    double alp_total = 0, alp_band_mass = 0;
+    for (const auto& c : parts) {
+      alp_total += c["alp"].get<double>();
+      if (in_band(c["task"])) alp_band_mass += c["alp"].get<double>();
+    }
+    INFO("seed " << seed << ": " << parts.dump());
+    CHECK(alp_band_mass > 0.5 * alp_total);
+  }
+  INFO("random " << random_band << ", alp_gmm " << alp_band << " band tasks of " << n);
+  CHECK(double(random_band) / n == Approx(0.2).margin(0.05));
+  CHECK(alp_band >= 2 * random_band);
+}
+
+TEST_CASE("in a real stage, PLR replays the levels with the highest scores", "[teach][stage]") {
+  for (const std::string run : {"Plr", "PlrFail"}) {
+    // Levels are (task, world seed); each episode's score is in its record (td_error), or 1 -
+    // success for PlrFail. A replay is an episode in another episode's world.
+    const std::vector<json> eps = read_jsonl(trial_of(run) / "episodes.jsonl");
+    std::map<uint64_t, double> score;  // level (by world seed) -> its last score
+    int replays = 0, top = 0;
+    for (const json& e : eps) {
+      const uint64_t seed = e["seed"];
+      const double s = run == "Plr" ? e["td_error"].get<double>() : (e["success"] ? 0.0 : 1.0);
+      if (score.count(seed)) {
+        ++replays;
+        std::vector<double> all;
+        for (const auto& [k, v] : score) all.push_back(v);
+        std::sort(all.rbegin(), all.rend());
+        // Among the top 3 scores (ties count as the top), or a staleness draw (10%).
+        top += score[seed] >= all[std::min<size_t>(2, all.size() - 1)];
+      }
+      score[seed] = s;
+    }
+    INFO(run << ": " << top << " of " << replays << " replays among the top 3 scores");
+    CHECK(replays == Approx(150).margin(30));  // replay = 0.5
+    CHECK(double(top) / replays >= 0.85);
+  }
+}
+
+TEST_CASE("in a real stage, sequence promotes and demotes exactly at its thresholds", "[teach][stage]") {
+  // Steps: level 0.1 (promote at 0.9 over 10), the band (promote at 0.8, demote below 0.2 over
+  // 20), the whole space. Replaying the rule over the recorded outcomes gives the teacher's moves,
+  // and every episode's task lies in its step.
+  const std::vector<json> eps = read_jsonl(trial_of("Sequence") / "episodes.jsonl");
+  const json moves = read_json(trial_of("Sequence") / "result.json")["teacher"]["state"]["moves"];
+  const double promote[] = {0.9, 0.8, 1.0}, demote[] = {-1, 0.2, -1};
+  const size_t window[] = {10, 20, 20};
+  int step = 0;
+  std::vector<bool> outcomes;
+  json expected = json::array();
+  for (size_t e = 0; e < eps.size(); ++e) {
+    const double level = eps[e]["task"]["level"];
+    if (step == 0) CHECK(level == 0.1);
+    if (step == 1) CHECK((level >= 0.4 && level <= 0.6));
+    outcomes.push_back(eps[e]["success"]);
+    if (outcomes.size() < window[step]) continue;
+    const double rate =
+        std::count(outcomes.end() - long(window[step]), outcomes.end(), true) / double(window[step]);
+    const int to = step < 2 && rate >= promote[step] ? step + 1 : demote[step] >= 0 && rate < demote[step] ? step - 1 : step;
+    if (to == step) continue;
+    expected.push_back({{"episode", e + 1}, {"from", step + 1}, {"to", to + 1}});
+    step = to;
+    outcomes.clear();
+  }
+  REQUIRE(moves.size() == expected.size());
+  REQUIRE(moves.size() >= 2);  // it reached the whole space
+  for (size_t k = 0; k < moves.size(); ++k) {
+    CHECK(moves[k]["episode"] == expected[k]["episode"]);
+    CHECK(moves[k]["to"] == expected[k]["to"]);
+  }
+}
+
+TEST_CASE("in a real stage, LCAS lifts only after saturation and never before", "[teach][stage]") {
+  // lift = {level = {0.1, 0.5, 0.9}}, window 20, slope 0.05: at each level, the teacher lifts at
+  // the first episode where the last 20 succeeded less than 5 points more often than the 20
+  // before, and at no episode before it.
+  for (const std::string run : {"Lcas", "LiftOnly"}) {
+    const std::vector<json> eps = read_jsonl(trial_of(run) / "episodes.jsonl");
+    const json lifts = read_json(trial_of(run) / "result.json")["teacher"]["state"]["lifts"];
+    REQUIRE(lifts.size() == 2);
+    const std::string param = run == "Lcas" ? "level" : "distance";
+    size_t start = 0;
+    for (size_t k = 0; k <= lifts.size(); ++k) {
+      const size_t end = k < lifts.size() ? lifts[k]["episode"].get<size_t>() : eps.size();
+      for (size_t e = start; e < end; ++e) {
+        const json& v = eps[e]["task"][param];
+        CHECK((v.is_string() ? std::stod(v.get<std::string>()) : v.get<double>()) ==
+              Approx(run == "Lcas" ? std::vector<double>{0.1, 0.5, 0.9}[k] : double(k)));
+        if (k == lifts.size() || e + 1 < start + 40) continue;  // the last level, or fewer than two windows
+        int last = 0, before = 0;
+        for (size_t i = e + 1 - 20; i <= e; ++i) last += eps[i]["success"].get<bool>();
+        for (size_t i = e + 1 - 40; i < e + 1 - 20; ++i) before += eps[i]["success"].get<bool>();
+        const bool saturated = (last - before) / 20.0 < 0.05;
+        INFO(run << " level " << k << ", episode " << e + 1);
+        CHECK(saturated == (e + 1 == end));  // lifted at the first saturated episode, never before
+      }
+      start = end;
+    }
+  }
+}
+
+TEST_CASE("every teacher gives the same trial to the bit with --jobs 1 and --jobs 2", "[teach][stage]") {
+  const fs::path one = fs::temp_directory_path() / ("roger_teach_jobs1_" + std::to_string(::getpid()));
+  fs::remove_all(one);
+  REQUIRE(run_shell(std::string(ROGER_BINARY) + " run tests/scripts/teach_batch.lua --jobs 1 --out " + one.string() +
+                    " > /dev/null 2>&1") == 0);
+  int compared = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(teach_batch() / "trials")) {
+    if (!entry.is_regular_file()) continue;
+    const fs::path rel = fs::relative(entry.path(), teach_batch());
+    INFO(rel);
+    REQUIRE(fs::exists(one / rel));
+    const bool csv = rel.extension() == ".csv";
+    CHECK(without_wall(slurp(entry.path()), csv) == without_wall(slurp(one / rel), csv));
+    ++compared;
+  }
+  CHECK(compared == 8 * 7);  // 8 teachers, 7 files each
+  fs::remove_all(one);
+}
+
+// ---- bad input: refused where it is written, naming the field and what is allowed
+
+namespace {
+
+// A curriculum whose one stage (over scenarios/cluttered.lua) gets `fields`, written on line 8.
+fs::path write_stage(const fs::path& dir, const std::string& name, const std::string& fields) {
+  const fs::path file = dir / (name + ".lua");
+  std::ofstream(file) << "local p = { phi0 = roger.primitive(\"phi0\") }\n"
+                         "local function stage(fields)\n"
+                         "  local s = { name = \"S\", scenario = \"cluttered\", time_limit = 1, absorbing = roger.converged(p.phi0),\n"
+                         "              budget = { episodes = 4 }, checkpoints = { every = 4 }, contexts = { { name = \"A\", actions = { p.phi0 } } } }\n"
+                         "  for k, v in pairs(fields) do s[k] = v end\n"
+                         "  return roger.stage(s)\n"
+                         "end\n"
+                         "return { stages = { stage(" << fields << ") } }\n";
+  return file;
+}
+
+// The message of loading a curriculum that must fail.
+std::string load_error(const fs::path& file) {
+  try {
+    Curriculum::load(file.string());
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  FAIL("loaded " << file << " without an error");
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("a bad task space or teacher is refused at load with file:line, the field and what is allowed",
+          "[teach][errors]") {
+  test::TempDir dir("roger_teach_bad");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"{ tasks = { obstacle = roger.int(0, 6) } }",
+       ":8: stage 'S': tasks.obstacle = roger.int(0, 6): scenario 'cluttered' (scenarios/cluttered.lua) has no "
+       "parameter 'obstacle'; known parameters: "},
+      {"{ tasks = { obstacles = roger.int(5, 2) } }", ":8: roger.int(5, 2): the range is reversed (lo must not exceed hi)"},
+      {"{ tasks = { mass = roger.real(1, 1) } }", ":8: roger.real(1, 1): the range is empty"},
+      {"{ tasks = { shape = roger.choice{} } }", ":8: roger.choice{...}: the list is empty"},
+      {"{ tasks = { obstacles = roger.int(0, 20) } }",
+       ":8: stage 'S': tasks.obstacles = roger.int(0, 20): parameter 'obstacles' of scenario 'cluttered' expects at "
+       "most 12, got '20'"},
+      {"{ tasks = { shape = roger.choice{\"circle\", \"square\"} } }",
+       ":8: stage 'S': tasks.shape = roger.choice{circle, square}: parameter 'shape' of scenario 'cluttered' expects "
+       "one of circle, pentagon, spade, triangle, got 'square'"},
+      {"{ tasks = { obstacles = roger.real(0, 3) } }", "'obstacles' is an integer parameter of scenario 'cluttered': use roger.int"},
+      {"{ tasks = { obstacles = 3 } }",
+       ":6: stage 'S': tasks.obstacles must be roger.int(lo, hi), roger.real(lo, hi) or roger.choice{...}, got number 3"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, params = { obstacles = 2 } }",
+       ":8: stage 'S': tasks.obstacles = roger.int(0, 3) varies 'obstacles', which the stage's params fix"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, contexts = { { name = 'A', actions = { 'phi0' }, params = { obstacles = 1 } } } }",
+       "stage 'S', context 'A': the context's params fix 'obstacles', which tasks.obstacles = roger.int(0, 3) varies"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = 3 }",
+       ":6: stage 'S': field 'teacher' must be a teacher (roger.teacher.random{}, .sequence{...}, .lcas{...}, "
+       ".alp_gmm{...}, .plr{...}) or a function(history, rng), got number 3"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.sequence{ { obstacles = 9 } } }",
+       ":8: stage 'S': roger.teacher.sequence ("},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.lcas{ lift = { obstacles = { 0, 20 } } } }",
+       "the level obstacles = 20 is outside the task space: obstacles takes an integer in roger.int(0, 3)"},
+      {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 3 } } } }",
+       ":8: stage 'S': roger.teacher.lcas: lift.eye_pixels: parameter 'eye_pixels' of scenario 'cluttered' expects at least 16, got '3'"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, test = { list = { { obstacles = 7 } } } }",
+       ":6: stage 'S': test: list[1]: obstacles = 7 is outside the task space: obstacles takes an integer in roger.int(0, 3)"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, test = { tasks = 10 }, checkpoints = { episodes = 5 } }",
+       "checkpoints.episodes does not apply with a test set"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.alp_gmm{ k = 3 } }",
+       ":8: roger.teacher.alp_gmm: unknown field 'k'; known fields: fit_every, history, k_max, random_share"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.plr{ score = 'loss' } }",
+       "field 'score' must be \"td\" (the episode's mean |TD error|) or \"success\" (1 - success), got 'loss'"},
+      {"{ teacher = roger.teacher.random{} }", "roger.teacher.random needs a task space"},
+  };
+  for (size_t k = 0; k < cases.size(); ++k) {
+    const fs::path file = write_stage(dir.path, "c" + std::to_string(k), cases[k].first);
+    const std::string message = load_error(file);
+    INFO(cases[k].first << "\n" << message);
+    CHECK_THAT(message, Contains(cases[k].second));
+    CHECK_THAT(message, Contains(file.filename().string() + ":"));  // every one names the file and line
+  }
+  // roger check also builds the worlds at the ends of a task space: 12 obstacles do not fit.
+  const fs::path crowded = write_stage(dir.path, "crowded", "{ tasks = { obstacles = roger.int(0, 12) } }");
+  const std::vector<std::string> problems = check_curriculum(crowded.string());
+  REQUIRE(problems.size() == 1);
+  CHECK_THAT(problems[0], Contains("crowded.lua:8: stage 'S': scenario 'cluttered' with obstacles = 12 (an end of the "
+                                   "stage's task space): ") && Contains("no placement for"));
+}
+
+TEST_CASE("a Lua teacher's history, and its faults: each fails its trial alone at file:line", "[teach][errors]") {
+  test::TempDir dir("roger_teach_fn");
+  // The function sees every earlier episode in order: it returns its history's length as the task.
+  const fs::path counting = write_stage(
+      dir.path, "counting",
+      "{ tasks = { obstacles = roger.int(0, 3), shape = roger.choice{'circle', 'spade'} },\n"
+      "  test = { tasks = 2 },\n"
+      "  teacher = function(history, rng)\n"
+      "    for i, e in ipairs(history) do\n"
+      "      assert(e.task.obstacles == (i - 1) % 4 and type(e.success) == 'boolean' and e.time > 0 and e.reward ~= nil)\n"
+      "    end\n"
+      "    return { obstacles = #history % 4 }\n"
+      "  end }");
+  TrainOptions o;
+  o.curriculum = counting.string();
+  o.stage = "S";
+  o.context = "A";
+  const TrainResult r = train_stage(o);
+  REQUIRE(r.episodes.size() == 4);
+  std::set<std::string> shapes;
+  for (size_t e = 0; e < 4; ++e) {
+    CHECK(r.episodes[e].task["obstacles"] == int(e));
+    CHECK(r.episodes[e].world.obstacles == int(e));  // what the world placed
+    shapes.insert(r.episodes[e].task["shape"].get<std::string>());  // left out: drawn uniformly
+  }
+  CHECK(r.teacher["kind"] == "function");
+
+  const std::vector<std::pair<std::string, std::string>> faults = {
+      {"function() return { obstacles = 9 } end",
+       "stage 'S': teacher function returned obstacles = 9, outside the task space: obstacles takes an integer in "
+       "roger.int(0, 3)"},
+      {"function() return { mass = 1 } end",
+       "stage 'S': teacher function returned 'mass', which is not a parameter of the task space (obstacles = roger.int(0, 3))"},
+      {"function() return 3 end", "stage 'S': teacher function must return a table of task parameters"},
+      {"function() error('no idea') end", "stage 'S': teacher function: "},
+      {"function() while true do end end", "stage 'S': teacher function: instruction budget of 50000000 exceeded"},
+  };
+  for (size_t k = 0; k < faults.size(); ++k) {
+    const fs::path file = write_stage(dir.path, "fault" + std::to_string(k),
+                                      "{ tasks = { obstacles = roger.int(0, 3) }, teacher = " + faults[k].first + " }");
+    o.curriculum = file.string();
+    std::string message;
+    std::string where;
+    try {
+      train_stage(o);
+    } catch (const ScriptError& e) {
+      message = e.what();
+      where = e.file + ":" + std::to_string(e.line);
+    }
+    INFO(message);
+    CHECK_THAT(message, Contains(faults[k].second));
+    CHECK(where == file.string() + ":8");
+  }
+}
+
+TEST_CASE("the report compares the teachers, splits their success by level and maps where they sampled",
+          "[teach][stage]") {
+  const fs::path dir = teach_batch();
+  const std::string md = slurp(dir / "tables.md");
+  // The comparison: a row per teacher against the first, Mann-Whitney and all.
+  CHECK_THAT(md, Contains("## Teachers: time to 90% mastered\n\nRows: a context of a run each, against `Random/A`."));
+  for (const char* row : {"| Random/A |", "| Alp/A |", "| Plr/A |", "| PlrFail/A |", "| Sequence/A |", "| Lcas/A |",
+                          "| Function/A |", "| LiftOnly/A |"})
+    CHECK_THAT(md, Contains(row));
+  // The split by level: five bins of the real axis, each cell the final episodes of that bin.
+  const json report = read_json(dir / "report.json");
+  const json& by = report["tables"][1];
+  REQUIRE(by["by"] == "level");
+  REQUIRE(by["rows"].size() == 2);
+  int episodes = 0;
+  for (const auto& [bin, cell] : by["rows"][0]["cells"].items()) episodes += cell["episodes"].get<int>();
+  CHECK(by["rows"][0]["cells"].size() == 5);
+  CHECK(episodes == 20);  // the whole test set
+  // Where ALP-GMM sampled: the heat map the dashboard draws, every column's shares adding to 1.
+  const std::string js = slurp(dir / "dashboard.js");
+  const json page = json::parse(js.substr(js.find('=') + 1, js.rfind(';') - js.find('=') - 1));
+  int maps = 0;
+  for (const auto& f : page["figures"]) {
+    if (f["kind"] != "tasks") continue;
+    ++maps;
+    CHECK(fs::exists(dir / (f["file"].get<std::string>() + ".png")));
+    REQUIRE(f["rows"].size() == 10);
+    for (size_t c = 0; c + 1 < f["x_edges"].size(); ++c) {
+      double total = 0;
+      for (const auto& row : f["share"]) total += row[c].get<double>();
+      CHECK(total == Approx(1.0).margin(1e-3));
+    }
+  }
+  CHECK(maps == 2);
+}
+
+TEST_CASE("docs/examples/teachers_example.lua: every block of the docs' Teachers section is in it, each stage trains",
+          "[teach][stage]") {
+  // Each ```lua block of docs/curricula.md's "Teachers" is in the example file (leading spaces
+  // aside), so the documented calls are the ones that run below.
+  const auto trimmed_lines = [](const std::string& text) {
+    std::string out;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) out += line.substr(std::min(line.find_first_not_of(' '), line.size())) + "\n";
+    return out;
+  };
+  const std::string example = trimmed_lines(slurp("docs/examples/teachers_example.lua"));
+  const std::string doc = slurp("docs/curricula.md");
+  const size_t begin = doc.find("\n## Teachers\n"), end = doc.find("\n## ", begin + 1);
+  REQUIRE(begin != std::string::npos);
+  const std::string section = doc.substr(begin, end - begin);
+  int blocks = 0;
+  for (size_t at = section.find("```lua\n"); at != std::string::npos; at = section.find("```lua\n", at + 1)) {
+    const size_t from = at + 7, to = section.find("```\n", from);
+    const std::string block = trimmed_lines(section.substr(from, to - from));
+    INFO(block);
+    CHECK(example.find(block) != std::string::npos);
+    ++blocks;
+  }
+  CHECK(blocks == 6);
+  // Each stage trains to its threshold on its test set (measured: all at 20 episodes, 100%), and
+  // its teacher did what the stage shows: sequence and LCAS moved, PLR replayed, the function ran.
+  for (const std::string stage : {"Look", "LookRandom", "LookSequence", "LookLcas", "LookPlr", "LookFunction"}) {
+    TrainOptions o;
+    o.curriculum = "docs/examples/teachers_example.lua";
+    o.stage = stage;
+    o.context = "Gaze";
+    o.seed = 1;
+    const TrainResult r = train_stage(o);
+    INFO(stage << ": " << r.teacher.dump());
+    CHECK(r.reached);
+    CHECK(r.final_eval.success_rate >= 0.9);
+    const json& state = r.teacher["state"];
+    if (stage == "LookSequence") CHECK(state["step"] == 3);
+    if (stage == "LookLcas") CHECK(state["value"] == "128");
+    if (stage == "LookPlr") CHECK(state["replays"].get<int>() > 10);
+    if (stage == "LookFunction") {  // named by where it is written
+      const std::string text = slurp("docs/examples/teachers_example.lua");
+      const auto line = 1 + std::count(text.begin(), text.begin() + text.find("teacher = function(history"), '\n');
+      CHECK(state["function"] == "docs/examples/teachers_example.lua:" + std::to_string(line));
+    }
+  }
+}
+
+TEST_CASE("a task parameter given by --set is fixed: the axis leaves the trial's space", "[teach][stage]") {
+  // LookRandom varies obstacles (0-4) and robot_distance; --set obstacles=2 holds every training
+  // and test world at 2 obstacles while the distance still varies, and the summary's space says so.
+  TrainOptions o;
+  o.curriculum = "docs/examples/teachers_example.lua";
+  o.stage = "LookRandom";
+  o.context = "Gaze";
+  o.seed = 1;
+  o.sets = {{"obstacles", "2"}};
+  const TrainResult r = train_stage(o);
+  std::set<double> distances;
+  for (const auto& e : r.episodes) {
+    CHECK(e.world.obstacles == 2);
+    CHECK_FALSE(e.task.contains("obstacles"));
+    distances.insert(e.task["robot_distance"].get<double>());
+  }
+  CHECK(distances.size() == r.episodes.size());  // a real axis: every draw its own
+  o.sets = {{"obstacles", "22"}};
+  CHECK_THROWS_WITH(train_stage(o), Contains("parameter 'obstacles' of scenario 'cluttered' expects at most 12, got '22'"));
+}
