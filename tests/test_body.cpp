@@ -128,6 +128,14 @@ TEST_CASE("world:robot refuses a bad body or eyes with the file, line, field and
                  Contains("world:robot: body: field 'upper_arm' must be within [0.1, 2] m, got -1"));
   CHECK_THAT(robot_error("body_unknown", "{ x = 0, y = 0, body = { legs = 4 } }"),
              Contains(":2:") && Contains("unknown field 'legs'; known fields: axle_half_width, base_mass"));
+  // A misspelt body, eyes or noise field gets the nearest known name (before: only the list).
+  CHECK_THAT(robot_error("body_misspelt", "{ x = 0, y = 0, body = { forarm = 0.6, uper_arm = 0.6 } }"),
+             Contains(":2:") && Contains("world:robot: body: unknown fields 'forarm' (did you mean 'forearm'?), "
+                                         "'uper_arm' (did you mean 'upper_arm'?); known fields: axle_half_width"));
+  CHECK_THAT(robot_error("eyes_misspelt", "{ x = 0, y = 0, eyes = { pixles = 64 } }"),
+             Contains(":2:") && Contains("world:robot: eyes: unknown field 'pixles' (did you mean 'pixels'?)"));
+  CHECK_THAT(robot_error("noise_misspelt", "{ x = 0, y = 0, noise = { imgae = 10 } }"),
+             Contains(":2:") && Contains("world:robot: noise: unknown field 'imgae' (did you mean 'image'?)"));
   CHECK_THAT(robot_error("body_pixels", "{ x = 0, y = 0, eyes = { pixels = 1024 } }"),
              Contains(":2:") && Contains("world:robot: eyes: field 'pixels' must be within [16, 512], got 1024"));
   CHECK_THAT(robot_error("body_locked", "{ x = 0, y = 0, body = { locked = { 'left_knee' } } }"),

@@ -261,6 +261,33 @@ TEST_CASE("a map context with fields, and bad context params, are read where the
                                 "  absorbing = roger.converged(p.phi0), budget = { episodes = 1 },\n"
                                 "  contexts = { { name = 'A', actions = { p.phi0 } },\n"
                                 "               { name = 'Tiny', actions = { p.phi0 }, params = { eye_pixels = 4 } } } } } }\n";
+  // A bad parameter is refused where the curriculum loads, at the line of the params table that
+  // gives it, with each bad one named. Before: "stage 'S': scenario 'unobstructed': parameter
+  // 'eye_pixels' ... expects at least 16, got '3'", with no file:line, from roger check or the trial.
+  const std::string lines = (dir.path / "lines.lua").string();
+  std::ofstream(lines) << "local p = require('lib.skills').primitives()\n"
+                          "return { stages = { roger.stage{ name = 'S', time_limit = 2,\n"
+                          "  absorbing = roger.converged(p.phi0), budget = { episodes = 1 },\n"
+                          "  contexts = {\n"
+                          "    { name = 'A', actions = { p.phi0 } },\n"
+                          "    { name = 'Tiny', actions = { p.phi0 },\n"
+                          "      params = { eye_pixels = 3, shap = 'spade' } } } } } }\n";
+  CHECK_THAT(error_of([&] { Curriculum::load(lines); }),
+             Catch::Matchers::Contains("lines.lua:7: stage 'S', context 'Tiny': params: parameter 'eye_pixels' of "
+                                       "scenario 'unobstructed' expects an integer in [16, 512], got '3' "
+                                       "(pixels of each eye; default 128); scenario 'unobstructed'") &&
+                 Catch::Matchers::Contains("has no parameter 'shap' (did you mean 'shape'?)"));
+  const std::string plain = (dir.path / "plain.lua").string();  // a stage as a plain table
+  std::ofstream(plain) << "local p = require('lib.skills').primitives()\n"
+                          "return { stages = { {\n"
+                          "  name = 'S', time_limit = 2, scenario = 'cluttered',\n"
+                          "  absorbing = roger.converged(p.phi0), budget = { episodes = 1 },\n"
+                          "  params = {\n"
+                          "    obstacles = 40 },\n"
+                          "  contexts = { { name = 'A', actions = { p.phi0 } } } } } }\n";
+  CHECK_THAT(error_of([&] { Curriculum::load(plain); }),
+             Catch::Matchers::Contains("plain.lua:5: stage 'S': params: parameter 'obstacles' of scenario 'cluttered' "
+                                       "expects an integer in [0, 8], got '40'"));
   const auto problems = check_curriculum(unbuildable);
   REQUIRE(problems.size() == 1);
   CHECK_THAT(problems[0], Catch::Matchers::Contains("context 'Tiny'") && Catch::Matchers::Contains("eye_pixels"));

@@ -76,9 +76,8 @@ Scenario batch_detail::make_scenario(const CurriculumStage& stage, const Curricu
                        const SandboxLimits& limits, std::vector<std::pair<std::string, std::string>>* used) {
   const bool own = name.empty() || name == stage.scenario;
   Scenario s = Scenario::load(own ? stage.scenario : name, limits);
-  if (own)
-    for (const auto& [k, v] : stage.scenario_params(context)) s.set_param(k, v);
-  for (const auto& [k, v] : sets) s.set_param(k, v);
+  if (own) s.set_params(stage.scenario_params(context));
+  s.set_params(sets);
   if (used)
     for (const auto& p : s.params()) used->push_back({p.name, p.value});
   return s;

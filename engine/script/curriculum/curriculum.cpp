@@ -63,6 +63,7 @@ int l_stage(lua_State* L) {
     parse_stage(L, 1, st, a, r);
     const auto [file, line] = caller(L);
     st.file = file, st.line = line;
+    curriculum_detail::check_stage_params(st);
     book.tables[lua_topointer(L, 1)] = book.stages.size();
     book.stages.push_back(std::move(st));
     book.absorbing_fns.push_back(a);
@@ -201,6 +202,7 @@ CurriculumStage take_stage(lua_State* L, const Book& book, const std::string& di
     lua_pop(L, 1);
     parse_stage(L, -1, st, a, r);
     st.file = display, st.line = line;
+    curriculum_detail::check_stage_params(st);
   }
   return st;
 }

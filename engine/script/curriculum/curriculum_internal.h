@@ -35,5 +35,16 @@ struct LuaCallback {
 // file:line when called from Lua). Functions given for absorbing/reward are kept in the registry.
 void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& absorb_fn, LuaCallback& reward_fn);
 
+// ---- parameters (curriculum_params.cpp)
+
+// The line where the stage's `params` (or, with a context's name, that context's) is written in
+// the stage's file, read from its text from the stage's line; the nearest line known (the
+// context's, `contexts`, the stage's) when it is not written there.
+int params_line(const CurriculumStage& st, const std::string& context);
+// Checks the stage's params and each context's against the stage's scenario (once the stage's
+// file and line are known): every parameter its scenario would refuse, at once, as a ScriptError
+// at the line of the params table that gives it. Loads the scenario only when there are params.
+void check_stage_params(const CurriculumStage& st);
+
 }  // namespace curriculum_detail
 }  // namespace roger
