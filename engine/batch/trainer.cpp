@@ -133,6 +133,7 @@ GreedyEval greedy_eval(StageRun& run, QTable& q, uint64_t first_seed, int episod
     else fresh = run.run(q, seed, 0.0, unused, false, phase, i);
     const TrainingEpisode& ep = kept ? *kept : cache ? cache->by_seed[seed] = std::move(fresh) : fresh;
     g.successes += ep.success;
+    if (!ep.success) g.failed_seeds.push_back(seed);
     rewards.push_back(ep.reward);
     time += ep.sim_seconds;
     g.sortable = std::max(g.sortable, ep.objects_sortable);

@@ -99,6 +99,7 @@ struct GreedyEval {
   std::vector<std::pair<std::string, double>> usage;  // per action: share of the decisions
   int64_t decisions = 0;
   std::vector<TrainingEpisode> runs;  // the final evaluation's episodes (for batch/explain.h)
+  std::vector<uint64_t> failed_seeds; // the world seeds of the episodes that did not succeed
 };
 
 // Where a learned skill used by the trial came from.

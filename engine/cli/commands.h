@@ -63,6 +63,7 @@ struct RenderArgs {
   bool grid = false;
   std::string policy;         // with a skill script: render an episode of this policy
   std::string world;          // the scenario of that episode (default: the policy's)
+  std::vector<std::string> skills;  // with a saved policy: NAME=FILE.json, a learned skill instead of the embedded one
   double every = 0.1;         // seconds between recorded frames
 };
 

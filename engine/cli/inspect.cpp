@@ -65,6 +65,7 @@ int run_render_policy_file(const RenderArgs& a) {
   o.scenario = a.world;
   o.sets = split_sets(a.sets, "--set");
   o.first_seed = int64_t(a.seed);
+  for (const auto& [name, file] : split_sets(a.skills, "--skill")) o.skill_files[name] = file;
   const RecordedPolicyEpisode r = record_policy_episode(o, a.every);
   write_rendered_episode(a, r.spec, r.episode,
                          r.about.stage + "/" + r.about.context + " (" + a.policy + ") in " + r.about.scenario +
@@ -76,6 +77,9 @@ int run_render_policy_file(const RenderArgs& a) {
 // (for a .png path) one summary strip.
 int run_render_episode(const RenderArgs& a) {
   if (policy_is_saved_file(a.scenario, a.policy)) return run_render_policy_file(a);
+  if (!a.skills.empty())
+    throw Error("roger render: --skill replaces a learned skill of a saved policy (--policy FILE.json); policy '" +
+                a.policy + "' of " + a.scenario + " is a skill script's, which learns nothing");
   SkillScript script = SkillScript::load(a.scenario);
   const SkillScript::NamedPolicy& policy = script.policy(a.policy);
   Scenario scenario = Scenario::load(policy_scenario(policy, a.world));
@@ -97,6 +101,7 @@ int run_render_episode(const RenderArgs& a) {
 
 int command_render(const RenderArgs& a) {
   if (!a.policy.empty()) return run_render_episode(a);
+  if (!a.skills.empty()) throw Error("roger render: --skill needs --policy FILE.json (a policy saved by roger train)");
   Scenario scenario = Scenario::load(a.scenario);
   apply_sets(scenario, a.sets);
   const WorldSpec spec = scenario.generate(a.seed);

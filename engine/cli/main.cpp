@@ -51,6 +51,9 @@ CLI::App* add_render(CLI::App& app, RenderArgs& a) {
                 "episode of a policy.json written by roger train (a folder with frames and a replay "
                 "page, or a .png summary)");
   c->add_option("--scenario", a.world, "The episode's scenario (default: the policy's)");
+  c->add_option("--skill", a.skills,
+                "With a saved policy: a learned skill's policy NAME=FILE.json instead of the one it embeds "
+                "(repeatable), as roger eval takes it");
   c->add_option("--every", a.every, "Seconds between recorded frames")
       ->capture_default_str()->check(CLI::Range(0.02, 10.0));
   return c;
