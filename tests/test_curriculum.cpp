@@ -116,6 +116,33 @@ TEST_CASE("misbehaving Lua callbacks stop training naming stage, context and lin
   }
 }
 
+// Before, a stage's scenario = "rand_clutter.lua" was looked for from the current folder: the
+// same curriculum run from another folder failed with "no scenario".
+TEST_CASE("a stage's scenario path is found beside the curriculum that names it, as require", "[curriculum]") {
+  const test::TempDir tmp("roger_curriculum_near");
+  std::filesystem::create_directories(tmp.path / "worlds");
+  std::ofstream(tmp.path / "worlds" / "mine.lua")
+      << "return { name = 'mine', params = { far = 1.0 },\n"
+         "  generate = function(world, rng, p) world:robot{ x = p.far, y = 0 } end }\n";
+  const std::string stage = "local p = require('lib.skills').primitives()\n"
+                            "return { stages = { roger.stage{ name = 'S', time_limit = 2, scenario = '";
+  const std::string rest = "',\n  absorbing = roger.converged(p.phi0), budget = { episodes = 1 },\n"
+                           "  contexts = { { name = 'A', actions = { p.phi0 }, params = { far = 0.5 } } } } } }\n";
+  std::ofstream(tmp.path / "near.lua") << stage << "worlds/mine.lua" << rest;
+  const Curriculum cur = Curriculum::load((tmp.path / "near.lua").string());  // from the repository's folder
+  CHECK(cur.stage("S").scenario == (tmp.path / "worlds" / "mine.lua").string());
+  // A bare name stays the project's scenario, and a path from the project is recorded as written.
+  std::ofstream(tmp.path / "bare.lua") << stage << "cluttered" << rest;
+  CHECK_THAT(error_of([&] { Curriculum::load((tmp.path / "bare.lua").string()); }),
+             Catch::Matchers::Contains("scenario 'cluttered' (scenarios/cluttered.lua) has no parameter 'far'"));
+  std::ofstream(tmp.path / "missing.lua") << stage << "worlds/theirs.lua" << rest;
+  CHECK_THAT(error_of([&] { Curriculum::load((tmp.path / "missing.lua").string()); }),
+             Catch::Matchers::Contains("missing.lua:2: stage 'S': field 'scenario': no scenario 'worlds/theirs.lua' "
+                                       "(named in " + (tmp.path / "missing.lua").string() + "): looked at " +
+                                       (tmp.path / "worlds" / "theirs.lua").string() +
+                                       ", then worlds/theirs.lua from the current folder, then in the project"));
+}
+
 TEST_CASE("a stage's learner may discount by the seconds a decision ran", "[curriculum]") {
   // The semi-MDP's clock (SemiMdpDriver, tested in tests/test_learning.cpp): once per
   // decision by default, as the paper; by elapsed time when a stage asks ("a semi-MDP transition pays

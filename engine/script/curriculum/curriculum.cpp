@@ -60,8 +60,8 @@ int l_stage(lua_State* L) {
     Book& book = book_of(L);
     CurriculumStage st;
     LuaCallback a, r;
-    parse_stage(L, 1, st, a, r);
     const auto [file, line] = caller(L);
+    parse_stage(L, 1, st, a, r, file);
     st.file = file, st.line = line;
     curriculum_detail::check_stage_params(st);
     book.tables[lua_topointer(L, 1)] = book.stages.size();
@@ -200,7 +200,7 @@ CurriculumStage take_stage(lua_State* L, const Book& book, const std::string& di
     lua_getfield(L, -1, "name");
     line = lua_type(L, -1) == LUA_TSTRING ? line_of_stage(text, lua_tostring(L, -1)) : 0;
     lua_pop(L, 1);
-    parse_stage(L, -1, st, a, r);
+    parse_stage(L, -1, st, a, r, display);
     st.file = display, st.line = line;
     curriculum_detail::check_stage_params(st);
   }

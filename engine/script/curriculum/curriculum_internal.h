@@ -33,7 +33,10 @@ struct LuaCallback {
 
 // Reads a stage table at `index` into `st`, raising Lua errors "stage 'X': ..." (at the caller's
 // file:line when called from Lua). Functions given for absorbing/reward are kept in the registry.
-void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& absorb_fn, LuaCallback& reward_fn);
+// `naming_file` is the file the stage is written in (as messages show it): its `scenario`, when a
+// path, is looked for beside it first (resolve_scenario_near).
+void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& absorb_fn, LuaCallback& reward_fn,
+                 const std::string& naming_file);
 
 // ---- parameters (curriculum_params.cpp)
 

@@ -333,7 +333,8 @@ void read_time_limit(lua_State* L, LuaFields& f, const std::string& where, Curri
 
 // Reads a stage table at `index` into `st`, raising Lua errors "stage 'X': ..." (at the caller's
 // file:line when called from Lua). Functions given for absorbing/reward are kept in the registry.
-void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& absorb_fn, LuaCallback& reward_fn) {
+void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& absorb_fn, LuaCallback& reward_fn,
+                 const std::string& naming_file) {
   index = lua_absindex(L, index);
   if (!lua_istable(L, index))
     luaL_error(L, "a stage must be a table {name = ..., time_limit = ..., absorbing = ..., contexts = ...}, got %s",
@@ -348,7 +349,11 @@ void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& abso
   if (st.name.empty()) f.fail("missing required field 'name' (a string such as \"SG\")");
   st.description = f.string("description", "");
   st.scenario = f.string("scenario", "unobstructed");
-  resolve_scenario_path(st.scenario);  // lists the shipped scenarios when unknown
+  try {
+    st.scenario = resolve_scenario_near(st.scenario, naming_file);  // beside the file, as require
+  } catch (const Error& e) {
+    f.fail(std::string("field 'scenario': ") + e.what());
+  }
   read_stage_params(L, f, st);
   read_time_limit(L, f, where, st);
   read_absorbing(L, f, where, st, absorb_fn);

@@ -213,7 +213,7 @@ class LuaStackGuard {
 std::string join(const std::vector<std::string>& items, const char* sep = ", ");
 
 // The file a script argument names: the path itself if it is a file, else
-// <project>/<folder>/<name>.lua for a bare name. Otherwise a roger::Error: "no <kind> '<arg>': ..."
+// <project>/<folder>/<name>.lua for a bare name, or <project>/<path> for a relative path. Otherwise a roger::Error: "no <kind> '<arg>': ..."
 // ending with "; <list_label>: " and the scripts of that folder that `accept` takes (every .lua
 // file when it is empty).
 std::string resolve_script_path(const std::string& arg, const std::string& folder,

@@ -12,6 +12,7 @@
 #include <lua.hpp>
 
 #include "core/error.h"
+#include "core/fileio.h"
 #include "core/shape.h"
 #include "script/scenario/scenario_internal.h"
 
@@ -195,6 +196,33 @@ WorldSpec Scenario::generate(uint64_t seed) {
 
 std::string resolve_scenario_path(const std::string& arg) {
   return resolve_script_path(arg, "scenarios", "scenario", "shipped scenarios");
+}
+
+std::string resolve_scenario_near(const std::string& name, const std::string& naming_file) {
+  std::error_code ec;
+  const fs::path written(name);
+  const bool path_like = written.extension() == ".lua" || name.find('/') != std::string::npos;
+  if (!path_like || written.is_absolute() || naming_file.empty()) return (void)resolve_scenario_path(name), name;
+  // The naming file as shown in messages: relative to the current folder, or to the project.
+  fs::path file(naming_file);
+  if (!fs::is_regular_file(file, ec)) file = project_root() / naming_file;
+  const fs::path near = (file.parent_path() / written).lexically_normal();
+  if (!fs::is_regular_file(file, ec) || !fs::is_regular_file(near, ec)) {
+    try {
+      resolve_scenario_path(name);
+    } catch (const Error& e) {
+      const std::string beside = fs::is_regular_file(file, ec) ? near.string() + ", then " : "";
+      throw Error("no scenario '" + name + "' (named in " + naming_file + "): looked at " + beside + name +
+                  " from the current folder, then in the project; " + e.what());
+    }
+    return name;
+  }
+  if (fs::is_regular_file(written, ec) && fs::equivalent(written, near, ec)) return name;  // the same file
+  // Recorded so that it is found again from any folder: relative to the project when inside it.
+  const fs::path real = fs::weakly_canonical(near, ec), root = fs::weakly_canonical(project_root(), ec);
+  const fs::path rel = real.lexically_relative(root);
+  const bool in_project = !rel.empty() && *rel.begin() != "..";
+  return in_project ? rel.generic_string() : real.string();
 }
 
 std::vector<std::string> check_scenario(const std::string& path, int seeds, const SandboxLimits& limits,
