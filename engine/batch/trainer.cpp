@@ -311,6 +311,11 @@ TrainResult train_stage(const TrainOptions& options) {
   cur.set_world(&run.agent.world());  // the Lua callbacks' `world`
   res.scenario = run.scenario.name();
   res.q = std::make_shared<QTable>(res.psi, stage.learner);
+  if (!options.init_file.empty()) {  // a warm start: the table learned earlier, over what it shares
+    res.init.emplace();
+    res.q = std::make_shared<QTable>(
+        warm_start_table(res.psi, stage.learner, QTable::load(options.init_file, {}), options.init_file, &*res.init));
+  }
   QTable& q = *res.q;
   const int budget = stage.budget_episodes;
   const CheckpointSpec& cp = stage.checkpoints;
@@ -378,6 +383,16 @@ TrainResult train_stage(const TrainOptions& options) {
   return res;
 }
 
+// Where a warm-started table came from, as the summary and the policy file record it.
+namespace {
+
+nlohmann::json warm_start_json(const WarmStart& w) {
+  return {{"file", w.source}, {"shared", w.shared}, {"fresh", w.fresh}, {"dropped", w.dropped},
+          {"states_with_values", w.states_with_values}};
+}
+
+}  // namespace
+
 nlohmann::json train_policy_json(const TrainResult& r) {
   PolicyMetadata meta;
   meta.stage = r.stage;
@@ -389,6 +404,7 @@ nlohmann::json train_policy_json(const TrainResult& r) {
   for (const auto& s : r.skills)
     extra["skills"][s.name] = {{"stage", s.stage}, {"context", s.context}, {"file", s.file},
                                {"trained", s.trained}, {"seed", s.trained_seed}, {"policy", s.policy}};
+  if (r.init) extra["init"] = warm_start_json(*r.init);
   meta.extra = extra;
   return r.q->to_json(meta);
 }
@@ -445,6 +461,7 @@ nlohmann::json train_summary_json(const TrainResult& r) {
     }
     j["skills"][s.name] = k;
   }
+  if (r.init) j["init"] = warm_start_json(*r.init);
   for (const auto& [k, v] : r.params) j["params"][k] = v;
   if (!r.reached || r.explain) j["diagnosis"] = diagnose_training(r).to_json();
   return j;

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -16,6 +17,7 @@
 
 #include "learn/episode.h"
 #include "learn/learning.h"
+#include "learn/warm_start.h"
 #include "script/sandbox/lua_sandbox.h"
 
 namespace roger {
@@ -59,6 +61,9 @@ struct TrainOptions {
   // Say why in the summary (train_summary_json's "diagnosis", batch/explain.h) even when the
   // threshold was reached; a trial that did not reach it always says why.
   bool explain = false;
+  // A policy.json learned earlier (roger train --init): the Q-table starts from its values and
+  // visits over the actions the two share by name (learn/warm_start.h) instead of initial_q.
+  std::string init_file;
 };
 
 // A point of training: what had been spent when it was reached.
@@ -133,6 +138,7 @@ struct TrainResult {
   double wall_s = 0.0;        // the whole trial, evaluations and skill training included
   GreedyEval final_eval;
   std::vector<SkillSource> skills;
+  std::optional<WarmStart> init;  // where the table started from (TrainOptions::init_file)
   std::vector<std::pair<std::string, std::string>> params;  // scenario parameters used
   // The evaluation cache's work (TrainOptions::eval_cache), in this stage's evaluations only (not
   // those of skills trained first). Not written to any result file: the files do not depend on

@@ -107,6 +107,7 @@ struct TrainArgs {
   bool json = false;
   std::vector<std::string> skills;
   std::vector<std::string> sets;
+  std::string init;            // a policy.json to start the Q-table from (TrainOptions::init_file)
   bool no_eval_cache = false;  // run every greedy evaluation episode (TrainOptions::eval_cache)
   bool explain = false;        // say why even when the threshold was reached (TrainOptions::explain)
   LuaLimitArgs lua;

@@ -160,6 +160,7 @@ int command_train(const TrainArgs& a) {
   for (const auto& [name, file] : split_sets(a.skills, "--skill")) o.skill_files[name] = file;
   o.eval_cache = !a.no_eval_cache;
   o.explain = a.explain;
+  o.init_file = a.init;
   o.limits = sandbox_limits(a.lua);
   const TrainResult r = train_stage(o);
   write_train_outputs(r, a.out);
@@ -168,6 +169,13 @@ int command_train(const TrainArgs& a) {
               r.psi.size(), r.q->states(), r.scenario.c_str());
   for (const auto& s : r.skills)
     std::printf("  skill %s        %s\n", s.name.c_str(), skill_origin(s).c_str());
+  if (r.init) {
+    const WarmStart& w = *r.init;
+    std::printf("  init           %s: %zu of %zu actions shared, %d states with values%s%s\n", w.source.c_str(),
+                w.shared.size(), r.psi.size(), w.states_with_values,
+                w.fresh.empty() ? "" : ("; at initial_q: " + join(w.fresh)).c_str(),
+                w.dropped.empty() ? "" : ("; left out: " + join(w.dropped)).c_str());
+  }
   if (r.reached) {
     std::printf("  threshold      %.0f%% reached after %d episodes, %.1f simulated s, %lld decisions, %.2f wall s\n",
                 100 * r.threshold, r.to_threshold.episodes, r.to_threshold.sim_s,

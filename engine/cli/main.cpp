@@ -98,6 +98,9 @@ CLI::App* add_train(CLI::App& app, TrainArgs& a) {
   c->add_option("--skill", a.skills,
                 "A learned skill's policy NAME=FILE.json (repeatable; default: train its stage first)");
   c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)");
+  c->add_option("--init", a.init,
+                "A policy.json learned earlier: the Q-table starts from its values over the actions the two "
+                "share by name (a warm start), the others at initial_q");
   add_training_flags(c, a.no_eval_cache, a.explain);
   add_lua_limits(c, a.lua, "");
   return c;
