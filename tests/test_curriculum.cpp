@@ -143,6 +143,29 @@ TEST_CASE("a stage's scenario path is found beside the curriculum that names it,
                                        ", then worlds/theirs.lua from the current folder, then in the project"));
 }
 
+TEST_CASE("a context's init names a context written before it", "[curriculum]") {
+  const test::TempDir tmp("roger_curriculum_init");
+  auto write = [&](const std::string& name, const std::string& b_init) {
+    std::ofstream(tmp.path / name)
+        << "local p = require('lib.skills').primitives()\n"
+           "return { stages = { roger.stage{ name = 'S', time_limit = 5, absorbing = roger.converged(p.phi3),\n"
+           "  budget = { episodes = 3 }, contexts = {\n"
+           "    { name = 'A', actions = { p.phi3 } },\n"
+           "    { name = 'B', actions = { p.phi3, p.phi1 }, init = " << b_init << " } } } } }\n";
+    return (tmp.path / name).string();
+  };
+  const Curriculum cur = Curriculum::load(write("ok.lua", "{ context = 'A' }"));
+  CHECK(cur.stage("S").context("B").init_stage == "S");  // the same stage unless named
+  CHECK(cur.stage("S").context("B").init_context == "A");
+  CHECK(cur.stage("S").context("A").init_context.empty());
+  CHECK_THAT(error_of([&] { Curriculum::load(write("self.lua", "{ context = 'B' }")); }),
+             Catch::Matchers::Contains("self.lua:2: stage 'S', context 'B': init = {stage = 'S', context = 'B'} names "
+                                       "no context written before this one; those are: S/A"));
+  CHECK_THAT(error_of([&] { Curriculum::load(write("typo.lua", "{ contxt = 'A' }")); }),
+             Catch::Matchers::Contains("typo.lua:2: stage 'S': context 2:") &&
+                 Catch::Matchers::Contains("init: unknown field 'contxt' (did you mean 'context'?)"));
+}
+
 TEST_CASE("a stage's learner may discount by the seconds a decision ran", "[curriculum]") {
   // The semi-MDP's clock (SemiMdpDriver, tested in tests/test_learning.cpp): once per
   // decision by default, as the paper; by elapsed time when a stage asks ("a semi-MDP transition pays

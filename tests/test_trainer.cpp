@@ -137,6 +137,44 @@ TEST_CASE("roger train --init starts the table from a policy learned earlier", "
                                                               "context's (its actions: phi1, phi3, phi4 <| phi2, Phi6, Phi7;"));
 }
 
+// init = {stage = ..., context = ...} in a context: that context is trained first with the same
+// seed, and its table is where this one starts.
+TEST_CASE("a context's init trains that context first and starts from its table", "[trainer]") {
+  const test::TempDir tmp("roger_trainer_ctx_init");
+  std::ofstream(tmp.path / "init.lua")
+      << "local SG = require('lib.paper_stages').stages{}\n"
+         "local p = require('lib.skills').primitives()\n"
+         "return { stages = { roger.stage{ name = 'S', time_limit = SG.time_limit, absorbing = SG.absorbing,\n"
+         "  budget = SG.budget, checkpoints = SG.checkpoints, contexts = {\n"
+         "    { name = 'Small', actions = SG.contexts[3].actions },\n"
+         "    { name = 'Big', actions = SG.contexts[2].actions, init = { context = 'Small' } } } } } }\n";
+  TrainOptions o;
+  o.curriculum = (tmp.path / "init.lua").string();
+  o.stage = "S";
+  o.context = "Big";
+  o.seed = 1;
+  const TrainResult r = train_stage(o);
+  REQUIRE(r.init);
+  REQUIRE(r.init_trained);
+  const nlohmann::json j = train_summary_json(r)["init"];
+  CHECK(j["stage"] == "S");
+  CHECK(j["context"] == "Small");
+  CHECK(j["seed"] == 1);
+  CHECK_FALSE(j.contains("file"));
+  CHECK(j["totals"]["episodes"].get<int>() > 0);
+  // The same as --init with the policy that context learns with that seed.
+  o.context = "Small";
+  const std::string file = (tmp.path / "small.json").string();
+  write_file_atomic(file, train_policy_json(train_stage(o)).dump(), "test");
+  o.context = "Big";
+  o.init_file = file;
+  const TrainResult same = train_stage(o);
+  CHECK(same.to_threshold.episodes == r.to_threshold.episodes);
+  CHECK(same.final_eval.success_rate == r.final_eval.success_rate);
+  for (int s = 0; s < r.q->states(); ++s)
+    for (int a = 0; a < r.q->actions(); ++a) CHECK(r.q->value(s, a) == same.q->value(s, a));
+}
+
 TEST_CASE("roger train writes every file and eval --policy reproduces its final evaluation", "[trainer][cli]") {
   const fs::path dir = fs::temp_directory_path() / ("roger_train_" + std::to_string(::getpid()));
   fs::remove_all(dir);

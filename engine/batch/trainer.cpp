@@ -311,10 +311,26 @@ TrainResult train_stage(const TrainOptions& options) {
   cur.set_world(&run.agent.world());  // the Lua callbacks' `world`
   res.scenario = run.scenario.name();
   res.q = std::make_shared<QTable>(res.psi, stage.learner);
-  if (!options.init_file.empty()) {  // a warm start: the table learned earlier, over what it shares
+  // A warm start: the table learned earlier (--init, else the context's init trained first with
+  // the same seed), over the actions the two share.
+  if (!options.init_file.empty()) {
     res.init.emplace();
     res.q = std::make_shared<QTable>(
         warm_start_table(res.psi, stage.learner, QTable::load(options.init_file, {}), options.init_file, &*res.init));
+  } else if (!ctx.init_context.empty()) {
+    TrainOptions sub = options;
+    sub.stage = ctx.init_stage;
+    sub.context = ctx.init_context;
+    sub.sets.clear();  // that context's own task, as for a learned skill trained first
+    sub.keep_episodes = false;
+    const TrainResult first = train_stage(sub);
+    res.init.emplace();
+    res.init_trained = first.totals;
+    res.init_reached = first.reached;
+    res.init_from = {ctx.init_stage, ctx.init_context};
+    res.q = std::make_shared<QTable>(warm_start_table(
+        res.psi, stage.learner, *first.q,
+        "stage '" + ctx.init_stage + "', context '" + ctx.init_context + "' (init, trained first)", &*res.init));
   }
   QTable& q = *res.q;
   const int budget = stage.budget_episodes;
@@ -386,9 +402,17 @@ TrainResult train_stage(const TrainOptions& options) {
 // Where a warm-started table came from, as the summary and the policy file record it.
 namespace {
 
-nlohmann::json warm_start_json(const WarmStart& w) {
-  return {{"file", w.source}, {"shared", w.shared}, {"fresh", w.fresh}, {"dropped", w.dropped},
-          {"states_with_values", w.states_with_values}};
+nlohmann::json warm_start_json(const TrainResult& r) {
+  const WarmStart& w = *r.init;
+  nlohmann::json j = {{"shared", w.shared}, {"fresh", w.fresh}, {"dropped", w.dropped},
+                      {"states_with_values", w.states_with_values}};
+  if (r.init_trained) {  // the context's init, trained first with this seed
+    j.update({{"stage", r.init_from.first}, {"context", r.init_from.second}, {"seed", r.seed},
+              {"reached", r.init_reached}, {"totals", point_json(*r.init_trained)}});
+  } else {
+    j["file"] = w.source;
+  }
+  return j;
 }
 
 }  // namespace
@@ -404,7 +428,7 @@ nlohmann::json train_policy_json(const TrainResult& r) {
   for (const auto& s : r.skills)
     extra["skills"][s.name] = {{"stage", s.stage}, {"context", s.context}, {"file", s.file},
                                {"trained", s.trained}, {"seed", s.trained_seed}, {"policy", s.policy}};
-  if (r.init) extra["init"] = warm_start_json(*r.init);
+  if (r.init) extra["init"] = warm_start_json(r);
   meta.extra = extra;
   return r.q->to_json(meta);
 }
@@ -461,7 +485,7 @@ nlohmann::json train_summary_json(const TrainResult& r) {
     }
     j["skills"][s.name] = k;
   }
-  if (r.init) j["init"] = warm_start_json(*r.init);
+  if (r.init) j["init"] = warm_start_json(r);
   for (const auto& [k, v] : r.params) j["params"][k] = v;
   if (!r.reached || r.explain) j["diagnosis"] = diagnose_training(r).to_json();
   return j;

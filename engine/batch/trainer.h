@@ -138,7 +138,10 @@ struct TrainResult {
   double wall_s = 0.0;        // the whole trial, evaluations and skill training included
   GreedyEval final_eval;
   std::vector<SkillSource> skills;
-  std::optional<WarmStart> init;  // where the table started from (TrainOptions::init_file)
+  std::optional<WarmStart> init;  // where the table started from (TrainOptions::init_file, a context's init)
+  std::optional<TrainPoint> init_trained;  // a context's init trained first: what it spent
+  bool init_reached = false;               // and whether it reached its threshold
+  std::pair<std::string, std::string> init_from;  // its stage and context
   std::vector<std::pair<std::string, std::string>> params;  // scenario parameters used
   // The evaluation cache's work (TrainOptions::eval_cache), in this stage's evaluations only (not
   // those of skills trained first). Not written to any result file: the files do not depend on
