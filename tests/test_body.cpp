@@ -158,9 +158,7 @@ TEST_CASE("world:robot refuses a bad body or eyes with the file, line, field and
 // own defaults; before, a scenario that wrote upper_arm = 0.6 among its params lost it to the
 // paper's 0.5 without a word.
 TEST_CASE("with_params takes a scenario's own body defaults and refuses what it would lose", "[body]") {
-  // The call body.with_params(params, defaults) makes (level 1: the scenario calls it here).
-  const std::string with = "require('lib.param_defaults').with_params(body.PARAMS, ";
-  const std::string who = ", 'body.with_params', 'lib/body.lua')";
+  const std::string with = "body.with_params(", who = ")";
   const std::string generate =
       "  generate = function(world, rng, p)\n"
       "    local b = body.of(p)\n"
