@@ -18,7 +18,7 @@ return {
   params = body.with_params{
     shape = { default = "circle", choices = shapes.names(),
               description = "the object: circle, triangle, pentagon or spade" },
-    obstacles = { default = 3, min = 0, max = 12, description = "number of obstacles" },
+    obstacles = { default = 3, min = 0, max = 8, description = "number of obstacles" },
     obstacle_min_size = { default = 0.15, min = 0.05, description = "smallest obstacle side or diameter (m)" },
     obstacle_max_size = { default = 0.3, min = 0.05, max = 1.0, description = "largest obstacle side or diameter (m)" },
     obstacle_clearance = { default = 0.4, min = 0.0,

@@ -31,6 +31,28 @@ std::string load_error(const std::string& path) {
 
 }  // namespace
 
+// As a stage's: an evaluation's scenario path is found beside the batch script that names it
+// (before, from the current folder only), and a missing one says where it was looked for.
+TEST_CASE("an evaluation's scenario path is found beside the batch script", "[batch_script]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_batch_near_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "worlds");
+  std::ofstream(dir / "worlds" / "mine.lua") << "return { generate = function(world, rng, p) world:robot{ x = 0, y = 0 } end }\n";
+  auto script = [&](const std::string& scenario) {
+    const fs::path path = dir / "batch.lua";
+    std::ofstream(path) << "return {\n  name = 'near', curriculum = '" << fs::absolute("tests/scripts/kill_curriculum.lua").string()
+                        << "', trials = 1,\n  runs = { { name = 'SG', stage = 'SG', contexts = { 'DC2' } } },\n"
+                           "  evaluations = { { name = 'e', run = 'SG', context = 'DC2',\n"
+                           "    scenario = '" << scenario << "', episodes = 2 } },\n}\n";
+    return path.string();
+  };
+  CHECK(load_batch_script(script("worlds/mine.lua")).evaluations.at(0).scenario == (dir / "worlds" / "mine.lua").string());
+  CHECK(load_batch_script(script("cluttered")).evaluations.at(0).scenario == "cluttered");
+  CHECK_THAT(load_error(script("worlds/theirs.lua")),
+             Catch::Matchers::Contains("batch.lua:5: evaluation 'e': no scenario 'worlds/theirs.lua' (named in ") &&
+                 Catch::Matchers::Contains("): looked at " + (dir / "worlds" / "theirs.lua").string() + ", then"));
+  fs::remove_all(dir);
+}
+
 TEST_CASE("an evaluation may take a learned skill from another run", "[batch_script]") {
   const BatchScript b = load_batch_script("tests/scripts/batch_eval_skill.lua");
   REQUIRE(b.evaluations.size() == 2);

@@ -128,6 +128,14 @@ TEST_CASE("world:robot refuses a bad body or eyes with the file, line, field and
                  Contains("world:robot: body: field 'upper_arm' must be within [0.1, 2] m, got -1"));
   CHECK_THAT(robot_error("body_unknown", "{ x = 0, y = 0, body = { legs = 4 } }"),
              Contains(":2:") && Contains("unknown field 'legs'; known fields: axle_half_width, base_mass"));
+  // A misspelt body, eyes or noise field gets the nearest known name (before: only the list).
+  CHECK_THAT(robot_error("body_misspelt", "{ x = 0, y = 0, body = { forarm = 0.6, uper_arm = 0.6 } }"),
+             Contains(":2:") && Contains("world:robot: body: unknown fields 'forarm' (did you mean 'forearm'?), "
+                                         "'uper_arm' (did you mean 'upper_arm'?); known fields: axle_half_width"));
+  CHECK_THAT(robot_error("eyes_misspelt", "{ x = 0, y = 0, eyes = { pixles = 64 } }"),
+             Contains(":2:") && Contains("world:robot: eyes: unknown field 'pixles' (did you mean 'pixels'?)"));
+  CHECK_THAT(robot_error("noise_misspelt", "{ x = 0, y = 0, noise = { imgae = 10 } }"),
+             Contains(":2:") && Contains("world:robot: noise: unknown field 'imgae' (did you mean 'image'?)"));
   CHECK_THAT(robot_error("body_pixels", "{ x = 0, y = 0, eyes = { pixels = 1024 } }"),
              Contains(":2:") && Contains("world:robot: eyes: field 'pixels' must be within [16, 512], got 1024"));
   CHECK_THAT(robot_error("body_locked", "{ x = 0, y = 0, body = { locked = { 'left_knee' } } }"),
@@ -144,6 +152,60 @@ TEST_CASE("world:robot refuses a bad body or eyes with the file, line, field and
   CHECK(w.eyes.pixels == 64);
   CHECK(w.eyes.fov == 1.2);
   CHECK(w.robot.left_shoulder == folded_start(w.body).left_shoulder);
+}
+
+// lib/param_defaults.lua, which body.with_params is built on: a scenario of another body gives its
+// own defaults; before, a scenario that wrote upper_arm = 0.6 among its params lost it to the
+// paper's 0.5 without a word.
+TEST_CASE("with_params takes a scenario's own body defaults and refuses what it would lose", "[body]") {
+  const std::string with = "body.with_params(", who = ")";
+  const std::string generate =
+      "  generate = function(world, rng, p)\n"
+      "    local b = body.of(p)\n"
+      "    world:robot{ x = 0, y = 0, body = b.body, eyes = b.eyes }\n"
+      "  end,\n}\n";
+  Scenario own = scenario_from("with_params_own",
+                               "local body = require('lib.body')\n"
+                               "return {\n"
+                               "  params = " + with + "{ shape = 'circle' }, { upper_arm = 0.6, forearm = 0.45, eye_pixels = 48, eye_fov = 1 }" + who +
+                                   ",\n" + generate);
+  const WorldSpec w = own.generate(0);
+  CHECK(w.body.link_length[0] == 0.6);
+  CHECK(w.body.link_length[1] == 0.45);
+  CHECK(w.eyes.pixels == 48);
+  CHECK(w.eyes.fov == 1.0);
+  CHECK(w.params.at("upper_arm") == "0.6");
+  for (const auto& p : own.params())
+    if (p.name == "eye_fov") CHECK((p.type == ParamType::kNumber && p.default_value == "1"));  // 1 read as 1.0
+  own.set_param("eye_fov", "0.7");  // still a number: --set, a stage's and a context's params override it
+  own.set_param("forearm", "0.7");
+  own.set_param("upper_arm", "0.5");
+  CHECK(own.generate(0).body.link_length[0] == 0.5);
+  CHECK(own.generate(0).body.link_length[1] == 0.7);
+
+  auto load_error = [&](const std::string& name, const std::string& params) -> std::string {
+    try {
+      scenario_from(name, "local body = require('lib.body')\nreturn {\n  params = " + params + ",\n" + generate);
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  // A name the scenario already defines: at the scenario's line, saying how to give the default.
+  CHECK_THAT(load_error("with_params_twice", with + "{ upper_arm = 0.6, shape = 'circle' }, nil" + who),
+             Contains("roger_test_with_params_twice.lua:3:") &&
+                 Contains("body.with_params: the scenario's params define 'upper_arm', which is a parameter "
+                          "of lib/body.lua: give the scenario's own default as body.with_params(params, { upper_arm = ... })"));
+  // Every bad default at once: an unknown name (with the nearest), a value out of range, a wrong type.
+  const std::string bad = load_error("with_params_bad", with + "{}, { uper_arm = 0.6, eye_pixels = 3, eye_fov = 'wide', locked = 1 }" + who);
+  CHECK_THAT(bad, Contains("roger_test_with_params_bad.lua:3:") &&
+                      Contains("defaults: 'eye_fov' must be a number, got string") &&
+                      Contains("defaults: 'eye_pixels' must be within [16, 512] (pixels of each eye), got 3") &&
+                      Contains("defaults: 'locked' must be a string, got number") &&
+                      Contains("defaults: 'uper_arm' is not a parameter of lib/body.lua (did you mean 'upper_arm'?); its parameters: "
+                               "base_radius, eye_fov, eye_pixels, forearm, hand_radius, locked"));
+  CHECK_THAT(load_error("with_params_float", with + "{}, { eye_pixels = 47.5 }" + who),
+             Contains(":3:") && Contains("defaults: 'eye_pixels' must be an integer"));
 }
 
 TEST_CASE("a locked joint holds its start angle whatever it is told", "[body]") {

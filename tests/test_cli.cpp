@@ -244,6 +244,45 @@ TEST_CASE("an evaluation over a retrained skill is roger eval --skill, whatever 
   fs::remove_all(two);
 }
 
+// Before, roger eval said "86.7% (26 of 30)" and finding the four failed worlds took a loop of
+// one-episode evaluations. The scripted search_grasp among six obstacles fails in four of seeds
+// 1000-1029 (the deterministic engine's count: a change of it is a change of behaviour).
+TEST_CASE("roger eval names the failed world seeds and the command that renders one", "[cli]") {
+  const std::string args = "eval curricula/scripted.lua --policy search_grasp --scenario cluttered --set obstacles=6 "
+                           "--episodes 30";
+  Run r = roger(args);
+  INFO(r.out << r.err);
+  REQUIRE(r.status == 0);
+  CHECK(r.out.find("success rate   86.7% (26 of 30)\n  failed seeds   1013, 1017, 1021, 1026\n") != std::string::npos);
+  const std::string replay =
+      "roger render curricula/scripted.lua --policy search_grasp --scenario cluttered --set obstacles=6 --seed 1013 "
+      "--out episode-1013";
+  CHECK(r.out.find("  replay one     " + replay + "\n") != std::string::npos);
+  r = roger(args + " --json");
+  const nlohmann::json j = nlohmann::json::parse(r.out.substr(r.out.rfind("\n{") + 1));
+  CHECK(j["failed_seeds"] == nlohmann::json::array({1013, 1017, 1021, 1026}));
+  // The command printed replays that very world: it fails there too.
+  const fs::path out = fs::temp_directory_path() / ("roger_cli_replay_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  r = roger(replay.substr(std::string("roger ").size(), replay.find(" --out ") - 6) + " --out " + out.string());
+  REQUIRE(r.status == 0);
+  CHECK(r.out.find("(timeout after 5.00 s, reward -100;") != std::string::npos);
+  fs::remove_all(out);
+  // A run without failures prints no seeds; more than ten print the first ten and say how many more.
+  r = roger("eval curricula/scripted.lua --policy phi6 --episodes 5");
+  CHECK(r.out.find("failed seeds") == std::string::npos);
+  // (Both elbows locked: it reaches no object.)
+  r = roger("eval curricula/scripted.lua --policy search_grasp --set locked=left_elbow,right_elbow --episodes 14 --json");
+  CHECK(r.out.find("  failed seeds   1000, 1001, 1002, 1003, 1004, 1005, 1006, 1007, 1008, 1009, ... (4 more; all in "
+                   "--json)\n") != std::string::npos);
+  CHECK(nlohmann::json::parse(r.out.substr(r.out.rfind("\n{") + 1))["failed_seeds"].size() == 14);
+  // The replay of a saved policy evaluated with --skill takes the same --skill; a skill script's
+  // policy learns nothing, so render refuses it there as eval does.
+  r = roger("render curricula/scripted.lua --policy task --skill Phi_SG=x.json --out " + out.string());
+  CHECK(r.status != 0);
+  CHECK(r.err.find("--skill replaces a learned skill of a saved policy (--policy FILE.json)") != std::string::npos);
+}
+
 TEST_CASE("roger eval runs a learned Sort4 policy from its file, loaded and not trained again", "[cli][sorting]") {
   // tests/policies/sort4_learned.json is trials/Sort4/Learned/000/policy.json of `roger run
   // scripts/sorting.lua` (seed 1, Phi_T from the run's T/DC6 trial 0): the sorting stage's

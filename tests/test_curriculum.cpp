@@ -116,6 +116,56 @@ TEST_CASE("misbehaving Lua callbacks stop training naming stage, context and lin
   }
 }
 
+// Before, a stage's scenario = "rand_clutter.lua" was looked for from the current folder: the
+// same curriculum run from another folder failed with "no scenario".
+TEST_CASE("a stage's scenario path is found beside the curriculum that names it, as require", "[curriculum]") {
+  const test::TempDir tmp("roger_curriculum_near");
+  std::filesystem::create_directories(tmp.path / "worlds");
+  std::ofstream(tmp.path / "worlds" / "mine.lua")
+      << "return { name = 'mine', params = { far = 1.0 },\n"
+         "  generate = function(world, rng, p) world:robot{ x = p.far, y = 0 } end }\n";
+  const std::string stage = "local p = require('lib.skills').primitives()\n"
+                            "return { stages = { roger.stage{ name = 'S', time_limit = 2, scenario = '";
+  const std::string rest = "',\n  absorbing = roger.converged(p.phi0), budget = { episodes = 1 },\n"
+                           "  contexts = { { name = 'A', actions = { p.phi0 }, params = { far = 0.5 } } } } } }\n";
+  std::ofstream(tmp.path / "near.lua") << stage << "worlds/mine.lua" << rest;
+  const Curriculum cur = Curriculum::load((tmp.path / "near.lua").string());  // from the repository's folder
+  CHECK(cur.stage("S").scenario == (tmp.path / "worlds" / "mine.lua").string());
+  // A bare name stays the project's scenario, and a path from the project is recorded as written.
+  std::ofstream(tmp.path / "bare.lua") << stage << "cluttered" << rest;
+  CHECK_THAT(error_of([&] { Curriculum::load((tmp.path / "bare.lua").string()); }),
+             Catch::Matchers::Contains("scenario 'cluttered' (scenarios/cluttered.lua) has no parameter 'far'"));
+  std::ofstream(tmp.path / "missing.lua") << stage << "worlds/theirs.lua" << rest;
+  CHECK_THAT(error_of([&] { Curriculum::load((tmp.path / "missing.lua").string()); }),
+             Catch::Matchers::Contains("missing.lua:2: stage 'S': field 'scenario': no scenario 'worlds/theirs.lua' "
+                                       "(named in " + (tmp.path / "missing.lua").string() + "): looked at " +
+                                       (tmp.path / "worlds" / "theirs.lua").string() +
+                                       ", then worlds/theirs.lua from the current folder, then in the project"));
+}
+
+TEST_CASE("a context's init names a context written before it", "[curriculum]") {
+  const test::TempDir tmp("roger_curriculum_init");
+  auto write = [&](const std::string& name, const std::string& b_init) {
+    std::ofstream(tmp.path / name)
+        << "local p = require('lib.skills').primitives()\n"
+           "return { stages = { roger.stage{ name = 'S', time_limit = 5, absorbing = roger.converged(p.phi3),\n"
+           "  budget = { episodes = 3 }, contexts = {\n"
+           "    { name = 'A', actions = { p.phi3 } },\n"
+           "    { name = 'B', actions = { p.phi3, p.phi1 }, init = " << b_init << " } } } } }\n";
+    return (tmp.path / name).string();
+  };
+  const Curriculum cur = Curriculum::load(write("ok.lua", "{ context = 'A' }"));
+  CHECK(cur.stage("S").context("B").init_stage == "S");  // the same stage unless named
+  CHECK(cur.stage("S").context("B").init_context == "A");
+  CHECK(cur.stage("S").context("A").init_context.empty());
+  CHECK_THAT(error_of([&] { Curriculum::load(write("self.lua", "{ context = 'B' }")); }),
+             Catch::Matchers::Contains("self.lua:2: stage 'S', context 'B': init = {stage = 'S', context = 'B'} names "
+                                       "no context written before this one; those are: S/A"));
+  CHECK_THAT(error_of([&] { Curriculum::load(write("typo.lua", "{ contxt = 'A' }")); }),
+             Catch::Matchers::Contains("typo.lua:2: stage 'S': context 2:") &&
+                 Catch::Matchers::Contains("init: unknown field 'contxt' (did you mean 'context'?)"));
+}
+
 TEST_CASE("a stage's learner may discount by the seconds a decision ran", "[curriculum]") {
   // The semi-MDP's clock (SemiMdpDriver, tested in tests/test_learning.cpp): once per
   // decision by default, as the paper; by elapsed time when a stage asks ("a semi-MDP transition pays
@@ -261,6 +311,33 @@ TEST_CASE("a map context with fields, and bad context params, are read where the
                                 "  absorbing = roger.converged(p.phi0), budget = { episodes = 1 },\n"
                                 "  contexts = { { name = 'A', actions = { p.phi0 } },\n"
                                 "               { name = 'Tiny', actions = { p.phi0 }, params = { eye_pixels = 4 } } } } } }\n";
+  // A bad parameter is refused where the curriculum loads, at the line of the params table that
+  // gives it, with each bad one named. Before: "stage 'S': scenario 'unobstructed': parameter
+  // 'eye_pixels' ... expects at least 16, got '3'", with no file:line, from roger check or the trial.
+  const std::string lines = (dir.path / "lines.lua").string();
+  std::ofstream(lines) << "local p = require('lib.skills').primitives()\n"
+                          "return { stages = { roger.stage{ name = 'S', time_limit = 2,\n"
+                          "  absorbing = roger.converged(p.phi0), budget = { episodes = 1 },\n"
+                          "  contexts = {\n"
+                          "    { name = 'A', actions = { p.phi0 } },\n"
+                          "    { name = 'Tiny', actions = { p.phi0 },\n"
+                          "      params = { eye_pixels = 3, shap = 'spade' } } } } } }\n";
+  CHECK_THAT(error_of([&] { Curriculum::load(lines); }),
+             Catch::Matchers::Contains("lines.lua:7: stage 'S', context 'Tiny': params: parameter 'eye_pixels' of "
+                                       "scenario 'unobstructed' expects an integer in [16, 512], got '3' "
+                                       "(pixels of each eye; default 128); scenario 'unobstructed'") &&
+                 Catch::Matchers::Contains("has no parameter 'shap' (did you mean 'shape'?)"));
+  const std::string plain = (dir.path / "plain.lua").string();  // a stage as a plain table
+  std::ofstream(plain) << "local p = require('lib.skills').primitives()\n"
+                          "return { stages = { {\n"
+                          "  name = 'S', time_limit = 2, scenario = 'cluttered',\n"
+                          "  absorbing = roger.converged(p.phi0), budget = { episodes = 1 },\n"
+                          "  params = {\n"
+                          "    obstacles = 40 },\n"
+                          "  contexts = { { name = 'A', actions = { p.phi0 } } } } } }\n";
+  CHECK_THAT(error_of([&] { Curriculum::load(plain); }),
+             Catch::Matchers::Contains("plain.lua:5: stage 'S': params: parameter 'obstacles' of scenario 'cluttered' "
+                                       "expects an integer in [0, 8], got '40'"));
   const auto problems = check_curriculum(unbuildable);
   REQUIRE(problems.size() == 1);
   CHECK_THAT(problems[0], Catch::Matchers::Contains("context 'Tiny'") && Catch::Matchers::Contains("eye_pixels"));

@@ -15,6 +15,7 @@
 #include "core/error.h"
 #include "learn/decision_cycle.h"
 #include "learn/learning.h"
+#include "learn/warm_start.h"
 #include "control/predicate.h"
 #include "control/primitives.h"
 #include "core/rng.h"
@@ -945,4 +946,44 @@ TEST_CASE("decisions given from outside, one tick at a time, replay the driver's
     CHECK(rewards == own.reward);  // the steps' rewards add up to the episode's
     CHECK(agent.world().state_hash() == own_hash);
   }
+}
+
+// roger train --init: a table starts from one learned earlier, over the actions the two share.
+TEST_CASE("a warm-started table carries the shared actions' values and visits", "[learning]") {
+  QTable small({"b", "c"});  // state = 3 * gamma(b) + gamma(c)
+  for (int s = 0; s < 9; ++s) {
+    small.set(s, 0, 10.0 + s);
+    small.set(s, 1, 20.0 + s);
+  }
+  for (int i = 0; i < 3; ++i) small.update(4, 0, small.value(4, 0), 4, true, 1.0);  // 3 visits, value kept
+  // More actions (a new one first): each new state takes the one earlier state it projects onto.
+  QParams p;
+  p.initial_q = -1.0;
+  WarmStart w;
+  const QTable big = warm_start_table({"a", "b", "c"}, p, small, "small.json", &w);
+  CHECK(w.shared == std::vector<std::string>{"b", "c"});
+  CHECK(w.fresh == std::vector<std::string>{"a"});
+  CHECK(w.dropped.empty());
+  CHECK(w.states_with_values == 3);  // a's three gammas times the one visited state (b, c) = (1, 1)
+  for (int a = 0; a < 3; ++a)
+    for (int s = 0; s < 9; ++s) {
+      const int state = 9 * a + s;
+      CHECK(big.value(state, 0) == -1.0);  // a: initial_q
+      CHECK(big.value(state, 1) == 10.0 + s);
+      CHECK(big.value(state, 2) == 20.0 + s);
+      CHECK(big.visits(state, 1) == (s == 4 ? 3u : 0u));
+    }
+  // Fewer actions: a state of c alone takes the visit-weighted mean over b's gammas (the plain mean
+  // when none was visited).
+  small.set(1, 1, 30.0);
+  for (int i = 0; i < 2; ++i) small.update(1, 1, small.value(1, 1), 1, true, 1.0);  // (b, c) = (0, 1): 2 visits
+  for (int i = 0; i < 2; ++i) small.update(7, 1, small.value(7, 1), 7, true, 1.0);  // (2, 1): 2 visits, 27
+  const QTable c_only = warm_start_table({"c"}, {}, small, "small.json", &w);
+  CHECK(w.dropped == std::vector<std::string>{"b"});
+  CHECK(c_only.value(1, 0) == Approx((30.0 * 2 + 27.0 * 2) / 4));
+  CHECK(c_only.visits(1, 0) == 4u);
+  CHECK(c_only.value(0, 0) == Approx((20.0 + 23.0 + 26.0) / 3));  // c = 0: never visited
+  CHECK_THROWS_WITH(warm_start_table({"x"}, {}, small, "small.json"),
+                    "small.json: its table shares no action with this context's (its actions: b, c; this "
+                    "context's: x), so nothing of it could be carried over");
 }

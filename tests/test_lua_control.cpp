@@ -268,7 +268,7 @@ TEST_CASE("policy tables map states to actions, with wildcards", "[lua_control]"
   CHECK_THAT(lua.error("roger.policy('R', {actions = {'phi1'}, table = {['*'] = 'phi2'}})").what(),
              Contains("is 'phi2', which is not one of the policy's actions; the actions are phi1"));
   CHECK_THAT(lua.error("roger.policy('R', {actions = {'phi1'}, tabel = {}})").what(),
-             Contains("unknown field 'tabel'; known fields: actions, done, fallback, rest_when_done, table"));
+             Contains("unknown field 'tabel' (did you mean 'table'?); known fields: actions, done, fallback, rest_when_done, table"));
 
   // rest_when_done: off unless asked, and only with a goal to rest at.
   CHECK_FALSE(with_goal->rest_when_done());
@@ -412,7 +412,7 @@ TEST_CASE("mistakes in skill scripts name the file and line", "[lua_control]") {
       {"bad_skill_subject_to.lua", 4, {"c:subject_to: argument 1 (the superior) must be a controller", "got number 5"}},
       {"bad_skill_no_goal.lua", 7, {"policy 'track': missing required field 'goal'"}},
       {"bad_skill_field.lua", 9,
-       {"policy 'track': unknown field 'scenaro'; known fields: action, description, goal, scenario, time_limit"}},
+       {"policy 'track': unknown field 'scenaro' (did you mean 'scenario'?); known fields: action, description, goal, scenario, time_limit"}},
   };
   for (const auto& c : cases) {
     const std::string path = std::string("tests/scripts/") + c.file;

@@ -384,7 +384,16 @@ TEST_CASE("LuaFields checks names and types of table arguments", "[lua_sandbox]"
     return error_of(sandbox, std::string("\n") + call).message;
   };
   CHECK(message("thing{size = 1, colour = {1, 2, 3}, sise = 2}") ==
-        "thing: unknown field 'sise'; known fields: colour, count, name, on, size");
+        "thing: unknown field 'sise' (did you mean 'size'?); known fields: colour, count, name, on, size");
+  // Each unknown field of a call, each with the known field nearest to it (if any is near).
+  CHECK(edit_distance("pirnt", "print") == 1);  // a swap of neighbours is one edit
+  CHECK(edit_distance("forarm", "forearm") == 1);
+  CHECK(edit_distance("", "abc") == 3);
+  CHECK(edit_distance("kitten", "sitting") == 3);
+  CHECK(suggestion("ab", {"xy"}).empty());  // two edits of a two-letter name are no hint
+  CHECK(message("thing{size = 1, nmae = 'a', colur = 1, zzz = 0}") ==
+        "thing: unknown fields 'colur' (did you mean 'colour'?), 'nmae' (did you mean 'name'?), 'zzz'; "
+        "known fields: colour, count, name, on, size");
   CHECK(message("thing{name = 'a'}") == "thing: missing required field 'size' (a number)");
   CHECK(message("thing{size = 'big'}") == "thing: field 'size' must be a number, got string");
   CHECK(message("thing{size = 1, count = 1.5}") == "thing: field 'count' must be an integer, got 1.5");

@@ -447,7 +447,7 @@ TEST_CASE("a results folder is not resumed after a module the curriculum require
 }
 
 TEST_CASE("a failing trial is recorded and does not lose the others", "[report][run]") {
-  Fixture f("fail", "obstacles = 99");  // the cluttered scenario allows at most 12 obstacles
+  Fixture f("fail", "obstacles = 99");  // the cluttered scenario allows at most 8 obstacles
   std::string log;
   CHECK(f.run("out", 2, 0, &log) == 1);
   INFO(log);

@@ -321,25 +321,40 @@ TEST_CASE("scenario parameters", "[scenario]") {
     s.set_param("obstacles", "0");
     CHECK(s.generate(3).obstacles.empty());
   }
-  SECTION("an unknown key lists the known parameters") {
+  SECTION("an unknown key lists the known parameters, the nearest named first") {
     CHECK_THROWS_WITH(s.set_param("obstcles", "2"),
                       StartsWith("scenario 'cluttered' (scenarios/cluttered.lua) has no parameter "
-                                 "'obstcles'; known parameters: base_radius (number, default 0.16; "
-                                 "min 0.05; max 1)") &&
+                                 "'obstcles' (did you mean 'obstacles'?); known parameters: base_radius "
+                                 "(number, default 0.16; min 0.05; max 1)") &&
                           Contains("goal_radius (number, default 0.25; min 0.01)") &&
-                          Contains("obstacles (integer, default 3; min 0; max 12)") &&
+                          Contains("obstacles (integer, default 3; min 0; max 8)") &&
                           Contains("shape (string, default circle; one of circle, pentagon, spade, triangle)"));
+    // A body field through --set gets its hint too (lib/body.lua's parameters are the scenario's).
+    CHECK_THROWS_WITH(s.set_param("uper_arm", "0.6"), Contains("has no parameter 'uper_arm' (did you mean 'upper_arm'?)"));
   }
-  SECTION("a value of the wrong type says what was expected") {
+  // Before, "expects at most 12" or "expects an integer": a user learnt the range one bound at a time.
+  SECTION("a value that does not fit says the whole range, the description and the default") {
     CHECK_THROWS_WITH(s.set_param("obstacles", "2.5"),
-                      "parameter 'obstacles' of scenario 'cluttered' expects an integer, got '2.5'");
+                      "parameter 'obstacles' of scenario 'cluttered' expects an integer in [0, 8], got '2.5' "
+                      "(number of obstacles; default 3)");
     CHECK_THROWS_WITH(s.set_param("mass", "heavy"),
-                      "parameter 'mass' of scenario 'cluttered' expects a number, got 'heavy'");
+                      "parameter 'mass' of scenario 'cluttered' expects a number of at least 0.01, got 'heavy' "
+                      "(object mass (kg); default 0.5)");
     CHECK_THROWS_WITH(s.set_param("shape", "hexagon"),
                       "parameter 'shape' of scenario 'cluttered' expects one of circle, pentagon, "
-                      "spade, triangle, got 'hexagon'");
+                      "spade, triangle, got 'hexagon' (the object: circle, triangle, pentagon or spade; default circle)");
     CHECK_THROWS_WITH(s.set_param("obstacles", "40"),
-                      "parameter 'obstacles' of scenario 'cluttered' expects at most 12, got '40'");
+                      "parameter 'obstacles' of scenario 'cluttered' expects an integer in [0, 8], got '40' "
+                      "(number of obstacles; default 3)");
+    CHECK_THROWS_WITH(s.set_param("eye_pixels", "3"),
+                      "parameter 'eye_pixels' of scenario 'cluttered' expects an integer in [16, 512], got '3' "
+                      "(pixels of each eye; default 128)");
+    // Several at once (--set, a stage's params): each refused, none set.
+    CHECK_THROWS_WITH(s.set_params({{"obstacles", "2"}, {"eye_pixels", "3"}, {"shap", "circle"}}),
+                      StartsWith("parameter 'eye_pixels' of scenario 'cluttered' expects an integer in [16, 512], "
+                                 "got '3' (pixels of each eye; default 128); scenario 'cluttered' "
+                                 "(scenarios/cluttered.lua) has no parameter 'shap' (did you mean 'shape'?)"));
+    CHECK(s.generate(0).obstacles.size() == 3);
     CHECK_THROWS_AS(s.set_param("mass", ""), Error);
     // A failed set_param leaves the old value.
     CHECK(s.generate(0).obstacles.size() == 3);
@@ -396,7 +411,7 @@ TEST_CASE("script mistakes are reported at the script's file:line", "[scenario]"
     const ScriptError unknown = generate_error(s);
     CHECK(unknown.line == 8);
     CHECK(unknown.message ==
-          "world:object: unknown field 'mas'; known fields: angular_viscosity, colour, "
+          "world:object: unknown field 'mas' (did you mean 'mass'?); known fields: angular_viscosity, colour, "
           "friction_force, friction_torque, mass, name, shape, surface_friction, theta, "
           "viscosity, x, y");
     s.set_param("mode", "type");
@@ -527,6 +542,29 @@ TEST_CASE("check_scenario accepts the shipped scenarios and the documented examp
   const auto broken = check_scenario("tests/scripts/bad_syntax.lua");
   REQUIRE(broken.size() == 1);
   CHECK_THAT(broken[0], StartsWith("tests/scripts/bad_syntax.lua:5:"));
+}
+
+// Before, roger check tried every choice but no range's end: a world of 12 obstacles that had no
+// room for the ninth passed the check and failed in training.
+TEST_CASE("check_scenario tries each numeric range's ends and says which value failed", "[scenario]") {
+  const std::string path = "/tmp/roger_check_ends.lua";
+  std::ofstream(path) << "return {\n"
+                         "  params = { boxes = { default = 2, min = 0, max = 9 }, gap = { default = 0.5, min = 0.25, max = 1.5 } },\n"
+                         "  generate = function(world, rng, p)\n"
+                         "    world:arena{ xmin = -1, xmax = 1, ymin = -1, ymax = 1 }\n"
+                         "    world:robot{ x = 0, y = 0 }\n"
+                         "    if p.boxes > 8 then error('no room for box ' .. p.boxes) end\n"
+                         "  end,\n}\n";
+  std::vector<std::string> ends;
+  const auto problems = check_scenario(path, 2, {}, &ends);
+  std::remove(path.c_str());
+  CHECK(problems.empty());  // the defaults and the choices are sound
+  REQUIRE(ends.size() == 1);  // boxes=0, gap=0.25 and gap=1.5 build
+  CHECK_THAT(ends[0], StartsWith("boxes=9 (its max), seed 0: /tmp/roger_check_ends.lua:6: no room for box 9"));
+  // Without the out-vector, the ends are not tried (as the curriculum's checks call it).
+  CHECK(check_scenario("cluttered").empty());
+  CHECK(numeric_ends(ScenarioParam{"n", ParamType::kInteger, "3", "3", "", {}, 0.5, 12.5}) ==
+        std::vector<std::pair<std::string, std::string>>{{"1", "min"}, {"12", "max"}});
 }
 
 TEST_CASE("generated worlds go through the physics without tripping Box2D", "[scenario]") {

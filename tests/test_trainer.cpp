@@ -20,6 +20,7 @@
 
 #include "batch/explain.h"
 #include "batch/trainer.h"
+#include "core/fileio.h"
 #include "control/agent.h"
 #include "script/curriculum/curriculum.h"
 #include "script/scenario/scenario.h"
@@ -100,6 +101,78 @@ TEST_CASE("the same seed gives the same learning curve and policy", "[trainer]")
   o.seed = 12;
   const TrainResult c = train_stage(o);
   CHECK(c.episodes[0].episode.seed != a.episodes[0].episode.seed);
+}
+
+// Before, a stage always began from initial_q: a run could not go on from a table learned earlier.
+TEST_CASE("roger train --init starts the table from a policy learned earlier", "[trainer]") {
+  const test::TempDir tmp("roger_trainer_init");
+  TrainOptions o;
+  o.curriculum = "paper";
+  o.stage = "SG";
+  o.context = "DC1";
+  o.seed = 1;
+  const TrainResult dc1 = train_stage(o);
+  const std::string file = (tmp.path / "dc1.json").string();
+  write_file_atomic(file, train_policy_json(dc1).dump(), "test");
+  o.context = "DC2";
+  const TrainResult cold = train_stage(o);
+  o.init_file = file;
+  const TrainResult warm = train_stage(o);
+  REQUIRE(warm.init);
+  CHECK(warm.init->shared == std::vector<std::string>{"phi3", "Phi6", "Phi7"});
+  CHECK(warm.init->dropped == std::vector<std::string>{"phi1", "phi4 <| phi2"});
+  // DC1's values over DC2's actions: the deterministic engine reaches the threshold in 10 episodes
+  // instead of 20 (a warm start that carried nothing would take the cold run's 20).
+  CHECK(cold.to_threshold.episodes == 20);
+  CHECK(warm.to_threshold.episodes == 10);
+  const nlohmann::json summary = train_summary_json(warm);
+  CHECK(summary["init"]["file"] == file);
+  CHECK(summary["init"]["shared"].size() == 3);
+  CHECK(train_policy_json(warm)["extra"]["init"] == summary["init"]);
+  CHECK_FALSE(train_summary_json(cold).contains("init"));
+  // A table sharing no action with the context is refused, naming both sets.
+  o.stage = "T";
+  o.context = "DC6";
+  CHECK_THROWS_WITH(train_stage(o), Catch::Matchers::Contains("dc1.json: its table shares no action with this "
+                                                              "context's (its actions: phi1, phi3, phi4 <| phi2, Phi6, Phi7;"));
+}
+
+// init = {stage = ..., context = ...} in a context: that context is trained first with the same
+// seed, and its table is where this one starts.
+TEST_CASE("a context's init trains that context first and starts from its table", "[trainer]") {
+  const test::TempDir tmp("roger_trainer_ctx_init");
+  std::ofstream(tmp.path / "init.lua")
+      << "local SG = require('lib.paper_stages').stages{}\n"
+         "local p = require('lib.skills').primitives()\n"
+         "return { stages = { roger.stage{ name = 'S', time_limit = SG.time_limit, absorbing = SG.absorbing,\n"
+         "  budget = SG.budget, checkpoints = SG.checkpoints, contexts = {\n"
+         "    { name = 'Small', actions = SG.contexts[3].actions },\n"
+         "    { name = 'Big', actions = SG.contexts[2].actions, init = { context = 'Small' } } } } } }\n";
+  TrainOptions o;
+  o.curriculum = (tmp.path / "init.lua").string();
+  o.stage = "S";
+  o.context = "Big";
+  o.seed = 1;
+  const TrainResult r = train_stage(o);
+  REQUIRE(r.init);
+  REQUIRE(r.init_trained);
+  const nlohmann::json j = train_summary_json(r)["init"];
+  CHECK(j["stage"] == "S");
+  CHECK(j["context"] == "Small");
+  CHECK(j["seed"] == 1);
+  CHECK_FALSE(j.contains("file"));
+  CHECK(j["totals"]["episodes"].get<int>() > 0);
+  // The same as --init with the policy that context learns with that seed.
+  o.context = "Small";
+  const std::string file = (tmp.path / "small.json").string();
+  write_file_atomic(file, train_policy_json(train_stage(o)).dump(), "test");
+  o.context = "Big";
+  o.init_file = file;
+  const TrainResult same = train_stage(o);
+  CHECK(same.to_threshold.episodes == r.to_threshold.episodes);
+  CHECK(same.final_eval.success_rate == r.final_eval.success_rate);
+  for (int s = 0; s < r.q->states(); ++s)
+    for (int a = 0; a < r.q->actions(); ++a) CHECK(r.q->value(s, a) == same.q->value(s, a));
 }
 
 TEST_CASE("roger train writes every file and eval --policy reproduces its final evaluation", "[trainer][cli]") {

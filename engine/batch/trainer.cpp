@@ -82,9 +82,8 @@ Scenario batch_detail::make_scenario(const CurriculumStage& stage, const Curricu
                        const SandboxLimits& limits, std::vector<std::pair<std::string, std::string>>* used) {
   const bool own = name.empty() || name == stage.scenario;
   Scenario s = Scenario::load(own ? stage.scenario : name, limits);
-  if (own)
-    for (const auto& [k, v] : stage.scenario_params(context)) s.set_param(k, v);
-  for (const auto& [k, v] : sets) s.set_param(k, v);
+  if (own) s.set_params(stage.scenario_params(context));
+  s.set_params(sets);
   if (used)
     for (const auto& p : s.params()) used->push_back({p.name, p.value});
   return s;
@@ -167,6 +166,7 @@ GreedyEval greedy_eval(StageRun& run, QTable& q, const EvalWorlds& worlds, const
     const EvalCache::Kept& done = kept ? *kept : cache ? cache->by_seed[seed] = std::move(fresh) : fresh;
     const TrainingEpisode& ep = done.episode;
     g.successes += ep.success;
+    if (!ep.success) g.failed_seeds.push_back(seed);
     rewards.push_back(ep.reward);
     time += ep.sim_seconds;
     g.sortable = std::max(g.sortable, ep.objects_sortable);
@@ -427,6 +427,27 @@ TrainResult train_stage(const TrainOptions& options) {
   cur.set_world(&run.agent.world());  // the Lua callbacks' `world`
   res.scenario = run.scenario.name();
   res.q = std::make_shared<QTable>(res.psi, stage.learner);
+  // A warm start: the table learned earlier (--init, else the context's init trained first with
+  // the same seed), over the actions the two share.
+  if (!options.init_file.empty()) {
+    res.init.emplace();
+    res.q = std::make_shared<QTable>(
+        warm_start_table(res.psi, stage.learner, QTable::load(options.init_file, {}), options.init_file, &*res.init));
+  } else if (!ctx.init_context.empty()) {
+    TrainOptions sub = options;
+    sub.stage = ctx.init_stage;
+    sub.context = ctx.init_context;
+    sub.sets.clear();  // that context's own task, as for a learned skill trained first
+    sub.keep_episodes = false;
+    const TrainResult first = train_stage(sub);
+    res.init.emplace();
+    res.init_trained = first.totals;
+    res.init_reached = first.reached;
+    res.init_from = {ctx.init_stage, ctx.init_context};
+    res.q = std::make_shared<QTable>(warm_start_table(
+        res.psi, stage.learner, *first.q,
+        "stage '" + ctx.init_stage + "', context '" + ctx.init_context + "' (init, trained first)", &*res.init));
+  }
   QTable& q = *res.q;
   const int budget = stage.budget_episodes;
   const CheckpointSpec& cp = stage.checkpoints;
@@ -511,6 +532,24 @@ TrainResult train_stage(const TrainOptions& options) {
   return res;
 }
 
+// Where a warm-started table came from, as the summary and the policy file record it.
+namespace {
+
+nlohmann::json warm_start_json(const TrainResult& r) {
+  const WarmStart& w = *r.init;
+  nlohmann::json j = {{"shared", w.shared}, {"fresh", w.fresh}, {"dropped", w.dropped},
+                      {"states_with_values", w.states_with_values}};
+  if (r.init_trained) {  // the context's init, trained first with this seed
+    j.update({{"stage", r.init_from.first}, {"context", r.init_from.second}, {"seed", r.seed},
+              {"reached", r.init_reached}, {"totals", point_json(*r.init_trained)}});
+  } else {
+    j["file"] = w.source;
+  }
+  return j;
+}
+
+}  // namespace
+
 nlohmann::json train_policy_json(const TrainResult& r) {
   PolicyMetadata meta;
   meta.stage = r.stage;
@@ -522,6 +561,7 @@ nlohmann::json train_policy_json(const TrainResult& r) {
   for (const auto& s : r.skills)
     extra["skills"][s.name] = {{"stage", s.stage}, {"context", s.context}, {"file", s.file},
                                {"trained", s.trained}, {"seed", s.trained_seed}, {"policy", s.policy}};
+  if (r.init) extra["init"] = warm_start_json(r);
   meta.extra = extra;
   return r.q->to_json(meta);
 }
@@ -578,6 +618,7 @@ nlohmann::json train_summary_json(const TrainResult& r) {
     }
     j["skills"][s.name] = k;
   }
+  if (r.init) j["init"] = warm_start_json(r);
   for (const auto& [k, v] : r.params) j["params"][k] = v;
   if (r.teaches) {
     j["tasks"] = r.task_space;

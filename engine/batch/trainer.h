@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -16,6 +17,7 @@
 
 #include "learn/episode.h"
 #include "learn/learning.h"
+#include "learn/warm_start.h"
 #include "script/sandbox/lua_sandbox.h"
 
 namespace roger {
@@ -59,6 +61,9 @@ struct TrainOptions {
   // Say why in the summary (train_summary_json's "diagnosis", batch/explain.h) even when the
   // threshold was reached; a trial that did not reach it always says why.
   bool explain = false;
+  // A policy.json learned earlier (roger train --init): the Q-table starts from its values and
+  // visits over the actions the two share by name (learn/warm_start.h) instead of initial_q.
+  std::string init_file;
 };
 
 // A point of training: what had been spent when it was reached.
@@ -112,6 +117,7 @@ struct GreedyEval {
   std::vector<TrainingEpisode> runs;  // the final evaluation's episodes (for batch/explain.h)
   std::vector<EpisodeWorld> worlds;   // and their worlds
   std::vector<nlohmann::json> tasks;  // and their test tasks (null entries without a test set)
+  std::vector<uint64_t> failed_seeds; // the world seeds of the episodes that did not succeed
 };
 
 // Where a learned skill used by the trial came from.
@@ -145,6 +151,10 @@ struct TrainResult {
   double wall_s = 0.0;        // the whole trial, evaluations and skill training included
   GreedyEval final_eval;
   std::vector<SkillSource> skills;
+  std::optional<WarmStart> init;  // where the table started from (TrainOptions::init_file, a context's init)
+  std::optional<TrainPoint> init_trained;  // a context's init trained first: what it spent
+  bool init_reached = false;               // and whether it reached its threshold
+  std::pair<std::string, std::string> init_from;  // its stage and context
   std::vector<std::pair<std::string, std::string>> params;  // scenario parameters used
   // A stage that teaches (curriculum.h, CurriculumStage::teaches): its task space as the trial
   // had it (less what --set fixed), the teacher's kind and final state, the processor time its

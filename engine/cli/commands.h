@@ -64,6 +64,7 @@ struct RenderArgs {
   bool grid = false;
   std::string policy;         // with a skill script: render an episode of this policy
   std::string world;          // the scenario of that episode (default: the policy's)
+  std::vector<std::string> skills;  // with a saved policy: NAME=FILE.json, a learned skill instead of the embedded one
   double every = 0.1;         // seconds between recorded frames
 };
 
@@ -107,6 +108,7 @@ struct TrainArgs {
   bool json = false;
   std::vector<std::string> skills;
   std::vector<std::string> sets;
+  std::string init;            // a policy.json to start the Q-table from (TrainOptions::init_file)
   bool no_eval_cache = false;  // run every greedy evaluation episode (TrainOptions::eval_cache)
   bool explain = false;        // say why even when the threshold was reached (TrainOptions::explain)
   LuaLimitArgs lua;

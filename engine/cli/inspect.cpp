@@ -21,7 +21,7 @@
 namespace roger {
 
 void apply_sets(Scenario& scenario, const std::vector<std::string>& sets) {
-  for (const auto& [key, value] : split_sets(sets, "--set")) scenario.set_param(key, value);
+  scenario.set_params(split_sets(sets, "--set"));
 }
 
 std::string policy_scenario(const SkillScript::NamedPolicy& p, const std::string& chosen) {
@@ -65,6 +65,7 @@ int run_render_policy_file(const RenderArgs& a) {
   o.scenario = a.world;
   o.sets = split_sets(a.sets, "--set");
   o.first_seed = int64_t(a.seed);
+  for (const auto& [name, file] : split_sets(a.skills, "--skill")) o.skill_files[name] = file;
   const RecordedPolicyEpisode r = record_policy_episode(o, a.every);
   write_rendered_episode(a, r.spec, r.episode,
                          r.about.stage + "/" + r.about.context + " (" + a.policy + ") in " + r.about.scenario +
@@ -76,6 +77,9 @@ int run_render_policy_file(const RenderArgs& a) {
 // (for a .png path) one summary strip.
 int run_render_episode(const RenderArgs& a) {
   if (policy_is_saved_file(a.scenario, a.policy)) return run_render_policy_file(a);
+  if (!a.skills.empty())
+    throw Error("roger render: --skill replaces a learned skill of a saved policy (--policy FILE.json); policy '" +
+                a.policy + "' of " + a.scenario + " is a skill script's, which learns nothing");
   SkillScript script = SkillScript::load(a.scenario);
   const SkillScript::NamedPolicy& policy = script.policy(a.policy);
   Scenario scenario = Scenario::load(policy_scenario(policy, a.world));
@@ -97,6 +101,7 @@ int run_render_episode(const RenderArgs& a) {
 
 int command_render(const RenderArgs& a) {
   if (!a.policy.empty()) return run_render_episode(a);
+  if (!a.skills.empty()) throw Error("roger render: --skill needs --policy FILE.json (a policy saved by roger train)");
   Scenario scenario = Scenario::load(a.scenario);
   apply_sets(scenario, a.sets);
   const WorldSpec spec = scenario.generate(a.seed);
@@ -193,16 +198,26 @@ int command_check(const CheckArgs& a) {
   // A scenario is a function of its seed: try several, and build each world as an episode would.
   World world;
   for (int seed = 0; seed < a.seeds; ++seed) world.reset(scenario.generate(uint64_t(seed)));
-  // Without --set, also every declared choice of every parameter (each shape, say).
+  // Without --set, also every declared choice of every parameter (each shape, say), and each end
+  // of every declared range (the most obstacles, the longest arm): those are warnings, since an
+  // end may hold only with other parameters changed too.
+  std::vector<std::string> range_ends;
   if (a.sets.empty()) {
-    const std::vector<std::string> problems = check_scenario(a.script, 2, limits);
+    const std::vector<std::string> problems = check_scenario(a.script, 2, limits, &range_ends);
     if (!problems.empty()) {
       for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.c_str());
       return 1;
     }
+    for (const auto& w : range_ends)  // the message without Lua's traceback: the value and the line say it
+      std::fprintf(stderr, "roger: warning: at a range's end: %s\n", w.substr(0, w.find("\nstack traceback:")).c_str());
   }
+  std::string tried;
+  if (a.sets.empty())
+    tried = ", every parameter choice and range end tried" +
+            (range_ends.empty() ? std::string() : "; " + std::to_string(range_ends.size()) +
+                                                      " range end(s) could not be built (warnings above)");
   std::printf("%s: ok (scenario '%s', %d seeds generated and built%s)\n", a.script.c_str(),
-              scenario.name().c_str(), a.seeds, a.sets.empty() ? ", every parameter choice tried" : "");
+              scenario.name().c_str(), a.seeds, tried.c_str());
   return 0;
 }
 

@@ -1,4 +1,5 @@
 // learn_commands.cpp: `roger eval` (a policy over seeded episodes) and `roger train` (one trial).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -37,6 +38,34 @@ SandboxLimits sandbox_limits(const LuaLimitArgs& lua) {
 
 namespace {
 
+// An argument as a POSIX shell reads it back: as is when plain, else in single quotes.
+std::string shell_word(const std::string& s) {
+  const bool plain = !s.empty() && s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                                       "0123456789_./=:,+-@%") == std::string::npos;
+  if (plain) return s;
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+// Which worlds failed, the first few of them (all in --json), and the roger render command that
+// replays one: the same script, policy, scenario, parameters and skills, at that world seed.
+void print_failed_seeds(const EvalArgs& a, const std::vector<uint64_t>& failed) {
+  if (failed.empty()) return;
+  const size_t shown = std::min<size_t>(failed.size(), 10);
+  std::string seeds;
+  for (size_t i = 0; i < shown; ++i) seeds += (i ? ", " : "") + std::to_string(failed[i]);
+  if (failed.size() > shown) seeds += ", ... (" + std::to_string(failed.size() - shown) + " more; all in --json)";
+  std::printf("  failed seeds   %s\n", seeds.c_str());
+  std::string command = "roger render " + shell_word(a.script) + " --policy " + shell_word(a.policy);
+  if (!a.scenario.empty()) command += " --scenario " + shell_word(a.scenario);
+  for (const auto& s : a.sets) command += " --set " + shell_word(s);
+  for (const auto& s : a.skills) command += " --skill " + shell_word(s);
+  const std::string seed = std::to_string(failed.front());
+  command += " --seed " + seed + " --out episode-" + seed;
+  std::printf("  replay one     %s\n", command.c_str());
+}
+
 // eval --policy FILE.json: a policy saved by roger train, its Psi rebuilt from the curriculum.
 int run_eval_policy_file(const EvalArgs& a) {
   PolicyEvalOptions o;
@@ -53,6 +82,7 @@ int run_eval_policy_file(const EvalArgs& a) {
               a.script.c_str(), r.stage.c_str(), r.context.c_str(), a.policy.c_str(), r.scenario.c_str(),
               r.eval.episodes, static_cast<unsigned long long>(r.eval.first_seed), r.time_limit.c_str());
   std::printf("  success rate   %.1f%% (%d of %d)\n", 100.0 * r.eval.success_rate, r.eval.successes, r.eval.episodes);
+  print_failed_seeds(a, r.eval.failed_seeds);
   std::printf("  reward         %.1f +- %.1f\n", r.eval.reward_mean, r.eval.reward_std);
   std::printf("  episode time   %.2f s (mean, simulated)\n", r.eval.time_mean);
   std::string usage;
@@ -61,7 +91,7 @@ int run_eval_policy_file(const EvalArgs& a) {
   if (a.json) {
     nlohmann::json j = eval_summary_json(r.eval);
     j.update({{"script", a.script}, {"policy", a.policy}, {"stage", r.stage}, {"context", r.context},
-              {"scenario", r.scenario}});
+              {"scenario", r.scenario}, {"failed_seeds", r.eval.failed_seeds}});
     for (const auto& [k, v] : r.params) j["params"][k] = v;
     std::printf("%s\n", j.dump().c_str());
   }
@@ -89,7 +119,11 @@ int command_eval(const EvalArgs& a) {
   std::printf("roger eval: %s policy '%s' in %s, %d episodes from seed %llu, %s\n",
               script.path().c_str(), policy.name.c_str(), scenario.name().c_str(), a.episodes,
               static_cast<unsigned long long>(a.seed), limit.c_str());
+  std::vector<uint64_t> failed;
+  for (size_t i = 0; i < r.results.size(); ++i)
+    if (!r.results[i].success) failed.push_back(a.seed + i);
   std::printf("  success rate   %.1f%% (%d of %d)\n", 100.0 * r.success_rate, r.successes, r.episodes);
+  print_failed_seeds(a, failed);
   std::printf("  reward         %.1f +- %.1f\n", r.reward_mean, r.reward_std);
   std::printf("  episode time   %.2f s (mean, simulated)\n", r.time_mean);
   if (a.json) {
@@ -97,7 +131,8 @@ int command_eval(const EvalArgs& a) {
                         {"scenario", scenario.name()},  {"episodes", r.episodes},
                         {"first_seed", a.seed},          {"successes", r.successes},
                         {"success_rate", r.success_rate}, {"reward_mean", r.reward_mean},
-                        {"reward_std", r.reward_std},    {"time_mean", r.time_mean}};
+                        {"reward_std", r.reward_std},    {"time_mean", r.time_mean},
+                        {"failed_seeds", failed}};
     for (const auto& p : scenario.params()) j["params"][p.name] = p.value;
     std::printf("%s\n", j.dump().c_str());
   }
@@ -125,6 +160,7 @@ int command_train(const TrainArgs& a) {
   for (const auto& [name, file] : split_sets(a.skills, "--skill")) o.skill_files[name] = file;
   o.eval_cache = !a.no_eval_cache;
   o.explain = a.explain;
+  o.init_file = a.init;
   o.limits = sandbox_limits(a.lua);
   const TrainResult r = train_stage(o);
   write_train_outputs(r, a.out);
@@ -133,6 +169,13 @@ int command_train(const TrainArgs& a) {
               r.psi.size(), r.q->states(), r.scenario.c_str());
   for (const auto& s : r.skills)
     std::printf("  skill %s        %s\n", s.name.c_str(), skill_origin(s).c_str());
+  if (r.init) {
+    const WarmStart& w = *r.init;
+    std::printf("  init           %s: %zu of %zu actions shared, %d states with values%s%s\n", w.source.c_str(),
+                w.shared.size(), r.psi.size(), w.states_with_values,
+                w.fresh.empty() ? "" : ("; at initial_q: " + join(w.fresh)).c_str(),
+                w.dropped.empty() ? "" : ("; left out: " + join(w.dropped)).c_str());
+  }
   if (r.reached) {
     std::printf("  threshold      %.0f%% reached after %d episodes, %.1f simulated s, %lld decisions, %.2f wall s\n",
                 100 * r.threshold, r.to_threshold.episodes, r.to_threshold.sim_s,

@@ -51,6 +51,9 @@ CLI::App* add_render(CLI::App& app, RenderArgs& a) {
                 "episode of a policy.json written by roger train (a folder with frames and a replay "
                 "page, or a .png summary)");
   c->add_option("--scenario", a.world, "The episode's scenario (default: the policy's)");
+  c->add_option("--skill", a.skills,
+                "With a saved policy: a learned skill's policy NAME=FILE.json instead of the one it embeds "
+                "(repeatable), as roger eval takes it");
   c->add_option("--every", a.every, "Seconds between recorded frames")
       ->capture_default_str()->check(CLI::Range(0.02, 10.0));
   return c;
@@ -95,6 +98,9 @@ CLI::App* add_train(CLI::App& app, TrainArgs& a) {
   c->add_option("--skill", a.skills,
                 "A learned skill's policy NAME=FILE.json (repeatable; default: train its stage first)");
   c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)");
+  c->add_option("--init", a.init,
+                "A policy.json learned earlier: the Q-table starts from its values over the actions the two "
+                "share by name (a warm start), the others at initial_q");
   add_training_flags(c, a.no_eval_cache, a.explain);
   add_lua_limits(c, a.lua, "");
   return c;

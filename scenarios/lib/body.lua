@@ -4,11 +4,13 @@
 -- these parameters through body.with_params and place Roger through lib/place.lua, which reads
 -- the footprint of the body in force.
 --
---   params = body.with_params{ shape = {...}, ... },
+--   params = body.with_params{ shape = {...}, ... },     -- the paper's Roger by default, or
+--   params = body.with_params({ shape = {...} }, { upper_arm = 0.6, eye_pixels = 48 }),
 --   generate = function(world, rng, p)
 --     local b = body.of(p)          -- { body = {...}, eyes = {...} } for world:robot
 --     world:robot{ x = 1, y = 0, body = b.body, eyes = b.eyes, noise = body.noise_of(p) }
 --   end
+local param_defaults = require("lib.param_defaults")
 local body = {}
 
 -- The body's scenario parameters: the links, the base, the hands, the eyes and locked joints.
@@ -61,10 +63,15 @@ end
 body.MODERATE_NOISE = { noise_image = 10, noise_joints = 0.01, noise_base = 0.01, noise_touch = 0.1,
                         noise_effort = 0.1 }
 
--- Adds body.PARAMS to a scenario's params table and returns it.
-function body.with_params(params)
-  for name, spec in pairs(body.PARAMS) do params[name] = spec end
-  return params
+-- Adds body.PARAMS to a scenario's params table and returns it. `defaults`, if given, are the
+-- scenario's own defaults for some of them (a scenario of another body), which --set, a stage's
+-- and a context's params still override:
+--   params = body.with_params({ shape = ... }, { upper_arm = 0.6, eye_pixels = 48 }),
+-- A name the scenario's params already define is refused (it would be lost without a word), as
+-- are an unknown name and a bad default, at the scenario's line (lib/param_defaults.lua).
+function body.with_params(params, defaults)
+  local p = param_defaults.with_params(body.PARAMS, params, defaults, "body.with_params", "lib/body.lua", 2)
+  return p  -- not a tail call: the errors point at the scenario, two frames up
 end
 
 -- The world:robot fields { body = {...}, eyes = {...} } that parameters p (with body.PARAMS) ask for.

@@ -10,6 +10,7 @@
 #include <set>
 
 #include "core/fileio.h"
+#include "script/sandbox/lua_sandbox.h"  // edit_distance
 #include "script/sandbox/lua_tokens.h"
 
 namespace roger {
@@ -348,19 +349,6 @@ class Scanner {
   std::vector<PendingLocals> pending_;  // innermost last
   size_t i_ = 0;
 };
-
-// Insertions, deletions, substitutions and swaps of neighbours (pirnt -> print is one).
-size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
-  for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
-  for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
-  for (size_t i = 1; i <= a.size(); ++i)
-    for (size_t j = 1; j <= b.size(); ++j) {
-      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
-    }
-  return d[a.size()][b.size()];
-}
 
 struct ScannedFile {
   std::string shown;

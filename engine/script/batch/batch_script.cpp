@@ -17,6 +17,7 @@
 #include "core/fileio.h"
 #include "script/batch/batch_script_internal.h"
 #include "script/curriculum/curriculum.h"
+#include "script/scenario/scenario.h"
 
 namespace roger {
 
@@ -296,6 +297,13 @@ BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const 
     rd.fail(rd.line_of_key("context", e.line), what + ": run '" + e.run + "' has no context '" + e.context +
                                                    "'; its contexts are " + quoted_list(from->contexts));
   e.scenario = rd.str(ej, "scenario", what, e.line, "");
+  if (!e.scenario.empty()) {
+    try {
+      e.scenario = resolve_scenario_near(e.scenario, b.path);  // beside the batch script first, as require
+    } catch (const Error& ex) {
+      rd.fail(rd.line_of_key("scenario", e.line), what + ": " + ex.what());
+    }
+  }
   e.params = rd.params(ej, "params", what, e.line);
   e.shapes = rd.strings(ej, "shapes", what, e.line, false);
   for (const auto& s : e.shapes)

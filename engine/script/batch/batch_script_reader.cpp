@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "script/batch/batch_script_internal.h"
+#include "script/sandbox/lua_sandbox.h"  // suggestion
 
 namespace roger {
 namespace batch_detail {
@@ -93,7 +94,8 @@ void Reader::check_object(const json& j, const std::string& what, const std::vec
   if (!j.is_object()) fail(line, what + " must be a table of named fields");
   for (auto it = j.begin(); it != j.end(); ++it)
     if (std::find(known.begin(), known.end(), it.key()) == known.end())
-      fail(line_of_key(it.key(), line), what + ": unknown field '" + it.key() + "'; the fields are " + join(known));
+      fail(line_of_key(it.key(), line), what + ": unknown field '" + it.key() + "'" + suggestion(it.key(), known) +
+                                               "; the fields are " + join(known));
 }
 
 // A string field (the fallback when absent; a required one must be present and not empty).

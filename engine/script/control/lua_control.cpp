@@ -38,39 +38,12 @@ Location caller_location(lua_State* L) {
   return where;
 }
 
-// Levenshtein distance, for "did you mean" hints.
-size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diagonal = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
-}
-
 }  // namespace
 
 // Raises a Lua error with the text as is, located at the Lua caller's file:line.
 [[noreturn]] void raise(lua_State* L, const std::string& message) {
   luaL_error(L, "%s", message.c_str());
   std::abort();  // unreachable: luaL_error does not return
-}
-
-// " (did you mean 'x'?)" when one known word is within two edits of the given one.
-std::string suggestion(const std::string& given, const std::vector<std::string>& known) {
-  std::string best;
-  size_t best_distance = 3;
-  for (const auto& k : known) {
-    const size_t d = edit_distance(given, k);
-    if (d < best_distance && d < std::max(given.size(), k.size())) best = k, best_distance = d;
-  }
-  return best.empty() ? "" : " (did you mean '" + best + "'?)";
 }
 
 // The book of the state, or a Lua error when the control API is not installed.

@@ -31,9 +31,6 @@ struct Location {
   int line = 0;
 };
 
-// " (did you mean 'x'?)" when one known word is within two edits of the given one.
-std::string suggestion(const std::string& given, const std::vector<std::string>& known);
-
 // The stand-in for a controller named before it was defined. It behaves as the controller it is
 // bound to when the script finishes loading; until then (or if never bound) it has no reference.
 class NameReference final : public StandIn {

@@ -60,9 +60,10 @@ int l_stage(lua_State* L) {
     Book& book = book_of(L);
     CurriculumStage st;
     LuaCallback a, r, t;
-    parse_stage(L, 1, st, a, r, t);
     const auto [file, line] = caller(L);
+    parse_stage(L, 1, st, a, r, t, file);
     st.file = file, st.line = line;
+    curriculum_detail::check_stage_params(st);
     book.tables[lua_topointer(L, 1)] = book.stages.size();
     book.stages.push_back(std::move(st));
     book.absorbing_fns.push_back(a);
@@ -201,14 +202,33 @@ CurriculumStage take_stage(lua_State* L, const Book& book, const std::string& di
     lua_getfield(L, -1, "name");
     line = lua_type(L, -1) == LUA_TSTRING ? line_of_stage(text, lua_tostring(L, -1)) : 0;
     lua_pop(L, 1);
-    parse_stage(L, -1, st, a, r, teacher);
+    parse_stage(L, -1, st, a, r, teacher, display);
     st.file = display, st.line = line;
+    curriculum_detail::check_stage_params(st);
   }
   return st;
 }
 
 // Across stages: a skill is yielded by one stage only, and a learned skill must come from an
 // earlier stage.
+// A context's init names a context written before it (an earlier stage's, or an earlier one of its
+// own stage), so that training it first never loops.
+void check_init_order(const std::vector<CurriculumStage>& stages) {
+  std::vector<std::string> before;  // "stage/context" of the contexts written so far
+  for (const auto& st : stages)
+    for (const auto& ctx : st.contexts) {
+      if (!ctx.init_context.empty()) {
+        const std::string target = ctx.init_stage + "/" + ctx.init_context;
+        if (std::find(before.begin(), before.end(), target) == before.end())
+          throw ScriptError(st.where(ctx.name) + ": init = {stage = '" + ctx.init_stage + "', context = '" +
+                                ctx.init_context + "'} names no context written before this one; those are: " +
+                                (before.empty() ? std::string("none") : join(before)),
+                            st.file, st.line, "");
+      }
+      before.push_back(st.name + "/" + ctx.name);
+    }
+}
+
 void check_learned_order(const std::vector<CurriculumStage>& stages) {
   std::map<std::string, size_t> produced;
   for (size_t i = 0; i < stages.size(); ++i) {
@@ -307,6 +327,7 @@ Curriculum Curriculum::load(const std::string& path_in, const SandboxLimits& lim
     }
   });
   check_learned_order(impl.stages);
+  check_init_order(impl.stages);
   return cur;
 }
 

@@ -60,6 +60,9 @@ struct CurriculumContext {
   // Scenario parameters of this context, over the stage's (a developmental context that restricts
   // the body or the senses: eyes of 32 pixels, locked elbows), sorted by key.
   std::vector<std::pair<std::string, std::string>> params;
+  // init = {stage = ..., context = ...}: the Q-table starts from that context's, trained first
+  // with the same seed (a warm start, learn/warm_start.h); empty: from initial_q.
+  std::string init_stage, init_context;
 };
 
 // A stage's test set (field `test`): the tasks every greedy evaluation runs, one episode each in

@@ -35,9 +35,10 @@ struct LuaCallback {
 
 // Reads a stage table at `index` into `st`, raising Lua errors "stage 'X': ..." (at the caller's
 // file:line when called from Lua). Functions given for absorbing, reward and teacher are kept in
-// the registry.
+// the registry. `naming_file` is the file the stage is written in (as messages show it): its
+// `scenario`, when a path, is looked for beside it first (resolve_scenario_near).
 void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& absorb_fn, LuaCallback& reward_fn,
-                 LuaCallback& teacher_fn);
+                 LuaCallback& teacher_fn, const std::string& naming_file);
 
 // ---- teachers (curriculum_tasks.cpp, curriculum_teacher.cpp)
 
@@ -55,6 +56,17 @@ void parse_teaching(lua_State* L, const LuaFields& f, CurriculumStage& st, LuaCa
 // A teacher that calls the stage's Lua function(history, rng) before each training episode.
 std::unique_ptr<Teacher> make_lua_teacher(LuaSandbox& sandbox, const CurriculumStage& stage, const LuaCallback& fn,
                                           const TaskSpace& space, uint64_t seed);
+
+// ---- parameters (curriculum_params.cpp)
+
+// The line where the stage's `params` (or, with a context's name, that context's) is written in
+// the stage's file, read from its text from the stage's line; the nearest line known (the
+// context's, `contexts`, the stage's) when it is not written there.
+int params_line(const CurriculumStage& st, const std::string& context);
+// Checks the stage's params and each context's against the stage's scenario (once the stage's
+// file and line are known): every parameter its scenario would refuse, at once, as a ScriptError
+// at the line of the params table that gives it. Loads the scenario only when there are params.
+void check_stage_params(const CurriculumStage& st);
 
 }  // namespace curriculum_detail
 }  // namespace roger

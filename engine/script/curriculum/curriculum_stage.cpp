@@ -50,12 +50,13 @@ void read_params_table(lua_State* L, int index, const std::string& where,
 struct ContextEntry {
   std::string name;
   int actions = 0, params = 0;
+  std::string init_stage, init_context;  // init = {stage = ..., context = ...} (stage: this one's)
 };
 
 // A context given as a table {name = ..., actions = {...}, params = {...}} (`named`) or, in the
 // map form, {actions = {...}, params = {...}} (a table with a field 'actions'): pushes its fields.
 void read_context_fields(lua_State* L, int e, const std::string& ctx, bool named, ContextEntry& entry) {
-  std::vector<std::string> known = {"actions", "params"};
+  std::vector<std::string> known = {"actions", "init", "params"};
   if (named) known.push_back("name");
   LuaFields f(L, e, ctx, known);
   if (named) {
@@ -64,6 +65,15 @@ void read_context_fields(lua_State* L, int e, const std::string& ctx, bool named
   }
   if (f.push("actions") == LUA_TNIL) f.fail("missing required field 'actions' (the list of controllers, Psi)");
   entry.actions = lua_gettop(L);
+  if (f.push("init") == LUA_TTABLE) {
+    LuaFields init(L, lua_gettop(L), ctx + ": init", {"context", "stage"});
+    entry.init_stage = init.string("stage", "");
+    entry.init_context = init.string("context");
+    if (entry.init_context.empty()) init.fail("field 'context' must name a context, e.g. init = {stage = 'SG', context = 'DC2'}");
+  } else if (!lua_isnil(L, -1)) {
+    f.wrong_type("init", "a table {stage = ..., context = ...} (the context whose table this one starts from)");
+  }
+  lua_pop(L, 1);
   if (f.push("params") == LUA_TNIL) lua_pop(L, 1);
   else entry.params = lua_gettop(L);
 }
@@ -120,7 +130,9 @@ void parse_contexts(lua_State* L, CurriculumStage& st) {
   }
   if (entries.empty()) luaL_error(L, "%s: field 'contexts' is empty: define at least one context", where.c_str());
   std::set<std::string> seen_names;
-  for (const auto& [name, idx, params_idx] : entries) {
+  for (const auto& entry : entries) {
+    const std::string& name = entry.name;
+    const int idx = entry.actions, params_idx = entry.params;
     const std::string ctx = st.where(name);
     if (!seen_names.insert(name).second) luaL_error(L, "%s: a second context named '%s'", where.c_str(), name.c_str());
     if (!lua_istable(L, idx))
@@ -128,6 +140,8 @@ void parse_contexts(lua_State* L, CurriculumStage& st) {
                  lua_describe_value(L, idx).c_str());
     CurriculumContext c;
     c.name = name;
+    c.init_stage = entry.init_context.empty() || !entry.init_stage.empty() ? entry.init_stage : st.name;
+    c.init_context = entry.init_context;
     if (params_idx) read_params_table(L, params_idx, ctx, c.params);
     const lua_Integer n = lua_Integer(lua_rawlen(L, idx));
     lua_pushnil(L);
@@ -337,7 +351,7 @@ bool checkpoints_field(lua_State* L, const LuaFields& f, const char* key) {
 // Reads a stage table at `index` into `st`, raising Lua errors "stage 'X': ..." (at the caller's
 // file:line when called from Lua). Functions given for absorbing/reward are kept in the registry.
 void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& absorb_fn, LuaCallback& reward_fn,
-                 LuaCallback& teacher_fn) {
+                 LuaCallback& teacher_fn, const std::string& naming_file) {
   index = lua_absindex(L, index);
   if (!lua_istable(L, index))
     luaL_error(L, "a stage must be a table {name = ..., time_limit = ..., absorbing = ..., contexts = ...}, got %s",
@@ -352,7 +366,11 @@ void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& abso
   if (st.name.empty()) f.fail("missing required field 'name' (a string such as \"SG\")");
   st.description = f.string("description", "");
   st.scenario = f.string("scenario", "unobstructed");
-  resolve_scenario_path(st.scenario);  // lists the shipped scenarios when unknown
+  try {
+    st.scenario = resolve_scenario_near(st.scenario, naming_file);  // beside the file, as require
+  } catch (const Error& e) {
+    f.fail(std::string("field 'scenario': ") + e.what());
+  }
   read_stage_params(L, f, st);
   read_time_limit(L, f, where, st);
   read_absorbing(L, f, where, st, absorb_fn);

@@ -261,6 +261,10 @@ std::string resolve_script_path(const std::string& arg, const std::string& folde
   const bool bare = arg.find('/') == std::string::npos;
   const std::string file = fs::path(arg).extension() == ".lua" ? arg : arg + ".lua";
   if (bare && fs::is_regular_file(folder / file, ec)) return (folder / file).string();
+  // A path relative to the project (tests/scripts/x.lua, or one a script named and the loader
+  // recorded so) is the same file from any folder.
+  if (!bare && fs::path(arg).is_relative() && fs::is_regular_file(project_root() / arg, ec))
+    return (project_root() / arg).string();
   std::vector<std::string> shipped;
   for (const auto& entry : fs::directory_iterator(folder, ec))
     if (entry.path().extension() == ".lua" && (!accept || accept(entry.path().string())))
@@ -268,7 +272,7 @@ std::string resolve_script_path(const std::string& arg, const std::string& folde
   std::sort(shipped.begin(), shipped.end());
   throw Error("no " + kind + " '" + arg + "': " +
               (bare ? "not a file, and " + folder_name + "/" + file + " does not exist"
-                    : std::string(fs::exists(arg, ec) ? "not a regular file" : "no such file")) +
+                    : std::string(fs::exists(arg, ec) ? "not a regular file" : "no such file here or in the project")) +
               (shipped.empty() ? "" : "; " + list_label + ": " + join(shipped)));
 }
 

@@ -185,6 +185,15 @@ class LuaFields {
   std::string context_;
 };
 
+// Edits from a to b: insertions, deletions, substitutions, and swaps of neighbours (pirnt -> print
+// is one), for the hints of messages.
+size_t edit_distance(const std::string& a, const std::string& b);
+
+// " (did you mean 'x'?)" when a known name is within two edits of the given one (and nearer than
+// its length), the nearest first in `known`'s order; else "". Every message refusing an unknown
+// name (a field, a parameter, a controller) adds it.
+std::string suggestion(const std::string& given, const std::vector<std::string>& known);
+
 // Converts the value at `index` into a colour, or raises "context: ..." at the caller's line.
 Colour lua_to_colour(lua_State* L, int index, const std::string& context);
 
@@ -202,7 +211,7 @@ class LuaStackGuard {
 };
 
 // The file a script argument names: the path itself if it is a file, else
-// <project>/<folder>/<name>.lua for a bare name. Otherwise a roger::Error: "no <kind> '<arg>': ..."
+// <project>/<folder>/<name>.lua for a bare name, or <project>/<path> for a relative path. Otherwise a roger::Error: "no <kind> '<arg>': ..."
 // ending with "; <list_label>: " and the scripts of that folder that `accept` takes (every .lua
 // file when it is empty).
 std::string resolve_script_path(const std::string& arg, const std::string& folder,

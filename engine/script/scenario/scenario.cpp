@@ -3,6 +3,7 @@
 #include "script/scenario/scenario.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <functional>
 #include <optional>
@@ -11,6 +12,7 @@
 #include <lua.hpp>
 
 #include "core/error.h"
+#include "core/fileio.h"
 #include "core/shape.h"
 #include "script/scenario/scenario_internal.h"
 
@@ -43,7 +45,7 @@ void Scenario::Impl::read_table(lua_State* L) {
     const std::string key = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "";
     if (std::find(known.begin(), known.end(), key) == known.end())
       throw error("the scenario table has an unknown field " +
-                  (key.empty() ? std::string("(a non-string key)") : "'" + key + "'") +
+                  (key.empty() ? std::string("(a non-string key)") : "'" + key + "'" + suggestion(key, known)) +
                   "; known fields: " + join(known));
   }
   auto text_field = [&](const char* key, const std::string& fallback) {
@@ -103,21 +105,47 @@ std::vector<ScenarioParam> Scenario::params() const {
   return out;
 }
 
-void Scenario::set_param(const std::string& key, const std::string& value) {
-  auto it = impl_->params.find(key);
-  if (it == impl_->params.end()) {
-    std::vector<std::string> known;
-    for (const auto& [k, slot] : impl_->params) known.push_back(describe_param(slot.info));
-    throw Error("scenario '" + impl_->name + "' (" + impl_->path + ") has no parameter '" + key +
-                "'; " + (known.empty() ? "it has no parameters" : "known parameters: " + join(known, "; ")));
+// The slot `key` would hold with `value` (in `out`), or why it cannot: an unknown key lists the
+// known parameters (the nearest first); a value that does not fit says what the parameter takes,
+// whole, and what it is for.
+std::optional<std::string> Scenario::Impl::parse_param(const std::string& key, const std::string& value,
+                                                       ParamSlot& out) const {
+  auto it = params.find(key);
+  if (it == params.end()) {
+    std::vector<std::string> names, known;
+    for (const auto& [k, slot] : params) names.push_back(k), known.push_back(describe_param(slot.info));
+    return "scenario '" + name + "' (" + path + ") has no parameter '" + key + "'" + suggestion(key, names) + "; " +
+           (known.empty() ? "it has no parameters" : "known parameters: " + join(known, "; "));
   }
-  ParamSlot updated = it->second;
+  out = it->second;
   std::string why;
-  if (!parse_slot(updated, value, why))
-    throw Error("parameter '" + key + "' of scenario '" + impl_->name + "' expects " + why +
-                ", got '" + value + "'");
-  updated.info.value = slot_text(updated);
-  it->second = std::move(updated);
+  if (!parse_slot(out, value, why)) {
+    const ScenarioParam& p = it->second.info;
+    return "parameter '" + key + "' of scenario '" + name + "' expects " + why + ", got '" + value + "' (" +
+           (p.description.empty() ? "" : p.description + "; ") + "default " + p.default_value + ")";
+  }
+  out.info.value = slot_text(out);
+  return std::nullopt;
+}
+
+void Scenario::set_param(const std::string& key, const std::string& value) {
+  ParamSlot updated;
+  if (const auto why = impl_->parse_param(key, value, updated)) throw Error(*why);
+  impl_->params[key] = std::move(updated);
+}
+
+std::vector<std::string> Scenario::param_problems(const std::vector<std::pair<std::string, std::string>>& values) const {
+  std::vector<std::string> problems;
+  ParamSlot unused;
+  for (const auto& [key, value] : values)
+    if (const auto why = impl_->parse_param(key, value, unused)) problems.push_back(*why);
+  return problems;
+}
+
+void Scenario::set_params(const std::vector<std::pair<std::string, std::string>>& values) {
+  const std::vector<std::string> problems = param_problems(values);
+  if (!problems.empty()) throw Error(join(problems, "; "));
+  for (const auto& [key, value] : values) set_param(key, value);
 }
 
 WorldSpec Scenario::generate(uint64_t seed) {
@@ -170,31 +198,79 @@ std::string resolve_scenario_path(const std::string& arg) {
   return resolve_script_path(arg, "scenarios", "scenario", "shipped scenarios");
 }
 
-std::vector<std::string> check_scenario(const std::string& path, int seeds, const SandboxLimits& limits) {
+std::string resolve_scenario_near(const std::string& name, const std::string& naming_file) {
+  std::error_code ec;
+  const fs::path written(name);
+  const bool path_like = written.extension() == ".lua" || name.find('/') != std::string::npos;
+  if (!path_like || written.is_absolute() || naming_file.empty()) return (void)resolve_scenario_path(name), name;
+  // The naming file as shown in messages: relative to the current folder, or to the project.
+  fs::path file(naming_file);
+  if (!fs::is_regular_file(file, ec)) file = project_root() / naming_file;
+  const fs::path near = (file.parent_path() / written).lexically_normal();
+  if (!fs::is_regular_file(file, ec) || !fs::is_regular_file(near, ec)) {
+    try {
+      resolve_scenario_path(name);
+    } catch (const Error& e) {
+      const std::string beside = fs::is_regular_file(file, ec) ? near.string() + ", then " : "";
+      throw Error("no scenario '" + name + "' (named in " + naming_file + "): looked at " + beside + name +
+                  " from the current folder, then in the project; " + e.what());
+    }
+    return name;
+  }
+  if (fs::is_regular_file(written, ec) && fs::equivalent(written, near, ec)) return name;  // the same file
+  // Recorded so that it is found again from any folder: relative to the project when inside it.
+  const fs::path real = fs::weakly_canonical(near, ec), root = fs::weakly_canonical(project_root(), ec);
+  const fs::path rel = real.lexically_relative(root);
+  const bool in_project = !rel.empty() && *rel.begin() != "..";
+  return in_project ? rel.generic_string() : real.string();
+}
+
+std::vector<std::string> check_scenario(const std::string& path, int seeds, const SandboxLimits& limits,
+                                        std::vector<std::string>* range_ends) {
   std::vector<std::string> problems;
   std::set<std::string> seen;  // a mistake that every seed hits is reported once
-  auto attempt = [&](const std::string& what, const std::function<void()>& body) {
+  auto attempt = [&](std::vector<std::string>& into, const std::string& what, const std::function<void()>& body) {
     try {
       body();
     } catch (const std::exception& e) {
-      if (seen.insert(e.what()).second) problems.push_back(what.empty() ? e.what() : what + ": " + e.what());
+      if (seen.insert(e.what()).second) into.push_back(what.empty() ? e.what() : what + ": " + e.what());
     }
   };
   std::optional<Scenario> scenario;
-  attempt("", [&]() { scenario = Scenario::load(path, limits); });
+  attempt(problems, "", [&]() { scenario = Scenario::load(path, limits); });
   if (!scenario) return problems;
   for (int seed = 0; seed < seeds; ++seed)
-    attempt("seed " + std::to_string(seed), [&]() { scenario->generate(uint64_t(seed)); });
+    attempt(problems, "seed " + std::to_string(seed), [&]() { scenario->generate(uint64_t(seed)); });
+  // One parameter at a time, the others at their defaults: each choice, and (when asked) each end
+  // of a numeric range, where placements and bodies fail first.
   for (const auto& p : scenario->params()) {
     for (const auto& choice : p.choices) {
-      attempt(p.name + "=" + choice + ", seed 0", [&]() {
+      attempt(problems, p.name + "=" + choice + ", seed 0", [&]() {
         scenario->set_param(p.name, choice);
         scenario->generate(0);
       });
     }
-    if (!p.choices.empty()) scenario->set_param(p.name, p.value);
+    if (range_ends) {
+      for (const auto& [bound, what] : numeric_ends(p)) {
+        attempt(*range_ends, p.name + "=" + bound + " (its " + what + "), seed 0", [&]() {
+          scenario->set_param(p.name, bound);
+          scenario->generate(0);
+        });
+      }
+    }
+    scenario->set_param(p.name, p.value);
   }
   return problems;
+}
+
+std::vector<std::pair<std::string, std::string>> numeric_ends(const ScenarioParam& p) {
+  std::vector<std::pair<std::string, std::string>> ends;
+  if (!p.choices.empty() || (p.type != ParamType::kNumber && p.type != ParamType::kInteger)) return ends;
+  const bool integer = p.type == ParamType::kInteger;
+  auto text = [&](double v) { return integer ? std::to_string(int64_t(v)) : format_number(v); };
+  if (p.min) ends.push_back({text(integer ? std::ceil(*p.min) : *p.min), "min"});
+  if (p.max) ends.push_back({text(integer ? std::floor(*p.max) : *p.max), "max"});
+  return ends;
 }
 
 }  // namespace roger

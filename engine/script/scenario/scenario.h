@@ -13,6 +13,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "script/sandbox/lua_sandbox.h"
@@ -61,6 +62,12 @@ class Scenario {
   // Throws roger::Error for an unknown key (listing the known ones), a value of the wrong type or
   // one outside the declared choices or bounds.
   void set_param(const std::string& key, const std::string& value);
+  // Sets several at once (--set, a stage's params), or sets none and throws roger::Error naming
+  // every one that set_param would refuse, joined by "; ".
+  void set_params(const std::vector<std::pair<std::string, std::string>>& values);
+  // What set_param would say of each of `values`, in order (empty when all would be taken);
+  // changes nothing.
+  std::vector<std::string> param_problems(const std::vector<std::pair<std::string, std::string>>& values) const;
 
   // Runs the generator for a seed with a fresh Rng(seed) and the current parameters, and returns
   // the validated world. Throws ScriptError (file:line) on any problem. Not thread-safe: use one
@@ -91,11 +98,30 @@ void lua_push_rng(lua_State* L, uint64_t seed);
 // scenarios when neither exists.
 std::string resolve_scenario_path(const std::string& name_or_path);
 
-// For `roger check`: loads a scenario and generates worlds for seeds 0..seeds-1, and one world for
-// every choice of every parameter that declares choices. Returns the problems found (empty when
-// the scenario is sound); each is a complete message with file:line where known.
+// The scenario a script names (a stage's `scenario`, a batch script's evaluation's), as the
+// loader should record it: a path (x.lua, worlds/x.lua) is looked for first beside the file that
+// names it (`naming_file`, as messages show it), as `require` looks beside the script, then as
+// resolve_scenario_path finds it (from the current folder, then in the project); a bare name is
+// one of the project's scenarios. Returns `name` itself unless the file beside differs from what
+// `name` gives from here; then its path relative to the project (absolute outside it). Throws
+// roger::Error listing where it looked.
+std::string resolve_scenario_near(const std::string& name, const std::string& naming_file);
+
+// For `roger check`: loads a scenario and generates worlds for seeds 0..seeds-1, and one world of
+// seed 0 for every choice of every parameter that declares choices, one parameter at a time (the
+// others at their defaults). Returns the problems found (empty when the scenario is sound); each
+// is a complete message with file:line where known, after the value that failed.
+// With `range_ends`, also one world at each end (min, max) of every numeric parameter that
+// declares them; those that fail go there ("obstacles=12 (its max), seed 0: ..."), apart from the
+// problems: a range's end often holds only with other parameters changed too (a longer arm in a
+// larger arena), so it is a warning for the author, not a fault of the scenario as declared.
 std::vector<std::string> check_scenario(const std::string& path, int seeds = 5,
-                                        const SandboxLimits& limits = {});
+                                        const SandboxLimits& limits = {},
+                                        std::vector<std::string>* range_ends = nullptr);
+
+// The ends of a numeric parameter's declared range as the text --set takes, with "min" or "max"
+// (an integer's rounded inwards); none for other parameters.
+std::vector<std::pair<std::string, std::string>> numeric_ends(const ScenarioParam& p);
 
 // Gap between two placed shapes: the distance between them when apart, minus the penetration
 // depth when they overlap (exact for unions of convex polygons and disks).

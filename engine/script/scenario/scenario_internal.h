@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -172,6 +173,8 @@ void push_slot(lua_State* L, const ParamSlot& s);
 
 // Parses text into a slot of the slot's type; false (and `why`) when it does not fit.
 bool parse_slot(ParamSlot& s, const std::string& text, std::string& why);
+// What a parameter takes, whole: "an integer in [0, 12]", "one of circle, spade", ...
+std::string expected_text(const ScenarioParam& p);
 
 // "name (type, default d; one of ...)", for the unknown-parameter message.
 std::string describe_param(const ScenarioParam& p);
@@ -201,6 +204,9 @@ struct Scenario::Impl {
   void read_params(lua_State* L, int index);
   // Checks the table the script returned and keeps its generator (scenario.cpp).
   void read_table(lua_State* L);
+  // The slot `key` would hold with `value` (into `out`), or why not: Scenario::set_param's message.
+  std::optional<std::string> parse_param(const std::string& key, const std::string& value,
+                                         scenario_detail::ParamSlot& out) const;
 
  private:
   // The parts of read_params (scenario_params.cpp).

@@ -43,21 +43,40 @@ void push_slot(lua_State* L, const ParamSlot& s) {
   }
 }
 
-// Parses text into a slot of the slot's type; false (and `why`) when it does not fit.
+// What a parameter takes, whole: "an integer in [0, 12]", "a number of at least 0.01", "one of
+// circle, spade", "a boolean (true or false)", "a string".
+std::string expected_text(const ScenarioParam& p) {
+  if (!p.choices.empty()) return "one of " + join(p.choices);
+  switch (p.type) {
+    case ParamType::kBoolean: return "a boolean (true or false)";
+    case ParamType::kString: return "a string";
+    case ParamType::kInteger:
+    case ParamType::kNumber: break;
+  }
+  const std::string kind = p.type == ParamType::kInteger ? "an integer" : "a number";
+  if (p.min && p.max) return kind + " in [" + format_number(*p.min) + ", " + format_number(*p.max) + "]";
+  if (p.min) return kind + " of at least " + format_number(*p.min);
+  if (p.max) return kind + " of at most " + format_number(*p.max);
+  return kind;
+}
+
+// Parses text into a slot of the slot's type; false (and `why`: what the parameter takes, whole)
+// when it does not fit.
 bool parse_slot(ParamSlot& s, const std::string& text, std::string& why) {
   const char* begin = text.c_str();
   char* end = nullptr;
   errno = 0;
+  const auto refuse = [&]() { return why = expected_text(s.info), false; };
   switch (s.info.type) {
     case ParamType::kInteger: {
       const long long v = std::strtoll(begin, &end, 10);
-      if (text.empty() || *end || errno) return why = "an integer", false;
+      if (text.empty() || *end || errno) return refuse();
       s.integer = v;
       break;
     }
     case ParamType::kNumber: {
       const double v = std::strtod(begin, &end);
-      if (text.empty() || *end || errno || !std::isfinite(v)) return why = "a number", false;
+      if (text.empty() || *end || errno || !std::isfinite(v)) return refuse();
       s.number = v;
       break;
     }
@@ -66,7 +85,7 @@ bool parse_slot(ParamSlot& s, const std::string& text, std::string& why) {
       std::transform(t.begin(), t.end(), t.begin(), ::tolower);
       if (t == "true" || t == "1" || t == "yes" || t == "on") s.flag = true;
       else if (t == "false" || t == "0" || t == "no" || t == "off") s.flag = false;
-      else return why = "a boolean (true or false)", false;
+      else return refuse();
       break;
     }
     case ParamType::kString: s.text = text; break;
@@ -74,11 +93,10 @@ bool parse_slot(ParamSlot& s, const std::string& text, std::string& why) {
   const std::string canonical = slot_text(s);
   if (!s.info.choices.empty() &&
       std::find(s.info.choices.begin(), s.info.choices.end(), canonical) == s.info.choices.end())
-    return why = "one of " + join(s.info.choices), false;
+    return refuse();
   const double value = s.info.type == ParamType::kInteger ? double(s.integer) : s.number;
   if (s.info.type == ParamType::kNumber || s.info.type == ParamType::kInteger) {
-    if (s.info.min && value < *s.info.min) return why = "at least " + format_number(*s.info.min), false;
-    if (s.info.max && value > *s.info.max) return why = "at most " + format_number(*s.info.max), false;
+    if ((s.info.min && value < *s.info.min) || (s.info.max && value > *s.info.max)) return refuse();
   }
   return true;
 }

@@ -32,138 +32,49 @@ namespace {
 // scanned for the table constructors instead (tokens, with strings, comments and blocks handled),
 // and each key remembers its line.
 
-// The keys of the table constructors in a source text, and which constructor is returned.
+// The keys of the table constructors in a source text (LuaTableMap), and which constructor is
+// returned.
 class SourceMap {
  public:
-  explicit SourceMap(const std::string& text) {
-    const std::vector<LuaToken> t = lua_tokenize(text);
-    enum Frame { kBrace, kParen, kBracket, kBlock };
-    std::vector<std::pair<Frame, int>> stack;  // frame and, for braces, its node
-    int link_entry_node = -1, link_entry = -1;  // an entry whose value is the next token
-    for (size_t i = 0; i + 1 < t.size(); ++i) {
-      const LuaToken& tok = t[i];
-      const bool in_brace = !stack.empty() && stack.back().first == kBrace;
-      const int here = in_brace ? stack.back().second : -1;
-      const bool value_follows = link_entry >= 0 && i > 0 && t[i - 1].text == "=" && t[i - 1].type == LuaToken::kOp;
-      if (!value_follows) link_entry_node = link_entry = -1;
-      // key = value, or ["key"] = value, directly inside a constructor.
-      if (in_brace && tok.type == LuaToken::kName && !keyword(tok.text) && t[i + 1].type == LuaToken::kOp &&
-          t[i + 1].text == "=") {
-        add_entry(here, tok.text, tok.line, t, i + 2, link_entry_node, link_entry);
-        ++i;
-        continue;
-      }
-      if (in_brace && tok.type == LuaToken::kOp && tok.text == "[" && i + 3 < t.size() &&
-          t[i + 1].type == LuaToken::kString && t[i + 2].text == "]" && t[i + 3].text == "=") {
-        add_entry(here, t[i + 1].text, tok.line, t, i + 4, link_entry_node, link_entry);
-        i += 3;
-        continue;
-      }
-      if (tok.type == LuaToken::kOp && tok.text == "{") {
-        const int node = int(nodes_.size());
-        nodes_.push_back(Node{tok.line, {}});
-        if (link_entry >= 0 && t[i - 1].text == "=") {
-          nodes_[size_t(link_entry_node)].entries[size_t(link_entry)].child = node;
-        } else if (i >= 2 && t[i - 1].text == "=" && t[i - 2].type == LuaToken::kName && !in_brace) {
-          variables_.emplace(t[i - 2].text, node);  // local X = { ... } (the first one counts)
-        }
-        if (i >= 1 && t[i - 1].type == LuaToken::kName && t[i - 1].text == "return" && stack.empty())
-          returned_ = node;
-        stack.push_back({kBrace, node});
-        link_entry_node = link_entry = -1;
-        continue;
-      }
-      if (tok.type == LuaToken::kName && tok.text == "return" && stack.empty()) return_line_ = tok.line;
-      if (tok.type == LuaToken::kOp) {
-        if (tok.text == "(") stack.push_back({kParen, -1});
-        if (tok.text == "[") stack.push_back({kBracket, -1});
-        if ((tok.text == "}" || tok.text == ")" || tok.text == "]") && !stack.empty()) stack.pop_back();
-      } else if (tok.type == LuaToken::kName) {
-        if (tok.text == "function" || tok.text == "do" || tok.text == "if" || tok.text == "repeat")
-          stack.push_back({kBlock, -1});
-        if ((tok.text == "end" || tok.text == "until") && !stack.empty()) stack.pop_back();
-      }
-    }
-    if (returned_ < 0) {
-      for (size_t n = 0; n < nodes_.size() && returned_ < 0; ++n)
-        if (entry(int(n), "policies")) returned_ = int(n);
-    }
+  explicit SourceMap(const std::string& text) : map_(text) {
+    returned_ = map_.returned();
+    for (size_t n = 0; n < map_.nodes().size() && returned_ < 0; ++n)
+      if (map_.entry(int(n), "policies")) returned_ = int(n);
   }
 
   // The line of the returned table's constructor (or of the last top-level return), else 0.
-  int return_line() const { return returned_ >= 0 ? nodes_[size_t(returned_)].line : return_line_; }
+  int return_line() const { return returned_ >= 0 ? map_.nodes()[size_t(returned_)].line : map_.return_line(); }
 
   // The line of a key of the returned table, else return_line().
   int top_key(const std::string& key) const {
-    const Entry* e = entry(returned_, key);
+    const auto* e = map_.entry(returned_, key);
     return e ? e->line : return_line();
   }
 
   // Whether the returned table is written with a `policies` key.
-  bool has_policies() const { return entry(returned_, "policies") != nullptr; }
+  bool has_policies() const { return map_.entry(returned_, "policies") != nullptr; }
 
   // The line of policies[name], else of `policies`, else return_line().
   int policy(const std::string& name) const {
-    const Entry* e = entry(policies_node(), name);
+    const auto* e = map_.entry(policies_node(), name);
     return e ? e->line : top_key("policies");
   }
 
   // The line of a field of policies[name], else policy(name).
   int policy_field(const std::string& name, const std::string& field) const {
-    const Entry* p = entry(policies_node(), name);
-    const Entry* e = p ? entry(value_node(*p), field) : nullptr;
+    const auto* p = map_.entry(policies_node(), name);
+    const auto* e = p ? map_.entry(map_.value_node(*p), field) : nullptr;
     return e ? e->line : policy(name);
   }
 
  private:
-  struct Entry {
-    std::string key;
-    int line;
-    int child = -1;          // the constructor written as its value
-    std::string value_name;  // or the variable named as its value
-  };
-  struct Node {
-    int line;
-    std::vector<Entry> entries;
-  };
-
-  static bool keyword(const std::string& w) { return lua_keyword(w); }
-
-  // Records key at `line` in node; `value` is the index of the token after '='.
-  void add_entry(int node, const std::string& key, int line, const std::vector<LuaToken>& t, size_t value,
-                 int& link_node, int& link_entry) {
-    Entry e{key, line, -1, ""};
-    if (value + 1 < t.size() && t[value].type == LuaToken::kName && !keyword(t[value].text) &&
-        (t[value + 1].text == "," || t[value + 1].text == ";" || t[value + 1].text == "}"))
-      e.value_name = t[value].text;
-    nodes_[size_t(node)].entries.push_back(e);
-    link_node = node;
-    link_entry = int(nodes_[size_t(node)].entries.size()) - 1;
-  }
-
-  const Entry* entry(int node, const std::string& key) const {
-    if (node < 0) return nullptr;
-    for (const auto& e : nodes_[size_t(node)].entries)
-      if (e.key == key) return &e;
-    return nullptr;
-  }
-
-  // The constructor an entry's value was written with: inline, or a variable assigned one.
-  int value_node(const Entry& e) const {
-    if (e.child >= 0) return e.child;
-    if (auto it = variables_.find(e.value_name); !e.value_name.empty() && it != variables_.end()) return it->second;
-    return -1;
-  }
-
   int policies_node() const {
-    const Entry* e = entry(returned_, "policies");
-    return e ? value_node(*e) : -1;
+    const auto* e = map_.entry(returned_, "policies");
+    return e ? map_.value_node(*e) : -1;
   }
 
-  std::vector<Node> nodes_;
-  std::map<std::string, int> variables_;
+  LuaTableMap map_;
   int returned_ = -1;
-  int return_line_ = 0;
 };
 
 // Runs `body` on the value on top of the sandbox's stack inside a protected call. A Lua error
@@ -242,7 +153,8 @@ void check_script_keys(lua_State* L, int t, const std::vector<std::string>& know
     if (std::find(known.begin(), known.end(), key) == known.end()) {
       line = key.empty() ? map.return_line() : map.top_key(key);
       luaL_error(L, "the skill script's table has an unknown field %s; known fields: %s",
-                 (key.empty() ? "(a key that is " + lua_describe_value(L, -1) + ")" : "'" + key + "'").c_str(),
+                 (key.empty() ? "(a key that is " + lua_describe_value(L, -1) + ")"
+                              : "'" + key + "'" + suggestion(key, known)).c_str(),
                  join(known).c_str());
     }
   }
@@ -297,7 +209,8 @@ SkillScript::NamedPolicy read_policy(lua_State* L, int ps, const std::string& na
     if (std::find(fields.begin(), fields.end(), key) == fields.end()) {
       line = key.empty() ? map.policy(name) : map.policy_field(name, key);
       luaL_error(L, "%s: unknown field %s; known fields: %s", context.c_str(),
-                 (key.empty() ? "(a key that is " + lua_describe_value(L, -1) + ")" : "'" + key + "'").c_str(),
+                 (key.empty() ? "(a key that is " + lua_describe_value(L, -1) + ")"
+                              : "'" + key + "'" + suggestion(key, fields)).c_str(),
                  join(fields).c_str());
     }
   }
