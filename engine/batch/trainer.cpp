@@ -134,6 +134,7 @@ GreedyEval greedy_eval(StageRun& run, QTable& q, uint64_t first_seed, int episod
     else fresh = run.run(q, seed, 0.0, unused, false, phase, i);
     const TrainingEpisode& ep = kept ? *kept : cache ? cache->by_seed[seed] = std::move(fresh) : fresh;
     g.successes += ep.success;
+    g.outcomes += ep.success ? '1' : '0';
     rewards.push_back(ep.reward);
     time += ep.sim_seconds;
     g.sortable = std::max(g.sortable, ep.objects_sortable);
@@ -302,9 +303,9 @@ TrainResult train_stage(const TrainOptions& options) {
   EvalCache eval_cache;
   EvalCache* cache = options.eval_cache && !stage.absorbing_lua && !stage.reward_lua ? &eval_cache : nullptr;
   // One greedy evaluation, counted (every episode reused, or not).
-  auto evaluate = [&](int episodes, const std::string& phase, bool keep = false) {
+  auto evaluate = [&](int episodes, const std::string& phase, bool keep = false, uint64_t offset = 0) {
     const int reused_before = eval_cache.reused;
-    GreedyEval g = greedy_eval(run, q, cp.seeds, episodes, phase, cache, keep);
+    GreedyEval g = greedy_eval(run, q, cp.seeds + offset, episodes, phase, cache, keep);
     ++res.evals;
     res.eval_episodes += episodes;
     res.eval_episodes_reused += eval_cache.reused - reused_before;
@@ -354,7 +355,9 @@ TrainResult train_stage(const TrainOptions& options) {
   // The first checkpoint from which the rate stays at or above the threshold to the end.
   res.reached = passing > 0;
   res.to_threshold = res.reached ? res.checkpoints[res.checkpoints.size() - size_t(passing)].at : spent;
-  if (options.final_evaluation) res.final_eval = evaluate(cp.final_episodes, "final evaluation", true);
+  if (options.final_evaluation)
+    res.final_eval = evaluate(cp.final_episodes, "final evaluation", true,
+                              options.final_worlds_block * uint64_t(cp.final_episodes));
   res.explain = options.explain;
   res.wall_s = seconds_since(t0);
   return res;
