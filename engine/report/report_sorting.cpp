@@ -108,9 +108,9 @@ void sorting_table(const BatchScript& b, const BatchTable& t, const Folder& fold
     }
     rows.push_back(j);
   }
-  md << "\nEach stage's final greedy policy per trial, evaluated on its held-out seeds (from the next "
-        "trial's on, with the run's final_worlds = \"own\"); success pools every trial's episodes. Success: every "
-        "object in the region of its type and let go. Layouts: the distinct world seeds of those episodes. Objects "
+  md << "\nEach stage's final greedy policy per trial, evaluated on the stage's held-out seeds or, with the run's "
+        "final_worlds = \"own\", on worlds of its own (trial i's from the held-out seeds + i * episodes); success "
+        "pools every trial's episodes. Success: every object in the region of its type and let go. Layouts: the distinct world seeds of those episodes. Objects "
         "sorted per episode: the world's count at the end of each episode; simulated seconds per object are the "
         "evaluation's mean episode time (time-outs in full) over the objects sorted per episode. A hand-written "
         "policy learns nothing: its trials are the same policy evaluated again, so its episodes count as one "
