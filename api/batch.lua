@@ -43,6 +43,11 @@
 ---@field run string
 ---@field log_x? boolean
 
+---The sandbox's budgets for the curriculum, its scenarios and every trial (docs/batch.md).
+---@class roger.BatchLimits
+---@field instructions? integer Lua instructions per call from the engine (default 50000000)
+---@field memory? integer MiB for each Lua state (default 256)
+
 ---What a batch script returns (roger run SCRIPT.lua).
 ---@class roger.BatchScript
 ---@field name? string default results folder results/<name> (default: the file name)
@@ -51,6 +56,7 @@
 ---@field trials? integer trials per context of every run (default 1)
 ---@field seed? integer trial i trains with seed `seed + i` (default 1)
 ---@field params? table<string, any> scenario parameters of every training run
+---@field limits? roger.BatchLimits other Lua budgets (--lua-instructions and --lua-memory override them)
 ---@field runs roger.BatchRun[] in order
 ---@field evaluations? roger.BatchEvaluation[]
 ---@field tables? roger.BatchTable[]

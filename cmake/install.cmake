@@ -9,7 +9,7 @@
 install(TARGETS roger RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(DIRECTORY scenarios curricula scripts DESTINATION ${CMAKE_INSTALL_DATADIR}/roger
         USE_SOURCE_PERMISSIONS PATTERN "__pycache__" EXCLUDE)
-install(DIRECTORY engine/view/web/ DESTINATION ${CMAKE_INSTALL_DATADIR}/roger/web)
+install(DIRECTORY engine/view/web/ engine/report/web/ DESTINATION ${CMAKE_INSTALL_DATADIR}/roger/web)
 install(DIRECTORY api DESTINATION ${CMAKE_INSTALL_DATADIR}/roger)
 install(FILES .luarc.json .luacheckrc DESTINATION ${CMAKE_INSTALL_DATADIR}/roger)
 install(FILES README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})

@@ -6,14 +6,15 @@
 set(layer_core 0)
 set(layer_senses 1)
 set(layer_sim 2)
-set(layer_control 3)
-set(layer_learn 4)
-set(layer_script 5)
-set(layer_batch 6)
-set(layer_report 7)
-set(layer_view 7)
-set(layer_propose 7)
-set(layer_cli 8)
+set(layer_perception 3)
+set(layer_control 4)
+set(layer_learn 5)
+set(layer_script 6)
+set(layer_batch 7)
+set(layer_report 8)
+set(layer_view 6)     # on learn, beside script: pictures and pages of worlds and episodes
+set(layer_propose 8)
+set(layer_cli 9)
 # engine/script/ is grouped by concept in sub-folders, with layers of their own (lowest first;
 # siblings share a number and may not include each other). A file of script includes only headers
 # of its own sub-folder or a lower one; a *_internal.h only from its own sub-folder, anywhere.
@@ -24,7 +25,7 @@ set(script_layer_skills 2)
 set(script_layer_curriculum 2)
 set(script_layer_batch 3)
 set(script_layer_authoring 4)
-set(layer_python 9)  # the Python module, on batch and view; nothing includes it
+set(layer_python 10)  # the Python module, on batch and view; nothing includes it
 # Which module alone may include a library's headers.
 set(owner_box2d "sim")    # <box2d/...>
 set(owner_lua "script")   # <lua.hpp>, <lua.h>, <lauxlib.h>, <lualib.h>
@@ -85,6 +86,26 @@ foreach(file IN LISTS files)
     endif()
   endforeach()
 endforeach()
+# A module's build may use another folder's files (a page it embeds, a source it compiles) only
+# from a layer below it: such a link is as real as an include, though no #include shows it.
+file(GLOB build_files RELATIVE ${ENGINE_DIR} ${ENGINE_DIR}/*/CMakeLists.txt)
+foreach(file IN LISTS build_files)
+  string(REGEX MATCH "^[^/]+" module "${file}")
+  if(NOT DEFINED layer_${module})
+    continue()
+  endif()
+  file(STRINGS ${ENGINE_DIR}/${file} lines REGEX "engine/[a-z_]+/")
+  foreach(line IN LISTS lines)
+    string(REGEX MATCHALL "engine/[a-z_]+/" used "${line}")
+    foreach(path IN LISTS used)
+      string(REGEX REPLACE "^engine/([a-z_]+)/$" "\\1" target "${path}")
+      if(NOT target STREQUAL module AND (NOT DEFINED layer_${target} OR NOT layer_${target} LESS layer_${module}))
+        string(APPEND problems "engine/${file}: the build of '${module}' uses files of '${target}', which is not below it: ${line}\n")
+      endif()
+    endforeach()
+  endforeach()
+endforeach()
+
 list(LENGTH files count)
 if(problems)
   message(FATAL_ERROR "Layering broken:\n${problems}")

@@ -507,3 +507,22 @@ TEST_CASE("a manifest that is JSON but not an object of the right shape is a rog
   }
   fs::remove_all(dir);
 }
+
+TEST_CASE("a results folder made under other Lua limits is not resumed", "[batch]") {
+  const fs::path out = fresh_dir("limits");
+  BatchOverrides small;
+  small.trials = 1;
+  const auto script = std::make_shared<const BatchScript>(load_batch_script("quick", small));
+  CHECK_FALSE(open_results_folder(plan_batch(script, out.string())));
+  CHECK(open_results_folder(plan_batch(script, out.string())));  // the same limits: resumed
+  BatchOverrides larger = small;
+  larger.instructions = 200'000'000;
+  const auto other = std::make_shared<const BatchScript>(load_batch_script("quick", larger));
+  try {
+    open_results_folder(plan_batch(other, out.string()));
+    FAIL("a folder made under other limits was resumed");
+  } catch (const Error& e) {
+    CHECK_THAT(e.what(), Catch::Matchers::Contains("limits.instructions: 50000000 in the folder, 200000000 now"));
+  }
+  fs::remove_all(out);
+}

@@ -2,6 +2,10 @@
 // batch scripts are clear errors naming file:line and what exists.
 #include <catch2/catch.hpp>
 
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <string>
 #include <utility>
@@ -11,6 +15,7 @@
 #include "core/error.h"
 
 using namespace roger;
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -189,4 +194,41 @@ TEST_CASE("a damaged manifest configuration is a roger::Error, never undefined b
       CHECK_THAT(e.what(), Catch::Contains(what));
     }
   }
+}
+
+TEST_CASE("a batch script's limits set the sandbox's budgets; the command line's override them", "[batch_script]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_limits_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  auto script = [&](const std::string& limits) {
+    const fs::path file = dir / "limits.lua";
+    std::ofstream(file) << "return { name = 'limits', curriculum = 'curricula/paper.lua',\n"
+                        << "  limits = " << limits << ",\n"
+                        << "  runs = { { name = 'SG', stage = 'SG', contexts = { 'DC2' } } } }\n";
+    return file.string();
+  };
+  const BatchScript b = load_batch_script(script("{ instructions = 200000000, memory = 1024 }"));
+  CHECK(b.limits.instructions == 200'000'000);
+  CHECK(b.limits.memory_bytes == size_t(1024) << 20);
+  // The manifest's configuration records them (a folder made under other limits is not resumed).
+  const nlohmann::json config = batch_config_json(b);
+  CHECK(config["limits"] == nlohmann::json({{"instructions", 200'000'000}, {"memory_mib", 1024}}));
+  CHECK(batch_config_json(batch_config_from_json(config)) == config);
+  // A script without them has the defaults, recorded too.
+  const BatchScript plain = load_batch_script("paper");
+  CHECK(plain.limits.instructions == SandboxLimits().instructions);
+  CHECK(batch_config_json(plain)["limits"]["memory_mib"] == 256);
+  // --lua-instructions and --lua-memory over the script's.
+  BatchOverrides o;
+  o.instructions = 70'000'000;
+  o.memory_mib = 64;
+  const BatchScript over = load_batch_script(script("{ instructions = 200000000 }"), o);
+  CHECK(over.limits.instructions == 70'000'000);
+  CHECK(over.limits.memory_bytes == size_t(64) << 20);
+  // Mistakes name the line and the field.
+  CHECK_THAT(load_error(script("{ instructions = 1e8, memry = 5 }")),
+             Catch::Matchers::Contains("limits.lua:2: the batch script's limits: unknown field 'memry'"));
+  CHECK_THAT(load_error(script("{ memory = 4 }")),
+             Catch::Matchers::Contains("field 'memory' must be between 16 and 1048576, got 4"));
+  CHECK_THAT(load_error(script("{ instructions = 'many' }")), Catch::Matchers::Contains("field 'instructions' must be an integer"));
+  fs::remove_all(dir);
 }

@@ -47,8 +47,12 @@ DofVector random_vector(Rng& rng) {
   return v;
 }
 
+// A world of the default control tick (20 ms), for controllers that read it.
+const WorldModel kDefaultModel;
+
 ControlInput at_tick(uint64_t tick, double time = 0.0) {
   ControlInput in;
+  in.model = &kDefaultModel;
   in.tick = tick;
   in.time = time;
   return in;
@@ -182,7 +186,6 @@ int conv_ticks(SubjectTo& both, uint64_t first, int ticks) {
   int conv = 0;
   for (uint64_t t = first; t < first + uint64_t(ticks); ++t) {
     ControlInput in = at_tick(t, 0.02 * double(t));
-    in.dt = 0.02;
     conv += both.evaluate(in).gamma == Gamma::kConv;
     both.executed(in);
   }

@@ -24,11 +24,14 @@ class Scripted final : public Controller {
   }
 };
 
+// A world of the default control tick (20 ms), for controllers that read it.
+const WorldModel kDefaultModel;
+
 ControlInput at_tick(uint64_t tick, double time) {
   ControlInput in;
+  in.model = &kDefaultModel;
   in.tick = tick;
   in.time = time;
-  in.dt = 0.02;
   return in;
 }
 
@@ -108,7 +111,8 @@ TEST_CASE("with held() inside, every part sees every tick, and held times withou
 
 TEST_CASE("sorted() judges every colour with a region, sorted(colour) one of them", "[predicate]") {
   const Colour red{220, 30, 30}, blue{40, 80, 220}, grey{128, 128, 128};
-  WorldSpec spec;
+  WorldModel model;
+  WorldSpec& spec = model.spec;
   spec.goals.resize(2);
   spec.goals[0].colour = red;
   spec.goals[1].colour = blue;
@@ -118,7 +122,7 @@ TEST_CASE("sorted() judges every colour with a region, sorted(colour) one of the
   objects[2].colour = blue, objects[2].region = 1;  // blue, in the blue region
   objects[3].colour = grey;                         // no region has its colour: not counted
   ControlInput in = at_tick(1, 0.02);
-  in.spec = &spec;
+  in.model = &model;
   in.objects = &objects;
   const SortCount all = sorted_objects(in), reds = sorted_objects(in, &red), blues = sorted_objects(in, &blue);
   CHECK(all.sortable == 3);
@@ -135,7 +139,7 @@ TEST_CASE("sorted() judges every colour with a region, sorted(colour) one of the
   // Held in the hand, an object in its region is not yet sorted.
   objects[0].held = true;
   ControlInput later = at_tick(2, 0.04);
-  later.spec = &spec;
+  later.model = &model;
   later.objects = &objects;
   CHECK_FALSE(sorted(red)->holds(later));
   objects[1].region = 1;

@@ -587,12 +587,14 @@ double sidestep_of_search(double one_eye, double seconds) {
   Senses s;
   s.stimulus[kLeft].seen = true;
   s.stimulus[kLeft].bearing = 0.0;  // straight ahead of the base (eyes at zero pan)
+  const WorldModel model;  // the default Roger, a 20 ms tick
   ControlInput in;
+  in.model = &model;
   in.senses = &s;
   Vec2 base = Vec2::Zero();
-  for (uint64_t tick = 1; tick <= uint64_t(seconds / in.dt); ++tick) {
+  for (uint64_t tick = 1; tick <= uint64_t(seconds / in.dt()); ++tick) {
     in.tick = tick;
-    in.time = double(tick) * in.dt;
+    in.time = double(tick) * in.dt();
     const ControlOutput& out = search->evaluate(in);
     REQUIRE(out.gamma == Gamma::kNotConv);
     // An ideal base: half of each commanded error per tick; the eyes keep the stimulus where it
@@ -647,7 +649,7 @@ struct ControllerSet {
 struct TurnedInput {
   Senses senses;
   Percepts percepts;
-  WorldSpec spec;
+  WorldModel model;
   Attention next_attention;
   ControlInput input;
   void update(const ControlInput& in, int turns) {
@@ -655,14 +657,14 @@ struct TurnedInput {
     senses = *in.senses;
     senses.q[kBaseHeading] += shift;
     senses.base.theta += shift;
-    percepts.update(senses, *in.robot, in.objects, &in.attention->colour);  // keeps its own memory, as the agent's does
-    spec = *in.spec;
-    for (auto& o : spec.objects) o.pose.theta += shift;
+    percepts.update(senses, in.robot(), in.objects, &in.attention->colour);  // keeps its own memory, as the agent's does
+    model = *in.model;
+    for (auto& o : model.spec.objects) o.pose.theta += shift;
     next_attention = *in.attention;
     input = in;
     input.senses = &senses;
     input.percepts = &percepts;
-    input.spec = &spec;
+    input.model = &model;
     input.next_attention = &next_attention;
   }
 };
@@ -693,7 +695,7 @@ TEST_CASE("every primitive and composite commands the same when the heading and 
     int compared = 0, states_differ = 0;
     for (int tick = 0; tick < 400; ++tick) {  // 8 s: search, approach, grasp and part of the carry
       ControlInput in = agent.input();
-      reference_percepts.update(*in.senses, *in.robot, in.objects, &in.attention->colour);
+      reference_percepts.update(*in.senses, in.robot(), in.objects, &in.attention->colour);
       reference_attention = *in.attention;
       in.percepts = &reference_percepts;
       in.next_attention = &reference_attention;

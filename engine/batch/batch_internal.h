@@ -26,7 +26,7 @@ std::string first_line(const std::string& s);
 class SourceWatch {
  public:
   // Loads the curriculum once to list its files and fingerprints them.
-  explicit SourceWatch(const std::string& curriculum_file);
+  explicit SourceWatch(const std::string& curriculum_file, const SandboxLimits& limits = {});
   // Throws roger::FileError naming the first file that is gone (ENOENT) or changed (0).
   void check() const;
 

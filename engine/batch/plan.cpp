@@ -44,11 +44,11 @@ std::string fingerprint(const std::string& text) {
 
 // The Lua files training with a curriculum reads (docs/batch.md), each with its fingerprint, named
 // relative to the project when inside it: a results folder is resumed only while none changed.
-json source_fingerprints(const std::string& curriculum_file) {
-  const Curriculum cur = Curriculum::load(curriculum_file);
+json source_fingerprints(const std::string& curriculum_file, const SandboxLimits& limits) {
+  const Curriculum cur = Curriculum::load(curriculum_file, limits);
   const fs::path root = fs::weakly_canonical(project_root());
   json out = json::object();
-  for (const fs::path& f : curriculum_source_files(cur)) {
+  for (const fs::path& f : curriculum_source_files(cur, limits)) {
     const fs::path rel = f.lexically_relative(root);
     const bool inside = !rel.empty() && *rel.begin() != "..";
     out[inside ? rel.generic_string() : f.generic_string()] = fingerprint(read_file_text(f.string()));
@@ -201,8 +201,8 @@ int recorded_shard_count(const std::string& out) {
 
 namespace batch_detail {
 
-SourceWatch::SourceWatch(const std::string& curriculum_file) {
-  for (const fs::path& f : curriculum_source_files(Curriculum::load(curriculum_file)))
+SourceWatch::SourceWatch(const std::string& curriculum_file, const SandboxLimits& limits) {
+  for (const fs::path& f : curriculum_source_files(Curriculum::load(curriculum_file, limits), limits))
     files_.emplace_back(f.string(), fingerprint(read_file_text(f.string())));
 }
 
@@ -331,7 +331,7 @@ bool open_results_folder(const BatchPlan& plan) {
   const BatchScript& b = *plan.script;
   const FolderLock lock(plan.out);
   json config = batch_config_json(b);
-  config["sources"] = source_fingerprints(b.curriculum_file);
+  config["sources"] = source_fingerprints(b.curriculum_file, b.limits);
   json ids = json::array(), seeds = json::object();
   for (const auto& p : plan.phases)
     for (const auto& t : p) {

@@ -271,6 +271,7 @@ std::string policy_of(const std::string& out, const std::string& id) {
 nlohmann::json training_trial(const BatchPlan& plan, const PlannedTrial& t, const std::string& dir,
                               const RunControl& control) {
   TrainOptions o;
+  o.limits = plan.script->limits;
   o.eval_cache = control.eval_cache;
   o.explain = control.explain;
   o.curriculum = plan.script->curriculum_file;
@@ -299,10 +300,7 @@ nlohmann::json training_trial(const BatchPlan& plan, const PlannedTrial& t, cons
       j["skills"][skill]["trial"] = from;
     }
   nlohmann::json cps = nlohmann::json::array();
-  for (const auto& c : r.checkpoints)
-    cps.push_back({{"episodes", c.at.episodes}, {"sim_s", c.at.sim_s}, {"decisions", c.at.decisions},
-                   {"wall_s", c.at.wall_s}, {"success_rate", c.success_rate}, {"reward_mean", c.reward_mean},
-                   {"reward_std", c.reward_std}, {"policy_changed", c.policy_changed}});
+  for (const auto& c : r.checkpoints) cps.push_back(checkpoint_json(c));
   j["checkpoints"] = cps;
   return j;
 }
@@ -326,6 +324,7 @@ nlohmann::json evaluation_trial(const BatchPlan& plan, const PlannedTrial& t, Cl
   const BatchEvaluation& e = *t.evaluation;
   const std::string from = batch_trial_id(e.run, e.context, t.index);
   PolicyEvalOptions o;
+  o.limits = plan.script->limits;
   o.curriculum = plan.script->curriculum_file;
   o.policy_file = policy_of(plan.out, from);
   o.scenario = e.scenario;
@@ -341,31 +340,23 @@ nlohmann::json evaluation_trial(const BatchPlan& plan, const PlannedTrial& t, Cl
     skills[s.skill] = "trials/" + source + "/policy.json";
   }
   const PolicyEvalResult r = evaluate_policy_file(o);
-  nlohmann::json usage = nlohmann::json::object();
-  for (const auto& [name, f] : r.eval.usage) usage[name] = f;
   nlohmann::json params = nlohmann::json::object();
   for (const auto& [k, v] : r.params) params[k] = v;
-  return {{"id", t.id},
-          {"evaluation", e.name},
-          {"run", e.run},
-          {"context", e.context},
-          {"trial", t.index},
-          {"shape", t.shape},
-          {"policy", "trials/" + from + "/policy.json"},
-          {"stage", r.stage},
-          {"scenario", r.scenario},
-          {"episodes", r.eval.episodes},
-          {"first_seed", r.eval.first_seed},
-          {"successes", r.eval.successes},
-          {"outcomes", r.eval.outcomes},
-          {"success_rate", r.eval.success_rate},
-          {"reward_mean", r.eval.reward_mean},
-          {"reward_std", r.eval.reward_std},
-          {"time_mean", r.eval.time_mean},
-          {"usage", usage},
-          {"params", params},
-          {"skills", skills},
-          {"wall_s", std::chrono::duration<double>(Clock::now() - t0).count()}};
+  nlohmann::json j = eval_summary_json(r.eval);
+  j.update({{"id", t.id},
+            {"evaluation", e.name},
+            {"run", e.run},
+            {"context", e.context},
+            {"trial", t.index},
+            {"shape", t.shape},
+            {"policy", "trials/" + from + "/policy.json"},
+            {"stage", r.stage},
+            {"scenario", r.scenario},
+            {"params", params},
+            {"skills", skills},
+            {"wall_s", std::chrono::duration<double>(Clock::now() - t0).count()}});
+  j["outcomes"] = r.eval.outcomes;  // each episode's, for the report's intervals (report_evaluations.cpp)
+  return j;
 }
 
 // What error.json records about a trial's fault beside its message: the trial's kind and seed, and
@@ -556,7 +547,7 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
   std::map<std::string, const PlannedTrial*> by_id;
   for (const auto& p : plan.phases)
     for (const auto& t : p) by_id[t.id] = &t;
-  const SourceWatch sources(plan.script->curriculum_file);
+  const SourceWatch sources(plan.script->curriculum_file, plan.script->limits);
   const TrialFunction trial = [&](const std::string& id, const std::string& dir) -> nlohmann::json {
     const PlannedTrial& t = *by_id.at(id);
     const auto t0 = Clock::now();

@@ -180,6 +180,24 @@ double skills_sim_s(const std::vector<SkillSource>& sources) {
 
 }  // namespace
 
+nlohmann::json eval_summary_json(const GreedyEval& e) {
+  nlohmann::json usage = nlohmann::json::object();
+  for (const auto& [name, f] : e.usage) usage[name] = f;
+  return {{"episodes", e.episodes},       {"first_seed", e.first_seed},   {"successes", e.successes},
+          {"success_rate", e.success_rate}, {"reward_mean", e.reward_mean}, {"reward_std", e.reward_std},
+          {"time_mean", e.time_mean},     {"usage", usage}};
+}
+
+nlohmann::json checkpoint_json(const CheckpointRecord& c) {
+  nlohmann::json j = point_json(c.at);
+  j["success_rate"] = c.success_rate;
+  j["reward_mean"] = c.reward_mean;
+  j["reward_std"] = c.reward_std;
+  j["eval_wall_s"] = c.eval_wall_s;
+  j["policy_changed"] = c.policy_changed;
+  return j;
+}
+
 void batch_detail::bind_skills(Curriculum& cur, const CurriculumContext& ctx, const TrainOptions& options,
                  const nlohmann::json* embedded, std::vector<SkillSource>& sources) {
   for (const auto& name : ctx.learned) {
@@ -447,13 +465,7 @@ void write_train_outputs(const TrainResult& r, const std::string& dir_in) {
   for (const auto& c : r.checkpoints) {
     curve << c.at.episodes << "," << format_number(c.at.sim_s) << "," << c.at.decisions << ","
           << format_number(c.at.wall_s) << "," << format_number(c.success_rate) << "," << format_number(c.reward_mean) << "\n";
-    nlohmann::json j = point_json(c.at);
-    j["success_rate"] = c.success_rate;
-    j["reward_mean"] = c.reward_mean;
-    j["reward_std"] = c.reward_std;
-    j["eval_wall_s"] = c.eval_wall_s;
-    j["policy_changed"] = c.policy_changed;
-    cps << j.dump() << "\n";
+    cps << checkpoint_json(c).dump() << "\n";
   }
   for (const auto& e : r.episodes) {
     nlohmann::json counts = nlohmann::json::object();

@@ -158,6 +158,16 @@ TrainResult train_stage(const TrainOptions& options);
 // when the threshold was not reached or result.explain.
 nlohmann::json train_summary_json(const TrainResult& result);
 
+// The figures of a greedy evaluation as results files and `--json` lines write them: episodes,
+// first_seed, successes, success_rate, reward_mean, reward_std, time_mean and usage (each
+// action's share of the decisions).
+nlohmann::json eval_summary_json(const GreedyEval& eval);
+
+// One checkpoint as checkpoints.jsonl and a trial's result.json write it: where training stood
+// (episodes, sim_s, decisions, wall_s), the greedy evaluation's success rate and reward, its wall
+// time, and whether the policy had changed since the last checkpoint.
+nlohmann::json checkpoint_json(const CheckpointRecord& checkpoint);
+
 // The policy file's JSON (QTable format with metadata: curriculum, stage, context, seed, psi,
 // the learned skills used, embedded).
 nlohmann::json train_policy_json(const TrainResult& result);

@@ -5,7 +5,9 @@
 #include <utility>
 #include <vector>
 
+#include "cli/commands.h"
 #include "core/error.h"
+#include "script/sandbox/lua_sandbox.h"
 #include "script/scenario/scenario.h"
 #include "script/skills/skill_script.h"
 
@@ -15,6 +17,9 @@ namespace roger {
 // wrong in plain words (a full disk, no permission, a script removed) and what to do. `resumes`:
 // the command resumes where it stopped when run again (roger run, roger report).
 std::string file_error_line(const FileError& e, bool resumes = true);
+
+// The sandbox limits --lua-instructions and --lua-memory set over the defaults.
+SandboxLimits sandbox_limits(const LuaLimitArgs& lua);
 
 // Applies `--set key=value` options to a scenario.
 void apply_sets(Scenario& scenario, const std::vector<std::string>& sets);

@@ -11,6 +11,13 @@
 
 namespace roger {
 
+// --lua-instructions N and --lua-memory MIB: the sandbox's budgets for every script a command runs
+// (0: the default, or for roger run the batch script's own `limits`).
+struct LuaLimitArgs {
+  uint64_t instructions = 0;  // VM instructions per call from the engine
+  uint64_t memory_mib = 0;    // the Lua state's memory cap, MiB
+};
+
 // The arguments of `roger run SCRIPT.lua [--trials N] [--jobs J] [--out DIR] [--set k=v]... [--only NAME]... [--live]`.
 struct RunArgs {
   std::string script;               // batch script path, or a bare name in scripts/ ("paper", "quick")
@@ -25,6 +32,7 @@ struct RunArgs {
   std::string shard;                // "K/N" or "slurm": only that shard's trials, and no report ("" = all)
   bool no_eval_cache = false;       // run every greedy evaluation episode (same results, slower)
   bool explain = false;             // every training trial's result.json says why, reached or not
+  LuaLimitArgs lua;                 // over the script's limits
   std::ostream* progress = nullptr; // where progress and messages go (nullptr = standard error)
 };
 
@@ -66,6 +74,7 @@ struct CheckArgs {
   std::string script;
   std::vector<std::string> sets;
   int seeds = 20;
+  LuaLimitArgs lua;
 };
 
 // Loads and validates a scenario, skill script or curriculum; returns 0, or 1 listing the problems.
@@ -82,6 +91,7 @@ struct EvalArgs {
   uint64_t seed = 1000;
   bool seed_given = false;
   bool json = false;
+  LuaLimitArgs lua;
 };
 
 // Evaluates a skill script's policy or a saved policy over seeded episodes. Returns 0.
@@ -98,6 +108,7 @@ struct TrainArgs {
   std::vector<std::string> sets;
   bool no_eval_cache = false;  // run every greedy evaluation episode (TrainOptions::eval_cache)
   bool explain = false;        // say why even when the threshold was reached (TrainOptions::explain)
+  LuaLimitArgs lua;
 };
 
 // Trains one stage and context for one seed and writes its outputs. Returns 0.

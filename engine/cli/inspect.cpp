@@ -117,15 +117,23 @@ int command_render(const RenderArgs& a) {
 namespace {
 
 // roger check on a batch script: loads it and validates it against its curriculum.
-int check_batch(const std::string& path) {
-  const BatchScript b = load_batch_script(path);
+int check_batch(const std::string& path, const LuaLimitArgs& lua) {
+  BatchOverrides overrides;
+  overrides.instructions = lua.instructions;
+  overrides.memory_mib = lua.memory_mib;
+  const BatchScript b = load_batch_script(path, overrides);
   std::string runs;
   for (const auto& r : b.runs) {
     const size_t n = r.contexts.size();
     runs += (runs.empty() ? "" : ", ") + r.name + " (" + std::to_string(n) + (n == 1 ? " context)" : " contexts)");
   }
-  std::printf("%s: ok (batch script '%s' on %s; %d trials; runs %s)\n", path.c_str(), b.name.c_str(),
-              b.curriculum.c_str(), b.trials, runs.c_str());
+  const SandboxLimits defaults;
+  std::string limits;
+  if (b.limits.instructions != defaults.instructions || b.limits.memory_bytes != defaults.memory_bytes)
+    limits = "; Lua limits " + std::to_string(b.limits.instructions) + " instructions, " +
+             std::to_string(b.limits.memory_bytes >> 20) + " MiB";
+  std::printf("%s: ok (batch script '%s' on %s; %d trials; runs %s%s)\n", path.c_str(), b.name.c_str(),
+              b.curriculum.c_str(), b.trials, runs.c_str(), limits.c_str());
   return 0;
 }
 
@@ -153,11 +161,12 @@ size_t report_static_problems(const std::string& script) {
 
 int command_check(const CheckArgs& a) {
   if (report_static_problems(a.script) > 0) return 1;
+  const SandboxLimits limits = sandbox_limits(a.lua);
   if (is_curriculum_script(a.script)) {
-    const std::vector<std::string> problems = check_curriculum(a.script);
+    const std::vector<std::string> problems = check_curriculum(a.script, limits);
     for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.c_str());
     if (!problems.empty()) return 1;
-    const Curriculum cur = Curriculum::load(a.script);
+    const Curriculum cur = Curriculum::load(a.script, limits);
     std::string stages;
     for (const auto& st : cur.stages()) {
       std::string contexts;
@@ -168,25 +177,25 @@ int command_check(const CheckArgs& a) {
     return 0;
   }
   if (is_skill_script(a.script)) {
-    const std::vector<std::string> problems = check_skill_script(a.script);
+    const std::vector<std::string> problems = check_skill_script(a.script, limits);
     for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.c_str());
     if (!problems.empty()) return 1;
-    const SkillScript script = SkillScript::load(a.script);
+    const SkillScript script = SkillScript::load(a.script, limits);
     std::string names;
     for (const auto& n : script.policy_names()) names += (names.empty() ? "" : ", ") + n;
     std::printf("%s: ok (skill script '%s'; policies: %s)\n", a.script.c_str(), script.name().c_str(),
                 names.c_str());
     return 0;
   }
-  if (is_batch_script(a.script)) return check_batch(a.script);
-  Scenario scenario = Scenario::load(a.script);
+  if (is_batch_script(a.script)) return check_batch(a.script, a.lua);
+  Scenario scenario = Scenario::load(a.script, limits);
   apply_sets(scenario, a.sets);
   // A scenario is a function of its seed: try several, and build each world as an episode would.
   World world;
   for (int seed = 0; seed < a.seeds; ++seed) world.reset(scenario.generate(uint64_t(seed)));
   // Without --set, also every declared choice of every parameter (each shape, say).
   if (a.sets.empty()) {
-    const std::vector<std::string> problems = check_scenario(a.script, 2);
+    const std::vector<std::string> problems = check_scenario(a.script, 2, limits);
     if (!problems.empty()) {
       for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.c_str());
       return 1;

@@ -28,6 +28,13 @@ std::vector<std::pair<std::string, std::string>> split_sets(const std::vector<st
   return out;
 }
 
+SandboxLimits sandbox_limits(const LuaLimitArgs& lua) {
+  SandboxLimits limits;
+  if (lua.instructions > 0) limits.instructions = lua.instructions;
+  if (lua.memory_mib > 0) limits.memory_bytes = size_t(lua.memory_mib) << 20;
+  return limits;
+}
+
 namespace {
 
 // eval --policy FILE.json: a policy saved by roger train, its Psi rebuilt from the curriculum.
@@ -40,6 +47,7 @@ int run_eval_policy_file(const EvalArgs& a) {
   o.episodes = a.episodes;
   o.first_seed = a.seed_given ? int64_t(a.seed) : -1;
   for (const auto& [name, file] : split_sets(a.skills, "--skill")) o.skill_files[name] = file;
+  o.limits = sandbox_limits(a.lua);
   const PolicyEvalResult r = evaluate_policy_file(o);
   std::printf("roger eval: %s stage %s context %s (%s) in %s, %d episodes from seed %llu, %s\n",
               a.script.c_str(), r.stage.c_str(), r.context.c_str(), a.policy.c_str(), r.scenario.c_str(),
@@ -51,12 +59,9 @@ int run_eval_policy_file(const EvalArgs& a) {
   for (const auto& [name, f] : r.eval.usage) usage += (usage.empty() ? "" : ", ") + name + " " + std::to_string(int(std::lround(100 * f))) + "%";
   std::printf("  usage          %s\n", usage.c_str());
   if (a.json) {
-    nlohmann::json j = {{"script", a.script},          {"policy", a.policy},          {"stage", r.stage},
-                        {"context", r.context},        {"scenario", r.scenario},      {"episodes", r.eval.episodes},
-                        {"first_seed", r.eval.first_seed}, {"successes", r.eval.successes},
-                        {"success_rate", r.eval.success_rate}, {"reward_mean", r.eval.reward_mean},
-                        {"reward_std", r.eval.reward_std}, {"time_mean", r.eval.time_mean}};
-    for (const auto& [name, f] : r.eval.usage) j["usage"][name] = f;
+    nlohmann::json j = eval_summary_json(r.eval);
+    j.update({{"script", a.script}, {"policy", a.policy}, {"stage", r.stage}, {"context", r.context},
+              {"scenario", r.scenario}});
     for (const auto& [k, v] : r.params) j["params"][k] = v;
     std::printf("%s\n", j.dump().c_str());
   }
@@ -70,9 +75,10 @@ int command_eval(const EvalArgs& a) {
   if (!a.skills.empty())
     throw Error("roger eval: --skill replaces a learned skill of a saved policy (--policy FILE.json); policy '" +
                 a.policy + "' of " + a.script + " is a skill script's, which learns nothing");
-  SkillScript script = SkillScript::load(a.script);
+  const SandboxLimits limits = sandbox_limits(a.lua);
+  SkillScript script = SkillScript::load(a.script, limits);
   const SkillScript::NamedPolicy& policy = script.policy(a.policy);
-  Scenario scenario = Scenario::load(policy_scenario(policy, a.scenario));
+  Scenario scenario = Scenario::load(policy_scenario(policy, a.scenario), limits);
   apply_sets(scenario, a.sets);
   const EpisodeOptions options = policy.episode_options();
   const EvalSummary r = evaluate_action([&](uint64_t seed) { return scenario.generate(seed); },
@@ -119,6 +125,7 @@ int command_train(const TrainArgs& a) {
   for (const auto& [name, file] : split_sets(a.skills, "--skill")) o.skill_files[name] = file;
   o.eval_cache = !a.no_eval_cache;
   o.explain = a.explain;
+  o.limits = sandbox_limits(a.lua);
   const TrainResult r = train_stage(o);
   write_train_outputs(r, a.out);
   std::printf("roger train: %s stage %s context %s seed %llu (%zu actions, %d states) in %s\n",

@@ -17,6 +17,26 @@ namespace {
 
 using namespace roger;
 
+// --lua-instructions and --lua-memory, for commands that run scripts.
+void add_lua_limits(CLI::App* c, LuaLimitArgs& a, const char* whose) {
+  c->add_option("--lua-instructions", a.instructions,
+                std::string("Lua instruction budget per call into a script (default 50000000") + whose + ")")
+      ->check(CLI::Range(uint64_t(1000), uint64_t(1) << 53));
+  c->add_option("--lua-memory", a.memory_mib,
+                std::string("Memory cap of each script's Lua state, in MiB (default 256") + whose + ")")
+      ->check(CLI::Range(uint64_t(16), uint64_t(1) << 20));
+}
+
+// The flags of the commands that train (train, run): one declaration, one help text each.
+void add_training_flags(CLI::App* c, bool& no_eval_cache, bool& explain) {
+  c->add_flag("--no-eval-cache", no_eval_cache,
+              "Run every greedy evaluation episode instead of reusing those the unchanged policy would "
+              "repeat (identical results, slower: a check of the cache)");
+  c->add_flag("--explain", explain,
+              "Say what each training trial's data shows (greedy cycles, actions never run, time-outs) even "
+              "when it reached its threshold; a trial that missed it always says why");
+}
+
 CLI::App* add_render(CLI::App& app, RenderArgs& a) {
   auto* c = app.add_subcommand("render", "Draw a scenario's world for one seed (PNG or SVG)");
   c->add_option("scenario", a.scenario, "Scenario script (.lua)")->required();
@@ -41,6 +61,7 @@ CLI::App* add_check(CLI::App& app, CheckArgs& a) {
   c->add_option("script", a.script, "Script (.lua)")->required();
   c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)");
   c->add_option("--seeds", a.seeds, "Seeds to generate")->capture_default_str()->check(CLI::Range(1, 100000));
+  add_lua_limits(c, a.lua, "; a batch script's own limits otherwise");
   return c;
 }
 
@@ -59,6 +80,7 @@ CLI::App* add_eval(CLI::App& app, EvalArgs& a, CLI::Option*& seed) {
   seed = c->add_option("--seed", a.seed, "First seed (then seed+1, ...); with a saved "
                        "policy the default is its stage's held-out seeds")->capture_default_str();
   c->add_flag("--json", a.json, "End with one JSON line of the figures");
+  add_lua_limits(c, a.lua, "");
   return c;
 }
 
@@ -73,11 +95,8 @@ CLI::App* add_train(CLI::App& app, TrainArgs& a) {
   c->add_option("--skill", a.skills,
                 "A learned skill's policy NAME=FILE.json (repeatable; default: train its stage first)");
   c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)");
-  c->add_flag("--no-eval-cache", a.no_eval_cache,
-              "Run every evaluation episode, even one the unchanged policy would repeat (same results, slower)");
-  c->add_flag("--explain", a.explain,
-              "Say what the data shows (greedy cycles, actions never run, time-outs) even when the threshold "
-              "was reached; a trial that missed it always says why");
+  add_training_flags(c, a.no_eval_cache, a.explain);
+  add_lua_limits(c, a.lua, "");
   return c;
 }
 
@@ -109,15 +128,11 @@ CLI::App* add_run(CLI::App& app, RunArgs& a) {
   c->add_option("--only", a.only, "Only this run, RUN/CONTEXT, or eval/NAME (repeatable)");
   c->add_flag("--live", a.live, "A live progress bar (default on a terminal)");
   c->add_flag("--no-report", a.no_report, "Skip the report at the end");
-  c->add_flag("--no-eval-cache", a.no_eval_cache,
-              "Run every greedy evaluation episode instead of reusing those the policy would repeat "
-              "(identical results, slower: a check of the cache)");
-  c->add_flag("--explain", a.explain,
-              "Every training trial's result.json says what its data shows (greedy cycles, actions never run, "
-              "time-outs), not only those that missed the threshold");
+  add_training_flags(c, a.no_eval_cache, a.explain);
   c->add_option("--shard", a.shard,
                 "Run only shard K/N (0-based) of the trials, or 'slurm' inside a Slurm job array; "
                 "shards share one results folder, and roger report writes the report when all are done");
+  add_lua_limits(c, a.lua, ", or the batch script's limits; recorded in the results folder");
   return c;
 }
 

@@ -24,6 +24,8 @@ BatchOverrides overrides_of(const RunArgs& a) {
   BatchOverrides ov;
   ov.trials = a.trials;
   ov.sets = split_sets(a.sets, "--set");
+  ov.instructions = a.lua.instructions;
+  ov.memory_mib = a.lua.memory_mib;
   if (a.trials < 0) throw Error("--trials must be positive");
   return ov;
 }

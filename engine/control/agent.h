@@ -27,7 +27,8 @@ class Agent {
  public:
   explicit Agent(const WorldParams& world = {}, const AgentParams& params = {});
 
-  // Starts an episode in a world; controllers are reset by their owner with the same seed.
+  // Starts an episode in a world: derives its model (checking the spec; roger::Error says what is
+  // wrong) and resets the world from it. Controllers are reset by their owner with the same seed.
   void reset(const WorldSpec& spec);
 
   // Runs one control tick: evaluates the action, writes its errors (plus the gaze reflex),
@@ -42,38 +43,29 @@ class Agent {
 
   World& world() { return world_; }
   const World& world() const { return world_; }
+  // The episode's world model (ControlInput::model) and parts of it.
+  const WorldModel& model() const { return model_; }
+  const OccupancyGrid& grid() const { return model_.grid; }
+  const BodyMetrics& body_metrics() const { return model_.body; }
+  double grid_inflate() const { return model_.grid_inflate; }
   const Percepts& percepts() const { return percepts_; }
-  const OccupancyGrid& grid() const { return grid_; }
   // The map of movable objects at the current tick (ControlInput::objects).
   const std::vector<MapObject>& objects() const { return objects_; }
   const AgentParams& params() const { return params_; }
-  // The controllers' numbers that follow from this episode's body (ControlInput::body).
-  const BodyMetrics& body_metrics() const { return metrics_; }
-  // The growth of the obstacles in grid() (m).
-  double grid_inflate() const { return grid_inflate_; }
   uint64_t ticks() const { return input_.tick; }
   // The errors vector written at the last step (the action's command plus the gaze reflex).
   const DofVector& last_errors() const { return last_errors_; }
 
  private:
-  void refresh_input();
-  void refresh_objects();
-  // Points input_.truth at the tick as the true senses give it, where judges need it.
-  void refresh_truth();
+  // The tick's percepts and input (the per-world fields are set by reset).
+  void perceive();
   World world_;
   AgentParams params_;
+  WorldModel model_;        // this episode's world (kept across episodes: its grid is reused)
   Percepts percepts_;
   Percepts true_percepts_;  // what the true senses make of the world (under noise only)
-  StereoNoise stereo_noise_;  // how noisy this episode's stereo fixes are (none without noise)
-  ControlInput true_input_; // the tick as the true world gives it, for judges (under noise only)
+  ControlInput true_input_; // the tick as the true world gives it, for judges
   Attention judge_next_attention_;  // where judges' bindings ask to attend: ignored
-  BodyMetrics metrics_;
-  OccupancyGrid grid_;
-  // What grid_ was built from: an episode in the same arena among the same obstacles reuses it.
-  bool grid_valid_ = false;
-  double grid_inflate_ = 0.0;
-  ArenaSpec grid_arena_;
-  std::vector<ObstacleSpec> grid_obstacles_;
   std::vector<MapObject> objects_;
   ControlInput input_;
   Attention next_attention_;  // where a binding asked the eyes to attend from the next tick

@@ -16,12 +16,14 @@
 
 #include <Eigen/Core>
 
-#include "sim/occupancy.h"
 #include "core/body.h"
 #include "core/robot.h"
-#include "senses/senses.h"
 #include "core/spec.h"
+#include "perception/percepts.h"
+#include "senses/senses.h"
+#include "sim/occupancy.h"
 #include "sim/world.h"
+#include "sim/world_model.h"
 
 namespace roger {
 
@@ -38,95 +40,20 @@ using TaskJacobian =
     Eigen::Matrix<double, Eigen::Dynamic, kDofCount, Eigen::RowMajor, kMaxTaskRows, kDofCount>;
 using DofMatrix = Eigen::Matrix<double, kDofCount, kDofCount>;
 
-// The object as Roger estimates it: from vision (stereo centre, size from the angular width), or,
-// when vision cannot tell (the object fills an eye's view) but touch can, from the contacts.
-struct VisualObject {
-  bool seen = false;             // an estimate this tick (stereo, or touch when vision is clipped)
-  bool by_touch = false;         // this tick's estimate comes from the contacts
-  Vec2 center = Vec2::Zero();    // world frame
-  Vec2 center_base = Vec2::Zero();
-  double radius = 0.0;           // half the angular width times the range
-};
 
-struct MapObject;
-
-// How noisy the stereo fix is, from the senses' noise (NoiseParams): the standard deviation of
-// each eye's world bearing of the stimulus (rad: its pan's noise and the image's) and of the base
-// pose (m and rad). All zero for true senses: the fix is then taken as it is.
-struct StereoNoise {
-  double bearing = 0.0;
-  double base = 0.0;
-  bool any() const { return bearing > 0.0 || base > 0.0; }
-};
-
-// The object's centre as fused over the ticks: a Kalman filter in the world frame whose
-// measurements are the stereo fixes, each with the covariance its geometry gives (the range error
-// grows with the square of the range over the eyes' baseline), and a process noise that lets
-// the object be pushed. Used only under noise (StereoNoise::any), so true senses are untouched.
-struct StereoFilter {
-  bool valid = false;
-  Vec2 center = Vec2::Zero();
-  Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
-  double time = -1e9;  // of the last fix fused
-  int rejected = 0;    // fixes in a row too far from the estimate to be the same object
-  // Fuses a fix `z` seen from eyes at `eyes_mid` (baseline `baseline`) at time `t`; returns the
-  // estimate.
-  Vec2 fuse(const Vec2& z, const Vec2& eyes_mid, double baseline, const StereoNoise& noise, double t);
-};
-
-// Per-tick facts shared by every controller, computed once (see Percepts::update).
-struct Percepts {
-  VisualObject object;                   // what the eyes say
-  VisualObject remembered;               // the last estimate (for controllers that may use it)
-  double remembered_time = -1e9;         // when it was made
-  VisualObject vision;                   // the last estimate from vision alone (no touch)
-  double vision_time = -1e9;             // when it was made
-  std::array<ArmPoints, 2> arms;         // forward kinematics from the joint senses
-  bool contact_on_object[kTactileCount] = {false, false, false};  // touch on an object
-  int touched_object = -1;               // the object touched by most sensors, or -1
-  int felt_object = -1;                  // the object touch located this tick (see update), or -1
-  StereoFilter stereo;                   // the fused fix, under noise only
-  // Recomputes from this tick's senses. With the map of objects and the stimulus colour, touch
-  // locates only an object of that colour (see update); without them, whatever it touches most.
-  // Under noise (`noise` any) the stereo fix is fused over the ticks (StereoFilter).
-  void update(const Senses& senses, const RobotParams& robot,
-              const std::vector<MapObject>* objects = nullptr, const Colour* stimulus = nullptr,
-              const StereoNoise& noise = {});
-
- private:
-  int felt_object_of(const Senses& senses, const std::vector<MapObject>* objects,
-                     const Colour* stimulus) const;
-};
-
-// An object as the map of movable objects has it: Roger is given this map as it is given the
-// static one (it does not build it from its eyes). The planner treats these objects as obstacles
-// (all but the one it approaches or carries), and a task's judge (roger.sorted) reads where they
-// lie. No controller perceives its stimulus through it: what a controller is after, it sees.
-struct MapObject {
-  Vec2 center = Vec2::Zero();  // the object's pose, world frame
-  double radius = 0.0;         // the smallest circle about that centre holding its shape
-  Colour colour;
-  bool held = false;           // touched by the body or a hand at the last sensing
-  int region = -1;             // the goal region holding its centre (index into goals), or -1
-};
-
-// What a controller may read. Controllers see Roger's senses, its body and the static map (arena,
-// obstacles as an occupancy grid, goal regions) and the map of movable objects (MapObject); never
-// the simulator's object poses as senses.
+// What a controller may read: the world's immutable model (its body and what follows from it, the
+// eyes' camera, the static map: arena, obstacles as an occupancy grid, goal regions) and what this
+// tick gives: Roger's senses, the percepts made of them, and the map of movable objects
+// (MapObject). Never the simulator's object poses as senses.
 struct ControlInput {
+  const WorldModel* model = nullptr;    // the world of this episode (sim/world_model.h)
   const Senses* senses = nullptr;
   // The same tick as the true world gives it (true senses and what they make of them, all else
   // alike), for judges (Judge in predicate.h); null when the senses are the true ones (no noise).
   const ControlInput* truth = nullptr;
   const Percepts* percepts = nullptr;
-  const RobotParams* robot = nullptr;
-  const BodyMetrics* body = nullptr;    // the numbers that follow from the body (core/body.h)
-  const Camera* camera = nullptr;       // the eyes' pinhole model
-  const WorldSpec* spec = nullptr;
-  const OccupancyGrid* grid = nullptr;  // static obstacles, grown by the base radius
   const std::vector<MapObject>* objects = nullptr;  // the map of movable objects (may be null)
   double time = 0.0;                    // simulated seconds since the episode began
-  double dt = 0.02;                     // control tick (s)
   uint64_t tick = 0;                    // tick counter, for caching within a tick
   // Bindings (see Binding): what this tick's senses attended to, where a controller may ask the
   // agent to attend from the next tick on, and the goal region that goal='region' navigators
@@ -134,6 +61,14 @@ struct ControlInput {
   const Attention* attention = nullptr;
   Attention* next_attention = nullptr;
   int region = -1;
+
+  // Parts of the model, by name.
+  const WorldSpec& spec() const { return model->spec; }
+  const RobotParams& robot() const { return model->spec.body; }
+  const BodyMetrics& body() const { return model->body; }
+  const Camera& camera() const { return model->camera; }
+  const OccupancyGrid& grid() const { return model->grid; }  // static obstacles, grown
+  double dt() const { return model->tick_seconds(); }       // the control tick (s)
 };
 
 // What a controller gives back each tick.
@@ -251,10 +186,6 @@ class Controller {
   // follow it in the same tick (the state is then not settled twice: see evaluate()).
   virtual bool compute_state(const ControlInput&, ControlOutput&, Gamma&) { return false; }
 
-  // The numbers of the body it is evaluated for (ControlInput::body, at its last evaluation in this
-  // episode; null before the first).
-  const BodyMetrics* body() const { return body_; }
-
  private:
   // Applies the hold time to a raw state (idempotent within a tick).
   Gamma settle(Gamma raw, const ControlInput& in);
@@ -266,7 +197,6 @@ class Controller {
   Gamma state_raw_ = Gamma::kNoRef;   // the raw state it found
   uint64_t settle_tick_ = UINT64_MAX; // tick of the last settle(), to see gaps in the hold
   double conv_since_ = -1.0;
-  const BodyMetrics* body_ = nullptr;
 };
 
 using ControllerPtr = std::shared_ptr<Controller>;

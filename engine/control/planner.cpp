@@ -407,11 +407,40 @@ void HarmonicPlanner::add_relaxed_range(int j, int c, int first, int last, int n
   // of lines wide, so the range ends inside it; a left guard it starts on is fixed.
   planner_internal::RelaxRange range;
   first -= first % planner_internal::kRelaxLanes;
-  range.count = (last - first + 1 + lanes - 1) / lanes * lanes;
+  const int count = (last - first + 1 + lanes - 1) / lanes * lanes;
   range.at = int64_t(j) * split_width_ + first;
   range.shift = (j + c) & 1;
   range.nearest = nearest;
-  ranges_[c].push_back(range);
+  // Split into runs of whole lanes that are all relaxed (the kernel then reads no mask) and runs
+  // that are not; a half-sweep's cells do not depend on each other, so this changes no bit. A run
+  // of fewer than kFullRun full lanes stays in the masked run around it: a range of its own costs
+  // the kernel more to start than it saves.
+  constexpr int kFullRun = 3;
+  const unsigned all = (1u << lanes) - 1u;
+  const uint8_t* mask = relaxed_[c].data();
+  auto full_run = [&](int64_t at, int64_t end) {  // the slots of full lanes from `at` on
+    int64_t stop = at;
+    while (stop < end && planner_internal::mask_bits(mask, stop, lanes) == all) stop += lanes;
+    return stop - at;
+  };
+  const int64_t end = range.at + count;
+  int64_t masked_from = range.at, at = range.at;
+  auto emit = [&](int64_t from, int64_t to, bool full) {
+    if (to <= from) return;
+    range.at = from, range.count = int32_t(to - from), range.full = full;
+    ranges_[c].push_back(range);
+  };
+  while (at < end) {
+    const int64_t run = full_run(at, end);
+    if (run >= int64_t(kFullRun) * lanes) {
+      emit(masked_from, at, false);
+      emit(at, at + run, true);
+      masked_from = at = at + run;
+    } else {
+      at += run > 0 ? run : lanes;
+    }
+  }
+  emit(masked_from, end, false);
 }
 
 // Writes the split values back into q_.

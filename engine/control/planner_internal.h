@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 
 namespace roger {
 namespace planner_internal {
@@ -18,6 +19,7 @@ struct RelaxRange {
                         // colour, right one at + m + shift, and those above and below at + m -+ width
   int32_t count = 0;    // slots, a multiple of the kernel's lanes
   int32_t nearest = 0;  // the least flood distance from the goal of its relaxed cells
+  int32_t full = 0;     // 1: every slot of it is relaxed, so a kernel need not read the mask
 };
 
 // Bytes of the bit mask over `slots` slots: one bit per slot, and a byte to spare, since a kernel
@@ -25,6 +27,13 @@ struct RelaxRange {
 inline int64_t relax_mask_bytes(int64_t slots) { return slots / 8 + 2; }
 // Marks slot k of a bit mask as relaxed (bit k % 8 of byte k / 8).
 inline void set_relaxed(uint8_t* relaxed, int64_t k) { relaxed[k / 8] |= uint8_t(1u << (k % 8)); }
+// The `lanes` (at most 8) bits of the mask from slot k on, in the low bits.
+inline unsigned mask_bits(const uint8_t* relaxed, int64_t k, int lanes) {
+  const uint64_t slot = uint64_t(k);  // never negative: shifts, not signed division
+  uint16_t two;
+  std::memcpy(&two, relaxed + slot / 8, sizeof two);
+  return (unsigned(two) >> (slot % 8)) & ((1u << lanes) - 1u);
+}
 
 // One red-black half-sweep over `n` ranges of one colour's array q: relaxes the cells whose bit
 // in `relaxed` is set from their four neighbours in the other colour's array, passing over each

@@ -23,17 +23,6 @@ template <> struct Lanes_<2> {
   typedef double Vec __attribute__((vector_size(16)));
   typedef int64_t Mask __attribute__((vector_size(16)));
 };
-template <> struct Lanes_<4> {
-  typedef double Vec __attribute__((vector_size(32)));
-  typedef int64_t Mask __attribute__((vector_size(32)));
-};
-
-// The `lanes` bits of the mask from slot k on, in the low bits.
-inline unsigned mask_bits(const uint8_t* relaxed, int64_t k, int lanes) {
-  uint16_t two;
-  std::memcpy(&two, relaxed + k / 8, sizeof two);
-  return (unsigned(two) >> (k % 8)) & ((1u << lanes) - 1u);
-}
 
 // The rows one range of a half-sweep reads and writes: its own slots, and in the other colour's
 // array the left neighbours (the right ones are one further), those below and those above.
@@ -101,8 +90,73 @@ int relax_2(ROGER_RELAX_PARAMS) { return relax_lanes<2>(ROGER_RELAX_ARGS); }
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define ROGER_WIDE_KERNELS 1
+// Four cells at once with AVX, which has no 256-bit integer operations: relax_lanes<4> built the
+// lane mask and counted converged cells with scalar moves and 128-bit halves (about 25 of the
+// kernel's 50 instructions per four cells, and half of the 8-object pipeline's instructions are
+// this kernel). Here the mask is one load from a table of the 16 patterns, and the converged
+// cells are counted in doubles (exact far beyond any grid's size): the floating-point operations
+// are those of relax_lanes, in the same order, so the bits are the narrower kernels'.
+struct LaneMasks4 {
+  alignas(32) int64_t lanes[16][4];
+  constexpr LaneMasks4() : lanes{} {
+    for (int b = 0; b < 16; ++b)
+      for (int k = 0; k < 4; ++k) lanes[b][k] = (b >> k) & 1 ? -1 : 0;
+  }
+};
+constexpr LaneMasks4 kLaneMasks4;
+
+// One group of four cells (masked: only the lanes set in `mask` change and count).
+struct Relax4 {
+  __m256d om, quarter, tolerance, no_sign, one, counts;
+  __attribute__((target("avx"), always_inline)) inline void group(double* row, const double* left,
+                                                                  const double* below, const double* above,
+                                                                  __m256d mask, bool masked) {
+    const __m256d value = _mm256_loadu_pd(row);
+    const __m256d sum = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(_mm256_loadu_pd(left), _mm256_loadu_pd(left + 1)),
+                                                    _mm256_loadu_pd(below)),
+                                      _mm256_loadu_pd(above));
+    const __m256d mean = _mm256_mul_pd(quarter, sum);
+    __m256d change = _mm256_mul_pd(om, _mm256_sub_pd(mean, value));
+    if (masked) change = _mm256_and_pd(change, mask);
+    const __m256d next = _mm256_add_pd(value, change);
+    _mm256_storeu_pd(row, next);
+    const __m256d size = _mm256_and_pd(change, no_sign);
+    __m256d met = _mm256_cmp_pd(size, _mm256_mul_pd(tolerance, next), _CMP_LT_OQ);
+    if (masked) met = _mm256_and_pd(met, mask);
+    counts = _mm256_add_pd(counts, _mm256_and_pd(met, one));
+  }
+};
+
 __attribute__((target("avx"))) int relax_4(ROGER_RELAX_PARAMS) {
-  return relax_lanes<4>(ROGER_RELAX_ARGS);
+  Relax4 k;
+  k.om = _mm256_set1_pd(omega), k.quarter = _mm256_set1_pd(0.25), k.tolerance = _mm256_set1_pd(tol);
+  k.no_sign = _mm256_castsi256_pd(_mm256_set1_epi64x(INT64_MAX)), k.one = _mm256_set1_pd(1.0);
+  k.counts = _mm256_setzero_pd();
+  const __m256d all = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+  for (const RelaxRange* range = ranges; range != ranges + n; ++range) {
+    if (range->nearest > reached) continue;
+    const RangeRows rows(*range, q, other, width);
+    double* row = rows.row;
+    const double *left = rows.left, *below = rows.below, *above = rows.above;
+    if (range->full) {
+      // Every lane relaxed: no mask to read or apply (an all-ones mask changes no bit).
+      int m = 0;
+      for (; m + 8 <= range->count; m += 8) {
+        k.group(row + m, left + m, below + m, above + m, all, false);
+        k.group(row + m + 4, left + m + 4, below + m + 4, above + m + 4, all, false);
+      }
+      if (m < range->count) k.group(row + m, left + m, below + m, above + m, all, false);
+      continue;
+    }
+    for (int m = 0; m < range->count; m += 4) {
+      const __m256d mask = _mm256_load_pd(reinterpret_cast<const double*>(
+          kLaneMasks4.lanes[mask_bits(relaxed, range->at + m, 4)]));
+      k.group(row + m, left + m, below + m, above + m, mask, true);
+    }
+  }
+  alignas(32) double lanes[4];
+  _mm256_store_pd(lanes, k.counts);
+  return int(lanes[0]) + int(lanes[1]) + int(lanes[2]) + int(lanes[3]);
 }
 
 // Eight cells at once with AVX-512's own mask registers: the byte of the bit mask is the lane
@@ -121,7 +175,7 @@ __attribute__((target("avx512f"))) int relax_8(ROGER_RELAX_PARAMS) {
     double* row = rows.row;
     const double *left = rows.left, *below = rows.below, *above = rows.above;
     for (int m = 0; m < range->count; m += 8) {
-      const __mmask8 mask = __mmask8(mask_bits(relaxed, range->at + m, 8));
+      const __mmask8 mask = range->full ? __mmask8(0xFF) : __mmask8(mask_bits(relaxed, range->at + m, 8));
       const __m512d value = _mm512_loadu_pd(row + m);
       const __m512d sum = _mm512_add_pd(_mm512_add_pd(_mm512_add_pd(_mm512_loadu_pd(left + m), _mm512_loadu_pd(left + m + 1)),
                                                       _mm512_loadu_pd(below + m)),

@@ -145,8 +145,8 @@ class Sorted final : public Predicate {
 
 SortCount sorted_objects(const ControlInput& in, const Colour* only) {
   SortCount c;
-  if (!in.objects || !in.spec) return c;
-  const std::vector<GoalRegion>& goals = in.spec->goals;
+  if (!in.objects || !in.model) return c;
+  const std::vector<GoalRegion>& goals = in.spec().goals;
   for (const MapObject& o : *in.objects) {
     if (only && !(o.colour == *only)) continue;
     bool has_region = false;

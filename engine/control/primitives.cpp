@@ -75,18 +75,17 @@ Primitive::ParamSlot Primitive::declare(const std::string& name, double value, d
   return defs_.size() - 1;
 }
 
-Primitive::ParamSlot Primitive::declare_body(const std::string& name, double BodyMetrics::*metric, double min,
-                                             double max, const std::string& help) {
-  const ParamSlot slot = declare(name, BodyMetrics{}.*metric, min, max, help);
-  follow_body(slot, metric);
-  return slot;
+Primitive::BodySlot Primitive::declare_body(const std::string& name, double BodyMetrics::*metric, double min,
+                                            double max, const std::string& help) {
+  return follow_body(declare(name, BodyMetrics{}.*metric, min, max, help), metric);
 }
 
-void Primitive::follow_body(ParamSlot slot, double BodyMetrics::*metric, bool from_body) {
+Primitive::BodySlot Primitive::follow_body(ParamSlot slot, double BodyMetrics::*metric, bool from_body) {
   ParamDef& d = defs_[slot];
   d.body = metric;
   d.from_body = from_body;
   if (from_body) d.value = BodyMetrics{}.*metric;
+  return BodySlot{slot};
 }
 
 void Primitive::refuse_redeclared(const std::string& name) const {

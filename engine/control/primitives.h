@@ -76,22 +76,29 @@ class Primitive : public Controller {
   // Where a parameter sits among param_defs(): the hot loops read parameters by slot, since a name
   // search per read cost several per cent of the whole pipeline.
   using ParamSlot = size_t;
+  // The slot of a number parameter the body can decide: its value in force is read with the
+  // ControlInput of the evaluation (the world's body), so it has a type of its own.
+  struct BodySlot {
+    ParamSlot slot = 0;
+  };
   // Declares a number parameter with its default, bounds and one-line help; returns its slot.
   ParamSlot declare(const std::string& name, double value, double min, double max, const std::string& help);
   // Declares a string parameter with its choices (the first is the default); returns its slot.
   ParamSlot declare_text(const std::string& name, std::vector<std::string> choices, const std::string& help);
   // Declares a number parameter the body decides (its default: the default Roger's value of
   // `metric`, core/body.h); returns its slot.
-  ParamSlot declare_body(const std::string& name, double BodyMetrics::*metric, double min, double max,
-                         const std::string& help);
+  BodySlot declare_body(const std::string& name, double BodyMetrics::*metric, double min, double max,
+                        const std::string& help);
   // Makes the number parameter at `slot` one the body can decide, following it from now on when
-  // `from_body` (until set to a number).
-  void follow_body(ParamSlot slot, double BodyMetrics::*metric, bool from_body = true);
-  // The value in force of the number parameter declared at `slot`: the body's where it follows
-  // the body (the body it is evaluated for; the default Roger's outside an evaluation).
-  double value(ParamSlot slot) const {
-    const ParamDef& d = defs_[slot];
-    return d.from_body && body() ? body()->*d.body : d.value;
+  // `from_body` (until set to a number); returns its slot as a body's.
+  BodySlot follow_body(ParamSlot slot, double BodyMetrics::*metric, bool from_body = true);
+  // The value of the number parameter declared at `slot`.
+  double value(ParamSlot slot) const { return defs_[slot].value; }
+  // The value in force of a number parameter the body can decide: the world's (in.body()) where it
+  // follows the body.
+  double value(const ControlInput& in, BodySlot slot) const {
+    const ParamDef& d = defs_[slot.slot];
+    return d.from_body ? in.body().*d.body : d.value;
   }
   // The value of the string parameter declared at `slot`.
   const std::string& choice(ParamSlot slot) const { return defs_[slot].text; }

@@ -27,8 +27,8 @@ const DofVector kArmsAndBase =
 class Preshape final : public Primitive {
   // Where the constructor declared each parameter: reading one is an index, not a name search.
   struct {
-    ParamSlot standoff = 0, spread = 0, swing = 0, phi_max = 0, reach = 0,
-        memory = 0, damping = 0, body = 0;
+    ParamSlot standoff = 0, spread = 0, swing = 0, phi_max = 0, memory = 0, damping = 0, body = 0;
+    BodySlot reach;
   } p_;
  public:
   Preshape() : Primitive("phi2", 0.04) {
@@ -98,12 +98,12 @@ class Preshape final : public Primitive {
     const Senses& s = *in.senses;
     v.obj = VisualObject{};
     v.in_reach = object_estimate(in, value(p_.memory), v.obj, true) &&
-                 !((v.obj.center - Vec2(s.base.x, s.base.y)).norm() > value(p_.reach));
+                 !((v.obj.center - Vec2(s.base.x, s.base.y)).norm() > value(in, p_.reach));
     if (!v.in_reach) return v;
     const double r = std::clamp(v.obj.radius, 0.05, 0.5);
     const double standoff = value(p_.standoff);
-    v.targets = grasp_targets(in, v.obj.center, r + in.robot->base_radius + standoff,
-                              r + in.robot->hand_radius + standoff, value(p_.spread),
+    v.targets = grasp_targets(in, v.obj.center, r + in.robot().base_radius + standoff,
+                              r + in.robot().hand_radius + standoff, value(p_.spread),
                               value(p_.swing));
     v.targets.body_keep_out = body_clear_;
     const ContactGeometry g = kinematic_contacts(in, v.obj.center);
@@ -135,8 +135,8 @@ class Grasp final : public Primitive {
   // Where the constructor declared each parameter: reading one is an index, not a name search.
   struct {
     ParamSlot squeeze = 0, body_squeeze = 0, creep = 0, slide = 0, light = 0,
-        spread = 0, swing = 0, moment = 0, friction = 0, reach = 0,
-        memory = 0, damping = 0, back_off = 0;
+        spread = 0, swing = 0, moment = 0, friction = 0, memory = 0, damping = 0, back_off = 0;
+    BodySlot reach;
   } p_;
  public:
   Grasp() : Primitive("phi3", 0.2) {
@@ -199,15 +199,15 @@ class Grasp final : public Primitive {
     const Vec2 base(s.base.x, s.base.y);
     const double creep = value(p_.creep);
     GraspResidual grasp;  // with all three contacts on the object, computed once per tick
-    const double body_distance = body_on ? r + in.robot->base_radius - value(p_.body_squeeze)
+    const double body_distance = body_on ? r + in.robot().base_radius - value(p_.body_squeeze)
                                          : (obj.center - base).norm() - creep;
     // While the body does not touch the object, a hand that touches it must not grip it: a
     // polygon's corners reach beyond vision's radius, and hands that gripped first carried the
     // object ahead of the creeping body (the base drives them forward with it), pushing it across
     // the floor until a wall stopped it. The same when the body loses the object while the hands
     // close: a triangle turned off the body is let go and closed on again, not carried off.
-    Targets t = grasp_targets(in, obj.center, std::min(body_distance, r + in.robot->base_radius),
-                              r + in.robot->hand_radius + 0.01, value(p_.spread), value(p_.swing));
+    Targets t = grasp_targets(in, obj.center, std::min(body_distance, r + in.robot().base_radius),
+                              r + in.robot().hand_radius + 0.01, value(p_.spread), value(p_.swing));
     t.body_press = value(p_.body_squeeze);
     if (body_on) close_hands(in, obj, r, creep, t, grasp);
     else back_off_hands(in, t);
@@ -228,7 +228,7 @@ class Grasp final : public Primitive {
   bool object_in_reach(const ControlInput& in, VisualObject& obj) const {
     const Senses& s = *in.senses;
     return object_estimate(in, value(p_.memory), obj) &&
-           !((obj.center - Vec2(s.base.x, s.base.y)).norm() > value(p_.reach));
+           !((obj.center - Vec2(s.base.x, s.base.y)).norm() > value(in, p_.reach));
   }
 
   // How many of the three contacts touch the object touched most.
@@ -410,11 +410,11 @@ class Hold final : public Primitive {
       on[k] = p.contact_on_object[k] && s.touch[k].index == p.touched_object;
     if (memory_tick_ == in.tick) return accel_;
     memory_tick_ = in.tick;
-    accel_ = base_acceleration(s, in.dt);
+    accel_ = base_acceleration(s, in.dt());
     // A body contact that breaks for a moment while both hands hold (a light body contact, a
     // non-convex object rocking on it) is not a lost grasp: the pull is drawing the object back,
     // so for `grace` seconds the grasp counts as held, unconverged.
-    if (on[kLeftHand] && on[kRightHand]) body_off_time_ = on[kBody] ? 0.0 : body_off_time_ + in.dt;
+    if (on[kLeftHand] && on[kRightHand]) body_off_time_ = on[kBody] ? 0.0 : body_off_time_ + in.dt();
     return accel_;
   }
 

@@ -19,8 +19,9 @@ namespace {
 class Navigate final : public Primitive {
   // Where the constructor declared each parameter: reading one is an index, not a name search.
   struct {
-    ParamSlot goal = 0, region = 0, approach = 0, carry = 0, speed = 0, carry_turn = 0, memory = 0,
-        margin = 0, replan = 0, tolerance = 0, depth = 0, objects = 0, squeeze = 0, away = 0;
+    ParamSlot goal = 0, region = 0, speed = 0, carry_turn = 0, memory = 0, margin = 0, replan = 0,
+        tolerance = 0, depth = 0, away = 0;
+    BodySlot approach, carry, objects, squeeze;
   } p_;
   enum class GoalKind { kObject, kRegion, kElsewhere };
  public:
@@ -32,9 +33,9 @@ class Navigate final : public Primitive {
     // hand-written task in cluttered worlds loses fewer triangles to a preshape that pushes the
     // object ahead of it (docs/results.md, "The triangle at 95%").
     p_.approach = declare_body("approach", &BodyMetrics::approach, 0.3, 2.0, "approach distance (m) from the object centre to the base");
-    p_.carry = declare("carry", 0.0, 0.0, 1.0,
-                       "control point ahead of the base (m): 0 = base centre; \"body\": the grasped object's centre");
-    follow_body(p_.carry, &BodyMetrics::carry, false);
+    p_.carry = follow_body(declare("carry", 0.0, 0.0, 1.0,
+                                   "control point ahead of the base (m): 0 = base centre; \"body\": the grasped object's centre"),
+                           &BodyMetrics::carry, false);
     p_.speed = declare("speed", 0.9, 0.05, 2.0, "cruise speed (m/s)");
     p_.carry_turn = declare("carry_turn", 0.6, 0.01, 3.0, "largest heading step (rad) per command while carrying");
     p_.memory = declare("memory", 2.0, 0.0, 60.0, "seconds a lost object's last position stays a goal");
@@ -127,14 +128,14 @@ class Navigate final : public Primitive {
     const Vec2 point = classify(in, true, out, gamma);
     if (gamma != Gamma::kNotConv) return;
     const Senses& s = *in.senses;
-    const double carry = value(p_.carry);
+    const double carry = value(in, p_.carry);
     out.phi = planner_.potential(point);
     Vec2 dir = planner_.descent(point);
     if (dir.squaredNorm() < 1e-12) dir = (goal_center_ - point).normalized();
     const double slow = std::clamp(out.residual / 0.3, 0.25, 1.0);  // ease into the goal
     const double lookahead = 0.3;                                     // s of motion per command
     const double speed = value(p_.speed) * slow;
-    if (carry > 0.05) steer_carried(s, in.dt, dir, speed, lookahead, carry, out);
+    if (carry > 0.05) steer_carried(s, in.dt(), dir, speed, lookahead, carry, out);
     else steer_base(s, dir, speed, lookahead, out);
   }
 
@@ -145,7 +146,7 @@ class Navigate final : public Primitive {
   // says where the carried object really is, if the eyes have it.
   Vec2 control_point(const ControlInput& in) const {
     const Senses& s = *in.senses;
-    const double carry = value(p_.carry);
+    const double carry = value(in, p_.carry);
     const Vec2 point = Vec2(s.base.x, s.base.y) + carry * unit(s.base.theta);
     if (carry > 0.05 && in.percepts->object.seen &&
         (in.percepts->object.center - point).norm() < 0.5 * carry)
@@ -163,10 +164,10 @@ class Navigate final : public Primitive {
   bool prepare_region(const ControlInput& in, bool solve) {
     // A binding may name the region (ControlInput::region) instead of the parameter.
     const size_t k = in.region >= 0 ? size_t(in.region) : size_t(value(p_.region));
-    if (k >= in.spec->goals.size()) return false;
+    if (k >= in.spec().goals.size()) return false;
     if (bare_region_ >= 0 && size_t(bare_region_) != k) {
       bare_region_ = -1;  // another region: the objects put away in the last are grown again
-      if (grid_ == in.grid) build_map();
+      if (grid_ == &in.grid()) build_map(in);
     }
     const bool map_changed = update_map(in, nullptr);
     // The region is fixed while the region is: set it once (the planner would notice that
@@ -174,23 +175,23 @@ class Navigate final : public Primitive {
     if (map_changed || !planned_ || k != planned_region_) {
       planned_ = true;
       planned_region_ = k;
-      goal_center_ = in.spec->goals[k].center;
-      goal_radius_ = in.spec->goals[k].radius;
-      planner_.set_goal(goal_center_, std::max(0.5 * in.grid->cell, goal_radius_ - value(p_.margin)));
+      goal_center_ = in.spec().goals[k].center;
+      goal_radius_ = in.spec().goals[k].radius;
+      planner_.set_goal(goal_center_, std::max(0.5 * in.grid().cell, goal_radius_ - value(p_.margin)));
     }
     // A region whose every goal cell lies under the growth of objects already put away in it is
     // full only for the grid, not for the floor: the next of the type goes in beside them. From
     // then on, for this navigator, the objects in that region are stamped at their own size.
-    if (planner_.goal_cells() == 0 && bare_region_ < 0 && grown_in_region(int(k))) {
+    if (planner_.goal_cells() == 0 && bare_region_ < 0 && grown_in_region(in, int(k))) {
       bare_region_ = int(k);
-      build_map();  // set_grid finds the goal cells again on the new grid
+      build_map(in);  // set_grid finds the goal cells again on the new grid
     }
     return solve ? planner_.update() : planner_.update_reachability();
   }
 
   // Whether an obstacle object lying in region k is stamped with a growth.
-  bool grown_in_region(int k) const {
-    if (!(value(p_.objects) > 0.0)) return false;
+  bool grown_in_region(const ControlInput& in, int k) const {
+    if (!(value(in, p_.objects) > 0.0)) return false;
     for (const Stamp& st : stamps_)
       if (st.on && st.region == k) return true;
     return false;
@@ -202,7 +203,7 @@ class Navigate final : public Primitive {
     VisualObject obj;
     if (!object_estimate(in, value(p_.memory), obj, true)) return false;
     int i, j;
-    if (!in.grid->cell_of(obj.center, i, j)) return false;
+    if (!in.grid().cell_of(obj.center, i, j)) return false;
     // The object approached is no obstacle: the base stops on entering the approach disk.
     if (update_map(in, &obj.center)) planned_ = false;
     // Re-plan only when the estimate has moved by `replan` metres (or more, far away): stereo
@@ -215,10 +216,10 @@ class Navigate final : public Primitive {
         (obj.center - goal_center_).norm() > std::max(value(p_.replan), 0.25 * distance)) {
       planned_ = true;
       goal_center_ = obj.center;
-      goal_radius_ = value(p_.approach);
+      goal_radius_ = value(in, p_.approach);
       planner_.set_goal(goal_center_, goal_radius_);
     }
-    squeeze_if_shut_out(point);
+    squeeze_if_shut_out(in, point);
     return solve ? planner_.update() : planner_.update_reachability();
   }
 
@@ -228,12 +229,12 @@ class Navigate final : public Primitive {
   // up after its patience and is chosen again, to the end of the episode (8-object sorting seed
   // 540034). The other objects are then grown only by `squeeze`, enough to keep the base itself
   // off them, until the approach turns to another object or starts over.
-  void squeeze_if_shut_out(const Vec2& point) {
-    const double squeeze = value(p_.squeeze);
-    if (squeezed_for_ >= 0 || left_out_ < 0 || !(squeeze > 0.0) || squeeze >= value(p_.objects)) return;
+  void squeeze_if_shut_out(const ControlInput& in, const Vec2& point) {
+    const double squeeze = value(in, p_.squeeze);
+    if (squeezed_for_ >= 0 || left_out_ < 0 || !(squeeze > 0.0) || squeeze >= value(in, p_.objects)) return;
     if (planner_.update_reachability() && planner_.reachable(point)) return;
     squeezed_for_ = left_out_;
-    build_map();
+    build_map(in);
   }
 
   // goal='elsewhere': away from a place where looking shows nothing. A run (a tick on which it runs
@@ -295,7 +296,7 @@ class Navigate final : public Primitive {
   void watch_trip(const ControlInput& in, bool commanding, const Vec2& base, double residual, Gamma& gamma) {
     if (commanding) {
       if (residual < best_residual_ - kHeadway) best_residual_ = residual, no_headway_ = 0.0;
-      else no_headway_ += in.dt;
+      else no_headway_ += in.dt();
     }
     if (gamma == Gamma::kConv || no_headway_ > kStuckSeconds) {
       trip_ = gamma == Gamma::kConv ? Trip::kArrived : Trip::kNone;
@@ -378,7 +379,7 @@ class Navigate final : public Primitive {
       chosen = nearest_to(*target, true);
     } else if (in.percepts->touched_object >= 0 && size_t(in.percepts->touched_object) < objects.size()) {
       chosen = in.percepts->touched_object;
-    } else if (value(p_.carry) > 0.05) {
+    } else if (value(in, p_.carry) > 0.05) {
       chosen = nearest_to(control_point(in), false);
     }
     left_out_ = chosen;
@@ -400,14 +401,14 @@ class Navigate final : public Primitive {
   // leaves room for that), so a still scene costs one comparison per object and tick, and never a
   // solve. Returns whether the grid changed.
   bool update_map(const ControlInput& in, const Vec2* target) {
-    const bool new_grid = grid_ != in.grid;
+    const bool new_grid = grid_ != &in.grid();
     if (new_grid) {
-      grid_ = in.grid;
+      grid_ = &in.grid();
       stamps_.clear();
     }
-    const double grow = value(p_.objects);
+    const double grow = value(in, p_.objects);
     if (!in.objects || grow <= 0.0) {
-      if (new_grid) planner_.set_grid(*in.grid);
+      if (new_grid) planner_.set_grid(in.grid());
       return new_grid;
     }
     choose_obstacles(in, target, wanted_);
@@ -420,7 +421,7 @@ class Navigate final : public Primitive {
       const bool on = wanted_[i] != 0;
       // Which region an object lies in matters only to a region stamped at the objects' own size.
       const bool region_same = bare_region_ < 0 || st.region == objects[i].region;
-      if (st.on == on && region_same && (!on || (st.center - objects[i].center).norm() <= in.grid->cell))
+      if (st.on == on && region_same && (!on || (st.center - objects[i].center).norm() <= in.grid().cell))
         continue;
       st.on = on;
       st.center = objects[i].center;
@@ -429,16 +430,16 @@ class Navigate final : public Primitive {
       changed = true;
     }
     if (!changed) return false;
-    build_map();
+    build_map(in);
     return true;
   }
 
   // The planner's grid from the static grid and the stamps: each obstacle object a disk of its
   // radius grown by `objects` (by `squeeze` while squeezed), or of its own radius in the region
   // bare_region_.
-  void build_map() {
+  void build_map(const ControlInput& in) {
     map_ = *grid_;
-    const double grow = squeezed_for_ >= 0 ? value(p_.squeeze) : value(p_.objects);
+    const double grow = squeezed_for_ >= 0 ? value(in, p_.squeeze) : value(in, p_.objects);
     for (const Stamp& st : stamps_)
       if (st.on) stamp_disk(st.center, st.region >= 0 && st.region == bare_region_ ? st.radius : st.radius + grow);
     planner_.set_grid(map_);

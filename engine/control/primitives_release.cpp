@@ -17,7 +17,10 @@ namespace primitives_internal {
 namespace {
 
 class Release final : public Primitive {
-  struct { ParamSlot distance = 0, step = 0, clear = 0, blocked = 0; } p_;
+  struct {
+    ParamSlot step = 0, clear = 0, blocked = 0;
+    BodySlot distance;
+  } p_;
  public:
   Release() : Primitive("release", 0.05) {
     p_.distance = declare_body("distance", &BodyMetrics::release_distance, 0.0, 2.0, "how far (m) the base backs off once the arms are folded");
@@ -38,7 +41,7 @@ class Release final : public Primitive {
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
     own_dofs({kBaseForward, kLeftShoulder, kLeftElbow, kRightShoulder, kRightElbow}, out.jacobian);
     const Senses& s = *in.senses;
-    const RobotStart& start = in.spec->robot;
+    const RobotStart& start = in.spec().robot;
     const double posture[4] = {start.left_shoulder, start.left_elbow, start.right_shoulder, start.right_elbow};
     double arm_error = 0.0;
     for (int k = 0; k < 4; ++k) {
@@ -62,18 +65,18 @@ class Release final : public Primitive {
     // body, a hand stepping out and folding back in turn): backing away first frees them, where
     // folding on the spot would wait for ever.
     const double patience = value(p_.blocked);
-    if (acting && !folded && !backing_) fold_stalled_ = stalled(arm_error, kFoldProgress, in.dt, best_fold_, fold_stalled_);
+    if (acting && !folded && !backing_) fold_stalled_ = stalled(arm_error, kFoldProgress, in.dt(), best_fold_, fold_stalled_);
     if ((folded || (patience > 0.0 && fold_stalled_ > patience)) && acting && !backing_) {
       backing_ = true;
       blocked_ = !folded;
       origin_ = base;
     }
-    double remaining = value(p_.distance);
+    double remaining = value(in, p_.distance);
     if (backing_) {
-      remaining = std::max(0.0, value(p_.distance) - (base - origin_).norm());
+      remaining = std::max(0.0, value(in, p_.distance) - (base - origin_).norm());
       // A base that backs no further (a wall or an obstacle behind it) has backed off as far as
       // it can.
-      back_stalled_ = stalled(remaining, kBackProgress, in.dt, best_back_, back_stalled_);
+      back_stalled_ = stalled(remaining, kBackProgress, in.dt(), best_back_, back_stalled_);
       if (patience > 0.0 && back_stalled_ > patience) remaining = 0.0;
       out.command[kBaseForward] = -std::min(remaining, value(p_.step));
     }

@@ -68,7 +68,8 @@ class Track final : public Primitive {
 class Search final : public Primitive {
   // Where the constructor declared each parameter: reading one is an index, not a name search.
   struct {
-    ParamSlot spread = 0, reached = 0, min_turn = 0, max_turn = 0, one_eye = 0, sidestep = 0, stuck = 0;
+    ParamSlot spread = 0, reached = 0, min_turn = 0, max_turn = 0, one_eye = 0, stuck = 0;
+    BodySlot sidestep;
   } p_;
   enum class Step { kNone, kTurnOut, kDrive, kBackAway };
 
@@ -115,7 +116,7 @@ class Search final : public Primitive {
       swept_.fill(false);  // a glimpse: whatever was swept before does not say "nothing here"
       swept_count_ = 0;
     } else {
-      sweep(s);
+      sweep(in);
     }
     // A sideways step under way is finished first: turning out swings the blind eye's line of
     // sight across the stimulus for a moment, and a glimpse is not a view.
@@ -127,10 +128,10 @@ class Search final : public Primitive {
       return;
     }
     gamma = looked_everywhere() ? Gamma::kNoRef : Gamma::kNotConv;
-    if (step_ == Step::kNone && (left != right)) watch_one_eye(s, in.time, in.dt, left ? kLeft : kRight);
+    if (step_ == Step::kNone && (left != right)) watch_one_eye(in, left ? kLeft : kRight);
     if (step_ != Step::kNone) {
       own_dofs({kBaseForward, kBaseHeading, kLeftEye, kRightEye}, out.jacobian);
-      step_aside(s, in.dt, out);
+      step_aside(s, in.dt(), out);
       return;
     }
     own_dofs({kBaseHeading, kLeftEye, kRightEye}, out.jacobian);
@@ -157,11 +158,12 @@ class Search final : public Primitive {
  private:
   // Marks the directions (world bearings, in kSweepBins bins) that lie wholly inside either eye's
   // field of view this tick.
-  void sweep(const Senses& s) {
+  void sweep(const ControlInput& in) {
+    const Senses& s = *in.senses;
     constexpr double kBin = 2.0 * M_PI / kSweepBins;
     for (int e = 0; e < 2; ++e) {
       const double axis = s.base.theta + s.q[kLeftEye + e];
-      const double half_view = body() ? body()->half_view : BodyMetrics{}.half_view;
+      const double half_view = in.body().half_view;
       const double from = axis - half_view, to = axis + half_view;
       const int first = int(std::ceil((from + M_PI) / kBin)), last = int(std::floor((to + M_PI) / kBin)) - 1;
       for (int b = first; b <= last; ++b) {
@@ -200,11 +202,11 @@ class Search final : public Primitive {
   bool watch_turning(double heading, const ControlInput& in) {
     const bool running =
         has_target_ && step_ == Step::kNone && in.tick == last_tick_ + 1 && acted_last_tick(in);
-    if (!running || std::abs(wrap_angle(heading - last_heading_)) >= kStuckRate * in.dt) {
+    if (!running || std::abs(wrap_angle(heading - last_heading_)) >= kStuckRate * in.dt()) {
       stuck_time_ = 0.0;
       return true;
     }
-    stuck_time_ += in.dt;
+    stuck_time_ += in.dt();
     if (value(p_.stuck) <= 0.0 || stuck_time_ < value(p_.stuck)) return true;
     stuck_time_ = 0.0;
     return false;
@@ -228,7 +230,9 @@ class Search final : public Primitive {
   // over and lost it at once, the occluder's edge swinging across the blind eye's view) does not
   // restart the count: otherwise search and tracking hand the stimulus to each other for ever
   // and the step never comes.
-  void watch_one_eye(const Senses& s, double time, double dt, int e) {
+  void watch_one_eye(const ControlInput& in, int e) {
+    const Senses& s = *in.senses;
+    const double time = in.time, dt = in.dt();
     const double rel = wrap_angle(s.q[kLeftEye + e] + s.stimulus[e].bearing);
     if (std::abs(rel) >= value(p_.reached)) {
       one_eye_time_ = 0.0;
@@ -245,7 +249,7 @@ class Search final : public Primitive {
     step_time_ = 0.0;
     one_eye_time_ = 0.0;
     // Each further step in a row goes further: an occluder wider than one step needs more.
-    step_length_ = value(p_.sidestep) * std::min(1.0 + steps_taken_, 3.0);
+    step_length_ = value(in, p_.sidestep) * std::min(1.0 + steps_taken_, 3.0);
     ++steps_taken_;
   }
 

@@ -1,4 +1,4 @@
-// dashboard.cpp: the results folder's dashboard: index.html (web/dashboard.html of the view
+// dashboard.cpp: the results folder's dashboard: index.html (web/dashboard.html of this
 // folder, compiled in) and dashboard.js (the report's numbers). The page draws what the report
 // computed; it computes no statistic itself.
 #include "report/dashboard_internal.h"
@@ -16,7 +16,7 @@
 #include "report/report.h"
 #include "report/stats.h"
 
-#include "dashboard_page_html.h"  // generated from engine/view/web/dashboard.html
+#include "dashboard_page_html.h"  // generated from engine/report/web/dashboard.html
 
 namespace roger {
 namespace dashboard {

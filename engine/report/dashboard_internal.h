@@ -1,5 +1,5 @@
 // dashboard_internal.h: the results folder's dashboard (private to report/): index.html, the page
-// of engine/view/web/dashboard.html compiled in, and dashboard.js, the numbers report_*.cpp computed
+// of engine/report/web/dashboard.html compiled in, and dashboard.js, the numbers report_*.cpp computed
 // for tables.md and the figures, as data the page draws (a page opened from the file system cannot
 // fetch() JSON, but it can load a script). dashboard.cpp writes both.
 #pragma once

@@ -6,6 +6,16 @@
 #include "core/shape.h"
 
 namespace roger {
+
+NoiseModel noise_model(const NoiseParams& params, const Camera& camera) {
+  constexpr double kLevelsPerPixel = 100.0;  // colour levels of noise that shift the centre a pixel
+  NoiseModel m;
+  m.params = params;
+  m.stereo = StereoNoise{std::hypot(params.joints, params.image / kLevelsPerPixel / camera.focal), params.base};
+  m.any = params.any();
+  return m;
+}
+
 namespace {
 
 // Standard normal values drawn two at a time (Box-Muller's both outputs, one logarithm and one

@@ -9,6 +9,28 @@
 
 namespace roger {
 
+// How noisy the stereo fix is, from the senses' noise: the standard deviation of each eye's world
+// bearing of the stimulus (rad: its pan's noise and the image's) and of the base pose (m and rad).
+// All zero for true senses: the fix is then taken as it is.
+struct StereoNoise {
+  double bearing = 0.0;
+  double base = 0.0;
+  bool any() const { return bearing > 0.0 || base > 0.0; }
+};
+
+// The noise of one world, derived once (WorldModel): what its spec asks of each channel, what that
+// does to a stereo fix, and whether there is any (a world without noise draws nothing).
+struct NoiseModel {
+  NoiseParams params;
+  StereoNoise stereo;
+  bool any = false;
+};
+
+// The noise model of `params` for eyes of `camera`. Each eye's world bearing of the stimulus
+// carries its pan's noise and the image's: about a hundredth of a pixel per colour level, measured
+// on the stimulus' centre (test_noise), over the focal length.
+NoiseModel noise_model(const NoiseParams& params, const Camera& camera);
+
 // Coverage at or above which a noisy pixel reads as the stimulus colour (its colour nearer the
 // stimulus's than its background's); a pixel next to one keeps its coverage below it (an edge).
 constexpr float kStimulusStrong = 0.5f;

@@ -30,7 +30,9 @@ ArmPoints arm_forward_kinematics(const RobotParams& robot, const Pose& base, int
   return p;
 }
 
-World::World(const WorldParams& params) : params_(params), impl_(std::make_unique<Impl>()) {
+World::World(const WorldParams& params)
+    : params_(params), model_(&own_model_), impl_(std::make_unique<Impl>()) {
+  own_model_.params = params;
   if (!(params_.dt > 0.0) || params_.substeps < 1)
     throw Error("world parameters: dt must be positive and substeps at least 1");
 }
@@ -68,7 +70,7 @@ DofVector World::qdot() const {
 }
 
 void World::set_setpoints(const DofVector& s) {
-  const RobotParams& r = spec_.body;
+  const RobotParams& r = model_->spec.body;
   setpoint_ = s;
   if (!setpoint_.allFinite()) {  // a NaN or infinite command holds that joint still
     const DofVector now = q();
@@ -96,10 +98,10 @@ void World::push_object(int i, const Vec2& force) {
 
 void World::step_physics() {
   Impl& m = *impl_;
-  const RobotParams& r = spec_.body;
+  const RobotParams& r = model_->spec.body;
   const double dt = params_.dt;
   // Effort noise scales each command of this tick (none: no factor, not a factor of 1).
-  const double* gain = spec_.noise.effort > 0.0 ? effort_.data() : nullptr;
+  const double* gain = model_->spec.noise.effort > 0.0 ? effort_.data() : nullptr;
   const b2Vec2 mid_fwd = m.drive_base(r, setpoint_, dt, gain);
   m.drive_eyes(r, setpoint_, dt, gain);
   m.drive_arms(r, setpoint_, gain);
@@ -203,14 +205,14 @@ void World::Impl::accumulate_touch() {
 }
 
 void World::tick() {
-  draw_effort_noise(effort_, spec_.noise.effort, noise_rng_);
+  draw_effort_noise(effort_, model_->spec.noise.effort, noise_rng_);
   for (int i = 0; i < params_.substeps; ++i) step_physics();
   sense();
 }
 
 void World::update_surfaces() {
   Impl& m = *impl_;
-  const size_t n = spec_.objects.size();
+  const size_t n = model_->spec.objects.size();
   const bool first_sensing = m.surface_poses.size() != n;
   if (first_sensing) {
     m.surfaces.resize(m.static_surfaces);
@@ -220,7 +222,7 @@ void World::update_surfaces() {
   // parts; only an object that moved since the last sensing is placed again (most lie still).
   size_t first = m.static_surfaces;
   for (size_t i = 0; i < n; ++i) {
-    const auto& o = spec_.objects[i];
+    const auto& o = model_->spec.objects[i];
     const Pose pose = object_pose(int(i));
     Pose& last = m.surface_poses[i];
     const size_t parts = o.shape.polygons.size() + o.shape.disks.size();
@@ -241,18 +243,30 @@ void World::update_surfaces() {
 
 bool World::put_away(int i, const Pose& pose) const {
   const int r = attention_.ignore_region;
-  if (r < 0 || size_t(r) >= spec_.goals.size()) return false;
-  const GoalRegion& g = spec_.goals[size_t(r)];
+  if (r < 0 || size_t(r) >= model_->spec.goals.size()) return false;
+  const GoalRegion& g = model_->spec.goals[size_t(r)];
   if ((Vec2(pose.x, pose.y) - g.center).norm() > g.radius) return false;
-  // Still held (touched by the body or a hand at the last sensing): not put away yet.
+  return !held(i);  // still held: not put away yet
+}
+
+bool World::held(int i) const {
   for (const Touch& t : senses_.touch)
-    if (t.contact && t.kind == SurfaceKind::kObject && t.index == i) return false;
-  return true;
+    if (t.contact && t.kind == SurfaceKind::kObject && t.index == i) return true;
+  return false;
+}
+
+int World::region_of(int i) const {
+  const Pose pose = object_pose(i);
+  const Vec2 center(pose.x, pose.y);
+  const std::vector<GoalRegion>& goals = model_->spec.goals;
+  for (size_t g = 0; g < goals.size(); ++g)
+    if ((center - goals[g].center).norm() <= goals[g].radius) return int(g);
+  return -1;
 }
 
 int World::stimulus_objects() const {
   int n = 0;
-  for (const ObjectSpec& o : spec_.objects) n += o.colour == attention_.colour;
+  for (const ObjectSpec& o : model_->spec.objects) n += o.colour == attention_.colour;
   return n;
 }
 
@@ -276,7 +290,7 @@ void World::fix_stereo(Senses& s, const Vec2 eye_pos[2], const double eye_headin
 
 void World::sense() {
   Impl& m = *impl_;
-  const RobotParams& r = spec_.body;
+  const RobotParams& r = model_->spec.body;
   Senses& s = senses_;
   s.time = time_;
   s.q = q();
@@ -296,14 +310,14 @@ void World::sense() {
   for (int e = 0; e < 2; ++e) {
     eye_pos[e] = to_world(s.base, Vec2(0.0, e == kLeft ? r.eye_y : -r.eye_y));
     eye_heading[e] = s.base.theta + m.eye[e];
-    paint_eye(camera_, eye_pos[e], eye_heading[e], m.surfaces, spec_.arena.wall_colour,
+    paint_eye(model_->camera, eye_pos[e], eye_heading[e], m.surfaces, model_->spec.arena.wall_colour,
               attention_.colour, s.image[e]);
     // The right eye looks first for the left eye's object.
     s.stimulus[e] = detect_stimulus(s.image[e], e == kRight ? s.stimulus[kLeft].index : kept);
   }
   fix_stereo(s, eye_pos, eye_heading, several);
   sense_touch();
-  if (noisy_on_) sense_noise(several);
+  if (model_->noise.any) sense_noise(several);
 }
 
 void World::sense_touch() {
@@ -335,8 +349,8 @@ void World::sense_touch() {
 }
 
 void World::sense_noise(bool several) {
-  const NoiseParams& n = spec_.noise;
-  const RobotParams& r = spec_.body;
+  const NoiseParams& n = model_->spec.noise;
+  const RobotParams& r = model_->spec.body;
   Senses& z = noisy_;
   // What the noisy eyes saw last tick decides which object they keep to, and a stereo fix that
   // fails keeps the last one they made (as the true senses do).
@@ -383,12 +397,12 @@ Vec2 World::object_velocity(int i) const {
 
 Vec2 World::hand_position(int side) const {
   const b2Body* forearm = impl_->link[side][1];
-  return v2(forearm->GetWorldPoint(b2Vec2(float(0.5 * spec_.body.link_length[1]), 0.0f)));
+  return v2(forearm->GetWorldPoint(b2Vec2(float(0.5 * model_->spec.body.link_length[1]), 0.0f)));
 }
 
 ArmPoints World::arm_points(int side) const {
   const Impl& m = *impl_;
-  const RobotParams& r = spec_.body;
+  const RobotParams& r = model_->spec.body;
   ArmPoints p;
   p.shoulder = v2(m.base->GetWorldPoint(
       b2Vec2(0.0f, float(side == kLeft ? r.shoulder_y : -r.shoulder_y))));
@@ -398,7 +412,7 @@ ArmPoints World::arm_points(int side) const {
 }
 
 Frame World::frame() const {
-  const RobotParams& r = spec_.body;
+  const RobotParams& r = model_->spec.body;
   Frame f;
   f.time = time_;
   f.base = base_pose();
@@ -407,7 +421,7 @@ Frame World::frame() const {
     f.eyes[side] = to_world(f.base, Vec2(0.0, side == kLeft ? r.eye_y : -r.eye_y));
     f.eye_heading[side] = f.base.theta + impl_->eye[side];
   }
-  for (size_t i = 0; i < spec_.objects.size(); ++i) f.objects.push_back(object_pose(int(i)));
+  for (size_t i = 0; i < model_->spec.objects.size(); ++i) f.objects.push_back(object_pose(int(i)));
   f.senses = senses();
   return f;
 }

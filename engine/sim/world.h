@@ -2,7 +2,7 @@
 // servos, touch accumulation and the occupancy grid. Depends only on senses and core.
 //
 // world.h: one episode of Roger in a world: Box2D bodies, servos, and senses.
-// A World is reset from an immutable WorldSpec (a fresh b2World each time) and then stepped.
+// A World is reset from an immutable WorldModel (a fresh b2World each time) and then stepped.
 #pragma once
 
 #include <array>
@@ -14,18 +14,11 @@
 #include "core/robot.h"
 #include "senses/senses.h"
 #include "core/spec.h"
+#include "sim/world_model.h"
 
 class b2World;
 
 namespace roger {
-
-// Simulation settings, with the defaults the engine's tests and benchmarks use.
-struct WorldParams {
-  double dt = 0.01;             // physics time step (s)
-  int substeps = 2;             // physics steps per control tick (a tick is 20 ms)
-  int velocity_iterations = 6;  // Box2D solver iterations
-  int position_iterations = 2;
-};
 
 // Where the arm's joints and hand are, world frame.
 struct ArmPoints {
@@ -70,7 +63,12 @@ class World {
   World(const World&) = delete;
   World& operator=(const World&) = delete;
 
-  // Builds a fresh Box2D world from spec (validated shapes), and senses once.
+  // Builds a fresh Box2D world from a model and senses once. The model is trusted (it was checked
+  // when derived) and must outlive the episode; it must have been derived with this world's
+  // params() (roger::Error otherwise).
+  void reset(const WorldModel& model);
+  // The same from a spec: derives a model of the world's own (checking the spec; roger::Error
+  // names what is wrong) and resets from it.
   void reset(const WorldSpec& spec);
 
   // Writes one errors vector: each servo's setpoint becomes its current position plus the error.
@@ -95,14 +93,16 @@ class World {
 
   // What the controllers perceive: the senses with the spec's noise (world:robot{ noise = ... }),
   // the true senses when it has none.
-  const Senses& senses() const { return noisy_on_ ? noisy_ : senses_; }
+  const Senses& senses() const { return model_->noise.any ? noisy_ : senses_; }
   // The true senses, without noise: what judges of success read (who holds what).
   const Senses& true_senses() const { return senses_; }
-  const WorldSpec& spec() const { return spec_; }
+  // The world's immutable model, and parts of it.
+  const WorldModel& model() const { return *model_; }
+  const WorldSpec& spec() const { return model_->spec; }
   const WorldParams& params() const { return params_; }
   // Roger's body and eyes in this world (the spec's), and the eyes' camera model.
-  const RobotParams& body() const { return spec_.body; }
-  const Camera& camera() const { return camera_; }
+  const RobotParams& body() const { return model_->spec.body; }
+  const Camera& camera() const { return model_->camera; }
   double time() const { return time_; }
   double tick_seconds() const { return params_.dt * params_.substeps; }
 
@@ -113,6 +113,11 @@ class World {
   Vec2 base_velocity() const;                         // world frame
   double base_lateral_speed() const;                  // sideways speed (m/s), ideally 0
   Pose object_pose(int i) const;
+  // Whether Roger touches object i with the body or a hand at the last sensing (the true touch:
+  // who holds what is the task's fact, never a noisy one).
+  bool held(int i) const;
+  // The goal region holding object i's centre (the first, by index into the spec's goals), or -1.
+  int region_of(int i) const;
   Vec2 object_velocity(int i) const;
   Vec2 hand_position(int side) const;                 // centre of the hand body, world frame
   ArmPoints arm_points(int side) const;               // from the Box2D bodies
@@ -144,13 +149,12 @@ class World {
   // How many objects have the colour the eyes attend to (put away or not).
   int stimulus_objects() const;
   WorldParams params_;
-  WorldSpec spec_;
+  const WorldModel* model_;  // the world of this episode (own_model_ until the first reset)
+  WorldModel own_model_;     // the model reset(spec) derives
   Senses senses_;
   Senses noisy_;            // senses_ with the spec's noise (only when it has some)
-  bool noisy_on_ = false;   // spec_.noise.any()
   Rng noise_rng_;           // the noise's stream, seeded by the spec's seed alone
   DofVector effort_ = DofVector::Ones();  // this tick's effort noise factors, one per degree of freedom
-  Camera camera_;
   DofVector locked_at_ = DofVector::Zero();  // where each locked joint is held (its start angle)
   Attention attention_;
   DofVector setpoint_ = DofVector::Zero();

@@ -114,27 +114,26 @@ b2RevoluteJoint* create_arm_joint(b2World& w, const RobotParams& r, b2Body* pare
 
 }  // namespace
 
-void World::reset(const WorldSpec& spec_in) {
+void World::reset(const WorldSpec& spec) {
+  derive_world_model(spec, params_, -1.0, own_model_);
+  reset(own_model_);
+}
+
+void World::reset(const WorldModel& model) {
+  if (model.params.dt != params_.dt || model.params.substeps != params_.substeps ||
+      model.params.velocity_iterations != params_.velocity_iterations ||
+      model.params.position_iterations != params_.position_iterations)
+    throw Error("world: the model was derived for other physics parameters than this world's");
   // Box2D's float solver lets a resting arm's velocities decay into subnormal numbers, which cost
   // the processor a hundred times a normal operation: with the arms at rest in the posture asked
   // for, b2RevoluteJoint's velocity solver took half of a transport trial's time. Subnormals are
   // flushed to zero on the thread that runs the episode, from its start, whichever thread it is.
   flush_subnormals_to_zero();
-  spec_ = spec_in;
-  // One convention for angles (docs/control.md): the world starts from poses whose angles are
-  // wrapped to (-pi, pi], so a heading written as 3 pi / 2 or with turns added builds the same
-  // world as its principal value.
-  spec_.robot.pose.theta = wrap_angle(spec_.robot.pose.theta);
-  for (auto& o : spec_.objects) o.pose.theta = wrap_angle(o.pose.theta);
-  for (auto& o : spec_.obstacles) o.pose.theta = wrap_angle(o.pose.theta);
-  attention_ = Attention{spec_.stimulus_colour, -1, -1};
-  for (auto& o : spec_.objects) validate_shape(o.shape);
-  for (auto& o : spec_.obstacles) validate_shape(o.shape);
-  const auto& a = spec_.arena;
-  if (!(a.xmax > a.xmin && a.ymax > a.ymin))
-    throw Error("arena: xmax must exceed xmin and ymax exceed ymin");
-  if (const auto problems = body_problems(spec_.body, spec_.eyes); !problems.empty())
-    throw Error("Roger's body: " + problems.front());
+  // The model was checked when it was derived (check_world_spec): nothing here reaches one of
+  // Box2D's asserts.
+  model_ = &model;
+  const WorldSpec& spec = model.spec;
+  attention_ = Attention{spec.stimulus_colour, -1, -1};
 
   Impl& m = *impl_;
   m.objects.clear();
@@ -144,25 +143,23 @@ void World::reset(const WorldSpec& spec_in) {
   m.world->SetContinuousPhysics(false);
   time_ = 0.0;
 
-  m.add_walls(a);
-  m.add_obstacles(spec_.obstacles);
-  m.add_objects(spec_.objects);
+  m.add_walls(spec.arena);
+  m.add_obstacles(spec.obstacles);
+  m.add_objects(spec.objects);
   // Roger.
-  const RobotParams& r = spec_.body;
-  m.add_base(r, spec_.robot.pose);
+  const RobotParams& r = spec.body;
+  m.add_base(r, spec.robot.pose);
   m.add_rail();
-  m.add_arms(r, spec_.robot);
-  m.reset_servos(r, spec_.robot);
-  camera_ = camera_of(spec_.eyes);
+  m.add_arms(r, spec.robot);
+  m.reset_servos(r, spec.robot);
   setpoint_ = q();
   locked_at_ = setpoint_;
   if (r.locked) m.lock_joints(r);
   senses_ = Senses{};
   noisy_ = Senses{};
-  noisy_on_ = spec_.noise.any();
   // The noise's own stream, a function of the world's seed alone (not of the episode's order,
   // the thread or --jobs).
-  noise_rng_.reseed(Rng::mix(spec_.seed, 0x6E6F697365ull));  // "noise"
+  noise_rng_.reseed(Rng::mix(spec.seed, 0x6E6F697365ull));  // "noise"
   effort_ = DofVector::Ones();
   sense();
 }

@@ -239,7 +239,8 @@ void draw_frame(cairo_t* cr, const WorldSpec& spec, const Frame& frame,
   draw_header(cr, l, spec, frame, options, width);
   draw_arena(cr, l, spec, options);
   draw_goals(cr, l, spec);
-  if (options.show_fields_of_view) draw_fields_of_view(cr, l, frame, camera_of(spec.eyes).half_fov);
+  // The fields of view of the camera that painted the frame's images (the world model's).
+  if (options.show_fields_of_view) draw_fields_of_view(cr, l, frame, frame.senses.image[kLeft].camera.half_fov);
   draw_things(cr, l, spec, poses);
   if (options.show_fields_of_view) draw_sight_lines(cr, l, frame);
   draw_robot(cr, l, frame, spec.body);

@@ -58,10 +58,14 @@ json batch_config_json(const BatchScript& b) {
   }
   for (const auto& f : b.figures)
     figures.push_back({{"file", f.file}, {"title", f.title}, {"kind", f.kind}, {"run", f.run}, {"log_x", f.log_x}});
+  // The budgets every script of the run had: a result made under other limits may differ (a trial
+  // that failed for its budget, or one that passed only with a larger one), so they are part of
+  // the folder's configuration and a run under other limits does not resume into it.
+  const json limits = {{"instructions", b.limits.instructions}, {"memory_mib", b.limits.memory_bytes >> 20}};
   return {{"name", b.name}, {"description", b.description}, {"curriculum", b.curriculum},
           {"curriculum_file", b.curriculum_file}, {"trials", b.trials}, {"seed", b.seed},
-          {"params", params_json(b.params)}, {"runs", runs}, {"evaluations", evals}, {"tables", tables},
-          {"figures", figures}};
+          {"params", params_json(b.params)}, {"limits", limits}, {"runs", runs}, {"evaluations", evals},
+          {"tables", tables}, {"figures", figures}};
 }
 
 namespace {
@@ -123,6 +127,10 @@ BatchScript batch_config_from_json(const json& j) {
     b.trials = int(config_integer(j, "trials", 1, 100000));
     b.seed = uint64_t(config_integer(j, "seed", 0, int64_t(1) << 53));
     b.params = params_from(j.at("params"));
+    if (j.contains("limits")) {  // folders written before the limits were settable had the defaults
+      b.limits.instructions = uint64_t(config_integer(j.at("limits"), "instructions", 1, int64_t(1) << 53));
+      b.limits.memory_bytes = size_t(config_integer(j.at("limits"), "memory_mib", 1, int64_t(1) << 20)) << 20;
+    }
     for (const auto& rj : j.at("runs")) {
       BatchRun r;
       r.name = rj.at("name");

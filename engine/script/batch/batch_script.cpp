@@ -28,6 +28,12 @@ using batch_detail::Reader;
 
 namespace {
 
+// The budgets the command line sets over a script's.
+void apply_limit_overrides(const BatchOverrides& overrides, SandboxLimits& limits) {
+  if (overrides.instructions > 0) limits.instructions = overrides.instructions;
+  if (overrides.memory_mib > 0) limits.memory_bytes = size_t(overrides.memory_mib) << 20;
+}
+
 void merge_params(Params& into, const Params& more) {
   for (const auto& kv : more) {  // not a structured binding: clang 14 cannot capture one in a lambda
     const auto& [k, v] = kv;
@@ -71,13 +77,28 @@ json returned_table(lua_State* L, const Reader& rd, int top_line) {
   return top;
 }
 
-// Reads the script's own fields (name, description, curriculum, trials, seed, params), with the
-// command line's overrides.
+// Reads `limits = { instructions = N, memory = MiB }` into the script's sandbox limits, then the
+// command line's --lua-instructions and --lua-memory over them.
+void read_limits(const json& top, const Reader& rd, const BatchOverrides& overrides, BatchScript& b) {
+  if (top.contains("limits")) {
+    const int l = rd.line_of_key("limits", 1);
+    const std::string what = "the batch script's limits";
+    rd.check_object(top["limits"], what, {"instructions", "memory"}, l);
+    b.limits.instructions = uint64_t(rd.integer(top["limits"], "instructions", what, l,
+                                                int64_t(b.limits.instructions), 1000, int64_t(1) << 53));
+    b.limits.memory_bytes = size_t(rd.integer(top["limits"], "memory", what, l, int64_t(b.limits.memory_bytes >> 20),
+                                              16, int64_t(1) << 20)) << 20;
+  }
+  apply_limit_overrides(overrides, b.limits);
+}
+
+// Reads the script's own fields (name, description, curriculum, trials, seed, params, limits),
+// with the command line's overrides.
 void read_header(const json& top, const Reader& rd, int top_line, const std::string& path,
                  const BatchOverrides& overrides, BatchScript& b) {
   rd.check_object(top, "the batch script",
-                  {"name", "description", "curriculum", "trials", "seed", "params", "runs", "evaluations", "tables",
-                   "figures"},
+                  {"name", "description", "curriculum", "trials", "seed", "params", "limits", "runs", "evaluations",
+                   "tables", "figures"},
                   top_line);
   b.name = rd.str(top, "name", "the batch script", top_line, fs::path(path).stem().string());
   b.description = rd.str(top, "description", "the batch script", top_line, "");
@@ -87,6 +108,7 @@ void read_header(const json& top, const Reader& rd, int top_line, const std::str
   b.params = rd.params(top, "params", "the batch script", top_line);
   merge_params(b.params, overrides.sets);
   if (overrides.trials > 0) b.trials = overrides.trials;
+  read_limits(top, rd, overrides, b);
 }
 
 // Loads the script's curriculum and records its file.
@@ -533,8 +555,10 @@ std::vector<std::string> batch_eval_groups(const BatchEvaluation& e) {
 }
 
 BatchScript load_batch_script(const std::string& path_in, const BatchOverrides& overrides,
-                              const SandboxLimits& limits) {
+                              const SandboxLimits& limits_in) {
   const std::string path = resolve_script(path_in);
+  SandboxLimits limits = limits_in;
+  apply_limit_overrides(overrides, limits);
   LuaSandbox sandbox(limits);
   BatchScript b;
   b.file = path;
@@ -548,7 +572,7 @@ BatchScript load_batch_script(const std::string& path_in, const BatchOverrides& 
   const json top = returned_table(L, rd, top_line);
 
   read_header(top, rd, top_line, path, overrides, b);
-  const std::unique_ptr<Curriculum> cur = load_curriculum(rd, path, limits, b);
+  const std::unique_ptr<Curriculum> cur = load_curriculum(rd, path, b.limits, b);
   read_runs(top, rd, top_line, *cur, overrides, b);
   read_evaluations(top, rd, overrides, *cur, b);
   read_tables(top, rd, *cur, b);

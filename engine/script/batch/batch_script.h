@@ -114,6 +114,9 @@ struct BatchScript {
   int trials = 0;
   uint64_t seed = 1;
   Params params;                // scenario parameters of every training run (script, then --set)
+  // The sandbox's budgets for the curriculum, its scenarios and every trial: the script's
+  // `limits = { instructions = N, memory = MiB }`, then --lua-instructions and --lua-memory.
+  SandboxLimits limits;
   std::vector<BatchRun> runs;
   std::vector<BatchEvaluation> evaluations;
   std::vector<BatchTable> tables;
@@ -129,10 +132,13 @@ struct BatchScript {
 struct BatchOverrides {
   int trials = 0;  // > 0: every run's and evaluation's trial count
   Params sets;     // scenario parameters added to every training run
+  uint64_t instructions = 0;  // > 0: the instruction budget per call (--lua-instructions)
+  uint64_t memory_mib = 0;    // > 0: the Lua state's memory cap in MiB (--lua-memory)
 };
 
-// Loads a batch script, applies the overrides and validates it against its curriculum.
-// Throws ScriptError (file:line) or roger::Error.
+// Loads a batch script, applies the overrides and validates it against its curriculum. The script
+// itself runs under `limits` (or the overrides' budgets, when given); its curriculum under the
+// limits it sets (BatchScript::limits). Throws ScriptError (file:line) or roger::Error.
 BatchScript load_batch_script(const std::string& path, const BatchOverrides& overrides = {},
                               const SandboxLimits& limits = {});
 

@@ -26,15 +26,11 @@ void push_world(lua_State* L, const World& world) {
     lua_setfield(L, -2, "x");
     lua_pushnumber(L, pose.y);
     lua_setfield(L, -2, "y");
-    bool held = false;
-    for (const Touch& t : world.true_senses().touch) held |= t.contact && t.kind == SurfaceKind::kObject && t.index == int(i);
-    lua_pushboolean(L, held);
+    lua_pushboolean(L, world.held(int(i)));
     lua_setfield(L, -2, "held");
-    for (size_t g = 0; g < spec.goals.size(); ++g) {
-      if ((Vec2(pose.x, pose.y) - spec.goals[g].center).norm() > spec.goals[g].radius) continue;
-      lua_pushstring(L, spec.goals[g].name.c_str());
+    if (const int g = world.region_of(int(i)); g >= 0) {
+      lua_pushstring(L, spec.goals[size_t(g)].name.c_str());
       lua_setfield(L, -2, "region");
-      break;
     }
     lua_rawseti(L, -2, lua_Integer(i + 1));
   }

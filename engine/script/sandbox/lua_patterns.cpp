@@ -98,6 +98,7 @@ bool match_class(int c, int cl) {
     case 'u': res = std::isupper(c); break;
     case 'w': res = std::isalnum(c); break;
     case 'x': res = std::isxdigit(c); break;
+    case 'z': res = c == 0; break;  // deprecated in Lua 5.2, still Lua 5.4's
     default: return cl == c;
   }
   return std::islower(cl) ? res != 0 : res == 0;

@@ -54,6 +54,7 @@ LuaSandbox::LuaSandbox(const SandboxLimits& limits) : impl_(std::make_unique<Imp
     throw Error("cannot create a Lua state within the script memory limit of " +
                 std::to_string(limits.memory_bytes) + " bytes");
   *static_cast<Impl**>(lua_getextraspace(s.L)) = &s;
+  s.running = s.L;
   lua_atpanic(s.L, sandbox_panic);
   lua_sethook(s.L, count_hook, LUA_MASKCOUNT, s.hook_interval);
   lua_pushcfunction(s.L, open_sandbox);

@@ -6,14 +6,16 @@
 // lua_sandbox.h: a Lua 5.4 state that is safe to hand to a researcher's script.
 //
 // Scenario, curriculum and batch scripts are user input, so the state they run in:
-//   - opens only the base, math, string, table and utf8 libraries (no io, os, debug, package:
-//     touching them raises an error saying the script is sandboxed);
+//   - opens only the base, math, string, table, utf8 and coroutine libraries (no io, os, debug,
+//     package: touching them raises an error saying the script is sandboxed); everything else a
+//     script meets is Lua 5.4's (docs/scenarios.md, The sandbox, lists what differs);
 //   - loads source text only (no bytecode: a binary chunk can crash the VM), with a `require` that
 //     resolves dotted module names inside a fixed list of folders;
 //   - stops runaway scripts with an instruction budget per call and a memory cap for the state;
 //     the budget also counts the work of C library functions (pattern matching steps, elements
-//     of table functions, bytes allocated), and setmetatable refuses __gc (finalizers run with
-//     the budget's hook off); a processor-time limit per call stops what one instruction can do
+//     of table functions, bytes allocated: what Lua does, no more) and of coroutines (charged to
+//     the call that resumes them), and setmetatable refuses __gc (finalizers run with the
+//     budget's hook off); a processor-time limit per call stops what one instruction can do
 //     in C and no count sees (long __index chains, long strings compared, huge `...` lists);
 //   - turns every Lua error into a roger::ScriptError naming file:line with a traceback.
 // Nothing here aborts the process: all calls into Lua are protected.

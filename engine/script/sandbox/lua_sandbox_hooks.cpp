@@ -30,10 +30,10 @@ void add_charged_units(LuaSandbox::Impl& s, uint64_t units) {
 // Records the innermost Lua line running when the memory cap is first hit in a call. Only reads
 // the call stack (lua_getstack and lua_getinfo "Sl" allocate nothing).
 void note_refusal(LuaSandbox::Impl& s) {
-  if (!s.L || s.oom_line > 0) return;
+  if (!s.running || s.oom_line > 0) return;
   lua_Debug ar;
-  for (int level = 0; lua_getstack(s.L, level, &ar); ++level) {
-    if (lua_getinfo(s.L, "Sl", &ar) && ar.currentline > 0) {
+  for (int level = 0; lua_getstack(s.running, level, &ar); ++level) {
+    if (lua_getinfo(s.running, "Sl", &ar) && ar.currentline > 0) {
       std::snprintf(s.oom_file.data(), s.oom_file.size(), "%s", ar.short_src);
       s.oom_line = ar.currentline;
       return;
@@ -48,10 +48,10 @@ void charge_allocation(LuaSandbox::Impl& s, size_t bytes) {
   if (s.bytes_uncharged < kBytesPerInstruction) return;
   add_charged_units(s, s.bytes_uncharged / kBytesPerInstruction);
   s.bytes_uncharged %= kBytesPerInstruction;
-  if (s.instructions_used <= s.limits.instructions || s.call_depth == 0 || !s.L || s.spent_what) return;
+  if (s.instructions_used <= s.limits.instructions || s.call_depth == 0 || !s.running || s.spent_what) return;
   s.spent_what = "copying and allocating";
   s.spent_why = "the script built more strings or tables than the budget allows (16 bytes count as one instruction)";
-  lua_sethook(s.L, count_hook, LUA_MASKCOUNT, 1);
+  lua_sethook(s.running, count_hook, LUA_MASKCOUNT, 1);
 }
 
 // Counts the live blocks of kBigBlock bytes or more as one grows past the size or shrinks below
@@ -62,8 +62,8 @@ void note_block(LuaSandbox::Impl& s, size_t before, size_t after) {
   const bool was = before >= kBigBlock, is = after >= kBigBlock;
   if (was == is) return;
   s.big_blocks += is ? 1 : -1;
-  if (is && s.L && s.call_depth > 0 && lua_gethookcount(s.L) > kBigInterval)
-    lua_sethook(s.L, count_hook, LUA_MASKCOUNT, kBigInterval);
+  if (is && s.running && s.call_depth > 0 && lua_gethookcount(s.running) > kBigInterval)
+    lua_sethook(s.running, count_hook, LUA_MASKCOUNT, kBigInterval);
 }
 
 }  // namespace
@@ -190,8 +190,13 @@ void start_budgets(LuaSandbox::Impl& s) {
   s.excluded_ns = 0;
   s.call_start_ns = monotonic_ns();
   s.call_start_cpu_ns = thread_cpu_ns();
-  lua_sethook(s.L, count_hook, LUA_MASKCOUNT, s.big_blocks > 0 ? kBigInterval : s.hook_interval);
+  s.running = s.L;
+  lua_sethook(s.L, count_hook, LUA_MASKCOUNT, wanted_interval(s));
 }
+
+int wanted_interval(const LuaSandbox::Impl& s) { return s.big_blocks > 0 ? kBigInterval : s.hook_interval; }
+
+bool budget_spent(const LuaSandbox::Impl& s) { return s.instructions_used > s.limits.instructions || s.out_of_time; }
 
 namespace {
 
@@ -203,6 +208,23 @@ namespace {
     lua_pushstring(L, text);
   lua_error(L);
   std::abort();  // lua_error does not return
+}
+
+// What a spent budget says: the processor time's, or the instruction budget's (naming the C
+// function that spent it, for the count hook to say again after a script caught the error).
+void spent_message(const LuaSandbox::Impl& s, char* text, size_t size) {
+  const auto budget = static_cast<unsigned long long>(s.limits.instructions);
+  if (s.out_of_time)
+    std::snprintf(text, size,
+                  "processor time budget exceeded: %.2f s for %llu instructions (a call may spend %.2f s plus "
+                  "%.0f ns per instruction): single instructions did long work in C (a long __index or "
+                  "__newindex chain, comparing or converting very long strings, or calls with very many ... values)",
+                  s.spent_seconds, static_cast<unsigned long long>(s.instructions_used), double(s.time_floor_ns) * 1e-9,
+                  s.ns_per_instruction);
+  else if (s.spent_what)
+    std::snprintf(text, size, "%s: instruction budget of %llu exceeded: %s", s.spent_what, budget, s.spent_why);
+  else
+    std::snprintf(text, size, "instruction budget of %llu exceeded (runaway loop?)", budget);
 }
 
 // The processor time a call has been allowed so far (SandboxLimits::seconds and
@@ -231,12 +253,7 @@ void check_time(lua_State* L, LuaSandbox::Impl& s, lua_Debug* ar) {
   }
   lua_sethook(L, count_hook, LUA_MASKCOUNT, 1);  // as for the instruction budget: no escaping through pcall
   char text[400];
-  std::snprintf(text, sizeof text,
-                "processor time budget exceeded: %.2f s for %llu instructions (a call may spend %.2f s plus "
-                "%.0f ns per instruction): single instructions did long work in C (a long __index or "
-                "__newindex chain, comparing or converting very long strings, or calls with very many ... values)",
-                s.spent_seconds, static_cast<unsigned long long>(s.instructions_used), double(s.time_floor_ns) * 1e-9,
-                s.ns_per_instruction);
+  spent_message(s, text, sizeof text);
   raise_at_line(L, ar, text);
 }
 
@@ -251,18 +268,38 @@ void count_hook(lua_State* L, lua_Debug* ar) {
   s.instructions_used += uint64_t(lua_gethookcount(L));
   if (s.instructions_used <= s.limits.instructions) {
     check_time(L, s, ar);
-    const int wanted = s.big_blocks > 0 ? kBigInterval : s.hook_interval;
+    const int wanted = wanted_interval(s);
     if (wanted != lua_gethookcount(L)) lua_sethook(L, count_hook, LUA_MASKCOUNT, wanted);
     return;
   }
   lua_sethook(L, count_hook, LUA_MASKCOUNT, 1);
-  const auto budget = static_cast<unsigned long long>(s.limits.instructions);
-  char text[256];
-  if (s.spent_what)  // C code spent it, and the script caught that error: say it again
-    std::snprintf(text, sizeof text, "%s: instruction budget of %llu exceeded: %s", s.spent_what, budget, s.spent_why);
-  else
-    std::snprintf(text, sizeof text, "instruction budget of %llu exceeded (runaway loop?)", budget);
+  char text[400];
+  spent_message(s, text, sizeof text);
   raise_at_line(L, ar, text);
+}
+
+void raise_spent_budget(lua_State* L) {
+  const auto& s = impl_of(L);
+  lua_sethook(L, count_hook, LUA_MASKCOUNT, 1);
+  char text[400];
+  spent_message(s, text, sizeof text);
+  raise_at_lua_line(L, text);
+}
+
+// Raises `text` at the line of the innermost Lua function calling: a charge made in a C function
+// that a C function called (table.sort's comparisons) names the line that called table.sort, also
+// when the error leaves a coroutine, where no message handler looks for it.
+void raise_at_lua_line(lua_State* L, const char* text) {
+  lua_Debug ar;
+  for (int level = 1; lua_getstack(L, level, &ar); ++level) {
+    if (lua_getinfo(L, "Sl", &ar) && ar.currentline > 0) {
+      lua_pushfstring(L, "%s:%d: %s", ar.short_src, ar.currentline, text);
+      lua_error(L);
+    }
+  }
+  lua_pushstring(L, text);
+  lua_error(L);
+  std::abort();  // lua_error does not return
 }
 
 }  // namespace sandbox_detail
@@ -322,11 +359,11 @@ void charge_budget(lua_State* L, uint64_t units, const char* what, const char* w
   add_charged_units(s, std::min<uint64_t>(units, s.limits.instructions + 1));
   if (s.instructions_used <= s.limits.instructions) return;
   lua_sethook(L, count_hook, LUA_MASKCOUNT, 1);  // as in count_hook: no escaping through pcall
-  const auto budget = lua_Integer(s.limits.instructions);
   s.spent_what = what;
   s.spent_why = why;
-  if (!what) luaL_error(L, "instruction budget of %I exceeded (runaway loop?)", budget);
-  luaL_error(L, "%s: instruction budget of %I exceeded: %s", what, budget, why);
+  char text[400];
+  spent_message(s, text, sizeof text);
+  raise_at_lua_line(L, text);
 }
 
 }  // namespace sandbox_detail

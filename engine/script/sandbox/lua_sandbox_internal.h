@@ -2,8 +2,10 @@
 //
 // lua_sandbox.cpp holds the LuaSandbox class, lua_sandbox_hooks.cpp the memory and instruction
 // budgets and the error reporting, lua_sandbox_libs.cpp the library set a script sees,
-// lua_sandbox_costs.cpp the library functions charged for their work, lua_patterns.cpp the
-// pattern functions counting their steps and lua_sandbox_modules.cpp source loading and `require`.
+// lua_sandbox_costs.cpp the library functions charged for their work, lua_table_library.cpp the
+// table functions charged as they go, lua_patterns.cpp the pattern functions counting their
+// steps, lua_sandbox_coroutines.cpp the coroutine library under the budgets and
+// lua_sandbox_modules.cpp source loading and `require`.
 #pragma once
 
 #include <array>
@@ -29,6 +31,9 @@ struct LuaSandbox::Impl {
   size_t bytes_uncharged = 0;  // allocated but not yet charged (kBytesPerInstruction at a time)
   int hook_interval = 1000;
   int call_depth = 0;
+  // The thread running now: the state's main thread, or the coroutine a resume entered
+  // (lua_sandbox_coroutines.cpp). The allocator, which is told no thread, arms its hook there.
+  lua_State* running = nullptr;
   // The processor-time backstop (lua_sandbox_hooks.cpp, check_time).
   int64_t time_floor_ns = 0;        // SandboxLimits::seconds
   double ns_per_instruction = 0.0;   // SandboxLimits::seconds_per_instruction
@@ -110,6 +115,20 @@ int64_t thread_cpu_ns();
 // Starts a top-level call's budgets: its instruction count, its clock and the hook's interval.
 void start_budgets(LuaSandbox::Impl& s);
 
+// The count hook's interval the budgets want now: kBigInterval while big blocks live, else the
+// sandbox's own.
+int wanted_interval(const LuaSandbox::Impl& s);
+
+// Whether the current call has spent its instruction budget or its processor time.
+bool budget_spent(const LuaSandbox::Impl& s);
+
+// Raises the spent budget's error (as the count hook words it) at the Lua caller's file:line, and
+// arms L's hook to say it again at its every instruction.
+[[noreturn]] void raise_spent_budget(lua_State* L);
+
+// Raises `text` at the innermost calling Lua function's file:line.
+[[noreturn]] void raise_at_lua_line(lua_State* L, const char* text);
+
 // Counts `units` of work done in C against the call's budget; once it is spent, raises
 // "<what>: instruction budget of N exceeded: <why>" at the Lua caller's file:line (lua_charge's
 // message when what is null). Saturates: a huge count cannot wrap the total around.
@@ -120,6 +139,11 @@ void charge_budget(lua_State* L, uint64_t units, const char* what, const char* w
 // Replaces string.rep, table.concat, table.sort, utf8.len, ... by versions charging their work.
 void install_charges(lua_State* L);
 
+// ---- lua_table_library.cpp: table.insert, remove, move, concat, unpack charged as they go ----
+
+// Replaces those table functions by ports of Lua 5.4's charging each element they touch.
+void install_table_library(lua_State* L);
+
 // ---- lua_patterns.cpp: string.find, match, gmatch, gsub counting their steps ----
 
 // Replaces the pattern functions of the string table at `string_table` by the budgeted ones.
@@ -129,6 +153,11 @@ void install_patterns(lua_State* L, int string_table);
 
 // Opens the permitted libraries and installs the replacements (run protected: it allocates).
 int open_sandbox(lua_State* L);
+
+// ---- lua_sandbox_coroutines.cpp: the coroutine library under the call's budgets ----
+
+// Replaces coroutine.resume, wrap and close by versions that keep the budgets (run protected).
+void install_coroutines(lua_State* L);
 
 // ---- lua_sandbox_modules.cpp: source files and require ----
 

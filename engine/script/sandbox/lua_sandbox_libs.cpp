@@ -1,5 +1,6 @@
 // lua_sandbox_libs.cpp: the libraries a sandboxed script sees, with guards standing in for the
 // missing ones and safe replacements of load, print and require.
+#include <algorithm>
 #include <string>
 
 #include <lua.hpp>
@@ -56,36 +57,98 @@ void set_refusal(lua_State* L, int table, const char* field, const char* message
 }
 
 // Charges compiling `bytes` of source text, one instruction a byte (the lexer may skip them all,
-// allocating nothing).
+// allocating nothing). Raised inside lua_load, the budget's error becomes load's `nil, message`,
+// and the count hook raises it again at the script's next instruction.
 void charge_source(lua_State* L, size_t bytes) {
   charge_budget(L, bytes, "load", "the chunk is too long to compile within the budget left");  // 5 ns a byte
 }
 
-// The reader load() calls: the script's (upvalue 1), each piece it returns charged.
-int charged_reader(lua_State* L) {
-  lua_pushvalue(L, lua_upvalueindex(1));
-  lua_call(L, 0, 1);
-  if (lua_type(L, -1) == LUA_TSTRING) charge_source(L, lua_rawlen(L, -1));
-  return 1;
+// Refuses a binary chunk by its first byte, whatever mode load was given: the compiler never sees
+// bytecode. (Text is accepted or refused by the mode, as Lua does.)
+void refuse_bytecode(lua_State* L, const char* piece, size_t size) {
+  if (size > 0 && piece[0] == LUA_SIGNATURE[0]) {
+    lua_pushliteral(L, "attempt to load a binary chunk: roger loads Lua source text only");
+    lua_error(L);
+  }
 }
 
-// load(chunk [, chunkname [, mode [, env]]]) with the mode forced to text: the original load is
-// the upvalue; the argument count is kept because an explicit nil env means "no environment".
-int sandbox_load(lua_State* L) {
-  const int n = lua_gettop(L);
-  lua_pushvalue(L, lua_upvalueindex(1));
-  if (lua_type(L, 1) == LUA_TFUNCTION) {  // each piece the reader gives is charged
-    lua_pushvalue(L, 1);
-    lua_pushcclosure(L, charged_reader, 1);
-  } else {
-    if (lua_type(L, 1) == LUA_TSTRING) charge_source(L, lua_rawlen(L, 1));
-    lua_pushvalue(L, 1);
+// What load reads: a string a slice at a time, each charged as it is read (the compiler stops
+// reading at the first syntax error, and so does the charge), or the pieces of the script's reader
+// (argument 1), each charged.
+struct Source {
+  const char* text = nullptr;
+  size_t left = 0;
+  bool first = true;
+};
+
+constexpr size_t kSlice = 4096;
+// A piece from a reader function costs its call and the compiler's taking it on, about as long as
+// 64 instructions, besides its bytes (a reader giving a byte at a time is stopped as a loop is).
+constexpr size_t kPieceCost = 64;
+
+const char* read_slice(lua_State* L, void* data, size_t* size) {
+  auto* source = static_cast<Source*>(data);
+  *size = std::min(kSlice, source->left);
+  if (*size == 0) return nullptr;
+  if (source->first) refuse_bytecode(L, source->text, *size);
+  source->first = false;
+  charge_source(L, *size);
+  const char* piece = source->text;
+  source->text += *size;
+  source->left -= *size;
+  return piece;
+}
+
+// lbaselib's generic_reader: the piece is kept in the reserved slot 5 while the compiler reads it.
+const char* read_function(lua_State* L, void* data, size_t* size) {
+  luaL_checkstack(L, 2, "too many nested functions");
+  lua_pushvalue(L, 1);
+  lua_call(L, 0, 1);
+  if (lua_isnil(L, -1)) {
+    lua_pop(L, 1);
+    *size = 0;
+    return nullptr;
   }
-  if (n >= 2) lua_pushvalue(L, 2); else lua_pushnil(L);
-  lua_pushliteral(L, "t");
-  if (n >= 4) lua_pushvalue(L, 4);
-  lua_call(L, n >= 4 ? 4 : 3, LUA_MULTRET);
-  return lua_gettop(L) - n;
+  if (!lua_isstring(L, -1)) luaL_error(L, "reader function must return a string");
+  lua_replace(L, 5);
+  const char* piece = lua_tolstring(L, 5, size);
+  auto* source = static_cast<Source*>(data);
+  if (source->first && *size > 0) refuse_bytecode(L, piece, *size);
+  if (*size > 0) source->first = false;
+  charge_source(L, kPieceCost + *size);
+  return piece;
+}
+
+// load(chunk [, chunkname [, mode [, env]]]): lbaselib's luaB_load, refusing binary chunks
+// whatever the mode and charging the source as the compiler reads it.
+int sandbox_load(lua_State* L) {
+  size_t len;
+  const char* s = lua_tolstring(L, 1, &len);
+  const char* mode = luaL_optstring(L, 3, "bt");
+  const int env = !lua_isnone(L, 4) ? 4 : 0;
+  Source source;
+  int status;
+  if (s) {
+    const char* chunkname = luaL_optstring(L, 2, s);
+    source.text = s;
+    source.left = len;
+    status = lua_load(L, read_slice, &source, chunkname, mode);
+  } else {
+    const char* chunkname = luaL_optstring(L, 2, "=(load)");
+    luaL_checktype(L, 1, LUA_TFUNCTION);
+    lua_settop(L, 5);  // the reserved slot
+    status = lua_load(L, read_function, &source, chunkname, mode);
+  }
+  if (status != LUA_OK) {  // fail and the message
+    luaL_pushfail(L);
+    lua_insert(L, -2);
+    return 2;
+  }
+  if (env != 0) {  // the environment as the chunk's first upvalue
+    lua_pushvalue(L, env);
+    if (!lua_setupvalue(L, -2, 1)) lua_pop(L, 1);
+  }
+  return 1;
 }
 
 // print(...): tab-separated tostring() of the arguments, one line to the sandbox's sink.
@@ -129,12 +192,12 @@ int sandbox_setmetatable(lua_State* L) {
   return 1;
 }
 
-// The message handler xpcall installs: the script's (upvalue 1), except for the budget's error.
-// That one is raised from the count hook, and Lua calls the handler with hooks still off: a
-// handler that looped would never be stopped, so the error goes on unhandled.
+// The message handler xpcall installs: the script's (upvalue 1), except for the budgets' errors.
+// Those are raised from the count hook, and Lua calls the handler with hooks still off: a handler
+// that looped would never be stopped, so the error goes on unhandled.
 int budget_aware_handler(lua_State* L) {
   const auto& s = impl_of(L);
-  if (s.instructions_used > s.limits.instructions) return 1;
+  if (budget_spent(s)) return 1;
   lua_pushvalue(L, lua_upvalueindex(1));
   lua_insert(L, 1);
   lua_call(L, lua_gettop(L) - 1, 1);
@@ -154,9 +217,9 @@ int sandbox_xpcall(lua_State* L) {
 
 // Opens the permitted libraries and installs the replacements (run protected: it allocates).
 int open_sandbox(lua_State* L) {
-  const luaL_Reg libs[] = {{LUA_GNAME, luaopen_base},      {LUA_MATHLIBNAME, luaopen_math},
-                           {LUA_STRLIBNAME, luaopen_string}, {LUA_TABLIBNAME, luaopen_table},
-                           {LUA_UTF8LIBNAME, luaopen_utf8}};
+  const luaL_Reg libs[] = {{LUA_GNAME, luaopen_base},        {LUA_MATHLIBNAME, luaopen_math},
+                           {LUA_STRLIBNAME, luaopen_string},   {LUA_TABLIBNAME, luaopen_table},
+                           {LUA_UTF8LIBNAME, luaopen_utf8},    {LUA_COLIBNAME, luaopen_coroutine}};
   for (const auto& lib : libs) {
     luaL_requiref(L, lib.name, lib.func, 1);
     lua_pop(L, 1);
@@ -167,8 +230,7 @@ int open_sandbox(lua_State* L) {
   lua_setfield(L, g, "dofile");  // reads arbitrary files
   lua_pushnil(L);
   lua_setfield(L, g, "loadfile");
-  lua_getfield(L, g, "load");
-  lua_pushcclosure(L, sandbox_load, 1);
+  lua_pushcfunction(L, sandbox_load);
   lua_setfield(L, g, "load");
   lua_pushcfunction(L, sandbox_require);
   lua_setfield(L, g, "require");
@@ -179,10 +241,15 @@ int open_sandbox(lua_State* L) {
   lua_setfield(L, g, "xpcall");
   lua_pushcfunction(L, sandbox_setmetatable);
   lua_setfield(L, g, "setmetatable");
+  // The guards are also what require("os") returns, as Lua's require returns the library.
+  luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
   for (const char* lib : {"os", "io", "debug", "package"}) {
     push_guard(L, lib);
+    lua_pushvalue(L, -1);
+    lua_setfield(L, -3, lib);
     lua_setfield(L, g, lib);
   }
+  lua_pop(L, 1);
   lua_getfield(L, g, "string");
   lua_pushnil(L);
   lua_setfield(L, -2, "dump");  // bytecode out is as unwelcome as bytecode in
@@ -197,6 +264,8 @@ int open_sandbox(lua_State* L) {
   set_refusal(L, lua_gettop(L), "randomseed", no_random);
   lua_pop(L, 1);
   install_charges(L);
+  install_table_library(L);
+  install_coroutines(L);
   lua_newtable(L);
   lua_setfield(L, LUA_REGISTRYINDEX, kModulesKey);
   return 0;

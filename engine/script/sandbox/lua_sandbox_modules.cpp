@@ -176,8 +176,9 @@ void run_module(lua_State* L, LuaSandbox::Impl& s, const std::string& name, cons
 
 }  // namespace
 
-// require(name): dotted names ("lib.shapes" -> lib/shapes.lua) searched in the sandbox's roots
-// only, text chunks only, cached, with cycles reported.
+// require(name): a standard library by its name, else dotted names ("lib.shapes" ->
+// lib/shapes.lua) searched in the sandbox's roots only, text chunks only, cached, with cycles
+// reported.
 int sandbox_require(lua_State* L) {
   if (lua_type(L, 1) != LUA_TSTRING)
     return luaL_error(L, "require expects a module name (a string such as \"lib.shapes\"), got %s",
@@ -188,6 +189,11 @@ int sandbox_require(lua_State* L) {
   lua_getfield(L, 2, name.c_str());
   if (!lua_isnil(L, -1)) return 1;
   lua_pop(L, 1);
+  // A standard library's name ("string", "utf8", "coroutine", "_G", ...) gives the library, as
+  // Lua's require finds it in package.loaded before any file (the missing ones give their guard).
+  lua_getfield(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
+  if (lua_getfield(L, -1, name.c_str()) != LUA_TNIL) return 1;
+  lua_pop(L, 2);
   auto& s = impl_of(L);
 
   std::string error;  // raised after the C++ objects of the search are gone

@@ -21,71 +21,81 @@ double ranged(const LuaFields& f, const char* key, double fallback, double lo, d
   return v;
 }
 
-// A {min, max} field (or {lo, hi} by position) of joint limits within [-lim, lim].
-void joint_range(const LuaFields& f, const char* key, double& lo, double& hi, double lim) {
-  if (f.push(key) == LUA_TNIL) return lua_pop(f.state(), 1);
+// Reads the optional sub-table `key` of f with `read(index)`: nil reads nothing; anything but a
+// table is refused, saying it must be `expected`.
+template <class Read>
+void read_subtable(const LuaFields& f, const char* key, const char* expected, Read read) {
   lua_State* L = f.state();
+  if (f.push(key) == LUA_TNIL) return lua_pop(L, 1);
   const int t = lua_gettop(L);
-  if (!lua_istable(L, t)) f.wrong_type(key, "a table {min = ..., max = ...}");
-  LuaFields r(L, t, f.context() + ": " + key, {"min", "max"});
-  lo = ranged(r, "min", lo, -lim, lim, "rad");
-  hi = ranged(r, "max", hi, -lim, lim, "rad");
-  if (!(lo < hi)) r.fail("min must be below max, got " + fmt(lo) + " and " + fmt(hi));
+  if (!lua_istable(L, t)) f.wrong_type(key, expected);
+  read(t);
   lua_pop(L, 1);
+}
+
+// The same for a sub-table of named fields, read by name under "context<separator>key": a field
+// it does not know is refused with the known names (LuaFields).
+template <class Read>
+void read_fields(const LuaFields& f, const char* key, const char* separator, const char* expected,
+                 std::vector<std::string> known, Read read) {
+  read_subtable(f, key, expected, [&](int t) {
+    read(LuaFields(f.state(), t, f.context() + separator + key, std::move(known)));
+  });
+}
+
+// A {min, max} field of joint limits within [-lim, lim].
+void joint_range(const LuaFields& f, const char* key, double& lo, double& hi, double lim) {
+  read_fields(f, key, ": ", "a table {min = ..., max = ...}", {"min", "max"}, [&](const LuaFields& r) {
+    lo = ranged(r, "min", lo, -lim, lim, "rad");
+    hi = ranged(r, "max", hi, -lim, lim, "rad");
+    if (!(lo < hi)) r.fail("min must be below max, got " + fmt(lo) + " and " + fmt(hi));
+  });
 }
 
 // One servo's gains and limits: servos.<key> = {kp, max_rate, kv, max_effort}.
 void servo(const LuaFields& f, const char* key, ServoParams& s) {
-  if (f.push(key) == LUA_TNIL) return lua_pop(f.state(), 1);
-  lua_State* L = f.state();
-  const int t = lua_gettop(L);
-  if (!lua_istable(L, t)) f.wrong_type(key, "a table {kp = ..., max_rate = ..., kv = ..., max_effort = ...}");
-  LuaFields v(L, t, f.context() + "." + key, {"kp", "max_rate", "kv", "max_effort"});
-  s.kp = ranged(v, "kp", s.kp, 0.01, 1000.0, "1/s");
-  s.max_rate = ranged(v, "max_rate", s.max_rate, 0.01, 100.0, "m/s or rad/s");
-  s.kv = ranged(v, "kv", s.kv, 0.0, 1000.0, "N/(m/s) or N m/(rad/s)");
-  s.max_effort = ranged(v, "max_effort", s.max_effort, 0.0, 1000.0, "N or N m");
-  lua_pop(L, 1);
+  read_fields(f, key, ".", "a table {kp = ..., max_rate = ..., kv = ..., max_effort = ...}",
+                {"kp", "max_rate", "kv", "max_effort"}, [&](const LuaFields& v) {
+                  s.kp = ranged(v, "kp", s.kp, 0.01, 1000.0, "1/s");
+                  s.max_rate = ranged(v, "max_rate", s.max_rate, 0.01, 100.0, "m/s or rad/s");
+                  s.kv = ranged(v, "kv", s.kv, 0.0, 1000.0, "N/(m/s) or N m/(rad/s)");
+                  s.max_effort = ranged(v, "max_effort", s.max_effort, 0.0, 1000.0, "N or N m");
+                });
 }
 
 // body.servos = {base_forward = ..., base_heading = ..., eye = ..., shoulder = ..., elbow = ...}.
 void servos(const LuaFields& f, RobotParams& b) {
-  if (f.push("servos") == LUA_TNIL) return lua_pop(f.state(), 1);
-  lua_State* L = f.state();
-  const int t = lua_gettop(L);
-  if (!lua_istable(L, t)) f.wrong_type("servos", "a table of servos {shoulder = {kp = ...}, ...}");
-  LuaFields s(L, t, f.context() + ": servos", {"base_forward", "base_heading", "eye", "shoulder", "elbow"});
-  servo(s, "base_forward", b.base_forward);
-  servo(s, "base_heading", b.base_heading);
-  servo(s, "eye", b.eye);
-  servo(s, "shoulder", b.shoulder);
-  servo(s, "elbow", b.elbow);
-  lua_pop(L, 1);
+  read_fields(f, "servos", ": ", "a table of servos {shoulder = {kp = ...}, ...}",
+                {"base_forward", "base_heading", "eye", "shoulder", "elbow"}, [&](const LuaFields& s) {
+                  servo(s, "base_forward", b.base_forward);
+                  servo(s, "base_heading", b.base_heading);
+                  servo(s, "eye", b.eye);
+                  servo(s, "shoulder", b.shoulder);
+                  servo(s, "elbow", b.elbow);
+                });
 }
 
 // body.locked = {"left_elbow", ...}: joints held at their start angle.
 unsigned locked_joints(const LuaFields& f) {
-  if (f.push("locked") == LUA_TNIL) return lua_pop(f.state(), 1), 0u;
-  lua_State* L = f.state();
-  const int t = lua_gettop(L);
   std::vector<std::string> names;
   for (const auto& [name, dof] : lockable_joints()) names.push_back(name);
-  if (!lua_istable(L, t)) f.wrong_type("locked", "a list of joint names {\"left_elbow\", ...}");
   unsigned mask = 0;
-  const lua_Integer n = lua_Integer(lua_rawlen(L, t));
-  for (lua_Integer i = 1; i <= n; ++i) {
-    lua_rawgeti(L, t, i);
-    const std::string name = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "";
-    lua_pop(L, 1);
-    int dof = -1;
-    for (const auto& [known, d] : lockable_joints())
-      if (known == name) dof = d;
-    if (dof < 0)
-      f.fail("field 'locked' entry " + std::to_string(i) + " must be a joint name, one of " + join(names) +
-             (name.empty() ? std::string() : ", got '" + name + "'"));
-    mask |= 1u << unsigned(dof);
-  }
-  lua_pop(L, 1);
+  read_subtable(f, "locked", "a list of joint names {\"left_elbow\", ...}", [&](int t) {
+    lua_State* L = f.state();
+    const lua_Integer n = lua_Integer(lua_rawlen(L, t));
+    for (lua_Integer i = 1; i <= n; ++i) {
+      lua_rawgeti(L, t, i);
+      const std::string name = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "";
+      lua_pop(L, 1);
+      int dof = -1;
+      for (const auto& [known, d] : lockable_joints())
+        if (known == name) dof = d;
+      if (dof < 0)
+        f.fail("field 'locked' entry " + std::to_string(i) + " must be a joint name, one of " + join(names) +
+               (name.empty() ? std::string() : ", got '" + name + "'"));
+      mask |= 1u << unsigned(dof);
+    }
+  });
   return mask;
 }
 
@@ -93,64 +103,54 @@ unsigned locked_joints(const LuaFields& f) {
 
 RobotParams read_body(const LuaFields& parent) {
   RobotParams b;
-  lua_State* L = parent.state();
-  if (parent.push("body") == LUA_TNIL) return lua_pop(L, 1), b;
-  const int t = lua_gettop(L);
-  if (!lua_istable(L, t)) parent.wrong_type("body", "a table of body fields {upper_arm = ..., ...}");
-  LuaFields f(L, t, parent.context() + ": body",
-              {"upper_arm", "forearm", "base_radius", "axle_half_width", "base_mass", "link_mass",
-               "hand_radius", "hand_mass", "shoulder_y", "eye_y", "shoulder", "elbow", "eye_pan",
-               "friction", "servos", "locked"});
-  b.link_length[0] = ranged(f, "upper_arm", b.link_length[0], 0.1, 2.0, "m");
-  b.link_length[1] = ranged(f, "forearm", b.link_length[1], 0.1, 2.0, "m");
-  b.base_radius = ranged(f, "base_radius", b.base_radius, 0.05, 1.0, "m");
-  b.axle_half_width = ranged(f, "axle_half_width", b.axle_half_width, 0.02, 1.0, "m");
-  b.base_mass = ranged(f, "base_mass", b.base_mass, 0.01, 100.0, "kg");
-  b.link_mass = ranged(f, "link_mass", b.link_mass, 0.001, 100.0, "kg");
-  b.hand_radius = ranged(f, "hand_radius", b.hand_radius, 0.01, 0.3, "m");
-  b.hand_mass = ranged(f, "hand_mass", b.hand_mass, 0.001, 100.0, "kg");
-  b.shoulder_y = ranged(f, "shoulder_y", b.shoulder_y, 0.0, 1.0, "m");
-  b.eye_y = ranged(f, "eye_y", b.eye_y, 0.005, 1.0, "m");
-  joint_range(f, "shoulder", b.shoulder_min, b.shoulder_max, M_PI);
-  joint_range(f, "elbow", b.elbow_min, b.elbow_max, M_PI);
-  b.eye_pan_limit = ranged(f, "eye_pan", b.eye_pan_limit, 0.05, M_PI / 2, "rad");
-  b.surface_friction = ranged(f, "friction", b.surface_friction, 0.0, 10.0, "");
-  servos(f, b);
-  b.locked = locked_joints(f);
-  lua_pop(L, 1);
+  read_fields(parent, "body", ": ", "a table of body fields {upper_arm = ..., ...}",
+                {"upper_arm", "forearm", "base_radius", "axle_half_width", "base_mass", "link_mass",
+                 "hand_radius", "hand_mass", "shoulder_y", "eye_y", "shoulder", "elbow", "eye_pan",
+                 "friction", "servos", "locked"},
+                [&](const LuaFields& f) {
+                  b.link_length[0] = ranged(f, "upper_arm", b.link_length[0], 0.1, 2.0, "m");
+                  b.link_length[1] = ranged(f, "forearm", b.link_length[1], 0.1, 2.0, "m");
+                  b.base_radius = ranged(f, "base_radius", b.base_radius, 0.05, 1.0, "m");
+                  b.axle_half_width = ranged(f, "axle_half_width", b.axle_half_width, 0.02, 1.0, "m");
+                  b.base_mass = ranged(f, "base_mass", b.base_mass, 0.01, 100.0, "kg");
+                  b.link_mass = ranged(f, "link_mass", b.link_mass, 0.001, 100.0, "kg");
+                  b.hand_radius = ranged(f, "hand_radius", b.hand_radius, 0.01, 0.3, "m");
+                  b.hand_mass = ranged(f, "hand_mass", b.hand_mass, 0.001, 100.0, "kg");
+                  b.shoulder_y = ranged(f, "shoulder_y", b.shoulder_y, 0.0, 1.0, "m");
+                  b.eye_y = ranged(f, "eye_y", b.eye_y, 0.005, 1.0, "m");
+                  joint_range(f, "shoulder", b.shoulder_min, b.shoulder_max, M_PI);
+                  joint_range(f, "elbow", b.elbow_min, b.elbow_max, M_PI);
+                  b.eye_pan_limit = ranged(f, "eye_pan", b.eye_pan_limit, 0.05, M_PI / 2, "rad");
+                  b.surface_friction = ranged(f, "friction", b.surface_friction, 0.0, 10.0, "");
+                  servos(f, b);
+                  b.locked = locked_joints(f);
+                });
   return b;
 }
 
 EyeParams read_eyes(const LuaFields& parent) {
   EyeParams e;
-  lua_State* L = parent.state();
-  if (parent.push("eyes") == LUA_TNIL) return lua_pop(L, 1), e;
-  const int t = lua_gettop(L);
-  if (!lua_istable(L, t)) parent.wrong_type("eyes", "a table {pixels = ..., fov = ...}");
-  LuaFields f(L, t, parent.context() + ": eyes", {"pixels", "fov"});
-  const int64_t pixels = f.integer("pixels", e.pixels);
-  if (pixels < kMinPixels || pixels > kMaxPixels)
-    f.fail("field 'pixels' must be within [" + std::to_string(kMinPixels) + ", " + std::to_string(kMaxPixels) +
-           "], got " + std::to_string(pixels));
-  e.pixels = int(pixels);
-  e.fov = ranged(f, "fov", e.fov, kMinFov, kMaxFov, "rad (the full field of view)");
-  lua_pop(L, 1);
+  read_fields(parent, "eyes", ": ", "a table {pixels = ..., fov = ...}", {"pixels", "fov"}, [&](const LuaFields& f) {
+    const int64_t pixels = f.integer("pixels", e.pixels);
+    if (pixels < kMinPixels || pixels > kMaxPixels)
+      f.fail("field 'pixels' must be within [" + std::to_string(kMinPixels) + ", " + std::to_string(kMaxPixels) +
+             "], got " + std::to_string(pixels));
+    e.pixels = int(pixels);
+    e.fov = ranged(f, "fov", e.fov, kMinFov, kMaxFov, "rad (the full field of view)");
+  });
   return e;
 }
 
 NoiseParams read_noise(const LuaFields& parent) {
   NoiseParams n;
-  lua_State* L = parent.state();
-  if (parent.push("noise") == LUA_TNIL) return lua_pop(L, 1), n;
-  const int t = lua_gettop(L);
-  if (!lua_istable(L, t)) parent.wrong_type("noise", "a table {image = ..., joints = ..., base = ..., touch = ..., effort = ...}");
-  LuaFields f(L, t, parent.context() + ": noise", {"image", "joints", "base", "touch", "effort"});
-  n.image = ranged(f, "image", n.image, 0.0, 255.0, "colour levels");
-  n.joints = ranged(f, "joints", n.joints, 0.0, 1.0, "rad");
-  n.base = ranged(f, "base", n.base, 0.0, 1.0, "m and rad");
-  n.touch = ranged(f, "touch", n.touch, 0.0, 5.0, "(a fraction of the force)");
-  n.effort = ranged(f, "effort", n.effort, 0.0, 5.0, "(a fraction of the command)");
-  lua_pop(L, 1);
+  read_fields(parent, "noise", ": ", "a table {image = ..., joints = ..., base = ..., touch = ..., effort = ...}",
+                {"image", "joints", "base", "touch", "effort"}, [&](const LuaFields& f) {
+                  n.image = ranged(f, "image", n.image, 0.0, 255.0, "colour levels");
+                  n.joints = ranged(f, "joints", n.joints, 0.0, 1.0, "rad");
+                  n.base = ranged(f, "base", n.base, 0.0, 1.0, "m and rad");
+                  n.touch = ranged(f, "touch", n.touch, 0.0, 5.0, "(a fraction of the force)");
+                  n.effort = ranged(f, "effort", n.effort, 0.0, 5.0, "(a fraction of the command)");
+                });
   return n;
 }
 

@@ -178,6 +178,18 @@ const Shape& shape_field(lua_State* L, const LuaFields& f) {
   return box->shape;
 }
 
+// The fields world:object and world:obstacle share: a name unique among the things of its kind
+// (made from `kind` and a number when none is given), the shape, the colour and the pose.
+template <class Thing>
+void read_thing(lua_State* L, const LuaFields& f, const char* kind, const std::vector<Thing>& others, Thing& t) {
+  std::vector<std::string> taken;
+  for (const auto& other : others) taken.push_back(other.name);
+  t.name = unique_name(f, f.string("name", ""), kind, others.size(), taken);
+  t.shape = shape_field(L, f);
+  t.colour = f.colour("colour", t.colour);
+  t.pose = Pose{f.number("x"), f.number("y"), f.number("theta", 0.0)};
+}
+
 // world:object{name=, shape=, colour=, x=, y=, theta=, mass=, friction_force=, friction_torque=,
 //              viscosity=, angular_viscosity=, surface_friction=}
 int l_world_object(lua_State* L) {
@@ -189,12 +201,7 @@ int l_world_object(lua_State* L) {
     if (w.spec.objects.size() >= kMaxThings) f.fail("too many objects (the limit is 1000)");
     fix_arena(w);
     ObjectSpec o;
-    std::vector<std::string> taken;
-    for (const auto& other : w.spec.objects) taken.push_back(other.name);
-    o.name = unique_name(f, f.string("name", ""), "object", w.spec.objects.size(), taken);
-    o.shape = shape_field(L, f);
-    o.colour = f.colour("colour", o.colour);
-    o.pose = Pose{f.number("x"), f.number("y"), f.number("theta", 0.0)};
+    read_thing(L, f, "object", w.spec.objects, o);
     auto positive = [&](const char* key, double fallback, bool allow_zero) {
       const double v = f.number(key, fallback);
       if (v < 0.0 || (!allow_zero && v == 0.0))
@@ -223,12 +230,7 @@ int l_world_obstacle(lua_State* L) {
     if (w.spec.obstacles.size() >= kMaxThings) f.fail("too many obstacles (the limit is 1000)");
     fix_arena(w);
     ObstacleSpec o;
-    std::vector<std::string> taken;
-    for (const auto& other : w.spec.obstacles) taken.push_back(other.name);
-    o.name = unique_name(f, f.string("name", ""), "obstacle", w.spec.obstacles.size(), taken);
-    o.shape = shape_field(L, f);
-    o.colour = f.colour("colour", o.colour);
-    o.pose = Pose{f.number("x"), f.number("y"), f.number("theta", 0.0)};
+    read_thing(L, f, "obstacle", w.spec.obstacles, o);
     check_free(f, w, "obstacle '" + o.name + "'", o.shape, o.pose, false);
     w.spec.obstacles.push_back(std::move(o));
     return 0;

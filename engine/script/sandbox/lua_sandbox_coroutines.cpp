@@ -1,0 +1,185 @@
+// lua_sandbox_coroutines.cpp: Lua 5.4's coroutine library under the call's budgets. The count
+// hook is a thread's own: a coroutine takes its creator's when it is made and keeps its own count
+// between resumes, so every instruction it runs is counted, to the call running when it runs
+// (wherever the coroutine was made). What the library's resume, wrap and close add here:
+//   - a spent budget resumes (or closes) nothing: they raise its error at the caller's line;
+//   - a coroutine is entered with the hook interval the budgets want now (a coroutine made
+//     before a big block appeared checks the time between its slow instructions too);
+//   - while it runs, the allocator arms the hook of the coroutine, not of the thread that
+//     resumed it (Impl::running);
+//   - a budget spent inside it is not handed back as resume's `false, message`, which the caller
+//     could catch and go on: its error goes on up, naming the coroutine's line, and the caller's
+//     hook fires at its next instruction whatever happens;
+//   - a coroutine the budget's error killed keeps its hooks off for good (Lua leaves them so for
+//     an error raised in a hook), so its pending __close handlers are never run: neither by
+//     wrap's error path nor by a later coroutine.close.
+// Everything else (create, yield, status, running, isyieldable, the messages) is Lua's own.
+#include <lua.hpp>
+
+#include "script/sandbox/lua_sandbox_internal.h"
+
+namespace roger {
+namespace sandbox_detail {
+namespace {
+
+// Makes `co` the running thread of the sandbox until the end of the scope, errors included (Lua's
+// errors unwind C++ frames: the library is C++-compiled).
+class Entered {
+ public:
+  Entered(LuaSandbox::Impl& s, lua_State* co) : s_(s), before_(s.running) { s.running = co; }
+  ~Entered() { s_.running = before_; }
+  Entered(const Entered&) = delete;
+  Entered& operator=(const Entered&) = delete;
+
+ private:
+  LuaSandbox::Impl& s_;
+  lua_State* before_;
+};
+
+// Before the coroutine `co` runs on behalf of L: refuses when the budget is spent, and brings the
+// coroutine's hook interval down to the one wanted now. Only down: setting a hook restarts its
+// count, and the instructions run since the coroutine's last hook would go uncounted if it were
+// done at every resume.
+void before_running(lua_State* L, lua_State* co) {
+  auto& s = impl_of(L);
+  if (budget_spent(s)) raise_spent_budget(L);
+  if (co == L) return;  // Lua refuses to resume the running coroutine itself
+  const int wanted = wanted_interval(s);
+  if (lua_gethook(co) != count_hook || lua_gethookcount(co) > wanted) lua_sethook(co, count_hook, LUA_MASKCOUNT, wanted);
+}
+
+// The registry table (weak keys) of the coroutines a spent budget stopped, each with its error.
+constexpr const char* kStoppedKey = "roger.stopped_coroutines";
+
+// After the coroutine at stack index `co` ran on behalf of L: when it spent the budget, the
+// caller's hook fires at its next instruction; and a coroutine that died of it (the budget's error
+// comes from the count hook, which leaves the dead coroutine's hooks off for good) is noted as
+// stopped, and its error (at stack index `error`, 0 when none) raised again here, at the
+// coroutine's line, instead of being returned as a value.
+void after_running(lua_State* L, int co, int error) {
+  if (!budget_spent(impl_of(L))) return;
+  lua_sethook(L, count_hook, LUA_MASKCOUNT, 1);
+  const int status = lua_status(lua_tothread(L, co));
+  if (status == LUA_OK || status == LUA_YIELD) return;
+  luaL_getsubtable(L, LUA_REGISTRYINDEX, kStoppedKey);
+  lua_pushvalue(L, co);
+  if (error != 0) lua_pushvalue(L, error); else lua_pushliteral(L, "stopped by the budget");
+  lua_rawset(L, -3);
+  lua_pop(L, 1);
+  if (error == 0) return;
+  lua_pushvalue(L, error);
+  lua_error(L);
+}
+
+// Whether the coroutine at stack index `co` was stopped by a budget (pushes its error if so).
+bool stopped_coroutine(lua_State* L, int co) {
+  luaL_getsubtable(L, LUA_REGISTRYINDEX, kStoppedKey);
+  lua_pushvalue(L, co);
+  if (lua_rawget(L, -2) != LUA_TNIL) {
+    lua_remove(L, -2);
+    return true;
+  }
+  lua_pop(L, 2);
+  return false;
+}
+
+// coroutine.resume(co, ...): Lua's (upvalue 1, run in this frame so its messages are Lua's).
+int sandbox_resume(lua_State* L) {
+  lua_State* co = lua_tothread(L, 1);
+  if (co) before_running(L, co);
+  int n;
+  {
+    Entered entered(impl_of(L), co ? co : L);
+    n = lua_tocfunction(L, lua_upvalueindex(1))(L);
+  }
+  if (co) after_running(L, 1, lua_toboolean(L, -n) ? 0 : lua_gettop(L));
+  return n;
+}
+
+// The function coroutine.wrap returns: Lua's auxwrap, written over Lua's coroutine.resume
+// (upvalue 2) so that the budget's error is raised as the coroutine raised it. Upvalue 1 is the
+// coroutine.
+int sandbox_wrapped(lua_State* L) {
+  lua_State* co = lua_tothread(L, lua_upvalueindex(1));
+  before_running(L, co);
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  int n;
+  {
+    Entered entered(impl_of(L), co);
+    n = lua_tocfunction(L, lua_upvalueindex(2))(L);  // true, results or false, message
+  }
+  if (lua_toboolean(L, -n)) {
+    after_running(L, 1, 0);
+    return n - 1;
+  }
+  after_running(L, 1, lua_gettop(L));
+  // As Lua's auxwrap: close the failed coroutine's pending variables, then raise its error with
+  // the caller's position in front when it is a string.
+  int status = lua_status(co);
+  if (status != LUA_OK && status != LUA_YIELD) {
+    Entered entered(impl_of(L), co);
+    status = lua_resetthread(co);
+    lua_xmove(co, L, 1);
+  }
+  if (status != LUA_ERRMEM && lua_type(L, -1) == LUA_TSTRING) {
+    luaL_where(L, 1);
+    lua_insert(L, -2);
+    lua_concat(L, 2);
+  }
+  return lua_error(L);
+}
+
+// coroutine.wrap(f): a coroutine made by Lua's coroutine.create (upvalue 1), called through
+// sandbox_wrapped (upvalue 2 is Lua's coroutine.resume).
+int sandbox_wrap(lua_State* L) {
+  lua_tocfunction(L, lua_upvalueindex(1))(L);  // checks f as Lua's wrap does; pushes the coroutine
+  lua_pushvalue(L, lua_upvalueindex(2));
+  lua_pushcclosure(L, sandbox_wrapped, 2);
+  return 1;
+}
+
+// coroutine.close(co): Lua's (upvalue 1). A suspended coroutine's pending to-be-closed variables
+// run their __close in it, under the budget. Those of a coroutine a budget stopped never run (its
+// hooks stay off): closing it gives false and the budget's error.
+int sandbox_close(lua_State* L) {
+  lua_State* co = lua_tothread(L, 1);
+  if (co) {
+    before_running(L, co);
+    if (stopped_coroutine(L, 1)) {
+      lua_pushboolean(L, 0);
+      lua_insert(L, -2);
+      return 2;
+    }
+  }
+  int n;
+  {
+    Entered entered(impl_of(L), co ? co : L);
+    n = lua_tocfunction(L, lua_upvalueindex(1))(L);
+  }
+  if (co) after_running(L, 1, n == 2 ? lua_gettop(L) : 0);
+  return n;
+}
+
+}  // namespace
+
+void install_coroutines(lua_State* L) {
+  lua_getglobal(L, LUA_COLIBNAME);
+  const int co = lua_gettop(L);
+  lua_getfield(L, co, "resume");  // Lua's, a light C function
+  const int resume = lua_gettop(L);
+  lua_pushvalue(L, resume);
+  lua_pushcclosure(L, sandbox_resume, 1);
+  lua_setfield(L, co, "resume");
+  lua_getfield(L, co, "create");
+  lua_pushvalue(L, resume);
+  lua_pushcclosure(L, sandbox_wrap, 2);
+  lua_setfield(L, co, "wrap");
+  lua_getfield(L, co, "close");
+  lua_pushcclosure(L, sandbox_close, 1);
+  lua_setfield(L, co, "close");
+  lua_pop(L, 2);
+}
+
+}  // namespace sandbox_detail
+}  // namespace roger
