@@ -83,15 +83,25 @@ roger.robot.footprint_radius = 0.0
 ---@field fov? number the full field of view (rad), 0.1-2.8 (pi/2)
 
 ---What follows from a body: the controllers' body-derived numbers (docs/control.md, Bodies).
----Roger's sensor and actuator noise (world:robot's `noise`): standard deviations of Gaussian noise
----drawn every tick from a stream seeded by the world's seed alone; 0 (the default) draws nothing.
----The controllers read the noisy senses; the judges of success read the true world.
+---One channel's noise as kinds (docs/scenarios.md, Noise): each in the channel's unit.
+---@class roger.ChannelNoiseSpec
+---@field sigma? number white: N(0, sigma) per component, every tick
+---@field bias? number N(0, bias) per component, drawn at the episode's start and held
+---@field drift? {sigma: number, tau: number} a Gauss-Markov process: stationary sigma, correlation time tau (s)
+---@field delay? integer readings (effort: commands) this many control ticks late (0-50)
+---@field dropout? number probability per tick that a reading (effort: a command) is lost (0-1)
+---@field quantum? number readings (effort: commanded errors) rounded to multiples of this
+
+---Roger's sensor and actuator noise (world:robot's `noise`): per channel a number (white noise's
+---sigma) or a table of kinds; each channel and kind draws from its own stream seeded by the world's
+---seed; a channel left out draws nothing. The controllers read the noisy senses; the judges of
+---success read the true world.
 ---@class roger.NoiseSpec
----@field image? number colour levels added to each channel of each pixel of both eyes (0-255)
----@field joints? number rad on each joint angle read: eye pans, shoulders, elbows (0-1)
----@field base? number m on the base position and odometer, rad on its heading (0-1)
----@field touch? number a fraction of each contact force (0-5)
----@field effort? number a fraction of each commanded force, torque and servo rate (0-5)
+---@field image? number|roger.ChannelNoiseSpec colour levels on each channel of each pixel of both eyes (0-255)
+---@field joints? number|roger.ChannelNoiseSpec rad on each joint angle read: eye pans, shoulders, elbows (0-1)
+---@field base? number|roger.ChannelNoiseSpec m on the base position and odometer, rad on its heading (0-1)
+---@field touch? number|roger.ChannelNoiseSpec a fraction of each contact force (0-5)
+---@field effort? number|roger.ChannelNoiseSpec a fraction of each commanded force, torque and servo rate (0-5)
 
 ---@class roger.BodyMetrics
 ---@field footprint_radius number a disk of this radius holds Roger, arms folded, at any heading (m)

@@ -561,7 +561,7 @@ TEST_CASE("every complete scenario in docs/scenarios.md loads and generates", "[
     std::remove(path.c_str());
     CHECK(problems == std::vector<std::string>{});
   }
-  CHECK(examples == 2);
+  CHECK(examples == 3);  // the ball, the noise's kinds, the corridor
   // The long example is docs/examples/corridor.lua verbatim, after the file's header comment.
   std::ifstream file_in("docs/examples/corridor.lua");
   std::stringstream file;

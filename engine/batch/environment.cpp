@@ -2,7 +2,13 @@
 // (VecEnvironment), over the episode loop and the semi-MDP driver that training uses.
 #include "batch/environment.h"
 
+#include <cmath>
+#include <limits>
 #include <optional>
+
+#if defined(__SSE__) || defined(__x86_64__)
+#include <xmmintrin.h>
+#endif
 
 #include "batch/batch_internal.h"
 #include "core/error.h"
@@ -13,6 +19,14 @@
 namespace roger {
 
 using batch_detail::StageHooks;
+
+#if defined(__SSE__) || defined(__x86_64__)
+EngineFloatMode::EngineFloatMode() : saved_(_mm_getcsr()) { _mm_setcsr(saved_ | 0x8040u); }  // FTZ | DAZ
+EngineFloatMode::~EngineFloatMode() { _mm_setcsr(saved_); }
+#else
+EngineFloatMode::EngineFloatMode() = default;
+EngineFloatMode::~EngineFloatMode() = default;
+#endif
 
 // The loaded stage and the running episode. The driver is the training driver with learning off
 // and its decisions given from outside; its table is never read.
@@ -79,6 +93,7 @@ Curriculum load_checked(const EnvironmentOptions& o) {
 }  // namespace
 
 StageEnvironment::StageEnvironment(const EnvironmentOptions& o) {
+  const EngineFloatMode mode;
   impl_ = std::make_unique<Impl>(load_checked(o), o.stage, o.context, o, info_);
   const CurriculumStage& st = impl_->stage;
   TrainOptions topt;
@@ -105,13 +120,25 @@ StageEnvironment::StageEnvironment(const EnvironmentOptions& o) {
   info_.settle = st.checkpoints.settle;
   info_.final_episodes = st.checkpoints.final_episodes;
   // The body is the world's (a scenario parameter, the same in every world of the stage's
-  // scenarios): the tick mode's image shapes follow the held-out worlds' eyes.
-  info_.eye_pixels = impl_->scenario.generate(st.checkpoints.seeds).eyes.pixels;
+  // scenarios): the tick mode's image shapes and joint ranges follow the held-out worlds' body.
+  const WorldSpec held_out = impl_->scenario.generate(st.checkpoints.seeds);
+  info_.eye_pixels = held_out.eyes.pixels;
+  observed_joint_ranges(held_out.body, info_.joint_low, info_.joint_high);
+}
+
+void observed_joint_ranges(const RobotParams& body, std::array<double, kDofCount>& low,
+                           std::array<double, kDofCount>& high) {
+  const double inf = std::numeric_limits<double>::infinity();
+  low = {-inf, -M_PI, -body.eye_pan_limit, -body.eye_pan_limit,
+         body.shoulder_min, body.elbow_min, -body.shoulder_max, -body.elbow_max};
+  high = {inf, M_PI, body.eye_pan_limit, body.eye_pan_limit,
+          body.shoulder_max, body.elbow_max, -body.shoulder_min, -body.elbow_min};
 }
 
 StageEnvironment::~StageEnvironment() = default;
 
 const std::vector<Gamma>& StageEnvironment::reset(uint64_t seed) {
+  const EngineFloatMode mode;
   Impl& m = *impl_;
   m.ended = true;  // until the new episode is running
   m.run.reset();
@@ -124,6 +151,7 @@ const std::vector<Gamma>& StageEnvironment::reset(uint64_t seed) {
 }
 
 EnvironmentStep StageEnvironment::step(int action) {
+  const EngineFloatMode mode;
   Impl& m = *impl_;
   if (!m.run || m.ended)
     throw Error("step: no episode is running in " + info_.stage + "/" + info_.context + " (call reset first)");
@@ -138,8 +166,14 @@ EnvironmentStep StageEnvironment::step(int action) {
   return r;
 }
 
+void StageEnvironment::replay(uint64_t seed, const std::vector<int>& actions) {
+  reset(seed);
+  for (int a : actions) step(a);
+}
+
 const std::vector<Gamma>& StageEnvironment::state() const { return impl_->driver.gammas(); }
 bool StageEnvironment::running() const { return impl_->run && !impl_->ended; }
+bool StageEnvironment::begun() const { return impl_->run.has_value(); }
 double StageEnvironment::sim_seconds() const { return impl_->agent.world().time(); }
 int StageEnvironment::ticks() const { return impl_->run ? impl_->run->ticks() : 0; }
 const TrainingEpisode& StageEnvironment::episode() const { return impl_->driver.episode(); }
@@ -331,6 +365,44 @@ void VecEnvironment::step(const int64_t* actions, const StepOutput& out) {
     out.success[i] = s.ended && s.last_success;
   }
   rethrow_first();
+}
+
+std::vector<VecEnvironment::Snapshot> VecEnvironment::snapshot() const {
+  std::vector<Snapshot> out(envs_.size());
+  for (size_t i = 0; i < envs_.size(); ++i) {
+    const StageEnvironment& env = *envs_[i];
+    Snapshot& s = out[i];
+    s.base_seed = slots_[i].base_seed;
+    s.started = slots_[i].started;
+    s.needs_reset = slots_[i].needs_reset;
+    s.begun = env.begun();
+    s.seed = env.seed();
+    if (s.begun) s.actions = env.episode().actions_taken;
+  }
+  return out;
+}
+
+void VecEnvironment::restore(const std::vector<Snapshot>& snapshots) {
+  if (snapshots.size() != envs_.size())
+    throw Error("restore: expected " + std::to_string(envs_.size()) + " environments' states, got " +
+                std::to_string(snapshots.size()));
+  for (size_t i = 0; i < envs_.size(); ++i) {
+    const Snapshot& s = snapshots[i];
+    Slot& slot = slots_[i];
+    slot = Slot{};
+    slot.base_seed = s.base_seed;
+    slot.started = s.started;
+    slot.needs_reset = s.needs_reset;
+    if (!s.begun) continue;
+    try {
+      envs_[i]->replay(s.seed, s.actions);
+    } catch (const Error& e) {
+      if (!s.needs_reset)  // it ran on in the original: the same seed and actions should have too
+        throw Error("restore: environment " + std::to_string(i) + "'s episode (seed " + std::to_string(s.seed) +
+                    ") did not replay: " + e.what());
+      // It faulted there before, and its episode is over: so it is in the copy.
+    }
+  }
 }
 
 }  // namespace roger

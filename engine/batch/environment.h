@@ -7,6 +7,7 @@
 // tick is a decision, for learners of raw senses. VecEnvironment steps many of them on threads.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -20,10 +21,28 @@
 #include <vector>
 
 #include "control/agent.h"
+#include "core/robot.h"
 #include "learn/learning.h"
 #include "script/sandbox/lua_sandbox.h"
 
 namespace roger {
+
+// The floating-point mode of the calling thread for one call into the engine from outside: within
+// it, subnormals are flushed to zero, as on the engine's own threads (World::reset: Box2D's
+// resting joints would otherwise decay into subnormals at a hundred times the cost); at its end
+// the thread gets its own mode back. So an episode stepped from a caller's thread runs as `roger
+// eval` runs it, whatever the caller does to the mode between calls, and a Python interpreter's
+// numpy and torch keep IEEE subnormals on that thread.
+class EngineFloatMode {
+ public:
+  EngineFloatMode();
+  ~EngineFloatMode();
+  EngineFloatMode(const EngineFloatMode&) = delete;
+  EngineFloatMode& operator=(const EngineFloatMode&) = delete;
+
+ private:
+  unsigned saved_ = 0;
+};
 
 // What an environment runs.
 struct EnvironmentOptions {
@@ -51,7 +70,17 @@ struct EnvironmentInfo {
   uint64_t checkpoint_seeds = 0;
   bool settle = true;
   int eye_pixels = 128;  // each eye's pixels in the stage's worlds (its first held-out world's)
+  // The range of each joint reading (Dof order) in per-tick observations, of the same world's
+  // body (observed_joint_ranges).
+  std::array<double, kDofCount> joint_low{}, joint_high{};
 };
+
+// What a joint reading of `body` is reported within, per Dof: the heading's wrap (-pi, pi], the
+// eyes' pan limits and the arms' setpoint ranges (the right arm's mirrored); -+infinity for the
+// odometer, which no body bounds. Arm joints can be pushed past their range and noise moves any
+// reading, so a per-tick observation clamps its readings to these ranges.
+void observed_joint_ranges(const RobotParams& body, std::array<double, kDofCount>& low,
+                           std::array<double, kDofCount>& high);
 
 // What one step gave. The stage's time-out ends the episode as its absorbing state does: the
 // engine's learner pays its reward and does not bootstrap beyond it (learn/learning.cpp).
@@ -78,11 +107,16 @@ class StageEnvironment {
   // roger::Error for a bad index or when no episode is running (before reset, after the end, or
   // after an error), ScriptError for a fault of the stage's Lua functions.
   EnvironmentStep step(int action);
+  // Starts the episode of `seed` and takes `actions` at its decisions: the episode is a function
+  // of its seed and actions, so this is the same episode at the same point (what a copy of the
+  // environment continues). Throws as reset and step do.
+  void replay(uint64_t seed, const std::vector<int>& actions);
 
   // The state of Psi at the last decision (or at the end).
   const std::vector<Gamma>& state() const;
-  // Whether an episode runs and waits for step().
+  // Whether an episode runs and waits for step(); whether one was begun since construction.
   bool running() const;
+  bool begun() const;
   uint64_t seed() const { return seed_; }
   // Simulated seconds and control ticks of the running (or last) episode.
   double sim_seconds() const;
@@ -163,6 +197,21 @@ class VecEnvironment {
   // rethrows the error of the lowest environment that failed (failed[] marks them all; their next
   // step begins a new episode, or under kDisabled their reset).
   void step(const int64_t* actions, const StepOutput& out);
+
+  // What a copy of the batch needs (Python's pickle and deepcopy): each environment's schedule
+  // and the episode it runs (or ran last), as the seed and actions that replay it.
+  struct Snapshot {
+    uint64_t base_seed = 0, started = 0;
+    bool needs_reset = false;  // its next step begins its next episode (or, kDisabled, needs a reset)
+    bool begun = false;        // an episode was begun: `seed` and `actions` replay it
+    uint64_t seed = 0;
+    std::vector<int> actions;
+  };
+  std::vector<Snapshot> snapshot() const;
+  // Takes each environment's schedule from `s` (one per environment) and replays its episode. An
+  // episode that faulted faults again in its replay and is over, as it was; one that ran on and
+  // does not replay throws roger::Error.
+  void restore(const std::vector<Snapshot>& s);
 
  private:
   // One environment's part of the current call and what follows its episode.

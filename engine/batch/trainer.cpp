@@ -514,7 +514,8 @@ void with_policy_file(const PolicyEvalOptions& options, PolicyEvalResult& out,
   out.stage = stage.name;
   out.context = ctx.name;
   out.time_limit = stage.time_limit_text();
-  StageRun run{cur, stage, ctx, make_scenario(stage, ctx, options.scenario, options.sets, options.limits, &out.params), Agent()};
+  StageRun run{cur, stage, ctx, make_scenario(stage, ctx, options.scenario, options.sets, options.limits, &out.params),
+               Agent(WorldParams{}, options.agent)};
   cur.set_world(&run.agent.world());
   out.scenario = run.scenario.name();
   use(run, q, (options.first_seed >= 0 ? uint64_t(options.first_seed) : stage.checkpoints.seeds) + options.seed_offset);

@@ -188,6 +188,7 @@ struct PolicyEvalOptions {
   // Learned skills from these policy files instead of the ones the policy embeds (skill -> file).
   std::map<std::string, std::string> skill_files;
   SandboxLimits limits;
+  AgentParams agent;  // how the agent perceives and is judged (tests judge through copies with it)
 };
 
 // The outcome of evaluating a saved policy.

@@ -13,6 +13,7 @@
 #include <cmath>
 
 #include "control/agent.h"
+#include "control/predicate.h"
 
 namespace roger {
 
@@ -83,10 +84,13 @@ PipelineResult bench_pipeline(const std::vector<WorldSpec>& worlds, Controller& 
     double sim = 0.0;
     int successes = 0;
     const auto start = std::chrono::steady_clock::now();
+    Judge judge(&goal);  // success is the true world's: under noise the goal is judged on the truth
+    agent.set_judge(&judge);
     for (size_t w = 0; w < worlds.size(); ++w) {
       agent.reset(worlds[w]);
       action.reset(w);
       goal.reset();
+      judge.reset(w);
       const int max_ticks = int(std::ceil(time_limit / agent.world().tick_seconds() - 1e-9));
       auto& log = commands[w];
       log.clear();
@@ -94,7 +98,7 @@ PipelineResult bench_pipeline(const std::vector<WorldSpec>& worlds, Controller& 
       for (int t = 0; t < max_ticks; ++t) {
         agent.step(action);
         log.push_back(agent.last_errors());
-        if (goal.holds(agent.input())) {
+        if (judge.holds(agent.input())) {
           ++successes;
           break;
         }
@@ -108,6 +112,7 @@ PipelineResult bench_pipeline(const std::vector<WorldSpec>& worlds, Controller& 
       for (size_t w = 0; w < worlds.size(); ++w)
         for (const DofVector& e : commands[w]) fnv_mix(r.hash, e.data(), sizeof(double) * kDofCount);
     }
+    agent.set_judge(nullptr);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     best_pipeline = std::min(best_pipeline, wall);
     if (rep == 0) r.sim_seconds = sim, r.successes = successes;
@@ -154,6 +159,12 @@ PipelineResult bench_many_objects(const BenchArgs& a, const WorldParams& params)
 
 constexpr int kWidePixels = 256;
 
+// The moderate noise M of docs/results.md (Noise) as scenario parameters: scenarios/lib/body.lua's
+// body.MODERATE_NOISE.
+const std::pair<const char*, const char*> kModerateNoise[] = {
+    {"noise_image", "10"}, {"noise_joints", "0.01"}, {"noise_base", "0.01"}, {"noise_touch", "0.1"},
+    {"noise_effort", "0.1"}};
+
 // The same episodes as the full pipeline's with eyes of 256 pixels: what a finer camera costs.
 PipelineResult bench_wide_eyes(const std::vector<WorldSpec>& worlds, Controller& action, Predicate& goal,
                                double time_limit, int repeats, const WorldParams& params) {
@@ -178,6 +189,11 @@ int command_bench(const BenchArgs& a) {
   const PipelineResult p = bench_pipeline(worlds, *task.action, *task.goal, task.time_limit, a.repeats, params);
   const PipelineResult wide =
       bench_wide_eyes(worlds, *task.action, *task.goal, task.time_limit, a.repeats, params);
+  // The same episodes under the moderate noise M (scenarios/lib/body.lua, body.MODERATE_NOISE).
+  for (const auto& [name, value] : kModerateNoise) scenario.set_param(name, value);
+  std::vector<WorldSpec> noisy;
+  for (int i = 0; i < a.episodes; ++i) noisy.push_back(scenario.generate(a.seed + uint64_t(i)));
+  const PipelineResult under_m = bench_pipeline(noisy, *task.action, *task.goal, task.time_limit, a.repeats, params);
   const PipelineResult many = bench_many_objects(a, params);
   std::printf("roger bench: %s seed %llu, %.0f simulated s per run, best of %d, one core\n",
               a.scenario.c_str(), static_cast<unsigned long long>(a.seed), a.seconds, a.repeats);
@@ -192,6 +208,10 @@ int command_bench(const BenchArgs& a) {
   std::printf("  256-pixel eyes       %9.0fx real time  (the same episodes with eyes of %d pixels, %d successes;\n"
               "                                           %.2fx the cost of physics alone replaying its commands)\n",
               wide.pipeline_rtf, kWidePixels, wide.successes, wide.cost_ratio);
+  std::printf("  pipeline under M     %9.0fx real time  (the same episodes under the moderate noise M, %d successes;\n"
+              "                                           %.2fx the cost of physics alone replaying its commands:\n"
+              "                                           %.2f times the noise-free pipeline's ratio)\n",
+              under_m.pipeline_rtf, under_m.successes, under_m.cost_ratio, under_m.cost_ratio / p.cost_ratio);
   std::printf("  8-object pipeline    %9.0fx real time  (%s policy 'sort' in sorting, objects=8, %d episodes,\n"
               "                                           %.0f simulated s, %d successes; %.2fx the cost of\n"
               "                                           physics alone replaying the same commands at %.0fx)\n",
@@ -220,6 +240,12 @@ int command_bench(const BenchArgs& a) {
                         {"pixels256_successes", wide.successes},
                         {"pixels256_sim_seconds", wide.sim_seconds},
                         {"pixels256_hash", wide.hash},
+                        {"noise_pipeline_rtf", under_m.pipeline_rtf},
+                        {"noise_replay_physics_rtf", under_m.replay_rtf},
+                        {"noise_cost_ratio", under_m.cost_ratio},
+                        {"noise_successes", under_m.successes},
+                        {"noise_sim_seconds", under_m.sim_seconds},
+                        {"noise_hash", under_m.hash},
                         {"objects8_pipeline_rtf", many.pipeline_rtf},
                         {"objects8_replay_physics_rtf", many.replay_rtf},
                         {"objects8_cost_ratio", many.cost_ratio},

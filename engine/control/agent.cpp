@@ -50,6 +50,7 @@ void Agent::perceive() {
 const ControlOutput& Agent::step(Controller& action) {
   const ControlOutput& out = action.evaluate(input_);
   action.executed(input_);
+  if (judge_) judge_->follow(input_);  // the judge's copies follow, on this tick's true senses
   if (next_attention_ != world_.attention()) {
     // A binding redirected the eyes: what was perceived of the old stimulus is not the new one's.
     const Attention& now = world_.attention();

@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "control/control.h"
+#include "control/predicate.h"
 #include "core/body.h"
 #include "sim/occupancy.h"
 #include "sim/world.h"
@@ -34,6 +35,11 @@ class Agent {
   // Runs one control tick: evaluates the action, writes its errors (plus the gaze reflex),
   // steps the world and perceives. Returns the action's output for the tick that just ran.
   const ControlOutput& step(Controller& action);
+
+  // The judge of the episode's goal (or none): under noise, told after each tick's command what
+  // the controllers did, so its copies follow them on the true senses (Judge::follow). The caller
+  // keeps it alive while it is set.
+  void set_judge(Judge* judge) { judge_ = judge; }
 
   // The inputs every controller reads at the current tick (evaluate other controllers with it).
   const ControlInput& input() const { return input_; }
@@ -70,6 +76,7 @@ class Agent {
   ControlInput input_;
   Attention next_attention_;  // where a binding asked the eyes to attend from the next tick
   DofVector last_errors_ = DofVector::Zero();
+  Judge* judge_ = nullptr;
 };
 
 }  // namespace roger

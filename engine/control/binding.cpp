@@ -16,7 +16,7 @@ void Binding::reset(uint64_t seed) {
   target_->reset(seed);
   seed_ = seed;
   invocations_ = 0;
-  executed_tick_ = begun_tick_ = UINT64_MAX;
+  begun_tick_ = UINT64_MAX;
   begun_time_ = 0.0;
   gave_up_ = false;
   gave_up_tick_ = UINT64_MAX;
@@ -28,7 +28,7 @@ void Binding::reset(uint64_t seed) {
 
 bool Binding::running(const ControlInput& in) const {
   if (begun_tick_ == in.tick) return true;
-  return !gave_up_ && executed_tick_ != UINT64_MAX && executed_tick_ + 1 == in.tick;
+  return !gave_up_ && executed_tick() != UINT64_MAX && executed_tick() + 1 == in.tick;
 }
 
 bool Binding::ended(const ControlInput& in) const {
@@ -144,11 +144,12 @@ bool Binding::compute_state(const ControlInput& in, ControlOutput&, Gamma& gamma
   return true;
 }
 
-void Binding::executed(const ControlInput& in) {
-  executed_tick_ = in.tick;
-  if (gave_up_) return;
-  if (in.next_attention && in.attention) *in.next_attention = wanted(*in.attention);
-  if (attending(in)) target_->executed(in);
+void Binding::note_executed(const ControlInput& in) {
+  if (!gave_up_ && in.next_attention && in.attention) *in.next_attention = wanted(*in.attention);
+}
+
+void Binding::pass_executed(const ControlInput& in) {
+  if (!gave_up_ && attending(in)) target_->executed(in);
 }
 
 }  // namespace roger

@@ -23,6 +23,7 @@ void Controller::reset(uint64_t) {
   out_ = ControlOutput{};
   last_tick_ = state_tick_ = settle_tick_ = UINT64_MAX;
   conv_since_ = -1.0;
+  executed_tick_ = UINT64_MAX;
 }
 
 ControllerPtr Controller::copy() const {
@@ -149,7 +150,7 @@ SubjectTo::SubjectTo(ControllerPtr subordinate, ControllerPtr superior)
 
 std::vector<const Controller*> SubjectTo::children() const { return {sub_.get(), sup_.get()}; }
 
-void SubjectTo::executed(const ControlInput& in) {
+void SubjectTo::note_executed(const ControlInput& in) {
   if (history_count_ > 0) {
     const auto& newest = history_[size_t((history_head_ - 1 + kHistory) % kHistory)];
     if (in.time - newest.first > 1.5 * in.dt() + 1e-9) history_count_ = history_head_ = 0;
@@ -157,6 +158,9 @@ void SubjectTo::executed(const ControlInput& in) {
   history_[size_t(history_head_)] = {in.time, sub_->progress(sub_->output())};
   history_head_ = (history_head_ + 1) % kHistory;
   history_count_ = std::min(history_count_ + 1, kHistory);
+}
+
+void SubjectTo::pass_executed(const ControlInput& in) {
   sub_->executed(in);
   sup_->executed(in);
 }
@@ -236,7 +240,7 @@ std::vector<const Controller*> Sequence::children() const {
   return c;
 }
 
-void Sequence::executed(const ControlInput& in) { steps_[size_t(current_)]->executed(in); }
+void Sequence::pass_executed(const ControlInput& in) { steps_[size_t(current_)]->executed(in); }
 
 void Sequence::reset(uint64_t seed) {
   Controller::reset(seed);
@@ -315,7 +319,7 @@ void StandIn::reset(uint64_t seed) {
   if (target_) target_->reset(seed);
 }
 
-void StandIn::executed(const ControlInput& in) {
+void StandIn::pass_executed(const ControlInput& in) {
   if (target_) target_->executed(in);
 }
 
@@ -371,7 +375,7 @@ std::vector<const Controller*> Policy::children() const {
   return c;
 }
 
-void Policy::executed(const ControlInput& in) {
+void Policy::pass_executed(const ControlInput& in) {
   if (chosen_ >= 0) actions_[size_t(chosen_)]->executed(in);
 }
 

@@ -165,7 +165,23 @@ class Controller {
   // composites pass it on to the children whose commands they used. Evaluations made only to
   // observe a state are never executed, which is what lets a subordinate's settled potential
   // mean "stuck while acting" rather than "not running".
-  virtual void executed(const ControlInput&) {}
+  void executed(const ControlInput& in) {
+    executed_tick_ = in.tick;
+    note_executed(in);
+    pass_executed(in);
+  }
+  // What a judge's copy of this controller is told when the original was executed (Judge,
+  // predicate.h): the same bookkeeping of its own, passed on to no part (each part's copy hears
+  // of its own original).
+  void mirror_executed(const ControlInput& in) {
+    executed_tick_ = in.tick;
+    note_executed(in);
+  }
+  // The ticks of its last execution, full evaluation and state-only evaluation in this episode
+  // (UINT64_MAX: none).
+  uint64_t executed_tick() const { return executed_tick_; }
+  uint64_t evaluated_tick() const { return last_tick_; }
+  uint64_t observed_tick() const { return state_tick_; }
 
   // A short word for what it is: a primitive's own name, "subject_to", "sequence" or "policy".
   virtual const char* kind() const = 0;
@@ -186,6 +202,11 @@ class Controller {
   // follow it in the same tick (the state is then not settled twice: see evaluate()).
   virtual bool compute_state(const ControlInput&, ControlOutput&, Gamma&) { return false; }
 
+  // Its own bookkeeping when its command was executed (after executed_tick() is set).
+  virtual void note_executed(const ControlInput&) {}
+  // Passes the execution on to the parts whose commands it used.
+  virtual void pass_executed(const ControlInput&) {}
+
  private:
   // Applies the hold time to a raw state (idempotent within a tick).
   Gamma settle(Gamma raw, const ControlInput& in);
@@ -196,6 +217,7 @@ class Controller {
   uint64_t state_tick_ = UINT64_MAX;  // tick of the last state-only evaluation
   Gamma state_raw_ = Gamma::kNoRef;   // the raw state it found
   uint64_t settle_tick_ = UINT64_MAX; // tick of the last settle(), to see gaps in the hold
+  uint64_t executed_tick_ = UINT64_MAX;  // tick of the last execution
   double conv_since_ = -1.0;
 };
 
@@ -247,10 +269,12 @@ class SubjectTo final : public Controller {
   void reset(uint64_t seed) override;
   ControllerPtr copy() const override { return std::make_shared<SubjectTo>(*this); }
   void relink(Duplicates& done) override;
-  void executed(const ControlInput& in) override;
   bool state_is_exact() const override { return sub_->state_is_exact() && sup_->state_is_exact(); }
 
  protected:
+  // Records the subordinate's progress for the plateau test (it settles while being executed).
+  void note_executed(const ControlInput& in) override;
+  void pass_executed(const ControlInput& in) override;
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
   // The state from the parts' states, where it needs no command: a superior without a reference,
   // or a subordinate that is not !CONV.
@@ -286,7 +310,6 @@ class Sequence final : public Controller {
   void reset(uint64_t seed) override;
   ControllerPtr copy() const override { return std::make_shared<Sequence>(*this); }
   void relink(Duplicates& done) override;
-  void executed(const ControlInput& in) override;
   // The step running now.
   int current() const { return current_; }
   const Controller* inner() const override { return steps_[size_t(current_)].get(); }
@@ -294,6 +317,7 @@ class Sequence final : public Controller {
   bool state_is_exact() const override;
 
  protected:
+  void pass_executed(const ControlInput& in) override;
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
   // The state without the running step's command where that step's state is exact; otherwise
   // the step is evaluated, as compute() would.
@@ -330,9 +354,9 @@ class StandIn : public Controller {
   std::vector<const Controller*> children() const override;
   void reset(uint64_t seed) override;
   void relink(Duplicates& done) override;
-  void executed(const ControlInput& in) override;
 
  protected:
+  void pass_executed(const ControlInput& in) override;
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
   // The state alone, through the target's own fast path (a policy's state vector reads this).
   bool compute_state(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
@@ -386,7 +410,6 @@ class Binding final : public Controller {
   void reset(uint64_t seed) override;
   ControllerPtr copy() const override { return std::make_shared<Binding>(*this); }
   void relink(Duplicates& done) override;
-  void executed(const ControlInput& in) override;
   const ControllerPtr& target() const { return target_; }
   const Controller* inner() const override { return target_.get(); }
   bool gave_up_on(uint64_t tick) const override { return gave_up_tick_ == tick || Controller::gave_up_on(tick); }
@@ -394,6 +417,10 @@ class Binding final : public Controller {
   int invocations() const { return invocations_; }
 
  protected:
+  // Asks the world to attend as the binding says (unless it gave up); the target runs only while
+  // the world attends so.
+  void note_executed(const ControlInput& in) override;
+  void pass_executed(const ControlInput& in) override;
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
   bool compute_state(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
 
@@ -423,7 +450,7 @@ class Binding final : public Controller {
   Bindings bindings_;
   uint64_t seed_ = 0;
   int invocations_ = 0;
-  uint64_t executed_tick_ = UINT64_MAX, begun_tick_ = UINT64_MAX;
+  uint64_t begun_tick_ = UINT64_MAX;
   double begun_time_ = 0.0;     // when the running invocation began (s)
   bool gave_up_ = false;        // the last invocation ran out of patience
   uint64_t gave_up_tick_ = UINT64_MAX;  // the tick it did
@@ -456,7 +483,6 @@ class Policy final : public Controller {
   void reset(uint64_t seed) override;
   ControllerPtr copy() const override { return std::make_shared<Policy>(*this); }
   void relink(Duplicates& done) override;
-  void executed(const ControlInput& in) override;
   // The action chosen at the last evaluation, or -1.
   int chosen() const { return chosen_; }
   const Controller* inner() const override { return chosen_ >= 0 ? actions_[size_t(chosen_)].get() : nullptr; }
@@ -469,6 +495,7 @@ class Policy final : public Controller {
   bool rest_when_done() const { return rest_when_done_; }
 
  protected:
+  void pass_executed(const ControlInput& in) override;
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
   bool compute_state(const ControlInput& in, ControlOutput& out, Gamma& gamma_raw) override;
 

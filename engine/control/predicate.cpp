@@ -188,16 +188,34 @@ void Judge::reset(uint64_t seed) {
   if (copy_) reset_predicate(*copy_, seed);
 }
 
+void Judge::make_copies() {
+  // The predicate is not owned here; an aliasing pointer lets duplicate() read it.
+  done_ = Duplicates{};
+  copy_ = duplicate(PredicatePtr(PredicatePtr(), predicate_), done_);
+  reset_predicate(*copy_, seed_);
+}
+
 bool Judge::holds(const ControlInput& in) {
   if (!predicate_) return false;
   if (!in.truth) return predicate_->holds(in);
-  if (!copy_) {
-    // The predicate is not owned here; an aliasing pointer lets duplicate() read it.
-    Duplicates done;
-    copy_ = duplicate(PredicatePtr(PredicatePtr(), predicate_), done);
-    reset_predicate(*copy_, seed_);
-  }
+  if (!copy_) make_copies();
   return copy_->holds(*in.truth);
+}
+
+void Judge::follow(const ControlInput& in) {
+  if (!predicate_ || !in.truth) return;
+  if (!copy_) make_copies();
+  const ControlInput& truth = *in.truth;
+  // Evaluations first (a composite's bookkeeping of its execution reads its parts' outputs of the
+  // tick), parents before their parts; a state read before a full evaluation first, so the hold
+  // time is settled once, as in the original.
+  const uint64_t tick = in.tick;
+  for (const auto& [original, copy] : done_.controllers) {
+    if (original->observed_tick() == tick) copy->state(truth);
+    if (original->evaluated_tick() == tick) copy->evaluate(truth);
+  }
+  for (const auto& [original, copy] : done_.controllers)
+    if (original->executed_tick() == tick) copy->mirror_executed(truth);
 }
 
 void reset_predicate(Predicate& p, uint64_t seed) {

@@ -39,12 +39,16 @@ using PredicatePtr = std::shared_ptr<Predicate>;
 // controllers' duplicate, which shares `done`).
 PredicatePtr duplicate(const PredicatePtr& p, Duplicates& done);
 
-// A predicate that judges the true world. Under noise the controllers a predicate reads see the
-// noisy senses, as the actions sharing them must; the judge then evaluates copies of the
-// predicate and its controllers (duplicate, made at the first noisy tick) on the same tick read
-// from the true senses (ControlInput::truth). Without noise it asks the predicate itself, so
-// noise-free episodes run exactly as before. The copies are never executed: a composite's plateau
-// test, which needs execution, does not apply to them (docs/control.md, noise).
+// A predicate that judges the true world: the verdict the predicate would give if its controllers
+// read the true senses at every tick. Under noise the controllers a predicate reads see the noisy
+// senses, as the actions sharing them must; the judge then keeps copies of the predicate and of
+// every controller it reads (duplicate) that follow their originals on the true senses of the same
+// tick: after each tick's command (Agent::step calls follow), each copy is evaluated as its
+// original was on that tick (fully, or its state alone) and told of its original's execution
+// (Controller::mirror_executed), so plateaus, invocations and holds go as they would; the copies
+// never command. Without noise the true senses are the senses and the predicate itself is asked:
+// the same verdict by the same rule, at no cost (test_noise checks the two agree, tick for tick,
+// on learned policies and on the sort).
 class Judge {
  public:
   // Judges `p` (may be null: then it never holds). The predicate must outlive the judge.
@@ -53,10 +57,17 @@ class Judge {
   void reset(uint64_t seed);
   // Whether the predicate holds of the true world at this tick.
   bool holds(const ControlInput& in);
+  // After the tick's command was executed, before the world moves: under noise (in.truth), the
+  // copies follow what their originals did on this tick.
+  void follow(const ControlInput& in);
+  // Each controller the predicate reads and its copy (empty until the first tick judged on the truth).
+  const Duplicates& copies() const { return done_; }
 
  private:
+  void make_copies();
   Predicate* predicate_ = nullptr;
   PredicatePtr copy_;  // the copy judged on the truth, once a noisy tick asked for it
+  Duplicates done_;    // each original and its copy, parents before their parts
   uint64_t seed_ = 0;
 };
 

@@ -63,13 +63,6 @@ class Primitive : public Controller {
   // For duplicate(): the clone, a leaf.
   std::shared_ptr<Controller> copy() const override { return clone(); }
 
-  // Forgets the run it was in: the next tick it runs begins a new one (acted_last_tick).
-  void reset(uint64_t seed) override {
-    Controller::reset(seed);
-    executed_tick_ = UINT64_MAX;
-  }
-  // Notes that this tick's command was applied.
-  void executed(const ControlInput& in) override { executed_tick_ = in.tick; }
 
  protected:
   Primitive(std::string kind, double default_epsilon);
@@ -112,7 +105,7 @@ class Primitive : public Controller {
   // after one on which it was only evaluated to read its state (another action had the robot)
   // begins a new run.
   bool acted_last_tick(const ControlInput& in) const {
-    return executed_tick_ != UINT64_MAX && executed_tick_ + 1 == in.tick;
+    return executed_tick() != UINT64_MAX && executed_tick() + 1 == in.tick;
   }
 
  private:
@@ -122,7 +115,6 @@ class Primitive : public Controller {
   void refuse_redeclared(const std::string& name) const;
   std::string kind_;
   std::vector<ParamDef> defs_;
-  uint64_t executed_tick_ = UINT64_MAX;  // the last tick its command was applied
 };
 
 using PrimitivePtr = std::shared_ptr<Primitive>;

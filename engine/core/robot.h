@@ -88,13 +88,33 @@ constexpr double kMinFov = 0.1, kMaxFov = 2.8;
 // Sensor and actuator noise (world:robot{ noise = ... }): standard deviations of independent
 // Gaussian noise drawn every control tick from a stream seeded by the world's seed alone. Zero
 // draws nothing: a world without noise senses and moves exactly as before.
+// One channel's noise (world:robot{ noise = { <channel> = sigma or {...} } }, docs/scenarios.md,
+// Noise), each kind 0 for none; a channel with none draws nothing. sigma, bias and drift are in
+// the channel's unit (image: colour levels; joints: rad; base: m and rad; touch and effort: a
+// fraction of the force or command, multiplying it by max(0, 1 + n)); quantum too (touch: N;
+// effort: of the commanded error).
+struct ChannelNoise {
+  double sigma = 0.0;      // white: N(0, sigma) per component and tick
+  double bias = 0.0;       // N(0, bias) per component, drawn at the episode's start and held
+  double drift = 0.0;      // a first-order Gauss-Markov process per component: its stationary sigma
+  double drift_tau = 0.0;  // and its correlation time (s)
+  int delay = 0;           // readings (effort: commands) arrive this many control ticks late
+  double dropout = 0.0;    // probability per tick that a reading (effort: a command) is lost
+  double quantum = 0.0;    // readings (effort: commands) rounded to multiples of this
+  // Whether it offsets readings (white, bias or drift).
+  bool offsets() const { return sigma > 0.0 || bias > 0.0 || (drift > 0.0 && drift_tau > 0.0); }
+  bool any() const { return offsets() || delay > 0 || dropout > 0.0 || quantum > 0.0; }
+};
+
+// Roger's sensor and actuator noise, per channel (world:robot{ noise = ... }); none by default.
 struct NoiseParams {
-  double image = 0.0;   // colour levels (0-255) added to each channel of each pixel of both eyes
-  double joints = 0.0;  // rad on each joint angle the controllers read (eye pans, shoulders, elbows)
-  double base = 0.0;    // m on the base position and the odometer, rad on its heading
-  double touch = 0.0;   // a fraction of each contact force (normal and friction)
-  double effort = 0.0;  // a fraction of each commanded force, torque and servo rate
-  bool any() const { return image > 0.0 || joints > 0.0 || base > 0.0 || touch > 0.0 || effort > 0.0; }
+  ChannelNoise image;   // each colour channel of each pixel of both eyes
+  ChannelNoise joints;  // each joint angle the controllers read (eye pans, shoulders, elbows)
+  ChannelNoise base;    // the base pose and odometer
+  ChannelNoise touch;   // each contact's normal and friction force
+  ChannelNoise effort;  // each commanded force, torque and servo rate (delay, dropout, quantum: the
+                        // commanded errors)
+  bool any() const { return image.any() || joints.any() || base.any() || touch.any() || effort.any(); }
 };
 
 // One eye's pinhole model, derived from EyeParams: pixel u looks along atan2(u - principal, focal)

@@ -13,6 +13,7 @@ EpisodeRun::EpisodeRun(Agent& agent, const WorldSpec& spec, uint64_t seed, Episo
   if (!(time_limit > 0.0)) throw Error("episode: time limit must be positive");
   agent.reset(spec);
   driver.begin(seed);
+  agent.set_judge(driver.judge());
   if (observer) observer->on_begin(agent, seed);
   max_ticks_ = int(std::ceil(time_limit / agent.world().tick_seconds() - 1e-9));
   over_ = max_ticks_ <= 0;
@@ -37,6 +38,8 @@ bool EpisodeRun::tick() {
   over_ = out_.ticks >= max_ticks_;
   return !over_;
 }
+
+EpisodeRun::~EpisodeRun() { agent_.set_judge(nullptr); }
 
 EpisodeOutcome EpisodeRun::finish() {
   if (finished_) throw Error("episode: finished twice");
@@ -71,6 +74,7 @@ class FixedActionDriver final : public EpisodeDriver {
   // Success is the true world's: under noise the goal is judged on the true senses.
   bool absorbed(const ControlInput& in) override { return judge_.holds(in); }
   bool end(const ControlInput&, bool success, int, double) override { return success; }
+  Judge* judge() override { return &judge_; }
 
  private:
   Controller& action_;

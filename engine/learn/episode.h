@@ -36,6 +36,8 @@ class EpisodeDriver {
   // (an environment's step), not because the episode is absorbed: the loop then pauses before the
   // tick and asks choose() again once the choice is given.
   virtual bool paused() const { return false; }
+  // The judge of its absorbing predicate (the episode loop lets it follow each tick), or none.
+  virtual Judge* judge() { return nullptr; }
 };
 
 // What an episode loop reports to whoever records it (pictures, timelines). Default: nothing.
@@ -82,6 +84,7 @@ class EpisodeRun {
   int ticks() const { return out_.ticks; }
   // Ends the episode: tells the driver and the observer; returns how it ended. Call once, when over.
   EpisodeOutcome finish();
+  ~EpisodeRun();
 
  private:
   Agent& agent_;

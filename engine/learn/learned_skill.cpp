@@ -67,13 +67,10 @@ class LearnedSkill final : public Controller {
     return true;
   }
 
- public:
   // The action whose command this tick used was executed.
-  void executed(const ControlInput& in) override {
+  void pass_executed(const ControlInput& in) override {
     if (last_action_ >= 0) actions_[size_t(last_action_)]->executed(in);
   }
-
- protected:
 
  private:
   // The state index and the skill's own gamma at this tick.

@@ -250,6 +250,7 @@ class SemiMdpDriver final : public EpisodeDriver {
   bool absorbed(const ControlInput& in) override;
   bool end(const ControlInput& in, bool success, int ticks, double time) override;
   bool paused() const override { return awaiting_; }
+  Judge* judge() override { return &judge_; }
   // What happened in the episode (complete after end()).
   const TrainingEpisode& episode() const { return ep_; }
 

@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <array>
 #include <map>
 #include <memory>
 #include <string>
@@ -67,6 +68,8 @@ py::dict info_dict(const EnvironmentInfo& i) {
   d["time_per_object"] = i.time_per_object;
   d["tick_seconds"] = i.tick_seconds;
   d["eye_pixels"] = i.eye_pixels;
+  d["joint_low"] = std::vector<double>(i.joint_low.begin(), i.joint_low.end());
+  d["joint_high"] = std::vector<double>(i.joint_high.begin(), i.joint_high.end());
   d["budget_episodes"] = i.budget_episodes;
   d["learner"] = py::dict(py::arg("alpha") = i.learner.alpha, py::arg("discount") = i.learner.discount,
                           py::arg("epsilon_start") = i.learner.epsilon_start,
@@ -102,10 +105,14 @@ py::dict senses_dict(const Agent& agent) {
                           float(k.normal.y())};
     for (int j = 0; j < 5; ++j) touch.mutable_at(t, j) = row[j];
   }
-  py::array_t<double> q(kDofCount), qdot(kDofCount);
+  // float32 as every other float of the observation; joints within the body's ranges (an encoder
+  // reads within its joint's range), so that the observation is always in its space.
+  std::array<double, kDofCount> low, high;
+  observed_joint_ranges(agent.world().spec().body, low, high);
+  py::array_t<float> q(kDofCount), qdot(kDofCount);
   for (int j = 0; j < kDofCount; ++j) {
-    q.mutable_at(j) = s.q[j];
-    qdot.mutable_at(j) = s.qdot[j];
+    q.mutable_at(j) = float(std::clamp(s.q[j], low[size_t(j)], high[size_t(j)]));
+    qdot.mutable_at(j) = float(s.qdot[j]);
   }
   py::dict d;
   d["images"] = images;
@@ -124,6 +131,7 @@ py::array_t<uint8_t> render_array(const StageEnvironment& e, int width) {
   RgbPicture p;
   {
     py::gil_scoped_release nogil;
+    const EngineFloatMode mode;  // as `roger render` draws, on an engine thread
     p = render_rgb(world.spec(), world.frame(), options);
   }
   py::array_t<uint8_t> a({py::ssize_t(p.height), py::ssize_t(p.width), py::ssize_t(3)});
@@ -191,6 +199,16 @@ void bind_environment(py::module_& m) {
            },
            py::arg("action"))
       .def("render", &render_array, py::arg("width"))
+      .def(
+          "replay",
+          [](StageEnvironment& e, uint64_t seed, const std::vector<int>& actions) {
+            py::gil_scoped_release nogil;
+            e.replay(seed, actions);
+          },
+          py::arg("seed"), py::arg("actions"))
+      .def_property_readonly("actions_taken",
+                             [](const StageEnvironment& e) { return e.begun() ? e.episode().actions_taken : std::vector<int>(); })
+      .def_property_readonly("begun", &StageEnvironment::begun)
       .def_property_readonly("running", &StageEnvironment::running)
       .def_property_readonly("seed", &StageEnvironment::seed)
       .def_property_readonly("sim_seconds", &StageEnvironment::sim_seconds)
@@ -333,6 +351,32 @@ py::dict vec_step(VecEnvironment& v, const IntArray& actions) {
   return d;
 }
 
+// A VecEnvironment's snapshot as plain Python values (pickled with the Python object), and back.
+py::list vec_snapshot(const VecEnvironment& v) {
+  py::list out;
+  for (const auto& s : v.snapshot())
+    out.append(py::make_tuple(s.base_seed, s.started, s.needs_reset, s.begun, s.seed, s.actions));
+  return out;
+}
+
+void vec_restore(VecEnvironment& v, const py::list& state) {
+  std::vector<VecEnvironment::Snapshot> snapshots;
+  for (const auto& item : state) {
+    const auto t = item.cast<py::tuple>();
+    if (t.size() != 6) throw Error("restore: an environment's state is 6 values, got " + std::to_string(t.size()));
+    VecEnvironment::Snapshot s;
+    s.base_seed = t[0].cast<uint64_t>();
+    s.started = t[1].cast<uint64_t>();
+    s.needs_reset = t[2].cast<bool>();
+    s.begun = t[3].cast<bool>();
+    s.seed = t[4].cast<uint64_t>();
+    s.actions = t[5].cast<std::vector<int>>();
+    snapshots.push_back(std::move(s));
+  }
+  py::gil_scoped_release nogil;
+  v.restore(snapshots);
+}
+
 void bind_vec(py::module_& m) {
   py::class_<VecEnvironment>(m, "VecEnvironment")
       .def(py::init([](const std::string& curriculum, const std::string& stage, const std::string& context,
@@ -351,6 +395,8 @@ void bind_vec(py::module_& m) {
       .def_property_readonly("threads", &VecEnvironment::threads)
       .def("reset", &vec_reset, py::arg("mask"), py::arg("seeded"), py::arg("seeds"))
       .def("step", &vec_step, py::arg("actions"))
+      .def("snapshot", &vec_snapshot)
+      .def("restore", &vec_restore, py::arg("state"))
       .def(
           "render",
           [](const VecEnvironment& v, int i, int width) {

@@ -2,53 +2,89 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "core/shape.h"
 
 namespace roger {
 
-NoiseModel noise_model(const NoiseParams& params, const Camera& camera) {
-  constexpr double kLevelsPerPixel = 100.0;  // colour levels of noise that shift the centre a pixel
-  NoiseModel m;
-  m.params = params;
-  m.stereo = StereoNoise{std::hypot(params.joints, params.image / kLevelsPerPixel / camera.focal), params.base};
-  m.any = params.any();
-  return m;
-}
-
 namespace {
 
-// Standard normal values drawn two at a time (Box-Muller's both outputs, one logarithm and one
-// square root per pair): the image noise draws three per pixel, six per pair of pixels.
-class NormalPairs {
- public:
-  explicit NormalPairs(Rng& rng) : rng_(rng) {}
-  double next() {
-    if (has_spare_) return has_spare_ = false, spare_;
-    double u1 = rng_.uniform();
-    while (u1 <= 0.0) u1 = rng_.uniform();
-    const double r = std::sqrt(-2.0 * std::log(u1)), a = 6.283185307179586 * rng_.uniform();
-    spare_ = r * std::sin(a), has_spare_ = true;
-    return r * std::cos(a);
-  }
-
- private:
-  Rng& rng_;
-  double spare_ = 0.0;
-  bool has_spare_ = false;
-};
-
-// The noisy reading of one colour channel, rounded and clamped to a byte.
-uint8_t noisy_channel(uint8_t value, double noise) {
-  return uint8_t(std::clamp(std::lround(double(value) + noise), 0L, 255L));
+// The variance one channel's kinds add to a reading: white, bias and drift, and a resolution's
+// rounding (uniform over a step).
+double variance(const ChannelNoise& n) {
+  const double drift = n.drift_tau > 0.0 ? n.drift : 0.0;
+  return n.sigma * n.sigma + n.bias * n.bias + drift * drift + n.quantum * n.quantum / 12.0;
 }
 
-// The stimulus coverage a noise vector adds to a pixel whose background colour is `back`: its
-// projection on the axis from the background to the stimulus, in units of that axis's length.
-double coverage_noise(const Colour& stimulus, const Colour& back, const double n[3]) {
-  const double d[3] = {double(stimulus.r) - back.r, double(stimulus.g) - back.g, double(stimulus.b) - back.b};
-  const double d2 = std::max(1.0, d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-  return (n[0] * d[0] + n[1] * d[1] + n[2] * d[2]) / d2;
+// The standard normal quantile at p in (0, 1): Acklam's rational approximation (relative error
+// 1.2e-9), refined by one Halley step on the complementary error function.
+double normal_quantile(double p) {
+  static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02, -2.759285104469687e+02,
+                             1.383577518672690e+02, -3.066479806614716e+01, 2.506628277459239e+00};
+  static const double b[] = {-5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02,
+                             6.680131188771972e+01, -1.328068155288572e+01};
+  static const double c[] = {-7.784894002430293e-03, -3.223964580411365e-01, -2.400758277161838e+00,
+                             -2.549732539343734e+00, 4.374664141464968e+00, 2.938163982698783e+00};
+  static const double d[] = {7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00,
+                             3.754408661907416e+00};
+  double x;
+  if (p < 0.02425) {
+    const double q = std::sqrt(-2.0 * std::log(p));
+    x = (((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
+        ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1.0);
+  } else if (p > 1.0 - 0.02425) {
+    const double q = std::sqrt(-2.0 * std::log(1.0 - p));
+    x = -(((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
+        ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1.0);
+  } else {
+    const double q = p - 0.5, r = q * q;
+    x = (((((a[0] * r + a[1]) * r + a[2]) * r + a[3]) * r + a[4]) * r + a[5]) * q /
+        (((((b[0] * r + b[1]) * r + b[2]) * r + b[3]) * r + b[4]) * r + 1.0);
+  }
+  const double e = 0.5 * std::erfc(-x / std::sqrt(2.0)) - p;
+  const double u = e * std::sqrt(2.0 * M_PI) * std::exp(x * x / 2.0);
+  return x - u / (1.0 + x * u / 2.0);
+}
+
+// The quantiles at the midpoints of the upper 32768 of the 65536 equal slices of probability,
+// made once (128 KiB: the lower half is their mirror image, and a table that stays in the cache is
+// what makes a thousand draws a tick cheap).
+const float* normal_table() {
+  static const std::vector<float> table = [] {
+    std::vector<float> t(32768);
+    for (int k = 0; k < 32768; ++k) t[size_t(k)] = float(normal_quantile((32768 + k + 0.5) / 65536.0));
+    return t;
+  }();
+  return table.data();
+}
+
+// The standard normal of 16 bits from `table`: the low 15 bits pick the slice of the upper half,
+// the top bit the side.
+// The sign goes on by its bit, not by a branch (which the random bits would mispredict half the time).
+inline float table_value(const float* table, uint64_t bits) {
+  const float v = table[bits & 0x7FFF];
+  uint32_t u;
+  std::memcpy(&u, &v, sizeof u);
+  u ^= uint32_t(bits & 0x8000) << 16;
+  float out;
+  std::memcpy(&out, &u, sizeof out);
+  return out;
+}
+
+// The stream names: a channel's kind, mixed into the world's seed.
+enum Kind : uint64_t { kWhite = 1, kBias = 2, kDrift = 3, kDropout = 4 };
+uint64_t stream_seed(uint64_t world_seed, NoiseChannel channel, Kind kind) {
+  return Rng::mix(Rng::mix(world_seed, 0x6E6F697365ull /* "noise" */), uint64_t(channel) * 16 + kind);
+}
+
+// A noisy colour channel: the value moved by the noise rounded to a whole level (half up), on the
+// resolution's grid (none when 0), clamped to a byte. (An offset beyond 300 levels saturates either
+// way.)
+inline int noisy_channel(int value, float noise, int quantum) {
+  int v = value + int(std::min(std::max(noise, -300.0f), 300.0f) + 300.5f) - 300;
+  if (quantum > 0) v = (v + quantum / 2) / quantum * quantum;  // v >= -300: shift to round half up
+  return std::clamp(v, 0, 255);
 }
 
 // Keeps the coverage of pixels that read as the stimulus and of their neighbours (edge pixels);
@@ -67,50 +103,219 @@ void threshold_coverage(EyeImage& image) {
   image.stimulus_first = int16_t(first), image.stimulus_last = int16_t(last);
 }
 
-}  // namespace
-
-void add_image_noise(EyeImage& image, double sigma, Rng& rng) {
-  if (!(sigma > 0.0)) return;
-  const Colour grey{128, 128, 128};
+// Colour noise on one eye's image, from `offsets` (three per pixel): each pixel's stimulus
+// coverage moves by the colour's change projected on the axis from the pixel's background colour
+// to the stimulus colour (a pixel whose centre is on the stimulus has no colour of its own to mix
+// with: grey stands in). Integer colours, so the projection is exact; one division per pixel.
+void image_noise(EyeImage& image, const float* offsets, int quantum) {
   const Colour s = image.stimulus_colour;
-  NormalPairs normal(rng);
-  for (int u = 0; u < image.pixels(); ++u) {
+  const int pixels = image.pixels();
+  for (int u = 0; u < pixels; ++u) {
     Colour& c = image.colour[size_t(u)];
-    const double n[3] = {sigma * normal.next(), sigma * normal.next(), sigma * normal.next()};
-    // A pixel whose centre is on the stimulus has no colour of its own to mix with: grey stands in.
-    const double e = coverage_noise(s, c == s ? grey : c, n);
+    const float* o = offsets + 3 * u;
+    const int r = noisy_channel(c.r, o[0], quantum), g = noisy_channel(c.g, o[1], quantum),
+              b = noisy_channel(c.b, o[2], quantum);
+    const bool on_stimulus = c == s;
+    const int dr = int(s.r) - (on_stimulus ? 128 : c.r), dg = int(s.g) - (on_stimulus ? 128 : c.g),
+              db = int(s.b) - (on_stimulus ? 128 : c.b);
+    const int along = (r - c.r) * dr + (g - c.g) * dg + (b - c.b) * db;
+    const int d2 = std::max(1, dr * dr + dg * dg + db * db);
+    // Clamped without branches: the noise's sign would mispredict them.
     float& coverage = image.stimulus[size_t(u)];
-    coverage = float(std::clamp(double(coverage) + e, 0.0, 1.0));
-    c = Colour{noisy_channel(c.r, n[0]), noisy_channel(c.g, n[1]), noisy_channel(c.b, n[2])};
+    coverage = std::min(std::max(coverage + float(along) / float(d2), 0.0f), 1.0f);
+    c = Colour{uint8_t(r), uint8_t(g), uint8_t(b)};
   }
   threshold_coverage(image);
   image.noisy = true;
 }
 
-void add_pose_noise(Senses& s, const NoiseParams& noise, Rng& rng) {
-  if (noise.joints > 0.0)
-    for (int d = kLeftEye; d < kDofCount; ++d) s.q[d] += rng.normal(0.0, noise.joints);
-  if (noise.base > 0.0) {
-    s.base.x += rng.normal(0.0, noise.base);
-    s.base.y += rng.normal(0.0, noise.base);
-    s.base.theta = wrap_angle(s.base.theta + rng.normal(0.0, noise.base));
-    s.q[kBaseForward] += rng.normal(0.0, noise.base);
+// A reading the channel has lost this tick keeps the value delivered last.
+template <size_t N>
+void hold_lost(const ChannelProcess& p, std::array<double, N>& values, std::array<double, N>& held, bool& valid) {
+  for (size_t k = 0; k < N; ++k) {
+    if (valid && p.lost(int(k))) values[k] = held[k];
+    held[k] = values[k];
+  }
+  valid = true;
+}
+
+}  // namespace
+
+NoiseModel noise_model(const NoiseParams& params, const Camera& camera) {
+  constexpr double kLevelsPerPixel = 100.0;  // colour levels of noise that shift the centre a pixel
+  NoiseModel m;
+  m.params = params;
+  const double image = std::sqrt(variance(params.image)) / kLevelsPerPixel / camera.focal;
+  m.stereo = StereoNoise{std::hypot(std::sqrt(variance(params.joints)), image), std::sqrt(variance(params.base))};
+  m.any = params.any();
+  return m;
+}
+
+float table_normal(uint16_t bits) { return table_value(normal_table(), bits); }
+
+void ChannelProcess::reset(const ChannelNoise& noise, uint64_t world_seed, NoiseChannel channel, int components,
+                           int readings, double tick_seconds) {
+  noise_ = noise;
+  table_ = normal_table();
+  white_.reseed(stream_seed(world_seed, channel, kWhite));
+  bias_.reseed(stream_seed(world_seed, channel, kBias));
+  drift_.reseed(stream_seed(world_seed, channel, kDrift));
+  dropout_.reseed(stream_seed(world_seed, channel, kDropout));
+  offsets_.assign(size_t(components), 0.0f);
+  normals_.assign(size_t(components), 0.0f);
+  lost_.assign(size_t(readings), 0);
+  held_bias_.assign(noise.bias > 0.0 ? size_t(components) : 0, 0.0f);
+  if (!held_bias_.empty()) fill_normals(bias_, noise.bias, held_bias_.data(), held_bias_.size());
+  const bool drifts = noise.drift > 0.0 && noise.drift_tau > 0.0;
+  drift_state_.assign(drifts ? size_t(components) : 0, 0.0);
+  if (drifts) {
+    // x' = a x + sigma sqrt(1 - a^2) n keeps the stationary sigma; its autocorrelation after t is
+    // exp(-t / tau). The episode starts in the stationary distribution.
+    drift_decay_ = std::exp(-tick_seconds / noise.drift_tau);
+    drift_step_ = noise.drift * std::sqrt(1.0 - drift_decay_ * drift_decay_);
+    fill_normals(drift_, noise.drift, normals_.data(), normals_.size());
+    std::copy(normals_.begin(), normals_.end(), drift_state_.begin());
+  }
+}
+
+void ChannelProcess::fill_normals(Rng& stream, double sigma_in, float* out, size_t n) const {
+  const float* table = table_;
+  const float sigma = float(sigma_in);
+  size_t k = 0;
+  for (; k + 4 <= n; k += 4) {
+    const uint64_t bits = stream.next();
+    out[k] = sigma * table_value(table, bits);
+    out[k + 1] = sigma * table_value(table, bits >> 16);
+    out[k + 2] = sigma * table_value(table, bits >> 32);
+    out[k + 3] = sigma * table_value(table, bits >> 48);
+  }
+  if (k < n) {  // the last few from one more draw (its unused bits are dropped: n per call)
+    uint64_t bits = stream.next();
+    for (; k < n; ++k, bits >>= 16) out[k] = sigma * table_value(table, bits);
+  }
+}
+
+void ChannelProcess::draw() {
+  const size_t n = offsets_.size();
+  if (noise_.offsets()) {
+    float* o = offsets_.data();
+    if (noise_.sigma > 0.0) fill_normals(white_, noise_.sigma, o, n);
+    else std::fill(offsets_.begin(), offsets_.end(), 0.0f);
+    for (size_t k = 0; k < held_bias_.size(); ++k) o[k] += held_bias_[k];
+    if (!drift_state_.empty()) {
+      fill_normals(drift_, drift_step_, normals_.data(), n);
+      for (size_t k = 0; k < n; ++k) {
+        double& x = drift_state_[k];
+        x = drift_decay_ * x + normals_[k];
+        o[k] += float(x);
+      }
+    }
+  }
+  if (noise_.dropout > 0.0)
+    for (uint8_t& l : lost_) l = dropout_.uniform() < noise_.dropout;
+}
+
+double ChannelProcess::quantize(double value) const {
+  return noise_.quantum > 0.0 ? std::nearbyint(value / noise_.quantum) * noise_.quantum : value;
+}
+
+void SenseNoise::reset(const NoiseParams& n, uint64_t seed, int eye_pixels, double tick_seconds) {
+  image_.reset(n.image, seed, NoiseChannel::kImage, 2 * eye_pixels * 3, 2, tick_seconds);
+  joints_.reset(n.joints, seed, NoiseChannel::kJoints, 6, 6, tick_seconds);
+  base_.reset(n.base, seed, NoiseChannel::kBase, 4, 4, tick_seconds);
+  touch_.reset(n.touch, seed, NoiseChannel::kTouch, 2 * kTactileCount, kTactileCount, tick_seconds);
+  effort_.reset(n.effort, seed, NoiseChannel::kEffort, kDofCount, kDofCount, tick_seconds);
+  joint_delay_.reset(n.joints.delay);
+  base_delay_.reset(n.base.delay);
+  for (auto& d : eye_delay_) d.reset(n.image.delay);
+  touch_delay_.reset(n.touch.delay);
+  command_delay_.reset(n.effort.delay);
+  joints_valid_ = base_valid_ = false;
+  eye_valid_[0] = eye_valid_[1] = false;
+  factors_ = DofVector::Ones();
+}
+
+void SenseNoise::pose(Senses& s) {
+  if (joints_.noise().any()) {
+    joints_.draw();
+    std::array<double, 6> q;
+    for (int k = 0; k < 6; ++k) q[size_t(k)] = joints_.quantize(s.q[kLeftEye + k] + joints_.offset(k));
+    if (joints_.noise().delay > 0) q = joint_delay_.push(q);
+    if (joints_.noise().dropout > 0.0) hold_lost(joints_, q, joints_held_, joints_valid_);
+    for (int k = 0; k < 6; ++k) s.q[kLeftEye + k] = q[size_t(k)];
+  }
+  if (base_.noise().any()) {
+    base_.draw();
+    std::array<double, 4> b = {s.base.x + base_.offset(0), s.base.y + base_.offset(1),
+                               s.base.theta + base_.offset(2), s.q[kBaseForward] + base_.offset(3)};
+    for (double& v : b) v = base_.quantize(v);
+    if (base_.noise().delay > 0) b = base_delay_.push(b);
+    if (base_.noise().dropout > 0.0) hold_lost(base_, b, base_held_, base_valid_);
+    s.base.x = b[0], s.base.y = b[1], s.base.theta = wrap_angle(b[2]), s.q[kBaseForward] = b[3];
     s.q[kBaseHeading] = s.base.theta;
   }
 }
 
-void add_touch_noise(Senses& s, double sigma, Rng& rng) {
-  if (!(sigma > 0.0)) return;
-  for (Touch& t : s.touch) {
-    if (!t.contact) continue;
-    t.force *= std::max(0.0, 1.0 + rng.normal(0.0, sigma));
-    t.friction *= std::max(0.0, 1.0 + rng.normal(0.0, sigma));
+void SenseNoise::images(Senses& s, bool arrived[2]) {
+  arrived[0] = arrived[1] = true;
+  if (!image_.noise().any()) return;
+  image_.draw();
+  const bool colours = image_.noise().offsets() || image_.noise().quantum > 0.0;
+  const int quantum = int(std::lround(image_.noise().quantum));
+  for (int e = 0; e < 2; ++e) {
+    EyeImage& image = s.image[e];
+    if (colours) image_noise(image, image_.offsets() + e * image.pixels() * 3, quantum);
+    if (image_.noise().delay > 0) image = eye_delay_[e].push(image);
+    if (image_.noise().dropout > 0.0) {
+      if (eye_valid_[e] && image_.lost(e)) image = last_eye_[e], arrived[e] = false;
+      else last_eye_[e] = image;
+      eye_valid_[e] = true;
+    }
   }
 }
 
-void draw_effort_noise(DofVector& factors, double sigma, Rng& rng) {
-  if (!(sigma > 0.0)) return;
-  for (int d = 0; d < kDofCount; ++d) factors[d] = std::max(0.0, 1.0 + rng.normal(0.0, sigma));
+void SenseNoise::touch(Senses& s) {
+  if (!touch_.noise().any()) return;
+  touch_.draw();
+  for (int t = 0; t < kTactileCount; ++t) {
+    Touch& c = s.touch[t];
+    if (!c.contact) continue;
+    c.force = touch_.quantize(c.force * std::max(0.0, 1.0 + touch_.offset(2 * t)));
+    c.friction = touch_.quantize(c.friction * std::max(0.0, 1.0 + touch_.offset(2 * t + 1)));
+  }
+  if (touch_.noise().delay > 0) {
+    std::array<Touch, kTactileCount> now;
+    std::copy(std::begin(s.touch), std::end(s.touch), now.begin());
+    const auto& late = touch_delay_.push(now);
+    std::copy(late.begin(), late.end(), std::begin(s.touch));
+  }
+  if (touch_.noise().dropout > 0.0)
+    for (int t = 0; t < kTactileCount; ++t)
+      if (touch_.lost(t)) s.touch[t] = Touch{};  // not felt this tick
+}
+
+const double* SenseNoise::effort() {
+  if (!effort_.noise().any()) return nullptr;
+  effort_.draw();  // the factors and the lost commands of this tick
+  if (!effort_.noise().offsets()) return nullptr;
+  for (int d = 0; d < kDofCount; ++d) factors_[d] = std::max(0.0, 1.0 + effort_.offset(d));
+  return factors_.data();
+}
+
+bool SenseNoise::alters_commands() const {
+  const ChannelNoise& n = effort_.noise();
+  return n.delay > 0 || n.dropout > 0.0 || n.quantum > 0.0;
+}
+
+DofVector SenseNoise::commands(const DofVector& errors) {
+  const ChannelNoise& n = effort_.noise();
+  DofVector out = errors;
+  for (int d = 0; d < kDofCount; ++d) out[d] = effort_.quantize(out[d]);
+  if (n.delay > 0) out = command_delay_.push(out);
+  if (n.dropout > 0.0)
+    for (int d = 0; d < kDofCount; ++d)
+      if (effort_.lost(d)) out[d] = NAN;  // lost: that setpoint stays where it was
+  return out;
 }
 
 }  // namespace roger

@@ -35,7 +35,7 @@ struct EyeImage {
   // last): paint_eye narrows it to what it painted, so detection scans only that; an image made
   // by hand keeps the whole width.
   int16_t stimulus_first = 0, stimulus_last = kMaxPixels - 1;
-  // Its colours and coverage carry sensor noise (add_image_noise): a pixel is on the stimulus when
+  // Its colours and coverage carry sensor noise (SenseNoise::images): a pixel is on the stimulus when
   // its coverage reads as the stimulus colour, not when its colour equals it. paint_eye clears it.
   bool noisy = false;
   int pixels() const { return camera.pixels; }

@@ -88,7 +88,13 @@ void World::set_setpoints(const DofVector& s) {
       if (is_locked(r, d)) setpoint_[d] = locked_at_[d];
 }
 
-void World::command(const DofVector& errors) { set_setpoints(q() + errors); }
+void World::command(const DofVector& errors) {
+  if (model_->noise.any && noise_.alters_commands()) {
+    pending_ = errors, has_pending_ = true;  // delivered by the next tick, as its effort noise says
+    return;
+  }
+  set_setpoints(q() + errors);
+}
 
 void World::push_object(int i, const Vec2& force) {
   Impl& m = *impl_;
@@ -101,7 +107,7 @@ void World::step_physics() {
   const RobotParams& r = model_->spec.body;
   const double dt = params_.dt;
   // Effort noise scales each command of this tick (none: no factor, not a factor of 1).
-  const double* gain = model_->spec.noise.effort > 0.0 ? effort_.data() : nullptr;
+  const double* gain = effort_;
   const b2Vec2 mid_fwd = m.drive_base(r, setpoint_, dt, gain);
   m.drive_eyes(r, setpoint_, dt, gain);
   m.drive_arms(r, setpoint_, gain);
@@ -205,7 +211,19 @@ void World::Impl::accumulate_touch() {
 }
 
 void World::tick() {
-  draw_effort_noise(effort_, model_->spec.noise.effort, noise_rng_);
+  if (model_->noise.any) {
+    effort_ = noise_.effort();  // one draw of the effort's streams per tick
+    if (has_pending_) {
+      // Errors whose setpoint stays (a lost command) are NaN: set_setpoints holds that joint.
+      const DofVector errors = noise_.commands(pending_);
+      const DofVector now = q();
+      DofVector setpoints = now + errors;
+      for (int d = 0; d < kDofCount; ++d)
+        if (std::isnan(errors[d])) setpoints[d] = setpoint_[d];
+      set_setpoints(setpoints);
+      has_pending_ = false;
+    }
+  }
   for (int i = 0; i < params_.substeps; ++i) step_physics();
   sense();
 }
@@ -349,29 +367,31 @@ void World::sense_touch() {
 }
 
 void World::sense_noise(bool several) {
-  const NoiseParams& n = model_->spec.noise;
   const RobotParams& r = model_->spec.body;
   Senses& z = noisy_;
   // What the noisy eyes saw last tick decides which object they keep to, and a stereo fix that
   // fails keeps the last one they made (as the true senses do).
   const int kept = kept_object(z, several);
   const Vec2 last_world = z.stimulus_world, last_base = z.stimulus_base;
+  const Sighting last_sighting[2] = {z.stimulus[0], z.stimulus[1]};
   z = senses_;
   z.stimulus_world = last_world, z.stimulus_base = last_base;
-  add_pose_noise(z, n, noise_rng_);
+  noise_.pose(z);
+  bool arrived[2];
+  noise_.images(z, arrived);
   Vec2 eye_pos[2];
   double eye_heading[2];
   for (int e = 0; e < 2; ++e) {
     // Where Roger believes its eyes are, and where they look: the noisy base and pans.
     eye_pos[e] = to_world(z.base, Vec2(0.0, e == kLeft ? r.eye_y : -r.eye_y));
     eye_heading[e] = z.base.theta + z.q[kLeftEye + e];
-    if (n.image > 0.0) {
-      add_image_noise(z.image[e], n.image, noise_rng_);
+    // An eye whose frame did not arrive keeps what it saw in the last one.
+    if (!arrived[e]) z.stimulus[e] = last_sighting[e];
+    else if (model_->spec.noise.image.any())
       z.stimulus[e] = detect_stimulus(z.image[e], e == kRight ? z.stimulus[kLeft].index : kept);
-    }
   }
   fix_stereo(z, eye_pos, eye_heading, several);
-  add_touch_noise(z, n.touch, noise_rng_);
+  noise_.touch(z);
 }
 
 Pose World::base_pose() const {

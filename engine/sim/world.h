@@ -12,6 +12,7 @@
 
 #include "core/rng.h"
 #include "core/robot.h"
+#include "senses/noise.h"
 #include "senses/senses.h"
 #include "core/spec.h"
 #include "sim/world_model.h"
@@ -153,8 +154,10 @@ class World {
   WorldModel own_model_;     // the model reset(spec) derives
   Senses senses_;
   Senses noisy_;            // senses_ with the spec's noise (only when it has some)
-  Rng noise_rng_;           // the noise's stream, seeded by the spec's seed alone
-  DofVector effort_ = DofVector::Ones();  // this tick's effort noise factors, one per degree of freedom
+  SenseNoise noise_;        // the noise's streams and state, seeded by the spec's seed alone
+  const double* effort_ = nullptr;  // this tick's effort factors, one per degree of freedom (or none)
+  DofVector pending_ = DofVector::Zero();  // the errors given, when the effort noise delivers them
+  bool has_pending_ = false;               //   late, lost or on a grid (applied at the next tick)
   DofVector locked_at_ = DofVector::Zero();  // where each locked joint is held (its start angle)
   Attention attention_;
   DofVector setpoint_ = DofVector::Zero();

@@ -157,10 +157,11 @@ void World::reset(const WorldModel& model) {
   if (r.locked) m.lock_joints(r);
   senses_ = Senses{};
   noisy_ = Senses{};
-  // The noise's own stream, a function of the world's seed alone (not of the episode's order,
+  // The noise's own streams, a function of the world's seed alone (not of the episode's order,
   // the thread or --jobs).
-  noise_rng_.reseed(Rng::mix(spec.seed, 0x6E6F697365ull));  // "noise"
-  effort_ = DofVector::Ones();
+  if (model.noise.any) noise_.reset(spec.noise, spec.seed, model.camera.pixels, model.tick_seconds());
+  effort_ = nullptr;
+  has_pending_ = false;
   sense();
 }
 

@@ -21,14 +21,36 @@ body.PARAMS = {
   eye_fov = { default = math.pi / 2, min = 0.1, max = 2.8, description = "each eye's full field of view (rad)" },
   locked = { default = "",
              description = "joints held at their start angle, comma-separated (e.g. left_elbow,right_elbow)" },
-  -- Noise (docs/scenarios.md, Noise): sigmas, each multiplied by noise_scale. The defaults are none.
-  noise_image = { default = 0.0, min = 0, max = 255, description = "sigma of each pixel's colour channels (levels)" },
-  noise_joints = { default = 0.0, min = 0, max = 1, description = "sigma of each joint angle read (rad)" },
-  noise_base = { default = 0.0, min = 0, max = 1, description = "sigma of the base pose read (m, rad)" },
-  noise_touch = { default = 0.0, min = 0, max = 5, description = "sigma of each contact force (a fraction of it)" },
-  noise_effort = { default = 0.0, min = 0, max = 5, description = "sigma of each command (a fraction of it)" },
-  noise_scale = { default = 1.0, min = 0, max = 100, description = "a factor on every noise sigma" },
+  -- Noise (docs/scenarios.md, Noise): per channel, the white noise's sigma (noise_<channel>) and the
+  -- other kinds (noise_<channel>_<kind>), each but the drift's tau multiplied by noise_scale. The
+  -- defaults are none.
+  noise_scale = { default = 1.0, min = 0, max = 100, description = "a factor on every noise level (not on tau)" },
 }
+
+-- Each channel's unit and largest values: sigma, bias and drift; resolution (quantum).
+local CHANNELS = {
+  { name = "image", max = 255, unit = "colour levels", quantum = 255, quantum_unit = "colour levels" },
+  { name = "joints", max = 1, unit = "rad", quantum = 1, quantum_unit = "rad" },
+  { name = "base", max = 1, unit = "m and rad", quantum = 1, quantum_unit = "m and rad" },
+  { name = "touch", max = 5, unit = "a fraction of each contact force", quantum = 1000, quantum_unit = "N" },
+  { name = "effort", max = 5, unit = "a fraction of each command", quantum = 1, quantum_unit = "m or rad of a commanded error" },
+}
+for _, c in ipairs(CHANNELS) do
+  local n = "noise_" .. c.name
+  body.PARAMS[n] = { default = 0.0, min = 0, max = c.max, description = "white noise sigma of " .. c.name .. " (" .. c.unit .. ")" }
+  body.PARAMS[n .. "_bias"] = { default = 0.0, min = 0, max = c.max,
+                                description = "sigma of " .. c.name .. "'s bias, drawn per episode (" .. c.unit .. ")" }
+  body.PARAMS[n .. "_drift"] = { default = 0.0, min = 0, max = c.max,
+                                 description = "stationary sigma of " .. c.name .. "'s drift (" .. c.unit .. ")" }
+  body.PARAMS[n .. "_tau"] = { default = 10.0, min = 0.001, max = 3600,
+                               description = "correlation time of " .. c.name .. "'s drift (s)" }
+  body.PARAMS[n .. "_delay"] = { default = 0, min = 0, max = 50,
+                                 description = c.name .. (c.name == "effort" and " commands" or " readings") .. " late by this many ticks" }
+  body.PARAMS[n .. "_dropout"] = { default = 0.0, min = 0, max = 1,
+                                   description = "probability per tick that a " .. c.name .. (c.name == "effort" and " command" or " reading") .. " is lost" }
+  body.PARAMS[n .. "_quantum"] = { default = 0.0, min = 0, max = c.quantum,
+                                   description = c.name .. " rounded to multiples of this (" .. c.quantum_unit .. ")" }
+end
 
 -- The moderate noise level M of docs/results.md (Noise), as scenario parameters (scale it with
 -- noise_scale): roger eval ... --set noise_image=10 --set noise_joints=0.01 ... --set noise_scale=2
@@ -52,12 +74,21 @@ function body.of(p)
   }
 end
 
--- The world:robot field noise = {...} that parameters p (with body.PARAMS) ask for: each sigma
--- times noise_scale.
+-- The world:robot field noise = {...} that parameters p (with body.PARAMS) ask for: each channel's
+-- kinds, every level times noise_scale (a delay rounded to whole ticks, a dropout at most 1).
 function body.noise_of(p)
   local k = p.noise_scale
-  return { image = k * p.noise_image, joints = k * p.noise_joints, base = k * p.noise_base,
-           touch = k * p.noise_touch, effort = k * p.noise_effort }
+  local noise = {}
+  for _, c in ipairs(CHANNELS) do
+    local n = "noise_" .. c.name
+    noise[c.name] = {
+      sigma = k * p[n], bias = k * p[n .. "_bias"],
+      drift = { sigma = k * p[n .. "_drift"], tau = p[n .. "_tau"] },
+      delay = math.floor(k * p[n .. "_delay"] + 0.5), dropout = math.min(1, k * p[n .. "_dropout"]),
+      quantum = k * p[n .. "_quantum"],
+    }
+  end
+  return noise
 end
 
 return body

@@ -3,13 +3,19 @@
 
     ROGER=build/engine/roger PYTHONPATH=build/python python3 tests/python/test_roger.py [-k NAME]
 
-Run from the repository root. Needs numpy and the built module, never torch or gymnasium; where
-gymnasium is importable, GymnasiumJudges also runs its env checker and vector wrappers on the
-module (elsewhere it is skipped). Each class is one CTest test. Policies come from short `roger
-train` runs, made once per process in ROGER_TEST_WORK (emptied first) or a temporary folder.
+Run from the repository root. Needs numpy and the built module. The classes that need a tool
+beyond them (GymnasiumJudges: gymnasium; StableBaselines3: stable-baselines3 and torch) are
+skipped where it is missing, and then the run exits 77, which CTest reports as skipped (its
+SKIP_RETURN_CODE), never as passed. Under CI (CI=true) a missing tool fails instead, unless
+docs/testing.md says CI cannot have it (NOT_IN_CI). Each class is one CTest test. Policies come
+from short `roger train` runs, made once per process in ROGER_TEST_WORK (emptied first) or a
+temporary folder.
 """
+import copy
+import importlib
 import json
 import os
+import pickle
 import shutil
 import subprocess
 import sys
@@ -21,15 +27,41 @@ import numpy as np
 import roger
 
 ROGER = os.environ.get("ROGER", "build/engine/roger")
-WORK = os.environ.get("ROGER_TEST_WORK") or tempfile.mkdtemp(prefix="roger-python-")
-if os.environ.get("ROGER_TEST_WORK"):  # every run trains its policies afresh, with this build
-    shutil.rmtree(WORK, ignore_errors=True)
-    os.makedirs(WORK)
+WORK = os.environ.get("ROGER_TEST_WORK")
+if __name__ == "__main__":  # not when a spawned process of multiprocessing imports this file
+    if WORK:  # every run trains its policies afresh, with this build
+        shutil.rmtree(WORK, ignore_errors=True)
+        os.makedirs(WORK)
+    else:
+        WORK = tempfile.mkdtemp(prefix="roger-python-")
 EXAMPLE = "docs/examples/curriculum_example.lua"
 BAD_REWARD = "tests/python/fixtures/bad_reward.lua"
 TIMEOUT_FAULT = "tests/python/fixtures/timeout_fault.lua"
 PAPER = "curricula/paper.lua"
 FIRST_SEED = 1000000
+
+# A test that needs a missing tool is skipped with this exit code (CTest's SKIP_RETURN_CODE, as
+# tests/tools/skip.sh); under CI=true it fails instead, unless the tool is one CI cannot have:
+# Debian bookworm packages neither of these, and CI installs from Debian's archive alone
+# (docs/testing.md, "Tools CI cannot have", which SkipRule holds to this list).
+SKIP = 77
+NOT_IN_CI = {
+    "gymnasium": "Debian bookworm has no gymnasium package",
+    "stable_baselines3": "Debian bookworm has no stable-baselines3 package",
+}
+MISSING_TOOL = "missing tool: "  # how a skip for a missing tool begins its reason
+
+
+def require(module):
+    """`module` imported, or the test skipped for a missing tool (failed under CI=true unless CI
+    cannot have it)."""
+    try:
+        return importlib.import_module(module)
+    except ImportError as e:
+        if os.environ.get("CI") == "true" and module not in NOT_IN_CI:
+            raise AssertionError(f"FAILED (would skip, but CI=true): {module} is not importable ({e}); "
+                                 ".ci/install installs what the tests need") from None
+        raise unittest.SkipTest(f"{MISSING_TOOL}{module} is not importable ({e})") from None
 
 
 def train(curriculum, stage, context, seed, name, skills=()):
@@ -259,13 +291,6 @@ class Interface(unittest.TestCase):
         obs, reward, terminated, truncated, info = env.step(0)
         self.assertTrue(env.observation_space.contains(obs))
 
-    def test_gymnasium_base_when_present(self):
-        try:
-            import gymnasium
-        except ImportError:
-            self.skipTest("gymnasium is not installed (the module does not need it)")
-        self.assertIsInstance(roger.make(EXAMPLE, "Look", "Gaze"), gymnasium.Env)
-
 
 class GymnasiumApi(unittest.TestCase):
     """One environment as Gymnasium 1.x users expect it, with or without gymnasium installed."""
@@ -316,8 +341,8 @@ class GymnasiumApi(unittest.TestCase):
         env = roger.make(EXAMPLE, "Look", "Gaze")
         env.reset(seed=123)
         _, info = env.reset()
-        self.assertEqual(info["seed"], 124)
-        env.reset(options={})  # options are accepted (the stage takes none)
+        self.assertEqual(info["seed"], roger.mix(123, 1) >> 1)  # the stream of seed 123 (DeepRL has the rule)
+        env.reset(options={})  # empty options are accepted (the stage knows none)
 
     def test_render_rgb_array(self):
         env = roger.make(EXAMPLE, "Look", "Gaze", render_mode="rgb_array", render_width=300)
@@ -606,18 +631,334 @@ class BadArguments(unittest.TestCase):
         env.reset(seed=2)  # and the environment usable again
 
 
+def gymnasium_style(make_env, n, seed, steps, rng_seed=7):
+    """What Gymnasium's SyncVectorEnv and Stable-Baselines3's DummyVecEnv do with single
+    environments: environment i reset with seed S + i, then each ended episode's successor begun
+    by an unseeded reset (at the environment's next step, Gymnasium's NEXT_STEP), random actions.
+    Returns the world seed of every episode begun."""
+    envs = [make_env() for _ in range(n)]
+    rng = np.random.default_rng(rng_seed)
+    seeds, pending = [], [False] * n
+    for i, env in enumerate(envs):
+        seeds.append(env.reset(seed=seed + i)[1]["seed"])
+    for _ in range(steps):
+        for i, env in enumerate(envs):
+            if pending[i]:
+                seeds.append(env.reset()[1]["seed"])
+                pending[i] = False
+            else:
+                _, _, terminated, truncated, _ = env.step(int(rng.integers(env.action_space.n)))
+                pending[i] = terminated or truncated
+    return seeds
+
+
+def assert_same_step(test, a, b, where):
+    """Two step (or reset) results equal, observations (dicts in tick mode) and info included."""
+    test.assertEqual(len(a), len(b), where)
+    for x, y in zip(a, b):
+        if isinstance(x, dict):
+            test.assertEqual(sorted(x), sorted(y), where)
+            for k in x:
+                assert_same_step(test, (x[k],), (y[k],), f"{where}: {k}")
+        elif isinstance(x, np.ndarray) and x.dtype == object:
+            test.assertEqual([None if v is None else v.tolist() for v in x],
+                             [None if v is None else v.tolist() for v in y], where)
+        else:
+            np.testing.assert_array_equal(x, y, where)
+
+
+class DeepRL(unittest.TestCase):
+    """What a deep-RL library needs of the environments, without gymnasium or Stable-Baselines3:
+    distinct worlds under Gymnasium-style vectorization, the vector entry point, copies that
+    continue, is_success, tick observations in their spaces, the time-out as a truncation, and
+    reset options that are refused when unknown."""
+
+    def test_gymnasium_style_vectorization_plays_distinct_worlds(self):
+        # Seeded S + i and then reset without a seed, environment 1 used to replay environment 0's
+        # worlds one episode behind (26% distinct): each now follows its own stream.
+        seeds = gymnasium_style(lambda: roger.make(EXAMPLE, "Look", "Gaze"), 4, 500, 400)
+        print(f"{len(seeds)} episodes in {len(set(seeds))} distinct worlds")
+        self.assertGreater(len(seeds), 150)  # many episodes (random actions end one in ~9 steps)
+        self.assertEqual(len(set(seeds)), len(seeds))
+
+    def test_unseeded_resets_follow_the_last_seed(self):
+        env = roger.make(EXAMPLE, "Look", "Gaze")
+        self.assertEqual(env.reset(seed=123)[1]["seed"], 123)
+        worlds = [env.reset()[1]["seed"] for _ in range(3)]
+        self.assertEqual(worlds, [roger.mix(123, k) >> 1 for k in (1, 2, 3)])
+        env.reset(seed=123)  # a seeded reset starts the stream again
+        self.assertEqual(env.reset()[1]["seed"], worlds[0])
+        # Never seeded: the stream's seed comes from the operating system, as Gymnasium's
+        # generators do, and the world it played is in info (reset(seed=...) plays it again).
+        a, b = roger.make(EXAMPLE, "Look", "Gaze"), roger.make(EXAMPLE, "Look", "Gaze")
+        (obs_a, info_a), (_, info_b) = a.reset(), b.reset()
+        self.assertNotEqual(info_a["seed"], info_b["seed"])
+        np.testing.assert_array_equal(b.reset(seed=info_a["seed"])[0], obs_a)
+        self.assertEqual(a.reset()[1]["seed"], roger.mix(info_a["seed"], 1) >> 1)
+        # Below 2^63: Gymnasium's vector environments gather info["seed"] in int64 arrays.
+        self.assertLess(max(worlds + [info_a["seed"], info_b["seed"]]), 2 ** 63)
+
+    def test_vector_entry_point(self):
+        # gymnasium.make_vec(id, num_envs, vectorization_mode="vector_entry_point") calls make_vec
+        # with keywords only, the id's arguments among them (mode too, when the user gives it).
+        vec = roger.make_vec(num_envs=3, curriculum=EXAMPLE, stage="Look", context="Gaze", mode="decision",
+                             render_mode=None)
+        self.assertIsInstance(vec, roger.VecEnv)
+        self.assertEqual((vec.num_envs, vec.actions), (3, ("search", "phi0")))
+        self.assertRaisesRegex(roger.RogerError, "vectorization_mode='sync'", roger.make_vec, EXAMPLE, "Look",
+                               "Gaze", 2, mode="tick")
+
+    def check_copies_continue(self, env, actions, where, first_seed=None):
+        """Copies of env (pickle, deepcopy) are where env is: the same picture, and the same
+        steps, resets and np_random afterwards (after reset(seed=first_seed) of each, if given:
+        a stream never seeded is drawn at the first reset, by each copy for itself)."""
+        copies = [pickle.loads(pickle.dumps(env)), copy.deepcopy(env)]
+        for c in copies:
+            self.assertIsNot(c._env, env._env)
+            if env.render_mode and env._env.begun:
+                np.testing.assert_array_equal(c.render(), env.render(), where)
+        if first_seed is not None:
+            resets = [e.reset(seed=first_seed) for e in [env] + copies]
+            for r in resets[1:]:
+                assert_same_step(self, resets[0], r, f"{where}, first reset")
+        rng = np.random.default_rng(11)
+        for k in range(actions):
+            a = int(rng.integers(env.action_space.n))
+            results = []
+            for e in [env] + copies:
+                if e._env.running:
+                    results.append(e.step(a))
+                else:  # ended: the next world of each one's stream
+                    results.append(e.reset())
+            for r in results[1:]:
+                assert_same_step(self, results[0], r, f"{where}, step {k}")
+        draws = [e.np_random.integers(1 << 30, size=3) for e in [env] + copies]
+        for d in draws[1:]:
+            np.testing.assert_array_equal(draws[0], d, where)
+
+    def test_copies_continue_the_episode(self):
+        for mode, steps in (("decision", 1), ("tick", 40)):
+            env = roger.make(EXAMPLE, "Look", "Gaze", mode=mode, render_mode="rgb_array", render_width=200)
+            self.check_copies_continue(env, 5, f"{mode}, before any reset", first_seed=7)
+            env.reset(seed=41)
+            for _ in range(steps):  # searching: the ball comes into view, the episode runs on
+                self.assertFalse(env.step(0)[2])
+            self.check_copies_continue(env, 60, f"{mode}, mid-episode")
+        # An ended episode is ended in the copy too; a closed environment's copy is closed.
+        env = roger.make(EXAMPLE, "Look", "Gaze")
+        env.reset(seed=3)
+        while not env.step(0)[2]:
+            pass
+        twin = copy.deepcopy(env)
+        self.assertRaisesRegex(roger.RogerError, "call reset", twin.step, 0)
+        self.assertEqual(twin.reset()[1]["seed"], env.reset()[1]["seed"])
+        env.close()
+        self.assertRaisesRegex(roger.RogerError, "closed", pickle.loads(pickle.dumps(env)).reset)
+
+    def test_copy_of_a_faulted_episode(self):
+        env = roger.make(BAD_REWARD, "Look", "Gaze")
+        env.reset(seed=1)
+        with self.assertRaises(roger.ScriptError):
+            for _ in range(500):
+                env.step(0)
+        twin = pickle.loads(pickle.dumps(env))  # the replay meets the fault again, quietly
+        self.assertRaisesRegex(roger.RogerError, "call reset", twin.step, 0)
+        np.testing.assert_array_equal(twin.reset(seed=2)[0], env.reset(seed=2)[0])
+
+    def test_vector_copies_continue(self):
+        for mode in ("NextStep", "SameStep"):
+            vec = roger.make_vec(EXAMPLE, "Look", "Gaze", num_envs=3, threads=2, autoreset_mode=mode)
+            vec.reset(seed=60)
+            rng = np.random.default_rng(8)
+            for _ in range(17):
+                vec.step(rng.integers(0, 2, size=3))
+            copies = [pickle.loads(pickle.dumps(vec)), copy.deepcopy(vec)]
+            for k in range(60):
+                actions = rng.integers(0, 2, size=3)
+                results = [v.step(actions) for v in [vec] + copies]
+                for r in results[1:]:
+                    assert_same_step(self, results[0], r, f"{mode}: step {k}")
+            resets = [v.reset() for v in [vec] + copies]  # the same schedule
+            for r in resets[1:]:
+                assert_same_step(self, resets[0], r, f"{mode}: unseeded reset")
+        # A faulted environment is over in the copy too, and begins anew at the same step.
+        vec = roger.make_vec(TIMEOUT_FAULT, "Look", "Gaze", num_envs=3, threads=2)
+        vec.reset(seed=100)
+        self.assertRaises(roger.ScriptError, vec.step, np.array([0, 1, 0]))
+        twin = copy.deepcopy(vec)
+        outcomes = []
+        for v in (vec, twin):
+            try:
+                outcomes.append(v.step(np.array([0, 1, 0])))
+            except roger.ScriptError as e:
+                outcomes.append(e.results)
+        assert_same_step(self, outcomes[0], outcomes[1], "after a fault")
+        self.assertEqual(outcomes[1][4]["seed"][1], 104)
+
+    def test_is_success(self):
+        # Stable-Baselines3's Monitor and EvalCallback read info["is_success"] at an episode's end.
+        env = roger.make(EXAMPLE, "Look", "Gaze")
+        _, info = env.reset(seed=3)
+        self.assertNotIn("is_success", info)
+        done = False
+        while not done:
+            _, _, terminated, truncated, info = env.step(1)
+            done = terminated or truncated
+        self.assertEqual(info["is_success"], info["success"])
+        self.assertTrue(info["is_success"])
+        for mode in ("NextStep", "SameStep"):
+            vec = roger.make_vec(EXAMPLE, "Look", "Gaze", num_envs=2, threads=1, autoreset_mode=mode)
+            vec.reset(seed=3)
+            ended = np.zeros(2, bool)
+            while not ended.any():
+                _, _, ended, _, info = vec.step(np.array([1, 1]))
+            where = info["final_info"] if mode == "SameStep" else info
+            np.testing.assert_array_equal(where["is_success"], where["success"])
+            np.testing.assert_array_equal(where["_is_success"], ended)
+
+    def test_tick_observations_in_their_spaces(self):
+        # float32 everywhere but the images (uint8) and the state; finite bounds where the body
+        # gives them; readings pushed or noised past a joint's range are held at its bound.
+        env = roger.make(EXAMPLE, "Look", "Gaze", mode="tick", params={"noise_joints": 0.5})
+        space = env.observation_space
+        for key in ("stimulus", "touch", "joints", "joint_velocities"):
+            self.assertEqual(space[key].dtype, np.float32, key)
+        joints = space["joints"]
+        self.assertEqual((joints.low[0], joints.high[0]), (-np.inf, np.inf))  # the odometer
+        self.assertTrue(np.isfinite(joints.low[1:]).all() and np.isfinite(joints.high[1:]).all())
+        np.testing.assert_array_equal(joints.high[2:], np.float32([np.pi / 2, np.pi / 2, 3.0, 2.9, 3.0, 2.9]))
+        np.testing.assert_array_equal(space["touch"].low[0], [0, 0, 0, -1, -1])
+        np.testing.assert_array_equal(space["touch"].high[0], [1, np.inf, np.inf, 1, 1])
+        obs, _ = env.reset(seed=5)
+        rng = np.random.default_rng(2)
+        at_bound = 0
+        for _ in range(200):
+            for key in ("stimulus", "touch", "joints", "joint_velocities"):
+                self.assertEqual(obs[key].dtype, np.float32, key)
+            self.assertTrue(space.contains(obs), obs)
+            at_bound += int(np.count_nonzero((obs["joints"] == joints.low) | (obs["joints"] == joints.high)))
+            obs, _, terminated, truncated, _ = env.step(int(rng.integers(2)))
+            if terminated or truncated:
+                obs, _ = env.reset()
+        self.assertGreater(at_bound, 0)  # noise of 0.5 rad took eye readings past +-pi/2: held there
+
+    def test_time_out_as_truncation(self):
+        # timeout="truncate": the stage's time-out is a truncation (its reward unchanged); the
+        # absorbing state still terminates. The default stays terminal.
+        env = roger.make(EXAMPLE, "Look", "Gaze", timeout="truncate")
+        env.reset(seed=3)
+        terminated = truncated = False
+        while not (terminated or truncated):
+            _, reward, terminated, truncated, info = env.step(0)  # searching for ever times out
+        self.assertEqual((terminated, truncated, info["time_out"], reward), (False, True, True, -100.0))
+        env.reset(seed=3)
+        while not env.step(1)[2]:
+            pass  # terminated at the goal
+        vec = roger.make_vec(EXAMPLE, "Look", "Gaze", num_envs=1, threads=1, timeout="truncate")
+        vec.reset(seed=3)
+        terminated = truncated = np.array([False])
+        while not (terminated[0] or truncated[0]):
+            _, reward, terminated, truncated, info = vec.step(np.array([0]))
+        self.assertEqual((terminated[0], truncated[0], info["time_out"][0], reward[0]), (False, True, True, -100.0))
+        self.assertRaisesRegex(roger.RogerError, "timeout", roger.make, EXAMPLE, "Look", "Gaze", timeout="never")
+        self.assertRaisesRegex(roger.RogerError, "timeout", roger.make_vec, EXAMPLE, "Look", "Gaze", 1, timeout=1)
+
+    def test_the_interpreter_keeps_subnormals(self):
+        # The engine flushes subnormals to zero while it runs an episode (World::reset); the
+        # caller's thread gets its own floating-point mode back after every call, so numpy and
+        # torch in the learner's thread compute as IEEE says.
+        tiny = np.array([5e-324])
+        env = roger.make(EXAMPLE, "Look", "Gaze", render_mode="rgb_array", render_width=200)
+        env.reset(seed=1)
+        env.step(0)
+        env.render()
+        vec = roger.make_vec(EXAMPLE, "Look", "Gaze", num_envs=2, threads=2)
+        vec.reset(seed=1)
+        vec.step(np.array([0, 1]))
+        self.assertEqual((tiny * 1.0)[0], 5e-324)
+
+    def test_unknown_reset_options_are_refused(self):
+        env = roger.make(EXAMPLE, "Look", "Gaze")
+        with self.assertRaises(roger.RogerError) as cm:
+            env.reset(seed=1, options={"params": {"shape": "spade"}})
+        self.assertIn("'params'", str(cm.exception))
+        self.assertIn("known options: none", str(cm.exception))
+        env.reset(seed=1, options={})  # empty options are fine (Gymnasium's checker passes them)
+        vec = roger.make_vec(EXAMPLE, "Look", "Gaze", num_envs=2, threads=1)
+        with self.assertRaises(roger.RogerError) as cm:
+            vec.reset(options={"mask": np.array([True, False])})
+        self.assertIn("'mask'", str(cm.exception))
+        self.assertIn("'reset_mask'", str(cm.exception))
+
+
+class MissingToolProbe(unittest.TestCase):
+    """SkipRule's probe: a test that needs the tool ROGER_TEST_PROBE_TOOL names (run by SkipRule)."""
+
+    def test_needs_the_tool(self):
+        tool = os.environ.get("ROGER_TEST_PROBE_TOOL")
+        if not tool:
+            self.skipTest("run by SkipRule alone")
+        require(tool)
+
+
+class SkipRule(unittest.TestCase):
+    """A test whose tool is missing exits 77 (CTest shows it skipped), never 0; under CI=true it
+    fails, unless docs/testing.md says CI cannot have the tool."""
+
+    def probe(self, tool, ci, hidden=()):
+        env = {k: v for k, v in os.environ.items() if k not in ("CI", "ROGER_TEST_WORK")}
+        env["ROGER_TEST_PROBE_TOOL"] = tool
+        if ci:
+            env["CI"] = "true"
+        if hidden:  # modules that fail to import, ahead of any installed copy
+            folder = tempfile.mkdtemp(prefix="roger-hidden-")
+            self.addCleanup(shutil.rmtree, folder, True)
+            for name in hidden:
+                os.makedirs(os.path.join(folder, name))
+                with open(os.path.join(folder, name, "__init__.py"), "w") as f:
+                    f.write("raise ImportError('hidden by SkipRule')\n")
+            env["PYTHONPATH"] = folder + os.pathsep + env.get("PYTHONPATH", "")
+        r = subprocess.run([sys.executable, os.path.abspath(__file__), "MissingToolProbe"], env=env,
+                           capture_output=True, text=True, timeout=120)
+        return r.returncode, r.stdout + r.stderr
+
+    def test_missing_tool_is_a_skip(self):
+        code, out = self.probe("roger_no_such_tool", ci=False)
+        self.assertEqual(code, SKIP, out)
+        self.assertIn("SKIPPED: missing tool: roger_no_such_tool", out)
+
+    def test_missing_tool_fails_under_ci(self):
+        code, out = self.probe("roger_no_such_tool", ci=True)
+        self.assertEqual(code, 1, out)
+        self.assertIn("FAILED (would skip, but CI=true): roger_no_such_tool", out)
+
+    def test_tools_ci_cannot_have_skip_under_ci(self):
+        for tool in NOT_IN_CI:
+            with self.subTest(tool):
+                code, out = self.probe(tool, ci=True, hidden=[tool])
+                self.assertEqual(code, SKIP, out)
+                self.assertIn(f"SKIPPED: missing tool: {tool}", out)
+
+    def test_testing_md_names_the_tools_ci_cannot_have(self):
+        with open("docs/testing.md") as f:
+            text = f.read()
+        self.assertIn("## Tools CI cannot have", text)
+        section = text.split("## Tools CI cannot have", 1)[1].split("\n## ", 1)[0]
+        for tool in NOT_IN_CI:
+            self.assertIn(f"`{tool}`", section)
+
+
 class GymnasiumJudges(unittest.TestCase):
-    """Gymnasium's own checker and vector wrappers on the module, where gymnasium is importable
-    (skipped elsewhere: the module does not need it)."""
+    """Gymnasium's own checker, vectorizations and vector wrappers on the module, where gymnasium
+    is importable (skipped elsewhere, and shown as skipped: the module does not need it)."""
 
     def setUp(self):
-        try:
-            import gymnasium
-        except ImportError:
-            self.skipTest("gymnasium is not installed")
-        self.gym = gymnasium
+        self.gym = require("gymnasium")
         import warnings
         self.warnings = warnings
+
+    def test_gymnasium_base(self):
+        self.assertIsInstance(roger.make(EXAMPLE, "Look", "Gaze"), self.gym.Env)
 
     def check(self, env_id, **kwargs):
         from gymnasium.utils.env_checker import check_env
@@ -678,18 +1019,165 @@ class GymnasiumJudges(unittest.TestCase):
             actions = rng.integers(0, 2, size=3)
             s, v = sync.step(actions), vec.step(actions)
             self.assertTrue(sync.observation_space.contains(s[0]))
-            if same:  # the same episodes until the first autoreset (then make_vec's seeds step by num_envs,
-                for x, y in zip(s[:4], v[:4]):  # an Env's unseeded reset by one)
+            if same:  # the same episodes until the first autoreset (then make_vec's seeds step by
+                for x, y in zip(s[:4], v[:4]):  # num_envs, an Env's follow its own stream)
                     np.testing.assert_array_equal(x, y, f"step {k}")
             same = same and not s[2].any()
             resets += int(np.count_nonzero(s[2]))
         self.assertFalse(same)
         self.assertGreater(resets, 3)
 
+    def test_make_vec_builds_the_threaded_batch(self):
+        # The ids' vector entry point is make_vec: asked for, and by default (Gymnasium's choice for
+        # an id that has one); "sync" still vectorizes single environments.
+        vec = self.gym.make_vec("roger/SG-DC2-v0", num_envs=4, vectorization_mode="vector_entry_point")
+        self.assertIsInstance(vec, roger.VecEnv)
+        self.assertEqual((vec.num_envs, vec.stage_info["context"], vec.spec.id), (4, "DC2", "roger/SG-DC2-v0"))
+        self.assertIsInstance(self.gym.make_vec("roger/SG-DC2-v0", num_envs=2), roger.VecEnv)
+        sync = self.gym.make_vec("roger/SG-DC2-v0", num_envs=2, vectorization_mode="sync")
+        self.assertIsInstance(sync, self.gym.vector.SyncVectorEnv)
+        stage = self.gym.make_vec("roger/Stage-v0", num_envs=2, vectorization_mode="vector_entry_point",
+                                  curriculum=EXAMPLE, stage="Look", context="Gaze", threads=2,
+                                  autoreset_mode="SameStep", timeout="truncate")
+        self.assertEqual((stage.threads, stage.autoreset_mode.value, stage.timeout), (2, "SameStep", "truncate"))
+        obs, info = vec.reset(seed=30)
+        np.testing.assert_array_equal(info["seed"], [30, 31, 32, 33])
+        self.assertTrue(vec.observation_space.contains(obs))
 
-if __name__ == "__main__":
+    def test_sync_vectorization_plays_distinct_worlds(self):
+        # gymnasium.make_vec(..., "sync") seeds environment i with S + i and begins every later
+        # episode with an unseeded reset: each environment's own stream keeps the worlds apart.
+        sync = self.gym.make_vec("roger/Stage-v0", num_envs=4, vectorization_mode="sync", curriculum=EXAMPLE,
+                                 stage="Look", context="Gaze")
+        _, info = sync.reset(seed=500)
+        sync.action_space.seed(7)
+        worlds = set(int(s) for s in info["seed"])
+        begun = 4
+        for _ in range(400):
+            _, _, terminated, truncated, info = sync.step(sync.action_space.sample())
+            for i in np.flatnonzero(info.get("_seed", np.zeros(4, bool))):
+                if info["ticks"][i] == 0:  # the first step of an episode (NEXT_STEP autoreset)
+                    worlds.add(int(info["seed"][i]))
+                    begun += 1
+        print(f"SyncVectorEnv: {begun} episodes in {len(worlds)} distinct worlds")
+        self.assertGreater(begun, 150)
+        self.assertEqual(len(worlds), begun)
+        # Unseeded from the start, the environments draw their streams apart, as Gymnasium's do.
+        _, a = sync.reset()
+        self.assertEqual(len(set(int(s) for s in a["seed"])), 4)
+
+    def test_async_vectorization_of_a_made_environment(self):
+        # AsyncVectorEnv pickles its factories into spawned processes: one that captures a made
+        # environment needs it to pickle. (It closes the first environment a factory gives, to
+        # read the spaces: a factory must not hand out the one object it captured, hence a copy.)
+        env = roger.make(EXAMPLE, "Look", "Gaze")
+        env.reset(seed=9)
+        vec = self.gym.vector.AsyncVectorEnv([lambda: copy.deepcopy(env)] * 2, context="spawn")
+        try:
+            obs, info = vec.reset(seed=20)
+            np.testing.assert_array_equal(info["seed"], [20, 21])
+            single = roger.make(EXAMPLE, "Look", "Gaze")
+            np.testing.assert_array_equal(obs[1], single.reset(seed=21)[0])
+            obs, reward, terminated, truncated, info = vec.step(np.array([0, 1]))
+            s_obs, s_reward, *_ = single.step(1)
+            np.testing.assert_array_equal(obs[1], s_obs)
+            self.assertEqual(reward[1], s_reward)
+        finally:
+            vec.close()
+
+    def test_check_env_of_copies(self):
+        from gymnasium.utils.env_checker import check_env
+        env = self.gym.make("roger/SG-DC2-v0")
+        env.reset(seed=4)
+        env.step(0)
+        check_env(copy.deepcopy(env).unwrapped, skip_render_check=True)
+
+
+class StableBaselines3(unittest.TestCase):
+    """Stable-Baselines3 on the registered ids, where it is importable (with torch): its env
+    checker, make_vec_env's worlds, SubprocVecEnv over a made environment, its success logging,
+    and docs/python.md's example (skipped elsewhere, and shown as skipped)."""
+
+    def setUp(self):
+        self.gym = require("gymnasium")
+        self.sb3 = require("stable_baselines3")
+        import torch
+        torch.set_num_threads(1)
+
+    def test_check_env(self):
+        from stable_baselines3.common.env_checker import check_env
+        check_env(self.gym.make("roger/SG-DC2-v0").unwrapped)
+        check_env(self.gym.make("roger/SG-DC2-v0", mode="tick").unwrapped)
+
+    def test_make_vec_env_plays_distinct_worlds(self):
+        # make_vec_env seeds environment i with S + i once, then resets without a seed.
+        from stable_baselines3.common.env_util import make_vec_env
+        vec = make_vec_env("roger/Stage-v0", n_envs=4, seed=500,
+                           env_kwargs={"curriculum": EXAMPLE, "stage": "Look", "context": "Gaze"})
+        vec.reset()
+        rng = np.random.default_rng(7)
+        worlds, ended, successes = [], 0, []
+        for _ in range(400):
+            _, _, dones, infos = vec.step(rng.integers(0, 2, size=4))
+            for done, info in zip(dones, infos):
+                if done:
+                    worlds.append(info["seed"])
+                    successes.append(info["is_success"])
+        print(f"make_vec_env: {len(worlds)} ended episodes in {len(set(worlds))} distinct worlds")
+        self.assertGreater(len(worlds), 150)
+        self.assertEqual(len(set(worlds)), len(worlds))
+        self.assertTrue(any(successes) and not all(successes))
+
+    def test_subproc_vec_env_over_a_made_environment(self):
+        from stable_baselines3.common.vec_env import SubprocVecEnv
+        env = self.gym.make("roger/Stage-v0", curriculum=EXAMPLE, stage="Look", context="Gaze")
+        vec = SubprocVecEnv([lambda: env, lambda: env])  # the factories are pickled into the processes
+        try:
+            vec.seed(40)
+            obs = vec.reset()
+            single = roger.make(EXAMPLE, "Look", "Gaze")
+            np.testing.assert_array_equal(obs[1], single.reset(seed=41)[0])
+            vec.step(np.array([0, 1]))
+        finally:
+            vec.close()
+
+    def test_eval_callback_logs_success(self):
+        from stable_baselines3 import PPO
+        from stable_baselines3.common.callbacks import EvalCallback
+        from stable_baselines3.common.env_util import make_vec_env
+        kwargs = {"curriculum": EXAMPLE, "stage": "Look", "context": "Gaze"}
+        train = make_vec_env("roger/Stage-v0", n_envs=2, seed=1, env_kwargs=kwargs)
+        evaluate = make_vec_env("roger/Stage-v0", n_envs=1, seed=1000000, env_kwargs=kwargs)
+        callback = EvalCallback(evaluate, n_eval_episodes=4, eval_freq=64, log_path=os.path.join(WORK, "eval"))
+        PPO("MlpPolicy", train, n_steps=64, batch_size=64, seed=1, device="cpu").learn(256, callback=callback)
+        self.assertGreater(len(callback.evaluations_successes), 0)  # is_success read at each episode's end
+        self.assertEqual(len(callback.evaluations_successes[0]), 4)
+
+    def test_example(self):
+        # docs/python.md, "With Stable-Baselines3": it runs, and asserts what it prints.
+        r = subprocess.run([sys.executable, "docs/examples/sb3_example.py"], capture_output=True, text=True,
+                           timeout=1200)
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        self.assertIn("held-out worlds", r.stdout)
+
+
+
+def main():
+    """unittest's main, with the exit code CTest reads: 1 when a test failed, 77 (skipped) when
+    none failed but one was skipped for a missing tool, 0 when every test ran and passed."""
     try:
-        unittest.main(verbosity=2)
+        result = unittest.main(verbosity=2, exit=False).result
     finally:
         if not os.environ.get("ROGER_TEST_WORK"):
             shutil.rmtree(WORK, ignore_errors=True)
+    if not result.wasSuccessful() or result.testsRun == 0:
+        return 1
+    missing = sorted({reason for _, reason in result.skipped if reason.startswith(MISSING_TOOL)})
+    if missing:
+        print("SKIPPED: " + "; ".join(missing))
+        return SKIP
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -8,16 +8,20 @@
 One step is one decision of the stage's semi-MDP: the chosen action (an index of Psi, `env.actions`)
 runs until the controller-state vector changes, through the engine's own episode loop. The
 observation is that vector, one value per action: 0 NOREF, 1 !CONV, 2 CONV. The stage's time-out
-is terminal (terminated, info["time_out"]), as for the engine's learner. `make(...,
-mode="tick")` makes every control tick a decision and observes the raw senses too;
-`render_mode="rgb_array"` draws what `roger render` draws. `make_vec` steps many worlds on C++
-threads; `load_policy(path).act(obs)` is the greedy action of a policy.json written by `roger
-train`. docs/python.md is the guide. The module needs numpy alone; when gymnasium is importable,
-environments are `gymnasium.Env`s, `make_vec` a `gymnasium.vector.VectorEnv`, the spaces are
-gymnasium's and the ids roger/SG-B1-v0 ... roger/T-DC6-v0 and roger/Stage-v0 are registered.
+is terminal (terminated, info["time_out"]), as for the engine's learner (timeout="truncate"
+reports it as truncated). An unseeded reset plays the next world of the environment's own
+stream, so environments seeded S, S + 1, ... never share worlds. `make(..., mode="tick")` makes
+every control tick a decision and observes the raw senses too; `render_mode="rgb_array"` draws
+what `roger render` draws. `make_vec` steps many worlds on C++ threads; `load_policy(path).act(obs)`
+is the greedy action of a policy.json written by `roger train`. Environments pickle and
+deep-copy. docs/python.md is the guide. The module needs numpy alone; when gymnasium is
+importable, environments are `gymnasium.Env`s, `make_vec` a `gymnasium.vector.VectorEnv`, the
+spaces are gymnasium's and the ids roger/SG-B1-v0 ... roger/T-DC6-v0 and roger/Stage-v0 are
+registered, each with make_vec as its vector entry point.
 """
 
 import numbers
+import secrets
 
 import numpy as np
 
@@ -45,6 +49,7 @@ __all__ = ["make", "make_vec", "load_policy", "Env", "VecEnv", "Policy", "RogerE
 
 GAMMA_NAMES = ("NOREF", "!CONV", "CONV")
 _MODES = ("decision", "tick")
+_TIMEOUTS = ("terminate", "truncate")
 _RENDER_MODES = ["rgb_array"]
 _DECISION_FPS = 4  # frames per second of a video of decisions (a decision lasts about 0.1 to 1 s)
 
@@ -91,23 +96,61 @@ def _state_space(n):
     return spaces.MultiDiscrete(np.full(n, 3, dtype=np.int64))
 
 
-def _options(options, where):
+def _options(options, where, known):
+    """reset's options as a dict, refusing keys nothing reads (a typo would be ignored silently)."""
     if options is not None and not isinstance(options, dict):
         raise RogerError(f"{where}: options must be a dict or None, got {type(options).__name__}")
-    return dict(options or {})
+    options = dict(options or {})
+    unknown = sorted(str(k) for k in options if k not in known)
+    if unknown:
+        knows = ", ".join(repr(k) for k in known) if known else "none"
+        raise RogerError(f"{where}: unknown option {', '.join(repr(k) for k in unknown)} "
+                         f"(the known options: {knows})")
+    return options
 
 
-class Env(_EnvBase):
+def _timeout(timeout, where):
+    if timeout not in _TIMEOUTS:
+        raise RogerError(f"{where}: timeout must be one of {_TIMEOUTS}, got {timeout!r}")
+    return timeout
+
+
+class _Copyable:
+    """Pickling and deepcopy by the construction arguments and what continues the same worlds:
+    a copy is a new environment made with the same arguments, given the same seed stream and
+    np_random, whose running episode is replayed from its seed and actions (an episode is a
+    function of them), so it continues exactly where the original is."""
+
+    def __getstate__(self):
+        closed = self._closed_now()
+        return {"init": dict(self._init), "spec": self.spec, "closed": closed,
+                "np_random": (self._np_random, self._np_random_seed), "state": None if closed else self._state()}
+
+    def __setstate__(self, state):
+        self.__init__(**state["init"])
+        self.spec = state["spec"]
+        self._np_random, self._np_random_seed = state["np_random"]
+        if state["closed"]:
+            self.close()
+        else:
+            self._restore(state["state"])
+
+
+class Env(_Copyable, _EnvBase):
     """One stage and context of a curriculum as an environment (see the module's doc)."""
 
     metadata = {"render_modes": _RENDER_MODES, "render_fps": _DECISION_FPS}
 
     def __init__(self, curriculum, stage, context, params=None, skills=None, scenario=None, mode="decision",
-                 render_mode=None, render_width=1000):
+                 render_mode=None, render_width=1000, timeout="terminate"):
         if mode not in _MODES:
             raise RogerError(f"make: mode must be one of {_MODES}, got {mode!r}")
+        self._init = {"curriculum": curriculum, "stage": stage, "context": context, "params": params,
+                      "skills": skills, "scenario": scenario, "mode": mode, "render_mode": render_mode,
+                      "render_width": render_width, "timeout": timeout}
         self.render_mode = _render_mode(render_mode, "make")
         self.render_width = _render_width(render_width, "make")
+        self.timeout = _timeout(timeout, "make")
         self._env = _roger.Environment(str(curriculum), str(stage), str(context), scenario or "",
                                        _text_dict(params, "params"), _text_dict(skills, "skills"), mode == "tick")
         self.stage_info = self._env.info
@@ -117,9 +160,10 @@ class Env(_EnvBase):
         self.metadata = {"render_modes": _RENDER_MODES, "render_fps": fps}
         self.action_space = spaces.Discrete(len(self.actions))
         n = len(self.actions)
-        self.observation_space = _tick_space(n, self.stage_info["eye_pixels"]) if mode == "tick" else _state_space(n)
-        self._next_seed = 0
-        self._has_world = False
+        self.observation_space = _tick_space(n, self.stage_info) if mode == "tick" else _state_space(n)
+        self._stream = None  # [S, k]: the last explicit seed, and the unseeded resets since it
+        self._running = False  # an episode waits for step()
+        self._faulted = False  # the episode ended by an error (a copy's replay meets it again)
 
     def __repr__(self):
         i = self.stage_info
@@ -144,21 +188,37 @@ class Env(_EnvBase):
                 "state": {a: GAMMA_NAMES[g] for a, g in zip(self.actions, state)}}
         if ended:
             info["episode_reward"] = e.episode_reward
-            info["success"] = e.success
+            info["success"] = info["is_success"] = e.success  # is_success: Stable-Baselines3's name
             info["time_out"] = time_out
         return info
 
+    def _world(self, given):
+        """The seed of this reset's world: `given`; else the next of the stream of the last
+        explicit seed S, whose k-th unseeded reset plays mix(S, k) >> 1. An environment never
+        seeded draws its S from the operating system, as Gymnasium's environments draw their
+        generators, and plays the world of S first. The seeds it draws are below 2^63, so that
+        info["seed"] fits the int64 arrays Gymnasium's vector environments gather it in."""
+        if given is not None:
+            self._stream = [given, 0]
+            return given
+        if self._stream is None:
+            self._stream = [secrets.randbits(63), 0]
+            return self._stream[0]
+        self._stream[1] += 1
+        return mix(*self._stream) >> 1
+
     def reset(self, *, seed=None, options=None):
-        """Starts the episode in the world of `seed` (roger eval's --seed); without one, the seed
-        after the last episode's (0 first). Seeds np_random as Gymnasium does. Returns (observation, info)."""
+        """Starts the episode in the world of `seed` (roger eval's --seed); without one, the next
+        world of the environment's own stream (docs/python.md, Determinism and seeds). Seeds
+        np_random as Gymnasium does. Returns (observation, info)."""
         env = self._open("reset")
         given = None if seed is None else _seed(seed, "reset")
-        _options(options, "reset")
+        _options(options, "reset", ())
         super().reset(seed=given)  # an unseeded reset leaves np_random running on
-        seed = self._next_seed if given is None else given
+        seed = self._world(given)
+        self._running, self._faulted = False, True  # until the episode runs
         state, running = env.reset(seed)
-        self._has_world = True
-        self._next_seed = (seed + 1) % 2**64
+        self._running, self._faulted = running, False
         if not running:
             raise RogerError(f"reset: the episode of seed {seed} ended before its first decision "
                              "(its absorbing function holds at once)")
@@ -168,11 +228,20 @@ class Env(_EnvBase):
         """Runs one decision: `action` until the next decision point (the state changes, or the
         action gives up). Returns (observation, reward, terminated, truncated, info): terminated
         when the absorbing state is reached or the stage's time-out passes (info["time_out"]
-        tells which), truncated never (it is for limits a wrapper adds)."""
+        tells which), truncated never (it is for limits a wrapper adds); with
+        timeout="truncate", the time-out is truncated instead of terminated."""
         env = self._open("step")
         a = _action(action, len(self.actions), f"step ({self.stage_info['stage']}/{self.stage_info['context']})")
-        state, reward, terminated, time_out = env.step(a)
-        return self._observe(state), reward, terminated, False, self._info(state, terminated, time_out)
+        try:
+            state, reward, terminated, time_out = env.step(a)
+        except RogerError:
+            self._faulted = self._faulted or self._running  # the episode ran, and the error ended it
+            self._running = False
+            raise
+        self._running = not terminated
+        truncated = time_out and self.timeout == "truncate"
+        info = self._info(state, terminated, time_out)
+        return self._observe(state), reward, terminated and not truncated, truncated, info
 
     def render(self):
         """With render_mode "rgb_array": the world now as `roger render --width render_width`
@@ -180,7 +249,7 @@ class Env(_EnvBase):
         env = self._open("render")
         if self.render_mode is None:
             return None
-        if not self._has_world:
+        if not env.begun:
             raise RogerError("render: no world yet (call reset first)")
         return env.render(self.render_width)
 
@@ -188,16 +257,41 @@ class Env(_EnvBase):
         """Frees the world and the Lua state; every later call but close raises RogerError."""
         self._env = None
 
+    def _closed_now(self):
+        return self._env is None
 
-def _tick_space(n, pixels):
-    """The tick mode's observations: the state and the raw senses, images of the body's eye pixels."""
+    def _state(self):
+        episode = (self._env.seed, self._env.actions_taken, self._faulted) if self._env.begun else None
+        return {"stream": self._stream, "episode": episode}
+
+    def _restore(self, state):
+        self._stream = state["stream"]
+        if state["episode"] is None:
+            return
+        seed, actions, faulted = state["episode"]
+        self._faulted = faulted
+        try:
+            self._env.replay(seed, actions)
+            self._running = self._env.running
+        except RogerError as e:
+            if not faulted:  # the original's episode ran on: the replay should have too
+                raise RogerError(f"copy: the episode of seed {seed} did not replay ({len(actions)} actions): {e}") from e
+
+
+def _tick_space(n, info):
+    """The tick mode's observations: the state and the raw senses, float32 and bounded where the
+    stage's body bounds them (images of its eyes' pixels, joints within its ranges)."""
+    pixels, inf = info["eye_pixels"], np.inf
+    touch_low = np.tile(np.array([0, 0, 0, -1, -1], np.float32), (3, 1))    # contact, force, friction, normal x, y
+    touch_high = np.tile(np.array([1, inf, inf, 1, 1], np.float32), (3, 1))
     return spaces.Dict({
         "state": _state_space(n),
         "images": spaces.Box(0, 255, (2, pixels, 3), np.uint8),
         "stimulus": spaces.Box(0.0, 1.0, (2, pixels), np.float32),
-        "touch": spaces.Box(-np.inf, np.inf, (3, 5), np.float32),
-        "joints": spaces.Box(-np.inf, np.inf, (8,), np.float64),
-        "joint_velocities": spaces.Box(-np.inf, np.inf, (8,), np.float64),
+        "touch": spaces.Box(touch_low, touch_high, (3, 5), np.float32),
+        "joints": spaces.Box(np.array(info["joint_low"], np.float32), np.array(info["joint_high"], np.float32),
+                             (8,), np.float32),
+        "joint_velocities": spaces.Box(-inf, inf, (8,), np.float32),
     })
 
 
@@ -233,7 +327,7 @@ def _masked(info, key, values, mask):
     info[key], info["_" + key] = values, mask
 
 
-class VecEnv(_VecBase):
+class VecEnv(_Copyable, _VecBase):
     """num_envs environments of one stage, stepped together on C++ threads with the GIL released:
     a gymnasium.vector.VectorEnv when gymnasium is importable (docs/python.md, "Batches").
 
@@ -242,12 +336,22 @@ class VecEnv(_VecBase):
     episode's successor begins as metadata["autoreset_mode"] says: at the environment's next step
     (NEXT_STEP, the default), at once (SAME_STEP, the last observation in info["final_obs"]), or
     when the caller resets it (DISABLED). Results depend on the seeds and actions only, never on
-    the thread count."""
+    the thread count. With timeout="truncate" a time-out is reported as truncated."""
 
     def __init__(self, curriculum, stage, context, num_envs, threads=None, params=None, skills=None, scenario=None,
-                 autoreset_mode=AutoresetMode.NEXT_STEP, render_mode=None, render_width=1000):
+                 autoreset_mode=AutoresetMode.NEXT_STEP, render_mode=None, render_width=1000, timeout="terminate",
+                 mode="decision"):
+        self._init = {"curriculum": curriculum, "stage": stage, "context": context, "num_envs": num_envs,
+                      "threads": threads, "params": params, "skills": skills, "scenario": scenario,
+                      "autoreset_mode": autoreset_mode, "render_mode": render_mode, "render_width": render_width,
+                      "timeout": timeout, "mode": mode}
+        if mode != "decision":  # the ids' keyword, which gymnasium.make_vec hands over
+            raise RogerError(f"make_vec: the threaded batch steps decisions (mode='decision'), got mode={mode!r}; "
+                             "for tick mode vectorize single environments (gymnasium.make_vec(..., "
+                             "vectorization_mode='sync'))")
         if isinstance(num_envs, bool) or not isinstance(num_envs, numbers.Integral) or num_envs < 1:
             raise RogerError(f"make_vec: num_envs must be a positive integer, got {num_envs!r}")
+        self.timeout = _timeout(timeout, "make_vec")
         try:
             mode = AutoresetMode(autoreset_mode)
         except ValueError:
@@ -291,7 +395,7 @@ class VecEnv(_VecBase):
         (each goes on along its schedule), an int S (environment i in world S + i) or a list of
         one int or None per environment. Returns (observations [num_envs, |Psi|], info)."""
         vec = self._open("reset")
-        options = _options(options, "reset")
+        options = _options(options, "reset", ("reset_mask",))
         mask = _reset_mask(options, self.num_envs)
         seeded, seeds = _reset_seeds(seed, self.num_envs)
         super().reset(seed=_seed(seed, "reset") if isinstance(seed, (numbers.Integral, np.integer)) else None)
@@ -330,6 +434,7 @@ class VecEnv(_VecBase):
             _masked(last, key, r["last_" + key], ended)
         for key in ("episode_reward", "success", "time_out"):
             _masked(last, key, r[key], ended)
+        _masked(last, "is_success", r["success"], ended)  # Stable-Baselines3's name
         if self.autoreset_mode == AutoresetMode.SAME_STEP:
             final_obs = np.full(self.num_envs, None, dtype=object)
             for i in np.flatnonzero(ended):
@@ -337,9 +442,13 @@ class VecEnv(_VecBase):
             _masked(info, "final_obs", final_obs, ended)
             _masked(info, "final_info", last, ended)
         else:
-            for key in ("episode_reward", "success", "time_out"):
+            for key in ("episode_reward", "success", "is_success", "time_out"):
                 _masked(info, key, last[key], ended)
-        return r["states"].astype(np.int64), r["rewards"], r["terminated"], r["failed"].copy(), info
+        terminated, truncated = r["terminated"], r["failed"].copy()
+        if self.timeout == "truncate":
+            truncated |= r["time_out"]
+            terminated = terminated & ~r["time_out"]
+        return r["states"].astype(np.int64), r["rewards"], terminated, truncated, info
 
     def render(self):
         """With render_mode "rgb_array": every environment's world now (a tuple of H x W x 3
@@ -351,6 +460,15 @@ class VecEnv(_VecBase):
 
     def close_extras(self, **kwargs):
         self._vec = None
+
+    def _closed_now(self):
+        return self._vec is None
+
+    def _state(self):
+        return self._vec.snapshot()
+
+    def _restore(self, state):
+        self._vec.restore(state)
 
 
 class Policy:
@@ -380,31 +498,38 @@ class Policy:
 
 
 def make(curriculum, stage, context, params=None, skills=None, scenario=None, mode="decision", render_mode=None,
-         render_width=1000):
+         render_width=1000, timeout="terminate"):
     """An environment of `stage` in `context` of a curriculum (a path or a bare name: "paper").
 
     params: scenario parameters over the stage's ({"shape": "spade"}, as --set); skills: each
     learned skill the context uses, {"Phi_SG": "out/sg/policy.json"} (as --skill); scenario:
     another scenario than the stage's; mode: "decision" (semi-MDP) or "tick" (every control tick,
     raw senses in a Dict observation); render_mode: None or "rgb_array" (render() draws what
-    `roger render --width render_width` draws). With gymnasium importable, env.spec is that of
-    roger/Stage-v0 with these arguments, so spec.make() builds the same environment."""
+    `roger render --width render_width` draws); timeout: "terminate" (the stage's time-out ends
+    the episode, as for the engine's learner) or "truncate" (reported as a truncation). With
+    gymnasium importable, env.spec is that of roger/Stage-v0 with these arguments, so spec.make()
+    builds the same environment."""
     kwargs = {"curriculum": curriculum, "stage": stage, "context": context, "params": params, "skills": skills,
-              "scenario": scenario, "mode": mode, "render_mode": render_mode, "render_width": render_width}
+              "scenario": scenario, "mode": mode, "render_mode": render_mode, "render_width": render_width,
+              "timeout": timeout}
     env = Env(**kwargs)
     if _gym is not None:
-        env.spec = _gym.envs.registration.EnvSpec("roger/Stage-v0", entry_point="roger:Env", kwargs=kwargs)
+        env.spec = _gym.envs.registration.EnvSpec("roger/Stage-v0", entry_point="roger:Env",
+                                                  vector_entry_point="roger:make_vec", kwargs=kwargs)
     return env
 
 
 def make_vec(curriculum, stage, context, num_envs, threads=None, params=None, skills=None, scenario=None,
-             autoreset_mode=AutoresetMode.NEXT_STEP, render_mode=None, render_width=1000):
+             autoreset_mode=AutoresetMode.NEXT_STEP, render_mode=None, render_width=1000, timeout="terminate",
+             mode="decision"):
     """num_envs environments stepped together in C++ threads (VecEnv); threads defaults to
     min(num_envs, the cores this process may use); autoreset_mode an AutoresetMode (or its value,
-    "NextStep", "SameStep", "Disabled")."""
+    "NextStep", "SameStep", "Disabled"); timeout as make's. The vector entry point of the
+    registered ids (gymnasium.make_vec(id, num_envs, vectorization_mode="vector_entry_point")),
+    which hands over make's keywords: mode must then be "decision"."""
     return VecEnv(curriculum, stage, context, num_envs, threads=threads, params=params, skills=skills,
                   scenario=scenario, autoreset_mode=autoreset_mode, render_mode=render_mode,
-                  render_width=render_width)
+                  render_width=render_width, timeout=timeout, mode=mode)
 
 
 def load_policy(path):
@@ -423,11 +548,13 @@ PAPER_IDS = {f"roger/{stage}-{context}-v0": (stage, context)
 
 def _register():
     registry = _gym.envs.registration.registry
+    # make_vec is each id's vector entry point: gymnasium.make_vec then builds the threaded batch
+    # (its default when an id has one), or single environments with vectorization_mode="sync".
     if "roger/Stage-v0" not in registry:
-        _gym.register("roger/Stage-v0", entry_point="roger:Env")
+        _gym.register("roger/Stage-v0", entry_point="roger:Env", vector_entry_point="roger:make_vec")
     for env_id, (stage, context) in PAPER_IDS.items():
         if env_id not in registry:
-            _gym.register(env_id, entry_point="roger:Env",
+            _gym.register(env_id, entry_point="roger:Env", vector_entry_point="roger:make_vec",
                           kwargs={"curriculum": "paper", "stage": stage, "context": context})
 
 

@@ -141,16 +141,71 @@ EyeParams read_eyes(const LuaFields& parent) {
   return e;
 }
 
+namespace {
+
+// The ranges of one channel's noise: its magnitudes (sigma, bias, drift) and resolution, in its
+// unit.
+struct ChannelRange {
+  const char* key;
+  double max;             // sigma, bias and drift
+  const char* unit;
+  double quantum_max;     // the resolution
+  const char* quantum_unit;
+};
+
+constexpr int kMaxNoiseDelay = 50;  // ticks (1 s)
+constexpr double kMaxDriftTau = 3600.0;  // s
+
+// noise.<channel> = sigma, or { sigma, bias, drift = { sigma, tau }, delay, dropout, quantum }.
+ChannelNoise read_channel(const LuaFields& f, const ChannelRange& r) {
+  ChannelNoise c;
+  lua_State* L = f.state();
+  const int type = f.push(r.key);
+  lua_pop(L, 1);
+  if (type == LUA_TNIL) return c;
+  if (type == LUA_TNUMBER) {
+    c.sigma = ranged(f, r.key, 0.0, 0.0, r.max, r.unit);
+    return c;
+  }
+  read_fields(f, r.key, ".", "a number (sigma) or a table {sigma = ..., bias = ..., drift = {sigma = ..., tau = ...}, "
+              "delay = ..., dropout = ..., quantum = ...}",
+              {"sigma", "bias", "drift", "delay", "dropout", "quantum"}, [&](const LuaFields& k) {
+                c.sigma = ranged(k, "sigma", 0.0, 0.0, r.max, r.unit);
+                c.bias = ranged(k, "bias", 0.0, 0.0, r.max, r.unit);
+                read_fields(k, "drift", ".", "a table {sigma = ..., tau = ...}", {"sigma", "tau"}, [&](const LuaFields& d) {
+                  c.drift = ranged(d, "sigma", 0.0, 0.0, r.max, r.unit);
+                  c.drift_tau = ranged(d, "tau", 0.0, 0.0, kMaxDriftTau, "s");
+                  if (c.drift > 0.0 && !(c.drift_tau > 0.0))
+                    d.fail("field 'tau' must be positive when sigma is (the drift's correlation time, s), got " +
+                           fmt(c.drift_tau));
+                });
+                const int64_t delay = k.integer("delay", 0);
+                if (delay < 0 || delay > kMaxNoiseDelay)
+                  k.fail("field 'delay' must be within [0, " + std::to_string(kMaxNoiseDelay) + "] ticks, got " +
+                         std::to_string(delay));
+                c.delay = int(delay);
+                c.dropout = ranged(k, "dropout", 0.0, 0.0, 1.0, "(a probability per tick)");
+                c.quantum = ranged(k, "quantum", 0.0, 0.0, r.quantum_max, r.quantum_unit);
+              });
+  return c;
+}
+
+}  // namespace
+
 NoiseParams read_noise(const LuaFields& parent) {
   NoiseParams n;
+  static const ChannelRange image{"image", 255.0, "colour levels", 255.0, "colour levels"},
+      joints{"joints", 1.0, "rad", 1.0, "rad"}, base{"base", 1.0, "m and rad", 1.0, "m and rad"},
+      touch{"touch", 5.0, "(a fraction of the force)", 1000.0, "N"},
+      effort{"effort", 5.0, "(a fraction of the command)", 1.0, "m or rad (of the commanded error)"};
   read_fields(parent, "noise", ": ", "a table {image = ..., joints = ..., base = ..., touch = ..., effort = ...}",
-                {"image", "joints", "base", "touch", "effort"}, [&](const LuaFields& f) {
-                  n.image = ranged(f, "image", n.image, 0.0, 255.0, "colour levels");
-                  n.joints = ranged(f, "joints", n.joints, 0.0, 1.0, "rad");
-                  n.base = ranged(f, "base", n.base, 0.0, 1.0, "m and rad");
-                  n.touch = ranged(f, "touch", n.touch, 0.0, 5.0, "(a fraction of the force)");
-                  n.effort = ranged(f, "effort", n.effort, 0.0, 5.0, "(a fraction of the command)");
-                });
+              {"image", "joints", "base", "touch", "effort"}, [&](const LuaFields& f) {
+                n.image = read_channel(f, image);
+                n.joints = read_channel(f, joints);
+                n.base = read_channel(f, base);
+                n.touch = read_channel(f, touch);
+                n.effort = read_channel(f, effort);
+              });
   return n;
 }
 
