@@ -10,6 +10,7 @@
 ---@field trials? integer overrides the script's `trials`
 ---@field params? table<string, any> scenario parameters over the script's
 ---@field skills? table<string, {run: string, context: string?}> where each learned skill comes from
+---@field final_worlds? "own"|"shared" default "shared": every trial's final evaluation on the stage's held-out seeds; "own": trial i's from the held-out seeds + i * its episodes
 
 ---Greedy runs of the final policies of a run's trials elsewhere, without retraining.
 ---@class roger.BatchEvaluation
@@ -21,7 +22,7 @@
 ---@field shapes? string[] one group per shape (shape=<name>)
 ---@field episodes? integer episodes per shape
 ---@field first_seed? integer default: the stage's held-out seeds
----@field worlds? "own"|"shared" default "own": trial i from first_seed + i * episodes; "shared": the same worlds for every policy (common random numbers)
+---@field worlds? "own"|"shared" default "own": shape k's trial i from first_seed + (k * trials + i) * episodes; "shared": every policy on shape k's worlds from first_seed + k * episodes (common random numbers)
 ---@field trials? integer the first `trials` trials of the run (default all)
 ---@field skills? table<string, {run: string, context: string?}> learned skills from these runs instead of the embedded ones (trial i's)
 
@@ -32,6 +33,7 @@
 ---@field baseline? string the context the others are compared with (default: the first)
 ---@field evaluation? string or an evaluation's table
 ---@field usage? {context: string, skill: string, subsumes: string[]}[]
+---@field sorting? {objects: integer, learned: string?, hand: string?}[] or a sorting table, one row per number of objects
 
 ---A figure of the report.
 ---@class roger.BatchFigure

@@ -28,4 +28,11 @@ set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 # PLplot loads its cairo driver at run time, which shlibdeps cannot see.
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "plplot-driver-cairo")
+# The Python module (docs/python.md), when built: `import roger` needs numpy, which the program does
+# not, so it is recommended rather than required; scripts/dqn.py's deep learner needs torch.
+# gymnasium, whose checker and wrappers judge the module, is not packaged by Debian bookworm (pip).
+if(ROGER_PYTHON_BUILD)
+  set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "python3-numpy")
+  set(CPACK_DEBIAN_PACKAGE_SUGGESTS "python3-torch")
+endif()
 include(CPack)

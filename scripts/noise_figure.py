@@ -5,8 +5,11 @@ Success against the scale of the moderate noise M (0, 0.5, 1, 2, 4, 8) for
   - the scripted task, unobstructed and in clutter: `roger eval curricula/scripted.lua --policy task`,
     200 episodes per point from seed 9200000 (run here; the figures go to RESULTS/scripted_noise.json);
   - Table III's noise-free T/DC6 policies: the evaluations III_x<scale> of a `roger run
-    scripts/noise.lua` results folder (its summary.csv), every policy's episodes pooled.
-Each point has its 95% Wilson interval. Standard library only; writes the SVG atomically.
+    scripts/noise.lua` results folder, every policy's episodes pooled: the Total rows of its
+    report.json, with the interval `roger report` gives them (a bootstrap that resamples whole
+    policies, and layouts wherever policies share them: docs/batch.md).
+Each scripted point has its 95% Wilson interval (one policy, distinct worlds: the worlds are the
+draws). Standard library only; writes the SVG atomically.
 """
 import json
 import math
@@ -47,20 +50,30 @@ def scripted(roger, scenario, scale):
 
 
 def table_three(results):
-    """(successes, episodes) per scale of the noise-free T/DC6 policies: every evaluation trial's
-    result.json under RESULTS/trials/eval/III_x<scale>/."""
+    """(successes, episodes, low, high) per scale of the noise-free T/DC6 policies: the Total row of
+    each evaluation III_x<scale> in RESULTS/report.json (written by roger run or roger report)."""
+    path = os.path.join(results, "report.json")
+    if not os.path.exists(path):
+        sys.exit(f"{path} does not exist: run `roger report {results}` first")
+    with open(path) as f:
+        tables = json.load(f)["tables"]
     points = {}
     for s in SCALES:
-        folder = os.path.join(results, "trials", "eval", f"III_x{scale_name(s)}")
-        k = n = 0
-        for root, _, files in os.walk(folder):
-            if "result.json" in files:
-                with open(os.path.join(root, "result.json")) as f:
-                    r = json.load(f)
-                k, n = k + r["successes"], n + r["episodes"]
-        if n:
-            points[s] = (k, n)
+        for t in tables:
+            if t.get("evaluation") != f"III_x{scale_name(s)}":
+                continue
+            total = [r for r in t["rows"] if r["object"] == "Total"]
+            if not total or "success_low" not in total[0]:
+                sys.exit(f"{path}: evaluation III_x{scale_name(s)} has no Total row with an interval")
+            r = total[0]
+            n = r["episodes"]
+            points[s] = (round(r["success_rate"] * n), n, r["success_low"], r["success_high"])
     return points
+
+
+def with_wilson(pts):
+    """The scripted series: (successes, episodes) with their Wilson interval."""
+    return {s: (k, n) + wilson(k, n) for s, (k, n) in pts.items()}
 
 
 def svg(points):
@@ -79,14 +92,13 @@ def svg(points):
         out.append(f'<text x="{x(i):.1f}" y="{top + plot_h + 18}" text-anchor="middle">{s} M</text>')
     for (label, colour) in SERIES:
         pts = points.get(label, {})
-        line = [(x(SCALES.index(s)), y(k / n)) for s, (k, n) in sorted(pts.items()) if n]
+        line = [(x(SCALES.index(s)), y(k / n)) for s, (k, n, _, _) in sorted(pts.items()) if n]
         if line:
             out.append(f'<polyline fill="none" stroke="{colour}" stroke-width="2" points="' +
                        " ".join(f"{a:.1f},{b:.1f}" for a, b in line) + '"/>')
-        for s, (k, n) in pts.items():
+        for s, (k, n, lo, hi) in pts.items():
             if not n:
                 continue
-            lo, hi = wilson(k, n)
             cx = x(SCALES.index(s))
             out.append(f'<line x1="{cx:.1f}" x2="{cx:.1f}" y1="{y(lo):.1f}" y2="{y(hi):.1f}" stroke="{colour}"/>')
             out.append(f'<circle cx="{cx:.1f}" cy="{y(k / n):.1f}" r="3.5" fill="{colour}"/>')
@@ -95,7 +107,7 @@ def svg(points):
         out.append(f'<rect x="{lx}" y="{h - 44}" width="14" height="14" fill="{colour}"/>')
         out.append(f'<text x="{lx + 20}" y="{h - 32}">{label}</text>')
     out.append(f'<text x="{left}" y="{h - 10}" fill="#555">M = image 10 levels, joints 0.01 rad, base 0.01 m/rad, '
-               'touch 0.1, effort 0.1. Whiskers: 95% Wilson intervals.</text>')
+               'touch 0.1, effort 0.1. Whiskers: 95% intervals (policies: resampled by policy; scripted: Wilson).</text>')
     out.append("</svg>")
     return "\n".join(out) + "\n"
 
@@ -115,9 +127,9 @@ def main():
         sys.exit(f"{results} holds no evaluation III_x... of scripts/noise.lua (trials/eval/III_x*)")
     points = {SERIES[2][0]: table}
     for label, scenario in ((SERIES[0][0], "unobstructed"), (SERIES[1][0], "cluttered")):
-        points[label] = {s: scripted(roger, scenario, s) for s in SCALES}
+        points[label] = with_wilson({s: scripted(roger, scenario, s) for s in SCALES})
     with open(os.path.join(results, "scripted_noise.json"), "w") as f:
-        json.dump({label: {str(s): {"successes": k, "episodes": n} for s, (k, n) in pts.items()}
+        json.dump({label: {str(s): {"successes": k, "episodes": n, "low": lo, "high": hi} for s, (k, n, lo, hi) in pts.items()}
                    for label, pts in points.items()}, f, indent=1)
     out = args[1] if len(args) == 2 else os.path.join(results, "noise.svg")
     with open(out + ".tmp", "w") as f:
@@ -125,7 +137,8 @@ def main():
     os.replace(out + ".tmp", out)
     print("wrote", out)
     for label, pts in points.items():
-        print(label + ": " + ", ".join(f"{s} M {100 * k / n:.1f}% ({k}/{n})" for s, (k, n) in sorted(pts.items()) if n))
+        print(label + ": " + ", ".join(f"{s} M {100 * k / n:.1f}% ({k}/{n}) [{100 * lo:.1f}, {100 * hi:.1f}]"
+                                       for s, (k, n, lo, hi) in sorted(pts.items()) if n))
 
 
 if __name__ == "__main__":

@@ -1,12 +1,18 @@
 #!/usr/bin/env python3
-"""transfer_figure.py RESULTS [OUT.svg]: the figure of docs/results.md, "Transfer across bodies".
+"""transfer_figure.py RESULTS [OUT.svg]: the figure and tables of docs/results.md, "Transfer across bodies".
 
-Reads the summary.csv of a `roger run scripts/transfer.lua` results folder and draws, for each body
-of the family, the success rate of the paper's T/DC6 policies run without retraining (b) and over a
-Phi_SG retrained on that body (c), in the open arena and among 3 obstacles: the mean over the
-run's policies, with whiskers from the worst to the best policy. Standard library only.
+Reads the summary.csv and report.json of a `roger run scripts/transfer.lua` results folder and draws,
+for each body of the family, the success rate of the paper's T/DC6 policies run without retraining
+(b) and over a Phi_SG retrained on that body (c), in the open arena and among 3 obstacles: the mean
+over the run's policies, with whiskers from the worst to the best policy. Then prints, as Markdown:
+the table of (b) and (c) per body with each cell's pooled success rate and its 95% interval from
+report.json (the evaluation tables' Total rows: a bootstrap that resamples whole policies,
+docs/batch.md), the retrained SG/DC2's mean time-to-threshold per body, and the maturation table
+(d). Standard library only.
 """
 import csv
+import json
+import os
 import sys
 from collections import defaultdict
 
@@ -22,6 +28,69 @@ def read_rates(path):
             if row["kind"] == "eval" and row["status"] == "ok":
                 rates[row["evaluation"]].append(float(row["success_rate"]))
     return rates
+
+
+def read_training(path):
+    """Per run/context of summary.csv: the trials' times-to-threshold (s), whether each reached it,
+    and their final success rates."""
+    runs = defaultdict(lambda: {"times": [], "reached": [], "success": []})
+    with open(path, newline="") as f:
+        for row in csv.DictReader(f):
+            if row["kind"] == "train" and row["status"] == "ok":
+                r = runs[row["run"] + "/" + row["context"]]
+                r["times"].append(float(row["time_to_threshold_s"]))
+                r["reached"].append(row["reached"] == "true")
+                r["success"].append(float(row["success_rate"]))
+    return runs
+
+
+def read_totals(path):
+    """Per evaluation: the Total row of its table in report.json."""
+    with open(path) as f:
+        tables = json.load(f)["tables"]
+    totals = {}
+    for t in tables:
+        rows = [r for r in t.get("rows", []) if r.get("object") == "Total"]
+        if t.get("evaluation") and rows:
+            totals[t["evaluation"]] = rows[0]
+    return totals
+
+
+def min_sec(seconds):
+    s = int(round(seconds))
+    return f"{s // 60}:{s % 60:02d}"
+
+
+def cell(row):
+    """'99.3% [98.6, 99.7]': a pooled success rate and its 95% interval, in percent."""
+    if not row:
+        return "-"
+    hi = 100 * row["success_high"]
+    return f"{100 * row['success_rate']:.1f}% [{100 * row['success_low']:.1f}, {'100' if hi >= 99.95 else f'{hi:.1f}'}]"
+
+
+def mean_time(run):
+    """The mean time-to-threshold of a run's trials, marked >= when some never reached it."""
+    if not run or not run["times"]:
+        return "-"
+    m = min_sec(sum(run["times"]) / len(run["times"]))
+    return m if all(run["reached"]) else "≥ " + m
+
+
+def tables(totals, runs):
+    out = ["| body | (b) open | (c) open | (b) 3 obstacles | (c) 3 obstacles | SG/DC2 retrained: time-to-threshold (mean) |",
+           "|---|---|---|---|---|---|"]
+    for body in BODIES:
+        cells = [cell(totals.get(f"{k}_{body}_{w}")) for k, w in (("b", "open"), ("c", "open"), ("b", "clutter"), ("c", "clutter"))]
+        out.append(f"| {body.replace('_', ' ')} | " + " | ".join(cells) + f" | {mean_time(runs.get(f'SG_{body}/DC2'))} |")
+    out += ["", "| curriculum | SG/DC2 time-to-threshold | T/DC6 time-to-threshold | T/DC6 final success |", "|---|---|---|---|"]
+    for label, sg, t in (("the paper's (full body throughout)", "SG", "T"),
+                         ("SG with coarse eyes (32 px, 60 degrees), T full", "SG_coarse", "T_coarse"),
+                         ("SG with frozen eyes, T full", "SG_frozen", "T_frozen")):
+        tr = runs.get(f"{t}/DC6")
+        success = f"{100 * sum(tr['success']) / len(tr['success']):.1f}%" if tr and tr["success"] else "-"
+        out.append(f"| {label} | {mean_time(runs.get(f'{sg}/DC2'))} | {mean_time(tr)} | {success} |")
+    return "\n".join(out)
 
 
 def svg(rates):
@@ -68,12 +137,16 @@ def main():
     rates = read_rates(sys.argv[1] + "/summary.csv")
     if not any(k.startswith(("b_", "c_")) for k in rates):
         sys.exit(f"{sys.argv[1]}/summary.csv holds no evaluation of scripts/transfer.lua")
+    report = os.path.join(sys.argv[1], "report.json")
+    if not os.path.exists(report):
+        sys.exit(f"{report} does not exist: run `roger report {sys.argv[1]}` first")
     out = sys.argv[2] if len(sys.argv) == 3 else sys.argv[1] + "/transfer.svg"
     with open(out + ".tmp", "w") as f:
         f.write(svg(rates))
-    import os
     os.replace(out + ".tmp", out)
     print("wrote", out)
+    print()
+    print(tables(read_totals(report), read_training(sys.argv[1] + "/summary.csv")))
 
 
 if __name__ == "__main__":

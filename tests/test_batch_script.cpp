@@ -96,6 +96,14 @@ TEST_CASE("scripts/paper.lua describes the paper's protocol", "[batch_script]") 
   nlohmann::json old = batch_config_json(b);
   old["evaluations"][0].erase("worlds");
   CHECK(batch_config_from_json(old).evaluations[0].shared_worlds);
+  // A run's final evaluations share the held-out seeds unless it asks for worlds of their own
+  // (the sorting script's runs); the manifest keeps the choice.
+  CHECK(!b.runs[0].own_final_worlds);
+  BatchScript own = b;
+  own.runs[1].own_final_worlds = true;
+  CHECK(batch_config_json(own)["runs"][1]["final_worlds"] == "own");
+  CHECK(!batch_config_json(b)["runs"][1].contains("final_worlds"));  // configurations without it read as before
+  CHECK(batch_config_from_json(batch_config_json(own)).runs[1].own_final_worlds);
   // Overrides: trials and scenario parameters.
   BatchOverrides o;
   o.trials = 3;
@@ -147,6 +155,12 @@ TEST_CASE("bad batch scripts are clear errors at file:line", "[batch_script]") {
   CHECK(m.find("bad_batch_worlds.lua:8:") != std::string::npos);
   CHECK(m.find("'own'") != std::string::npos);
   CHECK(m.find("not 'same'") != std::string::npos);
+
+  m = load_error("tests/scripts/bad_batch_final_worlds.lua");
+  INFO(m);
+  CHECK(m.find("bad_batch_final_worlds.lua:7:") != std::string::npos);
+  CHECK(m.find("run 'SG': final_worlds is 'own'") != std::string::npos);
+  CHECK(m.find("not 'mine'") != std::string::npos);
 
   m = load_error("tests/scripts/bad_batch_runtime.lua");
   INFO(m);

@@ -2,7 +2,9 @@
 // scenario fields, and bodies other than the paper's Roger doing the task.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -45,8 +47,10 @@ std::string describe(const std::vector<std::pair<std::string, std::string>>& bod
 
 }  // namespace
 
+// The default body's numbers, written out: what the controllers were tuned with. body_metrics gives
+// them as the tuned value plus what the body grew by, which for this body is zero, so these literals
+// catch a change of a tuned value; the next cases catch a change of what follows the body.
 TEST_CASE("the default body gives the tuned numbers to the bit", "[body]") {
-  const BodyMetrics tuned;  // the values the controllers were tuned with
   const BodyMetrics m = body_metrics(RobotParams{}, EyeParams{});
   CHECK(m.approach == 0.58);
   CHECK(m.preshape_reach == 1.25);
@@ -58,7 +62,6 @@ TEST_CASE("the default body gives the tuned numbers to the bit", "[body]") {
   CHECK(m.half_view == 0.75);
   CHECK(m.sidestep == 0.3);
   CHECK(m.carry == 0.36);
-  CHECK(m.approach == tuned.approach);
   const RobotStart fold = folded_start(RobotParams{});
   CHECK(fold.left_shoulder == 1.975);
   CHECK(fold.left_elbow == -2.81);
@@ -72,6 +75,67 @@ TEST_CASE("the default body gives the tuned numbers to the bit", "[body]") {
   CHECK(c.principal == 63.5);
   CHECK(c.half_fov == M_PI / 4);
   CHECK(body_problems(RobotParams{}, EyeParams{}).empty());
+}
+
+namespace {
+
+// A body of the family as RobotParams and EyeParams (the scenario parameters of lib/body.lua).
+std::pair<RobotParams, EyeParams> body_of(const std::vector<std::pair<std::string, std::string>>& params) {
+  RobotParams r;
+  EyeParams e;
+  for (const auto& [k, v] : params) {
+    const double x = std::atof(v.c_str());
+    if (k == "upper_arm") r.link_length[0] = x;
+    else if (k == "forearm") r.link_length[1] = x;
+    else if (k == "base_radius") r.base_radius = x;
+    else if (k == "hand_radius") r.hand_radius = x;
+    else if (k == "eye_pixels") e.pixels = int(x);
+    else if (k == "eye_fov") e.fov = x;
+  }
+  return {r, e};
+}
+
+// The folded footprint's half width, from the fold posture's hand: the base or the hand's outer edge.
+double folded_half_width(const RobotParams& r) {
+  const RobotStart s = folded_start(r);
+  return std::max(r.base_radius, std::abs(hand_in_base(r, kLeft, s.left_shoulder, s.left_elbow).y()) + r.hand_radius);
+}
+
+}  // namespace
+
+// Each derived number in the geometry it stands for, computed here from the body alone (not from
+// the tuned values), on the default body and every body of the family. Each line catches a
+// derivation that follows the wrong quantity, or follows it with the wrong factor, for some body:
+// a number that stays at its tuned value while the body changes is the regression these numbers
+// were made to end (a wide base driving its front into the object, long arms preshaping short).
+TEST_CASE("each derived number keeps its geometric relation to the body, on every body of the family", "[body]") {
+  auto bodies = kBodies;
+  bodies.insert(bodies.begin(), std::vector<std::pair<std::string, std::string>>{});  // the default body
+  for (const auto& params : bodies) {
+    const auto [r, e] = body_of(params);
+    const BodyMetrics m = body_metrics(r, e);
+    INFO(describe(params));
+    // The approach ring leaves 0.42 m from the base's centre beyond its radius (0.26 m from its front).
+    CHECK(m.approach - r.base_radius == Approx(0.42).margin(1e-12));
+    // phi3's reach lies 0.32 m beyond the approach ring; phi2's is the arms' span and 0.25 m more.
+    CHECK(m.grasp_reach - m.approach == Approx(0.32).margin(1e-12));
+    CHECK(m.preshape_reach - (r.link_length[0] + r.link_length[1]) == Approx(0.25).margin(1e-12));
+    // The planner's growth is the folded footprint's half width and 1.1 cm; other objects 5.1 cm.
+    CHECK(m.grid_inflate - folded_half_width(r) == Approx(0.0109403).margin(1e-6));
+    CHECK(m.objects_growth - m.grid_inflate == Approx(0.04).margin(1e-12));
+    // Squeeze, release and carry keep their distances from the base's front.
+    CHECK(m.squeeze - r.base_radius == Approx(0.09).margin(1e-12));
+    CHECK(m.release_distance - r.base_radius == Approx(0.24).margin(1e-12));
+    CHECK(m.carry - r.base_radius == Approx(0.2).margin(1e-12));  // the ball's radius against the front
+    // The sideways step is the base's diameter less 2 cm.
+    CHECK(m.sidestep - 2.0 * r.base_radius == Approx(-0.02).margin(1e-12));
+    // The search's half view is the same share (0.955) of the eyes' half field of view.
+    CHECK(m.half_view / (0.5 * e.fov) == Approx(0.75 / (M_PI / 4)).epsilon(1e-12));
+    // The footprint reaches the base's edge or the folded hand's far edge.
+    const RobotStart s = folded_start(r);
+    CHECK(m.footprint_radius ==
+          Approx(std::max(r.base_radius, hand_in_base(r, kLeft, s.left_shoulder, s.left_elbow).norm() + r.hand_radius)));
+  }
 }
 
 TEST_CASE("each derived number moves with the body quantity it depends on", "[body]") {

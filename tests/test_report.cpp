@@ -5,12 +5,14 @@
 // is refused; a failing trial is recorded without losing the others.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <regex>
 #include <sstream>
+#include <tuple>
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -218,23 +220,34 @@ void check_dashboard(const fs::path& dir, const std::string& tables, const json&
 }
 
 // Table III of a finished tiny run (2 policies, 3 episodes per shape), each policy in worlds of its
-// own: trial 1's worlds start where trial 0's end, so each shape's row holds 6 distinct worlds and
-// the Total 12, with the success rate's Wilson interval over them. Rewritten as if both policies
-// had met the same worlds, each shape holds 3 and the interval widens.
+// own and each shape in layouts of its own: the circle's trials start at the first seed and 3 past
+// it, the spade's (the second shape) at 6 and 9, so each shape's row holds 6 distinct layouts and the
+// Total 12. The interval resamples the two policies, never narrower than Wilson's over the layouts.
+// Rewritten as if both policies had met the same layouts of each shape, each shape holds 3, the
+// interval resamples policies and layouts, and it is never narrower than Wilson's over 3.
 void check_own_worlds(const fs::path& dir, const std::string& tables, const json& rep) {
-  const json e0 = json::parse(slurp(fs::path(trial_dir(dir.string(), "eval/gen/spade/000")) / "result.json"));
-  const json e1 = json::parse(slurp(fs::path(trial_dir(dir.string(), "eval/gen/spade/001")) / "result.json"));
-  CHECK(e1["first_seed"].get<int64_t>() == e0["first_seed"].get<int64_t>() + 3);
+  auto result = [&](const fs::path& d, const char* id) {
+    return json::parse(slurp(fs::path(trial_dir(d.string(), id)) / "result.json"));
+  };
+  const json c0 = result(dir, "eval/gen/circle/000"), s0 = result(dir, "eval/gen/spade/000");
+  const int64_t first = c0["first_seed"].get<int64_t>();
+  CHECK(result(dir, "eval/gen/circle/001")["first_seed"].get<int64_t>() == first + 3);
+  CHECK(s0["first_seed"].get<int64_t>() == first + 6);
+  CHECK(result(dir, "eval/gen/spade/001")["first_seed"].get<int64_t>() == first + 9);
+  const std::string outcomes = s0["outcomes"];
+  CHECK(outcomes.size() == 3);
+  CHECK(std::count(outcomes.begin(), outcomes.end(), '1') == s0["successes"].get<int>());
   CHECK(tables.find("each policy in worlds of its own") != std::string::npos);
+  CHECK(tables.find("| Layouts |") != std::string::npos);
   const json& rows = rep["tables"][2]["rows"];
   REQUIRE(rows.size() == 3);
-  CHECK(rows[0]["worlds"] == 6);
-  CHECK(rows[1]["worlds"] == 6);
-  CHECK(rows[2]["worlds"] == 12);
-  for (const auto& [row, worlds] : {std::pair<int, double>{0, 6}, {1, 6}, {2, 12}}) {
+  for (const auto& [row, layouts] : {std::pair<int, double>{0, 6}, {1, 6}, {2, 12}}) {
+    INFO("row " << row);
+    CHECK(rows[row]["layouts"] == layouts);
+    CHECK(rows[row]["interval"] == "policies");
     const double rate = rows[row]["success_rate"].get<double>();
-    CHECK(rows[row]["success_low"].get<double>() == Approx(wilson_interval(rate * worlds, worlds).low));
-    CHECK(rows[row]["success_high"].get<double>() == Approx(wilson_interval(rate * worlds, worlds).high));
+    CHECK(rows[row]["success_low"].get<double>() <= wilson_interval(rate * layouts, layouts).low);
+    CHECK(rows[row]["success_high"].get<double>() >= wilson_interval(rate * layouts, layouts).high);
   }
   CHECK(tables.find("| 12 |\n") != std::string::npos);
 
@@ -244,18 +257,19 @@ void check_own_worlds(const fs::path& dir, const std::string& tables, const json
   json manifest = json::parse(slurp(shared / "manifest.json"));
   manifest["config"]["evaluations"][0]["worlds"] = "shared";
   spit(shared / "manifest.json", manifest.dump(1));
-  for (const char* id : {"eval/gen/circle/001", "eval/gen/spade/001"}) {
-    const fs::path p = fs::path(trial_dir(shared.string(), id)) / "result.json";
+  for (const char* shape : {"circle", "spade"}) {
+    const fs::path p = fs::path(trial_dir(shared.string(), std::string("eval/gen/") + shape + "/001")) / "result.json";
     json r = json::parse(slurp(p));
-    r["first_seed"] = e0["first_seed"];
+    r["first_seed"] = result(dir, (std::string("eval/gen/") + shape + "/000").c_str())["first_seed"];
     spit(p, r.dump());
   }
   write_report(shared.string());
   const json srep = json::parse(slurp(shared / "report.json"));
-  CHECK(srep["tables"][2]["rows"][0]["worlds"] == 3);
-  CHECK(srep["tables"][2]["rows"][2]["worlds"] == 6);
-  CHECK(srep["tables"][2]["rows"][2]["success_low"].get<double>() ==
-        Approx(wilson_interval(srep["tables"][2]["rows"][2]["success_rate"].get<double>() * 6, 6).low));
+  const json& srows = srep["tables"][2]["rows"];
+  CHECK(srows[0]["layouts"] == 3);
+  CHECK(srows[2]["layouts"] == 6);
+  CHECK(srows[2]["interval"] == "policies and layouts");
+  CHECK(srows[2]["success_low"].get<double>() <= wilson_interval(srows[2]["success_rate"].get<double>() * 6, 6).low);
   CHECK(slurp(shared / "tables.md").find("every policy in the same worlds") != std::string::npos);
   fs::remove_all(shared);
 }
@@ -539,6 +553,10 @@ TEST_CASE("a damaged trial result is a roger::Error naming its file, never an ab
       {"\"checkpoints\" must be a list", [](json& j) { j["checkpoints"] = 4; }},
       {"is not a count of episodes", [](json& j) { j["episodes"] = 1e300; }},
       {"'first_seed' is not a seed", [](json& j) { j["first_seed"] = -3; }},
+      {"\"outcomes\" must be a string of episode outcomes", [](json& j) { j["outcomes"] = "1x0"; }},
+      {"\"outcomes\" must be a string of episode outcomes", [](json& j) { j["outcomes"] = 101; }},
+      {"'outcomes' holds 2 outcomes for 3 episodes", [](json& j) { j["outcomes"] = "10"; }},
+      {"ran 5 episodes; the evaluation asks for 3", [](json& j) { j["episodes"] = 5; }},
   };
   for (const auto& [what, spoil] : cases) {
     json bad = good;
@@ -549,7 +567,9 @@ TEST_CASE("a damaged trial result is a roger::Error naming its file, never an ab
       FAIL("reported a result with " << what);
     } catch (const Error& e) {
       CHECK_THAT(e.what(), Catch::Contains(what));
-      if (what.find("count") == std::string::npos && what.find("seed") == std::string::npos) CHECK_THAT(e.what(), Catch::Contains("result.json"));
+      if (what.find("count") == std::string::npos && what.find("seed") == std::string::npos &&
+          what.find("holds") == std::string::npos && what.find("ran") == std::string::npos)
+        CHECK_THAT(e.what(), Catch::Contains("result.json"));
     }
   }
   fs::remove_all(dir);
@@ -611,7 +631,7 @@ TEST_CASE("a sorting table has one row per number of objects, from the trials' f
        "return {\n"
        "  name = \"sorting table\", curriculum = \"" + fs::absolute("curricula/sorting.lua").string() + "\",\n"
        "  trials = 1, seed = 3,\n"
-       "  runs = { { name = \"Hand2\", stage = \"Hand2\", contexts = { \"Scripted\" } },\n"
+       "  runs = { { name = \"Hand2\", stage = \"Hand2\", contexts = { \"Scripted\" }, trials = 2, final_worlds = \"own\" },\n"
        "           { name = \"Hand4\", stage = \"Hand4\", contexts = { \"Scripted\" } } },\n"
        "  tables = { { title = \"Sorting\", sorting = { { objects = 2, hand = \"Hand2\" }, { objects = 4, hand = \"Hand4\" } } } },\n"
        "  figures = {},\n"
@@ -628,22 +648,39 @@ TEST_CASE("a sorting table has one row per number of objects, from the trials' f
   const json rep = json::parse(slurp(root / "out" / "report.json"));
   const json& rows = rep["tables"][0]["sorting"];
   REQUIRE(rows.size() == 2);
-  for (const auto& [objects, run] : {std::pair<int, const char*>{2, "Hand2"}, {4, "Hand4"}}) {
-    const json r = json::parse(slurp(root / "out" / "trials" / run / "Scripted" / "000" / "result.json"));
-    const double s = r["success_rate"];
+  for (const auto& [objects, run, trials] : {std::tuple<int, const char*, int>{2, "Hand2", 2}, {4, "Hand4", 1}}) {
+    std::vector<json> results;
+    for (int i = 0; i < trials; ++i)
+      results.push_back(json::parse(slurp(root / "out" / "trials" / run / "Scripted" / ("00" + std::to_string(i)) / "result.json")));
+    double s = 0.0, sorted = 0.0, seconds = 0.0;
+    for (const json& r : results) {
+      s += r["success_rate"].get<double>() / trials;
+      sorted += r["final_sorted_mean"].get<double>() / trials;
+      seconds += r["final_time_mean"].get<double>() / trials;
+      CHECK(r["final_sortable"] == objects);
+    }
     const json& row = rows[size_t(objects / 2 - 1)];
     CHECK(row["objects"] == objects);
     CHECK(row["hand"]["success_rate"].get<double>() == Approx(s));
     // Objects sorted per episode: the world's count at the end of each final-evaluation episode.
-    CHECK(r["final_sortable"] == objects);
-    const double sorted = r["final_sorted_mean"];
     CHECK(row["hand"]["sorted"].get<double>() == Approx(sorted));
     CHECK(sorted >= objects * s);  // every successful episode sorted them all
     CHECK(row["hand"]["sorted"].get<double>() <= objects);
-    CHECK(row["hand"]["seconds_per_object"].get<double>() ==
-          Approx(r["final_time_mean"].get<double>() / sorted));
+    CHECK(row["hand"]["seconds_per_object"].get<double>() == Approx(seconds / sorted));
     CHECK(!row.contains("learned"));
     CHECK(tables.find("| " + std::to_string(objects) + " | ") != std::string::npos);
+    // A hand-written run's trials are one policy: its layouts are what the interval resamples.
+    CHECK(row["hand"]["interval"] == "layouts");
+    const double layouts = row["hand"]["layouts"];
+    CHECK(row["hand"]["success_low"].get<double>() <= wilson_interval(s * layouts, layouts).low);
   }
+  // final_worlds = "own": Hand2's second trial met the 50 worlds after the first's, so its row holds
+  // 100 layouts; Hand4, one trial on the held-out seeds, 50.
+  const json h0 = json::parse(slurp(root / "out/trials/Hand2/Scripted/000/result.json"));
+  const json h1 = json::parse(slurp(root / "out/trials/Hand2/Scripted/001/result.json"));
+  CHECK(h1["final_first_seed"].get<int64_t>() == h0["final_first_seed"].get<int64_t>() + 50);
+  CHECK(h0["final_outcomes"].get<std::string>().size() == 50);
+  CHECK(rows[0]["hand"]["layouts"] == 100);
+  CHECK(rows[1]["hand"]["layouts"] == 50);
   fs::remove_all(root);
 }

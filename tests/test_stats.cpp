@@ -2,6 +2,7 @@
 // checked against scipy 1.10's scipy.stats.mannwhitneyu(x, y, alternative="two-sided").
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -111,6 +112,85 @@ TEST_CASE("Wilson score interval of a success rate", "[stats]") {
   CHECK(wilson_interval(8, 10, 0.99).low < a.low);
   CHECK_THROWS_WITH(wilson_interval(11, 10), Contains("11 successes of 10"));
   CHECK_THROWS_WITH(wilson_interval(0, 0), Contains("positive number"));
+}
+
+namespace {
+
+// `policies` policies, each in `layouts` layouts of its own (policy p's from p * layouts) or, with
+// `shared`, all in the same ones; succeeds(p, l) says whether policy p succeeds in layout l.
+std::vector<RateCell> rate_cells(int policies, int layouts, bool shared, const std::function<bool(int, int)>& succeeds) {
+  std::vector<RateCell> cells;
+  for (int p = 0; p < policies; ++p)
+    for (int l = 0; l < layouts; ++l)
+      cells.push_back({p, (shared ? 0 : p * layouts) + l, succeeds(p, l) ? 1.0 : 0.0, 1.0});
+  return cells;
+}
+
+double width(const RateInterval& r) { return r.ci.high - r.ci.low; }
+
+}  // namespace
+
+// What each case catches: a bootstrap that treats episodes as independent when they share a
+// policy (heterogeneous policies) or a layout (a hard layout for all), and one that claims
+// certainty where it saw no variation (every episode a success).
+TEST_CASE("a pooled success rate's interval resamples what the episodes were drawn from", "[stats]") {
+  // One policy in 200 layouts of its own: the layouts are the draws, and the interval is about
+  // Wilson's (the floor: never narrower).
+  const RateInterval one = pooled_rate_interval(rate_cells(1, 200, false, [](int, int l) { return l % 20 != 0; }), 3);
+  CHECK(one.by == Resampled::kLayouts);
+  CHECK(one.policies == 1);
+  CHECK(one.layouts == 200);
+  CHECK(one.ci.estimate == Approx(0.95));
+  const ConfidenceInterval w200 = wilson_interval(190, 200);
+  CHECK(one.ci.low <= w200.low);
+  CHECK(one.ci.high >= w200.high);
+  CHECK(width(one) < (w200.high - w200.low) * 1.15);
+
+  // 50 policies alike (49 of 50 each) in layouts of their own: resampling policies varies nothing,
+  // and the interval is Wilson's over the 2500 layouts exactly.
+  const RateInterval alike = pooled_rate_interval(rate_cells(50, 50, false, [](int, int l) { return l != 7; }), 3);
+  CHECK(alike.by == Resampled::kPolicies);
+  CHECK(alike.layouts == 2500);
+  CHECK(alike.ci.low == Approx(wilson_interval(2450, 2500).low));
+  CHECK(alike.ci.high == Approx(wilson_interval(2450, 2500).high));
+
+  // Half the policies succeed everywhere, half in 80% of their layouts: pooled 90%. Episodes as
+  // independent draws would give Wilson's width over 2500 (2.3 points); the policies' spread (10
+  // points, so a standard error of 1.4 points over 50 of them) makes it about 5.5.
+  const RateInterval mixed =
+      pooled_rate_interval(rate_cells(50, 50, false, [](int p, int l) { return p % 2 == 0 || l % 5 != 0; }), 3);
+  CHECK(mixed.by == Resampled::kPolicies);
+  CHECK(mixed.ci.estimate == Approx(0.9));
+  CHECK(width(mixed) > 0.045);
+  CHECK(width(mixed) < 0.065);
+  CHECK(mixed.ci.low < 0.9);
+  CHECK(mixed.ci.high > 0.9);
+
+  // 20 policies alike in the same 50 layouts, 5 of which every policy fails: the layouts are the
+  // draws, not the 1000 episodes. Resampling the layouts gives about 2 * 1.96 * sqrt(0.09 / 50) =
+  // 16.6 points; Wilson over the 1000 episodes would claim 3.7.
+  const RateInterval crossed = pooled_rate_interval(rate_cells(20, 50, true, [](int, int l) { return l % 10 != 3; }), 3);
+  CHECK(crossed.by == Resampled::kPoliciesAndLayouts);
+  CHECK(crossed.layouts == 50);
+  CHECK(crossed.ci.estimate == Approx(0.9));
+  CHECK(width(crossed) > 0.14);
+  CHECK(width(crossed) < 0.20);
+
+  // Every episode a success: open below, as Wilson's over the layouts is.
+  const RateInterval all = pooled_rate_interval(rate_cells(20, 50, false, [](int, int) { return true; }), 3);
+  CHECK(all.ci.high == 1.0);
+  CHECK(all.ci.low == Approx(wilson_interval(1000, 1000).low));
+  CHECK(all.ci.low < 0.997);
+
+  // The same cells and seed, the same interval.
+  const RateInterval again =
+      pooled_rate_interval(rate_cells(50, 50, false, [](int p, int l) { return p % 2 == 0 || l % 5 != 0; }), 3);
+  CHECK(again.ci.low == mixed.ci.low);
+  CHECK(again.ci.high == mixed.ci.high);
+
+  CHECK_THROWS_WITH(pooled_rate_interval({}, 1), Contains("at least one cell"));
+  CHECK_THROWS_WITH(pooled_rate_interval({{0, 0, 2.0, 1.0}}, 1), Contains("cell 0 (policy 0, layout 0) has 2 successes of 1"));
+  CHECK_THROWS_WITH(pooled_rate_interval({{0, 0, 0.0, 0.0}}, 1), Contains("has 0 successes of 0"));
 }
 
 TEST_CASE("bootstrap CI contains the true mean, is reproducible and honest", "[stats]") {

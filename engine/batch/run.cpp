@@ -279,6 +279,7 @@ nlohmann::json training_trial(const BatchPlan& plan, const PlannedTrial& t, cons
   o.context = t.context;
   o.seed = t.seed;
   o.sets = t.run->params;
+  if (t.run->own_final_worlds) o.final_worlds_block = uint64_t(t.index);  // final_worlds = "own"
   std::map<std::string, std::string> skill_ids;
   for (const auto& s : t.run->skills) {
     const std::string from = batch_trial_id(s.run, s.context, t.index);
@@ -289,6 +290,7 @@ nlohmann::json training_trial(const BatchPlan& plan, const PlannedTrial& t, cons
   write_train_outputs(r, dir);
   nlohmann::json j = train_summary_json(r);
   j["id"] = t.id;
+  j["final_outcomes"] = r.final_eval.outcomes;  // for the sorting tables' intervals
   j["run"] = t.run->name;
   j["trial"] = t.index;
   // Paths inside the results folder, so results do not depend on where the folder is.
@@ -303,9 +305,21 @@ nlohmann::json training_trial(const BatchPlan& plan, const PlannedTrial& t, cons
   return j;
 }
 
-// An evaluation trial: the policy of a trained trial, without retraining, in the evaluation's worlds:
-// its own (the first seed offset by trial * episodes, so no two policies meet the same world) unless
-// the evaluation shares them.
+// Where an evaluation trial's worlds start, past the first seed. Each shape has layouts of its own:
+// a seed places Roger, the goal, the object and the obstacles the same whatever the shape, so
+// shapes on common seeds would count each layout once per shape. With worlds of their own
+// (the default) shape k's trial i starts at (k * trials + i) * episodes, so no two episodes of
+// the evaluation share a layout; shared worlds give every policy shape k's episodes from
+// k * episodes (common random numbers between policies, not between shapes).
+uint64_t evaluation_seed_offset(const BatchEvaluation& e, const PlannedTrial& t) {
+  const std::vector<std::string> groups = batch_eval_groups(e);
+  const uint64_t k = uint64_t(std::find(groups.begin(), groups.end(), t.shape) - groups.begin());
+  const uint64_t n = uint64_t(e.episodes);
+  return e.shared_worlds ? k * n : (k * uint64_t(e.trials) + uint64_t(t.index)) * n;
+}
+
+// An evaluation trial: the policy of a trained trial, without retraining, in the evaluation's
+// worlds (evaluation_seed_offset).
 nlohmann::json evaluation_trial(const BatchPlan& plan, const PlannedTrial& t, Clock::time_point t0) {
   const BatchEvaluation& e = *t.evaluation;
   const std::string from = batch_trial_id(e.run, e.context, t.index);
@@ -318,7 +332,7 @@ nlohmann::json evaluation_trial(const BatchPlan& plan, const PlannedTrial& t, Cl
   if (!e.shapes.empty()) o.sets.emplace_back("shape", t.shape);
   o.episodes = e.episodes;
   o.first_seed = e.first_seed;
-  o.seed_offset = e.shared_worlds ? 0 : uint64_t(t.index) * uint64_t(e.episodes);
+  o.seed_offset = evaluation_seed_offset(e, t);
   nlohmann::json skills = nlohmann::json::object();
   for (const BatchSkill& s : e.skills) {
     const std::string source = batch_trial_id(s.run, s.context, t.index);
@@ -341,6 +355,7 @@ nlohmann::json evaluation_trial(const BatchPlan& plan, const PlannedTrial& t, Cl
             {"params", params},
             {"skills", skills},
             {"wall_s", std::chrono::duration<double>(Clock::now() - t0).count()}});
+  j["outcomes"] = r.eval.outcomes;  // each episode's, for the report's intervals (report_evaluations.cpp)
   return j;
 }
 

@@ -167,6 +167,7 @@ GreedyEval greedy_eval(StageRun& run, QTable& q, const EvalWorlds& worlds, const
     const TrainingEpisode& ep = done.episode;
     g.successes += ep.success;
     if (!ep.success) g.failed_seeds.push_back(seed);
+    g.outcomes += ep.success ? '1' : '0';
     rewards.push_back(ep.reward);
     time += ep.sim_seconds;
     g.sortable = std::max(g.sortable, ep.objects_sortable);
@@ -458,10 +459,11 @@ TrainResult train_stage(const TrainOptions& options) {
   if (stage.teaches()) teacher.emplace(cur, stage, options);
   EvalCache eval_cache;
   EvalCache* cache = options.eval_cache && !stage.absorbing_lua && !stage.reward_lua ? &eval_cache : nullptr;
-  // One greedy evaluation, counted (every episode reused, or not); with a teacher, on its test set.
-  auto evaluate = [&](int episodes, const std::string& phase, bool keep = false) {
+  // One greedy evaluation, counted (every episode reused, or not); with a teacher, on its test set;
+  // otherwise on the held-out seeds from `offset` on.
+  auto evaluate = [&](int episodes, const std::string& phase, bool keep = false, uint64_t offset = 0) {
     const int reused_before = eval_cache.reused;
-    const EvalWorlds worlds = teacher ? teacher->worlds(cp.seeds, keep) : EvalWorlds{cp.seeds, episodes};
+    const EvalWorlds worlds = teacher ? teacher->worlds(cp.seeds, keep) : EvalWorlds{cp.seeds + offset, episodes};
     episodes = worlds.episodes;
     GreedyEval g = greedy_eval(run, q, worlds, phase, cache, keep);
     ++res.evals;
@@ -518,7 +520,9 @@ TrainResult train_stage(const TrainOptions& options) {
   // The first checkpoint from which the rate stays at or above the threshold to the end.
   res.reached = passing > 0;
   res.to_threshold = res.reached ? res.checkpoints[res.checkpoints.size() - size_t(passing)].at : spent;
-  if (options.final_evaluation) res.final_eval = evaluate(cp.final_episodes, "final evaluation", true);
+  if (options.final_evaluation)
+    res.final_eval = evaluate(cp.final_episodes, "final evaluation", true,
+                              options.final_worlds_block * uint64_t(cp.final_episodes));
   if (teacher) {
     res.teaches = true;
     res.task_space = teacher->space().describe();

@@ -58,6 +58,10 @@ struct TrainOptions {
   // short search runs (roger propose); 0 trains to the stage's budget.
   double max_sim_s = 0.0;
   bool final_evaluation = true;  // false skips the final greedy evaluation (final_eval stays empty)
+  // The final evaluation starts final_worlds_block times its episodes past the stage's held-out
+  // seeds: trial i of a batch run with final_worlds = "own" passes i, so that each trial's final
+  // policy meets worlds of its own. The checkpoints keep the held-out seeds.
+  uint64_t final_worlds_block = 0;
   // Say why in the summary (train_summary_json's "diagnosis", batch/explain.h) even when the
   // threshold was reached; a trial that did not reach it always says why.
   bool explain = false;
@@ -114,6 +118,9 @@ struct GreedyEval {
   double sorted_mean = 0.0;
   std::vector<std::pair<std::string, double>> usage;  // per action: share of the decisions
   int64_t decisions = 0;
+  // Each episode's outcome in seed order, '1' a success and '0' a failure: what a report needs to
+  // resample the worlds (report_evaluations.cpp) without the episodes themselves.
+  std::string outcomes;
   std::vector<TrainingEpisode> runs;  // the final evaluation's episodes (for batch/explain.h)
   std::vector<EpisodeWorld> worlds;   // and their worlds
   std::vector<nlohmann::json> tasks;  // and their test tasks (null entries without a test set)

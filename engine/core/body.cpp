@@ -106,7 +106,7 @@ BodyMetrics body_metrics(const RobotParams& b, const EyeParams& eyes) {
   m.release_distance = tuned.release_distance + grown_base;
   // The search's half view is a share of the eyes' half field of view.
   m.half_view = tuned.half_view * (eyes.fov / e0.fov);
-  // A sideways step as wide as the base's diameter and a little more.
+  // A sideways step of the base's diameter less 2 cm (0.3 m for the 0.32 m base).
   m.sidestep = tuned.sidestep + 2.0 * grown_base;
   // The grasped object sits against the base's front.
   m.carry = tuned.carry + grown_base;

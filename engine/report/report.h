@@ -4,8 +4,9 @@
 // report.h: the report of a results folder written by `roger run` (commands.h): tables.md (the
 // paper's Tables I-III with medians, interquartile means and their bootstrap intervals, the
 // fraction of trials that reached the threshold, Mann-Whitney U p-values and probabilities of
-// improvement against the baseline, and the usage analysis; evaluation tables with their distinct
-// worlds and the success rate's 95% Wilson interval) and the figures (learning curves and
+// improvement against the baseline, and the usage analysis; evaluation and sorting tables with
+// their distinct layouts and the success rate's 95% interval, resampled as the episodes were drawn)
+// and the figures (learning curves and
 // cumulative training times, PNG and SVG). Everything is read back from the folder: manifest.json
 // and trials/<id>/result.json. Every file is written atomically. The dashboard (index.html) shows
 // the same numbers in a browser. Each kind of table and figure is a file of its own

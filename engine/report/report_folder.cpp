@@ -36,6 +36,9 @@ void check_result_shape(const json& j, const fs::path& file) {
       bad("field \"usage\" must map action names to numbers");
   }
   if (j.contains("checkpoints") && !j["checkpoints"].is_array()) bad("field \"checkpoints\" must be a list");
+  for (const char* key : {"outcomes", "final_outcomes"})
+    if (j.contains(key) && !(j[key].is_string() && j[key].get<std::string>().find_first_not_of("01") == std::string::npos))
+      bad(std::string("field \"") + key + "\" must be a string of episode outcomes, 1 a success and 0 a failure");
   if (j.contains("diagnosis")) {
     const json& d = j["diagnosis"];
     const json* causes = d.is_object() && d.contains("causes") ? &d["causes"] : nullptr;
@@ -120,6 +123,50 @@ Pooled pool(const std::vector<json>& evals, const char* episodes_key) {
   p.std = std::sqrt(std::max(0.0, sum_sq / p.episodes - p.mean * p.mean));
   p.success = succ / p.episodes;
   return p;
+}
+
+void append_rate_cells(const json& j, int64_t policy, const char* first_seed_key, const char* episodes_key,
+                       const char* outcomes_key, std::vector<RateCell>& cells) {
+  const double first = num(j, first_seed_key), n = num(j, episodes_key);
+  if (!(first >= 0 && first <= 9007199254740992.0 && first == std::floor(first)))
+    throw Error(std::string("a trial result's '") + first_seed_key + "' is not a seed: " + fmt("%g", first));
+  if (!(n >= 0 && n <= 1e6 && n == std::floor(n)))  // a batch evaluation runs at most a million
+    throw Error(std::string("a trial result's '") + episodes_key + "' is not a count of episodes up to a million: " +
+                fmt("%g", n));
+  // Its characters were checked when the result was read (check_result_shape).
+  const bool known = j.contains(outcomes_key);
+  const std::string outcomes = known ? j[outcomes_key].get<std::string>() : std::string();
+  if (known && outcomes.size() != size_t(n))
+    throw Error(std::string("a trial result's '") + outcomes_key + "' holds " + std::to_string(outcomes.size()) +
+                " outcomes for " + fmt("%g", n) + " episodes");
+  const double rate = known ? 0.0 : num(j, "success_rate");
+  for (int64_t k = 0; k < int64_t(n); ++k)
+    cells.push_back({policy, int64_t(first) + k, known ? double(outcomes[size_t(k)] == '1') : rate, 1.0});
+}
+
+std::string resampled_name(Resampled by) {
+  switch (by) {
+    case Resampled::kPolicies: return "policies";
+    case Resampled::kLayouts: return "layouts";
+    case Resampled::kPoliciesAndLayouts: return "policies and layouts";
+  }
+  return "?";
+}
+
+std::string interval_note(const std::set<Resampled>& methods) {
+  std::string s = "Success rate [95% CI]: a percentile bootstrap of the pooled rate (" + std::to_string(kRateResamples) +
+                  " resamples, docs/batch.md) that draws again what the episodes were drawn from: ";
+  std::vector<std::string> parts;
+  if (methods.count(Resampled::kPolicies))
+    parts.push_back("whole policies, where no layout is met by two policies (a policy's episodes share its "
+                    "learned choices)");
+  if (methods.count(Resampled::kPoliciesAndLayouts))
+    parts.push_back("whole policies and whole layouts, independently, where policies share layouts (a hard "
+                    "layout costs every policy that meets it)");
+  if (methods.count(Resampled::kLayouts)) parts.push_back("the layouts, where there is one policy");
+  for (size_t k = 0; k < parts.size(); ++k) s += (k ? "; " : "") + parts[k];
+  return s + ". It is never narrower than Wilson's interval over the distinct layouts, which keeps it open at 0% "
+             "and 100%.";
 }
 
 std::string trials_note(const Results& r) {

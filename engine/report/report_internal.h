@@ -3,7 +3,7 @@
 //   report_folder.cpp       Folder (the folder read once), the checks of each result.json, numbers
 //                           pooled over evaluations, formatting
 //   report_runs.cpp         Tables I and II: a run's contexts against its baseline, usage, misses
-//   report_evaluations.cpp  Table III: evaluations per shape, their distinct worlds, 95% intervals
+//   report_evaluations.cpp  Table III: evaluations per shape, their distinct layouts, 95% intervals
 //   report_sorting.cpp      sorting tables: hand-written and learned policies per number of objects
 //   report_figures.cpp      learning curves, IQM curves, cumulative training time
 //   report.cpp              write_report: tables.md, report.json, the figures' list, the dashboard
@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -83,6 +84,21 @@ bool run_table_row(const std::string& label, const Results& r, const BatchTable&
                    const std::vector<CensoredTime>& base_times, double base_mean, std::ostringstream& md, json& rows);
 // The paragraph under a run table saying what its columns mean.
 void run_table_notes(bool any_censored, std::ostringstream& md);
+
+constexpr int kRateResamples = 10000;  // the pooled success rates' bootstrap (pooled_rate_interval)
+
+// Appends one trial's cells of a pooled success rate (stats.h, RateCell) under `policy`: one per
+// episode, its layout the episode's world seed (the first seed + k), its outcome from the trial's
+// per-episode outcomes ("1101..."). A result written before they were recorded gives each episode
+// the trial's rate, so a resample of layouts sees no layout harder than another there.
+void append_rate_cells(const json& j, int64_t policy, const char* first_seed_key, const char* episodes_key,
+                       const char* outcomes_key, std::vector<RateCell>& cells);
+
+// How an interval was resampled, for report.json: "policies", "layouts", "policies and layouts".
+std::string resampled_name(Resampled by);
+
+// The sentence under a table that says how its success rates' intervals were made.
+std::string interval_note(const std::set<Resampled>& methods);
 
 // Table I / II: a run's contexts against its baseline (report_runs.cpp).
 void run_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep);

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <sstream>
 
 namespace roger::report_detail {
@@ -18,29 +19,50 @@ namespace {
 // curricula/sorting.lua paid it then (100 when every object is sorted; 100 k / n - 100 at the
 // time-out with k of n sorted): a trial with success rate s and mean reward R sorted
 // n s + n (R + 100 - 200 s) / 100 per episode.
+// The success rate pools every trial's final evaluation, with its interval (stats.h,
+// pooled_rate_interval): a learned run's trials are policies of their own; a hand-written run's
+// trials are one policy evaluated again (`one_policy`), whose layouts alone are resampled.
 struct SortingFigures {
   bool any = false;
   std::vector<double> rates;
+  Pooled pooled;
+  RateInterval ci;
   double sorted = 0.0, seconds_per_object = 0.0;
   int reached = 0, trials = 0;
 };
-SortingFigures sorting_figures(const Results& r, int n) {
+SortingFigures sorting_figures(const Results& r, int n, bool one_policy, uint64_t salt) {
   SortingFigures f;
   f.trials = int(r.ok.size());
   if (r.ok.empty()) return f;
   f.any = true;
+  f.pooled = pool(r.ok, "final_episodes");
+  std::vector<RateCell> cells;
   double sorted = 0.0, seconds = 0.0;
   for (const auto& j : r.ok) {
     const double s = num(j, "success_rate"), reward = num(j, "reward_mean");
+    append_rate_cells(j, one_policy ? 0 : int64_t(num(j, "trial")), "final_first_seed", "final_episodes",
+                      "final_outcomes", cells);
     f.rates.push_back(s);
     sorted += j.contains("final_sorted_mean") ? num(j, "final_sorted_mean")
                                               : n * s + n * (reward + 100.0 - 200.0 * s) / 100.0;
     seconds += j.contains("final_time_mean") ? num(j, "final_time_mean") : 0.0;
     f.reached += j.value("reached", false) ? 1 : 0;
   }
+  if (!cells.empty()) f.ci = pooled_rate_interval(cells, kBootstrapSeed + salt, kRateResamples);
   f.sorted = sorted / double(r.ok.size());
   f.seconds_per_object = f.sorted > 0.0 ? seconds / double(r.ok.size()) / f.sorted : 0.0;
   return f;
+}
+
+// "99.3% [98.0%, 100.0%]": a pooled success rate and its interval.
+std::string rate_with_interval(const SortingFigures& f) {
+  return pct(f.pooled.success) + " [" + pct(f.ci.ci.low) + ", " + pct(f.ci.ci.high) + "]";
+}
+
+json figures_json(const SortingFigures& f) {
+  return {{"success_rate", f.pooled.success}, {"success_low", f.ci.ci.low}, {"success_high", f.ci.ci.high},
+          {"interval", resampled_name(f.ci.by)}, {"layouts", f.ci.layouts}, {"sorted", f.sorted},
+          {"seconds_per_object", f.seconds_per_object}};
 }
 
 }  // namespace
@@ -48,40 +70,52 @@ SortingFigures sorting_figures(const Results& r, int n) {
 // A sorting table: one row per number of objects, the hand-written and the learned policy side by side.
 void sorting_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep) {
   md << "## " << (t.title.empty() ? std::string("Sorting") : t.title) << "\n\n";
-  md << "| Objects | Hand-written: success | sorted per episode | sim. s per object | Learned: success, mean (min-max) "
-        "| sorted per episode | sim. s per object | reached threshold |\n";
-  md << "|---|---|---|---|---|---|---|---|\n";
+  md << "| Objects | Hand-written: success [95% CI] | layouts | sorted per episode | sim. s per object | Learned: "
+        "success [95% CI] | per trial (min-max) | layouts | sorted per episode | sim. s per object | reached threshold |\n";
+  md << "|---|---|---|---|---|---|---|---|---|---|---|\n";
   json rows = json::array();
-  auto figures = [&](const std::string& name, int n) {
+  std::set<Resampled> methods;
+  uint64_t salt = 0;
+  auto figures = [&](const std::string& name, int n, bool one_policy) {
+    ++salt;
     if (name.empty()) return SortingFigures{};
     const BatchRun& run = *b.run(name);
-    return sorting_figures(folder.run(run, run.contexts.front()), n);
+    SortingFigures f = sorting_figures(folder.run(run, run.contexts.front()), n, one_policy, salt);
+    if (f.any) methods.insert(f.ci.by);
+    return f;
   };
   for (const auto& row : t.sorting) {
-    const SortingFigures hand = figures(row.hand, row.objects), learned = figures(row.learned, row.objects);
+    const SortingFigures hand = figures(row.hand, row.objects, true), learned = figures(row.learned, row.objects, false);
     md << "| " << row.objects << " | ";
     if (hand.any)
-      md << pct(mean(hand.rates)) << " | " << fmt("%.2f", hand.sorted) << " | " << fmt("%.1f", hand.seconds_per_object) << " | ";
+      md << rate_with_interval(hand) << " | " << hand.ci.layouts << " | " << fmt("%.2f", hand.sorted) << " | "
+         << fmt("%.1f", hand.seconds_per_object) << " | ";
     else
-      md << "- | - | - | ";
+      md << "- | - | - | - | ";
     if (learned.any)
-      md << pct(mean(learned.rates)) << " (" << pct(*std::min_element(learned.rates.begin(), learned.rates.end())) << "-"
-         << pct(*std::max_element(learned.rates.begin(), learned.rates.end())) << ") | " << fmt("%.2f", learned.sorted)
-         << " | " << fmt("%.1f", learned.seconds_per_object) << " | " << learned.reached << "/" << learned.trials << " |\n";
+      md << rate_with_interval(learned) << " | " << pct(*std::min_element(learned.rates.begin(), learned.rates.end()))
+         << "-" << pct(*std::max_element(learned.rates.begin(), learned.rates.end())) << " | " << learned.ci.layouts
+         << " | " << fmt("%.2f", learned.sorted) << " | " << fmt("%.1f", learned.seconds_per_object) << " | "
+         << learned.reached << "/" << learned.trials << " |\n";
     else
-      md << "- | - | - | - |\n";
+      md << "- | - | - | - | - | - |\n";
     json j = {{"objects", row.objects}};
-    if (hand.any) j["hand"] = {{"success_rate", mean(hand.rates)}, {"sorted", hand.sorted}, {"seconds_per_object", hand.seconds_per_object}};
-    if (learned.any)
-      j["learned"] = {{"success_rate", mean(learned.rates)}, {"sorted", learned.sorted},
-                      {"seconds_per_object", learned.seconds_per_object}, {"reached", learned.reached}, {"trials", learned.trials}};
+    if (hand.any) j["hand"] = figures_json(hand);
+    if (learned.any) {
+      j["learned"] = figures_json(learned);
+      j["learned"]["reached"] = learned.reached;
+      j["learned"]["trials"] = learned.trials;
+    }
     rows.push_back(j);
   }
-  md << "\nEach stage's final greedy policy per trial, evaluated on its held-out seeds. Success: every object "
-        "in the region of its type and let go. Objects sorted per episode: the world's count at the end of "
-        "each episode; simulated seconds per object are the "
+  md << "\nEach stage's final greedy policy per trial, evaluated on the stage's held-out seeds or, with the run's "
+        "final_worlds = \"own\", on worlds of its own (trial i's from the held-out seeds + i * episodes); success "
+        "pools every trial's episodes. Success: every object in the region of its type and let go. Layouts: the distinct world seeds of those episodes. Objects "
+        "sorted per episode: the world's count at the end of each episode; simulated seconds per object are the "
         "evaluation's mean episode time (time-outs in full) over the objects sorted per episode. A hand-written "
-        "policy learns nothing: its trials are the same policy evaluated again.\n\n";
+        "policy learns nothing: its trials are the same policy evaluated again, so its episodes count as one "
+        "policy's. "
+     << interval_note(methods) << "\n\n";
   rep.push_back({{"title", t.title}, {"sorting", rows}});
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <sstream>
 
 #include "core/error.h"
@@ -302,6 +303,117 @@ ConfidenceInterval wilson_interval(double successes, double n, double level) {
   ci.low = std::max(0.0, centre - half);
   ci.high = std::min(1.0, centre + half);
   return ci;
+}
+
+namespace {
+
+// How many times each of counts.size() units is drawn when as many are drawn with replacement.
+void draw_counts(Rng& rng, std::vector<double>& counts) {
+  std::fill(counts.begin(), counts.end(), 0.0);
+  const int64_t last = int64_t(counts.size()) - 1;
+  for (size_t k = 0; k < counts.size(); ++k) counts[size_t(rng.integer(0, last))] += 1.0;
+}
+
+void check_cells(const std::vector<RateCell>& cells, int resamples, double level) {
+  if (cells.empty()) throw Error("stats: pooled_rate_interval needs at least one cell, got none");
+  for (size_t k = 0; k < cells.size(); ++k) {
+    const RateCell& c = cells[k];
+    if (!(c.episodes > 0.0 && std::isfinite(c.episodes) && c.successes >= 0.0 && c.successes <= c.episodes))
+      throw Error("stats: pooled_rate_interval: cell " + std::to_string(k) + " (policy " + std::to_string(c.policy) +
+                  ", layout " + std::to_string(c.layout) + ") has " + number(c.successes) + " successes of " +
+                  number(c.episodes) + " episodes");
+  }
+  if (resamples < 1)
+    throw Error("stats: pooled_rate_interval: resamples is " + std::to_string(resamples) + ", expected at least 1");
+  if (!(level > 0.0 && level < 1.0))
+    throw Error("stats: pooled_rate_interval: level is " + number(level) + ", expected a number strictly between 0 and 1");
+}
+
+// Cells indexed densely: the policy and layout of each as 0, 1, ... in order of first appearance.
+struct DenseCells {
+  std::vector<size_t> policy, layout;
+  std::vector<double> successes, episodes;
+  size_t policies = 0, layouts = 0;
+  bool shared = false;  // some layout is met by two or more policies
+};
+DenseCells dense_cells(const std::vector<RateCell>& cells) {
+  DenseCells d;
+  std::map<int64_t, size_t> pid, lid;
+  std::vector<size_t> first_policy;  // per layout
+  for (const RateCell& c : cells) {
+    const size_t p = pid.emplace(c.policy, pid.size()).first->second;
+    const auto [it, fresh] = lid.emplace(c.layout, lid.size());
+    if (fresh) first_policy.push_back(p);
+    else if (first_policy[it->second] != p) d.shared = true;
+    d.policy.push_back(p);
+    d.layout.push_back(it->second);
+    d.successes.push_back(c.successes);
+    d.episodes.push_back(c.episodes);
+  }
+  d.policies = pid.size();
+  d.layouts = lid.size();
+  return d;
+}
+
+// The cells summed per policy (keep_policies) or per layout: what a resample that draws only one
+// of them needs, in as many cells as there are policies or layouts.
+DenseCells collapsed(const DenseCells& d, bool keep_policies) {
+  DenseCells c = d;
+  const size_t units = keep_policies ? d.policies : d.layouts;
+  c.policy.assign(units, 0);
+  c.layout.assign(units, 0);
+  c.successes.assign(units, 0.0);
+  c.episodes.assign(units, 0.0);
+  for (size_t k = 0; k < d.policy.size(); ++k) {
+    const size_t u = keep_policies ? d.policy[k] : d.layout[k];
+    (keep_policies ? c.policy : c.layout)[u] = u;
+    c.successes[u] += d.successes[k];
+    c.episodes[u] += d.episodes[k];
+  }
+  return c;
+}
+
+}  // namespace
+
+RateInterval pooled_rate_interval(const std::vector<RateCell>& cells, uint64_t seed, int resamples, double level) {
+  check_cells(cells, resamples, level);
+  const DenseCells all = dense_cells(cells);
+  RateInterval r;
+  r.policies = int64_t(all.policies);
+  r.layouts = int64_t(all.layouts);
+  r.by = all.policies == 1 ? Resampled::kLayouts : all.shared ? Resampled::kPoliciesAndLayouts : Resampled::kPolicies;
+  const bool draw_policies = r.by != Resampled::kLayouts, draw_layouts = r.by != Resampled::kPolicies;
+  const DenseCells d = draw_policies && draw_layouts ? all : collapsed(all, draw_policies);
+  double successes = 0.0, episodes = 0.0;
+  for (size_t k = 0; k < d.policy.size(); ++k) successes += d.successes[k], episodes += d.episodes[k];
+  std::vector<double> wp(d.policies, 1.0), wl(d.layouts, 1.0), values;
+  values.reserve(size_t(resamples));
+  Rng rng(seed);
+  for (int b = 0; b < resamples; ++b) {
+    double num = 0.0, den = 0.0;
+    for (int attempt = 0; den == 0.0; ++attempt) {
+      if (attempt == 1000)
+        throw Error("stats: pooled_rate_interval: 1000 resamples in a row drew policies that met none of the "
+                    "layouts drawn; the cells are too sparse for a crossed bootstrap");
+      if (draw_policies) draw_counts(rng, wp);
+      if (draw_layouts) draw_counts(rng, wl);
+      num = den = 0.0;
+      for (size_t k = 0; k < d.policy.size(); ++k) {
+        const double w = wp[d.policy[k]] * wl[d.layout[k]];
+        num += w * d.successes[k];
+        den += w * d.episodes[k];
+      }
+    }
+    values.push_back(num / den);
+  }
+  std::sort(values.begin(), values.end());
+  const double alpha = 1.0 - level;
+  const ConfidenceInterval floor = wilson_interval(successes / episodes * double(d.layouts), double(d.layouts), level);
+  r.ci.level = level;
+  r.ci.estimate = successes / episodes;
+  r.ci.low = std::min(sorted_quantile(values, alpha / 2.0), floor.low);
+  r.ci.high = std::max(sorted_quantile(values, 1.0 - alpha / 2.0), floor.high);
+  return r;
 }
 
 CurveBands curve_bands(const std::vector<std::vector<double>>& values, uint64_t seed, int resamples,

@@ -69,6 +69,45 @@ ConfidenceInterval bootstrap_ci(const std::vector<double>& xs, const Statistic& 
 // (0 of 10: [0, 27.8%]).
 ConfidenceInterval wilson_interval(double successes, double n, double level = 0.95);
 
+// A pooled success rate's data, cell by cell: the episodes of one policy in one layout (a world
+// seed: where Roger, the goal, the objects and the obstacles are). Policies and layouts are any
+// integers that tell them apart.
+struct RateCell {
+  int64_t policy = 0;
+  int64_t layout = 0;
+  double successes = 0.0, episodes = 0.0;  // 0 <= successes <= episodes, episodes > 0
+};
+
+// Which draws a pooled rate's interval resampled (pooled_rate_interval).
+enum class Resampled {
+  kPolicies,            // several policies, no layout met by two of them: layouts nest in policies
+  kLayouts,             // one policy: its layouts are the draws
+  kPoliciesAndLayouts,  // policies sharing layouts: both, independently (crossed)
+};
+
+// The interval of a pooled success rate and how it was made.
+struct RateInterval {
+  ConfidenceInterval ci;  // estimate: the pooled rate, sum of successes over sum of episodes
+  Resampled by = Resampled::kPolicies;
+  int64_t policies = 0, layouts = 0;  // distinct ones among the cells
+};
+
+// The percentile bootstrap interval of sum(successes) / sum(episodes) over cells that respects how
+// the episodes were drawn. Episodes of one policy are not independent draws (they share its
+// learned choices), and neither are episodes of one layout (a hard layout is hard for every policy
+// that meets it): a resample draws whole policies (Davison & Hinkley's cluster bootstrap) and,
+// where some layout is met by two or more policies, whole layouts too, each with replacement and
+// independently of the other (Owen's 2007 pigeonhole bootstrap for crossed random effects); a
+// single policy's layouts are resampled alone. Each resample's rate weighs each cell by how many
+// times its policy and its layout were drawn; `resamples` resamples from roger::Rng(seed), bounds at
+// the type-7 quantiles (1 - level) / 2 and (1 + level) / 2. The interval is never narrower than
+// Wilson's over the distinct layouts (the interval if every policy played alike): a resample of
+// cells that all succeed, or all fail, varies nothing, and 100% of 50 policies is not a certainty.
+// A resample whose drawn policies met none of its drawn layouts is drawn again (crossed designs
+// with gaps). Throws roger::Error for no cells, or a cell with no episodes or impossible counts.
+RateInterval pooled_rate_interval(const std::vector<RateCell>& cells, uint64_t seed, int resamples = 10000,
+                                  double level = 0.95);
+
 // Learning curves summarized at each point of a common grid, over trials: the mean and population
 // std (Figures 3 and 4) and the interquartile mean with its percentile-bootstrap interval (the
 // IQM figures and the dashboard). One entry per grid point.

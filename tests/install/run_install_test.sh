@@ -1,36 +1,41 @@
 #!/usr/bin/env bash
-# run_install_test.sh BUILD_DIR SOURCE_DIR: the installed engine works on its own, wherever its tree
-# is moved. `cmake --install BUILD_DIR --prefix P` into a temporary folder; the tree is then moved
-# elsewhere, and from an unrelated folder, with ROGER_HOME unset:
-#   - roger check on a shipped scenario (by path, and by a bare name found in the moved tree only);
-#   - roger eval of a shipped curriculum named bare (its Lua libraries found through require);
-#   - roger run <moved>/share/roger/scripts/quick.lua --out DIR must leave a complete results folder
-#     whose tables and CSVs equal tests/golden/quick.
-# As root with mount namespaces (unshare), the source and build trees are hidden under empty folders
-# meanwhile, so nothing can be read from them. Then `cpack -G DEB` builds the Debian package, which
-# must hold the same files under /usr; unpacked (dpkg-deb -x) into a folder, its roger works too.
+# run_install_test.sh PART BUILD_DIR SOURCE_DIR: the installed engine works on its own, wherever its
+# tree is moved. `cmake --install BUILD_DIR --prefix P` into a temporary folder; the tree is then
+# moved elsewhere, and from an unrelated folder, with ROGER_HOME unset, PART checks:
+#   moved   roger check on a shipped scenario (by path, and by a bare name found in the moved tree
+#           only); roger eval of a shipped curriculum named bare (its Lua libraries found through
+#           require); roger run <moved>/share/roger/scripts/quick.lua --out DIR must leave a
+#           complete results folder whose tables and CSVs equal tests/golden/quick.
+#   hidden  the same with the source and build trees hidden under empty folders (a mount namespace:
+#           root and unshare of util-linux), so that nothing can be read from them.
+#   deb     `cpack -G DEB` builds the Debian package, which must hold the same files under /usr and
+#           declare what it needs; unpacked (dpkg-deb -x) into a folder, its roger works too.
 #
-# Exit status: 0 passed, 1 failed. Without root and mount namespaces (unshare, util-linux) the
-# sources stay visible, and without cpack and dpkg-deb (dpkg-dev) there is no package: outside CI
-# the rest still runs and the last line names what was not checked ("PASSED, but ..."); under CI
-# (CI=true), which installs them and runs as root, either is a failure.
+# Exit status: 0 passed, 1 failed, 77 skipped: hidden without root or mount namespaces, deb without
+# cpack or dpkg-deb (dpkg-dev). Under CI (CI=true), which installs them and runs as root, a skip is
+# a failure (tests/tools/skip.sh).
 set -euo pipefail
 
-if [ $# -ne 2 ]; then
-  echo "usage: $0 BUILD_DIR SOURCE_DIR" >&2
+if [ $# -ne 3 ] || [[ ! "$1" =~ ^(moved|hidden|deb)$ ]]; then
+  echo "usage: $0 moved|hidden|deb BUILD_DIR SOURCE_DIR" >&2
   exit 1
 fi
-build=$(readlink -f "$1") source=$(readlink -f "$2")
+part=$1 build=$(readlink -f "$2") source=$(readlink -f "$3")
+# shellcheck source=tests/tools/skip.sh
+. "$source/tests/tools/skip.sh"  # skip: exit 77, or a failure under CI=true
+fail() { echo "FAILED ($part): $*"; exit 1; }
+case $part in
+  hidden)
+    [ "$(id -u)" = 0 ] || skip "hiding the sources needs root (a mount namespace)"
+    unshare --mount --propagation private true 2>/dev/null ||
+      skip "no mount namespaces here (unshare of util-linux, CAP_SYS_ADMIN)" ;;
+  deb)
+    command -v cpack >/dev/null && command -v dpkg-deb >/dev/null ||
+      skip "no cpack or dpkg-deb (apt-get install cmake dpkg-dev, as .ci/install does)" ;;
+esac
 work=$(mktemp -d /tmp/roger_install_XXXXXX)
 trap 'rm -rf "$work"' EXIT
 unset ROGER_HOME
-fail() { echo "FAILED: $*"; exit 1; }
-not_checked=()  # what this machine could not check (a failure under CI=true)
-cannot() {
-  [ "${CI:-}" = true ] && fail "$* (CI=true: .ci/install installs what this needs, and CI runs as root)"
-  echo "NOT CHECKED: $*"
-  not_checked+=("$1")
-}
 
 cmake --install "$build" --prefix "$work/prefix" >"$work/install.log" 2>&1 ||
   { cat "$work/install.log"; fail "cmake --install"; }
@@ -68,37 +73,35 @@ checks() {
 export -f checks
 export work tree
 
-if [ "$(id -u)" = 0 ] && unshare --mount --propagation private true 2>/dev/null; then
-  # Empty folders over the source and build trees, in a mount namespace of this test alone.
-  unshare --mount --propagation private bash -c '
-    mount -t tmpfs -o size=1m tmpfs "$1" && { [ "$2" = "${2#$1/}" ] && mount -t tmpfs -o size=1m tmpfs "$2" || true; } &&
-    [ ! -e "$1/CMakeLists.txt" ] && checks' _ "$source" "$build" || fail "the moved install, with the sources hidden"
-  echo "the moved install works with the source and build trees hidden"
-else
-  checks || fail "the moved install"
-  echo "the moved install works"
-  cannot "the sources hidden" "(not root, or no mount namespaces: unshare of util-linux)"
-fi
-
-# The Debian package: the same files under /usr, and a roger that works from wherever it is unpacked.
-if command -v cpack >/dev/null && command -v dpkg-deb >/dev/null; then
-  (cd "$build" && cpack -G DEB -B "$work/deb" >"$work/cpack.log" 2>&1) || { cat "$work/cpack.log"; fail "cpack -G DEB"; }
-  deb=$(ls "$work"/deb/roger_*.deb 2>/dev/null | head -n 1)
-  [ -n "$deb" ] || fail "cpack made no roger_*.deb"
-  dpkg-deb -c "$deb" >"$work/deb.list"
-  for f in ./usr/bin/roger ./usr/share/roger/scenarios/cluttered.lua ./usr/share/roger/curricula/lib/skills.lua \
-           ./usr/share/roger/scripts/quick.lua ./usr/share/doc/roger/README.md; do
-    grep -q " $f\$" "$work/deb.list" || fail "the package has no $f"
-  done
-  dpkg-deb -f "$deb" Depends | grep -q liblua5.4 || fail "the package does not depend on Lua's library"
-  dpkg-deb -x "$deb" "$work/unpacked"
-  (cd "$work/elsewhere" && "$work/unpacked/usr/bin/roger" check cluttered) >/dev/null || fail "roger of the unpacked package"
-  echo "the package $(basename "$deb") holds the install and works unpacked"
-else
-  cannot "the Debian package" "(no cpack or dpkg-deb: apt-get install cmake dpkg-dev)"
-fi
-if [ ${#not_checked[@]} -gt 0 ]; then
-  echo "PASSED, but not checked: $(IFS=,; echo "${not_checked[*]}")"
-else
-  echo "PASSED"
-fi
+case $part in
+  moved)
+    checks || fail "the moved install"
+    echo "PASSED: the moved install works" ;;
+  hidden)
+    # Empty folders over the source and build trees, in a mount namespace of this test alone.
+    unshare --mount --propagation private bash -c '
+      mount -t tmpfs -o size=1m tmpfs "$1" && { [ "$2" = "${2#$1/}" ] && mount -t tmpfs -o size=1m tmpfs "$2" || true; } &&
+      [ ! -e "$1/CMakeLists.txt" ] && checks' _ "$source" "$build" || fail "the moved install, with the sources hidden"
+    echo "PASSED: the moved install works with the source and build trees hidden" ;;
+  deb)
+    # The Debian package: the same files under /usr, what it needs declared, and a roger that works
+    # from wherever it is unpacked.
+    (cd "$build" && cpack -G DEB -B "$work/deb" >"$work/cpack.log" 2>&1) || { cat "$work/cpack.log"; fail "cpack -G DEB"; }
+    deb=$(ls "$work"/deb/roger_*.deb 2>/dev/null | head -n 1)
+    [ -n "$deb" ] || fail "cpack made no roger_*.deb"
+    dpkg-deb -c "$deb" >"$work/deb.list"
+    for f in ./usr/bin/roger ./usr/share/roger/scenarios/cluttered.lua ./usr/share/roger/curricula/lib/skills.lua \
+             ./usr/share/roger/scripts/quick.lua ./usr/share/doc/roger/README.md; do
+      grep -q " $f\$" "$work/deb.list" || fail "the package has no $f"
+    done
+    dpkg-deb -f "$deb" Depends | grep -q liblua5.4 || fail "the package does not depend on Lua's library"
+    recommends=$(dpkg-deb -f "$deb" Recommends) suggests=$(dpkg-deb -f "$deb" Suggests)
+    if grep -q "/dist-packages/roger/__init__.py\$" "$work/deb.list"; then
+      # import roger needs numpy; its extras (gymnasium's judges, scripts/dqn.py) the rest.
+      grep -q python3-numpy <<<"$recommends" || fail "the package does not recommend python3-numpy: '$recommends'"
+      grep -q python3-torch <<<"$suggests" || fail "the package does not suggest python3-torch: '$suggests'"
+    fi
+    dpkg-deb -x "$deb" "$work/unpacked"
+    (cd "$work/elsewhere" && "$work/unpacked/usr/bin/roger" check cluttered) >/dev/null || fail "roger of the unpacked package"
+    echo "PASSED: the package $(basename "$deb") holds the install and works unpacked" ;;
+esac

@@ -40,8 +40,11 @@ json batch_config_json(const BatchScript& b) {
   for (const auto& r : b.runs) {
     json skills = json::array();
     for (const auto& s : r.skills) skills.push_back({{"skill", s.skill}, {"run", s.run}, {"context", s.context}});
-    runs.push_back({{"name", r.name}, {"stage", r.stage}, {"contexts", r.contexts}, {"trials", r.trials},
-                    {"params", params_json(r.params)}, {"skills", skills}});
+    json rj = {{"name", r.name}, {"stage", r.stage}, {"contexts", r.contexts}, {"trials", r.trials},
+               {"params", params_json(r.params)}, {"skills", skills}};
+    // Written only when "own", so the configuration of a run without it reads as before.
+    if (r.own_final_worlds) rj["final_worlds"] = "own";
+    runs.push_back(std::move(rj));
   }
   for (const auto& e : b.evaluations) {
     json ej = {{"name", e.name}, {"run", e.run}, {"context", e.context}, {"scenario", e.scenario},
@@ -164,6 +167,7 @@ BatchScript batch_config_from_json(const json& j) {
       r.trials = int(config_integer(rj, "trials", 1, 100000));
       r.params = params_from(rj.at("params"));
       for (const auto& s : rj.at("skills")) r.skills.push_back({s.at("skill"), s.at("run"), s.at("context")});
+      r.own_final_worlds = rj.value("final_worlds", std::string("shared")) == "own";
       b.runs.push_back(std::move(r));
     }
     for (const auto& ej : j.at("evaluations")) {

@@ -202,7 +202,7 @@ BatchRun read_run(const json& rj, const Reader& rd, int runs_line, const Curricu
   const std::string nm = rj.is_object() && rj.contains("name") && rj["name"].is_string() ? rj["name"].get<std::string>() : "";
   r.line = nm.empty() ? runs_line : std::max(rd.line_of_name(nm, runs_line), runs_line);
   const std::string what = nm.empty() ? "a run" : "run '" + nm + "'";
-  rd.check_object(rj, what, {"name", "stage", "contexts", "trials", "params", "skills"}, r.line);
+  rd.check_object(rj, what, {"name", "stage", "contexts", "trials", "params", "skills", "final_worlds"}, r.line);
   r.name = rd.str(rj, "name", what, r.line, "", true);
   if (!std::regex_match(r.name, std::regex("[A-Za-z0-9_.-]+")) || r.name == "eval")
     rd.fail(r.line, what + ": a run name uses letters, digits, '.', '_' and '-' (and is not 'eval')");
@@ -228,6 +228,12 @@ BatchRun read_run(const json& rj, const Reader& rd, int runs_line, const Curricu
   merge_params(r.params, rd.params(rj, "params", what, r.line));
   merge_params(r.params, overrides.sets);
   read_run_skills(rj, rd, what, cur, stage, b, r);
+  const std::string worlds = rd.str(rj, "final_worlds", what, r.line, "shared");
+  if (worlds != "own" && worlds != "shared")
+    rd.fail(rd.line_of_key("final_worlds", r.line),
+            what + ": final_worlds is 'own' (each trial's final evaluation in worlds of its own) or 'shared' (every "
+                   "trial's on the stage's held-out seeds), not '" + worlds + "'");
+  r.own_final_worlds = worlds == "own";
   return r;
 }
 

@@ -48,6 +48,10 @@ struct BatchRun {
   int trials = 0;                     // trials per context
   Params params;                      // scenario parameters (batch params, then these)
   std::vector<BatchSkill> skills;     // learned skills taken from earlier runs
+  // final_worlds = "own": trial i's final greedy evaluation starts i * its episodes past the
+  // stage's held-out seeds, so the trials' final policies meet distinct worlds; false ("shared",
+  // the default, as the paper's Tables I and II): every trial's on the held-out seeds.
+  bool own_final_worlds = false;
   int line = 0;                       // where it is written
 };
 

@@ -45,19 +45,7 @@ LuaSandbox::LuaSandbox(const SandboxLimits& limits) : impl_(std::make_unique<Imp
   Impl& s = *impl_;
   s.limits = limits;
   s.hook_interval = int(std::clamp<uint64_t>(limits.instructions, 1, 1000));
-  // The engine's own C++ (the pattern matcher, the charged functions) is instrumented under the
-  // sanitizers and runs several times slower there; Lua itself is not.
-#if defined(__SANITIZE_ADDRESS__) || defined(ROGER_SANITIZED)
-  constexpr double kSlower = 8.0;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(undefined_behavior_sanitizer)
-  constexpr double kSlower = 8.0;
-#else
-  constexpr double kSlower = 1.0;
-#endif
-#else
-  constexpr double kSlower = 1.0;
-#endif
+  constexpr double kSlower = kSanitizedAllowance;  // a sanitizer build's instrumented C++ (lua_sandbox.h)
   s.time_floor_ns = int64_t(std::clamp(limits.seconds, 0.0, 1e6) * 1e9 * kSlower);
   s.ns_per_instruction = std::clamp(limits.seconds_per_instruction, 0.0, 1.0) * 1e9 * kSlower;
   s.print = [](const std::string& line) { std::cerr << line << '\n'; };
