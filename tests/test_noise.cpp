@@ -522,7 +522,8 @@ TEST_CASE("the scripted task and its parts are done under the moderate noise M",
       const EvalSummary r = evaluate_action([&](uint64_t s) { return scenario.generate(s); }, *task.action,
                                             *task.goal, 20, 7380000, options);
       INFO(policy << " in " << world << " at " << scale << " M");
-      CHECK(r.successes >= (scale == 1.0 ? 19 : 16));
+      // 4M: 19 of 20 unobstructed and 17 in clutter (roger eval ... --seed 7380000 --set noise_scale=4).
+      CHECK(r.successes >= (scale == 1.0 ? 19 : 17));
     }
   }
 }
