@@ -650,13 +650,13 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"{ tasks = { obstacle = roger.int(0, 6) } }",
        ":8: stage 'S': tasks.obstacle = roger.int(0, 6): scenario 'cluttered' (scenarios/cluttered.lua) has no "
-       "parameter 'obstacle'; known parameters: "},
+       "parameter 'obstacle' (did you mean 'obstacles'?); known parameters: "},
       {"{ tasks = { obstacles = roger.int(5, 2) } }", ":8: roger.int(5, 2): the range is reversed (lo must not exceed hi)"},
       {"{ tasks = { mass = roger.real(1, 1) } }", ":8: roger.real(1, 1): the range is empty"},
       {"{ tasks = { shape = roger.choice{} } }", ":8: roger.choice{...}: the list is empty"},
       {"{ tasks = { obstacles = roger.int(0, 20) } }",
-       ":8: stage 'S': tasks.obstacles = roger.int(0, 20): parameter 'obstacles' of scenario 'cluttered' expects at "
-       "most 12, got '20'"},
+       ":8: stage 'S': tasks.obstacles = roger.int(0, 20): parameter 'obstacles' of scenario 'cluttered' expects an "
+       "integer in [0, 8], got '20'"},
       {"{ tasks = { shape = roger.choice{\"circle\", \"square\"} } }",
        ":8: stage 'S': tasks.shape = roger.choice{circle, square}: parameter 'shape' of scenario 'cluttered' expects "
        "one of circle, pentagon, spade, triangle, got 'square'"},
@@ -675,7 +675,7 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
       {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.lcas{ lift = { obstacles = { 0, 20 } } } }",
        "the level obstacles = 20 is outside the task space: obstacles takes an integer in roger.int(0, 3)"},
       {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 3 } } } }",
-       ":8: stage 'S': roger.teacher.lcas: lift.eye_pixels: parameter 'eye_pixels' of scenario 'cluttered' expects at least 16, got '3'"},
+       ":8: stage 'S': roger.teacher.lcas: lift.eye_pixels: parameter 'eye_pixels' of scenario 'cluttered' expects an integer in [16, 512], got '3'"},
       {"{ tasks = { obstacles = roger.int(0, 3) }, test = { list = { { obstacles = 7 } } } }",
        ":6: stage 'S': test: list[1]: obstacles = 7 is outside the task space: obstacles takes an integer in roger.int(0, 3)"},
       {"{ tasks = { obstacles = roger.int(0, 3) }, test = { tasks = 10 }, checkpoints = { episodes = 5 } }",
@@ -693,11 +693,12 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
     CHECK_THAT(message, Contains(cases[k].second));
     CHECK_THAT(message, Contains(file.filename().string() + ":"));  // every one names the file and line
   }
-  // roger check also builds the worlds at the ends of a task space: 12 obstacles do not fit.
-  const fs::path crowded = write_stage(dir.path, "crowded", "{ tasks = { obstacles = roger.int(0, 12) } }");
+  // roger check also builds the worlds at the ends of a task space: Roger 6 m from the object does
+  // not fit in the arena.
+  const fs::path crowded = write_stage(dir.path, "crowded", "{ tasks = { robot_distance = roger.real(1, 6) } }");
   const std::vector<std::string> problems = check_curriculum(crowded.string());
   REQUIRE(problems.size() == 1);
-  CHECK_THAT(problems[0], Contains("crowded.lua:8: stage 'S': scenario 'cluttered' with obstacles = 12 (an end of the "
+  CHECK_THAT(problems[0], Contains("crowded.lua:8: stage 'S': scenario 'cluttered' with robot_distance = 6 (an end of the "
                                    "stage's task space): ") && Contains("no placement for"));
 }
 
@@ -858,5 +859,5 @@ TEST_CASE("a task parameter given by --set is fixed: the axis leaves the trial's
   }
   CHECK(distances.size() == r.episodes.size());  // a real axis: every draw its own
   o.sets = {{"obstacles", "22"}};
-  CHECK_THROWS_WITH(train_stage(o), Contains("parameter 'obstacles' of scenario 'cluttered' expects at most 12, got '22'"));
+  CHECK_THROWS_WITH(train_stage(o), Contains("parameter 'obstacles' of scenario 'cluttered' expects an integer in [0, 8], got '22'"));
 }
