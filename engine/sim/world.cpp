@@ -214,10 +214,9 @@ void World::tick() {
   if (model_->noise.any) {
     effort_ = noise_.effort();  // one draw of the effort's streams per tick
     if (has_pending_) {
-      // Errors whose setpoint stays (a lost command) are NaN: set_setpoints holds that joint.
+      // A lost command comes back as NaN: that joint keeps the setpoint it had.
       const DofVector errors = noise_.commands(pending_);
-      const DofVector now = q();
-      DofVector setpoints = now + errors;
+      DofVector setpoints = q() + errors;
       for (int d = 0; d < kDofCount; ++d)
         if (std::isnan(errors[d])) setpoints[d] = setpoint_[d];
       set_setpoints(setpoints);
