@@ -530,6 +530,7 @@ void bind_vec(py::module_& m) {
            py::arg("threads") = 1, py::arg("autoreset") = "NextStep")
       .def_property_readonly("info", [](const VecEnvironment& v) { return info_dict(v.info()); })
       .def_property_readonly("num_envs", &VecEnvironment::size)
+      .def_property_readonly("teaches", [](const VecEnvironment& v) { return v.env(0).teaches(); })
       .def_property_readonly("threads", &VecEnvironment::threads)
       .def("reset", &vec_reset, py::arg("mask"), py::arg("seeded"), py::arg("seeds"))
       .def("step", &vec_step, py::arg("actions"))

@@ -270,7 +270,7 @@ class Env(_Copyable, _EnvBase):
         self._teaching = teaching and self._env.teaches
         if self._teaching:
             self._env.make_teacher(0)  # a teacher this environment cannot run is refused here, not at reset
-        self._teacher = None  # made at the first reset that asks it for a task
+        self._teacher = None  # made at the first reset that asks it for a task after a seed
         self._teacher_seed = None
         self._told = []  # the outcomes told to the teacher, in order: what a copy tells its own
         self._asked = False  # the running episode's task is the teacher's, its outcome not yet told
@@ -346,6 +346,8 @@ class Env(_Copyable, _EnvBase):
         super().reset(seed=given)  # an unseeded reset leaves np_random running on
         self._tell()  # an episode left unfinished is the teacher's outcome as it stood
         seed = self._world(given)
+        if given is not None:  # a seeded reset starts the teacher afresh too, as it starts the stream
+            self._teacher, self._teacher_seed, self._told = None, None, []
         if task is None:
             task = self._set_task
         if task is None and self._teaching:
@@ -566,6 +568,11 @@ class VecEnv(_Copyable, _VecBase):
         self._vec = _roger.VecEnvironment(str(curriculum), str(stage), str(context), scenario or "",
                                           _text_dict(params, "params"), _text_dict(skills, "skills"),
                                           int(num_envs), int(threads), mode.value)
+        if self._vec.teaches:  # its worlds would not be the tasks roger train plays: refused, not ignored
+            self._vec = None
+            raise RogerError(f"make_vec: stage '{stage}' chooses each episode's task with a teacher, which the "
+                             "threaded batch does not run; vectorize roger.make environments instead "
+                             "(gymnasium.make_vec(..., vectorization_mode='sync')), each with its teacher")
         self.metadata = {"autoreset_mode": mode, "render_modes": _RENDER_MODES, "render_fps": _DECISION_FPS}
         self.autoreset_mode = mode
         self.stage_info = self._vec.info

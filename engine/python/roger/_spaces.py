@@ -63,7 +63,7 @@ class Box(Space):
     def sample(self):
         low = np.where(np.isfinite(self.low), self.low, -1.0)
         high = np.where(np.isfinite(self.high), self.high, 1.0)
-        return self.np_random.uniform(low, high).astype(self.dtype)
+        return np.asarray(self.np_random.uniform(low, high), dtype=self.dtype)
 
     def contains(self, x):
         x = np.asarray(x)
