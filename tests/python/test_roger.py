@@ -882,7 +882,7 @@ class DeepRL(unittest.TestCase):
         with self.assertRaises(roger.RogerError) as cm:
             env.reset(seed=1, options={"params": {"shape": "spade"}})
         self.assertIn("'params'", str(cm.exception))
-        self.assertIn("known options: none", str(cm.exception))
+        self.assertIn("known options: 'task'", str(cm.exception))
         env.reset(seed=1, options={})  # empty options are fine (Gymnasium's checker passes them)
         vec = roger.make_vec(EXAMPLE, "Look", "Gaze", num_envs=2, threads=1)
         with self.assertRaises(roger.RogerError) as cm:

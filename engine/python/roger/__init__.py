@@ -310,7 +310,7 @@ class Env(_Copyable, _EnvBase):
         info = {"sim_seconds": e.sim_seconds, "ticks": e.ticks, "decisions": e.decisions, "seed": e.seed,
                 "state": {a: GAMMA_NAMES[g] for a, g in zip(self.actions, state)}}
         if self.task_space is not None or self._teaching:
-            info["task"] = None if self._task[0] is None else dict(self._task[0])
+            info["task"] = self.get_task()
             info["task_params"] = dict(self._task[1])  # as the scenario took them ("shape": "spade")
         if ended:
             info["episode_reward"] = e.episode_reward
@@ -406,7 +406,9 @@ class Env(_Copyable, _EnvBase):
     def get_task(self):
         """The running (or last) episode's task as task_space holds it (a choice by its index);
         None when its world had the stage's own parameters."""
-        return None if self._task[0] is None else dict(self._task[0])
+        # A real axis's value as Box.sample gives it (a 0-d float64 array), so that it is a member.
+        return None if self._task[0] is None else {
+            k: np.asarray(v, np.float64) if isinstance(v, float) else v for k, v in self._task[0].items()}
 
     def sample_tasks(self, n):
         """n tasks drawn from task_space with its own generator (RLlib's TaskSettableEnv)."""
