@@ -12,8 +12,11 @@ is terminal (terminated, info["time_out"]), as for the engine's learner (timeout
 reports it as truncated). An unseeded reset plays the next world of the environment's own
 stream, so environments seeded S, S + 1, ... never share worlds. `make(..., mode="tick")` makes
 every control tick a decision and observes the raw senses too; `render_mode="rgb_array"` draws
-what `roger render` draws. `make_vec` steps many worlds on C++ threads; `load_policy(path).act(obs)`
-is the greedy action of a policy.json written by `roger train`. Environments pickle and
+what `roger render` draws. A stage's task space is env.task_space (a Dict space):
+reset(options={"task": {...}}) plays a task of it, and resets without one take the stage's
+teacher's (make(..., tasks=..., teacher=...) gives others). `make_vec` steps many worlds on C++
+threads; `load_policy(path).act(obs)` is the greedy action of a policy.json written by `roger
+train`. Environments pickle and
 deep-copy. docs/python.md is the guide. The module needs numpy alone; when gymnasium is
 importable, environments are `gymnasium.Env`s, `make_vec` a `gymnasium.vector.VectorEnv`, the
 spaces are gymnasium's and the ids roger/SG-B1-v0 ... roger/T-DC6-v0 and roger/Stage-v0 are
