@@ -180,7 +180,6 @@ const std::vector<Gamma>& StageEnvironment::reset(uint64_t seed, const ParamList
   m.run.reset();
   seed_ = seed;
   m.set_task(task);
-  task_ = task;
   const WorldSpec spec = m.scenario.generate(seed);
   m.run.emplace(m.agent, spec, seed, m.driver, m.stage.episode_time_limit(spec));
   m.ended = false;

@@ -120,8 +120,6 @@ class StageEnvironment {
   // sandbox: the teacher must not outlive the environment.
   bool teaches() const;
   std::unique_ptr<Teacher> make_teacher(uint64_t seed);
-  // The task parameters the running (or last) episode was generated with (empty: the stage's).
-  const ParamList& task() const { return task_; }
   // Runs `action` (an index of Psi) until the next decision or the end of the episode. Throws
   // roger::Error for a bad index or when no episode is running (before reset, after the end, or
   // after an error), ScriptError for a fault of the stage's Lua functions.
@@ -151,7 +149,6 @@ class StageEnvironment {
   EnvironmentInfo info_;
   uint64_t seed_ = 0;
   TaskSpace task_space_;
-  ParamList task_;
 };
 
 // How a VecEnvironment begins an ended episode's successor: Gymnasium's autoreset modes.
