@@ -78,15 +78,26 @@ uint64_t stream_seed(uint64_t world_seed, NoiseChannel channel, Kind kind) {
   return Rng::mix(Rng::mix(world_seed, 0x6E6F697365ull /* "noise" */), uint64_t(channel) * 16 + kind);
 }
 
-// A noisy colour channel: the value moved by the noise rounded to a whole level (half up), on the
-// resolution's grid (none when 0), clamped to a byte. (An offset beyond 300 levels saturates either
-// way.)
-inline int noisy_channel(int value, float noise, int quantum) {
-  int v = value + int(std::min(std::max(noise, -300.0f), 300.0f) + 300.5f) - 300;
-  if (quantum > 0) v = (v + quantum / 2) / quantum * quantum;  // v >= -300: shift to round half up
-  return std::clamp(v, 0, 255);
+// Every colour channel of an image moved by its noise (three per pixel, as the colours lie: a
+// Colour is three bytes): the value moved by the noise rounded to a whole level (half up), on the
+// resolution's grid (none when 0), clamped to a byte. (An offset beyond 300 levels saturates
+// either way.) Branch-free and contiguous, so the compiler runs it on vectors.
+void noisy_channels(const uint8_t* was, const float* noise, int quantum, uint8_t* out, int n) {
+  // Selections rather than std::min/max/clamp (which return references): the vectorizer
+  // if-converts these.
+  auto moved = [](uint8_t value, float noise) {
+    noise = noise < -300.0f ? -300.0f : noise;
+    noise = noise > 300.0f ? 300.0f : noise;
+    return int(value) + int(noise + 300.5f) - 300;
+  };
+  auto to_byte = [](int v) { return uint8_t(v < 0 ? 0 : v > 255 ? 255 : v); };
+  if (quantum > 0) {  // integer division: no vectors, and rare
+    for (int k = 0; k < n; ++k) out[k] = to_byte((moved(was[k], noise[k]) + quantum / 2) / quantum * quantum);
+    return;
+  }
+  for (int k = 0; k < n; ++k) out[k] = to_byte(moved(was[k], noise[k]));
 }
-
+static_assert(sizeof(Colour) == 3, "a row of colours is a row of bytes");
 // Keeps the coverage of pixels that read as the stimulus and of their neighbours (edge pixels);
 // clears the rest, and narrows [stimulus_first, stimulus_last] to what is left.
 void threshold_coverage(EyeImage& image) {
@@ -107,23 +118,31 @@ void threshold_coverage(EyeImage& image) {
 // coverage moves by the colour's change projected on the axis from the pixel's background colour
 // to the stimulus colour (a pixel whose centre is on the stimulus has no colour of its own to mix
 // with: grey stands in). Integer colours, so the projection is exact; one division per pixel.
+// Three passes, so that none waits on another's latency: the colours, the projections (integers),
+// the coverage moved and clamped to [0, 1] (the division and the clamp on vectors, without the
+// branches the noise's sign would mispredict).
 void image_noise(EyeImage& image, const float* offsets, int quantum) {
   const Colour s = image.stimulus_colour;
   const int pixels = image.pixels();
+  uint8_t* colours = &image.colour[0].r;
+  alignas(32) uint8_t was[3 * kMaxPixels];
+  std::memcpy(was, colours, size_t(3 * pixels));
+  noisy_channels(was, offsets, quantum, colours, 3 * pixels);
+  alignas(32) int along[kMaxPixels], axis2[kMaxPixels];
   for (int u = 0; u < pixels; ++u) {
-    Colour& c = image.colour[size_t(u)];
-    const float* o = offsets + 3 * u;
-    const int r = noisy_channel(c.r, o[0], quantum), g = noisy_channel(c.g, o[1], quantum),
-              b = noisy_channel(c.b, o[2], quantum);
-    const bool on_stimulus = c == s;
-    const int dr = int(s.r) - (on_stimulus ? 128 : c.r), dg = int(s.g) - (on_stimulus ? 128 : c.g),
-              db = int(s.b) - (on_stimulus ? 128 : c.b);
-    const int along = (r - c.r) * dr + (g - c.g) * dg + (b - c.b) * db;
-    const int d2 = std::max(1, dr * dr + dg * dg + db * db);
-    // Clamped without branches: the noise's sign would mispredict them.
-    float& coverage = image.stimulus[size_t(u)];
-    coverage = std::min(std::max(coverage + float(along) / float(d2), 0.0f), 1.0f);
-    c = Colour{uint8_t(r), uint8_t(g), uint8_t(b)};
+    const uint8_t* c = was + 3 * u;
+    const uint8_t* now = colours + 3 * u;
+    const bool on_stimulus = c[0] == s.r && c[1] == s.g && c[2] == s.b;
+    const int dr = int(s.r) - (on_stimulus ? 128 : c[0]), dg = int(s.g) - (on_stimulus ? 128 : c[1]),
+              db = int(s.b) - (on_stimulus ? 128 : c[2]);
+    along[u] = (now[0] - c[0]) * dr + (now[1] - c[1]) * dg + (now[2] - c[2]) * db;
+    const int d2 = dr * dr + dg * dg + db * db;
+    axis2[u] = d2 < 1 ? 1 : d2;
+  }
+  float* coverage = image.stimulus.data();
+  for (int u = 0; u < pixels; ++u) {
+    const float moved = coverage[u] + float(along[u]) / float(axis2[u]);
+    coverage[u] = moved < 0.0f ? 0.0f : moved > 1.0f ? 1.0f : moved;
   }
   threshold_coverage(image);
   image.noisy = true;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 
@@ -220,6 +221,23 @@ void append_seen_surfaces(std::vector<SeenSurface>& out, const Shape& shape, con
     out.push_back(s);
   }
 }
+
+EyeImage& EyeImage::operator=(const EyeImage& other) {
+  if (this == &other) return *this;
+  const size_t n = size_t(std::clamp(other.pixels(), 0, kMaxPixels));
+  camera = other.camera;
+  std::copy_n(other.colour.begin(), n, colour.begin());
+  std::copy_n(other.kind.begin(), n, kind.begin());
+  std::copy_n(other.index.begin(), n, index.begin());
+  std::copy_n(other.stimulus.begin(), n, stimulus.begin());
+  stimulus_colour = other.stimulus_colour;
+  stimulus_first = other.stimulus_first, stimulus_last = other.stimulus_last;
+  noisy = other.noisy;
+  return *this;
+}
+// noisy is the last member: one added after it (and not copied above) would grow the image.
+static_assert(sizeof(EyeImage) < offsetof(EyeImage, noisy) + sizeof(bool) + alignof(EyeImage),
+              "EyeImage::operator= copies every member");
 
 void paint_eye(const Camera& camera, const Vec2& eye, double eye_heading,
                const std::vector<SeenSurface>& surfaces, const Colour& wall_colour,

@@ -22,7 +22,7 @@ enum class SurfaceKind : uint8_t { kNone = 0, kWall, kObject, kObstacle };
 // camera.pixels are never read). Pixel u looks along camera.angle_of_pixel(u) in the eye frame
 // (counter-clockwise positive): pixel 0 sees half the field of view to the right, the last pixel
 // half of it to the left (45 degrees for the default eye of 128 pixels).
-struct EyeImage {
+struct EyeImage {  // a new member goes before `noisy` and into operator= (senses.cpp)
   Camera camera;                                // the eye that made it (paint_eye sets it)
   std::array<Colour, kMaxPixels> colour;        // the nearest surface at the pixel's centre
   std::array<SurfaceKind, kMaxPixels> kind;     // what that surface is
@@ -39,6 +39,13 @@ struct EyeImage {
   // its coverage reads as the stimulus colour, not when its colour equals it. paint_eye clears it.
   bool noisy = false;
   int pixels() const { return camera.pixels; }
+
+  EyeImage() = default;
+  // A copy takes the camera's pixels, not the whole capacity: an eye of 128 pixels copies a
+  // quarter of what a 512-pixel array holds (the noisy senses are a copy of the true ones every
+  // tick). What lies beyond pixels() is never read.
+  EyeImage(const EyeImage& other) { *this = other; }
+  EyeImage& operator=(const EyeImage& other);
 };
 
 // The stimulus as one eye detects it in its image (sub-pixel, from the edge pixels' coverage).

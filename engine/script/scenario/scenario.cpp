@@ -251,8 +251,10 @@ std::vector<std::string> check_scenario(const std::string& path, int seeds, cons
       });
     }
     if (range_ends) {
-      for (const auto& [bound, what] : numeric_ends(p)) {
-        attempt(*range_ends, p.name + "=" + bound + " (its " + what + "), seed 0", [&]() {
+      for (const auto& end : numeric_ends(p)) {
+        // A named copy: clang 14 cannot capture a structured binding in the lambda.
+        const std::string& bound = end.first;
+        attempt(*range_ends, p.name + "=" + bound + " (its " + end.second + "), seed 0", [&]() {
           scenario->set_param(p.name, bound);
           scenario->generate(0);
         });
