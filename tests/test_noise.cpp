@@ -212,6 +212,43 @@ TEST_CASE("image noise moves colours and coverage but keeps the stimulus found",
   CHECK(image.noisy);
 }
 
+// The mask a noisy image's stimulus is read from: a lone pixel reading as the stimulus is noise,
+// a single pixel between two that read so is the stimulus, two side by side are kept, and each
+// kept run keeps its edge pixels' coverage.
+TEST_CASE("a noisy image's stimulus mask drops lone pixels and fills single gaps", "[noise]") {
+  EyeImage image;
+  image.camera.pixels = 32;
+  std::fill(image.stimulus.begin(), image.stimulus.end(), 0.0f);
+  auto set = [&](int u, float c) { image.stimulus[size_t(u)] = c; };
+  set(2, 0.3f), set(3, 0.7f), set(4, 0.3f);                          // alone: noise
+  set(9, 0.3f), set(10, 1.0f), set(11, 1.0f), set(12, 0.2f), set(13, 1.0f), set(14, 0.6f),
+      set(15, 0.2f);                                                  // a run with a gap at 12
+  set(20, 0.8f), set(21, 0.9f), set(22, 0.1f);                        // two pixels: kept
+  set(25, 0.4f);                                                      // under half, alone
+  set(31, 0.9f);                                                      // alone at the border
+  threshold_coverage(image);
+  for (int u : {2, 3, 4, 25, 31}) {
+    INFO("pixel " << u);
+    CHECK(image.stimulus[size_t(u)] == 0.0f);
+  }
+  CHECK(image.stimulus[12] == kStimulusStrong);  // the gap, filled
+  for (int u : {9, 10, 11, 13, 14, 15, 20, 21, 22}) {
+    INFO("pixel " << u);
+    CHECK(image.stimulus[size_t(u)] > 0.0f);
+  }
+  CHECK(image.stimulus[9] == 0.3f);  // an edge keeps its coverage
+  CHECK(image.stimulus_first == 9);
+  CHECK(image.stimulus_last == 22);
+  // Detection then finds the longer run, whole: the gap no longer splits it.
+  image.noisy = true;
+  std::fill(image.kind.begin(), image.kind.end(), SurfaceKind::kObject);
+  std::fill(image.index.begin(), image.index.end(), int16_t(0));
+  const Sighting seen = detect_stimulus(image);
+  REQUIRE(seen.seen);
+  CHECK(seen.u_lo < 10.0);
+  CHECK(seen.u_hi > 14.0);
+}
+
 // The table's normal: symmetric, of unit variance, and its quantiles where the normal's are.
 TEST_CASE("the table normal is a standard normal to its resolution", "[noise]") {
   double sum = 0.0, sum2 = 0.0, sum4 = 0.0;
@@ -511,19 +548,30 @@ TEST_CASE("no noise reaches the object map's held", "[noise]") {
 // world of both scenarios, and the task under 4M in most.
 TEST_CASE("the scripted task and its parts are done under the moderate noise M", "[noise]") {
   const SkillScript script = SkillScript::load("curricula/scripted.lua");
-  const std::pair<const char*, double> runs[] = {{"phi6", 1.0}, {"search_grasp", 1.0}, {"task", 1.0}, {"task", 4.0}};
-  for (const auto& [policy, scale] : runs) {
-    const SkillScript::NamedPolicy& task = script.policy(policy);
+  // Each part under M on 20 seeds; the task under 4M on docs/results.md's 200 (Noise, the bar 95%).
+  struct Run {
+    const char* policy;
+    double scale;
+    int episodes;
+    uint64_t seed;
+  };
+  const Run runs[] = {{"phi6", 1.0, 20, 7380000}, {"search_grasp", 1.0, 20, 7380000}, {"task", 1.0, 20, 7380000},
+                      {"task", 4.0, 200, 9200000}};
+  for (const Run& run : runs) {
+    const SkillScript::NamedPolicy& task = script.policy(run.policy);
     EpisodeOptions options;
     options.time_limit = task.time_limit;
     for (const char* world : {"unobstructed", "cluttered"}) {
       Scenario scenario = Scenario::load(world);
-      set_moderate(scenario, scale);
+      set_moderate(scenario, run.scale);
       const EvalSummary r = evaluate_action([&](uint64_t s) { return scenario.generate(s); }, *task.action,
-                                            *task.goal, 20, 7380000, options);
-      INFO(policy << " in " << world << " at " << scale << " M");
-      // 4M: 19 of 20 unobstructed and 17 in clutter (roger eval ... --seed 7380000 --set noise_scale=4).
-      CHECK(r.successes >= (scale == 1.0 ? 19 : 17));
+                                            *task.goal, run.episodes, run.seed, options);
+      INFO(run.policy << " in " << world << " at " << run.scale << " M");
+      // 4M: 197 of 200 unobstructed and 196 in clutter (roger eval curricula/scripted.lua --policy task
+      // --scenario W --episodes 200 --seed 9200000 $M --set noise_scale=4); before the stimulus mask's
+      // opening and the pose estimate, 193 and 183.
+      const std::string w = world;
+      CHECK(r.successes >= (run.scale == 1.0 ? 19 : w == "unobstructed" ? 197 : 196));
     }
   }
 }
@@ -786,6 +834,70 @@ TEST_CASE("under noise the stereo fixes are fused into a steady estimate", "[noi
   INFO("RMS error of the fixes " << raw << " m, of the fused estimate " << fused << " m, over " << n << " ticks");
   CHECK(raw > 0.2);
   CHECK(fused < 0.6 * raw);  // 0.15 m against 0.29 m
+}
+
+// Under joint and base noise the controllers read the pose Roger estimates (PoseFilter): white
+// noise shrinks to about a quarter on the base (sqrt(0.1 / 1.9) = 0.23), less on the arms, whose
+// fast moves the prediction from the rates follows less closely; a bias stays, episode by episode.
+TEST_CASE("under joint and base noise the controllers read a steadier pose", "[noise]") {
+  const SkillScript script = SkillScript::load("curricula/scripted.lua");
+  const SkillScript::NamedPolicy& task = script.policy("search_grasp");
+  for (const char* bias : {"0", "0.03"}) {
+    Scenario scenario = Scenario::load("unobstructed");
+    scenario.set_param("noise_joints", "0.04");
+    scenario.set_param("noise_base", "0.04");
+    scenario.set_param("noise_base_bias", bias);
+    double raw2[2] = {0, 0}, est2[2] = {0, 0};  // [0]: base x, [1]: left shoulder
+    int n = 0;
+    for (uint64_t seed = 7330000; seed < 7330005; ++seed) {
+      Agent agent;
+      agent.reset(scenario.generate(seed));
+      task.action->reset(seed);
+      double raw_mean = 0.0, est_mean = 0.0;  // of x's error, this episode
+      for (int t = 0; t < 200; ++t) {
+        agent.step(*task.action);
+        const Senses& truth = agent.world().true_senses();
+        const Senses& raw = agent.world().senses();
+        const Senses& estimate = *agent.input().senses;
+        raw2[0] += std::pow(raw.base.x - truth.base.x, 2), est2[0] += std::pow(estimate.base.x - truth.base.x, 2);
+        raw2[1] += std::pow(raw.q[kLeftShoulder] - truth.q[kLeftShoulder], 2);
+        est2[1] += std::pow(estimate.q[kLeftShoulder] - truth.q[kLeftShoulder], 2);
+        raw_mean += (raw.base.x - truth.base.x) / 200, est_mean += (estimate.base.x - truth.base.x) / 200;
+        ++n;
+      }
+      INFO("seed " << seed << " with bias " << bias << ": mean error of x read " << raw_mean << ", estimated " << est_mean);
+      CHECK(std::abs(est_mean - raw_mean) < 0.005);  // a bias (up to about 0.06) is not noise to a filter
+    }
+    if (std::string(bias) != "0") continue;
+    const double raw[2] = {std::sqrt(raw2[0] / n), std::sqrt(raw2[1] / n)};
+    const double est[2] = {std::sqrt(est2[0] / n), std::sqrt(est2[1] / n)};
+    INFO("RMS error of the readings and the estimate: base x " << raw[0] << ", " << est[0] << "; left shoulder "
+                                                              << raw[1] << ", " << est[1]);
+    CHECK(raw[0] == Approx(0.04).epsilon(0.1));
+    CHECK(raw[1] == Approx(0.04).epsilon(0.1));
+    CHECK(est[0] < 0.3 * raw[0]);   // 0.26
+    CHECK(est[1] < 0.47 * raw[1]);  // 0.43
+  }
+}
+
+// The hand-written 8-object sort under 4M: its colours lie 127-157 levels apart, where 40 levels
+// of image noise make a few per cent of another type's pixels read as the one sought (the
+// stimulus mask's opening drops them), and joint and base noise of 0.04 put a delivered object at
+// its region's edge (the pose estimate keeps it inside). Before both, 2 of 40 episodes.
+TEST_CASE("the 8-object sort is done under 4M", "[noise][slow]") {
+  const SkillScript script = SkillScript::load("curricula/sort_by_hand.lua");
+  const SkillScript::NamedPolicy& sort = script.policy("sort");
+  Scenario scenario = Scenario::load("sorting");
+  scenario.set_param("objects", "8");
+  set_moderate(scenario, 4.0);
+  EpisodeOptions options;
+  options.time_limit = sort.time_limit;
+  options.time_per_object = sort.time_per_object;
+  const EvalSummary r = evaluate_action([&](uint64_t s) { return scenario.generate(s); }, *sort.action, *sort.goal,
+                                        20, 9500000, options);
+  // 19 of 20 (roger eval curricula/sort_by_hand.lua --policy sort --set objects=8 --seed 9500000
+  // --episodes 20 $M --set noise_scale=4; of 40 episodes, 39).
+  CHECK(r.successes >= 19);
 }
 
 // A CONV that flickers: every change of an action's state is a decision of the learner, so a

@@ -2,6 +2,7 @@
 // (VecEnvironment), over the episode loop and the semi-MDP driver that training uses.
 #include "batch/environment.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -42,6 +43,20 @@ struct StageEnvironment::Impl {
   SemiMdpDriver driver;
   std::optional<EpisodeRun> run;
   bool ended = false;  // the episode ended (or failed): step() needs a reset first
+  std::map<std::string, std::string> base;  // the stage's value of each parameter a task has set
+
+  // Sets a task's parameters on the scenario, and the stage's back on those it leaves out.
+  void set_task(const ParamList& task) {
+    for (const auto& [key, value] : base)
+      if (std::none_of(task.begin(), task.end(), [&](const auto& p) { return p.first == key; }))
+        scenario.set_param(key, value);
+    for (const auto& [key, value] : task) {
+      if (!base.count(key))
+        for (const ScenarioParam& p : scenario.params())
+          if (p.name == key) base[key] = p.value;
+      scenario.set_param(key, value);
+    }
+  }
 
   Impl(Curriculum c, const std::string& stage_name, const std::string& context, const EnvironmentOptions& o,
        EnvironmentInfo& info)
@@ -85,6 +100,7 @@ void check_skills_given(const CurriculumContext& ctx, const CurriculumStage& sta
 
 Curriculum load_checked(const EnvironmentOptions& o) {
   Curriculum cur = Curriculum::load(o.curriculum, o.limits);
+  cur.set_teaching(o.stage, o.tasks, o.teacher);
   const CurriculumStage& stage = cur.stage(o.stage);
   check_skills_given(stage.context(o.context), stage, o);
   return cur;
@@ -124,6 +140,24 @@ StageEnvironment::StageEnvironment(const EnvironmentOptions& o) {
   const WorldSpec held_out = impl_->scenario.generate(st.checkpoints.seeds);
   info_.eye_pixels = held_out.eyes.pixels;
   observed_joint_ranges(held_out.body, info_.joint_low, info_.joint_high);
+  // As a trial of `roger train` has them: what the caller's parameters fix does not vary.
+  std::vector<std::string> fixed;
+  for (const auto& [key, value] : o.sets) fixed.push_back(key);
+  if (st.teacher && st.teacher->kind == TeacherSpec::Kind::kLcas && st.tasks.index(st.teacher->lift) < 0 &&
+      std::find(fixed.begin(), fixed.end(), st.teacher->lift) != fixed.end())
+    throw Error(st.where() + ": params fix '" + st.teacher->lift + "', which its teacher (" + st.teacher->name() +
+                ") lifts; leave it to the teacher or give another teacher");
+  task_space_ = st.tasks.without(fixed);
+}
+
+bool StageEnvironment::teaches() const { return impl_->stage.teaches(); }
+
+std::unique_ptr<Teacher> StageEnvironment::make_teacher(uint64_t seed) {
+  const CurriculumStage& st = impl_->stage;
+  if (st.teacher && st.teacher->kind == TeacherSpec::Kind::kPlr && st.teacher->score_td)
+    throw Error(st.where() + ": " + st.teacher->name() + " scores levels by the engine learner's TD errors " +
+                "(score = \"td\"), which an environment stepped from outside does not have; give score = \"success\"");
+  return impl_->cur.make_teacher(impl_->stage, task_space_, seed);
 }
 
 void observed_joint_ranges(const RobotParams& body, std::array<double, kDofCount>& low,
@@ -137,12 +171,15 @@ void observed_joint_ranges(const RobotParams& body, std::array<double, kDofCount
 
 StageEnvironment::~StageEnvironment() = default;
 
-const std::vector<Gamma>& StageEnvironment::reset(uint64_t seed) {
+const std::vector<Gamma>& StageEnvironment::reset(uint64_t seed) { return reset(seed, ParamList()); }
+
+const std::vector<Gamma>& StageEnvironment::reset(uint64_t seed, const ParamList& task) {
   const EngineFloatMode mode;
   Impl& m = *impl_;
   m.ended = true;  // until the new episode is running
   m.run.reset();
   seed_ = seed;
+  m.set_task(task);
   const WorldSpec spec = m.scenario.generate(seed);
   m.run.emplace(m.agent, spec, seed, m.driver, m.stage.episode_time_limit(spec));
   m.ended = false;
@@ -166,8 +203,8 @@ EnvironmentStep StageEnvironment::step(int action) {
   return r;
 }
 
-void StageEnvironment::replay(uint64_t seed, const std::vector<int>& actions) {
-  reset(seed);
+void StageEnvironment::replay(uint64_t seed, const std::vector<int>& actions, const ParamList& task) {
+  reset(seed, task);
   for (int a : actions) step(a);
 }
 

@@ -23,7 +23,9 @@
 #include "control/agent.h"
 #include "core/robot.h"
 #include "learn/learning.h"
+#include "script/curriculum/curriculum.h"
 #include "script/sandbox/lua_sandbox.h"
+#include "teach/teach.h"
 
 namespace roger {
 
@@ -53,6 +55,8 @@ struct EnvironmentOptions {
   std::map<std::string, std::string> skill_files;         // learned skill name -> its policy.json
   bool per_tick = false;                                  // a decision every control tick
   SandboxLimits limits;
+  // Another task space or teacher than the stage's (Curriculum::set_teaching); empty: the stage's.
+  LuaSource tasks, teacher;
 };
 
 // The stage as the environment runs it: what a learner needs to follow `roger train`'s protocol.
@@ -103,6 +107,19 @@ class StageEnvironment {
   const EnvironmentInfo& info() const { return info_; }
   // Starts an episode in the world of `seed` and runs to its first decision. Returns the state.
   const std::vector<Gamma>& reset(uint64_t seed);
+  // Starts the episode of `seed` in the world generated with a task's parameters set over the
+  // stage's (those of task_space(), and beside them those a teacher lifts); a parameter an earlier
+  // task set and this one does not is back at the stage's value. Throws roger::Error for a
+  // parameter the scenario refuses.
+  const std::vector<Gamma>& reset(uint64_t seed, const ParamList& task);
+  // The stage's task space (or options.tasks) less the parameters options.sets fix, as `roger
+  // train` has it; empty when the stage has none.
+  const TaskSpace& task_space() const { return task_space_; }
+  // Whether the stage (or options) gives a teacher; the teacher over task_space(), drawing from
+  // Rng(seed), as Curriculum::make_teacher makes it. A Lua teacher runs in this environment's
+  // sandbox: the teacher must not outlive the environment.
+  bool teaches() const;
+  std::unique_ptr<Teacher> make_teacher(uint64_t seed);
   // Runs `action` (an index of Psi) until the next decision or the end of the episode. Throws
   // roger::Error for a bad index or when no episode is running (before reset, after the end, or
   // after an error), ScriptError for a fault of the stage's Lua functions.
@@ -110,7 +127,7 @@ class StageEnvironment {
   // Starts the episode of `seed` and takes `actions` at its decisions: the episode is a function
   // of its seed and actions, so this is the same episode at the same point (what a copy of the
   // environment continues). Throws as reset and step do.
-  void replay(uint64_t seed, const std::vector<int>& actions);
+  void replay(uint64_t seed, const std::vector<int>& actions, const ParamList& task = {});
 
   // The state of Psi at the last decision (or at the end).
   const std::vector<Gamma>& state() const;
@@ -131,6 +148,7 @@ class StageEnvironment {
   std::unique_ptr<Impl> impl_;
   EnvironmentInfo info_;
   uint64_t seed_ = 0;
+  TaskSpace task_space_;
 };
 
 // How a VecEnvironment begins an ended episode's successor: Gymnasium's autoreset modes.

@@ -14,7 +14,8 @@ void Agent::reset(const WorldSpec& spec) {
   // What stays the same all episode: the model, where the senses, percepts and object map live.
   input_ = ControlInput{};
   input_.model = &model_;
-  input_.senses = &world_.senses();
+  pose_filter_.reset(model_.noise.params.joints.any(), model_.noise.params.base.any());
+  input_.senses = pose_filter_.active() ? &estimated_ : &world_.senses();
   input_.percepts = &percepts_;
   input_.objects = &objects_;
   input_.attention = &world_.attention();
@@ -36,7 +37,11 @@ void Agent::perceive() {
   // The map's `held` and `region` judge the task (sorted_objects): the true world, never the noise.
   update_object_map(world_, objects_);
   const Colour* stimulus = &world_.attention().colour;
-  percepts_.update(world_.senses(), model_.robot(), &objects_, stimulus, model_.noise.stereo);
+  if (pose_filter_.active()) {
+    estimated_ = world_.senses();
+    pose_filter_.apply(estimated_, model_.tick_seconds());
+  }
+  percepts_.update(*input_.senses, model_.robot(), &objects_, stimulus, model_.noise.stereo);
   input_.time = world_.time();
   input_.region = world_.attention().region;
   if (!input_.truth) return;

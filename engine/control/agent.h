@@ -69,6 +69,10 @@ class Agent {
   AgentParams params_;
   WorldModel model_;        // this episode's world (kept across episodes: its grid is reused)
   Percepts percepts_;
+  // Under joint or base noise, what the controllers read: the noisy senses with the pose Roger
+  // estimates (PoseFilter) in place of the noisy readings.
+  PoseFilter pose_filter_;
+  Senses estimated_;
   Percepts true_percepts_;  // what the true senses make of the world (under noise only)
   ControlInput true_input_; // the tick as the true world gives it, for judges
   Attention judge_next_attention_;  // where judges' bindings ask to attend: ignored

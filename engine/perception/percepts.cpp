@@ -35,6 +35,42 @@ int most_touched(const Senses& s, const bool (&on)[kTactileCount], Eligible elig
 
 }  // namespace
 
+void PoseFilter::reset(bool joints, bool base) {
+  joints_ = joints, base_ = base, valid_ = false;
+}
+
+void PoseFilter::apply(Senses& s, double dt) {
+  if (!valid_) {
+    q_ = s.q, qdot_ = s.qdot, pose_ = s.base, valid_ = true;
+    return;
+  }
+  constexpr double g = kPoseGain;
+  // The motion since the last tick, from the mean of its rates and this tick's (trapezoidal).
+  const DofVector moved = 0.5 * dt * (qdot_ + s.qdot);
+  qdot_ = s.qdot;
+  if (joints_) {
+    for (int k = kLeftEye; k < kDofCount; ++k) {
+      q_[k] += moved[k];
+      q_[k] += g * (s.q[k] - q_[k]);
+      s.q[k] = q_[k];
+    }
+  }
+  if (base_) {
+    const double heading = pose_.theta + 0.5 * moved[kBaseHeading];  // mid-tick heading
+    pose_.x += moved[kBaseForward] * std::cos(heading);
+    pose_.y += moved[kBaseForward] * std::sin(heading);
+    pose_.theta = wrap_angle(pose_.theta + moved[kBaseHeading]);
+    q_[kBaseForward] += moved[kBaseForward];
+    pose_.x += g * (s.base.x - pose_.x);
+    pose_.y += g * (s.base.y - pose_.y);
+    pose_.theta = wrap_angle(pose_.theta + g * wrap_angle(s.base.theta - pose_.theta));
+    q_[kBaseForward] += g * (s.q[kBaseForward] - q_[kBaseForward]);
+    s.base = pose_;
+    s.q[kBaseForward] = q_[kBaseForward];
+    s.q[kBaseHeading] = pose_.theta;
+  }
+}
+
 Vec2 StereoFilter::fuse(const Vec2& z, const Vec2& eyes_mid, double baseline, const StereoNoise& noise, double t) {
   // The fix's covariance: along the line of sight the range error d^2 / b times the vergence's
   // (two bearings' worth); across it d times one bearing's, and the base's own error in both.

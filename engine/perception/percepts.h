@@ -60,6 +60,28 @@ struct StereoFilter {
   Vec2 fuse(const Vec2& z, const Vec2& eyes_mid, double baseline, const StereoNoise& noise, double t);
 };
 
+// Roger's pose as it estimates it under joint or base noise, as a robot fuses its odometry with
+// noisy absolute readings: each joint angle, the odometer and the base pose are predicted from
+// the velocities the senses give (exact: the encoders' rates, the wheels' odometry) and pulled
+// toward this tick's noisy reading by a fixed gain g (kPoseGain): white noise of deviation sigma
+// leaves sigma sqrt(g / (2 - g)), about a quarter of it, and no lag, since the prediction follows
+// the motion. A bias or a drift stays (no filter can tell it from the pose). Used only on a
+// noisy channel, so true senses are untouched.
+class PoseFilter {
+ public:
+  static constexpr double kPoseGain = 0.1;
+  // Starts an episode: which channels are noisy.
+  void reset(bool joints, bool base);
+  // Replaces the noisy joints and base pose of `s` by the estimate (the first tick: the reading).
+  void apply(Senses& s, double dt);
+  bool active() const { return joints_ || base_; }
+
+ private:
+  bool joints_ = false, base_ = false, valid_ = false;
+  DofVector q_ = DofVector::Zero(), qdot_ = DofVector::Zero();  // the estimate, last tick's rates
+  Pose pose_;
+};
+
 // Per-tick facts shared by every controller, computed once (see Percepts::update).
 struct Percepts {
   VisualObject object;                   // what the eyes say

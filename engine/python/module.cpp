@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <optional>
 #include <map>
 #include <memory>
 #include <string>
@@ -36,8 +38,13 @@ std::string param_text(const py::handle& v) {
 
 EnvironmentOptions make_options(const std::string& curriculum, const std::string& stage, const std::string& context,
                                 const std::string& scenario, const py::dict& params, const py::dict& skills,
-                                bool per_tick) {
+                                bool per_tick, const std::string& tasks = "", const std::string& teacher = "",
+                                const std::string& teacher_file = "") {
   EnvironmentOptions o;
+  // The package writes a tasks dict as Lua text; a teacher comes as Lua text or a file.
+  if (!tasks.empty()) o.tasks = {tasks, "make(tasks=...)", false};
+  if (!teacher.empty()) o.teacher = {teacher, "make(teacher=...)", false};
+  if (!teacher_file.empty()) o.teacher = {"", teacher_file, true};
   o.curriculum = curriculum;
   o.stage = stage;
   o.context = context;
@@ -167,16 +174,147 @@ class Policy {
   QTable q_;
 };
 
+
+// ---- tasks (docs/python.md, Tasks and teachers)
+
+// The task space's axes in its order, for the package to build its Gymnasium Dict space.
+py::list task_dims(const TaskSpace& space) {
+  py::list out;
+  for (const TaskDim& d : space.dims()) {
+    const char* kind = d.kind == TaskDim::Kind::kInt ? "int" : d.kind == TaskDim::Kind::kReal ? "real" : "choice";
+    out.append(py::dict(py::arg("name") = d.name, py::arg("kind") = kind, py::arg("low") = d.lo,
+                        py::arg("high") = d.hi, py::arg("choices") = d.choices, py::arg("text") = d.text()));
+  }
+  return out;
+}
+
+// A task as a member of the package's space: an int axis's integer, a real one's number, a
+// choice's index.
+py::dict task_point_dict(const TaskSpace& space, const TaskPoint& t) {
+  py::dict d;
+  for (size_t i = 0; i < space.size(); ++i) {
+    const TaskDim& dim = space.dims()[i];
+    if (dim.kind == TaskDim::Kind::kReal) d[py::str(dim.name)] = t[i];
+    else d[py::str(dim.name)] = int64_t(std::llround(t[i]));
+  }
+  return d;
+}
+
+bool is_index(const py::handle& v) {
+  const std::string type = py::str(py::type::handle_of(v).attr("__name__"));
+  return PyIndex_Check(v.ptr()) && type.find("bool") == std::string::npos;
+}
+
+// A task given from Python (reset's options["task"], set_task): every axis once, each value in
+// the space (a choice by its index or its value), nothing else. Returns the task as the space
+// holds it and as scenario parameters. Throws roger::Error naming the parameter and the space.
+py::tuple task_of(const TaskSpace& space, const py::handle& task, const std::string& where) {
+  if (space.empty())
+    throw Error(where + ": the stage has no task space (give the stage `tasks`, or make(..., tasks={...}))");
+  if (!py::isinstance<py::dict>(task))
+    throw Error(where + ": a task is a dict {parameter: value} over the task space (" + space.describe() + "), got " +
+                py::str(py::type::handle_of(task).attr("__name__")).cast<std::string>());
+  ParamList params;
+  for (const auto& [k, v] : task.cast<py::dict>()) {
+    const std::string key = py::str(k);
+    const int i = space.index(key);
+    if (i < 0) throw Error(where + ": '" + key + "' is not a parameter of the task space (" + space.describe() + ")");
+    const TaskDim& d = space.dims()[size_t(i)];
+    if (d.kind == TaskDim::Kind::kChoice && is_index(v)) {
+      const int64_t n = int64_t(d.choices.size()), index = v.cast<int64_t>();
+      if (index < 0 || index >= n)
+        throw Error(where + ": " + key + " = " + std::to_string(index) + " is outside the task space: " + key +
+                    " takes an index in [0, " + std::to_string(n) + ") of " + d.text() + ", or one of its values");
+      params.push_back({key, d.choices[size_t(index)]});
+    } else {
+      params.push_back({key, param_text(v)});
+    }
+  }
+  std::string why;
+  const std::optional<TaskPoint> t = space.task_of(params, &why);
+  if (!t) throw Error(where + ": " + why);
+  return py::make_tuple(task_point_dict(space, *t), space.params(*t));
+}
+
+// A teacher of the environment's stage, asked and told from the package's Env: the pick waiting
+// for its outcome is kept here.
+class PyTeacher {
+ public:
+  PyTeacher(std::unique_ptr<Teacher> teacher, TaskSpace space) : teacher_(std::move(teacher)), space_(std::move(space)) {}
+  // The next task: (as the space holds it, as scenario parameters, the world seed of a level it
+  // replays or None).
+  py::tuple next() {
+    pick_ = teacher_->next();
+    ParamList params = space_.params(pick_.task);
+    params.insert(params.end(), pick_.extra.begin(), pick_.extra.end());
+    py::object seed = pick_.world_seed ? py::object(py::int_(*pick_.world_seed)) : py::object(py::none());
+    return py::make_tuple(task_point_dict(space_, pick_.task), params, seed);
+  }
+  void record(uint64_t world_seed, bool success, double reward, double sim_s) {
+    TaskOutcome o;
+    o.task = pick_.task;
+    o.world_seed = world_seed;
+    o.success = success;
+    o.reward = reward;
+    o.sim_s = sim_s;
+    teacher_->record(o);
+  }
+  std::string kind() const { return teacher_->kind(); }
+  std::string state() const { return teacher_->state().dump(); }
+
+ private:
+  std::unique_ptr<Teacher> teacher_;
+  TaskSpace space_;
+  TaskPick pick_;
+};
+
+void bind_tasks(py::module_& m) {
+  py::class_<PyTeacher>(m, "Teacher")
+      .def("next", &PyTeacher::next)
+      .def("record", &PyTeacher::record, py::arg("world_seed"), py::arg("success"), py::arg("reward"),
+           py::arg("sim_seconds"))
+      .def_property_readonly("kind", &PyTeacher::kind)
+      .def("state", &PyTeacher::state, "The teacher's own state as JSON text (its step, level, mixture...).");
+}
+
 void bind_environment(py::module_& m) {
   py::class_<StageEnvironment>(m, "Environment")
       .def(py::init([](const std::string& curriculum, const std::string& stage, const std::string& context,
-                       const std::string& scenario, const py::dict& params, const py::dict& skills, bool per_tick) {
-             const EnvironmentOptions o = make_options(curriculum, stage, context, scenario, params, skills, per_tick);
+                       const std::string& scenario, const py::dict& params, const py::dict& skills, bool per_tick,
+                       const std::string& tasks, const std::string& teacher, const std::string& teacher_file) {
+             const EnvironmentOptions o = make_options(curriculum, stage, context, scenario, params, skills, per_tick,
+                                                       tasks, teacher, teacher_file);
              py::gil_scoped_release nogil;
              return std::make_unique<StageEnvironment>(o);
            }),
            py::arg("curriculum"), py::arg("stage"), py::arg("context"), py::arg("scenario") = "",
-           py::arg("params") = py::dict(), py::arg("skills") = py::dict(), py::arg("per_tick") = false)
+           py::arg("params") = py::dict(), py::arg("skills") = py::dict(), py::arg("per_tick") = false,
+           py::arg("tasks") = "", py::arg("teacher") = "", py::arg("teacher_file") = "")
+      .def_property_readonly("task_dims", [](const StageEnvironment& e) { return task_dims(e.task_space()); })
+      .def_property_readonly("teaches", &StageEnvironment::teaches)
+      .def(
+          "task_of",
+          [](const StageEnvironment& e, const py::handle& task, const std::string& where) {
+            return task_of(e.task_space(), task, where);
+          },
+          py::arg("task"), py::arg("where"))
+      .def(
+          "make_teacher",
+          [](StageEnvironment& e, uint64_t seed) {
+            py::gil_scoped_release nogil;
+            return std::make_unique<PyTeacher>(e.make_teacher(seed), e.task_space());
+          },
+          py::arg("seed"), py::keep_alive<0, 1>())
+      .def("reset_task",
+           [](StageEnvironment& e, uint64_t seed, const ParamList& task) {
+             std::vector<Gamma> g;
+             {
+               py::gil_scoped_release nogil;
+               g = e.reset(seed, task);
+             }
+             return py::make_tuple(state_array(g), e.running());
+           },
+           py::arg("seed"), py::arg("task"))
       .def_property_readonly("info", [](const StageEnvironment& e) { return info_dict(e.info()); })
       .def("reset",
            [](StageEnvironment& e, uint64_t seed) {
@@ -201,11 +339,11 @@ void bind_environment(py::module_& m) {
       .def("render", &render_array, py::arg("width"))
       .def(
           "replay",
-          [](StageEnvironment& e, uint64_t seed, const std::vector<int>& actions) {
+          [](StageEnvironment& e, uint64_t seed, const std::vector<int>& actions, const ParamList& task) {
             py::gil_scoped_release nogil;
-            e.replay(seed, actions);
+            e.replay(seed, actions, task);
           },
-          py::arg("seed"), py::arg("actions"))
+          py::arg("seed"), py::arg("actions"), py::arg("task") = ParamList())
       .def_property_readonly("actions_taken",
                              [](const StageEnvironment& e) { return e.begun() ? e.episode().actions_taken : std::vector<int>(); })
       .def_property_readonly("begun", &StageEnvironment::begun)
@@ -392,6 +530,7 @@ void bind_vec(py::module_& m) {
            py::arg("threads") = 1, py::arg("autoreset") = "NextStep")
       .def_property_readonly("info", [](const VecEnvironment& v) { return info_dict(v.info()); })
       .def_property_readonly("num_envs", &VecEnvironment::size)
+      .def_property_readonly("teaches", [](const VecEnvironment& v) { return v.env(0).teaches(); })
       .def_property_readonly("threads", &VecEnvironment::threads)
       .def("reset", &vec_reset, py::arg("mask"), py::arg("seeded"), py::arg("seeds"))
       .def("step", &vec_step, py::arg("actions"))
@@ -466,6 +605,7 @@ PYBIND11_MODULE(_roger, m) {
         return gamma_state_index(g);
       },
       py::arg("obs"), "The row of a policy's Q table for a state vector (first action most significant).");
+  bind_tasks(m);
   bind_environment(m);
   bind_vec(m);
   bind_policy(m);

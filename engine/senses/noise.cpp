@@ -98,22 +98,6 @@ void noisy_channels(const uint8_t* was, const float* noise, int quantum, uint8_t
   for (int k = 0; k < n; ++k) out[k] = to_byte(moved(was[k], noise[k]));
 }
 static_assert(sizeof(Colour) == 3, "a row of colours is a row of bytes");
-// Keeps the coverage of pixels that read as the stimulus and of their neighbours (edge pixels);
-// clears the rest, and narrows [stimulus_first, stimulus_last] to what is left.
-void threshold_coverage(EyeImage& image) {
-  const int pixels = image.pixels();
-  int first = pixels, last = -1;
-  bool strong_before = false;  // pixel u - 1 read as the stimulus (before clearing)
-  for (int u = 0; u < pixels; ++u) {
-    const bool strong = image.stimulus[size_t(u)] >= kStimulusStrong;
-    const bool strong_after = u + 1 < pixels && image.stimulus[size_t(u + 1)] >= kStimulusStrong;
-    if (!strong && !strong_before && !strong_after) image.stimulus[size_t(u)] = 0.0f;
-    strong_before = strong;
-    if (image.stimulus[size_t(u)] > 0.0f) first = std::min(first, u), last = u;
-  }
-  image.stimulus_first = int16_t(first), image.stimulus_last = int16_t(last);
-}
-
 // Colour noise on one eye's image, from `offsets` (three per pixel): each pixel's stimulus
 // coverage moves by the colour's change projected on the axis from the pixel's background colour
 // to the stimulus colour (a pixel whose centre is on the stimulus has no colour of its own to mix
@@ -159,6 +143,25 @@ void hold_lost(const ChannelProcess& p, std::array<double, N>& values, std::arra
 }
 
 }  // namespace
+
+void threshold_coverage(EyeImage& image) {
+  const int pixels = image.pixels();
+  float* coverage = image.stimulus.data();
+  // Masks with a clear pixel at each end (index u + 1 is pixel u), so no test needs a bound.
+  uint8_t strong[kMaxPixels + 2], opened[kMaxPixels + 2], run[kMaxPixels + 2];
+  strong[0] = strong[pixels + 1] = opened[0] = opened[pixels + 1] = run[0] = run[pixels + 1] = 0;
+  for (int u = 0; u < pixels; ++u) strong[u + 1] = coverage[u] >= kStimulusStrong;
+  for (int k = 1; k <= pixels; ++k) opened[k] = strong[k] & (strong[k - 1] | strong[k + 1]);
+  for (int k = 1; k <= pixels; ++k) run[k] = opened[k] | (opened[k - 1] & opened[k + 1]);
+  int first = pixels, last = -1;
+  for (int u = 0; u < pixels; ++u) {
+    const int k = u + 1;
+    if (run[k] && coverage[u] < kStimulusStrong) coverage[u] = kStimulusStrong;
+    if (!(run[k - 1] | run[k] | run[k + 1])) coverage[u] = 0.0f;
+    if (coverage[u] > 0.0f) first = std::min(first, u), last = u;
+  }
+  image.stimulus_first = int16_t(first), image.stimulus_last = int16_t(last);
+}
 
 NoiseModel noise_model(const NoiseParams& params, const Camera& camera) {
   constexpr double kLevelsPerPixel = 100.0;  // colour levels of noise that shift the centre a pixel

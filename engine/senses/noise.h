@@ -109,6 +109,16 @@ class DelayLine {
 // stimulus's than its background's).
 constexpr float kStimulusStrong = 0.5f;
 
+// Which pixels of a noisy image read as the stimulus, from their coverage, the way a robot cleans
+// a colour mask: a pixel reads as it when its coverage is at least kStimulusStrong; then an
+// opening drops a pixel that reads so alone (at 40 levels of noise a few in a hundred pixels of a
+// colour 130 levels from the stimulus's read as it, each by itself), and a closing fills a single
+// pixel between two that read so (as a few of the stimulus's own pixels read otherwise); a filled
+// pixel's coverage is raised to kStimulusStrong. The coverage of those pixels and of their
+// neighbours (the edges) is kept, the rest cleared, and [stimulus_first, stimulus_last] narrowed
+// to what is left. (Images without noise are exact and never pass through it.)
+void threshold_coverage(EyeImage& image);
+
 // The noise of every sense of one episode (World::sense_noise applies it to a copy of the true
 // senses each tick).
 class SenseNoise {

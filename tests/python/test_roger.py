@@ -882,13 +882,240 @@ class DeepRL(unittest.TestCase):
         with self.assertRaises(roger.RogerError) as cm:
             env.reset(seed=1, options={"params": {"shape": "spade"}})
         self.assertIn("'params'", str(cm.exception))
-        self.assertIn("known options: none", str(cm.exception))
+        self.assertIn("known options: 'task'", str(cm.exception))
         env.reset(seed=1, options={})  # empty options are fine (Gymnasium's checker passes them)
         vec = roger.make_vec(EXAMPLE, "Look", "Gaze", num_envs=2, threads=1)
         with self.assertRaises(roger.RogerError) as cm:
             vec.reset(options={"mask": np.array([True, False])})
         self.assertIn("'mask'", str(cm.exception))
         self.assertIn("'reset_mask'", str(cm.exception))
+
+
+TEACHERS = "curricula/teachers.lua"
+# The tutorial's stage over a space given from Python (its scenario has both parameters).
+LOOK_TASKS = {"robot_distance": roger.axis.real(0.6, 2.0), "shape": roger.axis.choice(["circle", "spade"])}
+# Told each outcome: its distance counts the episodes told so far, its shape says whether the last
+# one succeeded.
+COUNTING_TEACHER = """function(history, rng)
+  local n = #history
+  return { robot_distance = 0.6 + 0.1 * (n % 5), shape = (n > 0 and history[n].success) and "spade" or "circle" }
+end"""
+
+
+def task_episode(env, seed=None, options=None, actions=None):
+    """One episode: actions from the list `actions` (then search), or centre the ball once seen
+    (phi0), else search. Returns what the episode was: its task, world, steps and outcome."""
+    obs, info = env.reset(seed=seed, options=options)
+    record = {"task": info.get("task"), "params": info.get("task_params"), "seed": info["seed"], "steps": []}
+    done, k = False, 0
+    while not done:
+        a = (actions[k] if k < len(actions) else 0) if actions is not None else (1 if obs[1] else 0)
+        obs, reward, terminated, truncated, info = env.step(a)
+        record["steps"].append((tuple(int(x) for x in obs), reward, info["ticks"]))
+        done, k = terminated or truncated, k + 1
+    record.update(success=info["success"], reward=info["episode_reward"], sim_seconds=info["sim_seconds"])
+    return record
+
+
+class Tasks(unittest.TestCase):
+    """Task spaces and teachers from Python (docs/python.md, Tasks and teachers): the stage's space
+    as a Dict space, tasks given in reset's options or set_task and refused outside the space, the
+    engine's teachers run on resets without a task, told each outcome, deterministic, copied."""
+
+    def test_stage_task_space(self):
+        space = roger.make(TEACHERS, "T_alp", "B2").task_space
+        self.assertIsInstance(space, roger.spaces.Dict)
+        self.assertEqual(sorted(space.spaces), ["obstacles", "robot_distance", "shape"])
+        self.assertEqual((space["obstacles"].n, int(space["obstacles"].start)), (7, 0))  # roger.int(0, 6)
+        self.assertEqual(space["shape"].n, 4)  # the four shapes, by index
+        box = space["robot_distance"]
+        self.assertEqual((box.shape, box.dtype, float(box.low), float(box.high)), ((), np.float64, 0.8, 2.0))
+        # What params fix leaves the space, as --set does for roger train.
+        fixed = roger.make(TEACHERS, "T_alp", "B2", params={"obstacles": 2}).task_space
+        self.assertEqual(sorted(fixed.spaces), ["robot_distance", "shape"])
+        self.assertIsNone(roger.make(EXAMPLE, "Look", "Gaze").task_space)
+        ints = roger.make(EXAMPLE, "Look", "Gaze", tasks={"eye_pixels": "roger.int(32, 40)"}).task_space
+        self.assertEqual((ints["eye_pixels"].n, int(ints["eye_pixels"].start)), (9, 32))
+
+    def test_task_generates_the_world(self):
+        # A task's world is the world of its parameters given as params: the same steps under the
+        # same actions, and not the stage's own world (the task is not ignored).
+        env = roger.make(EXAMPLE, "Look", "Gaze", tasks=LOOK_TASKS, teacher=False)
+        fixed = roger.make(EXAMPLE, "Look", "Gaze", params={"robot_distance": 0.6, "shape": "spade"})
+        plain = roger.make(EXAMPLE, "Look", "Gaze")
+        differ = 0
+        for seed in (1, 2, 3):
+            acts = list(np.random.default_rng(seed).integers(2, size=40))
+            task = task_episode(env, seed, {"task": {"robot_distance": 0.6, "shape": "spade"}}, acts)
+            self.assertEqual(task["steps"], task_episode(fixed, seed, actions=acts)["steps"])
+            self.assertEqual(task["params"], {"robot_distance": "0.6", "shape": "spade"})
+            differ += task["steps"] != task_episode(plain, seed, actions=acts)["steps"]
+            # A reset without a task has the stage's parameters again, not the last task's.
+            self.assertEqual(task_episode(env, seed, actions=acts)["steps"], task_episode(plain, seed, actions=acts)["steps"])
+        self.assertGreater(differ, 0)
+
+    def test_tasks_as_the_space_holds_them(self):
+        env = roger.make(EXAMPLE, "Look", "Gaze", tasks=LOOK_TASKS, teacher=False)
+        by_index = env.reset(seed=4, options={"task": {"robot_distance": 1.25, "shape": 1}})[1]
+        by_value = env.reset(seed=4, options={"task": {"robot_distance": 1.25, "shape": "spade"}})[1]
+        self.assertEqual(by_index["task"], {"robot_distance": 1.25, "shape": 1})
+        self.assertEqual(by_index["task"], by_value["task"])
+        self.assertEqual(by_index["task_params"], {"robot_distance": "1.25", "shape": "spade"})
+        env.task_space.seed(3)
+        for _ in range(5):
+            sample = env.task_space.sample()
+            env.reset(seed=4, options={"task": sample})
+            self.assertTrue(env.task_space.contains(env.get_task()))
+            self.assertEqual(env.get_task()["robot_distance"], float(sample["robot_distance"]))
+            self.assertEqual(env.get_task()["shape"], int(sample["shape"]))
+        self.assertIsNone(env.reset(seed=4)[1]["task"])  # no teacher: the stage's parameters
+
+    def test_bad_tasks(self):
+        env = roger.make(EXAMPLE, "Look", "Gaze", tasks=LOOK_TASKS, teacher=False)
+        space = "robot_distance = roger.real(0.6, 2), shape = roger.choice{circle, spade}"
+        for task, texts in (
+                ({"robot_distance": 1.0, "shape": 0, "mass": 1}, ["'mass' is not a parameter of the task space", space]),
+                ({"robot_distance": 2.5, "shape": 0}, ["robot_distance = 2.5 is outside the task space",
+                                                       "roger.real(0.6, 2)"]),
+                ({"robot_distance": True, "shape": 0}, ["robot_distance = true is outside the task space"]),
+                ({"robot_distance": 1.0, "shape": 2}, ["shape = 2 is outside", "an index in [0, 2)"]),
+                ({"robot_distance": 1.0, "shape": "star"}, ["shape = star is outside", "roger.choice{circle, spade}"]),
+                ({"shape": 0}, ["no value for 'robot_distance'"]),
+                (3, ["a task is a dict", space])):
+            with self.subTest(task=task):
+                with self.assertRaises(roger.RogerError) as cm:
+                    env.reset(seed=1, options={"task": task})
+                self.assertIn("reset: options['task']", str(cm.exception))
+                for t in texts:
+                    self.assertIn(t, str(cm.exception))
+                with self.assertRaises(roger.RogerError) as cm:
+                    env.set_task(task)
+                self.assertIn("set_task", str(cm.exception))
+        env.reset(seed=1)  # still usable
+        with self.assertRaises(roger.RogerError) as cm:
+            roger.make(EXAMPLE, "Look", "Gaze").reset(options={"task": {"shape": 0}})
+        self.assertIn("no task space", str(cm.exception))
+
+    def test_bad_make(self):
+        def script_error(texts, **kwargs):
+            with self.assertRaises(roger.ScriptError) as cm:
+                roger.make(EXAMPLE, "Look", "Gaze", **kwargs).reset(seed=1)
+            for t in texts:
+                self.assertIn(t, str(cm.exception))
+            return cm.exception
+        e = script_error(["tasks.nope = roger.int(0, 3)", "has no parameter 'nope'"], tasks={"nope": roger.axis.int(0, 3)})
+        self.assertEqual((e.file, e.line), ("make(tasks=...)", 1))
+        script_error(["tasks.shape", "got 'star'"], tasks={"shape": roger.axis.choice(["circle", "star"])})
+        script_error(["tasks.robot_distance", "at least 0"], tasks={"robot_distance": roger.axis.real(-1, 1)})
+        e = script_error(["roger.teacher.lcas", "'lift'"], tasks=LOOK_TASKS, teacher="roger.teacher.lcas{}")
+        self.assertEqual(e.file, "make(teacher=...)")
+        script_error(["step 1", "outside the task space"], tasks=LOOK_TASKS,
+                     teacher='roger.teacher.sequence{ {shape = "star"} }')
+        script_error(["needs a task space"], teacher="roger.teacher.random{}")
+        script_error(["gives no value for 'teacher'"], tasks=LOOK_TASKS, teacher="local x = 1")
+        path = os.path.join(WORK, "bad_teacher.lua")
+        with open(path, "w") as f:
+            f.write('return function(history, rng)\n  return { shape = "star" }\nend\n')
+        e = script_error(["returned shape = star, outside the task space", "roger.choice{circle, spade}"],
+                         tasks=LOOK_TASKS, teacher=path)
+        self.assertTrue(e.file.endswith("bad_teacher.lua"), e.file)
+        for kwargs, text in ((dict(tasks=LOOK_TASKS, teacher="roger.teacher.plr{}"), 'score = "success"'),
+                             (dict(tasks=LOOK_TASKS, teacher=42), "teacher must be"),
+                             (dict(tasks=LOOK_TASKS, teacher="missing.lua"), "names no file"),
+                             (dict(tasks={}), "tasks must be"),
+                             (dict(tasks={"shape": 3}), "tasks['shape']")):
+            with self.subTest(kwargs=kwargs):
+                with self.assertRaises(roger.RogerError) as cm:
+                    roger.make(EXAMPLE, "Look", "Gaze", **kwargs)
+                self.assertIn(text, str(cm.exception))
+        self.assertRaises(roger.RogerError, roger.axis.real, 0, float("inf"))
+        self.assertRaises(roger.RogerError, roger.axis.choice, "circle")
+        with self.assertRaises(roger.RogerError) as cm:
+            roger.make_vec(TEACHERS, "T_alp", "B2", num_envs=2)
+        self.assertIn("chooses each episode's task with a teacher", str(cm.exception))
+
+    def test_teacher_is_told_each_outcome(self):
+        env = roger.make(EXAMPLE, "Look", "Gaze", tasks=LOOK_TASKS, teacher=COUNTING_TEACHER)
+        last = None
+        for n in range(8):  # the rule succeeds, searching alone times out: outcomes alternate
+            r = task_episode(env, seed=11 if n == 0 else None, actions=[0] * 400 if n % 2 else None)
+            self.assertAlmostEqual(float(r["params"]["robot_distance"]), 0.6 + 0.1 * (n % 5), places=12)
+            self.assertEqual(r["params"]["shape"], "spade" if last else "circle")
+            self.assertEqual(r["success"], n % 2 == 0)
+            last = r["success"]
+        self.assertEqual(env.teacher_state["episodes"], 8)
+        # An episode left unfinished is told as it stood (not a success) at the next reset.
+        env.reset()
+        env.step(0)
+        obs, info = env.reset()
+        self.assertEqual(info["task_params"]["shape"], "circle")
+        self.assertEqual(env.teacher_state["episodes"], 9)
+        # A seeded reset starts the teacher afresh, as it starts the stream of worlds.
+        self.assertEqual(env.reset(seed=11)[1]["task_params"], {"robot_distance": "0.6", "shape": "circle"})
+
+    def teacher_run(self, seed, episodes=25, teacher="roger.teacher.alp_gmm{fit_every = 10}"):
+        env = roger.make(EXAMPLE, "Look", "Gaze", tasks=LOOK_TASKS, teacher=teacher)
+        rng = np.random.default_rng(seed)
+        runs = [task_episode(env, seed if e == 0 else None, actions=list(rng.integers(2, size=60)))
+                for e in range(episodes)]
+        return runs, env.teacher_state
+
+    def test_teachers_are_deterministic(self):
+        for teacher in ("roger.teacher.alp_gmm{fit_every = 10}", 'roger.teacher.plr{score = "success"}',
+                        "roger.teacher.random{}"):
+            with self.subTest(teacher=teacher):
+                a, state = self.teacher_run(5, teacher=teacher)
+                b, again = self.teacher_run(5, teacher=teacher)
+                self.assertEqual(a, b)
+                self.assertEqual(state, again)
+                self.assertEqual(state["episodes"], 25)
+                c, _ = self.teacher_run(6, teacher=teacher)
+                self.assertNotEqual([r["task"] for r in a], [r["task"] for r in c])
+        self.assertEqual(state.get("kind"), "random")
+        alp = self.teacher_run(5)[1]
+        self.assertEqual(alp["fits"], 2)  # fit_every = 10: after episodes 10 and 20
+
+    def test_set_task(self):
+        env = roger.make(EXAMPLE, "Look", "Gaze", tasks=LOOK_TASKS, teacher="roger.teacher.alp_gmm{fit_every = 10}")
+        tasks = env.sample_tasks(4)
+        self.assertTrue(all(env.task_space.contains(t) for t in tasks))
+        env.set_task(tasks[0])
+        for seed in (1, None, None):
+            self.assertEqual(env.reset(seed=seed)[1]["task"], env.get_task())
+            self.assertEqual(env.get_task()["shape"], int(tasks[0]["shape"]))
+        self.assertIsNone(env.teacher_state)  # never asked
+        env.reset(options={"task": tasks[1]})  # for one episode
+        self.assertEqual(env.get_task()["robot_distance"], float(tasks[1]["robot_distance"]))
+        self.assertEqual(env.reset()[1]["task"]["robot_distance"], float(tasks[0]["robot_distance"]))
+        env.set_task(None)
+        env.reset()
+        self.assertEqual(env.teacher_state["kind"], "alp_gmm")
+
+    def test_copies_continue_with_the_teacher(self):
+        env = roger.make(EXAMPLE, "Look", "Gaze", tasks=LOOK_TASKS, teacher="roger.teacher.alp_gmm{fit_every = 4}")
+        for e in range(6):
+            task_episode(env, 21 if e == 0 else None, actions=[e % 2] * 3)
+        for _ in range(20):  # copied in the middle of an episode of the teacher's task
+            env.reset()
+            if not env.step(0)[2]:
+                break
+        copies = [copy.deepcopy(env), pickle.loads(pickle.dumps(env))]
+        acts = list(np.random.default_rng(2).integers(2, size=30))
+        runs, task = [], env.get_task()
+        for e in (env, *copies):
+            self.assertEqual(e.get_task(), task)
+            obs, reward, terminated, truncated, info = e.step(0)  # the copies run on the same episode
+            runs.append([(tuple(obs), reward, terminated, info["sim_seconds"])])
+            runs[-1] += [task_episode(e, actions=acts) for _ in range(6)] + [e.teacher_state]
+        self.assertEqual(runs[0], runs[1])
+        self.assertEqual(runs[0], runs[2])
+
+    def test_docs_example(self):
+        # docs/python.md's example of tasks and teachers runs, and asserts what it says.
+        with open("docs/python.md") as f:
+            section = f.read().split("## Tasks and teachers", 1)[1].split("\n## ", 1)[0]
+        code = section.split("```python\n", 1)[1].split("```", 1)[0]
+        exec(compile(code, "docs/python.md (Tasks and teachers)", "exec"), {})
 
 
 class MissingToolProbe(unittest.TestCase):
@@ -977,6 +1204,27 @@ class GymnasiumJudges(unittest.TestCase):
         self.check("roger/SG-B1-v0")
         self.check("roger/SG-DC2-v0")
         self.check("roger/T-DC6-v0", skills={"Phi_SG": train(PAPER, "SG", "DC2", 1, "sg-dc2")})
+
+    def test_task_space(self):
+        # A stage's task space is gymnasium's Dict of its Discrete and Box spaces, which its samples
+        # and the environment's tasks are members of; check_env holds with a teacher (a seeded
+        # reset starts it afresh).
+        from gymnasium.utils.env_checker import check_env
+        env = roger.make(TEACHERS, "T_alp", "B2")
+        spaces = self.gym.spaces
+        self.assertIsInstance(env.task_space, spaces.Dict)
+        self.assertIsInstance(env.task_space["obstacles"], spaces.Discrete)
+        self.assertIsInstance(env.task_space["shape"], spaces.Discrete)
+        self.assertIsInstance(env.task_space["robot_distance"], spaces.Box)
+        env.task_space.seed(1)
+        for _ in range(3):
+            task = env.task_space.sample()
+            env.reset(seed=1, options={"task": task})
+            self.assertIn(env.get_task(), env.task_space)
+        env.reset(seed=1)
+        self.assertIn(env.get_task(), env.task_space)  # the teacher's
+        for teacher in (None, COUNTING_TEACHER):
+            check_env(roger.make(EXAMPLE, "Look", "Gaze", tasks=LOOK_TASKS, teacher=teacher))
 
     def test_registry(self):
         ids = [f"roger/SG-{c}-v0" for c in ("B1", "DC1", "DC2")] + \

@@ -12,8 +12,11 @@ is terminal (terminated, info["time_out"]), as for the engine's learner (timeout
 reports it as truncated). An unseeded reset plays the next world of the environment's own
 stream, so environments seeded S, S + 1, ... never share worlds. `make(..., mode="tick")` makes
 every control tick a decision and observes the raw senses too; `render_mode="rgb_array"` draws
-what `roger render` draws. `make_vec` steps many worlds on C++ threads; `load_policy(path).act(obs)`
-is the greedy action of a policy.json written by `roger train`. Environments pickle and
+what `roger render` draws. A stage's task space is env.task_space (a Dict space):
+reset(options={"task": {...}}) plays a task of it, and resets without one take the stage's
+teacher's (make(..., tasks=..., teacher=...) gives others). `make_vec` steps many worlds on C++
+threads; `load_policy(path).act(obs)` is the greedy action of a policy.json written by `roger
+train`. Environments pickle and
 deep-copy. docs/python.md is the guide. The module needs numpy alone; when gymnasium is
 importable, environments are `gymnasium.Env`s, `make_vec` a `gymnasium.vector.VectorEnv`, the
 spaces are gymnasium's and the ids roger/SG-B1-v0 ... roger/T-DC6-v0 and roger/Stage-v0 are
@@ -114,6 +117,116 @@ def _timeout(timeout, where):
         raise RogerError(f"{where}: timeout must be one of {_TIMEOUTS}, got {timeout!r}")
     return timeout
 
+# ---- tasks and teachers (docs/python.md, "Tasks and teachers")
+
+_TEACH = 0x7465616368  # "teach": the teacher's stream of a seed, as roger train's trial draws it
+
+
+class Axis:
+    """An axis of a task space (roger.axis.int, .real, .choice), as Lua text."""
+
+    def __init__(self, lua):
+        self.lua = lua
+
+    def __repr__(self):
+        return self.lua
+
+
+def _lua_number(x, what):
+    if isinstance(x, np.generic):
+        x = x.item()
+    if isinstance(x, bool) or not isinstance(x, numbers.Real) or not np.isfinite(x):
+        raise RogerError(f"{what}: a bound is a finite number, got {x!r}")
+    return str(x) if isinstance(x, numbers.Integral) else repr(float(x))
+
+
+def _lua_value(v, what):
+    if isinstance(v, np.generic):
+        v = v.item()
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        return '"' + "".join(c if c.isprintable() and c not in '"\\' else f"\\{ord(c):03d}" for c in v) + '"'
+    return _lua_number(v, what)
+
+
+class axis:
+    """The axes of a task space, named as in Lua (roger.int, roger.real, roger.choice):
+    make(..., tasks={"obstacles": roger.axis.int(0, 6), "shape": roger.axis.choice(["circle", "spade"])})."""
+
+    @staticmethod
+    def int(lo, hi):
+        """An integer axis lo..hi inclusive: in task_space, Discrete(hi - lo + 1, start=lo)."""
+        return Axis(f"roger.int({_lua_number(lo, 'roger.axis.int')}, {_lua_number(hi, 'roger.axis.int')})")
+
+    @staticmethod
+    def real(lo, hi):
+        """A real axis [lo, hi]: in task_space, Box(lo, hi, shape=(), dtype=float64)."""
+        return Axis(f"roger.real({_lua_number(lo, 'roger.axis.real')}, {_lua_number(hi, 'roger.axis.real')})")
+
+    @staticmethod
+    def choice(values):
+        """A choice among values (strings, numbers, booleans): in task_space, Discrete(len(values))
+        over their indices."""
+        if isinstance(values, (str, bytes)) or not hasattr(values, "__iter__"):
+            raise RogerError(f"roger.axis.choice: expects a list of values, got {values!r}")
+        return Axis("roger.choice{" + ", ".join(_lua_value(v, "roger.axis.choice") for v in values) + "}")
+
+
+def _tasks_source(tasks):
+    """make's tasks as the Lua text of the stage field: a dict {parameter: Axis or Lua text}, or
+    the text of the whole table; "" for the stage's own."""
+    if tasks is None:
+        return ""
+    if isinstance(tasks, str):
+        return tasks
+    if not isinstance(tasks, dict) or not tasks:
+        raise RogerError(f"make: tasks must be a non-empty dict {{parameter: roger.axis.int(lo, hi) | "
+                         f"roger.axis.real(lo, hi) | roger.axis.choice([...])}} or Lua text, got {tasks!r}")
+    parts = []
+    for k, v in tasks.items():
+        if not isinstance(k, str):
+            raise RogerError(f"make: tasks' keys are scenario parameters (strings), got {k!r}")
+        if not isinstance(v, (Axis, str)):
+            raise RogerError(f"make: tasks[{k!r}] must be roger.axis.int(lo, hi), .real(lo, hi), .choice([...]) "
+                             f"or Lua text such as 'roger.int(0, 6)', got {v!r}")
+        parts.append(f"[{_lua_value(k, 'tasks')}] = {v.lua if isinstance(v, Axis) else v}")
+    return "{" + ", ".join(parts) + "}"
+
+
+def _teacher_source(teacher):
+    """make's teacher as (Lua text, Lua file, teaches): None the stage's, False none, a path to a
+    .lua file that returns a teacher, or Lua text (roger.teacher.alp_gmm{...}, function(history, rng)
+    ... end)."""
+    if teacher is None:
+        return "", "", True
+    if teacher is False:
+        return "", "", False
+    if not isinstance(teacher, str) or not teacher.strip():
+        raise RogerError("make: teacher must be None (the stage's), False (none), Lua text such as "
+                         f"'roger.teacher.alp_gmm{{}}' or a .lua file that returns a teacher, got {teacher!r}")
+    import os
+    if os.path.isfile(teacher):
+        return "", teacher, True
+    if teacher.strip().endswith(".lua") and "\n" not in teacher and "{" not in teacher and "(" not in teacher:
+        raise RogerError(f"make: teacher names no file: {teacher}")
+    return teacher, "", True
+
+
+def _task_space(dims):
+    """The Gymnasium Dict space of the task dimensions the extension lists (None when none)."""
+    if not dims:
+        return None
+    axes = {}
+    for d in dims:
+        if d["kind"] == "int":
+            axes[d["name"]] = spaces.Discrete(round(d["high"] - d["low"]) + 1, start=round(d["low"]))
+        elif d["kind"] == "real":
+            axes[d["name"]] = spaces.Box(d["low"], d["high"], (), np.float64)
+        else:
+            axes[d["name"]] = spaces.Discrete(len(d["choices"]))
+    return spaces.Dict(axes)
+
 
 class _Copyable:
     """Pickling and deepcopy by the construction arguments and what continues the same worlds:
@@ -142,17 +255,30 @@ class Env(_Copyable, _EnvBase):
     metadata = {"render_modes": _RENDER_MODES, "render_fps": _DECISION_FPS}
 
     def __init__(self, curriculum, stage, context, params=None, skills=None, scenario=None, mode="decision",
-                 render_mode=None, render_width=1000, timeout="terminate"):
+                 render_mode=None, render_width=1000, timeout="terminate", tasks=None, teacher=None):
         if mode not in _MODES:
             raise RogerError(f"make: mode must be one of {_MODES}, got {mode!r}")
         self._init = {"curriculum": curriculum, "stage": stage, "context": context, "params": params,
                       "skills": skills, "scenario": scenario, "mode": mode, "render_mode": render_mode,
-                      "render_width": render_width, "timeout": timeout}
+                      "render_width": render_width, "timeout": timeout, "tasks": tasks, "teacher": teacher}
         self.render_mode = _render_mode(render_mode, "make")
         self.render_width = _render_width(render_width, "make")
         self.timeout = _timeout(timeout, "make")
+        teacher_text, teacher_file, teaching = _teacher_source(teacher)
         self._env = _roger.Environment(str(curriculum), str(stage), str(context), scenario or "",
-                                       _text_dict(params, "params"), _text_dict(skills, "skills"), mode == "tick")
+                                       _text_dict(params, "params"), _text_dict(skills, "skills"), mode == "tick",
+                                       _tasks_source(tasks), teacher_text, teacher_file)
+        self._task_dims = self._env.task_dims
+        self.task_space = _task_space(self._task_dims)  # a Dict space, or None: the stage has no tasks
+        self._teaching = teaching and self._env.teaches
+        if self._teaching:
+            self._env.make_teacher(0)  # a teacher this environment cannot run is refused here, not at reset
+        self._teacher = None  # made at the first reset that asks it for a task after a seed
+        self._teacher_seed = None
+        self._told = []  # the outcomes told to the teacher, in order: what a copy tells its own
+        self._asked = False  # the running episode's task is the teacher's, its outcome not yet told
+        self._set_task = None  # set_task's task: (as the space holds it, as parameters)
+        self._task = (None, [])  # the running episode's task
         self.stage_info = self._env.info
         self.actions = tuple(self.stage_info["actions"])
         self.mode = mode
@@ -186,6 +312,9 @@ class Env(_Copyable, _EnvBase):
         e = self._env
         info = {"sim_seconds": e.sim_seconds, "ticks": e.ticks, "decisions": e.decisions, "seed": e.seed,
                 "state": {a: GAMMA_NAMES[g] for a, g in zip(self.actions, state)}}
+        if self.task_space is not None or self._teaching:
+            info["task"] = self.get_task()
+            info["task_params"] = dict(self._task[1])  # as the scenario took them ("shape": "spade")
         if ended:
             info["episode_reward"] = e.episode_reward
             info["success"] = info["is_success"] = e.success  # is_success: Stable-Baselines3's name
@@ -210,14 +339,31 @@ class Env(_Copyable, _EnvBase):
     def reset(self, *, seed=None, options=None):
         """Starts the episode in the world of `seed` (roger eval's --seed); without one, the next
         world of the environment's own stream (docs/python.md, Determinism and seeds). Seeds
-        np_random as Gymnasium does. Returns (observation, info)."""
+        np_random as Gymnasium does. options={"task": {...}} generates the world with that task of
+        task_space; without it, the task of set_task, else the teacher's, else the stage's own
+        parameters. Returns (observation, info)."""
         env = self._open("reset")
         given = None if seed is None else _seed(seed, "reset")
-        _options(options, "reset", ())
+        options = _options(options, "reset", ("task",))
+        task = env.task_of(options["task"], "reset: options['task']") if "task" in options else None
         super().reset(seed=given)  # an unseeded reset leaves np_random running on
+        self._tell()  # an episode left unfinished is the teacher's outcome as it stood
         seed = self._world(given)
+        if given is not None:  # a seeded reset starts the teacher afresh too, as it starts the stream
+            self._teacher, self._teacher_seed, self._told = None, None, []
+        if task is None:
+            task = self._set_task
+        if task is None and self._teaching:
+            if self._teacher is None:
+                self._teacher_seed = mix(seed, _TEACH)
+                self._teacher = env.make_teacher(self._teacher_seed)
+            point, params, level = self._teacher.next()
+            task, self._asked = (point, params), True
+            if level is not None and given is None:  # a level it replays (PLR): its world
+                seed = level
+        self._task = task or (None, [])
         self._running, self._faulted = False, True  # until the episode runs
-        state, running = env.reset(seed)
+        state, running = env.reset_task(seed, self._task[1])
         self._running, self._faulted = running, False
         if not running:
             raise RogerError(f"reset: the episode of seed {seed} ended before its first decision "
@@ -239,9 +385,50 @@ class Env(_Copyable, _EnvBase):
             self._running = False
             raise
         self._running = not terminated
+        if terminated:
+            self._tell()
         truncated = time_out and self.timeout == "truncate"
         info = self._info(state, terminated, time_out)
         return self._observe(state), reward, terminated and not truncated, truncated, info
+
+    def _tell(self):
+        """Tells the teacher the outcome of the episode of its last task, once."""
+        if not self._asked:
+            return
+        self._asked = False
+        e = self._env
+        outcome = (e.seed, e.success, e.episode_reward, e.sim_seconds)
+        self._teacher.record(*outcome)
+        self._told.append(outcome)
+
+    def set_task(self, task):
+        """Every later reset without options["task"] plays this task of task_space (RLlib's
+        TaskSettableEnv); None gives the resets back to the teacher (or the stage's parameters)."""
+        self._set_task = None if task is None else self._open("set_task").task_of(task, "set_task")
+
+    def get_task(self):
+        """The running (or last) episode's task as task_space holds it (a choice by its index);
+        None when its world had the stage's own parameters."""
+        # A real axis's value as Box.sample gives it (a 0-d float64 array), so that it is a member.
+        return None if self._task[0] is None else {
+            k: np.asarray(v, np.float64) if isinstance(v, float) else v for k, v in self._task[0].items()}
+
+    def sample_tasks(self, n):
+        """n tasks drawn from task_space with its own generator (RLlib's TaskSettableEnv)."""
+        if self.task_space is None:
+            raise RogerError("sample_tasks: the stage has no task space (give make(..., tasks={...}))")
+        return [self.task_space.sample() for _ in range(n)]
+
+    def task_params(self, task):
+        """A task of task_space as the scenario parameters it sets ({"shape": "spade", ...})."""
+        return dict(self._open("task_params").task_of(task, "task_params")[1])
+
+    @property
+    def teacher_state(self):
+        """The teacher's own state (its kind, step, level, mixture, levels...), as `roger train`'s
+        checkpoints record it; None before its first task."""
+        import json
+        return None if self._teacher is None else json.loads(self._teacher.state())
 
     def render(self):
         """With render_mode "rgb_array": the world now as `roger render --width render_width`
@@ -255,6 +442,7 @@ class Env(_Copyable, _EnvBase):
 
     def close(self):
         """Frees the world and the Lua state; every later call but close raises RogerError."""
+        self._teacher = None  # first: a Lua teacher lives in the environment's Lua state
         self._env = None
 
     def _closed_now(self):
@@ -262,20 +450,40 @@ class Env(_Copyable, _EnvBase):
 
     def _state(self):
         episode = (self._env.seed, self._env.actions_taken, self._faulted) if self._env.begun else None
-        return {"stream": self._stream, "episode": episode}
+        return {"stream": self._stream, "episode": episode, "task": self._task, "set_task": self._set_task,
+                "teacher": (self._teacher_seed, list(self._told), self._asked)}
 
     def _restore(self, state):
         self._stream = state["stream"]
+        self._task, self._set_task = state["task"], state["set_task"]
+        self._restore_teacher(*state["teacher"])
         if state["episode"] is None:
             return
         seed, actions, faulted = state["episode"]
         self._faulted = faulted
         try:
-            self._env.replay(seed, actions)
+            self._env.replay(seed, actions, self._task[1])
             self._running = self._env.running
         except RogerError as e:
             if not faulted:  # the original's episode ran on: the replay should have too
                 raise RogerError(f"copy: the episode of seed {seed} did not replay ({len(actions)} actions): {e}") from e
+
+    def _restore_teacher(self, seed, told, asked):
+        """A copy's teacher: made with the original's seed and told the same outcomes, it asks the
+        same tasks (a teacher is a function of its seed and what it was told)."""
+        self._teacher_seed, self._told, self._asked = seed, [], False
+        if seed is None:
+            return
+        self._teacher = self._env.make_teacher(seed)
+        for outcome in told:
+            self._teacher.next()
+            self._teacher.record(*outcome)
+            self._told.append(tuple(outcome))
+        if asked:
+            point, _, _ = self._teacher.next()
+            if point != self._task[0]:
+                raise RogerError(f"copy: the teacher asked {point} where the original's episode has {self._task[0]}")
+            self._asked = True
 
 
 def _tick_space(n, info):
@@ -365,6 +573,11 @@ class VecEnv(_Copyable, _VecBase):
         self._vec = _roger.VecEnvironment(str(curriculum), str(stage), str(context), scenario or "",
                                           _text_dict(params, "params"), _text_dict(skills, "skills"),
                                           int(num_envs), int(threads), mode.value)
+        if self._vec.teaches:  # its worlds would not be the tasks roger train plays: refused, not ignored
+            self._vec = None
+            raise RogerError(f"make_vec: stage '{stage}' chooses each episode's task with a teacher, which the "
+                             "threaded batch does not run; vectorize roger.make environments instead "
+                             "(gymnasium.make_vec(..., vectorization_mode='sync')), each with its teacher")
         self.metadata = {"autoreset_mode": mode, "render_modes": _RENDER_MODES, "render_fps": _DECISION_FPS}
         self.autoreset_mode = mode
         self.stage_info = self._vec.info
@@ -498,7 +711,7 @@ class Policy:
 
 
 def make(curriculum, stage, context, params=None, skills=None, scenario=None, mode="decision", render_mode=None,
-         render_width=1000, timeout="terminate"):
+         render_width=1000, timeout="terminate", tasks=None, teacher=None):
     """An environment of `stage` in `context` of a curriculum (a path or a bare name: "paper").
 
     params: scenario parameters over the stage's ({"shape": "spade"}, as --set); skills: each
@@ -508,10 +721,14 @@ def make(curriculum, stage, context, params=None, skills=None, scenario=None, mo
     `roger render --width render_width` draws); timeout: "terminate" (the stage's time-out ends
     the episode, as for the engine's learner) or "truncate" (reported as a truncation). With
     gymnasium importable, env.spec is that of roger/Stage-v0 with these arguments, so spec.make()
-    builds the same environment."""
+    builds the same environment. tasks: another task space than the stage's, {"obstacles":
+    roger.axis.int(0, 6), ...} (env.task_space is its Gymnasium Dict space); teacher: another
+    teacher than the stage's, Lua text ("roger.teacher.alp_gmm{fit_every = 20}", "function(history,
+    rng) ... end") or a .lua file that returns one, or False for none (docs/python.md, Tasks and
+    teachers)."""
     kwargs = {"curriculum": curriculum, "stage": stage, "context": context, "params": params, "skills": skills,
               "scenario": scenario, "mode": mode, "render_mode": render_mode, "render_width": render_width,
-              "timeout": timeout}
+              "timeout": timeout, "tasks": tasks, "teacher": teacher}
     env = Env(**kwargs)
     if _gym is not None:
         env.spec = _gym.envs.registration.EnvSpec("roger/Stage-v0", entry_point="roger:Env",

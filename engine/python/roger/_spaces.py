@@ -19,19 +19,21 @@ class Space:
 
 
 class Discrete(Space):
-    def __init__(self, n, seed=None):
+    def __init__(self, n, seed=None, start=0):
         super().__init__((), np.int64)
         self.n = int(n)
+        self.start = int(start)
         self.seed(seed)
 
     def sample(self):
-        return int(self.np_random.integers(self.n))
+        return self.start + int(self.np_random.integers(self.n))
 
     def contains(self, x):
-        return isinstance(x, (int, np.integer)) and not isinstance(x, bool) and 0 <= int(x) < self.n
+        return (isinstance(x, (int, np.integer)) and not isinstance(x, bool)
+                and self.start <= int(x) < self.start + self.n)
 
     def __repr__(self):
-        return f"Discrete({self.n})"
+        return f"Discrete({self.n})" if self.start == 0 else f"Discrete({self.n}, start={self.start})"
 
 
 class MultiDiscrete(Space):
@@ -61,11 +63,12 @@ class Box(Space):
     def sample(self):
         low = np.where(np.isfinite(self.low), self.low, -1.0)
         high = np.where(np.isfinite(self.high), self.high, 1.0)
-        return self.np_random.uniform(low, high).astype(self.dtype)
+        return np.asarray(self.np_random.uniform(low, high), dtype=self.dtype)
 
     def contains(self, x):
         x = np.asarray(x)
-        return x.shape == self.shape and bool(np.all((x >= self.low) & (x <= self.high)))
+        return (x.shape == self.shape and x.dtype.kind in "iuf"
+                and bool(np.all((x >= self.low) & (x <= self.high))))
 
     def __repr__(self):
         return f"Box({self.low.min()}, {self.high.max()}, {self.shape}, {self.dtype})"

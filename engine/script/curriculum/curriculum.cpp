@@ -353,6 +353,75 @@ std::unique_ptr<Teacher> Curriculum::make_teacher(const CurriculumStage& stage, 
   return nullptr;
 }
 
+namespace {
+
+// Pushes the value a source gives: an expression ("roger.teacher.alp_gmm{}"), a chunk that returns
+// one, or a file that does. Nothing returned is an error: nil would read as the field left out.
+void push_source_value(LuaSandbox& sandbox, const LuaSource& source, const char* field) {
+  if (source.file) {
+    sandbox.load_file(source.name);
+  } else {
+    try {
+      sandbox.load_string("return " + source.text, "=" + source.name);  // an expression
+    } catch (const ScriptError& as_expression) {
+      try {
+        sandbox.load_string(source.text, "=" + source.name);  // statements (that end in a return)
+      } catch (const ScriptError& as_chunk) {
+        if (as_chunk.line > as_expression.line) throw;  // the reading that got further says more
+        throw as_expression;
+      }
+    }
+  }
+  sandbox.call(0, 1);
+  if (lua_isnil(sandbox.state(), -1))
+    throw ScriptError(std::string("gives no value for '") + field + "': " +
+                          (source.file ? "the file must end in a return" : "write a value, or a chunk that returns one"),
+                      source.file ? sandbox.display_name(source.name) : source.name, 1, "");
+}
+
+}  // namespace
+
+void Curriculum::set_teaching(const std::string& name, const LuaSource& tasks, const LuaSource& teacher) {
+  if (tasks.empty() && teacher.empty()) return;
+  auto it = std::find_if(impl_->stages.begin(), impl_->stages.end(), [&](const auto& s) { return s.name == name; });
+  if (it == impl_->stages.end()) stage(name);  // throws, listing the stages
+  CurriculumStage st = *it;
+  if (!tasks.empty()) st.tasks = TaskSpace();
+  st.teacher.reset();
+  st.teacher_lua = false;
+  LuaSandbox& sandbox = *impl_->sandbox;
+  lua_State* L = sandbox.state();
+  LuaStackGuard guard(L);
+  std::vector<const char*> fields;
+  for (const auto& [source, field] : {std::make_pair(&tasks, "tasks"), std::make_pair(&teacher, "teacher")})
+    if (!source->empty()) {
+      push_source_value(sandbox, *source, field);
+      fields.push_back(field);
+    }
+  LuaCallback fn;
+  try {
+    sandbox.call_protected(int(fields.size()), [&](lua_State* L) {
+      const int first = lua_gettop(L) - int(fields.size()) + 1;
+      lua_newtable(L);  // the fields as a stage writes them
+      for (size_t i = 0; i < fields.size(); ++i) {
+        lua_pushvalue(L, first + int(i));
+        lua_setfield(L, -2, fields[i]);
+      }
+      const LuaFields f(L, lua_gettop(L), st.where(), {"tasks", "teacher"});
+      curriculum_detail::parse_teaching(L, f, st, fn, false, false);
+    });
+  } catch (const ScriptError& e) {
+    if (!e.file.empty()) throw;
+    // Read from C++, without a line: at the source of the field the message names.
+    const bool of_teacher = tasks.empty() || (!teacher.empty() && e.message.find("teacher") != std::string::npos);
+    const LuaSource& at = of_teacher ? teacher : tasks;
+    throw ScriptError(e.message, at.file ? sandbox.display_name(at.name) : at.name, 1, "");
+  }
+  st.test = it->test;  // an environment runs no test set
+  *it = std::move(st);
+  impl_->teacher_fns[name] = fn;
+}
+
 void Curriculum::begin_episode() {
   // Protected: a script at its memory budget makes even an empty table an error, not an abort.
   int& ref = impl_->episode_ref;

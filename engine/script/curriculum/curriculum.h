@@ -122,6 +122,15 @@ struct CurriculumStage {
   std::vector<std::pair<std::string, std::string>> scenario_params(const CurriculumContext& context) const;
 };
 
+// Lua source given to a loaded curriculum from outside its script (the Python module's
+// make(tasks=..., teacher=...)): the text of a value or of a chunk that returns one, or a file.
+struct LuaSource {
+  std::string text;   // "" when a file
+  std::string name;   // as messages show it: the chunk's name ("make(teacher=...)") or the file
+  bool file = false;  // `name` is a Lua file that returns the value
+  bool empty() const { return text.empty() && !file; }
+};
+
 class Curriculum {
  public:
   // Runs the script at `path` (or curricula/<path>.lua for a bare name) and validates its stages.
@@ -162,6 +171,12 @@ class Curriculum {
   // between episodes (under the sandbox's budgets; a fault or a task outside the space is a
   // ScriptError at the function's file:line). Null for a stage without teacher or tasks.
   std::unique_ptr<Teacher> make_teacher(const CurriculumStage& stage, const TaskSpace& space, uint64_t seed);
+  // Gives a stage another task space or teacher (the Python module's make(tasks=, teacher=)): each
+  // source that is not empty is run in this curriculum's sandbox and its value read as the stage's
+  // field of that name is, and checked as there (against the stage's scenario and params). New
+  // tasks without a teacher get the random one, as a stage written so does. Throws ScriptError at
+  // the source's name:line, or roger::Error for an unknown stage.
+  void set_teaching(const std::string& stage, const LuaSource& tasks, const LuaSource& teacher);
   // An episode begins: the callbacks' last argument, `episode`, is a new empty table from now on
   // (what they keep there, e.g. a count at the last decision, lasts one episode).
   void begin_episode();
