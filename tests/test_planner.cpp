@@ -192,6 +192,47 @@ TEST_CASE("a goal inside an obstacle has no cells and is unreachable", "[planner
   CHECK(planner.descent(Vec2(1.5, 1.5)) == Vec2::Zero());
 }
 
+TEST_CASE("reachability is the flood from the goal on grids of many components", "[planner]") {
+  // The components are labelled row by row, joining labels where a cell's left and lower
+  // neighbours both hold one. Random grids, half occupied (many components, and combs whose teeth
+  // join only rows later), and a goal of one cell: every free cell must be reachable exactly
+  // when a breadth-first flood from the goal finds it. Labels joined wrongly would join walled-off
+  // parts or split one.
+  Rng rng(23);
+  for (int trial = 0; trial < 200; ++trial) {
+    OccupancyGrid g;
+    g.nx = 5 + int(rng.integer(0, 40)), g.ny = 5 + int(rng.integer(0, 40)), g.cell = 0.1;
+    g.occupied.assign(size_t(g.nx) * g.ny, 0);
+    const double density = rng.uniform(0.2, 0.6);
+    for (auto& c : g.occupied) c = rng.uniform(0.0, 1.0) < density;
+    if (trial % 4 == 0)  // a comb: teeth downwards from a full top row, joined at the top only
+      for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i) g.occupied[size_t(j) * g.nx + i] = j < g.ny - 1 && i % 2 == 1;
+    int gi, gj;
+    do gi = int(rng.integer(0, g.nx - 1)), gj = int(rng.integer(0, g.ny - 1));
+    while (g.at(gi, gj));
+    HarmonicPlanner planner;
+    planner.set_grid(g);
+    planner.set_goal(g.center(gi, gj), 0.0);
+    std::vector<int> seen(g.occupied.size(), 0), queue{gj * g.nx + gi};
+    seen[size_t(queue[0])] = 1;
+    for (size_t head = 0; head < queue.size(); ++head) {
+      const int i = queue[head] % g.nx, j = queue[head] / g.nx;
+      const int next[4][2] = {{i - 1, j}, {i + 1, j}, {i, j - 1}, {i, j + 1}};
+      for (const auto& n : next)
+        if (!g.at(n[0], n[1]) && !seen[size_t(n[1] * g.nx + n[0])])
+          seen[size_t(n[1] * g.nx + n[0])] = 1, queue.push_back(n[1] * g.nx + n[0]);
+    }
+    CHECK(planner.update_reachability() == (queue.size() > 1));
+    int wrong = 0;
+    for (int j = 0; j < g.ny; ++j)
+      for (int i = 0; i < g.nx; ++i)
+        if (!g.at(i, j)) wrong += planner.reachable(g.center(i, j)) != (seen[size_t(j * g.nx + i)] != 0);
+    INFO("trial " << trial << ": " << g.nx << " x " << g.ny);
+    CHECK(wrong == 0);
+  }
+}
+
 TEST_CASE("a U-shaped trap between start and goal is routed around", "[planner]") {
   // The U opens towards -x; the start sits in its cavity, the goal straight behind its bottom, so
   // an attractive-repulsive field would hold the robot in the cavity.

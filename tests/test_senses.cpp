@@ -9,6 +9,7 @@
 #include "core/rng.h"
 #include "core/shape.h"
 #include "senses/senses.h"
+#include "senses/senses_internal.h"
 #include "sim/world.h"
 #include "world_fixtures.h"
 
@@ -331,4 +332,42 @@ TEST_CASE("the eyes keep to one of two objects of the stimulus colour while it s
   CHECK(other_larger_while_first_in_view);  // the case the test is about did arise
   CHECK(last == 1);                          // and once the first was gone, the other was taken
   CHECK(switches == 1);
+}
+
+TEST_CASE("a polygon's extreme angles are those of every vertex's arc tangent, to the bit", "[senses]") {
+  // The painter takes the arc tangents of only the vertices that can be a polygon's extremes
+  // (senses_internal::extreme_angle). Against the min and max over every vertex's arc tangent,
+  // from 0, as the painter took them before: vertices of random cones narrower than pi, vertices
+  // whose angles differ by a few units in the last place (where the cross product's sign cannot
+  // be trusted), vertices on one ray and a vertex at the eye. A vertex wrongly passed over would
+  // differ in some bit.
+  using senses_internal::extreme_angle;
+  Rng rng(17);
+  auto reference = [](const Vec2* v, int n, int side) {
+    double lo = 0.0, hi = 0.0;
+    for (int i = 0; i < n; ++i) {
+      const double a = std::atan2(v[i].y(), v[i].x());
+      lo = std::min(lo, a), hi = std::max(hi, a);
+    }
+    return side < 0 ? lo : hi;
+  };
+  for (int trial = 0; trial < 20000; ++trial) {
+    const int n = 3 + trial % 6;
+    const double middle = rng.uniform(-0.5, 0.5), width = rng.uniform(0.0, 3.1);
+    Vec2 v[8];
+    for (int i = 0; i < n; ++i) {
+      double a = middle + rng.uniform(-0.5, 0.5) * width;
+      if (trial % 3 == 1 && i > 0) a = std::nextafter(std::atan2(v[0].y(), v[0].x()), i % 2 ? 10.0 : -10.0);
+      if (trial % 3 == 2 && i % 2) a = std::atan2(v[i - 1].y(), v[i - 1].x());  // the same ray
+      const double r = rng.uniform(0.01, 5.0);
+      v[i] = r * Vec2(std::cos(a), std::sin(a));
+    }
+    if (trial % 50 == 0) v[n - 1] = Vec2::Zero();
+    for (int side : {-1, 1}) {
+      const double want = reference(v, n, side), got = extreme_angle(v, n, side);
+      if (std::memcmp(&want, &got, sizeof got) != 0)
+        FAIL("trial " << trial << " side " << side << ": " << got << " instead of " << want);
+    }
+  }
+  SUCCEED();
 }

@@ -114,6 +114,7 @@ class HarmonicPlanner {
   int index(int i, int j) const { return (j + 1) * stride_ + (i + 1); }  // padded index of cell (i, j)
   bool locate(const Vec2& p, int& k) const;  // padded index of p's cell; false outside the grid
   void rebuild_structure();                  // padding, free cells, components; after a grid change
+  void label_components();                   // component_ and component_size_ from free_
   void ensure_exits() const;                 // nearest_ and exit_, on first use after a grid change
   void ensure_solve_structure();             // unreached_ and clearance_, before a solve
   void find_goal_cells(std::vector<int>& out) const;
@@ -123,7 +124,7 @@ class HarmonicPlanner {
   void remember_cold_solve(int backoffs_before);
   // colour_, relaxed_, ranges_ and relaxed_cells_; returns the widest relaxed cell's clearance
   float split_by_colour(bool warm);
-  void add_relaxed_range(int j, int c, int first, int last, int nearest, int lanes);  // one row's range
+  void add_relaxed_range(int j, int c, int first, int last, int lanes);  // one row's ranges
   void join_colours();                       // colour_ back into q_
   int sweep(double omega, int front);        // one red-black SOR sweep; returns unconverged cells
   double measure_residual() const;
@@ -163,12 +164,14 @@ class HarmonicPlanner {
   int split_width_ = 0;             // slots per row of colour_
   // Per colour, the slots of each row the sweep relaxes (rows without relaxed cells have none).
   std::vector<planner_internal::RelaxRange> ranges_[2];
+  std::vector<int> slot_dist_;      // scratch: flood steps of the relaxed slots of one split row
   std::vector<int> goal_;        // sorted padded indices of the goal cells in force
   std::vector<int> pending_goal_;
   // Breadth-first scratch, kept to avoid allocating per change; ensure_exits (const) uses it too.
   mutable std::vector<int> queue_;
   std::vector<int> component_;   // connected component of each free cell (-1 elsewhere)
   std::vector<int> component_size_;   // cells per component
+  std::vector<int> number_;           // scratch: each provisional label's component (label_components)
   std::vector<int> goal_components_;  // the components holding goal cells
 
   bool flooded_ = false;      // reachability (the flood from the goal) is up to date

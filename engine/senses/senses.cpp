@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "core/shape.h"
+#include "senses/senses_internal.h"
 
 namespace roger {
 namespace {
@@ -65,24 +66,27 @@ bool extent_of(const SeenSurface& s, const Vec2& eye, double eye_heading, const 
     // less than pi, so min and max give its extent without wrap-around trouble.
     const double ref = center_angle + eye_heading;
     const double c = std::cos(ref), sn = std::sin(ref);
-    double amin = 0.0, amax = 0.0;
     bool inside = true;
-    distance = INFINITY;
+    double nearest = INFINITY;  // the least squared distance to an edge
+    Vec2 along[8];              // each vertex in the frame of the centre's direction
     for (int i = 0; i < s.vertex_count; ++i) {
       const Vec2 v = s.vertices[i] - eye;
-      const double a = std::atan2(-sn * v.x() + c * v.y(), c * v.x() + sn * v.y());
-      amin = std::min(amin, a), amax = std::max(amax, a);
+      along[i] = Vec2(c * v.x() + sn * v.y(), -sn * v.x() + c * v.y());
       const Vec2& p = s.vertices[i];
       const Vec2& q = s.vertices[(i + 1) % s.vertex_count];
       const Vec2 e = q - p;
       if (e.x() * (eye.y() - p.y()) - e.y() * (eye.x() - p.x()) < 0) inside = false;
       const double t = std::clamp((eye - p).dot(e) / e.squaredNorm(), 0.0, 1.0);
-      distance = std::min(distance, (p + t * e - eye).norm());
+      nearest = std::min(nearest, (p + t * e - eye).squaredNorm());
     }
+    // The least of the distances is the root of the least square: a rounded square root is monotonic.
+    distance = std::sqrt(nearest);
     if (inside) {
       lo = -half_fov, hi = half_fov, distance = 0.0;
     } else {
-      lo = center_angle + amin, hi = center_angle + amax;
+      // The extremes of the vertices' angles: two or three arc tangents where each vertex took one.
+      lo = center_angle + senses_internal::extreme_angle(along, s.vertex_count, -1);
+      hi = center_angle + senses_internal::extreme_angle(along, s.vertex_count, +1);
     }
   }
   if (hi <= -half_fov || lo >= half_fov) return false;
@@ -163,6 +167,39 @@ inline bool all_zero_bits(const float* p) {
 }
 
 }  // namespace
+
+namespace senses_internal {
+
+// The extreme direction is found by the sign of cross products, which orders two directions of a
+// cone narrower than pi; a vertex whose cross product with it is too small to trust (their angles
+// within about 1e-12 rad, where an arc tangent's last-bit error could order them the other way)
+// has its arc tangent taken as well. Every vertex left out then lies surely short of one taken, so
+// its arc tangent is smaller (greater): the min (max) is that of all n, to the bit.
+double extreme_angle(const Vec2* v, int n, int side) {
+  auto beyond = [side](const Vec2& a, const Vec2& b) {  // a lies further towards `side` than b
+    return side * (b.x() * a.y() - b.y() * a.x()) > 0.0;
+  };
+  int best = 0;
+  for (int i = 1; i < n; ++i)
+    if (beyond(v[i], v[best])) best = i;
+  double extreme = 0.0;
+  auto take = [&](const Vec2& u) {
+    const double a = std::atan2(u.y(), u.x());
+    extreme = side < 0 ? std::min(extreme, a) : std::max(extreme, a);
+  };
+  take(v[best]);
+  for (int i = 0; i < n; ++i) {
+    if (i == best) continue;
+    // Rounding of the cross product is below 3 units in the last place of the sum of the sizes
+    // of its two products; far beyond that margin its sign is the angles' order.
+    const double cross = v[best].x() * v[i].y() - v[best].y() * v[i].x();
+    const double scale = (std::abs(v[best].x()) + std::abs(v[best].y())) * (std::abs(v[i].x()) + std::abs(v[i].y()));
+    if (!(side * cross < -1e-12 * scale)) take(v[i]);  // not surely short of the extreme
+  }
+  return extreme;
+}
+
+}  // namespace senses_internal
 
 void append_seen_surfaces(std::vector<SeenSurface>& out, const Shape& shape, const Pose& pose,
                           SurfaceKind kind, int index, const Colour& colour) {
