@@ -104,10 +104,13 @@ def svg(points):
             out.append(f'<circle cx="{cx:.1f}" cy="{y(k / n):.1f}" r="3.5" fill="{colour}"/>')
     for j, (label, colour) in enumerate(SERIES):
         lx = left + j * 230
-        out.append(f'<rect x="{lx}" y="{h - 44}" width="14" height="14" fill="{colour}"/>')
-        out.append(f'<text x="{lx + 20}" y="{h - 32}">{label}</text>')
-    out.append(f'<text x="{left}" y="{h - 10}" fill="#555">M = image 10 levels, joints 0.01 rad, base 0.01 m/rad, '
-               'touch 0.1, effort 0.1. Whiskers: 95% intervals (policies: resampled by policy; scripted: Wilson).</text>')
+        out.append(f'<rect x="{lx}" y="{h - 52}" width="14" height="14" fill="{colour}"/>')
+        out.append(f'<text x="{lx + 20}" y="{h - 40}">{label}</text>')
+    # Two lines: one would run past the picture's right edge.
+    out.append(f'<text x="{left}" y="{h - 14}" fill="#555" font-size="11">M = image 10 levels, joints 0.01 rad, '
+               'base 0.01 m/rad, touch 0.1, effort 0.1.</text>')
+    out.append(f'<text x="{left}" y="{h - 2}" fill="#555" font-size="11">Whiskers: 95% intervals (policies: '
+               'resampled by policy and shared layout; scripted: Wilson).</text>')
     out.append("</svg>")
     return "\n".join(out) + "\n"
 

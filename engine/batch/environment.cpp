@@ -47,9 +47,11 @@ struct StageEnvironment::Impl {
 
   // Sets a task's parameters on the scenario, and the stage's back on those it leaves out.
   void set_task(const ParamList& task) {
-    for (const auto& [key, value] : base)
+    for (const auto& stage_value : base) {
+      const std::string& key = stage_value.first;  // named: clang 14 cannot capture a binding
       if (std::none_of(task.begin(), task.end(), [&](const auto& p) { return p.first == key; }))
-        scenario.set_param(key, value);
+        scenario.set_param(key, stage_value.second);
+    }
     for (const auto& [key, value] : task) {
       if (!base.count(key))
         for (const ScenarioParam& p : scenario.params())
