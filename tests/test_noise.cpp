@@ -884,7 +884,7 @@ TEST_CASE("under joint and base noise the controllers read a steadier pose", "[n
 // of image noise make a few per cent of another type's pixels read as the one sought (the
 // stimulus mask's opening drops them), and joint and base noise of 0.04 put a delivered object at
 // its region's edge (the pose estimate keeps it inside). Before both, 2 of 40 episodes.
-TEST_CASE("the 8-object sort is done under 4M", "[noise][slow]") {
+TEST_CASE("the 8-object sort is done under 4M", "[noise]") {
   const SkillScript script = SkillScript::load("curricula/sort_by_hand.lua");
   const SkillScript::NamedPolicy& sort = script.policy("sort");
   Scenario scenario = Scenario::load("sorting");
