@@ -39,8 +39,8 @@ return {
     { name = "SG", stage = "SG", contexts = { "DC2" } },
     { name = "T", stage = "T", contexts = { "DC6" }, skills = { Phi_SG = { run = "SG", context = "DC2" } } },
     { name = "SG_K", stage = "SG", contexts = { "B1", "DC2" }, params = KINDS.all },
-    -- 4 trials: under every kind SG/DC2 stops at its episode cap (400) and T's trials at theirs,
-    -- so a trial takes several times a noise-free one.
+    -- 4 trials: under every kind SG/DC2 stops at its episode cap (400) and T/B2 at its own, so a
+    -- trial takes several times a noise-free one.
     { name = "T_K", stage = "T", contexts = { "B2", "DC6" }, params = KINDS.all, trials = 4,
       skills = { Phi_SG = { run = "SG_K", context = "DC2" } } },
   },
