@@ -45,8 +45,10 @@ void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& abso
 // The value at `index` as a scenario parameter's text (a number, string or boolean), or a Lua
 // error "<where> must be a number, string or boolean, got ...".
 std::string param_text(lua_State* L, int index, const std::string& where);
-// A table {key = value} of scenario parameters at `index`, appended to `out` sorted by key.
-void read_params_into(lua_State* L, int index, const std::string& where, ParamList& out);
+// A table {key = value} of scenario parameters at `index`, appended to `out` sorted by key. A
+// wrong table is named `where`, a wrong value `<key_where><key>` (by default `<where>.<key>`).
+void read_params_into(lua_State* L, int index, const std::string& where, ParamList& out,
+                      const std::string& key_where = "");
 // Registers roger.int, roger.real, roger.choice and roger.teacher.* (on the `roger` global).
 void install_teaching_api(lua_State* L);
 // Reads a stage's `tasks`, `teacher` and `test` (after its contexts), checking them against the

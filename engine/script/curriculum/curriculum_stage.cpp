@@ -30,20 +30,9 @@ int positive_int(const LuaFields& f, const char* key, int64_t fallback, int64_t 
   return int(v);
 }
 
-// Reads a table of scenario parameters {key = value} at `index` into `out`, sorted by key.
-void read_params_table(lua_State* L, int index, const std::string& where,
-                       std::vector<std::pair<std::string, std::string>>& out) {
-  if (!lua_istable(L, index))
-    luaL_error(L, "%s: field 'params' must be a table of scenario parameters {key = value}, got %s", where.c_str(),
-               lua_describe_value(L, index).c_str());
-  lua_pushnil(L);
-  while (lua_next(L, index)) {
-    if (lua_type(L, -2) != LUA_TSTRING) luaL_error(L, "%s: field 'params' must have string keys", where.c_str());
-    const std::string key = lua_tostring(L, -2);
-    out.push_back({key, param_text(L, -1, where + ": params." + key)});
-    lua_pop(L, 1);
-  }
-  std::sort(out.begin(), out.end());
+// Reads a stage's or context's `params` table at `index` into `out`, sorted by key.
+void read_params_table(lua_State* L, int index, const std::string& where, ParamList& out) {
+  read_params_into(L, index, where + ": field 'params'", out, where + ": params.");
 }
 
 // A context's entry: its name, the stack index of its action list and of its params (0: none).

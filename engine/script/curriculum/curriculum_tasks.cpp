@@ -445,7 +445,8 @@ std::string param_text(lua_State* L, int index, const std::string& where) {
   return "";
 }
 
-void read_params_into(lua_State* L, int index, const std::string& where, ParamList& out) {
+void read_params_into(lua_State* L, int index, const std::string& where, ParamList& out,
+                      const std::string& key_where) {
   index = lua_absindex(L, index);
   if (!lua_istable(L, index))
     luaL_error(L, "%s must be a table of scenario parameters {key = value}, got %s", where.c_str(),
@@ -454,7 +455,7 @@ void read_params_into(lua_State* L, int index, const std::string& where, ParamLi
   while (lua_next(L, index)) {
     if (lua_type(L, -2) != LUA_TSTRING) luaL_error(L, "%s must have string keys", where.c_str());
     const std::string key = lua_tostring(L, -2);
-    out.push_back({key, param_text(L, -1, where + "." + key)});
+    out.push_back({key, param_text(L, -1, (key_where.empty() ? where + "." : key_where) + key)});
     lua_pop(L, 1);
   }
   std::sort(out.begin(), out.end());
