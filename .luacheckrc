@@ -1,13 +1,13 @@
 -- .luacheckrc: luacheck over every shipped Lua file (`luacheck .` here; CTest runs it as
 -- `lua_lint`, docs/authoring.md). No global is listed by hand: the roger.* API and what the
--- sandbox takes away are read from api/*.lua and .luarc.json, the description editors read,
+-- sandbox takes away are read from docs/api/*.lua and .luarc.json, the description editors read,
 -- which tests/test_lua_sandbox.cpp keeps equal to what the engine registers.
 std = "lua54"
 -- Callbacks have fixed argument lists (state, time, world): naming the unused ones documents them.
 unused_args = false
 exclude_files = {
   "build*/**", "results/**", "out/**",  -- build trees (build-asan in CI), run outputs
-  "api/**",                        -- definitions for editors: empty function bodies by design
+  "docs/api/**",                   -- definitions for editors: empty function bodies by design
   "tests/scripts/bad_syntax.lua",  -- does not compile, on purpose (the error names its line)
   "tests/lint/**",                 -- mistakes on purpose: CTest lua_lint_finds checks they are found
 }
@@ -22,8 +22,8 @@ local function read_api()
   local roger, missing = {}, {}
   local lfs = require("lfs")
   local files = {}
-  for name in lfs.dir(here .. "api") do
-    if name:match("%.lua$") then files[#files + 1] = here .. "api/" .. name end
+  for name in lfs.dir(here .. "docs/api") do
+    if name:match("%.lua$") then files[#files + 1] = here .. "docs/api/" .. name end
   end
   table.sort(files)
   for _, file in ipairs(files) do

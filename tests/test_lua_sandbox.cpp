@@ -468,11 +468,11 @@ TEST_CASE("budgets hold at every call of a callback: instructions per call, memo
   CHECK(sandbox.memory_used() <= (32u << 20));
 }
 
-// ---- the API description (api/*.lua) against the live sandbox ----
+// ---- the API description (docs/api/*.lua) against the live sandbox ----
 
 namespace {
 
-// What one definition file of api/ describes, read as its LuaCATS lines are written.
+// What one definition file of docs/api/ describes, read as its LuaCATS lines are written.
 struct ApiFile {
   std::set<std::string> members;                               // "roger.shape", "roger.robot.base_radius"
   std::map<std::string, std::set<std::string>> methods;        // class -> methods
@@ -510,14 +510,14 @@ ApiFile read_api(const std::string& file) {
   return api;
 }
 
-// The api/ files that describe what each kind of script adds to the plain sandbox, as its loader
+// The docs/api/ files that describe what each kind of script adds to the plain sandbox, as its loader
 // installs it (a curriculum has the control basis too).
 std::vector<std::string> api_files_of(ScriptKind kind) {
   switch (kind) {
-    case ScriptKind::kScenario: return {"api/scenario.lua"};
-    case ScriptKind::kSkillScript: return {"api/control.lua"};
-    case ScriptKind::kCurriculum: return {"api/control.lua", "api/curriculum.lua"};
-    case ScriptKind::kBatchScript: return {"api/batch.lua"};
+    case ScriptKind::kScenario: return {"docs/api/scenario.lua"};
+    case ScriptKind::kSkillScript: return {"docs/api/control.lua"};
+    case ScriptKind::kCurriculum: return {"docs/api/control.lua", "docs/api/curriculum.lua"};
+    case ScriptKind::kBatchScript: return {"docs/api/batch.lua"};
   }
   return {};
 }
@@ -566,7 +566,7 @@ std::string eval_string(LuaSandbox& sandbox, const std::string& code) {
 
 }  // namespace
 
-TEST_CASE("api/*.lua describes every roger.* member each kind of script reaches, and nothing else",
+TEST_CASE("docs/api/*.lua describes every roger.* member each kind of script reaches, and nothing else",
           "[lua_sandbox][api]") {
   const auto plain = script_api_names(ScriptKind::kBatchScript);  // the sandbox before any API
   for (ScriptKind kind : script_kinds()) {
@@ -590,12 +590,13 @@ TEST_CASE("api/*.lua describes every roger.* member each kind of script reaches,
   }
 }
 
-TEST_CASE("api/*.lua describes the methods of every object the sandbox registers, and their fields",
+TEST_CASE("docs/api/*.lua describes the methods of every object the sandbox registers, and their fields",
           "[lua_sandbox][api]") {
   std::map<std::string, std::set<std::string>> described;
   std::map<std::string, std::map<std::string, bool>> fields;
   std::set<std::string> classes;
-  for (const char* file : {"api/scenario.lua", "api/control.lua", "api/curriculum.lua", "api/batch.lua"}) {
+  for (const char* file :
+       {"docs/api/scenario.lua", "docs/api/control.lua", "docs/api/curriculum.lua", "docs/api/batch.lua"}) {
     const ApiFile api = read_api(file);
     classes.insert(api.classes.begin(), api.classes.end());
     for (const auto& [cls, ms] : api.methods) described[cls].insert(ms.begin(), ms.end());
@@ -615,7 +616,7 @@ TEST_CASE("api/*.lua describes the methods of every object the sandbox registers
     CHECK(join({methods.begin(), methods.end()}) == join({described[cls].begin(), described[cls].end()}));
   }
   for (const auto& [cls, methods] : described) {
-    INFO("class " << cls << " has methods in api/ but no metatable in the sandbox");
+    INFO("class " << cls << " has methods in docs/api/ but no metatable in the sandbox");
     CHECK(live.count(cls));
   }
   // Fields served by an __index function cannot be walked: read each described one on real
@@ -641,9 +642,9 @@ TEST_CASE("api/*.lua describes the methods of every object the sandbox registers
   }
 }
 
-TEST_CASE("what api/sandbox.lua marks deprecated and .luarc.json disables, the sandbox refuses",
+TEST_CASE("what docs/api/sandbox.lua marks deprecated and .luarc.json disables, the sandbox refuses",
           "[lua_sandbox][api]") {
-  const ApiFile api = read_api("api/sandbox.lua");
+  const ApiFile api = read_api("docs/api/sandbox.lua");
   REQUIRE(api.deprecated.size() >= 4);
   for (const auto& name : api.deprecated) {
     LuaSandbox sandbox;
@@ -664,7 +665,7 @@ TEST_CASE("what api/sandbox.lua marks deprecated and .luarc.json disables, the s
   CHECK(libraries == 4);
 }
 
-TEST_CASE("api/curriculum.lua describes the world table a curriculum's callbacks receive", "[lua_sandbox][api]") {
+TEST_CASE("docs/api/curriculum.lua describes the world table a curriculum's callbacks receive", "[lua_sandbox][api]") {
   TempDir dir;
   const fs::path file = dir.path / "keys.lua";
   // The absorbing function raises the keys it was given, sorted: the world, an object, a goal.
@@ -693,7 +694,7 @@ return { stages = { roger.stage{ name = "S", scenario = "sorting", time_limit = 
   }
   const std::map<std::string, std::string> classes{
       {"world", "roger.CallbackWorld"}, {"object", "roger.WorldObject"}, {"goal", "roger.WorldGoal"}};
-  const ApiFile api = read_api("api/curriculum.lua");
+  const ApiFile api = read_api("docs/api/curriculum.lua");
   for (const auto& [part, cls] : classes) {
     std::smatch m;
     std::regex_search(message, m, std::regex(part + "=([a-z_,]*)"));

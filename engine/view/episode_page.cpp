@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "learn/decision_cycle.h"
-#include "episode_page_html.h"  // generated from web/episode.html by cmake/embed_text.cmake
+#include "episode_page_html.h"  // generated from web/episode.html by engine/embed_text.cmake
 
 namespace roger::anim {
 namespace {

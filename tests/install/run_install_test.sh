@@ -41,6 +41,7 @@ cmake --install "$build" --prefix "$work/prefix" >"$work/install.log" 2>&1 ||
   { cat "$work/install.log"; fail "cmake --install"; }
 for f in bin/roger share/roger/scenarios/cluttered.lua share/roger/scenarios/lib share/roger/curricula/lib/skills.lua \
          share/roger/scripts/quick.lua share/roger/scripts/slurm/submit.sh share/roger/web/episode.html \
+         share/roger/docs/api/scenario.lua share/roger/.luarc.json share/roger/.luacheckrc \
          share/doc/roger/README.md; do
   [ -e "$work/prefix/$f" ] || fail "the install has no $f"
 done

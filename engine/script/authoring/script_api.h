@@ -1,5 +1,5 @@
 // script_api.h: what each kind of script can reach, read from a live sandbox set up as that
-// kind's loader sets it up. The API is described for editors and the linter in api/*.lua;
+// kind's loader sets it up. The API is described for editors and the linter in docs/api/*.lua;
 // tests/test_lua_sandbox.cpp compares the two, and `roger check`'s static pass
 // (lua_static_check.h) knows names from here.
 #pragma once

@@ -1,5 +1,5 @@
 ---@meta
--- api/control.lua: the control basis in Lua (docs/control.md), reached by skill scripts and
+-- docs/api/control.lua: the control basis in Lua (docs/control.md), reached by skill scripts and
 -- curricula: primitives, subject-to compositions, sequences, policies, bindings, predicates.
 -- tests/test_lua_sandbox.cpp keeps it equal to what the sandbox registers.
 

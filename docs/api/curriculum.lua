@@ -1,5 +1,5 @@
 ---@meta
--- api/curriculum.lua: what a curriculum reaches beyond the control basis (docs/curricula.md):
+-- docs/api/curriculum.lua: what a curriculum reaches beyond the control basis (docs/curricula.md):
 -- roger.stage, roger.learned, and the arguments of its Lua callbacks.
 -- tests/test_lua_sandbox.cpp keeps it equal to what the sandbox registers.
 

@@ -1,5 +1,5 @@
 ---@meta
--- api/scenario.lua: what a scenario script reaches (docs/scenarios.md): roger.shape,
+-- docs/api/scenario.lua: what a scenario script reaches (docs/scenarios.md): roger.shape,
 -- roger.robot, roger.version, and the world and rng objects its `generate` function receives.
 -- A description for editors (LuaCATS, read by lua-language-server) and for the linter
 -- (.luacheckrc); tests/test_lua_sandbox.cpp keeps it equal to what the sandbox registers.

@@ -1,5 +1,5 @@
 ---@meta
--- api/batch.lua: what a batch script returns (docs/batch.md). A batch script reaches no roger.*
+-- docs/api/batch.lua: what a batch script returns (docs/batch.md). A batch script reaches no roger.*
 -- function: it runs in the plain sandbox and returns a table, described here for editors.
 
 ---A training run: one stage's contexts, `trials` seeded trials each.

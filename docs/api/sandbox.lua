@@ -1,5 +1,5 @@
 ---@meta
--- api/sandbox.lua: the standard library as every roger script has it (docs/scenarios.md, The
+-- docs/api/sandbox.lua: the standard library as every roger script has it (docs/scenarios.md, The
 -- sandbox): Lua 5.4's base, math, string, table, utf8 and coroutine libraries, with `require`
 -- returning a standard library by its name and finding dotted module names in the script's
 -- folder and the project's scenarios/, curricula/ and scripts/, and `print` writing to standard
