@@ -267,6 +267,36 @@ TEST_CASE("LCAS lifts only once the success curve has saturated, never while it 
   CHECK_THROWS_WITH(make_teacher(in_space, s, 1), Contains("obstacles = 9 is outside the task space"));
 }
 
+TEST_CASE("LCAS with a floor waits out a curve flat at zero; without one it lifts at the first chance", "[teach]") {
+  const TaskSpace s = paper_space();
+  TeacherSpec spec;
+  spec.kind = TeacherSpec::Kind::kLcas;
+  spec.lift = "eye_pixels";
+  spec.levels = {"32", "64"};
+  spec.window = 20;
+  spec.slope = 0.05;
+  // Nothing succeeds for 200 episodes, then the rate climbs 0.025 per episode to 0.8 and stays.
+  auto rate_at = [](int e) { return e < 200 ? 0.0 : std::min(0.8, 0.025 * (e - 200)); };
+  auto lift_episode = [&](double floor) {
+    spec.floor = floor;
+    auto t = make_teacher(spec, s, 5);
+    ExactLearner learner;
+    for (int e = 0; e < 600; ++e) {
+      const TaskPick p = t->next();
+      t->record(outcome(p, learner(rate_at(e))));
+      if (t->state()["level"] == 2) return e;
+    }
+    return -1;
+  };
+  // The slope rule alone: two flat windows of zeros are "saturated".
+  CHECK(lift_episode(0.0) == 2 * spec.window - 1);
+  // A floor of 0.5: not while flat at zero, not while rising (the rise reaches 0.5 at episode 220
+  // and 0.8 at 232), but within two windows of the plateau.
+  const int lifted = lift_episode(0.5);
+  CHECK(lifted >= 232);
+  CHECK(lifted < 232 + 2 * spec.window);
+}
+
 TEST_CASE("Gaussian mixtures recover separated clusters and AIC picks their number", "[teach]") {
   Rng rng(3);
   Eigen::MatrixXd x(300, 2);
@@ -676,6 +706,8 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
        "the level obstacles = 20 is outside the task space: obstacles takes an integer in roger.int(0, 3)"},
       {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 3 } } } }",
        ":8: stage 'S': roger.teacher.lcas: lift.eye_pixels: parameter 'eye_pixels' of scenario 'cluttered' expects an integer in [16, 512], got '3'"},
+      {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 64 } }, floor = 1.5 } }",
+       ":8: roger.teacher.lcas: field 'floor' must be in [0, 1], got 1.5"},
       {"{ tasks = { obstacles = roger.int(0, 3) }, test = { list = { { obstacles = 7 } } } }",
        ":6: stage 'S': test: list[1]: obstacles = 7 is outside the task space: obstacles takes an integer in roger.int(0, 3)"},
       {"{ tasks = { obstacles = roger.int(0, 3) }, test = { tasks = 10 }, checkpoints = { episodes = 5 } }",

@@ -53,8 +53,9 @@ function roger.teacher.sequence(steps) end
 
 ---Lift-Constraint-Act-Saturate: `lift = {eye_pixels = {32, 64, 128}}` holds one parameter at a level
 ---until the success rate of the last `window` episodes (default 50) beats the window before by less
----than `slope` (default 0.05), then lifts it to the next level.
----@param options {lift: table<string, (number|string|boolean)[]>, window?: integer, slope?: number}
+---than `slope` (default 0.05) and is at least `floor` (default 0: a curve flat at zero counts as
+---saturated), then lifts it to the next level.
+---@param options {lift: table<string, (number|string|boolean)[]>, window?: integer, slope?: number, floor?: number}
 ---@return roger.Teacher
 function roger.teacher.lcas(options) end
 

@@ -147,7 +147,9 @@ struct TeacherSpec {
   std::string lift;                 // the parameter
   std::vector<std::string> levels;  // its values, most constrained first
   int window = 50;                  // the saturation test compares the last two windows...
-  double slope = 0.05;              // ...and lifts when the rate rose by less than this
+  double slope = 0.05;              // ...and lifts when the rate rose by less than this,
+  double floor = 0.0;               // and the last window's rate is at least this: a curve flat at
+                                    // zero (no success yet) has not saturated, it has not begun
 
   // alp_gmm (Portelas et al., 2019)
   int fit_every = 50;          // episodes between fits (uniform tasks until the first)

@@ -99,13 +99,14 @@ class SequenceTeacher final : public Teacher {
 
 // Lift-Constraint-Act-Saturate: one parameter held at a level while the learner acts, lifted to the
 // next once the success curve saturates: the last `window` episodes at this level succeeded at a
-// rate higher than the `window` before them by less than `slope`. A parameter of the task space
+// rate higher than the `window` before them by less than `slope`, and at a rate of at least
+// `floor` (0 by default: then a curve still flat at zero counts as saturated). A parameter of the task space
 // is held at its level while the other axes vary; any other scenario parameter is set beside the
 // task.
 class LcasTeacher final : public Teacher {
  public:
   LcasTeacher(const TeacherSpec& spec, const TaskSpace& space, uint64_t seed)
-      : space_(space), lift_(spec.lift), window_(spec.window), slope_(spec.slope), rng_(seed) {
+      : space_(space), lift_(spec.lift), window_(spec.window), slope_(spec.slope), floor_(spec.floor), rng_(seed) {
     if (spec.levels.empty()) fail(spec, "lift needs at least one level");
     axis_ = space.index(spec.lift);
     for (const auto& level : spec.levels) {
@@ -134,10 +135,11 @@ class LcasTeacher final : public Teacher {
     const size_t w = size_t(window_);
     if (outcomes_.size() > 2 * w) outcomes_.pop_front();
     if (level_ + 1 >= int(levels_.size()) || outcomes_.size() < 2 * w) return;
-    const double gain = mean_of(outcomes_, w, 2 * w) - mean_of(outcomes_, 0, w);
+    const double rate = mean_of(outcomes_, w, 2 * w);
+    const double gain = rate - mean_of(outcomes_, 0, w);
     if (gain >= slope_) return;  // still learning at this level
-    lifts_.push_back({{"episode", episodes_}, {"to", texts_[size_t(level_ + 1)]},
-                      {"rate", mean_of(outcomes_, w, 2 * w)}, {"gain", gain}});
+    if (rate < floor_) return;   // flat below the floor: not yet begun
+    lifts_.push_back({{"episode", episodes_}, {"to", texts_[size_t(level_ + 1)]}, {"rate", rate}, {"gain", gain}});
     ++level_;
     outcomes_.clear();
   }
@@ -156,7 +158,7 @@ class LcasTeacher final : public Teacher {
   TaskSpace space_;
   std::string lift_;
   int axis_ = -1, window_, level_ = 0, episodes_ = 0;
-  double slope_;
+  double slope_, floor_;
   std::vector<double> levels_;       // on the space's axis
   std::vector<std::string> texts_;   // as written
   Rng rng_;

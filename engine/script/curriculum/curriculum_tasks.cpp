@@ -204,7 +204,7 @@ int l_teacher_sequence(lua_State* L) {
 int l_teacher_lcas(lua_State* L) {
   TeacherSpec spec;
   spec.kind = TeacherSpec::Kind::kLcas;
-  LuaFields f = options(L, spec, {"lift", "window", "slope"});
+  LuaFields f = options(L, spec, {"lift", "window", "slope", "floor"});
   if (f.push("lift") != LUA_TTABLE) f.wrong_type("lift", "a table {param = {level 1, level 2, ...}}");
   const int lift = lua_gettop(L);
   lua_pushnil(L);
@@ -227,6 +227,7 @@ int l_teacher_lcas(lua_State* L) {
   if (spec.lift.empty()) f.fail("field 'lift' must name one parameter {param = {level 1, level 2, ...}}");
   spec.window = whole(f, "window", 50, 1, 100000);
   spec.slope = fraction(f, "slope", 0.05, 0.0, 1.0, true);
+  spec.floor = fraction(f, "floor", 0.0, 0.0, 1.0);
   push_teacher(L, std::move(spec));
   return 1;
 }
