@@ -655,3 +655,32 @@ TEST_CASE("world:sample_position draws a candidate's y, then its x, whatever the
     CHECK(x == Approx(-1.0 + 2.0 * second).margin(1e-12));
   }
 }
+
+TEST_CASE("a world with no place for a thing is a PlacementError; a script's own error is not", "[scenario]") {
+  Scenario s = Scenario::load("cluttered");
+  s.set_param("robot_distance", "3.5");  // farther than the 4 x 4 m arena holds
+  std::string message;
+  try {
+    s.generate(1);
+  } catch (const PlacementError& e) {
+    message = e.what();
+    CHECK_THAT(e.file, Catch::Matchers::EndsWith("lib/place.lua"));  // still a ScriptError at its line
+    CHECK(e.line > 0);
+  }
+  CHECK_THAT(message, Catch::Matchers::Contains("no placement for 'circle' after 1000 tries"));
+  // The next world that can be placed is built as before: the flag does not stick.
+  s.set_param("robot_distance", "1.4");
+  CHECK_NOTHROW(s.generate(1));
+  // An error() of the script is a plain ScriptError.
+  s.set_param("obstacle_min_size", "0.5");
+  bool placement = false, script = false;
+  try {
+    s.generate(1);
+  } catch (const PlacementError&) {
+    placement = true;
+  } catch (const ScriptError& e) {
+    script = std::string(e.what()).find("exceeds obstacle_max_size") != std::string::npos;
+  }
+  CHECK_FALSE(placement);
+  CHECK(script);
+}

@@ -734,6 +734,37 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
                                    "stage's task space): ") && Contains("no placement for"));
 }
 
+TEST_CASE("a task whose world cannot be placed is skipped and shown; a space of such tasks fails its trial",
+          "[teach][errors]") {
+  test::TempDir dir("roger_teach_skip");
+  // Beyond about 2 m from Roger the object finds no place in the 4 x 4 m arena.
+  const fs::path holes = write_stage(dir.path, "holes", "{ tasks = { robot_distance = roger.real(1, 3.4) }, budget = { episodes = 6 }, "
+                                                         "checkpoints = { every = 6 }, test = { list = { { robot_distance = 1 } } } }");
+  TrainOptions o;
+  o.curriculum = holes.string();
+  o.stage = "S";
+  o.context = "A";
+  const TrainResult r = train_stage(o);
+  REQUIRE(r.episodes.size() == 6);  // every episode trained, on a task that could be placed
+  for (const auto& e : r.episodes) CHECK(e.task["robot_distance"].get<double>() < 2.2);
+  REQUIRE(r.skipped_tasks.size() == 6);  // of 12 draws, about the share of [1, 3.4] beyond 2 m
+  for (const auto& k : r.skipped_tasks) {
+    INFO(k.dump());
+    CHECK(k["task"]["robot_distance"].get<double>() > 1.9);
+    CHECK_THAT(k["error"].get<std::string>(), Contains("no placement for 'circle'"));
+    CHECK(k["episode"].get<int>() < 6);
+  }
+  CHECK(train_summary_json(r)["skipped_tasks"] == r.skipped_tasks);
+  // The same trial again: the same skips (the teacher's draws are the trial's).
+  CHECK(train_stage(o).skipped_tasks == r.skipped_tasks);
+  // A space that is all holes: the trial fails, saying so, rather than drawing forever.
+  const fs::path all = write_stage(dir.path, "all", "{ tasks = { robot_distance = roger.real(3.3, 3.4) }, "
+                                                     "test = { list = { { robot_distance = 3.3 } } } }");
+  o.curriculum = all.string();
+  CHECK_THROWS_WITH(train_stage(o), Contains("The teacher's last 100 tasks could not be placed: the task space "
+                                             "(robot_distance = roger.real(3.3, 3.4)) asks for worlds the scenario cannot build"));
+}
+
 TEST_CASE("a Lua teacher's history, and its faults: each fails its trial alone at file:line", "[teach][errors]") {
   test::TempDir dir("roger_teach_fn");
   // The function sees every earlier episode in order: it returns its history's length as the task.

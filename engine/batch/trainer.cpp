@@ -306,6 +306,7 @@ EpisodeFault::EpisodeFault(const std::exception& e, std::string phase_in, int ep
     file = script->file;
     line = script->line;
   }
+  no_placement = dynamic_cast<const PlacementError*>(&e) != nullptr;
 }
 
 namespace {
@@ -371,6 +372,12 @@ class TrialTeacher {
     set_params(scenario, space_.params(pick_.task), pick_.extra);
     return pick_.world_seed.value_or(own_seed);
   }
+  // The task of the last pick, as records keep it.
+  nlohmann::json task() const {
+    nlohmann::json task = space_.to_json(pick_.task);
+    for (const auto& [k, v] : pick_.extra) task[k] = json_value(v);
+    return task;
+  }
   // What came of it, told to the teacher; the task as the episode's record keeps it.
   nlohmann::json tell(const TrainingEpisode& ep) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -383,9 +390,7 @@ class TrialTeacher {
     o.td_error = ep.backups > 0 ? ep.td_abs_sum / ep.backups : 0.0;
     teacher_->record(o);
     wall_s_ += seconds_since(t0);
-    nlohmann::json task = space_.to_json(pick_.task);
-    for (const auto& [k, v] : pick_.extra) task[k] = json_value(v);
-    return task;
+    return task();
   }
   EvalWorlds worlds(uint64_t first_seed, bool final) const {
     const std::vector<TaskPoint>& tasks = final ? final_tasks_ : checkpoint_tasks_;
@@ -480,16 +485,36 @@ TrainResult train_stage(const TrainOptions& options) {
   // policy that changed since the last checkpoint has passed once, on one set of seeds.
   int settled = 0;
   std::vector<int> greedy_before, greedy_now;
+  // Tasks skipped because their worlds could not be placed, one after another (a space that is
+  // mostly holes fails its trial rather than drawing forever).
+  constexpr int kMaxSkippedInARow = 100;
+  int skipped_in_a_row = 0;
   // The cap of a capped trial, after what its skills spent (TrainOptions::max_sim_s).
   const double cap = options.max_sim_s > 0 ? options.max_sim_s - skills_sim_s(res.skills) : 0.0;
   for (int e = 0; e < budget; ++e) {
     if (options.max_sim_s > 0 && spent.sim_s >= cap) break;  // judged at its last checkpoint
     const auto te = std::chrono::steady_clock::now();
     const double eps = schedule.epsilon(e);
-    uint64_t seed = Rng::mix(options.seed, uint64_t(e) + 1);
-    if (teacher) seed = teacher->pick(run.scenario, seed);
+    const uint64_t own_seed = Rng::mix(options.seed, uint64_t(e) + 1);
     EpisodeWorld world;
-    TrainingEpisode ep = run.run(q, seed, eps, rng, true, "training", e, nullptr, &world);
+    TrainingEpisode ep;
+    for (uint64_t seed = own_seed;;) {
+      if (teacher) seed = teacher->pick(run.scenario, own_seed);
+      try {
+        ep = run.run(q, seed, eps, rng, true, "training", e, nullptr, &world);
+        break;
+      } catch (const EpisodeFault& f) {
+        // A task whose world cannot be placed is the space's hole, not the learner's failure:
+        // recorded, and the teacher draws again. Nothing has run yet (the world comes first).
+        if (!teacher || !f.no_placement) throw;
+        res.skipped_tasks.push_back({{"episode", e}, {"task", teacher->task()}, {"error", f.cause}});
+        if (++skipped_in_a_row >= kMaxSkippedInARow)
+          throw Error(f.what() + std::string("\nThe teacher's last ") + std::to_string(kMaxSkippedInARow) +
+                      " tasks could not be placed: the task space (" + teacher->space().describe() +
+                      ") asks for worlds the scenario cannot build.");
+      }
+    }
+    skipped_in_a_row = 0;
     nlohmann::json task = teacher ? teacher->tell(ep) : nlohmann::json();
     train_wall += seconds_since(te);
     spent.episodes = e + 1;
@@ -628,6 +653,7 @@ nlohmann::json train_summary_json(const TrainResult& r) {
     j["tasks"] = r.task_space;
     j["teacher"] = r.teacher;
     j["teacher_wall_s"] = r.teacher_wall_s;
+    j["skipped_tasks"] = r.skipped_tasks;
     j["test"] = {{"tasks", r.test_tasks}, {"seed", r.test_seed}};
   }
   if (!r.reached || r.explain) j["diagnosis"] = diagnose_training(r).to_json();

@@ -35,6 +35,7 @@ struct EpisodeFault : Error {
   uint64_t world_seed = 0;     // the seed the scenario generated the episode's world from
   std::string file;            // the script at fault when the cause is a ScriptError, else ""
   int line = 0;                // its line, 0 when unknown
+  bool no_placement = false;   // the cause is a PlacementError: the world could not be placed
 };
 
 // What a trial trains and how.
@@ -170,6 +171,9 @@ struct TrainResult {
   std::string task_space;
   nlohmann::json teacher;     // {"kind", "state", "wall_s"}
   double teacher_wall_s = 0.0;
+  // Tasks the teacher chose whose world the scenario could not place (PlacementError): each was
+  // skipped and another drawn for the same episode. {"episode", "task", "error"}, in order.
+  nlohmann::json skipped_tasks = nlohmann::json::array();
   int test_tasks = 0;         // tasks of the checkpoints' test set
   uint64_t test_seed = 0;
   // The evaluation cache's work (TrainOptions::eval_cache), in this stage's evaluations only (not

@@ -55,6 +55,23 @@ bool value_less(const std::string& a, const std::string& b) {
   return a < b;
 }
 
+// "T_alp/DC3: 3 tasks in 2 trials; ...": the training tasks each row's trials skipped because the
+// scenario could not place their worlds (result.json "skipped_tasks"), or "" when none did.
+std::string skipped_text(const BatchScript& b, const std::vector<BatchRow>& rows, const Folder& folder, json& rep) {
+  std::string text;
+  for (const BatchRow& row : rows) {
+    size_t tasks = 0, trials = 0;
+    for (const json& j : rows_results(b, row, folder).ok)
+      if (j.contains("skipped_tasks") && j["skipped_tasks"].is_array() && !j["skipped_tasks"].empty())
+        tasks += j["skipped_tasks"].size(), ++trials;
+    if (tasks == 0) continue;
+    rep.push_back({{"row", row.label()}, {"tasks", tasks}, {"trials", trials}});
+    text += (text.empty() ? "" : "; ") + row.label() + ": " + std::to_string(tasks) + (tasks == 1 ? " task" : " tasks") +
+            " in " + std::to_string(trials) + (trials == 1 ? " trial" : " trials");
+  }
+  return text;
+}
+
 }  // namespace
 
 void compare_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep) {
@@ -75,7 +92,14 @@ void compare_table(const BatchScript& b, const BatchTable& t, const Folder& fold
   md << "With a test set (a stage that teaches), the success rate is the share of its tasks the final greedy "
         "policies master, and train time runs to the first checkpoint from which that share stays at or above "
         "the threshold.\n\n";
-  rep.push_back({{"title", t.title}, {"compare", rows.size()}, {"baseline", t.baseline}, {"rows", rows}});
+  json skipped = json::array();
+  const std::string skips = skipped_text(b, t.compare, folder, skipped);
+  if (!skips.empty())
+    md << "Training tasks skipped because the scenario could not place their worlds (each replaced by the "
+          "teacher's next draw; the trial's result.json, \"skipped_tasks\"): "
+       << skips << ".\n\n";
+  rep.push_back({{"title", t.title}, {"compare", rows.size()}, {"baseline", t.baseline}, {"rows", rows},
+                 {"skipped_tasks", skipped}});
 }
 
 void by_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep) {

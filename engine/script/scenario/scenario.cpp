@@ -150,6 +150,17 @@ void Scenario::set_params(const std::vector<std::pair<std::string, std::string>>
 
 WorldSpec Scenario::generate(uint64_t seed) {
   Impl& impl = *impl_;
+  impl.no_placement = false;
+  try {
+    return generate_world(seed);
+  } catch (const ScriptError& e) {
+    if (impl.no_placement) throw PlacementError(e);
+    throw;
+  }
+}
+
+WorldSpec Scenario::generate_world(uint64_t seed) {
+  Impl& impl = *impl_;
   WorldSpec out;
   impl.protect([&](lua_State* L) {
     lua_rawgeti(L, LUA_REGISTRYINDEX, impl.generate_ref);
@@ -158,6 +169,7 @@ WorldSpec Scenario::generate(uint64_t seed) {
     luaL_setmetatable(L, kWorldType);
     const int world = lua_gettop(L);
     w->rng = &push_rng(L, seed);
+    w->no_placement = &impl.no_placement;
     lua_pushvalue(L, -1);
     lua_setiuservalue(L, world, 1);  // the world keeps the rng alive
     lua_createtable(L, 0, int(impl.params.size()));

@@ -21,6 +21,13 @@
 
 namespace roger {
 
+// A world the generator could not place: world:sample_position found no position that keeps every
+// constraint (the parameters asked for more than the arena holds, or a rare layout left no room).
+// Not a mistake in the script: a teacher's trainer skips such a task and draws another.
+struct PlacementError : ScriptError {
+  explicit PlacementError(const ScriptError& e) : ScriptError(e) {}
+};
+
 // The type of a scenario parameter, taken from its default value.
 enum class ParamType { kNumber, kInteger, kString, kBoolean };
 
@@ -70,8 +77,8 @@ class Scenario {
   std::vector<std::string> param_problems(const std::vector<std::pair<std::string, std::string>>& values) const;
 
   // Runs the generator for a seed with a fresh Rng(seed) and the current parameters, and returns
-  // the validated world. Throws ScriptError (file:line) on any problem. Not thread-safe: use one
-  // Scenario per thread.
+  // the validated world. Throws ScriptError (file:line) on any problem, PlacementError when the
+  // error was world:sample_position finding no place. Not thread-safe: use one Scenario per thread.
   WorldSpec generate(uint64_t seed);
 
   // The sandbox the script runs in.
@@ -79,6 +86,7 @@ class Scenario {
 
  private:
   Scenario();
+  WorldSpec generate_world(uint64_t seed);  // generate, without telling a PlacementError apart
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

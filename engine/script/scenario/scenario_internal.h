@@ -52,6 +52,7 @@ struct WorldBuilder {
   bool stimulus_set = false;
   bool finished = false;     // generate returned: the world is read-only
   Rng* rng = nullptr;        // the generator's rng, kept alive as the world's user value
+  bool* no_placement = nullptr;  // set when world:sample_position finds no place (PlacementError)
 };
 
 // world:robot's body = {...} and eyes = {...} fields (the defaults when absent); each bad value
@@ -187,6 +188,7 @@ struct Scenario::Impl {
   std::string name, description;
   int generate_ref = LUA_NOREF;
   int generate_line = 0;
+  bool no_placement = false;  // the last generate's world:sample_position found no place
   std::map<std::string, scenario_detail::ParamSlot> params;
 
   explicit Impl(const SandboxLimits& limits) : sandbox(limits) {}

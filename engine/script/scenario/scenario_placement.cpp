@@ -227,6 +227,7 @@ int l_world_sample(lua_State* L) {
       lua_pushnumber(L, p->y());
       return 2;
     }
+    if (w.no_placement) *w.no_placement = true;
     f.fail(label + " after " + std::to_string(request.tries) + " tries: it needs " +
            needs_text(constraints) + " in a " + arena_text(a));
   });
