@@ -2,6 +2,7 @@
 // list, tables.md, report.json and the dashboard; each part comes from its own file (report_internal.h).
 #include "report/report.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <sstream>
 
@@ -70,6 +71,9 @@ std::vector<std::string> write_report(const std::string& dir, const std::vector<
         "trials with its 95% percentile-bootstrap interval at each time (" << dashboard::kCurveResamples
      << " resamples). Cumulative training time: mean simulated time-to-threshold of the skill's source "
         "trials (each trial uses the policy of the same-numbered source trial) stacked under the run's own.\n";
+  if (std::any_of(b.figures.begin(), b.figures.end(), [](const BatchFigure& f) { return f.y == "success"; }))
+    md << "\nCurves of the share of test tasks mastered: the checkpoints' success rates in place of their rewards, "
+          "and the band (mean ± one std) cut to the possible range, 0 to 100%.\n";
   const std::string tables = (fs::path(dir) / "tables.md").string();
   write_file_atomic(tables, md.str(), "cannot write tables.md");
   const std::string report_json = (fs::path(dir) / "report.json").string();

@@ -74,7 +74,8 @@ CurveOptions curve_options(bool log_x, bool success = false) {
 
 }  // namespace
 
-// A run's learning curves (Figures 3 and 4): mean +- std per context.
+// A run's learning curves (Figures 3 and 4): mean +- std per context (cut to [0, 100] for a
+// share of test tasks mastered).
 bool curves_figure(const BatchScript& b, const BatchFigure& f, const Folder& folder, std::vector<std::string>& written,
                    json& page) {
   const BatchRun& run = *b.run(f.run);
@@ -83,7 +84,17 @@ bool curves_figure(const BatchScript& b, const BatchFigure& f, const Folder& fol
   json page_series = json::array();
   for (const ContextCurves& cc : row_curves(b, f.compare.empty() ? rows_of_run(run) : f.compare, folder, f.log_x, success)) {
     page_series.push_back(dashboard::curve_series(cc.context, cc.minutes, cc.bands, cc.values.size()));
-    series.push_back({cc.context, cc.minutes, cc.bands.mean, cc.bands.std, {}, {}});
+    if (!success) {
+      series.push_back({cc.context, cc.minutes, cc.bands.mean, cc.bands.std, {}, {}});
+      continue;
+    }
+    // A share of tasks lies in [0, 100]: its band is mean +- std cut to that range.
+    CurveSeries c{cc.context, cc.minutes, cc.bands.mean, {}, {}, {}};
+    for (size_t i = 0; i < c.mean.size(); ++i) {
+      c.low.push_back(std::max(0.0, c.mean[i] - cc.bands.std[i]));
+      c.high.push_back(std::min(100.0, c.mean[i] + cc.bands.std[i]));
+    }
+    series.push_back(std::move(c));
   }
   const std::string title = !f.title.empty() ? f.title
                             : f.compare.empty() ? "Learning curves: stage " + run.stage
