@@ -411,6 +411,28 @@ class TrialTeacher {
   double wall_s_ = 0.0;
 };
 
+// Training episode e in the world of `own_seed`, or with a teacher in the world of its task. A task
+// whose world cannot be placed is the space's hole, not the learner's failure: it goes into
+// `skipped` and the teacher draws again (nothing has run yet: the world comes first). A space that
+// is mostly holes fails its trial rather than drawing forever.
+TrainingEpisode train_episode(StageRun& run, TrialTeacher* teacher, QTable& q, uint64_t own_seed, double eps, Rng& rng,
+                              int e, EpisodeWorld& world, nlohmann::json& skipped) {
+  constexpr int kMaxSkippedInARow = 100;
+  for (int skips = 0;;) {
+    const uint64_t seed = teacher ? teacher->pick(run.scenario, own_seed) : own_seed;
+    try {
+      return run.run(q, seed, eps, rng, true, "training", e, nullptr, &world);
+    } catch (const EpisodeFault& f) {
+      if (!teacher || !f.no_placement) throw;
+      skipped.push_back({{"episode", e}, {"task", teacher->task()}, {"error", f.cause}});
+      if (++skips >= kMaxSkippedInARow)
+        throw Error(f.what() + std::string("\nThe teacher's last ") + std::to_string(kMaxSkippedInARow) +
+                    " tasks could not be placed: the task space (" + teacher->space().describe() +
+                    ") asks for worlds the scenario cannot build.");
+    }
+  }
+}
+
 }  // namespace
 
 TrainResult train_stage(const TrainOptions& options) {
@@ -485,36 +507,15 @@ TrainResult train_stage(const TrainOptions& options) {
   // policy that changed since the last checkpoint has passed once, on one set of seeds.
   int settled = 0;
   std::vector<int> greedy_before, greedy_now;
-  // Tasks skipped because their worlds could not be placed, one after another (a space that is
-  // mostly holes fails its trial rather than drawing forever).
-  constexpr int kMaxSkippedInARow = 100;
-  int skipped_in_a_row = 0;
   // The cap of a capped trial, after what its skills spent (TrainOptions::max_sim_s).
   const double cap = options.max_sim_s > 0 ? options.max_sim_s - skills_sim_s(res.skills) : 0.0;
   for (int e = 0; e < budget; ++e) {
     if (options.max_sim_s > 0 && spent.sim_s >= cap) break;  // judged at its last checkpoint
     const auto te = std::chrono::steady_clock::now();
     const double eps = schedule.epsilon(e);
-    const uint64_t own_seed = Rng::mix(options.seed, uint64_t(e) + 1);
     EpisodeWorld world;
-    TrainingEpisode ep;
-    for (uint64_t seed = own_seed;;) {
-      if (teacher) seed = teacher->pick(run.scenario, own_seed);
-      try {
-        ep = run.run(q, seed, eps, rng, true, "training", e, nullptr, &world);
-        break;
-      } catch (const EpisodeFault& f) {
-        // A task whose world cannot be placed is the space's hole, not the learner's failure:
-        // recorded, and the teacher draws again. Nothing has run yet (the world comes first).
-        if (!teacher || !f.no_placement) throw;
-        res.skipped_tasks.push_back({{"episode", e}, {"task", teacher->task()}, {"error", f.cause}});
-        if (++skipped_in_a_row >= kMaxSkippedInARow)
-          throw Error(f.what() + std::string("\nThe teacher's last ") + std::to_string(kMaxSkippedInARow) +
-                      " tasks could not be placed: the task space (" + teacher->space().describe() +
-                      ") asks for worlds the scenario cannot build.");
-      }
-    }
-    skipped_in_a_row = 0;
+    TrainingEpisode ep = train_episode(run, teacher ? &*teacher : nullptr, q, Rng::mix(options.seed, uint64_t(e) + 1),
+                                       eps, rng, e, world, res.skipped_tasks);
     nlohmann::json task = teacher ? teacher->tell(ep) : nlohmann::json();
     train_wall += seconds_since(te);
     spent.episodes = e + 1;
