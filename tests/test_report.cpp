@@ -551,6 +551,7 @@ TEST_CASE("a damaged trial result is a roger::Error naming its file, never an ab
       {"\"psi\" must hold action names", [](json& j) { j["psi"] = {1, 2}; }},
       {"\"reached\" must be true or false", [](json& j) { j["reached"] = "yes"; }},
       {"\"checkpoints\" must be a list", [](json& j) { j["checkpoints"] = 4; }},
+      {"\"skipped_tasks\" must be a list", [](json& j) { j["skipped_tasks"] = 4; }},
       {"is not a count of episodes", [](json& j) { j["episodes"] = 1e300; }},
       {"'first_seed' is not a seed", [](json& j) { j["first_seed"] = -3; }},
       {"\"outcomes\" must be a string of episode outcomes", [](json& j) { j["outcomes"] = "1x0"; }},

@@ -661,6 +661,15 @@ fs::path write_stage(const fs::path& dir, const std::string& name, const std::st
   return file;
 }
 
+// A trial of write_stage's stage S in its context A.
+TrainOptions stage_options(const fs::path& file) {
+  TrainOptions o;
+  o.curriculum = file.string();
+  o.stage = "S";
+  o.context = "A";
+  return o;
+}
+
 // The message of loading a curriculum that must fail.
 std::string load_error(const fs::path& file) {
   try {
@@ -740,10 +749,7 @@ TEST_CASE("a task whose world cannot be placed is skipped and shown; a space of 
   // Beyond about 2 m from Roger the object finds no place in the 4 x 4 m arena.
   const fs::path holes = write_stage(dir.path, "holes", "{ tasks = { robot_distance = roger.real(1, 3.4) }, budget = { episodes = 6 }, "
                                                          "checkpoints = { every = 6 }, test = { list = { { robot_distance = 1 } } } }");
-  TrainOptions o;
-  o.curriculum = holes.string();
-  o.stage = "S";
-  o.context = "A";
+  TrainOptions o = stage_options(holes);
   const TrainResult r = train_stage(o);
   REQUIRE(r.episodes.size() == 6);  // every episode trained, on a task that could be placed
   for (const auto& e : r.episodes) CHECK(e.task["robot_distance"].get<double>() < 2.2);
@@ -778,10 +784,7 @@ TEST_CASE("a Lua teacher's history, and its faults: each fails its trial alone a
       "    end\n"
       "    return { obstacles = #history % 4 }\n"
       "  end }");
-  TrainOptions o;
-  o.curriculum = counting.string();
-  o.stage = "S";
-  o.context = "A";
+  TrainOptions o = stage_options(counting);
   const TrainResult r = train_stage(o);
   REQUIRE(r.episodes.size() == 4);
   std::set<std::string> shapes;

@@ -36,6 +36,8 @@ void check_result_shape(const json& j, const fs::path& file) {
       bad("field \"usage\" must map action names to numbers");
   }
   if (j.contains("checkpoints") && !j["checkpoints"].is_array()) bad("field \"checkpoints\" must be a list");
+  if (j.contains("skipped_tasks") && !j["skipped_tasks"].is_array())
+    bad("field \"skipped_tasks\" must be a list of the training tasks skipped");
   for (const char* key : {"outcomes", "final_outcomes"})
     if (j.contains(key) && !(j[key].is_string() && j[key].get<std::string>().find_first_not_of("01") == std::string::npos))
       bad(std::string("field \"") + key + "\" must be a string of episode outcomes, 1 a success and 0 a failure");

@@ -61,9 +61,10 @@ std::string skipped_text(const BatchScript& b, const std::vector<BatchRow>& rows
   std::string text;
   for (const BatchRow& row : rows) {
     size_t tasks = 0, trials = 0;
-    for (const json& j : rows_results(b, row, folder).ok)
-      if (j.contains("skipped_tasks") && j["skipped_tasks"].is_array() && !j["skipped_tasks"].empty())
-        tasks += j["skipped_tasks"].size(), ++trials;
+    for (const json& j : rows_results(b, row, folder).ok) {
+      const size_t n = j.value("skipped_tasks", json::array()).size();  // a list: checked on reading
+      tasks += n, trials += n > 0;
+    }
     if (tasks == 0) continue;
     rep.push_back({{"row", row.label()}, {"tasks", tasks}, {"trials", trials}});
     text += (text.empty() ? "" : "; ") + row.label() + ": " + std::to_string(tasks) + (tasks == 1 ? " task" : " tasks") +
