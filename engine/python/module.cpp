@@ -21,6 +21,7 @@
 #include "core/rng.h"
 #include "learn/learning.h"
 #include "script/sandbox/lua_sandbox.h"
+#include "script/scenario/scenario.h"
 #include "view/render.h"
 
 namespace py = pybind11;
@@ -364,6 +365,7 @@ using SeedArray = py::array_t<uint64_t, py::array::c_style | py::array::forcecas
 // The exception types of the module (set once by PYBIND11_MODULE; never released).
 PyObject* roger_error_type = nullptr;
 PyObject* script_error_type = nullptr;
+PyObject* placement_error_type = nullptr;
 
 // Numpy arrays for one VecEnvironment::Episodes block, under names with a common prefix.
 struct EpisodeArrays {
@@ -411,7 +413,7 @@ Autoreset autoreset_of(const std::string& mode) {
   try {
     std::rethrow_exception(error);
   } catch (const ScriptError& e) {
-    type = script_error_type;
+    type = dynamic_cast<const PlacementError*>(&e) ? placement_error_type : script_error_type;
     exc = py::handle(type)(where + e.what());
     exc.attr("file") = e.file;
     exc.attr("line") = e.line;
@@ -569,22 +571,29 @@ void bind_policy(py::module_& m) {
 PYBIND11_MODULE(_roger, m) {
   m.doc() = "roger's stages as environments (the engine's extension; use the package `roger`)";
   // Errors: roger::Error (bad arguments, files, fields) as RogerError(ValueError); a Lua fault as
-  // ScriptError(RogerError) with .file and .line. Registered most derived first.
+  // ScriptError(RogerError) with .file and .line, and a world that could not be placed as
+  // PlacementError(ScriptError).
   static py::exception<Error> error(m, "RogerError", PyExc_ValueError);
   // A reference kept for the life of the process (never released: a static py::object would be
   // released after the interpreter is gone).
   static PyObject* script_error = PyErr_NewException("roger._roger.ScriptError", error.ptr(), nullptr);
   m.attr("ScriptError") = py::handle(script_error);
+  // A world the scenario could not place (world:sample_position found no room): a ScriptError at
+  // the scenario's line that a teacher's reset tells apart, to draw another task.
+  static PyObject* placement_error = PyErr_NewException("roger._roger.PlacementError", script_error, nullptr);
+  m.attr("PlacementError") = py::handle(placement_error);
   roger_error_type = error.ptr();
   script_error_type = script_error;
+  placement_error_type = placement_error;
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const ScriptError& e) {
-      py::object exc = py::handle(script_error)(e.what());
+      PyObject* type = dynamic_cast<const PlacementError*>(&e) ? placement_error : script_error;
+      py::object exc = py::handle(type)(e.what());
       exc.attr("file") = e.file;
       exc.attr("line") = e.line;
-      PyErr_SetObject(script_error, exc.ptr());
+      PyErr_SetObject(type, exc.ptr());
     } catch (const Error& e) {
       PyErr_SetString(error.ptr(), e.what());
     }

@@ -1110,6 +1110,44 @@ class Tasks(unittest.TestCase):
         self.assertEqual(runs[0], runs[1])
         self.assertEqual(runs[0], runs[2])
 
+    def test_a_task_that_cannot_be_placed_is_skipped(self):
+        # Beyond about 2 m from Roger the ball may find no place in the 4 x 4 m arena: the teacher's
+        # task is skipped, as roger train skips it, and shown; the episode plays the next one.
+        far = {"robot_distance": roger.axis.real(1.0, 3.4)}
+        env = roger.make(EXAMPLE, "Look", "Gaze", tasks=far, teacher="roger.teacher.random{}")
+
+        def resets(e, n, seed=None):
+            out = []
+            for k in range(n):
+                info = e.reset(seed=seed if k == 0 else None)[1]
+                out.append((float(info["task"]["robot_distance"]), info["skipped_tasks"]))
+            return out
+
+        runs = resets(env, 8, seed=3)
+        skipped = [k for _, s in runs for k in s]
+        self.assertEqual(len(skipped), 5)  # of 13 draws, the ones whose world had no room
+        for k in skipped:
+            self.assertGreater(float(k["task"]["robot_distance"]), 1.9, k)
+            self.assertEqual(k["task_params"]["robot_distance"], repr(float(k["task"]["robot_distance"])))
+            self.assertIn("scenarios/lib/place.lua:42: world:sample_position: no placement for 'circle'", k["error"])
+        self.assertEqual(resets(env, 8, seed=3), runs)  # the same skips again from the same seed
+        self.assertEqual(env.teacher_state["episodes"], 7)  # the 7 earlier episodes, each told at the next reset; no skip
+        # A copy's teacher asks the skipped tasks too, so it goes on with the same tasks.
+        twin = copy.deepcopy(env)
+        self.assertEqual(resets(twin, 6), resets(env, 6))
+        # A task the caller gives is the caller's: its PlacementError (a ScriptError at the
+        # scenario's line) is raised, not skipped.
+        with self.assertRaises(roger.PlacementError) as cm:
+            env.reset(options={"task": {"robot_distance": 3.3}})
+        self.assertIsInstance(cm.exception, roger.ScriptError)
+        self.assertEqual((cm.exception.file, cm.exception.line), ("scenarios/lib/place.lua", 42))
+        # A space of worlds that cannot be built: the reset says so rather than drawing forever.
+        holes = roger.make(EXAMPLE, "Look", "Gaze", tasks={"robot_distance": roger.axis.real(3.3, 3.4)},
+                           teacher="roger.teacher.random{}")
+        with self.assertRaises(roger.RogerError) as cm:
+            holes.reset(seed=1)
+        self.assertIn("the teacher's last 100 tasks could not be placed", str(cm.exception))
+
     def test_docs_example(self):
         # docs/python.md's example of tasks and teachers runs, and asserts what it says.
         with open("docs/python.md") as f:

@@ -29,7 +29,7 @@ import secrets
 import numpy as np
 
 from . import _roger
-from ._roger import RogerError, ScriptError, mix, state_index
+from ._roger import PlacementError, RogerError, ScriptError, mix, state_index
 
 try:  # gymnasium is optional: its base classes and spaces when present, the same contracts otherwise
     import gymnasium as _gym
@@ -47,7 +47,7 @@ except ImportError:  # exercised where gymnasium is absent
     from ._base import Env as _EnvBase, VectorEnv as _VecBase
     _batch_space = None
 
-__all__ = ["make", "make_vec", "load_policy", "Env", "VecEnv", "Policy", "RogerError", "ScriptError",
+__all__ = ["make", "make_vec", "load_policy", "Env", "VecEnv", "Policy", "RogerError", "ScriptError", "PlacementError",
            "AutoresetMode", "GAMMA_NAMES", "PAPER_IDS", "mix", "state_index", "spaces"]
 
 GAMMA_NAMES = ("NOREF", "!CONV", "CONV")
@@ -120,6 +120,7 @@ def _timeout(timeout, where):
 # ---- tasks and teachers (docs/python.md, "Tasks and teachers")
 
 _TEACH = 0x7465616368  # "teach": the teacher's stream of a seed, as roger train's trial draws it
+_MAX_SKIPPED_IN_A_ROW = 100  # a teacher's tasks the scenario cannot place, in a row, before a reset gives up (roger train's)
 
 
 class Axis:
@@ -275,7 +276,7 @@ class Env(_Copyable, _EnvBase):
             self._env.make_teacher(0)  # a teacher this environment cannot run is refused here, not at reset
         self._teacher = None  # made at the first reset that asks it for a task after a seed
         self._teacher_seed = None
-        self._told = []  # the outcomes told to the teacher, in order: what a copy tells its own
+        self._told = []  # the outcomes told to the teacher, in order (None: a task skipped, never told): what a copy tells its own
         self._asked = False  # the running episode's task is the teacher's, its outcome not yet told
         self._set_task = None  # set_task's task: (as the space holds it, as parameters)
         self._task = (None, [])  # the running episode's task
@@ -353,22 +354,51 @@ class Env(_Copyable, _EnvBase):
             self._teacher, self._teacher_seed, self._told = None, None, []
         if task is None:
             task = self._set_task
-        if task is None and self._teaching:
-            if self._teacher is None:
-                self._teacher_seed = mix(seed, _TEACH)
-                self._teacher = env.make_teacher(self._teacher_seed)
-            point, params, level = self._teacher.next()
-            task, self._asked = (point, params), True
-            if level is not None and given is None:  # a level it replays (PLR): its world
-                seed = level
-        self._task = task or (None, [])
-        self._running, self._faulted = False, True  # until the episode runs
-        state, running = env.reset_task(seed, self._task[1])
+        skipped = []
+        while True:
+            world = seed
+            if task is None and self._teaching:
+                world = self._teacher_task(env, seed, given)
+            else:
+                self._task = task or (None, [])
+            self._running, self._faulted = False, True  # until the episode runs
+            try:
+                state, running = env.reset_task(world, self._task[1])
+                break
+            except PlacementError as e:
+                if not self._asked:  # a task given by options or set_task is the caller's to fix
+                    raise
+                self._skip_task(e, skipped)
         self._running, self._faulted = running, False
         if not running:
-            raise RogerError(f"reset: the episode of seed {seed} ended before its first decision "
+            raise RogerError(f"reset: the episode of seed {world} ended before its first decision "
                              "(its absorbing function holds at once)")
-        return self._observe(state), self._info(state)
+        info = self._info(state)
+        if self._teaching:
+            info["skipped_tasks"] = skipped
+        return self._observe(state), info
+
+    def _teacher_task(self, env, seed, given):
+        """Asks the teacher for this reset's task (made at the first reset that asks after a seed);
+        returns the world seed to play: `seed`, or the level PLR replays unless the reset named one."""
+        if self._teacher is None:
+            self._teacher_seed = mix(seed, _TEACH)
+            self._teacher = env.make_teacher(self._teacher_seed)
+        point, params, level = self._teacher.next()
+        self._task, self._asked = (point, params), True
+        return level if level is not None and given is None else seed
+
+    def _skip_task(self, error, skipped):
+        """The teacher's task could not be placed (PlacementError): it is skipped, as roger train
+        skips it (never played, never told), and shown in reset's info["skipped_tasks"]; a copy's
+        teacher asks it too (None in the told list). 100 in a row: the space asks for worlds the
+        scenario cannot build, and the reset says so."""
+        self._asked = False
+        self._told.append(None)
+        skipped.append({"task": self.get_task(), "task_params": dict(self._task[1]), "error": str(error)})
+        if len(skipped) >= _MAX_SKIPPED_IN_A_ROW:
+            raise RogerError(f"reset: the teacher's last {_MAX_SKIPPED_IN_A_ROW} tasks could not be placed: "
+                             f"the task space asks for worlds the scenario cannot build. The last: {error}") from error
 
     def step(self, action):
         """Runs one decision: `action` until the next decision point (the state changes, or the
@@ -477,6 +507,9 @@ class Env(_Copyable, _EnvBase):
         self._teacher = self._env.make_teacher(seed)
         for outcome in told:
             self._teacher.next()
+            if outcome is None:  # a task the scenario could not place: asked, skipped, never told
+                self._told.append(None)
+                continue
             self._teacher.record(*outcome)
             self._told.append(tuple(outcome))
         if asked:
