@@ -105,10 +105,6 @@ class DelayLine {
   size_t pushed_ = 0;
 };
 
-// Coverage at or above which a noisy pixel reads as the stimulus colour (its colour nearer the
-// stimulus's than its background's).
-constexpr float kStimulusStrong = 0.5f;
-
 // Which pixels of a noisy image read as the stimulus, from their coverage, the way a robot cleans
 // a colour mask: a pixel reads as it when its coverage is at least kStimulusStrong; then an
 // opening drops a pixel that reads so alone (at 40 levels of noise a few in a hundred pixels of a

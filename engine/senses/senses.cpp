@@ -354,7 +354,7 @@ inline bool on_object(const EyeImage& image, int k, int object) {
 // Whether pixel k's centre lies on a surface of the stimulus colour (whose index it carries). In a
 // noisy image no colour equals the stimulus's: a pixel reads as it when its coverage does.
 inline bool on_stimulus(const EyeImage& image, int k) {
-  if (image.noisy) return image.stimulus[size_t(k)] >= 0.5f && image.kind[size_t(k)] == SurfaceKind::kObject;
+  if (image.noisy) return image.stimulus[size_t(k)] >= kStimulusStrong && image.kind[size_t(k)] == SurfaceKind::kObject;
   return image.colour[size_t(k)] == image.stimulus_colour && image.kind[size_t(k)] != SurfaceKind::kWall;
 }
 

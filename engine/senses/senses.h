@@ -48,6 +48,11 @@ struct EyeImage {  // a new member goes before `noisy` and into operator= (sense
   EyeImage& operator=(const EyeImage& other);
 };
 
+// Coverage at or above which a pixel of a noisy image reads as the stimulus colour (its colour
+// nearer the stimulus's than its background's): detection reads a noisy image's pixels so, and
+// its mask (threshold_coverage, noise.h) is cleaned at the same level.
+constexpr float kStimulusStrong = 0.5f;
+
 // The stimulus as one eye detects it in its image (sub-pixel, from the edge pixels' coverage).
 struct Sighting {
   bool seen = false;
