@@ -265,6 +265,43 @@ TEST_CASE("the table normal is a standard normal to its resolution", "[noise]") 
   CHECK(table_normal(0x7FFF) == Approx(-table_normal(0xFFFF)).epsilon(1e-6));
 }
 
+// The image's white noise drawn as whole levels from a table (ChannelProcess, whole_levels) is the
+// float noise of the same draws rounded as the colours round it, value for value, for any sigma
+// and any count (four values a draw, and the rest of the last draw dropped).
+TEST_CASE("white noise in whole levels is the float noise rounded, draw for draw", "[noise]") {
+  for (const double sigma : {0.3, 10.0, 40.0, 255.0}) {
+    for (const int components : {768, 6 * 33, 5}) {
+      ChannelNoise white;
+      white.sigma = sigma;
+      ChannelProcess levels, floats;
+      levels.reset(white, 77, NoiseChannel::kImage, components, 2, 0.02, true);
+      floats.reset(white, 77, NoiseChannel::kImage, components, 2, 0.02, false);
+      REQUIRE(levels.levels() != nullptr);
+      REQUIRE(levels.offsets() == nullptr);
+      REQUIRE(floats.levels() == nullptr);
+      int differ = 0, nonzero = 0;
+      for (int tick = 0; tick < 20; ++tick) {
+        levels.draw(), floats.draw();
+        for (int k = 0; k < components; ++k) {
+          const float x = std::clamp(floats.offsets()[k], -300.0f, 300.0f);
+          differ += levels.levels()[k] != int(x + 300.5f) - 300;
+          nonzero += levels.levels()[k] != 0;
+        }
+      }
+      INFO("sigma " << sigma << ", " << components << " components");
+      CHECK(differ == 0);
+      CHECK(nonzero > (sigma < 1.0 ? 0 : 10 * components));
+    }
+  }
+  // A bias or a drift is added before the rounding: such a channel keeps its float offsets.
+  ChannelNoise biased;
+  biased.sigma = 10.0, biased.bias = 5.0;
+  ChannelProcess p;
+  p.reset(biased, 77, NoiseChannel::kImage, 12, 2, 0.02, true);
+  CHECK(p.levels() == nullptr);
+  CHECK(p.offsets() != nullptr);
+}
+
 TEST_CASE("touch and effort noise scale forces by about their sigma", "[noise]") {
   NoiseParams params;
   params.touch.sigma = 0.1;

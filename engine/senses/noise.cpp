@@ -78,55 +78,78 @@ uint64_t stream_seed(uint64_t world_seed, NoiseChannel channel, Kind kind) {
   return Rng::mix(Rng::mix(world_seed, 0x6E6F697365ull /* "noise" */), uint64_t(channel) * 16 + kind);
 }
 
+// An offset rounded to a whole level, half up (an offset beyond 300 levels saturates a byte either
+// way). Selections rather than std::min/max/clamp (which return references): the vectorizer
+// if-converts these.
+inline int rounded_level(float noise) {
+  noise = noise < -300.0f ? -300.0f : noise;
+  noise = noise > 300.0f ? 300.0f : noise;
+  return int(noise + 300.5f) - 300;
+}
+
 // Every colour channel of an image moved by its noise (three per pixel, as the colours lie: a
-// Colour is three bytes): the value moved by the noise rounded to a whole level (half up), on the
-// resolution's grid (none when 0), clamped to a byte. (An offset beyond 300 levels saturates
-// either way.) Branch-free and contiguous, so the compiler runs it on vectors.
-void noisy_channels(const uint8_t* was, const float* noise, int quantum, uint8_t* out, int n) {
-  // Selections rather than std::min/max/clamp (which return references): the vectorizer
-  // if-converts these.
-  auto moved = [](uint8_t value, float noise) {
-    noise = noise < -300.0f ? -300.0f : noise;
-    noise = noise > 300.0f ? 300.0f : noise;
-    return int(value) + int(noise + 300.5f) - 300;
-  };
+// Colour is three bytes): the value moved by its offset rounded to a whole level (`levels`, or
+// `noise` rounded here when levels is null), on the resolution's grid (none when 0), clamped to a
+// byte. Branch-free and contiguous, so the compiler runs it on vectors.
+void noisy_channels(const uint8_t* was, const int16_t* levels, const float* noise, int quantum, uint8_t* out, int n) {
+  alignas(32) int16_t moved[3 * kMaxPixels];
+  if (levels)
+    for (int k = 0; k < n; ++k) moved[k] = int16_t(was[k] + levels[k]);
+  else
+    for (int k = 0; k < n; ++k) moved[k] = int16_t(was[k] + rounded_level(noise[k]));
   auto to_byte = [](int v) { return uint8_t(v < 0 ? 0 : v > 255 ? 255 : v); };
   if (quantum > 0) {  // integer division: no vectors, and rare
-    for (int k = 0; k < n; ++k) out[k] = to_byte((moved(was[k], noise[k]) + quantum / 2) / quantum * quantum);
+    for (int k = 0; k < n; ++k) out[k] = to_byte((moved[k] + quantum / 2) / quantum * quantum);
     return;
   }
-  for (int k = 0; k < n; ++k) out[k] = to_byte(moved(was[k], noise[k]));
+  for (int k = 0; k < n; ++k) out[k] = to_byte(moved[k]);
 }
 static_assert(sizeof(Colour) == 3, "a row of colours is a row of bytes");
-// Colour noise on one eye's image, from `offsets` (three per pixel): each pixel's stimulus
-// coverage moves by the colour's change projected on the axis from the pixel's background colour
-// to the stimulus colour (a pixel whose centre is on the stimulus has no colour of its own to mix
-// with: grey stands in). Integer colours, so the projection is exact; one division per pixel.
-// Three passes, so that none waits on another's latency: the colours, the projections (integers),
-// the coverage moved and clamped to [0, 1] (the division and the clamp on vectors, without the
+// Colour noise on one eye's image, from its offsets (three per pixel: `levels`, else `noise`):
+// each pixel's stimulus coverage moves by the colour's change projected on the axis from the
+// pixel's background colour to the stimulus colour (a pixel whose centre is on the stimulus has no
+// colour of its own to mix with: grey stands in). Integer colours, so the projection is exact; one
+// division per pixel. Passes that run on vectors: the colours; per colour channel k, the change d
+// and the axis a; at every k the sums over k, k + 1 and k + 2 of d a and a a (at k = 3u they are
+// pixel u's; summing three shifted rows computes two sums in three that are never read, but keeps
+// the pass on vectors); then each pixel's coverage moved and clamped to [0, 1] (without the
 // branches the noise's sign would mispredict).
-void image_noise(EyeImage& image, const float* offsets, int quantum) {
+void image_noise(EyeImage& image, const int16_t* levels, const float* noise, int quantum) {
   const Colour s = image.stimulus_colour;
-  const int pixels = image.pixels();
+  const int pixels = image.pixels(), n = 3 * pixels;
   uint8_t* colours = &image.colour[0].r;
   alignas(32) uint8_t was[3 * kMaxPixels];
-  std::memcpy(was, colours, size_t(3 * pixels));
-  noisy_channels(was, offsets, quantum, colours, 3 * pixels);
-  alignas(32) int along[kMaxPixels], axis2[kMaxPixels];
+  std::memcpy(was, colours, size_t(n));
+  noisy_channels(was, levels, noise, quantum, colours, n);
+  alignas(32) uint8_t stimulus[3 * kMaxPixels];
+  for (int u = 0; u < pixels; ++u) std::memcpy(stimulus + 3 * u, &s, 3);
+  alignas(32) int along[3 * kMaxPixels + 2], square[3 * kMaxPixels + 2];
+  for (int k = 0; k < n; ++k) {
+    const int d = colours[k] - was[k], a = stimulus[k] - was[k];
+    along[k] = d * a, square[k] = a * a;
+  }
+  along[n] = along[n + 1] = square[n] = square[n + 1] = 0;
+  alignas(32) int projection[3 * kMaxPixels], axis2[3 * kMaxPixels];
+  for (int k = 0; k < n; ++k) {
+    projection[k] = along[k] + along[k + 1] + along[k + 2];
+    axis2[k] = square[k] + square[k + 1] + square[k + 2];
+  }
+  // Each pixel's pair; a pixel of the stimulus colour (no axis of its own, and rare) on grey's.
+  const int grey[3] = {int(s.r) - 128, int(s.g) - 128, int(s.b) - 128};
+  const int grey2 = std::max(1, grey[0] * grey[0] + grey[1] * grey[1] + grey[2] * grey[2]);
+  alignas(32) float moved[kMaxPixels], length2[kMaxPixels];
   for (int u = 0; u < pixels; ++u) {
+    moved[u] = float(projection[3 * u]), length2[u] = float(axis2[3 * u]);
+    if (axis2[3 * u] != 0) continue;
     const uint8_t* c = was + 3 * u;
     const uint8_t* now = colours + 3 * u;
-    const bool on_stimulus = c[0] == s.r && c[1] == s.g && c[2] == s.b;
-    const int dr = int(s.r) - (on_stimulus ? 128 : c[0]), dg = int(s.g) - (on_stimulus ? 128 : c[1]),
-              db = int(s.b) - (on_stimulus ? 128 : c[2]);
-    along[u] = (now[0] - c[0]) * dr + (now[1] - c[1]) * dg + (now[2] - c[2]) * db;
-    const int d2 = dr * dr + dg * dg + db * db;
-    axis2[u] = d2 < 1 ? 1 : d2;
+    moved[u] = float((now[0] - c[0]) * grey[0] + (now[1] - c[1]) * grey[1] + (now[2] - c[2]) * grey[2]);
+    length2[u] = float(grey2);
   }
   float* coverage = image.stimulus.data();
   for (int u = 0; u < pixels; ++u) {
-    const float moved = coverage[u] + float(along[u]) / float(axis2[u]);
-    coverage[u] = moved < 0.0f ? 0.0f : moved > 1.0f ? 1.0f : moved;
+    const float c = coverage[u] + moved[u] / length2[u];
+    coverage[u] = c < 0.0f ? 0.0f : c > 1.0f ? 1.0f : c;
   }
   threshold_coverage(image);
   image.noisy = true;
@@ -176,9 +199,22 @@ NoiseModel noise_model(const NoiseParams& params, const Camera& camera) {
 float table_normal(uint16_t bits) { return table_value(normal_table(), bits); }
 
 void ChannelProcess::reset(const ChannelNoise& noise, uint64_t world_seed, NoiseChannel channel, int components,
-                           int readings, double tick_seconds) {
+                           int readings, double tick_seconds, bool whole_levels) {
   noise_ = noise;
   table_ = normal_table();
+  const bool drifts = noise.drift > 0.0 && noise.drift_tau > 0.0;
+  // Levels only for white noise alone: a bias or drift is added before the rounding.
+  const bool levels = whole_levels && noise.sigma > 0.0 && !(noise.bias > 0.0) && !drifts;
+  levels_.assign(levels ? size_t(components) : 0, 0);
+  if (levels && float(noise.sigma) != level_sigma_) {
+    // What fill_normals and the rounding give for each 16 bits: products first, as fill_normals
+    // stores them, then rounded as noisy_channels rounds an offset.
+    level_sigma_ = float(noise.sigma);
+    std::vector<float> products(65536);
+    for (uint32_t b = 0; b < 65536; ++b) products[b] = level_sigma_ * table_value(table_, b);
+    level_table_.resize(65536);
+    for (uint32_t b = 0; b < 65536; ++b) level_table_[b] = int16_t(rounded_level(products[b]));
+  }
   white_.reseed(stream_seed(world_seed, channel, kWhite));
   bias_.reseed(stream_seed(world_seed, channel, kBias));
   drift_.reseed(stream_seed(world_seed, channel, kDrift));
@@ -188,7 +224,6 @@ void ChannelProcess::reset(const ChannelNoise& noise, uint64_t world_seed, Noise
   lost_.assign(size_t(readings), 0);
   held_bias_.assign(noise.bias > 0.0 ? size_t(components) : 0, 0.0f);
   if (!held_bias_.empty()) fill_normals(bias_, noise.bias, held_bias_.data(), held_bias_.size());
-  const bool drifts = noise.drift > 0.0 && noise.drift_tau > 0.0;
   drift_state_.assign(drifts ? size_t(components) : 0, 0.0);
   if (drifts) {
     // x' = a x + sigma sqrt(1 - a^2) n keeps the stationary sigma; its autocorrelation after t is
@@ -217,9 +252,27 @@ void ChannelProcess::fill_normals(Rng& stream, double sigma_in, float* out, size
   }
 }
 
+void ChannelProcess::fill_levels(Rng& stream, int16_t* out, size_t n) const {
+  const int16_t* table = level_table_.data();
+  size_t k = 0;
+  for (; k + 4 <= n; k += 4) {
+    const uint64_t bits = stream.next();
+    out[k] = table[bits & 0xFFFF];
+    out[k + 1] = table[(bits >> 16) & 0xFFFF];
+    out[k + 2] = table[(bits >> 32) & 0xFFFF];
+    out[k + 3] = table[bits >> 48];
+  }
+  if (k < n) {  // as fill_normals: the last few from one more draw
+    uint64_t bits = stream.next();
+    for (; k < n; ++k, bits >>= 16) out[k] = table[bits & 0xFFFF];
+  }
+}
+
 void ChannelProcess::draw() {
   const size_t n = offsets_.size();
-  if (noise_.offsets()) {
+  if (!levels_.empty()) {
+    fill_levels(white_, levels_.data(), n);
+  } else if (noise_.offsets()) {
     float* o = offsets_.data();
     if (noise_.sigma > 0.0) fill_normals(white_, noise_.sigma, o, n);
     else std::fill(offsets_.begin(), offsets_.end(), 0.0f);
@@ -242,7 +295,7 @@ double ChannelProcess::quantize(double value) const {
 }
 
 void SenseNoise::reset(const NoiseParams& n, uint64_t seed, int eye_pixels, double tick_seconds) {
-  image_.reset(n.image, seed, NoiseChannel::kImage, 2 * eye_pixels * 3, 2, tick_seconds);
+  image_.reset(n.image, seed, NoiseChannel::kImage, 2 * eye_pixels * 3, 2, tick_seconds, true);
   joints_.reset(n.joints, seed, NoiseChannel::kJoints, 6, 6, tick_seconds);
   base_.reset(n.base, seed, NoiseChannel::kBase, 4, 4, tick_seconds);
   touch_.reset(n.touch, seed, NoiseChannel::kTouch, 2 * kTactileCount, kTactileCount, tick_seconds);
@@ -286,7 +339,10 @@ void SenseNoise::images(Senses& s, bool arrived[2]) {
   const int quantum = int(std::lround(image_.noise().quantum));
   for (int e = 0; e < 2; ++e) {
     EyeImage& image = s.image[e];
-    if (colours) image_noise(image, image_.offsets() + e * image.pixels() * 3, quantum);
+    const size_t first = size_t(e * image.pixels() * 3);
+    if (colours)
+      image_noise(image, image_.levels() ? image_.levels() + first : nullptr,
+                  image_.levels() ? nullptr : image_.offsets() + first, quantum);
     if (image_.noise().delay > 0) image = eye_delay_[e].push(image);
     if (image_.noise().dropout > 0.0) {
       if (eye_valid_[e] && image_.lost(e)) image = last_eye_[e], arrived[e] = false;

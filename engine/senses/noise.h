@@ -58,16 +58,22 @@ float table_normal(uint16_t bits);
 class ChannelProcess {
  public:
   // Starts an episode: `components` values offset per tick, `readings` that can be lost (each
-  // lost reading holds its components).
+  // lost reading holds its components). A channel read in `whole_levels` (the image's colours,
+  // each moved by its offset rounded to a whole level, half up) whose only offset is white noise
+  // draws that noise as the rounded levels themselves (levels()), from a table of every 16 bits'
+  // level made once per sigma: the same values, without the float work per component.
   void reset(const ChannelNoise& noise, uint64_t world_seed, NoiseChannel channel, int components,
-             int readings, double tick_seconds);
+             int readings, double tick_seconds, bool whole_levels = false);
   const ChannelNoise& noise() const { return noise_; }
 
   // Draws this tick's offsets (white + bias + drift, per component) and losses (per reading): a
   // fixed number from each stream.
   void draw();
   double offset(int component) const { return offsets_[size_t(component)]; }
-  const float* offsets() const { return offsets_.data(); }
+  // The offsets, or null when this tick's are in levels() instead.
+  const float* offsets() const { return levels_.empty() ? offsets_.data() : nullptr; }
+  // The offsets rounded to whole levels (white noise alone in whole_levels), or null.
+  const int16_t* levels() const { return levels_.empty() ? nullptr : levels_.data(); }
   bool lost(int reading) const { return lost_[size_t(reading)] != 0; }
   // `value` on the channel's grid (unchanged without a quantum).
   double quantize(double value) const;
@@ -75,8 +81,12 @@ class ChannelProcess {
  private:
   // n normal values of deviation sigma from `stream`, four per draw (table_normal).
   void fill_normals(Rng& stream, double sigma, float* out, size_t n) const;
+  // The same draws as fill_normals(stream, noise_.sigma, ...), as their rounded levels.
+  void fill_levels(Rng& stream, int16_t* out, size_t n) const;
   ChannelNoise noise_;
   const float* table_ = nullptr;
+  std::vector<int16_t> level_table_, levels_;  // the level of each 16 bits (for level_sigma_); this tick's
+  float level_sigma_ = -1.0f;
   Rng white_, bias_, drift_, dropout_;
   std::vector<float> offsets_, normals_, held_bias_;  // float: what a sensor's error needs
   std::vector<double> drift_state_;
@@ -90,7 +100,10 @@ template <class Reading>
 class DelayLine {
  public:
   void reset(int delay) {
-    ring_.assign(size_t(delay) + 1, Reading{});
+    // Sized, not filled: a slot is read only after it was pushed (an Eigen vector's Reading{}
+    // holds no values to copy).
+    ring_.clear();
+    ring_.resize(size_t(delay) + 1);
     pushed_ = 0;
   }
   const Reading& push(const Reading& now) {
