@@ -613,7 +613,9 @@ TEST_CASE("the scripted task and its parts are done under the moderate noise M",
   }
 }
 
-// Mixed noise levels on one agent give each episode what a fresh agent gives it.
+// Mixed noise levels on one agent give each episode what a fresh agent gives it; and the judge an
+// evaluation keeps for all its episodes (its copies of the goal's controllers made once, reset each
+// episode) judges each as the fresh judge of a one-episode evaluation does.
 TEST_CASE("an episode's noise owes nothing to the previous episode's", "[noise]") {
   const SkillScript script = SkillScript::load("curricula/scripted.lua");
   const SkillScript::NamedPolicy& task = script.policy("task");

@@ -47,6 +47,11 @@ struct StageRun {
   const CurriculumContext& ctx;
   Scenario scenario;
   Agent agent;
+  // One judge of the absorbing predicate for every episode of the trial: under noise its copies of
+  // the predicate's controllers are made once and reset each episode, as the originals are, and
+  // keep what those keep (a navigator's cold solve of the same region). Controllers cannot change
+  // after they are made (c:with makes another), so a copy made earlier is the copy made now.
+  Judge judge{stage.absorbing.get()};
 
   // One episode of the stage's semi-MDP through the episode loop; the stage's Lua functions, if
   // any, are called at decision points only.
@@ -62,7 +67,7 @@ struct StageRun {
         for (const auto& o : spec.objects) world->shapes.push_back(o.shape.name);
       }
       StageHooks hooks(cur, stage, ctx);
-      SemiMdpDriver driver(ctx.actions, stage.absorbing.get(), q, epsilon, rng, stage.rewards, learn, &hooks);
+      SemiMdpDriver driver(ctx.actions, stage.absorbing.get(), q, epsilon, rng, stage.rewards, learn, &hooks, &judge);
       run_episode(agent, spec, seed, driver, stage.episode_time_limit(spec), observer);
       return driver.episode();
     } catch (const EpisodeFault&) {

@@ -62,6 +62,8 @@ class Judge {
   void follow(const ControlInput& in);
   // Each controller the predicate reads and its copy (empty until the first tick judged on the truth).
   const Duplicates& copies() const { return done_; }
+  // The predicate it judges.
+  Predicate* predicate() const { return predicate_; }
 
  private:
   void make_copies();

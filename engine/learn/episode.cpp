@@ -137,12 +137,13 @@ std::unique_ptr<EpisodeObserver> make_recorder(EpisodeResult& result, const std:
   return std::make_unique<Recorder>(result, watch, every);
 }
 
-EpisodeResult run_episode(Agent& agent, const WorldSpec& spec, uint64_t seed, Controller& action,
-                          Predicate& goal, const EpisodeOptions& options,
-                          const std::vector<ControllerPtr>& watch) {
+namespace {
+
+// One episode of `driver`'s action (run_episode below; evaluate_action keeps one driver for all).
+EpisodeResult fixed_action_episode(Agent& agent, const WorldSpec& spec, uint64_t seed, FixedActionDriver& driver,
+                                   const EpisodeOptions& options, const std::vector<ControllerPtr>& watch) {
   EpisodeResult r;
   r.seed = seed;
-  FixedActionDriver driver(action, goal);
   const auto recorder = make_recorder(r, watch, options.record_every, agent.world().tick_seconds());
   const double limit = options.time_limit + options.time_per_object * double(spec.objects.size());
   const EpisodeOutcome out = run_episode(agent, spec, seed, driver, limit, recorder.get());
@@ -153,16 +154,30 @@ EpisodeResult run_episode(Agent& agent, const WorldSpec& spec, uint64_t seed, Co
   return r;
 }
 
+}  // namespace
+
+EpisodeResult run_episode(Agent& agent, const WorldSpec& spec, uint64_t seed, Controller& action,
+                          Predicate& goal, const EpisodeOptions& options,
+                          const std::vector<ControllerPtr>& watch) {
+  FixedActionDriver driver(action, goal);
+  return fixed_action_episode(agent, spec, seed, driver, options, watch);
+}
+
 EvalSummary evaluate_action(const std::function<WorldSpec(uint64_t)>& make, Controller& action,
                             Predicate& goal, int episodes, uint64_t first_seed,
                             const EpisodeOptions& options, const WorldParams& world) {
   if (episodes < 1) throw Error("evaluation: needs at least one episode");
   Agent agent(world);
+  // One driver for every episode, as one action and goal serve them all: under noise its judge's
+  // copies of the goal's controllers are then made once and reset each episode, as the goal's own
+  // are, and keep what those keep (a navigator's cold solve of the same region, copied rather than
+  // solved again); a driver per episode made the copies and solved the region anew each time.
+  FixedActionDriver driver(action, goal);
   EvalSummary s;
   double sum = 0.0, sum2 = 0.0, time = 0.0;
   for (int e = 0; e < episodes; ++e) {
     const uint64_t seed = first_seed + uint64_t(e);
-    EpisodeResult r = run_episode(agent, make(seed), seed, action, goal, options);
+    EpisodeResult r = fixed_action_episode(agent, make(seed), seed, driver, options, {});
     s.successes += r.success;
     sum += r.reward;
     sum2 += r.reward * r.reward;

@@ -68,21 +68,22 @@ void LearningEpisodeOptions::validate() const {
 
 SemiMdpDriver::SemiMdpDriver(const std::vector<ControllerPtr>& psi, Predicate* absorbing, QTable& q,
                              double epsilon, Rng& rng, const LearningEpisodeOptions& options, bool learn,
-                             DecisionHooks* hooks)
-    : psi_(psi), absorbing_(absorbing), judge_(absorbing), q_(q), epsilon_(epsilon), rng_(rng), options_(options), learn_(learn),
+                             DecisionHooks* hooks, Judge* judge)
+    : psi_(psi), absorbing_(absorbing), own_judge_(absorbing), judge_(judge ? judge : &own_judge_), q_(q), epsilon_(epsilon), rng_(rng), options_(options), learn_(learn),
       hooks_(hooks), hooked_reward_(hooks && hooks->has_reward()), hooked_absorbing_(hooks && hooks->has_absorbing()) {
   options.validate();
   check_psi(psi, q, "learning episode");
   if (!(epsilon >= 0.0 && epsilon <= 1.0)) throw Error("learning episode: epsilon must be in [0, 1]");
   if (!absorbing && !hooked_absorbing_)
     throw Error("learning episode: needs an absorbing predicate or an absorbing callback");
+  if (judge_->predicate() != absorbing) throw Error("learning episode: the judge given judges another predicate");
   gammas_.resize(psi.size());
 }
 
 void SemiMdpDriver::begin(uint64_t seed) {
   for (const auto& c : psi_) c->reset(seed);
   if (absorbing_) reset_predicate(*absorbing_, seed);
-  judge_.reset(seed);
+  judge_->reset(seed);
   ep_ = TrainingEpisode();
   ep_.seed = seed;
   ep_.action_ticks.assign(psi_.size(), 0);
@@ -190,7 +191,7 @@ bool SemiMdpDriver::absorbed(const ControlInput& in) {
     ep_.reward += options_.step_reward;
     running_reward_ += options_.step_reward;
   }
-  return judge_.holds(in);
+  return judge_->holds(in);
 }
 
 bool SemiMdpDriver::end(const ControlInput& in, bool success, int ticks, double time) {

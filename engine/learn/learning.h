@@ -243,18 +243,24 @@ class DecisionHooks {
 // (timeout_reward, terminal backup). With learn = false the table is only read: exploitation uses
 // policy_action() (the rule the learned skill follows), so an evaluation measures the skill a
 // stage yields. `hooks` (may be null) add Lua rewards and absorbing states at decision points;
-// `absorbing` may be null only when the hooks define absorbing(). psi must be the table's actions
-// (same count and names). Throws roger::Error for a mismatch or bad options.
+// `absorbing` may be null only when the hooks define absorbing(). `judge` (may be null: the
+// driver's own) is a judge of `absorbing` that outlives the driver: a trial's episodes share one,
+// so its copies of the absorbing predicate's controllers are made once and reset each episode, as
+// the originals are. psi must be the table's actions (same count and names). Throws roger::Error
+// for a mismatch, a judge of another predicate or bad options.
 class SemiMdpDriver final : public EpisodeDriver {
  public:
   SemiMdpDriver(const std::vector<ControllerPtr>& psi, Predicate* absorbing, QTable& q, double epsilon,
-                Rng& rng, const LearningEpisodeOptions& options, bool learn, DecisionHooks* hooks = nullptr);
+                Rng& rng, const LearningEpisodeOptions& options, bool learn, DecisionHooks* hooks = nullptr,
+                Judge* judge = nullptr);
+  SemiMdpDriver(const SemiMdpDriver&) = delete;  // judge_ may point at its own judge
+  SemiMdpDriver& operator=(const SemiMdpDriver&) = delete;
   void begin(uint64_t seed) override;
   Controller* choose(const ControlInput& in) override;
   bool absorbed(const ControlInput& in) override;
   bool end(const ControlInput& in, bool success, int ticks, double time) override;
   bool paused() const override { return awaiting_; }
-  Judge* judge() override { return &judge_; }
+  Judge* judge() override { return judge_; }
   // What happened in the episode (complete after end()).
   const TrainingEpisode& episode() const { return ep_; }
 
@@ -285,7 +291,8 @@ class SemiMdpDriver final : public EpisodeDriver {
   double discount_bootstrap(double elapsed) const;
   const std::vector<ControllerPtr>& psi_;
   Predicate* absorbing_;
-  Judge judge_;  // the absorbing predicate judged on the true world (noise never decides success)
+  Judge own_judge_;  // the absorbing predicate judged on the true world (noise never decides success)
+  Judge* judge_;     // own_judge_ or the caller's
   QTable& q_;
   const double epsilon_;
   Rng& rng_;
