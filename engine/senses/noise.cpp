@@ -235,37 +235,33 @@ void ChannelProcess::reset(const ChannelNoise& noise, uint64_t world_seed, Noise
   }
 }
 
-void ChannelProcess::fill_normals(Rng& stream, double sigma_in, float* out, size_t n) const {
-  const float* table = table_;
-  const float sigma = float(sigma_in);
+namespace {
+
+// Calls put(k, bits) with 16 bits for each k in [0, n): four per 64-bit draw from `stream`, the
+// last few from one more draw (its unused bits dropped), so a channel draws ceil(n / 4) a tick
+// whatever it makes of the bits.
+template <class Put>
+void for_each_16_bits(Rng& stream, size_t n, Put put) {
   size_t k = 0;
   for (; k + 4 <= n; k += 4) {
     const uint64_t bits = stream.next();
-    out[k] = sigma * table_value(table, bits);
-    out[k + 1] = sigma * table_value(table, bits >> 16);
-    out[k + 2] = sigma * table_value(table, bits >> 32);
-    out[k + 3] = sigma * table_value(table, bits >> 48);
+    put(k, bits & 0xFFFF), put(k + 1, (bits >> 16) & 0xFFFF), put(k + 2, (bits >> 32) & 0xFFFF), put(k + 3, bits >> 48);
   }
-  if (k < n) {  // the last few from one more draw (its unused bits are dropped: n per call)
-    uint64_t bits = stream.next();
-    for (; k < n; ++k, bits >>= 16) out[k] = sigma * table_value(table, bits);
-  }
+  if (k < n)
+    for (uint64_t bits = stream.next(); k < n; ++k, bits >>= 16) put(k, bits & 0xFFFF);
+}
+
+}  // namespace
+
+void ChannelProcess::fill_normals(Rng& stream, double sigma_in, float* out, size_t n) const {
+  const float* table = table_;
+  const float sigma = float(sigma_in);
+  for_each_16_bits(stream, n, [&](size_t k, uint64_t bits) { out[k] = sigma * table_value(table, bits); });
 }
 
 void ChannelProcess::fill_levels(Rng& stream, int16_t* out, size_t n) const {
   const int16_t* table = level_table_.data();
-  size_t k = 0;
-  for (; k + 4 <= n; k += 4) {
-    const uint64_t bits = stream.next();
-    out[k] = table[bits & 0xFFFF];
-    out[k + 1] = table[(bits >> 16) & 0xFFFF];
-    out[k + 2] = table[(bits >> 32) & 0xFFFF];
-    out[k + 3] = table[bits >> 48];
-  }
-  if (k < n) {  // as fill_normals: the last few from one more draw
-    uint64_t bits = stream.next();
-    for (; k < n; ++k, bits >>= 16) out[k] = table[bits & 0xFFFF];
-  }
+  for_each_16_bits(stream, n, [&](size_t k, uint64_t bits) { out[k] = table[bits]; });
 }
 
 void ChannelProcess::draw() {
