@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "core/shape.h"
+#include "senses/senses_internal.h"
 
 namespace roger {
 
@@ -91,7 +92,8 @@ inline int rounded_level(float noise) {
 // Colour is three bytes): the value moved by its offset rounded to a whole level (`levels`, or
 // `noise` rounded here when levels is null), on the resolution's grid (none when 0), clamped to a
 // byte. Branch-free and contiguous, so the compiler runs it on vectors.
-void noisy_channels(const uint8_t* was, const int16_t* levels, const float* noise, int quantum, uint8_t* out, int n) {
+__attribute__((always_inline)) inline void noisy_channels(const uint8_t* was, const int16_t* levels, const float* noise,
+                                                          int quantum, uint8_t* out, int n) {
   alignas(32) int16_t moved[3 * kMaxPixels];
   if (levels)
     for (int k = 0; k < n; ++k) moved[k] = int16_t(was[k] + levels[k]);
@@ -114,45 +116,64 @@ static_assert(sizeof(Colour) == 3, "a row of colours is a row of bytes");
 // pixel u's; summing three shifted rows computes two sums in three that are never read, but keeps
 // the pass on vectors); then each pixel's coverage moved and clamped to [0, 1] (without the
 // branches the noise's sign would mispredict).
-void image_noise(EyeImage& image, const int16_t* levels, const float* noise, int quantum) {
+__attribute__((always_inline)) inline void threshold_body(EyeImage& image);
+
+__attribute__((always_inline)) inline void image_noise_body(EyeImage& image, const int16_t* levels, const float* noise,
+                                                            int quantum) {
   const Colour s = image.stimulus_colour;
   const int pixels = image.pixels(), n = 3 * pixels;
   uint8_t* colours = &image.colour[0].r;
   alignas(32) uint8_t was[3 * kMaxPixels];
   std::memcpy(was, colours, size_t(n));
   noisy_channels(was, levels, noise, quantum, colours, n);
-  alignas(32) uint8_t stimulus[3 * kMaxPixels];
-  for (int u = 0; u < pixels; ++u) std::memcpy(stimulus + 3 * u, &s, 3);
-  alignas(32) int along[3 * kMaxPixels + 2], square[3 * kMaxPixels + 2];
-  for (int k = 0; k < n; ++k) {
-    const int d = colours[k] - was[k], a = stimulus[k] - was[k];
-    along[k] = d * a, square[k] = a * a;
-  }
-  along[n] = along[n + 1] = square[n] = square[n + 1] = 0;
-  alignas(32) int projection[3 * kMaxPixels], axis2[3 * kMaxPixels];
-  for (int k = 0; k < n; ++k) {
-    projection[k] = along[k] + along[k + 1] + along[k + 2];
-    axis2[k] = square[k] + square[k + 1] + square[k + 2];
-  }
-  // Each pixel's pair; a pixel of the stimulus colour (no axis of its own, and rare) on grey's.
-  const int grey[3] = {int(s.r) - 128, int(s.g) - 128, int(s.b) - 128};
-  const int grey2 = std::max(1, grey[0] * grey[0] + grey[1] * grey[1] + grey[2] * grey[2]);
-  alignas(32) float moved[kMaxPixels], length2[kMaxPixels];
-  for (int u = 0; u < pixels; ++u) {
-    moved[u] = float(projection[3 * u]), length2[u] = float(axis2[3 * u]);
-    if (axis2[3 * u] != 0) continue;
-    const uint8_t* c = was + 3 * u;
-    const uint8_t* now = colours + 3 * u;
-    moved[u] = float((now[0] - c[0]) * grey[0] + (now[1] - c[1]) * grey[1] + (now[2] - c[2]) * grey[2]);
-    length2[u] = float(grey2);
-  }
+  // Each pixel's change projected on its axis; a pixel of the stimulus colour (no axis of its
+  // own) on grey's. Selections, not branches: the pixels of an object in view are of its colour.
+  const int s0 = s.r, s1 = s.g, s2 = s.b, g0 = s0 - 128, g1 = s1 - 128, g2 = s2 - 128;
+  const int grey2 = std::max(1, g0 * g0 + g1 * g1 + g2 * g2);
   float* coverage = image.stimulus.data();
   for (int u = 0; u < pixels; ++u) {
-    const float c = coverage[u] + moved[u] / length2[u];
+    const int w0 = was[3 * u], w1 = was[3 * u + 1], w2 = was[3 * u + 2];
+    const int d0 = colours[3 * u] - w0, d1 = colours[3 * u + 1] - w1, d2 = colours[3 * u + 2] - w2;
+    const int a0 = s0 - w0, a1 = s1 - w1, a2 = s2 - w2;
+    const int axis2 = a0 * a0 + a1 * a1 + a2 * a2;
+    const int along = d0 * a0 + d1 * a1 + d2 * a2, along_grey = d0 * g0 + d1 * g1 + d2 * g2;
+    const float moved = float(axis2 != 0 ? along : along_grey), length2 = float(axis2 != 0 ? axis2 : grey2);
+    const float c = coverage[u] + moved / length2;
     coverage[u] = c < 0.0f ? 0.0f : c > 1.0f ? 1.0f : c;
   }
-  threshold_coverage(image);
+  threshold_body(image);
   image.noisy = true;
+}
+
+// The image noise compiled twice, for any x86-64 processor and for one with AVX2 (twice the lanes,
+// and 32-bit integer multiplies in one instruction where SSE2 needs several), chosen once by the
+// processor it runs on. The passes are integer ones, and the float ones are the same operations
+// in the same order (no fused multiply-adds: AVX2 does not bring FMA), so both give the same bits.
+void image_noise_generic(EyeImage& image, const int16_t* levels, const float* noise, int quantum) {
+  image_noise_body(image, levels, noise, quantum);
+}
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define ROGER_WIDE_IMAGE_NOISE 1
+__attribute__((target("avx2"))) void image_noise_avx2(EyeImage& image, const int16_t* levels, const float* noise,
+                                                      int quantum) {
+  image_noise_body(image, levels, noise, quantum);
+}
+#endif
+
+bool has_avx2() {
+#ifdef ROGER_WIDE_IMAGE_NOISE
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  return avx2;
+#else
+  return false;
+#endif
+}
+
+void image_noise(EyeImage& image, const int16_t* levels, const float* noise, int quantum) {
+#ifdef ROGER_WIDE_IMAGE_NOISE
+  if (has_avx2()) return image_noise_avx2(image, levels, noise, quantum);
+#endif
+  image_noise_generic(image, levels, noise, quantum);
 }
 
 // A reading the channel has lost this tick keeps the value delivered last.
@@ -167,7 +188,8 @@ void hold_lost(const ChannelProcess& p, std::array<double, N>& values, std::arra
 
 }  // namespace
 
-void threshold_coverage(EyeImage& image) {
+namespace {
+__attribute__((always_inline)) inline void threshold_body(EyeImage& image) {
   const int pixels = image.pixels();
   float* coverage = image.stimulus.data();
   // Masks with a clear pixel at each end (index u + 1 is pixel u), so no test needs a bound.
@@ -176,15 +198,41 @@ void threshold_coverage(EyeImage& image) {
   for (int u = 0; u < pixels; ++u) strong[u + 1] = coverage[u] >= kStimulusStrong;
   for (int k = 1; k <= pixels; ++k) opened[k] = strong[k] & (strong[k - 1] | strong[k + 1]);
   for (int k = 1; k <= pixels; ++k) run[k] = opened[k] | (opened[k - 1] & opened[k + 1]);
-  int first = pixels, last = -1;
+  // Selections, so these passes run on vectors too; the bounds from the mask of what is left,
+  // eight pixels a word.
+  uint8_t kept[kMaxPixels];
+  for (int u = 0; u < pixels; ++u) kept[u] = run[u] | run[u + 1] | run[u + 2];
+  alignas(8) uint8_t left[kMaxPixels + 8] = {};
   for (int u = 0; u < pixels; ++u) {
-    const int k = u + 1;
-    if (run[k] && coverage[u] < kStimulusStrong) coverage[u] = kStimulusStrong;
-    if (!(run[k - 1] | run[k] | run[k + 1])) coverage[u] = 0.0f;
-    if (coverage[u] > 0.0f) first = std::min(first, u), last = u;
+    const float raised = std::max(coverage[u], run[u + 1] ? kStimulusStrong : 0.0f);  // coverage >= 0
+    coverage[u] = kept[u] ? raised : 0.0f;
+    left[u] = coverage[u] > 0.0f;
+  }
+  int first = pixels, last = -1;
+  for (int w = 0; w < pixels; w += 8) {
+    uint64_t word;
+    std::memcpy(&word, left + w, sizeof word);
+    if (!word) continue;  // a word with a pixel left has one in [w, w + 8)
+    if (first == pixels)
+      for (first = w; !left[first];) ++first;
+    for (last = w + 7; !left[last];) --last;
   }
   image.stimulus_first = int16_t(first), image.stimulus_last = int16_t(last);
 }
+}  // namespace
+
+void threshold_coverage(EyeImage& image) { threshold_body(image); }
+
+namespace senses_internal {
+bool wide_image_noise() { return has_avx2(); }
+bool image_noise_kernel(bool wide, EyeImage& image, const int16_t* levels, const float* noise, int quantum) {
+  if (!wide) return image_noise_generic(image, levels, noise, quantum), true;
+#ifdef ROGER_WIDE_IMAGE_NOISE
+  if (has_avx2()) return image_noise_avx2(image, levels, noise, quantum), true;
+#endif
+  return false;
+}
+}  // namespace senses_internal
 
 NoiseModel noise_model(const NoiseParams& params, const Camera& camera) {
   constexpr double kLevelsPerPixel = 100.0;  // colour levels of noise that shift the centre a pixel
