@@ -110,12 +110,11 @@ static_assert(sizeof(Colour) == 3, "a row of colours is a row of bytes");
 // Colour noise on one eye's image, from its offsets (three per pixel: `levels`, else `noise`):
 // each pixel's stimulus coverage moves by the colour's change projected on the axis from the
 // pixel's background colour to the stimulus colour (a pixel whose centre is on the stimulus has no
-// colour of its own to mix with: grey stands in). Integer colours, so the projection is exact; one
-// division per pixel. Passes that run on vectors: the colours; per colour channel k, the change d
-// and the axis a; at every k the sums over k, k + 1 and k + 2 of d a and a a (at k = 3u they are
-// pixel u's; summing three shifted rows computes two sums in three that are never read, but keeps
-// the pass on vectors); then each pixel's coverage moved and clamped to [0, 1] (without the
-// branches the noise's sign would mispredict).
+// colour of its own to mix with: grey stands in), and is clamped to [0, 1]; then the mask is
+// cleaned. Integer colours, so the projection is exact; one division per pixel. Two passes that
+// run on vectors: the colours, then each pixel's projection and coverage (the compiler gathers
+// the three colours of each pixel; selections, not the branches the noise's sign would
+// mispredict). A body inlined into each kernel below.
 __attribute__((always_inline)) inline void threshold_body(EyeImage& image);
 
 __attribute__((always_inline)) inline void image_noise_body(EyeImage& image, const int16_t* levels, const float* noise,
