@@ -107,6 +107,39 @@ __attribute__((always_inline)) inline void noisy_channels(const uint8_t* was, co
   for (int k = 0; k < n; ++k) out[k] = to_byte(moved[k]);
 }
 static_assert(sizeof(Colour) == 3, "a row of colours is a row of bytes");
+
+// threshold_coverage's body, inlined into it and into each image noise kernel below.
+__attribute__((always_inline)) inline void threshold_body(EyeImage& image) {
+  const int pixels = image.pixels();
+  float* coverage = image.stimulus.data();
+  // Masks with a clear pixel at each end (index u + 1 is pixel u), so no test needs a bound.
+  uint8_t strong[kMaxPixels + 2], opened[kMaxPixels + 2], run[kMaxPixels + 2];
+  strong[0] = strong[pixels + 1] = opened[0] = opened[pixels + 1] = run[0] = run[pixels + 1] = 0;
+  for (int u = 0; u < pixels; ++u) strong[u + 1] = coverage[u] >= kStimulusStrong;
+  for (int k = 1; k <= pixels; ++k) opened[k] = strong[k] & (strong[k - 1] | strong[k + 1]);
+  for (int k = 1; k <= pixels; ++k) run[k] = opened[k] | (opened[k - 1] & opened[k + 1]);
+  // Selections, so these passes run on vectors too; the bounds from the mask of what is left,
+  // eight pixels a word.
+  uint8_t kept[kMaxPixels];
+  for (int u = 0; u < pixels; ++u) kept[u] = run[u] | run[u + 1] | run[u + 2];
+  alignas(8) uint8_t left[kMaxPixels + 8] = {};
+  for (int u = 0; u < pixels; ++u) {
+    const float raised = std::max(coverage[u], run[u + 1] ? kStimulusStrong : 0.0f);  // coverage >= 0
+    coverage[u] = kept[u] ? raised : 0.0f;
+    left[u] = coverage[u] > 0.0f;
+  }
+  int first = pixels, last = -1;
+  for (int w = 0; w < pixels; w += 8) {
+    uint64_t word;
+    std::memcpy(&word, left + w, sizeof word);
+    if (!word) continue;  // a word with a pixel left has one in [w, w + 8)
+    if (first == pixels)
+      for (first = w; !left[first];) ++first;
+    for (last = w + 7; !left[last];) --last;
+  }
+  image.stimulus_first = int16_t(first), image.stimulus_last = int16_t(last);
+}
+
 // Colour noise on one eye's image, from its offsets (three per pixel: `levels`, else `noise`):
 // each pixel's stimulus coverage moves by the colour's change projected on the axis from the
 // pixel's background colour to the stimulus colour (a pixel whose centre is on the stimulus has no
@@ -115,8 +148,6 @@ static_assert(sizeof(Colour) == 3, "a row of colours is a row of bytes");
 // run on vectors: the colours, then each pixel's projection and coverage (the compiler gathers
 // the three colours of each pixel; selections, not the branches the noise's sign would
 // mispredict). A body inlined into each kernel below.
-__attribute__((always_inline)) inline void threshold_body(EyeImage& image);
-
 __attribute__((always_inline)) inline void image_noise_body(EyeImage& image, const int16_t* levels, const float* noise,
                                                             int quantum) {
   const Colour s = image.stimulus_colour;
@@ -169,10 +200,7 @@ bool has_avx2() {
 }
 
 void image_noise(EyeImage& image, const int16_t* levels, const float* noise, int quantum) {
-#ifdef ROGER_WIDE_IMAGE_NOISE
-  if (has_avx2()) return image_noise_avx2(image, levels, noise, quantum);
-#endif
-  image_noise_generic(image, levels, noise, quantum);
+  senses_internal::image_noise_kernel(has_avx2(), image, levels, noise, quantum);
 }
 
 // A reading the channel has lost this tick keeps the value delivered last.
@@ -185,39 +213,6 @@ void hold_lost(const ChannelProcess& p, std::array<double, N>& values, std::arra
   valid = true;
 }
 
-}  // namespace
-
-namespace {
-__attribute__((always_inline)) inline void threshold_body(EyeImage& image) {
-  const int pixels = image.pixels();
-  float* coverage = image.stimulus.data();
-  // Masks with a clear pixel at each end (index u + 1 is pixel u), so no test needs a bound.
-  uint8_t strong[kMaxPixels + 2], opened[kMaxPixels + 2], run[kMaxPixels + 2];
-  strong[0] = strong[pixels + 1] = opened[0] = opened[pixels + 1] = run[0] = run[pixels + 1] = 0;
-  for (int u = 0; u < pixels; ++u) strong[u + 1] = coverage[u] >= kStimulusStrong;
-  for (int k = 1; k <= pixels; ++k) opened[k] = strong[k] & (strong[k - 1] | strong[k + 1]);
-  for (int k = 1; k <= pixels; ++k) run[k] = opened[k] | (opened[k - 1] & opened[k + 1]);
-  // Selections, so these passes run on vectors too; the bounds from the mask of what is left,
-  // eight pixels a word.
-  uint8_t kept[kMaxPixels];
-  for (int u = 0; u < pixels; ++u) kept[u] = run[u] | run[u + 1] | run[u + 2];
-  alignas(8) uint8_t left[kMaxPixels + 8] = {};
-  for (int u = 0; u < pixels; ++u) {
-    const float raised = std::max(coverage[u], run[u + 1] ? kStimulusStrong : 0.0f);  // coverage >= 0
-    coverage[u] = kept[u] ? raised : 0.0f;
-    left[u] = coverage[u] > 0.0f;
-  }
-  int first = pixels, last = -1;
-  for (int w = 0; w < pixels; w += 8) {
-    uint64_t word;
-    std::memcpy(&word, left + w, sizeof word);
-    if (!word) continue;  // a word with a pixel left has one in [w, w + 8)
-    if (first == pixels)
-      for (first = w; !left[first];) ++first;
-    for (last = w + 7; !left[last];) --last;
-  }
-  image.stimulus_first = int16_t(first), image.stimulus_last = int16_t(last);
-}
 }  // namespace
 
 void threshold_coverage(EyeImage& image) { threshold_body(image); }
