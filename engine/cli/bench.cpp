@@ -33,6 +33,13 @@ void fnv_mix(uint64_t& h, const void* data, size_t n) {
   for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
 }
 
+// The median of the values (at least one).
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
 // Runs one measurement; with_senses chooses between the two layers. Returns wall seconds.
 double measure(World& world, const WorldSpec& spec, double sim_seconds, bool with_senses,
                uint64_t& hash) {
@@ -61,102 +68,114 @@ BenchResult bench_world(const WorldSpec& spec, const BenchOptions& options,
   BenchResult r;
   r.sim_seconds = options.sim_seconds;
   double best_physics = INFINITY, best_world = INFINITY;
-  // Interleaved, best of N: the machine is shared, and the minimum is the least disturbed run.
+  std::vector<double> ratios;
+  // Interleaved, best of N: the machine is shared, and the minimum is the least disturbed run. The
+  // overhead is the median of each pair's ratio, as a pipeline's cost ratio is (PipelineBench).
   for (int rep = 0; rep < std::max(1, options.repeats); ++rep) {
-    best_physics = std::min(best_physics, measure(world, spec, options.sim_seconds, false, r.final_hash));
-    best_world = std::min(best_world, measure(world, spec, options.sim_seconds, true, r.final_hash));
+    const double physics = measure(world, spec, options.sim_seconds, false, r.final_hash);
+    const double senses = measure(world, spec, options.sim_seconds, true, r.final_hash);
+    best_physics = std::min(best_physics, physics);
+    best_world = std::min(best_world, senses);
+    ratios.push_back(senses / physics);
   }
   r.physics_rtf = options.sim_seconds / best_physics;
   r.world_rtf = options.sim_seconds / best_world;
-  r.senses_overhead = best_world / best_physics - 1.0;
+  r.senses_overhead = median(ratios) - 1.0;
   return r;
+}
+
+PipelineBench::PipelineBench(std::vector<WorldSpec> worlds, Controller& action, Predicate& goal, double time_limit,
+                             const WorldParams& params)
+    : worlds_(std::move(worlds)),
+      action_(action),
+      goal_(goal),
+      time_limit_(time_limit),
+      params_(params),
+      agent_(std::make_unique<Agent>(params)),
+      commands_(worlds_.size()) {
+  result_.episodes = int(worlds_.size());
+}
+
+PipelineBench::~PipelineBench() = default;
+
+double PipelineBench::run_episodes() {
+  double sim = 0.0;
+  int successes = 0;
+  Agent& agent = *agent_;
+  const auto start = std::chrono::steady_clock::now();
+  Judge judge(&goal_);  // success is the true world's: under noise the goal is judged on the truth
+  agent.set_judge(&judge);
+  for (size_t w = 0; w < worlds_.size(); ++w) {
+    agent.reset(worlds_[w]);
+    action_.reset(w);
+    goal_.reset();
+    judge.reset(w);
+    const int max_ticks = int(std::ceil(time_limit_ / agent.world().tick_seconds() - 1e-9));
+    auto& log = commands_[w];
+    log.clear();
+    log.reserve(size_t(max_ticks));
+    for (int t = 0; t < max_ticks; ++t) {
+      agent.step(action_);
+      log.push_back(agent.last_errors());
+      if (judge.holds(agent.input())) {
+        ++successes;
+        break;
+      }
+    }
+    sim += agent.world().time();
+  }
+  agent.set_judge(nullptr);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (measured_ == 0) {
+    result_.sim_seconds = sim, result_.successes = successes;
+    // Outside the timed part: a fingerprint of the trajectories, to check a change to the
+    // pipeline's code left every result as it was, bit for bit.
+    result_.hash = 1469598103934665603ull;
+    for (size_t w = 0; w < worlds_.size(); ++w)
+      for (const DofVector& e : commands_[w]) fnv_mix(result_.hash, e.data(), sizeof(double) * kDofCount);
+  }
+  return wall;
+}
+
+double PipelineBench::replay() {
+  World& world = agent_->world();
+  const auto start = std::chrono::steady_clock::now();
+  for (size_t w = 0; w < worlds_.size(); ++w) {
+    world.reset(worlds_[w]);
+    for (const DofVector& e : commands_[w]) {
+      world.command(e);
+      for (int s = 0; s < params_.substeps; ++s) world.step_physics();
+    }
+    if (measured_ == 0) {
+      const uint64_t state = world.state_hash();
+      fnv_mix(result_.hash, &state, sizeof state);
+    }
+  }
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void PipelineBench::measure() {
+  const double pipeline = run_episodes(), physics = replay();
+  best_pipeline_ = measured_ == 0 ? pipeline : std::min(best_pipeline_, pipeline);
+  best_replay_ = measured_ == 0 ? physics : std::min(best_replay_, physics);
+  ++measured_;
+  ratios_.push_back(pipeline / physics);
+  result_.pipeline_rtf = result_.sim_seconds / best_pipeline_;
+  result_.replay_rtf = result_.sim_seconds / best_replay_;
+  result_.cost_ratio = median(ratios_);
 }
 
 PipelineResult bench_pipeline(const std::vector<WorldSpec>& worlds, Controller& action,
                               Predicate& goal, double time_limit, int repeats,
                               const WorldParams& params) {
-  PipelineResult r;
-  r.episodes = int(worlds.size());
-  Agent agent(params);
-  std::vector<std::vector<DofVector>> commands(worlds.size());
-  double best_pipeline = INFINITY, best_replay = INFINITY;
-  for (int rep = 0; rep < std::max(1, repeats); ++rep) {
-    double sim = 0.0;
-    int successes = 0;
-    const auto start = std::chrono::steady_clock::now();
-    Judge judge(&goal);  // success is the true world's: under noise the goal is judged on the truth
-    agent.set_judge(&judge);
-    for (size_t w = 0; w < worlds.size(); ++w) {
-      agent.reset(worlds[w]);
-      action.reset(w);
-      goal.reset();
-      judge.reset(w);
-      const int max_ticks = int(std::ceil(time_limit / agent.world().tick_seconds() - 1e-9));
-      auto& log = commands[w];
-      log.clear();
-      log.reserve(size_t(max_ticks));
-      for (int t = 0; t < max_ticks; ++t) {
-        agent.step(action);
-        log.push_back(agent.last_errors());
-        if (judge.holds(agent.input())) {
-          ++successes;
-          break;
-        }
-      }
-      sim += agent.world().time();
-    }
-    if (rep == 0) {
-      // Outside the timed part: a fingerprint of the trajectories, to check a change to the
-      // pipeline's code left every result as it was, bit for bit.
-      r.hash = 1469598103934665603ull;
-      for (size_t w = 0; w < worlds.size(); ++w)
-        for (const DofVector& e : commands[w]) fnv_mix(r.hash, e.data(), sizeof(double) * kDofCount);
-    }
-    agent.set_judge(nullptr);
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    best_pipeline = std::min(best_pipeline, wall);
-    if (rep == 0) r.sim_seconds = sim, r.successes = successes;
-    // The same trajectories through physics alone.
-    World& world = agent.world();
-    const auto replay_start = std::chrono::steady_clock::now();
-    for (size_t w = 0; w < worlds.size(); ++w) {
-      world.reset(worlds[w]);
-      for (const DofVector& e : commands[w]) {
-        world.command(e);
-        for (int s = 0; s < params.substeps; ++s) world.step_physics();
-      }
-      if (rep == 0) {
-        const uint64_t state = world.state_hash();
-        fnv_mix(r.hash, &state, sizeof state);
-      }
-    }
-    const double replay = std::chrono::duration<double>(std::chrono::steady_clock::now() - replay_start).count();
-    best_replay = std::min(best_replay, replay);
-  }
-  r.pipeline_rtf = r.sim_seconds / best_pipeline;
-  r.replay_rtf = r.sim_seconds / best_replay;
-  r.cost_ratio = best_pipeline / best_replay;
-  return r;
+  PipelineBench bench(worlds, action, goal, time_limit, params);
+  for (int rep = 0; rep < std::max(1, repeats); ++rep) bench.measure();
+  return bench.result();
 }
 
 namespace {
 
 constexpr const char* kManyScript = "curricula/sort_by_hand.lua";
-
-// Many objects: the hand-written sort in 8-object sorting worlds (seeds from --seed), where the
-// planner's grid holds seven other objects and the eyes paint eight.
-PipelineResult bench_many_objects(const BenchArgs& a, const WorldParams& params) {
-  Scenario scenario = Scenario::load("sorting");
-  scenario.set_param("objects", "8");
-  SkillScript script = SkillScript::load(kManyScript);
-  const SkillScript::NamedPolicy& sort = script.policy("sort");
-  std::vector<WorldSpec> worlds;
-  for (int i = 0; i < 3; ++i) worlds.push_back(scenario.generate(a.seed + uint64_t(i)));
-  const EpisodeOptions limit = sort.episode_options();
-  return bench_pipeline(worlds, *sort.action, *sort.goal, limit.time_limit + 8 * limit.time_per_object,
-                        a.repeats, params);
-}
-
 constexpr int kWidePixels = 256;
 
 // The moderate noise M of docs/results.md (Noise) as scenario parameters: scenarios/lib/body.lua's
@@ -165,12 +184,10 @@ const std::pair<const char*, const char*> kModerateNoise[] = {
     {"noise_image", "10"}, {"noise_joints", "0.01"}, {"noise_base", "0.01"}, {"noise_touch", "0.1"},
     {"noise_effort", "0.1"}};
 
-// The same episodes as the full pipeline's with eyes of 256 pixels: what a finer camera costs.
-PipelineResult bench_wide_eyes(const std::vector<WorldSpec>& worlds, Controller& action, Predicate& goal,
-                               double time_limit, int repeats, const WorldParams& params) {
-  std::vector<WorldSpec> wide = worlds;
-  for (WorldSpec& w : wide) w.eyes.pixels = kWidePixels;
-  return bench_pipeline(wide, action, goal, time_limit, repeats, params);
+std::vector<WorldSpec> generate(Scenario& scenario, uint64_t seed, int count) {
+  std::vector<WorldSpec> worlds;
+  for (int i = 0; i < count; ++i) worlds.push_back(scenario.generate(seed + uint64_t(i)));
+  return worlds;
 }
 
 }  // namespace
@@ -184,18 +201,31 @@ int command_bench(const BenchArgs& a) {
   // scenario, against physics alone replaying exactly the same commands.
   SkillScript script = SkillScript::load(a.script);
   const SkillScript::NamedPolicy& task = script.policy(a.policy);
-  std::vector<WorldSpec> worlds;
-  for (int i = 0; i < a.episodes; ++i) worlds.push_back(scenario.generate(a.seed + uint64_t(i)));
-  const PipelineResult p = bench_pipeline(worlds, *task.action, *task.goal, task.time_limit, a.repeats, params);
-  const PipelineResult wide =
-      bench_wide_eyes(worlds, *task.action, *task.goal, task.time_limit, a.repeats, params);
+  const std::vector<WorldSpec> worlds = generate(scenario, a.seed, a.episodes);
+  PipelineBench full(worlds, *task.action, *task.goal, task.time_limit, params);
+  // The same episodes with eyes of 256 pixels: what a finer camera costs.
+  std::vector<WorldSpec> wide_worlds = worlds;
+  for (WorldSpec& w : wide_worlds) w.eyes.pixels = kWidePixels;
+  PipelineBench wide_eyes(std::move(wide_worlds), *task.action, *task.goal, task.time_limit, params);
   // The same episodes under the moderate noise M (scenarios/lib/body.lua, body.MODERATE_NOISE).
   for (const auto& [name, value] : kModerateNoise) scenario.set_param(name, value);
-  std::vector<WorldSpec> noisy;
-  for (int i = 0; i < a.episodes; ++i) noisy.push_back(scenario.generate(a.seed + uint64_t(i)));
-  const PipelineResult under_m = bench_pipeline(noisy, *task.action, *task.goal, task.time_limit, a.repeats, params);
-  const PipelineResult many = bench_many_objects(a, params);
-  std::printf("roger bench: %s seed %llu, %.0f simulated s per run, best of %d, one core\n",
+  PipelineBench noisy(generate(scenario, a.seed, a.episodes), *task.action, *task.goal, task.time_limit, params);
+  // Many objects: the hand-written sort in 8-object sorting worlds (seeds from --seed), where the
+  // planner's grid holds seven other objects and the eyes paint eight.
+  Scenario sorting = Scenario::load("sorting");
+  sorting.set_param("objects", "8");
+  SkillScript many_script = SkillScript::load(kManyScript);
+  const SkillScript::NamedPolicy& sort = many_script.policy("sort");
+  const EpisodeOptions limit = sort.episode_options();
+  PipelineBench eight(generate(sorting, a.seed, 3), *sort.action, *sort.goal,
+                      limit.time_limit + 8 * limit.time_per_object, params);
+  // In rounds, each line once per round (PipelineBench): their ratios to each other, such as the
+  // noisy pipeline's to the noise-free one's, come from the same minutes.
+  for (int round = 0; round < std::max(1, a.repeats); ++round)
+    for (PipelineBench* line : {&full, &wide_eyes, &noisy, &eight}) line->measure();
+  const PipelineResult &p = full.result(), &wide = wide_eyes.result(), &under_m = noisy.result(),
+                       &many = eight.result();
+  std::printf("roger bench: %s seed %llu, %.0f simulated s per run, best of %d (the pipelines in rounds), one core\n",
               a.scenario.c_str(), static_cast<unsigned long long>(a.seed), a.seconds, a.repeats);
   std::printf("  physics alone        %9.0fx real time\n", r.physics_rtf);
   std::printf("  physics + senses     %9.0fx real time  (senses add %.0f%%)\n", r.world_rtf,

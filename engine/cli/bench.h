@@ -1,6 +1,7 @@
 // bench.h: throughput of the simulation layers, measured in one run so ratios are comparable.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -21,9 +22,9 @@ struct BenchOptions {
 // Simulated seconds per wall second of each layer (higher is faster).
 struct BenchResult {
   double sim_seconds = 0.0;
-  double physics_rtf = 0.0;      // physics alone: servos + Box2D
-  double world_rtf = 0.0;        // physics + senses every control tick
-  double senses_overhead = 0.0;  // (world cost / physics cost) - 1
+  double physics_rtf = 0.0;      // physics alone: servos + Box2D (fastest measurement)
+  double world_rtf = 0.0;        // physics + senses every control tick (fastest measurement)
+  double senses_overhead = 0.0;  // (world cost / physics cost) - 1, the median over pairs
   uint64_t final_hash = 0;       // state hash at the end, so the work cannot be optimized away
 };
 
@@ -33,15 +34,50 @@ struct PipelineResult {
   double sim_seconds = 0.0;    // simulated seconds per measurement
   int episodes = 0;            // episodes per measurement
   int successes = 0;           // of the first measurement
-  double pipeline_rtf = 0.0;   // simulated seconds per wall second, whole pipeline
-  double replay_rtf = 0.0;     // physics alone, replaying the pipeline's errors vectors
-  double cost_ratio = 0.0;     // pipeline cost / physics cost on the same trajectories
+  double pipeline_rtf = 0.0;   // simulated seconds per wall second, whole pipeline (fastest)
+  double replay_rtf = 0.0;     // physics alone, replaying the pipeline's errors vectors (fastest)
+  double cost_ratio = 0.0;     // pipeline cost / physics cost on the same trajectories: the
+                               // median over measurements of each one's own ratio
   uint64_t hash = 0;           // FNV-1a of every errors vector issued and each episode's final
                                // state (first measurement): any change to a result changes it
 };
 
-// Runs `action` on each world until `goal` or the time limit (best of `repeats`), then replays
-// the recorded commands through physics alone. Controllers are reset per episode.
+class Agent;
+
+// One pipeline line: `action` on each world until `goal` or the time limit, then physics alone
+// replaying the recorded commands. Each measure() times both once, back to back. result() holds
+// the speeds of the fastest (least disturbed) measurements so far, the cost ratio as the median of
+// each measurement's own pipeline time over its replay's (the two share the machine's state of
+// the moment: on a shared machine whose speed wanders by a third within seconds, the ratio of two
+// separate best times wandered by a quarter between runs, the median of paired ratios by a few
+// per cent), and the successes, simulated time and hash of the first. `roger bench` measures its
+// lines in rounds, each line once per round, so lines compared with each other were timed in the
+// same minutes. Controllers are reset per episode.
+class PipelineBench {
+ public:
+  PipelineBench(std::vector<WorldSpec> worlds, Controller& action, Predicate& goal, double time_limit,
+                const WorldParams& params = {});
+  ~PipelineBench();
+  void measure();
+  const PipelineResult& result() const { return result_; }
+
+ private:
+  double run_episodes();  // the timed pipeline; returns wall seconds
+  double replay();        // the timed physics alone on the same commands; returns wall seconds
+  std::vector<WorldSpec> worlds_;
+  Controller& action_;
+  Predicate& goal_;
+  double time_limit_;
+  WorldParams params_;
+  std::unique_ptr<Agent> agent_;
+  std::vector<std::vector<DofVector>> commands_;  // per world, the errors vector of every tick
+  int measured_ = 0;
+  double best_pipeline_ = 0.0, best_replay_ = 0.0;
+  std::vector<double> ratios_;
+  PipelineResult result_;
+};
+
+// A PipelineBench measured `repeats` times in a row.
 PipelineResult bench_pipeline(const std::vector<WorldSpec>& worlds, Controller& action,
                               Predicate& goal, double time_limit, int repeats,
                               const WorldParams& params = {});
