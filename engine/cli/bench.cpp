@@ -165,14 +165,6 @@ void PipelineBench::measure() {
   result_.cost_ratio = median(ratios_);
 }
 
-PipelineResult bench_pipeline(const std::vector<WorldSpec>& worlds, Controller& action,
-                              Predicate& goal, double time_limit, int repeats,
-                              const WorldParams& params) {
-  PipelineBench bench(worlds, action, goal, time_limit, params);
-  for (int rep = 0; rep < std::max(1, repeats); ++rep) bench.measure();
-  return bench.result();
-}
-
 namespace {
 
 constexpr const char* kManyScript = "curricula/sort_by_hand.lua";

@@ -77,11 +77,6 @@ class PipelineBench {
   PipelineResult result_;
 };
 
-// A PipelineBench measured `repeats` times in a row.
-PipelineResult bench_pipeline(const std::vector<WorldSpec>& worlds, Controller& action,
-                              Predicate& goal, double time_limit, int repeats,
-                              const WorldParams& params = {});
-
 // The fixed scripted motion of base, eyes and arms used by the benchmark (a pure function of time).
 DofVector bench_motion(double t);
 
