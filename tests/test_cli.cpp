@@ -198,6 +198,16 @@ TEST_CASE("roger bench --json ends with the figures", "[cli]") {
   CHECK(last.find("\"physics_rtf\"") != std::string::npos);
   CHECK(last.find("\"world_rtf\"") != std::string::npos);
   CHECK(last.find("\"pixels256_cost_ratio\"") != std::string::npos);  // eyes of 256 pixels
+  // The trajectories of every pipeline line, bit for bit (docs/cli.md, roger bench): a change to
+  // the pipeline's code that moves any result, with or without noise, with one object or eight,
+  // changes one of these. A change meant to move results updates them, and says so.
+  CHECK(last.find("\"pipeline_hash\":10743818218391344855,") != std::string::npos);
+  CHECK(last.find("\"pixels256_hash\":16066530534311399889,") != std::string::npos);
+  CHECK(last.find("\"noise_hash\":7401041823380079014,") != std::string::npos);
+  CHECK(last.find("\"objects8_hash\":15883934831370032915,") != std::string::npos);
+  CHECK(last.find("\"pipeline_successes\":20,") != std::string::npos);
+  CHECK(last.find("\"noise_successes\":20,") != std::string::npos);
+  CHECK(last.find("\"objects8_successes\":3,") != std::string::npos);
 }
 
 // scripts/transfer.lua in small (docs/results.md, Transfer across bodies): a T/DC6 policy on a wider
