@@ -212,7 +212,7 @@ int command_bench(const BenchArgs& a) {
   PipelineBench eight(generate(sorting, a.seed, 3), *sort.action, *sort.goal,
                       limit.time_limit + 8 * limit.time_per_object, params);
   // In rounds, each line once per round (PipelineBench): their ratios to each other, such as the
-  // noisy pipeline's to the noise-free one's, come from the same minutes.
+  // noisy pipeline's to the noise-free one's, come from the same seconds.
   for (int round = 0; round < std::max(1, a.repeats); ++round)
     for (PipelineBench* line : {&full, &wide_eyes, &noisy, &eight}) line->measure();
   const PipelineResult &p = full.result(), &wide = wide_eyes.result(), &under_m = noisy.result(),

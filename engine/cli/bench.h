@@ -48,11 +48,10 @@ class Agent;
 // replaying the recorded commands. Each measure() times both once, back to back. result() holds
 // the speeds of the fastest (least disturbed) measurements so far, the cost ratio as the median of
 // each measurement's own pipeline time over its replay's (the two share the machine's state of
-// the moment: on a shared machine whose speed wanders by a third within seconds, the ratio of two
-// separate best times wandered by a quarter between runs, the median of paired ratios by a few
-// per cent), and the successes, simulated time and hash of the first. `roger bench` measures its
-// lines in rounds, each line once per round, so lines compared with each other were timed in the
-// same minutes. Controllers are reset per episode.
+// the moment, where two separate best times need not: docs/cli.md gives the spread this removed on
+// a shared machine), and the successes, simulated time and hash of the first. `roger bench`
+// measures its lines in rounds, each line once per round, so lines compared with each other were
+// timed in the same seconds. Controllers are reset per episode.
 class PipelineBench {
  public:
   PipelineBench(std::vector<WorldSpec> worlds, Controller& action, Predicate& goal, double time_limit,
