@@ -176,6 +176,7 @@ const std::pair<const char*, const char*> kModerateNoise[] = {
     {"noise_image", "10"}, {"noise_joints", "0.01"}, {"noise_base", "0.01"}, {"noise_touch", "0.1"},
     {"noise_effort", "0.1"}};
 
+// `count` worlds of `scenario`, from seeds seed, seed + 1, ...
 std::vector<WorldSpec> generate(Scenario& scenario, uint64_t seed, int count) {
   std::vector<WorldSpec> worlds;
   for (int i = 0; i < count; ++i) worlds.push_back(scenario.generate(seed + uint64_t(i)));
