@@ -518,8 +518,9 @@ TEST_CASE("roger run killed with SIGKILL resumes to exactly an uninterrupted run
 TEST_CASE("a damaged trial result is a roger::Error naming its file, never an abort", "[report]") {
   // Found by tests/fuzz/fuzz_result: a result.json without "usage" aborted `roger report` (an
   // assertion inside nlohmann's operator[]), other wrong types escaped as json type_errors, and an
-  // episode count of 1e300 was converted to int (undefined behaviour). Every record is now checked
-  // before the report reads it (engine/batch/records.cpp), and the report's own reading is checked too.
+  // episode count of 1e300 was converted to int (undefined behaviour). Every record is now checked,
+  // every field the report reads, before the report reads it (engine/batch/records.cpp); the
+  // report checks only the numbers it takes (num).
   const fs::path dir = fs::temp_directory_path() / ("roger_report_damaged_" + std::to_string(::getpid()));
   // The fuzzer's seed result, completed with what a finished training trial also records.
   json good = json::parse(slurp("tests/fuzz/corpus/result/training.json"));
@@ -556,6 +557,9 @@ TEST_CASE("a damaged trial result is a roger::Error naming its file, never an ab
       {"'first_seed' is not a seed", [](json& j) { j["first_seed"] = -3; }},
       {"\"outcomes\" must be a string of episode outcomes", [](json& j) { j["outcomes"] = "1x0"; }},
       {"\"outcomes\" must be a string of episode outcomes", [](json& j) { j["outcomes"] = 101; }},
+      {"\"final_outcomes\" must be a string of episode outcomes", [](json& j) { j["final_outcomes"] = "yes"; }},
+      {"\"diagnosis\" must be an object whose \"causes\"", [](json& j) { j["diagnosis"] = {{"causes", "x"}}; }},
+      {"\"psi\" must be the list of the context's actions", [](json& j) { j["psi"] = "phi1"; }},
       {"'outcomes' holds 2 outcomes for 3 episodes", [](json& j) { j["outcomes"] = "10"; }},
       {"ran 5 episodes; the evaluation asks for 3", [](json& j) { j["episodes"] = 5; }},
   };

@@ -42,7 +42,9 @@ class SourceWatch {
 std::string trial_status(const std::string& out, const PlannedTrial& t, nlohmann::json& result, std::string& error);
 
 // Why a parsed result.json cannot be trial t's result (not an object, another trial's id, a field
-// missing, of the wrong type or not finite), or "" when it can.
+// missing, of the wrong type or not finite), or "" when it can. Every field the report reads is
+// checked here, the optional ones (outcomes, skipped tasks, a diagnosis) where present: the report
+// reads only results that passed (write_report checks the folder first).
 std::string result_problem(const nlohmann::json& result, const PlannedTrial& t);
 
 // A JSON file, or roger::Error "<path>: ..." saying it is missing, empty or not JSON.

@@ -2,6 +2,7 @@
 // error.json and policy.json and the folder's manifest.json are checked before anything uses them:
 // a truncated, empty, hand-edited or foreign file is named with what is wrong with it, never read
 // as zeros (docs/reliability.md).
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -26,16 +27,39 @@ std::string number_problem(const json& j, const char* key) {
   return "";
 }
 
-// Why the training-only fields of a result are unsound ("" when sound).
+// Why a field that some results hold and others lack has the wrong type ("" when each present
+// one is sound): what the report reads of them is then safe to read.
+std::string optional_field_problem(const json& r) {
+  if (r.contains("reached") && !r["reached"].is_boolean()) return "field \"reached\" must be true or false";
+  if (r.contains("psi")) {
+    if (!r["psi"].is_array()) return "field \"psi\" must be the list of the context's actions";
+    for (const auto& a : r["psi"])
+      if (!a.is_string()) return "field \"psi\" must hold action names, got " + a.dump();
+  }
+  if (r.contains("checkpoints") && !r["checkpoints"].is_array()) return "field \"checkpoints\" must be a list";
+  if (r.contains("skipped_tasks") && !r["skipped_tasks"].is_array())
+    return "field \"skipped_tasks\" must be a list of the training tasks skipped";
+  for (const char* key : {"outcomes", "final_outcomes"})
+    if (r.contains(key) && !(r[key].is_string() && r[key].get<std::string>().find_first_not_of("01") == std::string::npos))
+      return "field \"" + std::string(key) + "\" must be a string of episode outcomes, 1 a success and 0 a failure";
+  if (r.contains("diagnosis")) {
+    const json& d = r["diagnosis"];
+    const json* causes = d.is_object() && d.contains("causes") ? &d["causes"] : nullptr;
+    if (!causes || !causes->is_array() ||
+        !std::all_of(causes->begin(), causes->end(), [](const json& c) { return c.is_string(); }))
+      return "field \"diagnosis\" must be an object whose \"causes\" is a list of sentences";
+  }
+  return "";
+}
+
+// Why the training-only fields of a result are unsound ("" when sound); their types were checked
+// by optional_field_problem.
 std::string training_problem(const json& r) {
   for (const char* key : {"time_to_threshold_s", "train_episodes", "final_episodes"})
     if (auto p = number_problem(r, key); !p.empty()) return p;
-  if (!r.contains("reached") || !r["reached"].is_boolean()) return "field \"reached\" must be true or false";
-  if (!r.contains("psi") || !r["psi"].is_array() || r["psi"].empty())
-    return "field \"psi\" must be the list of the context's actions";
-  for (const auto& a : r["psi"])
-    if (!a.is_string()) return "field \"psi\" must hold action names, got " + a.dump();
-  if (!r.contains("checkpoints") || !r["checkpoints"].is_array()) return "field \"checkpoints\" must be a list";
+  if (!r.contains("reached")) return "field \"reached\" must be true or false";
+  if (!r.contains("psi") || r["psi"].empty()) return "field \"psi\" must be the list of the context's actions";
+  if (!r.contains("checkpoints")) return "field \"checkpoints\" must be a list";
   for (size_t k = 0; k < r["checkpoints"].size(); ++k) {
     const json& c = r["checkpoints"][k];
     for (const char* key : {"sim_s", "reward_mean", "success_rate"}) {
@@ -75,6 +99,7 @@ std::string result_problem(const json& r, const PlannedTrial& t) {
   if (!r.contains("usage") || !r["usage"].is_object()) return "field \"usage\" must be an object";
   for (auto it = r["usage"].begin(); it != r["usage"].end(); ++it)
     if (!it->is_number()) return "field \"usage\" must map actions to shares, got " + it->dump() + " for " + it.key();
+  if (auto p = optional_field_problem(r); !p.empty()) return p;
   return t.run ? training_problem(r) : "";
 }
 

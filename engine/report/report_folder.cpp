@@ -1,5 +1,6 @@
 // report_folder.cpp: a results folder read once for the report (report_internal.h): every trial's
-// result.json parsed and checked, pooled evaluations, formatting.
+// result.json parsed (write_report has checked each one first, engine/batch/records.cpp), pooled
+// evaluations, formatting.
 #include "report/report_internal.h"
 
 #include <algorithm>
@@ -16,42 +17,6 @@ namespace roger::report_detail {
 namespace {
 
 std::string read_text(const fs::path& path) { return read_file_text(path.string()); }
-
-
-// Checks the JSON types of what the report reads from a trial's result.json with value(), get()
-// or [] (num() checks its own numbers): a hand-edited or damaged result is a roger::Error naming
-// the file, not a json type_error, nor an abort on a missing "usage".
-void check_result_shape(const json& j, const fs::path& file) {
-  auto bad = [&](const std::string& what) { throw Error(file.string() + ": " + what); };
-  if (!j.is_object()) bad(std::string("a trial result must be a JSON object, got ") + j.type_name());
-  if (j.contains("reached") && !j["reached"].is_boolean()) bad("field \"reached\" must be true or false");
-  if (j.contains("psi")) {
-    const json& psi = j["psi"];
-    if (!psi.is_array() || !std::all_of(psi.begin(), psi.end(), [](const json& a) { return a.is_string(); }))
-      bad("field \"psi\" must be a list of action names");
-  }
-  if (j.contains("usage")) {
-    const json& usage = j["usage"];
-    if (!usage.is_object() || !std::all_of(usage.begin(), usage.end(), [](const json& f) { return f.is_number(); }))
-      bad("field \"usage\" must map action names to numbers");
-  }
-  if (j.contains("checkpoints") && !j["checkpoints"].is_array()) bad("field \"checkpoints\" must be a list");
-  if (j.contains("skipped_tasks") && !j["skipped_tasks"].is_array())
-    bad("field \"skipped_tasks\" must be a list of the training tasks skipped");
-  for (const char* key : {"outcomes", "final_outcomes"})
-    if (j.contains(key) && !(j[key].is_string() && j[key].get<std::string>().find_first_not_of("01") == std::string::npos))
-      bad(std::string("field \"") + key + "\" must be a string of episode outcomes, 1 a success and 0 a failure");
-  if (j.contains("diagnosis")) {
-    const json& d = j["diagnosis"];
-    const json* causes = d.is_object() && d.contains("causes") ? &d["causes"] : nullptr;
-    if (!causes || !causes->is_array() ||
-        !std::all_of(causes->begin(), causes->end(), [](const json& c) { return c.is_string(); }))
-      bad("field \"diagnosis\" must be an object whose \"causes\" is a list of sentences");
-  }
-  if (j.contains("trial") &&
-      !(j["trial"].is_number_integer() && j["trial"].get<int64_t>() >= 0 && j["trial"].get<int64_t>() < 100000))
-    bad("field \"trial\" must be a trial index (an integer in [0, 100000))");
-}
 
 }  // namespace
 
@@ -75,7 +40,6 @@ Results Folder::trials(const std::vector<std::string>& ids) const {
       } catch (const std::exception& e) {
         throw Error((d / "result.json").string() + ": not JSON: " + e.what());
       }
-      check_result_shape(r.ok.back(), d / "result.json");
     } else if (fs::exists(d / "error.json", ec)) {
       ++r.failed;
     } else {
@@ -135,7 +99,7 @@ void append_rate_cells(const json& j, int64_t policy, const char* first_seed_key
   if (!(n >= 0 && n <= 1e6 && n == std::floor(n)))  // a batch evaluation runs at most a million
     throw Error(std::string("a trial result's '") + episodes_key + "' is not a count of episodes up to a million: " +
                 fmt("%g", n));
-  // Its characters were checked when the result was read (check_result_shape).
+  // Its characters were checked before the report began (batch_detail::result_problem).
   const bool known = j.contains(outcomes_key);
   const std::string outcomes = known ? j[outcomes_key].get<std::string>() : std::string();
   if (known && outcomes.size() != size_t(n))

@@ -1,6 +1,6 @@
 // report_internal.h: what the files of report/ share, private to the folder. The report is one
 // concept told in several parts, a file each, around one reading of the results folder:
-//   report_folder.cpp       Folder (the folder read once), the checks of each result.json, numbers
+//   report_folder.cpp       Folder (the folder read once, its results checked by batch first), numbers
 //                           pooled over evaluations, formatting
 //   report_runs.cpp         Tables I and II: a run's contexts against its baseline, usage, misses
 //   report_evaluations.cpp  Table III: evaluations per shape, their distinct layouts, 95% intervals
