@@ -83,18 +83,6 @@ void write_text_file(const std::string& path, const std::string& content) {
   file.commit();
 }
 
-constexpr int kMaxPicturePixels = 32767;  // cairo's image surface limit per side
-
-// Owns a cairo surface and context for the length of one drawing.
-struct Canvas {
-  cairo_surface_t* surface = nullptr;
-  cairo_t* cr = nullptr;
-  ~Canvas() {
-    if (cr) cairo_destroy(cr);
-    if (surface) cairo_surface_destroy(surface);
-  }
-};
-
 // Lets paint draw on a width x height image and writes it atomically to path as PNG.
 template <class Paint>
 void write_png(const std::string& path, long width, long height, Paint paint) {

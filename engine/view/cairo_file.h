@@ -1,4 +1,5 @@
-// cairo_file.h: cairo surfaces written through an AtomicFile, so a picture is never half-written.
+// cairo_file.h: cairo surfaces written through an AtomicFile, so a picture is never half-written,
+// and what owns a drawing's surface (pictures, render.cpp, and animations, animation.cpp).
 #pragma once
 
 #include <cairo.h>
@@ -6,6 +7,18 @@
 #include "core/fileio.h"
 
 namespace roger {
+
+constexpr int kMaxPicturePixels = 32767;  // cairo's image surface limit per side
+
+// Owns a cairo surface and context for the length of one drawing.
+struct Canvas {
+  cairo_surface_t* surface = nullptr;
+  cairo_t* cr = nullptr;
+  ~Canvas() {
+    if (cr) cairo_destroy(cr);
+    if (surface) cairo_surface_destroy(surface);
+  }
+};
 
 // A cairo write callback appending to the AtomicFile given as the closure.
 inline cairo_status_t cairo_write_to_file(void* closure, const unsigned char* data, unsigned int length) {

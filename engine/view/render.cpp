@@ -160,18 +160,6 @@ Format format_of(const std::string& path) {
       "; use .png or .svg");
 }
 
-// Owns a cairo surface and context for the length of one drawing.
-struct Canvas {
-  cairo_surface_t* surface = nullptr;
-  cairo_t* cr = nullptr;
-  ~Canvas() {
-    if (cr) cairo_destroy(cr);
-    if (surface) cairo_surface_destroy(surface);
-  }
-};
-
-constexpr int kMaxPicturePixels = 32767;  // cairo's image surface limit per side
-
 // Makes a surface of the right kind, lets paint draw on it, and writes it atomically to path.
 template <class Paint>
 void write_picture(const std::string& path, long width, long height, Paint paint) {

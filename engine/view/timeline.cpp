@@ -55,15 +55,6 @@ std::string elide(cairo_t* cr, double u, std::string s, double max_w, const Text
   return "\u2026";
 }
 
-// A round tick spacing giving at most about ten intervals over span (as render.cpp's metre scale).
-double nice_step(double span) {
-  const double raw = span / 10.0;
-  const double p = std::pow(10.0, std::floor(std::log10(raw)));
-  for (double m : {1.0, 2.0, 2.5, 5.0, 10.0})
-    if (m * p >= raw - 1e-12) return m * p;
-  return 10 * p;
-}
-
 // The timeline's furniture in design units (one unit is a pixel of a 1000-pixel-wide panel).
 constexpr double kTlTop = 10;       // rule and breathing room above the heading
 constexpr double kTlHeading = 28;   // "controller states", outcome, legend; room for the cursor's tip

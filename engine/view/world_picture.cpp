@@ -81,15 +81,6 @@ void label_above(cairo_t* cr, const Layout& l, const std::string& name, const Ve
 // ---- arena
 // ---------------------------------------------------------------------------------------
 
-// A round tick spacing giving at most about ten intervals over span.
-double nice_step(double span) {
-  const double raw = span / 10.0;
-  const double p = std::pow(10.0, std::floor(std::log10(raw)));
-  for (double m : {1.0, 2.0, 2.5, 5.0, 10.0})
-    if (m * p >= raw - 1e-12) return m * p;
-  return 10 * p;
-}
-
 // A tick value without trailing zeros or a negative zero.
 std::string tick_label(double v) {
   if (std::fabs(v) < 1e-9) v = 0;
