@@ -1014,7 +1014,7 @@ TEST_CASE("under joint and base noise the controllers read a steadier pose", "[n
         agent.step(*task.action);
         const Senses& truth = agent.world().true_senses();
         const Senses& raw = agent.world().senses();
-        const Senses& estimate = *agent.input().senses;
+        const SenseReadings& estimate = *agent.input().senses;
         raw2[0] += std::pow(raw.base.x - truth.base.x, 2), est2[0] += std::pow(estimate.base.x - truth.base.x, 2);
         raw2[1] += std::pow(raw.q[kLeftShoulder] - truth.q[kLeftShoulder], 2);
         est2[1] += std::pow(estimate.q[kLeftShoulder] - truth.q[kLeftShoulder], 2);

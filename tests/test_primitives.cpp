@@ -647,7 +647,7 @@ struct ControllerSet {
 // The input a controller would read with the base's heading and every object's orientation
 // turned by `turns` whole turns: the same place, written with another winding.
 struct TurnedInput {
-  Senses senses;
+  SenseReadings senses;
   Percepts percepts;
   WorldModel model;
   Attention next_attention;

@@ -38,7 +38,7 @@ void Agent::perceive() {
   update_object_map(world_, objects_);
   const Colour* stimulus = &world_.attention().colour;
   if (pose_filter_.active()) {
-    estimated_ = world_.senses();
+    estimated_ = world_.senses();  // the readings only: the images are not copied
     pose_filter_.apply(estimated_, model_.tick_seconds());
   }
   percepts_.update(*input_.senses, model_.robot(), &objects_, stimulus, model_.noise.stereo);

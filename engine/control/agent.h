@@ -69,10 +69,11 @@ class Agent {
   AgentParams params_;
   WorldModel model_;        // this episode's world (kept across episodes: its grid is reused)
   Percepts percepts_;
-  // Under joint or base noise, what the controllers read: the noisy senses with the pose Roger
-  // estimates (PoseFilter) in place of the noisy readings.
+  // Under joint or base noise, what the controllers read: the noisy readings with the pose Roger
+  // estimates (PoseFilter) in place of the noisy joints and base; without the images, which
+  // control never reads (a copy of them was half the cost of the estimate).
   PoseFilter pose_filter_;
-  Senses estimated_;
+  SenseReadings estimated_;
   Percepts true_percepts_;  // what the true senses make of the world (under noise only)
   ControlInput true_input_; // the tick as the true world gives it, for judges
   Attention judge_next_attention_;  // where judges' bindings ask to attend: ignored

@@ -47,7 +47,8 @@ using DofMatrix = Eigen::Matrix<double, kDofCount, kDofCount>;
 // (MapObject). Never the simulator's object poses as senses.
 struct ControlInput {
   const WorldModel* model = nullptr;    // the world of this episode (sim/world_model.h)
-  const Senses* senses = nullptr;
+  // Roger's senses as control reads them: the sightings, never the pixels (SenseReadings).
+  const SenseReadings* senses = nullptr;
   // The same tick as the true world gives it (true senses and what they make of them, all else
   // alike), for judges (Judge in predicate.h); null when the senses are the true ones (no noise).
   const ControlInput* truth = nullptr;

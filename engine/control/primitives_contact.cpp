@@ -79,7 +79,7 @@ namespace primitives_internal {
 
 ContactGeometry kinematic_contacts(const ControlInput& in, const Vec2& center) {
   ContactGeometry g;
-  const Senses& s = *in.senses;
+  const SenseReadings& s = *in.senses;
   g.point[kBody] = Vec2(s.base.x, s.base.y);
   g.point[kLeftHand] = in.percepts->arms[kLeft].hand;
   g.point[kRightHand] = in.percepts->arms[kRight].hand;
@@ -92,7 +92,7 @@ ContactGeometry kinematic_contacts(const ControlInput& in, const Vec2& center) {
 
 Targets grasp_targets(const ControlInput& in, const Vec2& center, double body_distance,
                       double hand_radius, double spread, double swing) {
-  const Senses& s = *in.senses;
+  const SenseReadings& s = *in.senses;
   const Vec2 base(s.base.x, s.base.y);
   // The body's side of the object: where the body touches it, the touch normal says which way the
   // surface there faces (a polygon's face need not face the base centre); else the base's bearing.
@@ -116,7 +116,7 @@ Targets grasp_targets(const ControlInput& in, const Vec2& center, double body_di
 
 double reach_errors(const ControlInput& in, const Vec2& center, const Targets& t,
                     Eigen::Matrix<double, 6, 1>& e, bool& body_row) {
-  const Senses& s = *in.senses;
+  const SenseReadings& s = *in.senses;
   double worst = 0.0;
   for (int side = 0; side < 2; ++side) {
     const Vec2 err = t.hand[side] - in.percepts->arms[side].hand;
@@ -142,7 +142,7 @@ double reach_errors(const ControlInput& in, const Vec2& center, const Targets& t
 
 void reach_targets(const ControlInput& in, const Vec2& center, const Targets& t, bool facing,
                    const DofVector& use, double lambda, ControlOutput& out, double& worst_error) {
-  const Senses& s = *in.senses;
+  const SenseReadings& s = *in.senses;
   Eigen::Matrix<double, 6, kDofCount> J = Eigen::Matrix<double, 6, kDofCount>::Zero();
   Eigen::Matrix<double, 6, 1> e = Eigen::Matrix<double, 6, 1>::Zero();
   Eigen::Matrix<double, 2, kDofCount> Jh;

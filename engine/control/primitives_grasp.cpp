@@ -95,7 +95,7 @@ class Preshape final : public Primitive {
     if (view_tick_ == in.tick) return view_;
     view_tick_ = in.tick;
     View& v = view_;
-    const Senses& s = *in.senses;
+    const SenseReadings& s = *in.senses;
     v.obj = VisualObject{};
     v.in_reach = object_estimate(in, value(p_.memory), v.obj, true) &&
                  !((v.obj.center - Vec2(s.base.x, s.base.y)).norm() > value(in, p_.reach));
@@ -182,7 +182,7 @@ class Grasp final : public Primitive {
   }
 
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
-    const Senses& s = *in.senses;
+    const SenseReadings& s = *in.senses;
     const Percepts& p = *in.percepts;
     VisualObject obj;
     if (!object_in_reach(in, obj)) {
@@ -226,14 +226,14 @@ class Grasp final : public Primitive {
  private:
   // The object as the senses have it, if it is within reach.
   bool object_in_reach(const ControlInput& in, VisualObject& obj) const {
-    const Senses& s = *in.senses;
+    const SenseReadings& s = *in.senses;
     return object_estimate(in, value(p_.memory), obj) &&
            !((obj.center - Vec2(s.base.x, s.base.y)).norm() > value(in, p_.reach));
   }
 
   // How many of the three contacts touch the object touched most.
   static int contacts_on_object(const ControlInput& in) {
-    const Senses& s = *in.senses;
+    const SenseReadings& s = *in.senses;
     const Percepts& p = *in.percepts;
     int on = 0;
     for (int k = 0; k < kTactileCount; ++k)
@@ -243,7 +243,7 @@ class Grasp final : public Primitive {
 
   // The grasp residual (friction included) of the three touch contacts.
   GraspResidual touch_residual(const ControlInput& in, const Vec2& center, double r) const {
-    const Senses& s = *in.senses;
+    const SenseReadings& s = *in.senses;
     Vec2 normal[kTactileCount], point[kTactileCount];
     for (int k = 0; k < kTactileCount; ++k) normal[k] = s.touch[k].normal, point[k] = s.touch[k].point;
     return grasp_residual(normal, point, center, r, value(p_.moment), value(p_.friction));
@@ -253,7 +253,7 @@ class Grasp final : public Primitive {
   // along the surface and steps `back_off` out along its touch normal, so it neither grips the
   // object (which would stay ahead of the creeping body) nor stalls on it while it swings round.
   void back_off_hands(const ControlInput& in, Targets& t) const {
-    const Senses& s = *in.senses;
+    const SenseReadings& s = *in.senses;
     const Percepts& p = *in.percepts;
     for (int side = 0; side < 2; ++side) {
       const Touch& touch = s.touch[kLeftHand + side];
@@ -270,7 +270,7 @@ class Grasp final : public Primitive {
   // when all three contacts are on the object.
   void close_hands(const ControlInput& in, const VisualObject& obj, double r, double creep,
                    Targets& t, GraspResidual& grasp) const {
-    const Senses& s = *in.senses;
+    const SenseReadings& s = *in.senses;
     const Percepts& p = *in.percepts;
     // What the contacts leave unbalanced: with all three on the object, the grasp residual
     // (friction included); before that, the sum of the unit normals measured by touch (each
@@ -315,7 +315,7 @@ class Grasp final : public Primitive {
   // it. The body touches, so the surface is where it is; vision's radius puts a polygon's face
   // further out than that, and backing off to it with both hands gripping dragged the object
   // across the floor for as long as phi3 ran (tests/test_primitives.cpp).
-  static void keep_body_pressed(const Senses& s, const Vec2& center, const Vec2& base,
+  static void keep_body_pressed(const SenseReadings& s, const Vec2& center, const Vec2& base,
                                 const Targets& t, ControlOutput& out) {
     const Vec2 to_obj = center - base;
     const double d = to_obj.norm();
@@ -404,7 +404,7 @@ class Hold final : public Primitive {
   // Which contacts are on the object (`on`), and the base's acceleration; updates what is carried
   // from tick to tick once per tick, however many of the state path and compute() run in it.
   Vec2 remember(const ControlInput& in, bool on[kTactileCount]) {
-    const Senses& s = *in.senses;
+    const SenseReadings& s = *in.senses;
     const Percepts& p = *in.percepts;
     for (int k = 0; k < kTactileCount; ++k)
       on[k] = p.contact_on_object[k] && s.touch[k].index == p.touched_object;
@@ -434,7 +434,7 @@ class Hold final : public Primitive {
 
   // The base's acceleration from its velocity senses (world frame), since the last tick; zero on
   // the first.
-  Vec2 base_acceleration(const Senses& s, double dt) {
+  Vec2 base_acceleration(const SenseReadings& s, double dt) {
     const Vec2 v = s.qdot[kBaseForward] * unit(s.base.theta);
     const Vec2 accel = has_velocity_ ? Vec2((v - last_velocity_) / dt) : Vec2::Zero();
     last_velocity_ = v;
@@ -446,7 +446,7 @@ class Hold final : public Primitive {
   // leads with the base's acceleration (`on`: which contacts are on the object).
   void press_hands(const ControlInput& in, const bool on[kTactileCount], const Vec2& accel,
                    ControlOutput& out) const {
-    const Senses& s = *in.senses;
+    const SenseReadings& s = *in.senses;
     Eigen::Matrix<double, 4, kDofCount> J;
     Eigen::Matrix<double, 4, 1> e;
     Eigen::Matrix<double, 2, kDofCount> Jh;
@@ -484,7 +484,7 @@ class Hold final : public Primitive {
   // The grasp residual of the three touch contacts, about the object's estimated centre (or the
   // contacts' centroid when there is no estimate).
   double contact_phi(const ControlInput& in) const {
-    const Senses& s = *in.senses;
+    const SenseReadings& s = *in.senses;
     Vec2 normal[kTactileCount], point[kTactileCount];
     for (int k = 0; k < kTactileCount; ++k) normal[k] = s.touch[k].normal, point[k] = s.touch[k].point;
     VisualObject obj;

@@ -34,7 +34,7 @@ bool object_estimate(const ControlInput& in, double memory, VisualObject& out,
 // the base centre; each arm joint swings the hand about that joint.
 inline void hand_jacobian(const ControlInput& in, int side,
                           Eigen::Matrix<double, 2, kDofCount>& J) {
-  const Senses& s = *in.senses;
+  const SenseReadings& s = *in.senses;
   const ArmPoints& a = in.percepts->arms[side];
   const Vec2 base(s.base.x, s.base.y);
   J.setZero();

@@ -127,7 +127,7 @@ class Navigate final : public Primitive {
     if (!acted_last_tick(in)) turn_sign_ = 0, blocked_time_ = 0.0;
     const Vec2 point = classify(in, true, out, gamma);
     if (gamma != Gamma::kNotConv) return;
-    const Senses& s = *in.senses;
+    const SenseReadings& s = *in.senses;
     const double carry = value(in, p_.carry);
     out.phi = planner_.potential(point);
     Vec2 dir = planner_.descent(point);
@@ -145,7 +145,7 @@ class Navigate final : public Primitive {
   // The control point: the base centre, or a point carried ahead of it. When carrying, vision
   // says where the carried object really is, if the eyes have it.
   Vec2 control_point(const ControlInput& in) const {
-    const Senses& s = *in.senses;
+    const SenseReadings& s = *in.senses;
     const double carry = value(in, p_.carry);
     const Vec2 point = Vec2(s.base.x, s.base.y) + carry * unit(s.base.theta);
     if (carry > 0.05 && in.percepts->object.seen &&
@@ -493,7 +493,7 @@ class Navigate final : public Primitive {
   // ---- The reference ----
 
   // The base command that moves a point `carry` metres ahead of the base along `dir` at `speed`.
-  void steer_carried(const Senses& s, double dt, const Vec2& dir, double speed, double lookahead,
+  void steer_carried(const SenseReadings& s, double dt, const Vec2& dir, double speed, double lookahead,
                      double carry, ControlOutput& out) {
     const Vec2 fwd = unit(s.base.theta);
     // A point ahead of a differential drive moves holonomically: v = u.f, w = u.left / carry.
@@ -523,7 +523,7 @@ class Navigate final : public Primitive {
   }
 
   // The base command that turns the base to `dir` and drives along it, slower the more it is off.
-  static void steer_base(const Senses& s, const Vec2& dir, double speed, double lookahead,
+  static void steer_base(const SenseReadings& s, const Vec2& dir, double speed, double lookahead,
                          ControlOutput& out) {
     const double turn = wrap_angle(std::atan2(dir.y(), dir.x()) - s.base.theta);
     const double along = std::max(0.0, std::cos(turn));

@@ -40,7 +40,7 @@ class Release final : public Primitive {
  protected:
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
     own_dofs({kBaseForward, kLeftShoulder, kLeftElbow, kRightShoulder, kRightElbow}, out.jacobian);
-    const Senses& s = *in.senses;
+    const SenseReadings& s = *in.senses;
     const RobotStart& start = in.spec().robot;
     const double posture[4] = {start.left_shoulder, start.left_elbow, start.right_shoulder, start.right_elbow};
     double arm_error = 0.0;

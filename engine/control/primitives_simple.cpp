@@ -33,7 +33,7 @@ class Track final : public Primitive {
  protected:
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
     own_dofs({kLeftEye, kRightEye, kBaseHeading}, out.jacobian);
-    const Senses& s = *in.senses;
+    const SenseReadings& s = *in.senses;
     if (!s.stimulus[kLeft].seen || !s.stimulus[kRight].seen) {
       gamma = Gamma::kNoRef;
       tracking_ = false;
@@ -107,7 +107,7 @@ class Search final : public Primitive {
 
  protected:
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
-    const Senses& s = *in.senses;
+    const SenseReadings& s = *in.senses;
     const double heading = s.q[kBaseHeading];
     const bool turned = watch_turning(heading, in);
     count_turn(heading, in.tick);
@@ -159,7 +159,7 @@ class Search final : public Primitive {
   // Marks the directions (world bearings, in kSweepBins bins) that lie wholly inside either eye's
   // field of view this tick.
   void sweep(const ControlInput& in) {
-    const Senses& s = *in.senses;
+    const SenseReadings& s = *in.senses;
     constexpr double kBin = 2.0 * M_PI / kSweepBins;
     for (int e = 0; e < 2; ++e) {
       const double axis = s.base.theta + s.q[kLeftEye + e];
@@ -215,7 +215,7 @@ class Search final : public Primitive {
   // A blocked turn: the search turns the other way from now on, and if the body touches what
   // blocks it, first drives kBackAwayLength away from it (forward or back, whichever the touch
   // normal favours), so the body is not turning pressed against it.
-  void turn_back(const Senses& s) {
+  void turn_back(const SenseReadings& s) {
     direction_ = -direction_;
     const Touch& body = s.touch[kBody];
     if (!body.contact) return;
@@ -231,7 +231,7 @@ class Search final : public Primitive {
   // restart the count: otherwise search and tracking hand the stimulus to each other for ever
   // and the step never comes.
   void watch_one_eye(const ControlInput& in, int e) {
-    const Senses& s = *in.senses;
+    const SenseReadings& s = *in.senses;
     const double time = in.time, dt = in.dt();
     const double rel = wrap_angle(s.q[kLeftEye + e] + s.stimulus[e].bearing);
     if (std::abs(rel) >= value(p_.reached)) {
@@ -256,7 +256,7 @@ class Search final : public Primitive {
   // One tick of the sideways step: turn to face across the line of sight, drive, then hand back
   // to the search aimed at the remembered bearing. Each phase is bounded in time, so a wall or
   // an obstacle in the way ends the step instead of the episode.
-  void step_aside(const Senses& s, double dt, ControlOutput& out) {
+  void step_aside(const SenseReadings& s, double dt, ControlOutput& out) {
     const double heading = s.q[kBaseHeading];
     step_time_ += dt;
     if (step_ == Step::kBackAway) {
@@ -333,7 +333,7 @@ class Condition final : public Primitive {
 
  protected:
   void compute(const ControlInput& in, ControlOutput& out, Gamma& gamma) override {
-    const Senses& s = *in.senses;
+    const SenseReadings& s = *in.senses;
     double grad2 = 0.0;
     out.phi = 0.0;
     for (int dof : {int(kLeftElbow), int(kRightElbow)}) {

@@ -14,7 +14,7 @@ namespace roger {
 namespace {
 
 // How many touch sensors are on object i (`on`: which sensors touch an object at all).
-int contacts_on(const Senses& s, const bool (&on)[kTactileCount], int i) {
+int contacts_on(const SenseReadings& s, const bool (&on)[kTactileCount], int i) {
   int n = 0;
   for (int t = 0; t < kTactileCount; ++t) n += on[t] && s.touch[t].index == i;
   return n;
@@ -22,7 +22,7 @@ int contacts_on(const Senses& s, const bool (&on)[kTactileCount], int i) {
 
 // The object most sensors touch among those `eligible` accepts (the lowest index on a tie), or -1.
 template <class Eligible>
-int most_touched(const Senses& s, const bool (&on)[kTactileCount], Eligible eligible) {
+int most_touched(const SenseReadings& s, const bool (&on)[kTactileCount], Eligible eligible) {
   int best = -1, most = 0;
   for (int t = 0; t < kTactileCount; ++t) {
     const int i = s.touch[t].index;
@@ -39,7 +39,7 @@ void PoseFilter::reset(bool joints, bool base) {
   joints_ = joints, base_ = base, valid_ = false;
 }
 
-void PoseFilter::apply(Senses& s, double dt) {
+void PoseFilter::apply(SenseReadings& s, double dt) {
   if (!valid_) {
     q_ = s.q, qdot_ = s.qdot, pose_ = s.base, valid_ = true;
     return;
@@ -103,7 +103,7 @@ Vec2 StereoFilter::fuse(const Vec2& z, const Vec2& eyes_mid, double baseline, co
   return center;
 }
 
-void Percepts::update(const Senses& s, const RobotParams& robot, const std::vector<MapObject>* objects,
+void Percepts::update(const SenseReadings& s, const RobotParams& robot, const std::vector<MapObject>* objects,
                       const Colour* stimulus, const StereoNoise& noise) {
   object = VisualObject{};
   // A stimulus that runs off either image has no trustworthy centre there: no stereo fix then.
@@ -163,7 +163,7 @@ void Percepts::update(const Senses& s, const RobotParams& robot, const std::vect
 // A bystander of another colour bumped on the way is not the object: taken for it, it was what
 // phi3 closed on, and the creeping body shoved it across the arena into a wall (sorting, seed
 // 300050).
-int Percepts::felt_object_of(const Senses& s, const std::vector<MapObject>* objects,
+int Percepts::felt_object_of(const SenseReadings& s, const std::vector<MapObject>* objects,
                              const Colour* stimulus) const {
   if (!objects || !stimulus) return touched_object;
   if (felt_object >= 0 && contacts_on(s, contact_on_object, felt_object) > 0) return felt_object;

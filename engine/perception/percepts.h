@@ -73,7 +73,7 @@ class PoseFilter {
   // Starts an episode: which channels are noisy.
   void reset(bool joints, bool base);
   // Replaces the noisy joints and base pose of `s` by the estimate (the first tick: the reading).
-  void apply(Senses& s, double dt);
+  void apply(SenseReadings& s, double dt);
   bool active() const { return joints_ || base_; }
 
  private:
@@ -97,12 +97,12 @@ struct Percepts {
   // Recomputes from this tick's senses. With the map of objects and the stimulus colour, touch
   // locates only an object of that colour (see update); without them, whatever it touches most.
   // Under noise (`noise` any) the stereo fix is fused over the ticks (StereoFilter).
-  void update(const Senses& senses, const RobotParams& robot,
+  void update(const SenseReadings& senses, const RobotParams& robot,
               const std::vector<MapObject>* objects = nullptr, const Colour* stimulus = nullptr,
               const StereoNoise& noise = {});
 
  private:
-  int felt_object_of(const Senses& senses, const std::vector<MapObject>* objects,
+  int felt_object_of(const SenseReadings& senses, const std::vector<MapObject>* objects,
                      const Colour* stimulus) const;
 };
 

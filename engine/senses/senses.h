@@ -75,10 +75,10 @@ struct Touch {
   Vec2 point = Vec2::Zero();      // contact point, world frame
 };
 
-// Everything perceived at one control tick.
-struct Senses {
+// Everything perceived at one control tick but the eyes' pixels: what control reads (it sees
+// through the sightings) and what a pose estimate is made from, copied without the images.
+struct SenseReadings {
   double time = 0.0;
-  std::array<EyeImage, 2> image;     // kLeft, kRight
   std::array<Sighting, 2> stimulus;  // kLeft, kRight
   bool stereo_valid = false;         // both eyes see it and the rays meet in front
   Vec2 stimulus_base = Vec2::Zero(); // triangulated position, base frame
@@ -87,6 +87,11 @@ struct Senses {
   DofVector q = DofVector::Zero();         // joint positions (see Dof)
   DofVector qdot = DofVector::Zero();      // joint velocities
   Pose base;                               // base pose, world frame
+};
+
+// Everything perceived at one control tick.
+struct Senses : SenseReadings {
+  std::array<EyeImage, 2> image;  // kLeft, kRight
 };
 
 // A surface in the eyes' world: one convex part (disk or polygon) of an object or obstacle,
