@@ -26,11 +26,13 @@ class LearnedRef final : public StandIn {
   ControllerPtr copy() const override { return std::make_shared<LearnedRef>(*this); }
 };
 
-// A Lua function a stage keeps (absorbing or reward), with where it was defined.
+// A Lua function a stage keeps (absorbing, reward or teacher), with where it was defined.
 struct LuaCallback {
   int ref = LUA_NOREF;
   std::string file;
   int line = 0;
+  // The function on top of L's stack, popped into the registry, with its file and line.
+  static LuaCallback keep(lua_State* L);
 };
 
 // Reads a stage table at `index` into `st`, raising Lua errors "stage 'X': ..." (at the caller's

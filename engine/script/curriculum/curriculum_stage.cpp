@@ -10,6 +10,18 @@
 
 namespace roger {
 namespace curriculum_detail {
+
+LuaCallback LuaCallback::keep(lua_State* L) {
+  lua_Debug ar;
+  lua_pushvalue(L, -1);
+  lua_getinfo(L, ">S", &ar);
+  LuaCallback fn;
+  fn.file = ar.source && ar.source[0] == '@' ? ar.source + 1 : ar.short_src;
+  fn.line = ar.linedefined;
+  fn.ref = luaL_ref(L, LUA_REGISTRYINDEX);
+  return fn;
+}
+
 namespace {
 
 // Collects the learned stand-ins a controller reaches.
@@ -176,12 +188,7 @@ void read_absorbing(lua_State* L, const LuaFields& f, const std::string& where, 
   const int at = f.push("absorbing");
   if (at == LUA_TNIL) f.fail("missing required field 'absorbing' (a predicate such as roger.converged(c), or a function(state))");
   if (at == LUA_TFUNCTION) {
-    lua_Debug ar;
-    lua_pushvalue(L, -1);
-    lua_getinfo(L, ">S", &ar);
-    absorb_fn.file = ar.source && ar.source[0] == '@' ? ar.source + 1 : ar.short_src;
-    absorb_fn.line = ar.linedefined;
-    absorb_fn.ref = luaL_ref(L, LUA_REGISTRYINDEX);
+    absorb_fn = LuaCallback::keep(L);
     st.absorbing_lua = true;
   } else {
     st.absorbing = lua_check_predicate(L, -1, where, "field 'absorbing'");
@@ -196,12 +203,7 @@ void read_reward(lua_State* L, const LuaFields& f, const std::string& where, Cur
   // reward: the paper's constants by default, a table of them, or a Lua function.
   const int rt = f.push("reward");
   if (rt == LUA_TFUNCTION) {
-    lua_Debug ar;
-    lua_pushvalue(L, -1);
-    lua_getinfo(L, ">S", &ar);
-    reward_fn.file = ar.source && ar.source[0] == '@' ? ar.source + 1 : ar.short_src;
-    reward_fn.line = ar.linedefined;
-    reward_fn.ref = luaL_ref(L, LUA_REGISTRYINDEX);
+    reward_fn = LuaCallback::keep(L);
     st.reward_lua = true;
   } else if (rt == LUA_TTABLE) {
     LuaFields r(L, lua_gettop(L), where + ": reward", {"absorbing", "timeout", "step"});

@@ -359,12 +359,7 @@ void read_tasks(lua_State* L, const LuaFields& f, CurriculumStage& st) {
 void read_teacher(lua_State* L, const LuaFields& f, CurriculumStage& st, LuaCallback& teacher_fn) {
   const int type = f.push("teacher");
   if (type == LUA_TFUNCTION) {
-    lua_Debug ar;
-    lua_pushvalue(L, -1);
-    lua_getinfo(L, ">S", &ar);
-    teacher_fn.file = ar.source && ar.source[0] == '@' ? ar.source + 1 : ar.short_src;
-    teacher_fn.line = ar.linedefined;
-    teacher_fn.ref = luaL_ref(L, LUA_REGISTRYINDEX);
+    teacher_fn = LuaCallback::keep(L);
     st.teacher_lua = true;
     if (st.tasks.empty()) f.fail("a teacher function needs a task space to choose from: give 'tasks'");
     return;
