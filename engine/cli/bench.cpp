@@ -14,6 +14,7 @@
 
 #include "control/agent.h"
 #include "control/predicate.h"
+#include "report/stats.h"
 
 namespace roger {
 
@@ -31,13 +32,6 @@ namespace {
 void fnv_mix(uint64_t& h, const void* data, size_t n) {
   const auto* p = static_cast<const unsigned char*>(data);
   for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
-}
-
-// The median of the values (at least one).
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
 // Runs one measurement; with_senses chooses between the two layers. Returns wall seconds.
