@@ -51,6 +51,22 @@ void add_shape_fixtures(b2Body* body, const Shape& shape, float density, float f
   }
 }
 
+// One of Roger's disks (the base, a hand) with its mass spread over it: it meets the walls, the
+// obstacles and the objects, never another part of Roger (group -1).
+void add_robot_disk(b2Body* body, const Vec2& center, double radius, double mass, double friction) {
+  b2CircleShape cs;
+  cs.m_radius = float(radius);
+  cs.m_p = b2v(center);
+  b2FixtureDef fd;
+  fd.shape = &cs;
+  fd.density = float(mass / (M_PI * radius * radius));
+  fd.friction = float(friction);
+  fd.filter.categoryBits = kCatRobot;
+  fd.filter.maskBits = kCatWall | kCatObstacle | kCatObject;
+  fd.filter.groupIndex = -1;
+  body->CreateFixture(&fd);
+}
+
 // One arm link as a dynamic body from `from` to `to` at world angle `angle`: the forearm (l == 1)
 // carries the tactile hand disk at its end; both carry the link's mass. The angle is the base's
 // heading plus the joint angles before it, not atan2 of the link's direction: Box2D reads a
@@ -68,17 +84,7 @@ b2Body* create_link(b2World& w, const RobotParams& r, int side, int l, const Vec
   b2Body* link = w.CreateBody(&ld);
   const double half = 0.5 * r.link_length[l];
   if (l == 1) {  // the hand: a tactile disk at the end of the forearm
-    b2CircleShape hs;
-    hs.m_radius = float(r.hand_radius);
-    hs.m_p.Set(float(half), 0.0f);
-    b2FixtureDef hd;
-    hd.shape = &hs;
-    hd.density = float(r.hand_mass / (M_PI * r.hand_radius * r.hand_radius));
-    hd.friction = float(r.surface_friction);
-    hd.filter.categoryBits = kCatRobot;
-    hd.filter.maskBits = kCatWall | kCatObstacle | kCatObject;
-    hd.filter.groupIndex = -1;
-    link->CreateFixture(&hd);
+    add_robot_disk(link, Vec2(half, 0.0), r.hand_radius, r.hand_mass, r.surface_friction);
     link->GetUserData().pointer =
         encode(SurfaceKind::kNone, side == kLeft ? kLeftHand : kRightHand);
   }
@@ -244,16 +250,7 @@ void World::Impl::add_base(const RobotParams& r, const Pose& start) {
   bd.angle = float(start.theta);
   base = world->CreateBody(&bd);
   base->GetUserData().pointer = encode(SurfaceKind::kNone, int(kBody));
-  b2CircleShape cs;
-  cs.m_radius = float(r.base_radius);
-  b2FixtureDef fd;
-  fd.shape = &cs;
-  fd.density = float(r.base_mass / (M_PI * r.base_radius * r.base_radius));
-  fd.friction = float(r.surface_friction);
-  fd.filter.categoryBits = kCatRobot;
-  fd.filter.maskBits = kCatWall | kCatObstacle | kCatObject;
-  fd.filter.groupIndex = -1;
-  base->CreateFixture(&fd);
+  add_robot_disk(base, Vec2(0.0, 0.0), r.base_radius, r.base_mass, r.surface_friction);
 }
 
 void World::Impl::add_rail() {
