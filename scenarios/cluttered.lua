@@ -23,7 +23,7 @@ return {
     obstacle_max_size = { default = 0.3, min = 0.05, max = 1.0, description = "largest obstacle side or diameter (m)" },
     obstacle_clearance = { default = 0.4, min = 0.0,
                            description = "free floor between an obstacle and anything else (m)" },
-    mass = { default = 0.5, min = 0.01, description = "object mass (kg)" },
+    mass = { default = 0.5, min = 0.01, max = 10000, description = "object mass (kg)" },
     object_wall_margin = { default = 0.95, min = 0.0,
                            description = "least distance from the walls to the object's centre (m)" },
     robot_distance = { default = 1.4, min = 0.0,

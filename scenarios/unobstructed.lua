@@ -21,7 +21,7 @@ return {
   params = body.with_params{
     shape = { default = "circle", choices = shapes.names(),
               description = "the object: circle (the paper's ball), triangle, pentagon or spade" },
-    mass = { default = 0.5, min = 0.01, description = "object mass (kg)" },
+    mass = { default = 0.5, min = 0.01, max = 10000, description = "object mass (kg)" },
     object_wall_margin = { default = 0.95, min = 0.0,
                            description = "least distance from the walls to the object's centre (m)" },
     robot_distance = { default = 1.4, min = 0.0,

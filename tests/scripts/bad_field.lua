@@ -12,6 +12,14 @@ return {
       world:object{ shape = shapes.get("circle"), y = 1 }
     elseif params.mode == "overlap" then
       world:object{ shape = shapes.get("circle"), x = 0.2, y = 0 }
+    elseif params.mode == "huge_mass" then
+      world:object{ shape = shapes.get("circle"), x = 1, y = 1, mass = 1e39 }
+    elseif params.mode == "huge_viscosity" then
+      world:object{ shape = shapes.get("circle"), x = 1, y = 1, angular_viscosity = 1e300 }
+    elseif params.mode == "heaviest" then  -- every field at its upper bound
+      world:object{ shape = shapes.get("circle"), x = 1, y = 1, mass = 1e4, friction_force = 1e6,
+                    friction_torque = 1e6, viscosity = 1e4, angular_viscosity = 1e4,
+                    surface_friction = 10 }
     end
   end,
 }

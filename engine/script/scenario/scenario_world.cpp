@@ -202,19 +202,21 @@ int l_world_object(lua_State* L) {
     fix_arena(w);
     ObjectSpec o;
     read_thing(L, f, "object", w.spec.objects, o);
-    auto positive = [&](const char* key, double fallback, bool allow_zero) {
+    // Each within a range Box2D can hold in single precision (a mass of 1e39 kg is infinite
+    // there and aborts it) and wider than any object Roger could move or stop.
+    auto bounded = [&](const char* key, double fallback, bool allow_zero, double hi, const char* unit) {
       const double v = f.number(key, fallback);
-      if (v < 0.0 || (!allow_zero && v == 0.0))
-        f.fail(std::string("field '") + key + "' must be " + (allow_zero ? "zero or more" : "positive") +
-               ", got " + fmt(v));
+      if (!(v >= 0.0 && v <= hi) || (!allow_zero && v == 0.0))
+        f.fail(std::string("field '") + key + "' must be " + (allow_zero ? "within [0, " : "within (0, ") +
+               fmt(hi) + "] " + unit + ", got " + fmt(v));
       return v;
     };
-    o.mass = positive("mass", o.mass, false);
-    o.friction_force = positive("friction_force", o.friction_force, true);
-    o.friction_torque = positive("friction_torque", o.friction_torque, true);
-    o.viscosity = positive("viscosity", o.viscosity, true);
-    o.angular_viscosity = positive("angular_viscosity", o.angular_viscosity, true);
-    o.surface_friction = positive("surface_friction", o.surface_friction, true);
+    o.mass = bounded("mass", o.mass, false, 1e4, "kg");
+    o.friction_force = bounded("friction_force", o.friction_force, true, 1e6, "N");
+    o.friction_torque = bounded("friction_torque", o.friction_torque, true, 1e6, "N m");
+    o.viscosity = bounded("viscosity", o.viscosity, true, 1e4, "1/s");
+    o.angular_viscosity = bounded("angular_viscosity", o.angular_viscosity, true, 1e4, "1/s");
+    o.surface_friction = bounded("surface_friction", o.surface_friction, true, 10.0, "(a Coulomb coefficient)");
     check_free(f, w, "object '" + o.name + "'", o.shape, o.pose, true);
     w.spec.objects.push_back(std::move(o));
     return 0;
