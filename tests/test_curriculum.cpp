@@ -81,6 +81,8 @@ TEST_CASE("bad curricula are clear errors at file:line", "[curriculum]") {
        {"bad_curriculum_discount_clock.lua:4:", "stage 'Clock'", "learner", "discount_seconds", "got -2"}},
       {"bad_curriculum_unconverged.lua",
        {"bad_curriculum_unconverged.lua:4:", "stage 'Eager'", "learner", "unconverged_first", "a boolean"}},
+      {"bad_curriculum_alpha.lua",
+       {"bad_curriculum_alpha.lua:4:", "stage 'Alpha'", "stage 'Alpha': learner: alpha must be in (0, 1], got -1"}},
       {"bad_curriculum_time_per_object.lua",
        {"bad_curriculum_time_per_object.lua:4:", "stage 'Slow'", "field 'time_limit'", "per_object", "got 0"}},
       {"bad_curriculum_time_field.lua",
@@ -91,6 +93,7 @@ TEST_CASE("bad curricula are clear errors at file:line", "[curriculum]") {
     const std::string m = error_of([&] { Curriculum::load(std::string("tests/scripts/") + c.file); });
     INFO("message: " << m);
     for (const auto& p : c.parts) CHECK(m.find(p) != std::string::npos);
+    CHECK(m.find(c.parts[1]) == m.rfind(c.parts[1]));  // the stage is named once
   }
 }
 

@@ -54,8 +54,10 @@ struct QParams {
   // action whose gamma is CONV (nothing left to do) or NOREF (no reference) is not chosen, explored
   // or backed up from; in a state with no !CONV action the rule above decides. Off, as the paper.
   bool unconverged_first = false;
-  // Throws roger::Error naming `where` and the offending field when a value is out of range or
-  // not finite.
+  // What is wrong, naming the offending field ("alpha must be in (0, 1], got -1"), or "" when
+  // every value is in range and finite.
+  std::string problem() const;
+  // Throws roger::Error with problem() after `where` when there is one.
   void validate(const std::string& where = "q-learning") const;
 };
 

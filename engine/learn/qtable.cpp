@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/fileio.h"
+#include "core/text.h"
 #include "learn/learning.h"
 #include "learn/learning_internal.h"
 
@@ -128,16 +129,22 @@ std::string list_names(const std::vector<std::string>& names) {
 
 }  // namespace learning_detail
 
-void QParams::validate(const std::string& where) const {
-  auto in = [&](const char* name, double v, bool open_below, const char* range) {
-    if (!finite(v) || v > 1.0 || v < 0.0 || (open_below && v == 0.0))
-      throw Error(where + ": " + name + " must be in " + range + ", got " + std::to_string(v));
+std::string QParams::problem() const {
+  auto outside = [](double v, bool open_below) { return !finite(v) || v > 1.0 || v < 0.0 || (open_below && v == 0.0); };
+  auto range = [](const char* name, double v, const char* r) {
+    return std::string(name) + " must be in " + r + ", got " + format_number(v);
   };
-  in("alpha", alpha, true, "(0, 1]");
-  in("discount", discount, false, "[0, 1]");
-  in("epsilon_start", epsilon_start, false, "[0, 1]");
-  in("epsilon_end", epsilon_end, false, "[0, 1]");
-  if (!finite(initial_q)) throw Error(where + ": initial_q must be finite, got " + std::to_string(initial_q));
+  if (outside(alpha, true)) return range("alpha", alpha, "(0, 1]");
+  if (outside(discount, false)) return range("discount", discount, "[0, 1]");
+  if (outside(epsilon_start, false)) return range("epsilon_start", epsilon_start, "[0, 1]");
+  if (outside(epsilon_end, false)) return range("epsilon_end", epsilon_end, "[0, 1]");
+  if (!finite(initial_q)) return "initial_q must be finite, got " + format_number(initial_q);
+  return "";
+}
+
+void QParams::validate(const std::string& where) const {
+  const std::string why = problem();
+  if (!why.empty()) throw Error(where + ": " + why);
 }
 
 QTable::QTable(std::vector<std::string> action_names, const QParams& params)

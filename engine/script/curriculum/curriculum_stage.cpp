@@ -243,11 +243,8 @@ void read_learner(lua_State* L, const LuaFields& f, const std::string& where, Cu
     if (!(st.rewards.discount_seconds >= 0.0 && st.rewards.discount_seconds <= 1e6))
       q.fail("field 'discount_seconds' must be 0 (discount once per decision) or seconds up to 1e6, got " +
              format_number(st.rewards.discount_seconds));
-    try {
-      st.learner.validate(where + ": learner");
-    } catch (const Error& e) {
-      q.fail(e.what());
-    }
+    const std::string why = st.learner.problem();
+    if (!why.empty()) q.fail(why);
   }
   lua_pop(L, 1);
 }
