@@ -3,28 +3,67 @@
 // non-zero exit, never a crash.
 #include <unistd.h>
 
+#include <cerrno>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "cli/cli_internal.h"
 #include "cli/commands.h"
 #include "core/error.h"
+#include "core/text.h"
 
 namespace {
 
 using namespace roger;
 
+// Checks of number options that say what was expected. CLI11's Range lets NaN through, calls "abc"
+// out of range and prints a bound of 1e308 in 309 digits; its unsigned integers read -1 as 2^64 - 1.
+CLI::Validator number_in(double lo, double hi, bool lo_open = false) {
+  const std::string range = (lo_open ? "above " + format_number(lo) : "from " + format_number(lo)) +
+                            (std::isinf(hi) ? std::string() : " to " + format_number(hi));
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        const bool number = !text.empty() && *end == '\0' && std::isfinite(v);
+        if (number && (lo_open ? v > lo : v >= lo) && v <= hi) return "";
+        return "expected a number " + range + ", got '" + text + "'";
+      },
+      "NUMBER " + range);
+}
+
+CLI::Validator integer_in(uint64_t lo, uint64_t hi) {
+  const std::string range = "from " + std::to_string(lo) + " to " + std::to_string(hi);
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        errno = 0;
+        char* end = nullptr;
+        const unsigned long long v = std::strtoull(text.c_str(), &end, 10);
+        const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+        if (digits && *end == '\0' && errno == 0 && v >= lo && v <= hi) return "";
+        return "expected a whole number " + range + ", got '" + text + "'";
+      },
+      "INTEGER " + range);
+}
+
+// A seed: any whole number a 64-bit unsigned integer holds.
+CLI::Validator seed_value() { return integer_in(0, UINT64_MAX); }
+
 // --lua-instructions and --lua-memory, for commands that run scripts.
 void add_lua_limits(CLI::App* c, LuaLimitArgs& a, const char* whose) {
   c->add_option("--lua-instructions", a.instructions,
                 std::string("Lua instruction budget per call into a script (default 50000000") + whose + ")")
-      ->check(CLI::Range(uint64_t(1000), uint64_t(1) << 53));
+      ->check(integer_in(1000, uint64_t(1) << 53));
   c->add_option("--lua-memory", a.memory_mib,
                 std::string("Memory cap of each script's Lua state, in MiB (default 256") + whose + ")")
-      ->check(CLI::Range(uint64_t(16), uint64_t(1) << 20));
+      ->check(integer_in(16, uint64_t(1) << 20));
 }
 
 // The flags of the commands that train (train, run): one declaration, one help text each.
@@ -40,11 +79,11 @@ void add_training_flags(CLI::App* c, bool& no_eval_cache, bool& explain) {
 CLI::App* add_render(CLI::App& app, RenderArgs& a) {
   auto* c = app.add_subcommand("render", "Draw a scenario's world for one seed (PNG or SVG)");
   c->add_option("scenario", a.scenario, "Scenario script (.lua)")->required();
-  c->add_option("--seed", a.seed, "World seed")->capture_default_str();
+  c->add_option("--seed", a.seed, "World seed")->capture_default_str()->check(seed_value());
   c->add_option("--out", a.out, "Output picture (.png or .svg)")->required();
   c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)");
-  c->add_option("--width", a.width, "Picture width in pixels")->capture_default_str()->check(CLI::Range(200, 8000));
-  c->add_option("--seconds", a.seconds, "Simulate this long (Roger idle) first")->check(CLI::Range(0.0, 3600.0));
+  c->add_option("--width", a.width, "Picture width in pixels")->capture_default_str()->check(integer_in(200, 8000));
+  c->add_option("--seconds", a.seconds, "Simulate this long (Roger idle) first")->check(number_in(0.0, 3600.0));
   c->add_flag("--grid", a.grid, "Draw the metric grid across the floor");
   c->add_option("--policy", a.policy,
                 "With a skill script: render an episode of this policy; with a curriculum: the greedy "
@@ -55,7 +94,7 @@ CLI::App* add_render(CLI::App& app, RenderArgs& a) {
                 "With a saved policy: a learned skill's policy NAME=FILE.json instead of the one it embeds "
                 "(repeatable), as roger eval takes it");
   c->add_option("--every", a.every, "Seconds between recorded frames")
-      ->capture_default_str()->check(CLI::Range(0.02, 10.0));
+      ->capture_default_str()->check(number_in(0.02, 10.0));
   return c;
 }
 
@@ -63,7 +102,7 @@ CLI::App* add_check(CLI::App& app, CheckArgs& a) {
   auto* c = app.add_subcommand("check", "Load and validate a script without running an episode");
   c->add_option("script", a.script, "Script (.lua)")->required();
   c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)");
-  c->add_option("--seeds", a.seeds, "Seeds to generate")->capture_default_str()->check(CLI::Range(1, 100000));
+  c->add_option("--seeds", a.seeds, "Seeds to generate")->capture_default_str()->check(integer_in(1, 100000));
   add_lua_limits(c, a.lua, "; a batch script's own limits otherwise");
   return c;
 }
@@ -79,9 +118,9 @@ CLI::App* add_eval(CLI::App& app, EvalArgs& a, CLI::Option*& seed) {
   c->add_option("--skill", a.skills,
                 "With a saved policy: a learned skill's policy NAME=FILE.json instead of the one it embeds "
                 "(repeatable), e.g. a Phi_SG retrained on another body");
-  c->add_option("--episodes", a.episodes, "Episodes")->capture_default_str()->check(CLI::Range(1, 1000000));
+  c->add_option("--episodes", a.episodes, "Episodes")->capture_default_str()->check(integer_in(1, 1000000));
   seed = c->add_option("--seed", a.seed, "First seed (then seed+1, ...); with a saved "
-                       "policy the default is its stage's held-out seeds")->capture_default_str();
+                       "policy the default is its stage's held-out seeds")->capture_default_str()->check(seed_value());
   c->add_flag("--json", a.json, "End with one JSON line of the figures");
   add_lua_limits(c, a.lua, "");
   return c;
@@ -92,7 +131,7 @@ CLI::App* add_train(CLI::App& app, TrainArgs& a) {
   c->add_option("curriculum", a.curriculum, "Curriculum script (.lua)")->required();
   c->add_option("--stage", a.stage, "Stage name (e.g. SG)")->required();
   c->add_option("--context", a.context, "Developmental context (e.g. DC2)")->required();
-  c->add_option("--seed", a.seed, "Trial seed")->capture_default_str();
+  c->add_option("--seed", a.seed, "Trial seed")->capture_default_str()->check(seed_value());
   c->add_option("--out", a.out, "Output folder")->required();
   c->add_flag("--json", a.json, "End with one JSON line of the figures");
   c->add_option("--skill", a.skills,
@@ -112,23 +151,23 @@ CLI::App* add_propose(CLI::App& app, ProposeArgs& a) {
   c->add_option("--stage", a.stage, "The task stage (e.g. T)")->required();
   c->add_option("--context", a.context, "The starting Psi: a context of the stage (default: its first)");
   c->add_option("--budget", a.budget, "Simulated seconds of training the whole search may spend")
-      ->required()->check(CLI::PositiveNumber);
+      ->required()->check(number_in(0.0, HUGE_VAL, true));
   c->add_option("--out", a.out, "Folder of the proposal, its report and the search's records (re-run resumes)")->required();
-  c->add_option("--seed", a.seed, "Search seed")->capture_default_str();
-  c->add_option("--trials", a.trials, "Seeded trials per candidate and round")->capture_default_str()->check(CLI::Range(1, 100));
-  c->add_option("--probe-trials", a.probe_trials, "Trials of the probe")->capture_default_str()->check(CLI::Range(1, 100));
-  c->add_option("--probe-share", a.probe_share, "Share of the budget for the probe")->capture_default_str()->check(CLI::Range(0.01, 0.9));
-  c->add_option("--max-candidates", a.max_candidates, "Candidates evaluated")->capture_default_str()->check(CLI::Range(1, 64));
+  c->add_option("--seed", a.seed, "Search seed")->capture_default_str()->check(seed_value());
+  c->add_option("--trials", a.trials, "Seeded trials per candidate and round")->capture_default_str()->check(integer_in(1, 100));
+  c->add_option("--probe-trials", a.probe_trials, "Trials of the probe")->capture_default_str()->check(integer_in(1, 100));
+  c->add_option("--probe-share", a.probe_share, "Share of the budget for the probe")->capture_default_str()->check(number_in(0.01, 0.9));
+  c->add_option("--max-candidates", a.max_candidates, "Candidates evaluated")->capture_default_str()->check(integer_in(1, 64));
   c->add_option("--prune-below", a.prune_below, "Prune actions running under this share of successful time")
-      ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+      ->capture_default_str()->check(number_in(0.0, 1.0));
   return c;
 }
 
 CLI::App* add_run(CLI::App& app, RunArgs& a) {
   auto* c = app.add_subcommand("run", "Run a batch script: many seeded trials in parallel, then the report");
   c->add_option("script", a.script, "Batch script (.lua), or a name in scripts/")->required();
-  c->add_option("--trials", a.trials, "Trials per run (overrides the script)")->check(CLI::Range(1, 100000));
-  c->add_option("--jobs", a.jobs, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
+  c->add_option("--trials", a.trials, "Trials per run (overrides the script)")->check(integer_in(1, 100000));
+  c->add_option("--jobs", a.jobs, "Worker threads (default: all cores)")->check(integer_in(1, 1024));
   c->add_option("--out", a.out, "Results folder (default: results/<script name>)");
   c->add_option("--set", a.sets, "Scenario parameter key=value for every run (repeatable)");
   c->add_option("--only", a.only, "Only this run, RUN/CONTEXT, or eval/NAME (repeatable)");
@@ -155,17 +194,44 @@ CLI::App* add_report(CLI::App& app, ReportArgs& a) {
 CLI::App* add_bench(CLI::App& app, BenchArgs& a) {
   auto* c = app.add_subcommand("bench", "Measure simulated seconds per wall second, per layer");
   c->add_option("--scenario", a.scenario, "Scenario script")->capture_default_str();
-  c->add_option("--seed", a.seed, "World seed")->capture_default_str();
+  c->add_option("--seed", a.seed, "World seed")->capture_default_str()->check(seed_value());
   c->add_option("--seconds", a.seconds, "Simulated seconds per measurement")
-      ->capture_default_str()->check(CLI::Range(1.0, 1e6));
+      ->capture_default_str()->check(number_in(1.0, 1e6));
   c->add_option("--repeats", a.repeats, "Measurements per layer (best kept)")
-      ->capture_default_str()->check(CLI::Range(1, 1000));
+      ->capture_default_str()->check(integer_in(1, 1000));
   c->add_flag("--json", a.json, "End with one JSON line of the figures");
   c->add_option("--script", a.script, "Skill script for the pipeline measurement")->capture_default_str();
   c->add_option("--policy", a.policy, "Its policy")->capture_default_str();
   c->add_option("--episodes", a.episodes, "Pipeline episodes (seeds from --seed)")
-      ->capture_default_str()->check(CLI::Range(1, 10000));
+      ->capture_default_str()->check(integer_in(1, 10000));
   return c;
+}
+
+// The first word CLI11 would misname: an unknown command (it says "A subcommand is required") or
+// an unknown option of the command (it names a missing required option instead). Empty when every
+// option word is one the command declares.
+std::string unknown_word(const std::vector<CLI::App*>& commands, int argc, char** argv) {
+  if (argc < 2) return "";
+  const std::string first = argv[1];
+  if (first == "-h" || first == "--help" || first == "--version") return "";
+  std::string names;
+  const CLI::App* command = nullptr;
+  for (const auto* c : commands) {
+    names += (names.empty() ? "" : ", ") + c->get_name();
+    if (c->get_name() == first) command = c;
+  }
+  if (!command)
+    return std::string(first[0] == '-' ? "unknown option '" : "unknown command '") + first +
+           "'; the commands are " + names + " (see roger --help)";
+  for (int i = 2; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word == "--") break;
+    if (word.size() < 3 || word.compare(0, 2, "--") != 0) continue;
+    const std::string name = word.substr(0, word.find('='));
+    if (!command->get_option_no_throw(name))
+      return "unknown option '" + name + "' of roger " + first + " (see roger " + first + " --help)";
+  }
+  return "";
 }
 
 }  // namespace
@@ -174,6 +240,9 @@ int main(int argc, char** argv) {
   CLI::App app{"roger: a simulated mobile manipulator that learns hierarchical skills through "
                "developmental curricula"};
   app.require_subcommand(1);
+  app.failure_message([](const CLI::App*, const CLI::Error& e) {
+    return std::string("roger: error: ") + e.what() + "\nRun with --help for more information.\n";
+  });
   app.set_version_flag("--version", std::string("roger ") + ROGER_VERSION);
   RenderArgs render_args;
   CheckArgs check_args;
@@ -192,10 +261,16 @@ int main(int argc, char** argv) {
   auto* report = add_report(app, report_args);
   auto* bench = add_bench(app, bench_args);
   auto* propose = add_propose(app, propose_args);
+  // Bad usage exits 2, as docs/cli.md says (CLI11's own codes are 100 and more); help exits 0.
+  const std::string unknown = unknown_word({render, check, eval, train, run, report, bench, propose}, argc, argv);
+  if (!unknown.empty()) {
+    std::cerr << "roger: error: " << unknown << "\n";
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    return app.exit(e) == 0 ? 0 : 2;
   }
   try {
     if (*render) return command_render(render_args);
