@@ -2,6 +2,7 @@
 // exit, never a crash; good input works end to end.
 #include <catch2/catch.hpp>
 
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 #include <cstdio>
@@ -176,6 +177,25 @@ TEST_CASE("usage errors say what is wrong", "[cli]") {
   CHECK(r.status == 2);
   CHECK(r.err == "roger: error: unknown command 'frobnicate'; the commands are render, check, eval, train, run, "
                  "report, bench, propose (see roger --help)\n");
+}
+
+// A device never ends and a named pipe waits for a writer: read as scripts or policies, they hung
+// (check /dev/zero grew to gigabytes) where a folder or a missing file was refused.
+TEST_CASE("a device or a pipe or a folder given as a file is refused and not read", "[cli]") {
+  const fs::path pipe = fs::temp_directory_path() / ("roger_cli_pipe_" + std::to_string(::getpid()) + ".lua");
+  REQUIRE(::mkfifo(pipe.c_str(), 0600) == 0);
+  for (const std::string& args :
+       {std::string("check /dev/zero"), "check " + pipe.string(), "check " + fs::temp_directory_path().string(),
+        "train curricula/paper.lua --stage SG --context DC2 --out /tmp/roger_cli_init --init " + pipe.string(),
+        std::string("train curricula/paper.lua --stage SG --context DC2 --out /tmp/roger_cli_init --init /dev/zero")}) {
+    INFO(args);
+    const Run r = roger(args);
+    INFO(r.err);
+    CHECK(r.status == 1);
+    CHECK(r.err.find("not a regular file") != std::string::npos);
+  }
+  fs::remove(pipe);
+  CHECK_FALSE(fs::exists("/tmp/roger_cli_init/policy.json"));
 }
 
 TEST_CASE("bad usage exits 2 naming the option and what it expects", "[cli]") {

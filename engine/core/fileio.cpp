@@ -110,6 +110,11 @@ void write_file_atomic(const std::string& path, const std::string& content,
 }
 
 std::string read_file_text(const std::string& path) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (!ec && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
+    throw Error("cannot read '" + path + "': not a regular file" +
+                (std::filesystem::is_directory(status) ? " (a folder)" : " (a device, a pipe or a socket)"));
   std::ifstream in(path, std::ios::binary);
   std::ostringstream text;
   if (in) text << in.rdbuf();

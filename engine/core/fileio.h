@@ -59,7 +59,9 @@ void write_file_atomic(const std::string& path, const std::string& content,
                        const std::string& context = "cannot write");
 
 // The whole content of a file, bytes as they are; empty when it cannot be read (callers that must
-// tell a missing file from an empty one check for it first).
+// tell a missing file from an empty one check for it first). Throws roger::Error naming the path
+// when it is there but not a regular file: a device such as /dev/zero never ends, and a named pipe
+// waits for a writer.
 std::string read_file_text(const std::string& path);
 
 }  // namespace roger

@@ -345,15 +345,13 @@ void QTable::save(const std::string& path, const PolicyMetadata& meta) const {
 
 QTable QTable::load(const std::string& path, const std::vector<std::string>& expected,
                     PolicyMetadata* meta) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path + ": cannot read the policy file");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
+  const std::string text = read_file_text(path);  // refuses a device or a pipe, which never ends
+  if (text.empty() && !std::ifstream(path, std::ios::binary)) throw Error(path + ": cannot read the policy file");
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(buffer.str());
+    j = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for 1e999
-    throw Error(path + ": not valid JSON" + (buffer.str().empty() ? std::string(" (an empty file)") : "") + ": " + e.what());
+    throw Error(path + ": not valid JSON" + (text.empty() ? std::string(" (an empty file)") : "") + ": " + e.what());
   }
   return from_json(j, expected, path, meta);
 }
