@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -173,6 +174,10 @@ TEST_CASE("usage errors say what is wrong", "[cli]") {
   r = roger("render scenarios/nosuch.lua --out /tmp/roger_cli.png");
   CHECK(r.status == 1);
   CHECK(r.err.find("nosuch") != std::string::npos);
+  // The advice for a path that never led anywhere is not "put it back as it was".
+  r = roger("render scenarios/unobstructed.lua --out /tmp/roger_cli_no_such_folder/x.png");
+  CHECK(r.status == 1);
+  CHECK(r.err.find("A folder on that path does not exist: make it, or give another path") != std::string::npos);
   r = roger("frobnicate");
   CHECK(r.status == 2);
   CHECK(r.err == "roger: error: unknown command 'frobnicate'; the commands are render, check, eval, train, run, "
@@ -196,6 +201,34 @@ TEST_CASE("a device or a pipe or a folder given as a file is refused and not rea
   }
   fs::remove(pipe);
   CHECK_FALSE(fs::exists("/tmp/roger_cli_init/policy.json"));
+}
+
+// Found by a probe: a second training into a folder failed at its third file and left the new
+// policy.json and curve.csv beside the first training's summary.json and episodes.jsonl.
+TEST_CASE("roger train writes its six files together or leaves the folder as it was", "[cli]") {
+  const fs::path out = fs::temp_directory_path() / ("roger_cli_train_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  const std::string train = "train curricula/paper.lua --stage SG --context DC2 --out " + out.string();
+  REQUIRE(roger(train + " --seed 1").status == 0);
+  fs::remove(out / "checkpoints.jsonl");
+  fs::create_directory(out / "checkpoints.jsonl");
+  std::map<std::string, std::string> before;
+  for (const auto& e : fs::directory_iterator(out))
+    if (e.is_regular_file()) before[e.path().filename().string()] = slurp(e.path());
+  REQUIRE(before.size() == 5);
+  const Run r = roger(train + " --seed 2");
+  CHECK(r.status == 1);
+  CHECK(r.err.find("checkpoints.jsonl': Is a directory") != std::string::npos);
+  size_t entries = 0;
+  for (const auto& e : fs::directory_iterator(out)) {
+    ++entries;
+    if (e.is_regular_file()) CHECK(slurp(e.path()) == before.at(e.path().filename().string()));
+  }
+  CHECK(entries == 6);  // nothing staged is left behind
+  fs::remove_all(out / "checkpoints.jsonl");
+  CHECK(roger(train + " --seed 2").status == 0);
+  CHECK(slurp(out / "policy.json") != before.at("policy.json"));
+  fs::remove_all(out);
 }
 
 TEST_CASE("bad usage exits 2 naming the option and what it expects", "[cli]") {

@@ -580,6 +580,70 @@ TEST_CASE("a damaged trial result is a roger::Error naming its file, never an ab
   fs::remove_all(dir);
 }
 
+// Found by a probe: a record whose numbers the tables refuse (a negative time to threshold) made
+// `roger report` fail after it had replaced summary.csv, leaving it beside the old tables.
+TEST_CASE("a report that fails halfway leaves the previous one whole", "[report]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_report_staged_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  fs::copy_file("tests/fuzz/report_manifest.json", dir / "manifest.json");
+  json result = json::parse(slurp("tests/fuzz/corpus/result/training.json"));
+  result["train_episodes"] = 40;
+  result["first_seed"] = 2000000;
+  for (auto& c : result["checkpoints"]) c["success_rate"] = 0.5;
+  std::vector<fs::path> results;
+  for (const auto& phase : read_results_plan(dir.string()).phases)
+    for (const auto& t : phase) {
+      const fs::path d = trial_dir(dir.string(), t.id);
+      fs::create_directories(d);
+      json r = result;
+      r["id"] = t.id, r["trial"] = t.index;
+      results.push_back(d / "result.json");
+      spit(results.back(), r.dump());
+      if (t.run) spit(d / "policy.json", QTable({"phi1", "Phi7"}).to_json().dump());
+    }
+  const std::vector<std::string> written = write_report(dir.string());
+  REQUIRE(written.size() >= 4);
+  std::map<std::string, std::string> before;
+  for (const auto& f : written) before[f] = slurp(f);
+  const std::string first_record = slurp(results.front());
+  json spoilt = json::parse(first_record);
+  spoilt["reached"] = true;
+  spoilt["time_to_threshold_s"] = -5;
+  spit(results.front(), spoilt.dump());
+  CHECK_THROWS_WITH(write_report(dir.string()), Catch::Contains("-5"));
+  for (const auto& [file, text] : before) {
+    INFO(file);
+    CHECK(slurp(file) == text);
+  }
+  // Failing at the last file: new curves (other figures) and a folder where report.json goes.
+  // Before, the figures and tables.md were replaced, and then the report stopped.
+  spit(results.front(), first_record);
+  json changed = result;
+  for (auto& c : changed["checkpoints"]) c["reward_mean"] = -3.5;
+  for (const auto& r : results) {
+    json j = json::parse(slurp(r));
+    j["checkpoints"] = changed["checkpoints"];
+    spit(r, j.dump());
+  }
+  const fs::path report_json = dir / "report.json";
+  fs::remove(report_json);
+  fs::create_directories(report_json / "in_the_way");
+  CHECK_THROWS_WITH(write_report(dir.string()), Catch::Contains("report.json"));
+  for (const auto& [file, text] : before) {
+    INFO(file);
+    if (file != report_json.string()) CHECK(slurp(file) == text);
+  }
+  for (const auto& entry : fs::directory_iterator(dir))  // no staging folder left behind
+    CHECK(entry.path().filename().string().rfind(".staged", 0) == std::string::npos);
+  fs::remove_all(report_json);
+  CHECK(write_report(dir.string()).size() == written.size());
+  int changed_files = 0;  // the new curves did reach some figures
+  for (const auto& [file, text] : before) changed_files += slurp(file) != text;
+  CHECK(changed_files >= 2);
+  fs::remove_all(dir);
+}
+
 TEST_CASE("the report says why the trials that missed the threshold missed it", "[report][explain]") {
   // tests/scripts/explain_batch.lua: a livelocked stage and one that never runs the action it needs.
   const fs::path out = fs::temp_directory_path() / ("roger_report_explain_" + std::to_string(::getpid()));

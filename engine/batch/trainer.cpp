@@ -672,7 +672,10 @@ void write_train_outputs(const TrainResult& r, const std::string& dir_in) {
   fs::create_directories(dir, ec);
   if (ec) throw FileError("cannot create the output folder '" + dir_in + "': " + ec.message(), dir_in, ec.value());
   if (!fs::is_directory(dir)) throw Error("cannot create the output folder '" + dir_in + "': it is a file");
-  write_file_atomic((dir / "policy.json").string(), train_policy_json(r).dump(1) + "\n");
+  // All six or none: a failed write leaves a folder trained before with its own files, not a
+  // policy of one trial beside the summary of another.
+  StagedFiles staged(dir_in);
+  write_file_atomic(staged.stage("policy.json"), train_policy_json(r).dump(1) + "\n");
   std::ostringstream curve, cps, eps;
   curve << "episodes,sim_s,decisions,wall_s,success_rate,reward_mean\n";
   for (const auto& c : r.checkpoints) {
@@ -705,11 +708,12 @@ void write_train_outputs(const TrainResult& r, const std::string& dir_in) {
     if (!g.tasks[i].is_null()) line["task"] = g.tasks[i];
     fin << line.dump() << "\n";
   }
-  write_file_atomic((dir / "curve.csv").string(), curve.str());
-  write_file_atomic((dir / "checkpoints.jsonl").string(), cps.str());
-  write_file_atomic((dir / "episodes.jsonl").string(), eps.str());
-  write_file_atomic((dir / "final.jsonl").string(), fin.str());
-  write_file_atomic((dir / "summary.json").string(), train_summary_json(r).dump(1) + "\n");
+  write_file_atomic(staged.stage("curve.csv"), curve.str());
+  write_file_atomic(staged.stage("checkpoints.jsonl"), cps.str());
+  write_file_atomic(staged.stage("episodes.jsonl"), eps.str());
+  write_file_atomic(staged.stage("final.jsonl"), fin.str());
+  write_file_atomic(staged.stage("summary.json"), train_summary_json(r).dump(1) + "\n");
+  staged.commit({"policy.json", "curve.csv", "checkpoints.jsonl", "episodes.jsonl", "final.jsonl", "summary.json"});
 }
 
 namespace {

@@ -197,7 +197,7 @@ int command_train(const TrainArgs& a) {
   }
   std::printf("  evaluations    %d of %d reused whole, %d of %d episodes reused%s\n", r.evals_reused, r.evals,
               r.eval_episodes_reused, r.eval_episodes, o.eval_cache ? "" : " (--no-eval-cache)");
-  std::printf("  wrote          %s/{policy.json,curve.csv,episodes.jsonl,checkpoints.jsonl,summary.json} (%.2f wall s)\n",
+  std::printf("  wrote          %s/{policy.json,curve.csv,episodes.jsonl,checkpoints.jsonl,final.jsonl,summary.json} (%.2f wall s)\n",
               a.out.c_str(), r.wall_s);
   if (a.json) std::printf("%s\n", train_summary_json(r).dump().c_str());
   return 0;

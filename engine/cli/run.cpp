@@ -82,8 +82,13 @@ std::string file_error_line(const FileError& e, bool resumes) {
     case EROFS:
       return std::string(e.what()) + ". Make the folder writable (or give another with --out), " + again;
     case ENOENT:
-    case 0:
-      return std::string(e.what()) + ". Put it back as it was, " + again;
+    case 0: {
+      // Either something the run used was removed under it, or the path never led anywhere (a
+      // folder of --out that does not exist): the advice differs.
+      const std::string what = e.what();
+      if (what.find("removed while") != std::string::npos) return what + ". Put it back as it was, " + again;
+      return what + ". A folder on that path does not exist: make it, or give another path, " + again;
+    }
     default:
       return std::string(e.what()) + ". Once the cause is fixed, " + again;
   }
@@ -140,9 +145,11 @@ int command_report(const ReportArgs& a) {
     const bool corrupt = std::any_of(missing.begin(), missing.end(), [](const MissingTrial& m) { return !m.problem.empty(); });
     // A corrupt record is never reported, not even as pending: the report would be wrong about it.
     if (!missing.empty() && (!a.partial || corrupt)) return print_missing(missing, plan, log);
+    // The report first: summary.csv is only replaced once the tables and figures are.
+    const std::vector<std::string> written = write_report(a.dir, a.by);
     const BatchSummary summary = write_summary_csv(plan);
     log << "roger report: wrote " << (std::filesystem::path(plan.out) / "summary.csv").string() << "\n";
-    for (const auto& f : write_report(a.dir, a.by)) log << "roger report: wrote " << f << "\n";
+    for (const auto& f : written) log << "roger report: wrote " << f << "\n";
     if (summary.pending) log << "roger report: " << summary.pending << " trials have no result yet (marked pending)\n";
     return 0;
   } catch (const FileError& e) {

@@ -1,6 +1,7 @@
 #include "core/fileio.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -107,6 +108,52 @@ void write_file_atomic(const std::string& path, const std::string& content,
   AtomicFile file(path, context);
   file.append(content);
   file.commit();
+}
+
+StagedFiles::StagedFiles(const std::string& dir) : dir_(dir) {
+  static std::atomic<unsigned> counter{0};
+  std::random_device rd;
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    const std::string name = ".staged" + std::to_string(getpid()) + "-" + std::to_string(counter++) + "-" +
+                             std::to_string(rd() % 100000) + ".tmp";
+    path_ = (fs::path(dir) / name).string();
+    if (::mkdir(path_.c_str(), 0777) == 0) return;
+    if (errno != EEXIST) {
+      const int err = errno;
+      path_.clear();
+      throw FileError("cannot write into '" + dir + "': " + std::strerror(err), dir, err);
+    }
+  }
+  path_.clear();
+  throw Error("cannot write into '" + dir + "': no free name for a staging folder");
+}
+
+StagedFiles::~StagedFiles() {
+  std::error_code ec;
+  if (!path_.empty()) fs::remove_all(path_, ec);
+}
+
+std::string StagedFiles::stage(const std::string& name) const { return (fs::path(path_) / name).string(); }
+
+std::vector<std::string> StagedFiles::commit(const std::vector<std::string>& names) {
+  // A folder where a file goes would stop the moves halfway: refused before the first.
+  for (const auto& n : names) {
+    const std::string to = (fs::path(dir_) / fs::path(n).filename()).string();
+    std::error_code ec;
+    if (fs::is_directory(fs::symlink_status(to, ec)))
+      throw FileError("cannot write '" + to + "': " + std::strerror(EISDIR), to, EISDIR);
+  }
+  std::vector<std::string> moved;
+  for (const auto& n : names) {
+    const std::string file = fs::path(n).filename().string();
+    const std::string to = (fs::path(dir_) / file).string();
+    std::error_code ec;
+    fs::rename(stage(file), to, ec);
+    if (ec) throw FileError("cannot write '" + to + "': " + ec.message(), to, ec.value());
+    moved.push_back(to);
+  }
+  if (!moved.empty()) sync_folder_of(moved.front());
+  return moved;
 }
 
 std::string read_file_text(const std::string& path) {

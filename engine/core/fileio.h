@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 namespace roger {
 
@@ -47,6 +48,32 @@ class AtomicFile {
   FILE* file_ = nullptr;
   int error_ = 0;
   bool committed_ = false;
+};
+
+// Files written together into one folder: the writer puts each into a staging folder inside it
+// (by the name it will have), and commit() moves them all in once every one is whole. A writer
+// that fails halfway (a value it refuses, a full disk) leaves the folder's earlier files as they
+// were, not some new and some old. Each move is one rename: a crash of the machine among them can
+// still leave some moved, each file whole.
+class StagedFiles {
+ public:
+  // `dir` must exist. The staging folder is a hidden one inside it, unique to this writer.
+  explicit StagedFiles(const std::string& dir);
+  // Removes the staging folder and whatever is still in it.
+  ~StagedFiles();
+  StagedFiles(const StagedFiles&) = delete;
+  StagedFiles& operator=(const StagedFiles&) = delete;
+
+  // The staging folder.
+  const std::string& path() const { return path_; }
+  // Where to write the file that will be `dir`/`name`.
+  std::string stage(const std::string& name) const;
+  // Moves each staged file (a name in the staging folder, or its path there) into dir, in order,
+  // and returns their paths in dir. Throws roger::FileError naming the file that could not move.
+  std::vector<std::string> commit(const std::vector<std::string>& names);
+
+ private:
+  std::string dir_, path_;
 };
 
 // Flushes to disk the folder holding `path`, so that a rename or removal in it survives a crash of

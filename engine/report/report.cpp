@@ -27,7 +27,10 @@ std::vector<std::string> write_report(const std::string& dir, const std::vector<
     if (!m.problem.empty()) throw Error("trial " + m.trial->id + ": " + m.problem);
   const json manifest = read_manifest(dir);
   const BatchScript b = batch_config_from_json(manifest.value("config", json::object()));
-  const Folder folder(dir);
+  // Written whole or not at all: a table that refuses a record's numbers, or a figure that cannot
+  // be drawn, leaves the previous report as it was rather than half replaced.
+  StagedFiles staged(dir);
+  const Folder folder(dir, staged.path());
   std::ostringstream md;
   md << "# Results: " << b.name << "\n\n";
   if (!b.description.empty()) md << b.description << "\n\n";
@@ -74,9 +77,9 @@ std::vector<std::string> write_report(const std::string& dir, const std::vector<
   if (std::any_of(b.figures.begin(), b.figures.end(), [](const BatchFigure& f) { return f.y == "success"; }))
     md << "\nCurves of the share of test tasks mastered: the checkpoints' success rates in place of their rewards, "
           "and the band (mean ± one std) cut to the possible range, 0 to 100%.\n";
-  const std::string tables = (fs::path(dir) / "tables.md").string();
+  const std::string tables = staged.stage("tables.md");
   write_file_atomic(tables, md.str(), "cannot write tables.md");
-  const std::string report_json = (fs::path(dir) / "report.json").string();
+  const std::string report_json = staged.stage("report.json");
   write_file_atomic(report_json, json{{"tables", rep}}.dump(1) + "\n", "cannot write report.json");
   written.insert(written.begin(), {tables, report_json});
   const json page = {{"name", b.name}, {"description", b.description},
@@ -84,8 +87,8 @@ std::vector<std::string> write_report(const std::string& dir, const std::vector<
                      {"version", manifest.value("version", std::string("?"))}, {"seed", b.seed},
                      {"blocks", dashboard::markdown_blocks(md.str())}, {"tables", rep},
                      {"figures", page_figures}, {"trials", dashboard::trial_index(b, dir)}};
-  for (const auto& f : dashboard::write_dashboard(dir, page)) written.push_back(f);
-  return written;
+  for (const auto& f : dashboard::write_dashboard(staged.path(), page)) written.push_back(f);
+  return staged.commit(written);
 }
 
 }  // namespace roger

@@ -102,7 +102,7 @@ bool curves_figure(const BatchScript& b, const BatchFigure& f, const Folder& fol
   page.push_back({{"kind", "curves"}, {"file", f.file}, {"run", f.compare.empty() ? run.name : std::string()},
                   {"log_x", f.log_x}, {"y", f.y}, {"title", title}, {"series", page_series}});
   if (series.empty()) return false;
-  const auto paths = figure_paths(folder.dir(), f.file);
+  const auto paths = figure_paths(folder.out(), f.file);
   plot_learning_curves(paths, title, series, curve_options(f.log_x, success));
   written.insert(written.end(), paths.begin(), paths.end());
   return true;
@@ -126,7 +126,7 @@ std::string iqm_figure(const BatchScript& b, const BatchRun& run, const Folder& 
   if (series.empty()) return line + " (not drawn: no finished trial)";
   CurveOptions o = curve_options(log_x);
   o.y_label = "IQM of the greedy episodic reward";
-  const auto paths = figure_paths(folder.dir(), file);
+  const auto paths = figure_paths(folder.out(), file);
   plot_learning_curves(paths, title, series, o);
   written.insert(written.end(), paths.begin(), paths.end());
   return line;
@@ -166,7 +166,7 @@ bool cumulative_figure(const BatchScript& b, const BatchFigure& f, const Folder&
   BarOptions o;
   o.y_label = "Cumulative simulated training time (min)";
   o.value_label = [](double m) { return format_min_sec(60.0 * m); };
-  const auto paths = figure_paths(folder.dir(), f.file);
+  const auto paths = figure_paths(folder.out(), f.file);
   plot_stacked_bars(paths, f.title.empty() ? "Cumulative training time" : f.title, categories, stacks, o);
   written.insert(written.end(), paths.begin(), paths.end());
   return true;

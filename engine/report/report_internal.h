@@ -46,15 +46,19 @@ struct Results {
 // The results folder, read once.
 class Folder {
  public:
-  explicit Folder(const std::string& dir) : dir_(dir) {}
+  // Reads the records in `dir`; figures go to `out` (a staging folder that write_report moves
+  // into `dir` once the whole report is written).
+  Folder(const std::string& dir, const std::string& out) : dir_(dir), out_(out) {}
   // The trials of these ids: each finished one's checked result.json, and how many failed or wait.
   Results trials(const std::vector<std::string>& ids) const;
   // Every trial of one context of a run.
   Results run(const BatchRun& run, const std::string& context) const;
   const std::string& dir() const { return dir_; }
+  // Where figures are written.
+  const std::string& out() const { return out_; }
 
  private:
-  std::string dir_;
+  std::string dir_, out_;
 };
 
 // A trial result's number `key`; a roger::Error when it has none.

@@ -286,8 +286,8 @@ bool tasks_figure(const BatchScript& b, const BatchFigure& f, const Folder& fold
   page.push_back(fig);
   HeatOptions o;
   o.y_label = f.param;
-  const std::vector<std::string> paths = {(fs::path(folder.dir()) / (f.file + ".png")).string(),
-                                          (fs::path(folder.dir()) / (f.file + ".svg")).string()};
+  const std::vector<std::string> paths = {(fs::path(folder.out()) / (f.file + ".png")).string(),
+                                          (fs::path(folder.out()) / (f.file + ".svg")).string()};
   plot_heat_map(paths, title + " (" + std::to_string(d.trials) + (d.trials == 1 ? " trial)" : " trials)"), m, o);
   written.insert(written.end(), paths.begin(), paths.end());
   return true;
