@@ -122,6 +122,10 @@ TEST_CASE("bad scripts are refused with file:line, a non-zero exit and no crash"
   }
   CHECK_FALSE(fs::exists(bad_png));
   fs::remove_all(bad_png.parent_path());
+  // check tries twenty seeds: it names the one that failed, which render --seed 2 shows again.
+  const Run some = roger("check tests/scripts/bad_some_seeds.lua");
+  CHECK(some.status == 1);
+  CHECK(some.err.find("bad_some_seeds.lua:7: attempt to index a nil value (local 'q') (world seed 2)\n") != std::string::npos);
 }
 
 TEST_CASE("roger check reports a misspelt roger member and an undefined global before running", "[cli]") {

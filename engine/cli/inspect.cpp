@@ -197,7 +197,17 @@ int command_check(const CheckArgs& a) {
   apply_sets(scenario, a.sets);
   // A scenario is a function of its seed: try several, and build each world as an episode would.
   World world;
-  for (int seed = 0; seed < a.seeds; ++seed) world.reset(scenario.generate(uint64_t(seed)));
+  // A failure names its seed after the first line, as training does: it may hold for some seeds only.
+  for (int seed = 0; seed < a.seeds; ++seed) {
+    try {
+      world.reset(scenario.generate(uint64_t(seed)));
+    } catch (const std::exception& e) {
+      const std::string cause = e.what();
+      const size_t nl = cause.find('\n');
+      const std::string where = " (world seed " + std::to_string(seed) + ")";
+      throw Error(nl == std::string::npos ? cause + where : cause.substr(0, nl) + where + cause.substr(nl));
+    }
+  }
   // Without --set, also every declared choice of every parameter (each shape, say), and each end
   // of every declared range (the most obstacles, the longest arm): those are warnings, since an
   // end may hold only with other parameters changed too.
