@@ -115,6 +115,21 @@ TEST_CASE("scripts/paper.lua describes the paper's protocol", "[batch_script]") 
   CHECK(load_batch_script("scripts/quick.lua").trials == 2);
 }
 
+// Found by a probe: a script returning another it requires was read by its own text alone, so
+// roger check took this one for a scenario ("unknown field 'trials'"), and roger run on a
+// curriculum failed inside its first roger.primitive ("attempt to index a nil value").
+TEST_CASE("a script is of the kind of the module it returns", "[batch_script]") {
+  CHECK(is_batch_script("tests/scripts/wrapped_batch.lua"));
+  const BatchScript b = load_batch_script("tests/scripts/wrapped_batch.lua");
+  CHECK(b.name == "kill");
+  for (const auto& r : b.runs) CHECK(r.trials == 1);
+  CHECK_FALSE(is_batch_script("tests/scripts/kill_curriculum.lua"));
+  CHECK(load_error("curricula/paper.lua") ==
+        "curricula/paper.lua is a curriculum, not a batch script: train one of its stages with roger train "
+        "curricula/paper.lua --stage S --context C --out DIR, or name it as the curriculum of a batch script "
+        "(docs/batch.md)");
+}
+
 TEST_CASE("bad batch scripts are clear errors at file:line", "[batch_script]") {
   std::string m = load_error("tests/scripts/bad_batch_unknown_curriculum.lua");
   INFO(m);

@@ -61,6 +61,9 @@ TEST_CASE("the paper's curriculum holds the paper's Psi sets", "[curriculum]") {
   CHECK(cur.producer("Phi_SG") == &sg);
   CHECK(check_curriculum("curricula/paper.lua").empty());
   CHECK(is_curriculum_script("curricula/paper.lua"));
+  // `local paper = require("paper") ... return paper`: of the kind of the module it returns.
+  CHECK(is_curriculum_script("tests/scripts/kill_curriculum.lua"));
+  CHECK(check_curriculum("tests/scripts/kill_curriculum.lua").empty());
   CHECK_FALSE(is_curriculum_script("curricula/scripted.lua"));
   CHECK(error_of([] { (void)Curriculum::load("paper").stage("X"); }).find("its stages: SG, T") != std::string::npos);
 }

@@ -629,6 +629,10 @@ std::vector<std::string> batch_eval_groups(const BatchEvaluation& e) {
 BatchScript load_batch_script(const std::string& path_in, const BatchOverrides& overrides,
                               const SandboxLimits& limits_in) {
   const std::string path = resolve_script(path_in);
+  // Run as a batch script, a curriculum fails inside its first roger.primitive (no such API here).
+  if (!is_batch_script(path) && is_curriculum_script(path))
+    throw Error(path_in + " is a curriculum, not a batch script: train one of its stages with roger train " + path_in +
+                " --stage S --context C --out DIR, or name it as the curriculum of a batch script (docs/batch.md)");
   SandboxLimits limits = limits_in;
   apply_limit_overrides(overrides, limits);
   LuaSandbox sandbox(limits);

@@ -229,8 +229,9 @@ std::string resolve_script_path(const std::string& arg, const std::string& folde
                                 const std::function<bool(const std::string&)>& accept = {});
 
 // Whether a script's text sets a table field `key` (`key = ...` or `t.key = ...`) outside
-// comments: a quick look at what kind of script a file is (a curriculum has `stages`, a batch
-// script `runs`) without running it.
+// comments, or that of the module it returns (`local p = require("paper") ... return p`): a
+// quick look at what kind of script a file is (a curriculum has `stages`, a batch script `runs`)
+// without running it.
 bool script_has_key(const std::string& path, const std::string& key);
 
 }  // namespace roger

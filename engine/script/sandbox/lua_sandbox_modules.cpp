@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <sstream>
 
@@ -218,16 +219,51 @@ int sandbox_require(lua_State* L) {
 
 }  // namespace sandbox_detail
 
-bool script_has_key(const std::string& path, const std::string& key) {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The file of module `name` as a script in `folder` would require it: its own folder first, then
+// the project's scenarios/, curricula/ and scripts/ (LuaSandbox::set_main_script's roots).
+fs::path module_file(const fs::path& folder, const std::string& name) {
+  std::string rel = name;
+  std::replace(rel.begin(), rel.end(), '.', '/');
+  rel += ".lua";
+  std::error_code ec;
+  if (fs::is_regular_file(folder / rel, ec)) return folder / rel;
+  for (const char* root : {"scenarios", "curricula", "scripts"})
+    if (fs::is_regular_file(project_root() / root / rel, ec)) return project_root() / root / rel;
+  return {};
+}
+
+bool has_key(const std::string& path, const std::string& key, int depth) {
   std::istringstream in(read_file_text(path));
   const std::regex field("(^|[{,;.\\s])" + key + "\\s*=[^=]");  // also `t.key = ...`
+  // A script that returns a module it requires (`local p = require("paper") ... return p`, or
+  // `return require("paper")`) is of that module's kind.
+  const std::regex required("local\\s+([A-Za-z_]\\w*)\\s*=\\s*require\\s*\\(?\\s*[\"']([\\w.]+)[\"']");
+  const std::regex returned("(^|[\\s;])return\\s+(require\\s*\\(?\\s*[\"']([\\w.]+)[\"']|([A-Za-z_]\\w*))\\s*\\)?\\s*;?\\s*$");
+  std::map<std::string, std::string> modules;  // local name -> module
+  std::string result_module;
   std::string line;
+  std::smatch m;
   while (std::getline(in, line)) {
     const size_t comment = line.find("--");
     if (comment != std::string::npos) line.resize(comment);
     if (std::regex_search(line + " ", field)) return true;
+    if (std::regex_search(line, m, required)) modules[m[1]] = m[2];
+    if (std::regex_search(line, m, returned)) {
+      const auto it = modules.find(m[4]);
+      result_module = m[3].matched ? std::string(m[3]) : it != modules.end() ? it->second : std::string();
+    }
   }
-  return false;
+  if (result_module.empty() || depth >= 8) return false;
+  const fs::path file = module_file(fs::absolute(fs::path(path)).parent_path(), result_module);
+  return !file.empty() && has_key(file.string(), key, depth + 1);
 }
+
+}  // namespace
+
+bool script_has_key(const std::string& path, const std::string& key) { return has_key(path, key, 0); }
 
 }  // namespace roger
