@@ -29,6 +29,15 @@ std::string load_error(const std::string& path) {
   return "";
 }
 
+std::string load_error_with(const std::string& path, const BatchOverrides& overrides) {
+  try {
+    load_batch_script(path, overrides);
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
 }  // namespace
 
 // As a stage's: an evaluation's scenario path is found beside the batch script that names it
@@ -118,6 +127,25 @@ TEST_CASE("scripts/paper.lua describes the paper's protocol", "[batch_script]") 
 // Found by a probe: a script returning another it requires was read by its own text alone, so
 // roger check took this one for a scenario ("unknown field 'trials'"), and roger run on a
 // curriculum failed inside its first roger.primitive ("attempt to index a nil value").
+// Found by a probe: these passed roger check and roger run's start, and failed every trial they
+// reached, after the training (an evaluation) or at once (a run), tying the folder to them.
+TEST_CASE("scenario parameters and shapes are tried on their scenario when the script loads", "[batch_script]") {
+  BatchOverrides sets;
+  sets.sets = {{"foo", "1"}};
+  try {
+    load_batch_script("tests/scripts/kill_batch.lua", sets);
+    FAIL("a --set of no parameter was taken");
+  } catch (const ScriptError& e) {
+    CHECK(e.line == 7);
+    CHECK_THAT(e.what(), Catch::Contains("run 'SG': scenario 'unobstructed'") && Catch::Contains("has no parameter 'foo'"));
+  }
+  sets.sets = {{"obstacles", "99"}};  // cluttered's, not the training world's
+  CHECK_THAT(load_error_with("tests/scripts/kill_batch.lua", sets), Catch::Contains("has no parameter 'obstacles'"));
+  const std::string m = load_error("tests/scripts/bad_batch_eval_shape.lua");
+  CHECK_THAT(m, Catch::Contains("bad_batch_eval_shape.lua:7:") && Catch::Contains("evaluation 'gen'") &&
+                    Catch::Contains("'hexagon'"));
+}
+
 TEST_CASE("a script is of the kind of the module it returns", "[batch_script]") {
   CHECK(is_batch_script("tests/scripts/wrapped_batch.lua"));
   const BatchScript b = load_batch_script("tests/scripts/wrapped_batch.lua");

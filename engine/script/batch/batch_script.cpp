@@ -196,6 +196,20 @@ void read_run_skills(const json& rj, const Reader& rd, const std::string& what, 
 }
 
 // Reads one run of 'runs' (written from line `runs_line` on).
+// The scenario parameters a run or an evaluation sets (--set among them), and each shape it
+// evaluates, tried on its scenario now: a name the scenario does not declare or a value it
+// refuses is the script's error at `line`, not a failure of every trial after the training.
+void check_scenario_params(const std::string& scenario, const Params& params, const std::vector<std::string>& shapes,
+                           const SandboxLimits& limits, const Reader& rd, int line, const std::string& what) {
+  Scenario s = Scenario::load(scenario, limits);
+  try {
+    for (const auto& [name, value] : params) s.set_param(name, value);
+    for (const auto& shape : shapes) s.set_param("shape", shape);
+  } catch (const Error& e) {
+    rd.fail(line, what + ": " + e.what());
+  }
+}
+
 BatchRun read_run(const json& rj, const Reader& rd, int runs_line, const Curriculum& cur,
                   const std::vector<std::string>& stage_names, const BatchOverrides& overrides, const BatchScript& b) {
   BatchRun r;
@@ -227,6 +241,7 @@ BatchRun read_run(const json& rj, const Reader& rd, int runs_line, const Curricu
   r.params = b.params;
   merge_params(r.params, rd.params(rj, "params", what, r.line));
   merge_params(r.params, overrides.sets);
+  check_scenario_params(stage->scenario, r.params, {}, b.limits, rd, r.line, what);
   read_run_skills(rj, rd, what, cur, stage, b, r);
   const std::string worlds = rd.str(rj, "final_worlds", what, r.line, "shared");
   if (worlds != "own" && worlds != "shared")
@@ -328,6 +343,10 @@ BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const 
   e.trials = int(rd.integer(ej, "trials", what, e.line, from->trials, 1, from->trials));
   if (overrides.trials > 0) e.trials = std::min(overrides.trials, from->trials);
   read_evaluation_skills(ej, rd, what, cur, b, e);
+  std::string scenario = e.scenario;
+  for (const auto& st : cur.stages())
+    if (scenario.empty() && st.name == from->stage) scenario = st.scenario;
+  check_scenario_params(scenario, e.params, e.shapes, b.limits, rd, e.line, what);
   return e;
 }
 
