@@ -100,6 +100,26 @@ TEST_CASE("bad curricula are clear errors at file:line", "[curriculum]") {
   }
 }
 
+// Before, these loaded and checked "ok", and training failed at its first episode.
+TEST_CASE("roger check calls the Lua callbacks as at an episode's first decision", "[curriculum]") {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"bad_curriculum_world_field.lua", "bad_curriculum_world_field.lua:5: stage 'S', context 'A': absorbing function: "},
+      {"bad_curriculum_reward_nan.lua", "bad_curriculum_reward_nan.lua:5: stage 'S', context 'A': the reward function "
+                                        "must return a finite number, got number nan (event 'decision')"},
+      {"bad_curriculum_predicate_raises.lua", "bad_curriculum_predicate_raises.lua:5: stage 'S', context 'A'"},
+  };
+  for (const auto& [file, says] : cases) {
+    INFO(file);
+    const std::vector<std::string> problems = check_curriculum("tests/scripts/" + file);
+    REQUIRE(problems.size() == 1);
+    INFO(problems[0]);
+    CHECK(problems[0].find(says) != std::string::npos);
+    CHECK(problems[0].find("(called as at an episode's first decision, world seed 0, every action NOREF)") !=
+          std::string::npos);
+  }
+  CHECK(check_curriculum("curricula/sorting.lua").empty());  // Lua callbacks that read the world
+}
+
 TEST_CASE("misbehaving Lua callbacks stop training naming stage, context and line", "[curriculum]") {
   struct Case {
     const char* file;

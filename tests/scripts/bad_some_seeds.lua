@@ -4,7 +4,7 @@ return {
   generate = function(world, rng, p)
     world:arena{ xmin = -2, xmax = 2, ymin = -2, ymax = 2 }
     world:robot{ x = 0, y = 0 }
-    if rng:uniform() < 0.3 then local q = nil; q.x = 1 end
+    if rng:uniform() < 0.3 then local q = nil; world:object{ shape = q.shape } end
     world:object{ shape = shapes.get("circle"), x = 1, y = 1 }
   end,
 }

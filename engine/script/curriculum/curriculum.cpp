@@ -554,6 +554,33 @@ void check_task_space_ends(const CurriculumStage& st, const SandboxLimits& limit
 
 }  // namespace
 
+namespace {
+
+// A stage's Lua absorbing and reward functions called as at the first decision of an episode of
+// the context, in world seed 0 with every action NOREF: a misspelt field of `world` or a reward
+// that is not a number is found here rather than at training's first episode.
+void check_callbacks(Curriculum& cur, const CurriculumStage& st, const CurriculumContext& ctx, const WorldSpec& spec,
+                     std::vector<std::string>& problems) {
+  if (!st.absorbing_lua && !st.reward_lua) return;
+  World world;
+  try {
+    world.reset(spec);
+    cur.set_world(&world);
+    cur.begin_episode();
+    const std::vector<Gamma> state(ctx.actions.size(), Gamma::kNoRef);
+    if (st.absorbing_lua) cur.call_absorbing(st, ctx, state, 0.0);
+    if (st.reward_lua) cur.call_reward(st, ctx, state, 0, "decision", 0.0);
+  } catch (const std::exception& e) {
+    const std::string cause = e.what();
+    const size_t nl = cause.find('\n');
+    const std::string when = " (called as at an episode's first decision, world seed 0, every action NOREF)";
+    problems.push_back(nl == std::string::npos ? cause + when : cause.substr(0, nl) + when + cause.substr(nl));
+  }
+  cur.set_world(nullptr);
+}
+
+}  // namespace
+
 std::vector<std::string> check_curriculum(const std::string& path, const SandboxLimits& limits) {
   std::vector<std::string> problems;
   std::optional<Curriculum> cur;
@@ -568,15 +595,19 @@ std::vector<std::string> check_curriculum(const std::string& path, const Sandbox
   for (const auto& st : cur->stages()) {
     std::set<std::vector<std::pair<std::string, std::string>>> checked;
     for (const auto& ctx : st.contexts) {
-      if (!checked.insert(st.scenario_params(ctx)).second) continue;
+      const bool first = checked.insert(st.scenario_params(ctx)).second;
+      if (!first && !st.absorbing_lua && !st.reward_lua) continue;
       const std::string where = ctx.params.empty() ? st.where() : st.where(ctx.name);
+      WorldSpec spec;
       try {
         Scenario s = Scenario::load(st.scenario, limits);
         for (const auto& [k, v] : st.scenario_params(ctx)) s.set_param(k, v);
-        s.generate(0);
+        spec = s.generate(0);
       } catch (const std::exception& e) {
-        problems.push_back(where + ": scenario '" + st.scenario + "': " + e.what());
+        if (first) problems.push_back(where + ": scenario '" + st.scenario + "': " + e.what());
+        continue;
       }
+      check_callbacks(*cur, st, ctx, spec, problems);
     }
     check_task_space_ends(st, limits, problems);
   }
