@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -127,6 +128,13 @@ TEST_CASE("propose is deterministic for a seed, and a re-run resumes from its re
   const ProposeResult d = propose_curriculum(other);
   CHECK(slurp(dir.path / "c" / "probe" / "probe-1.json") != slurp(dir.path / "a" / "probe" / "probe-1.json"));
   (void)d;
+  // A folder holds one search: another seed there is refused before anything is written (before,
+  // it replaced the proposal and mixed its records with the first search's).
+  const auto c_before = tree(dir.path / "c");
+  CHECK_THROWS_WITH(propose_curriculum(sg_options(dir.path / "c")),
+                    Catch::Contains("holds another search (seed 2 there, 1 here)") &&
+                        Catch::Contains("give another --out, or the same settings to resume it"));
+  CHECK(tree(dir.path / "c") == c_before);
 }
 
 TEST_CASE("propose killed midway and run again ends as an uninterrupted run", "[propose]") {
@@ -179,6 +187,12 @@ TEST_CASE("propose refuses bad input with a clear message", "[propose]") {
   o.context = "DC9";
   CHECK_THROWS_WITH(propose_curriculum(o), Catch::Contains("DC9") && Catch::Contains("B1"));
   CHECK_FALSE(fs::exists(dir.path / "x" / "proposal.lua"));
+  // A folder that cannot be made fails at once, not after the probe's training.
+  std::ofstream(dir.path / "a_file") << "x";
+  o = sg_options(dir.path / "a_file" / "x");
+  const auto t0 = std::chrono::steady_clock::now();
+  CHECK_THROWS_WITH(propose_curriculum(o), Catch::Contains("cannot create the folder"));
+  CHECK(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(5));
 }
 
 TEST_CASE("docs/propose.md: every option of roger propose and the library example", "[propose]") {

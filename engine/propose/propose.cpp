@@ -63,6 +63,42 @@ void check_options(const ProposeOptions& o, double time_limit) {
     throw Error("roger propose: probe trials, trials and max candidates must be at least 1");
 }
 
+// The search a folder holds, one per folder as a results folder holds one batch: settings.json
+// records what this search asks, and a folder holding another (another seed, budget, stage...)
+// is refused before anything is written, rather than mixed with it and its proposal replaced.
+// The folder is made first, so that an --out nothing can be written to fails now, not after the
+// probe's training.
+void claim_search_folder(const ProposeOptions& o, const std::string& module, const std::string& stage,
+                         const std::string& context) {
+  std::error_code ec;
+  fs::create_directories(o.out, ec);
+  if (ec) throw FileError("roger propose: cannot create the folder '" + o.out + "': " + ec.message(), o.out, ec.value());
+  if (!fs::is_directory(o.out)) throw Error("roger propose: cannot create the folder '" + o.out + "': it is a file");
+  const nlohmann::json search = {{"curriculum", module},         {"stage", stage},
+                                 {"context", context},           {"budget_s", o.budget_s},
+                                 {"seed", o.seed},               {"trials", o.trials},
+                                 {"probe_trials", o.probe_trials}, {"probe_share", o.probe_share},
+                                 {"max_candidates", o.max_candidates}, {"prune_below", o.prune_below}};
+  const std::string file = (fs::path(o.out) / "settings.json").string();
+  if (fs::exists(file)) {
+    nlohmann::json before;
+    try {
+      before = nlohmann::json::parse(read_file_text(file));
+    } catch (const nlohmann::json::exception& e) {
+      throw Error(file + ": not valid JSON (" + e.what() + "); remove it to search here again");
+    }
+    std::string differ;
+    for (const auto& [key, value] : search.items())
+      if (!before.is_object() || !before.contains(key) || before[key] != value)
+        differ += (differ.empty() ? "" : ", ") + key + " " + (before.is_object() && before.contains(key) ? before[key].dump() : "none") +
+                  " there, " + value.dump() + " here";
+    if (!differ.empty())
+      throw Error("roger propose: " + o.out + " holds another search (" + differ +
+                  "); give another --out, or the same settings to resume it");
+  }
+  write_file_atomic(file, search.dump(1) + "\n", "cannot write the search's settings");
+}
+
 // One training run of a candidate, from its record when an earlier run wrote it.
 CandidateTrial run_trial(const ProposeOptions& o, const CandidateSpec& spec, const std::string& sources, uint64_t seed,
                          double cap_s, const std::string& file) {
@@ -191,6 +227,7 @@ ProposeResult propose_curriculum(const ProposeOptions& options) {
     task.context = ctx.name;
   }
   check_options(o, time_limit);
+  claim_search_folder(o, task.module, task.stage, task.context);
   char budget[64];
   std::snprintf(budget, sizeof budget, "%g", o.budget_s);
   task.command = "roger propose " + o.curriculum + " --stage " + o.stage + " --context " + task.context +
