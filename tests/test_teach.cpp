@@ -863,6 +863,25 @@ TEST_CASE("the report compares the teachers, splits their success by level and m
   CHECK(maps == 2);
 }
 
+// Found by a probe: `roger report --by bogus` said no trial had recorded its episodes, and a
+// final.jsonl record whose "success" is a string stopped the report with a bare JSON type error.
+TEST_CASE("report --by names what the records have, and a damaged record's file and line", "[teach][stage]") {
+  test::TempDir copy("roger_teach_by");
+  fs::copy(teach_batch(), copy.path, fs::copy_options::recursive);
+  const std::string report = std::string(ROGER_BINARY) + " report " + copy.path.string();
+  REQUIRE(run_shell(report + " --by bogus > /dev/null 2>&1") == 0);
+  CHECK_THAT(slurp(copy.path / "tables.md"),
+             Contains("None of the 150 final-evaluation episodes has a feature 'bogus'; they have: level, objects, "
+                      "obstacles, shape."));
+  const fs::path final_records = copy.path / "trials" / "Random" / "A" / "000" / "final.jsonl";
+  std::string text = slurp(final_records);
+  text = text.substr(0, text.find('\n') + 1) + "{\"index\":1,\"success\":\"maybe\"}\n" + text.substr(text.find('\n') + 1);
+  std::ofstream(final_records) << text;
+  const fs::path err = copy.path / "err.txt";
+  CHECK(run_shell(report + " --by level > /dev/null 2>" + err.string()) == 1);
+  CHECK_THAT(slurp(err), Contains(final_records.string() + ":2: field \"success\" must be true or false, got \"maybe\""));
+}
+
 TEST_CASE("docs/examples/teachers_example.lua: every block of the docs' Teachers section is in it, each stage trains",
           "[teach][stage]") {
   // Each ```lua block of docs/curricula.md's "Teachers" is in the example file (leading spaces

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/text.h"
 #include "report/plot.h"
 
 namespace roger::report_detail {
@@ -109,6 +110,8 @@ void by_table(const BatchScript& b, const BatchTable& t, const Folder& folder, s
   };
   std::vector<BatchRow> rows = rows_of(b, t);
   std::vector<std::vector<std::pair<std::string, bool>>> seen(rows.size());  // (value, success) per row
+  int64_t records = 0;  // read, with or without the feature
+  std::set<std::string> features;  // what the records have, for a feature none has
   for (size_t k = 0; k < rows.size(); ++k) {
     const BatchRun& run = *b.run(rows[k].run);
     for (int i = 0; i < run.trials; ++i) {
@@ -125,8 +128,17 @@ void by_table(const BatchScript& b, const BatchTable& t, const Folder& folder, s
         } catch (const std::exception& e) {
           throw Error(file.string() + ":" + std::to_string(line_no) + ": not JSON: " + e.what());
         }
+        const std::string where = file.string() + ":" + std::to_string(line_no) + ": ";
+        if (!record.is_object()) throw Error(where + "a final-evaluation record must be a JSON object");
+        if (!record.contains("success") || !record["success"].is_boolean())
+          throw Error(where + "field \"success\" must be true or false, got " +
+                      (record.contains("success") ? record["success"].dump() : std::string("nothing")));
+        ++records;
+        for (const char* part : {"task", "world"})
+          if (record.contains(part) && record[part].is_object())
+            for (const auto& [name, value] : record[part].items()) features.insert(name == "shapes" ? "shape" : name);
         const std::string v = feature_of(record, t.by);
-        if (!v.empty()) seen[k].push_back({v, record.value("success", false)});
+        if (!v.empty()) seen[k].push_back({v, record["success"].get<bool>()});
       }
     }
   }
@@ -181,7 +193,10 @@ void by_table(const BatchScript& b, const BatchTable& t, const Folder& folder, s
     md << "\n";
     out.push_back(row);
   }
-  if (values.empty()) md << "\nNo trial has recorded its final evaluation's episodes (final.jsonl) yet.\n";
+  if (values.empty() && records == 0) md << "\nNo trial has recorded its final evaluation's episodes (final.jsonl) yet.\n";
+  else if (values.empty())
+    md << "\nNone of the " << records << " final-evaluation episodes has a feature '" << t.by
+       << "'; they have: " << join(std::vector<std::string>(features.begin(), features.end())) << ".\n";
   md << "\n";
   rep.push_back({{"title", t.title}, {"by", t.by}, {"rows", out}});
 }
