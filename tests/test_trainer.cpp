@@ -621,6 +621,25 @@ TrainResult train_fixture(const std::string& stage) {
 
 }  // namespace
 
+// Found by a new user: a report's cause held a cycle of about sixty transitions on one line.
+TEST_CASE("a long greedy cycle is told by its first decisions, its last and how many lie between",
+          "[trainer][explain]") {
+  TrainingDiagnosis d;
+  d.psi = {"a", "b"};
+  d.final_episodes = 10;
+  d.cycle_episodes = 1;
+  for (int k = 0; k < 60; ++k) d.cycle.states.push_back(k % 9), d.cycle.actions.push_back(k % 2);
+  d.cycle.turns = 2;
+  const std::string text = d.cycle_cause();
+  CHECK(text.rfind("greedy cycle of 60 decisions: (a=NOREF b=NOREF) -> a -> (a=NOREF b=!CONV) -> b -> ", 0) == 0);
+  CHECK_THAT(text, Catch::Contains(" -> b -> ... 55 more decisions ... -> (a=!CONV b=CONV) -> b -> back, repeating "
+                                   "without reaching the absorbing state in 1 of 10 final greedy episodes (up to 2 turns)"));
+  CHECK(std::count(text.begin(), text.end(), '(') == 6);  // five states and the turns
+  d.cycle.states.resize(6), d.cycle.actions.resize(6);  // six are told in full
+  CHECK(d.cycle_cause().rfind("greedy cycle: (", 0) == 0);
+  CHECK(d.cycle_cause().find("more decisions") == std::string::npos);
+}
+
 TEST_CASE("a livelocked stage is explained by its greedy cycle", "[trainer][explain]") {
   // Arrivals pay and nothing absorbs: the greedy policy shuttles between the two regions.
   const TrainResult r = train_fixture("livelock");

@@ -42,10 +42,19 @@ std::string TrainingDiagnosis::state_text(int state) const {
 namespace {
 
 // "greedy cycle: (...) -> a -> back, repeating ... in k of n final greedy episodes (up to t turns)".
+// A cycle of more than six decisions is shown by its first four and its last, with how many lie
+// between (a line of sixty states could not be read; the diagnosis's "cycles" keeps them all).
 std::string cycle_text(const TrainingDiagnosis& d, const std::string& lead, const DecisionCycle& c, int episodes) {
-  std::string text = lead + ":";
-  for (size_t k = 0; k < c.states.size(); ++k)
+  constexpr size_t kInFull = 6, kHead = 4;
+  const size_t n = c.states.size();
+  std::string text = lead + (n > kInFull ? " of " + std::to_string(n) + " decisions:" : ":");
+  for (size_t k = 0; k < n; ++k) {
+    if (n > kInFull && k == kHead) {
+      text += " ... " + std::to_string(n - kHead - 1) + " more decisions ... ->";
+      k = n - 1;
+    }
     text += " (" + d.state_text(c.states[k]) + ") -> " + d.psi[size_t(c.actions[k])] + " ->";
+  }
   return text + " back, repeating without reaching the absorbing state in " + std::to_string(episodes) + " of " +
          std::to_string(d.final_episodes) + " final greedy episodes (up to " + std::to_string(c.turns) + " turns)";
 }
