@@ -178,6 +178,12 @@ TEST_CASE("usage errors say what is wrong", "[cli]") {
   r = roger("render scenarios/nosuch.lua --out /tmp/roger_cli.png");
   CHECK(r.status == 1);
   CHECK(r.err.find("nosuch") != std::string::npos);
+  // A --skill the context does not use was ignored, its file never read.
+  r = roger("train curricula/paper.lua --stage SG --context DC2 --out /tmp/roger_cli_unused --skill Phi_SG=nosuch.json");
+  CHECK(r.status == 1);
+  CHECK(r.err.find("--skill Phi_SG=nosuch.json: stage 'SG', context 'DC2' uses no learned skill 'Phi_SG' (it uses "
+                   "none)") != std::string::npos);
+  CHECK_FALSE(fs::exists("/tmp/roger_cli_unused"));
   // The advice for a path that never led anywhere is not "put it back as it was".
   r = roger("render scenarios/unobstructed.lua --out /tmp/roger_cli_no_such_folder/x.png");
   CHECK(r.status == 1);
@@ -254,6 +260,8 @@ TEST_CASE("bad usage exits 2 naming the option and what it expects", "[cli]") {
       {"render scenarios/unobstructed.lua --out /tmp/roger_cli.png --seed 18446744073709551616",
        "got '18446744073709551616'"},
       {"check scenarios/unobstructed.lua --seeds abc", "--seeds: expected a whole number from 1 to 100000, got 'abc'"},
+      // An empty --out wrote into the default results folder.
+      {"run scripts/quick.lua --out ''", "--out: expected a path, got ''"},
       {"propose curricula/paper.lua --stage T --out /tmp/roger_cli_p --budget 0",
        "--budget: expected a number above 0, got '0'"},
   };

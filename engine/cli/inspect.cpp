@@ -137,8 +137,8 @@ int check_batch(const std::string& path, const LuaLimitArgs& lua) {
   if (b.limits.instructions != defaults.instructions || b.limits.memory_bytes != defaults.memory_bytes)
     limits = "; Lua limits " + std::to_string(b.limits.instructions) + " instructions, " +
              std::to_string(b.limits.memory_bytes >> 20) + " MiB";
-  std::printf("%s: ok (batch script '%s' on %s; %d trials; runs %s%s)\n", path.c_str(), b.name.c_str(),
-              b.curriculum.c_str(), b.trials, runs.c_str(), limits.c_str());
+  std::printf("%s: ok (batch script '%s' on %s; %d trial%s; runs %s%s)\n", path.c_str(), b.name.c_str(),
+              b.curriculum.c_str(), b.trials, b.trials == 1 ? "" : "s", runs.c_str(), limits.c_str());
   return 0;
 }
 

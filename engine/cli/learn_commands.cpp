@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include "cli/cli_internal.h"
 #include "cli/commands.h"
 #include "core/error.h"
+#include "core/text.h"
 #include "learn/episode.h"
 #include "script/curriculum/curriculum.h"
 #include "script/scenario/scenario.h"
@@ -150,6 +152,31 @@ static std::string skill_origin(const SkillSource& s) {
          std::to_string(s.to_threshold.episodes) + " episodes";
 }
 
+namespace {
+
+// The learned skills a context uses, itself or through the skills it uses.
+void used_skills(const Curriculum& cur, const CurriculumContext& ctx, std::set<std::string>& out) {
+  for (const auto& name : ctx.learned) {
+    if (!out.insert(name).second) continue;
+    if (const CurriculumStage* producer = cur.producer(name)) used_skills(cur, producer->context(producer->skill->second), out);
+  }
+}
+
+// A --skill the context does not use would be ignored: refused, naming what it uses.
+void check_skill_flags(const TrainOptions& o) {
+  if (o.skill_files.empty()) return;
+  const Curriculum cur = Curriculum::load(o.curriculum, o.limits);
+  const CurriculumStage& stage = cur.stage(o.stage);
+  std::set<std::string> used;
+  used_skills(cur, stage.context(o.context), used);
+  for (const auto& [name, file] : o.skill_files)
+    if (!used.count(name))
+      throw Error("--skill " + name + "=" + file + ": " + stage.where(o.context) + " uses no learned skill '" + name +
+                  "'" + (used.empty() ? " (it uses none)" : "; it uses " + join(std::vector<std::string>(used.begin(), used.end()))));
+}
+
+}  // namespace
+
 int command_train(const TrainArgs& a) {
   TrainOptions o;
   o.curriculum = a.curriculum;
@@ -162,6 +189,7 @@ int command_train(const TrainArgs& a) {
   o.explain = a.explain;
   o.init_file = a.init;
   o.limits = sandbox_limits(a.lua);
+  check_skill_flags(o);
   const TrainResult r = train_stage(o);
   write_train_outputs(r, a.out);
   std::printf("roger train: %s stage %s context %s seed %llu (%zu actions, %d states) in %s\n",

@@ -53,6 +53,12 @@ CLI::Validator integer_in(uint64_t lo, uint64_t hi) {
       "INTEGER " + range);
 }
 
+// A path: not empty (`--out ""` wrote to the default folder).
+CLI::Validator path_value() {
+  return CLI::Validator([](std::string& text) { return text.empty() ? std::string("expected a path, got ''") : std::string(); },
+                        "PATH");
+}
+
 // A seed: any whole number a 64-bit unsigned integer holds.
 CLI::Validator seed_value() { return integer_in(0, UINT64_MAX); }
 
@@ -80,7 +86,7 @@ CLI::App* add_render(CLI::App& app, RenderArgs& a) {
   auto* c = app.add_subcommand("render", "Draw a scenario's world for one seed (PNG or SVG)");
   c->add_option("scenario", a.scenario, "Scenario script (.lua)")->required();
   c->add_option("--seed", a.seed, "World seed")->capture_default_str()->check(seed_value());
-  c->add_option("--out", a.out, "Output picture (.png or .svg)")->required();
+  c->add_option("--out", a.out, "Output picture (.png or .svg)")->check(path_value())->required();
   c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)");
   c->add_option("--width", a.width, "Picture width in pixels")->capture_default_str()->check(integer_in(200, 8000));
   c->add_option("--seconds", a.seconds, "Simulate this long (Roger idle) first")->check(number_in(0.0, 3600.0));
@@ -132,7 +138,7 @@ CLI::App* add_train(CLI::App& app, TrainArgs& a) {
   c->add_option("--stage", a.stage, "Stage name (e.g. SG)")->required();
   c->add_option("--context", a.context, "Developmental context (e.g. DC2)")->required();
   c->add_option("--seed", a.seed, "Trial seed")->capture_default_str()->check(seed_value());
-  c->add_option("--out", a.out, "Output folder")->required();
+  c->add_option("--out", a.out, "Output folder")->check(path_value())->required();
   c->add_flag("--json", a.json, "End with one JSON line of the figures");
   c->add_option("--skill", a.skills,
                 "A learned skill's policy NAME=FILE.json (repeatable; default: train its stage first)");
@@ -152,7 +158,7 @@ CLI::App* add_propose(CLI::App& app, ProposeArgs& a) {
   c->add_option("--context", a.context, "The starting Psi: a context of the stage (default: its first)");
   c->add_option("--budget", a.budget, "Simulated seconds of training the whole search may spend")
       ->required()->check(number_in(0.0, HUGE_VAL, true));
-  c->add_option("--out", a.out, "Folder of the proposal, its report and the search's records (re-run resumes)")->required();
+  c->add_option("--out", a.out, "Folder of the proposal, its report and the search's records (re-run resumes)")->check(path_value())->required();
   c->add_option("--seed", a.seed, "Search seed")->capture_default_str()->check(seed_value());
   c->add_option("--trials", a.trials, "Seeded trials per candidate and round")->capture_default_str()->check(integer_in(1, 100));
   c->add_option("--probe-trials", a.probe_trials, "Trials of the probe")->capture_default_str()->check(integer_in(1, 100));
@@ -168,7 +174,7 @@ CLI::App* add_run(CLI::App& app, RunArgs& a) {
   c->add_option("script", a.script, "Batch script (.lua), or a name in scripts/")->required();
   c->add_option("--trials", a.trials, "Trials per run (overrides the script)")->check(integer_in(1, 100000));
   c->add_option("--jobs", a.jobs, "Worker threads (default: all cores)")->check(integer_in(1, 1024));
-  c->add_option("--out", a.out, "Results folder (default: results/<script name>)");
+  c->add_option("--out", a.out, "Results folder (default: results/<script name>)")->check(path_value());
   c->add_option("--set", a.sets, "Scenario parameter key=value for every run (repeatable)");
   c->add_option("--only", a.only, "Only this run, RUN/CONTEXT, or eval/NAME (repeatable)");
   c->add_flag("--live", a.live, "A live progress bar (default on a terminal)");
