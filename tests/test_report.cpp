@@ -43,7 +43,8 @@ void spit(const fs::path& p, const std::string& text) {
 // A scratch folder with a small-budget copy of the paper's curriculum and a batch script using it.
 struct Fixture {
   fs::path root;
-  explicit Fixture(const std::string& tag, const std::string& evaluation_params = "obstacles = 3") {
+  explicit Fixture(const std::string& tag, const std::string& evaluation_params = "obstacles = 3",
+                   const std::string& evaluation_scenario = "cluttered") {
     root = fs::temp_directory_path() / ("roger_report_" + tag + "_" + std::to_string(::getpid()));
     fs::remove_all(root);
     fs::create_directories(root);
@@ -59,7 +60,7 @@ struct Fixture {
          "    { name = \"T\", stage = \"T\", contexts = { \"DC6\" },\n"
          "      skills = { Phi_SG = { run = \"SG\", context = \"DC2\" } } },\n"
          "  },\n"
-         "  evaluations = { { name = \"gen\", run = \"T\", context = \"DC6\", scenario = \"cluttered\",\n"
+         "  evaluations = { { name = \"gen\", run = \"T\", context = \"DC6\", scenario = \"" + evaluation_scenario + "\",\n"
          "                    params = { " + evaluation_params + " }, shapes = { \"circle\", \"spade\" }, episodes = 3 } },\n"
          "  tables = {\n"
          "    { title = \"Table I\", run = \"SG\", baseline = \"B1\" },\n"
@@ -461,7 +462,13 @@ TEST_CASE("a results folder is not resumed after a module the curriculum require
 }
 
 TEST_CASE("a failing trial is recorded and does not lose the others", "[report][run]") {
-  Fixture f("fail", "obstacles = 99");  // the cluttered scenario allows at most 8 obstacles
+  // The evaluation's worlds cannot be made: its scenario raises when it generates one (a wrong
+  // parameter would be refused when the script loads, before any trial).
+  Fixture f("fail", "obstacles = 3", "failing.lua");
+  spit(f.root / "failing.lua",
+       "local base = require(\"cluttered\")\n"
+       "return { name = \"failing\", params = base.params,\n"
+       "         generate = function() error(\"no world for this evaluation\") end }\n");
   std::string log;
   CHECK(f.run("out", 2, 0, &log) == 1);
   INFO(log);
@@ -562,6 +569,12 @@ TEST_CASE("a damaged trial result is a roger::Error naming its file, never an ab
       {"\"psi\" must be the list of the context's actions", [](json& j) { j["psi"] = "phi1"; }},
       {"'outcomes' holds 2 outcomes for 3 episodes", [](json& j) { j["outcomes"] = "10"; }},
       {"ran 5 episodes; the evaluation asks for 3", [](json& j) { j["episodes"] = 5; }},
+      // Numbers no trial gives: the tables printed a success of 750% and failed on a negative time.
+      {"field \"success_rate\" must be within [0, 1], got 7.5", [](json& j) { j["success_rate"] = 7.5; }},
+      {"field \"time_to_threshold_s\" must be at least 0, got -5", [](json& j) { j["time_to_threshold_s"] = -5; }},
+      {"checkpoint 0: field \"success_rate\" must be within [0, 1], got -0.5",
+       [](json& j) { j["checkpoints"][0]["success_rate"] = -0.5; }},
+      {"field \"usage\" must map actions to shares, got 3", [](json& j) { j["usage"]["phi1"] = 3; }},
   };
   for (const auto& [what, spoil] : cases) {
     json bad = good;
@@ -580,8 +593,9 @@ TEST_CASE("a damaged trial result is a roger::Error naming its file, never an ab
   fs::remove_all(dir);
 }
 
-// Found by a probe: a record whose numbers the tables refuse (a negative time to threshold) made
-// `roger report` fail after it had replaced summary.csv, leaving it beside the old tables.
+// Found by a probe: a record the tables refused (a negative time to threshold, now refused with
+// the records) made `roger report` fail after it had replaced summary.csv, beside the old tables;
+// and a report that fails at its last file replaced the figures before it.
 TEST_CASE("a report that fails halfway leaves the previous one whole", "[report]") {
   const fs::path dir = fs::temp_directory_path() / ("roger_report_staged_" + std::to_string(::getpid()));
   fs::remove_all(dir);

@@ -9,6 +9,7 @@
 #include "batch/batch_internal.h"
 #include "core/error.h"
 #include "core/fileio.h"
+#include "core/text.h"
 #include "learn/learning.h"
 
 namespace roger {
@@ -18,12 +19,19 @@ using json = nlohmann::json;
 
 namespace {
 
-// Why field `key` of object j is not a finite number ("" when it is).
-std::string number_problem(const json& j, const char* key) {
+constexpr double kInf = HUGE_VAL;
+
+// Why field `key` of object j is not a finite number within [lo, hi] ("" when it is): a share
+// of 7.5 or a negative time is no trial's, and the tables would print it (a success of 750%).
+std::string number_problem(const json& j, const char* key, double lo = -kInf, double hi = kInf) {
   if (!j.contains(key)) return "it has no field \"" + std::string(key) + "\"";
   const json& v = j[key];
   if (!v.is_number() || !std::isfinite(v.get<double>()))
     return "field \"" + std::string(key) + "\" must be a finite number, got " + v.dump();
+  if (v.get<double>() < lo || v.get<double>() > hi)
+    return "field \"" + std::string(key) + "\" must be " +
+           (hi == kInf ? "at least " + format_number(lo) : "within [" + format_number(lo) + ", " + format_number(hi) + "]") +
+           ", got " + v.dump();
   return "";
 }
 
@@ -56,14 +64,15 @@ std::string optional_field_problem(const json& r) {
 // by optional_field_problem.
 std::string training_problem(const json& r) {
   for (const char* key : {"time_to_threshold_s", "train_episodes", "final_episodes"})
-    if (auto p = number_problem(r, key); !p.empty()) return p;
+    if (auto p = number_problem(r, key, 0.0); !p.empty()) return p;
   if (!r.contains("reached")) return "field \"reached\" must be true or false";
   if (!r.contains("psi") || r["psi"].empty()) return "field \"psi\" must be the list of the context's actions";
   if (!r.contains("checkpoints")) return "field \"checkpoints\" must be a list";
   for (size_t k = 0; k < r["checkpoints"].size(); ++k) {
     const json& c = r["checkpoints"][k];
     for (const char* key : {"sim_s", "reward_mean", "success_rate"}) {
-      const std::string p = c.is_object() ? number_problem(c, key) : "it is not an object";
+      const double lo = std::string(key) == "reward_mean" ? -kInf : 0.0, hi = std::string(key) == "success_rate" ? 1.0 : kInf;
+      const std::string p = c.is_object() ? number_problem(c, key, lo, hi) : "it is not an object";
       if (!p.empty()) return "checkpoint " + std::to_string(k) + ": " + p;
     }
   }
@@ -92,13 +101,15 @@ std::string result_problem(const json& r, const PlannedTrial& t) {
   if (r["id"] != t.id) return "it is the result of trial " + r["id"].get<std::string>() + ", not of " + t.id;
   if (!r.contains("trial") || !r["trial"].is_number_integer() || r["trial"] != t.index)
     return "field \"trial\" must be " + std::to_string(t.index) + ", got " + (r.contains("trial") ? r["trial"].dump() : "nothing");
-  for (const char* key : {"success_rate", "reward_mean", "reward_std"})
-    if (auto p = number_problem(r, key); !p.empty()) return p;
+  if (auto p = number_problem(r, "success_rate", 0.0, 1.0); !p.empty()) return p;
+  if (auto p = number_problem(r, "reward_mean"); !p.empty()) return p;
+  if (auto p = number_problem(r, "reward_std", 0.0); !p.empty()) return p;
   if (!t.run)
-    if (auto p = number_problem(r, "episodes"); !p.empty()) return p;
+    if (auto p = number_problem(r, "episodes", 0.0); !p.empty()) return p;
   if (!r.contains("usage") || !r["usage"].is_object()) return "field \"usage\" must be an object";
   for (auto it = r["usage"].begin(); it != r["usage"].end(); ++it)
-    if (!it->is_number()) return "field \"usage\" must map actions to shares, got " + it->dump() + " for " + it.key();
+    if (!it->is_number() || !(it->get<double>() >= 0.0 && it->get<double>() <= 1.0 + 1e-9))
+      return "field \"usage\" must map actions to shares, got " + it->dump() + " for " + it.key();
   if (auto p = optional_field_problem(r); !p.empty()) return p;
   return t.run ? training_problem(r) : "";
 }
