@@ -16,6 +16,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <nlohmann/json.hpp>
+
 #include "batch/trainer.h"
 #include "core/error.h"
 #include "propose/propose.h"
@@ -121,6 +123,21 @@ TEST_CASE("propose is deterministic for a seed, and a re-run resumes from its re
   const ProposeResult c = propose_curriculum(sg_options(dir.path / "a"));
   CHECK(c.trials_run == 2);
   CHECK(c.trials_reused == a.trials_run - 2);
+  CHECK(tree(dir.path / "a") == before);
+  // A damaged record (an episode count of "a", a negative cost) is run again, not read (before:
+  // a JSON type error, or a candidate that won on spent -1e9 s): the same files again.
+  const fs::path probe_file = dir.path / "a" / "probe" / "probe-1.json";
+  nlohmann::json probe = nlohmann::json::parse(slurp(probe_file));
+  probe["episodes"] = "a";
+  std::ofstream(probe_file) << probe.dump();
+  fs::path trial_file;
+  for (const auto& e : fs::directory_iterator(dir.path / "a" / "trials"))
+    if (trial_file.empty() || e.path() < trial_file) trial_file = e.path();
+  nlohmann::json trial = nlohmann::json::parse(slurp(trial_file));
+  trial["spent_s"] = -1e9;
+  std::ofstream(trial_file) << trial.dump();
+  const ProposeResult e = propose_curriculum(sg_options(dir.path / "a"));
+  CHECK(e.trials_run == 1);
   CHECK(tree(dir.path / "a") == before);
   // A different seed searches differently (another probe).
   ProposeOptions other = sg_options(dir.path / "c");

@@ -117,7 +117,11 @@ CandidateTrial run_trial(const ProposeOptions& o, const CandidateSpec& spec, con
         tr.last_success = j.at("last_success").get<double>();
         tr.loss = j.at("loss").get<double>();
         tr.reused = true;
-        return tr;
+        // Numbers no trial gives (damaged, or edited by hand) make the record unreadable: run again.
+        const bool sound = std::isfinite(tr.spent_s) && tr.spent_s >= 0 && std::isfinite(tr.skills_s) &&
+                           tr.skills_s >= 0 && tr.skills_s <= tr.spent_s && std::isfinite(tr.time_s) && tr.time_s >= 0 &&
+                           std::isfinite(tr.last_success) && std::isfinite(tr.loss);
+        if (sound) return tr;
       }
     } catch (const std::exception&) {
       // An unreadable record (records are written atomically, so a disk fault) is run again.

@@ -1,5 +1,7 @@
 // propose_probe.cpp: the probe of the starting context and what its successful episodes say.
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -41,6 +43,32 @@ nlohmann::json probe_json(const TrainResult& r, const std::vector<ProbeEpisode>&
           {"episodes", r.totals.episodes}, {"sim_s", r.totals.sim_s}, {"successes", eps}};
 }
 
+// Whether a probe record holds what run_probe reads, each of the right type and range: one that
+// does not (damaged, or edited by hand) is run again, as an unreadable one is, rather than read
+// as whatever its damage says.
+bool sound_probe_record(const nlohmann::json& j) {
+  auto count = [](const nlohmann::json& v) { return v.is_number_integer() && v.get<int64_t>() >= 0 && v.get<int64_t>() <= (int64_t(1) << 31) - 1; };
+  auto seconds = [](const nlohmann::json& v) { return v.is_number() && std::isfinite(v.get<double>()) && v.get<double>() >= 0; };
+  auto ints = [](const nlohmann::json& v, size_t n, int lo, int hi) {
+    if (!v.is_array() || (n && v.size() != n)) return false;
+    for (const auto& x : v)
+      if (!x.is_number_integer() || x.get<int64_t>() < lo || x.get<int64_t>() > hi) return false;
+    return true;
+  };
+  if (!j.is_object() || !j.contains("psi") || !j["psi"].is_array() || j["psi"].empty()) return false;
+  for (const auto& a : j["psi"])
+    if (!a.is_string()) return false;
+  const size_t n = j["psi"].size();
+  if (!count(j.value("episodes", nlohmann::json())) || !seconds(j.value("sim_s", nlohmann::json()))) return false;
+  if (!j.contains("successes") || !j["successes"].is_array()) return false;
+  for (const auto& e : j["successes"])
+    if (!e.is_object() || !ints(e.value("ticks", nlohmann::json()), n, 0, INT32_MAX) ||
+        !ints(e.value("first_conv", nlohmann::json()), n, -1, INT32_MAX) ||
+        !ints(e.value("path", nlohmann::json()), 0, 0, int(n) - 1))
+      return false;
+  return true;
+}
+
 // One probe trial, from its record when an earlier run wrote it.
 nlohmann::json probe_trial(const ProposeOptions& o, const std::string& context, const std::string& sources,
                            uint64_t seed, double cap_s, const std::string& file, bool* reused) {
@@ -48,7 +76,7 @@ nlohmann::json probe_trial(const ProposeOptions& o, const std::string& context, 
   if (fs::exists(file)) {
     try {
       nlohmann::json j = nlohmann::json::parse(read_file_text(file));
-      if (j.value("key", "") == key && j.value("cap_s", -1.0) == cap_s) {
+      if (j.value("key", "") == key && j.value("cap_s", -1.0) == cap_s && sound_probe_record(j)) {
         *reused = true;
         return j;
       }
