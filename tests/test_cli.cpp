@@ -184,6 +184,9 @@ TEST_CASE("usage errors say what is wrong", "[cli]") {
   CHECK(r.err.find("--skill Phi_SG=nosuch.json: stage 'SG', context 'DC2' uses no learned skill 'Phi_SG' (it uses "
                    "none)") != std::string::npos);
   CHECK_FALSE(fs::exists("/tmp/roger_cli_unused"));
+  r = roger("report /tmp/roger_cli_no_such_results");
+  CHECK(r.status == 1);
+  CHECK(r.err.find("no results folder '/tmp/roger_cli_no_such_results': nothing is there") != std::string::npos);
   // The advice for a path that never led anywhere is not "put it back as it was".
   r = roger("render scenarios/unobstructed.lua --out /tmp/roger_cli_no_such_folder/x.png");
   CHECK(r.status == 1);

@@ -227,7 +227,8 @@ json read_manifest(const std::string& dir) {
   const fs::path manifest_path = fs::path(dir) / "manifest.json";
   std::error_code ec;
   if (!fs::is_regular_file(manifest_path, ec))
-    throw Error("'" + dir + "' is not a results folder of roger run: it has no manifest.json");
+    throw Error(fs::exists(dir, ec) ? "'" + dir + "' is not a results folder of roger run: it has no manifest.json"
+                                    : "no results folder '" + dir + "': nothing is there");
   // The checked reader (records.cpp): an object with its format, config, engine and script.
   json manifest = read_manifest_file(manifest_path.string());
   // The report reads "version" with value(), which throws a json type_error on any other shape.
