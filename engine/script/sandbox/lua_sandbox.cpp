@@ -64,12 +64,7 @@ LuaSandbox::LuaSandbox(const SandboxLimits& limits) : impl_(std::make_unique<Imp
     s.L = nullptr;
     throw Error("cannot open the Lua libraries: " + msg);
   }
-  const fs::path root = project_root();
-  for (const char* folder : {"scenarios", "curricula", "scripts"}) {
-    std::error_code ec;
-    const fs::path p = fs::weakly_canonical(root / folder, ec);
-    if (!ec) s.roots.push_back(p);
-  }
+  s.roots = module_search_roots();
 }
 
 LuaSandbox::~LuaSandbox() {
@@ -107,13 +102,7 @@ void LuaSandbox::set_main_script(const std::string& path) {
   const fs::path folder = fs::weakly_canonical(fs::absolute(fs::path(path), ec).parent_path(), ec);
   s.main_dir = folder;
   s.main_dir_display = fs::path(path).parent_path().string();
-  std::vector<fs::path> roots{folder};
-  const fs::path root = project_root();
-  for (const char* name : {"scenarios", "curricula", "scripts"}) {
-    const fs::path p = fs::weakly_canonical(root / name, ec);
-    if (!ec && std::find(roots.begin(), roots.end(), p) == roots.end()) roots.push_back(p);
-  }
-  s.roots = std::move(roots);
+  s.roots = module_search_roots(folder);
   s.main_set = true;
 }
 
