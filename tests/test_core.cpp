@@ -9,6 +9,7 @@
 
 #include "core/rng.h"
 #include "core/shape.h"
+#include "core/text.h"
 
 using namespace roger;
 
@@ -73,4 +74,11 @@ TEST_CASE("to_world and to_local are inverse rigid motions", "[core]") {
   const Vec2 ahead = to_world(Pose{1.0, 2.0, M_PI / 2}, Vec2(1.0, 0.0));
   CHECK(ahead.x() == Approx(1.0).margin(1e-15));
   CHECK(ahead.y() == Approx(3.0));
+}
+
+TEST_CASE("with_note_on_first_line puts the note before a traceback", "[core]") {
+  CHECK(roger::with_note_on_first_line("a.lua:3: bad", " (world seed 2)") == "a.lua:3: bad (world seed 2)");
+  CHECK(roger::with_note_on_first_line("a.lua:3: bad\nstack traceback:\n\ta.lua:3", " (seed 2)") ==
+        "a.lua:3: bad (seed 2)\nstack traceback:\n\ta.lua:3");
+  CHECK(roger::with_note_on_first_line("", " (seed 2)") == " (seed 2)");
 }

@@ -18,6 +18,7 @@
 #include "core/error.h"
 #include "core/fileio.h"
 #include "core/rng.h"
+#include "core/text.h"
 #include "script/scenario/scenario.h"
 
 namespace roger {
@@ -34,10 +35,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 // "<first line> (<phase> episode <k>, world seed <s>)<the other lines>".
 std::string episode_fault_text(const std::string& cause, const std::string& phase, int episode, uint64_t seed) {
-  const size_t nl = cause.find('\n');
-  const std::string where = " (" + phase + " episode " + std::to_string(episode) + ", world seed " +
-                            std::to_string(seed) + ")";
-  return nl == std::string::npos ? cause + where : cause.substr(0, nl) + where + cause.substr(nl);
+  return with_note_on_first_line(cause, " (" + phase + " episode " + std::to_string(episode) + ", world seed " +
+                                            std::to_string(seed) + ")");
 }
 
 // One stage/context of a loaded curriculum, ready to run episodes in a scenario.

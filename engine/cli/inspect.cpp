@@ -8,6 +8,7 @@
 #include "batch/trainer.h"
 #include "cli/cli_internal.h"
 #include "cli/commands.h"
+#include "core/text.h"
 #include "learn/episode.h"
 #include "script/batch/batch_script.h"
 #include "script/curriculum/curriculum.h"
@@ -202,10 +203,7 @@ int command_check(const CheckArgs& a) {
     try {
       world.reset(scenario.generate(uint64_t(seed)));
     } catch (const std::exception& e) {
-      const std::string cause = e.what();
-      const size_t nl = cause.find('\n');
-      const std::string where = " (world seed " + std::to_string(seed) + ")";
-      throw Error(nl == std::string::npos ? cause + where : cause.substr(0, nl) + where + cause.substr(nl));
+      throw Error(with_note_on_first_line(e.what(), " (world seed " + std::to_string(seed) + ")"));
     }
   }
   // Without --set, also every declared choice of every parameter (each shape, say), and each end

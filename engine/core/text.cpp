@@ -26,4 +26,10 @@ std::string join(const std::vector<std::string>& items, const char* sep) {
   return out;
 }
 
+std::string with_note_on_first_line(const std::string& message, const std::string& note) {
+  const size_t nl = message.find('\n');
+  if (nl == std::string::npos) return message + note;
+  return message.substr(0, nl) + note + message.substr(nl);
+}
+
 }  // namespace roger

@@ -12,4 +12,8 @@ std::string format_number(double value);
 // Joins items with a separator ("a, b, c"), for messages that list what exists.
 std::string join(const std::vector<std::string>& items, const char* sep = ", ");
 
+// The message with `note` appended to its first line, before any traceback that follows it
+// ("file:7: bad value (world seed 3)\nstack traceback: ..."), so the note reads with the error.
+std::string with_note_on_first_line(const std::string& message, const std::string& note);
+
 }  // namespace roger

@@ -28,9 +28,7 @@ namespace {
 std::string module_name(const std::string& file) {
   std::error_code ec;
   const fs::path real = fs::weakly_canonical(fs::absolute(file), ec);
-  std::vector<fs::path> roots;
-  for (const char* f : {"curricula", "scenarios", "scripts"}) roots.push_back(fs::weakly_canonical(project_root() / f, ec));
-  for (const auto& root : roots) {
+  for (const auto& root : module_search_roots()) {
     fs::path rel = real.lexically_relative(root);
     if (rel.empty() || *rel.begin() == "..") continue;
     std::string name = rel.replace_extension().generic_string();

@@ -15,6 +15,7 @@
 
 #include "core/error.h"
 #include "core/fileio.h"
+#include "core/text.h"
 #include "script/curriculum/curriculum_internal.h"
 #include "script/control/lua_control.h"
 #include "script/scenario/scenario.h"
@@ -589,10 +590,8 @@ void check_callbacks(Curriculum& cur, const CurriculumStage& st, const Curriculu
     if (st.absorbing_lua) cur.call_absorbing(st, ctx, state, 0.0);
     if (st.reward_lua) cur.call_reward(st, ctx, state, 0, "decision", 0.0);
   } catch (const std::exception& e) {
-    const std::string cause = e.what();
-    const size_t nl = cause.find('\n');
-    const std::string when = " (called as at an episode's first decision, world seed 0, every action NOREF)";
-    problems.push_back(nl == std::string::npos ? cause + when : cause.substr(0, nl) + when + cause.substr(nl));
+    problems.push_back(with_note_on_first_line(
+        e.what(), " (called as at an episode's first decision, world seed 0, every action NOREF)"));
   }
   cur.set_world(nullptr);
 }

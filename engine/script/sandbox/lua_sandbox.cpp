@@ -41,6 +41,18 @@ fs::path project_root() {
   return fs::path(ROGER_SOURCE_DIR);
 }
 
+std::vector<fs::path> module_search_roots(const fs::path& main_folder) {
+  std::vector<fs::path> roots;
+  if (!main_folder.empty()) roots.push_back(main_folder);
+  const fs::path project = project_root();
+  for (const char* name : {"scenarios", "curricula", "scripts"}) {
+    std::error_code ec;
+    const fs::path p = fs::weakly_canonical(project / name, ec);
+    if (!ec && std::find(roots.begin(), roots.end(), p) == roots.end()) roots.push_back(p);
+  }
+  return roots;
+}
+
 LuaSandbox::LuaSandbox(const SandboxLimits& limits) : impl_(std::make_unique<Impl>()) {
   Impl& s = *impl_;
   s.limits = limits;

@@ -77,6 +77,10 @@ struct ScriptError : Error {
 // the engine was built from (a program run from its build tree).
 std::filesystem::path project_root();
 
+// Where `require` looks for a module: `main_folder` first when given (the main script's folder),
+// then the project's scenarios/, curricula/ and scripts/, each resolved once and listed once.
+std::vector<std::filesystem::path> module_search_roots(const std::filesystem::path& main_folder = {});
+
 class LuaSandbox {
  public:
   // Opens a fresh sandboxed state. Throws roger::Error if the limits leave no room for Lua itself.

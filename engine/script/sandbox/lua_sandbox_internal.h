@@ -167,10 +167,6 @@ constexpr const char* kModulesKey = "roger.modules";
 // Whether `file` lies under `folder` (both normalized, absolute).
 bool inside(const std::filesystem::path& folder, const std::filesystem::path& file);
 
-// Where `require` looks for a module: `main_folder` first when given (the main script's folder),
-// then the project's scenarios/, curricula/ and scripts/, each resolved once and listed once.
-std::vector<std::filesystem::path> module_search_roots(const std::filesystem::path& main_folder = {});
-
 // The contents of a script file; refuses files larger than the memory cap before reading them.
 std::string read_file(const std::filesystem::path& path, const std::string& shown, size_t limit);
 

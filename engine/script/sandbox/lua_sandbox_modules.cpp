@@ -40,18 +40,6 @@ bool inside(const fs::path& folder, const fs::path& file) {
   return !rel.empty() && *rel.begin() != "..";
 }
 
-std::vector<fs::path> module_search_roots(const fs::path& main_folder) {
-  std::vector<fs::path> roots;
-  if (!main_folder.empty()) roots.push_back(main_folder);
-  const fs::path project = project_root();
-  for (const char* name : {"scenarios", "curricula", "scripts"}) {
-    std::error_code ec;
-    const fs::path p = fs::weakly_canonical(project / name, ec);
-    if (!ec && std::find(roots.begin(), roots.end(), p) == roots.end()) roots.push_back(p);
-  }
-  return roots;
-}
-
 // The contents of a script file; refuses files larger than the memory cap before reading them.
 std::string read_file(const fs::path& path, const std::string& shown, size_t limit) {
   std::error_code ec;
@@ -242,7 +230,7 @@ fs::path module_file(const fs::path& folder, const std::string& name) {
   std::replace(rel.begin(), rel.end(), '.', '/');
   rel += ".lua";
   std::error_code ec;
-  for (const fs::path& root : sandbox_detail::module_search_roots(folder))
+  for (const fs::path& root : module_search_roots(folder))
     if (fs::is_regular_file(root / rel, ec)) return root / rel;
   return {};
 }

@@ -10,16 +10,17 @@
 
 namespace roger {
 namespace scenario_detail {
-namespace {
 
-// An optional number field within [lo, hi] (the message names the field, the range and the value).
-double ranged(const LuaFields& f, const char* key, double fallback, double lo, double hi, const char* unit) {
+double ranged(const LuaFields& f, const char* key, double fallback, double lo, double hi, const char* unit,
+              bool low_open) {
   const double v = f.number(key, fallback);
-  if (!(v >= lo && v <= hi))
-    f.fail(std::string("field '") + key + "' must be within [" + fmt(lo) + ", " + fmt(hi) + "] " + unit +
-           ", got " + fmt(v));
+  if (!(v >= lo && v <= hi) || (low_open && v == lo))
+    f.fail(std::string("field '") + key + "' must be within " + (low_open ? "(" : "[") + fmt(lo) + ", " +
+           fmt(hi) + "] " + unit + ", got " + fmt(v));
   return v;
 }
+
+namespace {
 
 // Reads the optional sub-table `key` of f with `read(index)`: nil reads nothing; anything but a
 // table is refused, saying it must be `expected`.

@@ -55,6 +55,11 @@ struct WorldBuilder {
   bool* no_placement = nullptr;  // set when world:sample_position finds no place (PlacementError)
 };
 
+// The optional number field `key` of f (`fallback` when absent) within [lo, hi], or (lo, hi] when
+// `low_open`; else raises naming the field, the range, the unit and the value.
+double ranged(const LuaFields& f, const char* key, double fallback, double lo, double hi, const char* unit,
+              bool low_open = false);
+
 // world:robot's body = {...} and eyes = {...} fields (the defaults when absent); each bad value
 // raises "context: body: field ..." with the range and the known fields.
 RobotParams read_body(const LuaFields& parent);

@@ -204,19 +204,12 @@ int l_world_object(lua_State* L) {
     read_thing(L, f, "object", w.spec.objects, o);
     // Each within a range Box2D can hold in single precision (a mass of 1e39 kg is infinite
     // there and aborts it) and wider than any object Roger could move or stop.
-    auto bounded = [&](const char* key, double fallback, bool allow_zero, double hi, const char* unit) {
-      const double v = f.number(key, fallback);
-      if (!(v >= 0.0 && v <= hi) || (!allow_zero && v == 0.0))
-        f.fail(std::string("field '") + key + "' must be " + (allow_zero ? "within [0, " : "within (0, ") +
-               fmt(hi) + "] " + unit + ", got " + fmt(v));
-      return v;
-    };
-    o.mass = bounded("mass", o.mass, false, 1e4, "kg");
-    o.friction_force = bounded("friction_force", o.friction_force, true, 1e6, "N");
-    o.friction_torque = bounded("friction_torque", o.friction_torque, true, 1e6, "N m");
-    o.viscosity = bounded("viscosity", o.viscosity, true, 1e4, "1/s");
-    o.angular_viscosity = bounded("angular_viscosity", o.angular_viscosity, true, 1e4, "1/s");
-    o.surface_friction = bounded("surface_friction", o.surface_friction, true, 10.0, "(a Coulomb coefficient)");
+    o.mass = ranged(f, "mass", o.mass, 0.0, 1e4, "kg", true);
+    o.friction_force = ranged(f, "friction_force", o.friction_force, 0.0, 1e6, "N");
+    o.friction_torque = ranged(f, "friction_torque", o.friction_torque, 0.0, 1e6, "N m");
+    o.viscosity = ranged(f, "viscosity", o.viscosity, 0.0, 1e4, "1/s");
+    o.angular_viscosity = ranged(f, "angular_viscosity", o.angular_viscosity, 0.0, 1e4, "1/s");
+    o.surface_friction = ranged(f, "surface_friction", o.surface_friction, 0.0, 10.0, "(a Coulomb coefficient)");
     check_free(f, w, "object '" + o.name + "'", o.shape, o.pose, true);
     w.spec.objects.push_back(std::move(o));
     return 0;
