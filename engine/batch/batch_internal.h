@@ -38,11 +38,13 @@ class SourceWatch {
 
 // A trial's state on disk: "ok" (filling `result`), "failed" (filling `error` with its message),
 // "corrupt" (filling `error` with the file at fault and what is wrong: a result.json, error.json or
-// a training trial's policy.json that is truncated, empty, edited or another trial's) or "pending".
+// a training trial's policy.json that is truncated, empty, edited or another trial's, or its
+// final.jsonl missing or holding another count of episodes than the result) or "pending".
 std::string trial_status(const std::string& out, const PlannedTrial& t, nlohmann::json& result, std::string& error);
 
-// Why a parsed result.json cannot be trial t's result (not an object, another trial's id, a field
-// missing, of the wrong type or not finite), or "" when it can. Every field the report reads is
+// Why a parsed result.json cannot be trial t's result (not an object, another trial's id or seed, a
+// field missing, of the wrong type or not finite, a success rate or count that disagrees with its
+// own episode outcomes), or "" when it can. Every field the report reads is
 // checked here, the optional ones (outcomes, skipped tasks, a diagnosis) where present: the report
 // reads only results that passed (write_report checks the folder first).
 std::string result_problem(const nlohmann::json& result, const PlannedTrial& t);
@@ -51,7 +53,9 @@ std::string result_problem(const nlohmann::json& result, const PlannedTrial& t);
 nlohmann::json read_json_file(const std::string& path);
 
 // A results folder's manifest.json, checked to be one (an object of format roger-results/1 with
-// its config, engine and script), or roger::Error naming the file and what is wrong.
+// its config, engine and script; every field of the config that batch_config_from_json reads, and
+// the trial ids and seeds where present, of the right type), or roger::Error naming the file, the
+// field and what is wrong. plan.cpp compares the trial ids and seeds with the plan.
 nlohmann::json read_manifest_file(const std::string& path);
 
 // ---- trainer.cpp: what a trial and an environment (environment.cpp) both build a stage from ----

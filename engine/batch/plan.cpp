@@ -4,6 +4,8 @@
 #include <sys/file.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -29,6 +31,13 @@ using namespace batch_detail;
 using json = nlohmann::json;
 
 namespace {
+
+// The first five of `items`, joined, and how many more there are.
+std::string join_some(const std::vector<std::string>& items) {
+  std::string s;
+  for (size_t k = 0; k < items.size() && k < 5; ++k) s += (k ? ", " : "") + items[k];
+  return items.size() > 5 ? s + " and " + std::to_string(items.size() - 5) + " more" : s;
+}
 
 // FNV-1a, 64 bits, as 16 hex digits: a stable fingerprint of the curriculum's text.
 std::string fingerprint(const std::string& text) {
@@ -56,26 +65,93 @@ json source_fingerprints(const std::string& curriculum_file, const SandboxLimits
   return out;
 }
 
-// The differences between two configurations, as "field: old -> new" lines.
-std::vector<std::string> differences(const json& a, const json& b, const std::string& at = "") {
-  std::vector<std::string> out;
-  if (a.is_object() && b.is_object()) {
+// A value of a configuration for a message: whole when short, else 70 characters from a little
+// before `at`, where it first differs from the other side's, so that the change shows.
+std::string excerpt(const std::string& s, size_t at) {
+  if (s.size() <= 80) return s;
+  const size_t from = at > 30 ? at - 30 : 0;
+  return (from ? "..." : "") + s.substr(from, 70) + (from + 70 < s.size() ? "..." : "");
+}
+
+// The path of member `key` under `at`: "runs[1].trials", or "sources['lib/skills.lua']" for a key
+// that is not a plain name.
+std::string member_path(const std::string& at, const std::string& key) {
+  const bool plain = !key.empty() && std::all_of(key.begin(), key.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+  });
+  if (!plain) return at + "['" + key + "']";
+  return at.empty() ? key : at + "." + key;
+}
+
+// The differences between two configurations (nullptr: absent), one "path: old in the folder, new
+// now" line per value that differs. Objects and arrays are compared member by member, so a line
+// names what changed rather than two dumps of a whole list cut at the same place.
+void differences(const json* a, const json* b, const std::string& at, std::vector<std::string>& out) {
+  if (a && b && *a == *b) return;
+  if (a && b && a->is_object() && b->is_object()) {
     std::set<std::string> keys;
-    for (auto it = a.begin(); it != a.end(); ++it) keys.insert(it.key());
-    for (auto it = b.begin(); it != b.end(); ++it) keys.insert(it.key());
-    for (const auto& k : keys) {
-      const json na = a.contains(k) ? a[k] : json(), nb = b.contains(k) ? b[k] : json();
-      for (auto& d : differences(na, nb, at.empty() ? k : at + "." + k)) out.push_back(d);
+    for (auto it = a->begin(); it != a->end(); ++it) keys.insert(it.key());
+    for (auto it = b->begin(); it != b->end(); ++it) keys.insert(it.key());
+    for (const auto& k : keys)
+      differences(a->contains(k) ? &(*a)[k] : nullptr, b->contains(k) ? &(*b)[k] : nullptr, member_path(at, k), out);
+    return;
+  }
+  if (a && b && a->is_array() && b->is_array()) {
+    for (size_t k = 0; k < std::max(a->size(), b->size()); ++k)
+      differences(k < a->size() ? &(*a)[k] : nullptr, k < b->size() ? &(*b)[k] : nullptr,
+                  at + "[" + std::to_string(k) + "]", out);
+    return;
+  }
+  const std::string sa = a ? a->dump() : "", sb = b ? b->dump() : "";
+  size_t first = 0;
+  while (first < sa.size() && first < sb.size() && sa[first] == sb[first]) ++first;
+  out.push_back(at + ": " + (a ? excerpt(sa, first) : "absent") + " in the folder, " + (b ? excerpt(sb, first) : "absent") +
+                " now");
+}
+
+// Why the manifest's trial ids or training seeds are not the ones its configuration plans ("" when
+// they are; when absent, "" unless `required`): a list edited by hand would make the report and a
+// resumed run disagree with what the folder says it holds. Their types were checked on reading.
+std::string planned_trials_problem(const json& m, const BatchPlan& plan, bool required) {
+  if (!m.contains("trials") || !m.contains("seeds")) {
+    if (!required) return "";  // a folder of the fuzz fixtures, made by hand without them
+    return std::string("field \"") + (m.contains("trials") ? "seeds" : "trials") + "\" is missing";
+  }
+  std::vector<std::string> planned;
+  for (const auto& p : plan.phases)
+    for (const auto& t : p) planned.push_back(t.id);
+  const json& listed = m["trials"];
+  if (listed != json(planned)) {
+    const std::set<std::string> in_plan(planned.begin(), planned.end());
+    std::set<std::string> in_list;
+    for (const auto& id : listed) in_list.insert(id.get<std::string>());
+    std::vector<std::string> missing, extra;
+    for (const auto& id : planned)
+      if (!in_list.count(id)) missing.push_back(id);
+    for (const auto& id : listed)
+      if (!in_plan.count(id.get<std::string>())) extra.push_back(id.get<std::string>());
+    std::string why = "field \"trials\" lists " + std::to_string(listed.size()) + " trial ids where the configuration plans " +
+                      std::to_string(planned.size());
+    if (!missing.empty()) why += "; missing: " + join_some(missing);
+    if (!extra.empty()) why += "; not in the plan: " + join_some(extra);
+    return missing.empty() && extra.empty() ? why + ", in another order or repeated" : why;
+  }
+  const json& seeds = m["seeds"];
+  size_t training = 0;
+  for (const auto& p : plan.phases)
+    for (const auto& t : p) {
+      if (!t.run) continue;
+      ++training;
+      const std::string plan_seed = std::to_string(t.seed) + " (the script's seed " + std::to_string(plan.script->seed) +
+                                    " + trial " + std::to_string(t.index) + ")";
+      if (!seeds.contains(t.id)) return "field \"seeds\" has no seed for trial " + t.id + "; the plan gives it " + plan_seed;
+      if (seeds[t.id].get<uint64_t>() != t.seed)
+        return "field \"seeds\" gives trial " + t.id + " seed " + seeds[t.id].dump() + ", but the plan gives it " + plan_seed;
     }
-    return out;
-  }
-  if (a != b) {
-    std::string sa = a.dump(), sb = b.dump();
-    if (sa.size() > 80) sa = sa.substr(0, 77) + "...";
-    if (sb.size() > 80) sb = sb.substr(0, 77) + "...";
-    out.push_back(at + ": " + sa + " in the folder, " + sb + " now");
-  }
-  return out;
+  if (seeds.size() != training)
+    return "field \"seeds\" holds " + std::to_string(seeds.size()) + " seeds, and the plan has " + std::to_string(training) +
+           " training trials";
+  return "";
 }
 
 // The training trials of one run, every context.
@@ -137,12 +213,17 @@ void check_manifest(const BatchPlan& plan, const fs::path& manifest_path, const 
                 "to start over; `roger report " + out + "` still reports what it holds.");
   const json old_config = old.value("config", json());
   if (old_config != config) {
+    std::vector<std::string> lines;
+    differences(&old_config, &config, "", lines);
     std::string why;
-    for (const auto& d : differences(old_config, config)) why += "\n  " + d;
+    for (size_t k = 0; k < lines.size() && k < 12; ++k) why += "\n  " + lines[k];
+    if (lines.size() > 12) why += "\n  ... and " + std::to_string(lines.size() - 12) + " more";
     throw Error("the results folder " + out + " was made by another batch script or other parameters (" +
                 old.value("script", std::string("?")) + "); it cannot be resumed with " + plan.script->path +
                 ". Differences:" + why + "\nUse another --out, or remove the folder to start over.");
   }
+  if (const std::string p = planned_trials_problem(old, plan, true); !p.empty())
+    throw Error(manifest_path.string() + ": " + p + "; this folder cannot be resumed: use another --out");
 }
 
 
@@ -229,12 +310,9 @@ json read_manifest(const std::string& dir) {
   if (!fs::is_regular_file(manifest_path, ec))
     throw Error(fs::exists(dir, ec) ? "'" + dir + "' is not a results folder of roger run: it has no manifest.json"
                                     : "no results folder '" + dir + "': nothing is there");
-  // The checked reader (records.cpp): an object with its format, config, engine and script.
-  json manifest = read_manifest_file(manifest_path.string());
-  // The report reads "version" with value(), which throws a json type_error on any other shape.
-  if (manifest.contains("version") && !manifest["version"].is_string())
-    throw Error(manifest_path.string() + ": field \"version\" must be a string, got " + manifest["version"].type_name());
-  return manifest;
+  // The checked reader (records.cpp): an object with its format, engine, script, version, the
+  // types of its config's fields and of its trials' ids and seeds.
+  return read_manifest_file(manifest_path.string());
 }
 
 BatchPlan read_results_plan(const std::string& dir) {
@@ -246,7 +324,10 @@ BatchPlan read_results_plan(const std::string& dir) {
     throw Error((fs::path(dir) / "manifest.json").string() + ": field \"config\": " + e.what());
   }
   script->path = manifest["script"].get<std::string>();
-  return plan_batch(std::move(script), dir);
+  BatchPlan plan = plan_batch(std::move(script), dir);
+  if (const std::string p = planned_trials_problem(manifest, plan, false); !p.empty())
+    throw Error((fs::path(dir) / "manifest.json").string() + ": " + p);
+  return plan;
 }
 
 Shard parse_shard(const std::string& text) {

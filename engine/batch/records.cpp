@@ -79,6 +79,136 @@ std::string training_problem(const json& r) {
   return "";
 }
 
+// Why a result's episode outcomes ("1101...", under `outcomes_key`) disagree with its summary of
+// them ("" when they agree): a count of `episodes_key` episodes, the success rate, and the
+// successes where recorded. A rate edited by hand would print outside its own interval, which the
+// report computes from the outcomes.
+std::string outcomes_problem(const json& r, const char* outcomes_key, const char* episodes_key) {
+  if (!r.contains(outcomes_key)) return "";
+  const std::string& outcomes = r[outcomes_key].get_ref<const std::string&>();
+  const std::string field = "field \"" + std::string(outcomes_key) + "\"";
+  if (double(outcomes.size()) != r[episodes_key].get<double>())
+    return field + " holds " + std::to_string(outcomes.size()) + (outcomes.size() == 1 ? " outcome" : " outcomes") +
+           " for " + r[episodes_key].dump() +
+           " episodes (field \"" + episodes_key + "\")";
+  const auto wins = std::count(outcomes.begin(), outcomes.end(), '1');
+  if (r.contains("successes") && !(r["successes"].is_number() && r["successes"].get<double>() == double(wins)))
+    return "field \"successes\" must be " + std::to_string(wins) + ", the successes in " + field + ", got " +
+           r["successes"].dump();
+  const double rate = outcomes.empty() ? 0.0 : double(wins) / double(outcomes.size());
+  if (std::abs(r["success_rate"].get<double>() - rate) > 1e-9)
+    return "field \"success_rate\" must be " + format_number(rate) + " (" + std::to_string(wins) + " of " +
+           std::to_string(outcomes.size()) + " in " + field + "), got " + r["success_rate"].dump();
+  return "";
+}
+
+// Why an evaluation result's counts disagree with its evaluation or with each other ("" when they
+// agree); its fields' types were checked before.
+std::string evaluation_problem(const json& r, const PlannedTrial& t) {
+  const double episodes = r["episodes"].get<double>();
+  if (!(episodes == std::floor(episodes) && episodes <= 1e6))  // a batch evaluation runs at most a million
+    return "field \"episodes\" is not a count of episodes up to a million, got " + r["episodes"].dump();
+  if (t.evaluation && episodes != double(t.evaluation->episodes))
+    return "field \"episodes\": it ran " + r["episodes"].dump() + " episodes; the evaluation asks for " +
+           std::to_string(t.evaluation->episodes);
+  if (r.contains("outcomes")) return outcomes_problem(r, "outcomes", "episodes");
+  if (r.contains("successes")) {  // a result written before the outcomes were recorded
+    const json& s = r["successes"];
+    if (!s.is_number_integer() || s.get<double>() < 0 || s.get<double>() > episodes)
+      return "field \"successes\" must be a count of the " + r["episodes"].dump() + " episodes, got " + s.dump();
+    if (episodes > 0 && std::abs(r["success_rate"].get<double>() - s.get<double>() / episodes) > 1e-9)
+      return "field \"success_rate\" must be " + format_number(s.get<double>() / episodes) + " (" + s.dump() +
+             " of " + r["episodes"].dump() + " episodes), got " + r["success_rate"].dump();
+  }
+  return "";
+}
+
+// A JSON value's type and, when short, the value: what a message says was found.
+std::string found(const json& v) {
+  if (v.is_structured()) return v.type_name();
+  const std::string text = v.dump();
+  return std::string(v.type_name()) + " " + (text.size() > 40 ? text.substr(0, 37) + "..." : text);
+}
+
+// The shape of a manifest's "config" as batch_config_json writes it and batch_config_from_json
+// reads it: a type name ("string", "integer", "boolean", "pair": two strings), [shape] a list of
+// that shape, {...} an object with those fields ("name?" optional, "*" any field name).
+const json& config_shape() {
+  static const json shape = json::parse(R"({
+    "name": "string", "description?": "string", "curriculum": "string", "curriculum_file?": "string",
+    "trials": "integer", "seed": "integer", "params": ["pair"],
+    "limits?": {"instructions": "integer", "memory_mib": "integer"}, "sources?": {"*": "string"},
+    "runs": [{"name": "string", "stage": "string", "contexts": ["string"], "trials": "integer",
+              "params": ["pair"], "skills": [{"skill": "string", "run": "string", "context": "string"}],
+              "final_worlds?": "string"}],
+    "evaluations": [{"name": "string", "run": "string", "context": "string", "scenario": "string",
+                     "params": ["pair"], "shapes": ["string"], "episodes": "integer", "first_seed": "integer",
+                     "worlds?": "string", "trials": "integer",
+                     "skills?": [{"skill": "string", "run": "string", "context": "string"}]}],
+    "tables": [{"title": "string", "run": "string", "baseline": "string", "evaluation": "string",
+                "usage": [{"context": "string", "skill": "string", "subsumes": ["string"]}],
+                "sorting?": [{"objects": "integer", "learned": "string", "hand": "string"}],
+                "compare?": ["string"], "by?": "string"}],
+    "figures": [{"file": "string", "title": "string", "kind": "string", "run": "string", "log_x": "boolean",
+                 "compare?": ["string"], "y?": "string", "context?": "string", "param?": "string"}]
+  })");
+  return shape;
+}
+
+// Why value v at `at` (a path such as "config.runs[1].trials") does not have `shape` ("" when it has).
+std::string shape_problem(const json& v, const json& shape, const std::string& at) {
+  const std::string field = "field \"" + at + "\" must be ";
+  if (shape.is_string()) {
+    const std::string& type = shape.get_ref<const std::string&>();
+    const bool ok = type == "string"    ? v.is_string()
+                    : type == "integer" ? v.is_number_integer()
+                    : type == "boolean" ? v.is_boolean()
+                                        : v.is_array() && v.size() == 2 && v[0].is_string() && v[1].is_string();
+    if (ok) return "";
+    return field + (type == "integer" ? "an integer" : type == "pair" ? "a [name, value] pair of strings" : "a " + type) +
+           ", got " + found(v);
+  }
+  if (shape.is_array()) {
+    if (!v.is_array()) return field + "an array, got " + found(v);
+    for (size_t k = 0; k < v.size(); ++k)
+      if (auto p = shape_problem(v[k], shape[0], at + "[" + std::to_string(k) + "]"); !p.empty()) return p;
+    return "";
+  }
+  if (!v.is_object()) return field + "an object, got " + found(v);
+  for (auto it = shape.begin(); it != shape.end(); ++it) {
+    std::string key = it.key();
+    const bool optional = key.back() == '?';
+    if (optional) key.pop_back();
+    if (key == "*") {
+      for (auto m = v.begin(); m != v.end(); ++m)
+        if (auto p = shape_problem(*m, *it, at + "['" + m.key() + "']"); !p.empty()) return p;
+    } else if (!v.contains(key)) {
+      if (!optional) return "field \"" + at + "." + key + "\" is missing";
+    } else if (auto p = shape_problem(v[key], *it, at + "." + key); !p.empty()) {
+      return p;
+    }
+  }
+  return "";
+}
+
+// Why the manifest's list of trials or its training seeds have the wrong type ("" when sound);
+// plan.cpp compares them with the plan of its configuration.
+std::string trial_ids_problem(const json& m) {
+  if (m.contains("trials")) {
+    const json& ids = m["trials"];
+    if (!ids.is_array() || !std::all_of(ids.begin(), ids.end(), [](const json& id) { return id.is_string(); }))
+      return "field \"trials\" must be the list of the folder's trial ids, got " + found(ids);
+  }
+  if (m.contains("seeds")) {
+    const json& seeds = m["seeds"];
+    if (!seeds.is_object()) return "field \"seeds\" must map the training trials to their seeds, got " + found(seeds);
+    for (auto it = seeds.begin(); it != seeds.end(); ++it)
+      if (!it->is_number_unsigned())
+        return "field \"seeds\" must map each training trial to its seed, got " + found(*it) + " for " + it.key();
+  }
+  return "";
+}
+
 }  // namespace
 
 namespace batch_detail {
@@ -111,8 +241,41 @@ std::string result_problem(const json& r, const PlannedTrial& t) {
     if (!it->is_number() || !(it->get<double>() >= 0.0 && it->get<double>() <= 1.0 + 1e-9))
       return "field \"usage\" must map actions to shares, got " + it->dump() + " for " + it.key();
   if (auto p = optional_field_problem(r); !p.empty()) return p;
-  return t.run ? training_problem(r) : "";
+  if (!t.run) return evaluation_problem(r, t);
+  if (auto p = training_problem(r); !p.empty()) return p;
+  if (r.contains("seed") && !(r["seed"].is_number_unsigned() && r["seed"].get<uint64_t>() == t.seed))
+    return "field \"seed\" must be " + std::to_string(t.seed) + ", the seed the plan gives trial " + t.id + ", got " +
+           r["seed"].dump();
+  return outcomes_problem(r, "final_outcomes", "final_episodes");
 }
+
+namespace {
+
+// Throws roger::Error when a training trial's final.jsonl, which the report's tables split by
+// feature read, is missing or holds another count of episodes than its result.json records: the
+// tables would silently count fewer episodes.
+void check_final_records(const fs::path& dir, const json& result) {
+  if (!result.contains("final_outcomes")) return;  // a result from before final.jsonl was written
+  const std::string path = (dir / "final.jsonl").string();
+  const size_t episodes = result["final_outcomes"].get_ref<const std::string&>().size();
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
+    throw Error(path + ": missing: the trial's result.json records " + std::to_string(episodes) +
+                " final-evaluation episodes (\"final_outcomes\"), and this file holds them, one line each");
+  // A file cut at a line's end parses line by line: only the count shows episodes lost.
+  const std::string text = read_file_text(path);
+  size_t lines = 0;
+  for (size_t at = 0; at < text.size();) {
+    const size_t end = std::min(text.find('\n', at), text.size());
+    lines += end > at;
+    at = end + 1;
+  }
+  if (lines != episodes)
+    throw Error(path + ": holds " + std::to_string(lines) + " final-evaluation episodes, but the trial's result.json "
+                "records " + std::to_string(episodes) + " (\"final_outcomes\"): truncated or edited?");
+}
+
+}  // namespace
 
 std::string trial_status(const std::string& out, const PlannedTrial& t, json& result, std::string& message) {
   const fs::path d = trial_dir(out, t.id);
@@ -127,6 +290,7 @@ std::string trial_status(const std::string& out, const PlannedTrial& t, json& re
         std::vector<std::string> psi;
         for (const auto& a : result["psi"]) psi.push_back(a.get<std::string>());
         QTable::from_json(read_json_file(policy), psi, policy);
+        check_final_records(d, result);
       }
       return "ok";
     }
@@ -154,6 +318,12 @@ json read_manifest_file(const std::string& path) {
   if (!m.contains("config") || !m["config"].is_object()) throw Error(path + ": field \"config\" must be an object");
   for (const char* key : {"engine", "script"})
     if (!m.contains(key) || !m[key].is_string()) throw Error(path + ": field \"" + std::string(key) + "\" must be a string");
+  // The report reads "version" with value(), which throws a json type_error on any other shape.
+  if (m.contains("version") && !m["version"].is_string())
+    throw Error(path + ": field \"version\" must be a string, got " + m["version"].type_name());
+  // Every field batch_config_from_json reads, by its path: its own messages would be nlohmann's.
+  if (auto p = shape_problem(m["config"], config_shape(), "config"); !p.empty()) throw Error(path + ": " + p);
+  if (auto p = trial_ids_problem(m); !p.empty()) throw Error(path + ": " + p);
   return m;
 }
 

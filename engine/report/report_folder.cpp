@@ -18,6 +18,13 @@ namespace {
 
 std::string read_text(const fs::path& path) { return read_file_text(path.string()); }
 
+// "trial <id>'s result.json: ", naming the record a message is about (its id was checked when the
+// folder was read).
+std::string record_of(const json& j) {
+  const auto it = j.find("id");
+  return it != j.end() && it->is_string() ? "trial " + it->get<std::string>() + "'s result.json: " : "";
+}
+
 }  // namespace
 
 std::string fmt(const char* f, double v) {
@@ -62,7 +69,7 @@ const json& usage_of(const json& j) {
 }
 
 double num(const json& j, const char* key) {
-  if (!j.contains(key) || !j[key].is_number()) throw Error(std::string("a trial result has no number '") + key + "'");
+  if (!j.contains(key) || !j[key].is_number()) throw Error(record_of(j) + "a trial result has no number '" + key + "'");
   return j[key].get<double>();
 }
 
@@ -78,7 +85,7 @@ Pooled pool(const std::vector<json>& evals, const char* episodes_key) {
   for (const auto& j : evals) {
     const double n = num(j, episodes_key), m = num(j, "reward_mean"), s = num(j, "reward_std");
     if (!(n >= 0 && n <= 1e9 && n == std::floor(n)))  // int64_t(1e300) would be undefined
-      throw Error(std::string("a trial result's '") + episodes_key + "' is not a count of episodes: " + fmt("%g", n));
+      throw Error(record_of(j) + "a trial result's '" + episodes_key + "' is not a count of episodes: " + fmt("%g", n));
     sum += n * m;
     sum_sq += n * (s * s + m * m);
     succ += n * num(j, "success_rate");
@@ -95,15 +102,15 @@ void append_rate_cells(const json& j, int64_t policy, const char* first_seed_key
                        const char* outcomes_key, std::vector<RateCell>& cells) {
   const double first = num(j, first_seed_key), n = num(j, episodes_key);
   if (!(first >= 0 && first <= 9007199254740992.0 && first == std::floor(first)))
-    throw Error(std::string("a trial result's '") + first_seed_key + "' is not a seed: " + fmt("%g", first));
+    throw Error(record_of(j) + "a trial result's '" + first_seed_key + "' is not a seed: " + fmt("%g", first));
   if (!(n >= 0 && n <= 1e6 && n == std::floor(n)))  // a batch evaluation runs at most a million
-    throw Error(std::string("a trial result's '") + episodes_key + "' is not a count of episodes up to a million: " +
+    throw Error(record_of(j) + "a trial result's '" + episodes_key + "' is not a count of episodes up to a million: " +
                 fmt("%g", n));
   // Its characters were checked before the report began (batch_detail::result_problem).
   const bool known = j.contains(outcomes_key);
   const std::string outcomes = known ? j[outcomes_key].get<std::string>() : std::string();
   if (known && outcomes.size() != size_t(n))
-    throw Error(std::string("a trial result's '") + outcomes_key + "' holds " + std::to_string(outcomes.size()) +
+    throw Error(record_of(j) + "a trial result's '" + outcomes_key + "' holds " + std::to_string(outcomes.size()) +
                 " outcomes for " + fmt("%g", n) + " episodes");
   const double rate = known ? 0.0 : num(j, "success_rate");
   for (int64_t k = 0; k < int64_t(n); ++k)
