@@ -368,3 +368,22 @@ TEST_CASE("a map context with fields, and bad context params, are read where the
   REQUIRE(problems.size() == 1);
   CHECK_THAT(problems[0], Catch::Matchers::Contains("context 'Tiny'") && Catch::Matchers::Contains("eye_pixels"));
 }
+
+TEST_CASE("changes made to a roger.stage table after the call count and are checked", "[curriculum]") {
+  // A wrapper that shortens a required curriculum's budgets once trained the original's 400
+  // episodes silently (tests/scripts/kill_curriculum.lua among them).
+  Curriculum kill = Curriculum::load("tests/scripts/kill_curriculum.lua");
+  for (const auto& stage : kill.stages()) {
+    CHECK(stage.budget_episodes == 20);
+    CHECK(stage.checkpoints.final_episodes == 6);
+  }
+  test::TempDir dir("roger_stage_edits");
+  const std::string wrapper = (dir.path / "wrapper.lua").string();
+  std::ofstream(wrapper) << "local paper = require('paper')\npaper.stages[2].budget = { episodes = -5 }\nreturn paper\n";
+  CHECK_THAT(error_of([&] { Curriculum::load(wrapper); }),
+             Catch::Matchers::Contains("curricula/lib/paper_stages.lua:121: stage 'T': budget: field 'episodes' must be a "
+                                       "positive integer, got -5"));
+  std::ofstream(wrapper) << "local paper = require('paper')\npaper.stages[1].bogus = 3\nreturn paper\n";
+  CHECK_THAT(error_of([&] { Curriculum::load(wrapper); }),
+             Catch::Matchers::Contains("curricula/lib/paper_stages.lua:103: stage 'SG': unknown field 'bogus'"));
+}

@@ -3,7 +3,10 @@
 -- roger.stage, roger.learned, and the arguments of its Lua callbacks.
 -- tests/test_lua_sandbox.cpp keeps it equal to what the sandbox registers.
 
----Validates a stage where it is written (errors point at this line) and returns the table.
+---Validates a stage where it is written (errors point at this line) and returns the table. The
+---curriculum reads the table again when the script returns, so changes made to it later count
+---(a wrapper that shortens a required curriculum's budgets) and are checked, their errors
+---pointing at this line too.
 ---@param stage roger.Stage
 ---@return roger.Stage
 function roger.stage(stage) end

@@ -34,11 +34,13 @@ char book_key;  // registry key of the loader's book (a light userdata)
 
 // What the script's roger.stage / roger.learned calls have made so far.
 struct Book {
-  std::vector<CurriculumStage> stages;                   // parsed by roger.stage, in call order
-  std::vector<LuaCallback> absorbing_fns, reward_fns, teacher_fns;  // aligned with stages
-  std::map<const void*, size_t> tables;                  // stage table -> index in stages
+  // Where each roger.stage table was written. The tables themselves are kept in the registry
+  // (kStageTablesKey), so that no other table can take the address of one collected.
+  std::map<const void*, std::pair<std::string, int>> tables;
   std::map<std::string, std::shared_ptr<LearnedRef>> learned;
 };
+
+constexpr const char* kStageTablesKey = "roger.stage_tables";
 
 Book& book_of(lua_State* L) {
   lua_rawgetp(L, LUA_REGISTRYINDEX, &book_key);
@@ -56,21 +58,23 @@ std::pair<std::string, int> caller(lua_State* L) {
   return {"", 0};
 }
 
-// roger.stage{...}: validates a stage where it is written and returns the same table.
+// roger.stage{...}: validates a stage where it is written (errors point at this line) and returns
+// the same table. The curriculum reads the table again when the script returns, with any changes
+// made to it since, and places that reading's errors here too.
 int l_stage(lua_State* L) {
   return lua_protect(L, [&]() {
     Book& book = book_of(L);
     CurriculumStage st;
     LuaCallback a, r, t;
-    const auto [file, line] = caller(L);
-    parse_stage(L, 1, st, a, r, t, file);
-    st.file = file, st.line = line;
+    const auto where = caller(L);
+    parse_stage(L, 1, st, a, r, t, where.first);
+    st.file = where.first, st.line = where.second;
     curriculum_detail::check_stage_params(st);
-    book.tables[lua_topointer(L, 1)] = book.stages.size();
-    book.stages.push_back(std::move(st));
-    book.absorbing_fns.push_back(a);
-    book.reward_fns.push_back(r);
-    book.teacher_fns.push_back(t);
+    lua_settop(L, 1);
+    book.tables[lua_topointer(L, 1)] = where;
+    luaL_getsubtable(L, LUA_REGISTRYINDEX, kStageTablesKey);
+    lua_pushvalue(L, 1);
+    lua_rawseti(L, -2, lua_Integer(lua_rawlen(L, -2)) + 1);
     lua_settop(L, 1);
     return 1;
   });
@@ -178,7 +182,7 @@ int line_of_stage(const std::string& text, const std::string& name) {
 
 // Runs `body` on the value on top of the sandbox's stack inside a protected call. A Lua error
 // without a location (raised by C++ reading the returned table) is placed at `file`:`line`, as
-// `line` is when the error happens.
+// they are when the error happens.
 void read_protected(LuaSandbox& sandbox, const std::string& file, const int& line,
                     const std::function<void(lua_State*)>& body) {
   try {
@@ -189,25 +193,26 @@ void read_protected(LuaSandbox& sandbox, const std::string& file, const int& lin
   }
 }
 
-// The stage on top of the stack: as roger.stage read it, or read now from a plain table (`line`
-// is then where its name is written, and the stage's file is `display`).
+// The stage on top of the stack, read as the script left it when it returned, so that changes
+// made to a roger.stage table after the call count (a wrapper that shortens a required
+// curriculum's budgets, say). `file` and `line` become where the stage is written: roger.stage's
+// line, or for a plain table the line where its name is written in `display`.
 CurriculumStage take_stage(lua_State* L, const Book& book, const std::string& display, const std::string& text,
-                           int& line, LuaCallback& a, LuaCallback& r, LuaCallback& teacher) {
+                           std::string& file, int& line, LuaCallback& a, LuaCallback& r, LuaCallback& teacher) {
   auto it = book.tables.find(lua_topointer(L, -1));
-  CurriculumStage st;
   if (it != book.tables.end()) {
-    st = book.stages[it->second];
-    a = book.absorbing_fns[it->second];
-    r = book.reward_fns[it->second];
-    teacher = book.teacher_fns[it->second];
+    file = it->second.first;
+    line = it->second.second;
   } else {
     lua_getfield(L, -1, "name");
+    file = display;
     line = lua_type(L, -1) == LUA_TSTRING ? line_of_stage(text, lua_tostring(L, -1)) : 0;
     lua_pop(L, 1);
-    parse_stage(L, -1, st, a, r, teacher, display);
-    st.file = display, st.line = line;
-    curriculum_detail::check_stage_params(st);
   }
+  CurriculumStage st;
+  parse_stage(L, -1, st, a, r, teacher, file);
+  st.file = file, st.line = line;
+  curriculum_detail::check_stage_params(st);
   return st;
 }
 
@@ -298,8 +303,9 @@ Curriculum Curriculum::load(const std::string& path_in, const SandboxLimits& lim
 
   // The text, for the lines of plain-table stages (a table carries no lines).
   const std::string text = read_file_text(path);
-  int line = 0;  // for errors raised while C++ reads the returned table
-  read_protected(sandbox, impl.path, line, [&](lua_State* L) {
+  std::string file = impl.path;  // for errors raised while C++ reads the returned table
+  int line = 0;
+  read_protected(sandbox, file, line, [&](lua_State* L) {
     const int t = lua_gettop(L);
     if (!lua_istable(L, t))
       luaL_error(L, "a curriculum must return a table {name = ..., description = ..., stages = {...}}, got %s",
@@ -315,12 +321,9 @@ Curriculum Curriculum::load(const std::string& path_in, const SandboxLimits& lim
     for (lua_Integer i = 1; i <= n; ++i) {
       lua_rawgeti(L, ss, i);
       LuaCallback a, r, teacher;
-      CurriculumStage st = take_stage(L, impl.book, impl.path, text, line, a, r, teacher);
+      CurriculumStage st = take_stage(L, impl.book, impl.path, text, file, line, a, r, teacher);
       for (const auto& other : impl.stages)
-        if (other.name == st.name) {
-          line = st.line;
-          luaL_error(L, "a second stage named '%s'", st.name.c_str());
-        }
+        if (other.name == st.name) luaL_error(L, "a second stage named '%s'", st.name.c_str());
       impl.absorbing_fns[st.name] = a;
       impl.reward_fns[st.name] = r;
       impl.teacher_fns[st.name] = teacher;
