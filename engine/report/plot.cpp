@@ -60,11 +60,11 @@ class TempFigure {
   TempFigure(const std::string& path, Format format) : path_(path), format_(format) {
     const fs::path target(path);
     if (target.filename().empty() || target.filename() == "." || target.filename() == "..")
-      throw Error("plot: cannot write figure '" + path + "': it names a folder, not a file");
+      throw Error("cannot write figure '" + path + "': it names a folder, not a file");
     const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
     // PLplot treats "%n" in a file name as a family member number: keep it out of the name.
     if (dir.string().find("%n") != std::string::npos)
-      throw Error("plot: cannot write figure '" + path + "': PLplot cannot write into a folder "
+      throw Error("cannot write figure '" + path + "': PLplot cannot write into a folder "
                   "whose name contains '%n'");
     static std::atomic<unsigned> counter{0};
     std::random_device rd;
@@ -137,7 +137,7 @@ class TempFigure {
  private:
   // A failure of the system (err: its errno) is a FileError, which stops a batch run.
   [[noreturn]] void fail(const std::string& why, int err = 0) const {
-    const std::string message = "plot: cannot write figure '" + path_ + "': " + why;
+    const std::string message = "cannot write figure '" + path_ + "': " + why;
     if (err != 0) throw FileError(message, path_, err);
     throw Error(message);
   }
@@ -262,7 +262,7 @@ Format format_of(const std::string& path) {
   if (lower == ".svg") return Format::kSvg;
   const std::string why =
       ext.empty() ? std::string("it has no extension") : "unknown extension '" + ext + "'";
-  throw Error("plot: cannot write figure '" + path + "': " + why + "; use .png or .svg");
+  throw Error("cannot write figure '" + path + "': " + why + "; use .png or .svg");
 }
 
 // Line style of the index-th series: solid, then dashed patterns once the palette repeats.
@@ -299,7 +299,7 @@ void draw_figure(const std::vector<std::string>& paths, int width, int height, P
       draw();
       session.finish();
     } catch (const PlplotFailure& e) {
-      throw Error("plot: cannot write figure '" + temp->path() + "': PLplot: " + e.what());
+      throw Error("cannot write figure '" + temp->path() + "': PLplot: " + e.what());
     }
     temp->verify();
   }
