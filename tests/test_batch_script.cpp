@@ -297,3 +297,34 @@ TEST_CASE("a batch script's limits set the sandbox's budgets; the command line's
   CHECK_THAT(load_error(script("{ instructions = 'many' }")), Catch::Matchers::Contains("field 'instructions' must be an integer"));
   fs::remove_all(dir);
 }
+
+TEST_CASE("names that would clash or climb out and a skill from another context are refused at load",
+          "[batch_script]") {
+  // Each once passed the load and failed after the training (a figure over the report's own
+  // iqm_<run>, a skill policy of the wrong context) or wrote outside results/ (a name '../..').
+  const fs::path dir = fs::temp_directory_path() / ("roger_clash_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  auto script = [&](const std::string& name, const std::string& skill_context, const std::string& figure) {
+    const fs::path file = dir / "clash.lua";
+    std::ofstream(file) << "return { name = '" << name << "', curriculum = 'curricula/paper.lua',\n"
+                        << "  runs = { { name = 'SG', stage = 'SG', contexts = { 'B1', 'DC2' } },\n"
+                        << "    { name = 'T', stage = 'T', contexts = { 'DC6' },\n"
+                        << "      skills = { Phi_SG = { run = 'SG'" << skill_context << " } } } },\n"
+                        << "  figures = { { file = '" << figure << "', run = 'SG' } } }\n";
+    return file.string();
+  };
+  CHECK_NOTHROW(load_batch_script(script("clash", ", context = 'DC2'", "curves")));
+  CHECK_THAT(load_error(script("clash", ", context = 'B1'", "curves")),
+             Catch::Matchers::Contains("clash.lua:4: run 'T', skill 'Phi_SG': 'Phi_SG' is the policy stage 'SG' learns "
+                                       "in context 'DC2' (its field skill, curricula/lib/paper_stages.lua:") &&
+                 Catch::Matchers::Contains("not one of context 'B1': give context = \"DC2\" or leave it out"));
+  CHECK_THAT(load_error(script("clash", "", "iqm_SG")),
+             Catch::Matchers::Contains("clash.lua:5: figure 'iqm_SG': the report draws the IQM learning curves of "
+                                       "run 'SG' into iqm_SG.png and .svg itself"));
+  CHECK_NOTHROW(load_batch_script(script("clash", "", "iqm_X")));
+  for (const char* name : {"../../escaped", "", "..", "a/b"})
+    CHECK_THAT(load_error(script(name, "", "curves")),
+               Catch::Matchers::Contains("clash.lua:1: the batch script: 'name' names the results folder"));
+  CHECK_THAT(load_error(script("clash", "", "..")), Catch::Matchers::Contains("'file' is a plain name"));
+  fs::remove_all(dir);
+}

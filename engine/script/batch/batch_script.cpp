@@ -102,6 +102,10 @@ void read_header(const json& top, const Reader& rd, int top_line, const std::str
                    "tables", "figures"},
                   top_line);
   b.name = rd.str(top, "name", "the batch script", top_line, fs::path(path).stem().string());
+  // The results go to results/<name> unless --out says otherwise: a name is one folder's name.
+  if (b.name.empty() || b.name == "." || b.name == ".." || b.name.find_first_of("/\\") != std::string::npos)
+    rd.fail(rd.line_of_key("name", top_line), "the batch script: 'name' names the results folder results/<name>: "
+                                              "a folder's name without '/', not empty, '.' or '..', got '" + b.name + "'");
   b.description = rd.str(top, "description", "the batch script", top_line, "");
   b.curriculum = rd.str(top, "curriculum", "the batch script", top_line, "", true);
   b.trials = int(rd.integer(top, "trials", "the batch script", top_line, 1, 1, 100000));
@@ -160,7 +164,15 @@ BatchSkill read_skill_source(const std::string& skill, const json& entry, const 
   if (producer->name != from->stage)
     rd.fail(l, sw + ": run '" + s.run + "' trains stage '" + from->stage + "', but '" + s.skill +
                    "' is yielded by stage '" + producer->name + "'");
-  s.context = rd.str(entry, "context", sw, l, producer->skill ? producer->skill->second : "");
+  const std::string own = producer->skill ? producer->skill->second : "";
+  s.context = rd.str(entry, "context", sw, l, own);
+  // The skill is the policy its stage learns in the context its `skill` field names: another
+  // context's policy is refused when the trials that use it load it, after all the training.
+  if (s.context != own)
+    rd.fail(rd.line_of_key("context", l), sw + ": '" + s.skill + "' is the policy stage '" + producer->name +
+                                              "' learns in context '" + own + "' (its field skill, " + producer->file +
+                                              ":" + std::to_string(producer->line) + "), not one of context '" +
+                                              s.context + "': give context = \"" + own + "\" or leave it out");
   if (std::find(from->contexts.begin(), from->contexts.end(), s.context) == from->contexts.end())
     rd.fail(l, sw + ": run '" + s.run + "' has no context '" + s.context + "'; its contexts are " +
                    quoted_list(from->contexts));
@@ -218,8 +230,8 @@ BatchRun read_run(const json& rj, const Reader& rd, int runs_line, const Curricu
   const std::string what = nm.empty() ? "a run" : "run '" + nm + "'";
   rd.check_object(rj, what, {"name", "stage", "contexts", "trials", "params", "skills", "final_worlds"}, r.line);
   r.name = rd.str(rj, "name", what, r.line, "", true);
-  if (!std::regex_match(r.name, std::regex("[A-Za-z0-9_.-]+")) || r.name == "eval")
-    rd.fail(r.line, what + ": a run name uses letters, digits, '.', '_' and '-' (and is not 'eval')");
+  if (!std::regex_match(r.name, std::regex("[A-Za-z0-9_.-]+")) || r.name == "eval" || r.name == "." || r.name == "..")
+    rd.fail(r.line, what + ": a run name uses letters, digits, '.', '_' and '-' (and is not 'eval', '.' or '..')");
   if (b.run(r.name)) rd.fail(r.line, "a second run named '" + r.name + "'");
   r.stage = rd.str(rj, "stage", what, r.line, "", true);
   const CurriculumStage* stage = nullptr;
@@ -302,8 +314,8 @@ BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const 
                    "trials", "skills"},
                   e.line);
   e.name = rd.str(ej, "name", what, e.line, "", true);
-  if (!std::regex_match(e.name, std::regex("[A-Za-z0-9_.-]+")))
-    rd.fail(e.line, what + ": a name uses letters, digits, '.', '_' and '-'");
+  if (!std::regex_match(e.name, std::regex("[A-Za-z0-9_.-]+")) || e.name == "." || e.name == "..")
+    rd.fail(e.line, what + ": a name uses letters, digits, '.', '_' and '-' (and is not '.' or '..')");
   for (const auto& o : b.evaluations)
     if (o.name == e.name) rd.fail(e.line, "a second evaluation named '" + e.name + "'");
   e.run = rd.str(ej, "run", what, e.line, "", true);
@@ -328,7 +340,7 @@ BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const 
   e.params = rd.params(ej, "params", what, e.line);
   e.shapes = rd.strings(ej, "shapes", what, e.line, false);
   for (const auto& s : e.shapes)
-    if (!std::regex_match(s, std::regex("[A-Za-z0-9_.-]+")))
+    if (!std::regex_match(s, std::regex("[A-Za-z0-9_.-]+")) || s == "." || s == "..")
       rd.fail(rd.line_of_key("shapes", e.line), what + ": shape '" + s + "' is not a plain name");
   if (std::any_of(e.params.begin(), e.params.end(), [](const auto& p) { return p.first == "shape"; }) &&
       !e.shapes.empty())
@@ -533,8 +545,12 @@ BatchFigure read_figure(const json& fj, const Reader& rd, int& at, const BatchSc
   const std::string what = file.empty() ? "a figure" : "figure '" + file + "'";
   rd.check_object(fj, what, {"file", "title", "kind", "run", "log_x", "compare", "y", "context", "param"}, l);
   f.file = rd.str(fj, "file", what, l, "", true);
-  if (!std::regex_match(f.file, std::regex("[A-Za-z0-9_.-]+")))
+  if (!std::regex_match(f.file, std::regex("[A-Za-z0-9_.-]+")) || f.file == "." || f.file == "..")
     rd.fail(l, what + ": 'file' is a plain name (no folder, no extension): <file>.png and <file>.svg are written");
+  for (const auto& r : b.runs)
+    if (f.file == "iqm_" + r.name)
+      rd.fail(l, what + ": the report draws the IQM learning curves of run '" + r.name + "' into iqm_" + r.name +
+                     ".png and .svg itself: give this figure another file name");
   f.title = rd.str(fj, "title", what, l, "");
   f.kind = rd.str(fj, "kind", what, l, "curves");
   if (f.kind != "curves" && f.kind != "cumulative" && f.kind != "tasks")
