@@ -156,11 +156,14 @@ struct BatchSummary {
   std::vector<std::string> corrupt; // "id: <file>: what is wrong" (a record that cannot be read)
   int pending = 0;                  // not run yet
   double wall_s = 0.0;              // this invocation's wall time
+  bool interrupted = false;         // Ctrl-C (core/interrupt.h) stopped it before its selection was done
 };
 
 // Runs the selected trials of the plan that are not finished, phase by phase (trials that failed
 // before are tried again), then writes summary.csv from what is on disk; a shard instead records
-// its own outcome in <out>/shards/K-of-N.json, since other shards may still be running.
+// its own outcome in <out>/shards/K-of-N.json, since other shards may still be running. A stop
+// requested by Ctrl-C (core/interrupt.h) ends it early the same way: the trials in flight are left
+// for the resumed run, the finished ones are kept.
 BatchSummary run_batch(const BatchPlan& plan, const RunControl& control);
 
 // Writes <out>/summary.csv, one row per planned trial (pending ones included), and returns what it

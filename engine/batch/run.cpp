@@ -21,6 +21,7 @@
 #include "batch/trainer.h"
 #include "core/error.h"
 #include "core/fileio.h"
+#include "core/interrupt.h"
 #include "script/batch/batch_script.h"
 
 namespace roger {
@@ -120,6 +121,7 @@ class TrialPool {
     for (;;) {
       {
         std::lock_guard<std::mutex> lock(mutex_);
+        if (!stop_ && interrupt_requested()) stop_ = std::make_exception_ptr(Interrupted());
         if (stop_) return;
       }
       const size_t k = next_.fetch_add(1);
@@ -159,6 +161,14 @@ class TrialPool {
       fs::remove_all(dir, ec);  // its partial files: the resumed run starts it afresh anyway
       return false;
     } catch (const std::exception& e) {
+      if (interrupt_requested()) {
+        // Stopped part-way by Ctrl-C (its episode ended with Interrupted, or whatever that caused):
+        // not the trial's fault, so nothing is recorded and the resumed run starts it afresh.
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (!stop_) stop_ = std::make_exception_ptr(Interrupted());
+        fs::remove_all(dir, ec);
+        return false;
+      }
       out.ok = false;
       const auto* detailed = dynamic_cast<const TrialError*>(&e);
       out.result = detailed && detailed->details.is_object() ? detailed->details : nlohmann::json::object();
@@ -209,7 +219,7 @@ class TrialPool {
   std::condition_variable wake_;
   std::atomic<size_t> next_{0};
   size_t done_ = 0, running_ = 0, stopped_ = 0;
-  std::exception_ptr stop_;  // the first FileError: no worker starts another trial after it
+  std::exception_ptr stop_;  // the first FileError, or Interrupted: no worker starts another trial after it
   bool finished_ = false;
 };
 
@@ -570,7 +580,8 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
   const auto start = Clock::now();
   std::optional<StatusWriter> status;
   status.emplace(plan, control.shard);
-  for (size_t k = 0; k < plan.phases.size(); ++k) {
+  bool interrupted = false;
+  for (size_t k = 0; k < plan.phases.size() && !interrupted; ++k) {
     std::set<std::string> names;
     const std::vector<std::string> ids = phase_ids(plan, plan.phases[k], control, budget, names);
     if (ids.empty()) continue;
@@ -579,12 +590,17 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
     if (control.log)
       *control.log << "roger run: phase " << (k + 1) << "/" << plan.phases.size() << ": " << label << " ("
                    << ids.size() << " trials)\n";
-    run_trials(ids, trial, bo);
+    try {
+      run_trials(ids, trial, bo);
+    } catch (const Interrupted&) {
+      interrupted = true;  // what finished is on disk; summary.csv and the report say the rest is pending
+    }
   }
   status.reset();  // the final status: the run is over
   const double wall = std::chrono::duration<double>(Clock::now() - start).count();
   BatchSummary summary = control.shard.active() ? record_shard(plan, control.shard) : write_summary_csv(plan);
   summary.wall_s = wall;
+  summary.interrupted = interrupted;
   return summary;
 }
 

@@ -12,6 +12,7 @@
 #include "cli/cli_internal.h"
 #include "cli/commands.h"
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "report/report.h"
 #include "script/batch/batch_script.h"
 
@@ -96,6 +97,7 @@ std::string file_error_line(const FileError& e, bool resumes) {
 
 int command_run(const RunArgs& a) {
   std::ostream& log = a.progress ? *a.progress : std::cerr;
+  catch_interrupts();  // Ctrl-C keeps what finished and writes the report of it (below)
   try {
     const Shard shard = a.shard.empty() ? Shard() : parse_shard(a.shard);
     auto script = std::make_shared<const BatchScript>(load_batch_script(a.script, overrides_of(a)));
@@ -127,7 +129,11 @@ int command_run(const RunArgs& a) {
         status = 1;
       }
     }
-    return print_outcome(summary, log) ? 1 : status;
+    const int outcome = print_outcome(summary, log) ? 1 : status;
+    if (!summary.interrupted) return outcome;
+    log << "roger run: interrupted; the trials that were running start afresh when you run the same command "
+           "again\n";
+    return 130;  // as a shell reports a command stopped by Ctrl-C
   } catch (const FileError& e) {
     log << "roger run: " << file_error_line(e) << "\n";
     return 1;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/interrupt.h"
 
 namespace roger {
 
@@ -52,6 +53,7 @@ EpisodeOutcome EpisodeRun::finish() {
 
 EpisodeOutcome run_episode(Agent& agent, const WorldSpec& spec, uint64_t seed, EpisodeDriver& driver,
                            double time_limit, EpisodeObserver* observer) {
+  throw_if_interrupted();  // a batch run asked to stop (Ctrl-C): no new episode
   EpisodeRun run(agent, spec, seed, driver, time_limit, observer);
   while (run.tick()) {
   }

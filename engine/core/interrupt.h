@@ -1,0 +1,30 @@
+// interrupt.h: Ctrl-C (SIGINT) or SIGTERM as a request to stop a long command cleanly. A batch run
+// asks for it (roger run); its episodes then end at their next start with Interrupted, its trials
+// in flight are left to run again on resume, and it writes what it has (docs/reliability.md).
+#pragma once
+
+#include "core/error.h"
+
+namespace roger {
+
+// The first SIGINT or SIGTERM sets the request (and says on stderr that the command is stopping);
+// the second stops the process at once, as the signal's default action would.
+void catch_interrupts();
+
+// Whether a stop was requested since catch_interrupts. Cheap: read at every episode's start.
+bool interrupt_requested();
+
+// Forgets a request (tests, and a command that has finished stopping).
+void clear_interrupt();
+
+// Thrown where a requested stop ends work part-way (an episode not started).
+struct Interrupted : Error {
+  Interrupted() : Error("interrupted (Ctrl-C or SIGTERM)") {}
+};
+
+// Throws Interrupted when a stop was requested.
+inline void throw_if_interrupted() {
+  if (interrupt_requested()) throw Interrupted();
+}
+
+}  // namespace roger

@@ -1,0 +1,69 @@
+#!/usr/bin/env bash
+# run_interrupt_test.sh ROGER SOURCE_DIR: Ctrl-C stops `roger run` cleanly, and resuming finishes it.
+#
+# scripts/quick.lua is interrupted with SIGINT once its first trial has a result. The run must:
+# say that it is stopping, keep every finished trial and record no failure (no error.json), write
+# summary.csv and the partial report (tables.md marks the rest pending), leave status.json not
+# running, and exit 130 with a last line saying how to resume. The same command then finishes the
+# run to exactly the golden results (tests/golden/quick). A second SIGINT soon after the first stops
+# the run at once (the signal's default action: no report), and that folder resumes to the golden
+# results too.
+set -euo pipefail
+set -m  # job control: the background run gets SIGINT (without it, a shell starts it ignoring SIGINT)
+
+if [ $# -lt 2 ]; then
+  echo "usage: $0 ROGER SOURCE_DIR" >&2
+  exit 1
+fi
+roger=$(readlink -f "$1")
+cd "$2"
+work=$(mktemp -d /tmp/roger_interrupt_XXXXXX)
+child=
+cleanup() {
+  if [ -n "$child" ]; then kill -9 "$child" 2>/dev/null || true; fi
+  rm -rf "$work"
+}
+trap cleanup EXIT
+fail() { echo "FAILED: $*"; [ -f "$work/log" ] && sed 's/^/  | /' "$work/log"; exit 1; }
+
+# Starts the run into $1, waits until a trial has a result, sends SIGINT $2 times (0.05 s apart)
+# and sets `status` to the run's exit status.
+interrupt() {
+  local out=$1 waited=0
+  "$roger" run scripts/quick.lua --jobs 2 --out "$out" >"$work/log" 2>&1 &
+  child=$!
+  until [ -n "$(find "$out/trials" -name result.json 2>/dev/null | head -1)" ]; do
+    kill -0 "$child" 2>/dev/null || fail "the run ended before its first trial had a result"
+    sleep 0.05
+    waited=$((waited + 1))
+    [ $waited -lt 2400 ] || fail "waited two minutes for the first trial"
+  done
+  kill -INT "$child"
+  if [ "$2" -eq 2 ]; then sleep 0.05; kill -INT "$child" 2>/dev/null || true; fi
+  status=0
+  wait "$child" || status=$?
+  child=
+}
+
+resume_to_golden() {
+  "$roger" run scripts/quick.lua --jobs 2 --out "$1" >"$work/log" 2>&1 || fail "the resumed run of $1"
+  bash tests/tools/compare_results.sh --golden tests/golden/quick "$1" >/dev/null || fail "$1 resumed is not the golden run"
+}
+
+interrupt "$work/once" 1
+[ "$status" -eq 130 ] || fail "exit status $status after one Ctrl-C, not 130"
+grep -q "^roger: stopping: " "$work/log" || fail "no line says the run is stopping"
+[ "$(tail -n 1 "$work/log")" = "roger run: interrupted; the trials that were running start afresh when you run the same command again" ] ||
+  fail "the last line does not say how to resume"
+grep -Eq "^roger run: [0-9]+ of 24 trials done in .*, [0-9]+ not run yet" "$work/log" || fail "no count of the trials done"
+[ -z "$(find "$work/once/trials" -name error.json)" ] || fail "an interrupted trial was recorded as failed"
+[ -f "$work/once/summary.csv" ] || fail "no summary.csv"
+grep -q "pending" "$work/once/tables.md" || fail "the partial report marks nothing pending"
+grep -q '"running": false' "$work/once/status.json" || fail "status.json still says running"
+resume_to_golden "$work/once"
+
+interrupt "$work/twice" 2
+[ "$status" -eq 130 ] || fail "exit status $status after two Ctrl-C, not 130 (killed by SIGINT)"
+! grep -q "^roger run: interrupted" "$work/log" || fail "the second Ctrl-C did not stop the run at once"
+resume_to_golden "$work/twice"
+echo "passed: one Ctrl-C keeps what finished and reports it; two stop at once; both resume to the golden run"
