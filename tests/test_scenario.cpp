@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -703,4 +704,49 @@ TEST_CASE("a world with no place for a thing is a PlacementError; a script's own
   }
   CHECK_FALSE(placement);
   CHECK(script);
+}
+
+// Found by a probe: --set noise_joints_delay=30 --set noise_scale=2 was refused as "field 'delay'
+// must be within [0, 50] ticks, got 60", naming neither parameter the user had set.
+TEST_CASE("a noise level scaled past its range names the two scenario parameters that made it", "[scenario]") {
+  Scenario s = Scenario::load("cluttered");
+  s.set_param("noise_joints_delay", "30");
+  s.set_param("noise_scale", "2");
+  const ScriptError delay = generate_error(s);
+  CHECK_THAT(delay.file, Catch::Matchers::EndsWith("lib/place.lua"));
+  CHECK_THAT(delay.message, Contains("noise.joints: field 'delay' must be within [0, 50] ticks, got 60 (the scenario "
+                                     "parameters noise_joints_delay = 30 times noise_scale = 2: lower either)"));
+  s.set_param("noise_joints_delay", "0");
+  s.set_param("noise_image_quantum", "200");
+  const ScriptError quantum = generate_error(s);
+  CHECK_THAT(quantum.message, Contains("noise.image: field 'quantum' must be within [0, 255] colour levels, got 400 "
+                                       "(the scenario parameters noise_image_quantum = 200 times noise_scale = 2"));
+  s.set_param("noise_image_quantum", "0");
+  s.set_param("noise_base_drift", "0.75");
+  CHECK_THAT(generate_error(s).message, Contains("noise.base: field 'drift.sigma' must be within [0, 1] m and rad, got 1.5 "
+                                                 "(the scenario parameters noise_base_drift = 0.75 times noise_scale = 2"));
+  // Within range once scaled: the world builds as before.
+  s.set_param("noise_base_drift", "0.5");
+  CHECK_NOTHROW(s.generate(0));
+}
+
+TEST_CASE("a level written out of range names no parameter and the drift's tau says its open range", "[scenario]") {
+  const std::string dir = "/tmp/roger_test_scenario_tau_" + std::to_string(getpid());
+  std::filesystem::create_directories(dir);
+  auto robot_error = [&](const std::string& name, const std::string& robot) {
+    const std::string path = dir + "/" + name + ".lua";
+    std::ofstream(path) << "return { name = 't', generate = function(world, rng, params)\n"
+                           "  world:robot" << robot << "\nend }\n";
+    Scenario s = Scenario::load(path);
+    return generate_error(s).message;
+  };
+  // Written in the script, no product of parameters: the message is ranged's own.
+  const std::string written = robot_error("delay", "{ x = 0, y = 0, noise = { joints = { delay = 60 } } }");
+  CHECK_THAT(written, EndsWith("field 'delay' must be within [0, 50] ticks, got 60"));
+  // tau = 0 is refused with a drift ("must be positive"), so its range is (0, 3600], not [0, 3600].
+  CHECK_THAT(robot_error("tau_high", "{ x = 0, y = 0, noise = { joints = { drift = { sigma = 0.01, tau = 4000 } } } }"),
+             EndsWith("noise.joints.drift: field 'tau' must be within (0, 3600] s, got 4000"));
+  CHECK_THAT(robot_error("tau_zero", "{ x = 0, y = 0, noise = { joints = { drift = { sigma = 0.01, tau = 0 } } } }"),
+             EndsWith("field 'tau' must be within (0, 3600] s, got 0"));
+  std::filesystem::remove_all(dir);
 }

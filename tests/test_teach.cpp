@@ -28,6 +28,7 @@
 
 using namespace roger;
 using Catch::Matchers::Contains;
+using Catch::Matchers::StartsWith;
 
 namespace {
 
@@ -726,6 +727,13 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
       {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.plr{ score = 'loss' } }",
        "field 'score' must be \"td\" (the episode's mean |TD error|) or \"success\" (1 - success), got 'loss'"},
       {"{ teacher = roger.teacher.random{} }", "roger.teacher.random needs a task space"},
+      // Found by a probe: "unknown field 'foo'; known fields: " with nothing after it.
+      {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.random{ foo = 1 } }",
+       ":8: roger.teacher.random{}: takes no fields (every task alike), got the field string 'foo'"},
+      // Found by a probe: "must be a list of levels ..., got a table".
+      {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = {} } } }",
+       ":8: roger.teacher.lcas: lift.eye_pixels must be a list of levels, the most constrained first, got a table "
+       "with no levels 1, 2, ... (an empty list)"},
   };
   for (size_t k = 0; k < cases.size(); ++k) {
     const fs::path file = write_stage(dir.path, "c" + std::to_string(k), cases[k].first);
@@ -771,8 +779,23 @@ TEST_CASE("a task whose world cannot be placed is skipped and shown; a space of 
   const fs::path all = write_stage(dir.path, "all", "{ tasks = { robot_distance = roger.real(3.3, 3.4) }, "
                                                      "test = { list = { { robot_distance = 3.3 } } } }");
   o.curriculum = all.string();
-  CHECK_THROWS_WITH(train_stage(o), Contains("The teacher's last 100 tasks could not be placed: the task space "
-                                             "(robot_distance = roger.real(3.3, 3.4)) asks for worlds the scenario cannot build"));
+  // Said first, at the stage's line, with the last task; the placement's own message kept after it
+  // (before, the placement's message came first and the skips only after its traceback).
+  std::string message, where;
+  try {
+    train_stage(o);
+  } catch (const ScriptError& e) {
+    message = e.message;
+    where = e.file + ":" + std::to_string(e.line);
+  }
+  INFO(message);
+  CHECK(where == all.string() + ":6");
+  CHECK_THAT(message, StartsWith("stage 'S': 100 tasks in a row from its teacher (random) could not be placed, each "
+                                 "skipped (the last: robot_distance = 3.") &&
+                          Contains(", for training episode 0, world seed ") &&
+                          Contains("the task space (robot_distance = roger.real(3.3, 3.4)) asks for worlds the scenario "
+                                   "cannot build. The placement failed with: ") &&
+                          Contains("lib/place.lua:42: world:sample_position: no placement for 'circle' after 1000 tries"));
 }
 
 TEST_CASE("a Lua teacher's history, and its faults: each fails its trial alone at file:line", "[teach][errors]") {
@@ -875,7 +898,9 @@ TEST_CASE("report --by names what the records have, and a damaged record's file 
                       "obstacles, shape."));
   const fs::path final_records = copy.path / "trials" / "Random" / "A" / "000" / "final.jsonl";
   std::string text = slurp(final_records);
-  text = text.substr(0, text.find('\n') + 1) + "{\"index\":1,\"success\":\"maybe\"}\n" + text.substr(text.find('\n') + 1);
+  // Line 2 replaced, not added: a file of another count of lines is refused before any line is read.
+  const size_t second = text.find('\n') + 1;
+  text = text.substr(0, second) + "{\"index\":1,\"success\":\"maybe\"}\n" + text.substr(text.find('\n', second) + 1);
   std::ofstream(final_records) << text;
   const fs::path err = copy.path / "err.txt";
   CHECK(run_shell(report + " --by level > /dev/null 2>" + err.string()) == 1);
@@ -920,7 +945,7 @@ TEST_CASE("docs/examples/teachers_example.lua: every block of the docs' Teachers
     CHECK(r.final_eval.success_rate >= 0.9);
     const json& state = r.teacher["state"];
     if (stage == "LookSequence") CHECK(state["step"] == 3);
-    if (stage == "LookLcas") CHECK(state["value"] == "128");
+    if (stage == "LookLcas") CHECK(state["value"] == 128);  // a number, as episodes.jsonl writes it
     if (stage == "LookPlr") CHECK(state["replays"].get<int>() > 10);
     if (stage == "LookFunction") {  // named by where it is written
       const std::string text = slurp("docs/examples/teachers_example.lua");
@@ -949,4 +974,125 @@ TEST_CASE("a task parameter given by --set is fixed: the axis leaves the trial's
   CHECK(distances.size() == r.episodes.size());  // a real axis: every draw its own
   o.sets = {{"obstacles", "22"}};
   CHECK_THROWS_WITH(train_stage(o), Contains("parameter 'obstacles' of scenario 'cluttered' expects an integer in [0, 8], got '22'"));
+}
+
+// Found by a probe: with --set obstacles=2 (or a batch run's params = {obstacles = 2}) every trial
+// of a sequence or function teacher that names obstacles failed ("'obstacles' is not a parameter of
+// the task space (no parameters)"), though the docs say the axis simply leaves the trial's space.
+TEST_CASE("a parameter fixed by --set is ignored where a sequence or function teacher names it", "[teach][stage]") {
+  for (const std::string stage : {"LookSequence", "LookFunction"}) {
+    TrainOptions o;
+    o.curriculum = "docs/examples/teachers_example.lua";
+    o.stage = stage;
+    o.context = "Gaze";
+    o.seed = 1;
+    o.sets = {{"obstacles", "2"}};
+    const TrainResult r = train_stage(o);
+    INFO(stage << ": " << r.teacher.dump());
+    REQUIRE(r.episodes.size() == 60);
+    for (const auto& e : r.episodes) CHECK(e.world.obstacles == 2);  // the run's value, never the teacher's
+    CHECK(r.task_space == "no parameters");
+    if (stage == "LookSequence") CHECK(r.teacher["state"]["moves"].size() >= 1);  // its steps still move
+  }
+  // The same teachers still name only parameters of the whole space: a misspelt one is refused at
+  // load, --set or not.
+  test::TempDir dir("roger_teach_fixed");
+  const fs::path typo = write_stage(dir.path, "typo", "{ tasks = { obstacles = roger.int(0, 3) }, "
+                                                       "teacher = roger.teacher.sequence{ { obstacle = 0 }, {} } }");
+  CHECK_THAT(load_error(typo), Contains("step 1: 'obstacle' is not a parameter of the task space"));
+  // A function's value for a fixed parameter is ignored whatever it is; its other values still count.
+  const fs::path fn = write_stage(dir.path, "fn", "{ tasks = { obstacles = roger.int(0, 3), shape = roger.choice{'circle', 'spade'} }, "
+                                                   "teacher = function() return { obstacles = 99, shape = 'spade' } end }");
+  TrainOptions o = stage_options(fn);
+  o.sets = {{"obstacles", "1"}};
+  const TrainResult r = train_stage(o);
+  for (const auto& e : r.episodes) {
+    CHECK(e.world.obstacles == 1);
+    CHECK(e.task == json{{"shape", "spade"}});
+  }
+}
+
+// Found by a probe: `teacher = roger.teacher.lcas` (the maker, braces forgotten) passed roger check
+// and failed every trial ("teacher function must return a table ..., got userdata").
+TEST_CASE("a built-in teacher without its braces is refused at load with a hint", "[teach][errors]") {
+  test::TempDir dir("roger_teach_braces");
+  for (const std::string kind : {"random", "sequence", "lcas", "alp_gmm", "plr"}) {
+    const fs::path file = write_stage(dir.path, kind, "{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher." + kind + " }");
+    const std::string message = load_error(file);
+    INFO(message);
+    CHECK_THAT(message, Contains(file.filename().string() + ":6: stage 'S': field 'teacher' is the function roger.teacher." +
+                                 kind + " itself, not a teacher: did you mean roger.teacher." + kind +
+                                 (kind == "random" ? "{}?" : "{...}?")));
+  }
+  // Another built-in function is no teacher either, and says so rather than failing in training.
+  const fs::path print = write_stage(dir.path, "print", "{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.int }");
+  CHECK_THAT(load_error(print), Contains(":6: stage 'S': field 'teacher' must be a teacher") &&
+                                    Contains("or a Lua function(history, rng), got a built-in function"));
+}
+
+// Found by a probe: a teacher function's {obstacles = "2"} was read as 2 while `true` was refused.
+TEST_CASE("a teacher function's string for a number axis is refused at its line", "[teach][errors]") {
+  test::TempDir dir("roger_teach_string");
+  const fs::path file = write_stage(dir.path, "s", "{ tasks = { obstacles = roger.int(0, 3), robot_distance = roger.real(0.8, 1.2) },\n"
+                                                   "  teacher = function() return { obstacles = '2' } end }");
+  std::string message, where;
+  try {
+    train_stage(stage_options(file));
+  } catch (const ScriptError& e) {
+    message = e.message;
+    where = e.file + ":" + std::to_string(e.line);
+  }
+  CHECK(message == "stage 'S': teacher function returned obstacles = \"2\" (a string), but obstacles takes a number: "
+                   "roger.int(0, 3); return the number itself");
+  CHECK(where == file.string() + ":9");
+}
+
+// Found by a probe: a test task the scenario cannot place failed the trial at its first checkpoint
+// with the placement's message alone, nothing saying it was a test-set task or which stage.
+TEST_CASE("a test-set task that cannot be placed fails its trial naming the test task and the stage", "[teach][errors]") {
+  test::TempDir dir("roger_teach_test_hole");
+  const fs::path file = write_stage(dir.path, "hole", "{ tasks = { robot_distance = roger.real(0.8, 3.4) }, "
+                                                      "test = { list = { { robot_distance = 1 }, { robot_distance = 3.3 } } } }");
+  std::string message, where;
+  bool placement = false;
+  try {
+    train_stage(stage_options(file));
+  } catch (const EpisodeFault& e) {
+    message = e.what();
+    where = e.file + ":" + std::to_string(e.line);
+    placement = e.no_placement;
+    CHECK(e.phase == "checkpoint 1 evaluation");
+    CHECK(e.episode == 1);
+  }
+  INFO(message);
+  CHECK(where == file.string() + ":6");
+  CHECK(placement);
+  CHECK_THAT(message, StartsWith(file.string() + ":6: stage 'S': test task 2 of 2 (robot_distance = 3.3) cannot be "
+                                                 "placed in world seed 1000001; the test set is not skipped") &&
+                          Contains("The placement failed with: scenarios/lib/place.lua:42: world:sample_position: no "
+                                   "placement for 'circle'") &&
+                          Contains("(checkpoint 1 evaluation episode 1, world seed 1000001)"));
+}
+
+// Found by a probe: LCAS's lifted integer levels were written as 32.0 in episodes.jsonl and as
+// strings ("64") in the teacher's state.
+TEST_CASE("LCAS writes integer levels as integers in the records and its state", "[teach][stage]") {
+  test::TempDir dir("roger_teach_lcas_int");
+  const fs::path file = write_stage(dir.path, "lcas", "{ tasks = { obstacles = roger.int(0, 1) }, budget = { episodes = 8 }, "
+                                                      "checkpoints = { every = 8 }, "
+                                                      "teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 64 } }, window = 1, slope = 1 } }");
+  const TrainResult r = train_stage(stage_options(file));
+  std::set<int64_t> seen;
+  for (const auto& e : r.episodes) {
+    INFO(e.task.dump());
+    REQUIRE(e.task["eye_pixels"].is_number_integer());
+    seen.insert(e.task["eye_pixels"].get<int64_t>());
+  }
+  CHECK(seen == std::set<int64_t>{32, 64});  // slope 1: lifted after the first two windows
+  const json& state = r.teacher["state"];
+  CHECK(state["value"] == 64);
+  CHECK(state["value"].is_number_integer());
+  CHECK(state["lifts"][0]["to"] == 64);
+  const std::string line = r.episodes.back().task.dump();
+  CHECK_THAT(line, Contains("\"eye_pixels\":64") && !Contains("64.0"));
 }

@@ -142,6 +142,26 @@ void set_params(Scenario& scenario, const ParamList& task, const ParamList& extr
   for (const auto& [k, v] : extra) scenario.set_param(k, v);
 }
 
+// "obstacles = 2, shape = spade", for messages.
+std::string params_text(const ParamList& params) {
+  std::string out;
+  for (const auto& [k, v] : params) out += (out.empty() ? "" : ", ") + k + " = " + v;
+  return out;
+}
+
+// A placement failure `f` rethrown with `what` (what could not be placed, and what follows) before
+// its own text, at the stage's file:line: the trial stops for the stage's reason, the placement's
+// detail and traceback kept.
+[[noreturn]] void fail_placement(const CurriculumStage& stage, const std::string& what, const EpisodeFault& f,
+                                 bool as_fault) {
+  const size_t nl = f.cause.find('\n');
+  const std::string first = f.cause.substr(0, nl);
+  const std::string rest = nl == std::string::npos ? "" : f.cause.substr(nl + 1);
+  const ScriptError e(stage.where() + ": " + what + " The placement failed with: " + first, stage.file, stage.line, rest);
+  if (as_fault) throw EpisodeFault(PlacementError(e), f.phase, f.episode, f.world_seed);
+  throw e;
+}
+
 // A greedy evaluation on held-out seeds first_seed, first_seed + 1, ...; with a cache, reusing the
 // episodes that would run again exactly as they last did.
 // `phase` names the evaluation in errors ("final evaluation").
@@ -165,7 +185,20 @@ GreedyEval greedy_eval(StageRun& run, QTable& q, const EvalWorlds& worlds, const
       ++cache->reused;
     } else {
       if (worlds.tasks) set_params(run.scenario, worlds.space->params((*worlds.tasks)[size_t(i)]), worlds.extra);
-      fresh.episode = run.run(q, seed, 0.0, unused, false, phase, i, nullptr, &fresh.world);
+      try {
+        fresh.episode = run.run(q, seed, 0.0, unused, false, phase, i, nullptr, &fresh.world);
+      } catch (const EpisodeFault& f) {
+        if (!worlds.tasks || !f.no_placement) throw;
+        ParamList task = worlds.space->params((*worlds.tasks)[size_t(i)]);
+        task.insert(task.end(), worlds.extra.begin(), worlds.extra.end());
+        fail_placement(run.stage,
+                       "test task " + std::to_string(i + 1) + " of " + std::to_string(episodes) + " (" +
+                           (task.empty() ? "the stage's own parameters" : params_text(task)) +
+                           ") cannot be placed in world seed " + std::to_string(seed) +
+                           "; the test set is not skipped, since the measure would change with it: give the stage "
+                           "another test (test.seed, a test.list or a narrower space).",
+                       f, true);
+      }
     }
     const EvalCache::Kept& done = kept ? *kept : cache ? cache->by_seed[seed] = std::move(fresh) : fresh;
     const TrainingEpisode& ep = done.episode;
@@ -337,14 +370,6 @@ void greedy_signature(const QTable& q, std::vector<int>& out) {
 
 namespace {
 
-// A parameter's text as JSON: a number when it reads as one, else the text.
-nlohmann::json json_value(const std::string& text) {
-  char* end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  if (!text.empty() && *end == '\0' && std::isfinite(v)) return v;
-  return text;
-}
-
 // The teacher of one trial of a stage that teaches: the trial's task space (the stage's, less the
 // parameters --set fixes), the teacher drawing from its own stream of the trial's seed, and the
 // test sets of the checkpoints and of the final evaluation. Times its own work.
@@ -376,10 +401,16 @@ class TrialTeacher {
     set_params(scenario, space_.params(pick_.task), pick_.extra);
     return pick_.world_seed.value_or(own_seed);
   }
+  // The task of the last pick as text, for messages.
+  std::string task_text() const {
+    ParamList all = space_.params(pick_.task);
+    all.insert(all.end(), pick_.extra.begin(), pick_.extra.end());
+    return all.empty() ? "the stage's own parameters" : params_text(all);
+  }
   // The task of the last pick, as records keep it.
   nlohmann::json task() const {
     nlohmann::json task = space_.to_json(pick_.task);
-    for (const auto& [k, v] : pick_.extra) task[k] = json_value(v);
+    for (const auto& [k, v] : pick_.extra) task[k] = param_value_json(v);
     return task;
   }
   // What came of it, told to the teacher; the task as the episode's record keeps it.
@@ -430,9 +461,13 @@ TrainingEpisode train_episode(StageRun& run, TrialTeacher* teacher, QTable& q, u
       if (!teacher || !f.no_placement) throw;
       skipped.push_back({{"episode", e}, {"task", teacher->task()}, {"error", f.cause}});
       if (++skips >= kMaxSkippedInARow)
-        throw Error(f.what() + std::string("\nThe teacher's last ") + std::to_string(kMaxSkippedInARow) +
-                    " tasks could not be placed: the task space (" + teacher->space().describe() +
-                    ") asks for worlds the scenario cannot build.");
+        fail_placement(run.stage,
+                       std::to_string(kMaxSkippedInARow) + " tasks in a row from its teacher (" + teacher->kind() +
+                           ") could not be placed, each skipped (the last: " + teacher->task_text() +
+                           ", for training episode " + std::to_string(e) + ", world seed " +
+                           std::to_string(f.world_seed) + "): the task space (" + teacher->space().describe() +
+                           ") asks for worlds the scenario cannot build.",
+                       f, false);
     }
   }
 }

@@ -197,11 +197,30 @@ bool TaskSpace::covers(const TaskDim& sub) const {
   return sub.lo >= d.lo && sub.hi <= d.hi;
 }
 
+nlohmann::json param_value_json(const std::string& text) {
+  char* end = nullptr;
+  const long long i = std::strtoll(text.c_str(), &end, 10);
+  if (!text.empty() && *end == '\0' && std::to_string(i) == text) return int64_t(i);
+  const double v = std::strtod(text.c_str(), &end);
+  if (!text.empty() && *end == '\0' && std::isfinite(v)) return v;
+  return text;
+}
+
 TaskSpace TaskSpace::without(const std::vector<std::string>& names) const {
   std::vector<TaskDim> kept;
-  for (const auto& d : dims_)
+  std::vector<std::string> fixed = fixed_;
+  for (const auto& d : dims_) {
     if (std::find(names.begin(), names.end(), d.name) == names.end()) kept.push_back(d);
-  return TaskSpace(std::move(kept));
+    else fixed.push_back(d.name);
+  }
+  TaskSpace out(std::move(kept));
+  std::sort(fixed.begin(), fixed.end());
+  out.fixed_ = std::move(fixed);
+  return out;
+}
+
+bool TaskSpace::is_fixed(const std::string& name) const {
+  return std::binary_search(fixed_.begin(), fixed_.end(), name);
 }
 
 std::string TaskSpace::describe() const {
@@ -213,6 +232,7 @@ std::string TaskSpace::describe() const {
 TaskSpace restrict_space(const TaskSpace& space, const std::vector<TaskDim>& restrict) {
   std::vector<TaskDim> dims = space.dims();
   for (const TaskDim& r : restrict) {
+    if (space.is_fixed(r.name)) continue;  // the run's value stands (checked at load against the whole space)
     const int i = space.index(r.name);
     if (i < 0) throw Error("'" + r.name + "' is not a parameter of the task space (" + space.describe() + ")");
     if (!space.covers(r))

@@ -26,6 +26,10 @@ namespace roger {
 
 using ParamList = std::vector<std::pair<std::string, std::string>>;  // scenario parameters as text
 
+// A parameter's text as the records write it: an integer or a number when it reads as one ("64"
+// is 64, not 64.0 or "64"), else the text.
+nlohmann::json param_value_json(const std::string& text);
+
 // One axis of a task space: a scenario parameter and the values a task may give it.
 struct TaskDim {
   enum class Kind { kInt, kReal, kChoice };
@@ -80,17 +84,24 @@ class TaskSpace {
   // Whether `sub` (an axis of the same parameter) lies inside this space's axis of its name.
   bool covers(const TaskDim& sub) const;
 
-  // This space without the axes of these parameters (fixed by --set).
+  // This space without the axes of these parameters (fixed by --set or a batch run's params).
+  // The space remembers the axes it lost (fixed()): a teacher written for the whole space may
+  // still name them, and the run's value stands (docs/curricula.md, Task spaces).
   TaskSpace without(const std::vector<std::string>& names) const;
+  // The parameters whose axes without() removed, sorted.
+  const std::vector<std::string>& fixed() const { return fixed_; }
+  bool is_fixed(const std::string& name) const;
   // "distance = roger.real(0.5, 2), obstacles = roger.int(0, 6)".
   std::string describe() const;
 
  private:
   std::vector<TaskDim> dims_;
+  std::vector<std::string> fixed_;
 };
 
 // The task space restricted on some axes (a step of a sequence): each axis of `restrict` replaces
-// the space's axis of its name and must lie inside it. Throws roger::Error naming the axis.
+// the space's axis of its name and must lie inside it; an axis of a parameter the run fixes
+// (space.fixed()) is left out, the run's value standing. Throws roger::Error naming the axis.
 TaskSpace restrict_space(const TaskSpace& space, const std::vector<TaskDim>& restrict);
 
 // What a teacher chose for one training episode.

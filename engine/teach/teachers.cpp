@@ -139,13 +139,13 @@ class LcasTeacher final : public Teacher {
     const double gain = rate - mean_of(outcomes_, 0, w);
     if (gain >= slope_) return;  // still learning at this level
     if (rate < floor_) return;   // flat below the floor: not yet begun
-    lifts_.push_back({{"episode", episodes_}, {"to", texts_[size_t(level_ + 1)]}, {"rate", rate}, {"gain", gain}});
+    lifts_.push_back({{"episode", episodes_}, {"to", param_value_json(texts_[size_t(level_ + 1)])}, {"rate", rate}, {"gain", gain}});
     ++level_;
     outcomes_.clear();
   }
   json state() const override {
     json j = {{"kind", kind()}, {"episodes", episodes_}, {"param", lift_}, {"level", level_ + 1},
-              {"levels", texts_.size()}, {"value", texts_[size_t(level_)]}, {"lifts", lifts_}};
+              {"levels", texts_.size()}, {"value", param_value_json(texts_[size_t(level_)])}, {"lifts", lifts_}};
     const size_t w = size_t(window_);
     j["rate"] = outcomes_.size() >= w ? json(mean_of(outcomes_, outcomes_.size() - w, outcomes_.size())) : json(nullptr);
     return j;

@@ -29,6 +29,9 @@ body.PARAMS = {
   noise_scale = { default = 1.0, min = 0, max = 100, description = "a factor on every noise level (not on tau)" },
 }
 
+-- The longest delay world:robot takes (ticks: 1 s).
+local MAX_DELAY_TICKS = 50
+
 -- Each channel's unit and largest values: sigma, bias and drift; resolution (quantum).
 local CHANNELS = {
   { name = "image", max = 255, unit = "colour levels", quantum = 255, quantum_unit = "colour levels" },
@@ -49,7 +52,7 @@ for _, c in ipairs(CHANNELS) do
                                  description = "stationary sigma of " .. c.name .. "'s drift (" .. c.unit .. ")" }
   body.PARAMS[n .. "_tau"] = { default = 10.0, min = 0.001, max = 3600,
                                description = "correlation time of " .. c.name .. "'s drift (s)" }
-  body.PARAMS[n .. "_delay"] = { default = 0, min = 0, max = 50,
+  body.PARAMS[n .. "_delay"] = { default = 0, min = 0, max = MAX_DELAY_TICKS,
                                  description = c.name .. " " .. readings .. "s late by this many ticks" }
   body.PARAMS[n .. "_dropout"] = { default = 0.0, min = 0, max = 1,
                                    description = "probability per tick that a " .. c.name .. " " .. readings
@@ -87,16 +90,36 @@ end
 
 -- The world:robot field noise = {...} that parameters p (with body.PARAMS) ask for: each channel's
 -- kinds, every level times noise_scale (a delay rounded to whole ticks, a dropout at most 1).
+-- Each level is within its parameter's range, but noise_scale may carry it past the channel's:
+-- refused here, where the two parameters that made it are known (world:robot would name only the
+-- product), at the line that asked for the noise.
+local function number_text(v)
+  if v == math.floor(v) and math.abs(v) < 1e15 then return string.format("%d", v) end
+  return string.format("%.14g", v)
+end
+
+local function scaled(p, c, param, field, hi, unit, rounded)
+  local v = p.noise_scale * p[param]
+  if rounded then v = math.floor(v + 0.5) end
+  if v > hi then
+    error(string.format("body.noise_of: noise.%s: field '%s' must be within [0, %s] %s, got %s (the scenario "
+                        .. "parameters %s = %s times noise_scale = %s: lower either)", c.name, field,
+                        number_text(hi), unit, number_text(v), param, number_text(p[param]),
+                        number_text(p.noise_scale)), 3)
+  end
+  return v
+end
+
 function body.noise_of(p)
-  local k = p.noise_scale
   local noise = {}
   for _, c in ipairs(CHANNELS) do
     local n = "noise_" .. c.name
     noise[c.name] = {
-      sigma = k * p[n], bias = k * p[n .. "_bias"],
-      drift = { sigma = k * p[n .. "_drift"], tau = p[n .. "_tau"] },
-      delay = math.floor(k * p[n .. "_delay"] + 0.5), dropout = math.min(1, k * p[n .. "_dropout"]),
-      quantum = k * p[n .. "_quantum"],
+      sigma = scaled(p, c, n, "sigma", c.max, c.unit), bias = scaled(p, c, n .. "_bias", "bias", c.max, c.unit),
+      drift = { sigma = scaled(p, c, n .. "_drift", "drift.sigma", c.max, c.unit), tau = p[n .. "_tau"] },
+      delay = scaled(p, c, n .. "_delay", "delay", MAX_DELAY_TICKS, "ticks", true),
+      dropout = math.min(1, p.noise_scale * p[n .. "_dropout"]),
+      quantum = scaled(p, c, n .. "_quantum", "quantum", c.quantum, c.quantum_unit),
     }
   end
   return noise

@@ -16,6 +16,7 @@ namespace {
 
 constexpr const char* kAxisType = "roger.TaskAxis";
 constexpr const char* kTeacherType = "roger.Teacher";
+constexpr const char* kTeacherTable = "roger.teacher.makers";  // in the registry: the roger.teacher.* functions
 
 template <class T>
 int destroy(lua_State* L) {
@@ -133,6 +134,13 @@ double fraction(const LuaFields& f, const char* key, double fallback, double lo,
 
 int l_teacher_random(lua_State* L) {
   TeacherSpec spec;
+  // LuaFields would say "unknown field 'x'; known fields: " with nothing after it.
+  if (lua_istable(L, 1)) {
+    lua_pushnil(L);
+    if (lua_next(L, 1))
+      luaL_error(L, "roger.teacher.random{}: takes no fields (every task alike), got the field %s",
+                 lua_describe_value(L, -2).c_str());
+  }
   options(L, spec, {});
   push_teacher(L, std::move(spec));
   return 1;
@@ -215,7 +223,8 @@ int l_teacher_lcas(lua_State* L) {
     const int levels = lua_gettop(L);
     if (!lua_istable(L, levels) || lua_rawlen(L, levels) == 0)
       f.fail("lift." + spec.lift + " must be a list of levels, the most constrained first, got " +
-             lua_describe_value(L, levels));
+             (lua_istable(L, levels) ? std::string("a table with no levels 1, 2, ... (an empty list)")
+                                     : lua_describe_value(L, levels)));
     for (lua_Integer i = 1; i <= lua_Integer(lua_rawlen(L, levels)); ++i) {
       lua_rawgeti(L, levels, i);
       spec.levels.push_back(param_text(L, -1, "roger.teacher.lcas: lift." + spec.lift + "[" + std::to_string(i) + "]"));
@@ -356,8 +365,33 @@ void read_tasks(lua_State* L, const LuaFields& f, CurriculumStage& st) {
   st.tasks = TaskSpace(std::move(dims));
 }
 
+// The name of roger.teacher.<kind> when the value at `index` is that function itself, else "".
+std::string builtin_teacher_name(lua_State* L, int index) {
+  index = lua_absindex(L, index);
+  std::string name;
+  if (lua_getfield(L, LUA_REGISTRYINDEX, kTeacherTable) == LUA_TTABLE) {
+    lua_pushnil(L);
+    while (lua_next(L, -2)) {
+      if (name.empty() && lua_type(L, -2) == LUA_TSTRING && lua_rawequal(L, -1, index))
+        name = std::string("roger.teacher.") + lua_tostring(L, -2);
+      lua_pop(L, 1);
+    }
+  }
+  lua_pop(L, 1);
+  return name;
+}
+
 void read_teacher(lua_State* L, const LuaFields& f, CurriculumStage& st, LuaCallback& teacher_fn) {
   const int type = f.push("teacher");
+  if (type == LUA_TFUNCTION && lua_iscfunction(L, -1)) {
+    // A teacher function is written in Lua; a built-in one is the maker, its braces forgotten.
+    const std::string name = builtin_teacher_name(L, -1);
+    if (!name.empty())
+      f.fail("field 'teacher' is the function " + name + " itself, not a teacher: did you mean " + name +
+             (name == "roger.teacher.random" ? "{}" : "{...}") + "?");
+    f.fail("field 'teacher' must be a teacher (roger.teacher.random{}, .sequence{...}, .lcas{...}, .alp_gmm{...}, "
+           ".plr{...}) or a Lua function(history, rng), got a built-in function");
+  }
   if (type == LUA_TFUNCTION) {
     teacher_fn = LuaCallback::keep(L);
     st.teacher_lua = true;
@@ -476,6 +510,8 @@ void install_teaching_api(lua_State* L) {
                                {"lcas", l_teacher_lcas},     {"alp_gmm", l_teacher_alp_gmm},
                                {"plr", l_teacher_plr},       {nullptr, nullptr}};
   luaL_setfuncs(L, teachers, 0);
+  lua_pushvalue(L, -1);
+  lua_setfield(L, LUA_REGISTRYINDEX, kTeacherTable);  // kept apart: a script may replace roger.teacher
   lua_setfield(L, -2, "teacher");
   lua_pop(L, 1);
 }

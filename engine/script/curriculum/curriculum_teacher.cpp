@@ -3,7 +3,8 @@
 // the sandbox's budgets. `history` lists the trial's earlier training episodes in order, each
 // {task = {...}, success = ..., reward = ..., time = ...}; `rng` is an rng object of its own,
 // seeded from the trial. Axes the result leaves out are drawn uniformly; a value outside the space
-// is an error naming the parameter and the space.
+// is an error naming the parameter and the space; a value for a parameter the run fixes (--set, a
+// batch run's params) is ignored, the run's value standing.
 #include <cmath>
 #include <cstdlib>
 
@@ -59,20 +60,10 @@ class LuaTeacher final : public Teacher {
       throw ScriptError(where_ + ": " + e.message, e.file.empty() ? fn_.file : e.file, e.file.empty() ? fn_.line : e.line,
                         e.traceback);
     }
-    ParamList given;
-    try {
-      sandbox_.call_protected(1, [&](lua_State* L) {
-        if (!lua_istable(L, -1))
-          throw ScriptError(where_ + " must return a table of task parameters {" + space_.describe() + "}, got " +
-                                std::string(luaL_typename(L, -1)), fn_.file, fn_.line, "");
-        read_params_into(L, -1, where_ + "'s result", given);
-      });
-    } catch (const ScriptError& e) {
-      if (!e.file.empty()) throw;
-      throw ScriptError(e.message, fn_.file, fn_.line, "");  // a bad value in the result: the function's line
-    }
+    const ParamList given = read_result();
     TaskPoint task = space_.sample(fill_);  // what the result leaves out is drawn uniformly
     for (const auto& [key, value] : given) {
+      if (space_.is_fixed(key)) continue;  // --set (or a batch run's params) fixes it for this run
       const int i = space_.index(key);
       std::string why;
       const std::optional<double> v = i < 0 ? std::nullopt : space_.value_of(size_t(i), value, &why);
@@ -115,6 +106,39 @@ class LuaTeacher final : public Teacher {
   }
 
  private:
+  // The function's result (on the stack top) as task parameters; a bad one is an error at the
+  // function's line. A string for a numeric axis is refused: "2" is a slip for 2 that would pass
+  // unseen while `true` does not.
+  ParamList read_result() {
+    ParamList given;
+    try {
+      sandbox_.call_protected(1, [&](lua_State* L) {
+        if (!lua_istable(L, -1))
+          throw ScriptError(where_ + " must return a table of task parameters {" + space_.describe() + "}, got " +
+                                std::string(luaL_typename(L, -1)), fn_.file, fn_.line, "");
+        refuse_numeric_strings(L, lua_gettop(L));
+        read_params_into(L, -1, where_ + "'s result", given);
+      });
+    } catch (const ScriptError& e) {
+      if (!e.file.empty()) throw;
+      throw ScriptError(e.message, fn_.file, fn_.line, "");  // a bad value in the result: the function's line
+    }
+    return given;
+  }
+  void refuse_numeric_strings(lua_State* L, int t) const {
+    lua_pushnil(L);
+    while (lua_next(L, t)) {
+      const int i = lua_type(L, -2) == LUA_TSTRING ? space_.index(lua_tostring(L, -2)) : -1;
+      if (i >= 0 && lua_type(L, -1) == LUA_TSTRING && space_.dims()[size_t(i)].kind != TaskDim::Kind::kChoice) {
+        const TaskDim& d = space_.dims()[size_t(i)];
+        throw ScriptError(where_ + " returned " + d.name + " = \"" + lua_tostring(L, -1) + "\" (a string), but " +
+                              d.name + " takes a number: " + d.text() + "; return the number itself",
+                          fn_.file, fn_.line, "");
+      }
+      lua_pop(L, 1);
+    }
+  }
+
   LuaSandbox& sandbox_;
   std::string where_;
   LuaCallback fn_;

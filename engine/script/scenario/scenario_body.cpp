@@ -175,7 +175,9 @@ ChannelNoise read_channel(const LuaFields& f, const ChannelRange& r) {
                 c.bias = ranged(k, "bias", 0.0, 0.0, r.max, r.unit);
                 read_fields(k, "drift", ".", "a table {sigma = ..., tau = ...}", {"sigma", "tau"}, [&](const LuaFields& d) {
                   c.drift = ranged(d, "sigma", 0.0, 0.0, r.max, r.unit);
-                  c.drift_tau = ranged(d, "tau", 0.0, 0.0, kMaxDriftTau, "s");
+                  // tau = 0 is a drift that never correlates: refused while there is a drift, so
+                  // the range says (0, ...] then; without one (sigma 0) tau is not used.
+                  c.drift_tau = ranged(d, "tau", 0.0, 0.0, kMaxDriftTau, "s", c.drift > 0.0 && d.has("tau"));
                   if (c.drift > 0.0 && !(c.drift_tau > 0.0))
                     d.fail("field 'tau' must be positive when sigma is (the drift's correlation time, s), got " +
                            fmt(c.drift_tau));
