@@ -210,12 +210,23 @@ void read_run_skills(const json& rj, const Reader& rd, const std::string& what, 
 // Reads one run of 'runs' (written from line `runs_line` on).
 // The scenario parameters a run or an evaluation sets (--set among them), and each shape it
 // evaluates, tried on its scenario now: a name the scenario does not declare or a value it
-// refuses is the script's error at `line`, not a failure of every trial after the training.
+// refuses is the script's error at `line`, or the command line's when --set (`sets`) gave it,
+// not a failure of every trial after the training.
 void check_scenario_params(const std::string& scenario, const Params& params, const std::vector<std::string>& shapes,
-                           const SandboxLimits& limits, const Reader& rd, int line, const std::string& what) {
+                           const Params& sets, const SandboxLimits& limits, const Reader& rd, int line,
+                           const std::string& what) {
   Scenario s = Scenario::load(scenario, limits);
+  for (const auto& [name, value] : params) {
+    try {
+      s.set_param(name, value);
+    } catch (const Error& e) {
+      const bool from_set =
+          std::any_of(sets.begin(), sets.end(), [&](const auto& p) { return p.first == name && p.second == value; });
+      if (from_set) throw Error("--set " + name + "=" + value + ": " + what + ": " + e.what());
+      rd.fail(line, what + ": " + e.what());
+    }
+  }
   try {
-    for (const auto& [name, value] : params) s.set_param(name, value);
     for (const auto& shape : shapes) s.set_param("shape", shape);
   } catch (const Error& e) {
     rd.fail(line, what + ": " + e.what());
@@ -243,6 +254,11 @@ BatchRun read_run(const json& rj, const Reader& rd, int runs_line, const Curricu
   std::vector<std::string> ctx_names;
   for (const auto& c : stage->contexts) ctx_names.push_back(c.name);
   r.contexts = rd.strings(rj, "contexts", what, r.line, false);
+  // Left out, every context; written empty is more likely a list that came out empty by mistake.
+  if (r.contexts.empty() && rj.contains("contexts"))
+    rd.fail(rd.line_of_key("contexts", r.line), what + ": 'contexts' is empty: name some of the contexts of stage '" +
+                                                    r.stage + "' (" + quoted_list(ctx_names) +
+                                                    "), or leave the field out for all of them");
   if (r.contexts.empty()) r.contexts = ctx_names;
   for (const auto& c : r.contexts)
     if (std::find(ctx_names.begin(), ctx_names.end(), c) == ctx_names.end())
@@ -253,7 +269,7 @@ BatchRun read_run(const json& rj, const Reader& rd, int runs_line, const Curricu
   r.params = b.params;
   merge_params(r.params, rd.params(rj, "params", what, r.line));
   merge_params(r.params, overrides.sets);
-  check_scenario_params(stage->scenario, r.params, {}, b.limits, rd, r.line, what);
+  check_scenario_params(stage->scenario, r.params, {}, overrides.sets, b.limits, rd, r.line, what);
   read_run_skills(rj, rd, what, cur, stage, b, r);
   const std::string worlds = rd.str(rj, "final_worlds", what, r.line, "shared");
   if (worlds != "own" && worlds != "shared")
@@ -358,7 +374,7 @@ BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const 
   std::string scenario = e.scenario;
   for (const auto& st : cur.stages())
     if (scenario.empty() && st.name == from->stage) scenario = st.scenario;
-  check_scenario_params(scenario, e.params, e.shapes, b.limits, rd, e.line, what);
+  check_scenario_params(scenario, e.params, e.shapes, {}, b.limits, rd, e.line, what);  // --set is training's
   return e;
 }
 
