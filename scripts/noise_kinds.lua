@@ -1,6 +1,6 @@
 -- noise_kinds.lua: the kinds of noise other than white (bias, drift, delay, dropout, resolution),
 -- each alone at a moderate level and all of them together (docs/results.md, Noise, "Kinds").
--- `scripts/noise_kinds.sh` runs it with the scripted task's and the sort's evaluations; alone:
+-- `scripts/noise_kinds.py` runs it with the scripted task's and the sort's evaluations; alone:
 -- `roger run scripts/noise_kinds.lua`.
 --
 --   SG, T:      the paper's runs of SG/DC2 and T/DC6 without noise (trial i of T over trial i's

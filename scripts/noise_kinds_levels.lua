@@ -1,5 +1,5 @@
 -- noise_kinds_levels.lua: the moderate levels of the kinds of noise other than white, for
--- scripts/noise_kinds.lua and scripts/noise_kinds.sh (scenario parameters of scenarios/lib/body.lua).
+-- scripts/noise_kinds.lua and scripts/noise_kinds.py (scenario parameters of scenarios/lib/body.lua).
 local alone = {
   { name = "joints_bias", params = { noise_joints_bias = 0.02 } },                       -- rad
   { name = "joints_drift", params = { noise_joints_drift = 0.01, noise_joints_tau = 10 } }, -- rad, s

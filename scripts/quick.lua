@@ -1,4 +1,4 @@
--- quick.lua: the paper's protocol in miniature (a couple of minutes on a laptop): 2 trials per
+-- quick.lua: the paper's protocol in miniature (about 12 seconds on two idle cores): 2 trials per
 -- context instead of 50, and 10 generalization episodes per object instead of 50. The training
 -- budgets are the curriculum's own (a batch script cannot shrink them). Every table and figure of
 -- scripts/paper.lua is produced, from too few trials to mean much.

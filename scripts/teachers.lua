@@ -5,7 +5,8 @@
 --                       alike), sequence (the paper's order), lcas (obstacles lifted), alp (ALP-GMM)
 --                       or plr (Prioritized Level Replay), all measured on the same 200 test tasks;
 --   SG_eyes, SG_lcas:   search-grasp in B1 with the full eyes, or with LCAS lifting them 32 -> 64 -> 128.
--- 20 trials each: 360 trials. `roger run scripts/teachers.lua` (resumable; docs/batch.md).
+-- 20 trials each: 360 trials, about 40 minutes on 2 cores; one trial per row (`--trials 1`) about 5
+-- minutes on one core. `roger run scripts/teachers.lua` (resumable; docs/batch.md).
 local T = { "T_random", "T_sequence", "T_lcas", "T_alp", "T_plr" }
 
 local runs = { { name = "SG", stage = "SG", contexts = { "DC2" } } }
