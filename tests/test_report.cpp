@@ -963,3 +963,29 @@ TEST_CASE("a resumed run with another script names the first place the configura
   CHECK_THAT(said, Contains("\n  evaluations[0].trials: 2 in the folder, 1 now\n"));
   CHECK(said.find("\n  runs: ") == std::string::npos);
 }
+
+// Found by a probe: a baseline that never reached the threshold made "% Improvement" read as exact,
+// and the cumulative figure labelled censored means without their "≥".
+TEST_CASE("bounds from censored trials are marked in the improvement and the cumulative figure", "[report]") {
+  KillCopy copy("censored");
+  std::string said;
+  for (const char* id : {"trials/SG/B1/000/result.json", "trials/SG/DC2/001/result.json"}) {
+    json j = copy.read(id);
+    j["reached"] = false;  // its time is then its whole training time: a lower bound
+    copy.write(id, j);
+  }
+  REQUIRE(copy.report(said) == 0);
+  const std::string tables = slurp(copy.dir / "tables.md");
+  INFO(tables);
+  CHECK(std::regex_search(tables, std::regex("\\| DC2 \\| ≥ [0-9]+:[0-9]{2} \\| ~ -?[0-9.]+% \\|")));
+  CHECK_THAT(tables, Contains("one marked ~ compares two lower bounds"));
+  // Figure 5 of kill_batch stacks trial i's Phi_SG (SG/DC2) under T: trial 1's never reached it.
+  const std::string page = slurp(copy.dir / "dashboard.js");
+  CHECK_THAT(page, Contains("\"lower_bound\":[true]") && Contains("\"lower_bound\":[false]"));
+  // Only the baseline censored: the improvement over it is at least what it says.
+  json dc2 = copy.read("trials/SG/DC2/001/result.json");
+  dc2["reached"] = true;
+  copy.write("trials/SG/DC2/001/result.json", dc2);
+  REQUIRE(copy.report(said) == 0);
+  CHECK(std::regex_search(slurp(copy.dir / "tables.md"), std::regex("\\| DC2 \\| [0-9]+:[0-9]{2} \\| ≥ -?[0-9.]+% \\|")));
+}

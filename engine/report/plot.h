@@ -55,6 +55,9 @@ struct CurveOptions {
 struct BarStack {
   std::string name;            // legend entry
   std::vector<double> values;  // one value >= 0 per category, stacked in the order of the stacks
+  // Per category (empty: none): the value is only a lower bound (a mean over training times some
+  // of which never reached the threshold), labelled "≥ " as is the bar's total.
+  std::vector<bool> lower_bound;
 };
 
 // How plot_stacked_bars draws.

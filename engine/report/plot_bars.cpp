@@ -55,6 +55,9 @@ BarTexts bar_texts(const std::vector<BarStack>& stacks, const std::vector<double
     std::snprintf(buf, sizeof buf, "%.4g", v);
     return std::string(buf);
   };
+  const auto bound = [&](size_t k, size_t i) {
+    return i < stacks[k].lower_bound.size() && stacks[k].lower_bound[i] ? std::string("≥ ") : std::string();
+  };
   std::vector<std::vector<std::string>> part_text(n_stack, std::vector<std::string>(n_cat));
   std::vector<std::string> total_text(n_cat);
   for (size_t i = 0; i < n_cat; ++i) {
@@ -62,10 +65,13 @@ BarTexts bar_texts(const std::vector<BarStack>& stacks, const std::vector<double
     for (const auto& st : stacks) parts += st.values[i] > 0.0 ? 1 : 0;
     // A bar of one part has its value above it already when totals are labelled.
     if (!o.part_labels || (parts == 1 && o.total_labels)) continue;
-    for (size_t k = 0; k < n_stack; ++k) part_text[k][i] = plain(label(stacks[k].values[i]));
+    for (size_t k = 0; k < n_stack; ++k) part_text[k][i] = plain(bound(k, i) + label(stacks[k].values[i]));
   }
-  for (size_t i = 0; i < n_cat; ++i)
-    if (o.total_labels) total_text[i] = plain(label(totals[i]));
+  for (size_t i = 0; i < n_cat; ++i) {
+    std::string lower;
+    for (size_t k = 0; k < n_stack; ++k) lower = lower.empty() ? bound(k, i) : lower;
+    if (o.total_labels) total_text[i] = plain(lower + label(totals[i]));
+  }
   return {std::move(part_text), std::move(total_text)};
 }
 

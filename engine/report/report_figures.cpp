@@ -138,28 +138,40 @@ bool cumulative_figure(const BatchScript& b, const BatchFigure& f, const Folder&
   const BatchRun& run = *b.run(f.run);
   std::vector<std::string> categories;
   std::vector<BarStack> stacks;
-  for (const auto& s : run.skills) stacks.push_back({s.run + " (" + s.skill + ", " + s.context + ")", {}});
-  stacks.push_back({run.name, {}});
+  for (const auto& s : run.skills) stacks.push_back({s.run + " (" + s.skill + ", " + s.context + ")", {}, {}});
+  stacks.push_back({run.name, {}, {}});
   for (const auto& c : run.contexts) {
     const Results r = folder.run(run, c);
     if (r.ok.empty()) continue;
     categories.push_back(c);
+    // A trial that never reached the threshold counts its whole training time (as the run
+    // tables do), so a mean over it is a lower bound.
     for (size_t k = 0; k < run.skills.size(); ++k) {
       const BatchSkill& s = run.skills[k];
       std::vector<double> v;
+      bool censored = false;
       for (const auto& j : r.ok) {
         const int i = j.value("trial", 0);
         const Results src = folder.trials({batch_trial_id(s.run, s.context, i)});
-        if (!src.ok.empty()) v.push_back(num(src.ok.front(), "time_to_threshold_s") / 60.0);
+        if (src.ok.empty()) continue;
+        v.push_back(num(src.ok.front(), "time_to_threshold_s") / 60.0);
+        censored = censored || !src.ok.front().value("reached", false);
       }
       stacks[k].values.push_back(v.empty() ? 0.0 : mean(v));
+      stacks[k].lower_bound.push_back(censored);
     }
     std::vector<double> v;
-    for (const auto& j : r.ok) v.push_back(num(j, "time_to_threshold_s") / 60.0);
+    bool censored = false;
+    for (const auto& j : r.ok) {
+      v.push_back(num(j, "time_to_threshold_s") / 60.0);
+      censored = censored || !j.value("reached", false);
+    }
     stacks.back().values.push_back(mean(v));
+    stacks.back().lower_bound.push_back(censored);
   }
   json page_stacks = json::array();
-  for (const auto& st : stacks) page_stacks.push_back({{"name", st.name}, {"minutes", st.values}});
+  for (const auto& st : stacks)
+    page_stacks.push_back({{"name", st.name}, {"minutes", st.values}, {"lower_bound", st.lower_bound}});
   page.push_back({{"kind", "cumulative"}, {"file", f.file}, {"run", run.name}, {"categories", categories},
                   {"title", f.title.empty() ? "Cumulative training time" : f.title}, {"stacks", page_stacks}});
   if (categories.empty()) return false;

@@ -36,8 +36,13 @@ BaselineColumns compare_with_baseline(const std::vector<CensoredTime>& times, co
   BaselineColumns col;
   if (base_mean > 0) {
     const double imp = percent_improvement(base_mean, m);
-    col.improvement = fmt("%.2f%%", imp);
+    // A censored mean is a lower bound: over a censored baseline the improvement is at least this,
+    // of a censored row at most this, and with both no bound follows.
+    const bool row_low = fraction_reached(times) < 1.0, base_low = fraction_reached(base_times) < 1.0;
+    col.improvement = std::string(row_low && base_low ? "~ " : base_low ? "≥ " : row_low ? "≤ " : "") +
+                      fmt("%.2f%%", imp);
     row["improvement_percent"] = imp;
+    row["improvement_bound"] = row_low && base_low ? "none" : base_low ? "lower" : row_low ? "upper" : "exact";
   }
   try {
     const MannWhitneyResult mw = mann_whitney_u_censored(times, base_times);
@@ -101,7 +106,8 @@ void run_table_notes(bool any_censored, std::ostringstream& md) {
   if (any_censored)
     md << " Trials that never reached it count at their whole training time (right-censored), so the values "
           "marked ≥ are lower bounds; the Mann-Whitney U test and P(faster) rank them as slower than every trial "
-          "that reached it.";
+          "that reached it. A % Improvement marked ≥ or ≤ is a bound for the same reason (the baseline's mean, "
+          "or the row's, is a lower bound), and one marked ~ compares two lower bounds, so no bound follows.";
   md << " P(faster): the probability that a trial of the row is faster than one of the baseline.\n\n";
 }
 
