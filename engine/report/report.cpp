@@ -4,11 +4,14 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
+#include <set>
 #include <sstream>
 
 #include "batch/batch.h"
 #include "core/error.h"
 #include "core/fileio.h"
+#include "core/text.h"
 #include "report/dashboard_internal.h"
 #include "report/report_internal.h"
 #include "script/batch/batch_script.h"
@@ -38,6 +41,9 @@ std::vector<std::string> write_report(const std::string& dir, const std::vector<
      << "`, roger " << manifest.value("version", std::string("?")) << "; trial i of every run has seed "
      << b.seed << " + i.\n\n";
   json rep = json::array();
+  std::map<std::string, int64_t> by_records;  // per --by feature: the records its tables read
+  std::map<std::string, bool> by_found;       // and whether any had it
+  std::set<std::string> features;             // what the records have
   for (const auto& t : b.tables) {
     if (!t.sorting.empty()) sorting_table(b, t, folder, md, rep);
     else if (!t.compare.empty()) compare_table(b, t, folder, md, rep);
@@ -49,9 +55,19 @@ std::vector<std::string> write_report(const std::string& dir, const std::vector<
       BatchTable split = t;
       split.by = feature;
       split.title = (t.title.empty() ? "Run " + t.run : t.title) + ": final success by " + feature;
-      by_table(b, split, folder, md, rep);
+      const ByFound found = by_table(b, split, folder, md, rep);
+      by_records[feature] += found.records;
+      by_found[feature] = by_found[feature] || found.feature;
+      features.insert(found.features.begin(), found.features.end());
     }
   }
+  // A feature of the command line that no record has is a slip (a typo, a feature of other
+  // scripts): refused before anything is written, rather than a report of empty tables.
+  for (const auto& feature : by)
+    if (by_records[feature] > 0 && !by_found[feature])
+      throw Error("--by " + feature + ": none of the " + std::to_string(by_records[feature]) +
+                  " final-evaluation episodes has a feature '" + feature + "'; they have: " +
+                  join(std::vector<std::string>(features.begin(), features.end())));
   std::vector<std::string> written;
   std::vector<std::string> figures_md;
   json page_figures = json::array();

@@ -116,7 +116,13 @@ void compare_table(const BatchScript& b, const BatchTable& t, const Folder& fold
 
 // The final evaluations' success rate split by a recorded feature of each episode (its task's
 // parameter or its world's obstacles, objects or shape), a row per context (report_teachers.cpp).
-void by_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep);
+// What a by-table found in the final-evaluation records it read.
+struct ByFound {
+  int64_t records = 0;             // read, with or without the feature
+  bool feature = false;            // whether any of them has the table's feature
+  std::set<std::string> features;  // the features they have
+};
+ByFound by_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep);
 
 // A sorting table, one row per number of objects (report_sorting.cpp).
 void sorting_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep);

@@ -77,7 +77,10 @@ std::string skipped_text(const BatchScript& b, const std::vector<BatchRow>& rows
 }  // namespace
 
 void compare_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep) {
-  if (!t.by.empty()) return by_table(b, t, folder, md, rep);
+  if (!t.by.empty()) {
+    by_table(b, t, folder, md, rep);
+    return;
+  }
   const Results base = rows_results(b, t.compare.front(), folder);
   const std::vector<CensoredTime> base_times = times_of(base);
   const double base_mean = base_times.empty() ? 0.0 : mean(censored_values(base_times));
@@ -104,7 +107,7 @@ void compare_table(const BatchScript& b, const BatchTable& t, const Folder& fold
                  {"skipped_tasks", skipped}});
 }
 
-void by_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep) {
+ByFound by_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep) {
   struct Cell {
     int64_t episodes = 0, successes = 0;
   };
@@ -199,6 +202,7 @@ void by_table(const BatchScript& b, const BatchTable& t, const Folder& folder, s
        << "'; they have: " << join(std::vector<std::string>(features.begin(), features.end())) << ".\n";
   md << "\n";
   rep.push_back({{"title", t.title}, {"by", t.by}, {"rows", out}});
+  return {records, !values.empty(), features};
 }
 
 namespace {
