@@ -989,3 +989,19 @@ TEST_CASE("bounds from censored trials are marked in the improvement and the cum
   REQUIRE(copy.report(said) == 0);
   CHECK(std::regex_search(slurp(copy.dir / "tables.md"), std::regex("\\| DC2 \\| [0-9]+:[0-9]{2} \\| ≥ -?[0-9.]+% \\|")));
 }
+
+// Found by a probe: the Total row read "8/8" policies for 4 policies on 2 objects, and dropped the
+// "(1 failed)" of its shape's row.
+TEST_CASE("an evaluation's Total row counts policies on objects and keeps the failed ones", "[report]") {
+  KillCopy copy("eval_total");
+  std::string said;
+  REQUIRE(copy.report(said) == 0);
+  CHECK_THAT(slurp(copy.dir / "tables.md"), Contains("| 4/4 of 2 policies × 2 objects | 48 | 48 |"));
+  const fs::path trial = copy.dir / "trials" / "eval" / "gen" / "circle" / "000";
+  fs::remove(trial / "result.json");
+  spit(trial / "error.json", json{{"error", "a fault"}, {"trial", "eval/gen/circle/000"}}.dump());
+  REQUIRE(copy.report(said) == 0);
+  const std::string tables = slurp(copy.dir / "tables.md");
+  CHECK_THAT(tables, Contains("| 1/2 (1 failed) | 12 | 12 |") &&
+                         Contains("| 3/4 of 2 policies × 2 objects (1 failed) | 36 | 36 |"));
+}

@@ -79,13 +79,16 @@ void eval_table(const BatchScript& b, const BatchTable& t, const Folder& folder,
   json rows = json::array();
   std::vector<json> all;
   std::set<Resampled> methods;
-  int expected = 0;
+  Results every;  // the Total row's count: every policy on every object, failed and pending ones too
   uint64_t salt = 0;
-  for (const auto& g : batch_eval_groups(*ev)) {
+  const std::vector<std::string> groups = batch_eval_groups(*ev);
+  for (const auto& g : groups) {
     std::vector<std::string> ids;
     for (int i = 0; i < ev->trials; ++i) ids.push_back(batch_eval_id(ev->name, g, i));
     const Results r = folder.trials(ids);
-    expected += r.expected;
+    every.expected += r.expected;
+    every.failed += r.failed;
+    every.pending += r.pending;
     ++salt;
     std::string name = g;
     if (!name.empty()) name[0] = char(std::toupper(static_cast<unsigned char>(name[0])));
@@ -107,10 +110,18 @@ void eval_table(const BatchScript& b, const BatchTable& t, const Folder& folder,
   if (!all.empty()) {
     const EvalRow total = eval_row(all, 0);
     methods.insert(total.ci.by);
-    rows.push_back(eval_row_out("**Total**", "Total", total, std::to_string(all.size()) + "/" + std::to_string(expected), md));
+    // Its cells are policies' evaluations on one object each: said, so that 200/200 is not read
+    // as 200 policies.
+    std::string count = std::to_string(all.size()) + "/" + std::to_string(every.expected);
+    if (groups.size() > 1)
+      count += " of " + std::to_string(ev->trials) + " policies × " + std::to_string(groups.size()) + " objects";
+    if (every.failed) count += " (" + std::to_string(every.failed) + " failed)";
+    if (every.pending) count += " (" + std::to_string(every.pending) + " pending)";
+    rows.push_back(eval_row_out("**Total**", "Total", total, count, md));
   }
   md << "\nAvg. reward ± std (population std) and success rate pool every episode of every policy; the per-policy "
-        "column shows how much the policies of different trials differ. Layouts: the distinct world seeds the "
+        "column shows how much the policies of different trials differ (in the Total row, each policy on each "
+        "object). Layouts: the distinct world seeds the "
         "episodes ran in (a seed places Roger, the goal, the object and the obstacles; the shape is the row's). "
      << interval_note(methods) << "\n\n";
   rep.push_back({{"title", t.title}, {"evaluation", ev->name}, {"rows", rows}});
