@@ -216,13 +216,12 @@ void check_scenario_params(const std::string& scenario, const Params& params, co
                            const Params& sets, const SandboxLimits& limits, const Reader& rd, int line,
                            const std::string& what) {
   Scenario s = Scenario::load(scenario, limits);
-  for (const auto& [name, value] : params) {
+  for (const auto& param : params) {
     try {
-      s.set_param(name, value);
+      s.set_param(param.first, param.second);
     } catch (const Error& e) {
-      const bool from_set =
-          std::any_of(sets.begin(), sets.end(), [&](const auto& p) { return p.first == name && p.second == value; });
-      if (from_set) throw Error("--set " + name + "=" + value + ": " + what + ": " + e.what());
+      if (std::find(sets.begin(), sets.end(), param) != sets.end())
+        throw Error("--set " + param.first + "=" + param.second + ": " + what + ": " + e.what());
       rd.fail(line, what + ": " + e.what());
     }
   }
