@@ -949,6 +949,16 @@ TEST_CASE("docs/examples/teachers_example.lua: every block of the docs' Teachers
     if (stage == "LookSequence") CHECK(state["step"] == 3);
     if (stage == "LookLcas") CHECK(state["value"] == 128);  // a number, as episodes.jsonl writes it
     if (stage == "LookPlr") CHECK(state["replays"].get<int>() > 10);
+    // The summary says what the test set was: LookRandom's is the list written in the stage (a
+    // probe found it written as a seed, as if drawn), the others' drawn with a seed.
+    const json test = train_summary_json(r)["test"];
+    if (stage == "LookRandom") {
+      CHECK(test == json::parse(R"({"tasks": 3, "list": [{"obstacles": 0, "robot_distance": 1},
+                                  {"obstacles": 2, "robot_distance": 1.5}, {"obstacles": 4, "robot_distance": 2}]})"));
+    } else if (stage != "Look") {
+      CHECK(test.contains("seed"));
+      CHECK_FALSE(test.contains("list"));
+    }
     if (stage == "LookFunction") {  // named by where it is written
       const std::string text = slurp("docs/examples/teachers_example.lua");
       const auto line = 1 + std::count(text.begin(), text.begin() + text.find("teacher = function(history"), '\n');

@@ -595,6 +595,7 @@ TrainResult train_stage(const TrainOptions& options) {
     res.teacher = {{"kind", teacher->kind()}, {"wall_s", teacher->wall_s()}, {"state", teacher->state()}};
     res.test_tasks = teacher->test_tasks();
     res.test_seed = stage.test.seed;
+    res.test_list = stage.test.list;
   }
   res.explain = options.explain;
   res.wall_s = seconds_since(t0);
@@ -694,7 +695,16 @@ nlohmann::json train_summary_json(const TrainResult& r) {
     j["teacher"] = r.teacher;
     j["teacher_wall_s"] = r.teacher_wall_s;
     j["skipped_tasks"] = r.skipped_tasks;
-    j["test"] = {{"tasks", r.test_tasks}, {"seed", r.test_seed}};
+    j["test"] = {{"tasks", r.test_tasks}};
+    if (r.test_list.empty()) {
+      j["test"]["seed"] = r.test_seed;
+    } else {  // the tasks themselves: a seed would say they were drawn
+      for (const ParamList& task : r.test_list) {
+        nlohmann::json t = nlohmann::json::object();
+        for (const auto& p : task) t[p.first] = param_value_json(p.second);
+        j["test"]["list"].push_back(t);
+      }
+    }
   }
   if (!r.reached || r.explain) j["diagnosis"] = diagnose_training(r).to_json();
   return j;

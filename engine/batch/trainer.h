@@ -175,7 +175,8 @@ struct TrainResult {
   // skipped and another drawn for the same episode. {"episode", "task", "error"}, in order.
   nlohmann::json skipped_tasks = nlohmann::json::array();
   int test_tasks = 0;         // tasks of the checkpoints' test set
-  uint64_t test_seed = 0;
+  uint64_t test_seed = 0;     // ...drawn with this seed, or else the stage's own list of them
+  std::vector<std::vector<std::pair<std::string, std::string>>> test_list;  // (test = {list = {...}})
   // The evaluation cache's work (TrainOptions::eval_cache), in this stage's evaluations only (not
   // those of skills trained first). Not written to any result file: the files do not depend on
   // whether the cache was on.
