@@ -387,3 +387,26 @@ TEST_CASE("changes made to a roger.stage table after the call count and are chec
   CHECK_THAT(error_of([&] { Curriculum::load(wrapper); }),
              Catch::Matchers::Contains("curricula/lib/paper_stages.lua:103: stage 'SG': unknown field 'bogus'"));
 }
+
+// Found by a probe: a test task that cannot be placed passed roger check and failed every trial at
+// its first checkpoint, after the training.
+TEST_CASE("check builds every test task in its world seed and names one that cannot be placed", "[curriculum]") {
+  test::TempDir dir("roger_test_set_check");
+  const std::string file = (dir.path / "ts.lua").string();
+  auto write = [&](const std::string& far) {
+    std::ofstream(file) << "local p = require('lib.skills').primitives()\n"
+                           "return { name = 'ts', stages = {\n"
+                           "  roger.stage{ name = 'S', scenario = 'cluttered', time_limit = 4,\n"
+                           "    absorbing = roger.converged(p.phi0), budget = { episodes = 20 },\n"
+                           "    tasks = { robot_distance = roger.real(0.8, " << far << ") }, test = { tasks = 30 },\n"
+                           "    contexts = { { name = 'Gaze', actions = { p.search, p.phi0 } } } } } }\n";
+  };
+  write("2.6");
+  const auto problems = check_curriculum(file);
+  REQUIRE(problems.size() == 1);
+  CHECK_THAT(problems[0], Catch::Matchers::StartsWith(file + ":3: stage 'S': test task 23 of 30 (robot_distance = 2.57") &&
+                              Catch::Matchers::Contains("cannot be placed in world seed 1000022") &&
+                              Catch::Matchers::Contains("no placement for 'circle'"));
+  write("2.0");
+  CHECK(check_curriculum(file).empty());
+}

@@ -574,6 +574,54 @@ void check_task_space_ends(const CurriculumStage& st, const SandboxLimits& limit
   }
 }
 
+// The test set as the stage's trials meet it: task i in world seed checkpoints.seeds + i, in the
+// parameters of each context (each distinct set once). It is not skipped as a training task is,
+// so a task no layout of its seed holds fails every trial at its first checkpoint, after the
+// training: refused here, naming the task.
+void check_test_set(const CurriculumStage& st, const SandboxLimits& limits, std::vector<std::string>& problems) {
+  if (!st.teaches()) return;
+  const int cp_n = st.test.given ? st.test.tasks : st.checkpoints.episodes;
+  const int final_n = st.test.given ? st.test.tasks : st.checkpoints.final_episodes;
+  std::vector<TaskPoint> tasks;
+  try {
+    tasks = st.test_tasks(st.tasks, std::max(cp_n, final_n));
+  } catch (const std::exception& e) {
+    return problems.push_back(st.where() + ": test: " + e.what());
+  }
+  ParamList extra;  // an LCAS lift outside the space: the test set runs at its last level
+  if (st.teacher && st.teacher->kind == TeacherSpec::Kind::kLcas && st.tasks.index(st.teacher->lift) < 0 &&
+      !st.teacher->levels.empty())
+    extra.push_back({st.teacher->lift, st.teacher->levels.back()});
+  std::set<ParamList> seen;
+  for (const auto& ctx : st.contexts) {
+    const ParamList params = st.scenario_params(ctx);
+    if (!seen.insert(params).second) continue;
+    size_t i = 0;
+    try {
+      Scenario s = Scenario::load(st.scenario, limits);
+      s.set_params(params);
+      for (; i < tasks.size(); ++i) {
+        s.set_params(st.tasks.params(tasks[i]));
+        s.set_params(extra);
+        s.generate(st.checkpoints.seeds + i);
+      }
+    } catch (const PlacementError& e) {
+      ParamList task = st.tasks.params(tasks[i]);
+      task.insert(task.end(), extra.begin(), extra.end());
+      std::string text;
+      for (const auto& [k, v] : task) text += (text.empty() ? "" : ", ") + k + " = " + v;
+      const std::string at = st.file.empty() ? "" : st.file + ":" + std::to_string(st.line) + ": ";
+      problems.push_back(at + (ctx.params.empty() ? st.where() : st.where(ctx.name)) + ": test task " +
+                         std::to_string(i + 1) + " of " +
+                         std::to_string(tasks.size()) + " (" + text + ") cannot be placed in world seed " +
+                         std::to_string(st.checkpoints.seeds + i) +
+                         ", where every trial's evaluations run it (the test set is not skipped): " + e.what());
+    } catch (const std::exception& e) {
+      problems.push_back(st.where(ctx.name) + ": scenario '" + st.scenario + "': " + e.what());
+    }
+  }
+}
+
 }  // namespace
 
 namespace {
@@ -629,7 +677,9 @@ std::vector<std::string> check_curriculum(const std::string& path, const Sandbox
       }
       check_callbacks(*cur, st, ctx, spec, problems);
     }
+    const size_t before = problems.size();
     check_task_space_ends(st, limits, problems);
+    if (problems.size() == before) check_test_set(st, limits, problems);  // else the same holes again
   }
   return problems;
 }
