@@ -410,3 +410,22 @@ TEST_CASE("check builds every test task in its world seed and names one that can
   write("2.0");
   CHECK(check_curriculum(file).empty());
 }
+
+// Found by a probe: a world its parameters cannot build (a noise level noise_scale carries past its
+// range) was told without the line of the params table that asked for it.
+TEST_CASE("a context's world its parameters cannot build is placed at its params line", "[curriculum]") {
+  test::TempDir dir("roger_params_world");
+  const std::string file = (dir.path / "nc.lua").string();
+  std::ofstream(file) << "local p = require('lib.skills').primitives()\n"
+                         "return { name = 'nc', stages = {\n"
+                         "  roger.stage{ name = 'Look', scenario = 'cluttered', time_limit = 4,\n"
+                         "    absorbing = roger.converged(p.phi0), budget = { episodes = 20 },\n"
+                         "    params = { noise_joints_delay = 30 },\n"
+                         "    contexts = { { name = 'Clean', actions = { p.search, p.phi0 } },\n"
+                         "      { name = 'Double', actions = { p.search, p.phi0 },\n"
+                         "        params = { noise_scale = 2 } } } } } }\n";
+  const auto problems = check_curriculum(file);
+  REQUIRE(problems.size() == 1);
+  CHECK_THAT(problems[0], Catch::Matchers::StartsWith(file + ":8: stage 'Look', context 'Double': scenario 'cluttered': ") &&
+                              Catch::Matchers::Contains("noise_joints_delay = 30 times noise_scale = 2"));
+}

@@ -672,7 +672,14 @@ std::vector<std::string> check_curriculum(const std::string& path, const Sandbox
         for (const auto& [k, v] : st.scenario_params(ctx)) s.set_param(k, v);
         spec = s.generate(0);
       } catch (const std::exception& e) {
-        if (first) problems.push_back(where + ": scenario '" + st.scenario + "': " + e.what());
+        // Placed at the params table that asked for this world (the context's, else the stage's),
+        // as a bad parameter is: a level noise_scale carries past its range, say.
+        const bool asked = !ctx.params.empty() || !st.params.empty();
+        const std::string at = asked && !st.file.empty()
+                                   ? st.file + ":" + std::to_string(curriculum_detail::params_line(
+                                                         st, ctx.params.empty() ? "" : ctx.name)) + ": "
+                                   : "";
+        if (first) problems.push_back(at + where + ": scenario '" + st.scenario + "': " + e.what());
         continue;
       }
       check_callbacks(*cur, st, ctx, spec, problems);
