@@ -751,8 +751,16 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
                                    "stage's task space): ") && Contains("no placement for"));
   // An end that some layouts hold is not an error: training skips the others. Seed 0 cannot place
   // the object 2.6 m from Roger, seed 1 can (before, roger check refused what training ran).
-  const fs::path some = write_stage(dir.path, "some", "{ tasks = { robot_distance = roger.real(0.8, 2.6) } }");
+  const fs::path some = write_stage(dir.path, "some", "{ tasks = { robot_distance = roger.real(0.8, 2.6) }, "
+                                                      "test = { list = { { robot_distance = 1.0 } } } }");
   CHECK(check_curriculum(some.string()).empty());
+  // But the test set is not skipped: drawn from that space, its 23rd task (2.57 m) cannot be
+  // placed in its world seed, and every trial would fail at its first checkpoint.
+  const fs::path drawn = write_stage(dir.path, "drawn", "{ tasks = { robot_distance = roger.real(0.8, 2.6) } }");
+  const std::vector<std::string> test_problems = check_curriculum(drawn.string());
+  REQUIRE(test_problems.size() == 1);
+  CHECK_THAT(test_problems[0], Contains("drawn.lua:") && Contains("stage 'S': test task 23 of ") &&
+                                   Contains("cannot be placed in world seed 1000022"));
 }
 
 TEST_CASE("a task whose world cannot be placed is skipped and shown; a space of such tasks fails its trial",
