@@ -142,13 +142,6 @@ void set_params(Scenario& scenario, const ParamList& task, const ParamList& extr
   for (const auto& [k, v] : extra) scenario.set_param(k, v);
 }
 
-// "obstacles = 2, shape = spade", for messages.
-std::string params_text(const ParamList& params) {
-  std::string out;
-  for (const auto& [k, v] : params) out += (out.empty() ? "" : ", ") + k + " = " + v;
-  return out;
-}
-
 // A placement failure `f` rethrown with `what` (what could not be placed, and what follows) before
 // its own text, at the stage's file:line: the trial stops for the stage's reason, the placement's
 // detail and traceback kept.
@@ -384,8 +377,7 @@ class TrialTeacher {
                   stage.teacher->name() + ") lifts; leave it to the teacher or use a stage without one");
     space_ = stage.tasks.without(fixed);
     teacher_ = cur.make_teacher(stage, space_, Rng::mix(options.seed, 0x7465616368ull));  // "teach"
-    const int cp_n = stage.test.given ? stage.test.tasks : stage.checkpoints.episodes;
-    const int final_n = stage.test.given ? stage.test.tasks : stage.checkpoints.final_episodes;
+    const int cp_n = stage.checkpoint_test_tasks(), final_n = stage.final_test_tasks();
     final_tasks_ = stage.test_tasks(space_, std::max(cp_n, final_n));
     checkpoint_tasks_.assign(final_tasks_.begin(), final_tasks_.begin() + std::min<size_t>(size_t(cp_n), final_tasks_.size()));
     final_tasks_.resize(std::min<size_t>(size_t(final_n), final_tasks_.size()));

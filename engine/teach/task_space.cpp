@@ -206,6 +206,12 @@ nlohmann::json param_value_json(const std::string& text) {
   return text;
 }
 
+std::string params_text(const ParamList& params) {
+  std::string out;
+  for (const auto& [k, v] : params) out += (out.empty() ? "" : ", ") + k + " = " + v;
+  return out;
+}
+
 TaskSpace TaskSpace::without(const std::vector<std::string>& names) const {
   std::vector<TaskDim> kept;
   std::vector<std::string> fixed = fixed_;

@@ -30,6 +30,9 @@ using ParamList = std::vector<std::pair<std::string, std::string>>;  // scenario
 // is 64, not 64.0 or "64"), else the text.
 nlohmann::json param_value_json(const std::string& text);
 
+// "obstacles = 2, shape = spade", for messages.
+std::string params_text(const ParamList& params);
+
 // One axis of a task space: a scenario parameter and the values a task may give it.
 struct TaskDim {
   enum class Kind { kInt, kReal, kChoice };

@@ -578,20 +578,17 @@ void check_task_space_ends(const CurriculumStage& st, const SandboxLimits& limit
 // parameters of each context (each distinct set once). It is not skipped as a training task is,
 // so a task no layout of its seed holds fails every trial at its first checkpoint, after the
 // training: refused here, naming the task.
-void check_test_set(const CurriculumStage& st, const SandboxLimits& limits, std::vector<std::string>& problems) {
+void check_test_set(Curriculum& cur, const CurriculumStage& st, const SandboxLimits& limits,
+                    std::vector<std::string>& problems) {
   if (!st.teaches()) return;
-  const int cp_n = st.test.given ? st.test.tasks : st.checkpoints.episodes;
-  const int final_n = st.test.given ? st.test.tasks : st.checkpoints.final_episodes;
   std::vector<TaskPoint> tasks;
+  ParamList extra;  // what the teacher sets beside the test tasks (an LCAS lift's last level)
   try {
-    tasks = st.test_tasks(st.tasks, std::max(cp_n, final_n));
+    tasks = st.test_tasks(st.tasks, std::max(st.checkpoint_test_tasks(), st.final_test_tasks()));
+    extra = cur.make_teacher(st, st.tasks, 0)->test_params();
   } catch (const std::exception& e) {
     return problems.push_back(st.where() + ": test: " + e.what());
   }
-  ParamList extra;  // an LCAS lift outside the space: the test set runs at its last level
-  if (st.teacher && st.teacher->kind == TeacherSpec::Kind::kLcas && st.tasks.index(st.teacher->lift) < 0 &&
-      !st.teacher->levels.empty())
-    extra.push_back({st.teacher->lift, st.teacher->levels.back()});
   std::set<ParamList> seen;
   for (const auto& ctx : st.contexts) {
     const ParamList params = st.scenario_params(ctx);
@@ -608,12 +605,10 @@ void check_test_set(const CurriculumStage& st, const SandboxLimits& limits, std:
     } catch (const PlacementError& e) {
       ParamList task = st.tasks.params(tasks[i]);
       task.insert(task.end(), extra.begin(), extra.end());
-      std::string text;
-      for (const auto& [k, v] : task) text += (text.empty() ? "" : ", ") + k + " = " + v;
       const std::string at = st.file.empty() ? "" : st.file + ":" + std::to_string(st.line) + ": ";
       problems.push_back(at + (ctx.params.empty() ? st.where() : st.where(ctx.name)) + ": test task " +
                          std::to_string(i + 1) + " of " +
-                         std::to_string(tasks.size()) + " (" + text + ") cannot be placed in world seed " +
+                         std::to_string(tasks.size()) + " (" + params_text(task) + ") cannot be placed in world seed " +
                          std::to_string(st.checkpoints.seeds + i) +
                          ", where every trial's evaluations run it (the test set is not skipped): " + e.what());
     } catch (const std::exception& e) {
@@ -686,7 +681,7 @@ std::vector<std::string> check_curriculum(const std::string& path, const Sandbox
     }
     const size_t before = problems.size();
     check_task_space_ends(st, limits, problems);
-    if (problems.size() == before) check_test_set(st, limits, problems);  // else the same holes again
+    if (problems.size() == before) check_test_set(*cur, st, limits, problems);  // else the same holes again
   }
   return problems;
 }

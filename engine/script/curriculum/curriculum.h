@@ -108,6 +108,10 @@ struct CurriculumStage {
   // shorter evaluation runs a prefix of a longer one). Throws roger::Error for a listed task
   // outside the space.
   std::vector<TaskPoint> test_tasks(const TaskSpace& space, int count) const;
+  // How many test tasks each checkpoint's and the final evaluation run: the test set's, else the
+  // checkpoints' episode counts.
+  int checkpoint_test_tasks() const { return test.given ? test.tasks : checkpoints.episodes; }
+  int final_test_tasks() const { return test.given ? test.tasks : checkpoints.final_episodes; }
   // The time-out of an episode in `world`: time_limit + time_per_object x its objects.
   double episode_time_limit(const WorldSpec& world) const {
     return time_limit + time_per_object * double(world.objects.size());
