@@ -917,6 +917,22 @@ TEST_CASE("report --by names what the records have, and a damaged record's file 
   CHECK_THAT(slurp(err), Contains(final_records.string() + ":2: field \"success\" must be true or false, got \"maybe\""));
 }
 
+// Found by a probe: a finished trial whose episodes.jsonl was lost dropped out of the heat map of
+// where its teacher sampled without a word (the title counted the trials left).
+TEST_CASE("a heat map of where a teacher sampled names the finished trials it lacks", "[teach][stage]") {
+  test::TempDir copy("roger_teach_missing");
+  fs::copy(teach_batch(), copy.path, fs::copy_options::recursive);
+  fs::remove(copy.path / "trials" / "Alp" / "A" / "000" / "episodes.jsonl");
+  REQUIRE(run_shell(std::string(ROGER_BINARY) + " report " + copy.path.string() + " > /dev/null") == 0);
+  CHECK_THAT(slurp(copy.path / "tables.md"),
+             Contains("- `tasks_Alp.png` / `tasks_Alp.svg`: Where ALP-GMM sampled (not drawn: Alp/A/000 finished "
+                      "without episodes.jsonl)"));
+  const std::string js = slurp(copy.path / "dashboard.js");
+  const json page = json::parse(js.substr(js.find('=') + 1, js.rfind(';') - js.find('=') - 1));
+  for (const auto& f : page["figures"])
+    if (f["kind"] == "tasks") CHECK(f.value("missing", json()) == (f["run"] == "Alp" ? json{"Alp/A/000"} : json::array()));
+}
+
 TEST_CASE("docs/examples/teachers_example.lua: every block of the docs' Teachers section is in it, each stage trains",
           "[teach][stage]") {
   // Each ```lua block of docs/curricula.md's "Teachers" is in the example file (leading spaces

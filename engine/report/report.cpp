@@ -75,8 +75,18 @@ std::vector<std::string> write_report(const std::string& dir, const std::vector<
     const bool drawn = f.kind == "cumulative" ? cumulative_figure(b, f, folder, written, page_figures)
                        : f.kind == "tasks"    ? tasks_figure(b, f, folder, written, page_figures)
                                               : curves_figure(b, f, folder, written, page_figures);
-    figures_md.push_back("- `" + f.file + ".png` / `" + f.file + ".svg`: " +
-                         (f.title.empty() ? f.kind + " of run " + f.run : f.title) + (drawn ? "" : " (not drawn: no finished trial)"));
+    // A heat map of where a teacher sampled names the finished trials it lacks (their
+    // episodes.jsonl lost), rather than silently drawing fewer.
+    const json& fig = page_figures.back();
+    std::string lacking;
+    if (f.kind == "tasks" && !fig["missing"].empty())
+      lacking = fig["missing"].get<std::vector<std::string>>().front() +
+                (fig["missing"].size() > 1 ? " and " + std::to_string(fig["missing"].size() - 1) + " more" : "") +
+                " finished without episodes.jsonl";
+    std::string line = "- `" + f.file + ".png` / `" + f.file + ".svg`: " + (f.title.empty() ? f.kind + " of run " + f.run : f.title);
+    if (!drawn) line += " (not drawn: " + (lacking.empty() ? "no finished trial" : lacking) + ")";
+    else if (!lacking.empty()) line += " (not in it: " + lacking + ")";
+    figures_md.push_back(line);
   }
   for (const BatchRun& run : b.runs) figures_md.push_back(iqm_figure(b, run, folder, written));
   md << "## Figures\n\n";

@@ -212,14 +212,20 @@ namespace {
 struct Drawn {
   std::vector<std::pair<int, json>> draws;  // (episode index, value)
   int episodes = 0;                         // the longest trial's training episodes
-  int trials = 0;
+  int trials = 0;                           // trials whose draws these are
+  std::vector<std::string> missing;         // finished trials without episodes.jsonl (deleted?)
 };
 
 Drawn drawn_values(const BatchRun& run, const std::string& context, const std::string& param, const Folder& folder) {
   Drawn d;
   for (int i = 0; i < run.trials; ++i) {
-    const fs::path file = fs::path(trial_dir(folder.dir(), batch_trial_id(run.name, context, i))) / "episodes.jsonl";
+    const std::string id = batch_trial_id(run.name, context, i);
+    const fs::path file = fs::path(trial_dir(folder.dir(), id)) / "episodes.jsonl";
     std::ifstream in(file);
+    // A trial still running or pending has none yet; a finished one without it lost it, and the
+    // figure says so rather than silently drawing fewer trials.
+    std::error_code ec;
+    if (!in && fs::exists(file.parent_path() / "result.json", ec)) d.missing.push_back(id);
     if (!in) continue;
     ++d.trials;
     int line_no = 0;
@@ -287,7 +293,7 @@ bool tasks_figure(const BatchScript& b, const BatchFigure& f, const Folder& fold
   const Drawn d = drawn_values(*b.run(f.run), f.context, f.param, folder);
   const std::string title = f.title.empty() ? "Tasks drawn: " + f.param + ", " + f.run + "/" + f.context : f.title;
   json fig = {{"kind", "tasks"}, {"file", f.file}, {"run", f.run}, {"context", f.context}, {"param", f.param},
-              {"title", title}, {"trials", d.trials}};
+              {"title", title}, {"trials", d.trials}, {"missing", d.missing}};
   if (d.draws.empty()) {
     page.push_back(fig);
     return false;
@@ -307,7 +313,9 @@ bool tasks_figure(const BatchScript& b, const BatchFigure& f, const Folder& fold
   o.y_label = f.param;
   const std::vector<std::string> paths = {(fs::path(folder.out()) / (f.file + ".png")).string(),
                                           (fs::path(folder.out()) / (f.file + ".svg")).string()};
-  plot_heat_map(paths, title + " (" + std::to_string(d.trials) + (d.trials == 1 ? " trial)" : " trials)"), m, o);
+  std::string trials = std::to_string(d.trials) + (d.trials == 1 ? " trial" : " trials");
+  if (!d.missing.empty()) trials += "; " + std::to_string(d.missing.size()) + " finished without episodes.jsonl";
+  plot_heat_map(paths, title + " (" + trials + ")", m, o);
   written.insert(written.end(), paths.begin(), paths.end());
   return true;
 }
