@@ -194,6 +194,7 @@ void LuaSandbox::call(int nargs, int nresults) {
   const bool top_level = s.call_depth == 0;
   if (top_level) {
     s.spent_what = s.spent_why = nullptr;
+    s.spent_report[0] = '\0';
     s.oom_line = 0;
     s.pending.reset();
     s.pending_text.clear();

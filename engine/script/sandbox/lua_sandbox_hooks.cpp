@@ -48,7 +48,11 @@ void charge_allocation(LuaSandbox::Impl& s, size_t bytes) {
   if (s.bytes_uncharged < kBytesPerInstruction) return;
   add_charged_units(s, s.bytes_uncharged / kBytesPerInstruction);
   s.bytes_uncharged %= kBytesPerInstruction;
-  if (s.instructions_used <= s.limits.instructions || s.call_depth == 0 || !s.running || s.spent_what) return;
+  // Only the allocation that spends the budget names allocation: once the VM's instructions (or a
+  // C function's work) spent it, allocating says nothing new (raising its error allocates).
+  if (s.instructions_used <= s.limits.instructions || s.call_depth == 0 || !s.running || s.spent_what ||
+      s.spent_report[0] != '\0')
+    return;
   s.spent_what = "copying and allocating";
   s.spent_why = "the script built more strings or tables than the budget allows (16 bytes count as one instruction)";
   lua_sethook(s.running, count_hook, LUA_MASKCOUNT, 1);
@@ -200,14 +204,24 @@ bool budget_spent(const LuaSandbox::Impl& s) { return s.instructions_used > s.li
 
 namespace {
 
-// Raises a budget error at the running Lua line: "<file>:<line>: <text>".
-[[noreturn]] void raise_at_line(lua_State* L, lua_Debug* ar, const char* text) {
-  if (lua_getinfo(L, "Sl", ar) && ar->currentline > 0)
-    lua_pushfstring(L, "%s:%d: %s", ar->short_src, ar->currentline, text);
-  else
-    lua_pushstring(L, text);
+// Raises the call's budget error: the first one as it was first raised (a script that caught it
+// with pcall is stopped again with the same file:line and cause), else `text` at `where` (a
+// "file:line" or "") and remembered as the first.
+[[noreturn]] void raise_budget_error(lua_State* L, const char* where, const char* text) {
+  auto& s = impl_of(L);
+  if (s.spent_report[0] == '\0')
+    std::snprintf(s.spent_report.data(), s.spent_report.size(), "%s%s%s", where, *where ? ": " : "", text);
+  lua_pushstring(L, s.spent_report.data());
   lua_error(L);
   std::abort();  // lua_error does not return
+}
+
+// Raises a budget error at the running Lua line: "<file>:<line>: <text>".
+[[noreturn]] void raise_at_line(lua_State* L, lua_Debug* ar, const char* text) {
+  char where[LUA_IDSIZE + 24] = "";
+  if (lua_getinfo(L, "Sl", ar) && ar->currentline > 0)
+    std::snprintf(where, sizeof where, "%s:%d", ar->short_src, ar->currentline);
+  raise_budget_error(L, where, text);
 }
 
 // What a spent budget says: the processor time's, or the instruction budget's (naming the C
@@ -290,16 +304,15 @@ void raise_spent_budget(lua_State* L) {
 // that a C function called (table.sort's comparisons) names the line that called table.sort, also
 // when the error leaves a coroutine, where no message handler looks for it.
 void raise_at_lua_line(lua_State* L, const char* text) {
+  char where[LUA_IDSIZE + 24] = "";
   lua_Debug ar;
   for (int level = 1; lua_getstack(L, level, &ar); ++level) {
     if (lua_getinfo(L, "Sl", &ar) && ar.currentline > 0) {
-      lua_pushfstring(L, "%s:%d: %s", ar.short_src, ar.currentline, text);
-      lua_error(L);
+      std::snprintf(where, sizeof where, "%s:%d", ar.short_src, ar.currentline);
+      break;
     }
   }
-  lua_pushstring(L, text);
-  lua_error(L);
-  std::abort();  // lua_error does not return
+  raise_budget_error(L, where, text);
 }
 
 }  // namespace sandbox_detail

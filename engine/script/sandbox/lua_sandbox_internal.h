@@ -47,6 +47,10 @@ struct LuaSandbox::Impl {
   // What spent the budget when C code did (charge_budget), for the count hook to say it again.
   const char* spent_what = nullptr;
   const char* spent_why = nullptr;
+  // The first budget error of the call, "file:line: text", raised again as it was each time a
+  // script that caught it with pcall goes on: where and why the budget ran out, not the line
+  // after the pcall nor the allocation of the error's own message.
+  std::array<char, 640> spent_report{};
 
   bool main_set = false;
   std::filesystem::path main_dir;  // absolute folder of the main script
