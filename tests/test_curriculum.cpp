@@ -88,6 +88,8 @@ TEST_CASE("bad curricula are clear errors at file:line", "[curriculum]") {
        {"bad_curriculum_alpha.lua:4:", "stage 'Alpha'", "stage 'Alpha': learner: alpha must be in (0, 1], got -1"}},
       {"bad_curriculum_time_per_object.lua",
        {"bad_curriculum_time_per_object.lua:4:", "stage 'Slow'", "field 'time_limit'", "per_object", "got 0"}},
+      {"bad_curriculum_misspelt_action.lua",
+       {"bad_curriculum_misspelt_action.lua:7:", "no controller \"phi33\"", "carry, phi0, phi1, phi2, phi3, phi4, phi5, search"}},
       {"bad_curriculum_time_field.lua",
        {"bad_curriculum_time_field.lua:4:", "stage 'Typo'", "field 'time_limit'", "per_objects", "per_object"}},
   };

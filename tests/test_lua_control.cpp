@@ -327,6 +327,12 @@ TEST_CASE("primitive parameters reach the C++ controllers", "[lua_control]") {
              Contains("the name 'phi1' is a primitive kind"));
   CHECK_THAT(lua.error("roger.sequence('twice', {'phi0'})\nroger.sequence('twice', {'phi1'})").what(),
              Contains("snippet.lua:2: roger.sequence('twice'): there is already a controller named 'twice' (defined at snippet.lua:1)"));
+  // Found by a probe: a second copy of a library skill was placed at the library's line, both
+  // times, and the builder's name argument went unmentioned.
+  CHECK_THAT(lua.error("local skills = require('lib.skills')\nlocal p = skills.primitives()\nskills.Phi6(p)\n"
+                       "skills.Phi6(p)").what(),
+             Contains("snippet.lua:4: roger.sequence('Phi6'): there is already a controller named 'Phi6' (defined at "
+                      "snippet.lua:3); to build another copy, pass the library's builder a name as its last argument"));
 }
 
 TEST_CASE("the API extends a `roger` table that a scenario loader made", "[lua_control]") {

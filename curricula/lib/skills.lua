@@ -30,7 +30,16 @@ function skills.primitives(overrides)
   local carry = { goal = "region", carry = "body", speed = 0.8 }
   for k, v in pairs(overrides.carry or {}) do carry[k] = v end
   p.carry = roger.primitive("phi1", carry)
-  return p
+  -- A misspelt name (p.phi33, p.Phi3) is an error at the line that reads it. Without this it is
+  -- nil, and a nil at the end of an action list vanishes from the table: the stage would train
+  -- on one action fewer without a word.
+  return setmetatable(p, { __index = function(_, name)
+    local names = {}
+    for k in pairs(p) do names[#names + 1] = tostring(k) end
+    table.sort(names)
+    error("skills.primitives() has no controller " .. string.format("%q", tostring(name)) ..
+          "; it has: " .. table.concat(names, ", "), 2)
+  end })
 end
 
 -- Phi6: "a control policy that searches for and then tracks prescribed stimuli using phi0".

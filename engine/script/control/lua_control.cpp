@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <set>
@@ -14,6 +15,7 @@
 #include "core/error.h"
 #include "control/primitives.h"
 #include "script/control/lua_control_internal.h"
+#include "script/sandbox/lua_sandbox.h"
 
 namespace roger {
 namespace lua_control_detail {
@@ -36,6 +38,36 @@ Location caller_location(lua_State* L) {
     where.line = ar.currentline;
   }
   return where;
+}
+
+// Whether a chunk's file is one of the project's shipped libraries (curricula/lib/*.lua,
+// scenarios/lib/*.lua): code the script's author calls but did not write.
+bool shipped_library(const std::string& file) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path folder = fs::absolute(file, ec).lexically_normal().parent_path();
+  if (ec || folder.filename() != "lib") return false;
+  const fs::path root = project_root().lexically_normal();
+  return folder == root / "curricula" / "lib" || folder == root / "scenarios" / "lib";
+}
+
+// The location of the innermost Lua frame outside the shipped libraries: the line of the
+// author's script that called the library which made a controller (its own line when it made it
+// itself). `through_library` says whether library frames were passed over.
+Location author_location(lua_State* L, bool& through_library) {
+  through_library = false;
+  lua_Debug ar;
+  for (int level = 1; lua_getstack(L, level, &ar); ++level) {
+    if (!lua_getinfo(L, "Sl", &ar) || ar.currentline <= 0) continue;
+    const std::string file = ar.source && ar.source[0] == '@' ? ar.source + 1 : ar.short_src;
+    if (shipped_library(file)) {
+      through_library = true;
+      continue;
+    }
+    return Location{file, ar.currentline};
+  }
+  through_library = false;
+  return caller_location(L);
 }
 
 }  // namespace
@@ -110,13 +142,22 @@ void register_name(lua_State* L, ControlBook& book, const std::string& context, 
   if (is_kind(name))
     raise(L, context + ": the name '" + name + "' is a primitive kind, which always means that kind's "
              "default primitive; choose another name (e.g. '" + name + "_tuned')");
+  // A controller a shipped library builds (lib.skills' Phi6) is placed at the author's line that
+  // called the builder: the second copy's error, and where the first was defined.
+  bool through_library = false;
+  const Location where = author_location(L, through_library);
   if (auto it = book.by_name.find(name); it != book.by_name.end()) {
     const auto& other = book.named[it->second];
-    raise(L, context + ": there is already a controller named '" + name + "'" +
-                 (other.file.empty() ? "" : " (defined at " + other.file + ":" + std::to_string(other.line) + ")"));
+    const std::string text = context + ": there is already a controller named '" + name + "'" +
+                             (other.file.empty() ? "" : " (defined at " + other.file + ":" + std::to_string(other.line) + ")") +
+                             (through_library ? "; to build another copy, pass the library's builder a name as its "
+                                                "last argument (e.g. skills.Phi6(p, \"Phi6_b\"))"
+                                              : "");
+    if (!through_library || where.file.empty()) raise(L, text);
+    lua_pushfstring(L, "%s:%d: %s", where.file.c_str(), where.line, text.c_str());
+    lua_error(L);
   }
   c->set_name(name);
-  const Location where = caller_location(L);
   book.by_name[name] = book.named.size();
   book.named.push_back(NamedController{name, c, where.file, where.line});
 }
