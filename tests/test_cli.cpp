@@ -139,6 +139,25 @@ TEST_CASE("roger check reports a misspelt roger member and an undefined global b
   CHECK(r.err.find("attempt to call") == std::string::npos);
 }
 
+// Found by a probe: a misspelt top-level key made check load the file as a scenario and blame the
+// project's library ("curricula/lib/skills.lua:24: attempt to call a nil value"), and a missing
+// file or a bare curriculum name was "no scenario".
+TEST_CASE("roger check names a misspelt top-level key, and finds bare names of every kind", "[cli]") {
+  const Run curriculum = roger("check tests/scripts/bad_top_key_curriculum.lua");
+  CHECK(curriculum.status == 1);
+  CHECK_THAT(curriculum.err, Catch::Matchers::Contains("bad_top_key_curriculum.lua: the curriculum: unknown field 'stagez' (did you "
+                                      "mean 'stages'?)"));
+  const Run skills = roger("check tests/scripts/bad_top_key_skills.lua");
+  CHECK(skills.status == 1);
+  CHECK_THAT(skills.err, Catch::Matchers::Contains("bad_top_key_skills.lua:3: the skill script's table has an unknown field 'policy'"));
+  for (const Run& r : {curriculum, skills}) CHECK(r.err.find("lib/skills.lua") == std::string::npos);
+  const Run missing = roger("check nope.lua");
+  CHECK(missing.status == 1);
+  CHECK_THAT(missing.err, Catch::Matchers::Contains("no script 'nope.lua': not a file here, and the project has no scenarios/nope.lua, "
+                                   "curricula/nope.lua or scripts/nope.lua"));
+  CHECK_THAT(roger("check scripted").out, Catch::Matchers::Contains("curricula/scripted.lua: ok (skill script 'scripted'"));
+}
+
 TEST_CASE("roger check runs the static pass on a scenario named bare, as the loader finds it", "[cli]") {
   // A project tree (ROGER_HOME) whose scenarios/ holds a scenario with a misspelt member reached
   // through an alias: `roger check misspelt_here` reads scenarios/misspelt_here.lua before running it.

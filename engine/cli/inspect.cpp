@@ -2,17 +2,20 @@
 // and `roger check` (a script validated without running an episode).
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "batch/trainer.h"
 #include "cli/cli_internal.h"
 #include "cli/commands.h"
+#include "core/fileio.h"
 #include "core/text.h"
 #include "learn/episode.h"
 #include "script/batch/batch_script.h"
 #include "script/curriculum/curriculum.h"
 #include "script/authoring/lua_static_check.h"
+#include "script/authoring/script_api.h"
 #include "script/scenario/scenario.h"
 #include "script/skills/skill_script.h"
 #include "sim/world.h"
@@ -165,9 +168,49 @@ size_t report_static_problems(const std::string& script) {
 
 }  // namespace
 
-int command_check(const CheckArgs& a) {
+namespace {
+
+// The file `roger check` checks: the path as given, else a bare name of the project's scenarios/
+// (first, as check has always read a bare name), curricula/ or scripts/. A name that is none of
+// them is refused as a script of any kind, not as a missing scenario.
+std::string check_target(const std::string& arg) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::exists(arg, ec) || arg.find('/') != std::string::npos)
+    return arg;  // a path (read_file_text and the loaders say what is wrong with it)
+  const std::string file = fs::path(arg).extension() == ".lua" ? arg : arg + ".lua";
+  std::vector<std::string> found;
+  for (const char* folder : {"scenarios", "curricula", "scripts"})
+    if (fs::is_regular_file(project_root() / folder / file, ec)) found.push_back((project_root() / folder / file).string());
+  if (found.empty())
+    throw Error("no script '" + arg + "': not a file here, and the project has no scenarios/" + file + ", curricula/" +
+                file + " or scripts/" + file);
+  return found.front();
+}
+
+// The kind a script whose table names none of the keys that tell kinds apart (a misspelt
+// `stagez`, `policy`) is checked as, so that the loader says which field is unknown, with the
+// nearest one: a curriculum when it builds stages, a skill script when it builds controllers, else
+// a scenario, as before.
+std::optional<ScriptKind> guessed_kind(const std::string& path) {
+  const std::string text = read_file_text(path);
+  if (text.find("roger.stage") != std::string::npos) return ScriptKind::kCurriculum;
+  for (const char* builder : {"lib.skills", "roger.primitive", "roger.sequence", "roger.compose", "roger.subject_to"})
+    if (text.find(builder) != std::string::npos) return ScriptKind::kSkillScript;
+  return std::nullopt;
+}
+
+}  // namespace
+
+int command_check(const CheckArgs& args) {
+  CheckArgs a = args;
+  a.script = check_target(args.script);
   if (report_static_problems(a.script) > 0) return 1;
   const SandboxLimits limits = sandbox_limits(a.lua);
+  const std::optional<ScriptKind> kind = script_kind_of(a.script);
+  const std::optional<ScriptKind> guess = kind ? kind : guessed_kind(a.script);
+  if (!kind && guess == ScriptKind::kCurriculum) Curriculum::load(a.script, limits);  // throws what is unknown
+  if (!kind && guess == ScriptKind::kSkillScript) SkillScript::load(a.script, limits);
   if (is_curriculum_script(a.script)) {
     const std::vector<std::string> problems = check_curriculum(a.script, limits);
     for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.c_str());
