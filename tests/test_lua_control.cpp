@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include <lua.hpp>
+#include <unistd.h>
 
 #include "learn/episode.h"
 #include "script/control/lua_control.h"
@@ -437,6 +439,34 @@ TEST_CASE("mistakes in skill scripts name the file and line", "[lua_control]") {
   CHECK_THAT(problems[0], Contains("tests/scripts/bad_skill_field.lua:9: "));
   CHECK_THROWS_WITH(SkillScript::load("no_such_script"),
                     Contains("no skill script 'no_such_script'") && Contains("scripted"));
+}
+
+// Found by a probe: a skill script's scenario path was looked for from the current folder only,
+// where a curriculum's is looked for beside the curriculum: the script ran from its own folder alone.
+TEST_CASE("a policy's scenario path is found beside the skill script that names it", "[lua_control]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("roger_skills_near_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "worlds");
+  fs::copy_file("scenarios/unobstructed.lua", dir / "worlds" / "mine.lua", fs::copy_options::overwrite_existing);
+  const std::string head = "local p = require('lib.skills').primitives()\n"
+                           "return { policies = { t = { action = p.phi0, goal = roger.converged(p.phi0),\n"
+                           "  time_limit = 5, scenario = '";
+  std::ofstream(dir / "near.lua") << head << "worlds/mine.lua' } } }\n";
+  std::ofstream(dir / "missing.lua") << head << "worlds/theirs.lua' } } }\n";
+  // From the repository's folder, not the script's.
+  const SkillScript script = SkillScript::load((dir / "near.lua").string());
+  CHECK(script.policy("t").scenario == (dir / "worlds" / "mine.lua").string());
+  CHECK(Scenario::load(script.policy("t").scenario).name() == "unobstructed");
+  std::string message;
+  try {
+    SkillScript::load((dir / "missing.lua").string());
+  } catch (const ScriptError& e) {
+    message = std::string(e.what());
+  }
+  CHECK_THAT(message, Contains("missing.lua:3: policy 't': field 'scenario': no scenario 'worlds/theirs.lua' (named in " +
+                               (dir / "missing.lua").string() + "): looked at " +
+                               (dir / "worlds" / "theirs.lua").string()));
+  fs::remove_all(dir);
 }
 
 TEST_CASE("a loaded skill script runs without its Lua state", "[lua_control]") {

@@ -191,9 +191,9 @@ std::vector<std::string> policy_keys(lua_State* L, int ps, const LuaFields& top)
 }
 
 // Reads the policy `name` of the 'policies' table at `ps`, leaving its table on the stack. `line`
-// follows the field being read.
+// follows the field being read; a scenario path is looked for beside `script_file` first.
 SkillScript::NamedPolicy read_policy(lua_State* L, int ps, const std::string& name, const SourceMap& map,
-                                     int& line) {
+                                     int& line, const std::string& script_file) {
   const std::vector<std::string> fields{"action", "description", "goal", "scenario", "time_limit"};
   const std::string context = "policy '" + name + "'";
   line = map.policy(name);
@@ -249,7 +249,13 @@ SkillScript::NamedPolicy read_policy(lua_State* L, int ps, const std::string& na
   }
   line = map.policy_field(name, "scenario");
   np.scenario = f.string("scenario", "unobstructed");
-  resolve_scenario_path(np.scenario);  // throws, listing the shipped scenarios
+  // Beside the script first, as a curriculum's stage and require find theirs: the same script
+  // then runs from any folder.
+  try {
+    np.scenario = resolve_scenario_near(np.scenario, script_file);
+  } catch (const Error& e) {
+    f.fail(std::string("field 'scenario': ") + e.what());
+  }
   line = map.policy_field(name, "description");
   np.description = f.string("description", "");
   return np;
@@ -297,7 +303,7 @@ SkillScript SkillScript::load(const std::string& path_in, const SandboxLimits& l
     LuaFields top(L, t, "the skill script", known);
     const int ps = read_script_fields(L, top, map, line, path, impl.name, impl.description);
     for (const auto& name : policy_keys(L, ps, top)) {
-      SkillScript::NamedPolicy np = read_policy(L, ps, name, map, line);
+      SkillScript::NamedPolicy np = read_policy(L, ps, name, map, line, impl.path);
       impl.policies.emplace(name, std::move(np));
       lua_settop(L, ps);
     }
