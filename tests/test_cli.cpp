@@ -55,11 +55,14 @@ fs::path temp_file(const std::string& name, const std::string& content) {
 }  // namespace
 
 TEST_CASE("roger check accepts the shipped scenarios", "[cli]") {
-  for (const char* s : {"scenarios/unobstructed.lua", "scenarios/cluttered.lua"}) {
+  for (const char* s : {"scenarios/unobstructed.lua", "scenarios/cluttered.lua", "scenarios/sorting.lua"}) {
     const Run r = roger(std::string("check ") + s);
     INFO(s << ": " << r.err);
     CHECK(r.status == 0);
     CHECK(r.out.find("ok") != std::string::npos);
+    // Found by a probe: lib/body's base_radius range began at 0.05, where no body can be built
+    // (the eyes, at 0.08, must lie inside the base), and every scenario warned of it.
+    CHECK(r.err.find("eye_y must lie inside the base") == std::string::npos);
   }
 }
 
@@ -155,7 +158,8 @@ TEST_CASE("roger check names a misspelt top-level key, and finds bare names of e
   CHECK(missing.status == 1);
   CHECK_THAT(missing.err, Catch::Matchers::Contains("no script 'nope.lua': not a file here, and the project has no scenarios/nope.lua, "
                                    "curricula/nope.lua or scripts/nope.lua"));
-  CHECK_THAT(roger("check scripted").out, Catch::Matchers::Contains("curricula/scripted.lua: ok (skill script 'scripted'"));
+  CHECK_THAT(roger("check scripted").out, Catch::Matchers::Contains("scripted: ok (skill script 'scripted'"));
+  CHECK_THAT(roger("check quick").out, Catch::Matchers::Contains("quick: ok (batch script 'quick'"));
 }
 
 TEST_CASE("roger check runs the static pass on a scenario named bare, as the loader finds it", "[cli]") {

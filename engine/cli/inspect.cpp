@@ -125,8 +125,9 @@ int command_render(const RenderArgs& a) {
 
 namespace {
 
-// roger check on a batch script: loads it and validates it against its curriculum.
-int check_batch(const std::string& path, const LuaLimitArgs& lua) {
+// roger check on a batch script: loads it and validates it against its curriculum. `shown`: the
+// script as the command line named it.
+int check_batch(const std::string& path, const std::string& shown, const LuaLimitArgs& lua) {
   BatchOverrides overrides;
   overrides.instructions = lua.instructions;
   overrides.memory_mib = lua.memory_mib;
@@ -141,7 +142,7 @@ int check_batch(const std::string& path, const LuaLimitArgs& lua) {
   if (b.limits.instructions != defaults.instructions || b.limits.memory_bytes != defaults.memory_bytes)
     limits = "; Lua limits " + std::to_string(b.limits.instructions) + " instructions, " +
              std::to_string(b.limits.memory_bytes >> 20) + " MiB";
-  std::printf("%s: ok (batch script '%s' on %s; %d trial%s; runs %s%s)\n", path.c_str(), b.name.c_str(),
+  std::printf("%s: ok (batch script '%s' on %s; %d trial%s; runs %s%s)\n", shown.c_str(), b.name.c_str(),
               b.curriculum.c_str(), b.trials, b.trials == 1 ? "" : "s", runs.c_str(), limits.c_str());
   return 0;
 }
@@ -222,7 +223,7 @@ int command_check(const CheckArgs& args) {
       for (const auto& c : st.contexts) contexts += (contexts.empty() ? "" : " ") + c.name;
       stages += (stages.empty() ? "" : "; ") + st.name + ": " + contexts;
     }
-    std::printf("%s: ok (curriculum '%s'; stages %s)\n", a.script.c_str(), cur.name().c_str(), stages.c_str());
+    std::printf("%s: ok (curriculum '%s'; stages %s)\n", args.script.c_str(), cur.name().c_str(), stages.c_str());
     return 0;
   }
   if (is_skill_script(a.script)) {
@@ -232,11 +233,11 @@ int command_check(const CheckArgs& args) {
     const SkillScript script = SkillScript::load(a.script, limits);
     std::string names;
     for (const auto& n : script.policy_names()) names += (names.empty() ? "" : ", ") + n;
-    std::printf("%s: ok (skill script '%s'; policies: %s)\n", a.script.c_str(), script.name().c_str(),
+    std::printf("%s: ok (skill script '%s'; policies: %s)\n", args.script.c_str(), script.name().c_str(),
                 names.c_str());
     return 0;
   }
-  if (is_batch_script(a.script)) return check_batch(a.script, a.lua);
+  if (is_batch_script(a.script)) return check_batch(a.script, args.script, a.lua);
   Scenario scenario = Scenario::load(a.script, limits);
   apply_sets(scenario, a.sets);
   // A scenario is a function of its seed: try several, and build each world as an episode would.
@@ -267,7 +268,7 @@ int command_check(const CheckArgs& args) {
     tried = ", every parameter choice and range end tried" +
             (range_ends.empty() ? std::string() : "; " + std::to_string(range_ends.size()) +
                                                       " range end(s) could not be built (warnings above)");
-  std::printf("%s: ok (scenario '%s', %d seeds generated and built%s)\n", a.script.c_str(),
+  std::printf("%s: ok (scenario '%s', %d seeds generated and built%s)\n", args.script.c_str(),
               scenario.name().c_str(), a.seeds, tried.c_str());
   return 0;
 }

@@ -17,7 +17,9 @@ local body = {}
 body.PARAMS = {
   upper_arm = { default = 0.5, min = 0.1, max = 2.0, description = "Roger's upper arm length (m)" },
   forearm = { default = 0.5, min = 0.1, max = 2.0, description = "Roger's forearm length (m)" },
-  base_radius = { default = 0.16, min = 0.05, max = 1.0, description = "Roger's base radius (m)" },
+  -- Above 0.08: the eyes sit at (0, +-0.08) in the base frame and must lie inside it, and eye_y
+  -- is not a parameter here (world:robot takes it, for a scenario of its own).
+  base_radius = { default = 0.16, min = 0.09, max = 1.0, description = "Roger's base radius (m)" },
   hand_radius = { default = 0.08, min = 0.01, max = 0.3, description = "Roger's hand radius (m)" },
   eye_pixels = { default = 128, min = 16, max = 512, description = "pixels of each eye" },
   eye_fov = { default = math.pi / 2, min = 0.1, max = 2.8, description = "each eye's full field of view (rad)" },
