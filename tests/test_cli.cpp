@@ -241,6 +241,18 @@ TEST_CASE("a device or a pipe or a folder given as a file is refused and not rea
 
 // Found by a probe: a second training into a folder failed at its third file and left the new
 // policy.json and curve.csv beside the first training's summary.json and episodes.jsonl.
+// Found by a probe: a world that failed in training named only the library line that raised
+// (scenarios/lib/place.lua), not the stage and context being trained.
+TEST_CASE("roger train names the stage and context of an episode that failed", "[cli]") {
+  const fs::path out = fs::temp_directory_path() / ("roger_cli_train_fault_" + std::to_string(::getpid()));
+  const Run r = roger("train tests/scripts/bad_train_placement.lua --stage S --context Wide --out " + out.string());
+  INFO(r.err);
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Matchers::Contains("no placement for 'Roger'"));
+  CHECK_THAT(r.err, Catch::Matchers::Contains("(stage 'S', context 'Wide', training episode 0, world seed "));
+  CHECK_FALSE(fs::exists(out));
+}
+
 TEST_CASE("roger train writes its six files together or leaves the folder as it was", "[cli]") {
   const fs::path out = fs::temp_directory_path() / ("roger_cli_train_" + std::to_string(::getpid()));
   fs::remove_all(out);

@@ -177,6 +177,22 @@ void check_skill_flags(const TrainOptions& o) {
 
 }  // namespace
 
+namespace {
+
+// train_stage, with a fault in an episode naming the stage and context it trained, as roger
+// check names them: the cause's own file:line is often a library's (scenarios/lib/place.lua).
+TrainResult train_for_command_line(const TrainOptions& o) {
+  try {
+    return train_stage(o);
+  } catch (const EpisodeFault& f) {
+    const std::string where = "stage '" + o.stage + "'" + (o.context.empty() ? "" : ", context '" + o.context + "'");
+    throw Error(with_note_on_first_line(f.cause, " (" + where + ", " + f.phase + " episode " + std::to_string(f.episode) +
+                                                     ", world seed " + std::to_string(f.world_seed) + ")"));
+  }
+}
+
+}  // namespace
+
 int command_train(const TrainArgs& a) {
   TrainOptions o;
   o.curriculum = a.curriculum;
@@ -190,7 +206,7 @@ int command_train(const TrainArgs& a) {
   o.init_file = a.init;
   o.limits = sandbox_limits(a.lua);
   check_skill_flags(o);
-  const TrainResult r = train_stage(o);
+  const TrainResult r = train_for_command_line(o);
   write_train_outputs(r, a.out);
   std::printf("roger train: %s stage %s context %s seed %llu (%zu actions, %d states) in %s\n",
               r.curriculum_path.c_str(), r.stage.c_str(), r.context.c_str(), static_cast<unsigned long long>(r.seed),
