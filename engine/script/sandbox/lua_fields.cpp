@@ -198,9 +198,15 @@ Colour lua_to_colour(lua_State* L, int index, const std::string& context) {
     int ok = 0;
     const lua_Integer v = type == LUA_TNUMBER ? lua_tointegerx(L, -1, &ok) : 0;
     lua_pop(L, 1);
-    if (!ok || v < 0 || v > 255)
-      luaL_error(L, "%s must be %s (component %s is missing or not an integer 0-255)",
-                 context.c_str(), expected, names[i]);
+    if (!ok || v < 0 || v > 255) {
+      // What was given, read again: the component is popped (a number shows as Lua prints it).
+      named ? lua_getfield(L, index, names[i]) : lua_rawgeti(L, index, i + 1);
+      const std::string got = lua_type(L, -1) == LUA_TNUMBER ? format_number(lua_tonumber(L, -1))
+                              : lua_isnil(L, -1)            ? std::string("nothing")
+                                                            : std::string("a ") + luaL_typename(L, -1);
+      luaL_error(L, "%s must be %s (component %s is missing or not an integer 0-255, got %s)", context.c_str(), expected,
+                 names[i], got.c_str());
+    }
     out[i] = uint8_t(v);
   }
   return Colour{out[0], out[1], out[2]};

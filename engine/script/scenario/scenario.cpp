@@ -6,6 +6,8 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
+#include <iterator>
+#include <map>
 #include <optional>
 #include <set>
 
@@ -105,6 +107,28 @@ std::vector<ScenarioParam> Scenario::params() const {
   return out;
 }
 
+// The known parameters, each with its type, default and range; a family of more than eight that
+// share the word before their first '_' (lib/body's 66 noise_* levels) as one entry, which a
+// misspelt name's suggestion still reaches: a list of them all buried the others.
+std::string Scenario::Impl::known_params_text() const {
+  std::map<std::string, int> family;
+  for (const auto& [k, slot] : params)
+    if (const size_t cut = k.find('_'); cut != std::string::npos) ++family[k.substr(0, cut)];
+  std::vector<std::string> known;
+  std::set<std::string> folded;
+  for (const auto& [k, slot] : params) {
+    const size_t cut = k.find('_');
+    const std::string word = cut == std::string::npos ? "" : k.substr(0, cut);
+    if (word.empty() || family[word] <= 8) {
+      known.push_back(describe_param(slot.info));
+    } else if (folded.insert(word).second) {
+      known.push_back(word + "_* (" + std::to_string(family[word]) + " parameters, " + k + " to " +
+                      std::prev(params.lower_bound(word + "`"))->first + ")");
+    }
+  }
+  return join(known, "; ");
+}
+
 // The slot `key` would hold with `value` (in `out`), or why it cannot: an unknown key lists the
 // known parameters (the nearest first); a value that does not fit says what the parameter takes,
 // whole, and what it is for.
@@ -112,10 +136,10 @@ std::optional<std::string> Scenario::Impl::parse_param(const std::string& key, c
                                                        ParamSlot& out) const {
   auto it = params.find(key);
   if (it == params.end()) {
-    std::vector<std::string> names, known;
-    for (const auto& [k, slot] : params) names.push_back(k), known.push_back(describe_param(slot.info));
+    std::vector<std::string> names;
+    for (const auto& [k, slot] : params) names.push_back(k);
     return "scenario '" + name + "' (" + path + ") has no parameter '" + key + "'" + suggestion(key, names) + "; " +
-           (known.empty() ? "it has no parameters" : "known parameters: " + join(known, "; "));
+           (names.empty() ? "it has no parameters" : "known parameters: " + known_params_text());
   }
   out = it->second;
   std::string why;

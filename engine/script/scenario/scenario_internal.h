@@ -6,6 +6,8 @@
 // the parameters, and scenario.cpp the Scenario class.
 #pragma once
 
+#include <cstdio>
+
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -32,6 +34,13 @@ constexpr size_t kMaxParts = 64;      // polygons plus disks in one shape
 
 // A number for messages, with rounding noise near zero shown as 0.
 inline std::string fmt(double v) { return format_number(std::abs(v) < 5e-13 ? 0.0 : v); }
+// A length the engine computed (an overlap, a margin), to four significant digits: "0.41", not
+// the 0.41000000000000003 its arithmetic gave.
+inline std::string measured(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4g", std::abs(v) < 5e-13 ? 0.0 : v);
+  return text;
+}
 
 // "(x, y)" for messages.
 inline std::string point_text(double x, double y) { return "(" + fmt(x) + ", " + fmt(y) + ")"; }
@@ -214,6 +223,8 @@ struct Scenario::Impl {
   // The slot `key` would hold with `value` (into `out`), or why not: Scenario::set_param's message.
   std::optional<std::string> parse_param(const std::string& key, const std::string& value,
                                          scenario_detail::ParamSlot& out) const;
+  // The known parameters, for the message of an unknown one (scenario.cpp).
+  std::string known_params_text() const;
 
  private:
   // The parts of read_params (scenario_params.cpp).

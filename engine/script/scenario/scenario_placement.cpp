@@ -129,7 +129,7 @@ SampleConstraints constraints_of(const WorldBuilder& w, const SampleRequest& r,
                                  const std::string& region_text) {
   SampleConstraints c;
   auto& constraints = c.list;
-  constraints.push_back({fmt(r.margin) + " m from the walls" + region_text});
+  constraints.push_back({measured(r.margin) + " m from the walls" + region_text});
   c.c_robot = constraints.size();
   if (w.robot_set)
     constraints.push_back({fmt(r.clearance) + " m clearance from Roger's base and hands"});
@@ -219,7 +219,7 @@ int l_world_sample(lua_State* L) {
     const SampleArea area = read_area(L, f, a, request.margin);
     const std::string label = "no placement for '" + request.name + "'";
     if (area.x0 > area.x1 || area.y0 > area.y1)
-      f.fail(label + ": it needs " + fmt(request.margin) + " m from the walls" + area.region_text +
+      f.fail(label + ": it needs " + measured(request.margin) + " m from the walls" + area.region_text +
              ", which leaves no room in a " + arena_text(a));
     SampleConstraints constraints = constraints_of(w, request, area.region_text);
     if (const auto p = draw_position(L, w, request, area, constraints)) {

@@ -51,13 +51,13 @@ void check_free(const LuaFields& f, const WorldBuilder& w, const std::string& wh
   if (inset < -1e-9) {
     const auto& a = w.spec.arena;
     f.fail(at + " sticks out of the arena [" + fmt(a.xmin) + ", " + fmt(a.xmax) + "] x [" +
-           fmt(a.ymin) + ", " + fmt(a.ymax) + "] by " + fmt(-inset) + " m");
+           fmt(a.ymin) + ", " + fmt(a.ymax) + "] by " + measured(-inset) + " m");
   }
   const Occupants occ = occupants(w, true, against_obstacles);
   lua_charge(f.state(), occ.list.size() * (shape.polygons.size() + shape.disks.size()));
   for (const auto& o : occ.list) {
     const double gap = shape_gap(shape, pose, *o.shape, o.pose);
-    if (gap < -1e-9) f.fail(at + " overlaps " + o.what + " by " + fmt(-gap) + " m");
+    if (gap < -1e-9) f.fail(at + " overlaps " + o.what + " by " + measured(-gap) + " m");
   }
 }
 
