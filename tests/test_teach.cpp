@@ -933,6 +933,18 @@ TEST_CASE("a heat map of where a teacher sampled names the finished trials it la
     if (f["kind"] == "tasks") CHECK(f.value("missing", json()) == (f["run"] == "Alp" ? json{"Alp/A/000"} : json::array()));
 }
 
+// Found by a probe: `roger eval` of a teaching stage's policy printed its figures as if they were
+// the trial's final evaluation, which ran the stage's test tasks instead.
+TEST_CASE("roger eval of a teaching stage's policy says its test tasks are not what it runs", "[teach][stage]") {
+  const fs::path dir = teach_batch();
+  const fs::path out = dir.parent_path() / "roger_teach_eval_note.txt";
+  REQUIRE(run_shell(std::string(ROGER_BINARY) + " eval tests/scripts/teach_curriculum.lua --policy " +
+                    (dir / "trials" / "Alp" / "A" / "000" / "policy.json").string() + " --episodes 2 > " + out.string()) == 0);
+  CHECK_THAT(slurp(out), Contains("  note           stage Alp teaches: its trials ended on 20 test tasks of its task "
+                                  "space, not run here (these episodes have the stage's own parameters)\n"));
+  fs::remove(out);
+}
+
 TEST_CASE("docs/examples/teachers_example.lua: every block of the docs' Teachers section is in it, each stage trains",
           "[teach][stage]") {
   // Each ```lua block of docs/curricula.md's "Teachers" is in the example file (leading spaces

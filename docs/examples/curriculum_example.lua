@@ -9,7 +9,8 @@ local skills = require("lib.skills")
 local p = skills.primitives()
 local Phi6 = skills.Phi6(p)
 
--- A reward written in Lua, called only when the state changes (decision points), never per tick:
+-- A reward written in Lua, called only when the state changes (decision points), never per tick
+-- (but in the Python module's tick mode, where every tick is a decision: docs/python.md):
 -- a small cost per decision so that short policies are preferred, +100 at the goal, -100 at the
 -- time-out. `state` maps each action's name to "NOREF", "!CONV" or "CONV".
 local function reward(state, action, event)

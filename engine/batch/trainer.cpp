@@ -782,6 +782,7 @@ void with_policy_file(const PolicyEvalOptions& options, PolicyEvalResult& out,
   out.stage = stage.name;
   out.context = ctx.name;
   out.time_limit = stage.time_limit_text();
+  out.stage_test_tasks = stage.teaches() ? stage.final_test_tasks() : 0;
   StageRun run{cur, stage, ctx, make_scenario(stage, ctx, options.scenario, options.sets, options.limits, &out.params),
                Agent(WorldParams{}, options.agent)};
   cur.set_world(&run.agent.world());

@@ -233,6 +233,9 @@ struct PolicyEvalOptions {
 struct PolicyEvalResult {
   std::string stage, context, scenario;
   std::string time_limit;  // the stage's time-out, as text: "12 s limit", "30 s per object limit"
+  // A teaching stage's trials end on this many test tasks (its task space or teacher), which this
+  // evaluation, on the stage's own parameters and held-out seeds, does not run; 0 for other stages.
+  int stage_test_tasks = 0;
   GreedyEval eval;
   std::vector<std::pair<std::string, std::string>> params;
 };

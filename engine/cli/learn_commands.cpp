@@ -68,6 +68,15 @@ void print_failed_seeds(const EvalArgs& a, const std::vector<uint64_t>& failed) 
   std::printf("  replay one     %s\n", command.c_str());
 }
 
+// The command line's changes to the evaluated worlds and skills, on a line of their own: a run on
+// another body or over a retrained skill must not read as the default run.
+void print_changes(const EvalArgs& a) {
+  std::string changes;
+  for (const auto& s : a.sets) changes += (changes.empty() ? "" : ", ") + ("--set " + s);
+  for (const auto& s : a.skills) changes += (changes.empty() ? "" : ", ") + ("--skill " + s);
+  if (!changes.empty()) std::printf("  with           %s\n", changes.c_str());
+}
+
 // eval --policy FILE.json: a policy saved by roger train, its Psi rebuilt from the curriculum.
 int run_eval_policy_file(const EvalArgs& a) {
   PolicyEvalOptions o;
@@ -83,6 +92,11 @@ int run_eval_policy_file(const EvalArgs& a) {
   std::printf("roger eval: %s stage %s context %s (%s) in %s, %d episodes from seed %llu, %s\n",
               a.script.c_str(), r.stage.c_str(), r.context.c_str(), a.policy.c_str(), r.scenario.c_str(),
               r.eval.episodes, static_cast<unsigned long long>(r.eval.first_seed), r.time_limit.c_str());
+  print_changes(a);
+  if (r.stage_test_tasks > 0)
+    std::printf("  note           stage %s teaches: its trials ended on %d test tasks of its task space, not run here "
+                "(these episodes have the stage's own parameters%s)\n",
+                r.stage.c_str(), r.stage_test_tasks, a.sets.empty() ? "" : " and the --set ones");
   std::printf("  success rate   %.1f%% (%d of %d)\n", 100.0 * r.eval.success_rate, r.eval.successes, r.eval.episodes);
   print_failed_seeds(a, r.eval.failed_seeds);
   std::printf("  reward         %.1f +- %.1f\n", r.eval.reward_mean, r.eval.reward_std);
@@ -121,6 +135,7 @@ int command_eval(const EvalArgs& a) {
   std::printf("roger eval: %s policy '%s' in %s, %d episodes from seed %llu, %s\n",
               script.path().c_str(), policy.name.c_str(), scenario.name().c_str(), a.episodes,
               static_cast<unsigned long long>(a.seed), limit.c_str());
+  print_changes(a);
   std::vector<uint64_t> failed;
   for (size_t i = 0; i < r.results.size(); ++i)
     if (!r.results[i].success) failed.push_back(a.seed + i);
