@@ -252,7 +252,7 @@ void VecEnvironment::begin(int i) {
     if (envs_[size_t(i)]->running()) return;
   }
   s.needs_reset = true;
-  throw Error("make_vec: 1000 episodes in a row ended before their first decision");
+  throw Error("1000 episodes in a row ended before their first decision (its absorbing function holds at once)");
 }
 
 void VecEnvironment::keep_last(int i) {

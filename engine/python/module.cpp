@@ -9,9 +9,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <optional>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -19,6 +21,7 @@
 #include "batch/environment.h"
 #include "core/error.h"
 #include "core/rng.h"
+#include "core/text.h"
 #include "learn/learning.h"
 #include "script/sandbox/lua_sandbox.h"
 #include "script/scenario/scenario.h"
@@ -54,6 +57,56 @@ EnvironmentOptions make_options(const std::string& curriculum, const std::string
   for (const auto& [k, v] : skills) o.skill_files[py::str(k).cast<std::string>()] = py::str(v).cast<std::string>();
   o.per_tick = per_tick;
   return o;
+}
+
+// The learned skills a context uses, itself or through the skills it uses (as roger train counts
+// them for --skill).
+void used_skills(const Curriculum& cur, const CurriculumContext& ctx, std::set<std::string>& out) {
+  for (const auto& name : ctx.learned) {
+    if (!out.insert(name).second) continue;
+    if (const CurriculumStage* producer = cur.producer(name))
+      used_skills(cur, producer->context(producer->skill->second), out);
+  }
+}
+
+// A skill the context does not use would be ignored, a misspelt name with it: refused, naming
+// what the context uses, as `roger train` refuses such a --skill (docs/cli.md).
+void check_skill_names(const EnvironmentOptions& o, const std::string& where) {
+  if (o.skill_files.empty()) return;
+  const Curriculum cur = Curriculum::load(o.curriculum, o.limits);
+  const CurriculumStage& stage = cur.stage(o.stage);
+  std::set<std::string> used;
+  used_skills(cur, stage.context(o.context), used);
+  for (const auto& [name, file] : o.skill_files)
+    if (!used.count(name))
+      throw Error(where + ": skills={'" + name + "': '" + file + "'}: " + cur.path() + ": " + stage.where(o.context) +
+                  " uses no learned skill '" + name + "'" +
+                  (used.empty() ? " (it uses none)" : "; it uses " + join(std::vector<std::string>(used.begin(), used.end()))));
+}
+
+// Makes an environment (or a batch) of `o` with `make`, after checking its skills' names. The
+// engine words a mistake of a stage's ("stage 'SG' has no context 'DC9'; its contexts: ...")
+// without the curriculum's file, which the curriculum's own mistakes name: such a message is
+// given the file in front.
+template <class Make>
+auto make_environment(const EnvironmentOptions& o, const std::string& where, Make make) {
+  try {
+    check_skill_names(o, where);
+    return make();
+  } catch (const ScriptError&) {
+    throw;  // file:line already
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    if (message.rfind("stage '", 0) != 0) throw;
+    const std::exception_ptr original = std::current_exception();
+    std::string path;
+    try {
+      path = Curriculum::load(o.curriculum, o.limits).path();
+    } catch (const std::exception&) {
+      std::rethrow_exception(original);  // as it was, not a copy cut down to Error
+    }
+    throw Error(path + ": " + message);
+  }
 }
 
 py::array_t<uint8_t> state_array(const std::vector<Gamma>& g) {
@@ -92,10 +145,19 @@ py::dict info_dict(const EnvironmentInfo& i) {
   return d;
 }
 
+// The world of the environment's episode. Before its first reset an environment has none (the
+// agent's world holds no model until an episode builds one): `what` is refused with a RogerError
+// rather than read through a null model.
+const World& world_of(const StageEnvironment& e, const std::string& what) {
+  if (!e.begun()) throw Error(what + ": no world yet (call reset first)");
+  return e.agent().world();
+}
+
 // The raw senses of the tick that just ran: what a per-tick learner observes.
-py::dict senses_dict(const Agent& agent) {
-  const Senses& s = agent.world().senses();
-  const int pixels = agent.world().camera().pixels;  // the body's eyes decide the shapes
+py::dict senses_dict(const StageEnvironment& e) {
+  const World& world = world_of(e, "senses");
+  const Senses& s = world.senses();
+  const int pixels = world.camera().pixels;  // the body's eyes decide the shapes
   py::array_t<uint8_t> images({2, pixels, 3});
   py::array_t<float> stimulus({2, pixels});
   for (int e = 0; e < 2; ++e)
@@ -116,7 +178,7 @@ py::dict senses_dict(const Agent& agent) {
   // float32 as every other float of the observation; joints within the body's ranges (an encoder
   // reads within its joint's range), so that the observation is always in its space.
   std::array<double, kDofCount> low, high;
-  observed_joint_ranges(agent.world().spec().body, low, high);
+  observed_joint_ranges(world.spec().body, low, high);
   py::array_t<float> q(kDofCount), qdot(kDofCount);
   for (int j = 0; j < kDofCount; ++j) {
     q.mutable_at(j) = float(std::clamp(s.q[j], low[size_t(j)], high[size_t(j)]));
@@ -132,8 +194,8 @@ py::dict senses_dict(const Agent& agent) {
 }
 
 // The picture `roger render --width width` draws of the environment's world now, H x W x 3 uint8.
-py::array_t<uint8_t> render_array(const StageEnvironment& e, int width) {
-  const World& world = e.agent().world();
+py::array_t<uint8_t> render_array(const StageEnvironment& e, int width, const std::string& what = "render") {
+  const World& world = world_of(e, what);
   RenderOptions options;
   options.width_px = width;
   RgbPicture p;
@@ -197,6 +259,22 @@ py::dict task_point_dict(const TaskSpace& space, const TaskPoint& t) {
     const TaskDim& dim = space.dims()[i];
     if (dim.kind == TaskDim::Kind::kReal) d[py::str(dim.name)] = t[i];
     else d[py::str(dim.name)] = int64_t(std::llround(t[i]));
+  }
+  return d;
+}
+
+// A task's scenario parameters with numbers as numbers: an int axis's as an int, a real axis's as
+// a float, any other value (a choice's, a parameter a teacher sets beside the space) as the engine
+// writes it in JSON (param_value_json: an integer, a number, else the text).
+py::dict typed_params(const TaskSpace& space, const ParamList& params) {
+  py::dict d;
+  for (const auto& [key, text] : params) {
+    const nlohmann::json v = param_value_json(text);
+    const int i = space.index(key);
+    const bool real = i >= 0 && space.dims()[size_t(i)].kind == TaskDim::Kind::kReal;
+    if (v.is_number_integer() && !real) d[py::str(key)] = v.get<int64_t>();
+    else if (v.is_number()) d[py::str(key)] = v.get<double>();
+    else d[py::str(key)] = text;
   }
   return d;
 }
@@ -286,13 +364,17 @@ void bind_environment(py::module_& m) {
              const EnvironmentOptions o = make_options(curriculum, stage, context, scenario, params, skills, per_tick,
                                                        tasks, teacher, teacher_file);
              py::gil_scoped_release nogil;
-             return std::make_unique<StageEnvironment>(o);
+             return make_environment(o, "make", [&] { return std::make_unique<StageEnvironment>(o); });
            }),
            py::arg("curriculum"), py::arg("stage"), py::arg("context"), py::arg("scenario") = "",
            py::arg("params") = py::dict(), py::arg("skills") = py::dict(), py::arg("per_tick") = false,
            py::arg("tasks") = "", py::arg("teacher") = "", py::arg("teacher_file") = "")
       .def_property_readonly("task_dims", [](const StageEnvironment& e) { return task_dims(e.task_space()); })
       .def_property_readonly("teaches", &StageEnvironment::teaches)
+      .def(
+          "typed_params",
+          [](const StageEnvironment& e, const ParamList& params) { return typed_params(e.task_space(), params); },
+          py::arg("params"))
       .def(
           "task_of",
           [](const StageEnvironment& e, const py::handle& task, const std::string& where) {
@@ -337,7 +419,8 @@ void bind_environment(py::module_& m) {
              return py::make_tuple(state_array(e.state()), r.reward, r.terminated, r.time_out);
            },
            py::arg("action"))
-      .def("render", &render_array, py::arg("width"))
+      .def(
+          "render", [](const StageEnvironment& e, int width) { return render_array(e, width); }, py::arg("width"))
       .def(
           "replay",
           [](StageEnvironment& e, uint64_t seed, const std::vector<int>& actions, const ParamList& task) {
@@ -355,7 +438,17 @@ void bind_environment(py::module_& m) {
       .def_property_readonly("decisions", [](const StageEnvironment& e) { return e.episode().decisions; })
       .def_property_readonly("episode_reward", [](const StageEnvironment& e) { return e.episode().reward; })
       .def_property_readonly("success", [](const StageEnvironment& e) { return e.episode().success; })
-      .def("senses", [](const StageEnvironment& e) { return senses_dict(e.agent()); });
+      .def("senses", [](const StageEnvironment& e) { return senses_dict(e); })
+      // The body of the episode's world, which a task or teacher may set apart from the stage's
+      // (eye_pixels): what the tick mode's observations are shaped and bounded by.
+      .def_property_readonly("body", [](const StageEnvironment& e) {
+        const World& world = world_of(e, "body");
+        std::array<double, kDofCount> low, high;
+        observed_joint_ranges(world.spec().body, low, high);
+        return py::dict(py::arg("eye_pixels") = world.camera().pixels,
+                        py::arg("joint_low") = std::vector<double>(low.begin(), low.end()),
+                        py::arg("joint_high") = std::vector<double>(high.begin(), high.end()));
+      });
 }
 
 using IntArray = py::array_t<int64_t, py::array::c_style | py::array::forcecast>;
@@ -402,12 +495,10 @@ Autoreset autoreset_of(const std::string& mode) {
   throw Error("make_vec: autoreset_mode must be NextStep, SameStep or Disabled, got '" + mode + "'");
 }
 
-// Raises the fault of environment `first` as RogerError or ScriptError naming it, with the step's
-// outcomes of every environment as .results, the failed ones as .failed and the first as .env.
-[[noreturn]] void raise_vec_fault(std::exception_ptr error, int first, uint64_t seed, int n, const py::dict& results,
-                                  py::object failed) {
-  const std::string where = "environment " + std::to_string(first) + " of " + std::to_string(n) + " (seed " +
-                            std::to_string(seed) + ", its episode is over): ";
+// Raises `error` of environment `first` as RogerError or ScriptError (PlacementError) with
+// `where` in front of its message and .env = first (and .file, .line of a Lua fault).
+[[noreturn]] void raise_vec_error(std::exception_ptr error, int first, const std::string& where,
+                                  const std::function<void(py::object&)>& more = {}) {
   py::object exc;
   PyObject* type = roger_error_type;
   try {
@@ -421,10 +512,26 @@ Autoreset autoreset_of(const std::string& mode) {
     exc = py::handle(type)(where + e.what());
   }
   exc.attr("env") = first;
-  exc.attr("failed") = failed;
-  exc.attr("results") = results;
+  if (more) more(exc);
   PyErr_SetObject(type, exc.ptr());
   throw py::error_already_set();
+}
+
+// Raises the fault of environment `first` as RogerError or ScriptError naming it, with the step's
+// outcomes of every environment as .results, the failed ones as .failed and the first as .env.
+[[noreturn]] void raise_vec_fault(std::exception_ptr error, int first, uint64_t seed, int n, const py::dict& results,
+                                  py::object failed) {
+  const std::string where = "environment " + std::to_string(first) + " of " + std::to_string(n) + " (seed " +
+                            std::to_string(seed) + ", its episode is over): ";
+  raise_vec_error(error, first, where, [&](py::object& exc) {
+    exc.attr("failed") = failed;
+    exc.attr("results") = results;
+  });
+}
+
+// "environment 1 of 3" for messages.
+std::string env_name(py::ssize_t i, py::ssize_t n) {
+  return "environment " + std::to_string(i) + " of " + std::to_string(n);
 }
 
 py::dict vec_reset(VecEnvironment& v, const ByteArray& mask, const ByteArray& seeded, const SeedArray& seeds) {
@@ -433,9 +540,24 @@ py::dict vec_reset(VecEnvironment& v, const ByteArray& mask, const ByteArray& se
     throw Error("reset: expected one mask entry and one seed per environment (" + std::to_string(n) + ")");
   EpisodeArrays now(n, k);
   const VecEnvironment::ResetRequest request{mask.data(), seeded.data(), seeds.data()};
+  std::exception_ptr error;
   {
     py::gil_scoped_release nogil;
-    v.reset(request, now.out());
+    try {
+      v.reset(request, now.out());
+    } catch (...) {
+      error = std::current_exception();
+    }
+  }
+  if (error) {
+    // The environment that failed is the first reset one left without a running episode: a
+    // reset that succeeds runs to its first decision.
+    const uint8_t* m = mask.data();
+    py::ssize_t first = 0;
+    while (first < n && !(m[first] && !v.env(int(first)).running())) ++first;
+    if (first == n) std::rethrow_exception(error);
+    raise_vec_error(error, int(first), "reset: " + env_name(first, n) + " (seed " +
+                                           std::to_string(v.env(int(first)).seed()) + "): ");
   }
   py::dict d;
   now.put(d, "");
@@ -447,6 +569,12 @@ py::dict vec_step(VecEnvironment& v, const IntArray& actions) {
   if (actions.ndim() != 1 || actions.shape(0) != n)
     throw Error("step: expected " + std::to_string(n) + " actions, one per environment, got an array of " +
                 std::to_string(actions.size()));
+  // An environment that no reset has begun (its reset_mask entry False at every reset) has no
+  // episode to step: refused before anything runs, rather than stepped into a fault.
+  for (py::ssize_t i = 0; i < n; ++i)
+    if (!v.env(int(i)).begun())
+      throw Error("step: " + env_name(i, n) + " has not been reset yet (its reset_mask entry was False at every "
+                  "reset): reset it first (reset(options={'reset_mask': ...}))");
   EpisodeArrays now(n, k), last(n, k);
   py::array_t<double> rewards(n), episode_rewards(n);
   auto term = flags(n), time_out = flags(n), restarted = flags(n), ended = flags(n), failed = flags(n),
@@ -525,7 +653,8 @@ void bind_vec(py::module_& m) {
              const EnvironmentOptions o = make_options(curriculum, stage, context, scenario, params, skills, false);
              const Autoreset mode = autoreset_of(autoreset);
              py::gil_scoped_release nogil;
-             return std::make_unique<VecEnvironment>(o, num_envs, threads, mode);
+             return make_environment(o, "make_vec",
+                                     [&] { return std::make_unique<VecEnvironment>(o, num_envs, threads, mode); });
            }),
            py::arg("curriculum"), py::arg("stage"), py::arg("context"), py::arg("scenario") = "",
            py::arg("params") = py::dict(), py::arg("skills") = py::dict(), py::arg("num_envs") = 1,
@@ -538,11 +667,17 @@ void bind_vec(py::module_& m) {
       .def("step", &vec_step, py::arg("actions"))
       .def("snapshot", &vec_snapshot)
       .def("restore", &vec_restore, py::arg("state"))
+      .def_property_readonly("begun",
+                             [](const VecEnvironment& v) {
+                               std::vector<bool> out;
+                               for (int i = 0; i < v.size(); ++i) out.push_back(v.env(i).begun());
+                               return out;
+                             })
       .def(
           "render",
           [](const VecEnvironment& v, int i, int width) {
             if (i < 0 || i >= v.size()) throw Error("render: no environment " + std::to_string(i));
-            return render_array(v.env(i), width);
+            return render_array(v.env(i), width, "render: " + env_name(i, v.size()));
           },
           py::arg("i"), py::arg("width"));
 }

@@ -37,6 +37,7 @@ if __name__ == "__main__":  # not when a spawned process of multiprocessing impo
 EXAMPLE = "docs/examples/curriculum_example.lua"
 BAD_REWARD = "tests/python/fixtures/bad_reward.lua"
 TIMEOUT_FAULT = "tests/python/fixtures/timeout_fault.lua"
+ABSORBING_AT_ONCE = "tests/python/fixtures/absorbing_at_once.lua"
 PAPER = "curricula/paper.lua"
 FIRST_SEED = 1000000
 
@@ -150,6 +151,22 @@ class EvalMatches(unittest.TestCase):
         sg = train(PAPER, "SG", "DC2", 1, "sg-dc2")
         t = train(PAPER, "T", "DC6", 1, "t-dc6", skills=[("Phi_SG", sg)])
         self.check(PAPER, t, "T", "DC6", skills={"Phi_SG": sg})
+
+
+    def test_teacher_stage_matches_eval_without_its_teacher(self):
+        # roger eval runs a policy in the stage's own worlds, never a teacher's tasks: on a stage
+        # with a task space, a seeded reset asks the teacher for a task, so only teacher=False
+        # replays roger eval (docs/python.md, The environment).
+        policy_file = train(EXAMPLE, "Look", "Gaze", 3, "look")
+        expected = roger_eval(EXAMPLE, policy_file, 20, FIRST_SEED)
+        policy = roger.load_policy(policy_file)
+        details = {}
+        untaught = roger.make(EXAMPLE, "Look", "Gaze", tasks=LOOK_TASKS, teacher=False)
+        self.assertEqual(python_eval(untaught, policy, 20, FIRST_SEED, details)[0], expected["successes"])
+        self.assertEqual(details["time_mean"], expected["time_mean"])
+        taught = roger.make(EXAMPLE, "Look", "Gaze", tasks=LOOK_TASKS)
+        python_eval(taught, policy, 20, FIRST_SEED, details)
+        self.assertNotEqual(details["time_mean"], expected["time_mean"])  # the teacher's worlds
 
 
 def single_replay(env, seed, n, actions, mode):
@@ -292,6 +309,35 @@ class Interface(unittest.TestCase):
         self.assertTrue(env.observation_space.contains(obs))
 
 
+    def test_tick_mode_pays_the_lua_reward_per_tick(self):
+        # Every tick is a decision in tick mode, so a Lua reward's "decision" cost (-1 in the
+        # tutorial's stage) is paid at every tick: returns are not decision mode's (docs/python.md).
+        env = roger.make(EXAMPLE, "Look", "Gaze", mode="tick")
+        env.reset(seed=7)
+        rewards = [env.step(0)[1] for _ in range(5)]
+        self.assertEqual(rewards, [-1.0] * 5)
+
+    def test_tick_mode_refuses_a_body_outside_its_space(self):
+        # The space is made from the stage's body; a teacher that sets the eyes' pixels (LCAS lifts
+        # eye_pixels from 32) would give images outside it: the reset is refused, not observed.
+        env = roger.make(TEACHERS, "SG_lcas", "B1", mode="tick")
+        self.assertEqual(env.observation_space["images"].shape, (2, 128, 3))
+        with self.assertRaises(roger.RogerError) as cm:
+            env.reset(seed=1)
+        for text in ("reset: tick mode's observation_space", "{'eye_pixels': 32}", "eyes of 32 pixels",
+                     "have 128 (stage_info['eye_pixels'])", "teacher=False", "mode='decision'"):
+            self.assertIn(text, str(cm.exception))
+        self.assertRaisesRegex(roger.RogerError, "the last reset was refused", env.step, 0)
+        self.assertRaisesRegex(roger.RogerError, "the last reset was refused", copy.deepcopy(env).step, 0)
+        obs, _ = roger.make(TEACHERS, "SG_lcas", "B1", mode="tick", teacher=False).reset(seed=1)
+        self.assertEqual(obs["images"].shape, (2, 128, 3))
+        self.assertEqual(roger.make(TEACHERS, "SG_lcas", "B1").reset(seed=1)[1]["task_params"], {"eye_pixels": 32})
+        # A task space over eye_pixels is refused at make.
+        with self.assertRaises(roger.RogerError) as cm:
+            roger.make(EXAMPLE, "Look", "Gaze", mode="tick", tasks={"eye_pixels": roger.axis.int(32, 40)})
+        self.assertIn("the task space varies eye_pixels (roger.int(32, 40))", str(cm.exception))
+
+
 class GymnasiumApi(unittest.TestCase):
     """One environment as Gymnasium 1.x users expect it, with or without gymnasium installed."""
 
@@ -373,6 +419,46 @@ class GymnasiumApi(unittest.TestCase):
     def test_tick_mode_render_fps(self):
         env = roger.make(EXAMPLE, "Look", "Gaze", mode="tick")
         self.assertEqual(env.metadata["render_fps"], round(1 / env.stage_info["tick_seconds"]))
+
+
+    def test_stand_in_spaces_are_gymnasiums(self):
+        # The package's own spaces (used without gymnasium) seed, sample and hold members as
+        # gymnasium 1.x's do; where gymnasium is importable, the same seeds give the same samples.
+        from roger import _spaces as S
+        tasks = S.Dict({"shape": S.Discrete(4), "distance": S.Box(0.8, 2.0, (), np.float64),
+                        "obstacles": S.Discrete(7, start=1)})
+        self.assertEqual(list(tasks.spaces), ["distance", "obstacles", "shape"])  # sorted, as gymnasium's
+        tasks.seed(0)
+        first = [tasks.sample() for _ in range(3)]
+        tasks.seed(0)
+        self.assertEqual(repr(first), repr([tasks.sample() for _ in range(3)]))
+        self.assertEqual(repr(S.Dict(tasks.spaces, seed=5).sample()), repr(S.Dict(tasks.spaces, seed=5).sample()))
+        self.assertTrue(all(tasks.contains(t) for t in first))
+        d = S.Discrete(3, seed=1)
+        self.assertIsInstance(d.sample(), np.int64)
+        for member in (1, np.array(1), np.int8(2)):
+            self.assertTrue(d.contains(member), member)
+        for other in (3, 1.0, np.array([1]), np.array(1, np.uint64)):
+            self.assertFalse(d.contains(other), other)
+        m = S.MultiDiscrete(np.full(2, 3))
+        for member in ([1, 2], np.array([1, 2], np.int32), np.array([0, 2], np.uint8)):
+            self.assertTrue(m.contains(member), member)
+        for other in ([1, 3], np.array([1.0, 2.0]), np.array([1, 2], np.uint64), [1, 2, 0]):
+            self.assertFalse(m.contains(other), other)  # floats do not cast to int64 safely (gymnasium 1.2.3+)
+        box = S.Box(np.zeros(3, np.float32), np.ones(3, np.float32))
+        self.assertEqual((box.shape, box.dtype), ((3,), np.float32))
+        self.assertEqual(S.Box(0, 1).shape, (1,))
+        try:
+            gym_spaces = importlib.import_module("gymnasium.spaces")
+        except ImportError:
+            return
+        for make in (lambda M: M.Dict({"shape": M.Discrete(4), "distance": M.Box(0.8, 2.0, (), np.float64)}, seed=3),
+                     lambda M: M.MultiDiscrete(np.full(4, 3), seed=3),
+                     lambda M: M.Box(np.array([0., -np.inf, 0.]), np.array([1., 1., np.inf]), seed=3),
+                     lambda M: M.Box(0, 255, (2, 3), np.uint8, seed=3)):
+            ours, theirs = make(S), make(gym_spaces)
+            self.assertEqual(repr([ours.sample() for _ in range(3)]), repr([theirs.sample() for _ in range(3)]))
+            self.assertEqual(repr(ours), repr(theirs))
 
 
 def read_png(path):
@@ -507,6 +593,55 @@ class VectorApi(unittest.TestCase):
         self.assertFalse(np.array_equal(frames[0], frames[1]))  # different worlds
         self.assertIsNone(self.make().render())
 
+    def test_render_before_reset_raises(self):
+        # An environment of the batch that no reset has begun has no world: rendering it raises,
+        # naming it, as Env.render does (it used to read a null world and crash the interpreter).
+        vec = self.make(render_mode="rgb_array", render_width=200)
+        self.assertRaisesRegex(roger.RogerError, r"render: environment 0 of 3: no world yet \(call reset first\)",
+                               vec.render)
+        vec.reset(seed=1, options={"reset_mask": np.array([True, False, True])})
+        self.assertRaisesRegex(roger.RogerError, "render: environment 1 of 3: no world yet", vec.render)
+        vec.reset(options={"reset_mask": np.array([False, True, False])})
+        self.assertEqual(len(vec.render()), 3)
+
+    def test_masked_first_reset_plays_distinct_worlds(self):
+        # A seeded reset that leaves an environment out gives it its place in the schedule all the
+        # same (S + i), so that its first reset does not replay another's worlds; stepping it before
+        # any reset is refused, naming it, and nothing runs.
+        vec = self.make(2)
+        obs, info = vec.reset(seed=1, options={"reset_mask": np.array([True, False])})
+        with self.assertRaises(roger.RogerError) as cm:
+            vec.step(np.array([0, 0]))
+        self.assertIn("environment 1 of 2 has not been reset yet", str(cm.exception))
+        self.assertNotIn("its episode is over", str(cm.exception))
+        twin = pickle.loads(pickle.dumps(vec))  # a copy keeps the place too
+        for v in (vec, twin):
+            _, info = v.reset(options={"reset_mask": np.array([False, True])})
+            self.assertEqual(info["seed"][1], 2)
+        self.assertEqual(twin.step(np.array([0, 0]))[4]["ticks"][0], vec.step(np.array([0, 0]))[4]["ticks"][0])
+        worlds, rng = {0: [1], 1: [2]}, np.random.default_rng(3)
+        for _ in range(150):
+            _, _, _, _, info = vec.step(rng.integers(0, 2, size=2))
+            for i in (0, 1):
+                if info["ticks"][i] == 0:  # the first step of an episode (NEXT_STEP autoreset)
+                    worlds[i].append(int(info["seed"][i]))
+        self.assertGreater(len(worlds[0]) + len(worlds[1]), 10)
+        self.assertFalse(set(worlds[0]) & set(worlds[1]), worlds)
+        self.assertEqual(worlds[1][:3], [2, 4, 6])
+
+    def test_reset_failure_names_the_environment(self):
+        # Every episode of this stage ends at once: the reset fails after 1000 of them, and says so
+        # as a reset's error of the environment, not as make_vec's.
+        vec = roger.make_vec(ABSORBING_AT_ONCE, "Look", "Gaze", num_envs=2, threads=1)
+        with self.assertRaises(roger.RogerError) as cm:
+            vec.reset(seed=5)
+        self.assertEqual(cm.exception.env, 0)
+        text = str(cm.exception)
+        self.assertTrue(text.startswith("reset: environment 0 of 2 (seed "), text)
+        self.assertIn("1000 episodes in a row ended before their first decision (its absorbing function holds at once)",
+                      text)
+        self.assertNotIn("make_vec", text)
+
     def test_close_is_final(self):
         vec = self.make()
         vec.reset(seed=1)
@@ -558,12 +693,26 @@ class BadArguments(unittest.TestCase):
 
     def test_unknown_stage_and_context(self):
         self.assertRaisesWith(roger.RogerError, ["Nope", "Look"], roger.make, EXAMPLE, "Nope", "Gaze")
-        self.assertRaisesWith(roger.RogerError, ["Nope", "Gaze"], roger.make, EXAMPLE, "Look", "Nope")
+        # The file is named for an unknown context as for an unknown stage.
+        self.assertRaisesWith(roger.RogerError, [EXAMPLE + ": stage 'Look' has no context 'Nope'", "Gaze"], roger.make,
+                              EXAMPLE, "Look", "Nope")
+        self.assertRaisesWith(roger.RogerError, [EXAMPLE + ": stage 'Look' has no context 'Nope'"], roger.make_vec,
+                              EXAMPLE, "Look", "Nope", 2)
         self.assertRaisesWith(roger.RogerError, ["no_such_curriculum"], roger.make, "no_such_curriculum", "T", "B2")
         self.assertRaisesWith(roger.RogerError, ["shape"], roger.make, PAPER, "T", "B2", params={"shape": "cube"})
 
     def test_missing_learned_skill(self):
         self.assertRaisesWith(roger.RogerError, ["Phi_SG", "skills="], roger.make, PAPER, "T", "DC6")
+
+    def test_unused_skill_is_refused(self):
+        # As roger train refuses a --skill the context does not use: a misspelt name is not ignored.
+        self.assertRaisesWith(roger.RogerError, ["make: skills={'Phi_XX': 'x.json'}", PAPER, "stage 'T', context 'B2'",
+                                                 "uses no learned skill 'Phi_XX' (it uses none)"],
+                              roger.make, PAPER, "T", "B2", skills={"Phi_XX": "x.json"})
+        self.assertRaisesWith(roger.RogerError, ["uses no learned skill 'Phi_XX'; it uses Phi_SG"],
+                              roger.make, PAPER, "T", "DC6", skills={"Phi_SG": "sg.json", "Phi_XX": "x.json"})
+        self.assertRaisesWith(roger.RogerError, ["make_vec: skills={'Phi_XX': 'x.json'}"],
+                              roger.make_vec, PAPER, "T", "B2", 2, skills={"Phi_XX": "x.json"})
 
     def test_bad_action(self):
         env = roger.make(EXAMPLE, "Look", "Gaze")
@@ -602,6 +751,43 @@ class BadArguments(unittest.TestCase):
     def test_state_index_overflow(self):
         self.assertEqual(roger.state_index([2] * 19), 3 ** 19 - 1)
         self.assertRaisesWith(roger.RogerError, ["20 actions", "at most 19"], roger.state_index, [2] * 20)
+
+    def test_state_index_takes_what_act_takes(self):
+        # The integers 0, 1, 2 (whole floats too), as Policy.act; fractions and booleans are refused
+        # with a RogerError, never a binding's TypeError or a boolean read as a number.
+        self.assertEqual(roger.state_index([2, 1]), 7)
+        self.assertEqual(roger.state_index(np.array([2.0, 1.0])), 7)
+        self.assertEqual(roger.state_index(np.array([2, 1], np.uint8)), 7)
+        for bad, text in (([1.5, 0], "integers 0 (NOREF)"), ([True, False], "integers 0 (NOREF)"),
+                          (["a", "b"], "integers 0 (NOREF)"), ([0, 3], "is 0, 1 or 2, got 3"),
+                          ([0, 10 ** 12], "is 0, 1 or 2")):
+            with self.subTest(bad=bad):
+                self.assertRaisesWith(roger.RogerError, [text], roger.state_index, bad)
+
+    def test_mix_takes_the_engines_tags(self):
+        # docs/python.md writes the teacher's stream as roger.mix(S, "teach"), the engine's tag.
+        self.assertEqual(roger.mix(5, "teach"), roger.mix(5, 0x7465616368))
+        env = roger.make(EXAMPLE, "Look", "Gaze", tasks=LOOK_TASKS)
+        env.reset(seed=9)
+        self.assertEqual(env._teacher_seed, roger.mix(9, "teach"))
+        for bad in ("", "too long a tag", -1):
+            with self.subTest(bad=bad):
+                self.assertRaises(roger.RogerError, roger.mix, 5, bad)
+        self.assertRaises(roger.RogerError, roger.mix, -5, 1)
+
+    def test_closed_environment_refuses_every_method(self):
+        # close() is final (docs/python.md): the task and teacher methods raise too; what describes
+        # the environment stays readable.
+        env = roger.make(EXAMPLE, "Look", "Gaze", tasks=LOOK_TASKS)
+        env.reset(seed=1)
+        env.close()
+        for name, call in (("set_task", lambda: env.set_task(None)), ("get_task", env.get_task),
+                           ("sample_tasks", lambda: env.sample_tasks(1)), ("task_params", lambda: env.task_params({})),
+                           ("teacher_state", lambda: env.teacher_state), ("render", env.render)):
+            with self.subTest(name):
+                self.assertRaisesWith(roger.RogerError, [name, "closed"], call)
+        self.assertEqual((env.actions, env.stage_info["stage"]), (("search", "phi0"), "Look"))
+        self.assertIsNotNone(env.task_space)
 
     def test_policy_act_refuses_fractions(self):
         policy = roger.load_policy(train(EXAMPLE, "Look", "Gaze", 3, "look"))
@@ -948,7 +1134,7 @@ class Tasks(unittest.TestCase):
             acts = list(np.random.default_rng(seed).integers(2, size=40))
             task = task_episode(env, seed, {"task": {"robot_distance": 0.6, "shape": "spade"}}, acts)
             self.assertEqual(task["steps"], task_episode(fixed, seed, actions=acts)["steps"])
-            self.assertEqual(task["params"], {"robot_distance": "0.6", "shape": "spade"})
+            self.assertEqual(task["params"], {"robot_distance": 0.6, "shape": "spade"})
             differ += task["steps"] != task_episode(plain, seed, actions=acts)["steps"]
             # A reset without a task has the stage's parameters again, not the last task's.
             self.assertEqual(task_episode(env, seed, actions=acts)["steps"], task_episode(plain, seed, actions=acts)["steps"])
@@ -960,7 +1146,7 @@ class Tasks(unittest.TestCase):
         by_value = env.reset(seed=4, options={"task": {"robot_distance": 1.25, "shape": "spade"}})[1]
         self.assertEqual(by_index["task"], {"robot_distance": 1.25, "shape": 1})
         self.assertEqual(by_index["task"], by_value["task"])
-        self.assertEqual(by_index["task_params"], {"robot_distance": "1.25", "shape": "spade"})
+        self.assertEqual(by_index["task_params"], {"robot_distance": 1.25, "shape": "spade"})
         env.task_space.seed(3)
         for _ in range(5):
             sample = env.task_space.sample()
@@ -969,6 +1155,23 @@ class Tasks(unittest.TestCase):
             self.assertEqual(env.get_task()["robot_distance"], float(sample["robot_distance"]))
             self.assertEqual(env.get_task()["shape"], int(sample["shape"]))
         self.assertIsNone(env.reset(seed=4)[1]["task"])  # no teacher: the stage's parameters
+
+    def test_task_params_are_numbers(self):
+        # info["task_params"] and task_params(): an int axis's value an int, a real's a float, a
+        # choice's its value (the scenario's text), with the exact value the scenario took.
+        env = roger.make(TEACHERS, "T_alp", "B2")
+        _, info = env.reset(seed=1)
+        params = info["task_params"]
+        self.assertEqual(sorted(params), ["obstacles", "robot_distance", "shape"])
+        self.assertIs(type(params["obstacles"]), int)
+        self.assertIs(type(params["robot_distance"]), float)
+        self.assertIsInstance(params["shape"], str)
+        self.assertEqual(params["robot_distance"], float(info["task"]["robot_distance"]))
+        self.assertEqual(env.task_params(info["task"]), params)
+        task = {"obstacles": 2, "robot_distance": 1.0, "shape": 0}
+        self.assertEqual(env.task_params(task), {"obstacles": 2, "robot_distance": 1.0, "shape": "circle"})
+        self.assertIs(type(env.task_params(task)["robot_distance"]), float)  # 1.0, not the text's 1
+        self.assertEqual(env.reset(seed=1, options={"task": task})[1]["task_params"], env.task_params(task))
 
     def test_bad_tasks(self):
         env = roger.make(EXAMPLE, "Look", "Gaze", tasks=LOOK_TASKS, teacher=False)
@@ -1039,7 +1242,7 @@ class Tasks(unittest.TestCase):
         last = None
         for n in range(8):  # the rule succeeds, searching alone times out: outcomes alternate
             r = task_episode(env, seed=11 if n == 0 else None, actions=[0] * 400 if n % 2 else None)
-            self.assertAlmostEqual(float(r["params"]["robot_distance"]), 0.6 + 0.1 * (n % 5), places=12)
+            self.assertAlmostEqual(r["params"]["robot_distance"], 0.6 + 0.1 * (n % 5), places=12)
             self.assertEqual(r["params"]["shape"], "spade" if last else "circle")
             self.assertEqual(r["success"], n % 2 == 0)
             last = r["success"]
@@ -1051,7 +1254,7 @@ class Tasks(unittest.TestCase):
         self.assertEqual(info["task_params"]["shape"], "circle")
         self.assertEqual(env.teacher_state["episodes"], 9)
         # A seeded reset starts the teacher afresh, as it starts the stream of worlds.
-        self.assertEqual(env.reset(seed=11)[1]["task_params"], {"robot_distance": "0.6", "shape": "circle"})
+        self.assertEqual(env.reset(seed=11)[1]["task_params"], {"robot_distance": 0.6, "shape": "circle"})
 
     def teacher_run(self, seed, episodes=25, teacher="roger.teacher.alp_gmm{fit_every = 10}"):
         env = roger.make(EXAMPLE, "Look", "Gaze", tasks=LOOK_TASKS, teacher=teacher)
@@ -1128,7 +1331,7 @@ class Tasks(unittest.TestCase):
         self.assertEqual(len(skipped), 5)  # of 13 draws, the ones whose world had no room
         for k in skipped:
             self.assertGreater(float(k["task"]["robot_distance"]), 1.9, k)
-            self.assertEqual(k["task_params"]["robot_distance"], repr(float(k["task"]["robot_distance"])))
+            self.assertEqual(k["task_params"]["robot_distance"], float(k["task"]["robot_distance"]))
             self.assertIn("scenarios/lib/place.lua:42: world:sample_position: no placement for 'circle'", k["error"])
         self.assertEqual(resets(env, 8, seed=3), runs)  # the same skips again from the same seed
         self.assertEqual(env.teacher_state["episodes"], 7)  # the 7 earlier episodes, each told at the next reset; no skip

@@ -29,7 +29,7 @@ import secrets
 import numpy as np
 
 from . import _roger
-from ._roger import PlacementError, RogerError, ScriptError, mix, state_index
+from ._roger import PlacementError, RogerError, ScriptError
 
 try:  # gymnasium is optional: its base classes and spaces when present, the same contracts otherwise
     import gymnasium as _gym
@@ -81,6 +81,38 @@ def _action(action, n, where):
     if not 0 <= int(action) < n:
         raise RogerError(f"{where}: action index {int(action)} is not in [0, {n})")
     return int(action)
+
+
+def _tag(i):
+    """mix's second argument: an integer, or a tag of 1 to 8 ASCII characters read as the integer of
+    its bytes (the first the most significant), as the engine writes its streams' tags: "teach" is
+    0x7465616368, the teacher's stream of roger train."""
+    if isinstance(i, str):
+        if not 1 <= len(i) <= 8 or not i.isascii():
+            raise RogerError(f"mix: a tag is 1 to 8 ASCII characters (\"teach\"), got {i!r}")
+        return int.from_bytes(i.encode("ascii"), "big")
+    return _seed(i, "mix (its second argument)")
+
+
+def mix(seed, i):
+    """The seed mixer of the engine: roger train's training episode e runs in world mix(seed, e + 1),
+    and its teacher draws from mix(seed, "teach"). `i` is an integer in [0, 2^64) or a tag of 1 to
+    8 ASCII characters, the integer of its bytes as the engine writes it ("teach" = 0x7465616368)."""
+    return _roger.mix(_seed(seed, "mix"), _tag(i))
+
+
+def state_index(obs):
+    """The row of a policy's Q table for a state vector (first action most significant): the integers
+    0 (NOREF), 1 (!CONV), 2 (CONV), as Policy.act takes them (floats only when whole numbers;
+    booleans are not states)."""
+    o = np.asarray(obs)
+    if o.ndim != 1 or o.dtype.kind not in "iuf" or (o.dtype.kind == "f" and not np.array_equal(o, np.trunc(o))):
+        raise RogerError(f"state_index: a state is a vector of the integers 0 (NOREF), 1 (!CONV), 2 (CONV), "
+                         f"got {obs!r}")
+    bad = o[(o < 0) | (o > 2)]
+    if bad.size:  # here, not in the extension: a value past its int would be a TypeError there
+        raise RogerError(f"state_index: a controller state is 0, 1 or 2, got {bad[0]}")
+    return _roger.state_index(o.astype(np.int64).tolist())
 
 
 def _render_mode(render_mode, where):
@@ -288,6 +320,8 @@ class Env(_Copyable, _EnvBase):
         self.action_space = spaces.Discrete(len(self.actions))
         n = len(self.actions)
         self.observation_space = _tick_space(n, self.stage_info) if mode == "tick" else _state_space(n)
+        if mode == "tick":
+            _check_tick_tasks(self._task_dims, self.stage_info)
         self._stream = None  # [S, k]: the last explicit seed, and the unseeded resets since it
         self._running = False  # an episode waits for step()
         self._faulted = False  # the episode ended by an error (a copy's replay meets it again)
@@ -315,7 +349,7 @@ class Env(_Copyable, _EnvBase):
                 "state": {a: GAMMA_NAMES[g] for a, g in zip(self.actions, state)}}
         if self.task_space is not None or self._teaching:
             info["task"] = self.get_task()
-            info["task_params"] = dict(self._task[1])  # as the scenario took them ("shape": "spade")
+            info["task_params"] = e.typed_params(self._task[1])  # as the scenario took them, numbers as numbers
         if ended:
             info["episode_reward"] = e.episode_reward
             info["success"] = info["is_success"] = e.success  # is_success: Stable-Baselines3's name
@@ -373,10 +407,43 @@ class Env(_Copyable, _EnvBase):
         if not running:
             raise RogerError(f"reset: the episode of seed {world} ended before its first decision "
                              "(its absorbing function holds at once)")
+        misfit = self._body_misfit()
+        if misfit:
+            self._refuse_body(world, misfit)
         info = self._info(state)
         if self._teaching:
             info["skipped_tasks"] = skipped
         return self._observe(state), info
+
+    def _body_misfit(self):
+        """In tick mode, how the episode's body differs from the one observation_space was made
+        for (the stage's, read from its first held-out world), or None: a task or a teacher can
+        set the body's parameters (LCAS lifts eye_pixels), and a Gymnasium space cannot change."""
+        if self.mode != "tick":
+            return None
+        body, info = self._env.body, self.stage_info
+        if body["eye_pixels"] != info["eye_pixels"]:
+            return (f"eyes of {body['eye_pixels']} pixels, where observation_space's images have "
+                    f"{info['eye_pixels']} (stage_info['eye_pixels'])")
+        if body["joint_low"] != info["joint_low"] or body["joint_high"] != info["joint_high"]:
+            return (f"joints read within {body['joint_low']} .. {body['joint_high']}, where observation_space's "
+                    f"are within {info['joint_low']} .. {info['joint_high']}")
+        return None
+
+    def _refuse_body(self, world, misfit):
+        """Refuses the episode just begun, whose observations would fall outside observation_space:
+        a teacher's task is asked and never told, as a skipped one (a copy's teacher asks it too)."""
+        self._running = False
+        source = "the teacher's task" if self._asked else "the task"
+        if self._asked:
+            self._asked = False
+            self._told.append(None)
+        params = self._env.typed_params(self._task[1])
+        raise RogerError(
+            f"reset: tick mode's observation_space is made for the stage's body, but the world of seed {world} "
+            f"({source} {params}) has another, with {misfit}: its observations would not be members of "
+            "observation_space. Keep the body's parameters out of the tasks (make(..., teacher=False), or a "
+            "teacher that does not set them), or use mode='decision'")
 
     def _teacher_task(self, env, seed, given):
         """Asks the teacher for this reset's task (made at the first reset that asks after a seed);
@@ -395,7 +462,8 @@ class Env(_Copyable, _EnvBase):
         scenario cannot build, and the reset says so."""
         self._asked = False
         self._told.append(None)
-        skipped.append({"task": self.get_task(), "task_params": dict(self._task[1]), "error": str(error)})
+        skipped.append({"task": self.get_task(), "task_params": self._env.typed_params(self._task[1]),
+                        "error": str(error)})
         if len(skipped) >= _MAX_SKIPPED_IN_A_ROW:
             raise RogerError(f"reset: the teacher's last {_MAX_SKIPPED_IN_A_ROW} tasks could not be placed: "
                              f"the task space asks for worlds the scenario cannot build. The last: {error}") from error
@@ -408,6 +476,8 @@ class Env(_Copyable, _EnvBase):
         timeout="truncate", the time-out is truncated instead of terminated."""
         env = self._open("step")
         a = _action(action, len(self.actions), f"step ({self.stage_info['stage']}/{self.stage_info['context']})")
+        if env.running and not self._running:  # the episode the last reset refused (_refuse_body)
+            raise RogerError("step: no episode is running: the last reset was refused (call reset first)")
         try:
             state, reward, terminated, time_out = env.step(a)
         except RogerError:
@@ -434,30 +504,36 @@ class Env(_Copyable, _EnvBase):
     def set_task(self, task):
         """Every later reset without options["task"] plays this task of task_space (RLlib's
         TaskSettableEnv); None gives the resets back to the teacher (or the stage's parameters)."""
-        self._set_task = None if task is None else self._open("set_task").task_of(task, "set_task")
+        env = self._open("set_task")
+        self._set_task = None if task is None else env.task_of(task, "set_task")
 
     def get_task(self):
         """The running (or last) episode's task as task_space holds it (a choice by its index);
         None when its world had the stage's own parameters."""
+        self._open("get_task")
         # A real axis's value as Box.sample gives it (a 0-d float64 array), so that it is a member.
         return None if self._task[0] is None else {
             k: np.asarray(v, np.float64) if isinstance(v, float) else v for k, v in self._task[0].items()}
 
     def sample_tasks(self, n):
         """n tasks drawn from task_space with its own generator (RLlib's TaskSettableEnv)."""
+        self._open("sample_tasks")
         if self.task_space is None:
             raise RogerError("sample_tasks: the stage has no task space (give make(..., tasks={...}))")
         return [self.task_space.sample() for _ in range(n)]
 
     def task_params(self, task):
-        """A task of task_space as the scenario parameters it sets ({"shape": "spade", ...})."""
-        return dict(self._open("task_params").task_of(task, "task_params")[1])
+        """A task of task_space as the scenario parameters it sets ({"shape": "spade", "obstacles": 3,
+        ...}: numbers as numbers)."""
+        env = self._open("task_params")
+        return env.typed_params(env.task_of(task, "task_params")[1])
 
     @property
     def teacher_state(self):
         """The teacher's own state (its kind, step, level, mixture, levels...), as `roger train`'s
         checkpoints record it; None before its first task."""
         import json
+        self._open("teacher_state")
         return None if self._teacher is None else json.loads(self._teacher.state())
 
     def render(self):
@@ -471,7 +547,9 @@ class Env(_Copyable, _EnvBase):
         return env.render(self.render_width)
 
     def close(self):
-        """Frees the world and the Lua state; every later call but close raises RogerError."""
+        """Frees the world and the Lua state; every later call of a method but close (and of
+        teacher_state) raises RogerError. What describes the environment (actions, stage_info,
+        the spaces, metadata, spec) stays readable, and a copy of it is closed too."""
         self._teacher = None  # first: a Lua teacher lives in the environment's Lua state
         self._env = None
 
@@ -493,7 +571,7 @@ class Env(_Copyable, _EnvBase):
         self._faulted = faulted
         try:
             self._env.replay(seed, actions, self._task[1])
-            self._running = self._env.running
+            self._running = self._env.running and self._body_misfit() is None  # refused as in the original
         except RogerError as e:
             if not faulted:  # the original's episode ran on: the replay should have too
                 raise RogerError(f"copy: the episode of seed {seed} did not replay ({len(actions)} actions): {e}") from e
@@ -517,6 +595,19 @@ class Env(_Copyable, _EnvBase):
             if point != self._task[0]:
                 raise RogerError(f"copy: the teacher asked {point} where the original's episode has {self._task[0]}")
             self._asked = True
+
+
+def _check_tick_tasks(dims, info):
+    """Refuses, at make, a task space whose tasks set the eyes' pixels in tick mode: the images'
+    shape is observation_space's, fixed at make (the teacher's settings beside the space are
+    checked at each reset)."""
+    for d in dims:
+        if d["name"] == "eye_pixels":
+            raise RogerError(
+                f"make: mode='tick' observes images of the stage's eyes (2 x {info['eye_pixels']} pixels, "
+                f"stage_info['eye_pixels']) in a space fixed at make, but the task space varies eye_pixels "
+                f"({d['text']}): its worlds' images would not fit observation_space. Fix eye_pixels with params, "
+                "leave it out of tasks, or use mode='decision'")
 
 
 def _tick_space(n, info):
@@ -613,6 +704,10 @@ class VecEnv(_Copyable, _VecBase):
                              "(gymnasium.make_vec(..., vectorization_mode='sync')), each with its teacher")
         self.metadata = {"autoreset_mode": mode, "render_modes": _RENDER_MODES, "render_fps": _DECISION_FPS}
         self.autoreset_mode = mode
+        # For each environment no reset has begun yet, the base seed a seeded reset that left it out
+        # (its reset_mask entry False) gave it: its first reset starts there, so that it does not
+        # replay the worlds of the others' schedules (None: the batch's S = 0, environment i at i).
+        self._pending = [None] * int(num_envs)
         self.stage_info = self._vec.info
         self.actions = tuple(self.stage_info["actions"])
         self.num_envs = int(num_envs)
@@ -645,7 +740,17 @@ class VecEnv(_Copyable, _VecBase):
         mask = _reset_mask(options, self.num_envs)
         seeded, seeds = _reset_seeds(seed, self.num_envs)
         super().reset(seed=_seed(seed, "reset") if isinstance(seed, (numbers.Integral, np.integer)) else None)
+        pending = list(self._pending)
+        for i, begun in enumerate(vec.begun):
+            if begun:
+                continue
+            if not mask[i]:  # left out again: a seed given now is where it will start
+                if seeded[i]:
+                    pending[i] = int(seeds[i])
+            elif not seeded[i] and pending[i] is not None:
+                seeded[i], seeds[i] = 1, pending[i]
         r = vec.reset(mask, seeded, seeds)
+        self._pending = [None if vec.begun[i] else p for i, p in enumerate(pending)]
         info, m = {}, mask.astype(bool)
         for key in ("seed", "sim_seconds", "ticks", "decisions"):
             _masked(info, key, r[key], m)
@@ -711,10 +816,11 @@ class VecEnv(_Copyable, _VecBase):
         return self._vec is None
 
     def _state(self):
-        return self._vec.snapshot()
+        return {"envs": self._vec.snapshot(), "pending": list(self._pending)}
 
     def _restore(self, state):
-        self._vec.restore(state)
+        self._vec.restore(state["envs"])
+        self._pending = list(state["pending"])
 
 
 class Policy:
