@@ -158,6 +158,12 @@ TEST_CASE("roger check names a misspelt top-level key, and finds bare names of e
   CHECK(missing.status == 1);
   CHECK_THAT(missing.err, Catch::Matchers::Contains("no script 'nope.lua': not a file here, and the project has no scenarios/nope.lua, "
                                    "curricula/nope.lua or scripts/nope.lua"));
+  // The static pass shows the script as it was named, as the loader does (it showed the absolute path).
+  const fs::path outside = temp_file("roger_cli_static.lua", "local x = pp\nreturn { name = 'c', generate = function() end }\n");
+  const std::string relative = fs::relative(outside).string();
+  const Run named = roger("check " + relative);
+  CHECK_THAT(named.err, Catch::Matchers::StartsWith("roger: error: " + relative + ":1: undefined global 'pp'"));
+  fs::remove(outside);
   CHECK_THAT(roger("check scripted").out, Catch::Matchers::Contains("scripted: ok (skill script 'scripted'"));
   CHECK_THAT(roger("check quick").out, Catch::Matchers::Contains("quick: ok (batch script 'quick'"));
 }

@@ -478,7 +478,10 @@ std::vector<StaticProblem> static_check(const std::string& path, std::optional<S
   while (!queue.empty()) {
     const fs::path file = queue.front();
     queue.pop_front();
-    files.push_back({sandbox.display_name(file), Scanner(read_file_text(file.string())).accesses});
+    // The script itself as the user named it, as the loader's messages show it; modules as the
+    // sandbox shows them.
+    const std::string shown = files.empty() && fs::path(path).is_relative() ? path : sandbox.display_name(file);
+    files.push_back({shown, Scanner(read_file_text(file.string())).accesses});
     for (const auto& a : files.back().accesses) {
       if (a.kind != Access::kRequire) continue;
       const fs::path module = find_module(sandbox, a.name);
