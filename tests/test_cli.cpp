@@ -148,7 +148,7 @@ TEST_CASE("roger check reports a misspelt roger member and an undefined global b
 TEST_CASE("roger check names a misspelt top-level key, and finds bare names of every kind", "[cli]") {
   const Run curriculum = roger("check tests/scripts/bad_top_key_curriculum.lua");
   CHECK(curriculum.status == 1);
-  CHECK_THAT(curriculum.err, Catch::Matchers::Contains("bad_top_key_curriculum.lua: the curriculum: unknown field 'stagez' (did you "
+  CHECK_THAT(curriculum.err, Catch::Matchers::Contains("bad_top_key_curriculum.lua:4: the curriculum: unknown field 'stagez' (did you "
                                       "mean 'stages'?)"));
   const Run skills = roger("check tests/scripts/bad_top_key_skills.lua");
   CHECK(skills.status == 1);

@@ -378,6 +378,16 @@ TEST_CASE("script mistakes are reported at the script's file:line", "[scenario]"
     CHECK(e.file == "tests/scripts/bad_syntax.lua");
     CHECK(e.line == 5);
   }
+  SECTION("a misspelt field of the returned table, at the line where it is written") {
+    // Found by a probe: these named the file alone, with a traceback of "[C]: in ?".
+    const ScriptError field = load_error("tests/scripts/bad_scenario_fields.lua");
+    CHECK(field.line == 6);
+    CHECK_THAT(field.message, StartsWith("parameter 'n': unknown field 'defualt' (did you mean 'default'?)"));
+    CHECK(field.traceback.empty());
+    const ScriptError top = load_error("tests/scripts/bad_scenario_top.lua");
+    CHECK(top.line == 5);
+    CHECK_THAT(top.message, StartsWith("the scenario table has an unknown field 'parms' (did you mean 'params'?)"));
+  }
   SECTION("runtime error inside a generator, with a traceback") {
     Scenario s = Scenario::load("tests/scripts/bad_runtime.lua");
     const ScriptError e = generate_error(s);

@@ -17,6 +17,7 @@
 #include "core/fileio.h"
 #include "core/text.h"
 #include "script/curriculum/curriculum_internal.h"
+#include "script/sandbox/lua_tokens.h"
 #include "script/control/lua_control.h"
 #include "script/scenario/scenario.h"
 
@@ -180,19 +181,6 @@ int line_of_stage(const std::string& text, const std::string& name) {
   return 0;
 }
 
-// Runs `body` on the value on top of the sandbox's stack inside a protected call. A Lua error
-// without a location (raised by C++ reading the returned table) is placed at `file`:`line`, as
-// they are when the error happens.
-void read_protected(LuaSandbox& sandbox, const std::string& file, const int& line,
-                    const std::function<void(lua_State*)>& body) {
-  try {
-    sandbox.call_protected(1, body);
-  } catch (const ScriptError& e) {
-    if (!e.file.empty()) throw;
-    throw ScriptError(e.message, file, line, "");
-  }
-}
-
 // The stage on top of the stack, read as the script left it when it returned, so that changes
 // made to a roger.stage table after the call count (a wrapper that shortens a required
 // curriculum's budgets, say). `file` and `line` become where the stage is written: roger.stage's
@@ -305,12 +293,22 @@ Curriculum Curriculum::load(const std::string& path_in, const SandboxLimits& lim
   const std::string text = read_file_text(path);
   std::string file = impl.path;  // for errors raised while C++ reads the returned table
   int line = 0;
-  read_protected(sandbox, file, line, [&](lua_State* L) {
+  sandbox.read_returned_table(file, [&]() { return line; }, [&](lua_State* L) {
     const int t = lua_gettop(L);
     if (!lua_istable(L, t))
       luaL_error(L, "a curriculum must return a table {name = ..., description = ..., stages = {...}}, got %s",
                  lua_describe_value(L, t).c_str());
-    LuaFields top(L, t, "the curriculum", {"name", "description", "stages"});
+    // A misspelt top-level key (stagez) is placed where it is written, else at the returned table.
+    const std::vector<std::string> known{"name", "description", "stages"};
+    const LuaTableMap map(text);
+    line = map.returned() >= 0 ? map.nodes()[size_t(map.returned())].line : map.return_line();
+    if (map.returned() >= 0)
+      for (const auto& e : map.nodes()[size_t(map.returned())].entries)
+        if (std::find(known.begin(), known.end(), e.key) == known.end()) {
+          line = e.line;
+          break;
+        }
+    LuaFields top(L, t, "the curriculum", known);
     impl.name = top.string("name", fs::path(path).stem().string());
     impl.description = top.string("description", "");
     if (top.push("stages") == LUA_TNIL) top.fail("missing required field 'stages' (a list of roger.stage{...})");

@@ -179,6 +179,16 @@ void LuaSandbox::call_protected(int nargs, const std::function<void(lua_State*)>
   call(nargs + 1, 0);
 }
 
+void LuaSandbox::read_returned_table(const std::string& file, const std::function<int()>& line,
+                                     const std::function<void(lua_State*)>& body) {
+  try {
+    call_protected(1, body);
+  } catch (const ScriptError& e) {
+    if (!e.file.empty()) throw;
+    throw ScriptError(e.message, file, line(), "");
+  }
+}
+
 void LuaSandbox::call(int nargs, int nresults) {
   Impl& s = *impl_;
   lua_State* L = s.L;

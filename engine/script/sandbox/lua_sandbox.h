@@ -119,6 +119,13 @@ class LuaSandbox {
   // throw, inside a protected call as call() runs Lua (budget, ScriptError out); pops the values.
   void call_protected(int nargs, const std::function<void(lua_State*)>& body);
 
+  // call_protected on the table a script returned (on the stack top), for the loaders that read
+  // it: a Lua error without a location (raised by C++ reading the table) is placed at
+  // `file`:`line()`, the line where what was being read is written, without a traceback (it
+  // would show only C).
+  void read_returned_table(const std::string& file, const std::function<int()>& line,
+                           const std::function<void(lua_State*)>& body);
+
   // load_file() then call() with no arguments; leaves nresults values on the stack.
   void run_file(const std::string& path, int nresults = 1);
 

@@ -17,6 +17,7 @@
 #include "core/fileio.h"
 #include "core/shape.h"
 #include "script/scenario/scenario_internal.h"
+#include "script/sandbox/lua_tokens.h"
 
 namespace roger {
 namespace fs = std::filesystem;
@@ -34,12 +35,20 @@ void Scenario::Impl::protect(const std::function<void(lua_State*)>& body, int na
 }
 
 // Checks the table the script returned (on the stack top) and keeps its generator.
-void Scenario::Impl::read_table(lua_State* L) {
+void Scenario::Impl::read_table(lua_State* L, const LuaTableMap& map) {
   const int t = lua_gettop(L);
+  const int returned = map.returned();
+  const int table_line = returned >= 0 ? map.nodes()[size_t(returned)].line : map.return_line();
+  // The line where the returned table's `key` is written, else the table's.
+  auto key_line = [&](const std::string& key) {
+    const LuaTableMap::Entry* e = map.entry(returned, key);
+    return e ? e->line : table_line;
+  };
+  reading_line = table_line;
   if (!lua_istable(L, t))
     throw error(std::string("a scenario script must return a table {name=..., params={...}, "
                             "generate=function(world, rng, params) ... end}, got ") +
-                luaL_typename(L, t));
+                    luaL_typename(L, t), reading_line);
   const std::vector<std::string> known{"description", "generate", "name", "params"};
   lua_pushnil(L);
   while (lua_next(L, t)) {
@@ -47,30 +56,37 @@ void Scenario::Impl::read_table(lua_State* L) {
     const std::string key = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "";
     if (std::find(known.begin(), known.end(), key) == known.end())
       throw error("the scenario table has an unknown field " +
-                  (key.empty() ? std::string("(a non-string key)") : "'" + key + "'" + suggestion(key, known)) +
-                  "; known fields: " + join(known));
+                      (key.empty() ? std::string("(a non-string key)") : "'" + key + "'" + suggestion(key, known)) +
+                      "; known fields: " + join(known),
+                  key.empty() ? table_line : key_line(key));
   }
   auto text_field = [&](const char* key, const std::string& fallback) {
     const int type = lua_getfield(L, t, key);
     std::string v = fallback;
     if (type == LUA_TSTRING) v = lua_tostring(L, -1);
     else if (type != LUA_TNIL)
-      throw error(std::string("the scenario's '") + key + "' must be a string, got " + luaL_typename(L, -1));
+      throw error(std::string("the scenario's '") + key + "' must be a string, got " + luaL_typename(L, -1),
+                  key_line(key));
     lua_pop(L, 1);
     return v;
   };
   name = text_field("name", fs::path(path).stem().string());
   description = text_field("description", "");
-  if (lua_getfield(L, t, "params") != LUA_TNIL) read_params(L, -1);
+  reading_line = key_line("params");
+  const LuaTableMap::Entry* params_entry = map.entry(returned, "params");
+  params_node = params_entry ? map.value_node(*params_entry) : -1;
+  if (lua_getfield(L, t, "params") != LUA_TNIL) read_params(L, -1, map);
   lua_settop(L, t);
+  reading_line = key_line("generate");
   if (lua_getfield(L, t, "generate") != LUA_TFUNCTION)
     throw error(std::string("the scenario table needs generate = function(world, rng, params) ... "
-                            "end, got ") + luaL_typename(L, -1));
+                            "end, got ") + luaL_typename(L, -1), reading_line);
   lua_Debug ar;
   lua_pushvalue(L, -1);
   lua_getinfo(L, ">S", &ar);
   generate_line = ar.linedefined;
   generate_ref = luaL_ref(L, LUA_REGISTRYINDEX);
+  reading_line = 0;
 }
 
 void install_scenario_api(LuaSandbox& sandbox) {
@@ -92,7 +108,10 @@ Scenario Scenario::load(const std::string& path_in, const SandboxLimits& limits)
   install_scenario_api(impl.sandbox);
   impl.sandbox.set_main_script(path);
   impl.sandbox.run_file(path, 1);
-  impl.protect([&](lua_State* L) { impl.read_table(L); }, 1);
+  // A table carries no lines: where its fields are written, from the text, for the messages.
+  const LuaTableMap map(read_file_text(path));
+  impl.sandbox.read_returned_table(impl.path, [&]() { return impl.reading_line; },
+                                   [&](lua_State* L) { impl.read_table(L, map); });
   return s;
 }
 

@@ -21,6 +21,7 @@
 #include "core/body.h"
 #include "core/rng.h"
 #include "script/sandbox/lua_sandbox.h"
+#include "script/sandbox/lua_tokens.h"
 #include "script/scenario/scenario.h"
 
 namespace roger {
@@ -212,14 +213,20 @@ struct Scenario::Impl {
   void protect(const std::function<void(lua_State*)>& body, int nargs = 0);
 
   // A ScriptError at the scenario file (and line, when known).
-  ScriptError error(const std::string& message, int line = 0) const {
-    return ScriptError(message, path, line, "");
+  // An error of the scenario file, at `line`; without one, at the line being read (0 once the
+  // returned table is read).
+  ScriptError error(const std::string& message, int line = -1) const {
+    return ScriptError(message, path, line < 0 ? reading_line : line, "");
   }
 
-  // Reads the `params` table (scenario_params.cpp).
-  void read_params(lua_State* L, int index);
+  // Reads the `params` table (scenario_params.cpp); `map`: where the script's tables are written.
+  void read_params(lua_State* L, int index, const LuaTableMap& map);
   // Checks the table the script returned and keeps its generator (scenario.cpp).
-  void read_table(lua_State* L);
+  void read_table(lua_State* L, const LuaTableMap& map);
+  // While the returned table is read: the line of what is being read, and the constructor of its
+  // `params` table in the map (-1: not written in the text).
+  int reading_line = 0;
+  int params_node = -1;
   // The slot `key` would hold with `value` (into `out`), or why not: Scenario::set_param's message.
   std::optional<std::string> parse_param(const std::string& key, const std::string& value,
                                          scenario_detail::ParamSlot& out) const;

@@ -126,14 +126,20 @@ bool is_identifier(const std::string& s) {
 using namespace scenario_detail;
 
 // Reads the `params` table: short (name = default) and long ({default=, ...}) forms.
-void Scenario::Impl::read_params(lua_State* L, int index) {
+void Scenario::Impl::read_params(lua_State* L, int index, const LuaTableMap& map) {
   index = lua_absindex(L, index);
+  const int params_line = reading_line;
   if (!lua_istable(L, index))
     throw error(std::string("the scenario's 'params' must be a table of name = default, got ") +
-                luaL_typename(L, index));
+                    luaL_typename(L, index), params_line);
   lua_pushnil(L);
   while (lua_next(L, index)) {
     const int key_slot = lua_gettop(L) - 1;
+    // Where this parameter is written (a table built by code, body.with_params{...}, has no
+    // entries in the text: then the `params` line).
+    const LuaTableMap::Entry* e =
+        lua_type(L, -2) == LUA_TSTRING ? map.entry(params_node, lua_tostring(L, -2)) : nullptr;
+    reading_line = e ? e->line : params_line;
     ParamSlot slot = read_param(L);
     params[slot.info.name] = std::move(slot);
     lua_settop(L, key_slot);  // keep the key for lua_next

@@ -77,19 +77,6 @@ class SourceMap {
   int returned_ = -1;
 };
 
-// Runs `body` on the value on top of the sandbox's stack inside a protected call. A Lua error
-// without a location (raised by C++ reading the returned table) is placed at `file`:`line()`, the
-// line of the field being read when it happened.
-void read_protected(LuaSandbox& sandbox, const std::string& file, const std::function<int()>& line,
-                    const std::function<void(lua_State*)>& body) {
-  try {
-    sandbox.call_protected(1, body);
-  } catch (const ScriptError& e) {
-    if (!e.file.empty()) throw;
-    throw ScriptError(e.message, file, line(), "");
-  }
-}
-
 // Depth-first walk adding every controller once (name stand-ins are looked through).
 void collect(const Controller* c, std::set<const Controller*>& seen,
              const std::map<const Controller*, ControllerPtr>& owners, std::vector<ControllerPtr>& out) {
@@ -296,7 +283,7 @@ SkillScript SkillScript::load(const std::string& path_in, const SandboxLimits& l
   finish_control_definitions(sandbox);
 
   int line = 0;  // the line of what is being read, for errors raised without one
-  read_protected(sandbox, impl.path, [&]() { return line; }, [&](lua_State* L) {
+  sandbox.read_returned_table(impl.path, [&]() { return line; }, [&](lua_State* L) {
     const int t = lua_gettop(L);
     const std::vector<std::string> known{"description", "name", "policies"};
     check_script_keys(L, t, known, map, line);
