@@ -109,6 +109,8 @@ TEST_CASE("roger check calls the Lua callbacks as at an episode's first decision
       {"bad_curriculum_reward_nan.lua", "bad_curriculum_reward_nan.lua:5: stage 'S', context 'A': the reward function "
                                         "must return a finite number, got number nan (event 'decision')"},
       {"bad_curriculum_predicate_raises.lua", "bad_curriculum_predicate_raises.lua:5: stage 'S', context 'A'"},
+      {"bad_curriculum_state_name.lua", "bad_curriculum_state_name.lua:5: stage 'S', context 'A': absorbing function: "
+                                        "state has no action 'Phi3' (did you mean 'phi3'?); its actions: phi3"},
   };
   for (const auto& [file, says] : cases) {
     INFO(file);

@@ -2,7 +2,7 @@
 local p3 = roger.primitive("phi3")
 local p0 = roger.primitive("phi0")
 local function absorbing(state)
-  error("no such sensor: " .. tostring(state.nose))
+  error("no such sensor: " .. tostring(state.phi3 and "nose"))
 end
 return { stages = {
   roger.stage{ name = "S", time_limit = 0.5, absorbing = absorbing,

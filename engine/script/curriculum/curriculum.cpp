@@ -336,13 +336,38 @@ Curriculum Curriculum::load(const std::string& path_in, const SandboxLimits& lim
 
 namespace {
 
-// Pushes a state as a Lua table {[action name] = "CONV" | "!CONV" | "NOREF"}.
+// The state table's __index, reached only by a name that is not one of its actions: an error at
+// the callback's line naming the actions, where a nil would make `state.Phi3 == "CONV"` false for
+// good and the stage fail to learn without a word.
+int state_unknown_action(lua_State* L) {
+  std::vector<std::string> names;
+  lua_pushnil(L);
+  while (lua_next(L, 1)) {
+    lua_pop(L, 1);
+    if (lua_type(L, -1) == LUA_TSTRING) names.push_back(lua_tostring(L, -1));
+  }
+  std::sort(names.begin(), names.end());
+  const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : luaL_tolstring(L, 2, nullptr);
+  const std::string text = "state has no action '" + key + "'" + suggestion(key, names) + "; its actions: " + join(names);
+  luaL_where(L, 2);  // the Lua function that read it (level 1 is this metamethod)
+  lua_pushstring(L, text.c_str());
+  lua_concat(L, 2);
+  return lua_error(L);
+}
+
+// Pushes a state as a Lua table {[action name] = "CONV" | "!CONV" | "NOREF"}; reading another name
+// is an error (state_unknown_action).
 void push_state(lua_State* L, const CurriculumContext& ctx, const std::vector<Gamma>& state) {
   lua_createtable(L, 0, int(state.size()));
   for (size_t i = 0; i < state.size() && i < ctx.actions.size(); ++i) {
     lua_pushstring(L, gamma_name(state[i]));
     lua_setfield(L, -2, ctx.actions[i]->name().c_str());
   }
+  if (luaL_newmetatable(L, "roger.State")) {
+    lua_pushcfunction(L, state_unknown_action);
+    lua_setfield(L, -2, "__index");
+  }
+  lua_setmetatable(L, -2);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // lua_fields.cpp: converting Lua values for the bindings (named-field tables, colours) and the
 // text helpers their messages use.
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -58,6 +59,13 @@ size_t edit_distance(const std::string& a, const std::string& b) {
 }
 
 std::string suggestion(const std::string& given, const std::vector<std::string>& known) {
+  // The same name but for case first (Phi3 for phi3), ahead of any one-letter slip (Phi6).
+  auto lower = [](std::string t) {
+    for (char& c : t) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return t;
+  };
+  for (const auto& k : known)
+    if (k != given && lower(k) == lower(given)) return " (did you mean '" + k + "'?)";
   std::string best;
   size_t best_distance = 3;
   for (const auto& k : known) {
