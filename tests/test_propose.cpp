@@ -2,7 +2,9 @@
 // budget, the search is deterministic for a seed, respects its budget, resumes after a kill
 // without redoing what it had recorded, and emits a curriculum that `roger check` accepts and
 // whose proposal beats the baseline B1 on the median time-to-threshold over 10 seeded trials
-// (seeds the search never trained). Bad input gets a clear error.
+// (seeds the search never trained). A user's curriculum with its scenario beside it is proposed
+// from any folder, and one its proposal could not require is refused before the probe. Bad input
+// gets a clear error.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -22,6 +24,7 @@
 #include "core/error.h"
 #include "propose/propose.h"
 #include "script/curriculum/curriculum.h"
+#include "script/sandbox/lua_sandbox.h"
 #include "temp_dir.h"
 #include "test_files.h"
 
@@ -75,6 +78,35 @@ double time_to_threshold(const std::string& curriculum, const std::string& conte
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return 0.5 * (v[(v.size() - 1) / 2] + v[v.size() / 2]);
+}
+
+// ROGER_HOME set to `home` for a scope, then what it was.
+struct HomeGuard {
+  std::string saved;
+  bool had = false;
+  explicit HomeGuard(const fs::path& home) {
+    if (const char* old = std::getenv("ROGER_HOME")) had = true, saved = old;
+    setenv("ROGER_HOME", home.c_str(), 1);
+  }
+  ~HomeGuard() {
+    if (had) setenv("ROGER_HOME", saved.c_str(), 1);
+    else unsetenv("ROGER_HOME");
+  }
+};
+
+// A project tree of its own (for ROGER_HOME) in `dir`/home: the project's scenarios/ and scripts/
+// (links), and a curricula/ of its own holding a copy of the project's lib/ (require refuses a
+// module reached through a link out of its folder) and, in mine/, the user's curriculum
+// tests/scripts/propose_beside.lua with its scenario beside it, as a user adds them.
+fs::path fixture_home(const fs::path& dir) {
+  const fs::path project = project_root(), home = dir / "home";
+  fs::create_directories(home / "curricula" / "mine");
+  fs::create_directory_symlink(fs::absolute(project / "scenarios"), home / "scenarios");
+  fs::create_directory_symlink(fs::absolute(project / "scripts"), home / "scripts");
+  fs::copy(project / "curricula" / "lib", home / "curricula" / "lib", fs::copy_options::recursive);
+  for (const char* f : {"propose_beside.lua", "propose_beside_world.lua"})
+    fs::copy_file(project / "tests" / "scripts" / f, home / "curricula" / "mine" / f);
+  return home;
 }
 
 }  // namespace
@@ -210,6 +242,88 @@ TEST_CASE("propose refuses bad input with a clear message", "[propose]") {
   const auto t0 = std::chrono::steady_clock::now();
   CHECK_THROWS_WITH(propose_curriculum(o), Catch::Contains("cannot create the folder"));
   CHECK(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(5));
+}
+
+TEST_CASE("propose works from any folder on a curriculum whose scenario lies beside it", "[propose]") {
+  test::TempDir dir("roger_propose");
+  const fs::path home = fixture_home(dir.path);
+  fs::create_directories(dir.path / "elsewhere");
+  fs::create_directories(dir.path / "other");
+  const auto roger_in = [&](const char* folder) {
+    return "cd " + (dir.path / folder).string() + " && ROGER_HOME=" + home.string() + " " + ROGER_BINARY;
+  };
+  // Before, the candidates' trials failed after the probe: lib/propose.lua passed the stage's
+  // scenario "propose_beside_world.lua" to roger.stage again, which looked for it beside itself
+  // (no scenario 'propose_beside_world.lua' (named in curricula/lib/propose.lua)), and no
+  // proposal was written.
+  const int status = run_status(roger_in("elsewhere") + " propose ../home/curricula/mine/propose_beside.lua --stage Grasp " +
+                                "--context Eyes64 --budget 3000 --out ../out >../log 2>&1");
+  INFO(slurp(dir.path / "log"));
+  REQUIRE(status == 0);
+  CHECK(!fs::is_empty(dir.path / "out" / "trials"));  // candidates were trained, not only written
+  // The proposal names the scenario from the project (portable), whatever folder it ran from.
+  const std::string proposal = slurp(dir.path / "out" / "proposal.lua");
+  CHECK(proposal.find("propose.task(\"mine.propose_beside\", \"Grasp\", "
+                      "{ scenario = \"curricula/mine/propose_beside_world.lua\" })") != std::string::npos);
+  // Every candidate is a curriculum roger check accepts, from yet another folder.
+  for (const auto& e : fs::directory_iterator(dir.path / "out" / "candidates")) {
+    INFO(e.path());
+    CHECK(run_status(roger_in("other") + " check " + e.path().string() + " >/dev/null 2>&1") == 0);
+  }
+  CHECK(run_status(roger_in("other") + " check ../out/proposal.lua >/dev/null 2>&1") == 0);
+  // Its stages run in the curriculum's scenario, and every context keeps the starting context's
+  // eyes, which the probe trained (before, they were dropped: the proposal trained other eyes).
+  HomeGuard guard(home);
+  const Curriculum cur = Curriculum::load((dir.path / "out" / "proposal.lua").string());
+  for (const auto& st : cur.stages()) {
+    CHECK(st.scenario == "curricula/mine/propose_beside_world.lua");
+    for (const auto& ctx : st.contexts) {
+      INFO(st.name << "/" << ctx.name);
+      CHECK(ctx.params == std::vector<std::pair<std::string, std::string>>{{"eye_pixels", "64"}});
+    }
+  }
+}
+
+TEST_CASE("propose refuses at once a curriculum its proposal could not require", "[propose]") {
+  test::TempDir dir("roger_propose");
+  const fs::path project = project_root();
+  const fs::path home = fixture_home(dir.path);
+  HomeGuard guard(home);
+  ProposeOptions o = sg_options(dir.path / "x", 3000);
+  o.stage = "Grasp";
+  o.context = "Eyes64";
+  // Outside the project's script folders (the tutorial's mywork/, a folder of one's own): before,
+  // the message named the folder only.
+  o.curriculum = (project / "tests" / "scripts" / "propose_beside.lua").string();
+  CHECK_THROWS_WITH(propose_curriculum(o), Catch::Contains("lies outside the project's curricula/") &&
+                                               Catch::Contains("builds on it by require") &&
+                                               Catch::Contains("Copy the curriculum into " + (home / "curricula").string()) &&
+                                               Catch::Contains("nothing was run"));
+  // A file name require cannot spell: before, the probe trained, then the proposal failed to load.
+  fs::copy_file(home / "curricula" / "mine" / "propose_beside.lua", home / "curricula" / "mine" / "propose-beside.lua");
+  o.curriculum = (home / "curricula" / "mine" / "propose-beside.lua").string();
+  CHECK_THROWS_WITH(propose_curriculum(o), Catch::Contains("require(\"mine.propose-beside\")") &&
+                                               Catch::Contains("not a module name require takes"));
+  // A name another file takes first (require searches scenarios/ before curricula/).
+  fs::copy_file(home / "curricula" / "mine" / "propose_beside.lua", home / "curricula" / "cluttered.lua");
+  fs::copy_file(home / "curricula" / "mine" / "propose_beside_world.lua", home / "curricula" / "propose_beside_world.lua");
+  o.curriculum = (home / "curricula" / "cluttered.lua").string();
+  CHECK_THROWS_WITH(propose_curriculum(o), Catch::Contains("require(\"cluttered\")") &&
+                                               Catch::Contains("scenarios/cluttered.lua first"));
+  CHECK_FALSE(fs::exists(dir.path / "x"));  // refused before the search folder, let alone the probe
+}
+
+TEST_CASE("propose says plainly when its probe saw no success", "[propose]") {
+  test::TempDir dir("roger_propose");
+  // 150 s: 2 probes of 15 s, too short to grasp by exploration.
+  REQUIRE(run_status(std::string(ROGER_BINARY) + " propose paper --stage SG --context B1 --budget 150 --out " +
+                     (dir.path / "p").string() + " >" + (dir.path / "stdout").string() + " 2>/dev/null") == 0);
+  const std::string out = slurp(dir.path / "stdout");
+  INFO(out);
+  CHECK(out.find("1 candidate, 0 round(s)") != std::string::npos);
+  CHECK(out.find("no successful episode in 8 training episodes") != std::string::npos);
+  CHECK(out.find("the only candidate is the base") != std::string::npos);
+  CHECK(slurp(dir.path / "p" / "propose.md").find("**No probe episode succeeded**") != std::string::npos);
 }
 
 TEST_CASE("docs/propose.md: every option of roger propose and the library example", "[propose]") {

@@ -23,8 +23,16 @@ int command_propose(const ProposeArgs& a) {
   o.progress = &std::cerr;
   const ProposeResult r = propose_curriculum(o);
   const Candidate& w = r.candidates[size_t(r.winner)];
-  std::printf("roger propose: stage %s, %zu candidates, %d round(s), %d trials run, %d reused\n", a.stage.c_str(),
-              r.candidates.size(), r.rounds, r.trials_run, r.trials_reused);
+  std::printf("roger propose: stage %s, %zu candidate%s, %d round(s), %d trials run, %d reused\n", a.stage.c_str(),
+              r.candidates.size(), r.candidates.size() == 1 ? "" : "s", r.rounds, r.trials_run, r.trials_reused);
+  // Without a success the "winner" is the starting context unchanged: say why, not only its name.
+  if (r.successful_episodes == 0)
+    std::printf("  probe          no successful episode in %d training episodes: no subgoal or pruning to build on, "
+                "so the only candidate is the base (the starting context as given); a larger --budget or "
+                "--probe-share lets the probe see successes\n", r.probe_episodes);
+  else
+    std::printf("  probe          %d successful episode%s of %d training episodes\n", r.successful_episodes,
+                r.successful_episodes == 1 ? "" : "s", r.probe_episodes);
   std::printf("  spent          %.1f of %.0f simulated s (%.1f%%), the probe %.1f\n", r.spent_s, r.budget_s,
               100 * r.spent_s / r.budget_s, r.probe_s);
   std::printf("  winner         %s (%s): %s\n", w.id.c_str(), w.kind.c_str(), w.summary.c_str());

@@ -3,6 +3,7 @@
 #include "propose/propose.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -23,20 +24,68 @@ using namespace propose_detail;
 
 namespace {
 
-// The require name of a curriculum file: relative to a folder require searches from anywhere (the
-// project's curricula/, scenarios/ and scripts/).
-std::string module_name(const std::string& file) {
+// The require name of a curriculum file, checked before anything runs. A proposal is a file in
+// --out that builds on the curriculum by require(name), and require in a roger script finds
+// modules only in the script's own folder and in the project's scenarios/, curricula/ and scripts/
+// (the sandbox reads no other file). So the curriculum must lie in one of those folders, under a
+// name require can spell, and be the file that name finds first from the proposal's folder and
+// the candidates'; otherwise the probe's training would be spent on a proposal that cannot load.
+std::string module_name(const std::string& file, const std::string& out) {
   std::error_code ec;
   const fs::path real = fs::weakly_canonical(fs::absolute(file), ec);
+  const std::string curricula = (project_root() / "curricula").string();
+  std::string name;
+  fs::path rel;
   for (const auto& root : module_search_roots()) {
-    fs::path rel = real.lexically_relative(root);
+    rel = real.lexically_relative(root);
     if (rel.empty() || *rel.begin() == "..") continue;
-    std::string name = rel.replace_extension().generic_string();
+    name = fs::path(rel).replace_extension().generic_string();
     std::replace(name.begin(), name.end(), '/', '.');
-    return name;
+    break;
   }
-  throw Error("roger propose: " + file + ": the proposal requires the curriculum it starts from, so it must lie in " +
-              (project_root() / "curricula").string() + " (or scenarios/, scripts/), where require finds it");
+  if (name.empty())
+    throw Error("roger propose: " + file + ": the curriculum lies outside the project's curricula/ (" + curricula +
+                "), scenarios/ and scripts/; the proposal written into --out builds on it by require, and require "
+                "in a roger script finds modules only in the script's own folder and in those three, so it could "
+                "not load. Copy the curriculum into " + curricula + "/ (with the files it names by relative "
+                "paths: scenarios beside it, modules it requires) and propose from that copy; nothing was run");
+  const bool spellable = rel.extension() == ".lua" && name.find("..") == std::string::npos &&
+                         std::all_of(name.begin(), name.end(), [](char ch) {
+                           return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '.';
+                         });
+  if (!spellable)
+    throw Error("roger propose: " + file + ": the proposal builds on the curriculum by require(\"" + name +
+                "\"), not a module name require takes (letters, digits and underscores, its folders joined by "
+                "dots, a .lua file): rename the file to such a name; nothing was run");
+  const fs::path out_dir = fs::weakly_canonical(fs::absolute(out), ec);
+  for (const fs::path& folder : {out_dir, out_dir / "candidates"})
+    for (const auto& root : module_search_roots(folder)) {
+      const fs::path found = root / rel;
+      if (!fs::is_regular_file(found, ec)) continue;
+      if (fs::equivalent(found, real, ec)) break;
+      throw Error("roger propose: " + file + ": the proposal builds on the curriculum by require(\"" + name +
+                  "\"), and from " + folder.string() + " that finds " + found.string() +
+                  " first (require searches the script's folder, then scenarios/, curricula/, scripts/): "
+                  "propose from a copy of the curriculum under a name of its own; nothing was run");
+    }
+  return name;
+}
+
+// The task's scenario as the proposal must name it: lib.propose calls roger.stage from its own
+// file, so a path the curriculum names relative to the file that writes the stage (its
+// resolve_scenario_near) would be looked for beside curricula/lib/ instead. The file the
+// curriculum loads, named from the project when inside it (a proposal of a curriculum inside the
+// project stays portable), else absolute; "" for a shipped scenario's bare name, the same
+// from anywhere.
+std::string scenario_from_project(const std::string& scenario) {
+  const fs::path written(scenario);
+  if (written.extension() != ".lua" && scenario.find('/') == std::string::npos) return "";
+  std::error_code ec;
+  const fs::path real = fs::weakly_canonical(fs::absolute(resolve_scenario_path(scenario)), ec);
+  const fs::path rel = real.lexically_relative(fs::weakly_canonical(project_root(), ec));
+  if (rel.empty() || *rel.begin() == "..") return real.generic_string();
+  const std::string r = rel.generic_string();
+  return r.find('/') == std::string::npos ? "./" + r : r;  // a bare "x.lua" would mean scenarios/x.lua
 }
 
 // A stage's time-out in a world of its own scenario (the held-out seeds' first): a limit per
@@ -208,7 +257,6 @@ void successive_halving(const ProposeOptions& o, const std::string& sources, std
 ProposeResult propose_curriculum(const ProposeOptions& options) {
   ProposeOptions o = options;
   TaskRef task;
-  double time_limit = 0.0;
   {
     const Curriculum cur = Curriculum::load(o.curriculum, o.limits);
     const CurriculumStage& stage = cur.stage(o.stage);
@@ -217,8 +265,15 @@ ProposeResult propose_curriculum(const ProposeOptions& options) {
     if (!ctx.learned.empty())
       throw Error("roger propose: " + stage.where(ctx.name) + " uses learned skills; start from a context of the stage's " +
                   "own controllers (the proposal's subgoal stages are what learns skills)");
-    time_limit = stage_time_limit(stage, o.limits);
-    task.module = module_name(cur.file());
+    // The probe would train the warm start too, and no proposal context has one to compare with.
+    if (!ctx.init_context.empty())
+      throw Error("roger propose: " + stage.where(ctx.name) + " starts from the Q-table of context '" + ctx.init_context +
+                  "' of stage '" + ctx.init_stage + "' (init); the proposal's contexts learn from scratch, so start "
+                  "from a context without init");
+    check_options(o, stage_time_limit(stage, o.limits));  // the command's own mistakes first
+    task.module = module_name(cur.file(), o.out);
+    task.scenario = scenario_from_project(stage.scenario);
+    task.context_params = !ctx.params.empty();
     // Every Lua file the task reads, and the library the proposals are written with: records
     // made with other versions of any of them are not reused.
     std::string text;
@@ -228,7 +283,6 @@ ProposeResult propose_curriculum(const ProposeOptions& options) {
     task.stage = stage.name;
     task.context = ctx.name;
   }
-  check_options(o, time_limit);
   claim_search_folder(o, task.module, task.stage, task.context);
   char budget[64];
   std::snprintf(budget, sizeof budget, "%g", o.budget_s);
@@ -242,6 +296,7 @@ ProposeResult propose_curriculum(const ProposeOptions& options) {
   res.probe_s = probe.sim_s;
   res.spent_s = probe.sim_s;
   res.successful_episodes = int(probe.successes.size());
+  res.probe_episodes = probe.episodes;
   const ProbeSummary summary = summarize_probe(probe);
 
   std::vector<CandidateSpec> specs = generate_candidates(task, probe, summary, o.prune_below);

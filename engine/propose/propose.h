@@ -71,6 +71,7 @@ struct ProposeResult {
   double probe_s = 0.0;          // simulated seconds the probe trained
   double spent_s = 0.0;          // the whole search, the probe included
   int successful_episodes = 0;   // in the probe
+  int probe_episodes = 0;        // training episodes of the probe
   int rounds = 0;
   int trials_run = 0, trials_reused = 0;
   std::string proposal_file;     // out/proposal.lua

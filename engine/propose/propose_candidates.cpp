@@ -54,6 +54,7 @@ struct LuaCandidate {
 
   static std::string act(const std::string& name) { return "A[" + lua_quote(name) + "]"; }
   void add_action(const std::string& name) { final_actions.push_back(act(name)), final_names.push_back(name); }
+  std::string params() const { return task.context_params ? ", params = params" : ""; }
   std::string list(const std::vector<std::string>& xs) const {
     std::string s = "{ ";
     for (size_t i = 0; i < xs.size(); ++i) s += (i ? ", " : "") + xs[i];
@@ -67,10 +68,18 @@ struct LuaCandidate {
       << "-- Candidate " << c.id << " (" << c.kind << "): " << c.summary << "\n-- Why: " << c.why << "\n--\n"
       << "--   roger check <this file>\n--   roger train <this file> --stage " << task.stage
       << " --context P --seed 1 --out out/" << task.stage << "-P\n"
-      << "local propose = require(\"lib.propose\")\n"
-      << "local task = propose.task(" << lua_quote(task.module) << ", " << lua_quote(task.stage)
+      << "local propose = require(\"lib.propose\")\n";
+    if (!task.scenario.empty())
+      o << "-- The scenario as the curriculum resolved it: a path relative to the file that writes the stage\n"
+        << "-- would be looked for beside lib/propose.lua, which writes the stages here.\n";
+    o << "local task = propose.task(" << lua_quote(task.module) << ", " << lua_quote(task.stage)
+      << (task.scenario.empty() ? std::string() : ", { scenario = " + lua_quote(task.scenario) + " }")
       << ")  -- scenario, reward, absorbing predicate, learner\n"
       << "local A = propose.actions(task, " << lua_quote(task.context) << ")  -- the starting Psi, by name\n";
+    // The starting context's body or senses, which the probe trained: every context keeps them.
+    if (task.context_params)
+      o << "local params = propose.params(task, " << lua_quote(task.context)
+        << ")  -- its scenario parameters (body, senses)\n";
     for (const auto& d : defs) o << d;
     for (const auto& s : subs)
       o << "\n-- A subgoal stage: reach CONV of '" << s.goal << "' with the actions that reach it in the\n"
@@ -79,7 +88,7 @@ struct LuaCandidate {
         << "  name = " << lua_quote(task.stage + "_to_" + ident(s.goal)) << ",\n"
         << "  description = " << lua_quote("reach CONV of " + s.goal + " (a subgoal of " + task.stage + ")") << ",\n"
         << "  goal = " << act(s.goal) << ",\n"
-        << "  contexts = { { name = \"P\", actions = " << list(s.actions) << " } },\n"
+        << "  contexts = { { name = \"P\", actions = " << list(s.actions) << params() << " } },\n"
         << "  skill = { name = " << lua_quote(s.skill) << ", context = \"P\" },\n})\n"
         << "local " << ident(s.skill) << " = roger.learned(" << lua_quote(s.skill) << ")\n";
     std::vector<std::string> base;
@@ -89,8 +98,8 @@ struct LuaCandidate {
       << "  stages = {\n";
     for (const auto& s : subs) o << "    " << ident("stage_to_" + s.goal) << ",\n";
     o << "    propose.stage(task, {\n      name = " << lua_quote(task.stage) << ",\n      contexts = {\n"
-      << "        { name = \"P\", actions = " << list(final_actions) << " },  -- the proposal\n"
-      << "        { name = " << lua_quote(task.context) << ", actions = " << list(base)
+      << "        { name = \"P\", actions = " << list(final_actions) << params() << " },  -- the proposal\n"
+      << "        { name = " << lua_quote(task.context) << ", actions = " << list(base) << params()
       << " },  -- the starting Psi\n      },\n    }),\n  },\n}\n";
     return o.str();
   }

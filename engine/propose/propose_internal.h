@@ -55,6 +55,8 @@ ProbeSummary summarize_probe(const ProbeStats& probe);
 struct TaskRef {
   std::string module;        // require name of the original curriculum ("paper")
   std::string stage, context;
+  std::string scenario;      // the task's scenario from the project when a path ("" for a bare name)
+  bool context_params = false;  // the starting context sets scenario parameters (its body, senses)
   std::string command;       // the roger propose command line, for the file's header
   std::string sources;       // text_hash of every Lua file the task and the proposals read
 };

@@ -121,8 +121,9 @@ ProbeStats run_probe(const ProposeOptions& o, const std::string& context, const 
                                  e.at("path").get<std::vector<int>>()});
     if (o.progress) {
       char line[200];
-      std::snprintf(line, sizeof line, "probe %d/%d: %s %.0f simulated s, %zu successful episodes so far\n", k + 1,
-                    o.probe_trials, was_reused ? "reused" : "trained", j.at("sim_s").get<double>(), stats.successes.size());
+      std::snprintf(line, sizeof line, "probe %d/%d: %s %.0f simulated s, %zu successful episode%s so far\n", k + 1,
+                    o.probe_trials, was_reused ? "reused" : "trained", j.at("sim_s").get<double>(), stats.successes.size(),
+                    stats.successes.size() == 1 ? "" : "s");
       *o.progress << line << std::flush;
     }
   }

@@ -33,8 +33,15 @@ void probe_section(std::ostream& md, const ProposeOptions& o, const ProbeStats& 
   md << "## The probe\n\n" << o.probe_trials << " trial(s) of context " << o.context << " capped at "
      << fmt("%.0f", o.budget_s * o.probe_share / o.probe_trials) << " simulated s each: " << probe.episodes
      << " training episodes, " << fmt("%.0f", probe.sim_s) << " simulated s, " << probe.successes.size()
-     << " successful episodes.\n\n"
-     << "| action | share of successful time | subgoal: CONV reached in | median decision | most often while running |\n"
+     << " successful episodes.\n\n";
+  if (probe.successes.empty()) {
+    // Nothing to read subgoals or pruning from: say so rather than print a table of zeros.
+    md << "**No probe episode succeeded**, so there is no subgoal and no pruning to propose from: the only "
+       << "candidate is the base (the starting context as given). A larger `--budget` or `--probe-share` "
+       << "lets the probe see successes.\n\n";
+    return;
+  }
+  md << "| action | share of successful time | subgoal: CONV reached in | median decision | most often while running |\n"
      << "|---|---|---|---|---|\n";
   for (size_t a = 0; a < probe.psi.size(); ++a) {
     md << "| " << cell(probe.psi[a]) << " | " << fmt("%.1f%%", 100 * s.tick_share[a]) << " | ";
@@ -44,7 +51,7 @@ void probe_section(std::ostream& md, const ProposeOptions& o, const ProbeStats& 
             << (it->achiever >= 0 ? cell(probe.psi[size_t(it->achiever)]) : "-") << " |\n";
   }
   md << "\nThe goal was reached most often while "
-     << (s.final_achiever >= 0 ? "'" + probe.psi[size_t(s.final_achiever)] + "'" : "nothing (no success)") << " ran. "
+     << (s.final_achiever >= 0 ? "'" + probe.psi[size_t(s.final_achiever)] + "'" : "no recorded action") << " ran. "
      << "Pruning drops an action that ran under " << fmt("%.0f%%", 100 * o.prune_below)
      << " of the successful episodes' control ticks.\n\n";
 }
