@@ -9,7 +9,8 @@
 #   scripts/slurm/submit.sh scripts/paper.lua 50 --partition=short --time=02:00:00 --cpus-per-task=2
 #
 # The sbatch options (--partition, --time, --cpus-per-task, --mem, --account, ...) go to both jobs,
-# after the scripts' own, so they win; --array=LIST goes to the array alone and replaces 0-(N-1):
+# after the scripts' own, so they win; --dependency=LIST holds the array alone (the report follows
+# the array); --output, --error and --job-name are refused; --array=LIST goes to the array alone and replaces 0-(N-1):
 # `submit.sh SCRIPT N --array=7` runs shard 7 of N again (what it finds finished it keeps) and a
 # new report after it. Each task runs as many trials at once as it has CPUs (--cpus-per-task).
 #
@@ -28,6 +29,26 @@ die() { echo "submit.sh: $*" >&2; exit 2; }
 script=$1 shards=$2
 shift 2
 [[ $shards =~ ^[1-9][0-9]*$ ]] || die "N must be a positive integer (the number of shards), not '$shards'; $usage"
+# --array=LIST and --dependency=... go to the array only; every other option to both jobs. A
+# --dependency given to the report too would replace its afterok on the array: it would start
+# before the shards end. The jobs' names and output files are submit.sh's (ROGER_LOGS moves them):
+# one --output for both would mix the shards' logs and the report's.
+array="0-$((shards - 1))"
+dependency=()
+common=()
+for option in "$@"; do
+  case $option in
+    --array=*) array=${option#--array=} ;;
+    -a | -a* | --array) die "give the array as --array=LIST (got '$option')" ;;
+    --dependency=*) dependency=("$option" --kill-on-invalid-dep=yes) ;;  # a failed one cancels the array
+    -d | -d* | --dependency) die "give a dependency as --dependency=LIST (got '$option'); it holds the array, and the report follows the array" ;;
+    -o | -o* | --output | --output=* | -e | -e* | --error | --error=*)
+      die "the jobs' output files are submit.sh's (ROGER_LOGS chooses their folder), got '$option'" ;;
+    -J | -J* | --job-name | --job-name=*) die "the jobs' names are submit.sh's (roger-<script>, roger-report-<script>), got '$option'" ;;
+    *) common+=("$option") ;;
+  esac
+done
+
 command -v sbatch >/dev/null 2>&1 ||
   die "sbatch not found: run this on a Slurm submit host (or put Slurm's commands on PATH)"
 
@@ -59,17 +80,6 @@ mkdir -p "$out" "$logs"
 export ROGER_BIN=$bin ROGER_SCRIPT=$script ROGER_OUT=$out ROGER_SHARDS=$shards
 export ROGER_ARGS=${ROGER_ARGS:-}
 
-# --array=LIST goes to the array only; every other option to both jobs.
-array="0-$((shards - 1))"
-common=()
-for option in "$@"; do
-  case $option in
-    --array=*) array=${option#--array=} ;;
-    -a | -a* | --array) die "give the array as --array=LIST (got '$option')" ;;
-    *) common+=("$option") ;;
-  esac
-done
-
 # sbatch --parsable prints "ID" or "ID;CLUSTER".
 submit() {
   local id
@@ -78,7 +88,7 @@ submit() {
 }
 
 array_id=$(submit --job-name="roger-$name" --array="$array" --output="$logs/shard-%a-%A.out" \
-  ${common[@]+"${common[@]}"} "$repo/scripts/slurm/array.sbatch")
+  ${dependency[@]+"${dependency[@]}"} ${common[@]+"${common[@]}"} "$repo/scripts/slurm/array.sbatch")
 # afterok: the report only after every task succeeded; a failed task cancels it (instead of
 # leaving it pending forever): redo the shard with --array=K, which submits a new report.
 report_id=$(submit --job-name="roger-report-$name" --dependency="afterok:$array_id" --kill-on-invalid-dep=yes \

@@ -183,7 +183,10 @@ done
 
 "$roger" run "$script" --jobs 2 --out "$killed" >"$work/last.log" 2>&1 || { cat "$work/last.log"; fail "the resumed run"; }
 check_whole_files
-bash tests/tools/compare_results.sh "$whole" "$killed" || fail "the results differ from the uninterrupted run's"
+# From the work folder, with both folders named relative to it, as a user compares (the tool
+# once looked for the second inside the first).
+(src=$PWD && cd "$work" && bash "$src/tests/tools/compare_results.sh" whole killed) ||
+  fail "the results differ from the uninterrupted run's"
 for id in $(jq -r '.trials[]' "$whole/manifest.json"); do
   for f in policy.json episodes.jsonl; do
     [ -f "$whole/trials/$id/$f" ] || continue

@@ -108,7 +108,17 @@ for n in 0 -1 abc 2x; do
 done
 if out=$(PATH=/nonexistent /bin/bash "$submit" scripts/quick.lua 3 2>&1); then fail "submit.sh ran without sbatch"; fi
 grep -q "sbatch not found" <<< "$out" || fail "submit.sh without sbatch: unclear message: $out"
-log "submit.sh refuses a bad N and a missing sbatch"
+# Options that would break the pair of jobs: one --output for both, a name that hides which is
+# which, a dependency in a form submit.sh cannot route to the array alone (on the report it would
+# replace the wait for the shards). Refused before anything is made.
+for option in --output=x.out -o -J --job-name=x "-d 5"; do
+  rm -rf "$tmp/refused"
+  # shellcheck disable=SC2086  # "-d 5": two words, as a user types them
+  if out=$(ROGER_OUT=$tmp/refused bash "$submit" scripts/quick.lua 3 $option 2>&1); then fail "submit.sh took $option"; fi
+  grep -q "submit.sh's\|--dependency=LIST" <<< "$out" || fail "submit.sh $option: unclear message: $out"
+  [ ! -e "$tmp/refused" ] || fail "submit.sh $option made $tmp/refused before refusing"
+done
+log "submit.sh refuses a bad N, a missing sbatch, and --output, --job-name and -d"
 
 # --- munge --------------------------------------------------------------------------------------
 
@@ -307,7 +317,14 @@ sed 's/^/  | /' <<< "$out"
 touch "$tmp/before-resume"
 sleep 1
 log "shard 1 again (submit.sh ... 3 --array=1) and a new report"
-submit_and_check 1 --array=1
+# With a dependency of the user's (here on the first array, long done): it holds the array, and the
+# report still waits for the array (a --dependency of its own would have replaced that wait).
+first_array=${jobs_ids[0]}
+submit_and_check 1 --array=1 --dependency=afterok:"$first_array"
+resumed_array=${jobs_ids[2]} resumed_report=${jobs_ids[3]}
+array_end=$(job_field "$resumed_array" EndTime) report_start=$(job_field "$resumed_report" StartTime)
+[[ ! $report_start < $array_end ]] || fail "the report started at $report_start, before the array ended at $array_end"
+log "with --dependency=afterok:$first_array the report still started after the array ($report_start, $array_end)"
 redone=$(cd "$sharded/trials" && find . -name result.json -newer "$tmp/before-resume" | sort | xargs)
 [ "$redone" = "./$victim/result.json" ] || fail "shard 1 redid '${redone:-nothing}', not just $victim"
 log "shard 1 redid $victim and nothing else"

@@ -26,7 +26,8 @@ done
 if [ $golden -eq 1 ]; then
   files=$(cd "$a" && find . -name '*.csv' | sort)
 else
-  files=$( (cd "$a" && find . -name '*.csv'; cd "$b" && find . -name '*.csv') | sort -u)
+  # Each in a subshell of its own: a relative B is relative to here, not to A.
+  files=$( { (cd "$a" && find . -name '*.csv'); (cd "$b" && find . -name '*.csv'); } | sort -u)
 fi
 count=0
 for f in $files; do
