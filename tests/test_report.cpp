@@ -403,6 +403,9 @@ TEST_CASE("a tiny batch writes every file, with tables that match the trials, wh
     cut.partial = true;
     CHECK(command_report(cut) == 0);
     CHECK(slurp(f.root / "cut/tables.md") == tables_before);
+    // A context none of whose trials finished says so in the usage, rather than listing nothing
+    // under the heading (or, for a skill's share, that no trial used it).
+    CHECK_THAT(tables_before, Catch::Matchers::Contains(": no finished trial\n"));
   }
   std::string resumed;
   REQUIRE(f.run("cut", 2, 0, &resumed) == 0);

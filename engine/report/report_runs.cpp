@@ -121,7 +121,10 @@ json usage_shares(const BatchRun& run, const Folder& folder, std::ostringstream&
   json usage_rows = json::object();
   for (const auto& c : run.contexts) {
     const Results r = folder.run(run, c);
-    if (r.ok.empty()) continue;
+    if (r.ok.empty()) {  // said, so that a heading over no context does not read as an empty result
+      md << "- " << c << ": no finished trial\n";
+      continue;
+    }
     std::vector<std::string> order;
     for (const auto& a : r.ok.front().value("psi", json::array())) order.push_back(a.get<std::string>());
     std::map<std::string, double> share;
@@ -153,6 +156,10 @@ json usage_comparisons(const BatchRun& run, const BatchTable& t, const Folder& f
     }
     std::string subs;
     for (const auto& a : u.subsumes) subs += (subs.empty() ? "" : ", ") + a;
+    if (r.ok.empty()) {  // a partial report: nothing to say of its usage yet, and no claim of none
+      md << "\n" << u.context << ": no finished trial yet.\n";
+      continue;
+    }
     if (ratios.empty()) {
       md << "\n" << u.context << ": no trial used " << u.skill << " or " << subs << ".\n";
       continue;
