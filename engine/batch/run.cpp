@@ -455,7 +455,11 @@ class StatusWriter {
     write(true);
     thread_ = std::thread([this] { loop(); });
   }
-  // Writes the final status (running: false) and stops the thread.
+  // Whether Ctrl-C (or SIGTERM) stopped the run: the final status says so, for the page.
+  void set_interrupted(bool interrupted) { interrupted_ = interrupted; }
+  // Writes the final status of the trials (running: false, finishing: true: the command still
+  // writes its report, then its closing status: write_closing_status
+  // in engine/cli/run.cpp) and stops the thread.
   ~StatusWriter() {
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -518,7 +522,8 @@ class StatusWriter {
     const auto epoch_ms = [](std::chrono::system_clock::time_point t) {
       return std::chrono::duration_cast<std::chrono::milliseconds>(t.time_since_epoch()).count();
     };
-    nlohmann::json j = {{"format", "roger-status"}, {"running", running},
+    nlohmann::json j = {{"format", "roger-status"}, {"running", running}, {"finishing", !running},
+                        {"interrupted", interrupted_},
                         {"updated_ms", epoch_ms(std::chrono::system_clock::now())},
                         {"started_ms", epoch_ms(wall_start_)}, {"elapsed_s", elapsed},
                         {"eta_s", eta}, {"trials", total}, {"done", done}, {"failed", failed},
@@ -545,6 +550,7 @@ class StatusWriter {
   const Clock::time_point start_;
   const std::chrono::system_clock::time_point wall_start_;
   size_t done_at_start_ = 0;
+  bool interrupted_ = false;
   std::mutex mutex_;
   std::condition_variable wake_;
   bool stop_ = false;
@@ -596,7 +602,10 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
       interrupted = true;  // what finished is on disk; summary.csv and the report say the rest is pending
     }
   }
-  status.reset();  // the final status: the run is over
+  // The trials' final status. The page waits for the closing one (write_closing_status), written
+  // after the report, before it reloads dashboard.js: this one comes before the report exists.
+  status->set_interrupted(interrupted);
+  status.reset();
   const double wall = std::chrono::duration<double>(Clock::now() - start).count();
   BatchSummary summary = control.shard.active() ? record_shard(plan, control.shard) : write_summary_csv(plan);
   summary.wall_s = wall;

@@ -4,6 +4,7 @@
 #include "report/dashboard_internal.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -73,10 +74,19 @@ json trial_entry(const std::string& dir, const std::string& id, int index) {
     }
   } else if (fs::exists(d / "error.json", ec)) {
     t["state"] = "failed";
+    // Why it failed, for the chip's tooltip: the first line of the message (error.json, linked
+    // below, holds the whole of it and the traceback).
+    try {
+      const json e = json::parse(read_text(d / "error.json"));
+      const std::string message = e.value("error", std::string());
+      t["error"] = message.substr(0, message.find('\n'));
+    } catch (const std::exception&) {
+      t["error"] = "error.json cannot be read";
+    }
   }
-  // The files worth opening: the episodes of training, and any episode page rendered there.
+  // The files worth opening: the episodes of training, any error, and any episode page rendered there.
   json files = json::array();
-  for (const char* f : {"episodes.jsonl", "checkpoints.jsonl", "curve.csv", "policy.json", "result.json"})
+  for (const char* f : {"episodes.jsonl", "checkpoints.jsonl", "curve.csv", "policy.json", "result.json", "error.json"})
     if (fs::exists(d / f, ec)) files.push_back(f);
   t["files"] = files;
   json pages = json::array();
@@ -152,7 +162,21 @@ json trial_index(const BatchScript& b, const std::string& dir) {
   return {{"runs", runs}, {"evaluations", evaluations}};
 }
 
-std::vector<std::string> write_dashboard(const std::string& dir, const json& data) {
+std::vector<std::string> write_dashboard(const std::string& dir, const json& report) {
+  json data = report;
+  // A figure the report could not draw (no finished trial) has no PNG or SVG in this report's
+  // folder: the page links only the files that were written.
+  for (json& f : data["figures"]) {
+    std::error_code ec;
+    const std::string file = f.value("file", std::string());
+    f["files"] = json::array();
+    for (const char* ext : {".png", ".svg"})
+      if (!file.empty() && fs::exists(fs::path(dir) / (file + ext), ec)) f["files"].push_back(file + ext);
+  }
+  // When this report was written: a page that saw a run end waits for a report written since the
+  // run started (status.js's started_ms), never showing an older one as the run's.
+  data["written_ms"] = std::chrono::duration_cast<std::chrono::milliseconds>(
+                           std::chrono::system_clock::now().time_since_epoch()).count();
   // '<' only occurs inside JSON strings, where \u003c means the same: no name closes a script.
   std::string text = data.dump(-1, ' ', false, json::error_handler_t::replace);
   std::string safe;

@@ -220,6 +220,134 @@ def check_progress(b, folder):
         write_status(folder, final)
 
 
+def read_report(folder):
+    return json.loads(open(os.path.join(folder, "dashboard.js")).read().split("=", 1)[1].strip().rstrip(";"))
+
+
+def write_report(folder, report):
+    with open(os.path.join(folder, "dashboard.js.tmp"), "w") as f:
+        f.write("window.ROGER_REPORT = %s;\n" % json.dumps(report))
+    os.replace(os.path.join(folder, "dashboard.js.tmp"), os.path.join(folder, "dashboard.js"))
+
+
+def wait_for(b, expression, want, seconds):
+    deadline, got = time.time() + seconds, None
+    while time.time() < deadline:
+        got = b.evaluate(expression)
+        if want(got):
+            break
+        time.sleep(0.25)
+    return got
+
+
+def check_run_end(b, folder, work):
+    """The end of a run as `roger run` writes it: the trials' final status ("finishing": the report
+    is being written), then dashboard.js, then the closing status. The page must end on the report
+    this run wrote, never on the folder's previous one (a resumed run's partial report), whatever
+    the gap between the files and the order they come in; and it must say when a run was
+    interrupted or may have been killed, report or no report."""
+    copy = os.path.join(work, "run-end")
+    shutil.rmtree(copy, ignore_errors=True)
+    os.makedirs(copy)
+    shutil.copy(os.path.join(folder, "index.html"), copy)
+    final, report = json.load(open(os.path.join(folder, "status.json"))), read_report(folder)
+    now = int(time.time() * 1000)
+    old = dict(report, name="previous-report", written_ms=now - 60000)
+    new = dict(report, written_ms=now + 1)
+    title = "document.getElementById('title').textContent"
+    line = "document.getElementById('progress-line').textContent"
+    for order in ("report, then status", "status, then report"):
+        write_report(copy, old)
+        write_status(copy, dict(final, running=True, finishing=False, started_ms=now - 30000, updated_ms=now))
+        b.open(os.path.join(copy, "index.html"), "document.body.getAttribute('data-ready') === '1'")
+        write_status(copy, dict(final, running=False, finishing=True, started_ms=now - 30000,
+                                updated_ms=int(time.time() * 1000)))
+        got = wait_for(b, line, lambda l: l.startswith("Writing the report"), 5)
+        check(got.startswith("Writing the report"), "run end (%s): the page follows the run while it writes "
+              "its report (%s)" % (order, got))
+        time.sleep(2.5)  # longer than a poll: a page that stops at the first status that says "over" is stuck
+        closing = dict(final, running=False, finishing=False, report="written", started_ms=now - 30000,
+                       updated_ms=int(time.time() * 1000))
+        if order == "report, then status":
+            write_report(copy, new)
+            write_status(copy, closing)
+        else:  # an older roger's order, or a slow disk: the page waits for the run's report
+            write_status(copy, closing)
+            time.sleep(2.5)
+            write_report(copy, new)
+        got = wait_for(b, title, lambda t: t == "Results: " + report["name"], 8)
+        check(got == "Results: " + report["name"], "run end (%s): the page ends on the report the run wrote "
+              "(%s)" % (order, got))
+        got = b.evaluate(line)
+        check(got.startswith("Finished: %d/%d" % (final["done"], final["trials"])),
+              "run end (%s): the progress line says the run finished (%s)" % (order, got))
+        check(b.errors() == [], "run end (%s): no console errors (%s)" % (order, b.errors()))
+    # A run stopped by Ctrl-C: the closing status says so, and so does the page, above the report.
+    write_report(copy, new)
+    write_status(copy, dict(final, running=False, finishing=False, report="written", interrupted=True,
+                            done=6, started_ms=now - 30000, updated_ms=int(time.time() * 1000)))
+    b.open(os.path.join(copy, "index.html"), "document.body.getAttribute('data-ready') === '1'")
+    got = b.evaluate(line)
+    check(got.startswith("Interrupted: 6/%d trials done" % final["trials"]) and
+          b.evaluate("document.getElementById('progress').hidden") is False,
+          "run end: an interrupted run is said to be one (%s)" % got)
+    # A run killed without a word, in a folder that already has a report: the warning shows.
+    write_status(copy, dict(final, running=True, finishing=False, done=8, started_ms=now - 90000,
+                            updated_ms=int(time.time() * 1000) - 40000))
+    b.open(os.path.join(copy, "index.html"), "document.body.getAttribute('data-ready') === '1'")
+    note = b.evaluate("document.querySelector('#progress .note').textContent")
+    check("may have stopped" in note and b.evaluate("document.getElementById('progress').hidden") is False,
+          "run end: a killed run's 'no news' warning shows above the folder's report (%s)" % note)
+
+
+def check_failures(b, folder, screenshot):
+    """tests/browser/dashboard_batch.lua: failed trials say why, figures not drawn are not linked,
+    axis labels stay distinct over a short time range, and long context names fit."""
+    b.open(os.path.join(folder, "index.html"), "document.body.getAttribute('data-ready') === '1'")
+    check(b.errors() == [], "failures: no console errors (%s)" % b.errors())
+    report = read_report(folder)
+    failed = [t for r in report["trials"]["runs"] for c in r["contexts"] for t in c["trials"] if t["state"] == "failed"]
+    check(len(failed) > 0, "failures: the fixture has failed trials (%d)" % len(failed))
+    for t in failed:
+        message = json.load(open(os.path.join(folder, t["folder"], "error.json")))["error"].split("\n")[0]
+        tip = b.evaluate("document.querySelector('#trials a.trial.failed[href=\"%s\"]').title" % t["folder"])
+        check(message in tip, "failures: %s's chip gives the first line of its error (%s)" % (t["id"], tip))
+        linked = b.evaluate("document.querySelectorAll('#trials .files a[href=\"%serror.json\"]').length" % t["folder"])
+        check(linked == 1, "failures: %s's error.json is linked with the trial's files" % t["id"])
+    check(b.evaluate("document.querySelectorAll('#trials b').length") == 0,
+          "failures: markup in an error message is shown as text")
+    hrefs = b.evaluate("Array.from(document.querySelectorAll('#figures-body .note a')).map(a => a.getAttribute('href'))")
+    missing = [h for h in hrefs if not os.path.exists(os.path.join(folder, h))]
+    check(len(hrefs) > 0 and missing == [], "failures: the page links only figure files that exist (%s; missing %s)"
+          % (hrefs, missing))
+    for fig in [f for f in report["figures"] if f["kind"] == "curves" and f["series"]]:
+        labels = b.evaluate("""Array.from(document.querySelectorAll('svg[data-figure="%s"] text[y="354"]'))
+            .map(t => t.textContent)""" % fig["file"])  # the x axis' labels (H - B + 16)
+        numbers = [float(l) for l in labels]
+        check(len(labels) >= 3 and len(set(labels)) == len(labels) and numbers == sorted(numbers),
+              "failures: %s's time axis labels are distinct (%s)" % (fig["file"], labels))
+    long_name = max((c["context"] for r in report["trials"]["runs"] for c in r["contexts"]), key=len)
+    fits = b.evaluate("""(() => { const name = %s, out = [];
+        document.querySelectorAll('.context-row > span, .progress-row > span:first-child').forEach(s => {
+          if (s.textContent !== name) return;
+          const next = s.nextElementSibling.getBoundingClientRect(), cut = getComputedStyle(s).overflow === 'hidden';
+          out.push((s.scrollWidth <= s.clientWidth || cut) && s.getBoundingClientRect().right <= next.left + 1 &&
+                   s.title === name); });
+        return out; })()""" % json.dumps(long_name))
+    check(len(fits) >= 2 and all(fits), "failures: a long context name stays in its column, whole in its "
+          "tooltip (%s)" % fits)
+    legends = b.evaluate("""Array.from(document.querySelectorAll('.figure .legend label')).map(l => {
+        const box = l.closest('section').getBoundingClientRect(), i = l.querySelector('i');
+        return l.getBoundingClientRect().right <= box.right && (!i || i.getBoundingClientRect().width > 0); })""")
+    check(len(legends) > 0 and all(legends), "failures: every legend entry, its swatch too, fits in the page")
+    wide = b.evaluate("""(() => { const r = document.getElementById('report');
+        return [r.scrollWidth <= r.clientWidth + 1, Array.from(r.querySelectorAll('table.md')).some(t =>
+          t.parentElement.scrollWidth > t.parentElement.clientWidth)]; })()""")
+    check(wide == [True, True], "failures: a wide table scrolls in its own box, not the whole section (%s)" % wide)
+    if screenshot:
+        b.screenshot(screenshot)
+
+
 def check_dashboard(b, folder, screenshot):
     check_progress(b, folder)
     page = os.path.join(folder, "index.html")
@@ -367,10 +495,15 @@ def main():
         return skip("no chromium at %s (apt-get install chromium)" % a.chromium)
     results, episode = os.path.join(a.work, "results"), os.path.join(a.work, "episode")
     teachers = os.path.join(a.work, "teachers")
+    failures_run = os.path.join(a.work, "failures")
     shutil.rmtree(a.work, ignore_errors=True)
     os.makedirs(a.work)
     run([a.roger, "run", "scripts/quick.lua", "--out", results])
     run([a.roger, "run", "tests/scripts/teach_batch.lua", "--out", teachers])
+    # Its failed trials make roger run exit 1, as they should.
+    print("$ %s run tests/browser/dashboard_batch.lua --out %s" % (a.roger, failures_run), flush=True)
+    subprocess.run([a.roger, "run", os.path.join(os.path.dirname(os.path.abspath(__file__)), "dashboard_batch.lua"),
+                    "--out", failures_run], check=False)
     run([a.roger, "render", "curricula/scripted.lua", "--policy", "search_grasp", "--seed", "3",
          "--width", "480", "--out", episode])
     try:
@@ -380,6 +513,8 @@ def main():
     try:
         shots = a.screenshots
         check_dashboard(b, results, shots and os.path.join(shots, "dashboard.png"))
+        check_run_end(b, results, a.work)
+        check_failures(b, failures_run, None)
         check_episode(b, episode, shots and os.path.join(shots, "episode-viewer.png"))
         check_teachers(b, teachers)
     finally:
