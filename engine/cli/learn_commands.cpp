@@ -2,7 +2,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -169,25 +168,16 @@ static std::string skill_origin(const SkillSource& s) {
 
 namespace {
 
-// The learned skills a context uses, itself or through the skills it uses.
-void used_skills(const Curriculum& cur, const CurriculumContext& ctx, std::set<std::string>& out) {
-  for (const auto& name : ctx.learned) {
-    if (!out.insert(name).second) continue;
-    if (const CurriculumStage* producer = cur.producer(name)) used_skills(cur, producer->context(producer->skill->second), out);
-  }
-}
-
 // A --skill the context does not use would be ignored: refused, naming what it uses.
 void check_skill_flags(const TrainOptions& o) {
   if (o.skill_files.empty()) return;
   const Curriculum cur = Curriculum::load(o.curriculum, o.limits);
   const CurriculumStage& stage = cur.stage(o.stage);
-  std::set<std::string> used;
-  used_skills(cur, stage.context(o.context), used);
+  const std::vector<std::string> used = cur.skills_used(stage.context(o.context));
   for (const auto& [name, file] : o.skill_files)
-    if (!used.count(name))
+    if (std::find(used.begin(), used.end(), name) == used.end())
       throw Error("--skill " + name + "=" + file + ": " + stage.where(o.context) + " uses no learned skill '" + name +
-                  "'" + (used.empty() ? " (it uses none)" : "; it uses " + join(std::vector<std::string>(used.begin(), used.end()))));
+                  "'" + (used.empty() ? " (it uses none)" : "; it uses " + join(used)));
 }
 
 }  // namespace

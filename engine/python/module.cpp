@@ -13,7 +13,6 @@
 #include <optional>
 #include <map>
 #include <memory>
-#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -59,29 +58,17 @@ EnvironmentOptions make_options(const std::string& curriculum, const std::string
   return o;
 }
 
-// The learned skills a context uses, itself or through the skills it uses (as roger train counts
-// them for --skill).
-void used_skills(const Curriculum& cur, const CurriculumContext& ctx, std::set<std::string>& out) {
-  for (const auto& name : ctx.learned) {
-    if (!out.insert(name).second) continue;
-    if (const CurriculumStage* producer = cur.producer(name))
-      used_skills(cur, producer->context(producer->skill->second), out);
-  }
-}
-
 // A skill the context does not use would be ignored, a misspelt name with it: refused, naming
 // what the context uses, as `roger train` refuses such a --skill (docs/cli.md).
 void check_skill_names(const EnvironmentOptions& o, const std::string& where) {
   if (o.skill_files.empty()) return;
   const Curriculum cur = Curriculum::load(o.curriculum, o.limits);
   const CurriculumStage& stage = cur.stage(o.stage);
-  std::set<std::string> used;
-  used_skills(cur, stage.context(o.context), used);
+  const std::vector<std::string> used = cur.skills_used(stage.context(o.context));
   for (const auto& [name, file] : o.skill_files)
-    if (!used.count(name))
+    if (std::find(used.begin(), used.end(), name) == used.end())
       throw Error(where + ": skills={'" + name + "': '" + file + "'}: " + cur.path() + ": " + stage.where(o.context) +
-                  " uses no learned skill '" + name + "'" +
-                  (used.empty() ? " (it uses none)" : "; it uses " + join(std::vector<std::string>(used.begin(), used.end()))));
+                  " uses no learned skill '" + name + "'" + (used.empty() ? " (it uses none)" : "; it uses " + join(used)));
 }
 
 // Makes an environment (or a batch) of `o` with `make`, after checking its skills' names. The

@@ -163,6 +163,18 @@ const CurriculumStage* Curriculum::producer(const std::string& skill) const {
   return nullptr;
 }
 
+std::vector<std::string> Curriculum::skills_used(const CurriculumContext& context) const {
+  std::set<std::string> used;
+  std::function<void(const CurriculumContext&)> walk = [&](const CurriculumContext& ctx) {
+    for (const auto& name : ctx.learned) {
+      if (!used.insert(name).second) continue;
+      if (const CurriculumStage* from = producer(name)) walk(from->context(from->skill->second));
+    }
+  };
+  walk(context);
+  return std::vector<std::string>(used.begin(), used.end());
+}
+
 bool Curriculum::has_learned(const std::string& n) const { return impl_->book.learned.count(n) > 0; }
 
 void Curriculum::bind_learned(const std::string& n, ControllerPtr skill) {

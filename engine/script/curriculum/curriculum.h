@@ -160,6 +160,9 @@ class Curriculum {
   const CurriculumStage& stage(const std::string& name) const;
   // The stage whose `skill` yields a learned skill of this name, or null.
   const CurriculumStage* producer(const std::string& skill) const;
+  // The learned skills a context uses, itself or through the skills it uses (what a --skill or a
+  // Python `skills` entry may name).
+  std::vector<std::string> skills_used(const CurriculumContext& context) const;
 
   // Binds the stand-in roger.learned(name) to a skill (a learned policy made with
   // make_policy_skill). Throws roger::Error when the script has no such stand-in.
