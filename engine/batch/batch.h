@@ -166,6 +166,13 @@ struct BatchSummary {
 // for the resumed run, the finished ones are kept.
 BatchSummary run_batch(const BatchPlan& plan, const RunControl& control);
 
+// The run's closing status, after its report (or the decision to write none): the folder's
+// status.json and status.js as run_batch's final status left them, no longer "finishing", with
+// what became of the report ("written", "failed" or "none"). The dashboard reloads dashboard.js
+// only once it reads this, so it never takes a previous run's report for this one's, however long
+// the report takes. Never throws: progress for a page is a convenience.
+void write_closing_status(const std::string& out, const std::string& report);
+
 // Writes <out>/summary.csv, one row per planned trial (pending ones included), and returns what it
 // found: failed trials and the number pending.
 BatchSummary write_summary_csv(const BatchPlan& plan);

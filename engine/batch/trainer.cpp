@@ -339,6 +339,10 @@ EpisodeFault::EpisodeFault(const std::exception& e, std::string phase_in, int ep
   no_placement = dynamic_cast<const PlacementError*>(&e) != nullptr;
 }
 
+std::string EpisodeFault::text_in(const std::string& where) const {
+  return episode_fault_text(cause, where + ", " + phase, episode, world_seed);
+}
+
 namespace {
 
 // A checkpoint's record: where training stood and what its greedy evaluation gave.

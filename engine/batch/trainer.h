@@ -29,6 +29,9 @@ namespace roger {
 struct EpisodeFault : Error {
   // Wraps `cause`, keeping its file:line when it is a ScriptError.
   EpisodeFault(const std::exception& cause, std::string phase, int episode, uint64_t world_seed);
+  // The message with `where` (the stage and context, for a command that names them) in its note:
+  // "<first line> (<where>, <phase> episode <k>, world seed <s>)<the other lines>".
+  std::string text_in(const std::string& where) const;
   std::string cause;           // the cause's what()
   std::string phase;           // "training", "checkpoint 3 evaluation", "final evaluation", "evaluation"
   int episode = 0;             // 0-based index within the phase (as in episodes.jsonl)

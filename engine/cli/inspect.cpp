@@ -180,13 +180,10 @@ std::string check_target(const std::string& arg) {
   if (fs::exists(arg, ec) || arg.find('/') != std::string::npos)
     return arg;  // a path (read_file_text and the loaders say what is wrong with it)
   const std::string file = fs::path(arg).extension() == ".lua" ? arg : arg + ".lua";
-  std::vector<std::string> found;
   for (const char* folder : {"scenarios", "curricula", "scripts"})
-    if (fs::is_regular_file(project_root() / folder / file, ec)) found.push_back((project_root() / folder / file).string());
-  if (found.empty())
-    throw Error("no script '" + arg + "': not a file here, and the project has no scenarios/" + file + ", curricula/" +
-                file + " or scripts/" + file);
-  return found.front();
+    if (fs::is_regular_file(project_root() / folder / file, ec)) return (project_root() / folder / file).string();
+  throw Error("no script '" + arg + "': not a file here, and the project has no scenarios/" + file + ", curricula/" +
+              file + " or scripts/" + file);
 }
 
 // The kind a script whose table names none of the keys that tell kinds apart (a misspelt
@@ -208,10 +205,11 @@ int command_check(const CheckArgs& args) {
   a.script = check_target(args.script);
   if (report_static_problems(a.script) > 0) return 1;
   const SandboxLimits limits = sandbox_limits(a.lua);
-  const std::optional<ScriptKind> kind = script_kind_of(a.script);
-  const std::optional<ScriptKind> guess = kind ? kind : guessed_kind(a.script);
-  if (!kind && guess == ScriptKind::kCurriculum) Curriculum::load(a.script, limits);  // throws what is unknown
-  if (!kind && guess == ScriptKind::kSkillScript) SkillScript::load(a.script, limits);
+  if (!script_kind_of(a.script)) {  // its loader throws what is unknown, with the nearest field
+    const std::optional<ScriptKind> guess = guessed_kind(a.script);
+    if (guess == ScriptKind::kCurriculum) Curriculum::load(a.script, limits);
+    if (guess == ScriptKind::kSkillScript) SkillScript::load(a.script, limits);
+  }
   if (is_curriculum_script(a.script)) {
     const std::vector<std::string> problems = check_curriculum(a.script, limits);
     for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.c_str());

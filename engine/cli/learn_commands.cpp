@@ -173,11 +173,9 @@ void check_skill_flags(const TrainOptions& o) {
   if (o.skill_files.empty()) return;
   const Curriculum cur = Curriculum::load(o.curriculum, o.limits);
   const CurriculumStage& stage = cur.stage(o.stage);
-  const std::vector<std::string> used = cur.skills_used(stage.context(o.context));
   for (const auto& [name, file] : o.skill_files)
-    if (std::find(used.begin(), used.end(), name) == used.end())
-      throw Error("--skill " + name + "=" + file + ": " + stage.where(o.context) + " uses no learned skill '" + name +
-                  "'" + (used.empty() ? " (it uses none)" : "; it uses " + join(used)));
+    if (const std::string problem = cur.unused_skill_problem(stage, o.context, name); !problem.empty())
+      throw Error("--skill " + name + "=" + file + ": " + problem);
 }
 
 }  // namespace
@@ -190,9 +188,7 @@ TrainResult train_for_command_line(const TrainOptions& o) {
   try {
     return train_stage(o);
   } catch (const EpisodeFault& f) {
-    const std::string where = "stage '" + o.stage + "'" + (o.context.empty() ? "" : ", context '" + o.context + "'");
-    throw Error(with_note_on_first_line(f.cause, " (" + where + ", " + f.phase + " episode " + std::to_string(f.episode) +
-                                                     ", world seed " + std::to_string(f.world_seed) + ")"));
+    throw Error(f.text_in("stage '" + o.stage + "'" + (o.context.empty() ? "" : ", context '" + o.context + "'")));
   }
 }
 

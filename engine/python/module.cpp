@@ -64,11 +64,9 @@ void check_skill_names(const EnvironmentOptions& o, const std::string& where) {
   if (o.skill_files.empty()) return;
   const Curriculum cur = Curriculum::load(o.curriculum, o.limits);
   const CurriculumStage& stage = cur.stage(o.stage);
-  const std::vector<std::string> used = cur.skills_used(stage.context(o.context));
   for (const auto& [name, file] : o.skill_files)
-    if (std::find(used.begin(), used.end(), name) == used.end())
-      throw Error(where + ": skills={'" + name + "': '" + file + "'}: " + cur.path() + ": " + stage.where(o.context) +
-                  " uses no learned skill '" + name + "'" + (used.empty() ? " (it uses none)" : "; it uses " + join(used)));
+    if (const std::string problem = cur.unused_skill_problem(stage, o.context, name); !problem.empty())
+      throw Error(where + ": skills={'" + name + "': '" + file + "'}: " + cur.path() + ": " + problem);
 }
 
 // Makes an environment (or a batch) of `o` with `make`, after checking its skills' names. The

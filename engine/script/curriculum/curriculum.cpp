@@ -175,6 +175,14 @@ std::vector<std::string> Curriculum::skills_used(const CurriculumContext& contex
   return std::vector<std::string>(used.begin(), used.end());
 }
 
+std::string Curriculum::unused_skill_problem(const CurriculumStage& stage, const std::string& context,
+                                             const std::string& name) const {
+  const std::vector<std::string> used = skills_used(stage.context(context));
+  if (std::find(used.begin(), used.end(), name) != used.end()) return "";
+  return stage.where(context) + " uses no learned skill '" + name + "'" +
+         (used.empty() ? " (it uses none)" : "; it uses " + join(used));
+}
+
 bool Curriculum::has_learned(const std::string& n) const { return impl_->book.learned.count(n) > 0; }
 
 void Curriculum::bind_learned(const std::string& n, ControllerPtr skill) {

@@ -163,6 +163,10 @@ class Curriculum {
   // The learned skills a context uses, itself or through the skills it uses (what a --skill or a
   // Python `skills` entry may name).
   std::vector<std::string> skills_used(const CurriculumContext& context) const;
+  // Why the context of `stage` cannot take a policy file for the learned skill `name` ("stage 'T',
+  // context 'B2' uses no learned skill 'Phi_XX'; it uses ..."), or "" when it uses that skill.
+  std::string unused_skill_problem(const CurriculumStage& stage, const std::string& context,
+                                   const std::string& name) const;
 
   // Binds the stand-in roger.learned(name) to a skill (a learned policy made with
   // make_policy_skill). Throws roger::Error when the script has no such stand-in.

@@ -74,8 +74,8 @@ void Scenario::Impl::read_table(lua_State* L, const LuaTableMap& map) {
   description = text_field("description", "");
   reading_line = key_line("params");
   const LuaTableMap::Entry* params_entry = map.entry(returned, "params");
-  params_node = params_entry ? map.value_node(*params_entry) : -1;
-  if (lua_getfield(L, t, "params") != LUA_TNIL) read_params(L, -1, map);
+  if (lua_getfield(L, t, "params") != LUA_TNIL)
+    read_params(L, -1, map, params_entry ? map.value_node(*params_entry) : -1);
   lua_settop(L, t);
   reading_line = key_line("generate");
   if (lua_getfield(L, t, "generate") != LUA_TFUNCTION)
@@ -127,7 +127,7 @@ std::vector<ScenarioParam> Scenario::params() const {
 }
 
 // The known parameters, each with its type, default and range; a family of more than eight that
-// share the word before their first '_' (lib/body's 66 noise_* levels) as one entry, which a
+// share the word before their first '_' (lib/body's 36 noise_* levels) as one entry, which a
 // misspelt name's suggestion still reaches: a list of them all buried the others.
 std::string Scenario::Impl::known_params_text() const {
   std::map<std::string, int> family;

@@ -219,14 +219,13 @@ struct Scenario::Impl {
     return ScriptError(message, path, line < 0 ? reading_line : line, "");
   }
 
-  // Reads the `params` table (scenario_params.cpp); `map`: where the script's tables are written.
-  void read_params(lua_State* L, int index, const LuaTableMap& map);
+  // Reads the `params` table (scenario_params.cpp); `map`: where the script's tables are written,
+  // `node` the constructor of this one in it (-1: not written in the text).
+  void read_params(lua_State* L, int index, const LuaTableMap& map, int node);
   // Checks the table the script returned and keeps its generator (scenario.cpp).
   void read_table(lua_State* L, const LuaTableMap& map);
-  // While the returned table is read: the line of what is being read, and the constructor of its
-  // `params` table in the map (-1: not written in the text).
+  // While the returned table is read: the line of what is being read.
   int reading_line = 0;
-  int params_node = -1;
   // The slot `key` would hold with `value` (into `out`), or why not: Scenario::set_param's message.
   std::optional<std::string> parse_param(const std::string& key, const std::string& value,
                                          scenario_detail::ParamSlot& out) const;

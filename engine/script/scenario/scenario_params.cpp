@@ -126,7 +126,7 @@ bool is_identifier(const std::string& s) {
 using namespace scenario_detail;
 
 // Reads the `params` table: short (name = default) and long ({default=, ...}) forms.
-void Scenario::Impl::read_params(lua_State* L, int index, const LuaTableMap& map) {
+void Scenario::Impl::read_params(lua_State* L, int index, const LuaTableMap& map, int node) {
   index = lua_absindex(L, index);
   const int params_line = reading_line;
   if (!lua_istable(L, index))
@@ -138,7 +138,7 @@ void Scenario::Impl::read_params(lua_State* L, int index, const LuaTableMap& map
     // Where this parameter is written (a table built by code, body.with_params{...}, has no
     // entries in the text: then the `params` line).
     const LuaTableMap::Entry* e =
-        lua_type(L, -2) == LUA_TSTRING ? map.entry(params_node, lua_tostring(L, -2)) : nullptr;
+        lua_type(L, -2) == LUA_TSTRING ? map.entry(node, lua_tostring(L, -2)) : nullptr;
     reading_line = e ? e->line : params_line;
     ParamSlot slot = read_param(L);
     params[slot.info.name] = std::move(slot);
