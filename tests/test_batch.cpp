@@ -269,6 +269,12 @@ TEST_CASE("shards of one script run at once into one folder and report what one 
   CHECK(fs::exists(out / "shards" / "0-of-3.json"));
   CHECK_FALSE(fs::exists(out / "summary.csv"));  // shards write no shared file but the manifest
   CHECK_FALSE(fs::exists(out / "tables.md"));
+  // The dashboard's status: shard 1's T trials are still to come, so the run waits for a shard,
+  // not for its report, and is not over.
+  const auto status = [&] { return nlohmann::json::parse(slurp(out / "status.json")); };
+  CHECK(status()["running"] == false);
+  CHECK(status()["finishing"] == false);
+  CHECK(status()["waiting"] == "shards");
 
   // The report names what is missing and who owns it, and writes nothing.
   std::string err;
@@ -283,7 +289,11 @@ TEST_CASE("shards of one script run at once into one folder and report what one 
   // The shard resumes with its command; then the report equals an unsharded run's (kept in
   // tests/golden/quick, made by one roger run of the same script).
   REQUIRE(shell(run + " --shard 1/3 >/dev/null") == 0);
+  CHECK(status()["waiting"] == "report");  // every trial is over: the run waits for roger report
   REQUIRE(shell(std::string(ROGER_BINARY) + " report " + out.string() + " >/dev/null", &err) == 0);
+  // roger report closes the run's status, as roger run does after its report: the page shows it.
+  CHECK(status()["report"] == "written");
+  CHECK_FALSE(status().contains("waiting"));
   const int same = shell("bash tests/tools/compare_results.sh --golden tests/golden/quick " + out.string() + " 1>&2", &err);
   INFO(err);
   CHECK(same == 0);

@@ -170,7 +170,8 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control);
 // status.json and status.js as run_batch's final status left them, no longer "finishing", with
 // what became of the report ("written", "failed" or "none"). The dashboard reloads dashboard.js
 // only once it reads this, so it never takes a previous run's report for this one's, however long
-// the report takes. Never throws: progress for a page is a convenience.
+// the report takes. `roger report` writes it too, for a sharded run (whose shards write no
+// report). Never throws: progress for a page is a convenience.
 void write_closing_status(const std::string& out, const std::string& report);
 
 // Writes <out>/summary.csv, one row per planned trial (pending ones included), and returns what it

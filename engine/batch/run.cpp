@@ -538,7 +538,14 @@ class StatusWriter {
                         {"started_ms", epoch_ms(wall_start_)}, {"elapsed_s", elapsed},
                         {"eta_s", eta}, {"trials", total}, {"done", done}, {"failed", failed},
                         {"started", started}, {"groups", list}};
-    if (shard_.active()) j["shard"] = std::to_string(shard_.index) + "/" + std::to_string(shard_.count);
+    if (shard_.active()) {
+      j["shard"] = std::to_string(shard_.index) + "/" + std::to_string(shard_.count);
+      // A shard writes no report: at its end the run waits for the other shards (their trials
+      // are not over), or, once every trial is, for `roger report` (the report job).
+      // Its final status is the closing one (roger run writes none after a shard).
+      if (!running) j["finishing"] = false;
+      if (!running && !interrupted_) j["waiting"] = left > 0 ? "shards" : "report";
+    }
     return j;
   }
   void write(bool running) const {
@@ -622,6 +629,7 @@ void write_closing_status(const std::string& out, const std::string& report) {
     nlohmann::json j = nlohmann::json::parse(read_file_text((fs::path(out) / "status.json").string()));
     j["running"] = false;
     j["finishing"] = false;
+    j.erase("waiting");  // a sharded run's last status, before roger report
     j["report"] = report;
     j["updated_ms"] = std::chrono::duration_cast<std::chrono::milliseconds>(
                           std::chrono::system_clock::now().time_since_epoch()).count();

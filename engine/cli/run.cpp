@@ -133,7 +133,8 @@ int command_run(const RunArgs& a) {
         status = 1;
       }
     }
-    write_closing_status(plan.out, report);
+    // A shard's final status stays: it says what the run waits for (other shards, roger report).
+    if (!shard.active()) write_closing_status(plan.out, report);
     const int outcome = print_outcome(summary, log) ? 1 : status;
     if (!summary.interrupted) return outcome;
     log << "roger run: interrupted; the trials that were running start afresh when you run the same command "
@@ -161,6 +162,10 @@ int command_report(const ReportArgs& a) {
     const BatchSummary summary = write_summary_csv(plan);
     log << "roger report: wrote " << (std::filesystem::path(plan.out) / "summary.csv").string() << "\n";
     for (const auto& f : written) log << "roger report: wrote " << f << "\n";
+    // The dashboard of a sharded run waits for this report: the run's closing status says it is
+    // there. (A partial report leaves the status to the trials still to come.)
+    if (missing.empty() && std::filesystem::exists(std::filesystem::path(plan.out) / "status.json"))
+      write_closing_status(plan.out, "written");
     if (summary.pending) log << "roger report: " << summary.pending << " trials have no result yet (marked pending)\n";
     return 0;
   } catch (const FileError& e) {

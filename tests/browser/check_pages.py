@@ -300,6 +300,50 @@ def check_run_end(b, folder, work):
           "run end: a killed run's 'no news' warning shows above the folder's report (%s)" % note)
 
 
+def check_shards(b, folder, work):
+    """A sharded run (docs/cluster.md): a shard that ends is not the run's end. The page says it
+    waits for the other shards, then, once every trial is over, for roger report (the report job,
+    however long it waits in the queue), and ends on the report roger report writes."""
+    copy = os.path.join(work, "shards")
+    shutil.rmtree(copy, ignore_errors=True)
+    os.makedirs(copy)
+    shutil.copy(os.path.join(folder, "index.html"), copy)
+    final, report = json.load(open(os.path.join(folder, "status.json"))), read_report(folder)
+    now = int(time.time() * 1000)
+    line = "document.getElementById('progress-line').textContent"
+    note = "document.getElementById('progress-note').textContent"
+    ready = "document.body.getAttribute('data-ready') === '1'"
+    base = dict(final, running=False, finishing=False, shard="0/3", started_ms=now - 30000)
+    base.pop("report", None)
+    write_status(copy, dict(base, done=final["done"] - 4, waiting="shards", updated_ms=now))
+    b.open(os.path.join(copy, "index.html"), ready)
+    got = b.evaluate(line)
+    check(got.startswith("Waiting for the other shards: %d/%d trials done" % (final["done"] - 4, final["trials"]))
+          and "4 to come from the other shards" in got, "shards: a shard's end is not the run's (%s)" % got)
+    # Shards that stopped writing: said so, as a killed run is.
+    write_status(copy, dict(base, done=final["done"] - 4, waiting="shards", updated_ms=now - 40000))
+    b.open(os.path.join(copy, "index.html"), ready)
+    got = b.evaluate(note)
+    check(b.evaluate(line).startswith("No news") and "other shards may not be running" in got,
+          "shards: shards that stopped writing are said to have (%s)" % got)
+    # Every shard done: the wait for the report job is followed without a time limit.
+    write_status(copy, dict(base, waiting="report", updated_ms=now - 120000))
+    b.open(os.path.join(copy, "index.html"), ready)
+    got = b.evaluate(line)
+    check(got.startswith("Every shard is done, waiting for roger report: %d/%d" % (final["done"], final["trials"]))
+          and "may have stopped" not in b.evaluate(note), "shards: the page waits for roger report (%s)" % got)
+    write_report(copy, dict(report, written_ms=int(time.time() * 1000)))
+    write_status(copy, dict(base, report="written", updated_ms=int(time.time() * 1000)))
+    title = "document.getElementById('title').textContent"
+    got = wait_for(b, title, lambda t: t == "Results: " + report["name"], 12)
+    check(got == "Results: " + report["name"], "shards: the page ends on roger report's report (%s)" % got)
+    check(b.evaluate(line).startswith("Finished"), "shards: then the run is finished (%s)" % b.evaluate(line))
+    # A fresh sharded run has no dashboard.js until roger report: the page's tries to load it are
+    # the only errors allowed (a page opened from file:// learns that a file is absent so).
+    errors = [e for e in b.errors() if not ("ERR_FILE_NOT_FOUND" in e and "/dashboard.js?" in e)]
+    check(errors == [], "shards: no console errors but the absent report's (%s)" % errors)
+
+
 def check_failures(b, folder, screenshot):
     """tests/browser/dashboard_batch.lua: failed trials say why, figures not drawn are not linked,
     axis labels stay distinct over a short time range, and long context names fit."""
@@ -514,6 +558,7 @@ def main():
         shots = a.screenshots
         check_dashboard(b, results, shots and os.path.join(shots, "dashboard.png"))
         check_run_end(b, results, a.work)
+        check_shards(b, results, a.work)
         check_failures(b, failures_run, None)
         check_episode(b, episode, shots and os.path.join(shots, "episode-viewer.png"))
         check_teachers(b, teachers)

@@ -280,6 +280,9 @@ submit_and_check() {
   for f in tables.md summary.csv report.json manifest.json; do
     [ -s "$sharded/$f" ] || fail "the sharded folder has no $f"
   done
+  # The dashboard's status: the report job closed it, so the page shows the report.
+  python3 -c 'import json, sys; s = json.load(open(sys.argv[1])); sys.exit(0 if s.get("report") == "written" and "waiting" not in s and not s["running"] else 1)' \
+    "$sharded/status.json" || fail "status.json does not say the report is written: $(cat "$sharded/status.json")"
 }
 
 # --- the sharded run, and the same script unsharded -------------------------------------------------
