@@ -240,17 +240,23 @@ def wait_for(b, expression, want, seconds):
     return got
 
 
+def page_copy(folder, work, name):
+    """A folder `name` in `work` with the dashboard page of `folder` alone, to write statuses and
+    reports into; and `folder`'s final status and report."""
+    copy = os.path.join(work, name)
+    shutil.rmtree(copy, ignore_errors=True)
+    os.makedirs(copy)
+    shutil.copy(os.path.join(folder, "index.html"), copy)
+    return copy, json.load(open(os.path.join(folder, "status.json"))), read_report(folder)
+
+
 def check_run_end(b, folder, work):
     """The end of a run as `roger run` writes it: the trials' final status ("finishing": the report
     is being written), then dashboard.js, then the closing status. The page must end on the report
     this run wrote, never on the folder's previous one (a resumed run's partial report), whatever
     the gap between the files and the order they come in; and it must say when a run was
     interrupted or may have been killed, report or no report."""
-    copy = os.path.join(work, "run-end")
-    shutil.rmtree(copy, ignore_errors=True)
-    os.makedirs(copy)
-    shutil.copy(os.path.join(folder, "index.html"), copy)
-    final, report = json.load(open(os.path.join(folder, "status.json"))), read_report(folder)
+    copy, final, report = page_copy(folder, work, "run-end")
     now = int(time.time() * 1000)
     old = dict(report, name="previous-report", written_ms=now - 60000)
     new = dict(report, written_ms=now + 1)
@@ -304,11 +310,7 @@ def check_shards(b, folder, work):
     """A sharded run (docs/cluster.md): a shard that ends is not the run's end. The page says it
     waits for the other shards, then, once every trial is over, for roger report (the report job,
     however long it waits in the queue), and ends on the report roger report writes."""
-    copy = os.path.join(work, "shards")
-    shutil.rmtree(copy, ignore_errors=True)
-    os.makedirs(copy)
-    shutil.copy(os.path.join(folder, "index.html"), copy)
-    final, report = json.load(open(os.path.join(folder, "status.json"))), read_report(folder)
+    copy, final, report = page_copy(folder, work, "shards")
     now = int(time.time() * 1000)
     line = "document.getElementById('progress-line').textContent"
     note = "document.getElementById('progress-note').textContent"
