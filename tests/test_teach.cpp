@@ -1095,6 +1095,40 @@ TEST_CASE("a teacher function's string for a number axis is refused at its line"
   CHECK(where == file.string() + ":9");
 }
 
+// Found by a probe: roger check said ok of a teacher function that failed in every trial once its
+// learner began to succeed (its error, or a value outside the task space, came after the trial's
+// first episodes). Now check calls it as training does, on a history of failures then successes.
+TEST_CASE("roger check calls a teacher function on a history and finds its errors at their lines", "[teach][errors]") {
+  test::TempDir dir("roger_teach_check_fn");
+  // Fine until ten episodes have succeeded, then a misspelt field of a history entry.
+  const fs::path late = write_stage(dir.path, "late", "{ tasks = { obstacles = roger.int(0, 3) },\n"
+                                                      "  teacher = function(history, rng)\n"
+                                                      "    local wins = 0\n"
+                                                      "    for _, h in ipairs(history) do if h.success then wins = wins + 1 end end\n"
+                                                      "    if wins < 10 then return { obstacles = rng:int(0, 3) } end\n"
+                                                      "    return { obstacles = history[#history].tsak.obstacles }\n"
+                                                      "  end }");
+  std::vector<std::string> problems = check_curriculum(late.string());
+  REQUIRE(problems.size() == 1);
+  INFO(problems[0]);
+  CHECK_THAT(problems[0], Contains(late.string() + ":13: ") && Contains("stage 'S': teacher function") &&
+                              Contains("(called as before training episode 20, on a history roger check made: "
+                                       "10 episodes failed, then the rest succeeded)"));
+  // A value outside the task space once the learner succeeds: at the function's line.
+  const fs::path out = write_stage(dir.path, "out", "{ tasks = { obstacles = roger.int(0, 3) },\n"
+                                                     "  teacher = function(history, rng)\n"
+                                                     "    if #history > 0 and history[#history].success then return { obstacles = 4 } end\n"
+                                                     "    return {}\n"
+                                                     "  end }");
+  problems = check_curriculum(out.string());
+  REQUIRE(problems.size() == 1);
+  INFO(problems[0]);
+  CHECK_THAT(problems[0], Contains(out.string() + ":9: stage 'S': teacher function returned obstacles = 4, outside the task "
+                                   "space") && Contains("before training episode 11"));
+  // The documented example's functions pass.
+  CHECK(check_curriculum("docs/examples/teachers_example.lua").empty());
+}
+
 // Found by a probe: a test task the scenario cannot place failed the trial at its first checkpoint
 // with the placement's message alone, nothing saying it was a test-set task or which stage.
 TEST_CASE("a test-set task that cannot be placed fails its trial naming the test task and the stage", "[teach][errors]") {

@@ -685,6 +685,33 @@ void check_callbacks(Curriculum& cur, const CurriculumStage& st, const Curriculu
   cur.set_world(nullptr);
 }
 
+// A stage's Lua teacher function called as between training episodes, on a history it builds:
+// the first ten episodes failed, the next twenty succeeded (a learner that learns), so a function
+// that reads `history` or changes its mind after a run of successes meets both cases. An error
+// in it, or a result outside the task space, is found here rather than after a trial's first
+// episodes.
+void check_teacher_function(Curriculum& cur, const CurriculumStage& st, std::vector<std::string>& problems) {
+  if (!st.teacher_lua) return;
+  constexpr int kEpisodes = 30, kFailed = 10;
+  int episode = 0;
+  try {
+    const std::unique_ptr<Teacher> teacher = cur.make_teacher(st, st.tasks, 0);
+    for (; episode < kEpisodes; ++episode) {
+      TaskOutcome o;
+      o.task = teacher->next().task;
+      o.world_seed = uint64_t(episode);
+      o.success = episode >= kFailed;
+      o.reward = o.success ? 1.0 : 0.0;
+      o.sim_s = 5.0;
+      teacher->record(o);
+    }
+  } catch (const std::exception& e) {
+    problems.push_back(with_note_on_first_line(
+        e.what(), " (called as before training episode " + std::to_string(episode) + ", on a history roger check made: " +
+                      std::to_string(kFailed) + " episodes failed, then the rest succeeded)"));
+  }
+}
+
 }  // namespace
 
 std::vector<std::string> check_curriculum(const std::string& path, const SandboxLimits& limits) {
@@ -722,6 +749,7 @@ std::vector<std::string> check_curriculum(const std::string& path, const Sandbox
       }
       check_callbacks(*cur, st, ctx, spec, problems);
     }
+    check_teacher_function(*cur, st, problems);
     const size_t before = problems.size();
     check_task_space_ends(st, limits, problems);
     if (problems.size() == before) check_test_set(*cur, st, limits, problems);  // else the same holes again
