@@ -246,6 +246,10 @@ void check_own_worlds(const fs::path& dir, const std::string& tables, const json
   for (const auto& [row, layouts] : {std::pair<int, double>{0, 6}, {1, 6}, {2, 12}}) {
     INFO("row " << row);
     CHECK(rows[row]["layouts"] == layouts);
+    // Two policies in every row; the Total's evaluations are each on each shape (it counted them
+    // as policies).
+    CHECK(rows[row]["policies"] == 2);
+    CHECK(rows[row]["evaluations"] == (row == 2 ? 4 : 2));
     CHECK(rows[row]["interval"] == "policies");
     const double rate = rows[row]["success_rate"].get<double>();
     CHECK(rows[row]["success_low"].get<double>() <= wilson_interval(rate * layouts, layouts).low);

@@ -20,7 +20,8 @@ namespace {
 // interval (with the layouts and policies it resampled).
 struct EvalRow {
   Pooled p;
-  std::vector<double> rates;
+  std::vector<double> rates;  // one per evaluation: a policy on the row's object (each object's, in the Total)
+  std::set<int64_t> policies;  // the trial indices the evaluations are of
   RateInterval ci;
 };
 
@@ -33,6 +34,7 @@ EvalRow eval_row(const std::vector<json>& evals, uint64_t salt) {
   std::vector<RateCell> cells;
   for (const auto& j : evals) {
     r.rates.push_back(num(j, "success_rate"));
+    r.policies.insert(int64_t(num(j, "trial")));
     append_rate_cells(j, int64_t(num(j, "trial")), "first_seed", "episodes", "outcomes", cells);
   }
   if (!cells.empty()) r.ci = pooled_rate_interval(cells, kBootstrapSeed + salt, kRateResamples);
@@ -47,7 +49,8 @@ json eval_row_out(const std::string& name, const std::string& object, const Eval
      << pct(population_std(r.rates)) << " | " << policies << " | " << r.p.episodes << " | " << r.ci.layouts << " |\n";
   return {{"object", object}, {"reward_mean", r.p.mean}, {"reward_std", r.p.std}, {"success_rate", r.p.success},
           {"success_low", r.ci.ci.low}, {"success_high", r.ci.ci.high}, {"interval", resampled_name(r.ci.by)},
-          {"policies", r.rates.size()}, {"episodes", r.p.episodes}, {"layouts", r.ci.layouts}};
+          {"policies", r.policies.size()}, {"evaluations", r.rates.size()}, {"episodes", r.p.episodes},
+          {"layouts", r.ci.layouts}};
 }
 
 // The head of an evaluation table: its title, whose policies, where, and how they met their worlds.
