@@ -1100,7 +1100,8 @@ TEST_CASE("a teacher function's string for a number axis is refused at its line"
 // first episodes). Now check calls it as training does, on a history of failures then successes.
 TEST_CASE("roger check calls a teacher function on a history and finds its errors at their lines", "[teach][errors]") {
   test::TempDir dir("roger_teach_check_fn");
-  // Fine until ten episodes have succeeded, then a misspelt field of a history entry.
+  // Fine until ten episodes have succeeded, then a misspelt field of a history entry (an entry
+  // holds its four fields alone: reading another is an error, not a nil).
   const fs::path late = write_stage(dir.path, "late", "{ tasks = { obstacles = roger.int(0, 3) },\n"
                                                       "  teacher = function(history, rng)\n"
                                                       "    local wins = 0\n"
@@ -1111,7 +1112,8 @@ TEST_CASE("roger check calls a teacher function on a history and finds its error
   std::vector<std::string> problems = check_curriculum(late.string());
   REQUIRE(problems.size() == 1);
   INFO(problems[0]);
-  CHECK_THAT(problems[0], Contains(late.string() + ":13: ") && Contains("stage 'S': teacher function") &&
+  CHECK_THAT(problems[0], Contains(late.string() + ":13: stage 'S': teacher function: a history entry has no field 'tsak' "
+                                    "(did you mean 'task'?); its fields: reward, success, task, time") &&
                               Contains("(called as before training episode 20, on a history roger check made: "
                                        "10 episodes failed, then the rest succeeded)"));
   // A value outside the task space once the learner succeeds: at the function's line.

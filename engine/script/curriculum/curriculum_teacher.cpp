@@ -1,15 +1,17 @@
 // curriculum_teacher.cpp: a stage's Lua function as its teacher: teacher = function(history, rng)
 // ... return {obstacles = 2, shape = "spade"} end, called between training episodes only, under
 // the sandbox's budgets. `history` lists the trial's earlier training episodes in order, each
-// {task = {...}, success = ..., reward = ..., time = ...}; `rng` is an rng object of its own,
-// seeded from the trial. Axes the result leaves out are drawn uniformly; a value outside the space
+// {task = {...}, success = ..., reward = ..., time = ...} (reading another field is an error);
+// `rng` is an rng object of its own, seeded from the trial. Axes the result leaves out are drawn uniformly; a value outside the space
 // is an error naming the parameter and the space; a value for a parameter the run fixes (--set, a
 // batch run's params) is ignored, the run's value standing.
 #include <cmath>
 #include <cstdlib>
 
 #include "core/error.h"
+#include "core/text.h"
 #include "script/curriculum/curriculum_internal.h"
+#include "script/sandbox/lua_sandbox.h"
 #include "script/scenario/scenario.h"
 
 namespace roger {
@@ -26,6 +28,19 @@ void push_param_value(lua_State* L, const std::string& text) {
   if (!text.empty() && *end == '\0' && std::isfinite(d) && format_number(d) == text) return lua_pushnumber(L, d);
   if (text == "true" || text == "false") return lua_pushboolean(L, text == "true");
   lua_pushstring(L, text.c_str());
+}
+
+// A history entry's __index, reached only by a name it does not hold: an error at the teacher's
+// line naming its fields, where a nil (`h.sucess`) would quietly change what the teacher picks.
+int history_unknown_field(lua_State* L) {
+  const std::vector<std::string> fields = {"reward", "success", "task", "time"};
+  const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : luaL_tolstring(L, 2, nullptr);
+  const std::string text = "a history entry has no field '" + key + "'" + suggestion(key, fields) + "; its fields: " +
+                           join(fields);
+  luaL_where(L, 2);  // the Lua function that read it (level 1 is this metamethod)
+  lua_pushstring(L, text.c_str());
+  lua_concat(L, 2);
+  return lua_error(L);
 }
 
 class LuaTeacher final : public Teacher {
@@ -96,6 +111,11 @@ class LuaTeacher final : public Teacher {
       lua_setfield(L, -2, "reward");
       lua_pushnumber(L, o.sim_s);
       lua_setfield(L, -2, "time");
+      if (luaL_newmetatable(L, "roger.HistoryEntry")) {
+        lua_pushcfunction(L, history_unknown_field);
+        lua_setfield(L, -2, "__index");
+      }
+      lua_setmetatable(L, -2);
       lua_rawseti(L, -2, episodes_);
       lua_pop(L, 1);
     });
