@@ -285,6 +285,10 @@ TEST_CASE("shards of one script run at once into one folder and report what one 
   CHECK(err.find("T/B2/000") == std::string::npos);
   CHECK_FALSE(fs::exists(out / "tables.md"));
   CHECK_FALSE(fs::exists(out / "summary.csv"));
+  // A partial report leaves the status to the trials still to come: the page keeps waiting.
+  REQUIRE(shell(std::string(ROGER_BINARY) + " report --partial " + out.string() + " >/dev/null 2>&1") == 0);
+  CHECK(status()["waiting"] == "shards");
+  CHECK_FALSE(status().contains("report"));
 
   // The shard resumes with its command; then the report equals an unsharded run's (kept in
   // tests/golden/quick, made by one roger run of the same script).

@@ -171,7 +171,8 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control);
 // what became of the report ("written", "failed" or "none"). The dashboard reloads dashboard.js
 // only once it reads this, so it never takes a previous run's report for this one's, however long
 // the report takes. `roger report` writes it too, for a sharded run (whose shards write no
-// report). Never throws: progress for a page is a convenience.
+// report). Does nothing in a folder without a status.json. Never throws: progress for a page is a
+// convenience.
 void write_closing_status(const std::string& out, const std::string& report);
 
 // Writes <out>/summary.csv, one row per planned trial (pending ones included), and returns what it

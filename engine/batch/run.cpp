@@ -540,11 +540,13 @@ class StatusWriter {
                         {"started", started}, {"groups", list}};
     if (shard_.active()) {
       j["shard"] = std::to_string(shard_.index) + "/" + std::to_string(shard_.count);
-      // A shard writes no report: at its end the run waits for the other shards (their trials
-      // are not over), or, once every trial is, for `roger report` (the report job).
-      // Its final status is the closing one (roger run writes none after a shard).
-      if (!running) j["finishing"] = false;
-      if (!running && !interrupted_) j["waiting"] = left > 0 ? "shards" : "report";
+      // A shard writes no report, and its final status is the closing one (roger run writes none
+      // after a shard): the run then waits for the other shards (their trials are not over), or,
+      // once every trial is, for `roger report` (the report job).
+      if (!running) {
+        j["finishing"] = false;
+        if (!interrupted_) j["waiting"] = left > 0 ? "shards" : "report";
+      }
     }
     return j;
   }

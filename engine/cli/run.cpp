@@ -162,10 +162,10 @@ int command_report(const ReportArgs& a) {
     const BatchSummary summary = write_summary_csv(plan);
     log << "roger report: wrote " << (std::filesystem::path(plan.out) / "summary.csv").string() << "\n";
     for (const auto& f : written) log << "roger report: wrote " << f << "\n";
-    // The dashboard of a sharded run waits for this report: the run's closing status says it is
-    // there. (A partial report leaves the status to the trials still to come.)
-    if (missing.empty() && std::filesystem::exists(std::filesystem::path(plan.out) / "status.json"))
-      write_closing_status(plan.out, "written");
+    // The dashboard of a sharded run waits for this report: the run's closing status (none
+    // without a status.json) says it is there. A partial report leaves the status to the trials
+    // still to come.
+    if (missing.empty()) write_closing_status(plan.out, "written");
     if (summary.pending) log << "roger report: " << summary.pending << " trials have no result yet (marked pending)\n";
     return 0;
   } catch (const FileError& e) {

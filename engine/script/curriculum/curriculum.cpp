@@ -368,11 +368,8 @@ int state_unknown_action(lua_State* L) {
   }
   std::sort(names.begin(), names.end());
   const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : luaL_tolstring(L, 2, nullptr);
-  const std::string text = "state has no action '" + key + "'" + suggestion(key, names) + "; its actions: " + join(names);
-  luaL_where(L, 2);  // the Lua function that read it (level 1 is this metamethod)
-  lua_pushstring(L, text.c_str());
-  lua_concat(L, 2);
-  return lua_error(L);
+  return curriculum_detail::raise_at_reader(
+      L, "state has no action '" + key + "'" + suggestion(key, names) + "; its actions: " + join(names));
 }
 
 // Pushes a state as a Lua table {[action name] = "CONV" | "!CONV" | "NOREF"}; reading another name
@@ -383,14 +380,29 @@ void push_state(lua_State* L, const CurriculumContext& ctx, const std::vector<Ga
     lua_pushstring(L, gamma_name(state[i]));
     lua_setfield(L, -2, ctx.actions[i]->name().c_str());
   }
-  if (luaL_newmetatable(L, "roger.State")) {
-    lua_pushcfunction(L, state_unknown_action);
+  curriculum_detail::set_strict_index(L, "roger.State", state_unknown_action);
+}
+
+}  // namespace
+
+namespace curriculum_detail {
+
+void set_strict_index(lua_State* L, const char* type_name, lua_CFunction unknown) {
+  if (luaL_newmetatable(L, type_name)) {
+    lua_pushcfunction(L, unknown);
     lua_setfield(L, -2, "__index");
   }
   lua_setmetatable(L, -2);
 }
 
-}  // namespace
+int raise_at_reader(lua_State* L, const std::string& text) {
+  luaL_where(L, 2);  // the Lua function that read it (level 1 is the metamethod)
+  lua_pushstring(L, text.c_str());
+  lua_concat(L, 2);
+  return lua_error(L);
+}
+
+}  // namespace curriculum_detail
 
 void Curriculum::set_world(const World* world) { impl_->world = world; }
 

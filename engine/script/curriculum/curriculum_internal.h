@@ -42,6 +42,15 @@ struct LuaCallback {
 void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& absorb_fn, LuaCallback& reward_fn,
                  LuaCallback& teacher_fn, const std::string& naming_file);
 
+// ---- strict tables: what callbacks read (curriculum.cpp)
+
+// Gives the table on top of L's stack the metatable `type_name` (made once), whose __index is
+// `unknown`: reading a name the table does not hold calls it, so a misspelt name is an error
+// rather than a nil that quietly changes what a callback decides.
+void set_strict_index(lua_State* L, const char* type_name, lua_CFunction unknown);
+// For an `unknown` above: raises `text` at the line of the Lua function that read the name.
+int raise_at_reader(lua_State* L, const std::string& text);
+
 // ---- teachers (curriculum_tasks.cpp, curriculum_teacher.cpp)
 
 // The value at `index` as a scenario parameter's text (a number, string or boolean), or a Lua

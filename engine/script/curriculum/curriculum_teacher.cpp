@@ -2,9 +2,9 @@
 // ... return {obstacles = 2, shape = "spade"} end, called between training episodes only, under
 // the sandbox's budgets. `history` lists the trial's earlier training episodes in order, each
 // {task = {...}, success = ..., reward = ..., time = ...} (reading another field is an error);
-// `rng` is an rng object of its own, seeded from the trial. Axes the result leaves out are drawn uniformly; a value outside the space
-// is an error naming the parameter and the space; a value for a parameter the run fixes (--set, a
-// batch run's params) is ignored, the run's value standing.
+// `rng` is an rng object of its own, seeded from the trial. Axes the result leaves out are drawn
+// uniformly; a value outside the space is an error naming the parameter and the space; a value
+// for a parameter the run fixes (--set, a batch run's params) is ignored, the run's value standing.
 #include <cmath>
 #include <cstdlib>
 
@@ -35,12 +35,8 @@ void push_param_value(lua_State* L, const std::string& text) {
 int history_unknown_field(lua_State* L) {
   const std::vector<std::string> fields = {"reward", "success", "task", "time"};
   const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : luaL_tolstring(L, 2, nullptr);
-  const std::string text = "a history entry has no field '" + key + "'" + suggestion(key, fields) + "; its fields: " +
-                           join(fields);
-  luaL_where(L, 2);  // the Lua function that read it (level 1 is this metamethod)
-  lua_pushstring(L, text.c_str());
-  lua_concat(L, 2);
-  return lua_error(L);
+  return raise_at_reader(L, "a history entry has no field '" + key + "'" + suggestion(key, fields) +
+                                "; its fields: " + join(fields));
 }
 
 class LuaTeacher final : public Teacher {
@@ -111,11 +107,7 @@ class LuaTeacher final : public Teacher {
       lua_setfield(L, -2, "reward");
       lua_pushnumber(L, o.sim_s);
       lua_setfield(L, -2, "time");
-      if (luaL_newmetatable(L, "roger.HistoryEntry")) {
-        lua_pushcfunction(L, history_unknown_field);
-        lua_setfield(L, -2, "__index");
-      }
-      lua_setmetatable(L, -2);
+      set_strict_index(L, "roger.HistoryEntry", history_unknown_field);
       lua_rawseti(L, -2, episodes_);
       lua_pop(L, 1);
     });
