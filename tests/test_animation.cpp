@@ -346,3 +346,22 @@ TEST_CASE("bad folders and episodes are clear errors") {
     CHECK_THROWS_AS(render_episode(e.spec, ep, (dir.path / "a").string(), bad), Error);
   }
 }
+
+TEST_CASE("the timeline shows each watched controller's row once") {
+  using G = Gamma;
+  const std::vector<Gamma> a{G::kNotConv, G::kConv}, b{G::kNoRef, G::kConv};
+  // Psi's actions, then what is inside them: two copies of "phi4 <| phi5" in two skills that ran
+  // alike, a learned skill and the binding running it, and a composite whose copies differed.
+  const std::vector<GammaTrace> watched{{"Phi_STG", a}, {"transport", b},     {"Phi_SG", a},
+                                        {"phi4 <| phi5", b}, {"phi4 <| phi5", b}, {"Phi_SG", a},
+                                        {"phi1 <| phi2", a}, {"phi1 <| phi2", b}, {"phi4", a}};
+  std::vector<std::string> names;
+  for (const GammaTrace& t : distinct_traces(watched, 12)) names.push_back(t.name);
+  CHECK(names == std::vector<std::string>{"Phi_STG", "transport", "Phi_SG", "phi4 <| phi5", "phi1 <| phi2",
+                                          "phi1 <| phi2 (2)", "phi4"});
+  // The limit counts the rows kept: the repeats left room for the rows after them.
+  names.clear();
+  for (const GammaTrace& t : distinct_traces(watched, 5)) names.push_back(t.name);
+  CHECK(names == std::vector<std::string>{"Phi_STG", "transport", "Phi_SG", "phi4 <| phi5", "phi1 <| phi2"});
+  CHECK(distinct_traces(watched, 0).empty());
+}

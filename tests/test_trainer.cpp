@@ -243,6 +243,13 @@ TEST_CASE("roger train writes every file and eval --policy reproduces its final 
     REQUIRE(recorded.episode.gammas.size() >= 2);
     CHECK(recorded.episode.gammas[0].name == "Phi_STG");  // Psi first, then what is inside it
     CHECK(recorded.episode.gammas[0].states.size() == size_t(recorded.episode.ticks));
+    // No row repeats another: Phi_STG and the transport each hold a "phi4 <| phi5" of their own,
+    // and the learned Phi_SG runs inside a binding of the same name; each pair runs alike, so each
+    // is one row, not two rows or a numbered second one.
+    for (size_t i = 0; i < recorded.episode.gammas.size(); ++i) {
+      CHECK(recorded.episode.gammas[i].name.find(" (") == std::string::npos);
+      for (size_t j = 0; j < i; ++j) CHECK(recorded.episode.gammas[i].name != recorded.episode.gammas[j].name);
+    }
     REQUIRE(!recorded.episode.decisions.empty());
     CHECK(recorded.episode.decisions.front().path.front() == "Phi_STG");
   }

@@ -826,7 +826,9 @@ RecordedPolicyEpisode record_policy_episode(const PolicyEvalOptions& options, do
                                             size_t watch_limit) {
   RecordedPolicyEpisode r;
   with_policy_file(options, r.about, [&](StageRun& run, QTable& q, uint64_t seed) {
-    const std::vector<ControllerPtr> watch = watched_controllers(run.ctx.actions, watch_limit);
+    // Twice the rows shown are watched, so that rows repeating others (distinct_traces) leave
+    // their places to the next ones.
+    const std::vector<ControllerPtr> watch = watched_controllers(run.ctx.actions, 2 * watch_limit);
     const auto recorder = make_recorder(r.episode, watch, record_every, run.agent.world().tick_seconds());
     Rng unused(0);
     const TrainingEpisode ep = run.run(q, seed, 0.0, unused, false, "render", 0, recorder.get());
@@ -836,6 +838,7 @@ RecordedPolicyEpisode record_policy_episode(const PolicyEvalOptions& options, do
     r.episode.reward = ep.reward;
     r.episode.sim_seconds = ep.sim_seconds;
     r.episode.ticks = ep.ticks;
+    r.episode.gammas = distinct_traces(std::move(r.episode.gammas), watch_limit);
   });
   return r;
 }

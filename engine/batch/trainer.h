@@ -257,7 +257,7 @@ struct RecordedPolicyEpisode {
 // Runs the greedy episode of a saved policy on world seed options.first_seed (-1: the stage's first
 // held-out seed) through the same episode loop as training and evaluation, recording a frame
 // every `record_every` seconds and the states of Psi and the controllers inside it (at most
-// `watch_limit`, outermost first).
+// `watch_limit` rows, outermost first, none repeating another: distinct_traces).
 RecordedPolicyEpisode record_policy_episode(const PolicyEvalOptions& options, double record_every,
                                             size_t watch_limit = 12);
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "core/error.h"
 #include "core/interrupt.h"
@@ -137,6 +138,20 @@ std::unique_ptr<EpisodeObserver> make_recorder(EpisodeResult& result, const std:
                                                double record_every, double tick_seconds) {
   const int every = record_every > 0.0 ? std::max(1, int(std::lround(record_every / tick_seconds))) : 0;
   return std::make_unique<Recorder>(result, watch, every);
+}
+
+std::vector<GammaTrace> distinct_traces(std::vector<GammaTrace> traces, size_t limit) {
+  std::vector<GammaTrace> kept;
+  std::map<std::string, int> uses;  // traces kept per name
+  for (GammaTrace& t : traces) {
+    if (kept.size() == limit) break;
+    const auto same = [&](const GammaTrace& k) { return k.states == t.states && k.name == t.name; };
+    if (std::any_of(kept.begin(), kept.end(), same)) continue;
+    kept.push_back(std::move(t));
+  }
+  for (GammaTrace& k : kept)
+    if (const int n = ++uses[k.name]; n > 1) k.name += " (" + std::to_string(n) + ")";
+  return kept;
 }
 
 namespace {

@@ -143,6 +143,12 @@ struct EpisodeResult {
 std::unique_ptr<EpisodeObserver> make_recorder(EpisodeResult& result, const std::vector<ControllerPtr>& watch,
                                                double record_every, double tick_seconds);
 
+// The traces worth a row each on a timeline, at most `limit`, in order: a trace with the name and
+// the states of an earlier one is dropped (two copies of one composite, each inside another
+// skill, or a learned skill and the binding that runs it, show the same row twice), and a name
+// still shared by traces whose states differ is numbered from its second on ("phi4 <| phi5 (2)").
+std::vector<GammaTrace> distinct_traces(std::vector<GammaTrace> traces, size_t limit);
+
 // Runs `action` (a primitive, composition or skill) through the loop from a fresh world until
 // `goal` holds or the time limit, recording frames every options.record_every seconds and the
 // states of the `watch` controllers every tick (and, when recording either, the decisions). Every controller it uses is reset with the
