@@ -525,6 +525,40 @@ def check_episode(b, folder, screenshot):
     check(b.errors() == [], "viewer: still no console errors after playing with it")
 
 
+def check_cycle(b, folder, work):
+    """An episode that ended in a cycle (test_animation checks episode.json's "cycle"; here one is
+    written into a copy of the page): the cycle is shaded and named, and its name, in its own red,
+    lies on a line of its own under the rows, covering none of them."""
+    html = open(os.path.join(folder, "index.html")).read()
+    ep = json.load(open(os.path.join(folder, "episode.json")))
+    check('"cycle":null' in html, "viewer: the page's episode has no cycle before one is written in")
+    cycle = {"from_tick": ep["decisions"][-1]["tick"], "first_decision": len(ep["decisions"]) - 1, "turns": 3,
+             "period": 1, "actions": [ep["decisions"][-1]["path"][-1]]}
+    copy = os.path.join(work, "cycle")
+    shutil.rmtree(copy, ignore_errors=True)
+    os.makedirs(copy)
+    with open(os.path.join(copy, "index.html"), "w") as f:
+        f.write(html.replace('"cycle":null', '"cycle":' + json.dumps(cycle), 1))
+    b.open(os.path.join(copy, "index.html"), "window.viewer !== undefined")
+    check(b.errors() == [], "viewer (cycle): no console errors (%s)" % b.errors())
+    rows = len(ep["gammas"])
+    label = b.evaluate("""(() => { const c = document.getElementById('timeline'), g = c.getContext('2d');
+        const r = c.width / c.clientWidth, x0 = viewer.timelinePoint(%r, 0).x * r;
+        const bottom = (viewer.timelinePoint(0, %d).y + 9) * r;  // the decisions' row's lower edge
+        const d = g.getImageData(0, 0, c.width, c.height).data;
+        let above = 0, below = 0;
+        for (let y = 0; y < c.height; ++y)
+          for (let x = 0; x < c.width; ++x) {
+            if (x >= x0 - 2 * r && x < x0 + 4 * r) continue;  // the cycle's edge, a red line
+            const i = 4 * (y * c.width + x);
+            if (d[i] > 110 && d[i] - d[i + 1] > 70 && d[i + 1] < 80 && d[i + 2] < 80) y < bottom ? ++above : ++below;
+          }
+        return {above: above, below: below}; })()""" % (ep["decisions"][-1]["time"], rows))
+    check(label["below"] > 30 and label["above"] == 0,
+          "viewer (cycle): the cycle's name is under the rows, not on them (%d red pixels on the rows, %d under)"
+          % (label["above"], label["below"]))
+
+
 def run(cmd):
     print("$ " + " ".join(cmd), flush=True)
     subprocess.run(cmd, check=True)
@@ -563,6 +597,7 @@ def main():
         check_shards(b, results, a.work)
         check_failures(b, failures_run, None)
         check_episode(b, episode, shots and os.path.join(shots, "episode-viewer.png"))
+        check_cycle(b, episode, a.work)
         check_teachers(b, teachers)
     finally:
         b.close()
