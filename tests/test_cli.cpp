@@ -285,6 +285,19 @@ TEST_CASE("roger train writes its six files together or leaves the folder as it 
   fs::remove_all(out);
 }
 
+TEST_CASE("a key given twice with two values is refused naming both", "[cli]") {
+  // It used to keep the last value, which only the run's manifest showed.
+  const Run twice = roger("eval curricula/scripted.lua --policy task --episodes 1 --set shape=spade --set shape=disk");
+  CHECK(twice.status == 1);
+  CHECK(twice.err.find("--set shape is given twice, as 'spade' and as 'disk': give it once") != std::string::npos);
+  const Run skills = roger("eval curricula/paper.lua --policy x.json --skill Phi_SG=a.json --skill Phi_SG=b.json");
+  CHECK(skills.status == 1);
+  CHECK(skills.err.find("--skill Phi_SG is given twice, as 'a.json' and as 'b.json'") != std::string::npos);
+  // The same value twice says one thing: it runs.
+  const Run same = roger("eval curricula/scripted.lua --policy task --episodes 1 --set shape=spade --set shape=spade");
+  CHECK(same.status == 0);
+}
+
 TEST_CASE("bad usage exits 2 naming the option and what it expects", "[cli]") {
   struct Case {
     const char* args;

@@ -24,7 +24,8 @@ SandboxLimits sandbox_limits(const LuaLimitArgs& lua);
 // Applies `--set key=value` options to a scenario.
 void apply_sets(Scenario& scenario, const std::vector<std::string>& sets);
 
-// Splits key=value options into pairs; `option` names the option in the error.
+// Splits key=value options into pairs, each key once (a key repeated with another value is an
+// error; with the same value, kept once); `option` names the option in the errors.
 std::vector<std::pair<std::string, std::string>> split_sets(const std::vector<std::string>& sets, const char* option);
 
 // The scenario a policy runs in: --scenario if given, else the policy's own, else unobstructed.

@@ -25,7 +25,16 @@ std::vector<std::pair<std::string, std::string>> split_sets(const std::vector<st
   for (const std::string& kv : sets) {
     const size_t eq = kv.find('=');
     if (eq == std::string::npos || eq == 0) throw Error(std::string(option) + " expects key=value, got '" + kv + "'");
-    out.push_back({kv.substr(0, eq), kv.substr(eq + 1)});
+    std::pair<std::string, std::string> set{kv.substr(0, eq), kv.substr(eq + 1)};
+    // A key given twice with two values is a mistake in the command (which one the run used would
+    // show only in its manifest), not an override: refused, naming both.
+    const auto same_key = std::find_if(out.begin(), out.end(), [&](const auto& o) { return o.first == set.first; });
+    if (same_key == out.end()) {
+      out.push_back(std::move(set));
+    } else if (same_key->second != set.second) {
+      throw Error(std::string(option) + " " + set.first + " is given twice, as '" + same_key->second + "' and as '" +
+                  set.second + "': give it once");
+    }
   }
   return out;
 }
