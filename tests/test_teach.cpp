@@ -941,7 +941,57 @@ TEST_CASE("roger eval of a teaching stage's policy says its test tasks are not w
   REQUIRE(run_shell(std::string(ROGER_BINARY) + " eval tests/scripts/teach_curriculum.lua --policy " +
                     (dir / "trials" / "Alp" / "A" / "000" / "policy.json").string() + " --episodes 2 > " + out.string()) == 0);
   CHECK_THAT(slurp(out), Contains("  note           stage Alp teaches: its trials ended on 20 test tasks of its task "
-                                  "space, not run here (these episodes have the stage's own parameters)\n"));
+                                  "space, not run here (--test-set runs them; these episodes have the stage's own "
+                                  "parameters)\n"));
+  fs::remove(out);
+}
+
+TEST_CASE("roger eval --test-set repeats a teaching trial's final evaluation episode for episode", "[teach][stage]") {
+  const fs::path dir = teach_batch();
+  const fs::path out = dir.parent_path() / "roger_teach_eval_test_set.txt";
+  // Alp draws its test tasks from the space; LiftOnly has none, and runs LCAS's last level of a
+  // parameter beside it.
+  for (const std::string stage : {"Alp", "LiftOnly"}) {
+    INFO(stage);
+    const fs::path trial = dir / "trials" / stage / "A" / "000";
+    REQUIRE(run_shell(std::string(ROGER_BINARY) + " eval tests/scripts/teach_curriculum.lua --policy " +
+                      (trial / "policy.json").string() + " --test-set --json > " + out.string()) == 0);
+    const std::string text = slurp(out);
+    const json got = json::parse(text.substr(text.rfind("\n{") + 1));
+    std::istringstream lines(slurp(trial / "final.jsonl"));
+    std::vector<json> final;
+    for (std::string line; std::getline(lines, line);) final.push_back(json::parse(line));
+    REQUIRE(got["test_set"] == true);
+    REQUIRE(got["episodes"] == int(final.size()));
+    REQUIRE(got["test_tasks"].size() == final.size());
+    std::vector<uint64_t> failed;
+    int successes = 0;
+    for (size_t i = 0; i < final.size(); ++i) {
+      CHECK(final[i]["seed"] == got["first_seed"].get<uint64_t>() + i);
+      const json task = final[i].value("task", json::object());
+      for (const auto& [k, v] : task.items())
+        CHECK(got["test_tasks"][i][k] == (v.is_string() ? v.get<std::string>() : v.dump()));
+      if (stage == "LiftOnly") CHECK(got["test_tasks"][i] == json{{"distance", "2"}});
+      successes += final[i]["success"].get<bool>();
+      if (!final[i]["success"].get<bool>()) failed.push_back(final[i]["seed"].get<uint64_t>());
+    }
+    CHECK(got["successes"] == successes);
+    CHECK(got["failed_seeds"] == failed);
+    if (stage == "Alp") {
+      REQUIRE(!failed.empty());  // the replay line sets the failed world's task
+      const json first = final[size_t(failed.front() - got["first_seed"].get<uint64_t>())]["task"];
+      CHECK_THAT(text, Contains("--set level=" + first["level"].dump() + " --seed " + std::to_string(failed.front())));
+    }
+  }
+  // Its seeds and number are the test set's own; a stage without a test set has none to run.
+  const std::string alp = (dir / "trials" / "Alp" / "A" / "000" / "policy.json").string();
+  CHECK(run_shell(std::string(ROGER_BINARY) + " eval tests/scripts/teach_curriculum.lua --policy " + alp +
+                  " --test-set --seed 5 2> " + out.string()) == 1);
+  CHECK_THAT(slurp(out), Contains("--test-set runs the test set's own tasks on its own world seeds; --seed cannot be "
+                                  "given with it"));
+  CHECK(run_shell(std::string(ROGER_BINARY) + " eval curricula/scripted.lua --policy task --test-set 2> " +
+                  out.string()) == 1);
+  CHECK_THAT(slurp(out), Contains("policy 'task' of curricula/scripted.lua is a skill script's, which has none"));
   fs::remove(out);
 }
 

@@ -817,7 +817,25 @@ std::vector<ControllerPtr> watched_controllers(const std::vector<ControllerPtr>&
 PolicyEvalResult evaluate_policy_file(const PolicyEvalOptions& options) {
   PolicyEvalResult out;
   with_policy_file(options, out, [&](StageRun& run, QTable& q, uint64_t first) {
-    out.eval = greedy_eval(run, q, EvalWorlds{first, options.episodes}, "evaluation");
+    if (!options.test_set) {
+      out.eval = greedy_eval(run, q, EvalWorlds{first, options.episodes}, "evaluation");
+      return;
+    }
+    if (!run.stage.teaches())
+      throw Error(run.stage.where() + " has no test set: it has no task space or teacher, so its trials end on "
+                  "its held-out seeds (roger eval without --test-set)");
+    // The test set as a trial of the stage makes it (TrialTeacher: the space less the --set
+    // parameters, the teacher's own parameters beside it), on the same world seeds.
+    TrainOptions topt;
+    topt.sets = options.sets;
+    const TrialTeacher teacher(run.cur, run.stage, topt);
+    const EvalWorlds worlds = teacher.worlds(run.stage.checkpoints.seeds, true);
+    for (const TaskPoint& task : *worlds.tasks) {
+      ParamList params = worlds.space->params(task);
+      params.insert(params.end(), worlds.extra.begin(), worlds.extra.end());
+      out.test_tasks.push_back(std::move(params));
+    }
+    out.eval = greedy_eval(run, q, worlds, "evaluation");
   });
   return out;
 }

@@ -230,6 +230,9 @@ struct PolicyEvalOptions {
   std::map<std::string, std::string> skill_files;
   SandboxLimits limits;
   AgentParams agent;  // how the agent perceives and is judged (tests judge through copies with it)
+  // A teaching stage's policy on the test set its trials ended on (its final evaluation's tasks,
+  // world seeds and the teacher's own parameters), instead of `episodes` from `first_seed`.
+  bool test_set = false;
 };
 
 // The outcome of evaluating a saved policy.
@@ -239,6 +242,9 @@ struct PolicyEvalResult {
   // A teaching stage's trials end on this many test tasks (its task space or teacher), which this
   // evaluation, on the stage's own parameters and held-out seeds, does not run; 0 for other stages.
   int stage_test_tasks = 0;
+  // With options.test_set: each episode's task, its parameters as text (the teacher's own beside
+  // them), in the order of the episodes.
+  std::vector<std::vector<std::pair<std::string, std::string>>> test_tasks;
   GreedyEval eval;
   std::vector<std::pair<std::string, std::string>> params;
 };

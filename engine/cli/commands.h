@@ -91,7 +91,8 @@ struct EvalArgs {
   std::vector<std::string> skills;  // NAME=FILE.json: a learned skill instead of the embedded one
   int episodes = 50;
   uint64_t seed = 1000;
-  bool seed_given = false;
+  bool seed_given = false, episodes_given = false;
+  bool test_set = false;  // a teaching stage's saved policy on its trials' final test set
   bool json = false;
   LuaLimitArgs lua;
 };

@@ -59,8 +59,10 @@ std::string shell_word(const std::string& s) {
 }
 
 // Which worlds failed, the first few of them (all in --json), and the roger render command that
-// replays one: the same script, policy, scenario, parameters and skills, at that world seed.
-void print_failed_seeds(const EvalArgs& a, const std::vector<uint64_t>& failed) {
+// replays one: the same script, policy, scenario, parameters and skills, at that world seed, and
+// the parameters of its test task (`task`, with --test-set).
+void print_failed_seeds(const EvalArgs& a, const std::vector<uint64_t>& failed,
+                        const std::vector<std::pair<std::string, std::string>>& task = {}) {
   if (failed.empty()) return;
   const size_t shown = std::min<size_t>(failed.size(), 10);
   std::string seeds;
@@ -70,6 +72,7 @@ void print_failed_seeds(const EvalArgs& a, const std::vector<uint64_t>& failed) 
   std::string command = "roger render " + shell_word(a.script) + " --policy " + shell_word(a.policy);
   if (!a.scenario.empty()) command += " --scenario " + shell_word(a.scenario);
   for (const auto& s : a.sets) command += " --set " + shell_word(s);
+  for (const auto& [k, v] : task) command += " --set " + shell_word(k + "=" + v);
   for (const auto& s : a.skills) command += " --skill " + shell_word(s);
   const std::string seed = std::to_string(failed.front());
   command += " --seed " + seed + " --out episode-" + seed;
@@ -96,17 +99,25 @@ int run_eval_policy_file(const EvalArgs& a) {
   o.first_seed = a.seed_given ? int64_t(a.seed) : -1;
   for (const auto& [name, file] : split_sets(a.skills, "--skill")) o.skill_files[name] = file;
   o.limits = sandbox_limits(a.lua);
+  if (a.test_set && (a.seed_given || a.episodes_given))
+    throw Error(std::string("roger eval: --test-set runs the test set's own tasks on its own world seeds; ") +
+                (a.seed_given ? "--seed" : "--episodes") + " cannot be given with it");
+  o.test_set = a.test_set;
   const PolicyEvalResult r = evaluate_policy_file(o);
-  std::printf("roger eval: %s stage %s context %s (%s) in %s, %d episodes from seed %llu, %s\n",
-              a.script.c_str(), r.stage.c_str(), r.context.c_str(), a.policy.c_str(), r.scenario.c_str(),
-              r.eval.episodes, static_cast<unsigned long long>(r.eval.first_seed), r.time_limit.c_str());
+  std::printf("roger eval: %s stage %s context %s (%s) in %s, %d %s from seed %llu, %s\n", a.script.c_str(),
+              r.stage.c_str(), r.context.c_str(), a.policy.c_str(), r.scenario.c_str(), r.eval.episodes,
+              a.test_set ? "test tasks" : "episodes", static_cast<unsigned long long>(r.eval.first_seed),
+              r.time_limit.c_str());
   print_changes(a);
-  if (r.stage_test_tasks > 0)
+  if (r.stage_test_tasks > 0 && !a.test_set)
     std::printf("  note           stage %s teaches: its trials ended on %d test tasks of its task space, not run here "
-                "(these episodes have the stage's own parameters%s)\n",
+                "(--test-set runs them; these episodes have the stage's own parameters%s)\n",
                 r.stage.c_str(), r.stage_test_tasks, a.sets.empty() ? "" : " and the --set ones");
   std::printf("  success rate   %.1f%% (%d of %d)\n", 100.0 * r.eval.success_rate, r.eval.successes, r.eval.episodes);
-  print_failed_seeds(a, r.eval.failed_seeds);
+  const size_t first_failed = r.eval.failed_seeds.empty() ? 0 : size_t(r.eval.failed_seeds.front() - r.eval.first_seed);
+  print_failed_seeds(a, r.eval.failed_seeds, a.test_set && first_failed < r.test_tasks.size()
+                                                 ? r.test_tasks[first_failed]
+                                                 : std::vector<std::pair<std::string, std::string>>{});
   std::printf("  reward         %.1f +- %.1f\n", r.eval.reward_mean, r.eval.reward_std);
   std::printf("  episode time   %.2f s (mean, simulated)\n", r.eval.time_mean);
   std::string usage;
@@ -115,7 +126,16 @@ int run_eval_policy_file(const EvalArgs& a) {
   if (a.json) {
     nlohmann::json j = eval_summary_json(r.eval);
     j.update({{"script", a.script}, {"policy", a.policy}, {"stage", r.stage}, {"context", r.context},
-              {"scenario", r.scenario}, {"failed_seeds", r.eval.failed_seeds}});
+              {"scenario", r.scenario}, {"failed_seeds", r.eval.failed_seeds}, {"test_set", a.test_set}});
+    // With --test-set, each episode's task in the episodes' order (world seed first_seed + i).
+    if (a.test_set) {
+      j["test_tasks"] = nlohmann::json::array();
+      for (const auto& task : r.test_tasks) {
+        nlohmann::json t = nlohmann::json::object();
+        for (const auto& [k, v] : task) t[k] = v;
+        j["test_tasks"].push_back(t);
+      }
+    }
     for (const auto& [k, v] : r.params) j["params"][k] = v;
     std::printf("%s\n", j.dump().c_str());
   }
@@ -126,6 +146,9 @@ int run_eval_policy_file(const EvalArgs& a) {
 
 int command_eval(const EvalArgs& a) {
   if (policy_is_saved_file(a.script, a.policy)) return run_eval_policy_file(a);
+  if (a.test_set)
+    throw Error("roger eval: --test-set runs a saved policy (--policy FILE.json) of a stage that teaches on its "
+                "test set; policy '" + a.policy + "' of " + a.script + " is a skill script's, which has none");
   if (!a.skills.empty())
     throw Error("roger eval: --skill replaces a learned skill of a saved policy (--policy FILE.json); policy '" +
                 a.policy + "' of " + a.script + " is a skill script's, which learns nothing");

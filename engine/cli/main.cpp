@@ -127,6 +127,9 @@ CLI::App* add_eval(CLI::App& app, EvalArgs& a, CLI::Option*& seed) {
   c->add_option("--episodes", a.episodes, "Episodes")->capture_default_str()->check(integer_in(1, 1000000));
   seed = c->add_option("--seed", a.seed, "First seed (then seed+1, ...); with a saved "
                        "policy the default is its stage's held-out seeds")->capture_default_str()->check(seed_value());
+  c->add_flag("--test-set", a.test_set,
+              "With a saved policy of a stage that teaches: the test set its trials ended on (its tasks and "
+              "world seeds) instead of --episodes from --seed");
   c->add_flag("--json", a.json, "End with one JSON line of the figures");
   add_lua_limits(c, a.lua, "");
   return c;
@@ -284,6 +287,7 @@ int main(int argc, char** argv) {
     if (*bench) return command_bench(bench_args);
     if (*eval) {
       eval_args.seed_given = eval_seed->count() > 0;
+      eval_args.episodes_given = eval->count("--episodes") > 0;
       return command_eval(eval_args);
     }
     if (*train) return command_train(train_args);
