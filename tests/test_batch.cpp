@@ -540,3 +540,33 @@ TEST_CASE("a results folder made under other Lua limits is not resumed", "[batch
   }
   fs::remove_all(out);
 }
+
+// Found by a probe: three runs that took no skills ran in three phases, one after the other, so
+// with --jobs 2 and a trial each one core sat idle at every phase.
+TEST_CASE("runs that take no skills share a phase; a run waits only for the runs it takes skills from", "[batch]") {
+  const fs::path dir = fresh_dir("phases");
+  fs::create_directories(dir);
+  const fs::path path = dir / "phases.lua";
+  std::ofstream(path) << R"(return {
+  curriculum = "paper", trials = 2,
+  runs = {
+    { name = "SG_a", stage = "SG", contexts = { "DC2" } },
+    { name = "T", stage = "T", contexts = { "DC6" }, skills = { Phi_SG = { run = "SG_a", context = "DC2" } } },
+    { name = "SG_b", stage = "SG", contexts = { "B1", "DC2" } },
+    { name = "T2", stage = "T", contexts = { "DC5" }, skills = { Phi_SG = { run = "SG_b", context = "DC2" } } },
+  },
+  evaluations = { { name = "g", run = "T", context = "DC6", episodes = 2 } },
+})";
+  const auto script = std::make_shared<const BatchScript>(load_batch_script(path.string(), {}));
+  const BatchPlan plan = plan_batch(script, (dir / "out").string());
+  std::vector<std::vector<std::string>> phases;
+  for (const auto& p : plan.phases) {
+    phases.emplace_back();
+    for (const PlannedTrial& t : p) phases.back().push_back(t.id);
+  }
+  CHECK(phases == std::vector<std::vector<std::string>>{
+                      {"SG_a/DC2/000", "SG_a/DC2/001", "SG_b/B1/000", "SG_b/B1/001", "SG_b/DC2/000", "SG_b/DC2/001"},
+                      {"T/DC6/000", "T/DC6/001", "T2/DC5/000", "T2/DC5/001"},
+                      {"eval/g/all/000", "eval/g/all/001"}});
+  fs::remove_all(dir);
+}

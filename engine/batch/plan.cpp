@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -379,8 +380,18 @@ BatchPlan plan_batch(std::shared_ptr<const BatchScript> script, const std::strin
   BatchPlan plan;
   plan.script = std::move(script);
   plan.out = out;
-  // A phase waits for the phases of the runs it depends on (ordered_runs puts them first).
-  for (const BatchRun* r : b.ordered_runs()) plan.phases.push_back(plan_run(b, r));
+  // Runs that take no skills share the first phase; a run that takes skills joins the phase after
+  // the last of the runs it takes them from (ordered_runs puts those first). A phase per run
+  // instead left cores idle at the end of each, though the runs did not wait for each other.
+  std::map<std::string, size_t> phase_of;
+  for (const BatchRun* r : b.ordered_runs()) {
+    size_t k = 0;
+    for (const auto& s : r->skills) k = std::max(k, phase_of.at(s.run) + 1);
+    phase_of[r->name] = k;
+    if (plan.phases.size() <= k) plan.phases.resize(k + 1);
+    const std::vector<PlannedTrial> trials = plan_run(b, r);
+    plan.phases[k].insert(plan.phases[k].end(), trials.begin(), trials.end());
+  }
   std::vector<PlannedTrial> evaluations = plan_evaluations(b);
   if (!evaluations.empty()) plan.phases.push_back(std::move(evaluations));
   return plan;

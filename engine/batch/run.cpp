@@ -608,7 +608,7 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
     for (const auto& n : names) label += (label.empty() ? "" : ", ") + n;
     if (control.log)
       *control.log << "roger run: phase " << (k + 1) << "/" << plan.phases.size() << ": " << label << " ("
-                   << ids.size() << " trials)\n";
+                   << ids.size() << (ids.size() == 1 ? " trial)\n" : " trials)\n");
     try {
       run_trials(ids, trial, bo);
     } catch (const Interrupted&) {
