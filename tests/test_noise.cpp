@@ -1082,3 +1082,20 @@ TEST_CASE("under M the actions' states change about as often as without noise", 
   CHECK(changes[0] > 100);
   CHECK(changes[1] < 1.5 * changes[0]);
 }
+
+// Found by a probe: the docs' example of noise kinds placed no goal region, so the scripted task,
+// which the docs evaluate in it, failed every episode.
+TEST_CASE("docs/examples/worn_sensors.lua: the docs' noise example is the file and the task succeeds in it", "[noise]") {
+  std::ifstream in("docs/examples/worn_sensors.lua"), doc_in("docs/scenarios.md");
+  const std::string source((std::istreambuf_iterator<char>(in)), {}), doc((std::istreambuf_iterator<char>(doc_in)), {});
+  REQUIRE(!source.empty());
+  CHECK(doc.find("```lua\n" + source + "```\n") != std::string::npos);  // shown verbatim
+  SkillScript script = SkillScript::load("curricula/scripted.lua");
+  const SkillScript::NamedPolicy& task = script.policy("task");
+  Scenario scenario = Scenario::load("docs/examples/worn_sensors.lua");
+  EpisodeOptions options;
+  options.time_limit = task.time_limit;
+  const EvalSummary r = evaluate_action([&](uint64_t s) { return scenario.generate(s); }, *task.action, *task.goal,
+                                        20, 1000, options);
+  CHECK(r.successes == 14);  // docs/scenarios.md says so (roger eval ... --episodes 20)
+}
