@@ -983,8 +983,47 @@ TEST_CASE("roger eval --test-set repeats a teaching trial's final evaluation epi
       CHECK_THAT(text, Contains("--set level=" + first["level"].dump() + " --seed " + std::to_string(failed.front())));
     }
   }
-  // Its seeds and number are the test set's own; a stage without a test set has none to run.
+  // The policy file keeps the tasks: a curriculum whose test set was edited since (another seed)
+  // runs the same episodes, and says the curriculum's set has changed.
   const std::string alp = (dir / "trials" / "Alp" / "A" / "000" / "policy.json").string();
+  const auto eval_json = [&](const std::string& curriculum, const std::string& policy) {
+    REQUIRE(run_shell(std::string(ROGER_BINARY) + " eval " + curriculum + " --policy " + policy + " --test-set --json > " +
+                      out.string()) == 0);
+    const std::string text = slurp(out);
+    return std::make_pair(text, json::parse(text.substr(text.rfind("\n{") + 1)));
+  };
+  const auto [kept_text, kept] = eval_json("tests/scripts/teach_curriculum.lua", alp);
+  CHECK(kept["test_set_from"] == alp);
+  CHECK(kept["test_set_changed"] == false);
+  std::string source = slurp("tests/scripts/teach_curriculum.lua");
+  const size_t at = source.find("test = { tasks = 20, seed = 7 }");
+  REQUIRE(at != std::string::npos);
+  source.replace(at, 31, "test = { tasks = 20, seed = 8 }");
+  const fs::path edited = dir.parent_path() / "roger_teach_edited_curriculum.lua";
+  std::ofstream(edited) << source;
+  const auto [edited_text, after_edit] = eval_json(edited.string(), alp);
+  CHECK(after_edit["test_set_changed"] == true);
+  CHECK_THAT(edited_text, Contains("note           the curriculum's test set for stage Alp is no longer the one this "
+                                   "policy's trial ended on; these are that trial's 20 tasks, as " + alp + " keeps them"));
+  for (const char* same : {"test_tasks", "failed_seeds", "successes", "first_seed", "reward_mean"})
+    CHECK(after_edit[same] == kept[same]);
+  fs::remove(edited);
+  // A policy file from before it kept them: the curriculum's test set, said so.
+  json file = json::parse(slurp(alp));
+  REQUIRE(file["extra"].contains("test_set"));
+  file["extra"].erase("test_set");
+  const fs::path older = dir.parent_path() / "roger_teach_older_policy.json";
+  std::ofstream(older) << file.dump();
+  const auto [older_text, from_curriculum] = eval_json("tests/scripts/teach_curriculum.lua", older.string());
+  CHECK_THAT(from_curriculum["test_set_from"].get<std::string>(), Contains("records none: written by an earlier roger"));
+  CHECK(from_curriculum["test_tasks"] == kept["test_tasks"]);
+  CHECK(from_curriculum["failed_seeds"] == kept["failed_seeds"]);
+  fs::remove(older);
+  // A --set of a parameter the tasks set would be overwritten by them: refused.
+  CHECK(run_shell(std::string(ROGER_BINARY) + " eval tests/scripts/teach_curriculum.lua --policy " + alp +
+                  " --test-set --set level=0.5 2> " + out.string()) == 1);
+  CHECK_THAT(slurp(out), Contains("--set level=0.5: the test set's tasks (" + alp + ") set level themselves"));
+  // Its seeds and number are the test set's own; a stage without a test set has none to run.
   CHECK(run_shell(std::string(ROGER_BINARY) + " eval tests/scripts/teach_curriculum.lua --policy " + alp +
                   " --test-set --seed 5 2> " + out.string()) == 1);
   CHECK_THAT(slurp(out), Contains("--test-set runs the test set's own tasks on its own world seeds; --seed cannot be "

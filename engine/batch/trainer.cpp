@@ -127,13 +127,32 @@ struct EvalCache {
 };
 
 // The worlds of a greedy evaluation: seeds first_seed, first_seed + 1, ...; with a test set, the
-// task of each (its parameters set before its episode, with `extra` beside them).
+// task of each (its parameters set before its episode, with `extra` beside them), drawn from a
+// space or, for a saved policy, as its file lists them.
 struct EvalWorlds {
   uint64_t first_seed = 0;
   int episodes = 0;
   const TaskSpace* space = nullptr;          // null: the stage's own parameters
   const std::vector<TaskPoint>* tasks = nullptr;
   ParamList extra = {};
+  const std::vector<ParamList>* listed = nullptr;  // instead of space and tasks: each task's parameters
+
+  bool has_tasks() const { return tasks || listed; }
+  // Episode i's task: its parameters, then those beside them.
+  ParamList task(size_t i) const {
+    if (listed) return (*listed)[i];
+    ParamList all = space->params((*tasks)[i]);
+    all.insert(all.end(), extra.begin(), extra.end());
+    return all;
+  }
+  // Episode i's task as records keep it (null without a test set).
+  nlohmann::json task_json(size_t i) const {
+    if (tasks) return space->to_json((*tasks)[i]);
+    if (!listed) return nullptr;
+    nlohmann::json t = nlohmann::json::object();
+    for (const auto& [k, v] : (*listed)[i]) t[k] = param_value_json(v);
+    return t;
+  }
 };
 
 // Sets a task's parameters (and those beside it) on the scenario, for the next episodes.
@@ -177,13 +196,12 @@ GreedyEval greedy_eval(StageRun& run, QTable& q, const EvalWorlds& worlds, const
     if (kept) {
       ++cache->reused;
     } else {
-      if (worlds.tasks) set_params(run.scenario, worlds.space->params((*worlds.tasks)[size_t(i)]), worlds.extra);
+      if (worlds.has_tasks()) set_params(run.scenario, worlds.task(size_t(i)), {});
       try {
         fresh.episode = run.run(q, seed, 0.0, unused, false, phase, i, nullptr, &fresh.world);
       } catch (const EpisodeFault& f) {
-        if (!worlds.tasks || !f.no_placement) throw;
-        ParamList task = worlds.space->params((*worlds.tasks)[size_t(i)]);
-        task.insert(task.end(), worlds.extra.begin(), worlds.extra.end());
+        if (!worlds.has_tasks() || !f.no_placement) throw;
+        const ParamList task = worlds.task(size_t(i));
         fail_placement(run.stage,
                        "test task " + std::to_string(i + 1) + " of " + std::to_string(episodes) + " (" +
                            (task.empty() ? "the stage's own parameters" : params_text(task)) +
@@ -207,7 +225,7 @@ GreedyEval greedy_eval(StageRun& run, QTable& q, const EvalWorlds& worlds, const
     if (keep) {
       g.runs.push_back(ep);
       g.worlds.push_back(done.world);
-      g.tasks.push_back(worlds.tasks ? worlds.space->to_json((*worlds.tasks)[size_t(i)]) : nlohmann::json());
+      g.tasks.push_back(worlds.task_json(size_t(i)));
     }
   }
   double mean = 0.0, var = 0.0;
@@ -592,6 +610,8 @@ TrainResult train_stage(const TrainOptions& options) {
     res.test_tasks = teacher->test_tasks();
     res.test_seed = stage.test.seed;
     res.test_list = stage.test.list;
+    const EvalWorlds final_worlds = teacher->worlds(cp.seeds, true);
+    for (size_t i = 0; i < size_t(final_worlds.episodes); ++i) res.final_tasks.push_back(final_worlds.task(i));
   }
   res.explain = options.explain;
   res.wall_s = seconds_since(t0);
@@ -628,6 +648,12 @@ nlohmann::json train_policy_json(const TrainResult& r) {
     extra["skills"][s.name] = {{"stage", s.stage}, {"context", s.context}, {"file", s.file},
                                {"trained", s.trained}, {"seed", s.trained_seed}, {"policy", s.policy}};
   if (r.init) extra["init"] = warm_start_json(r);
+  if (r.teaches && r.final_eval.episodes > 0) {
+    // Each task as [name, value] pairs in the order they are set, values as the text they were set as.
+    nlohmann::json tasks = nlohmann::json::array();
+    for (const ParamList& task : r.final_tasks) tasks.push_back(task);
+    extra["test_set"] = {{"first_seed", r.final_eval.first_seed}, {"tasks", tasks}};
+  }
   meta.extra = extra;
   return r.q->to_json(meta);
 }
@@ -759,9 +785,10 @@ void write_train_outputs(const TrainResult& r, const std::string& dir_in) {
 namespace {
 
 // Loads a saved policy with its stage, context and learned skills, and hands its stage run, its
-// table and the first world seed to `use`; fills `out`'s stage, context, scenario and parameters.
+// table, the first world seed and what the file says of itself to `use`; fills `out`'s stage,
+// context, scenario and parameters.
 void with_policy_file(const PolicyEvalOptions& options, PolicyEvalResult& out,
-                      const std::function<void(StageRun&, QTable&, uint64_t)>& use) {
+                      const std::function<void(StageRun&, QTable&, uint64_t, const PolicyMetadata&)>& use) {
   const nlohmann::json j = batch_detail::read_json_file(options.policy_file);
   PolicyMetadata meta;
   QTable::from_json(j, {}, options.policy_file, &meta);  // the metadata first, to find the stage
@@ -791,7 +818,8 @@ void with_policy_file(const PolicyEvalOptions& options, PolicyEvalResult& out,
                Agent(WorldParams{}, options.agent)};
   cur.set_world(&run.agent.world());
   out.scenario = run.scenario.name();
-  use(run, q, (options.first_seed >= 0 ? uint64_t(options.first_seed) : stage.checkpoints.seeds) + options.seed_offset);
+  use(run, q, (options.first_seed >= 0 ? uint64_t(options.first_seed) : stage.checkpoints.seeds) + options.seed_offset,
+      meta);
 }
 
 // Psi and the controllers inside it, breadth first, each once, at most `limit`. A part is held
@@ -812,30 +840,84 @@ std::vector<ControllerPtr> watched_controllers(const std::vector<ControllerPtr>&
   return out;
 }
 
+// The test set a policy file records (train_policy_json): where its worlds start and each task's
+// parameters in the order they were set.
+struct TestSet {
+  bool recorded = false;
+  uint64_t first_seed = 0;
+  std::vector<ParamList> tasks;
+};
+
+TestSet saved_test_set(const PolicyMetadata& meta, const std::string& file) {
+  TestSet t;
+  if (!meta.extra.is_object() || !meta.extra.contains("test_set")) return t;
+  try {
+    const nlohmann::json& j = meta.extra.at("test_set");
+    t.first_seed = j.at("first_seed").get<uint64_t>();
+    t.tasks = j.at("tasks").get<std::vector<ParamList>>();
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(file + ": field \"test_set\" must hold first_seed and tasks, lists of [name, value] pairs "
+                "(train_policy_json): " + e.what());
+  }
+  t.recorded = true;
+  return t;
+}
+
+// A --set of a parameter the saved test tasks set would be overwritten by each task: refused.
+void check_sets_leave_tasks(const ParamList& sets, const std::vector<ParamList>& tasks, const std::string& file) {
+  for (const auto& [k, v] : sets)
+    for (const ParamList& task : tasks)
+      for (const auto& p : task)
+        if (p.first == k)
+          throw Error("--set " + k + "=" + v + ": the test set's tasks (" + file + ") set " + k +
+                      " themselves; --test-set runs them as they were, so give another parameter, or "
+                      "leave out --test-set");
+}
+
 }  // namespace
 
 PolicyEvalResult evaluate_policy_file(const PolicyEvalOptions& options) {
   PolicyEvalResult out;
-  with_policy_file(options, out, [&](StageRun& run, QTable& q, uint64_t first) {
+  with_policy_file(options, out, [&](StageRun& run, QTable& q, uint64_t first, const PolicyMetadata& meta) {
     if (!options.test_set) {
       out.eval = greedy_eval(run, q, EvalWorlds{first, options.episodes}, "evaluation");
       return;
     }
-    if (!run.stage.teaches())
-      throw Error(run.stage.where() + " has no test set: it has no task space or teacher, so its trials end on "
-                  "its held-out seeds (roger eval without --test-set)");
-    // The test set as a trial of the stage makes it (TrialTeacher: the space less the --set
+    const TestSet saved = saved_test_set(meta, options.policy_file);
+    if (saved.recorded) check_sets_leave_tasks(options.sets, saved.tasks, options.policy_file);
+    // The test set as a trial of the stage makes it now (TrialTeacher: the space less the --set
     // parameters, the teacher's own parameters beside it), on the same world seeds.
-    TrainOptions topt;
-    topt.sets = options.sets;
-    const TrialTeacher teacher(run.cur, run.stage, topt);
-    const EvalWorlds worlds = teacher.worlds(run.stage.checkpoints.seeds, true);
-    for (const TaskPoint& task : *worlds.tasks) {
-      ParamList params = worlds.space->params(task);
-      params.insert(params.end(), worlds.extra.begin(), worlds.extra.end());
-      out.test_tasks.push_back(std::move(params));
+    std::vector<ParamList> now;
+    bool made_now = run.stage.teaches();
+    if (made_now) {
+      try {
+        TrainOptions topt;
+        topt.sets = options.sets;
+        const TrialTeacher teacher(run.cur, run.stage, topt);
+        const EvalWorlds worlds = teacher.worlds(run.stage.checkpoints.seeds, true);
+        for (size_t i = 0; i < size_t(worlds.episodes); ++i) now.push_back(worlds.task(i));
+      } catch (const Error&) {
+        if (!saved.recorded) throw;
+        made_now = false;  // the file's tasks are run all the same; the curriculum's could not be made
+      }
     }
-    out.eval = greedy_eval(run, q, worlds, "evaluation");
+    if (!saved.recorded) {
+      if (!run.stage.teaches())
+        throw Error(run.stage.where() + " has no test set: it has no task space or teacher, so its trials end on "
+                    "its held-out seeds (roger eval without --test-set)");
+      out.test_set_source = "the curriculum (" + options.policy_file + " records none: written by an earlier roger)";
+      out.test_tasks = now;
+      out.eval = greedy_eval(run, q, EvalWorlds{run.stage.checkpoints.seeds, int(now.size()), nullptr, nullptr, {}, &now},
+                             "evaluation");
+      return;
+    }
+    // The tasks the trial's final evaluation ran, as its policy file keeps them: the curriculum's
+    // test set may have been edited since, and the measure is of the policy on those.
+    out.test_tasks = saved.tasks;
+    out.test_set_source = options.policy_file;
+    out.test_set_changed = !made_now || now != saved.tasks || saved.first_seed != run.stage.checkpoints.seeds;
+    out.eval = greedy_eval(run, q, EvalWorlds{saved.first_seed, int(saved.tasks.size()), nullptr, nullptr, {}, &out.test_tasks},
+                           "evaluation");
   });
   return out;
 }
@@ -843,7 +925,7 @@ PolicyEvalResult evaluate_policy_file(const PolicyEvalOptions& options) {
 RecordedPolicyEpisode record_policy_episode(const PolicyEvalOptions& options, double record_every,
                                             size_t watch_limit) {
   RecordedPolicyEpisode r;
-  with_policy_file(options, r.about, [&](StageRun& run, QTable& q, uint64_t seed) {
+  with_policy_file(options, r.about, [&](StageRun& run, QTable& q, uint64_t seed, const PolicyMetadata&) {
     // Twice the rows shown are watched, so that rows repeating others (distinct_traces) leave
     // their places to the next ones.
     const std::vector<ControllerPtr> watch = watched_controllers(run.ctx.actions, 2 * watch_limit);

@@ -180,6 +180,10 @@ struct TrainResult {
   int test_tasks = 0;         // tasks of the checkpoints' test set
   uint64_t test_seed = 0;     // ...drawn with this seed, or else the stage's own list of them
   std::vector<std::vector<std::pair<std::string, std::string>>> test_list;  // (test = {list = {...}})
+  // The final evaluation's tasks, each as the parameters set before its episode (the teacher's
+  // own beside them), in order from world seed final_eval.first_seed: policy.json keeps them, so
+  // `roger eval --test-set` runs them again whatever the curriculum says later.
+  std::vector<std::vector<std::pair<std::string, std::string>>> final_tasks;
   // The evaluation cache's work (TrainOptions::eval_cache), in this stage's evaluations only (not
   // those of skills trained first). Not written to any result file: the files do not depend on
   // whether the cache was on.
@@ -245,6 +249,8 @@ struct PolicyEvalResult {
   // With options.test_set: each episode's task, its parameters as text (the teacher's own beside
   // them), in the order of the episodes.
   std::vector<std::vector<std::pair<std::string, std::string>>> test_tasks;
+  std::string test_set_source;     // whence they came: the policy file, or the curriculum
+  bool test_set_changed = false;   // the curriculum's test set is no longer the one the file keeps
   GreedyEval eval;
   std::vector<std::pair<std::string, std::string>> params;
 };

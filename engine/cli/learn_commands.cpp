@@ -113,6 +113,12 @@ int run_eval_policy_file(const EvalArgs& a) {
     std::printf("  note           stage %s teaches: its trials ended on %d test tasks of its task space, not run here "
                 "(--test-set runs them; these episodes have the stage's own parameters%s)\n",
                 r.stage.c_str(), r.stage_test_tasks, a.sets.empty() ? "" : " and the --set ones");
+  if (a.test_set && r.test_set_changed)
+    std::printf("  note           the curriculum's test set for stage %s is no longer the one this policy's trial "
+                "ended on; these are that trial's %zu tasks, as %s keeps them\n",
+                r.stage.c_str(), r.test_tasks.size(), r.test_set_source.c_str());
+  else if (a.test_set)
+    std::printf("  test set       from %s\n", r.test_set_source.c_str());
   std::printf("  success rate   %.1f%% (%d of %d)\n", 100.0 * r.eval.success_rate, r.eval.successes, r.eval.episodes);
   const size_t first_failed = r.eval.failed_seeds.empty() ? 0 : size_t(r.eval.failed_seeds.front() - r.eval.first_seed);
   print_failed_seeds(a, r.eval.failed_seeds, a.test_set && first_failed < r.test_tasks.size()
@@ -127,6 +133,7 @@ int run_eval_policy_file(const EvalArgs& a) {
     nlohmann::json j = eval_summary_json(r.eval);
     j.update({{"script", a.script}, {"policy", a.policy}, {"stage", r.stage}, {"context", r.context},
               {"scenario", r.scenario}, {"failed_seeds", r.eval.failed_seeds}, {"test_set", a.test_set}});
+    if (a.test_set) j.update({{"test_set_from", r.test_set_source}, {"test_set_changed", r.test_set_changed}});
     // With --test-set, each episode's task in the episodes' order (world seed first_seed + i).
     if (a.test_set) {
       j["test_tasks"] = nlohmann::json::array();
