@@ -337,3 +337,34 @@ TEST_CASE("names that would clash or climb out and a skill from another context 
                                        "stage 'SG' ('B1', 'DC1', 'DC2'), or leave the field out"));
   fs::remove_all(dir);
 }
+
+// Found by a probe: a misspelt 'by' of a table or 'param' of a figure of where a teacher sampled
+// passed the load, and the report wrote an empty table, or no figure "for want of a finished
+// trial", once the training was over.
+TEST_CASE("a table's by and a tasks figure's param are checked against the runs' stages at load", "[batch_script]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_by_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  auto with_param = [&](const std::string& table, const std::string& run, const std::string& param) {
+    const fs::path file = dir / "by.lua";
+    std::ofstream(file) << "return { name = 'by', curriculum = 'tests/scripts/teach_curriculum.lua',\n"
+                        << "  runs = { { name = 'Alp', stage = 'Alp' }, { name = 'Lift', stage = 'LiftOnly' } },\n"
+                        << "  tables = { { title = 't', compare = { 'Alp/A', 'Lift/A' },\n"
+                        << "               by = '" << table << "' } },\n"
+                        << "  figures = { { file = 'f', kind = 'tasks', run = '" << run << "', param = '" << param
+                        << "' } } }\n";
+    return file.string();
+  };
+  // A task parameter, or what a world held; the parameter a teacher chooses, or the one LCAS lifts.
+  for (const char* by : {"level", "obstacles", "shape", "objects"}) CHECK_NOTHROW(load_batch_script(with_param(by, "Alp", "level")));
+  CHECK_NOTHROW(load_batch_script(with_param("level", "Lift", "distance")));
+  CHECK_THAT(load_error(with_param("levle", "Alp", "level")),
+             Catch::Matchers::Contains("by.lua:4: table 't': 'by' is 'levle', which no final evaluation of its runs "
+                                       "records (did you mean 'level'?); they record what each world held (obstacles, "
+                                       "objects, shape) and the task's 'level'"));
+  CHECK_THAT(load_error(with_param("level", "Alp", "levl")),
+             Catch::Matchers::Contains("by.lua:5: figure 'f': 'param' is 'levl', which the teacher of run 'Alp' does not "
+                                       "choose (did you mean 'level'?); it chooses 'level'"));
+  CHECK_THAT(load_error(with_param("level", "Lift", "level")),
+             Catch::Matchers::Contains("the teacher of run 'Lift' does not choose; it chooses 'distance'"));
+  fs::remove_all(dir);
+}

@@ -479,6 +479,38 @@ void read_compare_table(const json& tj, const Reader& rd, const std::string& wha
   std::rotate(t.compare.begin(), it, it + 1);  // the baseline first
 }
 
+// The task parameters the records of a run's trials name: its stage's task space's axes, and with
+// `lifted`, the parameter its LCAS teacher lifts outside the space (episodes.jsonl records it;
+// the final evaluations run its last level, and final.jsonl does not).
+std::vector<std::string> task_params(const Curriculum& cur, const BatchRun& r, bool lifted) {
+  const CurriculumStage& st = cur.stage(r.stage);
+  std::vector<std::string> names;
+  for (const TaskDim& d : st.tasks.dims()) names.push_back(d.name);
+  if (lifted && st.teacher && st.teacher->kind == TeacherSpec::Kind::kLcas && st.tasks.index(st.teacher->lift) < 0)
+    names.push_back(st.teacher->lift);
+  return names;
+}
+
+// Refuses a table's 'by' that no final evaluation of its runs records: what each world held, or a
+// task parameter of a run's stage (report_teachers.cpp, feature_of). A misspelt one wrote an empty
+// table with a note, found only once the run was over.
+void check_by(const BatchTable& t, const Reader& rd, const std::string& what, int l, const Curriculum& cur,
+              const BatchScript& b) {
+  std::vector<std::string> features = {"obstacles", "objects", "shape"}, tasks;
+  std::vector<std::string> runs;
+  if (t.compare.empty()) runs.push_back(t.run);
+  for (const BatchRow& row : t.compare) runs.push_back(row.run);
+  for (const std::string& run : runs)
+    for (const std::string& p : task_params(cur, *b.run(run), false))
+      if (std::find(tasks.begin(), tasks.end(), p) == tasks.end()) tasks.push_back(p);
+  features.insert(features.end(), tasks.begin(), tasks.end());
+  if (std::find(features.begin(), features.end(), t.by) != features.end()) return;
+  rd.fail(rd.line_of_key("by", l), what + ": 'by' is '" + t.by + "', which no final evaluation of its runs records" +
+                                       suggestion(t.by, features) + "; they record what each world held (obstacles, "
+                                       "objects, shape)" +
+                                       (tasks.empty() ? std::string(" and no task") : " and the task's " + quoted_list(tasks)));
+}
+
 // Reads one table of 'tables'; `at` is the line to search from, moved past this table.
 BatchTable read_table(const json& tj, const Reader& rd, int& at, const Curriculum& cur, const BatchScript& b) {
   BatchTable t;
@@ -493,6 +525,7 @@ BatchTable read_table(const json& tj, const Reader& rd, int& at, const Curriculu
     rd.fail(l, what + ": 'by' splits the final evaluations of a run's contexts or of 'compare''s rows");
   if (tj.contains("compare")) {
     read_compare_table(tj, rd, what, l, b, t);
+    if (!t.by.empty()) check_by(t, rd, what, l, cur, b);
     return t;
   }
   if (tj.contains("sorting")) {
@@ -520,6 +553,7 @@ BatchTable read_table(const json& tj, const Reader& rd, int& at, const Curriculu
       rd.fail(rd.line_of_key("baseline", l), what + ": run '" + t.run + "' has no context '" + t.baseline +
                                                  "'; its contexts are " + quoted_list(r->contexts));
     if (tj.contains("usage")) read_usage(tj, rd, what, rd.line_of_key("usage", l), r, cur, t);
+    if (!t.by.empty()) check_by(t, rd, what, l, cur, b);
   }
   return t;
 }
@@ -552,7 +586,7 @@ void read_tables(const json& top, const Reader& rd, const Curriculum& cur, Batch
 }
 
 // Reads one figure of 'figures'; `at` is the line to search from, moved past this figure.
-BatchFigure read_figure(const json& fj, const Reader& rd, int& at, const BatchScript& b) {
+BatchFigure read_figure(const json& fj, const Reader& rd, int& at, const Curriculum& cur, const BatchScript& b) {
   BatchFigure f;
   const std::string file = fj.is_object() && fj.contains("file") && fj["file"].is_string() ? fj["file"].get<std::string>() : "";
   const int l = file.empty() ? at : std::max(at, rd.line_of_key("file", at));
@@ -596,6 +630,15 @@ BatchFigure read_figure(const json& fj, const Reader& rd, int& at, const BatchSc
       rd.fail(rd.line_of_key("context", l), what + ": run '" + f.run + "' has no context '" + f.context +
                                                 "'; its contexts are " + quoted_list(r->contexts));
     f.param = rd.str(fj, "param", what, l, "", true);
+    // Where the teacher of the run's stage sampled: a parameter it chooses, or the one LCAS lifts.
+    const std::vector<std::string> chosen = task_params(cur, *r, true);
+    if (chosen.empty())
+      rd.fail(l, what + ": run '" + f.run + "''s stage '" + r->stage + "' has no task space or teacher: a figure of "
+                     "kind \"tasks\" draws where a teacher sampled");
+    if (std::find(chosen.begin(), chosen.end(), f.param) == chosen.end())
+      rd.fail(rd.line_of_key("param", l), what + ": 'param' is '" + f.param + "', which the teacher of run '" + f.run +
+                                              "' does not choose" + suggestion(f.param, chosen) + "; it chooses " +
+                                              quoted_list(chosen));
   } else if (fj.contains("param") || fj.contains("context")) {
     rd.fail(l, what + ": 'param' and 'context' belong to a figure of kind \"tasks\"");
   }
@@ -607,13 +650,13 @@ BatchFigure read_figure(const json& fj, const Reader& rd, int& at, const BatchSc
 
 // Reads 'figures' (default: learning curves of every run, cumulative times of every run with
 // skills).
-void read_figures(const json& top, const Reader& rd, BatchScript& b) {
+void read_figures(const json& top, const Reader& rd, const Curriculum& cur, BatchScript& b) {
   if (top.contains("figures")) {
     const int fl = rd.line_of_key("figures", 1);
     if (!top["figures"].is_array()) rd.fail(fl, "the batch script: 'figures' must be a list");
     int at = fl;
     for (const json& fj : top["figures"]) {
-      BatchFigure f = read_figure(fj, rd, at, b);
+      BatchFigure f = read_figure(fj, rd, at, cur, b);
       b.figures.push_back(std::move(f));
     }
   } else {
@@ -702,7 +745,7 @@ BatchScript load_batch_script(const std::string& path_in, const BatchOverrides& 
   read_runs(top, rd, top_line, *cur, overrides, b);
   read_evaluations(top, rd, overrides, *cur, b);
   read_tables(top, rd, *cur, b);
-  read_figures(top, rd, b);
+  read_figures(top, rd, *cur, b);
   b.ordered_runs();  // rejects cycles (impossible with earlier-run skills, kept as a guard)
   return b;
 }
