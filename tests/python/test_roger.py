@@ -758,7 +758,9 @@ class BadArguments(unittest.TestCase):
         self.assertEqual(roger.state_index([2, 1]), 7)
         self.assertEqual(roger.state_index(np.array([2.0, 1.0])), 7)
         self.assertEqual(roger.state_index(np.array([2, 1], np.uint8)), 7)
+        # [True, 1, 0] is an int64 array to numpy, the boolean read as 1 (found by a probe).
         for bad, text in (([1.5, 0], "integers 0 (NOREF)"), ([True, False], "integers 0 (NOREF)"),
+                          ([True, 1, 0], "integers 0 (NOREF)"), ((1, np.True_), "integers 0 (NOREF)"),
                           (["a", "b"], "integers 0 (NOREF)"), ([0, 3], "is 0, 1 or 2, got 3"),
                           ([0, 10 ** 12], "is 0, 1 or 2")):
             with self.subTest(bad=bad):
@@ -794,6 +796,7 @@ class BadArguments(unittest.TestCase):
         self.assertEqual(policy.act([2.0, 1.0]), policy.act([2, 1]))  # whole floats are the integers
         self.assertRaisesWith(roger.RogerError, ["integers 0 (NOREF)"], policy.act, [1.9, 0.7])
         self.assertRaisesWith(roger.RogerError, ["integers 0 (NOREF)"], policy.act, ["a", "b"])
+        self.assertRaisesWith(roger.RogerError, ["integers 0 (NOREF)"], policy.act, [True, 1])
 
     def test_bad_seeds_raise_roger_error(self):
         # Checked before gymnasium's own seeding sees them, so the error is ours with or without it.

@@ -101,12 +101,18 @@ def mix(seed, i):
     return _roger.mix(_seed(seed, "mix"), _tag(i))
 
 
+def _holds_bool(obs):
+    """Whether a state vector holds a boolean, which numpy would read as 0 or 1 beside integers."""
+    return isinstance(obs, (list, tuple)) and any(isinstance(x, (bool, np.bool_)) for x in obs)
+
+
 def state_index(obs):
     """The row of a policy's Q table for a state vector (first action most significant): the integers
     0 (NOREF), 1 (!CONV), 2 (CONV), as Policy.act takes them (floats only when whole numbers;
     booleans are not states)."""
     o = np.asarray(obs)
-    if o.ndim != 1 or o.dtype.kind not in "iuf" or (o.dtype.kind == "f" and not np.array_equal(o, np.trunc(o))):
+    if (o.ndim != 1 or o.dtype.kind not in "iuf" or (o.dtype.kind == "f" and not np.array_equal(o, np.trunc(o)))
+            or _holds_bool(obs)):
         raise RogerError(f"state_index: a state is a vector of the integers 0 (NOREF), 1 (!CONV), 2 (CONV), "
                          f"got {obs!r}")
     bad = o[(o < 0) | (o > 2)]
@@ -836,7 +842,7 @@ class Policy:
         """The greedy action (QTable::policy_action) of a controller-state vector: integers 0, 1,
         2 (floats only when whole numbers)."""
         o = np.asarray(obs)
-        if o.dtype.kind not in "iuf" or (o.dtype.kind == "f" and not np.array_equal(o, np.trunc(o))):
+        if o.dtype.kind not in "iuf" or (o.dtype.kind == "f" and not np.array_equal(o, np.trunc(o))) or _holds_bool(obs):
             raise RogerError(f"act: an observation holds the integers 0 (NOREF), 1 (!CONV), 2 (CONV), got {obs!r}")
         return self._p.act(o.astype(np.int64))
 
