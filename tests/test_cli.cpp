@@ -305,7 +305,9 @@ TEST_CASE("bad usage exits 2 naming the option and what it expects", "[cli]") {
   };
   const std::vector<Case> cases = {
       // CLI11 alone named a missing --out here, and never the misspelt option.
-      {"render scenarios/unobstructed.lua --sed 3", "unknown option '--sed' of roger render"},
+      {"render scenarios/unobstructed.lua --sed 3", "unknown option '--sed' of roger render (did you mean '--seed'?)"},
+      {"eval curricula/scripted.lua --policy task --sett shape=spade", "unknown option '--sett' of roger eval (did you mean '--set'?)"},
+      {"rendr scenarios/unobstructed.lua", "unknown command 'rendr' (did you mean 'render'?); the commands are render,"},
       {"--bogus", "unknown option '--bogus'; the commands are render,"},
       // NaN passed CLI11's ranges: the bench printed "nanx real time" and exited 0.
       {"bench --seconds nan", "--seconds: expected a number from 1 to 1000000, got 'nan'"},

@@ -18,6 +18,7 @@
 #include "cli/commands.h"
 #include "core/error.h"
 #include "core/text.h"
+#include "script/sandbox/lua_sandbox.h"
 
 namespace {
 
@@ -224,21 +225,27 @@ std::string unknown_word(const std::vector<CLI::App*>& commands, int argc, char*
   const std::string first = argv[1];
   if (first == "-h" || first == "--help" || first == "--version") return "";
   std::string names;
+  std::vector<std::string> command_names;
   const CLI::App* command = nullptr;
   for (const auto* c : commands) {
     names += (names.empty() ? "" : ", ") + c->get_name();
+    command_names.push_back(c->get_name());
     if (c->get_name() == first) command = c;
   }
   if (!command)
-    return std::string(first[0] == '-' ? "unknown option '" : "unknown command '") + first +
-           "'; the commands are " + names + " (see roger --help)";
+    return std::string(first[0] == '-' ? "unknown option '" : "unknown command '") + first + "'" +
+           suggestion(first, command_names) + "; the commands are " + names + " (see roger --help)";
+  std::vector<std::string> options;
+  for (const CLI::Option* o : command->get_options())
+    for (const std::string& n : o->get_lnames()) options.push_back("--" + n);
   for (int i = 2; i < argc; ++i) {
     const std::string word = argv[i];
     if (word == "--") break;
     if (word.size() < 3 || word.compare(0, 2, "--") != 0) continue;
     const std::string name = word.substr(0, word.find('='));
     if (!command->get_option_no_throw(name))
-      return "unknown option '" + name + "' of roger " + first + " (see roger " + first + " --help)";
+      return "unknown option '" + name + "' of roger " + first + suggestion(name, options) + " (see roger " + first +
+             " --help)";
   }
   return "";
 }
