@@ -783,6 +783,16 @@ TEST_CASE("a task whose world cannot be placed is skipped and shown; a space of 
   CHECK(train_summary_json(r)["skipped_tasks"] == r.skipped_tasks);
   // The same trial again: the same skips (the teacher's draws are the trial's).
   CHECK(train_stage(o).skipped_tasks == r.skipped_tasks);
+  // roger train says so (found by a probe: only summary.json did), and that its figures are the
+  // test tasks', not held-out episodes.
+  const fs::path said = dir.path / "said.txt";
+  REQUIRE(run_shell(std::string(ROGER_BINARY) + " train " + holes.string() + " --stage S --context A --seed " +
+                    std::to_string(o.seed) + " --out " + (dir.path / "out").string() + " > " + said.string()) == 0);
+  CHECK_THAT(slurp(said), Contains("  final policy   ") && Contains(" success over 1 test tasks, reward ") &&
+                              Contains("  teacher        random over robot_distance = roger.real(1, 3.4)\n") &&
+                              Contains("  skipped        6 tasks the scenario could not place (the first: "
+                                       "{\"robot_distance\":" + r.skipped_tasks[0]["task"]["robot_distance"].dump() +
+                                       "}; all in summary.json)\n"));
   // A space that is all holes: the trial fails, saying so, rather than drawing forever.
   const fs::path all = write_stage(dir.path, "all", "{ tasks = { robot_distance = roger.real(3.3, 3.4) }, "
                                                      "test = { list = { { robot_distance = 3.3 } } } }");

@@ -271,9 +271,18 @@ int command_train(const TrainArgs& a) {
   std::string usage;
   for (const auto& [name, f] : r.final_eval.usage)
     usage += (usage.empty() ? "" : ", ") + name + " " + std::to_string(int(std::lround(100 * f))) + "%";
-  std::printf("  final policy   %.0f%% success over %d held-out episodes, reward %.1f +- %.1f\n",
-              100 * r.final_eval.success_rate, r.final_eval.episodes, r.final_eval.reward_mean, r.final_eval.reward_std);
+  std::printf("  final policy   %.0f%% success over %d %s, reward %.1f +- %.1f\n", 100 * r.final_eval.success_rate,
+              r.final_eval.episodes, r.teaches ? "test tasks" : "held-out episodes", r.final_eval.reward_mean,
+              r.final_eval.reward_std);
   std::printf("  usage          %s\n", usage.c_str());
+  if (r.teaches) {
+    std::printf("  teacher        %s over %s\n", r.teacher.value("kind", std::string("?")).c_str(), r.task_space.c_str());
+    // A task whose world could not be placed is skipped and another drawn (docs/curricula.md): a
+    // space that is partly holes shows here, not only in summary.json.
+    if (!r.skipped_tasks.empty())
+      std::printf("  skipped        %zu tasks the scenario could not place (the first: %s; all in summary.json)\n",
+                  r.skipped_tasks.size(), r.skipped_tasks[0].value("task", nlohmann::json()).dump().c_str());
+  }
   if (!r.reached || r.explain) {
     const std::vector<std::string> causes = diagnose_training(r).causes();
     for (size_t k = 0; k < causes.size(); ++k) std::printf("  %-15s%s\n", k ? "" : "why", causes[k].c_str());
