@@ -319,6 +319,9 @@ TEST_CASE("bad usage exits 2 naming the option and what it expects", "[cli]") {
       {"render scenarios/unobstructed.lua --out /tmp/roger_cli.png --seed 18446744073709551616",
        "got '18446744073709551616'"},
       {"check scenarios/unobstructed.lua --seeds abc", "--seeds: expected a whole number from 1 to 100000, got 'abc'"},
+      // The range of render.cpp and of Python's render_width (found by a probe: it was 200 to 8000).
+      {"render scenarios/unobstructed.lua --out /tmp/roger_cli.png --width 99",
+       "--width: expected a whole number from 100 to 16000, got '99'"},
       // An empty --out wrote into the default results folder.
       {"run scripts/quick.lua --out ''", "--out: expected a path, got ''"},
       {"propose curricula/paper.lua --stage T --out /tmp/roger_cli_p --budget 0",

@@ -89,7 +89,8 @@ CLI::App* add_render(CLI::App& app, RenderArgs& a) {
   c->add_option("--seed", a.seed, "World seed")->capture_default_str()->check(seed_value());
   c->add_option("--out", a.out, "Output picture (.png or .svg)")->check(path_value())->required();
   c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)");
-  c->add_option("--width", a.width, "Picture width in pixels")->capture_default_str()->check(integer_in(200, 8000));
+  // render.cpp's range, as Python's render_width has it.
+  c->add_option("--width", a.width, "Picture width in pixels")->capture_default_str()->check(integer_in(100, 16000));
   c->add_option("--seconds", a.seconds, "Simulate this long (Roger idle) first")->check(number_in(0.0, 3600.0));
   c->add_flag("--grid", a.grid, "Draw the metric grid across the floor");
   c->add_option("--policy", a.policy,
