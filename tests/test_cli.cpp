@@ -285,6 +285,18 @@ TEST_CASE("roger train writes its six files together or leaves the folder as it 
   fs::remove_all(out);
 }
 
+// Found by a probe: it said the skill script "has no policy 'out/policy.json'".
+TEST_CASE("a saved policy given with a skill script is said to need its curriculum", "[cli]") {
+  for (const char* command : {"eval curricula/scripted.lua --policy out/policy.json",
+                              "render curricula/scripted.lua --policy out/policy.json --out /tmp/roger_x"}) {
+    const Run saved = roger(command);
+    CHECK(saved.status == 1);
+    CHECK(saved.err.find("--policy out/policy.json is a saved policy, which runs with the curriculum it was trained "
+                         "on (CURRICULUM.lua --policy FILE.json); curricula/scripted.lua is not a curriculum") !=
+          std::string::npos);
+  }
+}
+
 TEST_CASE("a key given twice with two values is refused naming both", "[cli]") {
   // It used to keep the last value, which only the run's manifest showed.
   const Run twice = roger("eval curricula/scripted.lua --policy task --episodes 1 --set shape=spade --set shape=disk");

@@ -873,7 +873,9 @@ TEST_CASE("a truncated, empty or foreign policy file is refused naming the file,
   // Foreign files: another JSON document where a policy belongs.
   CHECK(refused("[1, 2, 3]", {"JSON object"}));
   CHECK(refused("42", {"JSON object"}));
-  CHECK(refused("{\"id\": \"SG/B1/000\", \"success_rate\": 1.0}", {"format"}));
+  // A trial's summary.json given for its policy.json: said to be no policy (found by a probe).
+  CHECK(refused("{\"id\": \"SG/B1/000\", \"success_rate\": 1.0}",
+                {"not a policy written by roger train (it has no field \"format\")", "policy.json in its folder"}));
   CHECK(refused("{\"format\": \"roger-results/1\", \"config\": {}}", {"format"}));
   std::filesystem::remove(damaged);
   std::filesystem::remove(path);

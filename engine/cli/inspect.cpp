@@ -34,8 +34,15 @@ std::string policy_scenario(const SkillScript::NamedPolicy& p, const std::string
 }
 
 bool policy_is_saved_file(const std::string& script, const std::string& policy) {
-  if (!is_curriculum_script(resolve_curriculum_path(script))) return false;
-  if (policy.size() < 5 || policy.compare(policy.size() - 5, 5, ".json") != 0)
+  const bool json_file = policy.size() >= 5 && policy.compare(policy.size() - 5, 5, ".json") == 0;
+  if (!is_curriculum_script(resolve_curriculum_path(script))) {
+    if (json_file)
+      throw Error("--policy " + policy + " is a saved policy, which runs with the curriculum it was trained on "
+                  "(CURRICULUM.lua --policy FILE.json); " + script + " is not a curriculum, so --policy names one of "
+                  "its policies");
+    return false;
+  }
+  if (!json_file)
     throw Error("with a curriculum, --policy names a policy file written by roger train (policy.json), got '" +
                 policy + "'");
   return true;

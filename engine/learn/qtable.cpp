@@ -31,6 +31,9 @@ double number(const nlohmann::json& j, const std::string& what, const std::strin
 
 // The format and version fields of a policy file.
 void check_format(const nlohmann::json& j, const std::string& source) {
+  if (!j.contains("format"))  // another JSON file given for a policy, such as a trial's summary.json
+    throw Error(source + ": not a policy written by roger train (it has no field \"format\"); a trial's policy is "
+                "policy.json in its folder");
   const auto& format = field(j, "format", source);
   if (!format.is_string() || format.get<std::string>() != kFormat)
     throw Error(source + ": field \"format\" must be \"" + kFormat + "\", got " + format.dump());
