@@ -404,6 +404,18 @@ TEST_CASE("script mistakes are reported at the script's file:line", "[scenario]"
     CHECK(e.line == 4);
     CHECK_THAT(e.message, StartsWith("roger.shape: shape 'flat' polygon 1: degenerate"));
   }
+  SECTION("a misspelt method of the world or of rng names the methods, at its line") {
+    // Found by a probe: rng:integer(...) read nil and failed with "attempt to call a nil value".
+    Scenario s = Scenario::load("tests/scripts/bad_method_name.lua");
+    const ScriptError world = generate_error(s);
+    CHECK(world.line == 9);
+    CHECK(world.message == "world has no method 'obstcle' (did you mean 'obstacle'?); its methods: arena, bounds, "
+                           "goal, object, obstacle, robot, sample_position, stimulus");
+    s.set_param("which", "rng");
+    const ScriptError rng = generate_error(s);
+    CHECK(rng.line == 7);
+    CHECK(rng.message == "rng has no method 'integre'; its methods: angle, choice, fork, int, normal, shuffle, uniform");
+  }
   SECTION("an unknown shape lists the known ones") {
     Scenario s = Scenario::load("tests/scripts/bad_shape_name.lua");
     const ScriptError e = generate_error(s);

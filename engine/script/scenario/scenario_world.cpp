@@ -1,8 +1,11 @@
 // scenario_world.cpp: the world builder's methods (arena, robot, objects, obstacles, goals,
 // stimulus) with their checks, and the installation of the scenario's Lua API.
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <string>
 #include <tuple>
+#include <vector>
 
 #include "core/robot.h"
 #include "script/scenario/scenario_internal.h"
@@ -275,12 +278,43 @@ int l_world_tostring(lua_State* L) {
 }
 
 // Registers a userdata metatable with its methods, finalizer and tostring.
+// The __index of a class's methods table (upvalue 1: what the object is called, "rng"): a name
+// it lacks is an error at the reader's line naming the methods, with the nearest. Before, a
+// misspelt method read nil and the call failed with "attempt to call a nil value (method ...)".
+int l_no_method(lua_State* L) {
+  const std::string what = lua_tostring(L, lua_upvalueindex(1));
+  const std::string name = luaL_tolstring(L, 2, nullptr);
+  std::vector<std::string> methods;
+  lua_pushnil(L);
+  while (lua_next(L, 1)) {
+    if (lua_type(L, -2) == LUA_TSTRING) methods.push_back(lua_tostring(L, -2));
+    lua_pop(L, 1);
+  }
+  std::sort(methods.begin(), methods.end());
+  std::string list;
+  for (const std::string& m : methods) list += (list.empty() ? "" : ", ") + m;
+  luaL_where(L, 2);  // the Lua function that read it (level 1 is this metamethod)
+  lua_pushstring(L, (what + " has no method '" + name + "'" + suggestion(name, methods) + "; its methods: " + list).c_str());
+  lua_concat(L, 2);
+  return lua_error(L);
+}
+
 void new_class(lua_State* L, const char* type, const luaL_Reg* methods, lua_CFunction gc,
                lua_CFunction tostring) {
   luaL_newmetatable(L, type);
   if (methods) {
     lua_newtable(L);
     luaL_setfuncs(L, methods, 0);
+    lua_newtable(L);  // the methods table's own metatable: an unknown name is an error
+    std::string what = type;
+    what = what.substr(what.find('.') + 1);
+    std::transform(what.begin(), what.end(), what.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    lua_pushstring(L, what.c_str());
+    lua_pushcclosure(L, l_no_method, 1);
+    lua_setfield(L, -2, "__index");
+    lua_pushboolean(L, 0);
+    lua_setfield(L, -2, "__metatable");
+    lua_setmetatable(L, -2);
     lua_setfield(L, -2, "__index");
   }
   if (gc) {
