@@ -413,7 +413,7 @@ TEST_CASE("LuaFields checks names and types of table arguments", "[lua_sandbox]"
         "thing: unknown fields 'colur' (did you mean 'colour'?), 'nmae' (did you mean 'name'?), 'zzz'; "
         "known fields: colour, count, name, on, size");
   CHECK(message("thing{name = 'a'}") == "thing: missing required field 'size' (a number)");
-  CHECK(message("thing{size = 'big'}") == "thing: field 'size' must be a number, got string");
+  CHECK(message("thing{size = 'big'}") == "thing: field 'size' must be a number, got string 'big'");
   CHECK(message("thing{size = 1, count = 1.5}") == "thing: field 'count' must be an integer, got 1.5");
   CHECK(message("thing{size = 0/0}") == "thing: field 'size' must be a finite number, got nan");
   CHECK_THAT(message("thing{size = 1, colour = {300, 0, 0}}"), StartsWith("thing: field 'colour' must be a colour"));

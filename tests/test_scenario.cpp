@@ -448,7 +448,7 @@ TEST_CASE("script mistakes are reported at the script's file:line", "[scenario]"
           "friction_force, friction_torque, mass, name, shape, surface_friction, theta, "
           "viscosity, x, y");
     s.set_param("mode", "type");
-    CHECK(generate_error(s).message == "world:object: field 'x' must be a number, got string");
+    CHECK(generate_error(s).message == "world:object: field 'x' must be a number, got string 'one'");
     s.set_param("mode", "missing");
     CHECK(generate_error(s).message == "world:object: missing required field 'x' (a number)");
     s.set_param("mode", "overlap");
@@ -514,7 +514,7 @@ TEST_CASE("the Lua API checks its arguments where they are given", "[scenario]")
   CHECK(run("world:arena{xmin = -2, xmax = 2.1}", "cells") ==
         "world:arena: the x extent 4.1 m is not a whole number of 0.0625 m cells");
   CHECK(run("world:object{shape = {}, x = 0, y = 0}", "shape_type") ==
-        "world:object: field 'shape' must be a shape made by roger.shape{...}, got table");
+        "world:object: field 'shape' must be a shape made by roger.shape{...}, got table (empty)");
   CHECK(run("world:goal{x = 5, y = 0}", "goal") ==
         "world:goal: goal 'goal 1' centre (5, 0) is outside the 4 x 4 m arena");
   CHECK(run("world:obstacle{shape = shapes.get('circle'), x = 0, y = 0, colour = {1, 2}}", "colour") ==

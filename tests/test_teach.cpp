@@ -734,6 +734,14 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
       {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = {} } } }",
        ":8: roger.teacher.lcas: lift.eye_pixels must be a list of levels, the most constrained first, got a table "
        "with no levels 1, 2, ... (an empty list)"},
+      // Found by a probe: each said what was expected, not what it got.
+      {"{ teacher = roger.teacher.lcas{ lift = { obstacles = { 0, 3 }, eye_pixels = { 32, 64 } } } }",
+       ":8: roger.teacher.lcas: field 'lift' must name one parameter {param = {level 1, level 2, ...}}, got 2: "
+       "eye_pixels, obstacles"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, test = { list = {} } }",
+       ":6: stage 'S': test: field 'list' must be a non-empty list of tasks {{param = value, ...}, ...}, got table (empty)"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, test = { tasks = 'ten' } }",
+       ":6: stage 'S': test: field 'tasks' must be an integer, got string 'ten'"},
   };
   for (size_t k = 0; k < cases.size(); ++k) {
     const fs::path file = write_stage(dir.path, "c" + std::to_string(k), cases[k].first);

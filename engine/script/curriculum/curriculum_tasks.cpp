@@ -215,6 +215,16 @@ int l_teacher_lcas(lua_State* L) {
   LuaFields f = options(L, spec, {"lift", "window", "slope", "floor"});
   if (f.push("lift") != LUA_TTABLE) f.wrong_type("lift", "a table {param = {level 1, level 2, ...}}");
   const int lift = lua_gettop(L);
+  std::vector<std::string> named;  // sorted: the table's order is Lua's hash order
+  lua_pushnil(L);
+  while (lua_next(L, lift)) {
+    named.push_back(lua_type(L, -2) == LUA_TSTRING ? lua_tostring(L, -2) : lua_describe_value(L, -2));
+    lua_pop(L, 1);
+  }
+  std::sort(named.begin(), named.end());
+  if (named.size() > 1)
+    f.fail("field 'lift' must name one parameter {param = {level 1, level 2, ...}}, got " +
+           std::to_string(named.size()) + ": " + join(named));
   lua_pushnil(L);
   while (lua_next(L, lift)) {
     if (lua_type(L, -2) != LUA_TSTRING || !spec.lift.empty())

@@ -82,7 +82,20 @@ void LuaFields::fail(const std::string& message) const {
 
 void LuaFields::wrong_type(const char* key, const char* expected) const {
   push(key);
-  const std::string got = luaL_typename(L_, -1);
+  // The type, and what it holds where that is short: "string 'ten'", "table (empty)".
+  std::string got = luaL_typename(L_, -1);
+  if (lua_type(L_, -1) == LUA_TSTRING) {
+    std::string text = lua_tostring(L_, -1);
+    if (text.size() > 40) text = text.substr(0, 37) + "...";
+    got += " '" + text + "'";
+  } else if (lua_type(L_, -1) == LUA_TNUMBER || lua_type(L_, -1) == LUA_TBOOLEAN) {
+    got += " " + std::string(luaL_tolstring(L_, -1, nullptr));
+    lua_pop(L_, 1);
+  } else if (lua_type(L_, -1) == LUA_TTABLE) {
+    lua_pushnil(L_);
+    if (lua_next(L_, -2)) lua_pop(L_, 2);
+    else got += " (empty)";
+  }
   lua_pop(L_, 1);
   fail(std::string("field '") + key + "' must be " + expected + ", got " + got);
 }
