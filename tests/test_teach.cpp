@@ -1037,6 +1037,22 @@ TEST_CASE("roger eval --test-set repeats a teaching trial's final evaluation epi
   CHECK(from_curriculum["test_tasks"] == kept["test_tasks"]);
   CHECK(from_curriculum["failed_seeds"] == kept["failed_seeds"]);
   fs::remove(older);
+  // roger render --test-task k replays task k as the final evaluation ran it: its outcome is final.jsonl's.
+  std::istringstream alp_lines(slurp(dir / "trials" / "Alp" / "A" / "000" / "final.jsonl"));
+  int k = 0;
+  for (std::string line; std::getline(alp_lines, line) && k < 3;) {
+    const json record = json::parse(line);
+    ++k;
+    const fs::path movie = dir.parent_path() / ("roger_teach_task_" + std::to_string(k));
+    REQUIRE(run_shell(std::string(ROGER_BINARY) + " render tests/scripts/teach_curriculum.lua --policy " + alp +
+                      " --test-task " + std::to_string(k) + " --out " + movie.string() + " > /dev/null") == 0);
+    const json episode = json::parse(slurp(movie / "episode.json"));
+    CHECK(episode["success"] == record["success"]);
+    CHECK(episode["seed"] == record["seed"]);
+    CHECK_THAT(episode["title"].get<std::string>(),
+               Contains(", test task " + std::to_string(k) + " (level = " + kept["test_tasks"][k - 1]["level"].get<std::string>() + ")"));
+    fs::remove_all(movie);
+  }
   // A --set of a parameter the tasks set would be overwritten by them: refused.
   CHECK(run_shell(std::string(ROGER_BINARY) + " eval tests/scripts/teach_curriculum.lua --policy " + alp +
                   " --test-set --set level=0.5 2> " + out.string()) == 1);

@@ -874,6 +874,45 @@ void check_sets_leave_tasks(const ParamList& sets, const std::vector<ParamList>&
                       "leave out --test-set");
 }
 
+// The test set a saved policy's trial ended on, for --test-set: the tasks its file keeps, else
+// (a file from before roger kept them) the curriculum's, as a trial of the stage makes them now.
+// Fills `out`'s test_tasks, test_set_source and test_set_changed; returns the first world seed.
+uint64_t resolve_test_set(StageRun& run, const PolicyMetadata& meta, const PolicyEvalOptions& options,
+                          PolicyEvalResult& out) {
+  const TestSet saved = saved_test_set(meta, options.policy_file);
+  if (saved.recorded) check_sets_leave_tasks(options.sets, saved.tasks, options.policy_file);
+  // The test set as a trial of the stage makes it now (TrialTeacher: the space less the --set
+  // parameters, the teacher's own parameters beside it), on the same world seeds.
+  std::vector<ParamList> now;
+  bool made_now = run.stage.teaches();
+  if (made_now) {
+    try {
+      TrainOptions topt;
+      topt.sets = options.sets;
+      const TrialTeacher teacher(run.cur, run.stage, topt);
+      const EvalWorlds worlds = teacher.worlds(run.stage.checkpoints.seeds, true);
+      for (size_t i = 0; i < size_t(worlds.episodes); ++i) now.push_back(worlds.task(i));
+    } catch (const Error&) {
+      if (!saved.recorded) throw;
+      made_now = false;  // the file's tasks are run all the same; the curriculum's could not be made
+    }
+  }
+  if (!saved.recorded) {
+    if (!run.stage.teaches())
+      throw Error(run.stage.where() + " has no test set: it has no task space or teacher, so its trials end on "
+                  "its held-out seeds (no --test-set or --test-task)");
+    out.test_set_source = "the curriculum (" + options.policy_file + " records none: written by an earlier roger)";
+    out.test_tasks = std::move(now);
+    return run.stage.checkpoints.seeds;
+  }
+  // The tasks the trial's final evaluation ran, as its policy file keeps them: the curriculum's
+  // test set may have been edited since, and the measure is of the policy on those.
+  out.test_tasks = saved.tasks;
+  out.test_set_source = options.policy_file;
+  out.test_set_changed = !made_now || now != saved.tasks || saved.first_seed != run.stage.checkpoints.seeds;
+  return saved.first_seed;
+}
+
 }  // namespace
 
 PolicyEvalResult evaluate_policy_file(const PolicyEvalOptions& options) {
@@ -883,40 +922,8 @@ PolicyEvalResult evaluate_policy_file(const PolicyEvalOptions& options) {
       out.eval = greedy_eval(run, q, EvalWorlds{first, options.episodes}, "evaluation");
       return;
     }
-    const TestSet saved = saved_test_set(meta, options.policy_file);
-    if (saved.recorded) check_sets_leave_tasks(options.sets, saved.tasks, options.policy_file);
-    // The test set as a trial of the stage makes it now (TrialTeacher: the space less the --set
-    // parameters, the teacher's own parameters beside it), on the same world seeds.
-    std::vector<ParamList> now;
-    bool made_now = run.stage.teaches();
-    if (made_now) {
-      try {
-        TrainOptions topt;
-        topt.sets = options.sets;
-        const TrialTeacher teacher(run.cur, run.stage, topt);
-        const EvalWorlds worlds = teacher.worlds(run.stage.checkpoints.seeds, true);
-        for (size_t i = 0; i < size_t(worlds.episodes); ++i) now.push_back(worlds.task(i));
-      } catch (const Error&) {
-        if (!saved.recorded) throw;
-        made_now = false;  // the file's tasks are run all the same; the curriculum's could not be made
-      }
-    }
-    if (!saved.recorded) {
-      if (!run.stage.teaches())
-        throw Error(run.stage.where() + " has no test set: it has no task space or teacher, so its trials end on "
-                    "its held-out seeds (roger eval without --test-set)");
-      out.test_set_source = "the curriculum (" + options.policy_file + " records none: written by an earlier roger)";
-      out.test_tasks = now;
-      out.eval = greedy_eval(run, q, EvalWorlds{run.stage.checkpoints.seeds, int(now.size()), nullptr, nullptr, {}, &now},
-                             "evaluation");
-      return;
-    }
-    // The tasks the trial's final evaluation ran, as its policy file keeps them: the curriculum's
-    // test set may have been edited since, and the measure is of the policy on those.
-    out.test_tasks = saved.tasks;
-    out.test_set_source = options.policy_file;
-    out.test_set_changed = !made_now || now != saved.tasks || saved.first_seed != run.stage.checkpoints.seeds;
-    out.eval = greedy_eval(run, q, EvalWorlds{saved.first_seed, int(saved.tasks.size()), nullptr, nullptr, {}, &out.test_tasks},
+    const uint64_t first_seed = resolve_test_set(run, meta, options, out);
+    out.eval = greedy_eval(run, q, EvalWorlds{first_seed, int(out.test_tasks.size()), nullptr, nullptr, {}, &out.test_tasks},
                            "evaluation");
   });
   return out;
@@ -925,7 +932,16 @@ PolicyEvalResult evaluate_policy_file(const PolicyEvalOptions& options) {
 RecordedPolicyEpisode record_policy_episode(const PolicyEvalOptions& options, double record_every,
                                             size_t watch_limit) {
   RecordedPolicyEpisode r;
-  with_policy_file(options, r.about, [&](StageRun& run, QTable& q, uint64_t seed, const PolicyMetadata&) {
+  with_policy_file(options, r.about, [&](StageRun& run, QTable& q, uint64_t seed, const PolicyMetadata& meta) {
+    if (options.test_task > 0) {
+      // Test task k of the trial's test set, in its own world seed, as its final evaluation ran it.
+      const uint64_t first = resolve_test_set(run, meta, options, r.about);
+      if (size_t(options.test_task) > r.about.test_tasks.size())
+        throw Error("--test-task " + std::to_string(options.test_task) + ": the test set has " +
+                    std::to_string(r.about.test_tasks.size()) + " tasks (from " + r.about.test_set_source + ")");
+      set_params(run.scenario, r.about.test_tasks[size_t(options.test_task - 1)], {});
+      seed = first + uint64_t(options.test_task - 1);
+    }
     // Twice the rows shown are watched, so that rows repeating others (distinct_traces) leave
     // their places to the next ones.
     const std::vector<ControllerPtr> watch = watched_controllers(run.ctx.actions, 2 * watch_limit);

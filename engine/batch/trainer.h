@@ -237,6 +237,8 @@ struct PolicyEvalOptions {
   // A teaching stage's policy on the test set its trials ended on (its final evaluation's tasks,
   // world seeds and the teacher's own parameters), instead of `episodes` from `first_seed`.
   bool test_set = false;
+  // roger render: test task k (from 1) of that test set, in its world seed, instead of first_seed.
+  int test_task = 0;
 };
 
 // The outcome of evaluating a saved policy.

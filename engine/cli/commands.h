@@ -66,6 +66,8 @@ struct RenderArgs {
   std::string world;          // the scenario of that episode (default: the policy's)
   std::vector<std::string> skills;  // with a saved policy: NAME=FILE.json, a learned skill instead of the embedded one
   double every = 0.1;         // seconds between recorded frames
+  int test_task = 0;          // with a saved policy of a teaching stage: its test set's task k (from 1)
+  bool seed_given = false;
 };
 
 // Draws a scenario's world, or records an episode of a skill script's policy. Returns 0.

@@ -77,10 +77,18 @@ int run_render_policy_file(const RenderArgs& a) {
   o.sets = split_sets(a.sets, "--set");
   o.first_seed = int64_t(a.seed);
   for (const auto& [name, file] : split_sets(a.skills, "--skill")) o.skill_files[name] = file;
+  if (a.test_task > 0 && a.seed_given)
+    throw Error("roger render: --test-task runs the task in its own world seed; --seed cannot be given with it");
+  o.test_task = a.test_task;
   const RecordedPolicyEpisode r = record_policy_episode(o, a.every);
+  std::string task;
+  if (a.test_task > 0) {
+    for (const auto& [k, v] : r.about.test_tasks[size_t(a.test_task - 1)]) task += (task.empty() ? "" : ", ") + k + " = " + v;
+    task = ", test task " + std::to_string(a.test_task) + " (" + (task.empty() ? "the stage's own parameters" : task) + ")";
+  }
   write_rendered_episode(a, r.spec, r.episode,
                          r.about.stage + "/" + r.about.context + " (" + a.policy + ") in " + r.about.scenario +
-                             ", seed " + std::to_string(a.seed));
+                             ", seed " + std::to_string(r.episode.seed) + task);
   return 0;
 }
 
@@ -88,6 +96,9 @@ int run_render_policy_file(const RenderArgs& a) {
 // (for a .png path) one summary strip.
 int run_render_episode(const RenderArgs& a) {
   if (policy_is_saved_file(a.scenario, a.policy)) return run_render_policy_file(a);
+  if (a.test_task > 0)
+    throw Error("roger render: --test-task renders a task of a saved policy's test set (CURRICULUM.lua --policy "
+                "FILE.json); policy '" + a.policy + "' of " + a.scenario + " is a skill script's, which has none");
   if (!a.skills.empty())
     throw Error("roger render: --skill replaces a learned skill of a saved policy (--policy FILE.json); policy '" +
                 a.policy + "' of " + a.scenario + " is a skill script's, which learns nothing");

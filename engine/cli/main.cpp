@@ -101,6 +101,10 @@ CLI::App* add_render(CLI::App& app, RenderArgs& a) {
   c->add_option("--skill", a.skills,
                 "With a saved policy: a learned skill's policy NAME=FILE.json instead of the one it embeds "
                 "(repeatable), as roger eval takes it");
+  c->add_option("--test-task", a.test_task,
+                "With a saved policy of a stage that teaches: task K (from 1) of the test set its trial ended on, "
+                "in that task's world seed")
+      ->check(integer_in(1, 1000000));
   c->add_option("--every", a.every, "Seconds between recorded frames")
       ->capture_default_str()->check(number_in(0.02, 10.0));
   return c;
@@ -290,7 +294,10 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   try {
-    if (*render) return command_render(render_args);
+    if (*render) {
+      render_args.seed_given = render->count("--seed") > 0;
+      return command_render(render_args);
+    }
     if (*check) return command_check(check_args);
     if (*bench) return command_bench(bench_args);
     if (*eval) {
