@@ -870,8 +870,7 @@ void check_sets_leave_tasks(const ParamList& sets, const std::vector<ParamList>&
       for (const auto& p : task)
         if (p.first == k)
           throw Error("--set " + k + "=" + v + ": the test set's tasks (" + file + ") set " + k +
-                      " themselves; --test-set runs them as they were, so give another parameter, or "
-                      "leave out --test-set");
+                      " themselves, and run as they were: give another parameter, or run without the test set");
 }
 
 // The test set a saved policy's trial ended on, for --test-set: the tasks its file keeps, else
