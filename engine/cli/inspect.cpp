@@ -19,6 +19,7 @@
 #include "script/scenario/scenario.h"
 #include "script/skills/skill_script.h"
 #include "sim/world.h"
+#include "teach/teach.h"
 #include "view/animation.h"
 #include "view/render.h"
 
@@ -83,7 +84,7 @@ int run_render_policy_file(const RenderArgs& a) {
   const RecordedPolicyEpisode r = record_policy_episode(o, a.every);
   std::string task;
   if (a.test_task > 0) {
-    for (const auto& [k, v] : r.about.test_tasks[size_t(a.test_task - 1)]) task += (task.empty() ? "" : ", ") + k + " = " + v;
+    task = params_text(r.about.test_tasks[size_t(a.test_task - 1)]);
     task = ", test task " + std::to_string(a.test_task) + " (" + (task.empty() ? "the stage's own parameters" : task) + ")";
   }
   write_rendered_episode(a, r.spec, r.episode,

@@ -133,9 +133,10 @@ int run_eval_policy_file(const EvalArgs& a) {
     nlohmann::json j = eval_summary_json(r.eval);
     j.update({{"script", a.script}, {"policy", a.policy}, {"stage", r.stage}, {"context", r.context},
               {"scenario", r.scenario}, {"failed_seeds", r.eval.failed_seeds}, {"test_set", a.test_set}});
-    if (a.test_set) j.update({{"test_set_from", r.test_set_source}, {"test_set_changed", r.test_set_changed}});
-    // With --test-set, each episode's task in the episodes' order (world seed first_seed + i).
+    // With --test-set, whence the tasks came, and each episode's task in order (world seed
+    // first_seed + i).
     if (a.test_set) {
+      j.update({{"test_set_from", r.test_set_source}, {"test_set_changed", r.test_set_changed}});
       j["test_tasks"] = nlohmann::json::array();
       for (const auto& task : r.test_tasks) {
         nlohmann::json t = nlohmann::json::object();

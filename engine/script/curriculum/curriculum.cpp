@@ -368,7 +368,7 @@ int state_unknown_action(lua_State* L) {
   }
   std::sort(names.begin(), names.end());
   const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : luaL_tolstring(L, 2, nullptr);
-  return curriculum_detail::raise_at_reader(
+  return raise_at_reader(
       L, "state has no action '" + key + "'" + suggestion(key, names) + "; its actions: " + join(names));
 }
 
@@ -393,13 +393,6 @@ void set_strict_index(lua_State* L, const char* type_name, lua_CFunction unknown
     lua_setfield(L, -2, "__index");
   }
   lua_setmetatable(L, -2);
-}
-
-int raise_at_reader(lua_State* L, const std::string& text) {
-  luaL_where(L, 2);  // the Lua function that read it (level 1 is the metamethod)
-  lua_pushstring(L, text.c_str());
-  lua_concat(L, 2);
-  return lua_error(L);
 }
 
 }  // namespace curriculum_detail

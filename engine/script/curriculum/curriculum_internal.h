@@ -48,8 +48,7 @@ void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& abso
 // `unknown`: reading a name the table does not hold calls it, so a misspelt name is an error
 // rather than a nil that quietly changes what a callback decides.
 void set_strict_index(lua_State* L, const char* type_name, lua_CFunction unknown);
-// For an `unknown` above: raises `text` at the line of the Lua function that read the name.
-int raise_at_reader(lua_State* L, const std::string& text);
+// An `unknown` above raises with raise_at_reader (script/sandbox/lua_sandbox.h).
 
 // ---- teachers (curriculum_tasks.cpp, curriculum_teacher.cpp)
 

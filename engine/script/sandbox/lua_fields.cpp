@@ -75,6 +75,13 @@ std::string suggestion(const std::string& given, const std::vector<std::string>&
   return best.empty() ? "" : " (did you mean '" + best + "'?)";
 }
 
+int raise_at_reader(lua_State* L, const std::string& text) {
+  luaL_where(L, 2);
+  lua_pushstring(L, text.c_str());
+  lua_concat(L, 2);
+  return lua_error(L);
+}
+
 void LuaFields::fail(const std::string& message) const {
   luaL_error(L_, "%s: %s", context_.c_str(), message.c_str());
   std::abort();  // unreachable: luaL_error does not return

@@ -215,6 +215,10 @@ size_t edit_distance(const std::string& a, const std::string& b);
 // name (a field, a parameter, a controller) adds it.
 std::string suggestion(const std::string& given, const std::vector<std::string>& known);
 
+// For an __index metamethod refusing a name: raises `text` at the line of the Lua function that
+// read the name (level 1 is the metamethod itself).
+int raise_at_reader(lua_State* L, const std::string& text);
+
 // Converts the value at `index` into a colour, or raises "context: ..." at the caller's line.
 Colour lua_to_colour(lua_State* L, int index, const std::string& context);
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/robot.h"
+#include "core/text.h"
 #include "script/scenario/scenario_internal.h"
 
 namespace roger {
@@ -291,12 +292,8 @@ int l_no_method(lua_State* L) {
     lua_pop(L, 1);
   }
   std::sort(methods.begin(), methods.end());
-  std::string list;
-  for (const std::string& m : methods) list += (list.empty() ? "" : ", ") + m;
-  luaL_where(L, 2);  // the Lua function that read it (level 1 is this metamethod)
-  lua_pushstring(L, (what + " has no method '" + name + "'" + suggestion(name, methods) + "; its methods: " + list).c_str());
-  lua_concat(L, 2);
-  return lua_error(L);
+  return raise_at_reader(L, what + " has no method '" + name + "'" + suggestion(name, methods) + "; its methods: " +
+                                join(methods));
 }
 
 void new_class(lua_State* L, const char* type, const luaL_Reg* methods, lua_CFunction gc,
