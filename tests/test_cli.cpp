@@ -168,6 +168,29 @@ TEST_CASE("roger check names a misspelt top-level key, and finds bare names of e
   CHECK_THAT(roger("check quick").out, Catch::Matchers::Contains("quick: ok (batch script 'quick'"));
 }
 
+// Found by a probe: from another folder, `roger check curricula/paper.lua` (a path relative to the
+// project, as train, eval and run take it) ran the curriculum as a scenario and failed in a shipped
+// library ("attempt to call a nil value (field 'primitive')").
+TEST_CASE("roger check takes a project path from any folder as the other commands do", "[cli]") {
+  const std::string elsewhere = "cd " + fs::temp_directory_path().string() + " && ROGER_HOME=" +
+                                fs::current_path().string() + " ";
+  const std::pair<const char*, const char*> scripts[] = {
+      {"curricula/paper.lua", "curricula/paper.lua: ok (curriculum 'paper'"},
+      {"curricula/scripted.lua", "curricula/scripted.lua: ok (skill script 'scripted'"},
+      {"docs/examples/skills_example.lua", "docs/examples/skills_example.lua: ok (skill script 'example'"},
+      {"scripts/quick.lua", "scripts/quick.lua: ok (batch script 'quick'"},
+      {"scenarios/unobstructed.lua", "scenarios/unobstructed.lua: ok (scenario 'unobstructed'"}};
+  const fs::path out = fs::temp_directory_path() / ("roger_cli_elsewhere_" + std::to_string(::getpid()));
+  for (const auto& [script, verdict] : scripts) {
+    const int raw = std::system((elsewhere + ROGER_BINARY + " check " + script + " >" + out.string() + " 2>/dev/null").c_str());
+    const std::string said = slurp(out);
+    INFO(script << ": " << said);
+    CHECK((WIFEXITED(raw) && WEXITSTATUS(raw) == 0));
+    CHECK_THAT(said, Catch::Matchers::StartsWith(verdict));
+  }
+  fs::remove(out);
+}
+
 TEST_CASE("roger check runs the static pass on a scenario named bare, as the loader finds it", "[cli]") {
   // A project tree (ROGER_HOME) whose scenarios/ holds a scenario with a misspelt member reached
   // through an alias: `roger check misspelt_here` reads scenarios/misspelt_here.lua before running it.
@@ -448,6 +471,10 @@ TEST_CASE("roger eval names the failed world seeds and the command that renders 
   r = roger(args + " --json");
   const nlohmann::json j = nlohmann::json::parse(r.out.substr(r.out.rfind("\n{") + 1));
   CHECK(j["failed_seeds"] == nlohmann::json::array({1013, 1017, 1021, 1026}));
+  // The scenario by its name and by the file it was read from (a copy of a shipped scenario keeps
+  // its name, so the name alone does not say which was run).
+  CHECK(j["scenario"] == "cluttered");
+  CHECK(j["scenario_file"] == "scenarios/cluttered.lua");
   // The command printed replays that very world: it fails there too.
   const fs::path out = fs::temp_directory_path() / ("roger_cli_replay_" + std::to_string(::getpid()));
   fs::remove_all(out);
@@ -483,6 +510,8 @@ TEST_CASE("roger eval runs a learned Sort4 policy from its file, loaded and not 
   CHECK(r.out.find("train") == std::string::npos);
   const nlohmann::json j = nlohmann::json::parse(r.out.substr(r.out.rfind("\n{") + 1));
   CHECK(j["params"]["objects"] == "4");
+  CHECK(j["scenario"] == "sorting");
+  CHECK(j["scenario_file"] == "scenarios/sorting.lua");
   CHECK(j["episodes"] == 10);
   // The policy sorted 50 of its 50 final evaluation episodes in the run (these 10 among them, all
   // sorted here too); a policy that lost its skills or its bindings on the way in sorts none. One

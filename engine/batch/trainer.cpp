@@ -818,6 +818,7 @@ void with_policy_file(const PolicyEvalOptions& options, PolicyEvalResult& out,
                Agent(WorldParams{}, options.agent)};
   cur.set_world(&run.agent.world());
   out.scenario = run.scenario.name();
+  out.scenario_file = run.scenario.path();
   use(run, q, (options.first_seed >= 0 ? uint64_t(options.first_seed) : stage.checkpoints.seeds) + options.seed_offset,
       meta);
 }

@@ -244,6 +244,7 @@ struct PolicyEvalOptions {
 // The outcome of evaluating a saved policy.
 struct PolicyEvalResult {
   std::string stage, context, scenario;
+  std::string scenario_file;  // the scenario script's path, as resolved (scenario is its name)
   std::string time_limit;  // the stage's time-out, as text: "12 s limit", "30 s per object limit"
   // A teaching stage's trials end on this many test tasks (its task space or teacher), which this
   // evaluation, on the stage's own parameters and held-out seeds, does not run; 0 for other stages.

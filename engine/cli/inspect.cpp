@@ -190,14 +190,19 @@ size_t report_static_problems(const std::string& script) {
 
 namespace {
 
-// The file `roger check` checks: the path as given, else a bare name of the project's scenarios/
-// (first, as check has always read a bare name), curricula/ or scripts/. A name that is none of
-// them is refused as a script of any kind, not as a missing scenario.
+// The file `roger check` checks: the path as given, else a path relative to the project (as the
+// other commands take `curricula/paper.lua` from any folder), else a bare name of the project's
+// scenarios/ (first, as check has always read a bare name), curricula/ or scripts/. A name that is
+// none of them is refused as a script of any kind, not as a missing scenario.
 std::string check_target(const std::string& arg) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (fs::exists(arg, ec) || arg.find('/') != std::string::npos)
+  if (fs::exists(arg, ec)) return arg;
+  if (arg.find('/') != std::string::npos) {
+    if (fs::path(arg).is_relative() && fs::is_regular_file(project_root() / arg, ec))
+      return (project_root() / arg).string();
     return arg;  // a path (read_file_text and the loaders say what is wrong with it)
+  }
   const std::string file = fs::path(arg).extension() == ".lua" ? arg : arg + ".lua";
   for (const char* folder : {"scenarios", "curricula", "scripts"})
     if (fs::is_regular_file(project_root() / folder / file, ec)) return (project_root() / folder / file).string();

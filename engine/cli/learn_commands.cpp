@@ -132,7 +132,7 @@ int run_eval_policy_file(const EvalArgs& a) {
   if (a.json) {
     nlohmann::json j = eval_summary_json(r.eval);
     j.update({{"script", a.script}, {"policy", a.policy}, {"stage", r.stage}, {"context", r.context},
-              {"scenario", r.scenario}, {"failed_seeds", r.eval.failed_seeds}, {"test_set", a.test_set}});
+              {"scenario", r.scenario}, {"scenario_file", r.scenario_file}, {"failed_seeds", r.eval.failed_seeds}, {"test_set", a.test_set}});
     // With --test-set, whence the tasks came, and each episode's task in order (world seed
     // first_seed + i).
     if (a.test_set) {
@@ -184,7 +184,8 @@ int command_eval(const EvalArgs& a) {
   std::printf("  episode time   %.2f s (mean, simulated)\n", r.time_mean);
   if (a.json) {
     nlohmann::json j = {{"script", script.path()},      {"policy", policy.name},
-                        {"scenario", scenario.name()},  {"episodes", r.episodes},
+                        {"scenario", scenario.name()},  {"scenario_file", scenario.path()},
+                        {"episodes", r.episodes},
                         {"first_seed", a.seed},          {"successes", r.successes},
                         {"success_rate", r.success_rate}, {"reward_mean", r.reward_mean},
                         {"reward_std", r.reward_std},    {"time_mean", r.time_mean},
