@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <regex>
 #include <stdexcept>
 #include <sstream>
@@ -418,16 +419,18 @@ TEST_CASE("a tiny batch writes every file, with tables that match the trials, wh
   CHECK(finished_ids(f.root / "cut") == kIds);
   same_results(one, f.root / "cut");
 
-  // A folder made by other parameters is refused.
+  // A folder made by other parameters is refused: fewer trials would leave trials in the folder
+  // that its manifest does not plan.
   RunArgs other;
   other.script = (f.root / "batch.lua").string();
   other.out = one.string();
-  other.trials = 3;
+  other.trials = 1;
   std::ostringstream refused;
   other.progress = &refused;
   CHECK(command_run(other) == 1);
   CHECK(refused.str().find("made by another batch script or other parameters") != std::string::npos);
-  CHECK(refused.str().find("trials") != std::string::npos);
+  CHECK(refused.str().find("runs[1].trials: 2 in the folder, 1 now") != std::string::npos);
+  CHECK(finished_ids(one) == kIds);  // nothing lost
 
   // A folder made by another build of the engine is refused, naming both builds.
   const json cut_manifest = json::parse(slurp(f.root / "cut/manifest.json"));
@@ -441,6 +444,117 @@ TEST_CASE("a tiny batch writes every file, with tables that match the trials, wh
   CHECK(other_engine.find("another build of the engine (engine 0123456789abcdef)") != std::string::npos);
   CHECK(other_engine.find(cut_manifest["engine"].get<std::string>()) != std::string::npos);
   CHECK(finished_ids(f.root / "cut") == kIds);  // nothing lost
+}
+
+// Found by a probe: renaming a table's title, or asking for more trials, refused the folder, and the
+// only way on was to train every trial again. Neither changes a trial the folder holds.
+TEST_CASE("a folder takes a script that changes only its report or adds trials, and keeps its trials", "[report][run]") {
+  Fixture f("extend");
+  REQUIRE(f.run("out", 2) == 0);
+  const fs::path out = f.root / "out";
+  std::map<std::string, std::string> before;
+  for (const auto& id : kIds) before[id] = slurp(fs::path(trial_dir(out.string(), id)) / "result.json");
+  // A new title and a new figure: the report is drawn again, nothing trains.
+  std::string script = slurp(f.root / "batch.lua");
+  script = std::regex_replace(script, std::regex("title = \"Table I\""), "title = \"Table I, renamed\"");
+  script = std::regex_replace(script, std::regex("figures = \\{\n"),
+                              "figures = {\n    { file = \"figure6\", run = \"SG\", title = \"added\" },\n");
+  spit(f.root / "batch.lua", script);
+  std::string log;
+  REQUIRE(f.run("out", 2, 0, &log) == 0);
+  INFO(log);
+  CHECK_THAT(log, Catch::Matchers::Contains("only in what trains nothing again: its report's titles, tables or "
+                                            "figures changed. The manifest now holds this script; the trials there "
+                                            "are kept."));
+  CHECK_THAT(log, Catch::Matchers::Contains("trials: 4/4 done (4 from an earlier run)"));
+  CHECK_THAT(slurp(out / "tables.md"), Catch::Matchers::Contains("Table I, renamed"));
+  CHECK(fs::is_regular_file(out / "figure6.png"));
+  for (const auto& id : kIds) CHECK(slurp(fs::path(trial_dir(out.string(), id)) / "result.json") == before[id]);
+  // roger report alone draws from the manifest, which now holds the new script.
+  CHECK(json::parse(slurp(out / "manifest.json"))["config"]["tables"][0]["title"] == "Table I, renamed");
+  // A third trial of every run and evaluation (--trials 3): the evaluation has two shapes on worlds
+  // of its own, where shape k's trial i starts at (k x trials + i) x episodes, so more trials
+  // would move the worlds of those it holds. Refused, saying so, and nothing is lost.
+  RunArgs more;
+  more.script = (f.root / "batch.lua").string();
+  more.out = out.string();
+  more.jobs = 2;
+  more.trials = 3;
+  std::ostringstream moved;
+  more.progress = &moved;
+  CHECK(command_run(more) == 1);
+  CHECK_THAT(moved.str(), Catch::Matchers::Contains("evaluations[1].trials: 2 in the folder, 3 now"));
+  CHECK_THAT(moved.str(), Catch::Matchers::Contains("move the worlds of the trials it has"));
+  for (const auto& id : kIds) CHECK(slurp(fs::path(trial_dir(out.string(), id)) / "result.json") == before[id]);
+  // A third trial of every run, the evaluation keeping its two: only the new trials run, each as
+  // a fresh run of the same script gives it.
+  script = std::regex_replace(script, std::regex("trials = 2, seed = 5"), "trials = 3, seed = 5");
+  script = std::regex_replace(script, std::regex("episodes = 3 \\}"), "episodes = 3, trials = 2 }");
+  spit(f.root / "batch.lua", script);
+  more.trials = 0;
+  std::ostringstream said;
+  more.progress = &said;
+  REQUIRE(command_run(more) == 0);
+  INFO(said.str());
+  CHECK_THAT(said.str(), Catch::Matchers::Contains("it plans more trials. The manifest now holds this script; the "
+                                                   "trials there are kept, and the new ones run."));
+  CHECK_THAT(said.str(), Catch::Matchers::Contains("trials: 6/6 done (4 from an earlier run)"));
+  for (const auto& id : kIds) CHECK(slurp(fs::path(trial_dir(out.string(), id)) / "result.json") == before[id]);
+  const json manifest = json::parse(slurp(out / "manifest.json"));
+  CHECK(manifest["trials"].size() == 13);
+  CHECK(manifest["seeds"]["SG/DC2/002"] == 7);
+  more.out = (f.root / "fresh").string();
+  std::ostringstream fresh_log;
+  more.progress = &fresh_log;
+  REQUIRE(command_run(more) == 0);
+  std::vector<std::string> ids = kIds;
+  for (const char* id : {"SG/B1/002", "SG/DC2/002", "T/DC6/002"}) ids.push_back(id);
+  for (const auto& id : ids) {
+    INFO(id);
+    CHECK(without_wall(json::parse(slurp(fs::path(trial_dir(out.string(), id)) / "result.json"))) ==
+          without_wall(json::parse(slurp(fs::path(trial_dir((f.root / "fresh").string(), id)) / "result.json"))));
+  }
+  CHECK(slurp(out / "tables.md") == slurp(f.root / "fresh" / "tables.md"));
+  CHECK(slurp(out / "report.json") == slurp(f.root / "fresh" / "report.json"));
+  // Fewer trials than the folder holds is still refused.
+  more.out = out.string();
+  more.trials = 2;
+  std::ostringstream fewer;
+  more.progress = &fewer;
+  CHECK(command_run(more) == 1);
+  CHECK_THAT(fewer.str(), Catch::Matchers::Contains("runs[1].trials: 3 in the folder, 2 now"));
+}
+
+// Found by a probe: after `roger run ... --only SG/DC2`, the last line said the other trials were
+// "not run yet (run the same command again to continue)", and the same command ran none of them.
+TEST_CASE("the trials outside --only or the shard are not said to wait for the same command", "[report][run]") {
+  Fixture f("only");
+  RunArgs a;
+  a.script = (f.root / "batch.lua").string();
+  a.out = (f.root / "out").string();
+  a.jobs = 2;
+  a.only = {"SG/DC2"};
+  std::ostringstream said;
+  a.progress = &said;
+  REQUIRE(command_run(a) == 0);
+  INFO(said.str());
+  CHECK_THAT(said.str(), Catch::Matchers::Contains("roger run: 2 of 10 trials done in "));
+  CHECK_THAT(said.str(), Catch::Matchers::EndsWith(
+                             ", 8 outside --only not run (run the command without --only, or with an --only that "
+                             "names them, to run them)\n"));
+  CHECK(said.str().find("run the same command again to continue") == std::string::npos);
+  // A shard and --only: a shard counts its own trials (the other shards run theirs), and among
+  // them those outside --only.
+  a.only = {"SG"};
+  a.shard = "1/2";
+  std::ostringstream shard;
+  a.progress = &shard;
+  REQUIRE(command_run(a) == 0);
+  INFO(shard.str());
+  CHECK_THAT(shard.str(), Catch::Matchers::Contains("roger run: 2 of 5 trials done in "));
+  CHECK_THAT(shard.str(), Catch::Matchers::EndsWith(
+                              ", 3 outside --only not run (run the command without --only, or with an --only that "
+                              "names them, to run them)\n"));
 }
 
 TEST_CASE("a results folder is not resumed after a module the curriculum requires changed", "[report][run]") {
@@ -966,8 +1080,9 @@ TEST_CASE("a resumed run with another script names the first place the configura
   fs::remove(script);
   INFO(said);
   CHECK_THAT(said, Contains("made by another batch script or other parameters"));
-  CHECK_THAT(said, Contains("\n  runs[1].trials: 2 in the folder, 1 now\n"));
-  CHECK_THAT(said, Contains("\n  evaluations[0].trials: 2 in the folder, 1 now\n"));
+  // Counted from 1, as the Lua script's lists are.
+  CHECK_THAT(said, Contains("\n  runs[2].trials: 2 in the folder, 1 now\n"));
+  CHECK_THAT(said, Contains("\n  evaluations[1].trials: 2 in the folder, 1 now\n"));
   CHECK(said.find("\n  runs: ") == std::string::npos);
 }
 

@@ -133,9 +133,12 @@ void check_selectors(const BatchPlan& plan, const std::vector<std::string>& only
 
 // Opens the results folder: writes its manifest (format, script, engine, configuration, trial
 // ids and seeds), or, when one exists, checks that it was made by this engine build and the same
-// configuration (else roger::Error saying what differs). Returns true when resuming. Shards that
-// open one folder at once take turns (a lock file), so the manifest is written exactly once.
-bool open_results_folder(const BatchPlan& plan);
+// configuration (else roger::Error saying what differs). A configuration that differs only in
+// what trains nothing again (the report's name, description, tables and figures; more trials of
+// a run or evaluation) is taken: the manifest is rewritten with it and `note` (if given) says so.
+// Returns true when resuming. Shards that open one folder at once take turns (a lock file), so
+// the manifest is written by one at a time.
+bool open_results_folder(const BatchPlan& plan, std::string* note = nullptr);
 
 // How run_batch runs the plan.
 struct RunControl {

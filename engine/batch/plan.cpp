@@ -100,7 +100,7 @@ void differences(const json* a, const json* b, const std::string& at, std::vecto
   if (a && b && a->is_array() && b->is_array()) {
     for (size_t k = 0; k < std::max(a->size(), b->size()); ++k)
       differences(k < a->size() ? &(*a)[k] : nullptr, k < b->size() ? &(*b)[k] : nullptr,
-                  at + "[" + std::to_string(k) + "]", out);
+                  at + "[" + std::to_string(k + 1) + "]", out);  // counted from 1, as in the Lua script
     return;
   }
   const std::string sa = a ? a->dump() : "", sb = b ? b->dump() : "";
@@ -195,8 +195,56 @@ bool matches(const PlannedTrial& t, const std::string& o) {
   return o == "eval" || o == "eval/" + t.evaluation->name;
 }
 
-// Checks that an existing manifest was made by this engine and configuration.
-void check_manifest(const BatchPlan& plan, const fs::path& manifest_path, const json& config) {
+// The fields of a configuration that only the report reads: changing them trains nothing again.
+constexpr const char* kReportFields[] = {"name", "description", "tables", "figures"};
+
+// Whether an evaluation's trials keep their worlds whatever their number: with worlds of their
+// own, shape k's trial i starts at (k * trials + i) * episodes (evaluation_seed_offset), so more
+// trials would move the worlds of every shape after the first.
+bool evaluation_worlds_keep(const json& e) {
+  return e.value("worlds", std::string()) == "shared" || e.value("shapes", json::array()).size() <= 1;
+}
+
+// Whether configuration `now` plans every trial `old` planned, each the same: the two are equal
+// but for the report's fields and for numbers of trials that grew (trial i of a run is a function
+// of its id and the rest of the configuration, whatever the count: batch_trial_id, plan_run; an
+// evaluation's only where evaluation_worlds_keep, unless `any_evaluation` pretends it always is).
+bool extends(json old, json now, bool any_evaluation = false) {
+  for (const char* field : kReportFields) old.erase(field), now.erase(field);
+  const auto grow = [](json& o, const json& n) {
+    if (o.is_object() && n.is_object() && o.contains("trials") && n.contains("trials") &&
+        n["trials"].is_number_integer() && o["trials"].is_number_integer() && n["trials"] >= o["trials"])
+      o["trials"] = n["trials"];
+  };
+  grow(old, now);
+  for (const char* list : {"runs", "evaluations"})
+    if (old.contains(list) && now.contains(list) && old[list].is_array() && now[list].is_array() &&
+        old[list].size() == now[list].size())
+      for (size_t k = 0; k < old[list].size(); ++k)
+        if (std::string(list) == "runs" || any_evaluation || evaluation_worlds_keep(now[list][k]))
+          grow(old[list][k], now[list][k]);
+  return old == now;
+}
+
+// What changed when a folder is reopened with a configuration that extends its own: the report's
+// fields, the numbers of trials, or both; for the note roger run prints.
+std::string extension_note(const json& old, const json& now, const std::string& out) {
+  bool report = false;
+  for (const char* field : kReportFields) report = report || old.value(field, json()) != now.value(field, json());
+  const bool more = !extends(now, old);  // trials grew where the reverse does not extend
+  std::string what = report && more ? "its report's titles, tables or figures changed and it plans more trials"
+                     : report       ? "its report's titles, tables or figures changed"
+                                    : "it plans more trials";
+  return "the script differs from the one " + out + " was made with, but only in what trains nothing again: " +
+         what + ". The manifest now holds this script; the trials there are kept" +
+         (more ? ", and the new ones run" : "") + ".";
+}
+
+// Checks that an existing manifest was made by this engine and configuration, or by one that this
+// configuration extends (extends(): then the manifest is rewritten with it, and the returned note
+// says what changed; "" otherwise).
+std::string check_manifest(const BatchPlan& plan, const fs::path& manifest_path, const json& config,
+                           const json& fresh_manifest) {
   json old;
   try {
     old = read_manifest_file(manifest_path.string());
@@ -213,18 +261,37 @@ void check_manifest(const BatchPlan& plan, const fs::path& manifest_path, const 
                 ": its trials would mix with this build's. Use another --out, or remove the folder "
                 "to start over; `roger report " + out + "` still reports what it holds.");
   const json old_config = old.value("config", json());
+  if (old_config != config && old_config.is_object() && extends(old_config, config)) {
+    // The folder's own trials must be the ones its configuration planned, as when resuming.
+    BatchPlan old_plan;
+    try {
+      auto old_script = std::make_shared<BatchScript>(batch_config_from_json(old_config));
+      old_plan = plan_batch(std::move(old_script), out);
+    } catch (const std::exception& e) {
+      throw Error(manifest_path.string() + ": field \"config\": " + e.what() + "; this folder cannot be resumed: use another --out");
+    }
+    if (const std::string p = planned_trials_problem(old, old_plan, true); !p.empty())
+      throw Error(manifest_path.string() + ": " + p + "; this folder cannot be resumed: use another --out");
+    write_file_atomic(manifest_path.string(), fresh_manifest.dump(1) + "\n", "cannot write the manifest");
+    return extension_note(old_config, config, out);
+  }
   if (old_config != config) {
     std::vector<std::string> lines;
     differences(&old_config, &config, "", lines);
     std::string why;
     for (size_t k = 0; k < lines.size() && k < 12; ++k) why += "\n  " + lines[k];
     if (lines.size() > 12) why += "\n  ... and " + std::to_string(lines.size() - 12) + " more";
+    // More trials of an evaluation whose worlds depend on their number: say why that one is refused.
+    if (old_config.is_object() && extends(old_config, config, true))
+      why += "\nMore trials of an evaluation with worlds of its own and several shapes move the worlds of the "
+             "trials it has (shape k's trial i starts at (k x trials + i) x episodes), so they are a new folder's.";
     throw Error("the results folder " + out + " was made by another batch script or other parameters (" +
                 old.value("script", std::string("?")) + "); it cannot be resumed with " + plan.script->path +
                 ". Differences:" + why + "\nUse another --out, or remove the folder to start over.");
   }
   if (const std::string p = planned_trials_problem(old, plan, true); !p.empty())
     throw Error(manifest_path.string() + ": " + p + "; this folder cannot be resumed: use another --out");
+  return "";
 }
 
 
@@ -420,7 +487,7 @@ void check_selectors(const BatchPlan& plan, const std::vector<std::string>& only
   }
 }
 
-bool open_results_folder(const BatchPlan& plan) {
+bool open_results_folder(const BatchPlan& plan, std::string* note) {
   const BatchScript& b = *plan.script;
   const FolderLock lock(plan.out);
   json config = batch_config_json(b);
@@ -431,12 +498,6 @@ bool open_results_folder(const BatchPlan& plan) {
       ids.push_back(t.id);
       if (t.run) seeds[t.id] = t.seed;
     }
-  const fs::path manifest_path = fs::path(plan.out) / "manifest.json";
-  std::error_code ec;
-  if (fs::exists(manifest_path, ec)) {
-    check_manifest(plan, manifest_path, config);
-    return true;
-  }
   const json manifest = {{"format", "roger-results/1"},
                          {"script", b.path},
                          {"script_file", fs::absolute(b.file).lexically_normal().string()},
@@ -445,6 +506,13 @@ bool open_results_folder(const BatchPlan& plan) {
                          {"config", config},
                          {"trials", ids},
                          {"seeds", seeds}};
+  const fs::path manifest_path = fs::path(plan.out) / "manifest.json";
+  std::error_code ec;
+  if (fs::exists(manifest_path, ec)) {
+    const std::string said = check_manifest(plan, manifest_path, config, manifest);
+    if (note) *note = said;
+    return true;
+  }
   write_file_atomic(manifest_path.string(), manifest.dump(1) + "\n", "cannot write the manifest");
   return false;
 }

@@ -31,11 +31,26 @@ BatchOverrides overrides_of(const RunArgs& a) {
   return ov;
 }
 
-// The closing lines of a run; returns 1 when some trial failed or has corrupt files.
-int print_outcome(const BatchSummary& s, std::ostream& log) {
+// Of the command's trials (its shard's) with no result yet, those outside its --only: running the
+// same command again would not run them either.
+int pending_outside_only(const BatchPlan& plan, const RunArgs& a, const Shard& shard) {
+  if (a.only.empty()) return 0;
+  int n = 0;
+  for (const MissingTrial& m : missing_trials(plan))
+    if (m.problem.empty() && shard.owns(*m.trial) && !trial_selected(*m.trial, a.only)) ++n;
+  return n;
+}
+
+// The closing lines of a run; returns 1 when some trial failed or has corrupt files. `outside`
+// of the pending trials are outside the command's --only.
+int print_outcome(const BatchSummary& s, int outside, std::ostream& log) {
   log << "roger run: " << (s.trials - s.failed.size() - s.corrupt.size() - size_t(s.pending)) << " of " << s.trials
       << " trials done in " << format_duration(s.wall_s);
-  if (s.pending) log << ", " << s.pending << " not run yet (run the same command again to continue)";
+  if (const int here = std::max(0, s.pending - outside))
+    log << ", " << here << " not run yet (run the same command again to continue)";
+  if (outside)
+    log << ", " << outside << " outside --only not run (run the command without --only, or with an --only that "
+        << "names them, to run them)";
   log << "\n";
   if (!s.corrupt.empty()) {
     log << "roger run: " << s.corrupt.size() << " trial" << (s.corrupt.size() == 1 ? " has" : "s have")
@@ -53,7 +68,8 @@ int print_outcome(const BatchSummary& s, std::ostream& log) {
 int print_missing(const std::vector<MissingTrial>& missing, const BatchPlan& plan, std::ostream& log) {
   const bool corrupt = std::any_of(missing.begin(), missing.end(), [](const MissingTrial& m) { return !m.problem.empty(); });
   log << "roger report: " << missing.size() << " trial" << (missing.size() == 1 ? "" : "s") << " of " << plan.out
-      << " have no result yet" << (corrupt ? " or a corrupt one" : "") << ", so no report was written:\n";
+      << (missing.size() == 1 ? " has" : " have") << " no result yet" << (corrupt ? " or a corrupt one" : "")
+      << ", so no report was written:\n";
   for (const auto& m : missing) {
     const PlannedTrial& t = *m.trial;
     log << "  " << t.id << " (";
@@ -63,7 +79,8 @@ int print_missing(const std::vector<MissingTrial>& missing, const BatchPlan& pla
     if (!m.problem.empty()) log << ": CORRUPT: " << m.problem.substr(0, m.problem.find('\n'));
     log << "\n";
   }
-  log << "Run the same roger run command again (with the same --shard for a shard) to finish them"
+  log << "Run the roger run command that made the folder again (roger run " << plan.script->path << " --out "
+      << plan.out << ", with the same options and the same --shard for a shard) to finish them"
       << (corrupt ? " (it runs a trial with corrupt files again from scratch).\n"
                   : ", or\nroger report --partial " + plan.out + " to report what is there, marked as pending.\n");
   return 1;
@@ -104,7 +121,9 @@ int command_run(const RunArgs& a) {
     const BatchScript& b = *script;
     const BatchPlan plan = plan_batch(script, a.out.empty() ? "results/" + b.name : a.out);
     check_selectors(plan, a.only);
-    if (open_results_folder(plan)) log << "roger run: resuming " << plan.out << "\n";
+    std::string note;
+    if (open_results_folder(plan, &note)) log << "roger run: resuming " << plan.out << "\n";
+    if (!note.empty()) log << "roger run: " << note << "\n";
     size_t trials = 0;
     for (const auto& p : plan.phases) trials += p.size();
     log << "roger run: " << b.path << " -> " << plan.out << " (" << trials << " trials, curriculum "
@@ -135,7 +154,7 @@ int command_run(const RunArgs& a) {
     }
     // A shard's final status stays: it says what the run waits for (other shards, roger report).
     if (!shard.active()) write_closing_status(plan.out, report);
-    const int outcome = print_outcome(summary, log) ? 1 : status;
+    const int outcome = print_outcome(summary, summary.pending ? pending_outside_only(plan, a, shard) : 0, log) ? 1 : status;
     if (!summary.interrupted) return outcome;
     log << "roger run: interrupted; the trials that were running start afresh when you run the same command "
            "again\n";
