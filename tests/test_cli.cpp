@@ -457,6 +457,54 @@ TEST_CASE("an evaluation over a retrained skill is roger eval --skill, whatever 
 // Before, roger eval said "86.7% (26 of 30)" and finding the four failed worlds took a loop of
 // one-episode evaluations. The scripted search_grasp among six obstacles fails in four of seeds
 // 1000-1029 (the deterministic engine's count: a change of it is a change of behaviour).
+// Found by a probe: a policy trained with --set (another body, other eyes) was evaluated by
+// `roger eval` on the default body without a word, so its held-out seeds did not give the
+// trial's final evaluation again, and `roger train` did not say it trained on another body.
+TEST_CASE("roger eval and render of a saved policy set the parameters its trial trained with", "[cli][body]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_trial_params_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  Run r = roger("train curricula/paper.lua --stage SG --context DC2 --seed 2 --set upper_arm=0.6 --set eye_pixels=64 "
+                "--out " + (dir / "sg").string());
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("\n  with           --set upper_arm=0.6, --set eye_pixels=64\n"));
+  // The trial's final evaluation, episode by episode.
+  double trial_time = 0.0;
+  int trial_successes = 0, episodes = 0;
+  std::istringstream final_lines(slurp(dir / "sg" / "final.jsonl"));
+  for (std::string line; std::getline(final_lines, line); ++episodes) {
+    const nlohmann::json e = nlohmann::json::parse(line);
+    trial_time += e["sim_s"].get<double>();
+    trial_successes += e["success"].get<bool>() ? 1 : 0;
+  }
+  REQUIRE(episodes == 50);
+  const std::string policy = (dir / "sg" / "policy.json").string();
+  const auto last_json = [](const std::string& out) { return nlohmann::json::parse(out.substr(out.rfind("\n{") + 1)); };
+  r = roger("eval curricula/paper.lua --policy " + policy + " --json");
+  INFO(r.out << r.err);
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("\n  trained with   eye_pixels = 64, upper_arm = 0.6 (the trial's own "
+                                              "parameters, set here too; a --set of one overrides it)\n"));
+  nlohmann::json j = last_json(r.out);
+  CHECK(j["trial_params"] == nlohmann::json({{"eye_pixels", "64"}, {"upper_arm", "0.6"}}));
+  CHECK(j["params"]["eye_pixels"] == "64");
+  CHECK(j["successes"] == trial_successes);
+  CHECK(j["time_mean"].get<double>() == Approx(trial_time / episodes).epsilon(1e-12));
+  // On the default body (a --set of each overrides the trial's): other episodes.
+  r = roger("eval curricula/paper.lua --policy " + policy + " --set upper_arm=0.5 --set eye_pixels=128 --json");
+  j = last_json(r.out);
+  CHECK(j["trial_params"].empty());
+  CHECK(j["time_mean"].get<double>() != Approx(trial_time / episodes).epsilon(1e-12));
+  // In another scenario they are named, not set: it may not declare them.
+  r = roger("eval curricula/paper.lua --policy " + policy + " --scenario cluttered --set upper_arm=0.6 --episodes 2");
+  CHECK_THAT(r.out, Catch::Matchers::Contains("\n  note           the trial trained with eye_pixels = 64, not set in "
+                                              "scenario cluttered (a --set gives any it declares)\n"));
+  // roger render replays the trial's world too, and says so.
+  r = roger("render curricula/paper.lua --policy " + policy + " --out " + (dir / "episode").string());
+  REQUIRE(r.status == 0);
+  CHECK_THAT(slurp(dir / "episode" / "episode.json"), Catch::Matchers::Contains("in unobstructed with eye_pixels = 64, upper_arm = 0.6, seed 1\""));
+  fs::remove_all(dir);
+}
+
 TEST_CASE("roger eval names the failed world seeds and the command that renders one", "[cli]") {
   const std::string args = "eval curricula/scripted.lua --policy search_grasp --scenario cluttered --set obstacles=6 "
                            "--episodes 30";

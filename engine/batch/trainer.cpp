@@ -784,11 +784,33 @@ void write_train_outputs(const TrainResult& r, const std::string& dir_in) {
 
 namespace {
 
+// The scenario parameters a policy's trial trained with beyond its stage's and context's: those
+// of the file's extra.params that differ from what the stage and context give now, less those
+// `sets` gives (a --set of the command wins). Parameters the scenario no longer declares are left
+// out.
+ParamList trial_only_params(const PolicyMetadata& meta, const CurriculumStage& stage, const CurriculumContext& ctx,
+                            const ParamList& sets, const SandboxLimits& limits) {
+  ParamList out;
+  if (!meta.extra.is_object() || !meta.extra.contains("params") || !meta.extra["params"].is_object()) return out;
+  ParamList now;
+  make_scenario(stage, ctx, "", {}, limits, &now);
+  for (const auto& [name, value] : now) {
+    const auto it = meta.extra["params"].find(name);
+    if (it == meta.extra["params"].end() || !it->is_string() || it->get<std::string>() == value) continue;
+    const bool given = std::any_of(sets.begin(), sets.end(), [&](const auto& s) { return s.first == name; });
+    if (!given) out.push_back({name, it->get<std::string>()});
+  }
+  return out;
+}
+
 // Loads a saved policy with its stage, context and learned skills, and hands its stage run, its
-// table, the first world seed and what the file says of itself to `use`; fills `out`'s stage,
+// table, the first world seed, what the file says of itself and the options in force (the trial's
+// own parameters among their sets: PolicyEvalOptions::trial_params) to `use`; fills `out`'s stage,
 // context, scenario and parameters.
-void with_policy_file(const PolicyEvalOptions& options, PolicyEvalResult& out,
-                      const std::function<void(StageRun&, QTable&, uint64_t, const PolicyMetadata&)>& use) {
+void with_policy_file(const PolicyEvalOptions& given, PolicyEvalResult& out,
+                      const std::function<void(StageRun&, QTable&, uint64_t, const PolicyMetadata&,
+                                               const PolicyEvalOptions&)>& use) {
+  PolicyEvalOptions options = given;
   const nlohmann::json j = batch_detail::read_json_file(options.policy_file);
   PolicyMetadata meta;
   QTable::from_json(j, {}, options.policy_file, &meta);  // the metadata first, to find the stage
@@ -814,13 +836,22 @@ void with_policy_file(const PolicyEvalOptions& options, PolicyEvalResult& out,
   out.context = ctx.name;
   out.time_limit = stage.time_limit_text();
   out.stage_test_tasks = stage.teaches() ? stage.final_test_tasks() : 0;
+  if (options.trial_params) {
+    const ParamList trial = trial_only_params(meta, stage, ctx, options.sets, options.limits);
+    if (options.scenario.empty() || options.scenario == stage.scenario) {
+      out.trial_sets = trial;
+      options.sets.insert(options.sets.begin(), trial.begin(), trial.end());
+    } else {
+      out.trial_sets_left = trial;
+    }
+  }
   StageRun run{cur, stage, ctx, make_scenario(stage, ctx, options.scenario, options.sets, options.limits, &out.params),
                Agent(WorldParams{}, options.agent)};
   cur.set_world(&run.agent.world());
   out.scenario = run.scenario.name();
   out.scenario_file = run.scenario.path();
   use(run, q, (options.first_seed >= 0 ? uint64_t(options.first_seed) : stage.checkpoints.seeds) + options.seed_offset,
-      meta);
+      meta, options);
 }
 
 // Psi and the controllers inside it, breadth first, each once, at most `limit`. A part is held
@@ -915,9 +946,10 @@ uint64_t resolve_test_set(StageRun& run, const PolicyMetadata& meta, const Polic
 
 }  // namespace
 
-PolicyEvalResult evaluate_policy_file(const PolicyEvalOptions& options) {
+PolicyEvalResult evaluate_policy_file(const PolicyEvalOptions& given) {
   PolicyEvalResult out;
-  with_policy_file(options, out, [&](StageRun& run, QTable& q, uint64_t first, const PolicyMetadata& meta) {
+  with_policy_file(given, out, [&](StageRun& run, QTable& q, uint64_t first, const PolicyMetadata& meta,
+                                   const PolicyEvalOptions& options) {
     if (!options.test_set) {
       out.eval = greedy_eval(run, q, EvalWorlds{first, options.episodes}, "evaluation");
       return;
@@ -929,10 +961,11 @@ PolicyEvalResult evaluate_policy_file(const PolicyEvalOptions& options) {
   return out;
 }
 
-RecordedPolicyEpisode record_policy_episode(const PolicyEvalOptions& options, double record_every,
+RecordedPolicyEpisode record_policy_episode(const PolicyEvalOptions& given, double record_every,
                                             size_t watch_limit) {
   RecordedPolicyEpisode r;
-  with_policy_file(options, r.about, [&](StageRun& run, QTable& q, uint64_t seed, const PolicyMetadata& meta) {
+  with_policy_file(given, r.about, [&](StageRun& run, QTable& q, uint64_t seed, const PolicyMetadata& meta,
+                                       const PolicyEvalOptions& options) {
     if (options.test_task > 0) {
       // Test task k of the trial's test set, in its own world seed, as its final evaluation ran it.
       const uint64_t first = resolve_test_set(run, meta, options, r.about);

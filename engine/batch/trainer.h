@@ -239,12 +239,20 @@ struct PolicyEvalOptions {
   bool test_set = false;
   // roger render: test task k (from 1) of that test set, in its world seed, instead of first_seed.
   int test_task = 0;
+  // In the stage's own scenario, the parameters the trial trained with beyond its stage's and
+  // context's (its --set: the policy file's extra.params where they differ) are set too, before
+  // `sets`, so that the policy runs in the trial's worlds (roger eval and render; a batch
+  // evaluation gives its own parameters).
+  bool trial_params = false;
 };
 
 // The outcome of evaluating a saved policy.
 struct PolicyEvalResult {
   std::string stage, context, scenario;
   std::string scenario_file;  // the scenario script's path, as resolved (scenario is its name)
+  // With options.trial_params: the trial's own parameters set (in the stage's scenario), or those
+  // left out (in another scenario, which may not declare them), each as the policy file has it.
+  std::vector<std::pair<std::string, std::string>> trial_sets, trial_sets_left;
   std::string time_limit;  // the stage's time-out, as text: "12 s limit", "30 s per object limit"
   // A teaching stage's trials end on this many test tasks (its task space or teacher), which this
   // evaluation, on the stage's own parameters and held-out seeds, does not run; 0 for other stages.

@@ -81,15 +81,17 @@ int run_render_policy_file(const RenderArgs& a) {
   if (a.test_task > 0 && a.seed_given)
     throw Error("roger render: --test-task runs the task in its own world seed; --seed cannot be given with it");
   o.test_task = a.test_task;
+  o.trial_params = true;  // the trial's own parameters, as roger eval sets them
   const RecordedPolicyEpisode r = record_policy_episode(o, a.every);
   std::string task;
   if (a.test_task > 0) {
     task = params_text(r.about.test_tasks[size_t(a.test_task - 1)]);
     task = ", test task " + std::to_string(a.test_task) + " (" + (task.empty() ? "the stage's own parameters" : task) + ")";
   }
+  const std::string trained = r.about.trial_sets.empty() ? "" : " with " + params_text(r.about.trial_sets);
   write_rendered_episode(a, r.spec, r.episode,
                          r.about.stage + "/" + r.about.context + " (" + a.policy + ") in " + r.about.scenario +
-                             ", seed " + std::to_string(r.episode.seed) + task);
+                             trained + ", seed " + std::to_string(r.episode.seed) + task);
   return 0;
 }
 

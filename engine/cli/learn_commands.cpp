@@ -17,6 +17,7 @@
 #include "script/curriculum/curriculum.h"
 #include "script/scenario/scenario.h"
 #include "script/skills/skill_script.h"
+#include "teach/teach.h"
 
 namespace roger {
 
@@ -88,6 +89,17 @@ void print_changes(const EvalArgs& a) {
   if (!changes.empty()) std::printf("  with           %s\n", changes.c_str());
 }
 
+// The parameters a saved policy's trial trained with beyond its stage's (its --set), set here too
+// so that the held-out seeds are the trial's worlds, or, in another scenario, left out.
+void print_trial_params(const PolicyEvalResult& r, const std::string& scenario) {
+  if (!r.trial_sets.empty())
+    std::printf("  trained with   %s (the trial's own parameters, set here too; a --set of one overrides it)\n",
+                params_text(r.trial_sets).c_str());
+  if (!r.trial_sets_left.empty())
+    std::printf("  note           the trial trained with %s, not set in scenario %s (a --set gives any it declares)\n",
+                params_text(r.trial_sets_left).c_str(), scenario.c_str());
+}
+
 // eval --policy FILE.json: a policy saved by roger train, its Psi rebuilt from the curriculum.
 int run_eval_policy_file(const EvalArgs& a) {
   PolicyEvalOptions o;
@@ -103,12 +115,14 @@ int run_eval_policy_file(const EvalArgs& a) {
     throw Error(std::string("roger eval: --test-set runs the test set's own tasks on its own world seeds; ") +
                 (a.seed_given ? "--seed" : "--episodes") + " cannot be given with it");
   o.test_set = a.test_set;
+  o.trial_params = true;
   const PolicyEvalResult r = evaluate_policy_file(o);
   std::printf("roger eval: %s stage %s context %s (%s) in %s, %d %s from seed %llu, %s\n", a.script.c_str(),
               r.stage.c_str(), r.context.c_str(), a.policy.c_str(), r.scenario.c_str(), r.eval.episodes,
               a.test_set ? "test tasks" : "episodes", static_cast<unsigned long long>(r.eval.first_seed),
               r.time_limit.c_str());
   print_changes(a);
+  print_trial_params(r, a.scenario);
   if (r.stage_test_tasks > 0 && !a.test_set)
     std::printf("  note           stage %s teaches: its trials ended on %d test tasks of its task space, not run here "
                 "(--test-set runs them; these episodes have the stage's own parameters%s)\n",
@@ -133,6 +147,8 @@ int run_eval_policy_file(const EvalArgs& a) {
     nlohmann::json j = eval_summary_json(r.eval);
     j.update({{"script", a.script}, {"policy", a.policy}, {"stage", r.stage}, {"context", r.context},
               {"scenario", r.scenario}, {"scenario_file", r.scenario_file}, {"failed_seeds", r.eval.failed_seeds}, {"test_set", a.test_set}});
+    j["trial_params"] = nlohmann::json::object();  // the trial's own parameters set here (print_trial_params)
+    for (const auto& [k, v] : r.trial_sets) j["trial_params"][k] = v;
     // With --test-set, whence the tasks came, and each episode's task in order (world seed
     // first_seed + i).
     if (a.test_set) {
@@ -253,6 +269,10 @@ int command_train(const TrainArgs& a) {
   std::printf("roger train: %s stage %s context %s seed %llu (%zu actions, %d states) in %s\n",
               r.curriculum_path.c_str(), r.stage.c_str(), r.context.c_str(), static_cast<unsigned long long>(r.seed),
               r.psi.size(), r.q->states(), r.scenario.c_str());
+  // As roger eval says it, so that a trial on another body never reads as one on the default body.
+  std::string sets;
+  for (const auto& s : a.sets) sets += (sets.empty() ? "" : ", ") + ("--set " + s);
+  if (!sets.empty()) std::printf("  with           %s\n", sets.c_str());
   for (const auto& s : r.skills)
     std::printf("  skill %s        %s\n", s.name.c_str(), skill_origin(s).c_str());
   if (r.init) {
