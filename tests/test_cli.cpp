@@ -427,6 +427,15 @@ TEST_CASE("an evaluation over a retrained skill is roger eval --skill, whatever 
   };
   const nlohmann::json retrained = result(one, "retrained");
   CHECK(retrained["skills"]["Phi_SG"] == "trials/SG_wide/DC2/000/policy.json");
+  // Found by a probe: the report read the same for both evaluations, and for both SG runs.
+  const std::string tables = slurp(one / "tables.md");
+  CHECK_THAT(tables, Catch::Matchers::Contains("Run `SG_wide`: stage SG with base_radius=0.24, baseline DC2."));
+  CHECK_THAT(tables, Catch::Matchers::Contains("Run `SG`: stage SG, baseline DC2."));
+  CHECK_THAT(tables, Catch::Matchers::Contains("The final T/DC6 policy of 1 trial, without retraining, in scenario "
+                                               "(the stage's) with base_radius=0.24, with Phi_SG from run `SG_wide` "
+                                               "context DC2 (trial i's for trial i), 10 episodes"));
+  CHECK_THAT(tables, Catch::Matchers::Contains("The final T/DC6 policy of 1 trial, without retraining, in scenario "
+                                               "(the stage's) with base_radius=0.24, 10 episodes"));
   CHECK(result(one, "as_learned")["skills"].empty());
   for (const char* e : {"as_learned", "retrained"}) {
     INFO(e);

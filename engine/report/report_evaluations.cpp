@@ -56,12 +56,16 @@ json eval_row_out(const std::string& name, const std::string& object, const Eval
 // The head of an evaluation table: its title, whose policies, where, and how they met their worlds.
 void eval_table_head(const BatchTable& t, const BatchEvaluation& ev, std::ostringstream& md) {
   md << "## " << (t.title.empty() ? "Evaluation " + ev.name : t.title) << "\n\n";
-  md << "The final " << ev.run << "/" << ev.context << " policy of each of " << ev.trials << " trials, without "
+  md << "The final " << ev.run << "/" << ev.context << " policy of "
+     << (ev.trials == 1 ? std::string("1 trial") : "each of " + std::to_string(ev.trials) + " trials") << ", without "
      << "retraining, in scenario " << (ev.scenario.empty() ? "(the stage's)" : "`" + ev.scenario + "`");
   if (!ev.params.empty()) {
     md << " with";
     for (const auto& [k, v] : ev.params) md << " " << k << "=" << v;
   }
+  // A learned skill replaced: the same policies over another skill are another measure.
+  for (const auto& s : ev.skills)
+    md << ", with " << s.skill << " from run `" << s.run << "` context " << s.context << " (trial i's for trial i)";
   md << ", " << ev.episodes << " episodes per policy and object, "
      << (ev.shared_worlds ? "every policy in the same worlds (shared: common random numbers, for paired comparisons)"
                           : "each policy in worlds of its own")
