@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -438,6 +439,20 @@ TEST_CASE("script mistakes are reported at the script's file:line", "[scenario]"
                           "needs 0.25 m from the walls, ") &&
                    Contains("10 m from Roger (failed in 500 tries)") &&
                    EndsWith("in a 4 x 4 m arena"));
+    // Found by a probe: a candidate too near two of sorting's goal regions counted twice, so the
+    // message said "after 1000 tries" and "(failed in 3401 tries)".
+    Scenario sorting = Scenario::load("sorting");
+    sorting.set_param("forearm", "2");
+    const ScriptError crowded = generate_error(sorting);
+    INFO(crowded.message);
+    const std::regex failed("failed in ([0-9]+) tries");
+    int counts = 0;
+    for (auto it = std::sregex_iterator(crowded.message.begin(), crowded.message.end(), failed);
+         it != std::sregex_iterator(); ++it, ++counts)
+      CHECK(std::stoi((*it)[1].str()) <= 1000);
+    CHECK(counts == 1);
+    CHECK_THAT(crowded.message, Contains("after 1000 tries"));
+    CHECK_THAT(crowded.message, Contains("clearance from the goal regions (failed in 1000 tries)"));
   }
   SECTION("field names and types") {
     Scenario s = Scenario::load("tests/scripts/bad_field.lua");

@@ -40,6 +40,7 @@ struct SampleArea {
 struct Constraint {
   std::string text;
   int64_t rejected = 0;
+  int64_t last_try = -1;  // the candidate it last rejected: one it rejects twice (two goals) counts once
 };
 
 // The constraints, with where each kind starts in the list.
@@ -166,7 +167,10 @@ std::optional<Vec2> draw_position(lua_State* L, const WorldBuilder& w, const Sam
     const double x = w.rng->uniform(x0, x1);
     const Vec2 p(x, y);
     bool ok = true;
-    auto reject = [&](size_t k) { ++c.list[k].rejected, ok = false; };
+    auto reject = [&](size_t k) {
+      if (c.list[k].last_try != t) ++c.list[k].rejected, c.list[k].last_try = t;
+      ok = false;
+    };
     for (size_t i = 0; i < occ.list.size(); ++i) {
       const auto& o = occ.list[i];
       if (shape_signed_distance(*o.shape, o.pose, p) - radius < clearance) {
