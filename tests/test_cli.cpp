@@ -455,7 +455,12 @@ TEST_CASE("an evaluation over a retrained skill is roger eval --skill, whatever 
   // --skill names a skill the policy uses, and only a saved policy has any.
   r = roger("eval curricula/paper.lua --policy " + policy + " --skill Phi_X=" + sg);
   CHECK(r.status != 0);
-  CHECK(r.err.find("the policy uses no learned skill 'Phi_X' to replace") != std::string::npos);
+  CHECK(r.err.find("the policy uses no learned skill 'Phi_X' to replace (it uses Phi_SG)") != std::string::npos);
+  // A policy of another stage given for the skill is named as such, not by two lists of actions.
+  r = roger("eval curricula/paper.lua --policy " + policy + " --skill Phi_SG=" + policy);
+  CHECK(r.status != 0);
+  CHECK(r.err.find(policy + ": a policy of stage 'T', context 'DC6', but the skill 'Phi_SG' comes from stage 'SG', "
+                   "context 'DC2'") != std::string::npos);
   r = roger("eval curricula/scripted.lua --policy task --skill Phi_SG=" + sg);
   CHECK(r.status != 0);
   CHECK(r.err.find("--skill replaces a learned skill of a saved policy") != std::string::npos);

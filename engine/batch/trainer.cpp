@@ -333,12 +333,18 @@ void batch_detail::bind_skills(Curriculum& cur, const CurriculumContext& ctx, co
       src.totals = r.totals;
       src.policy = train_policy_json(r);
     }
+    // A file given for the skill is checked for its stage and context first: "a policy of stage T"
+    // says more than the action lists of two stages.
+    const std::string source = src.file.empty() ? "the policy of skill '" + name + "'"
+                                                : src.file + " (given for the learned skill '" + name + "')";
     PolicyMetadata meta;
-    const QTable q = QTable::from_json(src.policy, controller_names(pctx.actions),
-                                       src.file.empty() ? "the policy of skill '" + name + "'" : src.file, &meta);
-    if (!src.file.empty() && (meta.stage != producer->name || meta.context != pctx.name))
-      throw Error(src.file + ": a policy of stage '" + meta.stage + "', context '" + meta.context + "', but the skill '" +
-                  name + "' comes from stage '" + producer->name + "', context '" + pctx.name + "'");
+    if (!src.file.empty()) {
+      QTable::from_json(src.policy, {}, source, &meta);
+      if (meta.stage != producer->name || meta.context != pctx.name)
+        throw Error(src.file + ": a policy of stage '" + meta.stage + "', context '" + meta.context + "', but the skill '" +
+                    name + "' comes from stage '" + producer->name + "', context '" + pctx.name + "'");
+    }
+    const QTable q = QTable::from_json(src.policy, controller_names(pctx.actions), source, &meta);
     cur.bind_learned(name, make_policy_skill(name, pctx.actions, q, producer->absorbing));
     sources.push_back(std::move(src));
   }
@@ -823,8 +829,12 @@ void with_policy_file(const PolicyEvalOptions& given, PolicyEvalResult& out,
   nlohmann::json embedded =
       meta.extra.is_object() && meta.extra.contains("skills") ? meta.extra["skills"] : nlohmann::json::object();
   for (const auto& [name, file] : options.skill_files) {
-    if (!embedded.contains(name))
-      throw Error(options.policy_file + ": the policy uses no learned skill '" + name + "' to replace");
+    if (!embedded.contains(name)) {
+      std::vector<std::string> used;
+      for (auto it = embedded.begin(); it != embedded.end(); ++it) used.push_back(it.key());
+      throw Error(options.policy_file + ": the policy uses no learned skill '" + name + "' to replace" +
+                  (used.empty() ? std::string(" (it uses none)") : " (it uses " + join(used) + ")"));
+    }
     embedded.erase(name);  // bound from the file instead (bind_skills)
   }
   std::vector<SkillSource> sources;
