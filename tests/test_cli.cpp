@@ -239,10 +239,18 @@ TEST_CASE("usage errors say what is wrong", "[cli]") {
   r = roger("report /tmp/roger_cli_no_such_results");
   CHECK(r.status == 1);
   CHECK(r.err.find("no results folder '/tmp/roger_cli_no_such_results': nothing is there") != std::string::npos);
-  // The advice for a path that never led anywhere is not "put it back as it was".
-  r = roger("render scenarios/unobstructed.lua --out /tmp/roger_cli_no_such_folder/x.png");
+  // A picture's folder is made, as every other output's is (a probe's README command failed in a
+  // fresh checkout that had no out/); one under a file cannot be, and says why.
+  fs::remove_all("/tmp/roger_cli_no_such_folder");
+  r = roger("render scenarios/unobstructed.lua --out /tmp/roger_cli_no_such_folder/deeper/x.png");
+  CHECK(r.status == 0);
+  CHECK(fs::file_size("/tmp/roger_cli_no_such_folder/deeper/x.png") > 1000);
+  fs::remove_all("/tmp/roger_cli_no_such_folder");
+  std::ofstream("/tmp/roger_cli_a_file") << "x";
+  r = roger("render scenarios/unobstructed.lua --out /tmp/roger_cli_a_file/x.png");
   CHECK(r.status == 1);
-  CHECK(r.err.find("A folder on that path does not exist: make it, or give another path") != std::string::npos);
+  CHECK(r.err.find("render: cannot write picture '/tmp/roger_cli_a_file/x.png': Not a directory") != std::string::npos);
+  fs::remove("/tmp/roger_cli_a_file");
   r = roger("frobnicate");
   CHECK(r.status == 2);
   CHECK(r.err == "roger: error: unknown command 'frobnicate'; the commands are render, check, eval, train, run, "

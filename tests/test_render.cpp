@@ -235,17 +235,22 @@ TEST_CASE("a file with another extension is refused with the accepted ones named
 }
 
 TEST_CASE("an unwritable path is an error naming it, and leaves no file") {
-  const std::string path = "/nonexistent_dir_for_render_test/x.png";
+  // A folder cannot be made under a file (a missing folder is made, as for every output).
+  TempDir dir;
+  { std::ofstream(dir.path / "a_file") << "x"; }
+  const std::string path = (dir.path / "a_file" / "x.png").string();
   try {
     render_frame(make_spec(), make_frame(), path);
     FAIL("no error for an unwritable path");
   } catch (const Error& e) {
     const std::string what = e.what();
     CHECK(what.find(path) != std::string::npos);
-    CHECK(what.find("No such file or directory") != std::string::npos);
+    CHECK(what.find("Not a directory") != std::string::npos);
   }
-  CHECK(!fs::exists(path));
-  CHECK(!fs::exists("/nonexistent_dir_for_render_test"));
+  CHECK(dir.names() == std::vector<std::string>{"a_file"});
+  // A missing folder is made.
+  render_frame(make_spec(), make_frame(), (dir.path / "new" / "deeper" / "x.png").string());
+  CHECK(fs::file_size(dir.path / "new" / "deeper" / "x.png") > 1000);
 }
 
 TEST_CASE("a picture replaces an existing file whole, and a failed drawing keeps the old one") {
