@@ -192,8 +192,11 @@ const std::vector<Gamma>& StageEnvironment::reset(uint64_t seed, const ParamList
 EnvironmentStep StageEnvironment::step(int action) {
   const EngineFloatMode mode;
   Impl& m = *impl_;
-  if (!m.run || m.ended)
+  if (!m.run)
     throw Error("step: no episode is running in " + info_.stage + "/" + info_.context + " (call reset first)");
+  if (m.ended)
+    throw Error("step: the episode in " + info_.stage + "/" + info_.context +
+                " is over (it ended with terminated or truncated; call reset for the next)");
   m.driver.act(action);  // checks the index
   m.advance();
   EnvironmentStep r;

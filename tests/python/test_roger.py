@@ -280,6 +280,22 @@ class Interface(unittest.TestCase):
         self.assertEqual(env.stage_info["time_limit"], 4.0)
         self.assertEqual(env.stage_info["time_per_object"], 0.0)
 
+    def test_step_outside_an_episode_says_which_case(self):
+        # Found by a probe: after an episode ended, step said "no episode is running ... (call
+        # reset first)", though reset had been called.
+        env = roger.make(EXAMPLE, stage="Look", context="Gaze")
+        self.assertRaisesRegex(roger.RogerError, r"no episode is running in Look/Gaze \(call reset first\)",
+                               env.step, 0)
+        env.reset(seed=7)
+        done = False
+        while not done:
+            _, _, terminated, truncated, _ = env.step(1)
+            done = terminated or truncated
+        self.assertRaisesRegex(roger.RogerError, r"the episode in Look/Gaze is over \(it ended with terminated or "
+                               r"truncated; call reset for the next\)", env.step, 0)
+        env.reset(seed=8)
+        env.step(0)
+
     def test_time_limit_per_object(self):
         # The sorting stages time out after 30 s per object of the episode's world.
         env = roger.make("curricula/sorting.lua", stage="Hand2", context="Scripted")
