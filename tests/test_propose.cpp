@@ -326,6 +326,21 @@ TEST_CASE("propose says plainly when its probe saw no success", "[propose]") {
   CHECK(slurp(dir.path / "p" / "propose.md").find("**No probe episode succeeded**") != std::string::npos);
 }
 
+// Found by a probe: propose.md gave `--budget 3000 --seed 2` for a search run with five other
+// options, and the console's "6 candidates" read as six run under --max-candidates 2.
+TEST_CASE("propose.md's command gives every option that differs from its default", "[propose]") {
+  test::TempDir dir("roger_propose");
+  REQUIRE(run_status(std::string(ROGER_BINARY) + " propose paper --stage SG --context B1 --budget 3000 --out " +
+                     (dir.path / "p").string() + " --trials 1 --probe-trials 1 --probe-share 0.3 --max-candidates 2 "
+                     "--prune-below 0.1 --seed 2 >" + (dir.path / "stdout").string() + " 2>/dev/null") == 0);
+  const std::string out = slurp(dir.path / "stdout");
+  INFO(out);
+  CHECK(out.find("6 candidates (2 evaluated, the rest over --max-candidates), 1 round(s)") != std::string::npos);
+  CHECK(slurp(dir.path / "p" / "propose.md")
+            .find("`roger propose paper --stage SG --context B1 --budget 3000 --seed 2 --trials 1 --probe-trials 1 "
+                  "--probe-share 0.3 --max-candidates 2 --prune-below 0.1`") != std::string::npos);
+}
+
 TEST_CASE("docs/propose.md: every option of roger propose and the library example", "[propose]") {
   const std::string doc = slurp("docs/propose.md");
   const std::string cli = slurp("docs/cli.md");

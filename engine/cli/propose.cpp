@@ -23,8 +23,15 @@ int command_propose(const ProposeArgs& a) {
   o.progress = &std::cerr;
   const ProposeResult r = propose_curriculum(o);
   const Candidate& w = r.candidates[size_t(r.winner)];
-  std::printf("roger propose: stage %s, %zu candidate%s, %d round(s), %d trials run, %d reused\n", a.stage.c_str(),
-              r.candidates.size(), r.candidates.size() == 1 ? "" : "s", r.rounds, r.trials_run, r.trials_reused);
+  size_t evaluated = 0;
+  for (const Candidate& c : r.candidates) evaluated += c.evaluated ? 1 : 0;
+  // Those generated past --max-candidates are listed in propose.md, not run: say how many ran.
+  const std::string not_run = evaluated == r.candidates.size()
+                                  ? ""
+                                  : " (" + std::to_string(evaluated) + " evaluated, the rest over --max-candidates)";
+  std::printf("roger propose: stage %s, %zu candidate%s%s, %d round(s), %d trials run, %d reused\n", a.stage.c_str(),
+              r.candidates.size(), r.candidates.size() == 1 ? "" : "s", not_run.c_str(), r.rounds, r.trials_run,
+              r.trials_reused);
   // Without a success the "winner" is the starting context unchanged: say why, not only its name.
   if (r.successful_episodes == 0)
     std::printf("  probe          no successful episode in %d training episodes: no subgoal or pruning to build on, "
