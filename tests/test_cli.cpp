@@ -251,6 +251,10 @@ TEST_CASE("usage errors say what is wrong", "[cli]") {
   CHECK(r.status == 1);
   CHECK(r.err.find("render: cannot write picture '/tmp/roger_cli_a_file/x.png': Not a directory") != std::string::npos);
   fs::remove("/tmp/roger_cli_a_file");
+  // A malformed --shard is bad usage, as a malformed --jobs is (it exited 1, found by a probe).
+  r = roger("run quick --shard 2/2");
+  CHECK(r.status == 2);
+  CHECK(r.err.find("--shard: expected K/N with 0 <= K < N (e.g. 0/4), or slurm, got '2/2'") != std::string::npos);
   r = roger("frobnicate");
   CHECK(r.status == 2);
   CHECK(r.err == "roger: error: unknown command 'frobnicate'; the commands are render, check, eval, train, run, "

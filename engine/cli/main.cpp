@@ -14,6 +14,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "batch/batch.h"
 #include "cli/cli_internal.h"
 #include "cli/commands.h"
 #include "core/error.h"
@@ -60,6 +61,21 @@ CLI::Validator path_value() {
                         "PATH");
 }
 
+// --shard: K/N with 0 <= K < N, or slurm (read from the job's environment when the run starts).
+CLI::Validator shard_value() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        if (text == "slurm") return "";
+        try {
+          parse_shard(text);
+          return "";
+        } catch (const Error&) {
+          return "expected K/N with 0 <= K < N (e.g. 0/4), or slurm, got '" + text + "'";
+        }
+      },
+      "K/N|slurm");
+}
+
 // A seed: any whole number a 64-bit unsigned integer holds.
 CLI::Validator seed_value() { return integer_in(0, UINT64_MAX); }
 
@@ -84,8 +100,10 @@ void add_training_flags(CLI::App* c, bool& no_eval_cache, bool& explain) {
 }
 
 CLI::App* add_render(CLI::App& app, RenderArgs& a) {
-  auto* c = app.add_subcommand("render", "Draw a scenario's world for one seed (PNG or SVG)");
-  c->add_option("scenario", a.scenario, "Scenario script (.lua)")->required();
+  auto* c = app.add_subcommand("render", "Draw a scenario's world for one seed (PNG or SVG), or record a policy's episode");
+  c->add_option("scenario", a.scenario,
+                "Scenario script (.lua); with --policy, a skill script or a curriculum (for a policy.json)")
+      ->required();
   c->add_option("--seed", a.seed, "World seed")->capture_default_str()->check(seed_value());
   c->add_option("--out", a.out, "Output picture (.png or .svg)")->check(path_value())->required();
   c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)");
@@ -120,8 +138,8 @@ CLI::App* add_check(CLI::App& app, CheckArgs& a) {
 }
 
 CLI::App* add_eval(CLI::App& app, EvalArgs& a, CLI::Option*& seed) {
-  auto* c = app.add_subcommand("eval", "Evaluate a policy of a skill script over seeded episodes");
-  c->add_option("script", a.script, "Skill script (.lua)")->required();
+  auto* c = app.add_subcommand("eval", "Evaluate a policy of a skill script, or one saved by roger train, over seeded episodes");
+  c->add_option("script", a.script, "Skill script (.lua), or the curriculum of a policy.json")->required();
   c->add_option("--policy", a.policy,
                 "Policy name in the skill script, or with a curriculum a policy.json written by roger train")
       ->required();
@@ -191,7 +209,8 @@ CLI::App* add_run(CLI::App& app, RunArgs& a) {
   add_training_flags(c, a.no_eval_cache, a.explain);
   c->add_option("--shard", a.shard,
                 "Run only shard K/N (0-based) of the trials, or 'slurm' inside a Slurm job array; "
-                "shards share one results folder, and roger report writes the report when all are done");
+                "shards share one results folder, and roger report writes the report when all are done")
+      ->check(shard_value());
   add_lua_limits(c, a.lua, ", or the batch script's limits; recorded in the results folder");
   return c;
 }
