@@ -180,6 +180,18 @@ TEST_CASE("a body that cannot be built says why", "[body]") {
   RobotParams cramped;  // a base this large leaves 0.2 m links no room to fold beside it
   cramped.base_radius = 0.8, cramped.link_length[0] = 0.2, cramped.link_length[1] = 0.2;
   CHECK_THAT(body_problems(cramped, EyeParams{}).at(0), Contains("cannot fold clear of the base"));
+  // Found by a probe: these said neither which joint's range missed nor eye_y's value.
+  RobotParams high;
+  high.shoulder_min = 2.5, high.shoulder_max = 3.0;
+  const std::vector<std::string> joint = body_problems(high, EyeParams{});
+  REQUIRE(!joint.empty());
+  CHECK_THAT(joint.at(0), Contains("lies outside the joints' ranges: shoulder ") &&
+                              Contains(" outside its range [2.5, 3] rad (body.shoulder and body.elbow set them)"));
+  CHECK_THAT(joint.at(0), !Contains("; elbow"));  // the elbow folds within its range
+  RobotParams small;
+  small.base_radius = 0.06;
+  CHECK_THAT(body_problems(small, EyeParams{}).at(0),
+             Contains("eye_y (0.08 m) must lie inside the base (below base_radius 0.06)"));
   WorldSpec spec;
   spec.body = cramped;
   World world;

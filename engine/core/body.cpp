@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "core/shape.h"
+#include "core/text.h"
 
 namespace roger {
 
@@ -134,10 +135,20 @@ std::string num(double v) {
 // Problems of the folded posture: joint limits, a hand on the base, the hands on each other.
 void fold_problems(const RobotParams& b, std::vector<std::string>& out) {
   const Angles fold = fold_posture(b);
-  if (fold.shoulder < b.shoulder_min || fold.shoulder > b.shoulder_max ||
-      fold.elbow < b.elbow_min || fold.elbow > b.elbow_max)
+  // Each joint whose range misses its folded angle, with the range: what to widen.
+  const auto outside = [](const char* joint, double angle, double lo, double hi) {
+    return angle < lo || angle > hi ? std::string(joint) + " " + num(angle) + " outside its range [" + num(lo) + ", " +
+                                          num(hi) + "]"
+                                    : std::string();
+  };
+  std::vector<std::string> joints;
+  for (std::string j : {outside("shoulder", fold.shoulder, b.shoulder_min, b.shoulder_max),
+                        outside("elbow", fold.elbow, b.elbow_min, b.elbow_max)})
+    if (!j.empty()) joints.push_back(j);
+  if (!joints.empty())
     out.push_back("the folded posture (shoulder " + num(fold.shoulder) + ", elbow " + num(fold.elbow) +
-                  " rad) lies outside the joints' ranges");
+                  " rad, where the arms start and carry) lies outside the joints' ranges: " + join(joints, "; ") +
+                  " rad (body.shoulder and body.elbow set them)");
   const Vec2 hand = hand_in_base(b, kLeft, fold.shoulder, fold.elbow);
   const double gap = hand.norm() - b.base_radius - b.hand_radius;
   if (gap < 0.01)
@@ -161,7 +172,9 @@ std::vector<std::string> body_problems(const RobotParams& b, const EyeParams& ey
     if (!(v > 0.0) || !std::isfinite(v)) out.push_back(std::string(name) + " must be positive, got " + num(v));
   if (!(b.shoulder_min < b.shoulder_max)) out.push_back("shoulder's min must be below its max");
   if (!(b.elbow_min < b.elbow_max)) out.push_back("elbow's min must be below its max");
-  if (b.eye_y >= b.base_radius) out.push_back("eye_y must lie inside the base (below base_radius " + num(b.base_radius) + ")");
+  if (b.eye_y >= b.base_radius)
+    out.push_back("eye_y (" + num(b.eye_y) + " m) must lie inside the base (below base_radius " + num(b.base_radius) +
+                  "): a smaller eye_y or a larger base_radius");
   if (eyes.pixels < kMinPixels || eyes.pixels > kMaxPixels)
     out.push_back("eyes.pixels must be within [" + std::to_string(kMinPixels) + ", " +
                   std::to_string(kMaxPixels) + "], got " + std::to_string(eyes.pixels));
