@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <fstream>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include "learn/learning.h"
 #include "batch/trainer.h"
 #include "temp_dir.h"
+#include "test_files.h"
 
 using namespace roger;
 
@@ -171,6 +173,28 @@ TEST_CASE("a stage's scenario path is found beside the curriculum that names it,
                                        "(named in " + (tmp.path / "missing.lua").string() + "): looked at " +
                                        (tmp.path / "worlds" / "theirs.lua").string() +
                                        ", then worlds/theirs.lua from the current folder, then in the project"));
+}
+
+// Found by a probe: a curriculum that set the scenario of a stage lib.paper_stages made
+// (`sg.scenario = "bigbot.lua"`) had it looked for beside curricula/lib/, not beside itself.
+TEST_CASE("a stage a library made takes a scenario path beside the curriculum that sets it", "[curriculum]") {
+  const test::TempDir tmp("roger_curriculum_lib_stage");
+  std::ofstream(tmp.path / "bigbot.lua")
+      << std::regex_replace(test::slurp("scenarios/unobstructed.lua"), std::regex("name = \"unobstructed\""),
+                            "name = \"bigbot\"");
+  std::ofstream(tmp.path / "big.lua") << "local SG, T = require('lib.paper_stages').stages{ suffix = '_big' }\n"
+                                         "SG.scenario = 'bigbot.lua'\n"
+                                         "return { name = 'big', stages = { SG, T } }\n";
+  const Curriculum cur = Curriculum::load((tmp.path / "big.lua").string());
+  CHECK(cur.stage("SG_big").scenario == (tmp.path / "bigbot.lua").string());
+  CHECK(cur.stage("T_big").scenario == "unobstructed");
+  // Not there either: each place looked at is named, beside the library first.
+  std::ofstream(tmp.path / "none.lua") << "local SG, T = require('lib.paper_stages').stages{ suffix = '_none' }\n"
+                                          "SG.scenario = 'nobot.lua'\n"
+                                          "return { name = 'none', stages = { SG, T } }\n";
+  CHECK_THAT(error_of([&] { Curriculum::load((tmp.path / "none.lua").string()); }),
+             Catch::Matchers::Contains("curricula/lib/nobot.lua, then " + (tmp.path / "nobot.lua").string() +
+                                       ", then nobot.lua from the current folder, then in the project"));
 }
 
 TEST_CASE("a context's init names a context written before it", "[curriculum]") {

@@ -218,7 +218,7 @@ CurriculumStage take_stage(lua_State* L, const Book& book, const std::string& di
     lua_pop(L, 1);
   }
   CurriculumStage st;
-  parse_stage(L, -1, st, a, r, teacher, file);
+  parse_stage(L, -1, st, a, r, teacher, file, display);
   st.file = file, st.line = line;
   curriculum_detail::check_stage_params(st);
   return st;

@@ -38,9 +38,11 @@ struct LuaCallback {
 // Reads a stage table at `index` into `st`, raising Lua errors "stage 'X': ..." (at the caller's
 // file:line when called from Lua). Functions given for absorbing, reward and teacher are kept in
 // the registry. `naming_file` is the file the stage is written in (as messages show it): its
-// `scenario`, when a path, is looked for beside it first (resolve_scenario_near).
+// `scenario`, when a path, is looked for beside it first, then beside `curriculum_file` (the
+// curriculum returning it, which may have set the field of a stage a library made:
+// resolve_scenario_near).
 void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& absorb_fn, LuaCallback& reward_fn,
-                 LuaCallback& teacher_fn, const std::string& naming_file);
+                 LuaCallback& teacher_fn, const std::string& naming_file, const std::string& curriculum_file = "");
 
 // ---- strict tables: what callbacks read (curriculum.cpp)
 

@@ -339,7 +339,7 @@ bool checkpoints_field(lua_State* L, const LuaFields& f, const char* key) {
 // Reads a stage table at `index` into `st`, raising Lua errors "stage 'X': ..." (at the caller's
 // file:line when called from Lua). Functions given for absorbing/reward are kept in the registry.
 void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& absorb_fn, LuaCallback& reward_fn,
-                 LuaCallback& teacher_fn, const std::string& naming_file) {
+                 LuaCallback& teacher_fn, const std::string& naming_file, const std::string& curriculum_file) {
   index = lua_absindex(L, index);
   if (!lua_istable(L, index))
     luaL_error(L, "a stage must be a table {name = ..., time_limit = ..., absorbing = ..., contexts = ...}, got %s",
@@ -355,7 +355,7 @@ void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& abso
   st.description = f.string("description", "");
   st.scenario = f.string("scenario", "unobstructed");
   try {
-    st.scenario = resolve_scenario_near(st.scenario, naming_file);  // beside the file, as require
+    st.scenario = resolve_scenario_near(st.scenario, naming_file, curriculum_file);  // beside the file, as require
   } catch (const Error& e) {
     f.fail(std::string("field 'scenario': ") + e.what());
   }

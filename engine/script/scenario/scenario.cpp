@@ -253,20 +253,45 @@ std::string resolve_scenario_path(const std::string& arg) {
   return resolve_script_path(arg, "scenarios", "scenario", "shipped scenarios");
 }
 
-std::string resolve_scenario_near(const std::string& name, const std::string& naming_file) {
+namespace {
+
+// A file named as messages show it: relative to the current folder, or to the project.
+fs::path as_found(const std::string& shown) {
+  std::error_code ec;
+  const fs::path file(shown);
+  return fs::is_regular_file(file, ec) ? file : project_root() / shown;
+}
+
+}  // namespace
+
+std::string resolve_scenario_near(const std::string& name, const std::string& naming_file,
+                                  const std::string& also_beside) {
   std::error_code ec;
   const fs::path written(name);
   const bool path_like = written.extension() == ".lua" || name.find('/') != std::string::npos;
   if (!path_like || written.is_absolute() || naming_file.empty()) return (void)resolve_scenario_path(name), name;
-  // The naming file as shown in messages: relative to the current folder, or to the project.
-  fs::path file(naming_file);
-  if (!fs::is_regular_file(file, ec)) file = project_root() / naming_file;
-  const fs::path near = (file.parent_path() / written).lexically_normal();
-  if (!fs::is_regular_file(file, ec) || !fs::is_regular_file(near, ec)) {
+  // Beside the naming file, then beside `also_beside` (the curriculum that changed a stage a
+  // library made), as require looks beside the script.
+  std::vector<fs::path> looked;
+  fs::path near;
+  for (const std::string& shown : {naming_file, also_beside}) {
+    if (shown.empty()) continue;
+    const fs::path file = as_found(shown);
+    if (!fs::is_regular_file(file, ec)) continue;
+    const fs::path candidate = (file.parent_path() / written).lexically_normal();
+    if (std::find(looked.begin(), looked.end(), candidate) != looked.end()) continue;
+    looked.push_back(candidate);
+    if (fs::is_regular_file(candidate, ec)) {
+      near = candidate;
+      break;
+    }
+  }
+  if (near.empty()) {
     try {
       resolve_scenario_path(name);
     } catch (const Error& e) {
-      const std::string beside = fs::is_regular_file(file, ec) ? near.string() + ", then " : "";
+      std::string beside;
+      for (const fs::path& l : looked) beside += l.string() + ", then ";
       throw Error("no scenario '" + name + "' (named in " + naming_file + "): looked at " + beside + name +
                   " from the current folder, then in the project; " + e.what());
     }

@@ -108,12 +108,14 @@ std::string resolve_scenario_path(const std::string& name_or_path);
 
 // The scenario a script names (a stage's `scenario`, a batch script's evaluation's), as the
 // loader should record it: a path (x.lua, worlds/x.lua) is looked for first beside the file that
-// names it (`naming_file`, as messages show it), as `require` looks beside the script, then as
+// names it (`naming_file`, as messages show it), as `require` looks beside the script, then beside
+// `also_beside` when given (a curriculum that set the field of a stage a library made), then as
 // resolve_scenario_path finds it (from the current folder, then in the project); a bare name is
 // one of the project's scenarios. Returns `name` itself unless the file beside differs from what
 // `name` gives from here; then its path relative to the project (absolute outside it). Throws
 // roger::Error listing where it looked.
-std::string resolve_scenario_near(const std::string& name, const std::string& naming_file);
+std::string resolve_scenario_near(const std::string& name, const std::string& naming_file,
+                                  const std::string& also_beside = "");
 
 // For `roger check`: loads a scenario and generates worlds for seeds 0..seeds-1, and one world of
 // seed 0 for every choice of every parameter that declares choices, one parameter at a time (the
