@@ -285,9 +285,18 @@ std::string check_manifest(const BatchPlan& plan, const fs::path& manifest_path,
     if (old_config.is_object() && extends(old_config, config, true))
       why += "\nMore trials of an evaluation with worlds of its own and several shapes move the worlds of the "
              "trials it has (shape k's trial i starts at (k x trials + i) x episodes), so they are a new folder's.";
-    throw Error("the results folder " + out + " was made by another batch script or other parameters (" +
-                old.value("script", std::string("?")) + "); it cannot be resumed with " + plan.script->path +
-                ". Differences:" + why + "\nUse another --out, or remove the folder to start over.");
+    // Only a Lua file training reads changed: say that, not "another script" (a probe added a
+    // comment to its curriculum and read the refusal as about another script).
+    json old_rest = old_config, now_rest = config;
+    if (old_rest.is_object()) old_rest.erase("sources");
+    now_rest.erase("sources");
+    const std::string made = old_rest == now_rest
+                                 ? "before a Lua file its trials read changed (its trials and new ones would mix two "
+                                   "versions of it)"
+                                 : "by another batch script or other parameters";
+    throw Error("the results folder " + out + " was made " + made + " (" + old.value("script", std::string("?")) +
+                "); it cannot be resumed with " + plan.script->path + ". Differences:" + why +
+                "\nUse another --out, or remove the folder to start over.");
   }
   if (const std::string p = planned_trials_problem(old, plan, true); !p.empty())
     throw Error(manifest_path.string() + ": " + p + "; this folder cannot be resumed: use another --out");
