@@ -761,6 +761,10 @@ TEST_CASE("the static pass finds a misspelt roger member and names the nearest",
 
 TEST_CASE("the static pass finds undefined globals and follows Lua's scopes", "[lua_sandbox][static]") {
   CHECK(problems_in("pirnt('x')\n") == std::vector<std::string>{"1: undefined global 'pirnt'; did you mean print?"});
+  // A shipped library used without its require says how to get it (found by a probe).
+  CHECK(problems_in("return shapes.names()\n", ScriptKind::kScenario) ==
+        std::vector<std::string>{"1: undefined global 'shapes'; scenarios/lib/shapes.lua is a library: local shapes = "
+                                 "require(\"lib.shapes\") before its first use"});
   // A local of one branch is not visible in the other, nor after its block.
   CHECK(problems_in("if true then\n  local inner = 1\nelse\n  return inner\nend\nreturn inner\n").size() == 2);
   CHECK(problems_in("do local x = 1 end\nreturn x\n").size() == 1);

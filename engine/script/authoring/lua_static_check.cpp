@@ -389,6 +389,12 @@ class Judge {
     if (n == "roger") return m + ": " + what() + " reaches no roger.* API";
     const auto near = nearest_names(n, names);
     if (!near.empty()) return m + "; did you mean " + join(near, " or ") + "?";
+    // A shipped library of that name (`shapes` used without its require): say how to get it.
+    std::error_code ec;
+    for (const char* folder : {"scenarios", "curricula"})
+      if (std::filesystem::is_regular_file(project_root() / folder / "lib" / (n + ".lua"), ec))
+        return m + "; " + folder + "/lib/" + n + ".lua is a library: local " + n + " = require(\"lib." + n +
+               "\") before its first use";
     return m + " (not a local in scope, not assigned in the script, not in the sandbox)";
   }
 
