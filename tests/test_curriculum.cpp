@@ -68,6 +68,11 @@ TEST_CASE("the paper's curriculum holds the paper's Psi sets", "[curriculum]") {
   CHECK(check_curriculum("tests/scripts/kill_curriculum.lua").empty());
   CHECK_FALSE(is_curriculum_script("curricula/scripted.lua"));
   CHECK(error_of([] { (void)Curriculum::load("paper").stage("X"); }).find("its stages: SG, T") != std::string::npos);
+  // A stage or context named in the wrong case, as a probe's --stage carry for Carry.
+  CHECK(error_of([] { (void)Curriculum::load("paper").stage("sg"); })
+            .find("has no stage 'sg' (did you mean 'SG'?); its stages: SG, T") != std::string::npos);
+  CHECK(error_of([] { (void)Curriculum::load("paper").stage("SG").context("dc2"); })
+            .find("stage 'SG' has no context 'dc2' (did you mean 'DC2'?); its contexts: B1, DC1, DC2") != std::string::npos);
 }
 
 TEST_CASE("bad curricula are clear errors at file:line", "[curriculum]") {

@@ -211,6 +211,9 @@ TEST_CASE("compose reads the paper's notation, right-associative", "[lua_control
   CHECK_THAT(lua.error("roger.compose('phi1 <| phi8')").what(),
              Contains("snippet.lua:1: roger.compose(\"phi1 <| phi8\"): unknown controller 'phi8'") &&
                  Contains("primitive kinds: phi0, search, phi1"));
+  // A name made further down is not known yet: the list says "so far" (found by a probe).
+  CHECK_THAT(lua.error("local k = roger.compose('phi4 <| grab')\nlocal grab = roger.sequence('grab', {'phi3'})").what(),
+             Contains("unknown controller 'grab'") && Contains("controllers named so far: "));
   CHECK_THAT(lua.error("roger.compose('phi1 <|')").what(), Contains("expected a controller name or '('"));
   CHECK_THAT(lua.error("roger.compose('(phi1 <| phi4')").what(), Contains("missing ')'"));
   CHECK_THAT(lua.error("roger.compose('phi1 <| phi4', {phi4 = 3})").what(),
@@ -387,7 +390,7 @@ TEST_CASE("names used before their definition are bound when the script finishes
   CHECK(named_controllers(lua.sandbox).size() == 2);
   // After loading, a name must exist.
   CHECK_THAT(lua.error("roger.sequence('Late', {'Missing'})").what(),
-             Contains("step 1 names 'Missing', which is not a controller; named controllers: Outer, Inner"));
+             Contains("step 1 names 'Missing', which is not a controller; controllers named so far: Outer, Inner"));
 
   Snippets never;
   never.controller("return roger.sequence('A', {'phi0', 'Bee'})");

@@ -266,9 +266,9 @@ int command_train(const TrainArgs& a) {
   check_skill_flags(o);
   const TrainResult r = train_for_command_line(o);
   write_train_outputs(r, a.out);
-  std::printf("roger train: %s stage %s context %s seed %llu (%zu actions, %d states) in %s\n",
+  std::printf("roger train: %s stage %s context %s seed %llu (%zu action%s, %d states) in %s\n",
               r.curriculum_path.c_str(), r.stage.c_str(), r.context.c_str(), static_cast<unsigned long long>(r.seed),
-              r.psi.size(), r.q->states(), r.scenario.c_str());
+              r.psi.size(), r.psi.size() == 1 ? "" : "s", r.q->states(), r.scenario.c_str());
   // As roger eval says it, so that a trial on another body never reads as one on the default body.
   std::string sets;
   for (const auto& s : a.sets) sets += (sets.empty() ? "" : ", ") + ("--set " + s);

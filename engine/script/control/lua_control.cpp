@@ -109,8 +109,10 @@ bool is_kind(const std::string& name) {
 std::string known_names(const ControlBook& book) {
   std::vector<std::string> names;
   for (const auto& n : book.named) names.push_back(n.name);
-  return (names.empty() ? std::string("the script has named no controllers")
-                        : "named controllers: " + join(names)) +
+  // Named so far: a name is known from the line that makes its controller on (a probe's compose
+  // named a sequence made two lines further down).
+  return (names.empty() ? std::string("the script has named no controllers yet")
+                        : "controllers named so far: " + join(names)) +
          "; primitive kinds: " + kinds_text();
 }
 

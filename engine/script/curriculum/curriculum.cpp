@@ -116,7 +116,7 @@ const CurriculumContext& CurriculumStage::context(const std::string& n) const {
     if (c.name == n) return c;
     names.push_back(c.name);
   }
-  throw Error(where() + " has no context '" + n + "'; its contexts: " + join(names));
+  throw Error(where() + " has no context '" + n + "'" + suggestion(n, names) + "; its contexts: " + join(names));
 }
 
 std::vector<std::pair<std::string, std::string>> CurriculumStage::scenario_params(
@@ -154,7 +154,8 @@ const CurriculumStage& Curriculum::stage(const std::string& n) const {
     if (s.name == n) return s;
     names.push_back(s.name);
   }
-  throw Error("curriculum '" + impl_->name + "' (" + impl_->path + ") has no stage '" + n + "'; its stages: " + join(names));
+  throw Error("curriculum '" + impl_->name + "' (" + impl_->path + ") has no stage '" + n + "'" + suggestion(n, names) +
+              "; its stages: " + join(names));
 }
 
 const CurriculumStage* Curriculum::producer(const std::string& skill) const {
