@@ -240,6 +240,50 @@ std::string extension_note(const json& old, const json& now, const std::string& 
          (more ? ", and the new ones run" : "") + ".";
 }
 
+// The refusal of a folder made with configuration `old_config`, with the differences from
+// `config` and what they mean.
+Error refusal(const json& old, const json& old_config, const json& config, const BatchPlan& plan) {
+  std::vector<std::string> lines;
+  differences(&old_config, &config, "", lines);
+  std::string why;
+  for (size_t k = 0; k < lines.size() && k < 12; ++k) why += "\n  " + lines[k];
+  if (lines.size() > 12) why += "\n  ... and " + std::to_string(lines.size() - 12) + " more";
+  // More trials of an evaluation whose worlds depend on their number: say why that one is refused.
+  if (old_config.is_object() && extends(old_config, config, true))
+    why += "\nMore trials of an evaluation with worlds of its own and several shapes move the worlds of the "
+           "trials it has (shape k's trial i starts at (k x trials + i) x episodes), so they are a new folder's.";
+  // Only a Lua file training reads changed: say that, not "another script" (a probe added a
+  // comment to its curriculum and read the refusal as about another script).
+  json old_rest = old_config, now_rest = config;
+  if (old_rest.is_object()) old_rest.erase("sources");
+  now_rest.erase("sources");
+  const std::string made = old_rest == now_rest
+                               ? "before a Lua file its trials read changed (its trials and new ones would mix two "
+                                 "versions of it)"
+                               : "by another batch script or other parameters";
+  return Error("the results folder " + plan.out + " was made " + made + " (" + old.value("script", std::string("?")) +
+               "); it cannot be resumed with " + plan.script->path + ". Differences:" + why +
+               "\nUse another --out, or remove the folder to start over.");
+}
+
+// Takes a configuration that extends the folder's own (extends()): checks that the folder's
+// trials are the ones its configuration planned, as when resuming, and rewrites the manifest.
+// Returns the note saying what changed.
+std::string extend_manifest(const json& old, const json& old_config, const json& config, const BatchPlan& plan,
+                            const fs::path& manifest_path, const json& fresh_manifest) {
+  BatchPlan old_plan;
+  try {
+    old_plan = plan_batch(std::make_shared<BatchScript>(batch_config_from_json(old_config)), plan.out);
+  } catch (const std::exception& e) {
+    throw Error(manifest_path.string() + ": field \"config\": " + e.what() +
+                "; this folder cannot be resumed: use another --out");
+  }
+  if (const std::string p = planned_trials_problem(old, old_plan, true); !p.empty())
+    throw Error(manifest_path.string() + ": " + p + "; this folder cannot be resumed: use another --out");
+  write_file_atomic(manifest_path.string(), fresh_manifest.dump(1) + "\n", "cannot write the manifest");
+  return extension_note(old_config, config, plan.out);
+}
+
 // Checks that an existing manifest was made by this engine and configuration, or by one that this
 // configuration extends (extends(): then the manifest is rewritten with it, and the returned note
 // says what changed; "" otherwise).
@@ -261,43 +305,9 @@ std::string check_manifest(const BatchPlan& plan, const fs::path& manifest_path,
                 ": its trials would mix with this build's. Use another --out, or remove the folder "
                 "to start over; `roger report " + out + "` still reports what it holds.");
   const json old_config = old.value("config", json());
-  if (old_config != config && old_config.is_object() && extends(old_config, config)) {
-    // The folder's own trials must be the ones its configuration planned, as when resuming.
-    BatchPlan old_plan;
-    try {
-      auto old_script = std::make_shared<BatchScript>(batch_config_from_json(old_config));
-      old_plan = plan_batch(std::move(old_script), out);
-    } catch (const std::exception& e) {
-      throw Error(manifest_path.string() + ": field \"config\": " + e.what() + "; this folder cannot be resumed: use another --out");
-    }
-    if (const std::string p = planned_trials_problem(old, old_plan, true); !p.empty())
-      throw Error(manifest_path.string() + ": " + p + "; this folder cannot be resumed: use another --out");
-    write_file_atomic(manifest_path.string(), fresh_manifest.dump(1) + "\n", "cannot write the manifest");
-    return extension_note(old_config, config, out);
-  }
-  if (old_config != config) {
-    std::vector<std::string> lines;
-    differences(&old_config, &config, "", lines);
-    std::string why;
-    for (size_t k = 0; k < lines.size() && k < 12; ++k) why += "\n  " + lines[k];
-    if (lines.size() > 12) why += "\n  ... and " + std::to_string(lines.size() - 12) + " more";
-    // More trials of an evaluation whose worlds depend on their number: say why that one is refused.
-    if (old_config.is_object() && extends(old_config, config, true))
-      why += "\nMore trials of an evaluation with worlds of its own and several shapes move the worlds of the "
-             "trials it has (shape k's trial i starts at (k x trials + i) x episodes), so they are a new folder's.";
-    // Only a Lua file training reads changed: say that, not "another script" (a probe added a
-    // comment to its curriculum and read the refusal as about another script).
-    json old_rest = old_config, now_rest = config;
-    if (old_rest.is_object()) old_rest.erase("sources");
-    now_rest.erase("sources");
-    const std::string made = old_rest == now_rest
-                                 ? "before a Lua file its trials read changed (its trials and new ones would mix two "
-                                   "versions of it)"
-                                 : "by another batch script or other parameters";
-    throw Error("the results folder " + out + " was made " + made + " (" + old.value("script", std::string("?")) +
-                "); it cannot be resumed with " + plan.script->path + ". Differences:" + why +
-                "\nUse another --out, or remove the folder to start over.");
-  }
+  if (old_config != config && old_config.is_object() && extends(old_config, config))
+    return extend_manifest(old, old_config, config, plan, manifest_path, fresh_manifest);
+  if (old_config != config) throw refusal(old, old_config, config, plan);
   if (const std::string p = planned_trials_problem(old, plan, true); !p.empty())
     throw Error(manifest_path.string() + ": " + p + "; this folder cannot be resumed: use another --out");
   return "";

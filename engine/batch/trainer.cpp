@@ -800,11 +800,11 @@ ParamList trial_only_params(const PolicyMetadata& meta, const CurriculumStage& s
   if (!meta.extra.is_object() || !meta.extra.contains("params") || !meta.extra["params"].is_object()) return out;
   ParamList now;
   make_scenario(stage, ctx, "", {}, limits, &now);
-  for (const auto& [name, value] : now) {
-    const auto it = meta.extra["params"].find(name);
-    if (it == meta.extra["params"].end() || !it->is_string() || it->get<std::string>() == value) continue;
-    const bool given = std::any_of(sets.begin(), sets.end(), [&](const auto& s) { return s.first == name; });
-    if (!given) out.push_back({name, it->get<std::string>()});
+  for (const auto& param : now) {  // not a structured binding: clang 14 refuses one in a lambda
+    const auto it = meta.extra["params"].find(param.first);
+    if (it == meta.extra["params"].end() || !it->is_string() || it->get<std::string>() == param.second) continue;
+    const bool given = std::any_of(sets.begin(), sets.end(), [&](const auto& s) { return s.first == param.first; });
+    if (!given) out.push_back({param.first, it->get<std::string>()});
   }
   return out;
 }
