@@ -135,7 +135,8 @@ void check_selectors(const BatchPlan& plan, const std::vector<std::string>& only
 // ids and seeds), or, when one exists, checks that it was made by this engine build and the same
 // configuration (else roger::Error saying what differs). A configuration that differs only in
 // what trains nothing again (the report's name, description, tables and figures; more trials of
-// a run or evaluation) is taken: the manifest is rewritten with it and `note` (if given) says so.
+// a run, or of an evaluation whose worlds do not depend on their number: shared, or one shape)
+// is taken: the manifest is rewritten with it and `note` (if given) says so.
 // Returns true when resuming. Shards that open one folder at once take turns (a lock file), so
 // the manifest is written by one at a time.
 bool open_results_folder(const BatchPlan& plan, std::string* note = nullptr);

@@ -236,12 +236,12 @@ int command_bench(const BenchArgs& a) {
               many.replay_rtf);
   // A layer cannot cost less than the layer under it: when it reads so, the machine's speed moved
   // under the measurement (it is shared), and one repeat cannot tell.
-  if (r.senses_overhead < 0.0 || p.cost_ratio < 1.0 || many.cost_ratio < 1.0 || a.repeats < 3)
+  const bool impossible = r.senses_overhead < 0.0 || p.cost_ratio < 1.0 || wide.cost_ratio < 1.0 ||
+                          under_m.cost_ratio < 1.0 || many.cost_ratio < 1.0;
+  if (impossible || a.repeats < 3)
     std::printf("  note                 %s: on a shared machine a single measurement can be off by a third; "
                 "--repeats 5 (the default) or more takes the best of each\n",
-                r.senses_overhead < 0.0 || p.cost_ratio < 1.0 || many.cost_ratio < 1.0
-                    ? "a layer measured cheaper than physics alone, which cannot be"
-                    : "fewer than 3 repeats");
+                impossible ? "a layer measured cheaper than physics alone, which cannot be" : "fewer than 3 repeats");
   if (a.json) {
     nlohmann::json j = {{"scenario", a.scenario},
                         {"seed", a.seed},

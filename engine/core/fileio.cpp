@@ -97,14 +97,17 @@ void AtomicFile::fail(int err) {
   throw FileError(context_ + " '" + path_ + "': " + std::strerror(err), path_, err);
 }
 
+void make_parent_folder(const std::string& path, const std::string& context) {
+  const fs::path target(path);
+  if (!target.has_parent_path()) return;
+  std::error_code ec;
+  fs::create_directories(target.parent_path(), ec);
+  if (ec) throw FileError(context + " '" + path + "': " + ec.message(), path, ec.value());
+}
+
 void write_file_atomic(const std::string& path, const std::string& content,
                        const std::string& context) {
-  const fs::path target(path);
-  if (target.has_parent_path()) {
-    std::error_code ec;
-    fs::create_directories(target.parent_path(), ec);
-    if (ec) throw FileError(context + " '" + path + "': " + ec.message(), path, ec.value());
-  }
+  make_parent_folder(path, context);
   AtomicFile file(path, context);
   file.append(content);
   file.commit();

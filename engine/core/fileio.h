@@ -80,6 +80,10 @@ class StagedFiles {
 // the machine (best effort: a folder that cannot be opened is left as it is).
 void sync_folder_of(const std::string& path);
 
+// Makes the folder (and its parents) an output file `path` goes into; a FileError starting with
+// `context` when it cannot be made (a file on the way, no permission).
+void make_parent_folder(const std::string& path, const std::string& context);
+
 // Writes a whole file atomically, creating its folder if needed. `context` starts any error
 // message, e.g. "cannot write the policy file".
 void write_file_atomic(const std::string& path, const std::string& content,

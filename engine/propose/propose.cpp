@@ -284,17 +284,15 @@ ProposeResult propose_curriculum(const ProposeOptions& options) {
     task.context = ctx.name;
   }
   claim_search_folder(o, task.module, task.stage, task.context);
-  char budget[64];
-  std::snprintf(budget, sizeof budget, "%g", o.budget_s);
-  task.command = "roger propose " + o.curriculum + " --stage " + o.stage + " --context " + task.context +
-                 " --budget " + budget + " --seed " + std::to_string(o.seed);
-  // The options that differ from their defaults, so that the command given runs this search again.
-  const ProposeOptions defaults;
   const auto number = [](double v) {
     char text[64];
     std::snprintf(text, sizeof text, "%g", v);
     return std::string(text);
   };
+  task.command = "roger propose " + o.curriculum + " --stage " + o.stage + " --context " + task.context +
+                 " --budget " + number(o.budget_s) + " --seed " + std::to_string(o.seed);
+  // The options that differ from their defaults, so that the command given runs this search again.
+  const ProposeOptions defaults;
   if (o.trials != defaults.trials) task.command += " --trials " + std::to_string(o.trials);
   if (o.probe_trials != defaults.probe_trials) task.command += " --probe-trials " + std::to_string(o.probe_trials);
   if (o.probe_share != defaults.probe_share) task.command += " --probe-share " + number(o.probe_share);

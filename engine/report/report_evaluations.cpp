@@ -58,11 +58,8 @@ void eval_table_head(const BatchTable& t, const BatchEvaluation& ev, std::ostrin
   md << "## " << (t.title.empty() ? "Evaluation " + ev.name : t.title) << "\n\n";
   md << "The final " << ev.run << "/" << ev.context << " policy of "
      << (ev.trials == 1 ? std::string("1 trial") : "each of " + std::to_string(ev.trials) + " trials") << ", without "
-     << "retraining, in scenario " << (ev.scenario.empty() ? "(the stage's)" : "`" + ev.scenario + "`");
-  if (!ev.params.empty()) {
-    md << " with";
-    for (const auto& [k, v] : ev.params) md << " " << k << "=" << v;
-  }
+     << "retraining, in scenario " << (ev.scenario.empty() ? "(the stage's)" : "`" + ev.scenario + "`")
+     << with_params(ev.params);
   // A learned skill replaced: the same policies over another skill are another measure.
   for (const auto& s : ev.skills)
     md << ", with " << s.skill << " from run `" << s.run << "` context " << s.context << " (trial i's for trial i)";

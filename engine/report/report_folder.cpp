@@ -35,6 +35,12 @@ std::string fmt(const char* f, double v) {
 
 std::string pct(double fraction) { return fmt("%.1f%%", 100.0 * fraction); }
 
+std::string with_params(const std::vector<std::pair<std::string, std::string>>& params) {
+  std::string out = params.empty() ? "" : " with";
+  for (const auto& [k, v] : params) out += " " + k + "=" + v;
+  return out;
+}
+
 Results Folder::trials(const std::vector<std::string>& ids) const {
   Results r;
   r.expected = int(ids.size());

@@ -37,6 +37,10 @@ std::string fmt(const char* f, double v);
 // A fraction as a percentage with one decimal: 0.975 -> "97.5%".
 std::string pct(double fraction);
 
+// " with k=v k=v" for a table head's scenario parameters ("" for none), so that a run or an
+// evaluation on another body never reads as one on the stage's.
+std::string with_params(const std::vector<std::pair<std::string, std::string>>& params);
+
 // One context's (or group's) finished trials.
 struct Results {
   std::vector<json> ok;  // result.json of every finished trial, in trial order

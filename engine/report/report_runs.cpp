@@ -17,13 +17,8 @@ namespace {
 // The head of a run table: its title, the run and baseline it compares, and the column names.
 void run_table_head(const BatchRun& run, const BatchTable& t, std::ostringstream& md) {
   md << "## " << (t.title.empty() ? "Stage " + run.stage : t.title) << "\n\n";
-  md << "Run `" << run.name << "`: stage " << run.stage;
-  // Its parameters, so that a run on another body never reads as one on the stage's.
-  if (!run.params.empty()) {
-    md << " with";
-    for (const auto& [k, v] : run.params) md << " " << k << "=" << v;
-  }
-  md << ", baseline " << t.baseline << ".\n\n";
+  md << "Run `" << run.name << "`: stage " << run.stage << with_params(run.params) << ", baseline " << t.baseline
+     << ".\n\n";
   md << "| Approach | Train time (min:sec) | % Improvement | Avg. reward ± std | Success rate | Median time | "
         "IQM time [95% CI] | Reached | p (Mann-Whitney vs "
      << t.baseline << ") | P(faster than " << t.baseline << ") | Trials |\n";

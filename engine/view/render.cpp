@@ -170,12 +170,7 @@ void write_picture(const std::string& path, long width, long height, Paint paint
        << " picture is outside 1 to " << kMaxPicturePixels << " pixels per side";
     throw Error(os.str());
   }
-  // Its folder is made as every other output's is (write_file_atomic, roger run --out).
-  if (const std::filesystem::path parent = std::filesystem::path(path).parent_path(); !parent.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(parent, ec);
-    if (ec) throw FileError("render: cannot write picture '" + path + "': " + ec.message(), path, ec.value());
-  }
+  make_parent_folder(path, "render: cannot write picture");  // as every other output's (write_file_atomic)
   AtomicFile file(path, "render: cannot write picture");
   Canvas canvas;
   if (format == Format::kSvg) {
