@@ -168,6 +168,48 @@ TEST_CASE("roger check names a misspelt top-level key, and finds bare names of e
   CHECK_THAT(roger("check quick").out, Catch::Matchers::Contains("quick: ok (batch script 'quick'"));
 }
 
+// A module (a file scripts require) was checked as a scenario: `roger check scenarios/lib/shapes.lua`
+// said "the scenario table has an unknown field 'names' (did you mean 'name'?)", and the skills
+// library "the skill script's table has an unknown field 'Phi_STG'".
+TEST_CASE("roger check runs a module as the scripts requiring it do and names them", "[cli]") {
+  const Run shapes = roger("check scenarios/lib/shapes.lua");
+  INFO(shapes.err);
+  CHECK(shapes.status == 0);
+  CHECK_THAT(shapes.out, Catch::Matchers::StartsWith("scenarios/lib/shapes.lua: ok (a module: required as \"lib.shapes\" by "
+                                                     "scenarios/"));
+  CHECK_THAT(shapes.out, Catch::Matchers::Contains("it returns a table of 6 fields: box, disk, get, library, names, regular)"));
+  CHECK_THAT(shapes.out, Catch::Matchers::Contains("scenarios/sorting.lua"));
+  // The skills library runs with a skill script's API (roger.primitive), as curricula/scripted.lua runs it.
+  const Run skills = roger("check curricula/lib/skills.lua");
+  INFO(skills.err);
+  CHECK(skills.status == 0);
+  CHECK_THAT(skills.out, Catch::Matchers::Contains("ok (a module: required as \"lib.skills\" by curricula/"));
+  // A user's module beside the scenario that requires it, outside the project; and one whose code fails
+  // where it runs, said at its file:line, as the scenario requiring it would say it.
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_module_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "walls.lua") << "local M = {}\nfunction M.wall(world, x) world:obstacle{x = x, y = 0, shape = roger.shape{box = {0.1, 1}}} end\nreturn M\n";
+  std::ofstream(dir / "room.lua") << "local walls = require(\"walls\")\nreturn { name = 'room', generate = function(world)\n"
+                                     "  world:robot{x = 0, y = 0}\n  walls.wall(world, 2)\nend }\n";
+  std::ofstream(dir / "broken.lua") << "local M = {}\nM.size = 1 + nil\nreturn M\n";
+  std::ofstream(dir / "uses_broken.lua") << "local b = require(\"broken\")\nreturn { generate = function(world) end }\n";
+  const Run walls = roger("check " + (dir / "walls.lua").string());
+  INFO(walls.err);
+  CHECK(walls.status == 0);
+  CHECK_THAT(walls.out, Catch::Matchers::Contains("walls.lua: ok (a module: required as \"walls\" by "));
+  CHECK_THAT(walls.out, Catch::Matchers::Contains("room.lua, it returns a table of 1 field: wall)"));
+  const Run broken = roger("check " + (dir / "broken.lua").string());
+  CHECK(broken.status == 1);
+  CHECK_THAT(broken.err, Catch::Matchers::Contains("broken.lua:2: attempt to perform arithmetic on a nil value"));
+  // A scenario with a misspelt key, which nothing requires, is still a scenario with a misspelt key.
+  std::ofstream(dir / "misspelt.lua") << "return { name = 'm', generat = function(world) end }\n";
+  const Run misspelt = roger("check " + (dir / "misspelt.lua").string());
+  CHECK(misspelt.status == 1);
+  CHECK_THAT(misspelt.err, Catch::Matchers::Contains("unknown field 'generat' (did you mean 'generate'?)"));
+  fs::remove_all(dir);
+}
+
 // Found by a probe: from another folder, `roger check curricula/paper.lua` (a path relative to the
 // project, as train, eval and run take it) ran the curriculum as a scenario and failed in a shipped
 // library ("attempt to call a nil value (field 'primitive')").

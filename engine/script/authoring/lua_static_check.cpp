@@ -439,11 +439,11 @@ class Judge {
   std::set<std::string> written_;
 };
 
-// The file a literal require names, searched as the sandbox's require does, or empty.
-fs::path find_module(const LuaSandbox& sandbox, std::string name) {
+// The file a literal require names, searched in `roots` as the sandbox's require does, or empty.
+fs::path find_module(const std::vector<fs::path>& roots, std::string name) {
   std::replace(name.begin(), name.end(), '.', '/');
   std::error_code ec;
-  for (const auto& root : sandbox.module_roots()) {
+  for (const auto& root : roots) {
     const fs::path candidate = root / (name + ".lua");
     if (fs::is_regular_file(candidate, ec)) return fs::weakly_canonical(candidate, ec);
   }
@@ -490,13 +490,35 @@ std::vector<StaticProblem> static_check(const std::string& path, std::optional<S
     files.push_back({shown, Scanner(read_file_text(file.string())).accesses});
     for (const auto& a : files.back().accesses) {
       if (a.kind != Access::kRequire) continue;
-      const fs::path module = find_module(sandbox, a.name);
+      const fs::path module = find_module(sandbox.module_roots(), a.name);
       if (!module.empty() && seen.insert(module).second) queue.push_back(module);
     }
   }
   const Judge judge(kind, files);
   std::vector<StaticProblem> out;
   for (const auto& f : files) judge.judge(f, out);
+  return out;
+}
+
+std::vector<ModuleUse> module_users(const fs::path& module, const std::vector<fs::path>& scripts) {
+  std::error_code ec;
+  const fs::path target = fs::weakly_canonical(module, ec);
+  std::vector<ModuleUse> out;
+  for (const auto& script : scripts) {
+    std::string text;
+    try {
+      text = read_file_text(script.string());
+    } catch (const Error&) {
+      continue;  // unreadable: it requires nothing we can see
+    }
+    // Where the sandbox's require would look were this script the main one.
+    const std::vector<fs::path> roots = module_search_roots(fs::weakly_canonical(script, ec).parent_path());
+    for (const auto& a : Scanner(text).accesses)
+      if (a.kind == Access::kRequire && find_module(roots, a.name) == target) {
+        out.push_back({script, a.name, a.line});
+        break;
+      }
+  }
   return out;
 }
 

@@ -11,6 +11,7 @@
 // yields nothing; what the pass cannot see (a name built at run time) it does not report.
 #pragma once
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,19 @@ std::vector<StaticProblem> static_check(const std::string& path, std::optional<S
 // The same over source text (shown as `shown`), without following requires.
 std::vector<StaticProblem> static_check_text(const std::string& text, const std::string& shown,
                                              std::optional<ScriptKind> kind);
+
+// A script that requires a module by a literal name: the script, the name, the line of the first
+// such require.
+struct ModuleUse {
+  std::filesystem::path script;
+  std::string name;
+  int line = 0;
+};
+
+// The scripts among `scripts` that require `module` by a literal name that the sandbox's require
+// would resolve to it were each the main script (its folder first, then the project's), in the
+// order given. A module that requires it counts too.
+std::vector<ModuleUse> module_users(const std::filesystem::path& module, const std::vector<std::filesystem::path>& scripts);
 
 // The names nearest to `name` among `known` (edits, a swap of two neighbours counting as one, at
 // most a third of its length and at least 1), nearest first, at most three.

@@ -1,6 +1,8 @@
 // script_api.cpp: the API of each kind of script, from a live sandbox (script_api.h).
 #include "script/authoring/script_api.h"
 
+#include <algorithm>
+
 #include <lua.hpp>
 
 #include "script/batch/batch_script.h"
@@ -73,6 +75,32 @@ std::map<std::string, bool> script_api_names(std::optional<ScriptKind> kind) {
     lua_pushglobaltable(L);
     list_table(L, "", false, out);
   }
+  return out;
+}
+
+ModuleValue run_module(const std::string& path, ScriptKind kind, const std::string& main_script,
+                       const std::string& name, const SandboxLimits& limits) {
+  LuaSandbox sandbox(limits);
+  install_script_api(sandbox, kind);
+  lua_State* L = sandbox.state();
+  LuaStackGuard guard(L);
+  if (name.empty()) {
+    sandbox.run_file(path, 1);
+  } else {
+    sandbox.set_main_script(main_script);
+    lua_getglobal(L, "require");
+    lua_pushstring(L, name.c_str());
+    sandbox.call(1, 1);
+  }
+  ModuleValue out{luaL_typename(L, -1), {}};
+  if (!lua_istable(L, -1)) return out;
+  lua_pushnil(L);
+  while (lua_next(L, -2)) {
+    lua_pop(L, 1);
+    out.keys.push_back(lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1)
+                                                       : "[" + std::string(luaL_typename(L, -1)) + "]");
+  }
+  std::sort(out.keys.begin(), out.keys.end());
   return out;
 }
 

@@ -36,4 +36,17 @@ void install_script_api(LuaSandbox& sandbox, ScriptKind kind);
 // Values are true for tables (whose members are listed too). Without a kind: every kind's names.
 std::map<std::string, bool> script_api_names(std::optional<ScriptKind> kind);
 
+// What a module gave when run: its Lua type ("table", "function", ...) and, for a table, its keys
+// (string keys as written, others as "[type]"), sorted.
+struct ModuleValue {
+  std::string type;
+  std::vector<std::string> keys;
+};
+
+// Runs a module once in a fresh sandbox of `kind` with `limits`: through `require(name)` with
+// `main_script` declared, as that script's sandbox runs it, or, without a name, as a main script.
+// Throws ScriptError with the module's file:line.
+ModuleValue run_module(const std::string& path, ScriptKind kind, const std::string& main_script,
+                       const std::string& name, const SandboxLimits& limits);
+
 }  // namespace roger

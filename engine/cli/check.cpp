@@ -1,0 +1,285 @@
+// check.cpp: `roger check`, a script validated without running an episode: the static pass, then
+// the loader of the script's kind (a scenario's worlds generated and built, a curriculum's callbacks
+// called, a batch script against its curriculum), or a module run as the scripts requiring it run it.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cli/cli_internal.h"
+#include "cli/commands.h"
+#include "core/fileio.h"
+#include "core/text.h"
+#include "script/authoring/lua_static_check.h"
+#include "script/authoring/script_api.h"
+#include "script/batch/batch_script.h"
+#include "script/curriculum/curriculum.h"
+#include "script/scenario/scenario.h"
+#include "script/skills/skill_script.h"
+#include "sim/world.h"
+
+namespace roger {
+namespace {
+
+// roger check on a batch script: loads it and validates it against its curriculum. `shown`: the
+// script as the command line named it.
+int check_batch(const std::string& path, const std::string& shown, const LuaLimitArgs& lua) {
+  BatchOverrides overrides;
+  overrides.instructions = lua.instructions;
+  overrides.memory_mib = lua.memory_mib;
+  const BatchScript b = load_batch_script(path, overrides);
+  std::string runs;
+  for (const auto& r : b.runs) {
+    const size_t n = r.contexts.size();
+    runs += (runs.empty() ? "" : ", ") + r.name + " (" + std::to_string(n) + (n == 1 ? " context)" : " contexts)");
+  }
+  const SandboxLimits defaults;
+  std::string limits;
+  if (b.limits.instructions != defaults.instructions || b.limits.memory_bytes != defaults.memory_bytes)
+    limits = "; Lua limits " + std::to_string(b.limits.instructions) + " instructions, " +
+             std::to_string(b.limits.memory_bytes >> 20) + " MiB";
+  std::printf("%s: ok (batch script '%s' on %s; %d trial%s; runs %s%s)\n", shown.c_str(), b.name.c_str(),
+              b.curriculum.c_str(), b.trials, b.trials == 1 ? "" : "s", runs.c_str(), limits.c_str());
+  return 0;
+}
+
+}  // namespace
+
+namespace {
+
+// The static pass (a misspelt roger.* member, an undefined global), before anything runs: prints
+// each problem as file:line and returns their number. A bare name is the scenario it names, as
+// for the loader below (scenarios/<name>.lua of the project or the installed tree); a name that
+// is neither is left to the loader, which says what exists.
+size_t report_static_problems(const std::string& script) {
+  std::string path;
+  try {
+    path = resolve_scenario_path(script);
+  } catch (const Error&) {
+    return 0;
+  }
+  const std::vector<StaticProblem> problems = static_check(path, script_kind_of(path));
+  for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.what().c_str());
+  return problems.size();
+}
+
+}  // namespace
+
+namespace {
+
+// The file `roger check` checks: the path as given, else a path relative to the project (as the
+// other commands take `curricula/paper.lua` from any folder), else a bare name of the project's
+// scenarios/ (first, as check has always read a bare name), curricula/ or scripts/. A name that is
+// none of them is refused as a script of any kind, not as a missing scenario.
+std::string check_target(const std::string& arg) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::exists(arg, ec)) return arg;
+  if (arg.find('/') != std::string::npos) {
+    if (fs::path(arg).is_relative() && fs::is_regular_file(project_root() / arg, ec))
+      return (project_root() / arg).string();
+    return arg;  // a path (read_file_text and the loaders say what is wrong with it)
+  }
+  const std::string file = fs::path(arg).extension() == ".lua" ? arg : arg + ".lua";
+  for (const char* folder : {"scenarios", "curricula", "scripts"})
+    if (fs::is_regular_file(project_root() / folder / file, ec)) return (project_root() / folder / file).string();
+  throw Error("no script '" + arg + "': not a file here, and the project has no scenarios/" + file + ", curricula/" +
+              file + " or scripts/" + file);
+}
+
+// The kind a script whose table names none of the keys that tell kinds apart (a misspelt
+// `stagez`, `policy`) is checked as, so that the loader says which field is unknown, with the
+// nearest one: a curriculum when it builds stages, a skill script when it builds controllers, else
+// a scenario, as before.
+std::optional<ScriptKind> guessed_kind(const std::string& path) {
+  const std::string text = read_file_text(path);
+  if (text.find("roger.stage") != std::string::npos) return ScriptKind::kCurriculum;
+  for (const char* builder : {"lib.skills", "roger.primitive", "roger.sequence", "roger.compose", "roger.subject_to"})
+    if (text.find(builder) != std::string::npos) return ScriptKind::kSkillScript;
+  return std::nullopt;
+}
+
+}  // namespace
+
+namespace {
+
+// The project's scripts that may require a module at `path`: every .lua file of the project's
+// scenarios/, curricula/ and scripts/ trees, and of the module's folder and the one above it (a
+// script beside lib/ requires lib.x), each once, the module itself left out.
+std::vector<std::filesystem::path> possible_requirers(const std::filesystem::path& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path module = fs::weakly_canonical(path, ec);
+  std::vector<fs::path> out;
+  auto add = [&](const fs::path& file) {
+    const fs::path f = fs::weakly_canonical(file, ec);
+    if (f.extension() == ".lua" && f != module && std::find(out.begin(), out.end(), f) == out.end()) out.push_back(f);
+  };
+  for (const fs::path& folder : {module.parent_path(), module.parent_path().parent_path()})
+    for (const auto& e : fs::directory_iterator(folder, ec)) add(e.path());
+  for (const char* tree : {"scenarios", "curricula", "scripts"})
+    for (const auto& e : fs::recursive_directory_iterator(project_root() / tree, ec)) add(e.path());
+  return out;
+}
+
+// The kinds a module is run as, most likely first: that of the script it is run for, then that of
+// the project folder it lies in (scenarios/lib is the scenarios' library), then every kind.
+std::vector<ScriptKind> module_kinds(const std::filesystem::path& module, std::optional<ScriptKind> user_kind) {
+  std::vector<ScriptKind> kinds;
+  auto add = [&](std::optional<ScriptKind> k) {
+    if (k && std::find(kinds.begin(), kinds.end(), *k) == kinds.end()) kinds.push_back(*k);
+  };
+  add(user_kind);
+  std::error_code ec;
+  const std::string where = std::filesystem::weakly_canonical(module, ec).string();
+  if (where.find("/scenarios/") != std::string::npos) add(ScriptKind::kScenario);
+  if (where.find("/curricula/") != std::string::npos) add(ScriptKind::kCurriculum);
+  for (ScriptKind k : script_kinds()) add(k);
+  return kinds;
+}
+
+// What a module returned, in words: a table's fields, at most eight named.
+std::string returned_summary(const ModuleValue& v) {
+  if (v.type != "table") return "it returns " + v.type;
+  const size_t n = v.keys.size(), shown = std::min<size_t>(n, 8);
+  std::string out = "it returns a table of " + std::to_string(n) + (n == 1 ? " field" : " fields");
+  if (n == 0) return out;
+  out += ": " + join(std::vector<std::string>(v.keys.begin(), v.keys.begin() + long(shown)), ", ");
+  if (n > shown) out += ", and " + std::to_string(n - shown) + " more";
+  return out;
+}
+
+// `roger check` of a module: a file scripts require, or one in a lib/ folder. Its loader is its
+// user's: it is run once as a script requiring it runs it (one of a known kind, if any), under that
+// script's kind, else under each kind until one runs it. A module is no scenario, curriculum or
+// batch script, so its table's fields are listed, not judged: the scripts requiring it check how
+// they are used.
+int check_module(const std::string& path, const std::string& shown, const std::vector<ModuleUse>& users,
+                 const SandboxLimits& limits) {
+  const LuaSandbox namer;  // shows files as the loaders' messages do
+  std::string used_by;
+  for (size_t i = 0; i < users.size() && i < 3; ++i) used_by += (i ? ", " : "") + namer.display_name(users[i].script);
+  if (users.size() > 3) used_by += " and " + std::to_string(users.size() - 3) + " more";
+  const ModuleUse* user = users.empty() ? nullptr : &users.front();
+  for (const auto& u : users)
+    if (script_kind_of(u.script.string())) {
+      user = &u;
+      break;
+    }
+  const std::optional<ScriptKind> user_kind = user ? script_kind_of(user->script.string()) : std::nullopt;
+  std::optional<ScriptError> first_error;
+  for (ScriptKind kind : module_kinds(path, user_kind)) {
+    try {
+      const ModuleValue value = user ? run_module(path, kind, user->script.string(), user->name, limits)
+                                     : run_module(path, kind, "", "", limits);
+      std::string how = user ? "required as \"" + user->name + "\" by " + namer.display_name(user->script) : "run";
+      if (kind != user_kind) how += std::string(" with a ") + script_kind_name(kind) + "'s API";
+      std::printf("%s: ok (a module: %s, %s)\n", shown.c_str(), how.c_str(), returned_summary(value).c_str());
+      if (users.empty())
+        std::printf("  no script of the project or beside it requires it; checking one that does checks its use\n");
+      else
+        std::printf("  required by %s; checking %s checks its use\n", used_by.c_str(),
+                    users.size() == 1 ? "it" : "them");
+      return 0;
+    } catch (const ScriptError& e) {
+      if (!first_error) first_error = e;
+    }
+  }
+  throw *first_error;
+}
+
+// Whether a script of no kind is a module: something requires it, or it lies in a lib/ folder.
+bool is_module(const std::string& path, const std::vector<ModuleUse>& users) {
+  return !users.empty() || std::filesystem::path(path).parent_path().filename() == "lib";
+}
+
+// A curriculum: its stages' callbacks called once each (check_curriculum), then its stages listed.
+int check_curriculum_file(const std::string& path, const std::string& shown, const SandboxLimits& limits) {
+  const std::vector<std::string> problems = check_curriculum(path, limits);
+  for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.c_str());
+  if (!problems.empty()) return 1;
+  const Curriculum cur = Curriculum::load(path, limits);
+  std::string stages;
+  for (const auto& st : cur.stages()) {
+    std::string contexts;
+    for (const auto& c : st.contexts) contexts += (contexts.empty() ? "" : " ") + c.name;
+    stages += (stages.empty() ? "" : "; ") + st.name + ": " + contexts;
+  }
+  std::printf("%s: ok (curriculum '%s'; stages %s)\n", shown.c_str(), cur.name().c_str(), stages.c_str());
+  return 0;
+}
+
+// A skill script: each policy's controllers built, then its policies listed.
+int check_skill_script_file(const std::string& path, const std::string& shown, const SandboxLimits& limits) {
+  const std::vector<std::string> problems = check_skill_script(path, limits);
+  for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.c_str());
+  if (!problems.empty()) return 1;
+  const SkillScript script = SkillScript::load(path, limits);
+  std::string names;
+  for (const auto& n : script.policy_names()) names += (names.empty() ? "" : ", ") + n;
+  std::printf("%s: ok (skill script '%s'; policies: %s)\n", shown.c_str(), script.name().c_str(), names.c_str());
+  return 0;
+}
+
+// A scenario: its worlds generated and built for seeds 0..N-1, then (without --set) every declared
+// parameter choice and each end of every declared range.
+int check_scenario_file(const CheckArgs& a, const std::string& shown, const SandboxLimits& limits) {
+  Scenario scenario = Scenario::load(a.script, limits);
+  apply_sets(scenario, a.sets);
+  // A scenario is a function of its seed: try several, and build each world as an episode would.
+  World world;
+  // A failure names its seed after the first line, as training does: it may hold for some seeds only.
+  for (int seed = 0; seed < a.seeds; ++seed) {
+    try {
+      world.reset(scenario.generate(uint64_t(seed)));
+    } catch (const std::exception& e) {
+      throw Error(with_note_on_first_line(e.what(), " (world seed " + std::to_string(seed) + ")"));
+    }
+  }
+  // Without --set, also every declared choice of every parameter (each shape, say), and each end
+  // of every declared range (the most obstacles, the longest arm): those are warnings, since an
+  // end may hold only with other parameters changed too.
+  std::vector<std::string> range_ends;
+  if (a.sets.empty()) {
+    const std::vector<std::string> problems = check_scenario(a.script, 2, limits, &range_ends);
+    if (!problems.empty()) {
+      for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.c_str());
+      return 1;
+    }
+    for (const auto& w : range_ends)  // the message without Lua's traceback: the value and the line say it
+      std::fprintf(stderr, "roger: warning: at a range's end: %s\n", w.substr(0, w.find("\nstack traceback:")).c_str());
+  }
+  std::string tried;
+  if (a.sets.empty())
+    tried = ", every parameter choice and range end tried" +
+            (range_ends.empty() ? std::string() : "; " + std::to_string(range_ends.size()) +
+                                                      " range end(s) could not be built (warnings above)");
+  std::printf("%s: ok (scenario '%s', %d seeds generated and built%s)\n", shown.c_str(),
+              scenario.name().c_str(), a.seeds, tried.c_str());
+  return 0;
+}
+
+}  // namespace
+
+int command_check(const CheckArgs& args) {
+  CheckArgs a = args;
+  a.script = check_target(args.script);
+  if (report_static_problems(a.script) > 0) return 1;
+  const SandboxLimits limits = sandbox_limits(a.lua);
+  if (!script_kind_of(a.script)) {
+    const std::vector<ModuleUse> users = module_users(a.script, possible_requirers(a.script));
+    if (is_module(a.script, users)) return check_module(a.script, args.script, users, limits);
+    // Not a module: its loader throws what is unknown, with the nearest field.
+    const std::optional<ScriptKind> guess = guessed_kind(a.script);
+    if (guess == ScriptKind::kCurriculum) Curriculum::load(a.script, limits);
+    if (guess == ScriptKind::kSkillScript) SkillScript::load(a.script, limits);
+  }
+  if (is_curriculum_script(a.script)) return check_curriculum_file(a.script, args.script, limits);
+  if (is_skill_script(a.script)) return check_skill_script_file(a.script, args.script, limits);
+  if (is_batch_script(a.script)) return check_batch(a.script, args.script, a.lua);
+  return check_scenario_file(a, args.script, limits);
+}
+
+}  // namespace roger
