@@ -796,7 +796,7 @@ TEST_CASE("a task whose world cannot be placed is skipped and shown; a space of 
   const fs::path said = dir.path / "said.txt";
   REQUIRE(run_shell(std::string(ROGER_BINARY) + " train " + holes.string() + " --stage S --context A --seed " +
                     std::to_string(o.seed) + " --out " + (dir.path / "out").string() + " > " + said.string()) == 0);
-  CHECK_THAT(slurp(said), Contains("  final policy   ") && Contains(" success over 1 test tasks, reward ") &&
+  CHECK_THAT(slurp(said), Contains("  final policy   ") && Contains(" success over 1 test task, reward ") &&
                               Contains("  teacher        random over robot_distance = roger.real(1, 3.4)\n") &&
                               Contains("  skipped        6 tasks the scenario could not place (the first: "
                                        "{\"robot_distance\":" + r.skipped_tasks[0]["task"]["robot_distance"].dump() +
@@ -1214,7 +1214,7 @@ TEST_CASE("a teacher function's string for a number axis is refused at its line"
     where = e.file + ":" + std::to_string(e.line);
   }
   CHECK(message == "stage 'S': teacher function returned obstacles = \"2\" (a string), but obstacles takes a number: "
-                   "roger.int(0, 3); return the number itself");
+                   "roger.int(0, 3); return the number itself (before training episode 0)");
   CHECK(where == file.string() + ":9");
 }
 
@@ -1237,8 +1237,8 @@ TEST_CASE("roger check calls a teacher function on a history and finds its error
   INFO(problems[0]);
   CHECK_THAT(problems[0], Contains(late.string() + ":13: stage 'S': teacher function: a history entry has no field 'tsak' "
                                     "(did you mean 'task'?); its fields: reward, success, task, time") &&
-                              Contains("(called as before training episode 20, on a history roger check made: "
-                                       "10 episodes failed, then the rest succeeded)"));
+                              Contains("(before training episode 20) (roger check's history: 10 episodes failed, then "
+                                       "10 succeeded)"));
   // A value outside the task space once the learner succeeds: at the function's line.
   const fs::path out = write_stage(dir.path, "out", "{ tasks = { obstacles = roger.int(0, 3) },\n"
                                                      "  teacher = function(history, rng)\n"
@@ -1252,6 +1252,46 @@ TEST_CASE("roger check calls a teacher function on a history and finds its error
                                    "space") && Contains("before training episode 11"));
   // The documented example's functions pass.
   CHECK(check_curriculum("docs/examples/teachers_example.lua").empty());
+}
+
+// Found by a probe: a teacher function's writes to its history stayed (`history[1].success = 7` was
+// seen by every later call), a misspelt field of an entry's task read as nil, and `roger check
+// --set obstacles=2` called the function on tasks holding obstacles, which training (where the
+// run fixes it) does not give: check said ok of a function that failed in training.
+TEST_CASE("a teacher function reads its history read-only and strictly as training gives it", "[teach][errors]") {
+  test::TempDir dir("roger_teach_history_view");
+  auto problems_of = [&](const std::string& name, const std::string& body, const ParamList& sets = {}) {
+    const fs::path path = write_stage(dir.path, name, "{ tasks = { obstacles = roger.int(0, 3), shape = roger.choice{'circle', 'spade'} },\n"
+                                                      "  teacher = function(history, rng)\n" + body + "\n"
+                                                      "    return {}\n"
+                                                      "  end }");
+    return std::make_pair(path.string(), check_curriculum(path.string(), {}, sets));
+  };
+  for (const char* write : {"if #history > 0 then history[1].success = 7 end", "if #history > 0 then history[#history].task.shape = 'x' end",
+                            "if #history > 0 then table.remove(history) end", "history[#history + 1] = {}"}) {
+    const auto [path, problems] = problems_of("write", write);
+    INFO(write);
+    REQUIRE(problems.size() == 1);
+    CHECK_THAT(problems[0], Contains(path + ":10: stage 'S': teacher function: the history is read-only"));
+  }
+  {
+    const auto [path, problems] = problems_of("misspelt", "if #history > 0 then local n = history[1].task.obstacls end");
+    REQUIRE(problems.size() == 1);
+    CHECK_THAT(problems[0], Contains(path + ":10: stage 'S': teacher function: a history entry's task has no field "
+                                            "'obstacls' (did you mean 'obstacles'?); its fields: obstacles, shape "
+                                            "(before training episode 1) (roger check's history: 1 episode failed)"));
+  }
+  // Reading as a teacher reads: #, ipairs, pairs, an index past the end.
+  const std::string reads = "local n = 0\n for _, h in ipairs(history) do for k in pairs(h.task) do n = n + 1 end end\n"
+                            "    assert(n == 2 * #history and history[#history + 1] == nil)";
+  CHECK(problems_of("reads", reads).second.empty());
+  // With --set obstacles=2 a task holds no obstacles, in check as in training, and says why.
+  const std::string reader = "if #history > 0 then local n = history[#history].task.obstacles + 1 end";
+  CHECK(problems_of("fixed", reader).second.empty());
+  const auto [path, problems] = problems_of("fixed", reader, {{"obstacles", "2"}});
+  REQUIRE(problems.size() == 1);
+  CHECK_THAT(problems[0], Contains("a history entry's task has no field 'obstacles'; its fields: shape (obstacles is "
+                                   "fixed for this run, by --set or the batch run's params, and in no task)"));
 }
 
 // Found by a probe: a test task the scenario cannot place failed the trial at its first checkpoint

@@ -196,8 +196,9 @@ bool is_module(const std::string& path, const std::vector<ModuleUse>& users) {
 }
 
 // A curriculum: its stages' callbacks called once each (check_curriculum), then its stages listed.
-int check_curriculum_file(const std::string& path, const std::string& shown, const SandboxLimits& limits) {
-  const std::vector<std::string> problems = check_curriculum(path, limits);
+int check_curriculum_file(const std::string& path, const std::string& shown, const SandboxLimits& limits,
+                          const ParamList& sets) {
+  const std::vector<std::string> problems = check_curriculum(path, limits, sets);
   for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.c_str());
   if (!problems.empty()) return 1;
   const Curriculum cur = Curriculum::load(path, limits);
@@ -276,7 +277,7 @@ int command_check(const CheckArgs& args) {
     if (guess == ScriptKind::kCurriculum) Curriculum::load(a.script, limits);
     if (guess == ScriptKind::kSkillScript) SkillScript::load(a.script, limits);
   }
-  if (is_curriculum_script(a.script)) return check_curriculum_file(a.script, args.script, limits);
+  if (is_curriculum_script(a.script)) return check_curriculum_file(a.script, args.script, limits, split_sets(a.sets, "--set"));
   if (is_skill_script(a.script)) return check_skill_script_file(a.script, args.script, limits);
   if (is_batch_script(a.script)) return check_batch(a.script, args.script, a.lua);
   return check_scenario_file(a, args.script, limits);

@@ -1,5 +1,7 @@
 #include "core/text.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -30,6 +32,43 @@ std::string with_note_on_first_line(const std::string& message, const std::strin
   const size_t nl = message.find('\n');
   if (nl == std::string::npos) return message + note;
   return message.substr(0, nl) + note + message.substr(nl);
+}
+
+std::string counted(long long n, const std::string& noun) {
+  return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
+}
+
+size_t edit_distance(const std::string& a, const std::string& b) {
+  // Three rows of the optimal-string-alignment table: two back for a swap of neighbours.
+  std::vector<size_t> before(b.size() + 1), above(b.size() + 1), row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) above[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      row[j] = std::min({above[j] + 1, row[j - 1] + 1, above[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) row[j] = std::min(row[j], before[j - 2] + 1);
+    }
+    std::swap(before, above);
+    std::swap(above, row);
+  }
+  return above[b.size()];
+}
+
+std::string suggestion(const std::string& given, const std::vector<std::string>& known) {
+  // The same name but for case first (Phi3 for phi3), ahead of any one-letter slip (Phi6).
+  auto lower = [](std::string t) {
+    for (char& c : t) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return t;
+  };
+  for (const auto& k : known)
+    if (k != given && lower(k) == lower(given)) return " (did you mean '" + k + "'?)";
+  std::string best;
+  size_t best_distance = 3;
+  for (const auto& k : known) {
+    const size_t d = edit_distance(given, k);
+    if (d < best_distance && d < std::max(given.size(), k.size())) best = k, best_distance = d;
+  }
+  return best.empty() ? "" : " (did you mean '" + best + "'?)";
 }
 
 }  // namespace roger

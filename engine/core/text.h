@@ -16,4 +16,17 @@ std::string join(const std::vector<std::string>& items, const char* sep = ", ");
 // ("file:7: bad value (world seed 3)\nstack traceback: ..."), so the note reads with the error.
 std::string with_note_on_first_line(const std::string& message, const std::string& note);
 
+// Edits from a to b: insertions, deletions, substitutions, and swaps of neighbours (pirnt -> print
+// is one), for the hints of messages.
+size_t edit_distance(const std::string& a, const std::string& b);
+
+// " (did you mean 'x'?)" when a known name is within two edits of the given one (and nearer than
+// its length), the nearest first in `known`'s order; else "". Every message refusing an unknown
+// name (a field, a parameter, a controller) adds it.
+std::string suggestion(const std::string& given, const std::vector<std::string>& known);
+
+// A count and its noun, plural when it is not 1: "1 episode", "3 episodes" (the noun's plural
+// is the noun and "s").
+std::string counted(long long n, const std::string& noun);
+
 }  // namespace roger

@@ -153,7 +153,10 @@ std::optional<double> TaskSpace::value_of(size_t dim, const std::string& text, s
     const bool integral = v && *v == std::floor(*v);
     if (v && *v >= d.lo && *v <= d.hi && (d.kind == TaskDim::Kind::kReal || integral)) return *v;
   }
-  if (why) *why = d.kind == TaskDim::Kind::kInt ? "an integer in " + d.text() : "a value of " + d.text();
+  if (why)
+    *why = d.kind == TaskDim::Kind::kInt                                  ? "an integer in " + d.text()
+           : d.kind == TaskDim::Kind::kChoice && d.choices.size() == 1 ? "the one value " + d.text()
+                                                                         : "a value of " + d.text();
   return std::nullopt;
 }
 
@@ -240,7 +243,12 @@ TaskSpace restrict_space(const TaskSpace& space, const std::vector<TaskDim>& res
   for (const TaskDim& r : restrict) {
     if (space.is_fixed(r.name)) continue;  // the run's value stands (checked at load against the whole space)
     const int i = space.index(r.name);
-    if (i < 0) throw Error("'" + r.name + "' is not a parameter of the task space (" + space.describe() + ")");
+    if (i < 0) {  // a misspelt setting of the step reads as a parameter
+      std::vector<std::string> known{"promote", "demote", "window"};
+      for (const auto& d : space.dims()) known.push_back(d.name);
+      throw Error("'" + r.name + "' is not a parameter of the task space (" + space.describe() + ")" +
+                  suggestion(r.name, known));
+    }
     if (!space.covers(r))
       throw Error(r.name + " = " + r.text() + " is outside the task space's " + space.dims()[size_t(i)].text());
     TaskDim d = r;

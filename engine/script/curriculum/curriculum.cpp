@@ -696,12 +696,15 @@ void check_callbacks(Curriculum& cur, const CurriculumStage& st, const Curriculu
 // that reads `history` or changes its mind after a run of successes meets both cases. An error
 // in it, or a result outside the task space, is found here rather than after a trial's first
 // episodes.
-void check_teacher_function(Curriculum& cur, const CurriculumStage& st, std::vector<std::string>& problems) {
+void check_teacher_function(Curriculum& cur, const CurriculumStage& st, const ParamList& sets,
+                            std::vector<std::string>& problems) {
   if (!st.teacher_lua) return;
+  std::vector<std::string> fixed;
+  for (const auto& [k, v] : sets) fixed.push_back(k);
   constexpr int kEpisodes = 30, kFailed = 10;
   int episode = 0;
   try {
-    const std::unique_ptr<Teacher> teacher = cur.make_teacher(st, st.tasks, 0);
+    const std::unique_ptr<Teacher> teacher = cur.make_teacher(st, st.tasks.without(fixed), 0);
     for (; episode < kEpisodes; ++episode) {
       TaskOutcome o;
       o.task = teacher->next().task;
@@ -712,15 +715,18 @@ void check_teacher_function(Curriculum& cur, const CurriculumStage& st, std::vec
       teacher->record(o);
     }
   } catch (const std::exception& e) {
-    problems.push_back(with_note_on_first_line(
-        e.what(), " (called as before training episode " + std::to_string(episode) + ", on a history roger check made: " +
-                      std::to_string(kFailed) + " episodes failed, then the rest succeeded)"));
+    // The teacher's message names the episode; the history it read is roger check's own.
+    const int failed = std::min(episode, kFailed), succeeded = episode - failed;
+    problems.push_back(episode == 0 ? std::string(e.what())
+                                    : with_note_on_first_line(e.what(), " (roger check's history: " + counted(failed, "episode") +
+                                                                            " failed" + (succeeded ? ", then " + std::to_string(succeeded) +
+                                                                            " succeeded)" : ")")));
   }
 }
 
 }  // namespace
 
-std::vector<std::string> check_curriculum(const std::string& path, const SandboxLimits& limits) {
+std::vector<std::string> check_curriculum(const std::string& path, const SandboxLimits& limits, const ParamList& sets) {
   std::vector<std::string> problems;
   std::optional<Curriculum> cur;
   try {
@@ -741,6 +747,7 @@ std::vector<std::string> check_curriculum(const std::string& path, const Sandbox
       try {
         Scenario s = Scenario::load(st.scenario, limits);
         for (const auto& [k, v] : st.scenario_params(ctx)) s.set_param(k, v);
+        for (const auto& [k, v] : sets) s.set_param(k, v);
         spec = s.generate(0);
       } catch (const std::exception& e) {
         // Placed at the params table that asked for this world (the context's, else the stage's),
@@ -755,7 +762,7 @@ std::vector<std::string> check_curriculum(const std::string& path, const Sandbox
       }
       check_callbacks(*cur, st, ctx, spec, problems);
     }
-    check_teacher_function(*cur, st, problems);
+    check_teacher_function(*cur, st, sets, problems);
     const size_t before = problems.size();
     check_task_space_ends(st, limits, problems);
     if (problems.size() == before) check_test_set(*cur, st, limits, problems);  // else the same holes again

@@ -5,6 +5,7 @@
 // `rng` is an rng object of its own, seeded from the trial. Axes the result leaves out are drawn
 // uniformly; a value outside the space is an error naming the parameter and the space; a value
 // for a parameter the run fixes (--set, a batch run's params) is ignored, the run's value standing.
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 
@@ -30,13 +31,96 @@ void push_param_value(lua_State* L, const std::string& text) {
   lua_pushstring(L, text.c_str());
 }
 
-// A history entry's __index, reached only by a name it does not hold: an error at the teacher's
-// line naming its fields, where a nil (`h.sucess`) would quietly change what the teacher picks.
-int history_unknown_field(lua_State* L) {
-  const std::vector<std::string> fields = {"reward", "success", "task", "time"};
+// The history a teacher function reads is a view of the trial's record, read-only: a write
+// (`history[1].success = 7`, `table.remove(history)`) would change what every later call sees.
+// A view is an empty table holding its data under a key no script can write (kData), whose
+// metatable reads through: a missing field of an entry or a task is an error naming the fields
+// (a nil from `h.sucess` or `h.task.obstacls` would quietly change what the teacher picks), a
+// list index past the end is nil, `#` and pairs see the data.
+char kData;  // a lightuserdata key: the view's data
+char kNote;  // a lightuserdata key: what a task view adds to its unknown-field message
+
+void push_view_data(lua_State* L, int view) {
+  lua_pushlightuserdata(L, &kData);
+  lua_rawget(L, view);
+}
+
+// __index of an entry or a task view: the field, or an error naming the fields there are.
+int view_index(lua_State* L) {
+  push_view_data(L, 1);
+  lua_pushvalue(L, 2);
+  if (lua_rawget(L, -2) != LUA_TNIL) return 1;
+  lua_pop(L, 1);
+  std::vector<std::string> fields;
+  lua_pushnil(L);
+  while (lua_next(L, -2)) {
+    lua_pop(L, 1);
+    if (lua_type(L, -1) == LUA_TSTRING) fields.push_back(lua_tostring(L, -1));
+  }
+  std::sort(fields.begin(), fields.end());
+  lua_pushlightuserdata(L, &kNote);
+  const bool task = lua_rawget(L, 1) == LUA_TSTRING;
+  const std::string note = task ? lua_tostring(L, -1) : "";
   const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : luaL_tolstring(L, 2, nullptr);
-  return raise_at_reader(L, "a history entry has no field '" + key + "'" + suggestion(key, fields) +
-                                "; its fields: " + join(fields));
+  return raise_at_reader(L, std::string(task ? "a history entry's task" : "a history entry") + " has no field '" + key +
+                                "'" + suggestion(key, fields) + "; its fields: " + join(fields) + note);
+}
+
+// __index of the list: an entry, or nil past the end (`history[#history]` of an empty history).
+int view_list_index(lua_State* L) {
+  push_view_data(L, 1);
+  lua_pushvalue(L, 2);
+  lua_rawget(L, -2);
+  return 1;
+}
+
+int view_newindex(lua_State* L) {
+  return raise_at_reader(L, "the history is read-only: a change would be seen by every later call of the "
+                            "teacher; keep notes of your own in a table of your own (an upvalue, say)");
+}
+
+int view_len(lua_State* L) {
+  push_view_data(L, 1);
+  lua_pushinteger(L, lua_Integer(lua_rawlen(L, -1)));
+  return 1;
+}
+
+int view_next(lua_State* L) {
+  lua_settop(L, 2);
+  if (lua_next(L, 1)) return 2;
+  lua_pushnil(L);
+  return 1;
+}
+
+int view_pairs(lua_State* L) {
+  lua_pushcfunction(L, view_next);
+  push_view_data(L, 1);
+  lua_pushnil(L);
+  return 3;
+}
+
+// Replaces the table on the stack top with a read-only view of it, of metatable `type_name`
+// (made once per state). A task view has a `note`, which ends its unknown-field message.
+void make_view(lua_State* L, const char* type_name, lua_CFunction index, const std::string* note = nullptr) {
+  const int data = lua_gettop(L);
+  lua_createtable(L, 0, 2);
+  lua_pushlightuserdata(L, &kData);
+  lua_pushvalue(L, data);
+  lua_rawset(L, -3);
+  if (note) {
+    lua_pushlightuserdata(L, &kNote);
+    lua_pushstring(L, note->c_str());
+    lua_rawset(L, -3);
+  }
+  if (luaL_newmetatable(L, type_name)) {
+    const luaL_Reg methods[] = {{"__index", index}, {"__newindex", view_newindex}, {"__len", view_len},
+                                {"__pairs", view_pairs}, {nullptr, nullptr}};
+    luaL_setfuncs(L, methods, 0);
+    lua_pushstring(L, "the teacher's history (read-only)");
+    lua_setfield(L, -2, "__metatable");  // getmetatable shows this; setmetatable is refused
+  }
+  lua_setmetatable(L, -2);
+  lua_replace(L, data);
 }
 
 class LuaTeacher final : public Teacher {
@@ -45,9 +129,16 @@ class LuaTeacher final : public Teacher {
              uint64_t seed)
       : sandbox_(sandbox), where_(stage.where() + ": teacher function"), fn_(fn), space_(space),
         fill_(Rng::mix(seed, 1)) {
+    for (const auto& name : space.fixed()) fixed_note_ += (fixed_note_.empty() ? "" : ", ") + name;
+    if (!fixed_note_.empty())
+      fixed_note_ = " (" + fixed_note_ + (space.fixed().size() == 1 ? " is" : " are") +
+                    " fixed for this run, by --set or the batch run's params, and in no task)";
     sandbox_.call_protected(0, [&](lua_State* L) {
       lua_newtable(L);
+      lua_pushvalue(L, -1);
       history_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
+      make_view(L, "roger.History", view_list_index);
+      view_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
       lua_push_rng(L, seed);
       rng_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
     });
@@ -55,15 +146,28 @@ class LuaTeacher final : public Teacher {
   ~LuaTeacher() override {
     lua_State* L = sandbox_.state();
     luaL_unref(L, LUA_REGISTRYINDEX, history_ref_);
+    luaL_unref(L, LUA_REGISTRYINDEX, view_ref_);
     luaL_unref(L, LUA_REGISTRYINDEX, rng_ref_);
   }
   std::string kind() const override { return "function"; }
 
+  // A fault names the training episode it came before: one that shows only once the learner
+  // succeeds comes late in a trial.
   TaskPick next() override {
+    try {
+      return pick();
+    } catch (const ScriptError& e) {
+      throw ScriptError(with_note_on_first_line(e.message, " (before training episode " + std::to_string(episodes_) + ")"),
+                        e.file, e.line, e.traceback);
+    }
+  }
+
+ private:
+  TaskPick pick() {
     lua_State* L = sandbox_.state();
     LuaStackGuard guard(L);
     lua_rawgeti(L, LUA_REGISTRYINDEX, fn_.ref);
-    lua_rawgeti(L, LUA_REGISTRYINDEX, history_ref_);
+    lua_rawgeti(L, LUA_REGISTRYINDEX, view_ref_);
     lua_rawgeti(L, LUA_REGISTRYINDEX, rng_ref_);
     try {
       sandbox_.call(2, 1);
@@ -89,6 +193,8 @@ class LuaTeacher final : public Teacher {
     return {task, {}, std::nullopt};
   }
 
+
+ public:
   void record(const TaskOutcome& o) override {
     ++episodes_;
     const ParamList task = space_.params(o.task);
@@ -100,6 +206,7 @@ class LuaTeacher final : public Teacher {
         push_param_value(L, v);
         lua_setfield(L, -2, k.c_str());
       }
+      make_view(L, "roger.HistoryTask", view_index, &fixed_note_);
       lua_setfield(L, -2, "task");
       lua_pushboolean(L, o.success);
       lua_setfield(L, -2, "success");
@@ -107,7 +214,7 @@ class LuaTeacher final : public Teacher {
       lua_setfield(L, -2, "reward");
       lua_pushnumber(L, o.sim_s);
       lua_setfield(L, -2, "time");
-      set_strict_index(L, "roger.HistoryEntry", history_unknown_field);
+      make_view(L, "roger.HistoryEntry", view_index);
       lua_rawseti(L, -2, episodes_);
       lua_pop(L, 1);
     });
@@ -156,7 +263,8 @@ class LuaTeacher final : public Teacher {
   LuaCallback fn_;
   TaskSpace space_;
   Rng fill_;
-  int history_ref_ = LUA_NOREF, rng_ref_ = LUA_NOREF;
+  std::string fixed_note_;  // ends a task view's unknown-field message: the axes the run fixes
+  int history_ref_ = LUA_NOREF, view_ref_ = LUA_NOREF, rng_ref_ = LUA_NOREF;
   int episodes_ = 0;
 };
 

@@ -42,39 +42,6 @@ LuaFields::LuaFields(lua_State* L, int index, std::string context, std::vector<s
   }
 }
 
-size_t edit_distance(const std::string& a, const std::string& b) {
-  // Three rows of the optimal-string-alignment table: two back for a swap of neighbours.
-  std::vector<size_t> before(b.size() + 1), above(b.size() + 1), row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) above[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      row[j] = std::min({above[j] + 1, row[j - 1] + 1, above[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) row[j] = std::min(row[j], before[j - 2] + 1);
-    }
-    std::swap(before, above);
-    std::swap(above, row);
-  }
-  return above[b.size()];
-}
-
-std::string suggestion(const std::string& given, const std::vector<std::string>& known) {
-  // The same name but for case first (Phi3 for phi3), ahead of any one-letter slip (Phi6).
-  auto lower = [](std::string t) {
-    for (char& c : t) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return t;
-  };
-  for (const auto& k : known)
-    if (k != given && lower(k) == lower(given)) return " (did you mean '" + k + "'?)";
-  std::string best;
-  size_t best_distance = 3;
-  for (const auto& k : known) {
-    const size_t d = edit_distance(given, k);
-    if (d < best_distance && d < std::max(given.size(), k.size())) best = k, best_distance = d;
-  }
-  return best.empty() ? "" : " (did you mean '" + best + "'?)";
-}
-
 int raise_at_reader(lua_State* L, const std::string& text) {
   luaL_where(L, 2);
   lua_pushstring(L, text.c_str());

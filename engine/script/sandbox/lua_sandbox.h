@@ -31,7 +31,7 @@
 
 #include "core/error.h"
 #include "core/spec.h"
-#include "core/text.h"  // format_number, join (messages)
+#include "core/text.h"  // format_number, join, suggestion (messages)
 
 struct lua_State;
 
@@ -205,15 +205,6 @@ class LuaFields {
   int index_;
   std::string context_;
 };
-
-// Edits from a to b: insertions, deletions, substitutions, and swaps of neighbours (pirnt -> print
-// is one), for the hints of messages.
-size_t edit_distance(const std::string& a, const std::string& b);
-
-// " (did you mean 'x'?)" when a known name is within two edits of the given one (and nearer than
-// its length), the nearest first in `known`'s order; else "". Every message refusing an unknown
-// name (a field, a parameter, a controller) adds it.
-std::string suggestion(const std::string& given, const std::vector<std::string>& known);
 
 // For an __index metamethod refusing a name: raises `text` at the line of the Lua function that
 // read the name (level 1 is the metamethod itself).
