@@ -444,6 +444,31 @@ TEST_CASE("roger render draws a scenario to PNG and SVG", "[cli]") {
   fs::remove(svg);
 }
 
+// Found by a probe: `roger render ... --policy four_moves --out out/four.png` (a file's own header
+// command) failed in a fresh folder where every other --out makes its folder; `--out x.svg` made
+// a folder named x.svg; a replay under noise did not say so.
+TEST_CASE("roger render of an episode makes the folder of a strip and refuses a picture's other extension", "[cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_strip_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  Run r = roger("render curricula/scripted.lua --policy task --seed 3 --every 0.5 --out " + (dir / "a/b/ep.png").string());
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK(fs::file_size(dir / "a/b/ep.png") > 1000);
+  r = roger("render curricula/scripted.lua --policy task --seed 3 --out " + (dir / "ep.svg").string());
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Matchers::Contains("--out takes a folder (frames, episode.json and a replay page) or a "
+                                              "FILE.png (one summary strip), got '" + (dir / "ep.svg").string() + "'"));
+  CHECK_FALSE(fs::exists(dir / "ep.svg"));
+  r = roger("render curricula/scripted.lua --policy task --seed 3 --every 0.5 --set noise_joints=0.01 --out " +
+            (dir / "noisy").string());
+  CHECK(r.status == 0);
+  CHECK_THAT(slurp(dir / "noisy/index.html"), Catch::Matchers::Contains("task in unobstructed with --set noise_joints=0.01, seed 3"));
+  // One episode is one episode.
+  CHECK_THAT(roger("eval curricula/scripted.lua --policy task --episodes 1").out,
+             Catch::Matchers::Contains("in unobstructed, 1 episode from seed 1000"));
+  fs::remove_all(dir);
+}
+
 TEST_CASE("roger bench --json ends with the figures", "[cli]") {
   const Run r = roger("bench --seconds 5 --repeats 1 --json");
   INFO(r.err);

@@ -47,6 +47,11 @@ bool policy_is_saved_file(const std::string& script, const std::string& policy) 
 
 namespace {
 
+// The --set options an episode ran with, for its title: a replay under noise says so.
+std::string sets_note(const std::vector<std::string>& sets) {
+  return sets.empty() ? "" : " with --set " + join(sets, " --set ");
+}
+
 // Writes a recorded episode: a folder with frames and a replay page, or (for a .png path) one
 // summary strip; then says what it wrote.
 void write_rendered_episode(const RenderArgs& a, const WorldSpec& spec, const EpisodeResult& episode,
@@ -56,6 +61,7 @@ void write_rendered_episode(const RenderArgs& a, const WorldSpec& spec, const Ep
   anim.title = title;
   const bool summary = a.out.size() > 4 && a.out.compare(a.out.size() - 4, 4, ".png") == 0;
   if (summary) {
+    make_parent_folder(a.out, "roger render");  // as the folder of frames is made
     render_episode_summary(spec, episode, a.out, anim);
   } else {
     render_episode(spec, episode, a.out, anim);
@@ -87,7 +93,7 @@ int run_render_policy_file(const RenderArgs& a) {
   const std::string trained = r.about.trial_sets.empty() ? "" : " with " + params_text(r.about.trial_sets);
   write_rendered_episode(a, r.spec, r.episode,
                          r.about.stage + "/" + r.about.context + " (" + a.policy + ") in " + r.about.scenario +
-                             trained + ", seed " + std::to_string(r.episode.seed) + task);
+                             trained + sets_note(a.sets) + ", seed " + std::to_string(r.episode.seed) + task);
   return 0;
 }
 
@@ -114,13 +120,29 @@ int run_render_episode(const RenderArgs& a) {
   Agent agent;
   const EpisodeResult episode = run_episode(agent, spec, a.seed, *policy.action, *policy.goal, options, watch);
   write_rendered_episode(a, spec, episode,
-                         script.name() + ": " + policy.name + " in " + scenario.name() + ", seed " + std::to_string(a.seed));
+                         script.name() + ": " + policy.name + " in " + scenario.name() + sets_note(a.sets) + ", seed " +
+                             std::to_string(a.seed));
   return 0;
 }
 
 }  // namespace
 
+// An episode is written to a folder or a .png strip: a picture's other extension (x.svg) would
+// be a folder named like a file, so it is refused before the episode runs.
+void check_episode_out(const std::string& out) {
+  namespace fs = std::filesystem;
+  const std::string ext = fs::path(out).extension().string();
+  std::error_code ec;
+  if (ext.empty() || ext == ".png" || fs::is_directory(out, ec)) return;
+  for (const char* picture : {".svg", ".jpg", ".jpeg", ".gif", ".pdf", ".html", ".json", ".webp"})
+    if (ext == picture)
+      throw Error("roger render --policy: --out takes a folder (frames, episode.json and a replay page) or a FILE.png "
+                  "(one summary strip), got '" + out + "'" + (ext == ".svg" ? "; an episode has no SVG form (a "
+                  "world's picture has: roger render SCENARIO --out x.svg)" : ""));
+}
+
 int command_render(const RenderArgs& a) {
+  if (!a.policy.empty()) check_episode_out(a.out);
   if (!a.policy.empty()) return run_render_episode(a);
   if (!a.skills.empty()) throw Error("roger render: --skill needs --policy FILE.json (a policy saved by roger train)");
   Scenario scenario = Scenario::load(a.scenario);

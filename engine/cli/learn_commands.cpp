@@ -117,9 +117,10 @@ int run_eval_policy_file(const EvalArgs& a) {
   o.test_set = a.test_set;
   o.trial_params = true;
   const PolicyEvalResult r = evaluate_policy_file(o);
-  std::printf("roger eval: %s stage %s context %s (%s) in %s, %d %s from seed %llu, %s\n", a.script.c_str(),
-              r.stage.c_str(), r.context.c_str(), a.policy.c_str(), r.scenario.c_str(), r.eval.episodes,
-              a.test_set ? "test tasks" : "episodes", static_cast<unsigned long long>(r.eval.first_seed),
+  std::printf("roger eval: %s stage %s context %s (%s) in %s, %s from seed %llu, %s\n", a.script.c_str(),
+              r.stage.c_str(), r.context.c_str(), a.policy.c_str(), r.scenario.c_str(),
+              counted(r.eval.episodes, a.test_set ? "test task" : "episode").c_str(),
+              static_cast<unsigned long long>(r.eval.first_seed),
               r.time_limit.c_str());
   print_changes(a);
   print_trial_params(r, a.scenario);
@@ -187,8 +188,8 @@ int command_eval(const EvalArgs& a) {
   const std::string limit = policy.time_per_object > 0.0
                                 ? format_number(policy.time_per_object) + " s per object limit"
                                 : format_number(policy.time_limit) + " s limit";
-  std::printf("roger eval: %s policy '%s' in %s, %d episodes from seed %llu, %s\n",
-              script.path().c_str(), policy.name.c_str(), scenario.name().c_str(), a.episodes,
+  std::printf("roger eval: %s policy '%s' in %s, %s from seed %llu, %s\n",
+              script.path().c_str(), policy.name.c_str(), scenario.name().c_str(), counted(a.episodes, "episode").c_str(),
               static_cast<unsigned long long>(a.seed), limit.c_str());
   print_changes(a);
   std::vector<uint64_t> failed;
@@ -220,7 +221,7 @@ static std::string skill_origin(const SkillSource& s) {
   if (!s.trained) return "from " + s.file;
   return "trained first: stage " + s.stage + " context " + s.context + ", " +
          (s.reached ? "reached" : "NOT reached") + " its threshold after " +
-         std::to_string(s.to_threshold.episodes) + " episodes";
+         counted(s.to_threshold.episodes, "episode");
 }
 
 namespace {
@@ -283,18 +284,18 @@ int command_train(const TrainArgs& a) {
                 w.dropped.empty() ? "" : ("; left out: " + join(w.dropped)).c_str());
   }
   if (r.reached) {
-    std::printf("  threshold      %.0f%% reached after %d episodes, %.1f simulated s, %lld decisions, %.2f wall s\n",
-                100 * r.threshold, r.to_threshold.episodes, r.to_threshold.sim_s,
+    std::printf("  threshold      %.0f%% reached after %s, %.1f simulated s, %lld decisions, %.2f wall s\n",
+                100 * r.threshold, counted(r.to_threshold.episodes, "episode").c_str(), r.to_threshold.sim_s,
                 static_cast<long long>(r.to_threshold.decisions), r.to_threshold.wall_s);
   } else {
-    std::printf("  threshold      %.0f%% NOT reached in %d episodes (%.1f simulated s)\n", 100 * r.threshold,
-                r.totals.episodes, r.totals.sim_s);
+    std::printf("  threshold      %.0f%% NOT reached in %s (%.1f simulated s)\n", 100 * r.threshold,
+                counted(r.totals.episodes, "episode").c_str(), r.totals.sim_s);
   }
   std::string usage;
   for (const auto& [name, f] : r.final_eval.usage)
     usage += (usage.empty() ? "" : ", ") + name + " " + std::to_string(int(std::lround(100 * f))) + "%";
-  std::printf("  final policy   %.0f%% success over %d %s, reward %.1f +- %.1f\n", 100 * r.final_eval.success_rate,
-              r.final_eval.episodes, r.teaches ? "test tasks" : "held-out episodes", r.final_eval.reward_mean,
+  std::printf("  final policy   %.0f%% success over %s, reward %.1f +- %.1f\n", 100 * r.final_eval.success_rate,
+              counted(r.final_eval.episodes, r.teaches ? "test task" : "held-out episode").c_str(), r.final_eval.reward_mean,
               r.final_eval.reward_std);
   std::printf("  usage          %s\n", usage.c_str());
   if (r.teaches) {
