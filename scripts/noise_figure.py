@@ -64,7 +64,9 @@ def table_three(results):
                 continue
             total = [r for r in t["rows"] if r["object"] == "Total"]
             if not total or "success_low" not in total[0]:
-                sys.exit(f"{path}: evaluation III_x{scale_name(s)} has no Total row with an interval")
+                sys.exit(f"{path}: evaluation III_x{scale_name(s)} has no Total row with an interval (not run "
+                         "yet?); the figure needs every III_x* evaluation of scripts/noise.lua: run them all "
+                         "(without --only, or with an --only eval/III_x... for each)")
             r = total[0]
             n = r["episodes"]
             points[s] = (round(r["success_rate"] * n), n, r["success_low"], r["success_high"])
@@ -115,9 +117,15 @@ def svg(points):
     return "\n".join(out) + "\n"
 
 
+def default_roger():
+    """The engine built beside this script (the source tree's build/engine/roger), else roger on PATH."""
+    built = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "build", "engine", "roger")
+    return built if os.access(built, os.X_OK) else "roger"
+
+
 def main():
     args = [a for a in sys.argv[1:]]
-    roger = "build/engine/roger"
+    roger = default_roger()
     if "--roger" in args:
         i = args.index("--roger")
         roger = args[i + 1]

@@ -18,7 +18,16 @@ import re
 import subprocess
 
 
-def kinds(path="scripts/noise_kinds_levels.lua"):
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def default_roger():
+    """The engine built beside this script (the source tree's build/engine/roger), else roger on PATH."""
+    built = os.path.join(HERE, os.pardir, "build", "engine", "roger")
+    return built if os.access(built, os.X_OK) else "roger"
+
+
+def kinds(path=os.path.join(HERE, "noise_kinds_levels.lua")):
     """[(name, {param: value})] of the kinds alone, then ("all", union): read from the Lua file."""
     text = open(path).read()
     out = []
@@ -60,7 +69,8 @@ def write_atomically(path, text):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("results", nargs="?", default="results/noise_kinds")
-    ap.add_argument("--roger", default="build/engine/roger")
+    ap.add_argument("--roger", default=default_roger(),
+                    help="the roger program (default: the source tree's build/engine/roger, else roger on PATH)")
     ap.add_argument("--jobs", default="2")
     a = ap.parse_args()
     subprocess.run([a.roger, "run", "scripts/noise_kinds.lua", "--out", a.results, "--jobs", a.jobs], check=True)

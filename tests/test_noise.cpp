@@ -117,7 +117,9 @@ TEST_CASE("world:robot refuses bad noise with the file, line, field and range", 
   CHECK_THAT(robot_error("noise_delay", "{ x = 0, y = 0, noise = { joints = { sigma = 0.01, delay = 60 } } }"),
              Contains(":2:") && Contains("field 'delay' must be within [0, 50] ticks, got 60"));
   CHECK_THAT(robot_error("noise_tau", "{ x = 0, y = 0, noise = { base = { drift = { sigma = 0.01 } } } }"),
-             Contains(":2:") && Contains("field 'tau' must be positive when sigma is"));
+             Contains(":2:") && Contains("field 'tau' is missing: a drift with a sigma needs its correlation time"));
+  CHECK_THAT(robot_error("noise_tau0", "{ x = 0, y = 0, noise = { base = { drift = { sigma = 0.01, tau = 0 } } } }"),
+             Contains(":2:") && Contains("noise.base.drift: field 'tau' must be within (0, 3600] s, got 0"));
   CHECK_THAT(robot_error("noise_kind", "{ x = 0, y = 0, noise = { touch = { jitter = 1 } } }"),
              Contains(":2:") && Contains("unknown field 'jitter'") && Contains("bias, delay, drift, dropout, quantum, sigma"));
   CHECK_THAT(robot_error("noise_dropout", "{ x = 0, y = 0, noise = { image = { dropout = 1.5 } } }"),

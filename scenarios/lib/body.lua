@@ -57,8 +57,8 @@ for _, c in ipairs(CHANNELS) do
   body.PARAMS[n .. "_delay"] = { default = 0, min = 0, max = MAX_DELAY_TICKS,
                                  description = c.name .. " " .. readings .. "s late by this many ticks" }
   body.PARAMS[n .. "_dropout"] = { default = 0.0, min = 0, max = 1,
-                                   description = "probability per tick that a " .. c.name .. " " .. readings
-                                     .. " is lost" }
+                                   description = "probability per tick that " .. (c.name:match("^[aeiou]") and "an " or "a ")
+                                     .. c.name .. " " .. readings .. " is lost" }
   body.PARAMS[n .. "_quantum"] = { default = 0.0, min = 0, max = c.quantum,
                                    description = c.name .. " rounded to multiples of this (" .. c.quantum_unit .. ")" }
 end

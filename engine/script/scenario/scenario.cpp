@@ -157,7 +157,12 @@ std::optional<std::string> Scenario::Impl::parse_param(const std::string& key, c
   if (it == params.end()) {
     std::vector<std::string> names;
     for (const auto& [k, slot] : params) names.push_back(k);
-    return "scenario '" + name + "' (" + path + ") has no parameter '" + key + "'" + suggestion(key, names) + "; " +
+    std::string hint = suggestion(key, names);
+    // noise_joints_sigma for noise_joints: a noise channel's sigma is its bare name (world:robot's
+    // noise table writes it `sigma`).
+    const std::string stem = key.size() > 6 && key.compare(key.size() - 6, 6, "_sigma") == 0 ? key.substr(0, key.size() - 6) : "";
+    if (hint.empty() && !stem.empty() && params.count(stem)) hint = " (did you mean '" + stem + "', the channel's sigma?)";
+    return "scenario '" + name + "' (" + path + ") has no parameter '" + key + "'" + hint + "; " +
            (names.empty() ? "it has no parameters" : "known parameters: " + known_params_text());
   }
   out = it->second;

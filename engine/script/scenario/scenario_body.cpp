@@ -178,9 +178,9 @@ ChannelNoise read_channel(const LuaFields& f, const ChannelRange& r) {
                   // tau = 0 is a drift that never correlates: refused while there is a drift, so
                   // the range says (0, ...] then; without one (sigma 0) tau is not used.
                   c.drift_tau = ranged(d, "tau", 0.0, 0.0, kMaxDriftTau, "s", c.drift > 0.0 && d.has("tau"));
-                  if (c.drift > 0.0 && !(c.drift_tau > 0.0))
-                    d.fail("field 'tau' must be positive when sigma is (the drift's correlation time, s), got " +
-                           fmt(c.drift_tau));
+                  if (c.drift > 0.0 && !d.has("tau"))
+                    d.fail("field 'tau' is missing: a drift with a sigma needs its correlation time, in s "
+                           "(the noise_<channel>_tau parameters default to 10)");
                 });
                 const int64_t delay = k.integer("delay", 0);
                 if (delay < 0 || delay > kMaxNoiseDelay)
