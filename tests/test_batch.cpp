@@ -304,6 +304,77 @@ TEST_CASE("shards of one script run at once into one folder and report what one 
   fs::remove_all(out);
 }
 
+// Found by an outsider following docs/cluster.md: ROGER_SHARDS=0 was refused as "array task 0 is
+// not below the shard count 0", and a task id without a count as "SLURM_ARRAY_TASK_ID and
+// SLURM_ARRAY_TASK_COUNT are not set" though the id was.
+TEST_CASE("parse_shard names the Slurm variable that is missing or zero", "[batch][shard]") {
+  unsetenv("ROGER_SHARDS");
+  unsetenv("SLURM_ARRAY_TASK_ID");
+  unsetenv("SLURM_ARRAY_TASK_COUNT");
+  setenv("SLURM_ARRAY_TASK_ID", "0", 1);
+  setenv("ROGER_SHARDS", "0", 1);
+  CHECK_THROWS_WITH(parse_shard("slurm"), Catch::Contains("ROGER_SHARDS must be at least 1") &&
+                                              !Catch::Contains("not below the shard count"));
+  unsetenv("ROGER_SHARDS");
+  CHECK_THROWS_WITH(parse_shard("slurm"), Catch::Contains("SLURM_ARRAY_TASK_ID is set (0)") &&
+                                              Catch::Contains("neither ROGER_SHARDS nor SLURM_ARRAY_TASK_COUNT"));
+  unsetenv("SLURM_ARRAY_TASK_ID");
+  setenv("SLURM_ARRAY_TASK_COUNT", "3", 1);
+  CHECK_THROWS_WITH(parse_shard("slurm"), Catch::Contains("SLURM_ARRAY_TASK_ID is not set (SLURM_ARRAY_TASK_COUNT=3 is)"));
+  unsetenv("SLURM_ARRAY_TASK_COUNT");
+}
+
+// Found by an outsider: shards 0/3 and then 1/2 both ran into one folder. Shards of two counts split
+// the trials differently (trial 3 is shard 0's of 3 and shard 1's of 2), so they can run one trial
+// at once.
+TEST_CASE("a shard of another N is refused in a folder that shards of N filled", "[batch][shard]") {
+  const fs::path out = fresh_dir("shard_count");
+  const std::string run = std::string(ROGER_BINARY) + " run scripts/quick.lua --jobs 1 --out " + out.string();
+  std::string err;
+  REQUIRE(shell(run + " --shard 2/3 >/dev/null", &err) == 0);  // quick.lua has trials 0 and 1: quick
+  CHECK(shell(run + " --shard 1/2 >/dev/null", &err) == 1);
+  INFO(err);
+  CHECK(err.find("shards of N = 3 (shards/2-of-3.json)") != std::string::npos);
+  CHECK(err.find("this is shard 1 of 2") != std::string::npos);
+  CHECK(err.find("Keep N = 3") != std::string::npos);
+  CHECK_FALSE(fs::exists(out / "shards" / "1-of-2.json"));
+  fs::remove_all(out);
+}
+
+// A shard records its N as it starts, not only when it ends: a shard of another N that starts while
+// it runs is refused too. A run without --shard finishes such a folder by itself.
+TEST_CASE("a started shard records its N and a run without shards still opens the folder", "[batch][shard]") {
+  const fs::path out = fresh_dir("shard_started");
+  BatchOverrides two;
+  two.trials = 2;
+  const auto script = std::make_shared<const BatchScript>(load_batch_script("quick", two));
+  CHECK_FALSE(open_results_folder(plan_batch(script, out.string()), nullptr, Shard{0, 3}));
+  const nlohmann::json record = nlohmann::json::parse(slurp(out / "shards" / "0-of-3.json"));
+  CHECK(record["shards"] == 3);
+  CHECK(record["pending"] == record["trials"]);
+  CHECK_THROWS_WITH(open_results_folder(plan_batch(script, out.string()), nullptr, Shard{1, 2}),
+                    Catch::Contains("shards of N = 3 (shards/0-of-3.json)"));
+  CHECK_FALSE(fs::exists(out / "shards" / "1-of-2.json"));
+  CHECK(open_results_folder(plan_batch(script, out.string()), nullptr, Shard{1, 3}));  // the same N
+  CHECK(open_results_folder(plan_batch(script, out.string())));                        // no shard
+  fs::remove_all(out);
+}
+
+// Found by an outsider: quick.lua (trials 0 and 1) in 3 shards printed "shard 2 of 3: trials 2, 5,
+// ... of every run", then "0 of 0 trials done".
+TEST_CASE("a shard with no trial to run says so and succeeds", "[batch][shard]") {
+  const fs::path out = fresh_dir("shard_idle");
+  std::string err;
+  const int status = shell(std::string(ROGER_BINARY) + " run scripts/quick.lua --shard 2/3 --out " + out.string() +
+                           " >/dev/null", &err);
+  INFO(err);
+  CHECK(status == 0);  // the extra tasks of a Slurm array succeed (docs/cluster.md)
+  CHECK(err.find("shard 2 of 3 has no trial to run") != std::string::npos);
+  CHECK(err.find("have at most 2 trials (indices 0 and 1), so only shards 0 and 1 have trials") != std::string::npos);
+  CHECK(err.find("trials 2, 5") == std::string::npos);
+  fs::remove_all(out);
+}
+
 // ---- [faults]: what a misbehaving script or a corrupt file costs (docs/reliability.md) ----
 
 namespace {

@@ -138,8 +138,13 @@ void check_selectors(const BatchPlan& plan, const std::vector<std::string>& only
 // a run, or of an evaluation whose worlds do not depend on their number: shared, or one shape)
 // is taken: the manifest is rewritten with it and `note` (if given) says so.
 // Returns true when resuming. Shards that open one folder at once take turns (a lock file), so
-// the manifest is written by one at a time.
-bool open_results_folder(const BatchPlan& plan, std::string* note = nullptr);
+// the manifest is written by one at a time. A shard (`shard` active) is refused (roger::Error) in a
+// folder whose shards/ records shards of another N, and records itself there as it starts.
+bool open_results_folder(const BatchPlan& plan, std::string* note = nullptr, const Shard& shard = Shard());
+
+// The line roger run prints for a shard: the trial indices it runs and how many trials, or that it
+// has none (more shards than the plan's runs and evaluations have trials).
+std::string describe_shard(const BatchPlan& plan, const Shard& shard);
 
 // How run_batch runs the plan.
 struct RunControl {

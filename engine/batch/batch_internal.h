@@ -20,6 +20,11 @@ std::string first_line(const std::string& s);
 
 // ---- plan.cpp ----
 
+// A shard's own outcome, in <out>/shards/K-of-N.json (no other shard writes that file): the trials
+// it owns, which failed and how many it has not run yet. Written as the shard opens the folder (a
+// shard of another N starting meanwhile is refused then) and again as it ends.
+BatchSummary record_shard(const BatchPlan& plan, const Shard& shard);
+
 // The Lua files a run's trials read (the curriculum, what it requires, its scenarios) as they were
 // when the run started. Every trial loads them again, so one removed or edited meanwhile would fail
 // every later trial, or train them on another curriculum than the manifest records.

@@ -354,15 +354,89 @@ long env_count(const char* name) {
   return n;
 }
 
-// The shard count recorded by the shards that ran in a folder (<out>/shards/K-of-N.json), or 0.
-int recorded_shard_count(const std::string& out) {
+// The variable --shard slurm takes N from: ROGER_SHARDS, set by submit.sh to the run's N (an
+// array resubmitted in part has fewer tasks), else the array's size; nullptr when neither is set.
+const char* shard_count_variable() {
+  if (std::getenv("ROGER_SHARDS")) return "ROGER_SHARDS";
+  return std::getenv("SLURM_ARRAY_TASK_COUNT") ? "SLURM_ARRAY_TASK_COUNT" : nullptr;
+}
+
+// --shard slurm: K from the array task's id, N from shard_count_variable(); each refusal names the
+// variable that is missing or wrong, since the job's environment is all the user can change.
+Shard slurm_shard() {
+  const long id = env_count("SLURM_ARRAY_TASK_ID");
+  const char* count_name = shard_count_variable();
+  const long count = count_name ? env_count(count_name) : -1;
+  if (id < 0 && count < 0)
+    throw Error("--shard slurm: SLURM_ARRAY_TASK_ID and SLURM_ARRAY_TASK_COUNT are not set: run it inside a "
+                "Slurm job array (sbatch --array=0-(N-1)), or give --shard K/N");
+  if (id < 0)
+    throw Error(std::string("--shard slurm: SLURM_ARRAY_TASK_ID is not set (") + count_name + "=" +
+                std::to_string(count) + " is): run it inside a Slurm job array (sbatch --array=0-(N-1)), or give "
+                "--shard K/N");
+  if (count < 0)
+    throw Error("--shard slurm: SLURM_ARRAY_TASK_ID is set (" + std::to_string(id) +
+                ") but neither ROGER_SHARDS nor SLURM_ARRAY_TASK_COUNT is: set ROGER_SHARDS to the run's number "
+                "of shards N, or give --shard " + std::to_string(id) + "/N");
+  if (count < 1)
+    throw Error(std::string("--shard slurm: ") + count_name + " must be at least 1 (the run's number of shards N), and "
+                "it is 0: set ROGER_SHARDS to the N the array was submitted with (submit.sh sets it)");
+  if (id >= count)
+    throw Error("--shard slurm: array task " + std::to_string(id) + " is not below the shard count " +
+                std::to_string(count) + " (" + count_name + "); submit the array as --array=0-" +
+                std::to_string(count - 1) + ", or set ROGER_SHARDS=N when resubmitting single tasks of an N-shard run");
+  Shard s;
+  s.index = int(id);
+  s.count = int(count);
+  return s;
+}
+
+// The records of the shards that ran in a folder (<out>/shards/K-of-N.json): their file names, by N.
+std::map<int, std::vector<std::string>> shard_records(const std::string& out) {
   std::error_code ec;
-  int count = 0;
+  std::map<int, std::vector<std::string>> records;
   for (const auto& e : fs::directory_iterator(fs::path(out) / "shards", ec)) {
+    const std::string name = e.path().filename().string();
     int k = 0, n = 0;
-    if (std::sscanf(e.path().filename().string().c_str(), "%d-of-%d.json", &k, &n) == 2 && n > count) count = n;
+    if (std::sscanf(name.c_str(), "%d-of-%d.json", &k, &n) == 2) records[n].push_back(name);
   }
-  return count;
+  for (auto& [n, names] : records) std::sort(names.begin(), names.end());
+  return records;
+}
+
+// The shard count recorded by the shards that ran in a folder, or 0.
+int recorded_shard_count(const std::string& out) {
+  const auto records = shard_records(out);
+  return records.empty() ? 0 : records.rbegin()->first;
+}
+
+// Refuses a shard whose N is not the N of the shards recorded in the folder: two counts split the
+// trials differently (i mod 3, i mod 2), so shards of both can run one trial at once, each writing
+// its files. A run without --shard is not refused: it runs what is left by itself.
+void check_shard_count(const std::string& out, const Shard& shard) {
+  for (const auto& [n, names] : shard_records(out)) {
+    if (n == shard.count) continue;
+    const std::string recorded = std::to_string(n);
+    throw Error("the results folder " + out + " holds shards of N = " + recorded + " (shards/" +
+                join_some(names) + "), and this is shard " + std::to_string(shard.index) + " of " +
+                std::to_string(shard.count) + ": shards of two counts split the trials differently and can run one "
+                "trial at once. Keep N = " + recorded + " (--shard K/" + recorded + "; ROGER_SHARDS=" + recorded +
+                " or submit.sh SCRIPT " + recorded + " for --shard slurm), or give another --out for a run of N = " +
+                std::to_string(shard.count) + "; roger run without --shard finishes this folder by itself.");
+  }
+}
+
+// The line of a shard that owns no trial: N is larger than the number of trials of every run and
+// evaluation (`most`), which a Slurm array of too many tasks makes. It still runs, and succeeds.
+std::string idle_shard(const BatchPlan& plan, const Shard& shard, int most) {
+  const std::string n = std::to_string(shard.count), last = std::to_string(most - 1);
+  const std::string which = most == 1   ? " (index 0), so only shard 0 has trials"
+                            : most == 2 ? "s (indices 0 and 1), so only shards 0 and 1 have trials"
+                                        : "s (indices 0 to " + last + "), so only shards 0 to " + last + " have trials";
+  return "shard " + std::to_string(shard.index) + " of " + n + " has no trial to run: shard K runs the trials of "
+         "index i with i mod " + n + " = K, and the runs and evaluations of " + plan.script->path + " have at most " +
+         std::to_string(most) + " trial" + which + ". It ends at once; with " + std::to_string(most) + " shard" +
+         (most == 1 ? "" : "s") + " or fewer, none is idle.";
 }
 
 }  // namespace
@@ -387,6 +461,32 @@ void SourceWatch::check() const {
 std::string first_line(const std::string& s) {
   const size_t nl = s.find('\n');
   return nl == std::string::npos ? s : s.substr(0, nl);
+}
+
+// A shard's own outcome, in <out>/shards/K-of-N.json (no other shard writes that file): the
+// trials it owns, which failed and how many it has not run yet.
+BatchSummary record_shard(const BatchPlan& plan, const Shard& shard) {
+  BatchSummary s;
+  json failed = json::array();
+  for (const auto& p : plan.phases)
+    for (const auto& t : p) {
+      if (!shard.owns(t)) continue;
+      ++s.trials;
+      json result;
+      std::string error;
+      const std::string status = trial_status(plan.out, t, result, error);
+      if (status == "pending") ++s.pending;
+      if (status == "corrupt") s.corrupt.push_back(t.id + ": " + first_line(error));
+      if (status != "failed") continue;
+      s.failed.push_back(t.id + ": " + first_line(error));
+      failed.push_back(t.id);
+    }
+  const std::string name = std::to_string(shard.index) + "-of-" + std::to_string(shard.count) + ".json";
+  const json record = {{"shard", shard.index}, {"shards", shard.count}, {"trials", s.trials},
+                                 {"failed", failed},     {"pending", s.pending}};
+  write_file_atomic((fs::path(plan.out) / "shards" / name).string(), record.dump(1) + "\n",
+                    "cannot write the shard's record");
+  return s;
 }
 
 }  // namespace batch_detail
@@ -418,22 +518,8 @@ BatchPlan read_results_plan(const std::string& dir) {
 }
 
 Shard parse_shard(const std::string& text) {
+  if (text == "slurm") return slurm_shard();
   Shard s;
-  if (text == "slurm") {
-    const long id = env_count("SLURM_ARRAY_TASK_ID");
-    long count = env_count("ROGER_SHARDS");
-    if (count < 0) count = env_count("SLURM_ARRAY_TASK_COUNT");
-    if (id < 0 || count < 0)
-      throw Error("--shard slurm: SLURM_ARRAY_TASK_ID and SLURM_ARRAY_TASK_COUNT are not set: run it inside a "
-                  "Slurm job array (sbatch --array=0-(N-1)), or give --shard K/N");
-    if (count < 1 || id >= count)
-      throw Error("--shard slurm: array task " + std::to_string(id) + " is not below the shard count " +
-                  std::to_string(count) + "; submit the array as --array=0-" + std::to_string(count - 1) +
-                  ", or set ROGER_SHARDS=N when resubmitting single tasks of an N-shard run");
-    s.index = int(id);
-    s.count = int(count);
-    return s;
-  }
   int k = -1, n = -1;
   char rest = 0;
   if (std::sscanf(text.c_str(), "%d/%d%c", &k, &n, &rest) != 2 || n < 1 || k < 0 || k >= n)
@@ -506,9 +592,10 @@ void check_selectors(const BatchPlan& plan, const std::vector<std::string>& only
   }
 }
 
-bool open_results_folder(const BatchPlan& plan, std::string* note) {
+bool open_results_folder(const BatchPlan& plan, std::string* note, const Shard& shard) {
   const BatchScript& b = *plan.script;
   const FolderLock lock(plan.out);
+  if (shard.active()) check_shard_count(plan.out, shard);  // before the manifest is rewritten
   json config = batch_config_json(b);
   config["sources"] = source_fingerprints(b.curriculum_file, b.limits);
   json ids = json::array(), seeds = json::object();
@@ -527,13 +614,35 @@ bool open_results_folder(const BatchPlan& plan, std::string* note) {
                          {"seeds", seeds}};
   const fs::path manifest_path = fs::path(plan.out) / "manifest.json";
   std::error_code ec;
-  if (fs::exists(manifest_path, ec)) {
+  const bool resuming = fs::exists(manifest_path, ec);
+  if (resuming) {
     const std::string said = check_manifest(plan, manifest_path, config, manifest);
     if (note) *note = said;
-    return true;
+  } else {
+    write_file_atomic(manifest_path.string(), manifest.dump(1) + "\n", "cannot write the manifest");
   }
-  write_file_atomic(manifest_path.string(), manifest.dump(1) + "\n", "cannot write the manifest");
-  return false;
+  // Recorded under the lock, so that of two shards of different N starting together the second
+  // sees the first's N.
+  if (shard.active()) record_shard(plan, shard);
+  return resuming;
+}
+
+std::string describe_shard(const BatchPlan& plan, const Shard& shard) {
+  int most = 0;  // the largest number of trials of a run or evaluation
+  size_t owned = 0, all = 0;
+  for (const auto& p : plan.phases)
+    for (const auto& t : p) {
+      most = std::max(most, t.index + 1);
+      ++all;
+      if (shard.owns(t)) ++owned;
+    }
+  const std::string k = std::to_string(shard.index), n = std::to_string(shard.count);
+  if (owned == 0) return idle_shard(plan, shard, most);
+  std::vector<std::string> indices;
+  for (int i = shard.index; i < most; i += shard.count) indices.push_back(std::to_string(i));
+  return "shard " + k + " of " + n + ": trial" + (indices.size() == 1 ? " " : "s ") + join_some(indices) +
+         " of every run and evaluation (i mod " + n + " = " + k + "), " + std::to_string(owned) + " of " +
+         std::to_string(all) + " trials; no report (run roger report " + plan.out + " when every shard is done)";
 }
 
 namespace {

@@ -417,32 +417,6 @@ std::vector<std::string> phase_ids(const BatchPlan& plan, const std::vector<Plan
   return ids;
 }
 
-// A shard's own outcome, in <out>/shards/K-of-N.json (no other shard writes that file): the
-// trials it owns, which failed and how many it has not run yet.
-BatchSummary record_shard(const BatchPlan& plan, const Shard& shard) {
-  BatchSummary s;
-  nlohmann::json failed = nlohmann::json::array();
-  for (const auto& p : plan.phases)
-    for (const auto& t : p) {
-      if (!shard.owns(t)) continue;
-      ++s.trials;
-      nlohmann::json result;
-      std::string error;
-      const std::string status = trial_status(plan.out, t, result, error);
-      if (status == "pending") ++s.pending;
-      if (status == "corrupt") s.corrupt.push_back(t.id + ": " + first_line(error));
-      if (status != "failed") continue;
-      s.failed.push_back(t.id + ": " + first_line(error));
-      failed.push_back(t.id);
-    }
-  const std::string name = std::to_string(shard.index) + "-of-" + std::to_string(shard.count) + ".json";
-  const nlohmann::json record = {{"shard", shard.index}, {"shards", shard.count}, {"trials", s.trials},
-                                 {"failed", failed},     {"pending", s.pending}};
-  write_file_atomic((fs::path(plan.out) / "shards" / name).string(), record.dump(1) + "\n",
-                    "cannot write the shard's record");
-  return s;
-}
-
 // Writes a run's progress into `out`: status.json, and status.js, the same object for a page
 // opened from the file system.
 void write_status_files(const std::string& out, const nlohmann::json& status) {

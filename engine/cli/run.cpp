@@ -122,16 +122,13 @@ int command_run(const RunArgs& a) {
     const BatchPlan plan = plan_batch(script, a.out.empty() ? "results/" + b.name : a.out);
     check_selectors(plan, a.only);
     std::string note;
-    if (open_results_folder(plan, &note)) log << "roger run: resuming " << plan.out << "\n";
+    if (open_results_folder(plan, &note, shard)) log << "roger run: resuming " << plan.out << "\n";
     if (!note.empty()) log << "roger run: " << note << "\n";
     size_t trials = 0;
     for (const auto& p : plan.phases) trials += p.size();
     log << "roger run: " << b.path << " -> " << plan.out << " (" << trials << " trials, curriculum "
         << b.curriculum << ")\n";
-    if (shard.active())
-      log << "roger run: shard " << shard.index << " of " << shard.count << ": trials " << shard.index << ", "
-          << shard.index + shard.count << ", ... of every run; no report (run roger report " << plan.out
-          << " when every shard is done)\n";
+    if (shard.active()) log << "roger run: " << describe_shard(plan, shard) << "\n";
     // The dashboard from the start: it follows the run's status.js until the report is written.
     log << "roger run: open " << write_dashboard_page(plan.out) << " to follow the run\n";
     const BatchSummary summary = run_batch(plan, RunControl{a.jobs, a.live, a.max_trials, a.only, &log, shard, !a.no_eval_cache, a.explain});

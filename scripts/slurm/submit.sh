@@ -15,7 +15,7 @@
 # new report after it. Each task runs as many trials at once as it has CPUs (--cpus-per-task).
 #
 # Environment:
-#   ROGER_OUT   the results folder, on a filesystem every node sees   results/<script name>
+#   ROGER_OUT   the results folder, on a filesystem every node sees   results/<script name> here
 #   ROGER_BIN   the roger program, likewise                           build/engine/roger (installed: bin/roger)
 #   ROGER_ARGS  more arguments of roger run (e.g. "--set mass=0.7"), split at whitespace
 #   ROGER_LOGS  the jobs' output files                                ROGER_OUT/slurm
@@ -29,6 +29,23 @@ die() { echo "submit.sh: $*" >&2; exit 2; }
 script=$1 shards=$2
 shift 2
 [[ $shards =~ ^[1-9][0-9]*$ ]] || die "N must be a positive integer (the number of shards), not '$shards'; $usage"
+
+# Refuses an --array LIST (Slurm's forms: 7, 3,7,12-14, 0-49:2, with a %throttle) that names a task
+# outside 0..N-1: task K runs shard K of N, and roger refuses K >= N only once the job has waited
+# in the queue.
+check_array() {
+  local list=${1%\%*} item first last items
+  local form="the tasks are the shards 0 to $((shards - 1)) of N=$shards (e.g. --array=$((shards - 1)) or --array=0-$((shards - 1))%10)"
+  IFS=, read -r -a items <<< "$list"
+  [ ${#items[@]} -gt 0 ] || die "--array=$1 names no task: $form"
+  for item in "${items[@]}"; do
+    [[ $item =~ ^([0-9]+)(-([0-9]+)(:[1-9][0-9]*)?)?$ ]] || die "--array=$1: '$item' is neither a task nor a range: $form"
+    first=$((10#${BASH_REMATCH[1]})) last=$((10#${BASH_REMATCH[3]:-${BASH_REMATCH[1]}}))
+    [ "$first" -le "$last" ] || die "--array=$1: the range '$item' runs backwards: $form"
+    [ "$last" -lt "$shards" ] || die "--array=$1: task $last is past the last shard: $form"
+  done
+}
+
 # --array=LIST and --dependency=... go to the array only; every other option to both jobs. A
 # --dependency given to the report too would replace its afterok on the array: it would start
 # before the shards end. The jobs' names and output files are submit.sh's (ROGER_LOGS moves them):
@@ -38,7 +55,7 @@ dependency=()
 common=()
 for option in "$@"; do
   case $option in
-    --array=*) array=${option#--array=} ;;
+    --array=*) array=${option#--array=}; check_array "$array" ;;
     -a | -a* | --array) die "give the array as --array=LIST (got '$option')" ;;
     --dependency=*) dependency=("$option" --kill-on-invalid-dep=yes) ;;  # a failed one cancels the array
     -d | -d* | --dependency) die "give a dependency as --dependency=LIST (got '$option'); it holds the array, and the report follows the array" ;;
@@ -58,11 +75,14 @@ repo=$(cd "$here/../.." && pwd)
 # An absolute path of a file named relative to the current folder (which need not exist yet).
 absolute() { case $1 in /*) echo "$1" ;; *) echo "$PWD/$1" ;; esac; }
 
-# The script: a file, or a bare name of one in scripts/ (as roger run takes it).
+# The script, as roger run takes it: a file, a path relative to the project (scripts/paper.lua from
+# any folder), or a bare name of one in scripts/.
 if [ -f "$script" ]; then
   script=$(absolute "$script")
+elif [[ $script != /* && -f $repo/$script ]]; then
+  script=$repo/$script
 elif [ ! -f "$repo/scripts/$script" ] && [ ! -f "$repo/scripts/$script.lua" ]; then
-  die "no batch script '$script' (neither a file nor a script in $repo/scripts)"
+  die "no batch script '$script' (neither a file here, nor a file of the project $repo, nor a script in $repo/scripts)"
 fi
 name=$(basename "$script" .lua)
 
@@ -71,7 +91,8 @@ default_bin=$repo/build/engine/roger
 [ -x "$default_bin" ] || [ ! -x "$repo/../../bin/roger" ] || default_bin=$(cd "$repo/../../bin" && pwd)/roger
 bin=$(absolute "${ROGER_BIN:-$default_bin}")
 [ -x "$bin" ] || die "no roger program at '$bin' (build it: cmake -S . -B build && cmake --build build --target roger; or set ROGER_BIN)"
-out=$(absolute "${ROGER_OUT:-$repo/results/$name}")
+# results/<name> here, as roger run writes it: the project may be an installed tree, not writable.
+out=$(absolute "${ROGER_OUT:-results/$name}")
 logs=$(absolute "${ROGER_LOGS:-$out/slurm}")
 # Slurm opens the jobs' output files but creates no folder for them.
 mkdir -p "$out" "$logs"
