@@ -167,7 +167,7 @@ json usage_comparisons(const BatchRun& run, const BatchTable& t, const Folder& f
     }
     md << "\n" << u.context << ": " << u.skill << " makes " << pct(mean(ratios)) << " ± " << pct(population_std(ratios))
        << " of the decisions among itself and the actions it subsumes (" << subs << "), mean ± std over "
-       << ratios.size() << " trials.\n";
+       << ratios.size() << (ratios.size() == 1 ? " trial.\n" : " trials.\n");
     comparisons.push_back({{"context", u.context}, {"skill", u.skill}, {"subsumes", u.subsumes},
                            {"share_mean", mean(ratios)}, {"share_std", population_std(ratios)},
                            {"trials", ratios.size()}});

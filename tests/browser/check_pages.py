@@ -394,6 +394,52 @@ def check_failures(b, folder, screenshot):
         b.screenshot(screenshot)
 
 
+def check_partial(b, roger, folder):
+    """A partial report of one shard of three (`roger report --partial`): a trial not run has no
+    folder, so its chip and its name are no links; every link the trials' section holds is to a
+    file or folder that exists; a trial started and not finished (a folder with files, no result)
+    is a link of its own colour; the chips' colours have a key naming every state shown; and a
+    number of trials is said in the singular when it is 1."""
+    b.open(os.path.join(folder, "index.html"), "document.body.getAttribute('data-ready') === '1'")
+    check(b.errors() == [], "partial: no console errors (%s)" % b.errors())
+    report = read_report(folder)
+    trials = [t for r in report["trials"]["runs"] for c in r["contexts"] for t in c["trials"]] + \
+        [t for e in report["trials"]["evaluations"] for g in e["groups"] for t in g["trials"]]
+    absent = [t["folder"] for t in trials if not os.path.isdir(os.path.join(folder, t["folder"]))]
+    check(0 < len(absent) < len(trials), "partial: some trials have no folder (%d of %d)" % (len(absent), len(trials)))
+    hrefs = b.evaluate("Array.from(document.querySelectorAll('#trials a')).map(a => a.getAttribute('href'))")
+    broken = sorted({h for h in hrefs if not os.path.exists(os.path.join(folder, h))})
+    check(hrefs and broken == [], "partial: every link of the trials' section exists (%d links; broken: %s)"
+          % (len(hrefs), broken[:3]))
+    chips = b.evaluate("""Array.from(document.querySelectorAll('#trials .trials .trial')).map(c =>
+        [c.tagName, c.className.replace('trial ', ''), c.getAttribute('title')])""")
+    unlinked = [c for c in chips if c[0] != "A"]
+    check(len(chips) == len(trials) and len(unlinked) == len(absent) and all(c[1] == "pending" for c in unlinked),
+          "partial: a chip per trial, those of trials not run no links (%d of %d)" % (len(unlinked), len(chips)))
+    key = b.evaluate("""Array.from(document.querySelectorAll('#chip-key [data-state]')).map(k =>
+        [k.getAttribute('data-state'), k.textContent.trim(),
+         getComputedStyle(k.querySelector('.trial')).backgroundColor])""")
+    colours = b.evaluate("""Object.fromEntries(Array.from(document.querySelectorAll('#trials .trials .trial')).map(c =>
+        [c.className.replace('trial ', ''), getComputedStyle(c).backgroundColor]))""")
+    check(sorted(k[0] for k in key) == sorted(colours) and all(colours[k[0]] == k[2] for k in key)
+          and {"ok": "finished", "pending": "not run"}.items() <= {k[0]: k[1] for k in key}.items(),
+          "partial: the chips' key names every state shown, in its colour (%s)" % key)
+    text = b.evaluate("document.body.innerText")
+    check(re.search(r"\b1 trials\b", text) is None and " over 1 trial." in text,
+          "partial: one trial is 'trial' (%s)" % re.findall(r"over \d+ trials?", text))
+    # A trial started and not finished: a folder with its episodes so far, no result.
+    started = next(t for t in trials if t["folder"] in absent)
+    os.makedirs(os.path.join(folder, started["folder"]))
+    open(os.path.join(folder, started["folder"], "episodes.jsonl"), "w").close()
+    run([roger, "report", "--partial", folder])
+    b.open(os.path.join(folder, "index.html"), "document.body.getAttribute('data-ready') === '1'")
+    chip = b.evaluate("""(() => { const c = document.querySelector('#trials a.trial[href="%s"]');
+        return c && [c.className, c.title, !!document.querySelector('#chip-key [data-state="started"]')]; })()"""
+                      % started["folder"])
+    check(chip and chip[0] == "trial started" and chip[1] == started["id"] + ": started, not finished" and chip[2],
+          "partial: a trial started and not finished links its folder, in a state of its own in the key (%s)" % chip)
+
+
 def check_dashboard(b, folder, screenshot):
     check_progress(b, folder)
     page = os.path.join(folder, "index.html")
@@ -576,6 +622,7 @@ def main():
     results, episode = os.path.join(a.work, "results"), os.path.join(a.work, "episode")
     teachers = os.path.join(a.work, "teachers")
     failures_run = os.path.join(a.work, "failures")
+    partial = os.path.join(a.work, "partial")
     shutil.rmtree(a.work, ignore_errors=True)
     os.makedirs(a.work)
     run([a.roger, "run", "scripts/quick.lua", "--out", results])
@@ -584,6 +631,8 @@ def main():
     print("$ %s run tests/browser/dashboard_batch.lua --out %s" % (a.roger, failures_run), flush=True)
     subprocess.run([a.roger, "run", os.path.join(os.path.dirname(os.path.abspath(__file__)), "dashboard_batch.lua"),
                     "--out", failures_run], check=False)
+    run([a.roger, "run", "scripts/quick.lua", "--shard", "0/3", "--out", partial])
+    run([a.roger, "report", "--partial", partial])
     run([a.roger, "render", "curricula/scripted.lua", "--policy", "search_grasp", "--seed", "3",
          "--width", "480", "--out", episode])
     try:
@@ -596,6 +645,7 @@ def main():
         check_run_end(b, results, a.work)
         check_shards(b, results, a.work)
         check_failures(b, failures_run, None)
+        check_partial(b, a.roger, partial)
         check_episode(b, episode, shots and os.path.join(shots, "episode-viewer.png"))
         check_cycle(b, episode, a.work)
         check_teachers(b, teachers)
