@@ -134,7 +134,7 @@ TEST_CASE("sorted() judges every colour with a region, sorted(colour) one of the
   CHECK_FALSE(sorted()->holds(in));
   CHECK(sorted(red)->holds(in));
   CHECK_FALSE(sorted(blue)->holds(in));
-  CHECK(sorted(grey)->holds(in));  // nothing of that colour to sort
+  CHECK_THROWS_WITH(sorted(grey)->holds(in), Catch::Contains("no goal region has the colour #808080"));
   CHECK(sorted(blue)->describe() == "sorted(\"#2850dc\")");
   // Held in the hand, an object in its region is not yet sorted.
   objects[0].held = true;
@@ -145,6 +145,34 @@ TEST_CASE("sorted() judges every colour with a region, sorted(colour) one of the
   objects[1].region = 1;
   objects[0].held = false;
   CHECK(sorted()->holds(later));
+}
+
+TEST_CASE("sorted() is an error in a world with objects none of which has a region of its colour", "[predicate]") {
+  const Colour red{220, 30, 30}, typo{220, 30, 31}, blue{40, 80, 220};
+  WorldModel model;
+  model.spec.goals.resize(2);
+  model.spec.goals[0].name = "circle", model.spec.goals[0].colour = typo;
+  model.spec.goals[1].name = "triangle", model.spec.goals[1].colour = blue;
+  std::vector<MapObject> objects;
+  ControlInput in = at_tick(1, 0.02);
+  in.model = &model;
+  in.objects = &objects;
+  // No objects at all: nothing to sort, and no error.
+  CHECK(sorted()->holds(in));
+  CHECK(sorted(red)->holds(in));
+  objects.resize(2);
+  objects[0].colour = red, objects[1].colour = red;
+  const std::string listing =
+      "(objects: #dc1e1e x 2; goal regions: circle #dc1e1f, triangle #2850dc); roger.sorted matches an object to "
+      "the region of its exact colour";
+  CHECK_THROWS_WITH(sorted()->holds(in), Catch::Contains("roger.sorted(): none of the world's 2 objects has the colour "
+                                                         "of a goal region, so it would hold for ever " + listing));
+  CHECK_THROWS_WITH(sorted(blue)->holds(in), Catch::Contains("none of the world's 2 objects") && Catch::Contains(listing));
+  CHECK_THROWS_WITH(sorted(red)->holds(in), Catch::Contains("roger.sorted(\"#dc1e1e\"): no goal region has the colour #dc1e1e"));
+  // One object counted: a type absent from the world (blue) is sorted, as before.
+  objects[1].colour = typo;
+  CHECK_FALSE(sorted()->holds(in));
+  CHECK(sorted(blue)->holds(in));
 }
 
 TEST_CASE("duplicate copies a predicate and its controllers once each, with their own state", "[predicate]") {

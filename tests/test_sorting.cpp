@@ -527,3 +527,101 @@ TEST_CASE("sorting: bad options of lib/sorting's moves are errors at the caller'
   CHECK(move->bindings().patience == 15.0);
   fs::remove_all(dir);
 }
+
+namespace {
+
+// Writes a policy script to dir/name whose line 2 is `line2` (lib.sorting required on line 1) and
+// whose policy `p` runs `action`; returns its path.
+std::string sorting_script(const fs::path& dir, const std::string& name, const std::string& line2,
+                           const std::string& action) {
+  std::ofstream(dir / name) << "local sorting = require(\"lib.sorting\")\n"
+                            << line2 << "\n"
+                            << "return { name = \"x\", policies = { p = { action = " << action
+                            << ", goal = roger.converged(" << action << "), time_limit = 1 } } }\n";
+  return (dir / name).string();
+}
+
+}  // namespace
+
+TEST_CASE("sorting: sorting.move names an unknown type at the caller's line and takes a colour and region of one's own",
+          "[sorting]") {
+  const fs::path dir = temp_dir("roger_sorting_type");
+  const std::string bad = sorting_script(dir, "bad.lua", "local m = sorting.move(roger.primitive(\"search\"), \"red\")", "m");
+  const std::string m = error_of([&] { SkillScript::load(bad); });
+  INFO(m);
+  CHECK(m.find("bad.lua:2: sorting.move: unknown type 'red' (known: circle, triangle, pentagon, spade)") != std::string::npos);
+  CHECK(m.find("give both options colour and region") != std::string::npos);
+  const std::string half = sorting_script(
+      dir, "half.lua", "local m = sorting.move(roger.primitive(\"search\"), \"red\", { region = 1 })", "m");
+  CHECK(error_of([&] { SkillScript::load(half); }).find("half.lua:2: sorting.move: unknown type 'red'") != std::string::npos);
+  const std::string wrong = sorting_script(
+      dir, "wrong.lua", "local m = sorting.move(roger.primitive(\"search\"), \"red\", { region = \"1\" })", "m");
+  CHECK(error_of([&] { SkillScript::load(wrong); }).find("wrong.lua:2: sorting.move: option 'region' must be a number, got string") !=
+        std::string::npos);
+  // A task judges by its type's colour: an unknown type would have judged every colour.
+  const std::string task = sorting_script(
+      dir, "task.lua", "local m = sorting.task(sorting.move(roger.primitive(\"search\"), \"circle\"), \"red\")", "m");
+  CHECK(error_of([&] { SkillScript::load(task); }).find("task.lua:2: sorting.task: unknown type 'red' (known: circle") !=
+        std::string::npos);
+
+  const SkillScript own = SkillScript::load(sorting_script(
+      dir, "own.lua", "local m = sorting.move(roger.primitive(\"search\"), \"red\", { colour = \"#ff0000\", region = 2 })",
+      "m"));
+  const auto* move = dynamic_cast<const Binding*>(own.policy("p").action.get());
+  REQUIRE(move);
+  CHECK(move->name() == "sort red");
+  CHECK(move->bindings().colour == Colour{255, 0, 0});
+  CHECK(move->bindings().region == 2);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("sorting: by_hand runs the first move not NOREF for up to 11 moves and refuses 12 naming the limit",
+          "[sorting]") {
+  const fs::path dir = temp_dir("roger_sorting_by_hand");
+  auto moves = [](int n) {
+    return "local t = roger.primitive(\"search\") local moves = {} for i = 1, " + std::to_string(n) +
+           " do moves[i] = sorting.move(t, sorting.TYPES[(i - 1) % 4 + 1], { tag = \" \" .. i }) end "
+           "local sort = sorting.by_hand(moves)";
+  };
+  // Eleven moves took 3^11 table keys, beyond the script's instruction budget.
+  const SkillScript script = SkillScript::load(sorting_script(dir, "eleven.lua", moves(11), "sort"));
+  const auto* sort = dynamic_cast<const Policy*>(script.policy("p").action.get());
+  REQUIRE(sort);
+  REQUIRE(sort->actions().size() == 12);
+  const std::vector<int>& table = sort->table();
+  REQUIRE(table.size() == 531441);
+  int wrong = 0;
+  for (size_t state = 0; state < table.size(); ++state) {
+    // The first move (most significant digit first) whose gamma is not NOREF; none: the fallback.
+    int first = -1;
+    size_t rest = state / 3;  // the last digit is phi1's
+    for (int i = 10; i >= 0; --i, rest /= 3)
+      if (rest % 3 != size_t(Gamma::kNoRef)) first = i;
+    wrong += table[state] != first;
+  }
+  CHECK(wrong == 0);
+
+  const std::string m = error_of([&] { SkillScript::load(sorting_script(dir, "twelve.lua", moves(12), "sort")); });
+  INFO(m);
+  CHECK(m.find("twelve.lua:2: sorting.by_hand: takes a list of 1 to 11 moves") != std::string::npos);
+  CHECK(m.find("got 12 moves") != std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("sorting: roger.sorted is an error in a world whose objects no region's colour matches", "[sorting]") {
+  const SkillScript script = SkillScript::load("curricula/sort_by_hand.lua");
+  const SkillScript::NamedPolicy& sort = script.policy("sort");
+  Scenario scenario = Scenario::load("sorting");
+  // One digit off in every region's colour: nothing left for the goal to count.
+  auto typo = [&](uint64_t seed) {
+    WorldSpec spec = scenario.generate(seed);
+    for (GoalRegion& g : spec.goals) g.colour.b = uint8_t(g.colour.b + 1);
+    return spec;
+  };
+  const std::string m = error_of([&] { evaluate_action(typo, *sort.action, *sort.goal, 1, 1, sort.episode_options()); });
+  INFO(m);
+  CHECK(m.find("roger.sorted(): none of the world's 2 objects has the colour of a goal region") != std::string::npos);
+  CHECK(m.find("objects: #dc1e1e, #9628aa") != std::string::npos);
+  CHECK(m.find("goal regions: circle #dc1e1f, triangle #2850dd, pentagon #e6aa15, spade #9628ab") != std::string::npos);
+  CHECK(m.find("roger.sorted matches an object to the region of its exact colour") != std::string::npos);
+}

@@ -40,6 +40,7 @@ sorting.CARRY = { depth = 0.25, margin = 0.2, objects = 0.25 }
 -- of that colour into that type's region with `transport` (which must converge only once the
 -- object is delivered, as a learned Phi_T does), then let go of it. Without falling back, a
 -- transport that finds nothing to carry ends the move NOREF instead of letting go for ever.
+-- `t` is one of TYPES, or a name of the caller's own given with both `colour` and `region`.
 -- `options` (all optional):
 --   tag          text appended to the names, to keep them unique ("" by default)
 --   sticky_noref a move that gave up (or found none left) stays NOREF until it delivers again
@@ -47,41 +48,62 @@ sorting.CARRY = { depth = 0.25, margin = 0.2, objects = 0.25 }
 --                retry as what it is, not as the all-!CONV state every episode starts in
 --   retry_after  seconds after which that NOREF is forgotten and the type shows !CONV again,
 --                worth another try (roger.bind's retry_after; 0, the default: never)
--- The hand-written chooser uses neither: its rotate fallback waits for a given-up move's NOREF to
--- clear.
-local MOVE_OPTIONS = { tag = "string", sticky_noref = "boolean", retry_after = "number" }
+--   colour       the objects to carry ("#rrggbb" or {r, g, b}; sorting.move only): by default
+--                COLOURS[t]
+--   region       the goal region (0-based index) to carry them into (sorting.move only): by
+--                default REGION[t]
+-- The hand-written chooser uses neither sticky_noref nor retry_after: its rotate fallback waits
+-- for a given-up move's NOREF to clear.
+local MOVES_OPTIONS = { { "tag", "string" }, { "sticky_noref", "boolean" }, { "retry_after", "number" } }
+local MOVE_OPTIONS = { { "tag", "string" }, { "sticky_noref", "boolean" }, { "retry_after", "number" },
+                       { "colour", "table or string" }, { "region", "number" } }
 
-local function check_options(options, level)
+-- Checks `options` against `known` (a list of {name, type}) for `fn`, raising at `level`.
+local function check_options(fn, options, known, level)
   if options == nil then return {} end
+  local names, want = {}, {}
+  for k, o in ipairs(known) do names[k], want[o[1]] = o[1], o[2] end
   if type(options) ~= "table" then
-    error("sorting.move: options must be a table {tag, sticky_noref, retry_after}, got " .. type(options), level)
+    error(fn .. ": options must be a table {" .. table.concat(names, ", ") .. "}, got " .. type(options), level)
   end
+  table.sort(names)
   for k, v in pairs(options) do
-    local want = MOVE_OPTIONS[k]
-    if not want then
-      error("sorting.move: unknown option '" .. tostring(k) .. "' (known: retry_after, sticky_noref, tag)", level)
-    elseif type(v) ~= want then
-      error("sorting.move: option '" .. k .. "' must be a " .. want .. ", got " .. type(v), level)
+    if not want[k] then
+      error(fn .. ": unknown option '" .. tostring(k) .. "' (known: " .. table.concat(names, ", ") .. ")", level)
+    elseif not want[k]:find(type(v), 1, true) then
+      error(fn .. ": option '" .. k .. "' must be a " .. want[k] .. ", got " .. type(v), level)
     end
   end
   return options
 end
 
+-- The colour and region of type `t`: the options', else the built-in type's. Raises at the
+-- caller of sorting.move (level 3 from here) for a type that is neither.
+local function colour_and_region(t, options)
+  local colour, region = options.colour or sorting.COLOURS[t], options.region or sorting.REGION[t]
+  if type(t) ~= "string" or colour == nil or region == nil then
+    error("sorting.move: unknown type '" .. tostring(t) .. "' (known: " .. table.concat(sorting.TYPES, ", ") ..
+          "); for a type of your own give both options colour and region", 3)
+  end
+  return colour, region
+end
+
 function sorting.move(transport, t, options)
-  options = check_options(options, 3)
+  options = check_options("sorting.move", options, MOVE_OPTIONS, 3)
+  local colour, region = colour_and_region(t, options)
   local tag = options.tag or ""
   local steps = roger.sequence("move " .. t .. tag,
                                { roger.primitive("release"), transport, roger.primitive("release") },
                                { fall_back = false })
   return roger.bind("sort " .. t .. tag, steps,
-                    { stimulus = sorting.COLOURS[t], region = sorting.REGION[t],
+                    { stimulus = colour, region = region,
                       patience = sorting.PATIENCE, sticky_noref = options.sticky_noref or false,
                       retry_after = options.retry_after or 0 })
 end
 
 -- The four moves, in region order (`options` as for sorting.move).
 function sorting.moves(transport, options)
-  options = check_options(options, 3)
+  options = check_options("sorting.moves", options, MOVES_OPTIONS, 3)
   local moves = {}
   for k, t in ipairs(sorting.TYPES) do moves[k] = sorting.move(transport, t, options) end
   return moves
@@ -103,6 +125,10 @@ sorting.SETTLE = 1.0
 -- again for the next one, without a decision. Chosen once its type is put away, it rests: a move
 -- run again would turn about looking for more and might knock a put-away object out of its region.
 function sorting.task(move, t, tag)
+  -- roger.sorted(nil) would judge every colour, not this type's.
+  if not sorting.COLOURS[t] then
+    error("sorting.task: unknown type '" .. tostring(t) .. "' (known: " .. table.concat(sorting.TYPES, ", ") .. ")", 2)
+  end
   return roger.policy("put away " .. t .. (tag or ""), {
     actions = { move }, table = { ["*"] = move }, rest_when_done = true,
     done = roger.held(roger.sorted(sorting.COLOURS[t]), sorting.SETTLE),
@@ -130,23 +156,26 @@ sorting.AWAY = 1.0
 -- policies). Rounds from one spot alone searched for 158 s for a triangle hidden behind a pentagon
 -- put away (sorting seed 182003, random mix); going elsewhere before any round instead sorted
 -- fewer development worlds, as most rounds find what is left.
+--
+-- At most MAX_BY_HAND moves: with phi1 they are the policy's actions, and a policy has at most 12
+-- (3^12 states). Its table is written with wildcards, one key per move and state other than NOREF
+-- ("NOREF NOREF CONV * ... *": the first two NOREF, the third CONV), not state by state.
+sorting.MAX_BY_HAND = 11
+
 function sorting.by_hand(moves, name)
+  if type(moves) ~= "table" or #moves == 0 or #moves > sorting.MAX_BY_HAND then
+    error("sorting.by_hand: takes a list of 1 to " .. sorting.MAX_BY_HAND .. " moves (with phi1 they are the " ..
+          "policy's actions, at most 12), got " .. (type(moves) == "table" and #moves .. " moves" or type(moves)), 2)
+  end
   local n = #moves
   local actions = {}
   for i = 1, n do actions[i] = moves[i] end
   actions[n + 1] = roger.primitive("phi1", { goal = "elsewhere", away = sorting.AWAY })
   local table_ = {}
-  for state = 0, 3 ^ n - 1 do
-    local key, chosen, rest = {}, nil, state
-    for i = n, 1, -1 do
-      local g = rest % 3
-      rest = rest // 3
-      key[i] = ({ "NOREF", "!CONV", "CONV" })[g + 1]
-    end
-    for i = 1, n do
-      if key[i] ~= "NOREF" then chosen = moves[i] break end
-    end
-    if chosen then table_[table.concat(key, " ") .. " *"] = chosen end
+  for i = 1, n do
+    local before, after = string.rep("NOREF ", i - 1), string.rep(" *", n - i + 1)
+    table_[before .. "!CONV" .. after] = moves[i]
+    table_[before .. "CONV" .. after] = moves[i]
   end
   return roger.policy(name or "sort by hand", { actions = actions, table = table_, fallback = "rotate" })
 end

@@ -132,7 +132,9 @@ function roger.held(p, seconds) end
 
 ---The world's judge of a sorting task: every object whose colour is a goal region's colour lies in a
 ---region of its colour and is not held. With a colour, the objects of that colour alone (true when
----there is none).
+---there is none). An object matches the region of its exact colour. In a world with objects, its
+---first evaluation is an error when none of them has a region of its colour, or when no region has
+---`colour`, naming the objects' and the regions' colours (a world without objects is sorted).
 ---@param colour? roger.Colour
 ---@return roger.Predicate
 function roger.sorted(colour) end

@@ -1,5 +1,6 @@
 #include "control/predicate.h"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "core/error.h"
@@ -118,25 +119,69 @@ class Held final : public Predicate {
   double since_ = -1.0;
 };
 
+std::string hex_of(const Colour& c) {
+  char hex[8];
+  std::snprintf(hex, sizeof hex, "#%02x%02x%02x", c.r, c.g, c.b);
+  return hex;
+}
+
+// "#dc1e1e x 2, #9628aa": each distinct colour of the objects once, in the order first seen.
+std::string object_colours(const std::vector<MapObject>& objects) {
+  std::vector<std::pair<Colour, int>> seen;
+  for (const MapObject& o : objects) {
+    auto it = std::find_if(seen.begin(), seen.end(), [&](const auto& s) { return s.first == o.colour; });
+    if (it == seen.end()) seen.emplace_back(o.colour, 1);
+    else ++it->second;
+  }
+  std::string s;
+  for (const auto& [colour, n] : seen)
+    s += (s.empty() ? "" : ", ") + hex_of(colour) + (n > 1 ? " x " + std::to_string(n) : "");
+  return s;
+}
+
+// "circle #dc1e1e, triangle #2850dc", or "none".
+std::string region_colours(const std::vector<GoalRegion>& goals) {
+  std::string s;
+  for (const GoalRegion& g : goals) s += (s.empty() ? "" : ", ") + g.name + " " + hex_of(g.colour);
+  return s.empty() ? "none" : s;
+}
+
 // The world's judgement of a sorting task (see sorted_objects), over every colour or one.
 class Sorted final : public Predicate {
  public:
   explicit Sorted(const Colour* colour) : only_(colour != nullptr), colour_(colour ? *colour : Colour{}) {}
   bool holds(const ControlInput& in) override {
     const SortCount c = sorted_objects(in, only_ ? &colour_ : nullptr);
+    if (c.sortable == 0) check_counts_some(in);
     return c.sorted == c.sortable;
   }
-  std::string describe() const override {
-    if (!only_) return "sorted()";
-    char hex[8];
-    std::snprintf(hex, sizeof hex, "#%02x%02x%02x", colour_.r, colour_.g, colour_.b);
-    return std::string("sorted(\"") + hex + "\")";
-  }
+  std::string describe() const override { return only_ ? "sorted(\"" + hex_of(colour_) + "\")" : "sorted()"; }
   void controllers(std::vector<const Controller*>&) const override {}
   PredicatePtr copy() const override { return std::make_shared<Sorted>(*this); }
   void relink(Duplicates&) override {}
 
  private:
+  // Nothing counted is "sorted" for ever: right in a world without objects, or for one type
+  // absent from a world whose other objects are counted, but a colour matching no region (a typo
+  // in a region's or the predicate's colour) would make a do-nothing policy succeed at once. The
+  // world's colours do not change within an episode, so the first evaluation raises.
+  void check_counts_some(const ControlInput& in) const {
+    if (!in.objects || !in.model || in.objects->empty()) return;
+    const std::vector<GoalRegion>& goals = in.spec().goals;
+    // Text only when it is thrown: this runs every tick while one type is absent.
+    auto listing = [&] {
+      return " (objects: " + object_colours(*in.objects) + "; goal regions: " + region_colours(goals) +
+             "); roger.sorted matches an object to the region of its exact colour";
+    };
+    const bool has_region = std::any_of(goals.begin(), goals.end(), [&](const GoalRegion& g) { return g.colour == colour_; });
+    if (only_ && !has_region)
+      throw Error("roger." + describe() + ": no goal region has the colour " + hex_of(colour_) + ", so it would hold for ever" +
+                  listing());
+    if (sorted_objects(in).sortable == 0)
+      throw Error("roger." + describe() + ": none of the world's " + std::to_string(in.objects->size()) +
+                  " objects has the colour of a goal region, so it would hold for ever" + listing());
+  }
+
   bool only_;
   Colour colour_;
 };

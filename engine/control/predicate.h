@@ -95,10 +95,12 @@ struct SortCount {
 // `only` (may be null) counts the objects of that colour alone.
 SortCount sorted_objects(const ControlInput& in, const Colour* only = nullptr);
 // Every object a sorting task counts is sorted (sorted_objects): the judge of "put every object
-// in the region of its colour", whatever the number of objects.
+// in the region of its colour", whatever the number of objects. True in a world without objects;
+// holds() throws Error in a world with objects none of which has a region of its colour.
 PredicatePtr sorted();
-// Every object of `colour` is sorted (true when there is none, or no region has that colour): one
-// type's part of the judgement, e.g. the goal of a move that puts away one type.
+// Every object of `colour` is sorted (true when there is none): one type's part of the judgement,
+// e.g. the goal of a move that puts away one type. In a world with objects, holds() throws Error
+// when no region has `colour` or no object has a region of its colour.
 PredicatePtr sorted(const Colour& colour);
 
 // Starts an episode for a predicate and every controller it reads (reset with `seed`): a goal
