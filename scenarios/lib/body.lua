@@ -43,6 +43,11 @@ local CHANNELS = {
   { name = "effort", max = 5, unit = "a fraction of each command", quantum = 1,
     quantum_unit = "m or rad of a commanded error" },
 }
+-- "an" before a vowel ("an image reading"), else "a".
+local function article(word)
+  return word:match("^[aeiou]") and "an" or "a"
+end
+
 for _, c in ipairs(CHANNELS) do
   local n = "noise_" .. c.name
   local readings = c.name == "effort" and "command" or "reading"
@@ -57,8 +62,8 @@ for _, c in ipairs(CHANNELS) do
   body.PARAMS[n .. "_delay"] = { default = 0, min = 0, max = MAX_DELAY_TICKS,
                                  description = c.name .. " " .. readings .. "s late by this many ticks" }
   body.PARAMS[n .. "_dropout"] = { default = 0.0, min = 0, max = 1,
-                                   description = "probability per tick that " .. (c.name:match("^[aeiou]") and "an " or "a ")
-                                     .. c.name .. " " .. readings .. " is lost" }
+                                   description = "probability per tick that " .. article(c.name) .. " " .. c.name
+                                     .. " " .. readings .. " is lost" }
   body.PARAMS[n .. "_quantum"] = { default = 0.0, min = 0, max = c.quantum,
                                    description = c.name .. " rounded to multiples of this (" .. c.quantum_unit .. ")" }
 end
