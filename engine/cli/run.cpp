@@ -105,6 +105,8 @@ std::string file_error_line(const FileError& e, bool resumes) {
       // folder of --out that does not exist): the advice differs.
       const std::string what = e.what();
       if (what.find("removed while") != std::string::npos) return what + ". Put it back as it was, " + again;
+      if (what.find("changed while") != std::string::npos)  // an edit: the finished trials read the old text
+        return what + ". Put it back as it was, " + again + "; or, to run the new version, give another --out";
       return what + ". A folder on that path does not exist: make it, or give another path, " + again;
     }
     default:

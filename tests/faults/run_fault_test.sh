@@ -12,13 +12,14 @@
 #                   read-only (a read-only remount as root, chmod otherwise), then writable again
 #   script_removed  the curriculum of a copy of the script (outside the project) deleted while the
 #                   run goes, then put back
+#   script_changed  the same curriculum edited while the run goes, then put back as it was
 #
 # Exit status: 0 passed, 1 failed, 77 skipped (disk_full and, as root, not_writable need to mount a
 # tmpfs: root with CAP_SYS_ADMIN, as CI has; under CI=true a test that cannot mount one fails).
 set -euo pipefail
 
 if [ $# -ne 4 ]; then
-  echo "usage: $0 reference|disk_full|not_writable|script_removed ROGER SOURCE_DIR WORK" >&2
+  echo "usage: $0 reference|disk_full|not_writable|script_removed|script_changed ROGER SOURCE_DIR WORK" >&2
   exit 1
 fi
 case=$1 roger=$(readlink -f "$2") source=$(readlink -f "$3") work=$(mkdir -p "$4" && cd "$4" && pwd)
@@ -67,7 +68,7 @@ check_stop() {
   local last
   last=$(tail -n 1 "$log")
   echo "$last" | grep -Eq "$pattern" || fail "the last line does not match /$pattern/: $last"
-  [ "$(grep -Ec 'the disk is full|was removed|writable' "$log")" -eq 1 ] || fail "the fault is said more than once"
+  [ "$(grep -Ec 'the disk is full|was removed|changed while|writable' "$log")" -eq 1 ] || fail "the fault is said more than once"
   ! grep -q 'roger run: roger run:' "$log" || fail "a doubled prefix"
   ! grep -q 'trials failed\|trial failed' "$log" || fail "a trial is recorded as failed"
   [ -z "$(find "$out" -name error.json 2>/dev/null)" ] || fail "an error.json was written"
@@ -139,6 +140,31 @@ case $case in
     child=
     check_stop $status "^roger run: cannot read '$dir/copy/tests/scripts/kill_curriculum.lua': it was removed while the run was using it\. Put it back as it was, then run the same command again: it resumes where this one stopped$"
     mv "$dir/kept.lua" tests/scripts/kill_curriculum.lua
+    check_resumed 1
+    ;;
+  script_changed)
+    # As script_removed, but the curriculum is edited: the advice is to put it back (resumed) or to
+    # run the new version in another folder, not that a folder does not exist.
+    mkdir -p "$dir/copy/tests/scripts"
+    cp tests/scripts/kill_batch.lua tests/scripts/kill_curriculum.lua "$dir/copy/tests/scripts/"
+    out=$dir/results
+    cd "$dir/copy"
+    "$roger" run "$script" --jobs 1 --out "$out" >"$log" 2>&1 &
+    child=$!
+    for _ in $(seq 600); do
+      [ -z "$(find "$out/trials" -name result.json 2>/dev/null)" ] || break
+      kill -0 "$child" 2>/dev/null || break
+      sleep 0.1
+    done
+    cp tests/scripts/kill_curriculum.lua "$dir/kept.lua"
+    echo "-- an edit" >>tests/scripts/kill_curriculum.lua
+    set +e
+    wait "$child"
+    status=$?
+    set -e
+    child=
+    check_stop $status "^roger run: '$dir/copy/tests/scripts/kill_curriculum.lua' changed while the run was using it\. Put it back as it was, then run the same command again: it resumes where this one stopped; or, to run the new version, give another --out$"
+    cp "$dir/kept.lua" tests/scripts/kill_curriculum.lua
     check_resumed 1
     ;;
   *)
