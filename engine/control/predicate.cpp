@@ -119,12 +119,6 @@ class Held final : public Predicate {
   double since_ = -1.0;
 };
 
-std::string hex_of(const Colour& c) {
-  char hex[8];
-  std::snprintf(hex, sizeof hex, "#%02x%02x%02x", c.r, c.g, c.b);
-  return hex;
-}
-
 // "#dc1e1e x 2, #9628aa": each distinct colour of the objects once, in the order first seen.
 std::string object_colours(const std::vector<MapObject>& objects) {
   std::vector<std::pair<Colour, int>> seen;
@@ -135,14 +129,14 @@ std::string object_colours(const std::vector<MapObject>& objects) {
   }
   std::string s;
   for (const auto& [colour, n] : seen)
-    s += (s.empty() ? "" : ", ") + hex_of(colour) + (n > 1 ? " x " + std::to_string(n) : "");
+    s += (s.empty() ? "" : ", ") + colour.hex() + (n > 1 ? " x " + std::to_string(n) : "");
   return s;
 }
 
 // "circle #dc1e1e, triangle #2850dc", or "none".
 std::string region_colours(const std::vector<GoalRegion>& goals) {
   std::string s;
-  for (const GoalRegion& g : goals) s += (s.empty() ? "" : ", ") + g.name + " " + hex_of(g.colour);
+  for (const GoalRegion& g : goals) s += (s.empty() ? "" : ", ") + g.name + " " + g.colour.hex();
   return s.empty() ? "none" : s;
 }
 
@@ -155,7 +149,7 @@ class Sorted final : public Predicate {
     if (c.sortable == 0) check_counts_some(in);
     return c.sorted == c.sortable;
   }
-  std::string describe() const override { return only_ ? "sorted(\"" + hex_of(colour_) + "\")" : "sorted()"; }
+  std::string describe() const override { return only_ ? "sorted(\"" + colour_.hex() + "\")" : "sorted()"; }
   void controllers(std::vector<const Controller*>&) const override {}
   PredicatePtr copy() const override { return std::make_shared<Sorted>(*this); }
   void relink(Duplicates&) override {}
@@ -175,7 +169,7 @@ class Sorted final : public Predicate {
     };
     const bool has_region = std::any_of(goals.begin(), goals.end(), [&](const GoalRegion& g) { return g.colour == colour_; });
     if (only_ && !has_region)
-      throw Error("roger." + describe() + ": no goal region has the colour " + hex_of(colour_) + ", so it would hold for ever" +
+      throw Error("roger." + describe() + ": no goal region has the colour " + colour_.hex() + ", so it would hold for ever" +
                   listing());
     if (sorted_objects(in).sortable == 0)
       throw Error("roger." + describe() + ": none of the world's " + std::to_string(in.objects->size()) +

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdio>
 #include <map>
 #include <string>
 #include <vector>
@@ -24,6 +25,12 @@ struct Colour {
   uint8_t r = 128, g = 128, b = 128;
   bool operator==(const Colour& o) const { return r == o.r && g == o.g && b == o.b; }
   bool operator!=(const Colour& o) const { return !(*this == o); }
+  // "#rrggbb", as scripts write colours, pages draw them and messages name them.
+  std::string hex() const {
+    char text[8];
+    std::snprintf(text, sizeof text, "#%02x%02x%02x", r, g, b);
+    return text;
+  }
 };
 
 // A planar pose: position in metres, heading in radians (counter-clockwise from +x).

@@ -78,13 +78,6 @@ std::string fill(const std::string& page,
   return out;
 }
 
-// A colour as "#rrggbb".
-std::string css_colour(const Colour& c) {
-  char buf[8];
-  std::snprintf(buf, sizeof buf, "#%02x%02x%02x", c.r, c.g, c.b);
-  return buf;
-}
-
 // A point as [x, y], rounded to 0.1 mm: the page draws, it does not integrate.
 json point_json(const Vec2& p) {
   return json::array({std::round(p.x() * 1e4) / 1e4, std::round(p.y() * 1e4) / 1e4});
@@ -108,17 +101,17 @@ json world_json(const WorldSpec& spec) {
   const RobotParams& robot = spec.body;
   json objects = json::array(), obstacles = json::array(), goals = json::array();
   for (const ObjectSpec& obj : spec.objects)
-    objects.push_back({{"name", valid_utf8(obj.name)}, {"colour", css_colour(obj.colour)},
+    objects.push_back({{"name", valid_utf8(obj.name)}, {"colour", obj.colour.hex()},
                        {"shape", shape_json(obj.shape)}});
   for (const ObstacleSpec& ob : spec.obstacles)
-    obstacles.push_back({{"name", valid_utf8(ob.name)}, {"colour", css_colour(ob.colour)},
+    obstacles.push_back({{"name", valid_utf8(ob.name)}, {"colour", ob.colour.hex()},
                          {"pose", pose_json(ob.pose)}, {"shape", shape_json(ob.shape)}});
   for (const GoalRegion& g : spec.goals)
-    goals.push_back({{"name", valid_utf8(g.name)}, {"colour", css_colour(g.colour)},
+    goals.push_back({{"name", valid_utf8(g.name)}, {"colour", g.colour.hex()},
                      {"center", point_json(g.center)}, {"radius", g.radius}});
   const ArenaSpec& a = spec.arena;
   return {{"arena", {{"xmin", a.xmin}, {"xmax", a.xmax}, {"ymin", a.ymin}, {"ymax", a.ymax},
-                     {"wall_colour", css_colour(a.wall_colour)}}},
+                     {"wall_colour", a.wall_colour.hex()}}},
           {"robot", {{"base_radius", robot.base_radius}, {"hand_radius", robot.hand_radius},
                      {"link_width", robot.link_width}, {"axle_half_width", robot.axle_half_width},
                      {"upper_arm", robot.link_length[0]}, {"forearm", robot.link_length[1]},
@@ -127,7 +120,7 @@ json world_json(const WorldSpec& spec) {
           {"objects", objects},
           {"obstacles", obstacles},
           {"goals", goals},
-          {"stimulus_colour", css_colour(spec.stimulus_colour)}};
+          {"stimulus_colour", spec.stimulus_colour.hex()}};
 }
 
 // One eye's image as its pixels' colours "rrggbb" in one string, pixel 0 (the right edge of the

@@ -90,6 +90,33 @@ check_resumed() {
   echo "PASSED ($case): $(cat "$dir/compare.txt")"
 }
 
+# Runs a copy of the script and its curriculum in a folder of its own (not the project), under the
+# same relative path so that the tables name the same script as the reference's; once the first
+# trial has finished (about 20 s of trials are left on one job), keeps the curriculum in
+# $dir/kept.lua and runs "$@" on it. Sets `status` to the run's exit status.
+run_copy_altering_curriculum() {
+  mkdir -p "$dir/copy/tests/scripts"
+  cp tests/scripts/kill_batch.lua tests/scripts/kill_curriculum.lua "$dir/copy/tests/scripts/"
+  out=$dir/results
+  cd "$dir/copy"
+  "$roger" run "$script" --jobs 1 --out "$out" >"$log" 2>&1 &
+  child=$!
+  for _ in $(seq 600); do
+    [ -z "$(find "$out/trials" -name result.json 2>/dev/null)" ] || break
+    kill -0 "$child" 2>/dev/null || break
+    sleep 0.1
+  done
+  cp tests/scripts/kill_curriculum.lua "$dir/kept.lua"
+  "$@"
+  set +e
+  wait "$child"
+  status=$?
+  set -e
+  child=
+}
+
+edit_curriculum() { echo "-- an edit" >>tests/scripts/kill_curriculum.lua; }
+
 log=$dir/run.log
 case $case in
   disk_full)
@@ -118,51 +145,15 @@ case $case in
     check_resumed 4
     ;;
   script_removed)
-    # A copy of the script and its curriculum in a folder of its own (not the project), under the
-    # same relative path, so that the tables name the same script as the reference's.
-    mkdir -p "$dir/copy/tests/scripts"
-    cp tests/scripts/kill_batch.lua tests/scripts/kill_curriculum.lua "$dir/copy/tests/scripts/"
-    out=$dir/results
-    cd "$dir/copy"
-    "$roger" run "$script" --jobs 1 --out "$out" >"$log" 2>&1 &
-    child=$!
-    # Removed once the first trial has finished (about 20 s of trials are left on one job).
-    for _ in $(seq 600); do
-      [ -z "$(find "$out/trials" -name result.json 2>/dev/null)" ] || break
-      kill -0 "$child" 2>/dev/null || break
-      sleep 0.1
-    done
-    mv tests/scripts/kill_curriculum.lua "$dir/kept.lua"
-    set +e
-    wait "$child"
-    status=$?
-    set -e
-    child=
+    run_copy_altering_curriculum rm tests/scripts/kill_curriculum.lua
     check_stop $status "^roger run: cannot read '$dir/copy/tests/scripts/kill_curriculum.lua': it was removed while the run was using it\. Put it back as it was, then run the same command again: it resumes where this one stopped$"
-    mv "$dir/kept.lua" tests/scripts/kill_curriculum.lua
+    cp "$dir/kept.lua" tests/scripts/kill_curriculum.lua
     check_resumed 1
     ;;
   script_changed)
-    # As script_removed, but the curriculum is edited: the advice is to put it back (resumed) or to
-    # run the new version in another folder, not that a folder does not exist.
-    mkdir -p "$dir/copy/tests/scripts"
-    cp tests/scripts/kill_batch.lua tests/scripts/kill_curriculum.lua "$dir/copy/tests/scripts/"
-    out=$dir/results
-    cd "$dir/copy"
-    "$roger" run "$script" --jobs 1 --out "$out" >"$log" 2>&1 &
-    child=$!
-    for _ in $(seq 600); do
-      [ -z "$(find "$out/trials" -name result.json 2>/dev/null)" ] || break
-      kill -0 "$child" 2>/dev/null || break
-      sleep 0.1
-    done
-    cp tests/scripts/kill_curriculum.lua "$dir/kept.lua"
-    echo "-- an edit" >>tests/scripts/kill_curriculum.lua
-    set +e
-    wait "$child"
-    status=$?
-    set -e
-    child=
+    # The advice is to put it back (resumed) or to run the new version in another folder, not
+    # that a folder does not exist.
+    run_copy_altering_curriculum edit_curriculum
     check_stop $status "^roger run: '$dir/copy/tests/scripts/kill_curriculum.lua' changed while the run was using it\. Put it back as it was, then run the same command again: it resumes where this one stopped; or, to run the new version, give another --out$"
     cp "$dir/kept.lua" tests/scripts/kill_curriculum.lua
     check_resumed 1

@@ -43,10 +43,7 @@ void push_world(lua_State* L, const World& world) {
     lua_setfield(L, -2, "name");
     lua_pushstring(L, spec.objects[i].shape.name.c_str());
     lua_setfield(L, -2, "shape");
-    const Colour& c = spec.objects[i].colour;
-    char hex[8];
-    std::snprintf(hex, sizeof hex, "#%02x%02x%02x", c.r, c.g, c.b);
-    lua_pushstring(L, hex);
+    lua_pushstring(L, spec.objects[i].colour.hex().c_str());
     lua_setfield(L, -2, "colour");
     lua_pushnumber(L, pose.x);
     lua_setfield(L, -2, "x");
