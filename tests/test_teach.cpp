@@ -1343,3 +1343,35 @@ TEST_CASE("LCAS writes integer levels as integers in the records and its state",
   const std::string line = r.episodes.back().task.dump();
   CHECK_THAT(line, Contains("\"eye_pixels\":64") && !Contains("64.0"));
 }
+
+// Noticed in a review: a trial whose LCAS teacher lifts a parameter outside its task space
+// recorded the scenario's default (eye_pixels 128) as its parameters, though its checkpoints and
+// final evaluation ran at the last level; `roger eval --policy` then evaluated the policy with
+// eyes its trial's figures never saw.
+TEST_CASE("LCAS records the level its evaluations ran at and eval of its policy sets it", "[teach][stage]") {
+  test::TempDir dir("roger_teach_lcas_params");
+  const fs::path file = write_stage(dir.path, "lcas", "{ budget = { episodes = 4 }, checkpoints = { every = 4, final = 2 }, "
+                                                      "teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 64 } } } }");
+  const TrainResult r = train_stage(stage_options(file));
+  auto param = [](const ParamList& params, const std::string& name) {
+    for (const auto& [k, v] : params)
+      if (k == name) return v;
+    return std::string("(absent)");
+  };
+  CHECK(param(r.params, "eye_pixels") == "64");  // not the scenario's 128
+  for (const auto& e : r.episodes) CHECK(e.task["eye_pixels"] == 32);  // window 25: never lifted
+  const fs::path out = dir.path / "out";
+  write_train_outputs(r, out.string());
+  PolicyEvalOptions po;
+  po.curriculum = file.string();
+  po.policy_file = (out / "policy.json").string();
+  po.episodes = 1;
+  po.trial_params = true;
+  const PolicyEvalResult evaluated = evaluate_policy_file(po);
+  CHECK(evaluated.trial_sets == ParamList{{"eye_pixels", "64"}});
+  CHECK(param(evaluated.params, "eye_pixels") == "64");
+  po.sets = {{"eye_pixels", "128"}};  // a --set of the command wins
+  const PolicyEvalResult given = evaluate_policy_file(po);
+  CHECK(given.trial_sets.empty());
+  CHECK(param(given.params, "eye_pixels") == "128");
+}

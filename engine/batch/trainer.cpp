@@ -452,6 +452,8 @@ class TrialTeacher {
     return {first_seed, int(tasks.size()), &space_, &tasks, extra_};
   }
   nlohmann::json state() const { return teacher_->state(); }
+  // What the teacher sets beside every test task (an LCAS lift's last level).
+  const ParamList& test_params() const { return extra_; }
   std::string kind() const { return teacher_->kind(); }
   double wall_s() const { return wall_s_; }
   const TaskSpace& space() const { return space_; }
@@ -543,6 +545,14 @@ TrainResult train_stage(const TrainOptions& options) {
 
   std::optional<TrialTeacher> teacher;
   if (stage.teaches()) teacher.emplace(cur, stage, options);
+  // The parameters recorded are those the checkpoints' and the final evaluation's worlds have: a
+  // parameter an LCAS teacher lifts outside the task space is evaluated at its last level, which
+  // `roger eval --policy` then sets as the trial's own (trial_only_params). Training episodes
+  // record the level they had in their task.
+  if (teacher)
+    for (const auto& [name, level] : teacher->test_params())
+      for (auto& param : res.params)
+        if (param.first == name) param.second = level;
   EvalCache eval_cache;
   EvalCache* cache = options.eval_cache && !stage.absorbing_lua && !stage.reward_lua ? &eval_cache : nullptr;
   // One greedy evaluation, counted (every episode reused, or not); with a teacher, on its test set;
