@@ -157,7 +157,7 @@ int command_run(const RunArgs& a) {
     if (!summary.interrupted) return outcome;
     log << "roger run: interrupted; the trials that were running start afresh when you run the same command "
            "again\n";
-    return 130;  // as a shell reports a command stopped by Ctrl-C
+    return interrupt_exit_status();  // 130 after Ctrl-C, 143 after SIGTERM, as a shell reports them
   } catch (const FileError& e) {
     log << "roger run: " << file_error_line(e) << "\n";
     return 1;

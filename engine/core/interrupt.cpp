@@ -9,16 +9,23 @@ namespace {
 
 // Lock-free, so the handler may set it (a sig_atomic_t could not be read across threads).
 std::atomic<bool> requested{false};
-static_assert(std::atomic<bool>::is_always_lock_free, "a signal handler may only touch lock-free atomics");
+std::atomic<int> requested_by{0};  // the signal of the first request
+static_assert(std::atomic<bool>::is_always_lock_free && std::atomic<int>::is_always_lock_free,
+              "a signal handler may only touch lock-free atomics");
 
 extern "C" void on_interrupt(int signal_number) {
+  if (!requested.load(std::memory_order_relaxed)) requested_by.store(signal_number, std::memory_order_relaxed);
   requested.store(true, std::memory_order_relaxed);
   // The next one is the default action: a second Ctrl-C stops at once.
   std::signal(signal_number, SIG_DFL);
-  static const char note[] =
+  static const char by_ctrl_c[] =
       "\nroger: stopping: finishing the episodes in flight, keeping every finished result (press Ctrl-C again "
       "to stop at once)\n";
-  const ssize_t ignored = ::write(STDERR_FILENO, note, sizeof note - 1);
+  static const char by_term[] =
+      "\nroger: stopping (SIGTERM): finishing the episodes in flight, keeping every finished result (a second "
+      "SIGTERM stops at once)\n";
+  const bool term = signal_number == SIGTERM;
+  const ssize_t ignored = ::write(STDERR_FILENO, term ? by_term : by_ctrl_c, (term ? sizeof by_term : sizeof by_ctrl_c) - 1);
   (void)ignored;
 }
 
@@ -33,6 +40,14 @@ void catch_interrupts() {
 
 bool interrupt_requested() { return requested.load(std::memory_order_relaxed); }
 
-void clear_interrupt() { requested.store(false, std::memory_order_relaxed); }
+int interrupt_exit_status() {
+  const int by = requested_by.load(std::memory_order_relaxed);
+  return 128 + (by > 0 ? by : SIGINT);
+}
+
+void clear_interrupt() {
+  requested.store(false, std::memory_order_relaxed);
+  requested_by.store(0, std::memory_order_relaxed);
+}
 
 }  // namespace roger

@@ -14,6 +14,10 @@ void catch_interrupts();
 // Whether a stop was requested since catch_interrupts. Cheap: read at every episode's start.
 bool interrupt_requested();
 
+// The exit status of a command that stopped on request, as a shell reports a command the signal
+// stopped: 130 after SIGINT (Ctrl-C), 143 after SIGTERM (Slurm's scancel, a time limit, kill).
+int interrupt_exit_status();
+
 // Forgets a request (tests, and a command that has finished stopping).
 void clear_interrupt();
 

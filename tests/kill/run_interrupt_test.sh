@@ -7,7 +7,8 @@
 # running, and exit 130 with a last line saying how to resume. The same command then finishes the
 # run to exactly the golden results (tests/golden/quick). A second SIGINT soon after the first stops
 # the run at once (the signal's default action: no report), and that folder resumes to the golden
-# results too.
+# results too. SIGTERM (Slurm's scancel, a job's time limit) stops it as one Ctrl-C does, and it
+# exits 143, as a shell reports a command SIGTERM stopped.
 set -euo pipefail
 set -m  # job control: the background run gets SIGINT (without it, a shell starts it ignoring SIGINT)
 
@@ -26,10 +27,10 @@ cleanup() {
 trap cleanup EXIT
 fail() { echo "FAILED: $*"; [ -f "$work/log" ] && sed 's/^/  | /' "$work/log"; exit 1; }
 
-# Starts the run into $1, waits until a trial has a result, sends SIGINT $2 times (0.05 s apart)
-# and sets `status` to the run's exit status.
+# Starts the run into $1, waits until a trial has a result, sends SIGINT (or signal $3) $2 times
+# (0.05 s apart) and sets `status` to the run's exit status.
 interrupt() {
-  local out=$1 waited=0
+  local out=$1 signal=${3:-INT} waited=0
   "$roger" run scripts/quick.lua --jobs 2 --out "$out" >"$work/log" 2>&1 &
   child=$!
   until [ -n "$(find "$out/trials" -name result.json 2>/dev/null | head -1)" ]; do
@@ -38,8 +39,8 @@ interrupt() {
     waited=$((waited + 1))
     [ $waited -lt 2400 ] || fail "waited two minutes for the first trial"
   done
-  kill -INT "$child"
-  if [ "$2" -eq 2 ]; then sleep 0.05; kill -INT "$child" 2>/dev/null || true; fi
+  kill -"$signal" "$child"
+  if [ "$2" -eq 2 ]; then sleep 0.05; kill -"$signal" "$child" 2>/dev/null || true; fi
   status=0
   wait "$child" || status=$?
   child=
@@ -66,4 +67,11 @@ interrupt "$work/twice" 2
 [ "$status" -eq 130 ] || fail "exit status $status after two Ctrl-C, not 130 (killed by SIGINT)"
 ! grep -q "^roger run: interrupted" "$work/log" || fail "the second Ctrl-C did not stop the run at once"
 resume_to_golden "$work/twice"
-echo "passed: one Ctrl-C keeps what finished and reports it; two stop at once; both resume to the golden run"
+
+interrupt "$work/term" 1 TERM
+[ "$status" -eq 143 ] || fail "exit status $status after SIGTERM, not 143"
+grep -q "^roger: stopping (SIGTERM): " "$work/log" || fail "no line says the run is stopping on SIGTERM"
+[ "$(tail -n 1 "$work/log")" = "roger run: interrupted; the trials that were running start afresh when you run the same command again" ] ||
+  fail "after SIGTERM the last line does not say how to resume"
+[ -z "$(find "$work/term/trials" -name error.json)" ] || fail "a trial SIGTERM stopped was recorded as failed"
+echo "passed: one Ctrl-C keeps what finished and reports it; two stop at once; both resume to the golden run; SIGTERM stops as one Ctrl-C and exits 143"
