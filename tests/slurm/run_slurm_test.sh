@@ -118,7 +118,18 @@ for option in --output=x.out -o -J --job-name=x "-d 5"; do
   grep -q "submit.sh's\|--dependency=LIST" <<< "$out" || fail "submit.sh $option: unclear message: $out"
   [ ! -e "$tmp/refused" ] || fail "submit.sh $option made $tmp/refused before refusing"
 done
-log "submit.sh refuses a bad N, a missing sbatch, and --output, --job-name and -d"
+# An --array task past the last shard would run a shard of no N (`roger run` refuses K >= N, but
+# only once the job starts, in its log); submit.sh refuses it at once, naming the shards.
+for array in 3 0-3 1,5 2-1 x; do
+  rm -rf "$tmp/refused"
+  if out=$(ROGER_OUT=$tmp/refused bash "$submit" scripts/quick.lua 3 --array=$array 2>&1); then
+    fail "submit.sh took --array=$array for 3 shards"
+  fi
+  grep -q "^submit.sh: --array=$array: .*the tasks are the shards 0 to 2 of N=3" <<< "$out" ||
+    fail "submit.sh --array=$array: unclear message: $out"
+  [ ! -e "$tmp/refused" ] || fail "submit.sh --array=$array made $tmp/refused before refusing"
+done
+log "submit.sh refuses a bad N, a missing sbatch, --output, --job-name and -d, and --array tasks past N-1"
 
 # --- munge --------------------------------------------------------------------------------------
 
