@@ -118,6 +118,14 @@ TEST_CASE("roger check calls the Lua callbacks as at an episode's first decision
       {"bad_curriculum_predicate_raises.lua", "bad_curriculum_predicate_raises.lua:5: stage 'S', context 'A'"},
       {"bad_curriculum_state_name.lua", "bad_curriculum_state_name.lua:5: stage 'S', context 'A': absorbing function: "
                                         "state has no action 'Phi3' (did you mean 'phi3'?); its actions: phi3"},
+      // Found by probes: a misspelt field of a world entry read nil, and check said ok. The error
+      // is at the helper's line that reads it, not at the line that called the helper.
+      {"bad_curriculum_world_entry.lua",
+       "bad_curriculum_world_entry.lua:5: stage 'S', context 'A': absorbing function: an object of world.objects "
+       "has no field 'regoin' (did you mean 'region'?); its fields: name, shape, colour, x, y, held, region"},
+      {"bad_curriculum_world_goals.lua",
+       "bad_curriculum_world_goals.lua:5: stage 'S', context 'A': absorbing function: world has no field 'goalz' "
+       "(did you mean 'goals'?); its fields: objects, goals, obstacles"},
   };
   for (const auto& [file, says] : cases) {
     INFO(file);

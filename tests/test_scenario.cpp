@@ -416,6 +416,12 @@ TEST_CASE("script mistakes are reported at the script's file:line", "[scenario]"
     const ScriptError rng = generate_error(s);
     CHECK(rng.line == 7);
     CHECK(rng.message == "rng has no method 'integre'; its methods: angle, choice, fork, int, normal, shuffle, uniform");
+    // Found by a probe: in a helper the generator calls, the error named the generator's line.
+    Scenario helper = Scenario::load("tests/scripts/bad_method_in_helper.lua");
+    const ScriptError in_helper = generate_error(helper);
+    CHECK(in_helper.file == "tests/scripts/bad_method_in_helper.lua");
+    CHECK(in_helper.line == 5);
+    CHECK_THAT(in_helper.message, StartsWith("world has no method 'sample_positon' (did you mean 'sample_position'?)"));
   }
   SECTION("an unknown shape lists the known ones") {
     Scenario s = Scenario::load("tests/scripts/bad_shape_name.lua");

@@ -1,12 +1,38 @@
 // curriculum_world.cpp: the world as a curriculum's Lua callbacks see it (their `world` argument).
 #include <cstdio>
+#include <string>
+#include <vector>
 
+#include "core/text.h"
 #include "script/curriculum/curriculum_internal.h"
+#include "script/sandbox/lua_sandbox.h"
 
 namespace roger {
 namespace curriculum_detail {
 
 namespace {
+
+// A name a world table does not hold, read by a callback: an error at the callback's line naming
+// the fields, where a nil would quietly change what it decides (`o.regoin == "goal"` false for
+// good). `optional` is a field that may be absent (an object's region outside every region): nil.
+int unknown_field(lua_State* L, const char* what, const std::vector<std::string>& fields,
+                  const char* optional = nullptr) {
+  const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : luaL_tolstring(L, 2, nullptr);
+  if (optional && key == optional) return 0;
+  return raise_at_reader(L, std::string(what) + " has no field '" + key + "'" + suggestion(key, fields) +
+                                "; its fields: " + join(fields));
+}
+int unknown_world_field(lua_State* L) { return unknown_field(L, "world", {"objects", "goals", "obstacles"}); }
+int unknown_object_field(lua_State* L) {
+  return unknown_field(L, "an object of world.objects", {"name", "shape", "colour", "x", "y", "held", "region"},
+                       "region");
+}
+int unknown_goal_field(lua_State* L) {
+  return unknown_field(L, "a goal region of world.goals", {"name", "x", "y", "radius"});
+}
+int unknown_obstacle_field(lua_State* L) {
+  return unknown_field(L, "an obstacle of world.obstacles", {"name", "x", "y", "shape"});
+}
 
 // The static obstacles as the callbacks see them: {name, x, y, shape} each, in the scenario's order.
 void push_obstacles(lua_State* L, const WorldSpec& spec) {
@@ -22,6 +48,7 @@ void push_obstacles(lua_State* L, const WorldSpec& spec) {
     lua_setfield(L, -2, "y");
     lua_pushstring(L, o.shape.name.c_str());
     lua_setfield(L, -2, "shape");
+    set_strict_index(L, "roger.WorldObstacle", unknown_obstacle_field);
     lua_rawseti(L, -2, lua_Integer(i + 1));
   }
   lua_setfield(L, -2, "obstacles");
@@ -31,7 +58,7 @@ void push_obstacles(lua_State* L, const WorldSpec& spec) {
 
 // The world as the Lua callbacks see it (the task's judge, not Roger's senses): every object with
 // its pose, shape, colour, whether Roger touches it and the goal region its centre lies in; the
-// regions; the obstacles.
+// regions; the obstacles. Each table is strict: reading a field it does not have is an error.
 void push_world(lua_State* L, const World& world) {
   const WorldSpec& spec = world.spec();
   lua_createtable(L, 0, 3);
@@ -55,6 +82,7 @@ void push_world(lua_State* L, const World& world) {
       lua_pushstring(L, spec.goals[size_t(g)].name.c_str());
       lua_setfield(L, -2, "region");
     }
+    set_strict_index(L, "roger.WorldObject", unknown_object_field);
     lua_rawseti(L, -2, lua_Integer(i + 1));
   }
   lua_setfield(L, -2, "objects");
@@ -69,10 +97,12 @@ void push_world(lua_State* L, const World& world) {
     lua_setfield(L, -2, "y");
     lua_pushnumber(L, spec.goals[g].radius);
     lua_setfield(L, -2, "radius");
+    set_strict_index(L, "roger.WorldGoal", unknown_goal_field);
     lua_rawseti(L, -2, lua_Integer(g + 1));
   }
   lua_setfield(L, -2, "goals");
   push_obstacles(L, spec);
+  set_strict_index(L, "roger.World", unknown_world_field);
 }
 
 }  // namespace curriculum_detail

@@ -43,7 +43,7 @@ LuaFields::LuaFields(lua_State* L, int index, std::string context, std::vector<s
 }
 
 int raise_at_reader(lua_State* L, const std::string& text) {
-  luaL_where(L, 2);
+  luaL_where(L, 1);
   lua_pushstring(L, text.c_str());
   lua_concat(L, 2);
   return lua_error(L);
