@@ -980,6 +980,9 @@ TEST_CASE("roger eval --test-set repeats a teaching trial's final evaluation epi
     std::vector<json> final;
     for (std::string line; std::getline(lines, line);) final.push_back(json::parse(line));
     REQUIRE(got["test_set"] == true);
+    // LiftOnly's trial records its lift's last level among its own parameters (distance 2), which
+    // the test tasks set themselves: neither a --set they refuse nor a change of the test set.
+    CHECK(got["test_set_changed"] == false);
     REQUIRE(got["episodes"] == int(final.size()));
     REQUIRE(got["test_tasks"].size() == final.size());
     std::vector<uint64_t> failed;

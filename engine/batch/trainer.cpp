@@ -931,7 +931,12 @@ void check_sets_leave_tasks(const ParamList& sets, const std::vector<ParamList>&
 uint64_t resolve_test_set(StageRun& run, const PolicyMetadata& meta, const PolicyEvalOptions& options,
                           PolicyEvalResult& out) {
   const TestSet saved = saved_test_set(meta, options.policy_file);
-  if (saved.recorded) check_sets_leave_tasks(options.sets, saved.tasks, options.policy_file);
+  // The command's --set, less the trial's own parameters set beside them (out.trial_sets): those
+  // the test tasks set themselves (an LCAS lift's last level) are the tasks', not the command's.
+  ParamList command_sets;
+  for (const auto& set : options.sets)
+    if (std::find(out.trial_sets.begin(), out.trial_sets.end(), set) == out.trial_sets.end()) command_sets.push_back(set);
+  if (saved.recorded) check_sets_leave_tasks(command_sets, saved.tasks, options.policy_file);
   // The test set as a trial of the stage makes it now (TrialTeacher: the space less the --set
   // parameters, the teacher's own parameters beside it), on the same world seeds.
   std::vector<ParamList> now;
@@ -939,7 +944,7 @@ uint64_t resolve_test_set(StageRun& run, const PolicyMetadata& meta, const Polic
   if (made_now) {
     try {
       TrainOptions topt;
-      topt.sets = options.sets;
+      topt.sets = command_sets;
       const TrialTeacher teacher(run.cur, run.stage, topt);
       const EvalWorlds worlds = teacher.worlds(run.stage.checkpoints.seeds, true);
       for (size_t i = 0; i < size_t(worlds.episodes); ++i) now.push_back(worlds.task(i));
