@@ -121,6 +121,12 @@ TEST_CASE("propose on SG: a checked curriculum whose proposal beats B1 over 10 s
   const std::string md = slurp(r.report_file);
   for (const auto& c : r.candidates) CHECK(md.find("| " + c.id + " | " + c.kind + " |") != std::string::npos);
   CHECK(md.find("Why " + r.candidates[size_t(r.winner)].id + " won") != std::string::npos);
+  // Found by a probe: four candidates tied where round 1 cut, and only reading every trial's
+  // record showed that the candidates' order decided (docs/propose.md's example says so now).
+  REQUIRE(r.cautions.size() == 1);
+  CHECK(r.cautions[0] == "round 1: C3, C4, C5, C6 tied at a mean loss of 533.1 where the round cut, and the "
+                         "candidates' order decided which went on (C3 did, C4 did not)");
+  CHECK(md.find("## Cautions\n\n- " + r.cautions[0] + ".\n") != std::string::npos);
 
   CHECK(check_curriculum(r.proposal_file).empty());
   CHECK(run_status(std::string(ROGER_BINARY) + " check " + r.proposal_file + " >/dev/null 2>&1") == 0);
@@ -299,6 +305,14 @@ TEST_CASE("propose refuses at once a curriculum its proposal could not require",
                                                Catch::Contains("builds on it by require") &&
                                                Catch::Contains("Copy the curriculum into " + (home / "curricula").string()) &&
                                                Catch::Contains("nothing was run"));
+  // Outside, and under a name require cannot spell: both said at once (before, the name was said
+  // only once the copy had been made).
+  fs::copy_file(project / "tests" / "scripts" / "propose_beside.lua", dir.path / "my-fetch.lua");
+  fs::copy_file(project / "tests" / "scripts" / "propose_beside_world.lua", dir.path / "propose_beside_world.lua");
+  o.curriculum = (dir.path / "my-fetch.lua").string();
+  CHECK_THROWS_WITH(propose_curriculum(o), Catch::Contains("lies outside the project's curricula/") &&
+                                               Catch::Contains("under a name require takes (letters, digits and "
+                                                               "underscores, a .lua file: not 'my-fetch.lua')"));
   // A file name require cannot spell: before, the probe trained, then the proposal failed to load.
   fs::copy_file(home / "curricula" / "mine" / "propose_beside.lua", home / "curricula" / "mine" / "propose-beside.lua");
   o.curriculum = (home / "curricula" / "mine" / "propose-beside.lua").string();
@@ -324,6 +338,25 @@ TEST_CASE("propose says plainly when its probe saw no success", "[propose]") {
   CHECK(out.find("no successful episode in 8 training episodes") != std::string::npos);
   CHECK(out.find("the only candidate is the base") != std::string::npos);
   CHECK(slurp(dir.path / "p" / "propose.md").find("**No probe episode succeeded**") != std::string::npos);
+}
+
+// Found by a probe: with caps under the stage's checkpoint interval, every trial of a round got
+// the same loss, the trial table showed "last checkpoint 0%" for checkpoints that never ran, and
+// nothing said the candidates' order had ranked them.
+TEST_CASE("propose says when a round's trials ran no checkpoint", "[propose]") {
+  test::TempDir dir("roger_propose");
+  // The probe takes 80% of 3000 s; 6 candidates x 2 trials share what is left over 3 rounds.
+  REQUIRE(run_status(std::string(ROGER_BINARY) + " propose paper --stage SG --context B1 --budget 3000 --probe-share 0.8 "
+                     "--out " + (dir.path / "p").string() + " >" + (dir.path / "stdout").string() + " 2>/dev/null") == 0);
+  const std::string out = slurp(dir.path / "stdout");
+  INFO(out);
+  CHECK(out.find("  caution        round 1: no trial ran a checkpoint: its cap of 17 simulated s is under the 50 s a "
+                 "checkpoint can take (every 10 training episodes, each up to 5 s), so every loss was the same and the "
+                 "candidates' order decided which went on; a --budget of about 9057 gives this round's trials one "
+                 "checkpoint each\n") != std::string::npos);
+  const std::string md = slurp(dir.path / "p" / "propose.md");
+  CHECK(md.find("## Cautions") != std::string::npos);
+  CHECK(md.find("| no | - | none ran |") != std::string::npos);
 }
 
 // Found by a probe: propose.md gave `--budget 3000 --seed 2` for a search run with five other

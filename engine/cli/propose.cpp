@@ -42,6 +42,7 @@ int command_propose(const ProposeArgs& a) {
                 r.successful_episodes == 1 ? "" : "s", r.probe_episodes);
   std::printf("  spent          %.1f of %.0f simulated s (%.1f%%), the probe %.1f\n", r.spent_s, r.budget_s,
               100 * r.spent_s / r.budget_s, r.probe_s);
+  for (const auto& caution : r.cautions) std::printf("  caution        %s\n", caution.c_str());
   std::printf("  winner         %s (%s): %s\n", w.id.c_str(), w.kind.c_str(), w.summary.c_str());
   std::printf("  wrote          %s (context P), %s\n", r.proposal_file.c_str(), r.report_file.c_str());
   return 0;

@@ -43,16 +43,26 @@ std::string module_name(const std::string& file, const std::string& out) {
     std::replace(name.begin(), name.end(), '/', '.');
     break;
   }
-  if (name.empty())
+  const auto spells = [](const std::string& text) {  // letters, digits, underscores and dots
+    return std::all_of(text.begin(), text.end(), [](char ch) {
+      return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '.';
+    });
+  };
+  if (name.empty()) {
+    // Its name too, when it is not one require takes: both said at once, so one copy mends both.
+    const std::string stem = real.stem().string();
+    const bool named = real.extension() == ".lua" && spells(stem) && stem.find('.') == std::string::npos;
     throw Error("roger propose: " + file + ": the curriculum lies outside the project's curricula/ (" + curricula +
                 "), scenarios/ and scripts/; the proposal written into --out builds on it by require, and require "
                 "in a roger script finds modules only in the script's own folder and in those three, so it could "
                 "not load. Copy the curriculum into " + curricula + "/ (with the files it names by relative "
-                "paths: scenarios beside it, modules it requires) and propose from that copy; nothing was run");
-  const bool spellable = rel.extension() == ".lua" && name.find("..") == std::string::npos &&
-                         std::all_of(name.begin(), name.end(), [](char ch) {
-                           return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '.';
-                         });
+                "paths: scenarios beside it, modules it requires)" +
+                (named ? std::string()
+                       : ", under a name require takes (letters, digits and underscores, a .lua file: not '" +
+                             real.filename().string() + "')") +
+                " and propose from that copy; nothing was run");
+  }
+  const bool spellable = rel.extension() == ".lua" && name.find("..") == std::string::npos && spells(name);
   if (!spellable)
     throw Error("roger propose: " + file + ": the proposal builds on the curriculum by require(\"" + name +
                 "\"), not a module name require takes (letters, digits and underscores, its folders joined by "
@@ -163,6 +173,7 @@ CandidateTrial run_trial(const ProposeOptions& o, const CandidateSpec& spec, con
         tr.time_s = j.at("time_s").get<double>();
         tr.last_success = j.at("last_success").get<double>();
         tr.loss = j.at("loss").get<double>();
+        tr.checkpoints = j.value("checkpoints", -1);
         tr.reused = true;
         // Numbers no trial gives (damaged, or edited by hand) make the record unreadable: run again.
         const bool sound = std::isfinite(tr.spent_s) && tr.spent_s >= 0 && std::isfinite(tr.skills_s) &&
@@ -193,20 +204,51 @@ CandidateTrial run_trial(const ProposeOptions& o, const CandidateSpec& spec, con
   tr.reached = r.reached;
   tr.time_s = tr.skills_s + r.to_threshold.sim_s;
   tr.last_success = r.checkpoints.empty() ? 0.0 : r.checkpoints.back().success_rate;
+  tr.checkpoints = int(r.checkpoints.size());
   tr.loss = tr.reached ? tr.time_s : cap_s * (2.0 - tr.last_success);
   const nlohmann::json j = {{"format", "roger-propose-trial"}, {"candidate", spec.c.id}, {"hash", hash},
                             {"seed", seed}, {"cap_s", cap_s}, {"spent_s", tr.spent_s}, {"skills_s", tr.skills_s},
                             {"reached", tr.reached}, {"time_s", tr.time_s}, {"last_success", tr.last_success},
-                            {"loss", tr.loss}};
+                            {"checkpoints", tr.checkpoints}, {"loss", tr.loss}};
   write_file_atomic(file, j.dump(1) + "\n", "cannot write the trial record");
   return tr;
+}
+
+// Cautions on round `round` (alive sorted by score, the first `keep` going on): a round none of
+// whose trials ran a checkpoint ranked on equal losses, and a cut inside a tie was decided by the
+// candidates' order (stable_sort). A probe found both only by reading every trial's record.
+void note_round(const ProposeOptions& o, const TaskRef& task, const std::vector<CandidateSpec>& specs,
+                const std::vector<size_t>& alive, size_t keep, int round, double cap, ProposeResult& res) {
+  bool any_checkpoint = false;
+  for (size_t i : alive)
+    for (const auto& t : specs[i].c.trials)
+      if (t.round == round && (t.checkpoints != 0 || t.reached)) any_checkpoint = true;
+  if (!any_checkpoint) {
+    const double interval_s = task.checkpoint_every * task.time_limit;
+    res.cautions.push_back(
+        "round " + std::to_string(round) + ": no trial ran a checkpoint: its cap of " + format_number(std::round(cap)) +
+        " simulated s is under the " + format_number(std::round(interval_s)) + " s a checkpoint can take (every " +
+        counted(task.checkpoint_every, "training episode") + ", each up to " + format_number(task.time_limit) +
+        " s), so every loss was the same and the candidates' order decided which went on; a --budget of about " +
+        format_number(std::ceil(o.budget_s * interval_s / cap)) + " gives this round's trials one checkpoint each");
+    return;
+  }
+  if (keep >= alive.size() || specs[alive[keep - 1]].c.score != specs[alive[keep]].c.score) return;
+  std::vector<std::string> tied;
+  for (size_t i : alive)
+    if (specs[i].c.score == specs[alive[keep]].c.score) tied.push_back(specs[i].c.id);
+  char loss[32];
+  std::snprintf(loss, sizeof loss, "%.1f", specs[alive[keep]].c.score);
+  res.cautions.push_back("round " + std::to_string(round) + ": " + join(tied) + " tied at a mean loss of " + loss +
+                         " where the round cut, and the candidates' order decided which went on (" +
+                         specs[alive[keep - 1]].c.id + " did, " + specs[alive[keep]].c.id + " did not)");
 }
 
 // The successive halving of Karnin et al. (2013) as Jamieson and Talwalkar (2016) use it: ceil(log2 n)
 // rounds, each given an equal share of what budget remains; in a round every survivor runs
 // options.trials seeded trials capped at an equal share of it, and the better half (by mean loss)
 // goes on. Every trial's simulated seconds are counted; a trial is capped at what remains.
-void successive_halving(const ProposeOptions& o, const std::string& sources, std::vector<CandidateSpec>& specs,
+void successive_halving(const ProposeOptions& o, const TaskRef& task, std::vector<CandidateSpec>& specs,
                         ProposeResult& res) {
   std::vector<size_t> alive;
   for (size_t i = 0; i < specs.size(); ++i)
@@ -224,7 +266,7 @@ void successive_halving(const ProposeOptions& o, const std::string& sources, std
         const uint64_t seed = Rng::mix(o.seed, 0x747269616cull + uint64_t(r * o.trials + j));
         const std::string file = (fs::path(o.out) / "trials" /
                                   (spec.c.id + "-r" + std::to_string(r + 1) + "-t" + std::to_string(j + 1) + ".json")).string();
-        CandidateTrial tr = run_trial(o, spec, sources, seed, allowed, file);
+        CandidateTrial tr = run_trial(o, spec, task.sources, seed, allowed, file);
         tr.round = r + 1;
         res.spent_s += tr.spent_s;
         (tr.reused ? res.trials_reused : res.trials_run) += 1;
@@ -246,6 +288,7 @@ void successive_halving(const ProposeOptions& o, const std::string& sources, std
     }
     std::stable_sort(alive.begin(), alive.end(), [&](size_t a, size_t b) { return specs[a].c.score < specs[b].c.score; });
     const size_t keep = (alive.size() + 1) / 2;
+    note_round(o, task, specs, alive, keep, r + 1, cap, res);
     for (size_t k = keep; k < alive.size(); ++k) specs[alive[k]].c.eliminated_round = r + 1;
     alive.resize(keep);
   }
@@ -270,7 +313,10 @@ ProposeResult propose_curriculum(const ProposeOptions& options) {
       throw Error("roger propose: " + stage.where(ctx.name) + " starts from the Q-table of context '" + ctx.init_context +
                   "' of stage '" + ctx.init_stage + "' (init); the proposal's contexts learn from scratch, so start "
                   "from a context without init");
-    check_options(o, stage_time_limit(stage, o.limits));  // the command's own mistakes first
+    const double time_limit = stage_time_limit(stage, o.limits);
+    check_options(o, time_limit);  // the command's own mistakes first
+    task.checkpoint_every = stage.checkpoints.every > 0 ? stage.checkpoints.every : std::max(1, stage.budget_episodes / 20);
+    task.time_limit = time_limit;
     task.module = module_name(cur.file(), o.out);
     task.scenario = scenario_from_project(stage.scenario);
     task.context_params = !ctx.params.empty();
@@ -317,7 +363,7 @@ ProposeResult propose_curriculum(const ProposeOptions& options) {
     c.evaluated = int(i) < o.max_candidates;
     write_file_atomic(c.file, specs[i].lua, "cannot write the candidate curriculum");
   }
-  successive_halving(o, task.sources, specs, res);
+  successive_halving(o, task, specs, res);
 
   const CandidateSpec& win = specs[size_t(res.winner)];
   std::string text = win.lua;

@@ -47,6 +47,7 @@ struct CandidateTrial {
   double loss = 0.0;         // time_s when reached, else cap_s * (2 - last_success)
   bool reused = false;       // read back from the trial record of an earlier run
   int round = 0;             // the round of successive halving it belongs to (1-based)
+  int checkpoints = -1;      // greedy checkpoints the final stage ran (-1: a record from before they were kept)
 };
 
 // A candidate curriculum.
@@ -74,6 +75,9 @@ struct ProposeResult {
   int probe_episodes = 0;        // training episodes of the probe
   int rounds = 0;
   int trials_run = 0, trials_reused = 0;
+  // What makes the ranking less than it seems: a round whose trials ran no checkpoint (every loss
+  // the same), a cut that fell in a tie (the candidates' order decided). One sentence each.
+  std::vector<std::string> cautions;
   std::string proposal_file;     // out/proposal.lua
   std::string report_file;       // out/propose.md
 };

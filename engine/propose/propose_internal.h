@@ -59,6 +59,8 @@ struct TaskRef {
   bool context_params = false;  // the starting context sets scenario parameters (its body, senses)
   std::string command;       // the roger propose command line, for the file's header
   std::string sources;       // text_hash of every Lua file the task and the proposals read
+  int checkpoint_every = 0;  // training episodes between the stage's checkpoints
+  double time_limit = 0.0;   // the stage's time-out (s) in a world of its scenario
 };
 
 // A candidate and the text of its curriculum file.

@@ -79,7 +79,8 @@ void candidates_section(std::ostream& md, const ProposeResult& r) {
     for (const auto& t : c.trials)
       md << "| " << c.id << " | " << t.round << " | " << t.seed << " | " << fmt("%.1f", t.cap_s) << " | "
          << fmt("%.1f", t.spent_s) << " | " << fmt("%.1f", t.skills_s) << " | " << (t.reached ? "yes" : "no") << " | "
-         << (t.reached ? fmt("%.1f", t.time_s) : "-") << " | " << fmt("%.0f%%", 100 * t.last_success) << " | "
+         << (t.reached ? fmt("%.1f", t.time_s) : "-") << " | "
+         << (t.checkpoints == 0 ? std::string("none ran") : fmt("%.0f%%", 100 * t.last_success)) << " | "
          << fmt("%.1f", t.loss) << " |\n";
 }
 
@@ -119,6 +120,11 @@ void write_propose_report(const ProposeOptions& o, const TaskRef& task, const Pr
   probe_section(md, o, probe, summary);
   candidates_section(md, r);
   md << "\n";
+  if (!r.cautions.empty()) {
+    md << "## Cautions\n\n";
+    for (const auto& c : r.cautions) md << "- " << c << ".\n";
+    md << "\n";
+  }
   winner_section(md, r);
   write_file_atomic(r.report_file, md.str(), "cannot write propose.md");
 }
