@@ -56,10 +56,11 @@ if lfs.attributes(here .. "docs/api", "mode") ~= "directory" then
 end
 
 -- Every roger.* member the API files define (`function roger.x`, `roger.x =`, `roger["x"] =`,
--- `roger.x.y =`), as luacheck's nested field table; and the top-level functions they mark
--- deprecated (not in the sandbox).
+-- `roger.x.y =`), as luacheck's nested field table; the top-level functions they mark deprecated
+-- (not in the sandbox); and the library members they mark so (`string.dump`, `math.random`), as
+-- {library, member} pairs.
 local function read_api()
-  local roger, missing = {}, {}
+  local roger, missing, members = {}, {}, {}
   local files = {}
   for name in lfs.dir(here .. "docs/api") do
     if name:match("%.lua$") then files[#files + 1] = here .. "docs/api/" .. name end
@@ -80,10 +81,12 @@ local function read_api()
       end
       local global = deprecated and line:match("^function ([%w_]+)%s*%(")
       if global then missing[#missing + 1] = global end
+      local library, member = line:match("^function ([%w_]+)%.([%w_]+)%s*%(")
+      if deprecated and library ~= "roger" and member then members[#members + 1] = { library, member } end
       deprecated = line:match("^%-%-%-@deprecated") ~= nil or (deprecated and line:match("^%-%-%-") ~= nil)
     end
   end
-  return roger, missing
+  return roger, missing, members
 end
 
 -- The libraries .luarc.json disables for the editor are not in the sandbox either.
@@ -97,11 +100,27 @@ local function disabled_libraries()
   return out
 end
 
-local roger_api, not_globals = read_api()
+local roger_api, not_globals, removed_members = read_api()
 for _, lib in ipairs(disabled_libraries()) do not_globals[#not_globals + 1] = lib end
 
+-- Lua 5.4's standard as luacheck defines it, less the library members the sandbox removes: then
+-- `math.random(3)` is reported ("accessing undefined field random of global math") as `loadfile`
+-- is. A deep copy: luacheck's own table is shared with its other standards.
+local function copy(t)
+  if type(t) ~= "table" then return t end
+  local out = {}
+  for k, v in pairs(t) do out[k] = copy(v) end
+  return out
+end
+local sandbox_std = copy(require("luacheck.builtin_standards").lua54)
+for _, pair in ipairs(removed_members) do
+  local library = sandbox_std.read_globals[pair[1]]
+  if library and library.fields then library.fields[pair[2]] = nil end
+end
+
 return {
-  std = "lua54",
+  stds = { roger_sandbox = sandbox_std },
+  std = "roger_sandbox",
   -- Callbacks have fixed argument lists (state, time, world): naming the unused ones documents them.
   unused_args = false,
   -- Anchored at this file's folder, so that they hold from whichever folder luacheck runs.

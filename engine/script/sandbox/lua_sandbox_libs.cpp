@@ -226,10 +226,13 @@ int open_sandbox(lua_State* L) {
   }
   lua_pushglobaltable(L);
   const int g = lua_gettop(L);
-  lua_pushnil(L);
-  lua_setfield(L, g, "dofile");  // reads arbitrary files
-  lua_pushnil(L);
-  lua_setfield(L, g, "loadfile");
+  // They read any file: refused with a word on what to use, not a nil whose call says only
+  // "attempt to call a nil value".
+  const char* no_file_loading =
+      "is not available in roger scripts: it reads any file; require(\"dotted.name\") loads a module from the "
+      "script's folder or the project's scenarios/, curricula/ and scripts/";
+  set_refusal(L, g, "dofile", (std::string("dofile ") + no_file_loading).c_str());
+  set_refusal(L, g, "loadfile", (std::string("loadfile ") + no_file_loading).c_str());
   lua_pushcfunction(L, sandbox_load);
   lua_setfield(L, g, "load");
   lua_pushcfunction(L, sandbox_require);
@@ -251,8 +254,10 @@ int open_sandbox(lua_State* L) {
   }
   lua_pop(L, 1);
   lua_getfield(L, g, "string");
-  lua_pushnil(L);
-  lua_setfield(L, -2, "dump");  // bytecode out is as unwelcome as bytecode in
+  // Bytecode out is as unwelcome as bytecode in.
+  set_refusal(L, lua_gettop(L), "dump",
+              "string.dump is not available in roger scripts: bytecode is refused, in and out (load takes source "
+              "text only)");
   install_patterns(L, lua_gettop(L));
   lua_pop(L, 1);
   // math.random is seeded from the clock: a script using it would not be reproducible.
