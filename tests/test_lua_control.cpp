@@ -199,6 +199,9 @@ TEST_CASE("compose reads the paper's notation, right-associative", "[lua_control
              Contains("controller 'phi1' has no field 'steps'; it has name, kind, and the methods"));
   CHECK_THAT(lua.error("return roger.compose('phi1 <| phi2').step").what(),
              Contains("has no field 'step'; it has name, kind, subordinate, superior, and the methods"));
+  // Found by a probe: a misspelt method named the methods but not the one meant.
+  CHECK_THAT(lua.error("return roger.compose('phi3'):wth{ reach = 1 }").what(),
+             Contains("controller 'phi3' has no field 'wth' (did you mean 'with'?); it has name, kind, and the methods"));
 
   // The same controller is the same Lua value; tostring shows its name.
   CHECK(lua.text("local s = roger.sequence('S', {'phi0'}) return s == roger.compose('S')") == "true");

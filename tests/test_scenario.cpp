@@ -559,7 +559,7 @@ TEST_CASE("the Lua API checks its arguments where they are given", "[scenario]")
         "world:robot: Roger is already placed (call world:robot once)");
   CHECK(run("world:robot{x = 0, y = 0} world:object{name = 'a', shape = shapes.get('circle'), x = 1, y = 1} "
             "world:object{name = 'a', shape = shapes.get('circle'), x = -1, y = -1}", "dup") ==
-        "world:object: there is already a object named 'a'");
+        "world:object: there is already an object named 'a'");
   const Vec2 hand = robot_footprint(RobotStart{}).at(1).center;  // left hand, robot at the origin
   CHECK_THAT(run("world:robot{x = 0, y = 0} world:obstacle{shape = shapes.box('b', 0.1, 0.1), x = " +
                      format_number(hand.x()) + ", y = " + format_number(hand.y()) + "}",

@@ -48,7 +48,11 @@ int l_controller_index(lua_State* L) {
       lua_getfield(L, -1, key.c_str());
     } else {
       const std::string parts = sub ? "subordinate, superior, " : seq ? "steps, " : pol ? "actions, " : "";
-      raise(L, controller_text(*c) + " has no field '" + key + "'; it has name, kind, " +
+      std::vector<std::string> known = {"name", "kind", "with", "subject_to", "param", "params"};
+      if (sub) known.insert(known.end(), {"subordinate", "superior"});
+      if (seq) known.push_back("steps");
+      if (pol) known.push_back("actions");
+      raise(L, controller_text(*c) + " has no field '" + key + "'" + suggestion(key, known) + "; it has name, kind, " +
                    parts + "and the methods with{...}, subject_to(sup), param(name), params()");
     }
     return 1;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -77,7 +78,8 @@ std::string unique_name(const LuaFields& f, const std::string& given, const char
                         const std::vector<std::string>& taken) {
   const std::string name = given.empty() ? std::string(kind) + " " + std::to_string(count + 1) : given;
   if (std::find(taken.begin(), taken.end(), name) != taken.end())
-    f.fail("there is already a " + std::string(kind) + " named '" + name + "'");
+    f.fail(std::string("there is already ") + (std::strchr("aeiou", kind[0]) ? "an " : "a ") + kind + " named '" +
+           name + "'");
   return name;
 }
 
