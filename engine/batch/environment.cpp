@@ -43,6 +43,7 @@ struct StageEnvironment::Impl {
   SemiMdpDriver driver;
   std::optional<EpisodeRun> run;
   bool ended = false;  // the episode ended (or failed): step() needs a reset first
+  bool faulted = false;  // it was ended by an error (a Lua fault), not by its stage
   std::map<std::string, std::string> base;  // the stage's value of each parameter a task has set
 
   // Sets a task's parameters on the scenario, and the stage's back on those it leaves out.
@@ -84,7 +85,7 @@ struct StageEnvironment::Impl {
         run->finish();
       }
     } catch (...) {
-      ended = true;
+      ended = faulted = true;
       throw;
     }
   }
@@ -95,7 +96,7 @@ namespace {
 // Every learned skill the context uses must come from a file: an environment trains nothing.
 void check_skills_given(const CurriculumContext& ctx, const CurriculumStage& stage, const EnvironmentOptions& o) {
   for (const auto& name : ctx.learned)
-    if (!o.skill_files.count(name))
+    if (!o.skill_files.count(name) && !(o.embedded_skills.is_object() && o.embedded_skills.contains(name)))
       throw Error(stage.where(ctx.name) + " uses the learned skill '" + name +
                   "': give its policy file, skills={'" + name + "': '.../policy.json'} (roger train writes one)");
 }
@@ -118,7 +119,10 @@ StageEnvironment::StageEnvironment(const EnvironmentOptions& o) {
   topt.skill_files = o.skill_files;
   topt.limits = o.limits;
   std::vector<SkillSource> sources;
-  batch_detail::bind_skills(impl_->cur, impl_->ctx, topt, nullptr, sources);
+  // A skill given by a file is bound from it; the others the context uses from the embedded ones.
+  nlohmann::json embedded = o.embedded_skills.is_object() ? o.embedded_skills : nlohmann::json::object();
+  for (const auto& given : o.skill_files) embedded.erase(given.first);
+  batch_detail::bind_skills(impl_->cur, impl_->ctx, topt, embedded.empty() ? nullptr : &embedded, sources);
   info_.curriculum = impl_->cur.path();
   info_.stage = st.name;
   info_.context = impl_->ctx.name;
@@ -158,7 +162,9 @@ std::unique_ptr<Teacher> StageEnvironment::make_teacher(uint64_t seed) {
   const CurriculumStage& st = impl_->stage;
   if (st.teacher && st.teacher->kind == TeacherSpec::Kind::kPlr && st.teacher->score_td)
     throw Error(st.where() + ": " + st.teacher->name() + " scores levels by the engine learner's TD errors " +
-                "(score = \"td\"), which an environment stepped from outside does not have; give score = \"success\"");
+                "(score = \"td\", plr's default), which an environment stepped from outside does not have: give it "
+                "score = \"success\" from Python, roger.make(..., teacher='roger.teacher.plr{score = \"success\"}') "
+                "(with the stage's other plr settings inside the braces), or teacher=False for none");
   return impl_->cur.make_teacher(impl_->stage, task_space_, seed);
 }
 
@@ -179,6 +185,7 @@ const std::vector<Gamma>& StageEnvironment::reset(uint64_t seed, const ParamList
   const EngineFloatMode mode;
   Impl& m = *impl_;
   m.ended = true;  // until the new episode is running
+  m.faulted = false;
   m.run.reset();
   seed_ = seed;
   m.set_task(task);
@@ -194,6 +201,10 @@ EnvironmentStep StageEnvironment::step(int action) {
   Impl& m = *impl_;
   if (!m.run)
     throw Error("step: no episode is running in " + info_.stage + "/" + info_.context + " (call reset first)");
+  if (m.ended && m.faulted)
+    throw Error("step: the episode in " + info_.stage + "/" + info_.context +
+                " is over: an error ended it (the ScriptError or RogerError an earlier step or reset raised, "
+                "not terminated or truncated); call reset for the next");
   if (m.ended)
     throw Error("step: the episode in " + info_.stage + "/" + info_.context +
                 " is over (it ended with terminated or truncated; call reset for the next)");

@@ -53,6 +53,9 @@ struct EnvironmentOptions {
   std::string scenario;                                   // "" = the stage's
   std::vector<std::pair<std::string, std::string>> sets;  // scenario parameters over the stage's
   std::map<std::string, std::string> skill_files;         // learned skill name -> its policy.json
+  // Learned skills embedded in a policy file (its extra.skills: name -> policy JSON), bound for
+  // those skill_files does not give, as `roger eval --policy` binds them.
+  nlohmann::json embedded_skills = nlohmann::json::object();
   bool per_tick = false;                                  // a decision every control tick
   SandboxLimits limits;
   // Another task space or teacher than the stage's (Curriculum::set_teaching); empty: the stage's.

@@ -819,6 +819,20 @@ ParamList trial_only_params(const PolicyMetadata& meta, const CurriculumStage& s
   return out;
 }
 
+}  // namespace
+
+ParamList policy_trial_params(const PolicyMetadata& meta, const std::string& policy_file, const std::string& curriculum,
+                              const std::string& scenario, const ParamList& sets, const SandboxLimits& limits) {
+  if (meta.stage.empty() || meta.context.empty())
+    throw Error(policy_file + ": the policy names no curriculum stage and context (not written by roger train?)");
+  Curriculum cur = Curriculum::load(curriculum, limits);
+  const CurriculumStage& stage = cur.stage(meta.stage);
+  if (!scenario.empty() && scenario != stage.scenario) return {};
+  return trial_only_params(meta, stage, stage.context(meta.context), sets, limits);
+}
+
+namespace {
+
 // Loads a saved policy with its stage, context and learned skills, and hands its stage run, its
 // table, the first world seed, what the file says of itself and the options in force (the trial's
 // own parameters among their sets: PolicyEvalOptions::trial_params) to `use`; fills `out`'s stage,

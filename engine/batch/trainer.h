@@ -221,6 +221,16 @@ nlohmann::json train_policy_json(const TrainResult& result);
 // (created if needed), each atomically (temporary file, then rename). Throws roger::Error.
 void write_train_outputs(const TrainResult& result, const std::string& dir);
 
+// The scenario parameters a saved policy's trial set beyond what its stage and context in
+// `curriculum` give now (the file's extra.params that differ from them): what `roger eval
+// --policy` sets as the trial's own, less those `sets` gives (a --set wins). None when `scenario`
+// names another scenario than the stage's, where roger eval leaves them. Throws roger::Error for a
+// file that names no stage and context.
+std::vector<std::pair<std::string, std::string>> policy_trial_params(
+    const PolicyMetadata& meta, const std::string& policy_file, const std::string& curriculum,
+    const std::string& scenario, const std::vector<std::pair<std::string, std::string>>& sets,
+    const SandboxLimits& limits);
+
 // What evaluating a saved policy needs.
 struct PolicyEvalOptions {
   std::string curriculum;                                 // the script that defines its stage

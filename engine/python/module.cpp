@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "batch/environment.h"
+#include "batch/trainer.h"
 #include "core/error.h"
 #include "core/rng.h"
 #include "core/text.h"
@@ -42,8 +43,10 @@ std::string param_text(const py::handle& v) {
 EnvironmentOptions make_options(const std::string& curriculum, const std::string& stage, const std::string& context,
                                 const std::string& scenario, const py::dict& params, const py::dict& skills,
                                 bool per_tick, const std::string& tasks = "", const std::string& teacher = "",
-                                const std::string& teacher_file = "") {
+                                const std::string& teacher_file = "", const std::string& embedded_skills = "") {
   EnvironmentOptions o;
+  // A policy file's extra.skills (make(..., policy=...)): the learned skills `roger eval` binds.
+  if (!embedded_skills.empty()) o.embedded_skills = nlohmann::json::parse(embedded_skills);
   // The package writes a tasks dict as Lua text; a teacher comes as Lua text or a file.
   if (!tasks.empty()) o.tasks = {tasks, "make(tasks=...)", false};
   if (!teacher.empty()) o.teacher = {teacher, "make(teacher=...)", false};
@@ -199,7 +202,16 @@ class Policy {
  public:
   explicit Policy(const std::string& path) : path_(path), q_(QTable::load(path, {}, &meta_)) {}
   int act(py::array_t<int64_t, py::array::c_style | py::array::forcecast> obs) const {
-    if (obs.ndim() != 1 || obs.shape(0) != q_.actions())
+    if (obs.ndim() != 1) {
+      std::string shape;
+      for (py::ssize_t d = 0; d < obs.ndim(); ++d) shape += (d ? ", " : "") + std::to_string(obs.shape(d));
+      const std::string expected =
+          "act: takes one observation, a vector of " + std::to_string(q_.actions()) + " values (one per action)";
+      if (obs.ndim() == 0) throw Error(expected + ", got a single number");
+      throw Error(expected + ", not a batch: got a " + std::to_string(obs.ndim()) + "-D array of shape (" + shape +
+                  "); for a batch of observations, act on each row: [policy.act(o) for o in obs]");
+    }
+    if (obs.shape(0) != q_.actions())
       throw Error(path_ + ": the policy has " + std::to_string(q_.actions()) +
                   " actions but the observation has " + std::to_string(obs.size()) + " values");
     std::vector<Gamma> g(size_t(q_.actions()));
@@ -214,6 +226,16 @@ class Policy {
   }
   const QTable& table() const { return q_; }
   const PolicyMetadata& meta() const { return meta_; }
+  // extra's field `key` (an object, or a string), or an empty one.
+  nlohmann::json extra(const std::string& key, nlohmann::json empty) const {
+    const nlohmann::json& e = meta_.extra;
+    return e.is_object() && e.contains(key) && e[key].type() == empty.type() ? e[key] : empty;
+  }
+  // The trial's own scenario parameters, as `roger eval --policy` sets them (batch/trainer.h).
+  std::vector<std::pair<std::string, std::string>> trial_params(const std::string& curriculum,
+                                                                const std::string& scenario) const {
+    return policy_trial_params(meta_, path_, curriculum, scenario, {}, SandboxLimits{});
+  }
   const std::string& path() const { return path_; }
 
  private:
@@ -345,15 +367,17 @@ void bind_environment(py::module_& m) {
   py::class_<StageEnvironment>(m, "Environment")
       .def(py::init([](const std::string& curriculum, const std::string& stage, const std::string& context,
                        const std::string& scenario, const py::dict& params, const py::dict& skills, bool per_tick,
-                       const std::string& tasks, const std::string& teacher, const std::string& teacher_file) {
+                       const std::string& tasks, const std::string& teacher, const std::string& teacher_file,
+                       const std::string& embedded_skills) {
              const EnvironmentOptions o = make_options(curriculum, stage, context, scenario, params, skills, per_tick,
-                                                       tasks, teacher, teacher_file);
+                                                       tasks, teacher, teacher_file, embedded_skills);
              py::gil_scoped_release nogil;
              return make_environment(o, "make", [&] { return std::make_unique<StageEnvironment>(o); });
            }),
            py::arg("curriculum"), py::arg("stage"), py::arg("context"), py::arg("scenario") = "",
            py::arg("params") = py::dict(), py::arg("skills") = py::dict(), py::arg("per_tick") = false,
-           py::arg("tasks") = "", py::arg("teacher") = "", py::arg("teacher_file") = "")
+           py::arg("tasks") = "", py::arg("teacher") = "", py::arg("teacher_file") = "",
+           py::arg("embedded_skills") = "")
       .def_property_readonly("task_dims", [](const StageEnvironment& e) { return task_dims(e.task_space()); })
       .def_property_readonly("teaches", &StageEnvironment::teaches)
       .def(
@@ -634,8 +658,9 @@ void bind_vec(py::module_& m) {
   py::class_<VecEnvironment>(m, "VecEnvironment")
       .def(py::init([](const std::string& curriculum, const std::string& stage, const std::string& context,
                        const std::string& scenario, const py::dict& params, const py::dict& skills, int num_envs,
-                       int threads, const std::string& autoreset) {
-             const EnvironmentOptions o = make_options(curriculum, stage, context, scenario, params, skills, false);
+                       int threads, const std::string& autoreset, const std::string& embedded_skills) {
+             const EnvironmentOptions o =
+                 make_options(curriculum, stage, context, scenario, params, skills, false, "", "", "", embedded_skills);
              const Autoreset mode = autoreset_of(autoreset);
              py::gil_scoped_release nogil;
              return make_environment(o, "make_vec",
@@ -643,7 +668,7 @@ void bind_vec(py::module_& m) {
            }),
            py::arg("curriculum"), py::arg("stage"), py::arg("context"), py::arg("scenario") = "",
            py::arg("params") = py::dict(), py::arg("skills") = py::dict(), py::arg("num_envs") = 1,
-           py::arg("threads") = 1, py::arg("autoreset") = "NextStep")
+           py::arg("threads") = 1, py::arg("autoreset") = "NextStep", py::arg("embedded_skills") = "")
       .def_property_readonly("info", [](const VecEnvironment& v) { return info_dict(v.info()); })
       .def_property_readonly("num_envs", &VecEnvironment::size)
       .def_property_readonly("teaches", [](const VecEnvironment& v) { return v.env(0).teaches(); })
@@ -677,6 +702,17 @@ void bind_policy(py::module_& m) {
       .def_property_readonly("seed", [](const Policy& p) { return p.meta().seed; })
       .def_property_readonly("path", &Policy::path)
       .def_property_readonly("extra", [](const Policy& p) { return p.meta().extra.dump(); })
+      .def_property_readonly("curriculum",
+                             [](const Policy& p) { return p.extra("curriculum", std::string()).get<std::string>(); })
+      .def_property_readonly("skills_json",
+                             [](const Policy& p) { return p.extra("skills", nlohmann::json::object()).dump(); })
+      .def(
+          "trial_params",
+          [](const Policy& p, const std::string& curriculum, const std::string& scenario) {
+            py::gil_scoped_release nogil;
+            return p.trial_params(curriculum, scenario);
+          },
+          py::arg("curriculum"), py::arg("scenario") = "")
       .def_property_readonly("q", [](const Policy& p) {
         const QTable& q = p.table();
         py::array_t<double> a({q.states(), q.actions()});

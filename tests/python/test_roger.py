@@ -65,7 +65,7 @@ def require(module):
         raise unittest.SkipTest(f"{MISSING_TOOL}{module} is not importable ({e})") from None
 
 
-def train(curriculum, stage, context, seed, name, skills=()):
+def train(curriculum, stage, context, seed, name, skills=(), sets=()):
     """policy.json of a `roger train` run (made once)."""
     out = os.path.join(WORK, name)
     policy = os.path.join(out, "policy.json")
@@ -73,6 +73,8 @@ def train(curriculum, stage, context, seed, name, skills=()):
         cmd = [ROGER, "train", curriculum, "--stage", stage, "--context", context, "--seed", str(seed), "--out", out]
         for k, v in skills:
             cmd += ["--skill", f"{k}={v}"]
+        for k, v in sets:
+            cmd += ["--set", f"{k}={v}"]
         subprocess.run(cmd, check=True, capture_output=True)
     return policy
 
@@ -150,7 +152,47 @@ class EvalMatches(unittest.TestCase):
     def test_paper_transport_with_learned_skill(self):
         sg = train(PAPER, "SG", "DC2", 1, "sg-dc2")
         t = train(PAPER, "T", "DC6", 1, "t-dc6", skills=[("Phi_SG", sg)])
-        self.check(PAPER, t, "T", "DC6", skills={"Phi_SG": sg})
+        expected = self.check(PAPER, t, "T", "DC6", skills={"Phi_SG": sg})
+        # policy.make() binds the skill the file embeds, as roger eval --policy does: no skills= needed.
+        policy = roger.load_policy(t)
+        self.assertEqual(policy.skills, ("Phi_SG",))
+        details = {}
+        self.assertEqual(python_eval(policy.make(), policy, 20, FIRST_SEED, details)[0], expected["successes"])
+        self.assertEqual(details["time_mean"], expected["time_mean"])
+
+    def test_policy_trained_with_sets_replays_in_policy_make(self):
+        # Found by a probe: a policy trained with --set replayed differently in Python than in
+        # roger eval, which sets the trial's own parameters (those of the file's extra.params that
+        # differ from the stage's and context's); policy.make() makes that environment.
+        policy_file = train(EXAMPLE, "Look", "Gaze", 3, "look-far", sets=[("robot_distance", "1.9")])
+        expected = roger_eval(EXAMPLE, policy_file, 20, FIRST_SEED)
+        policy = roger.load_policy(policy_file)
+        self.assertEqual(policy.params, {"robot_distance": "1.9"})
+        self.assertEqual((policy.curriculum, policy.skills), (EXAMPLE, ()))
+        details = {}
+        env = policy.make()
+        self.assertEqual(env.stage_info["params"]["robot_distance"], "1.9")
+        self.assertEqual(python_eval(env, policy, 20, FIRST_SEED, details)[0], expected["successes"])
+        self.assertEqual(details["time_mean"], expected["time_mean"])
+        self.assertEqual(details["usage"], expected["usage"])
+        # The same through make(..., policy=...), in a copy, and in a batch.
+        same = copy.deepcopy(roger.make(EXAMPLE, "Look", "Gaze", policy=policy_file))
+        python_eval(same, policy, 20, FIRST_SEED, details)
+        self.assertEqual(details["time_mean"], expected["time_mean"])
+        vec = roger.make_vec(EXAMPLE, "Look", "Gaze", 2, policy=policy)
+        obs, _ = vec.reset(seed=FIRST_SEED)
+        np.testing.assert_array_equal(obs[1], env.reset(seed=FIRST_SEED + 1)[0])
+        # Without them the worlds are the stage's own: not what roger eval played.
+        python_eval(roger.make(EXAMPLE, "Look", "Gaze"), policy, 20, FIRST_SEED, details)
+        self.assertNotEqual(details["time_mean"], expected["time_mean"])
+        # params given win over the trial's, as roger eval's --set does.
+        self.assertEqual(policy.make(params={"robot_distance": 1.2}).stage_info["params"]["robot_distance"], "1.2")
+        with self.assertRaises(roger.RogerError) as cm:
+            roger.make(PAPER, "T", "B2", policy=policy_file)
+        self.assertIn("is of stage Look context Gaze, not of stage T context B2", str(cm.exception))
+        with self.assertRaises(roger.RogerError) as cm:
+            policy.make(stage="T")
+        self.assertIn("the policy gives stage", str(cm.exception))
 
 
     def test_teacher_stage_matches_eval_without_its_teacher(self):
@@ -437,6 +479,67 @@ class GymnasiumApi(unittest.TestCase):
         self.assertEqual(env.metadata["render_fps"], round(1 / env.stage_info["tick_seconds"]))
 
 
+    def test_info_seed_is_uint64(self):
+        # Found by a probe: info["seed"] was a Python int, which Gymnasium's sync and async vector
+        # environments gather in an int64 array: a seed of 2^63 or more overflowed there. It is a
+        # numpy.uint64, as make_vec's info["seed"] is.
+        env = roger.make(EXAMPLE, "Look", "Gaze")
+        for seed in (0, 2 ** 63, 2 ** 64 - 1):
+            _, info = env.reset(seed=seed)
+            self.assertIsInstance(info["seed"], np.uint64)
+            self.assertEqual(info["seed"], seed)
+        self.assertIsInstance(env.step(0)[4]["seed"], np.uint64)
+        _, info = env.reset()
+        self.assertIsInstance(info["seed"], np.uint64)
+        self.assertEqual(roger.make_vec(EXAMPLE, "Look", "Gaze", 2).reset(seed=1)[1]["seed"].dtype, np.uint64)
+
+    def test_stand_in_spaces_compare_mask_and_serialize(self):
+        # Found by a probe: the stand-in spaces had no ==, no sample(mask=..., probability=...) and
+        # no to_jsonable, and a batch's observation_space was a MultiDiscrete without gymnasium, a
+        # Box with it. They follow gymnasium 1.x's now (the same samples where it is importable).
+        from roger import _spaces as S
+        self.assertEqual(S.Discrete(3), S.Discrete(3))
+        self.assertNotEqual(S.Discrete(3), S.Discrete(3, start=1))
+        self.assertEqual(S.MultiDiscrete([3, 3]), S.MultiDiscrete(np.full(2, 3)))
+        self.assertNotEqual(S.MultiDiscrete([3, 3]), S.MultiDiscrete([3, 2]))
+        self.assertEqual(S.Box(0, 2, (2, 3), np.int64), S.Box(np.zeros((2, 3)), np.full((2, 3), 2), dtype=np.int64))
+        self.assertNotEqual(S.Box(0, 1, (2,)), S.Box(0, 2, (2,)))
+        self.assertEqual(S.Dict({"a": S.Discrete(2)}), S.Dict({"a": S.Discrete(2)}))
+        d = S.Discrete(4, seed=0)
+        self.assertEqual({int(d.sample(mask=np.array([0, 0, 1, 0], np.int8))) for _ in range(5)}, {2})
+        self.assertEqual(d.sample(mask=np.zeros(4, np.int8)), 0)
+        self.assertEqual({int(d.sample(probability=np.array([0, 1.0, 0, 0]))) for _ in range(5)}, {1})
+        self.assertRaises(ValueError, d.sample, mask=np.ones(4, np.int8), probability=np.full(4, 0.25))
+        m = S.MultiDiscrete([3, 3], seed=0)
+        self.assertEqual(m.sample(mask=(np.array([0, 0, 1], np.int8), np.array([1, 0, 0], np.int8))).tolist(), [2, 0])
+        self.assertRaises(S.Error, S.Box(0, 1, (2,)).sample, mask=np.ones(2, np.int8))
+        self.assertEqual(d.to_jsonable([np.int64(1), np.int64(3)]), [1, 3])
+        self.assertEqual(m.from_jsonable(m.to_jsonable([np.array([1, 2])]))[0].tolist(), [1, 2])
+        t = S.Dict({"a": S.Discrete(2), "b": S.Box(0.0, 1.0, (), np.float64)})
+        self.assertEqual(t.to_jsonable([{"a": np.int64(1), "b": np.array(0.5)}]), {"a": [1], "b": [0.5]})
+        self.assertEqual(repr(t.from_jsonable({"a": [1], "b": [0.5]})), repr([{"a": np.int64(1), "b": np.array(0.5)}]))
+        vec = roger.make_vec(EXAMPLE, "Look", "Gaze", 3)
+        self.assertEqual(type(vec.observation_space).__name__, "Box")
+        self.assertEqual(repr(vec.observation_space), "Box(0, 2, (3, 2), int64)")
+        self.assertEqual(repr(vec.action_space), "MultiDiscrete([2 2 2])")
+        obs, _ = vec.reset(seed=1)
+        self.assertIn(obs, vec.observation_space)
+        try:
+            gym_spaces = importlib.import_module("gymnasium.spaces")
+        except ImportError:
+            return
+        for make, kwargs in ((lambda M: M.Discrete(5, seed=3), {"mask": np.array([1, 0, 1, 1, 0], np.int8)}),
+                             (lambda M: M.Discrete(3, seed=3), {"probability": np.array([0.2, 0.3, 0.5])}),
+                             (lambda M: M.MultiDiscrete([3, 2], seed=3),
+                              {"probability": (np.array([0.2, 0.3, 0.5]), np.array([0.5, 0.5]))}),
+                             (lambda M: M.Dict({"a": M.Discrete(3), "b": M.Discrete(2)}, seed=3),
+                              {"mask": {"a": np.array([1, 1, 0], np.int8), "b": np.array([0, 1], np.int8)}})):
+            ours, theirs = make(S), make(gym_spaces)
+            self.assertEqual(repr([ours.sample(**kwargs) for _ in range(5)]),
+                             repr([theirs.sample(**kwargs) for _ in range(5)]))
+        box = gym_spaces.Box(0, 2, (3, 2), np.int64)
+        self.assertEqual(repr(box), repr(vec.observation_space))
+
     def test_stand_in_spaces_are_gymnasiums(self):
         # The package's own spaces (used without gymnasium) seed, sample and hold members as
         # gymnasium 1.x's do; where gymnasium is importable, the same seeds give the same samples.
@@ -564,6 +667,27 @@ class VectorApi(unittest.TestCase):
         self.assertRaisesRegex(roger.RogerError, "one per environment", vec.reset, seed=[1, 2])
         self.assertRaisesRegex(roger.RogerError, "seed", vec.reset, seed=-1)
         self.assertRaisesRegex(roger.RogerError, "seed", vec.reset, seed=[1, "x", 2])
+
+    def test_unseeded_entries_of_a_seed_list_play_apart(self):
+        # Found by a probe: reset(seed=[1, None, 3]) on a fresh batch played world 1 twice (the
+        # unseeded entry's schedule starts at 0 + 1). Such an entry now begins a schedule of its own
+        # when its own meets a seeded one's (the same residue modulo num_envs), now and later.
+        vec = self.make()
+        _, info = vec.reset(seed=[1, None, 3])
+        seeds = [int(x) for x in info["seed"]]
+        self.assertEqual((seeds[0], seeds[2]), (1, 3))
+        self.assertEqual(seeds[1], roger.mix(1, 1) >> 1)  # mix(n, k) >> 1 of the world it would have played
+        self.assertEqual(len({x % 3 for x in seeds}), 3)  # schedules apart: no autoreset meets another's
+        played = set(seeds)
+        for _ in range(3):
+            _, info = vec.reset()
+            self.assertFalse(played & set(int(x) for x in info["seed"]))
+            played |= set(int(x) for x in info["seed"])
+        np.testing.assert_array_equal(self.make().reset(seed=[1, None, 3])[1]["seed"], seeds)  # deterministic
+        # An entry whose schedule meets no seeded one goes on along it, as before.
+        vec = self.make()
+        vec.reset(seed=10)
+        np.testing.assert_array_equal(vec.reset(seed=[7, None, 40])[1]["seed"], [7, 14, 40])
 
     def test_reset_mask(self):
         vec, twin = self.make(), self.make()
@@ -813,6 +937,9 @@ class BadArguments(unittest.TestCase):
         self.assertRaisesWith(roger.RogerError, ["integers 0 (NOREF)"], policy.act, [1.9, 0.7])
         self.assertRaisesWith(roger.RogerError, ["integers 0 (NOREF)"], policy.act, ["a", "b"])
         self.assertRaisesWith(roger.RogerError, ["integers 0 (NOREF)"], policy.act, [True, 1])
+        # Found by a probe: a batch was refused as "2 actions but the observation has 4 values".
+        self.assertRaisesWith(roger.RogerError, ["takes one observation", "not a batch", "shape (2, 2)",
+                                                 "[policy.act(o) for o in obs]"], policy.act, np.array([[0, 0], [1, 1]]))
 
     def test_bad_seeds_raise_roger_error(self):
         # Checked before gymnasium's own seeding sees them, so the error is ours with or without it.
@@ -832,7 +959,10 @@ class BadArguments(unittest.TestCase):
         self.assertIn("bad_reward.lua:8", str(e))
         self.assertTrue(e.file.endswith("bad_reward.lua"))
         self.assertEqual(e.line, 8)
-        self.assertRaisesWith(roger.RogerError, ["call reset"], env.step, 0)  # the episode is over
+        # The episode is over, ended by the fault (not by terminated or truncated, as a probe found
+        # it said).
+        self.assertRaisesWith(roger.RogerError, ["an error ended it", "not terminated or truncated", "call reset"],
+                              env.step, 0)
         env.reset(seed=2)  # and the environment usable again
 
 
@@ -1097,6 +1227,8 @@ class DeepRL(unittest.TestCase):
 
 
 TEACHERS = "curricula/teachers.lua"
+PLR_TD = ("plr's default), which an environment stepped from outside does not have: give it score = "
+          """"success" from Python, roger.make(..., teacher='roger.teacher.plr{score = "success"}')""")
 # The tutorial's stage over a space given from Python (its scenario has both parameters).
 LOOK_TASKS = {"robot_distance": roger.axis.real(0.6, 2.0), "shape": roger.axis.choice(["circle", "spade"])}
 # Told each outcome: its distance counts the episodes told so far, its shape says whether the last
@@ -1241,7 +1373,8 @@ class Tasks(unittest.TestCase):
         e = script_error(["returned shape = star, outside the task space", "roger.choice{circle, spade}"],
                          tasks=LOOK_TASKS, teacher=path)
         self.assertTrue(e.file.endswith("bad_teacher.lua"), e.file)
-        for kwargs, text in ((dict(tasks=LOOK_TASKS, teacher="roger.teacher.plr{}"), 'score = "success"'),
+        # Found by a probe: the message said score = "success" without saying where to give it.
+        for kwargs, text in ((dict(tasks=LOOK_TASKS, teacher="roger.teacher.plr{}"), PLR_TD),
                              (dict(tasks=LOOK_TASKS, teacher=42), "teacher must be"),
                              (dict(tasks=LOOK_TASKS, teacher="missing.lua"), "names no file"),
                              (dict(tasks={}), "tasks must be"),
@@ -1252,6 +1385,9 @@ class Tasks(unittest.TestCase):
                 self.assertIn(text, str(cm.exception))
         self.assertRaises(roger.RogerError, roger.axis.real, 0, float("inf"))
         self.assertRaises(roger.RogerError, roger.axis.choice, "circle")
+        with self.assertRaises(roger.RogerError) as cm:
+            roger.make(TEACHERS, "T_plr", "B2")  # the stage's plr{}: td by default
+        self.assertIn(PLR_TD, str(cm.exception))
         with self.assertRaises(roger.RogerError) as cm:
             roger.make_vec(TEACHERS, "T_alp", "B2", num_envs=2)
         self.assertIn("chooses each episode's task with a teacher", str(cm.exception))
@@ -1592,6 +1728,40 @@ class GymnasiumJudges(unittest.TestCase):
             self.assertEqual(reward[1], s_reward)
         finally:
             vec.close()
+
+    def test_sync_vectorization_takes_every_seed(self):
+        # Found by a probe: reset(seed=2**63) of a sync vector raised OverflowError, gathering
+        # info["seed"] in an int64 array; as a numpy.uint64 it is gathered in a uint64 array.
+        vec = self.gym.make_vec("roger/Stage-v0", 2, vectorization_mode="sync", curriculum=EXAMPLE, stage="Look",
+                                context="Gaze")
+        try:
+            _, info = vec.reset(seed=2 ** 63)
+            self.assertEqual(info["seed"].dtype, np.uint64)
+            self.assertEqual(info["seed"].tolist(), [2 ** 63, 2 ** 63 + 1])
+        finally:
+            vec.close()
+
+    def test_a_vector_environment_closing_a_captured_one_says_so(self):
+        # Found by a probe: AsyncVectorEnv([lambda: env] * 2) closes env (the first a factory
+        # returns) and the reset then said only "the environment is closed".
+        env = roger.make(EXAMPLE, "Look", "Gaze")
+        vec = self.gym.vector.AsyncVectorEnv([lambda: env] * 2, context="spawn")
+        try:
+            with self.assertRaises(roger.RogerError) as cm, self.warnings.catch_warnings():
+                self.warnings.simplefilter("ignore")  # the workers' reports of the error
+                vec.reset(seed=1)
+            self.assertIn("a vector environment closed it", str(cm.exception))
+            self.assertIn("copy.deepcopy(env)", str(cm.exception))
+        finally:
+            vec.close(terminate=True)
+        with self.assertRaises(roger.RogerError) as cm:
+            env.reset(seed=1)
+        self.assertIn("a vector environment closed it", str(cm.exception))
+        closed = roger.make(EXAMPLE, "Look", "Gaze")
+        closed.close()  # closed by its user: no such hint
+        with self.assertRaises(roger.RogerError) as cm:
+            closed.reset(seed=1)
+        self.assertNotIn("vector", str(cm.exception))
 
     def test_check_env_of_copies(self):
         from gymnasium.utils.env_checker import check_env

@@ -16,7 +16,8 @@ what `roger render` draws. A stage's task space is env.task_space (a Dict space)
 reset(options={"task": {...}}) plays a task of it, and resets without one take the stage's
 teacher's (make(..., tasks=..., teacher=...) gives others). `make_vec` steps many worlds on C++
 threads; `load_policy(path).act(obs)` is the greedy action of a policy.json written by `roger
-train`. Environments pickle and
+train`, and `load_policy(path).make()` the environment `roger eval --policy` plays it in (the
+trial's own parameters and learned skills). Environments pickle and
 deep-copy. docs/python.md is the guide. The module needs numpy alone; when gymnasium is
 importable, environments are `gymnasium.Env`s, `make_vec` a `gymnasium.vector.VectorEnv`, the
 spaces are gymnasium's and the ids roger/SG-B1-v0 ... roger/T-DC6-v0 and roger/Stage-v0 are
@@ -276,6 +277,7 @@ class _Copyable:
     def __getstate__(self):
         closed = self._closed_now()
         return {"init": dict(self._init), "spec": self.spec, "closed": closed,
+                "closed_by_vector": getattr(self, "_closed_by_vector", False),
                 "np_random": (self._np_random, self._np_random_seed), "state": None if closed else self._state()}
 
     def __setstate__(self, state):
@@ -284,29 +286,49 @@ class _Copyable:
         self._np_random, self._np_random_seed = state["np_random"]
         if state["closed"]:
             self.close()
+            self._closed_by_vector = state.get("closed_by_vector", False)
         else:
             self._restore(state["state"])
+
+
+def _called_from_a_vector_env():
+    """Whether gymnasium's vector code (through wrappers) called close: AsyncVectorEnv closes a
+    factory's first environment, which a factory that returns a captured environment hands on."""
+    import sys
+    frame = sys._getframe(2)
+    for _ in range(12):
+        if frame is None:
+            return False
+        if str(frame.f_globals.get("__name__", "")).startswith("gymnasium.vector"):
+            return True
+        frame = frame.f_back
+    return False
 
 
 class Env(_Copyable, _EnvBase):
     """One stage and context of a curriculum as an environment (see the module's doc)."""
 
     metadata = {"render_modes": _RENDER_MODES, "render_fps": _DECISION_FPS}
+    _closed_by_vector = False
 
     def __init__(self, curriculum, stage, context, params=None, skills=None, scenario=None, mode="decision",
-                 render_mode=None, render_width=1000, timeout="terminate", tasks=None, teacher=None):
+                 render_mode=None, render_width=1000, timeout="terminate", tasks=None, teacher=None, policy=None):
         if mode not in _MODES:
             raise RogerError(f"make: mode must be one of {_MODES}, got {mode!r}")
+        if isinstance(policy, Policy):
+            policy = policy.path
         self._init = {"curriculum": curriculum, "stage": stage, "context": context, "params": params,
                       "skills": skills, "scenario": scenario, "mode": mode, "render_mode": render_mode,
                       "render_width": render_width, "timeout": timeout, "tasks": tasks, "teacher": teacher}
+        self._init["policy"] = policy
+        params, embedded = _with_policy(policy, curriculum, stage, context, params, scenario, "make")
         self.render_mode = _render_mode(render_mode, "make")
         self.render_width = _render_width(render_width, "make")
         self.timeout = _timeout(timeout, "make")
         teacher_text, teacher_file, teaching = _teacher_source(teacher)
         self._env = _roger.Environment(str(curriculum), str(stage), str(context), scenario or "",
                                        _text_dict(params, "params"), _text_dict(skills, "skills"), mode == "tick",
-                                       _tasks_source(tasks), teacher_text, teacher_file)
+                                       _tasks_source(tasks), teacher_text, teacher_file, embedded)
         self._task_dims = self._env.task_dims
         self.task_space = _task_space(self._task_dims)  # a Dict space, or None: the stage has no tasks
         self._teaching = teaching and self._env.teaches
@@ -338,7 +360,12 @@ class Env(_Copyable, _EnvBase):
 
     def _open(self, what):
         if self._env is None:
-            raise RogerError(f"{what}: the environment is closed (make a new one)")
+            hint = ""
+            if self._closed_by_vector:
+                hint = (": a vector environment closed it (gymnasium's AsyncVectorEnv closes the first "
+                        "environment a factory returns, after reading its spaces): give it a factory that "
+                        "makes a new environment, or returns copy.deepcopy(env)")
+            raise RogerError(f"{what}: the environment is closed (make a new one){hint}")
         return self._env
 
     def _observe(self, state):
@@ -351,7 +378,9 @@ class Env(_Copyable, _EnvBase):
 
     def _info(self, state, ended=False, time_out=False):
         e = self._env
-        info = {"sim_seconds": e.sim_seconds, "ticks": e.ticks, "decisions": e.decisions, "seed": e.seed,
+        # The seed as numpy.uint64, as make_vec gives it: Gymnasium's vector environments gather it
+        # in an array of its type, which holds every seed in [0, 2^64).
+        info = {"sim_seconds": e.sim_seconds, "ticks": e.ticks, "decisions": e.decisions, "seed": np.uint64(e.seed),
                 "state": {a: GAMMA_NAMES[g] for a, g in zip(self.actions, state)}}
         if self.task_space is not None or self._teaching:
             info["task"] = self.get_task()
@@ -366,8 +395,8 @@ class Env(_Copyable, _EnvBase):
         """The seed of this reset's world: `given`; else the next of the stream of the last
         explicit seed S, whose k-th unseeded reset plays mix(S, k) >> 1. An environment never
         seeded draws its S from the operating system, as Gymnasium's environments draw their
-        generators, and plays the world of S first. The seeds it draws are below 2^63, so that
-        info["seed"] fits the int64 arrays Gymnasium's vector environments gather it in."""
+        generators, and plays the world of S first. The seeds it draws are below 2^63 (as when
+        info["seed"] was gathered in int64 arrays; it is a numpy.uint64 now, and the worlds stay)."""
         if given is not None:
             self._stream = [given, 0]
             return given
@@ -557,6 +586,8 @@ class Env(_Copyable, _EnvBase):
         teacher_state) raises RogerError. What describes the environment (actions, stage_info,
         the spaces, metadata, spec) stays readable, and a copy of it is closed too."""
         self._teacher = None  # first: a Lua teacher lives in the environment's Lua state
+        if self._env is not None:
+            self._closed_by_vector = _called_from_a_vector_env()
         self._env = None
 
     def _closed_now(self):
@@ -651,6 +682,34 @@ def _reset_seeds(seed, n):
     return seeded, seeds
 
 
+_APART_TRIES = 100000
+
+
+def _apart_from_seeded(vec, mask, seeded, seeds):
+    """In a reset that gives some environments seeds, an environment reset without one goes on along
+    its schedule unless that schedule meets a seeded one's (the same residue modulo num_envs: one of
+    them would replay the other's worlds, at once or later): it then begins a schedule of its own at
+    mix(n, k) >> 1, n the seed it would have played, k = 1, 2, ... the first whose residue is no other
+    environment's. Resets fully seeded or fully unseeded never meet this (docs/python.md, Batches)."""
+    n = len(mask)
+    given = [i for i in range(n) if mask[i] and seeded[i]]
+    if not given or len(given) == n:
+        return
+    nexts = []
+    for i, (base, started, *_) in enumerate(vec.snapshot()):
+        nexts.append(int(seeds[i]) if mask[i] and seeded[i] else (int(base) + int(started) * n) % 2**64)
+    taken_by_seeded = {nexts[j] % n for j in given}
+    for i in range(n):
+        if not mask[i] or seeded[i] or nexts[i] % n not in taken_by_seeded:
+            continue
+        others = {nexts[j] % n for j in range(n) if j != i}
+        for k in range(1, _APART_TRIES):
+            world = mix(nexts[i], k) >> 1
+            if world % n not in others:
+                break
+        seeded[i], seeds[i], nexts[i] = 1, world, world
+
+
 def _reset_mask(options, n):
     mask = options.pop("reset_mask", None)
     if mask is None:
@@ -678,11 +737,13 @@ class VecEnv(_Copyable, _VecBase):
 
     def __init__(self, curriculum, stage, context, num_envs, threads=None, params=None, skills=None, scenario=None,
                  autoreset_mode=AutoresetMode.NEXT_STEP, render_mode=None, render_width=1000, timeout="terminate",
-                 mode="decision"):
+                 mode="decision", policy=None):
+        if isinstance(policy, Policy):
+            policy = policy.path
         self._init = {"curriculum": curriculum, "stage": stage, "context": context, "num_envs": num_envs,
                       "threads": threads, "params": params, "skills": skills, "scenario": scenario,
                       "autoreset_mode": autoreset_mode, "render_mode": render_mode, "render_width": render_width,
-                      "timeout": timeout, "mode": mode}
+                      "timeout": timeout, "mode": mode, "policy": policy}
         if mode != "decision":  # the ids' keyword, which gymnasium.make_vec hands over
             raise RogerError(f"make_vec: the threaded batch steps decisions (mode='decision'), got mode={mode!r}; "
                              "for tick mode vectorize single environments (gymnasium.make_vec(..., "
@@ -700,9 +761,10 @@ class VecEnv(_Copyable, _VecBase):
         if threads is None:
             import os
             threads = min(int(num_envs), len(os.sched_getaffinity(0)))
+        params, embedded = _with_policy(policy, curriculum, stage, context, params, scenario, "make_vec")
         self._vec = _roger.VecEnvironment(str(curriculum), str(stage), str(context), scenario or "",
                                           _text_dict(params, "params"), _text_dict(skills, "skills"),
-                                          int(num_envs), int(threads), mode.value)
+                                          int(num_envs), int(threads), mode.value, embedded)
         if self._vec.teaches:  # its worlds would not be the tasks roger train plays: refused, not ignored
             self._vec = None
             raise RogerError(f"make_vec: stage '{stage}' chooses each episode's task with a teacher, which the "
@@ -724,9 +786,12 @@ class VecEnv(_Copyable, _VecBase):
             self.action_space = _batch_space(self.single_action_space, self.num_envs)
             self.observation_space = _batch_space(self.single_observation_space, self.num_envs)
         else:
+            # As gymnasium.vector.utils.batch_space batches them: Discrete into MultiDiscrete,
+            # MultiDiscrete into a Box of its bounds.
             self.action_space = spaces.MultiDiscrete(np.full(self.num_envs, len(self.actions), dtype=np.int64))
-            self.observation_space = spaces.MultiDiscrete(np.full((self.num_envs, len(self.actions)), 3,
-                                                                  dtype=np.int64))
+            self.observation_space = spaces.Box(np.zeros((self.num_envs, len(self.actions)), np.int64),
+                                                np.full((self.num_envs, len(self.actions)), 2, np.int64),
+                                                dtype=np.int64)
 
     def __repr__(self):
         i = self.stage_info
@@ -755,6 +820,7 @@ class VecEnv(_Copyable, _VecBase):
                     pending[i] = int(seeds[i])
             elif not seeded[i] and pending[i] is not None:
                 seeded[i], seeds[i] = 1, pending[i]
+        _apart_from_seeded(vec, mask, seeded, seeds)
         r = vec.reset(mask, seeded, seeds)
         self._pending = [None if vec.begun[i] else p for i, p in enumerate(pending)]
         info, m = {}, mask.astype(bool)
@@ -830,13 +896,50 @@ class VecEnv(_Copyable, _VecBase):
 
 
 class Policy:
-    """A policy.json written by `roger train`: act(obs) is the action `roger eval` takes."""
+    """A policy.json written by `roger train`: act(obs) is the action `roger eval` takes, in the
+    environment policy.make() makes (its stage and context with the trial's own parameters and
+    learned skills, as `roger eval --policy` plays it)."""
 
     def __init__(self, path):
+        import json
         self._p = _roger.Policy(str(path))
         self.path = str(path)
         self.actions = tuple(self._p.actions)
         self.stage, self.context, self.seed = self._p.stage, self._p.context, self._p.seed
+        # The curriculum the trial ran (as roger train recorded it: a path, or None for a file
+        # that records none) and the learned skills embedded in the file, by name.
+        self.curriculum = self._p.curriculum or None
+        self.skills = tuple(sorted(json.loads(self._p.skills_json)))
+        self._params = None
+
+    @property
+    def params(self):
+        """The scenario parameters the trial trained with beyond its stage's and context's (`roger
+        train --set`, or the level an LCAS teacher lifted), which `roger eval --policy` sets as the
+        trial's own: the file's extra.params that differ from what the stage and context of the
+        recorded curriculum give now, as text ({"robot_distance": "1.9", "shape": "spade"})."""
+        if self._params is None:
+            if self.curriculum is None:
+                raise RogerError(f"params: {self.path} records no curriculum (extra.curriculum); "
+                                 "make(curriculum, ...) with its params given")
+            self._params = dict(self._p.trial_params(self.curriculum, ""))
+        return dict(self._params)
+
+    def make(self, **kwargs):
+        """The environment `roger eval --policy` plays this policy in: roger.make(curriculum, stage,
+        context, policy=self, teacher=False, **kwargs), the curriculum the file records unless
+        kwargs give one. Any other keyword of make may be given: params over the trial's own,
+        skills over those the file embeds, teacher (roger eval runs none, hence False)."""
+        curriculum = kwargs.pop("curriculum", None) or self.curriculum
+        if curriculum is None:
+            raise RogerError(f"make: {self.path} records no curriculum (extra.curriculum): give it, "
+                             "policy.make(curriculum='curricula/paper.lua')")
+        for key in ("stage", "context", "policy"):
+            if key in kwargs:
+                raise RogerError(f"make: the policy gives {key} ({getattr(self, key, self.path)!r}); "
+                                 f"to play it elsewhere use roger.make(curriculum, stage, context, ...) without policy")
+        kwargs.setdefault("teacher", False)
+        return make(curriculum, self.stage, self.context, policy=self, **kwargs)
 
     def act(self, obs):
         """The greedy action (QTable::policy_action) of a controller-state vector: integers 0, 1,
@@ -856,7 +959,7 @@ class Policy:
 
 
 def make(curriculum, stage, context, params=None, skills=None, scenario=None, mode="decision", render_mode=None,
-         render_width=1000, timeout="terminate", tasks=None, teacher=None):
+         render_width=1000, timeout="terminate", tasks=None, teacher=None, policy=None):
     """An environment of `stage` in `context` of a curriculum (a path or a bare name: "paper").
 
     params: scenario parameters over the stage's ({"shape": "spade"}, as --set); skills: each
@@ -870,10 +973,14 @@ def make(curriculum, stage, context, params=None, skills=None, scenario=None, mo
     roger.axis.int(0, 6), ...} (env.task_space is its Gymnasium Dict space); teacher: another
     teacher than the stage's, Lua text ("roger.teacher.alp_gmm{fit_every = 20}", "function(history,
     rng) ... end") or a .lua file that returns one, or False for none (docs/python.md, Tasks and
-    teachers)."""
+    teachers); policy: a policy.json of this stage and context (a path or a Policy) whose trial's own
+    parameters are set under params and whose embedded learned skills bind those skills does not
+    give, as `roger eval --policy` plays it (Policy.make makes it so)."""
+    if isinstance(policy, Policy):
+        policy = policy.path
     kwargs = {"curriculum": curriculum, "stage": stage, "context": context, "params": params, "skills": skills,
               "scenario": scenario, "mode": mode, "render_mode": render_mode, "render_width": render_width,
-              "timeout": timeout, "tasks": tasks, "teacher": teacher}
+              "timeout": timeout, "tasks": tasks, "teacher": teacher, "policy": policy}
     env = Env(**kwargs)
     if _gym is not None:
         env.spec = _gym.envs.registration.EnvSpec("roger/Stage-v0", entry_point="roger:Env",
@@ -883,15 +990,30 @@ def make(curriculum, stage, context, params=None, skills=None, scenario=None, mo
 
 def make_vec(curriculum, stage, context, num_envs, threads=None, params=None, skills=None, scenario=None,
              autoreset_mode=AutoresetMode.NEXT_STEP, render_mode=None, render_width=1000, timeout="terminate",
-             mode="decision"):
+             mode="decision", policy=None):
     """num_envs environments stepped together in C++ threads (VecEnv); threads defaults to
     min(num_envs, the cores this process may use); autoreset_mode an AutoresetMode (or its value,
     "NextStep", "SameStep", "Disabled"); timeout as make's. The vector entry point of the
     registered ids (gymnasium.make_vec(id, num_envs, vectorization_mode="vector_entry_point")),
-    which hands over make's keywords: mode must then be "decision"."""
+    which hands over make's keywords: mode must then be "decision"; policy as make's."""
     return VecEnv(curriculum, stage, context, num_envs, threads=threads, params=params, skills=skills,
                   scenario=scenario, autoreset_mode=autoreset_mode, render_mode=render_mode,
-                  render_width=render_width, timeout=timeout, mode=mode)
+                  render_width=render_width, timeout=timeout, mode=mode, policy=policy)
+
+
+def _with_policy(policy, curriculum, stage, context, params, scenario, where):
+    """make's params over the trial's own parameters of `policy` (a path or a Policy; None: none),
+    and the learned skills it embeds (JSON text, "" for none), as `roger eval --policy` has them:
+    params given win over the trial's, and another scenario than the stage's takes none."""
+    if policy is None:
+        return params, ""
+    p = policy if isinstance(policy, Policy) else Policy(policy)
+    if (p.stage, p.context) != (str(stage), str(context)):
+        raise RogerError(f"{where}: policy {p.path} is of stage {p.stage} context {p.context}, not of stage {stage} "
+                         f"context {context}: make it with policy.make(), or give the policy's stage and context")
+    trial = dict(p._p.trial_params(str(curriculum), scenario or ""))
+    given = _text_dict(params, "params")
+    return {**{k: v for k, v in trial.items() if k not in given}, **given}, p._p.skills_json
 
 
 def load_policy(path):

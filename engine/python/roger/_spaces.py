@@ -1,7 +1,8 @@
 """The few Gymnasium spaces roger's environments use, for when gymnasium is not installed: the same
-names, attributes (n, start, nvec, shape, dtype, low, high, spaces) and methods (sample, contains,
-seed), following gymnasium 1.x's own code (1.4: gymnasium/spaces/), so that a space seeded alike
-samples the same values with or without gymnasium, and holds the same members."""
+names, attributes (n, start, nvec, shape, dtype, low, high, spaces) and methods (sample with its
+mask and probability, contains, seed, ==, to_jsonable and from_jsonable), following gymnasium 1.x's
+own code (1.4: gymnasium/spaces/), so that a space seeded alike samples the same values with or
+without gymnasium, holds the same members and equals the same spaces."""
 
 from collections.abc import Mapping, Sequence
 
@@ -15,6 +16,39 @@ def _np_random(seed=None):
         raise ValueError(f"a space's seed is a non-negative Python int, got {seed!r}")
     seed_seq = np.random.SeedSequence(seed)
     return np.random.Generator(np.random.PCG64(seed_seq)), seed_seq.entropy
+
+
+class Error(Exception):
+    """gymnasium.error.Error: what Box.sample raises for a mask."""
+
+
+def _one_of(mask, probability):
+    if mask is not None and probability is not None:
+        raise ValueError(f"Only one of `mask` or `probability` can be provided, actual values: mask={mask}, "
+                         f"probability={probability}")
+
+
+def _masked_choice(np_random, sub_mask, n, start, kind):
+    """One value of an axis of n values from `start`, drawn as gymnasium draws it under a mask (int8
+    0/1: uniform among the 1s, `start` when none) or a probability mask (float64 summing to 1)."""
+    assert isinstance(sub_mask, np.ndarray), f"The expected type of the sample {kind} is np.ndarray, actual type: " \
+        f"{type(sub_mask)}"
+    assert len(sub_mask) == n, f"The expected length of the sample {kind} is {int(n)}, actual length: {len(sub_mask)}"
+    if kind == "mask":
+        assert sub_mask.dtype == np.int8, f"The expected dtype of the sample mask is np.int8, actual dtype: " \
+            f"{sub_mask.dtype}"
+        valid = sub_mask == 1
+        assert np.all(np.logical_or(sub_mask == 0, valid)), f"All values of the sample mask should be 0 or 1, " \
+            f"actual values: {sub_mask}"
+        return np_random.choice(np.where(valid)[0]) + start if np.any(valid) else start
+    assert sub_mask.dtype == np.float64, f"The expected dtype of the sample probability is np.float64, actual " \
+        f"dtype: {sub_mask.dtype}"
+    valid = np.logical_and(sub_mask > 0, sub_mask <= 1)
+    assert np.all(np.logical_or(sub_mask == 0, valid)), f"All values of the sample probability should be between " \
+        f"0 and 1, actual values: {sub_mask}"
+    assert np.isclose(np.sum(sub_mask), 1), f"The sum of the sample probability should be equal to 1, actual sum: " \
+        f"{np.sum(sub_mask)}"
+    return np_random.choice(np.where(valid)[0], p=(sub_mask / np.sum(sub_mask))[valid]) + start
 
 
 class Space:
@@ -49,6 +83,14 @@ class Space:
     def __contains__(self, x):
         return self.contains(x)
 
+    def to_jsonable(self, sample_n):
+        """A batch of samples as JSON-able values."""
+        return list(sample_n)
+
+    def from_jsonable(self, sample_n):
+        """A batch of samples from their JSON-able values."""
+        return sample_n
+
 
 class Discrete(Space):
     def __init__(self, n, seed=None, start=0, dtype=np.int64):
@@ -57,8 +99,44 @@ class Discrete(Space):
         self.start = self.dtype.type(start)
         super().__init__((), self.dtype, seed)
 
-    def sample(self):
+    def sample(self, mask=None, probability=None):
+        """A value drawn uniformly; with `mask` (int8 of n, 1 allowed) among those allowed (start when
+        none is); with `probability` (float64 of n, summing to 1) by it: as gymnasium's Discrete."""
+        _one_of(mask, probability)
+        if mask is not None:
+            assert isinstance(mask, np.ndarray), f"The expected type of the sample mask is np.ndarray, actual type: " \
+                f"{type(mask)}"
+            assert mask.dtype == np.int8, f"The expected dtype of the sample mask is np.int8, actual dtype: {mask.dtype}"
+            assert mask.shape == (self.n,), f"The expected shape of the sample mask is {(int(self.n),)}, actual " \
+                f"shape: {mask.shape}"
+            valid = mask == 1
+            assert np.all(np.logical_or(mask == 0, valid)), f"All values of the sample mask should be 0 or 1, " \
+                f"actual values: {mask}"
+            return self.start + self.dtype.type(self.np_random.choice(np.where(valid)[0])) if np.any(valid) \
+                else self.start
+        if probability is not None:
+            assert isinstance(probability, np.ndarray), f"The expected type of the sample probability is " \
+                f"np.ndarray, actual type: {type(probability)}"
+            assert probability.dtype == np.float64, f"The expected dtype of the sample probability is np.float64, " \
+                f"actual dtype: {probability.dtype}"
+            assert probability.shape == (self.n,), f"The expected shape of the sample probability is " \
+                f"{(int(self.n),)}, actual shape: {probability.shape}"
+            assert np.all(np.logical_and(probability >= 0, probability <= 1)), f"All values of the sample " \
+                f"probability should be between 0 and 1, actual values: {probability}"
+            assert np.isclose(np.sum(probability), 1), f"The sum of the sample probability should be equal to 1, " \
+                f"actual sum: {np.sum(probability)}"
+            return self.start + self.np_random.choice(np.arange(self.n, dtype=self.dtype), p=probability)
         return self.start + self.np_random.integers(self.n, dtype=self.dtype.type)
+
+    def __eq__(self, other):
+        return isinstance(other, Discrete) and self.n == other.n and self.start == other.start \
+            and self.dtype == other.dtype
+
+    def to_jsonable(self, sample_n):
+        return [int(x) for x in sample_n]
+
+    def from_jsonable(self, sample_n):
+        return [self.dtype.type(x) for x in sample_n]
 
     def contains(self, x):
         # A Python int (in the dtype's range), or a numpy integer scalar or 0-d integer array.
@@ -81,8 +159,34 @@ class MultiDiscrete(Space):
         self.start = np.zeros(self.nvec.shape, dtype) if start is None else np.array(start, dtype=dtype, copy=True)
         super().__init__(self.nvec.shape, dtype, seed)
 
-    def sample(self):
+    def sample(self, mask=None, probability=None):
+        """A vector drawn uniformly; with `mask` or `probability`, a tuple of one int8 mask (or float64
+        probabilities) per axis, nested as nvec is: as gymnasium's MultiDiscrete."""
+        _one_of(mask, probability)
+        if mask is not None or probability is not None:
+            kind = "mask" if mask is not None else "probability"
+            return np.array(self._apply_mask(mask if mask is not None else probability, self.nvec, self.start, kind),
+                            dtype=self.dtype)
         return (self.np_random.random(self.nvec.shape) * self.nvec).astype(self.dtype) + self.start
+
+    def _apply_mask(self, sub_mask, sub_nvec, sub_start, kind):
+        if isinstance(sub_nvec, np.ndarray):
+            assert isinstance(sub_mask, tuple), f"Expects the mask to be a tuple for sub_nvec ({sub_nvec}), actual " \
+                f"type: {type(sub_mask)}"
+            assert len(sub_mask) == len(sub_nvec), f"Expects the mask length to be equal to the number of actions, " \
+                f"mask length: {len(sub_mask)}, nvec length: {len(sub_nvec)}"
+            return [self._apply_mask(m, n, s, kind) for m, n, s in zip(sub_mask, sub_nvec, sub_start)]
+        return _masked_choice(self.np_random, sub_mask, sub_nvec, sub_start, kind)
+
+    def __eq__(self, other):
+        return bool(isinstance(other, MultiDiscrete) and self.dtype == other.dtype and self.shape == other.shape
+                    and np.all(self.nvec == other.nvec) and np.all(self.start == other.start))
+
+    def to_jsonable(self, sample_n):
+        return [sample.tolist() for sample in sample_n]
+
+    def from_jsonable(self, sample_n):
+        return [np.array(sample, dtype=self.dtype) for sample in sample_n]
 
     def contains(self, x):
         # A list or tuple is taken as an array; an array's dtype must cast to the space's safely.
@@ -92,6 +196,8 @@ class MultiDiscrete(Space):
                     and np.all(self.start <= x) and np.all(x <= self.start + (self.nvec - 1)))
 
     def __repr__(self):
+        if np.any(self.start != 0):
+            return f"MultiDiscrete({self.nvec}, start={self.start})"
         return f"MultiDiscrete({self.nvec})"
 
 
@@ -133,7 +239,11 @@ class Box(Space):
         below, above = bool(np.all(self.bounded_below)), bool(np.all(self.bounded_above))
         return {"both": below and above, "below": below, "above": above}[manner]
 
-    def sample(self):
+    def sample(self, mask=None, probability=None):
+        if mask is not None:
+            raise Error(f"Box.sample cannot be provided a mask, actual value: {mask}")
+        if probability is not None:
+            raise Error(f"Box.sample cannot be provided a probability mask, actual value: {probability}")
         # Uniform within finite bounds (integers: floor of [low, high + 1)), exponential from a
         # single finite bound, normal without either, as gymnasium's Box samples.
         high = self.high if self.dtype.kind == "f" else self.high.astype("int64") + 1
@@ -149,7 +259,14 @@ class Box(Space):
                                                  size=bounded[bounded].shape)
         if self.dtype.kind in "iub":
             sample = np.floor(sample)
-        return sample.astype(self.dtype)
+        if np.issubdtype(self.dtype, np.integer):  # clipped to the dtype, as gymnasium clips
+            info = np.iinfo(self.dtype)
+            margin = 2 if self.dtype == np.int64 else 0
+            sample = sample.clip(min=info.min + margin, max=info.max - margin)
+        sample = sample.astype(self.dtype)
+        if self.dtype == np.int64:
+            sample = sample.clip(min=self.low, max=self.high)
+        return sample
 
     def contains(self, x):
         if not isinstance(x, np.ndarray):
@@ -159,6 +276,16 @@ class Box(Space):
                 return False
         return bool(np.can_cast(x.dtype, self.dtype) and x.shape == self.shape
                     and np.all(x >= self.low) and np.all(x <= self.high))
+
+    def __eq__(self, other):
+        return isinstance(other, Box) and self.shape == other.shape and self.dtype == other.dtype \
+            and np.allclose(self.low, other.low) and np.allclose(self.high, other.high)
+
+    def to_jsonable(self, sample_n):
+        return [sample.tolist() for sample in sample_n]
+
+    def from_jsonable(self, sample_n):
+        return [np.asarray(sample, dtype=self.dtype) for sample in sample_n]
 
     def __repr__(self):
         low = self.low.flat[0] if self.low.size and np.all(self.low == self.low.flat[0]) else self.low
@@ -210,8 +337,27 @@ class Dict(Space):
     def __len__(self):
         return len(self.spaces)
 
-    def sample(self):
+    def sample(self, mask=None, probability=None):
+        """A sample of every subspace; `mask` or `probability` a dict of each one's, by key."""
+        _one_of(mask, probability)
+        for given, what in ((mask, "mask"), (probability, "probability")):
+            if given is not None:
+                assert isinstance(given, dict), f"Expected sample {what} to be a dict, actual type: {type(given)}"
+                assert given.keys() == self.spaces.keys(), f"Expected sample {what} keys to be same as space keys, " \
+                    f"{what} keys: {given.keys()}, space keys: {self.spaces.keys()}"
+                return {k: s.sample(**{what: given[k]}) for k, s in self.spaces.items()}
         return {k: s.sample() for k, s in self.spaces.items()}
+
+    def __eq__(self, other):
+        return isinstance(other, Dict) and self.spaces == other.spaces
+
+    def to_jsonable(self, sample_n):
+        return {key: space.to_jsonable([sample[key] for sample in sample_n]) for key, space in self.spaces.items()}
+
+    def from_jsonable(self, sample_n):
+        columns = {key: space.from_jsonable(sample_n[key]) for key, space in self.spaces.items()}
+        n = len(next(iter(columns.values())))
+        return [{key: value[i] for key, value in columns.items()} for i in range(n)]
 
     def contains(self, x):
         return isinstance(x, dict) and x.keys() == self.spaces.keys() and all(
