@@ -593,6 +593,60 @@ TEST_CASE("a manifest that is JSON but not an object of the right shape is a rog
   fs::remove_all(dir);
 }
 
+// Found by a probe: a folder made from mylab (`scenario = "pen.lua"`) was refused from another
+// working folder ("pen.lua" in the folder, "/.../mylab/pen.lua" now) and after copying the project
+// (the sources were keyed by their absolute paths), "made by another batch script" of the same one.
+TEST_CASE("a results folder resumes from another folder and after a copy, not with a changed source", "[batch]") {
+  const fs::path top = fresh_dir("relocate");
+  const fs::path lab = top / "mylab";
+  fs::create_directories(lab);
+  std::string text = slurp("tests/scripts/kill_batch.lua");
+  const std::string from = "scenario = \"cluttered\"";
+  REQUIRE(text.find(from) != std::string::npos);
+  text.replace(text.find(from), from.size(), "scenario = \"pen.lua\"");
+  std::ofstream(lab / "my_batch.lua") << text;
+  fs::copy_file("tests/scripts/kill_curriculum.lua", lab / "kill_curriculum.lua");
+  fs::copy_file("scenarios/cluttered.lua", lab / "pen.lua");
+  const fs::path project = fs::current_path();
+  const auto open_in = [&](const fs::path& cwd, const std::string& script, const fs::path& out) {
+    fs::current_path(cwd);
+    struct Back {
+      fs::path to;
+      ~Back() { fs::current_path(to); }
+    } back{project};
+    const auto b = std::make_shared<const BatchScript>(load_batch_script(script));
+    return open_results_folder(plan_batch(b, out.string()));
+  };
+  CHECK_FALSE(open_in(lab, "my_batch.lua", lab / "results" / "k"));
+  // The same script from another working folder: the same files, spelt otherwise.
+  CHECK(open_in(top, (lab / "my_batch.lua").string(), lab / "results" / "k"));
+  // The whole folder copied elsewhere: the same sources at the same places of the copy.
+  const fs::path copy = top / "copy";
+  fs::copy(lab, copy, fs::copy_options::recursive);
+  CHECK(open_in(top, (copy / "my_batch.lua").string(), copy / "results" / "k"));
+  // A source that changed is refused, as before.
+  std::ofstream(copy / "kill_curriculum.lua", std::ios::app) << "-- edited\n";
+  try {
+    open_in(copy, "my_batch.lua", copy / "results" / "k");
+    FAIL("a folder was resumed with an edited curriculum");
+  } catch (const Error& e) {
+    CHECK_THAT(e.what(), Catch::Matchers::Contains("before a Lua file its trials read changed"));
+    CHECK_THAT(e.what(), Catch::Matchers::Contains("sources['<script folder>/kill_curriculum.lua']"));
+  }
+  // The same script with another seed: not "another batch script".
+  text.replace(text.find("seed = 7"), 8, "seed = 8");
+  std::ofstream(lab / "my_batch.lua") << text;
+  try {
+    open_in(lab, "my_batch.lua", lab / "results" / "k");
+    FAIL("a folder was resumed with another seed");
+  } catch (const Error& e) {
+    CHECK_THAT(e.what(), Catch::Matchers::Contains("was made by this batch script as it was then, with other contents or "
+                                                   "parameters (my_batch.lua)"));
+    CHECK_THAT(e.what(), Catch::Matchers::Contains("seed: 7 in the folder, 8 now"));
+  }
+  fs::remove_all(top);
+}
+
 TEST_CASE("a results folder made under other Lua limits is not resumed", "[batch]") {
   const fs::path out = fresh_dir("limits");
   BatchOverrides small;

@@ -233,6 +233,76 @@ TEST_CASE("roger check takes a project path from any folder as the other command
   fs::remove(out);
 }
 
+namespace {
+
+// Runs the roger program in folder `dir` (env: assignments put before it, "" for none).
+Run roger_in(const fs::path& dir, const std::string& args, const std::string& env = "") {
+  const fs::path tmp = fs::temp_directory_path() / ("roger_cli_in_" + std::to_string(::getpid()));
+  fs::create_directories(tmp);
+  const std::string cmd = "cd '" + dir.string() + "' && " + env + " " + std::string(ROGER_BINARY) + " " + args + " >" +
+                          (tmp / "out").string() + " 2>" + (tmp / "err").string();
+  const int raw = std::system(cmd.c_str());
+  Run r;
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  r.out = slurp(tmp / "out");
+  r.err = slurp(tmp / "err");
+  fs::remove_all(tmp);
+  return r;
+}
+
+}  // namespace
+
+// Found by a probe: `cp scripts/quick.lua mylab/myquick.lua; roger check myquick.lua` required
+// curricula/paper.lua (the curriculum) for its `require("paper")`, and failed.
+TEST_CASE("a copy of a shipped batch script works in a folder of one's own", "[cli]") {
+  const fs::path lab = fs::temp_directory_path() / ("roger_cli_mylab_" + std::to_string(::getpid()));
+  fs::create_directories(lab);
+  fs::copy_file("scripts/quick.lua", lab / "myquick.lua", fs::copy_options::overwrite_existing);
+  const Run r = roger_in(lab, "check myquick.lua", "ROGER_HOME=" + fs::current_path().string());
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::StartsWith("myquick.lua: ok (batch script 'quick'"));
+  // The ok line says which project the bare names and require came from.
+  CHECK_THAT(r.out, Catch::Matchers::Contains("(project folder: ROGER_HOME=" + fs::current_path().string() + ")"));
+  fs::remove_all(lab);
+}
+
+// Found by a probe: from a folder other than the project root, a second skills.Phi6(p) was placed
+// in curricula/lib/skills.lua, without the remedy, since the library's relative chunk name was
+// resolved against the working folder.
+TEST_CASE("a duplicate library controller names the author's line from any folder", "[cli]") {
+  const fs::path lab = fs::temp_directory_path() / ("roger_cli_dup_" + std::to_string(::getpid()));
+  fs::create_directories(lab);
+  std::ofstream(lab / "dup.lua") << "local skills = require('lib.skills')\nlocal p = skills.primitives()\n"
+                                    "local a = skills.Phi6(p)\nlocal b = skills.Phi6(p)\n"
+                                    "return { name = 'dup', policies = { t = { action = a, goal = roger.converged(p.phi3), "
+                                    "time_limit = 1 } } }\n";
+  const Run r = roger_in(lab, "check dup.lua", "ROGER_HOME=" + fs::current_path().string());
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Matchers::Contains("dup.lua:4: roger.sequence('Phi6'): there is already a controller named "
+                                              "'Phi6' (defined at dup.lua:3); to build another copy"));
+  fs::remove_all(lab);
+}
+
+// Found by a probe: `roger check paper` reached the curriculum with no word of scripts/paper.lua,
+// ROGER_HOME=/nonexistent said only that the project had no such script, and `roger check pen`
+// beside pen.lua said "not a file here".
+TEST_CASE("roger check says which project it looked in, and how to name what it did not take", "[cli]") {
+  const Run paper = roger("check paper");
+  CHECK(paper.status == 0);
+  CHECK_THAT(paper.err, Catch::Matchers::Contains("'paper' is the project's curricula/paper.lua; to check scripts/paper.lua, name it so"));
+  const fs::path lab = fs::temp_directory_path() / ("roger_cli_pen_" + std::to_string(::getpid()));
+  fs::create_directories(lab);
+  std::ofstream(lab / "pen.lua") << "return { name = 'pen', generate = function() end }\n";
+  const Run nowhere = roger_in(lab, "check cluttered", "ROGER_HOME=/nonexistent/roger_home");
+  CHECK(nowhere.status == 1);
+  CHECK_THAT(nowhere.err, Catch::Matchers::Contains("ROGER_HOME=/nonexistent/roger_home, which is not a folder"));
+  const Run pen = roger_in(lab, "check pen", "ROGER_HOME=" + fs::current_path().string());
+  CHECK(pen.status == 1);
+  CHECK_THAT(pen.err, Catch::Matchers::Contains("pen.lua is a file here: name it with its \".lua\" (roger check pen.lua)"));
+  fs::remove_all(lab);
+}
+
 TEST_CASE("roger check runs the static pass on a scenario named bare, as the loader finds it", "[cli]") {
   // A project tree (ROGER_HOME) whose scenarios/ holds a scenario with a misspelt member reached
   // through an alias: `roger check misspelt_here` reads scenarios/misspelt_here.lua before running it.
@@ -599,6 +669,18 @@ TEST_CASE("roger eval and render of a saved policy set the parameters its trial 
   REQUIRE(r.status == 0);
   CHECK_THAT(slurp(dir / "episode" / "episode.json"), Catch::Matchers::Contains("in unobstructed with eye_pixels = 64, upper_arm = 0.6, seed 1\""));
   fs::remove_all(dir);
+}
+
+// Found by a probe: `roger eval my_skills --policy grab` said "no curriculum 'my_skills'", though
+// eval takes a skill script as well.
+TEST_CASE("roger eval and render of a name that is no script say it is neither kind", "[cli]") {
+  for (const std::string command : {"eval no_such_script --policy grab", "render no_such_script --policy grab"}) {
+    const Run r = roger(command);
+    INFO(r.out << r.err);
+    CHECK(r.status != 0);
+    CHECK(r.err.find("roger: error: no curriculum or skill script 'no_such_script': not a file, and "
+                     "curricula/no_such_script.lua does not exist") != std::string::npos);
+  }
 }
 
 TEST_CASE("roger eval names the failed world seeds and the command that renders one", "[cli]") {

@@ -351,6 +351,98 @@ TEST_CASE("require finds modules beside the script and in the project folders, o
   if (old) setenv("ROGER_HOME", saved.c_str(), 1); else unsetenv("ROGER_HOME");
 }
 
+// Found by a probe: a copy of scripts/quick.lua in a folder of one's own required "paper" and got
+// curricula/paper.lua (the curriculum), since require searched scenarios/, curricula/, scripts/
+// for every kind of script. A batch script's libraries are batch scripts: scripts/ comes first.
+TEST_CASE("a batch script's require searches scripts/ first, other scripts scenarios/ first", "[lua_sandbox]") {
+  TempDir home;
+  for (const char* d : {"scenarios", "curricula", "scripts", "work"}) fs::create_directories(home.path / d);
+  std::ofstream(home.path / "curricula" / "paper.lua") << "return { kind = 'curriculum', stages = {} }\n";
+  std::ofstream(home.path / "scripts" / "paper.lua") << "return { kind = 'batch', runs = {} }\n";
+  std::ofstream(home.path / "scenarios" / "paper.lua") << "return { kind = 'scenario' }\n";
+  std::ofstream(home.path / "work" / "myquick.lua")
+      << "local paper = require('paper')\nlocal quick = { evaluations = {} }\nquick.kind = paper.kind\nreturn quick\n";
+  std::ofstream(home.path / "work" / "mycurriculum.lua")
+      << "local paper = require('paper')\nreturn { stages = {}, kind = paper.kind }\n";
+  const char* old = std::getenv("ROGER_HOME");
+  const std::string saved = old ? old : "";
+  setenv("ROGER_HOME", home.path.c_str(), 1);
+  const auto kind_of = [](const fs::path& script) {
+    LuaSandbox sandbox;
+    sandbox.run_file(script.string(), 1);
+    lua_getfield(sandbox.state(), -1, "kind");
+    return std::string(lua_tostring(sandbox.state(), -1));
+  };
+  CHECK(kind_of(home.path / "work" / "myquick.lua") == "batch");
+  CHECK(kind_of(home.path / "work" / "mycurriculum.lua") == "scenario");  // as before: scenarios/ first
+  {
+    LuaSandbox sandbox;
+    sandbox.set_main_script((home.path / "work" / "myquick.lua").string());
+    const std::vector<fs::path> want = {fs::weakly_canonical(home.path / "work"),
+                                        fs::weakly_canonical(home.path / "scripts"),
+                                        fs::weakly_canonical(home.path / "curricula"),
+                                        fs::weakly_canonical(home.path / "scenarios")};
+    CHECK(sandbox.module_roots() == want);
+  }
+  CHECK(looks_like_batch_script(home.path / "work" / "myquick.lua"));
+  CHECK_FALSE(looks_like_batch_script(home.path / "work" / "mycurriculum.lua"));
+  if (old) setenv("ROGER_HOME", saved.c_str(), 1); else unsetenv("ROGER_HOME");
+}
+
+// Found by a probe: from a folder holding scenarios/pen.lua, a missing module listed
+// "scenarios/lib/util.lua" twice (the script's folder and the project's, both shown relative), and
+// require("lib.util.lua") looked for lib/util/lua.lua without a word.
+TEST_CASE("a missing module says which folder each place searched is in, and that names have no .lua", "[lua_sandbox]") {
+  TempDir home;
+  fs::create_directories(home.path / "scenarios");
+  fs::create_directories(home.path / "lab" / "scenarios");
+  std::ofstream(home.path / "lab" / "scenarios" / "pen.lua") << "return require('lib.util')\n";
+  std::ofstream(home.path / "lab" / "scenarios" / "dotlua.lua") << "return require('lib.util.lua')\n";
+  const char* old = std::getenv("ROGER_HOME");
+  const std::string saved = old ? old : "";
+  setenv("ROGER_HOME", home.path.c_str(), 1);
+  {
+    LuaSandbox sandbox;
+    const ScriptError e = file_error(sandbox, (home.path / "lab" / "scenarios" / "pen.lua").string());
+    CHECK_THAT(e.message, Contains("lib/util.lua (beside the script)"));
+    CHECK_THAT(e.message, Contains((fs::weakly_canonical(home.path / "scenarios") / "lib" / "util.lua").string() +
+                                   " (in the project " + fs::weakly_canonical(home.path).string() + ")"));
+  }
+  {
+    LuaSandbox sandbox;
+    const ScriptError e = file_error(sandbox, (home.path / "lab" / "scenarios" / "dotlua.lua").string());
+    CHECK_THAT(e.message, Contains("A module name has no \".lua\": write require(\"lib.util\"), which loads lib/util.lua"));
+  }
+  if (old) setenv("ROGER_HOME", saved.c_str(), 1); else unsetenv("ROGER_HOME");
+}
+
+// Found by a probe: ROGER_HOME=/nonexistent said only that the project had no such scenario, and
+// `roger check pen` beside pen.lua said "not a file".
+TEST_CASE("a script not found names the project looked in and a file here missing its .lua", "[lua_sandbox]") {
+  const char* old = std::getenv("ROGER_HOME");
+  const std::string saved = old ? old : "";
+  setenv("ROGER_HOME", "/nonexistent/roger_home", 1);
+  try {
+    resolve_script_path("cluttered", "scenarios", "scenario", "shipped scenarios");
+    FAIL("a scenario was found in a project that does not exist");
+  } catch (const Error& e) {
+    CHECK_THAT(e.what(), Contains("ROGER_HOME=/nonexistent/roger_home is not a folder"));
+  }
+  if (old) setenv("ROGER_HOME", saved.c_str(), 1); else unsetenv("ROGER_HOME");
+  TempDir here;
+  std::ofstream(here.path / "pen.lua") << "return {}\n";
+  const fs::path cwd = fs::current_path();
+  fs::current_path(here.path);
+  std::string message;
+  try {
+    resolve_script_path("pen", "scenarios", "scenario", "shipped scenarios");
+  } catch (const Error& e) {
+    message = e.what();
+  }
+  fs::current_path(cwd);
+  CHECK_THAT(message, Contains("pen.lua is a file here: name it with its \".lua\""));
+}
+
 TEST_CASE("require does not follow a link out of the script folders", "[lua_sandbox]") {
   TempDir dir;
   fs::create_directories(dir.path / "inside");

@@ -428,7 +428,7 @@ TEST_CASE("a tiny batch writes every file, with tables that match the trials, wh
   std::ostringstream refused;
   other.progress = &refused;
   CHECK(command_run(other) == 1);
-  CHECK(refused.str().find("made by another batch script or other parameters") != std::string::npos);
+  CHECK(refused.str().find("made by this batch script as it was then, with other contents or parameters") != std::string::npos);
   CHECK(refused.str().find("runs[1].trials: 2 in the folder, 1 now") != std::string::npos);
   CHECK(finished_ids(one) == kIds);  // nothing lost
 

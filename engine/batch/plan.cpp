@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -226,6 +227,79 @@ bool extends(json old, json now, bool any_evaluation = false) {
   return old == now;
 }
 
+// Where a configuration's files are, named so that a results folder survives a move: an absolute
+// path under the project root is named relative to it ("curricula/paper.lua", as sources already
+// are), one under the batch script's folder "<script folder>/pen.lua"; a relative path (an
+// evaluation's scenario as written: "pen.lua") is first taken beside the script, as the loader
+// takes it. What the files hold is compared by config["sources"], so a moved copy resumes and an
+// edited one does not (docs/batch.md, Resuming).
+struct Places {
+  fs::path root;           // the project root the configuration was made under
+  fs::path script_dir;     // the batch script's folder (absolute)
+  fs::path relative_base;  // where a relative path is looked for: this run's script folder
+};
+
+std::string relocated_path(const std::string& value, const Places& at) {
+  if (value.empty()) return value;
+  fs::path p(value);
+  std::error_code ec;
+  if (p.is_relative()) {
+    // A bare name ("cluttered") is a name, not a path; a relative path is the file beside the
+    // script when there is one (resolve_scenario_near), else as spelt.
+    if (value.find('/') == std::string::npos && p.extension() != ".lua") return value;
+    if (at.relative_base.empty() || !fs::exists(at.relative_base / p, ec)) return value;
+    return "<script folder>/" + p.lexically_normal().generic_string();
+  }
+  p = p.lexically_normal();
+  const auto under = [&](const fs::path& folder) -> std::optional<std::string> {
+    if (folder.empty()) return std::nullopt;
+    const fs::path rel = p.lexically_relative(folder);
+    if (rel.empty() || *rel.begin() == "..") return std::nullopt;
+    return rel.generic_string();
+  };
+  if (auto r = under(at.root)) return *r;
+  if (auto r = under(at.script_dir)) return "<script folder>/" + *r;
+  // Sources are recorded by their real paths: the script folder through a link is the same.
+  if (auto r = under(fs::weakly_canonical(at.script_dir, ec))) return "<script folder>/" + *r;
+  return value;
+}
+
+// The project root a manifest's configuration was made under: the folder of which its curriculum
+// file is the recorded source of the same relative name ("curricula/paper.lua" of the curriculum
+// .../share/roger/curricula/paper.lua); else `fallback` (this project's).
+fs::path recorded_root(const json& config, const fs::path& fallback) {
+  if (!config.is_object() || !config.contains("sources") || !config["sources"].is_object()) return fallback;
+  const std::string file = config.value("curriculum_file", std::string());
+  for (auto it = config["sources"].begin(); it != config["sources"].end(); ++it) {
+    const std::string& key = it.key();
+    if (key.empty() || key[0] == '/' || file.size() <= key.size() + 1) continue;
+    if (file.compare(file.size() - key.size(), key.size(), key) == 0 && file[file.size() - key.size() - 1] == '/')
+      return fs::path(file.substr(0, file.size() - key.size() - 1));
+  }
+  return fallback;
+}
+
+// `config` with its files named relative to the places it was made at (relocated_path): two
+// configurations equal so are the same files' at the same places of their project and script
+// folder, however they were spelt and wherever the two were.
+json relocated(json config, const Places& at) {
+  if (!config.is_object()) return config;
+  if (config.contains("curriculum_file") && config["curriculum_file"].is_string())
+    config["curriculum_file"] = relocated_path(config["curriculum_file"].get<std::string>(), at);
+  if (config.contains("sources") && config["sources"].is_object()) {
+    json sources = json::object();
+    for (auto it = config["sources"].begin(); it != config["sources"].end(); ++it)
+      sources[it.key().empty() || it.key()[0] != '/' ? it.key() : relocated_path(it.key(), at)] = it.value();
+    config["sources"] = sources;
+  }
+  for (const char* list : {"runs", "evaluations"})
+    if (config.contains(list) && config[list].is_array())
+      for (json& item : config[list])
+        if (item.is_object() && item.contains("scenario") && item["scenario"].is_string())
+          item["scenario"] = relocated_path(item["scenario"].get<std::string>(), at);
+  return config;
+}
+
 // What changed when a folder is reopened with a configuration that extends its own: the report's
 // fields, the numbers of trials, or both; for the note roger run prints.
 std::string extension_note(const json& old, const json& now, const std::string& out) {
@@ -257,20 +331,28 @@ Error refusal(const json& old, const json& old_config, const json& config, const
   json old_rest = old_config, now_rest = config;
   if (old_rest.is_object()) old_rest.erase("sources");
   now_rest.erase("sources");
+  // The same script file (the same path, or the same name in the same place after a move) with
+  // other contents is not "another batch script".
+  std::error_code ec;
+  const std::string old_file = old.value("script_file", std::string());
+  const bool same_script =
+      !old_file.empty() && (fs::equivalent(old_file, plan.script->file, ec) ||
+                            fs::path(old_file).filename() == fs::path(plan.script->file).filename());
   const std::string made = old_rest == now_rest
                                ? "before a Lua file its trials read changed (its trials and new ones would mix two "
                                  "versions of it)"
-                               : "by another batch script or other parameters";
+                           : same_script ? "by this batch script as it was then, with other contents or parameters"
+                                         : "by another batch script or other parameters";
   return Error("the results folder " + plan.out + " was made " + made + " (" + old.value("script", std::string("?")) +
-               "); it cannot be resumed with " + plan.script->path + ". Differences:" + why +
+               "); it cannot be resumed with " + plan.script->path + " as it is now. Differences:" + why +
                "\nUse another --out, or remove the folder to start over.");
 }
 
 // Takes a configuration that extends the folder's own (extends()): checks that the folder's
 // trials are the ones its configuration planned, as when resuming, and rewrites the manifest.
 // Returns the note saying what changed.
-std::string extend_manifest(const json& old, const json& old_config, const json& config, const BatchPlan& plan,
-                            const fs::path& manifest_path, const json& fresh_manifest) {
+std::string extend_manifest(const json& old, const json& old_config, const json& old_places, const json& now_places,
+                            const BatchPlan& plan, const fs::path& manifest_path, const json& fresh_manifest) {
   BatchPlan old_plan;
   try {
     old_plan = plan_batch(std::make_shared<BatchScript>(batch_config_from_json(old_config)), plan.out);
@@ -281,7 +363,7 @@ std::string extend_manifest(const json& old, const json& old_config, const json&
   if (const std::string p = planned_trials_problem(old, old_plan, true); !p.empty())
     throw Error(manifest_path.string() + ": " + p + "; this folder cannot be resumed: use another --out");
   write_file_atomic(manifest_path.string(), fresh_manifest.dump(1) + "\n", "cannot write the manifest");
-  return extension_note(old_config, config, plan.out);
+  return extension_note(old_places, now_places, plan.out);
 }
 
 // Checks that an existing manifest was made by this engine and configuration, or by one that this
@@ -305,9 +387,21 @@ std::string check_manifest(const BatchPlan& plan, const fs::path& manifest_path,
                 ": its trials would mix with this build's. Use another --out, or remove the folder "
                 "to start over; `roger report " + out + "` still reports what it holds.");
   const json old_config = old.value("config", json());
-  if (old_config != config && old_config.is_object() && extends(old_config, config))
-    return extend_manifest(old, old_config, config, plan, manifest_path, fresh_manifest);
-  if (old_config != config) throw refusal(old, old_config, config, plan);
+  // Compared by where the files are in their project and script folder, not by how their paths
+  // were spelt: the folder resumes from another working folder, or after the project, the
+  // install or both were moved or copied (relocated()).
+  std::error_code ec;
+  const fs::path here = fs::weakly_canonical(project_root(), ec);
+  const std::string old_file = old.value("script_file", std::string());
+  const fs::path script_dir = fs::absolute(plan.script->file).lexically_normal().parent_path();
+  const json old_places =
+      relocated(old_config, {recorded_root(old_config, here),
+                             old_file.empty() ? fs::path() : fs::path(old_file).lexically_normal().parent_path(),
+                             script_dir});
+  const json now_places = relocated(config, {recorded_root(config, here), script_dir, script_dir});
+  if (old_places != now_places && old_config.is_object() && extends(old_places, now_places))
+    return extend_manifest(old, old_config, old_places, now_places, plan, manifest_path, fresh_manifest);
+  if (old_places != now_places) throw refusal(old, old_places, now_places, plan);
   if (const std::string p = planned_trials_problem(old, plan, true); !p.empty())
     throw Error(manifest_path.string() + ": " + p + "; this folder cannot be resumed: use another --out");
   return "";

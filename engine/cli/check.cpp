@@ -2,6 +2,7 @@
 // the loader of the script's kind (a scenario's worlds generated and built, a curriculum's callbacks
 // called, a batch script against its curriculum), or a module run as the scripts requiring it run it.
 #include <algorithm>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -11,6 +12,7 @@
 #include "cli/cli_internal.h"
 #include "cli/commands.h"
 #include "core/fileio.h"
+#include "core/install.h"
 #include "core/text.h"
 #include "script/authoring/lua_static_check.h"
 #include "script/authoring/script_api.h"
@@ -67,6 +69,21 @@ size_t report_static_problems(const std::string& script) {
 
 }  // namespace
 
+// The project folder in use and why it is that one, for the ok line and for a script not found
+// (a copy of bin/roger alone silently used the source tree it was built from).
+std::string project_in_use() {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const char* home = std::getenv("ROGER_HOME");
+  if (home && *home)
+    return "ROGER_HOME=" + std::string(home) +
+           (fs::is_directory(home, ec) ? std::string()
+                                       : ", which is not a folder: set it to a project holding scenarios/, "
+                                         "curricula/ and scripts/, or unset it");
+  return project_root().string() + (installed_data_dir() ? ", installed beside the program"
+                                                          : ", the source tree this roger was built from");
+}
+
 namespace {
 
 // The file `roger check` checks: the path as given, else a path relative to the project (as the
@@ -83,10 +100,24 @@ std::string check_target(const std::string& arg) {
     return arg;  // a path (read_file_text and the loaders say what is wrong with it)
   }
   const std::string file = fs::path(arg).extension() == ".lua" ? arg : arg + ".lua";
+  std::vector<std::string> found;
   for (const char* folder : {"scenarios", "curricula", "scripts"})
-    if (fs::is_regular_file(project_root() / folder / file, ec)) return (project_root() / folder / file).string();
+    if (fs::is_regular_file(project_root() / folder / file, ec)) found.push_back(std::string(folder) + "/" + file);
+  if (!found.empty()) {
+    // A bare name that several folders hold (paper: curricula/paper.lua and scripts/paper.lua) is
+    // the first; say so, and how to name the others.
+    if (found.size() > 1) {
+      std::string others;
+      for (size_t k = 1; k < found.size(); ++k) others += (k > 1 ? " or " : "") + found[k];
+      std::fprintf(stderr, "roger: note: '%s' is the project's %s; to check %s, name it so\n", arg.c_str(),
+                   found[0].c_str(), others.c_str());
+    }
+    return (project_root() / found[0]).string();
+  }
+  const bool here = fs::path(arg).extension() != ".lua" && fs::is_regular_file(file, ec);
   throw Error("no script '" + arg + "': not a file here, and the project has no scenarios/" + file + ", curricula/" +
-              file + " or scripts/" + file);
+              file + " or scripts/" + file + " (project: " + project_in_use() + ")" +
+              (here ? "; " + file + " is a file here: name it with its \".lua\" (roger check " + file + ")" : ""));
 }
 
 // The kind a script whose table names none of the keys that tell kinds apart (a misspelt
@@ -264,7 +295,16 @@ int check_scenario_file(const CheckArgs& a, const std::string& shown, const Sand
 
 }  // namespace
 
+static int check_named_script(const CheckArgs& args);
+
+// Every check that passes names the project folder its bare names and require came from.
 int command_check(const CheckArgs& args) {
+  const int status = check_named_script(args);
+  if (status == 0) std::printf("  (project folder: %s)\n", project_in_use().c_str());
+  return status;
+}
+
+static int check_named_script(const CheckArgs& args) {
   CheckArgs a = args;
   a.script = check_target(args.script);
   if (report_static_problems(a.script) > 0) return 1;

@@ -32,7 +32,16 @@ std::string policy_scenario(const SkillScript::NamedPolicy& p, const std::string
 
 bool policy_is_saved_file(const std::string& script, const std::string& policy) {
   const bool json_file = policy.size() >= 5 && policy.compare(policy.size() - 5, 5, ".json") == 0;
-  if (!is_curriculum_script(resolve_curriculum_path(script))) {
+  std::string path;
+  try {
+    path = resolve_curriculum_path(script);
+  } catch (const Error& e) {
+    // eval and render take a skill script too: a name that is neither is not only "no curriculum".
+    const std::string message = e.what(), missing = "no curriculum '";
+    if (message.rfind(missing, 0) != 0) throw;
+    throw Error("no curriculum or skill script '" + message.substr(missing.size()));
+  }
+  if (!is_curriculum_script(path)) {
     if (json_file)
       throw Error("--policy " + policy + " is a saved policy, which runs with the curriculum it was trained on "
                   "(CURRICULUM.lua --policy FILE.json); " + script + " is not a curriculum, so --policy names one of "

@@ -283,7 +283,9 @@ int main(int argc, char** argv) {
   app.failure_message([](const CLI::App*, const CLI::Error& e) {
     return std::string("roger: error: ") + e.what() + "\nRun with --help for more information.\n";
   });
-  app.set_version_flag("--version", std::string("roger ") + ROGER_VERSION);
+  // With the project folder in use: a copy of bin/roger alone silently used the source tree.
+  app.set_version_flag("--version", [] { return std::string("roger ") + ROGER_VERSION + " (project folder: " +
+                                                project_in_use() + ")"; });
   RenderArgs render_args;
   CheckArgs check_args;
   EvalArgs eval_args;

@@ -5,7 +5,8 @@
 #   moved   roger check on a shipped scenario (by path, and by a bare name found in the moved tree
 #           only); roger eval of a shipped curriculum named bare (its Lua libraries found through
 #           require); roger run <moved>/share/roger/scripts/quick.lua --out DIR must leave a
-#           complete results folder whose tables and CSVs equal tests/golden/quick.
+#           complete results folder whose tables and CSVs equal tests/golden/quick, which a copy
+#           of the install resumes; a copy of quick.lua checks in a folder of one's own.
 #   hidden  the same with the source and build trees hidden under empty folders (a mount namespace:
 #           root and unshare of util-linux), so that nothing can be read from them.
 #   deb     `cpack -G DEB` builds the Debian package, which must hold the same files under /usr and
@@ -70,6 +71,18 @@ checks() {
   [ "$(find "$work/quick/trials" -name result.json | wc -l)" -eq 24 ] || { echo "not 24 trial results"; return 1; }
   bash "$work/compare_results.sh" --golden "$work/golden" "$work/quick" ||
     { echo "the installed engine's results differ from tests/golden/quick"; return 1; }
+  # A copy of the install resumes the folder the original made (its sources are the same files at
+  # the same places of the copy), from a folder of one's own: a probe's was refused.
+  cp -a "$tree" "$work/copied"
+  "$work/copied/bin/roger" run "$work/copied/share/roger/scripts/quick.lua" --out "$work/quick" >"$work/resume.log" 2>&1 ||
+    { cat "$work/resume.log"; echo "a copy of the install did not resume the original's results folder"; return 1; }
+  # A copy of a shipped batch script in a folder of one's own still finds scripts/paper.lua.
+  cp "$tree/share/roger/scripts/quick.lua" "$work/elsewhere/myquick.lua"
+  "$roger" check myquick.lua >"$work/myquick.log" 2>&1 ||
+    { cat "$work/myquick.log"; echo "roger check of a copy of quick.lua"; return 1; }
+  grep -q "project folder: $tree/share/roger, installed beside the program" "$work/myquick.log" ||
+    { cat "$work/myquick.log"; echo "roger check did not name the installed project folder"; return 1; }
+  rm -rf "$work/copied"
 }
 export -f checks
 export work tree

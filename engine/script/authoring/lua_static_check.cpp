@@ -512,7 +512,8 @@ std::vector<ModuleUse> module_users(const fs::path& module, const std::vector<fs
       continue;  // unreadable: it requires nothing we can see
     }
     // Where the sandbox's require would look were this script the main one.
-    const std::vector<fs::path> roots = module_search_roots(fs::weakly_canonical(script, ec).parent_path());
+    const fs::path real = fs::weakly_canonical(script, ec);
+    const std::vector<fs::path> roots = module_search_roots(real.parent_path(), looks_like_batch_script(real));
     for (const auto& a : Scanner(text).accesses)
       if (a.kind == Access::kRequire && find_module(roots, a.name) == target) {
         out.push_back({script, a.name, a.line});

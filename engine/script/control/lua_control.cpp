@@ -42,12 +42,17 @@ Location caller_location(lua_State* L) {
 
 // Whether a chunk's file is one of the project's shipped libraries (curricula/lib/*.lua,
 // scenarios/lib/*.lua): code the script's author calls but did not write.
+// A chunk's name is relative to the project root for a file inside it (the sandbox names modules
+// so), whatever the working folder: it is resolved against that root, not the working folder.
 bool shipped_library(const std::string& file) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  const fs::path folder = fs::absolute(file, ec).lexically_normal().parent_path();
+  const fs::path root = fs::weakly_canonical(project_root(), ec);
+  if (ec) return false;
+  const fs::path path = fs::path(file).is_relative() ? root / file : fs::path(file);
+  if (!fs::is_regular_file(path, ec)) return false;
+  const fs::path folder = fs::weakly_canonical(path, ec).parent_path();
   if (ec || folder.filename() != "lib") return false;
-  const fs::path root = project_root().lexically_normal();
   return folder == root / "curricula" / "lib" || folder == root / "scenarios" / "lib";
 }
 

@@ -8,6 +8,7 @@
 
 #include <lua.hpp>
 
+#include "core/fileio.h"
 #include "core/install.h"
 #include "script/sandbox/lua_sandbox_internal.h"
 
@@ -41,16 +42,36 @@ fs::path project_root() {
   return fs::path(ROGER_SOURCE_DIR);
 }
 
-std::vector<fs::path> module_search_roots(const fs::path& main_folder) {
+std::vector<fs::path> module_search_roots(const fs::path& main_folder, bool batch_script) {
   std::vector<fs::path> roots;
   if (!main_folder.empty()) roots.push_back(main_folder);
   const fs::path project = project_root();
-  for (const char* name : {"scenarios", "curricula", "scripts"}) {
+  // A batch script's libraries are other batch scripts (scripts/paper.lua), a curriculum's and a
+  // scenario's are in curricula/ and scenarios/ (docs/batch.md, docs/scenarios.md).
+  const std::vector<const char*> order = batch_script ? std::vector<const char*>{"scripts", "curricula", "scenarios"}
+                                                      : std::vector<const char*>{"scenarios", "curricula", "scripts"};
+  for (const char* name : order) {
     std::error_code ec;
     const fs::path p = fs::weakly_canonical(project / name, ec);
     if (!ec && std::find(roots.begin(), roots.end(), p) == roots.end()) roots.push_back(p);
   }
   return roots;
+}
+
+bool looks_like_batch_script(const fs::path& path) {
+  std::string text;
+  try {
+    text = read_file_text(path.string());
+  } catch (const std::exception&) {
+    return false;  // unreadable: loading it says why
+  }
+  // A cheap look first: most scripts (every scenario) name none of a batch script's fields.
+  if (text.find("runs") == std::string::npos && text.find("evaluations") == std::string::npos &&
+      text.find("curriculum") == std::string::npos)
+    return false;
+  const std::string p = path.string();
+  if (script_has_key(p, "stages")) return false;  // a curriculum (script_kind_of looks at it first)
+  return script_has_key(p, "runs") || script_has_key(p, "curriculum") || script_has_key(p, "evaluations");
 }
 
 LuaSandbox::LuaSandbox(const SandboxLimits& limits) : impl_(std::make_unique<Impl>()) {
@@ -114,7 +135,7 @@ void LuaSandbox::set_main_script(const std::string& path) {
   const fs::path folder = fs::weakly_canonical(fs::absolute(fs::path(path), ec).parent_path(), ec);
   s.main_dir = folder;
   s.main_dir_display = fs::path(path).parent_path().string();
-  s.roots = module_search_roots(folder);
+  s.roots = module_search_roots(folder, looks_like_batch_script(fs::absolute(fs::path(path), ec)));
   s.main_set = true;
 }
 
@@ -270,10 +291,25 @@ std::string resolve_script_path(const std::string& arg, const std::string& folde
     if (entry.path().extension() == ".lua" && (!accept || accept(entry.path().string())))
       shipped.push_back(entry.path().stem().string());
   std::sort(shipped.begin(), shipped.end());
+  // Which project was looked in, when it is not the source tree this roger was built from (the
+  // tests' and a developer's): an installed tree's, or $ROGER_HOME's, which may point nowhere.
+  std::string where;
+  const char* home = std::getenv("ROGER_HOME");
+  if (home && *home)
+    where = fs::is_directory(home, ec)
+                ? " (the project is ROGER_HOME=" + std::string(home) + ")"
+                : " (ROGER_HOME=" + std::string(home) + " is not a folder: set it to a project holding "
+                  "scenarios/, curricula/ and scripts/, or unset it)";
+  else if (fs::weakly_canonical(project_root(), ec) != fs::weakly_canonical(fs::path(ROGER_SOURCE_DIR), ec))
+    where = " (the project is " + project_root().string() + ")";
+  // A bare name of a file here without its ".lua" (`roger check pen` beside pen.lua).
+  std::string hint;
+  if (bare && fs::path(arg).extension() != ".lua" && fs::is_regular_file(file, ec))
+    hint = "; " + file + " is a file here: name it with its \".lua\"";
   throw Error("no " + kind + " '" + arg + "': " +
-              (bare ? "not a file, and " + folder_name + "/" + file + " does not exist"
-                    : std::string(fs::exists(arg, ec) ? "not a regular file" : "no such file here or in the project")) +
-              (shipped.empty() ? "" : "; " + list_label + ": " + join(shipped)));
+              (bare ? "not a file, and " + folder_name + "/" + file + " does not exist" + where
+                    : std::string(fs::exists(arg, ec) ? "not a regular file" : "no such file here or in the project" + where)) +
+              hint + (shipped.empty() ? "" : "; " + list_label + ": " + join(shipped)));
 }
 
 }  // namespace roger

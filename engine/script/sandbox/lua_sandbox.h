@@ -78,8 +78,16 @@ struct ScriptError : Error {
 std::filesystem::path project_root();
 
 // Where `require` looks for a module: `main_folder` first when given (the main script's folder),
-// then the project's scenarios/, curricula/ and scripts/, each resolved once and listed once.
-std::vector<std::filesystem::path> module_search_roots(const std::filesystem::path& main_folder = {});
+// then the project's scenarios/, curricula/ and scripts/ -- for a batch script scripts/,
+// curricula/ and scenarios/, so that its `require("paper")` is scripts/paper.lua wherever the
+// script lies -- each resolved once and listed once.
+std::vector<std::filesystem::path> module_search_roots(const std::filesystem::path& main_folder = {},
+                                                       bool batch_script = false);
+
+// Whether the script's own text (or the module it returns) sets a batch script's field (`runs`,
+// `curriculum`, `evaluations`) and no curriculum's `stages`: the kind whose `require` searches
+// scripts/ first (set_main_script).
+bool looks_like_batch_script(const std::filesystem::path& path);
 
 class LuaSandbox {
  public:
@@ -98,8 +106,9 @@ class LuaSandbox {
   const SandboxLimits& limits() const;
 
   // Declares the main script: `require` then searches its folder first, then
-  // <project>/scenarios, <project>/curricula and <project>/scripts. run_file() does this for its
-  // first file when no main script was declared.
+  // <project>/scenarios, <project>/curricula and <project>/scripts (for a batch script,
+  // looks_like_batch_script: scripts, curricula, scenarios). run_file() does this for its first
+  // file when no main script was declared.
   void set_main_script(const std::string& path);
 
   // The folders `require` searches, in order (absolute paths).
@@ -207,7 +216,8 @@ class LuaFields {
 };
 
 // For an __index metamethod refusing a name: raises `text` at the line of the Lua function that
-// read the name (level 1 is the metamethod itself).
+// read the name (level 1: the function that called the metamethod; level 2, used before, named
+// that function's caller, so a misspelt name inside a helper was reported at the helper's call).
 int raise_at_reader(lua_State* L, const std::string& text);
 
 // Converts the value at `index` into a colour, or raises "context: ..." at the caller's line.

@@ -132,7 +132,11 @@ void locate_module(const LuaSandbox::Impl& s, const std::string& name, fs::path&
   for (const auto& root : s.roots) {
     const fs::path candidate = root / rel;
     if (!fs::is_regular_file(candidate, ec)) {
-      tried.push_back(module_display(s, root, rel));
+      // Where each place is, unmistakably: a script in <cwd>/scenarios and the project's
+      // scenarios/ would otherwise both show as scenarios/lib/x.lua.
+      tried.push_back(s.main_set && root == s.main_dir
+                          ? module_display(s, root, rel) + " (beside the script)"
+                          : candidate.lexically_normal().string() + " (in the project " + root.parent_path().string() + ")");
       continue;
     }
     const fs::path real = fs::weakly_canonical(candidate, ec);
@@ -147,6 +151,9 @@ void locate_module(const LuaSandbox::Impl& s, const std::string& name, fs::path&
   }
   error = "module '" + name + "' not found; searched:";
   for (const auto& t : tried) error += "\n\t" + t;
+  if (name.size() > 4 && name.compare(name.size() - 4, 4, ".lua") == 0)
+    error += "\nA module name has no \".lua\": write require(\"" + name.substr(0, name.size() - 4) +
+             "\"), which loads " + rel.substr(0, rel.size() - 8) + ".lua";
 }
 
 // Compiles the module file and runs it with (name, shown), leaving its one result on the stack.
