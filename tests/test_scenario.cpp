@@ -22,6 +22,7 @@
 #include "senses/senses.h"
 #include "core/shape.h"
 #include "sim/world.h"
+#include "scenario_text.h"
 
 using namespace roger;
 using Catch::Matchers::Contains;
@@ -358,6 +359,12 @@ TEST_CASE("scenario parameters", "[scenario]") {
     CHECK_THROWS_WITH(s.set_param("obstacles", "40"),
                       "parameter 'obstacles' of scenario 'cluttered' expects an integer in [0, 8], got '40' "
                       "(number of obstacles; default 3)");
+    // lib/body.lua's locked joints: a list, checked when set (before, at the first world built).
+    CHECK_THROWS_WITH(s.set_param("locked", "left_elbow,left_knee"),
+                      "parameter 'locked' of scenario 'cluttered' expects a comma-separated list of any of left_eye, "
+                      "right_eye, left_shoulder, left_elbow, right_shoulder, right_elbow (or none), got "
+                      "'left_elbow,left_knee' (joints held at their start angle, comma-separated (e.g. "
+                      "left_elbow,right_elbow); default )");
     CHECK_THROWS_WITH(s.set_param("eye_pixels", "3"),
                       "parameter 'eye_pixels' of scenario 'cluttered' expects an integer in [16, 512], got '3' "
                       "(pixels of each eye; default 128)");
@@ -371,6 +378,35 @@ TEST_CASE("scenario parameters", "[scenario]") {
     // A failed set_param leaves the old value.
     CHECK(s.generate(0).obstacles.size() == 3);
   }
+}
+
+// Found by a probe: `--set locked=left_knee` passed --set and failed at the first world, in
+// library code and without naming the parameter. A list parameter is checked where it is set.
+TEST_CASE("a list parameter takes any of its choices, comma-separated, and refuses others when set", "[scenario]") {
+  Scenario s = test::scenario_from("list_param", R"(return {
+  params = { held = { default = "", choices = { "left_elbow", "right_elbow", "left_eye" }, list = true,
+                      description = "joints held" } },
+  generate = function(world, rng, p)
+    local locked = {}
+    for name in string.gmatch(p.held, "[^,%s]+") do locked[#locked + 1] = name end
+    world:robot{ x = 0, y = 0, body = { locked = locked } }
+  end,
+})");
+  CHECK(s.generate(0).body.locked == 0u);
+  s.set_param("held", "left_elbow, right_elbow");
+  CHECK(s.generate(0).body.locked != 0u);
+  s.set_param("held", "");
+  CHECK(s.generate(0).body.locked == 0u);
+  CHECK_THROWS_WITH(s.set_param("held", "left_elbow,left_knee"),
+                    "parameter 'held' of scenario 'roger_test_list_param' expects a comma-separated list of any of "
+                    "left_elbow, right_elbow, left_eye (or none), got 'left_elbow,left_knee' (joints held; default )");
+  CHECK_THROWS_WITH(test::scenario_from("list_no_choices", "return { params = { held = { default = '', list = true } }, "
+                                                           "generate = function() end }"),
+                    Contains("parameter 'held': list = true takes the items from choices = {...}, and there are none"));
+  CHECK_THROWS_WITH(test::scenario_from("list_number", "return { params = { n = { default = 1, choices = { 1, 2 }, "
+                                                       "list = true } }, generate = function() end }"),
+                    Contains("parameter 'n': a list's default is a string of comma-separated choices (\"\" for "
+                             "none), got integer 1"));
 }
 
 TEST_CASE("script mistakes are reported at the script's file:line", "[scenario]") {

@@ -23,7 +23,8 @@ body.PARAMS = {
   hand_radius = { default = 0.08, min = 0.01, max = 0.3, description = "Roger's hand radius (m)" },
   eye_pixels = { default = 128, min = 16, max = 512, description = "pixels of each eye" },
   eye_fov = { default = math.pi / 2, min = 0.1, max = 2.8, description = "each eye's full field of view (rad)" },
-  locked = { default = "",
+  locked = { default = "", list = true,
+             choices = { "left_eye", "right_eye", "left_shoulder", "left_elbow", "right_shoulder", "right_elbow" },
              description = "joints held at their start angle, comma-separated (e.g. left_elbow,right_elbow)" },
   -- Noise (docs/scenarios.md, Noise): per channel, the white noise's sigma (noise_<channel>) and the
   -- other kinds (noise_<channel>_<kind>), each but the drift's tau multiplied by noise_scale. The

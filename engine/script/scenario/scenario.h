@@ -43,6 +43,7 @@ struct ScenarioParam {
   std::string description;
   std::vector<std::string> choices;  // allowed values; empty when any value of the type goes
   std::optional<double> min, max;    // bounds of numbers and integers
+  bool list = false;                 // a comma-separated list of choices (any of them, or none)
 };
 
 class Scenario {

@@ -46,6 +46,7 @@ void push_slot(lua_State* L, const ParamSlot& s) {
 // What a parameter takes, whole: "an integer in [0, 12]", "a number of at least 0.01", "one of
 // circle, spade", "a boolean (true or false)", "a string".
 std::string expected_text(const ScenarioParam& p) {
+  if (p.list) return "a comma-separated list of any of " + join(p.choices) + " (or none)";
   if (!p.choices.empty()) return "one of " + join(p.choices);
   switch (p.type) {
     case ParamType::kBoolean: return "a boolean (true or false)";
@@ -91,6 +92,20 @@ bool parse_slot(ParamSlot& s, const std::string& text, std::string& why) {
     case ParamType::kString: s.text = text; break;
   }
   const std::string canonical = slot_text(s);
+  if (s.info.list) {
+    // Each item, spaces around it dropped, is one of the choices.
+    size_t from = 0;
+    while (from <= canonical.size()) {
+      const size_t comma = std::min(canonical.find(',', from), canonical.size());
+      std::string item = canonical.substr(from, comma - from);
+      item.erase(0, item.find_first_not_of(" \t"));
+      item.erase(item.find_last_not_of(" \t") + 1);
+      if (!item.empty() && std::find(s.info.choices.begin(), s.info.choices.end(), item) == s.info.choices.end())
+        return refuse();
+      from = comma + 1;
+    }
+    return true;
+  }
   if (!s.info.choices.empty() &&
       std::find(s.info.choices.begin(), s.info.choices.end(), canonical) == s.info.choices.end())
     return refuse();
@@ -104,7 +119,7 @@ bool parse_slot(ParamSlot& s, const std::string& text, std::string& why) {
 // "name (type, default d; one of ...)", for the unknown-parameter message.
 std::string describe_param(const ScenarioParam& p) {
   std::string text = p.name + " (" + param_type_name(p.type) + ", default " + p.default_value;
-  if (!p.choices.empty()) text += "; one of " + join(p.choices);
+  if (!p.choices.empty()) text += (p.list ? "; a list of any of " : "; one of ") + join(p.choices);
   if (p.min) text += "; min " + format_number(*p.min);
   if (p.max) text += "; max " + format_number(*p.max);
   return text + ")";
@@ -159,6 +174,9 @@ ParamSlot Scenario::Impl::read_param(lua_State* L) const {
   std::vector<std::string> choices;
   if (lua_istable(L, value)) value = read_param_table(L, value, ctx, slot, choices);
   read_default(L, value, ctx, slot);
+  if (slot.info.list && slot.info.type != ParamType::kString)
+    throw error(ctx + ": a list's default is a string of comma-separated choices (\"\" for none), got " +
+                param_type_name(slot.info.type) + " " + slot_text(slot));
   slot.info.choices = choices;
   slot.info.default_value = slot.info.value = slot_text(slot);
   std::string why;
@@ -168,15 +186,19 @@ ParamSlot Scenario::Impl::read_param(lua_State* L) const {
   return slot;
 }
 
-// The long form {default=, description=, choices=, min=, max=}: fills the slot's description and
-// bounds and `choices`, pushes the default and returns its stack index.
+// The long form {default=, description=, choices=, list=, min=, max=}: fills the slot's
+// description, bounds, `choices` and whether it is a list of them, pushes the default and returns
+// its stack index.
 int Scenario::Impl::read_param_table(lua_State* L, int value, const std::string& ctx, ParamSlot& slot,
                                      std::vector<std::string>& choices) const {
-  LuaFields f(L, value, ctx, {"default", "description", "choices", "min", "max"});
+  LuaFields f(L, value, ctx, {"default", "description", "choices", "list", "min", "max"});
   slot.info.description = f.string("description", "");
   if (f.has("min")) slot.info.min = f.number("min");
   if (f.has("max")) slot.info.max = f.number("max");
   if (f.push("choices") != LUA_TNIL) read_choices(L, f, ctx, choices);
+  slot.info.list = f.boolean("list", false);
+  if (slot.info.list && choices.empty())
+    throw error(ctx + ": list = true takes the items from choices = {...}, and there are none");
   f.push("default");
   value = lua_gettop(L);
   if (lua_isnil(L, value)) throw error(ctx + ": missing its 'default'");
