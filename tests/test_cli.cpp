@@ -674,7 +674,7 @@ TEST_CASE("roger eval and render of a saved policy set the parameters its trial 
 // Found by a probe: `roger eval my_skills --policy grab` said "no curriculum 'my_skills'", though
 // eval takes a skill script as well.
 TEST_CASE("roger eval and render of a name that is no script say it is neither kind", "[cli]") {
-  for (const std::string command : {"eval no_such_script --policy grab", "render no_such_script --policy grab"}) {
+  for (const std::string command : {"eval no_such_script --policy grab", "render no_such_script --policy grab --out /tmp/never"}) {
     const Run r = roger(command);
     INFO(r.out << r.err);
     CHECK(r.status != 0);
