@@ -31,12 +31,13 @@ std::string slurp(const fs::path& p) {
   return ss.str();
 }
 
-// Runs the roger program with arguments (from the repository root, as CTest does).
-Run roger(const std::string& args) {
+// Runs `prefix` (a shell prefix: "cd DIR && ENV ", or "") then the roger program with arguments,
+// capturing its standard output and error.
+Run run_roger_command(const std::string& prefix, const std::string& args) {
   const fs::path dir = fs::temp_directory_path() / ("roger_cli_" + std::to_string(::getpid()));
   fs::create_directories(dir);
-  const std::string cmd = std::string(ROGER_BINARY) + " " + args + " >" + (dir / "out").string() +
-                          " 2>" + (dir / "err").string();
+  const std::string cmd = prefix + std::string(ROGER_BINARY) + " " + args + " >" + (dir / "out").string() + " 2>" +
+                          (dir / "err").string();
   const int raw = std::system(cmd.c_str());
   Run r;
   r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
@@ -45,6 +46,9 @@ Run roger(const std::string& args) {
   fs::remove_all(dir);
   return r;
 }
+
+// Runs the roger program with arguments (from the repository root, as CTest does).
+Run roger(const std::string& args) { return run_roger_command("", args); }
 
 fs::path temp_file(const std::string& name, const std::string& content) {
   const fs::path p = fs::temp_directory_path() / name;
@@ -237,17 +241,7 @@ namespace {
 
 // Runs the roger program in folder `dir` (env: assignments put before it, "" for none).
 Run roger_in(const fs::path& dir, const std::string& args, const std::string& env = "") {
-  const fs::path tmp = fs::temp_directory_path() / ("roger_cli_in_" + std::to_string(::getpid()));
-  fs::create_directories(tmp);
-  const std::string cmd = "cd '" + dir.string() + "' && " + env + " " + std::string(ROGER_BINARY) + " " + args + " >" +
-                          (tmp / "out").string() + " 2>" + (tmp / "err").string();
-  const int raw = std::system(cmd.c_str());
-  Run r;
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  r.out = slurp(tmp / "out");
-  r.err = slurp(tmp / "err");
-  fs::remove_all(tmp);
-  return r;
+  return run_roger_command("cd '" + dir.string() + "' && " + env + " ", args);
 }
 
 }  // namespace
