@@ -426,7 +426,7 @@ TEST_CASE("a script not found names the project looked in and a file here missin
     resolve_script_path("cluttered", "scenarios", "scenario", "shipped scenarios");
     FAIL("a scenario was found in a project that does not exist");
   } catch (const Error& e) {
-    CHECK_THAT(e.what(), Contains("ROGER_HOME=/nonexistent/roger_home is not a folder"));
+    CHECK_THAT(e.what(), Contains("(the project is ROGER_HOME=/nonexistent/roger_home, which is not a folder: set it to a project"));
   }
   if (old) setenv("ROGER_HOME", saved.c_str(), 1); else unsetenv("ROGER_HOME");
   TempDir here;

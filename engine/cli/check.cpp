@@ -2,7 +2,6 @@
 // the loader of the script's kind (a scenario's worlds generated and built, a curriculum's callbacks
 // called, a batch script against its curriculum), or a module run as the scripts requiring it run it.
 #include <algorithm>
-#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -12,7 +11,6 @@
 #include "cli/cli_internal.h"
 #include "cli/commands.h"
 #include "core/fileio.h"
-#include "core/install.h"
 #include "core/text.h"
 #include "script/authoring/lua_static_check.h"
 #include "script/authoring/script_api.h"
@@ -69,21 +67,6 @@ size_t report_static_problems(const std::string& script) {
 
 }  // namespace
 
-// The project folder in use and why it is that one, for the ok line and for a script not found
-// (a copy of bin/roger alone silently used the source tree it was built from).
-std::string project_in_use() {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  const char* home = std::getenv("ROGER_HOME");
-  if (home && *home)
-    return "ROGER_HOME=" + std::string(home) +
-           (fs::is_directory(home, ec) ? std::string()
-                                       : ", which is not a folder: set it to a project holding scenarios/, "
-                                         "curricula/ and scripts/, or unset it");
-  return project_root().string() + (installed_data_dir() ? ", installed beside the program"
-                                                          : ", the source tree this roger was built from");
-}
-
 namespace {
 
 // The file `roger check` checks: the path as given, else a path relative to the project (as the
@@ -114,10 +97,10 @@ std::string check_target(const std::string& arg) {
     }
     return (project_root() / found[0]).string();
   }
-  const bool here = fs::path(arg).extension() != ".lua" && fs::is_regular_file(file, ec);
+  const std::string here = lua_file_here(arg);
   throw Error("no script '" + arg + "': not a file here, and the project has no scenarios/" + file + ", curricula/" +
               file + " or scripts/" + file + " (project: " + project_in_use() + ")" +
-              (here ? "; " + file + " is a file here: name it with its \".lua\" (roger check " + file + ")" : ""));
+              (here.empty() ? "" : "; " + here + " is a file here: name it with its \".lua\" (roger check " + here + ")"));
 }
 
 // The kind a script whose table names none of the keys that tell kinds apart (a misspelt

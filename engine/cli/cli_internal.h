@@ -35,8 +35,4 @@ std::string policy_scenario(const SkillScript::NamedPolicy& p, const std::string
 // throws roger::Error when it is and `policy` is not such a file name.
 bool policy_is_saved_file(const std::string& script, const std::string& policy);
 
-// The project folder in use (bare names, require) and why it is that one: ROGER_HOME, installed
-// beside the program, or the source tree a build-tree roger was built from (check.cpp).
-std::string project_in_use();
-
 }  // namespace roger

@@ -42,6 +42,25 @@ fs::path project_root() {
   return fs::path(ROGER_SOURCE_DIR);
 }
 
+std::string project_in_use() {
+  std::error_code ec;
+  const char* home = std::getenv("ROGER_HOME");
+  if (home && *home)
+    return "ROGER_HOME=" + std::string(home) +
+           (fs::is_directory(home, ec) ? std::string()
+                                       : ", which is not a folder: set it to a project holding scenarios/, "
+                                         "curricula/ and scripts/, or unset it");
+  return project_root().string() + (installed_data_dir() ? ", installed beside the program"
+                                                          : ", the source tree this roger was built from");
+}
+
+std::string lua_file_here(const std::string& name) {
+  std::error_code ec;
+  const std::string file = name + ".lua";
+  const bool bare = name.find('/') == std::string::npos && fs::path(name).extension() != ".lua";
+  return bare && fs::is_regular_file(file, ec) ? file : std::string();
+}
+
 std::vector<fs::path> module_search_roots(const fs::path& main_folder, bool batch_script) {
   std::vector<fs::path> roots;
   if (!main_folder.empty()) roots.push_back(main_folder);
@@ -293,19 +312,12 @@ std::string resolve_script_path(const std::string& arg, const std::string& folde
   std::sort(shipped.begin(), shipped.end());
   // Which project was looked in, when it is not the source tree this roger was built from (the
   // tests' and a developer's): an installed tree's, or $ROGER_HOME's, which may point nowhere.
-  std::string where;
   const char* home = std::getenv("ROGER_HOME");
-  if (home && *home)
-    where = fs::is_directory(home, ec)
-                ? " (the project is ROGER_HOME=" + std::string(home) + ")"
-                : " (ROGER_HOME=" + std::string(home) + " is not a folder: set it to a project holding "
-                  "scenarios/, curricula/ and scripts/, or unset it)";
-  else if (fs::weakly_canonical(project_root(), ec) != fs::weakly_canonical(fs::path(ROGER_SOURCE_DIR), ec))
-    where = " (the project is " + project_root().string() + ")";
-  // A bare name of a file here without its ".lua" (`roger check pen` beside pen.lua).
-  std::string hint;
-  if (bare && fs::path(arg).extension() != ".lua" && fs::is_regular_file(file, ec))
-    hint = "; " + file + " is a file here: name it with its \".lua\"";
+  const bool elsewhere = (home && *home) || fs::weakly_canonical(project_root(), ec) !=
+                                                fs::weakly_canonical(fs::path(ROGER_SOURCE_DIR), ec);
+  const std::string where = elsewhere ? " (the project is " + project_in_use() + ")" : "";
+  const std::string here = lua_file_here(arg);
+  const std::string hint = here.empty() ? "" : "; " + here + " is a file here: name it with its \".lua\"";
   throw Error("no " + kind + " '" + arg + "': " +
               (bare ? "not a file, and " + folder_name + "/" + file + " does not exist" + where
                     : std::string(fs::exists(arg, ec) ? "not a regular file" : "no such file here or in the project" + where)) +

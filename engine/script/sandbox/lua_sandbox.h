@@ -77,6 +77,15 @@ struct ScriptError : Error {
 // the engine was built from (a program run from its build tree).
 std::filesystem::path project_root();
 
+// The project folder in use and why it is that one, for messages: "ROGER_HOME=DIR" (", which is
+// not a folder: ..." when it is none), "DIR, installed beside the program", or "DIR, the source
+// tree this roger was built from" (a copy of bin/roger alone silently used that tree).
+std::string project_in_use();
+
+// For a bare name given without ".lua" that is a file here with it (`roger check pen` beside
+// pen.lua): "pen.lua"; else "".
+std::string lua_file_here(const std::string& name);
+
 // Where `require` looks for a module: `main_folder` first when given (the main script's folder),
 // then the project's scenarios/, curricula/ and scripts/ -- for a batch script scripts/,
 // curricula/ and scenarios/, so that its `require("paper")` is scripts/paper.lua wherever the
