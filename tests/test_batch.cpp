@@ -304,6 +304,50 @@ TEST_CASE("shards of one script run at once into one folder and report what one 
   fs::remove_all(out);
 }
 
+// Found by a probe: a second `roger run` of a folder in use said "resuming" and emptied the first's
+// trials in flight to run them again; the first then failed writing into them ("A folder on that
+// path does not exist") or recorded trials as failed for a policy "not run yet".
+TEST_CASE("a results folder in use by a run is refused to a second run, parts of it sharing it", "[batch][shard]") {
+  const fs::path out = fresh_dir("claim");
+  const std::string pid = " (pid " + std::to_string(::getpid()) + ")";
+  {
+    const RunningClaim whole(out.string(), Shard());
+    CHECK_THROWS_WITH(RunningClaim(out.string(), Shard()),
+                      Catch::StartsWith("the results folder '" + out.string() + "' is in use by another roger run" + pid +
+                                        ": two runs of one folder would each run again the other's trials in flight") &&
+                          Catch::Contains("give each its own --shard K/N"));
+    CHECK_THROWS_WITH(RunningClaim(out.string(), Shard{0, 2}), Catch::Contains("in use by another roger run" + pid));
+  }
+  {
+    const RunningClaim first(out.string(), Shard{0, 2}), second(out.string(), Shard{1, 2});
+    CHECK_THROWS_WITH(RunningClaim(out.string(), Shard{0, 2}),
+                      Catch::Contains("in use by another roger run of the same part (--shard 0/2)" + pid));
+    CHECK_THROWS_WITH(RunningClaim(out.string(), Shard()),
+                      Catch::Contains("in use by runs of parts of it (--shard or --only):"));
+    // Disjoint --only names run together (docs/batch.md); the same names twice do not.
+    const RunningClaim sg(out.string(), Shard(), {"SG"}), t(out.string(), Shard(), {"T", "eval"});
+    CHECK_THROWS_WITH(RunningClaim(out.string(), Shard(), {"eval", "T", "T"}),
+                      Catch::Contains("in use by another roger run of the same part (--only T --only eval)" + pid));
+  }
+  const RunningClaim again(out.string(), Shard());  // each claim ended with its holder
+
+  // End to end: the second run is refused before it touches anything, and the first is undisturbed.
+  const fs::path results = fresh_dir("claim_run");
+  const std::string run = std::string(ROGER_BINARY) + " run scripts/quick.lua --jobs 1 --out " + results.string();
+  std::string err;
+  REQUIRE(shell("(" + run + " >/dev/null 2>&1 & sleep 2; " + run + " >/dev/null 2>&2; echo $? > " +
+                    (out / "second_status").string() + "; wait)", &err) == 0);
+  std::ifstream status_file(out / "second_status");
+  int second = -1;
+  status_file >> second;
+  INFO(err);
+  CHECK(second == 1);
+  CHECK_THAT(err, Catch::Contains("roger run: the results folder '" + results.string() + "' is in use by another roger run (pid "));
+  CHECK(shell("bash tests/tools/compare_results.sh --golden tests/golden/quick " + results.string() + " 1>&2", &err) == 0);
+  fs::remove_all(results);
+  fs::remove_all(out);
+}
+
 // Found by an outsider following docs/cluster.md: ROGER_SHARDS=0 was refused as "array task 0 is
 // not below the shard count 0", and a task id without a count as "SLURM_ARRAY_TASK_ID and
 // SLURM_ARRAY_TASK_COUNT are not set" though the id was.

@@ -142,6 +142,25 @@ void check_selectors(const BatchPlan& plan, const std::vector<std::string>& only
 // folder whose shards/ records shards of another N, and records itself there as it starts.
 bool open_results_folder(const BatchPlan& plan, std::string* note = nullptr, const Shard& shard = Shard());
 
+// A results folder claimed by one roger run for as long as this lives. A run of the whole folder
+// holds it alone; runs of parts of it (a --shard, --only names) hold it together, each part once.
+// A second run of a folder or part in use would empty the first's trials in flight (a resume runs
+// a trial without a result afresh) and the first would fail writing into them, so it is refused:
+// roger::Error naming who holds it and what to do. Parts that differ are the user's to keep
+// disjoint (docs/batch.md). Released when destroyed, or however the process ends (flock on
+// <out>/.running, and on <out>/.running-<part> for a part).
+class RunningClaim {
+ public:
+  RunningClaim(const std::string& out, const Shard& shard, const std::vector<std::string>& only = {});
+  ~RunningClaim();
+  RunningClaim(const RunningClaim&) = delete;
+  RunningClaim& operator=(const RunningClaim&) = delete;
+
+ private:
+  int whole_ = -1;  // <out>/.running: exclusive for a run of the whole folder, shared by parts
+  int own_ = -1;    // a part's <out>/.running-<part>, exclusive
+};
+
 // The line roger run prints for a shard: the trial indices it runs and how many trials, or that it
 // has none (more shards than the plan's runs and evaluations have trials).
 std::string describe_shard(const BatchPlan& plan, const Shard& shard);

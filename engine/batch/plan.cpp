@@ -408,20 +408,27 @@ std::string check_manifest(const BatchPlan& plan, const fs::path& manifest_path,
 }
 
 
+// A lock file of the results folder `out` (made if need be), opened.
+int open_lock_file(const std::string& out, const std::string& name) {
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec) throw FileError("cannot create the results folder '" + out + "': " + ec.message(), out, ec.value());
+  const std::string path = (fs::path(out) / name).string();
+  const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+  if (fd < 0) {
+    const int err = errno;
+    throw FileError("cannot open '" + path + "': " + std::strerror(err), path, err);
+  }
+  return fd;
+}
+
 // An exclusive lock on a results folder (flock on <out>/.lock), held while it lives: shards that
 // start together open the folder one at a time.
 class FolderLock {
  public:
   explicit FolderLock(const std::string& out) {
-    std::error_code ec;
-    fs::create_directories(out, ec);
-    if (ec) throw FileError("cannot create the results folder '" + out + "': " + ec.message(), out, ec.value());
+    fd_ = open_lock_file(out, ".lock");
     const std::string path = (fs::path(out) / ".lock").string();
-    fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
-    if (fd_ < 0) {
-      const int err = errno;
-      throw FileError("cannot open '" + path + "': " + std::strerror(err), path, err);
-    }
     while (::flock(fd_, LOCK_EX) != 0)
       if (errno != EINTR) {
         const int err = errno;
@@ -436,6 +443,30 @@ class FolderLock {
  private:
   int fd_ = -1;
 };
+
+// flock(fd, op) without waiting: false when another holds the file.
+bool try_flock(int fd, int op, const std::string& path) {
+  while (::flock(fd, op | LOCK_NB) != 0) {
+    if (errno == EWOULDBLOCK) return false;
+    if (errno != EINTR) throw Error("cannot lock '" + path + "': " + std::strerror(errno));
+  }
+  return true;
+}
+
+// This process's id, in the claim file `fd` (for the message of a run refused).
+void write_holder(int fd) {
+  const std::string text = "pid " + std::to_string(::getpid()) + "\n";
+  if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, text.data(), text.size(), 0) != ssize_t(text.size())) {
+    // Only a message reads it: a claim without it still holds.
+  }
+}
+
+// " (pid N)" from a claim file, or "" when it names none.
+std::string holder_of(const std::string& path) {
+  std::ifstream in(path);
+  std::string word, pid;
+  return in >> word >> pid && word == "pid" ? " (pid " + pid + ")" : "";
+}
 
 // A non-negative integer from an environment variable, or -1 when unset; throws when malformed.
 long env_count(const char* name) {
@@ -684,6 +715,62 @@ void check_selectors(const BatchPlan& plan, const std::vector<std::string>& only
                   names + ")");
     }
   }
+}
+
+namespace {
+
+// The part of a results folder a run claims: its shard and its --only names ("--shard 0/2 --only
+// SG"), and the claim file's name for it (".running-shard-0-of-2-only-SG"); "" for the whole.
+std::pair<std::string, std::string> run_part(const Shard& shard, std::vector<std::string> only) {
+  std::sort(only.begin(), only.end());
+  only.erase(std::unique(only.begin(), only.end()), only.end());
+  std::string said, file;
+  if (shard.active()) {
+    said = "--shard " + std::to_string(shard.index) + "/" + std::to_string(shard.count);
+    file = "-shard-" + std::to_string(shard.index) + "-of-" + std::to_string(shard.count);
+  }
+  for (const auto& o : only) {
+    said += (said.empty() ? "--only " : " --only ") + o;
+    file += "-only-";
+    for (char c : o) file += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+  }
+  return {said, file.empty() ? "" : ".running" + file};
+}
+
+}  // namespace
+
+RunningClaim::RunningClaim(const std::string& out, const Shard& shard, const std::vector<std::string>& only) {
+  const auto [part, part_file] = run_part(shard, only);
+  const std::string whole = (fs::path(out) / ".running").string();
+  const std::string what = "the results folder '" + out + "' is in use by ";
+  const std::string then = ": two runs of one folder would each run again the other's trials in flight. Wait "
+                           "for it to end (or stop it), or give another --out; to run one folder in several "
+                           "processes at once, give each its own --shard K/N (docs/cluster.md)";
+  whole_ = open_lock_file(out, ".running");
+  if (!try_flock(whole_, part.empty() ? LOCK_EX : LOCK_SH, whole)) {
+    // Parts share the folder's claim: if a shared lock is free, parts hold it; else a whole run.
+    const bool parts = try_flock(whole_, LOCK_SH, whole);
+    ::close(whole_);
+    throw Error(what + (parts ? "runs of parts of it (--shard or --only)" : "another roger run" + holder_of(whole)) +
+                then);
+  }
+  if (part.empty()) {
+    write_holder(whole_);
+    return;
+  }
+  own_ = open_lock_file(out, part_file);
+  if (!try_flock(own_, LOCK_EX, (fs::path(out) / part_file).string())) {
+    const std::string holder = holder_of((fs::path(out) / part_file).string());
+    ::close(own_);
+    ::close(whole_);
+    throw Error(what + "another roger run of the same part (" + part + ")" + holder + then);
+  }
+  write_holder(own_);
+}
+
+RunningClaim::~RunningClaim() {
+  if (own_ >= 0) ::close(own_);  // closing releases the lock
+  ::close(whole_);
 }
 
 bool open_results_folder(const BatchPlan& plan, std::string* note, const Shard& shard) {

@@ -123,6 +123,7 @@ int command_run(const RunArgs& a) {
     const BatchScript& b = *script;
     const BatchPlan plan = plan_batch(script, a.out.empty() ? "results/" + b.name : a.out);
     check_selectors(plan, a.only);
+    const RunningClaim claim(plan.out, shard, a.only);  // until the run has ended, its report written
     std::string note;
     if (open_results_folder(plan, &note, shard)) log << "roger run: resuming " << plan.out << "\n";
     if (!note.empty()) log << "roger run: " << note << "\n";
