@@ -876,6 +876,62 @@ TEST_CASE("a Lua teacher's history, and its faults: each fails its trial alone a
   }
 }
 
+TEST_CASE("a trial whose teacher faults late keeps the episodes it trained, in roger train and in a batch",
+          "[teach][errors]") {
+  test::TempDir dir("roger_teach_kept");
+  // Passes roger check (which calls it on 30 episodes of history) and faults before episode 33.
+  const std::string late = "{ tasks = { obstacles = roger.int(0, 3) }, budget = { episodes = 40 },\n"
+                           "  teacher = function(history, rng) if #history == 32 then error('late') end return {} end }";
+  const fs::path file = write_stage(dir.path, "late", late);
+  TrainOptions o = stage_options(file);
+  TrainResult progress;
+  o.progress_on_fault = &progress;
+  CHECK_THROWS_WITH(train_stage(o), Contains("stage 'S': teacher function: ") && Contains("late"));
+  CHECK(progress.episodes.size() == 32);
+  CHECK(progress.totals.episodes == 32);
+  CHECK(progress.checkpoints.size() == 8);  // every 4 episodes
+  CHECK(progress.teacher["kind"] == "function");
+
+  // roger train writes them beside error.json, in place of an earlier trial's results there.
+  const fs::path out = dir.path / "out";
+  fs::create_directories(out);
+  for (const char* stale : {"policy.json", "summary.json", "final.jsonl"}) std::ofstream(out / stale) << "{}\n";
+  const std::string roger = std::string(ROGER_BINARY);
+  const fs::path said = dir.path / "said.txt";
+  CHECK(run_shell(roger + " train " + file.string() + " --stage S --context A --out " + out.string() + " 2> " +
+                  said.string()) == 1);
+  const std::string message = slurp(said);
+  CHECK_THAT(message, Contains("late.lua:9: stage 'S': teacher function: "));
+  CHECK_THAT(message, Contains("kept           " + out.string() +
+                               "/{episodes.jsonl,checkpoints.jsonl,curve.csv,error.json}: the 32 training episodes "
+                               "and 8 checkpoints before the fault"));
+  const std::string episodes = slurp(out / "episodes.jsonl");
+  CHECK(std::count(episodes.begin(), episodes.end(), '\n') == 32);
+  const json error = read_json(out / "error.json");
+  CHECK_THAT(error["error"].get<std::string>(), Contains("late"));
+  CHECK(error["trained"]["episodes"] == 32);
+  CHECK(error["checkpoints"] == 8);
+  for (const char* stale : {"policy.json", "summary.json", "final.jsonl"}) CHECK_FALSE(fs::exists(out / stale));
+  // Fixed, the trial's results replace the fault's record.
+  write_stage(dir.path, "late", "{ tasks = { obstacles = roger.int(0, 3) }, budget = { episodes = 40 } }");
+  CHECK(run_shell(roger + " train " + file.string() + " --stage S --context A --out " + out.string() + " > /dev/null") == 0);
+  CHECK(fs::exists(out / "policy.json"));
+  CHECK_FALSE(fs::exists(out / "error.json"));
+
+  // A batch trial keeps them beside the error.json the run writes.
+  write_stage(dir.path, "late", late);
+  const fs::path batch = dir.path / "batch.lua";
+  std::ofstream(batch) << "return { name = 'late', curriculum = '" << file.string()
+                       << "', trials = 1, runs = { { name = 'S', stage = 'S', contexts = { 'A' } } } }\n";
+  const fs::path results = dir.path / "results";
+  CHECK(run_shell(roger + " run " + batch.string() + " --out " + results.string() + " > /dev/null 2>&1") != 0);
+  const fs::path trial = results / "trials" / "S" / "A" / "000";
+  const std::string kept = slurp(trial / "episodes.jsonl");
+  CHECK(std::count(kept.begin(), kept.end(), '\n') == 32);
+  CHECK_THAT(read_json(trial / "error.json")["error"].get<std::string>(), Contains("late"));
+  CHECK_FALSE(fs::exists(trial / "result.json"));
+}
+
 TEST_CASE("the report compares the teachers, splits their success by level and maps where they sampled",
           "[teach][stage]") {
   const fs::path dir = teach_batch();

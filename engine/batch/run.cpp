@@ -296,7 +296,23 @@ nlohmann::json training_trial(const BatchPlan& plan, const PlannedTrial& t, cons
     o.skill_files[s.skill] = policy_of(plan.out, from);
     skill_ids[s.skill] = from;
   }
-  const TrainResult r = train_stage(o);
+  // A trial that faults keeps what it had trained beside its error.json (which run_one then
+  // writes over with the trial's details): its episodes and checkpoints, for finding the cause.
+  TrainResult progress;
+  o.progress_on_fault = &progress;
+  TrainResult r;
+  try {
+    r = train_stage(o);
+  } catch (const FileError&) {
+    throw;
+  } catch (const std::exception& e) {
+    if (progress.totals.episodes > 0 && !interrupt_requested()) try {
+        write_faulted_train_outputs(progress, e.what(), dir);
+      } catch (const std::exception&) {
+        // The fault is what the trial records; its episodes are a help, not a result.
+      }
+    throw;
+  }
   write_train_outputs(r, dir);
   nlohmann::json j = train_summary_json(r);
   j["id"] = t.id;

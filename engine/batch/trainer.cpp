@@ -578,46 +578,59 @@ TrainResult train_stage(const TrainOptions& options) {
   std::vector<int> greedy_before, greedy_now;
   // The cap of a capped trial, after what its skills spent (TrainOptions::max_sim_s).
   const double cap = options.max_sim_s > 0 ? options.max_sim_s - skills_sim_s(res.skills) : 0.0;
-  for (int e = 0; e < budget; ++e) {
-    if (options.max_sim_s > 0 && spent.sim_s >= cap) break;  // judged at its last checkpoint
-    const auto te = std::chrono::steady_clock::now();
-    const double eps = schedule.epsilon(e);
-    EpisodeWorld world;
-    TrainingEpisode ep = train_episode(run, teacher ? &*teacher : nullptr, q, Rng::mix(options.seed, uint64_t(e) + 1),
-                                       eps, rng, e, world, res.skipped_tasks);
-    nlohmann::json task = teacher ? teacher->tell(ep) : nlohmann::json();
-    train_wall += seconds_since(te);
-    spent.episodes = e + 1;
-    spent.sim_s += ep.sim_seconds;
-    spent.decisions += ep.decisions;
-    spent.wall_s = train_wall;
-    if (options.keep_episodes)
-      res.episodes.push_back(EpisodeRecord{e, eps, std::move(ep), std::move(world), std::move(task)});
-    if ((e + 1) % cp.every == 0 || e + 1 == budget) {
-      const auto tc = std::chrono::steady_clock::now();
-      const GreedyEval g = evaluate(cp.episodes, "checkpoint " + std::to_string(res.checkpoints.size() + 1) + " evaluation");
-      res.checkpoints.push_back(checkpoint_record(spent, g, seconds_since(tc)));
-      if (teacher) res.checkpoints.back().teacher = teacher->state();
-      const bool passed = g.success_rate >= cp.threshold;
-      passing = passed ? passing + 1 : 0;
-      greedy_signature(q, greedy_now);
-      const bool changed = res.checkpoints.size() == 1 || greedy_now != greedy_before;
-      res.checkpoints.back().policy_changed = changed;
-      settled = !passed ? 0 : changed && cp.settle ? 1 : settled + 1;
-      greedy_before.swap(greedy_now);
-      if (cp.stop_after > 0 && settled >= cp.stop_after && e + 1 < budget) {
-        res.stopped_early = true;
-        break;
+  // What training had done when a fault stops it, for a caller that keeps it.
+  auto keep_progress = [&] {
+    if (!options.progress_on_fault) return;
+    res.totals = spent;
+    if (teacher) res.teacher = {{"kind", teacher->kind()}, {"wall_s", teacher->wall_s()}, {"state", teacher->state()}};
+    res.wall_s = seconds_since(t0);
+    *options.progress_on_fault = std::move(res);
+  };
+  try {
+    for (int e = 0; e < budget; ++e) {
+      if (options.max_sim_s > 0 && spent.sim_s >= cap) break;  // judged at its last checkpoint
+      const auto te = std::chrono::steady_clock::now();
+      const double eps = schedule.epsilon(e);
+      EpisodeWorld world;
+      TrainingEpisode ep = train_episode(run, teacher ? &*teacher : nullptr, q, Rng::mix(options.seed, uint64_t(e) + 1),
+                                         eps, rng, e, world, res.skipped_tasks);
+      nlohmann::json task = teacher ? teacher->tell(ep) : nlohmann::json();
+      train_wall += seconds_since(te);
+      spent.episodes = e + 1;
+      spent.sim_s += ep.sim_seconds;
+      spent.decisions += ep.decisions;
+      spent.wall_s = train_wall;
+      if (options.keep_episodes)
+        res.episodes.push_back(EpisodeRecord{e, eps, std::move(ep), std::move(world), std::move(task)});
+      if ((e + 1) % cp.every == 0 || e + 1 == budget) {
+        const auto tc = std::chrono::steady_clock::now();
+        const GreedyEval g = evaluate(cp.episodes, "checkpoint " + std::to_string(res.checkpoints.size() + 1) + " evaluation");
+        res.checkpoints.push_back(checkpoint_record(spent, g, seconds_since(tc)));
+        if (teacher) res.checkpoints.back().teacher = teacher->state();
+        const bool passed = g.success_rate >= cp.threshold;
+        passing = passed ? passing + 1 : 0;
+        greedy_signature(q, greedy_now);
+        const bool changed = res.checkpoints.size() == 1 || greedy_now != greedy_before;
+        res.checkpoints.back().policy_changed = changed;
+        settled = !passed ? 0 : changed && cp.settle ? 1 : settled + 1;
+        greedy_before.swap(greedy_now);
+        if (cp.stop_after > 0 && settled >= cp.stop_after && e + 1 < budget) {
+          res.stopped_early = true;
+          break;
+        }
       }
     }
+    res.totals = spent;
+    // The first checkpoint from which the rate stays at or above the threshold to the end.
+    res.reached = passing > 0;
+    res.to_threshold = res.reached ? res.checkpoints[res.checkpoints.size() - size_t(passing)].at : spent;
+    if (options.final_evaluation)
+      res.final_eval = evaluate(cp.final_episodes, "final evaluation", true,
+                                options.final_worlds_block * uint64_t(cp.final_episodes));
+  } catch (...) {
+    keep_progress();
+    throw;
   }
-  res.totals = spent;
-  // The first checkpoint from which the rate stays at or above the threshold to the end.
-  res.reached = passing > 0;
-  res.to_threshold = res.reached ? res.checkpoints[res.checkpoints.size() - size_t(passing)].at : spent;
-  if (options.final_evaluation)
-    res.final_eval = evaluate(cp.final_episodes, "final evaluation", true,
-                              options.final_worlds_block * uint64_t(cp.final_episodes));
   if (teacher) {
     res.teaches = true;
     res.task_space = teacher->space().describe();
@@ -748,23 +761,33 @@ nlohmann::json train_summary_json(const TrainResult& r) {
   return j;
 }
 
-void write_train_outputs(const TrainResult& r, const std::string& dir_in) {
+namespace {
+
+// The output folder `dir_in`, made if need be.
+void make_output_folder(const std::string& dir_in) {
   const fs::path dir(dir_in);
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw FileError("cannot create the output folder '" + dir_in + "': " + ec.message(), dir_in, ec.value());
   if (!fs::is_directory(dir)) throw Error("cannot create the output folder '" + dir_in + "': it is a file");
-  // All six or none: a failed write leaves a folder trained before with its own files, not a
-  // policy of one trial beside the summary of another.
-  StagedFiles staged(dir_in);
-  write_file_atomic(staged.stage("policy.json"), train_policy_json(r).dump(1) + "\n");
-  std::ostringstream curve, cps, eps;
+}
+
+// curve.csv and checkpoints.jsonl: one line per checkpoint.
+void stage_checkpoint_files(const TrainResult& r, const StagedFiles& staged) {
+  std::ostringstream curve, cps;
   curve << "episodes,sim_s,decisions,wall_s,success_rate,reward_mean\n";
   for (const auto& c : r.checkpoints) {
     curve << c.at.episodes << "," << format_number(c.at.sim_s) << "," << c.at.decisions << ","
           << format_number(c.at.wall_s) << "," << format_number(c.success_rate) << "," << format_number(c.reward_mean) << "\n";
     cps << checkpoint_json(c).dump() << "\n";
   }
+  write_file_atomic(staged.stage("curve.csv"), curve.str());
+  write_file_atomic(staged.stage("checkpoints.jsonl"), cps.str());
+}
+
+// episodes.jsonl: one line per training episode.
+void stage_episodes_file(const TrainResult& r, const StagedFiles& staged) {
+  std::ostringstream eps;
   for (const auto& e : r.episodes) {
     nlohmann::json counts = nlohmann::json::object();
     std::vector<int> n(r.psi.size(), 0);
@@ -780,7 +803,11 @@ void write_train_outputs(const TrainResult& r, const std::string& dir_in) {
     }
     eps << line.dump() << "\n";
   }
-  // The final evaluation's episodes, one line each: a success rate split by task or world.
+  write_file_atomic(staged.stage("episodes.jsonl"), eps.str());
+}
+
+// final.jsonl: the final evaluation's episodes, one line each (a success rate split by task or world).
+void stage_final_file(const TrainResult& r, const StagedFiles& staged) {
   std::ostringstream fin;
   const GreedyEval& g = r.final_eval;
   for (size_t i = 0; i < g.runs.size(); ++i) {
@@ -790,12 +817,54 @@ void write_train_outputs(const TrainResult& r, const std::string& dir_in) {
     if (!g.tasks[i].is_null()) line["task"] = g.tasks[i];
     fin << line.dump() << "\n";
   }
-  write_file_atomic(staged.stage("curve.csv"), curve.str());
-  write_file_atomic(staged.stage("checkpoints.jsonl"), cps.str());
-  write_file_atomic(staged.stage("episodes.jsonl"), eps.str());
   write_file_atomic(staged.stage("final.jsonl"), fin.str());
+}
+
+// Removes `names` from `dir` where they exist: another trial's files.
+void remove_stale(const std::string& dir, const std::vector<std::string>& names) {
+  for (const auto& name : names) {
+    std::error_code ec;
+    if (fs::remove(fs::path(dir) / name, ec); ec)
+      throw FileError("cannot remove the earlier trial's '" + (fs::path(dir) / name).string() + "': " + ec.message(),
+                      (fs::path(dir) / name).string(), ec.value());
+  }
+}
+
+}  // namespace
+
+void write_train_outputs(const TrainResult& r, const std::string& dir) {
+  make_output_folder(dir);
+  // All six or none: a failed write leaves a folder trained before with its own files, not a
+  // policy of one trial beside the summary of another.
+  StagedFiles staged(dir);
+  write_file_atomic(staged.stage("policy.json"), train_policy_json(r).dump(1) + "\n");
+  stage_checkpoint_files(r, staged);
+  stage_episodes_file(r, staged);
+  stage_final_file(r, staged);
   write_file_atomic(staged.stage("summary.json"), train_summary_json(r).dump(1) + "\n");
   staged.commit({"policy.json", "curve.csv", "checkpoints.jsonl", "episodes.jsonl", "final.jsonl", "summary.json"});
+  remove_stale(dir, {"error.json"});  // of a trial that faulted here before
+}
+
+void write_faulted_train_outputs(const TrainResult& r, const std::string& fault, const std::string& dir) {
+  make_output_folder(dir);
+  StagedFiles staged(dir);
+  stage_checkpoint_files(r, staged);
+  stage_episodes_file(r, staged);
+  nlohmann::json error = {{"error", fault},
+                          {"curriculum", r.curriculum_path},
+                          {"stage", r.stage},
+                          {"context", r.context},
+                          {"seed", r.seed},
+                          {"trained", point_json(r.totals)},
+                          {"checkpoints", r.checkpoints.size()}};
+  if (!r.teacher.is_null()) error["teacher"] = r.teacher;
+  if (!r.skipped_tasks.empty()) error["skipped_tasks"] = r.skipped_tasks;
+  write_file_atomic(staged.stage("error.json"), error.dump(1) + "\n");
+  // The earlier trial's results go first: a crash between the two steps leaves none of its files
+  // beside this trial's.
+  remove_stale(dir, {"policy.json", "final.jsonl", "summary.json"});
+  staged.commit({"curve.csv", "checkpoints.jsonl", "episodes.jsonl", "error.json"});
 }
 
 namespace {

@@ -41,6 +41,8 @@ struct EpisodeFault : Error {
   bool no_placement = false;   // the cause is a PlacementError: the world could not be placed
 };
 
+struct TrainResult;
+
 // What a trial trains and how.
 struct TrainOptions {
   std::string curriculum;   // script path or bare name ("paper")
@@ -72,6 +74,11 @@ struct TrainOptions {
   // A policy.json learned earlier (roger train --init): the Q-table starts from its values and
   // visits over the actions the two share by name (learn/warm_start.h) instead of initial_q.
   std::string init_file;
+  // When set, a fault once training has begun (a training episode, the teacher, a checkpoint or
+  // the final evaluation) leaves here what the trial had done before it: its training episodes,
+  // checkpoints and teacher state, for the caller to keep (roger train writes them beside
+  // error.json: write_faulted_train_outputs). The exception itself propagates unchanged.
+  TrainResult* progress_on_fault = nullptr;
 };
 
 // A point of training: what had been spent when it was reached.
@@ -220,6 +227,12 @@ nlohmann::json train_policy_json(const TrainResult& result);
 // Writes policy.json, curve.csv, episodes.jsonl, checkpoints.jsonl and summary.json into `dir`
 // (created if needed), each atomically (temporary file, then rename). Throws roger::Error.
 void write_train_outputs(const TrainResult& result, const std::string& dir);
+
+// What a trial that faulted had done (TrainOptions::progress_on_fault): curve.csv,
+// checkpoints.jsonl and episodes.jsonl as write_train_outputs writes them, and error.json with the
+// fault's message and how far training got. An earlier trial's policy.json, final.jsonl and
+// summary.json in `dir` are removed, so the folder never holds two trials' files. Throws roger::Error.
+void write_faulted_train_outputs(const TrainResult& partial, const std::string& fault, const std::string& dir);
 
 // The scenario parameters a saved policy's trial set beyond what its stage and context in
 // `curriculum` give now (the file's extra.params that differ from them): what `roger eval

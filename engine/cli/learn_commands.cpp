@@ -12,6 +12,7 @@
 #include "cli/cli_internal.h"
 #include "cli/commands.h"
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "core/text.h"
 #include "learn/episode.h"
 #include "script/curriculum/curriculum.h"
@@ -250,6 +251,27 @@ TrainResult train_for_command_line(const TrainOptions& o) {
   }
 }
 
+// train_for_command_line, keeping what a trial that faulted once training had begun had done:
+// its episodes, checkpoints and the fault go into `out`, and the message says where.
+TrainResult train_keeping_progress(TrainOptions& o, const std::string& out) {
+  TrainResult progress;
+  o.progress_on_fault = &progress;
+  try {
+    return train_for_command_line(o);
+  } catch (const FileError&) {
+    throw;
+  } catch (const std::exception& e) {
+    if (progress.totals.episodes == 0 || interrupt_requested()) throw;
+    write_faulted_train_outputs(progress, e.what(), out);
+    // The note goes under the message's first line, before any traceback.
+    const std::string message = e.what(), first = message.substr(0, message.find('\n'));
+    const std::string rest = message.substr(first.size());
+    throw Error(first + "\n  kept           " + out + "/{episodes.jsonl,checkpoints.jsonl,curve.csv,error.json}: the " +
+                counted(progress.totals.episodes, "training episode") + " and " +
+                counted(int(progress.checkpoints.size()), "checkpoint") + " before the fault" + rest);
+  }
+}
+
 }  // namespace
 
 int command_train(const TrainArgs& a) {
@@ -265,7 +287,17 @@ int command_train(const TrainArgs& a) {
   o.init_file = a.init;
   o.limits = sandbox_limits(a.lua);
   check_skill_flags(o);
-  const TrainResult r = train_for_command_line(o);
+  // A trial stopped part-way is no result: nothing is written, and the folder keeps what it had.
+  catch_interrupts("the trial ends at its next episode and writes nothing");
+  TrainResult r;
+  try {
+    r = train_keeping_progress(o, a.out);
+  } catch (const std::exception&) {
+    if (!interrupt_requested()) throw;
+    std::fflush(stdout);
+    std::fprintf(stderr, "roger train: stopped; nothing written (%s is as it was)\n", a.out.c_str());
+    return interrupt_exit_status();
+  }
   write_train_outputs(r, a.out);
   std::printf("roger train: %s stage %s context %s seed %llu (%zu action%s, %d states) in %s\n",
               r.curriculum_path.c_str(), r.stage.c_str(), r.context.c_str(), static_cast<unsigned long long>(r.seed),

@@ -10,28 +10,36 @@ namespace {
 // Lock-free, so the handler may set it (a sig_atomic_t could not be read across threads).
 std::atomic<bool> requested{false};
 std::atomic<int> requested_by{0};  // the signal of the first request
-static_assert(std::atomic<bool>::is_always_lock_free && std::atomic<int>::is_always_lock_free,
+// What the command does on the first request, after "roger: stopping" (catch_interrupts).
+std::atomic<const char*> stopping_note{nullptr};
+static_assert(std::atomic<bool>::is_always_lock_free && std::atomic<int>::is_always_lock_free &&
+                  std::atomic<const char*>::is_always_lock_free,
               "a signal handler may only touch lock-free atomics");
+
+// write(2) of a whole C string, the one output a signal handler may make.
+void write_stderr(const char* text) {
+  size_t n = 0;
+  while (text[n]) ++n;
+  const ssize_t ignored = ::write(STDERR_FILENO, text, n);
+  (void)ignored;
+}
 
 extern "C" void on_interrupt(int signal_number) {
   if (!requested.load(std::memory_order_relaxed)) requested_by.store(signal_number, std::memory_order_relaxed);
   requested.store(true, std::memory_order_relaxed);
   // The next one is the default action: a second Ctrl-C stops at once.
   std::signal(signal_number, SIG_DFL);
-  static const char by_ctrl_c[] =
-      "\nroger: stopping: finishing the episodes in flight, keeping every finished result (press Ctrl-C again "
-      "to stop at once)\n";
-  static const char by_term[] =
-      "\nroger: stopping (SIGTERM): finishing the episodes in flight, keeping every finished result (a second "
-      "SIGTERM stops at once)\n";
   const bool term = signal_number == SIGTERM;
-  const ssize_t ignored = ::write(STDERR_FILENO, term ? by_term : by_ctrl_c, (term ? sizeof by_term : sizeof by_ctrl_c) - 1);
-  (void)ignored;
+  write_stderr(term ? "\nroger: stopping (SIGTERM): " : "\nroger: stopping: ");
+  const char* note = stopping_note.load(std::memory_order_relaxed);
+  write_stderr(note ? note : "finishing the episodes in flight, keeping every finished result");
+  write_stderr(term ? " (a second SIGTERM stops at once)\n" : " (press Ctrl-C again to stop at once)\n");
 }
 
 }  // namespace
 
-void catch_interrupts() {
+void catch_interrupts(const char* stopping) {
+  stopping_note.store(stopping, std::memory_order_relaxed);
   // A signal ignored on entry stays ignored, as for every well-behaved program: a shell without
   // job control starts background commands with SIGINT ignored, so a terminal's Ctrl-C is not theirs.
   for (int signal_number : {SIGINT, SIGTERM})

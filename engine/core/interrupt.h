@@ -7,9 +7,11 @@
 
 namespace roger {
 
-// The first SIGINT or SIGTERM sets the request (and says on stderr that the command is stopping);
-// the second stops the process at once, as the signal's default action would.
-void catch_interrupts();
+// The first SIGINT or SIGTERM sets the request (and says on stderr that the command is stopping,
+// then `stopping`, what it does now: a string that lives as long as the program; by default a
+// batch run's "finishing the episodes in flight, keeping every finished result"); the second stops
+// the process at once, as the signal's default action would.
+void catch_interrupts(const char* stopping = nullptr);
 
 // Whether a stop was requested since catch_interrupts. Cheap: read at every episode's start.
 bool interrupt_requested();

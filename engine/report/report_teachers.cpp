@@ -221,11 +221,13 @@ Drawn drawn_values(const BatchRun& run, const std::string& context, const std::s
   for (int i = 0; i < run.trials; ++i) {
     const std::string id = batch_trial_id(run.name, context, i);
     const fs::path file = fs::path(trial_dir(folder.dir(), id)) / "episodes.jsonl";
-    std::ifstream in(file);
-    // A trial still running or pending has none yet; a finished one without it lost it, and the
-    // figure says so rather than silently drawing fewer trials.
+    // A trial still running or pending has none yet, and a failed one's are what it did before
+    // its fault, not a trial's draws; a finished one without them lost them, and the figure says
+    // so rather than silently drawing fewer trials.
     std::error_code ec;
-    if (!in && fs::exists(file.parent_path() / "result.json", ec)) d.missing.push_back(id);
+    if (!fs::exists(file.parent_path() / "result.json", ec)) continue;
+    std::ifstream in(file);
+    if (!in) d.missing.push_back(id);
     if (!in) continue;
     ++d.trials;
     int line_no = 0;

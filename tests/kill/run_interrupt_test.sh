@@ -74,4 +74,23 @@ grep -q "^roger: stopping (SIGTERM): " "$work/log" || fail "no line says the run
 [ "$(tail -n 1 "$work/log")" = "roger run: interrupted; the trials that were running start afresh when you run the same command again" ] ||
   fail "after SIGTERM the last line does not say how to resume"
 [ -z "$(find "$work/term/trials" -name error.json)" ] || fail "a trial SIGTERM stopped was recorded as failed"
-echo "passed: one Ctrl-C keeps what finished and reports it; two stop at once; both resume to the golden run; SIGTERM stops as one Ctrl-C and exits 143"
+
+# roger train: a trial stopped part-way is no result. It says so, writes nothing and leaves its
+# folder as it was (here an earlier trial's policy.json).
+mkdir -p "$work/train"
+echo '{"earlier": true}' >"$work/train/policy.json"
+"$roger" train curricula/sorting.lua --stage Sort4 --context Learned --out "$work/train" >"$work/log" 2>&1 &
+child=$!
+sleep 1
+kill -INT "$child"
+status=0
+wait "$child" || status=$?
+child=
+[ "$status" -eq 130 ] || fail "roger train: exit status $status after Ctrl-C, not 130"
+grep -q "^roger: stopping: the trial ends at its next episode and writes nothing" "$work/log" ||
+  fail "roger train: no line says it is stopping"
+[ "$(tail -n 1 "$work/log")" = "roger train: stopped; nothing written ($work/train is as it was)" ] ||
+  fail "roger train: the last line does not say nothing was written"
+[ "$(cat "$work/train/policy.json")" = '{"earlier": true}' ] && [ "$(ls -A "$work/train")" = policy.json ] ||
+  fail "roger train: the folder changed"
+echo "passed: one Ctrl-C keeps what finished and reports it; two stop at once; both resume to the golden run; SIGTERM stops as one Ctrl-C and exits 143; roger train stopped writes nothing and says so"
