@@ -712,6 +712,11 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
        ".alp_gmm{...}, .plr{...}) or a function(history, rng), got number 3"},
       {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.sequence{ { obstacles = 9 } } }",
        ":8: stage 'S': roger.teacher.sequence ("},
+      // Found by a probe: thresholds that can never act were accepted.
+      {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.sequence{ { obstacles = 0, demote = 0.5 }, {} } }",
+       ":8: roger.teacher.sequence: step 1: field 'demote' needs a step before it to go back to (the first step has none)"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.sequence{ { obstacles = 0 }, { promote = 0.5 } } }",
+       ":8: roger.teacher.sequence: step 2: field 'promote' needs a step after it to go on to (the last step has none)"},
       {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.lcas{ lift = { obstacles = { 0, 20 } } } }",
        "the level obstacles = 20 is outside the task space: obstacles takes an integer in roger.int(0, 3)"},
       {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 3 } } } }",
@@ -855,6 +860,12 @@ TEST_CASE("a Lua teacher's history, and its faults: each fails its trial alone a
       {"function() return { mass = 1 } end",
        "stage 'S': teacher function returned 'mass', which is not a parameter of the task space (obstacles = roger.int(0, 3))"},
       {"function() return 3 end", "stage 'S': teacher function must return a table of task parameters"},
+      // Found by a probe: neither said what it got or what was meant.
+      {"function() return { obstacls = 1 } end",
+       "stage 'S': teacher function returned 'obstacls', which is not a parameter of the task space (did you mean "
+       "'obstacles'?) (obstacles = roger.int(0, 3))"},
+      {"function() return { 1, 2 } end",
+       "must have string keys {param = value}, got the key number 1 (a list? name each value)"},
       {"function() error('no idea') end", "stage 'S': teacher function: "},
       {"function() while true do end end", "stage 'S': teacher function: instruction budget of 50000000 exceeded"},
   };
@@ -1204,6 +1215,33 @@ TEST_CASE("a task parameter given by --set is fixed: the axis leaves the trial's
   CHECK(distances.size() == r.episodes.size());  // a real axis: every draw its own
   o.sets = {{"obstacles", "22"}};
   CHECK_THROWS_WITH(train_stage(o), Contains("parameter 'obstacles' of scenario 'cluttered' expects an integer in [0, 8], got '22'"));
+
+  // Found by a probe: eval --test-set of such a trial's policy said the curriculum's test set was no
+  // longer the one the trial ended on, though nothing was edited: it rebuilt the test set without
+  // the trial's own --set, over the whole space.
+  test::TempDir dir("roger_teach_fixed_axis");
+  const std::string roger = ROGER_BINARY, out = (dir.path / "out").string(), said = (dir.path / "said.txt").string();
+  REQUIRE(run_shell(roger + " train docs/examples/teachers_example.lua --stage Look --context Gaze --set obstacles=2 --out " +
+                    out + " > /dev/null") == 0);
+  REQUIRE(run_shell(roger + " eval docs/examples/teachers_example.lua --policy " + out + "/policy.json --test-set --json > " +
+                    said) == 0);
+  const std::string text = slurp(said);
+  CHECK(json::parse(text.substr(text.rfind("\n{") + 1))["test_set_changed"] == false);
+  CHECK_THAT(text, !Contains("no longer"));
+
+  // Found by a probe: with every axis fixed, ALP-GMM said only that it "needs a task space with at
+  // least one parameter", not that the --set had emptied it.
+  o.stage = "Look";
+  o.sets = {{"obstacles", "2"}, {"shape", "circle"}};
+  CHECK_THROWS_WITH(train_stage(o), "stage 'Look': the --set of obstacles, shape fixes every parameter of its task "
+                                    "space, leaving its teacher (roger.teacher.alp_gmm, "
+                                    "docs/examples/teachers_example.lua:41) nothing to choose; leave one to the "
+                                    "teacher, or fix fewer");
+  o.stage = "LookLcas";
+  o.sets = {{"eye_pixels", "64"}};
+  CHECK_THROWS_WITH(train_stage(o), "stage 'LookLcas': --set eye_pixels fixes the parameter its teacher "
+                                    "(roger.teacher.lcas, docs/examples/teachers_example.lua:67) lifts; leave "
+                                    "it to the teacher or use a stage without one");
 }
 
 // Found by a probe: with --set obstacles=2 (or a batch run's params = {obstacles = 2}) every trial
@@ -1351,6 +1389,10 @@ TEST_CASE("a teacher function reads its history read-only and strictly as traini
   REQUIRE(problems.size() == 1);
   CHECK_THAT(problems[0], Contains("a history entry's task has no field 'obstacles'; its fields: shape (obstacles is "
                                    "fixed for this run, by --set or the batch run's params, and in no task)"));
+  // Found by a probe: with every axis fixed, "its fields:  (obstacles is fixed ...)".
+  const auto [path2, none] = problems_of("fixed2", reader, {{"obstacles", "2"}, {"shape", "circle"}});
+  REQUIRE(none.size() == 1);
+  CHECK_THAT(none[0], Contains("a history entry's task has no field 'obstacles'; it has none (obstacles, shape are fixed"));
 }
 
 // Found by a probe: a test task the scenario cannot place failed the trial at its first checkpoint

@@ -391,6 +391,14 @@ void greedy_signature(const QTable& q, std::vector<int>& out) {
 
 namespace {
 
+// The parameters of `space` among `fixed`, in the order they were set.
+std::vector<std::string> fixed_axes(const TaskSpace& space, const std::vector<std::string>& fixed) {
+  std::vector<std::string> out;
+  for (const auto& name : fixed)
+    if (space.index(name) >= 0) out.push_back(name);
+  return out;
+}
+
 // The teacher of one trial of a stage that teaches: the trial's task space (the stage's, less the
 // parameters --set fixes), the teacher drawing from its own stream of the trial's seed, and the
 // test sets of the checkpoints and of the final evaluation. Times its own work.
@@ -399,11 +407,18 @@ class TrialTeacher {
   TrialTeacher(Curriculum& cur, const CurriculumStage& stage, const TrainOptions& options) {
     std::vector<std::string> fixed;
     for (const auto& [k, v] : options.sets) fixed.push_back(k);
-    if (stage.teacher && stage.teacher->kind == TeacherSpec::Kind::kLcas && stage.tasks.index(stage.teacher->lift) < 0 &&
-        std::find(fixed.begin(), fixed.end(), stage.teacher->lift) != fixed.end())
-      throw Error(stage.where() + ": --set " + stage.teacher->lift + " fixes the parameter its teacher (" +
-                  stage.teacher->name() + ") lifts; leave it to the teacher or use a stage without one");
+    const TeacherSpec* spec = stage.teacher ? &*stage.teacher : nullptr;
+    const std::string teacher = spec ? spec->name() + (spec->file.empty() ? "" : ", " + spec->file + ":" + std::to_string(spec->line)) : "";
+    if (spec && spec->kind == TeacherSpec::Kind::kLcas && stage.tasks.index(spec->lift) < 0 &&
+        std::find(fixed.begin(), fixed.end(), spec->lift) != fixed.end())
+      throw Error(stage.where() + ": --set " + spec->lift + " fixes the parameter its teacher (" + teacher +
+                  ") lifts; leave it to the teacher or use a stage without one");
     space_ = stage.tasks.without(fixed);
+    // ALP-GMM measures progress over the space's axes: with none left, it has nothing to learn.
+    if (spec && spec->kind == TeacherSpec::Kind::kAlpGmm && space_.empty() && !stage.tasks.empty())
+      throw Error(stage.where() + ": the --set of " + join(fixed_axes(stage.tasks, fixed)) +
+                  " fixes every parameter of its task space, leaving its teacher (" + teacher +
+                  ") nothing to choose; leave one to the teacher, or fix fewer");
     teacher_ = cur.make_teacher(stage, space_, Rng::mix(options.seed, 0x7465616368ull));  // "teach"
     const int cp_n = stage.checkpoint_test_tasks(), final_n = stage.final_test_tasks();
     final_tasks_ = stage.test_tasks(space_, std::max(cp_n, final_n));
@@ -1021,13 +1036,22 @@ uint64_t resolve_test_set(StageRun& run, const PolicyMetadata& meta, const Polic
     if (std::find(out.trial_sets.begin(), out.trial_sets.end(), set) == out.trial_sets.end()) command_sets.push_back(set);
   if (saved.recorded) check_sets_leave_tasks(command_sets, saved.tasks, options.policy_file);
   // The test set as a trial of the stage makes it now (TrialTeacher: the space less the --set
-  // parameters, the teacher's own parameters beside it), on the same world seeds.
+  // parameters, the teacher's own parameters beside it), on the same world seeds. The trial's own
+  // parameters count as its --set did (a task axis it fixed left its space), but for those its
+  // test tasks set themselves.
+  ParamList trial_sets = command_sets;
+  for (const auto& set : out.trial_sets) {
+    const bool tasks_set_it = std::any_of(saved.tasks.begin(), saved.tasks.end(), [&](const ParamList& task) {
+      return std::any_of(task.begin(), task.end(), [&](const auto& p) { return p.first == set.first; });
+    });
+    if (!tasks_set_it) trial_sets.push_back(set);
+  }
   std::vector<ParamList> now;
   bool made_now = run.stage.teaches();
   if (made_now) {
     try {
       TrainOptions topt;
-      topt.sets = command_sets;
+      topt.sets = trial_sets;
       const TrialTeacher teacher(run.cur, run.stage, topt);
       const EvalWorlds worlds = teacher.worlds(run.stage.checkpoints.seeds, true);
       for (size_t i = 0; i < size_t(worlds.episodes); ++i) now.push_back(worlds.task(i));

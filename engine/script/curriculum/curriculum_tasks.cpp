@@ -202,8 +202,15 @@ int l_teacher_sequence(lua_State* L) {
   if (n == 0) luaL_error(L, "roger.teacher.sequence{...}: the list of steps is empty");
   for (lua_Integer i = 1; i <= n; ++i) {
     lua_rawgeti(L, 1, i);
-    spec.steps.push_back(read_step(L, lua_gettop(L), "roger.teacher.sequence: step " + std::to_string(i)));
-    lua_pop(L, 1);
+    const std::string where = "roger.teacher.sequence: step " + std::to_string(i);
+    spec.steps.push_back(read_step(L, lua_gettop(L), where));
+    // A threshold that can never act is a misreading of the rule, not a harmless extra.
+    const bool demote = lua_getfield(L, -1, "demote") != LUA_TNIL, promote = lua_getfield(L, -2, "promote") != LUA_TNIL;
+    if (i == 1 && demote)
+      luaL_error(L, "%s: field 'demote' needs a step before it to go back to (the first step has none)", where.c_str());
+    if (i == n && promote)
+      luaL_error(L, "%s: field 'promote' needs a step after it to go on to (the last step has none)", where.c_str());
+    lua_pop(L, 3);
   }
   push_teacher(L, std::move(spec));
   return 1;
@@ -493,7 +500,9 @@ void read_params_into(lua_State* L, int index, const std::string& where, ParamLi
                lua_describe_value(L, index).c_str());
   lua_pushnil(L);
   while (lua_next(L, index)) {
-    if (lua_type(L, -2) != LUA_TSTRING) luaL_error(L, "%s must have string keys", where.c_str());
+    if (lua_type(L, -2) != LUA_TSTRING)
+      luaL_error(L, "%s must have string keys {param = value}, got the key %s (a list? name each value)", where.c_str(),
+                 lua_describe_value(L, -2).c_str());
     const std::string key = lua_tostring(L, -2);
     out.push_back({key, param_text(L, -1, (key_where.empty() ? where + "." : key_where) + key)});
     lua_pop(L, 1);

@@ -63,7 +63,8 @@ int view_index(lua_State* L) {
   const std::string note = task ? lua_tostring(L, -1) : "";
   const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : luaL_tolstring(L, 2, nullptr);
   return raise_at_reader(L, std::string(task ? "a history entry's task" : "a history entry") + " has no field '" + key +
-                                "'" + suggestion(key, fields) + "; its fields: " + join(fields) + note);
+                                "'" + suggestion(key, fields) +
+                                (fields.empty() ? "; it has none" : "; its fields: " + join(fields)) + note);
 }
 
 // __index of the list: an entry, or nil past the end (`history[#history]` of an empty history).
@@ -182,9 +183,12 @@ class LuaTeacher final : public Teacher {
       const int i = space_.index(key);
       std::string why;
       const std::optional<double> v = i < 0 ? std::nullopt : space_.value_of(size_t(i), value, &why);
-      if (i < 0)
-        throw ScriptError(where_ + " returned '" + key + "', which is not a parameter of the task space (" +
-                              space_.describe() + ")", fn_.file, fn_.line, "");
+      if (i < 0) {
+        std::vector<std::string> names;
+        for (const TaskDim& d : space_.dims()) names.push_back(d.name);
+        throw ScriptError(where_ + " returned '" + key + "', which is not a parameter of the task space" +
+                              suggestion(key, names) + " (" + space_.describe() + ")", fn_.file, fn_.line, "");
+      }
       if (!v)
         throw ScriptError(where_ + " returned " + key + " = " + value + ", outside the task space: " + key +
                               " takes " + why, fn_.file, fn_.line, "");
