@@ -22,6 +22,7 @@
 #include "batch/trainer.h"
 #include "core/error.h"
 #include "core/fileio.h"
+#include "core/text.h"
 #include "engine_fingerprint.h"
 #include "script/curriculum/curriculum.h"
 #include "script/sandbox/lua_sandbox.h"
@@ -633,7 +634,7 @@ BatchPlan read_results_plan(const std::string& dir) {
   try {
     script = std::make_shared<BatchScript>(batch_config_from_json(manifest["config"]));
   } catch (const std::exception& e) {
-    throw Error((fs::path(dir) / "manifest.json").string() + ": field \"config\": " + e.what());
+    throw Error((fs::path(dir) / "manifest.json").string() + ": field \"config\": " + json_error_text(e.what()));
   }
   script->path = manifest["script"].get<std::string>();
   BatchPlan plan = plan_batch(std::move(script), dir);

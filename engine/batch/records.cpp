@@ -221,7 +221,7 @@ json read_json_file(const std::string& path) {
   try {
     return json::parse(text);
   } catch (const std::exception& e) {
-    throw Error(path + ": not JSON (" + std::to_string(text.size()) + " bytes: truncated or edited?): " + e.what());
+    throw Error(path + ": not JSON (" + std::to_string(text.size()) + " bytes: truncated or edited?): " + json_error_text(e.what()));
   }
 }
 

@@ -1007,7 +1007,7 @@ TestSet saved_test_set(const PolicyMetadata& meta, const std::string& file) {
     t.tasks = j.at("tasks").get<std::vector<ParamList>>();
   } catch (const nlohmann::json::exception& e) {
     throw Error(file + ": field \"test_set\" must hold first_seed and tasks, lists of [name, value] pairs "
-                "(train_policy_json): " + e.what());
+                "(train_policy_json): " + json_error_text(e.what()));
   }
   t.recorded = true;
   return t;

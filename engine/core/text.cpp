@@ -34,6 +34,13 @@ std::string with_note_on_first_line(const std::string& message, const std::strin
   return message.substr(0, nl) + note + message.substr(nl);
 }
 
+std::string json_error_text(const std::string& what) {
+  static const std::string tag = "[json.exception.";
+  if (what.compare(0, tag.size(), tag) != 0) return what;
+  const size_t end = what.find("] ");
+  return end == std::string::npos ? what : what.substr(end + 2);
+}
+
 std::string counted(long long n, const std::string& noun) {
   return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
 }

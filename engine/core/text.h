@@ -16,6 +16,10 @@ std::string join(const std::vector<std::string>& items, const char* sep = ", ");
 // ("file:7: bad value (world seed 3)\nstack traceback: ..."), so the note reads with the error.
 std::string with_note_on_first_line(const std::string& message, const std::string& note);
 
+// A JSON parser's message without the library's tag: "[json.exception.parse_error.101] parse error
+// at line 25, column 21: ..." reads "parse error at line 25, column 21: ...". Other text is kept.
+std::string json_error_text(const std::string& what);
+
 // Edits from a to b: insertions, deletions, substitutions, and swaps of neighbours (pirnt -> print
 // is one), for the hints of messages.
 size_t edit_distance(const std::string& a, const std::string& b);

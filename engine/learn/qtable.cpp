@@ -354,7 +354,7 @@ QTable QTable::load(const std::string& path, const std::vector<std::string>& exp
   try {
     j = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for 1e999
-    throw Error(path + ": not valid JSON" + (text.empty() ? std::string(" (an empty file)") : "") + ": " + e.what());
+    throw Error(path + ": not valid JSON" + (text.empty() ? std::string(" (an empty file)") : "") + ": " + json_error_text(e.what()));
   }
   return from_json(j, expected, path, meta);
 }

@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "core/fileio.h"
 #include "core/rng.h"
+#include "core/text.h"
 #include "propose/propose_internal.h"
 #include "script/curriculum/curriculum.h"
 #include "script/scenario/scenario.h"
@@ -142,7 +143,7 @@ void claim_search_folder(const ProposeOptions& o, const std::string& module, con
     try {
       before = nlohmann::json::parse(read_file_text(file));
     } catch (const nlohmann::json::exception& e) {
-      throw Error(file + ": not valid JSON (" + e.what() + "); remove it to search here again");
+      throw Error(file + ": not valid JSON (" + json_error_text(e.what()) + "); remove it to search here again");
     }
     std::string differ;
     for (const auto& [key, value] : search.items())

@@ -129,7 +129,7 @@ ByFound by_table(const BatchScript& b, const BatchTable& t, const Folder& folder
         try {
           record = json::parse(line);
         } catch (const std::exception& e) {
-          throw Error(file.string() + ":" + std::to_string(line_no) + ": not JSON: " + e.what());
+          throw Error(file.string() + ":" + std::to_string(line_no) + ": not JSON: " + json_error_text(e.what()));
         }
         const std::string where = file.string() + ":" + std::to_string(line_no) + ": ";
         if (!record.is_object()) throw Error(where + "a final-evaluation record must be a JSON object");

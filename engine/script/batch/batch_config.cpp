@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/text.h"
 #include "script/batch/batch_script.h"
 
 namespace roger {
@@ -215,7 +216,7 @@ BatchScript batch_config_from_json(const json& j) {
       b.figures.push_back(std::move(f));
     }
   } catch (const json::exception& e) {
-    throw Error(std::string("the manifest's configuration is incomplete or not from this version: ") + e.what());
+    throw Error(std::string("the manifest's configuration is incomplete or not from this version: ") + json_error_text(e.what()));
   }
   check_config_references(b);
   return b;
