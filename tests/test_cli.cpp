@@ -70,6 +70,21 @@ TEST_CASE("roger check accepts the shipped scenarios", "[cli]") {
   }
 }
 
+// Found by a probe: `roger check curricula/*.lua` was refused (one script only).
+TEST_CASE("roger check checks several scripts, a problem in one not stopping the others", "[cli]") {
+  const Run good = roger("check scenarios/unobstructed.lua curricula/scripted.lua --seeds 2");
+  INFO(good.err);
+  CHECK(good.status == 0);
+  CHECK_THAT(good.out, Catch::Matchers::Contains("unobstructed.lua: ok") && Catch::Matchers::Contains("curricula/scripted.lua: ok") &&
+                           Catch::Matchers::Contains("roger check: all 2 scripts ok (project folder: "));
+  const fs::path bad = temp_file("roger_check_many_bad.lua", "return { name = 'x', stages = 3 }\n");
+  const Run mixed = roger("check " + bad.string() + " scenarios/unobstructed.lua --seeds 2");
+  CHECK(mixed.status == 1);
+  CHECK_THAT(mixed.err, Catch::Matchers::Contains("roger_check_many_bad.lua"));
+  CHECK_THAT(mixed.out, Catch::Matchers::Contains("unobstructed.lua: ok") && Catch::Matchers::Contains("roger check: 1 of 2 scripts have problems (above)"));
+  fs::remove(bad);
+}
+
 TEST_CASE("roger check validates batch scripts against their curriculum", "[cli]") {
   for (const char* s : {"scripts/paper.lua", "scripts/quick.lua", "scripts/ablation.lua"}) {
     const Run r = roger(std::string("check ") + s);

@@ -280,11 +280,33 @@ int check_scenario_file(const CheckArgs& a, const std::string& shown, const Sand
 
 static int check_named_script(const CheckArgs& args);
 
-// Every check that passes names the project folder its bare names and require came from.
+// Every check that passes names the project folder its bare names and require came from. Several
+// scripts are each checked, a problem in one not stopping the others (roger check curricula/*.lua).
 int command_check(const CheckArgs& args) {
-  const int status = check_named_script(args);
-  if (status == 0) std::printf("  (project folder: %s)\n", project_in_use().c_str());
-  return status;
+  if (args.scripts.size() == 1) {
+    CheckArgs one = args;
+    one.script = args.scripts[0];
+    const int status = check_named_script(one);
+    if (status == 0) std::printf("  (project folder: %s)\n", project_in_use().c_str());
+    return status;
+  }
+  int failed = 0;
+  for (const std::string& script : args.scripts) {
+    CheckArgs one = args;
+    one.script = script;
+    int status = 1;
+    try {
+      status = check_named_script(one);
+    } catch (const std::exception& e) {
+      std::fflush(stdout);
+      std::fprintf(stderr, "roger: error: %s\n", e.what());
+    }
+    std::fflush(stderr);
+    failed += status != 0;
+  }
+  if (failed == 0) std::printf("roger check: all %zu scripts ok (project folder: %s)\n", args.scripts.size(), project_in_use().c_str());
+  else std::printf("roger check: %d of %zu scripts have problems (above)\n", failed, args.scripts.size());
+  return failed ? 1 : 0;
 }
 
 static int check_named_script(const CheckArgs& args) {

@@ -75,7 +75,8 @@ int command_render(const RenderArgs& args);
 
 // The arguments of `roger check SCRIPT.lua`.
 struct CheckArgs {
-  std::string script;
+  std::vector<std::string> scripts;  // as given: each is checked
+  std::string script;                // the one being checked
   std::vector<std::string> sets;
   int seeds = 20;
   LuaLimitArgs lua;

@@ -130,7 +130,7 @@ CLI::App* add_render(CLI::App& app, RenderArgs& a) {
 
 CLI::App* add_check(CLI::App& app, CheckArgs& a) {
   auto* c = app.add_subcommand("check", "Load and validate a script without running an episode");
-  c->add_option("script", a.script, "Script (.lua)")->required();
+  c->add_option("scripts", a.scripts, "Scripts (.lua): each is checked")->required();
   c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)");
   c->add_option("--seeds", a.seeds, "Seeds to generate")->capture_default_str()->check(integer_in(1, 100000));
   add_lua_limits(c, a.lua, "; a batch script's own limits otherwise");
