@@ -375,6 +375,10 @@ TEST_CASE("scenario parameters", "[scenario]") {
                                  "(scenarios/cluttered.lua) has no parameter 'shap' (did you mean 'shape'?)"));
     CHECK(s.generate(0).obstacles.size() == 3);
     CHECK_THROWS_AS(s.set_param("mass", ""), Error);
+    // Found by a probe: " 3" was taken where "3 " was refused (strtoll skips leading blanks).
+    CHECK_THROWS_WITH(s.set_param("obstacles", " 2"), StartsWith("parameter 'obstacles' of scenario 'cluttered' "
+                                                                 "expects an integer in [0, 8], got ' 2'"));
+    CHECK_THROWS_WITH(s.set_param("mass", "\t1"), Contains("expects a number in [0.01, 10000], got '\t1'"));
     // A failed set_param leaves the old value.
     CHECK(s.generate(0).obstacles.size() == 3);
   }

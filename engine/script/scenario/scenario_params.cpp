@@ -68,6 +68,9 @@ bool parse_slot(ParamSlot& s, const std::string& text, std::string& why) {
   char* end = nullptr;
   errno = 0;
   const auto refuse = [&]() { return why = expected_text(s.info), false; };
+  // strtoll and strtod skip leading blanks, which would take " 3" where "3 " is refused.
+  const bool blank_first = !text.empty() && std::isspace(static_cast<unsigned char>(text[0]));
+  if (blank_first && (s.info.type == ParamType::kInteger || s.info.type == ParamType::kNumber)) return refuse();
   switch (s.info.type) {
     case ParamType::kInteger: {
       const long long v = std::strtoll(begin, &end, 10);
