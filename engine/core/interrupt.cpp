@@ -2,6 +2,8 @@
 
 #include <atomic>
 #include <csignal>
+#include <cstdint>
+#include <ctime>
 #include <unistd.h>
 
 namespace roger {
@@ -24,12 +26,33 @@ void write_stderr(const char* text) {
   (void)ignored;
 }
 
+std::atomic<int64_t> first_at_ns{0};  // when the first request came (CLOCK_MONOTONIC)
+static_assert(std::atomic<int64_t>::is_always_lock_free, "a signal handler may only touch lock-free atomics");
+
+int64_t monotonic_ns() {
+  timespec t{};
+  ::clock_gettime(CLOCK_MONOTONIC, &t);  // async-signal-safe
+  return int64_t(t.tv_sec) * 1000000000 + t.tv_nsec;
+}
+
+// A second signal this soon after the first is the same request delivered twice: GNU timeout sends
+// its signal to the command and again to its process group, microseconds apart, and a user's second
+// Ctrl-C never comes within 20 ms.
+constexpr int64_t kSameRequestNs = 20000000;
+
 extern "C" void on_interrupt(int signal_number) {
-  if (!requested.load(std::memory_order_relaxed)) requested_by.store(signal_number, std::memory_order_relaxed);
-  requested.store(true, std::memory_order_relaxed);
-  // The next one is the default action: a second Ctrl-C stops at once.
-  std::signal(signal_number, SIG_DFL);
   const bool term = signal_number == SIGTERM;
+  if (requested.load(std::memory_order_relaxed)) {
+    if (monotonic_ns() - first_at_ns.load(std::memory_order_relaxed) < kSameRequestNs) return;
+    // A second request stops at once: the signal's default action, once the handler returns.
+    write_stderr(term ? "\nroger: stopped at once by a second SIGTERM\n" : "\nroger: stopped at once by a second Ctrl-C\n");
+    std::signal(signal_number, SIG_DFL);
+    std::raise(signal_number);
+    return;
+  }
+  first_at_ns.store(monotonic_ns(), std::memory_order_relaxed);
+  requested_by.store(signal_number, std::memory_order_relaxed);
+  requested.store(true, std::memory_order_relaxed);
   write_stderr(term ? "\nroger: stopping (SIGTERM): " : "\nroger: stopping: ");
   const char* note = stopping_note.load(std::memory_order_relaxed);
   write_stderr(note ? note : "finishing the episodes in flight, keeping every finished result");
@@ -54,6 +77,7 @@ int interrupt_exit_status() {
 }
 
 void clear_interrupt() {
+  first_at_ns.store(0, std::memory_order_relaxed);
   requested.store(false, std::memory_order_relaxed);
   requested_by.store(0, std::memory_order_relaxed);
 }

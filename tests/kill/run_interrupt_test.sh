@@ -6,8 +6,8 @@
 # summary.csv and the partial report (tables.md marks the rest pending), leave status.json not
 # running, and exit 130 with a last line saying how to resume. The same command then finishes the
 # run to exactly the golden results (tests/golden/quick). A second SIGINT soon after the first stops
-# the run at once (the signal's default action: no report), and that folder resumes to the golden
-# results too. SIGTERM (Slurm's scancel, a job's time limit) stops it as one Ctrl-C does, and it
+# the run at once (the signal's default action: no report), saying so, and that folder resumes to
+# the golden results too; one SIGINT delivered twice at once (as GNU timeout does) is one Ctrl-C. SIGTERM (Slurm's scancel, a job's time limit) stops it as one Ctrl-C does, and it
 # exits 143, as a shell reports a command SIGTERM stopped.
 set -euo pipefail
 set -m  # job control: the background run gets SIGINT (without it, a shell starts it ignoring SIGINT)
@@ -28,9 +28,10 @@ trap cleanup EXIT
 fail() { echo "FAILED: $*"; [ -f "$work/log" ] && sed 's/^/  | /' "$work/log"; exit 1; }
 
 # Starts the run into $1, waits until a trial has a result, sends SIGINT (or signal $3) $2 times
-# (0.05 s apart) and sets `status` to the run's exit status.
+# (0.08 s apart, or at once when $4 is "at-once") and sets `status` to the run's exit status.
 interrupt() {
-  local out=$1 signal=${3:-INT} waited=0
+  local out=$1 signal=${3:-INT} gap=0.08 waited=0
+  [ "${4:-}" != at-once ] || gap=0
   "$roger" run scripts/quick.lua --jobs 2 --out "$out" >"$work/log" 2>&1 &
   child=$!
   until [ -n "$(find "$out/trials" -name result.json 2>/dev/null | head -1)" ]; do
@@ -40,7 +41,7 @@ interrupt() {
     [ $waited -lt 2400 ] || fail "waited two minutes for the first trial"
   done
   kill -"$signal" "$child"
-  if [ "$2" -eq 2 ]; then sleep 0.05; kill -"$signal" "$child" 2>/dev/null || true; fi
+  if [ "$2" -eq 2 ]; then sleep "$gap"; kill -"$signal" "$child" 2>/dev/null || true; fi
   status=0
   wait "$child" || status=$?
   child=
@@ -66,7 +67,15 @@ resume_to_golden "$work/once"
 interrupt "$work/twice" 2
 [ "$status" -eq 130 ] || fail "exit status $status after two Ctrl-C, not 130 (killed by SIGINT)"
 ! grep -q "^roger run: interrupted" "$work/log" || fail "the second Ctrl-C did not stop the run at once"
+grep -q "^roger: stopped at once by a second Ctrl-C" "$work/log" || fail "no line says the second Ctrl-C stopped it"
 resume_to_golden "$work/twice"
+
+# One request delivered twice at once (GNU timeout signals the command and then its process group)
+# is one Ctrl-C: the run stops cleanly.
+interrupt "$work/double" 2 INT at-once
+[ "$status" -eq 130 ] || fail "exit status $status after one Ctrl-C delivered twice, not 130"
+[ "$(tail -n 1 "$work/log")" = "roger run: interrupted; the trials that were running start afresh when you run the same command again" ] ||
+  fail "one Ctrl-C delivered twice stopped the run at once"
 
 interrupt "$work/term" 1 TERM
 [ "$status" -eq 143 ] || fail "exit status $status after SIGTERM, not 143"
@@ -93,4 +102,4 @@ grep -q "^roger: stopping: the trial ends at its next episode and writes nothing
   fail "roger train: the last line does not say nothing was written"
 [ "$(cat "$work/train/policy.json")" = '{"earlier": true}' ] && [ "$(ls -A "$work/train")" = policy.json ] ||
   fail "roger train: the folder changed"
-echo "passed: one Ctrl-C keeps what finished and reports it; two stop at once; both resume to the golden run; SIGTERM stops as one Ctrl-C and exits 143; roger train stopped writes nothing and says so"
+echo "passed: one Ctrl-C keeps what finished and reports it; two stop at once, but not one delivered twice; both resume to the golden run; SIGTERM stops as one Ctrl-C and exits 143; roger train stopped writes nothing and says so"
