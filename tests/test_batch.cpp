@@ -348,6 +348,31 @@ TEST_CASE("a results folder in use by a run is refused to a second run, parts of
   fs::remove_all(out);
 }
 
+// Found by a probe: a batch script whose curriculum = "paper" was refused a folder made with
+// curriculum = "curricula/paper.lua", the same file, though files are compared by place.
+TEST_CASE("a folder resumes with its curriculum named another way", "[batch]") {
+  const fs::path dir = fresh_dir("spelt");
+  fs::create_directories(dir);
+  const fs::path script = dir / "spelt.lua", out = dir / "out";
+  auto write = [&](const std::string& curriculum) {
+    std::ofstream(script) << "return { name = 'spelt', curriculum = '" << curriculum
+                          << "', trials = 1, runs = { { name = 'SG', stage = 'SG', contexts = { 'DC2' } } } }\n";
+  };
+  write("curricula/paper.lua");
+  const std::string run = std::string(ROGER_BINARY) + " run " + script.string() + " --jobs 1 --no-report --out " + out.string();
+  REQUIRE(shell(run + " >/dev/null") == 0);
+  write("paper");
+  std::string err;
+  CHECK(shell(run + " >/dev/null", &err) == 0);
+  INFO(err);
+  CHECK(err.find("resuming") != std::string::npos);
+  CHECK(err.find("in the folder") == std::string::npos);
+  write("curricula/ablation.lua");  // another file is still another configuration
+  CHECK(shell(run + " >/dev/null", &err) == 1);
+  CHECK(err.find("curriculum_file") != std::string::npos);
+  fs::remove_all(dir);
+}
+
 // Found by an outsider following docs/cluster.md: ROGER_SHARDS=0 was refused as "array task 0 is
 // not below the shard count 0", and a task id without a count as "SLURM_ARRAY_TASK_ID and
 // SLURM_ARRAY_TASK_COUNT are not set" though the id was.

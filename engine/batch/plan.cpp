@@ -285,8 +285,10 @@ fs::path recorded_root(const json& config, const fs::path& fallback) {
 // folder, however they were spelt and wherever the two were.
 json relocated(json config, const Places& at) {
   if (!config.is_object()) return config;
-  if (config.contains("curriculum_file") && config["curriculum_file"].is_string())
+  if (config.contains("curriculum_file") && config["curriculum_file"].is_string()) {
     config["curriculum_file"] = relocated_path(config["curriculum_file"].get<std::string>(), at);
+    config.erase("curriculum");  // as spelt ("paper", "curricula/paper.lua"): the file decides
+  }
   if (config.contains("sources") && config["sources"].is_object()) {
     json sources = json::object();
     for (auto it = config["sources"].begin(); it != config["sources"].end(); ++it)
