@@ -122,24 +122,40 @@ double text(cairo_t* cr, const Layout& l, const std::string& s, double x, double
 
 namespace {
 
-// Title, scenario and seed on the left, the time on the right.
+// `s` cut to fit `room` (with an ellipsis), whole when it fits; "" when not even the ellipsis does.
+std::string fitted(cairo_t* cr, const Layout& l, const std::string& s, const TextStyle& st, double room) {
+  if (text_width(cr, l, s, st) <= room) return s;
+  std::string cut = s;
+  while (!cut.empty()) {
+    cut.pop_back();
+    while (!cut.empty() && (static_cast<unsigned char>(cut.back()) & 0xC0) == 0x80) cut.pop_back();  // UTF-8
+    if (text_width(cr, l, cut + "\u2026", st) <= room) return cut + "\u2026";
+  }
+  return "";
+}
+
+// Title, scenario and seed on the left, the time on the right; in a narrow picture the title is
+// cut and the scenario line left out rather than drawn over the time.
 void draw_header(cairo_t* cr, const Layout& l, const WorldSpec& spec, const Frame& frame,
                  const RenderOptions& o, double width) {
-  const double y = 26 * l.u;
+  const double y = 26 * l.u, gap = 12 * l.u;
   TextStyle st;
   st.size = 16;
+  TextStyle time = st;
+  time.align = 1.0;
+  const std::string clock = format("t = %.2f s", frame.time);
+  const double time_left = width - kRightBand * l.u - text_width(cr, l, clock, time) - gap;
   st.bold = true;
   double x = kLeftBand * l.u;
-  if (!o.title.empty()) x += text(cr, l, o.title, x, y, st) + 12 * l.u;
+  if (!o.title.empty()) x += text(cr, l, fitted(cr, l, o.title, st, time_left - x), x, y, st) + gap;
   if (!spec.scenario.empty()) {
     TextStyle sub;
     sub.size = 12;
     sub.colour = kFaintInk;
-    text(cr, l, "scenario " + spec.scenario + ", seed " + std::to_string(spec.seed), x, y, sub);
+    const std::string line = "scenario " + spec.scenario + ", seed " + std::to_string(spec.seed);
+    if (text_width(cr, l, line, sub) <= time_left - x) text(cr, l, line, x, y, sub);
   }
-  st.align = 1.0;
-  st.bold = false;
-  text(cr, l, format("t = %.2f s", frame.time), width - kRightBand * l.u, y, st);
+  text(cr, l, clock, width - kRightBand * l.u, y, time);
 }
 
 // ---- files
