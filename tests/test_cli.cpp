@@ -399,6 +399,19 @@ TEST_CASE("a device or a pipe or a folder given as a file is refused and not rea
   }
   fs::remove(pipe);
   CHECK_FALSE(fs::exists("/tmp/roger_cli_init/policy.json"));
+
+  // Found by a probe: a file given as --out read "Once the cause is fixed, then run the same command
+  // again: it resumes where this one stopped", though nothing was made to resume.
+  const fs::path file = temp_file("roger_cli_out_file", "a file\n");
+  for (const std::string& command : {std::string("run scripts/quick.lua"), std::string("train curricula/paper.lua --stage SG --context DC2")}) {
+    const Run r = roger(command + " --out " + file.string());
+    INFO(r.err);
+    CHECK(r.status == 1);
+    CHECK(r.err.find("Not a directory. A file is in the way of a folder there: give another path, or move the file") !=
+          std::string::npos);
+    CHECK(r.err.find("resumes") == std::string::npos);
+  }
+  fs::remove(file);
 }
 
 // Found by a probe: a second training into a folder failed at its third file and left the new

@@ -109,8 +109,11 @@ std::string file_error_line(const FileError& e, bool resumes) {
         return what + ". Put it back as it was, " + again + "; or, to run the new version, give another --out";
       return what + ". A folder on that path does not exist: make it, or give another path, " + again;
     }
+    case ENOTDIR:
+    case EEXIST:  // a file where a folder must be: nothing was made, so nothing resumes
+      return std::string(e.what()) + ". A file is in the way of a folder there: give another path, or move the file";
     default:
-      return std::string(e.what()) + ". Once the cause is fixed, " + again;
+      return std::string(e.what()) + ". Once the cause is fixed, " + again.substr(std::string("then ").size());
   }
 }
 
