@@ -339,6 +339,17 @@ TEST_CASE("a binary chunk is refused", "[cli]") {
   CHECK(r.status == 1);
   CHECK(r.err.find("binary") != std::string::npos);
   fs::remove(p);
+  // Found by a probe: the roger program itself given as a script was read as Lua, check listing a
+  // page of "undefined global 'ELF'" and run calling it a curriculum.
+  const fs::path program = temp_file("roger_cli_program", std::string("\x7f" "ELF\x02\x01\x01\x00\x00\x00", 10) + "print(1)\n");
+  for (const char* command : {"check ", "run ", "eval "}) {
+    const Run named = roger(command + program.string() + (std::string(command) == "eval " ? " --policy task" : ""));
+    INFO(command << named.err);
+    CHECK(named.status == 1);
+    CHECK(named.err.find("'" + program.string() + "' is no Lua script: it is not text (a NUL byte at offset 7; a "
+                         "program or another binary file?)") != std::string::npos);
+  }
+  fs::remove(program);
 }
 
 TEST_CASE("usage errors say what is wrong", "[cli]") {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <fstream>
 #include <iostream>
 
 #include <lua.hpp>
@@ -291,20 +292,39 @@ void LuaSandbox::run_file(const std::string& path, int nresults) {
   call(0, nresults);
 }
 
+namespace {
+
+// `path`, refused when it is no text: a program or another binary file given for a script would
+// otherwise be read as Lua, giving a page of "undefined global 'ELF'" or a guess at its kind. A
+// Lua binary chunk passes, for the loader to refuse by name.
+const std::string& text_script(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char head[4096];
+  in.read(head, sizeof head);
+  const std::string bytes(head, size_t(in.gcount()));
+  const size_t nul = bytes.find('\0');
+  if (nul != std::string::npos && bytes.rfind(LUA_SIGNATURE, 0) != 0)
+    throw Error("'" + path + "' is no Lua script: it is not text (a NUL byte at offset " + std::to_string(nul) +
+                "; a program or another binary file?)");
+  return path;
+}
+
+}  // namespace
+
 std::string resolve_script_path(const std::string& arg, const std::string& folder_name,
                                 const std::string& kind, const std::string& list_label,
                                 const std::function<bool(const std::string&)>& accept) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (fs::is_regular_file(arg, ec)) return arg;
+  if (fs::is_regular_file(arg, ec)) return text_script(arg);
   const fs::path folder = project_root() / folder_name;
   const bool bare = arg.find('/') == std::string::npos;
   const std::string file = fs::path(arg).extension() == ".lua" ? arg : arg + ".lua";
-  if (bare && fs::is_regular_file(folder / file, ec)) return (folder / file).string();
+  if (bare && fs::is_regular_file(folder / file, ec)) return text_script((folder / file).string());
   // A path relative to the project (tests/scripts/x.lua, or one a script named and the loader
   // recorded so) is the same file from any folder.
   if (!bare && fs::path(arg).is_relative() && fs::is_regular_file(project_root() / arg, ec))
-    return (project_root() / arg).string();
+    return text_script((project_root() / arg).string());
   std::vector<std::string> shipped;
   for (const auto& entry : fs::directory_iterator(folder, ec))
     if (entry.path().extension() == ".lua" && (!accept || accept(entry.path().string())))
