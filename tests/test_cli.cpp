@@ -85,6 +85,19 @@ TEST_CASE("roger check checks several scripts, a problem in one not stopping the
   fs::remove(bad);
 }
 
+// Found by a probe: neither named what was meant.
+TEST_CASE("a misspelt policy or --only context is told the nearest or every choice", "[cli]") {
+  const Run policy = roger("eval curricula/scripted.lua --policy tsak");
+  CHECK(policy.status == 1);
+  CHECK_THAT(policy.err, Catch::Matchers::Contains("has no policy 'tsak' (did you mean 'task'?); its policies: phi6, "
+                                                   "search_grasp, task"));
+  const Run only = roger("run scripts/quick.lua --only T/DC7 --out /tmp/roger_cli_only_" + std::to_string(::getpid()));
+  CHECK(only.status == 1);
+  CHECK_THAT(only.err, Catch::Matchers::Contains("(they are: SG (B1, DC1, DC2); T (B2, DC3, DC4, DC5, DC6); "
+                                                 "eval/generalization)"));
+  fs::remove_all("/tmp/roger_cli_only_" + std::to_string(::getpid()));
+}
+
 TEST_CASE("roger check validates batch scripts against their curriculum", "[cli]") {
   for (const char* s : {"scripts/paper.lua", "scripts/quick.lua", "scripts/ablation.lua"}) {
     const Run r = roger(std::string("check ") + s);

@@ -711,11 +711,19 @@ void check_selectors(const BatchPlan& plan, const std::vector<std::string>& only
     for (const auto& p : plan.phases)
       for (const auto& t : p) any = any || matches(t, o);
     if (!any) {
-      std::string names;
-      for (const auto& r : b.runs) names += (names.empty() ? "" : ", ") + r.name;
-      for (const auto& e : b.evaluations) names += ", eval/" + e.name;
+      // Each run with its contexts (SG/DC1, SG/DC2), so a misspelt context is seen at once.
+      std::vector<std::string> names;
+      for (const auto& r : b.runs) {
+        std::vector<std::string> contexts;
+        for (const auto& p : plan.phases)
+          for (const auto& t : p)
+            if (t.run == &r && std::find(contexts.begin(), contexts.end(), t.context) == contexts.end())
+              contexts.push_back(t.context);
+        names.push_back(r.name + (contexts.empty() ? "" : " (" + join(contexts, ", ") + ")"));
+      }
+      for (const auto& e : b.evaluations) names.push_back("eval/" + e.name);
       throw Error("--only '" + o + "' names no run, run/context or eval/evaluation of " + b.path + " (they are: " +
-                  names + ")");
+                  join(names, "; ") + ")");
     }
   }
 }

@@ -118,8 +118,8 @@ std::vector<std::string> SkillScript::policy_names() const {
 const SkillScript::NamedPolicy& SkillScript::policy(const std::string& name) const {
   auto it = impl_->policies.find(name);
   if (it == impl_->policies.end())
-    throw Error("skill script '" + impl_->name + "' (" + impl_->path + ") has no policy '" + name +
-                "'; its policies: " + join(policy_names()));
+    throw Error("skill script '" + impl_->name + "' (" + impl_->path + ") has no policy '" + name + "'" +
+                suggestion(name, policy_names()) + "; its policies: " + join(policy_names()));
   return it->second;
 }
 
