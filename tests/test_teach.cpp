@@ -721,6 +721,10 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
        "the level obstacles = 20 is outside the task space: obstacles takes an integer in roger.int(0, 3)"},
       {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 3 } } } }",
        ":8: stage 'S': roger.teacher.lcas: lift.eye_pixels: parameter 'eye_pixels' of scenario 'cluttered' expects an integer in [16, 512], got '3'"},
+      // Found by a probe: a string level was taken, where a teacher function's string is refused.
+      {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { \"32\", 64 } } } }",
+       ":8: stage 'S': roger.teacher.lcas: lift.eye_pixels[1] is the string \"32\": parameter 'eye_pixels' of "
+       "scenario 'cluttered' takes a number: write 32 without quotes"},
       {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 64 } }, floor = 1.5 } }",
        ":8: roger.teacher.lcas: field 'floor' must be in [0, 1], got 1.5"},
       {"{ tasks = { obstacles = roger.int(0, 3) }, test = { list = { { obstacles = 7 } } } }",

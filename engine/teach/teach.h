@@ -160,6 +160,7 @@ struct TeacherSpec {
   // lcas: one parameter lifted through its levels.
   std::string lift;                 // the parameter
   std::vector<std::string> levels;  // its values, most constrained first
+  std::vector<size_t> string_levels;  // 0-based indices of levels written as Lua strings ("32")
   int window = 50;                  // the saturation test compares the last two windows...
   double slope = 0.05;              // ...and lifts when the rate rose by less than this,
   double floor = 0.0;               // and the last window's rate is at least this: a curve flat at

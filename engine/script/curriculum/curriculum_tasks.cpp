@@ -244,6 +244,7 @@ int l_teacher_lcas(lua_State* L) {
                                      : lua_describe_value(L, levels)));
     for (lua_Integer i = 1; i <= lua_Integer(lua_rawlen(L, levels)); ++i) {
       lua_rawgeti(L, levels, i);
+      if (lua_type(L, -1) == LUA_TSTRING) spec.string_levels.push_back(size_t(i - 1));
       spec.levels.push_back(param_text(L, -1, "roger.teacher.lcas: lift." + spec.lift + "[" + std::to_string(i) + "]"));
       lua_pop(L, 1);
     }
@@ -334,6 +335,15 @@ void check_against_scenario(const CurriculumStage& st) {
     else
       for (double v : {d.lo, d.hi}) check_value(d.name, format_number(v), where, d.file, d.line);
   }
+  // A number parameter's level written as a string ("32") is refused, as a teacher function's is:
+  // the level is a value, not the text of one.
+  if (st.teacher && st.teacher->kind == TeacherSpec::Kind::kLcas && params.count(st.teacher->lift) &&
+      (params[st.teacher->lift].type == ParamType::kInteger || params[st.teacher->lift].type == ParamType::kNumber))
+    for (size_t i : st.teacher->string_levels)
+      fail_at(st.where() + ": " + st.teacher->name() + ": lift." + st.teacher->lift + "[" + std::to_string(i + 1) +
+                  "] is the string \"" + st.teacher->levels[i] + "\": parameter '" + st.teacher->lift +
+                  "' of scenario '" + s.name() + "' takes a number: write " + st.teacher->levels[i] + " without quotes",
+              st.teacher->file, st.teacher->line);
   if (st.teacher && st.teacher->kind == TeacherSpec::Kind::kLcas && st.tasks.index(st.teacher->lift) < 0)
     for (const auto& level : st.teacher->levels)
       check_value(st.teacher->lift, level, st.where() + ": " + st.teacher->name() + ": lift." + st.teacher->lift,
