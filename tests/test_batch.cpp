@@ -710,7 +710,8 @@ TEST_CASE("a results folder resumes from another folder and after a copy, not wi
     FAIL("a folder was resumed with another seed");
   } catch (const Error& e) {
     CHECK_THAT(e.what(), Catch::Matchers::Contains("was made by this batch script as it was then, with other contents or "
-                                                   "parameters (my_batch.lua)"));
+                                                   "other parameters (a command's --set and --trials are "
+                                                   "parameters too) (my_batch.lua)"));
     CHECK_THAT(e.what(), Catch::Matchers::Contains("seed: 7 in the folder, 8 now"));
   }
   fs::remove_all(top);

@@ -384,6 +384,12 @@ TEST_CASE("usage errors say what is wrong", "[cli]") {
   r = roger("report /tmp/roger_cli_no_such_results");
   CHECK(r.status == 1);
   CHECK(r.err.find("no results folder '/tmp/roger_cli_no_such_results': nothing is there") != std::string::npos);
+  // Found by a probe: a file said "it has no manifest.json", as a folder would.
+  const fs::path not_folder = temp_file("roger_cli_report_file", "x\n");
+  r = roger("report " + not_folder.string());
+  CHECK(r.status == 1);
+  CHECK(r.err.find("'" + not_folder.string() + "' is a file, not a results folder of roger run") != std::string::npos);
+  fs::remove(not_folder);
   // A picture's folder is made, as every other output's is (a probe's README command failed in a
   // fresh checkout that had no out/); one under a file cannot be, and says why.
   fs::remove_all("/tmp/roger_cli_no_such_folder");

@@ -428,7 +428,7 @@ TEST_CASE("a tiny batch writes every file, with tables that match the trials, wh
   std::ostringstream refused;
   other.progress = &refused;
   CHECK(command_run(other) == 1);
-  CHECK(refused.str().find("made by this batch script as it was then, with other contents or parameters") != std::string::npos);
+  CHECK(refused.str().find("made by this batch script as it was then, with other contents or other parameters (a command's --set and --trials are parameters too)") != std::string::npos);
   CHECK(refused.str().find("runs[1].trials: 2 in the folder, 1 now") != std::string::npos);
   CHECK(finished_ids(one) == kIds);  // nothing lost
 
@@ -1050,6 +1050,9 @@ TEST_CASE("a training trial's final.jsonl missing or cut short is refused and th
   CHECK_THAT(said, Contains("CORRUPT: " + final_file.string() + ": missing: the trial's result.json records " +
                             std::to_string(n) + " final-evaluation episodes"));
   CHECK_THAT(said, Contains("runs a trial with corrupt files again"));
+  // Found by a probe: the refusal did not say that --partial cannot help, or what else does.
+  CHECK_THAT(said, Contains("removing such a trial's folder under trials/ does the same). roger report --partial "
+                            "cannot help: a report never reads a corrupt record, not even as pending."));
   CHECK_THROWS_WITH(write_report(folder.dir.string()), Contains(final_file.string() + ": missing"));
   // Cut at the end of a line, every line left parses: only the count shows the loss.
   size_t cut = 0;

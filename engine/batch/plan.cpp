@@ -328,7 +328,9 @@ Error refusal(const json& old, const json& old_config, const json& config, const
   // More trials of an evaluation whose worlds depend on their number: say why that one is refused.
   if (old_config.is_object() && extends(old_config, config, true))
     why += "\nMore trials of an evaluation with worlds of its own and several shapes move the worlds of the "
-           "trials it has (shape k's trial i starts at (k x trials + i) x episodes), so they are a new folder's.";
+           "trials it has (shape k's trial i starts at (k x trials + i) x episodes), so they are a new folder's. "
+           "More training trials alone resume: raise the trials of the runs in the script and leave the "
+           "evaluation's (--trials sets both).";
   // Only a Lua file training reads changed: say that, not "another script" (a probe added a
   // comment to its curriculum and read the refusal as about another script).
   json old_rest = old_config, now_rest = config;
@@ -344,7 +346,8 @@ Error refusal(const json& old, const json& old_config, const json& config, const
   const std::string made = old_rest == now_rest
                                ? "before a Lua file its trials read changed (its trials and new ones would mix two "
                                  "versions of it)"
-                           : same_script ? "by this batch script as it was then, with other contents or parameters"
+                           : same_script ? "by this batch script as it was then, with other contents or other "
+                                           "parameters (a command's --set and --trials are parameters too)"
                                          : "by another batch script or other parameters";
   return Error("the results folder " + plan.out + " was made " + made + " (" + old.value("script", std::string("?")) +
                "); it cannot be resumed with " + plan.script->path + " as it is now. Differences:" + why +
@@ -623,8 +626,9 @@ json read_manifest(const std::string& dir) {
   const fs::path manifest_path = fs::path(dir) / "manifest.json";
   std::error_code ec;
   if (!fs::is_regular_file(manifest_path, ec))
-    throw Error(fs::exists(dir, ec) ? "'" + dir + "' is not a results folder of roger run: it has no manifest.json"
-                                    : "no results folder '" + dir + "': nothing is there");
+    throw Error(!fs::exists(dir, ec)        ? "no results folder '" + dir + "': nothing is there"
+                : !fs::is_directory(dir, ec) ? "'" + dir + "' is a file, not a results folder of roger run"
+                                             : "'" + dir + "' is not a results folder of roger run: it has no manifest.json");
   // The checked reader (records.cpp): an object with its format, engine, script, version, the
   // types of its config's fields and of its trials' ids and seeds.
   return read_manifest_file(manifest_path.string());

@@ -13,6 +13,7 @@
 #include "cli/commands.h"
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "core/text.h"
 #include "report/report.h"
 #include "script/batch/batch_script.h"
 
@@ -81,7 +82,9 @@ int print_missing(const std::vector<MissingTrial>& missing, const BatchPlan& pla
   }
   log << "Run the roger run command that made the folder again (roger run " << plan.script->path << " --out "
       << plan.out << ", with the same options and the same --shard for a shard) to finish them"
-      << (corrupt ? " (it runs a trial with corrupt files again from scratch).\n"
+      << (corrupt ? " (it runs a trial with corrupt files again from scratch; removing such a trial's folder "
+                    "under trials/ does the same). roger report --partial cannot help: a report never reads a "
+                    "corrupt record, not even as pending.\n"
                   : ", or\nroger report --partial " + plan.out + " to report what is there, marked as pending.\n");
   return 1;
 }
@@ -188,7 +191,9 @@ int command_report(const ReportArgs& a) {
     // without a status.json) says it is there. A partial report leaves the status to the trials
     // still to come.
     if (missing.empty()) write_closing_status(plan.out, "written");
-    if (summary.pending) log << "roger report: " << summary.pending << " trials have no result yet (marked pending)\n";
+    if (summary.pending)
+      log << "roger report: " << counted(summary.pending, "trial") << (summary.pending == 1 ? " has" : " have")
+          << " no result yet (marked pending)\n";
     return 0;
   } catch (const FileError& e) {
     log << "roger report: " << file_error_line(e) << "\n";
