@@ -32,6 +32,9 @@ struct CurveSeries {
   // An asymmetric band instead of mean +- std: low[i] <= high[i] at each x (e.g. a 95% confidence
   // interval). Both empty for none; when given, std must be empty.
   std::vector<double> low, high;
+  // The palette entry it is drawn in (plot_colour); -1: its place among the series. A figure gives
+  // each curve its place in the figure's full list, so a curve keeps its colour when others lack data.
+  int colour = -1;
 };
 
 // Where the legend sits: in a corner of the plot area, or beside it on the right (for busy plots).

@@ -205,7 +205,7 @@ void plot_learning_curves(const std::vector<std::string>& paths, const std::stri
 
   draw_figure(paths, o.width_px, o.height_px, colours, [&] {
     for (size_t s = 0; s < n; ++s) {
-      const Colour c = plot_colour(s);
+      const Colour c = plot_colour(series[s].colour < 0 ? s : size_t(series[s].colour));
       plscol0a(line_index(s), c.r, c.g, c.b, 1.0);
       plscol0a(band_index(n, s), c.r, c.g, c.b, o.band_alpha);
     }

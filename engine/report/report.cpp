@@ -22,7 +22,44 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 using namespace report_detail;
 
-std::vector<std::string> write_report(const std::string& dir, const std::vector<std::string>& by) {
+namespace {
+
+// Each --by feature once, in the order given: a feature named twice is still one split per table.
+std::vector<std::string> distinct(const std::vector<std::string>& features) {
+  std::vector<std::string> out;
+  for (const auto& f : features)
+    if (std::find(out.begin(), out.end(), f) == out.end()) out.push_back(f);
+  return out;
+}
+
+// Draws the script's figures; their lines for tables.md, each saying what it lacks.
+std::vector<std::string> draw_figures(const BatchScript& b, const Folder& folder, std::vector<std::string>& written,
+                                      json& page_figures) {
+  std::vector<std::string> figures_md;
+  for (const auto& f : b.figures) {
+    const bool drawn = f.kind == "cumulative" ? cumulative_figure(b, f, folder, written, page_figures)
+                       : f.kind == "tasks"    ? tasks_figure(b, f, folder, written, page_figures)
+                                              : curves_figure(b, f, folder, written, page_figures);
+    // A heat map of where a teacher sampled names the finished trials it lacks (their
+    // episodes.jsonl lost), rather than silently drawing fewer.
+    const json& fig = page_figures.back();
+    std::string lacking;
+    if (f.kind == "tasks" && !fig["missing"].empty())
+      lacking = fig["missing"].get<std::vector<std::string>>().front() +
+                (fig["missing"].size() > 1 ? " and " + std::to_string(fig["missing"].size() - 1) + " more" : "") +
+                " finished without episodes.jsonl";
+    std::string line = "- `" + f.file + ".png` / `" + f.file + ".svg`: " + (f.title.empty() ? f.kind + " of run " + f.run : f.title);
+    if (!drawn) line += " (not drawn: " + (lacking.empty() ? "no finished trial" : lacking) + ")";
+    else if (!lacking.empty()) line += " (not in it: " + lacking + ")";
+    figures_md.push_back(line + figure_pending_note(b, f, folder));
+  }
+  for (const BatchRun& run : b.runs) figures_md.push_back(iqm_figure(b, run, folder, written));
+  return figures_md;
+}
+
+}  // namespace
+
+std::vector<std::string> write_report(const std::string& dir, const std::vector<std::string>& by_given) {
   // Every record is checked first (engine/batch/records.cpp): a corrupt trial stops the report
   // before anything is written, rather than being read as whatever its damage says.
   const BatchPlan plan = read_results_plan(dir);  // outlives the trials missing_trials points to
@@ -32,10 +69,14 @@ std::vector<std::string> write_report(const std::string& dir, const std::vector<
   const BatchScript b = batch_config_from_json(manifest.value("config", json::object()));
   // Written whole or not at all: a table that refuses a record's numbers, or a figure that cannot
   // be drawn, leaves the previous report as it was rather than half replaced.
+  const std::vector<std::string> by = distinct(by_given);
   StagedFiles staged(dir);
   const Folder folder(dir, staged.path());
   std::ostringstream md;
   md << "# Results: " << b.name << "\n\n";
+  // Said first, so that no table or figure of a partial report reads as the whole run's.
+  const Completeness done = completeness(plan);
+  if (done.partial()) md << partial_line(done) << "\n\n";
   if (!b.description.empty()) md << b.description << "\n\n";
   md << "Batch script `" << manifest.value("script", std::string("?")) << "`, curriculum `" << b.curriculum
      << "`, roger " << manifest.value("version", std::string("?")) << "; trial i of every run has seed "
@@ -65,30 +106,12 @@ std::vector<std::string> write_report(const std::string& dir, const std::vector<
   // scripts): refused before anything is written, rather than a report of empty tables.
   for (const auto& feature : by)
     if (by_records[feature] > 0 && !by_found[feature])
-      throw Error("--by " + feature + ": none of the " + std::to_string(by_records[feature]) +
-                  " final-evaluation episodes has a feature '" + feature + "'; they have: " +
+      throw Error("--by " + feature + ": none of the " + counted(by_records[feature], "final-evaluation episode") +
+                  " has a feature '" + feature + "'; they have: " +
                   join(std::vector<std::string>(features.begin(), features.end())));
   std::vector<std::string> written;
-  std::vector<std::string> figures_md;
   json page_figures = json::array();
-  for (const auto& f : b.figures) {
-    const bool drawn = f.kind == "cumulative" ? cumulative_figure(b, f, folder, written, page_figures)
-                       : f.kind == "tasks"    ? tasks_figure(b, f, folder, written, page_figures)
-                                              : curves_figure(b, f, folder, written, page_figures);
-    // A heat map of where a teacher sampled names the finished trials it lacks (their
-    // episodes.jsonl lost), rather than silently drawing fewer.
-    const json& fig = page_figures.back();
-    std::string lacking;
-    if (f.kind == "tasks" && !fig["missing"].empty())
-      lacking = fig["missing"].get<std::vector<std::string>>().front() +
-                (fig["missing"].size() > 1 ? " and " + std::to_string(fig["missing"].size() - 1) + " more" : "") +
-                " finished without episodes.jsonl";
-    std::string line = "- `" + f.file + ".png` / `" + f.file + ".svg`: " + (f.title.empty() ? f.kind + " of run " + f.run : f.title);
-    if (!drawn) line += " (not drawn: " + (lacking.empty() ? "no finished trial" : lacking) + ")";
-    else if (!lacking.empty()) line += " (not in it: " + lacking + ")";
-    figures_md.push_back(line);
-  }
-  for (const BatchRun& run : b.runs) figures_md.push_back(iqm_figure(b, run, folder, written));
+  const std::vector<std::string> figures_md = draw_figures(b, folder, written, page_figures);
   md << "## Figures\n\n";
   for (const auto& l : figures_md) md << l << "\n";
   md << "\nLearning curves: each trial's greedy checkpoint rewards (the mean episodic reward of held-out "
@@ -106,7 +129,9 @@ std::vector<std::string> write_report(const std::string& dir, const std::vector<
   const std::string tables = staged.stage("tables.md");
   write_file_atomic(tables, md.str(), "cannot write tables.md");
   const std::string report_json = staged.stage("report.json");
-  write_file_atomic(report_json, json{{"tables", rep}}.dump(1) + "\n", "cannot write report.json");
+  json report = {{"tables", rep}};
+  if (done.partial()) report["partial"] = partial_json(done);  // absent when every trial has a result
+  write_file_atomic(report_json, report.dump(1) + "\n", "cannot write report.json");
   written.insert(written.begin(), {tables, report_json});
   const json page = {{"name", b.name}, {"description", b.description},
                      {"script", manifest.value("script", std::string("?"))}, {"curriculum", b.curriculum},

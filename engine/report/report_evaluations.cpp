@@ -44,8 +44,8 @@ EvalRow eval_row(const std::vector<json>& evals, uint64_t salt) {
 // Writes an evaluation table's row (name, policies column) and returns its numbers for report.json.
 json eval_row_out(const std::string& name, const std::string& object, const EvalRow& r, const std::string& policies,
                   std::ostringstream& md) {
-  md << "| " << name << " | " << fmt("%.1f", r.p.mean) << " ± " << fmt("%.3f", r.p.std) << " | " << pct(r.p.success)
-     << " [" << pct(r.ci.ci.low) << ", " << pct(r.ci.ci.high) << "] | " << pct(mean(r.rates)) << " ± "
+  md << "| " << name << " | " << fmt("%.1f", r.p.mean) << " ± " << fmt("%.3f", r.p.std) << " | " << rate_pct(r.p.success)
+     << " [" << rate_pct(r.ci.ci.low) << ", " << rate_pct(r.ci.ci.high) << "] | " << rate_pct(mean(r.rates)) << " ± "
      << pct(population_std(r.rates)) << " | " << policies << " | " << r.p.episodes << " | " << r.ci.layouts << " |\n";
   return {{"object", object}, {"reward_mean", r.p.mean}, {"reward_std", r.p.std}, {"success_rate", r.p.success},
           {"success_low", r.ci.ci.low}, {"success_high", r.ci.ci.high}, {"interval", resampled_name(r.ci.by)},
@@ -118,7 +118,8 @@ void eval_table(const BatchScript& b, const BatchTable& t, const Folder& folder,
     // as 200 policies.
     std::string count = std::to_string(all.size()) + "/" + std::to_string(every.expected);
     if (groups.size() > 1)
-      count += " of " + std::to_string(ev->trials) + " policies × " + std::to_string(groups.size()) + " objects";
+      count += " of " + (ev->trials == 1 ? std::string("1 policy") : std::to_string(ev->trials) + " policies") + " × " +
+               std::to_string(groups.size()) + " objects";
     if (every.failed) count += " (" + std::to_string(every.failed) + " failed)";
     if (every.pending) count += " (" + std::to_string(every.pending) + " pending)";
     rows.push_back(eval_row_out("**Total**", "Total", total, count, md));

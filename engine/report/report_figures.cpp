@@ -9,6 +9,7 @@
 #include <map>
 #include <sstream>
 
+#include "core/text.h"
 #include "report/dashboard_internal.h"
 #include "report/plot.h"
 
@@ -23,6 +24,7 @@ std::vector<std::string> figure_paths(const std::string& dir, const std::string&
 // there, and their mean, std and IQM bands.
 struct ContextCurves {
   std::string context;
+  size_t place = 0;  // its row's place among the figure's rows, drawn or not: its colour
   std::vector<double> minutes;
   std::vector<std::vector<double>> values;
   CurveBands bands;
@@ -36,7 +38,8 @@ std::vector<ContextCurves> row_curves(const BatchScript& b, const std::vector<Ba
                                       bool log_x, bool success = false) {
   std::vector<ContextCurves> out;
   const bool runs = std::any_of(rows.begin(), rows.end(), [&](const BatchRow& r) { return r.run != rows.front().run; });
-  for (const auto& row : rows) {
+  for (size_t place = 0; place < rows.size(); ++place) {
+    const BatchRow& row = rows[place];
     const Results r = folder.run(*b.run(row.run), row.context);
     std::vector<std::vector<std::pair<double, double>>> trials;
     for (const auto& j : r.ok) {
@@ -47,7 +50,7 @@ std::vector<ContextCurves> row_curves(const BatchScript& b, const std::vector<Ba
     }
     CurveGrid g = curve_grid(trials, kCurvePoints, log_x);
     if (g.t.empty()) continue;
-    ContextCurves cc{runs ? row.label() : row.context, {}, std::move(g.values), {}};
+    ContextCurves cc{runs ? row.label() : row.context, place, {}, std::move(g.values), {}};
     for (double t : g.t) cc.minutes.push_back(t / 60.0);
     cc.bands = curve_bands(cc.values, dashboard::kCurveBootstrapSeed, dashboard::kCurveResamples);
     out.push_back(std::move(cc));
@@ -72,7 +75,38 @@ CurveOptions curve_options(bool log_x, bool success = false) {
   return o;
 }
 
+// " (B2, DC3 pending; DC6 from 1 of 2 trials)": the rows of a figure that lack some of their
+// trials' results, so that a partial figure never reads as the whole run's; "" when none does.
+std::string rows_pending_note(const BatchScript& b, const std::vector<BatchRow>& rows, const Folder& folder) {
+  const bool runs = std::any_of(rows.begin(), rows.end(), [&](const BatchRow& r) { return r.run != rows.front().run; });
+  std::vector<std::string> pending, failed, some;
+  for (const auto& row : rows) {
+    const BatchRun& run = *b.run(row.run);
+    int with_results = 0, waiting = 0;  // counted from the folder, without reading the results again
+    for (int i = 0; i < run.trials; ++i) {
+      const TrialState state = trial_state(folder.dir(), batch_trial_id(run.name, row.context, i));
+      with_results += state == TrialState::kResult;
+      waiting += state == TrialState::kPending;
+    }
+    const std::string name = runs ? row.label() : row.context;
+    if (with_results > 0 && with_results < run.trials)
+      some.push_back(name + " from " + std::to_string(with_results) + " of " + counted(run.trials, "trial"));
+    else if (with_results == 0 && run.trials > 0) (waiting ? pending : failed).push_back(name);
+  }
+  std::vector<std::string> parts;
+  if (!pending.empty()) parts.push_back(join(pending) + " pending");
+  if (!failed.empty()) parts.push_back(join(failed) + " failed");
+  if (!some.empty()) parts.push_back(join(some));
+  return parts.empty() ? "" : " (" + join(parts, "; ") + ")";
+}
+
 }  // namespace
+
+std::string figure_pending_note(const BatchScript& b, const BatchFigure& f, const Folder& folder) {
+  if (f.kind == "tasks") return rows_pending_note(b, {{f.run, f.context}}, folder);
+  if (f.kind == "curves" && !f.compare.empty()) return rows_pending_note(b, f.compare, folder);
+  return rows_pending_note(b, rows_of_run(*b.run(f.run)), folder);
+}
 
 // A run's learning curves (Figures 3 and 4): mean +- std per context (cut to [0, 100] for a
 // share of test tasks mastered).
@@ -84,12 +118,13 @@ bool curves_figure(const BatchScript& b, const BatchFigure& f, const Folder& fol
   json page_series = json::array();
   for (const ContextCurves& cc : row_curves(b, f.compare.empty() ? rows_of_run(run) : f.compare, folder, f.log_x, success)) {
     page_series.push_back(dashboard::curve_series(cc.context, cc.minutes, cc.bands, cc.values.size()));
+    page_series.back()["colour"] = cc.place;  // the page's curve keeps the picture's colour
     if (!success) {
-      series.push_back({cc.context, cc.minutes, cc.bands.mean, cc.bands.std, {}, {}});
+      series.push_back({cc.context, cc.minutes, cc.bands.mean, cc.bands.std, {}, {}, int(cc.place)});
       continue;
     }
     // A share of tasks lies in [0, 100]: its band is mean +- std cut to that range.
-    CurveSeries c{cc.context, cc.minutes, cc.bands.mean, {}, {}, {}};
+    CurveSeries c{cc.context, cc.minutes, cc.bands.mean, {}, {}, {}, int(cc.place)};
     for (size_t i = 0; i < c.mean.size(); ++i) {
       c.low.push_back(std::max(0.0, c.mean[i] - cc.bands.std[i]));
       c.high.push_back(std::min(100.0, c.mean[i] + cc.bands.std[i]));
@@ -118,12 +153,13 @@ std::string iqm_figure(const BatchScript& b, const BatchRun& run, const Folder& 
     if (f.kind == "curves" && f.compare.empty() && f.run == run.name) log_x = log_x || f.log_x;
   std::vector<CurveSeries> series;
   for (const ContextCurves& cc : row_curves(b, rows_of_run(run), folder, log_x))
-    series.push_back({cc.context, cc.minutes, cc.bands.iqm, {}, cc.bands.iqm_low, cc.bands.iqm_high});
+    series.push_back({cc.context, cc.minutes, cc.bands.iqm, {}, cc.bands.iqm_low, cc.bands.iqm_high, int(cc.place)});
   const std::string file = "iqm_" + run.name;
   const std::string title = "IQM learning curves: stage " + run.stage +
                             (run.name == run.stage ? std::string() : " (run " + run.name + ")");
   std::string line = "- `" + file + ".png` / `" + file + ".svg`: " + title;
-  if (series.empty()) return line + " (not drawn: no finished trial)";
+  if (series.empty()) return line + " (not drawn: no finished trial)" + rows_pending_note(b, rows_of_run(run), folder);
+  line += rows_pending_note(b, rows_of_run(run), folder);
   CurveOptions o = curve_options(log_x);
   o.y_label = "IQM of the greedy episodic reward";
   const auto paths = figure_paths(folder.out(), file);

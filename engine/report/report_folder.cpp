@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "core/fileio.h"
+#include "core/text.h"
 
 namespace roger::report_detail {
 namespace {
@@ -35,31 +36,76 @@ std::string fmt(const char* f, double v) {
 
 std::string pct(double fraction) { return fmt("%.1f%%", 100.0 * fraction); }
 
+namespace {
+// Whether a percentage's text reads as exactly none ("0.0%") or all ("100.00%").
+bool reads_none(const std::string& text) { return text.find_first_not_of("0.%") == std::string::npos; }
+bool reads_all(const std::string& text) { return text[0] == '1' && reads_none(text.substr(1)); }
+}  // namespace
+
+std::string rate_pct(double rate) {
+  // One more digit at a time until the text no longer claims all or none where the rate is
+  // neither: a single failure in 2500 episodes must not read as 100.0%.
+  std::string text = pct(rate);
+  for (int digits = 2; digits <= 9 && ((rate < 1 && reads_all(text)) || (rate > 0 && reads_none(text))); ++digits)
+    text = fmt(("%." + std::to_string(digits) + "f%%").c_str(), 100.0 * rate);
+  return text;
+}
+
 std::string with_params(const std::vector<std::pair<std::string, std::string>>& params) {
   std::string out = params.empty() ? "" : " with";
   for (const auto& [k, v] : params) out += " " + k + "=" + v;
   return out;
 }
 
+TrialState trial_state(const std::string& dir, const std::string& id) {
+  const fs::path d = trial_dir(dir, id);
+  std::error_code ec;
+  if (fs::exists(d / "result.json", ec)) return TrialState::kResult;
+  return fs::exists(d / "error.json", ec) ? TrialState::kFailed : TrialState::kPending;
+}
+
 Results Folder::trials(const std::vector<std::string>& ids) const {
   Results r;
   r.expected = int(ids.size());
   for (const auto& id : ids) {
-    const fs::path d = trial_dir(dir_, id);
-    std::error_code ec;
-    if (fs::exists(d / "result.json", ec)) {
-      try {
-        r.ok.push_back(json::parse(read_text(d / "result.json")));
-      } catch (const std::exception& e) {
-        throw Error((d / "result.json").string() + ": not JSON: " + e.what());
-      }
-    } else if (fs::exists(d / "error.json", ec)) {
-      ++r.failed;
-    } else {
-      ++r.pending;
+    const TrialState state = trial_state(dir_, id);
+    if (state == TrialState::kFailed) ++r.failed;
+    if (state == TrialState::kPending) ++r.pending;
+    if (state != TrialState::kResult) continue;
+    const fs::path file = fs::path(trial_dir(dir_, id)) / "result.json";
+    try {
+      r.ok.push_back(json::parse(read_text(file)));
+    } catch (const std::exception& e) {
+      throw Error(file.string() + ": not JSON: " + json_error_text(e.what()));
     }
   }
   return r;
+}
+
+Completeness completeness(const BatchPlan& plan) {
+  Completeness c;
+  for (const auto& phase : plan.phases)
+    for (const PlannedTrial& t : phase) {
+      const TrialState state = trial_state(plan.out, t.id);
+      ++c.trials;
+      c.with_results += state == TrialState::kResult;
+      c.failed += state == TrialState::kFailed;
+      c.pending += state == TrialState::kPending;
+    }
+  return c;
+}
+
+std::string partial_line(const Completeness& c) {
+  std::vector<std::string> without;
+  if (c.pending) without.push_back(std::to_string(c.pending) + " pending");
+  if (c.failed) without.push_back(std::to_string(c.failed) + " failed");
+  return "**Partial report:** " + std::to_string(c.with_results) + " of " + counted(c.trials, "trial") +
+         (c.with_results == 1 ? " has a result" : " have results") + " (" + join(without) +
+         "); the tables and figures draw only on the trials with results.";
+}
+
+json partial_json(const Completeness& c) {
+  return {{"trials", c.trials}, {"with_results", c.with_results}, {"pending", c.pending}, {"failed", c.failed}};
 }
 
 Results Folder::run(const BatchRun& run, const std::string& context) const {
@@ -143,6 +189,8 @@ std::string interval_note(const std::set<Resampled>& methods) {
     parts.push_back("whole policies and whole layouts, independently, where policies share layouts (a hard "
                     "layout costs every policy that meets it)");
   if (methods.count(Resampled::kLayouts)) parts.push_back("the layouts, where there is one policy");
+  // With no result yet there is nothing drawn from to name (a partial report of pending trials).
+  if (parts.empty()) s = s.substr(0, s.size() - 2) + " (none yet: no trial of the table has a result)";
   for (size_t k = 0; k < parts.size(); ++k) s += (k ? "; " : "") + parts[k];
   return s + ". It is never narrower than Wilson's interval over the distinct layouts, which keeps it open at 0% "
              "and 100%.";

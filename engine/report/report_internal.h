@@ -37,6 +37,10 @@ std::string fmt(const char* f, double v);
 // A fraction as a percentage with one decimal: 0.975 -> "97.5%".
 std::string pct(double fraction);
 
+// A success rate as a percentage: pct's, with more digits where one decimal would round a rate
+// that is not 1 to "100.0%" (0.9996 -> "99.96%") or a rate above 0 to "0.0%".
+std::string rate_pct(double rate);
+
 // " with k=v k=v" for a table head's scenario parameters ("" for none), so that a run or an
 // evaluation on another body never reads as one on the stage's.
 std::string with_params(const std::vector<std::pair<std::string, std::string>>& params);
@@ -46,6 +50,22 @@ struct Results {
   std::vector<json> ok;  // result.json of every finished trial, in trial order
   int failed = 0, pending = 0, expected = 0;
 };
+
+// Where a trial of the folder `dir` stands: with its result, failed (its error.json), or pending.
+enum class TrialState { kResult, kFailed, kPending };
+TrialState trial_state(const std::string& dir, const std::string& id);
+
+// How many of a plan's trials have a result in its folder, and how many do not yet.
+struct Completeness {
+  int trials = 0, with_results = 0, pending = 0, failed = 0;
+  bool partial() const { return with_results < trials; }
+};
+Completeness completeness(const BatchPlan& plan);
+
+// tables.md's line saying a report is partial: how many trials have results, how many do not.
+std::string partial_line(const Completeness& c);
+// report.json's "partial": {"trials", "with_results", "pending", "failed"}.
+json partial_json(const Completeness& c);
 
 // The results folder, read once.
 class Folder {
@@ -143,6 +163,10 @@ std::string iqm_figure(const BatchScript& b, const BatchRun& run, const Folder& 
 // (a heat map); whether drawn (report_teachers.cpp).
 bool tasks_figure(const BatchScript& b, const BatchFigure& f, const Folder& folder, std::vector<std::string>& written,
                   json& page);
+
+// " (B2, DC3 pending)": which of a figure's curves or contexts lack some or all of their trials'
+// results; "" when none does (report_figures.cpp).
+std::string figure_pending_note(const BatchScript& b, const BatchFigure& f, const Folder& folder);
 
 // Cumulative training time per context; whether drawn (report_figures.cpp).
 bool cumulative_figure(const BatchScript& b, const BatchFigure& f, const Folder& folder, std::vector<std::string>& written,

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/text.h"
 
 namespace roger::report_detail {
 namespace {
@@ -90,9 +91,9 @@ bool run_table_row(const std::string& c, const Results& r, const BatchTable& t,
   BaselineColumns col;
   if (c != t.baseline && !base_times.empty()) col = compare_with_baseline(times, base_times, base_mean, m, row);
   md << "| " << c << " | " << lb << format_min_sec(m) << " | " << col.improvement << " | " << fmt("%.1f", fin.mean)
-     << " ± " << fmt("%.1f", fin.std) << " | " << pct(fin.success) << " | " << lb << format_min_sec(med) << " | "
+     << " ± " << fmt("%.1f", fin.std) << " | " << rate_pct(fin.success) << " | " << lb << format_min_sec(med) << " | "
      << lb << format_min_sec(iqm.estimate) << " [" << format_min_sec(iqm.low) << ", " << format_min_sec(iqm.high)
-     << "] | " << pct(reached) << " | " << col.p_value << " | " << col.p_faster << " | " << trials_note(r) << " |\n";
+     << "] | " << rate_pct(reached) << " | " << col.p_value << " | " << col.p_faster << " | " << trials_note(r) << " |\n";
   rows.push_back(row);
   return censored;
 }
@@ -167,7 +168,7 @@ json usage_comparisons(const BatchRun& run, const BatchTable& t, const Folder& f
     }
     md << "\n" << u.context << ": " << u.skill << " makes " << pct(mean(ratios)) << " ± " << pct(population_std(ratios))
        << " of the decisions among itself and the actions it subsumes (" << subs << "), mean ± std over "
-       << ratios.size() << (ratios.size() == 1 ? " trial.\n" : " trials.\n");
+       << counted(ratios.size(), "trial") << ".\n";
     comparisons.push_back({{"context", u.context}, {"skill", u.skill}, {"subsumes", u.subsumes},
                            {"share_mean", mean(ratios)}, {"share_std", population_std(ratios)},
                            {"trials", ratios.size()}});

@@ -56,7 +56,7 @@ SortingFigures sorting_figures(const Results& r, int n, bool one_policy, uint64_
 
 // "99.3% [98.0%, 100.0%]": a pooled success rate and its interval.
 std::string rate_with_interval(const SortingFigures& f) {
-  return pct(f.pooled.success) + " [" + pct(f.ci.ci.low) + ", " + pct(f.ci.ci.high) + "]";
+  return rate_pct(f.pooled.success) + " [" + rate_pct(f.ci.ci.low) + ", " + rate_pct(f.ci.ci.high) + "]";
 }
 
 json figures_json(const SortingFigures& f) {
@@ -93,8 +93,8 @@ void sorting_table(const BatchScript& b, const BatchTable& t, const Folder& fold
     else
       md << "- | - | - | - | ";
     if (learned.any)
-      md << rate_with_interval(learned) << " | " << pct(*std::min_element(learned.rates.begin(), learned.rates.end()))
-         << "-" << pct(*std::max_element(learned.rates.begin(), learned.rates.end())) << " | " << learned.ci.layouts
+      md << rate_with_interval(learned) << " | " << rate_pct(*std::min_element(learned.rates.begin(), learned.rates.end()))
+         << "-" << rate_pct(*std::max_element(learned.rates.begin(), learned.rates.end())) << " | " << learned.ci.layouts
          << " | " << fmt("%.2f", learned.sorted) << " | " << fmt("%.1f", learned.seconds_per_object) << " | "
          << learned.reached << "/" << learned.trials << " |\n";
     else

@@ -68,8 +68,7 @@ std::string skipped_text(const BatchScript& b, const std::vector<BatchRow>& rows
     }
     if (tasks == 0) continue;
     rep.push_back({{"row", row.label()}, {"tasks", tasks}, {"trials", trials}});
-    text += (text.empty() ? "" : "; ") + row.label() + ": " + std::to_string(tasks) + (tasks == 1 ? " task" : " tasks") +
-            " in " + std::to_string(trials) + (trials == 1 ? " trial" : " trials");
+    text += (text.empty() ? "" : "; ") + row.label() + ": " + counted(tasks, "task") + " in " + counted(trials, "trial");
   }
   return text;
 }
@@ -190,7 +189,7 @@ ByFound by_table(const BatchScript& b, const BatchTable& t, const Folder& folder
         continue;
       }
       const double rate = double(it->second.successes) / double(it->second.episodes);
-      md << " " << pct(rate) << " (" << it->second.episodes << ") |";
+      md << " " << rate_pct(rate) << " (" << it->second.episodes << ") |";
       row["cells"][v] = {{"success_rate", rate}, {"episodes", it->second.episodes}};
     }
     md << "\n";
@@ -198,7 +197,7 @@ ByFound by_table(const BatchScript& b, const BatchTable& t, const Folder& folder
   }
   if (values.empty() && records == 0) md << "\nNo trial has recorded its final evaluation's episodes (final.jsonl) yet.\n";
   else if (values.empty())
-    md << "\nNone of the " << records << " final-evaluation episodes has a feature '" << t.by
+    md << "\nNone of the " << counted(records, "final-evaluation episode") << " has a feature '" << t.by
        << "'; they have: " << join(std::vector<std::string>(features.begin(), features.end())) << ".\n";
   md << "\n";
   rep.push_back({{"title", t.title}, {"by", t.by}, {"rows", out}});
@@ -315,7 +314,7 @@ bool tasks_figure(const BatchScript& b, const BatchFigure& f, const Folder& fold
   o.y_label = f.param;
   const std::vector<std::string> paths = {(fs::path(folder.out()) / (f.file + ".png")).string(),
                                           (fs::path(folder.out()) / (f.file + ".svg")).string()};
-  std::string trials = std::to_string(d.trials) + (d.trials == 1 ? " trial" : " trials");
+  std::string trials = counted(d.trials, "trial");
   if (!d.missing.empty()) trials += "; " + std::to_string(d.missing.size()) + " finished without episodes.jsonl";
   plot_heat_map(paths, title + " (" + trials + ")", m, o);
   written.insert(written.end(), paths.begin(), paths.end());
