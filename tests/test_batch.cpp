@@ -329,7 +329,19 @@ TEST_CASE("a results folder in use by a run is refused to a second run, parts of
     CHECK_THROWS_WITH(RunningClaim(out.string(), Shard(), {"eval", "T", "T"}),
                       Catch::Contains("in use by another roger run of the same part (--only T --only eval)" + pid));
   }
+  // A run that holds the folder alone removes the temporaries a killed writer left (found by a
+  // probe: a second Ctrl-C left a staging folder that no later run removed), and nothing else.
+  fs::create_directories(out / ".staged4242-0-17.tmp");
+  std::ofstream(out / ".staged4242-0-17.tmp" / ".roger-plot-4242-1-2.tmp") << "x";
+  std::ofstream(out / ".tables.md.tmp4242-3-99") << "x";
+  std::ofstream(out / ".roger-plot-4242-5-6.tmp") << "x";
+  std::ofstream(out / ".notes.tmp") << "mine";
   const RunningClaim again(out.string(), Shard());  // each claim ended with its holder
+  CHECK_FALSE(fs::exists(out / ".staged4242-0-17.tmp"));
+  CHECK_FALSE(fs::exists(out / ".tables.md.tmp4242-3-99"));
+  CHECK_FALSE(fs::exists(out / ".roger-plot-4242-5-6.tmp"));
+  CHECK(fs::exists(out / ".notes.tmp"));
+  CHECK(fs::exists(out / ".running"));
 
   // End to end: the second run is refused before it touches anything, and the first is undisturbed.
   const fs::path results = fresh_dir("claim_run");

@@ -14,6 +14,7 @@
 #include <fstream>
 #include <map>
 #include <optional>
+#include <regex>
 #include <set>
 #include <sstream>
 
@@ -734,6 +735,18 @@ void check_selectors(const BatchPlan& plan, const std::vector<std::string>& only
 
 namespace {
 
+// Removes the hidden temporaries a killed writer left at the top of results folder `out`
+// (write_file_atomic's .NAME.tmpPID-N-R, StagedFiles' .stagedPID-N-R.tmp, PLplot's
+// .roger-plot-PID-N-R.tmp): called only by a run that holds the folder alone, when no writer can
+// be at work. Best effort: one that cannot be removed is left, as before.
+void remove_stale_temporaries(const std::string& out) {
+  static const std::regex temporary(R"(\..+\.tmp[0-9]+-[0-9]+-[0-9]+|\.staged[0-9]+-[0-9]+-[0-9]+\.tmp|)"
+                                    R"(\.roger-plot-[0-9]+-[0-9]+-[0-9]+\.tmp)");
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(out, ec))
+    if (std::regex_match(entry.path().filename().string(), temporary)) fs::remove_all(entry.path(), ec);
+}
+
 // The part of a results folder a run claims: its shard and its --only names ("--shard 0/2 --only
 // SG"), and the claim file's name for it (".running-shard-0-of-2-only-SG"); "" for the whole.
 std::pair<std::string, std::string> run_part(const Shard& shard, std::vector<std::string> only) {
@@ -771,6 +784,7 @@ RunningClaim::RunningClaim(const std::string& out, const Shard& shard, const std
   }
   if (part.empty()) {
     write_holder(whole_);
+    remove_stale_temporaries(out);
     return;
   }
   own_ = open_lock_file(out, part_file);
