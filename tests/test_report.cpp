@@ -1021,6 +1021,9 @@ TEST_CASE("a trial result whose summary disagrees with its own episodes is refus
       {"T/DC6/000", [](json& r) { r["success_rate"] = 0.25; },
        "field \"success_rate\" must be 1 (" + n + " of " + n + " in field \"final_outcomes\"), got 0.25"},
       {"T/DC6/000", [](json& r) { r["seed"] = 999; }, "field \"seed\" must be 7, the seed the plan gives trial T/DC6/000"},
+      // Found by a probe: a time to threshold edited by hand was reported.
+      {"T/DC6/000", [](json& r) { r["time_to_threshold_s"] = 1.0; },
+       "field \"time_to_threshold_s\" is 1, but its checkpoints reached the threshold at "},
   };
   for (const Edit& e : edits) {
     const std::string file = "trials/" + std::string(e.trial) + "/result.json";

@@ -62,6 +62,26 @@ std::string optional_field_problem(const json& r) {
 
 // Why the training-only fields of a result are unsound ("" when sound); their types were checked
 // by optional_field_problem.
+// A reached trial's time to threshold is its checkpoints' own: the simulated seconds of the first
+// of the passing checkpoints that last to the end. A time edited by hand (a probe turned Table
+// I's B1 into 0:50) is refused, as a success rate that disagrees with its outcomes is.
+std::string threshold_problem(const json& r) {
+  if (!r["reached"].is_boolean() || !r["reached"].get<bool>() || !r.contains("threshold") || !r["threshold"].is_number())
+    return "";
+  const json& cps = r["checkpoints"];
+  const double threshold = r["threshold"].get<double>();
+  size_t first = cps.size();
+  while (first > 0 && cps[first - 1]["success_rate"].get<double>() >= threshold) --first;
+  if (first == cps.size())
+    return "field \"reached\" is true, but its last checkpoint's success rate is below the threshold " +
+           format_number(threshold);
+  const double at = cps[first]["sim_s"].get<double>(), said = r["time_to_threshold_s"].get<double>();
+  if (said != at)
+    return "field \"time_to_threshold_s\" is " + format_number(said) + ", but its checkpoints reached the threshold at " +
+           format_number(at) + " simulated seconds (checkpoint " + std::to_string(first) + ")";
+  return "";
+}
+
 std::string training_problem(const json& r) {
   for (const char* key : {"time_to_threshold_s", "train_episodes", "final_episodes"})
     if (auto p = number_problem(r, key, 0.0); !p.empty()) return p;
@@ -76,7 +96,7 @@ std::string training_problem(const json& r) {
       if (!p.empty()) return "checkpoint " + std::to_string(k) + ": " + p;
     }
   }
-  return "";
+  return threshold_problem(r);
 }
 
 // Why a result's episode outcomes ("1101...", under `outcomes_key`) disagree with its summary of
