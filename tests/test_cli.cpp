@@ -98,6 +98,25 @@ TEST_CASE("a misspelt policy or --only context is told the nearest or every choi
   fs::remove_all("/tmp/roger_cli_only_" + std::to_string(::getpid()));
 }
 
+// Found by a probe: the Policies section's table policy never grasped (every episode timed out):
+// it sent Phi7's flicker at its goal back to Phi7. The block, as the doc shows it, must grasp.
+TEST_CASE("docs/control.md: the Policies section's table policy grasps", "[cli]") {
+  const std::string doc = slurp("docs/control.md");
+  const size_t section = doc.find("\n## Policies");
+  REQUIRE(section != std::string::npos);
+  const size_t from = doc.find("```lua\n", section) + 7, to = doc.find("```", from);
+  const fs::path script = temp_file("roger_cli_policy_table.lua",
+                                    "local skills = require(\"lib.skills\")\nlocal p = skills.primitives()\n"
+                                    "local Phi6, Phi7 = skills.Phi6(p), skills.Phi7(p)\n" + doc.substr(from, to - from) +
+                                    "return { policies = { sg = { action = Phi_SG, goal = roger.converged(Phi_SG), "
+                                    "time_limit = 30 } } }\n");
+  const Run r = roger("eval " + script.string() + " --policy sg --episodes 50");
+  INFO(r.out << r.err);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("100.0% (50 of 50)"));
+  fs::remove(script);
+}
+
 TEST_CASE("roger check validates batch scripts against their curriculum", "[cli]") {
   for (const char* s : {"scripts/paper.lua", "scripts/quick.lua", "scripts/ablation.lua"}) {
     const Run r = roger(std::string("check ") + s);

@@ -605,6 +605,9 @@ TEST_CASE("the Lua API checks its arguments where they are given", "[scenario]")
                      format_number(hand.x()) + ", y = " + format_number(hand.y()) + "}",
                  "hand"),
              StartsWith("world:obstacle: obstacle 'obstacle 1' at (") && Contains("overlaps Roger's left hand"));
+  // Found by a probe: the only argument error that did not say what it got.
+  CHECK(run("shapes.get('circle'):scaled(-1)", "negative") == "shape:scaled: the factor must be a positive number, got -1");
+  CHECK(run("shapes.get('circle'):scaled('x')", "string") == "shape:scaled: the factor must be a positive number, got string");
   CHECK(run("world:robot{x = 0, y = 0} local s = shapes.get('circle') local t = s:scaled(2) "
             "assert(t.radius == 0.4 and s.radius == 0.2 and t.name == 'circle') "
             "local x, y = world:sample_position{shape = t} "

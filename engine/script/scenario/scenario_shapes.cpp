@@ -141,7 +141,8 @@ int l_shape_scaled(lua_State* L) {
     const ShapeBox& box = self<ShapeBox>(L, kShapeType, "shape:scaled");
     const double k = lua_tonumber(L, 2);
     if (lua_type(L, 2) != LUA_TNUMBER || !(k > 0.0) || !std::isfinite(k))
-      luaL_error(L, "shape:scaled: the factor must be a positive number");
+      luaL_error(L, "shape:scaled: the factor must be a positive number, got %s",
+                 lua_type(L, 2) == LUA_TNUMBER ? luaL_tolstring(L, 2, nullptr) : luaL_typename(L, 2));
     Shape s = box.shape;
     if (lua_type(L, 3) == LUA_TSTRING) s.name = lua_tostring(L, 3);
     for (auto& p : s.polygons)
