@@ -309,7 +309,9 @@ TEST_CASE("shards of one script run at once into one folder and report what one 
 // path does not exist") or recorded trials as failed for a policy "not run yet".
 TEST_CASE("a results folder in use by a run is refused to a second run, parts of it sharing it", "[batch][shard]") {
   const fs::path out = fresh_dir("claim");
-  const std::string pid = " (pid " + std::to_string(::getpid()) + ")";
+  char host[256] = {};
+  ::gethostname(host, sizeof host - 1);
+  const std::string pid = " (pid " + std::to_string(::getpid()) + " on " + host + ")";
   {
     const RunningClaim whole(out.string(), Shard());
     CHECK_THROWS_WITH(RunningClaim(out.string(), Shard()),

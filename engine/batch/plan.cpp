@@ -460,19 +460,23 @@ bool try_flock(int fd, int op, const std::string& path) {
   return true;
 }
 
-// This process's id, in the claim file `fd` (for the message of a run refused).
+// This process's id and host, in the claim file `fd` (for the message of a run refused: shards of
+// a cluster run on other machines).
 void write_holder(int fd) {
-  const std::string text = "pid " + std::to_string(::getpid()) + "\n";
+  char host[256] = {};
+  ::gethostname(host, sizeof host - 1);
+  const std::string text = "pid " + std::to_string(::getpid()) + " " + host + "\n";
   if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, text.data(), text.size(), 0) != ssize_t(text.size())) {
     // Only a message reads it: a claim without it still holds.
   }
 }
 
-// " (pid N)" from a claim file, or "" when it names none.
+// " (pid N on HOST)" from a claim file, or "" when it names none.
 std::string holder_of(const std::string& path) {
   std::ifstream in(path);
-  std::string word, pid;
-  return in >> word >> pid && word == "pid" ? " (pid " + pid + ")" : "";
+  std::string word, pid, host;
+  if (!(in >> word >> pid) || word != "pid") return "";
+  return " (pid " + pid + (in >> host ? " on " + host : "") + ")";
 }
 
 // A non-negative integer from an environment variable, or -1 when unset; throws when malformed.
