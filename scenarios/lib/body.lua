@@ -55,9 +55,11 @@ for _, c in ipairs(CHANNELS) do
   body.PARAMS[n] = { default = 0.0, min = 0, max = c.max,
                      description = "white noise sigma of " .. c.name .. " (" .. c.unit .. ")" }
   body.PARAMS[n .. "_bias"] = { default = 0.0, min = 0, max = c.max,
-                                description = "sigma of the " .. c.name .. " channel's bias, drawn per episode (" .. c.unit .. ")" }
+                                description = "sigma of the " .. c.name .. " channel's bias, drawn per episode ("
+                                  .. c.unit .. ")" }
   body.PARAMS[n .. "_drift"] = { default = 0.0, min = 0, max = c.max,
-                                 description = "stationary sigma of the " .. c.name .. " channel's drift (" .. c.unit .. ")" }
+                                 description = "stationary sigma of the " .. c.name .. " channel's drift ("
+                                   .. c.unit .. ")" }
   body.PARAMS[n .. "_tau"] = { default = 10.0, min = 0.001, max = 3600,
                                description = "correlation time of the " .. c.name .. " channel's drift (s)" }
   body.PARAMS[n .. "_delay"] = { default = 0, min = 0, max = MAX_DELAY_TICKS,
