@@ -379,6 +379,10 @@ TEST_CASE("scenario parameters", "[scenario]") {
     CHECK_THROWS_WITH(s.set_param("obstacles", " 2"), StartsWith("parameter 'obstacles' of scenario 'cluttered' "
                                                                  "expects an integer in [0, 8], got ' 2'"));
     CHECK_THROWS_WITH(s.set_param("mass", "\t1"), Contains("expects a number in [0.01, 10000], got '\t1'"));
+    // Found by a probe: a number below the smallest double was refused as out of range; it is 0.
+    CHECK_NOTHROW(s.set_param("noise_joints_bias", "1e-400"));
+    CHECK_THROWS_WITH(s.set_param("noise_joints_bias", "1e400"), Contains("got '1e400'"));
+    s.set_param("noise_joints_bias", "0");
     // A failed set_param leaves the old value.
     CHECK(s.generate(0).obstacles.size() == 3);
   }

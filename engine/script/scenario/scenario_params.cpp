@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 
 #include "script/scenario/scenario_internal.h"
 
@@ -80,7 +81,9 @@ bool parse_slot(ParamSlot& s, const std::string& text, std::string& why) {
     }
     case ParamType::kNumber: {
       const double v = std::strtod(begin, &end);
-      if (text.empty() || *end || errno || !std::isfinite(v)) return refuse();
+      // A number too small for a double (1e-400) is its nearest, not an error: only overflow is.
+      const bool underflow = errno == ERANGE && std::fabs(v) <= std::numeric_limits<double>::min();
+      if (text.empty() || *end || (errno && !underflow) || !std::isfinite(v)) return refuse();
       s.number = v;
       break;
     }
