@@ -26,6 +26,7 @@
 #include "cli/commands.h"
 #include "learn/learning.h"
 #include "report/report.h"
+#include "report/report_internal.h"
 #include "report/stats.h"
 #include "test_files.h"
 
@@ -1024,6 +1025,8 @@ TEST_CASE("a trial result whose summary disagrees with its own episodes is refus
       // Found by a probe: a time to threshold edited by hand was reported.
       {"T/DC6/000", [](json& r) { r["time_to_threshold_s"] = 1.0; },
        "field \"time_to_threshold_s\" is 1, but its checkpoints reached the threshold at "},
+      {"T/DC6/000", [](json& r) { r["checkpoints"].back()["success_rate"] = 0.0; },
+       "field \"reached\" is true, but its last checkpoint's success rate is below the threshold 0.9"},
   };
   for (const Edit& e : edits) {
     const std::string file = "trials/" + std::string(e.trial) + "/result.json";
@@ -1256,6 +1259,20 @@ TEST_CASE("a success rate that is not 1 never reads 100.0% and one above 0 never
   INFO(tables);
   CHECK(std::regex_search(tables, std::regex("\\| B1 \\|[^\\n]*\\| 99\\.96% \\|")));
   CHECK(std::regex_search(tables, std::regex("\\| DC2 \\|[^\\n]*\\| 0\\.04% \\|")));
+}
+
+// Found reading the change: 10% and 1% start with a '1' followed by zeros, and were taken for
+// 100% and given nine decimals ("10.000000000%").
+TEST_CASE("rate_pct adds digits only where one decimal would read 100% or 0%", "[report]") {
+  using report_detail::rate_pct;
+  CHECK(rate_pct(1.0) == "100.0%");
+  CHECK(rate_pct(0.0) == "0.0%");
+  CHECK(rate_pct(0.1) == "10.0%");
+  CHECK(rate_pct(0.01) == "1.0%");
+  CHECK(rate_pct(0.5) == "50.0%");
+  CHECK(rate_pct(0.9996) == "99.96%");
+  CHECK(rate_pct(0.99996) == "99.996%");
+  CHECK(rate_pct(0.0004) == "0.04%");
 }
 
 // Found by a probe: --by shape --by shape wrote each split table twice.

@@ -60,8 +60,6 @@ std::string optional_field_problem(const json& r) {
   return "";
 }
 
-// Why the training-only fields of a result are unsound ("" when sound); their types were checked
-// by optional_field_problem.
 // A reached trial's time to threshold is its checkpoints' own: the simulated seconds of the first
 // of the passing checkpoints that last to the end. A time edited by hand (a probe turned Table
 // I's B1 into 0:50) is refused, as a success rate that disagrees with its outcomes is.
@@ -82,6 +80,8 @@ std::string threshold_problem(const json& r) {
   return "";
 }
 
+// Why the training-only fields of a result are unsound ("" when sound); their types were checked
+// by optional_field_problem.
 std::string training_problem(const json& r) {
   for (const char* key : {"time_to_threshold_s", "train_episodes", "final_episodes"})
     if (auto p = number_problem(r, key, 0.0); !p.empty()) return p;

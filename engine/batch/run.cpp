@@ -306,11 +306,11 @@ nlohmann::json training_trial(const BatchPlan& plan, const PlannedTrial& t, cons
   } catch (const FileError&) {
     throw;
   } catch (const std::exception& e) {
-    if (progress.totals.episodes > 0 && !interrupt_requested()) try {
-        write_faulted_train_outputs(progress, e.what(), dir);
-      } catch (const std::exception&) {
-        // The fault is what the trial records; its episodes are a help, not a result.
-      }
+    try {
+      write_faulted_train_outputs(progress, e.what(), dir);
+    } catch (const std::exception&) {
+      // The fault is what the trial records; its episodes are a help, not a result.
+    }
     throw;
   }
   write_train_outputs(r, dir);

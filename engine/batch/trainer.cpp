@@ -17,6 +17,7 @@
 #include "script/curriculum/curriculum.h"
 #include "core/error.h"
 #include "core/fileio.h"
+#include "core/interrupt.h"
 #include "core/rng.h"
 #include "core/text.h"
 #include "script/scenario/scenario.h"
@@ -861,7 +862,8 @@ void write_train_outputs(const TrainResult& r, const std::string& dir) {
   remove_stale(dir, {"error.json"});  // of a trial that faulted here before
 }
 
-void write_faulted_train_outputs(const TrainResult& r, const std::string& fault, const std::string& dir) {
+bool write_faulted_train_outputs(const TrainResult& r, const std::string& fault, const std::string& dir) {
+  if (r.totals.episodes == 0 || interrupt_requested()) return false;
   make_output_folder(dir);
   StagedFiles staged(dir);
   stage_checkpoint_files(r, staged);
@@ -880,6 +882,7 @@ void write_faulted_train_outputs(const TrainResult& r, const std::string& fault,
   // beside this trial's.
   remove_stale(dir, {"policy.json", "final.jsonl", "summary.json"});
   staged.commit({"curve.csv", "checkpoints.jsonl", "episodes.jsonl", "error.json"});
+  return true;
 }
 
 namespace {

@@ -231,8 +231,10 @@ void write_train_outputs(const TrainResult& result, const std::string& dir);
 // What a trial that faulted had done (TrainOptions::progress_on_fault): curve.csv,
 // checkpoints.jsonl and episodes.jsonl as write_train_outputs writes them, and error.json with the
 // fault's message and how far training got. An earlier trial's policy.json, final.jsonl and
-// summary.json in `dir` are removed, so the folder never holds two trials' files. Throws roger::Error.
-void write_faulted_train_outputs(const TrainResult& partial, const std::string& fault, const std::string& dir);
+// summary.json in `dir` are removed, so the folder never holds two trials' files. Writes nothing and
+// returns false when there is nothing to keep: no training episode ran, or a stop was requested (a
+// trial stopped part-way is no result, and no fault). Throws roger::Error.
+bool write_faulted_train_outputs(const TrainResult& partial, const std::string& fault, const std::string& dir);
 
 // The scenario parameters a saved policy's trial set beyond what its stage and context in
 // `curriculum` give now (the file's extra.params that differ from them): what `roger eval

@@ -261,8 +261,7 @@ TrainResult train_keeping_progress(TrainOptions& o, const std::string& out) {
   } catch (const FileError&) {
     throw;
   } catch (const std::exception& e) {
-    if (progress.totals.episodes == 0 || interrupt_requested()) throw;
-    write_faulted_train_outputs(progress, e.what(), out);
+    if (!write_faulted_train_outputs(progress, e.what(), out)) throw;
     // The note goes under the message's first line, before any traceback.
     const std::string message = e.what(), first = message.substr(0, message.find('\n'));
     const std::string rest = message.substr(first.size());

@@ -92,8 +92,8 @@ int print_missing(const std::vector<MissingTrial>& missing, const BatchPlan& pla
 }  // namespace
 
 std::string file_error_line(const FileError& e, bool resumes) {
-  const std::string again =
-      std::string("then run the same command again") + (resumes ? ": it resumes where this one stopped" : "");
+  const std::string rerun = std::string("run the same command again") + (resumes ? ": it resumes where this one stopped" : "");
+  const std::string again = "then " + rerun;
   switch (e.error_number) {
     case ENOSPC:
     case EDQUOT:
@@ -116,7 +116,7 @@ std::string file_error_line(const FileError& e, bool resumes) {
     case EEXIST:  // a file where a folder must be: nothing was made, so nothing resumes
       return std::string(e.what()) + ". A file is in the way of a folder there: give another path, or move the file";
     default:
-      return std::string(e.what()) + ". Once the cause is fixed, " + again.substr(std::string("then ").size());
+      return std::string(e.what()) + ". Once the cause is fixed, " + rerun;
   }
 }
 

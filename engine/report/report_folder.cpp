@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <sstream>
@@ -36,17 +37,13 @@ std::string fmt(const char* f, double v) {
 
 std::string pct(double fraction) { return fmt("%.1f%%", 100.0 * fraction); }
 
-namespace {
-// Whether a percentage's text reads as exactly none ("0.0%") or all ("100.00%").
-bool reads_none(const std::string& text) { return text.find_first_not_of("0.%") == std::string::npos; }
-bool reads_all(const std::string& text) { return text[0] == '1' && reads_none(text.substr(1)); }
-}  // namespace
-
 std::string rate_pct(double rate) {
   // One more digit at a time until the text no longer claims all or none where the rate is
-  // neither: a single failure in 2500 episodes must not read as 100.0%.
+  // neither: a single failure in 2500 episodes must not read as 100.0%. What the text claims is
+  // the number it shows (10.0% starts with a 1 and zeros too).
   std::string text = pct(rate);
-  for (int digits = 2; digits <= 9 && ((rate < 1 && reads_all(text)) || (rate > 0 && reads_none(text))); ++digits)
+  const auto shown = [&] { return std::strtod(text.c_str(), nullptr); };
+  for (int digits = 2; digits <= 9 && ((rate < 1 && shown() >= 100.0) || (rate > 0 && shown() == 0.0)); ++digits)
     text = fmt(("%." + std::to_string(digits) + "f%%").c_str(), 100.0 * rate);
   return text;
 }
