@@ -467,6 +467,32 @@ TEST_CASE("script mistakes are reported at the script's file:line", "[scenario]"
     CHECK(in_helper.line == 5);
     CHECK_THAT(in_helper.message, StartsWith("world has no method 'sample_positon' (did you mean 'sample_position'?)"));
   }
+  SECTION("a misspelt parameter read by the generator, at its line") {
+    // Found by a probe: p.goal_raduis read nil, world:goal took its default radius, roger check
+    // passed, and --set goal_radius=... changed nothing.
+    Scenario s = test::scenario_from("param_typo", R"(return {
+  params = { goal_radius = { default = 0.35, min = 0.2, max = 1 } },
+  generate = function(world, rng, p)
+    world:robot{ x = 0, y = 0, heading = 0 }
+    for _ in ipairs(p) do end -- a key that is no name reads nil, as in any table
+    world:goal{ x = 2, y = 0, radius = p.goal_raduis }
+  end,
+})");
+    const ScriptError e = generate_error(s);
+    CHECK(e.line == 6);
+    CHECK(e.message == "the scenario has no parameter 'goal_raduis' (did you mean 'goal_radius'?); its parameters: "
+                       "goal_radius");
+  }
+  SECTION("bounds on a parameter whose default is no number, at its line") {
+    // Found by a probe: the first world:goal that read it was blamed for a string.
+    const auto path = std::filesystem::temp_directory_path() / "roger_test_string_bounds.lua";
+    std::ofstream(path) << "return {\n  params = {\n    goal_radius = { default = '0.35', min = 0.2 },\n  },\n"
+                           "  generate = function(world) world:robot{ x = 0, y = 0 } end,\n}\n";
+    const ScriptError e = load_error(path.string());
+    CHECK(e.line == 3);
+    CHECK(e.message == "parameter 'goal_radius': min bounds a number, and the default is string '0.35' (its type "
+                       "is the default's: write it as a number for a numeric parameter)");
+  }
   SECTION("an unknown shape lists the known ones") {
     Scenario s = Scenario::load("tests/scripts/bad_shape_name.lua");
     const ScriptError e = generate_error(s);

@@ -225,6 +225,7 @@ WorldSpec Scenario::generate_world(uint64_t seed) {
       push_slot(L, slot);
       lua_setfield(L, -2, key.c_str());
     }
+    luaL_setmetatable(L, kParamsType);  // reading an undeclared parameter is an error
     lua_pushvalue(L, world);  // keep the world on this frame after the call
     lua_insert(L, world - 1);
     {

@@ -180,6 +180,15 @@ ParamSlot Scenario::Impl::read_param(lua_State* L) const {
   std::vector<std::string> choices;
   if (lua_istable(L, value)) value = read_param_table(L, value, ctx, slot, choices);
   read_default(L, value, ctx, slot);
+  // Found by a probe: default = "0.35" with min = 0.2 made a string parameter, and the first
+  // world:goal{radius = p.goal_radius} was blamed for a string, not this line.
+  const bool numeric = slot.info.type == ParamType::kNumber || slot.info.type == ParamType::kInteger;
+  if (!numeric && (slot.info.min || slot.info.max))
+    throw error(ctx + ": " + (slot.info.min ? "min" : "max") + " bounds a number, and the default is " +
+                param_type_name(slot.info.type) + " " +
+                (slot.info.type == ParamType::kString ? "'" + slot.text + "'" : slot_text(slot)) +
+                " (its type is the default's: " +
+                "write it as a number for a numeric parameter)");
   if (slot.info.list && slot.info.type != ParamType::kString)
     throw error(ctx + ": a list's default is a string of comma-separated choices (\"\" for none), got " +
                 param_type_name(slot.info.type) + " " + slot_text(slot));

@@ -329,6 +329,24 @@ void new_class(lua_State* L, const char* type, const luaL_Reg* methods, lua_CFun
   lua_pop(L, 1);
 }
 
+// The __index of generate's parameters table: a name the scenario does not declare is an error at
+// the reader's line, with the nearest. Before, `p.goal_raduis` read nil, and world:goal{radius =
+// nil} quietly took its default, so `--set goal_radius=...` changed nothing. Only names are
+// parameters: another key (ipairs reading p[1]) reads nil, as in any table.
+int l_no_param(lua_State* L) {
+  if (lua_type(L, 2) != LUA_TSTRING) return 0;
+  const std::string name = lua_tostring(L, 2);
+  std::vector<std::string> params;
+  lua_pushnil(L);
+  while (lua_next(L, 1)) {
+    if (lua_type(L, -2) == LUA_TSTRING) params.push_back(lua_tostring(L, -2));
+    lua_pop(L, 1);
+  }
+  std::sort(params.begin(), params.end());
+  return raise_at_reader(L, "the scenario has no parameter '" + name + "'" + suggestion(name, params) +
+                                (params.empty() ? std::string("; it declares none") : "; its parameters: " + join(params)));
+}
+
 // The rng object's class.
 void new_rng_class(lua_State* L) {
   const luaL_Reg rng_methods[] = {{"uniform", l_rng_uniform}, {"int", l_rng_int},
@@ -350,6 +368,10 @@ int install_api(lua_State* L) {
   new_class(L, kWorldType, world_methods, destroy<WorldBuilder>, l_world_tostring);
   new_rng_class(L);
   new_class(L, kShapeType, nullptr, destroy<ShapeBox>, l_shape_tostring);
+  luaL_newmetatable(L, kParamsType);
+  lua_pushcfunction(L, l_no_param);
+  lua_setfield(L, -2, "__index");
+  lua_pop(L, 1);
   luaL_getmetatable(L, kShapeType);
   lua_pushcfunction(L, l_shape_index);
   lua_setfield(L, -2, "__index");
