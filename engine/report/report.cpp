@@ -53,8 +53,26 @@ std::vector<std::string> draw_figures(const BatchScript& b, const Folder& folder
     else if (!lacking.empty()) line += " (not in it: " + lacking + ")";
     figures_md.push_back(line + figure_pending_note(b, f, folder));
   }
-  for (const BatchRun& run : b.runs) figures_md.push_back(iqm_figure(b, run, folder, written));
+  for (const BatchRun& run : b.runs) {
+    figures_md.push_back(iqm_figure(b, run, folder, written));
+    // The page draws its own IQM curves from the curves figures' data; it links these files
+    // (found by a probe: it listed figure3 to figure5 and not the IQM figures beside them).
+    page_figures.push_back({{"kind", "iqm"}, {"file", iqm_file(run)}, {"run", run.name}});
+  }
   return figures_md;
+}
+
+// Removes the files of a figure this report could not draw, left by an earlier report: tables.md
+// says "(not drawn: ...)", and a figure beside it would read as this report's (found by a probe).
+void remove_undrawn_figures(const std::string& dir, const json& page_figures, const std::vector<std::string>& out) {
+  std::set<std::string> written;
+  for (const std::string& o : out) written.insert(fs::path(o).filename().string());
+  for (const json& f : page_figures)
+    for (const char* ext : {".png", ".svg"}) {
+      const std::string name = f.value("file", std::string()) + ext;
+      std::error_code ec;
+      if (name.size() > 4 && !written.count(name)) fs::remove(fs::path(dir) / name, ec);  // usually none
+    }
 }
 
 }  // namespace
@@ -139,7 +157,9 @@ std::vector<std::string> write_report(const std::string& dir, const std::vector<
                      {"blocks", dashboard::markdown_blocks(md.str())}, {"tables", rep},
                      {"figures", page_figures}, {"trials", dashboard::trial_index(b, dir)}};
   for (const auto& f : dashboard::write_dashboard(staged.path(), page)) written.push_back(f);
-  return staged.commit(written);
+  const std::vector<std::string> out = staged.commit(written);
+  remove_undrawn_figures(dir, page_figures, out);
+  return out;
 }
 
 }  // namespace roger

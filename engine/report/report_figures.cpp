@@ -143,6 +143,8 @@ bool curves_figure(const BatchScript& b, const BatchFigure& f, const Folder& fol
   return true;
 }
 
+std::string iqm_file(const BatchRun& run) { return "iqm_" + run.name; }
+
 // The IQM learning curves of a run's stage: per context the interquartile mean over trials inside
 // its 95% bootstrap band, on the time axis of the run's own curves figure (log when it is). Its
 // line for tables.md, whether drawn or not.
@@ -154,7 +156,7 @@ std::string iqm_figure(const BatchScript& b, const BatchRun& run, const Folder& 
   std::vector<CurveSeries> series;
   for (const ContextCurves& cc : row_curves(b, rows_of_run(run), folder, log_x))
     series.push_back({cc.context, cc.minutes, cc.bands.iqm, {}, cc.bands.iqm_low, cc.bands.iqm_high, int(cc.place)});
-  const std::string file = "iqm_" + run.name;
+  const std::string file = iqm_file(run);
   const std::string title = "IQM learning curves: stage " + run.stage +
                             (run.name == run.stage ? std::string() : " (run " + run.name + ")");
   std::string line = "- `" + file + ".png` / `" + file + ".svg`: " + title;

@@ -155,6 +155,9 @@ void sorting_table(const BatchScript& b, const BatchTable& t, const Folder& fold
 bool curves_figure(const BatchScript& b, const BatchFigure& f, const Folder& folder, std::vector<std::string>& written,
                    json& page);
 
+// The IQM figure's file name without extension: "iqm_<run>".
+std::string iqm_file(const BatchRun& run);
+
 // The IQM learning curves of a run's stage; its line for tables.md (report_figures.cpp).
 std::string iqm_figure(const BatchScript& b, const BatchRun& run, const Folder& folder,
                        std::vector<std::string>& written);

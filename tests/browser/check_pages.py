@@ -440,6 +440,22 @@ def check_partial(b, roger, folder):
           "partial: a trial started and not finished links its folder, in a state of its own in the key (%s)" % chip)
 
 
+def check_no_figures(b, roger, results, work):
+    """A partial report that can draw no figure (a copy of a finished run without its trials):
+    the earlier report's figure files go, and the page shows no empty figures' heading (found by a
+    probe: both stayed)."""
+    folder = os.path.join(work, "no_trials")
+    shutil.rmtree(folder, ignore_errors=True)
+    shutil.copytree(results, folder)
+    shutil.rmtree(os.path.join(folder, "trials"))
+    run([roger, "report", "--partial", folder])
+    left = sorted(f for f in os.listdir(folder) if re.match(r"(figure|iqm_).*\.(png|svg)$", f))
+    check(left == [], "no figures: the earlier report's figure files are gone (%s)" % left)
+    b.open(os.path.join(folder, "index.html"), "document.body.getAttribute('data-ready') === '1'")
+    check(b.evaluate("document.getElementById('figures').hidden") is True,
+          "no figures: the page shows no figures' heading")
+
+
 def check_dashboard(b, folder, screenshot):
     check_progress(b, folder)
     page = os.path.join(folder, "index.html")
@@ -474,6 +490,10 @@ def check_dashboard(b, folder, screenshot):
     check(trials > 0 and trials == planned, "dashboard: a link to every trial's folder (%d)" % trials)
     size = sum(os.path.getsize(os.path.join(folder, f)) for f in ("index.html", "dashboard.js", "status.js"))
     check(size < 2_000_000, "dashboard: page and data weigh %d bytes (< 2 MB)" % size)
+    linked = set(b.evaluate("Array.from(document.querySelectorAll('#figure-files a')).map(a => a.textContent)"))
+    drawn = {f for f in os.listdir(folder) if re.match(r"(figure|iqm_).*\.(png|svg)$", f)}
+    check(len(drawn) >= 4 and linked == drawn, "dashboard: links every figure file the report drew, the IQM "
+          "figures too (%d of %d)" % (len(linked & drawn), len(drawn)))
     if screenshot:
         b.screenshot(screenshot)
 
@@ -605,6 +625,32 @@ def check_cycle(b, folder, work):
           % (label["above"], label["below"]))
 
 
+def check_time_axis(b, folder, work):
+    """The time axis's labels stand apart and inside the timeline, on this episode and on a copy
+    claiming to last 240 s (found by a probe: a fixed 5 s step ran a long episode's labels
+    together, and the last one was cut at the right edge)."""
+    def labels_apart(what):
+        labels = b.evaluate("viewer.axisLabels()")
+        width = b.evaluate("document.getElementById('timeline').clientWidth")
+        apart = all(a["right"] + 4 <= c["left"] for a, c in zip(labels, labels[1:]))
+        check(len(labels) >= 3 and apart and labels[-1]["right"] <= width,
+              "viewer (%s): %d time labels, apart and inside the %d px timeline (%s)"
+              % (what, len(labels), width, [(l["text"], round(l["left"]), round(l["right"])) for l in labels]))
+    b.open(os.path.join(folder, "index.html"), "window.viewer !== undefined")
+    labels_apart("its episode")
+    html = open(os.path.join(folder, "index.html")).read()
+    longer, n = re.subn(r'"sim_seconds":[0-9.e+-]+', '"sim_seconds":240', html, count=1)
+    check(n == 1, "viewer: the page holds the episode's sim_seconds")
+    copy = os.path.join(work, "long")
+    shutil.rmtree(copy, ignore_errors=True)
+    os.makedirs(copy)
+    with open(os.path.join(copy, "index.html"), "w") as f:
+        f.write(longer)
+    b.open(os.path.join(copy, "index.html"), "window.viewer !== undefined")
+    check(abs(b.evaluate("viewer.duration") - 240) < 1e-9, "viewer (long): the copy lasts 240 s")
+    labels_apart("240 s")
+
+
 def run(cmd):
     print("$ " + " ".join(cmd), flush=True)
     subprocess.run(cmd, check=True)
@@ -646,8 +692,10 @@ def main():
         check_shards(b, results, a.work)
         check_failures(b, failures_run, None)
         check_partial(b, a.roger, partial)
+        check_no_figures(b, a.roger, results, a.work)
         check_episode(b, episode, shots and os.path.join(shots, "episode-viewer.png"))
         check_cycle(b, episode, a.work)
+        check_time_axis(b, episode, a.work)
         check_teachers(b, teachers)
     finally:
         b.close()
