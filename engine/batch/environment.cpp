@@ -101,6 +101,19 @@ void check_skills_given(const CurriculumContext& ctx, const CurriculumStage& sta
                   "': give its policy file, skills={'" + name + "': '.../policy.json'} (roger train writes one)");
 }
 
+// "with the parameters given (robot_distance=99, shape=spade)" of a world's message: make's params
+// and a task's over them; "with the stage's own parameters" when none.
+std::string params_given(const ParamList& sets, const ParamList& task) {
+  std::string text;
+  auto add = [&](const std::string& key, const std::string& value) {
+    text += (text.empty() ? "" : ", ") + key + "=" + value;
+  };
+  for (const auto& [key, value] : sets)
+    if (std::none_of(task.begin(), task.end(), [&](const auto& p) { return p.first == key; })) add(key, value);
+  for (const auto& [key, value] : task) add(key, value);
+  return text.empty() ? "with the stage's own parameters" : "with the parameters given (" + text + ")";
+}
+
 Curriculum load_checked(const EnvironmentOptions& o) {
   Curriculum cur = Curriculum::load(o.curriculum, o.limits);
   cur.set_teaching(o.stage, o.tasks, o.teacher);
@@ -143,12 +156,29 @@ StageEnvironment::StageEnvironment(const EnvironmentOptions& o) {
   info_.final_episodes = st.checkpoints.final_episodes;
   // The body is the world's (a scenario parameter, the same in every world of the stage's
   // scenarios): the tick mode's image shapes and joint ranges follow the held-out worlds' body.
-  const WorldSpec held_out = impl_->scenario.generate(st.checkpoints.seeds);
-  info_.eye_pixels = held_out.eyes.pixels;
-  observed_joint_ranges(held_out.body, info_.joint_low, info_.joint_high);
-  // As a trial of `roger train` has them: what the caller's parameters fix does not vary.
+  // As a trial of `roger train` has them: what the caller's parameters fix does not vary. A task
+  // space given with them (make(tasks=...)) that varies one of them is refused, as the curriculum
+  // refuses a stage's tasks over its own params: one of the two would be dropped silently.
+  sets_ = o.sets;
   std::vector<std::string> fixed;
   for (const auto& [key, value] : o.sets) fixed.push_back(key);
+  if (!o.tasks.empty())
+    for (const std::string& key : fixed)
+      if (st.tasks.index(key) >= 0)
+        throw Error(st.where() + ": " + o.tasks.name + " varies '" + key + "', which make's params fix (" + key +
+                    "=" + std::find_if(o.sets.begin(), o.sets.end(), [&](const auto& p) { return p.first == key; })
+                              ->second + "); remove one of them");
+  const WorldSpec held_out = [&] {
+    try {
+      return impl_->scenario.generate(st.checkpoints.seeds);
+    } catch (const PlacementError& e) {
+      throw placement_error(e, "could not build the world of seed " + std::to_string(st.checkpoints.seeds) + " of " +
+                                   st.where(impl_->ctx.name) + " (its first held-out world, which gives the body) " +
+                                   params_given(o.sets, {}) + ": ");
+    }
+  }();
+  info_.eye_pixels = held_out.eyes.pixels;
+  observed_joint_ranges(held_out.body, info_.joint_low, info_.joint_high);
   if (st.teacher && st.teacher->kind == TeacherSpec::Kind::kLcas && st.tasks.index(st.teacher->lift) < 0 &&
       std::find(fixed.begin(), fixed.end(), st.teacher->lift) != fixed.end())
     throw Error(st.where() + ": params fix '" + st.teacher->lift + "', which its teacher (" + st.teacher->name() +
@@ -156,7 +186,51 @@ StageEnvironment::StageEnvironment(const EnvironmentOptions& o) {
   task_space_ = st.tasks.without(fixed);
 }
 
+PlacementError placement_error(const PlacementError& e, const std::string& prefix) {
+  const std::string at = e.file.empty() ? "" : e.file + (e.line > 0 ? ":" + std::to_string(e.line) : "") + ": ";
+  PlacementError out(ScriptError(prefix + at + e.message, "", 0, ""));
+  out.message = e.message;
+  out.file = e.file;
+  out.line = e.line;
+  out.traceback = e.traceback;
+  return out;
+}
+
 bool StageEnvironment::teaches() const { return impl_->stage.teaches(); }
+
+std::optional<TeacherBodyChange> StageEnvironment::teacher_body_change() {
+  const CurriculumStage& st = impl_->stage;
+  // Only an LCAS teacher sets a parameter beside the task space (a task space's own body axes are
+  // the package's to refuse at make, from its dims).
+  if (!st.teacher || st.teacher->kind != TeacherSpec::Kind::kLcas || task_space_.index(st.teacher->lift) >= 0)
+    return std::nullopt;
+  const TeacherSpec& t = *st.teacher;
+  const EngineFloatMode mode;
+  std::optional<TeacherBodyChange> change;
+  for (const std::string& level : t.levels) {
+    impl_->set_task({{t.lift, level}});
+    WorldSpec w;
+    try {
+      w = impl_->scenario.generate(st.checkpoints.seeds);
+    } catch (const PlacementError&) {
+      continue;  // a level the scenario cannot place here: the teacher's resets skip such tasks
+    }
+    std::array<double, kDofCount> low, high;
+    observed_joint_ranges(w.body, low, high);
+    std::string misfit;
+    if (w.eyes.pixels != info_.eye_pixels)
+      misfit = "eyes of " + std::to_string(w.eyes.pixels) + " pixels, where observation_space's images have " +
+               std::to_string(info_.eye_pixels) + " (stage_info['eye_pixels'])";
+    else if (low != info_.joint_low || high != info_.joint_high)
+      misfit = "other joint ranges than observation_space's (stage_info['joint_low'], ['joint_high'])";
+    if (misfit.empty()) continue;
+    change = TeacherBodyChange{t.name() + (t.file.empty() ? "" : " (" + t.file + ":" + std::to_string(t.line) + ")"),
+                               t.lift, t.levels, level, misfit};
+    break;
+  }
+  impl_->set_task({});
+  return change;
+}
 
 std::unique_ptr<Teacher> StageEnvironment::make_teacher(uint64_t seed) {
   const CurriculumStage& st = impl_->stage;
@@ -165,7 +239,18 @@ std::unique_ptr<Teacher> StageEnvironment::make_teacher(uint64_t seed) {
                 "(score = \"td\", plr's default), which an environment stepped from outside does not have: give it "
                 "score = \"success\" from Python, roger.make(..., teacher='roger.teacher.plr{score = \"success\"}') "
                 "(with the stage's other plr settings inside the braces), or teacher=False for none");
-  return impl_->cur.make_teacher(impl_->stage, task_space_, seed);
+  try {
+    return impl_->cur.make_teacher(impl_->stage, task_space_, seed);
+  } catch (const ScriptError&) {
+    throw;
+  } catch (const Error& e) {
+    // A teacher that needs a task space, whose every axis make's params fixed: say so, by name.
+    if (!task_space_.empty() || st.tasks.empty()) throw;
+    std::string axes;
+    for (const TaskDim& d : st.tasks.dims()) axes += (axes.empty() ? "'" : ", '") + d.name + "'";
+    throw Error(std::string(e.what()) + ": make's params fix every axis of the stage's task space (" + axes +
+                "); leave one of them out of params, or give teacher=False");
+  }
 }
 
 void observed_joint_ranges(const RobotParams& body, std::array<double, kDofCount>& low,
@@ -189,7 +274,14 @@ const std::vector<Gamma>& StageEnvironment::reset(uint64_t seed, const ParamList
   m.run.reset();
   seed_ = seed;
   m.set_task(task);
-  const WorldSpec spec = m.scenario.generate(seed);
+  const WorldSpec spec = [&] {
+    try {
+      return m.scenario.generate(seed);
+    } catch (const PlacementError& e) {
+      throw placement_error(e, "could not build the world of seed " + std::to_string(seed) + " of " +
+                                   m.stage.where(m.ctx.name) + " " + params_given(sets_, task) + ": ");
+    }
+  }();
   m.run.emplace(m.agent, spec, seed, m.driver, m.stage.episode_time_limit(spec));
   m.ended = false;
   m.advance();

@@ -15,6 +15,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <utility>
@@ -25,6 +26,7 @@
 #include "learn/learning.h"
 #include "script/curriculum/curriculum.h"
 #include "script/sandbox/lua_sandbox.h"
+#include "script/scenario/scenario.h"
 #include "teach/teach.h"
 
 namespace roger {
@@ -89,6 +91,22 @@ struct EnvironmentInfo {
 void observed_joint_ranges(const RobotParams& body, std::array<double, kDofCount>& low,
                            std::array<double, kDofCount>& high);
 
+// A world that could not be placed (PlacementError), its message given `prefix` in front ("make:
+// could not build the world of seed ..."): the same class, file and line, and the placement's
+// own message after the prefix; its Lua traceback is kept in .traceback, not in the message (the
+// parameters, which the prefix names, are what to change).
+PlacementError placement_error(const PlacementError& e, const std::string& prefix);
+
+// A teacher whose worlds have another body than the stage's (what the tick mode's observation
+// space is made for): an LCAS teacher lifting a body parameter (eye_pixels) beside the task space.
+struct TeacherBodyChange {
+  std::string teacher;              // "roger.teacher.lcas (curricula/teachers.lua:87)"
+  std::string lift;                 // the parameter it lifts
+  std::vector<std::string> levels;  // its values
+  std::string level;                // the first whose worlds' body differs
+  std::string misfit;               // how: "eyes of 32 pixels, where ..."
+};
+
 // What one step gave. The stage's time-out ends the episode as its absorbing state does: the
 // engine's learner pays its reward and does not bootstrap beyond it (learn/learning.cpp).
 struct EnvironmentStep {
@@ -123,6 +141,10 @@ class StageEnvironment {
   // sandbox: the teacher must not outlive the environment.
   bool teaches() const;
   std::unique_ptr<Teacher> make_teacher(uint64_t seed);
+  // Whether the stage's teacher sets a parameter beside the task space whose worlds have another
+  // body than info()'s (eye_pixels, joint ranges), read from the first held-out world generated
+  // at each of its values: what the tick mode refuses at make. Call it before the first reset.
+  std::optional<TeacherBodyChange> teacher_body_change();
   // Runs `action` (an index of Psi) until the next decision or the end of the episode. Throws
   // roger::Error for a bad index or when no episode is running (before reset, after the end, or
   // after an error), ScriptError for a fault of the stage's Lua functions.
@@ -152,6 +174,7 @@ class StageEnvironment {
   EnvironmentInfo info_;
   uint64_t seed_ = 0;
   TaskSpace task_space_;
+  std::vector<std::pair<std::string, std::string>> sets_;  // options.sets, for messages
 };
 
 // How a VecEnvironment begins an ended episode's successor: Gymnasium's autoreset modes.

@@ -72,6 +72,16 @@ void check_skill_names(const EnvironmentOptions& o, const std::string& where) {
       throw Error(where + ": skills={'" + name + "': '" + file + "'}: " + cur.path() + ": " + problem);
 }
 
+// A PlacementError (its message already naming the world and the parameters) with `prefix` in front.
+PlacementError prefixed(const PlacementError& e, const std::string& prefix) {
+  PlacementError out(ScriptError(prefix + e.what(), "", 0, ""));
+  out.message = e.message;
+  out.file = e.file;
+  out.line = e.line;
+  out.traceback = e.traceback;
+  return out;
+}
+
 // Makes an environment (or a batch) of `o` with `make`, after checking its skills' names. The
 // engine words a mistake of a stage's ("stage 'SG' has no context 'DC9'; its contexts: ...")
 // without the curriculum's file, which the curriculum's own mistakes name: such a message is
@@ -81,6 +91,8 @@ auto make_environment(const EnvironmentOptions& o, const std::string& where, Mak
   try {
     check_skill_names(o, where);
     return make();
+  } catch (const PlacementError& e) {
+    throw prefixed(e, where + ": ");  // which call could not build the world
   } catch (const ScriptError&) {
     throw;  // file:line already
   } catch (const Error& e) {
@@ -400,13 +412,27 @@ void bind_environment(py::module_& m) {
       .def("reset_task",
            [](StageEnvironment& e, uint64_t seed, const ParamList& task) {
              std::vector<Gamma> g;
-             {
+             try {
                py::gil_scoped_release nogil;
                g = e.reset(seed, task);
+             } catch (const PlacementError& error) {
+               throw prefixed(error, "reset: ");
              }
              return py::make_tuple(state_array(g), e.running());
            },
            py::arg("seed"), py::arg("task"))
+      .def("teacher_body_change",
+           [](StageEnvironment& e) -> py::object {
+             std::optional<TeacherBodyChange> c;
+             {
+               py::gil_scoped_release nogil;
+               c = e.teacher_body_change();
+             }
+             if (!c) return py::none();
+             return py::dict(py::arg("teacher") = c->teacher, py::arg("lift") = c->lift,
+                             py::arg("levels") = c->levels, py::arg("level") = c->level,
+                             py::arg("misfit") = c->misfit);
+           })
       .def_property_readonly("info", [](const StageEnvironment& e) { return info_dict(e.info()); })
       .def("reset",
            [](StageEnvironment& e, uint64_t seed) {

@@ -20,6 +20,8 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import threading
+import time
 import unittest
 
 import numpy as np
@@ -377,16 +379,19 @@ class Interface(unittest.TestCase):
 
     def test_tick_mode_refuses_a_body_outside_its_space(self):
         # The space is made from the stage's body; a teacher that sets the eyes' pixels (LCAS lifts
-        # eye_pixels from 32) would give images outside it: the reset is refused, not observed.
-        env = roger.make(TEACHERS, "SG_lcas", "B1", mode="tick")
-        self.assertEqual(env.observation_space["images"].shape, (2, 128, 3))
+        # eye_pixels from 32) would give images outside it. Found by a probe: make accepted the
+        # stage and then refused every reset; make refuses it, naming the teacher and its line.
         with self.assertRaises(roger.RogerError) as cm:
-            env.reset(seed=1)
-        for text in ("reset: tick mode's observation_space", "{'eye_pixels': 32}", "eyes of 32 pixels",
-                     "have 128 (stage_info['eye_pixels'])", "teacher=False", "mode='decision'"):
+            roger.make(TEACHERS, "SG_lcas", "B1", mode="tick")
+        for text in ("make: mode='tick' observes the stage's body", "roger.teacher.lcas (", "teachers.lua:87)",
+                     "lifts eye_pixels through 32, 64, 128", "eyes of 32 pixels", "have 128 (stage_info['eye_pixels'])",
+                     "teacher=False", "mode='decision'"):
             self.assertIn(text, str(cm.exception))
-        self.assertRaisesRegex(roger.RogerError, "the last reset was refused", env.step, 0)
-        self.assertRaisesRegex(roger.RogerError, "the last reset was refused", copy.deepcopy(env).step, 0)
+        with self.assertRaises(roger.RogerError) as cm:  # a teacher given to make, likewise
+            roger.make(EXAMPLE, "Look", "Gaze", mode="tick", teacher="roger.teacher.lcas{lift = {eye_pixels = {64}}}")
+        self.assertIn("roger.teacher.lcas (make(teacher=...):1), lifts eye_pixels through 64", str(cm.exception))
+        # A teacher whose levels keep the body is not refused.
+        roger.make(EXAMPLE, "Look", "Gaze", mode="tick", teacher="roger.teacher.lcas{lift = {eye_pixels = {128}}}")
         obs, _ = roger.make(TEACHERS, "SG_lcas", "B1", mode="tick", teacher=False).reset(seed=1)
         self.assertEqual(obs["images"].shape, (2, 128, 3))
         self.assertEqual(roger.make(TEACHERS, "SG_lcas", "B1").reset(seed=1)[1]["task_params"], {"eye_pixels": 32})
@@ -831,6 +836,46 @@ class BadArguments(unittest.TestCase):
             self.assertIn(t, str(cm.exception))
         return cm.exception
 
+    def test_a_world_that_cannot_be_placed_names_the_call(self):
+        # Found by a probe: make raised the scenario's PlacementError alone, with a Lua traceback
+        # and nothing of make, the seed or the parameters given.
+        e = self.assertRaisesWith(roger.PlacementError, [
+            "make: could not build the world of seed ", "stage 'T', context 'B2'",
+            "with the parameters given (robot_distance=99): ", "world:sample_position"],
+            roger.make, PAPER, "T", "B2", params={"robot_distance": 99})
+        self.assertNotIn("stack traceback", str(e))
+        self.assertTrue(e.file.endswith(".lua") and e.line > 0, (e.file, e.line))
+        self.assertRaisesWith(roger.PlacementError, ["make_vec: could not build the world of seed ",
+                                                     "(robot_distance=99)"],
+                              roger.make_vec, PAPER, "T", "B2", 2, params={"robot_distance": 99})
+        # A reset's world, and a batch's, which names its environment as for any reset failure.
+        self.assertRaisesWith(roger.PlacementError, [
+            "reset: could not build the world of seed 0 of stage 'T', context 'B2' with the parameters given "
+            "(robot_distance=2.4): "], roger.make(PAPER, "T", "B2", params={"robot_distance": 2.4}).reset, seed=0)
+        e = self.assertRaisesWith(roger.PlacementError, [
+            "reset: environment 0 of 2 (seed 0): could not build the world of seed 0 of stage 'T', context 'B2' with "
+            "the parameters given (robot_distance=2.4): "],
+            roger.make_vec(PAPER, "T", "B2", 2, params={"robot_distance": 2.4}).reset, seed=0)
+        self.assertEqual(e.env, 0)
+        env = roger.make(EXAMPLE, "Look", "Gaze", tasks={"robot_distance": roger.axis.real(0.5, 3.5)}, teacher=False)
+        self.assertRaisesWith(roger.PlacementError, [
+            "reset: could not build the world of seed 1 of stage 'Look', context 'Gaze' with the parameters given "
+            "(robot_distance=3.5)"], env.reset, seed=1, options={"task": {"robot_distance": 3.5}})
+
+    def test_axes_are_checked_when_written(self):
+        # Found by a probe: reversed or fractional bounds passed until make; the Lua side's words.
+        for fn, args, text in (
+                (roger.axis.real, (2, 1), "roger.axis.real(2, 1): the range is reversed (lo must be below hi; "
+                                          "a single value needs no axis)"),
+                (roger.axis.real, (1, 1), "roger.axis.real(1, 1): the range is empty"),
+                (roger.axis.int, (0.5, 3), "roger.axis.int(lo, hi): lo must be an integer, got 0.5"),
+                (roger.axis.int, (0, 2.5), "roger.axis.int(lo, hi): hi must be an integer, got 2.5"),
+                (roger.axis.int, (3, 1), "roger.axis.int(3, 1): the range is reversed (lo must not exceed hi)")):
+            with self.subTest(args=args):
+                self.assertRaisesWith(roger.RogerError, [text], fn, *args)
+        self.assertEqual(repr(roger.axis.int(2.0, 2)), "roger.int(2.0, 2)")
+        self.assertEqual(repr(roger.axis.real(0.5, 2)), "roger.real(0.5, 2)")
+
     def test_unknown_stage_and_context(self):
         self.assertRaisesWith(roger.RogerError, ["Nope", "Look"], roger.make, EXAMPLE, "Nope", "Gaze")
         # The file is named for an unknown context as for an unknown stage.
@@ -1089,6 +1134,97 @@ class DeepRL(unittest.TestCase):
         self.assertEqual(twin.reset()[1]["seed"], env.reset()[1]["seed"])
         env.close()
         self.assertRaisesRegex(roger.RogerError, "closed", pickle.loads(pickle.dumps(env)).reset)
+
+    def test_copies_from_another_working_directory(self):
+        # Found by a probe: a copy re-made the environment with the relative paths as typed, so a
+        # copy made after os.chdir (a SubprocVecEnv's worker elsewhere) found no curriculum.
+        here = os.getcwd()
+        folder = os.path.join(WORK, "elsewhere")
+        os.makedirs(os.path.join(folder, "cur"), exist_ok=True)
+        shutil.copy(EXAMPLE, os.path.join(folder, "cur", "example.lua"))
+        policy = os.path.abspath(train(EXAMPLE, "Look", "Gaze", 3, "look"))
+        shutil.copy(policy, os.path.join(folder, "cur", "policy.json"))
+        try:
+            os.chdir(folder)
+            env = roger.make("cur/example.lua", "Look", "Gaze", policy="cur/policy.json")
+            env.reset(seed=5)
+            env.step(0)
+            bare = roger.make("paper", "T", "B2")  # a bare name is the project's, from anywhere
+            os.chdir(tempfile.gettempdir())
+            for twin in (copy.deepcopy(env), pickle.loads(pickle.dumps(env))):
+                self.assertEqual(twin.stage_info["curriculum"], env.stage_info["curriculum"])  # as typed
+                np.testing.assert_array_equal(twin.step(1)[0], copy.deepcopy(env).step(1)[0])
+            self.assertEqual(copy.deepcopy(bare).stage_info["curriculum"], bare.stage_info["curriculum"])
+            if roger.spaces.__name__.startswith("gymnasium"):
+                self.assertEqual(copy.deepcopy(env).spec.kwargs["curriculum"], "cur/example.lua")
+            data = pickle.dumps(env)
+            os.remove(os.path.join(folder, "cur", "example.lua"))
+            with self.assertRaises(roger.RogerError) as cm:  # re-creating the copy fails: it says so
+                pickle.loads(data)
+            for text in ("copy: could not re-create the copy of <roger.Env", "stage Look context Gaze",
+                         "example.lua"):
+                self.assertIn(text, str(cm.exception))
+        finally:
+            os.chdir(here)
+
+    def test_close_from_another_thread_waits_for_the_step(self):
+        # Found by a probe: close() from another thread while step() ran in C++ left the step to
+        # read a closed environment (AttributeError); close waits for the step to end.
+        env = roger.make(PAPER, "T", "B2")
+        env.reset(seed=1)
+        stepped, errors = threading.Event(), []
+
+        def run():
+            try:
+                for i in range(100000):
+                    _, _, terminated, truncated, _ = env.step(i % len(env.actions))
+                    stepped.set()
+                    if terminated or truncated:
+                        env.reset()
+            except roger.RogerError as e:
+                errors.append(e)
+            except Exception as e:  # what the probe met
+                errors.append(e)
+        thread = threading.Thread(target=run)
+        thread.start()
+        self.assertTrue(stepped.wait(60))
+        env.close()
+        thread.join(60)
+        self.assertEqual(len(errors), 1, errors)
+        self.assertIsInstance(errors[0], roger.RogerError)
+        self.assertIn("the environment is closed", str(errors[0]))
+
+    def test_one_environment_in_two_threads_is_refused(self):
+        # Found by a probe: two threads stepping one environment got misleading errors ("the last
+        # reset was refused"); using it from a second thread meanwhile is refused, saying so.
+        env = roger.make(PAPER, "T", "B2")
+        env.reset(seed=1)
+        errors, stop = [], threading.Event()
+
+        def run(k):
+            try:
+                i = 0
+                while not stop.is_set():
+                    i += 1
+                    _, _, terminated, truncated, _ = env.step((i + k) % len(env.actions))
+                    if terminated or truncated:
+                        env.reset()
+            except roger.RogerError as e:
+                errors.append(e)
+                stop.set()
+        threads = [threading.Thread(target=run, args=(k,)) for k in range(2)]
+        for t in threads:
+            t.start()
+        stop.wait(120)
+        stop.set()
+        for t in threads:
+            t.join(60)
+        self.assertTrue(errors)
+        for text in ("is being used by another thread at the same time",
+                     "one environment is not shared between threads", "make one environment per thread"):
+            self.assertIn(text, str(errors[0]))
+        env.reset(seed=1)  # one thread at a time is fine
+        env.close()
 
     def test_copy_of_a_faulted_episode(self):
         env = roger.make(BAD_REWARD, "Look", "Gaze")
@@ -1391,6 +1527,41 @@ class Tasks(unittest.TestCase):
         with self.assertRaises(roger.RogerError) as cm:
             roger.make_vec(TEACHERS, "T_alp", "B2", num_envs=2)
         self.assertIn("chooses each episode's task with a teacher", str(cm.exception))
+
+    def test_params_fixing_a_task_axis(self):
+        # Found by a probe: tasks varying a parameter params fix lost the axis silently (a random
+        # teacher over nothing); refused, as the curriculum refuses it of a stage's own params.
+        with self.assertRaises(roger.RogerError) as cm:
+            roger.make(PAPER, "T", "B2", tasks={"robot_distance": roger.axis.real(0.8, 2)},
+                       params={"robot_distance": 1.5})
+        self.assertIn("stage 'T': make(tasks=...) varies 'robot_distance', which make's params fix "
+                      "(robot_distance=1.5); remove one of them", str(cm.exception))
+        # The stage's own axes, all fixed by params: a teacher that needs a space says why it has none.
+        with self.assertRaises(roger.RogerError) as cm:
+            roger.make(TEACHERS, "T_alp", "B2", params={"obstacles": 2, "shape": "spade", "robot_distance": 1.5})
+        for text in ("needs a task space with at least one parameter", "make's params fix every axis of the stage's "
+                     "task space ('obstacles', 'robot_distance', 'shape')", "teacher=False"):
+            self.assertIn(text, str(cm.exception))
+        env = roger.make(TEACHERS, "T_alp", "B2", params={"obstacles": 2})  # one fixed: the others vary
+        self.assertEqual(sorted(env.task_space.keys()), ["robot_distance", "shape"])
+
+    def test_make_vec_without_the_teacher(self):
+        # Found by a probe: make_vec took no teacher argument; teacher=False plays the stage's own
+        # parameters, as make(..., teacher=False) does.
+        vec = roger.make_vec(TEACHERS, "T_alp", "B2", 2, teacher=False)
+        obs, info = vec.reset(seed=11)
+        for i in range(2):
+            single_obs, single_info = roger.make(TEACHERS, "T_alp", "B2", teacher=False).reset(seed=11 + i)
+            np.testing.assert_array_equal(obs[i], single_obs)
+            self.assertEqual(info["sim_seconds"][i], single_info["sim_seconds"])
+        self.assertEqual(pickle.loads(pickle.dumps(vec)).reset(seed=11)[1]["seed"].tolist(), [11, 12])
+        with self.assertRaises(roger.RogerError) as cm:
+            roger.make_vec(TEACHERS, "T_alp", "B2", 2)
+        self.assertIn("give make_vec(..., teacher=False) for the stage's own parameters", str(cm.exception))
+        with self.assertRaises(roger.RogerError) as cm:
+            roger.make_vec(TEACHERS, "T_alp", "B2", 2, teacher="roger.teacher.random{}")
+        self.assertIn("make_vec: teacher is None (the stage's, refused when it has one) or False (none)",
+                      str(cm.exception))
 
     def test_teacher_is_told_each_outcome(self):
         env = roger.make(EXAMPLE, "Look", "Gaze", tasks=LOOK_TASKS, teacher=COUNTING_TEACHER)
@@ -1762,6 +1933,22 @@ class GymnasiumJudges(unittest.TestCase):
         with self.assertRaises(roger.RogerError) as cm:
             closed.reset(seed=1)
         self.assertNotIn("vector", str(cm.exception))
+
+    def test_sync_vector_env_closing_a_captured_one_says_so(self):
+        # Found by a probe: the hint after SyncVectorEnv.close() blamed AsyncVectorEnv.
+        env = roger.make(EXAMPLE, "Look", "Gaze")
+        vec = self.gym.vector.SyncVectorEnv([lambda: env, lambda: env])
+        vec.reset(seed=0)
+        vec.close()
+        with self.assertRaises(roger.RogerError) as cm:
+            env.reset(seed=0)
+        self.assertIn("SyncVectorEnv.close() closed it: a vector environment's close() closes the environments it "
+                      "holds", str(cm.exception))
+        self.assertNotIn("AsyncVectorEnv", str(cm.exception))
+        self.assertIn("copy.deepcopy(env)", str(cm.exception))
+        with self.assertRaises(roger.RogerError) as cm:  # and in a copy
+            copy.deepcopy(env).reset(seed=0)
+        self.assertIn("SyncVectorEnv.close() closed it", str(cm.exception))
 
     def test_check_env_of_copies(self):
         from gymnasium.utils.env_checker import check_env

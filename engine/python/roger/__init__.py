@@ -24,8 +24,11 @@ spaces are gymnasium's and the ids roger/SG-B1-v0 ... roger/T-DC6-v0 and roger/S
 registered, each with make_vec as its vector entry point.
 """
 
+import contextlib
 import numbers
+import os
 import secrets
+import threading
 
 import numpy as np
 
@@ -197,12 +200,24 @@ class axis:
     @staticmethod
     def int(lo, hi):
         """An integer axis lo..hi inclusive: in task_space, Discrete(hi - lo + 1, start=lo)."""
-        return Axis(f"roger.int({_lua_number(lo, 'roger.axis.int')}, {_lua_number(hi, 'roger.axis.int')})")
+        a, b = _lua_number(lo, "roger.axis.int"), _lua_number(hi, "roger.axis.int")
+        # Checked here, in the Lua side's words (roger.int), not first at make.
+        for name, x in (("lo", lo), ("hi", hi)):
+            if float(x) != np.floor(float(x)):
+                raise RogerError(f"roger.axis.int(lo, hi): {name} must be an integer, got {x!r}")
+        if float(lo) > float(hi):
+            raise RogerError(f"roger.axis.int({a}, {b}): the range is reversed (lo must not exceed hi)")
+        return Axis(f"roger.int({a}, {b})")
 
     @staticmethod
     def real(lo, hi):
         """A real axis [lo, hi]: in task_space, Box(lo, hi, shape=(), dtype=float64)."""
-        return Axis(f"roger.real({_lua_number(lo, 'roger.axis.real')}, {_lua_number(hi, 'roger.axis.real')})")
+        a, b = _lua_number(lo, "roger.axis.real"), _lua_number(hi, "roger.axis.real")
+        if float(lo) >= float(hi):
+            how = "empty" if float(lo) == float(hi) else "reversed"
+            raise RogerError(f"roger.axis.real({a}, {b}): the range is {how} (lo must be below hi; a single value "
+                             "needs no axis)")
+        return Axis(f"roger.real({a}, {b})")
 
     @staticmethod
     def choice(values):
@@ -268,20 +283,50 @@ def _task_space(dims):
     return spaces.Dict(axes)
 
 
+def _absolute(path):
+    """A path argument as a copy re-creates it: absolute when it names a file from here (a copy may
+    be made in another working directory: a SubprocVecEnv's or AsyncVectorEnv's worker, or after
+    os.chdir), else as given (a bare name such as "paper", resolved in the project from anywhere)."""
+    return os.path.abspath(path) if isinstance(path, (str, os.PathLike)) and os.path.isfile(path) else path
+
+
+def _recipe(init):
+    """make's (or make_vec's) arguments with every path absolute: what a copy is made with. The
+    arguments as typed stay the environment's own (its spec, its stage_info)."""
+    recipe = dict(init)
+    for key in ("curriculum", "policy", "scenario", "teacher"):
+        if isinstance(recipe.get(key), str):
+            recipe[key] = _absolute(recipe[key])
+    if isinstance(recipe.get("skills"), dict):
+        recipe["skills"] = {k: _absolute(v) for k, v in recipe["skills"].items()}
+    return recipe
+
+
 class _Copyable:
     """Pickling and deepcopy by the construction arguments and what continues the same worlds:
-    a copy is a new environment made with the same arguments, given the same seed stream and
+    a copy is a new environment made with the same arguments (its files by their absolute paths,
+    so that it is made alike from another working directory), given the same seed stream and
     np_random, whose running episode is replayed from its seed and actions (an episode is a
     function of them), so it continues exactly where the original is."""
 
     def __getstate__(self):
-        closed = self._closed_now()
-        return {"init": dict(self._init), "spec": self.spec, "closed": closed,
-                "closed_by_vector": getattr(self, "_closed_by_vector", False),
-                "np_random": (self._np_random, self._np_random_seed), "state": None if closed else self._state()}
+        with self._using("copy"):
+            closed = self._closed_now()
+            return {"init": dict(self._init), "recipe": dict(self._recipe), "what": repr(self),
+                    "stage_info": self.stage_info, "spec": self.spec, "closed": closed,
+                    "closed_by_vector": getattr(self, "_closed_by_vector", False),
+                    "np_random": (self._np_random, self._np_random_seed),
+                    "state": None if closed else self._state()}
 
     def __setstate__(self, state):
-        self.__init__(**state["init"])
+        try:
+            self.__init__(**state.get("recipe", state["init"]))
+        except RogerError as e:
+            raise _again(e, f"copy: could not re-create the copy of {state.get('what', 'an environment')} (a copy "
+                            f"is a new environment made with the same arguments): {e}") from e
+        # What the original shows (the arguments as typed) stays what the copy shows.
+        self._init = dict(state["init"])
+        self.stage_info = state.get("stage_info", self.stage_info)
         self.spec = state["spec"]
         self._np_random, self._np_random_seed = state["np_random"]
         if state["closed"]:
@@ -290,19 +335,61 @@ class _Copyable:
         else:
             self._restore(state["state"])
 
+    @contextlib.contextmanager
+    def _using(self, what):
+        """Holds the environment for `what` (reset, step...): a call of another thread meanwhile is
+        refused rather than interleaved, and close() waits for it to end."""
+        lock = self.__dict__.get("_lock")
+        if lock is None:  # an environment whose __init__ failed early holds nothing to guard
+            yield
+            return
+        # A close() from another thread holds it only to close: wait for it, and meet the closed environment.
+        if not lock.acquire(blocking=False) and not (self.__dict__.get("_closing") and lock.acquire()):
+            raise RogerError(f"{what}: the environment is being used by another thread at the same time: one "
+                             "environment is not shared between threads; make one environment per thread "
+                             "(or one make_vec batch)")
+        try:
+            yield
+        finally:
+            lock.release()
+
+
+def _again(error, message):
+    """`error` raised anew with `message`: the same class (RogerError, ScriptError, PlacementError)
+    and the same attributes (.file, .line, .env...)."""
+    again = type(error)(message)
+    for key, value in vars(error).items():
+        setattr(again, key, value)
+    return again
+
 
 def _called_from_a_vector_env():
-    """Whether gymnasium's vector code (through wrappers) called close: AsyncVectorEnv closes a
-    factory's first environment, which a factory that returns a captured environment hands on."""
+    """The class of gymnasium's vector environment whose code (through wrappers) called close, or
+    False: AsyncVectorEnv closes a factory's first environment, which a factory that returns a
+    captured environment hands on; any vector environment's close() closes those it holds."""
     import sys
-    frame = sys._getframe(2)
+    frame, found = sys._getframe(2), False
     for _ in range(12):
         if frame is None:
-            return False
+            break
         if str(frame.f_globals.get("__name__", "")).startswith("gymnasium.vector"):
-            return True
+            found = True  # a comprehension's frame has no self: the method's, further out, has
+            owner = frame.f_locals.get("self")
+            if owner is not None:
+                return type(owner).__name__
         frame = frame.f_back
-    return False
+    return "a vector environment" if found else False
+
+
+def _closed_by_vector_hint(vector):
+    """Why a vector environment closed an environment, as `vector` (its class's name) does it."""
+    remedy = ("give it a factory that makes a new environment, or returns copy.deepcopy(env)")
+    if vector == "AsyncVectorEnv" or vector is True:  # True: a pickle of a version that named no class
+        return (": a vector environment closed it (gymnasium's AsyncVectorEnv closes the first environment a "
+                f"factory returns, after reading its spaces): {remedy}")
+    who = "a vector environment's close()" if vector == "a vector environment" else f"{vector}.close()"
+    return (f": {who} closed it: a vector environment's close() closes the environments it holds, "
+            f"and its factories returned this one (captured, lambda: env) rather than a new one: {remedy}")
 
 
 class Env(_Copyable, _EnvBase):
@@ -313,6 +400,7 @@ class Env(_Copyable, _EnvBase):
 
     def __init__(self, curriculum, stage, context, params=None, skills=None, scenario=None, mode="decision",
                  render_mode=None, render_width=1000, timeout="terminate", tasks=None, teacher=None, policy=None):
+        self._lock = threading.RLock()  # held by reset, step, render and copies; close waits for it
         if mode not in _MODES:
             raise RogerError(f"make: mode must be one of {_MODES}, got {mode!r}")
         if isinstance(policy, Policy):
@@ -321,6 +409,7 @@ class Env(_Copyable, _EnvBase):
                       "skills": skills, "scenario": scenario, "mode": mode, "render_mode": render_mode,
                       "render_width": render_width, "timeout": timeout, "tasks": tasks, "teacher": teacher}
         self._init["policy"] = policy
+        self._recipe = _recipe(self._init)
         params, embedded = _with_policy(policy, curriculum, stage, context, params, scenario, "make")
         self.render_mode = _render_mode(render_mode, "make")
         self.render_width = _render_width(render_width, "make")
@@ -350,6 +439,8 @@ class Env(_Copyable, _EnvBase):
         self.observation_space = _tick_space(n, self.stage_info) if mode == "tick" else _state_space(n)
         if mode == "tick":
             _check_tick_tasks(self._task_dims, self.stage_info)
+            if self._teaching:
+                _check_tick_teacher(self._env.teacher_body_change(), self.stage_info)
         self._stream = None  # [S, k]: the last explicit seed, and the unseeded resets since it
         self._running = False  # an episode waits for step()
         self._faulted = False  # the episode ended by an error (a copy's replay meets it again)
@@ -360,11 +451,7 @@ class Env(_Copyable, _EnvBase):
 
     def _open(self, what):
         if self._env is None:
-            hint = ""
-            if self._closed_by_vector:
-                hint = (": a vector environment closed it (gymnasium's AsyncVectorEnv closes the first "
-                        "environment a factory returns, after reading its spaces): give it a factory that "
-                        "makes a new environment, or returns copy.deepcopy(env)")
+            hint = _closed_by_vector_hint(self._closed_by_vector) if self._closed_by_vector else ""
             raise RogerError(f"{what}: the environment is closed (make a new one){hint}")
         return self._env
 
@@ -412,6 +499,10 @@ class Env(_Copyable, _EnvBase):
         np_random as Gymnasium does. options={"task": {...}} generates the world with that task of
         task_space; without it, the task of set_task, else the teacher's, else the stage's own
         parameters. Returns (observation, info)."""
+        with self._using("reset"):
+            return self._reset(seed, options)
+
+    def _reset(self, seed, options):
         env = self._open("reset")
         given = None if seed is None else _seed(seed, "reset")
         options = _options(options, "reset", ("task",))
@@ -509,6 +600,10 @@ class Env(_Copyable, _EnvBase):
         when the absorbing state is reached or the stage's time-out passes (info["time_out"]
         tells which), truncated never (it is for limits a wrapper adds); with
         timeout="truncate", the time-out is truncated instead of terminated."""
+        with self._using("step"):
+            return self._step(action)
+
+    def _step(self, action):
         env = self._open("step")
         a = _action(action, len(self.actions), f"step ({self.stage_info['stage']}/{self.stage_info['context']})")
         if env.running and not self._running:  # the episode the last reset refused (_refuse_body)
@@ -574,21 +669,25 @@ class Env(_Copyable, _EnvBase):
     def render(self):
         """With render_mode "rgb_array": the world now as `roger render --width render_width`
         draws it, an H x W x 3 uint8 array; else None."""
-        env = self._open("render")
-        if self.render_mode is None:
-            return None
-        if not env.begun:
-            raise RogerError("render: no world yet (call reset first)")
-        return env.render(self.render_width)
+        with self._using("render"):
+            env = self._open("render")
+            if self.render_mode is None:
+                return None
+            if not env.begun:
+                raise RogerError("render: no world yet (call reset first)")
+            return env.render(self.render_width)
 
     def close(self):
         """Frees the world and the Lua state; every later call of a method but close (and of
         teacher_state) raises RogerError. What describes the environment (actions, stage_info,
-        the spaces, metadata, spec) stays readable, and a copy of it is closed too."""
-        self._teacher = None  # first: a Lua teacher lives in the environment's Lua state
-        if self._env is not None:
-            self._closed_by_vector = _called_from_a_vector_env()
-        self._env = None
+        the spaces, metadata, spec) stays readable, and a copy of it is closed too. Called from
+        another thread while a reset or step runs, it waits for that call to end."""
+        self._closing = True  # a call of another thread that finds the lock held by close waits for it
+        with self.__dict__.get("_lock") or contextlib.nullcontext():
+            self._teacher = None  # first: a Lua teacher lives in the environment's Lua state
+            if getattr(self, "_env", None) is not None:
+                self._closed_by_vector = _called_from_a_vector_env()
+            self._env = None
 
     def _closed_now(self):
         return self._env is None
@@ -645,6 +744,20 @@ def _check_tick_tasks(dims, info):
                 f"stage_info['eye_pixels']) in a space fixed at make, but the task space varies eye_pixels "
                 f"({d['text']}): its worlds' images would not fit observation_space. Fix eye_pixels with params, "
                 "leave it out of tasks, or use mode='decision'")
+
+
+def _check_tick_teacher(change, info):
+    """Refuses, at make, a stage whose teacher sets a body parameter beside the task space (an
+    LCAS teacher lifting eye_pixels) in tick mode: every reset of such a world would be refused."""
+    if change is None:
+        return
+    levels = ", ".join(change["levels"])
+    raise RogerError(
+        f"make: mode='tick' observes the stage's body (eyes of {info['eye_pixels']} pixels, "
+        f"stage_info['eye_pixels']) in a space fixed at make, but its teacher, {change['teacher']}, lifts "
+        f"{change['lift']} through {levels}: at {change['lift']} = {change['level']} its worlds have "
+        f"{change['misfit']}, and their observations would not fit observation_space. Give make(..., teacher=False) "
+        f"(the stage's own body; params={{'{change['lift']}': ...}} with it fixes another), or use mode='decision'")
 
 
 def _tick_space(n, info):
@@ -737,13 +850,20 @@ class VecEnv(_Copyable, _VecBase):
 
     def __init__(self, curriculum, stage, context, num_envs, threads=None, params=None, skills=None, scenario=None,
                  autoreset_mode=AutoresetMode.NEXT_STEP, render_mode=None, render_width=1000, timeout="terminate",
-                 mode="decision", policy=None):
+                 mode="decision", policy=None, teacher=None):
         if isinstance(policy, Policy):
             policy = policy.path
         self._init = {"curriculum": curriculum, "stage": stage, "context": context, "num_envs": num_envs,
                       "threads": threads, "params": params, "skills": skills, "scenario": scenario,
                       "autoreset_mode": autoreset_mode, "render_mode": render_mode, "render_width": render_width,
                       "timeout": timeout, "mode": mode, "policy": policy}
+        if teacher is not None:  # recorded only when given: a copy's recipe of an older pickle has none
+            self._init["teacher"] = teacher
+        self._recipe = _recipe(self._init)
+        if teacher not in (None, False):
+            raise RogerError(f"make_vec: teacher is None (the stage's, refused when it has one) or False (none), "
+                             f"got {teacher!r}: the threaded batch runs no teacher; vectorize roger.make "
+                             "environments for one (gymnasium.make_vec(..., vectorization_mode='sync'))")
         if mode != "decision":  # the ids' keyword, which gymnasium.make_vec hands over
             raise RogerError(f"make_vec: the threaded batch steps decisions (mode='decision'), got mode={mode!r}; "
                              "for tick mode vectorize single environments (gymnasium.make_vec(..., "
@@ -765,10 +885,12 @@ class VecEnv(_Copyable, _VecBase):
         self._vec = _roger.VecEnvironment(str(curriculum), str(stage), str(context), scenario or "",
                                           _text_dict(params, "params"), _text_dict(skills, "skills"),
                                           int(num_envs), int(threads), mode.value, embedded)
-        if self._vec.teaches:  # its worlds would not be the tasks roger train plays: refused, not ignored
+        # A teacher's worlds would not be roger train's tasks: refused, not ignored (teacher=False asks for none).
+        if self._vec.teaches and teacher is not False:
             self._vec = None
             raise RogerError(f"make_vec: stage '{stage}' chooses each episode's task with a teacher, which the "
-                             "threaded batch does not run; vectorize roger.make environments instead "
+                             "threaded batch does not run; give make_vec(..., teacher=False) for the stage's own "
+                             "parameters in every world, or vectorize roger.make environments "
                              "(gymnasium.make_vec(..., vectorization_mode='sync')), each with its teacher")
         self.metadata = {"autoreset_mode": mode, "render_modes": _RENDER_MODES, "render_fps": _DECISION_FPS}
         self.autoreset_mode = mode
@@ -990,15 +1112,17 @@ def make(curriculum, stage, context, params=None, skills=None, scenario=None, mo
 
 def make_vec(curriculum, stage, context, num_envs, threads=None, params=None, skills=None, scenario=None,
              autoreset_mode=AutoresetMode.NEXT_STEP, render_mode=None, render_width=1000, timeout="terminate",
-             mode="decision", policy=None):
+             mode="decision", policy=None, teacher=None):
     """num_envs environments stepped together in C++ threads (VecEnv); threads defaults to
     min(num_envs, the cores this process may use); autoreset_mode an AutoresetMode (or its value,
     "NextStep", "SameStep", "Disabled"); timeout as make's. The vector entry point of the
     registered ids (gymnasium.make_vec(id, num_envs, vectorization_mode="vector_entry_point")),
-    which hands over make's keywords: mode must then be "decision"; policy as make's."""
+    which hands over make's keywords: mode must then be "decision"; policy as make's; teacher None
+    (a stage with a teacher is refused: the batch runs none) or False (none: every world has the
+    stage's own parameters, as make(..., teacher=False))."""
     return VecEnv(curriculum, stage, context, num_envs, threads=threads, params=params, skills=skills,
                   scenario=scenario, autoreset_mode=autoreset_mode, render_mode=render_mode,
-                  render_width=render_width, timeout=timeout, mode=mode, policy=policy)
+                  render_width=render_width, timeout=timeout, mode=mode, policy=policy, teacher=teacher)
 
 
 def _with_policy(policy, curriculum, stage, context, params, scenario, where):
