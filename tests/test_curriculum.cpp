@@ -229,7 +229,7 @@ TEST_CASE("a context's init names a context written before it", "[curriculum]") 
              Catch::Matchers::Contains("self.lua:2: stage 'S', context 'B': init = {stage = 'S', context = 'B'} names "
                                        "no context written before this one; those are: S/A"));
   CHECK_THAT(error_of([&] { Curriculum::load(write("typo.lua", "{ contxt = 'A' }")); }),
-             Catch::Matchers::Contains("typo.lua:2: stage 'S': context 2:") &&
+             Catch::Matchers::Contains("typo.lua:5: stage 'S': context 2:") &&
                  Catch::Matchers::Contains("init: unknown field 'contxt' (did you mean 'context'?)"));
 }
 
@@ -408,6 +408,44 @@ TEST_CASE("a map context with fields, and bad context params, are read where the
   const auto problems = check_curriculum(unbuildable);
   REQUIRE(problems.size() == 1);
   CHECK_THAT(problems[0], Catch::Matchers::Contains("context 'Tiny'") && Catch::Matchers::Contains("eye_pixels"));
+}
+
+// Found by a probe: each of these was reported at the roger.stage{ line (2), however far below it
+// the field was written.
+TEST_CASE("a stage's bad field is reported at the line it is written on", "[curriculum]") {
+  const test::TempDir tmp("roger_stage_field_lines");
+  auto error_with = [&](const std::string& name, const std::string& field, const std::string& context_a) {
+    const auto path = tmp.path / name;
+    std::ofstream(path) << "local p = require('lib.skills').primitives()\n"
+                           "return { stages = { roger.stage{\n"
+                           "  name = 'S',\n"
+                           "  time_limit = 5,\n"
+                           "  absorbing = roger.converged(p.phi3), budget = { episodes = 3 },\n"
+                        << "  " << field << "\n"
+                        << "  contexts = {\n"
+                           "    { name = 'B', actions = { p.phi3 } },\n"
+                        << "    " << context_a << "\n"
+                        << "  },\n"
+                           "} } }\n";
+    return error_of([&] { Curriculum::load(path.string()); });
+  };
+  const std::string good = "{ name = 'A', actions = { p.phi3, p.phi1 } },";
+  using Catch::Matchers::Contains;
+  CHECK_THAT(error_with("typo.lua", "time_limt = 12,", good),
+             Contains("typo.lua:6: stage 'S': unknown field 'time_limt' (did you mean 'time_limit'?)"));
+  CHECK_THAT(error_with("learner.lua", "learner = { alpah = 0.2 },", good),
+             Contains("learner.lua:6: stage 'S': learner: unknown field 'alpah' (did you mean 'alpha'?)"));
+  CHECK_THAT(error_with("checkpoints.lua", "checkpoints = {\n    every = -5 },", good),
+             Contains("checkpoints.lua:7: stage 'S': checkpoints: field 'every' must be"));
+  CHECK_THAT(error_with("type.lua", "description = 3,", good),
+             Contains("type.lua:6: stage 'S': field 'description' must be"));
+  CHECK_THAT(error_with("empty.lua", "", "{ name = 'A', actions = {} },"),
+             Contains("empty.lua:9: stage 'S', context 'A': Psi is empty"));
+  CHECK_THAT(error_with("nme.lua", "", "{ nme = 'A', actions = { p.phi3 } },"),
+             Contains("nme.lua:9: stage 'S': context 2: unknown field 'nme' (did you mean 'name'?)"));
+  // What is not a field's stays at the stage's line.
+  CHECK_THAT(error_with("none.lua", "", "{ name = 'B', actions = { p.phi1 } },"),
+             Contains("none.lua:2: stage 'S': a second context named 'B'"));
 }
 
 TEST_CASE("changes made to a roger.stage table after the call count and are checked", "[curriculum]") {

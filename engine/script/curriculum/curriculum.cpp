@@ -307,6 +307,21 @@ Curriculum Curriculum::load(const std::string& path_in, const SandboxLimits& lim
   lua_pushlightuserdata(L, &impl.book);
   lua_rawsetp(L, LUA_REGISTRYINDEX, &book_key);
   sandbox.set_main_script(path);
+  try {
+    read_stages(impl, path);
+  } catch (const ScriptError& e) {
+    if (std::optional<ScriptError> moved = curriculum_detail::at_stage_field(e)) throw *moved;  // its line
+    throw;
+  }
+  check_learned_order(impl.stages);
+  check_init_order(impl.stages);
+  return cur;
+}
+
+// Runs the curriculum script and reads the stages of the table it returns into `impl`.
+void Curriculum::read_stages(Impl& impl, const std::string& path) {
+  LuaSandbox& sandbox = *impl.sandbox;
+  lua_State* L = sandbox.state();
   sandbox.run_file(path, 1);
   finish_control_definitions(sandbox);
 
@@ -350,9 +365,6 @@ Curriculum Curriculum::load(const std::string& path_in, const SandboxLimits& lim
       lua_pop(L, 1);
     }
   });
-  check_learned_order(impl.stages);
-  check_init_order(impl.stages);
-  return cur;
 }
 
 namespace {

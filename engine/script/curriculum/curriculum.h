@@ -205,6 +205,7 @@ class Curriculum {
  private:
   Curriculum();
   struct Impl;
+  static void read_stages(Impl& impl, const std::string& path);  // runs the script, reads its stages
   std::unique_ptr<Impl> impl_;
 };
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <lua.hpp>
@@ -81,6 +82,11 @@ int params_line(const CurriculumStage& st, const std::string& context);
 // file and line are known): every parameter its scenario would refuse, at once, as a ScriptError
 // at the line of the params table that gives it. Loads the scenario only when there are params.
 void check_stage_params(const CurriculumStage& st);
+// `e` moved from a stage's roger.stage{ line (or plain table's name line) to the line its message's
+// field is written on ("stage 'S': learner: unknown field 'alpah'": the alpah = line), read from
+// the script's text; none when the field is not written there, or the error is not one of a
+// roger.stage call (a field changed after the call is not what the text shows).
+std::optional<ScriptError> at_stage_field(const ScriptError& e);
 
 }  // namespace curriculum_detail
 }  // namespace roger

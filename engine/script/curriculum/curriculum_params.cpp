@@ -2,6 +2,9 @@
 // stage's scenario where the curriculum is loaded, each bad one reported at the line of the
 // `params` table that gives it (rather than later, by the trial or roger check, with no line).
 #include <filesystem>
+#include <optional>
+#include <regex>
+#include <tuple>
 
 #include "core/fileio.h"
 #include "script/curriculum/curriculum_internal.h"
@@ -28,13 +31,16 @@ std::string source_text(const std::string& shown) {
 }
 
 // The stage's constructor: the one whose `name` is written on the stage's line (a plain table,
-// whose line is its name's), else the first opened on that line (roger.stage{...}); -1 if none.
+// whose line is its name's), else the last opened on that line with a `name` or `contexts` (in
+// `return { stages = { roger.stage{` the stage's is the third), else the first; -1 if none.
 int stage_node(const LuaTableMap& map, int line) {
+  int opened = -1;
   for (size_t n = 0; n < map.nodes().size(); ++n) {
     const auto* name = map.entry(int(n), "name");
     if (name && name->line == line) return int(n);
+    if (map.nodes()[n].line == line && (name || map.entry(int(n), "contexts"))) opened = int(n);
   }
-  return map.opened_on(line);
+  return opened >= 0 ? opened : map.opened_on(line);
 }
 
 // The constructor of the context `name` in the stage's `contexts` (a list of {name = ..., ...} or
@@ -64,6 +70,63 @@ int params_line(const CurriculumStage& st, const std::string& context) {
   if (!context.empty()) std::tie(node, line) = context_node(map, stage, context, st.line);
   const auto* params = map.entry(node, "params");
   return params ? params->line : line;
+}
+
+namespace {
+
+// Descends from `node` along a message's path of sub-tables ("learner: ", "context 2: ") to the
+// constructor its field is written in; `line` follows to the deepest one found. The rest of the
+// message is left in `rest`.
+int descend(const LuaTableMap& map, int node, int& line, std::string& rest) {
+  static const std::regex sub(R"(^(context (\d+)|[a-z_]+): (.*)$)");
+  std::smatch m;
+  while (node >= 0 && std::regex_match(rest, m, sub)) {
+    int child = -1;
+    if (m[2].matched) {  // "context 2": the second item of the contexts' list
+      const auto* contexts = map.entry(node, "contexts");
+      const int list = contexts ? map.value_node(*contexts) : -1;
+      const size_t k = size_t(std::stoul(m[2].str()));
+      if (list >= 0 && k >= 1 && k <= map.nodes()[size_t(list)].items.size())
+        child = map.nodes()[size_t(list)].items[k - 1];
+      if (child >= 0) line = map.nodes()[size_t(child)].line;
+    } else if (const auto* e = map.entry(node, m[1].str())) {
+      line = e->line;
+      child = map.value_node(*e);
+    } else {
+      return node;  // a sentence, not a field's name: the field is in `node`
+    }
+    rest = m[3].str();
+    if (child < 0) return -1;
+    node = child;
+  }
+  return node;
+}
+
+}  // namespace
+
+std::optional<ScriptError> at_stage_field(const ScriptError& e) {
+  // Found by a probe: a stage's misspelt or ill-typed field was reported at its roger.stage{
+  // line, however far below it was written. A table carries no lines; the text does.
+  static const std::regex stage(R"(^stage '([^']*)'(?:, context '([^']*)')?: (.*)$)");
+  std::smatch m;
+  // Only an error of the roger.stage{...} call itself (raised in Lua, with a traceback): one found
+  // when the returned table is read again may be of a field changed after the call (a wrapper's
+  // paper.stages[2].budget = {...}), which the text does not show.
+  if (e.traceback.empty() || e.file.empty() || e.line <= 0 || !std::regex_match(e.message, m, stage)) return std::nullopt;
+  const std::string text = source_text(e.file);
+  if (text.empty()) return std::nullopt;
+  const LuaTableMap map(text);
+  int node = stage_node(map, e.line), line = e.line;
+  if (node < 0 || map.nodes()[size_t(node)].line != e.line) return std::nullopt;  // raised elsewhere (a callback)
+  if (m[2].matched) std::tie(node, line) = context_node(map, node, m[2].str(), line);
+  std::string rest = m[3].str();
+  node = descend(map, node, line, rest);
+  static const std::regex field(R"(^(?:unknown fields? |field )'([A-Za-z_][A-Za-z0-9_]*)')");
+  std::smatch f;
+  if (node >= 0 && std::regex_search(rest, f, field))
+    if (const auto* entry = map.entry(node, f[1].str())) line = entry->line;
+  if (line == e.line) return std::nullopt;
+  return ScriptError(e.message, e.file, line, e.traceback);
 }
 
 void check_stage_params(const CurriculumStage& st) {
