@@ -456,6 +456,24 @@ def check_no_figures(b, roger, results, work):
           "no figures: the page shows no figures' heading")
 
 
+def check_damaged_report(b, results, work):
+    """A dashboard.js cut short says so and what writes it again (found by a probe: the page said
+    "No report yet" and left the SyntaxError to the console); a page beside its status.js does not
+    ask to be opened from its folder."""
+    folder = os.path.join(work, "damaged")
+    shutil.rmtree(folder, ignore_errors=True)
+    shutil.copytree(results, folder)
+    script = os.path.join(folder, "dashboard.js")
+    text = open(script).read()
+    with open(script, "w") as f:
+        f.write(text[:len(text) // 2])
+    b.open(os.path.join(folder, "index.html"), "document.body.getAttribute('data-ready') === '1'")
+    note = b.evaluate("document.getElementById('empty-note').textContent")
+    check("cannot be read" in note and "roger report" in note, "damaged report: the page says so (%s)" % note)
+    meta = b.evaluate("document.getElementById('meta').textContent")
+    check("open it from that folder" not in meta, "damaged report: no 'open it from that folder' (%s)" % meta)
+
+
 def check_dashboard(b, folder, screenshot):
     check_progress(b, folder)
     page = os.path.join(folder, "index.html")
@@ -693,6 +711,7 @@ def main():
         check_failures(b, failures_run, None)
         check_partial(b, a.roger, partial)
         check_no_figures(b, a.roger, results, a.work)
+        check_damaged_report(b, results, a.work)
         check_episode(b, episode, shots and os.path.join(shots, "episode-viewer.png"))
         check_cycle(b, episode, a.work)
         check_time_axis(b, episode, a.work)
