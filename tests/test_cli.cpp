@@ -528,6 +528,32 @@ TEST_CASE("a key given twice with two values is refused naming both", "[cli]") {
   CHECK(same.status == 0);
 }
 
+// Found by a probe: an option bound to a list took every word up to the next option, so
+// `roger run --set mass=0.7 my/mine.lua` said "script is required". One value per occurrence.
+TEST_CASE("a repeatable option takes one value and leaves the script that follows it", "[cli]") {
+  const std::string out = "/tmp/roger_cli_repeat_" + std::to_string(::getpid());
+  const Run run = roger("run --set shape=spade --only T/DC7 scripts/quick.lua --out " + out);
+  INFO(run.err);
+  CHECK(run.status == 1);
+  CHECK_THAT(run.err, Catch::Matchers::Contains("(they are: SG (B1, DC1, DC2)"));
+  fs::remove_all(out);
+  const Run eval = roger("eval --set shape=spade --set mass=0.7 curricula/scripted.lua --policy task --episodes 1");
+  INFO(eval.err);
+  CHECK(eval.status == 0);
+  const Run check = roger("check --set obstacles=1 scenarios/cluttered.lua --seeds 1");
+  INFO(check.err);
+  CHECK(check.status == 0);
+  CHECK_THAT(check.out, Catch::Matchers::Contains("cluttered.lua: ok"));
+  const Run report = roger("report --by obstacles --by shape " + out + "_none");
+  INFO(report.err);
+  CHECK(report.status == 1);
+  CHECK(report.err.find("dir is required") == std::string::npos);
+  // Two values after one flag: the second is a positional argument, not a second value.
+  const Run two = roger("eval curricula/scripted.lua --policy task --episodes 1 --set shape=spade obstacles=1");
+  CHECK(two.status == 2);
+  CHECK(two.err.find("obstacles=1") != std::string::npos);
+}
+
 TEST_CASE("bad usage exits 2 naming the option and what it expects", "[cli]") {
   struct Case {
     const char* args;
@@ -751,6 +777,60 @@ TEST_CASE("roger eval and render of a name that is no script say it is neither k
     CHECK(r.status != 0);
     CHECK(r.err.find("roger: error: no curriculum or skill script 'no_such_script': not a file, and "
                      "curricula/no_such_script.lua does not exist") != std::string::npos);
+  }
+}
+
+// Found by a probe: a scenario given to roger run or propose ended in a Lua traceback
+// ("scenarios/lib/shapes.lua:16: attempt to index a nil value (global 'roger')"), a batch script
+// given to propose in "unknown fields 'curriculum', 'evaluations', ...".
+TEST_CASE("a script of the wrong kind is named as what it is, with what runs it", "[cli]") {
+  const std::string out = "/tmp/roger_cli_kind_" + std::to_string(::getpid());
+  const std::string scenario = "scenarios/cluttered.lua is a scenario, not a ";
+  const std::string draw = ": a curriculum's stages name it as their scenario (docs/curricula.md); draw it with roger "
+                           "render scenarios/cluttered.lua --out FILE.png\n";
+  const std::string batch = "scripts/quick.lua is a batch script, not a ";
+  struct Case {
+    std::string args, says;
+  };
+  const std::vector<Case> cases = {
+      {"run scenarios/cluttered.lua --out " + out, "roger run: " + scenario + "batch script" + draw},
+      {"propose scenarios/cluttered.lua --stage SG --budget 3000 --out " + out,
+       "roger: error: " + scenario + "curriculum" + draw},
+      {"train scenarios/cluttered.lua --stage SG --context B1 --out " + out,
+       "roger: error: " + scenario + "curriculum" + draw},
+      {"eval scenarios/cluttered.lua --policy task", "roger: error: " + scenario + "curriculum or skill script" + draw},
+      {"propose scripts/quick.lua --stage SG --budget 3000 --out " + out,
+       "roger: error: " + batch + "curriculum: run it with roger run scripts/quick.lua\n"},
+      {"train scripts/quick.lua --stage SG --context B1 --out " + out,
+       "roger: error: " + batch + "curriculum: run it with roger run scripts/quick.lua\n"},
+      {"eval scripts/quick.lua --policy x.json",
+       "roger: error: " + batch + "curriculum or skill script: run it with roger run scripts/quick.lua\n"},
+      {"run curricula/scripted.lua --out " + out,
+       "roger run: curricula/scripted.lua is a skill script, not a batch script: evaluate one of its policies with "
+       "roger eval curricula/scripted.lua --policy NAME\n"},
+      // Found by a probe: render without --policy read a skill script as a scenario (a traceback
+      // from curricula/lib/skills.lua), and with --policy a scenario as a skill script.
+      {"render curricula/sort_by_hand.lua --set objects=8 --out " + out + ".png",
+       "roger: error: curricula/sort_by_hand.lua is a skill script, and without --policy roger render draws a "
+       "scenario's world: give --policy NAME (one of its policies) to record an episode, or name a scenario\n"},
+      {"render curricula/paper.lua --out " + out + ".png",
+       "roger: error: curricula/paper.lua is a curriculum, and without --policy roger render draws a scenario's "
+       "world: give --policy FILE.json (a policy roger train wrote) to record an episode, or name a scenario\n"},
+      {"render scenarios/cluttered.lua --policy sort --out " + out,
+       "roger: error: " + scenario + "curriculum or skill script" + draw},
+      // As before: a curriculum given to roger run.
+      {"run curricula/paper.lua --out " + out,
+       "roger run: curricula/paper.lua is a curriculum, not a batch script: train one of its stages with roger train "
+       "curricula/paper.lua --stage S --context C --out DIR, or name it as the curriculum of a batch script"},
+  };
+  for (const auto& c : cases) {
+    const Run r = roger(c.args);
+    INFO(c.args << ": " << r.err);
+    CHECK(r.status == 1);
+    CHECK(r.err.find(c.says) != std::string::npos);
+    CHECK(r.err.find("traceback") == std::string::npos);
+    CHECK_FALSE(fs::exists(out));
+    CHECK_FALSE(fs::exists(out + ".png"));
   }
 }
 

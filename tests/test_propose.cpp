@@ -223,14 +223,17 @@ TEST_CASE("propose stays within 10% of its budget", "[propose]") {
 TEST_CASE("propose refuses bad input with a clear message", "[propose]") {
   test::TempDir dir("roger_propose");
   ProposeOptions o = sg_options(dir.path / "x", 100);
-  CHECK_THROWS_WITH(propose_curriculum(o), Catch::Contains("--budget 100 ") && Catch::Contains("30 episodes") &&
-                                               Catch::Contains("(150 simulated s)"));
+  // Found by a probe: "30 episodes of the stage's time limit (150 simulated s)" read as a limit of 150 s.
+  CHECK_THROWS_WITH(propose_curriculum(o), Catch::Contains("--budget 100 is under 30 episodes of the stage's time limit "
+                                                           "of 5 simulated s, 150 simulated s: too little") &&
+                                               Catch::Contains("give a --budget of at least 150"));
   // A stage timed per object: 30 episodes of its scenario's world (2 objects at 30 s each).
   o = sg_options(dir.path / "x", 1000);
   o.curriculum = "curricula/sorting.lua";
   o.stage = "Hand2";
   o.context = "Scripted";
-  CHECK_THROWS_WITH(propose_curriculum(o), Catch::Contains("--budget 1000 ") && Catch::Contains("(1800 simulated s)"));
+  CHECK_THROWS_WITH(propose_curriculum(o), Catch::Contains("--budget 1000 ") &&
+                                               Catch::Contains("time limit of 60 simulated s, 1800 simulated s"));
   o = sg_options(dir.path / "x");
   o.stage = "Nope";
   CHECK_THROWS_WITH(propose_curriculum(o), Catch::Contains("Nope") && Catch::Contains("SG"));
@@ -334,7 +337,7 @@ TEST_CASE("propose says plainly when its probe saw no success", "[propose]") {
                      (dir.path / "p").string() + " >" + (dir.path / "stdout").string() + " 2>/dev/null") == 0);
   const std::string out = slurp(dir.path / "stdout");
   INFO(out);
-  CHECK(out.find("1 candidate, 0 round(s)") != std::string::npos);
+  CHECK(out.find("1 candidate, 0 rounds, 0 trials run, 0 reused") != std::string::npos);
   CHECK(out.find("no successful episode in 8 training episodes") != std::string::npos);
   CHECK(out.find("the only candidate is the base") != std::string::npos);
   CHECK(slurp(dir.path / "p" / "propose.md").find("**No probe episode succeeded**") != std::string::npos);
@@ -368,7 +371,7 @@ TEST_CASE("propose.md's command gives every option that differs from its default
                      "--prune-below 0.1 --seed 2 >" + (dir.path / "stdout").string() + " 2>/dev/null") == 0);
   const std::string out = slurp(dir.path / "stdout");
   INFO(out);
-  CHECK(out.find("6 candidates (2 evaluated, the rest over --max-candidates), 1 round(s)") != std::string::npos);
+  CHECK(out.find("6 candidates (2 evaluated, the rest over --max-candidates), 1 round, 2 trials run") != std::string::npos);
   CHECK(slurp(dir.path / "p" / "propose.md")
             .find("`roger propose paper --stage SG --context B1 --budget 3000 --seed 2 --trials 1 --probe-trials 1 "
                   "--probe-share 0.3 --max-candidates 2 --prune-below 0.1`") != std::string::npos);
@@ -397,4 +400,84 @@ TEST_CASE("docs/propose.md: every option of roger propose and the library exampl
   const std::string example = slurp("docs/examples/propose_example.lua");
   CHECK(doc.find(example.substr(example.find("local propose"))) != std::string::npos);
   CHECK(check_curriculum("docs/examples/propose_example.lua").empty());
+}
+
+// Found by a probe: `roger propose scenarios/cluttered.lua` ended in a Lua traceback, and a batch
+// script in "unknown fields 'curriculum', 'evaluations', ...".
+TEST_CASE("propose names a scenario or a batch script given as its curriculum", "[propose]") {
+  test::TempDir dir("roger_propose");
+  ProposeOptions o = sg_options(dir.path / "x");
+  o.curriculum = "scenarios/cluttered.lua";
+  CHECK_THROWS_WITH(propose_curriculum(o), Catch::StartsWith("scenarios/cluttered.lua is a scenario, not a "
+                                                             "curriculum: a curriculum's stages name it"));
+  o.curriculum = "scripts/quick.lua";
+  CHECK_THROWS_WITH(propose_curriculum(o), Catch::Equals("scripts/quick.lua is a batch script, not a curriculum: run "
+                                                         "it with roger run scripts/quick.lua"));
+  CHECK_FALSE(fs::exists(dir.path / "x"));
+}
+
+// Found by a probe: a roger run results folder given as --out was taken, and the two tools'
+// records mixed in its trials/.
+TEST_CASE("propose refuses an --out that holds a results folder or other files", "[propose]") {
+  test::TempDir dir("roger_propose");
+  fs::create_directories(dir.path / "run" / "trials");
+  std::ofstream(dir.path / "run" / "manifest.json") << "{}\n";
+  const auto run_before = tree(dir.path / "run");
+  CHECK_THROWS_WITH(propose_curriculum(sg_options(dir.path / "run")),
+                    Catch::Contains((dir.path / "run").string() + " is a roger run results folder (it holds "
+                                    "manifest.json)") && Catch::Contains("give another --out"));
+  CHECK(tree(dir.path / "run") == run_before);
+  fs::create_directories(dir.path / "mine");
+  for (const char* f : {"notes.txt", "a.csv", "b.csv", "c.csv"}) std::ofstream(dir.path / "mine" / f) << "x\n";
+  CHECK_THROWS_WITH(propose_curriculum(sg_options(dir.path / "mine")),
+                    Catch::Contains("holds other files (a.csv, b.csv, c.csv and 1 more) and no search's settings.json"));
+  CHECK_FALSE(fs::exists(dir.path / "mine" / "settings.json"));
+}
+
+namespace {
+
+struct Ran {
+  int status = -1;
+  std::string out, err;
+};
+
+// The roger program with `args`, capturing its output in `dir`.
+Ran roger_run(const fs::path& dir, const std::string& args) {
+  const int raw = std::system((std::string(ROGER_BINARY) + " " + args + " >" + (dir / "stdout").string() + " 2>" +
+                               (dir / "stderr").string()).c_str());
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(dir / "stdout"), slurp(dir / "stderr")};
+}
+
+}  // namespace
+
+// Found by a probe: after Ctrl-C nothing followed the last "round" line, and a corrupt record was
+// run again without a word ("1 trials run, 21 reused").
+TEST_CASE("propose says it stopped on Ctrl-C and names an unreadable record it runs again", "[propose]") {
+  test::TempDir dir("roger_propose");
+  const std::string args = "propose paper --stage SG --context B1 --budget 3000 --out " + (dir.path / "p").string();
+  // Ctrl-C once the first probe record is written: the search is under way, its handler set. A
+  // shell starts a background command with SIGINT ignored; env gives it back its default.
+  const std::string first = (dir.path / "p" / "probe" / "probe-1.json").string();
+  const int raw = std::system(("sh -c 'env --default-signal=INT " + std::string(ROGER_BINARY) + " " + args + " >" + (dir.path / "stdout").string() +
+                               " 2>" + (dir.path / "stderr").string() + " & pid=$!; n=0; while [ ! -e " + first +
+                               " ] && [ $n -lt 600 ]; do sleep 0.05; n=$((n+1)); done; kill -INT $pid; wait $pid'")
+                                  .c_str());
+  const Ran stopped{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(dir.path / "stdout"), slurp(dir.path / "stderr")};
+  INFO(stopped.err);
+  CHECK(stopped.status == 130);
+  CHECK_THAT(stopped.err, Catch::Contains("roger propose: interrupted; run the same command again: it reuses the "
+                                          "records of the finished trials in " + (dir.path / "p").string()));
+  const Ran whole = roger_run(dir.path, args);
+  REQUIRE(whole.status == 0);
+  const fs::path record = dir.path / "p" / "trials" / "C1-r1-t1.json";
+  REQUIRE(fs::exists(record));
+  std::ofstream(record) << "{ \"hash\": ";
+  const Ran again = roger_run(dir.path, args);
+  INFO(again.out << again.err);
+  CHECK(again.status == 0);
+  CHECK_THAT(again.out, Catch::Contains(", 1 trial run, ") &&
+                            Catch::Contains("  unreadable     " + record.string() + " could not be read: its trial "
+                                            "was run again\n"));
+  CHECK_THAT(again.err, Catch::Contains("roger propose: " + record.string() + " cannot be read (") &&
+                            Catch::Contains("): its trial runs again\n"));
 }

@@ -19,7 +19,10 @@
 #include "cli/commands.h"
 #include "core/error.h"
 #include "core/text.h"
+#include "script/batch/batch_script.h"
+#include "script/curriculum/curriculum.h"
 #include "script/sandbox/lua_sandbox.h"
+#include "script/scenario/scenario.h"
 
 namespace {
 
@@ -79,6 +82,12 @@ CLI::Validator shard_value() {
 // A seed: any whole number a 64-bit unsigned integer holds.
 CLI::Validator seed_value() { return integer_in(0, UINT64_MAX); }
 
+// A repeatable option: one value per occurrence, all occurrences kept. CLI11 lets an option bound
+// to a vector take every word up to the next option, so `--set a=1 SCRIPT` swallowed the script.
+CLI::Option* repeatable(CLI::Option* o) {
+  return o->expected(1)->allow_extra_args(false)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+}
+
 // --lua-instructions and --lua-memory, for commands that run scripts.
 void add_lua_limits(CLI::App* c, LuaLimitArgs& a, const char* whose) {
   c->add_option("--lua-instructions", a.instructions,
@@ -106,9 +115,9 @@ CLI::App* add_render(CLI::App& app, RenderArgs& a) {
       ->required();
   c->add_option("--seed", a.seed, "World seed")->capture_default_str()->check(seed_value());
   c->add_option("--out", a.out, "Output picture (.png or .svg)")->check(path_value())->required();
-  c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)");
+  repeatable(c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)"));
   // render.cpp's range, as Python's render_width has it.
-  c->add_option("--width", a.width, "Picture width in pixels")->capture_default_str()->check(integer_in(100, 16000));
+  c->add_option("--width", a.width, "Picture width in pixels (of each frame of an episode's strip)")->capture_default_str()->check(integer_in(100, 16000));
   c->add_option("--seconds", a.seconds, "Simulate this long (Roger idle) first")->check(number_in(0.0, 3600.0));
   c->add_flag("--grid", a.grid, "Draw the metric grid across the floor");
   c->add_option("--policy", a.policy,
@@ -116,9 +125,9 @@ CLI::App* add_render(CLI::App& app, RenderArgs& a) {
                 "episode of a policy.json written by roger train (a folder with frames and a replay "
                 "page, or a .png summary)");
   c->add_option("--scenario", a.world, "The episode's scenario (default: the policy's)");
-  c->add_option("--skill", a.skills,
-                "With a saved policy: a learned skill's policy NAME=FILE.json instead of the one it embeds "
-                "(repeatable), as roger eval takes it");
+  repeatable(c->add_option("--skill", a.skills,
+                           "With a saved policy: a learned skill's policy NAME=FILE.json instead of the one it embeds "
+                           "(repeatable), as roger eval takes it"));
   c->add_option("--test-task", a.test_task,
                 "With a saved policy of a stage that teaches: task K (from 1) of the test set its trial ended on, "
                 "in that task's world seed")
@@ -131,7 +140,7 @@ CLI::App* add_render(CLI::App& app, RenderArgs& a) {
 CLI::App* add_check(CLI::App& app, CheckArgs& a) {
   auto* c = app.add_subcommand("check", "Load and validate a script without running an episode");
   c->add_option("scripts", a.scripts, "Scripts (.lua): each is checked")->required();
-  c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)");
+  repeatable(c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)"));
   c->add_option("--seeds", a.seeds, "Seeds to generate")->capture_default_str()->check(integer_in(1, 100000));
   add_lua_limits(c, a.lua, "; a batch script's own limits otherwise");
   return c;
@@ -144,10 +153,10 @@ CLI::App* add_eval(CLI::App& app, EvalArgs& a, CLI::Option*& seed) {
                 "Policy name in the skill script, or with a curriculum a policy.json written by roger train")
       ->required();
   c->add_option("--scenario", a.scenario, "Scenario (default: the policy's)");
-  c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)");
-  c->add_option("--skill", a.skills,
-                "With a saved policy: a learned skill's policy NAME=FILE.json instead of the one it embeds "
-                "(repeatable), e.g. a Phi_SG retrained on another body");
+  repeatable(c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)"));
+  repeatable(c->add_option("--skill", a.skills,
+                           "With a saved policy: a learned skill's policy NAME=FILE.json instead of the one it embeds "
+                           "(repeatable), e.g. a Phi_SG retrained on another body"));
   c->add_option("--episodes", a.episodes, "Episodes")->capture_default_str()->check(integer_in(1, 1000000));
   seed = c->add_option("--seed", a.seed, "First seed (then seed+1, ...); with a saved "
                        "policy the default is its stage's held-out seeds")->capture_default_str()->check(seed_value());
@@ -167,9 +176,9 @@ CLI::App* add_train(CLI::App& app, TrainArgs& a) {
   c->add_option("--seed", a.seed, "Trial seed")->capture_default_str()->check(seed_value());
   c->add_option("--out", a.out, "Output folder")->check(path_value())->required();
   c->add_flag("--json", a.json, "End with one JSON line of the figures");
-  c->add_option("--skill", a.skills,
-                "A learned skill's policy NAME=FILE.json (repeatable; default: train its stage first)");
-  c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)");
+  repeatable(c->add_option("--skill", a.skills,
+                           "A learned skill's policy NAME=FILE.json (repeatable; default: train its stage first)"));
+  repeatable(c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)"));
   c->add_option("--init", a.init,
                 "A policy.json learned earlier: the Q-table starts from its values over the actions the two "
                 "share by name (a warm start), the others at initial_q");
@@ -202,8 +211,8 @@ CLI::App* add_run(CLI::App& app, RunArgs& a) {
   c->add_option("--trials", a.trials, "Trials per run (overrides the script)")->check(integer_in(1, 100000));
   c->add_option("--jobs", a.jobs, "Worker threads (default: all cores)")->check(integer_in(1, 1024));
   c->add_option("--out", a.out, "Results folder (default: results/<script name>)")->check(path_value());
-  c->add_option("--set", a.sets, "Scenario parameter key=value for every run (repeatable)");
-  c->add_option("--only", a.only, "Only this run, RUN/CONTEXT, or eval/NAME (repeatable)");
+  repeatable(c->add_option("--set", a.sets, "Scenario parameter key=value for every run (repeatable)"));
+  repeatable(c->add_option("--only", a.only, "Only this run, RUN/CONTEXT, or eval/NAME (repeatable)"));
   c->add_flag("--live", a.live, "A live progress bar (default on a terminal)");
   c->add_flag("--no-report", a.no_report, "Skip the report at the end");
   add_training_flags(c, a.no_eval_cache, a.explain);
@@ -219,9 +228,9 @@ CLI::App* add_report(CLI::App& app, ReportArgs& a) {
   auto* c = app.add_subcommand("report", "Write tables and figures from a results folder");
   c->add_option("dir", a.dir, "Results folder")->required();
   c->add_flag("--partial", a.partial, "Report even when some trials have no result yet (marked pending)");
-  c->add_option("--by", a.by,
-                "After each run's table, its final success split by this feature of the episodes' worlds or tasks "
-                "(obstacles, objects, shape, or a task parameter); repeatable");
+  repeatable(c->add_option("--by", a.by,
+                           "After each run's table, its final success split by this feature of the episodes' "
+                           "worlds or tasks (obstacles, objects, shape, or a task parameter); repeatable"));
   return c;
 }
 
@@ -239,6 +248,38 @@ CLI::App* add_bench(CLI::App& app, BenchArgs& a) {
   c->add_option("--episodes", a.episodes, "Pipeline episodes (seeds from --seed)")
       ->capture_default_str()->check(integer_in(1, 10000));
   return c;
+}
+
+// train and eval take a curriculum (eval a skill script too), and a scenario or a batch script
+// given instead fails inside it: named as what it is (require_script_kind). A name that finds no
+// file is left to the command, which says where it looked.
+void require_curriculum(const std::string& given, const std::vector<std::string>& wanted) {
+  std::string path;
+  try {
+    path = resolve_curriculum_path(given);
+  } catch (const Error&) {
+    return;
+  }
+  require_script_kind(given, path, wanted);
+}
+
+// render draws a scenario's world, or with --policy an episode of a skill script's or curriculum's
+// policy: a script of the other kind fails inside (found by a probe: a skill script without
+// --policy failed in curricula/lib/skills.lua, "attempt to call a nil value (field 'primitive')").
+void require_render_kind(const RenderArgs& a) {
+  if (!a.policy.empty()) return require_curriculum(a.scenario, {"curriculum", "skill script"});
+  std::string path;
+  try {
+    path = resolve_scenario_path(a.scenario);
+  } catch (const Error&) {
+    return;
+  }
+  const std::string kind = script_kind(path);
+  if (kind == "skill script" || kind == "curriculum")
+    throw Error(a.scenario + " is a " + kind + ", and without --policy roger render draws a scenario's world: give "
+                "--policy " + (kind == "curriculum" ? "FILE.json (a policy roger train wrote)" : "NAME (one of its "
+                "policies)") + " to record an episode, or name a scenario");
+  if (kind == "batch script") require_script_kind(a.scenario, path, {"scenario"});
 }
 
 // The first word CLI11 would misname: an unknown command (it says "A subcommand is required") or
@@ -317,6 +358,7 @@ int main(int argc, char** argv) {
   try {
     if (*render) {
       render_args.seed_given = render->count("--seed") > 0;
+      require_render_kind(render_args);
       return command_render(render_args);
     }
     if (*check) return command_check(check_args);
@@ -324,9 +366,13 @@ int main(int argc, char** argv) {
     if (*eval) {
       eval_args.seed_given = eval_seed->count() > 0;
       eval_args.episodes_given = eval->count("--episodes") > 0;
+      require_curriculum(eval_args.script, {"curriculum", "skill script"});
       return command_eval(eval_args);
     }
-    if (*train) return command_train(train_args);
+    if (*train) {
+      require_curriculum(train_args.curriculum, {"curriculum"});
+      return command_train(train_args);
+    }
     if (*run) {
       if (!run->count("--live")) run_args.live = isatty(fileno(stderr)) != 0;
       return command_run(run_args);
@@ -344,3 +390,4 @@ int main(int argc, char** argv) {
   }
   return 2;
 }
+

@@ -3,6 +3,8 @@
 #include <iostream>
 
 #include "cli/commands.h"
+#include "core/interrupt.h"
+#include "core/text.h"
 #include "propose/propose.h"
 
 namespace roger {
@@ -21,7 +23,18 @@ int command_propose(const ProposeArgs& a) {
   o.max_candidates = a.max_candidates;
   o.prune_below = a.prune_below;
   o.progress = &std::cerr;
-  const ProposeResult r = propose_curriculum(o);
+  // Every finished trial's record stays in --out, and the same command reuses it (propose.h).
+  catch_interrupts("the trial running ends at its next episode; every finished trial's record is kept");
+  ProposeResult r;
+  try {
+    r = propose_curriculum(o);
+  } catch (const std::exception&) {
+    if (!interrupt_requested()) throw;
+    std::fflush(stdout);
+    std::fprintf(stderr, "roger propose: interrupted; run the same command again: it reuses the records of the "
+                 "finished trials in %s, and the trial that was running starts afresh\n", a.out.c_str());
+    return interrupt_exit_status();
+  }
   const Candidate& w = r.candidates[size_t(r.winner)];
   size_t evaluated = 0;
   for (const Candidate& c : r.candidates) evaluated += c.evaluated ? 1 : 0;
@@ -29,9 +42,11 @@ int command_propose(const ProposeArgs& a) {
   const std::string not_run = evaluated == r.candidates.size()
                                   ? ""
                                   : " (" + std::to_string(evaluated) + " evaluated, the rest over --max-candidates)";
-  std::printf("roger propose: stage %s, %zu candidate%s%s, %d round(s), %d trials run, %d reused\n", a.stage.c_str(),
-              r.candidates.size(), r.candidates.size() == 1 ? "" : "s", not_run.c_str(), r.rounds, r.trials_run,
-              r.trials_reused);
+  std::printf("roger propose: stage %s, %s%s, %s, %s run, %d reused\n", a.stage.c_str(),
+              counted(long(r.candidates.size()), "candidate").c_str(), not_run.c_str(),
+              counted(r.rounds, "round").c_str(), counted(r.trials_run, "trial").c_str(), r.trials_reused);
+  for (const auto& file : r.unreadable)
+    std::printf("  unreadable     %s could not be read: its trial was run again\n", file.c_str());
   // Without a success the "winner" is the starting context unchanged: say why, not only its name.
   if (r.successful_episodes == 0)
     std::printf("  probe          no successful episode in %d training episodes: no subgoal or pruning to build on, "
@@ -40,7 +55,7 @@ int command_propose(const ProposeArgs& a) {
   else
     std::printf("  probe          %d successful episode%s of %d training episodes\n", r.successful_episodes,
                 r.successful_episodes == 1 ? "" : "s", r.probe_episodes);
-  std::printf("  spent          %.1f of %.0f simulated s (%.1f%%), the probe %.1f\n", r.spent_s, r.budget_s,
+  std::printf("  spent          %.1f of %.0f simulated s (%.1f%%), of which the probe %.1f\n", r.spent_s, r.budget_s,
               100 * r.spent_s / r.budget_s, r.probe_s);
   for (const auto& caution : r.cautions) std::printf("  caution        %s\n", caution.c_str());
   std::printf("  winner         %s (%s): %s\n", w.id.c_str(), w.kind.c_str(), w.summary.c_str());

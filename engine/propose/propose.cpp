@@ -16,6 +16,7 @@
 #include "core/rng.h"
 #include "core/text.h"
 #include "propose/propose_internal.h"
+#include "script/batch/batch_script.h"
 #include "script/curriculum/curriculum.h"
 #include "script/scenario/scenario.h"
 
@@ -113,12 +114,33 @@ void check_options(const ProposeOptions& o, double time_limit) {
   if (!(o.budget_s > 0) || !std::isfinite(o.budget_s))
     throw Error("roger propose: --budget must be a positive number of simulated seconds");
   if (o.budget_s < 30 * time_limit)
-    throw Error("roger propose: --budget " + format_number(o.budget_s) + " is under 30 episodes of the stage's time limit (" +
-                format_number(30 * time_limit) + " simulated s): too little to learn anything, and one episode past " +
-                "the budget could exceed it by more than 10%");
+    throw Error("roger propose: --budget " + format_number(o.budget_s) + " is under 30 episodes of the stage's time " +
+                "limit of " + format_number(time_limit) + " simulated s, " + format_number(30 * time_limit) +
+                " simulated s: too little to learn anything, and one episode past the budget could exceed it by more " +
+                "than 10%; give a --budget of at least " + format_number(30 * time_limit));
   if (!(o.probe_share > 0 && o.probe_share < 1)) throw Error("roger propose: the probe share must be in (0, 1)");
   if (o.probe_trials < 1 || o.trials < 1 || o.max_candidates < 1)
     throw Error("roger propose: probe trials, trials and max candidates must be at least 1");
+}
+
+// A folder of other files is no search's: settings.json, written before anything else, makes a
+// folder a search's. A roger run results folder (manifest.json) has a trials/ folder of its own,
+// whose records a search would mix with its own; any other files are someone's work.
+void refuse_foreign_folder(const std::string& out, bool has_settings) {
+  if (fs::exists(fs::path(out) / "manifest.json"))
+    throw Error("roger propose: " + out + " is a roger run results folder (it holds manifest.json), whose trials/ "
+                "the search's records would mix with; give another --out (a new or empty folder, or an earlier "
+                "search's to resume it)");
+  if (has_settings) return;
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(out)) names.push_back(entry.path().filename().string());
+  if (names.empty()) return;
+  std::sort(names.begin(), names.end());
+  const size_t shown = std::min<size_t>(names.size(), 3);
+  std::string list = join(std::vector<std::string>(names.begin(), names.begin() + long(shown)));
+  if (names.size() > shown) list += " and " + std::to_string(names.size() - shown) + " more";
+  throw Error("roger propose: " + out + " holds other files (" + list + ") and no search's settings.json; give "
+              "another --out (a new or empty folder, or an earlier search's to resume it)");
 }
 
 // The search a folder holds, one per folder as a results folder holds one batch: settings.json
@@ -138,6 +160,7 @@ void claim_search_folder(const ProposeOptions& o, const std::string& module, con
                                  {"probe_trials", o.probe_trials}, {"probe_share", o.probe_share},
                                  {"max_candidates", o.max_candidates}, {"prune_below", o.prune_below}};
   const std::string file = (fs::path(o.out) / "settings.json").string();
+  refuse_foreign_folder(o.out, fs::exists(file));
   if (fs::exists(file)) {
     nlohmann::json before;
     try {
@@ -159,9 +182,12 @@ void claim_search_folder(const ProposeOptions& o, const std::string& module, con
 
 // One training run of a candidate, from its record when an earlier run wrote it.
 CandidateTrial run_trial(const ProposeOptions& o, const CandidateSpec& spec, const std::string& sources, uint64_t seed,
-                         double cap_s, const std::string& file) {
+                         double cap_s, const std::string& file, std::vector<std::string>* unreadable) {
   const std::string hash = text_hash(spec.lua + sources);
   if (fs::exists(file)) {
+    // A record of another candidate text or cap (a curriculum edited since) is run again silently;
+    // an unreadable one (records are written atomically, so a disk fault or an edit) is said.
+    std::string why;
     try {
       const nlohmann::json j = nlohmann::json::parse(read_file_text(file));
       if (j.at("hash") == hash && j.at("seed") == seed && j.at("cap_s") == cap_s) {
@@ -181,10 +207,14 @@ CandidateTrial run_trial(const ProposeOptions& o, const CandidateSpec& spec, con
                            tr.skills_s >= 0 && tr.skills_s <= tr.spent_s && std::isfinite(tr.time_s) && tr.time_s >= 0 &&
                            std::isfinite(tr.last_success) && std::isfinite(tr.loss);
         if (sound) return tr;
+        why = "numbers no trial gives";
       }
-    } catch (const std::exception&) {
-      // An unreadable record (records are written atomically, so a disk fault) is run again.
+    } catch (const nlohmann::json::exception& e) {
+      why = json_error_text(e.what());
+    } catch (const std::exception& e) {
+      why = e.what();
     }
+    if (!why.empty()) note_unreadable(o, file, why, unreadable);
   }
   TrainOptions t;
   t.curriculum = spec.c.file;
@@ -267,7 +297,7 @@ void successive_halving(const ProposeOptions& o, const TaskRef& task, std::vecto
         const uint64_t seed = Rng::mix(o.seed, 0x747269616cull + uint64_t(r * o.trials + j));
         const std::string file = (fs::path(o.out) / "trials" /
                                   (spec.c.id + "-r" + std::to_string(r + 1) + "-t" + std::to_string(j + 1) + ".json")).string();
-        CandidateTrial tr = run_trial(o, spec, task.sources, seed, allowed, file);
+        CandidateTrial tr = run_trial(o, spec, task.sources, seed, allowed, file, &res.unreadable);
         tr.round = r + 1;
         res.spent_s += tr.spent_s;
         (tr.reused ? res.trials_reused : res.trials_run) += 1;
@@ -302,6 +332,8 @@ ProposeResult propose_curriculum(const ProposeOptions& options) {
   ProposeOptions o = options;
   TaskRef task;
   {
+    // A scenario or a batch script fails inside Curriculum::load: say what it is instead.
+    require_script_kind(o.curriculum, resolve_curriculum_path(o.curriculum), {"curriculum"});
     const Curriculum cur = Curriculum::load(o.curriculum, o.limits);
     const CurriculumStage& stage = cur.stage(o.stage);
     if (o.context.empty()) o.context = stage.contexts.front().name;
@@ -350,7 +382,8 @@ ProposeResult propose_curriculum(const ProposeOptions& options) {
   ProposeResult res;
   res.budget_s = o.budget_s;
   int probes_reused = 0;
-  const ProbeStats probe = run_probe(o, task.context, task.sources, o.budget_s * o.probe_share / o.probe_trials, &probes_reused);
+  const ProbeStats probe = run_probe(o, task.context, task.sources, o.budget_s * o.probe_share / o.probe_trials, &probes_reused,
+                                    &res.unreadable);
   res.probe_s = probe.sim_s;
   res.spent_s = probe.sim_s;
   res.successful_episodes = int(probe.successes.size());

@@ -75,6 +75,9 @@ struct ProposeResult {
   int probe_episodes = 0;        // training episodes of the probe
   int rounds = 0;
   int trials_run = 0, trials_reused = 0;
+  // Records in out/probe/ and out/trials/ that could not be read (a disk fault or an edit): their
+  // trials ran again, as roger run runs a trial with unreadable files again. Counted in trials_run.
+  std::vector<std::string> unreadable;
   // What makes the ranking less than it seems: a round whose trials ran no checkpoint (every loss
   // the same), a cut that fell in a tie (the candidates' order decided). One sentence each.
   std::vector<std::string> cautions;

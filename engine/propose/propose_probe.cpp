@@ -5,15 +5,23 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <ostream>
 
 #include "batch/trainer.h"
 #include "core/error.h"
 #include "core/fileio.h"
 #include "core/rng.h"
+#include "core/text.h"
 #include "propose/propose_internal.h"
 
 namespace roger::propose_detail {
 namespace fs = std::filesystem;
+
+void note_unreadable(const ProposeOptions& o, const std::string& file, const std::string& why,
+                     std::vector<std::string>* unreadable) {
+  if (o.progress) *o.progress << "roger propose: " << file << " cannot be read (" << why << "): its trial runs again\n";
+  unreadable->push_back(file);
+}
 
 namespace {
 
@@ -71,18 +79,27 @@ bool sound_probe_record(const nlohmann::json& j) {
 
 // One probe trial, from its record when an earlier run wrote it.
 nlohmann::json probe_trial(const ProposeOptions& o, const std::string& context, const std::string& sources,
-                           uint64_t seed, double cap_s, const std::string& file, bool* reused) {
+                           uint64_t seed, double cap_s, const std::string& file, bool* reused,
+                           std::vector<std::string>* unreadable) {
   const std::string key = o.stage + "/" + context + "/" + std::to_string(seed) + "/" + sources;
   if (fs::exists(file)) {
+    // An unreadable record (a disk fault: records are written atomically) is run again, and said;
+    // one of other sources or another cap (a curriculum edited since) is run again silently.
+    std::string why;
     try {
       nlohmann::json j = nlohmann::json::parse(read_file_text(file));
-      if (j.value("key", "") == key && j.value("cap_s", -1.0) == cap_s && sound_probe_record(j)) {
+      const bool same = j.value("key", "") == key && j.value("cap_s", -1.0) == cap_s;
+      if (same && sound_probe_record(j)) {
         *reused = true;
         return j;
       }
-    } catch (const std::exception&) {
-      // An unreadable record (a disk fault: records are written atomically) is run again.
+      if (same || !j.contains("key")) why = "fields missing or out of range";
+    } catch (const nlohmann::json::exception& e) {
+      why = json_error_text(e.what());
+    } catch (const std::exception& e) {
+      why = e.what();
     }
+    if (!why.empty()) note_unreadable(o, file, why, unreadable);
   }
   TrainOptions t;
   t.curriculum = o.curriculum;
@@ -105,13 +122,13 @@ nlohmann::json probe_trial(const ProposeOptions& o, const std::string& context, 
 }  // namespace
 
 ProbeStats run_probe(const ProposeOptions& o, const std::string& context, const std::string& sources, double cap_s,
-                     int* reused) {
+                     int* reused, std::vector<std::string>* unreadable) {
   ProbeStats stats;
   for (int k = 0; k < o.probe_trials; ++k) {
     const uint64_t seed = Rng::mix(o.seed, 0x70726f6265ull + uint64_t(k));  // apart from the trials' seeds
     const std::string file = (fs::path(o.out) / "probe" / ("probe-" + std::to_string(k + 1) + ".json")).string();
     bool was_reused = false;
-    const nlohmann::json j = probe_trial(o, context, sources, seed, cap_s, file, &was_reused);
+    const nlohmann::json j = probe_trial(o, context, sources, seed, cap_s, file, &was_reused, unreadable);
     *reused += was_reused;
     stats.psi = j.at("psi").get<std::vector<std::string>>();
     stats.episodes += j.at("episodes").get<int>();

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "core/fileio.h"
+#include "core/text.h"
 #include "propose/propose_internal.h"
 
 namespace roger::propose_detail {
@@ -113,8 +114,9 @@ void write_propose_report(const ProposeOptions& o, const TaskRef& task, const Pr
      << " (" << fmt("%.1f", 100 * r.spent_s / r.budget_s) << "%): the probe " << fmt("%.1f", r.probe_s)
      << ", the candidates' trials " << fmt("%.1f", r.spent_s - r.probe_s) << ". Greedy checkpoint episodes are not "
      << "counted, as in the time-to-threshold of the paper. Successive halving over "
-     << std::count_if(r.candidates.begin(), r.candidates.end(), [](const Candidate& c) { return c.evaluated; })
-     << " candidates in " << r.rounds << " round(s), " << o.trials << " seeded trial(s) per candidate and round "
+     << counted(std::count_if(r.candidates.begin(), r.candidates.end(), [](const Candidate& c) { return c.evaluated; }),
+                "candidate")
+     << " in " << counted(r.rounds, "round") << ", " << counted(o.trials, "seeded trial") << " per candidate and round "
      << "(Karnin et al. 2013; Jamieson and Talwalkar 2016; docs/propose.md). The proposal: `proposal.lua` ("
      << r.candidates[size_t(r.winner)].id << "), context P.\n\n";
   probe_section(md, o, probe, summary);

@@ -48,10 +48,9 @@ const char* script_kind_name(ScriptKind kind) {
 }
 
 std::optional<ScriptKind> script_kind_of(const std::string& path) {
-  if (is_curriculum_script(path)) return ScriptKind::kCurriculum;
-  if (is_skill_script(path)) return ScriptKind::kSkillScript;
-  if (is_batch_script(path)) return ScriptKind::kBatchScript;
-  if (script_has_key(path, "generate")) return ScriptKind::kScenario;
+  const std::string kind = script_kind(path);  // the one decision (script/batch/batch_script.h)
+  for (ScriptKind k : script_kinds())
+    if (kind == script_kind_name(k)) return k;
   return std::nullopt;
 }
 

@@ -18,6 +18,7 @@
 #include "script/batch/batch_script_internal.h"
 #include "script/curriculum/curriculum.h"
 #include "script/scenario/scenario.h"
+#include "script/skills/skill_script.h"
 
 namespace roger {
 
@@ -722,10 +723,9 @@ std::vector<std::string> batch_eval_groups(const BatchEvaluation& e) {
 BatchScript load_batch_script(const std::string& path_in, const BatchOverrides& overrides,
                               const SandboxLimits& limits_in) {
   const std::string path = resolve_script(path_in);
-  // Run as a batch script, a curriculum fails inside its first roger.primitive (no such API here).
-  if (!is_batch_script(path) && is_curriculum_script(path))
-    throw Error(path_in + " is a curriculum, not a batch script: train one of its stages with roger train " + path_in +
-                " --stage S --context C --out DIR, or name it as the curriculum of a batch script (docs/batch.md)");
+  // Run as a batch script, a curriculum fails inside its first roger.primitive (no such API here),
+  // a scenario inside its first require of a scenario library.
+  require_script_kind(path_in, path, {"batch script"});
   SandboxLimits limits = limits_in;
   apply_limit_overrides(overrides, limits);
   LuaSandbox sandbox(limits);
@@ -753,6 +753,38 @@ BatchScript load_batch_script(const std::string& path_in, const BatchOverrides& 
 bool is_batch_script(const std::string& path) {
   return script_has_key(path, "runs") || script_has_key(path, "curriculum") ||
          script_has_key(path, "evaluations");
+}
+
+std::string script_kind(const std::string& path) {
+  if (is_curriculum_script(path)) return "curriculum";
+  if (is_skill_script(path)) return "skill script";
+  if (is_batch_script(path)) return "batch script";
+  if (script_has_key(path, "generate")) return "scenario";
+  return "";
+}
+
+namespace {
+
+// What runs a script of `kind`, for the error that names it given as another kind.
+std::string what_runs(const std::string& kind, const std::string& given) {
+  if (kind == "curriculum")
+    return "train one of its stages with roger train " + given + " --stage S --context C --out DIR, or name it as "
+           "the curriculum of a batch script (docs/batch.md)";
+  if (kind == "batch script") return "run it with roger run " + given;
+  if (kind == "skill script") return "evaluate one of its policies with roger eval " + given + " --policy NAME";
+  return "a curriculum's stages name it as their scenario (docs/curricula.md); draw it with roger render " + given +
+         " --out FILE.png";
+}
+
+}  // namespace
+
+void require_script_kind(const std::string& given, const std::string& path, const std::vector<std::string>& wanted) {
+  const std::string kind = script_kind(path);
+  if (kind.empty() || std::find(wanted.begin(), wanted.end(), kind) != wanted.end()) return;
+  std::string expected;
+  for (size_t i = 0; i < wanted.size(); ++i)
+    expected += (i == 0 ? "" : i + 1 == wanted.size() ? " or " : ", ") + wanted[i];
+  throw Error(given + " is a " + kind + ", not a " + expected + ": " + what_runs(kind, given));
 }
 
 }  // namespace roger

@@ -161,6 +161,18 @@ BatchScript load_batch_script(const std::string& path, const BatchOverrides& ove
 // (script_has_key), as scripts/paper.lua and scripts/quick.lua (`quick.evaluations = ...`) do.
 bool is_batch_script(const std::string& path);
 
+// The kind a script reads as by the fields it sets, without running it: "curriculum" (stages),
+// "skill script" (policies), "batch script" (runs, curriculum or evaluations), "scenario"
+// (generate), or "" when it sets none of them; script_kind_of (script_api.h) reads it. A
+// curriculum may set a field of the others' and is one first.
+std::string script_kind(const std::string& path);
+
+// Throws roger::Error when the script at `path` (resolved; `given` as the user typed it) reads as
+// a kind not in `wanted` (script_kind's names), naming both and what runs it instead: a script of
+// the wrong kind otherwise fails inside, in a Lua traceback or a list of fields that do not
+// belong. A script of no known kind passes: loading it says what is wrong.
+void require_script_kind(const std::string& given, const std::string& path, const std::vector<std::string>& wanted);
+
 // The script's resolved configuration as JSON (the manifest's "config"; read back by the report).
 nlohmann::json batch_config_json(const BatchScript& script);
 
