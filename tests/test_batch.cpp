@@ -344,6 +344,10 @@ TEST_CASE("a results folder in use by a run is refused to a second run, parts of
   CHECK_FALSE(fs::exists(out / ".roger-plot-4242-5-6.tmp"));
   CHECK(fs::exists(out / ".notes.tmp"));
   CHECK(fs::exists(out / ".running"));
+  // A claim ended leaves its file (unlinking a flock file races with a run opening it) but empties
+  // it: no file names a process that holds nothing.
+  CHECK(slurp(out / ".running-shard-0-of-2").empty());
+  CHECK(slurp(out / ".running-only-T-only-eval").empty());
 
   // End to end: the second run is refused before it touches anything, and the first is undisturbed.
   const fs::path results = fresh_dir("claim_run");
@@ -724,8 +728,9 @@ TEST_CASE("a results folder resumes from another folder and after a copy, not wi
     FAIL("a folder was resumed with another seed");
   } catch (const Error& e) {
     CHECK_THAT(e.what(), Catch::Matchers::Contains("was made by this batch script as it was then, with other contents or "
-                                                   "other parameters (a command's --set and --trials are "
-                                                   "parameters too) (my_batch.lua)"));
+                                                   "other parameters (a command's --set, --trials, "
+                                                   "--lua-instructions and --lua-memory are parameters too) "
+                                                   "(my_batch.lua)"));
     CHECK_THAT(e.what(), Catch::Matchers::Contains("seed: 7 in the folder, 8 now"));
   }
   fs::remove_all(top);
@@ -778,4 +783,123 @@ TEST_CASE("runs that take no skills share a phase; a run waits only for the runs
                       {"T/DC6/000", "T/DC6/001", "T2/DC5/000", "T2/DC5/001"},
                       {"eval/g/all/000", "eval/g/all/001"}});
   fs::remove_all(dir);
+}
+
+// Found by a probe: a folder whose manifest.json was deleted was taken with its trials, whatever made
+// them; a folder of notes, one of roger propose, the folder of one's scripts were written into.
+TEST_CASE("check_out_folder takes a new, empty or results folder and refuses one with other files", "[batch]") {
+  const fs::path dir = fresh_dir("out_folder");
+  check_out_folder(dir.string());  // not there yet: made by the run
+  fs::create_directories(dir);
+  check_out_folder(dir.string());  // empty
+  // The lock files of a run starting beside this one (it writes its manifest under .lock next).
+  for (const char* name : {".lock", ".running", ".running-shard-0-of-2", ".manifest.json.tmp42-0-7"})
+    std::ofstream(dir / name) << "";
+  // And the logs' folder scripts/slurm/submit.sh makes before its shards start (a file of that name is no such).
+  fs::create_directories(dir / "slurm");
+  std::ofstream(dir / "slurm" / "shard-0-1.out") << "";
+  check_out_folder(dir.string());
+  fs::create_directories(dir / "trials" / "SG");
+  std::ofstream(dir / "summary.csv") << "id\n";
+  CHECK_THROWS_WITH(check_out_folder(dir.string()),
+                    "the folder '" + dir.string() + "' holds results of roger run (summary.csv, trials/) but no "
+                    "manifest.json, so nothing tells which script and parameters made them, and the trials of this "
+                    "run would mix with them. Move them aside (or put back the folder's manifest.json), or give "
+                    "another --out");
+  std::ofstream(dir / "manifest.json") << "{}";
+  check_out_folder(dir.string());  // a results folder: open_results_folder checks its manifest
+  fs::remove(dir / "manifest.json");
+  std::ofstream(dir / "settings.json") << "{}";  // roger propose's: its trials/ are its own records
+  CHECK_THROWS_WITH(check_out_folder(dir.string()),
+                    Catch::Contains("is not a results folder of roger run (it has no manifest.json), it is one of "
+                                    "roger propose, and is not empty: it holds settings.json, summary.csv, trials/"));
+  fs::remove_all(dir);
+  // open_results_folder checks again under its lock: a folder filled between the check and the claim.
+  fs::create_directories(dir);
+  std::ofstream(dir / "notes.md") << "mine";
+  const auto b = std::make_shared<const BatchScript>(load_batch_script("tests/scripts/kill_batch.lua"));
+  CHECK_THROWS_WITH(open_results_folder(plan_batch(b, dir.string())), Catch::Contains("it holds notes.md."));
+  CHECK_FALSE(fs::exists(dir / "manifest.json"));
+  fs::remove_all(dir);
+}
+
+// Found by a probe: after --trials 3 extended a folder, the command without it was refused with
+// "runs[1].trials: 3 in the folder, 2 now" and no word of how to resume it.
+TEST_CASE("a folder refused for holding more trials says which --trials resumes it", "[batch]") {
+  const fs::path dir = fresh_dir("fewer");
+  fs::create_directories(dir);
+  const std::string text = "return {\n"
+                           "  name = \"kill\", curriculum = \"kill_curriculum.lua\", trials = 2, seed = 7,\n"
+                           "  runs = { { name = \"SG\", stage = \"SG\", contexts = { \"B1\", \"DC2\" } } },\n"
+                           "}\n";
+  std::ofstream(dir / "batch.lua") << text;
+  fs::copy_file("tests/scripts/kill_curriculum.lua", dir / "kill_curriculum.lua");
+  const auto open = [&](int trials) {
+    BatchOverrides ov;
+    ov.trials = trials;
+    const auto b = std::make_shared<const BatchScript>(load_batch_script((dir / "batch.lua").string(), ov));
+    return open_results_folder(plan_batch(b, (dir / "out").string()));
+  };
+  INFO(text);
+  CHECK_FALSE(open(3));
+  CHECK_THROWS_WITH(open(0), Catch::Contains("runs[1].trials: 3 in the folder, 2 now") &&
+                                 Catch::Contains("The folder holds more trials than this command plans (a run with a "
+                                                 "larger --trials made them): to resume it, run the command with "
+                                                 "--trials 3, the folder's number of trials."));
+  CHECK(open(3));
+  fs::remove_all(dir);
+}
+
+// Found by a probe: a change to the description alone was said to be of "its report's titles,
+// tables or figures"; the refusal of another script listed the report's fields among the rest.
+TEST_CASE("a folder's notes and refusals name what changed, what changes trials first", "[batch]") {
+  const fs::path dir = fresh_dir("described");
+  fs::create_directories(dir);
+  const std::string text = slurp("tests/scripts/kill_batch.lua");
+  fs::copy_file("tests/scripts/kill_curriculum.lua", dir / "kill_curriculum.lua");
+  const auto open = [&](const std::string& script, std::string* note) {
+    std::ofstream(dir / "batch.lua") << script;
+    const auto b = std::make_shared<const BatchScript>(load_batch_script((dir / "batch.lua").string()));
+    return open_results_folder(plan_batch(b, (dir / "out").string()), note);
+  };
+  std::string note;
+  CHECK_FALSE(open(text, &note));
+  const std::string described =
+      std::regex_replace(text, std::regex("name = \"kill\","), "name = \"kill\", description = \"Small.\",");
+  CHECK(open(described, &note));
+  CHECK_THAT(note, Catch::Contains("only in what trains nothing again: its description changed. The manifest"));
+  const std::string renamed = std::regex_replace(described, std::regex("seed = 7"), "seed = 8");
+  try {
+    open(std::regex_replace(renamed, std::regex("name = \"kill\""), "name = \"kill2\""), nullptr);
+    FAIL("another seed was taken");
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    INFO(what);
+    REQUIRE(what.find("name: ") != std::string::npos);
+    CHECK(what.find("seed: 7 in the folder, 8 now") < what.find("name: "));
+  }
+  fs::remove_all(dir);
+}
+
+// Found by a probe: SLURM_ARRAY_TASK_ID='x' was "not a count" (it is an index); --out /proc/foo
+// said "A folder on that path does not exist: make it", which nobody can there.
+TEST_CASE("an array task id that is no index, and a folder no file system makes, are said so", "[batch][shard]") {
+  setenv("SLURM_ARRAY_TASK_ID", "x", 1);
+  setenv("SLURM_ARRAY_TASK_COUNT", "3", 1);
+  CHECK_THROWS_WITH(parse_shard("slurm"), "--shard slurm: SLURM_ARRAY_TASK_ID='x' is not an index (a whole number from 0)");
+  setenv("SLURM_ARRAY_TASK_ID", "1", 1);
+  setenv("SLURM_ARRAY_TASK_COUNT", "y", 1);
+  CHECK_THROWS_WITH(parse_shard("slurm"), "--shard slurm: SLURM_ARRAY_TASK_COUNT='y' is not a count (a whole number)");
+  unsetenv("SLURM_ARRAY_TASK_ID");
+  unsetenv("SLURM_ARRAY_TASK_COUNT");
+  if (!fs::is_directory("/proc/self")) return;
+  try {
+    const RunningClaim claim("/proc/roger_no_folder_here", Shard());
+    FAIL("a folder was made in /proc");
+  } catch (const FileError& e) {
+    CHECK(std::string(e.what()) == "cannot create the results folder '/proc/roger_no_folder_here': '/proc' exists, but "
+                                   "its file system makes no folder there (No such file or directory); give --out a "
+                                   "folder on a disk");
+    CHECK(e.error_number != ENOENT);  // not "a folder on that path does not exist: make it"
+  }
 }

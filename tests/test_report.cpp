@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -429,7 +430,7 @@ TEST_CASE("a tiny batch writes every file, with tables that match the trials, wh
   std::ostringstream refused;
   other.progress = &refused;
   CHECK(command_run(other) == 1);
-  CHECK(refused.str().find("made by this batch script as it was then, with other contents or other parameters (a command's --set and --trials are parameters too)") != std::string::npos);
+  CHECK(refused.str().find("made by this batch script as it was then, with other contents or other parameters (a command's --set, --trials, --lua-instructions and --lua-memory are parameters too)") != std::string::npos);
   CHECK(refused.str().find("runs[1].trials: 2 in the folder, 1 now") != std::string::npos);
   CHECK(finished_ids(one) == kIds);  // nothing lost
 
@@ -464,9 +465,8 @@ TEST_CASE("a folder takes a script that changes only its report or adds trials, 
   std::string log;
   REQUIRE(f.run("out", 2, 0, &log) == 0);
   INFO(log);
-  CHECK_THAT(log, Catch::Matchers::Contains("only in what trains nothing again: its report's titles, tables or "
-                                            "figures changed. The manifest now holds this script; the trials there "
-                                            "are kept."));
+  CHECK_THAT(log, Catch::Matchers::Contains("only in what trains nothing again: its tables and its figures changed. "
+                                            "The manifest now holds this script; the trials there are kept."));
   CHECK_THAT(log, Catch::Matchers::Contains("trials: 4/4 done (4 from an earlier run)"));
   CHECK_THAT(slurp(out / "tables.md"), Catch::Matchers::Contains("Table I, renamed"));
   CHECK(fs::is_regular_file(out / "figure6.png"));
@@ -556,6 +556,161 @@ TEST_CASE("the trials outside --only or the shard are not said to wait for the s
   CHECK_THAT(shard.str(), Catch::Matchers::EndsWith(
                               ", 3 outside --only not run (run the command without --only, or with an --only that "
                               "names them, to run them)\n"));
+}
+
+// Found by a probe: `--only SG/B1` after an `--only eval/...` run that failed exited 1 and listed
+// the evaluation's failures as its own; two disjoint --only runs at once listed each other's.
+TEST_CASE("an --only run answers for its own trials; failures outside it are a count apart", "[report][run]") {
+  Fixture f("only_failed");
+  RunArgs a;
+  a.script = (f.root / "batch.lua").string();
+  a.out = (f.root / "out").string();
+  a.jobs = 2;
+  a.only = {"SG/B1"};
+  a.no_report = true;
+  std::ostringstream first;
+  a.progress = &first;
+  REQUIRE(command_run(a) == 0);
+  // The evaluation's trials failed in another run (as they do when run before their policies).
+  for (const char* id : {"eval/gen/circle/000", "eval/gen/circle/001"}) {
+    fs::create_directories(trial_dir(a.out, id));
+    spit(fs::path(trial_dir(a.out, id)) / "error.json",
+         json({{"error", "needs the policy of trial T/DC6/000, which has not run yet"}, {"trial", id}}).dump());
+  }
+  std::ostringstream said;
+  a.progress = &said;
+  CHECK(command_run(a) == 0);
+  INFO(said.str());
+  CHECK(said.str().find("failed (their error.json") == std::string::npos);
+  CHECK(said.str().find("needs the policy") == std::string::npos);
+  // The counts add up to the plan's 10: 2 done, 6 not run and 2 failed outside --only.
+  CHECK_THAT(said.str(), Catch::Matchers::Contains("roger run: 2 of 10 trials done in ") &&
+                             Catch::Matchers::EndsWith(", 6 outside --only not run, 2 outside --only failed earlier (run "
+                                                       "the command without --only, or with an --only that names "
+                                                       "them, to run them)\n"));
+}
+
+// Found by a probe: `roger run ... --explain` on a folder whose trials had finished without it said
+// nothing, and their result.json had no diagnosis.
+TEST_CASE("--explain says which finished trials keep their result without a diagnosis", "[report][run][explain]") {
+  Fixture f("explain_note");
+  RunArgs a;
+  a.script = (f.root / "batch.lua").string();
+  a.out = (f.root / "out").string();
+  a.jobs = 2;
+  a.only = {"SG/B1"};
+  a.no_report = true;
+  std::ostringstream first;
+  a.progress = &first;
+  REQUIRE(command_run(a) == 0);
+  CHECK(first.str().find("--explain:") == std::string::npos);
+  a.explain = true;
+  std::ostringstream said;
+  a.progress = &said;
+  REQUIRE(command_run(a) == 0);
+  INFO(said.str());
+  CHECK_THAT(said.str(), Catch::Matchers::Contains(
+                             "roger run: --explain: 2 training trials finished earlier keep their result.json without "
+                             "a diagnosis (--explain adds one to the trials it runs; a run that missed its threshold "
+                             "has one either way). For a diagnosis of every trial, run the command with --explain "
+                             "into a new --out\n"));
+  // roger run says it wrote summary.csv, as roger report does.
+  CHECK_THAT(said.str(), Catch::Matchers::Contains("roger run: wrote " + (f.root / "out" / "summary.csv").string() + "\n"));
+}
+
+// Found by a probe: `--only T/DC6` in a fresh folder ran its trials, each recorded as failed for the
+// policy of an SG/DC2 trial that had not run.
+TEST_CASE("an --only that needs policies outside it that have no result is refused before any trial", "[report][run]") {
+  Fixture f("only_needs");
+  RunArgs a;
+  a.script = (f.root / "batch.lua").string();
+  a.out = (f.root / "out").string();
+  a.jobs = 2;
+  a.only = {"T/DC6"};
+  std::ostringstream said;
+  a.progress = &said;
+  CHECK(command_run(a) == 1);
+  INFO(said.str());
+  CHECK_THAT(said.str(), Catch::Matchers::Contains(
+                             "roger run: --only T/DC6: its trials need the policies of trials outside it that have no "
+                             "result yet (not run, or failed): SG/DC2/000, SG/DC2/001, for T/DC6/000, T/DC6/001. "
+                             "Nothing was run: run them first (e.g. --only SG/DC2), or add --only SG/DC2 to this "
+                             "command"));
+  CHECK_FALSE(fs::exists(trial_dir(a.out, "T/DC6/000")));
+  // With the runs it needs in its --only, it runs.
+  a.only = {"eval"};
+  std::ostringstream eval;
+  a.progress = &eval;
+  CHECK(command_run(a) == 1);
+  CHECK_THAT(eval.str(), Catch::Matchers::Contains("T/DC6/000, T/DC6/001, for eval/gen/circle/000") &&
+                             Catch::Matchers::Contains("add --only T/DC6 to this command"));
+  CHECK_FALSE(fs::exists(trial_dir(a.out, "eval/gen/circle/000")));
+}
+
+// Found by a probe: with manifest.json deleted, a run with other parameters took the trials there
+// ("4 from an earlier run"), made with the old ones; --out into a folder of notes wrote over them.
+TEST_CASE("roger run refuses a folder with files but no manifest, before touching it", "[report][run]") {
+  Fixture f("foreign");
+  REQUIRE(f.run("out", 2, 2) == 0);
+  fs::remove(f.root / "out" / "manifest.json");
+  const auto entries = [](const fs::path& dir) {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+  };
+  const std::vector<std::string> before = entries(f.root / "out");
+  std::string log;
+  CHECK(f.run("out", 2) == 1);
+  CHECK(f.run("out", 2, 0, &log) == 1);
+  INFO(log);
+  CHECK_THAT(log, Catch::Matchers::Contains("roger run: the folder '" + (f.root / "out").string() +
+                                            "' holds results of roger run (") &&
+                      Catch::Matchers::Contains(") but no manifest.json, so nothing tells which script and parameters "
+                                                "made them, and the trials of this run would mix with them. Move them "
+                                                "aside (or put back the folder's manifest.json), or give another --out"));
+  CHECK(entries(f.root / "out") == before);
+  // A folder of one's own files: named, and left as it was.
+  fs::create_directories(f.root / "notes");
+  spit(f.root / "notes" / "tables.md", "x\n");
+  CHECK(f.run("notes", 2, 0, &log) == 1);
+  CHECK_THAT(log, Catch::Matchers::Contains("roger run: the folder '" + (f.root / "notes").string() +
+                                            "' is not a results folder of roger run (it has no manifest.json) and is "
+                                            "not empty: it holds tables.md. roger run would write its trials, report "
+                                            "and dashboard (index.html, tables.md) over or among them: give --out a "
+                                            "new or empty folder"));
+  CHECK(entries(f.root / "notes") == std::vector<std::string>{"tables.md"});
+  CHECK(slurp(f.root / "notes" / "tables.md") == "x\n");
+  // The folder of the user's scripts.
+  CHECK(f.run(".", 2, 0, &log) == 1);
+  CHECK_THAT(log, Catch::Matchers::Contains("it holds batch.lua, curriculum.lua"));
+}
+
+// Found by a probe: roger report on a read-only folder advised "give another with --out" (it has no
+// --out) and said it "resumes where this one stopped" (it resumes nothing).
+TEST_CASE("roger report into a read-only folder gives advice that fits roger report", "[report][run]") {
+  Fixture f("readonly");
+  REQUIRE(f.run("out", 2) == 0);
+  const fs::path ro = f.root / "ro";
+  fs::create_directories(ro);
+  // A read-only file system, since root writes through any folder's permissions: the tests run as
+  // root (README, .ci/run), where a bind mount is there to be made. Without one this fails, not skips.
+  REQUIRE(std::system(("mount --bind -o ro '" + (f.root / "out").string() + "' '" + ro.string() + "'").c_str()) == 0);
+  struct Unmount {
+    std::string at;
+    ~Unmount() { (void)std::system(("umount '" + at + "'").c_str()); }
+  } unmount{ro.string()};
+  ReportArgs a;
+  a.dir = ro.string();
+  std::ostringstream said;
+  a.progress = &said;
+  CHECK(command_report(a) == 1);
+  INFO(said.str());
+  CHECK_THAT(said.str(), Catch::Matchers::Contains("Read-only file system. roger report writes its report into the "
+                                                   "results folder: make the folder writable (or copy it somewhere "
+                                                   "writable and report the copy), then run the same command again\n"));
+  CHECK(said.str().find("--out") == std::string::npos);
+  CHECK(said.str().find("resumes") == std::string::npos);
 }
 
 TEST_CASE("a results folder is not resumed after a module the curriculum requires changed", "[report][run]") {

@@ -131,6 +131,17 @@ bool trial_selected(const PlannedTrial& trial, const std::vector<std::string>& o
 // Throws roger::Error, naming what exists, for a selector of `only` that chooses no trial.
 void check_selectors(const BatchPlan& plan, const std::vector<std::string>& only);
 
+// Refuses (roger::Error) a results folder `out` that exists, holds files and has no manifest.json:
+// the results of a run whose manifest was removed (nothing tells which script made them, and new
+// trials would mix with them), or another program's files that a run would write over. An empty
+// folder, or one holding only the lock files of a run starting beside this one, is taken.
+void check_out_folder(const std::string& out);
+
+// Refuses (roger::Error), before any trial runs, an --only selection (of shard `shard`'s trials)
+// whose trials still to run need the policies of trials outside it that have no result: each of
+// them would fail, recorded as such. Names those trials and the --only that runs them.
+void check_only_needs(const BatchPlan& plan, const std::vector<std::string>& only, const Shard& shard);
+
 // Opens the results folder: writes its manifest (format, script, engine, configuration, trial
 // ids and seeds), or, when one exists, checks that it was made by this engine build and the same
 // configuration (else roger::Error saying what differs). A configuration that differs only in
@@ -177,12 +188,19 @@ struct RunControl {
   bool explain = false;             // a diagnosis in every training result (TrainOptions::explain)
 };
 
-// What a run of the plan left in its folder.
+// What a run of the plan left in its folder. For a run with --only (RunControl::only), `failed`,
+// `corrupt` and `pending` are its selection's, and the trials outside it are counted apart: they
+// are not this command's (another run's, maybe running beside it). A shard's counts are its own.
 struct BatchSummary {
-  size_t trials = 0;                // in the plan
+  size_t trials = 0;                // in the plan (a shard: its own trials)
   std::vector<std::string> failed;  // "id: first line of the error"
   std::vector<std::string> corrupt; // "id: <file>: what is wrong" (a record that cannot be read)
   int pending = 0;                  // not run yet
+  std::vector<std::string> pending_ids;  // their ids
+  int outside_pending = 0;          // outside --only: not run yet
+  int outside_failed = 0;           // outside --only: failed (in an earlier or another run)
+  int outside_corrupt = 0;          // outside --only: with a record that cannot be read
+  int undiagnosed = 0;              // under --explain: training trials finished earlier, without a diagnosis
   double wall_s = 0.0;              // this invocation's wall time
   bool interrupted = false;         // Ctrl-C (core/interrupt.h) stopped it before its selection was done
 };

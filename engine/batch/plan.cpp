@@ -307,15 +307,38 @@ json relocated(json config, const Places& at) {
 // What changed when a folder is reopened with a configuration that extends its own: the report's
 // fields, the numbers of trials, or both; for the note roger run prints.
 std::string extension_note(const json& old, const json& now, const std::string& out) {
-  bool report = false;
-  for (const char* field : kReportFields) report = report || old.value(field, json()) != now.value(field, json());
+  std::vector<std::string> changed;  // the report's fields that changed, as the docs name them
+  for (const char* field : kReportFields)
+    if (old.value(field, json()) != now.value(field, json()))
+      changed.push_back(std::string(field) == "name" ? "its name" : "its " + std::string(field));
   const bool more = !extends(now, old);  // trials grew where the reverse does not extend
-  std::string what = report && more ? "its report's titles, tables or figures changed and it plans more trials"
-                     : report       ? "its report's titles, tables or figures changed"
-                                    : "it plans more trials";
+  std::string report;
+  for (size_t k = 0; k < changed.size(); ++k)
+    report += (k == 0 ? "" : k + 1 == changed.size() ? " and " : ", ") + changed[k];
+  if (!report.empty()) report += " changed";
+  const std::string what = !report.empty() && more ? report + " and it plans more trials"
+                           : !report.empty()       ? report
+                                                   : "it plans more trials";
   return "the script differs from the one " + out + " was made with, but only in what trains nothing again: " +
          what + ". The manifest now holds this script; the trials there are kept" +
          (more ? ", and the new ones run" : "") + ".";
+}
+
+// For a folder whose configuration extends `config` (it holds more trials than `config` plans,
+// as after a run with a larger --trials): how to resume it; "" otherwise.
+std::string fewer_trials_hint(const json& old_config, const json& config) {
+  if (!old_config.is_object() || !config.is_object() || !extends(config, old_config)) return "";
+  std::set<int64_t> counts;  // the folder's trials of every run and evaluation (what --trials sets)
+  for (const char* list : {"runs", "evaluations"})
+    if (old_config.contains(list) && old_config[list].is_array())
+      for (const json& item : old_config[list])
+        if (item.is_object() && item.contains("trials") && item["trials"].is_number_integer())
+          counts.insert(item["trials"].get<int64_t>());
+  const std::string how = counts.size() == 1 ? "run the command with --trials " + std::to_string(*counts.begin()) +
+                                                   ", the folder's number of trials"
+                                             : "give the script's runs and evaluations the folder's numbers of trials";
+  return "\nThe folder holds more trials than this command plans (a run with a larger --trials made them): to "
+         "resume it, " + how + ".";
 }
 
 // The refusal of a folder made with configuration `old_config`, with the differences from
@@ -323,6 +346,14 @@ std::string extension_note(const json& old, const json& now, const std::string& 
 Error refusal(const json& old, const json& old_config, const json& config, const BatchPlan& plan) {
   std::vector<std::string> lines;
   differences(&old_config, &config, "", lines);
+  // What changes trials first, then the report's fields, which alone would have been taken.
+  std::stable_partition(lines.begin(), lines.end(), [](const std::string& line) {
+    for (const char* field : kReportFields)
+      if (line.rfind(std::string(field) + ":", 0) == 0 || line.rfind(std::string(field) + "[", 0) == 0 ||
+          line.rfind(std::string(field) + ".", 0) == 0)
+        return false;
+    return true;
+  });
   std::string why;
   for (size_t k = 0; k < lines.size() && k < 12; ++k) why += "\n  " + lines[k];
   if (lines.size() > 12) why += "\n  ... and " + std::to_string(lines.size() - 12) + " more";
@@ -332,6 +363,7 @@ Error refusal(const json& old, const json& old_config, const json& config, const
            "trials it has (shape k's trial i starts at (k x trials + i) x episodes), so they are a new folder's. "
            "More training trials alone resume: raise the trials of the runs in the script and leave the "
            "evaluation's (--trials sets both).";
+  why += fewer_trials_hint(old_config, config);
   // Only a Lua file training reads changed: say that, not "another script" (a probe added a
   // comment to its curriculum and read the refusal as about another script).
   json old_rest = old_config, now_rest = config;
@@ -348,7 +380,7 @@ Error refusal(const json& old, const json& old_config, const json& config, const
                                ? "before a Lua file its trials read changed (its trials and new ones would mix two "
                                  "versions of it)"
                            : same_script ? "by this batch script as it was then, with other contents or other "
-                                           "parameters (a command's --set and --trials are parameters too)"
+                                           "parameters (a command's --set, --trials, --lua-instructions and --lua-memory are parameters too)"
                                          : "by another batch script or other parameters";
   return Error("the results folder " + plan.out + " was made " + made + " (" + old.value("script", std::string("?")) +
                "); it cannot be resumed with " + plan.script->path + " as it is now. Differences:" + why +
@@ -415,11 +447,24 @@ std::string check_manifest(const BatchPlan& plan, const fs::path& manifest_path,
 }
 
 
+// Why the results folder `out` could not be made. ENOENT from a folder whose parent exists (/proc,
+// /sys) is not "a folder on that path does not exist" (file_error_line's advice): that file
+// system makes no folder there, so the advice is another place.
+FileError folder_creation_error(const std::string& out, const std::error_code& ec) {
+  std::error_code ignored;
+  fs::path parent = fs::absolute(out, ignored).lexically_normal().parent_path();
+  while (!parent.empty() && parent != parent.root_path() && !fs::exists(parent, ignored)) parent = parent.parent_path();
+  if (ec.value() != ENOENT || !fs::is_directory(parent, ignored) || parent == parent.root_path())
+    return FileError("cannot create the results folder '" + out + "': " + ec.message(), out, ec.value());
+  return FileError("cannot create the results folder '" + out + "': '" + parent.string() + "' exists, but its file "
+                   "system makes no folder there (" + ec.message() + "); give --out a folder on a disk", out, EINVAL);
+}
+
 // A lock file of the results folder `out` (made if need be), opened.
 int open_lock_file(const std::string& out, const std::string& name) {
   std::error_code ec;
   fs::create_directories(out, ec);
-  if (ec) throw FileError("cannot create the results folder '" + out + "': " + ec.message(), out, ec.value());
+  if (ec) throw folder_creation_error(out, ec);
   const std::string path = (fs::path(out) / name).string();
   const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
   if (fd < 0) {
@@ -486,7 +531,9 @@ long env_count(const char* name) {
   char* end = nullptr;
   errno = 0;
   const long n = std::strtol(v, &end, 10);
-  if (errno || end == v || *end || n < 0) throw Error(std::string("--shard slurm: ") + name + "='" + v + "' is not a count");
+  if (errno || end == v || *end || n < 0)
+    throw Error(std::string("--shard slurm: ") + name + "='" + v + "' is not " +
+                (std::string(name) == "SLURM_ARRAY_TASK_ID" ? "an index (a whole number from 0)" : "a count (a whole number)"));
   return n;
 }
 
@@ -611,7 +658,7 @@ BatchSummary record_shard(const BatchPlan& plan, const Shard& shard) {
       json result;
       std::string error;
       const std::string status = trial_status(plan.out, t, result, error);
-      if (status == "pending") ++s.pending;
+      if (status == "pending") ++s.pending, s.pending_ids.push_back(t.id);
       if (status == "corrupt") s.corrupt.push_back(t.id + ": " + first_line(error));
       if (status != "failed") continue;
       s.failed.push_back(t.id + ": " + first_line(error));
@@ -739,6 +786,50 @@ void check_selectors(const BatchPlan& plan, const std::vector<std::string>& only
 
 namespace {
 
+// The trials whose policies trial t loads: the runs its skills come from (a training trial), or the
+// policy it evaluates and its skills' (an evaluation), each of t's index.
+std::vector<std::string> policy_sources(const PlannedTrial& t) {
+  std::vector<std::string> ids;
+  const auto& skills = t.run ? t.run->skills : t.evaluation->skills;
+  if (t.evaluation) ids.push_back(batch_trial_id(t.evaluation->run, t.evaluation->context, t.index));
+  for (const BatchSkill& s : skills) ids.push_back(batch_trial_id(s.run, s.context, t.index));
+  return ids;
+}
+
+}  // namespace
+
+void check_only_needs(const BatchPlan& plan, const std::vector<std::string>& only, const Shard& shard) {
+  if (only.empty()) return;
+  std::map<std::string, const PlannedTrial*> by_id;
+  for (const auto& p : plan.phases)
+    for (const auto& t : p) by_id[t.id] = &t;
+  const auto finished = [&](const PlannedTrial& t) {
+    json result;
+    std::string error;
+    return trial_status(plan.out, t, result, error) == "ok";
+  };
+  std::vector<std::string> needed, needing, runs;
+  for (const auto& p : plan.phases)
+    for (const auto& t : p) {
+      if (!shard.owns(t) || !trial_selected(t, only) || finished(t)) continue;
+      for (const std::string& id : policy_sources(t)) {
+        const auto it = by_id.find(id);
+        if (it == by_id.end() || trial_selected(*it->second, only) || finished(*it->second)) continue;
+        if (std::find(needed.begin(), needed.end(), id) == needed.end()) needed.push_back(id);
+        if (needing.empty() || needing.back() != t.id) needing.push_back(t.id);
+        const std::string run = id.substr(0, id.rfind('/'));
+        if (std::find(runs.begin(), runs.end(), run) == runs.end()) runs.push_back(run);
+      }
+    }
+  if (needed.empty()) return;
+  throw Error("--only " + join(only, " --only ") + ": its trials need the policies of trials outside it that have " +
+              "no result yet (not run, or failed): " + join_some(needed) + ", for " + join_some(needing) +
+              ". Nothing was run: run them first (e.g. --only " + runs[0] + "), or add --only " +
+              join(runs, " --only ") + " to this command");
+}
+
+namespace {
+
 // Removes the hidden temporaries a killed writer left at the top of results folder `out`
 // (write_file_atomic's .NAME.tmpPID-N-R, StagedFiles' .stagedPID-N-R.tmp, PLplot's
 // .roger-plot-PID-N-R.tmp): called only by a run that holds the folder alone, when no writer can
@@ -749,6 +840,30 @@ void remove_stale_temporaries(const std::string& out) {
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(out, ec))
     if (std::regex_match(entry.path().filename().string(), temporary)) fs::remove_all(entry.path(), ec);
+}
+
+// Whether a file at the top of a folder without a manifest can be a run's that is starting beside
+// this one (its lock files: .lock, .running, .running-<part>), a temporary a killed one left, or
+// the Slurm logs' folder scripts/slurm/submit.sh makes there before its shards start.
+bool starting_run_file(const std::string& name, bool folder) {
+  static const std::regex temporary(R"(\..+\.tmp[0-9]+-[0-9]+-[0-9]+)");
+  return name == ".lock" || name == ".running" || name.rfind(".running-", 0) == 0 || std::regex_match(name, temporary) ||
+         (folder && name == "slurm");
+}
+
+// The error for a folder that holds `names` (sorted) and no manifest.json (check_out_folder).
+Error foreign_folder_error(const std::string& out, const std::vector<std::string>& names) {
+  const auto has = [&](const char* n) { return std::binary_search(names.begin(), names.end(), std::string(n)); };
+  const bool propose = has("settings.json") || has("proposal.lua");
+  if (!propose && (has("trials/") || has("summary.csv") || has("shards/") || has("status.json")))
+    return Error("the folder '" + out + "' holds results of roger run (" + join_some(names) +
+                 ") but no manifest.json, so nothing tells which script and parameters made them, and the trials "
+                 "of this run would mix with them. Move them aside (or put back the folder's manifest.json), or "
+                 "give another --out");
+  return Error("the folder '" + out + "' is not a results folder of roger run (it has no manifest.json)" +
+               (propose ? ", it is one of roger propose," : "") + " and is not empty: it holds " + join_some(names) +
+               ". roger run would write its trials, report and dashboard (index.html, tables.md) over or among "
+               "them: give --out a new or empty folder");
 }
 
 // The part of a results folder a run claims: its shard and its --only names ("--shard 0/2 --only
@@ -770,6 +885,19 @@ std::pair<std::string, std::string> run_part(const Shard& shard, std::vector<std
 }
 
 }  // namespace
+
+void check_out_folder(const std::string& out) {
+  std::error_code ec;
+  if (fs::exists(fs::path(out) / "manifest.json", ec) || !fs::is_directory(out, ec)) return;
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(out, ec)) {
+    const std::string name = entry.path().filename().string();
+    const bool folder = entry.is_directory(ec);
+    if (!starting_run_file(name, folder)) names.push_back(name + (folder ? "/" : ""));
+  }
+  std::sort(names.begin(), names.end());
+  if (!names.empty()) throw foreign_folder_error(out, names);
+}
 
 RunningClaim::RunningClaim(const std::string& out, const Shard& shard, const std::vector<std::string>& only) {
   const auto [part, part_file] = run_part(shard, only);
@@ -801,7 +929,11 @@ RunningClaim::RunningClaim(const std::string& out, const Shard& shard, const std
   write_holder(own_);
 }
 
+// The claim files stay (unlinking a flock file races with a run that has just opened it): emptied,
+// so that none names a process that no longer holds it; the lock, not the text, is the claim.
 RunningClaim::~RunningClaim() {
+  if (own_ >= 0 && ::ftruncate(own_, 0) == 0) {}
+  if (own_ < 0 && ::ftruncate(whole_, 0) == 0) {}  // a part shares .running and wrote nothing there
   if (own_ >= 0) ::close(own_);  // closing releases the lock
   ::close(whole_);
 }
@@ -829,6 +961,7 @@ bool open_results_folder(const BatchPlan& plan, std::string* note, const Shard& 
   const fs::path manifest_path = fs::path(plan.out) / "manifest.json";
   std::error_code ec;
   const bool resuming = fs::exists(manifest_path, ec);
+  if (!resuming) check_out_folder(plan.out);  // again under the lock: the caller checked before claiming it
   if (resuming) {
     const std::string said = check_manifest(plan, manifest_path, config, manifest);
     if (note) *note = said;
@@ -908,7 +1041,7 @@ BatchSummary write_summary_csv(const BatchPlan& plan) {
       const std::string status = trial_status(plan.out, t, r, error);
       if (status == "failed") s.failed.push_back(t.id + ": " + first_line(error));
       if (status == "corrupt") s.corrupt.push_back(t.id + ": " + first_line(error));
-      if (status == "pending") ++s.pending;
+      if (status == "pending") ++s.pending, s.pending_ids.push_back(t.id);
       ++s.trials;
       summary_row(csv, t, status, r, error);
     }

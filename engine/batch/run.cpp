@@ -406,8 +406,11 @@ nlohmann::json fault_details(const PlannedTrial& t, const std::exception& e) {
 // The trials of one phase this invocation runs: selected, and within the budget of new trials.
 // A trial that failed in an earlier invocation is tried again, and so is one whose files are
 // corrupt (said on the log): a trial is finished only when its records are sound.
+// Counts in `undiagnosed` the finished training trials without a diagnosis under --explain (a run
+// runs no finished trial again, so they keep their result as it is).
 std::vector<std::string> phase_ids(const BatchPlan& plan, const std::vector<PlannedTrial>& phase,
-                                   const RunControl& control, int& budget, std::set<std::string>& names) {
+                                   const RunControl& control, int& budget, std::set<std::string>& names,
+                                   int& undiagnosed) {
   std::vector<std::string> ids;
   std::error_code ec;
   for (const auto& t : phase) {
@@ -423,6 +426,7 @@ std::vector<std::string> phase_ids(const BatchPlan& plan, const std::vector<Plan
       fs::remove(dir / "error.json", ec);
     }
     const bool finished = status == "ok";
+    if (finished && control.explain && t.run && !result.contains("diagnosis")) ++undiagnosed;
     if (!finished) {
       if (budget == 0) continue;
       if (budget > 0) --budget;
@@ -560,6 +564,29 @@ class StatusWriter {
   std::thread thread_;
 };
 
+// Moves the failed, corrupt and pending trials outside the --only of `control` from `s`'s lists to
+// its counts of trials outside it: this command neither ran them nor answers for them.
+void split_outside_only(const BatchPlan& plan, const RunControl& control, BatchSummary& s) {
+  if (control.only.empty()) return;
+  std::map<std::string, const PlannedTrial*> by_id;
+  for (const auto& p : plan.phases)
+    for (const auto& t : p) by_id[t.id] = &t;
+  const auto inside = [&](const std::string& line) {  // "id" or "id: message"; an id has no ':'
+    const auto it = by_id.find(line.substr(0, line.find(':')));
+    return it == by_id.end() || trial_selected(*it->second, control.only);
+  };
+  const auto split = [&](std::vector<std::string>& list, int& outside) {
+    const auto mid = std::stable_partition(list.begin(), list.end(), inside);
+    outside = int(list.end() - mid);
+    list.erase(mid, list.end());
+  };
+  // From the lists read once: a part running beside this one changes the folder meanwhile.
+  split(s.failed, s.outside_failed);
+  split(s.corrupt, s.outside_corrupt);
+  split(s.pending_ids, s.outside_pending);
+  s.pending = int(s.pending_ids.size());
+}
+
 }  // namespace
 
 BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
@@ -590,9 +617,10 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
   std::optional<StatusWriter> status;
   status.emplace(plan, control.shard);
   bool interrupted = false;
+  int undiagnosed = 0;
   for (size_t k = 0; k < plan.phases.size() && !interrupted; ++k) {
     std::set<std::string> names;
-    const std::vector<std::string> ids = phase_ids(plan, plan.phases[k], control, budget, names);
+    const std::vector<std::string> ids = phase_ids(plan, plan.phases[k], control, budget, names, undiagnosed);
     if (ids.empty()) continue;
     std::string label;
     for (const auto& n : names) label += (label.empty() ? "" : ", ") + n;
@@ -611,8 +639,10 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
   status.reset();
   const double wall = std::chrono::duration<double>(Clock::now() - start).count();
   BatchSummary summary = control.shard.active() ? record_shard(plan, control.shard) : write_summary_csv(plan);
+  split_outside_only(plan, control, summary);
   summary.wall_s = wall;
   summary.interrupted = interrupted;
+  summary.undiagnosed = undiagnosed;
   return summary;
 }
 

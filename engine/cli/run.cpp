@@ -32,26 +32,23 @@ BatchOverrides overrides_of(const RunArgs& a) {
   return ov;
 }
 
-// Of the command's trials (its shard's) with no result yet, those outside its --only: running the
-// same command again would not run them either.
-int pending_outside_only(const BatchPlan& plan, const RunArgs& a, const Shard& shard) {
-  if (a.only.empty()) return 0;
-  int n = 0;
-  for (const MissingTrial& m : missing_trials(plan))
-    if (m.problem.empty() && shard.owns(*m.trial) && !trial_selected(*m.trial, a.only)) ++n;
-  return n;
-}
-
-// The closing lines of a run; returns 1 when some trial failed or has corrupt files. `outside`
-// of the pending trials are outside the command's --only.
-int print_outcome(const BatchSummary& s, int outside, std::ostream& log) {
-  log << "roger run: " << (s.trials - s.failed.size() - s.corrupt.size() - size_t(s.pending)) << " of " << s.trials
-      << " trials done in " << format_duration(s.wall_s);
-  if (const int here = std::max(0, s.pending - outside))
-    log << ", " << here << " not run yet (run the same command again to continue)";
-  if (outside)
-    log << ", " << outside << " outside --only not run (run the command without --only, or with an --only that "
-        << "names them, to run them)";
+// The closing lines of a run; returns 1 when some trial it selected failed or has corrupt files.
+// The counts of the first line add up to its trials: those with a result, this run's failed and
+// unreadable ones, those it has not run yet, and those outside its --only (not this command's).
+int print_outcome(const BatchSummary& s, std::ostream& log) {
+  const size_t outside = size_t(s.outside_pending + s.outside_failed + s.outside_corrupt);
+  const size_t done = s.trials - s.failed.size() - s.corrupt.size() - size_t(s.pending) - outside;
+  log << "roger run: " << done << " of " << s.trials << " trials done in " << format_duration(s.wall_s);
+  if (!s.failed.empty()) log << ", " << s.failed.size() << " failed";
+  if (!s.corrupt.empty()) log << ", " << s.corrupt.size() << " with unreadable files";
+  if (s.pending) log << ", " << s.pending << " not run yet (run the same command again to continue)";
+  std::vector<std::string> apart;
+  if (s.outside_pending) apart.push_back(std::to_string(s.outside_pending) + " outside --only not run");
+  if (s.outside_failed) apart.push_back(std::to_string(s.outside_failed) + " outside --only failed earlier");
+  if (s.outside_corrupt) apart.push_back(std::to_string(s.outside_corrupt) + " outside --only with unreadable files");
+  if (!apart.empty())
+    log << ", " << join(apart, ", ") << " (run the command without --only, or with an --only that names them, to "
+        << "run them)";
   log << "\n";
   if (!s.corrupt.empty()) {
     log << "roger run: " << s.corrupt.size() << " trial" << (s.corrupt.size() == 1 ? " has" : "s have")
@@ -63,6 +60,15 @@ int print_outcome(const BatchSummary& s, int outside, std::ostream& log) {
       << " failed (their error.json holds the whole message; the same command tries them again):\n";
   for (const auto& f : s.failed) log << "  " << f << "\n";
   return 1;
+}
+
+// The note of a run under --explain that found `n` training trials finished by an earlier run
+// without --explain: it runs no finished trial again, so they keep their result as it is.
+void print_undiagnosed(int n, std::ostream& log) {
+  log << "roger run: --explain: " << counted(n, "training trial") << " finished earlier "
+      << (n == 1 ? "keeps its" : "keep their") << " result.json without a diagnosis (--explain adds one to the "
+      << "trials it runs; a run that missed its threshold has one either way). For a diagnosis of every trial, run "
+      << "the command with --explain into a new --out\n";
 }
 
 // Lists the trials a report still needs; returns 1.
@@ -87,6 +93,29 @@ int print_missing(const std::vector<MissingTrial>& missing, const BatchPlan& pla
                     "corrupt record, not even as pending.\n"
                   : ", or\nroger report --partial " + plan.out + " to report what is there, marked as pending.\n");
   return 1;
+}
+
+// Writes the report at the end of a run; returns "written", or "failed" having said why.
+std::string report_of_run(const BatchPlan& plan, std::ostream& log) {
+  try {
+    for (const auto& f : write_report(plan.out)) log << "roger run: wrote " << f << "\n";
+    return "written";
+  } catch (const FileError&) {
+    write_closing_status(plan.out, "failed");
+    throw;  // the machine's fault, not the report's: command_run says it, with what to do
+  } catch (const std::exception& e) {
+    log << "roger run: the report failed: " << e.what() << "\n";
+    return "failed";
+  }
+}
+
+// A FileError of roger report, with advice for it: it writes only into its folder, and a run again
+// writes the whole report again (it resumes nothing).
+std::string report_file_error_line(const FileError& e) {
+  if (e.error_number == EACCES || e.error_number == EPERM || e.error_number == EROFS)
+    return std::string(e.what()) + ". roger report writes its report into the results folder: make the folder "
+           "writable (or copy it somewhere writable and report the copy), then run the same command again";
+  return file_error_line(e, false);
 }
 
 }  // namespace
@@ -129,10 +158,12 @@ int command_run(const RunArgs& a) {
     const BatchScript& b = *script;
     const BatchPlan plan = plan_batch(script, a.out.empty() ? "results/" + b.name : a.out);
     check_selectors(plan, a.only);
+    check_out_folder(plan.out);  // before the claim makes its lock files there
     const RunningClaim claim(plan.out, shard, a.only);  // until the run has ended, its report written
     std::string note;
     if (open_results_folder(plan, &note, shard)) log << "roger run: resuming " << plan.out << "\n";
     if (!note.empty()) log << "roger run: " << note << "\n";
+    check_only_needs(plan, a.only, shard);
     size_t trials = 0;
     for (const auto& p : plan.phases) trials += p.size();
     log << "roger run: " << b.path << " -> " << plan.out << " (" << trials << " trials, curriculum "
@@ -141,26 +172,27 @@ int command_run(const RunArgs& a) {
     // The dashboard from the start: it follows the run's status.js until the report is written.
     log << "roger run: open " << write_dashboard_page(plan.out) << " to follow the run\n";
     const BatchSummary summary = run_batch(plan, RunControl{a.jobs, a.live, a.max_trials, a.only, &log, shard, !a.no_eval_cache, a.explain});
+    const bool reporting = !a.no_report && !shard.active() && summary.corrupt.empty();
+    // The report is short and written whole or not at all: a first Ctrl-C from now on lets it finish.
+    if (reporting) catch_interrupts("finishing the report of the finished trials, then exiting");
+    if (!shard.active()) log << "roger run: wrote " << (std::filesystem::path(plan.out) / "summary.csv").string() << "\n";
+    if (summary.undiagnosed) print_undiagnosed(summary.undiagnosed, log);
     int status = 0;
     std::string report = "none";
     if (!summary.corrupt.empty() && !a.no_report && !shard.active()) {
       log << "roger run: no report: some trials' files cannot be read (listed below)\n";
-    } else if (!a.no_report && !shard.active()) {
-      try {
-        for (const auto& f : write_report(plan.out)) log << "roger run: wrote " << f << "\n";
-        report = "written";
-      } catch (const FileError&) {
-        write_closing_status(plan.out, "failed");
-        throw;  // the machine's fault, not the report's: said below, with what to do
-      } catch (const std::exception& e) {
-        log << "roger run: the report failed: " << e.what() << "\n";
-        report = "failed";
-        status = 1;
-      }
+    } else if (reporting) {
+      report = report_of_run(plan, log);
+      status = report == "written" ? 0 : 1;
     }
     // A shard's final status stays: it says what the run waits for (other shards, roger report).
     if (!shard.active()) write_closing_status(plan.out, report);
-    const int outcome = print_outcome(summary, summary.pending ? pending_outside_only(plan, a, shard) : 0, log) ? 1 : status;
+    const int outcome = print_outcome(summary, log) ? 1 : status;
+    if (!summary.interrupted && interrupt_requested()) {
+      log << "roger run: stopped on request after its trials had ended" << (report == "written" ? ", during the "
+             "report, which was completed" : "") << "\n";
+      return interrupt_exit_status();
+    }
     if (!summary.interrupted) return outcome;
     log << "roger run: interrupted; the trials that were running start afresh when you run the same command "
            "again\n";
@@ -196,7 +228,7 @@ int command_report(const ReportArgs& a) {
           << " no result yet (marked pending)\n";
     return 0;
   } catch (const FileError& e) {
-    log << "roger report: " << file_error_line(e) << "\n";
+    log << "roger report: " << report_file_error_line(e) << "\n";
     return 1;
   } catch (const std::exception& e) {
     log << "roger report: " << e.what() << "\n";

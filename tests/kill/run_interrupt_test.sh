@@ -69,6 +69,28 @@ grep -q "pending" "$work/once/tables.md" || fail "the partial report marks nothi
 grep -q '"running": false' "$work/once/status.json" || fail "status.json still says running"
 resume_to_golden "$work/once"
 
+# A Ctrl-C once every trial is done, while the report is written again (found by a probe: it said
+# "finishing the episodes in flight", wrote the report and exited 0): the report is finished, the
+# run says the stop came after its trials, and exits 130.
+cp -a "$work/once" "$work/report"
+rm -f "$work/report/tables.md" "$work/report/report.json" "$work/report"/figure*
+"$roger" run scripts/quick.lua --jobs 2 --out "$work/report" >"$work/log" 2>&1 &
+child=$!
+until grep -q "^roger run: wrote .*summary.csv" "$work/log"; do
+  kill -0 "$child" 2>/dev/null || fail "the run ended before it wrote summary.csv"
+  sleep 0.01
+done
+kill -INT "$child"
+status=0
+wait "$child" || status=$?
+child=
+[ "$status" -eq 130 ] || fail "exit status $status after a Ctrl-C during the report, not 130"
+grep -q "^roger: stopping: finishing the report of the finished trials, then exiting" "$work/log" ||
+  fail "the line of the stop does not say the report is finished"
+[ "$(tail -n 1 "$work/log")" = "roger run: stopped on request after its trials had ended, during the report, which was completed" ] ||
+  fail "the last line does not say the report was completed"
+[ -f "$work/report/tables.md" ] && [ -f "$work/report/report.json" ] || fail "the report was not finished"
+
 interrupt "$work/twice" 2
 [ "$status" -eq 130 ] || fail "exit status $status after two Ctrl-C, not 130 (killed by SIGINT)"
 ! grep -q "^roger run: interrupted" "$work/log" || fail "the second Ctrl-C did not stop the run at once"
@@ -107,4 +129,4 @@ grep -q "^roger: stopping: the trial ends at its next episode and writes nothing
   fail "roger train: the last line does not say nothing was written"
 [ "$(cat "$work/train/policy.json")" = '{"earlier": true}' ] && [ "$(ls -A "$work/train")" = policy.json ] ||
   fail "roger train: the folder changed"
-echo "passed: one Ctrl-C keeps what finished and reports it; two stop at once, but not one delivered twice; both resume to the golden run; SIGTERM stops as one Ctrl-C and exits 143; roger train stopped writes nothing and says so"
+echo "passed: one Ctrl-C keeps what finished and reports it; one during the report finishes it and exits 130; two stop at once, but not one delivered twice; both resume to the golden run; SIGTERM stops as one Ctrl-C and exits 143; roger train stopped writes nothing and says so"
