@@ -271,9 +271,14 @@ function Rng:fork() end
 ---@field min? number lower bound of a number or integer
 ---@field max? number upper bound
 
+---The parameters `generate` receives: each declared parameter's value in force, by name. Reading a
+---name the scenario does not declare is an error at that line, naming the nearest
+---("the scenario has no parameter 'goal_raduis' (did you mean 'goal_radius'?); its parameters: ...").
+---@class roger.Params: { [string]: any }
+
 ---What a scenario script returns.
 ---@class roger.Scenario
 ---@field name? string default: the file name
 ---@field description? string one paragraph
 ---@field params? table<string, any|roger.ParamSpec> defaults of the --set parameters
----@field generate fun(world: roger.World, rng: roger.Rng, params: table<string, any>) builds one world
+---@field generate fun(world: roger.World, rng: roger.Rng, params: roger.Params) builds one world

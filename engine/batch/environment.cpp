@@ -108,8 +108,9 @@ std::string params_given(const ParamList& sets, const ParamList& task) {
   auto add = [&](const std::string& key, const std::string& value) {
     text += (text.empty() ? "" : ", ") + key + "=" + value;
   };
-  for (const auto& [key, value] : sets)
-    if (std::none_of(task.begin(), task.end(), [&](const auto& p) { return p.first == key; })) add(key, value);
+  for (const auto& set : sets)  // a pair, not a structured binding: a lambda cannot capture those (C++17)
+    if (std::none_of(task.begin(), task.end(), [&](const auto& p) { return p.first == set.first; }))
+      add(set.first, set.second);
   for (const auto& [key, value] : task) add(key, value);
   return text.empty() ? "with the stage's own parameters" : "with the parameters given (" + text + ")";
 }
