@@ -18,6 +18,10 @@ namespace roger {
 // the command resumes where it stopped when run again (roger run, roger report).
 std::string file_error_line(const FileError& e, bool resumes = true);
 
+// file_error_line for roger report: it writes only into its folder (a folder it may not write
+// into needs another place, or a copy), and it resumes nothing.
+std::string report_file_error_line(const FileError& e);
+
 // The sandbox limits --lua-instructions and --lua-memory set over the defaults.
 SandboxLimits sandbox_limits(const LuaLimitArgs& lua);
 

@@ -109,16 +109,14 @@ std::string report_of_run(const BatchPlan& plan, std::ostream& log) {
   }
 }
 
-// A FileError of roger report, with advice for it: it writes only into its folder, and a run again
-// writes the whole report again (it resumes nothing).
+}  // namespace
+
 std::string report_file_error_line(const FileError& e) {
   if (e.error_number == EACCES || e.error_number == EPERM || e.error_number == EROFS)
     return std::string(e.what()) + ". roger report writes its report into the results folder: make the folder "
            "writable (or copy it somewhere writable and report the copy), then run the same command again";
   return file_error_line(e, false);
 }
-
-}  // namespace
 
 std::string file_error_line(const FileError& e, bool resumes) {
   const std::string rerun = std::string("run the same command again") + (resumes ? ": it resumes where this one stopped" : "");

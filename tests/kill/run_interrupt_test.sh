@@ -47,6 +47,17 @@ interrupt() {
     if [ "$gap" != 0 ]; then sleep "$gap"; fi
     kill -"$signal" "$child" 2>/dev/null || true
   fi
+  wait_child
+}
+
+# Sends SIGINT to the background command $child, then waits for it (wait_child).
+stop_child() {
+  kill -INT "$child"
+  wait_child
+}
+
+# Waits for the background command $child and sets `status` to its exit status.
+wait_child() {
   status=0
   wait "$child" || status=$?
   child=
@@ -80,10 +91,7 @@ until grep -q "^roger run: wrote .*summary.csv" "$work/log"; do
   kill -0 "$child" 2>/dev/null || fail "the run ended before it wrote summary.csv"
   sleep 0.01
 done
-kill -INT "$child"
-status=0
-wait "$child" || status=$?
-child=
+stop_child
 [ "$status" -eq 130 ] || fail "exit status $status after a Ctrl-C during the report, not 130"
 grep -q "^roger: stopping: finishing the report of the finished trials, then exiting" "$work/log" ||
   fail "the line of the stop does not say the report is finished"
@@ -118,10 +126,7 @@ echo '{"earlier": true}' >"$work/train/policy.json"
 "$roger" train curricula/sorting.lua --stage Sort4 --context Learned --out "$work/train" >"$work/log" 2>&1 &
 child=$!
 sleep 1
-kill -INT "$child"
-status=0
-wait "$child" || status=$?
-child=
+stop_child
 [ "$status" -eq 130 ] || fail "roger train: exit status $status after Ctrl-C, not 130"
 grep -q "^roger: stopping: the trial ends at its next episode and writes nothing" "$work/log" ||
   fail "roger train: no line says it is stopping"

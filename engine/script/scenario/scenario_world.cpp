@@ -280,24 +280,30 @@ int l_world_tostring(lua_State* L) {
   return 1;
 }
 
-// Registers a userdata metatable with its methods, finalizer and tostring.
+// The string keys of the table at `index`, sorted (for the messages naming what a table has).
+std::vector<std::string> sorted_names(lua_State* L, int index) {
+  std::vector<std::string> names;
+  lua_pushnil(L);
+  while (lua_next(L, index)) {
+    if (lua_type(L, -2) == LUA_TSTRING) names.push_back(lua_tostring(L, -2));
+    lua_pop(L, 1);
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
 // The __index of a class's methods table (upvalue 1: what the object is called, "rng"): a name
 // it lacks is an error at the reader's line naming the methods, with the nearest. Before, a
 // misspelt method read nil and the call failed with "attempt to call a nil value (method ...)".
 int l_no_method(lua_State* L) {
   const std::string what = lua_tostring(L, lua_upvalueindex(1));
   const std::string name = luaL_tolstring(L, 2, nullptr);
-  std::vector<std::string> methods;
-  lua_pushnil(L);
-  while (lua_next(L, 1)) {
-    if (lua_type(L, -2) == LUA_TSTRING) methods.push_back(lua_tostring(L, -2));
-    lua_pop(L, 1);
-  }
-  std::sort(methods.begin(), methods.end());
+  const std::vector<std::string> methods = sorted_names(L, 1);
   return raise_at_reader(L, what + " has no method '" + name + "'" + suggestion(name, methods) + "; its methods: " +
                                 join(methods));
 }
 
+// Registers a userdata metatable with its methods, finalizer and tostring.
 void new_class(lua_State* L, const char* type, const luaL_Reg* methods, lua_CFunction gc,
                lua_CFunction tostring) {
   luaL_newmetatable(L, type);
@@ -336,13 +342,7 @@ void new_class(lua_State* L, const char* type, const luaL_Reg* methods, lua_CFun
 int l_no_param(lua_State* L) {
   if (lua_type(L, 2) != LUA_TSTRING) return 0;
   const std::string name = lua_tostring(L, 2);
-  std::vector<std::string> params;
-  lua_pushnil(L);
-  while (lua_next(L, 1)) {
-    if (lua_type(L, -2) == LUA_TSTRING) params.push_back(lua_tostring(L, -2));
-    lua_pop(L, 1);
-  }
-  std::sort(params.begin(), params.end());
+  const std::vector<std::string> params = sorted_names(L, 1);
   return raise_at_reader(L, "the scenario has no parameter '" + name + "'" + suggestion(name, params) +
                                 (params.empty() ? std::string("; it declares none") : "; its parameters: " + join(params)));
 }
