@@ -534,30 +534,40 @@ TEST_CASE("a folder takes a script that changes only its report or adds trials, 
   CHECK_THAT(fewer.str(), Catch::Matchers::Contains("runs[1].trials: 3 in the folder, 2 now"));
 }
 
+// What `roger run` with `a` said (its log) and its exit status.
+struct Said {
+  int status = 0;
+  std::string log;
+};
+Said run_saying(RunArgs a) {
+  std::ostringstream log;
+  a.progress = &log;
+  const int status = command_run(a);
+  return {status, log.str()};
+}
+
 // Found by a probe: after `roger run ... --only SG/DC2`, the last line said the other trials were
 // "not run yet (run the same command again to continue)", and the same command ran none of them.
 TEST_CASE("the trials outside --only or the shard are not said to wait for the same command", "[report][run]") {
   Fixture f("only");
   RunArgs a = f.args("out", 2, {"SG/DC2"});
-  std::ostringstream said;
-  a.progress = &said;
-  REQUIRE(command_run(a) == 0);
-  INFO(said.str());
-  CHECK_THAT(said.str(), Catch::Matchers::Contains("roger run: 2 of 10 trials done in "));
-  CHECK_THAT(said.str(), Catch::Matchers::EndsWith(
+  const Said said = run_saying(a);
+  REQUIRE(said.status == 0);
+  INFO(said.log);
+  CHECK_THAT(said.log, Catch::Matchers::Contains("roger run: 2 of 10 trials done in "));
+  CHECK_THAT(said.log, Catch::Matchers::EndsWith(
                              ", 8 outside --only not run (run the command without --only, or with an --only that "
                              "names them, to run them)\n"));
-  CHECK(said.str().find("run the same command again to continue") == std::string::npos);
+  CHECK(said.log.find("run the same command again to continue") == std::string::npos);
   // A shard and --only: a shard counts its own trials (the other shards run theirs), and among
   // them those outside --only.
   a.only = {"SG"};
   a.shard = "1/2";
-  std::ostringstream shard;
-  a.progress = &shard;
-  REQUIRE(command_run(a) == 0);
-  INFO(shard.str());
-  CHECK_THAT(shard.str(), Catch::Matchers::Contains("roger run: 2 of 5 trials done in "));
-  CHECK_THAT(shard.str(), Catch::Matchers::EndsWith(
+  const Said shard = run_saying(a);
+  REQUIRE(shard.status == 0);
+  INFO(shard.log);
+  CHECK_THAT(shard.log, Catch::Matchers::Contains("roger run: 2 of 5 trials done in "));
+  CHECK_THAT(shard.log, Catch::Matchers::EndsWith(
                               ", 3 outside --only not run (run the command without --only, or with an --only that "
                               "names them, to run them)\n"));
 }
@@ -568,23 +578,21 @@ TEST_CASE("an --only run answers for its own trials; failures outside it are a c
   Fixture f("only_failed");
   RunArgs a = f.args("out", 2, {"SG/B1"});
   a.no_report = true;
-  std::ostringstream first;
-  a.progress = &first;
-  REQUIRE(command_run(a) == 0);
+  const Said first = run_saying(a);
+  REQUIRE(first.status == 0);
   // The evaluation's trials failed in another run (as they do when run before their policies).
   for (const char* id : {"eval/gen/circle/000", "eval/gen/circle/001"}) {
     fs::create_directories(trial_dir(a.out, id));
     spit(fs::path(trial_dir(a.out, id)) / "error.json",
          json({{"error", "needs the policy of trial T/DC6/000, which has not run yet"}, {"trial", id}}).dump());
   }
-  std::ostringstream said;
-  a.progress = &said;
-  CHECK(command_run(a) == 0);
-  INFO(said.str());
-  CHECK(said.str().find("failed (their error.json") == std::string::npos);
-  CHECK(said.str().find("needs the policy") == std::string::npos);
+  const Said said = run_saying(a);
+  CHECK(said.status == 0);
+  INFO(said.log);
+  CHECK(said.log.find("failed (their error.json") == std::string::npos);
+  CHECK(said.log.find("needs the policy") == std::string::npos);
   // The counts add up to the plan's 10: 2 done, 6 not run and 2 failed outside --only.
-  CHECK_THAT(said.str(), Catch::Matchers::Contains("roger run: 2 of 10 trials done in ") &&
+  CHECK_THAT(said.log, Catch::Matchers::Contains("roger run: 2 of 10 trials done in ") &&
                              Catch::Matchers::EndsWith(", 6 outside --only not run, 2 outside --only failed earlier (run "
                                                        "the command without --only, or with an --only that names "
                                                        "them, to run them)\n"));
@@ -596,22 +604,20 @@ TEST_CASE("--explain says which finished trials keep their result without a diag
   Fixture f("explain_note");
   RunArgs a = f.args("out", 2, {"SG/B1"});
   a.no_report = true;
-  std::ostringstream first;
-  a.progress = &first;
-  REQUIRE(command_run(a) == 0);
-  CHECK(first.str().find("--explain:") == std::string::npos);
+  const Said first = run_saying(a);
+  REQUIRE(first.status == 0);
+  CHECK(first.log.find("--explain:") == std::string::npos);
   a.explain = true;
-  std::ostringstream said;
-  a.progress = &said;
-  REQUIRE(command_run(a) == 0);
-  INFO(said.str());
-  CHECK_THAT(said.str(), Catch::Matchers::Contains(
+  const Said said = run_saying(a);
+  REQUIRE(said.status == 0);
+  INFO(said.log);
+  CHECK_THAT(said.log, Catch::Matchers::Contains(
                              "roger run: --explain: 2 training trials finished earlier keep their result.json without "
                              "a diagnosis (--explain adds one to the trials it runs; a run that missed its threshold "
                              "has one either way). For a diagnosis of every trial, run the command with --explain "
                              "into a new --out\n"));
   // roger run says it wrote summary.csv, as roger report does.
-  CHECK_THAT(said.str(), Catch::Matchers::Contains("roger run: wrote " + (f.root / "out" / "summary.csv").string() + "\n"));
+  CHECK_THAT(said.log, Catch::Matchers::Contains("roger run: wrote " + (f.root / "out" / "summary.csv").string() + "\n"));
 }
 
 // Found by a probe: `--only T/DC6` in a fresh folder ran its trials, each recorded as failed for the
@@ -619,11 +625,10 @@ TEST_CASE("--explain says which finished trials keep their result without a diag
 TEST_CASE("an --only that needs policies outside it that have no result is refused before any trial", "[report][run]") {
   Fixture f("only_needs");
   RunArgs a = f.args("out", 2, {"T/DC6"});
-  std::ostringstream said;
-  a.progress = &said;
-  CHECK(command_run(a) == 1);
-  INFO(said.str());
-  CHECK_THAT(said.str(), Catch::Matchers::Contains(
+  const Said said = run_saying(a);
+  CHECK(said.status == 1);
+  INFO(said.log);
+  CHECK_THAT(said.log, Catch::Matchers::Contains(
                              "roger run: --only T/DC6: its trials need the policies of trials outside it that have no "
                              "result yet (not run, or failed): SG/DC2/000, SG/DC2/001, for T/DC6/000, T/DC6/001. "
                              "Nothing was run: run them first (e.g. --only SG/DC2), or add --only SG/DC2 to this "
@@ -631,10 +636,9 @@ TEST_CASE("an --only that needs policies outside it that have no result is refus
   CHECK_FALSE(fs::exists(trial_dir(a.out, "T/DC6/000")));
   // With the runs it needs in its --only, it runs.
   a.only = {"eval"};
-  std::ostringstream eval;
-  a.progress = &eval;
-  CHECK(command_run(a) == 1);
-  CHECK_THAT(eval.str(), Catch::Matchers::Contains("T/DC6/000, T/DC6/001, for eval/gen/circle/000") &&
+  const Said eval = run_saying(a);
+  CHECK(eval.status == 1);
+  CHECK_THAT(eval.log, Catch::Matchers::Contains("T/DC6/000, T/DC6/001, for eval/gen/circle/000") &&
                              Catch::Matchers::Contains("add --only T/DC6 to this command"));
   CHECK_FALSE(fs::exists(trial_dir(a.out, "eval/gen/circle/000")));
 }

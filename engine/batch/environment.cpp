@@ -189,7 +189,11 @@ StageEnvironment::StageEnvironment(const EnvironmentOptions& o) {
 
 PlacementError placement_error(const PlacementError& e, const std::string& prefix) {
   const std::string at = e.file.empty() ? "" : e.file + (e.line > 0 ? ":" + std::to_string(e.line) : "") + ": ";
-  PlacementError out(ScriptError(prefix + at + e.message, "", 0, ""));
+  return with_text(e, prefix + at + e.message);
+}
+
+PlacementError with_text(const PlacementError& e, const std::string& text) {
+  PlacementError out(ScriptError(text, "", 0, ""));
   out.message = e.message;
   out.file = e.file;
   out.line = e.line;

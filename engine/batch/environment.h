@@ -96,6 +96,8 @@ void observed_joint_ranges(const RobotParams& body, std::array<double, kDofCount
 // own message after the prefix; its Lua traceback is kept in .traceback, not in the message (the
 // parameters, which the prefix names, are what to change).
 PlacementError placement_error(const PlacementError& e, const std::string& prefix);
+// A copy of `e` whose text (what()) is `text`: the same class, message, file, line and traceback.
+PlacementError with_text(const PlacementError& e, const std::string& text);
 
 // A teacher whose worlds have another body than the stage's (what the tick mode's observation
 // space is made for): an LCAS teacher lifting a body parameter (eye_pixels) beside the task space.

@@ -803,10 +803,15 @@ void check_only_needs(const BatchPlan& plan, const std::vector<std::string>& onl
   std::map<std::string, const PlannedTrial*> by_id;
   for (const auto& p : plan.phases)
     for (const auto& t : p) by_id[t.id] = &t;
+  std::map<std::string, bool> known;  // each trial's records read once: many evaluations share a source
   const auto finished = [&](const PlannedTrial& t) {
-    json result;
-    std::string error;
-    return trial_status(plan.out, t, result, error) == "ok";
+    const auto [at, added] = known.emplace(t.id, false);
+    if (added) {
+      json result;
+      std::string error;
+      at->second = trial_status(plan.out, t, result, error) == "ok";
+    }
+    return at->second;
   };
   std::vector<std::string> needed, needing, runs;
   for (const auto& p : plan.phases)
@@ -932,8 +937,8 @@ RunningClaim::RunningClaim(const std::string& out, const Shard& shard, const std
 // The claim files stay (unlinking a flock file races with a run that has just opened it): emptied,
 // so that none names a process that no longer holds it; the lock, not the text, is the claim.
 RunningClaim::~RunningClaim() {
-  if (own_ >= 0 && ::ftruncate(own_, 0) == 0) {}
-  if (own_ < 0 && ::ftruncate(whole_, 0) == 0) {}  // a part shares .running and wrote nothing there
+  // A part shares .running and wrote nothing there; best effort (the lock is released either way).
+  if (::ftruncate(own_ >= 0 ? own_ : whole_, 0) != 0) {}
   if (own_ >= 0) ::close(own_);  // closing releases the lock
   ::close(whole_);
 }

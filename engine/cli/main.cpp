@@ -117,7 +117,9 @@ CLI::App* add_render(CLI::App& app, RenderArgs& a) {
   c->add_option("--out", a.out, "Output picture (.png or .svg)")->check(path_value())->required();
   repeatable(c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)"));
   // render.cpp's range, as Python's render_width has it.
-  c->add_option("--width", a.width, "Picture width in pixels (of each frame of an episode's strip)")->capture_default_str()->check(integer_in(100, 16000));
+  c->add_option("--width", a.width, "Picture width in pixels (of each frame of an episode's strip)")
+      ->capture_default_str()
+      ->check(integer_in(100, 16000));
   c->add_option("--seconds", a.seconds, "Simulate this long (Roger idle) first")->check(number_in(0.0, 3600.0));
   c->add_flag("--grid", a.grid, "Draw the metric grid across the floor");
   c->add_option("--policy", a.policy,
@@ -390,4 +392,3 @@ int main(int argc, char** argv) {
   }
   return 2;
 }
-

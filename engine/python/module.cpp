@@ -72,16 +72,6 @@ void check_skill_names(const EnvironmentOptions& o, const std::string& where) {
       throw Error(where + ": skills={'" + name + "': '" + file + "'}: " + cur.path() + ": " + problem);
 }
 
-// A PlacementError (its message already naming the world and the parameters) with `prefix` in front.
-PlacementError prefixed(const PlacementError& e, const std::string& prefix) {
-  PlacementError out(ScriptError(prefix + e.what(), "", 0, ""));
-  out.message = e.message;
-  out.file = e.file;
-  out.line = e.line;
-  out.traceback = e.traceback;
-  return out;
-}
-
 // Makes an environment (or a batch) of `o` with `make`, after checking its skills' names. The
 // engine words a mistake of a stage's ("stage 'SG' has no context 'DC9'; its contexts: ...")
 // without the curriculum's file, which the curriculum's own mistakes name: such a message is
@@ -92,7 +82,7 @@ auto make_environment(const EnvironmentOptions& o, const std::string& where, Mak
     check_skill_names(o, where);
     return make();
   } catch (const PlacementError& e) {
-    throw prefixed(e, where + ": ");  // which call could not build the world
+    throw with_text(e, where + ": " + e.what());  // which call could not build the world
   } catch (const ScriptError&) {
     throw;  // file:line already
   } catch (const Error& e) {
@@ -416,7 +406,7 @@ void bind_environment(py::module_& m) {
                py::gil_scoped_release nogil;
                g = e.reset(seed, task);
              } catch (const PlacementError& error) {
-               throw prefixed(error, "reset: ");
+               throw with_text(error, std::string("reset: ") + error.what());
              }
              return py::make_tuple(state_array(g), e.running());
            },

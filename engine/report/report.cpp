@@ -67,12 +67,13 @@ std::vector<std::string> draw_figures(const BatchScript& b, const Folder& folder
 void remove_undrawn_figures(const std::string& dir, const json& page_figures, const std::vector<std::string>& out) {
   std::set<std::string> written;
   for (const std::string& o : out) written.insert(fs::path(o).filename().string());
-  for (const json& f : page_figures)
+  for (const json& f : page_figures) {
+    const std::string file = f.value("file", std::string());
     for (const char* ext : {".png", ".svg"}) {
-      const std::string name = f.value("file", std::string()) + ext;
       std::error_code ec;
-      if (name.size() > 4 && !written.count(name)) fs::remove(fs::path(dir) / name, ec);  // usually none
+      if (!file.empty() && !written.count(file + ext)) fs::remove(fs::path(dir) / (file + ext), ec);  // usually none
     }
+  }
 }
 
 }  // namespace

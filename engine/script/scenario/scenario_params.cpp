@@ -187,8 +187,7 @@ ParamSlot Scenario::Impl::read_param(lua_State* L) const {
     throw error(ctx + ": " + (slot.info.min ? "min" : "max") + " bounds a number, and the default is " +
                 param_type_name(slot.info.type) + " " +
                 (slot.info.type == ParamType::kString ? "'" + slot.text + "'" : slot_text(slot)) +
-                " (its type is the default's: " +
-                "write it as a number for a numeric parameter)");
+                " (its type is the default's: write it as a number for a numeric parameter)");
   if (slot.info.list && slot.info.type != ParamType::kString)
     throw error(ctx + ": a list's default is a string of comma-separated choices (\"\" for none), got " +
                 param_type_name(slot.info.type) + " " + slot_text(slot));
