@@ -736,6 +736,57 @@ TEST_CASE("a results folder resumes from another folder and after a copy, not wi
   fs::remove_all(top);
 }
 
+// Found by a probe: a lab whose batch script, curriculum and worlds sit side by side (batch/,
+// curr/, worlds/) could not resume its folder after a copy: the files outside the batch script's
+// folder were named by their absolute paths, and the refusal said a file had changed.
+TEST_CASE("a lab's folders side by side resume after a copy; a shared file that stayed, after a move", "[batch]") {
+  const fs::path top = fresh_dir("relocate_siblings");
+  const fs::path lab = top / "lab", shared = top / "shared";
+  for (const char* sub : {"batch", "curr", "worlds"}) fs::create_directories(lab / sub);
+  fs::create_directories(shared);
+  std::string curriculum = slurp("tests/scripts/kill_curriculum.lua");
+  const std::string stop = "stage.checkpoints.stop_after = 0\n";
+  REQUIRE(curriculum.find(stop) != std::string::npos);
+  curriculum.insert(curriculum.find(stop) + stop.size(), "  stage.scenario = \"../worlds/room.lua\"\n");
+  std::ofstream(lab / "curr" / "kill_curriculum.lua") << curriculum;
+  fs::copy_file("scenarios/unobstructed.lua", lab / "worlds" / "room.lua");
+  fs::copy_file("scenarios/unobstructed.lua", shared / "hall.lua");
+  const auto batch = [](const std::string& curriculum_path, const std::string& scenario_path) {
+    std::string text = slurp("tests/scripts/kill_batch.lua");
+    text.replace(text.find("\"kill_curriculum.lua\""), 21, "\"" + curriculum_path + "\"");
+    text.replace(text.find("\"cluttered\", params = { obstacles = 2 }"), 39, "\"" + scenario_path + "\"");
+    return text;
+  };
+  // The evaluation's world from the lab's worlds/ folder, then from a folder shared by labs.
+  std::ofstream(lab / "batch" / "b.lua") << batch("../curr/kill_curriculum.lua", "../worlds/room.lua");
+  std::ofstream(lab / "batch" / "s.lua") << batch("../curr/kill_curriculum.lua", (shared / "hall.lua").string());
+  const auto open = [](const fs::path& script, const fs::path& out) {
+    const auto b = std::make_shared<const BatchScript>(load_batch_script(script.string()));
+    return open_results_folder(plan_batch(b, out.string()));
+  };
+  CHECK_FALSE(open(lab / "batch" / "b.lua", lab / "out" / "b"));
+  CHECK_FALSE(open(lab / "batch" / "s.lua", lab / "out" / "s"));
+  // The whole lab copied: its own files are at the same places of the copy.
+  const fs::path copy = top / "copy";
+  fs::copy(lab, copy, fs::copy_options::recursive);
+  CHECK(open(copy / "batch" / "b.lua", copy / "out" / "b"));
+  // Moved: the shared world stayed where it was, and is still the same file.
+  const fs::path moved = top / "elsewhere" / "lab";
+  fs::create_directories(moved.parent_path());
+  fs::rename(lab, moved);
+  CHECK(open(moved / "batch" / "s.lua", moved / "out" / "s"));
+  // A world of the lab edited in the copy is still refused, named from the script's folder.
+  std::ofstream(copy / "worlds" / "room.lua", std::ios::app) << "-- edited\n";
+  try {
+    open(copy / "batch" / "b.lua", copy / "out" / "b");
+    FAIL("a folder was resumed with an edited world");
+  } catch (const Error& e) {
+    CHECK_THAT(e.what(), Catch::Matchers::Contains("before a Lua file its trials read changed"));
+    CHECK_THAT(e.what(), Catch::Matchers::Contains("sources['<script folder>/../worlds/room.lua']"));
+  }
+  fs::remove_all(top);
+}
+
 TEST_CASE("a results folder made under other Lua limits is not resumed", "[batch]") {
   const fs::path out = fresh_dir("limits");
   BatchOverrides small;

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <optional>
 #include <regex>
@@ -239,6 +240,13 @@ struct Places {
   fs::path root;           // the project root the configuration was made under
   fs::path script_dir;     // the batch script's folder (absolute)
   fs::path relative_base;  // where a relative path is looked for: this run's script folder
+  // A file outside the project and the script's folder is named by its absolute path (a file shared
+  // by labs, that stayed where it was), unless it is named here by its place from the script's
+  // folder ("<script folder>/../worlds/room.lua"): both configurations have a file there, as when a
+  // lab whose batch/, curricula and worlds sit side by side was moved or copied whole.
+  std::set<std::string> moved_with_script;
+  // When not null, receives each such file's place from the script's folder.
+  std::set<std::string>* outside = nullptr;
 };
 
 std::string relocated_path(const std::string& value, const Places& at) {
@@ -263,7 +271,10 @@ std::string relocated_path(const std::string& value, const Places& at) {
   if (auto r = under(at.script_dir)) return "<script folder>/" + *r;
   // Sources are recorded by their real paths: the script folder through a link is the same.
   if (auto r = under(fs::weakly_canonical(at.script_dir, ec))) return "<script folder>/" + *r;
-  return value;
+  if (at.script_dir.empty()) return value;
+  const std::string place = "<script folder>/" + p.lexically_relative(at.script_dir).generic_string();
+  if (at.outside) at.outside->insert(place);
+  return at.moved_with_script.count(place) ? place : value;
 }
 
 // The project root a manifest's configuration was made under: the folder of which its curriculum
@@ -433,11 +444,19 @@ std::string check_manifest(const BatchPlan& plan, const fs::path& manifest_path,
   const fs::path here = fs::weakly_canonical(project_root(), ec);
   const std::string old_file = old.value("script_file", std::string());
   const fs::path script_dir = fs::absolute(plan.script->file).lexically_normal().parent_path();
-  const json old_places =
-      relocated(old_config, {recorded_root(old_config, here),
-                             old_file.empty() ? fs::path() : fs::path(old_file).lexically_normal().parent_path(),
-                             script_dir});
-  const json now_places = relocated(config, {recorded_root(config, here), script_dir, script_dir});
+  Places then{recorded_root(old_config, here),
+               old_file.empty() ? fs::path() : fs::path(old_file).lexically_normal().parent_path(), script_dir,
+               {}, nullptr};
+  Places now{recorded_root(config, here), script_dir, script_dir, {}, nullptr};
+  // The files outside the project and the script's folder at the same place from it in both.
+  std::set<std::string> outside_then, outside_now;
+  then.outside = &outside_then, now.outside = &outside_now;
+  relocated(old_config, then), relocated(config, now);
+  std::set_intersection(outside_then.begin(), outside_then.end(), outside_now.begin(), outside_now.end(),
+                        std::inserter(now.moved_with_script, now.moved_with_script.end()));
+  then.moved_with_script = now.moved_with_script;
+  then.outside = now.outside = nullptr;
+  const json old_places = relocated(old_config, then), now_places = relocated(config, now);
   if (old_places != now_places && old_config.is_object() && extends(old_places, now_places))
     return extend_manifest(old, old_config, old_places, now_places, plan, manifest_path, fresh_manifest);
   if (old_places != now_places) throw refusal(old, old_places, now_places, plan);
