@@ -136,6 +136,35 @@ TEST_CASE("roger check validates batch scripts against their curriculum", "[cli]
   CHECK(r.err.find("DC9") != std::string::npos);
 }
 
+// Found by a probe: `roger check` of a batch script ignored --set (a misspelt name passed), and
+// checked no stage's task space under the runs' parameters, so a run whose --set carried an axis's
+// end past its range passed the check and failed in training.
+TEST_CASE("roger check of a batch script takes --set as roger run does", "[cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_batch_sets_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "k5.lua") << "local p = require('lib.skills').primitives()\n"
+                                        "return { name = 'k5', stages = {\n"
+                                        "  roger.stage{ name = 'S', scenario = 'cluttered', time_limit = 4,\n"
+                                        "    absorbing = roger.converged(p.phi0), budget = { episodes = 20 },\n"
+                                        "    tasks = { noise_joints_delay = roger.int(0, 30) },\n"
+                                        "    teacher = roger.teacher.random{},\n"
+                                        "    contexts = { { name = 'Gaze', actions = { p.search, p.phi0 } } } } } }\n";
+  const std::string batch = (dir / "k5b.lua").string();
+  std::ofstream(batch) << "return { name = 'k5b', curriculum = 'k5.lua', trials = 1,\n"
+                          "  runs = { { name = 'S', stage = 'S', contexts = { 'Gaze' } } } }\n";
+  CHECK(roger("check " + batch).status == 0);
+  const Run scaled = roger("check " + batch + " --set noise_scale=2");
+  CHECK(scaled.status == 1);
+  CHECK_THAT(scaled.err, Catch::Matchers::Contains("k5.lua:5: stage 'S': scenario 'cluttered' with noise_joints_delay = "
+                                                   "30 (an end of the stage's task space, noise_scale = 2 by --set)"));
+  const Run misspelt = roger("check " + batch + " --set noise_scal=2");
+  CHECK(misspelt.status == 1);
+  CHECK_THAT(misspelt.err, Catch::Matchers::Contains("--set noise_scal=2: run 'S': scenario 'cluttered' "
+                                                     "(scenarios/cluttered.lua) has no parameter 'noise_scal' "
+                                                     "(did you mean 'noise_scale'?)"));
+  fs::remove_all(dir);
+}
+
 TEST_CASE("bad scripts are refused with file:line, a non-zero exit and no crash", "[cli]") {
   struct Case { const char* file; const char* expect; bool line; };
   const Case cases[] = {

@@ -508,3 +508,28 @@ TEST_CASE("a context's world its parameters cannot build is placed at its params
   CHECK_THAT(problems[0], Catch::Matchers::StartsWith(file + ":8: stage 'Look', context 'Double': scenario 'cluttered': ") &&
                               Catch::Matchers::Contains("noise_joints_delay = 30 times noise_scale = 2"));
 }
+
+// Found by a probe: `roger check --set noise_scale=2` passed a stage over noise_joints_delay =
+// roger.int(0, 30), whose training then failed at its first episode of delay 58; and a --set that
+// fixes an axis left the check trying that axis's ends, which training never meets.
+TEST_CASE("check builds the task space's ends and test tasks under the command's --set", "[curriculum]") {
+  test::TempDir dir("roger_check_sets");
+  const std::string file = (dir.path / "k5.lua").string();
+  std::ofstream(file) << "local p = require('lib.skills').primitives()\n"
+                         "return { name = 'k5', stages = {\n"
+                         "  roger.stage{ name = 'S', scenario = 'cluttered', time_limit = 4,\n"
+                         "    absorbing = roger.converged(p.phi0), budget = { episodes = 20 },\n"
+                         "    tasks = { noise_joints_delay = roger.int(0, 30),\n"
+                         "              robot_distance = roger.real(0.8, 2.6) },\n"
+                         "    teacher = roger.teacher.random{},\n"
+                         "    contexts = { { name = 'Gaze', actions = { p.search, p.phi0 } } } } } }\n";
+  CHECK_FALSE(check_curriculum(file).empty());  // robot_distance 2.6 cannot be placed
+  // Fixing the distance by --set removes its axis: what remains is buildable.
+  CHECK(check_curriculum(file, {}, {{"robot_distance", "1.5"}}).empty());
+  const auto problems = check_curriculum(file, {}, {{"robot_distance", "1.5"}, {"noise_scale", "2"}});
+  REQUIRE(problems.size() == 1);
+  CHECK_THAT(problems[0], Catch::Matchers::StartsWith(file + ":5: stage 'S': scenario 'cluttered' with "
+                                                             "noise_joints_delay = 30 (an end of the stage's task space, "
+                                                             "robot_distance = 1.5, noise_scale = 2 by --set): ") &&
+                              Catch::Matchers::Contains("noise_joints_delay = 30 times noise_scale = 2"));
+}

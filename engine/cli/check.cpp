@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -23,13 +24,30 @@
 namespace roger {
 namespace {
 
-// roger check on a batch script: loads it and validates it against its curriculum. `shown`: the
-// script as the command line named it.
-int check_batch(const std::string& path, const std::string& shown, const LuaLimitArgs& lua) {
+// Each run's stage of the curriculum checked as its trials train it: with the run's parameters
+// and the command's --set (check_curriculum: the ends of its task space, its test tasks), runs of
+// the same parameters together. Prints each problem; returns their number.
+size_t check_runs_stages(const BatchScript& b) {
+  std::map<Params, std::vector<std::string>> stages_by_params;
+  for (const BatchRun& r : b.runs) stages_by_params[r.params].push_back(r.stage);
+  size_t count = 0;
+  for (const auto& [params, stages] : stages_by_params)
+    for (const std::string& p : check_curriculum(b.curriculum_file, b.limits, params, stages)) {
+      std::fprintf(stderr, "roger: error: %s\n", p.c_str());
+      ++count;
+    }
+  return count;
+}
+
+// roger check on a batch script: loads it and validates it against its curriculum, with the
+// command's --set as roger run takes them. `shown`: the script as the command line named it.
+int check_batch(const std::string& path, const std::string& shown, const LuaLimitArgs& lua, const ParamList& sets) {
   BatchOverrides overrides;
+  overrides.sets = sets;
   overrides.instructions = lua.instructions;
   overrides.memory_mib = lua.memory_mib;
   const BatchScript b = load_batch_script(path, overrides);
+  if (check_runs_stages(b) > 0) return 1;
   std::string runs;
   for (const auto& r : b.runs) {
     const size_t n = r.contexts.size();
@@ -324,7 +342,7 @@ static int check_named_script(const CheckArgs& args) {
   }
   if (is_curriculum_script(a.script)) return check_curriculum_file(a.script, args.script, limits, split_sets(a.sets, "--set"));
   if (is_skill_script(a.script)) return check_skill_script_file(a.script, args.script, limits);
-  if (is_batch_script(a.script)) return check_batch(a.script, args.script, a.lua);
+  if (is_batch_script(a.script)) return check_batch(a.script, args.script, a.lua, split_sets(a.sets, "--set"));
   return check_scenario_file(a, args.script, limits);
 }
 

@@ -591,44 +591,58 @@ void generate_some_seed(Scenario& s) {
   throw *first;
 }
 
+// The task space a trial of the stage draws from: the stage's, less the parameters the command's
+// --set fixes (as TrialTeacher takes it).
+TaskSpace trial_task_space(const CurriculumStage& st, const ParamList& sets) {
+  std::vector<std::string> fixed;
+  for (const auto& [k, v] : sets) fixed.push_back(k);
+  return st.tasks.without(fixed);
+}
+
 // The worlds at the ends of a stage's task space: each axis at its lowest and highest value (each
 // value of a choice, each level an LCAS teacher lifts), the other axes at their first value, in
-// the first context's parameters: where placements fail first.
-void check_task_space_ends(const CurriculumStage& st, const SandboxLimits& limits, std::vector<std::string>& problems) {
-  if (st.tasks.empty() && !(st.teacher && st.teacher->kind == TeacherSpec::Kind::kLcas)) return;
-  const TaskPoint low = st.tasks.from_unit(std::vector<double>(st.tasks.size(), 0.0));
-  const TaskPoint high = st.tasks.from_unit(std::vector<double>(st.tasks.size(), 1.0));
+// the first context's parameters and the command's --set: where placements fail first.
+void check_task_space_ends(const CurriculumStage& st, const SandboxLimits& limits, const ParamList& sets,
+                           std::vector<std::string>& problems) {
+  const TaskSpace space = trial_task_space(st, sets);
+  const bool lifts = st.teacher && st.teacher->kind == TeacherSpec::Kind::kLcas && space.index(st.teacher->lift) < 0 &&
+                     std::none_of(sets.begin(), sets.end(), [&](const auto& s) { return s.first == st.teacher->lift; });
+  if (space.empty() && !lifts) return;
+  const TaskPoint low = space.from_unit(std::vector<double>(space.size(), 0.0));
+  const TaskPoint high = space.from_unit(std::vector<double>(space.size(), 1.0));
   struct Try {
     std::string name, value, at;  // at: "file:line: " of the axis or teacher, "" when unknown
   };
   auto at = [](const std::string& file, int line) { return file.empty() ? "" : file + ":" + std::to_string(line) + ": "; };
   std::vector<Try> tries;  // over the low corner
-  for (size_t i = 0; i < st.tasks.size(); ++i) {
-    const TaskDim& d = st.tasks.dims()[i];
+  for (size_t i = 0; i < space.size(); ++i) {
+    const TaskDim& d = space.dims()[i];
     if (d.kind == TaskDim::Kind::kChoice) {
       for (const auto& c : d.choices) tries.push_back({d.name, c, at(d.file, d.line)});
     } else {
-      tries.push_back({d.name, st.tasks.params(low)[i].second, at(d.file, d.line)});
-      tries.push_back({d.name, st.tasks.params(high)[i].second, at(d.file, d.line)});
+      tries.push_back({d.name, space.params(low)[i].second, at(d.file, d.line)});
+      tries.push_back({d.name, space.params(high)[i].second, at(d.file, d.line)});
     }
   }
-  if (st.teacher && st.teacher->kind == TeacherSpec::Kind::kLcas && st.tasks.index(st.teacher->lift) < 0)
+  if (lifts)
     for (const auto& level : st.teacher->levels)
       tries.push_back({st.teacher->lift, level, at(st.teacher->file, st.teacher->line)});
+  const std::string with_sets = sets.empty() ? "" : ", " + params_text(sets) + " by --set";
   try {
     Scenario s = Scenario::load(st.scenario, limits);
     for (const auto& [k, v] : st.scenario_params(st.contexts.front())) s.set_param(k, v);
-    for (const auto& [k, v] : st.tasks.params(low)) s.set_param(k, v);
+    for (const auto& [k, v] : sets) s.set_param(k, v);
+    for (const auto& [k, v] : space.params(low)) s.set_param(k, v);
     for (const Try& t : tries) {
-      const int i = st.tasks.index(t.name);
+      const int i = space.index(t.name);
       try {
         s.set_param(t.name, t.value);
         generate_some_seed(s);
       } catch (const std::exception& e) {
         problems.push_back(t.at + st.where() + ": scenario '" + st.scenario + "' with " + t.name + " = " + t.value +
-                           " (an end of the stage's task space): " + e.what());
+                           " (an end of the stage's task space" + with_sets + "): " + e.what());
       }
-      if (i >= 0) s.set_param(t.name, st.tasks.params(low)[size_t(i)].second);
+      if (i >= 0) s.set_param(t.name, space.params(low)[size_t(i)].second);
     }
   } catch (const std::exception& e) {
     problems.push_back(st.where() + ": scenario '" + st.scenario + "': " + e.what());
@@ -639,14 +653,15 @@ void check_task_space_ends(const CurriculumStage& st, const SandboxLimits& limit
 // parameters of each context (each distinct set once). It is not skipped as a training task is,
 // so a task no layout of its seed holds fails every trial at its first checkpoint, after the
 // training: refused here, naming the task.
-void check_test_set(Curriculum& cur, const CurriculumStage& st, const SandboxLimits& limits,
+void check_test_set(Curriculum& cur, const CurriculumStage& st, const SandboxLimits& limits, const ParamList& sets,
                     std::vector<std::string>& problems) {
   if (!st.teaches()) return;
+  const TaskSpace space = trial_task_space(st, sets);
   std::vector<TaskPoint> tasks;
   ParamList extra;  // what the teacher sets beside the test tasks (an LCAS lift's last level)
   try {
-    tasks = st.test_tasks(st.tasks, std::max(st.checkpoint_test_tasks(), st.final_test_tasks()));
-    extra = cur.make_teacher(st, st.tasks, 0)->test_params();
+    tasks = st.test_tasks(space, std::max(st.checkpoint_test_tasks(), st.final_test_tasks()));
+    extra = cur.make_teacher(st, space, 0)->test_params();
   } catch (const std::exception& e) {
     return problems.push_back(st.where() + ": test: " + e.what());
   }
@@ -658,13 +673,14 @@ void check_test_set(Curriculum& cur, const CurriculumStage& st, const SandboxLim
     try {
       Scenario s = Scenario::load(st.scenario, limits);
       s.set_params(params);
+      s.set_params(sets);
       for (; i < tasks.size(); ++i) {
-        s.set_params(st.tasks.params(tasks[i]));
+        s.set_params(space.params(tasks[i]));
         s.set_params(extra);
         s.generate(st.checkpoints.seeds + i);
       }
     } catch (const PlacementError& e) {
-      ParamList task = st.tasks.params(tasks[i]);
+      ParamList task = space.params(tasks[i]);
       task.insert(task.end(), extra.begin(), extra.end());
       const std::string at = st.file.empty() ? "" : st.file + ":" + std::to_string(st.line) + ": ";
       problems.push_back(at + (ctx.params.empty() ? st.where() : st.where(ctx.name)) + ": test task " +
@@ -738,7 +754,8 @@ void check_teacher_function(Curriculum& cur, const CurriculumStage& st, const Pa
 
 }  // namespace
 
-std::vector<std::string> check_curriculum(const std::string& path, const SandboxLimits& limits, const ParamList& sets) {
+std::vector<std::string> check_curriculum(const std::string& path, const SandboxLimits& limits, const ParamList& sets,
+                                          const std::vector<std::string>& stages) {
   std::vector<std::string> problems;
   std::optional<Curriculum> cur;
   try {
@@ -750,6 +767,7 @@ std::vector<std::string> check_curriculum(const std::string& path, const Sandbox
   // Each context's world: its parameters may change the body or the senses (contexts of the same
   // parameters are one check).
   for (const auto& st : cur->stages()) {
+    if (!stages.empty() && std::find(stages.begin(), stages.end(), st.name) == stages.end()) continue;
     std::set<std::vector<std::pair<std::string, std::string>>> checked;
     for (const auto& ctx : st.contexts) {
       const bool first = checked.insert(st.scenario_params(ctx)).second;
@@ -776,8 +794,8 @@ std::vector<std::string> check_curriculum(const std::string& path, const Sandbox
     }
     check_teacher_function(*cur, st, sets, problems);
     const size_t before = problems.size();
-    check_task_space_ends(st, limits, problems);
-    if (problems.size() == before) check_test_set(*cur, st, limits, problems);  // else the same holes again
+    check_task_space_ends(st, limits, sets, problems);
+    if (problems.size() == before) check_test_set(*cur, st, limits, sets, problems);  // else the same holes again
   }
   return problems;
 }

@@ -224,10 +224,10 @@ bool is_curriculum_script(const std::string& path);
 
 // For `roger check`: loads a curriculum and generates one world of every stage's scenario with
 // its parameters, `sets` over them as `roger train --set` sets them (a teacher function is then
-// called on the space without their axes, as training calls it). Returns the problems (empty
-// when sound), each a complete message.
+// called on the space without their axes, as training calls it). `stages` names the stages
+// checked (all when empty). Returns the problems (empty when sound), each a complete message.
 std::vector<std::string> check_curriculum(const std::string& path, const SandboxLimits& limits = {},
-                                          const ParamList& sets = {});
+                                          const ParamList& sets = {}, const std::vector<std::string>& stages = {});
 
 // Every Lua file training with this curriculum reads: its own source files, then each stage's
 // scenario and the modules that requires, each once (absolute paths). A batch fingerprints them,
