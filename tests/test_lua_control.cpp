@@ -582,3 +582,50 @@ TEST_CASE("docs/control.md: the example runs and every primitive parameter is do
   CHECK(policy->table()[size_t(gamma_state_index({G::kConv, G::kNotConv, G::kNoRef}))] == 1);
   CHECK(policy->table()[size_t(gamma_state_index({G::kNotConv, G::kConv, G::kConv}))] == 0);
 }
+
+// Found by a probe: Lua drops extra arguments, so roger.converged(p, 0.5) ran as if 0.5 were a
+// hold time. Every fixed-arity function now refuses more, at the caller's line.
+TEST_CASE("control functions refuse extra arguments at the caller's line", "[lua_control]") {
+  Snippets lua;
+  const std::string defs = "local c = roger.primitive('phi3') local p = roger.converged(c)\n";
+  struct Case {
+    const char* call;
+    const char* says;
+  };
+  const std::vector<Case> cases = {
+      {"roger.converged(c, 0.5)",
+       "roger.converged: takes 1 argument (a controller), got 2; to require it to hold for a time, use "
+       "roger.held(roger.converged(c), seconds)"},
+      {"roger.gamma(c, 'CONV', 2)",
+       "roger.gamma: takes 2 arguments (a controller and a state), got 3; to require it to hold for a time, use "
+       "roger.held(roger.gamma(c, state), seconds)"},
+      {"roger.primitive('phi0', {gain = 2}, 'x')",
+       "roger.primitive: takes 1 or 2 arguments (a kind and a table of parameters), got 3"},
+      {"roger.held(p, 1, 2)", "roger.held: takes 2 arguments (a predicate and a duration in seconds), got 3"},
+      {"roger.negate(p, p)", "roger.negate: takes 1 argument (a predicate), got 2"},
+      {"roger['not'](p, p)", "roger.negate: takes 1 argument (a predicate), got 2"},
+      {"roger.subject_to(c, c, c)", "roger.subject_to: takes 2 arguments (the subordinate and the superior), got 3"},
+      {"c:subject_to(c, c)", "c:subject_to: takes 1 argument (the superior), got 2"},
+      {"roger.compose('phi1 <| phi4', {}, 1)",
+       "roger.compose: takes 1 or 2 arguments (an expression and a table of controllers), got 3"},
+      {"roger.policy('P', {actions = {c}, table = {}}, 1)",
+       "roger.policy: takes 2 arguments (a name and a table of fields), got 3"},
+      {"c:with({gain = 1}, 2)", "c:with: takes 1 argument (a table of parameters), got 2"},
+      {"c:param('gain', 1)", "c:param: takes 1 argument (a parameter name), got 2"},
+      {"c:params(1)", "c:params: takes no arguments, got 1"},
+  };
+  for (const auto& c : cases) {
+    INFO(c.call);
+    const ScriptError e = lua.error(defs + c.call);
+    CHECK(e.file == "snippet.lua");
+    CHECK(e.line == 2);
+    CHECK(e.message == c.says);
+  }
+  // The same calls with the arguments they take.
+  CHECK_THAT(lua.text(defs + "return roger.held(roger.converged(c), 0.5)"), Contains("held(converged(phi3), 0.5"));
+  CHECK(lua.text(defs +
+           "roger.gamma(c, 'CONV') roger.primitive('phi0', {gain = 2}) roger.primitive('phi0') "
+           "roger.negate(p) roger['not'](p) roger.subject_to(c, c) c:subject_to(c) roger.compose('phi1 <| phi4', {}) "
+           "roger.compose('phi1') roger.policy('P', {actions = {c}, table = {}}) c:with({gain = 1}) "
+           "c:param('gain') c:params() return 'accepted'") == "accepted");
+}

@@ -876,3 +876,56 @@ TEST_CASE("a level written out of range names no parameter and the drift's tau s
              EndsWith("field 'tau' must be within (0, 3600] s, got 0"));
   std::filesystem::remove_all(dir);
 }
+
+// Found by a probe: Lua drops extra arguments, so world:goal({x = 1, y = 0}, 5) read as a radius
+// of 5 and made the default one. Every fixed-arity function now refuses more, at the caller's line.
+TEST_CASE("the scenario API refuses extra arguments at the caller's line", "[scenario]") {
+  auto run = [](const std::string& body) -> std::string {
+    const std::string path = "/tmp/roger_arity_" + std::to_string(getpid()) + ".lua";
+    std::ofstream(path) << "local shapes = require('lib.shapes')\nreturn { generate = function(world, rng)\n"
+                        << body << "\nend }\n";
+    Scenario s = Scenario::load(path);
+    std::filesystem::remove(path);
+    try {
+      s.generate(0);
+    } catch (const ScriptError& e) {
+      CHECK(e.line == 3);
+      return e.message;
+    }
+    return "no error";
+  };
+  const std::string circle = "shape = shapes.get('circle'), ";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"world:goal({x = 1, y = 0}, 5)", "world:goal: takes 1 argument (a table of fields), got 2"},
+      {"roger.shape({disks = {{x = 0, y = 0, r = 1}}}, 2)", "roger.shape: takes 1 argument (a table of fields), got 2"},
+      {"rng:int(1, 2, 3)", "rng:int: takes 1 or 2 arguments (n, or a and b), got 3"},
+      {"rng:uniform(0, 1, 2)", "rng:uniform: takes no arguments or 2 (a, b), got 3"},
+      {"rng:normal(0, 1, 2)", "rng:normal: takes at most 2 arguments (mu, sigma), got 3"},
+      {"rng:angle(1)", "rng:angle: takes no arguments, got 1"},
+      {"rng:choice({1}, 2)", "rng:choice: takes 1 argument (a list), got 2"},
+      {"rng:shuffle({1}, 2)", "rng:shuffle: takes 1 argument (a list), got 2"},
+      {"rng:fork(1)", "rng:fork: takes no arguments, got 1"},
+      {"shapes.get('circle'):scaled(2, 'big', 3)", "shape:scaled: takes 1 or 2 arguments (factor [, name]), got 3"},
+      {"world:arena({}, 1)", "world:arena: takes 1 argument (a table of fields), got 2"},
+      {"world:bounds(1)", "world:bounds: takes no arguments, got 1"},
+      {"world:robot({x = 0, y = 0}, 1)", "world:robot: takes 1 argument (a table of fields), got 2"},
+      {"world:object({" + circle + "x = 1, y = 1}, 1)", "world:object: takes 1 argument (a table of fields), got 2"},
+      {"world:obstacle({" + circle + "x = 1, y = 1}, 1)", "world:obstacle: takes 1 argument (a table of fields), got 2"},
+      {"world:stimulus({colour = '#00ff00'}, 1)", "world:stimulus: takes 1 argument (a table of fields), got 2"},
+      {"world:sample_position({radius = 0.1}, 1)",
+       "world:sample_position: takes 1 argument (a table of fields), got 2"},
+      {"roger.body_metrics({}, 1)", "roger.body_metrics: takes at most 1 argument (a table of fields), got 2"},
+  };
+  for (const auto& [call, says] : cases) {
+    INFO(call);
+    CHECK(run(call) == says);
+  }
+  // The same calls with the arguments they take.
+  CHECK(run("world:arena({}) world:goal({x = 1, y = 0}) roger.shape({disks = {{x = 0, y = 0, r = 1}}}) rng:int(1, 2) rng:int(2) "
+            "rng:uniform(0, 1) rng:uniform() rng:normal(0, 1) rng:normal() rng:angle() rng:choice({1}) "
+            "rng:shuffle({1}) rng:fork() shapes.get('circle'):scaled(2, 'big') shapes.get('circle'):scaled(2) "
+            "world:bounds() world:robot({x = 0, y = 0}) world:object({" + circle + "x = 1, y = 1}) "
+            "world:obstacle({" + circle + "x = -1, y = -1}) world:stimulus({colour = '#00ff00'}) "
+            "world:sample_position({radius = 0.1}) roger.body_metrics({}) roger.body_metrics() error('reached the end')") ==
+        "reached the end");
+}

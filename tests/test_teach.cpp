@@ -1480,3 +1480,46 @@ TEST_CASE("LCAS records the level its evaluations ran at and eval of its policy 
   CHECK(given.trial_sets.empty());
   CHECK(param(given.params, "eye_pixels") == "128");
 }
+
+// Found by a probe: Lua drops extra arguments, so roger.int(0, 3, 1) or roger.converged(c, 0.5)
+// ran as if the extra meant something. Each now is refused at its line.
+TEST_CASE("the teaching API refuses extra arguments at load with file:line", "[teach][errors]") {
+  test::TempDir dir("roger_teach_arity");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"{ tasks = { obstacles = roger.int(0, 3, 1) } }", ":8: roger.int: takes 2 arguments (lo, hi), got 3"},
+      {"{ tasks = { robot_distance = roger.real(0.8, 1, 2) } }", ":8: roger.real: takes 2 arguments (lo, hi), got 3"},
+      {"{ tasks = { shape = roger.choice({ 'circle' }, 2) } }",
+       ":8: roger.choice: takes 1 argument (a list of values), got 2"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.random({}, 1) }",
+       ":8: roger.teacher.random: takes 1 argument (a table of options), got 2"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.sequence({ { obstacles = 0 } }, 1) }",
+       ":8: roger.teacher.sequence: takes 1 argument (a list of steps), got 2"},
+      {"{ teacher = roger.teacher.lcas({ lift = { obstacles = { 0, 3 } } }, 1) }",
+       ":8: roger.teacher.lcas: takes 1 argument (a table of options), got 2"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.alp_gmm({}, 1) }",
+       ":8: roger.teacher.alp_gmm: takes 1 argument (a table of options), got 2"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.plr({}, 1) }",
+       ":8: roger.teacher.plr: takes 1 argument (a table of options), got 2"},
+      {"{ absorbing = roger.converged(p.phi0, 0.5) }",
+       ":8: roger.converged: takes 1 argument (a controller), got 2; to require it to hold for a time, use "
+       "roger.held(roger.converged(c), seconds)"},
+  };
+  for (size_t k = 0; k < cases.size(); ++k) {
+    const fs::path file = write_stage(dir.path, "c" + std::to_string(k), cases[k].first);
+    const std::string message = load_error(file);
+    INFO(cases[k].first << "\n" << message);
+    CHECK_THAT(message, Contains(file.filename().string() + cases[k].second));
+  }
+  // The same calls with the arguments they take.
+  for (const std::string fields :
+       {"{ tasks = { obstacles = roger.int(0, 3), robot_distance = roger.real(0.8, 1), shape = roger.choice({ 'circle' }) }, "
+        "teacher = roger.teacher.random({}) }",
+        "{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.sequence({ { obstacles = 0 } }) }",
+        "{ teacher = roger.teacher.lcas({ lift = { obstacles = { 0, 3 } } }) }",
+        "{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.alp_gmm({}) }",
+        "{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.plr() }",
+        "{ absorbing = roger.held(roger.converged(p.phi0), 0.5) }"}) {
+    INFO(fields);
+    CHECK_NOTHROW(Curriculum::load(write_stage(dir.path, "ok", fields).string()));
+  }
+}

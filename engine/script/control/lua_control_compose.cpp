@@ -22,6 +22,7 @@ int l_subject_to_method(lua_State* L) {
   return lua_protect(L, [L]() {
     ControlBook& book = book_of(L);
     ControllerPtr sub = self_controller(L, "subject_to");
+    lua_check_arity(L, "c:subject_to", 1, "1 argument (the superior)");
     ControllerPtr sup = lua_check_controller(L, 2, "c:subject_to", "argument 1 (the superior)");
     push_subject_to(L, book, std::move(sub), std::move(sup));
     return 1;
@@ -32,6 +33,7 @@ int l_subject_to_method(lua_State* L) {
 int l_subject_to(lua_State* L) {
   return lua_protect(L, [L]() {
     ControlBook& book = book_of(L);
+    lua_check_arity(L, "roger.subject_to", 2, "2 arguments (the subordinate and the superior)");
     ControllerPtr sub = lua_check_controller(L, 1, "roger.subject_to", "argument 1 (the subordinate)");
     ControllerPtr sup = lua_check_controller(L, 2, "roger.subject_to", "argument 2 (the superior)");
     push_subject_to(L, book, std::move(sub), std::move(sup));
@@ -143,6 +145,7 @@ class ComposeParser {
 int l_compose(lua_State* L) {
   return lua_protect(L, [L]() {
     ControlBook& book = book_of(L);
+    lua_check_arity(L, "roger.compose", 2, "1 or 2 arguments (an expression and a table of controllers)");
     if (lua_type(L, 1) != LUA_TSTRING)
       raise(L, "roger.compose: argument 1 must be an expression such as \"phi1 <| phi4 <| phi5\", got " +
                    lua_describe_value(L, 1));

@@ -15,6 +15,7 @@
 
 #include "control/primitives.h"
 #include "script/control/lua_control.h"
+#include "script/sandbox/lua_sandbox.h"
 
 namespace roger {
 namespace lua_control_detail {

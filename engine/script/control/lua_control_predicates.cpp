@@ -19,6 +19,9 @@ void push_new_predicate(lua_State* L, PredicatePtr p) {
 // roger.converged(c)
 int l_converged(lua_State* L) {
   return lua_protect(L, [L]() {
+    // A second argument reads as a hold time, which converged has not: say where that lives.
+    lua_check_arity(L, "roger.converged", 1, "1 argument (a controller)",
+                    "to require it to hold for a time, use roger.held(roger.converged(c), seconds)");
     push_new_predicate(L, converged(lua_check_controller(L, 1, "roger.converged", "argument 1")));
     return 1;
   });
@@ -41,6 +44,8 @@ int l_sorted(lua_State* L) {
 // roger.gamma(c, "NOREF" | "!CONV" | "CONV")
 int l_gamma(lua_State* L) {
   return lua_protect(L, [L]() {
+    lua_check_arity(L, "roger.gamma", 2, "2 arguments (a controller and a state)",
+                    "to require it to hold for a time, use roger.held(roger.gamma(c, state), seconds)");
     ControllerPtr c = lua_check_controller(L, 1, "roger.gamma", "argument 1");
     const std::string given = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : "";
     for (Gamma g : {Gamma::kNoRef, Gamma::kNotConv, Gamma::kConv}) {
@@ -90,6 +95,7 @@ int l_any(lua_State* L) { return combine(L, false); }
 // roger.negate(p), also roger["not"](p)
 int l_negate(lua_State* L) {
   return lua_protect(L, [L]() {
+    lua_check_arity(L, "roger.negate", 1, "1 argument (a predicate)");
     push_new_predicate(L, negate(lua_check_predicate(L, 1, "roger.negate", "argument 1")));
     return 1;
   });
@@ -98,6 +104,7 @@ int l_negate(lua_State* L) {
 // roger.held(p, seconds)
 int l_held(lua_State* L) {
   return lua_protect(L, [L]() {
+    lua_check_arity(L, "roger.held", 2, "2 arguments (a predicate and a duration in seconds)");
     PredicatePtr p = lua_check_predicate(L, 1, "roger.held", "argument 1");
     const double seconds = lua_tonumber(L, 2);
     if (lua_type(L, 2) != LUA_TNUMBER || !std::isfinite(seconds) || seconds < 0.0)

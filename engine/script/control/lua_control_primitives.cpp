@@ -113,6 +113,7 @@ void apply_params(lua_State* L, Primitive& p, int index, const std::string& cont
 int l_primitive(lua_State* L) {
   return lua_protect(L, [L]() {
     ControlBook& book = book_of(L);
+    lua_check_arity(L, "roger.primitive", 2, "1 or 2 arguments (a kind and a table of parameters)");
     if (lua_type(L, 1) != LUA_TSTRING)
       raise(L, "roger.primitive: argument 1 must be a primitive kind (one of " + kinds_text() + "), got " +
                    lua_describe_value(L, 1));
@@ -138,6 +139,7 @@ int l_with(lua_State* L) {
   return lua_protect(L, [L]() {
     ControlBook& book = book_of(L);
     const PrimitivePtr original = self_primitive(L, "with");
+    lua_check_arity(L, "c:with", 1, "1 argument (a table of parameters)");
     const std::string context = "c:with (on '" + original->name() + "')";
     count_object(L, book);
     PrimitivePtr p = made(book, original->clone());
@@ -155,6 +157,7 @@ int l_with(lua_State* L) {
 int l_param(lua_State* L) {
   return lua_protect(L, [L]() {
     const PrimitivePtr p = self_primitive(L, "param");
+    lua_check_arity(L, "c:param", 1, "1 argument (a parameter name)");
     if (lua_type(L, 2) != LUA_TSTRING)
       raise(L, "c:param: argument 1 must be a parameter name, got " + lua_describe_value(L, 2));
     const std::string key = lua_tostring(L, 2);
@@ -172,6 +175,7 @@ int l_param(lua_State* L) {
 // c:params(): a table of a primitive's parameters and their values.
 int l_params(lua_State* L) {
   const PrimitivePtr p = self_primitive(L, "params");
+  lua_check_arity(L, "c:params", 0, "no arguments");
   lua_createtable(L, 0, int(p->param_defs().size()));
   for (const auto& d : p->param_defs()) {
     if (d.choices.empty()) lua_pushnumber(L, d.value);

@@ -292,6 +292,7 @@ int l_policy(lua_State* L) {
     ControlBook& book = book_of(L);
     const std::string name = skill_name(L, "roger.policy");
     const std::string context = "roger.policy('" + name + "')";
+    lua_check_arity(L, "roger.policy", 2, "2 arguments (a name and a table of fields)");
     LuaFields f(L, 2, context, {"actions", "table", "done", "fallback", "rest_when_done"});
     size_t states = 0;
     std::vector<ControllerPtr> actions = policy_actions(L, book, f, context, states);

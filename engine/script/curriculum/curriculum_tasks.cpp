@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "script/control/lua_control.h"
 #include "script/curriculum/curriculum_internal.h"
+#include "script/sandbox/lua_sandbox.h"
 #include "script/scenario/scenario.h"
 
 namespace roger {
@@ -53,6 +54,7 @@ double bound(lua_State* L, int index, const char* call, bool integer) {
 int l_int(lua_State* L) {
   TaskDim d;
   d.kind = TaskDim::Kind::kInt;
+  lua_check_arity(L, "roger.int", 2, "2 arguments (lo, hi)");
   d.lo = bound(L, 1, "roger.int", true), d.hi = bound(L, 2, "roger.int", true);
   if (d.lo > d.hi)
     luaL_error(L, "roger.int(%s, %s): the range is reversed (lo must not exceed hi)", format_number(d.lo).c_str(),
@@ -64,6 +66,7 @@ int l_int(lua_State* L) {
 int l_real(lua_State* L) {
   TaskDim d;
   d.kind = TaskDim::Kind::kReal;
+  lua_check_arity(L, "roger.real", 2, "2 arguments (lo, hi)");
   d.lo = bound(L, 1, "roger.real", false), d.hi = bound(L, 2, "roger.real", false);
   if (d.lo >= d.hi)
     luaL_error(L, "roger.real(%s, %s): the range is %s (lo must be below hi; a single value needs no axis)",
@@ -73,6 +76,7 @@ int l_real(lua_State* L) {
 }
 
 int l_choice(lua_State* L) {
+  lua_check_arity(L, "roger.choice", 1, "1 argument (a list of values)");
   if (!lua_istable(L, 1))
     luaL_error(L, "roger.choice{...}: expects a list of values, got %s", lua_describe_value(L, 1).c_str());
   TaskDim d;
@@ -112,7 +116,12 @@ void push_teacher(lua_State* L, TeacherSpec spec) {
 
 // The options table of roger.teacher.<kind>{...} (none: {}).
 LuaFields options(lua_State* L, const TeacherSpec& spec, std::vector<std::string> known) {
-  if (lua_isnoneornil(L, 1)) lua_newtable(L), lua_replace(L, 1);
+  lua_check_arity(L, spec.name().c_str(), 1, "1 argument (a table of options)");
+  if (lua_isnoneornil(L, 1)) {
+    lua_settop(L, 1);  // with no argument at all, slot 1 must exist before it is replaced
+    lua_newtable(L);
+    lua_replace(L, 1);
+  }
   return LuaFields(L, 1, spec.name(), std::move(known));
 }
 
@@ -188,6 +197,7 @@ TeacherSpec::Step read_step(lua_State* L, int t, const std::string& where) {
 int l_teacher_sequence(lua_State* L) {
   TeacherSpec spec;
   spec.kind = TeacherSpec::Kind::kSequence;
+  lua_check_arity(L, "roger.teacher.sequence", 1, "1 argument (a list of steps)");
   if (!lua_istable(L, 1))
     luaL_error(L, "roger.teacher.sequence{...}: expects a list of steps {{param = value, promote = 0.9, window = 20}, "
                "...}, got %s", lua_describe_value(L, 1).c_str());

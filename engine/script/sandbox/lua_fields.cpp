@@ -42,6 +42,13 @@ LuaFields::LuaFields(lua_State* L, int index, std::string context, std::vector<s
   }
 }
 
+void lua_check_arity(lua_State* L, const char* call, int most, const char* takes, const char* hint) {
+  // A method's object is its first value on the stack, but not an argument the user counts.
+  const int got = lua_gettop(L) - (std::strchr(call, ':') ? 1 : 0);
+  if (got <= most) return;
+  luaL_error(L, "%s: takes %s, got %d%s%s", call, takes, got, hint ? "; " : "", hint ? hint : "");
+}
+
 int raise_at_reader(lua_State* L, const std::string& text) {
   luaL_where(L, 1);
   lua_pushstring(L, text.c_str());

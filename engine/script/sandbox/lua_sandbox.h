@@ -181,6 +181,12 @@ int lua_protect(lua_State* L, const std::function<int()>& body);
 // by a LuaSandbox only.
 void lua_charge(lua_State* L, uint64_t units);
 
+// Refuses a call of a fixed-arity API function given more than `most` arguments: Lua drops extra
+// arguments silently, and some mislead (roger.converged(c, 0.5) read as a hold time). Raises
+// "call: takes <takes>, got N[; hint]" at the Lua caller's file:line. A method (a `call` with a
+// colon, "rng:int") does not count its object.
+void lua_check_arity(lua_State* L, const char* call, int most, const char* takes, const char* hint = nullptr);
+
 // Reads the named fields of a table argument such as world:object{...}. The constructor rejects
 // keys that are not in `known` (listing the known ones) and positional values; the accessors check
 // types. Every message starts with the context ("world:object") and is raised with luaL_error, so

@@ -220,6 +220,7 @@ void check_body(const LuaFields& f, const RobotParams& body, const EyeParams& ey
 // roger.body_metrics{ body = {...}, eyes = {...} } -> the numbers that follow from that body.
 int l_body_metrics(lua_State* L) {
   return lua_protect(L, [L]() {
+    lua_check_arity(L, "roger.body_metrics", 1, "at most 1 argument (a table of fields)");
     if (lua_isnoneornil(L, 1)) {
       lua_settop(L, 0);
       lua_newtable(L);

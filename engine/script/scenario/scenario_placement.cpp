@@ -214,6 +214,7 @@ std::string needs_text(const SampleConstraints& c) {
 int l_world_sample(lua_State* L) {
   return lua_protect(L, [L]() {
     WorldBuilder& w = world_self(L, "world:sample_position");
+    lua_check_arity(L, "world:sample_position", 1, "1 argument (a table of fields)");
     LuaFields f(L, 2, "world:sample_position",
                 {"name", "radius", "shape", "wall_margin", "clearance", "robot_distance",
                  "away_from", "avoid_goals", "region", "tries"});

@@ -41,6 +41,7 @@ lua_Integer arg_integer(lua_State* L, int index, const char* call, const char* n
 // rng:uniform() in [0, 1), rng:uniform(a, b) in [a, b).
 int l_rng_uniform(lua_State* L) {
   Rng& rng = self<Rng>(L, kRngType, "rng:uniform");
+  lua_check_arity(L, "rng:uniform", 2, "no arguments or 2 (a, b)");
   if (lua_gettop(L) == 1) {
     lua_pushnumber(L, rng.uniform());
     return 1;
@@ -54,6 +55,7 @@ int l_rng_uniform(lua_State* L) {
 // rng:int(n) in 1..n, rng:int(a, b) in a..b (inclusive).
 int l_rng_int(lua_State* L) {
   Rng& rng = self<Rng>(L, kRngType, "rng:int");
+  lua_check_arity(L, "rng:int", 2, "1 or 2 arguments (n, or a and b)");
   lua_Integer a = 1, b;
   if (lua_gettop(L) <= 2) {
     b = arg_integer(L, 2, "rng:int", "n");
@@ -69,6 +71,7 @@ int l_rng_int(lua_State* L) {
 // rng:normal([mu [, sigma]]).
 int l_rng_normal(lua_State* L) {
   Rng& rng = self<Rng>(L, kRngType, "rng:normal");
+  lua_check_arity(L, "rng:normal", 2, "at most 2 arguments (mu, sigma)");
   const double mu = lua_isnoneornil(L, 2) ? 0.0 : arg_number(L, 2, "rng:normal", "mu");
   const double sigma = lua_isnoneornil(L, 3) ? 1.0 : arg_number(L, 3, "rng:normal", "sigma");
   if (sigma < 0.0) return luaL_error(L, "rng:normal: sigma must not be negative");
@@ -79,6 +82,7 @@ int l_rng_normal(lua_State* L) {
 // rng:angle(): uniform in [-pi, pi).
 int l_rng_angle(lua_State* L) {
   Rng& rng = self<Rng>(L, kRngType, "rng:angle");
+  lua_check_arity(L, "rng:angle", 0, "no arguments");
   lua_pushnumber(L, rng.uniform(-M_PI, M_PI));
   return 1;
 }
@@ -86,6 +90,7 @@ int l_rng_angle(lua_State* L) {
 // rng:choice(list): one element, uniformly.
 int l_rng_choice(lua_State* L) {
   Rng& rng = self<Rng>(L, kRngType, "rng:choice");
+  lua_check_arity(L, "rng:choice", 1, "1 argument (a list)");
   if (!lua_istable(L, 2)) return luaL_error(L, "rng:choice: expects a list, got %s", luaL_typename(L, 2));
   const lua_Integer n = lua_Integer(lua_rawlen(L, 2));
   if (n == 0) return luaL_error(L, "rng:choice: the list is empty");
@@ -96,6 +101,7 @@ int l_rng_choice(lua_State* L) {
 // rng:shuffle(list): shuffles in place (Fisher-Yates) and returns the list.
 int l_rng_shuffle(lua_State* L) {
   Rng& rng = self<Rng>(L, kRngType, "rng:shuffle");
+  lua_check_arity(L, "rng:shuffle", 1, "1 argument (a list)");
   if (!lua_istable(L, 2)) return luaL_error(L, "rng:shuffle: expects a list, got %s", luaL_typename(L, 2));
   for (lua_Integer i = lua_Integer(lua_rawlen(L, 2)); i > 1; --i) {
     const lua_Integer j = rng.integer(1, i);
@@ -112,6 +118,7 @@ int l_rng_shuffle(lua_State* L) {
 // when another part of the script draws more or fewer numbers).
 int l_rng_fork(lua_State* L) {
   Rng& rng = self<Rng>(L, kRngType, "rng:fork");
+  lua_check_arity(L, "rng:fork", 0, "no arguments");
   push_rng(L, rng.next());
   return 1;
 }

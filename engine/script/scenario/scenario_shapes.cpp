@@ -44,6 +44,7 @@ Vec2 read_vertex(lua_State* L, int index, const std::string& where) {
 // roger.shape{name=, polygons={{{x,y},...},...}, disks={{x=,y=,r=},...}}
 int l_shape(lua_State* L) {
   return lua_protect(L, [L]() {
+    lua_check_arity(L, "roger.shape", 1, "1 argument (a table of fields)");
     LuaFields f(L, 1, "roger.shape", {"name", "polygons", "disks"});
     Shape shape;
     shape.name = f.string("name", "unnamed");
@@ -139,6 +140,7 @@ int l_shape_index(lua_State* L) {
 int l_shape_scaled(lua_State* L) {
   return lua_protect(L, [L]() {
     const ShapeBox& box = self<ShapeBox>(L, kShapeType, "shape:scaled");
+    lua_check_arity(L, "shape:scaled", 2, "1 or 2 arguments (factor [, name])");
     const double k = lua_tonumber(L, 2);
     if (lua_type(L, 2) != LUA_TNUMBER || !(k > 0.0) || !std::isfinite(k))
       luaL_error(L, "shape:scaled: the factor must be a positive number, got %s",

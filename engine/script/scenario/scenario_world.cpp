@@ -87,6 +87,7 @@ std::string unique_name(const LuaFields& f, const std::string& given, const char
 int l_world_arena(lua_State* L) {
   return lua_protect(L, [L]() {
     WorldBuilder& w = world_self(L, "world:arena");
+    lua_check_arity(L, "world:arena", 1, "1 argument (a table of fields)");
     LuaFields f(L, 2, "world:arena", {"xmin", "xmax", "ymin", "ymax", "cell", "wall_colour"});
     if (w.arena_set) f.fail("the arena is already set (call world:arena once)");
     if (w.arena_fixed)
@@ -120,6 +121,7 @@ int l_world_arena(lua_State* L) {
 // world:bounds() -> xmin, xmax, ymin, ymax (fixes the arena).
 int l_world_bounds(lua_State* L) {
   WorldBuilder& w = world_self(L, "world:bounds");
+  lua_check_arity(L, "world:bounds", 0, "no arguments");
   fix_arena(w);
   const auto& a = w.spec.arena;
   for (double v : {a.xmin, a.xmax, a.ymin, a.ymax}) lua_pushnumber(L, v);
@@ -131,6 +133,7 @@ int l_world_bounds(lua_State* L) {
 int l_world_robot(lua_State* L) {
   return lua_protect(L, [L]() {
     WorldBuilder& w = world_self(L, "world:robot");
+    lua_check_arity(L, "world:robot", 1, "1 argument (a table of fields)");
     LuaFields f(L, 2, "world:robot",
                 {"x", "y", "heading", "left_shoulder", "left_elbow", "right_shoulder", "right_elbow",
                  "left_eye", "right_eye", "body", "eyes", "noise"});
@@ -201,6 +204,7 @@ void read_thing(lua_State* L, const LuaFields& f, const char* kind, const std::v
 int l_world_object(lua_State* L) {
   return lua_protect(L, [L]() {
     WorldBuilder& w = world_self(L, "world:object");
+    lua_check_arity(L, "world:object", 1, "1 argument (a table of fields)");
     LuaFields f(L, 2, "world:object",
                 {"name", "shape", "colour", "x", "y", "theta", "mass", "friction_force",
                  "friction_torque", "viscosity", "angular_viscosity", "surface_friction"});
@@ -227,6 +231,7 @@ int l_world_object(lua_State* L) {
 int l_world_obstacle(lua_State* L) {
   return lua_protect(L, [L]() {
     WorldBuilder& w = world_self(L, "world:obstacle");
+    lua_check_arity(L, "world:obstacle", 1, "1 argument (a table of fields)");
     LuaFields f(L, 2, "world:obstacle", {"name", "shape", "colour", "x", "y", "theta"});
     if (w.spec.obstacles.size() >= kMaxThings) f.fail("too many obstacles (the limit is 1000)");
     fix_arena(w);
@@ -242,6 +247,7 @@ int l_world_obstacle(lua_State* L) {
 int l_world_goal(lua_State* L) {
   return lua_protect(L, [L]() {
     WorldBuilder& w = world_self(L, "world:goal");
+    lua_check_arity(L, "world:goal", 1, "1 argument (a table of fields)");
     LuaFields f(L, 2, "world:goal", {"name", "x", "y", "radius", "colour"});
     if (w.spec.goals.size() >= kMaxThings) f.fail("too many goals (the limit is 1000)");
     fix_arena(w);
@@ -265,6 +271,7 @@ int l_world_goal(lua_State* L) {
 // world:stimulus{colour=}: the colour the eyes track (default: the first object's colour).
 int l_world_stimulus(lua_State* L) {
   WorldBuilder& w = world_self(L, "world:stimulus");
+  lua_check_arity(L, "world:stimulus", 1, "1 argument (a table of fields)");
   LuaFields f(L, 2, "world:stimulus", {"colour"});
   if (!f.has("colour")) f.fail("missing required field 'colour'");
   w.spec.stimulus_colour = f.colour("colour", w.spec.stimulus_colour);
