@@ -918,6 +918,19 @@ TEST_CASE("the static pass follows aliases of roger into callbacks", "[lua_sandb
   CHECK(problems_in("local R = roger\nR = {}\nreturn R.anything\n").empty());
 }
 
+// Found by a probe: globals made through the globals' table, and names under a local _ENV, were
+// reported as undefined, so `roger check` refused scripts that run.
+TEST_CASE("the static pass takes globals made through _G and names under a local _ENV", "[lua_sandbox][static]") {
+  CHECK(problems_in("_G.via_g = 3\nreturn via_g\n").empty());
+  CHECK(problems_in("_G['quoted'] = 3\nreturn quoted\n").empty());
+  CHECK(problems_in("rawset(_G, 'dyn_global', 1)\nreturn dyn_global\n").empty());
+  CHECK(problems_in("local function f()\n  local _ENV = { env_only = 5 }\n  return env_only\nend\nreturn f\n").empty());
+  // Outside the _ENV's scope, and a global read before nothing defines it, are still reported.
+  CHECK(problems_in("do local _ENV = {} end\nreturn pirnt\n") ==
+        std::vector<std::string>{"2: undefined global 'pirnt'; did you mean print?"});
+  CHECK(problems_in("_G.x = nil\nreturn via_g\n").size() == 1);
+}
+
 TEST_CASE("the static pass reads `local x = x` as the global x, which Lua evaluates first", "[lua_sandbox][static]") {
   CHECK(problems_in("local pirnt = pirnt\npirnt('x')\n") ==
         std::vector<std::string>{"1: undefined global 'pirnt'; did you mean print?"});
@@ -935,6 +948,70 @@ TEST_CASE("the static pass reads `local x = x` as the global x, which Lua evalua
                             "local v = ...\n"
                             "print(f, s, n, t, u, v)\n";
   CHECK(problems_in(sound).empty());
+}
+
+TEST_CASE("the static pass finds a string compared with a state or an event that it can never be",
+          "[lua_sandbox][static]") {
+  // The two a newcomer probe wrote: the stage would learn nothing, without a word.
+  const std::string reward = "local function reward(state, action, event)\n"
+                             "  if state.phi3 == \"conv\" then return 1 end\n"
+                             "  if event == \"timout\" then return -100 end\n"
+                             "  return 0\n"
+                             "end\n"
+                             "return reward\n";
+  CHECK(problems_in(reward, ScriptKind::kCurriculum) ==
+        std::vector<std::string>{
+            "2: \"conv\" is compared with state.phi3, but a controller's state is \"NOREF\", \"!CONV\" or \"CONV\" "
+            "(did you mean \"CONV\"?)",
+            "3: \"timout\" is compared with event, but a reward function's event is \"decision\", \"absorbing\" or "
+            "\"timeout\" (did you mean \"timeout\"?)"});
+  // Either order, ~=, an index by a name or a string; other cases, spacing, words spelt out, typos.
+  const std::vector<std::pair<std::string, std::string>> states = {
+      {"return function(s, name) return \"Conv\" ~= s[name] end", "\"Conv\" is compared with s[name]"},
+      {"return function(s) return s[\"phi3\"] == \"NOT CONV\" end", "(did you mean \"!CONV\"?)"},
+      {"return function(s) return s.phi3 == \"converged\" end", "(did you mean \"CONV\"?)"},
+      {"return function(s) return s.phi3 == \"NOREFF\" end", "(did you mean \"NOREF\"?)"},
+      {"return function(s) return s.a.phi3 == \"no_ref\" end", "compared with s.a.phi3"},
+  };
+  for (const auto& [code, expected] : states) {
+    INFO(code);
+    const auto p = problems_in(code, ScriptKind::kCurriculum);
+    REQUIRE(p.size() == 1);
+    CHECK_THAT(p[0], Contains(expected));
+  }
+  // The event by its place, the third parameter of any function (and inside a nested one).
+  const std::vector<std::pair<std::string, std::string>> events = {
+      {"return function(s, a, why) return why == \"absorbed\" and 1 or 0 end",
+       "\"absorbed\" is compared with why, a function's third parameter, but a reward function's event is"},
+      {"return function(s, a, ev) return function() return \"Timeout\" == ev end end", "(did you mean \"timeout\"?)"},
+      {"return function(s, a, event) return event ~= \"decisions\" end", "(did you mean \"decision\"?)"},
+  };
+  for (const auto& [code, expected] : events) {
+    INFO(code);
+    const auto p = problems_in(code, ScriptKind::kCurriculum);
+    REQUIRE(p.size() == 1);
+    CHECK_THAT(p[0], Contains(expected));
+  }
+}
+
+TEST_CASE("the static pass leaves sound comparisons of strings alone", "[lua_sandbox][static]") {
+  const std::string sound = "local M = {}\n"
+                            "function M:f(a, b, c) return c == \"timout\" end  -- a method is no callback\n"
+                            "return function(state, action, event, time, world)\n"
+                            "  local o, shape, name, mode = world.objects[1], 'box', action, 'x'\n"
+                            "  if state.phi3 == \"CONV\" or state[action] ~= \"!CONV\" then return 1 end\n"
+                            "  if \"NOREF\" == state.phi4 then return 1 end\n"
+                            "  if event == \"timeout\" or \"absorbing\" == event then return 2 end\n"
+                            "  if event == \"decision\" then return 2 end\n"
+                            "  if shape == \"circle\" or name == \"conv_belt\" or mode == \"conv\" then return 3 end\n"
+                            "  if o.shape == \"cone\" or o.kind == \"conveyor\" then return 4 end\n"
+                            "  if o.name == \"CONVEYOR\" then return 4 end\n"
+                            "  if event == \"collision\" or o.region == \"goal\" then return 5 end\n"
+                            "  -- .. binds tighter: the concatenation is compared, not state.phi3\n"
+                            "  if state.phi3 .. \"x\" == \"convx\" then return 6 end\n"
+                            "  return M\n"
+                            "end\n";
+  CHECK(problems_in(sound, ScriptKind::kCurriculum).empty());
 }
 
 TEST_CASE("no shipped Lua file has a static problem", "[lua_sandbox][static]") {

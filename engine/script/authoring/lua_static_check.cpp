@@ -4,9 +4,11 @@
 #include "script/authoring/lua_static_check.h"
 
 #include <algorithm>
+#include <cctype>
 #include <deque>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "core/fileio.h"
@@ -18,8 +20,9 @@ namespace fs = std::filesystem;
 namespace {
 
 struct Access {
-  enum Kind { kRead, kWrite, kMember, kMemberWrite, kRequire } kind;
-  std::string name;  // a global, a dotted member path ("roger.robot.base_radius") or a module
+  enum Kind { kRead, kWrite, kMember, kMemberWrite, kRequire, kFinding } kind;
+  std::string name;  // a global, a dotted member path ("roger.robot.base_radius"), a module, or
+                     // a finding's whole message
   int line;
   std::vector<std::string> locals = {};  // of a read: the locals in scope, for suggestions
 };
@@ -30,6 +33,7 @@ struct Frame {
   enum Kind { kBlock, kFunction, kLoopHeader, kIf, kRepeat, kBrace, kParen, kBracket } kind;
   std::set<std::string> locals;
   std::set<std::string> aliases = {};
+  std::string third = {};  // a function's third parameter: a reward function's event
   bool bracket() const { return kind == kBrace || kind == kParen || kind == kBracket; }
 };
 
@@ -47,6 +51,73 @@ bool binary_operator(const LuaToken& t) {
                                             "<=", ">", ">=", "&", "|", "~", "<<", ">>"};
   if (t.type == LuaToken::kName) return t.text == "and" || t.text == "or";
   return t.type == LuaToken::kOp && ops.count(t.text);
+}
+
+// Binary operators that bind tighter than a comparison: after one, or before one, a token is not
+// a comparison's whole operand (`a .. state.x == "CONV"` compares the concatenation).
+bool tighter_than_comparison(const LuaToken& t) {
+  static const std::set<std::string> cmp = {"==", "~=", "<", "<=", ">", ">="};
+  return binary_operator(t) && t.type == LuaToken::kOp && !cmp.count(t.text);
+}
+
+// ---- closed vocabularies: a string compared with a word of one must be one ----
+// A stage's callbacks get each action's state as one of these, and a reward function's third
+// argument is one of these events; a near miss ("conv", "timout") compares false for good, and the
+// stage learns nothing without a word.
+
+const std::vector<std::string> kStates = {"NOREF", "!CONV", "CONV"};
+const std::vector<std::string> kEvents = {"decision", "absorbing", "timeout"};
+
+bool among(const std::vector<std::string>& words, const std::string& w) {
+  return std::find(words.begin(), words.end(), w) != words.end();
+}
+bool starts(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
+
+// `s` upper- or lower-cased, without its spaces, '_' and '-': "Not conv" -> "NOTCONV".
+std::string squeezed(const std::string& s, bool upper) {
+  std::string out;
+  for (const unsigned char c : s)
+    if (c != ' ' && c != '_' && c != '-') out += static_cast<char>(upper ? std::toupper(c) : std::tolower(c));
+  return out;
+}
+
+// The state a literal that is none meant: the same word in another case or spacing, or spelt out
+// ("converged", "not CONV", "no_ref"); else the nearest by edits to the literal as written (its
+// case kept, so that a "cone" is not read as CONV). Empty when it is a state or near none.
+std::string meant_state(const std::string& s) {
+  if (among(kStates, s)) return "";
+  std::string u = squeezed(s, true);
+  if (starts(u, "NOT") || starts(u, "NON")) u = "!" + u.substr(3);
+  if (starts(u, "UNCONV")) u = "!" + u.substr(2);
+  const size_t converg = u.find("CONVERG");
+  if (converg <= 1) u = u.substr(0, converg + 4);  // CONVERGED, !CONVERGED
+  if (starts(u, "NOREFERENCE")) u = "NOREF";
+  if (among(kStates, u)) return u;
+  const auto near = nearest_names(s, kStates);
+  return near.empty() ? "" : near[0];
+}
+
+// The event a literal that is none meant: another case or spacing ("Timeout", "time out"), another
+// form of the word ("absorbed", "decisions", "timed_out"), or the nearest by edits ("timout").
+std::string meant_event(const std::string& s) {
+  if (among(kEvents, s)) return "";
+  const std::string l = squeezed(s, false);
+  if (among(kEvents, l)) return l;
+  if (starts(l, "absorb")) return "absorbing";
+  if (starts(l, "decid") || starts(l, "decis")) return "decision";
+  if (starts(l, "timeout") || starts(l, "timedout")) return "timeout";
+  const auto near = nearest_names(l, kEvents);
+  return near.empty() ? "" : near[0];
+}
+
+// The finding: `"conv" is compared with state.phi3, but a controller's state is "NOREF", "!CONV" or
+// "CONV" (did you mean "CONV"?)`; `what` says what the other operand is ("a controller's state").
+std::string never_equal(const std::string& literal, const std::string& with, const std::string& what,
+                        const std::vector<std::string>& words, const std::string& meant) {
+  std::string m = "\"" + literal + "\" is compared with " + with + ", but " + what + " is ";
+  for (size_t i = 0; i < words.size(); ++i)
+    m += (i == 0 ? "" : i + 1 == words.size() ? " or " : ", ") + ("\"" + words[i] + "\"");
+  return m + " (did you mean \"" + meant + "\"?)";
 }
 
 // One pass over a file's tokens, in order, keeping the stack of scopes and brackets.
@@ -78,6 +149,7 @@ class Scanner {
     for (auto it = frames_.rbegin(); it != frames_.rend(); ++it)
       if (!it->bracket()) {
         it->locals.insert(n);
+        if (it->third == n) it->third.clear();  // `local event = ...` is no longer the argument
         if (alias) it->aliases.insert(n);
         else it->aliases.erase(n);
         return;
@@ -159,6 +231,7 @@ class Scanner {
   }
 
   void punctuation(const std::string& p) {
+    if (p == "==" || p == "~=") comparison();
     if (p == "{") frames_.push_back({Frame::kBrace, {}});
     if (p == "(") frames_.push_back({Frame::kParen, {}});
     if (p == "[") frames_.push_back({Frame::kBracket, {}});
@@ -263,8 +336,12 @@ class Scanner {
     if (method) f.locals.insert("self");
     size_t k = i_ + 1;
     if (op(k, "(")) {
+      int params = 0;
       for (++k; !op(k, ")") && at(k).type != LuaToken::kEnd; ++k)
-        if (name(k)) f.locals.insert(at(k).text);
+        if (name(k)) {
+          f.locals.insert(at(k).text);
+          if (++params == 3 && !method) f.third = at(k).text;  // a callback is never a method
+        }
     }
     frames_.push_back(std::move(f));
     i_ = k;
@@ -300,6 +377,9 @@ class Scanner {
     const std::string n = at(i_).text;
     const int line = at(i_).line;
     if (is_local(n)) return local_variable(n, line);
+    // Under `local _ENV = t` a free name is a field of t, which this pass cannot see.
+    if (owner("_ENV")) return;
+    if (n == "_G" || n == "_ENV" || n == "rawset") global_table_write(line);
     if (n == "roger") return member_chain(line);
     if (n == "require") {
       if (at(i_ + 1).type == LuaToken::kString) note(Access::kRequire, at(i_ + 1).text, line);
@@ -309,6 +389,21 @@ class Scanner {
     note(assigned(i_) ? Access::kWrite : Access::kRead, n, line);
     if (accesses.back().kind == Access::kRead)
       for (const Frame& f : frames_) accesses.back().locals.insert(accesses.back().locals.end(), f.locals.begin(), f.locals.end());
+  }
+
+  // A global defined through the globals' table: `_G.x = v`, `_G["x"] = v` (or `_ENV`'s), and
+  // `rawset(_G, "x", v)` define x as `x = v` does.
+  void global_table_write(int line) {
+    const size_t k = i_;
+    if (at(k).text == "rawset") {
+      if (op(k + 1, "(") && (word(k + 2, "_G") || word(k + 2, "_ENV")) && op(k + 3, ",") &&
+          at(k + 4).type == LuaToken::kString)
+        note(Access::kWrite, at(k + 4).text, line);
+      return;
+    }
+    if (op(k + 1, ".") && name(k + 2) && statement_level() && op(k + 3, "=")) note(Access::kWrite, at(k + 2).text, line);
+    if (op(k + 1, "[") && at(k + 2).type == LuaToken::kString && op(k + 3, "]") && statement_level() && op(k + 4, "="))
+      note(Access::kWrite, at(k + 2).text, line);
   }
 
   // A local or upvalue: an alias of roger reaches roger's members. `R = roger` makes R one; any
@@ -344,6 +439,120 @@ class Scanner {
     i_ = k;
   }
 
+  // ---- a string literal compared with a controller's state or a reward function's event ----
+
+  static constexpr size_t kNone = static_cast<size_t>(-1);
+  struct Operand {
+    size_t first, last;  // tokens
+  };
+
+  // The bracket opening the one closing at k, or kNone.
+  size_t opening(size_t k) const {
+    for (int depth = 0;; --k) {
+      if (op(k, ")") || op(k, "}") || op(k, "]")) ++depth;
+      if ((op(k, "(") || op(k, "{") || op(k, "[")) && --depth == 0) return k;
+      if (k == 0) return kNone;
+    }
+  }
+
+  // The first token of the prefix expression (a name or a parenthesised expression, then fields,
+  // indexes and calls) whose last token is k, or kNone.
+  size_t prefix_start(size_t k) const {
+    for (;;) {
+      if (name(k)) {
+        if (k < 2 || !(op(k - 1, ".") || op(k - 1, ":"))) return k;
+        k -= 2;
+      } else if (op(k, ")") || op(k, "]")) {
+        const size_t open = opening(k);
+        if (open == kNone) return kNone;
+        if (open > 0 && operand_end(open - 1)) k = open - 1;  // a call or an index
+        else return op(k, ")") ? open : kNone;
+      } else {
+        return kNone;
+      }
+    }
+  }
+
+  // The last token of the prefix expression starting at k, or kNone.
+  size_t prefix_end(size_t k) const {
+    if (op(k, "(")) k = matching(k);
+    else if (!name(k)) return kNone;
+    for (;;) {
+      if ((op(k + 1, ".") || op(k + 1, ":")) && at(k + 2).type == LuaToken::kName) k += 2;
+      else if (op(k + 1, "[") || op(k + 1, "(") || op(k + 1, "{")) k = matching(k + 1);
+      else if (at(k + 1).type == LuaToken::kString) k += 1;
+      else return k;
+    }
+  }
+
+  // Whether an operand starting at k is a comparison's whole left operand: what precedes it binds
+  // looser (and, or) or starts an expression.
+  bool starts_operand(size_t k) const {
+    if (k == 0) return true;
+    for (const char* o : {"(", "[", "{", ",", "=", ";"})
+      if (op(k - 1, o)) return true;
+    for (const char* w : {"and", "or", "return", "if", "elseif", "while", "until"})
+      if (word(k - 1, w)) return true;
+    return false;
+  }
+
+  // The operands of the comparison at i_, when each is a string or a prefix expression whole.
+  std::optional<Operand> left_operand() const {
+    const size_t last = i_ - 1;
+    const size_t first = at(last).type == LuaToken::kString ? last : prefix_start(last);
+    if (first == kNone || !starts_operand(first)) return std::nullopt;
+    return Operand{first, last};
+  }
+  std::optional<Operand> right_operand() const {
+    const size_t first = i_ + 1;
+    const size_t last = at(first).type == LuaToken::kString ? first : prefix_end(first);
+    if (last == kNone || tighter_than_comparison(at(last + 1))) return std::nullopt;
+    return Operand{first, last};
+  }
+
+  void comparison() {
+    if (i_ == 0) return;
+    const auto l = left_operand(), r = right_operand();
+    if (!l || !r) return;
+    const bool l_string = l->first == l->last && at(l->first).type == LuaToken::kString;
+    const bool r_string = r->first == r->last && at(r->first).type == LuaToken::kString;
+    if (l_string != r_string) compared(at(l_string ? l->first : r->first), r_string ? *l : *r);
+  }
+
+  // A literal compared with an index expression (state.phi3, s[name]) should be a state; with
+  // `event` or a function's third parameter, an event.
+  void compared(const LuaToken& literal, const Operand& other) {
+    const std::string with = text_of(other);
+    const bool index = op(other.last, "]") || (other.last > other.first && op(other.last - 1, "."));
+    std::string message;
+    if (index) {
+      const std::string meant = meant_state(literal.text);
+      if (!meant.empty()) message = never_equal(literal.text, with, "a controller's state", kStates, meant);
+    } else if (other.first == other.last && event_argument(with)) {
+      const std::string meant = meant_event(literal.text);
+      const std::string shown = with == "event" ? with : with + ", a function's third parameter";
+      if (!meant.empty()) message = never_equal(literal.text, shown, "a reward function's event", kEvents, meant);
+    }
+    if (!message.empty()) note(Access::kFinding, message, literal.line);
+  }
+
+  // Whether a plain name is a reward function's event: named so, or a function's third parameter.
+  bool event_argument(const std::string& n) {
+    const Frame* f = owner(n);
+    return n == "event" || (f && f->kind == Frame::kFunction && f->third == n);
+  }
+
+  // An operand as written, near enough: its tokens, strings quoted.
+  std::string text_of(const Operand& o) const {
+    std::string out;
+    for (size_t k = o.first; k <= o.last; ++k) {
+      const LuaToken& t = at(k);
+      out += t.type == LuaToken::kString ? "\"" + t.text + "\"" : t.text;
+      if (op(k, ",")) out += " ";
+    }
+    return out;
+  }
+
   std::vector<LuaToken> t_;
   std::vector<Frame> frames_;
   std::vector<PendingLocals> pending_;  // innermost last
@@ -372,6 +581,7 @@ class Judge {
       std::string message;
       if (a.kind == Access::kRead) message = global(a.name, a.locals);
       if (a.kind == Access::kMember) message = member(a.name);
+      if (a.kind == Access::kFinding) message = a.name;
       if (!message.empty() && seen.insert({a.line, message}).second) out.push_back({f.shown, a.line, message});
     }
   }

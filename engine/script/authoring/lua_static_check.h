@@ -5,7 +5,11 @@
 //     also through a local or upvalue holding roger itself (local R = roger; R.sequnce);
 //   - a read of a global that neither the sandbox nor any of those files defines (a misspelt
 //     local, print written pirnt, `local pirnt = pirnt`: a local is in scope only after its
-//     statement's expression list).
+//     statement's expression list);
+//   - a string literal compared (== or ~=) with a value of a closed vocabulary, near one of its
+//     words but none of them, so never equal: with an index expression (state.phi3, s[name]), a
+//     controller's state ("conv" for "CONV"); with `event` or a function's third parameter, a
+//     reward function's event ("timout" for "timeout").
 // Names come from a live sandbox of the script's kind (script_api.h). Scoping is followed as Lua
 // does (locals of blocks, functions, loops, parameters, `local function`), so a sound script
 // yields nothing; what the pass cannot see (a name built at run time) it does not report.
