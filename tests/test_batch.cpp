@@ -17,6 +17,7 @@
 #include "batch/batch_internal.h"
 #include "core/error.h"
 #include "core/rng.h"
+#include "core/text.h"
 #include "report/report.h"
 #include "script/scenario/scenario.h"
 #include "test_files.h"
@@ -953,4 +954,33 @@ TEST_CASE("an array task id that is no index, and a folder no file system makes,
                                    "folder on a disk");
     CHECK(e.error_number != ENOENT);  // not "a folder on that path does not exist: make it"
   }
+}
+
+// Found by a probe: a reward returning "résumé: éé..." was quoted in the error cut inside an "é",
+// and a scenario's error("bad \255 byte"): error.json could not be written (its JSON writer refuses
+// bytes that are not UTF-8), the exception was swallowed, and the trial was lost: "0 of 1 trials
+// done, 1 not run yet", exit 0, at every resume. It now fails as any fault does, message whole.
+TEST_CASE("a trial whose error is no UTF-8 text fails with error.json, not lost", "[batch][faults]") {
+  const fs::path dir = fresh_dir("utf8_error");
+  fs::create_directories(dir);
+  std::ofstream(dir / "cur.lua") << "local p = require('lib.skills').primitives()\n"
+                                    "return { name = 'u', stages = {\n"
+                                    "  roger.stage{ name = 'S', scenario = 'unobstructed', time_limit = 4,\n"
+                                    "    absorbing = roger.converged(p.phi0), budget = { episodes = 5 },\n"
+                                    "    reward = function() return 'r\\195\\169sum\\195\\169: ' .. string.rep('\\195\\169', 40) end,\n"
+                                    "    contexts = { { name = 'Gaze', actions = { p.search, p.phi0 } } } } } }\n";
+  std::ofstream(dir / "b.lua") << "return { name = 'u', curriculum = 'cur.lua', trials = 1,\n"
+                                  "  runs = { { name = 'S', stage = 'S', contexts = { 'Gaze' } } } }\n";
+  std::string err;
+  const std::string run = std::string(ROGER_BINARY) + " run " + (dir / "b.lua").string() + " --jobs 1 --out " +
+                          (dir / "out").string();
+  CHECK(shell(run + " >/dev/null", &err) == 1);
+  INFO(err);
+  CHECK_THAT(err, Catch::Contains("S/Gaze/000") && Catch::Contains("1 failed"));
+  const fs::path error_file = dir / "out" / "trials" / "S" / "Gaze" / "000" / "error.json";
+  REQUIRE(fs::is_regular_file(error_file));
+  const std::string message = nlohmann::json::parse(slurp(error_file))["error"];
+  CHECK_THAT(message, Catch::Contains("the reward function must return a finite number, got string 'r\xC3\xA9sum\xC3\xA9: "));
+  CHECK(utf8_problem(message).empty());
+  fs::remove_all(dir);
 }

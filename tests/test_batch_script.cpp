@@ -368,3 +368,20 @@ TEST_CASE("a table's by and a tasks figure's param are checked against the runs'
              Catch::Matchers::Contains("the teacher of run 'Lift' does not choose; it chooses 'distance'"));
   fs::remove_all(dir);
 }
+
+// Found by a probe: description = "caf\233 au lait" (Latin-1) passed roger check, and roger run
+// stopped with "[json.exception.type_error.316] invalid UTF-8 byte at index 4" naming nothing.
+TEST_CASE("a batch script's text that is no UTF-8 is refused at load, naming the field", "[batch_script]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_batch_latin1_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path file = dir / "latin1.lua";
+  std::ofstream(file) << "return { name = 'l', curriculum = 'paper', trials = 1, description = 'caf\\233 au lait',\n"
+                         "  runs = { { name = 'SG', stage = 'SG', contexts = { 'B1' } } } }\n";
+  CHECK_THAT(load_error(file.string()),
+             Catch::Contains("latin1.lua:1: the batch script.description must be UTF-8 text, got \"caf\\xE9 au lait\" "
+                             "(byte 0xe9 at byte 4 is not part of a UTF-8 character; save the script as UTF-8)"));
+  std::ofstream(file) << "return { name = 'l', curriculum = 'paper', trials = 1, description = 'caf\\195\\169 au lait',\n"
+                         "  runs = { { name = 'SG', stage = 'SG', contexts = { 'B1' } } } }\n";
+  CHECK(load_error(file.string()).empty());
+  fs::remove_all(dir);
+}

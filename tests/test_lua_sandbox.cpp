@@ -22,6 +22,7 @@
 
 #include <lua.hpp>
 
+#include "core/text.h"
 #include "script/curriculum/curriculum.h"
 #include "script/sandbox/lua_sandbox.h"
 #include "script/authoring/lua_static_check.h"
@@ -295,9 +296,11 @@ TEST_CASE("require resolves dotted names inside the script folders only", "[lua_
     CHECK_THAT(e.message, Contains("scenarios/no/such/module.lua"));
     CHECK_THAT(e.message, Contains("curricula/no/such/module.lua"));
   }
-  SECTION("a non-string name is refused") {
-    sandbox.load_string("return require(42)", "@r.lua");
+  SECTION("a name neither string nor number is refused; a number is its text, as in Lua") {
+    sandbox.load_string("return require({})", "@r.lua");
     CHECK_THROWS_WITH(sandbox.call(0, 1), Contains("require expects a module name"));
+    sandbox.load_string("return require(42)", "@r.lua");
+    CHECK_THROWS_WITH(sandbox.call(0, 1), Contains("module '42' not found"));
   }
   SECTION("a require cycle is reported") {
     const ScriptError e = require_error("cycle");
@@ -1765,4 +1768,76 @@ TEST_CASE("a coroutine's instructions are charged to the call that resumes it, a
   CHECK_THROWS_AS(sandbox.call(0, 0), ScriptError);
   CHECK(eval_string(sandbox, "return tostring(other())") == "2");
   CHECK(sandbox.instructions_used() < 1000);
+}
+
+// Found by a probe: Debian's Lua is built as C++, so a yield and a caught error unwind with a C++
+// exception (microseconds). A coroutine generator of 100,000 values, or 100,000 pcall(error, ...),
+// was stopped by the processor-time budget blaming long work in C, where plain Lua takes 0.02 s.
+TEST_CASE("coroutine switches and caught errors are charged as instructions, with their time", "[lua_sandbox][faults]") {
+  LuaSandbox sandbox;
+  CHECK(eval_string(sandbox, "local n = 200000\n"
+                             "local gen = coroutine.wrap(function() for i = 1, n do coroutine.yield(i) end end)\n"
+                             "local s = 0 for _ = 1, n do s = s + gen() end return tostring(s)") == "20000100000");
+  CHECK(sandbox.instructions_used() >= 200000 * 64);
+  CHECK(eval_string(sandbox, "local caught = 0\n"
+                             "for i = 1, 200000 do if not pcall(error, { code = i }) then caught = caught + 1 end end\n"
+                             "return tostring(caught)") == "200000");
+  CHECK(sandbox.instructions_used() >= 200000 * 64);
+  CHECK(eval_string(sandbox, "local ok = 0 for i = 1, 1000 do if pcall(tostring, i) then ok = ok + 1 end end\n"
+                             "return tostring(ok)") == "1000");  // a call that succeeds is Lua's plain pcall
+  CHECK(sandbox.instructions_used() < 64 * 1000);
+  // The instruction budget bounds how many errors a call catches.
+  SandboxLimits small;
+  small.instructions = 2'000'000;
+  const auto [e, seconds] = stopped("while true do pcall(error, 'x') end\n", small);
+  CHECK(e.line == 1);
+  CHECK_THAT(e.message, Contains("instruction budget of 2000000 exceeded"));
+}
+
+// Found by a probe: table.sort without a comparator charged 32 instructions a comparison, so 100,000
+// numbers (1.7 million comparisons) spent the whole budget where plain Lua sorts them in 0.03 s.
+TEST_CASE("table.sort without a comparator costs what Lua's comparisons cost", "[lua_sandbox][faults]") {
+  LuaSandbox sandbox;
+  CHECK(eval_string(sandbox, "local t = {} for i = 1, 100000 do t[i] = (i * 7919) % 100003 end\n"
+                             "table.sort(t) for i = 2, #t do assert(t[i - 1] <= t[i]) end return 'sorted'") == "sorted");
+  CHECK(sandbox.instructions_used() < 6'000'000);
+  // A comparator, and strings, still pay for their work.
+  CHECK(eval_string(sandbox, "local t = {} for i = 1, 1000 do t[i] = string.rep('a', 320) .. i end\n"
+                             "table.sort(t) return 'sorted'") == "sorted");
+  CHECK(sandbox.instructions_used() > 1000 * 9 * 21);  // ~9 comparisons an element, 1 + 320/16 each
+}
+
+// Found by a probe: print stopped at a NUL (print("A\0B", "after") wrote "A").
+TEST_CASE("print writes every byte of its arguments", "[lua_sandbox]") {
+  LuaSandbox sandbox;
+  std::string printed;
+  sandbox.set_print([&](const std::string& line) { printed += line + "\n"; });
+  sandbox.load_string("print(3, 'A\\0B', 'after')", "=p");
+  sandbox.call(0, 0);
+  CHECK(printed == std::string("3\tA\0B\tafter\n", 12));
+}
+
+// Found by a probe: an error message with a NUL was cut there, and one whose bytes are not UTF-8
+// (a value quoted and cut inside a character) made the trial's error.json unwritable: the trial
+// was lost without a word. A message is printable, whole, and UTF-8.
+TEST_CASE("an error message keeps every byte, printable", "[lua_sandbox]") {
+  LuaSandbox sandbox;
+  const ScriptError nul = error_of(sandbox, "error('nul \\0 here \\255 \\27[31m red', 0)");
+  CHECK(nul.message == "nul \\0 here \\xFF \\x1B[31m red");
+  CHECK(utf8_problem(nul.message).empty());
+}
+
+// As stock Lua: a number names a module, and a first require returns where the module was found.
+TEST_CASE("require takes a number as its name and returns where it found a module", "[lua_sandbox]") {
+  TempDir dir;
+  std::ofstream(dir.path / "m1.lua") << "return { answer = 42 }\n";
+  std::ofstream(dir.path / "42.lua") << "return 'forty-two'\n";
+  std::ofstream(dir.path / "main.lua") << "local m, where = require('m1')\n"
+                                          "local again, second = require('m1')\n"
+                                          "return m.answer .. ' ' .. where .. ' ' .. tostring(again == m) .. ' ' .. "
+                                          "tostring(second) .. ' ' .. require(42)\n";
+  LuaSandbox sandbox;
+  sandbox.run_file((dir.path / "main.lua").string(), 1);
+  const std::string out = lua_tostring(sandbox.state(), -1);
+  CHECK_THAT(out, StartsWith("42 ") && Contains("m1.lua true nil forty-two"));
 }

@@ -564,9 +564,9 @@ TEST_CASE("script mistakes are reported at the script's file:line", "[scenario]"
     s.sandbox().load_string("while true do end", "@tests/scripts/inline.lua");
     CHECK_THROWS_WITH(s.sandbox().call(0, 0), Contains("instruction budget of 200000 exceeded"));
   }
-  SECTION("a missing scenario lists the shipped ones") {
+  SECTION("a missing scenario names the nearest and lists the shipped ones") {
     CHECK_THROWS_WITH(Scenario::load("clutered"),
-                      "no scenario 'clutered': not a file, and scenarios/clutered.lua does not "
+                      "no scenario 'clutered' (did you mean 'cluttered'?): not a file, and scenarios/clutered.lua does not "
                       "exist; shipped scenarios: cluttered, sorting, unobstructed");
   }
 }

@@ -21,6 +21,7 @@
 #include "batch/trainer.h"
 #include "core/error.h"
 #include "core/fileio.h"
+#include "core/text.h"
 #include "core/interrupt.h"
 #include "script/batch/batch_script.h"
 
@@ -172,10 +173,13 @@ class TrialPool {
       out.ok = false;
       const auto* detailed = dynamic_cast<const TrialError*>(&e);
       out.result = detailed && detailed->details.is_object() ? detailed->details : nlohmann::json::object();
-      out.result["error"] = e.what();
+      out.result["error"] = printable_text(e.what());
       out.result["trial"] = out.id;
       try {
-        write_file_atomic((fs::path(dir) / "error.json").string(), out.result.dump(1) + "\n",
+        // Text in the details a script gave (a stage's name) is written with U+FFFD for a byte
+        // that is no UTF-8, not refused: a trial that failed is never lost for its message.
+        write_file_atomic((fs::path(dir) / "error.json").string(),
+                          out.result.dump(1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n",
                           "cannot write the trial error");
       } catch (const std::exception&) {
         // The outcome still carries the error; the trial will simply run again on resume.

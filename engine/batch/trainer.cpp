@@ -868,7 +868,7 @@ bool write_faulted_train_outputs(const TrainResult& r, const std::string& fault,
   StagedFiles staged(dir);
   stage_checkpoint_files(r, staged);
   stage_episodes_file(r, staged);
-  nlohmann::json error = {{"error", fault},
+  nlohmann::json error = {{"error", printable_text(fault)},
                           {"curriculum", r.curriculum_path},
                           {"stage", r.stage},
                           {"context", r.context},
@@ -877,7 +877,7 @@ bool write_faulted_train_outputs(const TrainResult& r, const std::string& fault,
                           {"checkpoints", r.checkpoints.size()}};
   if (!r.teacher.is_null()) error["teacher"] = r.teacher;
   if (!r.skipped_tasks.empty()) error["skipped_tasks"] = r.skipped_tasks;
-  write_file_atomic(staged.stage("error.json"), error.dump(1) + "\n");
+  write_file_atomic(staged.stage("error.json"), error.dump(1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
   // The earlier trial's results go first: a crash between the two steps leaves none of its files
   // beside this trial's.
   remove_stale(dir, {"policy.json", "final.jsonl", "summary.json"});

@@ -387,7 +387,7 @@ int main(int argc, char** argv) {
     return 1;
   } catch (const std::exception& e) {
     std::fflush(stdout);
-    std::cerr << "roger: error: " << e.what() << "\n";
+    std::cerr << "roger: error: " << printable_text(e.what()) << "\n";
     return 1;
   }
   return 2;

@@ -41,6 +41,67 @@ std::string json_error_text(const std::string& what) {
   return end == std::string::npos ? what : what.substr(end + 2);
 }
 
+size_t utf8_char_length(const std::string& s, size_t i) {
+  const auto byte = [&](size_t k) { return k < s.size() ? static_cast<unsigned char>(s[k]) : 0u; };
+  const unsigned c = byte(i);
+  if (c < 0x80) return 1;
+  const size_t n = c >= 0xC2 && c <= 0xDF ? 2 : c >= 0xE0 && c <= 0xEF ? 3 : c >= 0xF0 && c <= 0xF4 ? 4 : 0;
+  if (n == 0) return 0;
+  for (size_t k = 1; k < n; ++k)
+    if ((byte(i + k) & 0xC0) != 0x80) return 0;
+  const unsigned second = byte(i + 1);
+  // Overlong forms, the UTF-16 surrogates and code points past U+10FFFF.
+  if ((c == 0xE0 && second < 0xA0) || (c == 0xED && second > 0x9F) || (c == 0xF0 && second < 0x90) ||
+      (c == 0xF4 && second > 0x8F))
+    return 0;
+  return n;
+}
+
+std::string printable_text(const std::string& s) {
+  std::string out;
+  out.reserve(s.size());
+  for (size_t i = 0; i < s.size();) {
+    const size_t n = utf8_char_length(s, i);
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    if (n > 1 || (n == 1 && (c >= 0x20 || c == '\n' || c == '\t') && c != 0x7F)) {
+      out.append(s, i, n);
+      i += n;
+      continue;
+    }
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "\\x%02X", unsigned(c));
+    out += c == 0 ? std::string("\\0") : std::string(hex);
+    ++i;
+  }
+  return out;
+}
+
+std::string utf8_problem(const std::string& s) {
+  for (size_t i = 0; i < s.size();) {
+    const size_t n = utf8_char_length(s, i);
+    char text[80];
+    if (n == 0 || s[i] == '\0') {
+      std::snprintf(text, sizeof text, "byte 0x%02x at byte %zu is %s", unsigned(static_cast<unsigned char>(s[i])),
+                    i + 1, s[i] == '\0' ? "a NUL" : "not part of a UTF-8 character");
+      return text;
+    }
+    i += n;
+  }
+  return "";
+}
+
+std::string shortened_text(const std::string& s, size_t max) {
+  const std::string text = printable_text(s);
+  if (text.size() <= max) return text;
+  size_t end = 0;
+  while (end < text.size()) {
+    const size_t n = std::max<size_t>(1, utf8_char_length(text, end));
+    if (end + n + 3 > max) break;
+    end += n;
+  }
+  return text.substr(0, end) + "...";
+}
+
 std::string counted(long long n, const std::string& noun) {
   return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
 }

@@ -29,6 +29,24 @@ size_t edit_distance(const std::string& a, const std::string& b);
 // name (a field, a parameter, a controller) adds it.
 std::string suggestion(const std::string& given, const std::vector<std::string>& known);
 
+// The length of the UTF-8 character starting at s[i] (1 to 4), or 0 when the bytes there are not
+// one (a stray continuation byte, a truncated or overlong sequence, a surrogate, past U+10FFFF).
+size_t utf8_char_length(const std::string& s, size_t i);
+
+// Text a user's script produced (an error message, a value it returned), fit for a terminal and a
+// JSON record: valid UTF-8 kept as it is, every byte that is not part of a character and every
+// control character but newline and tab written as \xHH (a NUL as \0), so a message is never cut
+// at a NUL, never refused by a JSON writer and never drives a terminal. Text without such bytes
+// is returned unchanged.
+std::string printable_text(const std::string& s);
+
+// Why `s` is not UTF-8 text ("byte 0xe9 at byte 4 is not part of a UTF-8 character"; a NUL is
+// refused too), or "" when it is.
+std::string utf8_problem(const std::string& s);
+
+// At most `max` bytes of printable_text(s), cut at a character's boundary, "..." added when cut.
+std::string shortened_text(const std::string& s, size_t max);
+
 // A count and its noun, plural when it is not 1: "1 episode", "3 episodes" (the noun's plural
 // is the noun and "s").
 std::string counted(long long n, const std::string& noun);

@@ -8,6 +8,7 @@
 #include <lua.hpp>
 
 #include "core/error.h"
+#include "core/text.h"
 #include "script/batch/batch_script_internal.h"
 #include "script/sandbox/lua_sandbox.h"  // suggestion
 
@@ -20,6 +21,20 @@ std::string quoted_list(const std::vector<std::string>& items) {
   for (const auto& s : items) q.push_back("'" + s + "'");
   return q.empty() ? "(none)" : join(q);
 }
+
+namespace {
+// The string at `index`, refused unless it is UTF-8 text: the manifest and the records are JSON,
+// and a Latin-1 description would stop the run at its first write instead of here, at its line.
+std::string utf8_text(lua_State* L, int index, const std::string& where) {
+  size_t length = 0;
+  const char* bytes = lua_tolstring(L, index, &length);
+  std::string text(bytes, length);
+  if (const std::string problem = utf8_problem(text); !problem.empty())
+    throw Error(where + " must be UTF-8 text, got \"" + shortened_text(text, 40) + "\" (" + problem +
+                "; save the script as UTF-8)");
+  return text;
+}
+}  // namespace
 
 // The Lua value at `index` as JSON: tables with keys 1..n are arrays, tables with string keys
 // objects; numbers, strings and booleans as they are. `where` names the value for messages.
@@ -36,14 +51,14 @@ json lua_to_json(lua_State* L, int index, const std::string& where, int depth) {
         if (!std::isfinite(v)) throw Error(where + " must be a finite number");
         return v;
       }
-    case LUA_TSTRING: return std::string(lua_tostring(L, index));
+    case LUA_TSTRING: return utf8_text(L, index, where);
     case LUA_TTABLE: {
       json obj = json::object();
       std::map<lua_Integer, json> items;
       lua_pushnil(L);
       while (lua_next(L, index) != 0) {
         if (lua_type(L, -2) == LUA_TSTRING) {
-          const std::string key = lua_tostring(L, -2);
+          const std::string key = utf8_text(L, -2, where + ": a key");
           obj[key] = lua_to_json(L, -1, where + "." + key, depth + 1);
         } else if (lua_isinteger(L, -2)) {
           const lua_Integer k = lua_tointeger(L, -2);

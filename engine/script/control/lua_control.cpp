@@ -14,6 +14,7 @@
 
 #include "core/error.h"
 #include "control/primitives.h"
+#include "core/text.h"
 #include "script/control/lua_control_internal.h"
 #include "script/sandbox/lua_sandbox.h"
 
@@ -449,9 +450,9 @@ std::string lua_describe_value(lua_State* L, int index) {
       return "number " + (lua_isinteger(L, index) ? std::to_string(lua_tointeger(L, index))
                                                   : format_number(lua_tonumber(L, index)));
     case LUA_TSTRING: {
-      std::string s = lua_tostring(L, index);
-      if (s.size() > 40) s = s.substr(0, 37) + "...";
-      return "string '" + s + "'";
+      size_t length = 0;
+      const char* text = lua_tolstring(L, index, &length);
+      return "string '" + shortened_text(std::string(text, length), 40) + "'";  // cut between characters
     }
     case LUA_TTABLE: return "a table";
     case LUA_TFUNCTION: return "a function";

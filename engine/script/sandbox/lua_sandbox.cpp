@@ -11,6 +11,7 @@
 
 #include "core/fileio.h"
 #include "core/install.h"
+#include "core/text.h"
 #include "script/sandbox/lua_sandbox_internal.h"
 
 namespace roger {
@@ -263,7 +264,12 @@ void LuaSandbox::call(int nargs, int nresults) {
   lua_remove(L, base);
   if (status == LUA_OK) return;
 
-  std::string msg = lua_isstring(L, -1) ? lua_tostring(L, -1) : "unknown error";
+  std::string msg = "unknown error";
+  if (lua_isstring(L, -1)) {
+    size_t length = 0;
+    const char* text = lua_tolstring(L, -1, &length);
+    msg.assign(text, length);  // all of it: a message may hold a NUL
+  }
   lua_pop(L, 1);
   if (s.pending && msg == s.pending_text) {
     ScriptError error = *s.pending;
@@ -276,9 +282,11 @@ void LuaSandbox::call(int nargs, int nresults) {
                           std::to_string(s.limits.memory_bytes >> 20) + " MiB)",
                       located ? restore_names(s, s.oom_file.data()) : entry_file, located ? s.oom_line : 0, "");
   }
+  // The script's own bytes, made printable: a record and a terminal take every message.
+  msg = printable_text(msg);
   if (status == LUA_ERRERR) msg = "error while handling an error (" + msg + ")";
   msg = restore_names(s, msg);
-  const std::string traceback = s.err_handled ? restore_names(s, s.err_traceback) : "";
+  const std::string traceback = s.err_handled ? printable_text(restore_names(s, s.err_traceback)) : "";
   std::string file, rest;
   int line = 0;
   if (split_location(msg, file, line, rest)) throw ScriptError(rest, file, line, traceback);
@@ -338,7 +346,8 @@ std::string resolve_script_path(const std::string& arg, const std::string& folde
   const std::string where = elsewhere ? " (the project is " + project_in_use() + ")" : "";
   const std::string here = lua_file_here(arg);
   const std::string hint = here.empty() ? "" : "; " + here + " is a file here: name it with its \".lua\"";
-  throw Error("no " + kind + " '" + arg + "': " +
+  const std::string nearest = bare ? suggestion(fs::path(arg).stem().string(), shipped) : "";
+  throw Error("no " + kind + " '" + arg + "'" + nearest + ": " +
               (bare ? "not a file, and " + folder_name + "/" + file + " does not exist" + where
                     : std::string(fs::exists(arg, ec) ? "not a regular file" : "no such file here or in the project" + where)) +
               hint + (shipped.empty() ? "" : "; " + list_label + ": " + join(shipped)));

@@ -40,10 +40,11 @@ class Entered {
 // coroutine's hook interval down to the one wanted now. Only down: setting a hook restarts its
 // count, and the instructions run since the coroutine's last hook would go uncounted if it were
 // done at every resume.
-void before_running(lua_State* L, lua_State* co) {
+void before_running(lua_State* L, lua_State* co, const char* what) {
   auto& s = impl_of(L);
   if (budget_spent(s)) raise_spent_budget(L);
   if (co == L) return;  // Lua refuses to resume the running coroutine itself
+  charge_unwinding(L, what);  // the switch in and out (a yield or an error unwinds as a C++ exception)
   const int wanted = wanted_interval(s);
   if (lua_gethook(co) != count_hook || lua_gethookcount(co) > wanted) lua_sethook(co, count_hook, LUA_MASKCOUNT, wanted);
 }
@@ -86,7 +87,7 @@ bool stopped_coroutine(lua_State* L, int co) {
 // coroutine.resume(co, ...): Lua's (upvalue 1, run in this frame so its messages are Lua's).
 int sandbox_resume(lua_State* L) {
   lua_State* co = lua_tothread(L, 1);
-  if (co) before_running(L, co);
+  if (co) before_running(L, co, "coroutine.resume");
   int n;
   {
     Entered entered(impl_of(L), co ? co : L);
@@ -101,7 +102,7 @@ int sandbox_resume(lua_State* L) {
 // coroutine.
 int sandbox_wrapped(lua_State* L) {
   lua_State* co = lua_tothread(L, lua_upvalueindex(1));
-  before_running(L, co);
+  before_running(L, co, "a coroutine.wrap function");
   lua_pushvalue(L, lua_upvalueindex(1));
   lua_insert(L, 1);
   int n;
@@ -145,7 +146,7 @@ int sandbox_wrap(lua_State* L) {
 int sandbox_close(lua_State* L) {
   lua_State* co = lua_tothread(L, 1);
   if (co) {
-    before_running(L, co);
+    before_running(L, co, "coroutine.close");
     if (stopped_coroutine(L, 1)) {
       lua_pushboolean(L, 0);
       lua_insert(L, -2);

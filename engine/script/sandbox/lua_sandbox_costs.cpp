@@ -7,6 +7,7 @@
 // (the first invalid UTF-8 sequence or digit, say). Then Lua's own function runs in the same
 // frame, so results, messages and their file:line are Lua's. The table functions that loop over
 // elements are charged as they go instead (lua_table_library.cpp).
+#include <algorithm>
 #include <cctype>
 #include <climits>
 #include <cstdint>
@@ -226,11 +227,26 @@ int charged_rep(lua_State* L) {
   return results;
 }
 
-// table.sort's comparisons, kComparisonCost instructions each (a comparison through this closure
-// and a metamethod takes as long): calls the script's comparator (upvalue 1) or <.
+// What one comparison of table.sort without a comparator costs: two numbers one instruction, as
+// Lua's < does; two strings one more per kBytesPerInstruction bytes they may share; anything else
+// goes through a __lt metamethod, which may be a C function no hook counts: kComparisonCost.
+uint64_t plain_comparison_cost(lua_State* L) {
+  const int a = lua_type(L, 1), b = lua_type(L, 2);
+  if (a == LUA_TNUMBER && b == LUA_TNUMBER) return 1;
+  if (a != LUA_TSTRING || b != LUA_TSTRING) return kComparisonCost;
+  size_t la = 0, lb = 0;
+  lua_tolstring(L, 1, &la), lua_tolstring(L, 2, &lb);
+  return 1 + std::min(la, lb) / kBytesPerInstruction;
+}
+
+// table.sort's comparisons: calls the script's comparator (upvalue 1), kComparisonCost
+// instructions each (a call through this closure, or a comparator in C, takes as long), or <, at
+// plain_comparison_cost.
 int counted_less(lua_State* L) {
-  charge_budget(L, kComparisonCost, "table.sort", "too many comparisons for the budget left");
-  if (lua_isnil(L, lua_upvalueindex(1))) {
+  const bool plain = lua_isnil(L, lua_upvalueindex(1));
+  charge_budget(L, plain ? plain_comparison_cost(L) : kComparisonCost, "table.sort",
+                "too many comparisons for the budget left");
+  if (plain) {
     lua_pushboolean(L, lua_compare(L, 1, 2, LUA_OPLT));
     return 1;
   }

@@ -138,6 +138,14 @@ bool budget_spent(const LuaSandbox::Impl& s);
 // message when what is null). Saturates: a huge count cannot wrap the total around.
 void charge_budget(lua_State* L, uint64_t units, const char* what, const char* why);
 
+// An error caught (pcall, xpcall, a coroutine's resume) or a coroutine's switch, counted as
+// kUnwindCost VM instructions, their processor time allowed as theirs: Debian's Lua, built as C++,
+// unwinds each with a C++ exception, microseconds where an instruction takes nanoseconds, so a
+// script catching many errors or switching coroutines often would otherwise be stopped by the
+// time budget as if it did long work in C; the instruction budget still bounds how many it makes.
+constexpr uint64_t kUnwindCost = 64;
+void charge_unwinding(lua_State* L, const char* what);
+
 // ---- lua_sandbox_costs.cpp: library functions charged for the work their arguments ask ----
 
 // Replaces string.rep, table.concat, table.sort, utf8.len, ... by versions charging their work.

@@ -162,7 +162,9 @@ int sandbox_print(lua_State* L) {
     luaL_addvalue(&b);
   }
   luaL_pushresult(&b);
-  std::string line = lua_tostring(L, -1);
+  size_t length = 0;
+  const char* text = lua_tolstring(L, -1, &length);
+  std::string line(text, length);  // all of it, as Lua's print writes a NUL and what follows
   return lua_protect(L, [&]() {
     auto& s = impl_of(L);
     if (s.print) s.print(line);
@@ -204,13 +206,24 @@ int budget_aware_handler(lua_State* L) {
   return 1;
 }
 
-// xpcall(f, handler, ...): Lua's (upvalue 1, run in this frame), the handler wrapped as above.
+// Lua's pcall or xpcall (upvalue 1, a light C function) run in this frame, so that its messages
+// and its continuation across a yield are Lua's; an error caught is charged (charge_unwinding).
+int protected_call(lua_State* L, const char* what) {
+  const int n = lua_tocfunction(L, lua_upvalueindex(1))(L);
+  if (!lua_toboolean(L, -n)) charge_unwinding(L, what);
+  return n;
+}
+
+// pcall(f, ...): Lua's, an error caught charged.
+int sandbox_pcall(lua_State* L) { return protected_call(L, "pcall"); }
+
+// xpcall(f, handler, ...): Lua's, the handler wrapped as above, an error caught charged.
 int sandbox_xpcall(lua_State* L) {
   luaL_checktype(L, 2, LUA_TFUNCTION);
   lua_pushvalue(L, 2);
   lua_pushcclosure(L, budget_aware_handler, 1);
   lua_replace(L, 2);
-  return lua_tocfunction(L, lua_upvalueindex(1))(L);
+  return protected_call(L, "xpcall");
 }
 
 }  // namespace
@@ -242,6 +255,9 @@ int open_sandbox(lua_State* L) {
   lua_getfield(L, g, "xpcall");
   lua_pushcclosure(L, sandbox_xpcall, 1);
   lua_setfield(L, g, "xpcall");
+  lua_getfield(L, g, "pcall");
+  lua_pushcclosure(L, sandbox_pcall, 1);
+  lua_setfield(L, g, "pcall");
   lua_pushcfunction(L, sandbox_setmetatable);
   lua_setfield(L, g, "setmetatable");
   // The guards are also what require("os") returns, as Lua's require returns the library.

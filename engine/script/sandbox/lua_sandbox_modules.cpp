@@ -186,9 +186,10 @@ void run_module(lua_State* L, LuaSandbox::Impl& s, const std::string& name, cons
 
 // require(name): a standard library by its name, else dotted names ("lib.shapes" ->
 // lib/shapes.lua) searched in the sandbox's roots only, text chunks only, cached, with cycles
-// reported.
+// reported. As Lua's: a number is taken as its text, and a module's first load also returns
+// where it was found (its file, as messages show it).
 int sandbox_require(lua_State* L) {
-  if (lua_type(L, 1) != LUA_TSTRING)
+  if (lua_type(L, 1) != LUA_TSTRING && lua_type(L, 1) != LUA_TNUMBER)
     return luaL_error(L, "require expects a module name (a string such as \"lib.shapes\"), got %s",
                       luaL_typename(L, 1));
   const std::string name = lua_tostring(L, 1);
@@ -221,7 +222,8 @@ int sandbox_require(lua_State* L) {
   }
   lua_pushvalue(L, -1);
   lua_setfield(L, 2, name.c_str());
-  return 1;
+  lua_pushstring(L, shown.c_str());
+  return 2;
 }
 
 }  // namespace sandbox_detail
