@@ -533,3 +533,28 @@ TEST_CASE("check builds the task space's ends and test tasks under the command's
                                                              "robot_distance = 1.5, noise_scale = 2 by --set): ") &&
                               Catch::Matchers::Contains("noise_joints_delay = 30 times noise_scale = 2"));
 }
+
+// Found by a probe: skills.transported(p.carry) (a primitive for the composite) failed at
+// curricula/lib/skills.lua:87 ("controller 'phi1' has no field 'subordinate'"), skills.transport()
+// at "attempt to index a nil value (local 'p')" in the library: the newcomer's line came after.
+TEST_CASE("lib.skills' builders refuse what they do not take at the caller's line", "[curriculum]") {
+  test::TempDir dir("roger_skills_args");
+  const std::string file = (dir.path / "wrong.lua").string();
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"skills.transported(p.carry)",
+       "wrong.lua:3: skills.transported takes the transport composite (skills.transport(p)), got controller 'phi1'"},
+      {"skills.transport()", "wrong.lua:3: skills.transport takes the controllers of skills.primitives() "
+                             "(local p = skills.primitives()), got nil"},
+      {"skills.Phi7({ phi1 = p.phi1 })",
+       "wrong.lua:3: skills.Phi7 takes the controllers of skills.primitives(): its table has no 'phi2'"},
+      {"skills.Phi_STG(skills.Phi6(p), p.phi4)",
+       "wrong.lua:3: skills.Phi_STG (its second argument) takes the controllers of skills.primitives() "
+       "(local p = skills.primitives()), got controller 'phi4'"},
+  };
+  for (const auto& [call, says] : cases) {
+    std::ofstream(file) << "local skills = require('lib.skills')\nlocal p = skills.primitives()\nlocal x = " << call
+                        << "\nreturn { name = 'w', stages = {} }\n";
+    INFO(call);
+    CHECK_THAT(error_of([&] { Curriculum::load(file); }), Catch::Matchers::Contains(says));
+  }
+}

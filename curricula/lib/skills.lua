@@ -13,6 +13,27 @@
 -- (skills.Phi6(p, "Phi6_fast")).
 local skills = {}
 
+-- A builder given something else than it takes fails at its caller's line, saying what it takes,
+-- not inside this file ("attempt to index a nil value (local 'p')").
+local function described(v)
+  if type(v) ~= "userdata" then return type(v) end
+  local ok, name = pcall(function() return v.name end)
+  return ok and ("controller '" .. tostring(name) .. "'") or "a " .. tostring(v)
+end
+
+local function expect_primitives(p, builder, fields)
+  if type(p) ~= "table" then
+    error(builder .. " takes the controllers of skills.primitives() (local p = skills.primitives()), got " ..
+          described(p), 3)
+  end
+  for _, field in ipairs(fields) do
+    local ok, value = pcall(function() return p[field] end)  -- skills.primitives() refuses a missing name
+    if not ok or value == nil then
+      error(builder .. " takes the controllers of skills.primitives(): its table has no '" .. field .. "'", 3)
+    end
+  end
+end
+
 -- One instance of each primitive with default parameters, plus the carrying navigator. The
 -- skills built from one set share them, as in the paper, where phi4 in "phi4 <| phi2" and in
 -- "phi4 <| phi5" is the same controller. `overrides` maps a field of the set to parameters,
@@ -46,6 +67,7 @@ end
 -- search turns until both eyes see the stimulus (CONV), then phi0 centres it; if phi0 loses it
 -- (NOREF), the sequence falls back to search.
 function skills.Phi6(p, name)
+  expect_primitives(p, "skills.Phi6", { "search", "phi0" })
   return roger.sequence(name or "Phi6", { p.search, p.phi0 })
 end
 
@@ -54,12 +76,14 @@ end
 -- the seen object; then phi2 places body and hands on a standoff circle around it, with phi4
 -- conditioning the arms in phi2's nullspace.
 function skills.Phi7(p, name)
+  expect_primitives(p, "skills.Phi7", { "phi1", "phi2", "phi4" })
   return roger.sequence(name or "Phi7", { p.phi1, p.phi4:subject_to(p.phi2) })
 end
 
 -- The grasp keeper phi4 <| phi5: phi5 holds the three contacts while the base moves, phi4
 -- conditions the arms in its nullspace.
 function skills.keep_grasp(p)
+  expect_primitives(p, "skills.keep_grasp", { "phi4", "phi5" })
   return p.phi4:subject_to(p.phi5)
 end
 
@@ -67,6 +91,7 @@ end
 -- then Track a Grasp whenever all the contacts are on the ball and Phi_SG is converged". `sg` is
 -- a search-grasp skill (learned or hand-written) whose CONV means the grasp is formed.
 function skills.Phi_STG(sg, p, name)
+  expect_primitives(p, "skills.Phi_STG (its second argument)", { "phi4", "phi5" })
   return roger.sequence(name or "Phi_STG", { sg, skills.keep_grasp(p) })
 end
 
@@ -74,6 +99,7 @@ end
 -- carry the object to the goal region while phi5 keeps the grasp and phi4 the arm posture, the
 -- navigation projected into their nullspace so it never pulls the hands off the object.
 function skills.transport(p)
+  expect_primitives(p, "skills.transport", { "carry", "phi4", "phi5" })
   return roger.compose("phi1 <| phi4 <| phi5", { phi1 = p.carry, phi4 = p.phi4, phi5 = p.phi5 })
 end
 
@@ -84,6 +110,10 @@ end
 -- phi4 and phi5 are read through their composite phi4 <| phi5, where phi4 converges when it
 -- reaches its constrained equilibrium under phi5 (docs/control.md, subject-to).
 function skills.transported(t)
+  local ok, kind = pcall(function() return t.kind end)
+  if not ok or kind ~= "subject_to" then
+    error("skills.transported takes the transport composite (skills.transport(p)), got " .. described(t), 2)
+  end
   return roger.all{ roger.converged(t.subordinate), roger.converged(t.superior) }
 end
 
