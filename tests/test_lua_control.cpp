@@ -629,3 +629,27 @@ TEST_CASE("control functions refuse extra arguments at the caller's line", "[lua
            "roger.compose('phi1') roger.policy('P', {actions = {c}, table = {}}) c:with({gain = 1}) "
            "c:param('gain') c:params() return 'accepted'") == "accepted");
 }
+
+// Found by a probe: a policy's time_limit = 1e9 passed (a goal that never holds then ran for ever),
+// where a stage's is refused past an hour.
+TEST_CASE("a policy's time limit is at most an hour, as a stage's", "[lua_control]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("roger_policy_limit_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const auto load_with = [&](const std::string& limit) {
+    std::ofstream(dir / "long.lua") << "local p = require('lib.skills').primitives()\n"
+                                       "return { policies = { t = { action = p.phi0, goal = roger.converged(p.phi0),\n"
+                                       "  time_limit = " << limit << " } } }\n";
+    try {
+      SkillScript::load((dir / "long.lua").string());
+    } catch (const ScriptError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  CHECK_THAT(load_with("1e9"), Contains("long.lua:3: policy 't': field 'time_limit' must be in (0, 3600] simulated "
+                                        "seconds, or {per_object = s}, got 1000000000"));
+  CHECK_THAT(load_with("{ per_object = 4000 }"), Contains("field 'per_object' must be in (0, 3600] simulated seconds, got 4000"));
+  CHECK(load_with("3600").empty());
+  fs::remove_all(dir);
+}

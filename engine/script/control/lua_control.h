@@ -25,6 +25,10 @@ struct lua_State;
 
 namespace roger {
 
+// The longest time limit a policy or a stage may set, and a time per object (simulated seconds):
+// an hour of Roger's time; more is a unit mistake, or a goal that never holds run for ever.
+constexpr double kMaxTimeLimit = 3600.0;
+
 // Installs the control-basis API into the sandbox's global `roger` table, creating the table if
 // the sandbox has none yet (a scenario loader may already have made it: it is extended, not
 // replaced). Throws ScriptError if the state is out of memory. Call once per sandbox.

@@ -310,14 +310,14 @@ void read_time_limit(lua_State* L, LuaFields& f, const std::string& where, Curri
     LuaFields limit(L, -1, where + ": field 'time_limit'", {"per_object"});
     if (!limit.has("per_object")) limit.fail("missing required field 'per_object' (simulated seconds per object)");
     st.time_per_object = limit.number("per_object");
-    if (!(st.time_per_object > 0.0 && st.time_per_object <= 3600.0))
+    if (!(st.time_per_object > 0.0 && st.time_per_object <= kMaxTimeLimit))
       limit.fail("field 'per_object' must be in (0, 3600] simulated seconds, got " + format_number(st.time_per_object));
     lua_pop(L, 1);
     return;
   }
   lua_pop(L, 1);
   st.time_limit = f.number("time_limit");
-  if (!(st.time_limit > 0.0 && st.time_limit <= 3600.0))
+  if (!(st.time_limit > 0.0 && st.time_limit <= kMaxTimeLimit))
     f.fail("field 'time_limit' must be in (0, 3600] simulated seconds, or {per_object = s}, got " +
            format_number(st.time_limit));
 }

@@ -223,15 +223,14 @@ SkillScript::NamedPolicy read_policy(lua_State* L, int ps, const std::string& na
     // {per_object = s}: a task over however many objects the world holds (sorting).
     LuaFields limit(L, -1, context + ": field 'time_limit'", {"per_object"});
     np.time_per_object = limit.number("per_object");
-    if (!(np.time_per_object > 0.0))
-      limit.fail("field 'per_object' must be a positive number of simulated seconds, got " +
-                 format_number(np.time_per_object));
+    if (!(np.time_per_object > 0.0 && np.time_per_object <= kMaxTimeLimit))
+      limit.fail("field 'per_object' must be in (0, 3600] simulated seconds, got " + format_number(np.time_per_object));
     lua_pop(L, 1);
   } else {
     lua_pop(L, 1);
     np.time_limit = f.number("time_limit");
-    if (!(np.time_limit > 0.0))
-      f.fail("field 'time_limit' must be a positive number of simulated seconds, or {per_object = s}, got " +
+    if (!(np.time_limit > 0.0 && np.time_limit <= kMaxTimeLimit))  // as a stage's
+      f.fail("field 'time_limit' must be in (0, 3600] simulated seconds, or {per_object = s}, got " +
              format_number(np.time_limit));
   }
   line = map.policy_field(name, "scenario");
