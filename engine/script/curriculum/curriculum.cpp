@@ -321,7 +321,6 @@ Curriculum Curriculum::load(const std::string& path_in, const SandboxLimits& lim
 // Runs the curriculum script and reads the stages of the table it returns into `impl`.
 void Curriculum::read_stages(Impl& impl, const std::string& path) {
   LuaSandbox& sandbox = *impl.sandbox;
-  lua_State* L = sandbox.state();
   sandbox.run_file(path, 1);
   finish_control_definitions(sandbox);
 
