@@ -40,11 +40,10 @@ class Entered {
 // coroutine's hook interval down to the one wanted now. Only down: setting a hook restarts its
 // count, and the instructions run since the coroutine's last hook would go uncounted if it were
 // done at every resume.
-void before_running(lua_State* L, lua_State* co, const char* what) {
+void before_running(lua_State* L, lua_State* co) {
   auto& s = impl_of(L);
   if (budget_spent(s)) raise_spent_budget(L);
   if (co == L) return;  // Lua refuses to resume the running coroutine itself
-  charge_unwinding(L, what);  // the switch in and out (a yield or an error unwinds as a C++ exception)
   const int wanted = wanted_interval(s);
   if (lua_gethook(co) != count_hook || lua_gethookcount(co) > wanted) lua_sethook(co, count_hook, LUA_MASKCOUNT, wanted);
 }
@@ -87,13 +86,14 @@ bool stopped_coroutine(lua_State* L, int co) {
 // coroutine.resume(co, ...): Lua's (upvalue 1, run in this frame so its messages are Lua's).
 int sandbox_resume(lua_State* L) {
   lua_State* co = lua_tothread(L, 1);
-  if (co) before_running(L, co, "coroutine.resume");
+  if (co) before_running(L, co);
   int n;
   {
     Entered entered(impl_of(L), co ? co : L);
     n = lua_tocfunction(L, lua_upvalueindex(1))(L);
   }
   if (co) after_running(L, 1, lua_toboolean(L, -n) ? 0 : lua_gettop(L));
+  if (co && co != L && lua_toboolean(L, -n)) charge_unwinding(L, "coroutine.resume");
   return n;
 }
 
@@ -102,7 +102,7 @@ int sandbox_resume(lua_State* L) {
 // coroutine.
 int sandbox_wrapped(lua_State* L) {
   lua_State* co = lua_tothread(L, lua_upvalueindex(1));
-  before_running(L, co, "a coroutine.wrap function");
+  before_running(L, co);
   lua_pushvalue(L, lua_upvalueindex(1));
   lua_insert(L, 1);
   int n;
@@ -112,6 +112,7 @@ int sandbox_wrapped(lua_State* L) {
   }
   if (lua_toboolean(L, -n)) {
     after_running(L, 1, 0);
+    charge_unwinding(L, "a coroutine.wrap function");
     return n - 1;
   }
   after_running(L, 1, lua_gettop(L));
@@ -146,7 +147,7 @@ int sandbox_wrap(lua_State* L) {
 int sandbox_close(lua_State* L) {
   lua_State* co = lua_tothread(L, 1);
   if (co) {
-    before_running(L, co, "coroutine.close");
+    before_running(L, co);
     if (stopped_coroutine(L, 1)) {
       lua_pushboolean(L, 0);
       lua_insert(L, -2);

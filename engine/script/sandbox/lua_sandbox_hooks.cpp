@@ -380,7 +380,7 @@ void charge_budget(lua_State* L, uint64_t units, const char* what, const char* w
 }
 
 void charge_unwinding(lua_State* L, const char* what) {
-  charge_budget(L, kUnwindCost, what, "too many errors caught or coroutine switches for the budget left");
+  charge_budget(L, kUnwindCost, what, "too many coroutine switches for the budget left");
   auto& s = impl_of(L);
   s.charged_units -= std::min(s.charged_units, kUnwindCost);  // an instruction's time, not C work's
 }

@@ -138,11 +138,13 @@ bool budget_spent(const LuaSandbox::Impl& s);
 // message when what is null). Saturates: a huge count cannot wrap the total around.
 void charge_budget(lua_State* L, uint64_t units, const char* what, const char* why);
 
-// An error caught (pcall, xpcall, a coroutine's resume) or a coroutine's switch, counted as
-// kUnwindCost VM instructions, their processor time allowed as theirs: Debian's Lua, built as C++,
-// unwinds each with a C++ exception, microseconds where an instruction takes nanoseconds, so a
-// script catching many errors or switching coroutines often would otherwise be stopped by the
-// time budget as if it did long work in C; the instruction budget still bounds how many it makes.
+// A coroutine's switch that succeeded (a resume that returned true), counted as kUnwindCost VM
+// instructions, their processor time allowed as theirs: Debian's Lua, built as C++, unwinds a
+// yield with a C++ exception, microseconds where an instruction takes nanoseconds, so a generator
+// would otherwise be stopped by the time budget as if it did long work in C; the instruction
+// budget still bounds how many switches a call makes. A resume that fails (an error) earns none,
+// nor does an error caught by pcall: a loop of errors that each did long C work (an __index chain
+// too long) must still meet the time budget.
 constexpr uint64_t kUnwindCost = 64;
 void charge_unwinding(lua_State* L, const char* what);
 

@@ -206,24 +206,13 @@ int budget_aware_handler(lua_State* L) {
   return 1;
 }
 
-// Lua's pcall or xpcall (upvalue 1, a light C function) run in this frame, so that its messages
-// and its continuation across a yield are Lua's; an error caught is charged (charge_unwinding).
-int protected_call(lua_State* L, const char* what) {
-  const int n = lua_tocfunction(L, lua_upvalueindex(1))(L);
-  if (!lua_toboolean(L, -n)) charge_unwinding(L, what);
-  return n;
-}
-
-// pcall(f, ...): Lua's, an error caught charged.
-int sandbox_pcall(lua_State* L) { return protected_call(L, "pcall"); }
-
-// xpcall(f, handler, ...): Lua's, the handler wrapped as above, an error caught charged.
+// xpcall(f, handler, ...): Lua's (upvalue 1, run in this frame), the handler wrapped as above.
 int sandbox_xpcall(lua_State* L) {
   luaL_checktype(L, 2, LUA_TFUNCTION);
   lua_pushvalue(L, 2);
   lua_pushcclosure(L, budget_aware_handler, 1);
   lua_replace(L, 2);
-  return protected_call(L, "xpcall");
+  return lua_tocfunction(L, lua_upvalueindex(1))(L);
 }
 
 }  // namespace
@@ -255,9 +244,6 @@ int open_sandbox(lua_State* L) {
   lua_getfield(L, g, "xpcall");
   lua_pushcclosure(L, sandbox_xpcall, 1);
   lua_setfield(L, g, "xpcall");
-  lua_getfield(L, g, "pcall");
-  lua_pushcclosure(L, sandbox_pcall, 1);
-  lua_setfield(L, g, "pcall");
   lua_pushcfunction(L, sandbox_setmetatable);
   lua_setfield(L, g, "setmetatable");
   // The guards are also what require("os") returns, as Lua's require returns the library.
