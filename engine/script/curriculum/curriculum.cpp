@@ -726,12 +726,10 @@ void check_callbacks(Curriculum& cur, const CurriculumStage& st, const Curriculu
 void check_teacher_function(Curriculum& cur, const CurriculumStage& st, const ParamList& sets,
                             std::vector<std::string>& problems) {
   if (!st.teacher_lua) return;
-  std::vector<std::string> fixed;
-  for (const auto& [k, v] : sets) fixed.push_back(k);
   constexpr int kEpisodes = 30, kFailed = 10;
   int episode = 0;
   try {
-    const std::unique_ptr<Teacher> teacher = cur.make_teacher(st, st.tasks.without(fixed), 0);
+    const std::unique_ptr<Teacher> teacher = cur.make_teacher(st, trial_task_space(st, sets), 0);
     for (; episode < kEpisodes; ++episode) {
       TaskOutcome o;
       o.task = teacher->next().task;
