@@ -99,6 +99,9 @@ TEST_CASE("bad curricula are clear errors at file:line", "[curriculum]") {
        {"bad_curriculum_misspelt_action.lua:7:", "no controller \"phi33\"", "carry, phi0, phi1, phi2, phi3, phi4, phi5, search"}},
       {"bad_curriculum_time_field.lua",
        {"bad_curriculum_time_field.lua:4:", "stage 'Typo'", "field 'time_limit'", "per_objects", "per_object"}},
+      {"bad_curriculum_held_ticks.lua",
+       {"bad_curriculum_held_ticks.lua:5:", "stage 'Patient'", "field 'absorbing'",
+        "held(converged(phi3), 250.0 s) can hold only after 250 simulated seconds, past the time_limit of 5 s"}},
   };
   for (const auto& c : cases) {
     INFO(c.file);

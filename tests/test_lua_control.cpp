@@ -653,3 +653,37 @@ TEST_CASE("a policy's time limit is at most an hour, as a stage's", "[lua_contro
   CHECK(load_with("3600").empty());
   fs::remove_all(dir);
 }
+
+// Found by a probe: roger.held(c, 500) in a policy of 5 s (ticks meant for seconds) passed every
+// check and no episode could ever succeed.
+TEST_CASE("a policy whose goal cannot hold within its time limit is refused at the goal", "[lua_control]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("roger_policy_held_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const auto load_with = [&](const std::string& goal, const std::string& limit) {
+    std::ofstream(dir / "held.lua") << "local p = require('lib.skills').primitives()\n"
+                                       "return { policies = { t = { action = p.phi0,\n"
+                                       "  goal = " << goal << ",\n"
+                                       "  time_limit = " << limit << " } } }\n";
+    try {
+      SkillScript::load((dir / "held.lua").string());
+    } catch (const ScriptError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  CHECK_THAT(load_with("roger.held(roger.converged(p.phi0), 500)", "5"),
+             Contains("held.lua:3: policy 't': field 'goal': held(converged(phi0), 500.0 s) can hold only after 500 "
+                      "simulated seconds, past the time_limit of 5 s: no episode could reach it (roger.held counts "
+                      "seconds, not ticks)"));
+  CHECK_THAT(load_with("roger.all(roger.converged(p.phi1), roger.held(roger.converged(p.phi0), 6))", "5"),
+             Contains("can hold only after 6 simulated seconds"));
+  CHECK_THAT(load_with("roger.any()", "5"), Contains("can never hold"));
+  // What can hold is taken: a hold as long as the episode, an any with a short part, a negation,
+  // and a limit per object, which grows with the world.
+  CHECK(load_with("roger.held(roger.converged(p.phi0), 5)", "5").empty());
+  CHECK(load_with("roger.any(roger.converged(p.phi1), roger.held(roger.converged(p.phi0), 60))", "5").empty());
+  CHECK(load_with("roger.negate(roger.held(roger.converged(p.phi0), 60))", "5").empty());
+  CHECK(load_with("roger.held(roger.converged(p.phi0), 60)", "{ per_object = 5 }").empty());
+  fs::remove_all(dir);
+}

@@ -1,5 +1,6 @@
 // Tests of engine/predicate: converged / gamma_is, all / any / not, held for t seconds, which
 // controllers a predicate evaluates at a tick, and the world's sorting judgement.
+#include <cmath>
 #include <catch2/catch.hpp>
 
 #include "control/predicate.h"
@@ -107,6 +108,31 @@ TEST_CASE("with held() inside, every part sees every tick, and held times withou
   CHECK(timed->holds(at_tick(++tick, time)));          // 0.1 s
   timed->reset();
   CHECK_FALSE(timed->holds(at_tick(++tick, time + 0.02)));
+}
+
+// A goal held longer than its episode can never hold: a load refuses it (test_lua_control,
+// test_curriculum) by this bound, which must never refuse a goal that can hold.
+TEST_CASE("earliest_seconds bounds when a predicate can first hold", "[predicate]") {
+  auto a = std::make_shared<Scripted>("a"), b = std::make_shared<Scripted>("b");
+  CHECK(converged(a)->earliest_seconds() == 0.0);
+  CHECK(held(converged(a), 2.0)->earliest_seconds() == 2.0);
+  CHECK(held(held(converged(a), 2.0), 3.0)->earliest_seconds() == 5.0);
+  CHECK(all_of({held(converged(a), 2.0), held(converged(b), 3.0)})->earliest_seconds() == 3.0);
+  CHECK(any_of({held(converged(a), 2.0), held(converged(b), 3.0)})->earliest_seconds() == 2.0);
+  CHECK(negate(held(converged(a), 9.0))->earliest_seconds() == 0.0);  // holds at once
+  CHECK(std::isinf(any_of({})->earliest_seconds()));
+  CHECK(all_of({})->earliest_seconds() == 0.0);
+  // An episode of 5 s has its last tick at 5 s; one of 5.01 s at 5.02 s (ticks of 20 ms).
+  CHECK(can_hold_within(*held(converged(a), 5.0), 5.0, 0.02));
+  CHECK_FALSE(can_hold_within(*held(converged(a), 5.01), 5.0, 0.02));
+  CHECK(can_hold_within(*held(converged(a), 5.02), 5.01, 0.02));
+  CHECK_FALSE(can_hold_within(*any_of({}), 5.0, 0.02));
+  // The bound is reached: b converged from the first state (time 0) holds held(b, 5) at 5 s.
+  auto five = held(converged(b), 5.0);
+  b->next = Gamma::kConv;
+  bool held_at_limit = false;
+  for (int tick = 0; tick <= 250; ++tick) held_at_limit = five->holds(at_tick(uint64_t(tick) + 1, tick * 0.02));
+  CHECK(held_at_limit);
 }
 
 TEST_CASE("sorted() judges every colour with a region, sorted(colour) one of them", "[predicate]") {

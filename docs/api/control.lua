@@ -124,7 +124,8 @@ function roger.negate(p) end
 ---@return roger.Predicate
 roger["not"] = function(p) end
 
----Holds once `p` has held without interruption for `seconds` of simulated time.
+---Holds once `p` has held without interruption for `seconds` of simulated time. A policy's goal
+---or a stage's absorbing state that can first hold after its time_limit is refused at load.
 ---@param p roger.Predicate
 ---@param seconds number
 ---@return roger.Predicate

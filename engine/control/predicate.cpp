@@ -1,6 +1,7 @@
 #include "control/predicate.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "core/error.h"
@@ -48,6 +49,12 @@ class Combine final : public Predicate {
     return result;
   }
   bool timed() const override { return timed_; }
+  double earliest_seconds() const override {
+    double earliest = all_ ? 0.0 : INFINITY;
+    for (const auto& p : parts_)
+      earliest = all_ ? std::max(earliest, p->earliest_seconds()) : std::min(earliest, p->earliest_seconds());
+    return earliest;
+  }
   void reset() override {
     for (auto& p : parts_) p->reset();
   }
@@ -110,6 +117,8 @@ class Held final : public Predicate {
   }
   void controllers(std::vector<const Controller*>& out) const override { p_->controllers(out); }
   bool timed() const override { return true; }
+  // Its part holds at the earliest at some time, and must then hold `seconds_` more.
+  double earliest_seconds() const override { return p_->earliest_seconds() + seconds_; }
   PredicatePtr copy() const override { return std::make_shared<Held>(*this); }
   void relink(Duplicates& done) override { p_ = duplicate(p_, done); }
 
@@ -216,6 +225,12 @@ PredicatePtr any_of(std::vector<PredicatePtr> parts) {
 PredicatePtr negate(PredicatePtr part) { return std::make_shared<Not>(std::move(part)); }
 PredicatePtr held(PredicatePtr part, double seconds) {
   return std::make_shared<Held>(std::move(part), seconds);
+}
+
+bool can_hold_within(const Predicate& p, double time_limit, double tick_seconds) {
+  // A held() timer may start at the episode's first state (time 0) and compares as Held does.
+  const double last_tick = std::ceil(time_limit / tick_seconds - 1e-9) * tick_seconds;
+  return p.earliest_seconds() <= last_tick + 1e-9;
 }
 
 PredicatePtr duplicate(const PredicatePtr& p, Duplicates& done) {

@@ -27,6 +27,10 @@ class Predicate {
   // Whether it keeps a timer (held) that must see every tick; all/any without one stop at the
   // first part that decides them, and so skip evaluating controllers nothing else needs.
   virtual bool timed() const { return false; }
+  // The least simulated time from an episode's start before it can hold: a lower bound, 0 when it
+  // may hold at once or nothing tells, infinity when it never holds (an empty any). held() adds its
+  // seconds; all takes its parts' latest, any their earliest.
+  virtual double earliest_seconds() const { return 0.0; }
   // A copy of this predicate alone (parts still the originals'), for duplicate() only.
   virtual std::shared_ptr<Predicate> copy() const = 0;
   // Replaces the parts of a fresh copy (predicates and controllers) by their duplicates.
@@ -34,6 +38,10 @@ class Predicate {
 };
 
 using PredicatePtr = std::shared_ptr<Predicate>;
+
+// Whether `p` can hold within an episode of `time_limit` simulated seconds whose control ticks are
+// `tick_seconds` long (its last tick is the limit rounded up to a tick, as EpisodeRun counts them).
+bool can_hold_within(const Predicate& p, double time_limit, double tick_seconds);
 
 // A deep copy with its own state and its own copies of the controllers it reads (see the
 // controllers' duplicate, which shares `done`).

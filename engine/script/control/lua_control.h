@@ -29,6 +29,10 @@ namespace roger {
 // an hour of Roger's time; more is a unit mistake, or a goal that never holds run for ever.
 constexpr double kMaxTimeLimit = 3600.0;
 
+// Why `goal` can never hold within an episode of `time_limit` simulated seconds (a held() longer
+// than the episode, often a count of ticks written where seconds are meant), or "" when it can.
+std::string never_holds_within(const Predicate& goal, double time_limit);
+
 // Installs the control-basis API into the sandbox's global `roger` table, creating the table if
 // the sandbox has none yet (a scenario loader may already have made it: it is extended, not
 // replaced). Throws ScriptError if the state is out of memory. Call once per sandbox.

@@ -2,7 +2,9 @@
 // roger.negate, roger.held and roger.sorted.
 #include <cmath>
 
+#include "core/text.h"
 #include "script/control/lua_control_internal.h"
+#include "sim/world_model.h"
 
 namespace roger {
 namespace lua_control_detail {
@@ -116,4 +118,15 @@ int l_held(lua_State* L) {
 }
 
 }  // namespace lua_control_detail
+
+std::string never_holds_within(const Predicate& goal, double time_limit) {
+  const WorldParams params;  // every world's control tick
+  if (can_hold_within(goal, time_limit, params.dt * params.substeps)) return "";
+  const double earliest = goal.earliest_seconds();
+  const std::string what = shortened_text(goal.describe(), 120);
+  if (!std::isfinite(earliest)) return what + " can never hold: it needs a roger.any() of no parts, which is false";
+  return what + " can hold only after " + format_number(earliest) + " simulated seconds, past the time_limit of " +
+         format_number(time_limit) + " s: no episode could reach it (roger.held counts seconds, not ticks)";
+}
+
 }  // namespace roger

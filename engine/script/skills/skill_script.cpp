@@ -232,6 +232,12 @@ SkillScript::NamedPolicy read_policy(lua_State* L, int ps, const std::string& na
     if (!(np.time_limit > 0.0 && np.time_limit <= kMaxTimeLimit))  // as a stage's
       f.fail("field 'time_limit' must be in (0, 3600] simulated seconds, or {per_object = s}, got " +
              format_number(np.time_limit));
+    // A limit per object grows with the world; a fixed one bounds when the goal can first hold.
+    const std::string never = never_holds_within(*np.goal, np.time_limit);
+    if (!never.empty()) {
+      line = map.policy_field(name, "goal");
+      f.fail("field 'goal': " + never);
+    }
   }
   line = map.policy_field(name, "scenario");
   np.scenario = f.string("scenario", "unobstructed");
