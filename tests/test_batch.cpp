@@ -721,6 +721,27 @@ TEST_CASE("a results folder resumes from another folder and after a copy, not wi
     CHECK_THAT(e.what(), Catch::Matchers::Contains("before a Lua file its trials read changed"));
     CHECK_THAT(e.what(), Catch::Matchers::Contains("sources['<script folder>/kill_curriculum.lua']"));
   }
+  // Found by a probe: an evaluation's scenario edited between runs was taken, and its trials
+  // would have mixed two versions of it. It is a source too, and a run watches it.
+  const std::string pen = slurp(lab / "pen.lua");
+  std::ofstream(lab / "pen.lua", std::ios::app) << "-- edited\n";
+  try {
+    open_in(lab, "my_batch.lua", lab / "results" / "k");
+    FAIL("a folder was resumed with an edited evaluation scenario");
+  } catch (const Error& e) {
+    CHECK_THAT(e.what(), Catch::Matchers::Contains("before a Lua file its trials read changed"));
+    CHECK_THAT(e.what(), Catch::Matchers::Contains("evaluation_sources['<script folder>/pen.lua']"));
+  }
+  const batch_detail::SourceWatch watch((lab / "kill_curriculum.lua").string(), {}, {(lab / "pen.lua").string()});
+  std::ofstream(lab / "pen.lua") << pen;
+  CHECK_THROWS_WITH(watch.check(), "'" + (lab / "pen.lua").string() + "' changed while the run was using it");
+  // A folder made before evaluations' scenarios were recorded resumes as it did.
+  const fs::path manifest = lab / "results" / "k" / "manifest.json";
+  nlohmann::json m = nlohmann::json::parse(slurp(manifest));
+  REQUIRE(m["config"].contains("evaluation_sources"));
+  m["config"].erase("evaluation_sources");
+  std::ofstream(manifest) << m.dump(1);
+  CHECK(open_in(lab, "my_batch.lua", lab / "results" / "k"));
   // The same script with another seed: not "another batch script".
   text.replace(text.find("seed = 7"), 8, "seed = 8");
   std::ofstream(lab / "my_batch.lua") << text;

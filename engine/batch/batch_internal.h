@@ -1,6 +1,7 @@
 // batch_internal.h: what the batch module's files share and nobody else needs.
 #pragma once
 
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
@@ -25,13 +26,23 @@ std::string first_line(const std::string& s);
 // shard of another N starting meanwhile is refused then) and again as it ends.
 BatchSummary record_shard(const BatchPlan& plan, const Shard& shard);
 
-// The Lua files a run's trials read (the curriculum, what it requires, its scenarios) as they were
-// when the run started. Every trial loads them again, so one removed or edited meanwhile would fail
-// every later trial, or train them on another curriculum than the manifest records.
+// The scenarios the batch script's evaluations name (those that take their stage's name none).
+std::vector<std::string> evaluation_scenarios(const BatchScript& b);
+
+// The Lua files the scenarios `scenarios` read (each loaded once) that are not among `training`'s.
+std::vector<std::filesystem::path> evaluation_source_files(const std::vector<std::string>& scenarios,
+                                                           const std::vector<std::filesystem::path>& training,
+                                                           const SandboxLimits& limits);
+
+// The Lua files a run's trials read (the curriculum, what it requires, its scenarios and the
+// evaluations' scenarios) as they were when the run started. Every trial loads them again, so one
+// removed or edited meanwhile would fail every later trial, or train or evaluate them on other
+// files than the manifest records.
 class SourceWatch {
  public:
-  // Loads the curriculum once to list its files and fingerprints them.
-  explicit SourceWatch(const std::string& curriculum_file, const SandboxLimits& limits = {});
+  // Loads the curriculum and each scenario once to list their files and fingerprints them.
+  explicit SourceWatch(const std::string& curriculum_file, const SandboxLimits& limits = {},
+                       const std::vector<std::string>& evaluation_scenarios = {});
   // Throws roger::FileError naming the first file that is gone (ENOENT) or changed (0).
   void check() const;
 

@@ -27,6 +27,7 @@
 #include "core/text.h"
 #include "engine_fingerprint.h"
 #include "script/curriculum/curriculum.h"
+#include "script/scenario/scenario.h"
 #include "script/sandbox/lua_sandbox.h"
 
 namespace roger {
@@ -58,17 +59,17 @@ std::string fingerprint(const std::string& text) {
 
 // The Lua files training with a curriculum reads (docs/batch.md), each with its fingerprint, named
 // relative to the project when inside it: a results folder is resumed only while none changed.
-json source_fingerprints(const std::string& curriculum_file, const SandboxLimits& limits) {
-  const Curriculum cur = Curriculum::load(curriculum_file, limits);
+json source_fingerprints(const std::vector<fs::path>& files) {
   const fs::path root = fs::weakly_canonical(project_root());
   json out = json::object();
-  for (const fs::path& f : curriculum_source_files(cur, limits)) {
+  for (const fs::path& f : files) {
     const fs::path rel = f.lexically_relative(root);
     const bool inside = !rel.empty() && *rel.begin() != "..";
     out[inside ? rel.generic_string() : f.generic_string()] = fingerprint(read_file_text(f.string()));
   }
   return out;
 }
+
 
 // A value of a configuration for a message: whole when short, else 70 characters from a little
 // before `at`, where it first differs from the other side's, so that the change shows.
@@ -301,12 +302,13 @@ json relocated(json config, const Places& at) {
     config["curriculum_file"] = relocated_path(config["curriculum_file"].get<std::string>(), at);
     config.erase("curriculum");  // as spelt ("paper", "curricula/paper.lua"): the file decides
   }
-  if (config.contains("sources") && config["sources"].is_object()) {
-    json sources = json::object();
-    for (auto it = config["sources"].begin(); it != config["sources"].end(); ++it)
-      sources[it.key().empty() || it.key()[0] != '/' ? it.key() : relocated_path(it.key(), at)] = it.value();
-    config["sources"] = sources;
-  }
+  for (const char* field : {"sources", "evaluation_sources"})
+    if (config.contains(field) && config[field].is_object()) {
+      json sources = json::object();
+      for (auto it = config[field].begin(); it != config[field].end(); ++it)
+        sources[it.key().empty() || it.key()[0] != '/' ? it.key() : relocated_path(it.key(), at)] = it.value();
+      config[field] = sources;
+    }
   for (const char* list : {"runs", "evaluations"})
     if (config.contains(list) && config[list].is_array())
       for (json& item : config[list])
@@ -378,8 +380,10 @@ Error refusal(const json& old, const json& old_config, const json& config, const
   // Only a Lua file training reads changed: say that, not "another script" (a probe added a
   // comment to its curriculum and read the refusal as about another script).
   json old_rest = old_config, now_rest = config;
-  if (old_rest.is_object()) old_rest.erase("sources");
-  now_rest.erase("sources");
+  for (const char* field : {"sources", "evaluation_sources"}) {
+    if (old_rest.is_object()) old_rest.erase(field);
+    now_rest.erase(field);
+  }
   // The same script file (the same path, or the same name in the same place after a move) with
   // other contents is not "another batch script".
   std::error_code ec;
@@ -419,7 +423,7 @@ std::string extend_manifest(const json& old, const json& old_config, const json&
 // Checks that an existing manifest was made by this engine and configuration, or by one that this
 // configuration extends (extends(): then the manifest is rewritten with it, and the returned note
 // says what changed; "" otherwise).
-std::string check_manifest(const BatchPlan& plan, const fs::path& manifest_path, const json& config,
+std::string check_manifest(const BatchPlan& plan, const fs::path& manifest_path, json config,
                            const json& fresh_manifest) {
   json old;
   try {
@@ -437,6 +441,8 @@ std::string check_manifest(const BatchPlan& plan, const fs::path& manifest_path,
                 ": its trials would mix with this build's. Use another --out, or remove the folder "
                 "to start over; `roger report " + out + "` still reports what it holds.");
   const json old_config = old.value("config", json());
+  // A folder made before evaluations' files were recorded is compared by what it recorded.
+  if (old_config.is_object() && !old_config.contains("evaluation_sources")) config.erase("evaluation_sources");
   // Compared by where the files are in their project and script folder, not by how their paths
   // were spelt: the folder resumes from another working folder, or after the project, the
   // install or both were moved or copied (relocated()).
@@ -645,9 +651,31 @@ std::string idle_shard(const BatchPlan& plan, const Shard& shard, int most) {
 
 namespace batch_detail {
 
-SourceWatch::SourceWatch(const std::string& curriculum_file, const SandboxLimits& limits) {
-  for (const fs::path& f : curriculum_source_files(Curriculum::load(curriculum_file, limits), limits))
-    files_.emplace_back(f.string(), fingerprint(read_file_text(f.string())));
+std::vector<std::string> evaluation_scenarios(const BatchScript& b) {
+  std::vector<std::string> names;
+  for (const BatchEvaluation& e : b.evaluations)
+    if (!e.scenario.empty()) names.push_back(e.scenario);
+  return names;
+}
+
+std::vector<fs::path> evaluation_source_files(const std::vector<std::string>& scenarios,
+                                              const std::vector<fs::path>& training, const SandboxLimits& limits) {
+  std::vector<fs::path> files;
+  for (const std::string& name : std::set<std::string>(scenarios.begin(), scenarios.end())) {
+    Scenario scenario = Scenario::load(name, limits);  // alive while its list is read
+    for (const fs::path& f : scenario.sandbox().source_files())
+      if (std::find(training.begin(), training.end(), f) == training.end() &&
+          std::find(files.begin(), files.end(), f) == files.end())
+        files.push_back(f);
+  }
+  return files;
+}
+
+SourceWatch::SourceWatch(const std::string& curriculum_file, const SandboxLimits& limits,
+                         const std::vector<std::string>& evaluation_scenarios) {
+  std::vector<fs::path> files = curriculum_source_files(Curriculum::load(curriculum_file, limits), limits);
+  for (const fs::path& f : evaluation_source_files(evaluation_scenarios, files, limits)) files.push_back(f);
+  for (const fs::path& f : files) files_.emplace_back(f.string(), fingerprint(read_file_text(f.string())));
 }
 
 void SourceWatch::check() const {
@@ -967,7 +995,10 @@ bool open_results_folder(const BatchPlan& plan, std::string* note, const Shard& 
   const FolderLock lock(plan.out);
   if (shard.active()) check_shard_count(plan.out, shard);  // before the manifest is rewritten
   json config = batch_config_json(b);
-  config["sources"] = source_fingerprints(b.curriculum_file, b.limits);
+  const std::vector<fs::path> training = curriculum_source_files(Curriculum::load(b.curriculum_file, b.limits), b.limits);
+  config["sources"] = source_fingerprints(training);
+  // Apart from sources, so that a folder made before evaluations' files were recorded still resumes.
+  config["evaluation_sources"] = source_fingerprints(evaluation_source_files(evaluation_scenarios(b), training, b.limits));
   json ids = json::array(), seeds = json::object();
   for (const auto& p : plan.phases)
     for (const auto& t : p) {

@@ -158,7 +158,7 @@ const json& config_shape() {
     "name": "string", "description?": "string", "curriculum": "string", "curriculum_file?": "string",
     "trials": "integer", "seed": "integer", "params": ["pair"],
     "limits?": {"instructions": "integer", "memory_mib": "integer"}, "sources?": {"*": "string"},
-    "runs": [{"name": "string", "stage": "string", "contexts": ["string"], "trials": "integer",
+    "evaluation_sources?": {"*": "string"}, "runs": [{"name": "string", "stage": "string", "contexts": ["string"], "trials": "integer",
               "params": ["pair"], "skills": [{"skill": "string", "run": "string", "context": "string"}],
               "final_worlds?": "string"}],
     "evaluations": [{"name": "string", "run": "string", "context": "string", "scenario": "string",

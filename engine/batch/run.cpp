@@ -597,7 +597,7 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
   std::map<std::string, const PlannedTrial*> by_id;
   for (const auto& p : plan.phases)
     for (const auto& t : p) by_id[t.id] = &t;
-  const SourceWatch sources(plan.script->curriculum_file, plan.script->limits);
+  const SourceWatch sources(plan.script->curriculum_file, plan.script->limits, evaluation_scenarios(*plan.script));
   const TrialFunction trial = [&](const std::string& id, const std::string& dir) -> nlohmann::json {
     const PlannedTrial& t = *by_id.at(id);
     const auto t0 = Clock::now();
