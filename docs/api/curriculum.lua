@@ -131,6 +131,13 @@ function roger.teacher.plr(options) end
 ---@field name string
 ---@field actions roger.ControllerRef[] 1 to 12 actions with distinct names
 ---@field params? table<string, number|string|boolean> scenario parameters over the stage's
+---@field init? roger.ContextInit the context whose Q-table this one starts from (default: none, every value initial_q)
+
+---A context's warm start (docs/curricula.md, Warm starts): that context is trained first with the
+---trial's seed, and this one starts from its Q-table.
+---@class roger.ContextInit
+---@field stage? string a stage written before, or this one (default: this one)
+---@field context string a context of that stage written before this one
 
 ---A stage's reward: the defaults are absorbing 100, timeout -100, step 0.
 ---@class roger.Reward
@@ -151,13 +158,17 @@ function roger.teacher.plr(options) end
 
 ---Greedy checkpoints and the final evaluation.
 ---@class roger.Checkpoints
----@field every? integer training episodes between checkpoints (default budget / 20)
----@field episodes? integer episodes per checkpoint (default 20)
----@field threshold? number success rate to reach (default 0.9)
+---@field every? integer training episodes between checkpoints (default budget / 20, at least 1)
+---@field episodes? integer episodes per checkpoint (default 20; not with a `test` set)
+---@field threshold? number success rate to reach, in (0, 1] (default 0.9)
 ---@field seeds? integer first held-out seed (default 1000000)
 ---@field stop_after? integer stop after this many passing checkpoints (0: never)
 ---@field settle? boolean a changed policy starts the count again (default true)
----@field final? integer episodes of the final evaluation (default 50)
+---@field final? integer episodes of the final evaluation (default 50; not with a `test` set)
+
+---A time limit per object of the episode's world (`time_limit = {per_object = 3}`).
+---@class roger.TimePerObject
+---@field per_object number simulated seconds per object (> 0, at most 3600)
 
 ---A stage: a learning problem per developmental context (docs/curricula.md).
 ---@class roger.Stage
@@ -171,7 +182,7 @@ function roger.teacher.plr(options) end
 ---@field learner? roger.Learner
 ---@field budget {episodes: integer}
 ---@field checkpoints? roger.Checkpoints
----@field contexts roger.Context[]|table<string, roger.ControllerRef[]|{actions: roger.ControllerRef[], params: table<string, number|string|boolean>?}>
+---@field contexts roger.Context[]|table<string, roger.ControllerRef[]|{actions: roger.ControllerRef[], params: table<string, number|string|boolean>?, init: roger.ContextInit?}>
 ---@field skill? {name: string, context: string} the context whose greedy policy becomes a skill
 ---@field tasks? table<string, roger.TaskAxis> scenario parameters each training episode draws (docs/curricula.md, Teachers)
 ---@field teacher? roger.Teacher|fun(history: roger.TeacherEpisode[], rng: roger.Rng): table<string, number|string|boolean> who draws them (default roger.teacher.random{})
