@@ -327,10 +327,26 @@ TEST_CASE("a results folder in use by a run is refused to a second run, parts of
                       Catch::Contains("in use by another roger run of the same part (--shard 0/2)" + pid));
     CHECK_THROWS_WITH(RunningClaim(out.string(), Shard()),
                       Catch::Contains("in use by runs of parts of it (--shard or --only):"));
-    // Disjoint --only names run together (docs/batch.md); the same names twice do not.
+    // Found by a probe: a part that shares trials with a part running (its own shard, narrowed by
+    // --only) ran them at the same time.
+    CHECK_THROWS_WITH(RunningClaim(out.string(), Shard{1, 2}, {"SG"}),
+                      Catch::Contains("is in use by a roger run of --shard 1/2" + pid +
+                                      ", whose trials include some of this part's (--shard 1/2 --only SG): the two "
+                                      "would each run again the other's trials in flight"));
+    CHECK_THROWS_WITH(RunningClaim(out.string(), Shard(), {"SG/B1"}), Catch::Contains("a roger run of --shard "));
+    CHECK(first.others_running() == std::vector<std::string>{"--shard 1/2" + pid});
+  }
+  {
+    // Disjoint --only names run together (docs/batch.md); the same names twice, or a name within
+    // another's, do not.
     const RunningClaim sg(out.string(), Shard(), {"SG"}), t(out.string(), Shard(), {"T", "eval"});
     CHECK_THROWS_WITH(RunningClaim(out.string(), Shard(), {"eval", "T", "T"}),
                       Catch::Contains("in use by another roger run of the same part (--only T --only eval)" + pid));
+    CHECK_THROWS_WITH(RunningClaim(out.string(), Shard(), {"eval/gen"}),
+                      Catch::Contains("a roger run of --only T --only eval" + pid));
+    CHECK_THROWS_WITH(RunningClaim(out.string(), Shard{0, 2}, {"SG/B1"}), Catch::Contains("a roger run of --only SG" + pid));
+    const RunningClaim u(out.string(), Shard{0, 2}, {"U"});
+    CHECK(u.others_running().size() == 2);
   }
   // A run that holds the folder alone removes the temporaries a killed writer left (found by a
   // probe: a second Ctrl-C left a staging folder that no later run removed), and nothing else.
@@ -349,6 +365,7 @@ TEST_CASE("a results folder in use by a run is refused to a second run, parts of
   // it: no file names a process that holds nothing.
   CHECK(slurp(out / ".running-shard-0-of-2").empty());
   CHECK(slurp(out / ".running-only-T-only-eval").empty());
+  CHECK(again.others_running().empty());
 
   // End to end: the second run is refused before it touches anything, and the first is undisturbed.
   const fs::path results = fresh_dir("claim_run");
@@ -446,6 +463,36 @@ TEST_CASE("a started shard records its N and a run without shards still opens th
   CHECK(open_results_folder(plan_batch(script, out.string()), nullptr, Shard{1, 3}));  // the same N
   CHECK(open_results_folder(plan_batch(script, out.string())));                        // no shard
   fs::remove_all(out);
+}
+
+// Found by a probe: shard 1 with --trials 4 rewrote the manifest while shard 0 ran the folder's
+// plan of 2; shard 0 ended "done", and no one ran the new trials it owned.
+TEST_CASE("a plan that changes is refused while other parts run the folder's", "[batch][shard]") {
+  const fs::path dir = fresh_dir("shard_replan"), out = dir / "out";
+  fs::create_directories(dir);
+  std::ofstream(dir / "batch.lua") << "return {\n"
+                                      "  name = \"kill\", curriculum = \"kill_curriculum.lua\", trials = 2, seed = 7,\n"
+                                      "  runs = { { name = \"SG\", stage = \"SG\", contexts = { \"B1\" } } },\n"
+                                      "}\n";
+  fs::copy_file("tests/scripts/kill_curriculum.lua", dir / "kill_curriculum.lua");
+  BatchOverrides four;
+  four.trials = 4;
+  const auto script = std::make_shared<const BatchScript>(load_batch_script((dir / "batch.lua").string()));
+  const auto more = std::make_shared<const BatchScript>(load_batch_script((dir / "batch.lua").string(), four));
+  {
+    const RunningClaim zero(out.string(), Shard{0, 2});
+    CHECK_FALSE(open_results_folder(plan_batch(script, out.string()), nullptr, Shard{0, 2}, &zero));
+    const RunningClaim one(out.string(), Shard{1, 2});
+    CHECK_THROWS_WITH(open_results_folder(plan_batch(more, out.string()), nullptr, Shard{1, 2}, &one),
+                      Catch::Contains("other parts of the folder are running the folder's plan: --shard 0/2 (pid ") &&
+                          Catch::Contains("Wait for them to end, then run this command again"));
+    CHECK(open_results_folder(plan_batch(script, out.string()), nullptr, Shard{1, 2}, &one));  // the same plan
+  }
+  const RunningClaim one(out.string(), Shard{1, 2});  // alone now: the plan grows
+  std::string note;
+  CHECK(open_results_folder(plan_batch(more, out.string()), &note, Shard{1, 2}, &one));
+  CHECK_THAT(note, Catch::Contains("it plans more trials"));
+  fs::remove_all(dir);
 }
 
 // Found by an outsider: quick.lua (trials 0 and 1) in 3 shards printed "shard 2 of 3: trials 2, 5,
@@ -920,6 +967,32 @@ TEST_CASE("a folder refused for holding more trials says which --trials resumes 
                                                  "larger --trials made them): to resume it, run the command with "
                                                  "--trials 3, the folder's number of trials."));
   CHECK(open(3));
+  fs::remove_all(dir);
+}
+
+// Found by a probe: a folder made without --trials, then a command with --trials 1, was refused
+// with no word of how to resume it when an evaluation had several shapes; and every refusal ended
+// by inviting the user to remove the folder.
+TEST_CASE("a folder with an evaluation of several shapes says which --trials resumes it", "[batch]") {
+  const fs::path dir = fresh_dir("fewer_shapes");
+  fs::create_directories(dir);
+  fs::copy_file("tests/scripts/kill_batch.lua", dir / "batch.lua");
+  fs::copy_file("tests/scripts/kill_curriculum.lua", dir / "kill_curriculum.lua");
+  const auto open = [&](int trials) {
+    BatchOverrides ov;
+    ov.trials = trials;
+    const auto b = std::make_shared<const BatchScript>(load_batch_script((dir / "batch.lua").string(), ov));
+    return open_results_folder(plan_batch(b, (dir / "out").string()));
+  };
+  CHECK_FALSE(open(0));  // the script's 2
+  CHECK_THROWS_WITH(open(1), Catch::Contains("to resume it, run the command with --trials 2, the folder's number of "
+                                             "trials.") &&
+                                 Catch::Contains("To resume the folder, run it with the script and parameters it was "
+                                                 "made with (its manifest.json records them); for this configuration, "
+                                                 "give another --out.") &&
+                                 !Catch::Contains("remove the folder"));
+  CHECK_THROWS_WITH(open(3), Catch::Contains("give each such evaluation its own `trials`, the folder's number"));
+  CHECK(open(2));
   fs::remove_all(dir);
 }
 

@@ -151,25 +151,34 @@ void check_only_needs(const BatchPlan& plan, const std::vector<std::string>& onl
 // Returns true when resuming. Shards that open one folder at once take turns (a lock file), so
 // the manifest is written by one at a time. A shard (`shard` active) is refused (roger::Error) in a
 // folder whose shards/ records shards of another N, and records itself there as it starts.
-bool open_results_folder(const BatchPlan& plan, std::string* note = nullptr, const Shard& shard = Shard());
+// `claim` (may be null) is the run's: a plan that changes is refused while other parts run the old.
+class RunningClaim;
+bool open_results_folder(const BatchPlan& plan, std::string* note = nullptr, const Shard& shard = Shard(),
+                         const RunningClaim* claim = nullptr);
 
 // A results folder claimed by one roger run for as long as this lives. A run of the whole folder
 // holds it alone; runs of parts of it (a --shard, --only names) hold it together, each part once.
 // A second run of a folder or part in use would empty the first's trials in flight (a resume runs
 // a trial without a result afresh) and the first would fail writing into them, so it is refused:
-// roger::Error naming who holds it and what to do. Parts that differ are the user's to keep
-// disjoint (docs/batch.md). Released when destroyed, or however the process ends (flock on
-// <out>/.running, and on <out>/.running-<part> for a part).
+// roger::Error naming who holds it and what to do. So is a part that shares a trial with a part
+// running ("--shard 1/2 --only SG" beside "--shard 1/2"); parts that share none run together.
+// Released when destroyed, or however the process ends (flock on <out>/.running, and on
+// <out>/.running-<part> for a part, which names its part for the others).
 class RunningClaim {
  public:
   RunningClaim(const std::string& out, const Shard& shard, const std::vector<std::string>& only = {});
   ~RunningClaim();
   RunningClaim(const RunningClaim&) = delete;
   RunningClaim& operator=(const RunningClaim&) = delete;
+  // The other parts of the folder running now ("--shard 0/2 (pid 12 on node3)"); none for a run of
+  // the whole folder, which holds it alone.
+  std::vector<std::string> others_running() const;
 
  private:
-  int whole_ = -1;  // <out>/.running: exclusive for a run of the whole folder, shared by parts
-  int own_ = -1;    // a part's <out>/.running-<part>, exclusive
+  std::string out_;
+  std::string own_file_;  // this part's claim file's name; "" for the whole folder
+  int whole_ = -1;        // <out>/.running: exclusive for a run of the whole folder, shared by parts
+  int own_ = -1;          // a part's <out>/.running-<part>, exclusive
 };
 
 // The line roger run prints for a shard: the trial indices it runs and how many trials, or that it

@@ -340,7 +340,8 @@ std::string extension_note(const json& old, const json& now, const std::string& 
 // For a folder whose configuration extends `config` (it holds more trials than `config` plans,
 // as after a run with a larger --trials): how to resume it; "" otherwise.
 std::string fewer_trials_hint(const json& old_config, const json& config) {
-  if (!old_config.is_object() || !config.is_object() || !extends(config, old_config)) return "";
+  // Any evaluation counts here: the folder holds more of its trials, whatever their worlds.
+  if (!old_config.is_object() || !config.is_object() || !extends(config, old_config, true)) return "";
   std::set<int64_t> counts;  // the folder's trials of every run and evaluation (what --trials sets)
   for (const char* list : {"runs", "evaluations"})
     if (old_config.contains(list) && old_config[list].is_array())
@@ -374,8 +375,9 @@ Error refusal(const json& old, const json& old_config, const json& config, const
   if (old_config.is_object() && extends(old_config, config, true))
     why += "\nMore trials of an evaluation with worlds of its own and several shapes move the worlds of the "
            "trials it has (shape k's trial i starts at (k x trials + i) x episodes), so they are a new folder's. "
-           "More training trials alone resume: raise the trials of the runs in the script and leave the "
-           "evaluation's (--trials sets both).";
+           "More training trials alone resume: raise the trials of the runs in the script and give each such "
+           "evaluation its own `trials`, the folder's number (one without takes the script's, and --trials "
+           "sets both).";
   why += fewer_trials_hint(old_config, config);
   // Only a Lua file training reads changed: say that, not "another script" (a probe added a
   // comment to its curriculum and read the refusal as about another script).
@@ -399,7 +401,8 @@ Error refusal(const json& old, const json& old_config, const json& config, const
                                          : "by another batch script or other parameters";
   return Error("the results folder " + plan.out + " was made " + made + " (" + old.value("script", std::string("?")) +
                "); it cannot be resumed with " + plan.script->path + " as it is now. Differences:" + why +
-               "\nUse another --out, or remove the folder to start over.");
+               "\nTo resume the folder, run it with the script and parameters it was made with (its "
+               "manifest.json records them); for this configuration, give another --out.");
 }
 
 // Takes a configuration that extends the folder's own (extends()): checks that the folder's
@@ -420,11 +423,26 @@ std::string extend_manifest(const json& old, const json& old_config, const json&
   return extension_note(old_places, now_places, plan.out);
 }
 
+// A plan that changes (more trials, another report) rewrites the manifest: not while other parts
+// of the folder run the old one, whose shards would end "done" by it and leave the new trials to
+// no one (the report then fails, and its advice is refused).
+void refuse_while_others_run(const BatchPlan& plan, const RunningClaim* claim) {
+  const std::vector<std::string> others = claim ? claim->others_running() : std::vector<std::string>();
+  if (others.empty()) return;
+  std::string list;
+  for (size_t k = 0; k < others.size() && k < 5; ++k) list += (k ? ", " : "") + others[k];
+  if (others.size() > 5) list += " and " + std::to_string(others.size() - 5) + " more";
+  throw Error("the script differs from the one " + plan.out + " was made with (it plans more trials or another "
+              "report), and other parts of the folder are running the folder's plan: " + list +
+              ". Wait for them to end, then run this command again; or run it with the folder's script and "
+              "parameters now");
+}
+
 // Checks that an existing manifest was made by this engine and configuration, or by one that this
 // configuration extends (extends(): then the manifest is rewritten with it, and the returned note
 // says what changed; "" otherwise).
 std::string check_manifest(const BatchPlan& plan, const fs::path& manifest_path, json config,
-                           const json& fresh_manifest) {
+                           const json& fresh_manifest, const RunningClaim* claim) {
   json old;
   try {
     old = read_manifest_file(manifest_path.string());
@@ -463,8 +481,10 @@ std::string check_manifest(const BatchPlan& plan, const fs::path& manifest_path,
   then.moved_with_script = now.moved_with_script;
   then.outside = now.outside = nullptr;
   const json old_places = relocated(old_config, then), now_places = relocated(config, now);
-  if (old_places != now_places && old_config.is_object() && extends(old_places, now_places))
+  if (old_places != now_places && old_config.is_object() && extends(old_places, now_places)) {
+    refuse_while_others_run(plan, claim);
     return extend_manifest(old, old_config, old_places, now_places, plan, manifest_path, fresh_manifest);
+  }
   if (old_places != now_places) throw refusal(old, old_places, now_places, plan);
   if (const std::string p = planned_trials_problem(old, plan, true); !p.empty())
     throw Error(manifest_path.string() + ": " + p + "; this folder cannot be resumed: use another --out");
@@ -531,11 +551,11 @@ bool try_flock(int fd, int op, const std::string& path) {
 }
 
 // This process's id and host, in the claim file `fd` (for the message of a run refused: shards of
-// a cluster run on other machines).
-void write_holder(int fd) {
+// a cluster run on other machines), then `part` (a part's line for the other parts, part_line()).
+void write_holder(int fd, const std::string& part = "") {
   char host[256] = {};
   ::gethostname(host, sizeof host - 1);
-  const std::string text = "pid " + std::to_string(::getpid()) + " " + host + "\n";
+  const std::string text = "pid " + std::to_string(::getpid()) + " " + host + "\n" + part;
   if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, text.data(), text.size(), 0) != ssize_t(text.size())) {
     // Only a message reads it: a claim without it still holds.
   }
@@ -936,6 +956,62 @@ std::pair<std::string, std::string> run_part(const Shard& shard, std::vector<std
   return {said, file.empty() ? "" : ".running" + file};
 }
 
+// A part's line in its claim file: "part K N [names]" (N = 0: not sharded; names: its --only).
+std::string part_line(const Shard& shard, const std::vector<std::string>& only) {
+  std::string line = "part " + std::to_string(shard.index) + " " + std::to_string(shard.count);
+  for (const auto& o : only) line += " " + o;
+  return line + "\n";
+}
+
+// Another part running in the folder, as its claim file says.
+struct LivePart {
+  Shard shard;
+  std::vector<std::string> only;
+  std::string said;  // "--shard 0/2 --only SG (pid 12 on node3)"
+};
+
+// Whether two --only selections can name one trial: either is everything, or a name is the other
+// or contains it ("SG" and "SG/B1", "eval" and "eval/gen").
+bool selections_overlap(const std::vector<std::string>& a, const std::vector<std::string>& b) {
+  if (a.empty() || b.empty()) return true;
+  const auto within = [](const std::string& x, const std::string& y) { return x == y || y.rfind(x + "/", 0) == 0; };
+  for (const auto& x : a)
+    for (const auto& y : b)
+      if (within(x, y) || within(y, x)) return true;
+  return false;
+}
+
+// Whether two parts can hold one trial: shards of one N with other indices never do.
+bool parts_overlap(const Shard& s1, const std::vector<std::string>& o1, const Shard& s2, const std::vector<std::string>& o2) {
+  const bool shards_apart = s1.active() && s2.active() && s1.count == s2.count && s1.index != s2.index;
+  return !shards_apart && selections_overlap(o1, o2);
+}
+
+// The parts of `out` running now (their claim file locked), but the one of file `own`. A shared
+// lock taken for a moment tells: it fails only while a part holds its file.
+std::vector<LivePart> live_parts(const std::string& out, const std::string& own) {
+  std::vector<LivePart> parts;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(out, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(".running-", 0) != 0 || name == own) continue;
+    const int fd = ::open(entry.path().c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) continue;
+    const bool free = try_flock(fd, LOCK_SH, entry.path().string());
+    ::close(fd);  // releases the shared lock, if taken
+    if (free) continue;
+    LivePart part;
+    std::ifstream in(entry.path());
+    std::string first, word;
+    std::getline(in, first);
+    if (in >> word >> part.shard.index >> part.shard.count && word == "part")
+      while (in >> word) part.only.push_back(word);
+    part.said = run_part(part.shard, part.only).first + holder_of(entry.path().string());
+    parts.push_back(std::move(part));
+  }
+  return parts;
+}
+
 }  // namespace
 
 void check_out_folder(const std::string& out) {
@@ -978,7 +1054,26 @@ RunningClaim::RunningClaim(const std::string& out, const Shard& shard, const std
     ::close(whole_);
     throw Error(what + "another roger run of the same part (" + part + ")" + holder + then);
   }
-  write_holder(own_);
+  std::vector<std::string> names = only;
+  std::sort(names.begin(), names.end());
+  names.erase(std::unique(names.begin(), names.end()), names.end());
+  write_holder(own_, part_line(shard, names));
+  out_ = out, own_file_ = part_file;
+  for (const LivePart& other : live_parts(out, part_file))
+    if (parts_overlap(shard, names, other.shard, other.only)) {
+      ::close(own_);
+      ::close(whole_);
+      throw Error(what + "a roger run of " + other.said + ", whose trials include some of this part's (" + part +
+                  "): the two would each run again the other's trials in flight. Wait for it to end, or give "
+                  "parts that share no trial: shards of one N (--shard K/N), or --only names apart");
+    }
+}
+
+std::vector<std::string> RunningClaim::others_running() const {
+  std::vector<std::string> said;
+  if (own_file_.empty()) return said;  // a run of the whole folder holds it alone
+  for (const LivePart& p : live_parts(out_, own_file_)) said.push_back(p.said);
+  return said;
 }
 
 // The claim files stay (unlinking a flock file races with a run that has just opened it): emptied,
@@ -990,7 +1085,7 @@ RunningClaim::~RunningClaim() {
   ::close(whole_);
 }
 
-bool open_results_folder(const BatchPlan& plan, std::string* note, const Shard& shard) {
+bool open_results_folder(const BatchPlan& plan, std::string* note, const Shard& shard, const RunningClaim* claim) {
   const BatchScript& b = *plan.script;
   const FolderLock lock(plan.out);
   if (shard.active()) check_shard_count(plan.out, shard);  // before the manifest is rewritten
@@ -1018,7 +1113,7 @@ bool open_results_folder(const BatchPlan& plan, std::string* note, const Shard& 
   const bool resuming = fs::exists(manifest_path, ec);
   if (!resuming) check_out_folder(plan.out);  // again under the lock: the caller checked before claiming it
   if (resuming) {
-    const std::string said = check_manifest(plan, manifest_path, config, manifest);
+    const std::string said = check_manifest(plan, manifest_path, config, manifest, claim);
     if (note) *note = said;
   } else {
     write_file_atomic(manifest_path.string(), manifest.dump(1) + "\n", "cannot write the manifest");

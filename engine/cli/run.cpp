@@ -159,7 +159,7 @@ int command_run(const RunArgs& a) {
     check_out_folder(plan.out);  // before the claim makes its lock files there
     const RunningClaim claim(plan.out, shard, a.only);  // until the run has ended, its report written
     std::string note;
-    if (open_results_folder(plan, &note, shard)) log << "roger run: resuming " << plan.out << "\n";
+    if (open_results_folder(plan, &note, shard, &claim)) log << "roger run: resuming " << plan.out << "\n";
     if (!note.empty()) log << "roger run: " << note << "\n";
     check_only_needs(plan, a.only, shard);
     size_t trials = 0;
