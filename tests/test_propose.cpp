@@ -123,10 +123,15 @@ TEST_CASE("propose on SG: a checked curriculum whose proposal beats B1 over 10 s
   CHECK(md.find("Why " + r.candidates[size_t(r.winner)].id + " won") != std::string::npos);
   // Found by a probe: four candidates tied where round 1 cut, and only reading every trial's
   // record showed that the candidates' order decided (docs/propose.md's example says so now).
-  REQUIRE(r.cautions.size() == 1);
-  CHECK(r.cautions[0] == "round 1: C3, C4, C5, C6 tied at a mean loss of 533.1 where the round cut, and the "
-                         "candidates' order decided which went on (C3 did, C4 did not)");
+  // Before the subgoal stages stopped once learned, every subgoal and chain candidate scored 2 x cap
+  // untested, tied; now the trials whose task the cap left no training say so.
+  REQUIRE(r.cautions.size() == 2);
+  CHECK(r.cautions[0] == "round 1: C3's task never trained in 1 of its 2 trials (the cap ended Phi_to_phi1's stage at "
+                         "its threshold, before its stop rule), which scored 2 x cap untested");
   CHECK(md.find("## Cautions\n\n- " + r.cautions[0] + ".\n") != std::string::npos);
+  for (const auto& c : r.candidates)
+    if (c.kind == "subgoal" || c.kind == "chain")
+      CHECK(std::any_of(c.trials.begin(), c.trials.end(), [](const CandidateTrial& t) { return t.checkpoints > 0; }));
 
   CHECK(check_curriculum(r.proposal_file).empty());
   CHECK(run_status(std::string(ROGER_BINARY) + " check " + r.proposal_file + " >/dev/null 2>&1") == 0);
@@ -328,6 +333,58 @@ TEST_CASE("propose refuses at once a curriculum its proposal could not require",
   CHECK_THROWS_WITH(propose_curriculum(o), Catch::Contains("require(\"cluttered\")") &&
                                                Catch::Contains("scenarios/cluttered.lua first"));
   CHECK_FALSE(fs::exists(dir.path / "x"));  // refused before the search folder, let alone the probe
+}
+
+// Found by an outsider running docs/propose.md's example: SG trains to the end of its budget
+// (stop_after = 0) and the subgoal stages copied its checkpoints, so SG_to_Phi6, at its threshold
+// after 10 episodes, trained all 400 and spent every trial's cap: each subgoal and chain
+// candidate scored 2 x cap with its task never run ("none ran").
+TEST_CASE("propose's subgoal stages stop once learned, so a task without a stop rule is tested", "[propose]") {
+  test::TempDir dir("roger_propose");
+  ProposeOptions o = sg_options(dir.path / "p");
+  o.max_candidates = 1;  // the example's probe and candidates' files, no trial
+  const ProposeResult r = propose_curriculum(o);
+  const auto sub = std::find_if(r.candidates.begin(), r.candidates.end(), [](const Candidate& c) {
+    return c.kind == "subgoal" && c.summary.find("Phi_to_Phi6 learned first from {Phi6}") != std::string::npos;
+  });
+  REQUIRE(sub != r.candidates.end());
+  INFO(sub->id << ": " << sub->summary);
+  // Its candidate trained as a trial of a round would train it, with a cap of 300 simulated s.
+  TrainOptions t;
+  t.curriculum = sub->file;
+  t.stage = "SG";
+  t.context = "P";
+  t.seed = 1;
+  t.keep_episodes = false;
+  t.final_evaluation = false;
+  t.max_sim_s = 300;
+  const TrainResult trained = train_stage(t);
+  REQUIRE(trained.skills.size() == 1);
+  const SkillSource& skill = trained.skills[0];
+  INFO(skill.name << ": " << skill.totals.episodes << " episodes, " << skill.totals.sim_s << " s");
+  CHECK(skill.reached);
+  CHECK(skill.totals.sim_s < 150);  // stopped once learned, half the cap at most
+  CHECK(trained.totals.episodes > 0);  // the task trained and was judged at its checkpoints
+  CHECK(!trained.checkpoints.empty());
+}
+
+// Found by an outsider: docs/propose.md said propose refuses every problem at once, but a stage
+// whose first context uses learned skills, in a curriculum require cannot find by its name, was
+// refused for the context only, and the name clash came up only once the context was mended.
+TEST_CASE("propose lists every refusal of a command at once", "[propose]") {
+  test::TempDir dir("roger_propose");
+  ProposeOptions o = sg_options(dir.path / "x", 100);
+  o.curriculum = "sorting";
+  o.stage = "Sort2";
+  o.context = "";
+  CHECK_THROWS_WITH(propose_curriculum(o), Catch::StartsWith("roger propose: 3 problems, each to mend before anything "
+                                                             "runs:\n  - --budget 100 is under 30 episodes") &&
+                                               Catch::Contains("\n  - stage 'Sort2'") &&
+                                               Catch::Contains("uses learned skills") &&
+                                               Catch::Contains("/curricula/sorting.lua: the proposal builds on the "
+                                                               "curriculum by require(\"sorting\")") &&
+                                               Catch::Contains("scenarios/sorting.lua first"));
+  CHECK_FALSE(fs::exists(dir.path / "x"));
 }
 
 TEST_CASE("propose says plainly when its probe saw no success", "[propose]") {

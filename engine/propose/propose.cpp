@@ -123,6 +123,41 @@ void check_options(const ProposeOptions& o, double time_limit) {
     throw Error("roger propose: probe trials, trials and max candidates must be at least 1");
 }
 
+// The starting context must be one the probe can train and a proposal can compare with.
+void check_context(const CurriculumStage& stage, const CurriculumContext& ctx) {
+  if (!ctx.learned.empty())
+    throw Error("roger propose: " + stage.where(ctx.name) + " uses learned skills; start from a context of the stage's " +
+                "own controllers (the proposal's subgoal stages are what learns skills)");
+  // The probe would train the warm start too, and no proposal context has one to compare with.
+  if (!ctx.init_context.empty())
+    throw Error("roger propose: " + stage.where(ctx.name) + " starts from the Q-table of context '" + ctx.init_context +
+                "' of stage '" + ctx.init_stage + "' (init); the proposal's contexts learn from scratch, so start "
+                "from a context without init");
+}
+
+// Runs one check of the command, keeping its refusal rather than throwing it, so that a command
+// with several problems hears of all of them at once instead of one per attempt.
+template <class Check>
+void collect_refusal(std::vector<std::string>& refusals, Check check) {
+  try {
+    check();
+  } catch (const FileError&) {
+    throw;  // the machine's fault, not the command's: it stops everything, as elsewhere
+  } catch (const Error& e) {
+    refusals.push_back(e.what());
+  }
+}
+
+// Throws the refusals collected: one as it is, several as one message listing each.
+void refuse(const std::vector<std::string>& refusals) {
+  if (refusals.empty()) return;
+  if (refusals.size() == 1) throw Error(refusals.front());
+  const std::string prefix = "roger propose: ";
+  std::string text = prefix + std::to_string(refusals.size()) + " problems, each to mend before anything runs:";
+  for (const auto& r : refusals) text += "\n  - " + (r.rfind(prefix, 0) == 0 ? r.substr(prefix.size()) : r);
+  throw Error(text);
+}
+
 // A folder of other files is no search's: settings.json, written before anything else, makes a
 // folder a search's. A roger run results folder (manifest.json) has a trials/ folder of its own,
 // whose records a search would mix with its own; any other files are someone's work.
@@ -201,6 +236,8 @@ CandidateTrial run_trial(const ProposeOptions& o, const CandidateSpec& spec, con
         tr.last_success = j.at("last_success").get<double>();
         tr.loss = j.at("loss").get<double>();
         tr.checkpoints = j.value("checkpoints", -1);
+        tr.cut = j.value("cut", "");
+        tr.cut_reached = j.value("cut_reached", false);
         tr.reused = true;
         // Numbers no trial gives (damaged, or edited by hand) make the record unreadable: run again.
         const bool sound = std::isfinite(tr.spent_s) && tr.spent_s >= 0 && std::isfinite(tr.skills_s) &&
@@ -231,18 +268,58 @@ CandidateTrial run_trial(const ProposeOptions& o, const CandidateSpec& spec, con
   tr.cap_s = cap_s;
   for (const auto& s : r.skills)
     if (s.trained) tr.skills_s += s.totals.sim_s;
+  // The cap ends one stage at most: with no task episode, the last skill trained (r.skills is in
+  // training order, a skill's own skills first) was still training when it ran out.
+  if (r.totals.episodes == 0 && !r.skills.empty() && r.skills.back().trained) {
+    tr.cut = r.skills.back().name;
+    tr.cut_reached = r.skills.back().reached;
+  }
   tr.spent_s = tr.skills_s + r.totals.sim_s;
   tr.reached = r.reached;
   tr.time_s = tr.skills_s + r.to_threshold.sim_s;
   tr.last_success = r.checkpoints.empty() ? 0.0 : r.checkpoints.back().success_rate;
   tr.checkpoints = int(r.checkpoints.size());
+  // A subgoal stage is trained as roger train trains it, so that the trial stays a prefix of the
+  // candidate's own training; one that has not learned its subgoal (met its stop rule) within the
+  // cap leaves the task none of it. The candidate then did not reach the threshold within the cap,
+  // and scores 2 x cap as a task that never passed: cutting the subgoal stage short to test the
+  // task would test a skill the proposal never hands over. What must not be silent is why: tr.cut.
   tr.loss = tr.reached ? tr.time_s : cap_s * (2.0 - tr.last_success);
   const nlohmann::json j = {{"format", "roger-propose-trial"}, {"candidate", spec.c.id}, {"hash", hash},
                             {"seed", seed}, {"cap_s", cap_s}, {"spent_s", tr.spent_s}, {"skills_s", tr.skills_s},
                             {"reached", tr.reached}, {"time_s", tr.time_s}, {"last_success", tr.last_success},
-                            {"checkpoints", tr.checkpoints}, {"loss", tr.loss}};
+                            {"checkpoints", tr.checkpoints}, {"cut", tr.cut}, {"cut_reached", tr.cut_reached},
+                            {"loss", tr.loss}};
   write_file_atomic(file, j.dump(1) + "\n", "cannot write the trial record");
   return tr;
+}
+
+// A trial's outcome on the console: when the cap ended a subgoal stage, which one and where (the
+// task never trained, so "not reached" alone would hide that it was never tested).
+std::string outcome_text(const CandidateTrial& tr) {
+  if (tr.reached) return "reached after " + std::to_string(int(std::lround(tr.time_s))) + " s";
+  if (!tr.cut.empty()) return "not reached (" + cut_text(tr) + ")";
+  return "not reached";
+}
+
+// Cautions on the trials of round `round` whose subgoal stage the cap ended, so that the task never
+// trained: their loss of 2 x cap says the candidate's subgoal stages need more than the cap, not
+// how its task learns, and a reader of the ranking should know which losses those are.
+void note_cut(const std::vector<CandidateSpec>& specs, const std::vector<size_t>& alive, int round,
+              ProposeResult& res) {
+  for (size_t i : alive) {
+    int trials = 0;
+    std::vector<std::string> cuts;
+    for (const auto& t : specs[i].c.trials) {
+      if (t.round != round) continue;
+      ++trials;
+      if (!t.cut.empty()) cuts.push_back(cut_text(t));
+    }
+    if (cuts.empty()) continue;
+    res.cautions.push_back("round " + std::to_string(round) + ": " + specs[i].c.id + "'s task never trained in " +
+                           std::to_string(cuts.size()) + " of its " + counted(trials, "trial") + " (" + join(cuts, "; ") +
+                           "), which scored 2 x cap untested");
+  }
 }
 
 // Cautions on round `round` (alive sorted by score, the first `keep` going on): a round none of
@@ -302,10 +379,10 @@ void successive_halving(const ProposeOptions& o, const TaskRef& task, std::vecto
         res.spent_s += tr.spent_s;
         (tr.reused ? res.trials_reused : res.trials_run) += 1;
         if (o.progress) {
-          char line[256];
+          char line[512];
           std::snprintf(line, sizeof line, "round %d/%d %s trial %d: %s, loss %.0f, spent %.0f of %.0f simulated s%s\n",
                         r + 1, rounds, spec.c.id.c_str(), j + 1,
-                        tr.reached ? ("reached after " + std::to_string(int(std::lround(tr.time_s))) + " s").c_str() : "not reached",
+                        outcome_text(tr).c_str(),
                         tr.loss, res.spent_s, res.budget_s, tr.reused ? " (reused)" : "");
           *o.progress << line << std::flush;
         }
@@ -317,6 +394,7 @@ void successive_halving(const ProposeOptions& o, const TaskRef& task, std::vecto
                                 : std::accumulate(ts.begin(), ts.end(), 0.0, [](double a, const CandidateTrial& t) { return a + t.loss; }) /
                                       double(ts.size());
     }
+    note_cut(specs, alive, r + 1, res);
     std::stable_sort(alive.begin(), alive.end(), [&](size_t a, size_t b) { return specs[a].c.score < specs[b].c.score; });
     const size_t keep = (alive.size() + 1) / 2;
     note_round(o, task, specs, alive, keep, r + 1, cap, res);
@@ -338,19 +416,16 @@ ProposeResult propose_curriculum(const ProposeOptions& options) {
     const CurriculumStage& stage = cur.stage(o.stage);
     if (o.context.empty()) o.context = stage.contexts.front().name;
     const CurriculumContext& ctx = stage.context(o.context);
-    if (!ctx.learned.empty())
-      throw Error("roger propose: " + stage.where(ctx.name) + " uses learned skills; start from a context of the stage's " +
-                  "own controllers (the proposal's subgoal stages are what learns skills)");
-    // The probe would train the warm start too, and no proposal context has one to compare with.
-    if (!ctx.init_context.empty())
-      throw Error("roger propose: " + stage.where(ctx.name) + " starts from the Q-table of context '" + ctx.init_context +
-                  "' of stage '" + ctx.init_stage + "' (init); the proposal's contexts learn from scratch, so start "
-                  "from a context without init");
     const double time_limit = stage_time_limit(stage, o.limits);
-    check_options(o, time_limit);  // the command's own mistakes first
+    // Every refusal at once, the command's own mistakes first: one run says all there is to mend.
+    std::vector<std::string> refusals;
+    collect_refusal(refusals, [&] { check_options(o, time_limit); });
+    collect_refusal(refusals, [&] { check_context(stage, ctx); });
+    collect_refusal(refusals, [&] { task.module = module_name(cur.file(), o.out); });
+    refuse(refusals);
+    task.stop_after = stage.checkpoints.stop_after;
     task.checkpoint_every = stage.checkpoints.every > 0 ? stage.checkpoints.every : std::max(1, stage.budget_episodes / 20);
     task.time_limit = time_limit;
-    task.module = module_name(cur.file(), o.out);
     task.scenario = scenario_from_project(stage.scenario);
     task.context_params = !ctx.params.empty();
     // Every Lua file the task reads, and the library the proposals are written with: records

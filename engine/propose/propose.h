@@ -48,6 +48,10 @@ struct CandidateTrial {
   bool reused = false;       // read back from the trial record of an earlier run
   int round = 0;             // the round of successive halving it belongs to (1-based)
   int checkpoints = -1;      // greedy checkpoints the final stage ran (-1: a record from before they were kept)
+  // The learned skill whose subgoal stage the cap ended before its stop rule did, leaving the task
+  // no training: the trial then scored 2 x cap with its task untested, which must be said ("" = none).
+  std::string cut;
+  bool cut_reached = false;  // ...that stage had reached its threshold (not yet its stop rule)
 };
 
 // A candidate curriculum.

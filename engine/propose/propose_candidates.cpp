@@ -37,6 +37,15 @@ std::string percent(double x) {
   return b;
 }
 
+// Passing checkpoints in a row of one greedy policy after which a subgoal stage stops when the task
+// has no stop rule of its own (stop_after = 0, as SG: the paper trains it to the end of its budget
+// to compare learning curves). A subgoal stage is a means: once its skill reaches the subgoal, more
+// training only spends the trial's cap, which the task then never gets. Five passes of one policy,
+// not one: curricula/lib/paper_stages.lua measured that a policy stopped on fewer passes (20
+// held-out seeds) can be a weak skill that stalls the stage built on it. A task with a rule of its
+// own (T: 5 of one policy) keeps it for its subgoal stages: its author's meaning of learned.
+constexpr int kSubgoalStopAfter = 5;
+
 // A learned subgoal stage of a candidate: reach CONV of `goal` with `actions` (Lua expressions).
 struct SubStage {
   std::string goal;                   // the action's name in Psi
@@ -61,6 +70,21 @@ struct LuaCandidate {
     return s + " }";
   }
 
+  // What the subgoal stages are built from: the task itself when it has a stop rule, else a copy of
+  // it (written to `o`) whose checkpoints stop after kSubgoalStopAfter passes of one policy.
+  std::string subgoal_task(std::ostream& o) const {
+    if (subs.empty() || task.stop_after > 0) return "task";
+    o << "\n-- The subgoal stages stop once they have learned their subgoal (" << kSubgoalStopAfter
+      << " passing checkpoints in a row\n-- of one greedy policy): the task trains to the end of its budget "
+      << "(stop_after = 0), and a\n-- subgoal stage copying that would spend what the task needs.\n"
+      << "local subgoal_task = propose.task(" << lua_quote(task.module) << ", " << lua_quote(task.stage)
+      << (task.scenario.empty() ? std::string() : ", { scenario = " + lua_quote(task.scenario) + " }") << ")\n"
+      << "subgoal_task.checkpoints = {}\n"
+      << "for key, value in pairs(task.checkpoints or {}) do subgoal_task.checkpoints[key] = value end\n"
+      << "subgoal_task.checkpoints.stop_after, subgoal_task.checkpoints.settle = " << kSubgoalStopAfter << ", true\n";
+    return "subgoal_task";
+  }
+
   std::string text(const Candidate& c, const std::vector<std::string>& base_psi) const {
     std::ostringstream o;
     o << "-- " << c.id << ".lua: a curriculum proposed by roger propose for stage '" << task.stage << "' of '"
@@ -81,10 +105,11 @@ struct LuaCandidate {
       o << "local params = propose.params(task, " << lua_quote(task.context)
         << ")  -- its scenario parameters (body, senses)\n";
     for (const auto& d : defs) o << d;
+    const std::string sub_task = subgoal_task(o);
     for (const auto& s : subs)
       o << "\n-- A subgoal stage: reach CONV of '" << s.goal << "' with the actions that reach it in the\n"
         << "-- probe's successful episodes; its greedy policy becomes the skill " << s.skill << ".\n"
-        << "local " << ident("stage_to_" + s.goal) << " = propose.stage(task, {\n"
+        << "local " << ident("stage_to_" + s.goal) << " = propose.stage(" << sub_task << ", {\n"
         << "  name = " << lua_quote(task.stage + "_to_" + ident(s.goal)) << ",\n"
         << "  description = " << lua_quote("reach CONV of " + s.goal + " (a subgoal of " + task.stage + ")") << ",\n"
         << "  goal = " << act(s.goal) << ",\n"

@@ -65,6 +65,7 @@ struct TaskRef {
   std::string command;       // the roger propose command line, for the file's header
   std::string sources;       // text_hash of every Lua file the task and the proposals read
   int checkpoint_every = 0;  // training episodes between the stage's checkpoints
+  int stop_after = 0;        // the stage's stop_after (0: it trains to the end of its budget)
   double time_limit = 0.0;   // the stage's time-out (s) in a world of its scenario
 };
 
@@ -80,6 +81,10 @@ std::vector<CandidateSpec> generate_candidates(const TaskRef& task, const ProbeS
 
 // FNV-1a of a text, as 16 hex digits (a record says which candidate text it measured).
 std::string text_hash(const std::string& text);
+
+// What a trial's CandidateTrial::cut means, "the cap ended Phi_to_phi1's stage short of its
+// threshold" ("" when nothing was cut): for the console, the trial table and the cautions.
+std::string cut_text(const CandidateTrial& t);
 
 // Writes propose.md.
 void write_propose_report(const ProposeOptions& options, const TaskRef& task, const ProbeStats& probe,

@@ -30,6 +30,23 @@ double spent(const Candidate& c) {
   return s;
 }
 
+// A trial's last checkpoint: "none ran" when the task ran none, and why when the cap ended a
+// subgoal stage (its loss of 2 x cap then measured no task training).
+std::string last_checkpoint(const CandidateTrial& t) {
+  if (t.checkpoints != 0) return fmt("%.0f%%", 100 * t.last_success);
+  return t.cut.empty() ? "none ran" : "none ran: " + cut_text(t);
+}
+
+}  // namespace
+
+std::string cut_text(const CandidateTrial& t) {
+  if (t.cut.empty()) return "";
+  return "the cap ended " + t.cut + "'s stage " +
+         (t.cut_reached ? "at its threshold, before its stop rule" : "short of its threshold");
+}
+
+namespace {
+
 void probe_section(std::ostream& md, const ProposeOptions& o, const ProbeStats& probe, const ProbeSummary& s) {
   md << "## The probe\n\n" << o.probe_trials << " trial(s) of context " << o.context << " capped at "
      << fmt("%.0f", o.budget_s * o.probe_share / o.probe_trials) << " simulated s each: " << probe.episodes
@@ -81,7 +98,7 @@ void candidates_section(std::ostream& md, const ProposeResult& r) {
       md << "| " << c.id << " | " << t.round << " | " << t.seed << " | " << fmt("%.1f", t.cap_s) << " | "
          << fmt("%.1f", t.spent_s) << " | " << fmt("%.1f", t.skills_s) << " | " << (t.reached ? "yes" : "no") << " | "
          << (t.reached ? fmt("%.1f", t.time_s) : "-") << " | "
-         << (t.checkpoints == 0 ? std::string("none ran") : fmt("%.0f%%", 100 * t.last_success)) << " | "
+         << last_checkpoint(t) << " | "
          << fmt("%.1f", t.loss) << " |\n";
 }
 
