@@ -385,3 +385,21 @@ TEST_CASE("a batch script's text that is no UTF-8 is refused at load, naming the
   CHECK(load_error(file.string()).empty());
   fs::remove_all(dir);
 }
+
+// Found by a probe: `trials = "2"` said "must be an integer" without what it got, and a misspelt
+// context of a batch script had no "did you mean", where the stage's and train's errors have one.
+TEST_CASE("a batch script's wrong type says what it got, a misspelt context its nearest", "[batch_script]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_batch_said_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const auto error_with = [&](const std::string& trials, const std::string& context) {
+    std::ofstream(dir / "said.lua") << "return {\n  name = \"said\", curriculum = \"paper\", trials = " << trials
+                                    << ",\n  runs = { { name = \"SG\", stage = \"SG\", contexts = { \"" << context
+                                    << "\" } } },\n}\n";
+    return load_error((dir / "said.lua").string());
+  };
+  CHECK_THAT(error_with("\"2\"", "DC2"),
+             Catch::Contains("said.lua:2: the batch script: field 'trials' must be an integer, got string '2'"));
+  CHECK_THAT(error_with("2", "DC22"), Catch::Contains("said.lua:3: run 'SG': stage 'SG' has no context 'DC22' (did you "
+                                                      "mean 'DC2'?); its contexts are 'B1', 'DC1', 'DC2'"));
+  fs::remove_all(dir);
+}

@@ -790,6 +790,12 @@ TEST_CASE("roger eval and render of a saved policy set the parameters its trial 
   r = roger("eval curricula/paper.lua --policy " + policy + " --scenario cluttered --set upper_arm=0.6 --episodes 2");
   CHECK_THAT(r.out, Catch::Matchers::Contains("\n  note           the trial trained with eye_pixels = 64, not set in "
                                               "scenario cluttered (a --set gives any it declares)\n"));
+  // Found by a probe: given with another curriculum, a policy read "has no stage 'SG'" alone.
+  r = roger("eval docs/examples/curriculum_example.lua --policy " + policy + " --episodes 2");
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Matchers::Contains("has no stage 'SG'") &&
+                        Catch::Matchers::Contains(policy + " was trained with the curriculum curricula/paper.lua: give "
+                                                  "that one (roger eval curricula/paper.lua --policy " + policy + ")"));
   // roger render replays the trial's world too, and says so.
   r = roger("render curricula/paper.lua --policy " + policy + " --out " + (dir / "episode").string());
   REQUIRE(r.status == 0);

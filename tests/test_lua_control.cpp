@@ -377,6 +377,8 @@ TEST_CASE("predicates", "[lua_control]") {
   CHECK_THAT(lua.error("roger.sorted('#2850dc', 2)").what(), Contains("roger.sorted: takes no argument or a colour, got 2"));
   CHECK_THAT(lua.error("roger.sequence('S', {roger.converged('phi1')})").what(),
              Contains("step 1 must be a controller") && Contains("a predicate is a condition, not an action"));
+  CHECK_THAT(lua.error("roger.sequence('S', {})").what(),
+             Contains("snippet.lua:1: roger.sequence('S'): the steps must hold at least one step, got an empty list"));
 }
 
 TEST_CASE("names used before their definition are bound when the script finishes", "[lua_control]") {

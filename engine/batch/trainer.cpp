@@ -924,6 +924,17 @@ namespace {
 // table, the first world seed, what the file says of itself and the options in force (the trial's
 // own parameters among their sets: PolicyEvalOptions::trial_params) to `use`; fills `out`'s stage,
 // context, scenario and parameters.
+// "; the policy was trained with ..." when the policy file records another curriculum than
+// `cur` (a policy of curricula/paper.lua given with another curriculum reads "has no stage 'T'").
+std::string trained_with(const PolicyMetadata& meta, const Curriculum& cur, const std::string& policy_file) {
+  if (!meta.extra.is_object() || !meta.extra.contains("curriculum") || !meta.extra["curriculum"].is_string()) return "";
+  const std::string recorded = meta.extra["curriculum"].get<std::string>();
+  std::error_code ec;
+  if (recorded == cur.path() || fs::equivalent(recorded, cur.file(), ec)) return "";
+  return ". " + policy_file + " was trained with the curriculum " + recorded + ": give that one (roger eval " +
+         recorded + " --policy " + policy_file + ")";
+}
+
 void with_policy_file(const PolicyEvalOptions& given, PolicyEvalResult& out,
                       const std::function<void(StageRun&, QTable&, uint64_t, const PolicyMetadata&,
                                                const PolicyEvalOptions&)>& use) {
@@ -934,8 +945,16 @@ void with_policy_file(const PolicyEvalOptions& given, PolicyEvalResult& out,
   if (meta.stage.empty() || meta.context.empty())
     throw Error(options.policy_file + ": the policy names no curriculum stage and context (not written by roger train?)");
   Curriculum cur = Curriculum::load(options.curriculum, options.limits);
-  const CurriculumStage& stage = cur.stage(meta.stage);
-  const CurriculumContext& ctx = stage.context(meta.context);
+  const CurriculumStage* found_stage = nullptr;
+  const CurriculumContext* found_ctx = nullptr;
+  try {
+    found_stage = &cur.stage(meta.stage);
+    found_ctx = &found_stage->context(meta.context);
+  } catch (const Error& e) {
+    throw Error(std::string(e.what()) + trained_with(meta, cur, options.policy_file));
+  }
+  const CurriculumStage& stage = *found_stage;
+  const CurriculumContext& ctx = *found_ctx;
   QTable q = QTable::from_json(j, controller_names(ctx.actions), options.policy_file);
   nlohmann::json embedded =
       meta.extra.is_object() && meta.extra.contains("skills") ? meta.extra["skills"] : nlohmann::json::object();

@@ -65,19 +65,24 @@ std::string sets_note(const std::vector<std::string>& sets) {
 // summary strip; then says what it wrote.
 void write_rendered_episode(const RenderArgs& a, const WorldSpec& spec, const EpisodeResult& episode,
                             const std::string& title) {
+  constexpr int kPanels = 4;  // of a summary strip
   AnimationOptions anim;
   anim.frame.width_px = a.width;
   anim.title = title;
   const bool summary = a.out.size() > 4 && a.out.compare(a.out.size() - 4, 4, ".png") == 0;
   if (summary) {
     make_parent_folder(a.out, "roger render");  // as the folder of frames is made
-    render_episode_summary(spec, episode, a.out, anim);
+    render_episode_summary(spec, episode, a.out, anim, kPanels);
   } else {
     render_episode(spec, episode, a.out, anim);
   }
-  std::printf("wrote %s (%s after %.2f s, reward %.0f; %zu frames)\n", a.out.c_str(),
-              episode.success ? "success" : "timeout", episode.sim_seconds, episode.reward,
-              episode.frames.size());
+  // A strip shows some of the frames recorded: say how many of how many.
+  const size_t shown = summary ? std::min(size_t(kPanels), episode.frames.size()) : episode.frames.size();
+  const std::string frames = summary ? std::to_string(shown) + " of " + std::to_string(episode.frames.size()) +
+                                           " frames recorded"
+                                     : std::to_string(shown) + " frames";
+  std::printf("wrote %s (%s after %.2f s, reward %.0f; %s)\n", a.out.c_str(), episode.success ? "success" : "timeout",
+              episode.sim_seconds, episode.reward, frames.c_str());
 }
 
 // Renders the greedy episode of a policy saved by roger train (its curriculum is a.scenario).

@@ -16,6 +16,7 @@
 #include "core/text.h"
 #include "report/report.h"
 #include "script/batch/batch_script.h"
+#include "script/sandbox/lua_sandbox.h"
 
 namespace roger {
 
@@ -32,13 +33,22 @@ BatchOverrides overrides_of(const RunArgs& a) {
   return ov;
 }
 
+// A file's path from the project folder when inside it ("curricula/paper.lua"), else absolute.
+std::string shown_from_project(const std::string& file) {
+  std::error_code ec;
+  const std::filesystem::path path = std::filesystem::absolute(file, ec).lexically_normal();
+  const std::filesystem::path rel = path.lexically_relative(std::filesystem::weakly_canonical(project_root(), ec));
+  return !rel.empty() && *rel.begin() != ".." ? rel.generic_string() : path.string();
+}
+
 // The closing lines of a run; returns 1 when some trial it selected failed or has corrupt files.
 // The counts of the first line add up to its trials: those with a result, this run's failed and
 // unreadable ones, those it has not run yet, and those outside its --only (not this command's).
 int print_outcome(const BatchSummary& s, std::ostream& log) {
   const size_t outside = size_t(s.outside_pending + s.outside_failed + s.outside_corrupt);
   const size_t done = s.trials - s.failed.size() - s.corrupt.size() - size_t(s.pending) - outside;
-  log << "roger run: " << done << " of " << s.trials << " trials done in " << format_duration(s.wall_s);
+  log << "roger run: " << done << " of " << s.trials << (s.trials == 1 ? " trial" : " trials") << " done in "
+      << format_duration(s.wall_s);
   if (!s.failed.empty()) log << ", " << s.failed.size() << " failed";
   if (!s.corrupt.empty()) log << ", " << s.corrupt.size() << " with unreadable files";
   if (s.pending) log << ", " << s.pending << " not run yet (run the same command again to continue)";
@@ -164,8 +174,10 @@ int command_run(const RunArgs& a) {
     check_only_needs(plan, a.only, shard);
     size_t trials = 0;
     for (const auto& p : plan.phases) trials += p.size();
-    log << "roger run: " << b.path << " -> " << plan.out << " (" << trials << " trials, curriculum "
-        << b.curriculum << ")\n";
+    // The curriculum's file as found (a same-named file in the working folder is taken first).
+    const std::string found = shown_from_project(b.curriculum_file);
+    log << "roger run: " << b.path << " -> " << plan.out << " (" << trials << (trials == 1 ? " trial" : " trials")
+        << ", curriculum " << b.curriculum << (found == b.curriculum ? "" : ": " + found) << ")\n";
     if (shard.active()) log << "roger run: " << describe_shard(plan, shard) << "\n";
     // The dashboard from the start: it follows the run's status.js until the report is written.
     log << "roger run: open " << write_dashboard_page(plan.out) << " to follow the run\n";

@@ -113,6 +113,18 @@ void Reader::check_object(const json& j, const std::string& what, const std::vec
                                                "; the fields are " + join(known));
 }
 
+namespace {
+
+// A value of the script as a message names it: "string '2'", "number 2.5", "a table".
+std::string json_value_said(const json& v) {
+  if (v.is_string()) return "string '" + shortened_text(v.get<std::string>(), 40) + "'";
+  if (v.is_number()) return "number " + v.dump();
+  if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
+  return v.is_null() ? "nil" : "a table";
+}
+
+}  // namespace
+
 // A string field (the fallback when absent; a required one must be present and not empty).
 std::string Reader::str(const json& o, const char* key, const std::string& what, int line,
                         const std::string& fallback, bool required) const {
@@ -120,11 +132,13 @@ std::string Reader::str(const json& o, const char* key, const std::string& what,
     if (required) fail(line, what + ": missing required field '" + key + "'");
     return fallback;
   }
-  if (!o[key].is_string()) fail(line_of_key(key, line), what + ": field '" + key + "' must be a string");
+  if (!o[key].is_string())
+    fail(line_of_key(key, line), what + ": field '" + key + "' must be a string, got " + json_value_said(o[key]));
   const std::string s = o[key];
   if (required && s.empty()) fail(line_of_key(key, line), what + ": field '" + key + "' is empty");
   return s;
 }
+
 
 // An integer field within [lo, hi] (the fallback when absent).
 int64_t Reader::integer(const json& o, const char* key, const std::string& what, int line, int64_t fallback,
@@ -135,7 +149,7 @@ int64_t Reader::integer(const json& o, const char* key, const std::string& what,
   if (v.is_number_integer()) x = v.get<int64_t>();
   else if (v.is_number_float() && std::floor(v.get<double>()) == v.get<double>() && std::fabs(v.get<double>()) < 9e15)
     x = int64_t(v.get<double>());
-  else fail(line_of_key(key, line), what + ": field '" + key + "' must be an integer");
+  else fail(line_of_key(key, line), what + ": field '" + key + "' must be an integer, got " + json_value_said(v));
   if (x < lo || x > hi)
     fail(line_of_key(key, line), what + ": field '" + key + "' must be between " + std::to_string(lo) + " and " +
                                      std::to_string(hi) + ", got " + std::to_string(x));
@@ -145,7 +159,8 @@ int64_t Reader::integer(const json& o, const char* key, const std::string& what,
 // A boolean field (the fallback when absent).
 bool Reader::boolean(const json& o, const char* key, const std::string& what, int line, bool fallback) const {
   if (!o.contains(key)) return fallback;
-  if (!o[key].is_boolean()) fail(line_of_key(key, line), what + ": field '" + key + "' must be true or false");
+  if (!o[key].is_boolean())
+    fail(line_of_key(key, line), what + ": field '" + key + "' must be true or false, got " + json_value_said(o[key]));
   return o[key].get<bool>();
 }
 

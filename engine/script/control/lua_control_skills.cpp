@@ -67,7 +67,7 @@ std::vector<ControllerPtr> controller_list(lua_State* L, int index, const std::s
       raise(L, context + ": " + field + " must be a list {c1, c2, ...}, but it has the key " +
                    lua_describe_value(L, -1));
   }
-  if (n == 0) raise(L, context + ": " + field + " is empty");
+  if (n == 0) raise(L, context + ": " + field + " must hold at least one " + item + ", got an empty list");
   std::vector<ControllerPtr> out;
   for (lua_Integer i = 1; i <= n; ++i) {
     lua_rawgeti(L, index, i);
