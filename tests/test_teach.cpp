@@ -1185,6 +1185,12 @@ TEST_CASE("docs/examples/teachers_example.lua: every block of the docs' Teachers
     // The summary says what the test set was: LookRandom's is the list written in the stage (a
     // probe found it written as a seed, as if drawn), the others' drawn with a seed.
     const json test = train_summary_json(r)["test"];
+    // Found by a probe: the summary's params showed a task axis's scenario default, which no
+    // episode used; a parameter LCAS lifts outside the space keeps its last level.
+    const json params = train_summary_json(r)["params"];
+    CHECK_FALSE(params.contains("obstacles"));
+    CHECK(params.contains("robot_distance") == (stage != "LookRandom"));
+    if (stage == "LookLcas") CHECK(params["eye_pixels"] == "128");
     if (stage == "LookRandom") {
       CHECK(test == json::parse(R"({"tasks": 3, "list": [{"obstacles": 0, "robot_distance": 1},
                                   {"obstacles": 2, "robot_distance": 1.5}, {"obstacles": 4, "robot_distance": 2}]})"));

@@ -569,6 +569,12 @@ TrainResult train_stage(const TrainOptions& options) {
     for (const auto& [name, level] : teacher->test_params())
       for (auto& param : res.params)
         if (param.first == name) param.second = level;
+  // A parameter a task axis draws has no one value (summary.json's tasks and test say what it took):
+  // its scenario default, which no episode used, is left out.
+  if (teacher)
+    res.params.erase(std::remove_if(res.params.begin(), res.params.end(),
+                                    [&](const auto& p) { return teacher->space().index(p.first) >= 0; }),
+                     res.params.end());
   EvalCache eval_cache;
   EvalCache* cache = options.eval_cache && !stage.absorbing_lua && !stage.reward_lua ? &eval_cache : nullptr;
   // One greedy evaluation, counted (every episode reused, or not); with a teacher, on its test set;
