@@ -932,3 +932,19 @@ TEST_CASE("roger eval runs a learned Sort4 policy from its file, loaded and not 
   for (const char* task : {"put away circle", "put away triangle", "put away pentagon", "put away spade"})
     CHECK(j["usage"][task].get<double>() > 0.0);
 }
+
+// Found by a probe: roger check ran a skill script twice (to check it, then to list its
+// policies), so each print at its top level showed twice.
+TEST_CASE("roger check runs a skill script once", "[cli]") {
+  const std::string text = "print('once from the script')\n" + slurp("curricula/scripted.lua");
+  const fs::path script = temp_file("roger_check_once_" + std::to_string(::getpid()) + ".lua", text);
+  const Run r = roger("check " + script.string());
+  INFO(r.out << r.err);
+  CHECK(r.status == 0);
+  const std::string both = r.out + r.err;
+  size_t count = 0;
+  for (size_t at = both.find("once from the script"); at != std::string::npos; at = both.find("once from the script", at + 1))
+    ++count;
+  CHECK(count == 1);
+  fs::remove(script);
+}

@@ -246,10 +246,11 @@ int check_curriculum_file(const std::string& path, const std::string& shown, con
 
 // A skill script: each policy's controllers built, then its policies listed.
 int check_skill_script_file(const std::string& path, const std::string& shown, const SandboxLimits& limits) {
-  const std::vector<std::string> problems = check_skill_script(path, limits);
+  std::optional<SkillScript> loaded;
+  const std::vector<std::string> problems = check_skill_script(path, limits, &loaded);
   for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.c_str());
   if (!problems.empty()) return 1;
-  const SkillScript script = SkillScript::load(path, limits);
+  const SkillScript& script = *loaded;
   std::string names;
   for (const auto& n : script.policy_names()) names += (names.empty() ? "" : ", ") + n;
   std::printf("%s: ok (skill script '%s'; policies: %s)\n", shown.c_str(), script.name().c_str(), names.c_str());

@@ -314,9 +314,11 @@ bool is_skill_script(const std::string& path) {
   return !text.empty() && SourceMap(text).has_policies();
 }
 
-std::vector<std::string> check_skill_script(const std::string& path, const SandboxLimits& limits) {
+std::vector<std::string> check_skill_script(const std::string& path, const SandboxLimits& limits,
+                                            std::optional<SkillScript>* loaded) {
   std::vector<std::string> problems;
-  std::optional<SkillScript> script;
+  std::optional<SkillScript> own;
+  std::optional<SkillScript>& script = loaded ? *loaded : own;
   try {
     script.emplace(SkillScript::load(path, limits));
   } catch (const std::exception& e) {

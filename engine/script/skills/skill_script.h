@@ -17,6 +17,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -91,7 +92,9 @@ bool is_skill_script(const std::string& path);
 
 // For `roger check`: loads a skill script and checks that each policy's scenario loads and
 // generates a world. Returns the problems found (empty when sound), each a complete message with
-// file:line where known.
-std::vector<std::string> check_skill_script(const std::string& path, const SandboxLimits& limits = {});
+// file:line where known. `loaded` (may be null) receives the script when it loaded, so that a
+// caller need not run it again (its prints would show twice).
+std::vector<std::string> check_skill_script(const std::string& path, const SandboxLimits& limits = {},
+                                            std::optional<SkillScript>* loaded = nullptr);
 
 }  // namespace roger
