@@ -1253,6 +1253,14 @@ TEST_CASE("bounds from censored trials are marked in the improvement and the cum
   INFO(tables);
   CHECK(std::regex_search(tables, std::regex("\\| DC2 \\| ≥ [0-9]+:[0-9]{2} \\| ~ -?[0-9.]+% \\|")));
   CHECK_THAT(tables, Contains("one marked ~ compares two lower bounds"));
+  // Found by a probe: the interval's bounds of a censored row read as exact, and report.json said
+  // nothing of its lower bounds; summary.csv gave the whole training as a time to the threshold.
+  CHECK(std::regex_search(tables, std::regex("≥ [0-9]+:[0-9]{2} \\[≥ [0-9]+:[0-9]{2}, ≥ [0-9]+:[0-9]{2}\\]")));
+  const json rows = json::parse(slurp(copy.dir / "report.json"));
+  CHECK_THAT(rows.dump(), Contains("\"time_lower_bound\":true") && Contains("\"time_lower_bound\":false") &&
+                             Contains("\"mann_whitney_exact\":"));
+  const std::string csv = slurp(copy.dir / "summary.csv");
+  CHECK_THAT(csv, Contains("\nSG/B1/000,train,SG,SG,B1,,,0,") && Contains(",ok,false,,,,"));
   // Figure 5 of kill_batch stacks trial i's Phi_SG (SG/DC2) under T: trial 1's never reached it.
   const std::string page = slurp(copy.dir / "dashboard.js");
   CHECK_THAT(page, Contains("\"lower_bound\":[true]") && Contains("\"lower_bound\":[false]"));
@@ -1262,6 +1270,27 @@ TEST_CASE("bounds from censored trials are marked in the improvement and the cum
   copy.write("trials/SG/DC2/001/result.json", dc2);
   REQUIRE(copy.report(said) == 0);
   CHECK(std::regex_search(slurp(copy.dir / "tables.md"), std::regex("\\| DC2 \\| [0-9]+:[0-9]{2} \\| ≥ -?[0-9.]+% \\|")));
+}
+
+// Found by a probe: a row of one trial showed an IQM interval "[2:30, 2:30]", a p-value of 1 and a
+// P(faster) from a single pair, as if they were evidence.
+TEST_CASE("a row of one trial shows no interval and no test", "[report]") {
+  KillCopy copy("one_trial");
+  fs::remove_all(copy.dir / "trials" / "SG" / "DC2" / "001");
+  ReportArgs r;
+  r.dir = copy.dir.string();
+  r.partial = true;
+  std::ostringstream said;
+  r.progress = &said;
+  REQUIRE(command_report(r) == 0);
+  const std::string tables = slurp(copy.dir / "tables.md");
+  INFO(tables);
+  CHECK(std::regex_search(tables, std::regex("\\| DC2 \\| [0-9]+:[0-9]{2} \\| -?[0-9.]+% \\| [^|]+ \\| [^|]+ \\| "
+                                             "[0-9]+:[0-9]{2} \\| [0-9]+:[0-9]{2} \\| [0-9.]+% \\| - \\| - \\|")));
+  CHECK(std::regex_search(tables, std::regex("\\| B1 \\| [^\\n]*\\[[0-9]+:[0-9]{2}, [0-9]+:[0-9]{2}\\] \\|")));
+  const json report = json::parse(slurp(copy.dir / "report.json"));
+  CHECK_THAT(report.dump(), Contains("\"time_iqm_ci_s\":null"));
+  CHECK_THAT(report.dump(), !Contains("\"mann_whitney_p\""));
 }
 
 // Found by a probe: the Total row read "8/8" policies for 4 policies on 2 objects, and dropped the

@@ -1165,12 +1165,16 @@ std::string csv_number(const json& j, const char* key) {
 // One row of summary.csv.
 void summary_row(std::ostream& csv, const PlannedTrial& t, const std::string& status, const json& r,
                  const std::string& error) {
+  // Not reached: result.json's figures are the whole training (right-censored), not times to a
+  // threshold, and a column averaged as such would mix them in; the reached column says why empty.
+  const bool unreached = r.is_object() && r.contains("reached") && r["reached"] == false;
+  const auto to_threshold = [&](const char* key) { return unreached ? std::string() : csv_number(r, key); };
   csv << t.id << "," << (t.run ? "train" : "eval") << "," << (t.run ? t.run->name : t.evaluation->run) << ","
       << (t.run ? t.run->stage : csv_number(r, "stage")) << "," << t.context << ","
       << (t.evaluation ? t.evaluation->name : "") << "," << t.shape << "," << t.index << ","
       << (t.run ? std::to_string(t.seed) : "") << "," << status << "," << csv_number(r, "reached") << ","
-      << csv_number(r, "time_to_threshold_s") << "," << csv_number(r, "episodes_to_threshold") << ","
-      << csv_number(r, "decisions_to_threshold") << "," << csv_number(r, "train_episodes") << ","
+      << to_threshold("time_to_threshold_s") << "," << to_threshold("episodes_to_threshold") << ","
+      << to_threshold("decisions_to_threshold") << "," << csv_number(r, "train_episodes") << ","
       << csv_number(r, "train_sim_s") << "," << csv_number(r, "success_rate") << ","
       << csv_number(r, "reward_mean") << "," << csv_number(r, "reward_std") << "," << csv_number(r, "wall_s")
       << "," << csv_field(first_line(error)) << "\n";

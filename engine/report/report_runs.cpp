@@ -46,10 +46,14 @@ BaselineColumns compare_with_baseline(const std::vector<CensoredTime>& times, co
     row["improvement_percent"] = imp;
     row["improvement_bound"] = row_low && base_low ? "none" : base_low ? "lower" : row_low ? "upper" : "exact";
   }
+  // One trial against another gives a p-value of 1 and a P(faster) of 0, 0.5 or 1 whatever the
+  // approaches: a test needs a sample on each side.
+  if (times.size() < 2 || base_times.size() < 2) return col;
   try {
     const MannWhitneyResult mw = mann_whitney_u_censored(times, base_times);
     col.p_value = mw.p_value < 1e-4 ? fmt("%.1e", mw.p_value) : fmt("%.4f", mw.p_value);
     row["mann_whitney_p"] = mw.p_value;
+    row["mann_whitney_exact"] = mw.exact;  // else the normal approximation (ties, or more than 20 a side)
   } catch (const std::exception&) {
     col.p_value = "n/a";
   }
@@ -82,7 +86,9 @@ bool run_table_row(const std::string& c, const Results& r, const BatchTable& t,
   row["time_mean_s"] = m;
   row["time_median_s"] = med;
   row["time_iqm_s"] = iqm.estimate;
-  row["time_iqm_ci_s"] = {iqm.low, iqm.high};
+  // One trial has no interval (a bootstrap of one value is that value twice).
+  row["time_iqm_ci_s"] = tv.size() < 2 ? json() : json{iqm.low, iqm.high};
+  row["time_lower_bound"] = censored;  // every time of the row, its interval's too
   row["fraction_reached"] = reached;
   row["reward_mean"] = fin.mean;
   row["reward_std"] = fin.std;
@@ -92,17 +98,19 @@ bool run_table_row(const std::string& c, const Results& r, const BatchTable& t,
   if (c != t.baseline && !base_times.empty()) col = compare_with_baseline(times, base_times, base_mean, m, row);
   md << "| " << c << " | " << lb << format_min_sec(m) << " | " << col.improvement << " | " << fmt("%.1f", fin.mean)
      << " ± " << fmt("%.1f", fin.std) << " | " << rate_pct(fin.success) << " | " << lb << format_min_sec(med) << " | "
-     << lb << format_min_sec(iqm.estimate) << " [" << format_min_sec(iqm.low) << ", " << format_min_sec(iqm.high)
-     << "] | " << rate_pct(reached) << " | " << col.p_value << " | " << col.p_faster << " | " << trials_note(r) << " |\n";
+     << lb << format_min_sec(iqm.estimate)
+     << (tv.size() < 2 ? std::string()
+                       : " [" + lb + format_min_sec(iqm.low) + ", " + lb + format_min_sec(iqm.high) + "]")
+     << " | " << rate_pct(reached) << " | " << col.p_value << " | " << col.p_faster << " | " << trials_note(r) << " |\n";
   rows.push_back(row);
   return censored;
 }
 
 // The paragraph under a run table saying what its columns mean.
 void run_table_notes(bool any_censored, std::ostringstream& md) {
-  md << "\nTrain time is **simulated** time (not wall time) until the greedy policy first reached the "
-        "threshold success rate at a checkpoint, in min:sec; the mean over trials (then median, interquartile "
-        "mean with its 95% percentile-bootstrap interval). % Improvement compares the means with the "
+  md << "\nTrain time is **simulated** time (not wall time) until the first checkpoint from which the greedy "
+        "policy's success rate stayed at or above the threshold, in min:sec; the mean over trials (then median, "
+        "interquartile mean with its 95% percentile-bootstrap interval, none for one trial). % Improvement compares the means with the "
         "baseline's. Avg. reward ± std (population std) and success rate pool every trial's final greedy "
         "evaluation. Reached: the fraction of trials that reached the threshold within the budget.";
   if (any_censored)
@@ -110,7 +118,9 @@ void run_table_notes(bool any_censored, std::ostringstream& md) {
           "marked ≥ are lower bounds; the Mann-Whitney U test and P(faster) rank them as slower than every trial "
           "that reached it. A % Improvement marked ≥ or ≤ is a bound for the same reason (the baseline's mean, "
           "or the row's, is a lower bound), and one marked ~ compares two lower bounds, so no bound follows.";
-  md << " P(faster): the probability that a trial of the row is faster than one of the baseline.\n\n";
+  md << " P(faster): the probability that a trial of the row is faster than one of the baseline; it and the "
+        "p-value (exact without ties and with at most 20 trials a side, else the normal approximation) need two "
+        "trials a side.\n\n";
 }
 
 namespace {
