@@ -297,18 +297,59 @@ TEST_CASE("Mann-Whitney U: exact small-sample p-values without ties", "[stats]")
   CHECK(mann_whitney_u({1.0}, {2.0}).p_value == Approx(1.0));
 }
 
-TEST_CASE("Mann-Whitney U: ties use the normal approximation with corrections", "[stats]") {
+// The two-sided permutation p-value of the rank sum over midranks, by listing every split (the
+// test's reference for the exact method with ties).
+static double permutation_p(const std::vector<double>& x, const std::vector<double>& y) {
+  std::vector<double> all = x;
+  all.insert(all.end(), y.begin(), y.end());
+  std::vector<double> midrank(all.size());
+  for (size_t i = 0; i < all.size(); ++i) {
+    double below = 0, equal = 0;
+    for (double v : all) below += v < all[i], equal += v == all[i];
+    midrank[i] = below + (equal + 1) / 2;
+  }
+  double centre = 0, observed = 0;
+  for (size_t i = 0; i < all.size(); ++i) centre += midrank[i] * double(x.size()) / double(all.size());
+  for (size_t i = 0; i < x.size(); ++i) observed += midrank[i];
+  size_t extreme = 0, splits = 0;
+  for (unsigned mask = 0; mask < (1u << all.size()); ++mask) {
+    if (size_t(__builtin_popcount(mask)) != x.size()) continue;
+    double sum = 0;
+    for (size_t i = 0; i < all.size(); ++i)
+      if (mask & (1u << i)) sum += midrank[i];
+    ++splits;
+    extreme += std::abs(sum - centre) >= std::abs(observed - centre) - 1e-9;
+  }
+  return double(extreme) / double(splits);
+}
+
+TEST_CASE("Mann-Whitney U: ties give the exact permutation p for small samples, else the corrected normal",
+          "[stats]") {
   // Midranks: 1 -> 1, the three 2s -> 3, the three 3s -> 6, 4 -> 8; R1 = 21, U1 = 21 - 15 = 6.
-  // sigma^2 = 30/12 (12 - 48/110); z = (6 - 15 + 0.5) / sigma. scipy: p = 0.11390314458853068.
   const auto r = mann_whitney_u({1, 2, 2, 3, 4}, {2, 3, 3, 5, 6, 7});
-  CHECK_FALSE(r.exact);
+  CHECK(r.exact);
   CHECK(r.u1 == 6.0);
   CHECK(r.u2 == 24.0);
+  CHECK(r.p_value == Approx(permutation_p({1, 2, 2, 3, 4}, {2, 3, 3, 5, 6, 7})).epsilon(1e-12));
+  CHECK(mann_whitney_u({1, 2, 2, 3, 4}, {2, 3, 3, 5, 6, 7}, MannWhitneyMethod::kExact).p_value == r.p_value);
+  // A probe's case: times on a checkpoint grid, 2 against 2, separated but for a tie. The normal
+  // approximation gave 0.245, below the least p an exact test of 2 against 2 can give (1/3).
+  const auto grid = mann_whitney_u({100, 150}, {150, 200});
+  CHECK(grid.exact);
+  CHECK(grid.p_value == Approx(permutation_p({100, 150}, {150, 200})).epsilon(1e-12));
+  CHECK(grid.p_value >= 1.0 / 3.0);
+  const auto wide = mann_whitney_u({1, 1, 2, 5, 5, 5, 9}, {2, 3, 5, 8, 9, 9, 9, 12});
+  CHECK(wide.p_value == Approx(permutation_p({1, 1, 2, 5, 5, 5, 9}, {2, 3, 5, 8, 9, 9, 9, 12})).epsilon(1e-12));
+  // Ties with more than 8 a side: the normal approximation, as for scipy.
+  std::vector<double> nine_x{1, 1, 2, 3, 4, 5, 6, 7, 8}, nine_y{8, 9, 10, 11, 12, 13, 14, 15, 16};
+  CHECK_FALSE(mann_whitney_u(nine_x, nine_y).exact);
+  CHECK(mann_whitney_u(nine_x, nine_y, MannWhitneyMethod::kExact).exact);
+  // sigma^2 = 30/12 (12 - 48/110); z = (6 - 15 + 0.5) / sigma. scipy: p = 0.11390314458853068.
+  const auto normal = mann_whitney_u({1, 2, 2, 3, 4}, {2, 3, 3, 5, 6, 7}, MannWhitneyMethod::kAsymptotic);
+  CHECK_FALSE(normal.exact);
   const double sigma = std::sqrt(30.0 / 12.0 * (12.0 - 48.0 / 110.0));
-  CHECK(r.z == Approx((6.0 - 15.0 + 0.5) / sigma));
-  CHECK(r.p_value == Approx(0.11390314458853068).epsilon(1e-10));
-  CHECK_THROWS_WITH(mann_whitney_u({1, 2, 2, 3, 4}, {2, 3, 3, 5, 6, 7}, MannWhitneyMethod::kExact),
-                    Contains("ties"));
+  CHECK(normal.z == Approx((6.0 - 15.0 + 0.5) / sigma));
+  CHECK(normal.p_value == Approx(0.11390314458853068).epsilon(1e-10));
 
   // 25 vs 25 with ties inside one sample, scipy asymptotic: U = 197, p = 0.025631063407437153.
   std::vector<double> x, y;
@@ -349,11 +390,15 @@ TEST_CASE("censored times rank above every reached time and tie with each other"
   CHECK(fraction_reached(y) == Approx(1.0 / 3.0));
   CHECK(censored_values(y) == std::vector<double>{150, 500, 800});
   // Ranks: 100 -> 1, 150 -> 2, 200 -> 3, 300 -> 4, the three censored -> 6; R1 = 14, U1 = 4.
-  // scipy on [100, 200, 300, inf] vs [150, inf, inf]: U = 4, p = 0.5820796519295022.
+  // Exact over the midranks' splits (ties among the censored); scipy's normal approximation on
+  // [100, 200, 300, inf] vs [150, inf, inf]: U = 4, p = 0.5820796519295022.
   const auto r = mann_whitney_u_censored(x, y);
-  CHECK_FALSE(r.exact);
+  CHECK(r.exact);
   CHECK(r.u1 == 4.0);
-  CHECK(r.p_value == Approx(0.5820796519295022).epsilon(1e-10));
+  CHECK(r.p_value == Approx(permutation_p({100, 200, 300, 1e9}, {150, 1e9, 1e9})).epsilon(1e-12));
+  const auto normal = mann_whitney_u_censored(x, y, MannWhitneyMethod::kAsymptotic);
+  CHECK_FALSE(normal.exact);
+  CHECK(normal.p_value == Approx(0.5820796519295022).epsilon(1e-10));
   // x faster than y: 3 + 2 + 2 strict pairs and 2 censored ties at half, of 12.
   CHECK(probability_of_improvement_censored(x, y) == Approx(8.0 / 12.0));
   // A censored trial is slower than a reached one even when its budget is shorter.

@@ -53,7 +53,7 @@ BaselineColumns compare_with_baseline(const std::vector<CensoredTime>& times, co
     const MannWhitneyResult mw = mann_whitney_u_censored(times, base_times);
     col.p_value = mw.p_value < 1e-4 ? fmt("%.1e", mw.p_value) : fmt("%.4f", mw.p_value);
     row["mann_whitney_p"] = mw.p_value;
-    row["mann_whitney_exact"] = mw.exact;  // else the normal approximation (ties, or more than 20 a side)
+    row["mann_whitney_exact"] = mw.exact;  // else the normal approximation
   } catch (const std::exception&) {
     col.p_value = "n/a";
   }
@@ -119,8 +119,8 @@ void run_table_notes(bool any_censored, std::ostringstream& md) {
           "that reached it. A % Improvement marked ≥ or ≤ is a bound for the same reason (the baseline's mean, "
           "or the row's, is a lower bound), and one marked ~ compares two lower bounds, so no bound follows.";
   md << " P(faster): the probability that a trial of the row is faster than one of the baseline; it and the "
-        "p-value (exact without ties and with at most 20 trials a side, else the normal approximation) need two "
-        "trials a side.\n\n";
+        "p-value (exact with at most 20 trials a side, or 8 when times tie, then over the midranks; else the "
+        "normal approximation) need two trials a side.\n\n";
 }
 
 namespace {

@@ -124,8 +124,8 @@ CurveBands curve_bands(const std::vector<std::vector<double>>& values, uint64_t 
 
 // How mann_whitney_u computes its p-value.
 enum class MannWhitneyMethod {
-  kAuto,        // exact when there are no ties and both samples have at most 20 values
-  kExact,       // the exact null distribution of U (no ties allowed, n1 * n2 <= 10000)
+  kAuto,        // exact when both samples have at most 20 values, or at most 8 with ties
+  kExact,       // the exact null distribution of U, over the midranks with ties (n1 * n2 <= 10000)
   kAsymptotic,  // normal approximation with tie correction and continuity correction
 };
 
@@ -139,7 +139,9 @@ struct MannWhitneyResult {
 };
 
 // Two-sided Mann-Whitney U test of whether x and y come from the same distribution. Matches
-// scipy.stats.mannwhitneyu(x, y, alternative="two-sided", method="exact" or "asymptotic").
+// scipy.stats.mannwhitneyu(x, y, alternative="two-sided", method="exact" or "asymptotic") without
+// ties; with ties the exact p-value is the permutation test's over the midranks (scipy's exact
+// method assumes none).
 MannWhitneyResult mann_whitney_u(const std::vector<double>& x, const std::vector<double>& y,
                                  MannWhitneyMethod method = MannWhitneyMethod::kAuto);
 
