@@ -632,22 +632,31 @@ TEST_CASE("control functions refuse extra arguments at the caller's line", "[lua
            "c:param('gain') c:params() return 'accepted'") == "accepted");
 }
 
+namespace {
+
+// The message of loading `text` as the skill script `file` (its folder made), or "" when it loads.
+std::string skill_script_error(const std::filesystem::path& file, const std::string& text) {
+  std::filesystem::create_directories(file.parent_path());
+  std::ofstream(file) << text;
+  try {
+    SkillScript::load(file.string());
+  } catch (const ScriptError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
 // Found by a probe: a policy's time_limit = 1e9 passed (a goal that never holds then ran for ever),
 // where a stage's is refused past an hour.
 TEST_CASE("a policy's time limit is at most an hour, as a stage's", "[lua_control]") {
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / ("roger_policy_limit_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
   const auto load_with = [&](const std::string& limit) {
-    std::ofstream(dir / "long.lua") << "local p = require('lib.skills').primitives()\n"
-                                       "return { policies = { t = { action = p.phi0, goal = roger.converged(p.phi0),\n"
-                                       "  time_limit = " << limit << " } } }\n";
-    try {
-      SkillScript::load((dir / "long.lua").string());
-    } catch (const ScriptError& e) {
-      return std::string(e.what());
-    }
-    return std::string();
+    return skill_script_error(dir / "long.lua", "local p = require('lib.skills').primitives()\n"
+                                                "return { policies = { t = { action = p.phi0, goal = "
+                                                "roger.converged(p.phi0),\n  time_limit = " + limit + " } } }\n");
   };
   CHECK_THAT(load_with("1e9"), Contains("long.lua:3: policy 't': field 'time_limit' must be in (0, 3600] simulated "
                                         "seconds, or {per_object = s}, got 1000000000"));
@@ -661,18 +670,10 @@ TEST_CASE("a policy's time limit is at most an hour, as a stage's", "[lua_contro
 TEST_CASE("a policy whose goal cannot hold within its time limit is refused at the goal", "[lua_control]") {
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / ("roger_policy_held_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
   const auto load_with = [&](const std::string& goal, const std::string& limit) {
-    std::ofstream(dir / "held.lua") << "local p = require('lib.skills').primitives()\n"
-                                       "return { policies = { t = { action = p.phi0,\n"
-                                       "  goal = " << goal << ",\n"
-                                       "  time_limit = " << limit << " } } }\n";
-    try {
-      SkillScript::load((dir / "held.lua").string());
-    } catch (const ScriptError& e) {
-      return std::string(e.what());
-    }
-    return std::string();
+    return skill_script_error(dir / "held.lua", "local p = require('lib.skills').primitives()\n"
+                                                "return { policies = { t = { action = p.phi0,\n  goal = " + goal +
+                                                    ",\n  time_limit = " + limit + " } } }\n");
   };
   CHECK_THAT(load_with("roger.held(roger.converged(p.phi0), 500)", "5"),
              Contains("held.lua:3: policy 't': field 'goal': held(converged(phi0), 500.0 s) can hold only after 500 "
