@@ -937,6 +937,18 @@ TEST_CASE("check_out_folder takes a new, empty or results folder and refuses one
   fs::remove_all(dir);
 }
 
+namespace {
+
+// Opens <dir>/out for <dir>/batch.lua run with --trials `trials` (0: none): whether it resumed.
+bool open_with_trials(const fs::path& dir, int trials) {
+  BatchOverrides ov;
+  ov.trials = trials;
+  const auto b = std::make_shared<const BatchScript>(load_batch_script((dir / "batch.lua").string(), ov));
+  return open_results_folder(plan_batch(b, (dir / "out").string()));
+}
+
+}  // namespace
+
 // Found by a probe: after --trials 3 extended a folder, the command without it was refused with
 // "runs[1].trials: 3 in the folder, 2 now" and no word of how to resume it.
 TEST_CASE("a folder refused for holding more trials says which --trials resumes it", "[batch]") {
@@ -948,12 +960,7 @@ TEST_CASE("a folder refused for holding more trials says which --trials resumes 
                            "}\n";
   std::ofstream(dir / "batch.lua") << text;
   fs::copy_file("tests/scripts/kill_curriculum.lua", dir / "kill_curriculum.lua");
-  const auto open = [&](int trials) {
-    BatchOverrides ov;
-    ov.trials = trials;
-    const auto b = std::make_shared<const BatchScript>(load_batch_script((dir / "batch.lua").string(), ov));
-    return open_results_folder(plan_batch(b, (dir / "out").string()));
-  };
+  const auto open = [&](int trials) { return open_with_trials(dir, trials); };
   INFO(text);
   CHECK_FALSE(open(3));
   CHECK_THROWS_WITH(open(0), Catch::Contains("runs[1].trials: 3 in the folder, 2 now") &&
@@ -972,12 +979,7 @@ TEST_CASE("a folder with an evaluation of several shapes says which --trials res
   fs::create_directories(dir);
   fs::copy_file("tests/scripts/kill_batch.lua", dir / "batch.lua");
   fs::copy_file("tests/scripts/kill_curriculum.lua", dir / "kill_curriculum.lua");
-  const auto open = [&](int trials) {
-    BatchOverrides ov;
-    ov.trials = trials;
-    const auto b = std::make_shared<const BatchScript>(load_batch_script((dir / "batch.lua").string(), ov));
-    return open_results_folder(plan_batch(b, (dir / "out").string()));
-  };
+  const auto open = [&](int trials) { return open_with_trials(dir, trials); };
   CHECK_FALSE(open(0));  // the script's 2
   CHECK_THROWS_WITH(open(1), Catch::Contains("to resume it, run the command with --trials 2, the folder's number of "
                                              "trials.") &&
