@@ -70,7 +70,6 @@ json source_fingerprints(const std::vector<fs::path>& files) {
   return out;
 }
 
-
 // A value of a configuration for a message: whole when short, else 70 characters from a little
 // before `at`, where it first differs from the other side's, so that the change shows.
 std::string excerpt(const std::string& s, size_t at) {
