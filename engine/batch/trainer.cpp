@@ -926,10 +926,6 @@ ParamList policy_trial_params(const PolicyMetadata& meta, const std::string& pol
 
 namespace {
 
-// Loads a saved policy with its stage, context and learned skills, and hands its stage run, its
-// table, the first world seed, what the file says of itself and the options in force (the trial's
-// own parameters among their sets: PolicyEvalOptions::trial_params) to `use`; fills `out`'s stage,
-// context, scenario and parameters.
 // "; the policy was trained with ..." when the policy file records another curriculum than
 // `cur` (a policy of curricula/paper.lua given with another curriculum reads "has no stage 'T'").
 std::string trained_with(const PolicyMetadata& meta, const Curriculum& cur, const std::string& policy_file) {
@@ -941,6 +937,10 @@ std::string trained_with(const PolicyMetadata& meta, const Curriculum& cur, cons
          recorded + " --policy " + policy_file + ")";
 }
 
+// Loads a saved policy with its stage, context and learned skills, and hands its stage run, its
+// table, the first world seed, what the file says of itself and the options in force (the trial's
+// own parameters among their sets: PolicyEvalOptions::trial_params) to `use`; fills `out`'s stage,
+// context, scenario and parameters.
 void with_policy_file(const PolicyEvalOptions& given, PolicyEvalResult& out,
                       const std::function<void(StageRun&, QTable&, uint64_t, const PolicyMetadata&,
                                                const PolicyEvalOptions&)>& use) {

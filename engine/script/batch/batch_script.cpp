@@ -25,6 +25,7 @@ namespace roger {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 using batch_detail::lua_to_json;
+using batch_detail::has_no;
 using batch_detail::quoted_list;
 using batch_detail::Reader;
 
@@ -175,9 +176,7 @@ BatchSkill read_skill_source(const std::string& skill, const json& entry, const 
                                               ":" + std::to_string(producer->line) + "), not one of context '" +
                                               s.context + "': give context = \"" + own + "\" or leave it out");
   if (std::find(from->contexts.begin(), from->contexts.end(), s.context) == from->contexts.end())
-    rd.fail(l, sw + ": run '" + s.run + "' has no context '" + s.context + "'" +
-                   suggestion(s.context, from->contexts) +
-                   "; its contexts are " + quoted_list(from->contexts));
+    rd.fail(l, sw + ": run '" + s.run + "' " + has_no("context", s.context, from->contexts));
   if (from->trials < trials)
     rd.fail(l, sw + ": run '" + s.run + "' has " + std::to_string(from->trials) + " trials, fewer than the " +
                    std::to_string(trials) + " of " + user + " (trial i uses trial i's policy)");
@@ -250,10 +249,8 @@ BatchRun read_run(const json& rj, const Reader& rd, int runs_line, const Curricu
   for (const auto& st : cur.stages())
     if (st.name == r.stage) stage = &st;
   if (!stage)
-    rd.fail(rd.line_of_key("stage", r.line),
-            what + ": the curriculum " + cur.path() + " has no stage '" +
-                r.stage + "'" + suggestion(r.stage, stage_names) +
-                "; its stages are " + quoted_list(stage_names));
+    rd.fail(rd.line_of_key("stage", r.line), what + ": the curriculum " + cur.path() + " " +
+                                                 has_no("stage", r.stage, stage_names));
   std::vector<std::string> ctx_names;
   for (const auto& c : stage->contexts) ctx_names.push_back(c.name);
   r.contexts = rd.strings(rj, "contexts", what, r.line, false);
@@ -265,10 +262,7 @@ BatchRun read_run(const json& rj, const Reader& rd, int runs_line, const Curricu
   if (r.contexts.empty()) r.contexts = ctx_names;
   for (const auto& c : r.contexts)
     if (std::find(ctx_names.begin(), ctx_names.end(), c) == ctx_names.end())
-      rd.fail(rd.line_of_key("contexts", r.line),
-              what + ": stage '" + r.stage + "' has no context '" + c + "'" +
-                  suggestion(c, ctx_names) + "; its contexts are " +
-                  quoted_list(ctx_names));
+      rd.fail(rd.line_of_key("contexts", r.line), what + ": stage '" + r.stage + "' " + has_no("context", c, ctx_names));
   r.trials = int(rd.integer(rj, "trials", what, r.line, b.trials, 1, 100000));
   if (overrides.trials > 0) r.trials = overrides.trials;
   r.params = b.params;
@@ -349,9 +343,7 @@ BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const 
   e.context = rd.str(ej, "context", what, e.line, from->contexts.back());
   if (std::find(from->contexts.begin(), from->contexts.end(), e.context) == from->contexts.end())
     rd.fail(rd.line_of_key("context", e.line),
-            what + ": run '" + e.run + "' has no context '" + e.context + "'" +
-                suggestion(e.context, from->contexts) + "; its contexts are " +
-                quoted_list(from->contexts));
+            what + ": run '" + e.run + "' " + has_no("context", e.context, from->contexts));
   e.scenario = rd.str(ej, "scenario", what, e.line, "");
   if (!e.scenario.empty()) {
     try {
@@ -415,9 +407,7 @@ void read_usage(const json& tj, const Reader& rd, const std::string& what, int u
     BatchUsage u;
     u.context = rd.str(uj, "context", what + ", usage", ul, "", true);
     if (std::find(r->contexts.begin(), r->contexts.end(), u.context) == r->contexts.end())
-      rd.fail(ul, what + ", usage: run '" + t.run + "' has no context '" +
-                      u.context + "'" + suggestion(u.context, r->contexts) +
-                      "; its contexts are " + quoted_list(r->contexts));
+      rd.fail(ul, what + ", usage: run '" + t.run + "' " + has_no("context", u.context, r->contexts));
     u.skill = rd.str(uj, "skill", what + ", usage", ul, "", true);
     u.subsumes = rd.strings(uj, "subsumes", what + ", usage", ul, true);
     std::vector<std::string> psi;
@@ -468,9 +458,7 @@ std::vector<BatchRow> read_rows(const json& j, const Reader& rd, const std::stri
     const BatchRun* r = b.run(row.run);
     if (!r) rd.fail(l, what + ": no run '" + row.run + "'; the runs are " + quoted_list(run_names(b)));
     if (std::find(r->contexts.begin(), r->contexts.end(), row.context) == r->contexts.end())
-      rd.fail(l, what + ": run '" + row.run + "' has no context '" +
-                     row.context + "'" + suggestion(row.context, r->contexts) +
-                     "; its contexts are " + quoted_list(r->contexts));
+      rd.fail(l, what + ": run '" + row.run + "' " + has_no("context", row.context, r->contexts));
     rows.push_back(std::move(row));
   }
   return rows;
@@ -560,10 +548,7 @@ BatchTable read_table(const json& tj, const Reader& rd, int& at, const Curriculu
     if (!r) rd.fail(l, what + ": no run '" + t.run + "'; the runs are " + quoted_list(run_names(b)));
     t.baseline = rd.str(tj, "baseline", what, l, r->contexts.front());
     if (std::find(r->contexts.begin(), r->contexts.end(), t.baseline) == r->contexts.end())
-      rd.fail(rd.line_of_key("baseline", l),
-              what + ": run '" + t.run + "' has no context '" + t.baseline +
-                  "'" + suggestion(t.baseline, r->contexts) +
-                  "; its contexts are " + quoted_list(r->contexts));
+      rd.fail(rd.line_of_key("baseline", l), what + ": run '" + t.run + "' " + has_no("context", t.baseline, r->contexts));
     if (tj.contains("usage")) read_usage(tj, rd, what, rd.line_of_key("usage", l), r, cur, t);
     if (!t.by.empty()) check_by(t, rd, what, l, cur, b);
   }
@@ -639,10 +624,7 @@ BatchFigure read_figure(const json& fj, const Reader& rd, int& at, const Curricu
   if (f.kind == "tasks") {
     f.context = rd.str(fj, "context", what, l, r->contexts.front());
     if (std::find(r->contexts.begin(), r->contexts.end(), f.context) == r->contexts.end())
-      rd.fail(rd.line_of_key("context", l),
-              what + ": run '" + f.run + "' has no context '" + f.context +
-                  "'" + suggestion(f.context, r->contexts) +
-                  "; its contexts are " + quoted_list(r->contexts));
+      rd.fail(rd.line_of_key("context", l), what + ": run '" + f.run + "' " + has_no("context", f.context, r->contexts));
     f.param = rd.str(fj, "param", what, l, "", true);
     // Where the teacher of the run's stage sampled: a parameter it chooses, or the one LCAS lifts.
     const std::vector<std::string> chosen = task_params(cur, *r, true);

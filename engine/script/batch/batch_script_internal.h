@@ -21,6 +21,10 @@ using json = nlohmann::json;
 // "'a', 'b'" (or "(none)") for messages.
 std::string quoted_list(const std::vector<std::string>& items);
 
+// "has no context 'DC22' (did you mean 'DC2'?); its contexts are 'B1', 'DC2'": `kind` is what
+// `name` should have been ("context", "stage"), `names` what there is.
+std::string has_no(const std::string& kind, const std::string& name, const std::vector<std::string>& names);
+
 // The Lua value at `index` as JSON: tables with keys 1..n are arrays, tables with string keys
 // objects; numbers, strings and booleans as they are. `where` names the value for messages.
 json lua_to_json(lua_State* L, int index, const std::string& where, int depth = 0);

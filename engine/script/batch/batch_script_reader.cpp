@@ -22,6 +22,10 @@ std::string quoted_list(const std::vector<std::string>& items) {
   return q.empty() ? "(none)" : join(q);
 }
 
+std::string has_no(const std::string& kind, const std::string& name, const std::vector<std::string>& names) {
+  return "has no " + kind + " '" + name + "'" + suggestion(name, names) + "; its " + kind + "s are " + quoted_list(names);
+}
+
 namespace {
 // The string at `index`, refused unless it is UTF-8 text: the manifest and the records are JSON,
 // and a Latin-1 description would stop the run at its first write instead of here, at its line.
@@ -138,7 +142,6 @@ std::string Reader::str(const json& o, const char* key, const std::string& what,
   if (required && s.empty()) fail(line_of_key(key, line), what + ": field '" + key + "' is empty");
   return s;
 }
-
 
 // An integer field within [lo, hi] (the fallback when absent).
 int64_t Reader::integer(const json& o, const char* key, const std::string& what, int line, int64_t fallback,
