@@ -426,6 +426,9 @@ TEST_CASE("a tiny batch writes every file, with tables that match the trials, wh
   REQUIRE(f.run("cut", 2, 0, &resumed) == 0);
   CHECK(resumed.find("resuming") != std::string::npos);
   CHECK(resumed.find("3 from an earlier run") != std::string::npos);
+  // Found by a probe: the last line said "N of N trials done in 1 s" as if this run had done them all.
+  CHECK(resumed.find(" trials done in ") != std::string::npos);
+  CHECK(resumed.find("(3 of them by earlier runs)") != std::string::npos);
   CHECK(finished_ids(f.root / "cut") == kIds);
   same_results(one, f.root / "cut");
 
@@ -441,6 +444,17 @@ TEST_CASE("a tiny batch writes every file, with tables that match the trials, wh
   CHECK(refused.str().find("made by this batch script as it was then, with other contents or other parameters (a command's --set, --trials, --lua-instructions and --lua-memory are parameters too)") != std::string::npos);
   CHECK(refused.str().find("runs[1].trials: 2 in the folder, 1 now") != std::string::npos);
   CHECK(finished_ids(one) == kIds);  // nothing lost
+  // Found by a probe: a --set the folder was not made with was named by its place in a list
+  // ("params[1]: absent in the folder, [\"mass\",\"0.7\"] now"); it is named by its parameter.
+  other.trials = 0;
+  other.sets = {"mass=0.7"};
+  std::ostringstream set_refused;
+  other.progress = &set_refused;
+  CHECK(command_run(other) == 1);
+  INFO(set_refused.str());
+  CHECK_THAT(set_refused.str(), Catch::Matchers::Contains("runs[1].params.mass: absent in the folder, \"0.7\" now"));
+  CHECK(set_refused.str().find("params[") == std::string::npos);
+  CHECK(finished_ids(one) == kIds);
 
   // A folder made by another build of the engine is refused, naming both builds.
   const json cut_manifest = json::parse(slurp(f.root / "cut/manifest.json"));
@@ -641,6 +655,8 @@ TEST_CASE("an --only that needs policies outside it that have no result is refus
   CHECK_THAT(eval.log, Catch::Matchers::Contains("T/DC6/000, T/DC6/001, for eval/gen/circle/000") &&
                              Catch::Matchers::Contains("add --only T/DC6 to this command"));
   CHECK_FALSE(fs::exists(trial_dir(a.out, "eval/gen/circle/000")));
+  // Found by a probe: the refused run said "resuming" first, though it resumed nothing.
+  CHECK(eval.log.find("resuming") == std::string::npos);
 }
 
 // Found by a probe: with manifest.json deleted, a run with other parameters took the trials there

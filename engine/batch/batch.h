@@ -210,6 +210,7 @@ struct BatchSummary {
   int outside_failed = 0;           // outside --only: failed (in an earlier or another run)
   int outside_corrupt = 0;          // outside --only: with a record that cannot be read
   int undiagnosed = 0;              // under --explain: training trials finished earlier, without a diagnosis
+  size_t finished_now = 0;          // trials this invocation finished (the other done ones, earlier runs)
   double wall_s = 0.0;              // this invocation's wall time
   bool interrupted = false;         // Ctrl-C (core/interrupt.h) stopped it before its selection was done
 };

@@ -88,6 +88,36 @@ std::string member_path(const std::string& at, const std::string& key) {
   return at.empty() ? key : at + "." + key;
 }
 
+void differences(const json* a, const json* b, const std::string& at, std::vector<std::string>& out);
+
+// The names of a list of [name, value] pairs (a parameter list), or nothing when `list` is not
+// one or names a key twice.
+std::optional<std::map<std::string, const json*>> pairs_by_name(const json& list) {
+  std::map<std::string, const json*> named;
+  for (const json& item : list) {
+    if (!item.is_array() || item.size() != 2 || !item[0].is_string()) return std::nullopt;
+    if (!named.emplace(item[0].get<std::string>(), &item[1]).second) return std::nullopt;
+  }
+  return named;
+}
+
+// Two parameter lists compared by name ("params.mass: absent in the folder, \"0.7\" now") rather
+// than by place, where one more --set would shift every later pair; false when either is not such
+// a list.
+bool differences_by_name(const json& a, const json& b, const std::string& at, std::vector<std::string>& out) {
+  const auto named_a = pairs_by_name(a), named_b = pairs_by_name(b);
+  if (!named_a || !named_b || (a.empty() && b.empty())) return false;
+  std::set<std::string> names;
+  for (const auto& [name, value] : *named_a) names.insert(name);
+  for (const auto& [name, value] : *named_b) names.insert(name);
+  for (const auto& name : names) {
+    const auto ia = named_a->find(name), ib = named_b->find(name);
+    differences(ia == named_a->end() ? nullptr : ia->second, ib == named_b->end() ? nullptr : ib->second,
+                member_path(at, name), out);
+  }
+  return true;
+}
+
 // The differences between two configurations (nullptr: absent), one "path: old in the folder, new
 // now" line per value that differs. Objects and arrays are compared member by member, so a line
 // names what changed rather than two dumps of a whole list cut at the same place.
@@ -102,6 +132,7 @@ void differences(const json* a, const json* b, const std::string& at, std::vecto
     return;
   }
   if (a && b && a->is_array() && b->is_array()) {
+    if (differences_by_name(*a, *b, at, out)) return;
     for (size_t k = 0; k < std::max(a->size(), b->size()); ++k)
       differences(k < a->size() ? &(*a)[k] : nullptr, k < b->size() ? &(*b)[k] : nullptr,
                   at + "[" + std::to_string(k + 1) + "]", out);  // counted from 1, as in the Lua script

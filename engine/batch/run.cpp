@@ -598,12 +598,15 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
   for (const auto& p : plan.phases)
     for (const auto& t : p) by_id[t.id] = &t;
   const SourceWatch sources(plan.script->curriculum_file, plan.script->limits, evaluation_scenarios(*plan.script));
+  std::atomic<size_t> finished_now{0};  // trials this run finished (the others done were finished before)
   const TrialFunction trial = [&](const std::string& id, const std::string& dir) -> nlohmann::json {
     const PlannedTrial& t = *by_id.at(id);
     const auto t0 = Clock::now();
     try {
       sources.check();
-      return t.run ? training_trial(plan, t, dir, control) : evaluation_trial(plan, t, t0);
+      nlohmann::json result = t.run ? training_trial(plan, t, dir, control) : evaluation_trial(plan, t, t0);
+      ++finished_now;
+      return result;
     } catch (const FileError&) {
       throw;  // not the trial's fault: the run stops (run_trials)
     } catch (const std::exception& e) {
@@ -647,6 +650,7 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
   summary.wall_s = wall;
   summary.interrupted = interrupted;
   summary.undiagnosed = undiagnosed;
+  summary.finished_now = finished_now;
   return summary;
 }
 

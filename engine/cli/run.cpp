@@ -49,6 +49,8 @@ int print_outcome(const BatchSummary& s, std::ostream& log) {
   const size_t done = s.trials - s.failed.size() - s.corrupt.size() - size_t(s.pending) - outside;
   log << "roger run: " << done << " of " << s.trials << (s.trials == 1 ? " trial" : " trials") << " done in "
       << format_duration(s.wall_s);
+  // A resumed run: how many of them it ran, so "12 of 12 done in 1 s" does not read as 12 trials a second.
+  if (done > s.finished_now) log << " (" << (done - s.finished_now) << " of them by earlier runs)";
   if (!s.failed.empty()) log << ", " << s.failed.size() << " failed";
   if (!s.corrupt.empty()) log << ", " << s.corrupt.size() << " with unreadable files";
   if (s.pending) log << ", " << s.pending << " not run yet (run the same command again to continue)";
@@ -169,9 +171,10 @@ int command_run(const RunArgs& a) {
     check_out_folder(plan.out);  // before the claim makes its lock files there
     const RunningClaim claim(plan.out, shard, a.only);  // until the run has ended, its report written
     std::string note;
-    if (open_results_folder(plan, &note, shard, &claim)) log << "roger run: resuming " << plan.out << "\n";
+    const bool resuming = open_results_folder(plan, &note, shard, &claim);
+    check_only_needs(plan, a.only, shard);  // before "resuming": a refused --only resumes nothing
+    if (resuming) log << "roger run: resuming " << plan.out << "\n";
     if (!note.empty()) log << "roger run: " << note << "\n";
-    check_only_needs(plan, a.only, shard);
     size_t trials = 0;
     for (const auto& p : plan.phases) trials += p.size();
     // The curriculum's file as found (a same-named file in the working folder is taken first).
