@@ -147,7 +147,7 @@ TEST_CASE("a task space names what it allows when a value lies outside it", "[te
   CHECK_THROWS_WITH(restrict_space(s, {int_dim("obstacles", 0, 9)}),
                     Contains("obstacles = roger.int(0, 9) is outside the task space's roger.int(0, 6)"));
   CHECK_THROWS_WITH(restrict_space(s, {choice_dim("shape", {"square"})}), Contains("outside"));
-  CHECK_THROWS_WITH(restrict_space(s, {int_dim("mass", 0, 1)}), Contains("not a parameter"));
+  CHECK_THROWS_WITH(restrict_space(s, {int_dim("mass", 0, 1)}), Contains("nor a parameter of the task space"));
 }
 
 TEST_CASE("every teacher draws the same tasks from the same seed and outcomes, others from another", "[teach]") {
@@ -727,6 +727,12 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
        "scenario 'cluttered' takes a number: write 32 without quotes"},
       {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 64 } }, floor = 1.5 } }",
        ":8: roger.teacher.lcas: field 'floor' must be in [0, 1], got 1.5"},
+      // Found by a probe: lifts that never change the level trained as a stage with it fixed.
+      {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32 } } } }",
+       ":8: roger.teacher.lcas: lift.eye_pixels = {32} has one level, so nothing is ever lifted: give two or more, "
+       "the most constrained first (to hold eye_pixels at 32, set it in the stage's params instead)"},
+      {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 64, 32 } } } }",
+       ":8: roger.teacher.lcas: lift.eye_pixels: the level 32 is listed twice (levels 1 and 3)"},
       {"{ tasks = { obstacles = roger.int(0, 3) }, test = { list = { { obstacles = 7 } } } }",
        ":6: stage 'S': test: list[1]: obstacles = 7 is outside the task space: obstacles takes an integer in roger.int(0, 3)"},
       {"{ tasks = { obstacles = roger.int(0, 3) }, test = { tasks = 10 }, checkpoints = { episodes = 5 } }",
@@ -831,6 +837,12 @@ TEST_CASE("a task whose world cannot be placed is skipped and shown; a space of 
                           Contains("the task space (robot_distance = roger.real(3.3, 3.4)) asks for worlds the scenario "
                                    "cannot build. The placement failed with: ") &&
                           Contains("lib/place.lua:42: world:sample_position: no placement for 'circle' after 1000 tries"));
+  // Found by a probe: with every axis fixed by --set, a world that could not be placed was drawn
+  // again 100 times, the same each time, and the message blamed a task space of no parameters.
+  o.curriculum = holes.string();
+  o.sets = {{"robot_distance", "3.4"}};
+  CHECK_THROWS_WITH(train_stage(o), Contains("no placement for 'circle'") && !Contains("100 tasks in a row") &&
+                                        !Contains("no parameters"));
 }
 
 TEST_CASE("a Lua teacher's history, and its faults: each fails its trial alone at file:line", "[teach][errors]") {
@@ -1206,6 +1218,39 @@ TEST_CASE("docs/examples/teachers_example.lua: every block of the docs' Teachers
   }
 }
 
+// Found by a probe: roger train said only "teacher lcas over ..."; the lifts and a sequence's
+// moves were in summary.json alone.
+TEST_CASE("roger train says what its teacher did", "[teach][stage]") {
+  test::TempDir dir("roger_teach_said");
+  const std::string roger = ROGER_BINARY, said = (dir.path / "said.txt").string();
+  const auto train = [&](const std::string& stage) {
+    REQUIRE(run_shell(roger + " train docs/examples/teachers_example.lua --stage " + stage + " --context Gaze --out " +
+                      (dir.path / stage).string() + " > " + said) == 0);
+    return slurp(said);
+  };
+  const std::string lcas = train("LookLcas");
+  const json state = json::parse(slurp(dir.path / "LookLcas" / "summary.json"))["teacher"]["state"];
+  REQUIRE(state["lifts"].size() == 2);
+  CHECK_THAT(lcas, Contains("  teacher        lcas over ") &&
+                       Contains("\n                 eye_pixels = 128 (level 3 of 3); lifted at episodes " +
+                                state["lifts"][0]["episode"].dump() + " (to 64), " + state["lifts"][1]["episode"].dump() +
+                                " (to 128)\n"));
+  CHECK_THAT(train("LookSequence"), Contains("                 at step 3 of 3; moved at episodes ") &&
+                                        Contains(" (step 1 to 2, rate "));
+  CHECK_THAT(train("LookPlr"), Contains(" of 60 episodes replayed a level; ") && Contains(" levels kept\n"));
+  const std::string alp = train("Look");
+  CHECK_THAT(alp, Contains(" fits, mean ALP ") && Contains("; most progress around {"));
+  // The mixture is recorded to six decimals (a fit's 0.9999999999999374 read as 1).
+  for (const json& c : json::parse(slurp(dir.path / "Look" / "summary.json"))["teacher"]["state"]["components"]) {
+    const double alp_value = c["alp"].get<double>();
+    CHECK(alp_value == std::round(alp_value * 1e6) / 1e6);
+  }
+  CHECK(describe_teacher_state(json{{"kind", "lcas"}, {"param", "obstacles"}, {"value", 0}, {"level", 1},
+                                    {"levels", 4}, {"lifts", json::array()}}) ==
+        "obstacles = 0 (level 1 of 4), never lifted");
+  CHECK(describe_teacher_state(json{{"kind", "random"}, {"episodes", 3}}).empty());
+}
+
 TEST_CASE("a task parameter given by --set is fixed: the axis leaves the trial's space", "[teach][stage]") {
   // LookRandom varies obstacles (0-4) and robot_distance; --set obstacles=2 holds every training
   // and test world at 2 obstacles while the distance still varies, and the summary's space says so.
@@ -1277,10 +1322,11 @@ TEST_CASE("a parameter fixed by --set is ignored where a sequence or function te
   test::TempDir dir("roger_teach_fixed");
   const fs::path typo = write_stage(dir.path, "typo", "{ tasks = { obstacles = roger.int(0, 3) }, "
                                                        "teacher = roger.teacher.sequence{ { obstacle = 0 }, {} } }");
-  CHECK_THAT(load_error(typo), Contains("step 1: 'obstacle' is not a parameter of the task space"));
-  // A function's value for a fixed parameter is ignored whatever it is; its other values still count.
+  CHECK_THAT(load_error(typo), Contains("step 1: 'obstacle' is neither a step's setting (promote, demote, window) "
+                                        "nor a parameter of the task space"));
+  // A function's value for a fixed parameter is ignored; its other values still count.
   const fs::path fn = write_stage(dir.path, "fn", "{ tasks = { obstacles = roger.int(0, 3), shape = roger.choice{'circle', 'spade'} }, "
-                                                   "teacher = function() return { obstacles = 99, shape = 'spade' } end }");
+                                                   "teacher = function() return { obstacles = 3, shape = 'spade' } end }");
   TrainOptions o = stage_options(fn);
   o.sets = {{"obstacles", "1"}};
   const TrainResult r = train_stage(o);
@@ -1288,6 +1334,19 @@ TEST_CASE("a parameter fixed by --set is ignored where a sequence or function te
     CHECK(e.world.obstacles == 1);
     CHECK(e.task == json{{"shape", "spade"}});
   }
+  // Found by a probe: but a value outside the whole space passed under --set, and the same trial
+  // without it failed; it is the function's fault either way.
+  const fs::path outside = write_stage(dir.path, "outside", "{ tasks = { obstacles = roger.int(0, 3) }, "
+                                                             "teacher = function() return { obstacles = 99 } end }");
+  o = stage_options(outside);
+  o.sets = {{"obstacles", "1"}};
+  CHECK_THROWS_WITH(train_stage(o), Contains("stage 'S': teacher function returned obstacles = 99, outside the task "
+                                             "space: obstacles takes an integer in roger.int(0, 3)"));
+  const fs::path text = write_stage(dir.path, "text", "{ tasks = { obstacles = roger.int(0, 3) }, "
+                                                       "teacher = function() return { obstacles = '2' } end }");
+  o = stage_options(text);
+  o.sets = {{"obstacles", "1"}};
+  CHECK_THROWS_WITH(train_stage(o), Contains("returned obstacles = \"2\" (a string), but obstacles takes a number"));
 }
 
 // Found by a probe: `teacher = roger.teacher.lcas` (the maker, braces forgotten) passed roger check

@@ -496,7 +496,9 @@ TrainingEpisode train_episode(StageRun& run, TrialTeacher* teacher, QTable& q, u
     try {
       return run.run(q, seed, eps, rng, true, "training", e, nullptr, &world);
     } catch (const EpisodeFault& f) {
-      if (!teacher || !f.no_placement) throw;
+      // A space --set or the run's params left without axes draws the same task every time: a
+      // redraw cannot place what this one could not, so the placement's own error stands.
+      if (!teacher || !f.no_placement || teacher->space().empty()) throw;
       skipped.push_back({{"episode", e}, {"task", teacher->task()}, {"error", f.cause}});
       if (++skips >= kMaxSkippedInARow)
         fail_placement(run.stage,

@@ -46,12 +46,16 @@ class AlpGmmTeacher final : public Teacher {
     if (int(tasks_.size()) % spec_.fit_every == 0) fit();
   }
 
+  // Recorded to six decimals: a fit's 0.9999999999999374 and 6.9e-218 read as the 1 and 0 they
+  // are (the teacher itself keeps the full values).
   json state() const override {
+    const auto six = [](double x) { return std::round(x * 1e6) / 1e6 + 0.0; };  // + 0.0: no -0
     json parts = json::array();
     for (const Gaussian& g : mix_.parts) {
-      std::vector<double> mean(g.mean.data(), g.mean.data() + dims_), sd;
-      for (int i = 0; i < dims_; ++i) sd.push_back(std::sqrt(g.cov(i, i)));
-      parts.push_back({{"weight", g.weight}, {"alp", g.mean[dims_]}, {"mean", mean}, {"std", sd},
+      std::vector<double> mean(g.mean.data(), g.mean.data() + dims_), sd, shown;
+      for (int i = 0; i < dims_; ++i) sd.push_back(six(std::sqrt(g.cov(i, i))));
+      for (double m : mean) shown.push_back(six(m));
+      parts.push_back({{"weight", six(g.weight)}, {"alp", six(g.mean[dims_])}, {"mean", shown}, {"std", sd},
                        {"task", space_.to_json(space_.from_unit(mean))}});
     }
     std::vector<std::string> names;
@@ -59,7 +63,7 @@ class AlpGmmTeacher final : public Teacher {
     double alp = 0.0;
     for (const auto& p : pairs_) alp += p.second;
     return {{"kind", kind()}, {"episodes", tasks_.size()}, {"fits", fits_}, {"dims", names},
-            {"mean_alp", pairs_.empty() ? 0.0 : alp / double(pairs_.size())}, {"components", parts}};
+            {"mean_alp", pairs_.empty() ? 0.0 : six(alp / double(pairs_.size()))}, {"components", parts}};
   }
 
  private:

@@ -216,15 +216,20 @@ std::string params_text(const ParamList& params) {
 }
 
 TaskSpace TaskSpace::without(const std::vector<std::string>& names) const {
-  std::vector<TaskDim> kept;
+  std::vector<TaskDim> kept, fixed_dims = fixed_dims_;
   std::vector<std::string> fixed = fixed_;
   for (const auto& d : dims_) {
-    if (std::find(names.begin(), names.end(), d.name) == names.end()) kept.push_back(d);
-    else fixed.push_back(d.name);
+    if (std::find(names.begin(), names.end(), d.name) == names.end()) {
+      kept.push_back(d);
+    } else {
+      fixed.push_back(d.name);
+      fixed_dims.push_back(d);
+    }
   }
   TaskSpace out(std::move(kept));
   std::sort(fixed.begin(), fixed.end());
   out.fixed_ = std::move(fixed);
+  out.fixed_dims_ = std::move(fixed_dims);
   return out;
 }
 
@@ -246,8 +251,8 @@ TaskSpace restrict_space(const TaskSpace& space, const std::vector<TaskDim>& res
     if (i < 0) {  // a misspelt setting of the step reads as a parameter
       std::vector<std::string> known{"promote", "demote", "window"};
       for (const auto& d : space.dims()) known.push_back(d.name);
-      throw Error("'" + r.name + "' is not a parameter of the task space (" + space.describe() + ")" +
-                  suggestion(r.name, known));
+      throw Error("'" + r.name + "' is neither a step's setting (promote, demote, window) nor a parameter of the "
+                  "task space (" + space.describe() + ")" + suggestion(r.name, known));
     }
     if (!space.covers(r))
       throw Error(r.name + " = " + r.text() + " is outside the task space's " + space.dims()[size_t(i)].text());

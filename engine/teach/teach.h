@@ -94,12 +94,16 @@ class TaskSpace {
   // The parameters whose axes without() removed, sorted.
   const std::vector<std::string>& fixed() const { return fixed_; }
   bool is_fixed(const std::string& name) const;
+  // The axes without() removed, as a space of their own: what a teacher naming them is checked
+  // against, though the run's value stands.
+  TaskSpace fixed_space() const { return TaskSpace(fixed_dims_); }
   // "distance = roger.real(0.5, 2), obstacles = roger.int(0, 6)".
   std::string describe() const;
 
  private:
   std::vector<TaskDim> dims_;
   std::vector<std::string> fixed_;
+  std::vector<TaskDim> fixed_dims_;
 };
 
 // The task space restricted on some axes (a step of a sequence): each axis of `restrict` replaces
@@ -187,6 +191,11 @@ struct TeacherSpec {
 // settings the space cannot take (a sequence step outside it, an LCAS level the lifted axis of
 // the space does not have), naming spec.file:line.
 std::unique_ptr<Teacher> make_teacher(const TeacherSpec& spec, const TaskSpace& space, uint64_t seed);
+
+// What a teacher's recorded state (Teacher::state()) says it did, in one line for the console:
+// "eye_pixels = 128 (level 3 of 3); lifted at episodes 31 (to 64), 59 (to 128)"; "" for a
+// teacher with nothing to tell (random, a function).
+std::string describe_teacher_state(const nlohmann::json& state);
 
 // A fixed test set: tasks drawn uniformly with Rng(seed), or given.
 std::vector<TaskPoint> draw_test_tasks(const TaskSpace& space, int count, uint64_t seed);

@@ -179,6 +179,56 @@ std::string TeacherSpec::name() const {
   return "roger.teacher";
 }
 
+namespace {
+
+// "19 (step 1 to 2, rate 0.5), 29 (step 2 to 3, rate 0.6)": a sequence's moves.
+std::string sequence_moves(const json& moves) {
+  std::vector<std::string> parts;
+  for (const json& m : moves)
+    parts.push_back(m.value("episode", json()).dump() + " (step " + m.value("from", json()).dump() + " to " +
+                    m.value("to", json()).dump() + ", rate " + m.value("rate", json()).dump() + ")");
+  return join(parts);
+}
+
+// "31 (to 64), 59 (to 128)": an LCAS teacher's lifts.
+std::string lcas_lifts(const json& lifts) {
+  std::vector<std::string> parts;
+  for (const json& l : lifts) parts.push_back(l.value("episode", json()).dump() + " (to " + l.value("to", json()).dump() + ")");
+  return join(parts);
+}
+
+}  // namespace
+
+std::string describe_teacher_state(const json& state) {
+  if (!state.is_object()) return "";
+  const std::string kind = state.value("kind", std::string());
+  const auto count = [&](const char* key) { return state.contains(key) ? state[key].dump() : std::string("?"); };
+  if (kind == "sequence") {
+    const json moves = state.value("moves", json::array());
+    return "at step " + count("step") + " of " + count("steps") +
+           (moves.empty() ? ", never moved" : "; moved at episodes " + sequence_moves(moves));
+  }
+  if (kind == "lcas") {
+    const json lifts = state.value("lifts", json::array());
+    return state.value("param", std::string("?")) + " = " + count("value") + " (level " + count("level") + " of " +
+           count("levels") + ")" + (lifts.empty() ? ", never lifted" : "; lifted at episodes " + lcas_lifts(lifts));
+  }
+  if (kind == "alp_gmm") {
+    std::string most;  // the component of the most learning progress: where the teacher drew most
+    double best = -1.0;
+    for (const json& c : state.value("components", json::array()))
+      if (c.value("alp", -1.0) > best) {
+        best = c.value("alp", -1.0);
+        most = c.value("task", json()).dump();
+      }
+    return count("fits") + " fits, mean ALP " + count("mean_alp") +
+           (most.empty() ? "" : "; most progress around " + most + " (ALP " + format_number(best) + ")");
+  }
+  if (kind == "plr")
+    return count("replays") + " of " + count("episodes") + " episodes replayed a level; " + count("levels") + " levels kept";
+  return "";
+}
+
 std::unique_ptr<Teacher> make_teacher(const TeacherSpec& spec, const TaskSpace& space, uint64_t seed) {
   switch (spec.kind) {
     case TeacherSpec::Kind::kRandom: return std::make_unique<RandomTeacher>(space, seed);

@@ -636,7 +636,9 @@ class Judge {
     auto near = nearest_names(full.substr(prefix.size() + 1), siblings);
     if (!near.empty()) {
       for (auto& n : near) n = prefix + "." + n;
-      return m + "; did you mean " + join(near, " or ") + "?";
+      m += "; did you mean " + join(near, " or ") + "?";
+      // A short list is worth seeing whole (roger.teacher's five kinds): the nearest may not be meant.
+      return siblings.size() <= 8 ? m + " (" + prefix + " has: " + join(siblings) + ")" : m;
     }
     return m + "; " + prefix + " has: " + join(siblings);
   }

@@ -259,6 +259,17 @@ int l_teacher_lcas(lua_State* L) {
       lua_pop(L, 1);
     }
     lua_pop(L, 1);
+    // A lift that cannot change the level is a slip (one level, or one listed twice): refused
+    // rather than trained as a stage that holds the parameter fixed.
+    if (spec.levels.size() == 1)
+      f.fail("lift." + spec.lift + " = {" + spec.levels[0] + "} has one level, so nothing is ever lifted: give two or "
+             "more, the most constrained first (to hold " + spec.lift + " at " + spec.levels[0] +
+             ", set it in the stage's params instead)");
+    for (size_t i = 0; i < spec.levels.size(); ++i)
+      for (size_t j = 0; j < i; ++j)
+        if (spec.levels[i] == spec.levels[j])
+          f.fail("lift." + spec.lift + ": the level " + spec.levels[i] + " is listed twice (levels " +
+                 std::to_string(j + 1) + " and " + std::to_string(i + 1) + ")");
   }
   lua_pop(L, 1);
   if (spec.lift.empty()) f.fail("field 'lift' must name one parameter {param = {level 1, level 2, ...}}");

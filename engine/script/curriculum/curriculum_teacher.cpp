@@ -129,7 +129,7 @@ class LuaTeacher final : public Teacher {
   LuaTeacher(LuaSandbox& sandbox, const CurriculumStage& stage, const LuaCallback& fn, const TaskSpace& space,
              uint64_t seed)
       : sandbox_(sandbox), where_(stage.where() + ": teacher function"), fn_(fn), space_(space),
-        fill_(Rng::mix(seed, 1)) {
+        fixed_space_(space.fixed_space()), fill_(Rng::mix(seed, 1)) {
     for (const auto& name : space.fixed()) fixed_note_ += (fixed_note_.empty() ? "" : ", ") + name;
     if (!fixed_note_.empty())
       fixed_note_ = " (" + fixed_note_ + (space.fixed().size() == 1 ? " is" : " are") +
@@ -179,10 +179,13 @@ class LuaTeacher final : public Teacher {
     const ParamList given = read_result();
     TaskPoint task = space_.sample(fill_);  // what the result leaves out is drawn uniformly
     for (const auto& [key, value] : given) {
-      if (space_.is_fixed(key)) continue;  // --set (or a batch run's params) fixes it for this run
-      const int i = space_.index(key);
+      // --set (or a batch run's params) fixes it for this run: the run's value stands, but a value
+      // outside the whole space is the function's fault all the same (found with --set or not).
+      const bool fixed = space_.is_fixed(key);
+      const TaskSpace& space = fixed ? fixed_space_ : space_;
+      const int i = space.index(key);
       std::string why;
-      const std::optional<double> v = i < 0 ? std::nullopt : space_.value_of(size_t(i), value, &why);
+      const std::optional<double> v = i < 0 ? std::nullopt : space.value_of(size_t(i), value, &why);
       if (i < 0) {
         std::vector<std::string> names;
         for (const TaskDim& d : space_.dims()) names.push_back(d.name);
@@ -192,7 +195,7 @@ class LuaTeacher final : public Teacher {
       if (!v)
         throw ScriptError(where_ + " returned " + key + " = " + value + ", outside the task space: " + key +
                               " takes " + why, fn_.file, fn_.line, "");
-      task[size_t(i)] = *v;
+      if (!fixed) task[size_t(i)] = *v;
     }
     return {task, {}, std::nullopt};
   }
@@ -251,9 +254,11 @@ class LuaTeacher final : public Teacher {
   void refuse_numeric_strings(lua_State* L, int t) const {
     lua_pushnil(L);
     while (lua_next(L, t)) {
-      const int i = lua_type(L, -2) == LUA_TSTRING ? space_.index(lua_tostring(L, -2)) : -1;
-      if (i >= 0 && lua_type(L, -1) == LUA_TSTRING && space_.dims()[size_t(i)].kind != TaskDim::Kind::kChoice) {
-        const TaskDim& d = space_.dims()[size_t(i)];
+      const std::string key = lua_type(L, -2) == LUA_TSTRING ? lua_tostring(L, -2) : "";
+      const TaskSpace& space = space_.is_fixed(key) ? fixed_space_ : space_;
+      const int i = space.index(key);
+      if (i >= 0 && lua_type(L, -1) == LUA_TSTRING && space.dims()[size_t(i)].kind != TaskDim::Kind::kChoice) {
+        const TaskDim& d = space.dims()[size_t(i)];
         throw ScriptError(where_ + " returned " + d.name + " = \"" + lua_tostring(L, -1) + "\" (a string), but " +
                               d.name + " takes a number: " + d.text() + "; return the number itself",
                           fn_.file, fn_.line, "");
@@ -266,6 +271,7 @@ class LuaTeacher final : public Teacher {
   std::string where_;
   LuaCallback fn_;
   TaskSpace space_;
+  TaskSpace fixed_space_;  // the axes the run fixes: a result naming them is checked against them
   Rng fill_;
   std::string fixed_note_;  // ends a task view's unknown-field message: the axes the run fixes
   int history_ref_ = LUA_NOREF, view_ref_ = LUA_NOREF, rng_ref_ = LUA_NOREF;
