@@ -146,6 +146,34 @@ TEST_CASE("world:robot refuses bad noise with the file, line, field and range", 
   CHECK(!Scenario::load("unobstructed").generate(5).noise.any());
 }
 
+// Found by a probe: a scenario with body.with_params that did not pass body.noise_of(p) to its
+// robot took --set noise_image=200, echoed it, and ran without noise.
+TEST_CASE("a noise parameter the world does not use is refused at the generator", "[noise]") {
+  const std::string head = "local body = require('lib.body')\nreturn { params = body.with_params{},\n"
+                           "  generate = function(world, rng, p)\n";
+  Scenario none = test::scenario_from("noise_unused", head + "    world:robot{ x = 0, y = 0 }\n  end }\n");
+  CHECK_NOTHROW(none.generate(0));  // at their defaults (0) the parameters ask for nothing
+  none.set_param("noise_image", "200");
+  CHECK_THROWS_WITH(none.generate(0),
+                    Contains("roger_test_noise_unused.lua:3:") &&
+                        Contains("the parameter noise_image = 200 asks for image noise, but the world has none: pass "
+                                 "body.noise_of(params) to world:robot{ noise = ... }"));
+  // Noise of the scenario's own on another channel: the image's parameter is still unused, and so
+  // is a kind the own noise lacks; a scale names itself.
+  Scenario own = test::scenario_from("noise_own", head + "    world:robot{ x = 0, y = 0, noise = { joints = 0.01 } }\n  end }\n");
+  own.set_param("noise_joints", "0.02");
+  CHECK_NOTHROW(own.generate(0));  // the world has joint noise (the scenario's level: its choice)
+  own.set_param("noise_joints_delay", "1");
+  own.set_param("noise_scale", "2");
+  CHECK_THROWS_WITH(own.generate(0), Contains("the parameter noise_joints_delay = 1 (times noise_scale = 2) asks for "
+                                              "joints noise, but the world has none"));
+  own.set_param("noise_scale", "0");  // scaled to nothing: nothing asked
+  CHECK_NOTHROW(own.generate(0));
+  // A delay that rounds to no tick asks for none.
+  own.set_param("noise_scale", "0.4");
+  CHECK_NOTHROW(own.generate(0));
+}
+
 TEST_CASE("sigma 0 is no noise, to the bit", "[noise]") {
   WorldSpec plain = test::open_world();
   plain.seed = 42;

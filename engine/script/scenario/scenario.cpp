@@ -207,6 +207,45 @@ WorldSpec Scenario::generate(uint64_t seed) {
   }
 }
 
+namespace {
+
+// A parameter's value as a number (0 for one that is not a number or is not declared).
+double param_number(const std::map<std::string, ParamSlot>& params, const std::string& name, double absent) {
+  const auto it = params.find(name);
+  if (it == params.end()) return absent;
+  const ParamSlot& s = it->second;
+  return s.info.type == ParamType::kNumber ? s.number : s.info.type == ParamType::kInteger ? double(s.integer) : 0.0;
+}
+
+// A noise parameter of body.PARAMS (docs/scenarios.md, Noise) that asks for noise the world does
+// not have: the generator did not pass body.noise_of(p) to world:robot (or passed noise of its
+// own). A noise study would record a level no episode had, so it is refused, naming the first such
+// parameter. Found by a probe: --set noise_image=200 was echoed and ignored.
+void check_noise_params_used(const std::map<std::string, ParamSlot>& params, const NoiseParams& noise,
+                             const std::function<void(const std::string&)>& fail) {
+  const double scale = param_number(params, "noise_scale", 1.0);
+  const std::pair<const char*, const ChannelNoise*> channels[] = {
+      {"image", &noise.image}, {"joints", &noise.joints}, {"base", &noise.base}, {"touch", &noise.touch},
+      {"effort", &noise.effort}};
+  for (const auto& [name, c] : channels) {
+    const std::string n = std::string("noise_") + name;
+    const std::pair<std::string, double> kinds[] = {{n, c->sigma},       {n + "_bias", c->bias},
+                                                    {n + "_drift", c->drift}, {n + "_delay", double(c->delay)},
+                                                    {n + "_dropout", c->dropout}, {n + "_quantum", c->quantum}};
+    for (const auto& [param, in_world] : kinds) {
+      double asked = scale * param_number(params, param, 0.0);
+      if (param == n + "_delay") asked = std::floor(asked + 0.5);  // whole ticks, as body.noise_of rounds
+      if (asked > 0.0 && in_world == 0.0)
+        fail("the parameter " + param + " = " + slot_text(params.at(param)) +
+             (scale == 1.0 ? "" : " (times noise_scale = " + slot_text(params.at("noise_scale")) + ")") +
+             " asks for " + name + " noise, but the world has none: pass body.noise_of(params) to world:robot{ "
+             "noise = ... } (scenarios/lib/body.lua), or leave the parameter at 0");
+    }
+  }
+}
+
+}  // namespace
+
 WorldSpec Scenario::generate_world(uint64_t seed) {
   Impl& impl = *impl_;
   WorldSpec out;
@@ -247,6 +286,8 @@ WorldSpec Scenario::generate_world(uint64_t seed) {
     } catch (const Error& e) {
       throw impl.error(e.what(), impl.generate_line);
     }
+    check_noise_params_used(impl.params, spec.noise,
+                            [&](const std::string& why) { throw impl.error(why, impl.generate_line); });
     spec.scenario = impl.path;
     spec.seed = seed;
     for (const auto& [key, slot] : impl.params) spec.params[key] = slot_text(slot);
