@@ -986,6 +986,10 @@ TEST_CASE("the report compares the teachers, splits their success by level and m
     ++maps;
     CHECK(fs::exists(dir / (f["file"].get<std::string>() + ".png")));
     REQUIRE(f["rows"].size() == 10);
+    // The bins span the axis (roger.real(0, 1)), not the range the draws covered: a teacher that
+    // kept to the band shows the rest of the axis empty.
+    CHECK(f["rows"][0] == "0 to 0.1");
+    CHECK(f["rows"][9] == "0.9 to 1");
     for (size_t c = 0; c + 1 < f["x_edges"].size(); ++c) {
       double total = 0;
       for (const auto& row : f["share"]) total += row[c].get<double>();
@@ -993,6 +997,38 @@ TEST_CASE("the report compares the teachers, splits their success by level and m
     }
   }
   CHECK(maps == 2);
+}
+
+// Found by a probe: a "tasks drawn" map had a row per value drawn, so the values a teacher never
+// drew were not there to see. The trials of the Sequence run are rewritten here to a space of
+// roger.int(0, 3) of which only 0 and 1 were drawn: the map has the four rows.
+TEST_CASE("a tasks-drawn map shows the whole axis of the recorded space", "[teach][stage]") {
+  test::TempDir copy("roger_teach_axis");
+  fs::copy(teach_batch(), copy.path, fs::copy_options::recursive);
+  for (const auto& trial : fs::directory_iterator(copy.path / "trials" / "Sequence" / "A")) {
+    json result = read_json(trial.path() / "result.json");
+    result["tasks"] = "level = roger.int(0, 3)";
+    std::ofstream(trial.path() / "result.json") << result.dump();
+    std::stringstream original(slurp(trial.path() / "episodes.jsonl")), rewritten;
+    for (std::string line; std::getline(original, line);) {
+      if (line.empty()) continue;
+      json e = json::parse(line);
+      if (e.contains("task") && e["task"].contains("level")) e["task"]["level"] = e["task"]["level"].get<double>() < 0.5 ? 0 : 1;
+      rewritten << e.dump() << "\n";
+    }
+    std::ofstream(trial.path() / "episodes.jsonl") << rewritten.str();
+  }
+  REQUIRE(run_shell(std::string(ROGER_BINARY) + " report " + copy.path.string() + " > /dev/null 2>&1") == 0);
+  const std::string js = slurp(copy.path / "dashboard.js");
+  const json page = json::parse(js.substr(js.find('=') + 1, js.rfind(';') - js.find('=') - 1));
+  int maps = 0;
+  for (const auto& f : page["figures"])
+    if (f["kind"] == "tasks" && f["run"] == "Sequence") {
+      ++maps;
+      CHECK(f["rows"] == json::array({"0", "1", "2", "3"}));
+      for (size_t c = 0; c + 1 < f["x_edges"].size(); ++c) CHECK(f["share"][2][c] == 0.0);  // never drawn
+    }
+  CHECK(maps == 1);
 }
 
 // Found by a probe: `roger report --by bogus` said no trial had recorded its episodes, and a

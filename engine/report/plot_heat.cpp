@@ -37,6 +37,10 @@ void check_heat(const HeatMap& m) {
   }
 }
 
+// The width of a row label's character in character heights (PLplot's height is about a capital's,
+// and a digit is wider than 0.62 of it: at 0.62 the axis's title ran into a label "10").
+constexpr double kLabelCharWidth = 0.85;
+
 // Shade k of kShades: from nearly white to deep blue.
 Colour shade(int k) {
   const double t = (k + 0.5) / kShades;
@@ -69,7 +73,7 @@ void plot_heat_map(const std::vector<std::string>& paths, const std::string& tit
       plgchr(&def_ht, &ht);
       plgspa(&sx0, &sx1, &sy0, &sy1);
       plgvpd(&vx0, &vx1, &vy0, &vy1);
-      plvpor(std::min(0.45, (3.2 + 0.62 * double(label)) * ht / (sx1 - sx0)), vx1, vy0, vy1);
+      plvpor(std::min(0.45, (3.2 + kLabelCharWidth * double(label)) * ht / (sx1 - sx0)), vx1, vy0, vy1);
     }
     const double x0 = m.x_edges.front(), x1 = m.x_edges.back(), rows = double(m.rows.size());
     plwind(x0, x1, 0.0, rows);
@@ -89,10 +93,10 @@ void plot_heat_map(const std::vector<std::string>& paths, const std::string& tit
     for (size_t r = 0; r < m.rows.size(); ++r)
       plmtex("lv", 0.6, (double(r) + 0.5) / rows, 1.0, plain(m.rows[r]).c_str());
     draw_labels(title, o.x_label, "");
-    // Beyond the rows' labels (0.6 from the axis, about 0.62 of a character's height per
+    // Beyond the rows' labels (0.6 from the axis, kLabelCharWidth of a character's height per
     // character): a text written along the left edge stands on its baseline and rises a
     // character's height towards the axis, so its baseline is a height and a gap further out.
-    plmtex("l", 2.0 + 0.62 * double(label), 0.5, 0.5, plain(o.y_label).c_str());
+    plmtex("l", 2.0 + kLabelCharWidth * double(label), 0.5, 0.5, plain(o.y_label).c_str());
     std::vector<PLINT> boxes;
     for (int k = kShades - 1; k >= 0; --k) boxes.push_back(PLINT(kFirstSeries + k));
     draw_legend(key, boxes, boxes, false, LegendPosition::kOutsideRight);

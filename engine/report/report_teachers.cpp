@@ -7,10 +7,13 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <optional>
+#include <regex>
 #include <set>
 #include <sstream>
 
 #include "core/error.h"
+#include "core/fileio.h"
 #include "core/text.h"
 #include "report/plot.h"
 
@@ -165,6 +168,9 @@ ByFound by_table(const BatchScript& b, const BatchTable& t, const Folder& folder
   };
   std::vector<std::map<std::string, Cell>> cells(rows.size());
   std::set<std::string, decltype(&value_less)> values(&value_less);
+  // Every bin, an empty one too: "five equal bins" with one left out read as four (found by a probe).
+  if (binned)
+    for (int bin = 0; bin < 5; ++bin) values.insert(column_of(fmt("%.17g", lo + (hi - lo) * (bin + 0.5) / 5)));
   for (size_t k = 0; k < rows.size(); ++k)
     for (const auto& [v, ok] : seen[k]) {
       const std::string col = column_of(v);
@@ -209,11 +215,59 @@ namespace {
 // The values of `param` the training episodes of a run's context drew, by episode index, over its
 // finished trials (episodes.jsonl); numbers as numbers, other values as text.
 struct Drawn {
+  std::string space;                        // the trials' task space as result.json records it
   std::vector<std::pair<int, json>> draws;  // (episode index, value)
   int episodes = 0;                         // the longest trial's training episodes
   int trials = 0;                           // trials whose draws these are
   std::vector<std::string> missing;         // finished trials without episodes.jsonl (deleted?)
 };
+
+// A trial's task space as its result.json records it ("obstacles = roger.int(0, 6), shape =
+// roger.choice{circle, spade}"), or "" (an unreadable record is the tables' to report).
+std::string recorded_space(const fs::path& result) {
+  try {
+    const json r = json::parse(read_file_text(result.string()));
+    return r.is_object() && r.contains("tasks") && r["tasks"].is_string() ? r["tasks"].get<std::string>() : "";
+  } catch (const std::exception&) {
+    return "";
+  }
+}
+
+// The axis of `param` in a recorded task space, so that the map shows the whole axis (values
+// never drawn included) rather than the range the draws happened to cover.
+struct Axis {
+  enum class Kind { kInt, kReal, kChoice } kind = Kind::kReal;
+  double lo = 0.0, hi = 0.0;
+  std::vector<std::string> choices;
+};
+
+std::optional<Axis> axis_of(const std::string& space, const std::string& param) {
+  const std::string name = std::regex_replace(param, std::regex(R"([^A-Za-z0-9_])"), "");
+  if (name != param || name.empty()) return std::nullopt;
+  std::smatch m;
+  const std::string number = R"(([-+0-9.eE]+))";
+  if (std::regex_search(space, m, std::regex("(^|, )" + name + " = roger\\.(int|real)\\(" + number + ", " + number + "\\)"))) {
+    Axis a;
+    a.kind = m[2] == "int" ? Axis::Kind::kInt : Axis::Kind::kReal;
+    a.lo = std::strtod(m[3].str().c_str(), nullptr);
+    a.hi = std::strtod(m[4].str().c_str(), nullptr);
+    if (!(a.hi > a.lo) || (a.kind == Axis::Kind::kInt && a.hi - a.lo > 40)) return std::nullopt;
+    return a;
+  }
+  if (std::regex_search(space, m, std::regex("(^|, )" + name + " = roger\\.choice\\{([^}]*)\\}"))) {
+    Axis a;
+    a.kind = Axis::Kind::kChoice;
+    const std::string list = m[2].str();  // "circle, triangle, spade", as TaskDim::text() joins them
+    for (size_t at = 0; at <= list.size();) {
+      const size_t comma = list.find(", ", at);
+      a.choices.push_back(list.substr(at, comma == std::string::npos ? std::string::npos : comma - at));
+      if (comma == std::string::npos) break;
+      at = comma + 2;
+    }
+    return a;
+  }
+  return std::nullopt;
+}
 
 Drawn drawn_values(const BatchRun& run, const std::string& context, const std::string& param, const Folder& folder) {
   Drawn d;
@@ -225,6 +279,7 @@ Drawn drawn_values(const BatchRun& run, const std::string& context, const std::s
     // so rather than silently drawing fewer trials.
     std::error_code ec;
     if (!fs::exists(file.parent_path() / "result.json", ec)) continue;
+    if (d.space.empty()) d.space = recorded_space(file.parent_path() / "result.json");
     std::ifstream in(file);
     if (!in) d.missing.push_back(id);
     if (!in) continue;
@@ -250,7 +305,7 @@ Drawn drawn_values(const BatchRun& run, const std::string& context, const std::s
 
 // The heat map of the draws: 25 columns of episodes; a row per value drawn (integers and text),
 // or 10 bins over the range drawn (other numbers).
-HeatMap heat_of(const Drawn& d) {
+HeatMap heat_of(const Drawn& d, const std::optional<Axis>& axis) {
   HeatMap m;
   const int columns = std::max(1, std::min(25, d.episodes));
   for (int c = 0; c <= columns; ++c) m.x_edges.push_back(double(d.episodes) * c / columns);
@@ -264,6 +319,20 @@ HeatMap heat_of(const Drawn& d) {
   }
   const int bins = 10;
   std::vector<std::string> rows = reals ? std::vector<std::string>{} : std::vector<std::string>(values.begin(), values.end());
+  // The whole axis when the space records it: a value never drawn is a row of its own, and a real
+  // axis's bins span its range, not the draws' (a teacher that never went past 1.8 of 2 shows it).
+  if (axis && axis->kind == Axis::Kind::kReal && lo >= axis->lo && hi <= axis->hi) {
+    reals = true;
+    lo = axis->lo, hi = axis->hi;
+  } else if (axis && !reals) {
+    std::vector<std::string> whole = axis->choices;
+    if (axis->kind == Axis::Kind::kInt)
+      for (double x = axis->lo; x <= axis->hi; x += 1.0) whole.push_back(fmt("%g", x));
+    const bool covers = std::all_of(values.begin(), values.end(), [&](const std::string& v) {
+      return std::find(whole.begin(), whole.end(), v) != whole.end();
+    });
+    if (covers && !whole.empty()) rows = whole;
+  }
   if (reals)
     for (int b = 0; b < bins; ++b) rows.push_back(fmt("%.2g", lo + (hi - lo) * b / bins) + " to " + fmt("%.2g", lo + (hi - lo) * (b + 1) / bins));
   std::vector<std::vector<double>> count(rows.size(), std::vector<double>(size_t(columns), 0.0));
@@ -299,7 +368,7 @@ bool tasks_figure(const BatchScript& b, const BatchFigure& f, const Folder& fold
     page.push_back(fig);
     return false;
   }
-  const HeatMap m = heat_of(d);
+  const HeatMap m = heat_of(d, axis_of(d.space, f.param));
   fig["x_edges"] = m.x_edges;
   fig["rows"] = m.rows;
   json share = json::array();
