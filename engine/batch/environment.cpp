@@ -117,7 +117,7 @@ std::string params_given(const ParamList& sets, const ParamList& task) {
 
 Curriculum load_checked(const EnvironmentOptions& o) {
   Curriculum cur = Curriculum::load(o.curriculum, o.limits);
-  cur.set_teaching(o.stage, o.tasks, o.teacher);
+  cur.set_teaching(o.stage, o.tasks, o.teacher, o.scenario);
   const CurriculumStage& stage = cur.stage(o.stage);
   check_skills_given(stage.context(o.context), stage, o);
   return cur;

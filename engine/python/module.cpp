@@ -99,6 +99,38 @@ auto make_environment(const EnvironmentOptions& o, const std::string& where, Mak
   }
 }
 
+// The task space `space` against the scenario `name` an environment plays instead of its stage's
+// (make(..., scenario=...)): every axis must be a parameter of it, and each end of a range and each
+// choice a value it takes. The curriculum checks make's tasks against the scenario given, but a
+// stage's own tasks against the stage's scenario, so without this such an environment is made and
+// its first reset fails. Returns the first
+// problem ("tasks.obstacles = roger.int(0, 6): scenario 'unobstructed' (...) has no parameter
+// 'obstacles'; known parameters: ..."), or "".
+std::string scenario_task_problem(const std::string& name, const TaskSpace& space, const SandboxLimits& limits) {
+  if (name.empty() || space.empty()) return "";
+  Scenario s = Scenario::load(name, limits);
+  for (const TaskDim& d : space.dims()) {
+    const std::vector<std::string> values =
+        d.kind == TaskDim::Kind::kChoice ? d.choices : std::vector<std::string>{format_number(d.lo), format_number(d.hi)};
+    for (const std::string& v : values) try {
+        s.set_param(d.name, v);
+      } catch (const Error& e) {
+        return "tasks." + d.name + " = " + d.text() + ": " + e.what();
+      }
+  }
+  return "";
+}
+
+// A given scenario (make(..., scenario=...)) that cannot play the environment's task space (the
+// stage's, or make's tasks) refused at make, naming the parameter, the scenario and what it has.
+void check_scenario_takes_tasks(const EnvironmentOptions& o, const StageEnvironment& e) {
+  const std::string problem = scenario_task_problem(o.scenario, e.task_space(), o.limits);
+  if (problem.empty()) return;
+  const std::string whose = o.tasks.empty() ? "the task space of stage '" + e.info().stage + "'" : "make(tasks=...)";
+  throw Error("make: scenario='" + o.scenario + "' cannot play " + whose + ": " + problem +
+              "; give make(..., tasks={...}) over parameters it has, or leave out scenario= to play the stage's own");
+}
+
 py::array_t<uint8_t> state_array(const std::vector<Gamma>& g) {
   py::array_t<uint8_t> a(py::ssize_t(g.size()));
   for (size_t i = 0; i < g.size(); ++i) a.mutable_at(py::ssize_t(i)) = uint8_t(g[i]);
@@ -374,7 +406,9 @@ void bind_environment(py::module_& m) {
              const EnvironmentOptions o = make_options(curriculum, stage, context, scenario, params, skills, per_tick,
                                                        tasks, teacher, teacher_file, embedded_skills);
              py::gil_scoped_release nogil;
-             return make_environment(o, "make", [&] { return std::make_unique<StageEnvironment>(o); });
+             auto env = make_environment(o, "make", [&] { return std::make_unique<StageEnvironment>(o); });
+             check_scenario_takes_tasks(o, *env);
+             return env;
            }),
            py::arg("curriculum"), py::arg("stage"), py::arg("context"), py::arg("scenario") = "",
            py::arg("params") = py::dict(), py::arg("skills") = py::dict(), py::arg("per_tick") = false,
@@ -600,6 +634,14 @@ py::dict vec_step(VecEnvironment& v, const IntArray& actions) {
     if (!v.env(int(i)).begun())
       throw Error("step: " + env_name(i, n) + " has not been reset yet (its reset_mask entry was False at every "
                   "reset): reset it first (reset(options={'reset_mask': ...}))");
+  // Every action is checked, also one an environment ignores because this step begins its next
+  // episode (NEXT_STEP): the engine checks only those it runs, and whether a bad action is refused
+  // should not depend on which episodes happened to end.
+  const int64_t* a = actions.data();
+  for (py::ssize_t i = 0; i < n; ++i)
+    if (a[i] < 0 || a[i] >= int64_t(k))
+      throw Error("step: action " + std::to_string(a[i]) + " of environment " + std::to_string(i) + " is not in [0, " +
+                  std::to_string(k) + ")");
   EpisodeArrays now(n, k), last(n, k);
   py::array_t<double> rewards(n), episode_rewards(n);
   auto term = flags(n), time_out = flags(n), restarted = flags(n), ended = flags(n), failed = flags(n),

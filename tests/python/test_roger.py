@@ -13,6 +13,7 @@ temporary folder.
 """
 import copy
 import importlib
+import importlib.util
 import json
 import os
 import pickle
@@ -20,6 +21,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import textwrap
 import threading
 import time
 import unittest
@@ -304,6 +306,43 @@ class VecDeterminism(unittest.TestCase):
 class Interface(unittest.TestCase):
     """Spaces, info, the per-tick mode."""
 
+    def test_bench_times_every_engine_call(self):
+        # Found by a probe: scripts/bench_python.py timed the engine's reset and step alone, so the
+        # world building of Env.reset (reset_task) was counted as Python's share (+39% for +17%).
+        spec = importlib.util.spec_from_file_location("bench_python", "scripts/bench_python.py")
+        bench = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(bench)
+
+        class Inner:
+            def reset_task(self, seed, task):
+                time.sleep(0.05)
+                return seed
+
+            @property
+            def sim_seconds(self):
+                time.sleep(0.05)
+                return 1.0
+        engine = bench.TimedEngine(Inner())
+        self.assertEqual(engine.reset_task(3, []), 3)
+        self.assertEqual(engine.sim_seconds, 1.0)
+        self.assertGreaterEqual(engine.seconds, 0.1)
+        # As the benchmark uses it: an Env whose every engine call is timed runs as before.
+        env = roger.make(EXAMPLE, "Look", "Gaze")
+        env._env = engine = bench.TimedEngine(env._env)
+        env.reset(seed=1)
+        env.step(0)
+        self.assertGreater(engine.seconds, 0.0)
+
+    def test_docs_example_is_the_example_file(self):
+        # Found by a probe: the guide's copy of docs/examples/python_example.py said "a runs until
+        # the next decision point" where the file says "a runs until the state changes".
+        with open("docs/python.md") as f:
+            section = f.read().split("## A complete example", 1)[1]
+        code = section.split("```python\n", 1)[1].split("```", 1)[0]
+        with open("docs/examples/python_example.py") as f:
+            lines = set(f.read().splitlines())
+        self.assertEqual([line for line in code.splitlines() if line not in lines], [])
+
     def test_decision_mode(self):
         env = roger.make(EXAMPLE, stage="Look", context="Gaze")
         self.assertEqual(env.actions, ("search", "phi0"))
@@ -388,10 +427,10 @@ class Interface(unittest.TestCase):
                      "teacher=False", "mode='decision'"):
             self.assertIn(text, str(cm.exception))
         with self.assertRaises(roger.RogerError) as cm:  # a teacher given to make, likewise
-            roger.make(EXAMPLE, "Look", "Gaze", mode="tick", teacher="roger.teacher.lcas{lift = {eye_pixels = {64}}}")
-        self.assertIn("roger.teacher.lcas (make(teacher=...):1), lifts eye_pixels through 64", str(cm.exception))
-        # A teacher whose levels keep the body is not refused.
-        roger.make(EXAMPLE, "Look", "Gaze", mode="tick", teacher="roger.teacher.lcas{lift = {eye_pixels = {128}}}")
+            roger.make(EXAMPLE, "Look", "Gaze", mode="tick", teacher="roger.teacher.lcas{lift = {eye_pixels = {64, 128}}}")
+        self.assertIn("roger.teacher.lcas (make(teacher=...):1), lifts eye_pixels through 64, 128", str(cm.exception))
+        # A teacher that keeps the body (it lifts another parameter) is not refused.
+        roger.make(EXAMPLE, "Look", "Gaze", mode="tick", teacher="roger.teacher.lcas{lift = {robot_distance = {1, 1.5}}}")
         obs, _ = roger.make(TEACHERS, "SG_lcas", "B1", mode="tick", teacher=False).reset(seed=1)
         self.assertEqual(obs["images"].shape, (2, 128, 3))
         self.assertEqual(roger.make(TEACHERS, "SG_lcas", "B1").reset(seed=1)[1]["task_params"], {"eye_pixels": 32})
@@ -654,7 +693,9 @@ class VectorApi(unittest.TestCase):
         while not terminated[0]:
             obs, reward, terminated, truncated, info = vec.step(np.array([0]))
         self.assertTrue(info["time_out"][0] and info["_time_out"][0])
-        obs, reward, terminated, truncated, info = vec.step(np.array([7]))  # out of range, yet ignored
+        # Out of range, it is refused even here (found by a probe: it was accepted silently)...
+        self.assertRaisesRegex(roger.RogerError, r"action 7 of environment 0 is not in \[0, 2\)", vec.step, np.array([7]))
+        obs, reward, terminated, truncated, info = vec.step(np.array([1]))  # ...in range, ignored
         self.assertEqual((reward[0], terminated[0], truncated[0]), (0.0, False, False))
         self.assertEqual(info["seed"][0], 4)  # the next seed of its schedule (seed + num_envs)
         self.assertEqual(info["ticks"][0], 0)
@@ -912,6 +953,28 @@ class BadArguments(unittest.TestCase):
         self.assertRaisesWith(roger.RogerError, ["action 5 of environment 1"], vec.step, np.array([0, 5]))
         self.assertRaisesWith(roger.RogerError, ["num_envs"], roger.make_vec, EXAMPLE, "Look", "Gaze", num_envs=0)
 
+    def test_every_batch_action_is_checked(self):
+        # Found by a probe: on a NEXT_STEP autoreset step an out-of-range action of an environment
+        # beginning its next episode was accepted silently, while the same action elsewhere was
+        # refused; every action is checked on every step.
+        vec = roger.make_vec(EXAMPLE, "Look", "Gaze", num_envs=3, threads=2)
+        vec.reset(seed=1)
+        rng = np.random.default_rng(2)
+        for _ in range(2000):
+            _, _, terminated, truncated, _ = vec.step(rng.integers(0, 2, size=3))
+            ended = np.flatnonzero(terminated | truncated)
+            if ended.size:
+                break
+        self.assertTrue(ended.size, "no episode ended")
+        i = int(ended[0])
+        for bad in (99, -1):
+            actions = np.zeros(3, int)
+            actions[i] = bad
+            self.assertRaisesWith(roger.RogerError, [f"action {bad} of environment {i} is not in [0, 2)"],
+                                  vec.step, actions)
+        _, _, terminated, truncated, _ = vec.step(np.zeros(3, int))  # the refused steps ran nothing
+        self.assertFalse(terminated[i] or truncated[i])
+
     def test_malformed_policy_files(self):
         with open(train(EXAMPLE, "Look", "Gaze", 3, "look")) as f:
             good = json.load(f)
@@ -950,6 +1013,32 @@ class BadArguments(unittest.TestCase):
                           ([0, 10 ** 12], "is 0, 1 or 2")):
             with self.subTest(bad=bad):
                 self.assertRaisesWith(roger.RogerError, [text], roger.state_index, bad)
+
+    def test_a_tick_observation_given_as_a_state(self):
+        # Found by a probe: policy.act and state_index given a tick mode observation (a dict) put
+        # its whole image array in an error of 8000 characters; a line says to pass obs["state"].
+        policy = roger.load_policy(train(EXAMPLE, "Look", "Gaze", 3, "look"))
+        obs, _ = policy.make(mode="tick").reset(seed=1)
+        for fn, where in ((policy.act, "act"), (roger.state_index, "state_index")):
+            with self.subTest(where):
+                e = self.assertRaisesWith(roger.RogerError, [f"{where}: takes ", "got a dict", "tick mode observation",
+                                                             "obs['state']"], fn, obs)
+                self.assertLess(len(str(e)), 300, str(e))
+        self.assertEqual(policy.act(obs["state"]), policy.act(list(obs["state"])))
+        e = self.assertRaisesWith(roger.RogerError, ["integers 0 (NOREF)"], policy.act, np.full((2, 4000), 0.5))
+        self.assertLess(len(str(e)), 300)  # any other value is shown cut short too
+
+    def test_empty_state_and_names_that_are_not_text(self):
+        # Found by a probe: state_index([]) was 0, and make(..., None, ...) looked for a stage 'None'.
+        self.assertRaisesWith(roger.RogerError, ["state_index", "got an empty vector"], roger.state_index, [])
+        for make, where, args in ((roger.make, "make", ()), (roger.make_vec, "make_vec", (2,))):
+            with self.subTest(where):
+                self.assertRaisesWith(roger.RogerError, [f"{where}: stage must be a str", "got NoneType None"], make,
+                                      PAPER, None, "B2", *args)
+                self.assertRaisesWith(roger.RogerError, [f"{where}: context must be a str", "got int 2"], make,
+                                      PAPER, "T", 2, *args)
+                self.assertRaisesWith(roger.RogerError, [f"{where}: curriculum must be a path", "got NoneType"], make,
+                                      None, "T", "B2", *args)
 
     def test_mix_takes_the_engines_tags(self):
         # docs/python.md writes the teacher's stream as roger.mix(S, "teach"), the engine's tag.
@@ -1225,6 +1314,66 @@ class DeepRL(unittest.TestCase):
             self.assertIn(text, str(errors[0]))
         env.reset(seed=1)  # one thread at a time is fine
         env.close()
+
+    def test_one_batch_in_several_threads_is_refused(self):
+        # Found by a probe: three threads stepping one make_vec batch aborted the interpreter
+        # (b2StackAllocator's assertion, malloc's corruption) or hung it. Any call of another
+        # thread while one runs is refused as for Env, and close waits. Run in a child process
+        # with a time limit, so that a crash or a hang fails this test rather than the suite.
+        child = textwrap.dedent("""
+            import pickle, sys, threading
+            import numpy as np
+            import roger
+            vec = roger.make_vec(sys.argv[1], "T", "B2", 16, threads=2, render_mode="rgb_array",
+                                 render_width=100)
+            vec.reset(seed=0)
+            errors, other = [], []
+            calls = [lambda: vec.step(np.zeros(16, int)), lambda: vec.reset(), lambda: pickle.dumps(vec),
+                     lambda: vec.render()]
+            def run(k):
+                for i in range(30):
+                    try:
+                        calls[(i + k) % len(calls)]()
+                    except roger.RogerError as e:
+                        errors.append(str(e))
+                    except Exception as e:
+                        other.append(repr(e))
+            threads = [threading.Thread(target=run, args=(k,)) for k in range(3)]
+            for t in threads:
+                t.start()
+            for t in threads:
+                t.join()
+            vec.reset(seed=0)  # one thread at a time is fine
+            # close() from another thread while a step runs waits for it; the next call meets it closed.
+            stepping, closed_errors = threading.Event(), []
+            def steps():
+                try:
+                    while True:
+                        vec.step(np.zeros(16, int))
+                        stepping.set()
+                except roger.RogerError as e:
+                    closed_errors.append(str(e))
+            t = threading.Thread(target=steps)
+            t.start()
+            stepping.wait(60)
+            vec.close()
+            t.join(60)
+            print(repr((errors, other, closed_errors)))
+            """)
+        try:
+            out = subprocess.run([sys.executable, "-c", child, PAPER], capture_output=True, text=True, timeout=240)
+        except subprocess.TimeoutExpired:
+            self.fail("one batch used from three threads hung")
+        self.assertEqual(out.returncode, 0, out.stderr[-3000:])
+        errors, other, closed_errors = eval(out.stdout.strip().splitlines()[-1])
+        self.assertEqual(other, [])
+        self.assertTrue(errors, "no call met another's: the test did not exercise the guard")
+        for e in errors:
+            for text in ("is being used by another thread at the same time", "one make_vec batch is not shared "
+                         "between threads"):
+                self.assertIn(text, e)
+        self.assertEqual(len(closed_errors), 1, closed_errors)
+        self.assertIn("the vector environment is closed", closed_errors[0])
 
     def test_copy_of_a_faulted_episode(self):
         env = roger.make(BAD_REWARD, "Look", "Gaze")
@@ -1544,6 +1693,35 @@ class Tasks(unittest.TestCase):
             self.assertIn(text, str(cm.exception))
         env = roger.make(TEACHERS, "T_alp", "B2", params={"obstacles": 2})  # one fixed: the others vary
         self.assertEqual(sorted(env.task_space.keys()), ["robot_distance", "shape"])
+
+    def test_a_scenario_that_cannot_play_the_task_space(self):
+        # Found by a probe: make(TEACHERS, "T_alp", "B2", scenario="unobstructed") was made, and its
+        # first reset failed on 'obstacles' (no "reset:", no task named); with teacher=False the
+        # task space still offered it. A task space the scenario given cannot take is refused at make.
+        for teacher in (None, False):
+            with self.subTest(teacher=teacher):
+                with self.assertRaises(roger.RogerError) as cm:
+                    roger.make(TEACHERS, "T_alp", "B2", scenario="unobstructed", teacher=teacher)
+                for text in ("make: scenario='unobstructed' cannot play the task space of stage 'T_alp'",
+                             "tasks.obstacles = roger.int(", "scenario 'unobstructed'", "has no parameter 'obstacles'",
+                             "known parameters"):
+                    self.assertIn(text, str(cm.exception))
+        # Given tasks are checked against the scenario given (when the stage's has them too).
+        with self.assertRaises(roger.RogerError) as cm:
+            roger.make(TEACHERS, "T_alp", "B2", scenario="unobstructed", tasks={"obstacles": roger.axis.int(0, 2)})
+        for text in ("stage 'T_alp': tasks.obstacles = roger.int(0, 2)", "scenario 'unobstructed'",
+                     "has no parameter 'obstacles'"):
+            self.assertIn(text, str(cm.exception))
+        # And only against it: the paper's T plays 'unobstructed', which has no obstacles; given
+        # scenario='cluttered', a space over obstacles is taken (it was refused, asked of 'unobstructed').
+        env = roger.make(PAPER, "T", "B2", scenario="cluttered", tasks={"obstacles": roger.axis.int(0, 6)})
+        self.assertIn(env.reset(seed=1)[1]["task_params"]["obstacles"], range(7))
+        # A scenario that takes the space plays it.
+        env = roger.make(TEACHERS, "T_alp", "B2", scenario="cluttered")
+        self.assertEqual(sorted(env.task_space.keys()), ["obstacles", "robot_distance", "shape"])
+        env.reset(seed=1)
+        env = roger.make(PAPER, "T", "B2", scenario="cluttered", tasks={"robot_distance": roger.axis.real(1, 2)})
+        self.assertTrue(1 <= env.reset(seed=1)[1]["task_params"]["robot_distance"] <= 2)
 
     def test_make_vec_without_the_teacher(self):
         # Found by a probe: make_vec took no teacher argument; teacher=False plays the stage's own

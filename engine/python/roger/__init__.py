@@ -110,19 +110,52 @@ def _holds_bool(obs):
     return isinstance(obs, (list, tuple)) and any(isinstance(x, (bool, np.bool_)) for x in obs)
 
 
+def _refuse_tick_observation(obs, where, expected):
+    """A tick mode observation (a dict of the senses and the state) given where its state vector is
+    meant: refused in a line, naming the key to pass, rather than with the repr of its images."""
+    if isinstance(obs, dict):
+        keys = ", ".join(repr(k) for k in obs)
+        raise RogerError(f"{where}: takes {expected}, got a dict ({keys}), a tick mode observation: "
+                         "pass its controller states, obs['state']")
+
+
+def _short(obs):
+    """A value as a message shows it: its repr, cut short (a big array's is thousands of characters)."""
+    text = repr(obs)
+    if len(text) <= 120:
+        return text
+    shape = f" of shape {obs.shape}" if isinstance(obs, np.ndarray) else ""
+    return f"{text[:100]}... (a {type(obs).__name__}{shape})"
+
+
 def state_index(obs):
     """The row of a policy's Q table for a state vector (first action most significant): the integers
     0 (NOREF), 1 (!CONV), 2 (CONV), as Policy.act takes them (floats only when whole numbers;
     booleans are not states)."""
+    _refuse_tick_observation(obs, "state_index", "a state vector of the integers 0 (NOREF), 1 (!CONV), 2 (CONV)")
     o = np.asarray(obs)
     if (o.ndim != 1 or o.dtype.kind not in "iuf" or (o.dtype.kind == "f" and not np.array_equal(o, np.trunc(o)))
             or _holds_bool(obs)):
         raise RogerError(f"state_index: a state is a vector of the integers 0 (NOREF), 1 (!CONV), 2 (CONV), "
-                         f"got {obs!r}")
+                         f"got {_short(obs)}")
+    if o.size == 0:  # a stage has at least one action: an empty vector is no state (it would be row 0)
+        raise RogerError("state_index: a state has one value per action, got an empty vector")
     bad = o[(o < 0) | (o > 2)]
     if bad.size:  # here, not in the extension: a value past its int would be a TypeError there
         raise RogerError(f"state_index: a controller state is 0, 1 or 2, got {bad[0]}")
     return _roger.state_index(o.astype(np.int64).tolist())
+
+
+def _names(curriculum, stage, context, where):
+    """make's (make_vec's) curriculum, stage and context, refused when not text: str(None) would be
+    looked up as a stage named 'None'."""
+    if not isinstance(curriculum, (str, os.PathLike)):
+        raise RogerError(f"{where}: curriculum must be a path or a bare name (a str, 'paper'), "
+                         f"got {type(curriculum).__name__} {curriculum!r}")
+    for name, value in (("stage", stage), ("context", context)):
+        if not isinstance(value, str):
+            raise RogerError(f"{where}: {name} must be a str naming a {name} of the curriculum, "
+                             f"got {type(value).__name__} {value!r}")
 
 
 def _render_mode(render_mode, where):
@@ -309,6 +342,10 @@ class _Copyable:
     np_random, whose running episode is replayed from its seed and actions (an episode is a
     function of them), so it continues exactly where the original is."""
 
+    # What a call meets when another thread's call holds the environment (_using).
+    _SHARED = ("the environment is being used by another thread at the same time: one environment is not shared "
+               "between threads; make one environment per thread (or one make_vec batch)")
+
     def __getstate__(self):
         with self._using("copy"):
             closed = self._closed_now()
@@ -345,9 +382,7 @@ class _Copyable:
             return
         # A close() from another thread holds it only to close: wait for it, and meet the closed environment.
         if not lock.acquire(blocking=False) and not (self.__dict__.get("_closing") and lock.acquire()):
-            raise RogerError(f"{what}: the environment is being used by another thread at the same time: one "
-                             "environment is not shared between threads; make one environment per thread "
-                             "(or one make_vec batch)")
+            raise RogerError(f"{what}: {self._SHARED}")
         try:
             yield
         finally:
@@ -410,6 +445,7 @@ class Env(_Copyable, _EnvBase):
                       "render_width": render_width, "timeout": timeout, "tasks": tasks, "teacher": teacher}
         self._init["policy"] = policy
         self._recipe = _recipe(self._init)
+        _names(curriculum, stage, context, "make")
         params, embedded = _with_policy(policy, curriculum, stage, context, params, scenario, "make")
         self.render_mode = _render_mode(render_mode, "make")
         self.render_width = _render_width(render_width, "make")
@@ -848,9 +884,17 @@ class VecEnv(_Copyable, _VecBase):
     when the caller resets it (DISABLED). Results depend on the seeds and actions only, never on
     the thread count. With timeout="truncate" a time-out is reported as truncated."""
 
+    _SHARED = ("the batch is being used by another thread at the same time: one make_vec batch is not shared "
+               "between threads (its worlds already step on its own threads); call it from one thread, or make "
+               "one batch per thread")
+
     def __init__(self, curriculum, stage, context, num_envs, threads=None, params=None, skills=None, scenario=None,
                  autoreset_mode=AutoresetMode.NEXT_STEP, render_mode=None, render_width=1000, timeout="terminate",
                  mode="decision", policy=None, teacher=None):
+        # Held by reset, step, render and copies; close waits for it. The batch's C++ environments
+        # are stepped by its worker threads with the GIL released: two calls at once would step the
+        # same worlds from two threads and corrupt them (an abort, or a hang), so one is refused.
+        self._lock = threading.RLock()
         if isinstance(policy, Policy):
             policy = policy.path
         self._init = {"curriculum": curriculum, "stage": stage, "context": context, "num_envs": num_envs,
@@ -868,6 +912,7 @@ class VecEnv(_Copyable, _VecBase):
             raise RogerError(f"make_vec: the threaded batch steps decisions (mode='decision'), got mode={mode!r}; "
                              "for tick mode vectorize single environments (gymnasium.make_vec(..., "
                              "vectorization_mode='sync'))")
+        _names(curriculum, stage, context, "make_vec")
         if isinstance(num_envs, bool) or not isinstance(num_envs, numbers.Integral) or num_envs < 1:
             raise RogerError(f"make_vec: num_envs must be a positive integer, got {num_envs!r}")
         self.timeout = _timeout(timeout, "make_vec")
@@ -928,6 +973,10 @@ class VecEnv(_Copyable, _VecBase):
         """Resets every environment (those of options["reset_mask"] alone, when given): seed None
         (each goes on along its schedule), an int S (environment i in world S + i) or a list of
         one int or None per environment. Returns (observations [num_envs, |Psi|], info)."""
+        with self._using("reset"):
+            return self._reset(seed, options)
+
+    def _reset(self, seed, options):
         vec = self._open("reset")
         options = _options(options, "reset", ("reset_mask",))
         mask = _reset_mask(options, self.num_envs)
@@ -956,6 +1005,10 @@ class VecEnv(_Copyable, _VecBase):
         truncated) and info as Gymnasium 1.x's vector environments give it. A Lua fault in one
         environment raises ScriptError naming it (.env, .failed), with every environment's
         outcome of the step as .results; the faulted episodes are over (truncated)."""
+        with self._using("step"):
+            return self._step(actions)
+
+    def _step(self, actions):
         vec = self._open("step")
         a = np.asarray(actions)
         if a.shape != (self.num_envs,) or not np.issubdtype(a.dtype, np.integer):
@@ -998,13 +1051,18 @@ class VecEnv(_Copyable, _VecBase):
     def render(self):
         """With render_mode "rgb_array": every environment's world now (a tuple of H x W x 3
         uint8 arrays, as Env.render); else None."""
-        vec = self._open("render")
-        if self.render_mode is None:
-            return None
-        return tuple(vec.render(i, self.render_width) for i in range(self.num_envs))
+        with self._using("render"):
+            vec = self._open("render")
+            if self.render_mode is None:
+                return None
+            return tuple(vec.render(i, self.render_width) for i in range(self.num_envs))
 
     def close_extras(self, **kwargs):
-        self._vec = None
+        """Frees the batch; called from another thread while a reset or step runs, it waits for
+        that call to end (as Env.close)."""
+        self._closing = True  # a call of another thread that finds the lock held by close waits for it
+        with self.__dict__.get("_lock") or contextlib.nullcontext():
+            self._vec = None
 
     def _closed_now(self):
         return self._vec is None
@@ -1066,9 +1124,12 @@ class Policy:
     def act(self, obs):
         """The greedy action (QTable::policy_action) of a controller-state vector: integers 0, 1,
         2 (floats only when whole numbers)."""
+        _refuse_tick_observation(obs, "act", f"a vector of {len(self.actions)} controller states, the integers "
+                                             "0 (NOREF), 1 (!CONV), 2 (CONV)")
         o = np.asarray(obs)
         if o.dtype.kind not in "iuf" or (o.dtype.kind == "f" and not np.array_equal(o, np.trunc(o))) or _holds_bool(obs):
-            raise RogerError(f"act: an observation holds the integers 0 (NOREF), 1 (!CONV), 2 (CONV), got {obs!r}")
+            raise RogerError(f"act: an observation holds the integers 0 (NOREF), 1 (!CONV), 2 (CONV), "
+                             f"got {_short(obs)}")
         return self._p.act(o.astype(np.int64))
 
     @property

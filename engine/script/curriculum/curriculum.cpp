@@ -446,11 +446,13 @@ void push_source_value(LuaSandbox& sandbox, const LuaSource& source, const char*
 
 }  // namespace
 
-void Curriculum::set_teaching(const std::string& name, const LuaSource& tasks, const LuaSource& teacher) {
+void Curriculum::set_teaching(const std::string& name, const LuaSource& tasks, const LuaSource& teacher,
+                              const std::string& scenario) {
   if (tasks.empty() && teacher.empty()) return;
   auto it = std::find_if(impl_->stages.begin(), impl_->stages.end(), [&](const auto& s) { return s.name == name; });
   if (it == impl_->stages.end()) stage(name);  // throws, listing the stages
   CurriculumStage st = *it;
+  if (!scenario.empty()) st.scenario = scenario;  // checked against what the environment plays
   if (!tasks.empty()) st.tasks = TaskSpace();
   st.teacher.reset();
   st.teacher_lua = false;
@@ -483,6 +485,7 @@ void Curriculum::set_teaching(const std::string& name, const LuaSource& tasks, c
     throw ScriptError(e.message, at.file ? sandbox.display_name(at.name) : at.name, 1, "");
   }
   st.test = it->test;  // an environment runs no test set
+  st.scenario = it->scenario;  // the stage's own, as recorded; the environment plays `scenario`
   *it = std::move(st);
   impl_->teacher_fns[name] = fn;
 }

@@ -184,10 +184,12 @@ class Curriculum {
   std::unique_ptr<Teacher> make_teacher(const CurriculumStage& stage, const TaskSpace& space, uint64_t seed);
   // Gives a stage another task space or teacher (the Python module's make(tasks=, teacher=)): each
   // source that is not empty is run in this curriculum's sandbox and its value read as the stage's
-  // field of that name is, and checked as there (against the stage's scenario and params). New
-  // tasks without a teacher get the random one, as a stage written so does. Throws ScriptError at
-  // the source's name:line, or roger::Error for an unknown stage.
-  void set_teaching(const std::string& stage, const LuaSource& tasks, const LuaSource& teacher);
+  // field of that name is, and checked as there: against the stage's params, and against
+  // `scenario` when one is given (make(scenario=...): the one the environment plays), else the
+  // stage's. New tasks without a teacher get the random one, as a stage written so does. Throws
+  // ScriptError at the source's name:line, or roger::Error for an unknown stage.
+  void set_teaching(const std::string& stage, const LuaSource& tasks, const LuaSource& teacher,
+                    const std::string& scenario = "");
   // An episode begins: the callbacks' last argument, `episode`, is a new empty table from now on
   // (what they keep there, e.g. a count at the last decision, lasts one episode).
   void begin_episode();
