@@ -267,6 +267,11 @@ void check_own_worlds(const fs::path& dir, const std::string& tables, const json
     CHECK(rows[row]["success_high"].get<double>() >= wilson_interval(rate * layouts, layouts).high);
   }
   CHECK(tables.find("| 12 |\n") != std::string::npos);
+  // The per-policy column is in report.json too (found by a probe: only tables.md had it).
+  const double c1 = result(dir, "eval/gen/circle/001")["successes"].get<int>() / 3.0,
+               c0_rate = c0["successes"].get<int>() / 3.0;
+  CHECK(rows[0]["per_policy_success_mean"].get<double>() == Approx((c0_rate + c1) / 2));
+  CHECK(rows[0]["per_policy_success_std"].get<double>() == Approx(std::abs(c0_rate - c1) / 2));
 
   const fs::path shared = dir.string() + "_shared";
   fs::remove_all(shared);

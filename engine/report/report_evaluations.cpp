@@ -49,6 +49,7 @@ json eval_row_out(const std::string& name, const std::string& object, const Eval
      << pct(population_std(r.rates)) << " | " << policies << " | " << r.p.episodes << " | " << r.ci.layouts << " |\n";
   return {{"object", object}, {"reward_mean", r.p.mean}, {"reward_std", r.p.std}, {"success_rate", r.p.success},
           {"success_low", r.ci.ci.low}, {"success_high", r.ci.ci.high}, {"interval", resampled_name(r.ci.by)},
+          {"per_policy_success_mean", mean(r.rates)}, {"per_policy_success_std", population_std(r.rates)},
           {"policies", r.policies.size()}, {"evaluations", r.rates.size()}, {"episodes", r.p.episodes},
           {"layouts", r.ci.layouts}};
 }
