@@ -796,6 +796,11 @@ TEST_CASE("roger eval and render of a saved policy set the parameters its trial 
   CHECK_THAT(r.err, Catch::Matchers::Contains("has no stage 'SG'") &&
                         Catch::Matchers::Contains(policy + " was trained with the curriculum curricula/paper.lua: give "
                                                   "that one (roger eval curricula/paper.lua --policy " + policy + ")"));
+  // Found by a probe: roger render said "roger eval" in that hint.
+  r = roger("render docs/examples/curriculum_example.lua --policy " + policy + " --out " + (dir / "other").string());
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Matchers::Contains("give that one (roger render curricula/paper.lua --policy " + policy +
+                                              " ...)"));
   // roger render replays the trial's world too, and says so.
   r = roger("render curricula/paper.lua --policy " + policy + " --out " + (dir / "episode").string());
   REQUIRE(r.status == 0);

@@ -930,13 +930,14 @@ namespace {
 
 // "; the policy was trained with ..." when the policy file records another curriculum than
 // `cur` (a policy of curricula/paper.lua given with another curriculum reads "has no stage 'T'").
-std::string trained_with(const PolicyMetadata& meta, const Curriculum& cur, const std::string& policy_file) {
+std::string trained_with(const PolicyMetadata& meta, const Curriculum& cur, const std::string& policy_file,
+                         const std::string& command) {
   if (!meta.extra.is_object() || !meta.extra.contains("curriculum") || !meta.extra["curriculum"].is_string()) return "";
   const std::string recorded = meta.extra["curriculum"].get<std::string>();
   std::error_code ec;
   if (recorded == cur.path() || fs::equivalent(recorded, cur.file(), ec)) return "";
-  return ". " + policy_file + " was trained with the curriculum " + recorded + ": give that one (roger eval " +
-         recorded + " --policy " + policy_file + ")";
+  return ". " + policy_file + " was trained with the curriculum " + recorded + ": give that one (" + command + " " +
+         recorded + " --policy " + policy_file + (command == "roger eval" ? ")" : " ...)");
 }
 
 // Loads a saved policy with its stage, context and learned skills, and hands its stage run, its
@@ -959,7 +960,7 @@ void with_policy_file(const PolicyEvalOptions& given, PolicyEvalResult& out,
     found_stage = &cur.stage(meta.stage);
     found_ctx = &found_stage->context(meta.context);
   } catch (const Error& e) {
-    throw Error(std::string(e.what()) + trained_with(meta, cur, options.policy_file));
+    throw Error(std::string(e.what()) + trained_with(meta, cur, options.policy_file, options.command));
   }
   const CurriculumStage& stage = *found_stage;
   const CurriculumContext& ctx = *found_ctx;

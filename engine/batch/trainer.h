@@ -269,6 +269,9 @@ struct PolicyEvalOptions {
   // `sets`, so that the policy runs in the trial's worlds (roger eval and render; a batch
   // evaluation gives its own parameters).
   bool trial_params = false;
+  // The command a hint shows ("roger eval", "roger render"): a policy given with another
+  // curriculum than its own is told the command with that one.
+  std::string command = "roger eval";
 };
 
 // The outcome of evaluating a saved policy.

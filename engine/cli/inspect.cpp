@@ -98,6 +98,7 @@ int run_render_policy_file(const RenderArgs& a) {
     throw Error("roger render: --test-task runs the task in its own world seed; --seed cannot be given with it");
   o.test_task = a.test_task;
   o.trial_params = true;  // the trial's own parameters, as roger eval sets them
+  o.command = "roger render";
   const RecordedPolicyEpisode r = record_policy_episode(o, a.every);
   std::string task;
   if (a.test_task > 0) {
