@@ -70,6 +70,23 @@ TEST_CASE("roger check accepts the shipped scenarios", "[cli]") {
   }
 }
 
+// Found by a probe: a print in a scenario's generate came 22 times, once per world roger check
+// built; the first world's print is shown, the others counted.
+TEST_CASE("roger check shows a generator's prints for the first world only", "[cli]") {
+  const fs::path s = temp_file("roger_cli_prints.lua", "print('loaded')\n"
+                                                       "return { params = { size = { default = 1, choices = { 1, 2 } } },\n"
+                                                       "  generate = function(world, rng, p)\n"
+                                                       "    print('generating', p.size)\n"
+                                                       "    world:robot{ x = 0, y = 0 }\n  end }\n");
+  const Run r = roger("check " + s.string() + " --seeds 5");
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK(r.err.rfind("loaded\ngenerating\t1\n(6 more lines printed while roger check built the other worlds, not "
+                    "shown)\n", 0) == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("5 seeds generated and built, every parameter choice"));
+  fs::remove(s);
+}
+
 // Found by a probe: `roger check curricula/*.lua` was refused (one script only).
 TEST_CASE("roger check checks several scripts, a problem in one not stopping the others", "[cli]") {
   const Run good = roger("check scenarios/unobstructed.lua curricula/scripted.lua --seeds 2");

@@ -150,6 +150,8 @@ void LuaSandbox::set_print(std::function<void(const std::string&)> sink) {
   impl_->print = std::move(sink);
 }
 
+const std::function<void(const std::string&)>& LuaSandbox::print_sink() const { return impl_->print; }
+
 void LuaSandbox::set_main_script(const std::string& path) {
   Impl& s = *impl_;
   std::error_code ec;

@@ -149,6 +149,8 @@ class LuaSandbox {
 
   // Where print() output goes (default: standard error, so standard output stays machine-readable).
   void set_print(std::function<void(const std::string&)> sink);
+  // The sink in force (to put it back after a while elsewhere).
+  const std::function<void(const std::string&)>& print_sink() const;
 
   // The name a file is shown under: relative to the project root when inside it, else as given.
   std::string display_name(const std::filesystem::path& path) const;

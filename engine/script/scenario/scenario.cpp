@@ -352,42 +352,56 @@ std::string resolve_scenario_near(const std::string& name, const std::string& na
   return in_project ? rel.generic_string() : real.string();
 }
 
+namespace {
+
+// Runs `body`; an error goes into `into` (prefixed by `what`) unless the same message came before:
+// a mistake that every seed hits is reported once.
+void attempt(std::set<std::string>& seen, std::vector<std::string>& into, const std::string& what,
+             const std::function<void()>& body) {
+  try {
+    body();
+  } catch (const std::exception& e) {
+    if (seen.insert(e.what()).second) into.push_back(what.empty() ? e.what() : what + ": " + e.what());
+  }
+}
+
+}  // namespace
+
 std::vector<std::string> check_scenario(const std::string& path, int seeds, const SandboxLimits& limits,
                                         std::vector<std::string>* range_ends) {
   std::vector<std::string> problems;
-  std::set<std::string> seen;  // a mistake that every seed hits is reported once
-  auto attempt = [&](std::vector<std::string>& into, const std::string& what, const std::function<void()>& body) {
-    try {
-      body();
-    } catch (const std::exception& e) {
-      if (seen.insert(e.what()).second) into.push_back(what.empty() ? e.what() : what + ": " + e.what());
-    }
-  };
+  std::set<std::string> seen;
   std::optional<Scenario> scenario;
-  attempt(problems, "", [&]() { scenario = Scenario::load(path, limits); });
+  attempt(seen, problems, "", [&]() { scenario = Scenario::load(path, limits); });
   if (!scenario) return problems;
+  return check_scenario(*scenario, seeds, range_ends);
+}
+
+std::vector<std::string> check_scenario(Scenario& scenario, int seeds, std::vector<std::string>* range_ends) {
+  std::vector<std::string> problems;
+  std::set<std::string> seen;
   for (int seed = 0; seed < seeds; ++seed)
-    attempt(problems, "seed " + std::to_string(seed), [&]() { scenario->generate(uint64_t(seed)); });
+    attempt(seen, problems, "seed " + std::to_string(seed), [&]() { scenario.generate(uint64_t(seed)); });
   // One parameter at a time, the others at their defaults: each choice, and (when asked) each end
   // of a numeric range, where placements and bodies fail first.
-  for (const auto& p : scenario->params()) {
+  for (const auto& p : scenario.params()) {
     for (const auto& choice : p.choices) {
-      attempt(problems, p.name + "=" + choice + ", seed 0", [&]() {
-        scenario->set_param(p.name, choice);
-        scenario->generate(0);
+      attempt(seen, problems, p.name + "=" + choice + ", seed 0", [&]() {
+        scenario.set_param(p.name, choice);
+        scenario.generate(0);
       });
     }
     if (range_ends) {
       for (const auto& end : numeric_ends(p)) {
         // A named copy: clang 14 cannot capture a structured binding in the lambda.
         const std::string& bound = end.first;
-        attempt(*range_ends, p.name + "=" + bound + " (its " + end.second + "), seed 0", [&]() {
-          scenario->set_param(p.name, bound);
-          scenario->generate(0);
+        attempt(seen, *range_ends, p.name + "=" + bound + " (its " + end.second + "), seed 0", [&]() {
+          scenario.set_param(p.name, bound);
+          scenario.generate(0);
         });
       }
     }
-    scenario->set_param(p.name, p.value);
+    scenario.set_param(p.name, p.value);
   }
   return problems;
 }

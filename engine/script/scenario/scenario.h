@@ -129,6 +129,8 @@ std::string resolve_scenario_near(const std::string& name, const std::string& na
 std::vector<std::string> check_scenario(const std::string& path, int seeds = 5,
                                         const SandboxLimits& limits = {},
                                         std::vector<std::string>* range_ends = nullptr);
+// The same on a scenario already loaded (its parameters are back at their values after).
+std::vector<std::string> check_scenario(Scenario& scenario, int seeds, std::vector<std::string>* range_ends = nullptr);
 
 // The ends of a numeric parameter's declared range as the text --set takes, with "min" or "max"
 // (an integer's rounded inwards); none for other parameters.
