@@ -237,6 +237,25 @@ TEST_CASE("roger check reports a misspelt roger member and an undefined global b
   CHECK(r.err.find("tests/lint/misspelt_member.lua:6: undefined global 'phi'; did you mean ") != std::string::npos);
   // Both found at once, by reading: the script never ran (it would have stopped at line 5).
   CHECK(r.err.find("attempt to call") == std::string::npos);
+  // Found by a probe: a missing comma before a name was reported as that name, an undefined global;
+  // a script (or a module it requires) that does not compile is reported as Lua reports it.
+  const fs::path module_dir = fs::temp_directory_path() / ("roger_cli_syntax_" + std::to_string(::getpid()));
+  fs::create_directories(module_dir / "lib");
+  std::ofstream(module_dir / "arena.lua") << "return { generate = function(world)\n"
+                                             "  world:arena{ xmin = -2, xmax = 2, ymin = -2, ymax = 2 cell = 0.0625 }\n"
+                                             "end }\n";
+  std::ofstream(module_dir / "lib" / "m.lua") << "local M = {}\nM.x = { 1, 2 y }\nreturn M\n";
+  std::ofstream(module_dir / "uses.lua") << "local m = require('lib.m')\n"
+                                            "return { generate = function(world) world:robot{ x = m.x[1], y = 0 } end }\n";
+  const Run comma = roger("check " + (module_dir / "arena.lua").string());
+  CHECK(comma.status == 1);
+  CHECK_THAT(comma.err, Catch::Matchers::Contains("arena.lua:2: '}' expected near 'cell'") &&
+                            !Catch::Matchers::Contains("undefined global"));
+  const Run in_module = roger("check " + (module_dir / "uses.lua").string());
+  CHECK(in_module.status == 1);
+  CHECK_THAT(in_module.err, Catch::Matchers::Contains("m.lua:2: '}' expected near 'y'") &&
+                                !Catch::Matchers::Contains("undefined global"));
+  fs::remove_all(module_dir);
 }
 
 // Found by a probe: a misspelt top-level key made check load the file as a scenario and blame the

@@ -1028,6 +1028,11 @@ TEST_CASE("no shipped Lua file has a static problem", "[lua_sandbox][static]") {
     for (const auto& entry : fs::recursive_directory_iterator(folder)) {
       if (entry.path().extension() != ".lua" || entry.path().parent_path().filename() == "lib") continue;
       const std::string path = entry.path().string();
+      if (path == "tests/scripts/bad_syntax.lua") {  // does not compile, on purpose: said as Lua says it
+        CHECK_THAT(static_check(path, script_kind_of(path)).at(0).what(),
+                   StartsWith("tests/scripts/bad_syntax.lua:5: 'then' expected near 'world'"));
+        continue;
+      }
       ++files;
       std::vector<std::string> found;
       const auto kind = script_kind_of(path);

@@ -11,6 +11,8 @@
 #include <optional>
 #include <set>
 
+#include <lua.hpp>
+
 #include "core/fileio.h"
 #include "script/sandbox/lua_sandbox.h"  // edit_distance
 #include "script/sandbox/lua_tokens.h"
@@ -678,8 +680,38 @@ std::vector<std::string> nearest_names(const std::string& name, const std::vecto
   return out;
 }
 
+namespace {
+
+// Lua's own verdict on the text's syntax (compiled, never run), as "shown:LINE: message": a file
+// that does not compile is reported so, not by what the scanner makes of it (a missing comma
+// before a name read as an undefined global, found by a probe).
+std::optional<StaticProblem> syntax_problem(const std::string& text, const std::string& shown) {
+  lua_State* L = luaL_newstate();
+  if (!L) return std::nullopt;
+  std::optional<StaticProblem> out;
+  if (luaL_loadbufferx(L, text.data(), text.size(), ("=" + shown).c_str(), "t") != LUA_OK) {
+    const std::string message = lua_isstring(L, -1) ? lua_tostring(L, -1) : "does not compile";
+    StaticProblem p{shown, 0, message};
+    const std::string head = shown + ":";
+    if (message.rfind(head, 0) == 0) {  // "shown:3: '}' expected near 'cell'"
+      const size_t colon = message.find(':', head.size());
+      const std::string line = message.substr(head.size(), colon == std::string::npos ? 0 : colon - head.size());
+      if (!line.empty() && std::all_of(line.begin(), line.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); })) {
+        p.line = std::stoi(line);
+        p.message = message.substr(colon + 1 + (colon + 1 < message.size() && message[colon + 1] == ' '));
+      }
+    }
+    out = p;
+  }
+  lua_close(L);
+  return out;
+}
+
+}  // namespace
+
 std::vector<StaticProblem> static_check_text(const std::string& text, const std::string& shown,
                                              std::optional<ScriptKind> kind) {
+  if (auto syntax = syntax_problem(text, shown)) return {*syntax};
   const std::vector<ScannedFile> files{{shown, Scanner(text).accesses}};
   std::vector<StaticProblem> out;
   Judge(kind, files).judge(files[0], out);
@@ -693,13 +725,19 @@ std::vector<StaticProblem> static_check(const std::string& path, std::optional<S
   std::deque<fs::path> queue{fs::weakly_canonical(path, ec)};
   std::set<fs::path> seen{queue.front()};
   std::vector<ScannedFile> files;
+  std::vector<StaticProblem> syntax_errors;
   while (!queue.empty()) {
     const fs::path file = queue.front();
     queue.pop_front();
     // The script itself as the user named it, as the loader's messages show it; modules as the
     // sandbox shows them.
     const std::string shown = files.empty() && fs::path(path).is_relative() ? path : sandbox.display_name(file);
-    files.push_back({shown, Scanner(read_file_text(file.string())).accesses});
+    const std::string text = read_file_text(file.string());
+    if (auto syntax = syntax_problem(text, shown)) {  // its names mean nothing until it compiles
+      syntax_errors.push_back(*syntax);
+      continue;
+    }
+    files.push_back({shown, Scanner(text).accesses});
     for (const auto& a : files.back().accesses) {
       if (a.kind != Access::kRequire) continue;
       const fs::path module = find_module(sandbox.module_roots(), a.name);
@@ -707,7 +745,7 @@ std::vector<StaticProblem> static_check(const std::string& path, std::optional<S
     }
   }
   const Judge judge(kind, files);
-  std::vector<StaticProblem> out;
+  std::vector<StaticProblem> out = syntax_errors;
   for (const auto& f : files) judge.judge(f, out);
   return out;
 }
