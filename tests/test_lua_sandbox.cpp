@@ -451,6 +451,37 @@ TEST_CASE("a script not found names the project looked in and a file here missin
   CHECK_THAT(message, Contains("pen.lua is a file here: name it with its \".lua\""));
 }
 
+// Found by a probe: a user's lib/shapes.lua beside the script replaced the shipped one inside the
+// shipped lib.place, which then failed ("attempt to call a nil value (field 'get')").
+TEST_CASE("a library's own requires find its own modules first, a script's its own", "[lua_sandbox]") {
+  TempDir home;
+  fs::create_directories(home.path / "scenarios" / "lib");
+  fs::create_directories(home.path / "work" / "lib");
+  std::ofstream(home.path / "scenarios" / "lib" / "shapes.lua") << "return { whose = 'shipped' }\n";
+  std::ofstream(home.path / "scenarios" / "lib" / "place.lua")
+      << "local shapes = require('lib.shapes')\nreturn { shapes = shapes }\n";
+  std::ofstream(home.path / "work" / "lib" / "shapes.lua") << "return { whose = 'mine' }\n";
+  std::ofstream(home.path / "work" / "lib" / "mine.lua") << "return { shapes = require('lib.shapes') }\n";
+  std::ofstream(home.path / "work" / "main.lua")
+      << "local shapes = require('lib.shapes')\n"
+         "local place = require('lib.place')\n"
+         "local mine = require('lib.mine')\n"
+         "return shapes.whose, place.shapes.whose, mine.shapes == shapes, require('lib.shapes') == shapes\n";
+  const char* old = std::getenv("ROGER_HOME");
+  const std::string saved = old ? old : "";
+  setenv("ROGER_HOME", home.path.c_str(), 1);
+  {
+    LuaSandbox sandbox;
+    sandbox.run_file((home.path / "work" / "main.lua").string(), 4);
+    lua_State* L = sandbox.state();
+    CHECK(std::string(lua_tostring(L, -4)) == "mine");     // the script's own, beside it
+    CHECK(std::string(lua_tostring(L, -3)) == "shipped");  // the library's own, in its root
+    CHECK(lua_toboolean(L, -2));                           // the script's modules share its own
+    CHECK(lua_toboolean(L, -1));                           // and a second require is the same table
+  }
+  if (old) setenv("ROGER_HOME", saved.c_str(), 1); else unsetenv("ROGER_HOME");
+}
+
 TEST_CASE("require does not follow a link out of the script folders", "[lua_sandbox]") {
   TempDir dir;
   fs::create_directories(dir.path / "inside");
