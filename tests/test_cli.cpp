@@ -568,6 +568,26 @@ TEST_CASE("roger train writes its six files together or leaves the folder as it 
   fs::remove_all(out);
 }
 
+// Found by a probe: `roger train ... --out worlds` wrote its six files among a folder of scenarios.
+TEST_CASE("roger train refuses an --out folder holding files it does not write", "[cli]") {
+  const fs::path out = fs::temp_directory_path() / ("roger_cli_train_foreign_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  fs::create_directories(out / "episode");  // a subfolder (an episode rendered there) is no obstacle
+  std::ofstream(out / "room.lua") << "return {}\n";
+  std::ofstream(out / "notes.txt") << "mine\n";
+  const std::string train = "train docs/examples/teachers_example.lua --stage Look --context Gaze --out " + out.string();
+  const Run refused = roger(train);
+  CHECK(refused.status == 1);
+  CHECK_THAT(refused.err, Catch::Matchers::Contains("--out " + out.string() + " holds files roger train does not write "
+                                                    "(notes.txt, room.lua): its results would go among them"));
+  CHECK_FALSE(fs::exists(out / "policy.json"));
+  fs::remove(out / "room.lua");
+  fs::remove(out / "notes.txt");
+  REQUIRE(roger(train).status == 0);
+  CHECK(roger(train + " --seed 2").status == 0);  // its own files: written again
+  fs::remove_all(out);
+}
+
 // Found by a probe: it said the skill script "has no policy 'out/policy.json'".
 TEST_CASE("a saved policy given with a skill script is said to need its curriculum", "[cli]") {
   for (const char* command : {"eval curricula/scripted.lua --policy out/policy.json",
