@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <numeric>
 #include <optional>
 #include <ostream>
 #include <set>
@@ -451,6 +452,91 @@ void write_status_files(const std::string& out, const nlohmann::json& status) {
                     "cannot write status.js");
 }
 
+// The time a run has left, from the trials it times itself: a trial starts about when its folder
+// is first seen and ends about when its result is (each the middle of the second between two
+// scans, which StatusWriter makes once a second). Each trial not finished costs the mean time of
+// the trials of its run that finished in this invocation (a run's curriculum has a cost of its
+// own), else of those of its kind (training or evaluation: an evaluation is far cheaper), less
+// what a started one already ran; the sum is shared among as many workers as were seen busy at
+// once, and is never less than the longest running trial still needs. A kind none of whose trials
+// finished yet is not costed: its trials are counted apart (eta_uncounted), not guessed at.
+class TimeLeft {
+ public:
+  // A trial found finished, or started, when the run began (a folder left by a run killed or
+  // stopped): neither is timed, nor is the latter counted as busy.
+  void earlier(const std::string& id, const std::string& state) {
+    if (state == "done" || state == "failed") finished_.insert(id);
+    if (state == "started") earlier_.insert(id);
+  }
+  void begin_scan(double elapsed) {
+    elapsed_ = elapsed;
+    seen_at_ = 0.5 * (last_scan_s_ + elapsed);
+    open_.clear();
+    busy_now_ = 0;
+  }
+  // One trial's state at this scan.
+  void trial(const PlannedTrial& t, const std::string& state) {
+    const int kind = t.run ? 0 : 1;
+    const std::string run = t.run ? t.run->name : "";
+    if (state == "pending" || (state == "started" && earlier_.count(t.id))) {
+      open_.push_back({kind, -1, run});
+    } else if (state == "started") {
+      ++busy_now_;
+      open_.push_back({kind, elapsed_ - began_.emplace(t.id, seen_at_).first->second, run});
+    } else if (finished_.insert(t.id).second && state == "done" && !earlier_.count(t.id)) {
+      // A failed trial may have stopped at once, and one an earlier run had begun was never seen
+      // to begin: either would make the mean too short.
+      const auto b = began_.find(t.id);
+      const double d = std::max(0.0, seen_at_ - (b == began_.end() ? seen_at_ : b->second));
+      durations_[kind].push_back(d);
+      if (t.run) by_run_[run].push_back(d);
+    }
+  }
+  void end_scan() {
+    last_scan_s_ = elapsed_;
+    busy_ = std::max(busy_, busy_now_);
+  }
+  // eta_s (null until a trial of some kind was timed) and eta_uncounted of this scan.
+  std::pair<nlohmann::json, nlohmann::json> estimate() const {
+    double work = 0, longest = 0;
+    size_t uncounted[2] = {0, 0};
+    bool costed = false;
+    for (const auto& o : open_) {
+      const std::vector<double>* timed = &durations_[o.kind];
+      const auto r = by_run_.find(o.run);
+      if (r != by_run_.end() && !r->second.empty()) timed = &r->second;
+      if (timed->empty()) {
+        ++uncounted[o.kind];
+        continue;
+      }
+      const double mean = std::accumulate(timed->begin(), timed->end(), 0.0) / double(timed->size());
+      const double rest = o.ran < 0 ? mean : std::max(0.0, mean - o.ran);
+      work += rest;
+      if (o.ran >= 0) longest = std::max(longest, rest);
+      costed = true;
+    }
+    nlohmann::json eta = nullptr, left_out = nlohmann::json::object();
+    if (!costed) return {eta, left_out};
+    if (uncounted[0]) left_out["training"] = uncounted[0];
+    if (uncounted[1]) left_out["evaluation"] = uncounted[1];
+    return {std::max(work / double(std::max<size_t>(1, busy_)), longest), left_out};
+  }
+
+ private:
+  struct Open {
+    int kind;           // 0 training, 1 evaluation
+    double ran;         // seconds it has run, -1 when not started
+    std::string run;    // its run's name ("" for an evaluation)
+  };
+  double elapsed_ = 0, seen_at_ = 0, last_scan_s_ = 0;
+  std::vector<Open> open_;
+  size_t busy_now_ = 0, busy_ = 0;
+  std::map<std::string, double> began_;  // when each trial of this invocation was first seen started
+  std::set<std::string> finished_, earlier_;
+  std::vector<double> durations_[2];     // of the trials that finished well: training, evaluation
+  std::map<std::string, std::vector<double>> by_run_;  // the training durations, by run
+};
+
 // The progress of a run for the results folder's dashboard (index.html): status.json, and the same
 // object as status.js for a page opened from the file system, where it cannot fetch() a file but
 // can (re)load a script. Rewritten atomically at most once a second by its own thread from what is
@@ -459,7 +545,7 @@ class StatusWriter {
  public:
   StatusWriter(const BatchPlan& plan, const Shard& shard)
       : plan_(plan), shard_(shard), start_(Clock::now()), wall_start_(std::chrono::system_clock::now()) {
-    done_at_start_ = count_done();
+    remember_earlier();
     write(true);
     thread_ = std::thread([this] { loop(); });
   }
@@ -490,21 +576,20 @@ class StatusWriter {
     if (fs::exists(dir, ec)) return "started";
     return "pending";
   }
-  size_t count_done() const {
-    size_t done = 0;
+  // Remembers the trials finished or started before this invocation, for the time left.
+  void remember_earlier() {
     for (const auto& p : plan_.phases)
-      for (const auto& t : p) {
-        const std::string state = state_of(trial_dir(plan_.out, t.id));
-        done += state == "done" || state == "failed";
-      }
-    return done;
+      for (const auto& t : p) time_left_.earlier(t.id, state_of(trial_dir(plan_.out, t.id)));
   }
-  // Trials per run/context and evaluation (in plan order), with totals and an estimate of the time
-  // left from this invocation's pace.
-  nlohmann::json scan(bool running) const {
+  // Trials per run/context and evaluation (in plan order), with totals, the trials started and not
+  // finished, and an estimate of the time left (TimeLeft, which this once-a-second scan feeds).
+  nlohmann::json scan(bool running) {
     std::vector<std::string> order;
     std::map<std::string, nlohmann::json> groups;
     size_t total = 0, done = 0, failed = 0, started = 0;
+    const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
+    nlohmann::json started_ids = nlohmann::json::array();
+    time_left_.begin_scan(elapsed);
     for (const auto& p : plan_.phases)
       for (const auto& t : p) {
         const std::string group = t.run ? t.run->name + "/" + t.context : "eval/" + t.evaluation->name;
@@ -513,29 +598,40 @@ class StatusWriter {
           groups[group] = {{"group", group}, {"trials", 0}, {"done", 0}, {"failed", 0}, {"started", 0}};
         }
         const std::string state = state_of(trial_dir(plan_.out, t.id));
+        time_left_.trial(t, state);
         nlohmann::json& g = groups[group];
         g["trials"] = g["trials"].get<int>() + 1;
         ++total;
         if (state == "pending") continue;
         g[state] = g[state].get<int>() + 1;
         (state == "done" ? done : state == "failed" ? failed : started) += 1;
+        if (state == "started") started_ids.push_back(t.id);
       }
+    time_left_.end_scan();
+    const size_t left = total - done - failed;
     nlohmann::json list = nlohmann::json::array();
     for (const auto& k : order) list.push_back(groups[k]);
-    const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
-    const size_t finished_now = done + failed > done_at_start_ ? done + failed - done_at_start_ : 0;
-    const size_t left = total - done - failed;
-    nlohmann::json eta = nullptr;
-    if (running && finished_now > 0) eta = elapsed / double(finished_now) * double(left);
+    auto [eta, uncounted] = running ? time_left_.estimate() : std::make_pair(nlohmann::json(), nlohmann::json::object());
     const auto epoch_ms = [](std::chrono::system_clock::time_point t) {
       return std::chrono::duration_cast<std::chrono::milliseconds>(t.time_since_epoch()).count();
     };
+    std::error_code ec;
     nlohmann::json j = {{"format", "roger-status"}, {"running", running}, {"finishing", !running},
                         {"interrupted", interrupted_},
                         {"updated_ms", epoch_ms(std::chrono::system_clock::now())},
                         {"started_ms", epoch_ms(wall_start_)}, {"elapsed_s", elapsed},
-                        {"eta_s", eta}, {"trials", total}, {"done", done}, {"failed", failed},
-                        {"started", started}, {"groups", list}};
+                        {"eta_s", eta}, {"eta_uncounted", uncounted}, {"trials", total}, {"done", done},
+                        {"failed", failed}, {"started", started}, {"started_ids", started_ids},
+                        {"groups", list},
+                        // What the page names before a report exists, and the command that
+                        // continues the run (a killed run's page says it): the batch script as
+                        // given, and the folder.
+                        {"name", plan_.script->name}, {"script", plan_.script->path},
+                        {"folder", fs::absolute(plan_.out, ec).lexically_normal().string()},
+                        // Whether the folder holds a report (an earlier one while the run runs):
+                        // the page asks for dashboard.js only then, or once the closing status
+                        // says the report is written.
+                        {"dashboard", fs::exists(fs::path(plan_.out) / "dashboard.js", ec)}};
     if (shard_.active()) {
       j["shard"] = std::to_string(shard_.index) + "/" + std::to_string(shard_.count);
       // A shard writes no report, and its final status is the closing one (roger run writes none
@@ -548,7 +644,8 @@ class StatusWriter {
     }
     return j;
   }
-  void write(bool running) const {
+  // Called by the thread under the mutex, and by the destructor once the thread is gone.
+  void write(bool running) {
     try {
       write_status_files(plan_.out, scan(running));
     } catch (const std::exception&) {
@@ -560,8 +657,8 @@ class StatusWriter {
   const Shard shard_;
   const Clock::time_point start_;
   const std::chrono::system_clock::time_point wall_start_;
-  size_t done_at_start_ = 0;
   bool interrupted_ = false;
+  TimeLeft time_left_;
   std::mutex mutex_;
   std::condition_variable wake_;
   bool stop_ = false;

@@ -137,6 +137,23 @@ class Browser:
         for kind in ("mousePressed", "mouseReleased"):
             self.call("Input.dispatchMouseEvent", {"type": kind, "x": x, "y": y, "button": "left", "clickCount": 1})
 
+    KEYS = {"Enter": ("Enter", 13, "\r"), " ": ("Space", 32, " "), "ArrowRight": ("ArrowRight", 39, None),
+            "ArrowLeft": ("ArrowLeft", 37, None), "ArrowDown": ("ArrowDown", 40, None)}
+
+    def key(self, key):
+        """Presses and releases a key as a user does (to the focused element)."""
+        code, keycode, text = self.KEYS[key]
+        down = {"type": "keyDown", "key": key, "code": code, "windowsVirtualKeyCode": keycode}
+        if text:
+            down["text"] = text
+        self.call("Input.dispatchKeyEvent", down)
+        self.call("Input.dispatchKeyEvent", {"type": "keyUp", "key": key, "code": code, "windowsVirtualKeyCode": keycode})
+
+    def resize(self, width, height=1000):
+        self.width = width
+        self.call("Emulation.setDeviceMetricsOverride",
+                  {"width": width, "height": height, "deviceScaleFactor": 1, "mobile": False})
+
     def screenshot(self, path, max_height=1500):
         """The page from its top, as tall as its content (at most max_height), as a PNG."""
         height = self.call("Page.getLayoutMetrics")["cssContentSize"]["height"]
@@ -263,10 +280,11 @@ def check_run_end(b, folder, work):
     title = "document.getElementById('title').textContent"
     line = "document.getElementById('progress-line').textContent"
     for order in ("report, then status", "status, then report"):
-        write_report(copy, old)
-        write_status(copy, dict(final, running=True, finishing=False, started_ms=now - 30000, updated_ms=now))
+        write_report(copy, old)  # the folder's report: the run's status says there is one
+        write_status(copy, dict(final, running=True, finishing=False, dashboard=True, started_ms=now - 30000,
+                                updated_ms=now))
         b.open(os.path.join(copy, "index.html"), "document.body.getAttribute('data-ready') === '1'")
-        write_status(copy, dict(final, running=False, finishing=True, started_ms=now - 30000,
+        write_status(copy, dict(final, running=False, finishing=True, dashboard=True, started_ms=now - 30000,
                                 updated_ms=int(time.time() * 1000)))
         got = wait_for(b, line, lambda l: l.startswith("Writing the report"), 5)
         check(got.startswith("Writing the report"), "run end (%s): the page follows the run while it writes "
@@ -298,12 +316,177 @@ def check_run_end(b, folder, work):
           b.evaluate("document.getElementById('progress').hidden") is False,
           "run end: an interrupted run is said to be one (%s)" % got)
     # A run killed without a word, in a folder that already has a report: the warning shows.
-    write_status(copy, dict(final, running=True, finishing=False, done=8, started_ms=now - 90000,
+    write_status(copy, dict(final, running=True, finishing=False, done=8, dashboard=True, started_ms=now - 90000,
                             updated_ms=int(time.time() * 1000) - 40000))
     b.open(os.path.join(copy, "index.html"), "document.body.getAttribute('data-ready') === '1'")
     note = b.evaluate("document.querySelector('#progress .note').textContent")
     check("may have stopped" in note and b.evaluate("document.getElementById('progress').hidden") is False,
           "run end: a killed run's 'no news' warning shows above the folder's report (%s)" % note)
+
+
+def check_no_report(b, folder, work):
+    """A folder without a report (no dashboard.js): a first run going on, then the same run
+    stopped without a word (killed). Found by a probe: the page asked for the absent dashboard.js
+    on every poll (an error in the console each time), was titled "roger results" and named no
+    running trial until the report came, and once the run had stopped said nothing of what to do
+    about it; its time of the last news had no date however old."""
+    copy, final, report = page_copy(folder, work, "no-report")
+    manifest = json.load(open(os.path.join(folder, "manifest.json")))
+    ids, name, script, where = manifest["trials"][:2], report["name"], manifest["script"], os.path.abspath(folder)
+    now = int(time.time() * 1000)
+    base = dict(final, running=True, finishing=False, done=final["done"] - 5, started=2, eta_s=40,
+                eta_uncounted={"evaluation": 8}, started_ids=ids, dashboard=False, started_ms=now - 60000)
+    base.pop("report", None)
+    write_status(copy, dict(base, updated_ms=now))
+    page = os.path.join(copy, "index.html")
+    b.open(page, "document.body.getAttribute('data-ready') === '1'")
+    time.sleep(4.5)  # two polls more
+    check(b.errors() == [], "no report: a live run's page asks for no absent file (%s)" % b.errors())
+    title = b.evaluate("[document.title, document.getElementById('title').textContent, "
+                       "document.getElementById('meta').textContent]")
+    check(title[0].startswith(name) and name in title[1] and script in title[2] and where in title[2],
+          "no report: the page names the batch, its script and folder (%s)" % title)
+    listed = b.evaluate("Array.from(document.querySelectorAll('#started-trials code')).map(c => c.textContent)")
+    check(listed == ids, "no report: the running trials are listed by id (%s)" % listed)
+    line = b.evaluate("document.getElementById('progress-line').textContent")
+    check("about 40 s left (besides 8 evaluation trials" in line,
+          "no report: the time left says which trials it does not count (%s)" % line)
+    # The run killed two days ago.
+    old = now - 2 * 86400 * 1000
+    write_status(copy, dict(base, updated_ms=old))
+    b.open(page, "document.body.getAttribute('data-ready') === '1'")
+    advice = b.evaluate("(document.getElementById('progress-advice') || {}).textContent || ''")
+    command = "roger run %s --out %s" % (script, where)
+    check(b.evaluate("document.getElementById('progress-line').textContent").startswith("No news") and
+          command in advice and ("roger report --partial " + where) in advice,
+          "no report: a killed run's page says what continues it and what reports it (%s)" % advice)
+    empty = b.evaluate("document.getElementById('empty-note').textContent")
+    check("when the run is over" not in empty, "no report: and does not promise a report when it is over (%s)" % empty)
+    note = b.evaluate("document.getElementById('progress-note').textContent")
+    day = b.evaluate("new Date(%d).toLocaleDateString()" % old)
+    check(day in note, "no report: news from another day gives its date (%s in %s)" % (day, note))
+    # Not followed any more, the page may find a report that roger report --partial wrote since:
+    # it asks once, at most, for dashboard.js, never again.
+    time.sleep(4.5)
+    errors = b.errors()
+    check(len(errors) <= 1 and all("ERR_FILE_NOT_FOUND" in e and "/dashboard.js?" in e for e in errors),
+          "no report: a killed run's page asks once at most for the absent report (%s)" % errors)
+
+
+def check_keys(b, folder):
+    """The viewer's keys, after the mouse and from the keyboard. Found by a probe: after scrubbing
+    with the slider, the slider kept the focus and took the arrows (moving by a sliver of the
+    episode, not a frame) and space (doing nothing); a button or the speed menu used from the
+    keyboard dropped the focus, so that a second Enter did nothing."""
+    ep = json.load(open(os.path.join(folder, "episode.json")))
+    times = [f["time"] for f in ep["frames"]]
+    b.open(os.path.join(folder, "index.html"), "window.viewer !== undefined")
+    state = "[document.activeElement.id || document.activeElement.tagName, viewer.time()]"
+    playing = "document.getElementById('play').textContent.indexOf('pause') >= 0"
+    box = b.evaluate("""(() => { const r = document.getElementById('slider').getBoundingClientRect();
+        return {x: r.left + r.width * 0.4, y: r.top + r.height / 2}; })()""")
+    b.click(box["x"], box["y"])
+    focus, t0 = b.evaluate(state)
+    check(focus == "slider" and t0 > 0, "viewer keys: a click on the slider scrubs (focus on %s, t = %.3f s)" % (focus, t0))
+    b.key("ArrowRight")
+    t1 = b.evaluate("viewer.time()")
+    want = min(t for t in times if t > t0 + 1e-9)
+    check(abs(t1 - want) < 1e-6, "viewer keys: after scrubbing, the right arrow steps one frame (%.3f -> %.3f s, "
+          "wanted %.3f s)" % (t0, t1, want))
+    b.key(" ")
+    on = b.evaluate(playing)
+    b.key(" ")
+    check(on and not b.evaluate(playing), "viewer keys: after scrubbing, space plays and pauses")
+    # A button from the keyboard: Enter twice is two frames, and the focus stays on it.
+    b.evaluate("viewer.seek(0); document.getElementById('next').focus()")
+    b.key("Enter")
+    b.key("Enter")
+    focus, t = b.evaluate(state)
+    check(focus == "next" and abs(t - times[2]) < 1e-6,
+          "viewer keys: Enter twice on the next-frame button steps twice, the focus on it (%s, t = %.3f s)" % (focus, t))
+    # The same button with the mouse gives the focus back to the page: space plays.
+    b.evaluate("viewer.seek(%r)" % times[2])
+    box = b.evaluate("""(() => { const r = document.getElementById('next').getBoundingClientRect();
+        return {x: r.left + r.width / 2, y: r.top + r.height / 2}; })()""")
+    b.click(box["x"], box["y"])
+    focus, t = b.evaluate(state)
+    b.key(" ")
+    on = b.evaluate(playing)
+    b.evaluate("viewer.seek(0)")
+    check(focus == "BODY" and abs(t - times[3]) < 1e-6 and on,
+          "viewer keys: a mouse click on a button steps and leaves the keys to the page (%s, t = %.3f s)" % (focus, t))
+    # The speed menu from the keyboard keeps the focus too.
+    b.evaluate("document.getElementById('speed').focus()")
+    before = b.evaluate("document.getElementById('speed').value")
+    b.key("ArrowDown")
+    after = b.evaluate("[document.getElementById('speed').value, document.activeElement.id]")
+    check(after[0] != before and after[1] == "speed",
+          "viewer keys: the speed menu changed from the keyboard keeps the focus (%s -> %s)" % (before, after))
+    check(b.errors() == [], "viewer keys: no console errors (%s)" % b.errors())
+
+
+def check_narrow(b, folder):
+    """The dashboard in an 800 px window. Found by a probe: the curves' figure shrank as a whole,
+    its labels to about 6 px, and a long path in the list of why trials did not reach the
+    threshold ran out of the text's column."""
+    b.resize(800)
+    try:
+        b.open(os.path.join(folder, "index.html"), "document.body.getAttribute('data-ready') === '1'")
+        sizes = b.evaluate("""Array.from(document.querySelectorAll('svg[data-figure]')).map(s =>
+            11 * s.getBoundingClientRect().width / s.viewBox.baseVal.width)""")
+        check(sizes and min(sizes) >= 8.5, "narrow: the figures' 11 px labels stay readable (%s px)"
+              % [round(x, 1) for x in sizes])
+        legends = b.evaluate("""Array.from(document.querySelectorAll('.figure .legend label')).map(l =>
+            l.getBoundingClientRect().right <= l.closest('section').getBoundingClientRect().right)""")
+        check(legends and all(legends), "narrow: every legend entry stays in its section")
+        out = b.evaluate("""Array.from(document.querySelectorAll('#report p, #report li')).filter(e =>
+            e.scrollWidth > e.clientWidth + 1).map(e => e.textContent.slice(0, 60))""")
+        code = b.evaluate("document.querySelectorAll('#report li code').length")
+        check(code > 0 and out == [], "narrow: the report's text, its long paths too, stays in its column (%s)" % out)
+    finally:
+        b.resize(1400)
+
+
+def run_watched(cmd, folder):
+    """Runs `cmd` (a roger run into `folder`), reading its status.json four times a second: the
+    statuses and when each was read."""
+    print("$ " + " ".join(cmd), flush=True)
+    p, samples, seen = subprocess.Popen(cmd), [], None
+    while p.poll() is None:
+        time.sleep(0.25)
+        try:
+            status = json.load(open(os.path.join(folder, "status.json")))
+        except (OSError, ValueError):
+            continue
+        if status.get("updated_ms") != seen:
+            seen = status.get("updated_ms")
+            samples.append((time.time(), status))
+    if p.returncode:
+        raise subprocess.CalledProcessError(p.returncode, cmd)
+    return samples
+
+
+def check_eta(samples):
+    """The time left that status.js gives, against the time the trials then took. Found by a
+    probe: on scripts/quick.lua it was about twice too long, the cheap evaluations costed as
+    training trials (elapsed time / trials finished x trials left)."""
+    end = next((t for t, s in samples if not s["running"]), None)
+    errors, before = [], []
+    for t, s in samples:
+        truth = end - t if end else 0
+        if not s["running"] or s.get("eta_s") is None or truth < 3:
+            continue
+        errors.append(s["eta_s"] / truth - 1)
+        finished = s["done"] + s["failed"]
+        before.append((s["elapsed_s"] / finished * (s["trials"] - finished) / truth - 1) if finished else None)
+    errors.sort()
+    median = errors[len(errors) // 2] if errors else None
+    old = sorted(e for e in before if e is not None)
+    print("      (the time left, off by %s; by the former estimate %s)" %
+          (["%+.0f%%" % (100 * e) for e in errors], "%+.0f%%" % (100 * old[len(old) // 2]) if old else "-"))
+    check(end is not None and len(errors) >= 3 and abs(median) <= 0.4,
+          "eta: the time left is about right (median off by %s over %d statuses)"
+          % ("%+.0f%%" % (100 * median) if median is not None else "-", len(errors)))
 
 
 def check_shards(b, folder, work):
@@ -340,8 +523,10 @@ def check_shards(b, folder, work):
     got = wait_for(b, title, lambda t: t == "Results: " + report["name"], 12)
     check(got == "Results: " + report["name"], "shards: the page ends on roger report's report (%s)" % got)
     check(b.evaluate(line).startswith("Finished"), "shards: then the run is finished (%s)" % b.evaluate(line))
-    # A fresh sharded run has no dashboard.js until roger report: the page's tries to load it are
-    # the only errors allowed (a page opened from file:// learns that a file is absent so).
+    # A fresh sharded run has no dashboard.js until roger report: the page does not ask for it
+    # while it follows the shards, but once they stopped writing (roger report --partial may have
+    # written one since) it does; that try is the only error allowed (a page opened from file://
+    # learns that a file is absent so).
     errors = [e for e in b.errors() if not ("ERR_FILE_NOT_FOUND" in e and "/dashboard.js?" in e)]
     check(errors == [], "shards: no console errors but the absent report's (%s)" % errors)
 
@@ -689,7 +874,7 @@ def main():
     partial = os.path.join(a.work, "partial")
     shutil.rmtree(a.work, ignore_errors=True)
     os.makedirs(a.work)
-    run([a.roger, "run", "scripts/quick.lua", "--out", results])
+    samples = run_watched([a.roger, "run", "scripts/quick.lua", "--out", results], results)
     run([a.roger, "run", "tests/scripts/teach_batch.lua", "--out", teachers])
     # Its failed trials make roger run exit 1, as they should.
     print("$ %s run tests/browser/dashboard_batch.lua --out %s" % (a.roger, failures_run), flush=True)
@@ -705,14 +890,18 @@ def main():
         return skip("chromium did not start: %s" % e)
     try:
         shots = a.screenshots
+        check_eta(samples)
         check_dashboard(b, results, shots and os.path.join(shots, "dashboard.png"))
+        check_no_report(b, results, a.work)
         check_run_end(b, results, a.work)
         check_shards(b, results, a.work)
         check_failures(b, failures_run, None)
+        check_narrow(b, failures_run)
         check_partial(b, a.roger, partial)
         check_no_figures(b, a.roger, results, a.work)
         check_damaged_report(b, results, a.work)
         check_episode(b, episode, shots and os.path.join(shots, "episode-viewer.png"))
+        check_keys(b, episode)
         check_cycle(b, episode, a.work)
         check_time_axis(b, episode, a.work)
         check_teachers(b, teachers)
