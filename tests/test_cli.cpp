@@ -87,6 +87,25 @@ TEST_CASE("roger check shows a generator's prints for the first world only", "[c
   fs::remove(s);
 }
 
+// Found by a probe: a scenario whose stimulus colour no object has passed roger check, and every
+// episode failed at its search.
+TEST_CASE("roger check warns of a stimulus colour no object has", "[cli]") {
+  const std::string head = "local shapes = require('lib.shapes')\nreturn { generate = function(world)\n"
+                           "  world:robot{ x = 0, y = 0 }\n"
+                           "  world:object{ shape = shapes.get('circle'), x = 1, y = 0, colour = '#dc1e1e' }\n";
+  const fs::path blue = temp_file("roger_cli_blue.lua", head + "  world:stimulus{ colour = '#1e1edc' }\nend }\n");
+  const Run r = roger("check " + blue.string() + " --seeds 3");
+  INFO(r.err);
+  CHECK(r.status == 0);  // a warning: a world may mean it (a search that must fail)
+  CHECK_THAT(r.err, Catch::Matchers::Contains("roger: warning: in 3 of 3 worlds (the first: seed 0) no object has the "
+                                              "stimulus colour #1e1edc (world:stimulus): the eyes look for what is not "
+                                              "there; the objects' colours: #dc1e1e"));
+  const fs::path red = temp_file("roger_cli_red.lua", head + "  world:stimulus{ colour = '#dc1e1e' }\nend }\n");
+  CHECK(roger("check " + red.string() + " --seeds 3").err.find("stimulus colour") == std::string::npos);
+  fs::remove(blue);
+  fs::remove(red);
+}
+
 // Found by a probe: `roger check curricula/*.lua` was refused (one script only).
 TEST_CASE("roger check checks several scripts, a problem in one not stopping the others", "[cli]") {
   const Run good = roger("check scenarios/unobstructed.lua curricula/scripted.lua --seeds 2");

@@ -258,6 +258,19 @@ int check_skill_script_file(const std::string& path, const std::string& shown, c
   return 0;
 }
 
+// What is wrong with a world whose objects none has the colour its eyes look for
+// (world:stimulus), or "" (a world without objects looks for nothing in particular).
+std::string stimulus_unseen(const WorldSpec& w) {
+  if (w.objects.empty()) return "";
+  std::vector<std::string> colours;
+  for (const auto& o : w.objects) {
+    if (o.colour == w.stimulus_colour) return "";
+    if (std::find(colours.begin(), colours.end(), o.colour.hex()) == colours.end()) colours.push_back(o.colour.hex());
+  }
+  return "no object has the stimulus colour " + w.stimulus_colour.hex() + " (world:stimulus): the eyes look for what "
+         "is not there; the objects' colours: " + join(colours);
+}
+
 // A scenario: its worlds generated and built for seeds 0..N-1, then (without --set) every declared
 // parameter choice and each end of every declared range.
 int check_scenario_file(const CheckArgs& a, const std::string& shown, const SandboxLimits& limits) {
@@ -286,14 +299,25 @@ int check_scenario_file(const CheckArgs& a, const std::string& shown, const Sand
   // A scenario is a function of its seed: try several, and build each world as an episode would.
   World world;
   // A failure names its seed after the first line, as training does: it may hold for some seeds only.
+  std::vector<int> unseen;  // seeds whose objects none has the stimulus colour
+  std::string unseen_text;
   for (int seed = 0; seed < a.seeds; ++seed) {
     if (seed == 1) prints.quiet();
     try {
-      world.reset(scenario.generate(uint64_t(seed)));
+      const WorldSpec spec = scenario.generate(uint64_t(seed));
+      if (const std::string text = stimulus_unseen(spec); !text.empty()) {
+        if (unseen.empty()) unseen_text = text;
+        unseen.push_back(seed);
+      }
+      world.reset(spec);
     } catch (const std::exception& e) {
       throw Error(with_note_on_first_line(e.what(), " (world seed " + std::to_string(seed) + ")"));
     }
   }
+  // Found by a probe: a blue stimulus over a red ball passed, and every episode failed at search.
+  if (!unseen.empty())
+    std::fprintf(stderr, "roger: warning: in %d of %d worlds (the first: seed %d) %s\n", int(unseen.size()), a.seeds,
+                 unseen.front(), unseen_text.c_str());
   // Without --set, also every declared choice of every parameter (each shape, say), and each end
   // of every declared range (the most obstacles, the longest arm): those are warnings, since an
   // end may hold only with other parameters changed too.
