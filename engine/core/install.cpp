@@ -1,5 +1,7 @@
 #include "core/install.h"
 
+#include <dlfcn.h>
+
 namespace roger {
 
 namespace fs = std::filesystem;
@@ -13,14 +15,44 @@ std::optional<fs::path> executable_path() {
   return exe;
 }
 
-std::optional<fs::path> installed_data_dir() {
-  const std::optional<fs::path> exe = executable_path();
-  if (!exe) return std::nullopt;
+namespace {
+
+// The file of the shared object this code is in (the Python module's), or nullopt when it is the
+// program itself or the system does not say.
+std::optional<fs::path> shared_object_path(const std::optional<fs::path>& exe) {
+  Dl_info info{};
+  if (!dladdr(reinterpret_cast<void*>(&installed_data_dir), &info) || !info.dli_fname || !*info.dli_fname)
+    return std::nullopt;
   std::error_code ec;
-  const fs::path data = (exe->parent_path() / ROGER_DATA_FROM_BIN).lexically_normal();
+  const fs::path object = fs::weakly_canonical(info.dli_fname, ec);
+  if (ec || (exe && fs::equivalent(object, *exe, ec))) return std::nullopt;
+  return object;
+}
+
+std::optional<fs::path> find_installed_data_dir() {
+  const std::optional<fs::path> exe = executable_path();
+  std::error_code ec;
   // scenarios/ is what every command needs first; a build tree has no such folder beside it.
-  if (!fs::is_directory(data / "scenarios", ec)) return std::nullopt;
+  const auto holds_data = [&](const fs::path& data) { return fs::is_directory(data / "scenarios", ec); };
+  // Inside the installed Python module (P/lib/python3.X/dist-packages/roger/_roger...so), whose
+  // interpreter is not roger: the prefix's data above the module's own file, found by climbing,
+  // so that an installed package never reads the source tree it was built from.
+  if (const std::optional<fs::path> object = shared_object_path(exe)) {
+    for (fs::path up = object->parent_path(); !up.empty() && up != up.root_path(); up = up.parent_path())
+      if (holds_data(up / ROGER_DATA_FROM_PREFIX)) return (up / ROGER_DATA_FROM_PREFIX).lexically_normal();
+    return std::nullopt;
+  }
+  if (!exe) return std::nullopt;
+  const fs::path data = (exe->parent_path() / ROGER_DATA_FROM_BIN).lexically_normal();
+  if (!holds_data(data)) return std::nullopt;
   return data;
+}
+
+}  // namespace
+
+std::optional<fs::path> installed_data_dir() {
+  static const std::optional<fs::path> found = find_installed_data_dir();  // where the binary is does not change
+  return found;
 }
 
 }  // namespace roger

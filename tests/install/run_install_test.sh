@@ -83,6 +83,23 @@ checks() {
   grep -q "project folder: $tree/share/roger, installed beside the program" "$work/myquick.log" ||
     { cat "$work/myquick.log"; echo "roger check did not name the installed project folder"; return 1; }
   rm -rf "$work/copied"
+  # The installed Python package reads the installed tree too, never the source tree it was built
+  # from (found by a probe: every require went to the sources): a curriculum only the moved tree
+  # has is found by its bare name.
+  local module
+  module=$(find "$tree/lib" -name '_roger*.so' 2>/dev/null | head -1)
+  if [ -n "$module" ]; then
+    cp "$tree/share/roger/curricula/paper.lua" "$tree/share/roger/curricula/only_installed_paper.lua"
+    local python=/usr/bin/python3  # the system's, which the module is built for (.ci/install)
+    [ -x "$python" ] || python=python3
+    PYTHONPATH=$(dirname "$(dirname "$module")") "$python" -c "
+import roger
+env = roger.make('only_installed_paper', 'SG', 'B1')
+env.reset(seed=1)
+" >"$work/python.log" 2>&1 || { cat "$work/python.log"; echo "the installed Python package"; return 1; }
+  elif [ "${CI:-}" = true ]; then
+    echo "the install has no Python module (_roger*.so under lib/)"; return 1
+  fi
 }
 export -f checks
 export work tree
