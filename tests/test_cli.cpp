@@ -87,6 +87,27 @@ TEST_CASE("roger check shows a generator's prints for the first world only", "[c
   fs::remove(s);
 }
 
+// Found by a probe: a helper of one's own named lib/shapes.lua took the shipped one's place inside
+// the shipped lib.place, which failed at its own line with nothing saying why. Such a module still
+// replaces the shipped one there (a copy made to be edited is meant to), and roger check says so.
+TEST_CASE("roger check warns of a module of one's own that a shipped library takes", "[cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_shadow_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "lib");
+  std::ofstream(dir / "lib" / "shapes.lua") << "return { star = function() end }\n";
+  std::ofstream(dir / "room.lua") << "local place = require('lib.place')\n"
+                                     "return { generate = function(world, rng, p) world:robot{ x = 0, y = 0 } end }\n";
+  const Run r = roger("check " + (dir / "room.lua").string() + " --seeds 1");
+  INFO(r.err);
+  CHECK_THAT(r.err, Catch::Matchers::Contains("roger: warning: " + (dir / "lib" / "shapes.lua").string() +
+                                              " beside the script takes the place of the shipped "
+                                              "scenarios/lib/shapes.lua inside scenarios/lib/place.lua (its "
+                                              "require(\"lib.shapes\")): rename yours unless you mean to replace it "
+                                              "there"));
+  fs::rename(dir / "lib" / "shapes.lua", dir / "lib" / "my_shapes.lua");
+  CHECK(roger("check " + (dir / "room.lua").string() + " --seeds 1").err.find("takes the place") == std::string::npos);
+  fs::remove_all(dir);
+}
+
 // Found by a probe: a scenario whose stimulus colour no object has passed roger check, and every
 // episode failed at its search.
 TEST_CASE("roger check warns of a stimulus colour no object has", "[cli]") {

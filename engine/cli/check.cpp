@@ -79,8 +79,10 @@ size_t report_static_problems(const std::string& script) {
   } catch (const Error&) {
     return 0;
   }
-  const std::vector<StaticProblem> problems = static_check(path, script_kind_of(path));
+  std::vector<std::string> shadows;
+  const std::vector<StaticProblem> problems = static_check(path, script_kind_of(path), &shadows);
   for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.what().c_str());
+  for (const auto& s : shadows) std::fprintf(stderr, "roger: warning: %s\n", s.c_str());
   return problems.size();
 }
 

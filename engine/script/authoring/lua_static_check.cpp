@@ -718,7 +718,36 @@ std::vector<StaticProblem> static_check_text(const std::string& text, const std:
   return out;
 }
 
-std::vector<StaticProblem> static_check(const std::string& path, std::optional<ScriptKind> kind) {
+namespace {
+
+// "lib/shapes.lua beside the script takes the place of the shipped scenarios/lib/shapes.lua inside
+// scenarios/lib/place.lua" when `module`, which `file` requires as `name`, is the script folder's
+// and `file` and a module of that name are the project's; "" otherwise. A copy made to replace the
+// shipped one there is what the user meant; a helper that happens to share its name is not (found
+// by a probe: the shipped lib.place then failed at its own line).
+std::string shadow_of(const LuaSandbox& sandbox, const fs::path& file, const std::string& name, const fs::path& module) {
+  const std::vector<fs::path> roots = sandbox.module_roots();
+  if (roots.size() < 2) return "";
+  const auto under = [](const fs::path& root, const fs::path& p) {
+    const fs::path rel = p.lexically_relative(root);
+    return !rel.empty() && *rel.begin() != "..";
+  };
+  const std::vector<fs::path> project(roots.begin() + 1, roots.end());
+  const auto shipped = [&](const fs::path& p) {
+    return std::any_of(project.begin(), project.end(), [&](const fs::path& r) { return under(r, p); });
+  };
+  if (!under(roots.front(), module) || shipped(module) || !shipped(file)) return "";
+  const fs::path replaced = find_module(project, name);
+  if (replaced.empty()) return "";
+  return sandbox.display_name(module) + " beside the script takes the place of the shipped " +
+         sandbox.display_name(replaced) + " inside " + sandbox.display_name(file) + " (its require(\"" + name +
+         "\")): rename yours unless you mean to replace it there";
+}
+
+}  // namespace
+
+std::vector<StaticProblem> static_check(const std::string& path, std::optional<ScriptKind> kind,
+                                        std::vector<std::string>* shadows) {
   LuaSandbox sandbox;  // for its module folders and how it shows file names
   sandbox.set_main_script(path);
   std::error_code ec;
@@ -741,6 +770,10 @@ std::vector<StaticProblem> static_check(const std::string& path, std::optional<S
     for (const auto& a : files.back().accesses) {
       if (a.kind != Access::kRequire) continue;
       const fs::path module = find_module(sandbox.module_roots(), a.name);
+      if (shadows && !module.empty())
+        if (const std::string shadow = shadow_of(sandbox, file, a.name, module);
+            !shadow.empty() && std::find(shadows->begin(), shadows->end(), shadow) == shadows->end())
+          shadows->push_back(shadow);
       if (!module.empty() && seen.insert(module).second) queue.push_back(module);
     }
   }

@@ -13,7 +13,6 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
-#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -58,9 +57,6 @@ struct LuaSandbox::Impl {
   std::string main_dir_display;    // the same folder as the user wrote it ("" for the cwd)
   std::vector<std::filesystem::path> roots;  // require's search folders, absolute and canonical
   std::vector<std::string> chunk_names;  // display names of loaded files (to undo Lua's truncation)
-  // The root each module was found in, by its chunk's display name: a module's own requires are
-  // searched in its root first (a shipped library gets its own lib.shapes, not a user's).
-  std::map<std::string, std::filesystem::path> chunk_roots;
   std::vector<std::string> loading;      // modules being required, outermost first
   std::vector<std::filesystem::path> source_files;  // every file compiled, each once, in load order
   std::function<void(const std::string&)> print;

@@ -107,11 +107,10 @@ void note_source_file(LuaSandbox::Impl& s, const fs::path& file) {
 
 namespace {
 
-// Finds module `name` in the sandbox's roots, `first` (the requiring module's root) before the
-// others: sets `found`, `root` and `shown`, or `error` (an invalid name, a require cycle, a file
-// outside the roots or no file at all).
-void locate_module(const LuaSandbox::Impl& s, const std::string& name, const fs::path* first, fs::path& found,
-                   fs::path& found_root, std::string& shown, std::string& error) {
+// Finds module `name` in the sandbox's roots: sets `found` and `shown`, or `error` (an invalid
+// name, a require cycle, a file outside the roots or no file at all).
+void locate_module(const LuaSandbox::Impl& s, const std::string& name, fs::path& found,
+                   std::string& shown, std::string& error) {
   if (!valid_module_name(name)) {
     error = "require: invalid module name '" + name +
             "': use dotted names of letters, digits and underscores (\"lib.shapes\" loads "
@@ -130,11 +129,7 @@ void locate_module(const LuaSandbox::Impl& s, const std::string& name, const fs:
   rel += ".lua";
   std::vector<std::string> tried;
   std::error_code ec;
-  std::vector<fs::path> order;
-  if (first) order.push_back(*first);
-  for (const auto& root : s.roots)
-    if (!first || root != *first) order.push_back(root);
-  for (const auto& root : order) {
+  for (const auto& root : s.roots) {
     const fs::path candidate = root / rel;
     if (!fs::is_regular_file(candidate, ec)) {
       // Where each place is, unmistakably: a script in <cwd>/scenarios and the project's
@@ -151,7 +146,6 @@ void locate_module(const LuaSandbox::Impl& s, const std::string& name, const fs:
       return;
     }
     found = real;
-    found_root = root;
     shown = module_display(s, root, rel);
     return;
   }
@@ -188,38 +182,20 @@ void run_module(lua_State* L, LuaSandbox::Impl& s, const std::string& name, cons
   }
 }
 
-// The root the module calling require was found in, when it is a module required from another
-// root than the main script's (a shipped library); nullptr otherwise (the usual order).
-const fs::path* caller_root(lua_State* L, const LuaSandbox::Impl& s) {
-  lua_Debug ar;
-  if (!lua_getstack(L, 1, &ar) || !lua_getinfo(L, "S", &ar) || !ar.source || ar.source[0] != '@') return nullptr;
-  const auto it = s.chunk_roots.find(ar.source + 1);
-  if (it == s.chunk_roots.end() || (!s.roots.empty() && it->second == s.roots.front())) return nullptr;
-  return &it->second;
-}
-
 }  // namespace
 
 // require(name): a standard library by its name, else dotted names ("lib.shapes" ->
-// lib/shapes.lua) searched in the sandbox's roots only (a module's own requires in its own root
-// first), text chunks only, cached, with cycles reported. As Lua's: a number is taken as its
-// text, and a module's first load also returns where it was found (its file, as messages show it).
-// The cache is by file: a user's lib/shapes.lua and the shipped one are two modules, each given to
-// the scripts that find it first (found by a probe: a user's lib/shapes.lua beside the script
-// replaced the shipped one inside the shipped lib.place, which then failed).
+// lib/shapes.lua) searched in the sandbox's roots only, text chunks only, cached, with cycles
+// reported. As Lua's: a number is taken as its text, and a module's first load also returns
+// where it was found (its file, as messages show it).
 int sandbox_require(lua_State* L) {
   if (lua_type(L, 1) != LUA_TSTRING && lua_type(L, 1) != LUA_TNUMBER)
     return luaL_error(L, "require expects a module name (a string such as \"lib.shapes\"), got %s",
                       luaL_typename(L, 1));
   const std::string name = lua_tostring(L, 1);
   lua_settop(L, 1);
-  auto& s = impl_of(L);
-  const fs::path* first = caller_root(L, s);
-  // By name, within the order of the requiring module's root: the same require of the same
-  // module answers without touching the disk again.
-  const std::string by_name = (first ? first->string() : std::string()) + "\n" + name;
   lua_getfield(L, LUA_REGISTRYINDEX, kModulesKey);  // index 2: the cache
-  lua_getfield(L, 2, by_name.c_str());
+  lua_getfield(L, 2, name.c_str());
   if (!lua_isnil(L, -1)) return 1;
   lua_pop(L, 1);
   // A standard library's name ("string", "utf8", "coroutine", "_G", ...) gives the library, as
@@ -227,27 +203,16 @@ int sandbox_require(lua_State* L) {
   lua_getfield(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
   if (lua_getfield(L, -1, name.c_str()) != LUA_TNIL) return 1;
   lua_pop(L, 2);
+  auto& s = impl_of(L);
 
   std::string error;  // raised after the C++ objects of the search are gone
-  fs::path found, root;
+  fs::path found;
   std::string shown;
   lua_protect(L, [&]() {
-    locate_module(s, name, first, found, root, shown, error);
+    locate_module(s, name, found, shown, error);
     return 0;
   });
   if (!error.empty()) return luaL_error(L, "%s", error.c_str());
-  const std::string by_file = "\n" + found.string();  // no name begins with a newline
-  lua_getfield(L, 2, by_file.c_str());
-  if (!lua_isnil(L, -1)) {  // the same file reached through another root's order
-    lua_pushvalue(L, -1);
-    lua_setfield(L, 2, by_name.c_str());
-    return 1;
-  }
-  lua_pop(L, 1);
-  lua_protect(L, [&]() {
-    s.chunk_roots[shown] = root;
-    return 0;
-  });
 
   // Load and run the module; Lua errors propagate to the caller's protected call as they are.
   run_module(L, s, name, found, shown);
@@ -256,9 +221,7 @@ int sandbox_require(lua_State* L) {
     lua_pushboolean(L, 1);
   }
   lua_pushvalue(L, -1);
-  lua_setfield(L, 2, by_name.c_str());
-  lua_pushvalue(L, -1);
-  lua_setfield(L, 2, by_file.c_str());
+  lua_setfield(L, 2, name.c_str());
   lua_pushstring(L, shown.c_str());
   return 2;
 }
