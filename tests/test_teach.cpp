@@ -1277,7 +1277,8 @@ TEST_CASE("roger train says what its teacher did", "[teach][stage]") {
   const std::string alp = train("Look");
   CHECK_THAT(alp, Contains(" fits, mean ALP ") && Contains("; most progress around {"));
   // The mixture is recorded to six decimals (a fit's 0.9999999999999374 read as 1).
-  for (const json& c : json::parse(slurp(dir.path / "Look" / "summary.json"))["teacher"]["state"]["components"]) {
+  const json look = json::parse(slurp(dir.path / "Look" / "summary.json"));  // kept: a range-for over a
+  for (const json& c : look["teacher"]["state"]["components"]) {              // temporary's member dangles
     const double alp_value = c["alp"].get<double>();
     CHECK(alp_value == std::round(alp_value * 1e6) / 1e6);
   }
