@@ -203,6 +203,10 @@ PlacementError with_text(const PlacementError& e, const std::string& text) {
 
 bool StageEnvironment::teaches() const { return impl_->stage.teaches(); }
 
+void StageEnvironment::check_played_in(const std::string& scenario) const {
+  impl_->stage.check_played_in(scenario, task_space_);
+}
+
 std::optional<TeacherBodyChange> StageEnvironment::teacher_body_change() {
   const CurriculumStage& st = impl_->stage;
   // Only an LCAS teacher sets a parameter beside the task space (a task space's own body axes are

@@ -138,6 +138,9 @@ class StageEnvironment {
   // The stage's task space (or options.tasks) less the parameters options.sets fix, as `roger
   // train` has it; empty when the stage has none.
   const TaskSpace& task_space() const { return task_space_; }
+  // Throws ScriptError at the axis's file:line when `scenario` cannot play task_space() (make's
+  // scenario= with the stage's own tasks: make's own tasks were checked against it at load).
+  void check_played_in(const std::string& scenario) const;
   // Whether the stage (or options) gives a teacher; the teacher over task_space(), drawing from
   // Rng(seed), as Curriculum::make_teacher makes it. A Lua teacher runs in this environment's
   // sandbox: the teacher must not outlive the environment.

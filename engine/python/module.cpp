@@ -99,36 +99,22 @@ auto make_environment(const EnvironmentOptions& o, const std::string& where, Mak
   }
 }
 
-// The task space `space` against the scenario `name` an environment plays instead of its stage's
-// (make(..., scenario=...)): every axis must be a parameter of it, and each end of a range and each
-// choice a value it takes. The curriculum checks make's tasks against the scenario given, but a
-// stage's own tasks against the stage's scenario, so without this such an environment is made and
-// its first reset fails. Returns the first
-// problem ("tasks.obstacles = roger.int(0, 6): scenario 'unobstructed' (...) has no parameter
-// 'obstacles'; known parameters: ..."), or "".
-std::string scenario_task_problem(const std::string& name, const TaskSpace& space, const SandboxLimits& limits) {
-  if (name.empty() || space.empty()) return "";
-  Scenario s = Scenario::load(name, limits);
-  for (const TaskDim& d : space.dims()) {
-    const std::vector<std::string> values =
-        d.kind == TaskDim::Kind::kChoice ? d.choices : std::vector<std::string>{format_number(d.lo), format_number(d.hi)};
-    for (const std::string& v : values) try {
-        s.set_param(d.name, v);
-      } catch (const Error& e) {
-        return "tasks." + d.name + " = " + d.text() + ": " + e.what();
-      }
-  }
-  return "";
-}
-
-// A given scenario (make(..., scenario=...)) that cannot play the environment's task space (the
-// stage's, or make's tasks) refused at make, naming the parameter, the scenario and what it has.
+// A given scenario (make(..., scenario=...)) that cannot play the stage's own task space (less
+// what params fix) refused at make, where the space is offered, naming the parameter, the scenario
+// and what it has: else the environment is made and its first reset fails. make's own tasks were
+// checked against the scenario given when they were read. make_vec offers no task space (its
+// worlds have the stage's own parameters), so it plays any scenario.
 void check_scenario_takes_tasks(const EnvironmentOptions& o, const StageEnvironment& e) {
-  const std::string problem = scenario_task_problem(o.scenario, e.task_space(), o.limits);
-  if (problem.empty()) return;
-  const std::string whose = o.tasks.empty() ? "the task space of stage '" + e.info().stage + "'" : "make(tasks=...)";
-  throw Error("make: scenario='" + o.scenario + "' cannot play " + whose + ": " + problem +
-              "; give make(..., tasks={...}) over parameters it has, or leave out scenario= to play the stage's own");
+  if (o.scenario.empty() || !o.tasks.empty() || e.task_space().empty()) return;
+  try {
+    e.check_played_in(o.scenario);
+  } catch (const ScriptError& x) {
+    throw ScriptError("make: scenario='" + o.scenario + "' cannot play the task space of stage '" + e.info().stage +
+                          "': " + x.message +
+                          "; give make(..., tasks={...}) over parameters it has, or leave out scenario= to play the "
+                          "stage's own",
+                      x.file, x.line, x.traceback);
+  }
 }
 
 py::array_t<uint8_t> state_array(const std::vector<Gamma>& g) {

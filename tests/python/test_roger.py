@@ -1703,7 +1703,7 @@ class Tasks(unittest.TestCase):
                 with self.assertRaises(roger.RogerError) as cm:
                     roger.make(TEACHERS, "T_alp", "B2", scenario="unobstructed", teacher=teacher)
                 for text in ("make: scenario='unobstructed' cannot play the task space of stage 'T_alp'",
-                             "tasks.obstacles = roger.int(", "scenario 'unobstructed'", "has no parameter 'obstacles'",
+                             "curricula/teachers.lua:", "tasks.obstacles = roger.int(", "scenario 'unobstructed'", "has no parameter 'obstacles'",
                              "known parameters"):
                     self.assertIn(text, str(cm.exception))
         # Given tasks are checked against the scenario given (when the stage's has them too).

@@ -108,6 +108,11 @@ struct CurriculumStage {
   // shorter evaluation runs a prefix of a longer one). Throws roger::Error for a listed task
   // outside the space.
   std::vector<TaskPoint> test_tasks(const TaskSpace& space, int count) const;
+  // Throws ScriptError at the axis's (or the teacher's) file:line when scenario `scenario` cannot
+  // play `space` (the stage's tasks, or what is left of them) as the stage field is checked against
+  // the stage's own: an axis it has no parameter of, a real axis over an integer, an end or a choice
+  // it refuses, an LCAS teacher's level it cannot set.
+  void check_played_in(const std::string& scenario, const TaskSpace& space) const;
   // How many test tasks each checkpoint's and the final evaluation run: the test set's, else the
   // checkpoints' episode counts.
   int checkpoint_test_tasks() const { return test.given ? test.tasks : checkpoints.episodes; }

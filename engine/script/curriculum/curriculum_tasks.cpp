@@ -577,6 +577,13 @@ void parse_teaching(lua_State* L, const LuaFields& f, CurriculumStage& st, LuaCa
 
 }  // namespace curriculum_detail
 
+void CurriculumStage::check_played_in(const std::string& scenario_name, const TaskSpace& space) const {
+  CurriculumStage st = *this;
+  st.scenario = scenario_name;
+  st.tasks = space;
+  curriculum_detail::check_against_scenario(st);
+}
+
 std::vector<TaskPoint> CurriculumStage::test_tasks(const TaskSpace& space, int count) const {
   if (!test.given || test.list.empty()) return draw_test_tasks(space, count, test.seed);
   std::vector<TaskPoint> out;
