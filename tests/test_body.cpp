@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "control/agent.h"
@@ -282,6 +283,54 @@ TEST_CASE("with_params takes a scenario's own body defaults and refuses what it 
                                "base_radius, eye_fov, eye_pixels, forearm, hand_radius, locked"));
   CHECK_THAT(load_error("with_params_float", with + "{}, { eye_pixels = 47.5 }" + who),
              Contains(":3:") && Contains("defaults: 'eye_pixels' must be an integer"));
+}
+
+// Found by a probe: a scenario with body.with_params whose robot had a body of its own took --set
+// upper_arm=0.3, recorded it in the episode's parameters, and ran with its own 0.9 m arms.
+TEST_CASE("a body parameter the world does not use is refused at the generator", "[body]") {
+  const std::string head = "local body = require('lib.body')\nreturn { params = body.with_params{},\n"
+                           "  generate = function(world, rng, p)\n";
+  Scenario own = scenario_from("body_unused", head + "    world:robot{ x = 0, y = 0, body = { upper_arm = 0.9 } }\n  end }\n");
+  CHECK_NOTHROW(own.generate(0));  // at their defaults the parameters ask for nothing: the body is the scenario's
+  own.set_param("upper_arm", "0.3");
+  CHECK_THROWS_WITH(own.generate(0),
+                    Contains("roger_test_body_unused.lua:3:") &&
+                        Contains("the parameter upper_arm = 0.3 asks for a body the world's Roger does not have (its "
+                                 "upper_arm is 0.9): pass body.of(params) to world:robot{ body = ..., eyes = ... }"));
+  own.set_param("upper_arm", "0.5");  // back at its default
+  for (const auto& [name, value, in_world] :
+       {std::tuple<std::string, std::string, std::string>{"eye_pixels", "32", "128"}, {"eye_fov", "1", "1.5707963267948966"},
+        {"hand_radius", "0.1", "0.08"}, {"locked", "left_elbow,right_eye", "none"}}) {
+    own.set_param(name, value);
+    CHECK_THROWS_WITH(own.generate(0), Contains("the parameter " + name + " = " + value) &&
+                                           Contains("(its " + name + " is " + in_world + ")"));
+    own.set_param(name, name == "locked" ? "" : name == "eye_pixels" ? "128" : name == "eye_fov" ? "1.5707963267948966" : "0.08");
+    CHECK_NOTHROW(own.generate(0));
+  }
+  // A world built with body.of(p) takes every body parameter.
+  Scenario used = scenario_from("body_used", head + "    local b = body.of(p)\n"
+                                "    world:robot{ x = 0, y = 0, body = b.body, eyes = b.eyes }\n  end }\n");
+  for (const auto& [name, value] : {std::pair<std::string, std::string>{"upper_arm", "0.6"}, {"forearm", "0.4"},
+                                    {"base_radius", "0.2"}, {"hand_radius", "0.07"}, {"eye_pixels", "48"},
+                                    {"eye_fov", "1.2"}, {"locked", "right_elbow, left_eye"}})
+    used.set_param(name, value);
+  const WorldSpec w = used.generate(0);
+  CHECK(w.body.link_length[0] == 0.6);
+  CHECK(w.eyes.pixels == 48);
+  CHECK(is_locked(w.body, kRightElbow));
+  CHECK(is_locked(w.body, kLeftEye));
+}
+
+// Found by a probe: a misspelt number of roger.body_metrics's result read nil, and the mistake
+// surfaced seeds later as a base sticking out of the arena.
+TEST_CASE("roger.body_metrics's result refuses a number it does not have, at the reader's line", "[body]") {
+  const std::string text = "return { generate = function(world, rng, p)\n"
+                           "  local m = roger.body_metrics{ body = { upper_arm = 0.6 } }\n"
+                           "  local r = m.footprint_radius + m.footprint_radis\n"
+                           "  world:robot{ x = 0, y = 0 }\nend }\n";
+  CHECK_THROWS_WITH(scenario_from("metrics_typo", text).generate(0),
+                    Contains("roger_test_metrics_typo.lua:3: roger.body_metrics(...) has no number 'footprint_radis' (did "
+                             "you mean 'footprint_radius'?); its numbers: approach, carry,"));
 }
 
 TEST_CASE("a locked joint holds its start angle whatever it is told", "[body]") {

@@ -13,9 +13,11 @@
 
 #include <lua.hpp>
 
+#include "core/body.h"
 #include "core/error.h"
 #include "core/fileio.h"
 #include "core/shape.h"
+#include "core/text.h"
 #include "script/scenario/scenario_internal.h"
 #include "script/sandbox/lua_tokens.h"
 
@@ -244,6 +246,51 @@ void check_noise_params_used(const std::map<std::string, ParamSlot>& params, con
   }
 }
 
+// The locked-joint mask a `locked` parameter's text names ("left_elbow,right_elbow").
+unsigned locked_mask(const std::string& names) {
+  unsigned mask = 0;
+  for (const auto& [name, dof] : lockable_joints())
+    for (size_t at = names.find(name); at != std::string::npos; at = names.find(name, at + 1)) {
+      const size_t end = at + name.size();
+      const bool whole = (at == 0 || names[at - 1] == ',' || names[at - 1] == ' ') &&
+                         (end == names.size() || names[end] == ',' || names[end] == ' ');
+      if (whole) mask |= 1u << unsigned(dof);
+    }
+  return mask;
+}
+
+// A body parameter of body.PARAMS (docs/scenarios.md, Bodies) set away from its default whose
+// value the world's Roger does not have: the generator did not pass body.of(p) to world:robot (or
+// built a body of its own). A transfer study would record a body no episode had, so it is refused,
+// as an unused noise parameter is. Found by a probe: --set upper_arm=0.3 was recorded and Roger
+// kept the scenario's 0.9 m arms. A parameter left at its default is not asked about: a scenario
+// may declare the body's parameters and build another body on purpose.
+void check_body_params_used(const std::map<std::string, ParamSlot>& params, const WorldSpec& world,
+                            const std::function<void(const std::string&)>& fail) {
+  const std::pair<const char*, double> numbers[] = {
+      {"upper_arm", world.body.link_length[0]}, {"forearm", world.body.link_length[1]},
+      {"base_radius", world.body.base_radius},  {"hand_radius", world.body.hand_radius},
+      {"eye_pixels", double(world.eyes.pixels)}, {"eye_fov", world.eyes.fov}};
+  auto asked = [&](const char* name) -> const ParamSlot* {
+    const auto it = params.find(name);
+    return it != params.end() && slot_text(it->second) != it->second.info.default_value ? &it->second : nullptr;
+  };
+  auto refuse = [&](const char* name, const std::string& in_world) {
+    fail("the parameter " + std::string(name) + " = " + slot_text(*asked(name)) + " asks for a body the world's " +
+         "Roger does not have (its " + name + " is " + in_world + "): pass body.of(params) to world:robot{ body = " +
+         "..., eyes = ... } (scenarios/lib/body.lua), or leave the parameter at its default");
+  };
+  for (const auto& [name, in_world] : numbers)
+    if (const ParamSlot* p = asked(name); p && param_number(params, name, 0.0) != in_world)
+      refuse(name, format_number(in_world));
+  if (const ParamSlot* p = asked("locked"); p && locked_mask(p->text) != world.body.locked) {
+    std::string names;
+    for (const auto& [name, dof] : lockable_joints())
+      if (is_locked(world.body, dof)) names += (names.empty() ? "" : ",") + name;
+    refuse("locked", names.empty() ? "none" : names);
+  }
+}
+
 }  // namespace
 
 WorldSpec Scenario::generate_world(uint64_t seed) {
@@ -286,8 +333,9 @@ WorldSpec Scenario::generate_world(uint64_t seed) {
     } catch (const Error& e) {
       throw impl.error(e.what(), impl.generate_line);
     }
-    check_noise_params_used(impl.params, spec.noise,
-                            [&](const std::string& why) { throw impl.error(why, impl.generate_line); });
+    const auto refuse = [&](const std::string& why) { throw impl.error(why, impl.generate_line); };
+    check_noise_params_used(impl.params, spec.noise, refuse);
+    check_body_params_used(impl.params, spec, refuse);
     spec.scenario = impl.path;
     spec.seed = seed;
     for (const auto& [key, slot] : impl.params) spec.params[key] = slot_text(slot);
