@@ -82,7 +82,6 @@ roger.robot.footprint_radius = 0.0
 ---@field pixels? integer pixels of each 1-D camera, 16-512 (128)
 ---@field fov? number the full field of view (rad), 0.1-2.8 (pi/2)
 
----What follows from a body: the controllers' body-derived numbers (docs/control.md, Bodies).
 ---One channel's noise as kinds (docs/scenarios.md, Noise): each in the channel's unit.
 ---@class roger.ChannelNoiseSpec
 ---@field sigma? number white: N(0, sigma) per component, every tick
@@ -103,6 +102,9 @@ roger.robot.footprint_radius = 0.0
 ---@field touch? number|roger.ChannelNoiseSpec a fraction of each contact force (0-5)
 ---@field effort? number|roger.ChannelNoiseSpec a fraction of each commanded force, torque and servo rate (0-5)
 
+---What follows from a body: the controllers' body-derived numbers (docs/control.md, Bodies).
+---Reading a number it does not have is an error at that line, naming the nearest
+---("roger.body_metrics(...) has no number 'footprnt_radius' (did you mean 'footprint_radius'?)").
 ---@class roger.BodyMetrics
 ---@field footprint_radius number a disk of this radius holds Roger, arms folded, at any heading (m)
 ---@field approach number phi1's approach ring (m)

@@ -243,6 +243,7 @@ int l_body_metrics(lua_State* L) {
       lua_pushnumber(L, value);
       lua_setfield(L, -2, key);
     }
+    luaL_setmetatable(L, kBodyMetricsType);  // a misspelt number is an error, not nil
     return 1;
   });
 }

@@ -31,6 +31,7 @@ constexpr const char* kShapeType = "roger.Shape";
 constexpr const char* kRngType = "roger.Rng";
 constexpr const char* kWorldType = "roger.World";
 constexpr const char* kParamsType = "roger.Params";  // generate's third argument
+constexpr const char* kBodyMetricsType = "roger.BodyMetrics";  // roger.body_metrics's result
 constexpr size_t kMaxThings = 1000;   // objects, obstacles or goals in one world
 constexpr size_t kMaxParts = 64;      // polygons plus disks in one shape
 
