@@ -571,6 +571,28 @@ TEST_CASE("script mistakes are reported at the script's file:line", "[scenario]"
   }
 }
 
+// Found by a probe: a scenario of one's own calling place.robot without robot_wall_margin failed
+// at lib/place.lua's line that read it; the user's own line was only in the traceback.
+TEST_CASE("a placement step of lib/place.lua names what the scenario lacks, at the scenario's line", "[scenario]") {
+  const std::string head = "local body = require('lib.body')\nlocal place = require('lib.place')\n"
+                           "return { params = body.with_params{ goal_x = { default = 0 } },\n"
+                           "  generate = function(world, rng, p)\n";
+  auto error_of = [&](const std::string& name, const std::string& call) -> std::string {
+    try {
+      test::scenario_from(name, head + "    " + call + "\n  end }\n").generate(0);
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  CHECK_THAT(error_of("place_robot", "place.robot(world, rng, p)"),
+             Contains("roger_test_place_robot.lua:5: place.robot reads the scenario parameter "
+                        "'robot_wall_margin', which the scenario does not declare: add it to its params"));
+  CHECK_THAT(error_of("place_goal", "place.goal(world, p)"),
+             Contains("roger_test_place_goal.lua:5: place.goal reads the scenario parameters 'goal_y', "
+                      "'goal_radius', which the scenario does not declare: add them"));
+}
+
 TEST_CASE("the Lua API checks its arguments where they are given", "[scenario]") {
   // Scenarios written to temporary files exercise the API through generate().
   auto run = [](const std::string& body, const std::string& name) -> std::string {
