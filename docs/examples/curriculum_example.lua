@@ -1,6 +1,7 @@
 -- curriculum_example.lua: a new developmental context written in Lua and trained without
 -- rebuilding the engine (docs/curricula.md, "Tutorial"). Roger learns to find the ball and centre
--- it in both eyes, choosing among turning on the spot (search), centring (phi0) and the Phi6 skill.
+-- it in both eyes, choosing among turning on the spot (search) and centring (phi0) in context Gaze;
+-- context Skilled has the Phi6 skill alone, to compare with.
 --
 --   roger check docs/examples/curriculum_example.lua
 --   roger train docs/examples/curriculum_example.lua --stage Look --context Gaze --seed 3 --out out/look
