@@ -213,10 +213,12 @@ struct BatchSummary {
   size_t finished_now = 0;          // trials this invocation finished (the other done ones, earlier runs)
   double wall_s = 0.0;              // this invocation's wall time
   bool interrupted = false;         // Ctrl-C (core/interrupt.h) stopped it before its selection was done
+  std::string summary_csv;          // summary.csv's text (empty for a shard's): write_summary_csv writes it
 };
 
 // Runs the selected trials of the plan that are not finished, phase by phase (trials that failed
-// before are tried again), then writes summary.csv from what is on disk; a shard instead records
+// before are tried again), then reads what is on disk into the summary (summary.csv's text, which
+// the caller writes after the report, so that the two never disagree); a shard instead records
 // its own outcome in <out>/shards/K-of-N.json, since other shards may still be running. A stop
 // requested by Ctrl-C (core/interrupt.h) ends it early the same way: the trials in flight are left
 // for the resumed run, the finished ones are kept.
@@ -231,8 +233,12 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control);
 // convenience.
 void write_closing_status(const std::string& out, const std::string& report);
 
-// Writes <out>/summary.csv, one row per planned trial (pending ones included), and returns what it
-// found: failed trials and the number pending.
-BatchSummary write_summary_csv(const BatchPlan& plan);
+// What the plan's trials' records say: failed, corrupt and pending trials, and summary.csv's
+// text, one row per planned trial (pending ones included).
+BatchSummary summarize_trials(const BatchPlan& plan);
+// Writes <out>/summary.csv from summary.summary_csv: after the report (tables.md, report.json,
+// the figures), since a kill between the two must not leave a summary that says more than the
+// report does (found by a probe: all 24 trials ok beside a report of 8).
+void write_summary_csv(const BatchPlan& plan, const BatchSummary& summary);
 
 }  // namespace roger

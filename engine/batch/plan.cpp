@@ -1212,7 +1212,7 @@ void summary_row(std::ostream& csv, const PlannedTrial& t, const std::string& st
 
 }  // namespace
 
-BatchSummary write_summary_csv(const BatchPlan& plan) {
+BatchSummary summarize_trials(const BatchPlan& plan) {
   std::ostringstream csv;
   csv << "id,kind,run,stage,context,evaluation,shape,trial,seed,status,reached,time_to_threshold_s,"
          "episodes_to_threshold,decisions_to_threshold,train_episodes,train_sim_s,success_rate,reward_mean,"
@@ -1229,8 +1229,12 @@ BatchSummary write_summary_csv(const BatchPlan& plan) {
       ++s.trials;
       summary_row(csv, t, status, r, error);
     }
-  write_file_atomic((fs::path(plan.out) / "summary.csv").string(), csv.str(), "cannot write summary.csv");
+  s.summary_csv = csv.str();
   return s;
+}
+
+void write_summary_csv(const BatchPlan& plan, const BatchSummary& summary) {
+  write_file_atomic((fs::path(plan.out) / "summary.csv").string(), summary.summary_csv, "cannot write summary.csv");
 }
 
 }  // namespace roger

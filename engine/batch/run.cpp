@@ -734,7 +734,7 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
     try {
       run_trials(ids, trial, bo);
     } catch (const Interrupted&) {
-      interrupted = true;  // what finished is on disk; summary.csv and the report say the rest is pending
+      interrupted = true;  // what finished is on disk; the report and summary.csv say the rest is pending
     }
   }
   // The trials' final status. The page waits for the closing one (write_closing_status), written
@@ -742,7 +742,7 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
   status->set_interrupted(interrupted);
   status.reset();
   const double wall = std::chrono::duration<double>(Clock::now() - start).count();
-  BatchSummary summary = control.shard.active() ? record_shard(plan, control.shard) : write_summary_csv(plan);
+  BatchSummary summary = control.shard.active() ? record_shard(plan, control.shard) : summarize_trials(plan);
   split_outside_only(plan, control, summary);
   summary.wall_s = wall;
   summary.interrupted = interrupted;

@@ -188,15 +188,20 @@ int command_run(const RunArgs& a) {
     const bool reporting = !a.no_report && !shard.active() && summary.corrupt.empty();
     // The report is short and written whole or not at all: a first Ctrl-C from now on lets it finish.
     if (reporting) catch_interrupts("finishing the report of the finished trials, then exiting");
-    if (!shard.active()) log << "roger run: wrote " << (std::filesystem::path(plan.out) / "summary.csv").string() << "\n";
     if (summary.undiagnosed) print_undiagnosed(summary.undiagnosed, log);
     int status = 0;
     std::string report = "none";
     if (!summary.corrupt.empty() && !a.no_report && !shard.active()) {
       log << "roger run: no report: some trials' files cannot be read (listed below)\n";
     } else if (reporting) {
+      log << "roger run: writing the report\n";
       report = report_of_run(plan, log);
       status = report == "written" ? 0 : 1;
+    }
+    // After the report: a kill in between leaves the previous summary beside the previous report.
+    if (!shard.active()) {
+      write_summary_csv(plan, summary);
+      log << "roger run: wrote " << (std::filesystem::path(plan.out) / "summary.csv").string() << "\n";
     }
     // A shard's final status stays: it says what the run waits for (other shards, roger report).
     if (!shard.active()) write_closing_status(plan.out, report);
@@ -229,7 +234,8 @@ int command_report(const ReportArgs& a) {
     if (!missing.empty() && (!a.partial || corrupt)) return print_missing(missing, plan, log);
     // The report first: summary.csv is only replaced once the tables and figures are.
     const std::vector<std::string> written = write_report(a.dir, a.by);
-    const BatchSummary summary = write_summary_csv(plan);
+    const BatchSummary summary = summarize_trials(plan);
+    write_summary_csv(plan, summary);
     log << "roger report: wrote " << (std::filesystem::path(plan.out) / "summary.csv").string() << "\n";
     for (const auto& f : written) log << "roger report: wrote " << f << "\n";
     // The dashboard of a sharded run waits for this report: the run's closing status (none

@@ -15,7 +15,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   roger::fuzz::expect_success_or_roger_error([&] {
     const roger::BatchPlan plan = roger::read_results_plan(dir.string());
     roger::missing_trials(plan);
-    roger::write_summary_csv(plan);
+    roger::write_summary_csv(plan, roger::summarize_trials(plan));
     roger::write_report(dir.string());
   });
   return 0;

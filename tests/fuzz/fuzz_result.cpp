@@ -20,7 +20,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         fs::create_directories(trial_dir);
         roger::fuzz::write_bytes(trial_dir / "result.json", data, size);
       }
-    roger::write_summary_csv(plan);
+    roger::write_summary_csv(plan, roger::summarize_trials(plan));
     roger::write_report(dir.string());
   });
   return 0;
