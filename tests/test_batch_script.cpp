@@ -297,6 +297,15 @@ TEST_CASE("a batch script's limits set the sandbox's budgets; the command line's
   CHECK_THAT(load_error(script("{ memory = 4 }")),
              Catch::Matchers::Contains("field 'memory' must be between 16 and 1048576, got 4"));
   CHECK_THAT(load_error(script("{ instructions = 'many' }")), Catch::Matchers::Contains("field 'instructions' must be an integer"));
+  // Found by a probe: 2^53, the documented largest budget written as Lua writes it, was refused as
+  // "must be an integer"; a whole float is the integer it holds, and the range says what is too big.
+  CHECK(load_batch_script(script("{ instructions = 2^53 }")).limits.instructions == uint64_t(1) << 53);
+  CHECK_THAT(load_error(script("{ instructions = 2^60 }")),
+             Catch::Matchers::Contains("field 'instructions' must be between 1000 and 9007199254740992, got "
+                                       "1152921504606846976"));
+  // And 0/0 said "the batch script.limits.instructions must be a finite number".
+  CHECK_THAT(load_error(script("{ instructions = 0/0 }")),
+             Catch::Matchers::Contains("field 'limits.instructions' must be a finite number, got nan"));
   fs::remove_all(dir);
 }
 
@@ -378,7 +387,7 @@ TEST_CASE("a batch script's text that is no UTF-8 is refused at load, naming the
   std::ofstream(file) << "return { name = 'l', curriculum = 'paper', trials = 1, description = 'caf\\233 au lait',\n"
                          "  runs = { { name = 'SG', stage = 'SG', contexts = { 'B1' } } } }\n";
   CHECK_THAT(load_error(file.string()),
-             Catch::Contains("latin1.lua:1: the batch script.description must be UTF-8 text, got \"caf\\xE9 au lait\" "
+             Catch::Contains("latin1.lua:1: field 'description' must be UTF-8 text, got \"caf\\xE9 au lait\" "
                              "(byte 0xe9 at byte 4 is not part of a UTF-8 character; save the script as UTF-8)"));
   std::ofstream(file) << "return { name = 'l', curriculum = 'paper', trials = 1, description = 'caf\\195\\169 au lait',\n"
                          "  runs = { { name = 'SG', stage = 'SG', contexts = { 'B1' } } } }\n";

@@ -70,7 +70,7 @@ json returned_table(lua_State* L, const Reader& rd, int top_line) {
                           std::string(luaL_typename(L, -1)));
   json top;
   try {
-    top = lua_to_json(L, -1, "the batch script");
+    top = lua_to_json(L, -1, "");
   } catch (const ScriptError&) {
     throw;
   } catch (const Error& e) {

@@ -26,8 +26,9 @@ std::string quoted_list(const std::vector<std::string>& items);
 std::string has_no(const std::string& kind, const std::string& name, const std::vector<std::string>& names);
 
 // The Lua value at `index` as JSON: tables with keys 1..n are arrays, tables with string keys
-// objects; numbers, strings and booleans as they are. `where` names the value for messages.
-json lua_to_json(lua_State* L, int index, const std::string& where, int depth = 0);
+// objects; numbers, strings and booleans as they are. `path` is where the value lies within the
+// returned table ("limits.instructions"; "" for the table), for messages.
+json lua_to_json(lua_State* L, int index, const std::string& path, int depth = 0);
 
 // Reads a validated script out of the JSON the Lua script returned, with lines for messages.
 class Reader {

@@ -40,9 +40,17 @@ std::string utf8_text(lua_State* L, int index, const std::string& where) {
 }
 }  // namespace
 
+// The value at `path` within the returned table ("limits.instructions", "runs[2].params"), as
+// messages name it: "field 'limits.instructions'", or the whole table when the path is empty.
+std::string value_named(const std::string& path) {
+  return path.empty() ? "the batch script's table" : "field '" + path + "'";
+}
+
 // The Lua value at `index` as JSON: tables with keys 1..n are arrays, tables with string keys
-// objects; numbers, strings and booleans as they are. `where` names the value for messages.
-json lua_to_json(lua_State* L, int index, const std::string& where, int depth) {
+// objects; numbers, strings and booleans as they are. `path` is where the value is within the
+// returned table ("" for the table itself), for messages.
+json lua_to_json(lua_State* L, int index, const std::string& path, int depth) {
+  const std::string where = value_named(path);
   index = lua_absindex(L, index);
   if (depth > 32) throw Error(where + ": nested too deeply");
   switch (lua_type(L, index)) {
@@ -52,7 +60,7 @@ json lua_to_json(lua_State* L, int index, const std::string& where, int depth) {
       if (lua_isinteger(L, index)) return int64_t(lua_tointeger(L, index));
       {
         const double v = lua_tonumber(L, index);
-        if (!std::isfinite(v)) throw Error(where + " must be a finite number");
+        if (!std::isfinite(v)) throw Error(where + " must be a finite number, got " + format_number(v));
         return v;
       }
     case LUA_TSTRING: return utf8_text(L, index, where);
@@ -63,10 +71,10 @@ json lua_to_json(lua_State* L, int index, const std::string& where, int depth) {
       while (lua_next(L, index) != 0) {
         if (lua_type(L, -2) == LUA_TSTRING) {
           const std::string key = utf8_text(L, -2, where + ": a key");
-          obj[key] = lua_to_json(L, -1, where + "." + key, depth + 1);
+          obj[key] = lua_to_json(L, -1, path.empty() ? key : path + "." + key, depth + 1);
         } else if (lua_isinteger(L, -2)) {
           const lua_Integer k = lua_tointeger(L, -2);
-          items[k] = lua_to_json(L, -1, where + "[" + std::to_string(k) + "]", depth + 1);
+          items[k] = lua_to_json(L, -1, path + "[" + std::to_string(k) + "]", depth + 1);
         } else {
           lua_pop(L, 2);
           throw Error(where + ": keys must be names or list positions");
@@ -150,8 +158,8 @@ int64_t Reader::integer(const json& o, const char* key, const std::string& what,
   const json& v = o[key];
   int64_t x = 0;
   if (v.is_number_integer()) x = v.get<int64_t>();
-  else if (v.is_number_float() && std::floor(v.get<double>()) == v.get<double>() && std::fabs(v.get<double>()) < 9e15)
-    x = int64_t(v.get<double>());
+  else if (v.is_number_float() && std::floor(v.get<double>()) == v.get<double>() && std::fabs(v.get<double>()) < 9.2e18)
+    x = int64_t(v.get<double>());  // a whole float (2^53, 2e8) is the integer it holds; the range says the rest
   else fail(line_of_key(key, line), what + ": field '" + key + "' must be an integer, got " + json_value_said(v));
   if (x < lo || x > hi)
     fail(line_of_key(key, line), what + ": field '" + key + "' must be between " + std::to_string(lo) + " and " +
