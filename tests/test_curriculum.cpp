@@ -440,15 +440,35 @@ TEST_CASE("a stage's bad field is reported at the line it is written on", "[curr
              Contains("learner.lua:6: stage 'S': learner: unknown field 'alpah' (did you mean 'alpha'?)"));
   CHECK_THAT(error_with("checkpoints.lua", "checkpoints = {\n    every = -5 },", good),
              Contains("checkpoints.lua:7: stage 'S': checkpoints: field 'every' must be"));
+  // Found by a probe: every past the budget gave one checkpoint, after the last episode.
+  CHECK_THAT(error_with("every.lua", "checkpoints = {\n    every = 4 },", good),
+             Contains("every.lua:7: stage 'S': checkpoints: field 'every' is 4, more than the budget's 3 episodes: "
+                      "the only checkpoint would follow the last episode"));
   CHECK_THAT(error_with("type.lua", "description = 3,", good),
              Contains("type.lua:6: stage 'S': field 'description' must be"));
   CHECK_THAT(error_with("empty.lua", "", "{ name = 'A', actions = {} },"),
              Contains("empty.lua:9: stage 'S', context 'A': Psi is empty"));
   CHECK_THAT(error_with("nme.lua", "", "{ nme = 'A', actions = { p.phi3 } },"),
              Contains("nme.lua:9: stage 'S': context 2: unknown field 'nme' (did you mean 'name'?)"));
-  // What is not a field's stays at the stage's line.
-  CHECK_THAT(error_with("none.lua", "", "{ name = 'B', actions = { p.phi1 } },"),
-             Contains("none.lua:2: stage 'S': a second context named 'B'"));
+  // A second context of a name, at its own line (found by a probe: at the stage's, not saying
+  // where the first was).
+  CHECK_THAT(error_with("twice.lua", "", "{ name = 'B', actions = { p.phi1 } },"),
+             Contains("twice.lua:9: stage 'S': context 2: a second context named 'B' (context 1 is named so)"));
+  // A named context beside the list was dropped without a word (found by a probe): refused.
+  CHECK_THAT(error_with("mixed.lua", "", "A = { p.phi3, p.phi1 },"),
+             Contains("mixed.lua:7: stage 'S': field 'contexts' mixes a list with the named entry 'A': write it in "
+                      "the list as {name = ..., actions = {...}}, or every context as a map"));
+  // So was a named stage beside the list of stages.
+  const auto path = tmp.path / "stages.lua";
+  std::ofstream(path) << "local p = require('lib.skills').primitives()\n"
+                         "local function st(name)\n"
+                         "  return roger.stage{ name = name, time_limit = 5, absorbing = roger.converged(p.phi3),\n"
+                         "    budget = { episodes = 3 }, contexts = { { name = 'A', actions = { p.phi3 } } } }\n"
+                         "end\n"
+                         "return { stages = { st('S1'), Extra = st('S2') } }\n";
+  CHECK_THAT(error_of([&] { Curriculum::load(path.string()); }),
+             Contains("stages.lua:6: the curriculum: 'stages' must be a list {roger.stage{...}, ...}; it also has the "
+                      "named entry 'Extra', which would be left out: write it in the list"));
 }
 
 TEST_CASE("changes made to a roger.stage table after the call count and are checked", "[curriculum]") {

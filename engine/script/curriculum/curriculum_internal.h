@@ -62,6 +62,9 @@ std::string param_text(lua_State* L, int index, const std::string& where);
 // wrong table is named `where`, a wrong value `<key_where><key>` (by default `<where>.<key>`).
 void read_params_into(lua_State* L, int index, const std::string& where, ParamList& out,
                       const std::string& key_where = "");
+// The first key (in sorted order) of the table at `index` that is not a position 1..n of its list
+// part, as messages show it ("'Extra'", "[7]"); "" when it is a plain list of n items.
+std::string key_beside_list(lua_State* L, int index, lua_Integer n);
 // Registers roger.int, roger.real, roger.choice and roger.teacher.* (on the `roger` global).
 void install_teaching_api(lua_State* L);
 // Reads a stage's `tasks`, `teacher` and `test` (after its contexts), checking them against the

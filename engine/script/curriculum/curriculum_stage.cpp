@@ -1,6 +1,7 @@
 // Reading one stage table of a curriculum (roger.stage{...} or a plain table in 'stages'): its
 // scenario, absorbing state, reward, learner, budget, checkpoints, contexts and skill.
 #include <algorithm>
+#include <map>
 #include <set>
 
 #include "core/error.h"
@@ -98,6 +99,11 @@ void parse_contexts(lua_State* L, CurriculumStage& st) {
   std::vector<ContextEntry> entries;
   if (lua_rawlen(L, t) > 0) {
     const lua_Integer n = lua_Integer(lua_rawlen(L, t));
+    // A named context beside the list (`{ {name = 'A', ...}, B = {...} }`) would be dropped without
+    // a word: found by a probe, whose context B was not trained and roger check said ok.
+    if (const std::string key = key_beside_list(L, t, n); !key.empty())
+      luaL_error(L, "%s: field 'contexts' mixes a list with the named entry %s: write it in the list as {name = "
+                 "..., actions = {...}}, or every context as a map {A = {...}, B = {...}}", where.c_str(), key.c_str());
     for (lua_Integer i = 1; i <= n; ++i) {
       lua_rawgeti(L, t, i);
       const int e = lua_gettop(L);
@@ -130,12 +136,16 @@ void parse_contexts(lua_State* L, CurriculumStage& st) {
     }
   }
   if (entries.empty()) luaL_error(L, "%s: field 'contexts' is empty: define at least one context", where.c_str());
-  std::set<std::string> seen_names;
-  for (const auto& entry : entries) {
+  std::map<std::string, size_t> seen_names;  // each name's position in the list
+  for (size_t k = 0; k < entries.size(); ++k) {
+    const ContextEntry& entry = entries[k];
     const std::string& name = entry.name;
     const int idx = entry.actions, params_idx = entry.params;
     const std::string ctx = st.where(name);
-    if (!seen_names.insert(name).second) luaL_error(L, "%s: a second context named '%s'", where.c_str(), name.c_str());
+    // At the second one's line ("context 2: " leads there), naming the first.
+    if (const auto [first, added] = seen_names.emplace(name, k + 1); !added)
+      luaL_error(L, "%s: context %d: a second context named '%s' (context %d is named so)", where.c_str(), int(k + 1),
+                 name.c_str(), int(first->second));
     if (!lua_istable(L, idx))
       luaL_error(L, "%s: the actions must be a list of controllers, got %s", ctx.c_str(),
                  lua_describe_value(L, idx).c_str());
@@ -268,6 +278,12 @@ void read_budget_checkpoints(lua_State* L, const LuaFields& f, const std::string
     LuaFields c(L, lua_gettop(L), where + ": checkpoints",
                 {"every", "episodes", "threshold", "seeds", "stop_after", "settle", "final"});
     st.checkpoints.every = positive_int(c, "every", std::max(1, st.budget_episodes / 20), 1, "a positive integer");
+    // Found by a probe: every = 500 under a budget of 300 trained with one checkpoint, after the
+    // last episode, and reported the threshold reached "after 300 episodes", the budget's figure.
+    if (st.checkpoints.every > st.budget_episodes)
+      c.fail("field 'every' is " + std::to_string(st.checkpoints.every) + ", more than the budget's " +
+             std::to_string(st.budget_episodes) + " episodes: the only checkpoint would follow the last episode, "
+             "and the time to the threshold would be the budget's; give every at most budget.episodes");
     st.checkpoints.episodes = positive_int(c, "episodes", 20, 1, "a positive integer");
     st.checkpoints.threshold = c.number("threshold", 0.9);
     if (!(st.checkpoints.threshold > 0.0 && st.checkpoints.threshold <= 1.0))
@@ -374,6 +390,20 @@ void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& abso
   read_skill(L, f, where, st);
   // After the contexts: a task parameter may not be one a context fixes.
   parse_teaching(L, f, st, teacher_fn, checkpoints_field(L, f, "episodes"), checkpoints_field(L, f, "final"));
+}
+
+std::string key_beside_list(lua_State* L, int index, lua_Integer n) {
+  index = lua_absindex(L, index);
+  std::vector<std::string> keys;
+  lua_pushnil(L);
+  while (lua_next(L, index)) {
+    lua_pop(L, 1);
+    if (lua_isinteger(L, -1) && lua_tointeger(L, -1) >= 1 && lua_tointeger(L, -1) <= n) continue;
+    keys.push_back(lua_type(L, -1) == LUA_TSTRING ? "'" + std::string(lua_tostring(L, -1)) + "'"
+                                                  : "[" + lua_describe_value(L, -1) + "]");
+  }
+  std::sort(keys.begin(), keys.end());
+  return keys.empty() ? "" : keys.front();
 }
 
 }  // namespace curriculum_detail
