@@ -191,6 +191,19 @@ TEST_CASE("roger check validates batch scripts against their curriculum", "[cli]
   CHECK(r.status == 1);
   CHECK(r.err.find(bad.filename().string() + ":6") != std::string::npos);
   CHECK(r.err.find("DC9") != std::string::npos);
+  // Found by a probe: the curriculum a batch script runs passed as its batch script's check when
+  // its own check refused it (an undefined global): the static pass reads it too.
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_batch_static_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "mine.lua") << "local paper = require('paper')\nlocal bit = bit32 or nil\nreturn paper\n";
+  std::ofstream(dir / "batch.lua") << "return { name = 'b', curriculum = 'mine.lua', trials = 1,\n"
+                                      "  runs = { { name = 'SG', stage = 'SG', contexts = { 'B1' } } } }\n";
+  const Run of_curriculum = roger("check " + (dir / "mine.lua").string());
+  const Run of_batch = roger("check " + (dir / "batch.lua").string());
+  CHECK(of_curriculum.status == 1);
+  CHECK(of_batch.status == 1);
+  CHECK_THAT(of_batch.err, Catch::Matchers::Contains("mine.lua:2: undefined global 'bit32'"));
+  fs::remove_all(dir);
 }
 
 // Found by a probe: `roger check` of a batch script ignored --set (a misspelt name passed), and

@@ -865,6 +865,16 @@ TEST_CASE("the static pass finds a misspelt roger member and names the nearest",
              Contains("undefined global 'roger': a batch script reaches no roger.* API"));
 }
 
+// Found by a probe: a map of contexts gave Skilled twice; Lua kept the second, and the first
+// context vanished while roger check said ok.
+TEST_CASE("the static pass finds a key given twice in one table constructor", "[lua_sandbox][static]") {
+  CHECK(problems_in("return {\n  A = 1,\n  B = { A = 2 },\n  [\"A\"] = 3,\n}\n") ==
+        std::vector<std::string>{"4: the table written at line 1 gives 'A' twice (first at line 2): Lua keeps the last "
+                                 "value, and the first is lost"});
+  // The same key in two tables, or in a table and its nested one, is no duplicate.
+  CHECK(problems_in("local t = { a = 1, b = { a = 2 } }\nlocal u = { a = 3 }\nreturn t, u\n").empty());
+}
+
 TEST_CASE("the static pass finds undefined globals and follows Lua's scopes", "[lua_sandbox][static]") {
   CHECK(problems_in("pirnt('x')\n") == std::vector<std::string>{"1: undefined global 'pirnt'; did you mean print?"});
   // A shipped library used without its require says how to get it (found by a probe).

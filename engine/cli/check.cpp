@@ -25,6 +25,24 @@
 namespace roger {
 namespace {
 
+// The static pass (a misspelt roger.* member, an undefined global), before anything runs: prints
+// each problem as file:line and returns their number. A bare name is the scenario it names, as
+// for the loader below (scenarios/<name>.lua of the project or the installed tree); a name that
+// is neither is left to the loader, which says what exists.
+size_t report_static_problems(const std::string& script) {
+  std::string path;
+  try {
+    path = resolve_scenario_path(script);
+  } catch (const Error&) {
+    return 0;
+  }
+  std::vector<std::string> shadows;
+  const std::vector<StaticProblem> problems = static_check(path, script_kind_of(path), &shadows);
+  for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.what().c_str());
+  for (const auto& s : shadows) std::fprintf(stderr, "roger: warning: %s\n", s.c_str());
+  return problems.size();
+}
+
 // Each run's stage of the curriculum checked as its trials train it: with the run's parameters
 // and the command's --set (check_curriculum: the ends of its task space, its test tasks), runs of
 // the same parameters together. Prints each problem; returns their number.
@@ -48,6 +66,12 @@ int check_batch(const std::string& path, const std::string& shown, const LuaLimi
   overrides.instructions = lua.instructions;
   overrides.memory_mib = lua.memory_mib;
   const BatchScript b = load_batch_script(path, overrides);
+  // The curriculum it runs, as `roger check CURRICULUM` reads it (found by a probe: a curriculum
+  // whose check failed on an undefined global passed as its batch script's).
+  std::error_code ec;
+  const std::filesystem::path here = std::filesystem::relative(b.curriculum_file, ec);
+  const bool below = !ec && !here.empty() && *here.begin() != "..";
+  if (report_static_problems(below ? here.string() : b.curriculum_file) > 0) return 1;
   if (check_runs_stages(b) > 0) return 1;
   std::string runs;
   for (const auto& r : b.runs) {
@@ -66,27 +90,6 @@ int check_batch(const std::string& path, const std::string& shown, const LuaLimi
 
 }  // namespace
 
-namespace {
-
-// The static pass (a misspelt roger.* member, an undefined global), before anything runs: prints
-// each problem as file:line and returns their number. A bare name is the scenario it names, as
-// for the loader below (scenarios/<name>.lua of the project or the installed tree); a name that
-// is neither is left to the loader, which says what exists.
-size_t report_static_problems(const std::string& script) {
-  std::string path;
-  try {
-    path = resolve_scenario_path(script);
-  } catch (const Error&) {
-    return 0;
-  }
-  std::vector<std::string> shadows;
-  const std::vector<StaticProblem> problems = static_check(path, script_kind_of(path), &shadows);
-  for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.what().c_str());
-  for (const auto& s : shadows) std::fprintf(stderr, "roger: warning: %s\n", s.c_str());
-  return problems.size();
-}
-
-}  // namespace
 
 namespace {
 

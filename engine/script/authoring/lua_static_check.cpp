@@ -564,7 +564,34 @@ class Scanner {
 struct ScannedFile {
   std::string shown;
   std::vector<Access> accesses;
+  std::vector<StaticProblem> duplicate_keys;  // found in the text, apart from the names
 };
+
+// A key written twice in one table constructor (`{ Skilled = {...}, Skilled = {...} }`): Lua keeps
+// the last value, so the first is lost without a word (found by a probe: a context of a map
+// vanished and roger check said ok). Reported at the second, naming the first.
+std::vector<StaticProblem> duplicate_keys(const std::string& text, const std::string& shown) {
+  std::vector<StaticProblem> out;
+  const LuaTableMap map(text);
+  for (const auto& node : map.nodes()) {
+    std::map<std::string, int> first_line;
+    for (const auto& e : node.entries)
+      if (const auto [first, added] = first_line.emplace(e.key, e.line); !added)
+        out.push_back({shown, e.line,
+                       "the table written at line " + std::to_string(node.line) + " gives '" + e.key +
+                           "' twice (first at line " + std::to_string(first->second) +
+                           "): Lua keeps the last value, and the first is lost"});
+  }
+  return out;
+}
+
+// The problems judged from a file's names and those of its text, in line order.
+void append_in_line_order(std::vector<StaticProblem> found, const std::vector<StaticProblem>& more,
+                          std::vector<StaticProblem>& out) {
+  found.insert(found.end(), more.begin(), more.end());
+  std::stable_sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.line < b.line; });
+  out.insert(out.end(), found.begin(), found.end());
+}
 
 // What the files define and what the kind's sandbox has; judges each access.
 class Judge {
@@ -712,9 +739,10 @@ std::optional<StaticProblem> syntax_problem(const std::string& text, const std::
 std::vector<StaticProblem> static_check_text(const std::string& text, const std::string& shown,
                                              std::optional<ScriptKind> kind) {
   if (auto syntax = syntax_problem(text, shown)) return {*syntax};
-  const std::vector<ScannedFile> files{{shown, Scanner(text).accesses}};
-  std::vector<StaticProblem> out;
-  Judge(kind, files).judge(files[0], out);
+  const std::vector<ScannedFile> files{{shown, Scanner(text).accesses, duplicate_keys(text, shown)}};
+  std::vector<StaticProblem> judged, out;
+  Judge(kind, files).judge(files[0], judged);
+  append_in_line_order(judged, files[0].duplicate_keys, out);
   return out;
 }
 
@@ -766,7 +794,7 @@ std::vector<StaticProblem> static_check(const std::string& path, std::optional<S
       syntax_errors.push_back(*syntax);
       continue;
     }
-    files.push_back({shown, Scanner(text).accesses});
+    files.push_back({shown, Scanner(text).accesses, duplicate_keys(text, shown)});
     for (const auto& a : files.back().accesses) {
       if (a.kind != Access::kRequire) continue;
       const fs::path module = find_module(sandbox.module_roots(), a.name);
@@ -779,7 +807,11 @@ std::vector<StaticProblem> static_check(const std::string& path, std::optional<S
   }
   const Judge judge(kind, files);
   std::vector<StaticProblem> out = syntax_errors;
-  for (const auto& f : files) judge.judge(f, out);
+  for (const auto& f : files) {
+    std::vector<StaticProblem> judged;
+    judge.judge(f, judged);
+    append_in_line_order(judged, f.duplicate_keys, out);
+  }
   return out;
 }
 
