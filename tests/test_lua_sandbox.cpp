@@ -237,7 +237,18 @@ TEST_CASE("os, io, debug and package are not available and say so", "[lua_sandbo
   LuaSandbox sandbox2;
   const ScriptError io = file_error(sandbox2, "tests/scripts/bad_io.lua");
   CHECK_THAT(io.message, StartsWith("io.open is not available: roger scripts are sandboxed"));
-  CHECK_THAT(error_of(sandbox, "return debug.traceback()").message, StartsWith("debug.traceback is not available"));
+  CHECK_THAT(error_of(sandbox, "return debug.getinfo(1)").message, StartsWith("debug.getinfo is not available"));
+  CHECK_THAT(error_of(sandbox, "debug.sethook = print").message, StartsWith("debug.sethook is not available"));
+  // Found by a probe: xpcall(f, debug.traceback), Lua's way to keep where an error came from, said
+  // only "error in error handling"; debug.traceback alone is given, as plain Lua has it.
+  sandbox.load_string("local ok, m = xpcall(function() error('boom') end, debug.traceback)\n"
+                      "return ok, m, debug.traceback('note', 1)", "=tb.lua");
+  sandbox.call(0, 3);
+  CHECK(!lua_toboolean(sandbox.state(), -3));
+  CHECK_THAT(std::string(lua_tostring(sandbox.state(), -2)),
+             StartsWith("tb.lua:1: boom\nstack traceback:") && Contains("tb.lua:1: in function"));
+  CHECK_THAT(std::string(lua_tostring(sandbox.state(), -1)), StartsWith("note\nstack traceback:\n\ttb.lua:2: in main chunk"));
+  lua_pop(sandbox.state(), 3);
   CHECK_THAT(error_of(sandbox, "return package.path").message, StartsWith("package.path is not available"));
   CHECK_THAT(error_of(sandbox, "os.exit = print").message, StartsWith("os.exit is not available"));
   // Found by a probe: these said only "attempt to call a nil value (field 'dump')".
@@ -1862,4 +1873,13 @@ TEST_CASE("require takes a number as its name and returns where it found a modul
   sandbox.run_file((dir.path / "main.lua").string(), 1);
   const std::string out = lua_tostring(sandbox.state(), -1);
   CHECK_THAT(out, StartsWith("42 ") && Contains("m1.lua true nil forty-two"));
+  // Found by a probe: a module that returns false is run again by the next require, as Lua's
+  // require does (it caches only a true value), each time returning where it was found.
+  std::ofstream(dir.path / "no.lua") << "COUNT = COUNT + 1\nreturn false\n";
+  std::ofstream(dir.path / "falsy.lua") << "COUNT = 0\nlocal a, pa = require('no')\nlocal b, pb = require('no')\n"
+                                           "return tostring(a) .. ' ' .. pa .. ' ' .. tostring(b) .. ' ' .. pb .. ' ' .. COUNT\n";
+  LuaSandbox again;
+  again.run_file((dir.path / "falsy.lua").string(), 1);
+  CHECK_THAT(std::string(lua_tostring(again.state(), -1)), StartsWith("false ") && Catch::Matchers::EndsWith("no.lua false " +
+             again.display_name(dir.path / "no.lua") + " 2"));
 }

@@ -250,6 +250,16 @@ int open_sandbox(lua_State* L) {
   luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
   for (const char* lib : {"os", "io", "debug", "package"}) {
     push_guard(L, lib);
+    if (std::string(lib) == "debug") {
+      // Of debug, traceback alone: it only reads the stack into a string, and
+      // xpcall(f, debug.traceback) is how Lua code keeps where an error came from (found by a
+      // probe: such a handler failed, and xpcall said only "error in error handling").
+      lua_pushstring(L, "traceback");
+      luaopen_debug(L);  // a table of the library's functions; nothing else is installed
+      lua_getfield(L, -1, "traceback");
+      lua_remove(L, -2);
+      lua_rawset(L, -3);
+    }
     lua_pushvalue(L, -1);
     lua_setfield(L, -3, lib);
     lua_setfield(L, g, lib);

@@ -196,7 +196,7 @@ int sandbox_require(lua_State* L) {
   lua_settop(L, 1);
   lua_getfield(L, LUA_REGISTRYINDEX, kModulesKey);  // index 2: the cache
   lua_getfield(L, 2, name.c_str());
-  if (!lua_isnil(L, -1)) return 1;
+  if (lua_toboolean(L, -1)) return 1;  // as Lua's: a module that returned false is run again
   lua_pop(L, 1);
   // A standard library's name ("string", "utf8", "coroutine", "_G", ...) gives the library, as
   // Lua's require finds it in package.loaded before any file (the missing ones give their guard).
