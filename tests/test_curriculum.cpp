@@ -81,28 +81,30 @@ TEST_CASE("bad curricula are clear errors at file:line", "[curriculum]") {
     std::vector<std::string> parts;
   };
   const std::vector<Case> cases = {
-      {"bad_curriculum_skill_context.lua", {"bad_curriculum_skill_context.lua:4:", "stage 'S'", "unknown context 'DC9'", "contexts: A"}},
-      {"bad_curriculum_empty_psi.lua", {"bad_curriculum_empty_psi.lua:4:", "stage 'S', context 'Empty'", "Psi is empty"}},
+      {"bad_curriculum_skill_context.lua", {"bad_curriculum_skill_context.lua:5:", "stage 'S'", "unknown context 'DC9'", "contexts: A"}},
+      {"bad_curriculum_empty_psi.lua", {"bad_curriculum_empty_psi.lua:5:", "stage 'S', context 'Empty'", "Psi is empty"}},
       {"bad_curriculum_field.lua", {"bad_curriculum_field.lua:4:", "unknown field 'time_limt'", "time_limit"}},
       {"bad_curriculum_learned_same.lua", {"bad_curriculum_learned_same.lua:5:", "context 'B'", "this very stage yields"}},
-      {"bad_curriculum_too_many.lua", {"bad_curriculum_too_many.lua:7:", "context 'Wide'", "13 actions", "at most 12"}},
+      {"bad_curriculum_too_many.lua", {"bad_curriculum_too_many.lua:8:", "context 'Wide'", "13 actions", "at most 12"}},
       {"bad_curriculum_plain_field.lua", {"bad_curriculum_plain_field.lua:5:", "stage 'Plain'", "episodes", "-3"}},
       {"bad_curriculum_discount_clock.lua",
-       {"bad_curriculum_discount_clock.lua:4:", "stage 'Clock'", "learner", "discount_seconds", "got -2"}},
+       {"bad_curriculum_discount_clock.lua:6:", "stage 'Clock'", "learner", "discount_seconds", "got -2"}},
       {"bad_curriculum_unconverged.lua",
-       {"bad_curriculum_unconverged.lua:4:", "stage 'Eager'", "learner", "unconverged_first", "a boolean"}},
+       {"bad_curriculum_unconverged.lua:6:", "stage 'Eager'", "learner", "unconverged_first", "a boolean"}},
       {"bad_curriculum_alpha.lua",
-       {"bad_curriculum_alpha.lua:4:", "stage 'Alpha'", "stage 'Alpha': learner: alpha must be in (0, 1], got -1"}},
+       {"bad_curriculum_alpha.lua:6:", "stage 'Alpha'", "stage 'Alpha': learner: alpha must be in (0, 1], got -1"}},
       {"bad_curriculum_time_per_object.lua",
-       {"bad_curriculum_time_per_object.lua:4:", "stage 'Slow'", "field 'time_limit'", "per_object", "got 0"}},
+       {"bad_curriculum_time_per_object.lua:5:", "stage 'Slow'", "field 'time_limit'", "per_object", "got 0"}},
       {"bad_curriculum_misspelt_action.lua",
        {"bad_curriculum_misspelt_action.lua:7:", "no controller \"phi33\"", "carry, phi0, phi1, phi2, phi3, phi4, phi5, search"}},
       {"bad_curriculum_time_field.lua",
-       {"bad_curriculum_time_field.lua:4:", "stage 'Typo'", "field 'time_limit'", "per_objects", "per_object"}},
+       {"bad_curriculum_time_field.lua:5:", "stage 'Typo'", "field 'time_limit'", "per_objects", "per_object"}},
       {"bad_curriculum_held_ticks.lua",
-       {"bad_curriculum_held_ticks.lua:5:", "stage 'Patient'", "field 'absorbing'",
+       {"bad_curriculum_held_ticks.lua:6:", "stage 'Patient'", "field 'absorbing'",
         "held(converged(phi3), 250.0 s) can hold only after 250 simulated seconds, past the time_limit of 5 s"}},
   };
+  // Each at the line its field is written on (the first part), with no traceback: it would name
+  // only the roger.stage{ line.
   for (const auto& c : cases) {
     INFO(c.file);
     const std::string m = error_of([&] { Curriculum::load(std::string("tests/scripts/") + c.file); });
@@ -373,7 +375,7 @@ TEST_CASE("a map context with fields, and bad context params, are read where the
                         "return { stages = { roger.stage{ name = 'S', time_limit = 2,\n"
                         "  absorbing = roger.converged(p.phi0), budget = { episodes = 1 },\n"
                         "  contexts = { { name = 'A', actions = { p.phi0 }, params = { eye_pixels = {} } } } } } }\n";
-  CHECK_THROWS_WITH(Curriculum::load(bad), Catch::Matchers::Contains("bad.lua:2:") &&
+  CHECK_THROWS_WITH(Curriculum::load(bad), Catch::Matchers::Contains("bad.lua:4:") &&  // the context's line
                                                Catch::Matchers::Contains("params.eye_pixels must be a number, string or boolean"));
   const std::string unbuildable = (dir.path / "unbuildable.lua").string();
   std::ofstream(unbuildable) << "local p = require('lib.skills').primitives()\n"

@@ -126,7 +126,9 @@ std::optional<ScriptError> at_stage_field(const ScriptError& e) {
   if (node >= 0 && std::regex_search(rest, f, field))
     if (const auto* entry = map.entry(node, f[1].str())) line = entry->line;
   if (line == e.line) return std::nullopt;
-  return ScriptError(e.message, e.file, line, e.traceback);
+  // Without the traceback: it names the roger.stage{ call's line, which the text's line replaces
+  // (found by a probe: a message at the context's line 39 above a traceback saying line 30).
+  return ScriptError(e.message, e.file, line, "");
 }
 
 void check_stage_params(const CurriculumStage& st) {

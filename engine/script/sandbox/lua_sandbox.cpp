@@ -19,13 +19,30 @@ namespace fs = std::filesystem;
 using namespace sandbox_detail;
 
 namespace {
-// "file:line: message\ntraceback", leaving out the parts that are unknown.
+// Whether a traceback names a line of Lua other than `file`:`line`, the message's own: one whose
+// Lua frames are all that line (an error of roger.stage{...} at the top of a script: "[C]: in
+// field 'stage'", "s.lua:16: in main chunk") says nothing the message does not.
+bool traceback_adds(const std::string& traceback, const std::string& file, int line) {
+  const std::string own = "\t" + file + ":" + std::to_string(line) + ":";
+  size_t at = traceback.find('\n');
+  while (at != std::string::npos) {
+    const size_t end = traceback.find('\n', at + 1);
+    const std::string frame = traceback.substr(at + 1, end == std::string::npos ? std::string::npos : end - at - 1);
+    if (frame.rfind("\t[C]:", 0) != 0 && frame.rfind(own, 0) != 0) return true;
+    at = end;
+  }
+  return false;
+}
+
+// "file:line: message\ntraceback", leaving out the parts that are unknown, and a traceback that
+// names no other line (docs/cli.md: every error is one message; the record keeps the traceback).
 std::string compose(const std::string& message, const std::string& file, int line,
                     const std::string& traceback) {
   std::string text;
   if (!file.empty()) text = file + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": ";
   text += message;
-  if (!traceback.empty()) text += "\n" + traceback;
+  if (!traceback.empty() && (file.empty() || line <= 0 || traceback_adds(traceback, file, line)))
+    text += "\n" + traceback;
   return text;
 }
 }  // namespace
