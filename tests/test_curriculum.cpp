@@ -84,7 +84,7 @@ TEST_CASE("bad curricula are clear errors at file:line", "[curriculum]") {
       {"bad_curriculum_skill_context.lua", {"bad_curriculum_skill_context.lua:5:", "stage 'S'", "unknown context 'DC9'", "contexts: A"}},
       {"bad_curriculum_empty_psi.lua", {"bad_curriculum_empty_psi.lua:5:", "stage 'S', context 'Empty'", "Psi is empty"}},
       {"bad_curriculum_field.lua", {"bad_curriculum_field.lua:4:", "unknown field 'time_limt'", "time_limit"}},
-      {"bad_curriculum_learned_same.lua", {"bad_curriculum_learned_same.lua:5:", "context 'B'", "this very stage yields"}},
+      {"bad_curriculum_learned_same.lua", {"bad_curriculum_learned_same.lua:6:", "context 'B'", "this very stage yields"}},
       {"bad_curriculum_too_many.lua", {"bad_curriculum_too_many.lua:8:", "context 'Wide'", "13 actions", "at most 12"}},
       {"bad_curriculum_plain_field.lua", {"bad_curriculum_plain_field.lua:5:", "stage 'Plain'", "episodes", "-3"}},
       {"bad_curriculum_discount_clock.lua",
@@ -231,7 +231,7 @@ TEST_CASE("a context's init names a context written before it", "[curriculum]") 
   CHECK(cur.stage("S").context("B").init_context == "A");
   CHECK(cur.stage("S").context("A").init_context.empty());
   CHECK_THAT(error_of([&] { Curriculum::load(write("self.lua", "{ context = 'B' }")); }),
-             Catch::Matchers::Contains("self.lua:2: stage 'S', context 'B': init = {stage = 'S', context = 'B'} names "
+             Catch::Matchers::Contains("self.lua:5: stage 'S', context 'B': init = {stage = 'S', context = 'B'} names "
                                        "no context written before this one; those are: S/A"));
   CHECK_THAT(error_of([&] { Curriculum::load(write("typo.lua", "{ contxt = 'A' }")); }),
              Catch::Matchers::Contains("typo.lua:5: stage 'S': context 2:") &&
@@ -456,6 +456,12 @@ TEST_CASE("a stage's bad field is reported at the line it is written on", "[curr
   // where the first was).
   CHECK_THAT(error_with("twice.lua", "", "{ name = 'B', actions = { p.phi1 } },"),
              Contains("twice.lua:9: stage 'S': context 2: a second context named 'B' (context 1 is named so)"));
+  // Found by a probe: what is found after the call, a learned skill no stage yields or an action's
+  // name nothing defines, was reported at the stage's line; it is at its context's.
+  CHECK_THAT(error_with("learned.lua", "", "{ name = 'A', actions = { p.phi3, roger.learned('Nope') } },"),
+             Contains("learned.lua:9: stage 'S', context 'A': roger.learned('Nope') names no skill"));
+  CHECK_THAT(error_with("named.lua", "", "{ name = 'A', actions = { p.phi3, 'transprot' } },"),
+             Contains("named.lua:9: stage 'S', context 'A': action 2 names 'transprot', which is not defined"));
   // A named context beside the list was dropped without a word (found by a probe): refused.
   CHECK_THAT(error_with("mixed.lua", "", "A = { p.phi3, p.phi1 },"),
              Contains("mixed.lua:7: stage 'S': field 'contexts' mixes a list with the named entry 'A': write it in "

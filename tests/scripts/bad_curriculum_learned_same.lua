@@ -1,4 +1,4 @@
--- Fixture: a stage uses the skill it yields itself (the stage is written at line 5).
+-- Fixture: a stage uses the skill it yields itself (the stage is written at line 5, the context at 6).
 local p3 = roger.primitive("phi3")
 local K = roger.learned("K")
 return { stages = {

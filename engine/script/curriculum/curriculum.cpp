@@ -309,12 +309,12 @@ Curriculum Curriculum::load(const std::string& path_in, const SandboxLimits& lim
   sandbox.set_main_script(path);
   try {
     read_stages(impl, path);
+    check_learned_order(impl.stages);
+    check_init_order(impl.stages);
   } catch (const ScriptError& e) {
     if (std::optional<ScriptError> moved = curriculum_detail::at_stage_field(e)) throw *moved;  // its line
     throw;
   }
-  check_learned_order(impl.stages);
-  check_init_order(impl.stages);
   return cur;
 }
 

@@ -109,16 +109,21 @@ std::optional<ScriptError> at_stage_field(const ScriptError& e) {
   // line, however far below it was written. A table carries no lines; the text does.
   static const std::regex stage(R"(^stage '([^']*)'(?:, context '([^']*)')?: (.*)$)");
   std::smatch m;
-  // Only an error of the roger.stage{...} call itself (raised in Lua, with a traceback): one found
-  // when the returned table is read again may be of a field changed after the call (a wrapper's
-  // paper.stages[2].budget = {...}), which the text does not show.
-  if (e.traceback.empty() || e.file.empty() || e.line <= 0 || !std::regex_match(e.message, m, stage)) return std::nullopt;
+  // A field's line only for an error of the roger.stage{...} call itself (raised in Lua, with a
+  // traceback): one found when the returned table is read again may be of a field changed after
+  // the call (a wrapper's paper.stages[2].budget = {...}), which the text does not show. A
+  // context's line also for an error found later (an action's name, a learned skill no stage
+  // yields), when the context is written in the stage's text.
+  const bool in_call = !e.traceback.empty();
+  if (e.file.empty() || e.line <= 0 || !std::regex_match(e.message, m, stage)) return std::nullopt;
+  if (!in_call && !m[2].matched) return std::nullopt;
   const std::string text = source_text(e.file);
   if (text.empty()) return std::nullopt;
   const LuaTableMap map(text);
   int node = stage_node(map, e.line), line = e.line;
   if (node < 0 || map.nodes()[size_t(node)].line != e.line) return std::nullopt;  // raised elsewhere (a callback)
   if (m[2].matched) std::tie(node, line) = context_node(map, node, m[2].str(), line);
+  if (!in_call) return node >= 0 ? std::optional<ScriptError>(ScriptError(e.message, e.file, line, "")) : std::nullopt;
   std::string rest = m[3].str();
   node = descend(map, node, line, rest);
   static const std::regex field(R"(^(?:unknown fields? |field )'([A-Za-z_][A-Za-z0-9_]*)')");
