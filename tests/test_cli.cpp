@@ -983,6 +983,23 @@ TEST_CASE("a script of the wrong kind is named as what it is, with what runs it"
   }
 }
 
+// Found by a probe: a goal that cannot work in the world failed roger eval with its message alone
+// (no file, line, policy or seed).
+TEST_CASE("roger eval of a skill script names the policy's line and the world seed of an error", "[cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_eval_where_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "so.lua") << "local skills = require('lib.skills')\nlocal p = skills.primitives()\n"
+                                   "return { policies = {\n"
+                                   "  t = { action = skills.Phi6(p), goal = roger.sorted(), time_limit = 5 },\n"
+                                   "} }\n";
+  const Run sorted = roger("eval " + (dir / "so.lua").string() + " --policy t --episodes 2 --seed 7");
+  CHECK(sorted.status == 1);
+  CHECK_THAT(sorted.err, Catch::Matchers::Contains("so.lua:4: policy 't': roger.sorted(): none of the world's 1 "
+                                                   "objects has the colour of a goal region") &&
+                             Catch::Matchers::Contains("(world seed 7)"));
+  fs::remove_all(dir);
+}
+
 TEST_CASE("roger eval names the failed world seeds and the command that renders one", "[cli]") {
   const std::string args = "eval curricula/scripted.lua --policy search_grasp --scenario cluttered --set obstacles=6 "
                            "--episodes 30";

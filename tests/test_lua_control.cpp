@@ -449,6 +449,31 @@ TEST_CASE("mistakes in skill scripts name the file and line", "[lua_control]") {
                     Contains("no skill script 'no_such_script'") && Contains("scripted"));
 }
 
+// Found by a probe: roger check said ok of a skill script whose scenario could not place Roger at
+// seed 9, and of a policy whose goal, roger.sorted(), could not work in its worlds; roger eval then
+// failed, the goal's error naming no file, policy or seed.
+TEST_CASE("checking a skill script builds its scenarios' worlds and runs each policy's first ticks", "[lua_control]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("roger_skills_checked_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "rare.lua") << "return { generate = function(world, rng)\n"
+                                     "  if rng:uniform(0, 1) > 0.8 then error('cannot place Roger here') end\n"
+                                     "  world:robot{ x = 0, y = 0 }\nend }\n";
+  std::ofstream(dir / "skills.lua") << "local skills = require('lib.skills')\nlocal p = skills.primitives()\n"
+                                       "return { policies = {\n"
+                                       "  rare = { action = p.phi0, goal = roger.converged(p.phi0), time_limit = 5, scenario = 'rare.lua' },\n"
+                                       "  sort = { action = skills.Phi6(p),\n"
+                                       "           goal = roger.sorted(), time_limit = 5 },\n"
+                                       "} }\n";
+  const auto problems = check_skill_script((dir / "skills.lua").string());
+  REQUIRE(problems.size() == 2);
+  CHECK_THAT(problems[0], Catch::Matchers::StartsWith("policy 'rare': scenario '") && Contains("rare.lua:2: cannot place Roger here (world seed "));
+  CHECK_THAT(problems[1], Contains("skills.lua:6: policy 'sort': roger.sorted(): none of the world's 1 objects has the "
+                                   "colour of a goal region") &&
+                              Catch::Matchers::EndsWith("(world seed 0 of scenario 'unobstructed')"));
+  fs::remove_all(dir);
+}
+
 // Found by a probe: a skill script's scenario path was looked for from the current folder only,
 // where a curriculum's is looked for beside the curriculum: the script ran from its own folder alone.
 TEST_CASE("a policy's scenario path is found beside the skill script that names it", "[lua_control]") {

@@ -172,6 +172,37 @@ int run_eval_policy_file(const EvalArgs& a) {
 
 }  // namespace
 
+namespace {
+
+// evaluate_action over a skill script's policy, an error naming the world's seed (a world that
+// cannot be built, a goal that cannot work in it) and, for the goal's, the policy's line (found
+// by a probe: "roger.sorted(): none of the world's 1 objects has the colour of a goal region"
+// named no file, policy or seed).
+EvalSummary evaluate_policy(const SkillScript& script, const SkillScript::NamedPolicy& policy, Scenario& scenario,
+                            int episodes, uint64_t first_seed, const EpisodeOptions& options) {
+  uint64_t seed = first_seed;
+  auto seed_note = [&] { return " (world seed " + std::to_string(seed) + ")"; };
+  auto generate = [&](uint64_t s) {
+    seed = s;
+    try {
+      return scenario.generate(s);
+    } catch (const PlacementError& e) {
+      throw PlacementError(ScriptError(e.message + seed_note(), e.file, e.line, e.traceback));
+    } catch (const ScriptError& e) {
+      throw ScriptError(e.message + seed_note(), e.file, e.line, e.traceback);
+    }
+  };
+  try {
+    return evaluate_action(generate, *policy.action, *policy.goal, episodes, first_seed, options);
+  } catch (const ScriptError&) {
+    throw;
+  } catch (const Error& e) {
+    throw ScriptError("policy '" + policy.name + "': " + e.what() + seed_note(), script.path(), policy.goal_line, "");
+  }
+}
+
+}  // namespace
+
 int command_eval(const EvalArgs& a) {
   if (policy_is_saved_file(a.script, a.policy)) return run_eval_policy_file(a);
   if (a.test_set)
@@ -186,8 +217,7 @@ int command_eval(const EvalArgs& a) {
   Scenario scenario = Scenario::load(policy_scenario(policy, a.scenario), limits);
   apply_sets(scenario, a.sets);
   const EpisodeOptions options = policy.episode_options();
-  const EvalSummary r = evaluate_action([&](uint64_t seed) { return scenario.generate(seed); },
-                                        *policy.action, *policy.goal, a.episodes, a.seed, options);
+  const EvalSummary r = evaluate_policy(script, policy, scenario, a.episodes, a.seed, options);
   const std::string limit = policy.time_per_object > 0.0
                                 ? format_number(policy.time_per_object) + " s per object limit"
                                 : format_number(policy.time_limit) + " s limit";

@@ -16,6 +16,7 @@
 
 #include "core/error.h"
 #include "core/fileio.h"
+#include "core/text.h"
 #include "script/control/lua_control.h"
 #include "script/sandbox/lua_tokens.h"
 #include "script/scenario/scenario.h"
@@ -250,6 +251,8 @@ SkillScript::NamedPolicy read_policy(lua_State* L, int ps, const std::string& na
   }
   line = map.policy_field(name, "description");
   np.description = f.string("description", "");
+  np.line = map.policy(name);
+  np.goal_line = map.policy_field(name, "goal");
   return np;
 }
 
@@ -314,6 +317,44 @@ bool is_skill_script(const std::string& path) {
   return !text.empty() && SourceMap(text).has_policies();
 }
 
+namespace {
+
+// The worlds of seeds 0..kCheckedSeeds-1 of each policy's scenario are generated (as roger check
+// builds a scenario's), and each policy runs a few ticks in the first: a world that cannot be
+// placed at some seed, or a goal that cannot work in the scenario's worlds (roger.sorted() with
+// no object of a goal region's colour), is found here rather than by roger eval (found by a
+// probe: check said ok, eval failed at seed 9, or at once with no file or line).
+constexpr uint64_t kCheckedSeeds = 20;
+constexpr double kCheckedSeconds = 0.1;
+
+// "" or the first seed's problem of a scenario's worlds.
+std::string worlds_problem(Scenario& scenario) {
+  for (uint64_t seed = 0; seed < kCheckedSeeds; ++seed) try {
+      scenario.generate(seed);
+    } catch (const std::exception& e) {
+      return with_note_on_first_line(e.what(), " (world seed " + std::to_string(seed) + ")");
+    }
+  return "";
+}
+
+// "" or what stopped the policy's first ticks in the world of seed 0.
+std::string first_ticks_problem(const SkillScript& script, const SkillScript::NamedPolicy& p, Scenario& scenario) {
+  EpisodeOptions o = p.episode_options();
+  o.time_limit = kCheckedSeconds;
+  o.time_per_object = 0.0;
+  try {
+    evaluate_action([&](uint64_t seed) { return scenario.generate(seed); }, *p.action, *p.goal, 1, 0, o);
+  } catch (const ScriptError& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    return script.path() + ":" + std::to_string(p.goal_line) + ": policy '" + p.name + "': " + e.what() +
+           " (world seed 0 of scenario '" + p.scenario + "')";
+  }
+  return "";
+}
+
+}  // namespace
+
 std::vector<std::string> check_skill_script(const std::string& path, const SandboxLimits& limits,
                                             std::optional<SkillScript>* loaded) {
   std::vector<std::string> problems;
@@ -327,12 +368,18 @@ std::vector<std::string> check_skill_script(const std::string& path, const Sandb
   }
   std::set<std::string> tried;
   for (const auto& name : script->policy_names()) {
-    const std::string& scenario = script->policy(name).scenario;
-    if (!tried.insert(scenario).second) continue;
+    const SkillScript::NamedPolicy& policy = script->policy(name);
     try {
-      Scenario::load(scenario, limits).generate(0);
+      Scenario scenario = Scenario::load(policy.scenario, limits);
+      if (tried.insert(policy.scenario).second)
+        if (const std::string problem = worlds_problem(scenario); !problem.empty()) {
+          problems.push_back("policy '" + name + "': scenario '" + policy.scenario + "': " + problem);
+          continue;
+        }
+      if (const std::string problem = first_ticks_problem(*script, policy, scenario); !problem.empty())
+        problems.push_back(problem);
     } catch (const std::exception& e) {
-      problems.push_back("policy '" + name + "': scenario '" + scenario + "': " + e.what());
+      problems.push_back("policy '" + name + "': scenario '" + policy.scenario + "': " + e.what());
     }
   }
   return problems;
