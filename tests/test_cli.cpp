@@ -895,16 +895,30 @@ TEST_CASE("roger eval and render of a saved policy set the parameters its trial 
   j = last_json(r.out);
   CHECK(j["trial_params"].empty());
   CHECK(j["time_mean"].get<double>() != Approx(trial_time / episodes).epsilon(1e-12));
-  // In another scenario they are named, not set: it may not declare them.
+  // In another scenario they are named, not set: it may not declare them, or mean another thing.
   r = roger("eval curricula/paper.lua --policy " + policy + " --scenario cluttered --set upper_arm=0.6 --episodes 2");
-  CHECK_THAT(r.out, Catch::Matchers::Contains("\n  note           the trial trained with eye_pixels = 64, not set in "
-                                              "scenario cluttered (a --set gives any it declares)\n"));
+  CHECK_THAT(r.out, Catch::Matchers::Contains("\n  note           the trial trained with eye_pixels = 64; scenario "
+                                              "cluttered plays its own value of it here (--set eye_pixels=64 plays "
+                                              "the trial's)\n"));
+  // Found by a probe: roger render said nothing of it.
+  r = roger("render curricula/paper.lua --policy " + policy + " --scenario cluttered --out " +
+            (dir / "cluttered").string());
+  CHECK_THAT(r.out, Catch::Matchers::Contains("note: the trial trained with eye_pixels = 64, upper_arm = 0.6; scenario "
+                                              "cluttered plays its own values of them here (--set eye_pixels=64 --set "
+                                              "upper_arm=0.6 plays the trial's)\n"));
   // Found by a probe: given with another curriculum, a policy read "has no stage 'SG'" alone.
   r = roger("eval docs/examples/curriculum_example.lua --policy " + policy + " --episodes 2");
   CHECK(r.status == 1);
   CHECK_THAT(r.err, Catch::Matchers::Contains("has no stage 'SG'") &&
                         Catch::Matchers::Contains(policy + " was trained with the curriculum curricula/paper.lua: give "
                                                   "that one (roger eval curricula/paper.lua --policy " + policy + ")"));
+  // Found by a probe: given with another curriculum of the same stage and context names, the
+  // policy was judged by that one's goal and reward without a word.
+  std::ofstream(dir / "wrapper.lua") << "return require('paper')\n";
+  r = roger("eval " + (dir / "wrapper.lua").string() + " --policy " + policy + " --episodes 2");
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("\n  note           the policy was trained with the curriculum "
+                                              "curricula/paper.lua; stage SG, context DC2 of this one judge it here"));
   // Found by a probe: roger render said "roger eval" in that hint.
   r = roger("render docs/examples/curriculum_example.lua --policy " + policy + " --out " + (dir / "other").string());
   CHECK(r.status == 1);
@@ -1050,7 +1064,9 @@ TEST_CASE("roger eval runs a learned Sort4 policy from its file, loaded and not 
   INFO(r.out << r.err);
   REQUIRE(r.status == 0);
   CHECK(r.out.find("stage Sort4 context Learned (tests/policies/sort4_learned.json)") != std::string::npos);
-  CHECK(r.out.find("train") == std::string::npos);
+  CHECK(r.out.find("train") == std::string::npos);  // also no note of another curriculum: another checkout's
+  // The stage's own parameters are said (found by a probe: a maturation's frozen eyes were not).
+  CHECK(r.out.find("\n  stage params   objects = 4 (stage Sort4, context Learned)\n") != std::string::npos);
   const nlohmann::json j = nlohmann::json::parse(r.out.substr(r.out.rfind("\n{") + 1));
   CHECK(j["params"]["objects"] == "4");
   CHECK(j["scenario"] == "sorting");

@@ -525,6 +525,7 @@ TrainResult train_stage(const TrainOptions& options) {
   res.curriculum_name = cur.name();
   res.stage = stage.name;
   res.context = ctx.name;
+  res.stage_params = stage.scenario_params(ctx);
   res.seed = options.seed;
   res.threshold = stage.checkpoints.threshold;
   res.psi = controller_names(ctx.actions);
@@ -928,14 +929,24 @@ ParamList policy_trial_params(const PolicyMetadata& meta, const std::string& pol
 
 namespace {
 
-// "; the policy was trained with ..." when the policy file records another curriculum than
-// `cur` (a policy of curricula/paper.lua given with another curriculum reads "has no stage 'T'").
-std::string trained_with(const PolicyMetadata& meta, const Curriculum& cur, const std::string& policy_file,
-                         const std::string& command) {
+// The curriculum the policy file records, when it is another than `cur`; "" when the same or none.
+std::string other_curriculum(const PolicyMetadata& meta, const Curriculum& cur) {
   if (!meta.extra.is_object() || !meta.extra.contains("curriculum") || !meta.extra["curriculum"].is_string()) return "";
   const std::string recorded = meta.extra["curriculum"].get<std::string>();
   std::error_code ec;
   if (recorded == cur.path() || fs::equivalent(recorded, cur.file(), ec)) return "";
+  // Trained in another checkout of the project (tests/policies/ were): the same file of it.
+  const std::string own = "/" + cur.path();
+  if (recorded.size() > own.size() && recorded.compare(recorded.size() - own.size(), own.size(), own) == 0) return "";
+  return recorded;
+}
+
+// "; the policy was trained with ..." when the policy file records another curriculum than
+// `cur` (a policy of curricula/paper.lua given with another curriculum reads "has no stage 'T'").
+std::string trained_with(const PolicyMetadata& meta, const Curriculum& cur, const std::string& policy_file,
+                         const std::string& command) {
+  const std::string recorded = other_curriculum(meta, cur);
+  if (recorded.empty()) return "";
   return ". " + policy_file + " was trained with the curriculum " + recorded + ": give that one (" + command + " " +
          recorded + " --policy " + policy_file + (command == "roger eval" ? ")" : " ...)");
 }
@@ -983,6 +994,8 @@ void with_policy_file(const PolicyEvalOptions& given, PolicyEvalResult& out,
   bind_skills(cur, ctx, topt, &embedded, sources);
   out.stage = stage.name;
   out.context = ctx.name;
+  out.trained_curriculum = other_curriculum(meta, cur);  // found by a probe: judged by another's goal, unsaid
+  if (options.scenario.empty() || options.scenario == stage.scenario) out.stage_params = stage.scenario_params(ctx);
   out.time_limit = stage.time_limit_text();
   out.stage_test_tasks = stage.teaches() ? stage.final_test_tasks() : 0;
   if (options.trial_params) {

@@ -173,6 +173,9 @@ struct TrainResult {
   std::optional<TrainPoint> init_trained;  // a context's init trained first: what it spent
   bool init_reached = false;               // and whether it reached its threshold
   std::pair<std::string, std::string> init_from;  // its stage and context
+  // The stage's and its context's own scenario parameters (a maturation's locked joints, a
+  // sorting stage's objects), said beside the command's --set so a restricted trial reads as one.
+  std::vector<std::pair<std::string, std::string>> stage_params;
   std::vector<std::pair<std::string, std::string>> params;  // scenario parameters used
   // A stage that teaches (curriculum.h, CurriculumStage::teaches): its task space as the trial
   // had it (less what --set fixed), the teacher's kind and final state, the processor time its
@@ -281,6 +284,11 @@ struct PolicyEvalResult {
   // With options.trial_params: the trial's own parameters set (in the stage's scenario), or those
   // left out (in another scenario, which may not declare them), each as the policy file has it.
   std::vector<std::pair<std::string, std::string>> trial_sets, trial_sets_left;
+  // The curriculum the policy file says it was trained with, when it is not the one given (whose
+  // stage and context of the same names then judge it: their goal, reward and time limit); "".
+  std::string trained_curriculum;
+  // The stage's and its context's own scenario parameters, in the stage's scenario (as TrainResult's).
+  std::vector<std::pair<std::string, std::string>> stage_params;
   std::string time_limit;  // the stage's time-out, as text: "12 s limit", "30 s per object limit"
   // A teaching stage's trials end on this many test tasks (its task space or teacher), which this
   // evaluation, on the stage's own parameters and held-out seeds, does not run; 0 for other stages.

@@ -39,4 +39,10 @@ std::string policy_scenario(const SkillScript::NamedPolicy& p, const std::string
 // throws roger::Error when it is and `policy` is not such a file name.
 bool policy_is_saved_file(const std::string& script, const std::string& policy);
 
+// The note on a saved policy's trial parameters that another scenario (--scenario) left at its
+// own values: "the trial trained with forearm = 0.6; scenario cluttered plays its own values of
+// them here: --set forearm=0.6 plays the trial's".
+std::string trial_params_left_note(const std::vector<std::pair<std::string, std::string>>& left,
+                                   const std::string& scenario);
+
 }  // namespace roger

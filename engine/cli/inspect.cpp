@@ -30,6 +30,14 @@ std::string policy_scenario(const SkillScript::NamedPolicy& p, const std::string
   return p.scenario.empty() ? "unobstructed" : p.scenario;
 }
 
+std::string trial_params_left_note(const std::vector<std::pair<std::string, std::string>>& left,
+                                   const std::string& scenario) {
+  std::string sets;
+  for (const auto& [key, value] : left) sets += (sets.empty() ? "--set " : " --set ") + key + "=" + value;
+  return "the trial trained with " + params_text(left) + "; scenario " + scenario + " plays its own value" +
+         (left.size() == 1 ? " of it" : "s of them") + " here (" + sets + " plays the trial's)";
+}
+
 bool policy_is_saved_file(const std::string& script, const std::string& policy) {
   const bool json_file = policy.size() >= 5 && policy.compare(policy.size() - 5, 5, ".json") == 0;
   std::string path;
@@ -106,6 +114,9 @@ int run_render_policy_file(const RenderArgs& a) {
     task = ", test task " + std::to_string(a.test_task) + " (" + (task.empty() ? "the stage's own parameters" : task) + ")";
   }
   const std::string trained = r.about.trial_sets.empty() ? "" : " with " + params_text(r.about.trial_sets);
+  // Found by a probe: eval said so, render did not, and its title gave no body.
+  if (!r.about.trial_sets_left.empty())
+    std::printf("note: %s\n", trial_params_left_note(r.about.trial_sets_left, r.about.scenario).c_str());
   write_rendered_episode(a, r.spec, r.episode,
                          r.about.stage + "/" + r.about.context + " (" + a.policy + ") in " + r.about.scenario +
                              trained + sets_note(a.sets) + ", seed " + std::to_string(r.episode.seed) + task);

@@ -94,13 +94,26 @@ void print_changes(const EvalArgs& a) {
 
 // The parameters a saved policy's trial trained with beyond its stage's (its --set), set here too
 // so that the held-out seeds are the trial's worlds, or, in another scenario, left out.
+// The stage's and context's own scenario parameters, when they have any (found by a probe: a
+// maturation's frozen eyes were said nowhere in train's or eval's output).
+void print_stage_params(const std::vector<std::pair<std::string, std::string>>& params, const std::string& stage,
+                        const std::string& context) {
+  if (!params.empty())
+    std::printf("  stage params   %s (stage %s, context %s)\n", params_text(params).c_str(), stage.c_str(),
+                context.c_str());
+}
+
 void print_trial_params(const PolicyEvalResult& r, const std::string& scenario) {
+  print_stage_params(r.stage_params, r.stage, r.context);
+  if (!r.trained_curriculum.empty())
+    std::printf("  note           the policy was trained with the curriculum %s; stage %s, context %s of this one "
+                "judge it here (their goal, reward and time limit)\n",
+                r.trained_curriculum.c_str(), r.stage.c_str(), r.context.c_str());
   if (!r.trial_sets.empty())
     std::printf("  trained with   %s (the trial's own parameters, set here too; a --set of one overrides it)\n",
                 params_text(r.trial_sets).c_str());
   if (!r.trial_sets_left.empty())
-    std::printf("  note           the trial trained with %s, not set in scenario %s (a --set gives any it declares)\n",
-                params_text(r.trial_sets_left).c_str(), scenario.c_str());
+    std::printf("  note           %s\n", trial_params_left_note(r.trial_sets_left, scenario).c_str());
 }
 
 // eval --policy FILE.json: a policy saved by roger train, its Psi rebuilt from the curriculum.
@@ -357,6 +370,7 @@ int command_train(const TrainArgs& a) {
   std::printf("roger train: %s stage %s context %s seed %llu (%zu action%s, %d states) in %s\n",
               r.curriculum_path.c_str(), r.stage.c_str(), r.context.c_str(), static_cast<unsigned long long>(r.seed),
               r.psi.size(), r.psi.size() == 1 ? "" : "s", r.q->states(), r.scenario.c_str());
+  print_stage_params(r.stage_params, r.stage, r.context);
   // As roger eval says it, so that a trial on another body never reads as one on the default body.
   std::string sets;
   for (const auto& s : a.sets) sets += (sets.empty() ? "" : ", ") + ("--set " + s);
