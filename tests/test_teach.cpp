@@ -836,7 +836,7 @@ TEST_CASE("a task whose world cannot be placed is skipped and shown; a space of 
                           Contains(", for training episode 0, world seed ") &&
                           Contains("the task space (robot_distance = roger.real(3.3, 3.4)) asks for worlds the scenario "
                                    "cannot build. The placement failed with: ") &&
-                          Contains("lib/place.lua:42: world:sample_position: no placement for 'circle' after 1000 tries"));
+                          Contains("lib/place.lua:68: world:sample_position: no placement for 'circle' after 1000 tries"));
   // Found by a probe: with every axis fixed by --set, a world that could not be placed was drawn
   // again 100 times, the same each time, and the message blamed a task space of no parameters.
   o.curriculum = holes.string();
@@ -1523,7 +1523,7 @@ TEST_CASE("a test-set task that cannot be placed fails its trial naming the test
   CHECK(placement);
   CHECK_THAT(message, StartsWith(file.string() + ":6: stage 'S': test task 2 of 2 (robot_distance = 3.3) cannot be "
                                                  "placed in world seed 1000001; the test set is not skipped") &&
-                          Contains("The placement failed with: scenarios/lib/place.lua:42: world:sample_position: no "
+                          Contains("The placement failed with: scenarios/lib/place.lua:68: world:sample_position: no "
                                    "placement for 'circle'") &&
                           Contains("(checkpoint 1 evaluation episode 1, world seed 1000001)"));
 }
