@@ -713,6 +713,9 @@ TEST_CASE("bad usage exits 2 naming the option and what it expects", "[cli]") {
       {"render scenarios/unobstructed.lua --out /tmp/roger_cli.png --seed 18446744073709551616",
        "got '18446744073709551616'"},
       {"check scenarios/unobstructed.lua --seeds abc", "--seeds: expected a whole number from 1 to 100000, got 'abc'"},
+      // CLI11 said "--context: At Most 1 required but received 2" (found by a probe).
+      {"train curricula/paper.lua --stage SG --context B1 --context DC2 --out /tmp/roger_cli_two",
+       "--context is given 2 times, and takes one value: give it once"},
       // The range of render.cpp and of Python's render_width (found by a probe: it was 200 to 8000).
       {"render scenarios/unobstructed.lua --out /tmp/roger_cli.png --width 99",
        "--width: expected a whole number from 100 to 16000, got '99'"},

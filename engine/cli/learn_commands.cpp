@@ -385,9 +385,9 @@ int command_train(const TrainArgs& a) {
                 w.dropped.empty() ? "" : ("; left out: " + join(w.dropped)).c_str());
   }
   if (r.reached) {
-    std::printf("  threshold      %.0f%% reached after %s, %.1f simulated s, %lld decisions, %.2f wall s\n",
+    std::printf("  threshold      %.0f%% reached after %s, %.1f simulated s, %s, %.2f wall s\n",
                 100 * r.threshold, counted(r.to_threshold.episodes, "episode").c_str(), r.to_threshold.sim_s,
-                static_cast<long long>(r.to_threshold.decisions), r.to_threshold.wall_s);
+                counted(static_cast<long long>(r.to_threshold.decisions), "decision").c_str(), r.to_threshold.wall_s);
   } else {
     std::printf("  threshold      %.0f%% NOT reached in %s (%.1f simulated s)\n", 100 * r.threshold,
                 counted(r.totals.episodes, "episode").c_str(), r.totals.sim_s);

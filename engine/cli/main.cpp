@@ -354,6 +354,15 @@ int main(int argc, char** argv) {
   }
   try {
     app.parse(argc, argv);
+  } catch (const CLI::ArgumentMismatch& e) {
+    // "--context: At Most 1 required but received 2" in words (found by a probe).
+    const std::string text = e.what(), said = ": At Most 1 required but received ";
+    const size_t at = text.find(said);
+    if (at == std::string::npos) return app.exit(e) == 0 ? 0 : 2;
+    std::cerr << "roger: error: " << text.substr(0, at) << " is given " << text.substr(at + said.size())
+              << " times, and takes one value: give it once (a batch script runs several contexts, seeds or "
+                 "policies: docs/batch.md)\n";
+    return 2;
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
