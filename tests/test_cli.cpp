@@ -105,6 +105,17 @@ TEST_CASE("roger check warns of a module of one's own that a shipped library tak
                                               "there"));
   fs::rename(dir / "lib" / "shapes.lua", dir / "lib" / "my_shapes.lua");
   CHECK(roger("check " + (dir / "room.lua").string() + " --seeds 1").err.find("takes the place") == std::string::npos);
+  // Found by a probe: a curriculum's require("sorting") got scenarios/sorting.lua, and the error
+  // was "attempt to index a nil value"; a bare name two project folders hold is warned of.
+  std::ofstream(dir / "small.lua") << "local s = require('sorting')\nreturn s\n";
+  const Run bare = roger("check " + (dir / "small.lua").string());
+  CHECK_THAT(bare.err, Catch::Matchers::Contains("roger: warning: require('sorting') takes scenarios/sorting.lua; "
+                                                 "curricula/sorting.lua has the same name: require('curricula.sorting') "
+                                                 "loads it"));
+  std::ofstream(dir / "small.lua") << "local s = require('curricula.sorting')\nreturn s\n";
+  const Run qualified = roger("check " + (dir / "small.lua").string());
+  CHECK(qualified.status == 0);
+  CHECK(qualified.err.find("warning") == std::string::npos);
   fs::remove_all(dir);
 }
 

@@ -369,9 +369,23 @@ TEST_CASE("require finds modules beside the script and in the project folders, o
                                         fs::weakly_canonical(home.path / "work" / "sibling.lua")};
     CHECK(sandbox.source_files() == read);
     const auto roots = sandbox.module_roots();
-    REQUIRE(roots.size() == 4);
+    REQUIRE(roots.size() == 5);
     CHECK(roots[0] == fs::weakly_canonical(home.path / "work"));
     CHECK(roots[1] == fs::weakly_canonical(home.path / "scenarios"));
+    CHECK(roots[4] == fs::weakly_canonical(home.path));  // last, for names that say their folder
+    // Found by a probe: a curriculum's require("sorting") met scenarios/sorting.lua first and could
+    // not reach curricula/sorting.lua; a name that says its folder does.
+    std::ofstream(home.path / "scenarios" / "stage.lua") << "return 'scenario stage'\n";
+    std::ofstream(home.path / "top.lua") << "return 'top'\n";
+    LuaSandbox again;
+    again.set_main_script((home.path / "work" / "main.lua").string());
+    again.load_string("return require('stage'), require('curricula.stage')", "=both");
+    again.call(0, 2);
+    CHECK(std::string(lua_tostring(again.state(), -2)) == "scenario stage");
+    CHECK(std::string(lua_tostring(again.state(), -1)) == "stage");
+    lua_pop(again.state(), 2);
+    // The project folder itself takes no other name.
+    CHECK_THAT(error_of(again, "return require('top')").message, Contains("module 'top' not found"));
     // A module's errors name it relative to the project root.
     const ScriptError e = error_of(sandbox, "return require('lib.broken')");
     CHECK(e.file == "scenarios/lib/broken.lua");
@@ -408,7 +422,8 @@ TEST_CASE("a batch script's require searches scripts/ first, other scripts scena
     const std::vector<fs::path> want = {fs::weakly_canonical(home.path / "work"),
                                         fs::weakly_canonical(home.path / "scripts"),
                                         fs::weakly_canonical(home.path / "curricula"),
-                                        fs::weakly_canonical(home.path / "scenarios")};
+                                        fs::weakly_canonical(home.path / "scenarios"),
+                                        fs::weakly_canonical(home.path)};  // for "curricula.x" and the like
     CHECK(sandbox.module_roots() == want);
   }
   CHECK(looks_like_batch_script(home.path / "work" / "myquick.lua"));

@@ -681,14 +681,42 @@ class Judge {
 };
 
 // The file a literal require names, searched in `roots` as the sandbox's require does, or empty.
-fs::path find_module(const std::vector<fs::path>& roots, std::string name) {
-  std::replace(name.begin(), name.end(), '.', '/');
+fs::path find_module(const std::vector<fs::path>& roots, const std::string& name) {
+  std::string rel = name;
+  std::replace(rel.begin(), rel.end(), '.', '/');
   std::error_code ec;
-  for (const auto& root : roots) {
-    const fs::path candidate = root / (name + ".lua");
+  for (size_t i = 0; i < roots.size(); ++i) {
+    if (!module_root_takes(roots, i, name)) continue;
+    const fs::path candidate = roots[i] / (rel + ".lua");
     if (fs::is_regular_file(candidate, ec)) return fs::weakly_canonical(candidate, ec);
   }
   return {};
+}
+
+// "require('sorting') takes scenarios/sorting.lua; curricula/sorting.lua has the same name:
+// require('curricula.sorting') loads it" when a bare name is found in the project's scenarios/,
+// which every script but a batch script searches first, and curricula/ or scripts/ hold a file of
+// that name too; "" otherwise (found by a probe: a curriculum's require("sorting") got the
+// scenario and failed at "attempt to index a nil value"). A batch script's require("paper") of
+// scripts/paper.lua is what it means, and is left alone.
+std::string other_of_name(const LuaSandbox& sandbox, const std::string& name, const fs::path& module) {
+  if (name.find('.') != std::string::npos || module.empty()) return "";
+  const fs::path project = fs::weakly_canonical(project_root());
+  std::error_code ec;
+  if (module.parent_path() != fs::weakly_canonical(project / "scenarios", ec)) return "";
+  std::vector<std::string> others;
+  for (const char* folder : {"curricula", "scripts"}) {
+    const fs::path other = project / folder / (name + ".lua");
+    if (fs::is_regular_file(other, ec) && fs::weakly_canonical(other, ec) != module)
+      others.push_back(std::string(folder) + "/" + name + ".lua");
+  }
+  if (others.empty()) return "";
+  std::string text = "require('" + name + "') takes " + sandbox.display_name(module) + "; ";
+  for (size_t i = 0; i < others.size(); ++i) {
+    const std::string folder = others[i].substr(0, others[i].find('/'));
+    text += (i ? "; " : "") + others[i] + " has the same name: require('" + folder + "." + name + "') loads it";
+  }
+  return text;
 }
 
 }  // namespace
@@ -799,9 +827,9 @@ std::vector<StaticProblem> static_check(const std::string& path, std::optional<S
       if (a.kind != Access::kRequire) continue;
       const fs::path module = find_module(sandbox.module_roots(), a.name);
       if (shadows && !module.empty())
-        if (const std::string shadow = shadow_of(sandbox, file, a.name, module);
-            !shadow.empty() && std::find(shadows->begin(), shadows->end(), shadow) == shadows->end())
-          shadows->push_back(shadow);
+        for (const std::string& warning : {shadow_of(sandbox, file, a.name, module), other_of_name(sandbox, a.name, module)})
+          if (!warning.empty() && std::find(shadows->begin(), shadows->end(), warning) == shadows->end())
+            shadows->push_back(warning);
       if (!module.empty() && seen.insert(module).second) queue.push_back(module);
     }
   }

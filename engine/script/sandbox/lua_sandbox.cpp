@@ -93,6 +93,12 @@ std::vector<fs::path> module_search_roots(const fs::path& main_folder, bool batc
     const fs::path p = fs::weakly_canonical(project / name, ec);
     if (!ec && std::find(roots.begin(), roots.end(), p) == roots.end()) roots.push_back(p);
   }
+  // Last, the project itself, for "curricula.sorting" (module_root_takes): found by a probe, a
+  // curriculum's require("sorting") met scenarios/sorting.lua first and could not reach the
+  // curriculum of that name.
+  std::error_code ec;
+  const fs::path p = fs::weakly_canonical(project, ec);
+  if (!ec && std::find(roots.begin(), roots.end(), p) == roots.end()) roots.push_back(p);
   return roots;
 }
 
@@ -180,6 +186,13 @@ void LuaSandbox::set_main_script(const std::string& path) {
 }
 
 std::vector<fs::path> LuaSandbox::module_roots() const { return impl_->roots; }
+
+bool module_root_takes(const std::vector<fs::path>& roots, size_t index, const std::string& name) {
+  std::error_code ec;
+  if (index == 0 || index >= roots.size() || roots[index] != fs::weakly_canonical(project_root(), ec)) return true;
+  const std::string folder = name.substr(0, name.find('.'));
+  return name.find('.') != std::string::npos && (folder == "scenarios" || folder == "curricula" || folder == "scripts");
+}
 
 std::string LuaSandbox::display_name(const fs::path& path) const {
   std::error_code ec;

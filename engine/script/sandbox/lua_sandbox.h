@@ -72,6 +72,11 @@ struct ScriptError : Error {
   std::string traceback;  // Lua's "stack traceback:" text, empty when none
 };
 
+// Whether `require` looks for the dotted module `name` in roots[index] (LuaSandbox::module_roots):
+// the project folder itself, searched last, takes only a name that says its script folder
+// ("curricula.sorting", which the bare "sorting" cannot reach past scenarios/sorting.lua).
+bool module_root_takes(const std::vector<std::filesystem::path>& roots, size_t index, const std::string& name);
+
 // The project folder holding scenarios/, curricula/ and scripts/: $ROGER_HOME if set, else the
 // installed data beside the program (<prefix>/share/roger, core/install.h), else the source tree
 // the engine was built from (a program run from its build tree).
@@ -120,7 +125,9 @@ class LuaSandbox {
   // file when no main script was declared.
   void set_main_script(const std::string& path);
 
-  // The folders `require` searches, in order (absolute paths).
+  // The folders `require` searches, in order (absolute paths): the script's, the project's
+  // script folders, and last the project folder itself, for names that begin with one of those
+  // folders (module_root_takes).
   std::vector<std::filesystem::path> module_roots() const;
 
   // Compiles a source file (text only) and pushes the chunk. `path` is shown in messages as given.

@@ -129,14 +129,17 @@ void locate_module(const LuaSandbox::Impl& s, const std::string& name, fs::path&
   rel += ".lua";
   std::vector<std::string> tried;
   std::error_code ec;
-  for (const auto& root : s.roots) {
+  for (size_t i = 0; i < s.roots.size(); ++i) {
+    const fs::path& root = s.roots[i];
+    if (!module_root_takes(s.roots, i, name)) continue;
     const fs::path candidate = root / rel;
     if (!fs::is_regular_file(candidate, ec)) {
       // Where each place is, unmistakably: a script in <cwd>/scenarios and the project's
       // scenarios/ would otherwise both show as scenarios/lib/x.lua.
-      tried.push_back(s.main_set && root == s.main_dir
-                          ? module_display(s, root, rel) + " (beside the script)"
-                          : candidate.lexically_normal().string() + " (in the project " + root.parent_path().string() + ")");
+      const bool project = i > 0 && i + 1 == s.roots.size();
+      tried.push_back(s.main_set && root == s.main_dir ? module_display(s, root, rel) + " (beside the script)"
+                      : project ? candidate.lexically_normal().string() + " (in the project)"
+                                : candidate.lexically_normal().string() + " (in the project " + root.parent_path().string() + ")");
       continue;
     }
     const fs::path real = fs::weakly_canonical(candidate, ec);
