@@ -968,6 +968,17 @@ TEST_CASE("the report compares the teachers, splits their success by level and m
   for (const char* row : {"| Random/A |", "| Alp/A |", "| Plr/A |", "| PlrFail/A |", "| Sequence/A |", "| Lcas/A |",
                           "| Function/A |", "| LiftOnly/A |"})
     CHECK_THAT(md, Contains(row));
+  // What each trial's teacher did, as roger train says it (found by a probe: the report said
+  // nothing of it), from the trials' own records.
+  CHECK_THAT(md, Contains("What each trial's teacher did (its result.json, \"teacher\"):\n\n"));
+  const json comparison = read_json(dir / "report.json")["tables"][0];
+  REQUIRE(comparison["teachers"].size() >= 4);
+  for (const json& t : comparison["teachers"]) {
+    const json result = read_json(trial_of(t["row"].get<std::string>().substr(0, t["row"].get<std::string>().find('/'))) /
+                                  "result.json");
+    CHECK(t["did"] == describe_teacher_state(result["teacher"]["state"]));
+    CHECK_THAT(md, Contains("- " + t["row"].get<std::string>() + " trial 0: " + t["did"].get<std::string>() + "\n"));
+  }
   // The split by level: five bins of the real axis, each cell the final episodes of that bin.
   const json report = read_json(dir / "report.json");
   const json& by = report["tables"][1];

@@ -16,6 +16,7 @@
 #include "core/fileio.h"
 #include "core/text.h"
 #include "report/plot.h"
+#include "teach/teach.h"
 
 namespace roger::report_detail {
 namespace {
@@ -76,6 +77,24 @@ std::string skipped_text(const BatchScript& b, const std::vector<BatchRow>& rows
   return text;
 }
 
+// A line per finished trial of the rows whose teacher kept a state: "- T_seq/DC3 trial 0: at step
+// 3 of 3; moved at episodes 41, 97" (describe_teacher_state, as roger train prints it), or "" when
+// none did (found by a probe: the report said nothing of what the teachers did; each trial's
+// result.json had it).
+std::string teachers_text(const BatchScript& b, const std::vector<BatchRow>& rows, const Folder& folder, json& rep) {
+  std::string text;
+  for (const BatchRow& row : rows)
+    for (const json& j : rows_results(b, row, folder).ok) {
+      const json state = j.contains("teacher") && j["teacher"].is_object() ? j["teacher"].value("state", json()) : json();
+      const std::string did = describe_teacher_state(state);
+      if (did.empty()) continue;
+      const json trial = j.value("trial", json());
+      rep.push_back({{"row", row.label()}, {"trial", trial}, {"did", did}});
+      text += "- " + row.label() + " trial " + trial.dump() + ": " + did + "\n";
+    }
+  return text;
+}
+
 }  // namespace
 
 void compare_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep) {
@@ -105,8 +124,11 @@ void compare_table(const BatchScript& b, const BatchTable& t, const Folder& fold
     md << "Training tasks skipped because the scenario could not place their worlds (each replaced by the "
           "teacher's next draw; the trial's result.json, \"skipped_tasks\"): "
        << skips << ".\n\n";
+  json teachers = json::array();
+  const std::string did = teachers_text(b, t.compare, folder, teachers);
+  if (!did.empty()) md << "What each trial's teacher did (its result.json, \"teacher\"):\n\n" << did << "\n";
   rep.push_back({{"title", t.title}, {"compare", rows.size()}, {"baseline", t.baseline}, {"rows", rows},
-                 {"skipped_tasks", skipped}});
+                 {"skipped_tasks", skipped}, {"teachers", teachers}});
 }
 
 ByFound by_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep) {
