@@ -633,7 +633,7 @@ TEST_CASE("roger train writes its six files together or leaves the folder as it 
 }
 
 // Found by a probe: `roger train ... --out worlds` wrote its six files among a folder of scenarios.
-TEST_CASE("roger train refuses an --out folder holding files it does not write", "[cli]") {
+TEST_CASE("roger train and render refuse an --out folder holding files they do not write", "[cli]") {
   const fs::path out = fs::temp_directory_path() / ("roger_cli_train_foreign_" + std::to_string(::getpid()));
   fs::remove_all(out);
   fs::create_directories(out / "episode");  // a subfolder (an episode rendered there) is no obstacle
@@ -643,12 +643,24 @@ TEST_CASE("roger train refuses an --out folder holding files it does not write",
   const Run refused = roger(train);
   CHECK(refused.status == 1);
   CHECK_THAT(refused.err, Catch::Matchers::Contains("--out " + out.string() + " holds files roger train does not write "
-                                                    "(notes.txt, room.lua): its results would go among them"));
+                                                    "(notes.txt, room.lua): its output would go among them"));
   CHECK_FALSE(fs::exists(out / "policy.json"));
+  // Found by a probe: roger render wrote into any folder; a results folder's index.html (its
+  // dashboard) would have been replaced by the replay page.
+  const std::string render = "render docs/examples/skills_example.lua --policy grasp --seed 1 --out " + out.string();
+  const Run render_refused = roger(render);
+  CHECK(render_refused.status == 1);
+  CHECK_THAT(render_refused.err, Catch::Matchers::Contains("--out " + out.string() + " holds files roger render does "
+                                                           "not write (notes.txt, room.lua)"));
+  CHECK_FALSE(fs::exists(out / "index.html"));
   fs::remove(out / "room.lua");
   fs::remove(out / "notes.txt");
   REQUIRE(roger(train).status == 0);
   CHECK(roger(train + " --seed 2").status == 0);  // its own files: written again
+  fs::remove_all(out);
+  REQUIRE(roger(render).status == 0);
+  CHECK(roger(render).status == 0);  // its own files: written again
+  CHECK(fs::exists(out / "index.html"));
   fs::remove_all(out);
 }
 

@@ -1,6 +1,7 @@
 // cli_internal.h: helpers the commands share.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -38,6 +39,12 @@ std::string policy_scenario(const SkillScript::NamedPolicy& p, const std::string
 // Whether `script` is a curriculum, so that --policy names a policy.json written by roger train;
 // throws roger::Error when it is and `policy` is not such a file name.
 bool policy_is_saved_file(const std::string& script, const std::string& policy);
+
+// Refuses an existing --out folder holding files `command` does not write (`own` says which it
+// does): its output would go among them, and files of the same names would be replaced (a
+// results folder's index.html by roger render's). Subfolders and hidden files are left alone.
+void refuse_foreign_files(const std::string& out, const std::string& command,
+                          const std::function<bool(const std::string&)>& own);
 
 // The note on a saved policy's trial parameters that another scenario (--scenario) left at its
 // own values: "the trial trained with forearm = 0.6; scenario cluttered plays its own values of

@@ -30,6 +30,24 @@ std::string policy_scenario(const SkillScript::NamedPolicy& p, const std::string
   return p.scenario.empty() ? "unobstructed" : p.scenario;
 }
 
+void refuse_foreign_files(const std::string& out, const std::string& command,
+                          const std::function<bool(const std::string&)>& own) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::is_directory(out, ec)) return;
+  std::vector<std::string> foreign;
+  for (const auto& entry : fs::directory_iterator(out, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.empty() || name[0] == '.' || entry.is_directory(ec) || own(name)) continue;
+    foreign.push_back(name);
+  }
+  if (foreign.empty()) return;
+  std::sort(foreign.begin(), foreign.end());
+  if (foreign.size() > 5) foreign.resize(5), foreign.push_back("...");
+  throw Error("--out " + out + " holds files " + command + " does not write (" + join(foreign) + "): its output "
+              "would go among them. Give a new or empty folder (or one " + command + " wrote before)");
+}
+
 std::string trial_params_left_note(const std::vector<std::pair<std::string, std::string>>& left,
                                    const std::string& scenario) {
   std::string sets;
@@ -78,6 +96,12 @@ void write_rendered_episode(const RenderArgs& a, const WorldSpec& spec, const Ep
   anim.frame.width_px = a.width;
   anim.title = title;
   const bool summary = a.out.size() > 4 && a.out.compare(a.out.size() - 4, 4, ".png") == 0;
+  // Found by a probe: a folder of other files was written into, and a results folder's
+  // index.html (its dashboard) would have been replaced by the replay page.
+  if (!summary)
+    refuse_foreign_files(a.out, "roger render", [](const std::string& name) {
+      return name == "episode.json" || name == "index.html" ? true : name.rfind("frame_", 0) == 0;
+    });
   if (summary) {
     make_parent_folder(a.out, "roger render");  // as the folder of frames is made
     render_episode_summary(spec, episode, a.out, anim, kPanels);

@@ -287,22 +287,9 @@ void check_skill_flags(const TrainOptions& o) {
 // would be replaced (found by a probe). Subfolders (an episode rendered there) and hidden files
 // are left alone; a folder of an earlier roger train is its to write again.
 void check_train_out_folder(const std::string& out) {
-  namespace fs = std::filesystem;
   static const std::set<std::string> own = {"policy.json",    "curve.csv",   "checkpoints.jsonl", "episodes.jsonl",
                                             "final.jsonl",    "summary.json", "error.json"};
-  std::error_code ec;
-  if (!fs::is_directory(out, ec)) return;
-  std::vector<std::string> foreign;
-  for (const auto& entry : fs::directory_iterator(out, ec)) {
-    const std::string name = entry.path().filename().string();
-    if (name.empty() || name[0] == '.' || entry.is_directory(ec) || own.count(name)) continue;
-    foreign.push_back(name);
-  }
-  if (foreign.empty()) return;
-  std::sort(foreign.begin(), foreign.end());
-  if (foreign.size() > 5) foreign.resize(5), foreign.push_back("...");
-  throw Error("--out " + out + " holds files roger train does not write (" + join(foreign) + "): its results would "
-              "go among them. Give a new or empty folder (or one roger train wrote before)");
+  refuse_foreign_files(out, "roger train", [](const std::string& name) { return own.count(name) > 0; });
 }
 
 }  // namespace
