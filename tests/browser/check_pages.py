@@ -684,6 +684,17 @@ def check_dashboard(b, folder, screenshot):
                 s.closest('.figure').querySelectorAll('input[data-context]').length]; })()""")
     hover, in_figure = hover
     check("t = " in hover and hover.count("[") == in_figure > 0, "dashboard: hovering a curve shows every context's value")
+    # Found by a probe: an action had one colour in Table I's usage chart and another in Table II's.
+    legends = b.evaluate("""Array.from(document.querySelectorAll('#usage-body .legend')).map(l =>
+        Array.from(l.querySelectorAll('label')).map(x => [x.title, x.querySelector('i').style.background]))""")
+    colours = {}
+    for legend in legends:
+        for name, colour in legend:
+            colours.setdefault(name, set()).add(colour)
+    shared = [n for n in colours if sum(any(n == x for x, _ in legend) for legend in legends) > 1]
+    check(len(legends) >= 2 and shared and all(len(c) == 1 for c in colours.values()),
+          "dashboard: an action has one colour in every usage chart (%d charts, %d actions in more than one: %s)"
+          % (len(legends), len(shared), {n: sorted(c) for n, c in colours.items() if len(c) > 1}))
     status = json.load(open(os.path.join(folder, "status.json")))
     line = b.evaluate("document.getElementById('progress-line').textContent")
     check(not status["running"] and ("%d/%d trials done" % (status["done"], status["trials"])) in line,
