@@ -1095,6 +1095,28 @@ TEST_CASE("the static pass follows literal requires and reports at the module's 
   CHECK_THAT(problems[0].message, Contains("did you mean roger.sequence?"));
 }
 
+// Found by a probe: the static pass followed requires the sandbox refuses, a name climbing out
+// ("..tmp.x" read //tmp/x.lua) or a module linked out of the script folders, and quoted the file it
+// read ("/etc/os-release:5: undefined global 'bookworm'"). It reads what require would load, only.
+TEST_CASE("the static pass reads no file the sandbox's require would refuse", "[lua_sandbox][static]") {
+  TempDir dir, outside;
+  std::ofstream(outside.path / "secret.lua") << "return secret_identifier_from_outside\n";
+  fs::create_directories(dir.path / "lib");
+  fs::create_symlink(outside.path / "secret.lua", dir.path / "lib" / "linked.lua");
+  std::string climbing = outside.path.string();  // /tmp/roger-...: "..tmp.roger_..." as a dotted name
+  std::replace(climbing.begin(), climbing.end(), '/', '.');
+  std::ofstream(dir.path / "main.lua") << "local a = require('." << climbing << ".secret')\n"
+                                          "local b = require('lib.linked')\n"
+                                          "return { generate = function(world) world:robot{ x = a, y = b } end }\n";
+  const auto problems = static_check((dir.path / "main.lua").string(), ScriptKind::kScenario);
+  for (const auto& p : problems) CHECK_THAT(p.what(), !Contains("secret"));
+  CHECK(problems.empty());
+  // And require itself refuses a NUL inside a name, which it once cut at.
+  LuaSandbox sandbox;
+  CHECK_THAT(error_of(sandbox, "return require('lib.shapes\\0/../../x')").message,
+             Contains("require: invalid module name"));
+}
+
 // ---- escapes from the budgets: finalizers, patterns, C functions looping over their input ----
 
 namespace {

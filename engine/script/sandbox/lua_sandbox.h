@@ -77,6 +77,12 @@ struct ScriptError : Error {
 // ("curricula.sorting", which the bare "sorting" cannot reach past scenarios/sorting.lua).
 bool module_root_takes(const std::vector<std::filesystem::path>& roots, size_t index, const std::string& name);
 
+// The file `require(name)` loads from `roots` (LuaSandbox::module_roots), found as the sandbox's
+// require finds it: a valid dotted name, a regular file, inside its root once links are followed;
+// empty when require would load none (or refuse the one it finds). For readers of scripts that
+// must not reach further than the scripts can (roger check's static pass).
+std::filesystem::path find_module_file(const std::vector<std::filesystem::path>& roots, const std::string& name);
+
 // The project folder holding scenarios/, curricula/ and scripts/: $ROGER_HOME if set, else the
 // installed data beside the program (<prefix>/share/roger, core/install.h), else the source tree
 // the engine was built from (a program run from its build tree).

@@ -195,7 +195,9 @@ int sandbox_require(lua_State* L) {
   if (lua_type(L, 1) != LUA_TSTRING && lua_type(L, 1) != LUA_TNUMBER)
     return luaL_error(L, "require expects a module name (a string such as \"lib.shapes\"), got %s",
                       luaL_typename(L, 1));
-  const std::string name = lua_tostring(L, 1);
+  size_t length = 0;
+  const char* text = lua_tolstring(L, 1, &length);
+  const std::string name(text, length);  // whole: a NUL inside is refused, not cut at (found by a probe)
   lua_settop(L, 1);
   lua_getfield(L, LUA_REGISTRYINDEX, kModulesKey);  // index 2: the cache
   lua_getfield(L, 2, name.c_str());
@@ -276,5 +278,21 @@ bool has_key(const std::string& path, const std::string& key, int depth) {
 }  // namespace
 
 bool script_has_key(const std::string& path, const std::string& key) { return has_key(path, key, 0); }
+
+fs::path find_module_file(const std::vector<fs::path>& roots, const std::string& name) {
+  if (!sandbox_detail::valid_module_name(name)) return {};
+  std::string rel = name;
+  std::replace(rel.begin(), rel.end(), '.', '/');
+  rel += ".lua";
+  std::error_code ec;
+  for (size_t i = 0; i < roots.size(); ++i) {
+    if (!module_root_takes(roots, i, name)) continue;
+    const fs::path candidate = roots[i] / rel;
+    if (!fs::is_regular_file(candidate, ec)) continue;
+    const fs::path real = fs::weakly_canonical(candidate, ec);
+    return !ec && sandbox_detail::inside(roots[i], real) ? real : fs::path();  // require refuses one outside
+  }
+  return {};
+}
 
 }  // namespace roger
