@@ -486,8 +486,10 @@ class TimeLeft {
     } else if (finished_.insert(t.id).second && state == "done" && !earlier_.count(t.id)) {
       // A failed trial may have stopped at once, and one an earlier run had begun was never seen
       // to begin: either would make the mean too short.
+      // One never seen started began and ended between two scans: half the interval, as likely
+      // as any (zero made a run of sub-second trials, quick.lua on idle cores, read "0 s left").
       const auto b = began_.find(t.id);
-      const double d = std::max(0.0, seen_at_ - (b == began_.end() ? seen_at_ : b->second));
+      const double d = b == began_.end() ? 0.5 * (elapsed_ - last_scan_s_) : std::max(0.0, seen_at_ - b->second);
       durations_[kind].push_back(d);
       if (t.run) by_run_[run].push_back(d);
     }
