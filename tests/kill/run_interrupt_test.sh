@@ -64,6 +64,16 @@ wait_child() {
   child=
 }
 
+# Starts the run into $1 in the background ($child) and returns once it says it writes its report.
+start_until_report() {
+  "$roger" run scripts/quick.lua --jobs 2 --out "$1" >"$work/log" 2>&1 &
+  child=$!
+  until grep -q "^roger run: writing the report" "$work/log"; do
+    kill -0 "$child" 2>/dev/null || fail "the run into $1 ended before it began its report"
+    sleep 0.01
+  done
+}
+
 resume_to_golden() {
   "$roger" run scripts/quick.lua --jobs 2 --out "$1" >"$work/log" 2>&1 || fail "the resumed run of $1"
   bash tests/tools/compare_results.sh --golden tests/golden/quick "$1" >/dev/null || fail "$1 resumed is not the golden run"
@@ -86,12 +96,7 @@ resume_to_golden "$work/once"
 # run says the stop came after its trials, and exits 130.
 cp -a "$work/once" "$work/report"
 rm -f "$work/report/tables.md" "$work/report/report.json" "$work/report"/figure*
-"$roger" run scripts/quick.lua --jobs 2 --out "$work/report" >"$work/log" 2>&1 &
-child=$!
-until grep -q "^roger run: writing the report" "$work/log"; do
-  kill -0 "$child" 2>/dev/null || fail "the run ended before it began its report"
-  sleep 0.01
-done
+start_until_report "$work/report"
 stop_child
 [ "$status" -eq 130 ] || fail "exit status $status after a Ctrl-C during the report, not 130"
 grep -q "^roger: stopping: finishing the report of the finished trials, then exiting" "$work/log" ||
@@ -105,12 +110,7 @@ grep -q "^roger: stopping: finishing the report of the finished trials, then exi
 # the report, so whenever the kill lands the two say the same.
 interrupt "$work/killed" 1
 [ "$status" -eq 130 ] && grep -q "Partial report" "$work/killed/tables.md" || fail "no partial report to begin with"
-"$roger" run scripts/quick.lua --jobs 2 --out "$work/killed" >"$work/log" 2>&1 &
-child=$!
-until grep -q "^roger run: writing the report" "$work/log"; do
-  kill -0 "$child" 2>/dev/null || fail "the resumed run ended before it began its report"
-  sleep 0.01
-done
+start_until_report "$work/killed"
 kill -KILL "$child"
 wait_child
 pending_rows=$(grep -c ',pending,' "$work/killed/summary.csv" || true)
