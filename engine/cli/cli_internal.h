@@ -47,8 +47,8 @@ void refuse_foreign_files(const std::string& out, const std::string& command,
                           const std::function<bool(const std::string&)>& own);
 
 // The note on a saved policy's trial parameters that another scenario (--scenario) left at its
-// own values: "the trial trained with forearm = 0.6; scenario cluttered plays its own values of
-// them here: --set forearm=0.6 plays the trial's".
+// own values: "the trial trained with forearm = 0.6; scenario cluttered plays its own value of it
+// here (--set forearm=0.6 plays the trial's)".
 std::string trial_params_left_note(const std::vector<std::pair<std::string, std::string>>& left,
                                    const std::string& scenario);
 

@@ -89,19 +89,16 @@ std::string sets_note(const std::vector<std::string>& sets) {
 
 // Writes a recorded episode: a folder with frames and a replay page, or (for a .png path) one
 // summary strip; then says what it wrote.
+// Whether --out names one summary strip (a .png) rather than a folder of frames.
+bool is_summary_strip(const std::string& out) { return out.size() > 4 && out.compare(out.size() - 4, 4, ".png") == 0; }
+
 void write_rendered_episode(const RenderArgs& a, const WorldSpec& spec, const EpisodeResult& episode,
                             const std::string& title) {
   constexpr int kPanels = 4;  // of a summary strip
   AnimationOptions anim;
   anim.frame.width_px = a.width;
   anim.title = title;
-  const bool summary = a.out.size() > 4 && a.out.compare(a.out.size() - 4, 4, ".png") == 0;
-  // Found by a probe: a folder of other files was written into, and a results folder's
-  // index.html (its dashboard) would have been replaced by the replay page.
-  if (!summary)
-    refuse_foreign_files(a.out, "roger render", [](const std::string& name) {
-      return name == "episode.json" || name == "index.html" ? true : name.rfind("frame_", 0) == 0;
-    });
+  const bool summary = is_summary_strip(a.out);
   if (summary) {
     make_parent_folder(a.out, "roger render");  // as the folder of frames is made
     render_episode_summary(spec, episode, a.out, anim, kPanels);
@@ -150,6 +147,9 @@ int run_render_policy_file(const RenderArgs& a) {
 // Renders one episode of a skill script's policy: a folder with frames and a replay page, or
 // (for a .png path) one summary strip.
 int run_render_episode(const RenderArgs& a) {
+  // Before the episode is run: a folder of other files was written into (found by a probe), and
+  // a results folder's index.html, its dashboard, would have been replaced by the replay page.
+  if (!is_summary_strip(a.out)) refuse_foreign_files(a.out, "roger render", render_episode_writes);
   if (policy_is_saved_file(a.scenario, a.policy)) return run_render_policy_file(a);
   if (a.test_task > 0)
     throw Error("roger render: --test-task renders a task of a saved policy's test set (CURRICULUM.lua --policy "

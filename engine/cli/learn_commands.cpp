@@ -92,8 +92,6 @@ void print_changes(const EvalArgs& a) {
   if (!changes.empty()) std::printf("  with           %s\n", changes.c_str());
 }
 
-// The parameters a saved policy's trial trained with beyond its stage's (its --set), set here too
-// so that the held-out seeds are the trial's worlds, or, in another scenario, left out.
 // The stage's and context's own scenario parameters, when they have any (found by a probe: a
 // maturation's frozen eyes were said nowhere in train's or eval's output).
 void print_stage_params(const std::vector<std::pair<std::string, std::string>>& params, const std::string& stage,
@@ -103,6 +101,10 @@ void print_stage_params(const std::vector<std::pair<std::string, std::string>>& 
                 context.c_str());
 }
 
+// What eval says of a saved policy beside the header: the stage's own parameters, another
+// curriculum than the policy's, and the parameters its trial trained with beyond its stage's (its
+// --set), set here too so that the held-out seeds are the trial's worlds, or, in another scenario,
+// left out.
 void print_trial_params(const PolicyEvalResult& r, const std::string& scenario) {
   print_stage_params(r.stage_params, r.stage, r.context);
   if (!r.trained_curriculum.empty())

@@ -174,6 +174,10 @@ void remove_stale_frames(const std::string& folder, size_t count) {
 
 }  // namespace
 
+bool render_episode_writes(const std::string& file_name) {
+  return file_name == "episode.json" || file_name == "index.html" || frame_index(file_name) >= 0;
+}
+
 void render_episode(const WorldSpec& spec, const EpisodeResult& episode, const std::string& folder,
                     const AnimationOptions& options) {
   const RenderOptions fo = check_inputs(spec, episode, options, folder);

@@ -31,6 +31,10 @@ struct AnimationOptions {
 void render_episode(const WorldSpec& spec, const EpisodeResult& episode, const std::string& folder,
                     const AnimationOptions& options = {});
 
+// Whether render_episode writes a file of this name into its folder: a frame (frame_0000.png, ...),
+// episode.json or index.html. A folder holding others is not its own (roger render refuses it).
+bool render_episode_writes(const std::string& file_name);
+
 // Writes one PNG summarising the episode to path: `panels` evenly spaced frames side by side (the
 // first and the last included; one panel shows the last frame) over the timeline, with numbered
 // markers tying each panel to its moment. Same errors as render_episode, plus panels < 1 or a path

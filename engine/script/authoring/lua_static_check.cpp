@@ -680,13 +680,6 @@ class Judge {
   std::set<std::string> written_;
 };
 
-// The file a literal require names, searched in `roots` as the sandbox's require does, or empty:
-// never one the sandbox would refuse (found by a probe: a name like "..tmp.x" or a link out of the
-// project made roger check read and quote a file outside it).
-fs::path find_module(const std::vector<fs::path>& roots, const std::string& name) {
-  return find_module_file(roots, name);
-}
-
 // "require('sorting') takes scenarios/sorting.lua; curricula/sorting.lua has the same name:
 // require('curricula.sorting') loads it" when a bare name is found in the project's scenarios/,
 // which every script but a batch script searches first, and curricula/ or scripts/ hold a file of
@@ -787,7 +780,7 @@ std::string shadow_of(const LuaSandbox& sandbox, const fs::path& file, const std
     return std::any_of(project.begin(), project.end(), [&](const fs::path& r) { return under(r, p); });
   };
   if (!under(roots.front(), module) || shipped(module) || !shipped(file)) return "";
-  const fs::path replaced = find_module(project, name);
+  const fs::path replaced = find_module_file(project, name);
   if (replaced.empty()) return "";
   return sandbox.display_name(module) + " beside the script takes the place of the shipped " +
          sandbox.display_name(replaced) + " inside " + sandbox.display_name(file) + " (its require(\"" + name +
@@ -819,7 +812,9 @@ std::vector<StaticProblem> static_check(const std::string& path, std::optional<S
     files.push_back({shown, Scanner(text).accesses, duplicate_keys(text, shown)});
     for (const auto& a : files.back().accesses) {
       if (a.kind != Access::kRequire) continue;
-      const fs::path module = find_module(sandbox.module_roots(), a.name);
+      // What require would load, never more (found by a probe: a name climbing out, "..tmp.x",
+      // or a module linked out of the project made roger check read and quote a file outside it).
+      const fs::path module = find_module_file(sandbox.module_roots(), a.name);
       if (shadows && !module.empty())
         for (const std::string& warning : {shadow_of(sandbox, file, a.name, module), other_of_name(sandbox, a.name, module)})
           if (!warning.empty() && std::find(shadows->begin(), shadows->end(), warning) == shadows->end())
@@ -852,7 +847,7 @@ std::vector<ModuleUse> module_users(const fs::path& module, const std::vector<fs
     const fs::path real = fs::weakly_canonical(script, ec);
     const std::vector<fs::path> roots = module_search_roots(real.parent_path(), looks_like_batch_script(real));
     for (const auto& a : Scanner(text).accesses)
-      if (a.kind == Access::kRequire && find_module(roots, a.name) == target) {
+      if (a.kind == Access::kRequire && find_module_file(roots, a.name) == target) {
         out.push_back({script, a.name, a.line});
         break;
       }

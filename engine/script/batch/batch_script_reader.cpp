@@ -38,13 +38,13 @@ std::string utf8_text(lua_State* L, int index, const std::string& where) {
                 "; save the script as UTF-8)");
   return text;
 }
-}  // namespace
 
 // The value at `path` within the returned table ("limits.instructions", "runs[2].params"), as
 // messages name it: "field 'limits.instructions'", or the whole table when the path is empty.
 std::string value_named(const std::string& path) {
   return path.empty() ? "the batch script's table" : "field '" + path + "'";
 }
+}  // namespace
 
 // The Lua value at `index` as JSON: tables with keys 1..n are arrays, tables with string keys
 // objects; numbers, strings and booleans as they are. `path` is where the value is within the

@@ -107,6 +107,36 @@ void note_source_file(LuaSandbox::Impl& s, const fs::path& file) {
 
 namespace {
 
+// The search for the valid dotted module `name` in `roots`, as require makes it: the first root
+// (module_root_takes) holding a regular file of that name, or none (`root` = roots.size()), and
+// the roots looked in before it. Shared by require and find_module_file, so that no reader of
+// scripts looks further than require does.
+struct ModuleSearch {
+  std::string rel;            // "lib/shapes.lua"
+  size_t root = 0;            // the root the file is in; roots.size() when none holds it
+  fs::path real;              // the file, links followed
+  std::vector<size_t> missed; // the roots looked in without the file
+};
+
+ModuleSearch search_module(const std::vector<fs::path>& roots, const std::string& name) {
+  ModuleSearch out;
+  out.rel = name;
+  std::replace(out.rel.begin(), out.rel.end(), '.', '/');
+  out.rel += ".lua";
+  std::error_code ec;
+  for (out.root = 0; out.root < roots.size(); ++out.root) {
+    if (!module_root_takes(roots, out.root, name)) continue;
+    const fs::path candidate = roots[out.root] / out.rel;
+    if (fs::is_regular_file(candidate, ec)) {
+      out.real = fs::weakly_canonical(candidate, ec);
+      if (ec) out.real.clear();
+      return out;
+    }
+    out.missed.push_back(out.root);
+  }
+  return out;
+}
+
 // Finds module `name` in the sandbox's roots: sets `found` and `shown`, or `error` (an invalid
 // name, a require cycle, a file outside the roots or no file at all).
 void locate_module(const LuaSandbox::Impl& s, const std::string& name, fs::path& found,
@@ -124,33 +154,29 @@ void locate_module(const LuaSandbox::Impl& s, const std::string& name, fs::path&
     error += name;
     return;
   }
-  std::string rel = name;
-  std::replace(rel.begin(), rel.end(), '.', '/');
-  rel += ".lua";
-  std::vector<std::string> tried;
-  std::error_code ec;
-  for (size_t i = 0; i < s.roots.size(); ++i) {
-    const fs::path& root = s.roots[i];
-    if (!module_root_takes(s.roots, i, name)) continue;
-    const fs::path candidate = root / rel;
-    if (!fs::is_regular_file(candidate, ec)) {
-      // Where each place is, unmistakably: a script in <cwd>/scenarios and the project's
-      // scenarios/ would otherwise both show as scenarios/lib/x.lua.
-      const bool project = i > 0 && i + 1 == s.roots.size();
-      tried.push_back(s.main_set && root == s.main_dir ? module_display(s, root, rel) + " (beside the script)"
-                      : project ? candidate.lexically_normal().string() + " (in the project)"
-                                : candidate.lexically_normal().string() + " (in the project " + root.parent_path().string() + ")");
-      continue;
-    }
-    const fs::path real = fs::weakly_canonical(candidate, ec);
-    if (ec || !inside(root, real)) {
-      error = "require: module '" + name + "' resolves to " + real.string() +
+  const ModuleSearch search = search_module(s.roots, name);
+  const std::string& rel = search.rel;
+  if (search.root < s.roots.size()) {
+    const fs::path& root = s.roots[search.root];
+    if (search.real.empty() || !inside(root, search.real)) {
+      error = "require: module '" + name + "' resolves to " + search.real.string() +
               ", outside the allowed script folders";
       return;
     }
-    found = real;
+    found = search.real;
     shown = module_display(s, root, rel);
     return;
+  }
+  std::vector<std::string> tried;
+  for (size_t i : search.missed) {
+    // Where each place is, unmistakably: a script in <cwd>/scenarios and the project's
+    // scenarios/ would otherwise both show as scenarios/lib/x.lua.
+    const fs::path& root = s.roots[i];
+    const std::string candidate = (root / rel).lexically_normal().string();
+    const bool project = i > 0 && i + 1 == s.roots.size();
+    tried.push_back(s.main_set && root == s.main_dir ? module_display(s, root, rel) + " (beside the script)"
+                    : project ? candidate + " (in the project)"
+                              : candidate + " (in the project " + root.parent_path().string() + ")");
   }
   error = "module '" + name + "' not found; searched:";
   for (const auto& t : tried) error += "\n\t" + t;
@@ -281,18 +307,9 @@ bool script_has_key(const std::string& path, const std::string& key) { return ha
 
 fs::path find_module_file(const std::vector<fs::path>& roots, const std::string& name) {
   if (!sandbox_detail::valid_module_name(name)) return {};
-  std::string rel = name;
-  std::replace(rel.begin(), rel.end(), '.', '/');
-  rel += ".lua";
-  std::error_code ec;
-  for (size_t i = 0; i < roots.size(); ++i) {
-    if (!module_root_takes(roots, i, name)) continue;
-    const fs::path candidate = roots[i] / rel;
-    if (!fs::is_regular_file(candidate, ec)) continue;
-    const fs::path real = fs::weakly_canonical(candidate, ec);
-    return !ec && sandbox_detail::inside(roots[i], real) ? real : fs::path();  // require refuses one outside
-  }
-  return {};
+  const sandbox_detail::ModuleSearch search = sandbox_detail::search_module(roots, name);
+  const bool kept = search.root < roots.size() && !search.real.empty() && sandbox_detail::inside(roots[search.root], search.real);
+  return kept ? search.real : fs::path();  // require refuses one outside its root
 }
 
 }  // namespace roger

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -251,7 +252,6 @@ SkillScript::NamedPolicy read_policy(lua_State* L, int ps, const std::string& na
   }
   line = map.policy_field(name, "description");
   np.description = f.string("description", "");
-  np.line = map.policy(name);
   np.goal_line = map.policy_field(name, "goal");
   return np;
 }
@@ -366,21 +366,32 @@ std::vector<std::string> check_skill_script(const std::string& path, const Sandb
     problems.push_back(e.what());
     return problems;
   }
-  std::set<std::string> tried;
+  // Each scenario loaded, and its worlds generated, once however many policies play it.
+  struct Loaded {
+    std::unique_ptr<Scenario> scenario;
+    std::string error;  // why it did not load
+  };
+  std::map<std::string, Loaded> loaded_scenarios;
   for (const auto& name : script->policy_names()) {
     const SkillScript::NamedPolicy& policy = script->policy(name);
-    try {
-      Scenario scenario = Scenario::load(policy.scenario, limits);
-      if (tried.insert(policy.scenario).second)
-        if (const std::string problem = worlds_problem(scenario); !problem.empty()) {
-          problems.push_back("policy '" + name + "': scenario '" + policy.scenario + "': " + problem);
+    const std::string where = "policy '" + name + "': scenario '" + policy.scenario + "': ";
+    auto [it, fresh] = loaded_scenarios.emplace(policy.scenario, Loaded{});
+    Loaded& l = it->second;
+    if (fresh) try {
+        l.scenario = std::make_unique<Scenario>(Scenario::load(policy.scenario, limits));
+        if (const std::string problem = worlds_problem(*l.scenario); !problem.empty()) {
+          problems.push_back(where + problem);
           continue;
         }
-      if (const std::string problem = first_ticks_problem(*script, policy, scenario); !problem.empty())
-        problems.push_back(problem);
-    } catch (const std::exception& e) {
-      problems.push_back("policy '" + name + "': scenario '" + policy.scenario + "': " + e.what());
+      } catch (const std::exception& e) {
+        l.error = e.what();
+      }
+    if (!l.scenario) {
+      problems.push_back(where + l.error);
+      continue;
     }
+    if (const std::string problem = first_ticks_problem(*script, policy, *l.scenario); !problem.empty())
+      problems.push_back(problem);
   }
   return problems;
 }

@@ -46,7 +46,7 @@ class SkillScript {
     }
     std::string scenario;       // the scenario evaluations use by default ("unobstructed")
     std::string description;
-    int line = 0, goal_line = 0;  // where the policy and its goal are written in the script
+    int goal_line = 0;          // where its goal is written in the script (for errors of the goal)
   };
 
   // Runs the script at `path` (or curricula/<path>.lua for a bare name such as "scripted") and
