@@ -1040,6 +1040,44 @@ TEST_CASE("roger eval of a skill script names the policy's line and the world se
   fs::remove_all(dir);
 }
 
+// Found by a probe: a navigator to a goal region past the world's, or a binding to a colour no
+// object has, is NOREF at every tick, and roger eval said 0% and nothing else.
+TEST_CASE("roger eval names the parts that never had a reference when every episode failed", "[cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_eval_noref_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "noref.lua")
+      << "local skills = require('lib.skills')\nlocal p = skills.primitives()\n"
+         "local go = roger.primitive('phi1', { goal = 'region', region = 7 })\n"
+         "local sg = roger.sequence('Phi_SG', { skills.Phi6(p), skills.Phi7(p), p.phi3 })\n"
+         "return { policies = {\n"
+         "  go = { action = go, goal = roger.converged(go), time_limit = 2 },\n"
+         "  purple = { action = roger.bind('purple', sg, { stimulus = '#7800c8' }), goal = roger.converged(p.phi3),\n"
+         "             time_limit = 2 },\n"
+         "  task = { action = sg, goal = roger.converged(p.phi3), time_limit = 5 },\n"
+         "} }\n";
+  const std::string script = (dir / "noref.lua").string();
+  Run r = roger("eval " + script + " --policy go --episodes 3 --json");
+  INFO(r.out << r.err);
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("  no reference   phi1 {goal = \"region\", region = 7}\n"
+                                              "  note           this part was NOREF at every tick it ran, in all 3 "
+                                              "episodes: what it acts on was never there"));
+  nlohmann::json j = nlohmann::json::parse(r.out.substr(r.out.rfind("\n{") + 1));
+  CHECK(j["never_referenced"] == nlohmann::json::array({"phi1 {goal = \"region\", region = 7}"}));
+  // Tracking and approaching find no object of the binding's colour: they are named with it.
+  r = roger("eval " + script + " --policy purple --episodes 2");
+  CHECK_THAT(r.out, Catch::Matchers::Contains("  no reference   phi0 under purple {stimulus = \"#7800c8\"}\n"
+                                              "  no reference   Phi7 (inside: phi1) under purple {stimulus = "
+                                              "\"#7800c8\"}\n"));
+  // A policy that succeeds says nothing of a part it did not need.
+  r = roger("eval " + script + " --policy task --episodes 2 --json");
+  CHECK(r.out.find("success rate   100.0%") != std::string::npos);
+  CHECK(r.out.find("no reference") == std::string::npos);
+  j = nlohmann::json::parse(r.out.substr(r.out.rfind("\n{") + 1));
+  CHECK(j["never_referenced"] == nlohmann::json::array());
+  fs::remove_all(dir);
+}
+
 TEST_CASE("roger eval names the failed world seeds and the command that renders one", "[cli]") {
   const std::string args = "eval curricula/scripted.lua --policy search_grasp --scenario cluttered --set obstacles=6 "
                            "--episodes 30";

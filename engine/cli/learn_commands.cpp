@@ -216,6 +216,23 @@ EvalSummary evaluate_policy(const SkillScript& script, const SkillScript::NamedP
   }
 }
 
+// The parts that never had a reference (EvalSummary::never_referenced), a line each: a policy
+// failing at every seed because its navigator names a goal region past the world's, or its
+// binding a colour no object has, said nothing but its success rate (found by a probe).
+// Printed when every episode failed: a part that is not needed where the policy succeeds (the
+// sort's look from elsewhere, in worlds where every object is seen) is no sign of anything.
+void print_never_referenced(const EvalSummary& r) {
+  if (r.successes > 0) return;
+  for (const std::string& name : r.never_referenced) std::printf("  no reference   %s\n", name.c_str());
+  if (!r.never_referenced.empty())
+    std::printf("  note           %s NOREF at every tick %s ran, in %s: what %s on was never there "
+                "(a goal region past the world's, a colour no object has, an object never reached)\n",
+                r.never_referenced.size() == 1 ? "this part was" : "these parts were",
+                r.never_referenced.size() == 1 ? "it" : "they",
+                r.episodes == 1 ? "the episode" : ("all " + std::to_string(r.episodes) + " episodes").c_str(),
+                r.never_referenced.size() == 1 ? "it acts" : "they act");
+}
+
 }  // namespace
 
 int command_eval(const EvalArgs& a) {
@@ -247,6 +264,7 @@ int command_eval(const EvalArgs& a) {
   print_failed_seeds(a, failed);
   std::printf("  reward         %.1f +- %.1f\n", r.reward_mean, r.reward_std);
   std::printf("  episode time   %.2f s (mean, simulated)\n", r.time_mean);
+  print_never_referenced(r);
   if (a.json) {
     nlohmann::json j = {{"script", script.path()},      {"policy", policy.name},
                         {"scenario", scenario.name()},  {"scenario_file", scenario.path()},
@@ -254,7 +272,7 @@ int command_eval(const EvalArgs& a) {
                         {"first_seed", a.seed},          {"successes", r.successes},
                         {"success_rate", r.success_rate}, {"reward_mean", r.reward_mean},
                         {"reward_std", r.reward_std},    {"time_mean", r.time_mean},
-                        {"failed_seeds", failed}};
+                        {"failed_seeds", failed},       {"never_referenced", r.never_referenced}};
     for (const auto& p : scenario.params()) j["params"][p.name] = p.value;
     std::printf("%s\n", j.dump().c_str());
   }

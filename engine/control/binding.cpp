@@ -6,6 +6,13 @@
 
 namespace roger {
 
+std::string Binding::settings() const {
+  std::string out;
+  if (bindings_.stimulus) out = "stimulus = \"" + bindings_.colour.hex() + "\"";
+  if (bindings_.region >= 0) out += (out.empty() ? "" : ", ") + std::string("region = ") + std::to_string(bindings_.region);
+  return out;
+}
+
 Binding::Binding(ControllerPtr target, const Bindings& bindings) : target_(std::move(target)), bindings_(bindings) {
   if (!target_) throw Error("binding: needs a controller to bind");
   set_name(target_->name());

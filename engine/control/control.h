@@ -186,6 +186,9 @@ class Controller {
 
   // A short word for what it is: a primitive's own name, "subject_to", "sequence" or "policy".
   virtual const char* kind() const = 0;
+  // What was set on it as a script writes it (a primitive's parameters away from their defaults,
+  // a binding's colour and region), to tell controllers of one name apart in messages; "" for none.
+  virtual std::string settings() const { return ""; }
 
   // A copy of this controller alone (its parts still the originals'): same parameters, name and
   // state. Through roger::duplicate only, which then relinks the parts. The default refuses: a
@@ -408,6 +411,7 @@ class Binding final : public Controller {
   Binding(ControllerPtr target, const Bindings& bindings);
   std::vector<const Controller*> children() const override { return {target_.get()}; }
   const char* kind() const override { return "binding"; }
+  std::string settings() const override;
   void reset(uint64_t seed) override;
   ControllerPtr copy() const override { return std::make_shared<Binding>(*this); }
   void relink(Duplicates& done) override;

@@ -11,6 +11,7 @@
 
 #include "control/primitives_internal.h"
 #include "core/error.h"
+#include "core/text.h"
 
 namespace roger {
 namespace primitives_internal {
@@ -170,6 +171,22 @@ double Primitive::number(const std::string& name) const {
 }
 
 const std::string& Primitive::text(const std::string& name) const { return find(name).text; }
+
+std::string Primitive::settings() const {
+  const PrimitivePtr fresh = make_primitive(kind_);
+  std::string out;
+  for (size_t k = 0; k < defs_.size(); ++k) {
+    const ParamDef &d = defs_[k], &f = fresh->defs_[k];
+    std::string value;
+    if (!d.choices.empty()) {
+      if (d.text != f.text) value = "\"" + d.text + "\"";
+    } else if (d.from_body != f.from_body || (!d.from_body && d.value != f.value)) {
+      value = d.from_body ? "\"body\"" : format_number(d.value);
+    }
+    if (!value.empty()) out += (out.empty() ? "" : ", ") + d.name + " = " + value;
+  }
+  return out;
+}
 
 PrimitivePtr make_primitive(const std::string& name) {
   using namespace primitives_internal;

@@ -58,6 +58,9 @@ class Primitive : public Controller {
   // Reads a string parameter (throws for an unknown name).
   const std::string& text(const std::string& name) const;
 
+  // The parameters set away from the kind's defaults: `goal = "region", region = 7`.
+  std::string settings() const override;
+
   // A copy with the same parameters and fresh state.
   virtual std::shared_ptr<Primitive> clone() const = 0;
   // For duplicate(): the clone, a leaf.

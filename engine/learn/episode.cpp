@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 
+#include "control/primitives.h"
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "core/text.h"
 
 namespace roger {
 
@@ -65,17 +68,113 @@ EpisodeOutcome run_episode(Agent& agent, const WorldSpec& spec, uint64_t seed, E
 namespace {
 
 // One action, run every tick until its goal predicate holds.
+// Which controllers of an action and its goal ever ran with a reference, over the episodes it is
+// told of: a navigator to a goal region past the world's, or a binding to a colour no object has,
+// is NOREF at every tick it runs, and the evaluation fails at every seed with no other sign. It
+// only reads what the controllers kept of their last evaluation, so the episodes are unchanged.
+class ReferenceWatch {
+ public:
+  ReferenceWatch(const Controller& action, const Predicate& goal) : roots_{&action} {
+    goal.controllers(roots_);
+    std::vector<const Controller*> todo = roots_;
+    while (!todo.empty()) {
+      const Controller* c = todo.back();
+      todo.pop_back();
+      if (std::any_of(watched_.begin(), watched_.end(), [&](const Watched& w) { return w.controller == c; }))
+        continue;
+      watched_.push_back(Watched{c});
+      for (const Controller* part : c->children()) todo.push_back(part);
+    }
+  }
+  // An episode begins: its controllers were reset, and their ticks count from the start again.
+  void begin() {
+    for (Watched& w : watched_) w.evaluated = w.observed = UINT64_MAX;
+  }
+  // Between ticks (at least once after each; twice does no harm): what ran since the last look.
+  void look() {
+    for (Watched& w : watched_) {
+      const uint64_t evaluated = w.controller->evaluated_tick(), observed = w.controller->observed_tick();
+      if (evaluated == w.evaluated && observed == w.observed) continue;
+      w.evaluated = evaluated, w.observed = observed;
+      w.ran = true;
+      w.referenced = w.referenced || w.controller->output().gamma != Gamma::kNoRef;
+    }
+  }
+  // The controllers that ran and never had a reference, a line each for the outermost of them,
+  // with the innermost inside it when they are others (the step of a sequence that names a region
+  // past the world's) and the binding they ran under (its colour may be no object's), in the order
+  // of a walk from the action, then from the goal's controllers.
+  std::vector<std::string> never_referenced() const {
+    auto unreferenced = [&](const Controller* c) {
+      for (const Watched& w : watched_)
+        if (w.controller == c) return w.ran && !w.referenced;
+      return false;
+    };
+    auto described = [](const Controller* c) {
+      const std::string settings = c->settings();
+      return c->name() + (settings.empty() ? "" : " {" + settings + "}");
+    };
+    std::vector<const Controller*> seen;
+    // The innermost unreferenced controllers at or below `c` (itself when no part is one).
+    std::function<void(const Controller*, std::vector<std::string>&)> innermost = [&](const Controller* c,
+                                                                                      std::vector<std::string>& out) {
+      bool inner = false;
+      for (const Controller* part : c->children())
+        if (unreferenced(part)) inner = true, innermost(part, out);
+      const std::string d = described(c);
+      if (!inner && std::find(out.begin(), out.end(), d) == out.end()) out.push_back(d);
+    };
+    std::vector<std::string> lines;
+    // `binding`: the nearest binding above c, which chose the colour or region c did not find.
+    std::function<void(const Controller*, const Controller*)> walk = [&](const Controller* c,
+                                                                          const Controller* binding) {
+      if (std::find(seen.begin(), seen.end(), c) != seen.end()) return;
+      seen.push_back(c);
+      if (!unreferenced(c)) {
+        if (std::string(c->kind()) == "binding") binding = c;
+        for (const Controller* part : c->children()) walk(part, binding);
+        return;
+      }
+      std::vector<std::string> inside;
+      innermost(c, inside);
+      std::string line = described(c);
+      if (!(inside.size() == 1 && inside[0] == line)) line += " (inside: " + join(inside) + ")";
+      if (binding) line += " under " + described(binding);
+      lines.push_back(line);
+    };
+    for (const Controller* root : roots_) walk(root, nullptr);
+    return lines;
+  }
+
+ private:
+  struct Watched {
+    const Controller* controller;
+    uint64_t evaluated = UINT64_MAX, observed = UINT64_MAX;  // at the last look
+    bool ran = false, referenced = false;
+  };
+  std::vector<const Controller*> roots_;  // the action, then the controllers the goal reads
+  std::vector<Watched> watched_;
+};
+
 class FixedActionDriver final : public EpisodeDriver {
  public:
-  FixedActionDriver(Controller& action, Predicate& goal) : action_(action), goal_(goal), judge_(&goal) {}
+  FixedActionDriver(Controller& action, Predicate& goal, ReferenceWatch* watch = nullptr)
+      : action_(action), goal_(goal), judge_(&goal), watch_(watch) {}
   void begin(uint64_t seed) override {
     action_.reset(seed);
     goal_.reset();
     judge_.reset(seed);
+    if (watch_) watch_->begin();
   }
   Controller* choose(const ControlInput&) override { return &action_; }
   // Success is the true world's: under noise the goal is judged on the true senses.
-  bool absorbed(const ControlInput& in) override { return judge_.holds(in); }
+  bool absorbed(const ControlInput& in) override {
+    if (!watch_) return judge_.holds(in);
+    watch_->look();  // the tick's own evaluations, before the goal's of the next tick replace them
+    const bool holds = judge_.holds(in);
+    watch_->look();
+    return holds;
+  }
   bool end(const ControlInput&, bool success, int, double) override { return success; }
   Judge* judge() override { return &judge_; }
 
@@ -83,6 +182,7 @@ class FixedActionDriver final : public EpisodeDriver {
   Controller& action_;
   Predicate& goal_;
   Judge judge_;
+  ReferenceWatch* watch_;
 };
 
 // Records frames every `every` ticks (and the last one) and the watched controllers' states.
@@ -189,7 +289,8 @@ EvalSummary evaluate_action(const std::function<WorldSpec(uint64_t)>& make, Cont
   // copies of the goal's controllers are then made once and reset each episode, as the goal's own
   // are, and keep what those keep (a navigator's cold solve of the same region, copied rather than
   // solved again); a driver per episode made the copies and solved the region anew each time.
-  FixedActionDriver driver(action, goal);
+  ReferenceWatch watch(action, goal);
+  FixedActionDriver driver(action, goal, &watch);
   EvalSummary s;
   double sum = 0.0, sum2 = 0.0, time = 0.0;
   for (int e = 0; e < episodes; ++e) {
@@ -207,6 +308,7 @@ EvalSummary evaluate_action(const std::function<WorldSpec(uint64_t)>& make, Cont
   // Population standard deviation, as the paper's tables report it (e.g. 96.0 +- 28.0).
   s.reward_std = std::sqrt(std::max(0.0, sum2 / episodes - s.reward_mean * s.reward_mean));
   s.time_mean = time / episodes;
+  s.never_referenced = watch.never_referenced();
   return s;
 }
 

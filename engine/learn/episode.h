@@ -165,6 +165,10 @@ struct EvalSummary {
   double reward_mean = 0.0, reward_std = 0.0;
   double time_mean = 0.0;  // simulated seconds per episode
   std::vector<EpisodeResult> results;
+  // The controllers of the action and its goal that ran and were NOREF at every tick of every
+  // episode: the outermost of them, by name and settings, with the innermost inside each
+  // ("purple {stimulus = \"#7800c8\"} (inside: phi3, phi0)"). What they act on was never there.
+  std::vector<std::string> never_referenced;
 };
 
 // Evaluates an action over `episodes` seeds (seed, seed + 1, ...), making each world with `make`.
