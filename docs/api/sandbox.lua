@@ -11,6 +11,16 @@
 -- finalizer would run outside the instruction budget), and the budget counts the work of the
 -- library's C functions too (docs/scenarios.md).
 
+---Visits the keys of `t` and their values. In roger's sandbox the order is the same in every run
+---(Lua's follows string hashes seeded per run): numbers by value, strings byte by byte, false,
+---true, then keys of other types in Lua's order. A table with __pairs gets its metamethod.
+---@generic K, V
+---@param t table<K, V>
+---@return fun(table: table<K, V>, index?: K): K, V
+---@return table<K, V>
+---@return nil
+function pairs(t) end
+
 ---@deprecated Not in roger's sandbox (it reads any file): use require("dotted.name").
 function dofile(filename) end
 

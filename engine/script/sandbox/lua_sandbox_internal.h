@@ -163,6 +163,11 @@ void install_table_library(lua_State* L);
 // Replaces the pattern functions of the string table at `string_table` by the budgeted ones.
 void install_patterns(lua_State* L, int string_table);
 
+// ---- lua_pairs.cpp: pairs in an order that is the same in every run ----
+
+// Replaces pairs by one visiting a plain table's keys in a fixed order (numbers, strings, booleans).
+void install_pairs(lua_State* L);
+
 // ---- lua_sandbox_libs.cpp: what a script sees ----
 
 // Opens the permitted libraries and installs the replacements (run protected: it allocates).

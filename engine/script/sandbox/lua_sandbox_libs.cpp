@@ -281,6 +281,7 @@ int open_sandbox(lua_State* L) {
   set_refusal(L, lua_gettop(L), "randomseed", no_random);
   lua_pop(L, 1);
   install_charges(L);
+  install_pairs(L);
   install_table_library(L);
   install_coroutines(L);
   lua_newtable(L);
