@@ -945,6 +945,12 @@ TEST_CASE("roger eval and render of a saved policy set the parameters its trial 
   CHECK(r.status == 0);
   CHECK_THAT(r.out, Catch::Matchers::Contains("\n  note           the policy was trained with the curriculum "
                                               "curricula/paper.lua; stage SG, context DC2 of this one judge it here"));
+  // Found by a probe: the same file named from another folder was said to be another curriculum.
+  // The policy records a digest of the curriculum's text: a copy elsewhere is the same one.
+  fs::copy_file("curricula/paper.lua", dir / "paper_copy.lua");
+  r = roger("eval " + (dir / "paper_copy.lua").string() + " --policy " + policy + " --episodes 2");
+  CHECK(r.status == 0);
+  CHECK(r.out.find("was trained with the curriculum") == std::string::npos);
   // Found by a probe: roger render said "roger eval" in that hint.
   r = roger("render docs/examples/curriculum_example.lua --policy " + policy + " --out " + (dir / "other").string());
   CHECK(r.status == 1);

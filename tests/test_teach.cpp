@@ -691,9 +691,21 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
       {"{ tasks = { obstacle = roger.int(0, 6) } }",
        ":8: stage 'S': tasks.obstacle = roger.int(0, 6): scenario 'cluttered' (scenarios/cluttered.lua) has no "
        "parameter 'obstacle' (did you mean 'obstacles'?); known parameters: "},
-      {"{ tasks = { obstacles = roger.int(5, 2) } }", ":8: roger.int(5, 2): the range is reversed (lo must not exceed hi)"},
+      {"{ tasks = { obstacles = roger.int(5, 2) } }", ":8: roger.int(5, 2): the range is reversed (lo must be below hi"},
       {"{ tasks = { mass = roger.real(1, 1) } }", ":8: roger.real(1, 1): the range is empty"},
       {"{ tasks = { shape = roger.choice{} } }", ":8: roger.choice{...}: the list is empty"},
+      // Found by a probe: one value was refused of roger.real alone.
+      {"{ tasks = { obstacles = roger.int(2, 2) } }",
+       ":8: roger.int(2, 2): the range is one value (lo must be below hi; a single value needs no axis: set it in params)"},
+      {"{ tasks = { shape = roger.choice{ 'circle' } } }",
+       ":8: roger.choice{circle}: one value (a single value needs no axis: set it in params); give at least two"},
+      // Found by a probe: a key beside the levels was dropped without a word, and a negative test
+      // seed became 2^64 - 1.
+      {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 64, x = 1 } } } }",
+       ":8: roger.teacher.lcas: lift.eye_pixels must be a plain list of levels, the most constrained first, got the "
+       "key string 'x'"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, test = { tasks = 5, seed = -1 } }",
+       ":6: stage 'S': test: field 'seed' must be a non-negative integer, got -1"},
       {"{ tasks = { obstacles = roger.int(0, 20) } }",
        ":8: stage 'S': tasks.obstacles = roger.int(0, 20): parameter 'obstacles' of scenario 'cluttered' expects an "
        "integer in [0, 8], got '20'"},
@@ -1336,15 +1348,31 @@ TEST_CASE("a task parameter given by --set is fixed: the axis leaves the trial's
   // least one parameter", not that the --set had emptied it.
   o.stage = "Look";
   o.sets = {{"obstacles", "2"}, {"shape", "circle"}};
-  CHECK_THROWS_WITH(train_stage(o), "stage 'Look': the --set of obstacles, shape fixes every parameter of its task "
-                                    "space, leaving its teacher (roger.teacher.alp_gmm, "
-                                    "docs/examples/teachers_example.lua:41) nothing to choose; leave one to the "
-                                    "teacher, or fix fewer");
+  CHECK_THROWS_WITH(train_stage(o), "docs/examples/teachers_example.lua:41: stage 'Look': every parameter of its "
+                                    "task space (obstacles, shape) is fixed by --set, leaving its teacher "
+                                    "(roger.teacher.alp_gmm) nothing to choose; leave one to the teacher, or fix fewer");
   o.stage = "LookLcas";
   o.sets = {{"eye_pixels", "64"}};
-  CHECK_THROWS_WITH(train_stage(o), "stage 'LookLcas': --set eye_pixels fixes the parameter its teacher "
-                                    "(roger.teacher.lcas, docs/examples/teachers_example.lua:67) lifts; leave "
-                                    "it to the teacher or use a stage without one");
+  CHECK_THROWS_WITH(train_stage(o), "docs/examples/teachers_example.lua:67: stage 'LookLcas': 'eye_pixels' is fixed "
+                                    "by --set, and it is the parameter its teacher (roger.teacher.lcas) lifts: lifting "
+                                    "it is all that teacher does; leave it to the teacher, or use a stage with another "
+                                    "teacher");
+  // Found by a probe: a batch run's params were called "--set" in the message.
+  o.sets_from = "the params of run 'R'";
+  CHECK_THROWS_WITH(train_stage(o), Contains("stage 'LookLcas': 'eye_pixels' is fixed by the params of run 'R', and"));
+  // Found by a probe: a lifted parameter inside the task space, fixed by --set, was lifted anyway
+  // (the trial trained and was judged at the teacher's levels, the --set value ignored).
+  o = TrainOptions{};
+  o.curriculum = "tests/scripts/teach_curriculum.lua";
+  o.stage = "Lcas";
+  o.context = "A";
+  o.sets = {{"level", "0.5"}};
+  CHECK_THROWS_WITH(train_stage(o), Contains("teach_curriculum.lua:39: stage 'Lcas': 'level' is fixed by --set, and "
+                                             "it is the parameter its teacher (roger.teacher.lcas) lifts"));
+  // roger check with the same --set says so too, as training would.
+  const std::string checked = (dir.path / "checked.txt").string();
+  CHECK(run_shell(roger + " check tests/scripts/teach_curriculum.lua --set level=0.5 > " + checked + " 2>&1") == 1);
+  CHECK_THAT(slurp(checked), Contains("teach_curriculum.lua:39: stage 'Lcas': 'level' is fixed by --set"));
 }
 
 // Found by a probe: with --set obstacles=2 (or a batch run's params = {obstacles = 2}) every trial
@@ -1625,7 +1653,7 @@ TEST_CASE("the teaching API refuses extra arguments at load with file:line", "[t
   }
   // The same calls with the arguments they take.
   for (const std::string fields :
-       {"{ tasks = { obstacles = roger.int(0, 3), robot_distance = roger.real(0.8, 1), shape = roger.choice({ 'circle' }) }, "
+       {"{ tasks = { obstacles = roger.int(0, 3), robot_distance = roger.real(0.8, 1), shape = roger.choice({ 'circle', 'spade' }) }, "
         "teacher = roger.teacher.random({}) }",
         "{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.sequence({ { obstacles = 0 } }) }",
         "{ teacher = roger.teacher.lcas({ lift = { obstacles = { 0, 3 } } }) }",

@@ -180,10 +180,8 @@ StageEnvironment::StageEnvironment(const EnvironmentOptions& o) {
   }();
   info_.eye_pixels = held_out.eyes.pixels;
   observed_joint_ranges(held_out.body, info_.joint_low, info_.joint_high);
-  if (st.teacher && st.teacher->kind == TeacherSpec::Kind::kLcas && st.tasks.index(st.teacher->lift) < 0 &&
-      std::find(fixed.begin(), fixed.end(), st.teacher->lift) != fixed.end())
-    throw Error(st.where() + ": params fix '" + st.teacher->lift + "', which its teacher (" + st.teacher->name() +
-                ") lifts; leave it to the teacher or give another teacher");
+  // (An ALP-GMM teacher left no axis is refused where it is made, with make's own way out.)
+  if (st.teacher && st.teacher->kind == TeacherSpec::Kind::kLcas) st.check_fixed(fixed, "make's params");
   task_space_ = st.tasks.without(fixed);
 }
 

@@ -294,6 +294,7 @@ nlohmann::json training_trial(const BatchPlan& plan, const PlannedTrial& t, cons
   o.context = t.context;
   o.seed = t.seed;
   o.sets = t.run->params;
+  o.sets_from = "the params of run '" + t.run->name + "'";
   if (t.run->own_final_worlds) o.final_worlds_block = uint64_t(t.index);  // final_worlds = "own"
   std::map<std::string, std::string> skill_ids;
   for (const auto& s : t.run->skills) {

@@ -30,6 +30,16 @@ using batch_detail::make_scenario;
 
 namespace {
 
+// A digest of the curriculum file's text (64-bit FNV-1a, in hex): the same text is the same
+// curriculum, wherever it is and however its path is written.
+std::string curriculum_digest(const Curriculum& cur) {
+  uint64_t h = 1469598103934665603ull;
+  for (const unsigned char c : read_file_text(cur.file())) h = (h ^ c) * 1099511628211ull;
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
+  return text;
+}
+
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -392,14 +402,6 @@ void greedy_signature(const QTable& q, std::vector<int>& out) {
 
 namespace {
 
-// The parameters of `space` among `fixed`, in the order they were set.
-std::vector<std::string> fixed_axes(const TaskSpace& space, const std::vector<std::string>& fixed) {
-  std::vector<std::string> out;
-  for (const auto& name : fixed)
-    if (space.index(name) >= 0) out.push_back(name);
-  return out;
-}
-
 // The teacher of one trial of a stage that teaches: the trial's task space (the stage's, less the
 // parameters --set fixes), the teacher drawing from its own stream of the trial's seed, and the
 // test sets of the checkpoints and of the final evaluation. Times its own work.
@@ -408,18 +410,8 @@ class TrialTeacher {
   TrialTeacher(Curriculum& cur, const CurriculumStage& stage, const TrainOptions& options) {
     std::vector<std::string> fixed;
     for (const auto& [k, v] : options.sets) fixed.push_back(k);
-    const TeacherSpec* spec = stage.teacher ? &*stage.teacher : nullptr;
-    const std::string teacher = spec ? spec->name() + (spec->file.empty() ? "" : ", " + spec->file + ":" + std::to_string(spec->line)) : "";
-    if (spec && spec->kind == TeacherSpec::Kind::kLcas && stage.tasks.index(spec->lift) < 0 &&
-        std::find(fixed.begin(), fixed.end(), spec->lift) != fixed.end())
-      throw Error(stage.where() + ": --set " + spec->lift + " fixes the parameter its teacher (" + teacher +
-                  ") lifts; leave it to the teacher or use a stage without one");
+    stage.check_fixed(fixed, options.sets_from);
     space_ = stage.tasks.without(fixed);
-    // ALP-GMM measures progress over the space's axes: with none left, it has nothing to learn.
-    if (spec && spec->kind == TeacherSpec::Kind::kAlpGmm && space_.empty() && !stage.tasks.empty())
-      throw Error(stage.where() + ": the --set of " + join(fixed_axes(stage.tasks, fixed)) +
-                  " fixes every parameter of its task space, leaving its teacher (" + teacher +
-                  ") nothing to choose; leave one to the teacher, or fix fewer");
     teacher_ = cur.make_teacher(stage, space_, Rng::mix(options.seed, 0x7465616368ull));  // "teach"
     const int cp_n = stage.checkpoint_test_tasks(), final_n = stage.final_test_tasks();
     final_tasks_ = stage.test_tasks(space_, std::max(cp_n, final_n));
@@ -522,6 +514,7 @@ TrainResult train_stage(const TrainOptions& options) {
   const CurriculumContext& ctx = stage.context(options.context);
   TrainResult res;
   res.curriculum_path = cur.path();
+  res.curriculum_digest = curriculum_digest(cur);
   res.curriculum_name = cur.name();
   res.stage = stage.name;
   res.context = ctx.name;
@@ -696,7 +689,7 @@ nlohmann::json train_policy_json(const TrainResult& r) {
   meta.context = r.context;
   meta.seed = r.seed;
   nlohmann::json extra = {{"curriculum", r.curriculum_path}, {"curriculum_name", r.curriculum_name},
-                          {"psi", r.psi}, {"scenario", r.scenario}};
+                          {"curriculum_digest", r.curriculum_digest}, {"psi", r.psi}, {"scenario", r.scenario}};
   for (const auto& [k, v] : r.params) extra["params"][k] = v;
   for (const auto& s : r.skills)
     extra["skills"][s.name] = {{"stage", s.stage}, {"context", s.context}, {"file", s.file},
@@ -930,9 +923,13 @@ ParamList policy_trial_params(const PolicyMetadata& meta, const std::string& pol
 namespace {
 
 // The curriculum the policy file records, when it is another than `cur`; "" when the same or none.
+// The same text is the same curriculum, whatever the path said from another folder (found by a
+// probe: a policy trained as c/ok.lua, judged as ./ok.lua from c/, was said to be another's).
 std::string other_curriculum(const PolicyMetadata& meta, const Curriculum& cur) {
   if (!meta.extra.is_object() || !meta.extra.contains("curriculum") || !meta.extra["curriculum"].is_string()) return "";
   const std::string recorded = meta.extra["curriculum"].get<std::string>();
+  if (meta.extra.contains("curriculum_digest") && meta.extra["curriculum_digest"].is_string())
+    return meta.extra["curriculum_digest"].get<std::string>() == curriculum_digest(cur) ? "" : recorded;
   std::error_code ec;
   if (recorded == cur.path() || fs::equivalent(recorded, cur.file(), ec)) return "";
   // Trained in another checkout of the project (tests/policies/ were): the same file of it.

@@ -49,6 +49,7 @@ struct TrainOptions {
   std::string stage, context;
   uint64_t seed = 1;
   std::vector<std::pair<std::string, std::string>> sets;  // scenario parameters over the stage's
+  std::string sets_from = "--set";                        // who gave `sets`, for messages
   std::map<std::string, std::string> skill_files;         // learned skill name -> its policy.json
   SandboxLimits limits;
   bool keep_episodes = true;  // keep the per-episode records (episodes.jsonl)
@@ -155,6 +156,7 @@ struct SkillSource {
 // Everything a trial produced.
 struct TrainResult {
   std::string curriculum_path, curriculum_name, stage, context, scenario;
+  std::string curriculum_digest;  // of the curriculum file's text (curriculum_digest in trainer.cpp)
   uint64_t seed = 0;
   std::vector<std::string> psi;
   std::shared_ptr<QTable> q;

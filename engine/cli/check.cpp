@@ -48,10 +48,15 @@ size_t report_static_problems(const std::string& script) {
 // the same parameters together. Prints each problem; returns their number.
 size_t check_runs_stages(const BatchScript& b) {
   std::map<Params, std::vector<std::string>> stages_by_params;
-  for (const BatchRun& r : b.runs) stages_by_params[r.params].push_back(r.stage);
+  std::map<Params, std::string> first_run;  // named in messages: "the params of run 'R'"
+  for (const BatchRun& r : b.runs) {
+    stages_by_params[r.params].push_back(r.stage);
+    first_run.emplace(r.params, r.name);
+  }
   size_t count = 0;
   for (const auto& [params, stages] : stages_by_params)
-    for (const std::string& p : check_curriculum(b.curriculum_file, b.limits, params, stages)) {
+    for (const std::string& p : check_curriculum(b.curriculum_file, b.limits, params, stages,
+                                                 "the params of run '" + first_run[params] + "'")) {
       std::fprintf(stderr, "roger: error: %s\n", p.c_str());
       ++count;
     }

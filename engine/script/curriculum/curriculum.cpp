@@ -759,7 +759,7 @@ void check_teacher_function(Curriculum& cur, const CurriculumStage& st, const Pa
 }  // namespace
 
 std::vector<std::string> check_curriculum(const std::string& path, const SandboxLimits& limits, const ParamList& sets,
-                                          const std::vector<std::string>& stages) {
+                                          const std::vector<std::string>& stages, const std::string& sets_from) {
   std::vector<std::string> problems;
   std::optional<Curriculum> cur;
   try {
@@ -795,6 +795,16 @@ std::vector<std::string> check_curriculum(const std::string& path, const Sandbox
         continue;
       }
       check_callbacks(*cur, st, ctx, spec, problems);
+    }
+    // What training refuses first: a teacher the run's parameters leave nothing to do (found by a
+    // probe: check passed with the --set or the run's params that failed every trial).
+    try {
+      std::vector<std::string> fixed;
+      for (const auto& [k, v] : sets) fixed.push_back(k);
+      st.check_fixed(fixed, sets_from);
+    } catch (const std::exception& e) {
+      problems.push_back(e.what());
+      continue;
     }
     check_teacher_function(*cur, st, sets, problems);
     const size_t before = problems.size();

@@ -113,6 +113,11 @@ struct CurriculumStage {
   // the stage's own: an axis it has no parameter of, a real axis over an integer, an end or a choice
   // it refuses, an LCAS teacher's level it cannot set.
   void check_played_in(const std::string& scenario, const TaskSpace& space) const;
+  // Throws ScriptError at the teacher's file:line when the parameters a run fixes (`fixed`, named
+  // `fixed_by`: "--set", "the params of run 'R'") leave its teacher nothing to do: an LCAS
+  // teacher's lifted parameter (in the task space or not: lifting it is all it does), or every
+  // axis of an ALP-GMM teacher's space. train, check, batch runs and make() ask it alike.
+  void check_fixed(const std::vector<std::string>& fixed, const std::string& fixed_by) const;
   // How many test tasks each checkpoint's and the final evaluation run: the test set's, else the
   // checkpoints' episode counts.
   int checkpoint_test_tasks() const { return test.given ? test.tasks : checkpoints.episodes; }
@@ -232,9 +237,11 @@ bool is_curriculum_script(const std::string& path);
 // For `roger check`: loads a curriculum and generates one world of every stage's scenario with
 // its parameters, `sets` over them as `roger train --set` sets them (a teacher function is then
 // called on the space without their axes, as training calls it). `stages` names the stages
-// checked (all when empty). Returns the problems (empty when sound), each a complete message.
+// checked (all when empty); `sets_from` names who gave `sets` in messages. Returns the problems
+// (empty when sound), each a complete message.
 std::vector<std::string> check_curriculum(const std::string& path, const SandboxLimits& limits = {},
-                                          const ParamList& sets = {}, const std::vector<std::string>& stages = {});
+                                          const ParamList& sets = {}, const std::vector<std::string>& stages = {},
+                                          const std::string& sets_from = "--set");
 
 // Every Lua file training with this curriculum reads: its own source files, then each stage's
 // scenario and the modules that requires, each once (absolute paths). A batch fingerprints them,

@@ -56,9 +56,11 @@ int l_int(lua_State* L) {
   d.kind = TaskDim::Kind::kInt;
   lua_check_arity(L, "roger.int", 2, "2 arguments (lo, hi)");
   d.lo = bound(L, 1, "roger.int", true), d.hi = bound(L, 2, "roger.int", true);
-  if (d.lo > d.hi)
-    luaL_error(L, "roger.int(%s, %s): the range is reversed (lo must not exceed hi)", format_number(d.lo).c_str(),
-               format_number(d.hi).c_str());
+  // One value is refused as roger.real's is (found by a probe: roger.int(2, 2) was taken, and
+  // ALP-GMM fitted mixtures over its one point).
+  if (d.lo >= d.hi)
+    luaL_error(L, "roger.int(%s, %s): the range is %s (lo must be below hi; a single value needs no axis: set it in "
+               "params)", format_number(d.lo).c_str(), format_number(d.hi).c_str(), d.lo == d.hi ? "one value" : "reversed");
   push_axis(L, std::move(d));
   return 1;
 }
@@ -69,7 +71,8 @@ int l_real(lua_State* L) {
   lua_check_arity(L, "roger.real", 2, "2 arguments (lo, hi)");
   d.lo = bound(L, 1, "roger.real", false), d.hi = bound(L, 2, "roger.real", false);
   if (d.lo >= d.hi)
-    luaL_error(L, "roger.real(%s, %s): the range is %s (lo must be below hi; a single value needs no axis)",
+    luaL_error(L, "roger.real(%s, %s): the range is %s (lo must be below hi; a single value needs no axis: set it in "
+               "params)",
                format_number(d.lo).c_str(), format_number(d.hi).c_str(), d.lo == d.hi ? "empty" : "reversed");
   push_axis(L, std::move(d));
   return 1;
@@ -96,7 +99,10 @@ int l_choice(lua_State* L) {
     d.choices.push_back(v);
     lua_pop(L, 1);
   }
-  if (d.choices.empty()) luaL_error(L, "roger.choice{...}: the list is empty; give at least one value");
+  if (d.choices.empty()) luaL_error(L, "roger.choice{...}: the list is empty; give at least two values");
+  if (d.choices.size() == 1)
+    luaL_error(L, "roger.choice{%s}: one value (a single value needs no axis: set it in params); give at least two",
+               d.choices[0].c_str());
   push_axis(L, std::move(d));
   return 1;
 }
@@ -252,7 +258,16 @@ int l_teacher_lcas(lua_State* L) {
       f.fail("lift." + spec.lift + " must be a list of levels, the most constrained first, got " +
              (lua_istable(L, levels) ? std::string("a table with no levels 1, 2, ... (an empty list)")
                                      : lua_describe_value(L, levels)));
-    for (lua_Integer i = 1; i <= lua_Integer(lua_rawlen(L, levels)); ++i) {
+    // A key beside the list would be dropped without a word (found by a probe: {32, 64, x = 1}).
+    const lua_Integer count = lua_Integer(lua_rawlen(L, levels));
+    lua_pushnil(L);
+    while (lua_next(L, levels)) {
+      lua_pop(L, 1);
+      if (!lua_isinteger(L, -1) || lua_tointeger(L, -1) < 1 || lua_tointeger(L, -1) > count)
+        f.fail("lift." + spec.lift + " must be a plain list of levels, the most constrained first, got the key " +
+               lua_describe_value(L, -1));
+    }
+    for (lua_Integer i = 1; i <= count; ++i) {
       lua_rawgeti(L, levels, i);
       if (lua_type(L, -1) == LUA_TSTRING) spec.string_levels.push_back(size_t(i - 1));
       spec.levels.push_back(param_text(L, -1, "roger.teacher.lcas: lift." + spec.lift + "[" + std::to_string(i) + "]"));
@@ -485,7 +500,10 @@ void read_test(lua_State* L, const LuaFields& f, CurriculumStage& st, bool episo
     t.fail(std::string("checkpoints.") + (episodes_given ? "episodes" : "final") +
            " does not apply with a test set: every checkpoint and the final evaluation run its tasks");
   st.test.given = true;
-  st.test.seed = uint64_t(t.integer("seed", int64_t(st.checkpoints.seeds)));
+  // Refused below 0 as checkpoints.seeds is (found by a probe: -1 became 18446744073709551615).
+  const int64_t seed = t.integer("seed", int64_t(st.checkpoints.seeds));
+  if (seed < 0) t.fail("field 'seed' must be a non-negative integer, got " + std::to_string(seed));
+  st.test.seed = uint64_t(seed);
   if (t.push("list") != LUA_TNIL) {
     if (t.has("tasks")) t.fail("give either 'tasks' (a number drawn from the space) or 'list', not both");
     const int list = lua_gettop(L);
@@ -582,6 +600,25 @@ void CurriculumStage::check_played_in(const std::string& scenario_name, const Ta
   st.scenario = scenario_name;
   st.tasks = space;
   curriculum_detail::check_against_scenario(st);
+}
+
+void CurriculumStage::check_fixed(const std::vector<std::string>& fixed, const std::string& fixed_by) const {
+  if (!teacher) return;
+  const TeacherSpec& spec = *teacher;
+  const std::string who = "its teacher (" + spec.name() + ")";
+  if (spec.kind == TeacherSpec::Kind::kLcas && std::find(fixed.begin(), fixed.end(), spec.lift) != fixed.end())
+    throw ScriptError(where() + ": '" + spec.lift + "' is fixed by " + fixed_by + ", and it is the parameter " +
+                          who + " lifts: lifting it is all that teacher does; leave it to the teacher, or use a "
+                          "stage with another teacher",
+                      spec.file, spec.line, "");
+  if (spec.kind == TeacherSpec::Kind::kAlpGmm && !tasks.empty() && tasks.without(fixed).empty()) {
+    std::vector<std::string> axes;
+    for (const auto& name : fixed)
+      if (tasks.index(name) >= 0) axes.push_back(name);
+    throw ScriptError(where() + ": every parameter of its task space (" + join(axes) + ") is fixed by " +
+                          fixed_by + ", leaving " + who + " nothing to choose; leave one to the teacher, or fix fewer",
+                      spec.file, spec.line, "");
+  }
 }
 
 std::vector<TaskPoint> CurriculumStage::test_tasks(const TaskSpace& space, int count) const {

@@ -187,10 +187,14 @@ class LuaTeacher final : public Teacher {
       std::string why;
       const std::optional<double> v = i < 0 ? std::nullopt : space.value_of(size_t(i), value, &why);
       if (i < 0) {
+        // Named against the whole space, the axes the run fixes too (found by a probe: with every
+        // axis fixed, a misspelt one read "(no parameters)", with no suggestion).
+        std::vector<TaskDim> dims = space_.dims();
+        for (const TaskDim& d : fixed_space_.dims()) dims.push_back(d);
         std::vector<std::string> names;
-        for (const TaskDim& d : space_.dims()) names.push_back(d.name);
+        for (const TaskDim& d : dims) names.push_back(d.name);
         throw ScriptError(where_ + " returned '" + key + "', which is not a parameter of the task space" +
-                              suggestion(key, names) + " (" + space_.describe() + ")", fn_.file, fn_.line, "");
+                              suggestion(key, names) + " (" + TaskSpace(dims).describe() + ")", fn_.file, fn_.line, "");
       }
       if (!v)
         throw ScriptError(where_ + " returned " + key + " = " + value + ", outside the task space: " + key +
