@@ -534,6 +534,12 @@ std::vector<VecEnvironment::Snapshot> VecEnvironment::snapshot() const {
   return out;
 }
 
+void VecEnvironment::continue_at(int i, uint64_t next) {
+  if (i < 0 || i >= size()) throw Error("continue_at: no environment " + std::to_string(i));
+  Slot& s = slots_[size_t(i)];
+  s.base_seed = next - s.started * envs_.size();  // modulo 2^64, as begin() reads it back
+}
+
 void VecEnvironment::restore(const std::vector<Snapshot>& snapshots) {
   if (snapshots.size() != envs_.size())
     throw Error("restore: expected " + std::to_string(envs_.size()) + " environments' states, got " +

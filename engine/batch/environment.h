@@ -261,6 +261,10 @@ class VecEnvironment {
   // episode that faulted faults again in its replay and is over, as it was; one that ran on and
   // does not replay throws roger::Error.
   void restore(const std::vector<Snapshot>& s);
+  // Moves environment i's schedule on without touching its running episode: its next episode runs
+  // in the world of `next`, then next + N, ... (Python's make_vec gives an environment whose given
+  // seed's schedule would meet another's a schedule of its own after its first world).
+  void continue_at(int i, uint64_t next);
 
  private:
   // One environment's part of the current call and what follows its episode.

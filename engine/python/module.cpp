@@ -721,6 +721,7 @@ void bind_vec(py::module_& m) {
       .def("step", &vec_step, py::arg("actions"))
       .def("snapshot", &vec_snapshot)
       .def("restore", &vec_restore, py::arg("state"))
+      .def("continue_at", &VecEnvironment::continue_at, py::arg("i"), py::arg("next"))
       .def_property_readonly("begun",
                              [](const VecEnvironment& v) {
                                std::vector<bool> out;

@@ -735,6 +735,50 @@ class VectorApi(unittest.TestCase):
         vec.reset(seed=10)
         np.testing.assert_array_equal(vec.reset(seed=[7, None, 40])[1]["seed"], [7, 14, 40])
 
+    def worlds_played(self, vec, steps, rng_seed=3):
+        """The worlds each environment of `vec` plays in `steps` random steps after a reset, in order
+        (NEXT_STEP autoreset: an episode's first step has ticks 0)."""
+        n, rng = vec.num_envs, np.random.default_rng(rng_seed)
+        worlds = [[] for _ in range(n)]
+        for _ in range(steps):
+            _, _, _, _, info = vec.step(rng.integers(0, 2, size=n))
+            for i in range(n):
+                if info["ticks"][i] == 0:
+                    worlds[i].append(int(info["seed"][i]))
+        return worlds
+
+    def test_given_seeds_whose_schedules_meet_play_apart(self):
+        # Found by a probe: reset(seed=[1, 4, 7]) of 3 environments played 1, 4, 7, 10 in
+        # environment 0 and 4, 7, 10, 13 in environment 1 (seeds S_i + k * num_envs of one residue).
+        # Each plays its seed first; of those of one residue the highest seed's goes on along its
+        # schedule, the others on schedules of their own.
+        vec = self.make()
+        _, info = vec.reset(seed=[1, 4, 7])
+        np.testing.assert_array_equal(info["seed"], [1, 4, 7])
+        later = self.worlds_played(vec, 400)
+        worlds = [[s] + w for s, w in zip((1, 4, 7), later)]
+        played = [x for w in worlds for x in w]
+        self.assertGreater(len(played), 20)
+        self.assertEqual(len(played), len(set(played)), worlds)
+        self.assertEqual(worlds[2][:3], [7, 10, 13])  # the highest seed goes on along its schedule
+        def own(second, taken):  # mix(n, k) >> 1, n the seed it would have played second, k the first apart
+            return next(roger.mix(second, k) >> 1 for k in range(1, 100) if (roger.mix(second, k) >> 1) % 3 not in taken)
+        w0 = own(4, {1})
+        w1 = own(7, {1, w0 % 3})
+        self.assertEqual((worlds[0][1:3], worlds[1][1:3]), ([w0, w0 + 3], [w1, w1 + 3]))
+        twin = pickle.loads(pickle.dumps(vec))  # a copy keeps the schedules
+        np.testing.assert_array_equal(twin.step(np.zeros(3, int))[4]["seed"], vec.step(np.zeros(3, int))[4]["seed"])
+        again = self.make()  # deterministic
+        again.reset(seed=[1, 4, 7])
+        self.assertEqual(self.worlds_played(again, 400), later)
+        # Seeds of distinct residues play exactly their schedules, as before.
+        for seeds in ([10, 11, 12], [7, 14, 30], [5, 3, 1]):
+            with self.subTest(seeds=seeds):
+                vec = self.make()
+                vec.reset(seed=seeds)
+                for i, w in enumerate(self.worlds_played(vec, 150)):
+                    self.assertEqual(w, [seeds[i] + 3 * (k + 1) for k in range(len(w))])
+
     def test_reset_mask(self):
         vec, twin = self.make(), self.make()
         for v in (vec, twin):
@@ -952,6 +996,30 @@ class BadArguments(unittest.TestCase):
         vec.reset(seed=1)
         self.assertRaisesWith(roger.RogerError, ["action 5 of environment 1"], vec.step, np.array([0, 5]))
         self.assertRaisesWith(roger.RogerError, ["num_envs"], roger.make_vec, EXAMPLE, "Look", "Gaze", num_envs=0)
+
+    def test_batch_seeds_and_actions_as_given(self):
+        # Found by a probe: a 0-d array as a batch's seed raised "TypeError: len() of unsized
+        # object"; a uint64 action past 2^63 - 1 was named -1.
+        vec = roger.make_vec(EXAMPLE, "Look", "Gaze", num_envs=2, threads=1)
+        for bad in (np.array(5), np.array([[1, 2]])):
+            with self.subTest(seed=bad):
+                self.assertRaisesWith(roger.RogerError, ["reset: a seed is an integer in [0, 2^64)", repr(bad)],
+                                      vec.reset, seed=bad)
+        vec.reset(seed=np.array([5, 6]))  # a 1-D array is a list of seeds
+        self.assertRaisesWith(roger.RogerError, ["action 18446744073709551615 of environment 0 is not in [0, 2)"],
+                              vec.step, np.array([2 ** 64 - 1, 0], dtype=np.uint64))
+        vec.step(np.array([1, 0], dtype=np.uint64))  # in range, any integer dtype
+
+    def test_make_vec_counts_are_integers(self):
+        # Found by a probe: threads=1.7 ran 1 thread, "2" and True were taken; refused as num_envs is.
+        for name in ("threads", "num_envs"):
+            for bad in (1.7, "2", True, 0, -1, 0.5):
+                with self.subTest(name=name, value=bad):
+                    args = {"num_envs": 2, name: bad}
+                    self.assertRaisesWith(roger.RogerError, [f"make_vec: {name} must be a positive integer, "
+                                                             f"got {bad!r}"],
+                                          roger.make_vec, EXAMPLE, "Look", "Gaze", **args)
+        self.assertEqual(roger.make_vec(EXAMPLE, "Look", "Gaze", num_envs=2, threads=np.int64(2)).threads, 2)
 
     def test_every_batch_action_is_checked(self):
         # Found by a probe: on a NEXT_STEP autoreset step an out-of-range action of an environment

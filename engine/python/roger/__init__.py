@@ -170,6 +170,11 @@ def _render_width(width, where):
     return int(width)
 
 
+def _positive_integer(value):
+    """An integer of at least 1 (a bool is no count: True would be 1 thread)."""
+    return not isinstance(value, bool) and isinstance(value, numbers.Integral) and value >= 1
+
+
 def _state_space(n):
     return spaces.MultiDiscrete(np.full(n, 3, dtype=np.int64))
 
@@ -818,6 +823,9 @@ def _reset_seeds(seed, n):
     seeded, seeds = np.zeros(n, np.uint8), np.zeros(n, np.uint64)
     if seed is None:
         return seeded, seeds
+    if isinstance(seed, np.ndarray) and seed.ndim != 1:  # a 0-d array has no len(); as Env.reset refuses it
+        raise RogerError(f"reset: a seed is an integer in [0, 2^64), or a list of one per environment ({n}), "
+                         f"got {_short(seed)}")
     if isinstance(seed, (list, tuple, np.ndarray)):
         if len(seed) != n:
             raise RogerError(f"reset: a list of seeds has one per environment ({n}), got {len(seed)}")
@@ -835,28 +843,67 @@ _APART_TRIES = 100000
 
 
 def _apart_from_seeded(vec, mask, seeded, seeds):
-    """In a reset that gives some environments seeds, an environment reset without one goes on along
-    its schedule unless that schedule meets a seeded one's (the same residue modulo num_envs: one of
-    them would replay the other's worlds, at once or later): it then begins a schedule of its own at
-    mix(n, k) >> 1, n the seed it would have played, k = 1, 2, ... the first whose residue is no other
-    environment's. Resets fully seeded or fully unseeded never meet this (docs/python.md, Batches)."""
+    """Keeps a reset's schedules apart where seeds given would make them meet (the same residue
+    modulo num_envs: one would replay the other's worlds, at once or at a later autoreset). Of the
+    environments given seeds of one residue, the one with the highest seed (the first of equal ones)
+    goes on along its schedule, and each other plays its seed first, then continues on a schedule of
+    its own (_own_schedule); the returned {environment: the world it continues at} is for
+    VecEnvironment.continue_at after the reset. An environment reset without a seed goes on along
+    its schedule unless that meets a seed given: it then begins a schedule of its own at once, in
+    `seeds`. Resets fully unseeded never meet this (docs/python.md, Batches)."""
     n = len(mask)
     given = [i for i in range(n) if mask[i] and seeded[i]]
-    if not given or len(given) == n:
-        return
+    if not given:
+        return {}
     nexts = []
     for i, (base, started, *_) in enumerate(vec.snapshot()):
         nexts.append(int(seeds[i]) if mask[i] and seeded[i] else (int(base) + int(started) * n) % 2**64)
+    later = _apart_given(given, nexts, n)
     taken_by_seeded = {nexts[j] % n for j in given}
     for i in range(n):
         if not mask[i] or seeded[i] or nexts[i] % n not in taken_by_seeded:
             continue
-        others = {nexts[j] % n for j in range(n) if j != i}
-        for k in range(1, _APART_TRIES):
-            world = mix(nexts[i], k) >> 1
-            if world % n not in others:
-                break
+        others = {nexts[j] % n for j in range(n) if j != i} | {w % n for w in later.values()}
+        world = _own_schedule(nexts[i], others, n)
         seeded[i], seeds[i], nexts[i] = 1, world, world
+    return later
+
+
+def _apart_given(given, nexts, n):
+    """The environments of `given` whose schedules would reach another's given seed (all of a residue
+    but the highest seed's), each with the world it continues at after its first."""
+    keeper = {}
+    for i in given:  # the highest seed of each residue; of equal ones, the first in index order
+        r = nexts[i] % n
+        if r not in keeper or nexts[i] > nexts[keeper[r]]:
+            keeper[r] = i
+    movers = [i for i in given if keeper[nexts[i] % n] != i]
+    ahead = {nexts[j] % n for j in range(len(nexts)) if j not in movers}
+    later = {}
+    for i in movers:
+        # From the seed it would have played second, as an unseeded entry's from the one it would play.
+        later[i] = _own_schedule((nexts[i] + n) % 2**64, ahead, n)
+        ahead.add(later[i] % n)
+    return later
+
+
+def _own_schedule(seed, taken, n):
+    """A schedule of its own for an environment whose schedule would meet another's: mix(seed, k) >> 1
+    for k = 1, 2, ... the first whose residue modulo n is not in `taken`."""
+    for k in range(1, _APART_TRIES):
+        world = mix(seed, k) >> 1
+        if world % n not in taken:
+            return world
+    return world
+
+
+def _refuse_out_of_range(actions, k):
+    """Refuses an action outside [0, k) by its value as given: the extension's int64 would read a
+    uint64 past 2^63 - 1 as a negative number."""
+    bad = np.flatnonzero((actions < 0) | (actions >= k))
+    if bad.size:
+        i = int(bad[0])
+        raise RogerError(f"step: action {int(actions[i])} of environment {i} is not in [0, {k})")
 
 
 def _reset_mask(options, n):
@@ -913,8 +960,9 @@ class VecEnv(_Copyable, _VecBase):
                              "for tick mode vectorize single environments (gymnasium.make_vec(..., "
                              "vectorization_mode='sync'))")
         _names(curriculum, stage, context, "make_vec")
-        if isinstance(num_envs, bool) or not isinstance(num_envs, numbers.Integral) or num_envs < 1:
-            raise RogerError(f"make_vec: num_envs must be a positive integer, got {num_envs!r}")
+        for name, value in (("num_envs", num_envs), ("threads", threads)):
+            if not _positive_integer(value) and (name == "num_envs" or value is not None):  # threads None: the default
+                raise RogerError(f"make_vec: {name} must be a positive integer, got {value!r}")
         self.timeout = _timeout(timeout, "make_vec")
         try:
             mode = AutoresetMode(autoreset_mode)
@@ -972,7 +1020,8 @@ class VecEnv(_Copyable, _VecBase):
     def reset(self, *, seed=None, options=None):
         """Resets every environment (those of options["reset_mask"] alone, when given): seed None
         (each goes on along its schedule), an int S (environment i in world S + i) or a list of
-        one int or None per environment. Returns (observations [num_envs, |Psi|], info)."""
+        one int or None per environment (each plays its seed first; schedules that would meet
+        continue apart: docs/python.md, Batches). Returns (observations [num_envs, |Psi|], info)."""
         with self._using("reset"):
             return self._reset(seed, options)
 
@@ -991,8 +1040,12 @@ class VecEnv(_Copyable, _VecBase):
                     pending[i] = int(seeds[i])
             elif not seeded[i] and pending[i] is not None:
                 seeded[i], seeds[i] = 1, pending[i]
-        _apart_from_seeded(vec, mask, seeded, seeds)
-        r = vec.reset(mask, seeded, seeds)
+        later = _apart_from_seeded(vec, mask, seeded, seeds)
+        try:
+            r = vec.reset(mask, seeded, seeds)
+        finally:  # also after a failed reset: the schedules are what its next step begins along
+            for i, world in later.items():
+                vec.continue_at(i, world)
         self._pending = [None if vec.begun[i] else p for i, p in enumerate(pending)]
         info, m = {}, mask.astype(bool)
         for key in ("seed", "sim_seconds", "ticks", "decisions"):
@@ -1013,6 +1066,7 @@ class VecEnv(_Copyable, _VecBase):
         a = np.asarray(actions)
         if a.shape != (self.num_envs,) or not np.issubdtype(a.dtype, np.integer):
             raise RogerError(f"step: expected {self.num_envs} integer actions, got {a.dtype} array of shape {a.shape}")
+        _refuse_out_of_range(a, len(self.actions))
         try:
             r = vec.step(a.astype(np.int64))
         except RogerError as e:
@@ -1174,8 +1228,8 @@ def make(curriculum, stage, context, params=None, skills=None, scenario=None, mo
 def make_vec(curriculum, stage, context, num_envs, threads=None, params=None, skills=None, scenario=None,
              autoreset_mode=AutoresetMode.NEXT_STEP, render_mode=None, render_width=1000, timeout="terminate",
              mode="decision", policy=None, teacher=None):
-    """num_envs environments stepped together in C++ threads (VecEnv); threads defaults to
-    min(num_envs, the cores this process may use); autoreset_mode an AutoresetMode (or its value,
+    """num_envs environments stepped together in C++ threads (VecEnv); threads (a positive integer,
+    as num_envs) defaults to min(num_envs, the cores this process may use); autoreset_mode an AutoresetMode (or its value,
     "NextStep", "SameStep", "Disabled"); timeout as make's. The vector entry point of the
     registered ids (gymnasium.make_vec(id, num_envs, vectorization_mode="vector_entry_point")),
     which hands over make's keywords: mode must then be "decision"; policy as make's; teacher None
