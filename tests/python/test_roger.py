@@ -1443,6 +1443,33 @@ class DeepRL(unittest.TestCase):
         self.assertEqual(len(closed_errors), 1, closed_errors)
         self.assertIn("the vector environment is closed", closed_errors[0])
 
+    def test_policies_copy_bind_skills_and_keep_their_table(self):
+        # Found by a probe: a loaded Policy neither pickled nor deep-copied (environments holding one
+        # did), skills= took a policy's path but not the Policy, and a write to .q changed nothing.
+        policy = roger.load_policy(train(EXAMPLE, "Look", "Gaze", 3, "look"))
+        self.assertFalse(policy.q.flags.writeable)
+        with self.assertRaises(ValueError):
+            policy.q[0, 0] = 5.0
+        for twin in (copy.deepcopy(policy), pickle.loads(pickle.dumps(policy))):
+            np.testing.assert_array_equal(twin.q, policy.q)
+            self.assertEqual((twin.stage, twin.context, twin.actions, twin.seed, twin.curriculum),
+                             (policy.stage, policy.context, policy.actions, policy.seed, policy.curriculum))
+            self.assertEqual(twin.path, os.path.abspath(policy.path))
+        sg = roger.load_policy(train(PAPER, "SG", "DC2", 1, "sg-dc2"))
+        by_policy = roger.make(PAPER, "T", "DC6", skills={"Phi_SG": sg})
+        by_path = roger.make(PAPER, "T", "DC6", skills={"Phi_SG": sg.path})
+        for e in (by_policy, by_path):
+            e.reset(seed=FIRST_SEED)
+        twin = copy.deepcopy(by_policy)
+        for a in (0, 1, 2, 0, 1):
+            step = by_policy.step(a)
+            assert_same_step(self, step, by_path.step(a), f"action {a}")
+            assert_same_step(self, step, twin.step(a), f"a copy, action {a}")
+            if step[2] or step[3]:
+                break
+        vec = roger.make_vec(PAPER, "T", "DC6", 2, threads=1, skills={"Phi_SG": sg})
+        np.testing.assert_array_equal(vec.reset(seed=FIRST_SEED)[0][0], by_path.reset(seed=FIRST_SEED)[0])
+
     def test_copy_of_a_faulted_episode(self):
         env = roger.make(BAD_REWARD, "Look", "Gaze")
         env.reset(seed=1)
@@ -2038,6 +2065,21 @@ class GymnasiumJudges(unittest.TestCase):
         self.assertIn(env.get_task(), env.task_space)  # the teacher's
         for teacher in (None, COUNTING_TEACHER):
             check_env(roger.make(EXAMPLE, "Look", "Gaze", tasks=LOOK_TASKS, teacher=teacher))
+
+    def test_spec_of_python_axes_is_json(self):
+        # Found by a probe: spec.to_json() of an environment made with roger.axis values failed,
+        # "Object of type Axis is not JSON serializable"; the spec keeps their Lua text.
+        env = roger.make(EXAMPLE, "Look", "Gaze", tasks=LOOK_TASKS)
+        spec = self.gym.envs.registration.EnvSpec.from_json(env.spec.to_json())
+        again = spec.make().unwrapped
+        self.assertEqual(again.task_space, env.task_space)
+        task = {"robot_distance": 1.3, "shape": "spade"}
+        obs, info = env.reset(seed=4, options={"task": task})
+        again_obs, again_info = again.reset(seed=4, options={"task": task})
+        np.testing.assert_array_equal(obs, again_obs)
+        self.assertEqual(info["task_params"], again_info["task_params"])
+        self.assertEqual(repr(roger.make(EXAMPLE, "Look", "Gaze", tasks=LOOK_TASKS).spec.kwargs["tasks"]),
+                         repr({k: v.lua for k, v in LOOK_TASKS.items()}))
 
     def test_registry(self):
         ids = [f"roger/SG-{c}-v0" for c in ("B1", "DC1", "DC2")] + \

@@ -321,6 +321,21 @@ def _task_space(dims):
     return spaces.Dict(axes)
 
 
+def _skill_paths(skills):
+    """make's skills with each loaded Policy given as its file's path, as policy= takes one."""
+    if not isinstance(skills, dict):
+        return skills
+    return {k: v.path if isinstance(v, Policy) else v for k, v in skills.items()}
+
+
+def _tasks_text(tasks):
+    """make's tasks with each axis as its Lua text, which make takes alike: what the spec keeps, so
+    that spec.to_json() writes it and spec.make() builds the same task space."""
+    if not isinstance(tasks, dict):
+        return tasks
+    return {k: v.lua if isinstance(v, Axis) else v for k, v in tasks.items()}
+
+
 def _absolute(path):
     """A path argument as a copy re-creates it: absolute when it names a file from here (a copy may
     be made in another working directory: a SubprocVecEnv's or AsyncVectorEnv's worker, or after
@@ -445,6 +460,7 @@ class Env(_Copyable, _EnvBase):
             raise RogerError(f"make: mode must be one of {_MODES}, got {mode!r}")
         if isinstance(policy, Policy):
             policy = policy.path
+        skills = _skill_paths(skills)
         self._init = {"curriculum": curriculum, "stage": stage, "context": context, "params": params,
                       "skills": skills, "scenario": scenario, "mode": mode, "render_mode": render_mode,
                       "render_width": render_width, "timeout": timeout, "tasks": tasks, "teacher": teacher}
@@ -944,6 +960,7 @@ class VecEnv(_Copyable, _VecBase):
         self._lock = threading.RLock()
         if isinstance(policy, Policy):
             policy = policy.path
+        skills = _skill_paths(skills)
         self._init = {"curriculum": curriculum, "stage": stage, "context": context, "num_envs": num_envs,
                       "threads": threads, "params": params, "skills": skills, "scenario": scenario,
                       "autoreset_mode": autoreset_mode, "render_mode": render_mode, "render_width": render_width,
@@ -1188,8 +1205,16 @@ class Policy:
 
     @property
     def q(self):
-        """The Q table, one row per state (state_index(obs)), one column per action."""
-        return self._p.q
+        """The Q table, one row per state (state_index(obs)), one column per action: a read-only
+        copy (a write to it would change nothing the policy acts on, so it raises)."""
+        q = self._p.q
+        q.flags.writeable = False
+        return q
+
+    def __reduce__(self):
+        # A copy (pickle, deepcopy) loads the same file again, by its absolute path: it may be made
+        # in another working directory (a worker's), as an environment's copy reads its files.
+        return Policy, (os.path.abspath(self.path),)
 
     def __repr__(self):
         return f"<roger.Policy {self.path}: stage {self.stage} context {self.context}, actions {self.actions}>"
@@ -1200,7 +1225,8 @@ def make(curriculum, stage, context, params=None, skills=None, scenario=None, mo
     """An environment of `stage` in `context` of a curriculum (a path or a bare name: "paper").
 
     params: scenario parameters over the stage's ({"shape": "spade"}, as --set); skills: each
-    learned skill the context uses, {"Phi_SG": "out/sg/policy.json"} (as --skill); scenario:
+    learned skill the context uses, {"Phi_SG": "out/sg/policy.json"} (as --skill; a path or a
+    Policy); scenario:
     another scenario than the stage's; mode: "decision" (semi-MDP) or "tick" (every control tick,
     raw senses in a Dict observation); render_mode: None or "rgb_array" (render() draws what
     `roger render --width render_width` draws); timeout: "terminate" (the stage's time-out ends
@@ -1215,13 +1241,14 @@ def make(curriculum, stage, context, params=None, skills=None, scenario=None, mo
     give, as `roger eval --policy` plays it (Policy.make makes it so)."""
     if isinstance(policy, Policy):
         policy = policy.path
-    kwargs = {"curriculum": curriculum, "stage": stage, "context": context, "params": params, "skills": skills,
-              "scenario": scenario, "mode": mode, "render_mode": render_mode, "render_width": render_width,
-              "timeout": timeout, "tasks": tasks, "teacher": teacher, "policy": policy}
+    kwargs = {"curriculum": curriculum, "stage": stage, "context": context, "params": params,
+              "skills": _skill_paths(skills), "scenario": scenario, "mode": mode, "render_mode": render_mode,
+              "render_width": render_width, "timeout": timeout, "tasks": tasks, "teacher": teacher, "policy": policy}
     env = Env(**kwargs)
     if _gym is not None:
         env.spec = _gym.envs.registration.EnvSpec("roger/Stage-v0", entry_point="roger:Env",
-                                                  vector_entry_point="roger:make_vec", kwargs=kwargs)
+                                                  vector_entry_point="roger:make_vec",
+                                                  kwargs={**kwargs, "tasks": _tasks_text(tasks)})
     return env
 
 
