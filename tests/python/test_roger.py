@@ -17,6 +17,7 @@ import importlib.util
 import json
 import os
 import pickle
+import re
 import shutil
 import subprocess
 import sys
@@ -955,10 +956,19 @@ class BadArguments(unittest.TestCase):
                 (roger.axis.real, (1, 1), "roger.axis.real(1, 1): the range is empty"),
                 (roger.axis.int, (0.5, 3), "roger.axis.int(lo, hi): lo must be an integer, got 0.5"),
                 (roger.axis.int, (0, 2.5), "roger.axis.int(lo, hi): hi must be an integer, got 2.5"),
-                (roger.axis.int, (3, 1), "roger.axis.int(3, 1): the range is reversed (lo must not exceed hi)")):
+                (roger.axis.int, (3, 1), "roger.axis.int(3, 1): the range is reversed (lo must be below hi; "
+                                         "a single value needs no axis)"),
+                # Found by a probe: a single value, an empty or a repeated choice passed until make.
+                (roger.axis.int, (3, 3), "roger.axis.int(3, 3): the range is empty (lo must be below hi; "
+                                         "a single value needs no axis)"),
+                (roger.axis.choice, ([],), "roger.choice{}: the list is empty; a choice is among at least two"),
+                (roger.axis.choice, (["circle"],), 'roger.choice{"circle"}: a single value needs no axis'),
+                (roger.axis.choice, (["circle", "circle"],), "the value 'circle' is listed twice"),
+                (roger.axis.choice, ([1, "1"],), "the value '1' is listed twice")):
             with self.subTest(args=args):
                 self.assertRaisesWith(roger.RogerError, [text], fn, *args)
-        self.assertEqual(repr(roger.axis.int(2.0, 2)), "roger.int(2.0, 2)")
+        self.assertEqual(repr(roger.axis.int(2.0, 3)), "roger.int(2.0, 3)")
+        self.assertEqual(repr(roger.axis.choice(["circle", 2, True])), 'roger.choice{"circle", 2, true}')
         self.assertEqual(repr(roger.axis.real(0.5, 2)), "roger.real(0.5, 2)")
 
     def test_unknown_stage_and_context(self):
@@ -1877,6 +1887,35 @@ class Tasks(unittest.TestCase):
         alp = self.teacher_run(5)[1]
         self.assertEqual(alp["fits"], 2)  # fit_every = 10: after episodes 10 and 20
 
+    def test_no_task_is_the_teachers(self):
+        # Found by a probe: options={"task": None} was refused, while set_task(None) hands the
+        # choice back to the teacher; it is no task option now.
+        env, twin = (roger.make(EXAMPLE, "Look", "Gaze", tasks=LOOK_TASKS, teacher=COUNTING_TEACHER)
+                     for _ in range(2))
+        for e in range(4):
+            seed = 1 if e == 0 else None
+            _, info = env.reset(seed=seed, options={"task": None})
+            _, twin_info = twin.reset(seed=seed)
+            self.assertEqual(info["task_params"], twin_info["task_params"])
+        task = {"robot_distance": 1.5, "shape": 1}
+        env.set_task(task)
+        self.assertEqual(env.reset(options={"task": None})[1]["task_params"], env.task_params(task))
+
+    def test_sample_tasks_counts_and_seeds(self):
+        # Found by a probe: sample_tasks(-1) gave [] silently and sample_tasks(1.5) a raw TypeError.
+        env = roger.make(EXAMPLE, "Look", "Gaze", tasks=LOOK_TASKS)
+        self.assertEqual(env.sample_tasks(0), [])  # as random.sample(..., 0)
+        self.assertEqual(len(env.sample_tasks(np.int64(2))), 2)
+        for bad in (-1, 1.5, True, "2", None):
+            with self.subTest(n=bad):
+                self.assertRaisesRegex(roger.RogerError, r"sample_tasks: a count of tasks is a non-negative integer, "
+                                                         f"got {re.escape(repr(bad))}", env.sample_tasks, bad)
+        drawn = []
+        for _ in range(2):  # seeded through task_space, the same tasks
+            env.task_space.seed(5)
+            drawn.append(repr(env.sample_tasks(3)))
+        self.assertEqual(drawn[0], drawn[1])
+
     def test_set_task(self):
         env = roger.make(EXAMPLE, "Look", "Gaze", tasks=LOOK_TASKS, teacher="roger.teacher.alp_gmm{fit_every = 10}")
         tasks = env.sample_tasks(4)
@@ -1955,7 +1994,12 @@ class Tasks(unittest.TestCase):
         with open("docs/python.md") as f:
             section = f.read().split("## Tasks and teachers", 1)[1].split("\n## ", 1)[0]
         code = section.split("```python\n", 1)[1].split("```", 1)[0]
-        exec(compile(code, "docs/python.md (Tasks and teachers)", "exec"), {})
+        runs = []
+        for _ in range(2):  # its sample_tasks are seeded: the task it sets is the same every run
+            scope = {}
+            exec(compile(code, "docs/python.md (Tasks and teachers)", "exec"), scope)
+            runs.append(repr(scope["chosen"]))
+        self.assertEqual(runs[0], runs[1])
 
 
 class MissingToolProbe(unittest.TestCase):

@@ -243,8 +243,10 @@ class axis:
         for name, x in (("lo", lo), ("hi", hi)):
             if float(x) != np.floor(float(x)):
                 raise RogerError(f"roger.axis.int(lo, hi): {name} must be an integer, got {x!r}")
-        if float(lo) > float(hi):
-            raise RogerError(f"roger.axis.int({a}, {b}): the range is reversed (lo must not exceed hi)")
+        if float(lo) >= float(hi):
+            how = "empty" if float(lo) == float(hi) else "reversed"
+            raise RogerError(f"roger.axis.int({a}, {b}): the range is {how} (lo must be below hi; a single value "
+                             "needs no axis)")
         return Axis(f"roger.int({a}, {b})")
 
     @staticmethod
@@ -263,7 +265,20 @@ class axis:
         over their indices."""
         if isinstance(values, (str, bytes)) or not hasattr(values, "__iter__"):
             raise RogerError(f"roger.axis.choice: expects a list of values, got {values!r}")
-        return Axis("roger.choice{" + ", ".join(_lua_value(v, "roger.axis.choice") for v in values) + "}")
+        texts = [_lua_value(v, "roger.axis.choice") for v in values]
+        lua = "roger.choice{" + ", ".join(texts) + "}"
+        # Checked here, in the Lua side's words (roger.choice), not first at make. A scenario reads
+        # each value as text: 1 and "1" are the same value.
+        seen = set()
+        for text in texts:
+            value = text[1:-1] if text.startswith('"') else text
+            if value in seen:
+                raise RogerError(f"{lua}: the value '{value}' is listed twice")
+            seen.add(value)
+        if len(texts) < 2:
+            how = "the list is empty" if not texts else "a single value needs no axis (give it in params)"
+            raise RogerError(f"{lua}: {how}; a choice is among at least two values")
+        return Axis(lua)
 
 
 def _tasks_source(tasks):
@@ -563,7 +578,9 @@ class Env(_Copyable, _EnvBase):
         env = self._open("reset")
         given = None if seed is None else _seed(seed, "reset")
         options = _options(options, "reset", ("task",))
-        task = env.task_of(options["task"], "reset: options['task']") if "task" in options else None
+        # {"task": None} is no task option, as set_task(None) is no task: the teacher's (or set_task's).
+        given_task = options.get("task")
+        task = None if given_task is None else env.task_of(given_task, "reset: options['task']")
         super().reset(seed=given)  # an unseeded reset leaves np_random running on
         self._tell()  # an episode left unfinished is the teacher's outcome as it stood
         seed = self._world(given)
@@ -703,10 +720,13 @@ class Env(_Copyable, _EnvBase):
             k: np.asarray(v, np.float64) if isinstance(v, float) else v for k, v in self._task[0].items()}
 
     def sample_tasks(self, n):
-        """n tasks drawn from task_space with its own generator (RLlib's TaskSettableEnv)."""
+        """n tasks drawn from task_space with its own generator (RLlib's TaskSettableEnv): seed it,
+        env.task_space.seed(S), for the same tasks every run."""
         self._open("sample_tasks")
         if self.task_space is None:
             raise RogerError("sample_tasks: the stage has no task space (give make(..., tasks={...}))")
+        if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 0:
+            raise RogerError(f"sample_tasks: a count of tasks is a non-negative integer, got {n!r}")
         return [self.task_space.sample() for _ in range(n)]
 
     def task_params(self, task):
