@@ -486,6 +486,34 @@ class GymnasiumApi(unittest.TestCase):
         self.assertRaisesRegex(roger.RogerError, "closed", env.reset, seed=1)
         env.close()  # closing twice is allowed
 
+    def test_wrapper_attributes_and_stage_info_copies(self):
+        # Found by a probe: without gymnasium, Env lacked Gymnasium 1.x's get_wrapper_attr,
+        # has_wrapper_attr and set_wrapper_attr (the stand-in base, Bare, has them now); and
+        # stage_info was one dict whose edits stuck but changed nothing.
+        from roger import _base
+
+        class Bare(_base.Env):
+            pass
+
+        env = roger.make(EXAMPLE, "Look", "Gaze")
+        for e in (env, Bare()):
+            with self.subTest(env=type(e).__name__):
+                self.assertTrue(e.has_wrapper_attr("metadata"))
+                self.assertFalse(e.has_wrapper_attr("nothing"))
+                self.assertIs(e.get_wrapper_attr("metadata"), e.metadata)
+                self.assertRaises(AttributeError, e.get_wrapper_attr, "nothing")
+                self.assertFalse(e.set_wrapper_attr("nothing", 1, force=False))
+                self.assertFalse(hasattr(e, "nothing"))
+                self.assertTrue(e.set_wrapper_attr("nothing", 1))
+                self.assertEqual(e.nothing, 1)
+        vec = roger.make_vec(EXAMPLE, "Look", "Gaze", num_envs=2, threads=1)
+        for e in (env, vec):
+            info = e.stage_info
+            limit, alpha = info["time_limit"], info["learner"]["alpha"]
+            info["time_limit"], info["learner"]["alpha"] = -1, 9
+            self.assertEqual((e.stage_info["time_limit"], e.stage_info["learner"]["alpha"]), (limit, alpha))
+            self.assertEqual(copy.deepcopy(e).stage_info, e.stage_info)
+
     def test_unseeded_reset_goes_on(self):
         env = roger.make(EXAMPLE, "Look", "Gaze")
         env.reset(seed=123)

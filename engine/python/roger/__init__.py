@@ -25,6 +25,7 @@ registered, each with make_vec as its vector entry point.
 """
 
 import contextlib
+import copy
 import numbers
 import os
 import secrets
@@ -385,7 +386,7 @@ class _Copyable:
         with self._using("copy"):
             closed = self._closed_now()
             return {"init": dict(self._init), "recipe": dict(self._recipe), "what": repr(self),
-                    "stage_info": self.stage_info, "spec": self.spec, "closed": closed,
+                    "stage_info": self._stage_info, "spec": self.spec, "closed": closed,
                     "closed_by_vector": getattr(self, "_closed_by_vector", False),
                     "np_random": (self._np_random, self._np_random_seed),
                     "state": None if closed else self._state()}
@@ -398,7 +399,7 @@ class _Copyable:
                             f"is a new environment made with the same arguments): {e}") from e
         # What the original shows (the arguments as typed) stays what the copy shows.
         self._init = dict(state["init"])
-        self.stage_info = state.get("stage_info", self.stage_info)
+        self._stage_info = state.get("stage_info", self._stage_info)
         self.spec = state["spec"]
         self._np_random, self._np_random_seed = state["np_random"]
         if state["closed"]:
@@ -406,6 +407,12 @@ class _Copyable:
             self._closed_by_vector = state.get("closed_by_vector", False)
         else:
             self._restore(state["state"])
+
+    @property
+    def stage_info(self):
+        """The stage as the engine trains it (docs/python.md): a fresh copy at each read, so that an
+        edit, which the environment would never read, does not seem to stick."""
+        return copy.deepcopy(self._stage_info)
 
     @contextlib.contextmanager
     def _using(self, what):
@@ -501,24 +508,24 @@ class Env(_Copyable, _EnvBase):
         self._asked = False  # the running episode's task is the teacher's, its outcome not yet told
         self._set_task = None  # set_task's task: (as the space holds it, as parameters)
         self._task = (None, [])  # the running episode's task
-        self.stage_info = self._env.info
-        self.actions = tuple(self.stage_info["actions"])
+        self._stage_info = self._env.info
+        self.actions = tuple(self._stage_info["actions"])
         self.mode = mode
-        fps = round(1.0 / self.stage_info["tick_seconds"]) if mode == "tick" else _DECISION_FPS
+        fps = round(1.0 / self._stage_info["tick_seconds"]) if mode == "tick" else _DECISION_FPS
         self.metadata = {"render_modes": _RENDER_MODES, "render_fps": fps}
         self.action_space = spaces.Discrete(len(self.actions))
         n = len(self.actions)
-        self.observation_space = _tick_space(n, self.stage_info) if mode == "tick" else _state_space(n)
+        self.observation_space = _tick_space(n, self._stage_info) if mode == "tick" else _state_space(n)
         if mode == "tick":
-            _check_tick_tasks(self._task_dims, self.stage_info)
+            _check_tick_tasks(self._task_dims, self._stage_info)
             if self._teaching:
-                _check_tick_teacher(self._env.teacher_body_change(), self.stage_info)
+                _check_tick_teacher(self._env.teacher_body_change(), self._stage_info)
         self._stream = None  # [S, k]: the last explicit seed, and the unseeded resets since it
         self._running = False  # an episode waits for step()
         self._faulted = False  # the episode ended by an error (a copy's replay meets it again)
 
     def __repr__(self):
-        i = self.stage_info
+        i = self._stage_info
         return f"<roger.Env {i['curriculum']} stage {i['stage']} context {i['context']} ({self.mode})>"
 
     def _open(self, what):
@@ -621,7 +628,7 @@ class Env(_Copyable, _EnvBase):
         set the body's parameters (LCAS lifts eye_pixels), and a Gymnasium space cannot change."""
         if self.mode != "tick":
             return None
-        body, info = self._env.body, self.stage_info
+        body, info = self._env.body, self._stage_info
         if body["eye_pixels"] != info["eye_pixels"]:
             return (f"eyes of {body['eye_pixels']} pixels, where observation_space's images have "
                     f"{info['eye_pixels']} (stage_info['eye_pixels'])")
@@ -679,7 +686,7 @@ class Env(_Copyable, _EnvBase):
 
     def _step(self, action):
         env = self._open("step")
-        a = _action(action, len(self.actions), f"step ({self.stage_info['stage']}/{self.stage_info['context']})")
+        a = _action(action, len(self.actions), f"step ({self._stage_info['stage']}/{self._stage_info['context']})")
         if env.running and not self._running:  # the episode the last reset refused (_refuse_body)
             raise RogerError("step: no episode is running: the last reset was refused (call reset first)")
         try:
@@ -1028,8 +1035,8 @@ class VecEnv(_Copyable, _VecBase):
         # (its reset_mask entry False) gave it: its first reset starts there, so that it does not
         # replay the worlds of the others' schedules (None: the batch's S = 0, environment i at i).
         self._pending = [None] * int(num_envs)
-        self.stage_info = self._vec.info
-        self.actions = tuple(self.stage_info["actions"])
+        self._stage_info = self._vec.info
+        self.actions = tuple(self._stage_info["actions"])
         self.num_envs = int(num_envs)
         self.threads = self._vec.threads
         self.single_action_space = spaces.Discrete(len(self.actions))
@@ -1046,7 +1053,7 @@ class VecEnv(_Copyable, _VecBase):
                                                 dtype=np.int64)
 
     def __repr__(self):
-        i = self.stage_info
+        i = self._stage_info
         return f"<roger.VecEnv {i['curriculum']} stage {i['stage']} context {i['context']} x{self.num_envs}>"
 
     def _open(self, what):

@@ -1,7 +1,8 @@
 """Gymnasium's Env and VectorEnv contracts, for when gymnasium is not installed: the attributes
 (metadata, render_mode, spec, np_random, unwrapped, closed), reset's seeding of np_random, close
-and the context manager, with gymnasium 1.x's names and behaviour, so the package's environments
-act the same with and without it."""
+and the context manager, Env's get_wrapper_attr, has_wrapper_attr and set_wrapper_attr, with
+gymnasium 1.x's names and behaviour, so the package's environments act the same with and without
+it."""
 
 from enum import Enum
 
@@ -65,6 +66,19 @@ class Env(_Seeded):
 
     def close(self):
         pass
+
+    # An environment is its own innermost wrapper: Gymnasium 1.x's Env looks the attribute up on itself.
+    def has_wrapper_attr(self, name):
+        return hasattr(self, name)
+
+    def get_wrapper_attr(self, name):
+        return getattr(self, name)
+
+    def set_wrapper_attr(self, name, value, *, force=True):
+        if force or hasattr(self, name):
+            setattr(self, name, value)
+            return True
+        return False
 
 
 class VectorEnv(_Seeded):
