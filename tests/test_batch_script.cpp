@@ -375,6 +375,14 @@ TEST_CASE("a table's by and a tasks figure's param are checked against the runs'
                                        "choose (did you mean 'level'?); it chooses 'level'"));
   CHECK_THAT(load_error(with_param("level", "Lift", "level")),
              Catch::Matchers::Contains("the teacher of run 'Lift' does not choose; it chooses 'distance'"));
+  // Found by a probe: a parameter the run's params fix drew "not drawn: no finished trial".
+  std::ofstream(dir / "fixed.lua") << "return { name = 'fixed', curriculum = 'tests/scripts/teach_curriculum.lua',\n"
+                                      "  runs = { { name = 'Fn', stage = 'Function', params = { level = 0.5 } } },\n"
+                                      "  figures = { { file = 'f', kind = 'tasks', run = 'Fn',\n"
+                                      "                param = 'level' } } }\n";
+  CHECK_THAT(load_error((dir / "fixed.lua").string()),
+             Catch::Matchers::Contains("fixed.lua:4: figure 'f': 'param' is 'level', which the params of run 'Fn' fix "
+                                       "(level = 0.5): its teacher does not choose it in that run"));
   fs::remove_all(dir);
 }
 

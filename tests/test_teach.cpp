@@ -784,6 +784,19 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
   REQUIRE(problems.size() == 1);
   CHECK_THAT(problems[0], Contains("crowded.lua:8: stage 'S': scenario 'cluttered' with robot_distance = 6 (an end of the "
                                    "stage's task space): ") && Contains("no placement for"));
+  // Found by a probe: parameters that combine go out of range only together, at the highest
+  // corner (a noise delay times its scale), which check never built, and training failed there.
+  for (const std::string teacher : {"", ", teacher = roger.teacher.lcas{ lift = { noise_scale = { 0.5, 1, 2 } } }"}) {
+    const fs::path corner = write_stage(
+        dir.path, "corner", "{ tasks = { noise_joints_delay = roger.int(0, 30)" +
+                                std::string(teacher.empty() ? ", noise_scale = roger.real(0.5, 2) }" : " }") + teacher + " }");
+    const std::vector<std::string> found = check_curriculum(corner.string());
+    REQUIRE(found.size() == 1);
+    CHECK_THAT(found[0], Contains("corner.lua:8: stage 'S': scenario 'cluttered' with noise_joints_delay = 30, "
+                                  "noise_scale = 2 (the highest corner of the stage's task space): ") &&
+                             Contains("field 'delay' must be within [0, 50] ticks, got 60") &&
+                             !Contains("stack traceback"));
+  }
   // An end that some layouts hold is not an error: training skips the others. Seed 0 cannot place
   // the object 2.6 m from Roger, seed 1 can (before, roger check refused what training ran).
   const fs::path some = write_stage(dir.path, "some", "{ tasks = { robot_distance = roger.real(0.8, 2.6) }, "

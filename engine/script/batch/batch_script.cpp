@@ -635,6 +635,12 @@ BatchFigure read_figure(const json& fj, const Reader& rd, int& at, const Curricu
       rd.fail(rd.line_of_key("param", l), what + ": 'param' is '" + f.param + "', which the teacher of run '" + f.run +
                                               "' does not choose" + suggestion(f.param, chosen) + "; it chooses " +
                                               quoted_list(chosen));
+    // Found by a probe: the figure then read "not drawn: no finished trial" after the run.
+    const auto fixed = std::find_if(r->params.begin(), r->params.end(), [&](const auto& p) { return p.first == f.param; });
+    if (fixed != r->params.end())
+      rd.fail(rd.line_of_key("param", l), what + ": 'param' is '" + f.param + "', which the params of run '" + f.run +
+                                              "' fix (" + f.param + " = " + fixed->second +
+                                              "): its teacher does not choose it in that run");
   } else if (fj.contains("param") || fj.contains("context")) {
     rd.fail(l, what + ": 'param' and 'context' belong to a figure of kind \"tasks\"");
   }
