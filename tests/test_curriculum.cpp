@@ -438,6 +438,20 @@ TEST_CASE("a stage's bad field is reported at the line it is written on", "[curr
   using Catch::Matchers::Contains;
   CHECK_THAT(error_with("typo.lua", "time_limt = 12,", good),
              Contains("typo.lua:6: stage 'S': unknown field 'time_limt' (did you mean 'time_limit'?)"));
+  // Found by a probe: with the curriculum's name on the call's line, every field's error stayed at
+  // that line (the curriculum's table was taken for the stage's).
+  {
+    const auto named = tmp.path / "named_curriculum.lua";
+    std::ofstream(named) << "local p = require('lib.skills').primitives()\n"
+                            "return { name = 't', stages = { roger.stage{\n"
+                            "  name = 'S', time_limit = 5,\n"
+                            "  absorbing = roger.converged(p.phi3), budget = { episodes = 3 },\n"
+                            "  contexts = { { name = 'B', actions = { p.phi3 } } },\n"
+                            "  tasks = {},\n"
+                            "} } }\n";
+    CHECK_THAT(error_of([&] { Curriculum::load(named.string()); }),
+               Contains("named_curriculum.lua:6: stage 'S': field 'tasks' is empty"));
+  }
   CHECK_THAT(error_with("learner.lua", "learner = { alpah = 0.2 },", good),
              Contains("learner.lua:6: stage 'S': learner: unknown field 'alpah' (did you mean 'alpha'?)"));
   CHECK_THAT(error_with("checkpoints.lua", "checkpoints = {\n    every = -5 },", good),

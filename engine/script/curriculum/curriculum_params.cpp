@@ -32,10 +32,13 @@ std::string source_text(const std::string& shown) {
 
 // The stage's constructor: the one whose `name` is written on the stage's line (a plain table,
 // whose line is its name's), else the last opened on that line with a `name` or `contexts` (in
-// `return { stages = { roger.stage{` the stage's is the third), else the first; -1 if none.
+// `return { stages = { roger.stage{` the stage's is the third), else the first; -1 if none. The
+// curriculum's own table is no stage, though its name be on that line (found by a probe: in
+// `return { name = "t", stages = { roger.stage{` every field's error stayed at the call's line).
 int stage_node(const LuaTableMap& map, int line) {
   int opened = -1;
   for (size_t n = 0; n < map.nodes().size(); ++n) {
+    if (map.entry(int(n), "stages")) continue;
     const auto* name = map.entry(int(n), "name");
     if (name && name->line == line) return int(n);
     if (map.nodes()[n].line == line && (name || map.entry(int(n), "contexts"))) opened = int(n);
