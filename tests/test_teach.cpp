@@ -1002,7 +1002,10 @@ TEST_CASE("the report compares the teachers, splits their success by level and m
     const json result = read_json(trial_of(t["row"].get<std::string>().substr(0, t["row"].get<std::string>().find('/'))) /
                                   "result.json");
     CHECK(t["did"] == describe_teacher_state(result["teacher"]["state"]));
-    CHECK_THAT(md, Contains("- " + t["row"].get<std::string>() + " trial 0: " + t["did"].get<std::string>() + "\n"));
+    // Named by its kind (found by a probe: the line said not which teacher).
+    CHECK(t["kind"] == result["teacher"]["kind"]);
+    CHECK_THAT(md, Contains("- " + t["row"].get<std::string>() + " trial 0 (" + t["kind"].get<std::string>() +
+                            "): " + t["did"].get<std::string>() + "\n"));
   }
   // The split by level: five bins of the real axis, each cell the final episodes of that bin.
   const json report = read_json(dir / "report.json");
@@ -1322,6 +1325,18 @@ TEST_CASE("roger train says what its teacher did", "[teach][stage]") {
                                     {"levels", 4}, {"lifts", json::array()}}) ==
         "obstacles = 0 (level 1 of 4), never lifted");
   CHECK(describe_teacher_state(json{{"kind", "random"}, {"episodes", 3}}).empty());
+  // Found by a probe: fractions at full precision, a task as JSON, "1 levels kept".
+  CHECK(describe_teacher_state(json{{"kind", "plr"}, {"replays", 1}, {"episodes", 1}, {"levels", 1}}) ==
+        "1 of 1 episode replayed a level; 1 level kept");
+  CHECK(describe_teacher_state(json{{"kind", "alp_gmm"}, {"fits", 2}, {"mean_alp", 1.0 / 3.0},
+                                    {"components", json::array({json{{"alp", 0.5}, {"task", json{{"robot_distance",
+                                                                                                 1.5340091575147519},
+                                                                                                {"shape", "spade"}}}}})}}) ==
+        "2 fits, mean ALP 0.333; most progress around {robot_distance = 1.53, shape = spade} (ALP 0.5)");
+  CHECK(describe_teacher_state(json{{"kind", "sequence"}, {"step", 2}, {"steps", 3},
+                                    {"moves", json::array({json{{"episode", 19}, {"from", 1}, {"to", 2},
+                                                                {"rate", 2.0 / 3.0}}})}}) ==
+        "at step 2 of 3; moved at episodes 19 (step 1 to 2, rate 0.667)");
 }
 
 TEST_CASE("a task parameter given by --set is fixed: the axis leaves the trial's space", "[teach][stage]") {

@@ -413,8 +413,9 @@ int command_train(const TrainArgs& a) {
     // A task whose world could not be placed is skipped and another drawn (docs/curricula.md): a
     // space that is partly holes shows here, not only in summary.json.
     if (!r.skipped_tasks.empty())
-      std::printf("  skipped        %zu tasks the scenario could not place (the first: %s; all in summary.json)\n",
-                  r.skipped_tasks.size(), r.skipped_tasks[0].value("task", nlohmann::json()).dump().c_str());
+      std::printf("  skipped        %s the scenario could not place (the first: %s; all in summary.json)\n",
+                  counted(int(r.skipped_tasks.size()), "task").c_str(),
+                  r.skipped_tasks[0].value("task", nlohmann::json()).dump().c_str());
   }
   if (!r.reached || r.explain) {
     const std::vector<std::string> causes = diagnose_training(r).causes();

@@ -89,8 +89,10 @@ std::string teachers_text(const BatchScript& b, const std::vector<BatchRow>& row
       const std::string did = describe_teacher_state(state);
       if (did.empty()) continue;
       const json trial = j.value("trial", json());
-      rep.push_back({{"row", row.label()}, {"trial", trial}, {"did", did}});
-      text += "- " + row.label() + " trial " + trial.dump() + ": " + did + "\n";
+      // Named by its kind (found by a probe: "Look/Gaze trial 0: 6 fits" said not which teacher).
+      const std::string kind = j["teacher"].value("kind", std::string());
+      rep.push_back({{"row", row.label()}, {"trial", trial}, {"kind", kind}, {"did", did}});
+      text += "- " + row.label() + " trial " + trial.dump() + (kind.empty() ? "" : " (" + kind + ")") + ": " + did + "\n";
     }
   return text;
 }

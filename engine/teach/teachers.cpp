@@ -1,6 +1,7 @@
 // teachers.cpp: the teachers that need no model of the learner's progress beyond its success
 // rate (random, sequence, LCAS), and make_teacher.
 #include <algorithm>
+#include <cstdio>
 #include <deque>
 #include <numeric>
 
@@ -181,19 +182,38 @@ std::string TeacherSpec::name() const {
 
 namespace {
 
+// A value as a sentence shows it: a fraction to three figures (found by a probe: "rate
+// 0.3333333333333333", a task at 1.5340091575147519), a string without its quotes.
+std::string shown(const json& v) {
+  if (v.is_number_float()) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", v.get<double>());
+    return text;
+  }
+  return v.is_string() ? v.get<std::string>() : v.dump();
+}
+
+// "{obstacles = 4, shape = triangle}": a task.
+std::string task_shown(const json& task) {
+  std::vector<std::string> parts;
+  if (task.is_object())
+    for (const auto& [k, v] : task.items()) parts.push_back(k + " = " + shown(v));
+  return "{" + join(parts) + "}";
+}
+
 // "19 (step 1 to 2, rate 0.5), 29 (step 2 to 3, rate 0.6)": a sequence's moves.
 std::string sequence_moves(const json& moves) {
   std::vector<std::string> parts;
   for (const json& m : moves)
-    parts.push_back(m.value("episode", json()).dump() + " (step " + m.value("from", json()).dump() + " to " +
-                    m.value("to", json()).dump() + ", rate " + m.value("rate", json()).dump() + ")");
+    parts.push_back(shown(m.value("episode", json())) + " (step " + shown(m.value("from", json())) + " to " +
+                    shown(m.value("to", json())) + ", rate " + shown(m.value("rate", json())) + ")");
   return join(parts);
 }
 
 // "31 (to 64), 59 (to 128)": an LCAS teacher's lifts.
 std::string lcas_lifts(const json& lifts) {
   std::vector<std::string> parts;
-  for (const json& l : lifts) parts.push_back(l.value("episode", json()).dump() + " (to " + l.value("to", json()).dump() + ")");
+  for (const json& l : lifts) parts.push_back(shown(l.value("episode", json())) + " (to " + shown(l.value("to", json())) + ")");
   return join(parts);
 }
 
@@ -202,7 +222,10 @@ std::string lcas_lifts(const json& lifts) {
 std::string describe_teacher_state(const json& state) {
   if (!state.is_object()) return "";
   const std::string kind = state.value("kind", std::string());
-  const auto count = [&](const char* key) { return state.contains(key) ? state[key].dump() : std::string("?"); };
+  const auto count = [&](const char* key) { return state.contains(key) ? shown(state[key]) : std::string("?"); };
+  const auto counted_as = [&](const char* key, const std::string& noun) {
+    return count(key) + " " + noun + (state.value(key, json()) == json(1) ? "" : "s");
+  };
   if (kind == "sequence") {
     const json moves = state.value("moves", json::array());
     return "at step " + count("step") + " of " + count("steps") +
@@ -219,13 +242,14 @@ std::string describe_teacher_state(const json& state) {
     for (const json& c : state.value("components", json::array()))
       if (c.value("alp", -1.0) > best) {
         best = c.value("alp", -1.0);
-        most = c.value("task", json()).dump();
+        most = task_shown(c.value("task", json()));
       }
-    return count("fits") + " fits, mean ALP " + count("mean_alp") +
-           (most.empty() ? "" : "; most progress around " + most + " (ALP " + format_number(best) + ")");
+    return counted_as("fits", "fit") + ", mean ALP " + count("mean_alp") +
+           (most.empty() ? "" : "; most progress around " + most + " (ALP " + shown(json(best)) + ")");
   }
   if (kind == "plr")
-    return count("replays") + " of " + count("episodes") + " episodes replayed a level; " + count("levels") + " levels kept";
+    return count("replays") + " of " + counted_as("episodes", "episode") + " replayed a level; " +
+           counted_as("levels", "level") + " kept";
   return "";
 }
 
