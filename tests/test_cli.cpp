@@ -87,6 +87,24 @@ TEST_CASE("roger check shows a generator's prints for the first world only", "[c
   fs::remove(s);
 }
 
+// Found by a probe: a print in a teacher function came 30 times, once per call roger check made.
+TEST_CASE("roger check shows a teacher function's prints for its first call only", "[cli]") {
+  const fs::path c = temp_file("roger_cli_teacher_prints.lua",
+                               "local p = require('lib.skills').primitives()\n"
+                               "return { stages = { roger.stage{\n"
+                               "  name = 'S', scenario = 'cluttered', time_limit = 4, absorbing = roger.converged(p.phi0),\n"
+                               "  budget = { episodes = 4 }, contexts = { { name = 'A', actions = { p.search, p.phi0 } } },\n"
+                               "  tasks = { obstacles = roger.int(0, 4) },\n"
+                               "  teacher = function(history) print('asked', #history) return {} end,\n"
+                               "} } }\n");
+  const Run r = roger("check " + c.string());
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK(r.err.rfind("asked\t0\n(29 more lines printed while roger check called the teacher function again, not "
+                    "shown)\n", 0) == 0);
+  fs::remove(c);
+}
+
 // Found by a probe: a helper of one's own named lib/shapes.lua took the shipped one's place inside
 // the shipped lib.place, which failed at its own line with nothing saying why. Such a module still
 // replaces the shipped one there (a copy made to be edited is meant to), and roger check says so.

@@ -287,25 +287,8 @@ int check_scenario_file(const CheckArgs& a, const std::string& shown, const Sand
   Scenario scenario = Scenario::load(a.script, limits);
   apply_sets(scenario, a.sets);
   // A print in generate runs once per world built here: shown for the first world (seed 0), only
-  // counted for the others (found by a probe: 22 lines of one debugging print).
-  struct QuietAfterFirst {
-    LuaSandbox& sandbox;
-    std::function<void(const std::string&)> shown;
-    size_t hidden = 0;
-    bool quieted = false;
-    void quiet() {
-      quieted = true;
-      sandbox.set_print([this](const std::string&) { ++hidden; });
-    }
-    void finish() {  // the sink back, and how much it kept back
-      if (!quieted) return;
-      quieted = false;
-      sandbox.set_print(shown);
-      if (hidden && shown) shown("(" + counted(static_cast<long long>(hidden), "more line") + " printed while roger "
-                                 "check built the other worlds, not shown)");
-    }
-    ~QuietAfterFirst() { finish(); }
-  } prints{scenario.sandbox(), scenario.sandbox().print_sink()};
+  // counted for the others.
+  QuietPrints prints(scenario.sandbox(), "roger check built the other worlds");
   // A scenario is a function of its seed: try several, and build each world as an episode would.
   World world;
   // A failure names its seed after the first line, as training does: it may hold for some seeds only.

@@ -184,6 +184,9 @@ class Curriculum {
   // Whether the script made a stand-in for this learned skill.
   bool has_learned(const std::string& name) const;
 
+  // The sandbox the script and its callbacks run in (roger check quiets its prints).
+  LuaSandbox& sandbox();
+
   // The world the Lua callbacks are shown (their argument `world`), or null for none (nil): the
   // episode's world, set by whoever runs the episodes (the trainer).
   void set_world(const World* world);

@@ -169,6 +169,25 @@ const SandboxLimits& LuaSandbox::limits() const { return impl_->limits; }
 size_t LuaSandbox::memory_used() const { return impl_->memory_used; }
 uint64_t LuaSandbox::instructions_used() const { return impl_->instructions_used; }
 
+QuietPrints::QuietPrints(LuaSandbox& sandbox, std::string what)
+    : sandbox_(sandbox), shown_(sandbox.print_sink()), what_(std::move(what)) {}
+
+QuietPrints::~QuietPrints() { finish(); }
+
+void QuietPrints::quiet() {
+  quieted_ = true;
+  sandbox_.set_print([this](const std::string&) { ++hidden_; });
+}
+
+void QuietPrints::finish() {
+  if (!quieted_) return;
+  quieted_ = false;
+  sandbox_.set_print(shown_);
+  if (hidden_ && shown_)
+    shown_("(" + counted(static_cast<long long>(hidden_), "more line") + " printed while " + what_ + ", not shown)");
+  hidden_ = 0;
+}
+
 void LuaSandbox::set_print(std::function<void(const std::string&)> sink) {
   impl_->print = std::move(sink);
 }

@@ -253,6 +253,27 @@ int raise_at_reader(lua_State* L, const std::string& text);
 // Converts the value at `index` into a colour, or raises "context: ..." at the caller's line.
 Colour lua_to_colour(lua_State* L, int index, const std::string& context);
 
+// For a check that calls a script's function many times (roger check building twenty worlds,
+// calling a teacher function thirty times): after quiet(), print() lines are counted, not shown;
+// finish() (or the destructor) puts the sink back and says how many were kept back, "(N more lines
+// printed while <what>, not shown)" (found by a probe: 22 and 30 copies of one debugging print).
+class QuietPrints {
+ public:
+  QuietPrints(LuaSandbox& sandbox, std::string what);
+  ~QuietPrints();
+  QuietPrints(const QuietPrints&) = delete;
+  QuietPrints& operator=(const QuietPrints&) = delete;
+  void quiet();
+  void finish();
+
+ private:
+  LuaSandbox& sandbox_;
+  std::function<void(const std::string&)> shown_;
+  std::string what_;
+  size_t hidden_ = 0;
+  bool quieted_ = false;
+};
+
 // Restores the Lua stack top when it goes out of scope (for C++ code that pushes temporaries).
 class LuaStackGuard {
  public:
