@@ -14,6 +14,8 @@
 #include "batch/batch_internal.h"
 #include "core/error.h"
 #include "learn/episode.h"
+#include "script/authoring/lua_static_check.h"
+#include "script/batch/batch_script.h"
 #include "script/curriculum/curriculum.h"
 #include "script/scenario/scenario.h"
 
@@ -115,7 +117,27 @@ std::string params_given(const ParamList& sets, const ParamList& task) {
   return text.empty() ? "with the stage's own parameters" : "with the parameters given (" + text + ")";
 }
 
+// Refuses a script of another kind given as the curriculum, as roger train does (found by a probe:
+// make("docs/examples/corridor.lua", ...) failed inside scenarios/lib/shapes.lua, a skill script
+// with "unknown field 'policies'"), and a member of roger.* that no curriculum has in make's
+// tasks or teacher text, as roger check's static pass names it (teacher='roger.teacher.nosuch{}'
+// read "attempt to call a nil value (field 'nosuch')", not which teachers there are).
+void check_sources(const EnvironmentOptions& o) {
+  std::string path;
+  try {
+    path = resolve_curriculum_path(o.curriculum);
+  } catch (const Error&) {
+    // Found nowhere: the loader says where it looked.
+  }
+  if (!path.empty()) require_script_kind(o.curriculum, path, {"curriculum"});
+  for (const LuaSource* source : {&o.tasks, &o.teacher})
+    if (!source->text.empty())
+      for (const StaticProblem& p : static_check_text("return " + source->text, source->name, ScriptKind::kCurriculum))
+        if (p.message.find("is not in the API") != std::string::npos) throw ScriptError(p.message, source->name, p.line, "");
+}
+
 Curriculum load_checked(const EnvironmentOptions& o) {
+  check_sources(o);
   Curriculum cur = Curriculum::load(o.curriculum, o.limits);
   cur.set_teaching(o.stage, o.tasks, o.teacher, o.scenario);
   const CurriculumStage& stage = cur.stage(o.stage);

@@ -950,6 +950,21 @@ class BadArguments(unittest.TestCase):
             self.assertIn(t, str(cm.exception))
         return cm.exception
 
+    def test_a_script_of_another_kind_or_an_unknown_member_is_named(self):
+        # Found by a probe: a scenario given as the curriculum failed inside scenarios/lib/shapes.lua,
+        # a skill script with "unknown field 'policies'", and teacher='roger.teacher.nosuch{}' with
+        # "attempt to call a nil value (field 'nosuch')".
+        self.assertRaisesWith(roger.RogerError, ["docs/examples/corridor.lua is a scenario, not a curriculum"],
+                              roger.make, "docs/examples/corridor.lua", "S", "A")
+        self.assertRaisesWith(roger.RogerError, ["scripted is a skill script, not a curriculum"],
+                              roger.make, "scripted", "S", "A")
+        self.assertRaisesWith(roger.ScriptError, ["make(teacher=...):1: roger.teacher.nosuch is not in the API of a "
+                                                  "curriculum; roger.teacher has: alp_gmm, lcas, plr, random, sequence"],
+                              roger.make, PAPER, "T", "B2", teacher="roger.teacher.nosuch{}")
+        self.assertRaisesWith(roger.ScriptError, ["make(tasks=...):1: roger.intt is not in the API of a curriculum; "
+                                                  "did you mean roger.int?"],
+                              roger.make, PAPER, "T", "B2", tasks="{obstacles = roger.intt(0, 3)}")
+
     def test_a_world_that_cannot_be_placed_names_the_call(self):
         # Found by a probe: make raised the scenario's PlacementError alone, with a Lua traceback
         # and nothing of make, the seed or the parameters given.
