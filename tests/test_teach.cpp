@@ -1692,3 +1692,26 @@ TEST_CASE("the teaching API refuses extra arguments at load with file:line", "[t
     CHECK_NOTHROW(Curriculum::load(write_stage(dir.path, "ok", fields).string()));
   }
 }
+
+// Found by a probe: a window that cannot fill within the budget trained "at step 1 of 2, never
+// moved", and roger check said nothing. A warning at the teacher's line (check, and train's note).
+TEST_CASE("a teacher whose window cannot fill within the budget is warned of", "[teach][errors]") {
+  test::TempDir dir("roger_teach_window");
+  auto warning = [&](const std::string& name, const std::string& fields) {
+    return Curriculum::load(write_stage(dir.path, name, fields).string()).stage("S").teacher_window_warning();
+  };
+  CHECK_THAT(warning("seq", "{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.sequence{ "
+                            "{ obstacles = 0, window = 5 }, {} } }"),
+             Contains("seq.lua:8: stage 'S': roger.teacher.sequence: step 1's window = 5 is more than the budget's 4 "
+                      "episodes: the sequence will never move past it"));
+  CHECK_THAT(warning("lcas", "{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 64 } }, window = 3 } }"),
+             Contains("lcas.lua:8: stage 'S': roger.teacher.lcas: window = 3 needs 6 episodes at a level (two windows) "
+                      "before it can lift eye_pixels, more than the budget's 4 episodes"));
+  // Windows that fit, and a last step's (it never moves on), say nothing.
+  CHECK(warning("fits", "{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.sequence{ "
+                        "{ obstacles = 0, window = 4 }, { window = 100 } } }").empty());
+  CHECK(warning("lcas_fits", "{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 64 } }, window = 2 } }").empty());
+  const std::string roger = ROGER_BINARY, said = (dir.path / "said.txt").string();
+  CHECK(run_shell(roger + " check " + (dir.path / "seq.lua").string() + " > " + said + " 2>&1") == 0);
+  CHECK_THAT(slurp(said), Contains("roger: warning: ") && Contains("seq.lua:8: stage 'S': roger.teacher.sequence: step 1's window"));
+}

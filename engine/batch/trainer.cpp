@@ -515,6 +515,7 @@ TrainResult train_stage(const TrainOptions& options) {
   TrainResult res;
   res.curriculum_path = cur.path();
   res.curriculum_digest = curriculum_digest(cur);
+  res.teacher_warning = stage.teacher_window_warning();
   res.curriculum_name = cur.name();
   res.stage = stage.name;
   res.context = ctx.name;

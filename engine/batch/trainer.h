@@ -157,6 +157,7 @@ struct SkillSource {
 struct TrainResult {
   std::string curriculum_path, curriculum_name, stage, context, scenario;
   std::string curriculum_digest;  // of the curriculum file's text (curriculum_digest in trainer.cpp)
+  std::string teacher_warning;    // CurriculumStage::teacher_window_warning: why it could not move
   uint64_t seed = 0;
   std::vector<std::string> psi;
   std::shared_ptr<QTable> q;

@@ -247,6 +247,7 @@ int check_curriculum_file(const std::string& path, const std::string& shown, con
   const Curriculum cur = Curriculum::load(path, limits);
   std::string stages;
   for (const auto& st : cur.stages()) {
+    if (const std::string w = st.teacher_window_warning(); !w.empty()) std::fprintf(stderr, "roger: warning: %s\n", w.c_str());
     std::string contexts;
     for (const auto& c : st.contexts) contexts += (contexts.empty() ? "" : " ") + c.name;
     stages += (stages.empty() ? "" : "; ") + st.name + ": " + contexts;

@@ -410,6 +410,7 @@ int command_train(const TrainArgs& a) {
     std::printf("  teacher        %s over %s\n", r.teacher.value("kind", std::string("?")).c_str(), r.task_space.c_str());
     const std::string did = describe_teacher_state(r.teacher.value("state", nlohmann::json()));
     if (!did.empty()) std::printf("                 %s\n", did.c_str());
+    if (!r.teacher_warning.empty()) std::printf("  note           %s\n", r.teacher_warning.c_str());
     // A task whose world could not be placed is skipped and another drawn (docs/curricula.md): a
     // space that is partly holes shows here, not only in summary.json.
     if (!r.skipped_tasks.empty())

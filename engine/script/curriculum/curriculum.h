@@ -118,6 +118,11 @@ struct CurriculumStage {
   // teacher's lifted parameter (in the task space or not: lifting it is all it does), or every
   // axis of an ALP-GMM teacher's space. train, check, batch runs and make() ask it alike.
   void check_fixed(const std::vector<std::string>& fixed, const std::string& fixed_by) const;
+  // "" or, at the teacher's file:line, why it will never move within the budget: an LCAS window
+  // that needs more than the budget's episodes at a level, a sequence step's window past the
+  // budget (found by a probe: "at step 1 of 2, never moved" after the trial). A warning, not an
+  // error: a stage that shows a teacher's mechanics may train a few episodes.
+  std::string teacher_window_warning() const;
   // How many test tasks each checkpoint's and the final evaluation run: the test set's, else the
   // checkpoints' episode counts.
   int checkpoint_test_tasks() const { return test.given ? test.tasks : checkpoints.episodes; }

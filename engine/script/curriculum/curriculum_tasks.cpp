@@ -621,6 +621,24 @@ void CurriculumStage::check_fixed(const std::vector<std::string>& fixed, const s
   }
 }
 
+std::string CurriculumStage::teacher_window_warning() const {
+  if (!teacher) return "";
+  const TeacherSpec& spec = *teacher;
+  const std::string at = spec.file.empty() ? "" : spec.file + ":" + std::to_string(spec.line) + ": ";
+  const std::string budget = "the budget's " + std::to_string(budget_episodes) + " episodes";
+  if (spec.kind == TeacherSpec::Kind::kLcas && 2 * int64_t(spec.window) > budget_episodes)
+    return at + where() + ": " + spec.name() + ": window = " + std::to_string(spec.window) + " needs " +
+           std::to_string(2 * int64_t(spec.window)) + " episodes at a level (two windows) before it can lift " +
+           spec.lift + ", more than " + budget + ": it will never lift it, and the test set runs at its last level";
+  if (spec.kind != TeacherSpec::Kind::kSequence) return "";
+  for (size_t i = 0; i + 1 < spec.steps.size(); ++i)  // the last step never moves on
+    if (spec.steps[i].window > budget_episodes)
+      return at + where() + ": " + spec.name() + ": step " + std::to_string(i + 1) + "'s window = " +
+             std::to_string(spec.steps[i].window) + " is more than " + budget + ": the sequence will never move "
+             "past it";
+  return "";
+}
+
 std::vector<TaskPoint> CurriculumStage::test_tasks(const TaskSpace& space, int count) const {
   if (!test.given || test.list.empty()) return draw_test_tasks(space, count, test.seed);
   std::vector<TaskPoint> out;
