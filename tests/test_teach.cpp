@@ -856,12 +856,23 @@ TEST_CASE("a task whose world cannot be placed is skipped and shown; a space of 
   }
   INFO(message);
   CHECK(where == all.string() + ":6");
-  CHECK_THAT(message, StartsWith("stage 'S': 100 tasks in a row from its teacher (random) could not be placed, each "
-                                 "skipped (the last: robot_distance = 3.") &&
+  CHECK_THAT(message, StartsWith("stage 'S': 100 tasks in a row from its teacher (random) could not be placed in 10 "
+                                 "world seeds, each skipped (the last: robot_distance = 3.") &&
                           Contains(", for training episode 0, world seed ") &&
                           Contains("the task space (robot_distance = roger.real(3.3, 3.4)) asks for worlds the scenario "
                                    "cannot build. The placement failed with: ") &&
                           Contains("lib/place.lua:68: world:sample_position: no placement for 'circle' after 1000 tries"));
+  // Found by a probe: a narrow space far from Roger, which some layouts hold and the first
+  // episode's does not, failed every trial drawing 100 tasks in that one layout. After 10 skips the
+  // draws move to another world seed: the trial trains.
+  const fs::path narrow = write_stage(dir.path, "narrow", "{ tasks = { robot_distance = roger.real(2.1, 2.4) }, "
+                                                           "test = { list = { { robot_distance = 2.1 } } } }");
+  o.curriculum = narrow.string();
+  o.seed = 6;  // its training episode 3's layout holds no task of the space (100 skips failed it)
+  const TrainResult moved = train_stage(o);
+  CHECK(moved.episodes.size() == 4);
+  CHECK(moved.skipped_tasks.size() == 10);
+  o.seed = 1;
   // Found by a probe: with every axis fixed by --set, a world that could not be placed was drawn
   // again 100 times, the same each time, and the message blamed a task space of no parameters.
   o.curriculum = holes.string();

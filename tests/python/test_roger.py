@@ -2030,7 +2030,15 @@ class Tasks(unittest.TestCase):
                            teacher="roger.teacher.random{}")
         with self.assertRaises(roger.RogerError) as cm:
             holes.reset(seed=1)
-        self.assertIn("the teacher's last 100 tasks could not be placed", str(cm.exception))
+        self.assertIn("the teacher's last 100 tasks could not be placed in 10 world seeds", str(cm.exception))
+        # A narrow space that the layout of seed 26 cannot hold and others can (found by a probe: it
+        # failed, drawing 100 tasks in that one layout): after 10 skips the draws move to another
+        # world seed, roger.mix(26, 1), as roger train's do.
+        narrow = roger.make(EXAMPLE, "Look", "Gaze", tasks={"robot_distance": roger.axis.real(2.1, 2.4)},
+                            teacher="roger.teacher.random{}")
+        info = narrow.reset(seed=26)[1]
+        self.assertEqual(len(info["skipped_tasks"]), 10)
+        self.assertEqual(int(info["seed"]), roger.mix(26, 1))
 
     def test_docs_example(self):
         # docs/python.md's example of tasks and teachers runs, and asserts what it says.

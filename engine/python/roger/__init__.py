@@ -202,6 +202,7 @@ def _timeout(timeout, where):
 
 _TEACH = 0x7465616368  # "teach": the teacher's stream of a seed, as roger train's trial draws it
 _MAX_SKIPPED_IN_A_ROW = 100  # a teacher's tasks the scenario cannot place, in a row, before a reset gives up (roger train's)
+_SKIPS_PER_WORLD = 10  # skips in one world seed before the draws move to another (roger train's)
 
 
 class Axis:
@@ -599,7 +600,10 @@ class Env(_Copyable, _EnvBase):
         while True:
             world = seed
             if task is None and self._teaching:
-                world = self._teacher_task(env, seed, given)
+                # After 10 skips in one world the draws move to another, as roger train's do: one
+                # layout may hold no task of a narrow space that others hold.
+                layout = seed if len(skipped) < _SKIPS_PER_WORLD else mix(seed, len(skipped) // _SKIPS_PER_WORLD)
+                world = self._teacher_task(env, layout, given)
             else:
                 self._task = task or (None, [])
             self._running, self._faulted = False, True  # until the episode runs
@@ -672,8 +676,9 @@ class Env(_Copyable, _EnvBase):
         skipped.append({"task": self.get_task(), "task_params": self._env.typed_params(self._task[1]),
                         "error": str(error)})
         if len(skipped) >= _MAX_SKIPPED_IN_A_ROW:
-            raise RogerError(f"reset: the teacher's last {_MAX_SKIPPED_IN_A_ROW} tasks could not be placed: "
-                             f"the task space asks for worlds the scenario cannot build. The last: {error}") from error
+            raise RogerError(f"reset: the teacher's last {_MAX_SKIPPED_IN_A_ROW} tasks could not be placed in "
+                             f"{_MAX_SKIPPED_IN_A_ROW // _SKIPS_PER_WORLD} world seeds: the task space asks for worlds "
+                             f"the scenario cannot build. The last: {error}") from error
 
     def step(self, action):
         """Runs one decision: `action` until the next decision point (the state changes, or the
