@@ -3,7 +3,8 @@
 -- centred among 0 to 4 obstacles, whatever the object's shape. In Look, ALP-GMM picks each
 -- episode's task where the success is changing fastest, and every checkpoint counts how many of 30
 -- held-out tasks the greedy policy masters; the other stages show each other teacher on the same
--- task (each trains in under a second).
+-- task (each trains in under a second). It shows the mechanics: finding the ball is one decision,
+-- which the task barely changes, so the teachers' episodes succeed alike (docs/curricula.md).
 --
 --   roger check docs/examples/teachers_example.lua
 --   roger train docs/examples/teachers_example.lua --stage Look --context Gaze --seed 1 --out out/look-tasks
