@@ -1387,12 +1387,12 @@ TEST_CASE("a task parameter given by --set is fixed: the axis leaves the trial's
   // least one parameter", not that the --set had emptied it.
   o.stage = "Look";
   o.sets = {{"obstacles", "2"}, {"shape", "circle"}};
-  CHECK_THROWS_WITH(train_stage(o), "docs/examples/teachers_example.lua:41: stage 'Look': every parameter of its "
+  CHECK_THROWS_WITH(train_stage(o), "docs/examples/teachers_example.lua:42: stage 'Look': every parameter of its "
                                     "task space (obstacles, shape) is fixed by --set, leaving its teacher "
                                     "(roger.teacher.alp_gmm) nothing to choose; leave one to the teacher, or fix fewer");
   o.stage = "LookLcas";
   o.sets = {{"eye_pixels", "64"}};
-  CHECK_THROWS_WITH(train_stage(o), "docs/examples/teachers_example.lua:67: stage 'LookLcas': 'eye_pixels' is fixed "
+  CHECK_THROWS_WITH(train_stage(o), "docs/examples/teachers_example.lua:68: stage 'LookLcas': 'eye_pixels' is fixed "
                                     "by --set, and it is the parameter its teacher (roger.teacher.lcas) lifts: lifting "
                                     "it is all that teacher does; leave it to the teacher, or use a stage with another "
                                     "teacher");
