@@ -197,6 +197,27 @@ TEST_CASE("sigma 0 is no noise, to the bit", "[noise]") {
   }
 }
 
+// Found by a probe: an image quantum of 0.1 or 1 level rounds no colour, yet turned the noisy
+// image's processing on and changed every trajectory. Colours are whole levels: such a quantum is
+// none, and the world is the noise-free one to the bit; 1.6 rounds to 2 levels.
+TEST_CASE("an image quantum of one level or less is none, to the bit", "[noise]") {
+  Scenario s = Scenario::load("unobstructed");
+  const WorldSpec plain = s.generate(3);
+  for (const char* q : {"0.1", "0.5", "1", "1.4"}) {
+    s.set_param("noise_image_quantum", q);
+    const WorldSpec w = s.generate(3);
+    INFO("quantum " << q);
+    CHECK(w.noise.image.quantum == 0.0);
+    CHECK_FALSE(w.noise.any());
+    World a, b;
+    CHECK(drive(a, plain, 100) == drive(b, w, 100));
+  }
+  s.set_param("noise_image_quantum", "1.6");
+  CHECK(s.generate(3).noise.image.quantum == 2.0);
+  s.set_param("noise_image_quantum", "2.5");
+  CHECK(s.generate(3).noise.image.quantum == 3.0);  // half away from 0, as the senses round
+}
+
 TEST_CASE("the noise is a function of the world's seed alone", "[noise]") {
   WorldSpec spec = test::open_world();
   spec.seed = 7;

@@ -237,6 +237,7 @@ void check_noise_params_used(const std::map<std::string, ParamSlot>& params, con
     for (const auto& [param, in_world] : kinds) {
       double asked = scale * param_number(params, param, 0.0);
       if (param == n + "_delay") asked = std::floor(asked + 0.5);  // whole ticks, as body.noise_of rounds
+      if (param == "noise_image_quantum") asked = image_quantum_levels(asked);  // whole levels, as read_noise keeps
       if (asked > 0.0 && in_world == 0.0)
         fail("the parameter " + param + " = " + slot_text(params.at(param)) +
              (scale == 1.0 ? "" : " (times noise_scale = " + slot_text(params.at("noise_scale")) + ")") +

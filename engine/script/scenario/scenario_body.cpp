@@ -209,7 +209,15 @@ NoiseParams read_noise(const LuaFields& parent) {
                 n.touch = read_channel(f, touch);
                 n.effort = read_channel(f, effort);
               });
+  // Found by a probe: a quantum of 0.1 or 1 level turned the noisy image's processing on and changed
+  // every trajectory, though it rounds no colour.
+  n.image.quantum = image_quantum_levels(n.image.quantum);
   return n;
+}
+
+double image_quantum_levels(double quantum) {
+  const double levels = std::round(quantum);
+  return levels > 1.0 ? levels : 0.0;
 }
 
 void check_body(const LuaFields& f, const RobotParams& body, const EyeParams& eyes) {

@@ -78,6 +78,10 @@ RobotParams read_body(const LuaFields& parent);
 EyeParams read_eyes(const LuaFields& parent);
 // world:robot's noise = {image, joints, base, touch, effort} (sigmas, each range-checked); none if absent.
 NoiseParams read_noise(const LuaFields& parent);
+// The image's quantum as the senses apply it: colours are whole levels, so it is rounded to the
+// nearest (half away from 0, as the senses round), and a grid of one level or none changes no
+// colour, so it is none (0): such an image runs to the bit as without the field.
+double image_quantum_levels(double quantum);
 // Raises when the body cannot be built (core/body.h, body_problems), naming every problem.
 void check_body(const LuaFields& f, const RobotParams& body, const EyeParams& eyes);
 // roger.body_metrics{ body = ..., eyes = ... }.
