@@ -226,11 +226,14 @@ void print_never_referenced(const EvalSummary& r) {
   for (const std::string& name : r.never_referenced) std::printf("  no reference   %s\n", name.c_str());
   if (!r.never_referenced.empty())
     std::printf("  note           %s NOREF at every tick %s ran, in %s: what %s on was never there "
-                "(a goal region past the world's, a colour no object has, an object never reached)\n",
+                "(a goal region past the world's, a colour no object has, an object never reached)%s\n",
                 r.never_referenced.size() == 1 ? "this part was" : "these parts were",
                 r.never_referenced.size() == 1 ? "it" : "they",
                 r.episodes == 1 ? "the episode" : ("all " + std::to_string(r.episodes) + " episodes").c_str(),
-                r.never_referenced.size() == 1 ? "it acts" : "they act");
+                r.never_referenced.size() == 1 ? "it acts" : "they act",
+                // Found by a probe: readings all lost (dropout 1) were blamed on the world alone.
+                r.noisy ? ", or these worlds' noise kept it from the senses (readings lost, late or "
+                          "too coarse)" : "");
 }
 
 }  // namespace

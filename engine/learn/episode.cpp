@@ -295,7 +295,9 @@ EvalSummary evaluate_action(const std::function<WorldSpec(uint64_t)>& make, Cont
   double sum = 0.0, sum2 = 0.0, time = 0.0;
   for (int e = 0; e < episodes; ++e) {
     const uint64_t seed = first_seed + uint64_t(e);
-    EpisodeResult r = fixed_action_episode(agent, make(seed), seed, driver, options, {});
+    const WorldSpec spec = make(seed);
+    s.noisy = s.noisy || spec.noise.any();
+    EpisodeResult r = fixed_action_episode(agent, spec, seed, driver, options, {});
     s.successes += r.success;
     sum += r.reward;
     sum2 += r.reward * r.reward;

@@ -169,6 +169,7 @@ struct EvalSummary {
   // episode: the outermost of them, by name and settings, with the innermost inside each
   // ("purple {stimulus = \"#7800c8\"} (inside: phi3, phi0)"). What they act on was never there.
   std::vector<std::string> never_referenced;
+  bool noisy = false;  // some world had sensor or actuator noise (it may hide what a part acts on)
 };
 
 // Evaluates an action over `episodes` seeds (seed, seed + 1, ...), making each world with `make`.
