@@ -192,7 +192,7 @@ TEST_CASE("propose is deterministic for a seed, and a re-run resumes from its re
   // it replaced the proposal and mixed its records with the first search's).
   const auto c_before = tree(dir.path / "c");
   CHECK_THROWS_WITH(propose_curriculum(sg_options(dir.path / "c")),
-                    Catch::Contains("holds another search (seed 2 there, 1 here)") &&
+                    Catch::Contains("holds another search (--seed 2 there, 1 here)") &&
                         Catch::Contains("give another --out, or the same settings to resume it"));
   CHECK(tree(dir.path / "c") == c_before);
 }
@@ -417,6 +417,73 @@ TEST_CASE("propose says when a round's trials ran no checkpoint", "[propose]") {
   const std::string md = slurp(dir.path / "p" / "propose.md");
   CHECK(md.find("## Cautions") != std::string::npos);
   CHECK(md.find("| no | - | none ran |") != std::string::npos);
+}
+
+// Found by a probe: with --probe-share 0.9 --probe-trials 100 the probe spent the budget (each of
+// its trials ends an episode past its cap): rounds were capped at -0 s, a caution advised "a
+// --budget of about -849056", candidates scored inf and one was dropped without a trial.
+TEST_CASE("propose says when the probe left the rounds no budget, and the base wins by default", "[propose]") {
+  test::TempDir dir("roger_propose");
+  REQUIRE(run_status(std::string(ROGER_BINARY) + " propose paper --stage SG --context B1 --budget 3000 --probe-share 0.9 "
+                     "--probe-trials 100 --out " + (dir.path / "p").string() + " >" + (dir.path / "stdout").string() +
+                     " 2>/dev/null") == 0);
+  const std::string out = slurp(dir.path / "stdout");
+  INFO(out);
+  CHECK_THAT(out, Catch::Contains("6 candidates, 0 rounds") &&
+                      Catch::Contains("  caution        the probe left the 3 rounds of successive halving no budget for "
+                                      "each candidate's trials (") &&
+                      Catch::Contains("no round ranked the candidates, and C1 (the base) wins by default") &&
+                      Catch::Contains("  winner         C1 (base)") && !Catch::Contains("cap of -") &&
+                      !Catch::Contains("about -") && !Catch::Contains("inf"));
+  const std::string md = slurp(dir.path / "p" / "propose.md");
+  CHECK_THAT(md, Catch::Contains("wins by default: no round of successive halving ranked the candidates") &&
+                     !Catch::Contains("inf") && !Catch::Contains("dropped in round"));
+}
+
+// Found by a probe: the command as typed went into every candidate's header, so `paper`,
+// `curricula/paper.lua` and an absolute path were three searches to the records (a resume ran every
+// trial again); and a search run again after its scenario changed left the earlier run's candidates
+// and records beside its own.
+TEST_CASE("propose resumes however the curriculum is spelt, and leaves the folder a fresh run would", "[propose]") {
+  test::TempDir dir("roger_propose");
+  ProposeOptions o = sg_options(dir.path / "a", 3000);
+  o.trials = 1;
+  const ProposeResult first = propose_curriculum(o);
+  const auto files = tree(dir.path / "a");
+  for (const std::string spelt : {std::string("curricula/paper.lua"), (fs::current_path() / "curricula" / "paper.lua").string()}) {
+    o.curriculum = spelt;
+    const ProposeResult again = propose_curriculum(o);
+    CHECK(again.trials_run == 0);
+    CHECK(again.trials_reused == first.trials_run);
+    CHECK(tree(dir.path / "a") == files);
+  }
+  // Records and candidates no run of this search writes (left by an earlier version of it) go.
+  std::ofstream(dir.path / "a" / "candidates" / "C9.lua") << "return {}\n";
+  std::ofstream(dir.path / "a" / "trials" / "C9-r1-t1.json") << "{}\n";
+  std::ofstream(dir.path / "a" / "probe" / "probe-7.json") << "{}\n";
+  propose_curriculum(o);
+  CHECK(tree(dir.path / "a") == files);
+}
+
+// Found by a probe: a context whose world cannot be built failed inside the probe, after
+// settings.json was written, at the scenario library's line.
+TEST_CASE("propose refuses a stage roger check refuses, before it writes anything", "[propose]") {
+  test::TempDir dir("roger_propose");
+  const fs::path home = fixture_home(dir.path);
+  std::ofstream(home / "curricula" / "noisy.lua")
+      << "local p = require('lib.skills').primitives()\n"
+         "return { name = 'noisy', stages = { roger.stage{\n"
+         "  name = 'Grab', scenario = 'cluttered', time_limit = 4, absorbing = roger.converged(p.phi0),\n"
+         "  budget = { episodes = 40 },\n"
+         "  contexts = { { name = 'A', actions = { p.search, p.phi0 },\n"
+         "                 params = { noise_joints_delay = 30, noise_scale = 2 } } },\n"
+         "} } }\n";
+  const fs::path out = dir.path / "out";
+  REQUIRE(run_status("ROGER_HOME=" + home.string() + " " + ROGER_BINARY + " propose noisy --stage Grab --budget 600 --out " +
+                     out.string() + " >" + (dir.path / "said").string() + " 2>&1") == 1);
+  CHECK_THAT(slurp(dir.path / "said"), Catch::Contains("curricula/noisy.lua:6: stage 'Grab', context 'A': ") &&
+                                           Catch::Contains("field 'delay' must be within [0, 50] ticks, got 60"));
+  CHECK_FALSE(fs::exists(out));
 }
 
 // Found by a probe: propose.md gave `--budget 3000 --seed 2` for a search run with five other

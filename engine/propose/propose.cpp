@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <numeric>
 #include <ostream>
+#include <set>
 
 #include "batch/trainer.h"
 #include "core/error.h"
@@ -111,8 +112,10 @@ double stage_time_limit(const CurriculumStage& stage, const SandboxLimits& limit
 
 void check_options(const ProposeOptions& o, double time_limit) {
   if (o.out.empty()) throw Error("roger propose: --out must name a folder");
-  if (!(o.budget_s > 0) || !std::isfinite(o.budget_s))
-    throw Error("roger propose: --budget must be a positive number of simulated seconds");
+  // At most 1e9 s (30 years): a budget of 1e308 ran, printed as 309 digits (found by a probe).
+  if (!(o.budget_s > 0) || !(o.budget_s <= 1e9))
+    throw Error("roger propose: --budget must be a positive number of simulated seconds, at most 1e9, got " +
+                format_number(o.budget_s));
   if (o.budget_s < 30 * time_limit)
     throw Error("roger propose: --budget " + format_number(o.budget_s) + " is under 30 episodes of the stage's time " +
                 "limit of " + format_number(time_limit) + " simulated s, " + format_number(30 * time_limit) +
@@ -203,11 +206,22 @@ void claim_search_folder(const ProposeOptions& o, const std::string& module, con
     } catch (const nlohmann::json::exception& e) {
       throw Error(file + ": not valid JSON (" + json_error_text(e.what()) + "); remove it to search here again");
     }
+    // Each difference by the option that sets it (found by a probe: "budget_s 3000.0 there").
+    const auto option = [](std::string key) {
+      if (key == "curriculum") return key;
+      if (key == "budget_s") key = "budget";
+      std::replace(key.begin(), key.end(), '_', '-');
+      return "--" + key;
+    };
+    const auto shown = [](const nlohmann::json& v) {
+      return v.is_number() ? format_number(v.get<double>()) : v.is_string() ? v.get<std::string>() : v.dump();
+    };
     std::string differ;
     for (const auto& [key, value] : search.items())
       if (!before.is_object() || !before.contains(key) || before[key] != value)
-        differ += (differ.empty() ? "" : ", ") + key + " " + (before.is_object() && before.contains(key) ? before[key].dump() : "none") +
-                  " there, " + value.dump() + " here";
+        differ += (differ.empty() ? "" : ", ") + option(key) + " " +
+                  (before.is_object() && before.contains(key) ? shown(before[key]) : "none") + " there, " + shown(value) +
+                  " here";
     if (!differ.empty())
       throw Error("roger propose: " + o.out + " holds another search (" + differ +
                   "); give another --out, or the same settings to resume it");
@@ -316,8 +330,16 @@ void note_cut(const std::vector<CandidateSpec>& specs, const std::vector<size_t>
       if (!t.cut.empty()) cuts.push_back(cut_text(t));
     }
     if (cuts.empty()) continue;
+    // Each reason once, with how many trials it ended (found by a probe: with --trials 100 one
+    // reason came 100 times in a line of 5896 characters).
+    std::vector<std::string> reasons;
+    for (const std::string& c : cuts) {
+      if (std::find(reasons.begin(), reasons.end(), c) != reasons.end()) continue;
+      const auto n = std::count(cuts.begin(), cuts.end(), c);
+      reasons.push_back(n > 1 ? c + ", in " + std::to_string(n) + " of them" : c);
+    }
     res.cautions.push_back("round " + std::to_string(round) + ": " + specs[i].c.id + "'s task never trained in " +
-                           std::to_string(cuts.size()) + " of its " + counted(trials, "trial") + " (" + join(cuts, "; ") +
+                           std::to_string(cuts.size()) + " of its " + counted(trials, "trial") + " (" + join(reasons, "; ") +
                            "), which scored 2 x cap untested");
   }
 }
@@ -352,6 +374,46 @@ void note_round(const ProposeOptions& o, const TaskRef& task, const std::vector<
                          specs[alive[keep - 1]].c.id + " did, " + specs[alive[keep]].c.id + " did not)");
 }
 
+// The folder as a fresh run of this search leaves it: a record or candidate of an earlier run of it
+// that this one did not write or reuse (its scenario edited since, other candidates) is removed
+// (found by a probe: candidates/C5.lua and C6.lua stayed, valid curricula of candidates
+// propose.md no longer names).
+void remove_stale_records(const ProposeOptions& o, const ProposeResult& res) {
+  std::set<std::string> kept;  // "folder/name"
+  for (const Candidate& c : res.candidates) {
+    kept.insert("candidates/" + fs::path(c.file).filename().string());
+    for (const CandidateTrial& t : c.trials) kept.insert("trials/" + trial_file_name(c.id, t.round, t.index));
+  }
+  for (int k = 0; k < o.probe_trials; ++k) kept.insert("probe/" + probe_file_name(k));
+  for (const std::string folder : {"candidates", "trials", "probe"}) {
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(fs::path(o.out) / folder, ec))
+      if (entry.is_regular_file(ec) && !kept.count(folder + "/" + entry.path().filename().string()))
+        fs::remove(entry.path(), ec);
+  }
+}
+
+// A round the budget ran out in, before each of its candidates had its trials (the probe took more
+// than its share: its trials end an episode past their caps): it ranks nothing, the scores stay the
+// last complete round's, and the search ends there, saying so (found by a probe: caps of -0 s,
+// "a --budget of about -849056", candidates scored inf, one dropped after no trial at all).
+void note_budget_out(const std::vector<CandidateSpec>& specs, const std::vector<size_t>& alive, int r, int rounds,
+                     ProposeResult& res) {
+  const std::string spent = "(" + format_number(std::round(res.spent_s)) + " of the budget's " +
+                            format_number(std::round(res.budget_s)) + " simulated s spent, " +
+                            format_number(std::round(res.probe_s)) + " by the probe)";
+  if (r == 0) {
+    res.cautions.push_back("the probe left the " + counted(rounds, "round") + " of successive halving no budget for " +
+                           "each candidate's trials " + spent + ": no round ranked the candidates, and " +
+                           specs[alive.front()].c.id + " (the base) wins by default; a larger --budget, or a smaller "
+                           "--probe-share or --probe-trials, ranks them");
+    return;
+  }
+  res.cautions.push_back("round " + std::to_string(r + 1) + " of " + std::to_string(rounds) + " ran out of budget " +
+                         "before each of its candidates had its trials " + spent + ": it ranked nothing, and the " +
+                         "winner is the best of round " + std::to_string(r));
+}
+
 // The successive halving of Karnin et al. (2013) as Jamieson and Talwalkar (2016) use it: ceil(log2 n)
 // rounds, each given an equal share of what budget remains; in a round every survivor runs
 // options.trials seeded trials capped at an equal share of it, and the better half (by mean loss)
@@ -365,17 +427,21 @@ void successive_halving(const ProposeOptions& o, const TaskRef& task, std::vecto
   res.rounds = rounds;
   for (int r = 0; r < rounds && alive.size() > 1; ++r) {
     const double cap = (res.budget_s - res.spent_s) / double(rounds - r) / double(alive.size() * size_t(o.trials));
+    std::vector<double> before;  // the scores the last complete round gave
+    for (size_t i : alive) before.push_back(specs[i].c.score);
+    bool complete = cap > 0.0;
     for (size_t i : alive) {
+      if (!complete) break;
       CandidateSpec& spec = specs[i];
       std::vector<CandidateTrial> now;  // this round's trials
       for (int j = 0; j < o.trials; ++j) {
         const double allowed = std::min(cap, res.budget_s - res.spent_s);
         if (allowed <= 0.0) break;  // the budget is spent: rank on what was measured
         const uint64_t seed = Rng::mix(o.seed, 0x747269616cull + uint64_t(r * o.trials + j));
-        const std::string file = (fs::path(o.out) / "trials" /
-                                  (spec.c.id + "-r" + std::to_string(r + 1) + "-t" + std::to_string(j + 1) + ".json")).string();
+        const std::string file = (fs::path(o.out) / "trials" / trial_file_name(spec.c.id, r + 1, j + 1)).string();
         CandidateTrial tr = run_trial(o, spec, task.sources, seed, allowed, file, &res.unreadable);
         tr.round = r + 1;
+        tr.index = j + 1;
         res.spent_s += tr.spent_s;
         (tr.reused ? res.trials_reused : res.trials_run) += 1;
         if (o.progress) {
@@ -389,10 +455,16 @@ void successive_halving(const ProposeOptions& o, const TaskRef& task, std::vecto
         spec.c.trials.push_back(tr);
         now.push_back(tr);
       }
-      const auto& ts = now;
-      spec.c.score = ts.empty() ? HUGE_VAL
-                                : std::accumulate(ts.begin(), ts.end(), 0.0, [](double a, const CandidateTrial& t) { return a + t.loss; }) /
-                                      double(ts.size());
+      if (now.size() < size_t(o.trials)) complete = false;
+      if (now.empty()) continue;
+      spec.c.score = std::accumulate(now.begin(), now.end(), 0.0, [](double a, const CandidateTrial& t) { return a + t.loss; }) /
+                     double(now.size());
+    }
+    if (!complete) {
+      for (size_t k = 0; k < alive.size(); ++k) specs[alive[k]].c.score = before[k];
+      note_budget_out(specs, alive, r, rounds, res);
+      res.rounds = r;
+      break;
     }
     note_cut(specs, alive, r + 1, res);
     std::stable_sort(alive.begin(), alive.end(), [&](size_t a, size_t b) { return specs[a].c.score < specs[b].c.score; });
@@ -421,6 +493,13 @@ ProposeResult propose_curriculum(const ProposeOptions& options) {
     std::vector<std::string> refusals;
     collect_refusal(refusals, [&] { check_options(o, time_limit); });
     collect_refusal(refusals, [&] { check_context(stage, ctx); });
+    // The stage as roger check checks it, its worlds built: a context whose world cannot be built
+    // failed inside the probe, after settings.json was written, at the scenario library's line
+    // (found by a probe); roger check names the curriculum's.
+    collect_refusal(refusals, [&] {
+      const std::vector<std::string> problems = check_curriculum(o.curriculum, o.limits, {}, {stage.name});
+      if (!problems.empty()) throw Error(join(problems, "\n"));
+    });
     collect_refusal(refusals, [&] { task.module = module_name(cur.file(), o.out); });
     refuse(refusals);
     task.stop_after = stage.checkpoints.stop_after;
@@ -443,7 +522,10 @@ ProposeResult propose_curriculum(const ProposeOptions& options) {
     std::snprintf(text, sizeof text, "%g", v);
     return std::string(text);
   };
-  task.command = "roger propose " + o.curriculum + " --stage " + o.stage + " --context " + task.context +
+  // The curriculum by its module name, as settings.json keeps it: the same search however the
+  // command spelt it (found by a probe: paper, curricula/paper.lua and an absolute path wrote three
+  // candidate headers, whose hashes matched no record, and a resume ran every trial again).
+  task.command = "roger propose " + task.module + " --stage " + o.stage + " --context " + task.context +
                  " --budget " + number(o.budget_s) + " --seed " + std::to_string(o.seed);
   // The options that differ from their defaults, so that the command given runs this search again.
   const ProposeOptions defaults;
@@ -484,6 +566,7 @@ ProposeResult propose_curriculum(const ProposeOptions& options) {
   res.report_file = (fs::path(o.out) / "propose.md").string();
   o.context = task.context;
   write_propose_report(o, task, probe, summary, res);
+  remove_stale_records(o, res);
   return res;
 }
 

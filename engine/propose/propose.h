@@ -47,6 +47,7 @@ struct CandidateTrial {
   double loss = 0.0;         // time_s when reached, else cap_s * (2 - last_success)
   bool reused = false;       // read back from the trial record of an earlier run
   int round = 0;             // the round of successive halving it belongs to (1-based)
+  int index = 0;             // its place among the candidate's trials of that round (1-based)
   int checkpoints = -1;      // greedy checkpoints the final stage ran (-1: a record from before they were kept)
   // The learned skill whose subgoal stage the cap ended before its stop rule did, leaving the task
   // no training: the trial then scored 2 x cap with its task untested, which must be said ("" = none).

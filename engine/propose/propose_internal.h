@@ -86,6 +86,13 @@ std::string text_hash(const std::string& text);
 // threshold" ("" when nothing was cut): for the console, the trial table and the cautions.
 std::string cut_text(const CandidateTrial& t);
 
+// The names of a search's records: trials/C2-r1-t2.json (candidate, round and trial from 1),
+// probe/probe-1.json (k from 0).
+inline std::string trial_file_name(const std::string& candidate, int round, int trial) {
+  return candidate + "-r" + std::to_string(round) + "-t" + std::to_string(trial) + ".json";
+}
+inline std::string probe_file_name(int k) { return "probe-" + std::to_string(k + 1) + ".json"; }
+
 // Writes propose.md.
 void write_propose_report(const ProposeOptions& options, const TaskRef& task, const ProbeStats& probe,
                           const ProbeSummary& summary, const ProposeResult& result);

@@ -126,7 +126,7 @@ ProbeStats run_probe(const ProposeOptions& o, const std::string& context, const 
   ProbeStats stats;
   for (int k = 0; k < o.probe_trials; ++k) {
     const uint64_t seed = Rng::mix(o.seed, 0x70726f6265ull + uint64_t(k));  // apart from the trials' seeds
-    const std::string file = (fs::path(o.out) / "probe" / ("probe-" + std::to_string(k + 1) + ".json")).string();
+    const std::string file = (fs::path(o.out) / "probe" / probe_file_name(k)).string();
     bool was_reused = false;
     const nlohmann::json j = probe_trial(o, context, sources, seed, cap_s, file, &was_reused, unreadable);
     *reused += was_reused;

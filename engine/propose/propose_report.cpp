@@ -48,10 +48,10 @@ std::string cut_text(const CandidateTrial& t) {
 namespace {
 
 void probe_section(std::ostream& md, const ProposeOptions& o, const ProbeStats& probe, const ProbeSummary& s) {
-  md << "## The probe\n\n" << o.probe_trials << " trial(s) of context " << o.context << " capped at "
-     << fmt("%.0f", o.budget_s * o.probe_share / o.probe_trials) << " simulated s each: " << probe.episodes
-     << " training episodes, " << fmt("%.0f", probe.sim_s) << " simulated s, " << probe.successes.size()
-     << " successful episodes.\n\n";
+  md << "## The probe\n\n" << counted(o.probe_trials, "trial") << " of context " << o.context << " capped at "
+     << fmt("%.0f", o.budget_s * o.probe_share / o.probe_trials) << " simulated s each: "
+     << counted(probe.episodes, "training episode") << ", " << fmt("%.0f", probe.sim_s) << " simulated s, "
+     << counted(static_cast<long long>(probe.successes.size()), "successful episode") << ".\n\n";
   if (probe.successes.empty()) {
     // Nothing to read subgoals or pruning from: say so rather than print a table of zeros.
     md << "**No probe episode succeeded**, so there is no subgoal and no pruning to propose from: the only "
@@ -105,9 +105,15 @@ void candidates_section(std::ostream& md, const ProposeResult& r) {
 void winner_section(std::ostream& md, const ProposeResult& r) {
   const Candidate& w = r.candidates[size_t(r.winner)];
   md << "## Why " << w.id << " won\n\n";
-  if (w.trials.empty()) {
+  const auto evaluated = std::count_if(r.candidates.begin(), r.candidates.end(), [](const Candidate& c) { return c.evaluated; });
+  if (evaluated <= 1) {
     md << w.id << " is the only candidate evaluated (" << w.summary << "): with one candidate there is nothing to "
        << "halve, so no trial ran.\n\n";
+    return;
+  }
+  if (r.rounds == 0) {
+    md << w.id << " (" << w.summary << ") wins by default: no round of successive halving ranked the candidates, "
+       << "as the budget ran out first (the cautions say how).\n\n";
     return;
   }
   const Candidate* runner = nullptr;
