@@ -621,7 +621,7 @@ std::string untraced(const std::exception& e) {
 // training skips.
 void check_high_corner(const CurriculumStage& st, const TaskSpace& space, Scenario& s, bool lifts,
                        const std::string& with_sets, std::vector<std::string>& problems) {
-  if (space.size() + (lifts ? 1 : 0) < 2) return;  // one axis: its ends were tried
+  if (space.empty() || space.size() + (lifts ? 1 : 0) < 2) return;  // one axis: its ends were tried
   ParamList corner = space.params(space.from_unit(std::vector<double>(space.size(), 1.0)));
   for (size_t i = 0; i < space.size(); ++i)
     if (space.dims()[i].kind == TaskDim::Kind::kChoice) corner[i].second = space.dims()[i].choices.back();
@@ -631,7 +631,7 @@ void check_high_corner(const CurriculumStage& st, const TaskSpace& space, Scenar
     generate_some_seed(s);
   } catch (const PlacementError&) {
   } catch (const std::exception& e) {
-    const TaskDim& first = space.empty() ? TaskDim{} : space.dims().front();
+    const TaskDim& first = space.dims().front();
     const std::string at = first.file.empty() ? "" : first.file + ":" + std::to_string(first.line) + ": ";
     problems.push_back(at + st.where() + ": scenario '" + st.scenario + "' with " + params_text(corner) +
                        " (the highest corner of the stage's task space" + with_sets + "): " + untraced(e));
