@@ -30,15 +30,9 @@ using batch_detail::make_scenario;
 
 namespace {
 
-// A digest of the curriculum file's text (64-bit FNV-1a, in hex): the same text is the same
-// curriculum, wherever it is and however its path is written.
-std::string curriculum_digest(const Curriculum& cur) {
-  uint64_t h = 1469598103934665603ull;
-  for (const unsigned char c : read_file_text(cur.file())) h = (h ^ c) * 1099511628211ull;
-  char text[17];
-  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
-  return text;
-}
+// A digest of the curriculum file's text: the same text is the same curriculum, wherever it is and
+// however its path is written.
+std::string curriculum_digest(const Curriculum& cur) { return text_hash(read_file_text(cur.file())); }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

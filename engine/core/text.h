@@ -6,6 +6,10 @@
 
 namespace roger {
 
+// FNV-1a of a text, as 16 hex digits: which text a record measured (propose's candidates, the
+// curriculum a policy was trained with), the same on every machine.
+std::string text_hash(const std::string& text);
+
 // Formats a number the shortest way that reads back exactly (0.95, not 0.94999999999999996).
 std::string format_number(double value);
 

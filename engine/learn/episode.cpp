@@ -76,14 +76,14 @@ class ReferenceWatch {
  public:
   ReferenceWatch(const Controller& action, const Predicate& goal) : roots_{&action} {
     goal.controllers(roots_);
-    std::vector<const Controller*> todo = roots_;
-    while (!todo.empty()) {
-      const Controller* c = todo.back();
-      todo.pop_back();
+    std::vector<const Controller*> to_visit = roots_;
+    while (!to_visit.empty()) {
+      const Controller* c = to_visit.back();
+      to_visit.pop_back();
       if (std::any_of(watched_.begin(), watched_.end(), [&](const Watched& w) { return w.controller == c; }))
         continue;
       watched_.push_back(Watched{c});
-      for (const Controller* part : c->children()) todo.push_back(part);
+      for (const Controller* part : c->children()) to_visit.push_back(part);
     }
   }
   // An episode begins: its controllers were reset, and their ticks count from the start again.

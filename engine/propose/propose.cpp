@@ -414,6 +414,34 @@ void note_budget_out(const std::vector<CandidateSpec>& specs, const std::vector<
                          "winner is the best of round " + std::to_string(r));
 }
 
+// Candidate `spec`'s trials of round `round` (from 1; of `rounds`), each capped at `cap` and at what
+// the budget has left, until the budget is spent; added to the candidate and returned.
+std::vector<CandidateTrial> round_trials(const ProposeOptions& o, const TaskRef& task, CandidateSpec& spec, int round,
+                                         int rounds, double cap, ProposeResult& res) {
+  std::vector<CandidateTrial> now;
+  for (int j = 1; j <= o.trials; ++j) {
+    const double allowed = std::min(cap, res.budget_s - res.spent_s);
+    if (allowed <= 0.0) break;  // the budget is spent
+    const uint64_t seed = Rng::mix(o.seed, 0x747269616cull + uint64_t((round - 1) * o.trials + j - 1));
+    const std::string file = (fs::path(o.out) / "trials" / trial_file_name(spec.c.id, round, j)).string();
+    CandidateTrial tr = run_trial(o, spec, task.sources, seed, allowed, file, &res.unreadable);
+    tr.round = round;
+    tr.index = j;
+    res.spent_s += tr.spent_s;
+    (tr.reused ? res.trials_reused : res.trials_run) += 1;
+    if (o.progress) {
+      char line[512];
+      std::snprintf(line, sizeof line, "round %d/%d %s trial %d: %s, loss %.0f, spent %.0f of %.0f simulated s%s\n",
+                    round, rounds, spec.c.id.c_str(), j, outcome_text(tr).c_str(), tr.loss, res.spent_s, res.budget_s,
+                    tr.reused ? " (reused)" : "");
+      *o.progress << line << std::flush;
+    }
+    spec.c.trials.push_back(tr);
+    now.push_back(tr);
+  }
+  return now;
+}
+
 // The successive halving of Karnin et al. (2013) as Jamieson and Talwalkar (2016) use it: ceil(log2 n)
 // rounds, each given an equal share of what budget remains; in a round every survivor runs
 // options.trials seeded trials capped at an equal share of it, and the better half (by mean loss)
@@ -430,35 +458,13 @@ void successive_halving(const ProposeOptions& o, const TaskRef& task, std::vecto
     std::vector<double> before;  // the scores the last complete round gave
     for (size_t i : alive) before.push_back(specs[i].c.score);
     bool complete = cap > 0.0;
-    for (size_t i : alive) {
-      if (!complete) break;
-      CandidateSpec& spec = specs[i];
-      std::vector<CandidateTrial> now;  // this round's trials
-      for (int j = 0; j < o.trials; ++j) {
-        const double allowed = std::min(cap, res.budget_s - res.spent_s);
-        if (allowed <= 0.0) break;  // the budget is spent: rank on what was measured
-        const uint64_t seed = Rng::mix(o.seed, 0x747269616cull + uint64_t(r * o.trials + j));
-        const std::string file = (fs::path(o.out) / "trials" / trial_file_name(spec.c.id, r + 1, j + 1)).string();
-        CandidateTrial tr = run_trial(o, spec, task.sources, seed, allowed, file, &res.unreadable);
-        tr.round = r + 1;
-        tr.index = j + 1;
-        res.spent_s += tr.spent_s;
-        (tr.reused ? res.trials_reused : res.trials_run) += 1;
-        if (o.progress) {
-          char line[512];
-          std::snprintf(line, sizeof line, "round %d/%d %s trial %d: %s, loss %.0f, spent %.0f of %.0f simulated s%s\n",
-                        r + 1, rounds, spec.c.id.c_str(), j + 1,
-                        outcome_text(tr).c_str(),
-                        tr.loss, res.spent_s, res.budget_s, tr.reused ? " (reused)" : "");
-          *o.progress << line << std::flush;
-        }
-        spec.c.trials.push_back(tr);
-        now.push_back(tr);
-      }
-      if (now.size() < size_t(o.trials)) complete = false;
-      if (now.empty()) continue;
-      spec.c.score = std::accumulate(now.begin(), now.end(), 0.0, [](double a, const CandidateTrial& t) { return a + t.loss; }) /
-                     double(now.size());
+    for (size_t k = 0; complete && k < alive.size(); ++k) {
+      CandidateSpec& spec = specs[alive[k]];
+      const std::vector<CandidateTrial> now = round_trials(o, task, spec, r + 1, rounds, cap, res);
+      complete = now.size() == size_t(o.trials);
+      if (complete)
+        spec.c.score = std::accumulate(now.begin(), now.end(), 0.0,
+                                       [](double a, const CandidateTrial& t) { return a + t.loss; }) / double(now.size());
     }
     if (!complete) {
       for (size_t k = 0; k < alive.size(); ++k) specs[alive[k]].c.score = before[k];

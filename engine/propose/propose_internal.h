@@ -79,9 +79,6 @@ struct CandidateSpec {
 std::vector<CandidateSpec> generate_candidates(const TaskRef& task, const ProbeStats& probe,
                                                const ProbeSummary& summary, double prune_below);
 
-// FNV-1a of a text, as 16 hex digits (a record says which candidate text it measured).
-std::string text_hash(const std::string& text);
-
 // What a trial's CandidateTrial::cut means, "the cap ended Phi_to_phi1's stage short of its
 // threshold" ("" when nothing was cut): for the console, the trial table and the cautions.
 std::string cut_text(const CandidateTrial& t);

@@ -51,6 +51,20 @@ double bound(lua_State* L, int index, const char* call, bool integer) {
   return v;
 }
 
+// Whether the table at `index` holds a key beside its list 1..#t: a named key is a slip that would
+// be dropped without a word. When it does, the key is left on the top of the stack for the
+// caller's message.
+bool key_beside_list(lua_State* L, int index) {
+  index = lua_absindex(L, index);
+  const lua_Integer n = lua_Integer(lua_rawlen(L, index));
+  lua_pushnil(L);
+  while (lua_next(L, index)) {
+    lua_pop(L, 1);
+    if (!lua_isinteger(L, -1) || lua_tointeger(L, -1) < 1 || lua_tointeger(L, -1) > n) return true;
+  }
+  return false;
+}
+
 int l_int(lua_State* L) {
   TaskDim d;
   d.kind = TaskDim::Kind::kInt;
@@ -85,12 +99,8 @@ int l_choice(lua_State* L) {
   TaskDim d;
   d.kind = TaskDim::Kind::kChoice;
   const lua_Integer n = lua_Integer(lua_rawlen(L, 1));
-  lua_pushnil(L);
-  while (lua_next(L, 1)) {  // only 1..n: a named key is a slip
-    lua_pop(L, 1);
-    if (!lua_isinteger(L, -1) || lua_tointeger(L, -1) < 1 || lua_tointeger(L, -1) > n)
-      luaL_error(L, "roger.choice{...}: expects a plain list of values, got the key %s", lua_describe_value(L, -1).c_str());
-  }
+  if (key_beside_list(L, 1))
+    luaL_error(L, "roger.choice{...}: expects a plain list of values, got the key %s", lua_describe_value(L, -1).c_str());
   std::set<std::string> seen;
   for (lua_Integer i = 1; i <= n; ++i) {
     lua_rawgeti(L, 1, i);
@@ -208,13 +218,9 @@ int l_teacher_sequence(lua_State* L) {
     luaL_error(L, "roger.teacher.sequence{...}: expects a list of steps {{param = value, promote = 0.9, window = 20}, "
                "...}, got %s", lua_describe_value(L, 1).c_str());
   const lua_Integer n = lua_Integer(lua_rawlen(L, 1));
-  lua_pushnil(L);
-  while (lua_next(L, 1)) {
-    lua_pop(L, 1);
-    if (!lua_isinteger(L, -1) || lua_tointeger(L, -1) < 1 || lua_tointeger(L, -1) > n)
-      luaL_error(L, "roger.teacher.sequence{...}: expects a plain list of steps, got the key %s",
-                 lua_describe_value(L, -1).c_str());
-  }
+  if (key_beside_list(L, 1))
+    luaL_error(L, "roger.teacher.sequence{...}: expects a plain list of steps, got the key %s",
+               lua_describe_value(L, -1).c_str());
   if (n == 0) luaL_error(L, "roger.teacher.sequence{...}: the list of steps is empty");
   for (lua_Integer i = 1; i <= n; ++i) {
     lua_rawgeti(L, 1, i);
@@ -258,15 +264,11 @@ int l_teacher_lcas(lua_State* L) {
       f.fail("lift." + spec.lift + " must be a list of levels, the most constrained first, got " +
              (lua_istable(L, levels) ? std::string("a table with no levels 1, 2, ... (an empty list)")
                                      : lua_describe_value(L, levels)));
-    // A key beside the list would be dropped without a word (found by a probe: {32, 64, x = 1}).
+    // Found by a probe: {32, 64, x = 1} dropped the x without a word.
+    if (key_beside_list(L, levels))
+      f.fail("lift." + spec.lift + " must be a plain list of levels, the most constrained first, got the key " +
+             lua_describe_value(L, -1));
     const lua_Integer count = lua_Integer(lua_rawlen(L, levels));
-    lua_pushnil(L);
-    while (lua_next(L, levels)) {
-      lua_pop(L, 1);
-      if (!lua_isinteger(L, -1) || lua_tointeger(L, -1) < 1 || lua_tointeger(L, -1) > count)
-        f.fail("lift." + spec.lift + " must be a plain list of levels, the most constrained first, got the key " +
-               lua_describe_value(L, -1));
-    }
     for (lua_Integer i = 1; i <= count; ++i) {
       lua_rawgeti(L, levels, i);
       if (lua_type(L, -1) == LUA_TSTRING) spec.string_levels.push_back(size_t(i - 1));
