@@ -23,6 +23,7 @@
 #include "batch/trainer.h"
 #include "core/error.h"
 #include "propose/propose.h"
+#include "propose/propose_internal.h"
 #include "script/curriculum/curriculum.h"
 #include "script/sandbox/lua_sandbox.h"
 #include "temp_dir.h"
@@ -438,6 +439,30 @@ TEST_CASE("propose says when the probe left the rounds no budget, and the base w
   const std::string md = slurp(dir.path / "p" / "propose.md");
   CHECK_THAT(md, Catch::Contains("wins by default: no round of successive halving ranked the candidates") &&
                      !Catch::Contains("inf") && !Catch::Contains("dropped in round"));
+}
+
+// Found by a probe: `--prune-below` dropped an action for its short share of the successful time
+// even when the task's goal was reached while it ran (a goal's last step is often short), so the
+// pruned candidate could never succeed; the macro candidate kept it while saying it was left out.
+TEST_CASE("propose never prunes the action the goal or a subgoal was reached under", "[propose]") {
+  propose_detail::TaskRef task;
+  task.module = "paper", task.stage = "T", task.context = "B2", task.command = "roger propose paper";
+  propose_detail::ProbeStats probe;
+  probe.psi = {"Phi6", "phi3", "Phi7", "phi4 <| phi5"};
+  probe.successes.push_back({{60, 30, 3, 2}, {1, 2, 3, -1}, {0, 0, 1, 2, 3}});
+  propose_detail::ProbeSummary summary;
+  summary.tick_share = {0.6, 0.3, 0.04, 0.02};  // Phi7 reaches the goal in 4% of the time
+  summary.subgoals = {{0, 1.0, 1.0, 0}, {1, 1.0, 2.0, 1}, {2, 1.0, 3.0, 2}};
+  summary.final_achiever = 2;
+  const auto specs = propose_detail::generate_candidates(task, probe, summary, 0.05);
+  bool pruned_kind = false;
+  for (const auto& spec : specs) {
+    INFO(spec.c.kind << ": " << spec.c.summary << "\n" << spec.lua);
+    pruned_kind = pruned_kind || spec.c.kind == "pruned";
+    CHECK(spec.lua.find("A[\"Phi7\"]") != std::string::npos);
+    if (spec.c.kind == "pruned") CHECK(spec.c.psi == std::vector<std::string>{"Phi6", "phi3", "Phi7"});
+  }
+  CHECK(pruned_kind);
 }
 
 // Found by a probe: the command as typed went into every candidate's header, so `paper`,

@@ -212,7 +212,7 @@ struct Generator {
     const std::string seq = sequence(lc, members);
     lc.final_actions.push_back(seq), lc.final_names.push_back(seq);
     for (int a = 0; a < int(probe.psi.size()); ++a)
-      if (!contains(members, a) && (!contains(pruned, a) || a == s.final_achiever)) lc.add_action(name(a));
+      if (!contains(members, a) && !contains(pruned, a)) lc.add_action(name(a));
     emit(lc, "macro", "the successful probe episodes converge " + names(members) +
                           ", each while running itself, in this order; the sequence of them replaces them (a composition: no learning cost)" +
                           (pruned.empty() ? std::string() : ", and the pruned actions (" + names(pruned) + ") are left out"));
@@ -281,9 +281,14 @@ std::vector<CandidateSpec> generate_candidates(const TaskRef& task, const ProbeS
     for (const auto& a : probe.psi) lc.add_action(a);
     gen.emit(lc, "base", "the starting context as given: the baseline a proposal must beat");
   }
-  std::vector<int> pruned;  // the actions running under prune_below of the successful time
+  // The actions running under prune_below of the successful time, but never one the task's goal or
+  // a subgoal was reached under: a goal's last step can be short, and a candidate without it could
+  // never succeed.
+  std::vector<int> achievers{s.final_achiever};
+  for (const Subgoal& g : s.subgoals) achievers.push_back(g.achiever);
+  std::vector<int> pruned;
   for (int a = 0; a < n && !probe.successes.empty(); ++a)
-    if (s.tick_share[size_t(a)] < prune_below) pruned.push_back(a);
+    if (s.tick_share[size_t(a)] < prune_below && !contains(achievers, a)) pruned.push_back(a);
   const std::vector<int> path = subgoal_path(s);
   if (path.size() >= 2) gen.macro(path, pruned);
   const size_t k = s.subgoals.size();

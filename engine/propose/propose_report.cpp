@@ -71,7 +71,7 @@ void probe_section(std::ostream& md, const ProposeOptions& o, const ProbeStats& 
   md << "\nThe goal was reached most often while "
      << (s.final_achiever >= 0 ? "'" + probe.psi[size_t(s.final_achiever)] + "'" : "no recorded action") << " ran. "
      << "Pruning drops an action that ran under " << fmt("%.0f%%", 100 * o.prune_below)
-     << " of the successful episodes' control ticks.\n\n";
+     << " of the successful episodes' control ticks, never one the goal or a subgoal was reached under.\n\n";
 }
 
 void candidates_section(std::ostream& md, const ProposeResult& r) {
