@@ -294,6 +294,27 @@ TEST_CASE("a world is a pure function of scenario, parameters and seed", "[scena
   }
 }
 
+// Found by a probe: an rng kept from one world's generate (or a fork of it) drew on in the next
+// one, so a world depended on the worlds built before it in that Lua state, in an order --jobs
+// changes. It is finished when its generate returns, as the world is.
+TEST_CASE("a world's rng and its forks draw only while its generate runs", "[scenario]") {
+  for (const std::string keep : {"rng", "rng:fork()"}) {
+    INFO(keep);
+    Scenario s = test::scenario_from("kept_rng",
+                                     "local kept\n"
+                                     "return { generate = function(world, rng, p)\n"
+                                     "  local x = kept and kept:uniform(-1, 1) or 0\n"
+                                     "  kept = kept or " + keep + "\n"
+                                     "  world:robot{ x = x, y = 0, heading = rng:angle() }\n"
+                                     "end }\n");
+    CHECK_NOTHROW(s.generate(1));
+    const ScriptError e = generate_error(s);
+    CHECK(e.line == 3);
+    CHECK_THAT(e.message, StartsWith("rng:uniform: this rng is finished: a world's rng and its forks draw only "
+                                     "while its generate runs"));
+  }
+}
+
 TEST_CASE("scenario parameters", "[scenario]") {
   Scenario s = Scenario::load("cluttered");
   const auto params = s.params();

@@ -223,7 +223,7 @@ function World:sample_position(spec) end
 ---@field tries? integer 1 to 1000000 (default 1000)
 
 ---A portable random generator (xoshiro256**), seeded from the world's seed: all randomness
----must come from it.
+---must come from it. A world's rng and its forks draw only while its generate runs.
 ---@class roger.Rng
 local Rng = {}
 

@@ -303,7 +303,7 @@ WorldSpec Scenario::generate_world(uint64_t seed) {
     new (w) WorldBuilder();
     luaL_setmetatable(L, kWorldType);
     const int world = lua_gettop(L);
-    w->rng = &push_rng(L, seed);
+    w->rng = &push_rng(L, seed, open_rng_epoch(L)).rng;
     w->no_placement = &impl.no_placement;
     lua_pushvalue(L, -1);
     lua_setiuservalue(L, world, 1);  // the world keeps the rng alive
@@ -316,11 +316,16 @@ WorldSpec Scenario::generate_world(uint64_t seed) {
     lua_pushvalue(L, world);  // keep the world on this frame after the call
     lua_insert(L, world - 1);
     {
-      // The world is read-only once generate returns or fails (a script may have kept it).
+      // The world is read-only, and its rng draws no more, once generate returns or fails (a
+      // script may have kept them).
       struct Finish {
+        lua_State* L;
         WorldBuilder* w;
-        ~Finish() { w->finished = true; }
-      } finish{w};
+        ~Finish() {
+          w->finished = true;
+          close_rng_epoch(L);
+        }
+      } finish{L, w};
       lua_call(L, 3, 0);
     }
     if (!w->robot_set)

@@ -129,9 +129,21 @@ int l_shape_tostring(lua_State* L);
 ShapeBox* test_shape(lua_State* L, int index);
 
 // ---- scenario_rng.cpp ----
+// A script's rng. One of a generate call (and its forks) has that call's epoch and draws only while
+// the call runs: kept in an upvalue, it would make a world depend on the worlds generated before it
+// in that Lua state, which --jobs orders differently. Epoch 0 (a teacher function's) draws as long
+// as it is held.
+struct ScriptRng {
+  Rng rng;
+  lua_Integer epoch = 0;
+};
 
-// Pushes a new rng value seeded with `seed`.
-Rng& push_rng(lua_State* L, uint64_t seed);
+// Pushes a new rng value seeded with `seed`, of `epoch`.
+ScriptRng& push_rng(lua_State* L, uint64_t seed, lua_Integer epoch);
+// A generate call's epoch, new in this Lua state, whose rngs draw until close_rng_epoch (or the next
+// open_rng_epoch).
+lua_Integer open_rng_epoch(lua_State* L);
+void close_rng_epoch(lua_State* L);
 // rng:uniform, rng:int, rng:normal, rng:angle, rng:choice, rng:shuffle and rng:fork.
 int l_rng_uniform(lua_State* L);
 int l_rng_int(lua_State* L);

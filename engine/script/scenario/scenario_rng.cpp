@@ -6,15 +6,53 @@
 namespace roger {
 namespace scenario_detail {
 
-// Pushes a new rng value seeded with `seed`.
-Rng& push_rng(lua_State* L, uint64_t seed) {
-  auto* rng = static_cast<Rng*>(lua_newuserdatauv(L, sizeof(Rng), 0));
-  new (rng) Rng(seed);
+namespace {
+// Registry fields: the epoch whose rngs draw now (0: none), and the last epoch handed out.
+constexpr const char* kLiveEpoch = "roger.rng_live_epoch";
+constexpr const char* kLastEpoch = "roger.rng_last_epoch";
+
+lua_Integer registry_integer(lua_State* L, const char* key) {
+  lua_getfield(L, LUA_REGISTRYINDEX, key);
+  const lua_Integer v = lua_tointeger(L, -1);
+  lua_pop(L, 1);
+  return v;
+}
+
+void set_registry_integer(lua_State* L, const char* key, lua_Integer v) {
+  lua_pushinteger(L, v);
+  lua_setfield(L, LUA_REGISTRYINDEX, key);
+}
+}  // namespace
+
+ScriptRng& push_rng(lua_State* L, uint64_t seed, lua_Integer epoch) {
+  auto* rng = static_cast<ScriptRng*>(lua_newuserdatauv(L, sizeof(ScriptRng), 0));
+  new (rng) ScriptRng{Rng(seed), epoch};
   luaL_setmetatable(L, kRngType);
   return *rng;
 }
 
+lua_Integer open_rng_epoch(lua_State* L) {
+  const lua_Integer epoch = registry_integer(L, kLastEpoch) + 1;
+  set_registry_integer(L, kLastEpoch, epoch);
+  set_registry_integer(L, kLiveEpoch, epoch);
+  return epoch;
+}
+
+// The key exists once an epoch was opened: setting it allocates nothing, so this may run while an
+// error unwinds.
+void close_rng_epoch(lua_State* L) { set_registry_integer(L, kLiveEpoch, 0); }
+
 namespace {
+
+// The rng a method is called on, or an error when its generate call has returned.
+ScriptRng& live_rng(lua_State* L, const char* call) {
+  ScriptRng& r = self<ScriptRng>(L, kRngType, call);
+  if (r.epoch != 0 && registry_integer(L, kLiveEpoch) != r.epoch)
+    luaL_error(L, "%s: this rng is finished: a world's rng and its forks draw only while its generate runs, so "
+               "that a world depends on its parameters and seed alone (draw inside generate what later calls "
+               "need, and keep the numbers)", call);
+  return r;
+}
 
 // A finite number argument, or an error naming the call and the argument.
 double arg_number(lua_State* L, int index, const char* call, const char* name) {
@@ -40,7 +78,7 @@ lua_Integer arg_integer(lua_State* L, int index, const char* call, const char* n
 
 // rng:uniform() in [0, 1), rng:uniform(a, b) in [a, b).
 int l_rng_uniform(lua_State* L) {
-  Rng& rng = self<Rng>(L, kRngType, "rng:uniform");
+  Rng& rng = live_rng(L, "rng:uniform").rng;
   lua_check_arity(L, "rng:uniform", 2, "no arguments or 2 (a, b)");
   if (lua_gettop(L) == 1) {
     lua_pushnumber(L, rng.uniform());
@@ -54,7 +92,7 @@ int l_rng_uniform(lua_State* L) {
 
 // rng:int(n) in 1..n, rng:int(a, b) in a..b (inclusive).
 int l_rng_int(lua_State* L) {
-  Rng& rng = self<Rng>(L, kRngType, "rng:int");
+  Rng& rng = live_rng(L, "rng:int").rng;
   lua_check_arity(L, "rng:int", 2, "1 or 2 arguments (n, or a and b)");
   lua_Integer a = 1, b;
   if (lua_gettop(L) <= 2) {
@@ -70,7 +108,7 @@ int l_rng_int(lua_State* L) {
 
 // rng:normal([mu [, sigma]]).
 int l_rng_normal(lua_State* L) {
-  Rng& rng = self<Rng>(L, kRngType, "rng:normal");
+  Rng& rng = live_rng(L, "rng:normal").rng;
   lua_check_arity(L, "rng:normal", 2, "at most 2 arguments (mu, sigma)");
   const double mu = lua_isnoneornil(L, 2) ? 0.0 : arg_number(L, 2, "rng:normal", "mu");
   const double sigma = lua_isnoneornil(L, 3) ? 1.0 : arg_number(L, 3, "rng:normal", "sigma");
@@ -81,7 +119,7 @@ int l_rng_normal(lua_State* L) {
 
 // rng:angle(): uniform in [-pi, pi).
 int l_rng_angle(lua_State* L) {
-  Rng& rng = self<Rng>(L, kRngType, "rng:angle");
+  Rng& rng = live_rng(L, "rng:angle").rng;
   lua_check_arity(L, "rng:angle", 0, "no arguments");
   lua_pushnumber(L, rng.uniform(-M_PI, M_PI));
   return 1;
@@ -89,7 +127,7 @@ int l_rng_angle(lua_State* L) {
 
 // rng:choice(list): one element, uniformly.
 int l_rng_choice(lua_State* L) {
-  Rng& rng = self<Rng>(L, kRngType, "rng:choice");
+  Rng& rng = live_rng(L, "rng:choice").rng;
   lua_check_arity(L, "rng:choice", 1, "1 argument (a list)");
   if (!lua_istable(L, 2)) return luaL_error(L, "rng:choice: expects a list, got %s", luaL_typename(L, 2));
   const lua_Integer n = lua_Integer(lua_rawlen(L, 2));
@@ -100,7 +138,7 @@ int l_rng_choice(lua_State* L) {
 
 // rng:shuffle(list): shuffles in place (Fisher-Yates) and returns the list.
 int l_rng_shuffle(lua_State* L) {
-  Rng& rng = self<Rng>(L, kRngType, "rng:shuffle");
+  Rng& rng = live_rng(L, "rng:shuffle").rng;
   lua_check_arity(L, "rng:shuffle", 1, "1 argument (a list)");
   if (!lua_istable(L, 2)) return luaL_error(L, "rng:shuffle: expects a list, got %s", luaL_typename(L, 2));
   for (lua_Integer i = lua_Integer(lua_rawlen(L, 2)); i > 1; --i) {
@@ -117,9 +155,9 @@ int l_rng_shuffle(lua_State* L) {
 // rng:fork(): an independent generator seeded from this one (for streams that must not shift
 // when another part of the script draws more or fewer numbers).
 int l_rng_fork(lua_State* L) {
-  Rng& rng = self<Rng>(L, kRngType, "rng:fork");
+  ScriptRng& parent = live_rng(L, "rng:fork");
   lua_check_arity(L, "rng:fork", 0, "no arguments");
-  push_rng(L, rng.next());
+  push_rng(L, parent.rng.next(), parent.epoch);
   return 1;
 }
 

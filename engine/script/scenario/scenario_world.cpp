@@ -429,7 +429,7 @@ int install_api(lua_State* L) {
 void lua_push_rng(lua_State* L, uint64_t seed) {
   if (luaL_getmetatable(L, scenario_detail::kRngType) == LUA_TNIL) scenario_detail::new_rng_class(L);
   lua_pop(L, 1);
-  scenario_detail::push_rng(L, seed);
+  scenario_detail::push_rng(L, seed, 0);  // a teacher function's: it draws as long as it is held
 }
 
 }  // namespace roger
