@@ -264,6 +264,46 @@ TEST_CASE("roger check of a batch script takes --set as roger run does", "[cli]"
   fs::remove_all(dir);
 }
 
+// Found by a probe: `roger check curricula/sorting.lua --set objects=3` was refused for SG, whose
+// scenario has no `objects` (roger train --stage Sort2 takes it), with no file:line; and a stage
+// whose per-object time limit meets a world without objects passed check, then failed training
+// with "episode: time limit must be positive" and no line.
+TEST_CASE("roger check of a curriculum sets each --set on the stages that declare it", "[cli]") {
+  const Run sorting = roger("check curricula/sorting.lua --set objects=3");
+  INFO(sorting.err);
+  CHECK(sorting.status == 0);
+  CHECK_THAT(sorting.err, Catch::Matchers::Contains("--set objects not checked on stages SG, T, whose scenario has no "
+                                                    "such parameter"));
+  const Run paper = roger("check curricula/paper.lua --set objects=3");
+  CHECK(paper.status == 1);
+  CHECK_THAT(paper.err, Catch::Matchers::Contains("paper_stages.lua:103: stage 'SG': scenario 'unobstructed': "));
+
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_per_object_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "none.lua") << "local shapes = require('lib.shapes')\n"
+                                     "return { params = { n = { default = 1, min = 0, max = 2 } },\n"
+                                     "  generate = function(world, rng, p)\n"
+                                     "    world:robot{ x = 0, y = 0, heading = 0 }\n"
+                                     "    for i = 1, p.n do world:object{ name = 'b' .. i, shape = shapes.get('circle'), x = 1, y = i - 1.5 } end\n"
+                                     "  end }\n";
+  std::ofstream(dir / "per_object.lua") << "local p = require('lib.skills').primitives()\n"
+                                           "return { stages = {\n"
+                                           "  roger.stage{ name = 'Z', scenario = 'none.lua', time_limit = { per_object = 10 },\n"
+                                           "    absorbing = roger.converged(p.phi0), budget = { episodes = 4 },\n"
+                                           "    contexts = { { name = 'A', actions = { p.search, p.phi0 } } } } } }\n";
+  const std::string curriculum = (dir / "per_object.lua").string();
+  CHECK(roger("check " + curriculum).status == 0);
+  const std::string expect = "per_object.lua:3: stage 'Z': time_limit = {per_object = 10} gives no time in a world "
+                             "without objects (scenario '" + (dir / "none.lua").string() + "' placed none)";
+  const Run none = roger("check " + curriculum + " --set n=0");
+  CHECK(none.status == 1);
+  CHECK_THAT(none.err, Catch::Matchers::Contains(expect));
+  const Run train = roger("train " + curriculum + " --stage Z --context A --seed 1 --set n=0 --out " + (dir / "out").string());
+  CHECK(train.status == 1);
+  CHECK_THAT(train.err, Catch::Matchers::Contains(expect));
+  fs::remove_all(dir);
+}
+
 TEST_CASE("bad scripts are refused with file:line, a non-zero exit and no crash", "[cli]") {
   struct Case { const char* file; const char* expect; bool line; };
   const Case cases[] = {

@@ -18,7 +18,7 @@ function roger.learned(name) end
 
 ---A task-space axis: the integers lo..hi of a scenario parameter (docs/curricula.md, Teachers).
 ---@param lo integer
----@param hi integer at least lo
+---@param hi integer above lo (a single value is a fixed parameter: write it in params)
 ---@return roger.TaskAxis
 function roger.int(lo, hi) end
 
@@ -29,7 +29,7 @@ function roger.int(lo, hi) end
 function roger.real(lo, hi) end
 
 ---A task-space axis: these values of a scenario parameter (numbers, strings or booleans).
----@param values (number|string|boolean)[] at least one, distinct
+---@param values (number|string|boolean)[] two or more, distinct
 ---@return roger.TaskAxis
 function roger.choice(values) end
 

@@ -106,6 +106,15 @@ std::string CurriculumStage::time_limit_text() const {
   return format_number(time_limit) + " s limit";
 }
 
+double CurriculumStage::episode_time_limit(const WorldSpec& world) const {
+  const double limit = time_limit + time_per_object * double(world.objects.size());
+  if (!(limit > 0.0))
+    throw ScriptError(where() + ": time_limit = {per_object = " + format_number(time_per_object) + "} gives no time "
+                      "in a world without objects (scenario '" + scenario + "' placed none): give the stage a number "
+                      "of seconds, or place an object", file, line, "");
+  return limit;
+}
+
 std::string CurriculumStage::where(const std::string& context) const {
   return "stage '" + name + "'" + (context.empty() ? "" : ", context '" + context + "'");
 }
@@ -822,13 +831,17 @@ std::vector<std::string> check_curriculum(const std::string& path, const Sandbox
         spec = s.generate(0);
       } catch (const std::exception& e) {
         // Placed at the params table that asked for this world (the context's, else the stage's),
-        // as a bad parameter is: a level noise_scale carries past its range, say.
+        // as a bad parameter is: a level noise_scale carries past its range, say; else at the stage.
         const bool asked = !ctx.params.empty() || !st.params.empty();
-        const std::string at = asked && !st.file.empty()
-                                   ? st.file + ":" + std::to_string(curriculum_detail::params_line(
-                                                         st, ctx.params.empty() ? "" : ctx.name)) + ": "
-                                   : "";
+        const int line = asked ? curriculum_detail::params_line(st, ctx.params.empty() ? "" : ctx.name) : st.line;
+        const std::string at = !st.file.empty() && line > 0 ? st.file + ":" + std::to_string(line) + ": " : "";
         if (first) problems.push_back(at + where + ": scenario '" + st.scenario + "': " + e.what());
+        continue;
+      }
+      try {
+        st.episode_time_limit(spec);
+      } catch (const std::exception& e) {
+        if (first) problems.push_back(e.what());
         continue;
       }
       check_callbacks(*cur, st, ctx, spec, problems);

@@ -127,10 +127,9 @@ struct CurriculumStage {
   // checkpoints' episode counts.
   int checkpoint_test_tasks() const { return test.given ? test.tasks : checkpoints.episodes; }
   int final_test_tasks() const { return test.given ? test.tasks : checkpoints.final_episodes; }
-  // The time-out of an episode in `world`: time_limit + time_per_object x its objects.
-  double episode_time_limit(const WorldSpec& world) const {
-    return time_limit + time_per_object * double(world.objects.size());
-  }
+  // The time-out of an episode in `world`: time_limit + time_per_object x its objects. Throws
+  // ScriptError at the stage's line when that is no time (a per-object limit, no object).
+  double episode_time_limit(const WorldSpec& world) const;
   // "12 s limit" or "30 s per object limit", for messages.
   std::string time_limit_text() const;
   // "stage 'SG'" or "stage 'SG', context 'B1'", for messages.
