@@ -1085,6 +1085,8 @@ TEST_CASE("the static pass leaves sound comparisons of strings alone", "[lua_san
                             "  if shape == \"circle\" or name == \"conv_belt\" or mode == \"conv\" then return 3 end\n"
                             "  if o.shape == \"cone\" or o.kind == \"conveyor\" then return 4 end\n"
                             "  if o.name == \"CONVEYOR\" then return 4 end\n"
+                            "  -- found by a probe: an object may be called \"conv\"\n"
+                            "  if o.name ~= \"conv\" or world.objects[2].colour == \"noref\" then return 4 end\n"
                             "  if event == \"collision\" or o.region == \"goal\" then return 5 end\n"
                             "  -- .. binds tighter: the concatenation is compared, not state.phi3\n"
                             "  if state.phi3 .. \"x\" == \"convx\" then return 6 end\n"

@@ -521,11 +521,14 @@ class Scanner {
     if (l_string != r_string) compared(at(l_string ? l->first : r->first), r_string ? *l : *r);
   }
 
-  // A literal compared with an index expression (state.phi3, s[name]) should be a state; with
-  // `event` or a function's third parameter, an event.
+  // A literal compared with an index expression (state.phi3, s[name]) should be a state, but for
+  // the string fields of the world's entries (o.name, o.shape, o.region, o.colour: an object may
+  // be called "conv"); with `event` or a function's third parameter, an event.
   void compared(const LuaToken& literal, const Operand& other) {
     const std::string with = text_of(other);
-    const bool index = op(other.last, "]") || (other.last > other.first && op(other.last - 1, "."));
+    const bool entry_field = other.last > other.first && op(other.last - 1, ".") &&
+                             among({"name", "shape", "region", "colour"}, at(other.last).text);
+    const bool index = !entry_field && (op(other.last, "]") || (other.last > other.first && op(other.last - 1, ".")));
     std::string message;
     if (index) {
       const std::string meant = meant_state(literal.text);
