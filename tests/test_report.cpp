@@ -1171,7 +1171,19 @@ TEST_CASE("a trial result whose summary disagrees with its own episodes is refus
   const KillCopy folder("record_sums");
   // kill_batch's policies succeed in every episode; the final evaluation's count is its curriculum's.
   const std::string n = std::to_string(folder.read("trials/T/DC6/000/result.json")["final_episodes"].get<int>());
+  // Found by a probe: a trial copied in from another folder of a sweep (--set mass=5) was reported.
+  const json planned = folder.read("trials/T/DC6/000/result.json").at("set_params");
+  json heavier = planned;
+  heavier["mass"] = "5";
+  const json eval_planned = folder.read("trials/eval/gen/circle/000/result.json").at("set_params");
+  CHECK(eval_planned.at("shape") == "circle");
   const std::vector<Edit> edits = {
+      {"T/DC6/000", [&](json& r) { r["set_params"] = heavier; },
+       "it was run with the scenario parameters " + heavier.dump() + ", but the plan gives trial T/DC6/000 " +
+           planned.dump() + " (copied from another results folder?)"},
+      {"eval/gen/circle/000", [](json& r) { r["set_params"]["shape"] = "spade"; },
+       "it was run with the scenario parameters {\"obstacles\":\"2\",\"shape\":\"spade\"}, but the plan gives trial "
+       "eval/gen/circle/000 {\"obstacles\":\"2\",\"shape\":\"circle\"}"},
       {"eval/gen/circle/000", [](json& r) { r["success_rate"] = 0.25; },
        "field \"success_rate\" must be 1 (12 of 12 in field \"outcomes\"), got 0.25"},
       {"eval/gen/circle/000", [](json& r) { r["outcomes"] = "1"; },
@@ -1231,6 +1243,17 @@ TEST_CASE("a training trial's final.jsonl missing or cut short is refused and th
   const std::string says = final_file.string() + ": holds " + std::to_string(n - 1) +
                            " final-evaluation episodes, but the trial's result.json records " + std::to_string(n);
   CHECK_THROWS_WITH(write_report(folder.dir.string()), Contains(says));
+  // Found by a probe: cut within its last line, it passed (only report --by, parsing the lines,
+  // failed, for good, since the trial was kept).
+  spit(final_file, whole.substr(0, whole.size() - 30));
+  CHECK_THROWS_WITH(write_report(folder.dir.string()),
+                    Contains(final_file.string() + ": its last line has no end, as a file cut short has"));
+  std::string middle = whole;
+  middle.erase(middle.find('\n') - 5, 5);  // the first line's end edited away
+  spit(final_file, middle);
+  CHECK_THROWS_WITH(write_report(folder.dir.string()),
+                    Contains(final_file.string() + ":1: not a JSON object on one line"));
+  spit(final_file, whole.substr(0, cut));
   // A resumed run runs that trial again, which writes the same file.
   CHECK(folder.resume(said) == 0);
   CHECK_THAT(said, Contains(says) && Contains("running trial T/DC6/000 again"));

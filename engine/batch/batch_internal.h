@@ -55,10 +55,15 @@ class SourceWatch {
 // A trial's state on disk: "ok" (filling `result`), "failed" (filling `error` with its message),
 // "corrupt" (filling `error` with the file at fault and what is wrong: a result.json, error.json or
 // a training trial's policy.json that is truncated, empty, edited or another trial's, or its
-// final.jsonl missing or holding another count of episodes than the result) or "pending".
+// final.jsonl missing, cut short or holding another count of episodes than the result) or "pending".
 std::string trial_status(const std::string& out, const PlannedTrial& t, nlohmann::json& result, std::string& error);
 
-// Why a parsed result.json cannot be trial t's result (not an object, another trial's id or seed, a
+// The scenario parameters the plan runs trial t with (the batch's, its run's or evaluation's, and
+// --set; an evaluation's shape), as its result.json records them in "set_params".
+nlohmann::json planned_params_json(const PlannedTrial& t);
+
+// Why a parsed result.json cannot be trial t's result (not an object, another trial's id, seed or
+// scenario parameters, a
 // field missing, of the wrong type or not finite, a success rate or count that disagrees with its
 // own episode outcomes), or "" when it can. Every field the report reads is
 // checked here, the optional ones (outcomes, skipped tasks, a diagnosis) where present: the report

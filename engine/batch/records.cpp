@@ -245,6 +245,13 @@ json read_json_file(const std::string& path) {
   }
 }
 
+json planned_params_json(const PlannedTrial& t) {
+  json j = json::object();
+  for (const auto& [k, v] : t.run ? t.run->params : t.evaluation->params) j[k] = v;
+  if (t.evaluation && !t.evaluation->shapes.empty()) j["shape"] = t.shape;
+  return j;
+}
+
 std::string result_problem(const json& r, const PlannedTrial& t) {
   if (!r.is_object()) return "a trial result must be a JSON object, got " + std::string(r.type_name());
   if (!r.contains("id") || !r["id"].is_string()) return "it has no trial \"id\" (not a result of roger run?)";
@@ -261,6 +268,12 @@ std::string result_problem(const json& r, const PlannedTrial& t) {
     if (!it->is_number() || !(it->get<double>() >= 0.0 && it->get<double>() <= 1.0 + 1e-9))
       return "field \"usage\" must map actions to shares, got " + it->dump() + " for " + it.key();
   if (auto p = optional_field_problem(r); !p.empty()) return p;
+  // Found by a probe: a trial copied in from a sweep's other folder changed the tables unseen.
+  // (A result written before set_params was recorded has none to compare.)
+  if (r.contains("set_params"))
+    if (const json planned = planned_params_json(t); r["set_params"] != planned)
+      return "it was run with the scenario parameters " + r["set_params"].dump() + ", but the plan gives trial " +
+             t.id + " " + planned.dump() + " (copied from another results folder?)";
   if (!t.run) return evaluation_problem(r, t);
   if (auto p = training_problem(r); !p.empty()) return p;
   if (r.contains("seed") && !(r["seed"].is_number_unsigned() && r["seed"].get<uint64_t>() == t.seed))
@@ -282,11 +295,17 @@ void check_final_records(const fs::path& dir, const json& result) {
   if (!fs::is_regular_file(path, ec))
     throw Error(path + ": missing: the trial's result.json records " + std::to_string(episodes) +
                 " final-evaluation episodes (\"final_outcomes\"), and this file holds them, one line each");
-  // A file cut at a line's end parses line by line: only the count shows episodes lost.
+  // A file cut at a line's end parses line by line: only the count shows episodes lost. One cut
+  // within a line has a last line without its end (found by a probe: it passed, and only a report
+  // --by, which parses the lines, failed on it, every time, since the trial was kept).
   const std::string text = read_file_text(path);
+  if (!text.empty() && text.back() != '\n')
+    throw Error(path + ": its last line has no end, as a file cut short has: truncated or edited?");
   size_t lines = 0;
   for (size_t at = 0; at < text.size();) {
     const size_t end = std::min(text.find('\n', at), text.size());
+    if (end > at && (text[at] != '{' || text[end - 1] != '}'))
+      throw Error(path + ":" + std::to_string(lines + 1) + ": not a JSON object on one line: truncated or edited?");
     lines += end > at;
     at = end + 1;
   }

@@ -325,6 +325,7 @@ nlohmann::json training_trial(const BatchPlan& plan, const PlannedTrial& t, cons
   j["final_outcomes"] = r.final_eval.outcomes;  // for the sorting tables' intervals
   j["run"] = t.run->name;
   j["trial"] = t.index;
+  j["set_params"] = planned_params_json(t);
   // Paths inside the results folder, so results do not depend on where the folder is.
   for (const auto& [skill, from] : skill_ids)
     if (j.contains("skills") && j["skills"].contains(skill)) {
@@ -385,6 +386,7 @@ nlohmann::json evaluation_trial(const BatchPlan& plan, const PlannedTrial& t, Cl
             {"stage", r.stage},
             {"scenario", r.scenario},
             {"params", params},
+            {"set_params", planned_params_json(t)},
             {"skills", skills},
             {"wall_s", std::chrono::duration<double>(Clock::now() - t0).count()}});
   j["outcomes"] = r.eval.outcomes;  // each episode's, for the report's intervals (report_evaluations.cpp)
