@@ -53,6 +53,18 @@ std::vector<std::string> ids(int n) {
 
 }  // namespace
 
+// Found by a probe: the refusal of a trial id named one byte of a UTF-8 character ('\xc3').
+TEST_CASE("a trial id that cannot name a folder is refused naming its whole character", "[batch]") {
+  const fs::path d = fresh_dir("bad_ids");
+  CHECK_THROWS_WITH(run_trials({"R/\xc3\x9cni/000"}, work, BatchOptions{1, d.string()}),
+                    "batch: trial id 'R/\xc3\x9cni/000' has the character '\xc3\x9c'; use letters, digits, '.', '_', '-' "
+                    "and '/'");
+  CHECK_THROWS_WITH(run_trials({"R/a<b/000"}, work, BatchOptions{1, d.string()}),
+                    Catch::Matchers::Contains("has the character '<'"));
+  CHECK_THROWS_WITH(run_trials({"R/../000"}, work, BatchOptions{1, d.string()}),
+                    Catch::Matchers::Contains("has an empty, '.' or '..' segment"));
+}
+
 TEST_CASE("trials run in parallel and results do not depend on the number of jobs", "[batch]") {
   const fs::path a = fresh_dir("jobs1"), b = fresh_dir("jobs2");
   const auto one = run_trials(ids(12), work, BatchOptions{1, a.string()});

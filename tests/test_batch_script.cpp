@@ -347,6 +347,32 @@ TEST_CASE("names that would clash or climb out and a skill from another context 
   fs::remove_all(dir);
 }
 
+// Found by a probe: a context named "C<img ...>" or "Ünïcødé" passed roger check of the batch script,
+// and roger run refused its trial ids after it had written the results folder (whose page then
+// waited for a report that never came), cutting the character 'Ü' in half in its message.
+TEST_CASE("a context a batch runs must be able to name its trials' folders", "[batch_script]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_context_names_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  for (const std::string name : {"C<img>", "\xc3\x9cni", "a b", "..", "ok.name-1_2"}) {
+    INFO(name);
+    std::ofstream(dir / "cur.lua") << "local p = require('lib.skills').primitives()\n"
+                                      "return { stages = { roger.stage{ name = 'S', scenario = 'unobstructed',\n"
+                                      "  time_limit = 4, absorbing = roger.converged(p.phi0), budget = { episodes = 4 },\n"
+                                      "  contexts = { { name = '" << name << "', actions = { p.search, p.phi0 } } } } } }\n";
+    std::ofstream(dir / "batch.lua") << "return { name = 'names', curriculum = 'cur.lua', trials = 1,\n"
+                                        "  runs = { { name = 'R', stage = 'S' } } }\n";
+    const std::string m = load_error((dir / "batch.lua").string());
+    if (name == "ok.name-1_2") {
+      CHECK(m.empty());
+      continue;
+    }
+    CHECK_THAT(m, Catch::Matchers::Contains("batch.lua:2: run 'R': the context '" + name + "' of stage 'S' cannot name "
+                                            "its trials' folders (trials/R/<context>/000): a context a batch runs "
+                                            "uses letters, digits, '.', '_' and '-'"));
+  }
+  fs::remove_all(dir);
+}
+
 // Found by a probe: a misspelt 'by' of a table or 'param' of a figure of where a teacher sampled
 // passed the load, and the report wrote an empty table, or no figure "for want of a finished
 // trial", once the training was over.

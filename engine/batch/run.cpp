@@ -41,10 +41,14 @@ void check_id(const std::string& id) {
   while (std::getline(ss, part, '/')) {
     if (part.empty() || part == "." || part == "..")
       throw Error("batch: trial id '" + id + "' has an empty, '.' or '..' segment");
-    for (char c : part)
-      if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-'))
-        throw Error("batch: trial id '" + id + "' has the character '" + std::string(1, c) +
-                    "'; use letters, digits, '.', '_', '-' and '/'");
+    for (size_t k = 0; k < part.size(); ++k) {
+      const auto c = static_cast<unsigned char>(part[k]);
+      if (std::isalnum(c) || c == '.' || c == '_' || c == '-') continue;
+      size_t end = k + 1;  // the whole character, not one byte of its UTF-8
+      while (c >= 0xC0 && end < part.size() && (static_cast<unsigned char>(part[end]) & 0xC0) == 0x80) ++end;
+      throw Error("batch: trial id '" + id + "' has the character '" + part.substr(k, end - k) +
+                  "'; use letters, digits, '.', '_', '-' and '/'");
+    }
   }
 }
 

@@ -263,6 +263,14 @@ BatchRun read_run(const json& rj, const Reader& rd, int runs_line, const Curricu
   for (const auto& c : r.contexts)
     if (std::find(ctx_names.begin(), ctx_names.end(), c) == ctx_names.end())
       rd.fail(rd.line_of_key("contexts", r.line), what + ": stage '" + r.stage + "' " + has_no("context", c, ctx_names));
+  // A context names its trials' folders (trials/<run>/<context>/000). Found by a probe: one named
+  // "C<img ...>" passed roger check, and roger run refused it after writing the results folder.
+  for (const auto& c : r.contexts)
+    if (!std::regex_match(c, std::regex("[A-Za-z0-9_.-]+")) || c == "." || c == "..")
+      rd.fail(rj.contains("contexts") ? rd.line_of_key("contexts", r.line) : r.line,
+              what + ": the context '" + c + "' of stage '" + r.stage + "' cannot name its trials' folders (trials/" +
+                  r.name + "/<context>/000): a context a batch runs uses letters, digits, '.', '_' and '-' (rename "
+                  "it in the curriculum)");
   r.trials = int(rd.integer(rj, "trials", what, r.line, b.trials, 1, 100000));
   if (overrides.trials > 0) r.trials = overrides.trials;
   r.params = b.params;
