@@ -1229,3 +1229,27 @@ TEST_CASE("roger check runs a skill script once", "[cli]") {
   CHECK(count == 1);
   fs::remove(script);
 }
+
+// Found by a probe: the report named the batch script as the command typed it, so `roger run
+// base.lua` and `roger run /that/folder/base.lua` (as scripts/slurm/submit.sh names it) wrote two
+// tables.md; and roger check now says where roger run writes without --out, as submit.sh reads it.
+TEST_CASE("a results folder names its batch script the same however the command typed it", "[cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_script_name_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "tiny_cur.lua") << "local p = require('lib.skills').primitives()\n"
+                                         "return { stages = { roger.stage{ name = 'S', scenario = 'unobstructed',\n"
+                                         "  time_limit = 4, absorbing = roger.converged(p.phi0), budget = { episodes = 4 },\n"
+                                         "  checkpoints = { every = 2, episodes = 2, final = 2 },\n"
+                                         "  contexts = { { name = 'A', actions = { p.search, p.phi0 } } } } } }\n";
+  std::ofstream(dir / "tiny.lua") << "return { name = 'tiny_name', curriculum = 'tiny_cur.lua', trials = 1,\n"
+                                     "  runs = { { name = 'R', stage = 'S' } } }\n";
+  const Run checked = roger_in(dir, "check tiny.lua");
+  CHECK_THAT(checked.out, Catch::Matchers::Contains("\n  results folder: results/tiny_name (roger run's default --out)\n"));
+  REQUIRE(roger_in(dir, "run tiny.lua --jobs 1 --out typed").status == 0);
+  REQUIRE(roger("run " + (dir / "tiny.lua").string() + " --jobs 1 --out " + (dir / "absolute").string()).status == 0);
+  const std::string tables = slurp(dir / "typed" / "tables.md");
+  CHECK_THAT(tables, Catch::Matchers::Contains("Batch script `" + (dir / "tiny.lua").string() + "`"));
+  CHECK(tables == slurp(dir / "absolute" / "tables.md"));
+  fs::remove_all(dir);
+}

@@ -91,6 +91,9 @@ int check_batch(const std::string& path, const std::string& shown, const LuaLimi
              std::to_string(b.limits.memory_bytes >> 20) + " MiB";
   std::printf("%s: ok (batch script '%s' on %s; %d trial%s; runs %s%s)\n", shown.c_str(), b.name.c_str(),
               b.curriculum.c_str(), b.trials, b.trials == 1 ? "" : "s", runs.c_str(), limits.c_str());
+  // Where roger run writes without --out: scripts/slurm/submit.sh reads this line, so that its
+  // jobs write where roger run would (the script's name, not its file's).
+  std::printf("  results folder: results/%s (roger run's default --out)\n", b.name.c_str());
   return 0;
 }
 

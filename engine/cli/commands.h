@@ -23,7 +23,7 @@ struct RunArgs {
   std::string script;               // batch script path, or a bare name in scripts/ ("paper", "quick")
   int trials = 0;                   // > 0: overrides every run's trial count
   int jobs = 0;                     // worker threads; 0 = all cores
-  std::string out;                  // results folder; "" = results/<script name>
+  std::string out;                  // results folder; "" = results/<the batch script's name>
   std::vector<std::string> sets;    // "key=value" scenario parameters for every training run
   std::vector<std::string> only;    // run only these: "RUN", "RUN/CONTEXT" or "eval/NAME" (empty = all)
   bool live = false;                // redraw one live progress line (a terminal) instead of plain lines

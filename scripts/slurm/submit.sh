@@ -15,7 +15,7 @@
 # new report after it. Each task runs as many trials at once as it has CPUs (--cpus-per-task).
 #
 # Environment:
-#   ROGER_OUT   the results folder, on a filesystem every node sees   results/<script name> here
+#   ROGER_OUT   the results folder, on a filesystem every node sees   results/<the script's name> here
 #   ROGER_BIN   the roger program, likewise                           build/engine/roger (installed: bin/roger)
 #   ROGER_ARGS  more arguments of roger run (e.g. "--set mass=0.7"), split at whitespace
 #   ROGER_LOGS  the jobs' output files                                ROGER_OUT/slurm
@@ -62,6 +62,8 @@ for option in "$@"; do
     -o | -o* | --output | --output=* | -e | -e* | --error | --error=*)
       die "the jobs' output files are submit.sh's (ROGER_LOGS chooses their folder), got '$option'" ;;
     -J | -J* | --job-name | --job-name=*) die "the jobs' names are submit.sh's (roger-<script>, roger-report-<script>), got '$option'" ;;
+    --export | --export=*)
+      die "the jobs' environment is submit.sh's (--export=ALL: the jobs read ROGER_SCRIPT, ROGER_OUT, ... from it; without them they would run scripts/paper.lua), got '$option': set what the jobs need in the environment of submit.sh" ;;
     *) common+=("$option") ;;
   esac
 done
@@ -91,8 +93,13 @@ default_bin=$repo/build/engine/roger
 [ -x "$default_bin" ] || [ ! -x "$repo/../../bin/roger" ] || default_bin=$(cd "$repo/../../bin" && pwd)/roger
 bin=$(absolute "${ROGER_BIN:-$default_bin}")
 [ -x "$bin" ] || die "no roger program at '$bin' (build it: cmake -S . -B build && cmake --build build --target roger; or set ROGER_BIN)"
-# results/<name> here, as roger run writes it: the project may be an installed tree, not writable.
-out=$(absolute "${ROGER_OUT:-results/$name}")
+# The script checked before anything waits in the queue; roger check says where roger run writes
+# without --out: results/<the script's name> here (its name field, not its file's; the project may
+# be an installed tree, not writable).
+checked=$("$bin" check "$script") || die "roger check refused $script (above): nothing was submitted"
+default_out=$(printf '%s\n' "$checked" | sed -n "s/^  results folder: \(.*\) (roger run's default --out)\$/\1/p")
+[ -n "$default_out" ] || die "roger check $script did not say where roger run writes (is $bin an older roger?)"
+out=$(absolute "${ROGER_OUT:-$default_out}")
 logs=$(absolute "${ROGER_LOGS:-$out/slurm}")
 # Slurm opens the jobs' output files but creates no folder for them.
 mkdir -p "$out" "$logs"

@@ -111,7 +111,7 @@ grep -q "sbatch not found" <<< "$out" || fail "submit.sh without sbatch: unclear
 # Options that would break the pair of jobs: one --output for both, a name that hides which is
 # which, a dependency in a form submit.sh cannot route to the array alone (on the report it would
 # replace the wait for the shards). Refused before anything is made.
-for option in --output=x.out -o -J --job-name=x "-d 5"; do
+for option in --output=x.out -o -J --job-name=x "-d 5" --export=NONE --export=PATH; do
   rm -rf "$tmp/refused"
   # shellcheck disable=SC2086  # "-d 5": two words, as a user types them
   if out=$(ROGER_OUT=$tmp/refused bash "$submit" scripts/quick.lua 3 $option 2>&1); then fail "submit.sh took $option"; fi
@@ -129,7 +129,31 @@ for array in 3 0-3 1,5 2-1 x; do
     fail "submit.sh --array=$array: unclear message: $out"
   [ ! -e "$tmp/refused" ] || fail "submit.sh --array=$array made $tmp/refused before refusing"
 done
-log "submit.sh refuses a bad N, a missing sbatch, --output, --job-name and -d, and --array tasks past N-1"
+log "submit.sh refuses a bad N, a missing sbatch, --output, --job-name, -d, --export, and --array tasks past N-1"
+
+# submit.sh's own choices before any job, seen through an sbatch that records its arguments (the
+# jobs themselves run on the real cluster below). Found by a probe: the default results folder was
+# results/<the file's name>, where roger run writes results/<the script's name>; a script roger
+# check refuses is refused before anything waits in the queue.
+mkdir -p "$tmp/recorder" "$tmp/elsewhere"
+printf '#!/bin/sh\necho "$@" >> %s/recorder/args\necho 7\n' "$tmp" > "$tmp/recorder/sbatch"
+chmod +x "$tmp/recorder/sbatch"
+printf 'return { name = "renamed", curriculum = "paper", trials = 1,\n  runs = { { name = "SG", stage = "SG", contexts = { "B1" } } } }\n' \
+  > "$tmp/elsewhere/file_name.lua"
+(cd "$tmp/elsewhere" && PATH=$tmp/recorder:$PATH ROGER_BIN=$roger bash "$submit" file_name.lua 2 >/dev/null) ||
+  fail "submit.sh refused a sound script"
+grep -q -- "--output=$tmp/elsewhere/results/renamed/slurm/shard-%a-%A.out" "$tmp/recorder/args" ||
+  fail "submit.sh's default results folder is not roger run's: $(cat "$tmp/recorder/args")"
+rm -f "$tmp/recorder/args"
+printf 'return { name = "broken", curriculum = "paper", runs = { { name = "SG", stage = "SGG" } } }\n' \
+  > "$tmp/elsewhere/broken.lua"
+if out=$(cd "$tmp/elsewhere" && PATH=$tmp/recorder:$PATH ROGER_BIN=$roger bash "$submit" broken.lua 2 2>&1); then
+  fail "submit.sh submitted a script roger check refuses"
+fi
+grep -q "has no stage 'SGG'" <<< "$out" && grep -q "nothing was submitted" <<< "$out" ||
+  fail "submit.sh on a broken script: unclear message: $out"
+[ ! -e "$tmp/recorder/args" ] || fail "submit.sh called sbatch for a script roger check refuses"
+log "submit.sh writes where roger run writes, and refuses a script roger check refuses before submitting"
 
 # --- munge --------------------------------------------------------------------------------------
 
