@@ -833,6 +833,28 @@ TEST_CASE("roger render draws a scenario to PNG and SVG", "[cli]") {
   fs::remove(svg);
 }
 
+// Found by a probe: options of the other form of roger render were ignored without a word
+// (`roger render cluttered --scenario unobstructed` drew cluttered).
+TEST_CASE("roger render refuses the options of its other form", "[cli]") {
+  const fs::path png = fs::temp_directory_path() / ("roger_cli_unused_" + std::to_string(::getpid()) + ".png");
+  for (const std::string option : {"--scenario unobstructed", "--test-task 1", "--every 0.5"}) {
+    const Run r = roger("render scenarios/cluttered.lua --seed 3 " + option + " --out " + png.string());
+    INFO(option << ": " << r.err);
+    CHECK(r.status == 1);
+    CHECK_THAT(r.err, Catch::Matchers::Contains("roger render: " + option.substr(0, option.find(' ')) +
+                                                " is an option of an episode's recording (--policy); without it roger "
+                                                "render draws one world of scenarios/cluttered.lua"));
+  }
+  for (const std::string option : {"--seconds 2", "--grid"}) {
+    const Run r = roger("render curricula/scripted.lua --policy task --seed 3 " + option + " --out " + png.string());
+    INFO(option << ": " << r.err);
+    CHECK(r.status == 1);
+    CHECK_THAT(r.err, Catch::Matchers::Contains("roger render: " + option.substr(0, option.find(' ')) +
+                                                " is an option of a world's picture (without --policy)"));
+  }
+  CHECK_FALSE(fs::exists(png));
+}
+
 // Found by a probe: `roger render ... --policy four_moves --out out/four.png` (a file's own header
 // command) failed in a fresh folder where every other --out makes its folder; `--out x.svg` made
 // a folder named x.svg; a replay under noise did not say so.

@@ -114,7 +114,8 @@ CLI::App* add_render(CLI::App& app, RenderArgs& a) {
                 "Scenario script (.lua); with --policy, a skill script or a curriculum (for a policy.json)")
       ->required();
   c->add_option("--seed", a.seed, "World seed")->capture_default_str()->check(seed_value());
-  c->add_option("--out", a.out, "Output picture (.png or .svg)")->check(path_value())->required();
+  c->add_option("--out", a.out, "Output picture (.png or .svg); with --policy, a folder or a .png summary")
+      ->check(path_value())->required();
   repeatable(c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)"));
   // render.cpp's range, as Python's render_width has it.
   c->add_option("--width", a.width, "Picture width in pixels (of each frame of an episode's strip)")
@@ -265,6 +266,21 @@ void require_curriculum(const std::string& given, const std::vector<std::string>
   require_script_kind(given, path, wanted);
 }
 
+// Options of roger render that the other form does not read, refused rather than ignored (found by
+// a probe: `roger render cluttered --scenario unobstructed` drew cluttered, and `--grid` or
+// `--seconds` with --policy changed nothing).
+void refuse_render_options_unused(const CLI::App& render, const RenderArgs& a) {
+  const bool episode = !a.policy.empty();
+  for (const char* option : {"--scenario", "--test-task", "--every"})
+    if (!episode && render.count(option) > 0)
+      throw Error(std::string("roger render: ") + option + " is an option of an episode's recording (--policy); "
+                  "without it roger render draws one world of " + a.scenario);
+  for (const char* option : {"--seconds", "--grid"})
+    if (episode && render.count(option) > 0)
+      throw Error(std::string("roger render: ") + option + " is an option of a world's picture (without --policy); "
+                  "an episode is recorded from its start, its frames without the grid");
+}
+
 // render draws a scenario's world, or with --policy an episode of a skill script's or curriculum's
 // policy: a script of the other kind fails inside (found by a probe: a skill script without
 // --policy failed in curricula/lib/skills.lua, "attempt to call a nil value (field 'primitive')").
@@ -369,6 +385,7 @@ int main(int argc, char** argv) {
   try {
     if (*render) {
       render_args.seed_given = render->count("--seed") > 0;
+      refuse_render_options_unused(*render, render_args);
       require_render_kind(render_args);
       return command_render(render_args);
     }
