@@ -1275,3 +1275,17 @@ TEST_CASE("a results folder names its batch script the same however the command 
   CHECK(tables == slurp(dir / "absolute" / "tables.md"));
   fs::remove_all(dir);
 }
+
+// Found by a probe: `roger run base.lua --out --no-report` wrote a results folder named
+// --no-report, CLI11 taking the next word as the value whatever it was.
+TEST_CASE("an option that takes a value refuses the next option as its value", "[cli]") {
+  const Run out = roger("run scripts/quick.lua --out --no-report");
+  CHECK(out.status == 2);
+  CHECK_THAT(out.err, Catch::Matchers::Contains("option '--out' of roger run expects a value, and the next word is the "
+                                                "option '--no-report': give --out its value"));
+  CHECK_FALSE(fs::exists("--no-report"));
+  const Run only = roger("run scripts/quick.lua --only --jobs 1");
+  CHECK(only.status == 2);
+  CHECK_THAT(only.err, Catch::Matchers::Contains("option '--only' of roger run expects a value"));
+  CHECK(roger("check scripts/quick.lua --set=mass=0.7").status == 0);  // a value after '=' is its own
+}

@@ -326,9 +326,17 @@ std::string unknown_word(const std::vector<CLI::App*>& commands, int argc, char*
     if (word == "--") break;
     if (word.size() < 3 || word.compare(0, 2, "--") != 0) continue;
     const std::string name = word.substr(0, word.find('='));
-    if (!command->get_option_no_throw(name))
+    const CLI::Option* option = command->get_option_no_throw(name);
+    if (!option)
       return "unknown option '" + name + "' of roger " + first + suggestion(name, options) + " (see roger " + first +
              " --help)";
+    // Found by a probe: CLI11 takes the next word as the value whatever it is, so `--out
+    // --no-report` wrote a results folder named --no-report.
+    const std::string next = i + 1 < argc ? argv[i + 1] : "";
+    if (word.find('=') == std::string::npos && option->get_items_expected_min() > 0 && next.size() > 2 &&
+        next.compare(0, 2, "--") == 0)
+      return "option '" + name + "' of roger " + first + " expects a value, and the next word is the option '" + next +
+             "': give " + name + " its value";
   }
   return "";
 }
