@@ -119,6 +119,13 @@ class Browser:
             time.sleep(0.1)
         raise AssertionError("%s: not ready after %d s (%s)" % (path, timeout, ready))
 
+    def add_init_script(self, source):
+        """Runs `source` in every page opened from now on, before the page's own scripts."""
+        return self.call("Page.addScriptToEvaluateOnNewDocument", {"source": source})["identifier"]
+
+    def remove_init_script(self, identifier):
+        self.call("Page.removeScriptToEvaluateOnNewDocument", {"identifier": identifier})
+
     def errors(self):
         """Console errors and uncaught exceptions since the last open()."""
         self.call("Runtime.evaluate", {"expression": "1"})  # flush pending events
@@ -579,6 +586,48 @@ def check_failures(b, folder, screenshot):
         b.screenshot(screenshot)
 
 
+def check_usage_order(b, folder):
+    """The usage of the final policies keeps the order of the tables' rows (found by a probe: the
+    bars came in the alphabetical order of their contexts, dashboard.js's usage being an object
+    keyed by context), and the actions, named and coloured in the order the rows first use them,
+    have one colour in the bars and the legend."""
+    b.open(os.path.join(folder, "index.html"), "document.body.getAttribute('data-ready') === '1'")
+    tables = [t for t in read_report(folder)["tables"] if t.get("usage")]
+    want = [[r["context"] for r in t["rows"] if r.get("context") in t["usage"]] for t in tables]
+    check(any(w != sorted(w) for w in want), "usage order: the fixture's contexts are not in alphabetical "
+          "order (%s)" % want)
+    charts = b.evaluate("""(() => { const out = [];
+        Array.from(document.getElementById('usage-body').children).forEach(e => {
+          if (e.tagName === 'H3') out.push({contexts: [], bars: {}, legend: []});
+          const chart = out[out.length - 1];
+          if (e.classList.contains('progress-row')) {
+            chart.contexts.push(e.querySelector('span').textContent);
+            e.querySelectorAll('.bar i').forEach(i =>
+              chart.bars[i.title.replace(/: [0-9.]+%$/, '')] = i.style.background); }
+          if (e.classList.contains('legend'))
+            chart.legend = Array.from(e.querySelectorAll('label')).map(l => [l.title, l.querySelector('i').style.background]);
+        });
+        return out; })()""")
+    check([c["contexts"] for c in charts] == want, "usage order: each chart's bars in the order of its table's "
+          "rows (%s; rows %s)" % ([c["contexts"] for c in charts], want))
+    actions = []
+    for t, w in zip(tables, want):
+        order = []
+        for c in w:
+            order += [a for a in t["usage"][c] if a not in order]
+        actions.append(order)
+    legends = [[a for a, _ in c["legend"]] for c in charts]
+    check(legends == actions, "usage order: the legend names the actions in the order the rows first use them "
+          "(%s; wanted %s)" % (legends, actions))
+    colour = {}
+    for c in charts:
+        for a, bg in c["legend"]:
+            colour.setdefault(a, bg)
+    check(all(colour[a] == bg for c in charts for a, bg in list(c["legend"]) + list(c["bars"].items()))
+          and len(set(colour.values())) == len(colour),
+          "usage order: an action has one colour of its own, in the bars as in the legend (%s)" % colour)
+
+
 def check_partial(b, roger, folder):
     """A partial report of one shard of three (`roger report --partial`): a trial not run has no
     folder, so its chip and its name are no links; every link the trials' section holds is to a
@@ -641,10 +690,21 @@ def check_no_figures(b, roger, results, work):
           "no figures: the page shows no figures' heading")
 
 
+# Counts the scripts a page adds (its loads of status.js and dashboard.js), by name.
+SCRIPT_LOADS = """window.__loads = {};
+new MutationObserver(function (ms) { ms.forEach(function (m) { m.addedNodes.forEach(function (n) {
+  if (n.tagName === 'SCRIPT' && n.src) { var f = n.src.split('/').pop().split('?')[0];
+    window.__loads[f] = (window.__loads[f] || 0) + 1; } }); }); })
+  .observe(document, {childList: true, subtree: true});"""
+
+
 def check_damaged_report(b, results, work):
     """A dashboard.js cut short says so and what writes it again (found by a probe: the page said
     "No report yet" and left the SyntaxError to the console); a page beside its status.js does not
-    ask to be opened from its folder."""
+    ask to be opened from its folder. Found by a later probe: in a finished run's folder (its status
+    says the report is written) the page asked for the damaged file again every second for a
+    minute, a SyntaxError in the console each time, then said at once that the report was damaged
+    and that it was not there; it must say so once, straight away, and not ask again."""
     folder = os.path.join(work, "damaged")
     shutil.rmtree(folder, ignore_errors=True)
     shutil.copytree(results, folder)
@@ -652,11 +712,26 @@ def check_damaged_report(b, results, work):
     text = open(script).read()
     with open(script, "w") as f:
         f.write(text[:len(text) // 2])
-    b.open(os.path.join(folder, "index.html"), "document.body.getAttribute('data-ready') === '1'")
-    note = b.evaluate("document.getElementById('empty-note').textContent")
-    check("cannot be read" in note and "roger report" in note, "damaged report: the page says so (%s)" % note)
-    meta = b.evaluate("document.getElementById('meta').textContent")
-    check("open it from that folder" not in meta, "damaged report: no 'open it from that folder' (%s)" % meta)
+    status = json.load(open(os.path.join(folder, "status.json")))
+    check(status.get("report") == "written", "damaged report: the run's status says its report is written")
+    watch = b.add_init_script(SCRIPT_LOADS)
+    try:
+        b.open(os.path.join(folder, "index.html"), "document.body.getAttribute('data-ready') === '1'")
+        note = b.evaluate("document.getElementById('empty-note').textContent")
+        check("cannot be read" in note and "roger report" in note, "damaged report: the page says so (%s)" % note)
+        meta = b.evaluate("document.getElementById('meta').textContent")
+        check("open it from that folder" not in meta, "damaged report: no 'open it from that folder' (%s)" % meta)
+        time.sleep(3.5)  # three of the retries a report awaited would have (one a second)
+        text = b.evaluate("document.body.innerText")
+        said = [m for m in ("cannot be read", "not beside this page", "waiting for its report", "older report")
+                if m in text]
+        check(said == ["cannot be read"] and text.count("cannot be read") == 1,
+              "damaged report: said once, and nothing else of the report (%s)" % said)
+        loads = b.evaluate("window.__loads['dashboard.js'] || 0")
+        check(loads == 1, "damaged report: dashboard.js is not asked for again (%d loads)" % loads)
+        check(b.errors() == [], "damaged report: no console errors (%s)" % b.errors())
+    finally:
+        b.remove_init_script(watch)
 
 
 def check_dashboard(b, folder, screenshot):
@@ -865,6 +940,83 @@ def check_time_axis(b, folder, work):
     labels_apart("240 s")
 
 
+# Notes every text drawn on the timeline's canvas: where, the maxWidth it was given, its own width.
+TIMELINE_TEXTS = """(function () {
+  var fill = CanvasRenderingContext2D.prototype.fillText;
+  window.__texts = [];
+  CanvasRenderingContext2D.prototype.fillText = function (text, x, y, maxWidth) {
+    if (this.canvas.id === 'timeline')
+      window.__texts.push({text: String(text), x: x, y: y, maxWidth: maxWidth === undefined ? null : maxWidth,
+                           width: this.measureText(text).width});
+    return fill.apply(this, arguments);
+  };
+})();"""
+
+
+def check_timeline_labels(b, folder, work):
+    """The timeline's labels, on this episode and on a copy whose rows and decisions have long
+    names: none is squeezed (found by a probe: fillText's maxWidth narrowed "phi4 <| phi2" in a
+    20 px segment, and row names such as "phi1 <| phi4 <| phi5", into smudges); a label too long
+    for its room is cut with an ellipsis, or left out, and the full name is in the tooltip."""
+    html = open(os.path.join(folder, "index.html")).read()
+    head = '<script type="application/json" id="episode">'
+    start = html.index(head) + len(head)
+    end = html.index("</script>", start)
+    ep = json.loads(html[start:end])
+    long_row = "a_controller_with_a_long_name <| phi4 <| phi5"
+    ep["gammas"][0]["name"] = long_row
+    for k, d in enumerate(ep["decisions"]):
+        d["path"][-1] = "phi1 <| phi4 <| phi5 <| phi4 <| phi2 (%d)" % k
+    copy = os.path.join(work, "long-names")
+    shutil.rmtree(copy, ignore_errors=True)
+    os.makedirs(copy)
+    with open(os.path.join(copy, "index.html"), "w") as f:
+        f.write(html[:start] + json.dumps(ep).replace("<", "\\u003c") + html[end:])
+    watch = b.add_init_script(TIMELINE_TEXTS)
+    try:
+        for what, page in (("its episode", folder), ("long names", copy)):
+            b.open(os.path.join(page, "index.html"), "window.viewer !== undefined")
+            got = b.evaluate("""(() => { window.__texts = []; window.dispatchEvent(new Event('resize'));
+                const dt = %r, rows = %d, label = viewer.timelinePoint(0, 0).x;
+                const edges = JSON.parse(document.getElementById('episode').textContent).decisions.map(d =>
+                  Math.round(viewer.timelinePoint((d.tick - 1) * dt, 0).x)).concat([Math.round(viewer.timelinePoint(viewer.duration, 0).x)]);
+                return {texts: window.__texts, label: label, edges: edges, decisionY: viewer.timelinePoint(0, rows).y,
+                        names: JSON.parse(document.getElementById('episode').textContent).gammas.map(g => g.name)
+                          .concat(['running'], JSON.parse(document.getElementById('episode').textContent)
+                          .decisions.map(d => d.path[d.path.length - 1]))}; })()"""
+                             % (ep["tick_seconds"], len(ep["gammas"])))
+            texts, names = got["texts"], got["names"]
+            squeezed = [t["text"] for t in texts if t["maxWidth"] is not None and t["width"] > t["maxWidth"] + 0.5]
+            check(texts and squeezed == [], "viewer (%s): no timeline label is squeezed (%s)" % (what, squeezed))
+            rooms = []  # (text, width, room) of the rows' names and the decisions' labels
+            for t in texts:
+                if t["x"] == 4:
+                    rooms.append((t["text"], t["width"], got["label"] - 8))
+                elif abs(t["y"] - got["decisionY"]) < 0.5:
+                    i = [e + 3 for e in got["edges"]].index(t["x"]) if t["x"] - 3 in got["edges"] else None
+                    rooms.append((t["text"], t["width"], got["edges"][i + 1] - got["edges"][i] - 6 if i is not None else -1))
+            out = [r for r in rooms if r[1] > r[2] + 0.5]
+            whole_or_cut = [r[0] for r in rooms if r[0] not in names and
+                            not (r[0].endswith("\u2026") and any(n.startswith(r[0][:-1].rstrip()) for n in names))]
+            check(rooms and out == [] and whole_or_cut == [],
+                  "viewer (%s): each row name and decision label fits its room, whole or cut with an ellipsis "
+                  "(too wide: %s; neither: %s)" % (what, out, whole_or_cut))
+            if what == "long names":
+                first = next((r[0] for r in rooms if r[2] == got["label"] - 8), "")
+                check(first.endswith("\u2026") and long_row.startswith(first[:-1]),
+                      "viewer (long names): a long row name is cut with an ellipsis (%s)" % first)
+                cut = [r[0] for r in rooms if r[0].endswith("\u2026") and r[2] != got["label"] - 8]
+                check(len(cut) >= 1, "viewer (long names): long decision labels are cut with an ellipsis (%s)" % cut)
+                tip = b.evaluate("""(() => { const c = document.getElementById('cursor'), r = c.getBoundingClientRect();
+                    const p = viewer.timelinePoint(0, 0);
+                    c.dispatchEvent(new PointerEvent('pointermove', {clientX: r.left + 20, clientY: r.top + p.y, bubbles: true}));
+                    return c.title; })()""")
+                check(tip == long_row, "viewer (long names): the row's full name is its tooltip (%s)" % tip)
+            check(b.errors() == [], "viewer (%s): no console errors (%s)" % (what, b.errors()))
+    finally:
+        b.remove_init_script(watch)
+
+
 def run(cmd):
     print("$ " + " ".join(cmd), flush=True)
     subprocess.run(cmd, check=True)
@@ -909,6 +1061,7 @@ def main():
         check_run_end(b, results, a.work)
         check_shards(b, results, a.work)
         check_failures(b, failures_run, None)
+        check_usage_order(b, failures_run)
         check_narrow(b, failures_run)
         check_partial(b, a.roger, partial)
         check_no_figures(b, a.roger, results, a.work)
@@ -917,6 +1070,7 @@ def main():
         check_keys(b, episode)
         check_cycle(b, episode, a.work)
         check_time_axis(b, episode, a.work)
+        check_timeline_labels(b, episode, a.work)
         check_teachers(b, teachers)
     finally:
         b.close()

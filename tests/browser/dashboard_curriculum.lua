@@ -1,4 +1,5 @@
--- The curriculum of dashboard_batch.lua: a sound stage, and one whose reward raises after 4 calls.
+-- The curriculum of dashboard_batch.lua: a sound stage, and one whose reward raises after 4 calls;
+-- each's contexts are not in alphabetical order.
 local p3 = roger.primitive("phi3")
 local p0 = roger.primitive("phi0")
 local calls = 0
@@ -16,7 +17,8 @@ end
 local function stage(name, reward, context)
   return roger.stage{ name = name, time_limit = 1, budget = { episodes = 9 },
     checkpoints = { every = 3, episodes = 2, final = 2 },
-    contexts = { { name = context, actions = { p3, p0 } }, { name = "B", actions = { p3 } } },
+    -- "B" first: the contexts are not in the order of their names, which the page must keep.
+    contexts = { { name = "B", actions = { p3 } }, { name = context, actions = { p3, p0 } } },
     absorbing = roger.converged(p3), reward = reward }
 end
 return { name = "dashboard", stages = {
