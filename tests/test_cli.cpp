@@ -1289,3 +1289,28 @@ TEST_CASE("an option that takes a value refuses the next option as its value", "
   CHECK_THAT(only.err, Catch::Matchers::Contains("option '--only' of roger run expects a value"));
   CHECK(roger("check scripts/quick.lua --set=mass=0.7").status == 0);  // a value after '=' is its own
 }
+
+// Found by a probe: a curriculum edited in place after training was said to be "another
+// curriculum", naming the same file, and said to judge the policy by its goal, reward and time
+// limit alone, where the actions' definitions come from it too.
+TEST_CASE("roger eval says when the policy's own curriculum changed since training", "[cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_edited_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string text = "local p = require('lib.skills').primitives()\n"
+                           "return { stages = { roger.stage{ name = 'S', scenario = 'unobstructed',\n"
+                           "  time_limit = 4, absorbing = roger.converged(p.phi0), budget = { episodes = 4 },\n"
+                           "  checkpoints = { every = 2, episodes = 2, final = 2 },\n"
+                           "  contexts = { { name = 'A', actions = { p.search, p.phi0 } } } } } }\n";
+  std::ofstream(dir / "mine.lua") << text;
+  REQUIRE(roger_in(dir, "train mine.lua --stage S --context A --seed 1 --out trained").status == 0);
+  Run r = roger_in(dir, "eval mine.lua --policy trained/policy.json --episodes 2");
+  CHECK(r.out.find("note ") == std::string::npos);
+  std::ofstream(dir / "mine.lua") << text << "-- edited\n";
+  r = roger_in(dir, "eval mine.lua --policy trained/policy.json --episodes 2");
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("\n  note           the curriculum mine.lua changed since the policy was "
+                                              "trained; stage S, context A of it as it is now judge it here (their "
+                                              "goal, reward and time limit, and its actions' definitions)\n"));
+  fs::remove_all(dir);
+}

@@ -938,12 +938,21 @@ std::string other_curriculum(const PolicyMetadata& meta, const Curriculum& cur) 
   return recorded;
 }
 
+// Whether the curriculum a policy file records is the file `cur` was read from (then edited since,
+// when other_curriculum names it).
+bool same_curriculum_file(const std::string& recorded, const Curriculum& cur) {
+  std::error_code ec;
+  return recorded == cur.path() || fs::equivalent(recorded, cur.file(), ec);
+}
+
 // "; the policy was trained with ..." when the policy file records another curriculum than
 // `cur` (a policy of curricula/paper.lua given with another curriculum reads "has no stage 'T'").
 std::string trained_with(const PolicyMetadata& meta, const Curriculum& cur, const std::string& policy_file,
                          const std::string& command) {
   const std::string recorded = other_curriculum(meta, cur);
   if (recorded.empty()) return "";
+  if (same_curriculum_file(recorded, cur))
+    return ". " + policy_file + " was trained with " + recorded + " as it was before it changed";
   return ". " + policy_file + " was trained with the curriculum " + recorded + ": give that one (" + command + " " +
          recorded + " --policy " + policy_file + (command == "roger eval" ? ")" : " ...)");
 }
@@ -992,6 +1001,8 @@ void with_policy_file(const PolicyEvalOptions& given, PolicyEvalResult& out,
   out.stage = stage.name;
   out.context = ctx.name;
   out.trained_curriculum = other_curriculum(meta, cur);  // found by a probe: judged by another's goal, unsaid
+  // Found by a probe: a curriculum edited in place was said to be "another", naming itself.
+  out.trained_curriculum_edited = !out.trained_curriculum.empty() && same_curriculum_file(out.trained_curriculum, cur);
   if (options.scenario.empty() || options.scenario == stage.scenario) out.stage_params = stage.scenario_params(ctx);
   out.time_limit = stage.time_limit_text();
   out.stage_test_tasks = stage.teaches() ? stage.final_test_tasks() : 0;

@@ -290,6 +290,7 @@ struct PolicyEvalResult {
   // The curriculum the policy file says it was trained with, when it is not the one given (whose
   // stage and context of the same names then judge it: their goal, reward and time limit); "".
   std::string trained_curriculum;
+  bool trained_curriculum_edited = false;  // that curriculum is the one given, changed since
   // The stage's and its context's own scenario parameters, in the stage's scenario (as TrainResult's).
   std::vector<std::pair<std::string, std::string>> stage_params;
   std::string time_limit;  // the stage's time-out, as text: "12 s limit", "30 s per object limit"

@@ -107,9 +107,13 @@ void print_stage_params(const std::vector<std::pair<std::string, std::string>>& 
 // left out.
 void print_trial_params(const PolicyEvalResult& r, const std::string& scenario) {
   print_stage_params(r.stage_params, r.stage, r.context);
-  if (!r.trained_curriculum.empty())
+  if (r.trained_curriculum_edited)
+    std::printf("  note           the curriculum %s changed since the policy was trained; stage %s, context %s of it "
+                "as it is now judge it here (their goal, reward and time limit, and its actions' definitions)\n",
+                r.trained_curriculum.c_str(), r.stage.c_str(), r.context.c_str());
+  else if (!r.trained_curriculum.empty())
     std::printf("  note           the policy was trained with the curriculum %s; stage %s, context %s of this one "
-                "judge it here (their goal, reward and time limit)\n",
+                "judge it here (their goal, reward and time limit, and its actions' definitions)\n",
                 r.trained_curriculum.c_str(), r.stage.c_str(), r.context.c_str());
   if (!r.trial_sets.empty())
     std::printf("  trained with   %s (the trial's own parameters, set here too; a --set of one overrides it)\n",
