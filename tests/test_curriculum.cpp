@@ -460,6 +460,12 @@ TEST_CASE("a stage's bad field is reported at the line it is written on", "[curr
   CHECK_THAT(error_with("every.lua", "checkpoints = {\n    every = 4 },", good),
              Contains("every.lua:7: stage 'S': checkpoints: field 'every' is 4, more than the budget's 3 episodes: "
                       "the only checkpoint would follow the last episode"));
+  // Found by a probe: these two were still at the roger.stage{ line.
+  CHECK_THAT(error_with("tasks.lua", "tasks = {\n    mass = 0.3 },", good),
+             Contains("tasks.lua:7: stage 'S': tasks.mass must be roger.int(lo, hi), roger.real(lo, hi) or "
+                      "roger.choice{...}, got number 0.3 (a fixed value belongs in params)"));
+  CHECK_THAT(error_with("teacher.lua", "teacher = roger.teacher.random{},", good),
+             Contains("teacher.lua:6: stage 'S': field 'teacher': roger.teacher.random needs a task space"));
   CHECK_THAT(error_with("type.lua", "description = 3,", good),
              Contains("type.lua:6: stage 'S': field 'description' must be"));
   CHECK_THAT(error_with("empty.lua", "", "{ name = 'A', actions = {} },"),

@@ -130,9 +130,18 @@ std::optional<ScriptError> at_stage_field(const ScriptError& e) {
   std::string rest = m[3].str();
   node = descend(map, node, line, rest);
   static const std::regex field(R"(^(?:unknown fields? |field )'([A-Za-z_][A-Za-z0-9_]*)')");
+  // "tasks.goal_radius must be ...": the key's line in the field's table (found by a probe).
+  static const std::regex dotted(R"(^([a-z_]+)\.([A-Za-z_][A-Za-z0-9_]*) )");
   std::smatch f;
-  if (node >= 0 && std::regex_search(rest, f, field))
+  if (node >= 0 && std::regex_search(rest, f, field)) {
     if (const auto* entry = map.entry(node, f[1].str())) line = entry->line;
+  } else if (node >= 0 && std::regex_search(rest, f, dotted)) {
+    if (const auto* entry = map.entry(node, f[1].str())) {
+      line = entry->line;
+      const int table = map.value_node(*entry);
+      if (const auto* key = table >= 0 ? map.entry(table, f[2].str()) : nullptr) line = key->line;
+    }
+  }
   if (line == e.line) return std::nullopt;
   // Without the traceback: it names the roger.stage{ call's line, which the text's line replaces
   // (found by a probe: a message at the context's line 39 above a traceback saying line 30).

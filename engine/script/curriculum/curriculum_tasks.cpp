@@ -460,7 +460,7 @@ void read_teacher(lua_State* L, const LuaFields& f, CurriculumStage& st, LuaCall
   if (type == LUA_TFUNCTION) {
     teacher_fn = LuaCallback::keep(L);
     st.teacher_lua = true;
-    if (st.tasks.empty()) f.fail("a teacher function needs a task space to choose from: give 'tasks'");
+    if (st.tasks.empty()) f.fail("field 'teacher': a teacher function needs a task space to choose from: give 'tasks'");
     return;
   }
   if (type != LUA_TNIL) {
@@ -476,7 +476,8 @@ void read_teacher(lua_State* L, const LuaFields& f, CurriculumStage& st, LuaCall
   if (!st.teacher) return;
   const TeacherSpec& spec = *st.teacher;
   if (spec.kind != TeacherSpec::Kind::kLcas && st.tasks.empty())
-    f.fail(spec.name() + " needs a task space: give 'tasks' (only lcas may lift a parameter without one)");
+    f.fail("field 'teacher': " + spec.name() + " needs a task space: give 'tasks' (only lcas may lift a parameter "
+           "without one)");
   try {
     make_teacher(spec, st.tasks, 0);  // the steps and levels against the space
   } catch (const Error& e) {
