@@ -1314,3 +1314,31 @@ TEST_CASE("roger eval says when the policy's own curriculum changed since traini
                                               "goal, reward and time limit, and its actions' definitions)\n"));
   fs::remove_all(dir);
 }
+
+// Found by a probe: a skill trained first learns its own stage's task without the command's --set,
+// and nothing said so (with --set locked=left_eye, the skill had trained with both eyes).
+TEST_CASE("roger train says a skill trained first learned without the command's --set", "[cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_skill_sets_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "two.lua")
+      << "local p = require('lib.skills').primitives()\n"
+         "local function stage(name, context, actions, skill)\n"
+         "  return roger.stage{ name = name, scenario = 'unobstructed', time_limit = 4, absorbing = roger.converged(p.phi0),\n"
+         "    budget = { episodes = 4 }, checkpoints = { every = 2, episodes = 2, final = 2 },\n"
+         "    contexts = { { name = context, actions = actions } }, skill = skill }\n"
+         "end\n"
+         "return { stages = {\n"
+         "  stage('S', 'A', { p.search, p.phi0 }, { name = 'Phi_S', context = 'A' }),\n"
+         "  stage('U', 'B', { roger.learned('Phi_S'), p.phi0 }),\n"
+         "} }\n";
+  Run r = roger_in(dir, "train two.lua --stage U --context B --seed 1 --out plain");
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("  skill Phi_S        trained first: stage S context A, reached"));
+  CHECK(r.out.find("without --set") == std::string::npos);
+  r = roger_in(dir, "train two.lua --stage U --context B --seed 1 --set eye_pixels=64 --out set");
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains(" (its stage's own task, without --set: to learn it with them, train "
+                                              "stage S with them and give its policy by --skill Phi_S=FILE.json)\n"));
+  fs::remove_all(dir);
+}

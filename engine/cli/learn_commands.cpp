@@ -287,14 +287,19 @@ int command_eval(const EvalArgs& a) {
 }
 
 // Where a skill of the trial came from, as roger train says it.
-static std::string skill_origin(const SkillSource& s) {
+// A skill trained first learns its own stage's task, without the trial's --set (found by a probe:
+// with --set locked=left_eye, nothing said that the skill had trained with both eyes).
+static std::string skill_origin(const SkillSource& s, bool sets_given) {
   if (s.embedded)
     return "embedded in the policy file of the skill learned with it (stage " + s.stage + " context " +
            s.context + ")";
   if (!s.trained) return "from " + s.file;
   return "trained first: stage " + s.stage + " context " + s.context + ", " +
          (s.reached ? "reached" : "NOT reached") + " its threshold after " +
-         counted(s.to_threshold.episodes, "episode");
+         counted(s.to_threshold.episodes, "episode") +
+         (sets_given ? " (its stage's own task, without --set: to learn it with them, train stage " + s.stage +
+                           " with them and give its policy by --skill " + s.name + "=FILE.json)"
+                     : std::string());
 }
 
 namespace {
@@ -390,7 +395,7 @@ int command_train(const TrainArgs& a) {
   for (const auto& s : a.sets) sets += (sets.empty() ? "" : ", ") + ("--set " + s);
   if (!sets.empty()) std::printf("  with           %s\n", sets.c_str());
   for (const auto& s : r.skills)
-    std::printf("  skill %s        %s\n", s.name.c_str(), skill_origin(s).c_str());
+    std::printf("  skill %s        %s\n", s.name.c_str(), skill_origin(s, !a.sets.empty()).c_str());
   if (r.init) {
     const WarmStart& w = *r.init;
     std::printf("  init           %s: %zu of %zu actions shared, %d states with values%s%s\n", w.source.c_str(),
