@@ -20,6 +20,7 @@
 
 #include "core/error.h"
 #include "report/plot.h"
+#include "report/plot_internal.h"
 #include "report/stats.h"
 
 namespace fs = std::filesystem;
@@ -62,6 +63,20 @@ struct Png {
         if (std::abs(pr - r) <= tolerance && std::abs(pg - g) <= tolerance &&
             std::abs(pb - b) <= tolerance)
           ++n;
+      }
+    return n;
+  }
+  // Dark pixels (every channel under 160: text, not a band or a grid line) in [x0, x1) x [y0, y1).
+  long ink(int x0, int x1, int y0, int y1) const {
+    cairo_surface_flush(surface);
+    const unsigned char* data = cairo_image_surface_get_data(surface);
+    const int stride = cairo_image_surface_get_stride(surface);
+    long n = 0;
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) {
+        uint32_t px;
+        std::memcpy(&px, data + y * stride + 4 * x, 4);
+        n += ((px >> 16) & 0xff) < 160 && ((px >> 8) & 0xff) < 160 && (px & 0xff) < 160;
       }
     return n;
   }
@@ -146,6 +161,32 @@ TEST_CASE("learning curves: a PNG of the promised size with the band colour in i
   Png plain(png);
   REQUIRE(plain.ok());
   CHECK(plain.count(over_white(c.r, 0.2), over_white(c.g, 0.2), over_white(c.b, 0.2), 3) < 100);
+}
+
+// Found by a probe: a title longer than the figure was centred and cropped at both ends.
+TEST_CASE("a title too long for its figure is cut with an ellipsis, not cropped", "[plot]") {
+  using plot_internal::fitted_title;
+  CHECK(fitted_title("Learning curves: stage SG", 200.0, 5.0) == "Learning curves: stage SG");
+  const std::string cut = fitted_title(std::string(200, 'x'), 85.0, 5.0);  // room for 19 characters
+  CHECK(cut == std::string(18, 'x') + "\u2026");
+  std::string accents;
+  for (int k = 0; k < 40; ++k) accents += "\u00e9";  // two bytes each
+  CHECK(fitted_title(accents, 85.0, 5.0) == accents.substr(0, 36) + "\u2026");  // whole characters
+
+  TempDir dir;
+  const std::string png = dir.file("long.png");
+  CurveOptions options;
+  options.width_px = 800;
+  options.height_px = 500;
+  std::string title = "Learning curves: stage ";
+  for (int k = 0; k < 30; ++k) title += "long";
+  plot_learning_curves(png, title, flat_series(), options);
+  Png image(png);
+  REQUIRE(image.ok());
+  const int band = image.height() / 12;  // the title's rows, above the plot
+  CHECK(image.ink(0, image.width(), 0, band) > 200);  // the title is drawn
+  CHECK(image.ink(0, 6, 0, band) == 0);               // and ends inside the figure on either side
+  CHECK(image.ink(image.width() - 6, image.width(), 0, band) == 0);
 }
 
 TEST_CASE("learning curves: SVG, and PNG plus SVG from one call", "[plot]") {

@@ -101,6 +101,17 @@ void set_viewport(double right) {
   plvpor(left, 1.0 - right_frac, 4.4 * ht / h, 1.0 - 3.5 * ht / h);
 }
 
+std::string fitted_title(const std::string& title, double width_mm, double char_height_mm) {
+  const size_t room = size_t(std::max(8.0, 0.96 * width_mm / (0.85 * char_height_mm)));
+  size_t chars = 0, cut = 0;  // characters, and the byte where the room for room - 1 of them ends
+  for (size_t k = 0; k < title.size(); ++k) {
+    if ((static_cast<unsigned char>(title[k]) & 0xC0) == 0x80) continue;  // inside a UTF-8 character
+    if (chars == room - 1) cut = k;
+    ++chars;
+  }
+  return chars <= room ? title : title.substr(0, cut) + "\u2026";
+}
+
 // Title above the plot area and the two axis labels.
 void draw_labels(const std::string& title, const std::string& x_label, const std::string& y_label) {
   plcol0(kInk);
@@ -110,7 +121,10 @@ void draw_labels(const std::string& title, const std::string& x_label, const std
   if (!title.empty()) {
     plsfont(PL_FCI_SANS, PL_FCI_UPRIGHT, PL_FCI_BOLD);
     plschr(0.0, 1.3);
-    plmtex("t", 1.6, 0.5, 0.5, plain(title).c_str());
+    PLFLT def_ht, ht, x0, x1, y0, y1;
+    plgchr(&def_ht, &ht);
+    plgspa(&x0, &x1, &y0, &y1);
+    plmtex("t", 1.6, 0.5, 0.5, plain(fitted_title(title, x1 - x0, ht)).c_str());
     plsfont(PL_FCI_SANS, PL_FCI_UPRIGHT, PL_FCI_MEDIUM);
   }
   plschr(0.0, 1.0);

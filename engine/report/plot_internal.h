@@ -36,6 +36,12 @@ enum : PLINT { kBackground = 0, kInk = 1, kGrid = 2, kFrame = 3, kWhite = 4, kFi
 // PLplot text with its escape character doubled, so '#' in a name is printed as itself.
 std::string plain(const std::string& text);
 
+// A title for a figure `width_mm` wide in characters `char_height_mm` high: whole, or cut at a
+// character's boundary with an ellipsis when it would not fit (PLplot centres a title and crops
+// both its ends; found by a probe). PLplot has no public measure of text: a bold sans character
+// is taken as 0.85 of its height wide (DejaVu Sans Bold averages about 0.8).
+std::string fitted_title(const std::string& title, double width_mm, double char_height_mm);
+
 // A value as an error message shows it.
 std::string number(double v);
 
