@@ -1342,3 +1342,24 @@ TEST_CASE("roger train says a skill trained first learned without the command's 
                                               "stage S with them and give its policy by --skill Phi_S=FILE.json)\n"));
   fs::remove_all(dir);
 }
+
+// Found by a probe: Ctrl-C stopped roger report without a word (exit 130), leaving its hidden
+// staging folder in the results folder. A first Ctrl-C lets the report finish, as in roger run.
+TEST_CASE("roger report stopped by Ctrl-C finishes its report, says so and leaves nothing behind", "[cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_report_int_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  REQUIRE(roger("run scripts/quick.lua --jobs 2 --only SG/B1 --no-report --out " + dir.string()).status == 0);
+  int stopped = 0;
+  for (const char* delay : {"0.15", "0.05", "0.3"}) {  // a signal before main has its handler kills at once
+    const Run r = run_roger_command("timeout --preserve-status -s INT " + std::string(delay) + " ",
+                                    "report " + dir.string() + " --partial");
+    INFO(delay << ": " << r.status << "\n" << r.err);
+    for (const auto& e : fs::directory_iterator(dir)) CHECK(e.path().filename().string().rfind(".staged", 0) != 0);
+    if (r.status != 130 || r.err.find("roger report: stopped on request, once the report was written") == std::string::npos)
+      continue;
+    ++stopped;
+    CHECK(fs::exists(dir / "tables.md"));
+  }
+  CHECK(stopped > 0);
+  fs::remove_all(dir);
+}

@@ -226,6 +226,9 @@ int command_run(const RunArgs& a) {
 
 int command_report(const ReportArgs& a) {
   std::ostream& log = a.progress ? *a.progress : std::cerr;
+  // The report is short and written whole or not at all: a first Ctrl-C lets it finish, as in
+  // roger run (found by a probe: it stopped without a word, its staging folder left behind).
+  catch_interrupts("finishing the report, then exiting");
   try {
     const BatchPlan plan = read_results_plan(a.dir);
     const std::vector<MissingTrial> missing = missing_trials(plan);
@@ -245,6 +248,10 @@ int command_report(const ReportArgs& a) {
     if (summary.pending)
       log << "roger report: " << counted(summary.pending, "trial") << (summary.pending == 1 ? " has" : " have")
           << " no result yet (marked pending)\n";
+    if (interrupt_requested()) {
+      log << "roger report: stopped on request, once the report was written\n";
+      return interrupt_exit_status();
+    }
     return 0;
   } catch (const FileError& e) {
     log << "roger report: " << report_file_error_line(e) << "\n";
