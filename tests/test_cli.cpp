@@ -1363,3 +1363,16 @@ TEST_CASE("roger report stopped by Ctrl-C finishes its report, says so and leave
   CHECK(stopped > 0);
   fs::remove_all(dir);
 }
+
+// Found by a probe: `--out /proc/x.png` read "A folder on that path does not exist" (/proc does,
+// and takes no new file), and a results folder that could not be made said the run "resumes
+// where this one stopped".
+TEST_CASE("a path that cannot be written is refused for its true cause", "[cli]") {
+  const Run proc = roger("render scenarios/cluttered.lua --out /proc/roger_x.png");
+  CHECK(proc.status == 1);
+  CHECK_THAT(proc.err, Catch::Matchers::Contains("The folder /proc exists but takes no new file (a system folder?)"));
+  const Run sys = roger("run scripts/quick.lua --out /sys/roger_x");
+  CHECK(sys.status == 1);
+  CHECK_THAT(sys.err, Catch::Matchers::Contains("cannot create the results folder '/sys/roger_x'"));
+  CHECK(sys.err.find("resumes") == std::string::npos);
+}

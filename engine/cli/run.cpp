@@ -149,6 +149,12 @@ std::string file_error_line(const FileError& e, bool resumes) {
       if (what.find("removed while") != std::string::npos) return what + ". Put it back as it was, " + again;
       if (what.find("changed while") != std::string::npos)  // an edit: the finished trials read the old text
         return what + ". Put it back as it was, " + again + "; or, to run the new version, give another --out";
+      // Found by a probe: /proc/x.png is refused with ENOENT, though /proc exists.
+      std::error_code ec;
+      const std::filesystem::path parent = std::filesystem::path(e.path).parent_path();
+      if (!e.path.empty() && !parent.empty() && std::filesystem::is_directory(parent, ec))
+        return what + ". The folder " + parent.string() + " exists but takes no new file (a system folder?): give "
+               "another path, " + again;
       return what + ". A folder on that path does not exist: make it, or give another path, " + again;
     }
     case ENOTDIR:
@@ -216,7 +222,10 @@ int command_run(const RunArgs& a) {
            "again\n";
     return interrupt_exit_status();  // 130 after Ctrl-C, 143 after SIGTERM, as a shell reports them
   } catch (const FileError& e) {
-    log << "roger run: " << file_error_line(e) << "\n";
+    // A results folder that could not be made has nothing to resume (found by a probe: --out /sys/x
+    // said "it resumes where this one stopped").
+    const bool made = std::string(e.what()).rfind("cannot create the results folder", 0) != 0;
+    log << "roger run: " << file_error_line(e, made) << "\n";
     return 1;
   } catch (const std::exception& e) {
     log << "roger run: " << e.what() << "\n";
