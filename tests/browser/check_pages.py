@@ -524,6 +524,14 @@ def check_shards(b, folder, work):
     got = b.evaluate(line)
     check(got.startswith("Every shard is done, waiting for roger report: %d/%d" % (final["done"], final["trials"]))
           and "may have stopped" not in b.evaluate(note), "shards: the page waits for roger report (%s)" % got)
+    # Found by a probe: with failed trials the shards exit with an error and Slurm cancels the report
+    # job; the page says so and what writes the report, instead of waiting for ever.
+    write_status(copy, dict(base, waiting="report", done=final["done"] - 2, failed=2, updated_ms=now - 120000))
+    b.open(os.path.join(copy, "index.html"), ready)
+    got = b.evaluate("document.getElementById('progress-advice') ? "
+                     "document.getElementById('progress-advice').textContent : ''")
+    check("is cancelled: roger report " + final["folder"] + " writes the report now" in got,
+          "shards: with failed trials, the page says what writes the report (%s)" % got)
     write_report(copy, dict(report, written_ms=int(time.time() * 1000)))
     write_status(copy, dict(base, report="written", updated_ms=int(time.time() * 1000)))
     title = "document.getElementById('title').textContent"
