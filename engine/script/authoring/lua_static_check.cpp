@@ -22,7 +22,8 @@ namespace fs = std::filesystem;
 namespace {
 
 struct Access {
-  enum Kind { kRead, kWrite, kMember, kMemberWrite, kRequire, kFinding } kind;
+  // kDynamic: globals made where this pass cannot name them (load, _G[name] = v, rawset(_G, name, v)).
+  enum Kind { kRead, kWrite, kMember, kMemberWrite, kRequire, kFinding, kDynamic } kind;
   std::string name;  // a global, a dotted member path ("roger.robot.base_radius"), a module, or
                      // a finding's whole message
   int line;
@@ -382,6 +383,7 @@ class Scanner {
     // Under `local _ENV = t` a free name is a field of t, which this pass cannot see.
     if (owner("_ENV")) return;
     if (n == "_G" || n == "_ENV" || n == "rawset") global_table_write(line);
+    if (n == "load" || (n == "setmetatable" && op(i_ + 1, "(") && word(i_ + 2, "_G"))) note(Access::kDynamic, n, line);
     if (n == "roger") return member_chain(line);
     if (n == "require") {
       if (at(i_ + 1).type == LuaToken::kString) note(Access::kRequire, at(i_ + 1).text, line);
@@ -398,14 +400,17 @@ class Scanner {
   void global_table_write(int line) {
     const size_t k = i_;
     if (at(k).text == "rawset") {
-      if (op(k + 1, "(") && (word(k + 2, "_G") || word(k + 2, "_ENV")) && op(k + 3, ",") &&
-          at(k + 4).type == LuaToken::kString)
-        note(Access::kWrite, at(k + 4).text, line);
+      if (op(k + 1, "(") && (word(k + 2, "_G") || word(k + 2, "_ENV")) && op(k + 3, ",")) {
+        if (at(k + 4).type == LuaToken::kString && op(k + 5, ",")) note(Access::kWrite, at(k + 4).text, line);
+        else note(Access::kDynamic, "rawset", line);
+      }
       return;
     }
     if (op(k + 1, ".") && name(k + 2) && statement_level() && op(k + 3, "=")) note(Access::kWrite, at(k + 2).text, line);
     if (op(k + 1, "[") && at(k + 2).type == LuaToken::kString && op(k + 3, "]") && statement_level() && op(k + 4, "="))
       note(Access::kWrite, at(k + 2).text, line);
+    else if (op(k + 1, "[") && !(at(k + 2).type == LuaToken::kString && op(k + 3, "]")))
+      note(Access::kDynamic, at(k).text + "[...]", line);  // _G[name]: a global named at run time
   }
 
   // A local or upvalue: an alias of roger reaches roger's members. `R = roger` makes R one; any
@@ -604,6 +609,7 @@ class Judge {
       for (const auto& a : f.accesses) {
         if (a.kind == Access::kWrite) written_.insert(a.name);
         if (a.kind == Access::kMemberWrite) written_.insert(a.name);
+        dynamic_ = dynamic_ || a.kind == Access::kDynamic;
       }
   }
 
@@ -622,7 +628,9 @@ class Judge {
   bool known(const std::string& n) const { return api_.count(n) || written_.count(n); }
 
   std::string global(const std::string& n, std::vector<std::string> names) const {
-    if (known(n)) return "";
+    // Found by a probe: a global made by load("x = 5")() or _G[name] = v was refused, where the
+    // script ran: what this pass cannot see, it does not report.
+    if (known(n) || dynamic_) return "";
     for (const auto& [k, table] : api_)
       if (k.find('.') == std::string::npos) names.push_back(k);
     for (const auto& k : written_)
@@ -681,6 +689,7 @@ class Judge {
   std::optional<ScriptKind> kind_;
   std::map<std::string, bool> api_;
   std::set<std::string> written_;
+  bool dynamic_ = false;  // some file makes globals this pass cannot name
 };
 
 // "require('sorting') takes scenarios/sorting.lua; curricula/sorting.lua has the same name:
