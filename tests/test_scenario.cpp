@@ -534,7 +534,7 @@ TEST_CASE("script mistakes are reported at the script's file:line", "[scenario]"
     CHECK_THAT(robot.message,
                StartsWith("world:sample_position: no placement for 'ball' after 500 tries: it "
                           "needs 0.25 m from the walls, ") &&
-                   Contains("10 m from Roger (failed in 500 tries)") &&
+                   Contains("10 m from Roger (failed every try)") &&
                    EndsWith("in a 4 x 4 m arena"));
     // Found by a probe: a candidate too near two of sorting's goal regions counted twice, so the
     // message said "after 1000 tries" and "(failed in 3401 tries)".
@@ -543,13 +543,12 @@ TEST_CASE("script mistakes are reported at the script's file:line", "[scenario]"
     const ScriptError crowded = generate_error(sorting);
     INFO(crowded.message);
     const std::regex failed("failed in ([0-9]+) tries");
-    int counts = 0;
     for (auto it = std::sregex_iterator(crowded.message.begin(), crowded.message.end(), failed);
-         it != std::sregex_iterator(); ++it, ++counts)
-      CHECK(std::stoi((*it)[1].str()) <= 1000);
-    CHECK(counts == 1);
+         it != std::sregex_iterator(); ++it)
+      CHECK(std::stoi((*it)[1].str()) < 1000);
     CHECK_THAT(crowded.message, Contains("after 1000 tries"));
-    CHECK_THAT(crowded.message, Contains("clearance from the goal regions (failed in 1000 tries)"));
+    // Found by a probe: "(failed in 1000 tries)" after "after 1000 tries" said the count twice.
+    CHECK_THAT(crowded.message, Contains("clearance from the goal regions (failed every try)"));
   }
   SECTION("field names and types") {
     Scenario s = Scenario::load("tests/scripts/bad_field.lua");

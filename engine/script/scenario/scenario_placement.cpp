@@ -192,13 +192,15 @@ std::optional<Vec2> draw_position(lua_State* L, const WorldBuilder& w, const Sam
 }
 
 // What the failure message says the position needs: every constraint that rejected candidates
-// (with its count), and those that always apply.
-std::string needs_text(const SampleConstraints& c) {
+// (with its count of the `tries`, or "every try", which the message has just counted), and those
+// that always apply.
+std::string needs_text(const SampleConstraints& c, int tries) {
   const auto& constraints = c.list;
   std::vector<std::string> parts;
   for (const auto& k : constraints) {
     if (k.rejected > 0)
-      parts.push_back(k.text + " (failed in " + std::to_string(k.rejected) + " tries)");
+      parts.push_back(k.text + (k.rejected >= tries ? std::string(" (failed every try)")
+                                                    : " (failed in " + std::to_string(k.rejected) + " tries)"));
     else if (&k == &constraints.front() || k.text.find("clearance") == std::string::npos)
       parts.push_back(k.text);
   }
@@ -234,7 +236,7 @@ int l_world_sample(lua_State* L) {
     }
     if (w.no_placement) *w.no_placement = true;
     f.fail(label + " after " + std::to_string(request.tries) + " tries: it needs " +
-           needs_text(constraints) + " in a " + arena_text(a));
+           needs_text(constraints, request.tries) + " in a " + arena_text(a));
   });
 }
 
