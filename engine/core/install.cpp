@@ -2,6 +2,9 @@
 
 #include <dlfcn.h>
 
+#include <fstream>
+#include <string>
+
 namespace roger {
 
 namespace fs = std::filesystem;
@@ -36,10 +39,16 @@ std::optional<fs::path> find_installed_data_dir() {
   const auto holds_data = [&](const fs::path& data) { return fs::is_directory(data / "scenarios", ec); };
   // Inside the installed Python module (P/lib/python3.X/dist-packages/roger/_roger...so), whose
   // interpreter is not roger: the prefix's data above the module's own file, found by climbing,
-  // so that an installed package never reads the source tree it was built from.
+  // or the one recorded beside it, so that an installed package reads its own data, not the source
+  // tree it was built from (which only a package with neither falls back to).
   if (const std::optional<fs::path> object = shared_object_path(exe)) {
     for (fs::path up = object->parent_path(); !up.empty() && up != up.root_path(); up = up.parent_path())
       if (holds_data(up / ROGER_DATA_FROM_PREFIX)) return (up / ROGER_DATA_FROM_PREFIX).lexically_normal();
+    // A package installed outside its prefix (-DROGER_PYTHON_INSTALL_DIR): the data folder cmake
+    // --install recorded beside it (engine/python/CMakeLists.txt).
+    std::ifstream recorded(object->parent_path() / "data_dir.txt");
+    std::string line;
+    if (recorded && std::getline(recorded, line) && !line.empty() && holds_data(line)) return fs::path(line);
     return std::nullopt;
   }
   if (!exe) return std::nullopt;

@@ -46,6 +46,20 @@ for f in bin/roger share/roger/scenarios/cluttered.lua share/roger/scenarios/lib
          share/doc/roger/README.md; do
   [ -e "$work/prefix/$f" ] || fail "the install has no $f"
 done
+# A copy of the installed package outside its prefix (a venv's, or one installed there with
+# -DROGER_PYTHON_INSTALL_DIR) reads the data cmake --install recorded beside it, not the source tree
+# (found by a probe): a curriculum only the prefix has is found by its bare name.
+installed_module=$(find "$work/prefix/lib" -name '_roger*.so' 2>/dev/null | head -1)
+if [ "$part" = moved ] && [ -n "$installed_module" ]; then
+  mkdir -p "$work/venv"
+  cp -r "$(dirname "$installed_module")" "$work/venv/"
+  cp "$work/prefix/share/roger/curricula/paper.lua" "$work/prefix/share/roger/curricula/only_prefix_paper.lua"
+  (cd "$work" && PYTHONPATH=$work/venv /usr/bin/python3 -c "
+import roger
+roger.make('only_prefix_paper', 'SG', 'B1').reset(seed=1)
+") >"$work/venv.log" 2>&1 || { cat "$work/venv.log"; fail "a copy of the installed package outside the prefix"; }
+  rm -rf "$work/venv" "$work/prefix/share/roger/curricula/only_prefix_paper.lua"
+fi
 mv "$work/prefix" "$work/moved"
 tree=$work/moved
 # A scenario only the moved tree has: found by its bare name, it proves where roger looks.
