@@ -5,11 +5,15 @@ Look (docs/curricula.md): the same problem `roger train` solves, written in Pyth
 
     PYTHONPATH=build/python python3 docs/examples/python_example.py
 """
+import os
+
 import numpy as np
 
 import roger
 
-env = roger.make("docs/examples/curriculum_example.lua", stage="Look", context="Gaze")
+# The tutorial's curriculum beside this file: docs/examples/, or share/doc/roger/examples/ installed.
+CURRICULUM = os.path.join(os.path.dirname(os.path.abspath(__file__)), "curriculum_example.lua")
+env = roger.make(CURRICULUM, stage="Look", context="Gaze")
 print(env.actions, env.action_space.n, env.observation_space)
 
 n = env.action_space.n
@@ -43,7 +47,7 @@ print(f"greedy policy: {successes}/20 episodes reached the goal, {sim_s / 20:.2f
 
 # Many worlds at once: C++ threads, numpy arrays, a finished world begins its next episode at its
 # next step (Gymnasium's NEXT_STEP autoreset).
-vec = roger.make_vec("docs/examples/curriculum_example.lua", "Look", "Gaze", num_envs=4, threads=2)
+vec = roger.make_vec(CURRICULUM, "Look", "Gaze", num_envs=4, threads=2)
 obs, info = vec.reset(seed=0)
 ended, goals = 0, 0
 for _ in range(10):
