@@ -799,6 +799,11 @@ PYBIND11_MODULE(_roger, m) {
       PyErr_SetString(error.ptr(), e.what());
     }
   });
+  // As `roger --version` says them (found by a probe: the package named neither).
+  m.attr("__version__") = ROGER_VERSION;
+  m.def("project_folder", &project_in_use,
+        "The project folder the module reads bare names from, and why: ROGER_HOME, installed beside the "
+        "module, or the source tree it was built from");
   m.def("mix", &Rng::mix, py::arg("seed"), py::arg("i"),
         "The seed mixer of the engine: roger train's training episode e runs in world mix(seed, e + 1).");
   m.def(

@@ -334,6 +334,11 @@ class Interface(unittest.TestCase):
         env.step(0)
         self.assertGreater(engine.seconds, 0.0)
 
+    def test_version_and_project_folder(self):
+        # Found by a probe: the package named neither its version nor the project folder it reads.
+        out = subprocess.run([ROGER, "--version"], capture_output=True, text=True, check=True).stdout
+        self.assertEqual(out.strip(), "roger %s (project folder: %s)" % (roger.__version__, roger.project_folder()))
+
     def test_docs_example_is_the_example_file(self):
         # Found by a probe: the guide's copy of docs/examples/python_example.py said "a runs until
         # the next decision point" where the file says "a runs until the state changes".

@@ -34,7 +34,7 @@ import threading
 import numpy as np
 
 from . import _roger
-from ._roger import PlacementError, RogerError, ScriptError
+from ._roger import PlacementError, RogerError, ScriptError, __version__, project_folder
 
 try:  # gymnasium is optional: its base classes and spaces when present, the same contracts otherwise
     import gymnasium as _gym
@@ -53,7 +53,7 @@ except ImportError:  # exercised where gymnasium is absent
     _batch_space = None
 
 __all__ = ["make", "make_vec", "load_policy", "Env", "VecEnv", "Policy", "RogerError", "ScriptError", "PlacementError",
-           "AutoresetMode", "GAMMA_NAMES", "PAPER_IDS", "mix", "state_index", "spaces"]
+           "AutoresetMode", "GAMMA_NAMES", "PAPER_IDS", "mix", "state_index", "spaces", "project_folder"]
 
 GAMMA_NAMES = ("NOREF", "!CONV", "CONV")
 _MODES = ("decision", "tick")
