@@ -124,9 +124,14 @@ case $part in
     echo "PASSED: the moved install works" ;;
   hidden)
     # Empty folders over the source and build trees, in a mount namespace of this test alone.
+    # A copy of the build tree's program, whose source tree is hidden too, says so (found by a
+    # probe: it named a source tree that was no longer there as its project folder).
+    cp "$build/engine/roger" "$work/build_tree_roger"
     unshare --mount --propagation private bash -c '
       mount -t tmpfs -o size=1m tmpfs "$1" && { [ "$2" = "${2#$1/}" ] && mount -t tmpfs -o size=1m tmpfs "$2" || true; } &&
-      [ ! -e "$1/CMakeLists.txt" ] && checks' _ "$source" "$build" || fail "the moved install, with the sources hidden"
+      [ ! -e "$1/CMakeLists.txt" ] && checks &&
+      "$work/build_tree_roger" --version | grep -q "the source tree this roger was built from, which is no longer there"' \
+      _ "$source" "$build" || fail "the moved install, with the sources hidden"
     echo "PASSED: the moved install works with the source and build trees hidden" ;;
   deb)
     # The Debian package: the same files under /usr, what it needs declared, and a roger that works

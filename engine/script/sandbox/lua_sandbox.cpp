@@ -69,8 +69,13 @@ std::string project_in_use() {
            (fs::is_directory(home, ec) ? std::string()
                                        : ", which is not a folder: set it to a project holding scenarios/, "
                                          "curricula/ and scripts/, or unset it");
-  return project_root().string() + (installed_data_dir() ? ", installed beside the program"
-                                                          : ", the source tree this roger was built from");
+  const fs::path root = project_root();
+  if (installed_data_dir()) return root.string() + ", installed beside the program";
+  // Found by a probe: a copied program named a source tree that was no longer there.
+  if (!fs::is_directory(root / "scenarios", ec))
+    return root.string() + ", the source tree this roger was built from, which is no longer there: set ROGER_HOME "
+                           "to a project folder, or install roger (cmake --install) and run the installed one";
+  return root.string() + ", the source tree this roger was built from";
 }
 
 std::string lua_file_here(const std::string& name) {
