@@ -1376,3 +1376,27 @@ TEST_CASE("a path that cannot be written is refused for its true cause", "[cli]"
   CHECK_THAT(sys.err, Catch::Matchers::Contains("cannot create the results folder '/sys/roger_x'"));
   CHECK(sys.err.find("resumes") == std::string::npos);
 }
+
+// Found by a probe: with ROGER_HOME naming a lab's own project folder, its scenarios could require
+// none of the shipped libraries (lib.shapes, lib.place, lib.body): they are found after its own.
+TEST_CASE("a project folder of one's own finds the shipped libraries after its own", "[cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_lab_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "proj" / "scenarios" / "lib");
+  std::ofstream(dir / "proj" / "scenarios" / "blue.lua")
+      << "local shapes = require('lib.shapes')\nlocal mine = require('lib.mine')\n"
+         "return { generate = function(world, rng, p)\n"
+         "  world:robot{ x = 0, y = 0, heading = rng:angle() }\n"
+         "  world:object{ name = 'ball', shape = shapes.get(mine.shape), x = 1, y = 1 }\n"
+         "end }\n";
+  std::ofstream(dir / "proj" / "scenarios" / "lib" / "mine.lua") << "return { shape = 'circle' }\n";
+  const Run r = roger_in(dir, "check blue", "ROGER_HOME=" + (dir / "proj").string());
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("blue: ok (scenario 'blue'"));
+  // A library of its own of a shipped name is its own (searched first).
+  std::ofstream(dir / "proj" / "scenarios" / "lib" / "shapes.lua") << "return { get = function() error('mine') end }\n";
+  CHECK_THAT(roger_in(dir, "check blue", "ROGER_HOME=" + (dir / "proj").string()).err,
+             Catch::Matchers::Contains("mine"));
+  fs::remove_all(dir);
+}

@@ -98,12 +98,22 @@ std::vector<fs::path> module_search_roots(const fs::path& main_folder, bool batc
     const fs::path p = fs::weakly_canonical(project / name, ec);
     if (!ec && std::find(roots.begin(), roots.end(), p) == roots.end()) roots.push_back(p);
   }
-  // Last, the project itself, for "curricula.sorting" (module_root_takes): found by a probe, a
+  // Then the project itself, for "curricula.sorting" (module_root_takes): found by a probe, a
   // curriculum's require("sorting") met scenarios/sorting.lua first and could not reach the
   // curriculum of that name.
   std::error_code ec;
   const fs::path p = fs::weakly_canonical(project, ec);
   if (!ec && std::find(roots.begin(), roots.end(), p) == roots.end()) roots.push_back(p);
+  // Last, with ROGER_HOME naming a project of one's own, the shipped tree's folders (installed, or
+  // the source tree), so that its libraries (lib.shapes, lib.skills) are found without copying
+  // them (found by a probe: a lab's project folder could use none of them).
+  const std::optional<fs::path> installed = installed_data_dir();
+  const fs::path shipped = fs::weakly_canonical(installed ? *installed : fs::path(ROGER_SOURCE_DIR), ec);
+  if (!ec && shipped != p && fs::is_directory(shipped / "scenarios", ec))
+    for (const char* name : order) {
+      const fs::path q = fs::weakly_canonical(shipped / name, ec);
+      if (!ec && std::find(roots.begin(), roots.end(), q) == roots.end()) roots.push_back(q);
+    }
   return roots;
 }
 

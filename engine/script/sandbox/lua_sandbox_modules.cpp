@@ -173,7 +173,8 @@ void locate_module(const LuaSandbox::Impl& s, const std::string& name, fs::path&
     // scenarios/ would otherwise both show as scenarios/lib/x.lua.
     const fs::path& root = s.roots[i];
     const std::string candidate = (root / rel).lexically_normal().string();
-    const bool project = i > 0 && i + 1 == s.roots.size();
+    std::error_code ec;
+    const bool project = i > 0 && root == fs::weakly_canonical(project_root(), ec);
     tried.push_back(s.main_set && root == s.main_dir ? module_display(s, root, rel) + " (beside the script)"
                     : project ? candidate + " (in the project)"
                               : candidate + " (in the project " + root.parent_path().string() + ")");
