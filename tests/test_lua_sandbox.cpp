@@ -369,10 +369,13 @@ TEST_CASE("require finds modules beside the script and in the project folders, o
                                         fs::weakly_canonical(home.path / "work" / "sibling.lua")};
     CHECK(sandbox.source_files() == read);
     const auto roots = sandbox.module_roots();
-    REQUIRE(roots.size() == 5);
+    REQUIRE(roots.size() == 8);
     CHECK(roots[0] == fs::weakly_canonical(home.path / "work"));
     CHECK(roots[1] == fs::weakly_canonical(home.path / "scenarios"));
-    CHECK(roots[4] == fs::weakly_canonical(home.path));  // last, for names that say their folder
+    CHECK(roots[4] == fs::weakly_canonical(home.path));  // for names that say their folder
+    // Last, under a ROGER_HOME of one's own, the shipped tree's folders: its libraries.
+    CHECK(roots[5] == fs::weakly_canonical(fs::path(ROGER_SOURCE_DIR) / "scenarios"));
+    CHECK(roots[7] == fs::weakly_canonical(fs::path(ROGER_SOURCE_DIR) / "scripts"));
     // Found by a probe: a curriculum's require("sorting") met scenarios/sorting.lua first and could
     // not reach curricula/sorting.lua; a name that says its folder does.
     std::ofstream(home.path / "scenarios" / "stage.lua") << "return 'scenario stage'\n";
@@ -423,7 +426,11 @@ TEST_CASE("a batch script's require searches scripts/ first, other scripts scena
                                         fs::weakly_canonical(home.path / "scripts"),
                                         fs::weakly_canonical(home.path / "curricula"),
                                         fs::weakly_canonical(home.path / "scenarios"),
-                                        fs::weakly_canonical(home.path)};  // for "curricula.x" and the like
+                                        fs::weakly_canonical(home.path),  // for "curricula.x" and the like
+                                        // the shipped tree's, last (ROGER_HOME names another project)
+                                        fs::weakly_canonical(fs::path(ROGER_SOURCE_DIR) / "scripts"),
+                                        fs::weakly_canonical(fs::path(ROGER_SOURCE_DIR) / "curricula"),
+                                        fs::weakly_canonical(fs::path(ROGER_SOURCE_DIR) / "scenarios")};
     CHECK(sandbox.module_roots() == want);
   }
   CHECK(looks_like_batch_script(home.path / "work" / "myquick.lua"));

@@ -1115,18 +1115,6 @@ RunningClaim::~RunningClaim() {
   ::close(whole_);
 }
 
-namespace {
-// The script as the manifest and the report name it, however the command typed it: relative to the
-// project inside it, else absolute. Found by a probe: `base.lua` and `/tmp/x/base.lua` gave two
-// tables.md, so the shards submit.sh runs (it names the script absolutely) differed from roger run's.
-std::string manifest_script_name(const BatchScript& b) {
-  std::error_code ec;
-  const fs::path real = fs::weakly_canonical(fs::absolute(b.file, ec), ec);
-  const fs::path in_project = real.lexically_relative(fs::weakly_canonical(project_root(), ec));
-  return !in_project.empty() && *in_project.begin() != ".." ? in_project.string() : real.string();
-}
-}  // namespace
-
 bool open_results_folder(const BatchPlan& plan, std::string* note, const Shard& shard, const RunningClaim* claim) {
   const BatchScript& b = *plan.script;
   const FolderLock lock(plan.out);
@@ -1143,7 +1131,7 @@ bool open_results_folder(const BatchPlan& plan, std::string* note, const Shard& 
       if (t.run) seeds[t.id] = t.seed;
     }
   const json manifest = {{"format", "roger-results/1"},
-                         {"script", manifest_script_name(b)},
+                         {"script", b.path},
                          {"script_file", fs::absolute(b.file).lexically_normal().string()},
                          {"version", ROGER_VERSION},
                          {"engine", ROGER_ENGINE_FINGERPRINT},
