@@ -752,6 +752,8 @@ def check_dashboard(b, folder, screenshot):
     expected = markdown_tables(os.path.join(folder, "tables.md"))
     check(len(expected) >= 2, "tables.md has tables (%d)" % len(expected))
     check(shown == expected, "dashboard: every table cell equals tables.md's (%d tables)" % len(shown))
+    unnamed = b.evaluate(UNNAMED)
+    check(unnamed == [], "dashboard: every figure and button has an accessible name (not: %s)" % unnamed)
     curves = b.evaluate("document.querySelectorAll('svg[data-figure] polyline[data-context]').length")
     contexts = b.evaluate("document.querySelectorAll('.legend input[data-context]').length")
     check(curves >= 2 and curves == contexts, "dashboard: one IQM curve per context (%s of %s)" % (curves, contexts))
@@ -839,11 +841,19 @@ def canvas_summary(b):
         }
         return {ink: ink, total: d.length / 4, hash: h}; })()""")
 
+# Found by a probe: the viewer's timeline canvases, its symbol buttons (◀ ▶ + −) and two of the
+# dashboard's three figures had no accessible name: a screen reader read the symbol, or nothing.
+UNNAMED = """Array.from(document.querySelectorAll('canvas, svg[data-figure], button')).filter(e =>
+    !(e.getAttribute('aria-label') || (e.tagName === 'BUTTON' && /[A-Za-z]{2}/.test(e.textContent))))
+    .map(e => e.id || e.getAttribute('data-figure') || e.textContent)"""
+
 
 def check_episode(b, folder, screenshot):
     page = os.path.join(folder, "index.html")
     b.open(page, "window.viewer !== undefined")
     check(b.errors() == [], "viewer: no console errors (%s)" % b.errors())
+    unnamed = b.evaluate(UNNAMED)
+    check(unnamed == [], "viewer: every canvas and button has an accessible name (not: %s)" % unnamed)
     ep = json.load(open(os.path.join(folder, "episode.json")))
     dt, end = ep["tick_seconds"], ep["sim_seconds"]
     colours = b.evaluate("""["--noref", "--notconv", "--conv"].map(v =>
