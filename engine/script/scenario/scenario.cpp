@@ -316,18 +316,16 @@ WorldSpec Scenario::generate_world(uint64_t seed) {
     lua_pushvalue(L, world);  // keep the world on this frame after the call
     lua_insert(L, world - 1);
     {
-      // The world is read-only, and its rng draws no more, once generate returns or fails (a
-      // script may have kept them).
+      // The world is read-only once generate returns or fails (a script may have kept it).
       struct Finish {
-        lua_State* L;
         WorldBuilder* w;
-        ~Finish() {
-          w->finished = true;
-          close_rng_epoch(L);
-        }
-      } finish{L, w};
+        ~Finish() { w->finished = true; }
+      } finish{w};
       lua_call(L, 3, 0);
     }
+    // Its rng (and its forks) draw no more: a failed generate's are past by the next one's epoch,
+    // and nothing else runs in a scenario's Lua state.
+    close_rng_epoch(L);
     if (!w->robot_set)
       throw impl.error("the generator did not place Roger: call world:robot{x=..., y=..., heading=...}",
                        impl.generate_line);

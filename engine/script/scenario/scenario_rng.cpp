@@ -38,8 +38,6 @@ lua_Integer open_rng_epoch(lua_State* L) {
   return epoch;
 }
 
-// The key exists once an epoch was opened: setting it allocates nothing, so this may run while an
-// error unwinds.
 void close_rng_epoch(lua_State* L) { set_registry_integer(L, kLiveEpoch, 0); }
 
 namespace {
