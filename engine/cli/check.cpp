@@ -284,7 +284,8 @@ std::vector<std::string> check_curriculum_sets(const std::string& path, const Sa
 // A curriculum: its stages' callbacks called once each (check_curriculum), then its stages listed.
 int check_curriculum_file(const std::string& path, const std::string& shown, const SandboxLimits& limits,
                           const ParamList& sets) {
-  const std::vector<std::string> problems = sets.empty() ? check_curriculum(path, limits) : check_curriculum_sets(path, limits, sets);
+  const std::vector<std::string> problems =
+      sets.empty() ? check_curriculum(path, limits) : check_curriculum_sets(path, limits, sets);
   for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.c_str());
   if (!problems.empty()) return 1;
   const Curriculum cur = Curriculum::load(path, limits);

@@ -213,7 +213,9 @@ CLI::App* add_run(CLI::App& app, RunArgs& a) {
   c->add_option("script", a.script, "Batch script (.lua), or a name in scripts/")->required();
   c->add_option("--trials", a.trials, "Trials per run (overrides the script)")->check(integer_in(1, 100000));
   c->add_option("--jobs", a.jobs, "Worker threads (default: all cores)")->check(integer_in(1, 1024));
-  c->add_option("--out", a.out, "Results folder (default: results/<name>, the batch script's name field, which roger check shows)")->check(path_value());
+  c->add_option("--out", a.out,
+                "Results folder (default: results/<name>, the batch script's name field, which roger check shows)")
+      ->check(path_value());
   repeatable(c->add_option("--set", a.sets, "Scenario parameter key=value for every run (repeatable)"));
   repeatable(c->add_option("--only", a.only, "Only this run, RUN/CONTEXT, or eval/NAME (repeatable)"));
   c->add_flag("--live", a.live, "A live progress bar (default on a terminal)");
