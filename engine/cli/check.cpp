@@ -260,8 +260,9 @@ std::vector<std::string> check_curriculum_sets(const std::string& path, const Sa
       plan.push_back({st.name, {}});
     }
     for (const auto& [k, v] : sets) {
+      const std::string& key = k;  // a lambda may not capture a structured binding (C++17)
       const bool anywhere = std::any_of(cur.stages().begin(), cur.stages().end(),
-                                        [&](const CurriculumStage& st) { return declared[st.scenario].count(k) > 0; });
+                                        [&](const CurriculumStage& st) { return declared[st.scenario].count(key) > 0; });
       for (size_t i = 0; i < plan.size(); ++i) {
         const CurriculumStage& st = cur.stages()[i];
         if (declared[st.scenario].count(k) || (!anywhere && i == 0)) plan[i].second.push_back({k, v});
