@@ -250,7 +250,7 @@ TEST_CASE("parse_shard reads K/N and a Slurm array's task, and refuses anything 
   const Shard s = parse_shard("2/5");
   CHECK(s.index == 2);
   CHECK(s.count == 5);
-  for (const char* bad : {"5/5", "-1/3", "1/0", "1", "a/b", "1/3x", ""})
+  for (const char* bad : {"5/5", "-1/3", "1/0", "1", "a/b", "1/3x", "", " 1/3", "1/+3", "+1/3", "1/ 3"})
     CHECK_THROWS_WITH(parse_shard(bad), Catch::Contains("K/N"));
   unsetenv("ROGER_SHARDS");
   unsetenv("SLURM_ARRAY_TASK_ID");

@@ -373,6 +373,26 @@ TEST_CASE("a context a batch runs must be able to name its trials' folders", "[b
   fs::remove_all(dir);
 }
 
+// Found by a probe: a description's line break let the rest of it open a Markdown heading of
+// tables.md ("# injected heading"); a description or a title is one line of the report.
+TEST_CASE("a batch script's description and titles are one line each", "[batch_script]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_one_line_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const auto script = [&](const std::string& description, const std::string& title) {
+    std::ofstream(dir / "lines.lua") << "return { name = 'lines', curriculum = 'curricula/paper.lua',\n"
+                                        "  description = " << description << ",\n"
+                                        "  runs = { { name = 'SG', stage = 'SG', contexts = { 'B1' } } },\n"
+                                        "  tables = { { title = " << title << ", run = 'SG', baseline = 'B1' } } }\n";
+    return load_error((dir / "lines.lua").string());
+  };
+  CHECK(script("'one line'", "'Table'").empty());
+  CHECK_THAT(script("'one\\n# injected heading'", "'Table'"),
+             Catch::Matchers::Contains("lines.lua:2: the batch script's 'description' is one line of the report, and "
+                                       "has a line break: join its lines"));
+  CHECK_THAT(script("'one'", "'Table\\nII'"), Catch::Matchers::Contains("'title' is one line of the report"));
+  fs::remove_all(dir);
+}
+
 // Found by a probe: a misspelt 'by' of a table or 'param' of a figure of where a teacher sampled
 // passed the load, and the report wrote an empty table, or no figure "for want of a finished
 // trial", once the training was over.

@@ -803,7 +803,9 @@ Shard parse_shard(const std::string& text) {
   Shard s;
   int k = -1, n = -1;
   char rest = 0;
-  if (std::sscanf(text.c_str(), "%d/%d%c", &k, &n, &rest) != 2 || n < 1 || k < 0 || k >= n)
+  // Digits only: sscanf took " 1/3" and "1/+3" (found by a probe).
+  if (!std::regex_match(text, std::regex("[0-9]{1,9}/[0-9]{1,9}")) ||
+      std::sscanf(text.c_str(), "%d/%d%c", &k, &n, &rest) != 2 || n < 1 || k < 0 || k >= n)
     throw Error("--shard '" + text + "': expected K/N with 0 <= K < N (e.g. 0/4), or slurm");
   s.index = k;
   s.count = n;

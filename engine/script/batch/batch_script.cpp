@@ -95,6 +95,13 @@ void read_limits(const json& top, const Reader& rd, const BatchOverrides& overri
   apply_limit_overrides(overrides, b.limits);
 }
 
+// A description or title is one line of the report (found by a probe: a line break let the rest
+// of a description open a Markdown heading of tables.md).
+void refuse_line_break(const Reader& rd, const std::string& text, const std::string& what, int line) {
+  if (text.find_first_of("\r\n") != std::string::npos)
+    rd.fail(line, what + " is one line of the report, and has a line break: join its lines");
+}
+
 // Reads the script's own fields (name, description, curriculum, trials, seed, params, limits),
 // with the command line's overrides.
 void read_header(const json& top, const Reader& rd, int top_line, const std::string& path,
@@ -109,6 +116,7 @@ void read_header(const json& top, const Reader& rd, int top_line, const std::str
     rd.fail(rd.line_of_key("name", top_line), "the batch script: 'name' names the results folder results/<name>: "
                                               "a folder's name without '/', not empty, '.' or '..', got '" + b.name + "'");
   b.description = rd.str(top, "description", "the batch script", top_line, "");
+  refuse_line_break(rd, b.description, "the batch script's 'description'", rd.line_of_key("description", top_line));
   b.curriculum = rd.str(top, "curriculum", "the batch script", top_line, "", true);
   b.trials = int(rd.integer(top, "trials", "the batch script", top_line, 1, 1, 100000));
   b.seed = uint64_t(rd.integer(top, "seed", "the batch script", top_line, 1, 0, int64_t(1) << 53));
@@ -526,6 +534,7 @@ BatchTable read_table(const json& tj, const Reader& rd, int& at, const Curriculu
   const std::string what = title.empty() ? "a table" : "table '" + title + "'";
   rd.check_object(tj, what, {"title", "run", "baseline", "evaluation", "usage", "sorting", "compare", "by"}, l);
   t.title = title;
+  refuse_line_break(rd, t.title, what + ": 'title'", l);
   t.by = rd.str(tj, "by", what, l, "");
   if (!t.by.empty() && (tj.contains("evaluation") || tj.contains("sorting") || tj.contains("usage")))
     rd.fail(l, what + ": 'by' splits the final evaluations of a run's contexts or of 'compare''s rows");
@@ -606,6 +615,7 @@ BatchFigure read_figure(const json& fj, const Reader& rd, int& at, const Curricu
       rd.fail(l, what + ": the report draws the IQM learning curves of run '" + r.name + "' into iqm_" + r.name +
                      ".png and .svg itself: give this figure another file name");
   f.title = rd.str(fj, "title", what, l, "");
+  refuse_line_break(rd, f.title, what + ": 'title'", l);
   f.kind = rd.str(fj, "kind", what, l, "curves");
   if (f.kind != "curves" && f.kind != "cumulative" && f.kind != "tasks")
     rd.fail(rd.line_of_key("kind", l), what + ": 'kind' is \"curves\", \"cumulative\" or \"tasks\", got '" + f.kind + "'");
