@@ -1218,6 +1218,25 @@ TEST_CASE("a trial result whose summary disagrees with its own episodes is refus
   }
 }
 
+// Found by a probe: a report whose script no longer asks for a figure left that figure's files
+// beside it, ready to be published with a report that does not name them.
+TEST_CASE("a report removes the figures of the previous report that it no longer draws", "[report]") {
+  const KillCopy folder("dropped_figure");
+  REQUIRE(fs::exists(folder.dir / "figure5.png"));
+  spit(folder.dir / "notes.png", "a file of the user's");  // in no report's list: never touched
+  json manifest = folder.read("manifest.json");
+  json& figures = manifest["config"]["figures"];
+  figures.erase(std::remove_if(figures.begin(), figures.end(), [](const json& f) { return f["file"] == "figure5"; }),
+                figures.end());
+  folder.write("manifest.json", manifest);
+  std::string said;
+  REQUIRE(folder.report(said) == 0);
+  CHECK_FALSE(fs::exists(folder.dir / "figure5.png"));
+  CHECK_FALSE(fs::exists(folder.dir / "figure5.svg"));
+  CHECK(fs::exists(folder.dir / "figure4.png"));
+  CHECK(slurp(folder.dir / "notes.png") == "a file of the user's");
+}
+
 // Found by deleting a training trial's final.jsonl: the report's table by obstacles silently
 // counted 30 episodes of 40, and a resumed run took the trial as finished.
 TEST_CASE("a training trial's final.jsonl missing or cut short is refused and the trial run again", "[report][run]") {

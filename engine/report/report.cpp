@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <map>
+#include <regex>
 #include <set>
 #include <sstream>
 
@@ -76,6 +77,44 @@ void remove_undrawn_figures(const std::string& dir, const json& page_figures, co
   }
 }
 
+// The figure files the folder's previous report drew, as its dashboard.js lists them, read before
+// this report replaces it: one the script no longer asks for goes with it (found by a probe:
+// figure5.png stayed beside a report that no longer named it). Only files a report listed are
+// touched, never one of the user's; a missing or unreadable dashboard.js lists none.
+std::set<std::string> previous_figure_files(const std::string& dir) {
+  std::set<std::string> files;
+  std::error_code ec;
+  const fs::path page = fs::path(dir) / "dashboard.js";
+  if (!fs::is_regular_file(page, ec)) return files;
+  std::string text;
+  try {
+    text = read_file_text(page.string());
+  } catch (const std::exception&) {
+    return files;
+  }
+  const size_t open = text.find('{'), close = text.rfind('}');
+  if (open == std::string::npos || close == std::string::npos || close < open) return files;
+  const json data = json::parse(text.substr(open, close - open + 1), nullptr, false);
+  if (!data.is_object() || !data.contains("figures") || !data["figures"].is_array()) return files;
+  static const std::regex plain_name("[A-Za-z0-9_.-]+");
+  for (const json& f : data["figures"])
+    if (f.is_object() && f.contains("file") && f["file"].is_string() &&
+        std::regex_match(f["file"].get<std::string>(), plain_name))
+      for (const char* ext : {".png", ".svg"}) files.insert(f["file"].get<std::string>() + ext);
+  return files;
+}
+
+// Removes the previous report's figure files this report did not write.
+void remove_previous_figures(const std::string& dir, const std::set<std::string>& previous,
+                             const std::vector<std::string>& out) {
+  std::set<std::string> written;
+  for (const std::string& o : out) written.insert(fs::path(o).filename().string());
+  for (const std::string& f : previous) {
+    std::error_code ec;
+    if (!written.count(f)) fs::remove(fs::path(dir) / f, ec);
+  }
+}
+
 }  // namespace
 
 std::vector<std::string> write_report(const std::string& dir, const std::vector<std::string>& by_given) {
@@ -89,6 +128,7 @@ std::vector<std::string> write_report(const std::string& dir, const std::vector<
   // Written whole or not at all: a table that refuses a record's numbers, or a figure that cannot
   // be drawn, leaves the previous report as it was rather than half replaced.
   const std::vector<std::string> by = distinct(by_given);
+  const std::set<std::string> previous = previous_figure_files(dir);
   StagedFiles staged(dir);
   const Folder folder(dir, staged.path());
   std::ostringstream md;
@@ -160,6 +200,7 @@ std::vector<std::string> write_report(const std::string& dir, const std::vector<
   for (const auto& f : dashboard::write_dashboard(staged.path(), page)) written.push_back(f);
   const std::vector<std::string> out = staged.commit(written);
   remove_undrawn_figures(dir, page_figures, out);
+  remove_previous_figures(dir, previous, out);
   return out;
 }
 
