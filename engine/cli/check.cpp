@@ -249,7 +249,7 @@ bool is_module(const std::string& path, const std::vector<ModuleUse>& users) {
 // Says on stderr which stages a parameter skipped.
 std::vector<std::string> check_curriculum_sets(const std::string& path, const SandboxLimits& limits,
                                                const ParamList& sets) {
-  std::vector<std::pair<std::string, ParamList>> plan;  // stage -> the sets it declares
+  std::vector<std::pair<std::string, ParamList>> plan;  // stage -> the sets its scenario declares
   std::map<std::string, std::vector<std::string>> skipped;  // parameter -> the stages without it
   try {
     const Curriculum cur = Curriculum::load(path, limits);
@@ -272,9 +272,17 @@ std::vector<std::string> check_curriculum_sets(const std::string& path, const Sa
   } catch (const std::exception&) {
     return check_curriculum(path, limits, sets);  // the load's error, as check_curriculum words it
   }
+  // Stages of the same parameters in one check (each check loads the curriculum), groups in the order
+  // of their first stage.
+  std::vector<std::pair<ParamList, std::vector<std::string>>> groups;
+  for (const auto& [stage, stage_sets] : plan) {
+    auto it = std::find_if(groups.begin(), groups.end(), [&](const auto& g) { return g.first == stage_sets; });
+    if (it == groups.end()) it = groups.insert(groups.end(), {stage_sets, {}});
+    it->second.push_back(stage);
+  }
   std::vector<std::string> problems;
-  for (const auto& [stage, stage_sets] : plan)
-    for (const auto& p : check_curriculum(path, limits, stage_sets, {stage})) problems.push_back(p);
+  for (const auto& [group_sets, stages] : groups)
+    for (const auto& p : check_curriculum(path, limits, group_sets, stages)) problems.push_back(p);
   for (const auto& [k, stages] : skipped)
     if (problems.empty())
       std::fprintf(stderr, "roger check: --set %s not checked on stage%s %s, whose scenario has no such parameter\n",

@@ -63,20 +63,6 @@ std::vector<std::string> draw_figures(const BatchScript& b, const Folder& folder
   return figures_md;
 }
 
-// Removes the files of a figure this report could not draw, left by an earlier report: tables.md
-// says "(not drawn: ...)", and a figure beside it would read as this report's (found by a probe).
-void remove_undrawn_figures(const std::string& dir, const json& page_figures, const std::vector<std::string>& out) {
-  std::set<std::string> written;
-  for (const std::string& o : out) written.insert(fs::path(o).filename().string());
-  for (const json& f : page_figures) {
-    const std::string file = f.value("file", std::string());
-    for (const char* ext : {".png", ".svg"}) {
-      std::error_code ec;
-      if (!file.empty() && !written.count(file + ext)) fs::remove(fs::path(dir) / (file + ext), ec);  // usually none
-    }
-  }
-}
-
 // The figure files the folder's previous report drew, as its dashboard.js lists them, read before
 // this report replaces it: one the script no longer asks for goes with it (found by a probe:
 // figure5.png stayed beside a report that no longer named it). Only files a report listed are
@@ -104,14 +90,19 @@ std::set<std::string> previous_figure_files(const std::string& dir) {
   return files;
 }
 
-// Removes the previous report's figure files this report did not write.
-void remove_previous_figures(const std::string& dir, const std::set<std::string>& previous,
-                             const std::vector<std::string>& out) {
-  std::set<std::string> written;
-  for (const std::string& o : out) written.insert(fs::path(o).filename().string());
-  for (const std::string& f : previous) {
+// Removes the figure files this report did not write: those of a figure it could not draw, which
+// tables.md says "(not drawn: ...)" and which would read as this report's beside it, and those
+// of a figure of the previous report (`files`, as previous_figure_files reads them) the script no
+// longer asks for.
+void remove_unwritten_figures(const std::string& dir, const json& page_figures, std::set<std::string> files,
+                              const std::vector<std::string>& out) {
+  for (const json& f : page_figures)
+    if (const std::string file = f.value("file", std::string()); !file.empty())
+      for (const char* ext : {".png", ".svg"}) files.insert(file + ext);
+  for (const std::string& o : out) files.erase(fs::path(o).filename().string());
+  for (const std::string& f : files) {
     std::error_code ec;
-    if (!written.count(f)) fs::remove(fs::path(dir) / f, ec);
+    fs::remove(fs::path(dir) / f, ec);  // usually none
   }
 }
 
@@ -199,8 +190,7 @@ std::vector<std::string> write_report(const std::string& dir, const std::vector<
                      {"figures", page_figures}, {"trials", dashboard::trial_index(b, dir)}};
   for (const auto& f : dashboard::write_dashboard(staged.path(), page)) written.push_back(f);
   const std::vector<std::string> out = staged.commit(written);
-  remove_undrawn_figures(dir, page_figures, out);
-  remove_previous_figures(dir, previous, out);
+  remove_unwritten_figures(dir, page_figures, previous, out);
   return out;
 }
 

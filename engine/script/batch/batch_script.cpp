@@ -95,6 +95,13 @@ void read_limits(const json& top, const Reader& rd, const BatchOverrides& overri
   apply_limit_overrides(overrides, b.limits);
 }
 
+// Whether a name can be a folder's of the results (a trial id's segment, a figure's file): letters,
+// digits, '.', '_' and '-', and not '.' or '..'.
+bool folder_name(const std::string& s) {
+  static const std::regex plain("[A-Za-z0-9_.-]+");
+  return std::regex_match(s, plain) && s != "." && s != "..";
+}
+
 // A description or title is one line of the report (found by a probe: a line break let the rest
 // of a description open a Markdown heading of tables.md).
 void refuse_line_break(const Reader& rd, const std::string& text, const std::string& what, int line) {
@@ -249,7 +256,7 @@ BatchRun read_run(const json& rj, const Reader& rd, int runs_line, const Curricu
   const std::string what = nm.empty() ? "a run" : "run '" + nm + "'";
   rd.check_object(rj, what, {"name", "stage", "contexts", "trials", "params", "skills", "final_worlds"}, r.line);
   r.name = rd.str(rj, "name", what, r.line, "", true);
-  if (!std::regex_match(r.name, std::regex("[A-Za-z0-9_.-]+")) || r.name == "eval" || r.name == "." || r.name == "..")
+  if (!folder_name(r.name) || r.name == "eval")
     rd.fail(r.line, what + ": a run name uses letters, digits, '.', '_' and '-' (and is not 'eval', '.' or '..')");
   if (b.run(r.name)) rd.fail(r.line, "a second run named '" + r.name + "'");
   r.stage = rd.str(rj, "stage", what, r.line, "", true);
@@ -274,7 +281,7 @@ BatchRun read_run(const json& rj, const Reader& rd, int runs_line, const Curricu
   // A context names its trials' folders (trials/<run>/<context>/000). Found by a probe: one named
   // "C<img ...>" passed roger check, and roger run refused it after writing the results folder.
   for (const auto& c : r.contexts)
-    if (!std::regex_match(c, std::regex("[A-Za-z0-9_.-]+")) || c == "." || c == "..")
+    if (!folder_name(c))
       rd.fail(rj.contains("contexts") ? rd.line_of_key("contexts", r.line) : r.line,
               what + ": the context '" + c + "' of stage '" + r.stage + "' cannot name its trials' folders (trials/" +
                   r.name + "/<context>/000): a context a batch runs uses letters, digits, '.', '_' and '-' (rename "
@@ -345,7 +352,7 @@ BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const 
                    "trials", "skills"},
                   e.line);
   e.name = rd.str(ej, "name", what, e.line, "", true);
-  if (!std::regex_match(e.name, std::regex("[A-Za-z0-9_.-]+")) || e.name == "." || e.name == "..")
+  if (!folder_name(e.name))
     rd.fail(e.line, what + ": a name uses letters, digits, '.', '_' and '-' (and is not '.' or '..')");
   for (const auto& o : b.evaluations)
     if (o.name == e.name) rd.fail(e.line, "a second evaluation named '" + e.name + "'");
@@ -371,7 +378,7 @@ BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const 
   e.params = rd.params(ej, "params", what, e.line);
   e.shapes = rd.strings(ej, "shapes", what, e.line, false);
   for (const auto& s : e.shapes)
-    if (!std::regex_match(s, std::regex("[A-Za-z0-9_.-]+")) || s == "." || s == "..")
+    if (!folder_name(s))
       rd.fail(rd.line_of_key("shapes", e.line), what + ": shape '" + s + "' is not a plain name");
   if (std::any_of(e.params.begin(), e.params.end(), [](const auto& p) { return p.first == "shape"; }) &&
       !e.shapes.empty())
@@ -608,7 +615,7 @@ BatchFigure read_figure(const json& fj, const Reader& rd, int& at, const Curricu
   const std::string what = file.empty() ? "a figure" : "figure '" + file + "'";
   rd.check_object(fj, what, {"file", "title", "kind", "run", "log_x", "compare", "y", "context", "param"}, l);
   f.file = rd.str(fj, "file", what, l, "", true);
-  if (!std::regex_match(f.file, std::regex("[A-Za-z0-9_.-]+")) || f.file == "." || f.file == "..")
+  if (!folder_name(f.file))
     rd.fail(l, what + ": 'file' is a plain name (no folder, no extension): <file>.png and <file>.svg are written");
   for (const auto& r : b.runs)
     if (f.file == "iqm_" + r.name)
