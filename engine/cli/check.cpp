@@ -275,10 +275,10 @@ std::vector<std::string> check_curriculum_sets(const std::string& path, const Sa
   // Stages of the same parameters in one check (each check loads the curriculum), groups in the order
   // of their first stage.
   std::vector<std::pair<ParamList, std::vector<std::string>>> groups;
-  for (const auto& [stage, stage_sets] : plan) {
-    auto it = std::find_if(groups.begin(), groups.end(), [&](const auto& g) { return g.first == stage_sets; });
-    if (it == groups.end()) it = groups.insert(groups.end(), {stage_sets, {}});
-    it->second.push_back(stage);
+  for (const auto& stage : plan) {  // not a structured binding: the lambda captures it
+    auto it = std::find_if(groups.begin(), groups.end(), [&](const auto& g) { return g.first == stage.second; });
+    if (it == groups.end()) it = groups.insert(groups.end(), {stage.second, {}});
+    it->second.push_back(stage.first);
   }
   std::vector<std::string> problems;
   for (const auto& [group_sets, stages] : groups)
