@@ -144,6 +144,24 @@ TEST_CASE("a runtime error names file and line and carries a traceback", "[lua_s
   CHECK_THAT(std::string(e.what()), Contains("\nstack traceback:"));
 }
 
+TEST_CASE("an error a library raises at its caller's line shows no traceback of the library's own frames",
+          "[lua_sandbox]") {
+  // Found by a probe: a scenario's noise out of range, refused by lib/body.lua at the scenario's
+  // line (error(text, level)), came with a traceback of lib/body.lua's and lib/place.lua's lines.
+  LuaSandbox sandbox;
+  const std::string library = "local function check(v) if v > 1 then error('too big', 3) end end\n"
+                              "local function lib(v) check(v) end\n";
+  const ScriptError at_top = error_of(sandbox, library + "lib(2)\n");
+  CHECK(at_top.line == 3);
+  CHECK_THAT(at_top.traceback, Contains("chunk.lua:1: in "));  // the record keeps it all
+  CHECK(std::string(at_top.what()) == "chunk.lua:3: too big");
+  // The callers of the message's line still say something: they are shown.
+  const ScriptError nested = error_of(sandbox, library + "local function user() lib(2) end\nuser()\n");
+  CHECK(nested.line == 3);
+  CHECK_THAT(std::string(nested.what()), StartsWith("chunk.lua:3: too big\nstack traceback:") &&
+                                             Contains("chunk.lua:4: in main chunk"));
+}
+
 TEST_CASE("error() without a position and non-string errors still get a location", "[lua_sandbox]") {
   LuaSandbox sandbox;
   const ScriptError plain = error_of(sandbox, "local x = 1\nerror('no position', 0)\n");

@@ -102,34 +102,38 @@ end
 -- kinds, every level times noise_scale (a delay rounded to whole ticks, a dropout at most 1).
 -- Each level is within its parameter's range, but noise_scale may carry it past the channel's:
 -- refused here, where the two parameters that made it are known (world:robot would name only the
--- product), at the line that asked for the noise.
+-- product), at the line that asked for the noise: noise_of's caller, or `above` frames above it when
+-- a library step calls noise_of for the scenario (place.robot passes 1, so the error names the
+-- scenario's line, not lib/place.lua's).
 local function number_text(v)
   if v == math.floor(v) and math.abs(v) < 1e15 then return string.format("%d", v) end
   return string.format("%.14g", v)
 end
 
-local function scaled(p, c, param, field, hi, unit, rounded)
+local function scaled(p, c, param, field, hi, unit, rounded, level)
   local v = p.noise_scale * p[param]
   if rounded then v = math.floor(v + 0.5) end
   if v > hi then
     error(string.format("body.noise_of: noise.%s: field '%s' must be within [0, %s] %s, got %s (the scenario "
                         .. "parameters %s = %s times noise_scale = %s: lower either)", c.name, field,
                         number_text(hi), unit, number_text(v), param, number_text(p[param]),
-                        number_text(p.noise_scale)), 3)
+                        number_text(p.noise_scale)), level)
   end
   return v
 end
 
-function body.noise_of(p)
+function body.noise_of(p, above)
+  local level = 3 + (above or 0)  -- scaled, noise_of, then the line that asked
   local noise = {}
   for _, c in ipairs(CHANNELS) do
     local n = "noise_" .. c.name
     noise[c.name] = {
-      sigma = scaled(p, c, n, "sigma", c.max, c.unit), bias = scaled(p, c, n .. "_bias", "bias", c.max, c.unit),
-      drift = { sigma = scaled(p, c, n .. "_drift", "drift.sigma", c.max, c.unit), tau = p[n .. "_tau"] },
-      delay = scaled(p, c, n .. "_delay", "delay", MAX_DELAY_TICKS, "ticks", true),
+      sigma = scaled(p, c, n, "sigma", c.max, c.unit, false, level),
+      bias = scaled(p, c, n .. "_bias", "bias", c.max, c.unit, false, level),
+      drift = { sigma = scaled(p, c, n .. "_drift", "drift.sigma", c.max, c.unit, false, level), tau = p[n .. "_tau"] },
+      delay = scaled(p, c, n .. "_delay", "delay", MAX_DELAY_TICKS, "ticks", true, level),
       dropout = math.min(1, p.noise_scale * p[n .. "_dropout"]),
-      quantum = scaled(p, c, n .. "_quantum", "quantum", c.quantum, c.quantum_unit),
+      quantum = scaled(p, c, n .. "_quantum", "quantum", c.quantum, c.quantum_unit, false, level),
     }
   end
   return noise

@@ -55,7 +55,7 @@ function place.robot(world, rng, p)
     radius = roger.body_metrics(b).footprint_radius,
     wall_margin = p.robot_wall_margin,
   }
-  world:robot{ x = x, y = y, heading = rng:angle(), body = b.body, eyes = b.eyes, noise = body.noise_of(p) }
+  world:robot{ x = x, y = y, heading = rng:angle(), body = b.body, eyes = b.eyes, noise = body.noise_of(p, 1) }
   return x, y
 end
 

@@ -19,12 +19,16 @@ namespace fs = std::filesystem;
 using namespace sandbox_detail;
 
 namespace {
-// Whether a traceback names a line of Lua other than `file`:`line`, the message's own: one whose
-// Lua frames are all that line (an error of roger.stage{...} at the top of a script: "[C]: in
-// field 'stage'", "s.lua:16: in main chunk") says nothing the message does not.
+// Whether a traceback names a line of Lua other than `file`:`line`, the message's own, outside the
+// message's frame: one whose Lua frames are all that line (an error of roger.stage{...} at the top
+// of a script: "[C]: in field 'stage'", "s.lua:16: in main chunk") says nothing the message does
+// not. The frames inside the message's frame are those of the library that raised the error at its
+// caller's line (error(text, 2) and above), so they say nothing to its caller either (found by a
+// probe: a scenario's noise out of range showed lib/body.lua's and lib/place.lua's lines).
 bool traceback_adds(const std::string& traceback, const std::string& file, int line) {
   const std::string own = "\t" + file + ":" + std::to_string(line) + ":";
-  size_t at = traceback.find('\n');
+  const size_t own_frame = traceback.find("\n" + own);
+  size_t at = own_frame == std::string::npos ? traceback.find('\n') : own_frame;
   while (at != std::string::npos) {
     const size_t end = traceback.find('\n', at + 1);
     const std::string frame = traceback.substr(at + 1, end == std::string::npos ? std::string::npos : end - at - 1);
