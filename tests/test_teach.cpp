@@ -737,6 +737,13 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
       {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { \"32\", 64 } } } }",
        ":8: stage 'S': roger.teacher.lcas: lift.eye_pixels[1] is the string \"32\": parameter 'eye_pixels' of "
        "scenario 'cluttered' takes a number: write 32 without quotes"},
+      // Found by a probe: a sequence's step and a test list took obstacles = "1" as 1.
+      {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.sequence{ { obstacles = \"1\" }, {} } }",
+       ":8: stage 'S': roger.teacher.sequence: step 1: obstacles = \"1\" is a string, but obstacles takes a number "
+       "(roger.int(0, 3)): write 1 without quotes"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, test = { list = { { obstacles = 1 }, { obstacles = \"2\" } } } }",
+       ":6: stage 'S': test: list[2]: obstacles = \"2\" is a string, but obstacles takes a number (roger.int(0, 3)): "
+       "write 2 without quotes"},
       {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 64 } }, floor = 1.5 } }",
        ":8: roger.teacher.lcas: field 'floor' must be in [0, 1], got 1.5"},
       // Found by a probe: lifts that never change the level trained as a stage with it fixed.
@@ -1018,6 +1025,18 @@ TEST_CASE("the report compares the teachers, splits their success by level and m
     CHECK_THAT(md, Contains("- " + t["row"].get<std::string>() + " trial 0 (" + t["kind"].get<std::string>() +
                             "): " + t["did"].get<std::string>() + "\n"));
   }
+  // Every teacher has its line, random and function too (found by a probe: they had none).
+  CHECK(comparison["teachers"].size() == 8);
+  // Found by a probe: an untitled comparison had an empty heading, a run's own table of a stage
+  // that teaches said nothing of its teacher, and an untitled comparison figure was listed as its
+  // first row's run's.
+  CHECK_THAT(md, Contains("\n## Comparison of Random/A, Alp/A\n"));
+  const std::string sequence_table = md.substr(md.find("\n## Stage Sequence (run Sequence)\n"));
+  CHECK_THAT(sequence_table.substr(0, sequence_table.find("\n## ", 1)),
+             Contains("With a test set (a stage that teaches), the success rate is the share of its tasks") &&
+                 Contains("\n- Sequence/A trial 0 (sequence): at step "));
+  CHECK_THAT(md, Contains("\n- `two_teachers.png` / `two_teachers.svg`: curves of Random/A, Alp/A\n"));
+  CHECK(md.find("\n## \n") == std::string::npos);
   // The split by level: five bins of the real axis, each cell the final episodes of that bin.
   const json report = read_json(dir / "report.json");
   const json& by = report["tables"][1];
@@ -1091,7 +1110,8 @@ TEST_CASE("report --by names what the records have, and a damaged record's file 
   const std::string tables_before = fs::exists(copy.path / "tables.md") ? slurp(copy.path / "tables.md") : "";
   const fs::path err = copy.path / "err.txt";
   REQUIRE(run_shell(report + " --by bogus > /dev/null 2>" + err.string()) == 1);
-  CHECK_THAT(slurp(err), Contains("roger report: --by bogus: none of the 150 final-evaluation episodes has a feature "
+  // The records of every table it would split: the comparisons of 8 rows and of 2, and Sequence's.
+  CHECK_THAT(slurp(err), Contains("roger report: --by bogus: none of the 210 final-evaluation episodes has a feature "
                                   "'bogus'; they have: level, objects, obstacles, shape"));
   CHECK((fs::exists(copy.path / "tables.md") ? slurp(copy.path / "tables.md") : "") == tables_before);
   const fs::path final_records = copy.path / "trials" / "Random" / "A" / "000" / "final.jsonl";
@@ -1335,7 +1355,22 @@ TEST_CASE("roger train says what its teacher did", "[teach][stage]") {
   CHECK(describe_teacher_state(json{{"kind", "lcas"}, {"param", "obstacles"}, {"value", 0}, {"level", 1},
                                     {"levels", 4}, {"lifts", json::array()}}) ==
         "obstacles = 0 (level 1 of 4), never lifted");
-  CHECK(describe_teacher_state(json{{"kind", "random"}, {"episodes", 3}}).empty());
+  // Found by a probe: random and function teachers said nothing, in roger train or the report.
+  CHECK(describe_teacher_state(json{{"kind", "random"}, {"episodes", 3}}) == "3 tasks drawn uniformly from the task space");
+  CHECK(describe_teacher_state(json{{"kind", "function"}, {"episodes", 1}, {"function", "c.lua:9"}}) ==
+        "1 task chosen by the function at c.lua:9");
+  // Found by a probe: a move decided on the last episode's outcome read as a step reached.
+  CHECK(describe_teacher_state(json{{"kind", "sequence"}, {"episodes", 20}, {"step", 3}, {"steps", 3},
+                                    {"moves", json::array({json{{"episode", 10}, {"from", 1}, {"to", 2}, {"rate", 0.3}},
+                                                           json{{"episode", 20}, {"from", 2}, {"to", 3}, {"rate", 0.9}}})}}) ==
+        "at step 2 of 3 when training ended; moved at episodes 10 (step 1 to 2, rate 0.3); after the last episode, "
+        "to step 3 (rate 0.9), never trained");
+  CHECK(describe_teacher_state(json{{"kind", "lcas"}, {"episodes", 60}, {"param", "noise_scale"}, {"value", 2},
+                                    {"level", 3}, {"levels", 3},
+                                    {"lifts", json::array({json{{"episode", 44}, {"from", 0}, {"to", 1}},
+                                                           json{{"episode", 60}, {"from", 1}, {"to", 2}}})}}) ==
+        "noise_scale = 1 (level 2 of 3) when training ended; lifted at episodes 44 (to 1); after the last episode, "
+        "to 2, never trained");
   // Found by a probe: fractions at full precision, a task as JSON, "1 levels kept".
   CHECK(describe_teacher_state(json{{"kind", "plr"}, {"replays", 1}, {"episodes", 1}, {"levels", 1}}) ==
         "1 of 1 episode replayed a level; 1 level kept");
@@ -1711,17 +1746,24 @@ TEST_CASE("a teacher whose window cannot fill within the budget is warned of", "
   auto warning = [&](const std::string& name, const std::string& fields) {
     return Curriculum::load(write_stage(dir.path, name, fields).string()).stage("S").teacher_window_warning();
   };
+  // A window that fills only at the last episode counts as none: what it decides sets no episode
+  // (found by a probe: "moved at episodes 10, 20" of a 20-episode budget).
   CHECK_THAT(warning("seq", "{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.sequence{ "
-                            "{ obstacles = 0, window = 5 }, {} } }"),
-             Contains("seq.lua:8: stage 'S': roger.teacher.sequence: step 1's window = 5 is more than the budget's 4 "
+                            "{ obstacles = 0, window = 4 }, {} } }"),
+             Contains("seq.lua:8: stage 'S': roger.teacher.sequence: step 1's window = 4 is not below the budget's 4 "
                       "episodes: the sequence will never move past it"));
-  CHECK_THAT(warning("lcas", "{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 64 } }, window = 3 } }"),
-             Contains("lcas.lua:8: stage 'S': roger.teacher.lcas: window = 3 needs 6 episodes at a level (two windows) "
-                      "before it can lift eye_pixels, more than the budget's 4 episodes"));
+  CHECK_THAT(warning("lcas", "{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 64 } }, window = 2 } }"),
+             Contains("lcas.lua:8: stage 'S': roger.teacher.lcas: window = 2 needs 4 episodes at a level (two windows) "
+                      "before it can lift eye_pixels, not fewer than the budget's 4 episodes"));
+  // Found by a probe: ALP-GMM's first fit after the budget trained a uniform teacher without a word.
+  CHECK_THAT(warning("alp", "{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.alp_gmm{ fit_every = 4 } }"),
+             Contains("alp.lua:8: stage 'S': roger.teacher.alp_gmm: fit_every = 4 is not below the budget's 4 episodes: "
+                      "it will never fit its mixture before the last episode, and draws every task uniformly"));
   // Windows that fit, and a last step's (it never moves on), say nothing.
   CHECK(warning("fits", "{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.sequence{ "
-                        "{ obstacles = 0, window = 4 }, { window = 100 } } }").empty());
-  CHECK(warning("lcas_fits", "{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 64 } }, window = 2 } }").empty());
+                        "{ obstacles = 0, window = 3 }, { window = 100 } } }").empty());
+  CHECK(warning("lcas_fits", "{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 64 } }, window = 1 } }").empty());
+  CHECK(warning("alp_fits", "{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.alp_gmm{ fit_every = 3 } }").empty());
   const std::string roger = ROGER_BINARY, said = (dir.path / "said.txt").string();
   CHECK(run_shell(roger + " check " + (dir.path / "seq.lua").string() + " > " + said + " 2>&1") == 0);
   CHECK_THAT(slurp(said), Contains("roger: warning: ") && Contains("seq.lua:8: stage 'S': roger.teacher.sequence: step 1's window"));

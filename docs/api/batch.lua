@@ -47,7 +47,7 @@
 
 ---A table of the report: give one of `run`, `evaluation`, `sorting` or `compare`.
 ---@class roger.BatchTable
----@field title? string its heading (default: one made from what it shows, "Stage T", "Evaluation generalization", ...)
+---@field title? string its heading (default: one made from what it shows: "Stage T (run T)", "Evaluation generalization", "Comparison of T_seq/DC3, T_lcas/DC3", "Stage T (run T): final success by shape")
 ---@field run? string a run's table: a row per context
 ---@field baseline? string what the others are compared with: a context of `run`, or a "run/context" row of `compare` (default: the first)
 ---@field evaluation? string an evaluation's table: a row per shape and a Total (no `baseline`, `usage` or `by`)

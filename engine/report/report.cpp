@@ -33,6 +33,16 @@ std::vector<std::string> distinct(const std::vector<std::string>& features) {
   return out;
 }
 
+// What a figure shows, for its line of tables.md: its title, else its kind and rows (found by a
+// probe: a comparison of several runs' contexts was listed as "curves of run" its first row's).
+std::string figure_description(const BatchFigure& f) {
+  if (!f.title.empty()) return f.title;
+  if (f.compare.empty()) return f.kind + " of run " + f.run;
+  std::string rows;
+  for (const BatchRow& r : f.compare) rows += (rows.empty() ? "" : ", ") + r.label();
+  return f.kind + " of " + rows;
+}
+
 // Draws the script's figures; their lines for tables.md, each saying what it lacks.
 std::vector<std::string> draw_figures(const BatchScript& b, const Folder& folder, std::vector<std::string>& written,
                                       json& page_figures) {
@@ -49,7 +59,7 @@ std::vector<std::string> draw_figures(const BatchScript& b, const Folder& folder
       lacking = fig["missing"].get<std::vector<std::string>>().front() +
                 (fig["missing"].size() > 1 ? " and " + std::to_string(fig["missing"].size() - 1) + " more" : "") +
                 " finished without episodes.jsonl";
-    std::string line = "- `" + f.file + ".png` / `" + f.file + ".svg`: " + (f.title.empty() ? f.kind + " of run " + f.run : f.title);
+    std::string line = "- `" + f.file + ".png` / `" + f.file + ".svg`: " + figure_description(f);
     if (!drawn) line += " (not drawn: " + (lacking.empty() ? "no finished trial" : lacking) + ")";
     else if (!lacking.empty()) line += " (not in it: " + lacking + ")";
     figures_md.push_back(line + figure_pending_note(b, f, folder));
@@ -145,7 +155,7 @@ std::vector<std::string> write_report(const std::string& dir, const std::vector<
     for (const auto& feature : by) {  // roger report --by: the same rows split by each feature
       BatchTable split = t;
       split.by = feature;
-      split.title = (t.title.empty() ? "Run " + t.run : t.title) + ": final success by " + feature;
+      split.title = t.title + ": final success by " + feature;
       const ByFound found = by_table(b, split, folder, md, rep);
       by_records[feature] += found.records;
       by_found[feature] = by_found[feature] || found.feature;

@@ -56,7 +56,7 @@ json eval_row_out(const std::string& name, const std::string& object, const Eval
 
 // The head of an evaluation table: its title, whose policies, where, and how they met their worlds.
 void eval_table_head(const BatchTable& t, const BatchEvaluation& ev, std::ostringstream& md) {
-  md << "## " << (t.title.empty() ? "Evaluation " + ev.name : t.title) << "\n\n";
+  md << "## " << t.title << "\n\n";
   md << "The final " << ev.run << "/" << ev.context << " policy of "
      << (ev.trials == 1 ? std::string("1 trial") : "each of " + std::to_string(ev.trials) + " trials") << ", without "
      << "retraining, in scenario " << (ev.scenario.empty() ? "(the stage's)" : "`" + ev.scenario + "`")

@@ -138,6 +138,11 @@ void eval_table(const BatchScript& b, const BatchTable& t, const Folder& folder,
 // run table's columns (report_teachers.cpp).
 void compare_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep);
 
+// Under a table of rows whose stages teach: what success means with a test set, the training tasks
+// skipped and what each trial's teacher did (into table's "skipped_tasks" and "teachers").
+void teaching_notes(const BatchScript& b, const std::vector<BatchRow>& rows, const Folder& folder,
+                    std::ostringstream& md, json& table);
+
 // The final evaluations' success rate split by a recorded feature of each episode (its task's
 // parameter or its world's obstacles, objects or shape), a row per context (report_teachers.cpp).
 // What a by-table found in the final-evaluation records it read.

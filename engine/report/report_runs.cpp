@@ -17,7 +17,7 @@ namespace {
 
 // The head of a run table: its title, the run and baseline it compares, and the column names.
 void run_table_head(const BatchRun& run, const BatchTable& t, std::ostringstream& md) {
-  md << "## " << (t.title.empty() ? "Stage " + run.stage : t.title) << "\n\n";
+  md << "## " << t.title << "\n\n";
   md << "Run `" << run.name << "`: stage " << run.stage << with_params(run.params) << ", baseline " << t.baseline
      << ".\n\n";
   md << "| Approach | Train time (min:sec) | % Improvement | Avg. reward ± std | Success rate | Median time | "
@@ -222,14 +222,17 @@ void run_table(const BatchScript& b, const BatchTable& t, const Folder& folder, 
   for (const auto& c : run.contexts)
     if (run_table_row(c, folder.run(run, c), t, base_times, base_mean, md, rows)) any_censored = true;
   run_table_notes(any_censored, md);
+  json table = {{"title", t.title}, {"run", run.name}, {"baseline", t.baseline}, {"rows", rows}};
+  std::vector<BatchRow> run_rows;
+  for (const auto& c : run.contexts) run_rows.push_back({run.name, c});
+  teaching_notes(b, run_rows, folder, md, table);
 
-  const json usage_rows = usage_shares(run, folder, md);
-  const json comparisons = usage_comparisons(run, t, folder, md);
+  table["usage"] = usage_shares(run, folder, md);
+  table["usage_comparisons"] = usage_comparisons(run, t, folder, md);
   const json why = why_not_reached(run, folder, md);
   md << "\n";
-  rep.push_back({{"title", t.title}, {"run", run.name}, {"baseline", t.baseline}, {"rows", rows},
-                 {"usage", usage_rows}, {"usage_comparisons", comparisons}});
-  if (!why.empty()) rep.back()["why_not_reached"] = why;  // absent when all reached: reports stay as they were
+  if (!why.empty()) table["why_not_reached"] = why;  // absent when all reached: reports stay as they were
+  rep.push_back(table);
 }
 
 }  // namespace roger::report_detail

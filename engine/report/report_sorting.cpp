@@ -69,7 +69,7 @@ json figures_json(const SortingFigures& f) {
 
 // A sorting table: one row per number of objects, the hand-written and the learned policy side by side.
 void sorting_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep) {
-  md << "## " << (t.title.empty() ? std::string("Sorting") : t.title) << "\n\n";
+  md << "## " << t.title << "\n\n";
   md << "| Objects | Hand-written: success [95% CI] | layouts | sorted per episode | sim. s per object | Learned: "
         "success [95% CI] | per trial (min-max) | layouts | sorted per episode | sim. s per object | reached threshold |\n";
   md << "|---|---|---|---|---|---|---|---|---|---|---|\n";

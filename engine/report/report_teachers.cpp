@@ -117,20 +117,35 @@ void compare_table(const BatchScript& b, const BatchTable& t, const Folder& fold
   for (const BatchRow& row : t.compare)
     any_censored |= run_table_row(row.label(), rows_results(b, row, folder), t, base_times, base_mean, md, rows);
   run_table_notes(any_censored, md);
+  json table = {{"title", t.title}, {"compare", rows.size()}, {"baseline", t.baseline}, {"rows", rows}};
+  teaching_notes(b, t.compare, folder, md, table);
+  rep.push_back(table);
+}
+
+// Under a table of rows whose stages teach (a trial's result.json has a "teacher"; nothing when
+// none does): what success means with a test set, the training tasks skipped, and what each
+// trial's teacher did, into the table's "skipped_tasks" and "teachers". Found by a probe: a run's
+// own table, the one a batch writes by default, said none of it; only a comparison did.
+void teaching_notes(const BatchScript& b, const std::vector<BatchRow>& rows, const Folder& folder,
+                    std::ostringstream& md, json& table) {
+  bool teaches = false;
+  for (const BatchRow& row : rows)
+    for (const json& j : rows_results(b, row, folder).ok) teaches = teaches || j.contains("teacher");
+  if (!teaches) return;
   md << "With a test set (a stage that teaches), the success rate is the share of its tasks the final greedy "
         "policies master, and train time runs to the first checkpoint from which that share stays at or above "
         "the threshold.\n\n";
   json skipped = json::array();
-  const std::string skips = skipped_text(b, t.compare, folder, skipped);
+  const std::string skips = skipped_text(b, rows, folder, skipped);
   if (!skips.empty())
     md << "Training tasks skipped because the scenario could not place their worlds (each replaced by the "
           "teacher's next draw; the trial's result.json, \"skipped_tasks\"): "
        << skips << ".\n\n";
   json teachers = json::array();
-  const std::string did = teachers_text(b, t.compare, folder, teachers);
+  const std::string did = teachers_text(b, rows, folder, teachers);
   if (!did.empty()) md << "What each trial's teacher did (its result.json, \"teacher\"):\n\n" << did << "\n";
-  rep.push_back({{"title", t.title}, {"compare", rows.size()}, {"baseline", t.baseline}, {"rows", rows},
-                 {"skipped_tasks", skipped}, {"teachers", teachers}});
+  table["skipped_tasks"] = skipped;
+  table["teachers"] = teachers;
 }
 
 ByFound by_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep) {

@@ -158,6 +158,7 @@ struct TeacherSpec {
     double promote = 0.9;   // success rate over the window at or above which the next step begins
     double demote = -1.0;   // below which the previous step comes back (< 0: never)
     int window = 20;        // episodes of this step the rate is taken over
+    std::vector<std::string> string_values;  // parameters whose one value was written as a Lua string ("1")
   };
   std::vector<Step> steps;
 
@@ -193,8 +194,9 @@ struct TeacherSpec {
 std::unique_ptr<Teacher> make_teacher(const TeacherSpec& spec, const TaskSpace& space, uint64_t seed);
 
 // What a teacher's recorded state (Teacher::state()) says it did, in one line for the console:
-// "eye_pixels = 128 (level 3 of 3); lifted at episodes 31 (to 64), 59 (to 128)"; "" for a
-// teacher with nothing to tell (random, a function).
+// "eye_pixels = 128 (level 3 of 3); lifted at episodes 31 (to 64), 59 (to 128)", "60 tasks drawn
+// uniformly from the task space"; a move decided on the last episode's outcome is said as such
+// ("; after the last episode, to 128, never trained"). "" for a state it does not know.
 std::string describe_teacher_state(const nlohmann::json& state);
 
 // A fixed test set: tasks drawn uniformly with Rng(seed), or given.

@@ -140,7 +140,8 @@ class LcasTeacher final : public Teacher {
     const double gain = rate - mean_of(outcomes_, 0, w);
     if (gain >= slope_) return;  // still learning at this level
     if (rate < floor_) return;   // flat below the floor: not yet begun
-    lifts_.push_back({{"episode", episodes_}, {"to", param_value_json(texts_[size_t(level_ + 1)])}, {"rate", rate}, {"gain", gain}});
+    lifts_.push_back({{"episode", episodes_}, {"from", param_value_json(texts_[size_t(level_)])},
+                      {"to", param_value_json(texts_[size_t(level_ + 1)])}, {"rate", rate}, {"gain", gain}});
     ++level_;
     outcomes_.clear();
   }
@@ -201,6 +202,14 @@ std::string task_shown(const json& task) {
   return "{" + join(parts) + "}";
 }
 
+// Whether a move or lift of a teacher that recorded `state` came after its last episode: decided on
+// that episode's outcome, it set the level of an episode that never ran (found by a probe: "moved at
+// episodes 10, 20" of a 20-episode budget, read as a curriculum that reached its last step).
+bool after_last_episode(const json& move, const json& state) {
+  const json episode = move.value("episode", json()), episodes = state.value("episodes", json());
+  return episode.is_number() && episodes.is_number() && episode.get<double>() >= episodes.get<double>();
+}
+
 // "19 (step 1 to 2, rate 0.5), 29 (step 2 to 3, rate 0.6)": a sequence's moves.
 std::string sequence_moves(const json& moves) {
   std::vector<std::string> parts;
@@ -217,6 +226,48 @@ std::string lcas_lifts(const json& lifts) {
   return join(parts);
 }
 
+// A sequence's line: where it stood and its moves; a move after the last episode said apart.
+std::string describe_sequence(const json& state, const std::string& steps) {
+  json moves = state.value("moves", json::array());
+  json last;
+  if (!moves.empty() && after_last_episode(moves.back(), state)) {
+    last = moves.back();
+    moves.erase(moves.size() - 1);
+  }
+  std::string text = last.is_null() ? "at step " + shown(state.value("step", json("?"))) + " of " + steps
+                                    : "at step " + shown(last.value("from", json("?"))) + " of " + steps +
+                                          " when training ended";
+  text += moves.empty() ? ", never moved" : "; moved at episodes " + sequence_moves(moves);
+  if (!last.is_null())
+    text += "; after the last episode, to step " + shown(last.value("to", json("?"))) + " (rate " +
+            shown(last.value("rate", json())) + "), never trained";
+  return text;
+}
+
+// An LCAS teacher's line: its level and lifts; a lift after the last episode said apart.
+std::string describe_lcas(const json& state, const std::string& levels) {
+  json lifts = state.value("lifts", json::array());
+  json last;
+  if (!lifts.empty() && after_last_episode(lifts.back(), state)) {
+    last = lifts.back();
+    lifts.erase(lifts.size() - 1);
+  }
+  const std::string param = state.value("param", std::string("?"));
+  std::string text;
+  if (last.is_null()) {
+    text = param + " = " + shown(state.value("value", json("?"))) + " (level " + shown(state.value("level", json("?"))) +
+           " of " + levels + ")";
+  } else {  // the level before the last lift: the lift's own "from", or the one before it
+    const json level = state.value("level", json());
+    text = param + " = " + shown(last.value("from", json("?"))) + " (level " +
+           (level.is_number() ? shown(json(level.get<int>() - 1)) : std::string("?")) + " of " + levels +
+           ") when training ended";
+  }
+  text += lifts.empty() ? ", never lifted" : "; lifted at episodes " + lcas_lifts(lifts);
+  if (!last.is_null()) text += "; after the last episode, to " + shown(last.value("to", json("?"))) + ", never trained";
+  return text;
+}
+
 }  // namespace
 
 std::string describe_teacher_state(const json& state) {
@@ -226,16 +277,11 @@ std::string describe_teacher_state(const json& state) {
   const auto counted_as = [&](const char* key, const std::string& noun) {
     return count(key) + " " + noun + (state.value(key, json()) == json(1) ? "" : "s");
   };
-  if (kind == "sequence") {
-    const json moves = state.value("moves", json::array());
-    return "at step " + count("step") + " of " + count("steps") +
-           (moves.empty() ? ", never moved" : "; moved at episodes " + sequence_moves(moves));
-  }
-  if (kind == "lcas") {
-    const json lifts = state.value("lifts", json::array());
-    return state.value("param", std::string("?")) + " = " + count("value") + " (level " + count("level") + " of " +
-           count("levels") + ")" + (lifts.empty() ? ", never lifted" : "; lifted at episodes " + lcas_lifts(lifts));
-  }
+  if (kind == "random") return counted_as("episodes", "task") + " drawn uniformly from the task space";
+  if (kind == "function")  // what it chose is the trial's episodes.jsonl (and a figure of kind "tasks")
+    return counted_as("episodes", "task") + " chosen by the function at " + state.value("function", std::string("?"));
+  if (kind == "sequence") return describe_sequence(state, count("steps"));
+  if (kind == "lcas") return describe_lcas(state, count("levels"));
   if (kind == "alp_gmm") {
     std::string most;  // the component of the most learning progress: where the teacher drew most
     double best = -1.0;

@@ -16,10 +16,14 @@ return {
   tables = {
     { title = "Teachers: time to 90% mastered", compare = rows },
     { title = "Teachers: final % mastered by level", compare = { "Random/A", "Alp/A" }, by = "level" },
+    -- Untitled: the report makes their titles from what they show.
+    { compare = { "Random/A", "Alp/A" } },
+    { run = "Sequence" },
   },
   figures = {
     { file = "teachers", title = "% of the test tasks mastered", compare = rows, y = "success" },
     { file = "tasks_Alp", kind = "tasks", run = "Alp", param = "level", title = "Where ALP-GMM sampled" },
     { file = "tasks_Sequence", kind = "tasks", run = "Sequence", param = "level" },
+    { file = "two_teachers", compare = { "Random/A", "Alp/A" } },
   },
 }

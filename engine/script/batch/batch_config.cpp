@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/text.h"
 #include "script/batch/batch_script.h"
+#include "script/batch/batch_script_internal.h"
 
 namespace roger {
 
@@ -200,6 +201,8 @@ BatchScript batch_config_from_json(const json& j) {
         t.sorting.push_back({int(config_integer(r, "objects", 1, 1000)), r.at("learned"), r.at("hand")});
       for (const auto& r : tj.value("compare", json::array())) t.compare.push_back(row_from(r));
       t.by = tj.value("by", std::string());
+      // A folder written before tables had a title made when the script was read.
+      if (t.title.empty()) t.title = batch_detail::default_title(t, b);
       b.tables.push_back(std::move(t));
     }
     for (const auto& fj : j.at("figures")) {

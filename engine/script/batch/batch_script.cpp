@@ -28,6 +28,7 @@ using batch_detail::lua_to_json;
 using batch_detail::has_no;
 using batch_detail::quoted_list;
 using batch_detail::Reader;
+using batch_detail::default_title;
 
 namespace {
 
@@ -532,8 +533,8 @@ void check_by(const BatchTable& t, const Reader& rd, const std::string& what, in
                                        (tasks.empty() ? std::string(" and no task") : " and the task's " + quoted_list(tasks)));
 }
 
-// Reads one table of 'tables'; `at` is the line to search from, moved past this table.
-BatchTable read_table(const json& tj, const Reader& rd, int& at, const Curriculum& cur, const BatchScript& b) {
+// Reads one table of 'tables' as written; `at` is the line to search from, moved past this table.
+BatchTable read_table_fields(const json& tj, const Reader& rd, int& at, const Curriculum& cur, const BatchScript& b) {
   BatchTable t;
   const std::string title = tj.is_object() && tj.contains("title") && tj["title"].is_string() ? tj["title"].get<std::string>() : "";
   const int l = title.empty() ? at : std::max(at, rd.line_of_key("title", at));
@@ -579,6 +580,13 @@ BatchTable read_table(const json& tj, const Reader& rd, int& at, const Curriculu
   return t;
 }
 
+// Reads one table of 'tables', with its title; `at` is the line to search from, moved past it.
+BatchTable read_table(const json& tj, const Reader& rd, int& at, const Curriculum& cur, const BatchScript& b) {
+  BatchTable t = read_table_fields(tj, rd, at, cur, b);
+  if (t.title.empty()) t.title = default_title(t, b);
+  return t;
+}
+
 // Reads 'tables' (default: one per run against its first context, one per evaluation).
 void read_tables(const json& top, const Reader& rd, const Curriculum& cur, BatchScript& b) {
   if (top.contains("tables")) {
@@ -592,15 +600,15 @@ void read_tables(const json& top, const Reader& rd, const Curriculum& cur, Batch
   } else {
     for (const auto& r : b.runs) {
       BatchTable t;
-      t.title = "Stage " + r.stage + " (run " + r.name + ")";
       t.run = r.name;
       t.baseline = r.contexts.front();
+      t.title = default_title(t, b);
       b.tables.push_back(t);
     }
     for (const auto& e : b.evaluations) {
       BatchTable t;
-      t.title = "Evaluation " + e.name;
       t.evaluation = e.name;
+      t.title = default_title(t, b);
       b.tables.push_back(t);
     }
   }
@@ -704,6 +712,19 @@ void read_figures(const json& top, const Reader& rd, const Curriculum& cur, Batc
 }
 
 }  // namespace
+
+// Found by a probe: a comparison's or a split's table written without a title had an empty heading.
+std::string batch_detail::default_title(const BatchTable& t, const BatchScript& b) {
+  if (!t.compare.empty()) {
+    std::string rows;
+    for (const BatchRow& r : t.compare) rows += (rows.empty() ? "" : ", ") + r.label();
+    return (t.by.empty() ? "Comparison of " : "Final success by " + t.by + ": ") + rows;
+  }
+  if (!t.sorting.empty()) return "Sorting";
+  if (!t.evaluation.empty()) return "Evaluation " + t.evaluation;
+  const std::string stage = "Stage " + b.run(t.run)->stage + " (run " + t.run + ")";
+  return t.by.empty() ? stage : stage + ": final success by " + t.by;
+}
 
 const BatchRun* BatchScript::run(const std::string& n) const {
   for (const auto& r : runs)

@@ -18,6 +18,11 @@ namespace batch_detail {
 
 using json = nlohmann::json;
 
+// The title of a table written without one, made from what it shows: "Comparison of SG/B1,
+// SG/DC2", "Stage SG (run SG)", "Evaluation generalization", with ": final success by shape"
+// for a table split by a feature (docs/api/batch.lua).
+std::string default_title(const BatchTable& t, const BatchScript& b);
+
 // "'a', 'b'" (or "(none)") for messages.
 std::string quoted_list(const std::vector<std::string>& items);
 
