@@ -810,12 +810,23 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
                                                       "test = { list = { { robot_distance = 1.0 } } } }");
   CHECK(check_curriculum(some.string()).empty());
   // But the test set is not skipped: drawn from that space, its 23rd task (2.57 m) cannot be
-  // placed in its world seed, and every trial would fail at its first checkpoint.
+  // placed in its world seed, and every trial would fail at its final evaluation.
   const fs::path drawn = write_stage(dir.path, "drawn", "{ tasks = { robot_distance = roger.real(0.8, 2.6) } }");
   const std::vector<std::string> test_problems = check_curriculum(drawn.string());
   REQUIRE(test_problems.size() == 1);
-  CHECK_THAT(test_problems[0], Contains("drawn.lua:") && Contains("stage 'S': test task 23 of ") &&
-                                   Contains("cannot be placed in world seed 1000022"));
+  // Past the checkpoints' 20 tasks it is the final evaluation's alone, and said so (found by a
+  // probe: "every trial's evaluations run it", though training ran through every checkpoint).
+  CHECK_THAT(test_problems[0], Contains("drawn.lua:") && Contains("stage 'S': test task 23 of 50 ") &&
+                                   Contains("cannot be placed in world seed 1000022, where every trial's final "
+                                            "evaluation runs it (its checkpoints run the first 20) (the test set is "
+                                            "not skipped)"));
+  const fs::path every = write_stage(dir.path, "every", "{ tasks = { robot_distance = roger.real(0.8, 2.6) }, "
+                                                        "checkpoints = { episodes = 30, final = 30 } }");
+  const std::vector<std::string> every_problems = check_curriculum(every.string());
+  REQUIRE(every_problems.size() == 1);
+  CHECK_THAT(every_problems[0], Contains("stage 'S': test task 23 of 30 ") &&
+                                    Contains("where every trial's checkpoints and final evaluation run it (the test "
+                                             "set is not skipped)"));
 }
 
 TEST_CASE("a task whose world cannot be placed is skipped and shown; a space of such tasks fails its trial",

@@ -701,8 +701,9 @@ void check_task_space_ends(const CurriculumStage& st, const SandboxLimits& limit
 
 // The test set as the stage's trials meet it: task i in world seed checkpoints.seeds + i, in the
 // parameters of each context (each distinct set once). It is not skipped as a training task is,
-// so a task no layout of its seed holds fails every trial at its first checkpoint, after the
-// training: refused here, naming the task.
+// so a task no layout of its seed holds fails every trial at the first evaluation that runs it (a
+// checkpoint's, or only the final one's for a task past the checkpoints' count): refused here,
+// naming the task and which evaluations run it.
 void check_test_set(Curriculum& cur, const CurriculumStage& st, const SandboxLimits& limits, const ParamList& sets,
                     std::vector<std::string>& problems) {
   if (!st.teaches()) return;
@@ -736,8 +737,12 @@ void check_test_set(Curriculum& cur, const CurriculumStage& st, const SandboxLim
       problems.push_back(at + (ctx.params.empty() ? st.where() : st.where(ctx.name)) + ": test task " +
                          std::to_string(i + 1) + " of " +
                          std::to_string(tasks.size()) + " (" + params_text(task) + ") cannot be placed in world seed " +
-                         std::to_string(st.checkpoints.seeds + i) +
-                         ", where every trial's evaluations run it (the test set is not skipped): " + e.what());
+                         std::to_string(st.checkpoints.seeds + i) + ", where every trial's " +
+                         (int(i) < st.checkpoint_test_tasks()
+                              ? std::string("checkpoints and final evaluation run it")
+                              : "final evaluation runs it (its checkpoints run the first " +
+                                    std::to_string(st.checkpoint_test_tasks()) + ")") +
+                         " (the test set is not skipped): " + e.what());
     } catch (const std::exception& e) {
       problems.push_back(st.where(ctx.name) + ": scenario '" + st.scenario + "': " + e.what());
     }
