@@ -8,12 +8,15 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <functional>
 #include <optional>
 #include <map>
 #include <memory>
 #include <string>
+#include <thread>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -33,6 +36,45 @@ using namespace roger;
 namespace {
 
 using Sets = std::vector<std::pair<std::string, std::string>>;
+
+// Whether the interpreter has begun to finalize (it reads an atomic: no GIL needed).
+bool interpreter_finalizing() {
+#if PY_VERSION_HEX >= 0x030D0000
+  return Py_IsFinalizing();
+#else
+  return _Py_IsFinalizing();
+#endif
+}
+
+// Runs f() with the GIL released; returns what it returns, or rethrows what it threw once the GIL
+// is held again. The GIL is taken back by a plain call, not by a guard's destructor. Found by a
+// probe: a daemon thread inside step() when the interpreter exits asks for the GIL back, and
+// CPython (3.11) ends it with pthread_exit there; from pybind11's gil_scoped_release destructor,
+// which is noexcept, that unwinding called std::terminate and the whole process aborted (exit code
+// 134, also after Ctrl-C). A thread that finds the interpreter finalizing sleeps until the process
+// ends instead, as CPython 3.14 makes such threads do itself; one that it catches a moment later
+// unwinds from here, which is allowed.
+template <class F>
+auto without_gil(F&& f) -> decltype(f()) {
+  using Result = decltype(f());
+  std::optional<std::conditional_t<std::is_void_v<Result>, bool, Result>> result;
+  std::exception_ptr error;
+  PyThreadState* const saved = PyEval_SaveThread();
+  try {
+    if constexpr (std::is_void_v<Result>) {
+      f();
+      result.emplace(true);
+    } else {
+      result.emplace(f());
+    }
+  } catch (...) {
+    error = std::current_exception();
+  }
+  while (interpreter_finalizing()) std::this_thread::sleep_for(std::chrono::hours(1));
+  PyEval_RestoreThread(saved);
+  if (error) std::rethrow_exception(error);
+  if constexpr (!std::is_void_v<Result>) return std::move(*result);
+}
 
 // A Python value as the text a scenario parameter is given as (--set key=value).
 std::string param_text(const py::handle& v) {
@@ -206,12 +248,10 @@ py::array_t<uint8_t> render_array(const StageEnvironment& e, int width, const st
   const World& world = world_of(e, what);
   RenderOptions options;
   options.width_px = width;
-  RgbPicture p;
-  {
-    py::gil_scoped_release nogil;
+  const RgbPicture p = without_gil([&] {
     const EngineFloatMode mode;  // as `roger render` draws, on an engine thread
-    p = render_rgb(world.spec(), world.frame(), options);
-  }
+    return render_rgb(world.spec(), world.frame(), options);
+  });
   py::array_t<uint8_t> a({py::ssize_t(p.height), py::ssize_t(p.width), py::ssize_t(3)});
   std::copy(p.pixels.begin(), p.pixels.end(), a.mutable_data());
   return a;
@@ -391,10 +431,11 @@ void bind_environment(py::module_& m) {
                        const std::string& embedded_skills) {
              const EnvironmentOptions o = make_options(curriculum, stage, context, scenario, params, skills, per_tick,
                                                        tasks, teacher, teacher_file, embedded_skills);
-             py::gil_scoped_release nogil;
-             auto env = make_environment(o, "make", [&] { return std::make_unique<StageEnvironment>(o); });
-             check_scenario_takes_tasks(o, *env);
-             return env;
+             return without_gil([&] {
+               auto env = make_environment(o, "make", [&] { return std::make_unique<StageEnvironment>(o); });
+               check_scenario_takes_tasks(o, *env);
+               return env;
+             });
            }),
            py::arg("curriculum"), py::arg("stage"), py::arg("context"), py::arg("scenario") = "",
            py::arg("params") = py::dict(), py::arg("skills") = py::dict(), py::arg("per_tick") = false,
@@ -415,16 +456,14 @@ void bind_environment(py::module_& m) {
       .def(
           "make_teacher",
           [](StageEnvironment& e, uint64_t seed) {
-            py::gil_scoped_release nogil;
-            return std::make_unique<PyTeacher>(e.make_teacher(seed), e.task_space());
+            return without_gil([&] { return std::make_unique<PyTeacher>(e.make_teacher(seed), e.task_space()); });
           },
           py::arg("seed"), py::keep_alive<0, 1>())
       .def("reset_task",
            [](StageEnvironment& e, uint64_t seed, const ParamList& task) {
              std::vector<Gamma> g;
              try {
-               py::gil_scoped_release nogil;
-               g = e.reset(seed, task);
+               g = without_gil([&] { return e.reset(seed, task); });
              } catch (const PlacementError& error) {
                throw with_text(error, std::string("reset: ") + error.what());
              }
@@ -433,11 +472,7 @@ void bind_environment(py::module_& m) {
            py::arg("seed"), py::arg("task"))
       .def("teacher_body_change",
            [](StageEnvironment& e) -> py::object {
-             std::optional<TeacherBodyChange> c;
-             {
-               py::gil_scoped_release nogil;
-               c = e.teacher_body_change();
-             }
+             const std::optional<TeacherBodyChange> c = without_gil([&] { return e.teacher_body_change(); });
              if (!c) return py::none();
              return py::dict(py::arg("teacher") = c->teacher, py::arg("lift") = c->lift,
                              py::arg("levels") = c->levels, py::arg("level") = c->level,
@@ -446,21 +481,13 @@ void bind_environment(py::module_& m) {
       .def_property_readonly("info", [](const StageEnvironment& e) { return info_dict(e.info()); })
       .def("reset",
            [](StageEnvironment& e, uint64_t seed) {
-             std::vector<Gamma> g;
-             {
-               py::gil_scoped_release nogil;
-               g = e.reset(seed);
-             }
+             const std::vector<Gamma> g = without_gil([&] { return e.reset(seed); });
              return py::make_tuple(state_array(g), e.running());
            },
            py::arg("seed"))
       .def("step",
            [](StageEnvironment& e, int action) {
-             EnvironmentStep r;
-             {
-               py::gil_scoped_release nogil;
-               r = e.step(action);
-             }
+             const EnvironmentStep r = without_gil([&] { return e.step(action); });
              return py::make_tuple(state_array(e.state()), r.reward, r.terminated, r.time_out);
            },
            py::arg("action"))
@@ -469,8 +496,7 @@ void bind_environment(py::module_& m) {
       .def(
           "replay",
           [](StageEnvironment& e, uint64_t seed, const std::vector<int>& actions, const ParamList& task) {
-            py::gil_scoped_release nogil;
-            e.replay(seed, actions, task);
+            without_gil([&] { e.replay(seed, actions, task); });
           },
           py::arg("seed"), py::arg("actions"), py::arg("task") = ParamList())
       .def_property_readonly("actions_taken",
@@ -586,14 +612,13 @@ py::dict vec_reset(VecEnvironment& v, const ByteArray& mask, const ByteArray& se
   EpisodeArrays now(n, k);
   const VecEnvironment::ResetRequest request{mask.data(), seeded.data(), seeds.data()};
   std::exception_ptr error;
-  {
-    py::gil_scoped_release nogil;
+  without_gil([&] {
     try {
       v.reset(request, now.out());
     } catch (...) {
       error = std::current_exception();
     }
-  }
+  });
   if (error) {
     // The environment that failed is the first reset one left without a running episode: a
     // reset that succeeds runs to its first decision.
@@ -643,14 +668,13 @@ py::dict vec_step(VecEnvironment& v, const IntArray& actions) {
                                        episode_rewards.mutable_data(),
                                        success.mutable_data()};
   std::exception_ptr error;
-  {
-    py::gil_scoped_release nogil;
+  without_gil([&] {
     try {
       v.step(actions.data(), out);
     } catch (...) {
       error = std::current_exception();
     }
-  }
+  });
   const uint8_t* f = failed.data();
   const int first = int(std::find(f, f + n, uint8_t(1)) - f);
   if (error && first == n) std::rethrow_exception(error);  // refused before anything ran
@@ -694,8 +718,7 @@ void vec_restore(VecEnvironment& v, const py::list& state) {
     s.actions = t[5].cast<std::vector<int>>();
     snapshots.push_back(std::move(s));
   }
-  py::gil_scoped_release nogil;
-  v.restore(snapshots);
+  without_gil([&] { v.restore(snapshots); });
 }
 
 void bind_vec(py::module_& m) {
@@ -706,9 +729,10 @@ void bind_vec(py::module_& m) {
              const EnvironmentOptions o =
                  make_options(curriculum, stage, context, scenario, params, skills, false, "", "", "", embedded_skills);
              const Autoreset mode = autoreset_of(autoreset);
-             py::gil_scoped_release nogil;
-             return make_environment(o, "make_vec",
-                                     [&] { return std::make_unique<VecEnvironment>(o, num_envs, threads, mode); });
+             return without_gil([&] {
+               return make_environment(o, "make_vec",
+                                       [&] { return std::make_unique<VecEnvironment>(o, num_envs, threads, mode); });
+             });
            }),
            py::arg("curriculum"), py::arg("stage"), py::arg("context"), py::arg("scenario") = "",
            py::arg("params") = py::dict(), py::arg("skills") = py::dict(), py::arg("num_envs") = 1,
@@ -754,8 +778,7 @@ void bind_policy(py::module_& m) {
       .def(
           "trial_params",
           [](const Policy& p, const std::string& curriculum, const std::string& scenario) {
-            py::gil_scoped_release nogil;
-            return p.trial_params(curriculum, scenario);
+            return without_gil([&] { return p.trial_params(curriculum, scenario); });
           },
           py::arg("curriculum"), py::arg("scenario") = "")
       .def_property_readonly("q", [](const Policy& p) {

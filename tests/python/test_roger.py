@@ -19,6 +19,7 @@ import os
 import pickle
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -1500,6 +1501,47 @@ class DeepRL(unittest.TestCase):
                 self.assertIn(text, e)
         self.assertEqual(len(closed_errors), 1, closed_errors)
         self.assertIn("the vector environment is closed", closed_errors[0])
+
+    def test_exit_while_a_daemon_thread_steps(self):
+        # Found by a probe: the interpreter exiting (at the script's end, or on Ctrl-C) while a daemon
+        # thread stepped an Env or a make_vec batch aborted the process ("terminate called without an
+        # active exception", exit code 134): CPython ends such a thread as it takes the GIL back.
+        child = textwrap.dedent("""
+            import os, signal, sys, threading, time
+            import numpy as np
+            import roger
+            if sys.argv[2] == "vec":
+                v = roger.make_vec(sys.argv[1], "SG", "DC2", 4, threads=2)
+                v.reset(seed=0)
+                def loop():
+                    while True:
+                        v.step(np.zeros(4, int))
+            else:
+                e = roger.make(sys.argv[1], "T", "B2")
+                e.reset(seed=0)
+                def loop():
+                    while True:
+                        if any(e.step(0)[2:4]):
+                            e.reset()
+            threading.Thread(target=loop, daemon=True).start()
+            time.sleep(0.3)
+            print("exiting", flush=True)
+            if sys.argv[3] == "interrupt":
+                os.kill(os.getpid(), signal.SIGINT)
+                time.sleep(5)
+            """)
+        for kind in ("env", "vec"):
+            for how in ("end", "interrupt"):
+                with self.subTest(kind=kind, how=how):
+                    out = subprocess.run([sys.executable, "-c", child, PAPER, kind, how], capture_output=True,
+                                         text=True, timeout=120)
+                    self.assertNotIn("terminate called", out.stderr)
+                    if how == "end":
+                        self.assertEqual(out.returncode, 0, out.stderr[-3000:])
+                    else:  # Python's own exit on an uncaught KeyboardInterrupt
+                        self.assertIn("KeyboardInterrupt", out.stderr)
+                        self.assertIn(out.returncode, (1, -signal.SIGINT, 128 + signal.SIGINT), out.stderr[-3000:])
+                    self.assertEqual(out.stdout, "exiting\n")
 
     def test_policies_copy_bind_skills_and_keep_their_table(self):
         # Found by a probe: a loaded Policy neither pickled nor deep-copied (environments holding one
