@@ -546,8 +546,11 @@ struct EpisodeArrays {
     d[py::str(prefix + "states")] = states;
     d[py::str(prefix + "seed")] = seeds;
     d[py::str(prefix + "sim_seconds")] = sim_seconds;
-    d[py::str(prefix + "ticks")] = ticks;
-    d[py::str(prefix + "decisions")] = decisions;
+    // As int64, the dtype Gymnasium's sync and async vector environments gather a single Env's
+    // Python ints in (found by a probe: make_vec's int32 and SyncVectorEnv's int64 did not concatenate
+    // alike). The engine counts in int32; the copy is of one number per environment.
+    d[py::str(prefix + "ticks")] = ticks.attr("astype")("int64");
+    d[py::str(prefix + "decisions")] = decisions.attr("astype")("int64");
   }
 };
 

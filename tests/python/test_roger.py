@@ -2264,6 +2264,9 @@ class GymnasiumJudges(unittest.TestCase):
             actions = rng.integers(0, 2, size=3)
             s, v = sync.step(actions), vec.step(actions)
             self.assertTrue(sync.observation_space.contains(s[0]))
+            # The infos' counts alike (found by a probe: make_vec's were int32, SyncVectorEnv's int64).
+            for key in ("ticks", "decisions"):
+                self.assertEqual(s[4][key].dtype, v[4][key].dtype, key)
             if same:  # the same episodes until the first autoreset (then make_vec's seeds step by
                 for x, y in zip(s[:4], v[:4]):  # num_envs, an Env's follow its own stream)
                     np.testing.assert_array_equal(x, y, f"step {k}")
