@@ -158,20 +158,38 @@ TEST_CASE("a noise parameter the world does not use is refused at the generator"
                     Contains("roger_test_noise_unused.lua:3:") &&
                         Contains("the parameter noise_image = 200 asks for image noise, but the world has none: pass "
                                  "body.noise_of(params) to world:robot{ noise = ... }"));
-  // Noise of the scenario's own on another channel: the image's parameter is still unused, and so
-  // is a kind the own noise lacks; a scale names itself.
+  // Scaled to nothing, or a delay that rounds to no tick, asks for none.
+  none.set_param("noise_scale", "0");
+  CHECK_NOTHROW(none.generate(0));
+  none.set_param("noise_image", "0");
+  none.set_param("noise_image_delay", "1");
+  none.set_param("noise_scale", "0.4");
+  CHECK_NOTHROW(none.generate(0));
+  // Noise of the scenario's own: at their defaults the parameters ask nothing of it; a kind it
+  // lacks is asked for in vain. Found by a later probe: a level or a scale set away from its
+  // default was recorded while the scenario's own levels ran, so each must give the world's very
+  // level, as body.noise_of makes it.
   Scenario own = test::scenario_from("noise_own", head + "    world:robot{ x = 0, y = 0, noise = { joints = 0.01 } }\n  end }\n");
+  CHECK_NOTHROW(own.generate(0));
+  own.set_param("noise_joints", "0.01");  // the world's very level
+  CHECK_NOTHROW(own.generate(0));
   own.set_param("noise_joints", "0.02");
-  CHECK_NOTHROW(own.generate(0));  // the world has joint noise (the scenario's level: its choice)
+  CHECK_THROWS_WITH(own.generate(0), Contains("roger_test_noise_own.lua:3:") &&
+                                         Contains("the parameter noise_joints = 0.02 asks for joints sigma = 0.02, but "
+                                                  "the world's Roger has 0.01: its generator sets the noise itself"));
+  own.set_param("noise_joints", "0");
   own.set_param("noise_joints_delay", "1");
-  own.set_param("noise_scale", "2");
-  CHECK_THROWS_WITH(own.generate(0), Contains("the parameter noise_joints_delay = 1 (times noise_scale = 2) asks for "
-                                              "joints noise, but the world has none"));
-  own.set_param("noise_scale", "0");  // scaled to nothing: nothing asked
-  CHECK_NOTHROW(own.generate(0));
-  // A delay that rounds to no tick asks for none.
-  own.set_param("noise_scale", "0.4");
-  CHECK_NOTHROW(own.generate(0));
+  CHECK_THROWS_WITH(own.generate(0), Contains("the parameter noise_joints_delay = 1 asks for joints noise, but the "
+                                              "world has none"));
+  own.set_param("noise_joints_delay", "0");
+  own.set_param("noise_joints_tau", "3");  // a drift's time, unscaled, that the world's noise has not
+  CHECK_THROWS_WITH(own.generate(0), Contains("the parameter noise_joints_tau = 3 asks for joints drift tau = 3, but "
+                                              "the world's Roger has 0"));
+  own.set_param("noise_joints_tau", "10");
+  own.set_param("noise_scale", "8");
+  CHECK_THROWS_WITH(own.generate(0), Contains("noise_scale = 8 (times noise_joints = 0) asks for joints sigma = 0, but "
+                                              "the world's Roger has 0.01") &&
+                                         Contains("leave noise_scale at 1"));
 }
 
 TEST_CASE("sigma 0 is no noise, to the bit", "[noise]") {

@@ -222,27 +222,51 @@ double param_number(const std::map<std::string, ParamSlot>& params, const std::s
 // A noise parameter of body.PARAMS (docs/scenarios.md, Noise) that asks for noise the world does
 // not have: the generator did not pass body.noise_of(p) to world:robot (or passed noise of its
 // own). A noise study would record a level no episode had, so it is refused, naming the first such
-// parameter. Found by a probe: --set noise_image=200 was echoed and ignored.
+// parameter. Found by a probe: --set noise_image=200 was echoed and ignored. A parameter (or
+// noise_scale) set away from its default must give the world's very level, as body.noise_of makes
+// it; found by a later probe: in a world with noise of its own, --set noise_image=200 and
+// noise_scale=8 were recorded while its fixed levels ran. At their defaults nothing is asked.
 void check_noise_params_used(const std::map<std::string, ParamSlot>& params, const NoiseParams& noise,
                              const std::function<void(const std::string&)>& fail) {
+  const auto set = [&](const std::string& name) {
+    const auto it = params.find(name);
+    return it != params.end() && slot_text(it->second) != it->second.info.default_value;
+  };
   const double scale = param_number(params, "noise_scale", 1.0);
+  const bool scale_set = set("noise_scale");
   const std::pair<const char*, const ChannelNoise*> channels[] = {
       {"image", &noise.image}, {"joints", &noise.joints}, {"base", &noise.base}, {"touch", &noise.touch},
       {"effort", &noise.effort}};
   for (const auto& [name, c] : channels) {
     const std::string n = std::string("noise_") + name;
-    const std::pair<std::string, double> kinds[] = {{n, c->sigma},       {n + "_bias", c->bias},
-                                                    {n + "_drift", c->drift}, {n + "_delay", double(c->delay)},
-                                                    {n + "_dropout", c->dropout}, {n + "_quantum", c->quantum}};
-    for (const auto& [param, in_world] : kinds) {
-      double asked = scale * param_number(params, param, 0.0);
+    struct Kind {
+      std::string param;
+      const char* what;
+      double in_world;
+    };
+    const Kind kinds[] = {{n, "sigma", c->sigma},           {n + "_bias", "bias", c->bias},
+                          {n + "_drift", "drift sigma", c->drift}, {n + "_tau", "drift tau", c->drift_tau},
+                          {n + "_delay", "delay", double(c->delay)}, {n + "_dropout", "dropout", c->dropout},
+                          {n + "_quantum", "quantum", c->quantum}};
+    for (const auto& [param, what, in_world] : kinds) {
+      const bool tau = param == n + "_tau";  // a time, not scaled
+      if (!params.count(param) || !(set(param) || (scale_set && !tau))) continue;
+      double asked = (tau ? 1.0 : scale) * param_number(params, param, 0.0);
       if (param == n + "_delay") asked = std::floor(asked + 0.5);  // whole ticks, as body.noise_of rounds
+      if (param == n + "_dropout") asked = std::min(1.0, asked);   // a probability, as body.noise_of caps it
       if (param == "noise_image_quantum") asked = image_quantum_levels(asked);  // whole levels, as read_noise keeps
-      if (asked > 0.0 && in_world == 0.0)
-        fail("the parameter " + param + " = " + slot_text(params.at(param)) +
-             (scale == 1.0 ? "" : " (times noise_scale = " + slot_text(params.at("noise_scale")) + ")") +
-             " asks for " + name + " noise, but the world has none: pass body.noise_of(params) to world:robot{ "
+      if (asked == in_world) continue;
+      const std::string times_scale = scale == 1.0 || tau ? "" : " (times noise_scale = " + slot_text(params.at("noise_scale")) + ")";
+      const std::string asking = set(param) ? "the parameter " + param + " = " + slot_text(params.at(param)) + times_scale
+                                            : "noise_scale = " + slot_text(params.at("noise_scale")) + " (times " + param +
+                                                  " = " + slot_text(params.at(param)) + ")";
+      if (asked > 0.0 && in_world == 0.0 && !tau)
+        fail(asking + " asks for " + name + " noise, but the world has none: pass body.noise_of(params) to world:robot{ "
              "noise = ... } (scenarios/lib/body.lua), or leave the parameter at 0");
+      fail(asking + " asks for " + name + " " + what + " = " + format_number(asked) + ", but the world's Roger has " +
+           format_number(in_world) + ": its generator sets the noise itself rather than passing body.noise_of(params) "
+           "to world:robot{ noise = ... } (scenarios/lib/body.lua); leave " +
+           (set(param) ? "the parameter at its default" : "noise_scale at 1") + ", or give the level in the scenario");
     }
   }
 }
