@@ -148,6 +148,21 @@ TEST_CASE("scenario parameters and shapes are tried on their scenario when the s
                     Catch::Contains("'hexagon'"));
 }
 
+// Found by a probe: a run's noise level that its noise_scale carries past the channel's range was
+// refused at the curriculum library's stage line (curricula/lib/paper_stages.lua), not the run's.
+TEST_CASE("a run's parameters that go out of range only together are refused at the run's line", "[batch_script]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_run_params_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "batch.lua") << "return { name = 'scaled', curriculum = 'paper', trials = 1,\n"
+                                      "  runs = { { name = 'SG', stage = 'SG', contexts = { 'DC2' },\n"
+                                      "             params = { noise_joints_delay = 30, noise_scale = 2 } } } }\n";
+  CHECK_THAT(load_error((dir / "batch.lua").string()),
+             Catch::StartsWith((dir / "batch.lua").string() + ":2: run 'SG': ") &&
+                 Catch::Contains("field 'delay' must be within [0, 50] ticks, got 60 (the scenario parameters "
+                                 "noise_joints_delay = 30 times noise_scale = 2: lower either)"));
+  fs::remove_all(dir);
+}
+
 TEST_CASE("a script is of the kind of the module it returns", "[batch_script]") {
   CHECK(is_batch_script("tests/scripts/wrapped_batch.lua"));
   const BatchScript b = load_batch_script("tests/scripts/wrapped_batch.lua");
