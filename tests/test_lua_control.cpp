@@ -428,7 +428,7 @@ TEST_CASE("mistakes in skill scripts name the file and line", "[lua_control]") {
       {"bad_skill_subject_to.lua", 4, {"c:subject_to: argument 1 (the superior) must be a controller", "got number 5"}},
       {"bad_skill_no_goal.lua", 7, {"policy 'track': missing required field 'goal'"}},
       {"bad_skill_field.lua", 9,
-       {"policy 'track': unknown field 'scenaro' (did you mean 'scenario'?); known fields: action, description, goal, scenario, time_limit"}},
+       {"policy 'track': unknown field 'scenaro' (did you mean 'scenario'?); known fields: action, description, goal, params, scenario, time_limit"}},
   };
   for (const auto& c : cases) {
     const std::string path = std::string("tests/scripts/") + c.file;
@@ -499,6 +499,56 @@ TEST_CASE("a policy's scenario path is found beside the skill script that names 
   CHECK_THAT(message, Contains("missing.lua:3: policy 't': field 'scenario': no scenario 'worlds/theirs.lua' (named in " +
                                (dir / "missing.lua").string() + "): looked at " +
                                (dir / "worlds" / "theirs.lua").string()));
+  fs::remove_all(dir);
+}
+
+// Found by a probe: docs/examples/sorting_moves.lua's four_moves needed --set objects=4, and
+// without it every episode failed in 2-object worlds without a word. A policy fixes its world.
+TEST_CASE("a policy's params set its scenario's parameters, under --set, checked at its line", "[lua_control]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("roger_skills_params_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const auto write = [&](const std::string& name, const std::string& params) {
+    std::ofstream(dir / name) << "local p = require('lib.skills').primitives()\n"
+                                 "return { policies = { t = { action = p.phi0, goal = roger.converged(p.phi0),\n"
+                                 "  time_limit = 5, scenario = 'sorting',\n"
+                                 "  params = " << params << " } } }\n";
+    return (dir / name).string();
+  };
+  const SkillScript script = SkillScript::load(write("three.lua", "{ objects = 3, mix = 'random', robot_distance = 0.95 }"));
+  const SkillScript::NamedPolicy& policy = script.policy("t");
+  CHECK(policy.params == std::vector<std::pair<std::string, std::string>>{
+                             {"mix", "random"}, {"objects", "3"}, {"robot_distance", "0.95"}});
+  Scenario scenario = script.scenario_of(policy);
+  CHECK(scenario.generate(0).objects.size() == 3);
+  scenario.set_param("objects", "2");  // --set, applied after, wins
+  CHECK(scenario.generate(0).objects.size() == 2);
+  CHECK(check_skill_script((dir / "three.lua").string()).empty());
+  // A parameter the scenario does not declare, a value it refuses: at the params line.
+  for (const auto& [params, message] : std::vector<std::pair<std::string, std::string>>{
+           {"{ objecs = 3 }", "policy 't': field 'params': scenario 'sorting' (scenarios/sorting.lua) has no parameter 'objecs' (did you mean 'objects'?)"},
+           {"{ objects = 0 }", "policy 't': field 'params': parameter 'objects' of scenario 'sorting' expects"}}) {
+    INFO(params);
+    const std::string file = write("bad.lua", params);
+    const SkillScript bad = SkillScript::load(file);
+    std::string got;
+    try {
+      bad.scenario_of(bad.policy("t"));
+    } catch (const ScriptError& e) {
+      got = e.what();
+    }
+    CHECK_THAT(got, Catch::Matchers::StartsWith(file + ":4: " + message));
+    const auto problems = check_skill_script(file);
+    REQUIRE(problems.size() == 1);
+    CHECK_THAT(problems[0], Catch::Matchers::StartsWith(file + ":4: " + message));
+  }
+  std::string wrong;
+  try {
+    SkillScript::load(write("type.lua", "{ objects = {} }"));
+  } catch (const ScriptError& e) {
+    wrong = e.what();
+  }
+  CHECK_THAT(wrong, Contains("type.lua:4: policy 't': params.objects must be a number, string or boolean, got a table"));
   fs::remove_all(dir);
 }
 

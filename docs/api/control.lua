@@ -171,6 +171,7 @@ roger.primitive_kinds = {}
 ---@field goal roger.Predicate success ends the episode
 ---@field time_limit number|roger.TimePerObject simulated seconds (> 0), or per object of the world
 ---@field scenario? string scenario name or path (default "unobstructed")
+---@field params? table<string, number|string|boolean> scenario parameters its episodes run with (--set overrides them)
 ---@field description? string
 
 ---What a skill script returns (docs/control.md).

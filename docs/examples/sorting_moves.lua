@@ -3,7 +3,7 @@
 -- theirs (two_moves), and on to the pentagons and triangles (four_moves, in a 4-object world).
 --
 --   roger eval docs/examples/sorting_moves.lua --policy two_moves --episodes 20
---   roger render docs/examples/sorting_moves.lua --policy four_moves --set objects=4 --seed 1003 --out out/four.png
+--   roger render docs/examples/sorting_moves.lua --policy four_moves --seed 1003 --out out/four.png
 local skills = require("lib.skills")
 
 -- The carrying navigator converges 0.25 m inside the region's edge, so the object ends inside it.
@@ -47,6 +47,6 @@ return {
     two_moves = { action = two_moves, goal = roger.converged(spade), time_limit = 60, scenario = "sorting",
                   description = "sort the circle, then the spade" },
     four_moves = { action = four_moves, goal = roger.converged(triangle), time_limit = 120, scenario = "sorting",
-                   description = "sort a circle, a spade, a pentagon and a triangle (--set objects=4)" },
+                   params = { objects = 4 }, description = "sort a circle, a spade, a pentagon and a triangle" },
   },
 }

@@ -33,8 +33,6 @@ void apply_sets(Scenario& scenario, const std::vector<std::string>& sets);
 // error; with the same value, kept once); `option` names the option in the errors.
 std::vector<std::pair<std::string, std::string>> split_sets(const std::vector<std::string>& sets, const char* option);
 
-// The scenario a policy runs in: --scenario if given, else the policy's own, else unobstructed.
-std::string policy_scenario(const SkillScript::NamedPolicy& p, const std::string& chosen);
 
 // Whether `script` is a curriculum, so that --policy names a policy.json written by roger train;
 // throws roger::Error when it is and `policy` is not such a file name.

@@ -25,11 +25,6 @@ void apply_sets(Scenario& scenario, const std::vector<std::string>& sets) {
   scenario.set_params(split_sets(sets, "--set"));
 }
 
-std::string policy_scenario(const SkillScript::NamedPolicy& p, const std::string& chosen) {
-  if (!chosen.empty()) return chosen;
-  return p.scenario.empty() ? "unobstructed" : p.scenario;
-}
-
 void refuse_foreign_files(const std::string& out, const std::string& command,
                           const std::function<bool(const std::string&)>& own) {
   namespace fs = std::filesystem;
@@ -159,7 +154,7 @@ int run_render_episode(const RenderArgs& a) {
                 a.policy + "' of " + a.scenario + " is a skill script's, which learns nothing");
   SkillScript script = SkillScript::load(a.scenario);
   const SkillScript::NamedPolicy& policy = script.policy(a.policy);
-  Scenario scenario = Scenario::load(policy_scenario(policy, a.world));
+  Scenario scenario = script.scenario_of(policy, a.world);
   apply_sets(scenario, a.sets);
   const WorldSpec spec = scenario.generate(a.seed);
   EpisodeOptions options = policy.episode_options();
@@ -170,7 +165,9 @@ int run_render_episode(const RenderArgs& a) {
   Agent agent;
   const EpisodeResult episode = run_episode(agent, spec, a.seed, *policy.action, *policy.goal, options, watch);
   write_rendered_episode(a, spec, episode,
-                         script.name() + ": " + policy.name + " in " + scenario.name() + sets_note(a.sets) + ", seed " +
+                         script.name() + ": " + policy.name + " in " + scenario.name() +
+                             (policy.params.empty() ? "" : " (" + params_text(policy.params) + ")") + sets_note(a.sets) +
+                             ", seed " +
                              std::to_string(a.seed));
   return 0;
 }

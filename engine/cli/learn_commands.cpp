@@ -253,7 +253,7 @@ int command_eval(const EvalArgs& a) {
   const SandboxLimits limits = sandbox_limits(a.lua);
   SkillScript script = SkillScript::load(a.script, limits);
   const SkillScript::NamedPolicy& policy = script.policy(a.policy);
-  Scenario scenario = Scenario::load(policy_scenario(policy, a.scenario), limits);
+  Scenario scenario = script.scenario_of(policy, a.scenario, limits);
   apply_sets(scenario, a.sets);
   const EpisodeOptions options = policy.episode_options();
   const EvalSummary r = evaluate_policy(script, policy, scenario, a.episodes, a.seed, options);
@@ -263,6 +263,7 @@ int command_eval(const EvalArgs& a) {
   std::printf("roger eval: %s policy '%s' in %s, %s from seed %llu, %s\n",
               script.path().c_str(), policy.name.c_str(), scenario.name().c_str(), counted(a.episodes, "episode").c_str(),
               static_cast<unsigned long long>(a.seed), limit.c_str());
+  if (!policy.params.empty()) std::printf("  policy params  %s\n", params_text(policy.params).c_str());
   print_changes(a);
   std::vector<uint64_t> failed;
   for (size_t i = 0; i < r.results.size(); ++i)

@@ -125,6 +125,18 @@ const SkillScript::NamedPolicy& SkillScript::policy(const std::string& name) con
   return it->second;
 }
 
+Scenario SkillScript::scenario_of(const NamedPolicy& p, const std::string& chosen, const SandboxLimits& limits) const {
+  Scenario scenario = Scenario::load(!chosen.empty() ? chosen : p.scenario.empty() ? "unobstructed" : p.scenario, limits);
+  for (const auto& [name, value] : p.params) {
+    try {
+      scenario.set_param(name, value);
+    } catch (const Error& e) {
+      throw ScriptError("policy '" + p.name + "': field 'params': " + e.what(), impl_->path, p.params_line, "");
+    }
+  }
+  return scenario;
+}
+
 namespace {
 
 // Checks that the returned value at `t` is a table with only the known keys. `line` follows the
@@ -179,11 +191,43 @@ std::vector<std::string> policy_keys(lua_State* L, int ps, const LuaFields& top)
   return names;
 }
 
+// A policy's params {name = value, ...}: scenario parameters as the text --set gives them (a
+// number, a string or a boolean each), sorted by name. The scenario checks names and values when
+// it is loaded (SkillScript::scenario_of).
+std::vector<std::pair<std::string, std::string>> read_policy_params(lua_State* L, const LuaFields& f,
+                                                                    const std::string& context) {
+  if (f.push("params") != LUA_TTABLE) f.wrong_type("params", "a table of scenario parameters {objects = 4, ...}");
+  const int t = lua_gettop(L);
+  std::vector<std::pair<std::string, std::string>> params;
+  lua_pushnil(L);
+  while (lua_next(L, t)) {
+    if (lua_type(L, -2) != LUA_TSTRING)
+      luaL_error(L, "%s: field 'params' must name each parameter {objects = 4, ...}, got the key %s", context.c_str(),
+                 lua_describe_value(L, -2).c_str());
+    const std::string key = lua_tostring(L, -2);
+    switch (lua_type(L, -1)) {
+      case LUA_TNUMBER:
+        params.emplace_back(key, lua_isinteger(L, -1) ? std::to_string(lua_tointeger(L, -1))
+                                                      : format_number(lua_tonumber(L, -1)));
+        break;
+      case LUA_TBOOLEAN: params.emplace_back(key, lua_toboolean(L, -1) ? "true" : "false"); break;
+      case LUA_TSTRING: params.emplace_back(key, lua_tostring(L, -1)); break;
+      default:
+        luaL_error(L, "%s: params.%s must be a number, string or boolean, got %s", context.c_str(), key.c_str(),
+                   lua_describe_value(L, -1).c_str());
+    }
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+  std::sort(params.begin(), params.end());
+  return params;
+}
+
 // Reads the policy `name` of the 'policies' table at `ps`, leaving its table on the stack. `line`
 // follows the field being read; a scenario path is looked for beside `script_file` first.
 SkillScript::NamedPolicy read_policy(lua_State* L, int ps, const std::string& name, const SourceMap& map,
                                      int& line, const std::string& script_file) {
-  const std::vector<std::string> fields{"action", "description", "goal", "scenario", "time_limit"};
+  const std::vector<std::string> fields{"action", "description", "goal", "params", "scenario", "time_limit"};
   const std::string context = "policy '" + name + "'";
   line = map.policy(name);
   lua_getfield(L, ps, name.c_str());
@@ -250,6 +294,9 @@ SkillScript::NamedPolicy read_policy(lua_State* L, int ps, const std::string& na
   } catch (const Error& e) {
     f.fail(std::string("field 'scenario': ") + e.what());
   }
+  line = map.policy_field(name, "params");
+  np.params_line = line;
+  if (f.has("params")) np.params = read_policy_params(L, f, context);
   line = map.policy_field(name, "description");
   np.description = f.string("description", "");
   np.goal_line = map.policy_field(name, "goal");
@@ -366,28 +413,33 @@ std::vector<std::string> check_skill_script(const std::string& path, const Sandb
     problems.push_back(e.what());
     return problems;
   }
-  // Each scenario loaded, and its worlds generated, once however many policies play it.
+  // Each scenario loaded with a policy's params, and its worlds generated, once however many
+  // policies play it so.
   struct Loaded {
     std::unique_ptr<Scenario> scenario;
-    std::string error;  // why it did not load
+    std::string error;   // why it did not load
+    bool own = false;    // an error at the script's own line (the policy's params)
   };
-  std::map<std::string, Loaded> loaded_scenarios;
+  std::map<std::pair<std::string, std::vector<std::pair<std::string, std::string>>>, Loaded> loaded_scenarios;
   for (const auto& name : script->policy_names()) {
     const SkillScript::NamedPolicy& policy = script->policy(name);
     const std::string where = "policy '" + name + "': scenario '" + policy.scenario + "': ";
-    auto [it, fresh] = loaded_scenarios.emplace(policy.scenario, Loaded{});
+    auto [it, fresh] = loaded_scenarios.emplace(std::make_pair(policy.scenario, policy.params), Loaded{});
     Loaded& l = it->second;
     if (fresh) try {
-        l.scenario = std::make_unique<Scenario>(Scenario::load(policy.scenario, limits));
+        l.scenario = std::make_unique<Scenario>(script->scenario_of(policy, "", limits));
         if (const std::string problem = worlds_problem(*l.scenario); !problem.empty()) {
           problems.push_back(where + problem);
           continue;
         }
+      } catch (const ScriptError& e) {
+        l.error = e.what();
+        l.own = e.file == script->path();
       } catch (const std::exception& e) {
         l.error = e.what();
       }
     if (!l.scenario) {
-      problems.push_back(where + l.error);
+      problems.push_back(l.own ? l.error : where + l.error);
       continue;
     }
     if (const std::string problem = first_ticks_problem(*script, policy, *l.scenario); !problem.empty())

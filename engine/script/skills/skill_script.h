@@ -5,7 +5,7 @@
 //     name = "scripted", description = "...",
 //     policies = {
 //       task = { action = controller, goal = predicate, time_limit = 10,
-//                scenario = "unobstructed", description = "..." },
+//                scenario = "unobstructed", params = { obstacles = 2 }, description = "..." },
 //       ...
 //     },
 //   }
@@ -23,6 +23,7 @@
 
 #include "control/control.h"
 #include "script/sandbox/lua_sandbox.h"
+#include "script/scenario/scenario.h"
 #include "control/predicate.h"
 #include "learn/episode.h"
 
@@ -45,8 +46,12 @@ class SkillScript {
       return o;
     }
     std::string scenario;       // the scenario evaluations use by default ("unobstructed")
+    // Scenario parameters its episodes run with, over the scenario's defaults ({objects = 4}: a
+    // policy for a known number of objects); --set overrides them. As text, sorted by name.
+    std::vector<std::pair<std::string, std::string>> params;
     std::string description;
     int goal_line = 0;          // where its goal is written in the script (for errors of the goal)
+    int params_line = 0;        // where its params are written
   };
 
   // Runs the script at `path` (or curricula/<path>.lua for a bare name such as "scripted") and
@@ -69,6 +74,11 @@ class SkillScript {
 
   // A policy by name. Throws roger::Error listing the known names for an unknown one.
   const NamedPolicy& policy(const std::string& name) const;
+
+  // The scenario a policy's episodes run in: `chosen` (a --scenario) or the policy's own, with the
+  // policy's params set. A param the scenario refuses is a ScriptError at the policy's params line.
+  Scenario scenario_of(const NamedPolicy& policy, const std::string& chosen = "",
+                       const SandboxLimits& limits = {}) const;
 
   // Every controller the script defines or its policies use, each once: the named ones in the
   // order they were defined, then the others as the policies reach them (policies by name, each
