@@ -290,14 +290,25 @@ TEST_CASE("with_params takes a scenario's own body defaults and refuses what it 
 TEST_CASE("a body parameter the world does not use is refused at the generator", "[body]") {
   const std::string head = "local body = require('lib.body')\nreturn { params = body.with_params{},\n"
                            "  generate = function(world, rng, p)\n";
-  Scenario own = scenario_from("body_unused", head + "    world:robot{ x = 0, y = 0, body = { upper_arm = 0.9 } }\n  end }\n");
-  CHECK_NOTHROW(own.generate(0));  // at their defaults the parameters ask for nothing: the body is the scenario's
+  // At their defaults too (found by a later probe: the results recorded upper_arm = 0.5 of a
+  // 0.9 m arm); the scenario gives its body as the parameters' defaults.
+  Scenario undeclared = scenario_from("body_undeclared", head + "    world:robot{ x = 0, y = 0, body = { upper_arm = 0.9 } }\n  end }\n");
+  CHECK_THROWS_WITH(undeclared.generate(0),
+                    Contains("roger_test_body_undeclared.lua:3:") &&
+                        Contains("the parameter upper_arm = 0.5 (its default) asks for a body the world's Roger does not "
+                                 "have (its upper_arm is 0.9): pass body.of(params) to world:robot{ body = ..., eyes = "
+                                 "... } (scenarios/lib/body.lua), or give the world's body as the parameters' defaults "
+                                 "(body.with_params(params, { upper_arm = ... }))"));
+  const std::string with_defaults = "local body = require('lib.body')\nreturn { params = body.with_params({}, { upper_arm = 0.9 }),\n"
+                                    "  generate = function(world, rng, p)\n";
+  Scenario own = scenario_from("body_unused", with_defaults + "    world:robot{ x = 0, y = 0, body = { upper_arm = 0.9 } }\n  end }\n");
+  CHECK_NOTHROW(own.generate(0));  // the parameters' defaults are the scenario's body
   own.set_param("upper_arm", "0.3");
   CHECK_THROWS_WITH(own.generate(0),
                     Contains("roger_test_body_unused.lua:3:") &&
                         Contains("the parameter upper_arm = 0.3 asks for a body the world's Roger does not have (its "
                                  "upper_arm is 0.9): pass body.of(params) to world:robot{ body = ..., eyes = ... }"));
-  own.set_param("upper_arm", "0.5");  // back at its default
+  own.set_param("upper_arm", "0.9");  // back at its default
   for (const auto& [name, value, in_world] :
        {std::tuple<std::string, std::string, std::string>{"eye_pixels", "32", "128"}, {"eye_fov", "1", "1.5707963267948966"},
         {"hand_radius", "0.1", "0.08"}, {"locked", "left_elbow,right_eye", "none"}}) {

@@ -169,15 +169,23 @@ TEST_CASE("a noise parameter the world does not use is refused at the generator"
   // lacks is asked for in vain. Found by a later probe: a level or a scale set away from its
   // default was recorded while the scenario's own levels ran, so each must give the world's very
   // level, as body.noise_of makes it.
-  Scenario own = test::scenario_from("noise_own", head + "    world:robot{ x = 0, y = 0, noise = { joints = 0.01 } }\n  end }\n");
-  CHECK_NOTHROW(own.generate(0));
-  own.set_param("noise_joints", "0.01");  // the world's very level
-  CHECK_NOTHROW(own.generate(0));
+  Scenario undeclared = test::scenario_from("noise_undeclared", head + "    world:robot{ x = 0, y = 0, noise = { joints = 0.01 } }\n  end }\n");
+  CHECK_THROWS_WITH(undeclared.generate(0),
+                    Contains("the parameter noise_joints = 0 (its default) asks for joints sigma = 0, but the world's "
+                             "Roger has 0.01: its generator sets the noise itself rather than passing "
+                             "body.noise_of(params) to world:robot{ noise = ... } (scenarios/lib/body.lua); pass it, or "
+                             "give the world's levels as the parameters' defaults (body.with_params(params, { "
+                             "noise_joints = ... }))"));
+  const std::string with_defaults = "local body = require('lib.body')\n"
+                                    "return { params = body.with_params({}, { noise_joints = 0.01 }),\n"
+                                    "  generate = function(world, rng, p)\n";
+  Scenario own = test::scenario_from("noise_own", with_defaults + "    world:robot{ x = 0, y = 0, noise = { joints = 0.01 } }\n  end }\n");
+  CHECK_NOTHROW(own.generate(0));  // the parameters' defaults are the world's levels
   own.set_param("noise_joints", "0.02");
   CHECK_THROWS_WITH(own.generate(0), Contains("roger_test_noise_own.lua:3:") &&
                                          Contains("the parameter noise_joints = 0.02 asks for joints sigma = 0.02, but "
                                                   "the world's Roger has 0.01: its generator sets the noise itself"));
-  own.set_param("noise_joints", "0");
+  own.set_param("noise_joints", "0.01");
   own.set_param("noise_joints_delay", "1");
   CHECK_THROWS_WITH(own.generate(0), Contains("the parameter noise_joints_delay = 1 asks for joints noise, but the "
                                               "world has none"));
@@ -187,8 +195,8 @@ TEST_CASE("a noise parameter the world does not use is refused at the generator"
                                               "the world's Roger has 0"));
   own.set_param("noise_joints_tau", "10");
   own.set_param("noise_scale", "8");
-  CHECK_THROWS_WITH(own.generate(0), Contains("noise_scale = 8 (times noise_joints = 0) asks for joints sigma = 0, but "
-                                              "the world's Roger has 0.01") &&
+  CHECK_THROWS_WITH(own.generate(0), Contains("noise_scale = 8 (times noise_joints = 0.01) asks for joints sigma = 0.08, "
+                                              "but the world's Roger has 0.01") &&
                                          Contains("leave noise_scale at 1"));
 }
 

@@ -222,10 +222,11 @@ double param_number(const std::map<std::string, ParamSlot>& params, const std::s
 // A noise parameter of body.PARAMS (docs/scenarios.md, Noise) that asks for noise the world does
 // not have: the generator did not pass body.noise_of(p) to world:robot (or passed noise of its
 // own). A noise study would record a level no episode had, so it is refused, naming the first such
-// parameter. Found by a probe: --set noise_image=200 was echoed and ignored. A parameter (or
-// noise_scale) set away from its default must give the world's very level, as body.noise_of makes
-// it; found by a later probe: in a world with noise of its own, --set noise_image=200 and
-// noise_scale=8 were recorded while its fixed levels ran. At their defaults nothing is asked.
+// parameter. Found by a probe: --set noise_image=200 was echoed and ignored. Every declared
+// parameter, times noise_scale, must give the world's very level, as body.noise_of makes it, at its
+// default too; found by a later probe: in a world with noise of its own, --set noise_image=200 and
+// noise_scale=8 were recorded while its fixed levels ran. A scenario with noise of its own gives its
+// levels as the parameters' defaults (body.with_params's second table), or declares none of them.
 void check_noise_params_used(const std::map<std::string, ParamSlot>& params, const NoiseParams& noise,
                              const std::function<void(const std::string&)>& fail) {
   const auto set = [&](const std::string& name) {
@@ -250,23 +251,28 @@ void check_noise_params_used(const std::map<std::string, ParamSlot>& params, con
                           {n + "_quantum", "quantum", c->quantum}};
     for (const auto& [param, what, in_world] : kinds) {
       const bool tau = param == n + "_tau";  // a time, not scaled
-      if (!params.count(param) || !(set(param) || (scale_set && !tau))) continue;
+      if (!params.count(param) || (tau && c->drift == 0.0 && !set(param))) continue;  // no drift: tau unused
       double asked = (tau ? 1.0 : scale) * param_number(params, param, 0.0);
       if (param == n + "_delay") asked = std::floor(asked + 0.5);  // whole ticks, as body.noise_of rounds
       if (param == n + "_dropout") asked = std::min(1.0, asked);   // a probability, as body.noise_of caps it
       if (param == "noise_image_quantum") asked = image_quantum_levels(asked);  // whole levels, as read_noise keeps
       if (asked == in_world) continue;
       const std::string times_scale = scale == 1.0 || tau ? "" : " (times noise_scale = " + slot_text(params.at("noise_scale")) + ")";
-      const std::string asking = set(param) ? "the parameter " + param + " = " + slot_text(params.at(param)) + times_scale
+      const std::string asking = set(param) || !scale_set
+                                     ? "the parameter " + param + " = " + slot_text(params.at(param)) + times_scale
                                             : "noise_scale = " + slot_text(params.at("noise_scale")) + " (times " + param +
                                                   " = " + slot_text(params.at(param)) + ")";
       if (asked > 0.0 && in_world == 0.0 && !tau)
         fail(asking + " asks for " + name + " noise, but the world has none: pass body.noise_of(params) to world:robot{ "
              "noise = ... } (scenarios/lib/body.lua), or leave the parameter at 0");
-      fail(asking + " asks for " + name + " " + what + " = " + format_number(asked) + ", but the world's Roger has " +
-           format_number(in_world) + ": its generator sets the noise itself rather than passing body.noise_of(params) "
-           "to world:robot{ noise = ... } (scenarios/lib/body.lua); leave " +
-           (set(param) ? "the parameter at its default" : "noise_scale at 1") + ", or give the level in the scenario");
+      const bool defaults = !set(param) && !scale_set;
+      fail(asking + (defaults ? " (its default)" : "") + " asks for " + name + " " + what + " = " + format_number(asked) +
+           ", but the world's Roger has " + format_number(in_world) + ": its generator sets the noise itself rather "
+           "than passing body.noise_of(params) to world:robot{ noise = ... } (scenarios/lib/body.lua); " +
+           (defaults ? "pass it, or give the world's levels as the parameters' defaults (body.with_params(params, { " +
+                           param + " = ... }))"
+                     : std::string("leave ") + (set(param) ? "the parameter at its default" : "noise_scale at 1") +
+                           ", or give the level in the scenario"));
     }
   }
 }
@@ -288,27 +294,32 @@ unsigned locked_mask(const std::string& names) {
 // value the world's Roger does not have: the generator did not pass body.of(p) to world:robot (or
 // built a body of its own). A transfer study would record a body no episode had, so it is refused,
 // as an unused noise parameter is. Found by a probe: --set upper_arm=0.3 was recorded and Roger
-// kept the scenario's 0.9 m arms. A parameter left at its default is not asked about: a scenario
-// may declare the body's parameters and build another body on purpose.
+// kept the scenario's 0.9 m arms. A parameter at its default is asked about too (found by a later
+// probe: the results recorded upper_arm = 0.5 of a 0.9 m arm); a scenario of another body gives
+// it as the parameters' defaults (body.with_params's second table).
 void check_body_params_used(const std::map<std::string, ParamSlot>& params, const WorldSpec& world,
                             const std::function<void(const std::string&)>& fail) {
   const std::pair<const char*, double> numbers[] = {
       {"upper_arm", world.body.link_length[0]}, {"forearm", world.body.link_length[1]},
       {"base_radius", world.body.base_radius},  {"hand_radius", world.body.hand_radius},
       {"eye_pixels", double(world.eyes.pixels)}, {"eye_fov", world.eyes.fov}};
-  auto asked = [&](const char* name) -> const ParamSlot* {
+  auto declared = [&](const char* name) -> const ParamSlot* {
     const auto it = params.find(name);
-    return it != params.end() && slot_text(it->second) != it->second.info.default_value ? &it->second : nullptr;
+    return it != params.end() ? &it->second : nullptr;
   };
   auto refuse = [&](const char* name, const std::string& in_world) {
-    fail("the parameter " + std::string(name) + " = " + slot_text(*asked(name)) + " asks for a body the world's " +
-         "Roger does not have (its " + name + " is " + in_world + "): pass body.of(params) to world:robot{ body = " +
-         "..., eyes = ... } (scenarios/lib/body.lua), or leave the parameter at its default");
+    const ParamSlot& p = *declared(name);
+    const bool set = slot_text(p) != p.info.default_value;
+    fail("the parameter " + std::string(name) + " = " + slot_text(p) + (set ? "" : " (its default)") +
+         " asks for a body the world's Roger does not have (its " + name + " is " + in_world + "): pass " +
+         "body.of(params) to world:robot{ body = ..., eyes = ... } (scenarios/lib/body.lua), or " +
+         (set ? "leave the parameter at its default"
+              : "give the world's body as the parameters' defaults (body.with_params(params, { " + std::string(name) +
+                    " = ... }))"));
   };
   for (const auto& [name, in_world] : numbers)
-    if (const ParamSlot* p = asked(name); p && param_number(params, name, 0.0) != in_world)
-      refuse(name, format_number(in_world));
-  if (const ParamSlot* p = asked("locked"); p && locked_mask(p->text) != world.body.locked) {
+    if (declared(name) && param_number(params, name, 0.0) != in_world) refuse(name, format_number(in_world));
+  if (const ParamSlot* p = declared("locked"); p && locked_mask(p->text) != world.body.locked) {
     std::string names;
     for (const auto& [name, dof] : lockable_joints())
       if (is_locked(world.body, dof)) names += (names.empty() ? "" : ",") + name;
