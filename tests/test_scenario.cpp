@@ -743,6 +743,18 @@ TEST_CASE("check_scenario tries each numeric range's ends and says which value f
   CHECK(check_scenario("cluttered").empty());
   CHECK(numeric_ends(ScenarioParam{"n", ParamType::kInteger, "3", "3", "", {}, 0.5, 12.5}) ==
         std::vector<std::pair<std::string, std::string>>{{"1", "min"}, {"12", "max"}});
+  // Found by a probe: two ends that fail in the same words were one warning (upper_arm=2 said
+  // nothing and went uncounted beside forearm=2).
+  Scenario alike = test::scenario_from("ends_alike", "return { params = { a = { default = 0.5, min = 0.1, max = 2 },\n"
+                                                     "  b = { default = 0.5, min = 0.1, max = 2 } },\n"
+                                                     "  generate = function(world, rng, p)\n"
+                                                     "    if p.a > 1 or p.b > 1 then error('too big') end\n"
+                                                     "    world:robot{ x = 0, y = 0 }\n  end }\n");
+  std::vector<std::string> both;
+  CHECK(check_scenario(alike, 1, &both).empty());
+  REQUIRE(both.size() == 2);
+  CHECK_THAT(both[0], StartsWith("a=2 (its max), seed 0: ") && Contains("too big"));
+  CHECK_THAT(both[1], StartsWith("b=2 (its max), seed 0: ") && Contains("too big"));
 }
 
 TEST_CASE("generated worlds go through the physics without tripping Box2D", "[scenario]") {
