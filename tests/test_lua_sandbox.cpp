@@ -773,6 +773,24 @@ std::string eval_string(LuaSandbox& sandbox, const std::string& code) {
 
 }  // namespace
 
+// Found by a probe: the iterator pairs returned kept a cursor of its own and ignored (t, k), so a
+// peek at the first key, or the iterator triple used twice, skipped keys where Lua's next does not.
+TEST_CASE("pairs' iterator is a function of its arguments, as Lua's next is", "[lua_sandbox]") {
+  LuaSandbox sandbox;
+  CHECK(eval_string(sandbox,
+                    "local t = { a = 1, b = 2, c = 3 }\n"
+                    "local f, s, init = pairs(t)\n"
+                    "local first = f(s, init)\n"                                  // a peek
+                    "local n = 0 for k in f, s, init do n = n + 1 end\n"          // then the loop
+                    "local m = 0 for k in f, s, init do m = m + 1 end\n"          // and again
+                    "local k1 = f(s, nil)\n"
+                    "local again = f(s, k1) == f(s, k1)\n"
+                    "local ok, err = pcall(f, s, 'nokey')\n"
+                    "local other = f({}, nil)\n"                                  // another table: Lua's next
+                    "return first .. ' ' .. n .. ' ' .. m .. ' ' .. tostring(again) .. ' ' .. err .. ' ' .. tostring(other)") ==
+        "a 3 3 true invalid key to 'next' nil");
+}
+
 TEST_CASE("docs/api/*.lua describes every roger.* member each kind of script reaches, and nothing else",
           "[lua_sandbox][api]") {
   const auto plain = script_api_names(ScriptKind::kBatchScript);  // the sandbox before any API
@@ -1929,6 +1947,53 @@ TEST_CASE("coroutine switches are charged as instructions, with their time", "[l
   const auto [e, seconds] = stopped("while true do coroutine.wrap(function() coroutine.yield() end)() end\n", small);
   CHECK(e.line == 1);
   CHECK_THAT(e.message, Contains("instruction budget of 2000000 exceeded"));
+}
+
+// Found by a probe: what a coroutine ran after its last hook (less than one hook interval) was
+// never counted, so short coroutines ran about 7 times the budget. Each is charged an interval
+// when it starts: the count is an upper bound of what coroutines run.
+TEST_CASE("short coroutines cannot run past the instruction budget", "[lua_sandbox][faults]") {
+  SandboxLimits limits;
+  limits.instructions = 5'000'000;
+  LuaSandbox sandbox(limits);
+  sandbox.load_string("total = 0\n"
+                      "local function body() local n = 0 for i = 1, 490 do n = n + 1 end total = total + n end\n"
+                      "pcall(function() while true do coroutine.resume(coroutine.create(body)) end end)\n",
+                      "@short.lua");
+  CHECK_THROWS_AS(sandbox.call(0, 0), ScriptError);
+  LuaSandbox again(limits);
+  again.load_string("total = 0\n"
+                    "local function body() local n = 0 for i = 1, 490 do n = n + 1 end total = total + n end\n"
+                    "pcall(function() while true do coroutine.wrap(body)() end end)\n",
+                    "@short.lua");
+  CHECK_THROWS_AS(again.call(0, 0), ScriptError);
+  for (LuaSandbox* box : {&sandbox, &again}) {  // each turn of a loop of 490 runs 2 VM instructions at least
+    const double instructions = 2.0 * std::stod(eval_string(*box, "return tostring(total)"));
+    INFO(instructions);
+    CHECK(instructions <= 5'000'000);
+  }
+}
+
+// Found by a probe: warn did nothing, xpcall(f, debug.traceback)'s traceback began with the
+// sandbox's own frame ("[C]: in ?", or "in metamethod 'index'"), and math.randomseed's refusal
+// named math.random.
+TEST_CASE("warn, xpcall with debug.traceback and the refusals read as in plain Lua", "[lua_sandbox]") {
+  LuaSandbox sandbox;
+  std::string printed;
+  sandbox.set_print([&](const std::string& line) { printed += line + "\n"; });
+  sandbox.load_string("warn('not shown')\nwarn('@on')\nwarn('hello', ' there')\nwarn('@off')\nwarn('gone')\n",
+                      "@w.lua");
+  sandbox.call(0, 0);
+  CHECK(printed == "Lua warning: hello there\n");
+  const std::string boom = eval_string(sandbox, "local function f() error('boom') end\n"
+                                                "return select(2, xpcall(f, debug.traceback))");
+  CHECK_THAT(boom, StartsWith("probe:1: boom\nstack traceback:\n\t[C]: in function 'error'\n\tprobe:1: in "));
+  const std::string index = eval_string(sandbox, "local function g() local t = {} return t.x.y end\n"
+                                                 "return select(2, xpcall(g, debug.traceback))");
+  CHECK_THAT(index, Contains("stack traceback:\n\tprobe:1: in "));
+  CHECK_THAT(index, !Contains("metamethod"));
+  CHECK_THAT(error_of(sandbox, "math.randomseed(1)").message, StartsWith("math.randomseed is not available"));
+  CHECK_THAT(error_of(sandbox, "math.random(1)").message, StartsWith("math.random is not available"));
 }
 
 // Found by a probe: table.sort without a comparator charged 32 instructions a comparison, so 100,000

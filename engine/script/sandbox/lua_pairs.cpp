@@ -93,17 +93,43 @@ SortKey describe_key(lua_State* L, int slot) {
   return k;
 }
 
-// The iterator: upvalue 1 the table, 2 the keys in order, 3 the next position. Returns the next
-// key whose value is not nil, and its value.
+// The iterator, called as Lua calls next: (t, k) gives the key after k and its value, whatever it
+// returned before (found by a probe: it kept a cursor of its own, so a peek at the first key, or
+// the iterator used twice, skipped keys). Upvalue 1 is the table, 2 its keys in order, 3 the
+// position of the key it returned last (where the next call usually starts), 4 each key's
+// position. A key whose value was cleared during the loop is passed over; a key the table did not
+// have when pairs was called is refused as Lua's next refuses one it lacks. Another table than
+// pairs' is walked by Lua's next.
 int sorted_next(lua_State* L) {
-  lua_Integer at = lua_tointeger(L, lua_upvalueindex(3));
+  lua_settop(L, 2);
+  if (!lua_rawequal(L, 1, lua_upvalueindex(1))) {
+    luaL_checktype(L, 1, LUA_TTABLE);
+    if (lua_next(L, 1)) return 2;
+    lua_pushnil(L);
+    return 1;
+  }
+  lua_Integer at = 1;  // the position to look from
+  if (!lua_isnil(L, 2)) {
+    const lua_Integer last = lua_tointeger(L, lua_upvalueindex(3));
+    lua_rawgeti(L, lua_upvalueindex(2), last);
+    const bool same = last > 0 && lua_rawequal(L, -1, 2);
+    lua_pop(L, 1);
+    if (same) {
+      at = last + 1;
+    } else {
+      lua_pushvalue(L, 2);
+      if (lua_rawget(L, lua_upvalueindex(4)) != LUA_TNUMBER) return luaL_error(L, "invalid key to 'next'");
+      at = lua_tointeger(L, -1) + 1;
+      lua_pop(L, 1);
+    }
+  }
   for (;; ++at) {
     if (lua_rawgeti(L, lua_upvalueindex(2), at) == LUA_TNIL) return 1;  // the end: nil
     lua_pushvalue(L, -1);
     if (lua_rawget(L, lua_upvalueindex(1)) != LUA_TNIL) break;
     lua_pop(L, 2);
   }
-  lua_pushinteger(L, at + 1);
+  lua_pushinteger(L, at);
   lua_replace(L, lua_upvalueindex(3));
   return 2;
 }
@@ -132,12 +158,19 @@ int sorted_pairs(lua_State* L) {
   std::stable_sort(keys.begin(), keys.end(), key_below);
   lua_pushvalue(L, 1);
   lua_createtable(L, int(keys.size()), 0);
+  const int ordered = lua_gettop(L);
+  lua_createtable(L, 0, int(keys.size()));
+  const int positions = lua_gettop(L);
   for (size_t i = 0; i < keys.size(); ++i) {
     lua_rawgeti(L, 2, keys[i].slot);
-    lua_rawseti(L, -2, lua_Integer(i) + 1);
+    lua_pushvalue(L, -1);
+    lua_rawseti(L, ordered, lua_Integer(i) + 1);
+    lua_pushinteger(L, lua_Integer(i) + 1);
+    lua_rawset(L, positions);
   }
-  lua_pushinteger(L, 1);
-  lua_pushcclosure(L, sorted_next, 3);
+  lua_pushinteger(L, 0);
+  lua_insert(L, positions);  // upvalues: the table, the keys in order, 0, the positions
+  lua_pushcclosure(L, sorted_next, 4);
   lua_pushvalue(L, 1);
   lua_pushnil(L);
   return 3;

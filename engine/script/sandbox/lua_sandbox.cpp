@@ -3,6 +3,7 @@
 #include "script/sandbox/lua_sandbox.h"
 
 #include <algorithm>
+#include <cstring>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
@@ -19,6 +20,23 @@ namespace fs = std::filesystem;
 using namespace sandbox_detail;
 
 namespace {
+// warn(...) as the stand-alone lua has it (found by a probe: it did nothing): off until "@on",
+// "@off" turns it off again; a message, its pieces gathered, is one line "Lua warning: ..." to the
+// sandbox's print sink (stderr, unless a caller quiets prints).
+void sandbox_warn(void* ud, const char* message, int continues) {
+  auto& s = *static_cast<LuaSandbox::Impl*>(ud);
+  if (!s.warning_continues && !continues && message[0] == '@') {  // a control message
+    if (std::strcmp(message, "@on") == 0) s.warnings_on = true;
+    if (std::strcmp(message, "@off") == 0) s.warnings_on = false;
+    return;
+  }
+  if (s.warnings_on) s.warning += message;
+  s.warning_continues = continues != 0;
+  if (continues) return;
+  if (s.warnings_on && s.print) s.print("Lua warning: " + s.warning);
+  s.warning.clear();
+}
+
 // Whether a traceback names a line of Lua other than `file`:`line`, the message's own, outside the
 // message's frame: one whose Lua frames are all that line (an error of roger.stage{...} at the top
 // of a script: "[C]: in field 'stage'", "s.lua:16: in main chunk") says nothing the message does
@@ -152,6 +170,7 @@ LuaSandbox::LuaSandbox(const SandboxLimits& limits) : impl_(std::make_unique<Imp
   *static_cast<Impl**>(lua_getextraspace(s.L)) = &s;
   s.running = s.L;
   lua_atpanic(s.L, sandbox_panic);
+  lua_setwarnf(s.L, sandbox_warn, &s);
   lua_sethook(s.L, count_hook, LUA_MASKCOUNT, s.hook_interval);
   lua_pushcfunction(s.L, open_sandbox);
   if (lua_pcall(s.L, 0, 0, 0) != LUA_OK) {

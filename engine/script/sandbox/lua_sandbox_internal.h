@@ -60,6 +60,12 @@ struct LuaSandbox::Impl {
   std::vector<std::string> loading;      // modules being required, outermost first
   std::vector<std::filesystem::path> source_files;  // every file compiled, each once, in load order
   std::function<void(const std::string&)> print;
+  // warn(): off until "@on", as the stand-alone lua has it; a message in pieces is gathered here.
+  bool warnings_on = false;
+  bool warning_continues = false;
+  std::string warning;
+  // Lua's debug.traceback, the one function of debug the sandbox keeps (xpcall's handler knows it).
+  lua_CFunction traceback = nullptr;
 
   // Filled by the message handler at the moment of an error.
   std::string err_traceback, err_file;

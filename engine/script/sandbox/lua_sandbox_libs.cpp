@@ -197,11 +197,19 @@ int sandbox_setmetatable(lua_State* L) {
 // The message handler xpcall installs: the script's (upvalue 1), except for the budgets' errors.
 // Those are raised from the count hook, and Lua calls the handler with hooks still off: a handler
 // that looped would never be stopped, so the error goes on unhandled.
+// debug.traceback as the handler starts one level further, below this frame, so that it reads as
+// in plain Lua (found by a probe: every such traceback began "[C]: in ?", or "in metamethod
+// 'index'" for an error of the VM).
 int budget_aware_handler(lua_State* L) {
   const auto& s = impl_of(L);
   if (budget_spent(s)) return 1;
   lua_pushvalue(L, lua_upvalueindex(1));
   lua_insert(L, 1);
+  if (s.traceback && lua_tocfunction(L, 1) == s.traceback && lua_gettop(L) == 2) {
+    lua_pushinteger(L, 2);
+    lua_call(L, 2, 1);
+    return 1;
+  }
   lua_call(L, lua_gettop(L) - 1, 1);
   return 1;
 }
@@ -258,6 +266,7 @@ int open_sandbox(lua_State* L) {
       luaopen_debug(L);  // a table of the library's functions; nothing else is installed
       lua_getfield(L, -1, "traceback");
       lua_remove(L, -2);
+      impl_of(L).traceback = lua_tocfunction(L, -1);
       lua_rawset(L, -3);
     }
     lua_pushvalue(L, -1);
@@ -274,11 +283,12 @@ int open_sandbox(lua_State* L) {
   lua_pop(L, 1);
   // math.random is seeded from the clock: a script using it would not be reproducible.
   lua_getfield(L, g, "math");
-  const char* no_random =
-      "math.random is not available in roger scripts: draw from the rng object your function "
-      "receives (rng:uniform, rng:int, rng:normal, ...) so every run is reproducible from its seed";
-  set_refusal(L, lua_gettop(L), "random", no_random);
-  set_refusal(L, lua_gettop(L), "randomseed", no_random);
+  // Each named as called (found by a probe: math.randomseed was refused as math.random).
+  for (const char* name : {"random", "randomseed"})
+    set_refusal(L, lua_gettop(L), name,
+                (std::string("math.") + name + " is not available in roger scripts: draw from the rng object your "
+                 "function receives (rng:uniform, rng:int, rng:normal, ...) so every run is reproducible from its "
+                 "seed").c_str());
   lua_pop(L, 1);
   install_charges(L);
   install_pairs(L);
