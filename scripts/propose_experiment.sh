@@ -41,7 +41,10 @@ out, trials = sys.argv[1], int(sys.argv[2])
 report = open(f"{out}/search/propose.md").read()
 spent = float(report.split("; spent ")[1].split(" ")[0])
 def mmss(s):
-    return "-" if s is None else f"{int(s // 60)}:{int(round(s % 60)):02d}"
+    if s is None:
+        return "-"
+    t = int(s + 0.5)  # whole seconds first, as the engine's tables round (59.7 s is 1:00, not 0:60)
+    return f"{t // 60}:{t % 60:02d}"
 rows = []
 for ctx in ["B2", "DC3", "DC6", "P"]:
     alone, developed, reached = [], [], 0

@@ -614,6 +614,46 @@ TEST_CASE("a trial capped in simulated seconds is the uncapped trial's prefix, s
   CHECK(skill_s + r.totals.sim_s < 150.0 + 5.0 + 10.0);  // one episode past the cap in each stage
 }
 
+// Found by a probe: in a chain (C over Phi_B over Phi_A, trained first), B's stage trained Phi_A
+// again inside, under what was left of the cap, uncounted; the cap that ended B was recorded as
+// task time, and the task trained on a B that had none. B now trains over the Phi_A just trained.
+TEST_CASE("a capped chain of skills trains each once and the cap ends the stage it reaches", "[trainer][cap]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_chain_cap_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "chain.lua")
+      << "local p = require('lib.skills').primitives()\n"
+         "local function stage(name, actions, skill)\n"
+         "  return roger.stage{ name = name, scenario = 'unobstructed', time_limit = 4,\n"
+         "    absorbing = roger.converged(p.phi0), budget = { episodes = 30 },\n"
+         "    checkpoints = { every = 10, episodes = 5, threshold = 0.9, final = 5 },\n"
+         "    contexts = { { name = 'X', actions = actions } }, skill = skill and { name = skill, context = 'X' } }\n"
+         "end\n"
+         "return { stages = {\n"
+         "  stage('A', { p.search, p.phi0 }, 'Phi_A'),\n"
+         "  stage('B', { roger.learned('Phi_A'), p.phi0 }, 'Phi_B'),\n"
+         "  stage('C', { roger.learned('Phi_B'), p.phi0 }),\n"
+         "} }\n";
+  TrainOptions o;
+  o.curriculum = (dir / "chain.lua").string();
+  o.context = "X";
+  o.seed = 2;
+  o.final_evaluation = false;
+  o.stage = "A";
+  const double a_s = train_stage(o).totals.sim_s;
+  o.stage = "C";
+  o.max_sim_s = a_s + 10.0;  // A whole, then 10 s of B's stage
+  const TrainResult r = train_stage(o);
+  REQUIRE(r.skills.size() == 2);
+  CHECK(r.skills[0].name == "Phi_A");
+  CHECK(same_bits(r.skills[0].totals.sim_s, a_s));
+  CHECK(r.skills[1].name == "Phi_B");
+  INFO("Phi_B's stage " << r.skills[1].totals.sim_s << " s, C's " << r.totals.sim_s << " s");
+  CHECK(r.skills[1].totals.sim_s >= 10.0);     // the rest of the cap went to B's stage...
+  CHECK(r.skills[1].totals.sim_s < 10.0 + 4.0);  // ...stopping at the first episode past it
+  CHECK(r.totals.episodes == 0);                 // and C's task never trained
+  fs::remove_all(dir);
+}
+
 namespace {
 
 // A stage of tests/scripts/explain_curriculum.lua (built to fail), trained for seed 1.

@@ -330,6 +330,13 @@ void batch_detail::bind_skills(Curriculum& cur, const CurriculumContext& ctx, co
       sub.sets.clear();  // the producer's own task, not the caller's parameters
       sub.keep_episodes = false;
       sub.max_sim_s = options.max_sim_s > 0 ? std::max(1e-9, options.max_sim_s - skills_sim_s(sources)) : 0.0;
+      // Over the skills just bound, not trained again inside (found by a probe: a chain's second
+      // stage trained its first skill again, under what was left of a cap, and that time went
+      // uncounted: the cap that ended the second stage was recorded as task time).
+      nlohmann::json given = nlohmann::json::object();
+      for (const auto& s : sources)
+        given[s.name] = {{"policy", s.policy}, {"file", s.file}, {"trained", s.trained}, {"seed", s.trained_seed}};
+      sub.given_skills = &given;
       const TrainResult r = train_stage(sub);
       src.trained = true;
       src.trained_seed = options.seed;
@@ -522,7 +529,7 @@ TrainResult train_stage(const TrainOptions& options) {
   res.seed = options.seed;
   res.threshold = stage.checkpoints.threshold;
   res.psi = controller_names(ctx.actions);
-  bind_skills(cur, ctx, options, nullptr, res.skills);
+  bind_skills(cur, ctx, options, options.given_skills, res.skills);
 
   StageRun run{cur, stage, ctx, make_scenario(stage, ctx, "", options.sets, options.limits, &res.params), Agent()};
   cur.set_world(&run.agent.world());  // the Lua callbacks' `world`

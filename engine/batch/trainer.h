@@ -51,6 +51,9 @@ struct TrainOptions {
   std::vector<std::pair<std::string, std::string>> sets;  // scenario parameters over the stage's
   std::string sets_from = "--set";                        // who gave `sets`, for messages
   std::map<std::string, std::string> skill_files;         // learned skill name -> its policy.json
+  // Skills the caller has bound already ({name: {policy, file, trained, seed}}), taken as they are
+  // rather than trained again: a chain's stage trained first, over the skills trained before it.
+  const nlohmann::json* given_skills = nullptr;
   SandboxLimits limits;
   bool keep_episodes = true;  // keep the per-episode records (episodes.jsonl)
   // Reuse a greedy evaluation episode (checkpoints and the final evaluation) instead of running it

@@ -332,9 +332,12 @@ void note_cut(const std::vector<CandidateSpec>& specs, const std::vector<size_t>
     if (cuts.empty()) continue;
     // Each reason once, with how many trials it ended (found by a probe: with --trials 100 one
     // reason came 100 times in a line of 5896 characters).
-    std::vector<std::string> reasons;
+    // Found by a later probe: a reason of two trials was said twice, since the reasons kept had
+    // their counts appended: the distinct ones are looked up apart.
+    std::vector<std::string> distinct, reasons;
     for (const std::string& c : cuts) {
-      if (std::find(reasons.begin(), reasons.end(), c) != reasons.end()) continue;
+      if (std::find(distinct.begin(), distinct.end(), c) != distinct.end()) continue;
+      distinct.push_back(c);
       const auto n = std::count(cuts.begin(), cuts.end(), c);
       reasons.push_back(n > 1 ? c + ", in " + std::to_string(n) + " of them" : c);
     }

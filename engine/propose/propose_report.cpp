@@ -30,11 +30,13 @@ double spent(const Candidate& c) {
   return s;
 }
 
-// A trial's last checkpoint: "none ran" when the task ran none, and why when the cap ended a
-// subgoal stage (its loss of 2 x cap then measured no task training).
+// A trial's last checkpoint: "none ran" when the task ran none, and why: the cap ended a subgoal
+// stage (its loss of 2 x cap then measured no task training), or came before the task's first
+// checkpoint (found by a probe: "none ran" said no reason).
 std::string last_checkpoint(const CandidateTrial& t) {
   if (t.checkpoints != 0) return fmt("%.0f%%", 100 * t.last_success);
-  return t.cut.empty() ? "none ran" : "none ran: " + cut_text(t);
+  if (t.checkpoints < 0) return "none ran";  // a record from before checkpoints were counted
+  return "none ran: " + (t.cut.empty() ? std::string("the cap came before the task's first checkpoint") : cut_text(t));
 }
 
 }  // namespace
