@@ -1000,6 +1000,11 @@ TEST_CASE("roger eval and render of a saved policy set the parameters its trial 
   r = roger("eval curricula/paper.lua --policy " + policy + " --set upper_arm=0.5 --set eye_pixels=128 --json");
   j = last_json(r.out);
   CHECK(j["trial_params"].empty());
+  // The body it trained on is still said (found by a probe: it vanished from the output).
+  CHECK_THAT(r.out, Catch::Matchers::Contains("\n  trained with   eye_pixels = 64, overridden by --set eye_pixels=128, "
+                                              "upper_arm = 0.6, overridden by --set upper_arm=0.5 (the trial's own "
+                                              "parameters, not in force here)\n"));
+  CHECK(j["trial_params_overridden"] == nlohmann::json({{"eye_pixels", "64"}, {"upper_arm", "0.6"}}));
   CHECK(j["time_mean"].get<double>() != Approx(trial_time / episodes).epsilon(1e-12));
   // In another scenario they are named, not set: it may not declare them, or mean another thing.
   r = roger("eval curricula/paper.lua --policy " + policy + " --scenario cluttered --set upper_arm=0.6 --episodes 2");
@@ -1223,6 +1228,12 @@ TEST_CASE("roger eval runs a learned Sort4 policy from its file, loaded and not 
   CHECK(r.out.find("train") == std::string::npos);  // also no note of another curriculum: another checkout's
   // The stage's own parameters are said (found by a probe: a maturation's frozen eyes were not).
   CHECK(r.out.find("\n  stage params   objects = 4 (stage Sort4, context Learned)\n") != std::string::npos);
+  // One a --set replaces with another value is marked (found by a probe: "objects = 2" was shown
+  // beside "--set objects=4" as if in force).
+  const Run six = roger("eval curricula/sorting.lua --policy tests/policies/sort4_learned.json --set objects=6 "
+                        "--episodes 1 --seed 3000000");
+  CHECK(six.out.find("\n  stage params   objects = 4, overridden by --set objects=6 (stage Sort4, context Learned)\n") !=
+        std::string::npos);
   const nlohmann::json j = nlohmann::json::parse(r.out.substr(r.out.rfind("\n{") + 1));
   CHECK(j["params"]["objects"] == "4");
   CHECK(j["scenario"] == "sorting");

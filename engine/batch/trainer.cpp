@@ -901,7 +901,7 @@ namespace {
 // `sets` gives (a --set of the command wins). Parameters the scenario no longer declares are left
 // out.
 ParamList trial_only_params(const PolicyMetadata& meta, const CurriculumStage& stage, const CurriculumContext& ctx,
-                            const ParamList& sets, const SandboxLimits& limits) {
+                            const ParamList& sets, const SandboxLimits& limits, ParamList* overridden = nullptr) {
   ParamList out;
   if (!meta.extra.is_object() || !meta.extra.contains("params") || !meta.extra["params"].is_object()) return out;
   ParamList now;
@@ -909,8 +909,9 @@ ParamList trial_only_params(const PolicyMetadata& meta, const CurriculumStage& s
   for (const auto& param : now) {  // not a structured binding: clang 14 refuses one in a lambda
     const auto it = meta.extra["params"].find(param.first);
     if (it == meta.extra["params"].end() || !it->is_string() || it->get<std::string>() == param.second) continue;
-    const bool given = std::any_of(sets.begin(), sets.end(), [&](const auto& s) { return s.first == param.first; });
-    if (!given) out.push_back({param.first, it->get<std::string>()});
+    const auto set = std::find_if(sets.begin(), sets.end(), [&](const auto& s) { return s.first == param.first; });
+    if (set == sets.end()) out.push_back({param.first, it->get<std::string>()});
+    else if (overridden && set->second != it->get<std::string>()) overridden->push_back({param.first, it->get<std::string>()});
   }
   return out;
 }
@@ -1014,9 +1015,11 @@ void with_policy_file(const PolicyEvalOptions& given, PolicyEvalResult& out,
   out.time_limit = stage.time_limit_text();
   out.stage_test_tasks = stage.teaches() ? stage.final_test_tasks() : 0;
   if (options.trial_params) {
-    const ParamList trial = trial_only_params(meta, stage, ctx, options.sets, options.limits);
+    ParamList overridden;
+    const ParamList trial = trial_only_params(meta, stage, ctx, options.sets, options.limits, &overridden);
     if (options.scenario.empty() || options.scenario == stage.scenario) {
       out.trial_sets = trial;
+      out.trial_sets_overridden = overridden;
       options.sets.insert(options.sets.begin(), trial.begin(), trial.end());
     } else {
       out.trial_sets_left = trial;

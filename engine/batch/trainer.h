@@ -290,6 +290,8 @@ struct PolicyEvalResult {
   // With options.trial_params: the trial's own parameters set (in the stage's scenario), or those
   // left out (in another scenario, which may not declare them), each as the policy file has it.
   std::vector<std::pair<std::string, std::string>> trial_sets, trial_sets_left;
+  // The trial's own parameters that the command's --set overrode here, at their trained values.
+  std::vector<std::pair<std::string, std::string>> trial_sets_overridden;
   // The curriculum the policy file says it was trained with, when it is not the one given (whose
   // stage and context of the same names then judge it: their goal, reward and time limit); "".
   std::string trained_curriculum;

@@ -92,12 +92,26 @@ void print_changes(const EvalArgs& a) {
   if (!changes.empty()) std::printf("  with           %s\n", changes.c_str());
 }
 
+// "eye_pixels = 32, overridden by --set eye_pixels=128": parameters, each one a --set of `sets`
+// replaced with another value marked so (found by a probe: the line read as if the coarse eyes were
+// in force).
+std::string params_marking_sets(const std::vector<std::pair<std::string, std::string>>& params,
+                                const std::vector<std::string>& sets) {
+  std::string text;
+  for (const auto& [name, value] : params) {
+    text += (text.empty() ? "" : ", ") + name + " = " + value;
+    for (const std::string& set : sets)
+      if (set.rfind(name + "=", 0) == 0 && set.substr(name.size() + 1) != value) text += ", overridden by --set " + set;
+  }
+  return text;
+}
+
 // The stage's and context's own scenario parameters, when they have any (found by a probe: a
 // maturation's frozen eyes were said nowhere in train's or eval's output).
 void print_stage_params(const std::vector<std::pair<std::string, std::string>>& params, const std::string& stage,
-                        const std::string& context) {
+                        const std::string& context, const std::vector<std::string>& sets) {
   if (!params.empty())
-    std::printf("  stage params   %s (stage %s, context %s)\n", params_text(params).c_str(), stage.c_str(),
+    std::printf("  stage params   %s (stage %s, context %s)\n", params_marking_sets(params, sets).c_str(), stage.c_str(),
                 context.c_str());
 }
 
@@ -105,8 +119,8 @@ void print_stage_params(const std::vector<std::pair<std::string, std::string>>& 
 // curriculum than the policy's, and the parameters its trial trained with beyond its stage's (its
 // --set), set here too so that the held-out seeds are the trial's worlds, or, in another scenario,
 // left out.
-void print_trial_params(const PolicyEvalResult& r, const std::string& scenario) {
-  print_stage_params(r.stage_params, r.stage, r.context);
+void print_trial_params(const PolicyEvalResult& r, const std::string& scenario, const std::vector<std::string>& sets) {
+  print_stage_params(r.stage_params, r.stage, r.context, sets);
   if (r.trained_curriculum_edited)
     std::printf("  note           the curriculum %s changed since the policy was trained; stage %s, context %s of it "
                 "as it is now judge it here (their goal, reward and time limit, and its actions' definitions)\n",
@@ -118,6 +132,10 @@ void print_trial_params(const PolicyEvalResult& r, const std::string& scenario) 
   if (!r.trial_sets.empty())
     std::printf("  trained with   %s (the trial's own parameters, set here too; a --set of one overrides it)\n",
                 params_text(r.trial_sets).c_str());
+  // Found by a probe: a policy run on another body by --set lost the body it trained on from the output.
+  if (!r.trial_sets_overridden.empty())
+    std::printf("  trained with   %s (the trial's own parameters, not in force here)\n",
+                params_marking_sets(r.trial_sets_overridden, sets).c_str());
   if (!r.trial_sets_left.empty())
     std::printf("  note           %s\n", trial_params_left_note(r.trial_sets_left, scenario).c_str());
 }
@@ -145,7 +163,7 @@ int run_eval_policy_file(const EvalArgs& a) {
               static_cast<unsigned long long>(r.eval.first_seed),
               r.time_limit.c_str());
   print_changes(a);
-  print_trial_params(r, a.scenario);
+  print_trial_params(r, a.scenario, a.sets);
   if (r.stage_test_tasks > 0 && !a.test_set)
     std::printf("  note           stage %s teaches: its trials ended on %d test tasks of its task space, not run here "
                 "(--test-set runs them; these episodes have the stage's own parameters%s)\n",
@@ -172,6 +190,8 @@ int run_eval_policy_file(const EvalArgs& a) {
               {"scenario", r.scenario}, {"scenario_file", r.scenario_file}, {"failed_seeds", r.eval.failed_seeds}, {"test_set", a.test_set}});
     j["trial_params"] = nlohmann::json::object();  // the trial's own parameters set here (print_trial_params)
     for (const auto& [k, v] : r.trial_sets) j["trial_params"][k] = v;
+    j["trial_params_overridden"] = nlohmann::json::object();  // the trial's own, replaced by --set here
+    for (const auto& [k, v] : r.trial_sets_overridden) j["trial_params_overridden"][k] = v;
     // With --test-set, whence the tasks came, and each episode's task in order (world seed
     // first_seed + i).
     if (a.test_set) {
@@ -390,7 +410,7 @@ int command_train(const TrainArgs& a) {
   std::printf("roger train: %s stage %s context %s seed %llu (%zu action%s, %d states) in %s\n",
               r.curriculum_path.c_str(), r.stage.c_str(), r.context.c_str(), static_cast<unsigned long long>(r.seed),
               r.psi.size(), r.psi.size() == 1 ? "" : "s", r.q->states(), r.scenario.c_str());
-  print_stage_params(r.stage_params, r.stage, r.context);
+  print_stage_params(r.stage_params, r.stage, r.context, a.sets);
   // As roger eval says it, so that a trial on another body never reads as one on the default body.
   std::string sets;
   for (const auto& s : a.sets) sets += (sets.empty() ? "" : ", ") + ("--set " + s);
