@@ -1335,6 +1335,19 @@ TEST_CASE("docs/examples/teachers_example.lua: every block of the docs' Teachers
   }
 }
 
+// Found by a probe: a stage without a test set whose final evaluation runs more tasks than its
+// checkpoints recorded the checkpoints' count alone ("tasks": 10 of a final evaluation of 50).
+TEST_CASE("the summary says how many test tasks the final evaluation ran", "[teach][stage]") {
+  test::TempDir dir("roger_teach_final_tasks");
+  TrainOptions o = stage_options(write_stage(dir.path, "final", "{ tasks = { obstacles = roger.int(0, 2) }, "
+                                                               "checkpoints = { every = 4, episodes = 3, final = 5 } }"));
+  const TrainResult r = train_stage(o);
+  const json summary = train_summary_json(r);
+  CHECK(summary["test"]["tasks"] == 3);
+  CHECK(summary["test"]["final_tasks"] == 5);
+  CHECK(r.final_eval.episodes == 5);
+}
+
 // Found by a probe: roger train said only "teacher lcas over ..."; the lifts and a sequence's
 // moves were in summary.json alone.
 TEST_CASE("roger train says what its teacher did", "[teach][stage]") {
@@ -1775,6 +1788,12 @@ TEST_CASE("a teacher whose window cannot fill within the budget is warned of", "
                         "{ obstacles = 0, window = 3 }, { window = 100 } } }").empty());
   CHECK(warning("lcas_fits", "{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 64 } }, window = 1 } }").empty());
   CHECK(warning("alp_fits", "{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.alp_gmm{ fit_every = 3 } }").empty());
+  // Found by a probe: 7 levels of window 10 in 60 episodes reached level 2, and the test set ran
+  // at level 7, which no episode had trained at. Each lift needs two windows.
+  CHECK_THAT(warning("levels", "{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 64, 128 } }, window = 1 } }"),
+             Contains("levels.lua:8: stage 'S': roger.teacher.lcas: its 3 levels of eye_pixels need 4 episodes (two "
+                      "windows of 1 per lift) before the last, not fewer than the budget's 4 episodes: no episode will "
+                      "train at eye_pixels = 128, the level the test set runs at"));
   const std::string roger = ROGER_BINARY, said = (dir.path / "said.txt").string();
   CHECK(run_shell(roger + " check " + (dir.path / "seq.lua").string() + " > " + said + " 2>&1") == 0);
   CHECK_THAT(slurp(said), Contains("roger: warning: ") && Contains("seq.lua:8: stage 'S': roger.teacher.sequence: step 1's window"));

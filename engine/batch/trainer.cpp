@@ -772,6 +772,10 @@ nlohmann::json train_summary_json(const TrainResult& r) {
     j["teacher_wall_s"] = r.teacher_wall_s;
     j["skipped_tasks"] = r.skipped_tasks;
     j["test"] = {{"tasks", r.test_tasks}};
+    // The final evaluation runs more of the same draw than the checkpoints (found by a probe: the
+    // summary said 10 test tasks of a final evaluation of 50).
+    if (!r.final_tasks.empty() && int(r.final_tasks.size()) != r.test_tasks)
+      j["test"]["final_tasks"] = r.final_tasks.size();
     if (r.test_list.empty()) {
       j["test"]["seed"] = r.test_seed;
     } else {  // the tasks themselves: a seed would say they were drawn

@@ -662,6 +662,15 @@ std::string CurriculumStage::teacher_window_warning() const {
     return at + where() + ": " + spec.name() + ": window = " + std::to_string(spec.window) + " needs " +
            std::to_string(2 * int64_t(spec.window)) + " episodes at a level (two windows) before it can lift " +
            spec.lift + ", not fewer than " + budget + ": it will never lift it, and the test set runs at its last level";
+  // Each lift needs two windows at its level: the last level is reached after (levels - 1) of them
+  // at the earliest (found by a probe: 7 levels of window 10 in 60 episodes reached level 2, and the
+  // test set ran at level 7, which no episode had trained at).
+  const int64_t lifts = int64_t(spec.levels.size()) - 1;
+  if (spec.kind == TeacherSpec::Kind::kLcas && lifts * 2 * int64_t(spec.window) >= budget_episodes)
+    return at + where() + ": " + spec.name() + ": its " + std::to_string(lifts + 1) + " levels of " + spec.lift +
+           " need " + std::to_string(lifts * 2 * int64_t(spec.window)) + " episodes (two windows of " +
+           std::to_string(spec.window) + " per lift) before the last, not fewer than " + budget + ": no episode " +
+           "will train at " + spec.lift + " = " + spec.levels.back() + ", the level the test set runs at";
   // The first fit follows episode fit_every; one after the last episode draws no task (found by a
   // probe: fit_every = 100 in 40 episodes trained as a uniform teacher without a word).
   if (spec.kind == TeacherSpec::Kind::kAlpGmm && spec.fit_every >= budget_episodes)
