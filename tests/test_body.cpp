@@ -189,6 +189,15 @@ TEST_CASE("a body that cannot be built says why", "[body]") {
   CHECK_THAT(joint.at(0), Contains("lies outside the joints' ranges: shoulder ") &&
                               Contains(" outside its range [2.5, 3] rad (body.shoulder and body.elbow set them)"));
   CHECK_THAT(joint.at(0), !Contains("; elbow"));  // the elbow folds within its range
+  // Found by a probe: "elbow -0.1 outside its range [-0.1, 0.1]": the angle has the digits that set
+  // it apart from the bound it passes.
+  RobotParams narrow;
+  narrow.elbow_min = -0.1, narrow.elbow_max = 0.1;
+  const std::vector<std::string> elbow = body_problems(narrow, EyeParams{});
+  REQUIRE(!elbow.empty());
+  INFO(elbow.at(0));
+  CHECK(elbow.at(0).find("elbow -0.1 outside") == std::string::npos);
+  CHECK_THAT(elbow.at(0), Contains(" outside its range [-0.1, 0.1] rad"));
   RobotParams small;
   small.base_radius = 0.06;
   CHECK_THAT(body_problems(small, EyeParams{}).at(0),

@@ -136,9 +136,19 @@ std::string num(double v) {
 void fold_problems(const RobotParams& b, std::vector<std::string>& out) {
   const Angles fold = fold_posture(b);
   // Each joint whose range misses its folded angle, with the range: what to widen.
-  const auto outside = [](const char* joint, double angle, double lo, double hi) {
-    return angle < lo || angle > hi ? std::string(joint) + " " + num(angle) + " outside its range [" + num(lo) + ", " +
-                                          num(hi) + "]"
+  // The angle with as many digits as set it apart from the bound it passes (found by a probe:
+  // "elbow -0.1 outside its range [-0.1, 0.1]").
+  const auto apart = [](double v, double bound) {
+    char text[40], other[40];
+    for (int digits = 6;; ++digits) {
+      std::snprintf(text, sizeof text, "%.*g", digits, v);
+      std::snprintf(other, sizeof other, "%.*g", digits, bound);
+      if (std::string(text) != other || digits >= 17) return std::string(text);
+    }
+  };
+  const auto outside = [&](const char* joint, double angle, double lo, double hi) {
+    return angle < lo || angle > hi ? std::string(joint) + " " + apart(angle, angle < lo ? lo : hi) +
+                                          " outside its range [" + num(lo) + ", " + num(hi) + "]"
                                     : std::string();
   };
   std::vector<std::string> joints;
