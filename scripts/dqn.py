@@ -236,7 +236,10 @@ def trial(a, context, seed):
 
 
 def minsec(s):
-    return f"{int(s // 60)}:{int(round(s % 60)):02d}" if s < 3600 * 100 else "-"
+    if s >= 3600 * 100:
+        return "-"
+    t = int(s + 0.5)  # whole seconds first, as the engine's tables round (59.7 s is 1:00, not 0:60)
+    return f"{t // 60}:{t % 60:02d}"
 
 
 def first_pass(curve, threshold):

@@ -57,7 +57,7 @@ def read_totals(path):
 
 
 def min_sec(seconds):
-    s = int(round(seconds))
+    s = int(seconds + 0.5)  # half away from zero, as the engine's tables round (Python's round is to even)
     return f"{s // 60}:{s % 60:02d}"
 
 
