@@ -423,6 +423,10 @@ TEST_CASE("propose says when a round's trials ran no checkpoint", "[propose]") {
                  "checkpoint can take (every 10 training episodes, each up to 5 s), so every loss was the same and the "
                  "candidates' order decided which went on; a --budget of about 9057 gives this round's trials one "
                  "checkpoint each\n") != std::string::npos);
+  // A reason shared by both trials is said once, with how many (found by a probe: said twice, each
+  // "in 2 of them").
+  CHECK(out.find("C3's task never trained in 2 of its 2 trials (the cap ended Phi_to_phi1's stage short of its "
+                 "threshold, in 2 of them), which scored 2 x cap untested\n") != std::string::npos);
   const std::string md = slurp(dir.path / "p" / "propose.md");
   CHECK(md.find("## Cautions") != std::string::npos);
   CHECK(md.find("| no | - | none ran: the cap came before the task's first checkpoint |") != std::string::npos);
