@@ -747,13 +747,19 @@ TEST_CASE("a results folder is not resumed after a module the curriculum require
 }
 
 TEST_CASE("a failing trial is recorded and does not lose the others", "[report][run]") {
-  // The evaluation's worlds cannot be made: its scenario raises when it generates one (a wrong
-  // parameter would be refused when the script loads, before any trial).
+  // The evaluation's worlds cannot be made: its scenario raises when it generates one after its
+  // first (a wrong parameter, or a scenario that builds no world at all, is refused when the
+  // script loads, which builds one world with the evaluation's parameters, before any trial).
   Fixture f("fail", "obstacles = 3", "failing.lua");
   spit(f.root / "failing.lua",
        "local base = require(\"cluttered\")\n"
+       "local built = 0\n"
        "return { name = \"failing\", params = base.params,\n"
-       "         generate = function() error(\"no world for this evaluation\") end }\n");
+       "         generate = function(world, rng, p)\n"
+       "           built = built + 1\n"
+       "           if built > 1 then error(\"no world for this evaluation\") end\n"
+       "           return base.generate(world, rng, p)\n"
+       "         end }\n");
   std::string log;
   CHECK(f.run("out", 2, 0, &log) == 1);
   INFO(log);
