@@ -210,6 +210,15 @@ bool after_last_episode(const json& move, const json& state) {
   return episode.is_number() && episodes.is_number() && episode.get<double>() >= episodes.get<double>();
 }
 
+// The last of `moves` (a sequence's moves, an LCAS teacher's lifts), taken out of them, when it came
+// after the last episode; else null. Only the last can: one move follows each episode at most.
+json take_after_last_episode(json& moves, const json& state) {
+  if (moves.empty() || !after_last_episode(moves.back(), state)) return json();
+  json last = moves.back();
+  moves.erase(moves.size() - 1);
+  return last;
+}
+
 // "19 (step 1 to 2, rate 0.5), 29 (step 2 to 3, rate 0.6)": a sequence's moves.
 std::string sequence_moves(const json& moves) {
   std::vector<std::string> parts;
@@ -229,11 +238,7 @@ std::string lcas_lifts(const json& lifts) {
 // A sequence's line: where it stood and its moves; a move after the last episode said apart.
 std::string describe_sequence(const json& state, const std::string& steps) {
   json moves = state.value("moves", json::array());
-  json last;
-  if (!moves.empty() && after_last_episode(moves.back(), state)) {
-    last = moves.back();
-    moves.erase(moves.size() - 1);
-  }
+  const json last = take_after_last_episode(moves, state);
   std::string text = last.is_null() ? "at step " + shown(state.value("step", json("?"))) + " of " + steps
                                     : "at step " + shown(last.value("from", json("?"))) + " of " + steps +
                                           " when training ended";
@@ -247,11 +252,7 @@ std::string describe_sequence(const json& state, const std::string& steps) {
 // An LCAS teacher's line: its level and lifts; a lift after the last episode said apart.
 std::string describe_lcas(const json& state, const std::string& levels) {
   json lifts = state.value("lifts", json::array());
-  json last;
-  if (!lifts.empty() && after_last_episode(lifts.back(), state)) {
-    last = lifts.back();
-    lifts.erase(lifts.size() - 1);
-  }
+  const json last = take_after_last_episode(lifts, state);
   const std::string param = state.value("param", std::string("?"));
   std::string text;
   if (last.is_null()) {

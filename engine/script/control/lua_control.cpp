@@ -440,6 +440,36 @@ PredicatePtr lua_check_predicate(lua_State* L, int index, const std::string& con
                lua_describe_value(L, index) + hint);
 }
 
+std::string lua_param_text(lua_State* L, int index, const std::string& where) {
+  switch (lua_type(L, index)) {
+    case LUA_TNUMBER:
+      return lua_isinteger(L, index) ? std::to_string(lua_tointeger(L, index)) : format_number(lua_tonumber(L, index));
+    case LUA_TBOOLEAN: return lua_toboolean(L, index) ? "true" : "false";
+    case LUA_TSTRING: return lua_tostring(L, index);
+    default:
+      luaL_error(L, "%s must be a number, string or boolean, got %s", where.c_str(), lua_describe_value(L, index).c_str());
+  }
+  return "";
+}
+
+void lua_read_params(lua_State* L, int index, const std::string& where,
+                     std::vector<std::pair<std::string, std::string>>& out, const std::string& key_where) {
+  index = lua_absindex(L, index);
+  if (!lua_istable(L, index))
+    luaL_error(L, "%s must be a table of scenario parameters {key = value}, got %s", where.c_str(),
+               lua_describe_value(L, index).c_str());
+  lua_pushnil(L);
+  while (lua_next(L, index)) {
+    if (lua_type(L, -2) != LUA_TSTRING)
+      luaL_error(L, "%s must have string keys {param = value}, got the key %s (a list? name each value)", where.c_str(),
+                 lua_describe_value(L, -2).c_str());
+    const std::string key = lua_tostring(L, -2);
+    out.push_back({key, lua_param_text(L, -1, (key_where.empty() ? where + "." : key_where) + key)});
+    lua_pop(L, 1);
+  }
+  std::sort(out.begin(), out.end());
+}
+
 std::string lua_describe_value(lua_State* L, int index) {
   index = lua_absindex(L, index);
   switch (lua_type(L, index)) {

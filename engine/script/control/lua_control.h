@@ -87,6 +87,16 @@ PredicatePtr lua_check_predicate(lua_State* L, int index, const std::string& con
 // "controller 'phi1'", "predicate converged(phi3)".
 std::string lua_describe_value(lua_State* L, int index);
 
+// The value at `index` as a scenario parameter's text, as --set gives it (a number, a string or a
+// boolean: "3", "0.95", "circle", "true"), or a Lua error "<where> must be a number, string or
+// boolean, got ...". For a curriculum's task axes and levels and a skill script's policy params.
+std::string lua_param_text(lua_State* L, int index, const std::string& where);
+
+// A table {key = value} of scenario parameters at `index`, appended to `out` sorted by key. A
+// wrong table is named `where`, a wrong value `<key_where><key>` (by default `<where>.<key>`).
+void lua_read_params(lua_State* L, int index, const std::string& where,
+                     std::vector<std::pair<std::string, std::string>>& out, const std::string& key_where = "");
+
 // Whether a controller is the stand-in for a name used before its controller was defined. It
 // behaves exactly as the controller it names (children() gives that controller); pictures and
 // usage counts may look through it.

@@ -55,13 +55,6 @@ void set_strict_index(lua_State* L, const char* type_name, lua_CFunction unknown
 
 // ---- teachers (curriculum_tasks.cpp, curriculum_teacher.cpp)
 
-// The value at `index` as a scenario parameter's text (a number, string or boolean), or a Lua
-// error "<where> must be a number, string or boolean, got ...".
-std::string param_text(lua_State* L, int index, const std::string& where);
-// A table {key = value} of scenario parameters at `index`, appended to `out` sorted by key. A
-// wrong table is named `where`, a wrong value `<key_where><key>` (by default `<where>.<key>`).
-void read_params_into(lua_State* L, int index, const std::string& where, ParamList& out,
-                      const std::string& key_where = "");
 // The first key (in sorted order) of the table at `index` that is not a position 1..n of its list
 // part, as messages show it ("'Extra'", "[7]"); "" when it is a plain list of n items.
 std::string key_beside_list(lua_State* L, int index, lua_Integer n);

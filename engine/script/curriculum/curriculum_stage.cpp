@@ -45,7 +45,7 @@ int positive_int(const LuaFields& f, const char* key, int64_t fallback, int64_t 
 
 // Reads a stage's or context's `params` table at `index` into `out`, sorted by key.
 void read_params_table(lua_State* L, int index, const std::string& where, ParamList& out) {
-  read_params_into(L, index, where + ": field 'params'", out, where + ": params.");
+  lua_read_params(L, index, where + ": field 'params'", out, where + ": params.");
 }
 
 // A context's entry: its name, the stack index of its action list and of its params (0: none).

@@ -104,7 +104,7 @@ int l_choice(lua_State* L) {
   std::set<std::string> seen;
   for (lua_Integer i = 1; i <= n; ++i) {
     lua_rawgeti(L, 1, i);
-    const std::string v = param_text(L, -1, "roger.choice{...}: value " + std::to_string(i));
+    const std::string v = lua_param_text(L, -1, "roger.choice{...}: value " + std::to_string(i));
     if (!seen.insert(v).second) luaL_error(L, "roger.choice{...}: the value '%s' is listed twice", v.c_str());
     d.choices.push_back(v);
     lua_pop(L, 1);
@@ -192,7 +192,7 @@ TeacherSpec::Step read_step(lua_State* L, int t, const std::string& where) {
       d = *axis;
     } else {
       d.kind = TaskDim::Kind::kChoice;  // a single value: an axis of one
-      d.choices = {param_text(L, -1, where + ": " + key)};
+      d.choices = {lua_param_text(L, -1, where + ": " + key)};
       if (lua_type(L, -1) == LUA_TSTRING) step.string_values.push_back(key);
     }
     d.name = key;
@@ -273,7 +273,7 @@ int l_teacher_lcas(lua_State* L) {
     for (lua_Integer i = 1; i <= count; ++i) {
       lua_rawgeti(L, levels, i);
       if (lua_type(L, -1) == LUA_TSTRING) spec.string_levels.push_back(size_t(i - 1));
-      spec.levels.push_back(param_text(L, -1, "roger.teacher.lcas: lift." + spec.lift + "[" + std::to_string(i) + "]"));
+      spec.levels.push_back(lua_param_text(L, -1, "roger.teacher.lcas: lift." + spec.lift + "[" + std::to_string(i) + "]"));
       lua_pop(L, 1);
     }
     lua_pop(L, 1);
@@ -535,7 +535,7 @@ void read_test(lua_State* L, const LuaFields& f, CurriculumStage& st, bool episo
       lua_rawgeti(L, list, i);
       const std::string where = st.where() + ": test.list[" + std::to_string(i) + "]";
       ParamList task;
-      read_params_into(L, lua_gettop(L), where, task);
+      lua_read_params(L, lua_gettop(L), where, task);
       for (const auto& [name, value] : task) {
         lua_getfield(L, -1, name.c_str());
         const bool written_as_string = lua_type(L, -1) == LUA_TSTRING;
@@ -558,36 +558,6 @@ void read_test(lua_State* L, const LuaFields& f, CurriculumStage& st, bool episo
 }
 
 }  // namespace
-
-std::string param_text(lua_State* L, int index, const std::string& where) {
-  switch (lua_type(L, index)) {
-    case LUA_TNUMBER:
-      return lua_isinteger(L, index) ? std::to_string(lua_tointeger(L, index)) : format_number(lua_tonumber(L, index));
-    case LUA_TBOOLEAN: return lua_toboolean(L, index) ? "true" : "false";
-    case LUA_TSTRING: return lua_tostring(L, index);
-    default:
-      luaL_error(L, "%s must be a number, string or boolean, got %s", where.c_str(), lua_describe_value(L, index).c_str());
-  }
-  return "";
-}
-
-void read_params_into(lua_State* L, int index, const std::string& where, ParamList& out,
-                      const std::string& key_where) {
-  index = lua_absindex(L, index);
-  if (!lua_istable(L, index))
-    luaL_error(L, "%s must be a table of scenario parameters {key = value}, got %s", where.c_str(),
-               lua_describe_value(L, index).c_str());
-  lua_pushnil(L);
-  while (lua_next(L, index)) {
-    if (lua_type(L, -2) != LUA_TSTRING)
-      luaL_error(L, "%s must have string keys {param = value}, got the key %s (a list? name each value)", where.c_str(),
-                 lua_describe_value(L, -2).c_str());
-    const std::string key = lua_tostring(L, -2);
-    out.push_back({key, param_text(L, -1, (key_where.empty() ? where + "." : key_where) + key)});
-    lua_pop(L, 1);
-  }
-  std::sort(out.begin(), out.end());
-}
 
 void install_teaching_api(lua_State* L) {
   const luaL_Reg axis_entries[] = {{"__tostring", l_axis_tostring}, {"__gc", destroy<TaskDim>}, {nullptr, nullptr}};

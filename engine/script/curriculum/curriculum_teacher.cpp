@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "core/text.h"
+#include "script/control/lua_control.h"
 #include "script/curriculum/curriculum_internal.h"
 #include "script/sandbox/lua_sandbox.h"
 #include "script/scenario/scenario.h"
@@ -247,7 +248,7 @@ class LuaTeacher final : public Teacher {
           throw ScriptError(where_ + " must return a table of task parameters {" + space_.describe() + "}, got " +
                                 std::string(luaL_typename(L, -1)), fn_.file, fn_.line, "");
         refuse_numeric_strings(L, lua_gettop(L));
-        read_params_into(L, -1, where_ + "'s result", given);
+        lua_read_params(L, -1, where_ + "'s result", given);
       });
     } catch (const ScriptError& e) {
       if (!e.file.empty()) throw;

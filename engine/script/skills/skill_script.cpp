@@ -197,29 +197,9 @@ std::vector<std::string> policy_keys(lua_State* L, int ps, const LuaFields& top)
 std::vector<std::pair<std::string, std::string>> read_policy_params(lua_State* L, const LuaFields& f,
                                                                     const std::string& context) {
   if (f.push("params") != LUA_TTABLE) f.wrong_type("params", "a table of scenario parameters {objects = 4, ...}");
-  const int t = lua_gettop(L);
   std::vector<std::pair<std::string, std::string>> params;
-  lua_pushnil(L);
-  while (lua_next(L, t)) {
-    if (lua_type(L, -2) != LUA_TSTRING)
-      luaL_error(L, "%s: field 'params' must name each parameter {objects = 4, ...}, got the key %s", context.c_str(),
-                 lua_describe_value(L, -2).c_str());
-    const std::string key = lua_tostring(L, -2);
-    switch (lua_type(L, -1)) {
-      case LUA_TNUMBER:
-        params.emplace_back(key, lua_isinteger(L, -1) ? std::to_string(lua_tointeger(L, -1))
-                                                      : format_number(lua_tonumber(L, -1)));
-        break;
-      case LUA_TBOOLEAN: params.emplace_back(key, lua_toboolean(L, -1) ? "true" : "false"); break;
-      case LUA_TSTRING: params.emplace_back(key, lua_tostring(L, -1)); break;
-      default:
-        luaL_error(L, "%s: params.%s must be a number, string or boolean, got %s", context.c_str(), key.c_str(),
-                   lua_describe_value(L, -1).c_str());
-    }
-    lua_pop(L, 1);
-  }
+  lua_read_params(L, -1, context + ": field 'params'", params, context + ": params.");
   lua_pop(L, 1);
-  std::sort(params.begin(), params.end());
   return params;
 }
 
