@@ -1006,6 +1006,12 @@ TEST_CASE("roger eval and render of a saved policy set the parameters its trial 
                                               "parameters, not in force here)\n"));
   CHECK(j["trial_params_overridden"] == nlohmann::json({{"eye_pixels", "64"}, {"upper_arm", "0.6"}}));
   CHECK(j["time_mean"].get<double>() != Approx(trial_time / episodes).epsilon(1e-12));
+  // A skill learned on another body says so where it is used (found by a probe: without a word).
+  r = roger("train curricula/paper.lua --stage T --context DC6 --seed 2 --skill Phi_SG=" + policy + " --out " +
+            (dir / "t").string());
+  INFO(r.out << r.err);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("\n  skill Phi_SG        from " + policy +
+                                              "; trained with eye_pixels = 64, upper_arm = 0.6 (here 128, 0.5)\n"));
   // In another scenario they are named, not set: it may not declare them, or mean another thing.
   r = roger("eval curricula/paper.lua --policy " + policy + " --scenario cluttered --set upper_arm=0.6 --episodes 2");
   CHECK_THAT(r.out, Catch::Matchers::Contains("\n  note           the trial trained with eye_pixels = 64; scenario "

@@ -310,6 +310,23 @@ int command_eval(const EvalArgs& a) {
 // Where a skill of the trial came from, as roger train says it.
 // A skill trained first learns its own stage's task, without the trial's --set (found by a probe:
 // with --set locked=left_eye, nothing said that the skill had trained with both eyes).
+// "; trained with upper_arm = 0.7 (here 0.5)": the scenario parameters a skill's policy records
+// (its trial's, policy.json's extra.params) that differ from this run's, "" when none does (found
+// by a probe: a skill learned on another body was used without a word).
+static std::string skill_params_note(const SkillSource& s, const std::vector<std::pair<std::string, std::string>>& run) {
+  if (!s.policy.is_object() || !s.policy.contains("extra") || !s.policy["extra"].is_object()) return "";
+  const nlohmann::json params = s.policy["extra"].value("params", nlohmann::json::object());
+  if (!params.is_object()) return "";
+  std::string theirs, here;
+  for (const auto& [name, value] : run) {
+    const auto it = params.find(name);
+    if (it == params.end() || !it->is_string() || it->get<std::string>() == value) continue;
+    theirs += (theirs.empty() ? "" : ", ") + name + " = " + it->get<std::string>();
+    here += (here.empty() ? "" : ", ") + value;
+  }
+  return theirs.empty() ? "" : "; trained with " + theirs + " (here " + here + ")";
+}
+
 static std::string skill_origin(const SkillSource& s, bool sets_given) {
   if (s.embedded)
     return "embedded in the policy file of the skill learned with it (stage " + s.stage + " context " +
@@ -416,7 +433,8 @@ int command_train(const TrainArgs& a) {
   for (const auto& s : a.sets) sets += (sets.empty() ? "" : ", ") + ("--set " + s);
   if (!sets.empty()) std::printf("  with           %s\n", sets.c_str());
   for (const auto& s : r.skills)
-    std::printf("  skill %s        %s\n", s.name.c_str(), skill_origin(s, !a.sets.empty()).c_str());
+    std::printf("  skill %s        %s%s\n", s.name.c_str(), skill_origin(s, !a.sets.empty()).c_str(),
+                skill_params_note(s, r.params).c_str());
   if (r.init) {
     const WarmStart& w = *r.init;
     std::printf("  init           %s: %zu of %zu actions shared, %d states with values%s%s\n", w.source.c_str(),
