@@ -434,7 +434,8 @@ int command_train(const TrainArgs& a) {
   if (!sets.empty()) std::printf("  with           %s\n", sets.c_str());
   for (const auto& s : r.skills)
     std::printf("  skill %s        %s%s\n", s.name.c_str(), skill_origin(s, !a.sets.empty()).c_str(),
-                skill_params_note(s, r.params).c_str());
+                // A skill trained first without the --set has said so already.
+                s.trained && !s.embedded && !a.sets.empty() ? "" : skill_params_note(s, r.params).c_str());
   if (r.init) {
     const WarmStart& w = *r.init;
     std::printf("  init           %s: %zu of %zu actions shared, %d states with values%s%s\n", w.source.c_str(),
