@@ -471,6 +471,17 @@ TEST_CASE("checking a skill script builds its scenarios' worlds and runs each po
   CHECK_THAT(problems[1], Contains("skills.lua:6: policy 'sort': roger.sorted(): none of the world's 1 objects has the "
                                    "colour of a goal region") &&
                               Catch::Matchers::EndsWith("(world seed 0 of scenario 'unobstructed')"));
+  // Found by a probe: a binding to a goal region the worlds lack passed, and eval named it only as
+  // a part NOREF at every tick.
+  std::ofstream(dir / "region.lua") << "local p = require('lib.skills').primitives()\n"
+                                       "local b = roger.bind('to seven', p.phi0, { region = 7 })\n"
+                                       "return { policies = {\n"
+                                       "  r = { action = b, goal = roger.converged(b), time_limit = 5, scenario = 'sorting' },\n"
+                                       "} }\n";
+  const auto region = check_skill_script((dir / "region.lua").string());
+  REQUIRE(region.size() == 1);
+  CHECK_THAT(region[0], Contains("region.lua:4: policy 'r': the binding 'to seven' delivers to goal region 7, but the "
+                                 "worlds of scenario 'sorting' have 4 goal regions (0 to 3)"));
   fs::remove_all(dir);
 }
 

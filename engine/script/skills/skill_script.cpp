@@ -380,6 +380,32 @@ std::string first_ticks_problem(const SkillScript& script, const SkillScript::Na
   return "";
 }
 
+// A delivery region a binding of the policy names that none of the scenario's first worlds has
+// (found by a probe: check said ok, and eval named the binding only as a part NOREF at every tick),
+// or "".
+std::string binding_region_problem(const SkillScript& script, const SkillScript::NamedPolicy& p, Scenario& scenario) {
+  size_t regions = 0;
+  try {
+    for (uint64_t seed = 0; seed < 5; ++seed) regions = std::max(regions, scenario.generate(seed).goals.size());
+  } catch (const std::exception&) {
+    return "";  // the worlds' own problem, said by worlds_problem
+  }
+  std::vector<const Controller*> todo = {p.action.get()};
+  std::set<const Controller*> seen;
+  while (!todo.empty()) {
+    const Controller* c = todo.back();
+    todo.pop_back();
+    if (!c || !seen.insert(c).second) continue;
+    if (const auto* b = dynamic_cast<const Binding*>(c); b && b->bindings().region >= int(regions))
+      return script.path() + ":" + std::to_string(p.goal_line) + ": policy '" + p.name + "': the binding '" +
+             b->name() + "' delivers to goal region " + std::to_string(b->bindings().region) + ", but the worlds of " +
+             "scenario '" + p.scenario + "' have " + counted(int(regions), "goal region") +
+             (regions > 0 ? " (0 to " + std::to_string(regions - 1) + ")" : std::string());
+    for (const Controller* child : c->children()) todo.push_back(child);
+  }
+  return "";
+}
+
 }  // namespace
 
 std::vector<std::string> check_skill_script(const std::string& path, const SandboxLimits& limits,
@@ -424,6 +450,8 @@ std::vector<std::string> check_skill_script(const std::string& path, const Sandb
     }
     if (const std::string problem = first_ticks_problem(*script, policy, *l.scenario); !problem.empty())
       problems.push_back(problem);
+    else if (const std::string region = binding_region_problem(*script, policy, *l.scenario); !region.empty())
+      problems.push_back(region);
   }
   return problems;
 }
