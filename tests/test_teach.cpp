@@ -1395,6 +1395,13 @@ TEST_CASE("roger train says what its teacher did", "[teach][stage]") {
                                                            json{{"episode", 60}, {"from", 1}, {"to", 2}}})}}) ==
         "noise_scale = 1 (level 2 of 3) when training ended; lifted at episodes 44 (to 1); after the last episode, "
         "to 2, never trained");
+  // A record written before lifts had a "from": the lift before the last gives it.
+  CHECK(describe_teacher_state(json{{"kind", "lcas"}, {"episodes", 60}, {"param", "noise_scale"}, {"value", 2},
+                                    {"level", 3}, {"levels", 3},
+                                    {"lifts", json::array({json{{"episode", 44}, {"to", 1}},
+                                                           json{{"episode", 60}, {"to", 2}}})}}) ==
+        "noise_scale = 1 (level 2 of 3) when training ended; lifted at episodes 44 (to 1); after the last episode, "
+        "to 2, never trained");
   // Found by a probe: fractions at full precision, a task as JSON, "1 levels kept".
   CHECK(describe_teacher_state(json{{"kind", "plr"}, {"replays", 1}, {"episodes", 1}, {"levels", 1}}) ==
         "1 of 1 episode replayed a level; 1 level kept");

@@ -33,7 +33,6 @@ void apply_sets(Scenario& scenario, const std::vector<std::string>& sets);
 // error; with the same value, kept once); `option` names the option in the errors.
 std::vector<std::pair<std::string, std::string>> split_sets(const std::vector<std::string>& sets, const char* option);
 
-
 // Whether `script` is a curriculum, so that --policy names a policy.json written by roger train;
 // throws roger::Error when it is and `policy` is not such a file name.
 bool policy_is_saved_file(const std::string& script, const std::string& policy);

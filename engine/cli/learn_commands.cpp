@@ -307,9 +307,6 @@ int command_eval(const EvalArgs& a) {
   return 0;
 }
 
-// Where a skill of the trial came from, as roger train says it.
-// A skill trained first learns its own stage's task, without the trial's --set (found by a probe:
-// with --set locked=left_eye, nothing said that the skill had trained with both eyes).
 // "; trained with upper_arm = 0.7 (here 0.5)": the scenario parameters a skill's policy records
 // (its trial's, policy.json's extra.params) that differ from this run's, "" when none does (found
 // by a probe: a skill learned on another body was used without a word).
@@ -327,6 +324,9 @@ static std::string skill_params_note(const SkillSource& s, const std::vector<std
   return theirs.empty() ? "" : "; trained with " + theirs + " (here " + here + ")";
 }
 
+// Where a skill of the trial came from, as roger train says it.
+// A skill trained first learns its own stage's task, without the trial's --set (found by a probe:
+// with --set locked=left_eye, nothing said that the skill had trained with both eyes).
 static std::string skill_origin(const SkillSource& s, bool sets_given) {
   if (s.embedded)
     return "embedded in the policy file of the skill learned with it (stage " + s.stage + " context " +

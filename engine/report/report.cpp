@@ -37,10 +37,7 @@ std::vector<std::string> distinct(const std::vector<std::string>& features) {
 // probe: a comparison of several runs' contexts was listed as "curves of run" its first row's).
 std::string figure_description(const BatchFigure& f) {
   if (!f.title.empty()) return f.title;
-  if (f.compare.empty()) return f.kind + " of run " + f.run;
-  std::string rows;
-  for (const BatchRow& r : f.compare) rows += (rows.empty() ? "" : ", ") + r.label();
-  return f.kind + " of " + rows;
+  return f.compare.empty() ? f.kind + " of run " + f.run : f.kind + " of " + row_labels(f.compare);
 }
 
 // Draws the script's figures; their lines for tables.md, each saying what it lacks.

@@ -258,9 +258,12 @@ std::string describe_lcas(const json& state, const std::string& levels) {
   if (last.is_null()) {
     text = param + " = " + shown(state.value("value", json("?"))) + " (level " + shown(state.value("level", json("?"))) +
            " of " + levels + ")";
-  } else {  // the level before the last lift: the lift's own "from", or the one before it
+  } else {  // the level before the last lift: the lift's own "from", or (recorded before lifts had
+            // one) the lift before it's "to"
+    json from = last.value("from", json());
+    if (from.is_null() && !lifts.empty()) from = lifts.back().value("to", json());
     const json level = state.value("level", json());
-    text = param + " = " + shown(last.value("from", json("?"))) + " (level " +
+    text = param + " = " + shown(from.is_null() ? json("?") : from) + " (level " +
            (level.is_number() ? shown(json(level.get<int>() - 1)) : std::string("?")) + " of " + levels +
            ") when training ended";
   }

@@ -724,15 +724,17 @@ void read_figures(const json& top, const Reader& rd, const Curriculum& cur, Batc
 
 // Found by a probe: a comparison's or a split's table written without a title had an empty heading.
 std::string batch_detail::default_title(const BatchTable& t, const BatchScript& b) {
-  if (!t.compare.empty()) {
-    std::string rows;
-    for (const BatchRow& r : t.compare) rows += (rows.empty() ? "" : ", ") + r.label();
-    return (t.by.empty() ? "Comparison of " : "Final success by " + t.by + ": ") + rows;
-  }
+  if (!t.compare.empty()) return (t.by.empty() ? "Comparison of " : "Final success by " + t.by + ": ") + row_labels(t.compare);
   if (!t.sorting.empty()) return "Sorting";
   if (!t.evaluation.empty()) return "Evaluation " + t.evaluation;
   const std::string stage = "Stage " + b.run(t.run)->stage + " (run " + t.run + ")";
   return t.by.empty() ? stage : stage + ": final success by " + t.by;
+}
+
+std::string row_labels(const std::vector<BatchRow>& rows) {
+  std::string text;
+  for (const BatchRow& r : rows) text += (text.empty() ? "" : ", ") + r.label();
+  return text;
 }
 
 const BatchRun* BatchScript::run(const std::string& n) const {

@@ -92,6 +92,9 @@ struct BatchRow {
   std::string label() const { return run + "/" + context; }
 };
 
+// "T_seq/DC3, T_lcas/DC3": rows' labels, for titles and figure lines.
+std::string row_labels(const std::vector<BatchRow>& rows);
+
 // One table of the report: a run against its baseline context, an evaluation, a sorting table
 // (one row per number of objects), or a comparison of contexts of several runs (teachers on one
 // context) against the first. With `by`, a run's or a comparison's table is instead the final

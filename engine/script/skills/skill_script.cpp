@@ -380,6 +380,16 @@ std::string first_ticks_problem(const SkillScript& script, const SkillScript::Na
   return "";
 }
 
+// The first binding reached from `c` (each controller once, as `collect` walks) that delivers to a
+// goal region at or past `regions`, or null.
+const Binding* binding_past(const Controller* c, int regions, std::set<const Controller*>& seen) {
+  if (!c || !seen.insert(c).second) return nullptr;
+  if (const auto* b = dynamic_cast<const Binding*>(c); b && b->bindings().region >= regions) return b;
+  for (const Controller* child : c->children())
+    if (const Binding* b = binding_past(child, regions, seen)) return b;
+  return nullptr;
+}
+
 // A delivery region a binding of the policy names that none of the scenario's first worlds has
 // (found by a probe: check said ok, and eval named the binding only as a part NOREF at every tick),
 // or "".
@@ -390,20 +400,13 @@ std::string binding_region_problem(const SkillScript& script, const SkillScript:
   } catch (const std::exception&) {
     return "";  // the worlds' own problem, said by worlds_problem
   }
-  std::vector<const Controller*> todo = {p.action.get()};
   std::set<const Controller*> seen;
-  while (!todo.empty()) {
-    const Controller* c = todo.back();
-    todo.pop_back();
-    if (!c || !seen.insert(c).second) continue;
-    if (const auto* b = dynamic_cast<const Binding*>(c); b && b->bindings().region >= int(regions))
-      return script.path() + ":" + std::to_string(p.goal_line) + ": policy '" + p.name + "': the binding '" +
-             b->name() + "' delivers to goal region " + std::to_string(b->bindings().region) + ", but the worlds of " +
-             "scenario '" + p.scenario + "' have " + counted(int(regions), "goal region") +
-             (regions > 0 ? " (0 to " + std::to_string(regions - 1) + ")" : std::string());
-    for (const Controller* child : c->children()) todo.push_back(child);
-  }
-  return "";
+  const Binding* b = binding_past(p.action.get(), int(regions), seen);
+  if (!b) return "";
+  return script.path() + ":" + std::to_string(p.goal_line) + ": policy '" + p.name + "': the binding '" + b->name() +
+         "' delivers to goal region " + std::to_string(b->bindings().region) + ", but the worlds of scenario '" +
+         p.scenario + "' have " + counted(int(regions), "goal region") +
+         (regions > 0 ? " (0 to " + std::to_string(regions - 1) + ")" : std::string());
 }
 
 }  // namespace
