@@ -400,6 +400,17 @@ TEST_CASE("scenario parameters", "[scenario]") {
     CHECK_THROWS_WITH(s.set_param("obstacles", " 2"), StartsWith("parameter 'obstacles' of scenario 'cluttered' "
                                                                  "expects an integer in [0, 8], got ' 2'"));
     CHECK_THROWS_WITH(s.set_param("mass", "\t1"), Contains("expects a number in [0.01, 10000], got '\t1'"));
+    // Found by a probe: `--set noise_joints_delay=2.0` was refused where a table's `delay = 2.0` is
+    // taken. A whole number written as a float is that integer; a fraction is still refused.
+    CHECK_NOTHROW(s.set_param("obstacles", "2.0"));
+    CHECK(s.generate(0).obstacles.size() == 2);
+    CHECK_NOTHROW(s.set_param("obstacles", "1e0"));
+    CHECK(s.generate(0).obstacles.size() == 1);
+    CHECK_THROWS_WITH(s.set_param("obstacles", "2.000001"), Contains("expects an integer in [0, 8], got '2.000001'"));
+    CHECK_THROWS_WITH(s.set_param("obstacles", "2.0x"), Contains("got '2.0x'"));
+    CHECK_THROWS_WITH(s.set_param("obstacles", "nan"), Contains("got 'nan'"));
+    CHECK_THROWS_WITH(s.set_param("obstacles", "9.0"), Contains("expects an integer in [0, 8], got '9.0'"));
+    s.set_param("obstacles", "3");
     // Found by a probe: a number below the smallest double was refused as out of range; it is 0.
     CHECK_NOTHROW(s.set_param("noise_joints_bias", "1e-400"));
     CHECK_THROWS_WITH(s.set_param("noise_joints_bias", "1e400"), Contains("got '1e400'"));

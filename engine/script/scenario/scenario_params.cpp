@@ -74,7 +74,15 @@ bool parse_slot(ParamSlot& s, const std::string& text, std::string& why) {
   if (blank_first && (s.info.type == ParamType::kInteger || s.info.type == ParamType::kNumber)) return refuse();
   switch (s.info.type) {
     case ParamType::kInteger: {
-      const long long v = std::strtoll(begin, &end, 10);
+      long long v = std::strtoll(begin, &end, 10);
+      if (!text.empty() && *end && !errno) {
+        // A whole number written as a float ("2.0", "1e3"), as a Lua table takes `delay = 2.0`
+        // (lua_param_text): the same value, so the same parameter.
+        errno = 0;
+        const double d = std::strtod(begin, &end);
+        if (*end || errno || !(std::fabs(d) < 0x1p62) || d != std::floor(d)) return refuse();
+        v = static_cast<long long>(d);
+      }
       if (text.empty() || *end || errno) return refuse();
       s.integer = v;
       break;
