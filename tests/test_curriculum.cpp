@@ -131,6 +131,14 @@ TEST_CASE("roger check calls the Lua callbacks as at an episode's first decision
       {"bad_curriculum_world_goals.lua",
        "bad_curriculum_world_goals.lua:5: stage 'S', context 'A': absorbing function: world has no field 'goalz' "
        "(did you mean 'goals'?); its fields: objects, goals, obstacles"},
+      // Found by a probe: `return r, done`, as a Gymnasium step gives it, was taken as r and the
+      // flag dropped without a word.
+      {"bad_curriculum_reward_done.lua",
+       "bad_curriculum_reward_done.lua:5: stage 'S', context 'A': the reward function must return one finite number, "
+       "got 2 values (number 1, boolean false); an episode ends when the stage's absorbing holds or at its time_limit"},
+      {"bad_curriculum_absorbing_two.lua",
+       "bad_curriculum_absorbing_two.lua:4: stage 'S', context 'A': the absorbing function must return true or "
+       "false, got 2 values (boolean false, string 'converged')"},
   };
   for (const auto& [file, says] : cases) {
     INFO(file);
@@ -153,6 +161,7 @@ TEST_CASE("misbehaving Lua callbacks stop training naming stage, context and lin
       {"bad_curriculum_reward_nan.lua", {"bad_curriculum_reward_nan.lua:5:", "stage 'S', context 'A'", "finite number", "nan"}},
       {"bad_curriculum_reward_string.lua", {"bad_curriculum_reward_string.lua:4:", "stage 'S', context 'A'", "finite number", "string 'lots'"}},
       {"bad_curriculum_predicate_raises.lua", {"bad_curriculum_predicate_raises.lua:5:", "stage 'S', context 'A'", "no such sensor"}},
+      {"bad_curriculum_reward_done.lua", {"bad_curriculum_reward_done.lua:5:", "stage 'S', context 'A'", "got 2 values"}},
   };
   for (const auto& c : cases) {
     INFO(c.file);

@@ -530,6 +530,23 @@ void push_world_and_episode(lua_State* L, const World* world, int& episode_ref) 
   lua_rawgeti(L, LUA_REGISTRYINDEX, episode_ref);
 }
 
+// A callback returns one value (the results from `base` + 1 on): the extra values of
+// `return r, done`, as a Gymnasium step gives them, would otherwise be dropped without a word, and
+// the episode would not end. None reads as nil, which the caller refuses with the type expected.
+void refuse_more_results(lua_State* L, int base, const std::string& what, const std::string& expected,
+                         const std::string& hint, const LuaCallback& fn) {
+  const int n = lua_gettop(L) - base;
+  if (n == 0) lua_pushnil(L);
+  if (n <= 1) return;
+  std::string values;
+  for (int i = base + 1; i <= base + n && i <= base + 4; ++i)
+    values += (values.empty() ? "" : ", ") + lua_describe_value(L, i);
+  if (n > 4) values += ", ...";
+  throw ScriptError(what + " must return " + expected + ", got " + std::to_string(n) + " values (" + values + ")" +
+                        hint,
+                    fn.file, fn.line, "");
+}
+
 }  // namespace
 
 bool Curriculum::call_absorbing(const CurriculumStage& stage, const CurriculumContext& context,
@@ -541,12 +558,14 @@ bool Curriculum::call_absorbing(const CurriculumStage& stage, const CurriculumCo
   push_state(L, context, state);
   lua_pushnumber(L, time);
   push_world_and_episode(L, impl_->world, impl_->episode_ref);
+  const int base = lua_gettop(L) - 5;  // below the function
   try {
-    impl_->sandbox->call(4, 1);
+    impl_->sandbox->call(4, LUA_MULTRET);
   } catch (const ScriptError& e) {
     throw ScriptError(stage.where(context.name) + ": absorbing function: " + e.message,
                       e.file.empty() ? fn.file : e.file, e.file.empty() ? fn.line : e.line, e.traceback);
   }
+  refuse_more_results(L, base, stage.where(context.name) + ": the absorbing function", "true or false", "", fn);
   if (!lua_isboolean(L, -1))
     throw ScriptError(stage.where(context.name) + ": the absorbing function must return true or false, got " +
                           lua_describe_value(L, -1),
@@ -569,12 +588,15 @@ double Curriculum::call_reward(const CurriculumStage& stage, const CurriculumCon
   lua_pushstring(L, event.c_str());
   lua_pushnumber(L, time);
   push_world_and_episode(L, impl_->world, impl_->episode_ref);
+  const int base = lua_gettop(L) - 7;  // below the function
   try {
-    impl_->sandbox->call(6, 1);
+    impl_->sandbox->call(6, LUA_MULTRET);
   } catch (const ScriptError& e) {
     throw ScriptError(stage.where(context.name) + ": reward function: " + e.message,
                       e.file.empty() ? fn.file : e.file, e.file.empty() ? fn.line : e.line, e.traceback);
   }
+  refuse_more_results(L, base, stage.where(context.name) + ": the reward function", "one finite number",
+                      "; an episode ends when the stage's absorbing holds or at its time_limit", fn);
   if (lua_type(L, -1) != LUA_TNUMBER || !std::isfinite(lua_tonumber(L, -1)))
     throw ScriptError(stage.where(context.name) + ": the reward function must return a finite number, got " +
                           lua_describe_value(L, -1) + " (event '" + event + "')",
