@@ -152,6 +152,17 @@ TEST_CASE("roger check calls the Lua callbacks as at an episode's first decision
   CHECK(check_curriculum("curricula/sorting.lua").empty());  // Lua callbacks that read the world
 }
 
+// Found by a probe: a slip on the time-out's branch of a reward passed check, and training stopped
+// at its first episode's end.
+TEST_CASE("roger check calls a Lua reward also as at an episode's end", "[curriculum]") {
+  const std::vector<std::string> problems = check_curriculum("tests/scripts/bad_curriculum_reward_timeout.lua");
+  REQUIRE(problems.size() == 1);
+  INFO(problems[0]);
+  CHECK_THAT(problems[0], Catch::StartsWith("tests/scripts/bad_curriculum_reward_timeout.lua:6: stage 'S', context 'A': "
+                                            "reward function: an object of world.objects has no field 'massa'"));
+  CHECK_THAT(problems[0], Catch::Contains("(called as at an episode's end by time-out, world seed 0, every action NOREF)"));
+}
+
 TEST_CASE("misbehaving Lua callbacks stop training naming stage, context and line", "[curriculum]") {
   struct Case {
     const char* file;

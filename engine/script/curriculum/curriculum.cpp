@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -776,22 +777,35 @@ void check_test_set(Curriculum& cur, const CurriculumStage& st, const SandboxLim
 namespace {
 
 // A stage's Lua absorbing and reward functions called as at the first decision of an episode of
-// the context, in world seed 0 with every action NOREF: a misspelt field of `world` or a reward
-// that is not a number is found here rather than at training's first episode.
+// the context, in world seed 0 with every action NOREF, and the reward also as at the episode's
+// end (event "timeout", then "absorbing", at the time limit, after the first action): a misspelt
+// field of `world` or a reward that is not a number is found here rather than in training, on
+// the branch of an event as on the decisions' (found by a probe: a slip under `event ==
+// "timeout"` passed check and stopped training at its first episode's end).
 void check_callbacks(Curriculum& cur, const CurriculumStage& st, const CurriculumContext& ctx, const WorldSpec& spec,
                      std::vector<std::string>& problems) {
   if (!st.absorbing_lua && !st.reward_lua) return;
   World world;
+  const char* called_as = "an episode's first decision";
   try {
     world.reset(spec);
     cur.set_world(&world);
     cur.begin_episode();
     const std::vector<Gamma> state(ctx.actions.size(), Gamma::kNoRef);
     if (st.absorbing_lua) cur.call_absorbing(st, ctx, state, 0.0);
-    if (st.reward_lua) cur.call_reward(st, ctx, state, 0, "decision", 0.0);
+    if (st.reward_lua) {
+      cur.call_reward(st, ctx, state, 0, "decision", 0.0);
+      QuietPrints prints(cur.sandbox(), "roger check called the reward function again, at an episode's end");
+      prints.quiet();
+      const double end = st.episode_time_limit(spec);
+      for (const char* event : {"timeout", "absorbing"}) {
+        called_as = std::strcmp(event, "timeout") == 0 ? "an episode's end by time-out" : "an episode's end in the absorbing state";
+        cur.call_reward(st, ctx, state, 0, event, end);
+      }
+    }
   } catch (const std::exception& e) {
     problems.push_back(with_note_on_first_line(
-        e.what(), " (called as at an episode's first decision, world seed 0, every action NOREF)"));
+        e.what(), std::string(" (called as at ") + called_as + ", world seed 0, every action NOREF)"));
   }
   cur.set_world(nullptr);
 }
