@@ -237,13 +237,14 @@ TEST_CASE("a stage a library made takes a scenario path beside the curriculum th
 
 TEST_CASE("a context's init names a context written before it", "[curriculum]") {
   const test::TempDir tmp("roger_curriculum_init");
-  auto write = [&](const std::string& name, const std::string& b_init) {
+  auto write = [&](const std::string& name, const std::string& b_init, const std::string& b_actions = "p.phi3, p.phi1") {
     std::ofstream(tmp.path / name)
         << "local p = require('lib.skills').primitives()\n"
            "return { stages = { roger.stage{ name = 'S', time_limit = 5, absorbing = roger.converged(p.phi3),\n"
            "  budget = { episodes = 3 }, contexts = {\n"
            "    { name = 'A', actions = { p.phi3 } },\n"
-           "    { name = 'B', actions = { p.phi3, p.phi1 }, init = " << b_init << " } } } } }\n";
+           "    { name = 'B', actions = { " << b_actions << " },\n"
+           "      init = " << b_init << " } } } } }\n";
     return (tmp.path / name).string();
   };
   const Curriculum cur = Curriculum::load(write("ok.lua", "{ context = 'A' }"));
@@ -251,10 +252,16 @@ TEST_CASE("a context's init names a context written before it", "[curriculum]") 
   CHECK(cur.stage("S").context("B").init_context == "A");
   CHECK(cur.stage("S").context("A").init_context.empty());
   CHECK_THAT(error_of([&] { Curriculum::load(write("self.lua", "{ context = 'B' }")); }),
-             Catch::Matchers::Contains("self.lua:5: stage 'S', context 'B': init = {stage = 'S', context = 'B'} names "
+             Catch::Matchers::Contains("self.lua:6: stage 'S', context 'B': init = {stage = 'S', context = 'B'} names "
                                        "no context written before this one; those are: S/A"));
+  // Found by a probe: a table that shares no action passed check, and training refused it after
+  // the init context had trained.
+  CHECK_THAT(error_of([&] { Curriculum::load(write("disjoint.lua", "{ context = 'A' }", "p.phi1, p.phi0")); }),
+             Catch::Matchers::Contains("disjoint.lua:6: stage 'S', context 'B': init = {stage = 'S', context = 'A'} "
+                                       "shares no action with this context, so nothing of its table could be carried "
+                                       "over (its actions: phi3; this context's: phi1, phi0)"));
   CHECK_THAT(error_of([&] { Curriculum::load(write("typo.lua", "{ contxt = 'A' }")); }),
-             Catch::Matchers::Contains("typo.lua:5: stage 'S': context 2:") &&
+             Catch::Matchers::Contains("typo.lua:6: stage 'S': context 2:") &&
                  Catch::Matchers::Contains("init: unknown field 'contxt' (did you mean 'context'?)"));
 }
 

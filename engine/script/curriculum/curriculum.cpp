@@ -238,20 +238,39 @@ CurriculumStage take_stage(lua_State* L, const Book& book, const std::string& di
 // Across stages: a skill is yielded by one stage only, and a learned skill must come from an
 // earlier stage.
 // A context's init names a context written before it (an earlier stage's, or an earlier one of its
-// own stage), so that training it first never loops.
+// own stage), so that training it first never loops, and one that shares an action with it, so
+// that something of its table carries over (found by a probe: a table sharing none passed check
+// and was refused in training, after the init context had trained).
 void check_init_order(const std::vector<CurriculumStage>& stages) {
-  std::vector<std::string> before;  // "stage/context" of the contexts written so far
+  std::map<std::string, const CurriculumContext*> before;  // the contexts written so far, by "stage/context"
+  std::vector<std::string> order;
+  const auto names = [](const CurriculumContext& c) {
+    std::vector<std::string> out;
+    for (const auto& a : c.actions) out.push_back(a->name());
+    return out;
+  };
   for (const auto& st : stages)
     for (const auto& ctx : st.contexts) {
       if (!ctx.init_context.empty()) {
         const std::string target = ctx.init_stage + "/" + ctx.init_context;
-        if (std::find(before.begin(), before.end(), target) == before.end())
-          throw ScriptError(st.where(ctx.name) + ": init = {stage = '" + ctx.init_stage + "', context = '" +
-                                ctx.init_context + "'} names no context written before this one; those are: " +
-                                (before.empty() ? std::string("none") : join(before)),
-                            st.file, st.line, "");
+        const auto init = "init = {stage = '" + ctx.init_stage + "', context = '" + ctx.init_context + "'}";
+        const int line = curriculum_detail::field_line(st, ctx.name, "init");
+        const auto found = before.find(target);
+        if (found == before.end())
+          throw ScriptError(st.where(ctx.name) + ": " + init + " names no context written before this one; those are: " +
+                                (order.empty() ? std::string("none") : join(order)),
+                            st.file, line, "");
+        const std::vector<std::string> mine = names(ctx), theirs = names(*found->second);
+        if (std::none_of(mine.begin(), mine.end(), [&](const std::string& a) {
+              return std::find(theirs.begin(), theirs.end(), a) != theirs.end();
+            }))
+          throw ScriptError(st.where(ctx.name) + ": " + init + " shares no action with this context, so nothing of its "
+                                "table could be carried over (its actions: " + join(theirs) + "; this context's: " +
+                                join(mine) + ")",
+                            st.file, line, "");
       }
-      before.push_back(st.name + "/" + ctx.name);
+      before[st.name + "/" + ctx.name] = &ctx;
+      order.push_back(st.name + "/" + ctx.name);
     }
 }
 

@@ -74,6 +74,8 @@ std::unique_ptr<Teacher> make_lua_teacher(LuaSandbox& sandbox, const CurriculumS
 // the stage's file, read from its text from the stage's line; the nearest line known (the
 // context's, `contexts`, the stage's) when it is not written there.
 int params_line(const CurriculumStage& st, const std::string& context);
+// The same for another field of the stage or of its context (`init`, say).
+int field_line(const CurriculumStage& st, const std::string& context, const std::string& field);
 // Checks the stage's params and each context's against the stage's scenario (once the stage's
 // file and line are known): every parameter its scenario would refuse, at once, as a ScriptError
 // at the line of the params table that gives it. Loads the scenario only when there are params.

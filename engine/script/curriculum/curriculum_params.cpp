@@ -63,7 +63,9 @@ std::pair<int, int> context_node(const LuaTableMap& map, int stage, const std::s
 
 }  // namespace
 
-int params_line(const CurriculumStage& st, const std::string& context) {
+int params_line(const CurriculumStage& st, const std::string& context) { return field_line(st, context, "params"); }
+
+int field_line(const CurriculumStage& st, const std::string& context, const std::string& field) {
   const std::string text = source_text(st.file);
   if (text.empty() || st.line <= 0) return st.line;
   const LuaTableMap map(text);
@@ -71,8 +73,8 @@ int params_line(const CurriculumStage& st, const std::string& context) {
   if (stage < 0) return st.line;
   int node = stage, line = st.line;
   if (!context.empty()) std::tie(node, line) = context_node(map, stage, context, st.line);
-  const auto* params = map.entry(node, "params");
-  return params ? params->line : line;
+  const auto* entry = map.entry(node, field);
+  return entry ? entry->line : line;
 }
 
 namespace {
