@@ -94,6 +94,17 @@ std::vector<std::string> TrainingDiagnosis::action_causes() const {
   return out;
 }
 
+// Found by a probe: a Lua absorbing function comparing a region name written otherwise than the
+// world's never held; the causes named cycles and time-outs, and the learner was blamed.
+std::string TrainingDiagnosis::never_reached_cause() const {
+  if (train_episodes == 0 || train_timeouts < train_episodes || final_timeouts < final_episodes) return "";
+  return "absorbing state never reached: in none of the " + std::to_string(train_episodes) + " training episodes" +
+         (final_episodes ? " nor the " + std::to_string(final_episodes) + " final ones" : std::string()) +
+         (absorbing_lua ? ", the stage's Lua absorbing function never returned true (what it compares, such as a name "
+                          "or a region written otherwise than the world's, may never match)"
+                        : ", so no reward from it was ever learned");
+}
+
 std::vector<std::string> TrainingDiagnosis::causes() const {
   std::vector<std::string> out;
   if (cycle.turns > 0) out.push_back(cycle_cause());
@@ -103,7 +114,9 @@ std::vector<std::string> TrainingDiagnosis::causes() const {
                   " ran until the time-out in " + std::to_string(st.episodes) + " of " +
                   std::to_string(final_episodes) + " final greedy episodes");
   for (std::string& c : action_causes()) out.push_back(std::move(c));
-  if (train_timeouts > 0 || final_timeouts > 0)
+  // Every episode timed out: said as the absorbing state never reached, which is what it means.
+  if (const std::string never = never_reached_cause(); !never.empty()) out.push_back(never);
+  else if (train_timeouts > 0 || final_timeouts > 0)
     out.push_back("time-outs: " + percent(train_timeouts, train_episodes) + " of the training episodes (" +
                   percent(last_quarter_timeouts, last_quarter_episodes) + " of the last quarter), " +
                   percent(final_timeouts, final_episodes) + " of the final evaluation");
@@ -222,6 +235,7 @@ void read_decisions(const TrainResult& r, TrainingDiagnosis& d) {
 TrainingDiagnosis diagnose_training(const TrainResult& r) {
   TrainingDiagnosis d;
   d.psi = r.psi;
+  d.absorbing_lua = r.absorbing_lua;
   read_final_episodes(r.final_eval.runs, d);
   read_decisions(r, d);
   for (size_t k = 1; k < r.checkpoints.size(); ++k) {

@@ -40,6 +40,7 @@ struct TrainingDiagnosis {
   std::vector<int> never_tried;       // actions never chosen in training, exploration included
   std::vector<int> never_referenced;  // NOREF at every decision state met (training and final)
   int train_episodes = 0, train_timeouts = 0;
+  bool absorbing_lua = false;  // the absorbing state is a Lua function's
   int last_quarter_episodes = 0, last_quarter_timeouts = 0;
   // A checkpoint that passed followed by one that failed (1-based, as in checkpoints.jsonl).
   struct Drop {
@@ -53,6 +54,9 @@ struct TrainingDiagnosis {
   std::string state_text(int state) const;
   // One sentence per cause found, the most telling first (empty when nothing stands out).
   std::vector<std::string> causes() const;
+  // The sentence said for the time-outs when no episode, training or final, reached the absorbing
+  // state ("" when one did).
+  std::string never_reached_cause() const;
   // The sentence of the greedy cycle (when cycle.turns > 0), and those of the actions.
   std::string cycle_cause() const;
   // The sentences of the other cycles: the next two in full, then how many episodes the rest hold.

@@ -528,6 +528,7 @@ TrainResult train_stage(const TrainOptions& options) {
   res.stage_params = stage.scenario_params(ctx);
   res.seed = options.seed;
   res.threshold = stage.checkpoints.threshold;
+  res.absorbing_lua = stage.absorbing_lua;
   res.psi = controller_names(ctx.actions);
   bind_skills(cur, ctx, options, options.given_skills, res.skills);
 

@@ -172,6 +172,7 @@ struct TrainResult {
   TrainPoint to_threshold;    // when reached; else the totals (censored)
   TrainPoint totals;
   double threshold = 0.0;
+  bool absorbing_lua = false;  // the stage's absorbing state is a Lua function's (for the diagnosis)
   double wall_s = 0.0;        // the whole trial, evaluations and skill training included
   GreedyEval final_eval;
   std::vector<SkillSource> skills;
