@@ -1057,6 +1057,19 @@ TEST_CASE("a sorting table has one row per number of objects, from the trials' f
   CHECK(h0["final_outcomes"].get<std::string>().size() == 50);
   CHECK(rows[0]["hand"]["layouts"] == 100);
   CHECK(rows[1]["hand"]["layouts"] == 50);
+  CHECK(rows[0]["hand"]["failed"] == 0);
+  CHECK(rows[0]["hand"]["pending"] == 0);
+  // Found by a probe: a run of the table not run yet read as a row of "-", and report.json's row
+  // held its object count alone.
+  a.out = (root / "only").string();
+  a.only = {"Hand2"};
+  command_run(a);
+  const std::string partial = slurp(root / "only" / "tables.md");
+  CHECK_THAT(partial, Contains("| 4 | - (1 pending of 1 trial) | - | - | - | - | - | - | - | - | - |"));
+  const json pending_row = json::parse(slurp(root / "only" / "report.json"))["tables"][0]["sorting"][1];
+  CHECK(pending_row["hand"]["pending"] == 1);
+  CHECK_FALSE(pending_row["hand"].contains("success_rate"));
+  CHECK_FALSE(pending_row.contains("learned"));
   fs::remove_all(root);
 }
 
@@ -1376,6 +1389,18 @@ TEST_CASE("an evaluation's Total row counts policies on objects and keeps the fa
   const std::string tables = slurp(copy.dir / "tables.md");
   CHECK_THAT(tables, Contains("| 1/2 (1 failed) | 12 | 12 |") &&
                          Contains("| 3/4 of 2 policies × 2 objects (1 failed) | 36 | 36 |"));
+  // Found by a probe: report.json's evaluation rows did not count the failed trials, so a figure
+  // script read a rate pooled over fewer policies without knowing it; and roger report said nothing.
+  const json rows = copy.read("report.json")["tables"].back()["rows"];
+  REQUIRE(rows.size() == 3);
+  CHECK(rows[0]["object"] == "circle");
+  CHECK(rows[0]["failed"] == 1);
+  CHECK(rows[0]["pending"] == 0);
+  CHECK(rows[1]["failed"] == 0);
+  CHECK(rows[2]["object"] == "Total");
+  CHECK(rows[2]["failed"] == 1);
+  CHECK_THAT(said, Contains("roger report: 1 trial failed, so the tables and figures draw on the others") &&
+                       Contains("\n  eval/gen/circle/000: a fault\n"));
 }
 
 namespace {

@@ -68,8 +68,10 @@ int print_outcome(const BatchSummary& s, std::ostream& log) {
     for (const auto& c : s.corrupt) log << "  " << c << "\n";
   }
   if (s.failed.empty()) return s.corrupt.empty() ? 0 : 1;
-  log << "roger run: " << s.failed.size() << " trial" << (s.failed.size() == 1 ? "" : "s")
-      << " failed (their error.json holds the whole message; the same command tries them again):\n";
+  const bool one = s.failed.size() == 1;
+  log << "roger run: " << s.failed.size() << " trial" << (one ? "" : "s") << " failed ("
+      << (one ? "its error.json holds the whole message; the same command tries it again" :
+                "their error.json holds the whole message; the same command tries them again") << "):\n";
   for (const auto& f : s.failed) log << "  " << f << "\n";
   return 1;
 }
@@ -257,6 +259,14 @@ int command_report(const ReportArgs& a) {
     if (summary.pending)
       log << "roger report: " << counted(summary.pending, "trial") << (summary.pending == 1 ? " has" : " have")
           << " no result yet (marked pending)\n";
+    // Found by a probe: a report over failed trials said nothing of them but the files it wrote,
+    // so `roger report DIR && figure.py DIR` never noticed its rates pooled fewer trials.
+    if (!summary.failed.empty()) {
+      log << "roger report: " << counted(long(summary.failed.size()), "trial") << " failed, so the tables and figures "
+          << "draw on the others (tables.md opens with a Partial report line; report.json's \"partial\" counts them; "
+          << "`roger run` with the same command tries them again):\n";
+      for (const auto& f : summary.failed) log << "  " << f << "\n";
+    }
     if (interrupt_requested()) {
       log << "roger report: stopped on request, once the report was written\n";
       return interrupt_exit_status();

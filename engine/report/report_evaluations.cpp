@@ -41,9 +41,11 @@ EvalRow eval_row(const std::vector<json>& evals, uint64_t salt) {
   return r;
 }
 
-// Writes an evaluation table's row (name, policies column) and returns its numbers for report.json.
-json eval_row_out(const std::string& name, const std::string& object, const EvalRow& r, const std::string& policies,
-                  std::ostringstream& md) {
+// Writes an evaluation table's row (name, policies column) and returns its numbers for report.json,
+// with the trials of `counted` that failed or have no result yet, as a training row has them: a
+// script that reads the rates sees that they pool fewer policies than the evaluation asked for.
+json eval_row_out(const std::string& name, const std::string& object, const EvalRow& r, const Results& counted,
+                  const std::string& policies, std::ostringstream& md) {
   md << "| " << name << " | " << fmt("%.1f", r.p.mean) << " ± " << fmt("%.3f", r.p.std) << " | " << rate_pct(r.p.success)
      << " [" << rate_pct(r.ci.ci.low) << ", " << rate_pct(r.ci.ci.high) << "] | " << rate_pct(mean(r.rates)) << " ± "
      << pct(population_std(r.rates)) << " | " << policies << " | " << r.p.episodes << " | " << r.ci.layouts << " |\n";
@@ -51,7 +53,7 @@ json eval_row_out(const std::string& name, const std::string& object, const Eval
           {"success_low", r.ci.ci.low}, {"success_high", r.ci.ci.high}, {"interval", resampled_name(r.ci.by)},
           {"per_policy_success_mean", mean(r.rates)}, {"per_policy_success_std", population_std(r.rates)},
           {"policies", r.policies.size()}, {"evaluations", r.rates.size()}, {"episodes", r.p.episodes},
-          {"layouts", r.ci.layouts}};
+          {"layouts", r.ci.layouts}, {"failed", counted.failed}, {"pending", counted.pending}};
 }
 
 // The head of an evaluation table: its title, whose policies, where, and how they met their worlds.
@@ -99,6 +101,7 @@ void eval_table(const BatchScript& b, const BatchTable& t, const Folder& folder,
     if (!name.empty()) name[0] = char(std::toupper(static_cast<unsigned char>(name[0])));
     if (r.ok.empty()) {
       md << "| " << name << " | - | - | - | " << trials_note(r) << " | 0 | 0 |\n";
+      rows.push_back({{"object", g}, {"policies", 0}, {"evaluations", 0}, {"failed", r.failed}, {"pending", r.pending}});
       continue;
     }
     for (const auto& j : r.ok) {  // what the rows resample is what the evaluation asked for
@@ -110,7 +113,7 @@ void eval_table(const BatchScript& b, const BatchTable& t, const Folder& folder,
     const EvalRow row = eval_row(r.ok, salt);
     methods.insert(row.ci.by);
     all.insert(all.end(), r.ok.begin(), r.ok.end());
-    rows.push_back(eval_row_out(name, g, row, trials_note(r), md));
+    rows.push_back(eval_row_out(name, g, row, r, trials_note(r), md));
   }
   if (!all.empty()) {
     const EvalRow total = eval_row(all, 0);
@@ -123,7 +126,7 @@ void eval_table(const BatchScript& b, const BatchTable& t, const Folder& folder,
                std::to_string(groups.size()) + " objects";
     if (every.failed) count += " (" + std::to_string(every.failed) + " failed)";
     if (every.pending) count += " (" + std::to_string(every.pending) + " pending)";
-    rows.push_back(eval_row_out("**Total**", "Total", total, count, md));
+    rows.push_back(eval_row_out("**Total**", "Total", total, every, count, md));
   }
   md << "\nAvg. reward ± std (population std) and success rate pool every episode of every policy; the per-policy "
         "column shows how much the policies of different trials differ (in the Total row, each policy on each "

@@ -10,6 +10,8 @@
 #include <set>
 #include <sstream>
 
+#include "core/text.h"
+
 namespace roger::report_detail {
 namespace {
 
@@ -29,10 +31,18 @@ struct SortingFigures {
   RateInterval ci;
   double sorted = 0.0, seconds_per_object = 0.0;
   int reached = 0, trials = 0;
+  int failed = 0, pending = 0, expected = 0;  // the run's trials without a result (trials_note)
+  std::string note;                           // " (1 failed of 3 trials)" when some have none, else ""
 };
 SortingFigures sorting_figures(const Results& r, int n, bool one_policy, uint64_t salt) {
   SortingFigures f;
   f.trials = int(r.ok.size());
+  f.failed = r.failed, f.pending = r.pending, f.expected = r.expected;
+  if (r.failed || r.pending) {
+    std::string parts = r.failed ? std::to_string(r.failed) + " failed" : "";
+    if (r.pending) parts += (parts.empty() ? "" : ", ") + std::to_string(r.pending) + " pending";
+    f.note = " (" + parts + " of " + counted(r.expected, "trial") + ")";
+  }
   if (r.ok.empty()) return f;
   f.any = true;
   f.pooled = pool(r.ok, "final_episodes");
@@ -59,10 +69,15 @@ std::string rate_with_interval(const SortingFigures& f) {
   return rate_pct(f.pooled.success) + " [" + rate_pct(f.ci.ci.low) + ", " + rate_pct(f.ci.ci.high) + "]";
 }
 
+// The figures for report.json; the trials that failed or have no result yet always (a script that
+// reads the rates sees what they pool), the figures when some trial has a result.
 json figures_json(const SortingFigures& f) {
-  return {{"success_rate", f.pooled.success}, {"success_low", f.ci.ci.low}, {"success_high", f.ci.ci.high},
-          {"interval", resampled_name(f.ci.by)}, {"layouts", f.ci.layouts}, {"sorted", f.sorted},
-          {"seconds_per_object", f.seconds_per_object}};
+  json j = {{"failed", f.failed}, {"pending", f.pending}};
+  if (!f.any) return j;
+  j.update({{"success_rate", f.pooled.success}, {"success_low", f.ci.ci.low}, {"success_high", f.ci.ci.high},
+            {"interval", resampled_name(f.ci.by)}, {"layouts", f.ci.layouts}, {"sorted", f.sorted},
+            {"seconds_per_object", f.seconds_per_object}});
+  return j;
 }
 
 }  // namespace
@@ -86,22 +101,25 @@ void sorting_table(const BatchScript& b, const BatchTable& t, const Folder& fold
   };
   for (const auto& row : t.sorting) {
     const SortingFigures hand = figures(row.hand, row.objects, true), learned = figures(row.learned, row.objects, false);
+    // A run's trials that failed or have no result are said in its success cell (found by a probe:
+    // a row of "-" read as a run never asked for, and its rates as pooling every trial).
     md << "| " << row.objects << " | ";
     if (hand.any)
-      md << rate_with_interval(hand) << " | " << hand.ci.layouts << " | " << fmt("%.2f", hand.sorted) << " | "
-         << fmt("%.1f", hand.seconds_per_object) << " | ";
+      md << rate_with_interval(hand) << hand.note << " | " << hand.ci.layouts << " | " << fmt("%.2f", hand.sorted)
+         << " | " << fmt("%.1f", hand.seconds_per_object) << " | ";
     else
-      md << "- | - | - | - | ";
+      md << (hand.note.empty() ? "-" : "-" + hand.note) << " | - | - | - | ";
     if (learned.any)
-      md << rate_with_interval(learned) << " | " << rate_pct(*std::min_element(learned.rates.begin(), learned.rates.end()))
-         << "-" << rate_pct(*std::max_element(learned.rates.begin(), learned.rates.end())) << " | " << learned.ci.layouts
+      md << rate_with_interval(learned) << learned.note << " | "
+         << rate_pct(*std::min_element(learned.rates.begin(), learned.rates.end())) << "-"
+         << rate_pct(*std::max_element(learned.rates.begin(), learned.rates.end())) << " | " << learned.ci.layouts
          << " | " << fmt("%.2f", learned.sorted) << " | " << fmt("%.1f", learned.seconds_per_object) << " | "
          << learned.reached << "/" << learned.trials << " |\n";
     else
-      md << "- | - | - | - | - | - |\n";
+      md << (learned.note.empty() ? "-" : "-" + learned.note) << " | - | - | - | - | - |\n";
     json j = {{"objects", row.objects}};
-    if (hand.any) j["hand"] = figures_json(hand);
-    if (learned.any) {
+    if (!row.hand.empty()) j["hand"] = figures_json(hand);
+    if (!row.learned.empty()) {
       j["learned"] = figures_json(learned);
       j["learned"]["reached"] = learned.reached;
       j["learned"]["trials"] = learned.trials;
