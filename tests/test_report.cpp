@@ -1401,6 +1401,9 @@ TEST_CASE("an evaluation's Total row counts policies on objects and keeps the fa
   CHECK(rows[2]["failed"] == 1);
   CHECK_THAT(said, Contains("roger report: 1 trial failed, so the tables and figures draw on the others") &&
                        Contains("\n  eval/gen/circle/000: a fault\n"));
+  // The failed evaluation's row of summary.csv names its stage, as the others do.
+  CHECK_THAT(slurp(copy.dir / "summary.csv"), Contains("\neval/gen/circle/000,eval,T,T,DC6,gen,circle,0,,failed,") &&
+                                                  Contains("\neval/gen/spade/000,eval,T,T,DC6,gen,spade,0,,ok,"));
 }
 
 namespace {

@@ -1194,15 +1194,19 @@ std::string csv_number(const json& j, const char* key) {
 }
 
 
-// One row of summary.csv.
-void summary_row(std::ostream& csv, const PlannedTrial& t, const std::string& status, const json& r,
-                 const std::string& error) {
+// One row of summary.csv. An evaluation's stage is its result's, else (a failed or pending trial:
+// found by a probe, whose failed rows had none and fell out of a filter by stage) its run's.
+void summary_row(std::ostream& csv, const BatchScript& script, const PlannedTrial& t, const std::string& status,
+                 const json& r, const std::string& error) {
+  std::string stage = t.run ? t.run->stage : csv_number(r, "stage");
+  if (stage.empty() && t.evaluation)
+    if (const BatchRun* run = script.run(t.evaluation->run)) stage = csv_field(run->stage);
   // Not reached: result.json's figures are the whole training (right-censored), not times to a
   // threshold, and a column averaged as such would mix them in; the reached column says why empty.
   const bool unreached = r.is_object() && r.contains("reached") && r["reached"] == false;
   const auto to_threshold = [&](const char* key) { return unreached ? std::string() : csv_number(r, key); };
   csv << t.id << "," << (t.run ? "train" : "eval") << "," << (t.run ? t.run->name : t.evaluation->run) << ","
-      << (t.run ? t.run->stage : csv_number(r, "stage")) << "," << t.context << ","
+      << stage << "," << t.context << ","
       << (t.evaluation ? t.evaluation->name : "") << "," << t.shape << "," << t.index << ","
       << (t.run ? std::to_string(t.seed) : "") << "," << status << "," << csv_number(r, "reached") << ","
       << to_threshold("time_to_threshold_s") << "," << to_threshold("episodes_to_threshold") << ","
@@ -1229,7 +1233,7 @@ BatchSummary summarize_trials(const BatchPlan& plan) {
       if (status == "corrupt") s.corrupt.push_back(t.id + ": " + first_line(error));
       if (status == "pending") ++s.pending, s.pending_ids.push_back(t.id);
       ++s.trials;
-      summary_row(csv, t, status, r, error);
+      summary_row(csv, *plan.script, t, status, r, error);
     }
   s.summary_csv = csv.str();
   return s;
