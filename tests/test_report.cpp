@@ -31,6 +31,7 @@
 #include "report/report.h"
 #include "report/report_internal.h"
 #include "report/stats.h"
+#include "temp_dir.h"
 #include "test_files.h"
 
 using namespace roger;
@@ -1373,6 +1374,31 @@ TEST_CASE("a row of one trial shows no interval and no test", "[report]") {
   const json report = json::parse(slurp(copy.dir / "report.json"));
   CHECK_THAT(report.dump(), Contains("\"time_iqm_ci_s\":null"));
   CHECK_THAT(report.dump(), !Contains("\"mann_whitney_p\""));
+}
+
+// Found by a probe: a comparison's row trained with other scenario parameters stood beside the
+// others with nothing to tell them apart (a run's own table names them).
+TEST_CASE("a comparison names each run's stage and parameters", "[report][run]") {
+  const test::TempDir tmp("roger_report_compare_params");
+  spit(tmp.path / "batch.lua",
+       "return { name = 'cmp', curriculum = '" + fs::absolute("tests/scripts/kill_curriculum.lua").string() + "',\n"
+       "  trials = 1, seed = 7,\n"
+       "  runs = { { name = 'SG', stage = 'SG', contexts = { 'DC2' } },\n"
+       "           { name = 'SG_heavy', stage = 'SG', contexts = { 'DC2' }, params = { mass = 0.7 } } },\n"
+       "  tables = { { title = 'Cmp', compare = { 'SG/DC2', 'SG_heavy/DC2' } } }, figures = {} }\n");
+  RunArgs a;
+  a.script = (tmp.path / "batch.lua").string();
+  a.out = (tmp.path / "out").string();
+  a.jobs = 2;
+  std::ostringstream os;
+  a.progress = &os;
+  REQUIRE(command_run(a) == 0);
+  CHECK_THAT(slurp(tmp.path / "out" / "tables.md"),
+             Contains("Rows: a context of a run each, against `SG/DC2`; run `SG`: stage SG; run `SG_heavy`: stage SG "
+                      "with mass=0.7.\n"));
+  const json runs = json::parse(slurp(tmp.path / "out" / "report.json"))["tables"][0]["runs"];
+  CHECK(runs == json::array({{{"run", "SG"}, {"stage", "SG"}, {"params", json::object()}},
+                             {{"run", "SG_heavy"}, {"stage", "SG"}, {"params", {{"mass", "0.7"}}}}}));
 }
 
 // Found by a probe: the Total row read "8/8" policies for 4 policies on 2 objects, and dropped the

@@ -97,6 +97,23 @@ std::string teachers_text(const BatchScript& b, const std::vector<BatchRow>& row
   return text;
 }
 
+// "run `SG`: stage SG; run `SG_M`: stage SG with noise_image=10": the stage and the parameters of
+// each run the rows come from, in their order (found by a probe: a row trained under noise stood
+// beside a noise-free one with nothing to tell them apart), into report.json's "runs".
+std::string runs_text(const BatchScript& b, const std::vector<BatchRow>& rows, json& rep) {
+  std::vector<std::string> said, parts;
+  for (const BatchRow& row : rows) {
+    if (std::find(said.begin(), said.end(), row.run) != said.end()) continue;
+    said.push_back(row.run);
+    const BatchRun& run = *b.run(row.run);
+    json params = json::object();
+    for (const auto& [k, v] : run.params) params[k] = v;
+    rep.push_back({{"run", run.name}, {"stage", run.stage}, {"params", params}});
+    parts.push_back("run `" + run.name + "`: stage " + run.stage + with_params(run.params));
+  }
+  return join(parts, "; ");
+}
+
 }  // namespace
 
 void compare_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep) {
@@ -104,10 +121,12 @@ void compare_table(const BatchScript& b, const BatchTable& t, const Folder& fold
     by_table(b, t, folder, md, rep);
     return;
   }
+  json rep_runs = json::array();
   const Results base = rows_results(b, t.compare.front(), folder);
   const std::vector<CensoredTime> base_times = times_of(base);
   const double base_mean = base_times.empty() ? 0.0 : mean(censored_values(base_times));
-  md << "## " << t.title << "\n\nRows: a context of a run each, against `" << t.baseline << "`.\n\n";
+  md << "## " << t.title << "\n\nRows: a context of a run each, against `" << t.baseline << "`; "
+     << runs_text(b, t.compare, rep_runs) << ".\n\n";
   md << "| Approach | Train time (min:sec) | % Improvement | Avg. reward ± std | Success rate | Median time | "
         "IQM time [95% CI] | Reached | p (Mann-Whitney vs "
      << t.baseline << ") | P(faster than " << t.baseline << ") | Trials |\n";
@@ -117,7 +136,7 @@ void compare_table(const BatchScript& b, const BatchTable& t, const Folder& fold
   for (const BatchRow& row : t.compare)
     any_censored |= run_table_row(row.label(), rows_results(b, row, folder), t, base_times, base_mean, md, rows);
   run_table_notes(any_censored, md);
-  json table = {{"title", t.title}, {"compare", rows.size()}, {"baseline", t.baseline}, {"rows", rows}};
+  json table = {{"title", t.title}, {"compare", rows.size()}, {"baseline", t.baseline}, {"rows", rows}, {"runs", rep_runs}};
   teaching_notes(b, t.compare, folder, md, table);
   rep.push_back(table);
 }
