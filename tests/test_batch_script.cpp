@@ -62,6 +62,29 @@ TEST_CASE("an evaluation's scenario path is found beside the batch script", "[ba
   fs::remove_all(dir);
 }
 
+// Found by a probe: the default figures of runs SG and SG_M (the same stage, noise-free and
+// noisy) had the same title.
+TEST_CASE("a run's default figures are named by its stage, and by the run when it is named otherwise",
+          "[batch_script]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_batch_titles_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path path = dir / "batch.lua";
+  std::ofstream(path) << "return {\n  name = 'titles', curriculum = '"
+                      << fs::absolute("tests/scripts/kill_curriculum.lua").string()
+                      << "', trials = 1,\n  runs = { { name = 'SG', stage = 'SG', contexts = { 'DC2' } },\n"
+                         "    { name = 'SG_M', stage = 'SG', contexts = { 'DC2' }, params = { noise_image = 10 } },\n"
+                         "    { name = 'T_M', stage = 'T', contexts = { 'DC6' },\n"
+                         "      skills = { Phi_SG = { run = 'SG_M', context = 'DC2' } } } },\n}\n";
+  const BatchScript b = load_batch_script(path.string());
+  std::vector<std::string> titles;
+  for (const auto& f : b.figures) titles.push_back(f.file + ": " + f.title);
+  CHECK(titles == std::vector<std::string>{"curves_SG: Learning curves: stage SG",
+                                           "curves_SG_M: Learning curves: stage SG (run SG_M)",
+                                           "curves_T_M: Learning curves: stage T (run T_M)",
+                                           "cumulative_T_M: Cumulative training time: stage T (run T_M)"});
+  fs::remove_all(dir);
+}
+
 TEST_CASE("an evaluation may take a learned skill from another run", "[batch_script]") {
   const BatchScript b = load_batch_script("tests/scripts/batch_eval_skill.lua");
   REQUIRE(b.evaluations.size() == 2);

@@ -132,7 +132,8 @@ bool curves_figure(const BatchScript& b, const BatchFigure& f, const Folder& fol
     series.push_back(std::move(c));
   }
   const std::string title = !f.title.empty() ? f.title
-                            : f.compare.empty() ? "Learning curves: stage " + run.stage
+                            : f.compare.empty() ? "Learning curves: stage " + run.stage +
+                                                      (run.name == run.stage ? std::string() : " (run " + run.name + ")")
                                                 : "Learning curves";
   page.push_back({{"kind", "curves"}, {"file", f.file}, {"run", f.compare.empty() ? run.name : std::string()},
                   {"log_x", f.log_x}, {"y", f.y}, {"title", title}, {"series", page_series}});

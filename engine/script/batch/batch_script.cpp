@@ -705,14 +705,17 @@ void read_figures(const json& top, const Reader& rd, const Curriculum& cur, Batc
     }
   } else {
     for (const auto& r : b.runs) {
+      // Named by the run too when it is not the stage's name (found by a probe: the figures of runs
+      // SG and SG_M, noise-free and noisy, had the same title).
+      const std::string of = "stage " + r.stage + (r.name == r.stage ? std::string() : " (run " + r.name + ")");
       BatchFigure f;
       f.file = "curves_" + r.name;
-      f.title = "Learning curves: stage " + r.stage;
+      f.title = "Learning curves: " + of;
       f.run = r.name;
       b.figures.push_back(f);
       if (!r.skills.empty()) {
         f.file = "cumulative_" + r.name;
-        f.title = "Cumulative training time: stage " + r.stage;
+        f.title = "Cumulative training time: " + of;
         f.kind = "cumulative";
         b.figures.push_back(f);
       }
