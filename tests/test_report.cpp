@@ -1494,7 +1494,11 @@ TEST_CASE("a partial report with one trial's result says it in the singular", "[
     make_pending(copy, id);
   std::string said;
   REQUIRE(partial_report(copy, said) == 0);
-  CHECK_THAT(slurp(copy.dir / "tables.md"), Contains("**Partial report:** 1 of 10 trials has a result (9 pending);"));
+  const std::string tables = slurp(copy.dir / "tables.md");
+  CHECK_THAT(tables, Contains("**Partial report:** 1 of 10 trials has a result (9 pending);"));
+  // Every evaluation pending: no Total row, and the note under the table names none.
+  CHECK_THAT(tables, Contains("| Spade | - | - | - | 0/2 (2 pending) | 0 | 0 |\n\nAvg. reward") &&
+                         !Contains("(in the Total row"));
 }
 
 // Found by a probe: DC6 was blue in a partial Figure 4 and orange in the full one; a curve's

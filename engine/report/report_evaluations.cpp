@@ -128,9 +128,11 @@ void eval_table(const BatchScript& b, const BatchTable& t, const Folder& folder,
     if (every.pending) count += " (" + std::to_string(every.pending) + " pending)";
     rows.push_back(eval_row_out("**Total**", "Total", total, every, count, md));
   }
+  // No Total row without a result (found by a probe: the note named one all the same).
   md << "\nAvg. reward ± std (population std) and success rate pool every episode of every policy; the per-policy "
-        "column shows how much the policies of different trials differ (in the Total row, each policy on each "
-        "object). Layouts: the distinct world seeds the "
+        "column shows how much the policies of different trials differ"
+     << (all.empty() ? "" : " (in the Total row, each policy on each object)")
+     << ". Layouts: the distinct world seeds the "
         "episodes ran in (a seed places Roger, the goal, the object and the obstacles; the shape is the row's). "
      << interval_note(methods) << "\n\n";
   rep.push_back({{"title", t.title}, {"evaluation", ev->name}, {"rows", rows}});
