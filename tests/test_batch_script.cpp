@@ -375,6 +375,12 @@ TEST_CASE("names that would clash or climb out and a skill from another context 
     CHECK_THAT(load_error(script(name, "", "curves")),
                Catch::Matchers::Contains("clash.lua:1: the batch script: 'name' names the results folder"));
   CHECK_THAT(load_error(script("clash", "", "..")), Catch::Matchers::Contains("'file' is a plain name"));
+  // Found by a probe: "curves.png" was taken, and the report wrote curves.png.png.
+  CHECK_THAT(load_error(script("clash", "", "curves.png")),
+             Catch::Matchers::Contains("clash.lua:5: figure 'curves.png': 'file' is named without its extension: "
+                                       "'curves' (the report writes curves.png and curves.svg)"));
+  CHECK_THAT(load_error(script("clash", "", "curves.svg")), Catch::Matchers::Contains("'curves' (the report writes"));
+  CHECK_NOTHROW(load_batch_script(script("clash", "", "curves.v2")));
   // contexts = {} is a list that came out empty, not "every context".
   const fs::path empty = dir / "empty.lua";
   std::ofstream(empty) << "return { name = 'e', curriculum = 'curricula/paper.lua',\n"

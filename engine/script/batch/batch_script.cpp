@@ -634,6 +634,13 @@ BatchFigure read_figure(const json& fj, const Reader& rd, int& at, const Curricu
   f.file = rd.str(fj, "file", what, l, "", true);
   if (!folder_name(f.file))
     rd.fail(l, what + ": 'file' is a plain name (no folder, no extension): <file>.png and <file>.svg are written");
+  // Found by a probe: file = "curves.png" passed check, and the report wrote curves.png.png.
+  for (const char* ext : {".png", ".svg", ".PNG", ".SVG"})
+    if (f.file.size() > 4 && f.file.compare(f.file.size() - 4, 4, ext) == 0) {
+      const std::string stem = f.file.substr(0, f.file.size() - 4);
+      rd.fail(l, what + ": 'file' is named without its extension: '" + stem + "' (the report writes " + stem +
+                     ".png and " + stem + ".svg)");
+    }
   for (const auto& r : b.runs)
     if (f.file == "iqm_" + r.name)
       rd.fail(l, what + ": the report draws the IQM learning curves of run '" + r.name + "' into iqm_" + r.name +
