@@ -105,6 +105,35 @@ TEST_CASE("roger check shows a teacher function's prints for its first call only
   fs::remove(c);
 }
 
+// Found by a probe: a curriculum in lab/ naming its scenario "lab/walled.lua" checked ok from lab's
+// parent (found from the current folder) and failed from any other folder.
+TEST_CASE("roger check warns of a stage's scenario found only from the current folder", "[cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_from_here_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "lab");
+  fs::copy_file("scenarios/unobstructed.lua", dir / "lab" / "walled.lua", fs::copy_options::overwrite_existing);
+  const auto curriculum = [&](const std::string& scenario) {
+    std::ofstream(dir / "lab" / "p1.lua") << "local p = require('lib.skills').primitives()\n"
+                                             "return { stages = { roger.stage{ name = 'S', time_limit = 5,\n"
+                                             "  scenario = '" << scenario << "',\n"
+                                             "  absorbing = roger.converged(p.phi3), budget = { episodes = 3 },\n"
+                                             "  contexts = { { name = 'A', actions = { p.phi3 } } } } } }\n";
+  };
+  const std::string home = "cd " + dir.string() + " && ROGER_HOME=" + fs::current_path().string() + " ";
+  curriculum("lab/walled.lua");
+  const Run r = run_roger_command(home, "check lab/p1.lua");
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.err, Catch::Matchers::Contains("roger: warning: lab/p1.lua:3: stage 'S': scenario 'lab/walled.lua' was "
+                                              "found from the current folder, not beside lab/p1.lua: from another "
+                                              "folder it will not be found (written relative to p1.lua, it is "
+                                              "'walled.lua', found from any folder)"));
+  curriculum("walled.lua");  // beside the curriculum: found from anywhere, no warning
+  const Run beside = run_roger_command(home, "check lab/p1.lua");
+  CHECK(beside.status == 0);
+  CHECK(beside.err.find("warning") == std::string::npos);
+  fs::remove_all(dir);
+}
+
 // Found by a probe: a helper of one's own named lib/shapes.lua took the shipped one's place inside
 // the shipped lib.place, which failed at its own line with nothing saying why. Such a module still
 // replaces the shipped one there (a copy made to be edited is meant to), and roger check says so.

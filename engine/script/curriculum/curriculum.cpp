@@ -116,6 +116,13 @@ double CurriculumStage::episode_time_limit(const WorldSpec& world) const {
   return limit;
 }
 
+std::string CurriculumStage::scenario_warning() const {
+  const std::string w = scenario_found_from_here(scenario, file);
+  if (w.empty()) return "";
+  const int at = curriculum_detail::field_line(*this, "", "scenario");
+  return (at > 0 ? file + ":" + std::to_string(at) + ": " : std::string()) + where() + ": " + w;
+}
+
 std::string CurriculumStage::where(const std::string& context) const {
   return "stage '" + name + "'" + (context.empty() ? "" : ", context '" + context + "'");
 }

@@ -123,6 +123,9 @@ struct CurriculumStage {
   // budget (found by a probe: "at step 1 of 2, never moved" after the trial). A warning, not an
   // error: a stage that shows a teacher's mechanics may train a few episodes.
   std::string teacher_window_warning() const;
+  // "" or, at the `scenario` field's file:line, why the scenario's path will not be found from
+  // another folder than this one (scenario_found_from_here). A warning for roger check.
+  std::string scenario_warning() const;
   // How many test tasks each checkpoint's and the final evaluation run: the test set's, else the
   // checkpoints' episode counts.
   int checkpoint_test_tasks() const { return test.given ? test.tasks : checkpoints.episodes; }

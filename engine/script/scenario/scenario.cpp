@@ -425,7 +425,8 @@ std::string resolve_scenario_near(const std::string& name, const std::string& na
       resolve_scenario_path(name);
     } catch (const Error& e) {
       std::string beside;
-      for (const fs::path& l : looked) beside += l.string() + ", then ";
+      // Absolute: beside a file named from its own folder, the path would read as the name itself.
+      for (const fs::path& l : looked) beside += fs::absolute(l, ec).lexically_normal().string() + ", then ";
       throw Error("no scenario '" + name + "' (named in " + naming_file + "): looked at " + beside + name +
                   " from the current folder, then in the project; " + e.what());
     }
@@ -437,6 +438,19 @@ std::string resolve_scenario_near(const std::string& name, const std::string& na
   const fs::path rel = real.lexically_relative(root);
   const bool in_project = !rel.empty() && *rel.begin() != "..";
   return in_project ? rel.generic_string() : real.string();
+}
+
+std::string scenario_found_from_here(const std::string& recorded, const std::string& naming_file) {
+  std::error_code ec;
+  const fs::path written(recorded);
+  const bool path_like = written.extension() == ".lua" || recorded.find('/') != std::string::npos;
+  if (!path_like || written.is_absolute() || naming_file.empty() || !fs::is_regular_file(written, ec)) return "";
+  if (fs::is_regular_file(project_root() / written, ec)) return "";  // found from any folder
+  const fs::path file = as_found(naming_file), here = fs::absolute(written, ec).lexically_normal();
+  const fs::path beside = here.lexically_relative(fs::absolute(file, ec).parent_path().lexically_normal());
+  return "scenario '" + recorded + "' was found from the current folder, not beside " + naming_file +
+         ": from another folder it will not be found (written relative to " + file.filename().string() + ", it is '" +
+         beside.generic_string() + "', found from any folder)";
 }
 
 namespace {

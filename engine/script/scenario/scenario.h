@@ -118,6 +118,11 @@ std::string resolve_scenario_path(const std::string& name_or_path);
 std::string resolve_scenario_near(const std::string& name, const std::string& naming_file,
                                   const std::string& also_beside = "");
 
+// For `roger check`: "" or, when `recorded` (what resolve_scenario_near returned for a name of
+// `naming_file`) is a path found only from the current folder (not beside the file, not in the
+// project), why it will not be found from another folder and how to write it beside the file.
+std::string scenario_found_from_here(const std::string& recorded, const std::string& naming_file);
+
 // For `roger check`: loads a scenario and generates worlds for seeds 0..seeds-1, and one world of
 // seed 0 for every choice of every parameter that declares choices, one parameter at a time (the
 // others at their defaults). Returns the problems found (empty when the scenario is sound); each
