@@ -203,6 +203,11 @@ TEST_CASE("bad batch scripts are clear errors at file:line", "[batch_script]") {
   INFO(m);
   CHECK(m.find("bad_batch_unknown_curriculum.lua:4:") != std::string::npos);
   CHECK(m.find("no_such_curriculum") != std::string::npos);
+  // Found by a probe: "no such file here or in the project" named none of the places looked at.
+  const std::string cwd = fs::current_path().string();
+  CHECK_THAT(m, Catch::Contains("no curriculum 'curricula/no_such_curriculum.lua': looked at " + cwd +
+                                "/curricula/no_such_curriculum.lua (from the current folder), then " + cwd +
+                                "/tests/scripts/curricula/no_such_curriculum.lua (beside the batch script), then "));
 
   m = load_error("tests/scripts/bad_batch_unknown_context.lua");
   INFO(m);

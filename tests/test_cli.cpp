@@ -131,6 +131,14 @@ TEST_CASE("roger check warns of a stage's scenario found only from the current f
   const Run beside = run_roger_command(home, "check lab/p1.lua");
   CHECK(beside.status == 0);
   CHECK(beside.err.find("warning") == std::string::npos);
+  // Found by a probe: a bare name with the file beside the curriculum said only that
+  // scenarios/walled.lua does not exist.
+  curriculum("walled");
+  const Run bare = run_roger_command(home, "check lab/p1.lua");
+  CHECK(bare.status == 1);
+  CHECK_THAT(bare.err, Catch::Matchers::Contains("lab/p1.lua:3: stage 'S': field 'scenario': no scenario 'walled': ") &&
+                           Catch::Matchers::EndsWith("; walled.lua is beside lab/p1.lua: name it with its \".lua\" "
+                                                     "(\"walled.lua\")\n"));
   fs::remove_all(dir);
 }
 

@@ -146,6 +146,17 @@ std::unique_ptr<Curriculum> load_curriculum(const Reader& rd, const std::string&
     if (!fs::is_regular_file(cur_arg, ec)) {
       if (fs::is_regular_file(beside, ec)) cur_arg = beside.string();
       else if (fs::is_regular_file(in_project, ec)) cur_arg = in_project.string();
+      // A path found nowhere: each place looked at is named (found by a probe: "no such file here
+      // or in the project" named neither, nor the one beside the script).
+      else if (b.curriculum.find('/') != std::string::npos || fs::path(b.curriculum).extension() == ".lua") {
+        const std::string here = fs::absolute(b.curriculum, ec).lexically_normal().string(),
+                          near = fs::absolute(beside, ec).lexically_normal().string();
+        rd.fail(rd.line_of_key("curriculum", 1),
+                "no curriculum '" + b.curriculum + "': looked at " + here +
+                    (near == here ? " (from the current folder, beside the batch script)"
+                                  : " (from the current folder), then " + near + " (beside the batch script)") +
+                    ", then " + in_project.lexically_normal().string() + " (in the project)");
+      }
     }
   }
   std::unique_ptr<Curriculum> cur;

@@ -403,7 +403,21 @@ std::string resolve_scenario_near(const std::string& name, const std::string& na
   std::error_code ec;
   const fs::path written(name);
   const bool path_like = written.extension() == ".lua" || name.find('/') != std::string::npos;
-  if (!path_like || written.is_absolute() || naming_file.empty()) return (void)resolve_scenario_path(name), name;
+  if (!path_like || written.is_absolute() || naming_file.empty()) {
+    try {
+      resolve_scenario_path(name);
+    } catch (const Error& e) {
+      // Found by a probe: scenario = "walled" with walled.lua beside the curriculum said only that
+      // scenarios/walled.lua does not exist.
+      const fs::path file = naming_file.empty() ? fs::path() : as_found(naming_file);
+      const fs::path with_lua = file.parent_path() / (name + ".lua");
+      if (path_like || naming_file.empty() || !fs::is_regular_file(with_lua, ec)) throw;
+      if (fs::equivalent(with_lua, name + ".lua", ec)) throw;  // the message's "is a file here" says it
+      throw Error(std::string(e.what()) + "; " + name + ".lua is beside " + naming_file + ": name it with its \".lua\" (\"" +
+                  name + ".lua\")");
+    }
+    return name;
+  }
   // Beside the naming file, then beside `also_beside` (the curriculum that changed a stage a
   // library made), as require looks beside the script.
   std::vector<fs::path> looked;
