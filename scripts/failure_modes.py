@@ -20,21 +20,50 @@ cluttered worlds (Table III's scenario) and sorts each by what its timeline show
   scripts/failure_modes.py RESULTS_DIR [--trials 0,1,2] [--episodes 50] [--seed 4000] [--roger PATH]
 
 RESULTS_DIR is a results folder of scripts/paper.lua (its trials/T/DC6/<i>/policy.json are read).
-Prints one table row per shape, then the totals. docs/results.md quotes its output.
+Prints one table row per shape, then the totals. docs/results.md quotes its output. The roger
+program: --roger, else $ROGER, else the source tree's build/engine/roger, else roger on PATH; a
+missing one, or a roger command that fails, stops the script with a one-line error.
 """
 import argparse
 import collections
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
 
+HERE = os.path.dirname(os.path.abspath(__file__))
+
 SHAPES = ["circle", "triangle", "pentagon", "spade"]
 
 
+def find_roger(given=None):
+    """The roger program to run: `given` (--roger), else $ROGER, else the engine built beside this
+    script (the source tree's build/engine/roger), else roger on PATH. Exits with one line naming
+    them when none is there: a FileNotFoundError traceback from subprocess said nothing of where to look."""
+    for exe, origin in ((given, "--roger"), (os.environ.get("ROGER"), "$ROGER")):
+        if exe:  # a path, or a name looked up on PATH as subprocess would
+            if not shutil.which(exe):
+                sys.exit(f"failure_modes.py: {origin} {exe}: no such program")
+            return shutil.which(exe)
+    built = os.path.normpath(os.path.join(HERE, os.pardir, "build", "engine", "roger"))
+    if os.access(built, os.X_OK):
+        return built
+    on_path = shutil.which("roger")
+    if on_path:
+        return on_path
+    sys.exit(f"failure_modes.py: no roger program: give --roger PATH or set ROGER, or build "
+             f"{built}, or put roger on PATH")
+
+
 def roger(args, exe):
-    return subprocess.run([exe] + args, check=True, capture_output=True, text=True).stdout
+    """roger's stdout; a failing command stops the script with roger's own last line, not a traceback."""
+    r = subprocess.run([exe] + args, capture_output=True, text=True)
+    if r.returncode != 0:
+        said = (r.stderr.strip().splitlines() or ["(nothing on stderr)"])[-1]
+        sys.exit(f"failure_modes.py: `{' '.join([exe] + args)}` exited {r.returncode}: {said}")
+    return r.stdout
 
 
 def failing_seeds(exe, policy, shape, first, episodes):
@@ -81,9 +110,11 @@ def main():
     ap.add_argument("--trials", default="0,1,2,3,4")
     ap.add_argument("--episodes", type=int, default=50)
     ap.add_argument("--seed", type=int, default=4000)
-    ap.add_argument("--roger", default="build/engine/roger")
+    ap.add_argument("--roger", help="the roger program (default: $ROGER, else the source tree's "
+                    "build/engine/roger, else roger on PATH)")
     ap.add_argument("--verbose", action="store_true", help="also print each failing episode and its mode")
     a = ap.parse_args()
+    a.roger = find_roger(a.roger)
     modes = ["thrash", "detour", "preshape", "grasp", "approach", "unbalanced", "dropped", "other"]
     total = collections.Counter()
     episodes_total = 0

@@ -9,13 +9,22 @@ Success against the scale of the moderate noise M (0, 0.5, 1, 2, 4, 8) for
     report.json, with the interval `roger report` gives them (a bootstrap that resamples whole
     policies, and layouts wherever policies share them: docs/batch.md).
 Each scripted point has its 95% Wilson interval (one policy, distinct worlds: the worlds are the
-draws). Standard library only; writes the SVG atomically.
+draws). A partial folder (report.json's "partial": trials failed or without a result yet) is drawn
+all the same, from the trials with results, but says so: a warning on stderr, the policies' points
+concerned marked "(1 failed)", "(2 pending)" in the lines printed and "*" in the figure, with a
+note. The roger program: --roger, else $ROGER, else the source tree's build/engine/roger, else
+roger on PATH. Standard library only; everything is computed first, then each file written
+atomically.
 """
+import csv
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
 
 SCALES = [0, 0.5, 1, 2, 4, 8]
 M = {"noise_image": "10", "noise_joints": "0.01", "noise_base": "0.01", "noise_touch": "0.1", "noise_effort": "0.1"}
@@ -44,25 +53,36 @@ def scripted(roger, scenario, scale):
            "--episodes", "200", "--seed", "9200000", "--json", "--set", f"noise_scale={scale}"]
     for k, v in M.items():
         cmd += ["--set", f"{k}={v}"]
-    out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
-    r = json.loads(out.strip().splitlines()[-1])
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    if r.returncode != 0:  # roger's own last line, not a CalledProcessError traceback
+        said = (r.stderr.strip().splitlines() or ["(nothing on stderr)"])[-1]
+        sys.exit(f"noise_figure.py: `{' '.join(cmd)}` exited {r.returncode}: {said}")
+    r = json.loads(r.stdout.strip().splitlines()[-1])
     return r["successes"], r["episodes"]
+
+
+def read_report(results):
+    path = os.path.join(results, "report.json")
+    if not os.path.exists(path):
+        sys.exit(f"{path} does not exist: run `roger report {results}` first")
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except ValueError as e:  # cut short or edited: say which file, not a traceback
+        sys.exit(f"{path}: not JSON ({e}): run `roger report {results}` again")
 
 
 def table_three(results):
     """(successes, episodes, low, high) per scale of the noise-free T/DC6 policies: the Total row of
     each evaluation III_x<scale> in RESULTS/report.json (written by roger run or roger report)."""
     path = os.path.join(results, "report.json")
-    if not os.path.exists(path):
-        sys.exit(f"{path} does not exist: run `roger report {results}` first")
-    with open(path) as f:
-        tables = json.load(f)["tables"]
+    tables = read_report(results)["tables"]
     points = {}
     for s in SCALES:
         for t in tables:
             if t.get("evaluation") != f"III_x{scale_name(s)}":
                 continue
-            total = [r for r in t["rows"] if r["object"] == "Total"]
+            total = [r for r in t.get("rows", []) if r.get("object") == "Total"]
             if not total or "success_low" not in total[0]:
                 sys.exit(f"{path}: evaluation III_x{scale_name(s)} has no Total row with an interval (not run "
                          "yet?); the figure needs every III_x* evaluation of scripts/noise.lua: run them all "
@@ -73,12 +93,85 @@ def table_three(results):
     return points
 
 
+def left_out(results):
+    """{scale: {"failed": n, "pending": m}} of the evaluations III_x<scale> with trials without a
+    result, which their points leave out: from summary.csv's status column (a corrupt record counts
+    as failed), or the evaluation's Total row in report.json where it says more (the report's
+    evaluation rows carry "failed" and "pending" only from some version on: .get)."""
+    names = {f"III_x{scale_name(s)}": s for s in SCALES}
+    out = {s: {"failed": 0, "pending": 0} for s in SCALES}
+    summary = os.path.join(results, "summary.csv")
+    if os.path.exists(summary):
+        with open(summary, newline="") as f:
+            for row in csv.DictReader(f):
+                if row["kind"] == "eval" and row["evaluation"] in names and row["status"] != "ok":
+                    out[names[row["evaluation"]]]["pending" if row["status"] == "pending" else "failed"] += 1
+    for t in read_report(results)["tables"]:
+        for r in t.get("rows", []):
+            if t.get("evaluation") in names and r.get("object") == "Total":
+                m = out[names[t["evaluation"]]]
+                for key in ("failed", "pending"):
+                    m[key] = max(m[key], r.get(key, 0))
+    return {s: m for s, m in out.items() if m["failed"] or m["pending"]}
+
+
+def without(m):
+    """'1 failed, 2 pending': the trials {"failed", "pending"} counts, or '' for none."""
+    m = m or {}
+    return ", ".join(f"{m[k]} {k}" for k in ("failed", "pending") if m.get(k, 0))
+
+
+def partial_of(results):
+    """'of 14 trials, 1 failed' when report.json says the folder is partial (some trials failed or
+    have no result yet), else ''."""
+    p = read_report(results).get("partial") or {}
+    return f"of {p.get('trials', '?')} trials, {without(p)}" if without(p) else ""
+
+
+def warning(results, missing):
+    """The stderr warning of a partial folder, or '': the policies' points pool the other trials."""
+    lines = [f"  evaluation III_x{scale_name(s)}: {without(m)}" for s, m in sorted(missing.items())]
+    if not partial_of(results) and not lines:
+        return ""
+    head = (f"{results}: partial results, {partial_of(results)}" if partial_of(results)
+            else f"{results}: some trials have no result")
+    if not lines:
+        return f"noise_figure.py: {head}; none of them in the evaluations III_x* drawn here"
+    return (f"noise_figure.py: {head}; the policies' points below pool only the trials with "
+            "results, leaving out (marked so):\n" + "\n".join(lines))
+
+
+def printed(points, missing):
+    """The lines printed: each series' points, those of the policies marked with the trials they leave out."""
+    out = []
+    for label, pts in points.items():
+        mark = lambda s: f" ({without(missing.get(s))})" if label == SERIES[2][0] and without(missing.get(s)) else ""
+        out.append(label + ": " + ", ".join(f"{s} M {100 * k / n:.1f}% ({k}/{n}) [{100 * lo:.1f}, {100 * hi:.1f}]"
+                                            + mark(s) for s, (k, n, lo, hi) in sorted(pts.items()) if n))
+    return out
+
+
+def write_atomically(path, text):
+    """Writes the file whole or not at all (a temporary beside it, then a rename): a results folder
+    never holds a half-written file, nor the temporary of a failed write."""
+    try:
+        with open(path + ".tmp", "w") as f:
+            f.write(text)
+        os.replace(path + ".tmp", path)
+    except BaseException:
+        if os.path.exists(path + ".tmp"):
+            os.remove(path + ".tmp")
+        raise
+
+
 def with_wilson(pts):
     """The scripted series: (successes, episodes) with their Wilson interval."""
     return {s: (k, n) + wilson(k, n) for s, (k, n) in pts.items()}
 
 
-def svg(points):
+def svg(points, partial="", short=()):
+    """The figure. partial: partial_of(RESULTS); short: the scales whose policies' point leaves
+    trials out (marked "*")."""
     w, h, left, top, bottom = 760, 440, 60, 40, 80
     plot_w, plot_h = w - left - 30, h - top - bottom
     x = lambda i: left + plot_w * i / (len(SCALES) - 1)
@@ -104,6 +197,8 @@ def svg(points):
             cx = x(SCALES.index(s))
             out.append(f'<line x1="{cx:.1f}" x2="{cx:.1f}" y1="{y(lo):.1f}" y2="{y(hi):.1f}" stroke="{colour}"/>')
             out.append(f'<circle cx="{cx:.1f}" cy="{y(k / n):.1f}" r="3.5" fill="{colour}"/>')
+            if label == SERIES[2][0] and s in short:
+                out.append(f'<text x="{cx + 5:.1f}" y="{y(k / n) - 5:.1f}" fill="#b00">*</text>')
     for j, (label, colour) in enumerate(SERIES):
         lx = left + j * 230
         out.append(f'<rect x="{lx}" y="{h - 52}" width="14" height="14" fill="{colour}"/>')
@@ -113,21 +208,40 @@ def svg(points):
                'base 0.01 m/rad, touch 0.1, effort 0.1.</text>')
     out.append(f'<text x="{left}" y="{h - 2}" fill="#555" font-size="11">Whiskers: 95% intervals (policies: '
                'resampled by policy and shared layout; scripted: Wilson).</text>')
+    if any("fill=\"#b00\">*</text>" in line for line in out):
+        # In the picture too: a figure travels without the stderr that came with it.
+        out.append(f'<text x="{w - 30}" y="35" text-anchor="end" fill="#b00" font-size="11">partial results'
+                   f'{": " + partial if partial else ""}; * points: only the trials with results</text>')
     out.append("</svg>")
     return "\n".join(out) + "\n"
 
 
-def default_roger():
-    """The engine built beside this script (the source tree's build/engine/roger), else roger on PATH."""
-    built = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "build", "engine", "roger")
-    return built if os.access(built, os.X_OK) else "roger"
+def find_roger(given=None):
+    """The roger program to run: `given` (--roger), else $ROGER, else the engine built beside this
+    script (the source tree's build/engine/roger), else roger on PATH. Exits with one line naming
+    them when none is there: a FileNotFoundError traceback from subprocess said nothing of where to look."""
+    for exe, origin in ((given, "--roger"), (os.environ.get("ROGER"), "$ROGER")):
+        if exe:  # a path, or a name looked up on PATH as subprocess would
+            if not shutil.which(exe):
+                sys.exit(f"noise_figure.py: {origin} {exe}: no such program")
+            return shutil.which(exe)
+    built = os.path.normpath(os.path.join(HERE, os.pardir, "build", "engine", "roger"))
+    if os.access(built, os.X_OK):
+        return built
+    on_path = shutil.which("roger")
+    if on_path:
+        return on_path
+    sys.exit(f"noise_figure.py: no roger program: give --roger PATH or set ROGER, or build {built}, or put "
+             "roger on PATH")
 
 
 def main():
     args = [a for a in sys.argv[1:]]
-    roger = default_roger()
+    roger = None
     if "--roger" in args:
         i = args.index("--roger")
+        if i + 1 == len(args):
+            sys.exit("usage: noise_figure.py RESULTS_FOLDER [OUT.svg] [--roger PATH]")
         roger = args[i + 1]
         del args[i:i + 2]
     if len(args) not in (1, 2):
@@ -136,20 +250,22 @@ def main():
     table = table_three(results)
     if not table:
         sys.exit(f"{results} holds no evaluation III_x... of scripts/noise.lua (trials/eval/III_x*)")
+    missing = left_out(results)
+    roger = find_roger(roger)
     points = {SERIES[2][0]: table}
     for label, scenario in ((SERIES[0][0], "unobstructed"), (SERIES[1][0], "cluttered")):
         points[label] = with_wilson({s: scripted(roger, scenario, s) for s in SCALES})
-    with open(os.path.join(results, "scripted_noise.json"), "w") as f:
-        json.dump({label: {str(s): {"successes": k, "episodes": n, "low": lo, "high": hi} for s, (k, n, lo, hi) in pts.items()}
-                   for label, pts in points.items()}, f, indent=1)
+    # Everything before the files: a failure on the way leaves neither behind.
+    figures = json.dumps({label: {str(s): {"successes": k, "episodes": n, "low": lo, "high": hi}
+                                  for s, (k, n, lo, hi) in pts.items()} for label, pts in points.items()}, indent=1)
+    picture = svg(points, partial_of(results), set(missing))
+    if warning(results, missing):
+        print(warning(results, missing), file=sys.stderr)
+    write_atomically(os.path.join(results, "scripted_noise.json"), figures)
     out = args[1] if len(args) == 2 else os.path.join(results, "noise.svg")
-    with open(out + ".tmp", "w") as f:
-        f.write(svg(points))
-    os.replace(out + ".tmp", out)
+    write_atomically(out, picture)
     print("wrote", out)
-    for label, pts in points.items():
-        print(label + ": " + ", ".join(f"{s} M {100 * k / n:.1f}% ({k}/{n}) [{100 * lo:.1f}, {100 * hi:.1f}]"
-                                       for s, (k, n, lo, hi) in sorted(pts.items()) if n))
+    print("\n".join(printed(points, missing)))
 
 
 if __name__ == "__main__":

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""noise_kinds.py [RESULTS] [--roger PATH] [--jobs N]: the experiment of docs/results.md, Noise, "Kinds".
+"""noise_kinds.py [RESULTS] [--roger PATH] [--jobs N] [--trials N] [--only NAME]...: the experiment of docs/results.md, Noise, "Kinds".
 
 Each kind of noise other than white (bias, drift, delay, dropout, resolution) alone at the moderate
 level of scripts/noise_kinds_levels.lua, and all of them together, for
@@ -8,28 +8,66 @@ level of scripts/noise_kinds_levels.lua, and all of them together, for
   - the hand-written 8-object sort (`curricula/sort_by_hand.lua`), 20 episodes from seed 9500000;
   - Table III's noise-free T/DC6 policies and training under every kind: `roger run
     scripts/noise_kinds.lua --out RESULTS` (its tables in RESULTS/tables.md; resumes if interrupted).
-Writes RESULTS/kinds.json and RESULTS/kinds.md (the table of docs/results.md), each atomically.
-Standard library only. Default RESULTS: results/noise_kinds.
+Writes RESULTS/kinds.json and RESULTS/kinds.md (the table of docs/results.md), each atomically,
+once every figure is in. Standard library only. Default RESULTS: results/noise_kinds.
+
+--jobs N (default 2), --trials N and --only NAME (repeatable: a run, RUN/CONTEXT or eval/NAME) go to
+`roger run` as they are, to run a cheap or a partial experiment (`--trials 1 --only T --only SG
+--only eval/III_none`); without them the command is `roger run scripts/noise_kinds.lua --out
+RESULTS --jobs 2`, as always. A folder left partial so (report.json's "partial": trials failed or
+without a result yet) is tabulated all the same, but says so: a warning on stderr, and each Table
+III cell marked with the trials it leaves out ("(1 failed)", "(40 pending)"; "-" for an evaluation
+with no result at all). A `roger run` that fails with failed trials (exit status 1, its partial
+report written) is tabulated so too; any other failure stops the script with one line. The roger
+program: --roger, else $ROGER, else the source tree's build/engine/roger, else roger on PATH.
 """
 import argparse
+import csv
 import json
 import os
 import re
+import shutil
 import subprocess
+import sys
+import time
 
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-def default_roger():
-    """The engine built beside this script (the source tree's build/engine/roger), else roger on PATH."""
-    built = os.path.join(HERE, os.pardir, "build", "engine", "roger")
-    return built if os.access(built, os.X_OK) else "roger"
+def find_roger(given=None):
+    """The roger program to run: `given` (--roger), else $ROGER, else the engine built beside this
+    script (the source tree's build/engine/roger), else roger on PATH. Exits with one line naming
+    them when none is there: a FileNotFoundError traceback from subprocess said nothing of where to look."""
+    for exe, origin in ((given, "--roger"), (os.environ.get("ROGER"), "$ROGER")):
+        if exe:  # a path, or a name looked up on PATH as subprocess would
+            if not shutil.which(exe):
+                sys.exit(f"noise_kinds.py: {origin} {exe}: no such program")
+            return shutil.which(exe)
+    built = os.path.normpath(os.path.join(HERE, os.pardir, "build", "engine", "roger"))
+    if os.access(built, os.X_OK):
+        return built
+    on_path = shutil.which("roger")
+    if on_path:
+        return on_path
+    sys.exit(f"noise_kinds.py: no roger program: give --roger PATH or set ROGER, or build {built}, or put "
+             "roger on PATH")
+
+
+def run_command(roger, results, jobs="2", trials=None, only=()):
+    """The `roger run` of the experiment, with the options passed through."""
+    cmd = [roger, "run", "scripts/noise_kinds.lua", "--out", results, "--jobs", str(jobs)]
+    if trials is not None:
+        cmd += ["--trials", str(trials)]
+    for name in only:
+        cmd += ["--only", name]
+    return cmd
 
 
 def kinds(path=os.path.join(HERE, "noise_kinds_levels.lua")):
     """[(name, {param: value})] of the kinds alone, then ("all", union): read from the Lua file."""
-    text = open(path).read()
+    with open(path) as f:
+        text = f.read()
     out = []
     for name, body in re.findall(r'name = "(\w+)", params = \{([^}]*)\}', text):
         out.append((name, dict(re.findall(r"(\w+) = ([-\d.eE]+)", body))))
@@ -44,44 +82,92 @@ def evaluate(roger, script, policy, params, episodes, seed, extra=()):
            *extra]
     for k, v in params.items():
         cmd += ["--set", f"{k}={v}"]
-    r = json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout.strip().splitlines()[-1])
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    if r.returncode != 0:  # roger's own last line, not a CalledProcessError traceback
+        said = (r.stderr.strip().splitlines() or ["(nothing on stderr)"])[-1]
+        raise SystemExit(f"noise_kinds.py: `{' '.join(cmd)}` exited {r.returncode}: {said}")
+    r = json.loads(r.stdout.strip().splitlines()[-1])
     return r["successes"], r["episodes"]
 
 
+def read_report(results):
+    path = os.path.join(results, "report.json")
+    if not os.path.exists(path):
+        sys.exit(f"{path} does not exist: run `roger report {results}` first")
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except ValueError as e:  # cut short or edited: say which file, not a traceback
+        sys.exit(f"{path}: not JSON ({e}): run `roger report {results}` again")
+
+
 def table_three(results, name):
-    """(successes, episodes, low, high) of evaluation III_<name>'s Total row in RESULTS/report.json."""
-    with open(os.path.join(results, "report.json")) as f:
-        tables = json.load(f)["tables"]
-    for t in tables:
+    """(successes, episodes, low, high) of evaluation III_<name>'s Total row in RESULTS/report.json,
+    or None when it has none (no trial of it has a result: --only left it out, or all failed)."""
+    for t in read_report(results)["tables"]:
         if t.get("evaluation") == f"III_{name}":
-            r = [r for r in t["rows"] if r["object"] == "Total"][0]
+            total = [r for r in t.get("rows", []) if r.get("object") == "Total"]
+            if not total:
+                return None
+            r = total[0]
             n = r["episodes"]
             return round(r["success_rate"] * n), n, r["success_low"], r["success_high"]
     raise SystemExit(f"{results}/report.json has no evaluation III_{name}")
 
 
-def write_atomically(path, text):
-    with open(path + ".tmp", "w") as f:
-        f.write(text)
-    os.replace(path + ".tmp", path)
+def left_out(results):
+    """{evaluation: {"failed": n, "pending": m}} of the evaluations with trials without a result,
+    which their cells leave out: from summary.csv's status column (a corrupt record counts as
+    failed), or the evaluation's Total row in report.json where it says more (the report's
+    evaluation rows carry "failed" and "pending" only from some version on: .get)."""
+    out = {}
+    summary = os.path.join(results, "summary.csv")
+    if os.path.exists(summary):
+        with open(summary, newline="") as f:
+            for row in csv.DictReader(f):
+                if row["kind"] == "eval" and row["status"] != "ok":
+                    m = out.setdefault(row["evaluation"], {"failed": 0, "pending": 0})
+                    m["pending" if row["status"] == "pending" else "failed"] += 1
+    for t in read_report(results)["tables"]:
+        for r in t.get("rows", []):
+            if t.get("evaluation") and r.get("object") == "Total":
+                m = out.setdefault(t["evaluation"], {"failed": 0, "pending": 0})
+                for key in ("failed", "pending"):
+                    m[key] = max(m[key], r.get(key, 0))
+    return {e: m for e, m in out.items() if m["failed"] or m["pending"]}
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("results", nargs="?", default="results/noise_kinds")
-    ap.add_argument("--roger", default=default_roger(),
-                    help="the roger program (default: the source tree's build/engine/roger, else roger on PATH)")
-    ap.add_argument("--jobs", default="2")
-    a = ap.parse_args()
-    subprocess.run([a.roger, "run", "scripts/noise_kinds.lua", "--out", a.results, "--jobs", a.jobs], check=True)
-    rows = []
-    for name, params in [("none", {})] + kinds():
-        cells = {w: evaluate(a.roger, "curricula/scripted.lua", "task", params, 200, 9200000, ["--scenario", w])
-                 for w in ("unobstructed", "cluttered")}
-        cells["sort"] = evaluate(a.roger, "curricula/sort_by_hand.lua", "sort", dict(params, objects=8), 20, 9500000)
-        cells["table3"] = table_three(a.results, name)
-        rows.append({"kind": name, "params": params, **{k: list(v) for k, v in cells.items()}})
-    write_atomically(os.path.join(a.results, "kinds.json"), json.dumps(rows, indent=1) + "\n")
+def without(m):
+    """'1 failed, 2 pending': the trials {"failed", "pending"} counts, or '' for none."""
+    m = m or {}
+    return ", ".join(f"{m[k]} {k}" for k in ("failed", "pending") if m.get(k, 0))
+
+
+def partial_of(results):
+    """'of 14 trials, 1 failed' when report.json says the folder is partial (some trials failed or
+    have no result yet), else ''."""
+    p = read_report(results).get("partial") or {}
+    return f"of {p.get('trials', '?')} trials, {without(p)}" if without(p) else ""
+
+
+def warning(results, missing, names):
+    """The stderr warning of a partial folder, or '': its Table III cells pool the other trials.
+    names: the evaluations tabulated (III_<kind>)."""
+    lines = [f"  evaluation {e}: {without(missing[e])}" for e in names if e in missing]
+    if not partial_of(results) and not lines:
+        return ""
+    head = (f"{results}: partial results, {partial_of(results)}" if partial_of(results)
+            else f"{results}: some trials have no result")
+    if not lines:
+        return f"noise_kinds.py: {head}; none of them in the evaluations III_<kind> tabulated here"
+    return (f"noise_kinds.py: {head}; the Table III cells below pool only the trials with results, "
+            "leaving out (cells marked so):\n" + "\n".join(lines))
+
+
+def markdown(rows, missing=None):
+    """The table of docs/results.md (kinds.md) from kinds.json's rows; a Table III cell marked with
+    the trials it leaves out (missing: left_out), "-" when it has no result at all."""
+    missing = missing or {}
     pct = lambda k, n: f"{100 * k / n:.1f}% ({k}/{n})"
     lines = ["| kind | level | scripted, unobstructed | scripted, cluttered | sort, 8 objects | "
              "Table III's T/DC6 policies [95% CI] |", "|---|---|---|---|---|---|"]
@@ -89,11 +175,67 @@ def main():
         level = ", ".join(f"{k.replace('noise_', '')} {v}" for k, v in r["params"].items()) or "no noise"
         if r["kind"] == "all":
             level = "every level above"
-        k3, n3, lo, hi = r["table3"]
+        table3 = "-"
+        if r["table3"]:
+            k3, n3, lo, hi = r["table3"]
+            table3 = f"{pct(k3, n3)} [{100 * lo:.1f}, {100 * hi:.1f}]"
+        short = without(missing.get("III_" + r["kind"]))
+        if short:
+            table3 += f" ({short})"
         lines.append(f"| {r['kind']} | {level} | {pct(*r['unobstructed'])} | {pct(*r['cluttered'])} | "
-                     f"{pct(*r['sort'])} | {pct(k3, n3)} [{100 * lo:.1f}, {100 * hi:.1f}] |")
-    write_atomically(os.path.join(a.results, "kinds.md"), "\n".join(lines) + "\n")
-    print("\n".join(lines))
+                     f"{pct(*r['sort'])} | {table3} |")
+    return "\n".join(lines) + "\n"
+
+
+def write_atomically(path, text):
+    """Writes the file whole or not at all (a temporary beside it, then a rename): a results folder
+    never holds a half-written file, nor the temporary of a failed write."""
+    try:
+        with open(path + ".tmp", "w") as f:
+            f.write(text)
+        os.replace(path + ".tmp", path)
+    except BaseException:
+        if os.path.exists(path + ".tmp"):
+            os.remove(path + ".tmp")
+        raise
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("results", nargs="?", default="results/noise_kinds")
+    ap.add_argument("--roger", help="the roger program (default: $ROGER, else the source tree's build/engine/roger, "
+                    "else roger on PATH)")
+    ap.add_argument("--jobs", type=int, default=2, help="worker threads of roger run (default 2)")
+    ap.add_argument("--trials", type=int, help="trials per run, for roger run (default: the script's)")
+    ap.add_argument("--only", action="append", default=[], metavar="NAME",
+                    help="only this run, RUN/CONTEXT or eval/NAME, for roger run (repeatable)")
+    a = ap.parse_args()
+    a.roger = find_roger(a.roger)
+    started = time.time()
+    status = subprocess.run(run_command(a.roger, a.results, a.jobs, a.trials, a.only)).returncode
+    if status != 0:
+        # Exit status 1 with a fresh partial report: some trials failed (roger run listed them); the
+        # others are tabulated, marked. Anything else (a refused folder, a bad script, an interrupt)
+        # stops here: a report.json there would be an earlier run's.
+        report = os.path.join(a.results, "report.json")
+        fresh = os.path.exists(report) and os.path.getmtime(report) >= started - 1
+        if not (status == 1 and fresh and (read_report(a.results).get("partial") or {}).get("failed", 0)):
+            sys.exit(f"noise_kinds.py: roger run exited {status} (its messages above); nothing tabulated")
+    rows = []
+    for name, params in [("none", {})] + kinds():
+        cells = {w: evaluate(a.roger, "curricula/scripted.lua", "task", params, 200, 9200000, ["--scenario", w])
+                 for w in ("unobstructed", "cluttered")}
+        cells["sort"] = evaluate(a.roger, "curricula/sort_by_hand.lua", "sort", dict(params, objects=8), 20, 9500000)
+        cells["table3"] = table_three(a.results, name)
+        rows.append({"kind": name, "params": params, **{k: None if v is None else list(v) for k, v in cells.items()}})
+    missing = left_out(a.results)
+    table = markdown(rows, missing)
+    note = warning(a.results, missing, ["III_" + r["kind"] for r in rows])
+    if note:
+        print(note, file=sys.stderr)
+    write_atomically(os.path.join(a.results, "kinds.json"), json.dumps(rows, indent=1) + "\n")
+    write_atomically(os.path.join(a.results, "kinds.md"), table)
+    print(table, end="")
 
 
 if __name__ == "__main__":

@@ -8,7 +8,12 @@ over the run's policies, with whiskers from the worst to the best policy. Then p
 the table of (b) and (c) per body with each cell's pooled success rate and its 95% interval from
 report.json (the evaluation tables' Total rows: a bootstrap that resamples whole policies,
 docs/batch.md), the retrained SG/DC2's mean time-to-threshold per body, and the maturation table
-(d). Standard library only.
+(d). A trial that never reached its threshold counts with its whole training time, and the mean is
+then marked "≥". A partial folder (trials failed, or without a result yet) is drawn all the same,
+from the trials with results, but says so: a warning on stderr naming the evaluations and runs
+concerned, their cells marked "(1 failed)", "(2 pending)", and in the figure a note and a "*" over
+their bars. Everything is read and computed before the SVG is written, atomically. Standard
+library only.
 """
 import csv
 import json
@@ -22,6 +27,7 @@ SERIES = [("b", "open", "#7da7d9", "(b) open"), ("c", "open", "#1f4e8c", "(c) op
 
 
 def read_rates(path):
+    """Per evaluation of summary.csv: the success rates of its trials with a result."""
     rates = defaultdict(list)
     with open(path, newline="") as f:
         for row in csv.DictReader(f):
@@ -32,28 +38,93 @@ def read_rates(path):
 
 def read_training(path):
     """Per run/context of summary.csv: the trials' times-to-threshold (s), whether each reached it,
-    and their final success rates."""
+    and their final success rates. A trial that never reached its threshold has no time-to-threshold
+    (summary.csv leaves it empty): its whole training time (train_sim_s) stands in, a lower bound."""
     runs = defaultdict(lambda: {"times": [], "reached": [], "success": []})
     with open(path, newline="") as f:
         for row in csv.DictReader(f):
             if row["kind"] == "train" and row["status"] == "ok":
                 r = runs[row["run"] + "/" + row["context"]]
-                r["times"].append(float(row["time_to_threshold_s"]))
-                r["reached"].append(row["reached"] == "true")
+                reached = row["reached"] == "true" and row["time_to_threshold_s"] != ""
+                r["times"].append(float(row["time_to_threshold_s"] if reached else row["train_sim_s"]))
+                r["reached"].append(reached)
                 r["success"].append(float(row["success_rate"]))
     return runs
 
 
-def read_totals(path):
-    """Per evaluation: the Total row of its table in report.json."""
-    with open(path) as f:
-        tables = json.load(f)["tables"]
+def read_totals(report):
+    """Per evaluation: the Total row of its table in report.json (the parsed file)."""
     totals = {}
-    for t in tables:
+    for t in report["tables"]:
         rows = [r for r in t.get("rows", []) if r.get("object") == "Total"]
         if t.get("evaluation") and rows:
             totals[t["evaluation"]] = rows[0]
     return totals
+
+
+def read_missing(path, totals):
+    """The trials without a result, which the bars, rates and times leave out: {"eval": {evaluation:
+    {"failed": n, "pending": m}}, "train": {run/context: ...}}, from summary.csv's status column (a
+    corrupt record counts as failed), or an evaluation's Total row in report.json where it says more
+    (the report's evaluation rows carry "failed" and "pending" only from some version on: .get)."""
+    missing = {"eval": defaultdict(lambda: {"failed": 0, "pending": 0}),
+               "train": defaultdict(lambda: {"failed": 0, "pending": 0})}
+    with open(path, newline="") as f:
+        for row in csv.DictReader(f):
+            if row["status"] != "ok":
+                m = (missing["eval"][row["evaluation"]] if row["kind"] == "eval"
+                     else missing["train"][row["run"] + "/" + row["context"]])
+                m["pending" if row["status"] == "pending" else "failed"] += 1
+    for evaluation, row in totals.items():
+        for key in ("failed", "pending"):
+            if row.get(key, 0) > missing["eval"][evaluation][key]:
+                missing["eval"][evaluation][key] = row[key]
+    return {kind: {k: m for k, m in d.items() if m["failed"] or m["pending"]} for kind, d in missing.items()}
+
+
+def without(m):
+    """'1 failed, 2 pending': the trials {"failed", "pending"} counts, or '' for none."""
+    m = m or {}
+    return ", ".join(f"{m[k]} {k}" for k in ("failed", "pending") if m.get(k, 0))
+
+
+def marked(text, m):
+    """A table cell with the trials it leaves out: '99.0% [98.2, 99.6] (1 failed)'."""
+    return f"{text} ({without(m)})" if without(m) else text
+
+
+def partial_of(report):
+    """'of 14 trials, 1 failed' when report.json says the folder is partial (some trials failed or
+    have no result yet), else ''."""
+    p = report.get("partial") or {}
+    return f"of {p.get('trials', '?')} trials, {without(p)}" if without(p) else ""
+
+
+def warning(results, report, missing):
+    """The stderr warning of a folder with trials without results, or '': the rates pool the others."""
+    lines = [f"  evaluation {e}: {without(m)}" for e, m in sorted(missing["eval"].items())]
+    lines += [f"  training {k}: {without(m)}" for k, m in sorted(missing["train"].items())]
+    if not partial_of(report) and not lines:
+        return ""
+    head = (f"{results}: partial results, {partial_of(report)}" if partial_of(report)
+            else f"{results}: some trials have no result")
+    if not lines:
+        return f"transfer_figure.py: {head}; none of them in the evaluations and runs tabulated here"
+    return (f"transfer_figure.py: {head}; the rates below pool only the trials with results, "
+            "leaving out (cells marked so):\n" + "\n".join(lines))
+
+
+def write_atomically(path, text):
+    """Writes the file whole or not at all (a temporary beside it, then a rename): a results folder
+    never holds a half-written file, nor the temporary of a failed write."""
+    try:
+        with open(path + ".tmp", "w") as f:
+            f.write(text)
+        os.replace(path + ".tmp", path)
+    except BaseException:
+        if os.path.exists(path + ".tmp"):
+            os.remove(path + ".tmp")
+        raise
 
 
 def min_sec(seconds):
@@ -77,23 +148,27 @@ def mean_time(run):
     return m if all(run["reached"]) else "≥ " + m
 
 
-def tables(totals, runs):
+def tables(totals, runs, missing):
+    ev = lambda name: marked(cell(totals.get(name)), missing["eval"].get(name))
+    tr = lambda key, text=None: marked(mean_time(runs.get(key)) if text is None else text, missing["train"].get(key))
     out = ["| body | (b) open | (c) open | (b) 3 obstacles | (c) 3 obstacles | SG/DC2 retrained: time-to-threshold (mean) |",
            "|---|---|---|---|---|---|"]
     for body in BODIES:
-        cells = [cell(totals.get(f"{k}_{body}_{w}")) for k, w in (("b", "open"), ("c", "open"), ("b", "clutter"), ("c", "clutter"))]
-        out.append(f"| {body.replace('_', ' ')} | " + " | ".join(cells) + f" | {mean_time(runs.get(f'SG_{body}/DC2'))} |")
+        cells = [ev(f"{k}_{body}_{w}") for k, w in (("b", "open"), ("c", "open"), ("b", "clutter"), ("c", "clutter"))]
+        out.append(f"| {body.replace('_', ' ')} | " + " | ".join(cells) + f" | {tr(f'SG_{body}/DC2')} |")
     out += ["", "| curriculum | SG/DC2 time-to-threshold | T/DC6 time-to-threshold | T/DC6 final success |", "|---|---|---|---|"]
     for label, sg, t in (("the paper's (full body throughout)", "SG", "T"),
                          ("SG with coarse eyes (32 px, 60 degrees), T full", "SG_coarse", "T_coarse"),
                          ("SG with frozen eyes, T full", "SG_frozen", "T_frozen")):
-        tr = runs.get(f"{t}/DC6")
-        success = f"{100 * sum(tr['success']) / len(tr['success']):.1f}%" if tr and tr["success"] else "-"
-        out.append(f"| {label} | {mean_time(runs.get(f'{sg}/DC2'))} | {mean_time(tr)} | {success} |")
+        t6 = runs.get(f"{t}/DC6")
+        success = f"{100 * sum(t6['success']) / len(t6['success']):.1f}%" if t6 and t6["success"] else "-"
+        out.append(f"| {label} | {tr(f'{sg}/DC2')} | {tr(f'{t}/DC6')} | {tr(f'{t}/DC6', success)} |")
     return "\n".join(out)
 
 
-def svg(rates):
+def svg(rates, partial="", short=()):
+    """The figure. partial: partial_of(report.json); short: the evaluations with trials without a
+    result, whose bars get a "*"."""
     w, h, left, top, bottom = 980, 420, 60, 40, 90
     plot_w, plot_h = w - left - 20, h - top - bottom
     lo = 0.8  # the axis starts at 80%: every rate lies above it
@@ -112,6 +187,9 @@ def svg(rates):
         for j, (kind, world, colour, _) in enumerate(SERIES):
             vals = rates.get(f"{kind}_{body}_{world}", [])
             if not vals:
+                if f"{kind}_{body}_{world}" in short:  # no bar at all: the "*" says why
+                    out.append(f'<text x="{x0 + (j + 0.45) * bar:.1f}" y="{y(lo) - 3:.1f}" text-anchor="middle" '
+                               'fill="#b00">*</text>')
                 continue
             mean = sum(vals) / len(vals)
             x = x0 + j * bar
@@ -119,6 +197,8 @@ def svg(rates):
                        f'height="{top + plot_h - y(mean):.1f}" fill="{colour}"/>')
             cx = x + bar * 0.45
             out.append(f'<line x1="{cx:.1f}" x2="{cx:.1f}" y1="{y(min(vals)):.1f}" y2="{y(max(vals)):.1f}" stroke="#333"/>')
+            if f"{kind}_{body}_{world}" in short:
+                out.append(f'<text x="{cx:.1f}" y="{y(max(vals)) - 3:.1f}" text-anchor="middle" fill="#b00">*</text>')
         out.append(f'<text x="{left + (i + 0.5) * group:.1f}" y="{top + plot_h + 18}" text-anchor="middle">'
                    f'{body.replace("_", " ")}</text>')
     for j, (_, _, colour, label) in enumerate(SERIES):
@@ -127,6 +207,10 @@ def svg(rates):
         out.append(f'<text x="{lx + 20}" y="{h - 28}">{label}</text>')
     out.append(f'<text x="{left}" y="{h - 8}" fill="#555">(b) the policy and its Phi_SG as learned; '
                '(c) over a Phi_SG retrained on the body. Bars: mean over policies; whiskers: worst and best policy.</text>')
+    if any("fill=\"#b00\">*</text>" in line for line in out):
+        # In the picture too: a figure travels without the stderr that came with it.
+        out.append(f'<text x="{w - 20}" y="35" text-anchor="end" fill="#b00" font-size="11">partial results'
+                   f'{": " + partial if partial else ""}; * bars: only the trials with results</text>')
     out.append("</svg>")
     return "\n".join(out) + "\n"
 
@@ -134,19 +218,34 @@ def svg(rates):
 def main():
     if len(sys.argv) not in (2, 3):
         sys.exit("usage: transfer_figure.py RESULTS_FOLDER [OUT.svg]")
-    rates = read_rates(sys.argv[1] + "/summary.csv")
+    summary = sys.argv[1] + "/summary.csv"
+    rates = read_rates(summary)
     if not any(k.startswith(("b_", "c_")) for k in rates):
+        waiting = [m for e, m in read_missing(summary, {})["eval"].items() if e.startswith(("b_", "c_"))]
+        if waiting:  # planned, none with a result: not the folder of another script
+            sys.exit(f"{summary}: no evaluation of scripts/transfer.lua has a result yet "
+                     f"({without({k: sum(m[k] for m in waiting) for k in ('failed', 'pending')})})")
         sys.exit(f"{sys.argv[1]}/summary.csv holds no evaluation of scripts/transfer.lua")
-    report = os.path.join(sys.argv[1], "report.json")
-    if not os.path.exists(report):
-        sys.exit(f"{report} does not exist: run `roger report {sys.argv[1]}` first")
+    path = os.path.join(sys.argv[1], "report.json")
+    if not os.path.exists(path):
+        sys.exit(f"{path} does not exist: run `roger report {sys.argv[1]}` first")
     out = sys.argv[2] if len(sys.argv) == 3 else sys.argv[1] + "/transfer.svg"
-    with open(out + ".tmp", "w") as f:
-        f.write(svg(rates))
-    os.replace(out + ".tmp", out)
+    # Everything before the one file written: a folder the tables cannot read leaves no figure behind.
+    try:
+        with open(path) as f:
+            report = json.load(f)
+    except ValueError as e:  # cut short or edited: say which file, not a traceback
+        sys.exit(f"{path}: not JSON ({e}): run `roger report {sys.argv[1]}` again")
+    totals = read_totals(report)
+    missing = read_missing(summary, totals)
+    text = tables(totals, read_training(summary), missing)
+    picture = svg(rates, partial_of(report), set(missing["eval"]))
+    if warning(sys.argv[1], report, missing):
+        print(warning(sys.argv[1], report, missing), file=sys.stderr)
+    write_atomically(out, picture)
     print("wrote", out)
     print()
-    print(tables(read_totals(report), read_training(sys.argv[1] + "/summary.csv")))
+    print(text)
 
 
 if __name__ == "__main__":

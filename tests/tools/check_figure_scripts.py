@@ -1,0 +1,430 @@
+#!/usr/bin/env python3
+"""check_figure_scripts.py: the figure scripts of scripts/ on small synthetic results folders, without
+the roger program: a training trial that never reached its threshold, a partial folder (failed or
+pending trials) and a missing roger give figures, warnings and errors, not tracebacks.
+
+  check_figure_scripts.py --work DIR [--scripts DIR]
+
+Builds, under DIR, results folders shaped as `roger run` writes them (summary.csv and report.json,
+with only the fields the scripts read) and checks:
+
+  transfer_unreached      transfer_figure.py on a folder whose trial missed its threshold: no crash,
+                          its mean time marked "≥" (its whole training time stands in)
+  transfer_partial        a partial folder (report.json's "partial"; an evaluation trial failed in
+                          summary.csv): a warning on stderr naming the evaluation, its cell marked
+                          "(1 failed)", a note and a "*" in the figure
+  transfer_partial_rows   the same with a pending trial, report.json's evaluation rows carrying
+                          "failed" and "pending" (as they do from now on)
+  transfer_no_file        a folder the script cannot read (report.json cut short): a one-line error
+                          and no figure, nor its temporary, left in the folder
+  atomic_writes           every file the scripts write goes through a temporary and a rename
+  failure_modes_no_roger  failure_modes.py without --roger, $ROGER, build/engine/roger or roger on
+                          PATH: a one-line error (also with $ROGER naming no program)
+  noise_figure_no_roger   noise_figure.py likewise: a one-line error, no file written
+  noise_figure_partial    noise_figure.py's functions (it needs roger to run) on a partial folder:
+                          the warning, the marked points, the figure's note; a count given only by
+                          an evaluation row's "pending" field is read too
+  noise_kinds_options     noise_kinds.py passes --trials, --only and --jobs to roger run, and its
+                          defaults give the command as it always was
+  noise_kinds_partial     noise_kinds.py's functions on a partial folder: an evaluation without a
+                          result gives "-", not an IndexError; the warning; the marked cells
+  noise_kinds_no_roger    noise_kinds.py without roger: a one-line error
+
+--scripts: the folder of the scripts to check (default: the source tree's scripts/; give a folder of
+older copies to see the checks fail on them). Exit 0 when every check holds, 1 otherwise (each
+failing check named with what it saw). Standard library only.
+"""
+import argparse
+import importlib.util
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+HEADER = ("id,kind,run,stage,context,evaluation,shape,trial,seed,status,reached,time_to_threshold_s,"
+          "episodes_to_threshold,decisions_to_threshold,train_episodes,train_sim_s,success_rate,reward_mean,"
+          "reward_std,wall_s,error")
+BODIES = ["long_arms", "short_arms", "wide_base", "small", "big_hands", "coarse_eyes", "wide_eyes", "frozen_eyes"]
+SCALES = ["0", "0_5", "1", "2", "4", "8"]
+
+
+class Failed(Exception):
+    pass
+
+
+def expect(condition, message):
+    if not condition:
+        raise Failed(message)
+
+
+# ---- synthetic results folders, in the shape `roger run` writes them ----
+
+def train_row(run, stage, context, trial, reached=True, time_s=100.0, sim_s=1678.74, status="ok"):
+    head = f"{run}/{context}/{trial:03d},train,{run},{stage},{context},,,{trial},{trial + 1},{status}"
+    if status != "ok":
+        return head + ",,,,,,,,,,," + ("" if status == "pending" else '"an error"')
+    if not reached:  # summary.csv leaves the times to the threshold empty: the run never got there
+        return head + f",false,,,,400,{sim_s},0.78,56,82.84926070883192,1.3,"
+    return head + f",true,{time_s},20,41,400,{sim_s},1,100,0,0.46,"
+
+
+def eval_row(name, shape, trial, rate=1.0, status="ok", run="T"):
+    head = f"eval/{name}/{shape}/{trial:03d},eval,{run},{'T' if status == 'ok' else ''},DC6,{name},{shape},{trial},,{status}"
+    if status != "ok":
+        return head + ",,,,,,,,,,," + ("" if status == "pending" else '"scenarios/lib/place.lua:106: no placement"')
+    return head + f",,,,,,,{rate},{200 * rate - 100},0,0.08,"
+
+
+def total_row(obj, rate, episodes, policies, extra=None):
+    row = {"episodes": episodes, "evaluations": policies, "interval": "policies", "layouts": episodes, "object": obj,
+           "per_policy_success_mean": rate, "per_policy_success_std": 0.0, "policies": policies,
+           "reward_mean": 200 * rate - 100, "reward_std": 0.0, "success_high": min(1.0, rate + 0.02),
+           "success_low": rate - 0.05, "success_rate": rate}
+    row.update(extra or {})
+    return row
+
+
+def training_table(run, contexts, pending=0):
+    return {"baseline": contexts[0], "run": run, "title": f"Stage {run} (run {run})", "usage": {}, "usage_comparisons": [],
+            "rows": [{"context": c, "failed": 0, "pending": pending, "trials": 2, "success_rate": 1.0,
+                      "time_mean_s": 100.0, "time_lower_bound": False} for c in contexts]}
+
+
+def write_folder(folder, rows, report):
+    shutil.rmtree(folder, ignore_errors=True)
+    os.makedirs(folder)
+    with open(os.path.join(folder, "summary.csv"), "w") as f:
+        f.write(HEADER + "\n" + "\n".join(rows) + "\n")
+    with open(os.path.join(folder, "report.json"), "w") as f:
+        f.write(report if isinstance(report, str) else json.dumps(report, indent=1))
+
+
+def transfer_folder(folder, unreached=(), failed=(), pending_rows=None):
+    """A results folder of scripts/transfer.lua, 2 trials a run: runs in `unreached` (run/context)
+    have trial 1 missing its threshold; evaluations in `failed` have trial 1 failed (summary.csv only,
+    as today's report.json says no more per evaluation); `pending_rows`: {evaluation: n} carried by
+    the Total rows' "pending" field (trial 1 pending in summary.csv)."""
+    pending_rows = pending_rows or {}
+    rows, tables, trials, without = [], [], 0, {"failed": 0, "pending": 0}
+    runs = [("SG", "SG", "DC2"), ("T", "T", "DC6"), ("SG_coarse", "SG_coarse", "DC2"), ("T_coarse", "T", "DC6"),
+            ("SG_frozen", "SG_frozen", "DC2"), ("T_frozen", "T", "DC6")] + [(f"SG_{b}", "SG", "DC2") for b in BODIES]
+    for run, stage, context in runs:
+        for i in range(2):
+            missed = i == 1 and f"{run}/{context}" in unreached
+            rows.append(train_row(run, stage, context, i, reached=not missed, time_s=100.0 + 20 * i,
+                                  sim_s=1800.0 + 10 * i))
+            trials += 1
+        tables.append(training_table(run, [context]))
+    for body in BODIES:
+        for kind in ("b", "c"):
+            for world in ("open", "clutter"):
+                name = f"{kind}_{body}_{world}"
+                ok = 2
+                for i in range(2):
+                    status = "failed" if i == 1 and name in failed else "pending" if i == 1 and name in pending_rows else "ok"
+                    rows.append(eval_row(name, "all", i, 0.98, status))
+                    trials += 1
+                    if status != "ok":
+                        without[status] += 1
+                        ok -= 1
+                extra = {"failed": 0, "pending": pending_rows[name]} if name in pending_rows else None
+                tables.append({"evaluation": name, "title": f"Evaluation {name}",
+                               "rows": [total_row("all", 0.98, 50 * ok, ok), total_row("Total", 0.98, 50 * ok, ok, extra)]})
+    report = {"tables": tables}
+    if without["failed"] or without["pending"]:
+        report = {"partial": {**without, "trials": trials, "with_results": trials - sum(without.values())}, "tables": tables}
+    write_folder(folder, rows, report)
+
+
+def noise_folder(folder, failed=(), pending_rows=None):
+    """A results folder of scripts/noise.lua: the evaluations III_x<scale>, 1 policy x 4 shapes each;
+    `failed`: scales whose spade trial failed (summary.csv only); `pending_rows`: {scale: n} given by
+    the Total rows' "pending" field only (summary.csv's rows say ok: the field alone must be read)."""
+    pending_rows = pending_rows or {}
+    rows, tables, without = [train_row("SG", "SG", "DC2", 0), train_row("T", "T", "DC6", 0)], [], {"failed": 0, "pending": 0}
+    for s in SCALES:
+        name = f"III_x{s}"
+        shapes = ["circle", "triangle", "pentagon", "spade"]
+        ok = []
+        for shape in shapes:
+            status = "failed" if shape == "spade" and s in failed else "ok"
+            rows.append(eval_row(name, shape, 0, 0.98, status))
+            if status == "ok":
+                ok.append(shape)
+            else:
+                without[status] += 1
+        without["pending"] += pending_rows.get(s, 0)
+        extra = {"failed": 0, "pending": pending_rows[s]} if s in pending_rows else None
+        tables.append({"evaluation": name, "title": f"Table III under {s} M",
+                       "rows": [total_row(sh, 0.98, 50, 1) for sh in ok] + [total_row("Total", 0.98, 50 * len(ok), 1, extra)]})
+    trials = len(rows)
+    report = {"tables": tables}
+    if without["failed"] or without["pending"]:
+        report = {"partial": {**without, "trials": trials, "with_results": trials - sum(without.values())}, "tables": tables}
+    write_folder(folder, rows, report)
+
+
+def kinds_folder(folder, names, failed=(), never=()):
+    """A results folder of scripts/noise_kinds.lua: the evaluations III_<kind>, 1 policy x 4 shapes;
+    `failed`: kinds whose spade trial failed; `never`: kinds none of whose trials ran (pending, as
+    --only leaves them: their table has no rows)."""
+    rows, tables, without = [], [], {"failed": 0, "pending": 0}
+    for kind in names:
+        name = f"III_{kind}"
+        ok = []
+        for shape in ["circle", "triangle", "pentagon", "spade"]:
+            status = "pending" if kind in never else "failed" if shape == "spade" and kind in failed else "ok"
+            rows.append(eval_row(name, shape, 0, 1.0, status))
+            if status == "ok":
+                ok.append(shape)
+            else:
+                without[status] += 1
+        tables.append({"evaluation": name, "title": f"Table III's T/DC6 policies under {kind}",
+                       "rows": [] if not ok else [total_row(sh, 1.0, 10, 1) for sh in ok] +
+                       [total_row("Total", 1.0, 10 * len(ok), 1)]})
+    report = {"partial": {**without, "trials": len(rows), "with_results": len(rows) - sum(without.values())},
+              "tables": tables}
+    write_folder(folder, rows, report)
+
+
+# ---- running and importing the scripts ----
+
+def run(args, env=None, cwd=None):
+    return subprocess.run([sys.executable] + args, capture_output=True, text=True, env=env, cwd=cwd, timeout=120)
+
+
+def load(scripts, name):
+    """A script of scripts/ as a module (its main() is not run)."""
+    sys.dont_write_bytecode = True  # no __pycache__ left in the source tree
+    spec = importlib.util.spec_from_file_location(name + "_under_test", os.path.join(scripts, name + ".py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def no_roger_env(work):
+    """An environment in which no roger program can be found: no $ROGER, a PATH of an empty folder
+    (and, run in `work` with the script copied there by alone(), no build/engine/roger beside the
+    script or below the current folder)."""
+    env = {k: v for k, v in os.environ.items() if k != "ROGER"}
+    empty = os.path.join(work, "empty_path")
+    os.makedirs(empty, exist_ok=True)
+    env["PATH"] = empty
+    return env
+
+
+def alone(scripts, work, name):
+    """A copy of a script in a folder of its own: no build/engine/roger beside it to find."""
+    folder = os.path.join(work, "alone", "scripts")
+    os.makedirs(folder, exist_ok=True)
+    shutil.copy(os.path.join(scripts, name), folder)
+    return os.path.join(folder, name)
+
+
+def one_line_error(r, what):
+    lines = r.stderr.strip().splitlines()
+    expect(r.returncode != 0, f"{what}: exit status 0, expected an error")
+    expect("Traceback" not in r.stderr, f"{what}: a traceback, not a one-line error:\n{r.stderr}")
+    expect(len(lines) == 1, f"{what}: expected one line on stderr, got {len(lines)}:\n{r.stderr}")
+    return lines[0]
+
+
+def table_row(stdout, first_cell):
+    rows = [line for line in stdout.splitlines() if line.startswith(f"| {first_cell} |")]
+    expect(rows, f"no table row '{first_cell}' in:\n{stdout}")
+    return [c.strip() for c in rows[0].strip("|").split("|")]
+
+
+# ---- the checks ----
+
+def transfer_unreached(scripts, work):
+    folder = os.path.join(work, "transfer_unreached")
+    transfer_folder(folder, unreached={"SG_small/DC2", "T_coarse/DC6"})
+    r = run([os.path.join(scripts, "transfer_figure.py"), folder, os.path.join(work, "transfer_unreached.svg")])
+    expect(r.returncode == 0 and "Traceback" not in r.stderr, f"exit status {r.returncode}:\n{r.stderr}")
+    # Trial 0 reached the threshold in 100 s; trial 1 never did: its whole training, 1810 s, stands in.
+    expect(table_row(r.stdout, "small")[5] == "≥ 15:55", f"small's SG/DC2 time: {table_row(r.stdout, 'small')[5]!r}, "
+           "expected '≥ 15:55' (the mean of 100 s and trial 1's whole training, 1810 s)")
+    expect(table_row(r.stdout, "long arms")[5] == "1:50", f"long arms' time: {table_row(r.stdout, 'long arms')[5]!r}")
+    coarse = table_row(r.stdout, "SG with coarse eyes (32 px, 60 degrees), T full")
+    expect(coarse[2] == "≥ 15:55" and coarse[1] == "1:50", f"the maturation row: {coarse}")
+    expect(r.stderr == "", f"a complete folder gave a warning:\n{r.stderr}")
+
+
+def transfer_partial(scripts, work):
+    folder = os.path.join(work, "transfer_partial")
+    transfer_folder(folder, failed={"b_small_clutter"})
+    out = os.path.join(work, "transfer_partial.svg")
+    r = run([os.path.join(scripts, "transfer_figure.py"), folder, out])
+    expect(r.returncode == 0, f"exit status {r.returncode} (a partial folder is drawn, with a warning):\n{r.stderr}")
+    expect("1 failed" in r.stderr and "of 92 trials" in r.stderr and "b_small_clutter" in r.stderr,
+           f"no warning naming the partial folder (1 failed of 92 trials) and b_small_clutter on stderr:\n{r.stderr!r}")
+    small = table_row(r.stdout, "small")
+    expect(small[3].endswith("(1 failed)"), f"small's (b) 3 obstacles cell is not marked '(1 failed)': {small[3]!r}")
+    expect(not any("failed" in c or "pending" in c for c in small[1:3] + small[4:]),
+           f"cells of complete evaluations are marked: {small}")
+    with open(out) as f:
+        picture = f.read()
+    expect("partial results" in picture and ">*</text>" in picture,
+           "the figure has no note of the partial folder and no '*' over the bar concerned")
+
+
+def transfer_partial_rows(scripts, work):
+    folder = os.path.join(work, "transfer_partial_rows")
+    transfer_folder(folder, pending_rows={"c_wide_eyes_open": 1})
+    r = run([os.path.join(scripts, "transfer_figure.py"), folder, os.path.join(work, "transfer_partial_rows.svg")])
+    expect(r.returncode == 0, f"exit status {r.returncode}:\n{r.stderr}")
+    expect("1 pending" in r.stderr and "c_wide_eyes_open" in r.stderr, f"no warning naming c_wide_eyes_open:\n{r.stderr!r}")
+    cell = table_row(r.stdout, "wide eyes")[2]
+    expect(cell.endswith("(1 pending)"), f"wide eyes' (c) open cell is not marked '(1 pending)': {cell!r}")
+
+
+def transfer_no_file(scripts, work):
+    folder = os.path.join(work, "transfer_no_file")
+    transfer_folder(folder)
+    with open(os.path.join(folder, "report.json")) as f:
+        text = f.read()
+    with open(os.path.join(folder, "report.json"), "w") as f:
+        f.write(text[:len(text) // 2])  # cut short, as by a full disk
+    before = sorted(os.listdir(folder))
+    r = run([os.path.join(scripts, "transfer_figure.py"), folder])
+    after = sorted(os.listdir(folder))
+    expect(after == before, f"the failed script left {sorted(set(after) - set(before))} in the results folder")
+    one_line_error(r, "transfer_figure.py on a report.json cut short")
+
+
+def atomic_writes(scripts, work):
+    # Every open for writing names a temporary (PATH + ".tmp"), renamed over the file once whole.
+    for name in ("transfer_figure.py", "noise_figure.py", "noise_kinds.py", "failure_modes.py"):
+        with open(os.path.join(scripts, name)) as f:
+            source = f.read()
+        for target in re.findall(r"open\(([^\n]*?),\s*[\"'][wa]b?[\"']", source):
+            expect(".tmp" in target, f"{name} writes {target} in place, not through a temporary and os.replace")
+
+
+def failure_modes_no_roger(scripts, work):
+    script = alone(scripts, work, "failure_modes.py")
+    env = no_roger_env(work)
+    line = one_line_error(run([script, os.path.join(work, "nothing"), "--trials", "0", "--episodes", "1"], env, work),
+                          "failure_modes.py without roger")
+    expect("roger" in line, f"the error does not say roger is missing: {line!r}")
+    env["ROGER"] = os.path.join(work, "no_such_roger")
+    line = one_line_error(run([script, os.path.join(work, "nothing")], env, work),
+                          "failure_modes.py with $ROGER naming nothing")
+    expect("no_such_roger" in line, f"the error does not name $ROGER's program: {line!r}")
+
+
+def noise_figure_no_roger(scripts, work):
+    folder = os.path.join(work, "noise_no_roger")
+    noise_folder(folder)
+    before = sorted(os.listdir(folder))
+    r = run([alone(scripts, work, "noise_figure.py"), folder], no_roger_env(work), work)
+    line = one_line_error(r, "noise_figure.py without roger")
+    expect("roger" in line, f"the error does not say roger is missing: {line!r}")
+    expect(sorted(os.listdir(folder)) == before, f"files left behind: {sorted(set(os.listdir(folder)) - set(before))}")
+
+
+def noise_figure_partial(scripts, work):
+    nf = load(scripts, "noise_figure")
+    folder = os.path.join(work, "noise_partial")
+    noise_folder(folder, failed={"8"}, pending_rows={"2": 1})
+    table = nf.table_three(folder)
+    expect(sorted(table) == [0, 0.5, 1, 2, 4, 8], f"table_three: {table}")
+    missing = nf.left_out(folder)
+    expect(missing == {2: {"failed": 0, "pending": 1}, 8: {"failed": 1, "pending": 0}},
+           f"left_out: {missing}, expected 1 pending at 2 M (the Total row's field) and 1 failed at 8 M (summary.csv)")
+    note = nf.warning(folder, missing)
+    expect("1 failed" in note and "of 26 trials" in note and "III_x8" in note and "III_x2" in note,
+           f"the warning does not say the folder is partial and which evaluations: {note!r}")
+    points = {nf.SERIES[2][0]: table, nf.SERIES[0][0]: nf.with_wilson({s: (190, 200) for s in nf.SCALES})}
+    printed = "\n".join(nf.printed(points, missing))
+    expect("8 M 98.0% (147/150)" in printed and "(1 failed)" in printed and "(1 pending)" in printed,
+           f"the policies' points are not marked:\n{printed}")
+    expect(printed.count("(1 failed)") == 1, f"a scripted point marked too:\n{printed}")
+    picture = nf.svg(points, nf.partial_of(folder), set(missing))
+    expect("partial results" in picture and picture.count(">*</text>") == 2,
+           "the figure has no note of the partial folder, or not one '*' per point concerned")
+
+
+def noise_kinds_options(scripts, work):
+    nk = load(scripts, "noise_kinds")
+    expect(nk.run_command("R", "OUT") == ["R", "run", "scripts/noise_kinds.lua", "--out", "OUT", "--jobs", "2"],
+           f"the default command changed: {nk.run_command('R', 'OUT')}")
+    cmd = nk.run_command("R", "OUT", jobs=1, trials=1, only=["eval/III_none", "T"])
+    expect(cmd[:5] == ["R", "run", "scripts/noise_kinds.lua", "--out", "OUT"] and
+           " ".join(cmd[5:]) == "--jobs 1 --trials 1 --only eval/III_none --only T", f"the options are not passed: {cmd}")
+    r = run([os.path.join(scripts, "noise_kinds.py"), "--help"])
+    expect(r.returncode == 0 and all(o in r.stdout for o in ("--trials", "--only", "--jobs")),
+           f"--help does not offer --trials, --only and --jobs:\n{r.stdout}{r.stderr}")
+    with open(os.path.join(scripts, "noise_kinds.py")) as f:
+        doc = f.read().split('"""')[1]
+    expect("--trials" in doc and "--only" in doc, "the docstring does not document --trials and --only")
+
+
+def noise_kinds_partial(scripts, work):
+    nk = load(scripts, "noise_kinds")
+    folder = os.path.join(work, "kinds_partial")
+    kinds_folder(folder, ["none", "joints_bias", "all"], failed={"joints_bias"}, never={"all"})
+    expect(nk.table_three(folder, "all") is None, "an evaluation without a result is not None")
+    expect(nk.table_three(folder, "joints_bias")[:2] == (30, 30), f"joints_bias: {nk.table_three(folder, 'joints_bias')}")
+    missing = nk.left_out(folder)
+    expect(missing == {"III_joints_bias": {"failed": 1, "pending": 0}, "III_all": {"failed": 0, "pending": 4}},
+           f"left_out: {missing}")
+    note = nk.warning(folder, missing, ["III_none", "III_joints_bias", "III_all"])
+    expect("of 12 trials" in note and "III_joints_bias" in note and "III_all" in note,
+           f"the warning does not say the folder is partial and which evaluations: {note!r}")
+    rows = [{"kind": k, "params": p, "unobstructed": [200, 200], "cluttered": [199, 200], "sort": [20, 20],
+             "table3": None if nk.table_three(folder, k) is None else list(nk.table_three(folder, k))}
+            for k, p in (("none", {}), ("joints_bias", {"noise_joints_bias": "0.02"}), ("all", {"noise_joints_bias": "0.02"}))]
+    md = nk.markdown(rows, missing)
+    expect(table_row(md, "none")[5] == "100.0% (40/40) [95.0, 100.0]", f"none's cell: {table_row(md, 'none')[5]!r}")
+    expect(table_row(md, "joints_bias")[5].endswith("(1 failed)"), f"joints_bias: {table_row(md, 'joints_bias')}")
+    expect(table_row(md, "all")[5] == "- (4 pending)", f"all: {table_row(md, 'all')}")
+
+
+def noise_kinds_no_roger(scripts, work):
+    r = run([alone(scripts, work, "noise_kinds.py"), os.path.join(work, "kinds_no_roger")], no_roger_env(work), work)
+    line = one_line_error(r, "noise_kinds.py without roger")
+    expect("roger" in line, f"the error does not say roger is missing: {line!r}")
+    expect(not os.path.exists(os.path.join(work, "kinds_no_roger")), "a results folder was made")
+
+
+CHECKS = [transfer_unreached, transfer_partial, transfer_partial_rows, transfer_no_file, atomic_writes,
+          failure_modes_no_roger, noise_figure_no_roger, noise_figure_partial, noise_kinds_options,
+          noise_kinds_partial, noise_kinds_no_roger]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--work", required=True, help="a folder for the synthetic results (emptied first)")
+    ap.add_argument("--scripts", default=os.path.join(HERE, os.pardir, os.pardir, "scripts"),
+                    help="the folder of the scripts to check (default: the source tree's scripts/)")
+    a = ap.parse_args()
+    scripts = os.path.abspath(a.scripts)
+    work = os.path.abspath(a.work)
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
+    failed = []
+    for check in CHECKS:
+        try:
+            check(scripts, work)
+            print(f"ok    {check.__name__}")
+        except Failed as e:
+            failed.append(check.__name__)
+            print(f"FAIL  {check.__name__}: {e}")
+        except Exception as e:  # a script's function missing or crashing: the check fails, the others run
+            failed.append(check.__name__)
+            print(f"FAIL  {check.__name__}: {type(e).__name__}: {e}")
+    if failed:
+        print(f"check_figure_scripts: {len(failed)} of {len(CHECKS)} checks failed: {', '.join(failed)}")
+        return 1
+    print(f"check_figure_scripts: all {len(CHECKS)} checks hold")
+    shutil.rmtree(work, ignore_errors=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
