@@ -107,7 +107,7 @@ TEST_CASE("roger check shows a teacher function's prints for its first call only
 
 // Found by a probe: a curriculum in lab/ naming its scenario "lab/walled.lua" checked ok from lab's
 // parent (found from the current folder) and failed from any other folder.
-TEST_CASE("roger check warns of a stage's scenario found only from the current folder", "[cli]") {
+TEST_CASE("roger check warns of a stage's scenario found only from the current folder, and of rising exploration", "[cli]") {
   const fs::path dir = fs::temp_directory_path() / ("roger_cli_from_here_" + std::to_string(::getpid()));
   fs::create_directories(dir / "lab");
   fs::copy_file("scenarios/unobstructed.lua", dir / "lab" / "walled.lua", fs::copy_options::overwrite_existing);
@@ -133,6 +133,17 @@ TEST_CASE("roger check warns of a stage's scenario found only from the current f
   CHECK(beside.err.find("warning") == std::string::npos);
   // Found by a probe: a bare name with the file beside the curriculum said only that
   // scenarios/walled.lua does not exist.
+  // Found by a probe: a rising exploration schedule (the two epsilons swapped) passed without a word.
+  std::ofstream(dir / "lab" / "eps.lua") << "local p = require('lib.skills').primitives()\n"
+                                            "return { stages = { roger.stage{ name = 'S', time_limit = 5,\n"
+                                            "  absorbing = roger.converged(p.phi3), budget = { episodes = 3 },\n"
+                                            "  learner = { epsilon_start = 0.05, epsilon_end = 1 },\n"
+                                            "  contexts = { { name = 'A', actions = { p.phi3 } } } } } }\n";
+  const Run eps = run_roger_command(home, "check lab/eps.lua");
+  CHECK(eps.status == 0);
+  CHECK_THAT(eps.err, Catch::Matchers::Contains("roger: warning: lab/eps.lua:4: stage 'S': learner: epsilon_start 0.05 "
+                                                "is below epsilon_end 1: exploration rises over the budget instead "
+                                                "of falling (the two swapped?)"));
   curriculum("walled");
   const Run bare = run_roger_command(home, "check lab/p1.lua");
   CHECK(bare.status == 1);

@@ -303,7 +303,8 @@ int check_curriculum_file(const std::string& path, const std::string& shown, con
     if (const std::string w = st.teacher_window_warning(); !w.empty()) std::fprintf(stderr, "roger: warning: %s\n", w.c_str());
     // Found by a probe: a curriculum in lab/ naming "lab/x.lua" checked ok from lab/'s parent and
     // failed from any other folder.
-    if (const std::string w = st.scenario_warning(); !w.empty()) std::fprintf(stderr, "roger: warning: %s\n", w.c_str());
+    for (const std::string& w : {st.scenario_warning(), st.learner_warning()})
+      if (!w.empty()) std::fprintf(stderr, "roger: warning: %s\n", w.c_str());
     std::string contexts;
     for (const auto& c : st.contexts) contexts += (contexts.empty() ? "" : " ") + c.name;
     stages += (stages.empty() ? "" : "; ") + st.name + ": " + contexts;

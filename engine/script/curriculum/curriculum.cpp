@@ -123,6 +123,14 @@ std::string CurriculumStage::scenario_warning() const {
   return (at > 0 ? file + ":" + std::to_string(at) + ": " : std::string()) + where() + ": " + w;
 }
 
+std::string CurriculumStage::learner_warning() const {
+  if (!(learner.epsilon_start < learner.epsilon_end)) return "";
+  const int at = curriculum_detail::field_line(*this, "", "learner");
+  return (at > 0 ? file + ":" + std::to_string(at) + ": " : std::string()) + where() + ": learner: epsilon_start " +
+         format_number(learner.epsilon_start) + " is below epsilon_end " + format_number(learner.epsilon_end) +
+         ": exploration rises over the budget instead of falling (the two swapped?)";
+}
+
 std::string CurriculumStage::where(const std::string& context) const {
   return "stage '" + name + "'" + (context.empty() ? "" : ", context '" + context + "'");
 }

@@ -126,6 +126,9 @@ struct CurriculumStage {
   // "" or, at the `scenario` field's file:line, why the scenario's path will not be found from
   // another folder than this one (scenario_found_from_here). A warning for roger check.
   std::string scenario_warning() const;
+  // "" or, at the `learner` field's file:line, that exploration rises over the budget
+  // (epsilon_start below epsilon_end: the two swapped, most likely). A warning for roger check.
+  std::string learner_warning() const;
   // How many test tasks each checkpoint's and the final evaluation run: the test set's, else the
   // checkpoints' episode counts.
   int checkpoint_test_tasks() const { return test.given ? test.tasks : checkpoints.episodes; }
