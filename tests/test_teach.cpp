@@ -1801,6 +1801,11 @@ TEST_CASE("a teacher whose window cannot fill within the budget is warned of", "
              Contains("levels.lua:8: stage 'S': roger.teacher.lcas: its 3 levels of eye_pixels need 4 episodes (two "
                       "windows of 1 per lift) before the last, not fewer than the budget's 4 episodes: no episode will "
                       "train at eye_pixels = 128, the level the test set runs at"));
+  // Found by a probe: replay = 1 replayed the first level for the whole budget.
+  CHECK_THAT(warning("plr", "{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.plr{ replay = 1 } }"),
+             Contains("plr.lua:8: stage 'S': roger.teacher.plr: replay = 1 replays a seen level at every episode: "
+                      "after the first it never draws a new one, and trains on that one task for the whole budget"));
+  CHECK(warning("plr_fits", "{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.plr{ replay = 0.9 } }").empty());
   const std::string roger = ROGER_BINARY, said = (dir.path / "said.txt").string();
   CHECK(run_shell(roger + " check " + (dir.path / "seq.lua").string() + " > " + said + " 2>&1") == 0);
   CHECK_THAT(slurp(said), Contains("roger: warning: ") && Contains("seq.lua:8: stage 'S': roger.teacher.sequence: step 1's window"));

@@ -647,6 +647,10 @@ std::string CurriculumStage::teacher_window_warning() const {
     return at + where() + ": " + spec.name() + ": fit_every = " + std::to_string(spec.fit_every) + " is not below " +
            budget + ": it will never fit its mixture before the last episode, and draws every task uniformly, as "
            "roger.teacher.random does";
+  // A replay every episode once a level is seen: the first level, for ever (found by a probe).
+  if (spec.kind == TeacherSpec::Kind::kPlr && spec.replay >= 1.0 && budget_episodes > 1)
+    return at + where() + ": " + spec.name() + ": replay = 1 replays a seen level at every episode: after the first "
+           "it never draws a new one, and trains on that one task for the whole budget";
   if (spec.kind != TeacherSpec::Kind::kSequence) return "";
   for (size_t i = 0; i + 1 < spec.steps.size(); ++i)  // the last step never moves on
     if (spec.steps[i].window >= budget_episodes)
