@@ -131,6 +131,18 @@ TEST_CASE("roger check warns of a stage's scenario found only from the current f
   const Run beside = run_roger_command(home, "check lab/p1.lua");
   CHECK(beside.status == 0);
   CHECK(beside.err.find("warning") == std::string::npos);
+  // Found by a probe: checked from the curriculum's own folder, where the path beside it is also
+  // the path from here, it was warned of.
+  const std::string in_lab = "cd " + (dir / "lab").string() + " && ROGER_HOME=" + fs::current_path().string() + " ";
+  for (const char* named : {"p1.lua", "./p1.lua"}) {
+    const Run own = run_roger_command(in_lab, std::string("check ") + named);
+    CHECK(own.status == 0);
+    CHECK(own.err.find("warning") == std::string::npos);
+  }
+  curriculum("../lab/walled.lua");
+  const Run up = run_roger_command(in_lab, "check p1.lua");
+  CHECK(up.status == 0);
+  CHECK(up.err.find("warning") == std::string::npos);
   // Found by a probe: a bare name with the file beside the curriculum said only that
   // scenarios/walled.lua does not exist.
   // Found by a probe: a rising exploration schedule (the two epsilons swapped) passed without a word.

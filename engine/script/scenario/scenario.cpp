@@ -461,6 +461,8 @@ std::string scenario_found_from_here(const std::string& recorded, const std::str
   if (!path_like || written.is_absolute() || naming_file.empty() || !fs::is_regular_file(written, ec)) return "";
   if (fs::is_regular_file(project_root() / written, ec)) return "";  // found from any folder
   const fs::path file = as_found(naming_file), here = fs::absolute(written, ec).lexically_normal();
+  // Beside the naming file (from its own folder, the two read alike: found by a probe).
+  if (fs::is_regular_file(file.parent_path() / written, ec)) return "";
   const fs::path beside = here.lexically_relative(fs::absolute(file, ec).parent_path().lexically_normal());
   return "scenario '" + recorded + "' was found from the current folder, not beside " + naming_file +
          ": from another folder it will not be found (written relative to " + file.filename().string() + ", it is '" +
