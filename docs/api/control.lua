@@ -17,7 +17,7 @@
 ---Immutable; the same controller is the same Lua value.
 ---@class roger.Controller
 ---@field name string its name, shown in policies, pictures and messages
----@field kind string a primitive kind, "subject_to", "sequence", "policy", ...
+---@field kind string a primitive kind, "subject_to", "sequence", "policy" or "binding"
 ---@field subordinate? roger.Controller a composition's subordinate (c2 of c2 <| c1)
 ---@field superior? roger.Controller a composition's superior (c1 of c2 <| c1)
 ---@field steps? roger.Controller[] a sequence's steps

@@ -3,8 +3,8 @@
 -- sandbox): Lua 5.4's base, math, string, table, utf8 and coroutine libraries, with `require`
 -- returning a standard library by its name and finding dotted module names in the script's
 -- folder and the project's scenarios/, curricula/ and scripts/, and `print` writing to standard
--- error. The io, os, debug and package libraries are
--- not there (.luarc.json disables them for the editor; touching one raises an error that says
+-- error. The io, os and package libraries and debug's functions but `debug.traceback` are
+-- stand-ins (.luarc.json disables them for the editor; touching one raises an error that says
 -- the script is sandboxed), and neither is anything marked deprecated below: an editor strikes
 -- it through, the linter (.luacheckrc) reports it, and tests/test_lua_sandbox.cpp checks that
 -- the sandbox indeed refuses it. `setmetatable` refuses a metatable with a `__gc` field (a

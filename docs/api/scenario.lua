@@ -9,7 +9,7 @@
 ---@class roger
 roger = {}
 
----The engine's version, e.g. "0.9.0".
+---The engine's version, e.g. "0.1.0".
 ---@type string
 roger.version = ""
 
