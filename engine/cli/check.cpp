@@ -300,10 +300,9 @@ int check_curriculum_file(const std::string& path, const std::string& shown, con
   const Curriculum cur = Curriculum::load(path, limits);
   std::string stages;
   for (const auto& st : cur.stages()) {
-    if (const std::string w = st.teacher_window_warning(); !w.empty()) std::fprintf(stderr, "roger: warning: %s\n", w.c_str());
-    // Found by a probe: a curriculum in lab/ naming "lab/x.lua" checked ok from lab/'s parent and
-    // failed from any other folder.
-    for (const std::string& w : {st.scenario_warning(), st.learner_warning()})
+    // What loads and trains, but not as its writer meant: a teacher that cannot move within the
+    // budget, a scenario path found only from this folder, exploration that rises.
+    for (const std::string& w : {st.teacher_window_warning(), st.scenario_warning(), st.learner_warning()})
       if (!w.empty()) std::fprintf(stderr, "roger: warning: %s\n", w.c_str());
     std::string contexts;
     for (const auto& c : st.contexts) contexts += (contexts.empty() ? "" : " ") + c.name;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -832,8 +831,10 @@ void check_callbacks(Curriculum& cur, const CurriculumStage& st, const Curriculu
       QuietPrints prints(cur.sandbox(), "roger check called the reward function again, at an episode's end");
       prints.quiet();
       const double end = st.episode_time_limit(spec);
-      for (const char* event : {"timeout", "absorbing"}) {
-        called_as = std::strcmp(event, "timeout") == 0 ? "an episode's end by time-out" : "an episode's end in the absorbing state";
+      const std::pair<const char*, const char*> ends[] = {{"timeout", "an episode's end by time-out"},
+                                                          {"absorbing", "an episode's end in the absorbing state"}};
+      for (const auto& [event, as] : ends) {
+        called_as = as;
         cur.call_reward(st, ctx, state, 0, event, end);
       }
     }
