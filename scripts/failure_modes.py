@@ -28,42 +28,20 @@ import argparse
 import collections
 import json
 import os
-import shutil
-import subprocess
 import sys
 import tempfile
 
-HERE = os.path.dirname(os.path.abspath(__file__))
+sys.dont_write_bytecode = True  # results_common, imported below, leaves no __pycache__ in scripts/
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # its folder: also when loaded by path or run with -P
+from results_common import find_roger, run_roger
 
+NAME = "failure_modes.py"  # in the messages of results_common's functions
 SHAPES = ["circle", "triangle", "pentagon", "spade"]
-
-
-def find_roger(given=None):
-    """The roger program to run: `given` (--roger), else $ROGER, else the engine built beside this
-    script (the source tree's build/engine/roger), else roger on PATH. Exits with one line naming
-    them when none is there: a FileNotFoundError traceback from subprocess said nothing of where to look."""
-    for exe, origin in ((given, "--roger"), (os.environ.get("ROGER"), "$ROGER")):
-        if exe:  # a path, or a name looked up on PATH as subprocess would
-            if not shutil.which(exe):
-                sys.exit(f"failure_modes.py: {origin} {exe}: no such program")
-            return shutil.which(exe)
-    built = os.path.normpath(os.path.join(HERE, os.pardir, "build", "engine", "roger"))
-    if os.access(built, os.X_OK):
-        return built
-    on_path = shutil.which("roger")
-    if on_path:
-        return on_path
-    sys.exit(f"failure_modes.py: no roger program: give --roger PATH or set ROGER, or build "
-             f"{built}, or put roger on PATH")
 
 
 def roger(args, exe):
     """roger's stdout; a failing command stops the script with roger's own last line, not a traceback."""
-    r = subprocess.run([exe] + args, capture_output=True, text=True)
-    if r.returncode != 0:
-        said = (r.stderr.strip().splitlines() or ["(nothing on stderr)"])[-1]
-        sys.exit(f"failure_modes.py: `{' '.join([exe] + args)}` exited {r.returncode}: {said}")
-    return r.stdout
+    return run_roger(NAME, [exe] + args)
 
 
 def failing_seeds(exe, policy, shape, first, episodes):
@@ -114,7 +92,7 @@ def main():
                     "build/engine/roger, else roger on PATH)")
     ap.add_argument("--verbose", action="store_true", help="also print each failing episode and its mode")
     a = ap.parse_args()
-    a.roger = find_roger(a.roger)
+    a.roger = find_roger(NAME, a.roger)
     modes = ["thrash", "detour", "preshape", "grasp", "approach", "unbalanced", "dropped", "other"]
     total = collections.Counter()
     episodes_total = 0

@@ -16,16 +16,17 @@ note. The roger program: --roger, else $ROGER, else the source tree's build/engi
 roger on PATH. Standard library only; everything is computed first, then each file written
 atomically.
 """
-import csv
 import json
 import math
 import os
-import shutil
-import subprocess
 import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
+sys.dont_write_bytecode = True  # results_common, imported below, leaves no __pycache__ in scripts/
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # its folder: also when loaded by path or run with -P
+import results_common
+from results_common import find_roger, marked, read_report, run_roger, without, write_atomically
 
+NAME = "noise_figure.py"  # in the messages of results_common's functions
 SCALES = [0, 0.5, 1, 2, 4, 8]
 M = {"noise_image": "10", "noise_joints": "0.01", "noise_base": "0.01", "noise_touch": "0.1", "noise_effort": "0.1"}
 SERIES = [("scripted, unobstructed", "#1f4e8c"), ("scripted, cluttered", "#7da7d9"),
@@ -53,23 +54,8 @@ def scripted(roger, scenario, scale):
            "--episodes", "200", "--seed", "9200000", "--json", "--set", f"noise_scale={scale}"]
     for k, v in M.items():
         cmd += ["--set", f"{k}={v}"]
-    r = subprocess.run(cmd, capture_output=True, text=True)
-    if r.returncode != 0:  # roger's own last line, not a CalledProcessError traceback
-        said = (r.stderr.strip().splitlines() or ["(nothing on stderr)"])[-1]
-        sys.exit(f"noise_figure.py: `{' '.join(cmd)}` exited {r.returncode}: {said}")
-    r = json.loads(r.stdout.strip().splitlines()[-1])
+    r = json.loads(run_roger(NAME, cmd).strip().splitlines()[-1])
     return r["successes"], r["episodes"]
-
-
-def read_report(results):
-    path = os.path.join(results, "report.json")
-    if not os.path.exists(path):
-        sys.exit(f"{path} does not exist: run `roger report {results}` first")
-    try:
-        with open(path) as f:
-            return json.load(f)
-    except ValueError as e:  # cut short or edited: say which file, not a traceback
-        sys.exit(f"{path}: not JSON ({e}): run `roger report {results}` again")
 
 
 def table_three(results):
@@ -95,73 +81,33 @@ def table_three(results):
 
 def left_out(results):
     """{scale: {"failed": n, "pending": m}} of the evaluations III_x<scale> with trials without a
-    result, which their points leave out: from summary.csv's status column (a corrupt record counts
-    as failed), or the evaluation's Total row in report.json where it says more (the report's
-    evaluation rows carry "failed" and "pending" only from some version on: .get)."""
+    result, which their points leave out (results_common.without_result)."""
     names = {f"III_x{scale_name(s)}": s for s in SCALES}
-    out = {s: {"failed": 0, "pending": 0} for s in SCALES}
-    summary = os.path.join(results, "summary.csv")
-    if os.path.exists(summary):
-        with open(summary, newline="") as f:
-            for row in csv.DictReader(f):
-                if row["kind"] == "eval" and row["evaluation"] in names and row["status"] != "ok":
-                    out[names[row["evaluation"]]]["pending" if row["status"] == "pending" else "failed"] += 1
-    for t in read_report(results)["tables"]:
-        for r in t.get("rows", []):
-            if t.get("evaluation") in names and r.get("object") == "Total":
-                m = out[names[t["evaluation"]]]
-                for key in ("failed", "pending"):
-                    m[key] = max(m[key], r.get(key, 0))
-    return {s: m for s, m in out.items() if m["failed"] or m["pending"]}
-
-
-def without(m):
-    """'1 failed, 2 pending': the trials {"failed", "pending"} counts, or '' for none."""
-    m = m or {}
-    return ", ".join(f"{m[k]} {k}" for k in ("failed", "pending") if m.get(k, 0))
+    missing = results_common.without_result(results, read_report(results))["eval"]
+    return {names[e]: m for e, m in missing.items() if e in names}
 
 
 def partial_of(results):
-    """'of 14 trials, 1 failed' when report.json says the folder is partial (some trials failed or
-    have no result yet), else ''."""
-    p = read_report(results).get("partial") or {}
-    return f"of {p.get('trials', '?')} trials, {without(p)}" if without(p) else ""
+    """'of 14 trials, 1 failed' when RESULTS/report.json says the folder is partial, else ''."""
+    return results_common.partial_of(read_report(results))
 
 
 def warning(results, missing):
     """The stderr warning of a partial folder, or '': the policies' points pool the other trials."""
     lines = [f"  evaluation III_x{scale_name(s)}: {without(m)}" for s, m in sorted(missing.items())]
-    if not partial_of(results) and not lines:
-        return ""
-    head = (f"{results}: partial results, {partial_of(results)}" if partial_of(results)
-            else f"{results}: some trials have no result")
-    if not lines:
-        return f"noise_figure.py: {head}; none of them in the evaluations III_x* drawn here"
-    return (f"noise_figure.py: {head}; the policies' points below pool only the trials with "
-            "results, leaving out (marked so):\n" + "\n".join(lines))
+    return results_common.partial_warning(
+        NAME, results, read_report(results), lines, "the evaluations III_x* drawn here",
+        "the policies' points below pool only the trials with results, leaving out (marked so)")
 
 
 def printed(points, missing):
     """The lines printed: each series' points, those of the policies marked with the trials they leave out."""
     out = []
     for label, pts in points.items():
-        mark = lambda s: f" ({without(missing.get(s))})" if label == SERIES[2][0] and without(missing.get(s)) else ""
-        out.append(label + ": " + ", ".join(f"{s} M {100 * k / n:.1f}% ({k}/{n}) [{100 * lo:.1f}, {100 * hi:.1f}]"
-                                            + mark(s) for s, (k, n, lo, hi) in sorted(pts.items()) if n))
+        short = missing if label == SERIES[2][0] else {}
+        out.append(label + ": " + ", ".join(marked(f"{s} M {100 * k / n:.1f}% ({k}/{n}) [{100 * lo:.1f}, {100 * hi:.1f}]",
+                                                   short.get(s)) for s, (k, n, lo, hi) in sorted(pts.items()) if n))
     return out
-
-
-def write_atomically(path, text):
-    """Writes the file whole or not at all (a temporary beside it, then a rename): a results folder
-    never holds a half-written file, nor the temporary of a failed write."""
-    try:
-        with open(path + ".tmp", "w") as f:
-            f.write(text)
-        os.replace(path + ".tmp", path)
-    except BaseException:
-        if os.path.exists(path + ".tmp"):
-            os.remove(path + ".tmp")
-        raise
 
 
 def with_wilson(pts):
@@ -216,25 +162,6 @@ def svg(points, partial="", short=()):
     return "\n".join(out) + "\n"
 
 
-def find_roger(given=None):
-    """The roger program to run: `given` (--roger), else $ROGER, else the engine built beside this
-    script (the source tree's build/engine/roger), else roger on PATH. Exits with one line naming
-    them when none is there: a FileNotFoundError traceback from subprocess said nothing of where to look."""
-    for exe, origin in ((given, "--roger"), (os.environ.get("ROGER"), "$ROGER")):
-        if exe:  # a path, or a name looked up on PATH as subprocess would
-            if not shutil.which(exe):
-                sys.exit(f"noise_figure.py: {origin} {exe}: no such program")
-            return shutil.which(exe)
-    built = os.path.normpath(os.path.join(HERE, os.pardir, "build", "engine", "roger"))
-    if os.access(built, os.X_OK):
-        return built
-    on_path = shutil.which("roger")
-    if on_path:
-        return on_path
-    sys.exit(f"noise_figure.py: no roger program: give --roger PATH or set ROGER, or build {built}, or put "
-             "roger on PATH")
-
-
 def main():
     args = [a for a in sys.argv[1:]]
     roger = None
@@ -251,7 +178,7 @@ def main():
     if not table:
         sys.exit(f"{results} holds no evaluation III_x... of scripts/noise.lua (trials/eval/III_x*)")
     missing = left_out(results)
-    roger = find_roger(roger)
+    roger = find_roger(NAME, roger)
     points = {SERIES[2][0]: table}
     for label, scenario in ((SERIES[0][0], "unobstructed"), (SERIES[1][0], "cluttered")):
         points[label] = with_wilson({s: scripted(roger, scenario, s) for s in SCALES})

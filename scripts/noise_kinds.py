@@ -22,36 +22,20 @@ report written) is tabulated so too; any other failure stops the script with one
 program: --roger, else $ROGER, else the source tree's build/engine/roger, else roger on PATH.
 """
 import argparse
-import csv
 import json
 import os
 import re
-import shutil
 import subprocess
 import sys
 import time
 
-
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.dont_write_bytecode = True  # results_common, imported below, leaves no __pycache__ in scripts/
+sys.path.insert(0, HERE)  # its folder: also when loaded by path or run with -P
+import results_common
+from results_common import find_roger, marked, read_report, run_roger, without, write_atomically
 
-
-def find_roger(given=None):
-    """The roger program to run: `given` (--roger), else $ROGER, else the engine built beside this
-    script (the source tree's build/engine/roger), else roger on PATH. Exits with one line naming
-    them when none is there: a FileNotFoundError traceback from subprocess said nothing of where to look."""
-    for exe, origin in ((given, "--roger"), (os.environ.get("ROGER"), "$ROGER")):
-        if exe:  # a path, or a name looked up on PATH as subprocess would
-            if not shutil.which(exe):
-                sys.exit(f"noise_kinds.py: {origin} {exe}: no such program")
-            return shutil.which(exe)
-    built = os.path.normpath(os.path.join(HERE, os.pardir, "build", "engine", "roger"))
-    if os.access(built, os.X_OK):
-        return built
-    on_path = shutil.which("roger")
-    if on_path:
-        return on_path
-    sys.exit(f"noise_kinds.py: no roger program: give --roger PATH or set ROGER, or build {built}, or put "
-             "roger on PATH")
+NAME = "noise_kinds.py"  # in the messages of results_common's functions
 
 
 def run_command(roger, results, jobs="2", trials=None, only=()):
@@ -82,23 +66,8 @@ def evaluate(roger, script, policy, params, episodes, seed, extra=()):
            *extra]
     for k, v in params.items():
         cmd += ["--set", f"{k}={v}"]
-    r = subprocess.run(cmd, capture_output=True, text=True)
-    if r.returncode != 0:  # roger's own last line, not a CalledProcessError traceback
-        said = (r.stderr.strip().splitlines() or ["(nothing on stderr)"])[-1]
-        raise SystemExit(f"noise_kinds.py: `{' '.join(cmd)}` exited {r.returncode}: {said}")
-    r = json.loads(r.stdout.strip().splitlines()[-1])
+    r = json.loads(run_roger(NAME, cmd).strip().splitlines()[-1])
     return r["successes"], r["episodes"]
-
-
-def read_report(results):
-    path = os.path.join(results, "report.json")
-    if not os.path.exists(path):
-        sys.exit(f"{path} does not exist: run `roger report {results}` first")
-    try:
-        with open(path) as f:
-            return json.load(f)
-    except ValueError as e:  # cut short or edited: say which file, not a traceback
-        sys.exit(f"{path}: not JSON ({e}): run `roger report {results}` again")
 
 
 def table_three(results, name):
@@ -117,51 +86,17 @@ def table_three(results, name):
 
 def left_out(results):
     """{evaluation: {"failed": n, "pending": m}} of the evaluations with trials without a result,
-    which their cells leave out: from summary.csv's status column (a corrupt record counts as
-    failed), or the evaluation's Total row in report.json where it says more (the report's
-    evaluation rows carry "failed" and "pending" only from some version on: .get)."""
-    out = {}
-    summary = os.path.join(results, "summary.csv")
-    if os.path.exists(summary):
-        with open(summary, newline="") as f:
-            for row in csv.DictReader(f):
-                if row["kind"] == "eval" and row["status"] != "ok":
-                    m = out.setdefault(row["evaluation"], {"failed": 0, "pending": 0})
-                    m["pending" if row["status"] == "pending" else "failed"] += 1
-    for t in read_report(results)["tables"]:
-        for r in t.get("rows", []):
-            if t.get("evaluation") and r.get("object") == "Total":
-                m = out.setdefault(t["evaluation"], {"failed": 0, "pending": 0})
-                for key in ("failed", "pending"):
-                    m[key] = max(m[key], r.get(key, 0))
-    return {e: m for e, m in out.items() if m["failed"] or m["pending"]}
-
-
-def without(m):
-    """'1 failed, 2 pending': the trials {"failed", "pending"} counts, or '' for none."""
-    m = m or {}
-    return ", ".join(f"{m[k]} {k}" for k in ("failed", "pending") if m.get(k, 0))
-
-
-def partial_of(results):
-    """'of 14 trials, 1 failed' when report.json says the folder is partial (some trials failed or
-    have no result yet), else ''."""
-    p = read_report(results).get("partial") or {}
-    return f"of {p.get('trials', '?')} trials, {without(p)}" if without(p) else ""
+    which their cells leave out (results_common.without_result)."""
+    return results_common.without_result(results, read_report(results))["eval"]
 
 
 def warning(results, missing, names):
     """The stderr warning of a partial folder, or '': its Table III cells pool the other trials.
     names: the evaluations tabulated (III_<kind>)."""
     lines = [f"  evaluation {e}: {without(missing[e])}" for e in names if e in missing]
-    if not partial_of(results) and not lines:
-        return ""
-    head = (f"{results}: partial results, {partial_of(results)}" if partial_of(results)
-            else f"{results}: some trials have no result")
-    if not lines:
-        return f"noise_kinds.py: {head}; none of them in the evaluations III_<kind> tabulated here"
-    return (f"noise_kinds.py: {head}; the Table III cells below pool only the trials with results, "
-            "leaving out (cells marked so):\n" + "\n".join(lines))
+    return results_common.partial_warning(
+        NAME, results, read_report(results), lines, "the evaluations III_<kind> tabulated here",
+        "the Table III cells below pool only the trials with results, leaving out (cells marked so)")
 
 
 def markdown(rows, missing=None):
@@ -179,25 +114,10 @@ def markdown(rows, missing=None):
         if r["table3"]:
             k3, n3, lo, hi = r["table3"]
             table3 = f"{pct(k3, n3)} [{100 * lo:.1f}, {100 * hi:.1f}]"
-        short = without(missing.get("III_" + r["kind"]))
-        if short:
-            table3 += f" ({short})"
+        table3 = marked(table3, missing.get("III_" + r["kind"]))
         lines.append(f"| {r['kind']} | {level} | {pct(*r['unobstructed'])} | {pct(*r['cluttered'])} | "
                      f"{pct(*r['sort'])} | {table3} |")
     return "\n".join(lines) + "\n"
-
-
-def write_atomically(path, text):
-    """Writes the file whole or not at all (a temporary beside it, then a rename): a results folder
-    never holds a half-written file, nor the temporary of a failed write."""
-    try:
-        with open(path + ".tmp", "w") as f:
-            f.write(text)
-        os.replace(path + ".tmp", path)
-    except BaseException:
-        if os.path.exists(path + ".tmp"):
-            os.remove(path + ".tmp")
-        raise
 
 
 def main():
@@ -210,7 +130,7 @@ def main():
     ap.add_argument("--only", action="append", default=[], metavar="NAME",
                     help="only this run, RUN/CONTEXT or eval/NAME, for roger run (repeatable)")
     a = ap.parse_args()
-    a.roger = find_roger(a.roger)
+    a.roger = find_roger(NAME, a.roger)
     started = time.time()
     status = subprocess.run(run_command(a.roger, a.results, a.jobs, a.trials, a.only)).returncode
     if status != 0:

@@ -16,11 +16,16 @@ their bars. Everything is read and computed before the SVG is written, atomicall
 library only.
 """
 import csv
-import json
 import os
 import sys
 from collections import defaultdict
 
+sys.dont_write_bytecode = True  # results_common, imported below, leaves no __pycache__ in scripts/
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # its folder: also when loaded by path or run with -P
+from results_common import (marked, partial_of, partial_warning, read_report, total_rows, without, without_result,
+                            write_atomically)
+
+NAME = "transfer_figure.py"  # in the messages of results_common's functions
 BODIES = ["long_arms", "short_arms", "wide_base", "small", "big_hands", "coarse_eyes", "wide_eyes", "frozen_eyes"]
 SERIES = [("b", "open", "#7da7d9", "(b) open"), ("c", "open", "#1f4e8c", "(c) open"),
           ("b", "clutter", "#f3b27a", "(b) 3 obstacles"), ("c", "clutter", "#c0571b", "(c) 3 obstacles")]
@@ -52,79 +57,12 @@ def read_training(path):
     return runs
 
 
-def read_totals(report):
-    """Per evaluation: the Total row of its table in report.json (the parsed file)."""
-    totals = {}
-    for t in report["tables"]:
-        rows = [r for r in t.get("rows", []) if r.get("object") == "Total"]
-        if t.get("evaluation") and rows:
-            totals[t["evaluation"]] = rows[0]
-    return totals
-
-
-def read_missing(path, totals):
-    """The trials without a result, which the bars, rates and times leave out: {"eval": {evaluation:
-    {"failed": n, "pending": m}}, "train": {run/context: ...}}, from summary.csv's status column (a
-    corrupt record counts as failed), or an evaluation's Total row in report.json where it says more
-    (the report's evaluation rows carry "failed" and "pending" only from some version on: .get)."""
-    missing = {"eval": defaultdict(lambda: {"failed": 0, "pending": 0}),
-               "train": defaultdict(lambda: {"failed": 0, "pending": 0})}
-    with open(path, newline="") as f:
-        for row in csv.DictReader(f):
-            if row["status"] != "ok":
-                m = (missing["eval"][row["evaluation"]] if row["kind"] == "eval"
-                     else missing["train"][row["run"] + "/" + row["context"]])
-                m["pending" if row["status"] == "pending" else "failed"] += 1
-    for evaluation, row in totals.items():
-        for key in ("failed", "pending"):
-            if row.get(key, 0) > missing["eval"][evaluation][key]:
-                missing["eval"][evaluation][key] = row[key]
-    return {kind: {k: m for k, m in d.items() if m["failed"] or m["pending"]} for kind, d in missing.items()}
-
-
-def without(m):
-    """'1 failed, 2 pending': the trials {"failed", "pending"} counts, or '' for none."""
-    m = m or {}
-    return ", ".join(f"{m[k]} {k}" for k in ("failed", "pending") if m.get(k, 0))
-
-
-def marked(text, m):
-    """A table cell with the trials it leaves out: '99.0% [98.2, 99.6] (1 failed)'."""
-    return f"{text} ({without(m)})" if without(m) else text
-
-
-def partial_of(report):
-    """'of 14 trials, 1 failed' when report.json says the folder is partial (some trials failed or
-    have no result yet), else ''."""
-    p = report.get("partial") or {}
-    return f"of {p.get('trials', '?')} trials, {without(p)}" if without(p) else ""
-
-
 def warning(results, report, missing):
     """The stderr warning of a folder with trials without results, or '': the rates pool the others."""
     lines = [f"  evaluation {e}: {without(m)}" for e, m in sorted(missing["eval"].items())]
     lines += [f"  training {k}: {without(m)}" for k, m in sorted(missing["train"].items())]
-    if not partial_of(report) and not lines:
-        return ""
-    head = (f"{results}: partial results, {partial_of(report)}" if partial_of(report)
-            else f"{results}: some trials have no result")
-    if not lines:
-        return f"transfer_figure.py: {head}; none of them in the evaluations and runs tabulated here"
-    return (f"transfer_figure.py: {head}; the rates below pool only the trials with results, "
-            "leaving out (cells marked so):\n" + "\n".join(lines))
-
-
-def write_atomically(path, text):
-    """Writes the file whole or not at all (a temporary beside it, then a rename): a results folder
-    never holds a half-written file, nor the temporary of a failed write."""
-    try:
-        with open(path + ".tmp", "w") as f:
-            f.write(text)
-        os.replace(path + ".tmp", path)
-    except BaseException:
-        if os.path.exists(path + ".tmp"):
-            os.remove(path + ".tmp")
-        raise
+    return partial_warning(NAME, results, report, lines, "the evaluations and runs tabulated here",
+                           "the rates below pool only the trials with results, leaving out (cells marked so)")
 
 
 def min_sec(seconds):
@@ -221,23 +159,16 @@ def main():
     summary = sys.argv[1] + "/summary.csv"
     rates = read_rates(summary)
     if not any(k.startswith(("b_", "c_")) for k in rates):
-        waiting = [m for e, m in read_missing(summary, {})["eval"].items() if e.startswith(("b_", "c_"))]
+        waiting = [m for e, m in without_result(sys.argv[1])["eval"].items() if e.startswith(("b_", "c_"))]
         if waiting:  # planned, none with a result: not the folder of another script
             sys.exit(f"{summary}: no evaluation of scripts/transfer.lua has a result yet "
                      f"({without({k: sum(m[k] for m in waiting) for k in ('failed', 'pending')})})")
         sys.exit(f"{sys.argv[1]}/summary.csv holds no evaluation of scripts/transfer.lua")
-    path = os.path.join(sys.argv[1], "report.json")
-    if not os.path.exists(path):
-        sys.exit(f"{path} does not exist: run `roger report {sys.argv[1]}` first")
     out = sys.argv[2] if len(sys.argv) == 3 else sys.argv[1] + "/transfer.svg"
     # Everything before the one file written: a folder the tables cannot read leaves no figure behind.
-    try:
-        with open(path) as f:
-            report = json.load(f)
-    except ValueError as e:  # cut short or edited: say which file, not a traceback
-        sys.exit(f"{path}: not JSON ({e}): run `roger report {sys.argv[1]}` again")
-    totals = read_totals(report)
-    missing = read_missing(summary, totals)
+    report = read_report(sys.argv[1])
+    totals = total_rows(report)
+    missing = without_result(sys.argv[1], report)
     text = tables(totals, read_training(summary), missing)
     picture = svg(rates, partial_of(report), set(missing["eval"]))
     if warning(sys.argv[1], report, missing):

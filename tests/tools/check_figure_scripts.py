@@ -6,7 +6,8 @@ pending trials) and a missing roger give figures, warnings and errors, not trace
   check_figure_scripts.py --work DIR [--scripts DIR]
 
 Builds, under DIR, results folders shaped as `roger run` writes them (summary.csv and report.json,
-with only the fields the scripts read) and checks:
+or manifest.json and the trials' result.json and episodes.jsonl, with only the fields the scripts
+read) and checks:
 
   transfer_unreached      transfer_figure.py on a folder whose trial missed its threshold: no crash,
                           its mean time marked "≥" (its whole training time stands in)
@@ -29,6 +30,15 @@ with only the fields the scripts read) and checks:
   noise_kinds_partial     noise_kinds.py's functions on a partial folder: an evaluation without a
                           result gives "-", not an IndexError; the warning; the marked cells
   noise_kinds_no_roger    noise_kinds.py without roger: a one-line error
+  teachers_digest_figures teachers_digest.py on a folder of every teacher kind: sequence's trials
+                          that never left their first step and its first promotions, LCAS's most
+                          common lift schedule, ALP-GMM's mean obstacles (pooled over episodes),
+                          each kind's teacher_wall_s over train_wall_s (median, largest), the
+                          skipped tasks; a move or lift decided on the last episode left out
+  teachers_digest_partial the same folder with trials failed and pending (no summary.csv yet, as
+                          while roger run runs): the counts on stderr, the figures of the rest
+  teachers_digest_no_file a folder without manifest.json, a result.json cut short, no argument:
+                          a one-line error each
 
 --scripts: the folder of the scripts to check (default: the source tree's scripts/; give a folder of
 older copies to see the checks fail on them). Exit 0 when every check holds, 1 otherwise (each
@@ -40,6 +50,7 @@ import json
 import os
 import re
 import shutil
+import statistics
 import subprocess
 import sys
 
@@ -190,6 +201,121 @@ def kinds_folder(folder, names, failed=(), never=()):
     write_folder(folder, rows, report)
 
 
+# A results folder of scripts/teachers.lua: per trial id, its teacher's kind and what it did.
+# "moves"/"lifts": the teacher state's episodes (sequence: (episode, from, to)); "obstacles": the
+# training tasks' obstacles (episodes.jsonl); "cost": (teacher_wall_s, train_wall_s); "skipped":
+# (episode, robot_distance). train_episodes is 1500 unless given ("episodes").
+TEACHER_TRIALS = {
+    "SG/DC2/000": {"kind": None},  # a trial without a teacher: not pooled
+    # B2: trials 0 and 1 never left the circle (reached 90% at 300 and 150 episodes); trial 2
+    # promoted at 400, was demoted at 450 and promoted again at 500.
+    "T_sequence/B2/000": {"kind": "sequence", "moves": [], "reached": 300, "cost": (0.006, 2.0)},
+    "T_sequence/B2/001": {"kind": "sequence", "moves": [], "reached": 150, "cost": (0.004, 2.0)},
+    "T_sequence/B2/002": {"kind": "sequence", "moves": [(400, 1, 2), (450, 2, 1), (500, 1, 2)], "reached": 600,
+                          "cost": (0.010, 4.0)},
+    # DC3: promoted at 993 and at 1138 (then to step 3); trial 2's only move was decided on its last
+    # episode (1500): it set no episode, so the trial never left its first step.
+    "T_sequence/DC3/000": {"kind": "sequence", "moves": [(993, 1, 2)], "reached": 1200, "cost": (0.02, 5.0)},
+    "T_sequence/DC3/001": {"kind": "sequence", "moves": [(1138, 1, 2), (1300, 2, 3)], "reached": 1450,
+                           "cost": (0.02, 5.0), "skipped": [(1068, 1.993)]},
+    "T_sequence/DC3/002": {"kind": "sequence", "moves": [(1500, 1, 2)], "reached": None, "cost": (0.03, 6.0)},
+    "T_lcas/B2/000": {"kind": "lcas", "lifts": [100, 200, 300], "cost": (0.001, 4.0)},
+    "T_lcas/B2/001": {"kind": "lcas", "lifts": [100, 200, 300], "cost": (0.002, 4.0)},
+    "T_lcas/B2/002": {"kind": "lcas", "lifts": [100, 250, 300], "cost": (0.003, 4.0)},
+    # SG: 400 training episodes; trial 2's second lift was decided on its last (400): left out.
+    "SG_lcas/B1/000": {"kind": "lcas", "lifts": [50, 100], "episodes": 400, "cost": (0.0002, 0.4)},
+    "SG_lcas/B1/001": {"kind": "lcas", "lifts": [50, 100], "episodes": 400, "cost": (0.0001, 0.4)},
+    "SG_lcas/B1/002": {"kind": "lcas", "lifts": [50, 400], "episodes": 400, "cost": (0.0001, 0.4)},
+    # ALP-GMM's obstacles: 0+1+2+3 and 5+6 and 1+2+4: 24 over 9 episodes, 2.67 pooled (the trials'
+    # means, 1.5, 5.5 and 2.33, would give 3.11); shares 0.5%, 1.2%, 1.48%.
+    "T_alp/B2/000": {"kind": "alp_gmm", "obstacles": [0, 1, 2, 3], "cost": (0.05, 10.0)},
+    "T_alp/B2/001": {"kind": "alp_gmm", "obstacles": [5, 6], "cost": (0.06, 5.0), "skipped": [(40, 1.965), (41, 1.97)]},
+    "T_alp/B2/002": {"kind": "alp_gmm", "obstacles": [1, 2, 4], "cost": (0.117, 7.9)},
+    "T_random/B2/000": {"kind": "random", "obstacles": [3, 4, 4, 6], "cost": (0.001, 2.0)},
+    "T_plr/B2/000": {"kind": "plr", "cost": (0.02, 4.0)},
+    "T_plr/B2/001": {"kind": "plr", "cost": (0.01, 4.0)},
+}
+TASKS = ("obstacles = roger.int(0, 6), robot_distance = roger.real(0.8, 2), "
+         "shape = roger.choice{circle, triangle, pentagon, spade}")
+
+
+def teacher_state(spec, episodes):
+    """The teacher's final state as result.json records it (the fields of a real one)."""
+    kind = spec["kind"]
+    if kind == "sequence":
+        moves = [{"episode": e, "from": a, "rate": 0.5, "to": b} for e, a, b in spec["moves"]]
+        return {"episodes": episodes, "kind": kind, "moves": moves, "rate": 0.6,
+                "step": moves[-1]["to"] if moves else 1, "steps": 3}
+    if kind == "lcas":
+        sg = spec.get("episodes") == 400
+        levels = [32, 64, 128] if sg else [0, 2, 4, 6]
+        lifts = [{"episode": e, "from": levels[i], "gain": 0.0, "rate": 0.0, "to": levels[i + 1]}
+                 for i, e in enumerate(spec["lifts"])]
+        return {"episodes": episodes, "kind": kind, "level": len(lifts) + 1, "levels": len(levels), "lifts": lifts,
+                "param": "eye_pixels" if sg else "obstacles", "rate": 0.8, "value": levels[len(lifts)]}
+    if kind == "alp_gmm":
+        return {"components": [], "dims": ["obstacles", "robot_distance", "shape"], "episodes": episodes, "fits": 20,
+                "kind": kind, "mean_alp": 0.1}
+    if kind == "plr":
+        return {"episodes": episodes, "kind": kind, "levels": 500, "replays": 700, "top": []}
+    return {"episodes": episodes, "kind": kind}
+
+
+def teacher_trial(folder, id, spec):
+    """trials/ID/result.json (and episodes.jsonl), as roger run writes them, with these figures."""
+    run, context, trial = id.split("/")
+    d = os.path.join(folder, "trials", id)
+    os.makedirs(d)
+    episodes = spec.get("episodes", 1500)
+    reached = spec.get("reached", 100)
+    result = {"id": id, "run": run, "stage": run, "context": context, "trial": int(trial), "seed": int(trial) + 1,
+              "threshold": 0.9, "reached": reached is not None, "episodes_to_threshold": reached or episodes,
+              "time_to_threshold_s": 8.0 * (reached or episodes), "train_episodes": episodes,
+              "train_sim_s": 8.0 * episodes, "success_rate": 0.95, "stopped_early": False,
+              "checkpoints": [{"episodes": 50, "eval_wall_s": 0.3, "success_rate": 0.1, "wall_s": 0.1}]}
+    if spec["kind"]:
+        teacher_wall, train_wall = spec["cost"]
+        result.update({
+            "tasks": TASKS, "teacher_wall_s": teacher_wall, "train_wall_s": train_wall,
+            # wall_s holds the checkpoints' evaluations too: not the cost's denominator
+            "wall_s": 3 * train_wall + 1.0, "test": {"seed": 59, "tasks": 200},
+            "teacher": {"kind": spec["kind"], "state": teacher_state(spec, episodes), "wall_s": teacher_wall},
+            "skipped_tasks": [{"episode": e, "error": "scenarios/lib/place.lua:68: world:sample_position: no placement",
+                               "task": {"obstacles": 2, "robot_distance": r, "shape": "circle"}}
+                              for e, r in spec.get("skipped", [])]})
+    else:
+        result.update({"train_wall_s": 1.0, "wall_s": 2.0})
+    with open(os.path.join(d, "episodes.jsonl"), "w") as f:
+        for i, n in enumerate(spec.get("obstacles", [3])):
+            f.write(json.dumps({"index": i, "epsilon": 1.0, "reward": -100.0, "success": False, "sim_s": 10.0,
+                                "task": {"obstacles": n, "robot_distance": 1.5, "shape": "circle"},
+                                "td_error": 1.0, "world": {"objects": 1, "obstacles": n, "shapes": ["circle"]}}) + "\n")
+    with open(os.path.join(d, "result.json"), "w") as f:
+        json.dump(result, f, indent=1)
+
+
+def teachers_folder(folder, failed=(), pending=(), never=0):
+    """A results folder of scripts/teachers.lua as `roger run` leaves it while it runs (manifest.json,
+    trials/; summary.csv comes at the end): TEACHER_TRIALS, but `failed` (error.json) and `pending`
+    (started: a folder without result.json), and `never` more PLR trials not run yet (no folder)."""
+    shutil.rmtree(folder, ignore_errors=True)
+    os.makedirs(os.path.join(folder, "trials"))
+    ids = list(TEACHER_TRIALS) + [f"T_plr/B2/{i:03d}" for i in range(2, 2 + never)]
+    with open(os.path.join(folder, "manifest.json"), "w") as f:
+        json.dump({"format": "roger-results/1", "script": "scripts/teachers.lua", "trials": ids,
+                   "seeds": {id: int(id[-3:]) + 1 for id in ids}, "version": "0.1.0"}, f, indent=1)
+    for id, spec in TEACHER_TRIALS.items():
+        if id in failed:
+            os.makedirs(os.path.join(folder, "trials", id))
+            with open(os.path.join(folder, "trials", id, "error.json"), "w") as f:
+                json.dump({"error": "a fault", "trial": id}, f)
+        elif id in pending:
+            os.makedirs(os.path.join(folder, "trials", id))  # started: episodes.jsonl so far, no result
+        else:
+            teacher_trial(folder, id, spec)
+    return len(ids)
+
+
 # ---- running and importing the scripts ----
 
 def run(args, env=None, cwd=None):
@@ -217,10 +343,14 @@ def no_roger_env(work):
 
 
 def alone(scripts, work, name):
-    """A copy of a script in a folder of its own: no build/engine/roger beside it to find."""
+    """A copy of a script in a folder of its own, with the module the scripts import
+    (results_common.py, where there is one: older copies had none): no build/engine/roger beside it
+    to find."""
     folder = os.path.join(work, "alone", "scripts")
     os.makedirs(folder, exist_ok=True)
     shutil.copy(os.path.join(scripts, name), folder)
+    if os.path.exists(os.path.join(scripts, "results_common.py")):
+        shutil.copy(os.path.join(scripts, "results_common.py"), folder)
     return os.path.join(folder, name)
 
 
@@ -297,8 +427,11 @@ def transfer_no_file(scripts, work):
 
 
 def atomic_writes(scripts, work):
-    # Every open for writing names a temporary (PATH + ".tmp"), renamed over the file once whole.
-    for name in ("transfer_figure.py", "noise_figure.py", "noise_kinds.py", "failure_modes.py"):
+    # Every open for writing names a temporary (PATH + ".tmp"), renamed over the file once whole; the
+    # scripts' shared write_atomically is in results_common.py (where there is one).
+    for name in ("transfer_figure.py", "noise_figure.py", "noise_kinds.py", "failure_modes.py", "results_common.py"):
+        if name == "results_common.py" and not os.path.exists(os.path.join(scripts, name)):
+            continue
         with open(os.path.join(scripts, name)) as f:
             source = f.read()
         for target in re.findall(r"open\(([^\n]*?),\s*[\"'][wa]b?[\"']", source):
@@ -392,9 +525,91 @@ def noise_kinds_no_roger(scripts, work):
     expect(not os.path.exists(os.path.join(work, "kinds_no_roger")), "a results folder was made")
 
 
+def digest_lines(stdout):
+    """The digest's lines, without their "- "."""
+    return [line[2:] for line in stdout.splitlines() if line.startswith("- ")]
+
+
+def expect_line(lines, line):
+    expect(line in lines, f"no line\n  {line}\nin the digest:\n  " + "\n  ".join(lines))
+
+
+def teachers_digest_figures(scripts, work):
+    folder = os.path.join(work, "teachers")
+    teachers_folder(folder)
+    r = run([os.path.join(scripts, "teachers_digest.py"), folder])
+    expect(r.returncode == 0 and r.stderr == "", f"exit status {r.returncode}, stderr:\n{r.stderr}")
+    lines = digest_lines(r.stdout)
+    expect_line(lines, "T_sequence/B2: never left its first step in 2 of 3 trials; promoted in 1 of 3, at episode 400; "
+                       "of the 2 that did not, 2 reached 90% on the first step alone, at 150 to 300 episodes")
+    expect_line(lines, "T_sequence/DC3: never left its first step in 1 of 3 trials; promoted in 2 of 3, all between "
+                       "episodes 993 and 1138; of the 1 that did not, 0 reached 90% on the first step alone "
+                       "(1 move decided on a last episode, never trained, left out)")
+    expect_line(lines, "T_lcas/B2: obstacles lifted at episodes 100, 200 and 300 in 2 of 3 trials; "
+                       "otherwise at episodes 100, 250 and 300 (1)")
+    expect_line(lines, "SG_lcas/B1: eye_pixels lifted at episodes 50 and 100 in 2 of 3 trials; otherwise at episodes 50 "
+                       "(1) (1 lift decided on a last episode, never trained, left out)")
+    alp = (0 + 1 + 2 + 3 + 5 + 6 + 1 + 2 + 4) / 9  # pooled over the episodes
+    rand = (3 + 4 + 4 + 6) / 4
+    expect_line(lines, f"T_alp/B2: drew {alp:.2f} obstacles on average (9 training episodes of 3 trials), against "
+                       f"uniform's 3.0; T_random/B2 drew {rand:.2f}")
+    shares = sorted([0.05 / 10.0, 0.06 / 5.0, 0.117 / 7.9])  # over train_wall_s, not wall_s
+    expect_line(lines, f"ALP-GMM: median {100 * shares[1]:.2f}%, at most {100 * shares[2]:.2f}% "
+                       "(T_alp/B2/002: 0.117 s of 7.9 s), 3 trials")
+    for name, kind, most, trials in (("PLR", "plr", "T_plr/B2/000: 0.020 s of 4.0 s", 2),
+                                     ("sequence", "sequence", "T_sequence/DC3/002: 0.030 s of 6.0 s", 6),
+                                     ("LCAS", "lcas", "T_lcas/B2/002: 0.003 s of 4.0 s", 6),
+                                     ("random", "random", "T_random/B2/000: 0.001 s of 2.0 s", 1)):
+        shares = [t / w for t, w in (v["cost"] for v in TEACHER_TRIALS.values() if v["kind"] == kind)]
+        expect_line(lines, f"{name}: median {100 * statistics.median(shares):.2f}%, at most {100 * max(shares):.2f}% "
+                           f"({most}), {trials} trial{'' if trials == 1 else 's'}")
+    expect_line(lines, "2 of the 18 trials met 3 training tasks whose world could not be placed")
+    expect_line(lines, "T_sequence/DC3/001: 1 skipped: episode 1068 (the object 1.993 m from Roger)")
+    expect_line(lines, "T_alp/B2/001: 2 skipped: episode 40 (the object 1.965 m from Roger), "
+                       "episode 41 (the object 1.970 m from Roger)")
+
+
+def teachers_digest_partial(scripts, work):
+    folder = os.path.join(work, "teachers_partial")
+    n = teachers_folder(folder, failed={"T_sequence/B2/002"}, pending={"T_alp/B2/000", "T_lcas/B2/002"}, never=2)
+    r = run([os.path.join(scripts, "teachers_digest.py"), folder])
+    expect(r.returncode == 0, f"exit status {r.returncode} (a partial folder is digested, with a warning):\n{r.stderr}")
+    # 2 trials started and 2 never ran: 4 pending; 1 failed; of the 16 done, SG/DC2/000 has no teacher.
+    expect(f"{n - 5} of {n} trials done, 1 failed, 4 pending" in r.stderr and
+           "pooled the 15 done trials with a teacher" in r.stderr and len(r.stderr.splitlines()) == 1,
+           f"the partial folder is not said in one line with its counts on stderr:\n{r.stderr!r}")
+    lines = digest_lines(r.stdout)
+    expect_line(lines, "T_sequence/B2: never left its first step in 2 of 2 trials; promoted in 0 of 2; "
+                       "of the 2 that did not, 2 reached 90% on the first step alone, at 150 to 300 episodes")
+    expect_line(lines, "T_lcas/B2: obstacles lifted at episodes 100, 200 and 300 in 2 of 2 trials")
+    expect_line(lines, f"T_alp/B2: drew {(5 + 6 + 1 + 2 + 4) / 5:.2f} obstacles on average (5 training episodes of 2 "
+                       f"trials), against uniform's 3.0; T_random/B2 drew {(3 + 4 + 4 + 6) / 4:.2f}")
+    expect_line(lines, f"ALP-GMM: median {100 * (0.06 / 5.0 + 0.117 / 7.9) / 2:.2f}%, at most {100 * 0.117 / 7.9:.2f}% "
+                       "(T_alp/B2/002: 0.117 s of 7.9 s), 2 trials")
+
+
+def teachers_digest_no_file(scripts, work):
+    script = os.path.join(scripts, "teachers_digest.py")
+    empty = os.path.join(work, "teachers_empty")
+    os.makedirs(empty, exist_ok=True)
+    line = one_line_error(run([script, empty]), "teachers_digest.py on a folder without manifest.json")
+    expect("not a results folder" in line, f"the error does not say it is not a results folder: {line!r}")
+    folder = os.path.join(work, "teachers_cut")
+    teachers_folder(folder)
+    path = os.path.join(folder, "trials", "T_lcas", "B2", "001", "result.json")
+    with open(path) as f:
+        text = f.read()
+    with open(path, "w") as f:
+        f.write(text[:len(text) // 2])  # cut short, as by a full disk
+    line = one_line_error(run([script, folder]), "teachers_digest.py on a result.json cut short")
+    expect("T_lcas/B2/001/result.json" in line, f"the error does not name the record: {line!r}")
+    one_line_error(run([script]), "teachers_digest.py without a folder")
+
+
 CHECKS = [transfer_unreached, transfer_partial, transfer_partial_rows, transfer_no_file, atomic_writes,
           failure_modes_no_roger, noise_figure_no_roger, noise_figure_partial, noise_kinds_options,
-          noise_kinds_partial, noise_kinds_no_roger]
+          noise_kinds_partial, noise_kinds_no_roger, teachers_digest_figures, teachers_digest_partial,
+          teachers_digest_no_file]
 
 
 def main():
