@@ -1394,8 +1394,7 @@ TEST_CASE("a comparison names each run's stage and parameters", "[report][run]")
   a.progress = &os;
   REQUIRE(command_run(a) == 0);
   CHECK_THAT(slurp(tmp.path / "out" / "tables.md"),
-             Contains("Rows: a context of a run each, against `SG/DC2`; run `SG`: stage SG; run `SG_heavy`: stage SG "
-                      "with mass=0.7.\n"));
+             Contains("Rows: a context of a run each, against `SG/DC2`; run `SG_heavy`: stage SG with mass=0.7.\n"));
   const json runs = json::parse(slurp(tmp.path / "out" / "report.json"))["tables"][0]["runs"];
   CHECK(runs == json::array({{{"run", "SG"}, {"stage", "SG"}, {"params", json::object()}},
                              {{"run", "SG_heavy"}, {"stage", "SG"}, {"params", {{"mass", "0.7"}}}}}));

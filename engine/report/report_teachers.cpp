@@ -97,9 +97,10 @@ std::string teachers_text(const BatchScript& b, const std::vector<BatchRow>& row
   return text;
 }
 
-// "run `SG`: stage SG; run `SG_M`: stage SG with noise_image=10": the stage and the parameters of
-// each run the rows come from, in their order (found by a probe: a row trained under noise stood
-// beside a noise-free one with nothing to tell them apart), into report.json's "runs".
+// "; run `SG_M`: stage SG with noise_image=10": the stage and the parameters of each run the rows
+// come from that its name does not say (another stage's name, or parameters), in their order
+// (found by a probe: a row trained under noise stood beside a noise-free one with nothing to tell
+// them apart), or "" when none; every run into report.json's "runs".
 std::string runs_text(const BatchScript& b, const std::vector<BatchRow>& rows, json& rep) {
   std::vector<std::string> said, parts;
   for (const BatchRow& row : rows) {
@@ -109,9 +110,10 @@ std::string runs_text(const BatchScript& b, const std::vector<BatchRow>& rows, j
     json params = json::object();
     for (const auto& [k, v] : run.params) params[k] = v;
     rep.push_back({{"run", run.name}, {"stage", run.stage}, {"params", params}});
-    parts.push_back("run `" + run.name + "`: stage " + run.stage + with_params(run.params));
+    if (run.name != run.stage || !run.params.empty())
+      parts.push_back("run `" + run.name + "`: stage " + run.stage + with_params(run.params));
   }
-  return join(parts, "; ");
+  return parts.empty() ? "" : "; " + join(parts, "; ");
 }
 
 }  // namespace
@@ -125,7 +127,7 @@ void compare_table(const BatchScript& b, const BatchTable& t, const Folder& fold
   const Results base = rows_results(b, t.compare.front(), folder);
   const std::vector<CensoredTime> base_times = times_of(base);
   const double base_mean = base_times.empty() ? 0.0 : mean(censored_values(base_times));
-  md << "## " << t.title << "\n\nRows: a context of a run each, against `" << t.baseline << "`; "
+  md << "## " << t.title << "\n\nRows: a context of a run each, against `" << t.baseline << "`"
      << runs_text(b, t.compare, rep_runs) << ".\n\n";
   md << "| Approach | Train time (min:sec) | % Improvement | Avg. reward ± std | Success rate | Median time | "
         "IQM time [95% CI] | Reached | p (Mann-Whitney vs "
