@@ -226,6 +226,10 @@ TEST_CASE("world:robot refuses a bad body or eyes with the file, line, field and
              Contains(":2:") && Contains("world:robot: eyes: field 'pixels' must be within [16, 512], got 1024"));
   CHECK_THAT(robot_error("body_locked", "{ x = 0, y = 0, body = { locked = { 'left_knee' } } }"),
              Contains("entry 1 must be a joint name, one of left_eye, right_eye") && Contains("got 'left_knee'"));
+  // Found by a probe: a joint named twice was taken, the other joint meant left free.
+  CHECK_THAT(robot_error("body_locked_twice", "{ x = 0, y = 0, body = { locked = { 'left_elbow', 'left_elbow' } } }"),
+             Contains(":2:") && Contains("world:robot: body: field 'locked' entry 2 names 'left_elbow' a second time "
+                                         "(another joint meant? the joints: left_eye, right_eye"));
   CHECK_THAT(robot_error("body_fold", "{ x = 0, y = 0, body = { base_radius = 0.8, upper_arm = 0.2, forearm = 0.2 } }"),
              Contains(":2:") && Contains("Roger's body cannot be built: the hands cannot fold clear of the base"));
   // A body that can be built: the world carries it, and the arms start folded as it folds them.

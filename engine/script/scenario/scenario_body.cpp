@@ -94,6 +94,10 @@ unsigned locked_joints(const LuaFields& f) {
       if (dof < 0)
         f.fail("field 'locked' entry " + std::to_string(i) + " must be a joint name, one of " + join(names) +
                (name.empty() ? std::string() : ", got '" + name + "'"));
+      // A name twice is most likely another joint mistyped as it (found by a probe).
+      if (mask & (1u << unsigned(dof)))
+        f.fail("field 'locked' entry " + std::to_string(i) + " names '" + name + "' a second time (another joint "
+               "meant? the joints: " + join(names) + ")");
       mask |= 1u << unsigned(dof);
     }
   });

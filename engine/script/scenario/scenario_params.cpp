@@ -107,8 +107,10 @@ bool parse_slot(ParamSlot& s, const std::string& text, std::string& why) {
   }
   const std::string canonical = slot_text(s);
   if (s.info.list) {
-    // Each item, spaces around it dropped, is one of the choices.
+    // Each item, spaces around it dropped, is one of the choices, and is there once (a name twice
+    // is most likely another mistyped as it: world:robot refuses it, at a library's line).
     size_t from = 0;
+    std::vector<std::string> seen;
     while (from <= canonical.size()) {
       const size_t comma = std::min(canonical.find(',', from), canonical.size());
       std::string item = canonical.substr(from, comma - from);
@@ -116,6 +118,9 @@ bool parse_slot(ParamSlot& s, const std::string& text, std::string& why) {
       item.erase(item.find_last_not_of(" \t") + 1);
       if (!item.empty() && std::find(s.info.choices.begin(), s.info.choices.end(), item) == s.info.choices.end())
         return refuse();
+      if (!item.empty() && std::find(seen.begin(), seen.end(), item) != seen.end())
+        return why = expected_text(s.info) + ", each once", false;
+      seen.push_back(item);
       from = comma + 1;
     }
     return true;
