@@ -396,14 +396,18 @@ fs::path as_found(const std::string& shown) {
   return fs::is_regular_file(file, ec) ? file : project_root() / shown;
 }
 
+// Whether a scenario's name is a path (x.lua, worlds/x) rather than a bare name of scenarios/.
+bool path_like(const std::string& name) {
+  return fs::path(name).extension() == ".lua" || name.find('/') != std::string::npos;
+}
+
 }  // namespace
 
 std::string resolve_scenario_near(const std::string& name, const std::string& naming_file,
                                   const std::string& also_beside) {
   std::error_code ec;
   const fs::path written(name);
-  const bool path_like = written.extension() == ".lua" || name.find('/') != std::string::npos;
-  if (!path_like || written.is_absolute() || naming_file.empty()) {
+  if (!path_like(name) || written.is_absolute() || naming_file.empty()) {
     try {
       resolve_scenario_path(name);
     } catch (const Error& e) {
@@ -411,7 +415,7 @@ std::string resolve_scenario_near(const std::string& name, const std::string& na
       // scenarios/walled.lua does not exist.
       const fs::path file = naming_file.empty() ? fs::path() : as_found(naming_file);
       const fs::path with_lua = file.parent_path() / (name + ".lua");
-      if (path_like || naming_file.empty() || !fs::is_regular_file(with_lua, ec)) throw;
+      if (path_like(name) || naming_file.empty() || !fs::is_regular_file(with_lua, ec)) throw;
       if (fs::equivalent(with_lua, name + ".lua", ec)) throw;  // the message's "is a file here" says it
       throw Error(std::string(e.what()) + "; " + name + ".lua is beside " + naming_file + ": name it with its \".lua\" (\"" +
                   name + ".lua\")");
@@ -457,8 +461,7 @@ std::string resolve_scenario_near(const std::string& name, const std::string& na
 std::string scenario_found_from_here(const std::string& recorded, const std::string& naming_file) {
   std::error_code ec;
   const fs::path written(recorded);
-  const bool path_like = written.extension() == ".lua" || recorded.find('/') != std::string::npos;
-  if (!path_like || written.is_absolute() || naming_file.empty() || !fs::is_regular_file(written, ec)) return "";
+  if (!path_like(recorded) || written.is_absolute() || naming_file.empty() || !fs::is_regular_file(written, ec)) return "";
   if (fs::is_regular_file(project_root() / written, ec)) return "";  // found from any folder
   const fs::path file = as_found(naming_file), here = fs::absolute(written, ec).lexically_normal();
   // Beside the naming file (from its own folder, the two read alike: found by a probe).
