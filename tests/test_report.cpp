@@ -761,8 +761,19 @@ TEST_CASE("a failing trial is recorded and does not lose the others", "[report][
        "           if built > 1 then error(\"no world for this evaluation\") end\n"
        "           return base.generate(world, rng, p)\n"
        "         end }\n");
-  std::string log;
-  CHECK(f.run("out", 2, 0, &log) == 1);
+  // Run as `roger run roger_report_fail_PID/batch.lua` from the folder above.
+  const fs::path project = fs::current_path();
+  fs::current_path(f.root.parent_path());
+  struct Back {
+    fs::path to;
+    ~Back() { fs::current_path(to); }
+  } back{project};
+  RunArgs a = f.args("out", 2);
+  a.script = (f.root.filename() / "batch.lua").string();
+  std::ostringstream progress;
+  a.progress = &progress;
+  CHECK(command_run(a) == 1);
+  const std::string log = progress.str();
   INFO(log);
   const fs::path out = f.root / "out";
   CHECK(finished_ids(out).size() == 6);  // every training trial
@@ -775,6 +786,9 @@ TEST_CASE("a failing trial is recorded and does not lose the others", "[report][
   CHECK(!std::regex_search(slurp(out / "tables.md"), std::regex("\\|[^\\n]*4 failed")));
   CHECK_THAT(slurp(out / "tables.md"), Contains("**Partial report:** 6 of 10 trials have results (4 failed);"));
   CHECK(slurp(out / "tables.md").find("(2 failed)") != std::string::npos);
+  // Found by a probe: the scenario beside the script was named by its absolute path, where the
+  // script is named as the command named it: a published table carried one machine's folders.
+  CHECK_THAT(slurp(out / "tables.md"), Contains("in scenario `" + (f.root.filename() / "failing.lua").string() + "`"));
 }
 
 TEST_CASE("roger run killed with SIGKILL resumes to exactly an uninterrupted run's trials", "[report][run][cli]") {

@@ -113,6 +113,22 @@ void remove_unwritten_figures(const std::string& dir, const json& page_figures, 
   }
 }
 
+// An evaluation's scenario as the tables name it. The configuration records a scenario found
+// beside the batch script by its absolute path (what the trials loaded); the tables name it from
+// the script as the command named that (`lab/pen.lua` for `roger run lab/batch.lua`), as they name
+// the script, so that a published table does not carry one machine's folders.
+std::string scenario_as_named(const std::string& scenario, const json& manifest) {
+  const fs::path recorded(scenario);
+  const std::string script = manifest.value("script", std::string()),
+                    script_file = manifest.value("script_file", std::string());
+  if (!recorded.is_absolute() || script.empty() || script_file.empty()) return scenario;
+  std::error_code ec;
+  const fs::path folder = fs::weakly_canonical(fs::path(script_file).parent_path(), ec);
+  const fs::path rel = recorded.lexically_normal().lexically_relative(folder);
+  if (ec || rel.empty() || *rel.begin() == "..") return scenario;
+  return (fs::path(script).parent_path() / rel).lexically_normal().generic_string();
+}
+
 }  // namespace
 
 std::vector<std::string> write_report(const std::string& dir, const std::vector<std::string>& by_given) {
@@ -122,7 +138,8 @@ std::vector<std::string> write_report(const std::string& dir, const std::vector<
   for (const auto& m : missing_trials(plan))
     if (!m.problem.empty()) throw Error("trial " + m.trial->id + ": " + m.problem);
   const json manifest = read_manifest(dir);
-  const BatchScript b = batch_config_from_json(manifest.value("config", json::object()));
+  BatchScript b = batch_config_from_json(manifest.value("config", json::object()));
+  for (BatchEvaluation& e : b.evaluations) e.scenario = scenario_as_named(e.scenario, manifest);
   // Written whole or not at all: a table that refuses a record's numbers, or a figure that cannot
   // be drawn, leaves the previous report as it was rather than half replaced.
   const std::vector<std::string> by = distinct(by_given);
