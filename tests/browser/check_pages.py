@@ -780,6 +780,21 @@ def check_dashboard(b, folder, screenshot):
     check(len(legends) >= 2 and shared and all(len(c) == 1 for c in colours.values()),
           "dashboard: an action has one colour in every usage chart (%d charts, %d actions in more than one: %s)"
           % (len(legends), len(shared), {n: sorted(c) for n, c in colours.items() if len(c) > 1}))
+    # Found by a probe: Figure 5's axis read 27:53, 20:54, 13:56 (quarters of its top).
+    for fig in [f for f in read_report(folder)["figures"] if f["kind"] == "cumulative"]:
+        labels = b.evaluate("""Array.from(document.querySelectorAll('svg[data-figure="%s"] text.tick-y'))
+            .map(t => t.textContent)""" % fig["file"])
+        seconds = [int(m) * 60 + int(s) for m, s in (l.split(":") for l in labels)]
+        steps = {b - a for a, b in zip(seconds, seconds[1:])}
+        check(len(seconds) >= 3 and seconds[0] == 0 and len(steps) == 1 and
+              min(steps) in (3, 6, 12, 30, 60, 120, 300, 600, 1200, 3000, 6000),
+              "dashboard: %s's time axis is in round steps (%s)" % (fig["file"], labels))
+    # And Figure 4's log axis read 1.6, 3.2, 6.6, 14, 28, 58 (even steps of the log); the PNG has decades.
+    for fig in [f for f in read_report(folder)["figures"] if f["kind"] == "curves" and f.get("log_x")]:
+        labels = b.evaluate("""Array.from(document.querySelectorAll('svg[data-figure="%s"] text.tick-x'))
+            .map(t => t.textContent)""" % fig["file"])
+        check(len(labels) >= 3 and all(re.fullmatch(r"(0\.0*)?[125]0*", l) for l in labels),
+              "dashboard: %s's log axis is labelled 1, 2 and 5 times powers of ten (%s)" % (fig["file"], labels))
     status = json.load(open(os.path.join(folder, "status.json")))
     line = b.evaluate("document.getElementById('progress-line').textContent")
     check(not status["running"] and ("%d/%d trials done" % (status["done"], status["trials"])) in line,
