@@ -163,6 +163,7 @@ StageEnvironment::StageEnvironment(const EnvironmentOptions& o) {
   info_.stage = st.name;
   info_.context = impl_->ctx.name;
   info_.scenario = impl_->scenario.name();
+  for (const ScenarioParam& p : impl_->scenario.params()) info_.param_types[p.name] = p.type;
   info_.actions = controller_names(impl_->ctx.actions);
   info_.time_limit = st.time_limit;
   info_.time_per_object = st.time_per_object;

@@ -69,6 +69,7 @@ struct EnvironmentInfo {
   std::string curriculum, stage, context, scenario;
   std::vector<std::string> actions;                        // Psi, in state-vector order
   std::vector<std::pair<std::string, std::string>> params; // scenario parameters used
+  std::map<std::string, ParamType> param_types;            // each one's declared type
   // An episode's time-out: time_limit + time_per_object x the objects of its world.
   double time_limit = 0.0, time_per_object = 0.0, tick_seconds = 0.0;
   int budget_episodes = 0;

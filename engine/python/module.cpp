@@ -165,6 +165,22 @@ py::array_t<uint8_t> state_array(const std::vector<Gamma>& g) {
   return a;
 }
 
+// A scenario parameter as its declared type: a number as a float, an integer as an int, a
+// boolean as a bool, text (a choice, a list) as str. The engine keeps the text --set takes; as a
+// str in Python, "0.25" * 2 is "0.250.25", without a word (found by a probe).
+py::object param_object(const std::string& text, const std::map<std::string, ParamType>& types,
+                        const std::string& key) {
+  const auto t = types.find(key);
+  if (t == types.end()) return py::str(text);
+  switch (t->second) {
+    case ParamType::kNumber: return py::float_(std::stod(text));
+    case ParamType::kInteger: return py::int_(std::stoll(text));
+    case ParamType::kBoolean: return py::bool_(text == "true");
+    case ParamType::kString: break;
+  }
+  return py::str(text);
+}
+
 py::dict info_dict(const EnvironmentInfo& i) {
   py::dict d;
   d["curriculum"] = i.curriculum;
@@ -173,7 +189,7 @@ py::dict info_dict(const EnvironmentInfo& i) {
   d["scenario"] = i.scenario;
   d["actions"] = i.actions;
   py::dict params;
-  for (const auto& [k, v] : i.params) params[py::str(k)] = v;
+  for (const auto& [k, v] : i.params) params[py::str(k)] = param_object(v, i.param_types, k);
   d["params"] = params;
   d["time_limit"] = i.time_limit;
   d["time_per_object"] = i.time_per_object;

@@ -177,7 +177,7 @@ class EvalMatches(unittest.TestCase):
         self.assertEqual((policy.curriculum, policy.skills), (EXAMPLE, ()))
         details = {}
         env = policy.make()
-        self.assertEqual(env.stage_info["params"]["robot_distance"], "1.9")
+        self.assertEqual(env.stage_info["params"]["robot_distance"], 1.9)
         self.assertEqual(python_eval(env, policy, 20, FIRST_SEED, details)[0], expected["successes"])
         self.assertEqual(details["time_mean"], expected["time_mean"])
         self.assertEqual(details["usage"], expected["usage"])
@@ -192,7 +192,7 @@ class EvalMatches(unittest.TestCase):
         python_eval(roger.make(EXAMPLE, "Look", "Gaze"), policy, 20, FIRST_SEED, details)
         self.assertNotEqual(details["time_mean"], expected["time_mean"])
         # params given win over the trial's, as roger eval's --set does.
-        self.assertEqual(policy.make(params={"robot_distance": 1.2}).stage_info["params"]["robot_distance"], "1.2")
+        self.assertEqual(policy.make(params={"robot_distance": 1.2}).stage_info["params"]["robot_distance"], 1.2)
         with self.assertRaises(roger.RogerError) as cm:
             roger.make(PAPER, "T", "B2", policy=policy_file)
         self.assertIn("is of stage Look context Gaze, not of stage T context B2", str(cm.exception))
@@ -369,6 +369,11 @@ class Interface(unittest.TestCase):
         self.assertFalse(env.stage_info["learner"]["unconverged_first"])
         self.assertEqual(env.stage_info["time_limit"], 4.0)
         self.assertEqual(env.stage_info["time_per_object"], 0.0)
+        # Found by a probe: the scenario's parameters were all str ("0.25" * 2 is "0.250.25").
+        params = env.stage_info["params"]
+        self.assertEqual((params["goal_radius"], params["eye_pixels"], params["shape"], params["locked"]),
+                         (0.25, 128, "circle", ""))
+        self.assertEqual((type(params["goal_x"]), type(params["eye_pixels"])), (float, int))
 
     def test_step_outside_an_episode_says_which_case(self):
         # Found by a probe: after an episode ended, step said "no episode is running ... (call
