@@ -16,6 +16,7 @@
 
 #include "core/error.h"
 #include "view/render.h"
+#include "view/render_internal.h"
 #include "senses/senses.h"
 
 namespace fs = std::filesystem;
@@ -407,4 +408,29 @@ TEST_CASE("render_rgb is the PNG's picture, in memory, as rows of RGB bytes") {
   RenderOptions tiny = options;
   tiny.width_px = 10;
   CHECK_THROWS_AS(render_rgb(spec, frame, tiny), Error);
+}
+
+// Found by a probe: the force labels of a three-contact grasp around a small object sat on each
+// other and read as one number ("53.13 N 43.5").
+TEST_CASE("force labels that would overlap are moved apart, and a label alone stays where it was") {
+  using picture::LabelBox;
+  const auto overlap = [](const LabelBox& a, const LabelBox& b) {
+    return a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1;
+  };
+  std::vector<LabelBox> boxes = {{100, 100, 140, 112}, {110, 104, 150, 116}, {95, 98, 135, 110}, {300, 100, 340, 112}};
+  const std::vector<LabelBox> before = boxes;
+  picture::separate_labels(boxes);
+  for (size_t i = 0; i < boxes.size(); ++i)
+    for (size_t j = i + 1; j < boxes.size(); ++j) CHECK_FALSE(overlap(boxes[i], boxes[j]));
+  // Only moved down, by whole heights, and not at all when nothing was in the way.
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    CHECK(boxes[i].x0 == before[i].x0);
+    const double moves = (boxes[i].y0 - before[i].y0) / 12.0;
+    CHECK(moves == std::floor(moves));
+    CHECK(moves >= 0);
+  }
+  CHECK(boxes[0].y0 == before[0].y0);
+  CHECK(boxes[3].y0 == before[3].y0);
+  CHECK(boxes[1].y0 == 116);  // one height down: clear of the first box
+  CHECK(boxes[2].y0 == 134);  // three heights down: clear of both
 }

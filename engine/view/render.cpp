@@ -118,6 +118,22 @@ double text(cairo_t* cr, const Layout& l, const std::string& s, double x, double
   return w;
 }
 
+void separate_labels(std::vector<LabelBox>& boxes, int tries) {
+  const auto overlaps = [](const LabelBox& a, const LabelBox& b) {
+    return a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1;
+  };
+  for (size_t k = 1; k < boxes.size(); ++k) {
+    LabelBox& box = boxes[k];
+    const double height = box.y1 - box.y0;
+    for (int move = 0; move < tries; ++move) {
+      if (std::none_of(boxes.begin(), boxes.begin() + long(k), [&](const LabelBox& b) { return overlaps(box, b); }))
+        break;
+      box.y0 += height;
+      box.y1 += height;
+    }
+  }
+}
+
 }  // namespace picture
 
 namespace {

@@ -95,6 +95,16 @@ double text_width(cairo_t* cr, const Layout& l, const std::string& s, const Text
 double text(cairo_t* cr, const Layout& l, const std::string& s, double x, double y,
             const TextStyle& st);
 
+// A label's box in device pixels (y down: y0 its top, y1 its bottom).
+struct LabelBox {
+  double x0, y0, x1, y1;
+};
+
+// Moves each box down, by whole heights of its own, until it overlaps none before it (at most
+// `tries` moves; the first box stays). The force labels of three contacts around a small object
+// sat on each other ("53.13 N 43.5" read as one number).
+void separate_labels(std::vector<LabelBox>& boxes, int tries = 6);
+
 // ---- the parts of a picture, in the order draw_frame draws them
 // ----------------------------------------------------------------------------------------
 

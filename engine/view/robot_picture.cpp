@@ -3,7 +3,9 @@
 #include "view/render_internal.h"
 
 #include <algorithm>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include "core/shape.h"
 
@@ -236,6 +238,14 @@ void draw_robot(cairo_t* cr, const Layout& l, const Frame& frame, const RobotPar
 // tip is the contact point, so it lies over the thing touched and leaves Roger visible. Its length
 // is proportional to the force, capped; its tail carries the force in newtons.
 void draw_contacts(cairo_t* cr, const Layout& l, const Senses& senses, const RenderOptions& o) {
+  TextStyle st;
+  st.size = 10;
+  st.colour = kContact;
+  st.bold = true;
+  st.halo = true;
+  std::vector<std::string> labels;  // drawn after every arrow, moved apart where they meet
+  std::vector<double> aligns;
+  std::vector<LabelBox> boxes;
   for (int t = 0; t < kTactileCount; ++t) {
     const Touch& touch = senses.touch[t];
     if (!touch.contact || !finite(touch.point)) continue;
@@ -264,18 +274,17 @@ void draw_contacts(cairo_t* cr, const Layout& l, const Senses& senses, const Ren
           cairo_fill(cr);
         }
       }
-      TextStyle st;
-      st.size = 10;
-      st.colour = kContact;
-      st.bold = true;
-      st.halo = true;
       // Beside the shaft's middle, on its upper side: the tail may sit on whatever is at the centre
       // of a small object (such as the stereo fix).
       double nx = -dy, ny = dx;
       if (ny > 0) nx = -nx, ny = -ny;
       const double mx = 0.5 * (x + bx) + nx * 7 * l.u, my = 0.5 * (y + by) + ny * 7 * l.u;
-      st.align = std::fabs(nx) < 0.3 ? 0.5 : (nx > 0 ? 0.0 : 1.0);
-      text(cr, l, format("%.1f N", touch.force), mx, my + (ny > -0.3 ? 4 : 0) * l.u, st);
+      const double align = std::fabs(nx) < 0.3 ? 0.5 : (nx > 0 ? 0.0 : 1.0);
+      const std::string label = format("%.1f N", touch.force);
+      const double w = text_width(cr, l, label, st), base = my + (ny > -0.3 ? 4 : 0) * l.u;
+      labels.push_back(label);
+      aligns.push_back(align);
+      boxes.push_back({mx - align * w, base - st.size * l.u, mx + (1 - align) * w, base + 0.25 * st.size * l.u});
       continue;
     }
     // A contact without a usable force or normal is still a contact: a dot marks where.
@@ -286,6 +295,11 @@ void draw_contacts(cairo_t* cr, const Layout& l, const Senses& senses, const Ren
     set(cr, kWhite);
     cairo_set_line_width(cr, 1.0 * l.u);
     cairo_stroke(cr);
+  }
+  separate_labels(boxes);
+  for (size_t k = 0; k < labels.size(); ++k) {
+    st.align = 0.0;
+    text(cr, l, labels[k], boxes[k].x0, boxes[k].y1 - 0.25 * st.size * l.u, st);
   }
 }
 
