@@ -410,7 +410,7 @@ TEST_CASE("render_rgb is the PNG's picture, in memory, as rows of RGB bytes") {
   CHECK_THROWS_AS(render_rgb(spec, frame, tiny), Error);
 }
 
-// Found by a probe: the force labels of a three-contact grasp around a small object sat on each
+// Seen in a rendered frame: the force labels of a three-contact grasp around a small object sat on each
 // other and read as one number ("53.13 N 43.5").
 TEST_CASE("force labels that would overlap are moved apart, and a label alone stays where it was") {
   using picture::LabelBox;

@@ -786,7 +786,7 @@ TEST_CASE("a failing trial is recorded and does not lose the others", "[report][
   CHECK(!std::regex_search(slurp(out / "tables.md"), std::regex("\\|[^\\n]*4 failed")));
   CHECK_THAT(slurp(out / "tables.md"), Contains("**Partial report:** 6 of 10 trials have results (4 failed);"));
   CHECK(slurp(out / "tables.md").find("(2 failed)") != std::string::npos);
-  // Found by a probe: the scenario beside the script was named by its absolute path, where the
+  // Found by an earlier probe: the scenario beside the script was named by its absolute path, where the
   // script is named as the command named it: a published table carried one machine's folders.
   CHECK_THAT(slurp(out / "tables.md"), Contains("in scenario `" + (f.root.filename() / "failing.lua").string() + "`"));
 }

@@ -167,7 +167,7 @@ py::array_t<uint8_t> state_array(const std::vector<Gamma>& g) {
 
 // A scenario parameter as its declared type: a number as a float, an integer as an int, a
 // boolean as a bool, text (a choice, a list) as str. The engine keeps the text --set takes; as a
-// str in Python, "0.25" * 2 is "0.250.25", without a word (found by a probe).
+// str in Python, "0.25" * 2 is "0.250.25", without a word.
 py::object param_object(const std::string& text, const std::map<std::string, ParamType>& types,
                         const std::string& key) {
   const auto t = types.find(key);

@@ -234,6 +234,33 @@ void draw_robot(cairo_t* cr, const Layout& l, const Frame& frame, const RobotPar
   draw_eyes(cr, l, frame);
 }
 
+namespace {
+
+// One force arrow: its tip at (x, y), its tail `len` back along the unit direction (dx, dy).
+void draw_force_arrow(cairo_t* cr, const Layout& l, double x, double y, double dx, double dy, double len) {
+  const double bx = x - dx * len, by = y - dy * len;  // the tail
+  const double head = std::min(9 * l.u, 0.5 * len), half = 0.5 * head;
+  for (int pass = 0; pass < 2; ++pass) {
+    set(cr, pass == 0 ? kWhite : kContact, pass == 0 ? 0.8 : 1.0);
+    cairo_set_line_width(cr, (pass == 0 ? 5.0 : 2.5) * l.u);
+    cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+    cairo_move_to(cr, bx, by);
+    cairo_line_to(cr, x - dx * head * 0.8, y - dy * head * 0.8);
+    cairo_stroke(cr);
+    cairo_move_to(cr, x, y);
+    cairo_line_to(cr, x - dx * head - dy * half, y - dy * head + dx * half);
+    cairo_line_to(cr, x - dx * head + dy * half, y - dy * head - dx * half);
+    cairo_close_path(cr);
+    if (pass == 0) {
+      cairo_stroke(cr);
+    } else {
+      cairo_fill(cr);
+    }
+  }
+}
+
+}  // namespace
+
 // Contact forces: an arrow along the normal (the way the touched surface pushes the sensor) whose
 // tip is the contact point, so it lies over the thing touched and leaves Roger visible. Its length
 // is proportional to the force, capped; its tail carries the force in newtons.
@@ -244,7 +271,6 @@ void draw_contacts(cairo_t* cr, const Layout& l, const Senses& senses, const Ren
   st.bold = true;
   st.halo = true;
   std::vector<std::string> labels;  // drawn after every arrow, moved apart where they meet
-  std::vector<double> aligns;
   std::vector<LabelBox> boxes;
   for (int t = 0; t < kTactileCount; ++t) {
     const Touch& touch = senses.touch[t];
@@ -255,35 +281,16 @@ void draw_contacts(cairo_t* cr, const Layout& l, const Senses& senses, const Ren
       const double len_m = std::min(touch.force * o.arrow_metres_per_newton, o.arrow_max_metres);
       const double len = std::max(len_m * l.scale, 10 * l.u);
       const double dx = touch.normal.x() / n, dy = -touch.normal.y() / n;  // device y is down
-      const double bx = x - dx * len, by = y - dy * len;                   // the tail
-      const double head = std::min(9 * l.u, 0.5 * len), half = 0.5 * head;
-      for (int pass = 0; pass < 2; ++pass) {
-        set(cr, pass == 0 ? kWhite : kContact, pass == 0 ? 0.8 : 1.0);
-        cairo_set_line_width(cr, (pass == 0 ? 5.0 : 2.5) * l.u);
-        cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
-        cairo_move_to(cr, bx, by);
-        cairo_line_to(cr, x - dx * head * 0.8, y - dy * head * 0.8);
-        cairo_stroke(cr);
-        cairo_move_to(cr, x, y);
-        cairo_line_to(cr, x - dx * head - dy * half, y - dy * head + dx * half);
-        cairo_line_to(cr, x - dx * head + dy * half, y - dy * head - dx * half);
-        cairo_close_path(cr);
-        if (pass == 0) {
-          cairo_stroke(cr);
-        } else {
-          cairo_fill(cr);
-        }
-      }
+      draw_force_arrow(cr, l, x, y, dx, dy, len);
       // Beside the shaft's middle, on its upper side: the tail may sit on whatever is at the centre
       // of a small object (such as the stereo fix).
       double nx = -dy, ny = dx;
       if (ny > 0) nx = -nx, ny = -ny;
-      const double mx = 0.5 * (x + bx) + nx * 7 * l.u, my = 0.5 * (y + by) + ny * 7 * l.u;
+      const double mx = x - 0.5 * dx * len + nx * 7 * l.u, my = y - 0.5 * dy * len + ny * 7 * l.u;
       const double align = std::fabs(nx) < 0.3 ? 0.5 : (nx > 0 ? 0.0 : 1.0);
       const std::string label = format("%.1f N", touch.force);
       const double w = text_width(cr, l, label, st), base = my + (ny > -0.3 ? 4 : 0) * l.u;
       labels.push_back(label);
-      aligns.push_back(align);
       boxes.push_back({mx - align * w, base - st.size * l.u, mx + (1 - align) * w, base + 0.25 * st.size * l.u});
       continue;
     }
@@ -297,10 +304,9 @@ void draw_contacts(cairo_t* cr, const Layout& l, const Senses& senses, const Ren
     cairo_stroke(cr);
   }
   separate_labels(boxes);
-  for (size_t k = 0; k < labels.size(); ++k) {
-    st.align = 0.0;
+  st.align = 0.0;  // each box's left edge
+  for (size_t k = 0; k < labels.size(); ++k)
     text(cr, l, labels[k], boxes[k].x0, boxes[k].y1 - 0.25 * st.size * l.u, st);
-  }
 }
 
 }  // namespace roger::picture

@@ -780,7 +780,7 @@ def check_dashboard(b, folder, screenshot):
     check(len(legends) >= 2 and shared and all(len(c) == 1 for c in colours.values()),
           "dashboard: an action has one colour in every usage chart (%d charts, %d actions in more than one: %s)"
           % (len(legends), len(shared), {n: sorted(c) for n, c in colours.items() if len(c) > 1}))
-    # Found by a probe: Figure 5's axis read 27:53, 20:54, 13:56 (quarters of its top).
+    # Seen in a screenshot: Figure 5's axis read 27:53, 20:54, 13:56 (quarters of its top).
     for fig in [f for f in read_report(folder)["figures"] if f["kind"] == "cumulative"]:
         labels = b.evaluate("""Array.from(document.querySelectorAll('svg[data-figure="%s"] text.tick-y'))
             .map(t => t.textContent)""" % fig["file"])

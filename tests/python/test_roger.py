@@ -369,7 +369,7 @@ class Interface(unittest.TestCase):
         self.assertFalse(env.stage_info["learner"]["unconverged_first"])
         self.assertEqual(env.stage_info["time_limit"], 4.0)
         self.assertEqual(env.stage_info["time_per_object"], 0.0)
-        # Found by a probe: the scenario's parameters were all str ("0.25" * 2 is "0.250.25").
+        # The scenario's parameters were all str ("0.25" * 2 is "0.250.25"): each is its declared type.
         params = env.stage_info["params"]
         self.assertEqual((params["goal_radius"], params["eye_pixels"], params["shape"], params["locked"]),
                          (0.25, 128, "circle", ""))
