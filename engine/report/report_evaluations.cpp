@@ -46,7 +46,7 @@ EvalRow eval_row(const std::vector<json>& evals, uint64_t salt) {
 // script that reads the rates sees that they pool fewer policies than the evaluation asked for.
 json eval_row_out(const std::string& name, const std::string& object, const EvalRow& r, const Results& counted,
                   const std::string& policies, std::ostringstream& md) {
-  md << "| " << name << " | " << fmt("%.1f", r.p.mean) << " ± " << fmt("%.3f", r.p.std) << " | " << rate_pct(r.p.success)
+  md << "| " << name << " | " << fmt("%.1f", r.p.mean) << " ± " << fmt("%.1f", r.p.std) << " | " << rate_pct(r.p.success)
      << " [" << rate_pct(r.ci.ci.low) << ", " << rate_pct(r.ci.ci.high) << "] | " << rate_pct(mean(r.rates)) << " ± "
      << pct(population_std(r.rates)) << " | " << policies << " | " << r.p.episodes << " | " << r.ci.layouts << " |\n";
   return {{"object", object}, {"reward_mean", r.p.mean}, {"reward_std", r.p.std}, {"success_rate", r.p.success},
