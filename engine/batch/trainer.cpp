@@ -512,12 +512,11 @@ TrainingEpisode train_episode(StageRun& run, TrialTeacher* teacher, QTable& q, u
 
 }  // namespace
 
-TrainResult train_stage(const TrainOptions& options) {
-  const auto t0 = std::chrono::steady_clock::now();
-  // A fresh load per trial: every trial gets its own controllers.
-  Curriculum cur = Curriculum::load(options.curriculum, options.limits);
-  const CurriculumStage& stage = cur.stage(options.stage);
-  const CurriculumContext& ctx = stage.context(options.context);
+namespace {
+
+// What the trial trains, as its summary and policy file name it.
+TrainResult trial_header(const Curriculum& cur, const CurriculumStage& stage, const CurriculumContext& ctx,
+                         const TrainOptions& options) {
   TrainResult res;
   res.curriculum_path = cur.path();
   res.curriculum_digest = curriculum_digest(cur);
@@ -530,14 +529,14 @@ TrainResult train_stage(const TrainOptions& options) {
   res.threshold = stage.checkpoints.threshold;
   res.absorbing_lua = stage.absorbing_lua;
   res.psi = controller_names(ctx.actions);
-  bind_skills(cur, ctx, options, options.given_skills, res.skills);
+  return res;
+}
 
-  StageRun run{cur, stage, ctx, make_scenario(stage, ctx, "", options.sets, options.limits, &res.params), Agent()};
-  cur.set_world(&run.agent.world());  // the Lua callbacks' `world`
-  res.scenario = run.scenario.name();
-  res.q = std::make_shared<QTable>(res.psi, stage.learner);
-  // A warm start: the table learned earlier (--init, else the context's init trained first with
-  // the same seed), over the actions the two share.
+// The table training starts from: the learner's initial values, or a warm start from the table
+// learned earlier (--init, else the context's init trained first with the same seed), over the
+// actions the two share.
+void start_table(TrainResult& res, const CurriculumStage& stage, const CurriculumContext& ctx,
+                 const TrainOptions& options) {
   if (!options.init_file.empty()) {
     res.init.emplace();
     res.q = std::make_shared<QTable>(
@@ -556,118 +555,171 @@ TrainResult train_stage(const TrainOptions& options) {
     res.q = std::make_shared<QTable>(warm_start_table(
         res.psi, stage.learner, *first.q,
         "stage '" + ctx.init_stage + "', context '" + ctx.init_context + "' (init, trained first)", &*res.init));
+  } else {
+    res.q = std::make_shared<QTable>(res.psi, stage.learner);
   }
-  QTable& q = *res.q;
-  const int budget = stage.budget_episodes;
-  const CheckpointSpec& cp = stage.checkpoints;
-  const ExplorationSchedule schedule = ExplorationSchedule::episodes(stage.learner, budget);
-  Rng rng(Rng::mix(options.seed, 0x65787031ull));  // exploration stream, apart from world seeds
+}
 
-  std::optional<TrialTeacher> teacher;
-  if (stage.teaches()) teacher.emplace(cur, stage, options);
-  // The parameters recorded are those the checkpoints' and the final evaluation's worlds have: a
-  // parameter an LCAS teacher lifts outside the task space is evaluated at its last level, which
-  // `roger eval --policy` then sets as the trial's own (trial_only_params). Training episodes
-  // record the level they had in their task.
-  if (teacher)
-    for (const auto& [name, level] : teacher->test_params())
-      for (auto& param : res.params)
-        if (param.first == name) param.second = level;
-  // A parameter a task axis draws has no one value (summary.json's tasks and test say what it took):
-  // its scenario default, which no episode used, is left out.
-  if (teacher)
-    res.params.erase(std::remove_if(res.params.begin(), res.params.end(),
-                                    [&](const auto& p) { return teacher->space().index(p.first) >= 0; }),
-                     res.params.end());
-  EvalCache eval_cache;
-  EvalCache* cache = options.eval_cache && !stage.absorbing_lua && !stage.reward_lua ? &eval_cache : nullptr;
-  // One greedy evaluation, counted (every episode reused, or not); with a teacher, on its test set;
-  // otherwise on the held-out seeds from `offset` on.
-  auto evaluate = [&](int episodes, const std::string& phase, bool keep = false, uint64_t offset = 0) {
-    const int reused_before = eval_cache.reused;
-    const EvalWorlds worlds = teacher ? teacher->worlds(cp.seeds, keep) : EvalWorlds{cp.seeds + offset, episodes};
+// The parameters recorded are those the checkpoints' and the final evaluation's worlds have: a
+// parameter an LCAS teacher lifts outside the task space is evaluated at its last level, which
+// `roger eval --policy` then sets as the trial's own (trial_only_params). Training episodes record
+// the level they had in their task. A parameter a task axis draws has no one value (summary.json's
+// tasks and test say what it took): its scenario default, which no episode used, is left out.
+void record_test_params(TrainResult& res, const TrialTeacher& teacher) {
+  for (const auto& [name, level] : teacher.test_params())
+    for (auto& param : res.params)
+      if (param.first == name) param.second = level;
+  res.params.erase(std::remove_if(res.params.begin(), res.params.end(),
+                                  [&](const auto& p) { return teacher.space().index(p.first) >= 0; }),
+                   res.params.end());
+}
+
+// What a stage that teaches records at the end: its task space, the teacher's kind, state and
+// time, and the test sets.
+void record_teacher(TrainResult& res, const TrialTeacher& teacher, const CurriculumStage& stage) {
+  res.teaches = true;
+  res.task_space = teacher.space().describe();
+  res.teacher_wall_s = teacher.wall_s();
+  res.teacher = {{"kind", teacher.kind()}, {"wall_s", teacher.wall_s()}, {"state", teacher.state()}};
+  res.test_tasks = teacher.test_tasks();
+  res.test_seed = stage.test.seed;
+  res.test_list = stage.test.list;
+  const EvalWorlds final_worlds = teacher.worlds(stage.checkpoints.seeds, true);
+  for (size_t i = 0; i < size_t(final_worlds.episodes); ++i) res.final_tasks.push_back(final_worlds.task(i));
+}
+
+// The trial's greedy evaluations, each counted in the result (its episodes, and those reused from
+// the cache): with a teacher on its test set, otherwise on the held-out seeds from `offset` on.
+class TrialEvaluations {
+ public:
+  TrialEvaluations(StageRun& run, const TrialTeacher* teacher, const TrainOptions& options, TrainResult& res)
+      : run_(run), teacher_(teacher), res_(res),
+        cache_(options.eval_cache && !run.stage.absorbing_lua && !run.stage.reward_lua ? &eval_cache_ : nullptr) {}
+
+  GreedyEval operator()(int episodes, const std::string& phase, bool keep = false, uint64_t offset = 0) {
+    const int reused_before = eval_cache_.reused;
+    const uint64_t seeds = run_.stage.checkpoints.seeds;
+    const EvalWorlds worlds = teacher_ ? teacher_->worlds(seeds, keep) : EvalWorlds{seeds + offset, episodes};
     episodes = worlds.episodes;
-    GreedyEval g = greedy_eval(run, q, worlds, phase, cache, keep);
-    ++res.evals;
-    res.eval_episodes += episodes;
-    res.eval_episodes_reused += eval_cache.reused - reused_before;
-    res.evals_reused += cache && episodes > 0 && eval_cache.reused - reused_before == episodes;
+    GreedyEval g = greedy_eval(run_, *res_.q, worlds, phase, cache_, keep);
+    const int reused = eval_cache_.reused - reused_before;
+    ++res_.evals;
+    res_.eval_episodes += episodes;
+    res_.eval_episodes_reused += reused;
+    res_.evals_reused += cache_ && episodes > 0 && reused == episodes;
     return g;
-  };
+  }
 
-  TrainPoint spent;
-  double train_wall = 0.0;
-  int passing = 0;  // consecutive passing checkpoints
-  // Consecutive passing checkpoints of one greedy policy, for stop_after (with cp.settle): a
-  // policy that changed since the last checkpoint has passed once, on one set of seeds.
-  int settled = 0;
-  std::vector<int> greedy_before, greedy_now;
-  // The cap of a capped trial, after what its skills spent (TrainOptions::max_sim_s).
+ private:
+  StageRun& run_;
+  const TrialTeacher* teacher_;
+  TrainResult& res_;
+  EvalCache eval_cache_;
+  EvalCache* cache_;
+};
+
+// The checkpoints' verdicts: how many passed in a row, and how many of them in a row one greedy
+// policy passed (for stop_after, with settle: a policy that changed since the last checkpoint has
+// passed once, on one set of seeds).
+class CheckpointVerdicts {
+ public:
+  // Judges checkpoint c of the table q (marking whether its greedy policy changed); true when
+  // stop_after ends training there.
+  bool judge(CheckpointRecord& c, const QTable& q, const CheckpointSpec& cp) {
+    const bool passed = c.success_rate >= cp.threshold;
+    passing_ = passed ? passing_ + 1 : 0;
+    greedy_signature(q, greedy_now_);
+    c.policy_changed = first_ || greedy_now_ != greedy_before_;
+    first_ = false;
+    settled_ = !passed ? 0 : c.policy_changed && cp.settle ? 1 : settled_ + 1;
+    greedy_before_.swap(greedy_now_);
+    return cp.stop_after > 0 && settled_ >= cp.stop_after;
+  }
+  int passing() const { return passing_; }
+
+ private:
+  int passing_ = 0, settled_ = 0;
+  bool first_ = true;
+  std::vector<int> greedy_before_, greedy_now_;
+};
+
+// Trains to the stage's budget, or to the trial's cap (TrainOptions::max_sim_s, after what its
+// skills spent), or until stop_after, with a greedy checkpoint every cp.every episodes and at the
+// end. res.totals follows what has been spent, so a fault leaves it true.
+void train_episodes(StageRun& run, TrialTeacher* teacher, const TrainOptions& options, TrialEvaluations& evaluate,
+                    TrainResult& res) {
+  QTable& q = *res.q;
+  const int budget = run.stage.budget_episodes;
+  const CheckpointSpec& cp = run.stage.checkpoints;
+  const ExplorationSchedule schedule = ExplorationSchedule::episodes(run.stage.learner, budget);
+  Rng rng(Rng::mix(options.seed, 0x65787031ull));  // exploration stream, apart from world seeds
   const double cap = options.max_sim_s > 0 ? options.max_sim_s - skills_sim_s(res.skills) : 0.0;
-  // What training had done when a fault stops it, for a caller that keeps it.
-  auto keep_progress = [&] {
-    if (!options.progress_on_fault) return;
-    res.totals = spent;
-    if (teacher) res.teacher = {{"kind", teacher->kind()}, {"wall_s", teacher->wall_s()}, {"state", teacher->state()}};
-    res.wall_s = seconds_since(t0);
-    *options.progress_on_fault = std::move(res);
-  };
-  try {
-    for (int e = 0; e < budget; ++e) {
-      if (options.max_sim_s > 0 && spent.sim_s >= cap) break;  // judged at its last checkpoint
-      const auto te = std::chrono::steady_clock::now();
-      const double eps = schedule.epsilon(e);
-      EpisodeWorld world;
-      TrainingEpisode ep = train_episode(run, teacher ? &*teacher : nullptr, q, Rng::mix(options.seed, uint64_t(e) + 1),
-                                         eps, rng, e, world, res.skipped_tasks);
-      nlohmann::json task = teacher ? teacher->tell(ep) : nlohmann::json();
-      train_wall += seconds_since(te);
-      spent.episodes = e + 1;
-      spent.sim_s += ep.sim_seconds;
-      spent.decisions += ep.decisions;
-      spent.wall_s = train_wall;
-      if (options.keep_episodes)
-        res.episodes.push_back(EpisodeRecord{e, eps, std::move(ep), std::move(world), std::move(task)});
-      if ((e + 1) % cp.every == 0 || e + 1 == budget) {
-        const auto tc = std::chrono::steady_clock::now();
-        const GreedyEval g = evaluate(cp.episodes, "checkpoint " + std::to_string(res.checkpoints.size() + 1) + " evaluation");
-        res.checkpoints.push_back(checkpoint_record(spent, g, seconds_since(tc)));
-        if (teacher) res.checkpoints.back().teacher = teacher->state();
-        const bool passed = g.success_rate >= cp.threshold;
-        passing = passed ? passing + 1 : 0;
-        greedy_signature(q, greedy_now);
-        const bool changed = res.checkpoints.size() == 1 || greedy_now != greedy_before;
-        res.checkpoints.back().policy_changed = changed;
-        settled = !passed ? 0 : changed && cp.settle ? 1 : settled + 1;
-        greedy_before.swap(greedy_now);
-        if (cp.stop_after > 0 && settled >= cp.stop_after && e + 1 < budget) {
-          res.stopped_early = true;
-          break;
-        }
-      }
+  TrainPoint& spent = res.totals;
+  CheckpointVerdicts verdicts;
+  for (int e = 0; e < budget; ++e) {
+    if (options.max_sim_s > 0 && spent.sim_s >= cap) break;  // judged at its last checkpoint
+    const auto te = std::chrono::steady_clock::now();
+    const double eps = schedule.epsilon(e);
+    EpisodeWorld world;
+    TrainingEpisode ep = train_episode(run, teacher, q, Rng::mix(options.seed, uint64_t(e) + 1), eps, rng, e, world,
+                                       res.skipped_tasks);
+    nlohmann::json task = teacher ? teacher->tell(ep) : nlohmann::json();
+    spent.wall_s += seconds_since(te);
+    spent.episodes = e + 1;
+    spent.sim_s += ep.sim_seconds;
+    spent.decisions += ep.decisions;
+    if (options.keep_episodes) res.episodes.push_back(EpisodeRecord{e, eps, std::move(ep), std::move(world), std::move(task)});
+    if ((e + 1) % cp.every != 0 && e + 1 != budget) continue;
+    const auto tc = std::chrono::steady_clock::now();
+    const GreedyEval g = evaluate(cp.episodes, "checkpoint " + std::to_string(res.checkpoints.size() + 1) + " evaluation");
+    res.checkpoints.push_back(checkpoint_record(spent, g, seconds_since(tc)));
+    if (teacher) res.checkpoints.back().teacher = teacher->state();
+    if (verdicts.judge(res.checkpoints.back(), q, cp) && e + 1 < budget) {
+      res.stopped_early = true;
+      break;
     }
-    res.totals = spent;
-    // The first checkpoint from which the rate stays at or above the threshold to the end.
-    res.reached = passing > 0;
-    res.to_threshold = res.reached ? res.checkpoints[res.checkpoints.size() - size_t(passing)].at : spent;
+  }
+  // The first checkpoint from which the rate stays at or above the threshold to the end.
+  res.reached = verdicts.passing() > 0;
+  res.to_threshold = res.reached ? res.checkpoints[res.checkpoints.size() - size_t(verdicts.passing())].at : spent;
+}
+
+}  // namespace
+
+TrainResult train_stage(const TrainOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  // A fresh load per trial: every trial gets its own controllers.
+  Curriculum cur = Curriculum::load(options.curriculum, options.limits);
+  const CurriculumStage& stage = cur.stage(options.stage);
+  const CurriculumContext& ctx = stage.context(options.context);
+  TrainResult res = trial_header(cur, stage, ctx, options);
+  bind_skills(cur, ctx, options, options.given_skills, res.skills);
+
+  StageRun run{cur, stage, ctx, make_scenario(stage, ctx, "", options.sets, options.limits, &res.params), Agent()};
+  cur.set_world(&run.agent.world());  // the Lua callbacks' `world`
+  res.scenario = run.scenario.name();
+  start_table(res, stage, ctx, options);
+  std::optional<TrialTeacher> teacher;
+  if (stage.teaches()) {
+    teacher.emplace(cur, stage, options);
+    record_test_params(res, *teacher);
+  }
+  TrialEvaluations evaluate(run, teacher ? &*teacher : nullptr, options, res);
+  try {
+    train_episodes(run, teacher ? &*teacher : nullptr, options, evaluate, res);
     if (options.final_evaluation)
-      res.final_eval = evaluate(cp.final_episodes, "final evaluation", true,
-                                options.final_worlds_block * uint64_t(cp.final_episodes));
+      res.final_eval = evaluate(stage.checkpoints.final_episodes, "final evaluation", true,
+                                options.final_worlds_block * uint64_t(stage.checkpoints.final_episodes));
   } catch (...) {
-    keep_progress();
+    // What training had done when the fault stopped it, for a caller that keeps it.
+    if (options.progress_on_fault) {
+      if (teacher) res.teacher = {{"kind", teacher->kind()}, {"wall_s", teacher->wall_s()}, {"state", teacher->state()}};
+      res.wall_s = seconds_since(t0);
+      *options.progress_on_fault = std::move(res);
+    }
     throw;
   }
-  if (teacher) {
-    res.teaches = true;
-    res.task_space = teacher->space().describe();
-    res.teacher_wall_s = teacher->wall_s();
-    res.teacher = {{"kind", teacher->kind()}, {"wall_s", teacher->wall_s()}, {"state", teacher->state()}};
-    res.test_tasks = teacher->test_tasks();
-    res.test_seed = stage.test.seed;
-    res.test_list = stage.test.list;
-    const EvalWorlds final_worlds = teacher->worlds(cp.seeds, true);
-    for (size_t i = 0; i < size_t(final_worlds.episodes); ++i) res.final_tasks.push_back(final_worlds.task(i));
-  }
+  if (teacher) record_teacher(res, *teacher, stage);
   res.explain = options.explain;
   res.wall_s = seconds_since(t0);
   return res;
