@@ -1,20 +1,18 @@
 #include "cli/bench.h"
 
+#include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <cstdio>
 
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
-#include "script/scenario/scenario.h"
-#include "script/skills/skill_script.h"
-
-#include <algorithm>
-#include <chrono>
-#include <cmath>
-
 #include "control/agent.h"
 #include "control/predicate.h"
 #include "report/stats.h"
+#include "script/scenario/scenario.h"
+#include "script/skills/skill_script.h"
 
 namespace roger {
 
@@ -177,13 +175,16 @@ std::vector<WorldSpec> generate(Scenario& scenario, uint64_t seed, int count) {
   return worlds;
 }
 
-}  // namespace
+// The lines `roger bench` prints, each measured on the same machine in the same run.
+struct BenchLines {
+  BenchResult world;                          // physics alone, and with the senses
+  PipelineResult full, wide, under_m, many;  // the pipelines: noise-free, 256-pixel eyes, under M, 8 objects
+};
 
-int command_bench(const BenchArgs& a) {
+BenchLines measure_lines(const BenchArgs& a, const WorldParams& params) {
   Scenario scenario = Scenario::load(a.scenario);
-  const WorldSpec spec = scenario.generate(a.seed);
-  const WorldParams params;
-  const BenchResult r = bench_world(spec, BenchOptions{a.seconds, a.repeats}, params);
+  BenchLines lines;
+  lines.world = bench_world(scenario.generate(a.seed), BenchOptions{a.seconds, a.repeats}, params);
   // The whole pipeline: the hand-written task policy through episodes on 20 seeds of the same
   // scenario, against physics alone replaying exactly the same commands.
   SkillScript script = SkillScript::load(a.script);
@@ -210,8 +211,14 @@ int command_bench(const BenchArgs& a) {
   // noisy pipeline's to the noise-free one's, come from the same seconds.
   for (int round = 0; round < std::max(1, a.repeats); ++round)
     for (PipelineBench* line : {&full, &wide_eyes, &noisy, &eight}) line->measure();
-  const PipelineResult &p = full.result(), &wide = wide_eyes.result(), &under_m = noisy.result(),
-                       &many = eight.result();
+  lines.full = full.result(), lines.wide = wide_eyes.result(), lines.under_m = noisy.result();
+  lines.many = eight.result();
+  return lines;
+}
+
+void print_lines(const BenchArgs& a, const BenchLines& l) {
+  const BenchResult& r = l.world;
+  const PipelineResult &p = l.full, &wide = l.wide, &under_m = l.under_m, &many = l.many;
   std::printf("roger bench: %s seed %llu, %.0f simulated s per run, best of %d (the pipelines in rounds), one core\n",
               a.scenario.c_str(), static_cast<unsigned long long>(a.seed), a.seconds, a.repeats);
   std::printf("  physics alone        %9.0fx real time\n", r.physics_rtf);
@@ -242,44 +249,55 @@ int command_bench(const BenchArgs& a) {
     std::printf("  note                 %s: on a shared machine a single measurement can be off by a third; "
                 "--repeats 5 (the default) or more takes the best of each\n",
                 impossible ? "a layer measured cheaper than physics alone, which cannot be" : "fewer than 3 repeats");
-  if (a.json) {
-    nlohmann::json j = {{"scenario", a.scenario},
-                        {"seed", a.seed},
-                        {"sim_seconds", a.seconds},
-                        {"repeats", a.repeats},
-                        {"physics_dt", params.dt},
-                        {"control_dt", params.dt * params.substeps},
-                        {"physics_rtf", r.physics_rtf},
-                        {"world_rtf", r.world_rtf},
-                        {"senses_overhead", r.senses_overhead},
-                        {"pipeline_rtf", p.pipeline_rtf},
-                        {"pipeline_replay_physics_rtf", p.replay_rtf},
-                        {"pipeline_cost_ratio", p.cost_ratio},
-                        {"pipeline_episodes", p.episodes},
-                        {"pipeline_successes", p.successes},
-                        {"pipeline_sim_seconds", p.sim_seconds},
-                        {"pipeline_hash", p.hash},
-                        {"pixels256_pipeline_rtf", wide.pipeline_rtf},
-                        {"pixels256_replay_physics_rtf", wide.replay_rtf},
-                        {"pixels256_cost_ratio", wide.cost_ratio},
-                        {"pixels256_successes", wide.successes},
-                        {"pixels256_sim_seconds", wide.sim_seconds},
-                        {"pixels256_hash", wide.hash},
-                        {"noise_pipeline_rtf", under_m.pipeline_rtf},
-                        {"noise_replay_physics_rtf", under_m.replay_rtf},
-                        {"noise_cost_ratio", under_m.cost_ratio},
-                        {"noise_successes", under_m.successes},
-                        {"noise_sim_seconds", under_m.sim_seconds},
-                        {"noise_hash", under_m.hash},
-                        {"objects8_pipeline_rtf", many.pipeline_rtf},
-                        {"objects8_replay_physics_rtf", many.replay_rtf},
-                        {"objects8_cost_ratio", many.cost_ratio},
-                        {"objects8_episodes", many.episodes},
-                        {"objects8_successes", many.successes},
-                        {"objects8_sim_seconds", many.sim_seconds},
-                        {"objects8_hash", many.hash}};
-    std::printf("%s\n", j.dump().c_str());
-  }
+}
+
+nlohmann::json lines_json(const BenchArgs& a, const WorldParams& params, const BenchLines& l) {
+  const BenchResult& r = l.world;
+  const PipelineResult &p = l.full, &wide = l.wide, &under_m = l.under_m, &many = l.many;
+  return {{"scenario", a.scenario},
+          {"seed", a.seed},
+          {"sim_seconds", a.seconds},
+          {"repeats", a.repeats},
+          {"physics_dt", params.dt},
+          {"control_dt", params.dt * params.substeps},
+          {"physics_rtf", r.physics_rtf},
+          {"world_rtf", r.world_rtf},
+          {"senses_overhead", r.senses_overhead},
+          {"pipeline_rtf", p.pipeline_rtf},
+          {"pipeline_replay_physics_rtf", p.replay_rtf},
+          {"pipeline_cost_ratio", p.cost_ratio},
+          {"pipeline_episodes", p.episodes},
+          {"pipeline_successes", p.successes},
+          {"pipeline_sim_seconds", p.sim_seconds},
+          {"pipeline_hash", p.hash},
+          {"pixels256_pipeline_rtf", wide.pipeline_rtf},
+          {"pixels256_replay_physics_rtf", wide.replay_rtf},
+          {"pixels256_cost_ratio", wide.cost_ratio},
+          {"pixels256_successes", wide.successes},
+          {"pixels256_sim_seconds", wide.sim_seconds},
+          {"pixels256_hash", wide.hash},
+          {"noise_pipeline_rtf", under_m.pipeline_rtf},
+          {"noise_replay_physics_rtf", under_m.replay_rtf},
+          {"noise_cost_ratio", under_m.cost_ratio},
+          {"noise_successes", under_m.successes},
+          {"noise_sim_seconds", under_m.sim_seconds},
+          {"noise_hash", under_m.hash},
+          {"objects8_pipeline_rtf", many.pipeline_rtf},
+          {"objects8_replay_physics_rtf", many.replay_rtf},
+          {"objects8_cost_ratio", many.cost_ratio},
+          {"objects8_episodes", many.episodes},
+          {"objects8_successes", many.successes},
+          {"objects8_sim_seconds", many.sim_seconds},
+          {"objects8_hash", many.hash}};
+}
+
+}  // namespace
+
+int command_bench(const BenchArgs& a) {
+  const WorldParams params;
+  const BenchLines lines = measure_lines(a, params);
+  print_lines(a, lines);
+  if (a.json) std::printf("%s\n", lines_json(a, params, lines).dump().c_str());
   return 0;
 }
 
