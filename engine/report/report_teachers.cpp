@@ -169,14 +169,37 @@ void teaching_notes(const BatchScript& b, const std::vector<BatchRow>& rows, con
   table["teachers"] = teachers;
 }
 
-ByFound by_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep) {
-  struct Cell {
-    int64_t episodes = 0, successes = 0;
-  };
-  std::vector<BatchRow> rows = rows_of(b, t);
-  std::vector<std::vector<std::pair<std::string, bool>>> seen(rows.size());  // (value, success) per row
-  int64_t records = 0;  // read, with or without the feature
+namespace {
+
+using FeatureSeen = std::vector<std::vector<std::pair<std::string, bool>>>;  // (value, success) per row
+
+// What the final evaluations' records (final.jsonl) of each row's trials say of one feature.
+struct FeatureRecords {
+  FeatureSeen seen;
+  int64_t records = 0;             // read, with or without the feature
   std::set<std::string> features;  // what the records have, for a feature none has
+};
+
+// Line line_no of `file`, checked to be a final-evaluation record; roger::Error at file:line if not.
+json final_record(const std::string& line, const fs::path& file, int line_no) {
+  json record;
+  try {
+    record = json::parse(line);
+  } catch (const std::exception& e) {
+    throw Error(file.string() + ":" + std::to_string(line_no) + ": not JSON: " + json_error_text(e.what()));
+  }
+  const std::string where = file.string() + ":" + std::to_string(line_no) + ": ";
+  if (!record.is_object()) throw Error(where + "a final-evaluation record must be a JSON object");
+  if (!record.contains("success") || !record["success"].is_boolean())
+    throw Error(where + "field \"success\" must be true or false, got " +
+                (record.contains("success") ? record["success"].dump() : std::string("nothing")));
+  return record;
+}
+
+FeatureRecords read_feature(const BatchScript& b, const std::vector<BatchRow>& rows, const std::string& by,
+                            const Folder& folder) {
+  FeatureRecords r;
+  r.seen.resize(rows.size());
   for (size_t k = 0; k < rows.size(); ++k) {
     const BatchRun& run = *b.run(rows[k].run);
     for (int i = 0; i < run.trials; ++i) {
@@ -187,53 +210,71 @@ ByFound by_table(const BatchScript& b, const BatchTable& t, const Folder& folder
       for (std::string line; std::getline(in, line);) {
         ++line_no;
         if (line.empty()) continue;
-        json record;
-        try {
-          record = json::parse(line);
-        } catch (const std::exception& e) {
-          throw Error(file.string() + ":" + std::to_string(line_no) + ": not JSON: " + json_error_text(e.what()));
-        }
-        const std::string where = file.string() + ":" + std::to_string(line_no) + ": ";
-        if (!record.is_object()) throw Error(where + "a final-evaluation record must be a JSON object");
-        if (!record.contains("success") || !record["success"].is_boolean())
-          throw Error(where + "field \"success\" must be true or false, got " +
-                      (record.contains("success") ? record["success"].dump() : std::string("nothing")));
-        ++records;
+        const json record = final_record(line, file, line_no);
+        ++r.records;
         for (const char* part : {"task", "world"})
           if (record.contains(part) && record[part].is_object())
-            for (const auto& [name, value] : record[part].items()) features.insert(name == "shapes" ? "shape" : name);
-        const std::string v = feature_of(record, t.by);
-        if (!v.empty()) seen[k].push_back({v, record["success"].get<bool>()});
+            for (const auto& [name, value] : record[part].items()) r.features.insert(name == "shapes" ? "shape" : name);
+        const std::string v = feature_of(record, by);
+        if (!v.empty()) r.seen[k].push_back({v, record["success"].get<bool>()});
       }
     }
   }
-  // Columns: each value, or five equal bins of the range when the values are many fractions (a
-  // real axis of a task space).
-  std::set<std::string, decltype(&value_less)> distinct(&value_less);
-  bool fractions = true;
-  double lo = 1e300, hi = -1e300;
-  for (const auto& row : seen)
-    for (const auto& [v, ok] : row) {
-      distinct.insert(v);
-      char* end = nullptr;
-      const double x = std::strtod(v.c_str(), &end);
-      fractions = fractions && *end == '\0' && !v.empty();
-      if (fractions) lo = std::min(lo, x), hi = std::max(hi, x);
-    }
-  const bool binned = fractions && distinct.size() > 8 && hi > lo;
-  auto column_of = [&](const std::string& v) {
-    if (!binned) return v;
-    const int bin = std::min(4, int((std::strtod(v.c_str(), nullptr) - lo) / (hi - lo) * 5));
-    return fmt("%.2f", lo + (hi - lo) * bin / 5) + " to " + fmt("%.2f", lo + (hi - lo) * (bin + 1) / 5);
+  return r;
+}
+
+// The table's columns: each value, or five equal bins of the range when the values are many
+// fractions (a real axis of a task space).
+class FeatureColumns {
+ public:
+  explicit FeatureColumns(const FeatureSeen& seen) {
+    std::set<std::string, decltype(&value_less)> distinct(&value_less);
+    bool fractions = true;
+    for (const auto& row : seen)
+      for (const auto& [v, ok] : row) {
+        distinct.insert(v);
+        char* end = nullptr;
+        const double x = std::strtod(v.c_str(), &end);
+        fractions = fractions && *end == '\0' && !v.empty();
+        if (fractions) lo_ = std::min(lo_, x), hi_ = std::max(hi_, x);
+      }
+    binned_ = fractions && distinct.size() > 8 && hi_ > lo_;
+  }
+  // The column of value v.
+  std::string of(const std::string& v) const {
+    if (!binned_) return v;
+    const int bin = std::min(4, int((std::strtod(v.c_str(), nullptr) - lo_) / (hi_ - lo_) * 5));
+    return fmt("%.2f", lo_ + (hi_ - lo_) * bin / 5) + " to " + fmt("%.2f", lo_ + (hi_ - lo_) * (bin + 1) / 5);
+  }
+  // The columns with no value yet: every bin, an empty one too ("five equal bins" with one left
+  // out read as four, found by a probe).
+  std::vector<std::string> always() const {
+    std::vector<std::string> bins;
+    if (binned_)
+      for (int bin = 0; bin < 5; ++bin) bins.push_back(of(fmt("%.17g", lo_ + (hi_ - lo_) * (bin + 0.5) / 5)));
+    return bins;
+  }
+
+ private:
+  bool binned_ = false;
+  double lo_ = 1e300, hi_ = -1e300;
+};
+
+}  // namespace
+
+ByFound by_table(const BatchScript& b, const BatchTable& t, const Folder& folder, std::ostringstream& md, json& rep) {
+  struct Cell {
+    int64_t episodes = 0, successes = 0;
   };
+  const std::vector<BatchRow> rows = rows_of(b, t);
+  const FeatureRecords found = read_feature(b, rows, t.by, folder);
+  const FeatureColumns columns(found.seen);
   std::vector<std::map<std::string, Cell>> cells(rows.size());
   std::set<std::string, decltype(&value_less)> values(&value_less);
-  // Every bin, an empty one too: "five equal bins" with one left out read as four (found by a probe).
-  if (binned)
-    for (int bin = 0; bin < 5; ++bin) values.insert(column_of(fmt("%.17g", lo + (hi - lo) * (bin + 0.5) / 5)));
+  for (const std::string& col : columns.always()) values.insert(col);
   for (size_t k = 0; k < rows.size(); ++k)
-    for (const auto& [v, ok] : seen[k]) {
-      const std::string col = column_of(v);
+    for (const auto& [v, ok] : found.seen[k]) {
+      const std::string col = columns.of(v);
       values.insert(col);
       ++cells[k][col].episodes;
       cells[k][col].successes += ok;
@@ -261,13 +302,13 @@ ByFound by_table(const BatchScript& b, const BatchTable& t, const Folder& folder
     md << "\n";
     out.push_back(row);
   }
-  if (values.empty() && records == 0) md << "\nNo trial has recorded its final evaluation's episodes (final.jsonl) yet.\n";
+  if (values.empty() && found.records == 0) md << "\nNo trial has recorded its final evaluation's episodes (final.jsonl) yet.\n";
   else if (values.empty())
-    md << "\nNone of the " << counted(records, "final-evaluation episode") << " has a feature '" << t.by
-       << "'; they have: " << join(std::vector<std::string>(features.begin(), features.end())) << ".\n";
+    md << "\nNone of the " << counted(found.records, "final-evaluation episode") << " has a feature '" << t.by
+       << "'; they have: " << join(std::vector<std::string>(found.features.begin(), found.features.end())) << ".\n";
   md << "\n";
   rep.push_back({{"title", t.title}, {"by", t.by}, {"rows", out}});
-  return {records, !values.empty(), features};
+  return {found.records, !values.empty(), found.features};
 }
 
 namespace {
