@@ -89,6 +89,81 @@ bool has_actions_field(lua_State* L, int index) {
   return has;
 }
 
+// The entries of contexts written as a list {{name = 'A', actions = {...}}, ...} (the table at t, of
+// n entries).
+std::vector<ContextEntry> context_list(lua_State* L, int t, lua_Integer n, const std::string& where) {
+  // A named context beside the list (`{ {name = 'A', ...}, B = {...} }`) would be dropped without
+  // a word: found by a probe, whose context B was not trained and roger check said ok.
+  if (const std::string key = key_beside_list(L, t, n); !key.empty())
+    luaL_error(L, "%s: field 'contexts' mixes a list with the named entry %s: write it in the list as {name = "
+               "..., actions = {...}}, or every context as a map {A = {...}, B = {...}}", where.c_str(), key.c_str());
+  std::vector<ContextEntry> entries;
+  for (lua_Integer i = 1; i <= n; ++i) {
+    lua_rawgeti(L, t, i);
+    const int e = lua_gettop(L);
+    const std::string ctx = where + ": context " + std::to_string(i);
+    if (!lua_istable(L, e))
+      luaL_error(L, "%s must be a table {name = ..., actions = {...}}, got %s", ctx.c_str(),
+                 lua_describe_value(L, e).c_str());
+    ContextEntry entry;
+    read_context_fields(L, e, ctx, true, entry);
+    entries.push_back(entry);
+  }
+  return entries;
+}
+
+// The entries of contexts written as a map {B1 = {...}, ...} (the table at t), in name order: a
+// map has no order, and name order is reproducible.
+std::vector<ContextEntry> context_map(lua_State* L, int t, const CurriculumStage& st) {
+  std::vector<std::string> names;
+  lua_pushnil(L);
+  while (lua_next(L, t)) {
+    lua_pop(L, 1);
+    if (lua_type(L, -1) != LUA_TSTRING)
+      luaL_error(L, "%s: contexts must be named (B1 = {...}) or a list of {name = ..., actions = ...}, got the key %s",
+                 st.where().c_str(), lua_describe_value(L, -1).c_str());
+    names.push_back(lua_tostring(L, -1));
+  }
+  std::sort(names.begin(), names.end());
+  std::vector<ContextEntry> entries;
+  for (const auto& name : names) {
+    lua_getfield(L, t, name.c_str());
+    ContextEntry entry;
+    entry.name = name;
+    entry.actions = lua_gettop(L);
+    if (has_actions_field(L, entry.actions)) read_context_fields(L, entry.actions, st.where(name), false, entry);
+    entries.push_back(entry);
+  }
+  return entries;
+}
+
+// The actions Psi of a context (the list at idx), checked: a plain list of 1 to 12 controllers
+// with names that differ.
+void read_actions(lua_State* L, int idx, const std::string& ctx, CurriculumContext& c) {
+  const lua_Integer n = lua_Integer(lua_rawlen(L, idx));
+  lua_pushnil(L);
+  while (lua_next(L, idx)) {  // only 1..n: a named key is a slip
+    lua_pop(L, 1);
+    if (!lua_isinteger(L, -1) || lua_tointeger(L, -1) < 1 || lua_tointeger(L, -1) > n)
+      luaL_error(L, "%s: the actions must be a plain list {a, b, ...}, got the key %s", ctx.c_str(),
+                 lua_describe_value(L, -1).c_str());
+  }
+  if (n == 0) luaL_error(L, "%s: Psi is empty: a context needs at least one action", ctx.c_str());
+  if (n > 12)
+    luaL_error(L, "%s: Psi has %d actions; at most 12 are allowed (3^12 states)", ctx.c_str(), int(n));
+  std::set<std::string> action_names;
+  for (lua_Integer i = 1; i <= n; ++i) {
+    lua_rawgeti(L, idx, i);
+    ControllerPtr a = lua_check_controller(L, -1, ctx, "action " + std::to_string(i));
+    lua_pop(L, 1);
+    if (!action_names.insert(a->name()).second)
+      luaL_error(L, "%s: two actions are named '%s'; the names of Psi must differ", ctx.c_str(), a->name().c_str());
+    c.actions.push_back(std::move(a));
+  }
+  std::set<const Controller*> visited;
+  for (const auto& a : c.actions) find_learned(a.get(), visited, c.learned);
+}
+
 // Reads the contexts of a stage (the value on top of the stack).
 void parse_contexts(lua_State* L, CurriculumStage& st) {
   const int t = lua_gettop(L);
@@ -96,86 +171,27 @@ void parse_contexts(lua_State* L, CurriculumStage& st) {
   if (!lua_istable(L, t))
     luaL_error(L, "%s: field 'contexts' must be a table: a list {{name = 'B1', actions = {...}}, ...} or a map "
                "{B1 = {...}, ...}, got %s", where.c_str(), lua_describe_value(L, t).c_str());
-  std::vector<ContextEntry> entries;
-  if (lua_rawlen(L, t) > 0) {
-    const lua_Integer n = lua_Integer(lua_rawlen(L, t));
-    // A named context beside the list (`{ {name = 'A', ...}, B = {...} }`) would be dropped without
-    // a word: found by a probe, whose context B was not trained and roger check said ok.
-    if (const std::string key = key_beside_list(L, t, n); !key.empty())
-      luaL_error(L, "%s: field 'contexts' mixes a list with the named entry %s: write it in the list as {name = "
-                 "..., actions = {...}}, or every context as a map {A = {...}, B = {...}}", where.c_str(), key.c_str());
-    for (lua_Integer i = 1; i <= n; ++i) {
-      lua_rawgeti(L, t, i);
-      const int e = lua_gettop(L);
-      const std::string ctx = where + ": context " + std::to_string(i);
-      if (!lua_istable(L, e))
-        luaL_error(L, "%s must be a table {name = ..., actions = {...}}, got %s", ctx.c_str(),
-                   lua_describe_value(L, e).c_str());
-      ContextEntry entry;
-      read_context_fields(L, e, ctx, true, entry);
-      entries.push_back(entry);
-    }
-  } else {
-    std::vector<std::string> names;
-    lua_pushnil(L);
-    while (lua_next(L, t)) {
-      lua_pop(L, 1);
-      if (lua_type(L, -1) != LUA_TSTRING)
-        luaL_error(L, "%s: contexts must be named (B1 = {...}) or a list of {name = ..., actions = ...}, got the key %s",
-                   where.c_str(), lua_describe_value(L, -1).c_str());
-      names.push_back(lua_tostring(L, -1));
-    }
-    std::sort(names.begin(), names.end());  // a map has no order: name order is reproducible
-    for (const auto& name : names) {
-      lua_getfield(L, t, name.c_str());
-      ContextEntry entry;
-      entry.name = name;
-      entry.actions = lua_gettop(L);
-      if (has_actions_field(L, entry.actions)) read_context_fields(L, entry.actions, st.where(name), false, entry);
-      entries.push_back(entry);
-    }
-  }
+  const lua_Integer n = lua_Integer(lua_rawlen(L, t));
+  const std::vector<ContextEntry> entries = n > 0 ? context_list(L, t, n, where) : context_map(L, t, st);
   if (entries.empty()) luaL_error(L, "%s: field 'contexts' is empty: define at least one context", where.c_str());
   std::map<std::string, size_t> seen_names;  // each name's position in the list
   for (size_t k = 0; k < entries.size(); ++k) {
     const ContextEntry& entry = entries[k];
     const std::string& name = entry.name;
-    const int idx = entry.actions, params_idx = entry.params;
     const std::string ctx = st.where(name);
     // At the second one's line ("context 2: " leads there), naming the first.
     if (const auto [first, added] = seen_names.emplace(name, k + 1); !added)
       luaL_error(L, "%s: context %d: a second context named '%s' (context %d is named so)", where.c_str(), int(k + 1),
                  name.c_str(), int(first->second));
-    if (!lua_istable(L, idx))
+    if (!lua_istable(L, entry.actions))
       luaL_error(L, "%s: the actions must be a list of controllers, got %s", ctx.c_str(),
-                 lua_describe_value(L, idx).c_str());
+                 lua_describe_value(L, entry.actions).c_str());
     CurriculumContext c;
     c.name = name;
     c.init_stage = entry.init_context.empty() || !entry.init_stage.empty() ? entry.init_stage : st.name;
     c.init_context = entry.init_context;
-    if (params_idx) read_params_table(L, params_idx, ctx, c.params);
-    const lua_Integer n = lua_Integer(lua_rawlen(L, idx));
-    lua_pushnil(L);
-    while (lua_next(L, idx)) {  // only 1..n: a named key is a slip
-      lua_pop(L, 1);
-      if (!lua_isinteger(L, -1) || lua_tointeger(L, -1) < 1 || lua_tointeger(L, -1) > n)
-        luaL_error(L, "%s: the actions must be a plain list {a, b, ...}, got the key %s", ctx.c_str(),
-                   lua_describe_value(L, -1).c_str());
-    }
-    if (n == 0) luaL_error(L, "%s: Psi is empty: a context needs at least one action", ctx.c_str());
-    if (n > 12)
-      luaL_error(L, "%s: Psi has %d actions; at most 12 are allowed (3^12 states)", ctx.c_str(), int(n));
-    std::set<std::string> action_names;
-    for (lua_Integer i = 1; i <= n; ++i) {
-      lua_rawgeti(L, idx, i);
-      ControllerPtr a = lua_check_controller(L, -1, ctx, "action " + std::to_string(i));
-      lua_pop(L, 1);
-      if (!action_names.insert(a->name()).second)
-        luaL_error(L, "%s: two actions are named '%s'; the names of Psi must differ", ctx.c_str(), a->name().c_str());
-      c.actions.push_back(std::move(a));
-    }
-    std::set<const Controller*> visited;
-    for (const auto& a : c.actions) find_learned(a.get(), visited, c.learned);
+    if (entry.params) read_params_table(L, entry.params, ctx, c.params);
+    read_actions(L, entry.actions, ctx, c);
     st.contexts.push_back(std::move(c));
   }
   lua_settop(L, t);
