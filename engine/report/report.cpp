@@ -129,6 +129,60 @@ std::string scenario_as_named(const std::string& scenario, const json& manifest)
   return (fs::path(script).parent_path() / rel).lexically_normal().generic_string();
 }
 
+// The script's tables, and with roger report --by each run's and evaluation's rows split again
+// by each feature. A feature of the command line that no record has is a slip (a typo, a feature
+// of other scripts): refused before anything is written, rather than a report of empty tables.
+json write_tables(const BatchScript& b, const std::vector<std::string>& by, const Folder& folder, std::ostringstream& md) {
+  json rep = json::array();
+  std::map<std::string, int64_t> by_records;  // per --by feature: the records its tables read
+  std::map<std::string, bool> by_found;       // and whether any had it
+  std::set<std::string> features;             // what the records have
+  for (const auto& t : b.tables) {
+    if (!t.sorting.empty()) sorting_table(b, t, folder, md, rep);
+    else if (!t.compare.empty()) compare_table(b, t, folder, md, rep);
+    else if (!t.by.empty()) by_table(b, t, folder, md, rep);
+    else if (!t.run.empty()) run_table(b, t, folder, md, rep);
+    else eval_table(b, t, folder, md, rep);
+    if (!t.by.empty() || (t.run.empty() && t.compare.empty())) continue;
+    for (const auto& feature : by) {
+      BatchTable split = t;
+      split.by = feature;
+      split.title = t.title + ": final success by " + feature;
+      const ByFound found = by_table(b, split, folder, md, rep);
+      by_records[feature] += found.records;
+      by_found[feature] = by_found[feature] || found.feature;
+      features.insert(found.features.begin(), found.features.end());
+    }
+  }
+  for (const auto& feature : by)
+    if (by_records[feature] > 0 && !by_found[feature])
+      throw Error("--by " + feature + ": none of the " + counted(by_records[feature], "final-evaluation episode") +
+                  " has a feature '" + feature + "'; they have: " +
+                  join(std::vector<std::string>(features.begin(), features.end())));
+  return rep;
+}
+
+// The figures, drawn (their files appended to `written`, the page's entries to `page_figures`),
+// and their section of tables.md: each figure's line, then how the curves were made.
+void write_figures(const BatchScript& b, const Folder& folder, std::vector<std::string>& written,
+                   json& page_figures, std::ostringstream& md) {
+  const std::vector<std::string> figures_md = draw_figures(b, folder, written, page_figures);
+  md << "## Figures\n\n";
+  for (const auto& l : figures_md) md << l << "\n";
+  md << "\nLearning curves: each trial's greedy checkpoint rewards (the mean episodic reward of held-out "
+        "episodes) against its simulated training time, interpolated linearly between checkpoints onto a "
+        "common grid of "
+     << kCurvePoints << " times (log-spaced on a log axis) from the latest first checkpoint to the latest last "
+        "one; a trial that stopped early keeps its last value. Lines are the mean over trials, bands ± one "
+        "(population) std. IQM learning curves (one per stage): on the same grid, the interquartile mean over "
+        "trials with its 95% percentile-bootstrap interval at each time (" << dashboard::kCurveResamples
+     << " resamples). Cumulative training time: mean simulated time-to-threshold of the skill's source "
+        "trials (each trial uses the policy of the same-numbered source trial) stacked under the run's own.\n";
+  if (std::any_of(b.figures.begin(), b.figures.end(), [](const BatchFigure& f) { return f.y == "success"; }))
+    md << "\nCurves of the share of test tasks mastered: the checkpoints' success rates in place of their rewards, "
+          "and the band (mean ± one std) cut to the possible range, 0 to 100%.\n";
+}
+
 }  // namespace
 
 std::vector<std::string> write_report(const std::string& dir, const std::vector<std::string>& by_given) {
@@ -155,51 +209,10 @@ std::vector<std::string> write_report(const std::string& dir, const std::vector<
   md << "Batch script `" << manifest.value("script", std::string("?")) << "`, curriculum `" << b.curriculum
      << "`, roger " << manifest.value("version", std::string("?")) << "; trial i of every run has seed "
      << b.seed << " + i.\n\n";
-  json rep = json::array();
-  std::map<std::string, int64_t> by_records;  // per --by feature: the records its tables read
-  std::map<std::string, bool> by_found;       // and whether any had it
-  std::set<std::string> features;             // what the records have
-  for (const auto& t : b.tables) {
-    if (!t.sorting.empty()) sorting_table(b, t, folder, md, rep);
-    else if (!t.compare.empty()) compare_table(b, t, folder, md, rep);
-    else if (!t.by.empty()) by_table(b, t, folder, md, rep);
-    else if (!t.run.empty()) run_table(b, t, folder, md, rep);
-    else eval_table(b, t, folder, md, rep);
-    if (!t.by.empty() || (t.run.empty() && t.compare.empty())) continue;
-    for (const auto& feature : by) {  // roger report --by: the same rows split by each feature
-      BatchTable split = t;
-      split.by = feature;
-      split.title = t.title + ": final success by " + feature;
-      const ByFound found = by_table(b, split, folder, md, rep);
-      by_records[feature] += found.records;
-      by_found[feature] = by_found[feature] || found.feature;
-      features.insert(found.features.begin(), found.features.end());
-    }
-  }
-  // A feature of the command line that no record has is a slip (a typo, a feature of other
-  // scripts): refused before anything is written, rather than a report of empty tables.
-  for (const auto& feature : by)
-    if (by_records[feature] > 0 && !by_found[feature])
-      throw Error("--by " + feature + ": none of the " + counted(by_records[feature], "final-evaluation episode") +
-                  " has a feature '" + feature + "'; they have: " +
-                  join(std::vector<std::string>(features.begin(), features.end())));
+  const json rep = write_tables(b, by, folder, md);
   std::vector<std::string> written;
   json page_figures = json::array();
-  const std::vector<std::string> figures_md = draw_figures(b, folder, written, page_figures);
-  md << "## Figures\n\n";
-  for (const auto& l : figures_md) md << l << "\n";
-  md << "\nLearning curves: each trial's greedy checkpoint rewards (the mean episodic reward of held-out "
-        "episodes) against its simulated training time, interpolated linearly between checkpoints onto a "
-        "common grid of "
-     << kCurvePoints << " times (log-spaced on a log axis) from the latest first checkpoint to the latest last "
-        "one; a trial that stopped early keeps its last value. Lines are the mean over trials, bands ± one "
-        "(population) std. IQM learning curves (one per stage): on the same grid, the interquartile mean over "
-        "trials with its 95% percentile-bootstrap interval at each time (" << dashboard::kCurveResamples
-     << " resamples). Cumulative training time: mean simulated time-to-threshold of the skill's source "
-        "trials (each trial uses the policy of the same-numbered source trial) stacked under the run's own.\n";
-  if (std::any_of(b.figures.begin(), b.figures.end(), [](const BatchFigure& f) { return f.y == "success"; }))
-    md << "\nCurves of the share of test tasks mastered: the checkpoints' success rates in place of their rewards, "
-          "and the band (mean ± one std) cut to the possible range, 0 to 100%.\n";
+  write_figures(b, folder, written, page_figures, md);
   const std::string tables = staged.stage("tables.md");
   write_file_atomic(tables, md.str(), "cannot write tables.md");
   const std::string report_json = staged.stage("report.json");
