@@ -396,9 +396,8 @@ TrainResult train_keeping_progress(TrainOptions& o, const std::string& out) {
   }
 }
 
-}  // namespace
-
-int command_train(const TrainArgs& a) {
+// The trial a command line asks for.
+TrainOptions train_options(const TrainArgs& a) {
   TrainOptions o;
   o.curriculum = a.curriculum;
   o.stage = a.stage;
@@ -410,20 +409,11 @@ int command_train(const TrainArgs& a) {
   o.explain = a.explain;
   o.init_file = a.init;
   o.limits = sandbox_limits(a.lua);
-  check_skill_flags(o);
-  check_train_out_folder(a.out);
-  // A trial stopped part-way is no result: nothing is written, and the folder keeps what it had.
-  catch_interrupts("the trial ends at its next episode and writes nothing");
-  TrainResult r;
-  try {
-    r = train_keeping_progress(o, a.out);
-  } catch (const std::exception&) {
-    if (!interrupt_requested()) throw;
-    std::fflush(stdout);
-    std::fprintf(stderr, "roger train: stopped; nothing written (%s is as it was)\n", a.out.c_str());
-    return interrupt_exit_status();
-  }
-  write_train_outputs(r, a.out);
+  return o;
+}
+
+// What the trial trained on: its stage's parameters, the --set, its skills and its warm start.
+void print_trained_on(const TrainArgs& a, const TrainResult& r) {
   std::printf("roger train: %s stage %s context %s seed %llu (%zu action%s, %d states) in %s\n",
               r.curriculum_path.c_str(), r.stage.c_str(), r.context.c_str(), static_cast<unsigned long long>(r.seed),
               r.psi.size(), r.psi.size() == 1 ? "" : "s", r.q->states(), r.scenario.c_str());
@@ -443,6 +433,10 @@ int command_train(const TrainArgs& a) {
                 w.fresh.empty() ? "" : ("; at initial_q: " + join(w.fresh)).c_str(),
                 w.dropped.empty() ? "" : ("; left out: " + join(w.dropped)).c_str());
   }
+}
+
+// What came of it: the threshold, the final policy and how it used its actions.
+void print_outcome(const TrainResult& r) {
   if (r.reached) {
     std::printf("  threshold      %.0f%% reached after %s, %.1f simulated s, %s, %.2f wall s\n",
                 100 * r.threshold, counted(r.to_threshold.episodes, "episode").c_str(), r.to_threshold.sim_s,
@@ -458,18 +452,43 @@ int command_train(const TrainArgs& a) {
               counted(r.final_eval.episodes, r.teaches ? "test task" : "held-out episode").c_str(), r.final_eval.reward_mean,
               r.final_eval.reward_std);
   std::printf("  usage          %s\n", usage.c_str());
-  if (r.teaches) {
-    std::printf("  teacher        %s over %s\n", r.teacher.value("kind", std::string("?")).c_str(), r.task_space.c_str());
-    const std::string did = describe_teacher_state(r.teacher.value("state", nlohmann::json()));
-    if (!did.empty()) std::printf("                 %s\n", did.c_str());
-    if (!r.teacher_warning.empty()) std::printf("  note           %s\n", r.teacher_warning.c_str());
-    // A task whose world could not be placed is skipped and another drawn (docs/curricula.md): a
-    // space that is partly holes shows here, not only in summary.json.
-    if (!r.skipped_tasks.empty())
-      std::printf("  skipped        %s the scenario could not place (the first: %s; all in summary.json)\n",
-                  counted(int(r.skipped_tasks.size()), "task").c_str(),
-                  r.skipped_tasks[0].value("task", nlohmann::json()).dump().c_str());
+}
+
+// A stage that teaches: its teacher, what it did, and the tasks the scenario could not place.
+void print_teacher(const TrainResult& r) {
+  std::printf("  teacher        %s over %s\n", r.teacher.value("kind", std::string("?")).c_str(), r.task_space.c_str());
+  const std::string did = describe_teacher_state(r.teacher.value("state", nlohmann::json()));
+  if (!did.empty()) std::printf("                 %s\n", did.c_str());
+  if (!r.teacher_warning.empty()) std::printf("  note           %s\n", r.teacher_warning.c_str());
+  // A task whose world could not be placed is skipped and another drawn (docs/curricula.md): a
+  // space that is partly holes shows here, not only in summary.json.
+  if (!r.skipped_tasks.empty())
+    std::printf("  skipped        %s the scenario could not place (the first: %s; all in summary.json)\n",
+                counted(int(r.skipped_tasks.size()), "task").c_str(),
+                r.skipped_tasks[0].value("task", nlohmann::json()).dump().c_str());
+}
+
+}  // namespace
+
+int command_train(const TrainArgs& a) {
+  TrainOptions o = train_options(a);
+  check_skill_flags(o);
+  check_train_out_folder(a.out);
+  // A trial stopped part-way is no result: nothing is written, and the folder keeps what it had.
+  catch_interrupts("the trial ends at its next episode and writes nothing");
+  TrainResult r;
+  try {
+    r = train_keeping_progress(o, a.out);
+  } catch (const std::exception&) {
+    if (!interrupt_requested()) throw;
+    std::fflush(stdout);
+    std::fprintf(stderr, "roger train: stopped; nothing written (%s is as it was)\n", a.out.c_str());
+    return interrupt_exit_status();
   }
+  write_train_outputs(r, a.out);
+  print_trained_on(a, r);
+  print_outcome(r);
+  if (r.teaches) print_teacher(r);
   if (!r.reached || r.explain) {
     const std::vector<std::string> causes = diagnose_training(r).causes();
     for (size_t k = 0; k < causes.size(); ++k) std::printf("  %-15s%s\n", k ? "" : "why", causes[k].c_str());
