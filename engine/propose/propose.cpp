@@ -485,47 +485,48 @@ void successive_halving(const ProposeOptions& o, const TaskRef& task, std::vecto
   res.winner = alive.empty() ? 0 : int(alive.front());
 }
 
-}  // namespace
-
-ProposeResult propose_curriculum(const ProposeOptions& options) {
-  ProposeOptions o = options;
+// The task of the search: the stage and context, checked as roger check checks them (every
+// refusal at once), and what its records must match. Sets o.context when it was left to the first.
+TaskRef read_task(ProposeOptions& o) {
   TaskRef task;
-  {
-    // A scenario or a batch script fails inside Curriculum::load: say what it is instead.
-    require_script_kind(o.curriculum, resolve_curriculum_path(o.curriculum), {"curriculum"});
-    const Curriculum cur = Curriculum::load(o.curriculum, o.limits);
-    const CurriculumStage& stage = cur.stage(o.stage);
-    if (o.context.empty()) o.context = stage.contexts.front().name;
-    const CurriculumContext& ctx = stage.context(o.context);
-    const double time_limit = stage_time_limit(stage, o.limits);
-    // Every refusal at once, the command's own mistakes first: one run says all there is to mend.
-    std::vector<std::string> refusals;
-    collect_refusal(refusals, [&] { check_options(o, time_limit); });
-    collect_refusal(refusals, [&] { check_context(stage, ctx); });
-    // The stage as roger check checks it, its worlds built: a context whose world cannot be built
-    // failed inside the probe, after settings.json was written, at the scenario library's line
-    // (found by a probe); roger check names the curriculum's.
-    collect_refusal(refusals, [&] {
-      const std::vector<std::string> problems = check_curriculum(o.curriculum, o.limits, {}, {stage.name});
-      if (!problems.empty()) throw Error(join(problems, "\n"));
-    });
-    collect_refusal(refusals, [&] { task.module = module_name(cur.file(), o.out); });
-    refuse(refusals);
-    task.stop_after = stage.checkpoints.stop_after;
-    task.checkpoint_every = stage.checkpoints.every > 0 ? stage.checkpoints.every : std::max(1, stage.budget_episodes / 20);
-    task.time_limit = time_limit;
-    task.scenario = scenario_from_project(stage.scenario);
-    task.context_params = !ctx.params.empty();
-    // Every Lua file the task reads, and the library the proposals are written with: records
-    // made with other versions of any of them are not reused.
-    std::string text;
-    for (const auto& f : curriculum_source_files(cur, o.limits)) text += read_file_text(f.string());
-    text += read_file_text((project_root() / "curricula" / "lib" / "propose.lua").string());
-    task.sources = text_hash(text);
-    task.stage = stage.name;
-    task.context = ctx.name;
-  }
-  claim_search_folder(o, task.module, task.stage, task.context);
+  // A scenario or a batch script fails inside Curriculum::load: say what it is instead.
+  require_script_kind(o.curriculum, resolve_curriculum_path(o.curriculum), {"curriculum"});
+  const Curriculum cur = Curriculum::load(o.curriculum, o.limits);
+  const CurriculumStage& stage = cur.stage(o.stage);
+  if (o.context.empty()) o.context = stage.contexts.front().name;
+  const CurriculumContext& ctx = stage.context(o.context);
+  const double time_limit = stage_time_limit(stage, o.limits);
+  // Every refusal at once, the command's own mistakes first: one run says all there is to mend.
+  std::vector<std::string> refusals;
+  collect_refusal(refusals, [&] { check_options(o, time_limit); });
+  collect_refusal(refusals, [&] { check_context(stage, ctx); });
+  // The stage as roger check checks it, its worlds built: a context whose world cannot be built
+  // failed inside the probe, after settings.json was written, at the scenario library's line
+  // (found by a probe); roger check names the curriculum's.
+  collect_refusal(refusals, [&] {
+    const std::vector<std::string> problems = check_curriculum(o.curriculum, o.limits, {}, {stage.name});
+    if (!problems.empty()) throw Error(join(problems, "\n"));
+  });
+  collect_refusal(refusals, [&] { task.module = module_name(cur.file(), o.out); });
+  refuse(refusals);
+  task.stop_after = stage.checkpoints.stop_after;
+  task.checkpoint_every = stage.checkpoints.every > 0 ? stage.checkpoints.every : std::max(1, stage.budget_episodes / 20);
+  task.time_limit = time_limit;
+  task.scenario = scenario_from_project(stage.scenario);
+  task.context_params = !ctx.params.empty();
+  // Every Lua file the task reads, and the library the proposals are written with: records
+  // made with other versions of any of them are not reused.
+  std::string text;
+  for (const auto& f : curriculum_source_files(cur, o.limits)) text += read_file_text(f.string());
+  text += read_file_text((project_root() / "curricula" / "lib" / "propose.lua").string());
+  task.sources = text_hash(text);
+  task.stage = stage.name;
+  task.context = ctx.name;
+  return task;
+}
+
+// The command that runs this search again.
+std::string search_command(const ProposeOptions& o, const TaskRef& task) {
   const auto number = [](double v) {
     char text[64];
     std::snprintf(text, sizeof text, "%g", v);
@@ -534,16 +535,36 @@ ProposeResult propose_curriculum(const ProposeOptions& options) {
   // The curriculum by its module name, as settings.json keeps it: the same search however the
   // command spelt it (found by a probe: paper, curricula/paper.lua and an absolute path wrote three
   // candidate headers, whose hashes matched no record, and a resume ran every trial again).
-  task.command = "roger propose " + task.module + " --stage " + o.stage + " --context " + task.context +
-                 " --budget " + number(o.budget_s) + " --seed " + std::to_string(o.seed);
+  std::string command = "roger propose " + task.module + " --stage " + o.stage + " --context " + task.context +
+                        " --budget " + number(o.budget_s) + " --seed " + std::to_string(o.seed);
   // The options that differ from their defaults, so that the command given runs this search again.
   const ProposeOptions defaults;
-  if (o.trials != defaults.trials) task.command += " --trials " + std::to_string(o.trials);
-  if (o.probe_trials != defaults.probe_trials) task.command += " --probe-trials " + std::to_string(o.probe_trials);
-  if (o.probe_share != defaults.probe_share) task.command += " --probe-share " + number(o.probe_share);
+  if (o.trials != defaults.trials) command += " --trials " + std::to_string(o.trials);
+  if (o.probe_trials != defaults.probe_trials) command += " --probe-trials " + std::to_string(o.probe_trials);
+  if (o.probe_share != defaults.probe_share) command += " --probe-share " + number(o.probe_share);
   if (o.max_candidates != defaults.max_candidates)
-    task.command += " --max-candidates " + std::to_string(o.max_candidates);
-  if (o.prune_below != defaults.prune_below) task.command += " --prune-below " + number(o.prune_below);
+    command += " --max-candidates " + std::to_string(o.max_candidates);
+  if (o.prune_below != defaults.prune_below) command += " --prune-below " + number(o.prune_below);
+  return command;
+}
+
+// The winning candidate, written as proposal.lua with a header that says where it came from.
+void write_proposal(const ProposeOptions& o, const std::vector<CandidateSpec>& specs, ProposeResult& res) {
+  const CandidateSpec& win = specs[size_t(res.winner)];
+  std::string text = win.lua;
+  text = "-- proposal.lua: the curriculum roger propose proposes (its candidate " + win.c.id +
+         "; propose.md beside it says why it won)\n" + text.substr(text.find('\n') + 1);
+  res.proposal_file = (fs::path(o.out) / "proposal.lua").string();
+  write_file_atomic(res.proposal_file, text, "cannot write the proposal");
+}
+
+}  // namespace
+
+ProposeResult propose_curriculum(const ProposeOptions& options) {
+  ProposeOptions o = options;
+  TaskRef task = read_task(o);
+  claim_search_folder(o, task.module, task.stage, task.context);
+  task.command = search_command(o, task);
 
   ProposeResult res;
   res.budget_s = o.budget_s;
@@ -565,12 +586,7 @@ ProposeResult propose_curriculum(const ProposeOptions& options) {
   }
   successive_halving(o, task, specs, res);
 
-  const CandidateSpec& win = specs[size_t(res.winner)];
-  std::string text = win.lua;
-  text = "-- proposal.lua: the curriculum roger propose proposes (its candidate " + win.c.id +
-         "; propose.md beside it says why it won)\n" + text.substr(text.find('\n') + 1);
-  res.proposal_file = (fs::path(o.out) / "proposal.lua").string();
-  write_file_atomic(res.proposal_file, text, "cannot write the proposal");
+  write_proposal(o, specs, res);
   for (auto& s : specs) res.candidates.push_back(std::move(s.c));
   res.report_file = (fs::path(o.out) / "propose.md").string();
   o.context = task.context;
