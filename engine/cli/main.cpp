@@ -343,18 +343,8 @@ std::string unknown_word(const std::vector<CLI::App*>& commands, int argc, char*
   return "";
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App app{"roger: a simulated mobile manipulator that learns hierarchical skills through "
-               "developmental curricula"};
-  app.require_subcommand(1);
-  app.failure_message([](const CLI::App*, const CLI::Error& e) {
-    return std::string("roger: error: ") + e.what() + "\nRun with --help for more information.\n";
-  });
-  // With the project folder in use: a copy of bin/roger alone silently used the source tree.
-  app.set_version_flag("--version", [] { return std::string("roger ") + ROGER_VERSION + " (project folder: " +
-                                                project_in_use() + ")"; });
+// Every command's arguments, and the command as CLI11 has it (set when it was given).
+struct Commands {
   RenderArgs render_args;
   CheckArgs check_args;
   EvalArgs eval_args;
@@ -364,16 +354,26 @@ int main(int argc, char** argv) {
   BenchArgs bench_args;
   ProposeArgs propose_args;
   CLI::Option* eval_seed = nullptr;
-  auto* render = add_render(app, render_args);
-  auto* check = add_check(app, check_args);
-  auto* eval = add_eval(app, eval_args, eval_seed);
-  auto* train = add_train(app, train_args);
-  auto* run = add_run(app, run_args);
-  auto* report = add_report(app, report_args);
-  auto* bench = add_bench(app, bench_args);
-  auto* propose = add_propose(app, propose_args);
-  // Bad usage exits 2, as docs/cli.md says (CLI11's own codes are 100 and more); help exits 0.
-  const std::string unknown = unknown_word({render, check, eval, train, run, report, bench, propose}, argc, argv);
+  CLI::App *render = nullptr, *check = nullptr, *eval = nullptr, *train = nullptr, *run = nullptr, *report = nullptr,
+           *bench = nullptr, *propose = nullptr;
+
+  explicit Commands(CLI::App& app)
+      : render(add_render(app, render_args)),
+        check(add_check(app, check_args)),
+        eval(add_eval(app, eval_args, eval_seed)),
+        train(add_train(app, train_args)),
+        run(add_run(app, run_args)),
+        report(add_report(app, report_args)),
+        bench(add_bench(app, bench_args)),
+        propose(add_propose(app, propose_args)) {}
+  Commands(const Commands&) = delete;  // CLI11 writes into the members above, where they are
+  std::vector<CLI::App*> all() const { return {render, check, eval, train, run, report, bench, propose}; }
+};
+
+// Parses the command line: -1 when a command is to run, else the exit status (bad usage exits 2,
+// as docs/cli.md says, where CLI11's own codes are 100 and more; help exits 0).
+int parse_command_line(CLI::App& app, const Commands& commands, int argc, char** argv) {
+  const std::string unknown = unknown_word(commands.all(), argc, argv);
   if (!unknown.empty()) {
     std::cerr << "roger: error: " << unknown << "\n";
     return 2;
@@ -392,31 +392,54 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
+  return -1;
+}
+
+// Runs the command given, after the checks of its options that need to know which were given.
+int run_command(Commands& c) {
+  if (*c.render) {
+    c.render_args.seed_given = c.render->count("--seed") > 0;
+    refuse_render_options_unused(*c.render, c.render_args);
+    require_render_kind(c.render_args);
+    return command_render(c.render_args);
+  }
+  if (*c.check) return command_check(c.check_args);
+  if (*c.bench) return command_bench(c.bench_args);
+  if (*c.eval) {
+    c.eval_args.seed_given = c.eval_seed->count() > 0;
+    c.eval_args.episodes_given = c.eval->count("--episodes") > 0;
+    require_curriculum(c.eval_args.script, {"curriculum", "skill script"});
+    return command_eval(c.eval_args);
+  }
+  if (*c.train) {
+    require_curriculum(c.train_args.curriculum, {"curriculum"});
+    return command_train(c.train_args);
+  }
+  if (*c.run) {
+    if (!c.run->count("--live")) c.run_args.live = isatty(fileno(stderr)) != 0;
+    return command_run(c.run_args);
+  }
+  if (*c.report) return command_report(c.report_args);
+  if (*c.propose) return command_propose(c.propose_args);
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"roger: a simulated mobile manipulator that learns hierarchical skills through "
+               "developmental curricula"};
+  app.require_subcommand(1);
+  app.failure_message([](const CLI::App*, const CLI::Error& e) {
+    return std::string("roger: error: ") + e.what() + "\nRun with --help for more information.\n";
+  });
+  // With the project folder in use: a copy of bin/roger alone silently used the source tree.
+  app.set_version_flag("--version", [] { return std::string("roger ") + ROGER_VERSION + " (project folder: " +
+                                                project_in_use() + ")"; });
+  Commands commands(app);
+  if (const int status = parse_command_line(app, commands, argc, argv); status >= 0) return status;
   try {
-    if (*render) {
-      render_args.seed_given = render->count("--seed") > 0;
-      refuse_render_options_unused(*render, render_args);
-      require_render_kind(render_args);
-      return command_render(render_args);
-    }
-    if (*check) return command_check(check_args);
-    if (*bench) return command_bench(bench_args);
-    if (*eval) {
-      eval_args.seed_given = eval_seed->count() > 0;
-      eval_args.episodes_given = eval->count("--episodes") > 0;
-      require_curriculum(eval_args.script, {"curriculum", "skill script"});
-      return command_eval(eval_args);
-    }
-    if (*train) {
-      require_curriculum(train_args.curriculum, {"curriculum"});
-      return command_train(train_args);
-    }
-    if (*run) {
-      if (!run->count("--live")) run_args.live = isatty(fileno(stderr)) != 0;
-      return command_run(run_args);
-    }
-    if (*report) return command_report(report_args);
-    if (*propose) return command_propose(propose_args);
+    return run_command(commands);
   } catch (const FileError& e) {
     std::fflush(stdout);
     std::cerr << "roger: error: " << file_error_line(e, false) << "\n";
@@ -426,5 +449,4 @@ int main(int argc, char** argv) {
     std::cerr << "roger: error: " << printable_text(e.what()) << "\n";
     return 1;
   }
-  return 2;
 }
