@@ -1,11 +1,12 @@
 // trial_files.cpp: what a training trial writes (trainer.h): policy.json, summary.json, curve.csv,
 // checkpoints.jsonl, episodes.jsonl and final.jsonl, all together or none, and what a trial that
 // faulted leaves beside error.json.
+#include "batch/trainer.h"
+
 #include <filesystem>
 #include <sstream>
 
 #include "batch/explain.h"
-#include "batch/trainer.h"
 #include "core/error.h"
 #include "core/fileio.h"
 #include "core/interrupt.h"
@@ -17,6 +18,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// A point of training as every file gives it.
 nlohmann::json point_json(const TrainPoint& p) {
   return {{"episodes", p.episodes}, {"sim_s", p.sim_s}, {"decisions", p.decisions}, {"wall_s", p.wall_s}};
 }
