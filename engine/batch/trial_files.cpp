@@ -84,6 +84,50 @@ nlohmann::json train_policy_json(const TrainResult& r) {
   return r.q->to_json(meta);
 }
 
+namespace {
+
+// What the summary says of a skill the stage's actions use: trained here, embedded or read from a file.
+nlohmann::json skill_json(const SkillSource& s) {
+  nlohmann::json k = {{"stage", s.stage}, {"context", s.context}, {"trained", s.trained}};
+  if (s.embedded) {
+    // Read with the skill that embeds it: how its training went is that file's to say.
+    k["embedded"] = true;
+    if (s.trained) k["seed"] = s.trained_seed;
+  } else if (s.trained) {
+    k["seed"] = s.trained_seed;
+    k["reached"] = s.reached;
+    k["time_to_threshold"] = point_json(s.to_threshold);
+    k["totals"] = point_json(s.totals);
+  } else {
+    k["file"] = s.file;
+  }
+  return k;
+}
+
+// What a stage that teaches adds to its summary: the task space, the teacher and the test set.
+void teaching_json(const TrainResult& r, nlohmann::json& j) {
+  j["tasks"] = r.task_space;
+  j["teacher"] = r.teacher;
+  j["teacher_wall_s"] = r.teacher_wall_s;
+  j["skipped_tasks"] = r.skipped_tasks;
+  j["test"] = {{"tasks", r.test_tasks}};
+  // The final evaluation runs more of the same draw than the checkpoints (found by a probe: the
+  // summary said 10 test tasks of a final evaluation of 50).
+  if (!r.final_tasks.empty() && int(r.final_tasks.size()) != r.test_tasks)
+    j["test"]["final_tasks"] = r.final_tasks.size();
+  if (r.test_list.empty()) {
+    j["test"]["seed"] = r.test_seed;
+  } else {  // the tasks themselves: a seed would say they were drawn
+    for (const ParamList& task : r.test_list) {
+      nlohmann::json t = nlohmann::json::object();
+      for (const auto& p : task) t[p.first] = param_value_json(p.second);
+      j["test"]["list"].push_back(t);
+    }
+  }
+}
+
+}  // namespace
+
 nlohmann::json train_summary_json(const TrainResult& r) {
   nlohmann::json usage = nlohmann::json::object();
   for (const auto& [name, f] : r.final_eval.usage) usage[name] = f;
@@ -120,44 +164,10 @@ nlohmann::json train_summary_json(const TrainResult& r) {
     j["final_sortable"] = r.final_eval.sortable;
     j["final_sorted_mean"] = r.final_eval.sorted_mean;
   }
-  for (const auto& s : r.skills) {
-    nlohmann::json k = {{"stage", s.stage}, {"context", s.context}, {"trained", s.trained}};
-    if (s.embedded) {
-      // Read with the skill that embeds it: how its training went is that file's to say.
-      k["embedded"] = true;
-      if (s.trained) k["seed"] = s.trained_seed;
-    } else if (s.trained) {
-      k["seed"] = s.trained_seed;
-      k["reached"] = s.reached;
-      k["time_to_threshold"] = point_json(s.to_threshold);
-      k["totals"] = point_json(s.totals);
-    } else {
-      k["file"] = s.file;
-    }
-    j["skills"][s.name] = k;
-  }
+  for (const auto& s : r.skills) j["skills"][s.name] = skill_json(s);
   if (r.init) j["init"] = warm_start_json(r);
   for (const auto& [k, v] : r.params) j["params"][k] = v;
-  if (r.teaches) {
-    j["tasks"] = r.task_space;
-    j["teacher"] = r.teacher;
-    j["teacher_wall_s"] = r.teacher_wall_s;
-    j["skipped_tasks"] = r.skipped_tasks;
-    j["test"] = {{"tasks", r.test_tasks}};
-    // The final evaluation runs more of the same draw than the checkpoints (found by a probe: the
-    // summary said 10 test tasks of a final evaluation of 50).
-    if (!r.final_tasks.empty() && int(r.final_tasks.size()) != r.test_tasks)
-      j["test"]["final_tasks"] = r.final_tasks.size();
-    if (r.test_list.empty()) {
-      j["test"]["seed"] = r.test_seed;
-    } else {  // the tasks themselves: a seed would say they were drawn
-      for (const ParamList& task : r.test_list) {
-        nlohmann::json t = nlohmann::json::object();
-        for (const auto& p : task) t[p.first] = param_value_json(p.second);
-        j["test"]["list"].push_back(t);
-      }
-    }
-  }
+  if (r.teaches) teaching_json(r, j);
   if (!r.reached || r.explain) j["diagnosis"] = diagnose_training(r).to_json();
   return j;
 }
