@@ -145,6 +145,77 @@ void check_config_references(const BatchScript& b) {
   }
 }
 
+// The learned skills a run or an evaluation takes from earlier runs.
+std::vector<BatchSkill> skills_from(const json& list) {
+  std::vector<BatchSkill> skills;
+  for (const auto& s : list) skills.push_back({s.at("skill"), s.at("run"), s.at("context")});
+  return skills;
+}
+
+// A run of the manifest's configuration.
+BatchRun run_from(const json& rj) {
+  BatchRun r;
+  r.name = rj.at("name");
+  r.stage = rj.at("stage");
+  r.contexts = rj.at("contexts").get<std::vector<std::string>>();
+  r.trials = int(config_integer(rj, "trials", 1, 100000));
+  r.params = params_from(rj.at("params"));
+  r.skills = skills_from(rj.at("skills"));
+  r.own_final_worlds = rj.value("final_worlds", std::string("shared")) == "own";
+  return r;
+}
+
+// An evaluation of the manifest's configuration.
+BatchEvaluation evaluation_from(const json& ej) {
+  BatchEvaluation e;
+  e.name = ej.at("name");
+  e.run = ej.at("run");
+  e.context = ej.at("context");
+  e.scenario = ej.at("scenario");
+  e.params = params_from(ej.at("params"));
+  e.shapes = ej.at("shapes").get<std::vector<std::string>>();
+  e.episodes = int(config_integer(ej, "episodes", 1, 1000000));
+  e.first_seed = config_integer(ej, "first_seed", -1, int64_t(1) << 53);
+  // Folders written before evaluations had worlds of their own shared them.
+  e.shared_worlds = ej.value("worlds", std::string("shared")) != "own";
+  e.trials = int(config_integer(ej, "trials", 1, 100000));
+  if (ej.contains("skills")) e.skills = skills_from(ej.at("skills"));
+  return e;
+}
+
+// A table of the manifest's configuration (`b`: the script read so far, for a default title).
+BatchTable table_from(const json& tj, const BatchScript& b) {
+  BatchTable t;
+  t.title = tj.at("title");
+  t.run = tj.at("run");
+  t.baseline = tj.at("baseline");
+  t.evaluation = tj.at("evaluation");
+  for (const auto& u : tj.at("usage"))
+    t.usage.push_back({u.at("context"), u.at("skill"), u.at("subsumes").get<std::vector<std::string>>()});
+  for (const auto& r : tj.value("sorting", json::array()))
+    t.sorting.push_back({int(config_integer(r, "objects", 1, 1000)), r.at("learned"), r.at("hand")});
+  for (const auto& r : tj.value("compare", json::array())) t.compare.push_back(row_from(r));
+  t.by = tj.value("by", std::string());
+  // A folder written before tables had a title made when the script was read.
+  if (t.title.empty()) t.title = batch_detail::default_title(t, b);
+  return t;
+}
+
+// A figure of the manifest's configuration.
+BatchFigure figure_from(const json& fj) {
+  BatchFigure f;
+  f.file = fj.at("file");
+  f.title = fj.at("title");
+  f.kind = fj.at("kind");
+  f.run = fj.at("run");
+  f.log_x = fj.at("log_x");
+  for (const auto& r : fj.value("compare", json::array())) f.compare.push_back(row_from(r));
+  f.y = fj.value("y", std::string("reward"));
+  f.context = fj.value("context", std::string());
+  f.param = fj.value("param", std::string());
+  return f;
+}
+
 }  // namespace
 
 BatchScript batch_config_from_json(const json& j) {
@@ -161,63 +232,10 @@ BatchScript batch_config_from_json(const json& j) {
       b.limits.instructions = uint64_t(config_integer(j.at("limits"), "instructions", 1, int64_t(1) << 53));
       b.limits.memory_bytes = size_t(config_integer(j.at("limits"), "memory_mib", 1, int64_t(1) << 20)) << 20;
     }
-    for (const auto& rj : j.at("runs")) {
-      BatchRun r;
-      r.name = rj.at("name");
-      r.stage = rj.at("stage");
-      r.contexts = rj.at("contexts").get<std::vector<std::string>>();
-      r.trials = int(config_integer(rj, "trials", 1, 100000));
-      r.params = params_from(rj.at("params"));
-      for (const auto& s : rj.at("skills")) r.skills.push_back({s.at("skill"), s.at("run"), s.at("context")});
-      r.own_final_worlds = rj.value("final_worlds", std::string("shared")) == "own";
-      b.runs.push_back(std::move(r));
-    }
-    for (const auto& ej : j.at("evaluations")) {
-      BatchEvaluation e;
-      e.name = ej.at("name");
-      e.run = ej.at("run");
-      e.context = ej.at("context");
-      e.scenario = ej.at("scenario");
-      e.params = params_from(ej.at("params"));
-      e.shapes = ej.at("shapes").get<std::vector<std::string>>();
-      e.episodes = int(config_integer(ej, "episodes", 1, 1000000));
-      e.first_seed = config_integer(ej, "first_seed", -1, int64_t(1) << 53);
-      // Folders written before evaluations had worlds of their own shared them.
-      e.shared_worlds = ej.value("worlds", std::string("shared")) != "own";
-      e.trials = int(config_integer(ej, "trials", 1, 100000));
-      if (ej.contains("skills"))
-        for (const auto& s : ej.at("skills")) e.skills.push_back({s.at("skill"), s.at("run"), s.at("context")});
-      b.evaluations.push_back(std::move(e));
-    }
-    for (const auto& tj : j.at("tables")) {
-      BatchTable t;
-      t.title = tj.at("title");
-      t.run = tj.at("run");
-      t.baseline = tj.at("baseline");
-      t.evaluation = tj.at("evaluation");
-      for (const auto& u : tj.at("usage"))
-        t.usage.push_back({u.at("context"), u.at("skill"), u.at("subsumes").get<std::vector<std::string>>()});
-      for (const auto& r : tj.value("sorting", json::array()))
-        t.sorting.push_back({int(config_integer(r, "objects", 1, 1000)), r.at("learned"), r.at("hand")});
-      for (const auto& r : tj.value("compare", json::array())) t.compare.push_back(row_from(r));
-      t.by = tj.value("by", std::string());
-      // A folder written before tables had a title made when the script was read.
-      if (t.title.empty()) t.title = batch_detail::default_title(t, b);
-      b.tables.push_back(std::move(t));
-    }
-    for (const auto& fj : j.at("figures")) {
-      BatchFigure f;
-      f.file = fj.at("file");
-      f.title = fj.at("title");
-      f.kind = fj.at("kind");
-      f.run = fj.at("run");
-      f.log_x = fj.at("log_x");
-      for (const auto& r : fj.value("compare", json::array())) f.compare.push_back(row_from(r));
-      f.y = fj.value("y", std::string("reward"));
-      f.context = fj.value("context", std::string());
-      f.param = fj.value("param", std::string());
-      b.figures.push_back(std::move(f));
-    }
+    for (const auto& rj : j.at("runs")) b.runs.push_back(run_from(rj));
+    for (const auto& ej : j.at("evaluations")) b.evaluations.push_back(evaluation_from(ej));
+    for (const auto& tj : j.at("tables")) b.tables.push_back(table_from(tj, b));
+    for (const auto& fj : j.at("figures")) b.figures.push_back(figure_from(fj));
   } catch (const json::exception& e) {
     throw Error(std::string("the manifest's configuration is incomplete or not from this version: ") + json_error_text(e.what()));
   }
