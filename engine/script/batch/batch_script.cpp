@@ -634,6 +634,65 @@ void read_tables(const json& top, const Reader& rd, const Curriculum& cur, Batch
   }
 }
 
+// Reads a figure's 'file': a plain name, not the one the report gives a run's IQM curves.
+std::string read_figure_file(const json& fj, const Reader& rd, int l, const std::string& what, const BatchScript& b) {
+  const std::string file = rd.str(fj, "file", what, l, "", true);
+  if (!folder_name(file))
+    rd.fail(l, what + ": 'file' is a plain name (no folder, no extension): <file>.png and <file>.svg are written");
+  // Found by a probe: file = "curves.png" passed check, and the report wrote curves.png.png.
+  for (const char* ext : {".png", ".svg", ".PNG", ".SVG"})
+    if (file.size() > 4 && file.compare(file.size() - 4, 4, ext) == 0) {
+      const std::string stem = file.substr(0, file.size() - 4);
+      rd.fail(l, what + ": 'file' is named without its extension: '" + stem + "' (the report writes " + stem +
+                     ".png and " + stem + ".svg)");
+    }
+  for (const auto& r : b.runs)
+    if (file == "iqm_" + r.name)
+      rd.fail(l, what + ": the report draws the IQM learning curves of run '" + r.name + "' into iqm_" + r.name +
+                     ".png and .svg itself: give this figure another file name");
+  return file;
+}
+
+// Reads what a figure of kind "tasks" adds: the context of run `r` and the parameter its teacher chooses.
+void read_tasks_figure(const json& fj, const Reader& rd, int l, const std::string& what, const Curriculum& cur,
+                       const BatchRun& r, BatchFigure& f) {
+  f.context = rd.str(fj, "context", what, l, r.contexts.front());
+  if (std::find(r.contexts.begin(), r.contexts.end(), f.context) == r.contexts.end())
+    rd.fail(rd.line_of_key("context", l), what + ": run '" + f.run + "' " + has_no("context", f.context, r.contexts));
+  f.param = rd.str(fj, "param", what, l, "", true);
+  // Where the teacher of the run's stage sampled: a parameter it chooses, or the one LCAS lifts.
+  const std::vector<std::string> chosen = task_params(cur, r, true);
+  if (chosen.empty())
+    rd.fail(l, what + ": run '" + f.run + "''s stage '" + r.stage + "' has no task space or teacher: a figure of "
+                   "kind \"tasks\" draws where a teacher sampled");
+  if (std::find(chosen.begin(), chosen.end(), f.param) == chosen.end())
+    rd.fail(rd.line_of_key("param", l), what + ": 'param' is '" + f.param + "', which the teacher of run '" + f.run +
+                                            "' does not choose" + suggestion(f.param, chosen) + "; it chooses " +
+                                            quoted_list(chosen));
+  // Found by a probe: the figure then read "not drawn: no finished trial" after the run.
+  const auto fixed = std::find_if(r.params.begin(), r.params.end(), [&](const auto& p) { return p.first == f.param; });
+  if (fixed != r.params.end())
+    rd.fail(rd.line_of_key("param", l), what + ": 'param' is '" + f.param + "', which the params of run '" + f.run +
+                                            "' fix (" + f.param + " = " + fixed->second +
+                                            "): its teacher does not choose it in that run");
+}
+
+// Reads the run of a figure drawn from one run (not 'compare'), and what its kind needs of it.
+void read_figure_run(const json& fj, const Reader& rd, int l, const std::string& what, const Curriculum& cur,
+                     const BatchScript& b, BatchFigure& f) {
+  f.run = rd.str(fj, "run", what, l, "", true);
+  const BatchRun* r = b.run(f.run);
+  if (!r) rd.fail(rd.line_of_key("run", l), what + ": no run '" + f.run + "'; the runs are " + quoted_list(run_names(b)));
+  if (f.kind == "cumulative" && r->skills.empty())
+    rd.fail(l, what + ": a cumulative figure needs a run that takes skills from an earlier run; '" + f.run +
+                   "' takes none");
+  if (f.kind == "tasks") {
+    read_tasks_figure(fj, rd, l, what, cur, *r, f);
+  } else if (fj.contains("param") || fj.contains("context")) {
+    rd.fail(l, what + ": 'param' and 'context' belong to a figure of kind \"tasks\"");
+  }
+}
+
 // Reads one figure of 'figures'; `at` is the line to search from, moved past this figure.
 BatchFigure read_figure(const json& fj, const Reader& rd, int& at, const Curriculum& cur, const BatchScript& b) {
   BatchFigure f;
@@ -642,20 +701,7 @@ BatchFigure read_figure(const json& fj, const Reader& rd, int& at, const Curricu
   at = l + 1;
   const std::string what = file.empty() ? "a figure" : "figure '" + file + "'";
   rd.check_object(fj, what, {"file", "title", "kind", "run", "log_x", "compare", "y", "context", "param"}, l);
-  f.file = rd.str(fj, "file", what, l, "", true);
-  if (!folder_name(f.file))
-    rd.fail(l, what + ": 'file' is a plain name (no folder, no extension): <file>.png and <file>.svg are written");
-  // Found by a probe: file = "curves.png" passed check, and the report wrote curves.png.png.
-  for (const char* ext : {".png", ".svg", ".PNG", ".SVG"})
-    if (f.file.size() > 4 && f.file.compare(f.file.size() - 4, 4, ext) == 0) {
-      const std::string stem = f.file.substr(0, f.file.size() - 4);
-      rd.fail(l, what + ": 'file' is named without its extension: '" + stem + "' (the report writes " + stem +
-                     ".png and " + stem + ".svg)");
-    }
-  for (const auto& r : b.runs)
-    if (f.file == "iqm_" + r.name)
-      rd.fail(l, what + ": the report draws the IQM learning curves of run '" + r.name + "' into iqm_" + r.name +
-                     ".png and .svg itself: give this figure another file name");
+  f.file = read_figure_file(fj, rd, l, what, b);
   f.title = rd.str(fj, "title", what, l, "");
   refuse_line_break(rd, f.title, what + ": 'title'", l);
   f.kind = rd.str(fj, "kind", what, l, "curves");
@@ -670,39 +716,8 @@ BatchFigure read_figure(const json& fj, const Reader& rd, int& at, const Curricu
     if (fj.contains("run")) rd.fail(l, what + ": give 'run' or 'compare', not both");
     f.compare = read_rows(fj["compare"], rd, what, rd.line_of_key("compare", l), b);
     f.run = f.compare.front().run;
-    f.log_x = rd.boolean(fj, "log_x", what, l, false);
-    for (const auto& o : b.figures)
-      if (o.file == f.file) rd.fail(l, "a second figure written to '" + f.file + "'");
-    return f;
-  }
-  f.run = rd.str(fj, "run", what, l, "", true);
-  const BatchRun* r = b.run(f.run);
-  if (!r) rd.fail(rd.line_of_key("run", l), what + ": no run '" + f.run + "'; the runs are " + quoted_list(run_names(b)));
-  if (f.kind == "cumulative" && r->skills.empty())
-    rd.fail(l, what + ": a cumulative figure needs a run that takes skills from an earlier run; '" + f.run +
-                   "' takes none");
-  if (f.kind == "tasks") {
-    f.context = rd.str(fj, "context", what, l, r->contexts.front());
-    if (std::find(r->contexts.begin(), r->contexts.end(), f.context) == r->contexts.end())
-      rd.fail(rd.line_of_key("context", l), what + ": run '" + f.run + "' " + has_no("context", f.context, r->contexts));
-    f.param = rd.str(fj, "param", what, l, "", true);
-    // Where the teacher of the run's stage sampled: a parameter it chooses, or the one LCAS lifts.
-    const std::vector<std::string> chosen = task_params(cur, *r, true);
-    if (chosen.empty())
-      rd.fail(l, what + ": run '" + f.run + "''s stage '" + r->stage + "' has no task space or teacher: a figure of "
-                     "kind \"tasks\" draws where a teacher sampled");
-    if (std::find(chosen.begin(), chosen.end(), f.param) == chosen.end())
-      rd.fail(rd.line_of_key("param", l), what + ": 'param' is '" + f.param + "', which the teacher of run '" + f.run +
-                                              "' does not choose" + suggestion(f.param, chosen) + "; it chooses " +
-                                              quoted_list(chosen));
-    // Found by a probe: the figure then read "not drawn: no finished trial" after the run.
-    const auto fixed = std::find_if(r->params.begin(), r->params.end(), [&](const auto& p) { return p.first == f.param; });
-    if (fixed != r->params.end())
-      rd.fail(rd.line_of_key("param", l), what + ": 'param' is '" + f.param + "', which the params of run '" + f.run +
-                                              "' fix (" + f.param + " = " + fixed->second +
-                                              "): its teacher does not choose it in that run");
-  } else if (fj.contains("param") || fj.contains("context")) {
-    rd.fail(l, what + ": 'param' and 'context' belong to a figure of kind \"tasks\"");
+  } else {
+    read_figure_run(fj, rd, l, what, cur, b, f);
   }
   f.log_x = rd.boolean(fj, "log_x", what, l, false);
   for (const auto& o : b.figures)
