@@ -439,25 +439,11 @@ void bind_tasks(py::module_& m) {
       .def("state", &PyTeacher::state, "The teacher's own state as JSON text (its step, level, mixture...).");
 }
 
-void bind_environment(py::module_& m) {
-  py::class_<StageEnvironment>(m, "Environment")
-      .def(py::init([](const std::string& curriculum, const std::string& stage, const std::string& context,
-                       const std::string& scenario, const py::dict& params, const py::dict& skills, bool per_tick,
-                       const std::string& tasks, const std::string& teacher, const std::string& teacher_file,
-                       const std::string& embedded_skills) {
-             const EnvironmentOptions o = make_options(curriculum, stage, context, scenario, params, skills, per_tick,
-                                                       tasks, teacher, teacher_file, embedded_skills);
-             return without_gil([&] {
-               auto env = make_environment(o, "make", [&] { return std::make_unique<StageEnvironment>(o); });
-               check_scenario_takes_tasks(o, *env);
-               return env;
-             });
-           }),
-           py::arg("curriculum"), py::arg("stage"), py::arg("context"), py::arg("scenario") = "",
-           py::arg("params") = py::dict(), py::arg("skills") = py::dict(), py::arg("per_tick") = false,
-           py::arg("tasks") = "", py::arg("teacher") = "", py::arg("teacher_file") = "",
-           py::arg("embedded_skills") = "")
-      .def_property_readonly("task_dims", [](const StageEnvironment& e) { return task_dims(e.task_space()); })
+using PyEnvironment = py::class_<StageEnvironment>;
+
+// What an Environment knows of tasks: the stage's task space, its teacher, a reset to a given task.
+void def_environment_tasks(PyEnvironment& env) {
+  env.def_property_readonly("task_dims", [](const StageEnvironment& e) { return task_dims(e.task_space()); })
       .def_property_readonly("teaches", &StageEnvironment::teaches)
       .def(
           "typed_params",
@@ -493,8 +479,12 @@ void bind_environment(py::module_& m) {
              return py::dict(py::arg("teacher") = c->teacher, py::arg("lift") = c->lift,
                              py::arg("levels") = c->levels, py::arg("level") = c->level,
                              py::arg("misfit") = c->misfit);
-           })
-      .def_property_readonly("info", [](const StageEnvironment& e) { return info_dict(e.info()); })
+           });
+}
+
+// An episode: reset, step, render, replay.
+void def_environment_episode(PyEnvironment& env) {
+  env.def_property_readonly("info", [](const StageEnvironment& e) { return info_dict(e.info()); })
       .def("reset",
            [](StageEnvironment& e, uint64_t seed) {
              const std::vector<Gamma> g = without_gil([&] { return e.reset(seed); });
@@ -514,8 +504,12 @@ void bind_environment(py::module_& m) {
           [](StageEnvironment& e, uint64_t seed, const std::vector<int>& actions, const ParamList& task) {
             without_gil([&] { e.replay(seed, actions, task); });
           },
-          py::arg("seed"), py::arg("actions"), py::arg("task") = ParamList())
-      .def_property_readonly("actions_taken",
+          py::arg("seed"), py::arg("actions"), py::arg("task") = ParamList());
+}
+
+// What an Environment reports of its episode and world.
+void def_environment_state(PyEnvironment& env) {
+  env.def_property_readonly("actions_taken",
                              [](const StageEnvironment& e) { return e.begun() ? e.episode().actions_taken : std::vector<int>(); })
       .def_property_readonly("begun", &StageEnvironment::begun)
       .def_property_readonly("running", &StageEnvironment::running)
@@ -536,6 +530,29 @@ void bind_environment(py::module_& m) {
                         py::arg("joint_low") = std::vector<double>(low.begin(), low.end()),
                         py::arg("joint_high") = std::vector<double>(high.begin(), high.end()));
       });
+}
+
+void bind_environment(py::module_& m) {
+  PyEnvironment environment(m, "Environment");
+  environment.def(py::init([](const std::string& curriculum, const std::string& stage, const std::string& context,
+                            const std::string& scenario, const py::dict& params, const py::dict& skills, bool per_tick,
+                            const std::string& tasks, const std::string& teacher, const std::string& teacher_file,
+                            const std::string& embedded_skills) {
+                  const EnvironmentOptions o = make_options(curriculum, stage, context, scenario, params, skills, per_tick,
+                                                            tasks, teacher, teacher_file, embedded_skills);
+                  return without_gil([&] {
+                    auto env = make_environment(o, "make", [&] { return std::make_unique<StageEnvironment>(o); });
+                    check_scenario_takes_tasks(o, *env);
+                    return env;
+                  });
+                }),
+                py::arg("curriculum"), py::arg("stage"), py::arg("context"), py::arg("scenario") = "",
+                py::arg("params") = py::dict(), py::arg("skills") = py::dict(), py::arg("per_tick") = false,
+                py::arg("tasks") = "", py::arg("teacher") = "", py::arg("teacher_file") = "",
+                py::arg("embedded_skills") = "");
+  def_environment_tasks(environment);
+  def_environment_episode(environment);
+  def_environment_state(environment);
 }
 
 using IntArray = py::array_t<int64_t, py::array::c_style | py::array::forcecast>;
