@@ -167,6 +167,61 @@ std::string file_error_line(const FileError& e, bool resumes) {
   }
 }
 
+namespace {
+
+// What a run says as it starts: its script, folder, trials and curriculum, its shard, and the
+// dashboard that follows it.
+void print_run_start(const BatchPlan& plan, const Shard& shard, std::ostream& log) {
+  const BatchScript& b = *plan.script;
+  size_t trials = 0;
+  for (const auto& p : plan.phases) trials += p.size();
+  // The curriculum's file as found (a same-named file in the working folder is taken first).
+  const std::string found = shown_from_project(b.curriculum_file);
+  log << "roger run: " << b.path << " -> " << plan.out << " (" << trials << (trials == 1 ? " trial" : " trials")
+      << ", curriculum " << b.curriculum << (found == b.curriculum ? "" : ": " + found) << ")\n";
+  if (shard.active()) log << "roger run: " << describe_shard(plan, shard) << "\n";
+  // The dashboard from the start: it follows the run's status.js until the report is written.
+  log << "roger run: open " << write_dashboard_page(plan.out) << " to follow the run\n";
+}
+
+// After the trials: the report (unless a shard, --no-report or unreadable trials), summary.csv,
+// the closing status and the exit status, which says whether the run was interrupted.
+int finish_run(const RunArgs& a, const BatchPlan& plan, const Shard& shard, const BatchSummary& summary,
+               std::ostream& log) {
+  const bool reporting = !a.no_report && !shard.active() && summary.corrupt.empty();
+  // The report is short and written whole or not at all: a first Ctrl-C from now on lets it finish.
+  if (reporting) catch_interrupts("finishing the report of the finished trials, then exiting");
+  if (summary.undiagnosed) print_undiagnosed(summary.undiagnosed, log);
+  int status = 0;
+  std::string report = "none";
+  if (!summary.corrupt.empty() && !a.no_report && !shard.active()) {
+    log << "roger run: no report: some trials' files cannot be read (listed below)\n";
+  } else if (reporting) {
+    log << "roger run: writing the report\n";
+    report = report_of_run(plan, log);
+    status = report == "written" ? 0 : 1;
+  }
+  // After the report: a kill in between leaves the previous summary beside the previous report.
+  if (!shard.active()) {
+    write_summary_csv(plan, summary);
+    log << "roger run: wrote " << (std::filesystem::path(plan.out) / "summary.csv").string() << "\n";
+  }
+  // A shard's final status stays: it says what the run waits for (other shards, roger report).
+  if (!shard.active()) write_closing_status(plan.out, report);
+  const int outcome = print_outcome(summary, log) ? 1 : status;
+  if (!summary.interrupted && interrupt_requested()) {
+    log << "roger run: stopped on request after its trials had ended" << (report == "written" ? ", during the "
+           "report, which was completed" : "") << "\n";
+    return interrupt_exit_status();
+  }
+  if (!summary.interrupted) return outcome;
+  log << "roger run: interrupted; the trials that were running start afresh when you run the same command "
+         "again\n";
+  return interrupt_exit_status();  // 130 after Ctrl-C, 143 after SIGTERM, as a shell reports them
+}
+
+}  // namespace
+
 int command_run(const RunArgs& a) {
   std::ostream& log = a.progress ? *a.progress : std::cerr;
   catch_interrupts();  // Ctrl-C keeps what finished and writes the report of it (below)
@@ -183,46 +238,9 @@ int command_run(const RunArgs& a) {
     check_only_needs(plan, a.only, shard);  // before "resuming": a refused --only resumes nothing
     if (resuming) log << "roger run: resuming " << plan.out << "\n";
     if (!note.empty()) log << "roger run: " << note << "\n";
-    size_t trials = 0;
-    for (const auto& p : plan.phases) trials += p.size();
-    // The curriculum's file as found (a same-named file in the working folder is taken first).
-    const std::string found = shown_from_project(b.curriculum_file);
-    log << "roger run: " << b.path << " -> " << plan.out << " (" << trials << (trials == 1 ? " trial" : " trials")
-        << ", curriculum " << b.curriculum << (found == b.curriculum ? "" : ": " + found) << ")\n";
-    if (shard.active()) log << "roger run: " << describe_shard(plan, shard) << "\n";
-    // The dashboard from the start: it follows the run's status.js until the report is written.
-    log << "roger run: open " << write_dashboard_page(plan.out) << " to follow the run\n";
+    print_run_start(plan, shard, log);
     const BatchSummary summary = run_batch(plan, RunControl{a.jobs, a.live, a.max_trials, a.only, &log, shard, !a.no_eval_cache, a.explain});
-    const bool reporting = !a.no_report && !shard.active() && summary.corrupt.empty();
-    // The report is short and written whole or not at all: a first Ctrl-C from now on lets it finish.
-    if (reporting) catch_interrupts("finishing the report of the finished trials, then exiting");
-    if (summary.undiagnosed) print_undiagnosed(summary.undiagnosed, log);
-    int status = 0;
-    std::string report = "none";
-    if (!summary.corrupt.empty() && !a.no_report && !shard.active()) {
-      log << "roger run: no report: some trials' files cannot be read (listed below)\n";
-    } else if (reporting) {
-      log << "roger run: writing the report\n";
-      report = report_of_run(plan, log);
-      status = report == "written" ? 0 : 1;
-    }
-    // After the report: a kill in between leaves the previous summary beside the previous report.
-    if (!shard.active()) {
-      write_summary_csv(plan, summary);
-      log << "roger run: wrote " << (std::filesystem::path(plan.out) / "summary.csv").string() << "\n";
-    }
-    // A shard's final status stays: it says what the run waits for (other shards, roger report).
-    if (!shard.active()) write_closing_status(plan.out, report);
-    const int outcome = print_outcome(summary, log) ? 1 : status;
-    if (!summary.interrupted && interrupt_requested()) {
-      log << "roger run: stopped on request after its trials had ended" << (report == "written" ? ", during the "
-             "report, which was completed" : "") << "\n";
-      return interrupt_exit_status();
-    }
-    if (!summary.interrupted) return outcome;
-    log << "roger run: interrupted; the trials that were running start afresh when you run the same command "
-           "again\n";
-    return interrupt_exit_status();  // 130 after Ctrl-C, 143 after SIGTERM, as a shell reports them
+    return finish_run(a, plan, shard, summary, log);
   } catch (const FileError& e) {
     // A results folder that could not be made has nothing to resume (found by a probe: --out /sys/x
     // said "it resumes where this one stopped").
