@@ -140,8 +140,8 @@ void print_trial_params(const PolicyEvalResult& r, const std::string& scenario, 
     std::printf("  note           %s\n", trial_params_left_note(r.trial_sets_left, scenario).c_str());
 }
 
-// eval --policy FILE.json: a policy saved by roger train, its Psi rebuilt from the curriculum.
-int run_eval_policy_file(const EvalArgs& a) {
+// eval --policy FILE.json: what to evaluate, from the command line.
+PolicyEvalOptions policy_eval_options(const EvalArgs& a) {
   PolicyEvalOptions o;
   o.curriculum = a.script;
   o.policy_file = a.policy;
@@ -156,7 +156,11 @@ int run_eval_policy_file(const EvalArgs& a) {
                 (a.seed_given ? "--seed" : "--episodes") + " cannot be given with it");
   o.test_set = a.test_set;
   o.trial_params = true;
-  const PolicyEvalResult r = evaluate_policy_file(o);
+  return o;
+}
+
+// eval --policy FILE.json: what the evaluation found, as text.
+void print_policy_eval(const EvalArgs& a, const PolicyEvalResult& r) {
   std::printf("roger eval: %s stage %s context %s (%s) in %s, %s from seed %llu, %s\n", a.script.c_str(),
               r.stage.c_str(), r.context.c_str(), a.policy.c_str(), r.scenario.c_str(),
               counted(r.eval.episodes, a.test_set ? "test task" : "episode").c_str(),
@@ -184,28 +188,37 @@ int run_eval_policy_file(const EvalArgs& a) {
   std::string usage;
   for (const auto& [name, f] : r.eval.usage) usage += (usage.empty() ? "" : ", ") + name + " " + std::to_string(int(std::lround(100 * f))) + "%";
   std::printf("  usage          %s\n", usage.c_str());
-  if (a.json) {
-    nlohmann::json j = eval_summary_json(r.eval);
-    j.update({{"script", a.script}, {"policy", a.policy}, {"stage", r.stage}, {"context", r.context},
-              {"scenario", r.scenario}, {"scenario_file", r.scenario_file}, {"failed_seeds", r.eval.failed_seeds}, {"test_set", a.test_set}});
-    j["trial_params"] = nlohmann::json::object();  // the trial's own parameters set here (print_trial_params)
-    for (const auto& [k, v] : r.trial_sets) j["trial_params"][k] = v;
-    j["trial_params_overridden"] = nlohmann::json::object();  // the trial's own, replaced by --set here
-    for (const auto& [k, v] : r.trial_sets_overridden) j["trial_params_overridden"][k] = v;
-    // With --test-set, whence the tasks came, and each episode's task in order (world seed
-    // first_seed + i).
-    if (a.test_set) {
-      j.update({{"test_set_from", r.test_set_source}, {"test_set_changed", r.test_set_changed}});
-      j["test_tasks"] = nlohmann::json::array();
-      for (const auto& task : r.test_tasks) {
-        nlohmann::json t = nlohmann::json::object();
-        for (const auto& [k, v] : task) t[k] = v;
-        j["test_tasks"].push_back(t);
-      }
+}
+
+// eval --policy FILE.json --json: the figures, the trial's parameters and with --test-set its tasks.
+nlohmann::json policy_eval_json(const EvalArgs& a, const PolicyEvalResult& r) {
+  nlohmann::json j = eval_summary_json(r.eval);
+  j.update({{"script", a.script}, {"policy", a.policy}, {"stage", r.stage}, {"context", r.context},
+            {"scenario", r.scenario}, {"scenario_file", r.scenario_file}, {"failed_seeds", r.eval.failed_seeds}, {"test_set", a.test_set}});
+  j["trial_params"] = nlohmann::json::object();  // the trial's own parameters set here (print_trial_params)
+  for (const auto& [k, v] : r.trial_sets) j["trial_params"][k] = v;
+  j["trial_params_overridden"] = nlohmann::json::object();  // the trial's own, replaced by --set here
+  for (const auto& [k, v] : r.trial_sets_overridden) j["trial_params_overridden"][k] = v;
+  // With --test-set, whence the tasks came, and each episode's task in order (world seed
+  // first_seed + i).
+  if (a.test_set) {
+    j.update({{"test_set_from", r.test_set_source}, {"test_set_changed", r.test_set_changed}});
+    j["test_tasks"] = nlohmann::json::array();
+    for (const auto& task : r.test_tasks) {
+      nlohmann::json t = nlohmann::json::object();
+      for (const auto& [k, v] : task) t[k] = v;
+      j["test_tasks"].push_back(t);
     }
-    for (const auto& [k, v] : r.params) j["params"][k] = v;
-    std::printf("%s\n", j.dump().c_str());
   }
+  for (const auto& [k, v] : r.params) j["params"][k] = v;
+  return j;
+}
+
+// eval --policy FILE.json: a policy saved by roger train, its Psi rebuilt from the curriculum.
+int run_eval_policy_file(const EvalArgs& a) {
+  const PolicyEvalResult r = evaluate_policy_file(policy_eval_options(a));
+  print_policy_eval(a, r);
+  if (a.json) std::printf("%s\n", policy_eval_json(a, r).dump().c_str());
   return 0;
 }
 
