@@ -524,32 +524,58 @@ TEST_CASE("the planner's solves are the plain red-black relaxation to the last b
   SUCCEED();
 }
 
-TEST_CASE("a range marked full relaxes as the masked kernel does", "[planner]") {
-  // The planner splits each row into runs whose lanes are all relaxed (`full`: the kernel reads
-  // no mask) and runs that are not. A full run through each width must give the bits and the count
-  // of the 2-lane kernel, which always reads the mask; a kernel that dropped the last group of an
-  // odd number of groups, or skipped the count on the fast path, would differ.
+namespace {
+
+// The groups of `lanes` slots that cover `count` slots of one split row from slot `at`, as the
+// planner makes them: each with its mask of relaxed slots (kept even when empty, which relaxes
+// nothing) and `nearest`.
+std::vector<planner_internal::RelaxGroup> groups_of(int lanes, int at, int count, int shift, int nearest,
+                                                    const std::vector<bool>& relaxed) {
+  std::vector<planner_internal::RelaxGroup> groups;
+  for (int m = 0; m < count; m += lanes) {
+    planner_internal::RelaxGroup g;
+    g.at = at + m, g.shift = uint16_t(shift), g.nearest = nearest;
+    for (int k = 0; k < lanes; ++k)
+      if (relaxed[size_t(at + m + k)]) g.mask = uint16_t(g.mask | (1u << k));
+    groups.push_back(g);
+  }
+  return groups;
+}
+
+}  // namespace
+
+TEST_CASE("a half-sweep's groups give the same bits in any order, and those past the front none", "[planner]") {
+  // The cells of a half-sweep depend only on the other colour, so the planner may list its groups
+  // in any order; a group whose nearest cell lies past `reached` is passed over: its cells keep
+  // their values and do not count as converged. Through every width this processor runs.
   using namespace planner_internal;
   Rng rng(11);
-  for (int lanes : {4, 8}) {
-    const RelaxHalfSweep wide = relax_kernel(lanes);
-    if (!wide) continue;
-    for (int groups = 1; groups <= 5; ++groups) {
-      const int count = groups * lanes, width = count + 2 * kRelaxLanes, rows = 3;
-      std::vector<double> q(size_t(width * rows)), other(q.size());
-      std::vector<uint8_t> relaxed(size_t(relax_mask_bytes(int64_t(q.size()))));
-      for (size_t k = 0; k < q.size(); ++k) q[k] = rng.uniform(0.0, 1.0), other[k] = rng.uniform(0.0, 1.0);
-      RelaxRange range;
-      range.at = width + kRelaxLanes, range.shift = groups % 2, range.count = count, range.nearest = 0;
-      for (int m = 0; m < count; ++m) set_relaxed(relaxed.data(), range.at + m);
-      range.full = 1;
-      std::vector<double> q2 = q, qw = q;
-      const int c2 = relax_kernel(2)(q2.data(), relaxed.data(), other.data(), width, &range, 1, 0, 1.9, 1e-3);
-      const int cw = wide(qw.data(), relaxed.data(), other.data(), width, &range, 1, 0, 1.9, 1e-3);
-      CHECK(cw == c2);
-      CHECK(std::memcmp(q2.data(), qw.data(), sizeof(double) * q2.size()) == 0);
-      CHECK(std::memcmp(q2.data(), q.data(), sizeof(double) * q2.size()) != 0);  // it did relax
-    }
+  for (int lanes : {2, 4, 8}) {
+    const RelaxHalfSweep kernel = relax_kernel(lanes);
+    if (!kernel) continue;
+    const int count = 5 * lanes, width = count + 2 * kRelaxLanes, rows = 4;
+    std::vector<double> q(size_t(width * rows)), other(q.size());
+    for (size_t k = 0; k < q.size(); ++k) q[k] = rng.uniform(0.5, 1.0), other[k] = rng.uniform(0.5, 1.0);
+    const std::vector<bool> all(q.size(), true);
+    std::vector<RelaxGroup> near = groups_of(lanes, width + kRelaxLanes, count, 1, 2, all);
+    const std::vector<RelaxGroup> far = groups_of(lanes, 2 * width + kRelaxLanes, count, 0, 7, all);
+    std::vector<RelaxGroup> both = near;
+    both.insert(both.end(), far.begin(), far.end());
+    std::vector<double> q_near = q, q_both = q, q_reversed = q;
+    const int c_near = kernel(q_near.data(), other.data(), width, near.data(), int(near.size()), 5, 1.9, 0.5);
+    const int c_both = kernel(q_both.data(), other.data(), width, both.data(), int(both.size()), 5, 1.9, 0.5);
+    std::reverse(both.begin(), both.end());
+    const int c_reversed = kernel(q_reversed.data(), other.data(), width, both.data(), int(both.size()), 5, 1.9, 0.5);
+    CHECK(c_near > 0);  // the tolerance is wide: some cells converge
+    CHECK(c_both == c_near);
+    CHECK(c_reversed == c_near);
+    CHECK(std::memcmp(q_both.data(), q_near.data(), sizeof(double) * q.size()) == 0);
+    CHECK(std::memcmp(q_reversed.data(), q_near.data(), sizeof(double) * q.size()) == 0);
+    CHECK(std::memcmp(q_near.data(), q.data(), sizeof(double) * q.size()) != 0);  // it did relax
+    // With the front past both rows, the far row relaxes too.
+    std::vector<double> q_all = q;
+    kernel(q_all.data(), other.data(), width, both.data(), int(both.size()), 7, 1.9, 0.5);
+    CHECK(std::memcmp(q_all.data() + 2 * width, q.data() + 2 * width, sizeof(double) * width) != 0);
   }
 }
 
@@ -571,33 +597,41 @@ TEST_CASE("every width of the relaxation kernel gives the same bits", "[planner]
       const double deepest = trial % 3 ? 300.0 : 322.0, shallowest = trial % 3 ? 0.0 : 308.0;
       auto value = [&] { return std::pow(10.0, -rng.uniform(shallowest, deepest)) * rng.uniform(0.5, 1.0); };
       std::vector<double> q(size_t(width * rows)), other(q.size());
-      std::vector<uint8_t> relaxed(size_t(relax_mask_bytes(int64_t(q.size()))));
       std::vector<bool> is_relaxed(q.size());
       for (size_t k = 0; k < q.size(); ++k) {
         q[k] = value(), other[k] = value();
         is_relaxed[k] = rng.uniform(0.0, 1.0) < 0.8;
-        if (is_relaxed[k]) set_relaxed(relaxed.data(), int64_t(k));
       }
       // Rows 1 and 2, with both shifts; row 2 is passed over when its nearest cell is too far.
-      RelaxRange ranges[2];
-      ranges[0].at = width + 1, ranges[0].shift = trial % 2, ranges[0].count = count, ranges[0].nearest = 3;
-      ranges[1].at = 2 * width + 1, ranges[1].shift = 1 - trial % 2, ranges[1].count = count - lanes;
-      ranges[1].nearest = trial % 4 < 2 ? 4 : 9;
+      struct Row {
+        int at, shift, count, nearest;
+      };
+      const Row row_list[2] = {{width + 1, trial % 2, count, 3},
+                               {2 * width + 1, 1 - trial % 2, count - lanes, trial % 4 < 2 ? 4 : 9}};
+      auto groups = [&](int group_lanes) {
+        std::vector<RelaxGroup> out;
+        for (const Row& r : row_list) {
+          const std::vector<RelaxGroup> g = groups_of(group_lanes, r.at, r.count, r.shift, r.nearest, is_relaxed);
+          out.insert(out.end(), g.begin(), g.end());
+        }
+        return out;
+      };
+      const std::vector<RelaxGroup> groups2 = groups(2), groups_wide = groups(lanes);
       const double omega = rng.uniform(1.0, 1.95), tol = trial % 2 ? 2e-3 : 1e-300;
       std::vector<double> q2 = q, qw = q;
-      const int c2 = relax_kernel(2)(q2.data(), relaxed.data(), other.data(), width, ranges, 2, 5, omega, tol);
-      const int cw = wide(qw.data(), relaxed.data(), other.data(), width, ranges, 2, 5, omega, tol);
+      const int c2 = relax_kernel(2)(q2.data(), other.data(), width, groups2.data(), int(groups2.size()), 5, omega, tol);
+      const int cw = wide(qw.data(), other.data(), width, groups_wide.data(), int(groups_wide.size()), 5, omega, tol);
       CHECK(cw == c2);
       CHECK(std::memcmp(q2.data(), qw.data(), sizeof(double) * q2.size()) == 0);
       // And the 2-lane kernel is the scalar relaxation, operation for operation.
       std::vector<double> expected = q;
       int converged = 0;
-      for (const RelaxRange& range : ranges) {
-        if (range.nearest > 5) continue;
-        for (int m = 0; m < range.count; ++m) {
-          const int64_t k = range.at + m;
+      for (const Row& r : row_list) {
+        if (r.nearest > 5) continue;
+        for (int m = 0; m < r.count; ++m) {
+          const int64_t k = r.at + m;
           if (!is_relaxed[size_t(k)]) continue;
-          const int64_t l = k + range.shift - 1;
+          const int64_t l = k + r.shift - 1;
           const double sum = other[size_t(l)] + other[size_t(l + 1)] + other[size_t(k - width)] + other[size_t(k + width)];
           const double v = q[size_t(k)], mean = 0.25 * sum, change = omega * (mean - v);
           expected[size_t(k)] = v + change;

@@ -384,27 +384,28 @@ void HarmonicPlanner::solve(bool warm) {
 // other cell is fixed: goal cells at q = 1, obstacles, padding and walled-off cells at q = 0. A
 // relaxed cell starts at 0 in a cold solve and at its value in q_ in a warm one.
 // In the same pass: the relaxed cells' count, their widest clearance (returned, for omega) and
-// the slots of each row that hold them (ranges_).
+// the groups of slots that hold them (groups_).
 float HarmonicPlanner::split_by_colour(bool warm) {
   const int rows = grid_.ny + 2;
   // A guard slot at each end, and the row a whole number of the widest kernel's lanes (a line).
   constexpr int pad = planner_internal::kRelaxLanes;
   split_width_ = ((stride_ + 1) / 2 + 2 + pad - 1) / pad * pad;
-  // The ranges come in whole lanes of the kernel this processor runs.
+  if (int64_t(rows) * split_width_ > int64_t(INT32_MAX) - pad)  // RelaxGroup::at is 32 bits
+    throw Error("planner: a grid of " + std::to_string(grid_.nx) + " x " + std::to_string(grid_.ny) +
+                " cells is too large to solve");
+  // The groups come in whole lanes of the kernel this processor runs.
   const int lanes = planner_internal::widest_relax_kernel().lanes;
   float widest = 0.0f;
   relaxed_cells_ = 0;
   for (int c = 0; c < 2; ++c) {
     colour_[c].assign(size_t(rows) * split_width_ + kAlignSlots, 0.0);
-    relaxed_[c].assign(size_t(planner_internal::relax_mask_bytes(int64_t(rows) * split_width_)), 0);
-    ranges_[c].clear();
+    groups_[c].clear();
   }
   slot_dist_.resize(size_t(split_width_));
   for (int j = 0; j < rows; ++j)
     for (int c = 0; c < 2; ++c) {
       // The cells of colour c in row j are every other one, from column (j + c) % 2.
       double* values = colour_base(c) + size_t(j) * split_width_ + 1;
-      const int64_t row_start = int64_t(j) * split_width_ + 1;  // the slot of column 0 (or 1)
       int first = 0, last = -1;
       std::fill(slot_dist_.begin(), slot_dist_.end(), INT_MAX);
       for (int i = (j + c) & 1, k = j * stride_ + i; i < stride_; i += 2, k += 2) {
@@ -414,7 +415,6 @@ float HarmonicPlanner::split_by_colour(bool warm) {
           continue;
         }
         values[i / 2] = warm ? q_[k] : 0.0;
-        planner_internal::set_relaxed(relaxed_[c].data(), row_start + i / 2);
         widest = std::max(widest, clearance_[k]);
         const int slot = 1 + i / 2;
         if (last < 0) first = slot;
@@ -422,60 +422,34 @@ float HarmonicPlanner::split_by_colour(bool warm) {
         slot_dist_[size_t(slot)] = d;
         ++relaxed_cells_;
       }
-      if (last >= 0) add_relaxed_range(j, c, first, last, lanes);
+      if (last >= 0) add_relaxed_groups(j, c, first, last, lanes);
     }
   return widest;
 }
 
 // Records that row j of colour c relaxes cells in slots first..last (slot_dist_ holds their flood
-// steps from the goal): padded to whole lanes, the sweep passes over the rest of the row (fixed
-// cells whose relaxation would change nothing: obstacle margins, walled-off rooms).
-void HarmonicPlanner::add_relaxed_range(int j, int c, int first, int last, int lanes) {
-  // From the start of the 64-byte line (the widest lanes) that holds its first slot, in whole
-  // lanes: a vector's loads of its own row and of the rows above and below then never straddle
-  // two cache lines (4 to 6% of the 8-object pipeline in roger bench). The row is a whole number
-  // of lines wide, so the range ends inside it; a left guard it starts on is fixed.
-  planner_internal::RelaxRange range;
-  first -= first % planner_internal::kRelaxLanes;
-  const int count = (last - first + 1 + lanes - 1) / lanes * lanes;
-  range.at = int64_t(j) * split_width_ + first;
-  range.shift = (j + c) & 1;
-  // Split into runs of whole lanes that are all relaxed (the kernel then reads no mask) and runs
-  // that are not; a half-sweep's cells do not depend on each other, so this changes no bit. A run
-  // of fewer than kFullRun full lanes stays in the masked run around it: a range of its own costs
-  // the kernel more to start than it saves.
-  constexpr int kFullRun = 3;
-  const unsigned all = (1u << lanes) - 1u;
-  const uint8_t* mask = relaxed_[c].data();
-  auto full_run = [&](int64_t at, int64_t end) {  // the slots of full lanes from `at` on
-    int64_t stop = at;
-    while (stop < end && planner_internal::mask_bits(mask, stop, lanes) == all) stop += lanes;
-    return stop - at;
-  };
-  const int64_t end = range.at + count;
-  int64_t masked_from = range.at, at = range.at;
-  // Each run's own nearest cell, not the row's: a cold solve's front then passes over the runs of
-  // a row it has not reached yet (a tenth of the kernel's instructions in the 8-object line), and
-  // a masked run between two full ones with no relaxed cell (an object's grown disk) is dropped.
-  const int64_t row_at = int64_t(j) * split_width_;
-  auto emit = [&](int64_t from, int64_t to, bool full) {
-    if (to <= from) return;
-    range.at = from, range.count = int32_t(to - from), range.full = full;
-    range.nearest = *std::min_element(slot_dist_.begin() + (from - row_at), slot_dist_.begin() + (to - row_at));
-    if (range.nearest == INT_MAX) return;  // nothing relaxed: relaxing it would change nothing
-    ranges_[c].push_back(range);
-  };
-  while (at < end) {
-    const int64_t run = full_run(at, end);
-    if (run >= int64_t(kFullRun) * lanes) {
-      emit(masked_from, at, false);
-      emit(at, at + run, true);
-      masked_from = at = at + run;
-    } else {
-      at += run > 0 ? run : lanes;
+// steps from the goal, INT_MAX elsewhere), as groups of `lanes` slots from the start of the
+// 64-byte line that holds the first: a vector's loads of its own row and of the rows above and
+// below then never straddle two cache lines (4 to 6% of the 8-object pipeline in roger bench).
+// A group without a relaxed cell (inside an object's grown disk) is left out: relaxing it would
+// change nothing. Each group's own nearest cell lets a cold solve's front pass over the groups it
+// has not reached yet.
+void HarmonicPlanner::add_relaxed_groups(int j, int c, int first, int last, int lanes) {
+  planner_internal::RelaxGroup group;
+  group.shift = uint16_t((j + c) & 1);
+  for (int slot = first - first % planner_internal::kRelaxLanes; slot <= last; slot += lanes) {
+    group.mask = 0;
+    group.nearest = INT_MAX;
+    for (int m = 0; m < lanes; ++m) {
+      const int d = slot_dist_[size_t(slot + m)];
+      if (d == INT_MAX) continue;
+      group.mask = uint16_t(group.mask | (1u << m));
+      group.nearest = std::min(group.nearest, d);
     }
+    if (group.mask == 0) continue;
+    group.at = int32_t(j) * split_width_ + slot;
+    groups_[c].push_back(group);
   }
-  emit(masked_from, end, false);
 }
 
 // Writes the split values back into q_.
@@ -500,14 +474,13 @@ int HarmonicPlanner::sweep(double omega, int front) {
   // the goal, and half-sweep h can carry a value only one step further from it: before it, every
   // cell more than h flood steps from the goal is still exactly 0, and a cell more than h + 1
   // steps away, all of whose neighbours are, would relax to exactly 0 again and stay unconverged.
-  // Rows made only of such cells are passed over (they count as unconverged all the same).
+  // Groups made only of such cells are passed over (they count as unconverged all the same).
   const planner_internal::RelaxHalfSweep half_sweep = planner_internal::widest_relax_kernel().half_sweep;
   int converged = 0;
   for (int c = 0; c < 2; ++c) {
     const int64_t reached = front < 0 ? int64_t(INT_MAX) : 2 * int64_t(front) + c + 1;
-    converged += half_sweep(colour_base(c), relaxed_[c].data(), colour_base(1 - c),
-                            split_width_, ranges_[c].data(), int(ranges_[c].size()), reached,
-                            omega, params_.tolerance);
+    converged += half_sweep(colour_base(c), colour_base(1 - c), split_width_, groups_[c].data(),
+                            int(groups_[c].size()), reached, omega, params_.tolerance);
   }
   return relaxed_cells_ - converged;
 }

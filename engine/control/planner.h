@@ -122,9 +122,9 @@ class HarmonicPlanner {
   void solve(bool warm);
   bool reuse_cold_solve();                   // the remembered cold solve, if it is this one
   void remember_cold_solve(int backoffs_before);
-  // colour_, relaxed_, ranges_ and relaxed_cells_; returns the widest relaxed cell's clearance
+  // colour_, groups_ and relaxed_cells_; returns the widest relaxed cell's clearance
   float split_by_colour(bool warm);
-  void add_relaxed_range(int j, int c, int first, int last, int lanes);  // one row's ranges
+  void add_relaxed_groups(int j, int c, int first, int last, int lanes);  // one row's groups
   void join_colours();                       // colour_ back into q_
   int sweep(double omega, int front);        // one red-black SOR sweep; returns unconverged cells
   double measure_residual() const;
@@ -160,10 +160,9 @@ class HarmonicPlanner {
     const auto at = reinterpret_cast<uintptr_t>(colour_[c].data());
     return colour_[c].data() + ((64 - at % 64) % 64) / sizeof(double);
   }
-  std::vector<uint8_t> relaxed_[2]; // one bit per slot of colour_: set where the sweep relaxes it
   int split_width_ = 0;             // slots per row of colour_
-  // Per colour, the slots of each row the sweep relaxes (rows without relaxed cells have none).
-  std::vector<planner_internal::RelaxRange> ranges_[2];
+  // Per colour, the groups of slots the sweep relaxes, row by row (planner_sweep.cpp).
+  std::vector<planner_internal::RelaxGroup> groups_[2];
   std::vector<int> slot_dist_;      // scratch: flood steps of the relaxed slots of one split row
   std::vector<int> goal_;        // sorted padded indices of the goal cells in force
   std::vector<int> pending_goal_;

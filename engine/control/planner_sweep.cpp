@@ -24,24 +24,21 @@ template <> struct Lanes_<2> {
   typedef int64_t Mask __attribute__((vector_size(16)));
 };
 
-// The rows one range of a half-sweep reads and writes: its own slots, and in the other colour's
-// array the left neighbours (the right ones are one further), those below and those above.
-struct RangeRows {
+// The slots one group of a half-sweep reads and writes: its own, and in the other colour's array
+// the left neighbours (the right ones are one further), those below and those above.
+struct GroupSlots {
   double* row;
   const double *left, *below, *above;
-  RangeRows(const RelaxRange& range, double* q, const double* other, int64_t width)
-      : row(q + range.at), left(other + range.at + range.shift - 1), below(other + range.at - width),
-        above(other + range.at + width) {}
+  GroupSlots(const RelaxGroup& g, double* q, const double* other, int64_t width)
+      : row(q + g.at), left(other + g.at + g.shift - 1), below(other + g.at - width), above(other + g.at + width) {}
 };
 
 // `Lanes` cells relaxed together, with vector extensions. Always inlined into a wrapper compiled
 // for the instruction set of that width.
 template <int Lanes>
-__attribute__((always_inline)) inline int relax_lanes(double* __restrict q,
-                                                     const uint8_t* __restrict relaxed,
-                                                     const double* other, int64_t width,
-                                                     const RelaxRange* ranges, int n,
-                                                     int64_t reached, double omega, double tol) {
+__attribute__((always_inline)) inline int relax_lanes(double* __restrict q, const double* other, int64_t width,
+                                                     const RelaxGroup* groups, int n, int64_t reached,
+                                                     double omega, double tol) {
   typedef typename Lanes_<Lanes>::Vec Vec;
   typedef typename Lanes_<Lanes>::Mask Mask;
   Vec om, quarter, tolerance;
@@ -50,41 +47,36 @@ __attribute__((always_inline)) inline int relax_lanes(double* __restrict q,
     om[k] = omega, quarter[k] = 0.25, tolerance[k] = tol, no_sign[k] = INT64_MAX, converged[k] = 0;
     lane_bit[k] = int64_t(1) << k;
   }
-  for (const RelaxRange* range = ranges; range != ranges + n; ++range) {
-    if (range->nearest > reached) continue;
-    const RangeRows rows(*range, q, other, width);
-    double* row = rows.row;
-    const double *left = rows.left, *below = rows.below, *above = rows.above;
-    for (int m = 0; m < range->count; m += Lanes) {
-      Mask bits = Mask{} + int64_t(mask_bits(relaxed, range->at + m, Lanes));
-      const Mask mask = (bits & lane_bit) != 0;
-      Vec value, l, r, b, a;
-      std::memcpy(&value, row + m, sizeof value);
-      std::memcpy(&l, left + m, sizeof l);
-      std::memcpy(&r, left + m + 1, sizeof r);
-      std::memcpy(&b, below + m, sizeof b);
-      std::memcpy(&a, above + m, sizeof a);
-      // No fused multiply-add may join this product to the subtraction below (it would round
-      // once instead of twice, changing the bits): the file is compiled with -ffp-contract=off
-      // (engine/control/CMakeLists.txt).
-      const Vec mean = quarter * (l + r + b + a);
-      // The mask zeroes the change of a fixed cell: bits, not a branch.
-      const Vec change = Vec(Mask(om * (mean - value)) & mask);
-      const Vec next = value + change;
-      std::memcpy(row + m, &next, sizeof next);
-      const Vec size = Vec(Mask(change) & no_sign);  // |change|
-      converged -= Mask(size < tolerance * next) & mask;
-    }
+  for (const RelaxGroup* g = groups; g != groups + n; ++g) {
+    if (g->nearest > reached) continue;
+    const GroupSlots at(*g, q, other, width);
+    const Mask mask = ((Mask{} + int64_t(g->mask)) & lane_bit) != 0;
+    Vec value, l, r, b, a;
+    std::memcpy(&value, at.row, sizeof value);
+    std::memcpy(&l, at.left, sizeof l);
+    std::memcpy(&r, at.left + 1, sizeof r);
+    std::memcpy(&b, at.below, sizeof b);
+    std::memcpy(&a, at.above, sizeof a);
+    // No fused multiply-add may join this product to the subtraction below (it would round
+    // once instead of twice, changing the bits): the file is compiled with -ffp-contract=off
+    // (engine/control/CMakeLists.txt).
+    const Vec mean = quarter * (l + r + b + a);
+    // The mask zeroes the change of a fixed cell: bits, not a branch.
+    const Vec change = Vec(Mask(om * (mean - value)) & mask);
+    const Vec next = value + change;
+    std::memcpy(at.row, &next, sizeof next);
+    const Vec size = Vec(Mask(change) & no_sign);  // |change|
+    converged -= Mask(size < tolerance * next) & mask;
   }
   int total = 0;
   for (int l = 0; l < Lanes; ++l) total += int(converged[l]);
   return total;
 }
 
-#define ROGER_RELAX_PARAMS                                                                   \
-  double *__restrict q, const uint8_t *__restrict relaxed, const double *other, int64_t width, \
-      const RelaxRange *ranges, int n, int64_t reached, double omega, double tol
-#define ROGER_RELAX_ARGS q, relaxed, other, width, ranges, n, reached, omega, tol
+#define ROGER_RELAX_PARAMS                                                                              \
+  double *__restrict q, const double *other, int64_t width, const RelaxGroup *groups, int n, int64_t reached, \
+      double omega, double tol
+#define ROGER_RELAX_ARGS q, other, width, groups, n, reached, omega, tol
 
 int relax_2(ROGER_RELAX_PARAMS) { return relax_lanes<2>(ROGER_RELAX_ARGS); }
 
@@ -92,10 +84,10 @@ int relax_2(ROGER_RELAX_PARAMS) { return relax_lanes<2>(ROGER_RELAX_ARGS); }
 #define ROGER_WIDE_KERNELS 1
 // Four cells at once with AVX, which has no 256-bit integer operations: relax_lanes<4> built the
 // lane mask and counted converged cells with scalar moves and 128-bit halves (about 25 of the
-// kernel's 50 instructions per four cells, and half of the 8-object pipeline's instructions are
-// this kernel). Here the mask is one load from a table of the 16 patterns, and the converged
-// cells are counted in doubles (exact far beyond any grid's size): the floating-point operations
-// are those of relax_lanes, in the same order, so the bits are the narrower kernels'.
+// kernel's 50 instructions per four cells). Here the mask is one load from a table of the 16
+// patterns, and the converged cells are counted in doubles (exact far beyond any grid's size):
+// the floating-point operations are those of relax_lanes, in the same order, so the bits are the
+// narrower kernels'.
 struct LaneMasks4 {
   alignas(32) int64_t lanes[16][4];
   constexpr LaneMasks4() : lanes{} {
@@ -105,63 +97,34 @@ struct LaneMasks4 {
 };
 constexpr LaneMasks4 kLaneMasks4;
 
-// One group of four cells (masked: only the lanes set in `mask` change and count).
-struct Relax4 {
-  __m256d om, quarter, tolerance, no_sign, one, counts;
-  __attribute__((target("avx"), always_inline)) inline void group(double* row, const double* left,
-                                                                  const double* below, const double* above,
-                                                                  __m256d mask, bool masked) {
-    const __m256d value = _mm256_loadu_pd(row);
-    const __m256d sum = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(_mm256_loadu_pd(left), _mm256_loadu_pd(left + 1)),
-                                                    _mm256_loadu_pd(below)),
-                                      _mm256_loadu_pd(above));
+__attribute__((target("avx"))) int relax_4(ROGER_RELAX_PARAMS) {
+  const __m256d om = _mm256_set1_pd(omega), quarter = _mm256_set1_pd(0.25), tolerance = _mm256_set1_pd(tol);
+  const __m256d no_sign = _mm256_castsi256_pd(_mm256_set1_epi64x(INT64_MAX)), one = _mm256_set1_pd(1.0);
+  __m256d counts = _mm256_setzero_pd();
+  for (const RelaxGroup* g = groups; g != groups + n; ++g) {
+    if (g->nearest > reached) continue;
+    const GroupSlots at(*g, q, other, width);
+    const __m256d mask = _mm256_load_pd(reinterpret_cast<const double*>(kLaneMasks4.lanes[g->mask & 15]));
+    const __m256d value = _mm256_loadu_pd(at.row);
+    const __m256d sum = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(_mm256_loadu_pd(at.left), _mm256_loadu_pd(at.left + 1)),
+                                                    _mm256_loadu_pd(at.below)),
+                                      _mm256_loadu_pd(at.above));
     const __m256d mean = _mm256_mul_pd(quarter, sum);
-    __m256d change = _mm256_mul_pd(om, _mm256_sub_pd(mean, value));
-    if (masked) change = _mm256_and_pd(change, mask);
+    const __m256d change = _mm256_and_pd(_mm256_mul_pd(om, _mm256_sub_pd(mean, value)), mask);
     const __m256d next = _mm256_add_pd(value, change);
-    _mm256_storeu_pd(row, next);
+    _mm256_storeu_pd(at.row, next);
     const __m256d size = _mm256_and_pd(change, no_sign);
-    __m256d met = _mm256_cmp_pd(size, _mm256_mul_pd(tolerance, next), _CMP_LT_OQ);
-    if (masked) met = _mm256_and_pd(met, mask);
+    const __m256d met = _mm256_and_pd(_mm256_cmp_pd(size, _mm256_mul_pd(tolerance, next), _CMP_LT_OQ), mask);
     counts = _mm256_add_pd(counts, _mm256_and_pd(met, one));
   }
-};
-
-__attribute__((target("avx"))) int relax_4(ROGER_RELAX_PARAMS) {
-  Relax4 k;
-  k.om = _mm256_set1_pd(omega), k.quarter = _mm256_set1_pd(0.25), k.tolerance = _mm256_set1_pd(tol);
-  k.no_sign = _mm256_castsi256_pd(_mm256_set1_epi64x(INT64_MAX)), k.one = _mm256_set1_pd(1.0);
-  k.counts = _mm256_setzero_pd();
-  const __m256d all = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
-  for (const RelaxRange* range = ranges; range != ranges + n; ++range) {
-    if (range->nearest > reached) continue;
-    const RangeRows rows(*range, q, other, width);
-    double* row = rows.row;
-    const double *left = rows.left, *below = rows.below, *above = rows.above;
-    if (range->full) {
-      // Every lane relaxed: no mask to read or apply (an all-ones mask changes no bit).
-      int m = 0;
-      for (; m + 8 <= range->count; m += 8) {
-        k.group(row + m, left + m, below + m, above + m, all, false);
-        k.group(row + m + 4, left + m + 4, below + m + 4, above + m + 4, all, false);
-      }
-      if (m < range->count) k.group(row + m, left + m, below + m, above + m, all, false);
-      continue;
-    }
-    for (int m = 0; m < range->count; m += 4) {
-      const __m256d mask = _mm256_load_pd(reinterpret_cast<const double*>(
-          kLaneMasks4.lanes[mask_bits(relaxed, range->at + m, 4)]));
-      k.group(row + m, left + m, below + m, above + m, mask, true);
-    }
-  }
   alignas(32) double lanes[4];
-  _mm256_store_pd(lanes, k.counts);
+  _mm256_store_pd(lanes, counts);
   return int(lanes[0]) + int(lanes[1]) + int(lanes[2]) + int(lanes[3]);
 }
 
-// Eight cells at once with AVX-512's own mask registers: the byte of the bit mask is the lane
-// mask, and the same operations, in the same order, as relax_lanes. No multiply-add is formed
-// from them (-ffp-contract=off, as above), so the bits are those of the narrower kernels.
+// Eight cells at once with AVX-512's own mask registers: the group's mask is the lane mask, and
+// the same operations, in the same order, as relax_lanes. No multiply-add is formed from them
+// (-ffp-contract=off, as above), so the bits are those of the narrower kernels.
 __attribute__((target("avx512f"))) int relax_8(ROGER_RELAX_PARAMS) {
   const __m512d om = _mm512_set1_pd(omega), quarter = _mm512_set1_pd(0.25), tolerance = _mm512_set1_pd(tol);
   const __m512i no_sign = _mm512_set1_epi64(INT64_MAX), one = _mm512_set1_epi64(1);
@@ -169,25 +132,21 @@ __attribute__((target("avx512f"))) int relax_8(ROGER_RELAX_PARAMS) {
   // per vector (mask to a general register, count, add) cost 2 to 3% of the whole 8-object
   // pipeline in `roger bench`.
   __m512i counts = _mm512_setzero_si512();
-  for (const RelaxRange* range = ranges; range != ranges + n; ++range) {
-    if (range->nearest > reached) continue;
-    const RangeRows rows(*range, q, other, width);
-    double* row = rows.row;
-    const double *left = rows.left, *below = rows.below, *above = rows.above;
-    for (int m = 0; m < range->count; m += 8) {
-      const __mmask8 mask = range->full ? __mmask8(0xFF) : __mmask8(mask_bits(relaxed, range->at + m, 8));
-      const __m512d value = _mm512_loadu_pd(row + m);
-      const __m512d sum = _mm512_add_pd(_mm512_add_pd(_mm512_add_pd(_mm512_loadu_pd(left + m), _mm512_loadu_pd(left + m + 1)),
-                                                      _mm512_loadu_pd(below + m)),
-                                        _mm512_loadu_pd(above + m));
-      const __m512d mean = _mm512_mul_pd(quarter, sum);
-      const __m512d change = _mm512_maskz_mul_pd(mask, om, _mm512_sub_pd(mean, value));
-      const __m512d next = _mm512_add_pd(value, change);
-      _mm512_storeu_pd(row + m, next);
-      const __m512d size = _mm512_castsi512_pd(_mm512_and_si512(_mm512_castpd_si512(change), no_sign));
-      const __mmask8 met = _mm512_mask_cmp_pd_mask(mask, size, _mm512_mul_pd(tolerance, next), _CMP_LT_OQ);
-      counts = _mm512_mask_add_epi64(counts, met, counts, one);
-    }
+  for (const RelaxGroup* g = groups; g != groups + n; ++g) {
+    if (g->nearest > reached) continue;
+    const GroupSlots at(*g, q, other, width);
+    const __mmask8 mask = __mmask8(g->mask);
+    const __m512d value = _mm512_loadu_pd(at.row);
+    const __m512d sum = _mm512_add_pd(_mm512_add_pd(_mm512_add_pd(_mm512_loadu_pd(at.left), _mm512_loadu_pd(at.left + 1)),
+                                                    _mm512_loadu_pd(at.below)),
+                                      _mm512_loadu_pd(at.above));
+    const __m512d mean = _mm512_mul_pd(quarter, sum);
+    const __m512d change = _mm512_maskz_mul_pd(mask, om, _mm512_sub_pd(mean, value));
+    const __m512d next = _mm512_add_pd(value, change);
+    _mm512_storeu_pd(at.row, next);
+    const __m512d size = _mm512_castsi512_pd(_mm512_and_si512(_mm512_castpd_si512(change), no_sign));
+    const __mmask8 met = _mm512_mask_cmp_pd_mask(mask, size, _mm512_mul_pd(tolerance, next), _CMP_LT_OQ);
+    counts = _mm512_mask_add_epi64(counts, met, counts, one);
   }
   int64_t lanes[8];
   _mm512_storeu_si512(lanes, counts);
