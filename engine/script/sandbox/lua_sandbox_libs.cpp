@@ -223,10 +223,8 @@ int sandbox_xpcall(lua_State* L) {
   return lua_tocfunction(L, lua_upvalueindex(1))(L);
 }
 
-}  // namespace
-
-// Opens the permitted libraries and installs the replacements (run protected: it allocates).
-int open_sandbox(lua_State* L) {
+// Lua's own libraries that read no file, reach no process and are seeded from nothing outside.
+void open_permitted_libraries(lua_State* L) {
   const luaL_Reg libs[] = {{LUA_GNAME, luaopen_base},        {LUA_MATHLIBNAME, luaopen_math},
                            {LUA_STRLIBNAME, luaopen_string},   {LUA_TABLIBNAME, luaopen_table},
                            {LUA_UTF8LIBNAME, luaopen_utf8},    {LUA_COLIBNAME, luaopen_coroutine}};
@@ -234,8 +232,10 @@ int open_sandbox(lua_State* L) {
     luaL_requiref(L, lib.name, lib.func, 1);
     lua_pop(L, 1);
   }
-  lua_pushglobaltable(L);
-  const int g = lua_gettop(L);
+}
+
+// The base library's functions that load code or print, in the globals at index g.
+void install_base_replacements(lua_State* L, int g) {
   // They read any file: refused with a word on what to use, not a nil whose call says only
   // "attempt to call a nil value".
   const char* no_file_loading =
@@ -254,7 +254,12 @@ int open_sandbox(lua_State* L) {
   lua_setfield(L, g, "xpcall");
   lua_pushcfunction(L, sandbox_setmetatable);
   lua_setfield(L, g, "setmetatable");
-  // The guards are also what require("os") returns, as Lua's require returns the library.
+}
+
+// os, io, debug and package as guards that name what to use instead, in the globals at index g and
+// in package.loaded: the guards are also what require("os") returns, as Lua's require returns the
+// library.
+void install_library_guards(lua_State* L, int g) {
   luaL_getsubtable(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
   for (const char* lib : {"os", "io", "debug", "package"}) {
     push_guard(L, lib);
@@ -274,6 +279,10 @@ int open_sandbox(lua_State* L) {
     lua_setfield(L, g, lib);
   }
   lua_pop(L, 1);
+}
+
+// string.dump refused and the patterns budgeted; math.random and math.randomseed refused.
+void install_string_and_math(lua_State* L, int g) {
   lua_getfield(L, g, "string");
   // Bytecode out is as unwelcome as bytecode in.
   set_refusal(L, lua_gettop(L), "dump",
@@ -290,6 +299,18 @@ int open_sandbox(lua_State* L) {
                  "function receives (rng:uniform, rng:int, rng:normal, ...) so every run is reproducible from its "
                  "seed").c_str());
   lua_pop(L, 1);
+}
+
+}  // namespace
+
+// Opens the permitted libraries and installs the replacements (run protected: it allocates).
+int open_sandbox(lua_State* L) {
+  open_permitted_libraries(L);
+  lua_pushglobaltable(L);
+  const int g = lua_gettop(L);
+  install_base_replacements(L, g);
+  install_library_guards(L, g);
+  install_string_and_math(L, g);
   install_charges(L);
   install_pairs(L);
   install_table_library(L);
