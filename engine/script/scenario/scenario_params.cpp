@@ -62,76 +62,91 @@ std::string expected_text(const ScenarioParam& p) {
   return kind;
 }
 
-// Parses text into a slot of the slot's type; false (and `why`: what the parameter takes, whole)
-// when it does not fit.
-bool parse_slot(ParamSlot& s, const std::string& text, std::string& why) {
+namespace {
+
+// An integer, or a whole number written as a float ("2.0", "1e3"), as a Lua table takes
+// `delay = 2.0` (lua_param_text): the same value, so the same parameter.
+bool parse_integer_text(const std::string& text, int64_t& value) {
   const char* begin = text.c_str();
   char* end = nullptr;
   errno = 0;
+  long long v = std::strtoll(begin, &end, 10);
+  if (!text.empty() && *end && !errno) {
+    errno = 0;
+    const double d = std::strtod(begin, &end);
+    if (*end || errno || !(std::fabs(d) < 0x1p62) || d != std::floor(d)) return false;
+    v = static_cast<long long>(d);
+  }
+  if (text.empty() || *end || errno) return false;
+  value = v;
+  return true;
+}
+
+// A finite number; one too small for a double (1e-400) is its nearest, not an error: only
+// overflow is.
+bool parse_number_text(const std::string& text, double& value) {
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(text.c_str(), &end);
+  const bool underflow = errno == ERANGE && std::fabs(v) <= std::numeric_limits<double>::min();
+  if (text.empty() || *end || (errno && !underflow) || !std::isfinite(v)) return false;
+  value = v;
+  return true;
+}
+
+bool parse_boolean_text(const std::string& text, bool& value) {
+  std::string t = text;
+  std::transform(t.begin(), t.end(), t.begin(), ::tolower);
+  if (t == "true" || t == "1" || t == "yes" || t == "on") return value = true, true;
+  if (t == "false" || t == "0" || t == "no" || t == "off") return value = false, true;
+  return false;
+}
+
+// Each item of a list parameter's text, spaces around it dropped, is one of the choices, and is
+// there once (a name twice is most likely another mistyped as it: world:robot refuses it, at a
+// library's line).
+bool check_list_items(const ParamSlot& s, const std::string& canonical, std::string& why) {
+  size_t from = 0;
+  std::vector<std::string> seen;
+  while (from <= canonical.size()) {
+    const size_t comma = std::min(canonical.find(',', from), canonical.size());
+    std::string item = canonical.substr(from, comma - from);
+    item.erase(0, item.find_first_not_of(" \t"));
+    item.erase(item.find_last_not_of(" \t") + 1);
+    if (!item.empty() && std::find(s.info.choices.begin(), s.info.choices.end(), item) == s.info.choices.end())
+      return why = expected_text(s.info), false;
+    if (!item.empty() && std::find(seen.begin(), seen.end(), item) != seen.end())
+      return why = expected_text(s.info) + ", each once", false;
+    seen.push_back(item);
+    from = comma + 1;
+  }
+  return true;
+}
+
+}  // namespace
+
+// Parses text into a slot of the slot's type; false (and `why`: what the parameter takes, whole)
+// when it does not fit.
+bool parse_slot(ParamSlot& s, const std::string& text, std::string& why) {
   const auto refuse = [&]() { return why = expected_text(s.info), false; };
+  const bool numeric = s.info.type == ParamType::kInteger || s.info.type == ParamType::kNumber;
   // strtoll and strtod skip leading blanks, which would take " 3" where "3 " is refused.
-  const bool blank_first = !text.empty() && std::isspace(static_cast<unsigned char>(text[0]));
-  if (blank_first && (s.info.type == ParamType::kInteger || s.info.type == ParamType::kNumber)) return refuse();
+  if (numeric && !text.empty() && std::isspace(static_cast<unsigned char>(text[0]))) return refuse();
+  bool parsed = true;
   switch (s.info.type) {
-    case ParamType::kInteger: {
-      long long v = std::strtoll(begin, &end, 10);
-      if (!text.empty() && *end && !errno) {
-        // A whole number written as a float ("2.0", "1e3"), as a Lua table takes `delay = 2.0`
-        // (lua_param_text): the same value, so the same parameter.
-        errno = 0;
-        const double d = std::strtod(begin, &end);
-        if (*end || errno || !(std::fabs(d) < 0x1p62) || d != std::floor(d)) return refuse();
-        v = static_cast<long long>(d);
-      }
-      if (text.empty() || *end || errno) return refuse();
-      s.integer = v;
-      break;
-    }
-    case ParamType::kNumber: {
-      const double v = std::strtod(begin, &end);
-      // A number too small for a double (1e-400) is its nearest, not an error: only overflow is.
-      const bool underflow = errno == ERANGE && std::fabs(v) <= std::numeric_limits<double>::min();
-      if (text.empty() || *end || (errno && !underflow) || !std::isfinite(v)) return refuse();
-      s.number = v;
-      break;
-    }
-    case ParamType::kBoolean: {
-      std::string t = text;
-      std::transform(t.begin(), t.end(), t.begin(), ::tolower);
-      if (t == "true" || t == "1" || t == "yes" || t == "on") s.flag = true;
-      else if (t == "false" || t == "0" || t == "no" || t == "off") s.flag = false;
-      else return refuse();
-      break;
-    }
+    case ParamType::kInteger: parsed = parse_integer_text(text, s.integer); break;
+    case ParamType::kNumber: parsed = parse_number_text(text, s.number); break;
+    case ParamType::kBoolean: parsed = parse_boolean_text(text, s.flag); break;
     case ParamType::kString: s.text = text; break;
   }
+  if (!parsed) return refuse();
   const std::string canonical = slot_text(s);
-  if (s.info.list) {
-    // Each item, spaces around it dropped, is one of the choices, and is there once (a name twice
-    // is most likely another mistyped as it: world:robot refuses it, at a library's line).
-    size_t from = 0;
-    std::vector<std::string> seen;
-    while (from <= canonical.size()) {
-      const size_t comma = std::min(canonical.find(',', from), canonical.size());
-      std::string item = canonical.substr(from, comma - from);
-      item.erase(0, item.find_first_not_of(" \t"));
-      item.erase(item.find_last_not_of(" \t") + 1);
-      if (!item.empty() && std::find(s.info.choices.begin(), s.info.choices.end(), item) == s.info.choices.end())
-        return refuse();
-      if (!item.empty() && std::find(seen.begin(), seen.end(), item) != seen.end())
-        return why = expected_text(s.info) + ", each once", false;
-      seen.push_back(item);
-      from = comma + 1;
-    }
-    return true;
-  }
+  if (s.info.list) return check_list_items(s, canonical, why);
   if (!s.info.choices.empty() &&
       std::find(s.info.choices.begin(), s.info.choices.end(), canonical) == s.info.choices.end())
     return refuse();
   const double value = s.info.type == ParamType::kInteger ? double(s.integer) : s.number;
-  if (s.info.type == ParamType::kNumber || s.info.type == ParamType::kInteger) {
-    if ((s.info.min && value < *s.info.min) || (s.info.max && value > *s.info.max)) return refuse();
-  }
+  if (numeric && ((s.info.min && value < *s.info.min) || (s.info.max && value > *s.info.max))) return refuse();
   return true;
 }
 
