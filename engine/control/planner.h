@@ -18,9 +18,10 @@
 // - Reachability is an exact flood fill from the goal, so a walled-off goal is reported, not guessed.
 //
 // Cost, without changing a bit: the sweep relaxes 2, 4 or 8 cells per instruction (SSE2, AVX,
-// AVX-512, chosen at run time; planner_sweep.cpp) with a bit of mask per cell, only the part of
-// each row that holds relaxed cells (from a 64-byte line, so its loads do not straddle two), and
-// in a cold solve only the rows its front from the goal can have reached. A cold solve of the
+// AVX-512, chosen at run time; planner_sweep.cpp) over a flat list per colour of groups of lanes
+// that hold relaxed cells, each group with its own mask and nearest cell (so no lane is read for a
+// row's cells it does not hold, and a group's loads do not straddle a 64-byte line), and in a cold
+// solve only the groups of rows its front from the goal can have reached. A cold solve of the
 // goal solved last is copied. A grid change builds only what reachability needs; the ways out of
 // occupied cells and what a solve starts from wait for the first query or solve that reads them
 // (a navigator that only reports its state, as most do while objects move, never pays for them).
