@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cstring>
 #include <set>
+#include <utility>
 
 namespace roger {
 namespace {
@@ -16,14 +17,20 @@ size_t long_bracket(const std::string& s, size_t i) {
   return j < s.size() && s[j] == '[' ? j - i + 1 : 0;
 }
 
-}  // namespace
+bool name_start(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
+bool name_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
+bool digit(char c) { return std::isdigit(static_cast<unsigned char>(c)); }
 
-std::vector<LuaToken> lua_tokenize(const std::string& s) {
-  std::vector<LuaToken> out;
-  int line = 1;
+// One pass over Lua source: s[i] is the next character, line its line.
+struct Lexer {
+  explicit Lexer(const std::string& source) : s(source) {}
+  const std::string& s;
   size_t i = 0;
+  int line = 1;
+  std::vector<LuaToken> out;
+
   // Skips a long bracket body whose opening bracket (of `open` characters) starts at i.
-  auto skip_long = [&](size_t open, std::string* text) {
+  void skip_long(size_t open, std::string* text) {
     const std::string close = "]" + std::string(open - 2, '=') + "]";
     const size_t start = i + open;
     const size_t end = s.find(close, start);
@@ -31,59 +38,95 @@ std::vector<LuaToken> lua_tokenize(const std::string& s) {
     for (size_t k = i; k < stop; ++k) line += s[k] == '\n';
     if (text) *text = s.substr(start, stop - start);
     i = end == std::string::npos ? s.size() : end + close.size();
-  };
-  if (s.rfind("#", 0) == 0) i = s.find('\n') == std::string::npos ? s.size() : s.find('\n');
-  while (i < s.size()) {
+  }
+
+  // A comment, "--" at i: to the line's end, or a long bracket's.
+  void comment() {
+    i += 2;
+    if (const size_t open = long_bracket(s, i)) {
+      skip_long(open, nullptr);
+    } else {
+      while (i < s.size() && s[i] != '\n') ++i;
+    }
+  }
+
+  // A string in the quote at i; its text keeps escapes as written.
+  void quoted_string() {
+    const char quote = s[i];
+    const int at = line;
+    std::string text;
+    for (++i; i < s.size() && s[i] != quote; ++i) {
+      if (s[i] == '\\' && i + 1 < s.size()) text += s[i++];
+      line += s[i] == '\n';
+      text += s[i];
+    }
+    ++i;
+    out.push_back({LuaToken::kString, text, at});
+  }
+
+  void long_string(size_t open) {
+    const int at = line;
+    std::string text;
+    skip_long(open, &text);
+    out.push_back({LuaToken::kString, text, at});
+  }
+
+  void name() {
+    const size_t start = i;
+    while (i < s.size() && name_char(s[i])) ++i;
+    out.push_back({LuaToken::kName, s.substr(start, i - start), line});
+  }
+
+  // A numeral: digits, letters, dots, and a sign after an exponent's letter (1e-3, 0x1p+4).
+  void number() {
+    const size_t start = i;
+    while (i < s.size() && (std::isalnum(static_cast<unsigned char>(s[i])) || s[i] == '.' ||
+                            ((s[i] == '+' || s[i] == '-') && std::strchr("eEpP", s[i - 1]))))
+      ++i;
+    out.push_back({LuaToken::kNumber, s.substr(start, i - start), line});
+  }
+
+  void op() {
+    size_t len = 1;
+    if (s.compare(i, 3, "...") == 0) len = 3;
+    else
+      for (const char* two : {"==", "~=", "<=", ">=", "..", "::", "//", "<<", ">>"})
+        if (s.compare(i, 2, two) == 0) len = 2;
+    out.push_back({LuaToken::kOp, s.substr(i, len), line});
+    i += len;
+  }
+
+  void token() {
     const char c = s[i];
     if (c == '\n') {
       ++line, ++i;
     } else if (std::isspace(static_cast<unsigned char>(c))) {
       ++i;
     } else if (s.compare(i, 2, "--") == 0) {
-      i += 2;
-      if (const size_t open = long_bracket(s, i)) {
-        skip_long(open, nullptr);
-      } else {
-        while (i < s.size() && s[i] != '\n') ++i;
-      }
+      comment();
     } else if (c == '"' || c == '\'') {
-      const int at = line;
-      std::string text;
-      for (++i; i < s.size() && s[i] != c; ++i) {
-        if (s[i] == '\\' && i + 1 < s.size()) text += s[i++];
-        line += s[i] == '\n';
-        text += s[i];
-      }
-      ++i;
-      out.push_back({LuaToken::kString, text, at});
+      quoted_string();
     } else if (const size_t open = long_bracket(s, i)) {
-      const int at = line;
-      std::string text;
-      skip_long(open, &text);
-      out.push_back({LuaToken::kString, text, at});
-    } else if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
-      const size_t start = i;
-      while (i < s.size() && (std::isalnum(static_cast<unsigned char>(s[i])) || s[i] == '_')) ++i;
-      out.push_back({LuaToken::kName, s.substr(start, i - start), line});
-    } else if (std::isdigit(static_cast<unsigned char>(c)) ||
-               (c == '.' && i + 1 < s.size() && std::isdigit(static_cast<unsigned char>(s[i + 1])))) {
-      const size_t start = i;
-      while (i < s.size() && (std::isalnum(static_cast<unsigned char>(s[i])) || s[i] == '.' ||
-                              ((s[i] == '+' || s[i] == '-') && std::strchr("eEpP", s[i - 1]))))
-        ++i;
-      out.push_back({LuaToken::kNumber, s.substr(start, i - start), line});
+      long_string(open);
+    } else if (name_start(c)) {
+      name();
+    } else if (digit(c) || (c == '.' && i + 1 < s.size() && digit(s[i + 1]))) {
+      number();
     } else {
-      size_t len = 1;
-      if (s.compare(i, 3, "...") == 0) len = 3;
-      else
-        for (const char* op : {"==", "~=", "<=", ">=", "..", "::", "//", "<<", ">>"})
-          if (s.compare(i, 2, op) == 0) len = 2;
-      out.push_back({LuaToken::kOp, s.substr(i, len), line});
-      i += len;
+      op();
     }
   }
-  out.push_back({LuaToken::kEnd, "", line});
-  return out;
+};
+
+}  // namespace
+
+std::vector<LuaToken> lua_tokenize(const std::string& s) {
+  Lexer lexer(s);
+  // A first line starting with '#' (a shebang) is skipped, as Lua's loader does.
+  if (s.rfind("#", 0) == 0) lexer.i = s.find('\n') == std::string::npos ? s.size() : s.find('\n');
+  while (lexer.i < s.size()) lexer.token();
+  lexer.out.push_back({LuaToken::kEnd, "", lexer.line});
+  return std::move(lexer.out);
 }
 
 bool lua_keyword(const std::string& name) {
