@@ -122,8 +122,10 @@ uint64_t cost_string_format(lua_State* L) {
       continue;
     }
     ++arg, ++items;
+    const char* const spec = p;
     while (p < end && *p != '\0' && std::strchr("-+ #0123456789.", *p)) ++p;  // flags, width, precision
-    if (p < end && *p == 'q' && lua_type(L, arg) == LUA_TSTRING) quoted += quoted_cost(L, arg);
+    // Lua refuses %q with modifiers before quoting anything.
+    if (p == spec && p < end && *p == 'q' && lua_type(L, arg) == LUA_TSTRING) quoted += quoted_cost(L, arg);
   }
   const uint64_t bytes = uint64_t(length) / kBytesPerUnit + quoted;
   return elements(items) > UINT64_MAX - bytes ? UINT64_MAX : elements(items) + bytes;
