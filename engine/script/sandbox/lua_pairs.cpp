@@ -134,10 +134,13 @@ int sorted_next(lua_State* L) {
   return 2;
 }
 
-// pairs(t): Lua's own (upvalue 1) for a value with __pairs or that is no table; else the iterator
+// pairs(t): Lua's own (upvalue 1) for a value with __pairs or that is no table (or none); else the iterator
 // above over t's keys in order, with t and nil, as Lua's returns next, t, nil.
 int sorted_pairs(lua_State* L) {
-  if (lua_type(L, 1) != LUA_TTABLE || luaL_getmetafield(L, 1, "__pairs") != LUA_TNIL) {
+  // Lua's own sees the arguments as given: `pairs()` is refused ("value expected"), not taken
+  // for `pairs(nil)`.
+  if (lua_type(L, 1) != LUA_TTABLE) return lua_tocfunction(L, lua_upvalueindex(1))(L);
+  if (luaL_getmetafield(L, 1, "__pairs") != LUA_TNIL) {
     lua_settop(L, 1);
     return lua_tocfunction(L, lua_upvalueindex(1))(L);
   }
