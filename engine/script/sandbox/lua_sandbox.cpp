@@ -320,39 +320,32 @@ void LuaSandbox::read_returned_table(const std::string& file, const std::functio
   }
 }
 
-void LuaSandbox::call(int nargs, int nresults) {
-  Impl& s = *impl_;
-  lua_State* L = s.L;
-  const int base = lua_gettop(L) - nargs;  // the function's slot
-  if (!lua_checkstack(L, 2)) throw Error("Lua stack exhausted");
-  // Where the called function lives, for errors that carry no location (memory).
-  lua_Debug ar;
-  lua_pushvalue(L, base);
-  std::string entry_file;
-  if (lua_getinfo(L, ">S", &ar) && ar.source && ar.source[0] == '@') entry_file = ar.source + 1;
-  lua_pushcfunction(L, message_handler);
-  lua_insert(L, base);
-  const bool top_level = s.call_depth == 0;
-  if (top_level) {
-    s.spent_what = s.spent_why = nullptr;
-    s.spent_report[0] = '\0';
-    s.oom_line = 0;
-    s.pending.reset();
-    s.pending_text.clear();
-    sandbox_detail::start_budgets(s);
-  }
-  s.err_handled = false;
-  int status;
-  {
-    struct Depth {  // restored even if a panic unwinds through lua_pcall
-      int& depth;
-      ~Depth() { --depth; }
-    } depth{++s.call_depth};
-    status = lua_pcall(L, nargs, nresults, base);
-  }
-  lua_remove(L, base);
-  if (status == LUA_OK) return;
+namespace {
 
+// The file of the function in slot `at`, for errors that carry no location (memory).
+std::string file_of_function(lua_State* L, int at) {
+  lua_Debug ar;
+  lua_pushvalue(L, at);
+  if (lua_getinfo(L, ">S", &ar) && ar.source && ar.source[0] == '@') return ar.source + 1;
+  return "";
+}
+
+// A call from C++ (not one the script makes) starts afresh: nothing spent, nothing pending, the
+// budgets full.
+void begin_top_level_call(LuaSandbox::Impl& s) {
+  s.spent_what = s.spent_why = nullptr;
+  s.spent_report[0] = '\0';
+  s.oom_line = 0;
+  s.pending.reset();
+  s.pending_text.clear();
+  sandbox_detail::start_budgets(s);
+}
+
+// The error a failed lua_pcall left on the stack (popped), as the ScriptError it stands for: the
+// sandbox's own pending error, the memory limit (at the allocation's line when known), or the
+// script's message, split into file, line and message, with the handler's traceback.
+[[noreturn]] void throw_call_error(LuaSandbox::Impl& s, int status, const std::string& entry_file) {
+  lua_State* L = s.L;
   std::string msg = "unknown error";
   if (lua_isstring(L, -1)) {
     size_t length = 0;
@@ -381,6 +374,30 @@ void LuaSandbox::call(int nargs, int nresults) {
   if (split_location(msg, file, line, rest)) throw ScriptError(rest, file, line, traceback);
   throw ScriptError(msg, s.err_handled ? restore_names(s, s.err_file) : entry_file,
                     s.err_handled ? s.err_line : 0, traceback);
+}
+
+}  // namespace
+
+void LuaSandbox::call(int nargs, int nresults) {
+  Impl& s = *impl_;
+  lua_State* L = s.L;
+  const int base = lua_gettop(L) - nargs;  // the function's slot
+  if (!lua_checkstack(L, 2)) throw Error("Lua stack exhausted");
+  const std::string entry_file = file_of_function(L, base);
+  lua_pushcfunction(L, message_handler);
+  lua_insert(L, base);
+  if (s.call_depth == 0) begin_top_level_call(s);
+  s.err_handled = false;
+  int status;
+  {
+    struct Depth {  // restored even if a panic unwinds through lua_pcall
+      int& depth;
+      ~Depth() { --depth; }
+    } depth{++s.call_depth};
+    status = lua_pcall(L, nargs, nresults, base);
+  }
+  lua_remove(L, base);
+  if (status != LUA_OK) throw_call_error(s, status, entry_file);
 }
 
 void LuaSandbox::run_file(const std::string& path, int nresults) {
