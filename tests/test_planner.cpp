@@ -533,11 +533,10 @@ std::vector<planner_internal::RelaxGroup> groups_of(int lanes, int at, int count
                                                     const std::vector<bool>& relaxed) {
   std::vector<planner_internal::RelaxGroup> groups;
   for (int m = 0; m < count; m += lanes) {
-    planner_internal::RelaxGroup g;
-    g.at = at + m, g.shift = uint16_t(shift), g.nearest = nearest;
+    unsigned mask = 0;
     for (int k = 0; k < lanes; ++k)
-      if (relaxed[size_t(at + m + k)]) g.mask = uint16_t(g.mask | (1u << k));
-    groups.push_back(g);
+      if (relaxed[size_t(at + m + k)]) mask |= 1u << k;
+    groups.emplace_back(at + m, nearest, shift, mask);
   }
   return groups;
 }

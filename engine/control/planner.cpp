@@ -390,7 +390,9 @@ float HarmonicPlanner::split_by_colour(bool warm) {
   // A guard slot at each end, and the row a whole number of the widest kernel's lanes (a line).
   constexpr int pad = planner_internal::kRelaxLanes;
   split_width_ = ((stride_ + 1) / 2 + 2 + pad - 1) / pad * pad;
-  if (int64_t(rows) * split_width_ > int64_t(INT32_MAX) - pad)  // RelaxGroup::at is 32 bits
+  // RelaxGroup::at is 32 bits, and its nearest 23: a flood distance is less than the free cells.
+  if (int64_t(rows) * split_width_ > int64_t(INT32_MAX) - pad ||
+      int64_t(grid_.nx) * grid_.ny > planner_internal::RelaxGroup::kMaxNearest)
     throw Error("planner: a grid of " + std::to_string(grid_.nx) + " x " + std::to_string(grid_.ny) +
                 " cells is too large to solve");
   // The groups come in whole lanes of the kernel this processor runs.
@@ -435,20 +437,18 @@ float HarmonicPlanner::split_by_colour(bool warm) {
 // change nothing. Each group's own nearest cell lets a cold solve's front pass over the groups it
 // has not reached yet.
 void HarmonicPlanner::add_relaxed_groups(int j, int c, int first, int last, int lanes) {
-  planner_internal::RelaxGroup group;
-  group.shift = uint16_t((j + c) & 1);
+  const int shift = (j + c) & 1;
   for (int slot = first - first % planner_internal::kRelaxLanes; slot <= last; slot += lanes) {
-    group.mask = 0;
-    group.nearest = INT_MAX;
+    unsigned mask = 0;
+    int nearest = INT_MAX;
     for (int m = 0; m < lanes; ++m) {
       const int d = slot_dist_[size_t(slot + m)];
       if (d == INT_MAX) continue;
-      group.mask = uint16_t(group.mask | (1u << m));
-      group.nearest = std::min(group.nearest, d);
+      mask |= 1u << m;
+      nearest = std::min(nearest, d);
     }
-    if (group.mask == 0) continue;
-    group.at = int32_t(j) * split_width_ + slot;
-    groups_[c].push_back(group);
+    if (mask == 0) continue;
+    groups_[c].emplace_back(int32_t(j) * split_width_ + slot, nearest, shift, mask);
   }
 }
 

@@ -30,7 +30,7 @@ struct GroupSlots {
   double* row;
   const double *left, *below, *above;
   GroupSlots(const RelaxGroup& g, double* q, const double* other, int64_t width)
-      : row(q + g.at), left(other + g.at + g.shift - 1), below(other + g.at - width), above(other + g.at + width) {}
+      : row(q + g.at), left(other + g.at + g.shift() - 1), below(other + g.at - width), above(other + g.at + width) {}
 };
 
 // `Lanes` cells relaxed together, with vector extensions. Always inlined into a wrapper compiled
@@ -48,9 +48,10 @@ __attribute__((always_inline)) inline int relax_lanes(double* __restrict q, cons
     lane_bit[k] = int64_t(1) << k;
   }
   for (const RelaxGroup* g = groups; g != groups + n; ++g) {
-    if (g->nearest > reached) continue;
-    const GroupSlots at(*g, q, other, width);
-    const Mask mask = ((Mask{} + int64_t(g->mask)) & lane_bit) != 0;
+    const RelaxGroup group = *g;
+    if (group.nearest() > reached) continue;
+    const GroupSlots at(group, q, other, width);
+    const Mask mask = ((Mask{} + int64_t(group.mask())) & lane_bit) != 0;
     Vec value, l, r, b, a;
     std::memcpy(&value, at.row, sizeof value);
     std::memcpy(&l, at.left, sizeof l);
@@ -102,10 +103,12 @@ __attribute__((target("avx"))) int relax_4(ROGER_RELAX_PARAMS) {
   const __m256d no_sign = _mm256_castsi256_pd(_mm256_set1_epi64x(INT64_MAX)), one = _mm256_set1_pd(1.0);
   __m256d counts = _mm256_setzero_pd();
   for (const RelaxGroup* g = groups; g != groups + n; ++g) {
-    if (g->nearest > reached) continue;
-    const GroupSlots at(*g, q, other, width);
-    const __m256d mask = _mm256_load_pd(reinterpret_cast<const double*>(kLaneMasks4.lanes[g->mask & 15]));
-    const __m256d value = _mm256_loadu_pd(at.row);
+    const RelaxGroup group = *g;
+    if (group.nearest() > reached) continue;
+    const GroupSlots at(group, q, other, width);
+    const __m256d mask = _mm256_load_pd(reinterpret_cast<const double*>(kLaneMasks4.lanes[group.mask() & 15]));
+    __m256d value = _mm256_loadu_pd(at.row);
+    __asm__("" : "+x"(value));  // one load, kept in a register (see relax_8)
     const __m256d sum = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(_mm256_loadu_pd(at.left), _mm256_loadu_pd(at.left + 1)),
                                                     _mm256_loadu_pd(at.below)),
                                       _mm256_loadu_pd(at.above));
@@ -133,10 +136,14 @@ __attribute__((target("avx512f"))) int relax_8(ROGER_RELAX_PARAMS) {
   // pipeline in `roger bench`.
   __m512i counts = _mm512_setzero_si512();
   for (const RelaxGroup* g = groups; g != groups + n; ++g) {
-    if (g->nearest > reached) continue;
-    const GroupSlots at(*g, q, other, width);
-    const __mmask8 mask = __mmask8(g->mask);
-    const __m512d value = _mm512_loadu_pd(at.row);
+    const RelaxGroup group = *g;
+    if (group.nearest() > reached) continue;
+    const GroupSlots at(group, q, other, width);
+    const __mmask8 mask = __mmask8(group.mask());
+    __m512d value = _mm512_loadu_pd(at.row);
+    // Left to itself the compiler reads the cell's value from memory twice (once for the
+    // difference, once for the sum): the loop is bound by its loads, so it is read once.
+    __asm__("" : "+v"(value));
     const __m512d sum = _mm512_add_pd(_mm512_add_pd(_mm512_add_pd(_mm512_loadu_pd(at.left), _mm512_loadu_pd(at.left + 1)),
                                                     _mm512_loadu_pd(at.below)),
                                       _mm512_loadu_pd(at.above));
