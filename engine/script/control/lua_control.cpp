@@ -209,13 +209,8 @@ void new_class(lua_State* L, const char* type, const luaL_Reg* entries) {
   lua_pop(L, 1);
 }
 
-// Installs the metatables, the book, the userdata cache and the functions (run protected).
-int install(lua_State* L) {
-  lua_rawgetp(L, LUA_REGISTRYINDEX, &book_key);
-  const bool installed = !lua_isnil(L, -1);
-  lua_pop(L, 1);
-  if (installed) return 0;
-
+// The three types' metatables: controllers (with their methods), predicates and the book.
+void install_classes(lua_State* L) {
   const luaL_Reg controller_entries[] = {{"__index", l_controller_index},
                                          {"__newindex", l_controller_newindex},
                                          {"__tostring", l_controller_tostring},
@@ -233,19 +228,25 @@ int install(lua_State* L) {
   new_class(L, kControllerType, controller_entries);
   new_class(L, kPredicateType, predicate_entries);
   new_class(L, kBookType, book_entries);
+}
 
+// The book (what the script made) and one userdata per controller (weak values: the same
+// controller is the same Lua value), each under its key in the registry.
+void install_book_and_cache(lua_State* L) {
   new (lua_newuserdatauv(L, sizeof(ControlBook), 0)) ControlBook();
   luaL_setmetatable(L, kBookType);
   lua_rawsetp(L, LUA_REGISTRYINDEX, &book_key);
-
-  // One userdata per controller (weak values): the same controller is the same Lua value.
   lua_newtable(L);
   lua_newtable(L);
   lua_pushliteral(L, "v");
   lua_setfield(L, -2, "__mode");
   lua_setmetatable(L, -2);
   lua_rawsetp(L, LUA_REGISTRYINDEX, &cache_key);
+}
 
+// The functions in the global `roger` table (made if the script has none yet), and
+// roger.primitive_kinds.
+void install_functions(lua_State* L) {
   if (lua_getglobal(L, "roger") != LUA_TTABLE) {
     lua_pop(L, 1);
     lua_newtable(L);
@@ -269,6 +270,18 @@ int install(lua_State* L) {
   }
   lua_setfield(L, -2, "primitive_kinds");
   lua_pop(L, 1);
+}
+
+// Installs the metatables, the book, the userdata cache and the functions, once per state (run
+// protected).
+int install(lua_State* L) {
+  lua_rawgetp(L, LUA_REGISTRYINDEX, &book_key);
+  const bool installed = !lua_isnil(L, -1);
+  lua_pop(L, 1);
+  if (installed) return 0;
+  install_classes(L);
+  install_book_and_cache(L);
+  install_functions(L);
   return 0;
 }
 
