@@ -699,6 +699,46 @@ void split_outside_only(const BatchPlan& plan, const RunControl& control, BatchS
 
 }  // namespace
 
+namespace {
+
+// What running the phases left: whether a signal stopped them, and the trials passed over
+// undiagnosed (phase_ids).
+struct PhasesRun {
+  bool interrupted = false;
+  int undiagnosed = 0;
+};
+
+// Each phase's trials that this run (or shard) takes, in turn, `trial` running each; a signal
+// stops the phases where they are (what finished is on disk; the report and summary.csv say the
+// rest is pending).
+PhasesRun run_phases(const BatchPlan& plan, const RunControl& control, const TrialFunction& trial) {
+  BatchOptions bo;
+  bo.jobs = control.jobs;
+  bo.out_dir = plan.out;
+  bo.progress = control.log;
+  bo.live = control.live;
+  int budget = control.max_trials > 0 ? control.max_trials : -1;
+  PhasesRun run;
+  for (size_t k = 0; k < plan.phases.size() && !run.interrupted; ++k) {
+    std::set<std::string> names;
+    const std::vector<std::string> ids = phase_ids(plan, plan.phases[k], control, budget, names, run.undiagnosed);
+    if (ids.empty()) continue;
+    std::string label;
+    for (const auto& n : names) label += (label.empty() ? "" : ", ") + n;
+    if (control.log)
+      *control.log << "roger run: phase " << (k + 1) << "/" << plan.phases.size() << ": " << label << " ("
+                   << ids.size() << (ids.size() == 1 ? " trial)\n" : " trials)\n");
+    try {
+      run_trials(ids, trial, bo);
+    } catch (const Interrupted&) {
+      run.interrupted = true;
+    }
+  }
+  return run;
+}
+
+}  // namespace
+
 BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
   std::map<std::string, const PlannedTrial*> by_id;
   for (const auto& p : plan.phases)
@@ -720,42 +760,20 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
       throw TrialError(e.what(), fault_details(t, e));
     }
   };
-  BatchOptions bo;
-  bo.jobs = control.jobs;
-  bo.out_dir = plan.out;
-  bo.progress = control.log;
-  bo.live = control.live;
-  int budget = control.max_trials > 0 ? control.max_trials : -1;
   const auto start = Clock::now();
   std::optional<StatusWriter> status;
   status.emplace(plan, control.shard);
-  bool interrupted = false;
-  int undiagnosed = 0;
-  for (size_t k = 0; k < plan.phases.size() && !interrupted; ++k) {
-    std::set<std::string> names;
-    const std::vector<std::string> ids = phase_ids(plan, plan.phases[k], control, budget, names, undiagnosed);
-    if (ids.empty()) continue;
-    std::string label;
-    for (const auto& n : names) label += (label.empty() ? "" : ", ") + n;
-    if (control.log)
-      *control.log << "roger run: phase " << (k + 1) << "/" << plan.phases.size() << ": " << label << " ("
-                   << ids.size() << (ids.size() == 1 ? " trial)\n" : " trials)\n");
-    try {
-      run_trials(ids, trial, bo);
-    } catch (const Interrupted&) {
-      interrupted = true;  // what finished is on disk; the report and summary.csv say the rest is pending
-    }
-  }
+  const PhasesRun run = run_phases(plan, control, trial);
   // The trials' final status. The page waits for the closing one (write_closing_status), written
   // after the report, before it reloads dashboard.js: this one comes before the report exists.
-  status->set_interrupted(interrupted);
+  status->set_interrupted(run.interrupted);
   status.reset();
   const double wall = std::chrono::duration<double>(Clock::now() - start).count();
   BatchSummary summary = control.shard.active() ? record_shard(plan, control.shard) : summarize_trials(plan);
   split_outside_only(plan, control, summary);
   summary.wall_s = wall;
-  summary.interrupted = interrupted;
-  summary.undiagnosed = undiagnosed;
+  summary.interrupted = run.interrupted;
+  summary.undiagnosed = run.undiagnosed;
   summary.finished_now = finished_now;
   return summary;
 }
