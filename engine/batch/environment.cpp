@@ -23,6 +23,24 @@ namespace roger {
 
 using batch_detail::StageHooks;
 
+namespace {
+
+// "with the parameters given (robot_distance=99, shape=spade)" of a world's message: make's params
+// and a task's over them; "with the stage's own parameters" when none.
+std::string params_given(const ParamList& sets, const ParamList& task) {
+  std::string text;
+  auto add = [&](const std::string& key, const std::string& value) {
+    text += (text.empty() ? "" : ", ") + key + "=" + value;
+  };
+  for (const auto& set : sets)  // a pair, not a structured binding: a lambda cannot capture those (C++17)
+    if (std::none_of(task.begin(), task.end(), [&](const auto& p) { return p.first == set.first; }))
+      add(set.first, set.second);
+  for (const auto& [key, value] : task) add(key, value);
+  return text.empty() ? "with the stage's own parameters" : "with the parameters given (" + text + ")";
+}
+
+}  // namespace
+
 #if defined(__SSE__) || defined(__x86_64__)
 EngineFloatMode::EngineFloatMode() : saved_(_mm_getcsr()) { _mm_setcsr(saved_ | 0x8040u); }  // FTZ | DAZ
 EngineFloatMode::~EngineFloatMode() { _mm_setcsr(saved_); }
@@ -77,6 +95,29 @@ struct StageEnvironment::Impl {
     cur.set_world(&agent.world());  // the Lua callbacks' `world`
   }
 
+  // Binds the skills the context uses: a skill given by a file from it, the others from the
+  // embedded ones.
+  void bind_context_skills(const EnvironmentOptions& o) {
+    TrainOptions topt;
+    topt.skill_files = o.skill_files;
+    topt.limits = o.limits;
+    std::vector<SkillSource> sources;
+    nlohmann::json embedded = o.embedded_skills.is_object() ? o.embedded_skills : nlohmann::json::object();
+    for (const auto& given : o.skill_files) embedded.erase(given.first);
+    batch_detail::bind_skills(cur, ctx, topt, embedded.empty() ? nullptr : &embedded, sources);
+  }
+
+  // The stage's first held-out world, which gives the body.
+  WorldSpec held_out_world(const EnvironmentOptions& o) {
+    try {
+      return scenario.generate(stage.checkpoints.seeds);
+    } catch (const PlacementError& e) {
+      throw placement_error(e, "could not build the world of seed " + std::to_string(stage.checkpoints.seeds) +
+                                   " of " + stage.where(ctx.name) + " (its first held-out world, which gives the body) " +
+                                   params_given(o.sets, {}) + ": ");
+    }
+  }
+
   // Ticks until the driver waits for a decision or the episode ends. An error ends the episode.
   void advance() {
     try {
@@ -103,19 +144,6 @@ void check_skills_given(const CurriculumContext& ctx, const CurriculumStage& sta
                   "': give its policy file, skills={'" + name + "': '.../policy.json'} (roger train writes one)");
 }
 
-// "with the parameters given (robot_distance=99, shape=spade)" of a world's message: make's params
-// and a task's over them; "with the stage's own parameters" when none.
-std::string params_given(const ParamList& sets, const ParamList& task) {
-  std::string text;
-  auto add = [&](const std::string& key, const std::string& value) {
-    text += (text.empty() ? "" : ", ") + key + "=" + value;
-  };
-  for (const auto& set : sets)  // a pair, not a structured binding: a lambda cannot capture those (C++17)
-    if (std::none_of(task.begin(), task.end(), [&](const auto& p) { return p.first == set.first; }))
-      add(set.first, set.second);
-  for (const auto& [key, value] : task) add(key, value);
-  return text.empty() ? "with the stage's own parameters" : "with the parameters given (" + text + ")";
-}
 
 // Refuses a script of another kind given as the curriculum, as roger train does (found by a probe:
 // make("docs/examples/corridor.lua", ...) failed inside scenarios/lib/shapes.lua, a skill script
@@ -147,43 +175,29 @@ Curriculum load_checked(const EnvironmentOptions& o) {
 
 }  // namespace
 
-StageEnvironment::StageEnvironment(const EnvironmentOptions& o) {
-  const EngineFloatMode mode;
-  impl_ = std::make_unique<Impl>(load_checked(o), o.stage, o.context, o, info_);
-  const CurriculumStage& st = impl_->stage;
-  TrainOptions topt;
-  topt.skill_files = o.skill_files;
-  topt.limits = o.limits;
-  std::vector<SkillSource> sources;
-  // A skill given by a file is bound from it; the others the context uses from the embedded ones.
-  nlohmann::json embedded = o.embedded_skills.is_object() ? o.embedded_skills : nlohmann::json::object();
-  for (const auto& given : o.skill_files) embedded.erase(given.first);
-  batch_detail::bind_skills(impl_->cur, impl_->ctx, topt, embedded.empty() ? nullptr : &embedded, sources);
-  info_.curriculum = impl_->cur.path();
-  info_.stage = st.name;
-  info_.context = impl_->ctx.name;
-  info_.scenario = impl_->scenario.name();
-  for (const ScenarioParam& p : impl_->scenario.params()) info_.param_types[p.name] = p.type;
-  info_.actions = controller_names(impl_->ctx.actions);
-  info_.time_limit = st.time_limit;
-  info_.time_per_object = st.time_per_object;
-  info_.tick_seconds = impl_->agent.world().tick_seconds();
-  info_.budget_episodes = st.budget_episodes;
-  info_.learner = st.learner;
-  info_.discount_seconds = st.rewards.discount_seconds;
-  info_.checkpoint_every = st.checkpoints.every;
-  info_.checkpoint_episodes = st.checkpoints.episodes;
-  info_.threshold = st.checkpoints.threshold;
-  info_.checkpoint_seeds = st.checkpoints.seeds;
-  info_.stop_after = st.checkpoints.stop_after;
-  info_.settle = st.checkpoints.settle;
-  info_.final_episodes = st.checkpoints.final_episodes;
-  // The body is the world's (a scenario parameter, the same in every world of the stage's
-  // scenarios): the tick mode's image shapes and joint ranges follow the held-out worlds' body.
-  // As a trial of `roger train` has them: what the caller's parameters fix does not vary. A task
-  // space given with them (make(tasks=...)) that varies one of them is refused, as the curriculum
-  // refuses a stage's tasks over its own params: one of the two would be dropped silently.
-  sets_ = o.sets;
+namespace {
+
+// What the stage says of its episodes, its learner and its checkpoints, in the environment's info.
+void describe_stage(const CurriculumStage& st, EnvironmentInfo& info) {
+  info.stage = st.name;
+  info.time_limit = st.time_limit;
+  info.time_per_object = st.time_per_object;
+  info.budget_episodes = st.budget_episodes;
+  info.learner = st.learner;
+  info.discount_seconds = st.rewards.discount_seconds;
+  info.checkpoint_every = st.checkpoints.every;
+  info.checkpoint_episodes = st.checkpoints.episodes;
+  info.threshold = st.checkpoints.threshold;
+  info.checkpoint_seeds = st.checkpoints.seeds;
+  info.stop_after = st.checkpoints.stop_after;
+  info.settle = st.checkpoints.settle;
+  info.final_episodes = st.checkpoints.final_episodes;
+}
+
+// The parameters make's params fix (as a trial of `roger train` has them: they do not vary). A
+// task space given with them (make(tasks=...)) that varies one of them is refused, as the
+// curriculum refuses a stage's tasks over its own params: one of the two would be dropped silently.
+std::vector<std::string> fixed_params(const EnvironmentOptions& o, const CurriculumStage& st) {
   std::vector<std::string> fixed;
   for (const auto& [key, value] : o.sets) fixed.push_back(key);
   if (!o.tasks.empty())
@@ -192,15 +206,28 @@ StageEnvironment::StageEnvironment(const EnvironmentOptions& o) {
         throw Error(st.where() + ": " + o.tasks.name + " varies '" + key + "', which make's params fix (" + key +
                     "=" + std::find_if(o.sets.begin(), o.sets.end(), [&](const auto& p) { return p.first == key; })
                               ->second + "); remove one of them");
-  const WorldSpec held_out = [&] {
-    try {
-      return impl_->scenario.generate(st.checkpoints.seeds);
-    } catch (const PlacementError& e) {
-      throw placement_error(e, "could not build the world of seed " + std::to_string(st.checkpoints.seeds) + " of " +
-                                   st.where(impl_->ctx.name) + " (its first held-out world, which gives the body) " +
-                                   params_given(o.sets, {}) + ": ");
-    }
-  }();
+  return fixed;
+}
+
+}  // namespace
+
+StageEnvironment::StageEnvironment(const EnvironmentOptions& o) {
+  const EngineFloatMode mode;
+  impl_ = std::make_unique<Impl>(load_checked(o), o.stage, o.context, o, info_);
+  const CurriculumStage& st = impl_->stage;
+  impl_->bind_context_skills(o);
+  info_.curriculum = impl_->cur.path();
+  describe_stage(st, info_);
+  info_.context = impl_->ctx.name;
+  info_.scenario = impl_->scenario.name();
+  for (const ScenarioParam& p : impl_->scenario.params()) info_.param_types[p.name] = p.type;
+  info_.actions = controller_names(impl_->ctx.actions);
+  info_.tick_seconds = impl_->agent.world().tick_seconds();
+  sets_ = o.sets;
+  const std::vector<std::string> fixed = fixed_params(o, st);
+  // The body is the world's (a scenario parameter, the same in every world of the stage's
+  // scenarios): the tick mode's image shapes and joint ranges follow the held-out worlds' body.
+  const WorldSpec held_out = impl_->held_out_world(o);
   info_.eye_pixels = held_out.eyes.pixels;
   observed_joint_ranges(held_out.body, info_.joint_low, info_.joint_high);
   // (An ALP-GMM teacher left no axis is refused where it is made, with make's own way out.)
