@@ -137,54 +137,79 @@ bool lua_keyword(const std::string& name) {
   return words.count(name) > 0;
 }
 
-LuaTableMap::LuaTableMap(const std::string& text) {
-  const std::vector<LuaToken> t = lua_tokenize(text);
+// One pass over a script's tokens, tracking the open braces, parentheses, brackets and blocks.
+struct LuaTableMap::Reader {
   enum Frame { kBrace, kParen, kBracket, kBlock };
+  LuaTableMap& map;
+  const std::vector<LuaToken> t;
   std::vector<std::pair<Frame, int>> stack;  // frame and, for braces, its node
   // The entry whose value starts at token `value_at` (after its '='), so that a '{' there is its child.
   int pending_node = -1, pending_entry = -1;
   size_t value_at = 0;
-  auto is_op = [&](size_t i, const char* op) { return t[i].type == LuaToken::kOp && t[i].text == op; };
-  for (size_t i = 0; i + 1 < t.size(); ++i) {
+
+  Reader(LuaTableMap& m, const std::string& text) : map(m), t(lua_tokenize(text)) {}
+
+  bool is_op(size_t i, const char* op) const { return t[i].type == LuaToken::kOp && t[i].text == op; }
+  bool in_brace() const { return !stack.empty() && stack.back().first == kBrace; }
+  int here() const { return in_brace() ? stack.back().second : -1; }
+
+  void read() {
+    for (size_t i = 0; i + 1 < t.size(); ++i) {
+      if (entry(i)) continue;  // i is now its '='
+      if (is_op(i, "{")) {
+        open_brace(i);
+        continue;
+      }
+      track_nesting(t[i]);
+    }
+  }
+
+  // key = value, or ["key"] = value, directly inside a constructor: recorded with its value when
+  // that is a plain name or string, and i moved to its '='.
+  bool entry(size_t& i) {
+    if (!in_brace()) return false;
     const LuaToken& tok = t[i];
-    const bool in_brace = !stack.empty() && stack.back().first == kBrace;
-    const int here = in_brace ? stack.back().second : -1;
-    // key = value, or ["key"] = value, directly inside a constructor.
     size_t key_end = 0;
     std::string key;
-    if (in_brace && tok.type == LuaToken::kName && !lua_keyword(tok.text) && is_op(i + 1, "=")) {
+    if (tok.type == LuaToken::kName && !lua_keyword(tok.text) && is_op(i + 1, "=")) {
       key = tok.text, key_end = i + 1;
-    } else if (in_brace && is_op(i, "[") && i + 3 < t.size() && t[i + 1].type == LuaToken::kString &&
-               is_op(i + 2, "]") && is_op(i + 3, "=")) {
+    } else if (is_op(i, "[") && i + 3 < t.size() && t[i + 1].type == LuaToken::kString && is_op(i + 2, "]") &&
+               is_op(i + 3, "=")) {
       key = t[i + 1].text, key_end = i + 3;
     }
-    if (key_end) {
-      Entry e;
-      e.key = key, e.line = tok.line;
-      const size_t v = key_end + 1;
-      const bool alone = v + 1 < t.size() && (is_op(v + 1, ",") || is_op(v + 1, ";") || is_op(v + 1, "}"));
-      if (alone && t[v].type == LuaToken::kName && !lua_keyword(t[v].text)) e.value_name = t[v].text;
-      if (alone && t[v].type == LuaToken::kString) e.value_text = t[v].text;
-      nodes_[size_t(here)].entries.push_back(std::move(e));
-      pending_node = here, pending_entry = int(nodes_[size_t(here)].entries.size()) - 1, value_at = v;
-      i = key_end;
-      continue;
+    if (!key_end) return false;
+    Entry e;
+    e.key = key, e.line = tok.line;
+    const size_t v = key_end + 1;
+    const bool alone = v + 1 < t.size() && (is_op(v + 1, ",") || is_op(v + 1, ";") || is_op(v + 1, "}"));
+    if (alone && t[v].type == LuaToken::kName && !lua_keyword(t[v].text)) e.value_name = t[v].text;
+    if (alone && t[v].type == LuaToken::kString) e.value_text = t[v].text;
+    std::vector<Entry>& entries = map.nodes_[size_t(here())].entries;
+    entries.push_back(std::move(e));
+    pending_node = here(), pending_entry = int(entries.size()) - 1, value_at = v;
+    i = key_end;
+    return true;
+  }
+
+  // A table constructor: a node, the child of the entry whose value it is, an item of the
+  // constructor around it, a local's table, or the table the script returns.
+  void open_brace(size_t i) {
+    const int node = int(map.nodes_.size()), parent = here();
+    map.nodes_.push_back(Node{t[i].line, parent, {}, {}});
+    if (pending_node >= 0 && value_at == i) {
+      map.nodes_[size_t(pending_node)].entries[size_t(pending_entry)].child = node;
+    } else if (in_brace() && i > 0 && (is_op(i - 1, "{") || is_op(i - 1, ",") || is_op(i - 1, ";"))) {
+      map.nodes_[size_t(parent)].items.push_back(node);
+    } else if (i >= 2 && is_op(i - 1, "=") && t[i - 2].type == LuaToken::kName && !in_brace()) {
+      map.variables_.emplace_back(t[i - 2].text, node);  // local X = { ... }
     }
-    if (is_op(i, "{")) {
-      const int node = int(nodes_.size());
-      nodes_.push_back(Node{tok.line, here, {}, {}});
-      if (pending_node >= 0 && value_at == i) {
-        nodes_[size_t(pending_node)].entries[size_t(pending_entry)].child = node;
-      } else if (in_brace && i > 0 && (is_op(i - 1, "{") || is_op(i - 1, ",") || is_op(i - 1, ";"))) {
-        nodes_[size_t(here)].items.push_back(node);
-      } else if (i >= 2 && is_op(i - 1, "=") && t[i - 2].type == LuaToken::kName && !in_brace) {
-        variables_.emplace_back(t[i - 2].text, node);  // local X = { ... }
-      }
-      if (i >= 1 && t[i - 1].type == LuaToken::kName && t[i - 1].text == "return" && stack.empty()) returned_ = node;
-      stack.push_back({kBrace, node});
-      continue;
-    }
-    if (tok.type == LuaToken::kName && tok.text == "return" && stack.empty()) return_line_ = tok.line;
+    if (i >= 1 && t[i - 1].type == LuaToken::kName && t[i - 1].text == "return" && stack.empty()) map.returned_ = node;
+    stack.push_back({kBrace, node});
+  }
+
+  // Every other token: what opens and closes the frames, and the top level's `return`.
+  void track_nesting(const LuaToken& tok) {
+    if (tok.type == LuaToken::kName && tok.text == "return" && stack.empty()) map.return_line_ = tok.line;
     if (tok.type == LuaToken::kOp) {
       if (tok.text == "(") stack.push_back({kParen, -1});
       if (tok.text == "[") stack.push_back({kBracket, -1});
@@ -195,7 +220,9 @@ LuaTableMap::LuaTableMap(const std::string& text) {
       if ((tok.text == "end" || tok.text == "until") && !stack.empty()) stack.pop_back();
     }
   }
-}
+};
+
+LuaTableMap::LuaTableMap(const std::string& text) { Reader(*this, text).read(); }
 
 const LuaTableMap::Entry* LuaTableMap::entry(int node, const std::string& key) const {
   if (node < 0) return nullptr;

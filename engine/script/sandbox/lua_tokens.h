@@ -60,6 +60,7 @@ class LuaTableMap {
   int opened_on(int line) const;
 
  private:
+  struct Reader;  // the pass over the tokens that builds the map (lua_tokens.cpp)
   std::vector<Node> nodes_;
   std::vector<std::pair<std::string, int>> variables_;  // local X = { ... }, in order
   int returned_ = -1;
