@@ -75,6 +75,29 @@ void eval_table_head(const BatchTable& t, const BatchEvaluation& ev, std::ostrin
   md << "|---|---|---|---|---|---|---|\n";
 }
 
+// Every trial of a shape must have run the episodes the evaluation asks for: what the rows
+// resample is what it asked for (one that is no count at all is pool()'s to name).
+void check_episode_counts(const BatchEvaluation& ev, const std::string& shape, const std::vector<json>& ok) {
+  for (const auto& j : ok) {
+    const double n = num(j, "episodes");
+    if (n >= 0 && n <= 1e9 && n == std::floor(n) && n != double(ev.episodes))
+      throw Error("a trial of evaluation '" + ev.name + "', shape " + shape + ", ran " + fmt("%g", n) +
+                  " episodes; the evaluation asks for " + std::to_string(ev.episodes));
+  }
+}
+
+// The Total row's count: its cells are policies' evaluations on one object each, said so that
+// 200/200 is not read as 200 policies.
+std::string total_count(const BatchEvaluation& ev, size_t evaluations, size_t shapes, const Results& every) {
+  std::string count = std::to_string(evaluations) + "/" + std::to_string(every.expected);
+  if (shapes > 1)
+    count += " of " + (ev.trials == 1 ? std::string("1 policy") : std::to_string(ev.trials) + " policies") + " × " +
+             std::to_string(shapes) + " objects";
+  if (every.failed) count += " (" + std::to_string(every.failed) + " failed)";
+  if (every.pending) count += " (" + std::to_string(every.pending) + " pending)";
+  return count;
+}
+
 }  // namespace
 
 // Table III: an evaluation per shape, and a Total row.
@@ -104,12 +127,7 @@ void eval_table(const BatchScript& b, const BatchTable& t, const Folder& folder,
       rows.push_back({{"object", g}, {"policies", 0}, {"evaluations", 0}, {"failed", r.failed}, {"pending", r.pending}});
       continue;
     }
-    for (const auto& j : r.ok) {  // what the rows resample is what the evaluation asked for
-      const double n = num(j, "episodes");  // one that is no count at all is pool()'s to name
-      if (n >= 0 && n <= 1e9 && n == std::floor(n) && n != double(ev->episodes))
-        throw Error("a trial of evaluation '" + ev->name + "', shape " + g + ", ran " + fmt("%g", n) +
-                    " episodes; the evaluation asks for " + std::to_string(ev->episodes));
-    }
+    check_episode_counts(*ev, g, r.ok);
     const EvalRow row = eval_row(r.ok, salt);
     methods.insert(row.ci.by);
     all.insert(all.end(), r.ok.begin(), r.ok.end());
@@ -118,15 +136,7 @@ void eval_table(const BatchScript& b, const BatchTable& t, const Folder& folder,
   if (!all.empty()) {
     const EvalRow total = eval_row(all, 0);
     methods.insert(total.ci.by);
-    // Its cells are policies' evaluations on one object each: said, so that 200/200 is not read
-    // as 200 policies.
-    std::string count = std::to_string(all.size()) + "/" + std::to_string(every.expected);
-    if (groups.size() > 1)
-      count += " of " + (ev->trials == 1 ? std::string("1 policy") : std::to_string(ev->trials) + " policies") + " × " +
-               std::to_string(groups.size()) + " objects";
-    if (every.failed) count += " (" + std::to_string(every.failed) + " failed)";
-    if (every.pending) count += " (" + std::to_string(every.pending) + " pending)";
-    rows.push_back(eval_row_out("**Total**", "Total", total, every, count, md));
+    rows.push_back(eval_row_out("**Total**", "Total", total, every, total_count(*ev, all.size(), groups.size(), every), md));
   }
   // No Total row without a result (found by a probe: the note named one all the same).
   md << "\nAvg. reward ± std (population std) and success rate pool every episode of every policy; the per-policy "
