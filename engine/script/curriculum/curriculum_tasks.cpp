@@ -239,13 +239,10 @@ int l_teacher_sequence(lua_State* L) {
   return 1;
 }
 
-int l_teacher_lcas(lua_State* L) {
-  TeacherSpec spec;
-  spec.kind = TeacherSpec::Kind::kLcas;
-  LuaFields f = options(L, spec, {"lift", "window", "slope", "floor"});
-  if (f.push("lift") != LUA_TTABLE) f.wrong_type("lift", "a table {param = {level 1, level 2, ...}}");
-  const int lift = lua_gettop(L);
-  std::vector<std::string> named;  // sorted: the table's order is Lua's hash order
+// The table `lift` (at that stack index) names one parameter: refused, naming them all in order,
+// when it names more (the table's own order is Lua's hash order).
+void check_one_lifted(lua_State* L, LuaFields& f, int lift) {
+  std::vector<std::string> named;
   lua_pushnil(L);
   while (lua_next(L, lift)) {
     named.push_back(lua_type(L, -2) == LUA_TSTRING ? lua_tostring(L, -2) : lua_describe_value(L, -2));
@@ -255,39 +252,53 @@ int l_teacher_lcas(lua_State* L) {
   if (named.size() > 1)
     f.fail("field 'lift' must name one parameter {param = {level 1, level 2, ...}}, got " +
            std::to_string(named.size()) + ": " + join(named));
+}
+
+// lift.<spec.lift>'s levels (the list at `levels`), the most constrained first: a plain list of two
+// or more different levels. A lift that cannot change the level is a slip (one level, or one listed
+// twice): refused rather than trained as a stage that holds the parameter fixed.
+void read_lift_levels(lua_State* L, LuaFields& f, int levels, TeacherSpec& spec) {
+  const std::string name = "lift." + spec.lift;
+  if (!lua_istable(L, levels) || lua_rawlen(L, levels) == 0)
+    f.fail(name + " must be a list of levels, the most constrained first, got " +
+           (lua_istable(L, levels) ? std::string("a table with no levels 1, 2, ... (an empty list)")
+                                   : lua_describe_value(L, levels)));
+  // Found by a probe: {32, 64, x = 1} dropped the x without a word.
+  if (key_beside_list(L, levels))
+    f.fail(name + " must be a plain list of levels, the most constrained first, got the key " +
+           lua_describe_value(L, -1));
+  const lua_Integer count = lua_Integer(lua_rawlen(L, levels));
+  for (lua_Integer i = 1; i <= count; ++i) {
+    lua_rawgeti(L, levels, i);
+    if (lua_type(L, -1) == LUA_TSTRING) spec.string_levels.push_back(size_t(i - 1));
+    spec.levels.push_back(lua_param_text(L, -1, "roger.teacher.lcas: " + name + "[" + std::to_string(i) + "]"));
+    lua_pop(L, 1);
+  }
+  if (spec.levels.size() == 1)
+    f.fail(name + " = {" + spec.levels[0] + "} has one level, so nothing is ever lifted: give two or "
+           "more, the most constrained first (to hold " + spec.lift + " at " + spec.levels[0] +
+           ", set it in the stage's params instead)");
+  for (size_t i = 0; i < spec.levels.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (spec.levels[i] == spec.levels[j])
+        f.fail(name + ": the level " + spec.levels[i] + " is listed twice (levels " + std::to_string(j + 1) +
+               " and " + std::to_string(i + 1) + ")");
+}
+
+int l_teacher_lcas(lua_State* L) {
+  TeacherSpec spec;
+  spec.kind = TeacherSpec::Kind::kLcas;
+  LuaFields f = options(L, spec, {"lift", "window", "slope", "floor"});
+  if (f.push("lift") != LUA_TTABLE) f.wrong_type("lift", "a table {param = {level 1, level 2, ...}}");
+  const int lift = lua_gettop(L);
+  check_one_lifted(L, f, lift);
   lua_pushnil(L);
   while (lua_next(L, lift)) {
     if (lua_type(L, -2) != LUA_TSTRING || !spec.lift.empty())
       f.fail("field 'lift' must name one parameter {param = {level 1, level 2, ...}}");
     spec.lift = lua_tostring(L, -2);
-    const int levels = lua_gettop(L);
-    if (!lua_istable(L, levels) || lua_rawlen(L, levels) == 0)
-      f.fail("lift." + spec.lift + " must be a list of levels, the most constrained first, got " +
-             (lua_istable(L, levels) ? std::string("a table with no levels 1, 2, ... (an empty list)")
-                                     : lua_describe_value(L, levels)));
-    // Found by a probe: {32, 64, x = 1} dropped the x without a word.
-    if (key_beside_list(L, levels))
-      f.fail("lift." + spec.lift + " must be a plain list of levels, the most constrained first, got the key " +
-             lua_describe_value(L, -1));
-    const lua_Integer count = lua_Integer(lua_rawlen(L, levels));
-    for (lua_Integer i = 1; i <= count; ++i) {
-      lua_rawgeti(L, levels, i);
-      if (lua_type(L, -1) == LUA_TSTRING) spec.string_levels.push_back(size_t(i - 1));
-      spec.levels.push_back(lua_param_text(L, -1, "roger.teacher.lcas: lift." + spec.lift + "[" + std::to_string(i) + "]"));
-      lua_pop(L, 1);
-    }
+    read_lift_levels(L, f, lua_gettop(L), spec);
     lua_pop(L, 1);
-    // A lift that cannot change the level is a slip (one level, or one listed twice): refused
-    // rather than trained as a stage that holds the parameter fixed.
-    if (spec.levels.size() == 1)
-      f.fail("lift." + spec.lift + " = {" + spec.levels[0] + "} has one level, so nothing is ever lifted: give two or "
-             "more, the most constrained first (to hold " + spec.lift + " at " + spec.levels[0] +
-             ", set it in the stage's params instead)");
-    for (size_t i = 0; i < spec.levels.size(); ++i)
-      for (size_t j = 0; j < i; ++j)
-        if (spec.levels[i] == spec.levels[j])
-          f.fail("lift." + spec.lift + ": the level " + spec.levels[i] + " is listed twice (levels " +
-                 std::to_string(j + 1) + " and " + std::to_string(i + 1) + ")");
   }
   lua_pop(L, 1);
   if (spec.lift.empty()) f.fail("field 'lift' must name one parameter {param = {level 1, level 2, ...}}");
