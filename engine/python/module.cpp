@@ -670,7 +670,9 @@ py::dict vec_reset(VecEnvironment& v, const ByteArray& mask, const ByteArray& se
   return d;
 }
 
-py::dict vec_step(VecEnvironment& v, const IntArray& actions) {
+// step's refusals before anything runs: one action per environment, every environment begun by a
+// reset, every action in range.
+void check_step(VecEnvironment& v, const IntArray& actions) {
   const py::ssize_t n = v.size(), k = py::ssize_t(v.info().actions.size());
   if (actions.ndim() != 1 || actions.shape(0) != n)
     throw Error("step: expected " + std::to_string(n) + " actions, one per environment, got an array of " +
@@ -689,20 +691,44 @@ py::dict vec_step(VecEnvironment& v, const IntArray& actions) {
     if (a[i] < 0 || a[i] >= int64_t(k))
       throw Error("step: action " + std::to_string(a[i]) + " of environment " + std::to_string(i) + " is not in [0, " +
                   std::to_string(k) + ")");
-  EpisodeArrays now(n, k), last(n, k);
-  py::array_t<double> rewards(n), episode_rewards(n);
-  auto term = flags(n), time_out = flags(n), restarted = flags(n), ended = flags(n), failed = flags(n),
-       success = flags(n);
-  const VecEnvironment::StepOutput out{now.out(),
-                                       rewards.mutable_data(),
-                                       term.mutable_data(),
-                                       time_out.mutable_data(),
-                                       restarted.mutable_data(),
-                                       ended.mutable_data(),
-                                       failed.mutable_data(),
-                                       last.out(),
-                                       episode_rewards.mutable_data(),
-                                       success.mutable_data()};
+}
+
+// The arrays one step of n environments fills (VecEnvironment::StepOutput), and the dict they
+// become.
+struct StepArrays {
+  EpisodeArrays now, last;
+  py::array_t<double> rewards, episode_rewards;
+  py::array_t<uint8_t> term, time_out, restarted, ended, failed, success;
+  StepArrays(py::ssize_t n, py::ssize_t k)
+      : now(n, k), last(n, k), rewards(n), episode_rewards(n), term(flags(n)), time_out(flags(n)),
+        restarted(flags(n)), ended(flags(n)), failed(flags(n)), success(flags(n)) {}
+  VecEnvironment::StepOutput out() {
+    return {now.out(),         rewards.mutable_data(),   term.mutable_data(),
+            time_out.mutable_data(), restarted.mutable_data(), ended.mutable_data(),
+            failed.mutable_data(), last.out(),          episode_rewards.mutable_data(),
+            success.mutable_data()};
+  }
+  py::dict dict() const {
+    py::dict d;
+    now.put(d, "");
+    last.put(d, "last_");
+    d["rewards"] = rewards;
+    d["terminated"] = as_bool(term);
+    d["time_out"] = as_bool(time_out);
+    d["restarted"] = as_bool(restarted);
+    d["ended"] = as_bool(ended);
+    d["failed"] = as_bool(failed);
+    d["episode_reward"] = episode_rewards;
+    d["success"] = as_bool(success);
+    return d;
+  }
+};
+
+py::dict vec_step(VecEnvironment& v, const IntArray& actions) {
+  check_step(v, actions);
+  const py::ssize_t n = v.size();
+  StepArrays arrays(n, py::ssize_t(v.info().actions.size()));
+  const VecEnvironment::StepOutput out = arrays.out();
   std::exception_ptr error;
   without_gil([&] {
     try {
@@ -711,22 +737,12 @@ py::dict vec_step(VecEnvironment& v, const IntArray& actions) {
       error = std::current_exception();
     }
   });
-  const uint8_t* f = failed.data();
+  const uint8_t* f = arrays.failed.data();
   const int first = int(std::find(f, f + n, uint8_t(1)) - f);
   if (error && first == n) std::rethrow_exception(error);  // refused before anything ran
-  py::dict d;
-  now.put(d, "");
-  last.put(d, "last_");
-  d["rewards"] = rewards;
-  d["terminated"] = as_bool(term);
-  d["time_out"] = as_bool(time_out);
-  d["restarted"] = as_bool(restarted);
-  d["ended"] = as_bool(ended);
-  d["failed"] = as_bool(failed);
-  d["episode_reward"] = episode_rewards;
-  d["success"] = as_bool(success);
+  py::dict d = arrays.dict();
   if (error) {
-    const uint64_t seed = ended.data()[first] ? last.seeds.at(first) : now.seeds.at(first);
+    const uint64_t seed = arrays.ended.data()[first] ? arrays.last.seeds.at(first) : arrays.now.seeds.at(first);
     raise_vec_fault(error, first, seed, int(n), d, d["failed"]);
   }
   return d;
