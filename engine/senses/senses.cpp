@@ -40,61 +40,74 @@ struct ViewCone {
   }
 };
 
+// An angular span in the eye frame, and the distance from the eye to the nearest point of what
+// spans it.
+struct Span {
+  double lo, hi, distance;
+};
+
+// A disk's span, d from the eye to its centre, which lies at center_angle.
+Span disk_span(const SeenSurface& s, double d, double center_angle, double half_fov) {
+  if (d <= s.radius) return {-half_fov, half_fov, 0.0};  // the eye is inside: it sees nothing else
+  const double half = std::asin(s.radius / d);
+  return {center_angle - half, center_angle + half, d - s.radius};
+}
+
+// A convex polygon's span; false when even its bounding disk is out of the field of view.
+bool polygon_span(const SeenSurface& s, const Vec2& eye, double eye_heading, double d, double center_angle,
+                  double half_fov, Span& out) {
+  // Outside the field of view even as its bounding disk: skip the per-vertex work (the disk's
+  // extent contains the polygon's, so this never hides what the test below would show).
+  if (d > s.radius) {
+    const double half = std::asin(s.radius / d) + 1e-9;
+    if (center_angle + half <= -half_fov || center_angle - half >= half_fov) return false;
+  }
+  // Vertex angles relative to the centre direction: a convex polygon seen from outside spans
+  // less than pi, so min and max give its extent without wrap-around trouble.
+  const double ref = center_angle + eye_heading;
+  const double c = std::cos(ref), sn = std::sin(ref);
+  bool inside = true;
+  double nearest = INFINITY;  // the least squared distance to an edge
+  Vec2 along[8];              // each vertex in the frame of the centre's direction
+  for (int i = 0; i < s.vertex_count; ++i) {
+    const Vec2 v = s.vertices[i] - eye;
+    along[i] = Vec2(c * v.x() + sn * v.y(), -sn * v.x() + c * v.y());
+    const Vec2& p = s.vertices[i];
+    const Vec2& q = s.vertices[(i + 1) % s.vertex_count];
+    const Vec2 e = q - p;
+    if (e.x() * (eye.y() - p.y()) - e.y() * (eye.x() - p.x()) < 0) inside = false;
+    const double t = std::clamp((eye - p).dot(e) / e.squaredNorm(), 0.0, 1.0);
+    nearest = std::min(nearest, (p + t * e - eye).squaredNorm());
+  }
+  if (inside) {
+    out = {-half_fov, half_fov, 0.0};
+    return true;
+  }
+  // The least of the distances is the root of the least square: a rounded square root is monotonic.
+  // The extremes of the vertices' angles: two or three arc tangents where each vertex took one.
+  out = {center_angle + senses_internal::extreme_angle(along, s.vertex_count, -1),
+         center_angle + senses_internal::extreme_angle(along, s.vertex_count, +1), std::sqrt(nearest)};
+  return true;
+}
+
 // Computes a surface's angular extent in the eye frame; false when it is outside the field of view.
 bool extent_of(const SeenSurface& s, const Vec2& eye, double eye_heading, const Camera& cam, Extent& out) {
   const double half_fov = cam.half_fov;
-  double lo, hi, distance;
   const Vec2 to_center = s.center - eye;
   const double center_angle = wrap_angle(std::atan2(to_center.y(), to_center.x()) - eye_heading);
+  const double d = to_center.norm();
+  Span span;
   if (s.is_disk) {
-    const double d = to_center.norm();
-    if (d <= s.radius) {
-      lo = -half_fov, hi = half_fov, distance = 0.0;  // the eye is inside: it sees nothing else
-    } else {
-      const double half = std::asin(s.radius / d);
-      lo = center_angle - half, hi = center_angle + half, distance = d - s.radius;
-    }
-  } else {
-    // Outside the field of view even as its bounding disk: skip the per-vertex work (the disk's
-    // extent contains the polygon's, so this never hides what the test below would show).
-    const double d = to_center.norm();
-    if (d > s.radius) {
-      const double half = std::asin(s.radius / d) + 1e-9;
-      if (center_angle + half <= -half_fov || center_angle - half >= half_fov) return false;
-    }
-    // Vertex angles relative to the centre direction: a convex polygon seen from outside spans
-    // less than pi, so min and max give its extent without wrap-around trouble.
-    const double ref = center_angle + eye_heading;
-    const double c = std::cos(ref), sn = std::sin(ref);
-    bool inside = true;
-    double nearest = INFINITY;  // the least squared distance to an edge
-    Vec2 along[8];              // each vertex in the frame of the centre's direction
-    for (int i = 0; i < s.vertex_count; ++i) {
-      const Vec2 v = s.vertices[i] - eye;
-      along[i] = Vec2(c * v.x() + sn * v.y(), -sn * v.x() + c * v.y());
-      const Vec2& p = s.vertices[i];
-      const Vec2& q = s.vertices[(i + 1) % s.vertex_count];
-      const Vec2 e = q - p;
-      if (e.x() * (eye.y() - p.y()) - e.y() * (eye.x() - p.x()) < 0) inside = false;
-      const double t = std::clamp((eye - p).dot(e) / e.squaredNorm(), 0.0, 1.0);
-      nearest = std::min(nearest, (p + t * e - eye).squaredNorm());
-    }
-    // The least of the distances is the root of the least square: a rounded square root is monotonic.
-    distance = std::sqrt(nearest);
-    if (inside) {
-      lo = -half_fov, hi = half_fov, distance = 0.0;
-    } else {
-      // The extremes of the vertices' angles: two or three arc tangents where each vertex took one.
-      lo = center_angle + senses_internal::extreme_angle(along, s.vertex_count, -1);
-      hi = center_angle + senses_internal::extreme_angle(along, s.vertex_count, +1);
-    }
+    span = disk_span(s, d, center_angle, half_fov);
+  } else if (!polygon_span(s, eye, eye_heading, d, center_angle, half_fov, span)) {
+    return false;
   }
-  if (hi <= -half_fov || lo >= half_fov) return false;
-  lo = std::max(lo, -half_fov), hi = std::min(hi, half_fov);
+  if (span.hi <= -half_fov || span.lo >= half_fov) return false;
+  const double lo = std::max(span.lo, -half_fov), hi = std::min(span.hi, half_fov);
   const double u_max = cam.pixels - 0.5;
   out.u0 = std::clamp(cam.pixel_of_angle(lo), kUMin, u_max);
   out.u1 = std::clamp(cam.pixel_of_angle(hi), kUMin, u_max);
-  out.distance = distance;
+  out.distance = span.distance;
   out.surface = &s;
   return out.u1 > out.u0;
 }
