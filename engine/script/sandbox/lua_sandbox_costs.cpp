@@ -312,7 +312,11 @@ int charged_sort(lua_State* L) {
     if (!lua_getmetatable(L, 1)) luaL_checktype(L, 1, LUA_TTABLE);
     lua_pop(L, 1);
   }
-  if (!lua_isnoneornil(L, 2)) luaL_checktype(L, 2, LUA_TFUNCTION);
+  // Anything but a function or nil for the order is Lua's to judge, and Lua looks at it only after
+  // the list (table.sort('abc', 2) names argument #1) and only when there are two elements or
+  // more to order (table.sort({}, 2) is no error): its sort, given the arguments as they are,
+  // makes no comparison to count before it refuses them or returns.
+  if (!lua_isnoneornil(L, 2) && lua_type(L, 2) != LUA_TFUNCTION) return lua_tocfunction(L, lua_upvalueindex(1))(L);
   lua_settop(L, 2);
   lua_pushvalue(L, 2);
   lua_pushcclosure(L, counted_less, 1);
