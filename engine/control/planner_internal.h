@@ -17,9 +17,9 @@ constexpr int kRelaxLanes = 8;
 // with 2 (the same with 4), with the same bits. A grid has at most 1024 cells a side
 // (world:arena), far inside `at`'s 32 bits; split_by_colour refuses a larger one.
 struct RelaxGroup {
-  // `word` packs the rest, so the kernel reads a group in one 8-byte load where four fields took
-  // four: nearest (bits 0-22: a flood distance is below the grid's 1024 x 1024 cells), shift (bit
-  // 23) and mask (bits 24-31).
+  // `word` packs the rest, so the kernel reads a group's 8 bytes in one or two loads where four
+  // fields took four: nearest (bits 0-22: a flood distance is below the grid's 1024 x 1024 cells),
+  // shift (bit 23) and mask (bits 24-31).
   static constexpr int32_t kMaxNearest = (int32_t(1) << 23) - 1;
   int32_t at = 0;     // its first slot, counted from the start of the colour's array (whole lanes)
   uint32_t word = 0;
