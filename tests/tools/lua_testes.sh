@@ -131,10 +131,13 @@ prepare cstack "$undeclared" "$tracegc_stub"
 prepare gc "$undeclared $os_stub" "/^-- 'bug' in 5.1/,\$d"
 # Large tables and constants, whole (not _soft); it yields at its top level, as all.lua runs it in a
 # coroutine, and takes debug's traceback, which the sandbox has, by require.
+# Very big programs, whole (not _soft): the program it writes to a file and runs is gathered in a string and loaded
+# (io.write's numbers as it writes them: %.14g for floats).
+prepare verybig '_soft = false local __buf = {} local io = {write = function(...) for i = 1, select("#", ...) do local v = select(i, ...) if math.type(v) == "float" then v = string.format("%.14g", v) end __buf[#__buf + 1] = tostring(v) end end, output = function() end, close = function() end} local os = {tmpname = function() return "verybig" end, remove = function() return true end} local dofile = function() return assert(load(table.concat(__buf)))() end'
 runner='coroutine.wrap(__body)()' prepare big 'local undef = nil _soft = false local require = function(n) if n == "debug" then return debug end return require(n) end'
 
 for name in strings pm tpack utf8 sort vararg nextvar math bitwise calls constructs goto literals closure events errors \
-            coroutine locals cstack gc big; do
+            coroutine locals cstack gc big verybig; do
   run "$name"
 done
 if [ "$failures" -gt 0 ]; then
