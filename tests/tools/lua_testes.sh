@@ -11,9 +11,11 @@
 # what a test uses (docs/reliability.md: no debug library but traceback, no io or os, no bytecode,
 # no finalizers, no math.random, pairs in a fixed order) or where the harness itself shows
 # through (its counting assert is a Lua function, so an assert's own error position moves):
-#   - every file: `_port` and `_soft` set (no locale tests, the shorter loops), `package.loaded`
-#     answered from a table of the standard names, and each edit listed below; an edit that
-#     changes nothing (another version of the tests) stops the run;
+#   - every file: `_port` and `_soft` set (no locale tests, the shorter loops; big.lua and
+#     verybig.lua run whole), `package.loaded` answered from a table of the standard names, and
+#     each edit listed below; an edit that changes nothing (another version of the tests) stops
+#     the run; where a file writes a file or yields at its top level (as all.lua lets it), a
+#     string buffer or a coroutine stands in;
 #   - the globals Lua's tests read but never set (`undef`, `T`, `Message`, `Y`) declared as locals,
 #     since the sandbox refuses a script that reads an undefined global at load.
 # A file's asserts are counted in the harness's order, so the counts of both runs compare the same
