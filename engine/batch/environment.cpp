@@ -144,7 +144,6 @@ void check_skills_given(const CurriculumContext& ctx, const CurriculumStage& sta
                   "': give its policy file, skills={'" + name + "': '.../policy.json'} (roger train writes one)");
 }
 
-
 // Refuses a script of another kind given as the curriculum, as roger train does (found by a probe:
 // make("docs/examples/corridor.lua", ...) failed inside scenarios/lib/shapes.lua, a skill script
 // with "unknown field 'policies'"), and a member of roger.* that no curriculum has in make's
@@ -172,10 +171,6 @@ Curriculum load_checked(const EnvironmentOptions& o) {
   check_skills_given(stage.context(o.context), stage, o);
   return cur;
 }
-
-}  // namespace
-
-namespace {
 
 // What the stage says of its episodes, its learner and its checkpoints, in the environment's info.
 void describe_stage(const CurriculumStage& st, EnvironmentInfo& info) {

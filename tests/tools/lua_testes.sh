@@ -33,11 +33,12 @@ cp "$testes"/*.lua "$work"/
 cd "$work" || exit 2
 
 # A deterministic math.random (an LCG), for the files that draw numbers only to vary their data.
-random_stub='local __seed = 1 local math = setmetatable({random = function(m, n) __seed = (__seed * 1103515245 + 12345) % 2147483648 local u = __seed / 2147483648 if not m then return u end if not n then m, n = 1, m end return m + math.floor(u * (n - m + 1)) end}, {__index = math})'
+seeded_random='local __seed = 1 local math = setmetatable({random = function(m, n) __seed = (__seed * 1103515245 + 12345) % 2147483648 local u = __seed / 2147483648 if not m then return u end if not n then m, n = 1, m end return m + math.floor(u * (n - m + 1)) end}, {__index = math})'
 # os as the tests read it: a clock that stands still, and only the "C" locale.
-os_stub='local os = {clock = function() return 0 end, time = function() return 0 end, setlocale = function(l) if l == nil or l == "C" then return "C" end end}'
+still_os='local os = {clock = function() return 0 end, time = function() return 0 end, setlocale = function(l) if l == nil or l == "C" then return "C" end end}'
 undeclared='local undef, T, Message, Y = nil'
-tracegc_stub='s/require"tracegc"/{start = function() end, stop = function() end}/'
+# tracegc.lua marks collections by printing from a finalizer (refused): its start and stop do nothing.
+tracegc_idle='s/require"tracegc"/{start = function() end, stop = function() end}/'
 
 failures=0
 # prepare NAME HEADER [SED_EDIT...]: writes run_NAME.lua, the harness around NAME.lua.
@@ -81,11 +82,11 @@ run() {
 
 printf '%-12s %10s %10s\n' file lua5.4 sandbox
 # The string library: %p of a file handle (no io) left out.
-prepare strings "$os_stub" '/string.format("%p", io.stdin)/d'
+prepare strings "$still_os" '/string.format("%p", io.stdin)/d'
 prepare pm ''
 prepare tpack ''
 prepare utf8 ''
-prepare sort "$os_stub $random_stub"
+prepare sort "$still_os $seeded_random"
 prepare vararg ''
 # Tables: pairs visits keys in a fixed order, not next's, so the loop that checks next against
 # pairs walks with next itself; a file handle as a key becomes a table; the walk over _G counts
@@ -103,10 +104,10 @@ prepare calls '' '/^print("testing binary chunks")/,/^end$/d' \
   '/^-- load when _ENV is not first upvalue/,/^assert(x() == 123)/d' \
   '/^-- another small bug (in 5.2.1)/,/^assert(not pcall(string.dump, print))/d' \
   '/^assert(debug.getinfo(a).source == "modname")/d'
-prepare constructs "$random_stub" "s/^  assert(debug.getinfo(1, \"n\").name == 'F')/  -- (debug.getinfo left out)/"
+prepare constructs "$seeded_random" "s/^  assert(debug.getinfo(1, \"n\").name == 'F')/  -- (debug.getinfo left out)/"
 prepare goto '' '/^-- all functions share same .a./,+32d'
 # A chunk's current line from an error's position instead of debug.getinfo.
-prepare literals "$os_stub" 's/require"debug".getinfo(1).currentline/tonumber(select(2, pcall(function() local x; return x.y end)):match(":(%d+):"))/'
+prepare literals "$still_os" 's/require"debug".getinfo(1).currentline/tonumber(select(2, pcall(function() local x; return x.y end)):match(":(%d+):"))/'
 prepare closure "$undeclared" '/^-- test for debug manipulation of upvalues/,/^assert(not pcall(debug.upvaluejoin, foo1, 1, print, 1))/d'
 # Metatables: no file handles, no debug.setmetatable on basic types.
 prepare events "$undeclared" '/^assert(not pcall(rawlen, io.stdin))/d' \
@@ -124,13 +125,13 @@ prepare coroutine "$undeclared" '/^do   -- testing single trace of coroutines/,/
   '/^      Y = debug.getinfo(2)/d' 's/assert(X == 43 and Y.what == "C")/assert(X == 43)/' \
   '/^-- getuptable & setuptable/,/^assert(g.k.AAA == 11)/d'
 # Locals and to-be-closed variables: no finalizers (tracegc), no getinfo, no hooks.
-prepare locals "$undeclared" "$tracegc_stub" '/^local function getenv (f)/,/^end$/d' 's/^assert(getenv(.*$/assert(true)/' \
+prepare locals "$undeclared" "$tracegc_idle" '/^local function getenv (f)/,/^end$/d' 's/^assert(getenv(.*$/assert(true)/' \
   's/assert(debug.getinfo(2).name == "[a-z]*")/assert(true)/' \
   "/^do   -- '__close' vs. return hooks in Lua functions/,/^end\$/d"
-prepare cstack "$undeclared" "$tracegc_stub"
+prepare cstack "$undeclared" "$tracegc_idle"
 # The collector: its options, steps, long strings and weak tables; from the first finalizer on
 # (the sandbox refuses __gc) the file is left out.
-prepare gc "$undeclared $os_stub" "/^-- 'bug' in 5.1/,\$d"
+prepare gc "$undeclared $still_os" "/^-- 'bug' in 5.1/,\$d"
 # Large tables and constants, whole (not _soft); it yields at its top level, as all.lua runs it in a
 # coroutine, and takes debug's traceback, which the sandbox has, by require.
 # Very big programs, whole (not _soft): the program it writes to a file and runs is gathered in a string and loaded

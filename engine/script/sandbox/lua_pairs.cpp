@@ -134,8 +134,8 @@ int sorted_next(lua_State* L) {
   return 2;
 }
 
-// pairs(t): Lua's own (upvalue 1) for a value with __pairs or that is no table (or none); else the iterator
-// above over t's keys in order, with t and nil, as Lua's returns next, t, nil.
+// pairs(t): Lua's own (upvalue 1) for a value with __pairs or that is no table (or none); else
+// the iterator above over t's keys in order, with t and nil, as Lua's returns next, t, nil.
 int sorted_pairs(lua_State* L) {
   // Lua's own sees the arguments as given: `pairs()` is refused ("value expected"), not taken
   // for `pairs(nil)`.

@@ -203,7 +203,8 @@ struct LuaTableMap::Reader {
     } else if (i >= 2 && is_op(i - 1, "=") && t[i - 2].type == LuaToken::kName && !in_brace()) {
       map.variables_.emplace_back(t[i - 2].text, node);  // local X = { ... }
     }
-    if (i >= 1 && t[i - 1].type == LuaToken::kName && t[i - 1].text == "return" && stack.empty()) map.returned_ = node;
+    if (i >= 1 && t[i - 1].type == LuaToken::kName && t[i - 1].text == "return" && stack.empty())
+      map.returned_ = node;
     stack.push_back({kBrace, node});
   }
 
