@@ -175,10 +175,12 @@ __attribute__((always_inline)) inline void image_noise_body(EyeImage& image, con
   image.noisy = true;
 }
 
-// The image noise compiled twice, for any x86-64 processor and for one with AVX2 (twice the lanes,
-// and 32-bit integer multiplies in one instruction where SSE2 needs several), chosen once by the
-// processor it runs on. The passes are integer ones, and the float ones are the same operations
-// in the same order (no fused multiply-adds: AVX2 does not bring FMA), so both give the same bits.
+// The image noise compiled three times: for any x86-64 processor, for one with AVX2 (twice the
+// lanes, and 32-bit integer multiplies in one instruction where SSE2 needs several) and for one
+// with AVX-512 (twice again, and byte and word operations on them), chosen once by the processor it
+// runs on. The passes are integer ones, and the float ones the same operations in the same order:
+// a sum of a quotient, never a product a fused multiply-add could join (and the file is compiled
+// with -ffp-contract=off), so every width gives the same bits.
 void image_noise_generic(EyeImage& image, const int16_t* levels, const float* noise, int quantum) {
   image_noise_body(image, levels, noise, quantum);
 }
@@ -188,19 +190,31 @@ __attribute__((target("avx2"))) void image_noise_avx2(EyeImage& image, const int
                                                       int quantum) {
   image_noise_body(image, levels, noise, quantum);
 }
+__attribute__((target("avx512f,avx512bw,avx512vl,avx512dq"))) void image_noise_avx512(EyeImage& image,
+                                                                                      const int16_t* levels,
+                                                                                      const float* noise, int quantum) {
+  image_noise_body(image, levels, noise, quantum);
+}
 #endif
 
-bool has_avx2() {
+// The kernel of `width`, or null where this processor cannot run it.
+using ImageNoiseKernel = void (*)(EyeImage&, const int16_t*, const float*, int);
+ImageNoiseKernel kernel_of(senses_internal::NoiseWidth width) {
+  using senses_internal::NoiseWidth;
+  if (width == NoiseWidth::kGeneric) return image_noise_generic;
 #ifdef ROGER_WIDE_IMAGE_NOISE
   static const bool avx2 = __builtin_cpu_supports("avx2");
-  return avx2;
-#else
-  return false;
+  static const bool avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+                             __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq");
+  if (width == NoiseWidth::kAvx2 && avx2) return image_noise_avx2;
+  if (width == NoiseWidth::kAvx512 && avx512) return image_noise_avx512;
 #endif
+  return nullptr;
 }
 
 void image_noise(EyeImage& image, const int16_t* levels, const float* noise, int quantum) {
-  senses_internal::image_noise_kernel(has_avx2(), image, levels, noise, quantum);
+  static const ImageNoiseKernel widest = kernel_of(senses_internal::widest_image_noise());
+  widest(image, levels, noise, quantum);
 }
 
 // A reading the channel has lost this tick keeps the value delivered last.
@@ -218,13 +232,15 @@ void hold_lost(const ChannelProcess& p, std::array<double, N>& values, std::arra
 void threshold_coverage(EyeImage& image) { threshold_body(image); }
 
 namespace senses_internal {
-bool wide_image_noise() { return has_avx2(); }
-bool image_noise_kernel(bool wide, EyeImage& image, const int16_t* levels, const float* noise, int quantum) {
-  if (!wide) return image_noise_generic(image, levels, noise, quantum), true;
-#ifdef ROGER_WIDE_IMAGE_NOISE
-  if (has_avx2()) return image_noise_avx2(image, levels, noise, quantum), true;
-#endif
-  return false;
+NoiseWidth widest_image_noise() {
+  for (NoiseWidth width : {NoiseWidth::kAvx512, NoiseWidth::kAvx2})
+    if (kernel_of(width)) return width;
+  return NoiseWidth::kGeneric;
+}
+bool image_noise_kernel(NoiseWidth width, EyeImage& image, const int16_t* levels, const float* noise, int quantum) {
+  const ImageNoiseKernel kernel = kernel_of(width);
+  if (kernel) kernel(image, levels, noise, quantum);
+  return kernel != nullptr;
 }
 }  // namespace senses_internal
 

@@ -16,15 +16,17 @@ namespace senses_internal {
 // tangents of only the vertices that can be the extreme.
 double extreme_angle(const Vec2* v, int n, int side);
 
+// The widths the image noise kernel is built for: any x86-64 processor, AVX2, AVX-512 (BW, VL, DQ).
+enum class NoiseWidth { kGeneric, kAvx2, kAvx512 };
+
 // The image noise on one eye's image (SenseNoise::images): its colours moved by `levels` (whole
 // levels) or else by `noise` (float offsets), three per pixel, on the grid of `quantum` (none when
-// 0); the stimulus coverage moved by each colour's change and its mask cleaned. `wide` picks the
-// kernel built for AVX2 over the one for any x86-64 processor; false where this processor has no
-// AVX2 (nothing is done then). Every image goes through the wide one where it can: the two give the
-// same bits, which the tests check.
-bool image_noise_kernel(bool wide, EyeImage& image, const int16_t* levels, const float* noise, int quantum);
-// Whether this processor runs the wide kernel.
-bool wide_image_noise();
+// 0); the stimulus coverage moved by each colour's change and its mask cleaned. By the kernel of
+// `width`; false where this processor cannot run it (nothing is done then). Every image goes
+// through the widest this processor runs: all give the same bits, which the tests check.
+bool image_noise_kernel(NoiseWidth width, EyeImage& image, const int16_t* levels, const float* noise, int quantum);
+// The widest kernel this processor runs.
+NoiseWidth widest_image_noise();
 
 }  // namespace senses_internal
 }  // namespace roger
