@@ -779,8 +779,8 @@ TEST_CASE("a stage that never runs the action it needs is explained", "[trainer]
   CHECK(causes[1] == "never able to run: nowhere (NOREF at every decision)");
   CHECK(causes[2] == "never chosen in training: nowhere");
   // Every episode timed out: the time-outs are said as the absorbing state never reached.
-  CHECK(causes.back() == "absorbing state never reached: in none of the " + std::to_string(d.train_episodes) +
-                             " training episodes nor the 2 final ones, so no reward from it was ever learned");
+  CHECK(causes.back() == "absorbing state never reached: every one of the " + std::to_string(d.train_episodes) +
+                             " training episodes and the 2 final ones timed out, so no reward from it was ever learned");
 }
 
 // Found by a probe: a Lua absorbing function comparing a region name written otherwise than the
@@ -792,9 +792,9 @@ TEST_CASE("a stage whose Lua absorbing function never held says so", "[trainer][
   d.final_episodes = d.final_timeouts = 5;
   d.absorbing_lua = true;
   CHECK(d.causes() == std::vector<std::string>{
-                          "absorbing state never reached: in none of the 40 training episodes nor the 5 final ones, "
-                          "the stage's Lua absorbing function never returned true (what it compares, such as a name or "
-                          "a region written otherwise than the world's, may never match)"});
+                          "absorbing state never reached: the stage's Lua absorbing function returned true in none "
+                          "of the 40 training episodes and the 5 final ones (what it compares, such as a name or a "
+                          "region written otherwise than the world's, may never match)"});
   d.train_timeouts = 39;  // one reached it: the time-outs are told as such
   CHECK(d.causes() == std::vector<std::string>{
                           "time-outs: 98% of the training episodes (0% of the last quarter), 100% of the final evaluation"});

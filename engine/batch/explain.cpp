@@ -98,11 +98,14 @@ std::vector<std::string> TrainingDiagnosis::action_causes() const {
 // world's never held; the causes named cycles and time-outs, and the learner was blamed.
 std::string TrainingDiagnosis::never_reached_cause() const {
   if (train_episodes == 0 || train_timeouts < train_episodes || final_timeouts < final_episodes) return "";
-  return "absorbing state never reached: in none of the " + std::to_string(train_episodes) + " training episodes" +
-         (final_episodes ? " nor the " + std::to_string(final_episodes) + " final ones" : std::string()) +
-         (absorbing_lua ? ", the stage's Lua absorbing function never returned true (what it compares, such as a name "
-                          "or a region written otherwise than the world's, may never match)"
-                        : ", so no reward from it was ever learned");
+  const std::string episodes = "the " + std::to_string(train_episodes) + " training episodes" +
+                               (final_episodes ? " and the " + std::to_string(final_episodes) + " final ones"
+                                               : std::string());
+  return "absorbing state never reached: " +
+         (absorbing_lua ? "the stage's Lua absorbing function returned true in none of " + episodes +
+                              " (what it compares, such as a name or a region written otherwise than the world's, "
+                              "may never match)"
+                        : "every one of " + episodes + " timed out, so no reward from it was ever learned");
 }
 
 std::vector<std::string> TrainingDiagnosis::causes() const {
