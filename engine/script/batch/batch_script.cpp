@@ -150,12 +150,14 @@ std::unique_ptr<Curriculum> load_curriculum(const Reader& rd, const std::string&
       // or in the project" named neither, nor the one beside the script).
       else if (b.curriculum.find('/') != std::string::npos || fs::path(b.curriculum).extension() == ".lua") {
         const std::string here = fs::absolute(b.curriculum, ec).lexically_normal().string(),
-                          near = fs::absolute(beside, ec).lexically_normal().string();
+                          near = fs::absolute(beside, ec).lexically_normal().string(),
+                          project = fs::absolute(in_project, ec).lexically_normal().string();
+        // Each place once (found by a newcomer: run from the project, it was named twice).
         rd.fail(rd.line_of_key("curriculum", 1),
                 "no curriculum '" + b.curriculum + "': looked at " + here +
                     (near == here ? " (from the current folder, beside the batch script)"
                                   : " (from the current folder), then " + near + " (beside the batch script)") +
-                    ", then " + in_project.lexically_normal().string() + " (in the project)");
+                    (project == here || project == near ? std::string() : ", then " + project + " (in the project)"));
       }
     }
   }

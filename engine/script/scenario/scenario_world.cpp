@@ -255,7 +255,8 @@ int l_world_goal(lua_State* L) {
     std::vector<std::string> taken;
     for (const auto& other : w.spec.goals) taken.push_back(other.name);
     g.name = unique_name(f, f.string("name", ""), "goal", w.spec.goals.size(), taken);
-    g.center = Vec2(f.number("x"), f.number("y"));
+    const double x = f.number("x");  // read in order: a missing x is named before a missing y
+    g.center = Vec2(x, f.number("y"));
     g.radius = f.number("radius", g.radius);
     g.colour = f.colour("colour", g.colour);
     const auto& a = w.spec.arena;
