@@ -324,6 +324,30 @@ TEST_CASE("roger check of a batch script takes --set as roger run does", "[cli]"
   fs::remove_all(dir);
 }
 
+// Found by a newcomer's walk through the docs: `roger check` of a skill script and of a module
+// ignored --set, and said ok of a misspelt name or a value roger eval refuses.
+TEST_CASE("roger check of a skill script takes --set as roger eval does, and a module refuses it", "[cli]") {
+  const Run choice = roger("check curricula/scripted.lua --set shape=hexagon");
+  CHECK(choice.status == 1);
+  CHECK_THAT(choice.err, Catch::Matchers::Contains("policy 'task': scenario 'unobstructed': parameter 'shape' of "
+                                                   "scenario 'unobstructed' expects one of circle, pentagon, spade, "
+                                                   "triangle, got 'hexagon'"));
+  const Run misspelt = roger("check curricula/scripted.lua --set shap=spade");
+  CHECK(misspelt.status == 1);
+  CHECK_THAT(misspelt.err, Catch::Matchers::Contains("--set shap=spade: no policy's scenario declares it; scenario "
+                                                     "'unobstructed' (scenarios/unobstructed.lua) has no parameter "
+                                                     "'shap' (did you mean 'shape'?)"));
+  // roger eval says which of a policy's own parameters a --set replaced.
+  const Run eval = roger("eval docs/examples/sorting_moves.lua --policy four_moves --episodes 1 --set objects=3");
+  CHECK_THAT(eval.out, Catch::Matchers::Contains("\n  policy params  objects = 4, overridden by --set objects=3\n"));
+  const Run fine = roger("check curricula/scripted.lua --set shape=spade");
+  INFO(fine.err);
+  CHECK(fine.status == 0);
+  const Run module = roger("check scenarios/lib/shapes.lua --set shape=spade");
+  CHECK(module.status == 1);
+  CHECK_THAT(module.err, Catch::Matchers::Contains("scenarios/lib/shapes.lua is a module, which has none"));
+}
+
 // Found by a probe: `roger check curricula/sorting.lua --set objects=3` was refused for SG, whose
 // scenario has no `objects` (roger train --stage Sort2 takes it), with no file:line; and a stage
 // whose per-object time limit meets a world without objects passed check, then failed training
@@ -963,6 +987,15 @@ TEST_CASE("roger bench --json ends with the figures", "[cli]") {
   CHECK(last.find("\"objects8_successes\":3,") != std::string::npos);
 }
 
+// Found by a newcomer: the noisy line set lib.body's noise parameters on the scenario, so a
+// scenario built without lib.body (the docs' corridor) could not be measured at all.
+TEST_CASE("roger bench measures a scenario whose robot is not built with lib.body", "[cli]") {
+  const Run r = roger("bench --scenario docs/examples/corridor.lua --seconds 1 --repeats 1 --episodes 2");
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("  pipeline under M "));
+}
+
 // scripts/transfer.lua in small (docs/results.md, Transfer across bodies): a T/DC6 policy on a wider
 // base over the Phi_SG it embeds and over one retrained on that base, as a batch and as roger eval.
 TEST_CASE("an evaluation over a retrained skill is roger eval --skill, whatever the jobs", "[cli][body]") {
@@ -1299,6 +1332,17 @@ TEST_CASE("roger eval runs a learned Sort4 policy from its file, loaded and not 
   const Run six = roger("eval curricula/sorting.lua --policy tests/policies/sort4_learned.json --set objects=6 "
                         "--episodes 1 --seed 3000000");
   CHECK(six.out.find("\n  stage params   objects = 4, overridden by --set objects=6 (stage Sort4, context Learned)\n") !=
+        std::string::npos);
+  // So is one the trial's own parameters replace (found by a newcomer: "objects = 4" shown of a
+  // policy trained, and evaluated, with 3). Its file made to say the trial trained with 3.
+  nlohmann::json three = nlohmann::json::parse(slurp("tests/policies/sort4_learned.json"));
+  three["extra"]["params"]["objects"] = "3";
+  const fs::path three_file = fs::temp_directory_path() / ("roger_cli_sort4_three_" + std::to_string(::getpid()) + ".json");
+  std::ofstream(three_file) << three.dump();
+  const Run trial = roger("eval curricula/sorting.lua --policy " + three_file.string() + " --episodes 1 --seed 3000000");
+  fs::remove(three_file);
+  CHECK(trial.out.find("\n  stage params   objects = 4, overridden by the trial's own objects = 3 (stage Sort4, "
+                       "context Learned)\n  trained with   objects = 3 (the trial's own parameters, set here too") !=
         std::string::npos);
   const nlohmann::json j = nlohmann::json::parse(r.out.substr(r.out.rfind("\n{") + 1));
   CHECK(j["params"]["objects"] == "4");

@@ -482,6 +482,19 @@ TEST_CASE("checking a skill script builds its scenarios' worlds and runs each po
   REQUIRE(region.size() == 1);
   CHECK_THAT(region[0], Contains("region.lua:4: policy 'r': the binding 'to seven' delivers to goal region 7, but the "
                                  "worlds of scenario 'sorting' have 4 goal regions (0 to 3)"));
+  // Found by a newcomer: a navigator's own region the worlds lack passed as well; one inside a
+  // binding that names the region goes where the binding says, and is not blamed.
+  std::ofstream(dir / "nav.lua") << "local nav = roger.primitive('phi1', { goal = 'region', region = 7 })\n"
+                                    "local in_bind = roger.primitive('phi1', { goal = 'region', region = 9 })\n"
+                                    "local b = roger.bind('to one', in_bind, { region = 1 })\n"
+                                    "return { policies = {\n"
+                                    "  go = { action = nav, goal = roger.converged(nav), time_limit = 5, scenario = 'sorting' },\n"
+                                    "  bound = { action = b, goal = roger.converged(b), time_limit = 5, scenario = 'sorting' },\n"
+                                    "} }\n";
+  const auto nav = check_skill_script((dir / "nav.lua").string());
+  REQUIRE(nav.size() == 1);
+  CHECK_THAT(nav[0], Contains("nav.lua:5: policy 'go': the navigator phi1 {goal = \"region\", region = 7} goes to goal "
+                              "region 7, but the worlds of scenario 'sorting' have 4 goal regions (0 to 3)"));
   fs::remove_all(dir);
 }
 

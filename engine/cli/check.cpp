@@ -313,9 +313,10 @@ int check_curriculum_file(const std::string& path, const std::string& shown, con
 }
 
 // A skill script: each policy's controllers built, then its policies listed.
-int check_skill_script_file(const std::string& path, const std::string& shown, const SandboxLimits& limits) {
+int check_skill_script_file(const std::string& path, const std::string& shown, const SandboxLimits& limits,
+                            const ParamList& sets) {
   std::optional<SkillScript> loaded;
-  const std::vector<std::string> problems = check_skill_script(path, limits, &loaded);
+  const std::vector<std::string> problems = check_skill_script(path, limits, &loaded, sets);
   for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.c_str());
   if (!problems.empty()) return 1;
   const SkillScript& script = *loaded;
@@ -433,14 +434,22 @@ static int check_named_script(const CheckArgs& args) {
   const SandboxLimits limits = sandbox_limits(a.lua);
   if (!script_kind_of(a.script)) {
     const std::vector<ModuleUse> users = module_users(a.script, possible_requirers(a.script));
-    if (is_module(a.script, users)) return check_module(a.script, args.script, users, limits);
+    if (is_module(a.script, users)) {
+      // Found by a newcomer: --set on a module was ignored, and the check said ok.
+      if (!a.sets.empty())
+        throw Error("roger check: --set sets a scenario's parameters, and " + args.script +
+                    " is a module, which has none: check the scenario, skill script or curriculum that requires "
+                    "it with the --set instead");
+      return check_module(a.script, args.script, users, limits);
+    }
     // Not a module: its loader throws what is unknown, with the nearest field.
     const std::optional<ScriptKind> guess = guessed_kind(a.script);
     if (guess == ScriptKind::kCurriculum) Curriculum::load(a.script, limits);
     if (guess == ScriptKind::kSkillScript) SkillScript::load(a.script, limits);
   }
   if (is_curriculum_script(a.script)) return check_curriculum_file(a.script, args.script, limits, split_sets(a.sets, "--set"));
-  if (is_skill_script(a.script)) return check_skill_script_file(a.script, args.script, limits);
+  if (is_skill_script(a.script))
+    return check_skill_script_file(a.script, args.script, limits, split_sets(a.sets, "--set"));
   if (is_batch_script(a.script)) return check_batch(a.script, args.script, a.lua, split_sets(a.sets, "--set"));
   return check_scenario_file(a, args.script, limits);
 }

@@ -92,27 +92,37 @@ void print_changes(const EvalArgs& a) {
   if (!changes.empty()) std::printf("  with           %s\n", changes.c_str());
 }
 
+using Params = std::vector<std::pair<std::string, std::string>>;
+
 // "eye_pixels = 32, overridden by --set eye_pixels=128": parameters, each one a --set of `sets`
 // replaced with another value marked so (found by a probe: the line read as if the coarse eyes were
-// in force).
-std::string params_marking_sets(const std::vector<std::pair<std::string, std::string>>& params,
-                                const std::vector<std::string>& sets) {
+// in force), and each one a saved policy's trial set otherwise (`trial`, set here too) marked as
+// that (found by a newcomer: eval said obstacles = 0 of a policy trained, and evaluated, with 2).
+std::string params_marking_sets(const Params& params, const std::vector<std::string>& sets, const Params& trial = {}) {
   std::string text;
   for (const auto& [name, value] : params) {
     text += (text.empty() ? "" : ", ") + name + " = " + value;
+    bool by_set = false;
     for (const std::string& set : sets)
-      if (set.rfind(name + "=", 0) == 0 && set.substr(name.size() + 1) != value) text += ", overridden by --set " + set;
+      if (set.rfind(name + "=", 0) == 0) {
+        by_set = true;
+        if (set.substr(name.size() + 1) != value) text += ", overridden by --set " + set;
+      }
+    if (by_set) continue;
+    for (const auto& [trial_name, trial_value] : trial)
+      if (trial_name == name && trial_value != value)
+        text += ", overridden by the trial's own " + name + " = " + trial_value;
   }
   return text;
 }
 
 // The stage's and context's own scenario parameters, when they have any (found by a probe: a
 // maturation's frozen eyes were said nowhere in train's or eval's output).
-void print_stage_params(const std::vector<std::pair<std::string, std::string>>& params, const std::string& stage,
-                        const std::string& context, const std::vector<std::string>& sets) {
+void print_stage_params(const Params& params, const std::string& stage, const std::string& context,
+                        const std::vector<std::string>& sets, const Params& trial = {}) {
   if (!params.empty())
-    std::printf("  stage params   %s (stage %s, context %s)\n", params_marking_sets(params, sets).c_str(), stage.c_str(),
-                context.c_str());
+    std::printf("  stage params   %s (stage %s, context %s)\n", params_marking_sets(params, sets, trial).c_str(),
+                stage.c_str(), context.c_str());
 }
 
 // What eval says of a saved policy beside the header: the stage's own parameters, another
@@ -120,7 +130,7 @@ void print_stage_params(const std::vector<std::pair<std::string, std::string>>& 
 // --set), set here too so that the held-out seeds are the trial's worlds, or, in another scenario,
 // left out.
 void print_trial_params(const PolicyEvalResult& r, const std::string& scenario, const std::vector<std::string>& sets) {
-  print_stage_params(r.stage_params, r.stage, r.context, sets);
+  print_stage_params(r.stage_params, r.stage, r.context, sets, r.trial_sets);
   if (r.trained_curriculum_edited)
     std::printf("  note           the curriculum %s changed since the policy was trained; stage %s, context %s of it "
                 "as it is now judge it here (their goal, reward and time limit, and its actions' definitions)\n",
@@ -296,7 +306,8 @@ int command_eval(const EvalArgs& a) {
   std::printf("roger eval: %s policy '%s' in %s, %s from seed %llu, %s\n",
               script.path().c_str(), policy.name.c_str(), scenario.name().c_str(), counted(a.episodes, "episode").c_str(),
               static_cast<unsigned long long>(a.seed), limit.c_str());
-  if (!policy.params.empty()) std::printf("  policy params  %s\n", params_text(policy.params).c_str());
+  if (!policy.params.empty())
+    std::printf("  policy params  %s\n", params_marking_sets(policy.params, a.sets).c_str());
   print_changes(a);
   std::vector<uint64_t> failed;
   for (size_t i = 0; i < r.results.size(); ++i)

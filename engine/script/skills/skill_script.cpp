@@ -18,6 +18,7 @@
 #include "core/error.h"
 #include "core/fileio.h"
 #include "core/text.h"
+#include "control/primitives.h"
 #include "script/control/lua_control.h"
 #include "script/sandbox/lua_tokens.h"
 #include "script/scenario/scenario.h"
@@ -380,19 +381,42 @@ std::string first_ticks_problem(const SkillScript& script, const SkillScript::Na
   return "";
 }
 
-// The first binding reached from `c` (each controller once, as `collect` walks) that delivers to a
-// goal region at or past `regions`, or null.
-const Binding* binding_past(const Controller* c, int regions, std::set<const Controller*>& seen) {
-  if (!c || !seen.insert(c).second) return nullptr;
-  if (const auto* b = dynamic_cast<const Binding*>(c); b && b->bindings().region >= regions) return b;
-  for (const Controller* child : c->children())
-    if (const Binding* b = binding_past(child, regions, seen)) return b;
-  return nullptr;
+// A goal region a controller of a policy sends Roger to: a binding's delivery region, or a
+// navigator's own `region` (goal = "region") where no binding above it names the region.
+struct RegionUse {
+  const Controller* controller = nullptr;
+  int region = -1;
+  bool binding = false;
+};
+
+// Whether `p` navigates to the goal region its `region` parameter names.
+bool navigates_to_region(const Primitive& p) {
+  const auto& defs = p.param_defs();
+  const auto goal = std::find_if(defs.begin(), defs.end(), [](const ParamDef& d) { return d.name == "goal"; });
+  const bool has_region =
+      std::any_of(defs.begin(), defs.end(), [](const ParamDef& d) { return d.name == "region"; });
+  return goal != defs.end() && goal->text == "region" && has_region;
 }
 
-// A delivery region a binding of the policy names that none of the scenario's first worlds has
-// (found by a probe: check said ok, and eval named the binding only as a part NOREF at every tick),
-// or "".
+// The first region use reached from `c` (each controller once, as `collect` walks) at or past
+// `regions`, into `out`; `bound` when a binding above names the region.
+bool region_past(const Controller* c, int regions, bool bound, std::set<const Controller*>& seen, RegionUse& out) {
+  if (!c || !seen.insert(c).second) return false;
+  if (const auto* b = dynamic_cast<const Binding*>(c)) {
+    if (b->bindings().region >= regions) return out = {c, b->bindings().region, true}, true;
+    bound = bound || b->bindings().region >= 0;
+  } else if (const auto* prim = dynamic_cast<const Primitive*>(c); prim && !bound && navigates_to_region(*prim)) {
+    const int region = int(prim->number("region"));
+    if (region >= regions) return out = {c, region, false}, true;
+  }
+  for (const Controller* child : c->children())
+    if (region_past(child, regions, bound, seen, out)) return true;
+  return false;
+}
+
+// A goal region a binding or a navigator of the policy names that none of the scenario's first
+// worlds has (found by a probe for bindings, and by a newcomer for a plain phi1 {goal = "region"}:
+// check said ok, and eval named the controller only as NOREF at every tick), or "".
 std::string binding_region_problem(const SkillScript& script, const SkillScript::NamedPolicy& p, Scenario& scenario) {
   size_t regions = 0;
   try {
@@ -401,18 +425,50 @@ std::string binding_region_problem(const SkillScript& script, const SkillScript:
     return "";  // the worlds' own problem, said by worlds_problem
   }
   std::set<const Controller*> seen;
-  const Binding* b = binding_past(p.action.get(), int(regions), seen);
-  if (!b) return "";
-  return script.path() + ":" + std::to_string(p.goal_line) + ": policy '" + p.name + "': the binding '" + b->name() +
-         "' delivers to goal region " + std::to_string(b->bindings().region) + ", but the worlds of scenario '" +
-         p.scenario + "' have " + counted(int(regions), "goal region") +
+  RegionUse use;
+  if (!region_past(p.action.get(), int(regions), false, seen, use)) return "";
+  const std::string who = use.binding ? "the binding '" + use.controller->name() + "' delivers to"
+                                      : "the navigator " + use.controller->name() + " {" +
+                                            use.controller->settings() + "} goes to";
+  return script.path() + ":" + std::to_string(p.goal_line) + ": policy '" + p.name + "': " + who + " goal region " +
+         std::to_string(use.region) + ", but the worlds of scenario '" + p.scenario + "' have " +
+         counted(int(regions), "goal region") +
          (regions > 0 ? " (0 to " + std::to_string(regions - 1) + ")" : std::string());
 }
 
 }  // namespace
 
+namespace {
+
+using SetList = std::vector<std::pair<std::string, std::string>>;  // scenario parameters as text
+
+// `sets` (roger check's --set) on a policy's scenario: those it declares, as `roger eval` of the
+// policy takes them; their names join `used`.
+void set_declared(Scenario& scenario, const SetList& sets, std::set<std::string>& used) {
+  std::set<std::string> declared;
+  for (const ScenarioParam& p : scenario.params()) declared.insert(p.name);
+  SetList mine;
+  for (const auto& [name, value] : sets)
+    if (declared.count(name)) mine.push_back({name, value}), used.insert(name);
+  scenario.set_params(mine);
+}
+
+// A --set that no policy's scenario declares, refused by the first scenario that loaded (its
+// message lists its parameters and the nearest), or "" when none did (their errors say why).
+std::string undeclared_set_problem(const std::pair<std::string, std::string>& set, Scenario* first) {
+  if (!first) return "";
+  try {
+    first->set_params({set});
+  } catch (const std::exception& e) {
+    return "--set " + set.first + "=" + set.second + ": no policy's scenario declares it; " + e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
 std::vector<std::string> check_skill_script(const std::string& path, const SandboxLimits& limits,
-                                            std::optional<SkillScript>* loaded) {
+                                            std::optional<SkillScript>* loaded, const SetList& sets) {
   std::vector<std::string> problems;
   std::optional<SkillScript> own;
   std::optional<SkillScript>& script = loaded ? *loaded : own;
@@ -430,13 +486,16 @@ std::vector<std::string> check_skill_script(const std::string& path, const Sandb
     bool own = false;    // an error at the script's own line (the policy's params)
   };
   std::map<std::pair<std::string, std::vector<std::pair<std::string, std::string>>>, Loaded> loaded_scenarios;
+  std::set<std::string> used_sets;  // the --set names some policy's scenario declares
   for (const auto& name : script->policy_names()) {
     const SkillScript::NamedPolicy& policy = script->policy(name);
     const std::string where = "policy '" + name + "': scenario '" + policy.scenario + "': ";
     auto [it, fresh] = loaded_scenarios.emplace(std::make_pair(policy.scenario, policy.params), Loaded{});
     Loaded& l = it->second;
     if (fresh) try {
-        l.scenario = std::make_unique<Scenario>(script->scenario_of(policy, "", limits));
+        auto scenario = std::make_unique<Scenario>(script->scenario_of(policy, "", limits));
+        set_declared(*scenario, sets, used_sets);  // a value it refuses leaves no scenario
+        l.scenario = std::move(scenario);
         if (const std::string problem = worlds_problem(*l.scenario); !problem.empty()) {
           problems.push_back(where + problem);
           continue;
@@ -456,6 +515,12 @@ std::vector<std::string> check_skill_script(const std::string& path, const Sandb
     else if (const std::string region = binding_region_problem(*script, policy, *l.scenario); !region.empty())
       problems.push_back(region);
   }
+  Scenario* first = nullptr;
+  for (auto& [key, l] : loaded_scenarios)
+    if (l.scenario && !first) first = l.scenario.get();
+  for (const auto& set : sets)
+    if (!used_sets.count(set.first))
+      if (const std::string problem = undeclared_set_problem(set, first); !problem.empty()) problems.push_back(problem);
   return problems;
 }
 

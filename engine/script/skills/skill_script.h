@@ -105,8 +105,11 @@ bool is_skill_script(const std::string& path);
 // generates the worlds of seeds 0..19, and that each policy runs its first ticks (0.1 s) in the
 // world of seed 0, its goal evaluated there. Returns the problems found (empty when sound), each a complete message with
 // file:line where known. `loaded` (may be null) receives the script when it loaded, so that a
-// caller need not run it again (its prints would show twice).
+// caller need not run it again (its prints would show twice). `sets` (roger check's --set) are set
+// on each policy's scenario that declares them, as `roger eval` takes them; one that no policy's
+// scenario declares is a problem.
 std::vector<std::string> check_skill_script(const std::string& path, const SandboxLimits& limits = {},
-                                            std::optional<SkillScript>* loaded = nullptr);
+                                            std::optional<SkillScript>* loaded = nullptr,
+                                            const std::vector<std::pair<std::string, std::string>>& sets = {});
 
 }  // namespace roger
