@@ -12,6 +12,7 @@
 // userdata, threads) in Lua's order, which is the one part that can change between runs.
 // `next` stays Lua's own.
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -93,36 +94,73 @@ SortKey describe_key(lua_State* L, int slot) {
   return k;
 }
 
+// Raises what Lua's next raises for the key at index 2 of pairs' table (upvalue 1), if anything:
+// "invalid key to 'next'" with no position, as Lua's next raises it from C. Whether Lua takes a
+// key is its table's business: a float key of integral value is never an array index to it
+// (lua 5.4.4's findindex), and in the hash part it is found only when its slot's chain holds the
+// integer key; an integer key with no value is taken in the array part; a key whose value was
+// cleared stays until the table is rebuilt.
+void check_key_as_lua(lua_State* L) {
+  lua_pushvalue(L, 2);
+  if (lua_next(L, lua_upvalueindex(1))) lua_pop(L, 2);
+}
+
+// For a key Lua's next takes that pairs did not collect: how many collected keys (upvalue 2)
+// sort at or before it (a key with no order of its own goes after them all).
+lua_Integer sorted_place(lua_State* L) {
+  lua_pushvalue(L, 2);
+  const SortKey key = describe_key(L, INT_MAX);
+  lua_Integer lo = 0, hi = lua_Integer(lua_rawlen(L, lua_upvalueindex(2)));
+  while (lo < hi) {
+    const lua_Integer mid = lo + (hi - lo) / 2;
+    lua_rawgeti(L, lua_upvalueindex(2), mid + 1);
+    const bool after = key_below(key, describe_key(L, int(mid + 1)));
+    lua_pop(L, 1);
+    if (after) hi = mid; else lo = mid + 1;
+  }
+  lua_pop(L, 1);
+  return lo;
+}
+
+// The position to look from after the key at index 2 (not nil). The key returned last is known
+// at once; any other is looked up among the collected keys. A float key, and a key pairs did not
+// collect, are first put to Lua's next, which refuses them or not as it would (found by a probe:
+// the iterator took 1.0 for 1 and refused keys with luaL_error, which puts file:line in front).
+lua_Integer position_after(lua_State* L) {
+  const bool is_float = lua_type(L, 2) == LUA_TNUMBER && !lua_isinteger(L, 2);
+  const lua_Integer last = lua_tointeger(L, lua_upvalueindex(3));
+  if (!is_float && last > 0) {
+    lua_rawgeti(L, lua_upvalueindex(2), last);
+    const bool same = lua_rawequal(L, -1, 2);
+    lua_pop(L, 1);
+    if (same) return last + 1;
+  }
+  lua_pushvalue(L, 2);
+  const bool known = lua_rawget(L, lua_upvalueindex(4)) == LUA_TNUMBER;
+  const lua_Integer place = known ? lua_tointeger(L, -1) : 0;
+  lua_pop(L, 1);
+  if (known && !is_float) return place + 1;
+  check_key_as_lua(L);
+  return (known ? place : sorted_place(L)) + 1;
+}
+
 // The iterator, called as Lua calls next: (t, k) gives the key after k and its value, whatever it
 // returned before (found by a probe: it kept a cursor of its own, so a peek at the first key, or
 // the iterator used twice, skipped keys). Upvalue 1 is the table, 2 its keys in order, 3 the
 // position of the key it returned last (where the next call usually starts), 4 each key's
-// position. A key whose value was cleared during the loop is passed over; a key the table did not
-// have when pairs was called is refused as Lua's next refuses one it lacks. Another table than
-// pairs' is walked by Lua's next.
+// position. A key whose value was cleared during the loop is passed over. Another table than
+// pairs' is walked by Lua's next; anything else is refused as Lua's next refuses it, before the
+// arguments are padded (found by a probe: a call with none said "got nil", not "got no value").
 int sorted_next(lua_State* L) {
-  lua_settop(L, 2);
   if (!lua_rawequal(L, 1, lua_upvalueindex(1))) {
     luaL_checktype(L, 1, LUA_TTABLE);
+    lua_settop(L, 2);
     if (lua_next(L, 1)) return 2;
     lua_pushnil(L);
     return 1;
   }
-  lua_Integer at = 1;  // the position to look from
-  if (!lua_isnil(L, 2)) {
-    const lua_Integer last = lua_tointeger(L, lua_upvalueindex(3));
-    lua_rawgeti(L, lua_upvalueindex(2), last);
-    const bool same = last > 0 && lua_rawequal(L, -1, 2);
-    lua_pop(L, 1);
-    if (same) {
-      at = last + 1;
-    } else {
-      lua_pushvalue(L, 2);
-      if (lua_rawget(L, lua_upvalueindex(4)) != LUA_TNUMBER) return luaL_error(L, "invalid key to 'next'");
-      at = lua_tointeger(L, -1) + 1;
-      lua_pop(L, 1);
-    }
-  }
+  lua_settop(L, 2);
+  lua_Integer at = lua_isnil(L, 2) ? 1 : position_after(L);
   for (;; ++at) {
     if (lua_rawgeti(L, lua_upvalueindex(2), at) == LUA_TNIL) return 1;  // the end: nil
     lua_pushvalue(L, -1);

@@ -398,6 +398,14 @@ void LuaSandbox::call(int nargs, int nresults) {
   }
   lua_remove(L, base);
   if (status != LUA_OK) throw_call_error(s, status, entry_file);
+  // A budget's error that a script's pcall or xpcall caught, its function then ending at once
+  // (`return pcall(loop)`): no instruction came after the catch to raise it again, and the call
+  // returned as if the budget held (found by a probe). It is the budget's error all the same.
+  if (sandbox_detail::budget_spent(s) && s.spent_report[0] != '\0') {
+    lua_settop(L, base - 1);
+    lua_pushstring(L, s.spent_report.data());
+    throw_call_error(s, LUA_ERRRUN, entry_file);
+  }
 }
 
 void LuaSandbox::run_file(const std::string& path, int nresults) {

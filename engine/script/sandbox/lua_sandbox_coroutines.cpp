@@ -90,6 +90,7 @@ void after_running(lua_State* L, int co, int error) {
   lua_rawset(L, -3);
   lua_pop(L, 1);
   if (error == 0) return;
+  disarm_handlers(L);  // the budget's error: no script's xpcall handler runs for it
   lua_pushvalue(L, error);
   lua_error(L);
 }

@@ -6,8 +6,7 @@
 // nothing for a call Lua refuses or answers before its loop, else the loop up to where Lua ends it
 // (the first invalid UTF-8 sequence or digit, say). Then Lua's own function runs in the same
 // frame, so results, messages and their file:line are Lua's. The table functions that loop over
-// elements are charged as they go instead (lua_table_library.cpp).
-#include <algorithm>
+// elements, table.sort among them, are charged as they go instead (lua_table_library.cpp).
 #include <cctype>
 #include <climits>
 #include <cstdint>
@@ -24,10 +23,9 @@ namespace {
 constexpr const char* kTooMuch = "the call asks for more work than the budget has left";
 // What C work costs in instructions, measured against a plain Lua loop (4-5 ns an instruction
 // here) and rounded up so that each stops no later than the loop: a byte scanned takes 2-6 ns, a
-// value pushed or a format item 20-30 ns, a comparison through a closure and a C __lt 80 ns.
+// value pushed or a format item 20-30 ns.
 constexpr uint64_t kBytesPerUnit = 1;      // bytes scanned per instruction charged
 constexpr uint64_t kElementCost = 8;       // instructions charged per argument or format item
-constexpr uint64_t kComparisonCost = 32;   // instructions charged per comparison of table.sort
 
 // The instructions charged for n elements, saturating.
 uint64_t elements(uint64_t n) { return n > UINT64_MAX / kElementCost ? UINT64_MAX : n * kElementCost; }
@@ -276,54 +274,6 @@ int charged_rep(lua_State* L) {
   return results;
 }
 
-// What one comparison of table.sort without a comparator costs: two numbers one instruction, as
-// Lua's < does; two strings one more per kBytesPerInstruction bytes they may share; anything else
-// goes through a __lt metamethod, which may be a C function no hook counts: kComparisonCost.
-uint64_t plain_comparison_cost(lua_State* L) {
-  const int a = lua_type(L, 1), b = lua_type(L, 2);
-  if (a == LUA_TNUMBER && b == LUA_TNUMBER) return 1;
-  if (a != LUA_TSTRING || b != LUA_TSTRING) return kComparisonCost;
-  size_t la = 0, lb = 0;
-  lua_tolstring(L, 1, &la), lua_tolstring(L, 2, &lb);
-  return 1 + std::min(la, lb) / kBytesPerInstruction;
-}
-
-// table.sort's comparisons: calls the script's comparator (upvalue 1), kComparisonCost
-// instructions each (a call through this closure, or a comparator in C, takes as long), or <, at
-// plain_comparison_cost.
-int counted_less(lua_State* L) {
-  const bool plain = lua_isnil(L, lua_upvalueindex(1));
-  charge_budget(L, plain ? plain_comparison_cost(L) : kComparisonCost, "table.sort",
-                "too many comparisons for the budget left");
-  if (plain) {
-    lua_pushboolean(L, lua_compare(L, 1, 2, LUA_OPLT));
-    return 1;
-  }
-  lua_pushvalue(L, lua_upvalueindex(1));
-  lua_insert(L, 1);
-  lua_call(L, 2, 1);
-  return 1;
-}
-
-// table.sort(t [, comp]): Lua's, with every comparison counted (a bad comparator, or __lt given
-// as a C function, makes no VM instruction of its own).
-int charged_sort(lua_State* L) {
-  if (lua_type(L, 1) != LUA_TTABLE) {  // Lua's own check comes first (a table, or one by metatable)
-    if (!lua_getmetatable(L, 1)) luaL_checktype(L, 1, LUA_TTABLE);
-    lua_pop(L, 1);
-  }
-  // Anything but a function or nil for the order is Lua's to judge, and Lua looks at it only after
-  // the list (table.sort('abc', 2) names argument #1) and only when there are two elements or
-  // more to order (table.sort({}, 2) is no error): its sort, given the arguments as they are,
-  // makes no comparison to count before it refuses them or returns.
-  if (!lua_isnoneornil(L, 2) && lua_type(L, 2) != LUA_TFUNCTION) return lua_tocfunction(L, lua_upvalueindex(1))(L);
-  lua_settop(L, 2);
-  lua_pushvalue(L, 2);
-  lua_pushcclosure(L, counted_less, 1);
-  lua_replace(L, 2);
-  return lua_tocfunction(L, lua_upvalueindex(1))(L);
-}
-
 // The iterator utf8.codes returns: Lua's (upvalue 1), charged for the continuation bytes it skips
 // from the position it is given (none from a position past the string) and the sequence it reads.
 int charged_codes_step(lua_State* L) {
@@ -365,7 +315,6 @@ const Charged kCharged[] = {
     {"string", "lower", "string.lower", charged<cost_string_bytes>},
     {"string", "reverse", "string.reverse", charged<cost_string_bytes>},
     {"string", "format", "string.format", charged<cost_string_format>},
-    {"table", "sort", "table.sort", charged_sort},
     {"utf8", "char", "utf8.char", charged<cost_codes<0x7FFFFFFF>>},
     {"utf8", "len", "utf8.len", charged<cost_utf8_len>},
     {"utf8", "codepoint", "utf8.codepoint", charged<cost_utf8_codepoint>},

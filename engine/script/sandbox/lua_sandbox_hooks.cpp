@@ -211,6 +211,7 @@ namespace {
   auto& s = impl_of(L);
   if (s.spent_report[0] == '\0')
     std::snprintf(s.spent_report.data(), s.spent_report.size(), "%s%s%s", where, *where ? ": " : "", text);
+  disarm_handlers(L);  // no script's xpcall handler runs for it (lua_sandbox_libs.cpp)
   lua_pushstring(L, s.spent_report.data());
   lua_error(L);
   std::abort();  // lua_error does not return
@@ -351,7 +352,10 @@ int lua_protect(lua_State* L, const std::function<int()>& body) {
   } catch (const std::exception& e) {
     message = e.what();
   }
-  // Raised outside the catch blocks, once the C++ exception is destroyed.
+  // Raised outside the catch blocks, once the C++ exception is destroyed. A budget spent in a
+  // call the engine made (its error comes back here) is the budget's error still: no script's
+  // xpcall handler runs for it.
+  if (sandbox_detail::budget_spent(impl_of(L))) sandbox_detail::disarm_handlers(L);
   if (located) {
     lua_pushstring(L, message.c_str());
     return lua_error(L);

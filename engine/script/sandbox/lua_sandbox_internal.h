@@ -64,8 +64,6 @@ struct LuaSandbox::Impl {
   bool warnings_on = false;
   bool warning_continues = false;
   std::string warning;
-  // Lua's debug.traceback, the one function of debug the sandbox keeps (xpcall's handler knows it).
-  lua_CFunction traceback = nullptr;
 
   // Filled by the message handler at the moment of an error.
   std::string err_traceback, err_file;
@@ -178,6 +176,11 @@ void install_pairs(lua_State* L);
 
 // Opens the permitted libraries and installs the replacements (run protected: it allocates).
 int open_sandbox(lua_State* L);
+
+// Before a budget's error is raised on L: the handler of every xpcall running on L is replaced by
+// one keeping the message, so no script's handler runs for it (Lua would run one with hooks off
+// for an error raised in the count hook). Allocates nothing.
+void disarm_handlers(lua_State* L);
 
 // ---- lua_sandbox_coroutines.cpp: the coroutine library under the call's budgets ----
 

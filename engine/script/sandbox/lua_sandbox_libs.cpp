@@ -1,6 +1,7 @@
 // lua_sandbox_libs.cpp: the libraries a sandboxed script sees, with guards standing in for the
 // missing ones and safe replacements of load, print and require.
 #include <algorithm>
+#include <cstring>
 #include <string>
 
 #include <lua.hpp>
@@ -194,34 +195,133 @@ int sandbox_setmetatable(lua_State* L) {
   return 1;
 }
 
-// The message handler xpcall installs: the script's (upvalue 1), except for the budgets' errors.
-// Those are raised from the count hook, and Lua calls the handler with hooks still off: a handler
-// that looped would never be stopped, so the error goes on unhandled.
-// debug.traceback as the handler starts one level further, below this frame, so that it reads as
-// in plain Lua (found by a probe: every such traceback began "[C]: in ?", or "in metamethod
-// 'index'" for an error of the VM).
-int budget_aware_handler(lua_State* L) {
-  const auto& s = impl_of(L);
-  if (budget_spent(s)) return 1;
-  lua_pushvalue(L, lua_upvalueindex(1));
-  lua_insert(L, 1);
-  if (s.traceback && lua_tocfunction(L, 1) == s.traceback && lua_gettop(L) == 2) {
-    lua_pushinteger(L, 2);
-    lua_call(L, 2, 1);
-    return 1;
+// xpcall and the budgets. An error raised in the count hook (the budget's own) reaches the
+// message handler with hooks still off: a handler that looped would never be stopped. So the
+// budget's errors never reach a script's handler: before one is raised, the handler of every
+// xpcall running on the thread is replaced by keep_message (disarm_handlers); every other error
+// reaches the script's handler as in Lua. The handler is the one Lua calls, from where Lua calls
+// it: a wrapper calling it (the sandbox had one) was a frame of its own, seen in tracebacks
+// ("[C]: in ?"), by error levels, and by the C stack (a handler that kept raising ran half as
+// often before "error in error handling").
+//
+// The running xpcalls of a thread are found by their activation records (lua_getstack at level
+// 0 when xpcall starts; lua_setlocal reaches a frame's slots through one while the frame lives),
+// kept in a registry table keyed weakly by thread: a walk of the stack to find them costs a
+// lua_getstack per level, each as long as the level is deep, and a recursion 100,000 deep would
+// take minutes to say its budget is spent.
+constexpr const char* kXpcallsKey = "roger.xpcall_frames";
+
+// The activation records of the xpcalls running on one thread, innermost last (a userdata).
+struct XpcallFrames {
+  int count;
+  int capacity;
+  lua_Debug frames[1];  // `capacity` of them
+};
+
+size_t frames_size(int capacity) { return sizeof(XpcallFrames) + sizeof(lua_Debug) * size_t(capacity - 1); }
+
+// Pushes the registry's table of running xpcalls, made weak-keyed when first made: a coroutine
+// left suspended inside an xpcall takes its records with it when it is collected.
+void push_xpcalls(lua_State* L) {
+  if (luaL_getsubtable(L, LUA_REGISTRYINDEX, kXpcallsKey)) return;
+  lua_createtable(L, 0, 1);
+  lua_pushliteral(L, "k");
+  lua_setfield(L, -2, "__mode");
+  lua_setmetatable(L, -2);
+}
+
+// The running thread's records, or null; allocates nothing (a budget's error may be on its way).
+XpcallFrames* thread_frames(lua_State* L) {
+  if (lua_getfield(L, LUA_REGISTRYINDEX, kXpcallsKey) != LUA_TTABLE) {
+    lua_pop(L, 1);
+    return nullptr;
   }
-  lua_call(L, lua_gettop(L) - 1, 1);
+  lua_pushthread(L);
+  lua_rawget(L, -2);
+  auto* frames = static_cast<XpcallFrames*>(lua_touserdata(L, -1));
+  lua_pop(L, 2);  // the table keeps the userdata
+  return frames;
+}
+
+// Notes the running xpcall (level 0) among the thread's records, growing them as needed.
+void note_xpcall(lua_State* L) {
+  lua_Debug here;
+  lua_getstack(L, 0, &here);
+  XpcallFrames* frames = thread_frames(L);
+  if (!frames || frames->count == frames->capacity) {
+    const int capacity = frames ? frames->capacity * 2 : 4;
+    push_xpcalls(L);
+    auto* grown = static_cast<XpcallFrames*>(lua_newuserdatauv(L, frames_size(capacity), 0));
+    grown->count = frames ? frames->count : 0;
+    grown->capacity = capacity;
+    if (frames) std::memcpy(grown->frames, frames->frames, sizeof(lua_Debug) * size_t(frames->count));
+    lua_pushthread(L);
+    lua_insert(L, -2);
+    lua_rawset(L, -3);
+    lua_pop(L, 1);
+    frames = grown;
+  }
+  frames->frames[frames->count++] = here;
+}
+
+// Forgets the running xpcall (level 0), and any record above it.
+void forget_xpcall(lua_State* L) {
+  lua_Debug here;
+  XpcallFrames* frames = thread_frames(L);
+  if (!frames || !lua_getstack(L, 0, &here)) return;
+  for (int i = frames->count - 1; i >= 0; --i) {
+    if (frames->frames[i].i_ci == here.i_ci) {
+      frames->count = i;
+      return;
+    }
+  }
+}
+
+// The handler standing for a script's while a budget's error goes by: the message as it is.
+int keep_message(lua_State* L) {
+  lua_settop(L, 1);
   return 1;
 }
 
-// xpcall(f, handler, ...): Lua's (upvalue 1, run in this frame), the handler wrapped as above.
-int sandbox_xpcall(lua_State* L) {
-  luaL_checktype(L, 2, LUA_TFUNCTION);
-  lua_pushvalue(L, 2);
-  lua_pushcclosure(L, budget_aware_handler, 1);
-  lua_replace(L, 2);
-  return lua_tocfunction(L, lua_upvalueindex(1))(L);
+// lbaselib's finishpcall, as xpcall's continuation too (after a yield in its function, or an
+// error a coroutine's resume recovered): the xpcall is over, so its record goes.
+int finish_xpcall(lua_State* L, int status, lua_KContext extra) {
+  forget_xpcall(L);
+  if (status != LUA_OK && status != LUA_YIELD) {
+    lua_pushboolean(L, 0);
+    lua_pushvalue(L, -2);
+    return 2;
+  }
+  return lua_gettop(L) - int(extra);
 }
+
+// xpcall(f, handler, ...): lbaselib's luaB_xpcall, noting itself while it runs.
+int sandbox_xpcall(lua_State* L) {
+  const int n = lua_gettop(L);
+  luaL_checktype(L, 2, LUA_TFUNCTION);
+  note_xpcall(L);
+  lua_pushboolean(L, 1);
+  lua_pushvalue(L, 1);
+  lua_rotate(L, 3, 2);
+  const int status = lua_pcallk(L, n - 2, LUA_MULTRET, 2, 2, finish_xpcall);
+  return finish_xpcall(L, status, 2);
+}
+
+}  // namespace
+
+// Replaces the handler of every xpcall running on L by keep_message (slot 2 of xpcall's frame,
+// where Lua looks for it when an error comes). Without room for two values it does nothing: the
+// stack is then at Lua's limit, where calling a handler fails anyway ("error in error handling").
+void disarm_handlers(lua_State* L) {
+  if (!lua_checkstack(L, 2)) return;
+  XpcallFrames* frames = thread_frames(L);
+  for (int i = 0; frames && i < frames->count; ++i) {
+    lua_pushcfunction(L, keep_message);
+    if (!lua_setlocal(L, &frames->frames[i], 2)) lua_pop(L, 1);
+  }
+}
+
+namespace {
 
 // Lua's own libraries that read no file, reach no process and are seeded from nothing outside.
 void open_permitted_libraries(lua_State* L) {
@@ -249,8 +349,7 @@ void install_base_replacements(lua_State* L, int g) {
   lua_setfield(L, g, "require");
   lua_pushcfunction(L, sandbox_print);
   lua_setfield(L, g, "print");
-  lua_getfield(L, g, "xpcall");
-  lua_pushcclosure(L, sandbox_xpcall, 1);
+  lua_pushcfunction(L, sandbox_xpcall);
   lua_setfield(L, g, "xpcall");
   lua_pushcfunction(L, sandbox_setmetatable);
   lua_setfield(L, g, "setmetatable");
@@ -271,7 +370,6 @@ void install_library_guards(lua_State* L, int g) {
       luaopen_debug(L);  // a table of the library's functions; nothing else is installed
       lua_getfield(L, -1, "traceback");
       lua_remove(L, -2);
-      impl_of(L).traceback = lua_tocfunction(L, -1);
       lua_rawset(L, -3);
     }
     lua_pushvalue(L, -1);
