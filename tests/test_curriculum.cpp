@@ -152,6 +152,17 @@ TEST_CASE("roger check calls the Lua callbacks as at an episode's first decision
   CHECK(check_curriculum("curricula/sorting.lua").empty());  // Lua callbacks that read the world
 }
 
+// Found by a newcomer (in a skill script): a navigator sent to a goal region the worlds lack passed
+// check and was NOREF at every decision; a curriculum's actions were not looked at. One inside a
+// binding that names the region goes where the binding says.
+TEST_CASE("roger check refuses an action sent to a goal region the stage's worlds lack", "[curriculum]") {
+  const std::vector<std::string> problems = check_curriculum("tests/scripts/bad_curriculum_region.lua");
+  REQUIRE(problems.size() == 1);
+  CHECK(problems[0] == "tests/scripts/bad_curriculum_region.lua:7: stage 'S', context 'A': action 'phi1': the "
+                       "navigator phi1 {goal = \"region\", region = 7} goes to goal region 7, but the worlds of "
+                       "scenario 'unobstructed' have 1 goal region (0 to 0)");
+}
+
 // Found by a probe: a slip on the time-out's branch of a reward passed check, and training stopped
 // at its first episode's end.
 TEST_CASE("roger check calls a Lua reward also as at an episode's end", "[curriculum]") {

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <sstream>
 
 #include "control/primitives_internal.h"
@@ -220,6 +221,46 @@ const std::map<std::string, std::string>& primitive_descriptions() {
       {"phi5", "dynamic contact adjustment: hold the grasp while the base accelerates"},
       {"release", "let go: arms back to the start posture, then back the base off"}};
   return d;
+}
+
+namespace {
+
+// Whether `p` navigates to the goal region its `region` parameter names.
+bool navigates_to_region(const Primitive& p) {
+  const auto& defs = p.param_defs();
+  const auto goal = std::find_if(defs.begin(), defs.end(), [](const ParamDef& d) { return d.name == "goal"; });
+  const bool has_region = std::any_of(defs.begin(), defs.end(), [](const ParamDef& d) { return d.name == "region"; });
+  return goal != defs.end() && goal->text == "region" && has_region;
+}
+
+// first_region_beyond's walk; `bound` when a binding above names the region.
+bool region_beyond(const Controller* c, int regions, bool bound, std::set<const Controller*>& seen, RegionUse& out) {
+  if (!c || !seen.insert(c).second) return false;
+  if (const auto* b = dynamic_cast<const Binding*>(c)) {
+    if (b->bindings().region >= regions) return out = {c, b->bindings().region, true}, true;
+    bound = bound || b->bindings().region >= 0;
+  } else if (const auto* prim = dynamic_cast<const Primitive*>(c); prim && !bound && navigates_to_region(*prim)) {
+    const int region = int(prim->number("region"));
+    if (region >= regions) return out = {c, region, false}, true;
+  }
+  for (const Controller* child : c->children())
+    if (region_beyond(child, regions, bound, seen, out)) return true;
+  return false;
+}
+
+}  // namespace
+
+RegionUse first_region_beyond(const Controller* root, int regions) {
+  std::set<const Controller*> seen;
+  RegionUse use;
+  region_beyond(root, regions, false, seen, use);
+  return use;
+}
+
+std::string region_use_text(const RegionUse& use) {
+  if (!use.controller) return "";
+  return use.binding ? "the binding '" + use.controller->name() + "' delivers to"
+                     : "the navigator " + use.controller->name() + " {" + use.controller->settings() + "} goes to";
 }
 
 }  // namespace roger

@@ -147,4 +147,18 @@ const std::vector<std::string>& primitive_names();
 // One-line descriptions of the primitives, for documentation and `roger check`.
 const std::map<std::string, std::string>& primitive_descriptions();
 
+// A goal region a controller sends Roger to: a binding's delivery region, or a navigator's own
+// `region` (goal = "region") where no binding above it names the region.
+struct RegionUse {
+  const Controller* controller = nullptr;  // null: none found
+  int region = -1;
+  bool binding = false;
+};
+// The first region use reached from `root` (children after their parent, each controller once)
+// at `regions` or beyond: what `roger check` refuses in worlds of `regions` goal regions.
+RegionUse first_region_beyond(const Controller* root, int regions);
+// "the binding 'to seven' delivers to" or "the navigator phi1 {goal = "region", region = 7} goes
+// to", for a use found.
+std::string region_use_text(const RegionUse& use);
+
 }  // namespace roger

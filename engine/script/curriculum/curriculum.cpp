@@ -16,6 +16,7 @@
 #include "core/error.h"
 #include "core/fileio.h"
 #include "core/text.h"
+#include "control/primitives.h"
 #include "script/curriculum/curriculum_internal.h"
 #include "script/sandbox/lua_tokens.h"
 #include "script/control/lua_control.h"
@@ -845,6 +846,32 @@ void check_callbacks(Curriculum& cur, const CurriculumStage& st, const Curriculu
   cur.set_world(nullptr);
 }
 
+// An action of the context that sends Roger to a goal region (a binding's, or a navigator's own)
+// none of the stage's first worlds (seeds 0 to 4 of `s`) has: it would be NOREF at every
+// decision (found by a newcomer in a skill script, which roger check already refused for a
+// binding; a curriculum's actions were not looked at).
+void check_regions(const CurriculumStage& st, const CurriculumContext& ctx, Scenario& s, const WorldSpec& seed0,
+                   std::vector<std::string>& problems) {
+  for (const ControllerPtr& action : ctx.actions) {
+    if (!first_region_beyond(action.get(), int(seed0.goals.size())).controller) continue;
+    // Beyond seed 0's regions: the most of the first worlds decides (the count may vary by seed).
+    int regions = 0;
+    try {
+      for (uint64_t seed = 0; seed < 5; ++seed) regions = std::max(regions, int(s.generate(seed).goals.size()));
+    } catch (const std::exception&) {
+      return;  // the worlds' own problem, said where they are built
+    }
+    const RegionUse use = first_region_beyond(action.get(), regions);
+    if (!use.controller) continue;
+    const std::string at = !st.file.empty() && st.line > 0 ? st.file + ":" + std::to_string(st.line) + ": " : "";
+    problems.push_back(at + st.where(ctx.name) + ": action '" + action->name() + "': " + region_use_text(use) +
+                       " goal region " + std::to_string(use.region) + ", but the worlds of scenario '" + st.scenario +
+                       "' have " + counted(regions, "goal region") +
+                       (regions > 0 ? " (0 to " + std::to_string(regions - 1) + ")" : std::string()));
+    return;
+  }
+}
+
 // A stage's Lua teacher function called as between training episodes, on a history it builds:
 // the first ten episodes failed, the next twenty succeeded (a learner that learns), so a function
 // that reads `history` or changes its mind after a run of successes meets both cases. An error
@@ -896,8 +923,9 @@ std::vector<std::string> check_curriculum(const std::string& path, const Sandbox
     if (!stages.empty() && std::find(stages.begin(), stages.end(), st.name) == stages.end()) continue;
     std::set<std::vector<std::pair<std::string, std::string>>> checked;
     for (const auto& ctx : st.contexts) {
+      // Every context is built (its actions are its own: check_regions); the errors of its world
+      // are said once per set of parameters.
       const bool first = checked.insert(st.scenario_params(ctx)).second;
-      if (!first && !st.absorbing_lua && !st.reward_lua) continue;
       const std::string where = ctx.params.empty() ? st.where() : st.where(ctx.name);
       WorldSpec spec;
       try {
@@ -905,6 +933,7 @@ std::vector<std::string> check_curriculum(const std::string& path, const Sandbox
         for (const auto& [k, v] : st.scenario_params(ctx)) s.set_param(k, v);
         for (const auto& [k, v] : sets) s.set_param(k, v);
         spec = s.generate(0);
+        check_regions(st, ctx, s, spec, problems);
       } catch (const std::exception& e) {
         // Placed at the params table that asked for this world (the context's, else the stage's),
         // as a bad parameter is: a level noise_scale carries past its range, say; else at the stage.

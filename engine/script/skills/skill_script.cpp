@@ -381,39 +381,6 @@ std::string first_ticks_problem(const SkillScript& script, const SkillScript::Na
   return "";
 }
 
-// A goal region a controller of a policy sends Roger to: a binding's delivery region, or a
-// navigator's own `region` (goal = "region") where no binding above it names the region.
-struct RegionUse {
-  const Controller* controller = nullptr;
-  int region = -1;
-  bool binding = false;
-};
-
-// Whether `p` navigates to the goal region its `region` parameter names.
-bool navigates_to_region(const Primitive& p) {
-  const auto& defs = p.param_defs();
-  const auto goal = std::find_if(defs.begin(), defs.end(), [](const ParamDef& d) { return d.name == "goal"; });
-  const bool has_region =
-      std::any_of(defs.begin(), defs.end(), [](const ParamDef& d) { return d.name == "region"; });
-  return goal != defs.end() && goal->text == "region" && has_region;
-}
-
-// The first region use reached from `c` (each controller once, as `collect` walks) at or past
-// `regions`, into `out`; `bound` when a binding above names the region.
-bool region_past(const Controller* c, int regions, bool bound, std::set<const Controller*>& seen, RegionUse& out) {
-  if (!c || !seen.insert(c).second) return false;
-  if (const auto* b = dynamic_cast<const Binding*>(c)) {
-    if (b->bindings().region >= regions) return out = {c, b->bindings().region, true}, true;
-    bound = bound || b->bindings().region >= 0;
-  } else if (const auto* prim = dynamic_cast<const Primitive*>(c); prim && !bound && navigates_to_region(*prim)) {
-    const int region = int(prim->number("region"));
-    if (region >= regions) return out = {c, region, false}, true;
-  }
-  for (const Controller* child : c->children())
-    if (region_past(child, regions, bound, seen, out)) return true;
-  return false;
-}
-
 // A goal region a binding or a navigator of the policy names that none of the scenario's first
 // worlds has (found by a probe for bindings, and by a newcomer for a plain phi1 {goal = "region"}:
 // check said ok, and eval named the controller only as NOREF at every tick), or "".
@@ -424,12 +391,9 @@ std::string binding_region_problem(const SkillScript& script, const SkillScript:
   } catch (const std::exception&) {
     return "";  // the worlds' own problem, said by worlds_problem
   }
-  std::set<const Controller*> seen;
-  RegionUse use;
-  if (!region_past(p.action.get(), int(regions), false, seen, use)) return "";
-  const std::string who = use.binding ? "the binding '" + use.controller->name() + "' delivers to"
-                                      : "the navigator " + use.controller->name() + " {" +
-                                            use.controller->settings() + "} goes to";
+  const RegionUse use = first_region_beyond(p.action.get(), int(regions));
+  if (!use.controller) return "";
+  const std::string who = region_use_text(use);
   return script.path() + ":" + std::to_string(p.goal_line) + ": policy '" + p.name + "': " + who + " goal region " +
          std::to_string(use.region) + ", but the worlds of scenario '" + p.scenario + "' have " +
          counted(int(regions), "goal region") +
