@@ -257,10 +257,14 @@ RegionUse first_region_beyond(const Controller* root, int regions) {
   return use;
 }
 
-std::string region_use_text(const RegionUse& use) {
+std::string region_use_problem(const RegionUse& use, const std::string& scenario, int regions) {
   if (!use.controller) return "";
-  return use.binding ? "the binding '" + use.controller->name() + "' delivers to"
-                     : "the navigator " + use.controller->name() + " {" + use.controller->settings() + "} goes to";
+  const std::string who = use.binding ? "the binding '" + use.controller->name() + "' delivers to"
+                                      : "the navigator " + use.controller->name() + " {" +
+                                            use.controller->settings() + "} goes to";
+  return who + " goal region " + std::to_string(use.region) + ", but the worlds of scenario '" + scenario + "' have " +
+         counted(regions, "goal region") +
+         (regions > 0 ? " (0 to " + std::to_string(regions - 1) + ")" : std::string());
 }
 
 }  // namespace roger

@@ -157,8 +157,9 @@ struct RegionUse {
 // The first region use reached from `root` (children after their parent, each controller once)
 // at `regions` or beyond: what `roger check` refuses in worlds of `regions` goal regions.
 RegionUse first_region_beyond(const Controller* root, int regions);
-// "the binding 'to seven' delivers to" or "the navigator phi1 {goal = "region", region = 7} goes
-// to", for a use found.
-std::string region_use_text(const RegionUse& use);
+// What is wrong with a use found in worlds of `scenario` with `regions` goal regions: "the binding
+// 'to seven' delivers to goal region 7, but the worlds of scenario 'sorting' have 4 goal regions
+// (0 to 3)", or the navigator's "phi1 {goal = "region", region = 7} goes to ...".
+std::string region_use_problem(const RegionUse& use, const std::string& scenario, int regions);
 
 }  // namespace roger

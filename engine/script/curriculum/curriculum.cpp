@@ -864,10 +864,8 @@ void check_regions(const CurriculumStage& st, const CurriculumContext& ctx, Scen
     const RegionUse use = first_region_beyond(action.get(), regions);
     if (!use.controller) continue;
     const std::string at = !st.file.empty() && st.line > 0 ? st.file + ":" + std::to_string(st.line) + ": " : "";
-    problems.push_back(at + st.where(ctx.name) + ": action '" + action->name() + "': " + region_use_text(use) +
-                       " goal region " + std::to_string(use.region) + ", but the worlds of scenario '" + st.scenario +
-                       "' have " + counted(regions, "goal region") +
-                       (regions > 0 ? " (0 to " + std::to_string(regions - 1) + ")" : std::string()));
+    problems.push_back(at + st.where(ctx.name) + ": action '" + action->name() + "': " +
+                       region_use_problem(use, st.scenario, regions));
     return;
   }
 }

@@ -64,15 +64,9 @@ void charge_first_run(lua_State* L, lua_State* co, const char* what) {
 // The registry table (weak keys) of the coroutines a spent budget stopped, each with its error.
 constexpr const char* kStoppedKey = "roger.stopped_coroutines";
 
-// That table, made weak-keyed when it is first made (found by a probe: it held every stopped
-// coroutine for the state's life), pushed.
-void push_stopped(lua_State* L) {
-  if (luaL_getsubtable(L, LUA_REGISTRYINDEX, kStoppedKey)) return;
-  lua_createtable(L, 0, 1);
-  lua_pushliteral(L, "k");
-  lua_setfield(L, -2, "__mode");
-  lua_setmetatable(L, -2);
-}
+// That table, pushed; weak-keyed (found by a probe: it held every stopped coroutine for the
+// state's life).
+void push_stopped(lua_State* L) { push_weak_keyed(L, kStoppedKey); }
 
 // After the coroutine at stack index `co` ran on behalf of L: when it spent the budget, the
 // caller's hook fires at its next instruction; and a coroutine that died of it (the budget's error

@@ -200,6 +200,14 @@ void start_budgets(LuaSandbox::Impl& s) {
 
 int wanted_interval(const LuaSandbox::Impl& s) { return s.big_blocks > 0 ? kBigInterval : s.hook_interval; }
 
+void push_weak_keyed(lua_State* L, const char* key) {
+  if (luaL_getsubtable(L, LUA_REGISTRYINDEX, key)) return;
+  lua_createtable(L, 0, 1);
+  lua_pushliteral(L, "k");
+  lua_setfield(L, -2, "__mode");
+  lua_setmetatable(L, -2);
+}
+
 bool budget_spent(const LuaSandbox::Impl& s) { return s.instructions_used > s.limits.instructions || s.out_of_time; }
 
 namespace {

@@ -97,6 +97,11 @@ void* sandbox_alloc(void* ud, void* ptr, size_t osize, size_t nsize);
 // Last resort for an error outside any protected call: throws roger::Error.
 int sandbox_panic(lua_State* L);
 
+// Pushes the registry's table at `key`, made with weak keys when first made: what the sandbox
+// notes per coroutine (the stopped ones, the xpcalls running on each) goes with the coroutine
+// when it is collected.
+void push_weak_keyed(lua_State* L, const char* key);
+
 // Puts back the full names of files whose names Lua truncated in a message or traceback.
 std::string restore_names(const LuaSandbox::Impl& s, std::string text);
 

@@ -220,15 +220,9 @@ struct XpcallFrames {
 
 size_t frames_size(int capacity) { return sizeof(XpcallFrames) + sizeof(lua_Debug) * size_t(capacity - 1); }
 
-// Pushes the registry's table of running xpcalls, made weak-keyed when first made: a coroutine
-// left suspended inside an xpcall takes its records with it when it is collected.
-void push_xpcalls(lua_State* L) {
-  if (luaL_getsubtable(L, LUA_REGISTRYINDEX, kXpcallsKey)) return;
-  lua_createtable(L, 0, 1);
-  lua_pushliteral(L, "k");
-  lua_setfield(L, -2, "__mode");
-  lua_setmetatable(L, -2);
-}
+// Pushes the registry's table of running xpcalls, weak-keyed: a coroutine left suspended inside an
+// xpcall takes its records with it when it is collected.
+void push_xpcalls(lua_State* L) { push_weak_keyed(L, kXpcallsKey); }
 
 // The running thread's records, or null; allocates nothing (a budget's error may be on its way).
 XpcallFrames* thread_frames(lua_State* L) {

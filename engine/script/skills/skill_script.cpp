@@ -384,7 +384,7 @@ std::string first_ticks_problem(const SkillScript& script, const SkillScript::Na
 // A goal region a binding or a navigator of the policy names that none of the scenario's first
 // worlds has (found by a probe for bindings, and by a newcomer for a plain phi1 {goal = "region"}:
 // check said ok, and eval named the controller only as NOREF at every tick), or "".
-std::string binding_region_problem(const SkillScript& script, const SkillScript::NamedPolicy& p, Scenario& scenario) {
+std::string region_problem(const SkillScript& script, const SkillScript::NamedPolicy& p, Scenario& scenario) {
   size_t regions = 0;
   try {
     for (uint64_t seed = 0; seed < 5; ++seed) regions = std::max(regions, scenario.generate(seed).goals.size());
@@ -393,16 +393,9 @@ std::string binding_region_problem(const SkillScript& script, const SkillScript:
   }
   const RegionUse use = first_region_beyond(p.action.get(), int(regions));
   if (!use.controller) return "";
-  const std::string who = region_use_text(use);
-  return script.path() + ":" + std::to_string(p.goal_line) + ": policy '" + p.name + "': " + who + " goal region " +
-         std::to_string(use.region) + ", but the worlds of scenario '" + p.scenario + "' have " +
-         counted(int(regions), "goal region") +
-         (regions > 0 ? " (0 to " + std::to_string(regions - 1) + ")" : std::string());
+  return script.path() + ":" + std::to_string(p.goal_line) + ": policy '" + p.name + "': " +
+         region_use_problem(use, p.scenario, int(regions));
 }
-
-}  // namespace
-
-namespace {
 
 using SetList = std::vector<std::pair<std::string, std::string>>;  // scenario parameters as text
 
@@ -417,8 +410,9 @@ void set_declared(Scenario& scenario, const SetList& sets, std::set<std::string>
   scenario.set_params(mine);
 }
 
-// A --set that no policy's scenario declares, refused by the first scenario that loaded (its
-// message lists its parameters and the nearest), or "" when none did (their errors say why).
+// A --set that no policy's scenario declares, refused by `first`, a scenario that loaded (the
+// first by name: its message lists its parameters and the nearest), or "" when none did (their
+// errors say why).
 std::string undeclared_set_problem(const std::pair<std::string, std::string>& set, Scenario* first) {
   if (!first) return "";
   try {
@@ -476,7 +470,7 @@ std::vector<std::string> check_skill_script(const std::string& path, const Sandb
     }
     if (const std::string problem = first_ticks_problem(*script, policy, *l.scenario); !problem.empty())
       problems.push_back(problem);
-    else if (const std::string region = binding_region_problem(*script, policy, *l.scenario); !region.empty())
+    else if (const std::string region = region_problem(*script, policy, *l.scenario); !region.empty())
       problems.push_back(region);
   }
   Scenario* first = nullptr;
