@@ -1784,6 +1784,9 @@ const std::vector<std::string> kLibraryCases = {
     "local t = {[1.5] = 'a', [2] = 'b'} local f = pairs(t) return f(t, 1.5)",
     "local t = {1, 2, 3, nil} local f = pairs(t) return f(t, 4)",
     "local u = {1, 2, 3} local f = pairs(u) return f(u, 1), f(u, 3)",
+    // Called under no name (by pcall), Lua names its next by the global that holds it
+    "return pcall(pairs({}))", "return pcall(pairs({a = 1}), 7)",
+    "return pcall(pairs({}), setmetatable({}, {__name = 'Thing'}))",
     // Found by a probe: table.sort called its comparator through a counting function, a frame of
     // its own: error(msg, 3) in a comparator, or in an __lt it reached, blamed table.sort's caller's
     // caller, a traceback there showed "[C]: in ?", and nested sorts overflowed the C stack sooner

@@ -144,6 +144,20 @@ lua_Integer position_after(lua_State* L) {
   return (known ? place : sorted_place(L)) + 1;
 }
 
+// Refuses a first argument that is no table as Lua's next does. Called under a name (a local,
+// a field), luaL_typeerror says that name; called under none (pcall(f)), Lua names a function by
+// the global holding it, and this iterator is held by none: Lua's would be 'next' (found by a
+// probe: the sandbox's said '?').
+int refuse_as_next(lua_State* L) {
+  lua_Debug ar;
+  if (!lua_getstack(L, 0, &ar) || !lua_getinfo(L, "n", &ar) || ar.name != nullptr)
+    return luaL_typeerror(L, 1, "table");
+  const char* type = luaL_getmetafield(L, 1, "__name") == LUA_TSTRING ? lua_tostring(L, -1)
+                     : lua_type(L, 1) == LUA_TLIGHTUSERDATA          ? "light userdata"
+                                                                       : luaL_typename(L, 1);
+  return luaL_error(L, "bad argument #1 to 'next' (table expected, got %s)", type);
+}
+
 // The iterator, called as Lua calls next: (t, k) gives the key after k and its value, whatever it
 // returned before (found by a probe: it kept a cursor of its own, so a peek at the first key, or
 // the iterator used twice, skipped keys). Upvalue 1 is the table, 2 its keys in order, 3 the
@@ -153,7 +167,7 @@ lua_Integer position_after(lua_State* L) {
 // arguments are padded (found by a probe: a call with none said "got nil", not "got no value").
 int sorted_next(lua_State* L) {
   if (!lua_rawequal(L, 1, lua_upvalueindex(1))) {
-    luaL_checktype(L, 1, LUA_TTABLE);
+    if (lua_type(L, 1) != LUA_TTABLE) return refuse_as_next(L);
     lua_settop(L, 2);
     if (lua_next(L, 1)) return 2;
     lua_pushnil(L);
