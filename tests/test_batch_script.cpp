@@ -483,6 +483,31 @@ TEST_CASE("a table's by and a tasks figure's param are checked against the runs'
   fs::remove_all(dir);
 }
 
+// Found by a probe: a run built in a loop, with a computed name, was blamed at the line of another
+// run (the first after `runs =`); and final_worlds = "own" on a stage that teaches was taken and
+// had no effect (its final evaluation runs the test set, the same for every trial).
+TEST_CASE("a run with a computed name is blamed at its own line; own final worlds are refused where a stage teaches",
+          "[batch_script]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_built_runs_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path file = dir / "built.lua";
+  std::ofstream(file) << "local runs = {}\n"
+                         "runs[1] = { name = 'SG', stage = 'SG', contexts = { 'DC2' } }\n"
+                         "for _, s in ipairs({ 'T' }) do\n"
+                         "  runs[#runs + 1] = { name = s,\n"
+                         "                      stage = s, contexts = { 'DC6', 'DC7' } }\n"
+                         "end\n"
+                         "return { name = 'built', curriculum = 'paper', trials = 1, runs = runs }\n";
+  CHECK_THAT(load_error(file.string()), Catch::Contains("built.lua:5: run 'T': stage 'T' has no context 'DC7'"));
+  std::ofstream(file) << "return { name = 'own', curriculum = 'tests/scripts/teach_curriculum.lua',\n"
+                         "  runs = { { name = 'Alp', stage = 'Alp',\n"
+                         "             final_worlds = 'own' } } }\n";
+  CHECK_THAT(load_error(file.string()),
+             Catch::Contains("built.lua:3: run 'Alp': final_worlds = 'own' cannot apply to stage 'Alp', which teaches: "
+                             "every trial's final evaluation runs the stage's test set"));
+  fs::remove_all(dir);
+}
+
 // Found by a probe: description = "caf\233 au lait" (Latin-1) passed roger check, and roger run
 // stopped with "[json.exception.type_error.316] invalid UTF-8 byte at index 4" naming nothing.
 TEST_CASE("a batch script's text that is no UTF-8 is refused at load, naming the field", "[batch_script]") {

@@ -1498,6 +1498,26 @@ TEST_CASE("a partial report says so in tables.md and report.json and the figures
   CHECK(std::regex_search(tables, std::regex("figure4\\.svg`: [^\\n]*\\(DC6 pending\\)\\n")));
   CHECK(std::regex_search(tables, std::regex("iqm_T\\.svg`: [^\\n]*\\(DC6 pending\\)\\n")));
   CHECK(std::regex_search(tables, std::regex("iqm_SG\\.svg`: [^\\n]*\\(DC2 from 1 of 2 trials\\)\\n")));
+  // Found by a probe: a table split by a feature pooled what trials it had and said nothing of
+  // the others; its rows now end in the Trials column the other tables have.
+  REQUIRE(partial_report(copy, said, {"obstacles"}) == 0);
+  const std::string whole = slurp(copy.dir / "tables.md");
+  REQUIRE(whole.find(": final success by obstacles") != std::string::npos);
+  const std::string split = whole.substr(whole.find(": final success by obstacles"));
+  INFO(split);
+  CHECK(std::regex_search(split, std::regex("\\| DC2 \\|[^\\n]* 1/2 \\(1 failed\\) \\|\\n")));
+  CHECK(std::regex_search(split, std::regex("\\| DC6 \\|[^\\n]* 0/2 \\(2 pending\\) \\|\\n")));
+  bool by_row = false;
+  const json report = copy.read("report.json");
+  for (const json& table : report["tables"])
+    if (table.contains("by"))
+      for (const json& row : table["rows"])
+        if (row["context"] == "DC6") {
+          by_row = true;
+          CHECK(row["pending"] == 2);
+          CHECK(row["trials"] == 0);
+        }
+  CHECK(by_row);
 }
 
 TEST_CASE("a partial report with one trial's result says it in the singular", "[report]") {

@@ -752,6 +752,18 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
        "the most constrained first (to hold eye_pixels at 32, set it in the stage's params instead)"},
       {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 64, 32 } } } }",
        ":8: roger.teacher.lcas: lift.eye_pixels: the level 32 is listed twice (levels 1 and 3)"},
+      // Found by a probe: a misspelt test task had no "did you mean", where a teacher's result has one;
+      // and a context fixing the lifted parameter was told to use the --set that is refused in turn.
+      {"{ tasks = { obstacles = roger.int(0, 3) }, test = { list = { { obstacls = 2 } } } }",
+       ":6: stage 'S': test: list[1]: 'obstacls' is not a parameter of the task space (did you mean 'obstacles'?) "
+       "(obstacles = roger.int(0, 3))"},
+      {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 64 } } }, contexts = { { name = 'A', actions = { "
+       "'phi0' }, params = { eye_pixels = 32 } } } }",
+       "the context's params fix 'eye_pixels', which roger.teacher.lcas (" },
+      {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 64 } } }, contexts = { { name = 'A', actions = { "
+       "'phi0' }, params = { eye_pixels = 32 } } } }",
+       "varies; the parameter lifted is the teacher's at every level, in every context, and --set cannot fix it either: "
+       "remove it from the context's params, or give the context a stage without the lift"},
       {"{ tasks = { obstacles = roger.int(0, 3) }, test = { list = { { obstacles = 7 } } } }",
        ":6: stage 'S': test: list[1]: obstacles = 7 is outside the task space: obstacles takes an integer in roger.int(0, 3)"},
       {"{ tasks = { obstacles = roger.int(0, 3) }, test = { tasks = 10 }, checkpoints = { episodes = 5 } }",
@@ -1632,6 +1644,20 @@ TEST_CASE("a teacher function reads its history read-only and strictly as traini
   const std::string reads = "local n = 0\n for _, h in ipairs(history) do for k in pairs(h.task) do n = n + 1 end end\n"
                             "    assert(n == 2 * #history and history[#history + 1] == nil)";
   CHECK(problems_of("reads", reads).second.empty());
+  // Found by a probe: next(history) gave the view's private key, so `next(history) == nil` (the usual
+  // test of an empty table) was false for an empty history; and an entry's task given back as it is
+  // was refused as "the key a userdata".
+  const std::string nexts = "local first = next(history)\n"
+                            "    assert((first == nil) == (#history == 0), 'next(history) on ' .. #history)\n"
+                            "    if #history > 0 then\n"
+                            "      local k, v = next(history[1].task) local n = 0\n"
+                            "      while k do assert(history[1].task[k] == v) n = n + 1 k, v = next(history[1].task, k) end\n"
+                            "      assert(n == 2 and next(history, #history) == nil)\n"
+                            "      assert(select(2, next(history)).task.shape)\n"
+                            "    end";
+  CHECK(problems_of("nexts", nexts).second.empty());
+  const auto [replay_path, replay] = problems_of("replay", "if #history > 0 then return history[#history].task end");
+  CHECK(replay.empty());
   // With --set obstacles=2 a task holds no obstacles, in check as in training, and says why.
   const std::string reader = "if #history > 0 then local n = history[#history].task.obstacles + 1 end";
   CHECK(problems_of("fixed", reader).second.empty());

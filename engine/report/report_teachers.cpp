@@ -279,16 +279,20 @@ ByFound by_table(const BatchScript& b, const BatchTable& t, const Folder& folder
       ++cells[k][col].episodes;
       cells[k][col].successes += ok;
     }
+  // Each row says the trials it pools, and those failed or pending, as the other tables do (found by
+  // a probe: a row pooling 2 of 4 trials read as all 4, and one with none as a row of "-").
   md << "## " << t.title << "\n\nSuccess rate of the final greedy evaluations (every trial's episodes pooled) by `" << t.by
-     << "`, with the episodes in each cell.\n\n| Approach |";
+     << "`, with the episodes in each cell; Trials: the trials pooled, of those asked for.\n\n| Approach |";
   for (const auto& v : values) md << " " << t.by << " = " << v << " |";
-  md << "\n|---|";
-  for (size_t i = 0; i < values.size(); ++i) md << "---|";
+  md << " Trials |\n|---|";
+  for (size_t i = 0; i <= values.size(); ++i) md << "---|";
   md << "\n";
   json out = json::array();
   for (size_t k = 0; k < rows.size(); ++k) {
+    const Results pooled = folder.run(*b.run(rows[k].run), rows[k].context);
     md << "| " << (t.compare.empty() ? rows[k].context : rows[k].label()) << " |";
-    json row = {{"run", rows[k].run}, {"context", rows[k].context}, {"cells", json::object()}};
+    json row = {{"run", rows[k].run},       {"context", rows[k].context},  {"cells", json::object()},
+                {"trials", pooled.ok.size()}, {"failed", pooled.failed}, {"pending", pooled.pending}};
     for (const auto& v : values) {
       const auto it = cells[k].find(v);
       if (it == cells[k].end() || it->second.episodes == 0) {
@@ -299,7 +303,7 @@ ByFound by_table(const BatchScript& b, const BatchTable& t, const Folder& folder
       md << " " << rate_pct(rate) << " (" << it->second.episodes << ") |";
       row["cells"][v] = {{"success_rate", rate}, {"episodes", it->second.episodes}};
     }
-    md << "\n";
+    md << " " << trials_note(pooled) << " |\n";
     out.push_back(row);
   }
   if (values.empty() && found.records == 0) md << "\nNo trial has recorded its final evaluation's episodes (final.jsonl) yet.\n";

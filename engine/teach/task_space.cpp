@@ -166,7 +166,9 @@ std::optional<TaskPoint> TaskSpace::task_of(const ParamList& params, std::string
   for (const auto& [k, v] : params) {
     const int i = index(k);
     if (i < 0) {
-      if (why) *why = "'" + k + "' is not a parameter of the task space (" + describe() + ")";
+      std::vector<std::string> names;
+      for (const TaskDim& d : dims_) names.push_back(d.name);
+      if (why) *why = "'" + k + "' is not a parameter of the task space" + suggestion(k, names) + " (" + describe() + ")";
       return std::nullopt;
     }
     std::string allowed;

@@ -271,11 +271,19 @@ void check_scenario_params(const std::string& scenario, const Params& params, co
   }
 }
 
+// The line of the table named `name` (a run's or an evaluation's): where the name is written, or
+// where a table with `marker` gets a computed name (built in a loop), else `list_line`.
+int table_line(const Reader& rd, const std::string& name, const std::string& marker, int list_line) {
+  if (const int l = rd.line_of_name(name, list_line)) return l;
+  if (const int l = rd.line_of_built_name(marker, list_line)) return l;
+  return list_line;
+}
+
 BatchRun read_run(const json& rj, const Reader& rd, int runs_line, const Curriculum& cur,
                   const std::vector<std::string>& stage_names, const BatchOverrides& overrides, const BatchScript& b) {
   BatchRun r;
   const std::string nm = rj.is_object() && rj.contains("name") && rj["name"].is_string() ? rj["name"].get<std::string>() : "";
-  r.line = nm.empty() ? runs_line : std::max(rd.line_of_name(nm, runs_line), runs_line);
+  r.line = nm.empty() ? runs_line : table_line(rd, nm, "stage", runs_line);
   const std::string what = nm.empty() ? "a run" : "run '" + nm + "'";
   rd.check_object(rj, what, {"name", "stage", "contexts", "trials", "params", "skills", "final_worlds"}, r.line);
   r.name = rd.str(rj, "name", what, r.line, "", true);
@@ -322,6 +330,16 @@ BatchRun read_run(const json& rj, const Reader& rd, int runs_line, const Curricu
             what + ": final_worlds is 'own' (each trial's final evaluation in worlds of its own) or 'shared' (every "
                    "trial's on the stage's held-out seeds), not '" + worlds + "'");
   r.own_final_worlds = worlds == "own";
+  // Found by a probe: a stage that teaches took final_worlds = "own" and ran every trial's final
+  // evaluation on its test set all the same, saying nothing.
+  if (r.own_final_worlds && stage->teaches())
+    rd.fail(rd.line_of_key("final_worlds", r.line),
+            what + ": final_worlds = 'own' cannot apply to stage '" + r.stage + "', which teaches: every trial's "
+                   "final evaluation runs the stage's test set (test task i in world seed " +
+                   std::to_string(stage->checkpoints.seeds) + " + i), the same for every trial so that the trials "
+                   "and the teachers are measured alike; for worlds of each policy's own, evaluate the run "
+                   "(evaluations = {{run = '" + r.name + "', context = ..., worlds = 'own'}}), and leave "
+                   "final_worlds out");
   return r;
 }
 
@@ -368,7 +386,7 @@ BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const 
                                 const Curriculum& cur, const BatchScript& b) {
   BatchEvaluation e;
   const std::string nm = ej.is_object() && ej.contains("name") && ej["name"].is_string() ? ej["name"].get<std::string>() : "";
-  e.line = nm.empty() ? el : std::max(rd.line_of_name(nm, el), el);
+  e.line = nm.empty() ? el : table_line(rd, nm, "run", el);
   const std::string what = nm.empty() ? "an evaluation" : "evaluation '" + nm + "'";
   rd.check_object(ej, what,
                   {"name", "run", "context", "scenario", "params", "shapes", "episodes", "first_seed", "worlds",

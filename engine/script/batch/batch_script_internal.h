@@ -45,6 +45,9 @@ class Reader {
 
   // The line where `name = "value"` is first written at or after line `from` (0 when not found).
   int line_of_name(const std::string& value, int from = 1) const;
+  // The line of a table with a computed name (`name = stage`) and `marker =` within three lines,
+  // at or after line `from`, else anywhere (0 when there is none).
+  int line_of_built_name(const std::string& marker, int from = 1) const;
   // The line where `key =` is first written at or after line `from`, else `from`.
   int line_of_key(const std::string& key, int from = 1) const;
 

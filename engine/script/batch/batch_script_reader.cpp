@@ -109,6 +109,20 @@ int Reader::line_of_name(const std::string& value, int from) const {
   return line_of("name\\s*=\\s*[\"']" + escape(value) + "[\"']", from);
 }
 
+// The line of a table the script builds with a computed name (`name = stage`, in a loop): the
+// first `name = <not a string>` at or after line `from`, then from the top, with `marker =` on
+// its line or one of the next three (`stage` for a run); 0 when there is none. Found by a probe:
+// such a run was reported at the line of another run, the first after `runs =`.
+int Reader::line_of_built_name(const std::string& marker, int from) const {
+  const std::string pattern = "(^|[^A-Za-z0-9_])name\\s*=\\s*[^\"'\\s\\[][^\\n]*(\\n[^\\n]*){0,3}[^A-Za-z0-9_]" +
+                              escape(marker) + "\\s*=[^=]";
+  for (int start : {from, 1}) {
+    const int l = line_of(pattern, start);
+    if (l) return l;
+  }
+  return 0;
+}
+
 // The line where `key =` is first written at or after line `from`, else `from`.
 int Reader::line_of_key(const std::string& key, int from) const {
   const int l = line_of("(^|[^A-Za-z0-9_])" + escape(key) + "\\s*=[^=]", from);

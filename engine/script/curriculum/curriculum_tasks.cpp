@@ -400,9 +400,12 @@ void check_against_scenario(const CurriculumStage& st) {
                   st.teacher->file, st.teacher->line);
 }
 
-// A parameter given a fixed value by the stage or a context may not also vary.
+// A parameter given a fixed value by the stage or a context may not also vary. `advice` ends a
+// context's refusal: a task axis can be fixed for a run with --set, an LCAS lift cannot (found by
+// a probe: the lift's refusal advised the --set that is refused in turn).
 void check_no_fixed(const CurriculumStage& st, const std::string& name, const std::string& what,
-                    const std::string& file, int line) {
+                    const std::string& file, int line,
+                    const std::string& advice = "a task parameter is the teacher's (use --set to fix it for a run)") {
   auto set_by = [&](const std::vector<std::pair<std::string, std::string>>& params) {
     return std::any_of(params.begin(), params.end(), [&](const auto& p) { return p.first == name; });
   };
@@ -412,7 +415,7 @@ void check_no_fixed(const CurriculumStage& st, const std::string& name, const st
   for (const auto& c : st.contexts)
     if (set_by(c.params))
       fail_at(st.where(c.name) + ": the context's params fix '" + name + "', which " + what +
-                  " varies; a task parameter is the teacher's (use --set to fix it for a run)", file, line);
+                  " varies; " + advice, file, line);
 }
 
 void read_tasks(lua_State* L, const LuaFields& f, CurriculumStage& st) {
@@ -516,7 +519,9 @@ void read_teacher(lua_State* L, const LuaFields& f, CurriculumStage& st, LuaCall
   }
   if (spec.kind == TeacherSpec::Kind::kLcas && st.tasks.index(spec.lift) < 0)
     check_no_fixed(st, spec.lift, spec.name() + " (" + spec.file + ":" + std::to_string(spec.line) + ")", spec.file,
-                   spec.line);
+                   spec.line,
+                   "the parameter lifted is the teacher's at every level, in every context, and --set cannot fix it "
+                   "either: remove it from the context's params, or give the context a stage without the lift");
 }
 
 void read_test(lua_State* L, const LuaFields& f, CurriculumStage& st, bool episodes_given, bool final_given) {

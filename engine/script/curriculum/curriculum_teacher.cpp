@@ -34,15 +34,14 @@ void push_param_value(lua_State* L, const std::string& text) {
 
 // The history a teacher function reads is a view of the trial's record, read-only: a write
 // (`history[1].success = 7`, `table.remove(history)`) would change what every later call sees.
-// A view is an empty table holding its data under a key no script can write (kData), whose
-// metatable reads through: a missing field of an entry or a task is an error naming the fields
-// (a nil from `h.sucess` or `h.task.obstacls` would quietly change what the teacher picks), a
-// list index past the end is nil, `#` and pairs see the data.
-char kData;  // a lightuserdata key: the view's data
+// A view is the sandbox's (lua_view_data_key): an empty table holding its data under a key no
+// script can write, whose metatable reads through: a missing field of an entry or a task is an
+// error naming the fields (a nil from `h.sucess` or `h.task.obstacls` would quietly change what
+// the teacher picks), a list index past the end is nil, `#`, pairs and next see the data.
 char kNote;  // a lightuserdata key: what a task view adds to its unknown-field message
 
 void push_view_data(lua_State* L, int view) {
-  lua_pushlightuserdata(L, &kData);
+  lua_pushlightuserdata(L, lua_view_data_key());
   lua_rawget(L, view);
 }
 
@@ -106,7 +105,7 @@ int view_pairs(lua_State* L) {
 void make_view(lua_State* L, const char* type_name, lua_CFunction index, const std::string* note = nullptr) {
   const int data = lua_gettop(L);
   lua_createtable(L, 0, 2);
-  lua_pushlightuserdata(L, &kData);
+  lua_pushlightuserdata(L, lua_view_data_key());
   lua_pushvalue(L, data);
   lua_rawset(L, -3);
   if (note) {
@@ -247,6 +246,11 @@ class LuaTeacher final : public Teacher {
         if (!lua_istable(L, -1))
           throw ScriptError(where_ + " must return a table of task parameters {" + space_.describe() + "}, got " +
                                 std::string(luaL_typename(L, -1)), fn_.file, fn_.line, "");
+        // A history entry's task given back as it is (`return history[#history].task`): its data
+        // (found by a probe: its private key was refused as "the key a userdata").
+        push_view_data(L, lua_gettop(L));
+        if (lua_istable(L, -1)) lua_replace(L, -2);
+        else lua_pop(L, 1);
         refuse_numeric_strings(L, lua_gettop(L));
         lua_read_params(L, -1, where_ + "'s result", given);
       });

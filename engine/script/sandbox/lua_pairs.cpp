@@ -10,7 +10,7 @@
 // The order: numbers by value, then strings byte by byte (not strcoll's, which depends on the
 // locale), then false and true, then the keys that have no order of their own (tables, functions,
 // userdata, threads) in Lua's order, which is the one part that can change between runs.
-// `next` stays Lua's own.
+// `next` stays Lua's own, but for a read-only view (lua_view_data_key), whose data it walks.
 #include <algorithm>
 #include <climits>
 #include <cmath>
@@ -231,13 +231,39 @@ int sorted_pairs(lua_State* L) {
   return 3;
 }
 
+char view_data_key;
+
+// next(t, k): Lua's own (upvalue 1), except on a read-only view, where the keys are its data's
+// (found by a probe: next(history) gave the view's private key, so `next(history) == nil`, the
+// usual test of an empty table, was false for an empty history).
+int view_aware_next(lua_State* L) {
+  if (lua_type(L, 1) == LUA_TTABLE) {
+    lua_pushlightuserdata(L, &view_data_key);
+    if (lua_rawget(L, 1) == LUA_TTABLE) {
+      lua_replace(L, 1);
+      lua_settop(L, 2);
+      if (lua_next(L, 1)) return 2;
+      lua_pushnil(L);
+      return 1;
+    }
+    lua_pop(L, 1);
+  }
+  return lua_tocfunction(L, lua_upvalueindex(1))(L);
+}
+
 }  // namespace
 
 void install_pairs(lua_State* L) {
   lua_getglobal(L, "pairs");
   lua_pushcclosure(L, sorted_pairs, 1);
   lua_setglobal(L, "pairs");
+  lua_getglobal(L, "next");
+  lua_pushcclosure(L, view_aware_next, 1);
+  lua_setglobal(L, "next");
 }
 
 }  // namespace sandbox_detail
+
+void* lua_view_data_key() { return &sandbox_detail::view_data_key; }
+
 }  // namespace roger

@@ -245,6 +245,11 @@ class LuaFields {
   std::string context_;
 };
 
+// A read-only view (a teacher's history): an empty table holding its data under this key, a light
+// userdata no script can write, with a metatable that reads through (__index, __len, __pairs).
+// The sandbox's next walks a view's data, so next(view) sees what pairs and # see, not the key.
+void* lua_view_data_key();
+
 // For an __index metamethod refusing a name: raises `text` at the line of the Lua function that
 // read the name (level 1: the function that called the metamethod; level 2, used before, named
 // that function's caller, so a misspelt name inside a helper was reported at the helper's call).
