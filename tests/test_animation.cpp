@@ -4,6 +4,9 @@
 #include <cairo.h>
 #include <stdlib.h>
 
+#include <csignal>
+#include <map>
+
 #include <catch2/catch.hpp>
 
 #include "test_files.h"
@@ -22,6 +25,7 @@
 #include "view/animation.h"
 #include "learn/episode.h"
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "control/predicate.h"
 #include "control/primitives.h"
 #include "world_fixtures.h"
@@ -238,6 +242,35 @@ TEST_CASE("an episode becomes frames, a replay page and episode.json") {
     REQUIRE(switched >= 2);
     CHECK(ep.gammas[0].states[size_t(switched - 2)] == Gamma::kConv);  // search converged just before
     CHECK(d[1].at("time").get<double>() == Approx((switched - 1) * j.at("tick_seconds").get<double>()));
+  }
+
+  // Found by a probe: Ctrl-C during a rendering left the first frames of the new episode among the
+  // old one's files, and a half-written frame's temporary file. The files are staged and moved in
+  // once all are whole; a stop before that leaves the folder as it was, and what a killed rendering
+  // left (its staging folder, a temporary file) goes at the next.
+  SECTION("a rendering stopped part-way leaves the folder as it was") {
+    auto contents = [&] {
+      std::map<std::string, std::string> files;
+      for (const auto& e : fs::directory_iterator(out)) files[e.path().filename().string()] = slurp(e.path());
+      return files;
+    };
+    const auto before = contents();
+    Phi6Episode shorter;
+    const EpisodeResult ep2 = shorter.run(0.5);
+    catch_interrupts("");
+    std::raise(SIGINT);
+    CHECK_THROWS_AS(render_episode(shorter.spec, ep2, out.string(), o), Interrupted);
+    clear_interrupt();
+    CHECK(contents() == before);
+    fs::create_directory(out / ".staged99999-0-1.tmp");
+    std::ofstream(out / ".staged99999-0-1.tmp" / "frame_0000.png") << "half";
+    std::ofstream(out / ".frame_0003.png.tmp99999-3-7") << "half";
+    std::ofstream(out / ".notes") << "the user's";
+    render_episode(shorter.spec, ep2, out.string(), o);
+    CHECK(!fs::exists(out / ".staged99999-0-1.tmp"));
+    CHECK(!fs::exists(out / ".frame_0003.png.tmp99999-3-7"));
+    CHECK(fs::exists(out / ".notes"));
+    CHECK(frame_files(out).size() == ep2.frames.size());
   }
 
   SECTION("re-rendering a shorter episode removes the old frames beyond it") {

@@ -9,6 +9,7 @@
 #include "cli/cli_internal.h"
 #include "cli/commands.h"
 #include "core/fileio.h"
+#include "core/interrupt.h"
 #include "core/text.h"
 #include "learn/episode.h"
 #include "script/curriculum/curriculum.h"
@@ -95,6 +96,7 @@ void write_rendered_episode(const RenderArgs& a, const WorldSpec& spec, const Ep
   anim.title = title;
   const bool summary = is_summary_strip(a.out);
   if (summary) {
+    throw_if_interrupted();
     make_parent_folder(a.out, "roger render");  // as the folder of frames is made
     render_episode_summary(spec, episode, a.out, anim, kPanels);
   } else {
@@ -189,8 +191,19 @@ void check_episode_out(const std::string& out) {
 }
 
 int command_render(const RenderArgs& a) {
-  if (!a.policy.empty()) check_episode_out(a.out);
-  if (!a.policy.empty()) return run_render_episode(a);
+  if (!a.policy.empty()) {
+    check_episode_out(a.out);
+    // Stopped part-way, an episode's rendering writes nothing: its folder (or strip) keeps what it
+    // had (render_episode stages its files).
+    catch_interrupts("the rendering stops and writes nothing");
+    try {
+      return run_render_episode(a);
+    } catch (const Interrupted&) {
+      std::fflush(stdout);
+      std::fprintf(stderr, "roger render: stopped; nothing written (%s is as it was)\n", a.out.c_str());
+      return interrupt_exit_status();
+    }
+  }
   if (!a.skills.empty()) throw Error("roger render: --skill needs --policy FILE.json (a policy saved by roger train)");
   Scenario scenario = Scenario::load(a.scenario);
   apply_sets(scenario, a.sets);

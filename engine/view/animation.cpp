@@ -27,6 +27,7 @@
 
 #include "control/control.h"
 #include "core/error.h"
+#include "core/interrupt.h"
 
 namespace roger {
 namespace anim {
@@ -178,10 +179,34 @@ bool render_episode_writes(const std::string& file_name) {
   return file_name == "episode.json" || file_name == "index.html" || frame_index(file_name) >= 0;
 }
 
+namespace {
+
+// Removes what a rendering killed part-way left in the folder: its staging folder (StagedFiles'
+// hidden .staged<pid>-...tmp) and a file caught half-written (.frame_0017.png.tmp<pid>-...).
+void remove_leftovers(const std::string& folder) {
+  std::error_code ec;
+  std::vector<fs::path> left;
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    const size_t tmp = name.find(".tmp");
+    if (name.size() < 2 || name[0] != '.' || tmp == std::string::npos) continue;
+    if (name.compare(0, 7, ".staged") == 0 || render_episode_writes(name.substr(1, tmp - 1))) left.push_back(it->path());
+  }
+  for (const fs::path& p : left) fs::remove_all(p, ec);
+}
+
+}  // namespace
+
+// The files are written into a staging folder and moved in together, the page last, once every
+// one is whole: a rendering stopped part-way (Ctrl-C, a full disk) leaves the folder as it was
+// (found by a probe: Ctrl-C left the first frames of a new episode among an old one's files).
 void render_episode(const WorldSpec& spec, const EpisodeResult& episode, const std::string& folder,
                     const AnimationOptions& options) {
   const RenderOptions fo = check_inputs(spec, episode, options, folder);
   make_folder(folder);
+  remove_leftovers(folder);
+  StagedFiles staged(folder);
+  std::vector<std::string> names;
   const Timeline tl = make_timeline(episode);
   const PictureSize world = picture_size(spec, fo);
   const double u = world.width / 1000.0;
@@ -189,8 +214,10 @@ void render_episode(const WorldSpec& spec, const EpisodeResult& episode, const s
   const long width = world.width, height = world.height + long(std::ceil(tl_h));
 
   for (size_t i = 0; i < episode.frames.size(); ++i) {
+    throw_if_interrupted();
     const Frame& f = episode.frames[i];
-    write_png((fs::path(folder) / frame_name(i)).string(), width, height, [&](cairo_t* cr) {
+    names.push_back(frame_name(i));
+    write_png(staged.stage(names.back()), width, height, [&](cairo_t* cr) {
       draw_frame(cr, spec, f, fo, world.width, world.height);
       if (options.show_timeline) {
         const Cursor c{std::isfinite(f.time) ? f.time : 0.0, 0, tl.frame_ticks[i]};
@@ -199,12 +226,13 @@ void render_episode(const WorldSpec& spec, const EpisodeResult& episode, const s
       }
     });
   }
-  const fs::path dir(folder);
   const json data = episode_json(spec, episode, tl, options);
-  write_text_file((dir / "episode.json").string(),
-                  data.dump(1, ' ', false, json::error_handler_t::replace) + "\n");
-  // The page last: once it is replaced, every file beside it is already the new one.
-  write_text_file((dir / "index.html").string(), page_html(spec, episode, tl, options, data));
+  write_text_file(staged.stage("episode.json"), data.dump(1, ' ', false, json::error_handler_t::replace) + "\n");
+  write_text_file(staged.stage("index.html"), page_html(spec, episode, tl, options, data));
+  names.push_back("episode.json");
+  names.push_back("index.html");  // the page last: once it is replaced, every file beside it is the new one
+  throw_if_interrupted();
+  staged.commit(names);
   remove_stale_frames(folder, episode.frames.size());
 }
 

@@ -25,9 +25,11 @@ struct AnimationOptions {
 };
 
 // Writes the episode into folder (created if missing): frame_0000.png, ... one per recorded frame,
-// episode.json and index.html (the viewer, with episode.json's data inside), each file atomically. Frames of an earlier, longer rendering beyond
-// the new count are removed, so a folder never mixes episodes. Throws roger::Error for an episode
-// without frames, frames that do not match spec, bad options, or a folder that cannot be written.
+// episode.json and index.html (the viewer, with episode.json's data inside), staged and moved in
+// together once all are whole. Frames of an earlier, longer rendering beyond the new count are
+// removed, so a folder never mixes episodes. Throws roger::Error for an episode without frames,
+// frames that do not match spec, bad options, or a folder that cannot be written, and Interrupted
+// when a stop was requested (catch_interrupts) before the files moved: the folder is as it was.
 void render_episode(const WorldSpec& spec, const EpisodeResult& episode, const std::string& folder,
                     const AnimationOptions& options = {});
 
