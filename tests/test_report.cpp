@@ -1306,12 +1306,40 @@ TEST_CASE("a training trial's final.jsonl missing or cut short is refused and th
   spit(final_file, middle);
   CHECK_THROWS_WITH(write_report(folder.dir.string()),
                     Contains(final_file.string() + ":1: not a JSON object on one line"));
+  // Found by a probe: successes flipped to failures passed, and one report gave the trial's
+  // episodes 100% in its table and 75% split by obstacles.
+  std::string flipped = whole;
+  const size_t second = flipped.find('\n') + 1;
+  const size_t at = flipped.find("\"success\":true", second);
+  REQUIRE(at != std::string::npos);
+  REQUIRE(at < flipped.find('\n', second));
+  flipped.replace(at, 14, "\"success\":false");
+  spit(final_file, flipped);
+  CHECK_THROWS_WITH(write_report(folder.dir.string()),
+                    Contains(final_file.string() + ":2: \"success\": false, but the trial's result.json records "
+                             "episode 2 a success (\"final_outcomes\"): edited?"));
   spit(final_file, whole.substr(0, cut));
   // A resumed run runs that trial again, which writes the same file.
   CHECK(folder.resume(said) == 0);
   CHECK_THAT(said, Contains(says) && Contains("running trial T/DC6/000 again"));
   CHECK(slurp(final_file) == whole);
   CHECK(folder.report(said) == 0);
+}
+
+// Found by a probe: trial 001's policy.json copied over trial 000's was taken, and a resumed run
+// built the runs that take its skill on it.
+TEST_CASE("a training trial's policy.json of another trial is refused and the trial run again", "[report][run]") {
+  const KillCopy folder("foreign_policy");
+  const fs::path mine = folder.dir / "trials/SG/DC2/000/policy.json";
+  const std::string whole = slurp(mine);
+  fs::copy_file(folder.dir / "trials/SG/DC2/001/policy.json", mine, fs::copy_options::overwrite_existing);
+  std::string said;
+  CHECK(folder.report(said) == 1);
+  CHECK_THAT(said, Contains("CORRUPT: " + mine.string() + ": field \"seed\" is ") &&
+                       Contains(", but the plan gives trial SG/DC2/000 ") && Contains(": the policy of another trial"));
+  CHECK(folder.resume(said) == 0);
+  CHECK_THAT(said, Contains("running trial SG/DC2/000 again"));
+  CHECK(slurp(mine) == whole);
 }
 
 // Found by resuming with an edited script: both sides of the difference were the whole "runs"

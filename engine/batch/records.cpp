@@ -301,17 +301,44 @@ void check_final_records(const fs::path& dir, const json& result) {
   const std::string text = read_file_text(path);
   if (!text.empty() && text.back() != '\n')
     throw Error(path + ": its last line has no end, as a file cut short has: truncated or edited?");
+  // Each episode's outcome is the one result.json records (found by a probe: 25 successes flipped
+  // to failures passed, and one report gave the trials 100% in Table II and 75% split by obstacles).
+  const std::string& outcomes = result["final_outcomes"].get_ref<const std::string&>();
   size_t lines = 0;
   for (size_t at = 0; at < text.size();) {
     const size_t end = std::min(text.find('\n', at), text.size());
     if (end > at && (text[at] != '{' || text[end - 1] != '}'))
       throw Error(path + ":" + std::to_string(lines + 1) + ": not a JSON object on one line: truncated or edited?");
+    if (end > at && lines < outcomes.size()) {
+      const json record = json::parse(text.begin() + long(at), text.begin() + long(end), nullptr, false);
+      const bool success = outcomes[lines] == '1';
+      if (!record.is_object() || !record.contains("success") || record["success"] != success)
+        throw Error(path + ":" + std::to_string(lines + 1) + ": " +
+                    (record.is_object() && record.contains("success")
+                         ? "\"success\": " + record["success"].dump() + ", but the trial's result.json records episode " +
+                               std::to_string(lines + 1) + " " + (success ? "a success" : "a failure") +
+                               " (\"final_outcomes\"): edited?"
+                         : std::string("no \"success\" of a final-evaluation episode: truncated or edited?")));
+    }
     lines += end > at;
     at = end + 1;
   }
   if (lines != episodes)
     throw Error(path + ": holds " + std::to_string(lines) + " final-evaluation episodes, but the trial's result.json "
                 "records " + std::to_string(episodes) + " (\"final_outcomes\"): truncated or edited?");
+}
+
+// Throws roger::Error when a training trial's policy.json is another trial's: its stage, context
+// or seed are not the plan's for this one (found by a probe: trial 001's policy copied into 000
+// was taken, and the later runs were built on it). A policy that names no stage (written without
+// them) passes.
+void check_policy_owner(const std::string& path, const json& policy, const PlannedTrial& t) {
+  if (!policy.contains("stage") || policy["stage"] == "") return;
+  const std::pair<const char*, json> own[] = {{"stage", t.run->stage}, {"context", t.context}, {"seed", t.seed}};
+  for (const auto& [key, planned] : own)
+    if (policy.contains(key) && policy[key] != planned)
+      throw Error(path + ": field \"" + key + "\" is " + policy[key].dump() + ", but the plan gives trial " + t.id +
+                  " " + planned.dump() + ": the policy of another trial (copied in?)");
 }
 
 }  // namespace
@@ -328,7 +355,9 @@ std::string trial_status(const std::string& out, const PlannedTrial& t, json& re
         const std::string policy = (d / "policy.json").string();
         std::vector<std::string> psi;
         for (const auto& a : result["psi"]) psi.push_back(a.get<std::string>());
-        QTable::from_json(read_json_file(policy), psi, policy);
+        const json saved = read_json_file(policy);
+        QTable::from_json(saved, psi, policy);
+        check_policy_owner(policy, saved, t);
         check_final_records(d, result);
       }
       return "ok";
