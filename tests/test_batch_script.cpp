@@ -192,6 +192,15 @@ TEST_CASE("a script is of the kind of the module it returns", "[batch_script]") 
   CHECK(b.name == "kill");
   for (const auto& r : b.runs) CHECK(r.trials == 1);
   CHECK_FALSE(is_batch_script("tests/scripts/kill_curriculum.lua"));
+  // Found by a probe: a scenario named as the curriculum failed inside it, in a traceback.
+  const fs::path dir = fs::temp_directory_path() / ("roger_kind_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "b.lua") << "return { name = 'b',\n  curriculum = 'scenarios/cluttered.lua',\n"
+                                  "  runs = { { name = 'SG', stage = 'SG' } } }\n";
+  CHECK_THAT(load_error((dir / "b.lua").string()),
+             Catch::Contains("b.lua:2: the curriculum scenarios/cluttered.lua is a scenario, not a curriculum: a "
+                             "curriculum's stages name it as their scenario"));
+  fs::remove_all(dir);
   CHECK(load_error("curricula/paper.lua") ==
         "curricula/paper.lua is a curriculum, not a batch script: train one of its stages with roger train "
         "curricula/paper.lua --stage S --context C --out DIR, or name it as the curriculum of a batch script "

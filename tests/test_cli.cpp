@@ -1197,6 +1197,15 @@ TEST_CASE("a script of the wrong kind is named as what it is, with what runs it"
        "world: give --policy FILE.json (a policy roger train wrote) to record an episode, or name a scenario\n"},
       {"render scenarios/cluttered.lua --policy sort --out " + out,
        "roger: error: " + scenario + "curriculum or skill script" + draw},
+      // Found by a probe: a script of another kind given to --scenario, or as a batch script's
+      // curriculum, failed inside it ("curricula/lib/skills.lua:45: attempt to call a nil value").
+      {"eval curricula/scripted.lua --policy task --scenario curricula/sorting.lua",
+       "roger: error: --scenario curricula/sorting.lua is a curriculum, not a scenario: train one of its stages"},
+      {"render curricula/scripted.lua --policy task --scenario scripts/quick.lua --out " + out,
+       "roger: error: --scenario " + batch + "scenario: run it with roger run scripts/quick.lua\n"},
+      {"bench --scenario curricula/scripted.lua",
+       "roger: error: --scenario curricula/scripted.lua is a skill script, not a scenario: evaluate one of its "
+       "policies"},
       // As before: a curriculum given to roger run.
       {"run curricula/paper.lua --out " + out,
        "roger run: curricula/paper.lua is a curriculum, not a batch script: train one of its stages with roger train "

@@ -268,6 +268,21 @@ void require_curriculum(const std::string& given, const std::vector<std::string>
   require_script_kind(given, path, wanted);
 }
 
+// A --scenario option given a script of another kind failed inside it (found by a probe: eval
+// --scenario curricula/paper.lua said "curricula/lib/skills.lua:45: attempt to call a nil value"),
+// so it is named as what it is. Empty (the policy's own) or a name that finds no file is left to
+// the command.
+void require_scenario_option(const std::string& given) {
+  if (given.empty()) return;
+  std::string path;
+  try {
+    path = resolve_scenario_path(given);
+  } catch (const Error&) {
+    return;
+  }
+  require_script_kind(given, path, {"scenario"}, "--scenario");
+}
+
 // Options of roger render that the other form does not read, refused rather than ignored (found by
 // a probe: `roger render cluttered --scenario unobstructed` drew cluttered, and `--grid` or
 // `--seconds` with --policy changed nothing).
@@ -401,14 +416,19 @@ int run_command(Commands& c) {
     c.render_args.seed_given = c.render->count("--seed") > 0;
     refuse_render_options_unused(*c.render, c.render_args);
     require_render_kind(c.render_args);
+    require_scenario_option(c.render_args.world);
     return command_render(c.render_args);
   }
   if (*c.check) return command_check(c.check_args);
-  if (*c.bench) return command_bench(c.bench_args);
+  if (*c.bench) {
+    require_scenario_option(c.bench_args.scenario);
+    return command_bench(c.bench_args);
+  }
   if (*c.eval) {
     c.eval_args.seed_given = c.eval_seed->count() > 0;
     c.eval_args.episodes_given = c.eval->count("--episodes") > 0;
     require_curriculum(c.eval_args.script, {"curriculum", "skill script"});
+    require_scenario_option(c.eval_args.scenario);
     return command_eval(c.eval_args);
   }
   if (*c.train) {

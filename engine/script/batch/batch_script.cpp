@@ -163,6 +163,9 @@ std::unique_ptr<Curriculum> load_curriculum(const Reader& rd, const std::string&
   }
   std::unique_ptr<Curriculum> cur;
   try {
+    // A script of another kind fails inside (found by a probe: a scenario's file said
+    // "scenarios/lib/shapes.lua:16: attempt to call a nil value"): named as what it is.
+    require_script_kind(b.curriculum, resolve_curriculum_path(cur_arg), {"curriculum"}, "the curriculum");
     cur = std::make_unique<Curriculum>(Curriculum::load(cur_arg, limits));
   } catch (const ScriptError& e) {
     rd.fail(rd.line_of_key("curriculum", 1), "the curriculum '" + b.curriculum + "' does not load: " + e.what());
@@ -892,13 +895,15 @@ std::string what_runs(const std::string& kind, const std::string& given) {
 
 }  // namespace
 
-void require_script_kind(const std::string& given, const std::string& path, const std::vector<std::string>& wanted) {
+void require_script_kind(const std::string& given, const std::string& path, const std::vector<std::string>& wanted,
+                         const std::string& option) {
   const std::string kind = script_kind(path);
   if (kind.empty() || std::find(wanted.begin(), wanted.end(), kind) != wanted.end()) return;
   std::string expected;
   for (size_t i = 0; i < wanted.size(); ++i)
     expected += (i == 0 ? "" : i + 1 == wanted.size() ? " or " : ", ") + wanted[i];
-  throw Error(given + " is a " + kind + ", not a " + expected + ": " + what_runs(kind, given));
+  throw Error((option.empty() ? "" : option + " ") + given + " is a " + kind + ", not a " + expected + ": " +
+              what_runs(kind, given));
 }
 
 }  // namespace roger

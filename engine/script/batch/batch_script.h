@@ -173,8 +173,10 @@ std::string script_kind(const std::string& path);
 // Throws roger::Error when the script at `path` (resolved; `given` as the user typed it) reads as
 // a kind not in `wanted` (script_kind's names), naming both and what runs it instead: a script of
 // the wrong kind otherwise fails inside, in a Lua traceback or a list of fields that do not
-// belong. A script of no known kind passes: loading it says what is wrong.
-void require_script_kind(const std::string& given, const std::string& path, const std::vector<std::string>& wanted);
+// belong. A script of no known kind passes: loading it says what is wrong. `option`, when given,
+// is the option or field that named it ("--scenario"), said before it.
+void require_script_kind(const std::string& given, const std::string& path, const std::vector<std::string>& wanted,
+                         const std::string& option = "");
 
 // The script's resolved configuration as JSON (the manifest's "config"; read back by the report).
 nlohmann::json batch_config_json(const BatchScript& script);
