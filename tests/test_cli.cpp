@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <sstream>
 #include <string>
@@ -1042,6 +1043,25 @@ TEST_CASE("an evaluation over a retrained skill is roger eval --skill, whatever 
   r = roger("eval curricula/paper.lua --policy " + policy + " --skill Phi_X=" + sg);
   CHECK(r.status != 0);
   CHECK(r.err.find("the policy uses no learned skill 'Phi_X' to replace (it uses Phi_SG)") != std::string::npos);
+  // Found by a probe: an edited policy's stage, trial parameter or embedded skills were refused
+  // without the file or the field.
+  {
+    const nlohmann::json saved = nlohmann::json::parse(slurp(policy));
+    const std::string edited = (one / "edited.json").string();
+    auto eval_edited = [&](const std::function<void(nlohmann::json&)>& edit) {
+      nlohmann::json j = saved;
+      edit(j);
+      std::ofstream(edited) << j.dump();
+      return roger("eval curricula/paper.lua --policy " + edited + " --episodes 1").err;
+    };
+    CHECK_THAT(eval_edited([](nlohmann::json& j) { j["stage"] = "SG"; }),
+               Catch::Contains(edited + ": fields \"stage\" and \"context\": stage 'SG' has no context 'DC6'"));
+    CHECK_THAT(eval_edited([](nlohmann::json& j) { j["extra"]["params"]["upper_arm"] = "abc"; }),
+               Catch::Contains(edited + ": field \"extra.params\": parameter 'upper_arm' of scenario"));
+    CHECK_THAT(eval_edited([](nlohmann::json& j) { j["extra"].erase("skills"); }),
+               Catch::Contains(edited + ": field \"extra.skills\" does not hold the learned skill 'Phi_SG' its "
+                               "context DC6 uses"));
+  }
   // A policy of another stage given for the skill is named as such, not by two lists of actions.
   r = roger("eval curricula/paper.lua --policy " + policy + " --skill Phi_SG=" + policy);
   CHECK(r.status != 0);

@@ -705,7 +705,8 @@ namespace {
 // `sets` gives (a --set of the command wins). Parameters the scenario no longer declares are left
 // out.
 ParamList trial_only_params(const PolicyMetadata& meta, const CurriculumStage& stage, const CurriculumContext& ctx,
-                            const ParamList& sets, const SandboxLimits& limits, ParamList* overridden = nullptr) {
+                            const ParamList& sets, const SandboxLimits& limits, const std::string& policy_file,
+                            ParamList* overridden = nullptr) {
   ParamList out;
   if (!meta.extra.is_object() || !meta.extra.contains("params") || !meta.extra["params"].is_object()) return out;
   ParamList now;
@@ -716,6 +717,13 @@ ParamList trial_only_params(const PolicyMetadata& meta, const CurriculumStage& s
     const auto set = std::find_if(sets.begin(), sets.end(), [&](const auto& s) { return s.first == param.first; });
     if (set == sets.end()) out.push_back({param.first, it->get<std::string>()});
     else if (overridden && set->second != it->get<std::string>()) overridden->push_back({param.first, it->get<std::string>()});
+  }
+  // A value the scenario refuses is the file's (found by a probe: an edited "abc" was refused
+  // naming the scenario's parameter, not the file it came from).
+  try {
+    if (!out.empty()) make_scenario(stage, ctx, "", out, limits, nullptr);
+  } catch (const Error& e) {
+    throw Error(policy_file + ": field \"extra.params\": " + e.what());
   }
   return out;
 }
@@ -729,7 +737,7 @@ ParamList policy_trial_params(const PolicyMetadata& meta, const std::string& pol
   Curriculum cur = Curriculum::load(curriculum, limits);
   const CurriculumStage& stage = cur.stage(meta.stage);
   if (!scenario.empty() && scenario != stage.scenario) return {};
-  return trial_only_params(meta, stage, stage.context(meta.context), sets, limits);
+  return trial_only_params(meta, stage, stage.context(meta.context), sets, limits, policy_file);
 }
 
 namespace {
@@ -785,11 +793,16 @@ void with_policy_file(const PolicyEvalOptions& given, PolicyEvalResult& out,
   Curriculum cur = Curriculum::load(options.curriculum, options.limits);
   const CurriculumStage* found_stage = nullptr;
   const CurriculumContext* found_ctx = nullptr;
+  // Named by the file and its field (found by a probe: an edited stage said "stage 'SG' has no
+  // context 'DC6'" alone).
+  const char* field = "field \"stage\"";
   try {
     found_stage = &cur.stage(meta.stage);
+    field = "fields \"stage\" and \"context\"";
     found_ctx = &found_stage->context(meta.context);
   } catch (const Error& e) {
-    throw Error(std::string(e.what()) + trained_with(meta, cur, options.policy_file, options.command));
+    throw Error(options.policy_file + ": " + field + ": " + e.what() +
+                trained_with(meta, cur, options.policy_file, options.command));
   }
   const CurriculumStage& stage = *found_stage;
   const CurriculumContext& ctx = *found_ctx;
@@ -805,6 +818,11 @@ void with_policy_file(const PolicyEvalOptions& given, PolicyEvalResult& out,
     }
     embedded.erase(name);  // bound from the file instead (bind_skills)
   }
+  for (const std::string& skill : ctx.learned)
+    if (!embedded.contains(skill) && !options.skill_files.count(skill))
+      throw Error(options.policy_file + ": field \"extra.skills\" does not hold the learned skill '" + skill +
+                  "' its context " + ctx.name + " uses (a policy roger train wrote embeds it; give one with --skill " +
+                  skill + "=FILE.json)");
   std::vector<SkillSource> sources;
   TrainOptions topt;
   topt.limits = options.limits;
@@ -820,7 +838,8 @@ void with_policy_file(const PolicyEvalOptions& given, PolicyEvalResult& out,
   out.stage_test_tasks = stage.teaches() ? stage.final_test_tasks() : 0;
   if (options.trial_params) {
     ParamList overridden;
-    const ParamList trial = trial_only_params(meta, stage, ctx, options.sets, options.limits, &overridden);
+    const ParamList trial = trial_only_params(meta, stage, ctx, options.sets, options.limits, options.policy_file,
+                                              &overridden);
     if (options.scenario.empty() || options.scenario == stage.scenario) {
       out.trial_sets = trial;
       out.trial_sets_overridden = overridden;
