@@ -1554,3 +1554,29 @@ TEST_CASE("a project folder of one's own finds the shipped libraries after its o
              Catch::Matchers::Contains("mine"));
   fs::remove_all(dir);
 }
+
+// Found by a newcomer's walk: a batch whose test set held a task no layout of its world seed
+// holds trained every trial to its first checkpoint, where each failed; roger check knew it.
+TEST_CASE("roger run refuses a test task no world holds before any trial runs", "[cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_hole_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "curr.lua")
+      << "local p = require('lib.skills').primitives()\n"
+         "return { name = 'hole', stages = { roger.stage{\n"
+         "  name = 'S', scenario = 'cluttered', time_limit = 1, absorbing = roger.converged(p.phi0),\n"
+         "  budget = { episodes = 4 }, checkpoints = { every = 4 }, contexts = { { name = 'A', actions = { p.phi0 } } },\n"
+         "  tasks = { robot_distance = roger.real(0.8, 3.4) },\n"
+         "  test = { list = { { robot_distance = 1 }, { robot_distance = 3.3 } } } } } }\n";
+  std::ofstream(dir / "batch.lua")
+      << "return { name = 'hole', curriculum = 'curr.lua', trials = 2, runs = { { name = 'S', stage = 'S' } } }\n";
+  const std::string out = (dir / "out").string();
+  const Run r = roger("run " + (dir / "batch.lua").string() + " --out " + out);
+  INFO(r.err);
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Matchers::Contains("curr.lua:2: stage 'S': test task 2 of 2 (robot_distance = 3.3) cannot be "
+                                              "placed in world seed 1000001") &&
+                        Catch::Matchers::Contains("roger run: nothing run: every trial of such a run would fail"));
+  CHECK_FALSE(fs::exists(out));
+  fs::remove_all(dir);
+}

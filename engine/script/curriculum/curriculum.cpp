@@ -967,6 +967,16 @@ std::vector<std::string> check_curriculum(const std::string& path, const Sandbox
   return problems;
 }
 
+std::vector<std::string> check_test_sets(const std::string& path, const SandboxLimits& limits, const ParamList& sets,
+                                         const std::vector<std::string>& stages) {
+  std::vector<std::string> problems;
+  Curriculum cur = Curriculum::load(path, limits);
+  for (const auto& st : cur.stages())
+    if (stages.empty() || std::find(stages.begin(), stages.end(), st.name) != stages.end())
+      check_test_set(cur, st, limits, sets, problems);
+  return problems;
+}
+
 std::vector<std::filesystem::path> curriculum_source_files(const Curriculum& cur, const SandboxLimits& limits) {
   std::vector<std::filesystem::path> files = cur.source_files();
   std::set<std::string> scenarios;

@@ -256,6 +256,12 @@ std::vector<std::string> check_curriculum(const std::string& path, const Sandbox
                                           const ParamList& sets = {}, const std::vector<std::string>& stages = {},
                                           const std::string& sets_from = "--set");
 
+// The test sets of `stages` (all when empty) as their trials will meet them, `sets` over the
+// stages' parameters: each test task no layout of its world seed holds, which would fail every
+// trial at its first evaluation (check_curriculum's words). roger run asks before any trial runs.
+std::vector<std::string> check_test_sets(const std::string& path, const SandboxLimits& limits, const ParamList& sets,
+                                         const std::vector<std::string>& stages);
+
 // Every Lua file training with this curriculum reads: its own source files, then each stage's
 // scenario and the modules that requires, each once (absolute paths). A batch fingerprints them,
 // so that results are never resumed after any of them changed. Throws like Scenario::load.
