@@ -1061,6 +1061,8 @@ TEST_CASE("an evaluation over a retrained skill is roger eval --skill, whatever 
     CHECK_THAT(eval_edited([](nlohmann::json& j) { j["extra"].erase("skills"); }),
                Catch::Contains(edited + ": field \"extra.skills\" does not hold the learned skill 'Phi_SG' its "
                                "context DC6 uses"));
+    const std::string nowhere = (one / "no_such_policy.json").string();
+    CHECK_THAT(roger("eval curricula/paper.lua --policy " + nowhere).err, Catch::Contains(nowhere + ": no such file"));
   }
   // A policy of another stage given for the skill is named as such, not by two lists of actions.
   r = roger("eval curricula/paper.lua --policy " + policy + " --skill Phi_SG=" + policy);
