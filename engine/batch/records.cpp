@@ -312,16 +312,16 @@ void check_final_records(const fs::path& dir, const json& result) {
     const size_t end = std::min(text.find('\n', at), text.size());
     if (end > at && (text[at] != '{' || text[end - 1] != '}'))
       throw Error(path + ":" + std::to_string(lines + 1) + ": not a JSON object on one line: truncated or edited?");
+    // (A line that is no record, or whose success is no boolean, is the reader's to refuse, with
+    // its own words: final_record.)
     if (end > at && lines < outcomes.size()) {
       const json record = json::parse(text.begin() + long(at), text.begin() + long(end), nullptr, false);
       const bool success = outcomes[lines] == '1';
-      if (!record.is_object() || !record.contains("success") || record["success"] != success)
-        throw Error(path + ":" + std::to_string(lines + 1) + ": " +
-                    (record.is_object() && record.contains("success")
-                         ? "\"success\": " + record["success"].dump() + ", but the trial's result.json records episode " +
-                               std::to_string(lines + 1) + " " + (success ? "a success" : "a failure") +
-                               " (\"final_outcomes\"): edited?"
-                         : std::string("no \"success\" of a final-evaluation episode: truncated or edited?")));
+      if (record.is_object() && record.contains("success") && record["success"].is_boolean() &&
+          record["success"] != success)
+        throw Error(path + ":" + std::to_string(lines + 1) + ": \"success\": " + record["success"].dump() +
+                    ", but the trial's result.json records episode " + std::to_string(lines + 1) + " " +
+                    (success ? "a success" : "a failure") + " (\"final_outcomes\"): edited?");
     }
     lines += end > at;
     at = end + 1;
