@@ -238,7 +238,8 @@ json read_json_file(const std::string& path) {
   // "No such file" for a path that names nothing (found by a probe: a mistyped policy path read
   // "not a file", as if something else were there).
   if (!fs::exists(path, ec)) throw Error(path + ": no such file");
-  if (!fs::is_regular_file(path, ec)) throw Error(path + ": not a file (" + (fs::is_directory(path, ec) ? "a folder" : "a device, pipe or socket") + ")");
+  if (!fs::is_regular_file(path, ec))
+    throw Error(path + ": not a file (" + (fs::is_directory(path, ec) ? "a folder" : "a device, pipe or socket") + ")");
   const std::string text = read_file_text(path);
   if (text.empty()) throw Error(path + ": empty (0 bytes)");
   try {

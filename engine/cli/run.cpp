@@ -222,10 +222,6 @@ int finish_run(const RunArgs& a, const BatchPlan& plan, const Shard& shard, cons
   return interrupt_exit_status();  // 130 after Ctrl-C, 143 after SIGTERM, as a shell reports them
 }
 
-}  // namespace
-
-namespace {
-
 // A test task no layout of its world seed holds fails every trial of its run at the first
 // evaluation that runs it: said before any trial starts, as roger check says it (found by a
 // newcomer: the nine trials of such a batch trained to their first checkpoint, then all failed).
