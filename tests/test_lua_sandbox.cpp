@@ -540,6 +540,43 @@ TEST_CASE("print goes to the configured sink", "[lua_sandbox]") {
   CHECK(printed == "a\t1\ttrue\tnil\n");
 }
 
+// Found by a probe: lua5.4 has written "a\tb" (no newline) when a later argument's __tostring
+// fails, and the next print continues that line; the sandbox wrote nothing of it.
+TEST_CASE("print keeps what it wrote before a failing __tostring, as Lua's does", "[lua_sandbox]") {
+  LuaSandbox sandbox;
+  std::vector<std::string> lines;
+  sandbox.set_print([&](const std::string& line) { lines.push_back(line); });
+  const std::string bad = "local bad = setmetatable({}, {__tostring = function() error('no text') end})\n";
+  SECTION("the next print continues the line") {
+    sandbox.load_string(bad + "print(pcall(print, 'a', 'b', bad, 'c'))\nprint('d')", "=p");
+    sandbox.call(0, 0);
+    CHECK(lines == std::vector<std::string>{"a\tbfalse\tp:1: no text", "d"});
+  }
+  SECTION("the first argument failing writes nothing") {
+    sandbox.load_string(bad + "pcall(print, bad, 'a')\nprint('d')", "=p");
+    sandbox.call(0, 0);
+    CHECK(lines == std::vector<std::string>{"d"});
+  }
+  SECTION("a call ending on it ends the line, error or not") {
+    sandbox.load_string(bad + "pcall(print, 'a', bad)\npcall(print, 'b', bad)", "=p");
+    sandbox.call(0, 0);
+    CHECK(lines == std::vector<std::string>{"ab"});
+    sandbox.load_string(bad + "print('e', bad)", "=p");
+    CHECK_THROWS_AS(sandbox.call(0, 0), ScriptError);
+    CHECK(lines == std::vector<std::string>{"ab", "e"});
+    sandbox.load_string("print('f')", "=p");
+    sandbox.call(0, 0);
+    CHECK(lines.back() == "f");
+  }
+  SECTION("a loop of them cannot grow the kept text without bound") {
+    sandbox.load_string(bad + "local s = string.rep('x', 1000)\nfor i = 1, 200 do pcall(print, s, bad) end", "=p");
+    sandbox.call(0, 0);
+    // A line each time 64 KiB is passed (66 prints' 66,000 characters), the rest at the call's end.
+    CHECK(lines == std::vector<std::string>{std::string(66000, 'x'), std::string(66000, 'x'),
+                                            std::string(66000, 'x'), std::string(2000, 'x')});
+  }
+}
+
 
 // Found by a probe: a teacher choosing "the shape learned least" by a loop of pairs over shape
 // names gave three different runs out of four from one seed, as Lua's order follows string hashes

@@ -190,6 +190,10 @@ LuaSandbox::~LuaSandbox() {
     impl_->out_of_time = false;
     lua_sethook(impl_->L, count_hook, LUA_MASKCOUNT, impl_->hook_interval);
     lua_close(impl_->L);
+    try {
+      end_unended_print(*impl_);  // a __close's print
+    } catch (...) {  // a sink that throws loses the line, not the program
+    }
   }
 }
 
@@ -224,6 +228,19 @@ void QuietPrints::finish() {
   if (hidden_ && shown_)
     shown_("(" + counted(static_cast<long long>(hidden_), "more line") + " printed while " + what_ + ", not shown)");
   hidden_ = 0;
+}
+
+void sandbox_detail::keep_unended_print(LuaSandbox::Impl& s, const char* text, size_t length) {
+  constexpr size_t kMostKept = 64u << 10;
+  s.print_unended.append(text, length);
+  if (s.print_unended.size() > kMostKept) end_unended_print(s);
+}
+
+void sandbox_detail::end_unended_print(LuaSandbox::Impl& s) {
+  if (s.print_unended.empty()) return;
+  std::string line;
+  line.swap(s.print_unended);
+  if (s.print) s.print(line);
 }
 
 void LuaSandbox::set_print(std::function<void(const std::string&)> sink) {
@@ -397,6 +414,7 @@ void LuaSandbox::call(int nargs, int nresults) {
     status = lua_pcall(L, nargs, nresults, base);
   }
   lua_remove(L, base);
+  if (s.call_depth == 0) end_unended_print(s);
   if (status != LUA_OK) throw_call_error(s, status, entry_file);
   // A budget's error that a script's pcall or xpcall caught, its function then ending at once
   // (`return pcall(loop)`): no instruction came after the catch to raise it again, and the call

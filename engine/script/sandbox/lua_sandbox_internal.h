@@ -60,6 +60,10 @@ struct LuaSandbox::Impl {
   std::vector<std::string> loading;      // modules being required, outermost first
   std::vector<std::filesystem::path> source_files;  // every file compiled, each once, in load order
   std::function<void(const std::string&)> print;
+  // What a print wrote before an argument's __tostring failed: the stand-alone lua has written
+  // those arguments and no newline, so the next print's line continues it. A top-level call ends
+  // it as a line of its own (end_unended_print), as a terminal would show it.
+  std::string print_unended;
   // warn(): off until "@on", as the stand-alone lua has it; a message in pieces is gathered here.
   bool warnings_on = false;
   bool warning_continues = false;
@@ -110,6 +114,14 @@ bool split_location(const std::string& text, std::string& file, int& line, std::
 
 // The message handler of every protected call: records the error's location and traceback.
 int message_handler(lua_State* L);
+
+// print's text before an argument whose __tostring failed, kept for the next print to continue
+// (LuaSandbox::Impl::print_unended); past 64 KiB it is written as a line, so that a loop of such
+// prints cannot grow it without bound outside the script's memory limit.
+void keep_unended_print(LuaSandbox::Impl& s, const char* text, size_t length);
+
+// Writes what prints left unended as a line of its own (at the end of a top-level call).
+void end_unended_print(LuaSandbox::Impl& s);
 
 // The instruction budget's count hook; also checks the processor-time limit.
 void count_hook(lua_State* L, lua_Debug* ar);

@@ -152,22 +152,31 @@ int sandbox_load(lua_State* L) {
   return 1;
 }
 
-// print(...): tab-separated tostring() of the arguments, one line to the sandbox's sink.
+// print(...): tab-separated tostring() of the arguments, one line to the sandbox's sink. When an
+// argument's __tostring fails, Lua has written the arguments before it (no tab after the last, no
+// newline): that much is kept, and the next print's line continues it.
 int sandbox_print(lua_State* L) {
   const int n = lua_gettop(L);
   luaL_Buffer b;
   luaL_buffinit(L, &b);
   for (int i = 1; i <= n; ++i) {
     if (i > 1) luaL_addchar(&b, '\t');
-    luaL_tolstring(L, i, nullptr);
+    try {
+      luaL_tolstring(L, i, nullptr);
+    } catch (...) {  // a Lua error (this Lua is compiled as C++), raised on once the text is kept
+      keep_unended_print(impl_of(L), luaL_buffaddr(&b), luaL_bufflen(&b) - (i > 1 ? 1 : 0));
+      throw;
+    }
     luaL_addvalue(&b);
   }
   luaL_pushresult(&b);
   size_t length = 0;
   const char* text = lua_tolstring(L, -1, &length);
-  std::string line(text, length);  // all of it, as Lua's print writes a NUL and what follows
   return lua_protect(L, [&]() {
     auto& s = impl_of(L);
+    std::string line = std::move(s.print_unended);  // all of the text, as Lua's print writes a NUL and what follows
+    s.print_unended.clear();
+    line.append(text, length);
     if (s.print) s.print(line);
     return 0;
   });
