@@ -429,8 +429,12 @@ void VecEnvironment::keep_last(int i) {
 void VecEnvironment::step_one(int i) {
   Slot& s = slots_[size_t(i)];
   if (s.needs_reset) return begin(i);  // next-step autoreset (or a fault's successor): the action is ignored
+  const StageEnvironment& env = *envs_[size_t(i)];
   s.result = envs_[size_t(i)]->step(int(actions_[i]));
-  if (envs_[size_t(i)]->running()) return;
+  // At the cap the episode is truncated, whether its stage ended it in the same decision or not
+  // (Gymnasium's TimeLimit: both flags then).
+  s.truncated = most_decisions_ > 0 && env.episode().decisions >= most_decisions_;
+  if (env.running() && !s.truncated) return;
   keep_last(i);
   if (autoreset_ == Autoreset::kSameStep) return begin(i);
   s.needs_reset = true;
@@ -439,7 +443,7 @@ void VecEnvironment::step_one(int i) {
 void VecEnvironment::job(int i) {
   Slot& s = slots_[size_t(i)];
   s.result = {};
-  s.restarted = s.ended = s.failed = false;
+  s.restarted = s.ended = s.failed = s.truncated = false;
   try {
     if (!resetting_) return step_one(i);
     if (s.reset_requested) begin(i);
@@ -553,6 +557,7 @@ void VecEnvironment::step(const int64_t* actions, const StepOutput& out) {
     out.restarted[i] = s.restarted;
     out.ended[i] = s.ended;
     out.failed[i] = s.failed;
+    out.truncated[i] = s.truncated;
     for (size_t a = 0; a < k; ++a) out.last.states[i * k + a] = s.ended ? uint8_t(s.last_state[a]) : 0;
     out.last.seeds[i] = s.ended ? s.last_seed : 0;
     out.last.sim_seconds[i] = s.ended ? s.last_sim_s : 0.0;
@@ -583,6 +588,11 @@ void VecEnvironment::continue_at(int i, uint64_t next) {
   if (i < 0 || i >= size()) throw Error("continue_at: no environment " + std::to_string(i));
   Slot& s = slots_[size_t(i)];
   s.base_seed = next - s.started * envs_.size();  // modulo 2^64, as begin() reads it back
+}
+
+void VecEnvironment::cap_decisions(int most) {
+  if (most < 0) throw Error("max_episode_steps: a number of decisions, at least 1 (or none), got " + std::to_string(most));
+  most_decisions_ = most;
 }
 
 void VecEnvironment::restore(const std::vector<Snapshot>& snapshots) {

@@ -236,6 +236,7 @@ class VecEnvironment {
     uint8_t* restarted;      // the environment began a new episode in this step
     uint8_t* ended;          // its episode ended in this step (by its stage, or by a fault)
     uint8_t* failed;         // its step raised an error (a Lua fault): the episode is over
+    uint8_t* truncated;      // its episode was cut short at the decision cap (cap_decisions)
     Episodes last;           // for an ended episode: its last state, seed, time, ticks, decisions
     double* episode_rewards; // for an ended episode: its return (the engine's sum of its rewards)
     uint8_t* success;        // for an ended episode: it reached the absorbing state
@@ -266,6 +267,11 @@ class VecEnvironment {
   // in the world of `next`, then next + N, ... (Python's make_vec gives an environment whose given
   // seed's schedule would meet another's a schedule of its own after its first world).
   void continue_at(int i, uint64_t next);
+  // Ends an episode at its `most`-th decision, as cut short (StepOutput's truncated; terminated
+  // and success only if its stage ended it in that decision): Gymnasium's max_episode_steps, which
+  // gymnasium.make_vec hands to a vector entry point. 0 (the default) caps nothing.
+  void cap_decisions(int most);
+  int decision_cap() const { return most_decisions_; }
 
  private:
   // One environment's part of the current call and what follows its episode.
@@ -273,7 +279,7 @@ class VecEnvironment {
     uint64_t base_seed = 0, started = 0;  // its schedule: the next episode's seed is base + started * N
     bool reset_requested = false, needs_reset = false;
     EnvironmentStep result;
-    bool restarted = false, ended = false, failed = false;
+    bool restarted = false, ended = false, failed = false, truncated = false;
     std::vector<Gamma> last_state;
     uint64_t last_seed = 0;
     double last_sim_s = 0.0, last_reward = 0.0;
@@ -293,6 +299,7 @@ class VecEnvironment {
   std::vector<Slot> slots_;
   Autoreset autoreset_ = Autoreset::kNextStep;
   int threads_ = 1;
+  int most_decisions_ = 0;  // cap_decisions
   // The work of one call, read by job().
   bool resetting_ = false;
   const int64_t* actions_ = nullptr;

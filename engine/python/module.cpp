@@ -698,15 +698,15 @@ void check_step(VecEnvironment& v, const IntArray& actions) {
 struct StepArrays {
   EpisodeArrays now, last;
   py::array_t<double> rewards, episode_rewards;
-  py::array_t<uint8_t> term, time_out, restarted, ended, failed, success;
+  py::array_t<uint8_t> term, time_out, restarted, ended, failed, truncated, success;
   StepArrays(py::ssize_t n, py::ssize_t k)
       : now(n, k), last(n, k), rewards(n), episode_rewards(n), term(flags(n)), time_out(flags(n)),
-        restarted(flags(n)), ended(flags(n)), failed(flags(n)), success(flags(n)) {}
+        restarted(flags(n)), ended(flags(n)), failed(flags(n)), truncated(flags(n)), success(flags(n)) {}
   VecEnvironment::StepOutput out() {
     return {now.out(),         rewards.mutable_data(),   term.mutable_data(),
             time_out.mutable_data(), restarted.mutable_data(), ended.mutable_data(),
-            failed.mutable_data(), last.out(),          episode_rewards.mutable_data(),
-            success.mutable_data()};
+            failed.mutable_data(), truncated.mutable_data(), last.out(),
+            episode_rewards.mutable_data(), success.mutable_data()};
   }
   py::dict dict() const {
     py::dict d;
@@ -718,6 +718,7 @@ struct StepArrays {
     d["restarted"] = as_bool(restarted);
     d["ended"] = as_bool(ended);
     d["failed"] = as_bool(failed);
+    d["truncated"] = as_bool(truncated);
     d["episode_reward"] = episode_rewards;
     d["success"] = as_bool(success);
     return d;
@@ -798,6 +799,7 @@ void bind_vec(py::module_& m) {
       .def("snapshot", &vec_snapshot)
       .def("restore", &vec_restore, py::arg("state"))
       .def("continue_at", &VecEnvironment::continue_at, py::arg("i"), py::arg("next"))
+      .def_property("decision_cap", &VecEnvironment::decision_cap, &VecEnvironment::cap_decisions)
       .def_property_readonly("begun",
                              [](const VecEnvironment& v) {
                                std::vector<bool> out;

@@ -282,9 +282,16 @@ class VecDeterminism(unittest.TestCase):
             np.testing.assert_array_equal(env.reset(seed=100 + i)[0], obs0[i])
             for k, ((_, obs, rew, term, trunc, info), row) in enumerate(zip(steps, rows)):
                 where = f"{mode}: environment {i}, step {k}"
+                # As Gymnasium's _add_info: the keys of ended episodes only in a step where one ended.
+                ended_keys = ("_final_obs", "final_obs", "final_info") if mode == "SameStep" else (
+                    "episode_reward", "_episode_reward", "success", "is_success", "time_out")
+                for key in ended_keys:
+                    self.assertEqual(key in info, bool(term.any()), (where, key))
                 np.testing.assert_array_equal(obs[i], row[0], where)
                 self.assertEqual((rew[i], bool(term[i]), bool(trunc[i]), info["seed"][i]),
                                  (row[1], row[2], False, row[3]), where)
+                if not term.any():
+                    continue
                 if mode == "SameStep":
                     self.assertEqual(bool(info["_final_obs"][i]), row[2], where)
                     if row[2]:
@@ -624,6 +631,25 @@ class GymnasiumApi(unittest.TestCase):
         box = gym_spaces.Box(0, 2, (3, 2), np.int64)
         self.assertEqual(repr(box), repr(vec.observation_space))
 
+    def test_stand_in_spaces_refuse_what_gymnasiums_refuse(self):
+        # Found by a probe: Discrete(0), Discrete(3.0), MultiDiscrete([0, 3]), Box(1, 0, (2,)) and
+        # Dict({"a": 3}) were made, which gymnasium 1.x refuses, with these errors.
+        from roger import _spaces as S
+        for make, error, text in ((lambda: S.Discrete(0), ValueError, "n (counts) have to be positive"),
+                                  (lambda: S.Discrete(-1), ValueError, "n (counts) have to be positive"),
+                                  (lambda: S.Discrete(3.0), TypeError, "Expects `n` to be an integer"),
+                                  (lambda: S.Discrete(3, start=0.5), TypeError, "Expects `start` to be an integer"),
+                                  (lambda: S.MultiDiscrete([0, 3]), ValueError, "nvec (counts) have to be positive"),
+                                  (lambda: S.MultiDiscrete([2, 3], start=[0]), ValueError, "the same shape"),
+                                  (lambda: S.Box(1, 0, (2,)), ValueError, "low values must be less than or equal"),
+                                  (lambda: S.Box(np.nan, 1, (2,)), ValueError, "No low value can be equal to `np.nan`"),
+                                  (lambda: S.Dict({"a": 3}), TypeError, "Dict space element is not an instance")):
+            self.assertRaisesRegex(error, re.escape(text), make)
+        self.assertEqual(S.Discrete(np.int64(3), start=np.int32(1)).n, 3)  # numpy integers are integers
+        for bound in (10**30, -2**63 - 1):
+            self.assertRaisesRegex(roger.RogerError, "within Lua's 64-bit integers", roger.axis.int, 0 if bound > 0 else bound,
+                                   bound if bound > 0 else 0)
+
     def test_stand_in_spaces_are_gymnasiums(self):
         # The package's own spaces (used without gymnasium) seed, sample and hold members as
         # gymnasium 1.x's do; where gymnasium is importable, the same seeds give the same samples.
@@ -825,11 +851,14 @@ class VectorApi(unittest.TestCase):
             v.reset(seed=10)
             v.step(np.array([0, 0, 0]))
         mask = np.array([False, True, False])
-        obs, info = vec.reset(seed=50, options={"reset_mask": mask})
+        # World 50 keeps environment 1's residue modulo 3 (11's): no schedule meets another's, so
+        # the others go on untouched (51 would meet environment 2's 15, 18, ..., which would then
+        # continue apart: test_seeded_reset_keeps_apart_from_those_left_out).
+        obs, info = vec.reset(seed=49, options={"reset_mask": mask})
         np.testing.assert_array_equal(info["_seed"], mask)
-        self.assertEqual(info["seed"][1], 51)
+        self.assertEqual(info["seed"][1], 50)
         single = roger.make(EXAMPLE, "Look", "Gaze")
-        np.testing.assert_array_equal(obs[1], single.reset(seed=51)[0])
+        np.testing.assert_array_equal(obs[1], single.reset(seed=50)[0])
         obs, reward, _, _, info = vec.step(np.array([0, 0, 0]))
         t_obs, t_reward, _, _, t_info = twin.step(np.array([0, 0, 0]))
         for i in (0, 2):  # the others went on as if nothing had happened
@@ -898,6 +927,55 @@ class VectorApi(unittest.TestCase):
         self.assertGreater(len(worlds[0]) + len(worlds[1]), 10)
         self.assertFalse(set(worlds[0]) & set(worlds[1]), worlds)
         self.assertEqual(worlds[1][:3], [2, 4, 6])
+
+    def test_max_episode_steps_truncates(self):
+        # Found by a probe: gymnasium.make_vec(id, n, max_episode_steps=N) hands the keyword to the
+        # vector entry point, which raised TypeError. At the N-th decision an episode is truncated
+        # (terminated too only when its stage ended it then), and its successor begins as any other's.
+        for mode in ("NextStep", "SameStep"):
+            with self.subTest(mode=mode):
+                vec, free = self.make(2, max_episode_steps=1, autoreset_mode=mode), self.make(2, autoreset_mode=mode)
+                vec.reset(seed=4)
+                free.reset(seed=4)
+                actions = np.array([1, 0])  # phi0 (its time-out ends the episode at once) and search (runs on)
+                _, reward, terminated, truncated, info = vec.step(actions)
+                _, f_reward, f_terminated, f_truncated, f_info = free.step(actions)
+                np.testing.assert_array_equal(reward, f_reward)  # the same decision, only cut short
+                np.testing.assert_array_equal(terminated, f_terminated)
+                np.testing.assert_array_equal(truncated, [True, True])
+                self.assertFalse(f_truncated.any())
+                ended = info["final_info"] if mode == "SameStep" else info
+                np.testing.assert_array_equal(ended["decisions"], [1, 1])
+                self.assertFalse(ended["success"][0])
+                _, _, _, _, info = vec.step(actions)
+                if mode == "NextStep":  # the next step begins each one's next episode
+                    np.testing.assert_array_equal(info["seed"], [6, 7])
+                    np.testing.assert_array_equal(info["decisions"], [0, 0])
+                copy = pickle.loads(pickle.dumps(vec))  # a copy keeps the cap
+                self.assertEqual(copy.step(actions)[3].tolist(), vec.step(actions)[3].tolist())
+        for bad in (0, -1, True, 2.5, "3"):
+            self.assertRaisesRegex(roger.RogerError, "max_episode_steps must be a positive integer", self.make,
+                                   max_episode_steps=bad)
+
+    def test_seeded_reset_keeps_apart_from_those_left_out(self):
+        # Found by a probe: a seed given to an environment of a masked reset was checked only
+        # against the others reset with it, so seed 11 and the running environment 1's schedule
+        # (1, 3, 5, ...) met, and both played 11, 13, 15, ... The highest goes on along its
+        # schedule (11, 13, ...); the one left out ends its episode and then continues apart.
+        vec = self.make(2)
+        vec.reset(seed=0)
+        _, info = vec.reset(seed=11, options={"reset_mask": np.array([True, False])})
+        self.assertEqual(info["seed"][0], 11)
+        worlds, rng = {0: [11], 1: [1]}, np.random.default_rng(3)
+        for _ in range(150):
+            _, _, _, _, info = vec.step(rng.integers(0, 2, size=2))
+            for i in (0, 1):
+                if info["ticks"][i] == 0:  # the first step of an episode (NEXT_STEP autoreset)
+                    worlds[i].append(int(info["seed"][i]))
+        self.assertGreater(min(len(worlds[0]), len(worlds[1])), 4)
+        self.assertFalse(set(worlds[0]) & set(worlds[1]), worlds)
+        self.assertEqual(worlds[0][:3], [11, 13, 15])
+        self.assertEqual(worlds[1][1], roger.mix(3, 1) >> 1)  # from 3 (its next), the first k of residue 0
 
     def test_reset_failure_names_the_environment(self):
         # Every episode of this stage ends at once: the reset fails after 1000 of them, and says so
@@ -1388,6 +1466,31 @@ class DeepRL(unittest.TestCase):
         finally:
             os.chdir(here)
 
+    def test_paths_as_pathlib(self):
+        # Found by a probe: a pathlib.Path was taken for the curriculum but a copy made after
+        # os.chdir lost it (only text was made absolute), the spec could not be written as JSON,
+        # scenario=Path raised pybind11's TypeError and teacher=Path was refused.
+        import pathlib
+        here = os.getcwd()
+        teacher = os.path.join(WORK, "path_teacher.lua")
+        with open(teacher, "w") as f:
+            f.write('return roger.teacher.random{}\n')
+        env = roger.make(pathlib.Path(EXAMPLE), "Look", "Gaze", scenario=pathlib.Path("scenarios/unobstructed.lua"),
+                         tasks=LOOK_TASKS, teacher=pathlib.Path(teacher))
+        vec = roger.make_vec(pathlib.Path(EXAMPLE), "Look", "Gaze", 2, scenario=pathlib.Path("scenarios/unobstructed.lua"))
+        env.reset(seed=3)
+        vec.reset(seed=3)
+        try:
+            os.chdir(tempfile.gettempdir())
+            for original in (env, vec):
+                twin = copy.deepcopy(original)
+                self.assertEqual(repr(twin), repr(original))
+            np.testing.assert_array_equal(copy.deepcopy(env).step(0)[0], copy.deepcopy(env).step(0)[0])
+        finally:
+            os.chdir(here)
+        if roger.spaces.__name__.startswith("gymnasium"):
+            self.assertIn('"curriculum": "docs/examples/curriculum_example.lua"', env.spec.to_json())
+
     def test_close_from_another_thread_waits_for_the_step(self):
         # Found by a probe: close() from another thread while step() ran in C++ left the step to
         # read a closed environment (AttributeError); close waits for the step to end.
@@ -1743,6 +1846,26 @@ class Tasks(unittest.TestCase):
     """Task spaces and teachers from Python (docs/python.md, Tasks and teachers): the stage's space
     as a Dict space, tasks given in reset's options or set_task and refused outside the space, the
     engine's teachers run on resets without a task, told each outcome, deterministic, copied."""
+
+    def test_copies_keep_the_spaces_generators(self):
+        # Found by a probe: a copy made its spaces afresh, unseeded, so a worker's copy drew other
+        # tasks (sample_tasks) and other actions than the original, which a deepcopy of Gymnasium's
+        # own environments (and of its spaces) does not.
+        env = roger.make(EXAMPLE, "Look", "Gaze", tasks=LOOK_TASKS, teacher=False)
+        env.task_space.seed(7)
+        env.action_space.seed(0)
+        env.observation_space.seed(1)
+        vec = roger.make_vec(EXAMPLE, "Look", "Gaze", num_envs=2)
+        vec.action_space.seed(3)
+        vec.single_action_space.seed(4)
+        for copied in (copy.deepcopy, lambda e: pickle.loads(pickle.dumps(e))):
+            twin = copied(env)
+            self.assertEqual(repr(twin.sample_tasks(4)), repr(env.sample_tasks(4)))
+            self.assertEqual([twin.action_space.sample() for _ in range(8)], [env.action_space.sample() for _ in range(8)])
+            np.testing.assert_array_equal(twin.observation_space.sample(), env.observation_space.sample())
+            vec_twin = copied(vec)
+            np.testing.assert_array_equal(vec_twin.action_space.sample(), vec.action_space.sample())
+            self.assertEqual(vec_twin.single_action_space.sample(), vec.single_action_space.sample())
 
     def test_stage_task_space(self):
         space = roger.make(TEACHERS, "T_alp", "B2").task_space
@@ -2293,6 +2416,13 @@ class GymnasiumJudges(unittest.TestCase):
                                   curriculum=EXAMPLE, stage="Look", context="Gaze", threads=2,
                                   autoreset_mode="SameStep", timeout="truncate")
         self.assertEqual((stage.threads, stage.autoreset_mode.value, stage.timeout), (2, "SameStep", "truncate"))
+        # max_episode_steps, which Gymnasium hands to a vector entry point (a TypeError before):
+        # each episode truncated at its first decision, as with sync's TimeLimit.
+        for mode in ("vector_entry_point", "sync"):
+            capped = self.gym.make_vec("roger/Stage-v0", num_envs=2, vectorization_mode=mode, curriculum=EXAMPLE,
+                                       stage="Look", context="Gaze", max_episode_steps=1)
+            capped.reset(seed=4)
+            self.assertEqual(capped.step(np.array([0, 0]))[3].tolist(), [True, True], mode)
         obs, info = vec.reset(seed=30)
         np.testing.assert_array_equal(info["seed"], [30, 31, 32, 33])
         self.assertTrue(vec.observation_space.contains(obs))

@@ -218,9 +218,15 @@ class Axis:
 def _lua_number(x, what):
     if isinstance(x, np.generic):
         x = x.item()
-    if isinstance(x, bool) or not isinstance(x, numbers.Real) or not np.isfinite(x):
+    if isinstance(x, bool) or not isinstance(x, numbers.Real):
         raise RogerError(f"{what}: a bound is a finite number, got {x!r}")
-    return str(x) if isinstance(x, numbers.Integral) else repr(float(x))
+    if isinstance(x, numbers.Integral):  # Lua's integers are 64-bit (np.isfinite cannot take a larger int)
+        if not -2**63 <= x < 2**63:
+            raise RogerError(f"{what}: a bound is a finite number, an integer within Lua's 64-bit integers, got {x!r}")
+        return str(x)
+    if not np.isfinite(float(x)):
+        raise RogerError(f"{what}: a bound is a finite number, got {x!r}")
+    return repr(float(x))
 
 
 def _lua_value(v, what):
@@ -339,10 +345,18 @@ def _task_space(dims):
 
 
 def _skill_paths(skills):
-    """make's skills with each loaded Policy given as its file's path, as policy= takes one."""
+    """make's skills with each loaded Policy given as its file's path, as policy= takes one, and
+    each os.PathLike as its text."""
     if not isinstance(skills, dict):
         return skills
-    return {k: v.path if isinstance(v, Policy) else v for k, v in skills.items()}
+    return {k: v.path if isinstance(v, Policy) else _path_text(v) for k, v in skills.items()}
+
+
+def _path_text(value):
+    """A pathlib.Path (any os.PathLike) as its text, which every file argument takes; else the value
+    as given. The arguments are kept as text, so that a copy makes them absolute (_recipe) and the
+    spec writes them (spec.to_json)."""
+    return os.fspath(value) if isinstance(value, os.PathLike) else value
 
 
 def _tasks_text(tasks):
@@ -379,6 +393,9 @@ class _Copyable:
     np_random, whose running episode is replayed from its seed and actions (an episode is a
     function of them), so it continues exactly where the original is."""
 
+    # The spaces a copy takes over from the original, generators and all.
+    _SPACES = ("action_space", "observation_space", "single_action_space", "single_observation_space", "task_space")
+
     # What a call meets when another thread's call holds the environment (_using).
     _SHARED = ("the environment is being used by another thread at the same time: one environment is not shared "
                "between threads; make one environment per thread (or one make_vec batch)")
@@ -390,6 +407,7 @@ class _Copyable:
                     "stage_info": self._stage_info, "spec": self.spec, "closed": closed,
                     "closed_by_vector": getattr(self, "_closed_by_vector", False),
                     "np_random": (self._np_random, self._np_random_seed),
+                    "spaces": {name: getattr(self, name) for name in self._SPACES if getattr(self, name, None) is not None},
                     "state": None if closed else self._state()}
 
     def __setstate__(self, state):
@@ -403,6 +421,10 @@ class _Copyable:
         self._stage_info = state.get("stage_info", self._stage_info)
         self.spec = state["spec"]
         self._np_random, self._np_random_seed = state["np_random"]
+        # The spaces as they were, their generators too (a seeded task_space's sample_tasks, an
+        # action_space's sample() go on alike), as a deepcopy of Gymnasium's own environments has them.
+        for name, space in state.get("spaces", {}).items():
+            setattr(self, name, space)
         if state["closed"]:
             self.close()
             self._closed_by_vector = state.get("closed_by_vector", False)
@@ -483,6 +505,7 @@ class Env(_Copyable, _EnvBase):
             raise RogerError(f"make: mode must be one of {_MODES}, got {mode!r}")
         if isinstance(policy, Policy):
             policy = policy.path
+        curriculum, scenario, teacher, policy = map(_path_text, (curriculum, scenario, teacher, policy))
         skills = _skill_paths(skills)
         self._init = {"curriculum": curriculum, "stage": stage, "context": context, "params": params,
                       "skills": skills, "scenario": scenario, "mode": mode, "render_mode": render_mode,
@@ -893,44 +916,52 @@ _APART_TRIES = 100000
 def _apart_from_seeded(vec, mask, seeded, seeds):
     """Keeps a reset's schedules apart where seeds given would make them meet (the same residue
     modulo num_envs: one would replay the other's worlds, at once or at a later autoreset). Of the
-    environments given seeds of one residue, the one with the highest seed (the first of equal ones)
-    goes on along its schedule, and each other plays its seed first, then continues on a schedule of
-    its own (_own_schedule); the returned {environment: the world it continues at} is for
-    VecEnvironment.continue_at after the reset. An environment reset without a seed goes on along
-    its schedule unless that meets a seed given: it then begins a schedule of its own at once, in
-    `seeds`. Resets fully unseeded never meet this (docs/python.md, Batches)."""
+    environments given seeds of one residue, and those the mask leaves out mid-episode whose next
+    world has it, the one with the highest (the first of equal ones) goes on along its schedule;
+    each other given a seed plays it first, then continues on a schedule of its own (_own_schedule),
+    and each other left out continues on one from the world it would have played next. The
+    returned {environment: the world it continues at} is for VecEnvironment.continue_at after the
+    reset. An environment reset without a seed goes on along its schedule unless that meets a seed
+    given: it then begins a schedule of its own at once, in `seeds`. Resets fully unseeded never
+    meet this (docs/python.md, Batches)."""
     n = len(mask)
     given = [i for i in range(n) if mask[i] and seeded[i]]
     if not given:
         return {}
+    running = [i for i, begun in enumerate(vec.begun) if begun and not mask[i]]
     nexts = []
     for i, (base, started, *_) in enumerate(vec.snapshot()):
         nexts.append(int(seeds[i]) if mask[i] and seeded[i] else (int(base) + int(started) * n) % 2**64)
-    later = _apart_given(given, nexts, n)
+    later = _apart_given(given, running, nexts, n)
     taken_by_seeded = {nexts[j] % n for j in given}
     for i in range(n):
         if not mask[i] or seeded[i] or nexts[i] % n not in taken_by_seeded:
             continue
-        others = {nexts[j] % n for j in range(n) if j != i} | {w % n for w in later.values()}
+        moved_on = {j for j in later if j not in given}  # left out, their next world no longer theirs
+        others = {nexts[j] % n for j in range(n) if j != i and j not in moved_on} | {w % n for w in later.values()}
         world = _own_schedule(nexts[i], others, n)
         seeded[i], seeds[i], nexts[i] = 1, world, world
     return later
 
 
-def _apart_given(given, nexts, n):
-    """The environments of `given` whose schedules would reach another's given seed (all of a residue
-    but the highest seed's), each with the world it continues at after its first."""
+def _apart_given(given, running, nexts, n):
+    """Of the environments given seeds and those running on (left out of the reset), those whose
+    schedules would reach another's next world (all of a residue but the highest world's), each
+    with the world it continues at: one given a seed after its first, one running on instead of
+    the world it would have played next."""
     keeper = {}
-    for i in given:  # the highest seed of each residue; of equal ones, the first in index order
+    for i in sorted(given + running):  # the highest of each residue; of equal ones, the first in index order
         r = nexts[i] % n
         if r not in keeper or nexts[i] > nexts[keeper[r]]:
             keeper[r] = i
-    movers = [i for i in given if keeper[nexts[i] % n] != i]
+    movers = [i for i in sorted(given + running) if keeper[nexts[i] % n] != i]
     ahead = {nexts[j] % n for j in range(len(nexts)) if j not in movers}
     later = {}
     for i in movers:
-        # From the seed it would have played second, as an unseeded entry's from the one it would play.
-        later[i] = _own_schedule((nexts[i] + n) % 2**64, ahead, n)
+        # One given a seed goes on from the seed it would have played second, as an unseeded
+        # entry's from the one it would play; one running on, from the world it would play next.
+        start = (nexts[i] + n) % 2**64 if i in given else nexts[i]
+        later[i] = _own_schedule(start, ahead, n)
         ahead.add(later[i] % n)
     return later
 
@@ -965,7 +996,10 @@ def _reset_mask(options, n):
 
 
 def _masked(info, key, values, mask):
-    info[key], info["_" + key] = values, mask
+    """Puts key and its mask _key in a batch's info, as Gymnasium's VectorEnv._add_info: only when
+    some environment has it (an info of a step where no episode ended has no final_info)."""
+    if mask.any():
+        info[key], info["_" + key] = values, mask
 
 
 class VecEnv(_Copyable, _VecBase):
@@ -985,13 +1019,14 @@ class VecEnv(_Copyable, _VecBase):
 
     def __init__(self, curriculum, stage, context, num_envs, threads=None, params=None, skills=None, scenario=None,
                  autoreset_mode=AutoresetMode.NEXT_STEP, render_mode=None, render_width=1000, timeout="terminate",
-                 mode="decision", policy=None, teacher=None):
+                 mode="decision", policy=None, teacher=None, max_episode_steps=None):
         # Held by reset, step, render and copies; close waits for it. The batch's C++ environments
         # are stepped by its worker threads with the GIL released: two calls at once would step the
         # same worlds from two threads and corrupt them (an abort, or a hang), so one is refused.
         self._lock = threading.RLock()
         if isinstance(policy, Policy):
             policy = policy.path
+        curriculum, scenario, teacher, policy = map(_path_text, (curriculum, scenario, teacher, policy))
         skills = _skill_paths(skills)
         self._init = {"curriculum": curriculum, "stage": stage, "context": context, "num_envs": num_envs,
                       "threads": threads, "params": params, "skills": skills, "scenario": scenario,
@@ -999,6 +1034,8 @@ class VecEnv(_Copyable, _VecBase):
                       "timeout": timeout, "mode": mode, "policy": policy}
         if teacher is not None:  # recorded only when given: a copy's recipe of an older pickle has none
             self._init["teacher"] = teacher
+        if max_episode_steps is not None:  # as teacher
+            self._init["max_episode_steps"] = max_episode_steps
         self._recipe = _recipe(self._init)
         if teacher not in (None, False):
             raise RogerError(f"make_vec: teacher is None (the stage's, refused when it has one) or False (none), "
@@ -1009,8 +1046,8 @@ class VecEnv(_Copyable, _VecBase):
                              "for tick mode vectorize single environments (gymnasium.make_vec(..., "
                              "vectorization_mode='sync'))")
         _names(curriculum, stage, context, "make_vec")
-        for name, value in (("num_envs", num_envs), ("threads", threads)):
-            if not _positive_integer(value) and (name == "num_envs" or value is not None):  # threads None: the default
+        for name, value in (("num_envs", num_envs), ("threads", threads), ("max_episode_steps", max_episode_steps)):
+            if not _positive_integer(value) and (name == "num_envs" or value is not None):  # None: the default
                 raise RogerError(f"make_vec: {name} must be a positive integer, got {value!r}")
         self.timeout = _timeout(timeout, "make_vec")
         try:
@@ -1027,6 +1064,7 @@ class VecEnv(_Copyable, _VecBase):
         self._vec = _roger.VecEnvironment(str(curriculum), str(stage), str(context), scenario or "",
                                           _text_dict(params, "params"), _text_dict(skills, "skills"),
                                           int(num_envs), int(threads), mode.value, embedded)
+        self._vec.decision_cap = int(max_episode_steps or 0)
         # A teacher's worlds would not be roger train's tasks: refused, not ignored (teacher=False asks for none).
         if self._vec.teaches and teacher is not False:
             self._vec = None
@@ -1142,10 +1180,10 @@ class VecEnv(_Copyable, _VecBase):
                 final_obs[i] = r["last_states"][i].astype(np.int64)
             _masked(info, "final_obs", final_obs, ended)
             _masked(info, "final_info", last, ended)
-        else:
+        elif ended.any():
             for key in ("episode_reward", "success", "is_success", "time_out"):
                 _masked(info, key, last[key], ended)
-        terminated, truncated = r["terminated"], r["failed"].copy()
+        terminated, truncated = r["terminated"], r["failed"] | r["truncated"]
         if self.timeout == "truncate":
             truncated |= r["time_out"]
             terminated = terminated & ~r["time_out"]
@@ -1273,6 +1311,7 @@ def make(curriculum, stage, context, params=None, skills=None, scenario=None, mo
     give, as `roger eval --policy` plays it (Policy.make makes it so)."""
     if isinstance(policy, Policy):
         policy = policy.path
+    curriculum, scenario, teacher, policy = map(_path_text, (curriculum, scenario, teacher, policy))
     kwargs = {"curriculum": curriculum, "stage": stage, "context": context, "params": params,
               "skills": _skill_paths(skills), "scenario": scenario, "mode": mode, "render_mode": render_mode,
               "render_width": render_width, "timeout": timeout, "tasks": tasks, "teacher": teacher, "policy": policy}
@@ -1286,17 +1325,20 @@ def make(curriculum, stage, context, params=None, skills=None, scenario=None, mo
 
 def make_vec(curriculum, stage, context, num_envs, threads=None, params=None, skills=None, scenario=None,
              autoreset_mode=AutoresetMode.NEXT_STEP, render_mode=None, render_width=1000, timeout="terminate",
-             mode="decision", policy=None, teacher=None):
+             mode="decision", policy=None, teacher=None, max_episode_steps=None):
     """num_envs environments stepped together in C++ threads (VecEnv); threads (a positive integer,
     as num_envs) defaults to min(num_envs, the cores this process may use); autoreset_mode an AutoresetMode (or its value,
     "NextStep", "SameStep", "Disabled"); timeout as make's. The vector entry point of the
     registered ids (gymnasium.make_vec(id, num_envs, vectorization_mode="vector_entry_point")),
     which hands over make's keywords: mode must then be "decision"; policy as make's; teacher None
     (a stage with a teacher is refused: the batch runs none) or False (none: every world has the
-    stage's own parameters, as make(..., teacher=False))."""
+    stage's own parameters, as make(..., teacher=False)); max_episode_steps (a positive integer, or
+    None for none) cuts an episode still running after that many decisions short, as Gymnasium's
+    TimeLimit does (reported as truncated; gymnasium.make_vec hands it over)."""
     return VecEnv(curriculum, stage, context, num_envs, threads=threads, params=params, skills=skills,
                   scenario=scenario, autoreset_mode=autoreset_mode, render_mode=render_mode,
-                  render_width=render_width, timeout=timeout, mode=mode, policy=policy, teacher=teacher)
+                  render_width=render_width, timeout=timeout, mode=mode, policy=policy, teacher=teacher,
+                  max_episode_steps=max_episode_steps)
 
 
 def _with_policy(policy, curriculum, stage, context, params, scenario, where):

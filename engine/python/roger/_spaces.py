@@ -94,6 +94,12 @@ class Space:
 
 class Discrete(Space):
     def __init__(self, n, seed=None, start=0, dtype=np.int64):
+        if not np.issubdtype(type(n), np.integer):
+            raise TypeError(f"Expects `n` to be an integer, actual dtype: {type(n)}")
+        if n <= 0:
+            raise ValueError(f"n (counts) have to be positive, actual value: {n}")
+        if not np.issubdtype(type(start), np.integer):
+            raise TypeError(f"Expects `start` to be an integer, actual type: {type(start)}")
         self.dtype = np.dtype(dtype)
         self.n = self.dtype.type(n)
         self.start = self.dtype.type(start)
@@ -157,6 +163,11 @@ class MultiDiscrete(Space):
     def __init__(self, nvec, dtype=np.int64, seed=None, start=None):
         self.nvec = np.array(nvec, dtype=dtype, copy=True)
         self.start = np.zeros(self.nvec.shape, dtype) if start is None else np.array(start, dtype=dtype, copy=True)
+        if self.start.shape != self.nvec.shape:
+            raise ValueError(f"start and nvec (counts) should have the same shape, got {self.start.shape} and "
+                             f"{self.nvec.shape}")
+        if not (self.nvec > 0).all():
+            raise ValueError("nvec (counts) have to be positive")
         super().__init__(self.nvec.shape, dtype, seed)
 
     def sample(self, mask=None, probability=None):
@@ -222,12 +233,18 @@ class Box(Space):
         self.high, self.bounded_above = self._bound(high, shape, 1)
         if self.low.shape != shape or self.high.shape != shape:
             raise ValueError(f"Box low.shape {self.low.shape} and high.shape {self.high.shape} must be {shape}")
+        if np.any(self.low > self.high):
+            raise ValueError(f"Box all low values must be less than or equal to high (some values break this), "
+                             f"low={self.low}, high={self.high}")
         super().__init__(shape, dtype, seed)
 
     def _bound(self, value, shape, side):
         """A bound as an array of the dtype, and where it is finite (an infinite bound of a signed
         integer Box is the dtype's end)."""
         value = np.array(value)
+        if value.dtype.kind == "f" and np.any(np.isnan(value)):
+            raise ValueError(f"No {'high' if side > 0 else 'low'} value can be equal to `np.nan`, "
+                             f"{'high' if side > 0 else 'low'}={value}")
         finite = np.isfinite(value) if value.dtype.kind == "f" else np.ones(value.shape, bool)
         if self.dtype.kind == "i" and not finite.all():
             value = np.where(finite, value, np.iinfo(self.dtype).max if side > 0 else np.iinfo(self.dtype).min)
@@ -306,6 +323,9 @@ class Dict(Space):
             if key in self.spaces:
                 raise ValueError(f"Dict space keyword '{key}' already exists in the spaces dictionary.")
             self.spaces[key] = space
+        for key, space in self.spaces.items():
+            if not isinstance(space, Space):
+                raise TypeError(f"Dict space element is not an instance of Space: key='{key}', space={space}")
         super().__init__(None, None, seed)
 
     def seed(self, seed=None):
