@@ -778,6 +778,23 @@ TEST_CASE("check_scenario tries each numeric range's ends and says which value f
   CHECK_THAT(both[1], StartsWith("b=2 (its max), seed 0: ") && Contains("too big"));
 }
 
+// Found by a probe: roger check said "every parameter choice ... tried" and never built the false
+// branch of a boolean switch, which then failed in a batch run.
+TEST_CASE("check_scenario tries both values of a boolean parameter", "[scenario]") {
+  for (const bool by_default : {true, false}) {
+    const std::string value = by_default ? "true" : "false", other = by_default ? "false" : "true";
+    Scenario s = test::scenario_from("switch", "return { params = { flag = " + value + ", n = 3 },\n"
+                                               "  generate = function(world, rng, p)\n"
+                                               "    if p.flag == " + other + " then error('this branch breaks') end\n"
+                                               "    world:robot{ x = 0, y = 0 }\n  end }\n");
+    const auto problems = check_scenario(s, 1);
+    INFO(value);
+    REQUIRE(problems.size() == 1);
+    CHECK_THAT(problems[0], StartsWith("flag=" + other + ", seed 0: ") && Contains("this branch breaks"));
+    CHECK(s.params().front().value == value);  // back at its value after
+  }
+}
+
 TEST_CASE("generated worlds go through the physics without tripping Box2D", "[scenario]") {
   Scenario s = Scenario::load("cluttered");
   World world;

@@ -505,7 +505,10 @@ std::vector<std::string> check_scenario(Scenario& scenario, int seeds, std::vect
   // One parameter at a time, the others at their defaults: each choice, and (when asked) each end
   // of a numeric range, where placements and bodies fail first.
   for (const auto& p : scenario.params()) {
-    for (const auto& choice : p.choices) {
+    // A boolean is a choice of two (found by a probe: the false branch of a switch went untried).
+    const std::vector<std::string> choices =
+        p.choices.empty() && p.type == ParamType::kBoolean ? std::vector<std::string>{"true", "false"} : p.choices;
+    for (const auto& choice : choices) {
       attempt(seen, problems, p.name + "=" + choice + ", seed 0", [&]() {
         scenario.set_param(p.name, choice);
         scenario.generate(0);

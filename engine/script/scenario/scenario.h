@@ -124,8 +124,8 @@ std::string resolve_scenario_near(const std::string& name, const std::string& na
 std::string scenario_found_from_here(const std::string& recorded, const std::string& naming_file);
 
 // For `roger check`: loads a scenario and generates worlds for seeds 0..seeds-1, and one world of
-// seed 0 for every choice of every parameter that declares choices, one parameter at a time (the
-// others at their defaults). Returns the problems found (empty when the scenario is sound); each
+// seed 0 for every choice of every parameter that declares choices, and both values of a boolean,
+// one parameter at a time (the others at their defaults). Returns the problems found (empty when the scenario is sound); each
 // is a complete message with file:line where known, after the value that failed.
 // With `range_ends`, also one world at each end (min, max) of every numeric parameter that
 // declares them; those that fail go there ("obstacles=12 (its max), seed 0: ..."), apart from the
