@@ -1305,6 +1305,45 @@ TEST_CASE("roger eval names the parts that never had a reference when every epis
   fs::remove_all(dir);
 }
 
+// Found by a probe: a stimulus colour one level off the ball's passed the curriculum's check, its
+// training's why lines blamed the Lua absorbing function, and its evaluation said nothing.
+TEST_CASE("a stimulus colour no object has is said by check, train and eval of a curriculum", "[cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_stimulus_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "ball.lua")
+      << "local shapes = require('lib.shapes')\n"
+         "return { generate = function(world, rng, p)\n"
+         "  world:goal{ name = 'goal', x = 0, y = 0, radius = 0.35 }\n"
+         "  world:robot{ x = -1, y = -1, heading = 0 }\n"
+         "  world:object{ name = 'ball', shape = shapes.get('circle'), colour = { 40, 80, 220 }, x = 1, y = 1 }\n"
+         "  world:stimulus{ colour = { 40, 80, 221 } }\nend }\n";
+  std::ofstream(dir / "fetch.lua")
+      << "local skills = require('lib.skills')\nlocal p = skills.primitives()\n"
+         "local sg = roger.sequence('search-grasp', { skills.Phi6(p), skills.Phi7(p), p.phi3 })\n"
+         "return { name = 'fetch', stages = { roger.stage{ name = 'Fetch', scenario = 'ball.lua', time_limit = 3,\n"
+         "  reward = function(state, action, event) return event == 'absorbing' and 100 or -1 end,\n"
+         "  absorbing = function(state, time, world) return world.objects[1].region == 'goal' end,\n"
+         "  budget = { episodes = 8 }, checkpoints = { every = 4, episodes = 2, threshold = 0.8, final = 2 },\n"
+         "  contexts = { { name = 'C', actions = { sg, skills.transport(p) } } } } } }\n";
+  const std::string cur = (dir / "fetch.lua").string(), out = (dir / "out").string();
+  const std::string said = "no object has the stimulus colour #2850dd (world:stimulus): the eyes look for what is not "
+                           "there; the objects' colours: #2850dc";
+  Run r = roger("check " + cur);
+  INFO(r.out << r.err);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.err, Catch::Matchers::Contains("roger: warning: stage 'Fetch' (scenario '") &&
+                        Catch::Matchers::Contains("in 5 of 5 worlds (the first: seed 0) " + said));
+  r = roger("train " + cur + " --stage Fetch --context C --seed 1 --out " + out);
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("  why            in 5 of 5 worlds (the first: seed 0) " + said + "\n"));
+  r = roger("eval " + cur + " --policy " + out + "/policy.json --episodes 2 --json");
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("  note           in 2 of 2 worlds (the first: seed 1000000) " + said));
+  const nlohmann::json j = nlohmann::json::parse(r.out.substr(r.out.rfind("\n{") + 1));
+  CHECK_THAT(j["stimulus_unseen"].get<std::string>(), Catch::Matchers::EndsWith(said));
+  fs::remove_all(dir);
+}
+
 TEST_CASE("roger eval names the failed world seeds and the command that renders one", "[cli]") {
   const std::string args = "eval curricula/scripted.lua --policy search_grasp --scenario cluttered --set obstacles=6 "
                            "--episodes 30";

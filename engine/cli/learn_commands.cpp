@@ -169,8 +169,24 @@ PolicyEvalOptions policy_eval_options(const EvalArgs& a) {
   return o;
 }
 
+// stimulus_unseen_note of `worlds` worlds of `scenario` with `params`, from `first_seed`: a colour
+// typo in a scenario showed only as every episode failing, blamed on the stage's absorbing
+// function (found by a probe). "" when the worlds have the colour, or cannot be made here.
+std::string stimulus_unseen_in(const std::string& scenario, const ParamList& params, const SandboxLimits& limits,
+                               uint64_t first_seed, int worlds = 5) {
+  try {
+    Scenario s = Scenario::load(scenario, limits);
+    for (const auto& [k, v] : params) s.set_param(k, v);
+    QuietPrints prints(s.sandbox(), "roger looked for the stimulus colour in the worlds");
+    prints.quiet();
+    return stimulus_unseen_note(s, first_seed, worlds);
+  } catch (const std::exception&) {
+    return "";
+  }
+}
+
 // eval --policy FILE.json: what the evaluation found, as text.
-void print_policy_eval(const EvalArgs& a, const PolicyEvalResult& r) {
+void print_policy_eval(const EvalArgs& a, const PolicyEvalResult& r, const std::string& stimulus_unseen) {
   std::printf("roger eval: %s stage %s context %s (%s) in %s, %s from seed %llu, %s\n", a.script.c_str(),
               r.stage.c_str(), r.context.c_str(), a.policy.c_str(), r.scenario.c_str(),
               counted(r.eval.episodes, a.test_set ? "test task" : "episode").c_str(),
@@ -198,13 +214,15 @@ void print_policy_eval(const EvalArgs& a, const PolicyEvalResult& r) {
   std::string usage;
   for (const auto& [name, f] : r.eval.usage) usage += (usage.empty() ? "" : ", ") + name + " " + std::to_string(int(std::lround(100 * f))) + "%";
   std::printf("  usage          %s\n", usage.c_str());
+  if (r.eval.successes == 0 && !stimulus_unseen.empty()) std::printf("  note           %s\n", stimulus_unseen.c_str());
 }
 
 // eval --policy FILE.json --json: the figures, the trial's parameters and with --test-set its tasks.
-nlohmann::json policy_eval_json(const EvalArgs& a, const PolicyEvalResult& r) {
+nlohmann::json policy_eval_json(const EvalArgs& a, const PolicyEvalResult& r, const std::string& stimulus_unseen) {
   nlohmann::json j = eval_summary_json(r.eval);
   j.update({{"script", a.script}, {"policy", a.policy}, {"stage", r.stage}, {"context", r.context},
-            {"scenario", r.scenario}, {"scenario_file", r.scenario_file}, {"failed_seeds", r.eval.failed_seeds}, {"test_set", a.test_set}});
+            {"scenario", r.scenario}, {"scenario_file", r.scenario_file}, {"failed_seeds", r.eval.failed_seeds}, {"test_set", a.test_set},
+            {"stimulus_unseen", stimulus_unseen}});
   j["trial_params"] = nlohmann::json::object();  // the trial's own parameters set here (print_trial_params)
   for (const auto& [k, v] : r.trial_sets) j["trial_params"][k] = v;
   j["trial_params_overridden"] = nlohmann::json::object();  // the trial's own, replaced by --set here
@@ -227,8 +245,13 @@ nlohmann::json policy_eval_json(const EvalArgs& a, const PolicyEvalResult& r) {
 // eval --policy FILE.json: a policy saved by roger train, its Psi rebuilt from the curriculum.
 int run_eval_policy_file(const EvalArgs& a) {
   const PolicyEvalResult r = evaluate_policy_file(policy_eval_options(a));
-  print_policy_eval(a, r);
-  if (a.json) std::printf("%s\n", policy_eval_json(a, r).dump().c_str());
+  // The eyes' colour in these worlds, when it may be why every episode failed (and in --json).
+  const std::string unseen = !a.test_set && (r.eval.successes == 0 || a.json)
+                                 ? stimulus_unseen_in(r.scenario_file, r.params, sandbox_limits(a.lua), r.eval.first_seed,
+                                                      std::min(5, r.eval.episodes))
+                                 : "";
+  print_policy_eval(a, r, unseen);
+  if (a.json) std::printf("%s\n", policy_eval_json(a, r, unseen).dump().c_str());
   return 0;
 }
 
@@ -514,7 +537,12 @@ int command_train(const TrainArgs& a) {
   print_outcome(r);
   if (r.teaches) print_teacher(r);
   if (!r.reached || r.explain) {
-    const std::vector<std::string> causes = diagnose_training(r).causes();
+    std::vector<std::string> causes = diagnose_training(r).causes();
+    if (!r.reached) {  // the eyes' colour first: what it leaves undone the other causes only describe
+      const std::string scenario = Curriculum::load(o.curriculum, o.limits).stage(o.stage).scenario;
+      if (const std::string note = stimulus_unseen_in(scenario, r.params, o.limits, 0); !note.empty())
+        causes.insert(causes.begin(), note);
+    }
     for (size_t k = 0; k < causes.size(); ++k) std::printf("  %-15s%s\n", k ? "" : "why", causes[k].c_str());
     if (causes.empty()) std::printf("  why            nothing stands out in the data\n");
   }

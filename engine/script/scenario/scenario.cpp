@@ -531,6 +531,37 @@ std::vector<std::string> check_scenario(Scenario& scenario, int seeds, std::vect
   return problems;
 }
 
+std::string stimulus_unseen(const WorldSpec& w) {
+  if (w.objects.empty()) return "";
+  std::vector<std::string> colours;
+  for (const auto& o : w.objects) {
+    if (o.colour == w.stimulus_colour) return "";
+    if (std::find(colours.begin(), colours.end(), o.colour.hex()) == colours.end()) colours.push_back(o.colour.hex());
+  }
+  return "no object has the stimulus colour " + w.stimulus_colour.hex() + " (world:stimulus): the eyes look for what "
+         "is not there; the objects' colours: " + join(colours);
+}
+
+std::string stimulus_unseen_note(Scenario& scenario, uint64_t first_seed, int worlds) {
+  int unseen = 0, built = 0;
+  uint64_t first = 0;
+  std::string text;
+  for (int k = 0; k < worlds; ++k) {
+    std::string why;
+    try {
+      why = stimulus_unseen(scenario.generate(first_seed + uint64_t(k)));
+    } catch (const std::exception&) {
+      continue;
+    }
+    ++built;
+    if (why.empty()) continue;
+    if (unseen++ == 0) first = first_seed + uint64_t(k), text = why;
+  }
+  if (unseen == 0) return "";
+  return "in " + std::to_string(unseen) + " of " + std::to_string(built) + " worlds (the first: seed " +
+         std::to_string(first) + ") " + text;
+}
+
 std::vector<std::pair<std::string, std::string>> numeric_ends(const ScenarioParam& p) {
   std::vector<std::pair<std::string, std::string>> ends;
   if (!p.choices.empty() || (p.type != ParamType::kNumber && p.type != ParamType::kInteger)) return ends;

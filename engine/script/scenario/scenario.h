@@ -137,6 +137,16 @@ std::vector<std::string> check_scenario(const std::string& path, int seeds = 5,
 // The same on a scenario already loaded (its parameters are back at their values after).
 std::vector<std::string> check_scenario(Scenario& scenario, int seeds, std::vector<std::string>* range_ends = nullptr);
 
+// What is wrong with a world whose objects none has the colour its eyes look for (world:stimulus),
+// or "" (a world without objects looks for nothing in particular).
+std::string stimulus_unseen(const WorldSpec& w);
+
+// "in 5 of 5 worlds (the first: seed 0) no object has the stimulus colour ...": stimulus_unseen
+// over the worlds of seeds first_seed .. first_seed + worlds - 1 (one that cannot be generated is
+// passed over: its error is said where it is built), or "" when every world has it. A colour typo
+// otherwise shows only as every episode failing.
+std::string stimulus_unseen_note(Scenario& scenario, uint64_t first_seed, int worlds);
+
 // The ends of a numeric parameter's declared range as the text --set takes, with "min" or "max"
 // (an integer's rounded inwards); none for other parameters.
 std::vector<std::pair<std::string, std::string>> numeric_ends(const ScenarioParam& p);
