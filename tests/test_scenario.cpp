@@ -838,7 +838,7 @@ TEST_CASE("every complete scenario in docs/scenarios.md loads and generates", "[
     std::remove(path.c_str());
     CHECK(problems == std::vector<std::string>{});
   }
-  CHECK(examples == 3);  // the ball, the noise's kinds, the corridor
+  CHECK(examples == 4);  // the ball, a body of lib.body with its noise, the noise's kinds, the corridor
   // The long example is docs/examples/corridor.lua verbatim, after the file's header comment.
   std::ifstream file_in("docs/examples/corridor.lua");
   std::stringstream file;
