@@ -904,6 +904,28 @@ TEST_CASE("bad usage exits 2 naming the option and what it expects", "[cli]") {
   CHECK(fine.status == 0);
 }
 
+// Found by a probe: a scenario that needs more than the default budget was checked and trained
+// with --lua-instructions, and could not be drawn or measured at all.
+TEST_CASE("render, bench and propose take the sandbox's budgets as the other commands do", "[cli]") {
+  const fs::path heavy = temp_file("roger_cli_heavy.lua", "return { generate = function(world, rng, p)\n"
+                                                          "  local s = 0\n  for i = 1, 60000000 do s = s + i end\n"
+                                                          "  world:robot{ x = 0, y = 0 }\nend }\n");
+  const std::string png = (fs::temp_directory_path() / "roger_cli_heavy.png").string();
+  Run r = roger("render " + heavy.string() + " --out " + png);
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Matchers::Contains("instruction budget of 50000000 exceeded"));
+  r = roger("render " + heavy.string() + " --out " + png + " --lua-instructions 200000000");
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK(fs::exists(png));
+  for (const char* command : {"bench", "propose"}) {
+    r = roger(std::string(command) + " --help");
+    CHECK_THAT(r.out, Catch::Matchers::Contains("--lua-instructions") && Catch::Matchers::Contains("--lua-memory"));
+  }
+  fs::remove(heavy);
+  fs::remove(png);
+}
+
 TEST_CASE("roger render draws a scenario to PNG and SVG", "[cli]") {
   const fs::path png = fs::temp_directory_path() / "roger_cli_world.png";
   const fs::path svg = fs::temp_directory_path() / "roger_cli_world.svg";

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/cli_internal.h"
 #include "cli/commands.h"
 #include "control/agent.h"
 #include "control/predicate.h"
@@ -187,12 +188,13 @@ struct BenchLines {
 };
 
 BenchLines measure_lines(const BenchArgs& a, const WorldParams& params) {
-  Scenario scenario = Scenario::load(a.scenario);
+  const SandboxLimits limits = sandbox_limits(a.lua);
+  Scenario scenario = Scenario::load(a.scenario, limits);
   BenchLines lines;
   lines.world = bench_world(scenario.generate(a.seed), BenchOptions{a.seconds, a.repeats}, params);
   // The whole pipeline: the hand-written task policy through episodes on 20 seeds of the same
   // scenario, against physics alone replaying exactly the same commands.
-  SkillScript script = SkillScript::load(a.script);
+  SkillScript script = SkillScript::load(a.script, limits);
   const SkillScript::NamedPolicy& task = script.policy(a.policy);
   const std::vector<WorldSpec> worlds = generate(scenario, a.seed, a.episodes);
   PipelineBench full(worlds, *task.action, *task.goal, task.time_limit, params);

@@ -68,6 +68,7 @@ struct RenderArgs {
   double every = 0.1;         // seconds between recorded frames
   int test_task = 0;          // with a saved policy of a teaching stage: its test set's task k (from 1)
   bool seed_given = false;
+  LuaLimitArgs lua;
 };
 
 // Draws a scenario's world, or records an episode of a skill script's policy. Returns 0.
@@ -131,6 +132,7 @@ struct BenchArgs {
   std::string script = "curricula/scripted.lua";
   std::string policy = "task";
   int episodes = 20;
+  LuaLimitArgs lua;           // for the scenario and the skill script given
 };
 
 // Measures simulated seconds per wall second of physics, senses and the whole pipeline. Returns 0.
@@ -149,6 +151,7 @@ struct ProposeArgs {
   double probe_share = 0.2;
   int max_candidates = 8;
   double prune_below = 0.05;
+  LuaLimitArgs lua;
 };
 
 // Proposes a curriculum for a stage (engine/propose) and writes it with its report. Returns 0.

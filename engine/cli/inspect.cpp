@@ -125,6 +125,7 @@ int run_render_policy_file(const RenderArgs& a) {
   o.test_task = a.test_task;
   o.trial_params = true;  // the trial's own parameters, as roger eval sets them
   o.command = "roger render";
+  o.limits = sandbox_limits(a.lua);
   const RecordedPolicyEpisode r = record_policy_episode(o, a.every);
   std::string task;
   if (a.test_task > 0) {
@@ -154,9 +155,10 @@ int run_render_episode(const RenderArgs& a) {
   if (!a.skills.empty())
     throw Error("roger render: --skill replaces a learned skill of a saved policy (--policy FILE.json); policy '" +
                 a.policy + "' of " + a.scenario + " is a skill script's, which learns nothing");
-  SkillScript script = SkillScript::load(a.scenario);
+  const SandboxLimits limits = sandbox_limits(a.lua);
+  SkillScript script = SkillScript::load(a.scenario, limits);
   const SkillScript::NamedPolicy& policy = script.policy(a.policy);
-  Scenario scenario = script.scenario_of(policy, a.world);
+  Scenario scenario = script.scenario_of(policy, a.world, limits);
   apply_sets(scenario, a.sets);
   const WorldSpec spec = scenario.generate(a.seed);
   EpisodeOptions options = policy.episode_options();
@@ -205,7 +207,7 @@ int command_render(const RenderArgs& a) {
     }
   }
   if (!a.skills.empty()) throw Error("roger render: --skill needs --policy FILE.json (a policy saved by roger train)");
-  Scenario scenario = Scenario::load(a.scenario);
+  Scenario scenario = Scenario::load(a.scenario, sandbox_limits(a.lua));
   apply_sets(scenario, a.sets);
   const WorldSpec spec = scenario.generate(a.seed);
   World world;

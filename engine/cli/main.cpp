@@ -137,6 +137,7 @@ CLI::App* add_render(CLI::App& app, RenderArgs& a) {
       ->check(integer_in(1, 1000000));
   c->add_option("--every", a.every, "Seconds between recorded frames")
       ->capture_default_str()->check(number_in(0.02, 10.0));
+  add_lua_limits(c, a.lua, "");
   return c;
 }
 
@@ -198,6 +199,7 @@ CLI::App* add_propose(CLI::App& app, ProposeArgs& a) {
   c->add_option("--budget", a.budget, "Simulated seconds of training the whole search may spend")
       ->required()->check(number_in(0.0, HUGE_VAL, true));
   c->add_option("--out", a.out, "Folder of the proposal, its report and the search's records (re-run resumes)")->check(path_value())->required();
+  add_lua_limits(c, a.lua, "");
   c->add_option("--seed", a.seed, "Search seed")->capture_default_str()->check(seed_value());
   c->add_option("--trials", a.trials, "Seeded trials per candidate and round")->capture_default_str()->check(integer_in(1, 100));
   c->add_option("--probe-trials", a.probe_trials, "Trials of the probe")->capture_default_str()->check(integer_in(1, 100));
@@ -252,6 +254,7 @@ CLI::App* add_bench(CLI::App& app, BenchArgs& a) {
   c->add_option("--policy", a.policy, "Its policy")->capture_default_str();
   c->add_option("--episodes", a.episodes, "Pipeline episodes (seeds from --seed)")
       ->capture_default_str()->check(integer_in(1, 10000));
+  add_lua_limits(c, a.lua, "");
   return c;
 }
 

@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "cli/cli_internal.h"
 #include "cli/commands.h"
 #include "core/interrupt.h"
 #include "core/text.h"
@@ -22,6 +23,7 @@ int command_propose(const ProposeArgs& a) {
   o.probe_share = a.probe_share;
   o.max_candidates = a.max_candidates;
   o.prune_below = a.prune_below;
+  o.limits = sandbox_limits(a.lua);
   o.progress = &std::cerr;
   // Every finished trial's record stays in --out, and the same command reuses it (propose.h).
   catch_interrupts("the trial running ends at its next episode; every finished trial's record is kept");
