@@ -320,7 +320,10 @@ TEST_CASE("propose refuses at once a curriculum its proposal could not require",
   o.curriculum = (project / "tests" / "scripts" / "propose_beside.lua").string();
   CHECK_THROWS_WITH(propose_curriculum(o), Catch::Contains("lies outside the project's curricula/") &&
                                                Catch::Contains("builds on it by require") &&
-                                               Catch::Contains("Copy the curriculum into " + (home / "curricula").string()) &&
+                                               Catch::Contains("Make a project folder of your own: copy the curriculum "
+                                                               "into DIR/curricula/") &&
+                                               Catch::Contains("ROGER_HOME=DIR roger propose propose_beside ...") &&
+                                               Catch::Contains(", or copy it into " + (home / "curricula").string() + "/") &&
                                                Catch::Contains("nothing was run"));
   // Outside, and under a name require cannot spell: both said at once (before, the name was said
   // only once the copy had been made).

@@ -21,6 +21,8 @@
 #include "script/curriculum/curriculum.h"
 #include "script/scenario/scenario.h"
 
+#include <unistd.h>  // access: whether the project's curricula/ is the user's to write
+
 namespace roger {
 namespace fs = std::filesystem;
 using namespace propose_detail;
@@ -55,15 +57,21 @@ std::string module_name(const std::string& file, const std::string& out) {
     // Its name too, when it is not one require takes: both said at once, so one copy mends both.
     const std::string stem = real.stem().string();
     const bool named = real.extension() == ".lua" && spells(stem) && stem.find('.') == std::string::npos;
+    // An installed project's folder is not the user's to write (found by a probe: the advice was to
+    // copy into /usr/local/share/roger/curricula): a project folder of one's own comes first.
+    const std::string what = " (with the files it names by relative paths: scenarios beside it, modules it requires)" +
+                             (named ? std::string()
+                                    : ", under a name require takes (letters, digits and underscores, a .lua file: "
+                                      "not '" + real.filename().string() + "')");
     throw Error("roger propose: " + file + ": the curriculum lies outside the project's curricula/ (" + curricula +
                 "), scenarios/ and scripts/; the proposal written into --out builds on it by require, and require "
                 "in a roger script finds modules only in the script's own folder and in those three, so it could "
-                "not load. Copy the curriculum into " + curricula + "/ (with the files it names by relative "
-                "paths: scenarios beside it, modules it requires)" +
-                (named ? std::string()
-                       : ", under a name require takes (letters, digits and underscores, a .lua file: not '" +
-                             real.filename().string() + "')") +
-                " and propose from that copy; nothing was run");
+                "not load. Make a project folder of your own: copy the curriculum into DIR/curricula/" + what +
+                " and run roger with ROGER_HOME=DIR (ROGER_HOME=DIR roger propose " +
+                (named ? real.stem().string() : std::string("NAME")) + " ...; the proposal then loads with "
+                "the same ROGER_HOME, and finds the shipped libraries after your own)" +
+                (access(curricula.c_str(), W_OK) == 0 ? ", or copy it into " + curricula + "/" : std::string()) +
+                "; nothing was run");
   }
   const bool spellable = rel.extension() == ".lua" && name.find("..") == std::string::npos && spells(name);
   if (!spellable)
