@@ -1361,6 +1361,12 @@ TEST_CASE("a stimulus colour no object has is said by check, train and eval of a
   r = roger("eval " + cur + " --policy " + out + "/policy.json --episodes 2 --json");
   REQUIRE(r.status == 0);
   CHECK_THAT(r.out, Catch::Matchers::Contains("  note           in 2 of 2 worlds (the first: seed 1000000) " + said));
+  // And the stage's Lua judge, which never held, with the names these worlds have (found by the
+  // same probe: a judge of a name another scenario does not have gave 0% and said nothing).
+  CHECK_THAT(r.out, Catch::Matchers::Contains("  note           the stage's Lua absorbing function returned true in none "
+                                              "of the 2 episodes: what it compares (a name, a region) may be written "
+                                              "otherwise than these worlds' (the first's objects: 'ball'; its regions: "
+                                              "'goal')\n"));
   const nlohmann::json j = nlohmann::json::parse(r.out.substr(r.out.rfind("\n{") + 1));
   CHECK_THAT(j["stimulus_unseen"].get<std::string>(), Catch::Matchers::EndsWith(said));
   fs::remove_all(dir);

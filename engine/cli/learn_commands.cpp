@@ -185,6 +185,32 @@ std::string stimulus_unseen_in(const std::string& scenario, const ParamList& par
   }
 }
 
+// When no episode succeeded under a stage's Lua absorbing function: that it never returned true,
+// with the names the worlds have (found by a probe: a judge looking for "blue ball" in a world
+// without one gave 0% in another scenario and said nothing, where training's why lines say it).
+// "" otherwise, or when the world cannot be made here.
+std::string lua_judge_never_note(const EvalArgs& a, const PolicyEvalResult& r) {
+  if (r.eval.successes > 0 || r.eval.episodes == 0) return "";
+  try {
+    const SandboxLimits limits = sandbox_limits(a.lua);
+    if (!Curriculum::load(a.script, limits).stage(r.stage).absorbing_lua) return "";
+    Scenario s = Scenario::load(r.scenario_file, limits);
+    for (const auto& [k, v] : r.params) s.set_param(k, v);
+    QuietPrints prints(s.sandbox(), "roger looked at the worlds' names");
+    prints.quiet();
+    const WorldSpec w = s.generate(r.eval.first_seed);
+    std::vector<std::string> objects, regions;
+    for (const auto& o : w.objects) objects.push_back("'" + o.name + "'");
+    for (const auto& g : w.goals) regions.push_back("'" + g.name + "'");
+    return "the stage's Lua absorbing function returned true in none of the " + counted(r.eval.episodes, "episode") +
+           ": what it compares (a name, a region) may be written otherwise than these worlds' (the first's objects: " +
+           (objects.empty() ? "none" : join(objects)) + "; its regions: " + (regions.empty() ? "none" : join(regions)) +
+           ")";
+  } catch (const std::exception&) {
+    return "";
+  }
+}
+
 // eval --policy FILE.json: what the evaluation found, as text.
 void print_policy_eval(const EvalArgs& a, const PolicyEvalResult& r, const std::string& stimulus_unseen) {
   std::printf("roger eval: %s stage %s context %s (%s) in %s, %s from seed %llu, %s\n", a.script.c_str(),
@@ -215,6 +241,8 @@ void print_policy_eval(const EvalArgs& a, const PolicyEvalResult& r, const std::
   for (const auto& [name, f] : r.eval.usage) usage += (usage.empty() ? "" : ", ") + name + " " + std::to_string(int(std::lround(100 * f))) + "%";
   std::printf("  usage          %s\n", usage.c_str());
   if (r.eval.successes == 0 && !stimulus_unseen.empty()) std::printf("  note           %s\n", stimulus_unseen.c_str());
+  if (const std::string judge = lua_judge_never_note(a, r); !judge.empty())
+    std::printf("  note           %s\n", judge.c_str());
 }
 
 // eval --policy FILE.json --json: the figures, the trial's parameters and with --test-set its tasks.
