@@ -97,6 +97,15 @@ checks() {
   grep -q "project folder: $tree/share/roger, installed beside the program" "$work/myquick.log" ||
     { cat "$work/myquick.log"; echo "roger check did not name the installed project folder"; return 1; }
   rm -rf "$work/copied"
+  # The docs' commands name docs/examples/...: installed, an error says where they are (found by
+  # a probe: "no such file here or in the project", and nothing more).
+  if "$roger" check docs/examples/corridor.lua >"$work/docs_example.log" 2>&1 ||
+    ! grep -q "the documentation's files are installed apart from the project: $tree/share/doc/roger/examples/corridor.lua" \
+      "$work/docs_example.log"; then
+    cat "$work/docs_example.log"; echo "roger check of the docs' example path did not say where it is installed"; return 1
+  fi
+  "$roger" check "$tree/share/doc/roger/examples/corridor.lua" >"$work/docs_example.log" 2>&1 ||
+    { cat "$work/docs_example.log"; echo "roger check of the installed docs' example"; return 1; }
   # The installed Python package reads the installed tree too, never the source tree it was built
   # from (found by a probe: every require went to the sources): a curriculum only the moved tree
   # has is found by its bare name.

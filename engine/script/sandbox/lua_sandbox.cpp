@@ -477,7 +477,16 @@ std::string resolve_script_path(const std::string& arg, const std::string& folde
                                                 fs::weakly_canonical(fs::path(ROGER_SOURCE_DIR), ec);
   const std::string where = elsewhere ? " (the project is " + project_in_use() + ")" : "";
   const std::string here = lua_file_here(arg);
-  const std::string hint = here.empty() ? "" : "; " + here + " is a file here: name it with its \".lua\"";
+  std::string hint = here.empty() ? "" : "; " + here + " is a file here: name it with its \".lua\"";
+  // The docs' examples (docs/examples/x.lua in the source tree) are installed with the
+  // documentation, P/share/doc/roger/, beside the project P/share/roger/ (found by a probe: the
+  // docs' commands failed on an installed copy, and nothing said where the examples were).
+  const std::string docs_prefix = "docs/";
+  if (arg.rfind(docs_prefix, 0) == 0) {
+    const fs::path installed = project_root().parent_path() / "doc" / "roger" / arg.substr(docs_prefix.size());
+    if (fs::is_regular_file(installed, ec))
+      hint += "; the documentation's files are installed apart from the project: " + installed.string();
+  }
   const std::string nearest = bare ? suggestion(fs::path(arg).stem().string(), shipped) : "";
   throw Error("no " + kind + " '" + arg + "'" + nearest + ": " +
               (bare ? "not a file, and " + folder_name + "/" + file + " does not exist" + where
