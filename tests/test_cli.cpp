@@ -1085,6 +1085,10 @@ TEST_CASE("an evaluation over a retrained skill is roger eval --skill, whatever 
                                "context DC6 uses"));
     const std::string nowhere = (one / "no_such_policy.json").string();
     CHECK_THAT(roger("eval curricula/paper.lua --policy " + nowhere).err, Catch::Contains(nowhere + ": no such file"));
+    // A mistyped extension is missing too, and said so (found by a probe).
+    CHECK_THAT(roger("eval curricula/paper.lua --policy " + nowhere + ".jsn").err,
+               Catch::Contains("--policy names a policy file written by roger train (policy.json), got '" + nowhere +
+                               ".jsn': no such file"));
   }
   // A policy of another stage given for the skill is named as such, not by two lists of actions.
   r = roger("eval curricula/paper.lua --policy " + policy + " --skill Phi_SG=" + policy);

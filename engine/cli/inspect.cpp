@@ -70,9 +70,13 @@ bool policy_is_saved_file(const std::string& script, const std::string& policy) 
                   "its policies");
     return false;
   }
-  if (!json_file)
+  if (!json_file) {
+    // Found by a probe: a mistyped out/policy.jsn was said to be no policy file, not to be missing.
+    std::error_code ec;
+    const bool exists = std::filesystem::exists(policy, ec);
     throw Error("with a curriculum, --policy names a policy file written by roger train (policy.json), got '" +
-                policy + "'");
+                policy + "'" + (exists ? std::string() : ": no such file"));
+  }
   return true;
 }
 
