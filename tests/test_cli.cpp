@@ -481,6 +481,14 @@ TEST_CASE("roger check names a misspelt top-level key, and finds bare names of e
   CHECK(missing.status == 1);
   CHECK_THAT(missing.err, Catch::Matchers::Contains("no script 'nope.lua': not a file here, and the project has no scenarios/nope.lua, "
                                    "curricula/nope.lua or scripts/nope.lua"));
+  // A missing path is a script's, not a scenario's (found by a probe: a curriculum's mistyped path
+  // was "no scenario"), with its folder's nearest file.
+  CHECK_THAT(roger("check mywork/nothere.lua").err,
+             Catch::Matchers::EndsWith("roger: error: no script 'mywork/nothere.lua': no such file here or in the project "
+                                       "(no folder mywork either)\n"));
+  CHECK_THAT(roger("check curricula/paperr.lua").err,
+             Catch::Matchers::Contains("no script 'curricula/paperr.lua': no such file here or in the project (did you "
+                                       "mean 'paper.lua'?)"));
   // The static pass shows the script as it was named, as the loader does (it showed the absolute path).
   const fs::path outside = temp_file("roger_cli_static.lua", "local x = pp\nreturn { name = 'c', generate = function() end }\n");
   const std::string relative = fs::relative(outside).string();

@@ -113,7 +113,16 @@ std::string check_target(const std::string& arg) {
   if (arg.find('/') != std::string::npos) {
     if (fs::path(arg).is_relative() && fs::is_regular_file(project_root() / arg, ec))
       return (project_root() / arg).string();
-    return arg;  // a path (read_file_text and the loaders say what is wrong with it)
+    // A missing file: said as a script's (found by a probe: a curriculum's mistyped path was "no
+    // scenario", the kind the check falls back to), with the folder's nearest name.
+    const fs::path folder = fs::path(arg).parent_path();
+    std::vector<std::string> beside;
+    for (const auto& entry : fs::directory_iterator(folder, ec))
+      if (entry.path().extension() == ".lua") beside.push_back(entry.path().filename().string());
+    throw Error("no script '" + arg + "': no such file here or in the project" +
+                (fs::is_directory(folder, ec) ? suggestion(fs::path(arg).filename().string(), beside)
+                                              : " (no folder " + folder.string() + " either)") +
+                installed_docs_hint(arg));
   }
   const std::string file = fs::path(arg).extension() == ".lua" ? arg : arg + ".lua";
   std::vector<std::string> found;

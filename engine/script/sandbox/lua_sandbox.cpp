@@ -451,6 +451,18 @@ const std::string& text_script(const std::string& path) {
 
 }  // namespace
 
+// The docs' examples are installed with the documentation (found by a probe: the docs' commands
+// failed on an installed copy, and nothing said where the examples were).
+std::string installed_docs_hint(const std::string& path) {
+  namespace fs = std::filesystem;
+  const std::string docs = "docs/";
+  std::error_code ec;
+  if (path.rfind(docs, 0) != 0 || fs::exists(path, ec)) return "";
+  const fs::path installed = project_root().parent_path() / "doc" / "roger" / path.substr(docs.size());
+  if (!fs::is_regular_file(installed, ec)) return "";
+  return "; the documentation's files are installed apart from the project: " + installed.string();
+}
+
 std::string resolve_script_path(const std::string& arg, const std::string& folder_name,
                                 const std::string& kind, const std::string& list_label,
                                 const std::function<bool(const std::string&)>& accept) {
@@ -477,16 +489,8 @@ std::string resolve_script_path(const std::string& arg, const std::string& folde
                                                 fs::weakly_canonical(fs::path(ROGER_SOURCE_DIR), ec);
   const std::string where = elsewhere ? " (the project is " + project_in_use() + ")" : "";
   const std::string here = lua_file_here(arg);
-  std::string hint = here.empty() ? "" : "; " + here + " is a file here: name it with its \".lua\"";
-  // The docs' examples (docs/examples/x.lua in the source tree) are installed with the
-  // documentation, P/share/doc/roger/, beside the project P/share/roger/ (found by a probe: the
-  // docs' commands failed on an installed copy, and nothing said where the examples were).
-  const std::string docs_prefix = "docs/";
-  if (arg.rfind(docs_prefix, 0) == 0) {
-    const fs::path installed = project_root().parent_path() / "doc" / "roger" / arg.substr(docs_prefix.size());
-    if (fs::is_regular_file(installed, ec))
-      hint += "; the documentation's files are installed apart from the project: " + installed.string();
-  }
+  const std::string hint =
+      (here.empty() ? "" : "; " + here + " is a file here: name it with its \".lua\"") + installed_docs_hint(arg);
   const std::string nearest = bare ? suggestion(fs::path(arg).stem().string(), shipped) : "";
   throw Error("no " + kind + " '" + arg + "'" + nearest + ": " +
               (bare ? "not a file, and " + folder_name + "/" + file + " does not exist" + where

@@ -93,6 +93,12 @@ std::filesystem::path project_root();
 // tree this roger was built from" (a copy of bin/roger alone silently used that tree).
 std::string project_in_use();
 
+// For a path of the docs (docs/examples/x.lua, as the docs' commands name them) that is not a file
+// here, where an installed tree keeps it (P/share/doc/roger/examples/x.lua, beside the project
+// P/share/roger), as "; the documentation's files are installed apart from the project: PATH";
+// else "".
+std::string installed_docs_hint(const std::string& path);
+
 // For a bare name given without ".lua" that is a file here with it (`roger check pen` beside
 // pen.lua): "pen.lua"; else "".
 std::string lua_file_here(const std::string& name);
