@@ -41,9 +41,15 @@ void validate_polygon(const Shape& shape, size_t index, Polygon& poly) {
   double area2 = 0.0;
   for (size_t i = 0; i < n; ++i) area2 += cross(Vec2::Zero(), v[i], v[(i + 1) % n]);
   if (std::abs(area2) * 0.5 < kMinArea) {
+    // A bow tie's two halves cancel: its triangles have area, their signed sum none (found by a
+    // probe: {0,0},{1,1},{1,0},{0,1} was blamed on collinear or repeated vertices).
+    double unsigned2 = 0.0;
+    for (size_t i = 1; i + 1 < n; ++i) unsigned2 += std::abs(cross(v[0], v[i], v[i + 1]));
     std::ostringstream os;
-    os << where(shape, "polygon", index) << ": degenerate (area " << std::abs(area2) * 0.5
-       << " m^2; collinear or repeated vertices?)";
+    os << where(shape, "polygon", index) << ": degenerate (area " << std::abs(area2) * 0.5 << " m^2; "
+       << (unsigned2 * 0.5 >= kMinArea ? "its edges cross: list the vertices in order around the outline"
+                                        : "collinear or repeated vertices?")
+       << ")";
     throw Error(os.str());
   }
   if (area2 < 0) std::reverse(poly.vertices.begin(), poly.vertices.end());
