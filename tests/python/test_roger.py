@@ -966,12 +966,8 @@ class VectorApi(unittest.TestCase):
         vec.reset(seed=0)
         _, info = vec.reset(seed=11, options={"reset_mask": np.array([True, False])})
         self.assertEqual(info["seed"][0], 11)
-        worlds, rng = {0: [11], 1: [1]}, np.random.default_rng(3)
-        for _ in range(150):
-            _, _, _, _, info = vec.step(rng.integers(0, 2, size=2))
-            for i in (0, 1):
-                if info["ticks"][i] == 0:  # the first step of an episode (NEXT_STEP autoreset)
-                    worlds[i].append(int(info["seed"][i]))
+        later = self.worlds_played(vec, 150)
+        worlds = {0: [11] + later[0], 1: [1] + later[1]}
         self.assertGreater(min(len(worlds[0]), len(worlds[1])), 4)
         self.assertFalse(set(worlds[0]) & set(worlds[1]), worlds)
         self.assertEqual(worlds[0][:3], [11, 13, 15])
