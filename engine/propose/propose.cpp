@@ -29,6 +29,36 @@ using namespace propose_detail;
 
 namespace {
 
+// Letters, digits, underscores and dots: the names require takes.
+bool require_spells(const std::string& text) {
+  return std::all_of(text.begin(), text.end(), [](char ch) {
+    return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '.';
+  });
+}
+
+// The error of a curriculum `file` (`real` its canonical path) outside the project's script
+// folders, with its name too when it is not one require takes: both said at once, so one copy
+// mends both. An installed project's folder is not the user's to write (found by a probe: the
+// advice was to copy into /usr/local/share/roger/curricula): a project folder of one's own comes first.
+Error outside_project(const std::string& file, const fs::path& real) {
+  const std::string curricula = (project_root() / "curricula").string();
+  const std::string stem = real.stem().string();
+  const bool named = real.extension() == ".lua" && require_spells(stem) && stem.find('.') == std::string::npos;
+  const std::string what = " (with the files it names by relative paths: scenarios beside it, modules it requires)" +
+                           (named ? std::string()
+                                  : ", under a name require takes (letters, digits and underscores, a .lua file: "
+                                    "not '" + real.filename().string() + "')");
+  return Error("roger propose: " + file + ": the curriculum lies outside the project's curricula/ (" + curricula +
+               "), scenarios/ and scripts/; the proposal written into --out builds on it by require, and require "
+               "in a roger script finds modules only in the script's own folder and in those three, so it could "
+               "not load. Make a project folder of your own: copy the curriculum into DIR/curricula/" + what +
+               " and run roger with ROGER_HOME=DIR (ROGER_HOME=DIR roger propose " +
+               (named ? stem : std::string("NAME")) + " ...; the proposal then loads with the same ROGER_HOME, "
+               "and finds the shipped libraries after your own)" +
+               (access(curricula.c_str(), W_OK) == 0 ? ", or copy it into " + curricula + "/" : std::string()) +
+               "; nothing was run");
+}
+
 // The require name of a curriculum file, checked before anything runs. A proposal is a file in
 // --out that builds on the curriculum by require(name), and require in a roger script finds
 // modules only in the script's own folder and in the project's scenarios/, curricula/ and scripts/
@@ -38,7 +68,6 @@ namespace {
 std::string module_name(const std::string& file, const std::string& out) {
   std::error_code ec;
   const fs::path real = fs::weakly_canonical(fs::absolute(file), ec);
-  const std::string curricula = (project_root() / "curricula").string();
   std::string name;
   fs::path rel;
   for (const auto& root : module_search_roots()) {
@@ -48,32 +77,8 @@ std::string module_name(const std::string& file, const std::string& out) {
     std::replace(name.begin(), name.end(), '/', '.');
     break;
   }
-  const auto spells = [](const std::string& text) {  // letters, digits, underscores and dots
-    return std::all_of(text.begin(), text.end(), [](char ch) {
-      return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '.';
-    });
-  };
-  if (name.empty()) {
-    // Its name too, when it is not one require takes: both said at once, so one copy mends both.
-    const std::string stem = real.stem().string();
-    const bool named = real.extension() == ".lua" && spells(stem) && stem.find('.') == std::string::npos;
-    // An installed project's folder is not the user's to write (found by a probe: the advice was to
-    // copy into /usr/local/share/roger/curricula): a project folder of one's own comes first.
-    const std::string what = " (with the files it names by relative paths: scenarios beside it, modules it requires)" +
-                             (named ? std::string()
-                                    : ", under a name require takes (letters, digits and underscores, a .lua file: "
-                                      "not '" + real.filename().string() + "')");
-    throw Error("roger propose: " + file + ": the curriculum lies outside the project's curricula/ (" + curricula +
-                "), scenarios/ and scripts/; the proposal written into --out builds on it by require, and require "
-                "in a roger script finds modules only in the script's own folder and in those three, so it could "
-                "not load. Make a project folder of your own: copy the curriculum into DIR/curricula/" + what +
-                " and run roger with ROGER_HOME=DIR (ROGER_HOME=DIR roger propose " +
-                (named ? real.stem().string() : std::string("NAME")) + " ...; the proposal then loads with "
-                "the same ROGER_HOME, and finds the shipped libraries after your own)" +
-                (access(curricula.c_str(), W_OK) == 0 ? ", or copy it into " + curricula + "/" : std::string()) +
-                "; nothing was run");
-  }
-  const bool spellable = rel.extension() == ".lua" && name.find("..") == std::string::npos && spells(name);
+  if (name.empty()) throw outside_project(file, real);
+  const bool spellable = rel.extension() == ".lua" && name.find("..") == std::string::npos && require_spells(name);
   if (!spellable)
     throw Error("roger propose: " + file + ": the proposal builds on the curriculum by require(\"" + name +
                 "\"), not a module name require takes (letters, digits and underscores, its folders joined by "
