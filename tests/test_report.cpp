@@ -427,6 +427,26 @@ TEST_CASE("a tiny batch writes every file, with tables that match the trials, wh
     // A context none of whose trials finished says so in the usage, rather than listing nothing
     // under the heading (or, for a skill's share, that no trial used it).
     CHECK_THAT(tables_before, Catch::Matchers::Contains(": no finished trial\n"));
+    // Copied to a folder a shell would split, and reported there: the commands it prints are quoted
+    // to paste whole, and the status (whence the page's commands) names where the folder is now
+    // (found by a probe: the page continued and reported the folder it was copied from).
+    const fs::path moved = f.root / "cut 'copy'";
+    fs::copy(f.root / "cut", moved, fs::copy_options::recursive);
+    ReportArgs again;
+    again.dir = moved.string();
+    std::ostringstream quoted;
+    again.progress = &quoted;
+    CHECK(command_report(again) == 1);
+    const std::string shell = "'" + (f.root / "cut '\\''copy'\\''").string() + "'";
+    CHECK_THAT(quoted.str(), Catch::Matchers::Contains(" --out " + shell + ", with the same options") &&
+                                 Catch::Matchers::Contains("roger report --partial " + shell + " to report"));
+    again.partial = true;
+    CHECK(command_report(again) == 0);
+    const json status = json::parse(slurp(moved / "status.json"));
+    CHECK(status["folder"] == fs::absolute(moved).lexically_normal().string());
+    CHECK(status["dashboard"] == true);
+    CHECK(script_data(moved / "status.js", "ROGER_STATUS") == status);
+    fs::remove_all(moved);
   }
   std::string resumed;
   REQUIRE(f.run("cut", 2, 0, &resumed) == 0);

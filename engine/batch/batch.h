@@ -233,6 +233,12 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control);
 // convenience.
 void write_closing_status(const std::string& out, const std::string& report);
 
+// The folder's status.json (and status.js) with its place as it is now and whether it holds a
+// report (`folder`, `dashboard`), the rest as it was: a folder moved or copied since its run named
+// the old place, and its page's commands continued or reported that one (found by a probe).
+// write_closing_status does it too. Does nothing without a status.json; never throws.
+void refresh_status_place(const std::string& out);
+
 // What the plan's trials' records say: failed, corrupt and pending trials, and summary.csv's
 // text, one row per planned trial (pending ones included).
 BatchSummary summarize_trials(const BatchPlan& plan);

@@ -778,9 +778,32 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
   return summary;
 }
 
+namespace {
+
+void set_status_place(nlohmann::json& j, const std::string& out) {
+  std::error_code ec;
+  j["folder"] = fs::absolute(out, ec).lexically_normal().string();
+  j["dashboard"] = fs::exists(fs::path(out) / "dashboard.js", ec);
+}
+
+}  // namespace
+
+void refresh_status_place(const std::string& out) {
+  try {
+    std::error_code ec;
+    if (!fs::is_regular_file(fs::path(out) / "status.json", ec)) return;
+    nlohmann::json j = nlohmann::json::parse(read_file_text((fs::path(out) / "status.json").string()));
+    set_status_place(j, out);
+    write_status_files(out, j);
+  } catch (const std::exception&) {
+    // As write_closing_status.
+  }
+}
+
 void write_closing_status(const std::string& out, const std::string& report) {
   try {
     nlohmann::json j = nlohmann::json::parse(read_file_text((fs::path(out) / "status.json").string()));
+    set_status_place(j, out);
     j["running"] = false;
     j["finishing"] = false;
     j.erase("waiting");  // a sharded run's last status, before roger report

@@ -23,6 +23,10 @@ std::string file_error_line(const FileError& e, bool resumes = true);
 // into needs another place, or a copy), and it resumes nothing.
 std::string report_file_error_line(const FileError& e);
 
+// An argument as a POSIX shell reads it back: as is when plain, else in single quotes (a command
+// printed for pasting: a folder with a space or a quote in its name).
+std::string shell_word(const std::string& s);
+
 // The sandbox limits --lua-instructions and --lua-memory set over the defaults.
 SandboxLimits sandbox_limits(const LuaLimitArgs& lua);
 

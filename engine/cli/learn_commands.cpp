@@ -50,8 +50,6 @@ SandboxLimits sandbox_limits(const LuaLimitArgs& lua) {
   return limits;
 }
 
-namespace {
-
 // An argument as a POSIX shell reads it back: as is when plain, else in single quotes.
 std::string shell_word(const std::string& s) {
   const bool plain = !s.empty() && s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
@@ -61,6 +59,8 @@ std::string shell_word(const std::string& s) {
   for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return out + "'";
 }
+
+namespace {
 
 // Which worlds failed, the first few of them (all in --json), and the roger render command that
 // replays one: the same script, policy, scenario, parameters and skills, at that world seed, and

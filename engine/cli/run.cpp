@@ -102,12 +102,12 @@ int print_missing(const std::vector<MissingTrial>& missing, const BatchPlan& pla
     if (!m.problem.empty()) log << ": CORRUPT: " << m.problem.substr(0, m.problem.find('\n'));
     log << "\n";
   }
-  log << "Run the roger run command that made the folder again (roger run " << plan.script->path << " --out "
-      << plan.out << ", with the same options and the same --shard for a shard) to finish them"
+  log << "Run the roger run command that made the folder again (roger run " << shell_word(plan.script->path)
+      << " --out " << shell_word(plan.out) << ", with the same options and the same --shard for a shard) to finish them"
       << (corrupt ? " (it runs a trial with corrupt files again from scratch; removing such a trial's folder "
                     "under trials/ does the same). roger report --partial cannot help: a report never reads a "
                     "corrupt record, not even as pending.\n"
-                  : ", or\nroger report --partial " + plan.out + " to report what is there, marked as pending.\n");
+                  : ", or\nroger report --partial " + shell_word(plan.out) + " to report what is there, marked as pending.\n");
   return 1;
 }
 
@@ -294,6 +294,7 @@ int command_report(const ReportArgs& a) {
     // without a status.json) says it is there. A partial report leaves the status to the trials
     // still to come.
     if (missing.empty()) write_closing_status(plan.out, "written");
+    else refresh_status_place(plan.out);
     if (summary.pending)
       log << "roger report: " << counted(summary.pending, "trial") << (summary.pending == 1 ? " has" : " have")
           << " no result yet (marked pending)\n";

@@ -322,6 +322,16 @@ def check_run_end(b, folder, work):
     check(got.startswith("Interrupted: 6/%d trials done" % final["trials"]) and
           b.evaluate("document.getElementById('progress').hidden") is False,
           "run end: an interrupted run is said to be one (%s)" % got)
+    # A run with --no-report over a folder holding an earlier report: said above it (found by a
+    # probe: the page showed the earlier, partial report as if it were the run's).
+    write_report(copy, old)
+    write_status(copy, dict(final, running=False, finishing=False, report="none", started_ms=now - 30000,
+                            updated_ms=int(time.time() * 1000)))
+    b.open(os.path.join(copy, "index.html"), "document.body.getAttribute('data-ready') === '1'")
+    note = b.evaluate("document.getElementById('progress-note').textContent")
+    check("this run wrote no report (--no-report): the one below is an earlier report's" in note and
+          b.evaluate("document.getElementById('progress').hidden") is False,
+          "run end: a run that wrote no report says the report below is an earlier one (%s)" % note)
     # A run killed without a word, in a folder that already has a report: the warning shows.
     write_status(copy, dict(final, running=True, finishing=False, done=8, dashboard=True, started_ms=now - 90000,
                             updated_ms=int(time.time() * 1000) - 40000))
@@ -369,6 +379,16 @@ def check_no_report(b, folder, work):
           "no report: a killed run's page says what continues it and what reports it (%s)" % advice)
     empty = b.evaluate("document.getElementById('empty-note').textContent")
     check("when the run is over" not in empty, "no report: and does not promise a report when it is over (%s)" % empty)
+    # A folder whose name a shell would split: the commands are quoted to paste whole (found by a
+    # probe: "--out /tmp/sp2 'it''s' $HOME" came out bare).
+    odd = "/tmp/results 'it''s' $HOME"
+    quoted = "'" + odd.replace("'", "'\\''") + "'"  # as a POSIX shell reads it back
+    write_status(copy, dict(base, updated_ms=old, folder=odd))
+    b.open(page, "document.body.getAttribute('data-ready') === '1'")
+    advice = b.evaluate("(document.getElementById('progress-advice') || {}).textContent || ''")
+    check(("--out " + quoted) in advice and ("roger report --partial " + quoted) in advice,
+          "no report: the commands quote a folder a shell would split (%s)" % advice)
+    write_status(copy, dict(base, updated_ms=old))
     note = b.evaluate("document.getElementById('progress-note').textContent")
     day = b.evaluate("new Date(%d).toLocaleDateString()" % old)
     check(day in note, "no report: news from another day gives its date (%s in %s)" % (day, note))
