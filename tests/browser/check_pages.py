@@ -726,7 +726,7 @@ new MutationObserver(function (ms) { ms.forEach(function (m) { m.addedNodes.forE
   .observe(document, {childList: true, subtree: true});"""
 
 
-def check_damaged_report(b, results, work):
+def check_damaged_report(b, chromium, results, work):
     """A dashboard.js cut short says so and what writes it again (found by a probe: the page said
     "No report yet" and left the SyntaxError to the console); a page beside its status.js does not
     ask to be opened from its folder. Found by a later probe: in a finished run's folder (its status
@@ -760,6 +760,16 @@ def check_damaged_report(b, results, work):
         check(b.errors() == [], "damaged report: no console errors (%s)" % b.errors())
     finally:
         b.remove_init_script(watch)
+    # As a user's browser opens it: without --allow-file-access-from-files (which the Browser above
+    # needs) a file:// page learns only "Script error." of the script, and the error reached the
+    # console (found by a probe).
+    logged = subprocess.run([chromium, "--headless=new", "--no-sandbox", "--disable-gpu", "--enable-logging=stderr",
+                             "--v=0", "--virtual-time-budget=5000", "--user-data-dir=" + os.path.join(work, "plain-profile"),
+                             "--dump-dom", "file://" + os.path.join(folder, "index.html")],
+                            capture_output=True, text=True, timeout=120)
+    console = [l for l in logged.stderr.splitlines() if "CONSOLE" in l]
+    check("cannot be read" in logged.stdout and console == [],
+          "damaged report: a browser started as a user starts it says so, nothing in the console (%s)" % console)
 
 
 def check_dashboard(b, folder, screenshot):
@@ -1118,7 +1128,7 @@ def main():
         check_narrow(b, failures_run)
         check_partial(b, a.roger, partial)
         check_no_figures(b, a.roger, results, a.work)
-        check_damaged_report(b, results, a.work)
+        check_damaged_report(b, a.chromium, results, a.work)
         check_episode(b, episode, shots and os.path.join(shots, "episode-viewer.png"))
         check_keys(b, episode)
         check_cycle(b, episode, a.work)
