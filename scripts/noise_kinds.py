@@ -76,7 +76,7 @@ def table_three(results, name):
     for t in read_report(results)["tables"]:
         if t.get("evaluation") == f"III_{name}":
             total = [r for r in t.get("rows", []) if r.get("object") == "Total"]
-            if not total:
+            if not total or "episodes" not in total[0]:  # a Total of counts alone: no result yet
                 return None
             r = total[0]
             n = r["episodes"]

@@ -72,7 +72,7 @@ def min_sec(seconds):
 
 def cell(row):
     """'99.3% [98.6, 99.7]': a pooled success rate and its 95% interval, in percent."""
-    if not row:
+    if not row or "success_rate" not in row:  # no row, or a Total of counts alone (no result yet)
         return "-"
     hi = 100 * row["success_high"]
     return f"{100 * row['success_rate']:.1f}% [{100 * row['success_low']:.1f}, {'100' if hi >= 99.95 else f'{hi:.1f}'}]"

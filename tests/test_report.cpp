@@ -802,8 +802,11 @@ TEST_CASE("a failing trial is recorded and does not lose the others", "[report][
   CHECK(log.find("eval/gen/spade/001") != std::string::npos);
   CHECK(slurp(out / "summary.csv").find(",failed,") != std::string::npos);
   CHECK(fs::is_regular_file(out / "tables.md"));
-  // Per row: 2 failed each; the 4 are counted once, in the partial report's opening line.
-  CHECK(!std::regex_search(slurp(out / "tables.md"), std::regex("\\|[^\\n]*4 failed")));
+  // Per shape: 2 failed each; the Total counts the 4, as the shape rows count theirs (a Total
+  // row of the counts alone, no evaluation having a result), and so does the opening line.
+  CHECK(std::regex_search(slurp(out / "tables.md"),
+                          std::regex("\\| \\*\\*Total\\*\\* \\| - \\| - \\| - \\| 0/4 of 2 policies × 2 objects \\(4 failed\\) \\| 0 \\| 0 \\|\\n")));
+  CHECK(std::regex_search(slurp(out / "tables.md"), std::regex("\\| [A-Z][a-z]+ \\|[^\\n]*\\(2 failed\\)")));
   CHECK_THAT(slurp(out / "tables.md"), Contains("**Partial report:** 6 of 10 trials have results (4 failed);"));
   CHECK(slurp(out / "tables.md").find("(2 failed)") != std::string::npos);
   // Found by an earlier probe: the scenario beside the script was named by its absolute path, where the
@@ -1577,8 +1580,10 @@ TEST_CASE("a partial report with one trial's result says it in the singular", "[
   REQUIRE(partial_report(copy, said) == 0);
   const std::string tables = slurp(copy.dir / "tables.md");
   CHECK_THAT(tables, Contains("**Partial report:** 1 of 10 trials has a result (9 pending);"));
-  // Every evaluation pending: no Total row, and the note under the table names none.
-  CHECK_THAT(tables, Contains("| Spade | - | - | - | 0/2 (2 pending) | 0 | 0 |\n\nAvg. reward") &&
+  // Every evaluation pending: a Total row of the counts alone, as the shape rows (found by a later
+  // probe: it was left out), and the note under the table pools none in it.
+  CHECK_THAT(tables, Contains("| Spade | - | - | - | 0/2 (2 pending) | 0 | 0 |\n"
+                              "| **Total** | - | - | - | 0/4 of 2 policies × 2 objects (4 pending) | 0 | 0 |\n\nAvg. reward") &&
                          !Contains("(in the Total row"));
 }
 

@@ -137,8 +137,12 @@ void eval_table(const BatchScript& b, const BatchTable& t, const Folder& folder,
     const EvalRow total = eval_row(all, 0);
     methods.insert(total.ci.by);
     rows.push_back(eval_row_out("**Total**", "Total", total, every, total_count(*ev, all.size(), groups.size(), every), md));
+  } else {  // counted as the shape rows are, with nothing to pool (found by a probe: it was left out)
+    md << "| **Total** | - | - | - | " << total_count(*ev, 0, groups.size(), every) << " | 0 | 0 |\n";
+    rows.push_back({{"object", "Total"}, {"policies", 0}, {"evaluations", 0}, {"failed", every.failed},
+                    {"pending", every.pending}});
   }
-  // No Total row without a result (found by a probe: the note named one all the same).
+  // A Total row without a result pools nothing: the note names none (found by a probe: it named one).
   md << "\nAvg. reward ± std (population std) and success rate pool every episode of every policy; the per-policy "
         "column shows how much the policies of different trials differ"
      << (all.empty() ? "" : " (in the Total row, each policy on each object)")
