@@ -934,10 +934,10 @@ def _apart_from_seeded(vec, mask, seeded, seeds):
         nexts.append(int(seeds[i]) if mask[i] and seeded[i] else (int(base) + int(started) * n) % 2**64)
     later = _apart_given(given, running, nexts, n)
     taken_by_seeded = {nexts[j] % n for j in given}
+    moved_on = {j for j in later if j not in given}  # left out, their next world no longer theirs
     for i in range(n):
         if not mask[i] or seeded[i] or nexts[i] % n not in taken_by_seeded:
             continue
-        moved_on = {j for j in later if j not in given}  # left out, their next world no longer theirs
         others = {nexts[j] % n for j in range(n) if j != i and j not in moved_on} | {w % n for w in later.values()}
         world = _own_schedule(nexts[i], others, n)
         seeded[i], seeds[i], nexts[i] = 1, world, world
