@@ -306,20 +306,8 @@ void warn_stimulus_unseen(const CurriculumStage& st, const SandboxLimits& limits
   std::set<std::vector<std::pair<std::string, std::string>>> checked;
   for (const auto& ctx : st.contexts) {
     if (!checked.insert(st.scenario_params(ctx)).second) continue;
-    std::string note;
-    try {
-      Scenario s = Scenario::load(st.scenario, limits);
-      for (const auto& [k, v] : st.scenario_params(ctx)) s.set_param(k, v);
-      const std::vector<ScenarioParam> declared = s.params();
-      for (const auto& [k, v] : sets)  // a --set the scenario does not declare is for other stages
-        if (std::any_of(declared.begin(), declared.end(), [&k = k](const ScenarioParam& p) { return p.name == k; }))
-          s.set_param(k, v);
-      QuietPrints prints(s.sandbox(), "roger check built the stage's worlds");
-      prints.quiet();
-      note = stimulus_unseen_note(s, 0, 5);
-    } catch (const std::exception&) {
-      continue;  // the worlds' own problem, said by check_curriculum
-    }
+    // A --set the scenario does not declare is for other stages.
+    const std::string note = stimulus_unseen_in(st.scenario, st.scenario_params(ctx), limits, 0, 5, sets);
     if (!note.empty())
       std::fprintf(stderr, "roger: warning: %s (scenario '%s'): %s\n",
                    (ctx.params.empty() ? st.where() : st.where(ctx.name)).c_str(), st.scenario.c_str(), note.c_str());

@@ -27,6 +27,13 @@ std::string report_file_error_line(const FileError& e);
 // printed for pasting: a folder with a space or a quote in its name).
 std::string shell_word(const std::string& s);
 
+// stimulus_unseen_note of `worlds` worlds of `scenario` from `first_seed`, with `params` set, and
+// those of `where_declared` the scenario declares (a --set for other stages): "" when the worlds
+// have the colour their eyes look for, or cannot be made here (their own error is said elsewhere).
+std::string stimulus_unseen_in(const std::string& scenario, const std::vector<std::pair<std::string, std::string>>& params,
+                               const SandboxLimits& limits, uint64_t first_seed, int worlds,
+                               const std::vector<std::pair<std::string, std::string>>& where_declared = {});
+
 // The sandbox limits --lua-instructions and --lua-memory set over the defaults.
 SandboxLimits sandbox_limits(const LuaLimitArgs& lua);
 

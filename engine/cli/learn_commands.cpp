@@ -60,6 +60,25 @@ std::string shell_word(const std::string& s) {
   return out + "'";
 }
 
+// See cli_internal.h. Found by a probe: a colour typo in a scenario showed only as every episode
+// failing, blamed on the stage's absorbing function.
+std::string stimulus_unseen_in(const std::string& scenario, const ParamList& params, const SandboxLimits& limits,
+                               uint64_t first_seed, int worlds, const ParamList& where_declared) {
+  try {
+    Scenario s = Scenario::load(scenario, limits);
+    for (const auto& [k, v] : params) s.set_param(k, v);
+    const std::vector<ScenarioParam> declared = s.params();
+    for (const auto& [k, v] : where_declared)
+      if (std::any_of(declared.begin(), declared.end(), [&k = k](const ScenarioParam& p) { return p.name == k; }))
+        s.set_param(k, v);
+    QuietPrints prints(s.sandbox(), "roger looked for the stimulus colour in the worlds");
+    prints.quiet();
+    return stimulus_unseen_note(s, first_seed, worlds);
+  } catch (const std::exception&) {
+    return "";
+  }
+}
+
 namespace {
 
 // Which worlds failed, the first few of them (all in --json), and the roger render command that
@@ -167,22 +186,6 @@ PolicyEvalOptions policy_eval_options(const EvalArgs& a) {
   o.test_set = a.test_set;
   o.trial_params = true;
   return o;
-}
-
-// stimulus_unseen_note of `worlds` worlds of `scenario` with `params`, from `first_seed`: a colour
-// typo in a scenario showed only as every episode failing, blamed on the stage's absorbing
-// function (found by a probe). "" when the worlds have the colour, or cannot be made here.
-std::string stimulus_unseen_in(const std::string& scenario, const ParamList& params, const SandboxLimits& limits,
-                               uint64_t first_seed, int worlds = 5) {
-  try {
-    Scenario s = Scenario::load(scenario, limits);
-    for (const auto& [k, v] : params) s.set_param(k, v);
-    QuietPrints prints(s.sandbox(), "roger looked for the stimulus colour in the worlds");
-    prints.quiet();
-    return stimulus_unseen_note(s, first_seed, worlds);
-  } catch (const std::exception&) {
-    return "";
-  }
 }
 
 // When no episode succeeded under a stage's Lua absorbing function: that it never returned true,
@@ -568,7 +571,7 @@ int command_train(const TrainArgs& a) {
     std::vector<std::string> causes = diagnose_training(r).causes();
     if (!r.reached) {  // the eyes' colour first: what it leaves undone the other causes only describe
       const std::string scenario = Curriculum::load(o.curriculum, o.limits).stage(o.stage).scenario;
-      if (const std::string note = stimulus_unseen_in(scenario, r.params, o.limits, 0); !note.empty())
+      if (const std::string note = stimulus_unseen_in(scenario, r.params, o.limits, 0, 5); !note.empty())
         causes.insert(causes.begin(), note);
     }
     for (size_t k = 0; k < causes.size(); ++k) std::printf("  %-15s%s\n", k ? "" : "why", causes[k].c_str());
