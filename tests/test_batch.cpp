@@ -12,6 +12,7 @@
 #include <regex>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include "batch/batch.h"
 #include "batch/batch_internal.h"
@@ -224,6 +225,34 @@ TEST_CASE("progress lines count trials done, running and left", "[batch]") {
   CHECK(format_duration(42) == "42 s");
   CHECK(format_duration(185) == "3 min 05 s");
   CHECK(format_duration(3720) == "1 h 02 min");
+  fs::remove_all(dir);
+}
+
+// The time left counts what the running trial has done: one worker, three trials of a second
+// each; while the second runs, the estimate falls from 2 s towards 1 s. (It divided the time
+// elapsed by the trials done and counted the running trial whole: 2 s and more all along.)
+TEST_CASE("the time left counts the part of a running trial already run", "[batch]") {
+  const fs::path dir = fresh_dir("time_left");
+  std::ostringstream progress;
+  BatchOptions options{1, dir.string()};
+  options.progress = &progress;
+  options.every = 0.05;
+  const auto second = [](const std::string& id, const std::string&) {
+    std::this_thread::sleep_for(std::chrono::seconds(1));
+    return nlohmann::json{{"id", id}};
+  };
+  run_trials(ids(3), second, options);
+  std::set<std::string> estimates;  // while one of three was done
+  std::istringstream lines(progress.str());
+  for (std::string line; std::getline(lines, line);) {
+    static const std::regex one_done("trials: 1/3 done.*about (\\d+ s) to go");
+    std::smatch m;
+    if (std::regex_search(line, m, one_done)) estimates.insert(m[1]);
+  }
+  INFO(progress.str());
+  CHECK(estimates.count("1 s") == 1);
+  CHECK(estimates.size() <= 2);  // 1 s and 2 s at most
+  CHECK(!estimates.count("3 s"));
   fs::remove_all(dir);
 }
 

@@ -88,6 +88,7 @@ class TrialPool {
     if (options_.progress && options_.live) reporter = std::thread([this] { report_live(); });
     std::vector<std::thread> pool;
     const int threads = std::min<int>(jobs, int(std::max<size_t>(1, pending_.size())));
+    workers_ = threads;
     for (int t = 0; t < threads; ++t) pool.emplace_back([this] { work(); });
     if (options_.progress && !options_.live) report_plain();
     for (auto& t : pool) t.join();
@@ -114,12 +115,27 @@ class TrialPool {
     os << "trials: " << resumed_ + done_ << "/" << outcomes_.size() << " done";
     if (resumed_) os << " (" << resumed_ << " from an earlier run)";
     os << ", " << running_ << " running, " << left << " left, " << format_duration(elapsed) << " elapsed";
-    if (done_ > 0 && !final) {
-      // Each worker finishes a trial every elapsed/done*jobs seconds on average.
-      const double per_trial = elapsed / double(done_);
-      os << ", about " << format_duration(per_trial * double(left + running_)) << " to go";
-    }
+    if (!final)
+      if (const double to_go = time_to_go(); to_go >= 0) os << ", about " << format_duration(to_go) << " to go";
     return os.str();
+  }
+
+  // The time left, as the dashboard estimates it (TimeLeft below): the trials not started take
+  // the mean time of those that finished well, the running ones that mean less what they have
+  // run, all of it shared by the workers, and never less than the longest running one still
+  // needs. -1 before a trial finished well. (It divided the time elapsed by the trials done and
+  // counted each running trial whole: a run's first minutes read several times too long.)
+  // Called with the mutex held.
+  double time_to_go() const {
+    if (durations_.empty()) return -1.0;
+    const double mean = std::accumulate(durations_.begin(), durations_.end(), 0.0) / double(durations_.size());
+    const auto now = Clock::now();
+    double work = mean * double(pending_.size() - done_ - stopped_ - running_), longest = 0.0;
+    for (const auto& [index, began] : began_) {
+      const double rest = std::max(0.0, mean - std::chrono::duration<double>(now - began).count());
+      work += rest, longest = std::max(longest, rest);
+    }
+    return std::max(work / double(std::max(1, workers_)), longest);
   }
 
   // A worker: takes pending trials one by one until none is left or the run stops.
@@ -135,12 +151,17 @@ class TrialPool {
       {
         std::lock_guard<std::mutex> lock(mutex_);
         ++running_;
+        began_.emplace(k, Clock::now());
       }
-      const bool finished = run_one(outcomes_[pending_[k]]);
+      TrialOutcome& outcome = outcomes_[pending_[k]];
+      const bool finished = run_one(outcome);
       {
         std::lock_guard<std::mutex> lock(mutex_);
         --running_;
+        began_.erase(k);
         finished ? ++done_ : ++stopped_;
+        // A failed trial may have stopped at once: only those that finished well are timed.
+        if (finished && outcome.ok) durations_.push_back(outcome.wall_seconds);
       }
       wake_.notify_all();
     }
@@ -228,6 +249,9 @@ class TrialPool {
   std::condition_variable wake_;
   std::atomic<size_t> next_{0};
   size_t done_ = 0, running_ = 0, stopped_ = 0;
+  int workers_ = 1;
+  std::map<size_t, Clock::time_point> began_;  // when each running trial began, by its place in pending_
+  std::vector<double> durations_;              // wall seconds of the trials that finished well
   std::exception_ptr stop_;  // the first FileError, or Interrupted: no worker starts another trial after it
   bool finished_ = false;
 };
