@@ -455,7 +455,7 @@ def check_keys(b, folder):
 def check_narrow(b, folder):
     """The dashboard in an 800 px window. Found by a probe: the curves' figure shrank as a whole,
     its labels to about 6 px, and a long path in the list of why trials did not reach the
-    threshold ran out of the text's column."""
+    threshold ran out of the text's column, as a long trial id did out of the trials' section."""
     b.resize(800)
     try:
         b.open(os.path.join(folder, "index.html"), "document.body.getAttribute('data-ready') === '1'")
@@ -470,6 +470,15 @@ def check_narrow(b, folder):
             e.scrollWidth > e.clientWidth + 1).map(e => e.textContent.slice(0, 60))""")
         code = b.evaluate("document.querySelectorAll('#report li code').length")
         check(code > 0 and out == [], "narrow: the report's text, its long paths too, stays in its column (%s)" % out)
+        # Found by a probe: a long trial id in the list of its files ran 133 px out of the section.
+        wide = b.evaluate("""(function () {
+            var s = document.getElementById('trials'), right = s.getBoundingClientRect().right;
+            s.querySelectorAll('details').forEach(function (d) { d.open = true; });
+            return Array.from(s.querySelectorAll('.files a')).filter(function (a) {
+              return a.getBoundingClientRect().right > right + 1; }).map(function (a) { return a.textContent.slice(0, 40); });
+            })()""")
+        files = b.evaluate("document.querySelectorAll('#trials .files a').length")
+        check(files > 0 and wide == [], "narrow: the trials' files, a long id's too, stay in their section (%s)" % wide)
     finally:
         b.resize(1400)
 
