@@ -596,6 +596,21 @@ TEST_CASE("script mistakes are reported at the script's file:line", "[scenario]"
     CHECK(e.line == 4);
     CHECK_THAT(e.message, StartsWith("the generator did not place Roger"));
   }
+  // Found by a probe: a table returned beside world:robot was dropped without a word.
+  SECTION("a generator that returns a value") {
+    const std::string head = "return { generate = function(world, rng, p)\n"
+                             "  world:robot{ x = 0, y = 0, heading = 0 }\n";
+    try {
+      test::scenario_from("returns_table", head + "  return { objects = {} }\nend }\n").generate(0);
+      FAIL("a generator's returned table was accepted");
+    } catch (const ScriptError& e) {
+      CHECK(e.line == 1);
+      CHECK_THAT(e.message, StartsWith("the generator returned a table, which is not read"));
+    }
+    // Returning the world itself, or nothing, is what a generator may do.
+    CHECK_NOTHROW(test::scenario_from("returns_world", head + "  return world\nend }\n").generate(0));
+    CHECK_NOTHROW(test::scenario_from("returns_nil", head + "  return nil\nend }\n").generate(0));
+  }
   SECTION("a runaway generator") {
     Scenario s = Scenario::load("tests/scripts/bad_runtime.lua", SandboxLimits{200000, 64u << 20});
     s.sandbox().load_string("while true do end", "@tests/scripts/inline.lua");

@@ -356,11 +356,21 @@ WorldSpec Scenario::generate_world(uint64_t seed) {
         WorldBuilder* w;
         ~Finish() { w->finished = true; }
       } finish{w};
-      lua_call(L, 3, 0);
+      lua_call(L, 3, 1);
     }
+    // A generator builds the world through its methods; a value it returns would go unread (found
+    // by a probe: a table of objects returned beside world:robot was dropped without a word).
+    const bool returned = !lua_isnil(L, -1) && !lua_rawequal(L, -1, world - 1);
+    const char* returned_type = luaL_typename(L, -1);
+    lua_pop(L, 1);
     // Its rng (and its forks) draw no more: a failed generate's are past by the next one's epoch,
     // and nothing else runs in a scenario's Lua state.
     close_rng_epoch(L);
+    if (returned)
+      throw impl.error(std::string("the generator returned a ") + returned_type +
+                           ", which is not read: it builds the world through world:robot{...}, world:object{...} "
+                           "and the other methods of world, and returns nothing",
+                       impl.generate_line);
     if (!w->robot_set)
       throw impl.error("the generator did not place Roger: call world:robot{x=..., y=..., heading=...}",
                        impl.generate_line);
