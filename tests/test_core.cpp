@@ -2,7 +2,10 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <string>
 #include <limits>
 #include <thread>
 #include <vector>
@@ -81,4 +84,45 @@ TEST_CASE("with_note_on_first_line puts the note before a traceback", "[core]") 
   CHECK(roger::with_note_on_first_line("a.lua:3: bad\nstack traceback:\n\ta.lua:3", " (seed 2)") ==
         "a.lua:3: bad (seed 2)\nstack traceback:\n\ta.lua:3");
   CHECK(roger::with_note_on_first_line("", " (seed 2)") == " (seed 2)");
+}
+
+TEST_CASE("format_number is short and exact", "[core]") {
+  CHECK(format_number(0.95) == "0.95");
+  CHECK(format_number(4.0) == "4");
+  CHECK(format_number(0.1 + 0.2) == "0.30000000000000004");
+  CHECK(format_number(1e14) == "100000000000000");
+  CHECK(format_number(1e15) == "1e+15");
+  CHECK(format_number(-2.5e-5) == "-2.5e-05");
+  CHECK(format_number(5e-324) == "5e-324");
+}
+
+// format_number starts its search at the shortest decimal's digits: the same text as the search
+// from one digit, on numbers of every kind.
+TEST_CASE("format_number gives what the search from one digit gives", "[core]") {
+  const auto from_one = [](double value) {
+    const bool plain = value == 0.0 || (std::abs(value) >= 1e-4 && std::abs(value) < 1e15);
+    char buf[40];
+    for (int precision = 1; precision <= 17; ++precision) {
+      std::snprintf(buf, sizeof buf, "%.*g", precision, value);
+      if (std::strtod(buf, nullptr) == value && (!plain || !std::strchr(buf, 'e'))) break;
+    }
+    return std::string(buf);
+  };
+  Rng rng(7);
+  std::vector<double> values{0.0, -0.0, 1e-4, 9.9999999999999995e14, 999999999999999.9, 1e-5, 0.5, 123456789.0,
+                             std::numeric_limits<double>::max(), std::numeric_limits<double>::min(),
+                             std::numeric_limits<double>::denorm_min()};
+  for (int i = 0; i < 40000; ++i) {
+    values.push_back(rng.uniform(-10.0, 10.0));                                    // positions
+    values.push_back(std::round(rng.uniform(0.0, 1e4)) / 100.0);                   // round ones
+    values.push_back(std::ldexp(rng.uniform(0.5, 1.0), int(rng.uniform(-1070, 1020))));  // any magnitude
+    uint64_t bits = rng.next();
+    double any;
+    std::memcpy(&any, &bits, sizeof any);
+    if (std::isfinite(any)) values.push_back(any);
+  }
+  int differ = 0;
+  for (double v : values)
+    if (format_number(v) != from_one(v) && ++differ <= 5) FAIL_CHECK(from_one(v) + " became " + format_number(v));
+  CHECK(differ == 0);
 }

@@ -662,12 +662,6 @@ TEST_CASE("project_root follows ROGER_HOME", "[lua_sandbox]") {
   CHECK(fs::exists(project_root() / "scenarios"));
 }
 
-TEST_CASE("format_number is short and exact", "[lua_sandbox]") {
-  CHECK(format_number(0.95) == "0.95");
-  CHECK(format_number(4.0) == "4");
-  CHECK(format_number(0.1 + 0.2) == "0.30000000000000004");
-}
-
 TEST_CASE("budgets hold at every call of a callback: instructions per call, memory for the state", "[lua_sandbox][faults]") {
   LuaSandbox sandbox({10'000'000, 32u << 20});
   sandbox.load_string("local n = 0\n"

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <system_error>
 
 namespace roger {
 
@@ -18,13 +20,32 @@ std::string text_hash(const std::string& text) {
   return b;
 }
 
+namespace {
+
+// The significant digits of the shortest decimal that reads back as `value` (finite): no
+// precision below it can, so format_number's search starts there.
+int shortest_digits(double value) {
+  char buf[40];
+  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, value, std::chars_format::scientific);
+  if (ec != std::errc()) return 1;
+  int digits = 0;
+  for (const char* c = buf; c != end && *c != 'e'; ++c) digits += std::isdigit(static_cast<unsigned char>(*c)) != 0;
+  return std::max(1, digits);
+}
+
+}  // namespace
+
 std::string format_number(double value) {
   if (std::isnan(value)) return "nan";
   if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
   // Exponent notation only for very large or small magnitudes ("10", not "1e+01").
   const bool plain = value == 0.0 || (std::abs(value) >= 1e-4 && std::abs(value) < 1e15);
   char buf[40];
-  for (int precision = 1; precision <= 17; ++precision) {
+  // The least precision whose %g reads back (and, in the plain range, has no exponent). Every
+  // precision below the shortest decimal's digits fails, so the search starts there: the same
+  // text as from 1, without up to 16 rounds of printing and reading back (they were a quarter
+  // of generating a world, whose parameters and positions are all formatted).
+  for (int precision = shortest_digits(value); precision <= 17; ++precision) {
     std::snprintf(buf, sizeof buf, "%.*g", precision, value);
     if (std::strtod(buf, nullptr) == value && (!plain || !std::strchr(buf, 'e'))) break;
   }

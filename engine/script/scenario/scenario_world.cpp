@@ -52,17 +52,18 @@ namespace {
 void check_free(const LuaFields& f, const WorldBuilder& w, const std::string& what, const Shape& shape,
                 const Pose& pose, bool against_obstacles) {
   const double inset = arena_inset(w.spec.arena, shape, pose);
-  const std::string at = what + " at " + point_text(pose.x, pose.y);
+  // Written only for a message: every placement passes here, most of them in every world drawn.
+  const auto at = [&] { return what + " at " + point_text(pose.x, pose.y); };
   if (inset < -1e-9) {
     const auto& a = w.spec.arena;
-    f.fail(at + " sticks out of the arena [" + fmt(a.xmin) + ", " + fmt(a.xmax) + "] x [" +
+    f.fail(at() + " sticks out of the arena [" + fmt(a.xmin) + ", " + fmt(a.xmax) + "] x [" +
            fmt(a.ymin) + ", " + fmt(a.ymax) + "] by " + measured(-inset) + " m");
   }
   const Occupants occ = occupants(w, true, against_obstacles);
   lua_charge(f.state(), occ.list.size() * (shape.polygons.size() + shape.disks.size()));
   for (const auto& o : occ.list) {
     const double gap = shape_gap(shape, pose, *o.shape, o.pose);
-    if (gap < -1e-9) f.fail(at + " overlaps " + o.what + " by " + measured(-gap) + " m");
+    if (gap < -1e-9) f.fail(at() + " overlaps " + o.what + " by " + measured(-gap) + " m");
   }
 }
 
