@@ -1669,3 +1669,16 @@ TEST_CASE("a --by feature given twice splits each table once", "[report]") {
   CHECK(occurrences(twice, ": final success by obstacles") == occurrences(once, ": final success by obstacles"));
   CHECK(occurrences(twice, ": final success by obstacles") == 2);  // Tables I and II
 }
+
+// Found by a probe: the heat map of where a teacher sampled labelled its bins to two significant
+// digits, so the bin of 1.16 to 1.28 read "1.2 to 1.3", and draws below 1.2 seemed above it.
+TEST_CASE("bins are labelled finely enough to say where they lie", "[report]") {
+  CHECK(report_detail::bin_label(0.8, 2.0, 2, 10) == "1.04 to 1.16");
+  CHECK(report_detail::bin_label(0.8, 2.0, 3, 10) == "1.16 to 1.28");
+  CHECK(report_detail::bin_label(0.0, 1.0, 0, 10) == "0 to 0.1");
+  CHECK(report_detail::bin_label(0.0, 1.0, 9, 10) == "0.9 to 1");
+  CHECK(report_detail::bin_label(-1.0, 1.0, 4, 10) == "-0.2 to 0");
+  CHECK(report_detail::bin_label(0.0, 1000.0, 2, 10) == "200 to 300");
+  CHECK(report_detail::bin_label(0.0, 0.001, 1, 10) == "0.0001 to 0.0002");
+  CHECK(report_detail::bin_label(0.3, 2.4, 0, 5) == "0.3 to 0.72");
+}

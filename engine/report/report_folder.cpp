@@ -35,6 +35,22 @@ std::string fmt(const char* f, double v) {
   return buf;
 }
 
+std::string bin_label(double lo, double hi, int b, int bins) {
+  const double width = (hi - lo) / bins;
+  const int decimals = width > 0 ? std::clamp(2 - int(std::floor(std::log10(width))), 0, 17) : 2;
+  const auto edge = [&](int k) {
+    char buf[400];
+    std::snprintf(buf, sizeof buf, "%.*f", decimals, lo + (hi - lo) * k / bins);
+    std::string t = buf;
+    if (t.find('.') != std::string::npos) {
+      t.erase(t.find_last_not_of('0') + 1);
+      if (t.back() == '.') t.pop_back();
+    }
+    return t == "-0" ? std::string("0") : t;
+  };
+  return edge(b) + " to " + edge(b + 1);
+}
+
 std::string pct(double fraction) { return fmt("%.1f%%", 100.0 * fraction); }
 
 std::string rate_pct(double rate) {

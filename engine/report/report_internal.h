@@ -34,6 +34,11 @@ constexpr int kCurvePoints = 200;              // the learning curves' common gr
 // One number formatted by printf's format f.
 std::string fmt(const char* f, double v);
 
+// Bin b of `bins` equal bins over [lo, hi], as "0.92 to 1.04": each edge to two decimal places
+// finer than the bins' width, so that neighbouring bins read apart and each edge within half a
+// percent of a bin of where it lies (two significant digits wrote 1.16 to 1.28 as "1.2 to 1.3").
+std::string bin_label(double lo, double hi, int b, int bins);
+
 // A fraction as a percentage with one decimal: 0.975 -> "97.5%".
 std::string pct(double fraction);
 

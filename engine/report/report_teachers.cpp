@@ -244,7 +244,7 @@ class FeatureColumns {
   std::string of(const std::string& v) const {
     if (!binned_) return v;
     const int bin = std::min(4, int((std::strtod(v.c_str(), nullptr) - lo_) / (hi_ - lo_) * 5));
-    return fmt("%.2f", lo_ + (hi_ - lo_) * bin / 5) + " to " + fmt("%.2f", lo_ + (hi_ - lo_) * (bin + 1) / 5);
+    return bin_label(lo_, hi_, bin, 5);
   }
   // The columns with no value yet: every bin, an empty one too ("five equal bins" with one left
   // out read as four, found by a probe).
@@ -439,7 +439,7 @@ HeatMap heat_of(const Drawn& d, const std::optional<Axis>& axis) {
     if (covers && !whole.empty()) rows = whole;
   }
   if (reals)
-    for (int b = 0; b < bins; ++b) rows.push_back(fmt("%.2g", lo + (hi - lo) * b / bins) + " to " + fmt("%.2g", lo + (hi - lo) * (b + 1) / bins));
+    for (int b = 0; b < bins; ++b) rows.push_back(bin_label(lo, hi, b, bins));
   std::vector<std::vector<double>> count(rows.size(), std::vector<double>(size_t(columns), 0.0));
   std::vector<double> total(size_t(columns), 0.0);
   for (const auto& [i, v] : d.draws) {
