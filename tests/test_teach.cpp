@@ -942,6 +942,9 @@ TEST_CASE("a Lua teacher's history, and its faults: each fails its trial alone a
       {"function() return { mass = 1 } end",
        "stage 'S': teacher function returned 'mass', which is not a parameter of the task space (obstacles = roger.int(0, 3))"},
       {"function() return 3 end", "stage 'S': teacher function must return a table of task parameters"},
+      // Found by a probe: the second value was dropped without a word.
+      {"function() return { obstacles = 1 }, 12345 end",
+       "stage 'S': teacher function must return one table of task parameters, got 2 values (a table, number 12345)"},
       // Found by a probe: neither said what it got or what was meant.
       {"function() return { obstacls = 1 } end",
        "stage 'S': teacher function returned 'obstacls', which is not a parameter of the task space (did you mean "
