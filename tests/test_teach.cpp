@@ -1830,6 +1830,15 @@ TEST_CASE("a teacher whose window cannot fill within the budget is warned of", "
              Contains("levels.lua:8: stage 'S': roger.teacher.lcas: its 3 levels of eye_pixels need 4 episodes (two "
                       "windows of 1 per lift) before the last, not fewer than the budget's 4 episodes: no episode will "
                       "train at eye_pixels = 128, the level the test set runs at"));
+  // Found by a probe: a lifted parameter that is an axis of the task space is drawn over the whole
+  // axis by the test set; the warning said the test set ran at the last level.
+  CHECK_THAT(warning("in_space", "{ tasks = { obstacles = roger.int(0, 4) }, "
+                                 "teacher = roger.teacher.lcas{ lift = { obstacles = { 0, 2, 4 } }, window = 2 } }"),
+             Contains("it will never lift it, and the test set draws it over its whole axis, where no episode "
+                      "trained past the first level"));
+  CHECK_THAT(warning("in_space_levels", "{ tasks = { obstacles = roger.int(0, 4) }, "
+                                        "teacher = roger.teacher.lcas{ lift = { obstacles = { 0, 2, 4 } }, window = 1 } }"),
+             Contains("no episode will train at obstacles = 4, a level the test set draws tasks at"));
   // Found by a probe: replay = 1 replayed the first level for the whole budget.
   CHECK_THAT(warning("plr", "{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.plr{ replay = 1 } }"),
              Contains("plr.lua:8: stage 'S': roger.teacher.plr: replay = 1 replays a seen level at every episode: "

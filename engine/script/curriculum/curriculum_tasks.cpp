@@ -644,10 +644,16 @@ std::string CurriculumStage::teacher_window_warning() const {
   const std::string budget = "the budget's " + std::to_string(budget_episodes) + " episodes";
   // A lift or move decided on the last episode's outcome sets no episode: a window that fills only
   // then is as good as none.
+  // A lifted parameter that is an axis of the task space is drawn over the whole axis by the test
+  // set; one outside it is held at its last level there (found by a probe: the warning said the
+  // latter of the former).
+  const bool drawn_by_test = spec.kind == TeacherSpec::Kind::kLcas && tasks.index(spec.lift) >= 0;
   if (spec.kind == TeacherSpec::Kind::kLcas && 2 * int64_t(spec.window) >= budget_episodes)
     return at + where() + ": " + spec.name() + ": window = " + std::to_string(spec.window) + " needs " +
            std::to_string(2 * int64_t(spec.window)) + " episodes at a level (two windows) before it can lift " +
-           spec.lift + ", not fewer than " + budget + ": it will never lift it, and the test set runs at its last level";
+           spec.lift + ", not fewer than " + budget + ": it will never lift it, and " +
+           (drawn_by_test ? "the test set draws it over its whole axis, where no episode trained past the first level"
+                          : "the test set runs at its last level");
   // Each lift needs two windows at its level: the last level is reached after (levels - 1) of them
   // at the earliest (found by a probe: 7 levels of window 10 in 60 episodes reached level 2, and the
   // test set ran at level 7, which no episode had trained at).
@@ -656,7 +662,8 @@ std::string CurriculumStage::teacher_window_warning() const {
     return at + where() + ": " + spec.name() + ": its " + std::to_string(lifts + 1) + " levels of " + spec.lift +
            " need " + std::to_string(lifts * 2 * int64_t(spec.window)) + " episodes (two windows of " +
            std::to_string(spec.window) + " per lift) before the last, not fewer than " + budget + ": no episode " +
-           "will train at " + spec.lift + " = " + spec.levels.back() + ", the level the test set runs at";
+           "will train at " + spec.lift + " = " + spec.levels.back() +
+           (drawn_by_test ? ", a level the test set draws tasks at" : ", the level the test set runs at");
   // The first fit follows episode fit_every; one after the last episode draws no task (found by a
   // probe: fit_every = 100 in 40 episodes trained as a uniform teacher without a word).
   if (spec.kind == TeacherSpec::Kind::kAlpGmm && spec.fit_every >= budget_episodes)
