@@ -75,6 +75,17 @@ TEST_CASE("the paper's curriculum holds the paper's Psi sets", "[curriculum]") {
             .find("stage 'SG' has no context 'dc2' (did you mean 'DC2'?); its contexts: B1, DC1, DC2") != std::string::npos);
 }
 
+// Found by a probe: a --set the scenario lacks was said twice on a stage with a task space (the
+// second time without its line), and "scenario 'cluttered': scenario 'cluttered' (...)" named it twice.
+TEST_CASE("a --set the stage's scenario lacks is said once, at the stage", "[curriculum]") {
+  const std::vector<std::string> problems =
+      check_curriculum("docs/examples/teachers_example.lua", {}, {{"obstacle", "2"}}, {"Look"});
+  REQUIRE(problems.size() == 1);
+  CHECK_THAT(problems[0], Catch::StartsWith("docs/examples/teachers_example.lua:31: stage 'Look': scenario 'cluttered' "
+                                            "(scenarios/cluttered.lua) has no parameter 'obstacle' (did you mean "
+                                            "'obstacles'?)"));
+}
+
 TEST_CASE("bad curricula are clear errors at file:line", "[curriculum]") {
   struct Case {
     const char* file;

@@ -704,6 +704,13 @@ void check_high_corner(const CurriculumStage& st, const TaskSpace& space, Scenar
   }
 }
 
+// A scenario's error, said of the stage's scenario once: an error that names the scenario itself
+// ("scenario 'cluttered' (scenarios/cluttered.lua) has no parameter ...") is not prefixed again.
+std::string of_scenario(const CurriculumStage& st, const std::string& what) {
+  const std::string named = "scenario '" + st.scenario + "'";
+  return what.compare(0, named.size(), named) == 0 ? what : named + ": " + what;
+}
+
 // The worlds at the ends of a stage's task space: each axis at its lowest and highest value (each
 // value of a choice, each level an LCAS teacher lifts), the other axes at their first value, in
 // the first context's parameters and the command's --set: where placements fail first.
@@ -752,7 +759,7 @@ void check_task_space_ends(const CurriculumStage& st, const SandboxLimits& limit
     }
     if (problems.size() == before) check_high_corner(st, space, s, lifts, with_sets, problems);
   } catch (const std::exception& e) {
-    problems.push_back(st.where() + ": scenario '" + st.scenario + "': " + e.what());
+    problems.push_back(st.where() + ": " + of_scenario(st, e.what()));
   }
 }
 
@@ -801,7 +808,7 @@ void check_test_set(Curriculum& cur, const CurriculumStage& st, const SandboxLim
                                     std::to_string(st.checkpoint_test_tasks()) + ")") +
                          " (the test set is not skipped): " + e.what());
     } catch (const std::exception& e) {
-      problems.push_back(st.where(ctx.name) + ": scenario '" + st.scenario + "': " + e.what());
+      problems.push_back(st.where(ctx.name) + ": " + of_scenario(st, e.what()));
     }
   }
 }
@@ -920,6 +927,7 @@ std::vector<std::string> check_curriculum(const std::string& path, const Sandbox
   for (const auto& st : cur->stages()) {
     if (!stages.empty() && std::find(stages.begin(), stages.end(), st.name) == stages.end()) continue;
     std::set<std::vector<std::pair<std::string, std::string>>> checked;
+    bool worlds_failed = false;  // a context's world could not be built (said above)
     for (const auto& ctx : st.contexts) {
       // Every context is built (its actions are its own: check_regions); the errors of its world
       // are said once per set of parameters.
@@ -938,7 +946,8 @@ std::vector<std::string> check_curriculum(const std::string& path, const Sandbox
         const bool asked = !ctx.params.empty() || !st.params.empty();
         const int line = asked ? curriculum_detail::params_line(st, ctx.params.empty() ? "" : ctx.name) : st.line;
         const std::string at = !st.file.empty() && line > 0 ? st.file + ":" + std::to_string(line) + ": " : "";
-        if (first) problems.push_back(at + where + ": scenario '" + st.scenario + "': " + e.what());
+        if (first) problems.push_back(at + where + ": " + of_scenario(st, e.what()));
+        worlds_failed = true;
         continue;
       }
       try {
@@ -960,6 +969,10 @@ std::vector<std::string> check_curriculum(const std::string& path, const Sandbox
       continue;
     }
     check_teacher_function(*cur, st, sets, problems);
+    // The task space's worlds and the test set's are the same worlds in other parameters: those
+    // that could not be built would only be said again (found by a probe: a --set the scenario
+    // lacks was said twice, the second time without its line).
+    if (worlds_failed) continue;
     const size_t before = problems.size();
     check_task_space_ends(st, limits, sets, problems);
     if (problems.size() == before) check_test_set(*cur, st, limits, sets, problems);  // else the same holes again
