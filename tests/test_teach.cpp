@@ -972,6 +972,25 @@ TEST_CASE("a Lua teacher's history, and its faults: each fails its trial alone a
   }
 }
 
+// Found by a probe: a teacher's rng kept in a variable and drawn by the absorbing function made
+// every verdict depend on the teacher's draws, and roger eval of the policy could not give the
+// trial's final figure. The rng (and its forks) draw only while the teacher function runs.
+TEST_CASE("a teacher's rng draws only while its function runs", "[teach][errors]") {
+  test::TempDir dir("roger_teach_rng_kept");
+  const fs::path file = write_stage(dir.path, "kept",
+      "{ tasks = { obstacles = roger.int(0, 3) },\n"
+      "  teacher = function(history, rng) kept = rng:fork(); rng:uniform(); return {} end,\n"
+      "  absorbing = function(state) if kept then return kept:uniform() < 0.5 end return false end }");
+  std::string message;
+  try {
+    train_stage(stage_options(file));
+  } catch (const std::exception& e) {
+    message = e.what();
+  }
+  CHECK_THAT(message, Contains("kept.lua:10: stage 'S', context 'A': absorbing function: rng:uniform: this rng is a "
+                               "teacher function's, and draws only while that function runs"));
+}
+
 TEST_CASE("a trial whose teacher faults late keeps the episodes it trained, in roger train and in a batch",
           "[teach][errors]") {
   test::TempDir dir("roger_teach_kept");

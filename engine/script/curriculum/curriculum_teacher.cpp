@@ -140,7 +140,7 @@ class LuaTeacher final : public Teacher {
       history_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
       make_view(L, "roger.History", view_list_index);
       view_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
-      lua_push_rng(L, seed);
+      rng_key_ = lua_push_rng(L, seed);
       rng_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
     });
   }
@@ -172,6 +172,12 @@ class LuaTeacher final : public Teacher {
     lua_rawgeti(L, LUA_REGISTRYINDEX, view_ref_);
     lua_rawgeti(L, LUA_REGISTRYINDEX, rng_ref_);
     try {
+      // Its rng draws during this call alone, whatever ends it.
+      struct RngCall {
+        lua_State* L;
+        RngCall(lua_State* l, int64_t key) : L(l) { lua_rng_calls_begin(L, key); }
+        ~RngCall() { lua_rng_calls_end(L); }
+      } rng_call(L, rng_key_);
       sandbox_.call(2, LUA_MULTRET);
     } catch (const ScriptError& e) {
       throw ScriptError(where_ + ": " + e.message, e.file.empty() ? fn_.file : e.file, e.file.empty() ? fn_.line : e.line,
@@ -300,6 +306,7 @@ class LuaTeacher final : public Teacher {
   Rng fill_;
   std::string fixed_note_;  // ends a task view's unknown-field message: the axes the run fixes
   int history_ref_ = LUA_NOREF, view_ref_ = LUA_NOREF, rng_ref_ = LUA_NOREF;
+  int64_t rng_key_ = 0;  // while its function runs, its rng draws (lua_push_rng)
   int episodes_ = 0;
 };
 

@@ -99,8 +99,13 @@ void install_scenario_api(LuaSandbox& sandbox);
 
 // Pushes an rng object (a generator's `rng`: uniform, int, normal, angle, choice, shuffle, fork)
 // seeded with `seed`, registering its class in this Lua state on first use: a curriculum's teacher
-// function gets one. Raises Lua errors: call it inside a protected call.
-void lua_push_rng(lua_State* L, uint64_t seed);
+// function gets one. It and its forks draw only between lua_rng_calls_begin(L, key) and
+// lua_rng_calls_end(L), `key` being what this returns: kept past its function's call and drawn
+// from by another callback, it would make that callback's results depend on the teacher's calls.
+// Raises Lua errors: call it inside a protected call.
+int64_t lua_push_rng(lua_State* L, uint64_t seed);
+void lua_rng_calls_begin(lua_State* L, int64_t key);
+void lua_rng_calls_end(lua_State* L);
 
 // The file a scenario argument names: the path itself if it is a file, else
 // <project>/scenarios/<name>.lua for a bare name. Throws roger::Error listing the shipped

@@ -144,6 +144,7 @@ ScriptRng& push_rng(lua_State* L, uint64_t seed, lua_Integer epoch);
 // open_rng_epoch).
 lua_Integer open_rng_epoch(lua_State* L);
 void close_rng_epoch(lua_State* L);
+void set_live_rng_epoch(lua_State* L, lua_Integer epoch);  // the rngs of `epoch` draw again
 // rng:uniform, rng:int, rng:normal, rng:angle, rng:choice, rng:shuffle and rng:fork.
 int l_rng_uniform(lua_State* L);
 int l_rng_int(lua_State* L);

@@ -40,11 +40,16 @@ lua_Integer open_rng_epoch(lua_State* L) {
 
 void close_rng_epoch(lua_State* L) { set_registry_integer(L, kLiveEpoch, 0); }
 
+void set_live_rng_epoch(lua_State* L, lua_Integer epoch) { set_registry_integer(L, kLiveEpoch, epoch); }
+
 namespace {
 
 // The rng a method is called on, or an error when its generate call has returned.
 ScriptRng& live_rng(lua_State* L, const char* call) {
   ScriptRng& r = self<ScriptRng>(L, kRngType, call);
+  if (r.epoch < 0 && registry_integer(L, kLiveEpoch) != r.epoch)
+    luaL_error(L, "%s: this rng is a teacher function's, and draws only while that function runs, so that "
+               "every other callback depends on the episode alone (draw inside the teacher what it needs)", call);
   if (r.epoch != 0 && registry_integer(L, kLiveEpoch) != r.epoch)
     luaL_error(L, "%s: this rng is finished: a world's rng and its forks draw only while its generate runs, so "
                "that a world depends on its parameters and seed alone (draw inside generate what later calls "

@@ -428,10 +428,20 @@ int install_api(lua_State* L) {
 
 }  // namespace scenario_detail
 
-void lua_push_rng(lua_State* L, uint64_t seed) {
+int64_t lua_push_rng(lua_State* L, uint64_t seed) {
   if (luaL_getmetatable(L, scenario_detail::kRngType) == LUA_TNIL) scenario_detail::new_rng_class(L);
   lua_pop(L, 1);
-  scenario_detail::push_rng(L, seed, 0);  // a teacher function's: it draws as long as it is held
+  // A teacher function's: an epoch of its own, negative (live_rng's message tells them apart),
+  // live during each of its calls (found by a probe: a teacher's rng kept in a global and drawn by
+  // the absorbing function changed every verdict, and roger eval could not give the trial's).
+  const lua_Integer epoch = -scenario_detail::open_rng_epoch(L);
+  scenario_detail::close_rng_epoch(L);
+  scenario_detail::push_rng(L, seed, epoch);
+  return epoch;
 }
+
+void lua_rng_calls_begin(lua_State* L, int64_t key) { scenario_detail::set_live_rng_epoch(L, key); }
+
+void lua_rng_calls_end(lua_State* L) { scenario_detail::close_rng_epoch(L); }
 
 }  // namespace roger
