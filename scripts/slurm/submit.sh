@@ -19,7 +19,9 @@
 #   ROGER_BIN   the roger program, likewise                           build/engine/roger (installed: bin/roger)
 #   ROGER_ARGS  more arguments of roger run (e.g. "--set mass=0.7"), split at whitespace
 #   ROGER_LOGS  the jobs' output files                                ROGER_OUT/slurm
-# Relative paths are taken from the current folder; the jobs run in the repository.
+# Relative paths are taken from the current folder, and the jobs run in it (on a filesystem every
+# node sees), as roger run would here: a batch script's `curriculum = "curricula/mine.lua"` is
+# looked for from it first, on the cluster as on this machine.
 set -euo pipefail
 
 usage="usage: $0 SCRIPT N [sbatch options...] (SCRIPT: a batch script such as scripts/paper.lua; N: the number of shards)"
@@ -78,12 +80,17 @@ repo=$(cd "$here/../.." && pwd)
 absolute() { case $1 in /*) echo "$1" ;; *) echo "$PWD/$1" ;; esac; }
 
 # The script, as roger run takes it: a file, a path relative to the project (scripts/paper.lua from
-# any folder), or a bare name of one in scripts/.
+# any folder), or a bare name of one in scripts/ (named by its path here: roger check takes a bare
+# `paper` for the curriculum of that name, found by a probe).
 if [ -f "$script" ]; then
   script=$(absolute "$script")
 elif [[ $script != /* && -f $repo/$script ]]; then
   script=$repo/$script
-elif [ ! -f "$repo/scripts/$script" ] && [ ! -f "$repo/scripts/$script.lua" ]; then
+elif [[ $script != */* && -f $repo/scripts/$script.lua ]]; then
+  script=$repo/scripts/$script.lua
+elif [[ $script != */* && -f $repo/scripts/$script ]]; then
+  script=$repo/scripts/$script
+else
   die "no batch script '$script' (neither a file here, nor a file of the project $repo, nor a script in $repo/scripts)"
 fi
 name=$(basename "$script" .lua)
@@ -96,7 +103,18 @@ bin=$(absolute "${ROGER_BIN:-$default_bin}")
 # The script checked before anything waits in the queue; roger check says where roger run writes
 # without --out: results/<the script's name> here (its name field, not its file's; the project may
 # be an installed tree, not writable).
-checked=$("$bin" check "$script") || die "roger check refused $script (above): nothing was submitted"
+# With the options of ROGER_ARGS that roger check takes (found by a probe: a misspelt --set failed
+# every task once it had waited in the queue).
+read -r -a run_args <<< "${ROGER_ARGS:-}"
+check_args=()
+for ((i = 0; i < ${#run_args[@]}; i++)); do
+  case ${run_args[i]} in
+    --set | --lua-instructions | --lua-memory) check_args+=("${run_args[i]}" "${run_args[i + 1]:-}"); i=$((i + 1)) ;;
+    --set=* | --lua-instructions=* | --lua-memory=*) check_args+=("${run_args[i]}") ;;
+  esac
+done
+checked=$("$bin" check "$script" ${check_args[@]+"${check_args[@]}"}) ||
+  die "roger check refused $script${check_args[*]:+ with ${check_args[*]}} (above): nothing was submitted"
 default_out=$(printf '%s\n' "$checked" | sed -n "s/^  results folder: \(.*\) (roger run's default --out)\$/\1/p")
 [ -n "$default_out" ] || die "roger check $script did not say where roger run writes (is $bin an older roger?)"
 out=$(absolute "${ROGER_OUT:-$default_out}")
@@ -108,18 +126,28 @@ mkdir -p "$out" "$logs"
 export ROGER_BIN=$bin ROGER_SCRIPT=$script ROGER_OUT=$out ROGER_SHARDS=$shards
 export ROGER_ARGS=${ROGER_ARGS:-}
 
-# sbatch --parsable prints "ID" or "ID;CLUSTER".
+# sbatch --parsable prints "ID" or "ID;CLUSTER". The jobs start in this folder (array.sbatch and
+# report.sbatch go to Slurm's SLURM_SUBMIT_DIR).
 submit() {
   local id
-  id=$(cd "$repo" && sbatch --parsable --export=ALL "$@") || die "sbatch failed: sbatch $*"
+  id=$(sbatch --parsable --export=ALL "$@") || die "sbatch failed: sbatch $*"
   echo "${id%%;*}"
 }
+
+# A shard submitted again (--array=LIST) while tasks of an earlier array of this script still wait
+# or run: the new report waits for them too (found by a probe: it ran before them, failed on their
+# trials, and no report followed them). Their ids, comma-separated, from squeue.
+earlier_arrays() {
+  [ "$array" != "0-$((shards - 1))" ] || return 0
+  squeue -h -n "roger-$name" -t PENDING,RUNNING,CONFIGURING,SUSPENDED -o %F 2>/dev/null | sort -u | paste -sd: -
+}
+earlier=$(earlier_arrays || true)
 
 array_id=$(submit --job-name="roger-$name" --array="$array" --output="$logs/shard-%a-%A.out" \
   ${dependency[@]+"${dependency[@]}"} ${common[@]+"${common[@]}"} "$repo/scripts/slurm/array.sbatch")
 # afterok: the report only after every task succeeded; a failed task cancels it (instead of
 # leaving it pending forever): redo the shard with --array=K, which submits a new report.
-report_id=$(submit --job-name="roger-report-$name" --dependency="afterok:$array_id" --kill-on-invalid-dep=yes \
+report_id=$(submit --job-name="roger-report-$name" --dependency="afterok:$array_id${earlier:+,afterany:$earlier}" --kill-on-invalid-dep=yes \
   --output="$logs/report-%j.out" ${common[@]+"${common[@]}"} "$repo/scripts/slurm/report.sbatch")
 echo "array $array_id"
 echo "report $report_id"

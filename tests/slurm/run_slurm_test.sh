@@ -136,7 +136,7 @@ log "submit.sh refuses a bad N, a missing sbatch, --output, --job-name, -d, --ex
 # results/<the file's name>, where roger run writes results/<the script's name>; a script roger
 # check refuses is refused before anything waits in the queue.
 mkdir -p "$tmp/recorder" "$tmp/elsewhere"
-printf '#!/bin/sh\necho "$@" >> %s/recorder/args\necho 7\n' "$tmp" > "$tmp/recorder/sbatch"
+printf '#!/bin/sh\necho "cwd=$PWD script=$ROGER_SCRIPT $*" >> %s/recorder/args\necho 7\n' "$tmp" > "$tmp/recorder/sbatch"
 chmod +x "$tmp/recorder/sbatch"
 printf 'return { name = "renamed", curriculum = "paper", trials = 1,\n  runs = { { name = "SG", stage = "SG", contexts = { "B1" } } } }\n' \
   > "$tmp/elsewhere/file_name.lua"
@@ -153,7 +153,44 @@ fi
 grep -q "has no stage 'SGG'" <<< "$out" && grep -q "nothing was submitted" <<< "$out" ||
   fail "submit.sh on a broken script: unclear message: $out"
 [ ! -e "$tmp/recorder/args" ] || fail "submit.sh called sbatch for a script roger check refuses"
-log "submit.sh writes where roger run writes, and refuses a script roger check refuses before submitting"
+# Found by a probe: the jobs ran in the repository, where a batch script's curriculum =
+# "curricula/paper.lua" found the project's file instead of the lab's own beside it; they run
+# where submit.sh was called, as roger run would there.
+(cd "$tmp/elsewhere" && PATH=$tmp/recorder:$PATH ROGER_BIN=$roger bash "$submit" file_name.lua 2 >/dev/null) ||
+  fail "submit.sh refused a sound script"
+[ "$(grep -c "^cwd=$tmp/elsewhere " "$tmp/recorder/args")" = 2 ] ||
+  fail "submit.sh did not submit the jobs from the folder it was called in: $(cat "$tmp/recorder/args")"
+rm -f "$tmp/recorder/args"
+# A bare name is the project's script of that name (roger check took 'quick' for a curriculum).
+(cd "$tmp/elsewhere" && PATH=$tmp/recorder:$PATH ROGER_BIN=$roger bash "$submit" quick 2 >/dev/null) ||
+  fail "submit.sh refused the bare name quick"
+grep -q "script=$src/scripts/quick.lua " "$tmp/recorder/args" ||
+  fail "submit.sh quick did not submit scripts/quick.lua: $(cat "$tmp/recorder/args")"
+rm -f "$tmp/recorder/args"
+# ROGER_ARGS's --set goes to the check: a misspelt parameter is refused before the queue.
+if out=$(cd "$tmp/elsewhere" && PATH=$tmp/recorder:$PATH ROGER_BIN=$roger ROGER_ARGS="--jobs 1 --set mas=0.7" \
+  bash "$submit" file_name.lua 2 2>&1); then
+  fail "submit.sh submitted with --set mas=0.7"
+fi
+grep -q "no parameter 'mas'" <<< "$out" && grep -q "with --set mas=0.7 (above): nothing was submitted" <<< "$out" ||
+  fail "submit.sh with a misspelt --set: unclear message: $out"
+[ ! -e "$tmp/recorder/args" ] || fail "submit.sh called sbatch with a --set roger check refuses"
+# A shard submitted again while tasks of an earlier array still run: the new report waits for them
+# (found by a probe: it ran first, failed on their trials, and no report followed them). squeue
+# here names two earlier arrays; a whole new array waits for no earlier one.
+printf '#!/bin/sh\nprintf "41\\n41\\n42\\n"\n' > "$tmp/recorder/squeue"
+chmod +x "$tmp/recorder/squeue"
+(cd "$tmp/elsewhere" && PATH=$tmp/recorder:$PATH ROGER_BIN=$roger bash "$submit" file_name.lua 2 --array=1 >/dev/null) ||
+  fail "submit.sh refused --array=1"
+grep -q -- "--dependency=afterok:7,afterany:41:42 " "$tmp/recorder/args" ||
+  fail "the resubmitted shard's report does not wait for the earlier arrays: $(cat "$tmp/recorder/args")"
+rm -f "$tmp/recorder/args"
+(cd "$tmp/elsewhere" && PATH=$tmp/recorder:$PATH ROGER_BIN=$roger bash "$submit" file_name.lua 2 >/dev/null) ||
+  fail "submit.sh refused a sound script"
+grep -q -- "--dependency=afterok:7 " "$tmp/recorder/args" ||
+  fail "a whole array's report waits for other jobs: $(cat "$tmp/recorder/args")"
+rm -f "$tmp/recorder/args" "$tmp/recorder/squeue"
+log "submit.sh writes where roger run writes, submits from its caller's folder, takes a bare script name, checks ROGER_ARGS's --set, has a resubmitted shard's report wait for earlier arrays, and refuses a script roger check refuses before submitting"
 
 # --- munge --------------------------------------------------------------------------------------
 
