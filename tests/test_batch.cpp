@@ -809,6 +809,22 @@ TEST_CASE("a results folder resumes from another folder and after a copy, not wi
     }
     return "";
   };
+  // Found by a probe: from a folder holding a copy of the curriculum, the script's curriculum is
+  // that copy (looked for from the current folder first): other files, refused, but the refusal
+  // says their contents are the same and why another file was taken.
+  const fs::path twin = top / "twin";
+  fs::create_directories(twin);
+  fs::copy_file(lab / "kill_curriculum.lua", twin / "kill_curriculum.lua");
+  std::string from_twin;
+  try {
+    open_in(twin, (lab / "my_batch.lua").string(), lab / "results" / "k");
+  } catch (const Error& e) {
+    from_twin = e.what();
+  }
+  CHECK_THAT(from_twin, Catch::Matchers::Contains("Every Lua file its trials read holds what it held (the same "
+                                                  "fingerprints), but other files: the curriculum was "
+                                                  "<script folder>/kill_curriculum.lua then and is " +
+                                                  (twin / "kill_curriculum.lua").string() + " now"));
   // A source that changed is refused, as before.
   std::ofstream(copy / "kill_curriculum.lua", std::ios::app) << "-- edited\n";
   CHECK_THAT(refusal(copy), Catch::Matchers::Contains("before a Lua file its trials read changed") &&

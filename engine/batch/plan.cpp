@@ -385,6 +385,26 @@ std::string fewer_trials_hint(const json& old_config, const json& config) {
          "resume it, " + how + ".";
 }
 
+// For a refusal where only the files' places differ: every Lua file holds what it held, but the
+// curriculum was found elsewhere (a batch script's `curriculum` is looked for from the current
+// folder first, so the same command from another folder can find another file of that name;
+// found by a probe, told only "absent now" of files whose fingerprints were the same); "" else.
+std::string same_contents_hint(const json& old_config, const json& config) {
+  const auto fingerprints = [](const json& c) {
+    std::multiset<std::string> out;
+    if (c.is_object() && c.contains("sources") && c["sources"].is_object())
+      for (const auto& [file, print] : c["sources"].items()) out.insert(print.dump());
+    return out;
+  };
+  const std::string then = old_config.is_object() ? old_config.value("curriculum_file", std::string()) : "";
+  const std::string now = config.value("curriculum_file", std::string());
+  if (then == now || fingerprints(old_config).empty() || fingerprints(old_config) != fingerprints(config)) return "";
+  return "\nEvery Lua file its trials read holds what it held (the same fingerprints), but other files: the "
+         "curriculum was " + then + " then and is " + now + " now. A batch script's curriculum is looked for from "
+         "the current folder first (then beside the script, then in the project): run the command from the folder "
+         "the run was started in, or name the curriculum in the script by a path that does not depend on it.";
+}
+
 // The refusal of a folder made with configuration `old_config`, with the differences from
 // `config` and what they mean.
 Error refusal(const json& old, const json& old_config, const json& config, const BatchPlan& plan) {
@@ -409,6 +429,7 @@ Error refusal(const json& old, const json& old_config, const json& config, const
            "evaluation its own `trials`, the folder's number (one without takes the script's, and --trials "
            "sets both).";
   why += fewer_trials_hint(old_config, config);
+  why += same_contents_hint(old_config, config);
   // Only a Lua file training reads changed: say that, not "another script" (a probe added a
   // comment to its curriculum and read the refusal as about another script).
   json old_rest = old_config, now_rest = config;
