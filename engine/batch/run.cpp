@@ -328,6 +328,9 @@ nlohmann::json training_trial(const BatchPlan& plan, const PlannedTrial& t, cons
   for (const auto& s : t.run->skills) {
     const std::string from = batch_trial_id(s.run, s.context, t.index);
     o.skill_files[s.skill] = policy_of(plan.out, from);
+    // Named by its place in the results folder in the trial's files (found by a probe: a relative
+    // --out was recorded as typed, so two runs into two folders were never the same files).
+    o.skill_file_names[s.skill] = "trials/" + from + "/policy.json";
     skill_ids[s.skill] = from;
   }
   // A trial that faults keeps what it had trained beside its error.json (which run_one then

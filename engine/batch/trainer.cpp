@@ -293,6 +293,8 @@ void batch_detail::bind_skills(Curriculum& cur, const CurriculumContext& ctx, co
     } else if (file != options.skill_files.end()) {
       src.policy = std::move(from_file);
       src.file = file->second;
+      const auto named = options.skill_file_names.find(name);
+      if (named != options.skill_file_names.end()) src.file_name = named->second;
     } else if (embedded) {
       throw Error("the policy file does not embed the learned skill '" + name + "' its context uses");
     } else {

@@ -51,6 +51,9 @@ struct TrainOptions {
   std::vector<std::pair<std::string, std::string>> sets;  // scenario parameters over the stage's
   std::string sets_from = "--set";                        // who gave `sets`, for messages
   std::map<std::string, std::string> skill_files;         // learned skill name -> its policy.json
+  // How a skill file is named in the trial's own files (a batch trial's: its place in the results
+  // folder, so that the files do not depend on where the folder is); else as skill_files has it.
+  std::map<std::string, std::string> skill_file_names;
   // Skills the caller has bound already ({name: {policy, file, trained, seed}}), taken as they are
   // rather than trained again: a chain's stage trained first, over the skills trained before it.
   const nlohmann::json* given_skills = nullptr;
@@ -147,6 +150,7 @@ struct SkillSource {
   std::string name;           // "Phi_SG"
   std::string stage, context; // the stage and context that yield it
   std::string file;           // the policy file it was read from ("" when trained here)
+  std::string file_name;      // how the trial's files name it (TrainOptions::skill_file_names; "": file)
   uint64_t trained_seed = 0;  // when trained here: the seed it was trained with
   bool trained = false;
   bool embedded = false;      // read from the policy file of a skill learned with it (no figures)

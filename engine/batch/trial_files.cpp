@@ -71,7 +71,8 @@ nlohmann::json train_policy_json(const TrainResult& r) {
                           {"curriculum_digest", r.curriculum_digest}, {"psi", r.psi}, {"scenario", r.scenario}};
   for (const auto& [k, v] : r.params) extra["params"][k] = v;
   for (const auto& s : r.skills)
-    extra["skills"][s.name] = {{"stage", s.stage}, {"context", s.context}, {"file", s.file},
+    extra["skills"][s.name] = {{"stage", s.stage}, {"context", s.context},
+                               {"file", s.file_name.empty() ? s.file : s.file_name},
                                {"trained", s.trained}, {"seed", s.trained_seed}, {"policy", s.policy}};
   if (r.init) extra["init"] = warm_start_json(r);
   if (r.teaches && r.final_eval.episodes > 0) {
@@ -99,7 +100,7 @@ nlohmann::json skill_json(const SkillSource& s) {
     k["time_to_threshold"] = point_json(s.to_threshold);
     k["totals"] = point_json(s.totals);
   } else {
-    k["file"] = s.file;
+    k["file"] = s.file_name.empty() ? s.file : s.file_name;
   }
   return k;
 }

@@ -3,8 +3,9 @@
 # results. tables.md, report.json and every CSV (summary.csv, each trial's curve.csv) must be byte
 # for byte the same, except the columns of wall-clock time (named wall_s or *_wall_s), which
 # measure the machine, not the engine, and the path tables.md names the batch script by (as the
-# command typed it). With --golden, A is a folder of kept files (e.g. tests/golden/quick) and only
-# the files it holds are compared. Prints each difference; exits 0
+# command typed it); and every trial's policy.json, byte for byte. With --golden, A is a folder of
+# kept files (e.g. tests/golden/quick) and only the files it holds are compared (no policies).
+# A policy's curriculum path (as the run found the file) is set aside; its digest is compared. Prints each difference; exits 0
 # when there is none, 1 otherwise.
 set -euo pipefail
 golden=0
@@ -40,5 +41,18 @@ for f in $files; do
   if [ ! -f "$a/$f" ] || [ ! -f "$b/$f" ]; then echo "only in one folder: $f"; status=1; continue; fi
   if ! cmp -s <(strip_wall "$a/$f") <(strip_wall "$b/$f"); then echo "differs: $f"; status=1; fi
 done
-[ $status -eq 0 ] && echo "identical: tables.md, report.json and $count CSV files (wall-clock columns aside)"
+# Each trained policy too (not kept in golden folders): the Q-table, and the skills it embeds named
+# by their place in the results folder (found by a probe: a relative --out was recorded as typed).
+# The curriculum's path is as the run found it (a copy of the project finds its own); its contents
+# are compared by curriculum_digest beside it.
+curriculum_as_one() { sed -E 's/"curriculum": *"([^"\\]|\\.)*"/"curriculum": "(as found)"/g' "$1"; }
+policies=0
+if [ $golden -eq 0 ]; then
+  for f in $( { (cd "$a" && find . -name policy.json); (cd "$b" && find . -name policy.json); } | sort -u); do
+    policies=$((policies + 1))
+    if [ ! -f "$a/$f" ] || [ ! -f "$b/$f" ]; then echo "only in one folder: $f"; status=1; continue; fi
+    if ! cmp -s <(curriculum_as_one "$a/$f") <(curriculum_as_one "$b/$f"); then echo "differs: $f"; status=1; fi
+  done
+fi
+[ $status -eq 0 ] && echo "identical: tables.md, report.json, $count CSV files (wall-clock columns aside) and $policies policies"
 exit $status
