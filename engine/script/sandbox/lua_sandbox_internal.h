@@ -42,6 +42,7 @@ struct LuaSandbox::Impl {
   int64_t excluded_ns = 0;        // monotonic time in the engine's own functions since (lua_protect)
   bool out_of_time = false;       // the limit was passed in this call
   double spent_seconds = 0.0;     // the processor time it had spent then
+  int64_t spent_allowed_ns = 0;   // and what it was allowed then (allowed_ns)
   uint64_t charged_units = 0;     // of instructions_used, those charged for C work and allocation
   int big_blocks = 0;             // live blocks of kBigBlock bytes or more
   // What spent the budget when C code did (charge_budget), for the count hook to say it again.
