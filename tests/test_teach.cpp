@@ -780,6 +780,10 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
       {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = {} } } }",
        ":8: roger.teacher.lcas: lift.eye_pixels must be a list of levels, the most constrained first, got a table "
        "with no levels 1, 2, ... (an empty list)"},
+      // Found by a probe: a table of named levels was "an empty list" too.
+      {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { a = 32, b = 64 } } } }",
+       ":8: roger.teacher.lcas: lift.eye_pixels must be a list of levels, the most constrained first, got a table "
+       "of named levels with no levels 1, 2, ... (write {32, 64}, not {a = 32})"},
       // Found by a probe: each said what was expected, not what it got.
       {"{ teacher = roger.teacher.lcas{ lift = { obstacles = { 0, 3 }, eye_pixels = { 32, 64 } } } }",
        ":8: roger.teacher.lcas: field 'lift' must name one parameter {param = {level 1, level 2, ...}}, got 2: "
@@ -934,6 +938,9 @@ TEST_CASE("a Lua teacher's history, and its faults: each fails its trial alone a
     shapes.insert(r.episodes[e].task["shape"].get<std::string>());  // left out: drawn uniformly
   }
   CHECK(r.teacher["kind"] == "function");
+  // A curriculum outside the project names its function from the curriculum's folder (found by a
+  // probe: tables.md gave the function's absolute path, so the results depended on where they ran).
+  CHECK(r.teacher["state"]["function"] == "counting.lua:10");
 
   const std::vector<std::pair<std::string, std::string>> faults = {
       {"function() return { obstacles = 9 } end",
@@ -1413,6 +1420,10 @@ TEST_CASE("roger train says what its teacher did", "[teach][stage]") {
   CHECK(describe_teacher_state(json{{"kind", "lcas"}, {"param", "obstacles"}, {"value", 0}, {"level", 1},
                                     {"levels", 4}, {"lifts", json::array()}}) ==
         "obstacles = 0 (level 1 of 4), never lifted");
+  // Found by a probe: an empty level read "locked =  (level 2 of 2); lifted at episodes 4 (to )".
+  CHECK(describe_teacher_state(json{{"kind", "lcas"}, {"param", "locked"}, {"value", ""}, {"level", 2},
+                                    {"levels", 2}, {"lifts", json::array({json{{"episode", 4}, {"to", ""}}})}}) ==
+        "locked = \"\" (level 2 of 2); lifted at episodes 4 (to \"\")");
   // Found by a probe: random and function teachers said nothing, in roger train or the report.
   CHECK(describe_teacher_state(json{{"kind", "random"}, {"episodes", 3}}) == "3 tasks drawn uniformly from the task space");
   CHECK(describe_teacher_state(json{{"kind", "function"}, {"episodes", 1}, {"function", "c.lua:9"}}) ==

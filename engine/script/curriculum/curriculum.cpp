@@ -461,9 +461,30 @@ LuaSandbox& Curriculum::sandbox() { return *impl_->sandbox; }
 
 void Curriculum::set_world(const World* world) { impl_->world = world; }
 
+namespace {
+
+// How a teacher function's file is named in the trial's results: from the project's folder, else
+// from the curriculum's, else whole; so that results do not depend on where a lab or the project sits
+// (found by a probe: tables.md said "the function at /tmp/lab/cur/mine.lua:29" of curriculum mine.lua).
+std::string named_in_results(const std::string& file, const std::string& curriculum_file) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path p = fs::weakly_canonical(file, ec);
+  if (ec || !p.is_absolute()) return file;
+  for (const fs::path& folder : {fs::weakly_canonical(project_root(), ec),
+                                 fs::weakly_canonical(fs::path(curriculum_file).parent_path(), ec)}) {
+    const fs::path rel = p.lexically_relative(folder);
+    if (!folder.empty() && !rel.empty() && *rel.begin() != "..") return rel.generic_string();
+  }
+  return file;
+}
+
+}  // namespace
+
 std::unique_ptr<Teacher> Curriculum::make_teacher(const CurriculumStage& stage, const TaskSpace& space, uint64_t seed) {
   if (stage.teacher_lua)
-    return curriculum_detail::make_lua_teacher(*impl_->sandbox, stage, impl_->teacher_fns.at(stage.name), space, seed);
+    return curriculum_detail::make_lua_teacher(*impl_->sandbox, stage, impl_->teacher_fns.at(stage.name), space, seed,
+                                               named_in_results(impl_->teacher_fns.at(stage.name).file, file()));
   if (stage.teacher) return roger::make_teacher(*stage.teacher, space, seed);
   return nullptr;
 }

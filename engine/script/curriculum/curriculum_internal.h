@@ -64,9 +64,10 @@ void install_teaching_api(lua_State* L);
 // stage's scenario and params; `episodes_given`/`final_given`: its checkpoints write those fields.
 void parse_teaching(lua_State* L, const LuaFields& f, CurriculumStage& st, LuaCallback& teacher_fn,
                     bool episodes_given, bool final_given);
-// A teacher that calls the stage's Lua function(history, rng) before each training episode.
+// A teacher that calls the stage's Lua function(history, rng) before each training episode; its
+// state names the function's file as `file_named` (as results name it), its errors by fn.file.
 std::unique_ptr<Teacher> make_lua_teacher(LuaSandbox& sandbox, const CurriculumStage& stage, const LuaCallback& fn,
-                                          const TaskSpace& space, uint64_t seed);
+                                          const TaskSpace& space, uint64_t seed, const std::string& file_named);
 
 // ---- parameters (curriculum_params.cpp)
 

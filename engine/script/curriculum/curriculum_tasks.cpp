@@ -259,10 +259,15 @@ void check_one_lifted(lua_State* L, LuaFields& f, int lift) {
 // twice): refused rather than trained as a stage that holds the parameter fixed.
 void read_lift_levels(lua_State* L, LuaFields& f, int levels, TeacherSpec& spec) {
   const std::string name = "lift." + spec.lift;
-  if (!lua_istable(L, levels) || lua_rawlen(L, levels) == 0)
+  if (!lua_istable(L, levels) || lua_rawlen(L, levels) == 0) {
+    // A table of named levels is not empty (found by a probe: {a = 32, b = 64} was "an empty list").
+    const bool named = lua_istable(L, levels) && (lua_pushnil(L), lua_next(L, levels) != 0);
+    if (named) lua_pop(L, 2);
     f.fail(name + " must be a list of levels, the most constrained first, got " +
-           (lua_istable(L, levels) ? std::string("a table with no levels 1, 2, ... (an empty list)")
-                                   : lua_describe_value(L, levels)));
+           (!lua_istable(L, levels) ? lua_describe_value(L, levels)
+            : named ? std::string("a table of named levels with no levels 1, 2, ... (write {32, 64}, not {a = 32})")
+                    : std::string("a table with no levels 1, 2, ... (an empty list)")));
+  }
   // Found by a probe: {32, 64, x = 1} dropped the x without a word.
   if (key_beside_list(L, levels))
     f.fail(name + " must be a plain list of levels, the most constrained first, got the key " +

@@ -127,8 +127,8 @@ void make_view(lua_State* L, const char* type_name, lua_CFunction index, const s
 class LuaTeacher final : public Teacher {
  public:
   LuaTeacher(LuaSandbox& sandbox, const CurriculumStage& stage, const LuaCallback& fn, const TaskSpace& space,
-             uint64_t seed)
-      : sandbox_(sandbox), where_(stage.where() + ": teacher function"), fn_(fn), space_(space),
+             uint64_t seed, const std::string& file_named)
+      : sandbox_(sandbox), where_(stage.where() + ": teacher function"), fn_(fn), file_named_(file_named), space_(space),
         fixed_space_(space.fixed_space()), fill_(Rng::mix(seed, 1)) {
     for (const auto& name : space.fixed()) fixed_note_ += (fixed_note_.empty() ? "" : ", ") + name;
     if (!fixed_note_.empty())
@@ -240,7 +240,7 @@ class LuaTeacher final : public Teacher {
   }
 
   nlohmann::json state() const override {
-    return {{"kind", kind()}, {"episodes", episodes_}, {"function", fn_.file + ":" + std::to_string(fn_.line)}};
+    return {{"kind", kind()}, {"episodes", episodes_}, {"function", file_named_ + ":" + std::to_string(fn_.line)}};
   }
 
  private:
@@ -301,6 +301,7 @@ class LuaTeacher final : public Teacher {
   LuaSandbox& sandbox_;
   std::string where_;
   LuaCallback fn_;
+  std::string file_named_;  // fn_.file as the results name it (make_lua_teacher)
   TaskSpace space_;
   TaskSpace fixed_space_;  // the axes the run fixes: a result naming them is checked against them
   Rng fill_;
@@ -313,8 +314,8 @@ class LuaTeacher final : public Teacher {
 }  // namespace
 
 std::unique_ptr<Teacher> make_lua_teacher(LuaSandbox& sandbox, const CurriculumStage& stage, const LuaCallback& fn,
-                                          const TaskSpace& space, uint64_t seed) {
-  return std::make_unique<LuaTeacher>(sandbox, stage, fn, space, seed);
+                                          const TaskSpace& space, uint64_t seed, const std::string& file_named) {
+  return std::make_unique<LuaTeacher>(sandbox, stage, fn, space, seed, file_named);
 }
 
 }  // namespace curriculum_detail
