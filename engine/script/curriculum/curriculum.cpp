@@ -447,6 +447,23 @@ void push_state(lua_State* L, const CurriculumContext& ctx, const std::vector<Ga
 
 namespace curriculum_detail {
 
+// A callback returns one value (the results from `base` + 1 on): the extra values of
+// `return r, done`, as a Gymnasium step gives them, would otherwise be dropped without a word, and
+// the episode would not end. None reads as nil, which the caller refuses with the type expected.
+void refuse_more_results(lua_State* L, int base, const std::string& what, const std::string& expected,
+                         const std::string& hint, const LuaCallback& fn) {
+  const int n = lua_gettop(L) - base;
+  if (n == 0) lua_pushnil(L);
+  if (n <= 1) return;
+  std::string values;
+  for (int i = base + 1; i <= base + n && i <= base + 4; ++i)
+    values += (values.empty() ? "" : ", ") + lua_describe_value(L, i);
+  if (n > 4) values += ", ...";
+  throw ScriptError(what + " must return " + expected + ", got " + std::to_string(n) + " values (" + values + ")" +
+                        hint,
+                    fn.file, fn.line, "");
+}
+
 void set_strict_index(lua_State* L, const char* type_name, lua_CFunction unknown) {
   if (luaL_newmetatable(L, type_name)) {
     lua_pushcfunction(L, unknown);
@@ -584,23 +601,6 @@ void push_world_and_episode(lua_State* L, const World* world, int& episode_ref) 
     episode_ref = luaL_ref(L, LUA_REGISTRYINDEX);
   }
   lua_rawgeti(L, LUA_REGISTRYINDEX, episode_ref);
-}
-
-// A callback returns one value (the results from `base` + 1 on): the extra values of
-// `return r, done`, as a Gymnasium step gives them, would otherwise be dropped without a word, and
-// the episode would not end. None reads as nil, which the caller refuses with the type expected.
-void refuse_more_results(lua_State* L, int base, const std::string& what, const std::string& expected,
-                         const std::string& hint, const LuaCallback& fn) {
-  const int n = lua_gettop(L) - base;
-  if (n == 0) lua_pushnil(L);
-  if (n <= 1) return;
-  std::string values;
-  for (int i = base + 1; i <= base + n && i <= base + 4; ++i)
-    values += (values.empty() ? "" : ", ") + lua_describe_value(L, i);
-  if (n > 4) values += ", ...";
-  throw ScriptError(what + " must return " + expected + ", got " + std::to_string(n) + " values (" + values + ")" +
-                        hint,
-                    fn.file, fn.line, "");
 }
 
 }  // namespace

@@ -64,6 +64,11 @@ void install_teaching_api(lua_State* L);
 // stage's scenario and params; `episodes_given`/`final_given`: its checkpoints write those fields.
 void parse_teaching(lua_State* L, const LuaFields& f, CurriculumStage& st, LuaCallback& teacher_fn,
                     bool episodes_given, bool final_given);
+// A callback's one result (those from `base` + 1 on): more are refused, as `what` must return
+// `expected` (then `hint`), at the callback's line; none is pushed as nil.
+void refuse_more_results(lua_State* L, int base, const std::string& what, const std::string& expected,
+                         const std::string& hint, const LuaCallback& fn);
+
 // A teacher that calls the stage's Lua function(history, rng) before each training episode; its
 // state names the function's file as `file_named` (as results name it), its errors by fn.file.
 std::unique_ptr<Teacher> make_lua_teacher(LuaSandbox& sandbox, const CurriculumStage& stage, const LuaCallback& fn,

@@ -183,7 +183,10 @@ class LuaTeacher final : public Teacher {
       throw ScriptError(where_ + ": " + e.message, e.file.empty() ? fn_.file : e.file, e.file.empty() ? fn_.line : e.line,
                         e.traceback);
     }
-    refuse_more_results(L, base);
+    // One result, as the stage's other functions give (found by a probe: `return task, seed`
+    // trained on with the seed dropped without a word).
+    refuse_more_results(L, base, where_, "one table of task parameters", ": a value after the first would not be read",
+                        fn_);
     const ParamList given = read_result();
     TaskPoint task = space_.sample(fill_);  // what the result leaves out is drawn uniformly
     for (const auto& [key, value] : given) {
@@ -247,20 +250,6 @@ class LuaTeacher final : public Teacher {
   // The function's result (on the stack top) as task parameters; a bad one is an error at the
   // function's line. A string for a numeric axis is refused: "2" is a slip for 2 that would pass
   // unseen while `true` does not.
-  // One result, as the stage's other functions give (found by a probe: `return task, seed`
-  // trained on with the seed dropped without a word); none reads as nil.
-  void refuse_more_results(lua_State* L, int base) const {
-    const int n = lua_gettop(L) - base;
-    if (n == 0) lua_pushnil(L);
-    if (n <= 1) return;
-    std::string values;
-    for (int i = base + 1; i <= base + n && i <= base + 4; ++i)
-      values += (values.empty() ? "" : ", ") + lua_describe_value(L, i);
-    throw ScriptError(where_ + " must return one table of task parameters, got " + std::to_string(n) + " values (" +
-                          values + (n > 4 ? ", ..." : "") + "): a value after the first would not be read",
-                      fn_.file, fn_.line, "");
-  }
-
   ParamList read_result() {
     ParamList given;
     try {

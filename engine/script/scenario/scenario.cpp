@@ -329,6 +329,32 @@ void check_body_params_used(const std::map<std::string, ParamSlot>& params, cons
 
 }  // namespace
 
+namespace {
+
+// The world a generator built, checked as a whole: Roger placed, shapes sound, every body and
+// noise parameter the scenario declares (`params`) in force; with its seed and parameters. `fail`
+// raises a problem at the generator's line.
+WorldSpec checked_world(const WorldBuilder& w, uint64_t seed, const std::map<std::string, ParamSlot>& params,
+                        const std::string& path, const std::function<void(const std::string&)>& fail) {
+  if (!w.robot_set) fail("the generator did not place Roger: call world:robot{x=..., y=..., heading=...}");
+  WorldSpec spec = w.spec;
+  if (!w.stimulus_set && !spec.objects.empty()) spec.stimulus_colour = spec.objects.front().colour;
+  try {
+    for (auto& o : spec.objects) validate_shape(o.shape);
+    for (auto& o : spec.obstacles) validate_shape(o.shape);
+  } catch (const Error& e) {
+    fail(e.what());
+  }
+  check_noise_params_used(params, spec.noise, fail);
+  check_body_params_used(params, spec, fail);
+  spec.scenario = path;
+  spec.seed = seed;
+  for (const auto& [key, slot] : params) spec.params[key] = slot_text(slot);
+  return spec;
+}
+
+}  // namespace
+
 WorldSpec Scenario::generate_world(uint64_t seed) {
   Impl& impl = *impl_;
   WorldSpec out;
@@ -358,37 +384,18 @@ WorldSpec Scenario::generate_world(uint64_t seed) {
       } finish{w};
       lua_call(L, 3, 1);
     }
-    // A generator builds the world through its methods; a value it returns would go unread (found
-    // by a probe: a table of objects returned beside world:robot was dropped without a word).
-    const bool returned = !lua_isnil(L, -1) && !lua_rawequal(L, -1, world - 1);
-    const char* returned_type = luaL_typename(L, -1);
-    lua_pop(L, 1);
     // Its rng (and its forks) draw no more: a failed generate's are past by the next one's epoch,
     // and nothing else runs in a scenario's Lua state.
     close_rng_epoch(L);
-    if (returned)
-      throw impl.error(std::string("the generator returned a ") + returned_type +
+    // A generator builds the world through its methods; a value it returns would go unread (found
+    // by a probe: a table of objects returned beside world:robot was dropped without a word).
+    if (!lua_isnil(L, -1) && !lua_rawequal(L, -1, world - 1))
+      throw impl.error(std::string("the generator returned a ") + luaL_typename(L, -1) +
                            ", which is not read: it builds the world through world:robot{...}, world:object{...} "
                            "and the other methods of world, and returns nothing",
                        impl.generate_line);
-    if (!w->robot_set)
-      throw impl.error("the generator did not place Roger: call world:robot{x=..., y=..., heading=...}",
-                       impl.generate_line);
-    WorldSpec spec = w->spec;
-    if (!w->stimulus_set && !spec.objects.empty()) spec.stimulus_colour = spec.objects.front().colour;
-    try {
-      for (auto& o : spec.objects) validate_shape(o.shape);
-      for (auto& o : spec.obstacles) validate_shape(o.shape);
-    } catch (const Error& e) {
-      throw impl.error(e.what(), impl.generate_line);
-    }
-    const auto refuse = [&](const std::string& why) { throw impl.error(why, impl.generate_line); };
-    check_noise_params_used(impl.params, spec.noise, refuse);
-    check_body_params_used(impl.params, spec, refuse);
-    spec.scenario = impl.path;
-    spec.seed = seed;
-    for (const auto& [key, slot] : impl.params) spec.params[key] = slot_text(slot);
-    out = std::move(spec);
+    out = checked_world(*w, seed, impl.params, impl.path,
+                        [&](const std::string& why) { throw impl.error(why, impl.generate_line); });
   });
   return out;
 }
