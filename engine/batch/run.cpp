@@ -778,6 +778,10 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
     try {
       sources.check();
       nlohmann::json result = t.run ? training_trial(plan, t, dir, control) : evaluation_trial(plan, t, t0);
+      // And after: a file edited while the trial loaded it would otherwise be in a result kept as
+      // finished (found by the fault test once policies were compared: the trial before the stop
+      // recorded the edited curriculum's digest). The trial is then not kept; the resumed run redoes it.
+      sources.check();
       ++finished_now;
       return result;
     } catch (const FileError&) {
