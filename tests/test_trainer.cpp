@@ -135,6 +135,24 @@ TEST_CASE("roger train --init starts the table from a policy learned earlier", "
   o.context = "DC6";
   CHECK_THROWS_WITH(train_stage(o), Catch::Matchers::Contains("dc1.json: its table shares no action with this "
                                                               "context's (its actions: phi1, phi3, phi4 <| phi2, Phi6, Phi7;"));
+  // Found by a probe: --init warm-started the skill trained first (Phi_SG) too, changing it without
+  // a word, and a T context's start from another T context's table was refused naming SG/DC2's
+  // actions. The skill is trained as without --init; the table starts from the shared actions.
+  o.init_file.clear();
+  const TrainResult t6 = train_stage(o);
+  const std::string t6_file = (tmp.path / "t6.json").string();
+  write_file_atomic(t6_file, train_policy_json(t6).dump(), "test");
+  o.context = "DC4";
+  const TrainResult t4_cold = train_stage(o);
+  o.init_file = t6_file;
+  const TrainResult t4_warm = train_stage(o);
+  REQUIRE(t4_warm.init);
+  CHECK_FALSE(t4_warm.init->shared.empty());
+  REQUIRE(t4_warm.skills.size() == 1);
+  REQUIRE(t4_cold.skills.size() == 1);
+  CHECK(t4_warm.skills[0].trained);
+  CHECK(t4_warm.skills[0].to_threshold.episodes == t4_cold.skills[0].to_threshold.episodes);
+  CHECK(t4_warm.skills[0].policy == t4_cold.skills[0].policy);
 }
 
 // init = {stage = ..., context = ...} in a context: that context is trained first with the same

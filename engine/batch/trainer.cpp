@@ -252,6 +252,20 @@ nlohmann::json read_skill_file(const std::string& name, const std::string& path)
   }
 }
 
+// The options of a stage and context trained first, for this trial (a learned skill its actions
+// use, or its context's init): that context's own task, no records of its episodes, and no --init
+// (found by a probe: the caller's warm start was applied to the skill trained first too, changing
+// it without a word, or refused naming that skill's actions).
+TrainOptions first_training(const TrainOptions& options, const std::string& stage, const std::string& context) {
+  TrainOptions sub = options;
+  sub.stage = stage;
+  sub.context = context;
+  sub.sets.clear();
+  sub.keep_episodes = false;
+  sub.init_file.clear();
+  return sub;
+}
+
 // The simulated training seconds of the skills trained for this trial so far.
 double skills_sim_s(const std::vector<SkillSource>& sources) {
   double s = 0.0;
@@ -299,11 +313,7 @@ void batch_detail::bind_skills(Curriculum& cur, const CurriculumContext& ctx, co
       throw Error("the policy file does not embed the learned skill '" + name + "' its context uses");
     } else {
       // No policy given: train the producing stage and context first, with the same seed.
-      TrainOptions sub = options;
-      sub.stage = producer->name;
-      sub.context = pctx.name;
-      sub.sets.clear();  // the producer's own task, not the caller's parameters
-      sub.keep_episodes = false;
+      TrainOptions sub = first_training(options, producer->name, pctx.name);
       sub.max_sim_s = options.max_sim_s > 0 ? std::max(1e-9, options.max_sim_s - skills_sim_s(sources)) : 0.0;
       // Over the skills just bound, not trained again inside (found by a probe: a chain's second
       // stage trained its first skill again, under what was left of a cap, and that time went
@@ -517,11 +527,7 @@ void start_table(TrainResult& res, const CurriculumStage& stage, const Curriculu
     res.q = std::make_shared<QTable>(
         warm_start_table(res.psi, stage.learner, QTable::load(options.init_file, {}), options.init_file, &*res.init));
   } else if (!ctx.init_context.empty()) {
-    TrainOptions sub = options;
-    sub.stage = ctx.init_stage;
-    sub.context = ctx.init_context;
-    sub.sets.clear();  // that context's own task, as for a learned skill trained first
-    sub.keep_episodes = false;
+    const TrainOptions sub = first_training(options, ctx.init_stage, ctx.init_context);
     const TrainResult first = train_stage(sub);
     res.init.emplace();
     res.init_trained = first.totals;
