@@ -674,6 +674,9 @@ TEST_CASE("an --only that needs policies outside it that have no result is refus
                              "Nothing was run: run them first (e.g. --only SG/DC2), or add --only SG/DC2 to this "
                              "command"));
   CHECK_FALSE(fs::exists(trial_dir(a.out, "T/DC6/000")));
+  // Found by a probe: the refused command made the folder and its manifest, which then refused the
+  // corrected command's other --trials. A new folder is not made.
+  CHECK_FALSE(fs::exists(a.out));
   // With the runs it needs in its --only, it runs.
   a.only = {"eval"};
   const Said eval = run_saying(a);

@@ -251,6 +251,11 @@ int command_run(const RunArgs& a) {
     const BatchPlan plan = plan_batch(script, a.out.empty() ? "results/" + b.name : a.out);
     check_selectors(plan, a.only);
     if (refuse_unplaceable_test_tasks(b, log)) return 1;
+    // A new folder's --only that needs trials outside it is refused before anything is made there
+    // (found by a probe: its manifest then refused the corrected command's other --trials).
+    std::error_code ec;
+    if (!std::filesystem::exists(std::filesystem::path(plan.out) / "manifest.json", ec))
+      check_only_needs(plan, a.only, shard);
     check_out_folder(plan.out);  // before the claim makes its lock files there
     const RunningClaim claim(plan.out, shard, a.only);  // until the run has ended, its report written
     std::string note;
