@@ -1264,6 +1264,10 @@ TEST_CASE("a script of the wrong kind is named as what it is, with what runs it"
       {"bench --scenario curricula/scripted.lua",
        "roger: error: --scenario curricula/scripted.lua is a skill script, not a scenario: evaluate one of its "
        "policies"},
+      // Found by a probe: bench's --script given a curriculum failed inside it ("attempt to call a
+      // nil value (field 'learned')").
+      {"bench --script curricula/paper.lua",
+       "roger: error: curricula/paper.lua is a curriculum, not a skill script: train one of its stages"},
       // As before: a curriculum given to roger run.
       {"run curricula/paper.lua --out " + out,
        "roger run: curricula/paper.lua is a curriculum, not a batch script: train one of its stages with roger train "

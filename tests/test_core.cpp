@@ -126,3 +126,13 @@ TEST_CASE("format_number gives what the search from one digit gives", "[core]") 
     if (format_number(v) != from_one(v) && ++differ <= 5) FAIL_CHECK(from_one(v) + " became " + format_number(v));
   CHECK(differ == 0);
 }
+
+// A command printed for pasting (a path with a space or a quote, found by probes) reads back as
+// one word in a POSIX shell.
+TEST_CASE("shell_word quotes what a shell would split or expand", "[core]") {
+  CHECK(shell_word("results/paper-2") == "results/paper-2");
+  CHECK(shell_word("/tmp/sp dir/my scen.lua") == "'/tmp/sp dir/my scen.lua'");
+  CHECK(shell_word("it's") == "'it'\\''s'");
+  CHECK(shell_word("$HOME") == "'$HOME'");
+  CHECK(shell_word("") == "''");
+}

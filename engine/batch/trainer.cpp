@@ -782,7 +782,7 @@ std::string trained_with(const PolicyMetadata& meta, const Curriculum& cur, cons
   if (same_curriculum_file(recorded, cur))
     return ". " + policy_file + " was trained with " + recorded + " as it was before it changed";
   return ". " + policy_file + " was trained with the curriculum " + recorded + ": give that one (" + command + " " +
-         recorded + " --policy " + policy_file + (command == "roger eval" ? ")" : " ...)");
+         shell_word(recorded) + " --policy " + shell_word(policy_file) + (command == "roger eval" ? ")" : " ...)");
 }
 
 // Loads a saved policy with its stage, context and learned skills, and hands its stage run, its

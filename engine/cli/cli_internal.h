@@ -23,10 +23,6 @@ std::string file_error_line(const FileError& e, bool resumes = true);
 // into needs another place, or a copy), and it resumes nothing.
 std::string report_file_error_line(const FileError& e);
 
-// An argument as a POSIX shell reads it back: as is when plain, else in single quotes (a command
-// printed for pasting: a folder with a space or a quote in its name).
-std::string shell_word(const std::string& s);
-
 // stimulus_unseen_note of `worlds` worlds of `scenario` from `first_seed`, with `params` set, and
 // those of `where_declared` the scenario declares (a --set for other stages): "" when the worlds
 // have the colour their eyes look for, or cannot be made here (their own error is said elsewhere).

@@ -50,16 +50,6 @@ SandboxLimits sandbox_limits(const LuaLimitArgs& lua) {
   return limits;
 }
 
-// An argument as a POSIX shell reads it back: as is when plain, else in single quotes.
-std::string shell_word(const std::string& s) {
-  const bool plain = !s.empty() && s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                                       "0123456789_./=:,+-@%") == std::string::npos;
-  if (plain) return s;
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
 // See cli_internal.h. Found by a probe: a colour typo in a scenario showed only as every episode
 // failing, blamed on the stage's absorbing function.
 std::string stimulus_unseen_in(const std::string& scenario, const ParamList& params, const SandboxLimits& limits,

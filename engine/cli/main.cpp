@@ -297,8 +297,9 @@ void refuse_render_options_unused(const CLI::App& render, const RenderArgs& a) {
                   "without it roger render draws one world of " + a.scenario);
   for (const char* option : {"--seconds", "--grid"})
     if (episode && render.count(option) > 0)
-      throw Error(std::string("roger render: ") + option + " is an option of a world's picture (without --policy); "
-                  "an episode is recorded from its start, its frames without the grid");
+      throw Error(std::string("roger render: ") + option + " is an option of a world's picture (without --policy); " +
+                  (std::string(option) == "--grid" ? "an episode's frames are drawn without the grid"
+                                                   : "an episode is recorded from its start to its end"));
 }
 
 // render draws a scenario's world, or with --policy an episode of a skill script's or curriculum's
@@ -425,6 +426,8 @@ int run_command(Commands& c) {
   if (*c.check) return command_check(c.check_args);
   if (*c.bench) {
     require_scenario_option(c.bench_args.scenario);
+    // Its --script is a skill script: a curriculum or a scenario failed inside it (found by a probe).
+    require_curriculum(c.bench_args.script, {"skill script"});
     return command_bench(c.bench_args);
   }
   if (*c.eval) {

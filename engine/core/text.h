@@ -13,6 +13,10 @@ std::string text_hash(const std::string& text);
 // Formats a number the shortest way that reads back exactly (0.95, not 0.94999999999999996).
 std::string format_number(double value);
 
+// An argument as a POSIX shell reads it back: as is when plain, else in single quotes (a command
+// printed for pasting: a folder with a space or a quote in its name).
+std::string shell_word(const std::string& s);
+
 // Joins items with a separator ("a, b, c"), for messages that list what exists.
 std::string join(const std::vector<std::string>& items, const char* sep = ", ");
 

@@ -15,6 +15,7 @@
 
 #include "core/error.h"
 #include "core/fileio.h"
+#include "core/text.h"
 #include "script/batch/batch_script_internal.h"
 #include "script/curriculum/curriculum.h"
 #include "script/scenario/scenario.h"
@@ -882,8 +883,10 @@ std::string script_kind(const std::string& path) {
 
 namespace {
 
-// What runs a script of `kind`, for the error that names it given as another kind.
-std::string what_runs(const std::string& kind, const std::string& given) {
+// What runs a script of `kind`, for the error that names it given as another kind; the commands
+// quoted for a shell (found by a probe: a path with a space, pasted, was two words).
+std::string what_runs(const std::string& kind, const std::string& name) {
+  const std::string given = shell_word(name);
   if (kind == "curriculum")
     return "train one of its stages with roger train " + given + " --stage S --context C --out DIR, or name it as "
            "the curriculum of a batch script (docs/batch.md)";
