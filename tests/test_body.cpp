@@ -272,6 +272,18 @@ TEST_CASE("with_params takes a scenario's own body defaults and refuses what it 
   own.set_param("upper_arm", "0.5");
   CHECK(own.generate(0).body.link_length[0] == 0.5);
   CHECK(own.generate(0).body.link_length[1] == 0.7);
+  // Found by a probe: `locked`, a list, lost its `list` with a default of the scenario's, so two
+  // locked joints (or none) were refused as not one choice, as default and from --set.
+  Scenario frozen = scenario_from("with_params_locked",
+                                  "local body = require('lib.body')\n"
+                                  "return {\n"
+                                  "  params = " + with + "{}, { locked = 'left_eye,right_eye' }" + who + ",\n" + generate);
+  CHECK(frozen.generate(0).params.at("locked") == "left_eye,right_eye");
+  CHECK(frozen.generate(0).body.locked != 0);
+  frozen.set_param("locked", "");
+  CHECK(frozen.generate(0).body.locked == 0);
+  frozen.set_param("locked", "left_shoulder,left_elbow");
+  CHECK(frozen.generate(0).params.at("locked") == "left_shoulder,left_elbow");
 
   auto load_error = [&](const std::string& name, const std::string& params) -> std::string {
     try {
@@ -296,6 +308,23 @@ TEST_CASE("with_params takes a scenario's own body defaults and refuses what it 
                                "base_radius, eye_fov, eye_pixels, forearm, hand_radius, locked"));
   CHECK_THAT(load_error("with_params_float", with + "{}, { eye_pixels = 47.5 }" + who),
              Contains(":3:") && Contains("defaults: 'eye_pixels' must be an integer"));
+  // Found by a probe: body.of and body.noise_of in a scenario that did not declare the body's
+  // parameters failed at lib/body.lua's line that read the first, with no word of with_params.
+  const auto generate_error = [&](const std::string& name, const std::string& call) -> std::string {
+    try {
+      scenario_from(name, "local body = require('lib.body')\nreturn { params = { speed = { default = 1.0 } },\n"
+                          "  generate = function(world, rng, p)\n    " + call + "\n  end }\n").generate(0);
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  CHECK_THAT(generate_error("undeclared_body", "local b = body.of(p)"),
+             Contains("undeclared_body.lua:4: body.of reads the scenario parameters of lib/body.lua, and the scenario "
+                      "does not declare 'upper_arm' and 6 more: declare them with params = body.with_params("));
+  CHECK_THAT(generate_error("undeclared_noise", "local n = body.noise_of(p)"),
+             Contains("undeclared_noise.lua:4: body.noise_of reads the scenario parameters of lib/body.lua, and the "
+                      "scenario does not declare 'noise_scale' and 35 more"));
 }
 
 // Found by a probe: a scenario with body.with_params whose robot had a body of its own took --set

@@ -87,8 +87,27 @@ function body.with_params(params, defaults)
   return p  -- not a tail call: the errors point at the scenario, two frames up
 end
 
+-- Refuses parameters p that lack one of body.PARAMS (a scenario that calls body.of or
+-- body.noise_of without declaring them through body.with_params), at the scenario's line `level`
+-- frames up, saying so. Found by a probe: it failed at this file's line that read the first one.
+local function require_declared(p, who, names, level)
+  local missing = {}
+  for _, name in ipairs(names) do
+    if rawget(p, name) == nil then missing[#missing + 1] = name end
+  end
+  if #missing == 0 then return end
+  error(string.format("%s reads the scenario parameters of lib/body.lua, and the scenario does not declare %s%s: "
+                      .. "declare them with params = body.with_params({ ...its own... }) (docs/scenarios.md, "
+                      .. "Bodies)", who, "'" .. missing[1] .. "'",
+                      #missing > 1 and (" and " .. (#missing - 1) .. " more") or ""), level + 1)
+end
+
+local BODY_NAMES = { "upper_arm", "forearm", "base_radius", "hand_radius", "eye_pixels", "eye_fov", "locked" }
+
 -- The world:robot fields { body = {...}, eyes = {...} } that parameters p (with body.PARAMS) ask for.
-function body.of(p)
+-- `above`, as for noise_of: the frames between the scenario and the caller (a library step's 1).
+function body.of(p, above)
+  require_declared(p, "body.of", BODY_NAMES, 2 + (above or 0))
   local locked = {}
   for name in string.gmatch(p.locked, "[^,%s]+") do locked[#locked + 1] = name end
   return {
@@ -124,6 +143,12 @@ end
 
 function body.noise_of(p, above)
   local level = 3 + (above or 0)  -- scaled, noise_of, then the line that asked
+  local names = { "noise_scale" }
+  for name in pairs(body.PARAMS) do
+    if name:sub(1, 6) == "noise_" and name ~= "noise_scale" then names[#names + 1] = name end
+  end
+  table.sort(names, function(a, b) return a == "noise_scale" or (b ~= "noise_scale" and a < b) end)
+  require_declared(p, "body.noise_of", names, level - 1)
   local noise = {}
   for _, c in ipairs(CHANNELS) do
     local n = "noise_" .. c.name

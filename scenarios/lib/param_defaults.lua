@@ -105,8 +105,12 @@ function defaults.with_params(library, params, own, who, lib, level)
   for _, name in ipairs(names) do
     local spec = library[name]
     if values[name] ~= nil then
-      spec = { default = values[name], min = spec.min, max = spec.max, choices = spec.choices,
-               description = spec.description }
+      -- Every field of the library's declaration but its default (found by a probe: `list` was
+      -- left out, so a default of two locked joints, or none, was refused as not one choice).
+      local own_spec = {}
+      for key, field in pairs(spec) do own_spec[key] = field end
+      own_spec.default = values[name]
+      spec = own_spec
     end
     params[name] = spec
   end

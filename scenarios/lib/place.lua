@@ -49,7 +49,7 @@ end
 -- make it larger). Returns the base position.
 function place.robot(world, rng, p)
   check_params("robot", p)
-  local b = body.of(p)
+  local b = body.of(p, 1)  -- its errors at the scenario's line, as noise_of's
   local x, y = world:sample_position{
     name = "Roger",
     radius = roger.body_metrics(b).footprint_radius,

@@ -16,7 +16,7 @@ double ranged(const LuaFields& f, const char* key, double fallback, double lo, d
   const double v = f.number(key, fallback);
   if (!(v >= lo && v <= hi) || (low_open && v == lo))
     f.fail(std::string("field '") + key + "' must be within " + (low_open ? "(" : "[") + fmt(lo) + ", " +
-           fmt(hi) + "] " + unit + ", got " + fmt(v));
+           fmt(hi) + "]" + (*unit ? " " : "") + unit + ", got " + fmt(v));  // a number without unit: "[0, 10], got"
   return v;
 }
 
