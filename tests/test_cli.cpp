@@ -664,6 +664,19 @@ TEST_CASE("a binary chunk is refused", "[cli]") {
                          "program or another binary file?)") != std::string::npos);
   }
   fs::remove(program);
+  // Found by a probe: a policy and its curriculum swapped read "policy.json:1: unexpected symbol
+  // near '{'", a report's tables.md "near '#'".
+  const fs::path policy = temp_file("roger_cli_policy.json", "{\"stage\": \"SG\"}\n");
+  const Run swapped = roger("eval " + policy.string() + " --policy curricula/paper.lua");
+  CHECK(swapped.status == 1);
+  CHECK_THAT(swapped.err, Catch::Matchers::Contains("'" + policy.string() + "' is no Lua script: it is JSON (a policy "
+                                                    "roger train wrote, or a result?)"));
+  const fs::path tables = temp_file("roger_cli_tables.md", "# Results\n");
+  const Run report = roger("check " + tables.string());
+  CHECK(report.status == 1);
+  CHECK_THAT(report.err, Catch::Matchers::Contains("'" + tables.string() + "' is no Lua script: it is a Markdown"));
+  fs::remove(policy);
+  fs::remove(tables);
 }
 
 TEST_CASE("usage errors say what is wrong", "[cli]") {

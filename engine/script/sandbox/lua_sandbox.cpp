@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstring>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 
@@ -446,6 +447,19 @@ const std::string& text_script(const std::string& path) {
   if (nul != std::string::npos && bytes.rfind(LUA_SIGNATURE, 0) != 0)
     throw Error("'" + path + "' is no Lua script: it is not text (a NUL byte at offset " + std::to_string(nul) +
                 "; a program or another binary file?)");
+  // A file roger wrote, given where a script goes (found by a probe: the policy and the curriculum
+  // swapped read "policy.json:1: unexpected symbol near '{'").
+  const std::string ext = std::filesystem::path(path).extension().string();
+  const size_t first = bytes.find_first_not_of(" \t\r\n");
+  if (ext == ".json" && first != std::string::npos && (bytes[first] == '{' || bytes[first] == '['))
+    throw Error("'" + path + "' is no Lua script: it is JSON (a policy roger train wrote, or a result?); give the "
+                "script (a curriculum, a scenario, ...) here, and a policy with --policy, --init or --skill");
+  static const std::pair<const char*, const char*> written[] = {
+      {".md", "Markdown"}, {".csv", "CSV"}, {".png", "PNG image"}, {".svg", "SVG image"}, {".html", "HTML page"}};
+  for (const auto& [suffix, what] : written)
+    if (ext == suffix)
+      throw Error("'" + path + "' is no Lua script: it is a " + what + " (a report roger wrote?); give a Lua script "
+                  "(.lua) here");
   return path;
 }
 
