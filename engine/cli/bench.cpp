@@ -9,6 +9,7 @@
 
 #include "cli/cli_internal.h"
 #include "cli/commands.h"
+#include "core/text.h"
 #include "control/agent.h"
 #include "control/predicate.h"
 #include "report/stats.h"
@@ -232,23 +233,26 @@ void print_lines(const BenchArgs& a, const BenchLines& l) {
   std::printf("  physics alone        %9.0fx real time\n", r.physics_rtf);
   std::printf("  physics + senses     %9.0fx real time  (senses add %.0f%%)\n", r.world_rtf,
               100.0 * r.senses_overhead);
-  std::printf("  full pipeline        %9.0fx real time  (%s policy '%s', %d episodes, %.0f simulated s,\n"
-              "                                           %d successes; %.2fx the cost of physics alone\n"
+  // "1 episode, 1 success", not "1 episodes, 1 successes" (found by a probe: --episodes 1).
+  const auto successes = [](int n) { return std::to_string(n) + (n == 1 ? " success" : " successes"); };
+  std::printf("  full pipeline        %9.0fx real time  (%s policy '%s', %s, %.0f simulated s,\n"
+              "                                           %s; %.2fx the cost of physics alone\n"
               "                                           replaying the same commands at %.0fx)\n",
-              p.pipeline_rtf, a.script.c_str(), a.policy.c_str(), p.episodes, p.sim_seconds,
-              p.successes, p.cost_ratio, p.replay_rtf);
-  std::printf("  256-pixel eyes       %9.0fx real time  (the same episodes with eyes of %d pixels, %d successes;\n"
+              p.pipeline_rtf, a.script.c_str(), a.policy.c_str(), counted(p.episodes, "episode").c_str(), p.sim_seconds,
+              successes(p.successes).c_str(), p.cost_ratio, p.replay_rtf);
+  std::printf("  256-pixel eyes       %9.0fx real time  (the same episodes with eyes of %d pixels, %s;\n"
               "                                           %.2fx the cost of physics alone replaying its commands)\n",
-              wide.pipeline_rtf, kWidePixels, wide.successes, wide.cost_ratio);
-  std::printf("  pipeline under M     %9.0fx real time  (the same episodes under the moderate noise M, %d successes;\n"
+              wide.pipeline_rtf, kWidePixels, successes(wide.successes).c_str(), wide.cost_ratio);
+  std::printf("  pipeline under M     %9.0fx real time  (the same episodes under the moderate noise M, %s;\n"
               "                                           %.2fx the cost of physics alone replaying its commands:\n"
               "                                           %.2f times the noise-free pipeline's ratio)\n",
-              under_m.pipeline_rtf, under_m.successes, under_m.cost_ratio, under_m.cost_ratio / p.cost_ratio);
-  std::printf("  8-object pipeline    %9.0fx real time  (%s policy 'sort' in sorting, objects=8, %d episodes,\n"
-              "                                           %.0f simulated s, %d successes; %.2fx the cost of\n"
+              under_m.pipeline_rtf, successes(under_m.successes).c_str(), under_m.cost_ratio,
+              under_m.cost_ratio / p.cost_ratio);
+  std::printf("  8-object pipeline    %9.0fx real time  (%s policy 'sort' in sorting, objects=8, %s,\n"
+              "                                           %.0f simulated s, %s; %.2fx the cost of\n"
               "                                           physics alone replaying the same commands at %.0fx)\n",
-              many.pipeline_rtf, kManyScript, many.episodes, many.sim_seconds, many.successes, many.cost_ratio,
-              many.replay_rtf);
+              many.pipeline_rtf, kManyScript, counted(many.episodes, "episode").c_str(), many.sim_seconds,
+              successes(many.successes).c_str(), many.cost_ratio, many.replay_rtf);
   // A layer cannot cost less than the layer under it: when it reads so, the machine's speed moved
   // under the measurement (it is shared), and one repeat cannot tell.
   const bool impossible = r.senses_overhead < 0.0 || p.cost_ratio < 1.0 || wide.cost_ratio < 1.0 ||
