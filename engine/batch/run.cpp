@@ -84,11 +84,11 @@ class TrialPool {
 
   // Runs the pending trials on `jobs` threads while reporting progress; returns every outcome.
   std::vector<TrialOutcome> run(int jobs) {
+    const int threads = std::min<int>(jobs, int(std::max<size_t>(1, pending_.size())));
+    workers_ = threads;  // before the reporter, which reads it
     std::thread reporter;
     if (options_.progress && options_.live) reporter = std::thread([this] { report_live(); });
     std::vector<std::thread> pool;
-    const int threads = std::min<int>(jobs, int(std::max<size_t>(1, pending_.size())));
-    workers_ = threads;
     for (int t = 0; t < threads; ++t) pool.emplace_back([this] { work(); });
     if (options_.progress && !options_.live) report_plain();
     for (auto& t : pool) t.join();
