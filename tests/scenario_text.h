@@ -17,15 +17,20 @@ inline Scenario scenario_from(const std::string& name, const std::string& text) 
   return Scenario::load(path.string());
 }
 
-// The message of generating seed 0 of a scenario whose world:robot call is `robot` (line 2 of
-// <tmp>/roger_test_<name>.lua), or "no error".
-inline std::string robot_error(const std::string& name, const std::string& robot) {
+// The message of loading scenario_from(name, text) and generating its seed 0, or "no error".
+inline std::string generate_error(const std::string& name, const std::string& text) {
   try {
-    scenario_from(name, "return { generate = function(world, rng, p)\n  world:robot" + robot + "\nend }\n").generate(0);
+    scenario_from(name, text).generate(0);
   } catch (const std::exception& e) {
     return e.what();
   }
   return "no error";
+}
+
+// The message of generating seed 0 of a scenario whose world:robot call is `robot` (line 2 of
+// <tmp>/roger_test_<name>.lua), or "no error".
+inline std::string robot_error(const std::string& name, const std::string& robot) {
+  return generate_error(name, "return { generate = function(world, rng, p)\n  world:robot" + robot + "\nend }\n");
 }
 
 }  // namespace roger::test

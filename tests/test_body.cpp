@@ -310,19 +310,14 @@ TEST_CASE("with_params takes a scenario's own body defaults and refuses what it 
              Contains(":3:") && Contains("defaults: 'eye_pixels' must be an integer"));
   // Found by a probe: body.of and body.noise_of in a scenario that did not declare the body's
   // parameters failed at lib/body.lua's line that read the first, with no word of with_params.
-  const auto generate_error = [&](const std::string& name, const std::string& call) -> std::string {
-    try {
-      scenario_from(name, "local body = require('lib.body')\nreturn { params = { speed = { default = 1.0 } },\n"
-                          "  generate = function(world, rng, p)\n    " + call + "\n  end }\n").generate(0);
-    } catch (const std::exception& e) {
-      return e.what();
-    }
-    return "no error";
+  const auto undeclared_error = [](const std::string& name, const std::string& call) {
+    return test::generate_error(name, "local body = require('lib.body')\nreturn { params = { speed = { default = 1.0 } },\n"
+                                      "  generate = function(world, rng, p)\n    " + call + "\n  end }\n");
   };
-  CHECK_THAT(generate_error("undeclared_body", "local b = body.of(p)"),
+  CHECK_THAT(undeclared_error("undeclared_body", "local b = body.of(p)"),
              Contains("undeclared_body.lua:4: body.of reads the scenario parameters of lib/body.lua, and the scenario "
                       "does not declare 'upper_arm' and 6 more: declare them with params = body.with_params("));
-  CHECK_THAT(generate_error("undeclared_noise", "local n = body.noise_of(p)"),
+  CHECK_THAT(undeclared_error("undeclared_noise", "local n = body.noise_of(p)"),
              Contains("undeclared_noise.lua:4: body.noise_of reads the scenario parameters of lib/body.lua, and the "
                       "scenario does not declare 'noise_scale' and 35 more"));
 }

@@ -629,13 +629,8 @@ TEST_CASE("a placement step of lib/place.lua names what the scenario lacks, at t
   const std::string head = "local body = require('lib.body')\nlocal place = require('lib.place')\n"
                            "return { params = body.with_params{ goal_x = { default = 0 } },\n"
                            "  generate = function(world, rng, p)\n";
-  auto error_of = [&](const std::string& name, const std::string& call) -> std::string {
-    try {
-      test::scenario_from(name, head + "    " + call + "\n  end }\n").generate(0);
-    } catch (const std::exception& e) {
-      return e.what();
-    }
-    return "no error";
+  auto error_of = [&](const std::string& name, const std::string& call) {
+    return test::generate_error(name, head + "    " + call + "\n  end }\n");
   };
   CHECK_THAT(error_of("place_robot", "place.robot(world, rng, p)"),
              Contains("roger_test_place_robot.lua:5: place.robot reads the scenario parameter "

@@ -252,15 +252,16 @@ int command_run(const RunArgs& a) {
     check_selectors(plan, a.only);
     if (refuse_unplaceable_test_tasks(b, log)) return 1;
     // A new folder's --only that needs trials outside it is refused before anything is made there
-    // (found by a probe: its manifest then refused the corrected command's other --trials).
+    // (found by a probe: its manifest then refused the corrected command's other --trials); an
+    // existing folder's once it is opened, against the trials it holds.
     std::error_code ec;
-    if (!std::filesystem::exists(std::filesystem::path(plan.out) / "manifest.json", ec))
-      check_only_needs(plan, a.only, shard);
+    const bool fresh = !std::filesystem::exists(std::filesystem::path(plan.out) / "manifest.json", ec);
+    if (fresh) check_only_needs(plan, a.only, shard);
     check_out_folder(plan.out);  // before the claim makes its lock files there
     const RunningClaim claim(plan.out, shard, a.only);  // until the run has ended, its report written
     std::string note;
     const bool resuming = open_results_folder(plan, &note, shard, &claim);
-    check_only_needs(plan, a.only, shard);  // before "resuming": a refused --only resumes nothing
+    if (!fresh) check_only_needs(plan, a.only, shard);  // before "resuming": a refused --only resumes nothing
     if (resuming) log << "roger run: resuming " << plan.out << "\n";
     if (!note.empty()) log << "roger run: " << note << "\n";
     print_run_start(plan, shard, log);

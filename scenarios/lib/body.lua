@@ -71,6 +71,15 @@ for _, c in ipairs(CHANNELS) do
                                    description = c.name .. " rounded to multiples of this (" .. c.quantum_unit .. ")" }
 end
 
+-- The parameters body.noise_of reads, noise_scale first, for its check that a scenario declares
+-- them (made once, not at every world).
+local NOISE_NAMES = {}
+for name in pairs(body.PARAMS) do
+  if name:sub(1, 6) == "noise_" and name ~= "noise_scale" then NOISE_NAMES[#NOISE_NAMES + 1] = name end
+end
+table.sort(NOISE_NAMES)
+table.insert(NOISE_NAMES, 1, "noise_scale")
+
 -- The moderate noise level M of docs/results.md (Noise), as scenario parameters (scale it with
 -- noise_scale): roger eval ... --set noise_image=10 --set noise_joints=0.01 ... --set noise_scale=2
 body.MODERATE_NOISE = { noise_image = 10, noise_joints = 0.01, noise_base = 0.01, noise_touch = 0.1,
@@ -143,12 +152,7 @@ end
 
 function body.noise_of(p, above)
   local level = 3 + (above or 0)  -- scaled, noise_of, then the line that asked
-  local names = { "noise_scale" }
-  for name in pairs(body.PARAMS) do
-    if name:sub(1, 6) == "noise_" and name ~= "noise_scale" then names[#names + 1] = name end
-  end
-  table.sort(names, function(a, b) return a == "noise_scale" or (b ~= "noise_scale" and a < b) end)
-  require_declared(p, "body.noise_of", names, level - 1)
+  require_declared(p, "body.noise_of", NOISE_NAMES, level - 1)
   local noise = {}
   for _, c in ipairs(CHANNELS) do
     local n = "noise_" .. c.name

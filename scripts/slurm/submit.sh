@@ -136,7 +136,7 @@ submit() {
 
 # A shard submitted again (--array=LIST) while tasks of an earlier array of this script still wait
 # or run: the new report waits for them too (found by a probe: it ran before them, failed on their
-# trials, and no report followed them). Their ids, comma-separated, from squeue.
+# trials, and no report followed them). Their ids, colon-separated (afterany:A:B), from squeue.
 earlier_arrays() {
   [ "$array" != "0-$((shards - 1))" ] || return 0
   squeue -h -n "roger-$name" -t PENDING,RUNNING,CONFIGURING,SUSPENDED -o %F 2>/dev/null | sort -u | paste -sd: -

@@ -327,10 +327,6 @@ void check_body_params_used(const std::map<std::string, ParamSlot>& params, cons
   }
 }
 
-}  // namespace
-
-namespace {
-
 // The world a generator built, checked as a whole: Roger placed, shapes sound, every body and
 // noise parameter the scenario declares (`params`) in force; with its seed and parameters. `fail`
 // raises a problem at the generator's line.
