@@ -30,6 +30,7 @@
 using namespace roger;
 namespace fs = std::filesystem;
 using roger::test::slurp;
+using Catch::Matchers::Contains;
 
 namespace {
 
@@ -670,6 +671,39 @@ TEST_CASE("a capped chain of skills trains each once and the cap ends the stage 
   CHECK(r.skills[1].totals.sim_s < 10.0 + 4.0);  // ...stopping at the first episode past it
   CHECK(r.totals.episodes == 0);                 // and C's task never trained
   fs::remove_all(dir);
+}
+
+// Found by a probe: a fault in a skill trained first named the trial's own stage and phase, and
+// roger train kept the skill's curve in the trial's folder as the trial's own progress.
+TEST_CASE("a fault in a skill trained first names that skill's stage and keeps nothing as the trial's",
+          "[trainer][errors]") {
+  test::TempDir dir("roger_first_fault");
+  std::ofstream(dir.path / "chain.lua")
+      << "local p = require('lib.skills').primitives()\n"
+         "local calls = 0\n"
+         "local function reward(state, action, event)\n"
+         "  calls = calls + 1\n"
+         "  if calls == 40 then error('boom') end\n"
+         "  return 0\n"
+         "end\n"
+         "return { stages = {\n"
+         "  roger.stage{ name = 'A', scenario = 'unobstructed', time_limit = 4, reward = reward,\n"
+         "    absorbing = roger.converged(p.phi0), budget = { episodes = 30 },\n"
+         "    checkpoints = { every = 10, episodes = 5, threshold = 0.9, final = 5 },\n"
+         "    contexts = { { name = 'X', actions = { p.search, p.phi0 } } }, skill = { name = 'Phi_A', context = 'X' } },\n"
+         "  roger.stage{ name = 'B', scenario = 'unobstructed', time_limit = 4,\n"
+         "    absorbing = roger.converged(p.phi0), budget = { episodes = 30 },\n"
+         "    checkpoints = { every = 10, episodes = 5, threshold = 0.9, final = 5 },\n"
+         "    contexts = { { name = 'Y', actions = { roger.learned('Phi_A'), p.phi0 } } } },\n"
+         "} }\n";
+  const fs::path out = dir.path / "out";
+  const auto [status, said] = run_roger("train " + (dir.path / "chain.lua").string() +
+                                        " --stage B --context Y --out " + out.string());
+  CHECK(status == 1);
+  CHECK_THAT(said, Contains("chain.lua:5: stage 'A', context 'X': reward function: ") && Contains("boom") &&
+                       Contains("(stage 'B', context 'Y', in training its skill 'Phi_A' first: stage 'A', context 'X', "));
+  CHECK_THAT(said, !Contains("kept"));
+  CHECK(!fs::exists(out));
 }
 
 namespace {

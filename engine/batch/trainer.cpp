@@ -263,7 +263,20 @@ TrainOptions first_training(const TrainOptions& options, const std::string& stag
   sub.sets.clear();
   sub.keep_episodes = false;
   sub.init_file.clear();
+  // Its episodes are not this trial's: a fault in it keeps nothing as this trial's progress.
+  sub.progress_on_fault = nullptr;
   return sub;
+}
+
+// train_stage of a stage and context trained first for this trial (`why`: "its skill 'Phi_SG'"),
+// a fault in it naming that stage and context (found by a probe: a fault in the skill's checkpoint
+// read "stage 'T', context 'DC6', checkpoint 8 evaluation", and T's folder kept SG's curve as T's).
+TrainResult train_first(const TrainOptions& sub, const std::string& why) {
+  try {
+    return train_stage(sub);
+  } catch (const EpisodeFault& f) {
+    throw EpisodeFault(f, "in training " + why + " first: stage '" + sub.stage + "', context '" + sub.context + "'");
+  }
 }
 
 // The simulated training seconds of the skills trained for this trial so far.
@@ -322,7 +335,7 @@ void batch_detail::bind_skills(Curriculum& cur, const CurriculumContext& ctx, co
       for (const auto& s : sources)
         given[s.name] = {{"policy", s.policy}, {"file", s.file}, {"trained", s.trained}, {"seed", s.trained_seed}};
       sub.given_skills = &given;
-      const TrainResult r = train_stage(sub);
+      const TrainResult r = train_first(sub, "its skill '" + name + "'");
       src.trained = true;
       src.trained_seed = options.seed;
       src.reached = r.reached;
@@ -359,6 +372,16 @@ EpisodeFault::EpisodeFault(const std::exception& e, std::string phase_in, int ep
   }
   no_placement = dynamic_cast<const PlacementError*>(&e) != nullptr;
 }
+
+EpisodeFault::EpisodeFault(const EpisodeFault& inner, const std::string& trained_first)
+    : Error(episode_fault_text(inner.cause, trained_first + ", " + inner.phase, inner.episode, inner.world_seed)),
+      cause(inner.cause),
+      phase(trained_first + ", " + inner.phase),
+      episode(inner.episode),
+      world_seed(inner.world_seed),
+      file(inner.file),
+      line(inner.line),
+      no_placement(inner.no_placement) {}
 
 std::string EpisodeFault::text_in(const std::string& where) const {
   return episode_fault_text(cause, where + ", " + phase, episode, world_seed);
@@ -528,7 +551,7 @@ void start_table(TrainResult& res, const CurriculumStage& stage, const Curriculu
         warm_start_table(res.psi, stage.learner, QTable::load(options.init_file, {}), options.init_file, &*res.init));
   } else if (!ctx.init_context.empty()) {
     const TrainOptions sub = first_training(options, ctx.init_stage, ctx.init_context);
-    const TrainResult first = train_stage(sub);
+    const TrainResult first = train_first(sub, "its init");
     res.init.emplace();
     res.init_trained = first.totals;
     res.init_reached = first.reached;

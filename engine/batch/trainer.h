@@ -29,6 +29,10 @@ namespace roger {
 struct EpisodeFault : Error {
   // Wraps `cause`, keeping its file:line when it is a ScriptError.
   EpisodeFault(const std::exception& cause, std::string phase, int episode, uint64_t world_seed);
+  // A fault of a stage and context trained first for this trial (a learned skill or the context's
+  // init), its phase preceded by `trained_first` ("in training its skill 'Phi_SG' first: stage
+  // 'SG', context 'DC2'"): the episode and world seed are that training's, not this trial's.
+  EpisodeFault(const EpisodeFault& inner, const std::string& trained_first);
   // The message with `where` (the stage and context, for a command that names them) in its note:
   // "<first line> (<where>, <phase> episode <k>, world seed <s>)<the other lines>".
   std::string text_in(const std::string& where) const;
