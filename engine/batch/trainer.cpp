@@ -265,6 +265,7 @@ TrainOptions first_training(const TrainOptions& options, const std::string& stag
   sub.init_file.clear();
   // Its episodes are not this trial's: a fault in it keeps nothing as this trial's progress.
   sub.progress_on_fault = nullptr;
+  sub.on_start = nullptr;
   return sub;
 }
 
@@ -709,6 +710,7 @@ TrainResult train_stage(const TrainOptions& options) {
     record_test_params(res, *teacher);
   }
   TrialEvaluations evaluate(run, teacher ? &*teacher : nullptr, options, res);
+  if (options.on_start) options.on_start(res);
   try {
     train_episodes(run, teacher ? &*teacher : nullptr, options, evaluate, res);
     if (options.final_evaluation)

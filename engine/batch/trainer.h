@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -90,6 +91,9 @@ struct TrainOptions {
   // checkpoints and teacher state, for the caller to keep (roger train writes them beside
   // error.json: write_faulted_train_outputs). The exception itself propagates unchanged.
   TrainResult* progress_on_fault = nullptr;
+  // Called once the trial's skills, table and scenario are set, before its first training episode,
+  // with the result so far (what it trains: roger train says so then, not only when it is done).
+  std::function<void(const TrainResult&)> on_start;
 };
 
 // A point of training: what had been spent when it was reached.

@@ -480,11 +480,13 @@ TrainOptions train_options(const TrainArgs& a) {
   return o;
 }
 
-// What the trial trained on: its stage's parameters, the --set, its skills and its warm start.
+// What the trial trains on: its stage's parameters, the --set, its skills and its warm start.
+// Said before its first training episode (found by a probe: a trial of minutes said nothing until
+// it ended, and nothing at all when stopped), so a mistaken --set or skill can be stopped early.
 void print_trained_on(const TrainArgs& a, const TrainResult& r) {
-  std::printf("roger train: %s stage %s context %s seed %llu (%zu action%s, %d states) in %s\n",
+  std::printf("roger train: %s stage %s context %s seed %llu (%zu action%s) in %s\n",
               r.curriculum_path.c_str(), r.stage.c_str(), r.context.c_str(), static_cast<unsigned long long>(r.seed),
-              r.psi.size(), r.psi.size() == 1 ? "" : "s", r.q->states(), r.scenario.c_str());
+              r.psi.size(), r.psi.size() == 1 ? "" : "s", r.scenario.c_str());
   print_stage_params(r.stage_params, r.stage, r.context, a.sets);
   // As roger eval says it, so that a trial on another body never reads as one on the default body.
   std::string sets;
@@ -519,7 +521,7 @@ void print_outcome(const TrainResult& r) {
   std::printf("  final policy   %.0f%% success over %s, reward %.1f +- %.1f\n", 100 * r.final_eval.success_rate,
               counted(r.final_eval.episodes, r.teaches ? "test task" : "held-out episode").c_str(), r.final_eval.reward_mean,
               r.final_eval.reward_std);
-  std::printf("  usage          %s\n", usage.c_str());
+  std::printf("  usage          %s (%s in the table)\n", usage.c_str(), counted(r.q->states(), "state").c_str());
 }
 
 // A stage that teaches: its teacher, what it did, and the tasks the scenario could not place.
@@ -540,6 +542,10 @@ void print_teacher(const TrainResult& r) {
 
 int command_train(const TrainArgs& a) {
   TrainOptions o = train_options(a);
+  o.on_start = [&a](const TrainResult& started) {
+    print_trained_on(a, started);
+    std::fflush(stdout);  // seen at once through a pipe or in a log
+  };
   check_skill_flags(o);
   check_train_out_folder(a.out);
   // A trial stopped part-way is no result: nothing is written, and the folder keeps what it had.
@@ -554,7 +560,6 @@ int command_train(const TrainArgs& a) {
     return interrupt_exit_status();
   }
   write_train_outputs(r, a.out);
-  print_trained_on(a, r);
   print_outcome(r);
   if (r.teaches) print_teacher(r);
   if (!r.reached || r.explain) {

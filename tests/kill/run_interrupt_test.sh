@@ -160,12 +160,19 @@ grep -q "^roger: stopping (SIGTERM): " "$work/log" || fail "no line says the run
 [ -z "$(find "$work/term/trials" -name error.json)" ] || fail "a trial SIGTERM stopped was recorded as failed"
 
 # roger train: a trial stopped part-way is no result. It says so, writes nothing and leaves its
-# folder as it was (here an earlier trial's policy.json).
+# folder as it was (here an earlier trial's policy.json). What it trains is said before its first
+# training episode (its skills trained first), not only at the end, so it is there when stopped.
 mkdir -p "$work/train"
 echo '{"earlier": true}' >"$work/train/policy.json"
 "$roger" train curricula/sorting.lua --stage Sort4 --context Learned --out "$work/train" >"$work/log" 2>&1 &
 child=$!
-sleep 1
+for _ in $(seq 600); do
+  grep -q "^roger train: curricula/sorting.lua stage Sort4 context Learned seed 1 (4 actions) in sorting$" "$work/log" &&
+    break
+  sleep 0.1
+done
+grep -q "^  skill Phi_SG        trained first: stage SG context DC2" "$work/log" ||
+  fail "roger train: what it trains was not said before training"
 stop_child
 [ "$status" -eq 130 ] || fail "roger train: exit status $status after Ctrl-C, not 130"
 grep -q "^roger: stopping: the trial ends at its next episode and writes nothing" "$work/log" ||
@@ -174,4 +181,4 @@ grep -q "^roger: stopping: the trial ends at its next episode and writes nothing
   fail "roger train: the last line does not say nothing was written"
 [ "$(cat "$work/train/policy.json")" = '{"earlier": true}' ] && [ "$(ls -A "$work/train")" = policy.json ] ||
   fail "roger train: the folder changed"
-echo "passed: one Ctrl-C keeps what finished and reports it; one during the report finishes it and exits 130; a kill during the report leaves summary.csv agreeing with the report; two stop at once, but not one delivered twice; both resume to the golden run; SIGTERM stops as one Ctrl-C and exits 143; roger train stopped writes nothing and says so"
+echo "passed: one Ctrl-C keeps what finished and reports it; one during the report finishes it and exits 130; a kill during the report leaves summary.csv agreeing with the report; two stop at once, but not one delivered twice; both resume to the golden run; SIGTERM stops as one Ctrl-C and exits 143; roger train says what it trains at its start, and stopped writes nothing and says so"
