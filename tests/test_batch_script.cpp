@@ -551,3 +551,52 @@ TEST_CASE("a batch script's wrong type says what it got, a misspelt context its 
                                                       "mean 'DC2'?); its contexts are 'B1', 'DC1', 'DC2'"));
   fs::remove_all(dir);
 }
+
+// Found by a probe: a batch script's mistakes came one roger check at a time. Each entry's first
+// problem is said; entries naming a run that was not read wait for the fix, and say so.
+TEST_CASE("roger check says every entry's problem, and which entries wait for a fix", "[batch_script]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_batch_all_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path file = dir / "all.lua";
+  std::ofstream(file) << "return {\n"
+                         "  name = 'all', curriculum = 'paper', trials = 2,\n"
+                         "  runs = {\n"
+                         "    { name = 'SG', stage = 'SG', contexts = { 'B1', 'DC9' } },\n"
+                         "    { name = 'SG2', stage = 'SGG' },\n"
+                         "    { name = 'T', stage = 'T', contexts = { 'B2' }, skills = { Phi_SG = { run = 'SG', context = 'DC2' } } },\n"
+                         "  },\n"
+                         "  tables = {\n"
+                         "    { title = 'x', run = 'SG' },\n"
+                         "    { title = 'y', evaluation = 'none' },\n"
+                         "  },\n"
+                         "  figures = { { file = 'f', run = 'SG', kind = 'pie' } },\n"
+                         "}\n";
+  BatchProblems problems;
+  check_batch_script(file.string(), {}, problems);
+  REQUIRE(problems.errors.size() == 2);
+  CHECK_THAT(problems.errors[0].what(), Catch::Contains("all.lua:4: run 'SG': stage 'SG' has no context 'DC9'"));
+  CHECK_THAT(problems.errors[1].what(), Catch::Contains("all.lua:5: run 'SG2': the curriculum"));
+  CHECK_THAT(problems.errors[1].what(), Catch::Contains("'SGG'"));
+  CHECK(problems.unchecked == std::vector<std::string>{"run 'T'", "table 'x'", "table 'y'", "figure 'f'"});
+  // roger run stops at the first, as before.
+  CHECK_THAT(load_error(file.string()), Catch::Contains("all.lua:4:") && !Catch::Contains("all.lua:5:"));
+
+  // Without a problem in the runs, every table and figure is read.
+  std::ofstream(file) << "return {\n"
+                         "  name = 'all', curriculum = 'paper', trials = 2,\n"
+                         "  runs = { { name = 'SG', stage = 'SG', contexts = { 'B1', 'DC1' } } },\n"
+                         "  tables = {\n"
+                         "    { title = 'x', run = 'SG', baseline = 'DC2' },\n"
+                         "    { title = 'y', evaluation = 'none' },\n"
+                         "  },\n"
+                         "  figures = { { file = 'f', run = 'SG', kind = 'pie' } },\n"
+                         "}\n";
+  problems = {};
+  check_batch_script(file.string(), {}, problems);
+  REQUIRE(problems.errors.size() == 3);
+  CHECK_THAT(problems.errors[0].what(), Catch::Contains("all.lua:5: table 'x': run 'SG' has no context 'DC2'"));
+  CHECK_THAT(problems.errors[1].what(), Catch::Contains("all.lua:6: table 'y': no evaluation 'none'"));
+  CHECK_THAT(problems.errors[2].what(), Catch::Contains("all.lua:8: figure 'f': 'kind' is"));
+  CHECK(problems.unchecked.empty());
+  fs::remove_all(dir);
+}

@@ -71,7 +71,13 @@ int check_batch(const std::string& path, const std::string& shown, const LuaLimi
   overrides.sets = sets;
   overrides.instructions = lua.instructions;
   overrides.memory_mib = lua.memory_mib;
-  const BatchScript b = load_batch_script(path, overrides);
+  BatchProblems problems;
+  const BatchScript b = check_batch_script(path, overrides, problems);
+  for (const ScriptError& e : problems.errors) std::fprintf(stderr, "roger: error: %s\n", e.what());
+  if (!problems.unchecked.empty())
+    std::fprintf(stderr, "roger: note: not checked, since %s a run or an evaluation that was not read: %s\n",
+                 problems.unchecked.size() == 1 ? "it names" : "each names", join(problems.unchecked).c_str());
+  if (!problems.errors.empty()) return 1;
   // The curriculum it runs, as `roger check CURRICULUM` reads it (found by a probe: a curriculum
   // whose check failed on an undefined global passed as its batch script's).
   std::error_code ec;

@@ -275,6 +275,53 @@ void check_scenario_params(const std::string& scenario, const Params& params, co
   }
 }
 
+// How reading goes on after an entry's problem: roger run stops at the first (thrown); roger check
+// reads every entry of runs, evaluations, tables and figures, collecting each one's first problem.
+// Once one has a problem, an entry naming a run or an evaluation not read (that one, or a misspelt
+// name, which the list of names would then give wrong) is left for the check after the fix (found
+// by a probe: a script's mistakes came one roger check at a time).
+struct EntryProblems {
+  BatchProblems* out = nullptr;  // null: the first problem is thrown
+  const BatchScript& b;
+  bool failed = false;  // a run or an evaluation was not read
+
+  // Whether `j` names, as a 'run' or an 'evaluation' at any depth, one not read.
+  bool names_unread(const json& j) const {
+    if (j.is_array()) return std::any_of(j.begin(), j.end(), [&](const json& e) { return names_unread(e); });
+    if (!j.is_object()) return false;
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      if (it->is_string() && it.key() == "run" && !b.run(it->get<std::string>())) return true;
+      if (it->is_string() && it.key() == "evaluation" &&
+          std::none_of(b.evaluations.begin(), b.evaluations.end(), [&](const BatchEvaluation& e) { return e.name == *it; }))
+        return true;
+      if (names_unread(*it)) return true;
+    }
+    return false;
+  }
+
+  // Reads the entry `j`, a `kind` ("run", "table"), with `read`.
+  template <class Read>
+  void entry(const json& j, const std::string& kind, Read&& read) {
+    if (out && failed && names_unread(j)) {
+      std::string label = kind;
+      for (const char* key : {"name", "title", "file"})
+        if (j.is_object() && j.contains(key) && j[key].is_string()) {
+          label += " '" + j[key].get<std::string>() + "'";
+          break;
+        }
+      out->unchecked.push_back(label);
+      return;
+    }
+    try {
+      read();
+    } catch (const ScriptError& e) {
+      if (!out) throw;
+      out->errors.push_back(e);
+      failed = failed || kind == "run" || kind == "evaluation";  // what later entries may name
+    }
+  }
+};
+
 // The line of the table named `name` (a run's or an evaluation's): where the name is written, or
 // where a table with `marker` gets a computed name (built in a loop), else `list_line`.
 int table_line(const Reader& rd, const std::string& name, const std::string& marker, int list_line) {
@@ -349,7 +396,7 @@ BatchRun read_run(const json& rj, const Reader& rd, int runs_line, const Curricu
 
 // Reads 'runs', in order (a run takes skills only from the runs before it).
 void read_runs(const json& top, const Reader& rd, int top_line, const Curriculum& cur,
-               const BatchOverrides& overrides, BatchScript& b) {
+               const BatchOverrides& overrides, BatchScript& b, EntryProblems& problems) {
   std::vector<std::string> stage_names;
   for (const auto& st : cur.stages()) stage_names.push_back(st.name);
 
@@ -357,10 +404,8 @@ void read_runs(const json& top, const Reader& rd, int top_line, const Curriculum
   const int runs_line = rd.line_of_key("runs", 1);
   if (!top["runs"].is_array() || top["runs"].empty())
     rd.fail(runs_line, "the batch script: 'runs' must be a non-empty list of {name = ..., stage = ..., contexts = {...}}");
-  for (const json& rj : top["runs"]) {
-    BatchRun r = read_run(rj, rd, runs_line, cur, stage_names, overrides, b);
-    b.runs.push_back(std::move(r));
-  }
+  for (const json& rj : top["runs"])
+    problems.entry(rj, "run", [&] { b.runs.push_back(read_run(rj, rd, runs_line, cur, stage_names, overrides, b)); });
 }
 
 // Reads one evaluation of 'evaluations' (written from line `el` on).
@@ -447,14 +492,12 @@ BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const 
 
 // Reads the optional 'evaluations'.
 void read_evaluations(const json& top, const Reader& rd, const BatchOverrides& overrides, const Curriculum& cur,
-                      BatchScript& b) {
+                      BatchScript& b, EntryProblems& problems) {
   if (top.contains("evaluations")) {
     const int el = rd.line_of_key("evaluations", 1);
     if (!top["evaluations"].is_array()) rd.fail(el, "the batch script: 'evaluations' must be a list");
-    for (const json& ej : top["evaluations"]) {
-      BatchEvaluation e = read_evaluation(ej, rd, el, overrides, cur, b);
-      b.evaluations.push_back(std::move(e));
-    }
+    for (const json& ej : top["evaluations"])
+      problems.entry(ej, "evaluation", [&] { b.evaluations.push_back(read_evaluation(ej, rd, el, overrides, cur, b)); });
   }
 }
 
@@ -632,15 +675,13 @@ BatchTable read_table(const json& tj, const Reader& rd, int& at, const Curriculu
 }
 
 // Reads 'tables' (default: one per run against its first context, one per evaluation).
-void read_tables(const json& top, const Reader& rd, const Curriculum& cur, BatchScript& b) {
+void read_tables(const json& top, const Reader& rd, const Curriculum& cur, BatchScript& b, EntryProblems& problems) {
   if (top.contains("tables")) {
     const int tl = rd.line_of_key("tables", 1);
     if (!top["tables"].is_array()) rd.fail(tl, "the batch script: 'tables' must be a list");
     int at = tl;
-    for (const json& tj : top["tables"]) {
-      BatchTable t = read_table(tj, rd, at, cur, b);
-      b.tables.push_back(std::move(t));
-    }
+    for (const json& tj : top["tables"])
+      problems.entry(tj, "table", [&] { b.tables.push_back(read_table(tj, rd, at, cur, b)); });
   } else {
     for (const auto& r : b.runs) {
       BatchTable t;
@@ -751,15 +792,13 @@ BatchFigure read_figure(const json& fj, const Reader& rd, int& at, const Curricu
 
 // Reads 'figures' (default: learning curves of every run, cumulative times of every run with
 // skills).
-void read_figures(const json& top, const Reader& rd, const Curriculum& cur, BatchScript& b) {
+void read_figures(const json& top, const Reader& rd, const Curriculum& cur, BatchScript& b, EntryProblems& problems) {
   if (top.contains("figures")) {
     const int fl = rd.line_of_key("figures", 1);
     if (!top["figures"].is_array()) rd.fail(fl, "the batch script: 'figures' must be a list");
     int at = fl;
-    for (const json& fj : top["figures"]) {
-      BatchFigure f = read_figure(fj, rd, at, cur, b);
-      b.figures.push_back(std::move(f));
-    }
+    for (const json& fj : top["figures"])
+      problems.entry(fj, "figure", [&] { b.figures.push_back(read_figure(fj, rd, at, cur, b)); });
   } else {
     for (const auto& r : b.runs) {
       // Named by the run too when it is not the stage's name (found by a probe: the figures of runs
@@ -838,8 +877,11 @@ std::vector<std::string> batch_eval_groups(const BatchEvaluation& e) {
   return e.shapes.empty() ? std::vector<std::string>{"all"} : e.shapes;
 }
 
-BatchScript load_batch_script(const std::string& path_in, const BatchOverrides& overrides,
-                              const SandboxLimits& limits_in) {
+namespace {
+
+// load_batch_script, or with `collected` check_batch_script.
+BatchScript read_batch_script(const std::string& path_in, const BatchOverrides& overrides,
+                              const SandboxLimits& limits_in, BatchProblems* collected) {
   const std::string path = resolve_script(path_in);
   // Run as a batch script, a curriculum fails inside its first roger.primitive (no such API here),
   // a scenario inside its first require of a scenario library.
@@ -860,12 +902,23 @@ BatchScript load_batch_script(const std::string& path_in, const BatchOverrides& 
 
   read_header(top, rd, top_line, path, overrides, b);
   const std::unique_ptr<Curriculum> cur = load_curriculum(rd, path, b.limits, b);
-  read_runs(top, rd, top_line, *cur, overrides, b);
-  read_evaluations(top, rd, overrides, *cur, b);
-  read_tables(top, rd, *cur, b);
-  read_figures(top, rd, *cur, b);
+  EntryProblems problems{collected, b};
+  read_runs(top, rd, top_line, *cur, overrides, b, problems);
+  read_evaluations(top, rd, overrides, *cur, b, problems);
+  read_tables(top, rd, *cur, b, problems);
+  read_figures(top, rd, *cur, b, problems);
   b.ordered_runs();  // rejects cycles (impossible with earlier-run skills, kept as a guard)
   return b;
+}
+
+}  // namespace
+
+BatchScript load_batch_script(const std::string& path, const BatchOverrides& overrides, const SandboxLimits& limits) {
+  return read_batch_script(path, overrides, limits, nullptr);
+}
+
+BatchScript check_batch_script(const std::string& path, const BatchOverrides& overrides, BatchProblems& problems) {
+  return read_batch_script(path, overrides, {}, &problems);
 }
 
 bool is_batch_script(const std::string& path) {

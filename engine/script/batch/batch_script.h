@@ -160,6 +160,18 @@ struct BatchOverrides {
 BatchScript load_batch_script(const std::string& path, const BatchOverrides& overrides = {},
                               const SandboxLimits& limits = {});
 
+// What roger check finds in a batch script's entries (runs, evaluations, tables, figures): each
+// entry's first problem, in the script's order, and the entries left unread for naming a run or an
+// evaluation not read ("run 'T'", "table 'Table I'"): their check follows once the problems are fixed.
+struct BatchProblems {
+  std::vector<ScriptError> errors;
+  std::vector<std::string> unchecked;
+};
+
+// load_batch_script reading every entry: their problems go into `problems` (the script is whole
+// only when there are none); a problem before the entries (the header, the curriculum) is thrown.
+BatchScript check_batch_script(const std::string& path, const BatchOverrides& overrides, BatchProblems& problems);
+
 // Whether the file reads as a batch script: it sets `runs`, `curriculum` or `evaluations`
 // (script_has_key), as scripts/paper.lua and scripts/quick.lua (`quick.evaluations = ...`) do.
 bool is_batch_script(const std::string& path);
