@@ -276,9 +276,17 @@ int World::region_of(int i) const {
   const Pose pose = object_pose(i);
   const Vec2 center(pose.x, pose.y);
   const std::vector<GoalRegion>& goals = model_->spec.goals;
-  for (size_t g = 0; g < goals.size(); ++g)
-    if ((center - goals[g].center).norm() <= goals[g].radius) return int(g);
-  return -1;
+  const Colour& colour = model_->spec.objects[size_t(i)].colour;
+  // Regions may overlap (a sorting world's grow with their objects): one inside its own region
+  // lies there, whatever other region holds it too (found by a probe: every object of a 12-object
+  // world in its own region, one of them also in a neighbour's listed first, and the sort failed).
+  int first = -1;
+  for (size_t g = 0; g < goals.size(); ++g) {
+    if ((center - goals[g].center).norm() > goals[g].radius) continue;
+    if (goals[g].colour == colour) return int(g);
+    if (first < 0) first = int(g);
+  }
+  return first;
 }
 
 int World::stimulus_objects() const {

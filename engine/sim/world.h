@@ -117,7 +117,8 @@ class World {
   // Whether Roger touches object i with the body or a hand at the last sensing (the true touch:
   // who holds what is the task's fact, never a noisy one).
   bool held(int i) const;
-  // The goal region holding object i's centre (the first, by index into the spec's goals), or -1.
+  // The goal region holding object i's centre, or -1: the region of its colour when that is one of
+  // them (regions may overlap), else the first, by index into the spec's goals.
   int region_of(int i) const;
   Vec2 object_velocity(int i) const;
   Vec2 hand_position(int side) const;                 // centre of the hand body, world frame
