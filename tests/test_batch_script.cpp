@@ -162,7 +162,9 @@ TEST_CASE("scenario parameters and shapes are tried on their scenario when the s
     FAIL("a --set of no parameter was blamed on the script's line: " << e.what());
   } catch (const Error& e) {  // the command line's mistake, said as such
     CHECK_THAT(e.what(), Catch::StartsWith("--set foo=1: run 'SG': scenario 'unobstructed'") &&
-                             Catch::Contains("has no parameter 'foo'"));
+                             Catch::Contains("has no parameter 'foo'") &&
+                             Catch::Contains("a --set goes to every run of the script, whatever --only selects; to "
+                                             "set it on some runs only, give it in their `params`"));
   }
   sets.sets = {{"obstacles", "99"}};  // cluttered's, not the training world's
   CHECK_THAT(load_error_with("tests/scripts/kill_batch.lua", sets), Catch::Contains("has no parameter 'obstacles'"));

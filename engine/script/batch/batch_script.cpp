@@ -254,8 +254,14 @@ void check_scenario_params(const std::string& scenario, const Params& params, co
     try {
       s.set_param(param.first, param.second);
     } catch (const Error& e) {
+      // A --set goes to every run, those --only leaves out too (a folder's trials all share it):
+      // say how to set it on some runs only (found by a probe: a sorting parameter could not be
+      // varied by --set with the paper's stages in the script).
       if (std::find(sets.begin(), sets.end(), param) != sets.end())
-        throw Error("--set " + param.first + "=" + param.second + ": " + what + ": " + e.what());
+        throw Error("--set " + param.first + "=" + param.second + ": " + what + ": " + e.what() +
+                    "\n  a --set goes to every run of the script, whatever --only selects; to set it on some runs "
+                    "only, give it in their `params` (runs = {{name = ..., params = {" + param.first + " = ...}}}, "
+                    "docs/batch.md) in a script of your own");
       rd.fail(line, what + ": " + e.what());
     }
   }
