@@ -1,7 +1,10 @@
 #include "core/install.h"
 
 #include <dlfcn.h>
+#include <link.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <fstream>
 #include <string>
 
@@ -20,15 +23,33 @@ std::optional<fs::path> executable_path() {
 
 namespace {
 
+// Where the program's own image starts in memory (dladdr's dli_fbase of code inside it): the lowest
+// loaded segment of the first object dl_iterate_phdr lists, which is the program.
+int note_program_start(dl_phdr_info* info, size_t, void* start) {
+  uintptr_t lowest = UINTPTR_MAX;
+  for (int k = 0; k < info->dlpi_phnum; ++k)
+    if (info->dlpi_phdr[k].p_type == PT_LOAD)
+      lowest = std::min(lowest, uintptr_t(info->dlpi_addr + info->dlpi_phdr[k].p_vaddr));
+  *static_cast<uintptr_t*>(start) = lowest;
+  return 1;  // the first entry is the program; stop there
+}
+
 // The file of the shared object this code is in (the Python module's), or nullopt when it is the
 // program itself or the system does not say.
 std::optional<fs::path> shared_object_path(const std::optional<fs::path>& exe) {
   Dl_info info{};
   if (!dladdr(reinterpret_cast<void*>(&installed_data_dir), &info) || !info.dli_fname || !*info.dli_fname)
     return std::nullopt;
+  // For code in the program itself glibc names argv[0] ("roger" when found on PATH), which is no
+  // path to it (found by a probe: roger run from PATH took it for the Python module, found no data
+  // beside "roger" and read the source tree it was built from, or a data_dir.txt in the current
+  // folder): the program is told by where its image starts, which its file name cannot tell.
+  uintptr_t program_start = 0;
+  dl_iterate_phdr(note_program_start, &program_start);
+  if (uintptr_t(info.dli_fbase) == program_start) return std::nullopt;
   std::error_code ec;
   const fs::path object = fs::weakly_canonical(info.dli_fname, ec);
-  if (ec || (exe && fs::equivalent(object, *exe, ec))) return std::nullopt;
+  if (ec || !object.is_absolute() || (exe && fs::equivalent(object, *exe, ec))) return std::nullopt;
   return object;
 }
 

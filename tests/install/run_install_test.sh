@@ -97,6 +97,15 @@ checks() {
   grep -q "project folder: $tree/share/roger, installed beside the program" "$work/myquick.log" ||
     { cat "$work/myquick.log"; echo "roger check did not name the installed project folder"; return 1; }
   rm -rf "$work/copied"
+  # Called by its bare name through PATH, as an installed program is, it reads its own tree too, and
+  # a data_dir.txt in the current folder means nothing to it (found by a probe: glibc names such a
+  # program by argv[0], "roger", and it was taken for the Python module and read the source tree).
+  echo "$work/elsewhere" >"$work/elsewhere/data_dir.txt"
+  (PATH="$tree/bin:$PATH" roger check myquick.lua >"$work/on_path.log" 2>&1) ||
+    { cat "$work/on_path.log"; echo "roger on PATH: roger check of a copy of quick.lua"; return 1; }
+  grep -q "project folder: $tree/share/roger, installed beside the program" "$work/on_path.log" ||
+    { cat "$work/on_path.log"; echo "roger on PATH did not read its installed tree"; return 1; }
+  rm "$work/elsewhere/data_dir.txt"
   # The docs' commands name docs/examples/...: installed, an error says where they are (found by
   # a probe: "no such file here or in the project", and nothing more).
   if "$roger" check docs/examples/corridor.lua >"$work/docs_example.log" 2>&1 ||
