@@ -590,6 +590,31 @@ TEST_CASE("a copy of a shipped batch script works in a folder of one's own", "[c
   fs::remove_all(lab);
 }
 
+// Found by a probe: with ROGER_HOME a project of one's own, require found the shipped libraries but
+// a stage's scenario = "unobstructed" was not found, and the message called the lab's own scenarios
+// "shipped".
+TEST_CASE("a project of one's own finds the shipped scenarios after its own", "[cli]") {
+  const fs::path home = fs::temp_directory_path() / ("roger_cli_ownhome_" + std::to_string(::getpid()));
+  fs::remove_all(home);
+  for (const char* sub : {"scenarios", "curricula", "scripts"}) fs::create_directories(home / sub);
+  fs::copy_file("curricula/paper.lua", home / "curricula/mypaper.lua");
+  std::ofstream(home / "scenarios/blue_ball.lua") << slurp("scenarios/unobstructed.lua");
+  const std::string env = "ROGER_HOME=" + home.string();
+  const Run r = roger_in(home, "check curricula/mypaper.lua", env);
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::StartsWith("curricula/mypaper.lua: ok (curriculum 'paper'"));
+  std::ofstream(home / "curricula/typo.lua")
+      << "local p = require('lib.skills').primitives()\n"
+         "return { name = 'typo', stages = { roger.stage{ name = 'S', scenario = 'unobstructd', time_limit = 2,\n"
+         "  absorbing = roger.converged(p.phi0), contexts = { { name = 'A', actions = { p.phi0 } } } } } }\n";
+  const Run typo = roger_in(home, "check curricula/typo.lua", env);
+  CHECK(typo.status == 1);
+  CHECK_THAT(typo.err, Catch::Matchers::Contains("no scenario 'unobstructd' (did you mean 'unobstructed'?)") &&
+                           Catch::Matchers::Contains("scenarios in scenarios/: blue_ball, cluttered, sorting, unobstructed"));
+  fs::remove_all(home);
+}
+
 // Found by a probe: from a folder other than the project root, a second skills.Phi6(p) was placed
 // in curricula/lib/skills.lua, without the remedy, since the library's relative chunk name was
 // resolved against the working folder.

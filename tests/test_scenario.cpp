@@ -619,7 +619,7 @@ TEST_CASE("script mistakes are reported at the script's file:line", "[scenario]"
   SECTION("a missing scenario names the nearest and lists the shipped ones") {
     CHECK_THROWS_WITH(Scenario::load("clutered"),
                       "no scenario 'clutered' (did you mean 'cluttered'?): not a file, and scenarios/clutered.lua does not "
-                      "exist; shipped scenarios: cluttered, sorting, unobstructed");
+                      "exist; scenarios in scenarios/: cluttered, sorting, unobstructed");
   }
 }
 

@@ -108,6 +108,18 @@ std::string lua_file_here(const std::string& name) {
   return bare && fs::is_regular_file(file, ec) ? file : std::string();
 }
 
+// The shipped tree (installed, or the source tree this roger was built from) when ROGER_HOME names
+// a project of one's own: its libraries and scripts are found after the project's.
+std::optional<fs::path> shipped_tree_apart() {
+  std::error_code ec;
+  const fs::path project = fs::weakly_canonical(project_root(), ec);
+  if (ec || !fs::is_directory(project, ec)) return std::nullopt;  // a ROGER_HOME naming nothing is said as such
+  const std::optional<fs::path> installed = installed_data_dir();
+  const fs::path shipped = fs::weakly_canonical(installed ? *installed : fs::path(ROGER_SOURCE_DIR), ec);
+  if (ec || shipped == project || !fs::is_directory(shipped / "scenarios", ec)) return std::nullopt;
+  return shipped;
+}
+
 std::vector<fs::path> module_search_roots(const fs::path& main_folder, bool batch_script) {
   std::vector<fs::path> roots;
   if (!main_folder.empty()) roots.push_back(main_folder);
@@ -130,11 +142,9 @@ std::vector<fs::path> module_search_roots(const fs::path& main_folder, bool batc
   // Last, with ROGER_HOME naming a project of one's own, the shipped tree's folders (installed, or
   // the source tree), so that its libraries (lib.shapes, lib.skills) are found without copying
   // them (found by a probe: a lab's project folder could use none of them).
-  const std::optional<fs::path> installed = installed_data_dir();
-  const fs::path shipped = fs::weakly_canonical(installed ? *installed : fs::path(ROGER_SOURCE_DIR), ec);
-  if (!ec && shipped != p && fs::is_directory(shipped / "scenarios", ec))
+  if (const std::optional<fs::path> shipped = shipped_tree_apart())
     for (const char* name : order) {
-      const fs::path q = fs::weakly_canonical(shipped / name, ec);
+      const fs::path q = fs::weakly_canonical(*shipped / name, ec);
       if (!ec && std::find(roots.begin(), roots.end(), q) == roots.end()) roots.push_back(q);
     }
   return roots;
@@ -487,15 +497,22 @@ std::string resolve_script_path(const std::string& arg, const std::string& folde
   const bool bare = arg.find('/') == std::string::npos;
   const std::string file = fs::path(arg).extension() == ".lua" ? arg : arg + ".lua";
   if (bare && fs::is_regular_file(folder / file, ec)) return text_script((folder / file).string());
+  // Then the shipped tree's, as require finds its libraries (found by a probe: with ROGER_HOME a
+  // project of one's own, a copy of paper.lua could not find the scenario 'unobstructed').
+  const std::optional<fs::path> shipped = shipped_tree_apart();
+  if (bare && shipped && fs::is_regular_file(*shipped / folder_name / file, ec))
+    return text_script((*shipped / folder_name / file).string());
   // A path relative to the project (tests/scripts/x.lua, or one a script named and the loader
   // recorded so) is the same file from any folder.
   if (!bare && fs::path(arg).is_relative() && fs::is_regular_file(project_root() / arg, ec))
     return text_script((project_root() / arg).string());
-  std::vector<std::string> shipped;
-  for (const auto& entry : fs::directory_iterator(folder, ec))
-    if (entry.path().extension() == ".lua" && (!accept || accept(entry.path().string())))
-      shipped.push_back(entry.path().stem().string());
-  std::sort(shipped.begin(), shipped.end());
+  std::vector<std::string> known;  // the project's and the shipped tree's
+  for (const fs::path& in : {folder, shipped ? *shipped / folder_name : folder})
+    for (const auto& entry : fs::directory_iterator(in, ec))
+      if (entry.path().extension() == ".lua" && (!accept || accept(entry.path().string())))
+        known.push_back(entry.path().stem().string());
+  std::sort(known.begin(), known.end());
+  known.erase(std::unique(known.begin(), known.end()), known.end());
   // Which project was looked in, when it is not the source tree this roger was built from (the
   // tests' and a developer's): an installed tree's, or $ROGER_HOME's, which may point nowhere.
   const char* home = std::getenv("ROGER_HOME");
@@ -505,11 +522,11 @@ std::string resolve_script_path(const std::string& arg, const std::string& folde
   const std::string here = lua_file_here(arg);
   const std::string hint =
       (here.empty() ? "" : "; " + here + " is a file here: name it with its \".lua\"") + installed_docs_hint(arg);
-  const std::string nearest = bare ? suggestion(fs::path(arg).stem().string(), shipped) : "";
+  const std::string nearest = bare ? suggestion(fs::path(arg).stem().string(), known) : "";
   throw Error("no " + kind + " '" + arg + "'" + nearest + ": " +
               (bare ? "not a file, and " + folder_name + "/" + file + " does not exist" + where
                     : std::string(fs::exists(arg, ec) ? "not a regular file" : "no such file here or in the project" + where)) +
-              hint + (shipped.empty() ? "" : "; " + list_label + ": " + join(shipped)));
+              hint + (known.empty() ? "" : "; " + list_label + ": " + join(known)));
 }
 
 }  // namespace roger

@@ -397,7 +397,7 @@ WorldSpec Scenario::generate_world(uint64_t seed) {
 }
 
 std::string resolve_scenario_path(const std::string& arg) {
-  return resolve_script_path(arg, "scenarios", "scenario", "shipped scenarios");
+  return resolve_script_path(arg, "scenarios", "scenario", "scenarios in scenarios/");
 }
 
 namespace {
