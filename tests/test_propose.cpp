@@ -258,6 +258,11 @@ TEST_CASE("propose refuses bad input with a clear message", "[propose]") {
   o = sg_options(dir.path / "x");
   o.context = "DC9";
   CHECK_THROWS_WITH(propose_curriculum(o), Catch::Contains("DC9") && Catch::Contains("B1"));
+  // Found by a probe: each probe trial runs an episode whatever its cap; 100 of them spent 1000 s of 300.
+  o = sg_options(dir.path / "x", 300);
+  o.probe_trials = 100;
+  CHECK_THROWS_WITH(propose_curriculum(o), Catch::Contains("each of the 100 probe trials would get 0.6 simulated s") &&
+                                               Catch::Contains("time limit of 5 simulated s"));
   CHECK_FALSE(fs::exists(dir.path / "x" / "proposal.lua"));
   // A folder that cannot be made fails at once, not after the probe's training.
   std::ofstream(dir.path / "a_file") << "x";
@@ -503,6 +508,12 @@ TEST_CASE("propose resumes however the curriculum is spelt, and leaves the folde
   std::ofstream(dir.path / "a" / "probe" / "probe-7.json") << "{}\n";
   propose_curriculum(o);
   CHECK(tree(dir.path / "a") == files);
+  // A file of the user's own there stays (found by a probe: notes and an edited candidate vanished).
+  std::ofstream(dir.path / "a" / "trials" / "my_analysis.txt") << "notes\n";
+  std::ofstream(dir.path / "a" / "candidates" / "my_edit.lua") << "return {}\n";
+  propose_curriculum(o);
+  CHECK(fs::exists(dir.path / "a" / "trials" / "my_analysis.txt"));
+  CHECK(fs::exists(dir.path / "a" / "candidates" / "my_edit.lua"));
 }
 
 // Found by a probe: a context whose world cannot be built failed inside the probe, after
