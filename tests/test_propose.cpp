@@ -404,6 +404,33 @@ TEST_CASE("propose lists every refusal of a command at once", "[propose]") {
   CHECK_FALSE(fs::exists(dir.path / "x"));
 }
 
+// Found by a probe: a stage with a context named P (a proposal's own) trained the probe, then failed
+// inside the first candidate with a traceback, leaving no proposal.
+TEST_CASE("propose refuses a stage with a context named P before the probe", "[propose]") {
+  test::TempDir dir("roger_propose");
+  const fs::path home = fixture_home(dir.path);
+  std::ofstream(home / "curricula" / "withp.lua")
+      << "local p = require('lib.skills').primitives()\n"
+         "return { name = 'withp', stages = { roger.stage{ name = 'G', scenario = 'unobstructed', time_limit = 5,\n"
+         "  absorbing = roger.converged(p.phi3), budget = { episodes = 50 },\n"
+         "  checkpoints = { every = 10, episodes = 5, threshold = 0.9 },\n"
+         "  contexts = { { name = 'A', actions = { p.phi1, p.phi3 } }, { name = 'P', actions = { p.phi3 } } } } } }\n";
+  setenv("ROGER_HOME", home.c_str(), 1);
+  ProposeOptions o = sg_options(dir.path / "x", 3000);
+  o.curriculum = "withp";
+  o.stage = "G";
+  o.context = "A";
+  std::string message;
+  try {
+    propose_curriculum(o);
+  } catch (const std::exception& e) {
+    message = e.what();
+  }
+  unsetenv("ROGER_HOME");
+  CHECK_THAT(message, Catch::Contains("is named 'P', the name the proposal gives its own context"));
+  CHECK_FALSE(fs::exists(dir.path / "x" / "probe"));
+}
+
 TEST_CASE("propose says plainly when its probe saw no success", "[propose]") {
   test::TempDir dir("roger_propose");
   // 150 s: 2 probes of 15 s, too short to grasp by exploration.

@@ -154,6 +154,12 @@ void check_context(const CurriculumStage& stage, const CurriculumContext& ctx) {
   if (!ctx.learned.empty())
     throw Error("roger propose: " + stage.where(ctx.name) + " uses learned skills; start from a context of the stage's " +
                 "own controllers (the proposal's subgoal stages are what learns skills)");
+  // The proposal names its own context P beside the stage's (found by a probe: a stage with a
+  // context P, a proposal's own, trained the probe and then failed inside the first candidate).
+  for (const CurriculumContext& c : stage.contexts)
+    if (c.name == "P")
+      throw Error("roger propose: " + stage.where(c.name) + " is named 'P', the name the proposal gives its own context "
+                  "beside the stage's; rename it (a proposal proposed from again: name its P otherwise first)");
   // The probe would train the warm start too, and no proposal context has one to compare with.
   if (!ctx.init_context.empty())
     throw Error("roger propose: " + stage.where(ctx.name) + " starts from the Q-table of context '" + ctx.init_context +
