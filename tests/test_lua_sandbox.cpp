@@ -343,6 +343,10 @@ TEST_CASE("require resolves dotted names inside the script folders only", "[lua_
     CHECK_THAT(e.message, Contains("scenarios/no/such/module.lua"));
     CHECK_THAT(e.message, Contains("curricula/no/such/module.lua"));
   }
+  SECTION("a misspelt module names the nearest one require would load") {
+    sandbox.load_string("return require('lib.skill')", "@r.lua");
+    CHECK_THROWS_WITH(sandbox.call(0, 1), StartsWith("r.lua:1: module 'lib.skill' not found (did you mean 'lib.skills'?); searched:"));
+  }
   SECTION("a name neither string nor number is refused; a number is its text, as in Lua") {
     sandbox.load_string("return require({})", "@r.lua");
     CHECK_THROWS_WITH(sandbox.call(0, 1), Contains("require expects a module name"));

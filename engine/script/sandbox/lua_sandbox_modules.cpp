@@ -12,6 +12,7 @@
 #include <lua.hpp>
 
 #include "core/fileio.h"
+#include "core/text.h"
 #include "script/sandbox/lua_sandbox_internal.h"
 
 namespace roger {
@@ -137,6 +138,29 @@ ModuleSearch search_module(const std::vector<fs::path>& roots, const std::string
   return out;
 }
 
+// The modules require could load from `roots` (dotted names, "lib.skills"), for a misspelt name's
+// nearest (found by a probe: require("lib.skill") listed the places searched, and no "did you mean").
+std::vector<std::string> module_names(const std::vector<fs::path>& roots) {
+  std::vector<std::string> names;
+  for (const fs::path& root : roots) {
+    std::error_code ec;
+    for (auto it = fs::recursive_directory_iterator(root, ec); !ec && it != fs::recursive_directory_iterator();
+         it.increment(ec)) {
+      const std::string base = it->path().filename().string();
+      if (it.depth() >= 3 || base.front() == '.') it.disable_recursion_pending();  // not .git's
+      if (it->path().extension() != ".lua") continue;
+      fs::path rel = it->path().lexically_relative(root);
+      rel.replace_extension();
+      std::string dotted;
+      for (const auto& part : rel) dotted += (dotted.empty() ? "" : ".") + part.string();
+      names.push_back(dotted);
+    }
+  }
+  std::sort(names.begin(), names.end());
+  names.erase(std::unique(names.begin(), names.end()), names.end());
+  return names;
+}
+
 // Finds module `name` in the sandbox's roots: sets `found` and `shown`, or `error` (an invalid
 // name, a require cycle, a file outside the roots or no file at all).
 void locate_module(const LuaSandbox::Impl& s, const std::string& name, fs::path& found,
@@ -179,7 +203,7 @@ void locate_module(const LuaSandbox::Impl& s, const std::string& name, fs::path&
                     : project ? candidate + " (in the project)"
                               : candidate + " (in the project " + root.parent_path().string() + ")");
   }
-  error = "module '" + name + "' not found; searched:";
+  error = "module '" + name + "' not found" + suggestion(name, module_names(s.roots)) + "; searched:";
   for (const auto& t : tried) error += "\n\t" + t;
   if (name.size() > 4 && name.compare(name.size() - 4, 4, ".lua") == 0)
     error += "\nA module name has no \".lua\": write require(\"" + name.substr(0, name.size() - 4) +
