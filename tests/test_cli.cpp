@@ -615,6 +615,33 @@ TEST_CASE("a project of one's own finds the shipped scenarios after its own", "[
   fs::remove_all(home);
 }
 
+// Found by a probe: a batch script in batches/ naming its curriculum "mywork/cur.lua" passed roger
+// check from the lab's folder without a word, and failed from any other (a stage's scenario warns).
+TEST_CASE("a batch script's curriculum found from the current folder only is warned of", "[cli]") {
+  struct Lab {
+    fs::path path = fs::temp_directory_path() / ("roger_cli_batchcur_" + std::to_string(::getpid()));
+    ~Lab() { fs::remove_all(path); }
+  } lab;
+  fs::create_directories(lab.path / "mywork");
+  fs::create_directories(lab.path / "batches");
+  fs::copy_file("curricula/paper.lua", lab.path / "mywork" / "cur.lua");
+  std::ofstream(lab.path / "batches" / "b.lua")
+      << "return { name = 'b', curriculum = 'mywork/cur.lua', trials = 1,\n"
+         "  runs = { { name = 'SG', stage = 'SG', contexts = { 'B1' } } } }\n";
+  const Run r = roger_in(lab.path, "check batches/b.lua", "ROGER_HOME=" + fs::current_path().string());
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.err, Catch::Matchers::Contains("roger: warning: batches/b.lua:1: curriculum 'mywork/cur.lua' was found "
+                                              "from the current folder, not beside batches/b.lua") &&
+                        Catch::Matchers::Contains("it is '../mywork/cur.lua', found from any folder"));
+  std::ofstream(lab.path / "batches" / "b.lua")
+      << "return { name = 'b', curriculum = '../mywork/cur.lua', trials = 1,\n"
+         "  runs = { { name = 'SG', stage = 'SG', contexts = { 'B1' } } } }\n";
+  const Run beside = roger_in(lab.path, "check batches/b.lua", "ROGER_HOME=" + fs::current_path().string());
+  CHECK(beside.status == 0);
+  CHECK_THAT(beside.err, !Catch::Matchers::Contains("warning"));
+}
+
 // Found by a probe: from a folder other than the project root, a second skills.Phi6(p) was placed
 // in curricula/lib/skills.lua, without the remedy, since the library's relative chunk name was
 // resolved against the working folder.

@@ -78,6 +78,7 @@ int check_batch(const std::string& path, const std::string& shown, const LuaLimi
     std::fprintf(stderr, "roger: note: not checked, since %s a run or an evaluation that was not read: %s\n",
                  problems.unchecked.size() == 1 ? "it names" : "each names", join(problems.unchecked).c_str());
   if (!problems.errors.empty()) return 1;
+  if (!b.curriculum_warning.empty()) std::fprintf(stderr, "roger: warning: %s\n", b.curriculum_warning.c_str());
   // The curriculum it runs, as `roger check CURRICULUM` reads it (found by a probe: a curriculum
   // whose check failed on an undefined global passed as its batch script's).
   std::error_code ec;

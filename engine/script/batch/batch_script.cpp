@@ -174,6 +174,10 @@ std::unique_ptr<Curriculum> load_curriculum(const Reader& rd, const std::string&
     rd.fail(rd.line_of_key("curriculum", 1), e.what());
   }
   b.curriculum_file = fs::absolute(cur->file()).lexically_normal().string();
+  // As a stage's scenario path (found by a probe: a batch script in batches/ naming
+  // "mywork/x.lua" passed roger check from the lab's folder and failed from its own).
+  if (const std::string w = scenario_found_from_here(b.curriculum, b.path, "curriculum"); !w.empty())
+    b.curriculum_warning = b.path + ":" + std::to_string(rd.line_of_key("curriculum", 1)) + ": " + w;
   return cur;
 }
 

@@ -129,6 +129,9 @@ struct BatchScript {
   std::string name, description;
   std::string curriculum;       // as written (resolved by the trainer)
   std::string curriculum_file;  // the resolved file
+  // "" or, when `curriculum` was found from the current folder only (not beside the script, not in
+  // the project), why another folder will not find it (roger check warns: scenario_found_from_here).
+  std::string curriculum_warning;
   int trials = 0;
   uint64_t seed = 1;
   Params params;                // scenario parameters of every training run (script, then --set)

@@ -471,7 +471,8 @@ std::string resolve_scenario_near(const std::string& name, const std::string& na
   return in_project ? rel.generic_string() : real.string();
 }
 
-std::string scenario_found_from_here(const std::string& recorded, const std::string& naming_file) {
+std::string scenario_found_from_here(const std::string& recorded, const std::string& naming_file,
+                                     const std::string& kind) {
   std::error_code ec;
   const fs::path written(recorded);
   if (!path_like(recorded) || written.is_absolute() || naming_file.empty() || !fs::is_regular_file(written, ec)) return "";
@@ -480,7 +481,7 @@ std::string scenario_found_from_here(const std::string& recorded, const std::str
   // Beside the naming file (from its own folder, the two read alike: found by a probe).
   if (fs::is_regular_file(file.parent_path() / written, ec)) return "";
   const fs::path beside = here.lexically_relative(fs::absolute(file, ec).parent_path().lexically_normal());
-  return "scenario '" + recorded + "' was found from the current folder, not beside " + naming_file +
+  return kind + " '" + recorded + "' was found from the current folder, not beside " + naming_file +
          ": from another folder it will not be found (written relative to " + file.filename().string() + ", it is '" +
          beside.generic_string() + "', found from any folder)";
 }

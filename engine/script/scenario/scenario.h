@@ -126,7 +126,8 @@ std::string resolve_scenario_near(const std::string& name, const std::string& na
 // For `roger check`: "" or, when `recorded` (what resolve_scenario_near returned for a name of
 // `naming_file`) is a path found only from the current folder (not beside the file, not in the
 // project), why it will not be found from another folder and how to write it beside the file.
-std::string scenario_found_from_here(const std::string& recorded, const std::string& naming_file);
+std::string scenario_found_from_here(const std::string& recorded, const std::string& naming_file,
+                                     const std::string& kind = "scenario");
 
 // For `roger check`: loads a scenario and generates worlds for seeds 0..seeds-1, and one world of
 // seed 0 for every choice of every parameter that declares choices, and both values of a boolean,
