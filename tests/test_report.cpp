@@ -1574,6 +1574,19 @@ TEST_CASE("a partial report says so in tables.md and report.json and the figures
   CHECK(by_row);
 }
 
+// Found by a probe: with a skill's source trial missing, Figure 5's skill part fell to the trials
+// left (or to 0 with none) under every bar, and its line said nothing.
+TEST_CASE("a partial cumulative figure names its skill's missing trials", "[report]") {
+  KillCopy copy("partial_cumulative");
+  make_failed(copy, "SG/DC2/001");
+  std::string said;
+  REQUIRE(partial_report(copy, said) == 0);
+  const std::string tables = slurp(copy.dir / "tables.md");
+  INFO(tables);
+  CHECK(std::regex_search(tables, std::regex("figure5\\.svg`: [^\\n]*\\(SG/DC2 from 1 of 2 trials\\)\\n")));
+  CHECK(std::regex_search(tables, std::regex("figure4\\.svg`: [^\\n]*[^)]\\n")));  // T's own trials are all there
+}
+
 TEST_CASE("a partial report with one trial's result says it in the singular", "[report]") {
   KillCopy copy("partial_one");
   for (const char* id : {"SG/B1/001", "SG/DC2/000", "SG/DC2/001", "T/DC6/000", "T/DC6/001", "eval/gen/circle/000",

@@ -105,7 +105,13 @@ std::string rows_pending_note(const BatchScript& b, const std::vector<BatchRow>&
 std::string figure_pending_note(const BatchScript& b, const BatchFigure& f, const Folder& folder) {
   if (f.kind == "tasks") return rows_pending_note(b, {{f.run, f.context}}, folder);
   if (f.kind == "curves" && !f.compare.empty()) return rows_pending_note(b, f.compare, folder);
-  return rows_pending_note(b, rows_of_run(*b.run(f.run)), folder);
+  const BatchRun& run = *b.run(f.run);
+  std::vector<BatchRow> rows = rows_of_run(run);
+  // A cumulative figure stacks its skills' trials too (found by a probe: with SG/DC2's results
+  // missing, every bar's SG part fell to the trials left, or to 0, and the figure said nothing).
+  if (f.kind == "cumulative")
+    for (const auto& s : run.skills) rows.push_back({s.run, s.context});
+  return rows_pending_note(b, rows, folder);
 }
 
 // A run's learning curves (Figures 3 and 4): mean +- std per context (cut to [0, 100] for a
