@@ -540,7 +540,25 @@ void print_teacher(const TrainResult& r) {
 
 }  // namespace
 
+// --stage and --context name the trial; one left out is refused with what the curriculum offers
+// (found by a probe: "--context is required" named none, and the way to learn them was to guess).
+void check_stage_and_context(const TrainArgs& a) {
+  if (!a.stage.empty() && !a.context.empty()) return;
+  const Curriculum curriculum = Curriculum::load(a.curriculum, sandbox_limits(a.lua));
+  if (a.stage.empty()) {
+    std::vector<std::string> stages;
+    for (const CurriculumStage& s : curriculum.stages()) stages.push_back(s.name);
+    throw Error("--stage is required: curriculum '" + curriculum.name() + "' (" + curriculum.path() +
+                ") has the stages " + join(stages));
+  }
+  const CurriculumStage& stage = curriculum.stage(a.stage);
+  std::vector<std::string> contexts;
+  for (const CurriculumContext& c : stage.contexts) contexts.push_back(c.name);
+  throw Error("--context is required: " + stage.where() + " has the contexts " + join(contexts));
+}
+
 int command_train(const TrainArgs& a) {
+  check_stage_and_context(a);
   TrainOptions o = train_options(a);
   o.on_start = [&a](const TrainResult& started) {
     print_trained_on(a, started);

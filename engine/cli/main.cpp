@@ -175,8 +175,9 @@ CLI::App* add_eval(CLI::App& app, EvalArgs& a, CLI::Option*& seed) {
 CLI::App* add_train(CLI::App& app, TrainArgs& a) {
   auto* c = app.add_subcommand("train", "Train one stage and context of a curriculum for one seed");
   c->add_option("curriculum", a.curriculum, "Curriculum script (.lua)")->required();
-  c->add_option("--stage", a.stage, "Stage name (e.g. SG)")->required();
-  c->add_option("--context", a.context, "Developmental context (e.g. DC2)")->required();
+  // Not CLI11's required(): left out, each is refused with the curriculum's choices (command_train).
+  c->add_option("--stage", a.stage, "Stage name (e.g. SG); required");
+  c->add_option("--context", a.context, "Developmental context (e.g. DC2); required");
   c->add_option("--seed", a.seed, "Trial seed")->capture_default_str()->check(seed_value());
   c->add_option("--out", a.out, "Output folder")->check(path_value())->required();
   c->add_flag("--json", a.json, "End with one JSON line of the figures");
