@@ -218,6 +218,7 @@ TEST_CASE("propose killed midway and run again ends as an uninterrupted run", "[
 
 TEST_CASE("propose stays within 10% of its budget", "[propose]") {
   test::TempDir dir("roger_propose");
+  int cut = 0;  // trials the budget cut below their round's cap
   for (double budget : {3000.0, 6000.0}) {
     const ProposeResult r = propose_curriculum(sg_options(dir.path / std::to_string(int(budget)), budget));
     INFO("budget " << budget << " spent " << r.spent_s);
@@ -230,8 +231,21 @@ TEST_CASE("propose stays within 10% of its budget", "[propose]") {
       for (const auto& t : c.trials) {
         INFO(c.id << " round " << t.round << ": spent " << t.spent_s << " of a cap of " << t.cap_s);
         CHECK(t.spent_s <= t.cap_s + 3 * 5.0);
+        // A trial the budget cut scores on its round's cap, and its record says the loss the
+        // ranking used (it said the cut cap's).
+        CHECK(t.cap_s <= t.score_cap_s);
+        cut += t.cap_s < t.score_cap_s;
+        CHECK(t.loss == (t.reached ? t.time_s : t.score_cap_s * (2.0 - t.last_success)));
+        const fs::path record = dir.path / std::to_string(int(budget)) / "trials" /
+                                (c.id + "-r" + std::to_string(t.round) + "-t" + std::to_string(t.index) + ".json");
+        std::ifstream in(record);
+        REQUIRE(in);
+        const nlohmann::json j = nlohmann::json::parse(in);
+        CHECK(j.at("loss").get<double>() == t.loss);
+        CHECK(j.at("score_cap_s").get<double>() == t.score_cap_s);
       }
   }
+  CHECK(cut > 0);  // the budgets end inside a round: the cut trials were checked
 }
 
 TEST_CASE("propose refuses bad input with a clear message", "[propose]") {

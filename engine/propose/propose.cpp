@@ -259,8 +259,12 @@ void claim_search_folder(const ProposeOptions& o, const std::string& module, con
 }
 
 // One training run of a candidate, from its record when an earlier run wrote it.
+// The trial of `spec` with this seed, run for at most cap_s simulated s (or read from its record at
+// `file`). A trial that did not reach the threshold scores on score_cap_s, its round's cap, which
+// the budget may have cut cap_s below: the record keeps the loss the ranking uses.
 CandidateTrial run_trial(const ProposeOptions& o, const CandidateSpec& spec, const std::string& sources, uint64_t seed,
-                         double cap_s, const std::string& file, std::vector<std::string>* unreadable) {
+                         double cap_s, double score_cap_s, const std::string& file,
+                         std::vector<std::string>* unreadable) {
   const std::string hash = text_hash(spec.lua + sources);
   if (fs::exists(file)) {
     // A record of another candidate text or cap (a curriculum edited since) is run again silently;
@@ -272,12 +276,15 @@ CandidateTrial run_trial(const ProposeOptions& o, const CandidateSpec& spec, con
         CandidateTrial tr;
         tr.seed = seed;
         tr.cap_s = cap_s;
+        tr.score_cap_s = score_cap_s;
         tr.spent_s = j.at("spent_s").get<double>();
         tr.skills_s = j.at("skills_s").get<double>();
         tr.reached = j.at("reached").get<bool>();
         tr.time_s = j.at("time_s").get<double>();
         tr.last_success = j.at("last_success").get<double>();
         tr.loss = j.at("loss").get<double>();
+        // A record of a round cap since changed (a longer --budget) scores on this one.
+        if (!tr.reached) tr.loss = score_cap_s * (2.0 - tr.last_success);
         tr.checkpoints = j.value("checkpoints", -1);
         tr.cut = j.value("cut", "");
         tr.cut_reached = j.value("cut_reached", false);
@@ -309,6 +316,7 @@ CandidateTrial run_trial(const ProposeOptions& o, const CandidateSpec& spec, con
   CandidateTrial tr;
   tr.seed = seed;
   tr.cap_s = cap_s;
+  tr.score_cap_s = score_cap_s;
   for (const auto& s : r.skills)
     if (s.trained) tr.skills_s += s.totals.sim_s;
   // The cap ends one stage at most: with no task episode, the last skill trained (r.skills is in
@@ -327,9 +335,12 @@ CandidateTrial run_trial(const ProposeOptions& o, const CandidateSpec& spec, con
   // cap leaves the task none of it. The candidate then did not reach the threshold within the cap,
   // and scores 2 x cap as a task that never passed: cutting the subgoal stage short to test the
   // task would test a skill the proposal never hands over. What must not be silent is why: tr.cut.
-  tr.loss = tr.reached ? tr.time_s : cap_s * (2.0 - tr.last_success);
+  // A trial the budget cut short scores on its round's cap all the same (found by a probe: the last
+  // candidate's trial, cut to 3.6 of 20.3 s, scored 7.3 against the others' 40.6 for the same 0% and
+  // won the search); its record said the cut cap's loss while the ranking used the other.
+  tr.loss = tr.reached ? tr.time_s : score_cap_s * (2.0 - tr.last_success);
   const nlohmann::json j = {{"format", "roger-propose-trial"}, {"candidate", spec.c.id}, {"hash", hash},
-                            {"seed", seed}, {"cap_s", cap_s}, {"spent_s", tr.spent_s}, {"skills_s", tr.skills_s},
+                            {"seed", seed}, {"cap_s", cap_s}, {"score_cap_s", score_cap_s}, {"spent_s", tr.spent_s}, {"skills_s", tr.skills_s},
                             {"reached", tr.reached}, {"time_s", tr.time_s}, {"last_success", tr.last_success},
                             {"checkpoints", tr.checkpoints}, {"cut", tr.cut}, {"cut_reached", tr.cut_reached},
                             {"loss", tr.loss}};
@@ -464,11 +475,7 @@ std::vector<CandidateTrial> round_trials(const ProposeOptions& o, const TaskRef&
     if (allowed <= 0.0) break;  // the budget is spent
     const uint64_t seed = Rng::mix(o.seed, 0x747269616cull + uint64_t((round - 1) * o.trials + j - 1));
     const std::string file = (fs::path(o.out) / "trials" / trial_file_name(spec.c.id, round, j)).string();
-    CandidateTrial tr = run_trial(o, spec, task.sources, seed, allowed, file, &res.unreadable);
-    // A trial the budget cut short that did not reach the threshold scores on the round's cap, as the
-    // others (found by a probe: the last candidate's trial, cut to 3.6 of 20.3 s, scored 7.3 against
-    // the others' 40.6 for the same 0% and won the search).
-    if (!tr.reached) tr.loss = cap * (2.0 - tr.last_success);
+    CandidateTrial tr = run_trial(o, spec, task.sources, seed, allowed, cap, file, &res.unreadable);
     tr.round = round;
     tr.index = j;
     res.spent_s += tr.spent_s;

@@ -38,13 +38,14 @@ struct ProposeOptions {
 // One evaluated (or reused) training run of a candidate.
 struct CandidateTrial {
   uint64_t seed = 0;
-  double cap_s = 0.0;        // the simulated seconds it was allowed
+  double cap_s = 0.0;        // the simulated seconds it was allowed (its round's cap, or less: the budget's rest)
+  double score_cap_s = 0.0;  // its round's cap, which a trial that did not reach the threshold scores on
   double spent_s = 0.0;      // what it spent: its skills' training, then its final stage
   double skills_s = 0.0;     // of which the learned subgoal stages
   bool reached = false;      // the final stage reached its threshold within the cap
   double time_s = 0.0;       // skills_s + the final stage's time-to-threshold (when reached)
   double last_success = 0.0; // the final stage's last checkpoint's success rate
-  double loss = 0.0;         // time_s when reached, else cap_s * (2 - last_success)
+  double loss = 0.0;         // time_s when reached, else score_cap_s * (2 - last_success)
   bool reused = false;       // read back from the trial record of an earlier run
   int round = 0;             // the round of successive halving it belongs to (1-based)
   int index = 0;             // its place among the candidate's trials of that round (1-based)
