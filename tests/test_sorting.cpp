@@ -564,6 +564,20 @@ TEST_CASE("sorting: sorting.move names an unknown type at the caller's line and 
   CHECK(error_of([&] { SkillScript::load(task); }).find("task.lua:2: sorting.task: unknown type 'red' (known: circle") !=
         std::string::npos);
 
+  // A task of one's own type takes its colour, as the move does (found by a probe: sorting.move
+  // took "red" with a colour and region, and sorting.task refused it).
+  const std::string own_task = sorting_script(
+      dir, "own_task.lua",
+      "local m = sorting.task(sorting.move(roger.primitive(\"search\"), \"red\", { colour = \"#ff0000\", region = 2 }), "
+      "\"red\", { tag = \" 1\", colour = \"#ff0000\" })",
+      "m");
+  CHECK(SkillScript::load(own_task).policy("p").action->name() == "put away red 1");
+  const std::string task_option = sorting_script(
+      dir, "task_option.lua", "local m = sorting.task(sorting.move(roger.primitive(\"search\"), \"circle\"), \"circle\", { region = 1 })",
+      "m");
+  CHECK(error_of([&] { SkillScript::load(task_option); })
+            .find("task_option.lua:2: sorting.task: unknown option 'region' (known: colour, tag)") != std::string::npos);
+
   const SkillScript own = SkillScript::load(sorting_script(
       dir, "own.lua", "local m = sorting.move(roger.primitive(\"search\"), \"red\", { colour = \"#ff0000\", region = 2 })",
       "m"));

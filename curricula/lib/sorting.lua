@@ -124,14 +124,23 @@ sorting.SETTLE = 1.0
 -- Delivering one of several objects of the type changes nothing a chooser sees: the move runs
 -- again for the next one, without a decision. Chosen once its type is put away, it rests: a move
 -- run again would turn about looking for more and might knock a put-away object out of its region.
-function sorting.task(move, t, tag)
+-- `options` is the tag (text appended to the name) or a table { tag, colour }: `colour`, the objects
+-- the task judges put away ("#rrggbb" or {r, g, b}), is needed for a type of one's own, as
+-- sorting.move's colour is (by default COLOURS[t]).
+local TASK_OPTIONS = { { "tag", "string" }, { "colour", "table or string" } }
+
+function sorting.task(move, t, options)
+  if type(options) ~= "table" then options = { tag = options } end
+  options = check_options("sorting.task", options, TASK_OPTIONS, 3)
   -- roger.sorted(nil) would judge every colour, not this type's.
-  if not sorting.COLOURS[t] then
-    error("sorting.task: unknown type '" .. tostring(t) .. "' (known: " .. table.concat(sorting.TYPES, ", ") .. ")", 2)
+  local colour = options.colour or sorting.COLOURS[t]
+  if type(t) ~= "string" or colour == nil then
+    error("sorting.task: unknown type '" .. tostring(t) .. "' (known: " .. table.concat(sorting.TYPES, ", ") ..
+          "); for a type of your own give the option colour, as to sorting.move", 2)
   end
-  return roger.policy("put away " .. t .. (tag or ""), {
+  return roger.policy("put away " .. t .. (options.tag or ""), {
     actions = { move }, table = { ["*"] = move }, rest_when_done = true,
-    done = roger.held(roger.sorted(sorting.COLOURS[t]), sorting.SETTLE),
+    done = roger.held(roger.sorted(colour), sorting.SETTLE),
   })
 end
 
