@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """bench_python.py: what the Python module costs and gains (docs/python.md, Performance).
 
-    PYTHONPATH=build/python python3 scripts/bench_python.py [--roger build/engine/roger] [--rounds 5]
+    PYTHONPATH=build/python python3 scripts/bench_python.py [--roger PATH] [--rounds 5]
 
 1. Batched stepping: make_vec with N worlds stepped by 1 thread and by 2 threads, and the same N
    worlds as separate environments stepped one after the other from Python; steps (decisions) per
@@ -11,7 +11,9 @@
 
 Each measurement is paired: the variants run one after the other within a round, rounds repeat,
 and the ratio is taken within each round, so a shared machine's load moves both sides alike. The
-median ratio is reported, with the load average before and after.
+median ratio is reported, with the load average before and after. The roger program: --roger, else
+$ROGER, else the source tree's build/engine/roger, else roger on PATH (a missing one stops the
+script with one line, before anything is measured).
 """
 import argparse
 import json
@@ -26,6 +28,12 @@ import time
 import numpy as np
 
 import roger
+
+sys.dont_write_bytecode = True  # results_common, imported below, leaves no __pycache__ in scripts/
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # its folder: also when loaded by path or run with -P
+from results_common import find_roger  # noqa: E402
+
+NAME = "bench_python.py"  # in the messages of results_common's functions
 
 CURRICULUM = "curricula/paper.lua"
 
@@ -147,13 +155,17 @@ def cpp_eval(roger_bin, policy_file, episodes, seed):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--roger", default="build/engine/roger")
+    ap.add_argument("--roger", help="the roger program (default: $ROGER, else the source tree's "
+                    "build/engine/roger, else roger on PATH)")
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--envs", type=int, default=32)
     ap.add_argument("--steps", type=int, default=100, help="vec steps per round")
     ap.add_argument("--episodes", type=int, default=400, help="evaluation episodes per round")
     ap.add_argument("--policy", help="a T/B2 policy.json (default: roger train --seed 1 into a temporary folder)")
     a = ap.parse_args()
+    # Found by a probe: the installed copy looked for build/engine/roger in the current folder and
+    # died with a traceback after half the measurements.
+    a.roger = find_roger(NAME, a.roger)
     load0 = os.getloadavg()
     policy = a.policy
     if not policy:

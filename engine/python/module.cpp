@@ -77,9 +77,30 @@ auto without_gil(F&& f) -> decltype(f()) {
 }
 
 // A Python value as the text a scenario parameter is given as (--set key=value).
+// Text from Python for the engine: bytes as they are; a str as UTF-8, with the bytes of a file name
+// that are not (os.fsdecode's surrogates) given back as they were, as the command line passes
+// them (found by a probe: such a name or value raised a binding's RuntimeError).
+std::string native_text(const py::handle& v) {
+  if (py::isinstance<py::bytes>(v)) return v.cast<std::string>();
+  const py::str text(v);
+  PyObject* bytes = PyUnicode_AsEncodedString(text.ptr(), "utf-8", "surrogateescape");
+  if (!bytes) throw py::error_already_set();
+  std::string out(PyBytes_AS_STRING(bytes), size_t(PyBytes_GET_SIZE(bytes)));
+  Py_DECREF(bytes);
+  return out;
+}
+
+// Engine text for Python: UTF-8, with bytes that are not (a file name's) as os.fsdecode gives
+// them, so that the name goes back to the engine (native_text) as it came.
+py::str python_text(const std::string& s) {
+  PyObject* text = PyUnicode_DecodeUTF8(s.data(), py::ssize_t(s.size()), "surrogateescape");
+  if (!text) throw py::error_already_set();
+  return py::reinterpret_steal<py::str>(text);
+}
+
 std::string param_text(const py::handle& v) {
   if (py::isinstance<py::bool_>(v)) return v.cast<bool>() ? "true" : "false";
-  return py::str(v).cast<std::string>();
+  return native_text(v);
 }
 
 EnvironmentOptions make_options(const std::string& curriculum, const std::string& stage, const std::string& context,
@@ -97,8 +118,8 @@ EnvironmentOptions make_options(const std::string& curriculum, const std::string
   o.stage = stage;
   o.context = context;
   o.scenario = scenario;
-  for (const auto& [k, v] : params) o.sets.push_back({py::str(k).cast<std::string>(), param_text(v)});
-  for (const auto& [k, v] : skills) o.skill_files[py::str(k).cast<std::string>()] = py::str(v).cast<std::string>();
+  for (const auto& [k, v] : params) o.sets.push_back({native_text(k), param_text(v)});
+  for (const auto& [k, v] : skills) o.skill_files[native_text(k)] = native_text(v);
   o.per_tick = per_tick;
   return o;
 }
@@ -183,10 +204,10 @@ py::object param_object(const std::string& text, const std::map<std::string, Par
 
 py::dict info_dict(const EnvironmentInfo& i) {
   py::dict d;
-  d["curriculum"] = i.curriculum;
-  d["stage"] = i.stage;
-  d["context"] = i.context;
-  d["scenario"] = i.scenario;
+  d["curriculum"] = python_text(i.curriculum);
+  d["stage"] = python_text(i.stage);
+  d["context"] = python_text(i.context);
+  d["scenario"] = python_text(i.scenario);
   d["actions"] = i.actions;
   py::dict params;
   for (const auto& [k, v] : i.params) params[py::str(k)] = param_object(v, i.param_types, k);
@@ -826,7 +847,7 @@ void bind_policy(py::module_& m) {
       .def_property_readonly("path", &Policy::path)
       .def_property_readonly("extra", [](const Policy& p) { return p.meta().extra.dump(); })
       .def_property_readonly("curriculum",
-                             [](const Policy& p) { return p.extra("curriculum", std::string()).get<std::string>(); })
+                             [](const Policy& p) { return python_text(p.extra("curriculum", std::string()).get<std::string>()); })
       .def_property_readonly("skills_json",
                              [](const Policy& p) { return p.extra("skills", nlohmann::json::object()).dump(); })
       .def(
@@ -867,13 +888,15 @@ PYBIND11_MODULE(_roger, m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const ScriptError& e) {
+      // Messages as printable text: one holding bytes that are not UTF-8 (a file's, a name's) was
+      // raised with no message at all (found by a probe: a policy.json that is not UTF-8).
       PyObject* type = dynamic_cast<const PlacementError*>(&e) ? placement_error : script_error;
-      py::object exc = py::handle(type)(e.what());
-      exc.attr("file") = e.file;
+      py::object exc = py::handle(type)(printable_text(e.what()));
+      exc.attr("file") = printable_text(e.file);
       exc.attr("line") = e.line;
       PyErr_SetObject(type, exc.ptr());
     } catch (const Error& e) {
-      PyErr_SetString(error.ptr(), e.what());
+      PyErr_SetString(error.ptr(), printable_text(e.what()).c_str());
     }
   });
   // As `roger --version` says them (found by a probe: the package named neither).

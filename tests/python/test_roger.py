@@ -341,6 +341,13 @@ class Interface(unittest.TestCase):
         env.reset(seed=1)
         env.step(0)
         self.assertGreater(engine.seconds, 0.0)
+        # Found by a probe: the installed copy looked for build/engine/roger in the current folder
+        # and died with a traceback after half its measurements; it finds roger as the figure
+        # scripts do, and a missing one is one line before anything runs.
+        r = subprocess.run([sys.executable, "scripts/bench_python.py", "--roger", "/nonexistent/roger"],
+                           capture_output=True, text=True)
+        self.assertNotEqual(r.returncode, 0)
+        self.assertEqual(r.stderr.strip(), "bench_python.py: --roger /nonexistent/roger: no such program")
 
     def test_version_and_project_folder(self):
         # Found by a probe: the package named neither its version nor the project folder it reads.
@@ -1201,6 +1208,59 @@ class BadArguments(unittest.TestCase):
         policy = roger.load_policy(train(EXAMPLE, "Look", "Gaze", 3, "look"))
         self.assertRaisesWith(roger.RogerError, ["2 actions", "3 values"], policy.act, [0, 1, 2])
         self.assertRaisesWith(roger.RogerError, ["observation[1]", "phi0"], policy.act, [0, 3])
+
+    def test_policy_of_other_actions_and_undecodable_input(self):
+        # Found by a probe: a policy whose actions were another order (or names) than the
+        # environment's was taken, and played other actions than it chose (20 of 20 fell to 6);
+        # roger eval refuses it, and so do make, make_vec and Policy.make.
+        path = train(EXAMPLE, "Look", "Gaze", 3, "look")
+        with open(EXAMPLE) as f:
+            text = f.read()
+        self.assertIn("actions = { p.search, p.phi0 }", text)
+        swapped = os.path.join(WORK, "swapped.lua")
+        with open(swapped, "w") as f:
+            f.write(text.replace("actions = { p.search, p.phi0 }", "actions = { p.phi0, p.search }"))
+        policy = roger.load_policy(path)
+        said = ['field "actions" is ["search", "phi0"] but this stage\'s actions are ["phi0", "search"]',
+                "a policy is tied to its action set and order"]
+        self.assertRaisesWith(roger.RogerError, ["make: "] + said, policy.make, curriculum=swapped)
+        self.assertRaisesWith(roger.RogerError, ["make: "] + said, roger.make, swapped, "Look", "Gaze", policy=path)
+        self.assertRaisesWith(roger.RogerError, ["make_vec: "] + said, roger.make_vec, swapped, "Look", "Gaze", 2,
+                              policy=policy)
+        # A file that is not UTF-8 is named with its parse error (the message was empty).
+        bad = os.path.join(WORK, "not_utf8.json")
+        with open(bad, "wb") as f:
+            f.write(b"\xc3\x28{}")
+        e = self.assertRaisesWith(roger.RogerError, ["not_utf8.json", "parse error", "\\xC3"], roger.load_policy, bad)
+        self.assertTrue(str(e))
+        # File names and values that are not UTF-8 are the bytes the command line passes (they
+        # raised a binding's TypeError or RuntimeError).
+        odd = os.path.join(os.fsencode(WORK), b"cur\xff.lua")
+        shutil.copy(EXAMPLE, odd)
+        env = roger.make(os.fsdecode(odd), "Look", "Gaze")
+        env.reset(seed=1)
+        self.assertEqual(os.path.basename(os.fsencode(env.stage_info["curriculum"])), b"cur\xff.lua")
+        odd_policy = os.path.join(os.fsencode(WORK), b"pol\xff.json")
+        shutil.copy(path, odd_policy)
+        self.assertEqual(roger.load_policy(os.fsdecode(odd_policy)).actions, ("search", "phi0"))
+        self.assertRaisesWith(roger.RogerError, ["parameter 'shape'", "got 'caf\\xE9'"], roger.make, PAPER, "T", "B2",
+                              params={"shape": os.fsdecode(b"caf\xe9")})
+
+    def test_policy_make_names_the_recorded_curriculum(self):
+        # Found by a probe: a policy trained with a relative curriculum path, made from another
+        # folder, said only "no curriculum 'mycur.lua'".
+        folder = os.path.join(WORK, "own_project")
+        os.makedirs(folder, exist_ok=True)
+        shutil.copy(EXAMPLE, os.path.join(folder, "mycur.lua"))
+        out = os.path.join(folder, "out")
+        if not os.path.exists(os.path.join(out, "policy.json")):
+            subprocess.run([ROGER, "train", "mycur.lua", "--stage", "Look", "--context", "Gaze", "--seed", "2",
+                            "--out", "out"], cwd=folder, check=True, capture_output=True)
+        policy = roger.load_policy(os.path.join(out, "policy.json"))
+        self.assertEqual(policy.curriculum, "mycur.lua")
+        self.assertRaisesWith(roger.RogerError, ["records the curriculum 'mycur.lua' as roger train was given it",
+                                                 "no curriculum 'mycur.lua'", "policy.make(curriculum="], policy.make)
+        self.assertEqual(policy.make(curriculum=os.path.join(folder, "mycur.lua")).actions, ("search", "phi0"))
 
     def test_state_index_overflow(self):
         self.assertEqual(roger.state_index([2] * 19), 3 ** 19 - 1)

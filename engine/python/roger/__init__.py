@@ -352,6 +352,21 @@ def _skill_paths(skills):
     return {k: v.path if isinstance(v, Policy) else _path_text(v) for k, v in skills.items()}
 
 
+def _native(text):
+    """Text for the engine: a str that holds bytes of a file name that are not UTF-8 (as os.fsdecode
+    and os.listdir give them, surrogates) as those very bytes, which the engine takes as the
+    command line does; any other value as str(value) (found by a probe: such a name raised a
+    binding's TypeError, where `roger eval` read the file)."""
+    if not isinstance(text, (str, bytes)):
+        text = os.fspath(text) if isinstance(text, os.PathLike) else str(text)
+    if isinstance(text, str):
+        try:
+            text.encode("utf-8")
+        except UnicodeEncodeError:
+            return os.fsencode(text)
+    return text
+
+
 def _path_text(value):
     """A pathlib.Path (any os.PathLike) as its text, which every file argument takes; else the value
     as given. The arguments are kept as text, so that a copy makes them absolute (_recipe) and the
@@ -518,9 +533,9 @@ class Env(_Copyable, _EnvBase):
         self.render_width = _render_width(render_width, "make")
         self.timeout = _timeout(timeout, "make")
         teacher_text, teacher_file, teaching = _teacher_source(teacher)
-        self._env = _roger.Environment(str(curriculum), str(stage), str(context), scenario or "",
+        self._env = _roger.Environment(_native(curriculum), _native(stage), _native(context), _native(scenario or ""),
                                        _text_dict(params, "params"), _text_dict(skills, "skills"), mode == "tick",
-                                       _tasks_source(tasks), teacher_text, teacher_file, embedded)
+                                       _tasks_source(tasks), teacher_text, _native(teacher_file), embedded)
         self._task_dims = self._env.task_dims
         self.task_space = _task_space(self._task_dims)  # a Dict space, or None: the stage has no tasks
         self._teaching = teaching and self._env.teaches
@@ -534,6 +549,7 @@ class Env(_Copyable, _EnvBase):
         self._task = (None, [])  # the running episode's task
         self._stage_info = self._env.info
         self.actions = tuple(self._stage_info["actions"])
+        _check_policy_actions(policy, self.actions, "make")
         self.mode = mode
         fps = round(1.0 / self._stage_info["tick_seconds"]) if mode == "tick" else _DECISION_FPS
         self.metadata = {"render_modes": _RENDER_MODES, "render_fps": fps}
@@ -1061,7 +1077,7 @@ class VecEnv(_Copyable, _VecBase):
             import os
             threads = min(int(num_envs), len(os.sched_getaffinity(0)))
         params, embedded = _with_policy(policy, curriculum, stage, context, params, scenario, "make_vec")
-        self._vec = _roger.VecEnvironment(str(curriculum), str(stage), str(context), scenario or "",
+        self._vec = _roger.VecEnvironment(_native(curriculum), _native(stage), _native(context), _native(scenario or ""),
                                           _text_dict(params, "params"), _text_dict(skills, "skills"),
                                           int(num_envs), int(threads), mode.value, embedded)
         self._vec.decision_cap = int(max_episode_steps or 0)
@@ -1080,6 +1096,11 @@ class VecEnv(_Copyable, _VecBase):
         self._pending = [None] * int(num_envs)
         self._stage_info = self._vec.info
         self.actions = tuple(self._stage_info["actions"])
+        try:
+            _check_policy_actions(policy, self.actions, "make_vec")
+        except RogerError:
+            self._vec = None
+            raise
         self.num_envs = int(num_envs)
         self.threads = self._vec.threads
         self.single_action_space = spaces.Discrete(len(self.actions))
@@ -1223,7 +1244,7 @@ class Policy:
 
     def __init__(self, path):
         import json
-        self._p = _roger.Policy(str(path))
+        self._p = _roger.Policy(_native(path))
         self.path = str(path)
         self.actions = tuple(self._p.actions)
         self.stage, self.context, self.seed = self._p.stage, self._p.context, self._p.seed
@@ -1243,7 +1264,7 @@ class Policy:
             if self.curriculum is None:
                 raise RogerError(f"params: {self.path} records no curriculum (extra.curriculum); "
                                  "make(curriculum, ...) with its params given")
-            self._params = dict(self._p.trial_params(self.curriculum, ""))
+            self._params = dict(self._p.trial_params(_native(self.curriculum), ""))
         return dict(self._params)
 
     def make(self, **kwargs):
@@ -1251,7 +1272,8 @@ class Policy:
         context, policy=self, teacher=False, **kwargs), the curriculum the file records unless
         kwargs give one. Any other keyword of make may be given: params over the trial's own,
         skills over those the file embeds, teacher (roger eval runs none, hence False)."""
-        curriculum = kwargs.pop("curriculum", None) or self.curriculum
+        given = kwargs.pop("curriculum", None)
+        curriculum = given or self.curriculum
         if curriculum is None:
             raise RogerError(f"make: {self.path} records no curriculum (extra.curriculum): give it, "
                              "policy.make(curriculum='curricula/paper.lua')")
@@ -1260,7 +1282,16 @@ class Policy:
                 raise RogerError(f"make: the policy gives {key} ({getattr(self, key, self.path)!r}); "
                                  f"to play it elsewhere use roger.make(curriculum, stage, context, ...) without policy")
         kwargs.setdefault("teacher", False)
-        return make(curriculum, self.stage, self.context, policy=self, **kwargs)
+        try:
+            return make(curriculum, self.stage, self.context, policy=self, **kwargs)
+        except RogerError as e:
+            # The recorded name is as roger train was given it, from the folder it ran in (found by a
+            # probe: 'mycur.lua' from a notebook elsewhere said only that no such curriculum exists).
+            if given or "no curriculum " not in str(e):
+                raise
+            raise RogerError(f"make: {self.path} records the curriculum {self.curriculum!r} as roger train was "
+                             f"given it, from the folder it ran in, and it is not found from here: {e}; give it, "
+                             f"policy.make(curriculum='path/to/{os.path.basename(self.curriculum)}')") from None
 
     def act(self, obs):
         """The greedy action (QTable::policy_action) of a controller-state vector: integers 0, 1,
@@ -1351,9 +1382,22 @@ def _with_policy(policy, curriculum, stage, context, params, scenario, where):
     if (p.stage, p.context) != (str(stage), str(context)):
         raise RogerError(f"{where}: policy {p.path} is of stage {p.stage} context {p.context}, not of stage {stage} "
                          f"context {context}: make it with policy.make(), or give the policy's stage and context")
-    trial = dict(p._p.trial_params(str(curriculum), scenario or ""))
+    trial = dict(p._p.trial_params(_native(curriculum), _native(scenario or "")))
     given = _text_dict(params, "params")
     return {**{k: v for k, v in trial.items() if k not in given}, **given}, p._p.skills_json
+
+
+def _check_policy_actions(policy, actions, where):
+    """Refuses a policy (a path; None: none) whose actions are not the environment's, in the same
+    order, as `roger eval` refuses it: its act() indexes its own actions, so a reordered or renamed
+    set would run other actions than it chose (found by a probe: 20 of 20 fell to 6 of 20)."""
+    if policy is None:
+        return
+    import json
+    p = Policy(policy)
+    if p.actions != tuple(actions):
+        raise RogerError(f"{where}: {p.path}: field \"actions\" is {json.dumps(list(p.actions))} but this stage's "
+                         f"actions are {json.dumps(list(actions))} (a policy is tied to its action set and order)")
 
 
 def load_policy(path):
