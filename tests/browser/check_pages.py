@@ -914,9 +914,14 @@ def check_episode(b, folder, screenshot):
         getComputedStyle(document.documentElement).getPropertyValue(v).trim())""")
     state_index = {"NOREF": 0, "!CONV": 1, "CONV": 2}
     hashes = []
+    # The panel shows the states of the tick whose interval holds the cursor, as the timeline draws
+    # them there: at t = 0 the first tick's (it showed "-" for every controller, and one tick late).
+    b.evaluate("viewer.seek(0)")
+    pills = b.evaluate("Array.from(document.querySelectorAll('#states .pill')).map(p => p.textContent)")
+    check(pills == [g["states"][0] for g in ep["gammas"]], "viewer: the states at t = 0 are the first tick's (%s)" % pills)
     for fraction in (0.1, 0.5, 0.95):
         tick = max(1, round(fraction * ep["ticks"]))
-        t = tick * dt
+        t = (tick - 0.5) * dt  # the middle of the tick's interval
         b.evaluate("viewer.seek(%r)" % t)
         s = canvas_summary(b)
         hashes.append(s["hash"])
@@ -925,13 +930,13 @@ def check_episode(b, folder, screenshot):
         pills = b.evaluate("Array.from(document.querySelectorAll('#states .pill')).map(p => p.textContent)")
         wanted = [g["states"][tick - 1] for g in ep["gammas"]]
         check(pills == wanted, "viewer: the states at t = %.2f s are episode.json's (%s)" % (t, ", ".join(wanted)))
-        # The timeline's own pixels: the middle of the tick that ran last, on each controller's row.
+        # The timeline's own pixels under the cursor, on each controller's row.
         drawn = b.evaluate("""(() => { const c = document.getElementById('timeline'), g = c.getContext('2d');
             const r = c.width / c.clientWidth;
             return %s.map(row => { const p = viewer.timelinePoint(%r, row);
               const d = g.getImageData(Math.floor(p.x * r), Math.floor(p.y * r), 1, 1).data;
               return '#' + [d[0], d[1], d[2]].map(v => v.toString(16).padStart(2, '0')).join(''); }); })()"""
-                           % (list(range(len(ep["gammas"]))), t - dt / 2))
+                           % (list(range(len(ep["gammas"]))), t))
         expected = [colours[state_index[w]] for w in wanted]
         check(drawn == expected, "viewer: the timeline at t = %.2f s shows those states (%s)" % (t, drawn))
         if fraction == 0.5 and screenshot:
