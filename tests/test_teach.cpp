@@ -132,7 +132,7 @@ TEST_CASE("a task space names what it allows when a value lies outside it", "[te
   CHECK_THAT(why, Contains("'mass' is not a parameter of the task space"));
 
   CHECK_THROWS_WITH(TaskSpace({int_dim("obstacles", 4, 2)}), Contains("reversed"));
-  CHECK_THROWS_WITH(TaskSpace({real_dim("d", 1, 1)}), Contains("empty"));
+  CHECK_THROWS_WITH(TaskSpace({real_dim("d", 1, 1)}), Contains("a single value"));
   CHECK_THROWS_WITH(TaskSpace({choice_dim("shape", {})}), Contains("at least one value"));
   CHECK_THROWS_WITH(TaskSpace({int_dim("a", 0, 1), int_dim("a", 0, 2)}), Contains("two axes"));
 
@@ -692,11 +692,11 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
        ":8: stage 'S': tasks.obstacle = roger.int(0, 6): scenario 'cluttered' (scenarios/cluttered.lua) has no "
        "parameter 'obstacle' (did you mean 'obstacles'?); known parameters: "},
       {"{ tasks = { obstacles = roger.int(5, 2) } }", ":8: roger.int(5, 2): the range is reversed (lo must be below hi"},
-      {"{ tasks = { mass = roger.real(1, 1) } }", ":8: roger.real(1, 1): the range is empty"},
+      {"{ tasks = { mass = roger.real(1, 1) } }", ":8: roger.real(1, 1): the range is a single value"},
       {"{ tasks = { shape = roger.choice{} } }", ":8: roger.choice{...}: the list is empty"},
       // Found by a probe: one value was refused of roger.real alone.
       {"{ tasks = { obstacles = roger.int(2, 2) } }",
-       ":8: roger.int(2, 2): the range is one value (lo must be below hi; a single value needs no axis: set it in params)"},
+       ":8: roger.int(2, 2): the range is a single value (lo must be below hi; a single value needs no axis: set it in params)"},
       {"{ tasks = { shape = roger.choice{ 'circle' } } }",
        ":8: roger.choice{circle}: one value (a single value needs no axis: set it in params); give at least two"},
       // Found by a probe: a key beside the levels was dropped without a word, and a negative test

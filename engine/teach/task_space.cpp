@@ -35,7 +35,7 @@ void check_dim(const TaskDim& d) {
     case TaskDim::Kind::kReal:
       if (!std::isfinite(d.lo) || !std::isfinite(d.hi)) throw Error("task axis " + at + ": the bounds must be finite");
       if (d.lo > d.hi) throw Error("task axis " + at + ": the range is reversed (lo must not exceed hi)");
-      if (d.lo == d.hi) throw Error("task axis " + at + ": the range is empty (lo equals hi); give the value itself");
+      if (d.lo == d.hi) throw Error("task axis " + at + ": the range is a single value (lo equals hi); give the value itself");
       break;
     case TaskDim::Kind::kChoice: {
       if (d.choices.empty()) throw Error("task axis " + at + ": roger.choice needs at least one value");

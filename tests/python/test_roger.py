@@ -349,6 +349,15 @@ class Interface(unittest.TestCase):
         self.assertNotEqual(r.returncode, 0)
         self.assertEqual(r.stderr.strip(), "bench_python.py: --roger /nonexistent/roger: no such program")
 
+    def test_dir_lists_the_public_names(self):
+        # Found by a probe: dir(roger) listed the modules it imports for itself (np, os, copy, ...).
+        public = [n for n in dir(roger) if not n.startswith("_")]
+        self.assertEqual(sorted(public), sorted(roger.__all__))
+        for name in ("make", "make_vec", "load_policy", "axis", "Axis", "RogerError", "spaces"):
+            self.assertIn(name, public)
+        for name in ("np", "os", "copy", "threading"):
+            self.assertNotIn(name, public)
+
     def test_version_and_project_folder(self):
         # Found by a probe: the package named neither its version nor the project folder it reads.
         out = subprocess.run([ROGER, "--version"], capture_output=True, text=True, check=True).stdout
@@ -1088,13 +1097,13 @@ class BadArguments(unittest.TestCase):
         for fn, args, text in (
                 (roger.axis.real, (2, 1), "roger.axis.real(2, 1): the range is reversed (lo must be below hi; "
                                           "a single value needs no axis)"),
-                (roger.axis.real, (1, 1), "roger.axis.real(1, 1): the range is empty"),
+                (roger.axis.real, (1, 1), "roger.axis.real(1, 1): the range is a single value"),
                 (roger.axis.int, (0.5, 3), "roger.axis.int(lo, hi): lo must be an integer, got 0.5"),
                 (roger.axis.int, (0, 2.5), "roger.axis.int(lo, hi): hi must be an integer, got 2.5"),
                 (roger.axis.int, (3, 1), "roger.axis.int(3, 1): the range is reversed (lo must be below hi; "
                                          "a single value needs no axis)"),
                 # Found by a probe: a single value, an empty or a repeated choice passed until make.
-                (roger.axis.int, (3, 3), "roger.axis.int(3, 3): the range is empty (lo must be below hi; "
+                (roger.axis.int, (3, 3), "roger.axis.int(3, 3): the range is a single value (lo must be below hi; "
                                          "a single value needs no axis)"),
                 (roger.axis.choice, ([],), "roger.choice{}: the list is empty; a choice is among at least two"),
                 (roger.axis.choice, (["circle"],), 'roger.choice{"circle"}: a single value needs no axis'),

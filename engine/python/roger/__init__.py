@@ -53,7 +53,15 @@ except ImportError:  # exercised where gymnasium is absent
     _batch_space = None
 
 __all__ = ["make", "make_vec", "load_policy", "Env", "VecEnv", "Policy", "RogerError", "ScriptError", "PlacementError",
-           "AutoresetMode", "GAMMA_NAMES", "PAPER_IDS", "mix", "state_index", "spaces", "project_folder"]
+           "AutoresetMode", "GAMMA_NAMES", "PAPER_IDS", "mix", "state_index", "spaces", "project_folder", "axis",
+           "Axis"]
+
+
+def __dir__():
+    """The module's names as a user sees them (dir(roger), a shell's completion): the public ones and
+    the dunders, not the modules it imports for itself (found by a probe: np, os, copy, ... were
+    listed as if they were roger's)."""
+    return sorted(set(__all__) | {n for n in globals() if n.startswith("__")})
 
 GAMMA_NAMES = ("NOREF", "!CONV", "CONV")
 _MODES = ("decision", "tick")
@@ -252,7 +260,7 @@ class axis:
             if float(x) != np.floor(float(x)):
                 raise RogerError(f"roger.axis.int(lo, hi): {name} must be an integer, got {x!r}")
         if float(lo) >= float(hi):
-            how = "empty" if float(lo) == float(hi) else "reversed"
+            how = "a single value" if float(lo) == float(hi) else "reversed"
             raise RogerError(f"roger.axis.int({a}, {b}): the range is {how} (lo must be below hi; a single value "
                              "needs no axis)")
         return Axis(f"roger.int({a}, {b})")
@@ -262,7 +270,7 @@ class axis:
         """A real axis [lo, hi]: in task_space, Box(lo, hi, shape=(), dtype=float64)."""
         a, b = _lua_number(lo, "roger.axis.real"), _lua_number(hi, "roger.axis.real")
         if float(lo) >= float(hi):
-            how = "empty" if float(lo) == float(hi) else "reversed"
+            how = "a single value" if float(lo) == float(hi) else "reversed"
             raise RogerError(f"roger.axis.real({a}, {b}): the range is {how} (lo must be below hi; a single value "
                              "needs no axis)")
         return Axis(f"roger.real({a}, {b})")

@@ -74,7 +74,7 @@ int l_int(lua_State* L) {
   // ALP-GMM fitted mixtures over its one point).
   if (d.lo >= d.hi)
     luaL_error(L, "roger.int(%s, %s): the range is %s (lo must be below hi; a single value needs no axis: set it in "
-               "params)", format_number(d.lo).c_str(), format_number(d.hi).c_str(), d.lo == d.hi ? "one value" : "reversed");
+               "params)", format_number(d.lo).c_str(), format_number(d.hi).c_str(), d.lo == d.hi ? "a single value" : "reversed");
   push_axis(L, std::move(d));
   return 1;
 }
@@ -87,7 +87,7 @@ int l_real(lua_State* L) {
   if (d.lo >= d.hi)
     luaL_error(L, "roger.real(%s, %s): the range is %s (lo must be below hi; a single value needs no axis: set it in "
                "params)",
-               format_number(d.lo).c_str(), format_number(d.hi).c_str(), d.lo == d.hi ? "empty" : "reversed");
+               format_number(d.lo).c_str(), format_number(d.hi).c_str(), d.lo == d.hi ? "a single value" : "reversed");
   push_axis(L, std::move(d));
   return 1;
 }
