@@ -1878,3 +1878,33 @@ TEST_CASE("a teacher whose window cannot fill within the budget is warned of", "
   CHECK(run_shell(roger + " check " + (dir.path / "seq.lua").string() + " > " + said + " 2>&1") == 0);
   CHECK_THAT(slurp(said), Contains("roger: warning: ") && Contains("seq.lua:8: stage 'S': roger.teacher.sequence: step 1's window"));
 }
+
+// Found by a probe: a by table over a real parameter put its bins in the order of their text
+// ("13.39 to 18.35" before "3.47 to 8.43"), a false trend read left to right.
+TEST_CASE("a by table's bins of a real parameter run from its least value to its greatest", "[teach][stage]") {
+  test::TempDir copy("roger_teach_bins");
+  fs::copy(teach_batch(), copy.path, fs::copy_options::recursive);
+  // Every final episode of one trial given a level of its own, from 0.5 to 25: bins whose edges
+  // pass from one digit to two, which the order of their text put out of order.
+  const fs::path records = copy.path / "trials" / "Random" / "A" / "000" / "final.jsonl";
+  std::istringstream in(slurp(records));
+  std::vector<json> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(json::parse(line));
+  REQUIRE(lines.size() > 8);
+  std::ostringstream out;
+  for (size_t k = 0; k < lines.size(); ++k) {
+    lines[k]["task"]["level"] = 0.5 + 24.5 * double(k) / double(lines.size() - 1);
+    out << lines[k].dump() << "\n";
+  }
+  std::ofstream(records) << out.str();
+  REQUIRE(run_shell(std::string(ROGER_BINARY) + " report " + copy.path.string() + " --by level > /dev/null") == 0);
+  const std::string tables = slurp(copy.path / "tables.md");
+  std::vector<double> edges;
+  for (size_t at = tables.find("| level = "); at != std::string::npos && edges.size() < 5;
+       at = tables.find("| level = ", at + 1))
+    edges.push_back(std::strtod(tables.c_str() + at + 10, nullptr));
+  INFO(tables);
+  REQUIRE(edges.size() == 5);
+  CHECK(edges.back() > 10.0);  // edges of one digit and of two
+  CHECK(std::is_sorted(edges.begin(), edges.end()));
+}
