@@ -1745,3 +1745,17 @@ TEST_CASE("train without --stage or --context names the curriculum's choices", "
                                "--stage is required: curriculum 'paper' (curricula/paper.lua) has the stages SG, T"));
   CHECK_FALSE(std::filesystem::exists("/tmp/roger_cli_unused"));  // nothing begun
 }
+
+// Found by a probe: --seed S --episodes N ran seeds past 2^64 - 1 as 0, 1, ..., the worlds of an
+// evaluation from seed 0, without a word; and a saved policy's first seed of 2^63 or more read as
+// none given (the stage's held-out seeds ran).
+TEST_CASE("eval refuses seeds that would wrap past 2^64 - 1", "[cli]") {
+  const Run wraps = roger("eval curricula/scripted.lua --policy task --seed 18446744073709551614 --episodes 4");
+  CHECK(wraps.status == 1);
+  CHECK_THAT(wraps.err, Catch::Matchers::Contains("--seed 18446744073709551614 with --episodes 4 runs seeds past "
+                                                  "18446744073709551615: give a --seed of at most 18446744073709551612"));
+  CHECK(roger("eval curricula/scripted.lua --policy task --seed 18446744073709551612 --episodes 4").status == 0);
+  const Run high = roger("eval curricula/paper.lua --policy tests/policies/sg_dc2.json --seed 9223372036854775808 --episodes 1");
+  CHECK(high.status == 1);
+  CHECK_THAT(high.err, Catch::Matchers::Contains("a saved policy's evaluation takes a first seed of at most 9223372036854775807"));
+}

@@ -1,6 +1,8 @@
 // learn_commands.cpp: `roger eval` (a policy over seeded episodes) and `roger train` (one trial).
 #include <algorithm>
+#include <climits>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <set>
@@ -167,6 +169,10 @@ PolicyEvalOptions policy_eval_options(const EvalArgs& a) {
   o.scenario = a.scenario;
   o.sets = split_sets(a.sets, "--set");
   o.episodes = a.episodes;
+  // A first seed of 2^63 or more would read as none given (its signed form is negative): refused.
+  if (a.seed_given && a.seed > uint64_t(INT64_MAX))
+    throw Error("roger eval: --seed " + std::to_string(a.seed) + ": a saved policy's evaluation takes a first seed "
+                "of at most " + std::to_string(INT64_MAX));
   o.first_seed = a.seed_given ? int64_t(a.seed) : -1;
   for (const auto& [name, file] : split_sets(a.skills, "--skill")) o.skill_files[name] = file;
   o.limits = sandbox_limits(a.lua);
@@ -329,7 +335,29 @@ void print_never_referenced(const EvalSummary& r) {
 
 }  // namespace
 
+int evaluate_command(const EvalArgs& a);
+
 int command_eval(const EvalArgs& a) {
+  // Stopped part-way, an evaluation is no result: it says so and prints no figures (found by a
+  // probe: Ctrl-C ended it without a word, where train, render and run say what they kept).
+  catch_interrupts("the evaluation ends at its next episode, with no figures");
+  try {
+    return evaluate_command(a);
+  } catch (const std::exception&) {  // Interrupted, or an episode's error that carries it
+    if (!interrupt_requested()) throw;
+    std::fflush(stdout);
+    std::fprintf(stderr, "roger eval: stopped; no figures (an evaluation stopped part-way is no result)\n");
+    return interrupt_exit_status();
+  }
+}
+
+int evaluate_command(const EvalArgs& a) {
+  // Seeds S to S + N - 1 must not wrap past 2^64 - 1 to 0, 1, ... (found by a probe: they did, without
+  // a word, and reran the worlds of an evaluation from seed 0).
+  if (a.seed_given && a.episodes > 0 && a.seed > UINT64_MAX - uint64_t(a.episodes - 1))
+    throw Error("roger eval: --seed " + std::to_string(a.seed) + " with --episodes " + std::to_string(a.episodes) +
+                " runs seeds past " + std::to_string(UINT64_MAX) + ": give a --seed of at most " +
+                std::to_string(UINT64_MAX - uint64_t(a.episodes - 1)));
   if (policy_is_saved_file(a.script, a.policy)) return run_eval_policy_file(a);
   if (a.test_set)
     throw Error("roger eval: --test-set runs a saved policy (--policy FILE.json) of a stage that teaches on its "

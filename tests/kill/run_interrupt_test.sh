@@ -181,4 +181,14 @@ grep -q "^roger: stopping: the trial ends at its next episode and writes nothing
   fail "roger train: the last line does not say nothing was written"
 [ "$(cat "$work/train/policy.json")" = '{"earlier": true}' ] && [ "$(ls -A "$work/train")" = policy.json ] ||
   fail "roger train: the folder changed"
-echo "passed: one Ctrl-C keeps what finished and reports it; one during the report finishes it and exits 130; a kill during the report leaves summary.csv agreeing with the report; two stop at once, but not one delivered twice; both resume to the golden run; SIGTERM stops as one Ctrl-C and exits 143; roger train says what it trains at its start, and stopped writes nothing and says so"
+# roger eval stopped by Ctrl-C says so and prints no figures (it ended without a word).
+"$roger" eval curricula/scripted.lua --policy task --episodes 1000000 --json >"$work/eval.out" 2>"$work/log" &
+child=$!
+sleep 1
+kill -0 "$child" 2>/dev/null || fail "roger eval: ended before the Ctrl-C"
+stop_child
+[ "$status" -eq 130 ] || fail "roger eval: exit status $status after Ctrl-C, not 130"
+[ "$(tail -n 1 "$work/log")" = "roger eval: stopped; no figures (an evaluation stopped part-way is no result)" ] ||
+  fail "roger eval: the last line does not say it stopped"
+[ ! -s "$work/eval.out" ] || fail "roger eval: figures printed after a Ctrl-C"
+echo "passed: one Ctrl-C keeps what finished and reports it; one during the report finishes it and exits 130; a kill during the report leaves summary.csv agreeing with the report; two stop at once, but not one delivered twice; both resume to the golden run; SIGTERM stops as one Ctrl-C and exits 143; roger train says what it trains at its start, and stopped writes nothing and says so; roger eval stopped says so and prints no figures"
