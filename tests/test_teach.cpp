@@ -696,9 +696,9 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
       {"{ tasks = { shape = roger.choice{} } }", ":8: roger.choice{...}: the list is empty"},
       // Found by a probe: one value was refused of roger.real alone.
       {"{ tasks = { obstacles = roger.int(2, 2) } }",
-       ":8: roger.int(2, 2): the range is a single value (lo must be below hi; a single value needs no axis: set it in params)"},
+       ":8: roger.int(2, 2): the range is a single value (lo must be below hi; a single value needs no axis: give the value itself, in params or in a teacher's step)"},
       {"{ tasks = { shape = roger.choice{ 'circle' } } }",
-       ":8: roger.choice{circle}: one value (a single value needs no axis: set it in params); give at least two"},
+       ":8: roger.choice{circle}: one value (a single value needs no axis: give the value itself, in params or in a teacher's step); give at least two"},
       // Found by a probe: a key beside the levels was dropped without a word, and a negative test
       // seed became 2^64 - 1.
       {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 64, x = 1 } } } }",

@@ -73,8 +73,9 @@ int l_int(lua_State* L) {
   // One value is refused as roger.real's is (found by a probe: roger.int(2, 2) was taken, and
   // ALP-GMM fitted mixtures over its one point).
   if (d.lo >= d.hi)
-    luaL_error(L, "roger.int(%s, %s): the range is %s (lo must be below hi; a single value needs no axis: set it in "
-               "params)", format_number(d.lo).c_str(), format_number(d.hi).c_str(), d.lo == d.hi ? "a single value" : "reversed");
+    luaL_error(L, "roger.int(%s, %s): the range is %s (lo must be below hi; a single value needs no axis: give the "
+               "value itself, in params or in a teacher's step)", format_number(d.lo).c_str(),
+               format_number(d.hi).c_str(), d.lo == d.hi ? "a single value" : "reversed");
   push_axis(L, std::move(d));
   return 1;
 }
@@ -85,8 +86,8 @@ int l_real(lua_State* L) {
   lua_check_arity(L, "roger.real", 2, "2 arguments (lo, hi)");
   d.lo = bound(L, 1, "roger.real", false), d.hi = bound(L, 2, "roger.real", false);
   if (d.lo >= d.hi)
-    luaL_error(L, "roger.real(%s, %s): the range is %s (lo must be below hi; a single value needs no axis: set it in "
-               "params)",
+    luaL_error(L, "roger.real(%s, %s): the range is %s (lo must be below hi; a single value needs no axis: give the "
+               "value itself, in params or in a teacher's step)",
                format_number(d.lo).c_str(), format_number(d.hi).c_str(), d.lo == d.hi ? "a single value" : "reversed");
   push_axis(L, std::move(d));
   return 1;
@@ -111,7 +112,8 @@ int l_choice(lua_State* L) {
   }
   if (d.choices.empty()) luaL_error(L, "roger.choice{...}: the list is empty; give at least two values");
   if (d.choices.size() == 1)
-    luaL_error(L, "roger.choice{%s}: one value (a single value needs no axis: set it in params); give at least two",
+    luaL_error(L, "roger.choice{%s}: one value (a single value needs no axis: give the value itself, in params or in a "
+               "teacher's step); give at least two",
                d.choices[0].c_str());
   push_axis(L, std::move(d));
   return 1;
