@@ -1,6 +1,5 @@
 // learn_commands.cpp: `roger eval` (a policy over seeded episodes) and `roger train` (one trial).
 #include <algorithm>
-#include <climits>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -333,24 +332,7 @@ void print_never_referenced(const EvalSummary& r) {
                           "too coarse)" : "");
 }
 
-}  // namespace
-
-int evaluate_command(const EvalArgs& a);
-
-int command_eval(const EvalArgs& a) {
-  // Stopped part-way, an evaluation is no result: it says so and prints no figures (found by a
-  // probe: Ctrl-C ended it without a word, where train, render and run say what they kept).
-  catch_interrupts("the evaluation ends at its next episode, with no figures");
-  try {
-    return evaluate_command(a);
-  } catch (const std::exception&) {  // Interrupted, or an episode's error that carries it
-    if (!interrupt_requested()) throw;
-    std::fflush(stdout);
-    std::fprintf(stderr, "roger eval: stopped; no figures (an evaluation stopped part-way is no result)\n");
-    return interrupt_exit_status();
-  }
-}
-
+// roger eval itself; command_eval stops it on request.
 int evaluate_command(const EvalArgs& a) {
   // Seeds S to S + N - 1 must not wrap past 2^64 - 1 to 0, 1, ... (found by a probe: they did, without
   // a word, and reran the worlds of an evaluation from seed 0).
@@ -401,6 +383,22 @@ int evaluate_command(const EvalArgs& a) {
     std::printf("%s\n", j.dump().c_str());
   }
   return 0;
+}
+
+}  // namespace
+
+int command_eval(const EvalArgs& a) {
+  // Stopped part-way, an evaluation is no result: it says so and prints no figures (found by a
+  // probe: Ctrl-C ended it without a word, where train, render and run say what they kept).
+  catch_interrupts("the evaluation ends at its next episode, with no figures");
+  try {
+    return evaluate_command(a);
+  } catch (const std::exception&) {  // Interrupted, or an episode's error that carries it
+    if (!interrupt_requested()) throw;
+    std::fflush(stdout);
+    std::fprintf(stderr, "roger eval: stopped; no figures (an evaluation stopped part-way is no result)\n");
+    return interrupt_exit_status();
+  }
 }
 
 // "; trained with upper_arm = 0.7 (here 0.5)": the scenario parameters a skill's policy records

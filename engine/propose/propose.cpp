@@ -258,8 +258,7 @@ void claim_search_folder(const ProposeOptions& o, const std::string& module, con
   write_file_atomic(file, search.dump(1) + "\n", "cannot write the search's settings");
 }
 
-// One training run of a candidate, from its record when an earlier run wrote it.
-// The trial of `spec` with this seed, run for at most cap_s simulated s (or read from its record at
+// One training run of a candidate, from its record when an earlier run wrote it: the trial of `spec` with this seed, run for at most cap_s simulated s (or read from its record at
 // `file`). A trial that did not reach the threshold scores on score_cap_s, its round's cap, which
 // the budget may have cut cap_s below: the record keeps the loss the ranking uses.
 CandidateTrial run_trial(const ProposeOptions& o, const CandidateSpec& spec, const std::string& sources, uint64_t seed,
@@ -340,8 +339,8 @@ CandidateTrial run_trial(const ProposeOptions& o, const CandidateSpec& spec, con
   // won the search); its record said the cut cap's loss while the ranking used the other.
   tr.loss = tr.reached ? tr.time_s : score_cap_s * (2.0 - tr.last_success);
   const nlohmann::json j = {{"format", "roger-propose-trial"}, {"candidate", spec.c.id}, {"hash", hash},
-                            {"seed", seed}, {"cap_s", cap_s}, {"score_cap_s", score_cap_s}, {"spent_s", tr.spent_s}, {"skills_s", tr.skills_s},
-                            {"reached", tr.reached}, {"time_s", tr.time_s}, {"last_success", tr.last_success},
+                            {"seed", seed}, {"cap_s", cap_s}, {"score_cap_s", score_cap_s}, {"spent_s", tr.spent_s},
+                            {"skills_s", tr.skills_s}, {"reached", tr.reached}, {"time_s", tr.time_s}, {"last_success", tr.last_success},
                             {"checkpoints", tr.checkpoints}, {"cut", tr.cut}, {"cut_reached", tr.cut_reached},
                             {"loss", tr.loss}};
   write_file_atomic(file, j.dump(1) + "\n", "cannot write the trial record");

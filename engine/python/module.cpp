@@ -76,7 +76,6 @@ auto without_gil(F&& f) -> decltype(f()) {
   if constexpr (!std::is_void_v<Result>) return std::move(*result);
 }
 
-// A Python value as the text a scenario parameter is given as (--set key=value).
 // Text from Python for the engine: bytes as they are; a str as UTF-8, with the bytes of a file name
 // that are not (os.fsdecode's surrogates) given back as they were, as the command line passes
 // them (found by a probe: such a name or value raised a binding's RuntimeError).
@@ -98,6 +97,7 @@ py::str python_text(const std::string& s) {
   return py::reinterpret_steal<py::str>(text);
 }
 
+// A Python value as the text a scenario parameter is given as (--set key=value).
 std::string param_text(const py::handle& v) {
   if (py::isinstance<py::bool_>(v)) return v.cast<bool>() ? "true" : "false";
   return native_text(v);

@@ -536,7 +536,7 @@ class Env(_Copyable, _EnvBase):
         self._init["policy"] = policy
         self._recipe = _recipe(self._init)
         _names(curriculum, stage, context, "make")
-        params, embedded = _with_policy(policy, curriculum, stage, context, params, scenario, "make")
+        params, embedded, played = _with_policy(policy, curriculum, stage, context, params, scenario, "make")
         self.render_mode = _render_mode(render_mode, "make")
         self.render_width = _render_width(render_width, "make")
         self.timeout = _timeout(timeout, "make")
@@ -557,7 +557,7 @@ class Env(_Copyable, _EnvBase):
         self._task = (None, [])  # the running episode's task
         self._stage_info = self._env.info
         self.actions = tuple(self._stage_info["actions"])
-        _check_policy_actions(policy, self.actions, "make")
+        _check_policy_actions(played, self.actions, "make")
         self.mode = mode
         fps = round(1.0 / self._stage_info["tick_seconds"]) if mode == "tick" else _DECISION_FPS
         self.metadata = {"render_modes": _RENDER_MODES, "render_fps": fps}
@@ -1084,7 +1084,7 @@ class VecEnv(_Copyable, _VecBase):
         if threads is None:
             import os
             threads = min(int(num_envs), len(os.sched_getaffinity(0)))
-        params, embedded = _with_policy(policy, curriculum, stage, context, params, scenario, "make_vec")
+        params, embedded, played = _with_policy(policy, curriculum, stage, context, params, scenario, "make_vec")
         self._vec = _roger.VecEnvironment(_native(curriculum), _native(stage), _native(context), _native(scenario or ""),
                                           _text_dict(params, "params"), _text_dict(skills, "skills"),
                                           int(num_envs), int(threads), mode.value, embedded)
@@ -1105,7 +1105,7 @@ class VecEnv(_Copyable, _VecBase):
         self._stage_info = self._vec.info
         self.actions = tuple(self._stage_info["actions"])
         try:
-            _check_policy_actions(policy, self.actions, "make_vec")
+            _check_policy_actions(played, self.actions, "make_vec")
         except RogerError:
             self._vec = None
             raise
@@ -1382,27 +1382,27 @@ def make_vec(curriculum, stage, context, num_envs, threads=None, params=None, sk
 
 def _with_policy(policy, curriculum, stage, context, params, scenario, where):
     """make's params over the trial's own parameters of `policy` (a path or a Policy; None: none),
-    and the learned skills it embeds (JSON text, "" for none), as `roger eval --policy` has them:
-    params given win over the trial's, and another scenario than the stage's takes none."""
+    the learned skills it embeds (JSON text, "" for none), as `roger eval --policy` has them, and
+    the Policy (None for none): params given win over the trial's, and another scenario than the
+    stage's takes none."""
     if policy is None:
-        return params, ""
+        return params, "", None
     p = policy if isinstance(policy, Policy) else Policy(policy)
     if (p.stage, p.context) != (str(stage), str(context)):
         raise RogerError(f"{where}: policy {p.path} is of stage {p.stage} context {p.context}, not of stage {stage} "
                          f"context {context}: make it with policy.make(), or give the policy's stage and context")
     trial = dict(p._p.trial_params(_native(curriculum), _native(scenario or "")))
     given = _text_dict(params, "params")
-    return {**{k: v for k, v in trial.items() if k not in given}, **given}, p._p.skills_json
+    return {**{k: v for k, v in trial.items() if k not in given}, **given}, p._p.skills_json, p
 
 
-def _check_policy_actions(policy, actions, where):
-    """Refuses a policy (a path; None: none) whose actions are not the environment's, in the same
-    order, as `roger eval` refuses it: its act() indexes its own actions, so a reordered or renamed
-    set would run other actions than it chose (found by a probe: 20 of 20 fell to 6 of 20)."""
-    if policy is None:
+def _check_policy_actions(p, actions, where):
+    """Refuses a Policy (None: none) whose actions are not the environment's, in the same order, as
+    `roger eval` refuses it: its act() indexes its own actions, so a reordered or renamed set would
+    run other actions than it chose (found by a probe: 20 of 20 fell to 6 of 20)."""
+    if p is None:
         return
     import json
-    p = Policy(policy)
     if p.actions != tuple(actions):
         raise RogerError(f"{where}: {p.path}: field \"actions\" is {json.dumps(list(p.actions))} but this stage's "
                          f"actions are {json.dumps(list(actions))} (a policy is tied to its action set and order)")
