@@ -910,6 +910,13 @@ TEST_CASE("a damaged trial result is a roger::Error naming its file, never an ab
       {"checkpoint 0: field \"success_rate\" must be within [0, 1], got -0.5",
        [](json& j) { j["checkpoints"][0]["success_rate"] = -0.5; }},
       {"field \"usage\" must map actions to shares, got 3", [](json& j) { j["usage"]["phi1"] = 3; }},
+      // What a teacher did, told by the report: a wrong type there escaped as a json type_error.
+      {"field \"teacher\" must be an object, got string", [](json& j) { j["teacher"] = "lcas"; }},
+      {"field \"teacher\": \"kind\" must name the teacher, got 5", [](json& j) { j["teacher"] = {{"kind", 5}}; }},
+      {"field \"teacher\": its \"state\" is not as roger train records it",
+       [](json& j) { j["teacher"] = {{"kind", "alp_gmm"}, {"state", {{"kind", "alp_gmm"}, {"components", {{{"alp", "high"}}}}}}}; }},
+      {"field \"teacher\": its \"state\" is not as roger train records it",
+       [](json& j) { j["teacher"] = {{"kind", "sequence"}, {"state", {{"kind", "sequence"}, {"moves", {3}}, {"episodes", 1}}}}; }},
   };
   for (const auto& [what, spoil] : cases) {
     json bad = good;

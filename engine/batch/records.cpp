@@ -11,6 +11,7 @@
 #include "core/fileio.h"
 #include "core/text.h"
 #include "learn/learning.h"
+#include "teach/teach.h"
 
 namespace roger {
 
@@ -32,6 +33,24 @@ std::string number_problem(const json& j, const char* key, double lo = -kInf, do
     return "field \"" + std::string(key) + "\" must be " +
            (hi == kInf ? "at least " + format_number(lo) : "within [" + format_number(lo) + ", " + format_number(hi) + "]") +
            ", got " + v.dump();
+  return "";
+}
+
+// Why a result's "teacher" (what its stage's teacher did, which the report tells) cannot be told
+// ("" when it can, or when there is none): found by a fuzzer, a hand-edited kind or state reached
+// the report as "[json.exception.type_error.302] type must be string, but is number".
+std::string teacher_problem(const json& r) {
+  if (!r.contains("teacher")) return "";
+  const json& t = r["teacher"];
+  if (!t.is_object()) return "field \"teacher\" must be an object, got " + std::string(t.type_name());
+  if (t.contains("kind") && !t["kind"].is_string())
+    return "field \"teacher\": \"kind\" must name the teacher, got " +
+           (t["kind"].is_structured() ? std::string(t["kind"].type_name()) : t["kind"].dump());
+  try {
+    describe_teacher_state(t.value("state", json()));
+  } catch (const json::exception& e) {
+    return "field \"teacher\": its \"state\" is not as roger train records it (" + json_error_text(e.what()) + ")";
+  }
   return "";
 }
 
@@ -57,7 +76,7 @@ std::string optional_field_problem(const json& r) {
         !std::all_of(causes->begin(), causes->end(), [](const json& c) { return c.is_string(); }))
       return "field \"diagnosis\" must be an object whose \"causes\" is a list of sentences";
   }
-  return "";
+  return teacher_problem(r);
 }
 
 // A reached trial's time to threshold is its checkpoints' own: the simulated seconds of the first

@@ -264,10 +264,10 @@ std::string describe_lcas(const json& state, const std::string& levels) {
             // one) the lift before it's "to"
     json from = last.value("from", json());
     if (from.is_null() && !lifts.empty()) from = lifts.back().value("to", json());
-    const json level = state.value("level", json());
+    const json level = state.value("level", json());  // an integer from roger train; any other is "?"
+    const bool counted = level.is_number_integer() && level.get<int64_t>() > 0;
     text = param + " = " + shown(from.is_null() ? json("?") : from) + " (level " +
-           (level.is_number() ? shown(json(level.get<int>() - 1)) : std::string("?")) + " of " + levels +
-           ") when training ended";
+           (counted ? shown(json(level.get<int64_t>() - 1)) : std::string("?")) + " of " + levels + ") when training ended";
   }
   text += lifts.empty() ? ", never lifted" : "; lifted at episodes " + lcas_lifts(lifts);
   if (!last.is_null()) text += "; after the last episode, to " + shown(last.value("to", json("?"))) + ", never trained";
