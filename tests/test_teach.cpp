@@ -113,6 +113,14 @@ TEST_CASE("a task space samples every task alike and maps onto the unit cube", "
   CHECK(s.params(t) == ParamList{{"obstacles", "3"}, {"robot_distance", "1.25"}, {"shape", "spade"}});
   CHECK(s.to_json(t).dump() == R"({"obstacles":3,"robot_distance":1.25,"shape":"spade"})");
   CHECK(s.task_of(s.params(t)) == t);
+
+  // A choice's values recorded as the Lua values they are (found by a probe: roger.choice{0, 200}
+  // was recorded as "0" and "200", where an int axis records numbers).
+  TaskDim gap{"gap", TaskDim::Kind::kChoice, 0, 0, {"0", "200", "0.25"}}, lit{"lit", TaskDim::Kind::kChoice, 0, 0, {"true", "false"}};
+  const TaskSpace typed({gap, lit, TaskDim{"shape", TaskDim::Kind::kChoice, 0, 0, {"circle", "2x"}}});
+  CHECK(typed.to_json({1, 0, 0}).dump() == R"({"gap":200,"lit":"true","shape":"circle"})");
+  CHECK(typed.to_json({2, 1, 1}).dump() == R"({"gap":0.25,"lit":"false","shape":"2x"})");
+  CHECK(typed.task_of(typed.params({2, 1, 1})) == TaskPoint{2, 1, 1});
 }
 
 TEST_CASE("a task space names what it allows when a value lies outside it", "[teach]") {
@@ -1148,6 +1156,42 @@ TEST_CASE("a tasks-drawn map shows the whole axis of the recorded space", "[teac
       ++maps;
       CHECK(f["rows"] == json::array({"0", "1", "2", "3"}));
       for (size_t c = 0; c + 1 < f["x_edges"].size(); ++c) CHECK(f["share"][2][c] == 0.0);  // never drawn
+    }
+  CHECK(maps == 1);
+}
+
+// A choice of fractions is a row per value, not bins of a range, now that its values are recorded
+// as numbers.
+TEST_CASE("a tasks-drawn map of a choice of numbers has a row per value", "[teach][stage]") {
+  test::TempDir copy("roger_teach_choice_axis");
+  fs::copy(teach_batch(), copy.path, fs::copy_options::recursive);
+  for (const auto& trial : fs::directory_iterator(copy.path / "trials" / "Sequence" / "A")) {
+    json result = read_json(trial.path() / "result.json");
+    result["tasks"] = "level = roger.choice{0.25, 0.5, 0.75}";
+    std::ofstream(trial.path() / "result.json") << result.dump();
+    std::stringstream original(slurp(trial.path() / "episodes.jsonl")), rewritten;
+    for (std::string line; std::getline(original, line);) {
+      if (line.empty()) continue;
+      json e = json::parse(line);
+      if (e.contains("task") && e["task"].contains("level")) e["task"]["level"] = e["task"]["level"].get<double>() < 0.5 ? 0.25 : 0.5;
+      rewritten << e.dump() << "\n";
+    }
+    std::ofstream(trial.path() / "episodes.jsonl") << rewritten.str();
+  }
+  REQUIRE(run_shell(std::string(ROGER_BINARY) + " report " + copy.path.string() + " > /dev/null 2>&1") == 0);
+  const std::string js = slurp(copy.path / "dashboard.js");
+  const json page = json::parse(js.substr(js.find('=') + 1, js.rfind(';') - js.find('=') - 1));
+  int maps = 0;
+  for (const auto& f : page["figures"])
+    if (f["kind"] == "tasks" && f["run"] == "Sequence") {
+      ++maps;
+      CHECK(f["rows"] == json::array({"0.25", "0.5", "0.75"}));
+      double drawn = 0.0;
+      for (size_t c = 0; c + 1 < f["x_edges"].size(); ++c) {
+        CHECK(f["share"][2][c] == 0.0);  // never drawn
+        drawn += f["share"][0][c].get<double>() + f["share"][1][c].get<double>();
+      }
+      CHECK(drawn > 0.0);
     }
   CHECK(maps == 1);
 }

@@ -48,7 +48,11 @@ std::string feature_of(const json& record, const std::string& feature) {
   if (!v) return "";
   if (v->is_string()) return v->get<std::string>();
   if (v->is_number_integer()) return std::to_string(v->get<int64_t>());
-  if (v->is_number()) return fmt("%.2f", v->get<double>());
+  // A short fraction as written (a choice's 0.125), a long one (a real axis's draw) to two decimals.
+  if (v->is_number()) {
+    const std::string exact = format_number(v->get<double>());
+    return exact.size() <= 6 ? exact : fmt("%.2f", v->get<double>());
+  }
   return v->dump();
 }
 
@@ -416,6 +420,14 @@ Drawn drawn_values(const BatchRun& run, const std::string& context, const std::s
   return d;
 }
 
+// A drawn value as its axis's text has it ("3", "0.25", "spade", "true"): rows are matched by it.
+std::string drawn_text(const json& v) {
+  if (v.is_string()) return v.get<std::string>();
+  if (v.is_number_integer()) return std::to_string(v.get<int64_t>());
+  if (v.is_number()) return format_number(v.get<double>());
+  return v.dump();
+}
+
 // The heat map of the draws: 25 columns of episodes; a row per value drawn (integers and text),
 // or 10 bins over the range drawn (other numbers).
 HeatMap heat_of(const Drawn& d, const std::optional<Axis>& axis) {
@@ -425,10 +437,11 @@ HeatMap heat_of(const Drawn& d, const std::optional<Axis>& axis) {
   bool reals = false;
   double lo = 1e300, hi = -1e300;
   std::set<std::string, decltype(&value_less)> values(&value_less);
+  const bool choice = axis && axis->kind == Axis::Kind::kChoice;  // its fractions are values, not a range
   for (const auto& [i, v] : d.draws) {
-    if (v.is_number() && !v.is_number_integer() && v.get<double>() != std::floor(v.get<double>())) reals = true;
+    if (!choice && v.is_number() && !v.is_number_integer() && v.get<double>() != std::floor(v.get<double>())) reals = true;
     if (v.is_number()) lo = std::min(lo, v.get<double>()), hi = std::max(hi, v.get<double>());
-    values.insert(v.is_string() ? v.get<std::string>() : v.is_number() ? fmt("%g", v.get<double>()) : v.dump());
+    values.insert(drawn_text(v));
   }
   const int bins = 10;
   std::vector<std::string> rows = reals ? std::vector<std::string>{} : std::vector<std::string>(values.begin(), values.end());
@@ -440,7 +453,7 @@ HeatMap heat_of(const Drawn& d, const std::optional<Axis>& axis) {
   } else if (axis && !reals) {
     std::vector<std::string> whole = axis->choices;
     if (axis->kind == Axis::Kind::kInt)
-      for (double x = axis->lo; x <= axis->hi; x += 1.0) whole.push_back(fmt("%g", x));
+      for (double x = axis->lo; x <= axis->hi; x += 1.0) whole.push_back(format_number(x));
     const bool covers = std::all_of(values.begin(), values.end(), [&](const std::string& v) {
       return std::find(whole.begin(), whole.end(), v) != whole.end();
     });
@@ -456,8 +469,7 @@ HeatMap heat_of(const Drawn& d, const std::optional<Axis>& axis) {
     if (reals) {
       r = hi > lo ? std::min<size_t>(bins - 1, size_t((v.get<double>() - lo) / (hi - lo) * bins)) : 0;
     } else {
-      const std::string text = v.is_string() ? v.get<std::string>() : v.is_number() ? fmt("%g", v.get<double>()) : v.dump();
-      r = size_t(std::find(rows.begin(), rows.end(), text) - rows.begin());
+      r = size_t(std::find(rows.begin(), rows.end(), drawn_text(v)) - rows.begin());
     }
     count[r][c] += 1.0;
     total[c] += 1.0;

@@ -134,7 +134,9 @@ nlohmann::json TaskSpace::to_json(const TaskPoint& task) const {
     const TaskDim& d = dims_[i];
     if (d.kind == TaskDim::Kind::kInt) j[d.name] = int64_t(std::llround(task[i]));
     else if (d.kind == TaskDim::Kind::kReal) j[d.name] = task[i];
-    else j[d.name] = d.choices[size_t(task[i])];
+    // A choice as the records write a parameter (found by a probe: roger.choice{0, 200} was
+    // recorded as "0" and "200", where an int axis records numbers).
+    else j[d.name] = param_value_json(d.choices[size_t(task[i])]);
   }
   return j;
 }

@@ -77,7 +77,8 @@ class TaskSpace {
 
   // The task as scenario parameters (text), in the space's order.
   ParamList params(const TaskPoint& task) const;
-  // The task as a JSON object {"obstacles": 3, "shape": "spade", "distance": 1.25}.
+  // The task as a JSON object {"obstacles": 3, "shape": "spade", "distance": 1.25}: a choice's
+  // value as param_value_json gives it (roger.choice{0, 200} records numbers, as an int axis does).
   nlohmann::json to_json(const TaskPoint& task) const;
   // One axis's value from a parameter's text ("3", "spade"); nullopt and `why` (what the axis
   // allows) when the text is not one of its values.
