@@ -1115,11 +1115,11 @@ TEST_CASE("an evaluation over a retrained skill is roger eval --skill, whatever 
   const std::string tables = slurp(one / "tables.md");
   CHECK_THAT(tables, Catch::Matchers::Contains("Run `SG_wide`: stage SG with base_radius=0.24, baseline DC2."));
   CHECK_THAT(tables, Catch::Matchers::Contains("Run `SG`: stage SG, baseline DC2."));
-  CHECK_THAT(tables, Catch::Matchers::Contains("The final T/DC6 policy of 1 trial, without retraining, in scenario "
-                                               "(the stage's) with base_radius=0.24, with Phi_SG from run `SG_wide` "
+  CHECK_THAT(tables, Catch::Matchers::Contains("The final T/DC6 policy of 1 trial, without retraining, in its stage's "
+                                               "own scenario with base_radius=0.24, with Phi_SG from run `SG_wide` "
                                                "context DC2 (trial i's for trial i), 10 episodes"));
-  CHECK_THAT(tables, Catch::Matchers::Contains("The final T/DC6 policy of 1 trial, without retraining, in scenario "
-                                               "(the stage's) with base_radius=0.24, 10 episodes"));
+  CHECK_THAT(tables, Catch::Matchers::Contains("The final T/DC6 policy of 1 trial, without retraining, in its stage's "
+                                               "own scenario with base_radius=0.24, 10 episodes"));
   CHECK(result(one, "as_learned")["skills"].empty());
   for (const char* e : {"as_learned", "retrained"}) {
     INFO(e);

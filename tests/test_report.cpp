@@ -1430,6 +1430,40 @@ TEST_CASE("bounds from censored trials are marked in the improvement and the cum
   CHECK(std::regex_search(slurp(copy.dir / "tables.md"), std::regex("\\| DC2 \\| [0-9]+:[0-9]{2} \\| ≥ -?[0-9.]+% \\|")));
 }
 
+// Found in a review: Figure 5 stacked SG's time under B2, whose actions hold no Phi_SG; the paper
+// adds it "as appropriate". DC6 uses it inside Phi_STG (its record's "skills" names it).
+TEST_CASE("the cumulative figure stacks a skill's time only under the contexts that use it", "[report]") {
+  test::TempDir dir("roger_report_as_appropriate");
+  fs::copy_file("tests/scripts/kill_curriculum.lua", dir.path / "kill_curriculum.lua");
+  std::string batch = slurp("tests/scripts/kill_batch.lua");
+  const std::string dc6 = "contexts = { \"DC6\" }, skills";
+  REQUIRE(batch.find(dc6) != std::string::npos);
+  batch.replace(batch.find(dc6), dc6.size(), "contexts = { \"B2\", \"DC6\" }, skills");
+  spit(dir.path / "b.lua", batch);
+  RunArgs a;
+  a.script = (dir.path / "b.lua").string();
+  a.out = (dir.path / "out").string();
+  a.jobs = 2;
+  std::ostringstream said;
+  a.progress = &said;
+  REQUIRE(command_run(a) == 0);
+  const std::string js = slurp(dir.path / "out" / "dashboard.js");
+  const json page = json::parse(js.substr(js.find('=') + 1, js.rfind(';') - js.find('=') - 1));
+  int figures = 0;
+  for (const auto& f : page["figures"])
+    if (f["kind"] == "cumulative") {
+      ++figures;
+      REQUIRE(f["categories"] == json::array({"B2", "DC6"}));
+      const json& sg = f["stacks"][0];
+      CHECK(sg["name"] == "SG (Phi_SG, DC2)");
+      CHECK(sg["minutes"][0] == 0.0);  // B2: no Phi_SG
+      CHECK(sg["minutes"][1].get<double>() > 0.0);
+      CHECK(f["stacks"][1]["minutes"][0].get<double>() > 0.0);  // B2's own time
+    }
+  CHECK(figures == 1);
+  CHECK_THAT(slurp(dir.path / "out" / "tables.md"), Contains("in the contexts that use the skill"));
+}
+
 // Found by a probe: a row of one trial showed an IQM interval "[2:30, 2:30]", a p-value of 1 and a
 // P(faster) from a single pair, as if they were evidence.
 TEST_CASE("a row of one trial shows no interval and no test", "[report]") {

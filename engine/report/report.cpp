@@ -177,7 +177,9 @@ void write_figures(const BatchScript& b, const Folder& folder, std::vector<std::
         "(population) std. IQM learning curves (one per stage): on the same grid, the interquartile mean over "
         "trials with its 95% percentile-bootstrap interval at each time (" << dashboard::kCurveResamples
      << " resamples). Cumulative training time: mean simulated time-to-threshold of the skill's source "
-        "trials (each trial uses the policy of the same-numbered source trial) stacked under the run's own.\n";
+        "trials (each trial uses the policy of the same-numbered source trial) stacked under the run's own, "
+        "in the contexts that use the skill (directly or inside another skill); a context that does not "
+        "shows its own time alone.\n";
   if (std::any_of(b.figures.begin(), b.figures.end(), [](const BatchFigure& f) { return f.y == "success"; }))
     md << "\nCurves of the share of test tasks mastered: the checkpoints' success rates in place of their rewards, "
           "and the band (mean ± one std) cut to the possible range, 0 to 100%.\n";

@@ -61,7 +61,7 @@ void eval_table_head(const BatchTable& t, const BatchEvaluation& ev, std::ostrin
   md << "## " << t.title << "\n\n";
   md << "The final " << ev.run << "/" << ev.context << " policy of "
      << (ev.trials == 1 ? std::string("1 trial") : "each of " + std::to_string(ev.trials) + " trials") << ", without "
-     << "retraining, in scenario " << (ev.scenario.empty() ? "(the stage's)" : "`" + ev.scenario + "`")
+     << "retraining, in " << (ev.scenario.empty() ? "its stage's own scenario" : "scenario `" + ev.scenario + "`")
      << with_params(ev.params);
   // A learned skill replaced: the same policies over another skill are another measure.
   for (const auto& s : ev.skills)

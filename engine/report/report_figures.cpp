@@ -177,7 +177,15 @@ std::string iqm_figure(const BatchScript& b, const BatchRun& run, const Folder& 
   return line;
 }
 
-// Cumulative training time per context: the skills' runs (the trial's own skill source) then the run.
+// Whether a trial used the learned skill: its record's "skills" are the learned skills its context
+// binds, directly or inside another skill (DC6's Phi_STG holds Phi_SG); none when it has none.
+bool used_skill(const json& result, const std::string& skill) {
+  return result.contains("skills") && result["skills"].is_object() && result["skills"].contains(skill);
+}
+
+// Cumulative training time per context: the skills' runs (the trial's own skill source) then the
+// run. A skill's time is stacked only under the contexts that use it, as the paper's "as
+// appropriate" has it (found in a review: B2, whose actions hold no Phi_SG, carried SG's time).
 bool cumulative_figure(const BatchScript& b, const BatchFigure& f, const Folder& folder, std::vector<std::string>& written,
                        json& page) {
   const BatchRun& run = *b.run(f.run);
@@ -196,6 +204,7 @@ bool cumulative_figure(const BatchScript& b, const BatchFigure& f, const Folder&
       std::vector<double> v;
       bool censored = false;
       for (const auto& j : r.ok) {
+        if (!used_skill(j, s.skill)) continue;
         const int i = j.value("trial", 0);
         const Results src = folder.trials({batch_trial_id(s.run, s.context, i)});
         if (src.ok.empty()) continue;

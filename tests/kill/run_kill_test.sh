@@ -76,7 +76,7 @@ check_whole_files() {
     tail -c 16 "$f" | grep -q '</svg>' || fail "after kill $kills: $f is cut short"
   done < <(find "$killed" -name '*.svg' ! -name '.*' -print0)
   if [ -f "$killed/tables.md" ]; then
-    tail -n 1 "$killed/tables.md" | grep -q "stacked under the run's own.$" || fail "after kill $kills: tables.md is cut short"
+    tail -n 1 "$killed/tables.md" | grep -q "a context that does not shows its own time alone.$" || fail "after kill $kills: tables.md is cut short"
   fi
 }
 
