@@ -117,9 +117,11 @@ TEST_CASE("a task space samples every task alike and maps onto the unit cube", "
   // A choice's values recorded as the Lua values they are (found by a probe: roger.choice{0, 200}
   // was recorded as "0" and "200", where an int axis records numbers).
   TaskDim gap{"gap", TaskDim::Kind::kChoice, 0, 0, {"0", "200", "0.25"}}, lit{"lit", TaskDim::Kind::kChoice, 0, 0, {"true", "false"}};
-  const TaskSpace typed({gap, lit, TaskDim{"shape", TaskDim::Kind::kChoice, 0, 0, {"circle", "2x"}}});
+  const TaskSpace typed({gap, lit, TaskDim{"shape", TaskDim::Kind::kChoice, 0, 0, {"circle", "2x", "007", "1e3"}}});
   CHECK(typed.to_json({1, 0, 0}).dump() == R"({"gap":200,"lit":"true","shape":"circle"})");
   CHECK(typed.to_json({2, 1, 1}).dump() == R"({"gap":0.25,"lit":"false","shape":"2x"})");
+  CHECK(typed.to_json({0, 0, 2}).dump() == R"({"gap":0,"lit":"true","shape":"007"})");  // names, not numbers
+  CHECK(typed.to_json({0, 0, 3}).dump() == R"({"gap":0,"lit":"true","shape":"1e3"})");
   CHECK(typed.task_of(typed.params({2, 1, 1})) == TaskPoint{2, 1, 1});
 }
 

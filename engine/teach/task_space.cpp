@@ -208,8 +208,10 @@ nlohmann::json param_value_json(const std::string& text) {
   char* end = nullptr;
   const long long i = std::strtoll(text.c_str(), &end, 10);
   if (!text.empty() && *end == '\0' && std::to_string(i) == text) return int64_t(i);
+  // Only a number written as the engine writes it: "007", "1e3" or "0x1A" are names a script gave
+  // (a choice of them recorded as 7, 1000 and 26 would lose them).
   const double v = std::strtod(text.c_str(), &end);
-  if (!text.empty() && *end == '\0' && std::isfinite(v)) return v;
+  if (!text.empty() && *end == '\0' && std::isfinite(v) && format_number(v) == text) return v;
   return text;
 }
 

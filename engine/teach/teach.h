@@ -26,8 +26,8 @@ namespace roger {
 
 using ParamList = std::vector<std::pair<std::string, std::string>>;  // scenario parameters as text
 
-// A parameter's text as the records write it: an integer or a number when it reads as one ("64"
-// is 64, not 64.0 or "64"), else the text.
+// A parameter's text as the records write it: an integer or a number when it is one as the engine
+// writes numbers ("64" is 64, not 64.0 or "64"; "1.25" is 1.25), else the text ("007", "1e3").
 nlohmann::json param_value_json(const std::string& text);
 
 // "obstacles = 2, shape = spade", for messages.
