@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <string>
 #include <limits>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -19,6 +19,30 @@ using namespace roger;
 namespace {
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 }  // namespace
+
+TEST_CASE("Rng::integer covers any range, the full int64_t range and its ends included", "[core]") {
+  // Found by a probe: hi - lo overflowed on the full range, and the compiled code divided by zero.
+  Rng rng(11);
+  const int64_t lo = std::numeric_limits<int64_t>::min(), hi = std::numeric_limits<int64_t>::max();
+  bool negative = false, positive = false;
+  for (int i = 0; i < 64; ++i) {
+    const int64_t v = rng.integer(lo, hi);
+    negative |= v < 0, positive |= v > 0;
+  }
+  CHECK((negative && positive));
+  int seen_top[2] = {0, 0}, seen_bottom[2] = {0, 0};
+  for (int i = 0; i < 200; ++i) {
+    const int64_t t = rng.integer(hi - 1, hi), b = rng.integer(lo, lo + 1);
+    REQUIRE((t == hi - 1 || t == hi));
+    REQUIRE((b == lo || b == lo + 1));
+    ++seen_top[t - (hi - 1)], ++seen_bottom[b - lo];
+  }
+  CHECK((seen_top[0] > 60 && seen_top[1] > 60 && seen_bottom[0] > 60 && seen_bottom[1] > 60));
+  // An ordinary range draws as before (the trials' worlds depend on it): -3..3, uniform.
+  int counts[7] = {};
+  for (int i = 0; i < 7000; ++i) ++counts[rng.integer(-3, 3) + 3];
+  for (int c : counts) CHECK((c > 850 && c < 1150));
+}
 
 TEST_CASE("heading_vector gives the bits of cos and sin whatever was asked before", "[core]") {
   // It remembers the last angle: asked in any order, repeated or alternating, each answer must be

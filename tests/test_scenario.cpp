@@ -715,6 +715,11 @@ TEST_CASE("the Lua API checks its arguments where they are given", "[scenario]")
             "assert(t.radius == 0.4 and s.radius == 0.2 and t.name == 'circle') "
             "local x, y = world:sample_position{shape = t} "
             "assert(rng:int(3) >= 1 and rng:uniform(2, 3) >= 2 and #rng:shuffle({1, 2, 3}) == 3) "
+            // Found by a probe: the full range divided by zero (SIGFPE) through an overflow.
+            "assert(math.type(rng:int(math.mininteger, math.maxinteger)) == 'integer') "
+            "assert(rng:int(math.maxinteger - 1, math.maxinteger) >= math.maxinteger - 1) "
+            "assert(rng:int(math.mininteger, math.mininteger + 1) <= math.mininteger + 1) "
+            "assert(rng:int(-1, 0) <= 0) "
             "assert(rng:fork():uniform() < 1 and rng:angle() < math.pi and rng:normal(1, 0) == 1) "
             "local xmin, xmax = world:bounds() assert(xmin == -2 and xmax == 2) "
             "world:stimulus{colour = '#00ff00'} error('reached the end')", "ok") == "reached the end");

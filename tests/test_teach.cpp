@@ -707,6 +707,10 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
       // Found by a probe: one value was refused of roger.real alone.
       {"{ tasks = { obstacles = roger.int(2, 2) } }",
        ":8: roger.int(2, 2): the range is a single value (lo must be below hi; a single value needs no axis: give the value itself, in params or in a teacher's step)"},
+      // Found by a probe: math.maxinteger became 2^63 as a double, drawn out of range.
+      {"{ tasks = { obstacles = roger.int(0, math.maxinteger) } }",
+       ":8: roger.int(lo, hi): hi must lie within -2^53..2^53 (-9007199254740992..9007199254740992), got "
+       "9223372036854775807"},
       {"{ tasks = { shape = roger.choice{ 'circle' } } }",
        ":8: roger.choice{circle}: one value (a single value needs no axis: give the value itself, in params or in a teacher's step); give at least two"},
       // Found by a probe: a key beside the levels was dropped without a word, and a negative test

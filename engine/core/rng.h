@@ -45,13 +45,15 @@ class Rng {
 
   // Uniform integer in [lo, hi] (inclusive); lo <= hi.
   int64_t integer(int64_t lo, int64_t hi) {
-    const uint64_t span = uint64_t(hi - lo) + 1;
-    if (span == 0) return int64_t(next());
+    // In unsigned arithmetic: hi - lo overflows int64_t on the full range, and
+    // the compiler may assume it does not (it did: a modulo by zero).
+    const uint64_t span = uint64_t(hi) - uint64_t(lo) + 1;
+    if (span == 0) return int64_t(next());  // the whole int64_t range
     // Rejection keeps it unbiased.
     const uint64_t limit = UINT64_MAX - UINT64_MAX % span;
     uint64_t v;
     do v = next(); while (v >= limit);
-    return lo + int64_t(v % span);
+    return int64_t(uint64_t(lo) + v % span);
   }
 
   // Normal with mean mu and standard deviation sigma (Box-Muller, one value per call).

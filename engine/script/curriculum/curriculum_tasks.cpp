@@ -48,6 +48,16 @@ double bound(lua_State* L, int index, const char* call, bool integer) {
   if (!std::isfinite(v) || (integer && v != std::floor(v)))
     luaL_error(L, "%s(lo, hi): %s must be %s, got %s", call, index == 1 ? "lo" : "hi",
                integer ? "an integer" : "finite", format_number(v).c_str());
+  // An int axis's values travel as doubles (tasks, records, teachers' fits): beyond 2^53 a double
+  // no longer holds every integer, so math.maxinteger would be drawn as 2^63, a value out of range.
+  constexpr double kExactIntegers = 9007199254740992.0;  // 2^53
+  if (integer && std::fabs(v) > kExactIntegers) {
+    if (lua_isinteger(L, index))
+      luaL_error(L, "%s(lo, hi): %s must lie within -2^53..2^53 (-9007199254740992..9007199254740992), got %I",
+                 call, index == 1 ? "lo" : "hi", lua_tointeger(L, index));
+    luaL_error(L, "%s(lo, hi): %s must lie within -2^53..2^53 (-9007199254740992..9007199254740992), got %s", call,
+               index == 1 ? "lo" : "hi", format_number(v).c_str());
+  }
   return v;
 }
 
