@@ -183,6 +183,57 @@ TEST_CASE("a run notices a script of its curriculum removed or edited under it",
   fs::remove_all(dir);
 }
 
+// Found by a probe: a module required inside a reward function (not when the curriculum loads) was
+// in no list of the run's sources, so a resumed run mixed the trials of two versions of it.
+TEST_CASE("a module a callback requires while trials run is recorded, watched and compared on resuming",
+          "[batch][faults]") {
+  const fs::path dir = fresh_dir("lazy_require");
+  fs::create_directories(dir);
+  std::ofstream(dir / "lazy_reward.lua") << "return { reward = function(state, action, event) "
+                                            "return event == 'absorbing' and 100 or -1 end }\n";
+  std::ofstream(dir / "lazy.lua")
+      << "local p = require('lib.skills').primitives()\n"
+         "return { name = 'lazy', stages = { roger.stage{ name = 'S', scenario = 'unobstructed', time_limit = 4,\n"
+         "  absorbing = roger.converged(p.phi0),\n"
+         "  reward = function(...) return require('lazy_reward').reward(...) end,\n"
+         "  budget = { episodes = 4 }, checkpoints = { every = 4, episodes = 2, final = 2, threshold = 0.9 },\n"
+         "  contexts = { { name = 'A', actions = { p.search, p.phi0 } } } } } }\n";
+  std::ofstream(dir / "lazy_batch.lua") << "return { name = 'lazy', curriculum = 'lazy.lua', trials = 1, "
+                                           "runs = { { name = 'S', stage = 'S' } } }\n";
+  const fs::path out = dir / "out";
+  const auto open = [&] {
+    const auto b = std::make_shared<const BatchScript>(load_batch_script((dir / "lazy_batch.lua").string()));
+    const BatchPlan plan = plan_batch(b, out.string());
+    open_results_folder(plan);
+    return plan;
+  };
+  RunControl control;
+  control.jobs = 1;
+  REQUIRE(run_batch(open(), control).failed.empty());
+  const std::string module = fs::weakly_canonical(dir / "lazy_reward.lua").string();
+  const nlohmann::json result = nlohmann::json::parse(slurp(out / "trials" / "S" / "A" / "000" / "result.json"));
+  REQUIRE(result["sources"].contains(module));
+  CHECK_FALSE(nlohmann::json::parse(slurp(out / "manifest.json"))["config"]["sources"].contains(module));
+  // The run watches it from the trial that required it on.
+  batch_detail::SourceWatch watch((dir / "lazy.lua").string());
+  watch.learn(result["sources"]);
+  CHECK_NOTHROW(watch.check());
+  const std::string text = slurp(dir / "lazy_reward.lua");
+  std::ofstream(dir / "lazy_reward.lua") << text << "-- edited\n";
+  CHECK_THROWS_WITH(watch.check(), "'" + module + "' changed while the run was using it");
+  // A resumed run is refused, naming the trial and the file; with the file as it was, it resumes.
+  CHECK_THROWS_WITH(open(), "the results folder " + out.string() + " cannot be resumed: trial S/A/000 required " +
+                                module + " while it ran (a require inside a function the episodes call, which the "
+                                "list of sources made when the run started could not hold), and it has changed since: "
+                                "resuming would mix two versions of it in one folder. Put the file back as it was, "
+                                "or use another --out.");
+  std::ofstream(dir / "lazy_reward.lua") << text;
+  CHECK_NOTHROW(open());
+  fs::remove(dir / "lazy_reward.lua");
+  CHECK_THROWS_WITH(open(), Catch::Matchers::Contains("required " + module) && Catch::Matchers::Contains("and it is gone"));
+  fs::remove_all(dir);
+}
+
 TEST_CASE("a failing trial is recorded and does not lose the others", "[batch]") {
   const fs::path dir = fresh_dir("fail");
   const auto out = run_trials(ids(5), [](const std::string& id, const std::string& d) -> nlohmann::json {

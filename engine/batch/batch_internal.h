@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -43,12 +44,22 @@ class SourceWatch {
   // Loads the curriculum and each scenario once to list their files and fingerprints them.
   explicit SourceWatch(const std::string& curriculum_file, const SandboxLimits& limits = {},
                        const std::vector<std::string>& evaluation_scenarios = {});
+  // Watches too the files a finished trial read beyond those (its result.json "sources": modules a
+  // callback required while episodes ran), at the fingerprints the trial recorded.
+  void learn(const nlohmann::json& sources);
   // Throws roger::FileError naming the first file that is gone (ENOENT) or changed (0).
   void check() const;
 
  private:
+  mutable std::mutex mutex_;  // trials learn and check from several threads
   std::vector<std::pair<std::string, std::string>> files_;  // path, fingerprint
 };
+
+// The Lua files `files` with their fingerprints, named relative to the project when inside it, as
+// the manifest's config "sources" and a trial's result.json "sources" record them.
+nlohmann::json source_fingerprints(const std::vector<std::filesystem::path>& files);
+// The file a name of source_fingerprints stands for.
+std::filesystem::path source_file_path(const std::string& name);
 
 // ---- records.cpp: reading a results folder back, every file checked ----
 

@@ -57,18 +57,6 @@ std::string fingerprint(const std::string& text) {
   return buf;
 }
 
-// The Lua files training with a curriculum reads (docs/batch.md), each with its fingerprint, named
-// relative to the project when inside it: a results folder is resumed only while none changed.
-json source_fingerprints(const std::vector<fs::path>& files) {
-  const fs::path root = fs::weakly_canonical(project_root());
-  json out = json::object();
-  for (const fs::path& f : files) {
-    const fs::path rel = f.lexically_relative(root);
-    const bool inside = !rel.empty() && *rel.begin() != "..";
-    out[inside ? rel.generic_string() : f.generic_string()] = fingerprint(read_file_text(f.string()));
-  }
-  return out;
-}
 
 // A value of a configuration for a message: whole when short, else 70 characters from a little
 // before `at`, where it first differs from the other side's, so that the change shows.
@@ -492,6 +480,45 @@ void refuse_while_others_run(const BatchPlan& plan, const RunningClaim* claim) {
 // Checks that an existing manifest was made by this engine and configuration, or by one that this
 // configuration extends (extends(): then the manifest is rewritten with it, and the returned note
 // says what changed; "" otherwise).
+// Why the folder's finished trials cannot be resumed with: a Lua file a trial read that the
+// configuration's sources do not list (a module a callback required while episodes ran, after the
+// curriculum was loaded) and that has changed or gone since; "" when none has. `then` places the
+// files as the folder's configuration named them.
+std::string late_source_problem(const BatchPlan& plan, const json& old_config, const Places& then) {
+  std::set<std::string> listed;  // compared with the configuration already
+  for (const char* field : {"sources", "evaluation_sources"})
+    if (old_config.is_object() && old_config.contains(field) && old_config[field].is_object())
+      for (const auto& [name, print] : old_config[field].items()) listed.insert(name);
+  std::set<std::string> seen;
+  for (const auto& phase : plan.phases)
+    for (const auto& t : phase) {
+      const fs::path file = fs::path(plan.out) / "trials" / t.id / "result.json";
+      std::error_code ec;
+      if (!fs::is_regular_file(file, ec)) continue;
+      json r;
+      try {
+        r = read_json_file(file.string());
+      } catch (const std::exception&) {
+        continue;  // the trial is corrupt and runs again (trial_status)
+      }
+      if (!r.is_object() || !r.contains("sources") || !r["sources"].is_object()) continue;
+      for (const auto& [name, print] : r["sources"].items()) {
+        if (listed.count(name) || !seen.insert(name).second || !print.is_string()) continue;
+        std::string place = name.empty() || name[0] != '/' ? name : relocated_path(name, then);
+        if (place.rfind("<script folder>/", 0) == 0) place = (then.relative_base / place.substr(16)).string();
+        const fs::path path = source_file_path(place);
+        const bool gone = !fs::is_regular_file(path, ec);
+        if (!gone && fingerprint(read_file_text(path.string())) == print.get<std::string>()) continue;
+        const std::string it = path.string() == name ? "it" : path.string();
+        return "trial " + t.id + " required " + name + " while it ran (a require inside a function the episodes "
+               "call, which the list of sources made when the run started could not hold), and " + it +
+               (gone ? " is gone" : " has changed since") + ": resuming would mix two versions of it in one folder. "
+               "Put the file back as it was, or use another --out.";
+      }
+    }
+  return "";
+}
+
 std::string check_manifest(const BatchPlan& plan, const fs::path& manifest_path, json config,
                            const json& fresh_manifest, const RunningClaim* claim) {
   json old;
@@ -532,6 +559,9 @@ std::string check_manifest(const BatchPlan& plan, const fs::path& manifest_path,
   then.moved_with_script = now.moved_with_script;
   then.outside = now.outside = nullptr;
   const json old_places = relocated(old_config, then), now_places = relocated(config, now);
+  if (old_places == now_places || (old_config.is_object() && extends(old_places, now_places)))
+    if (const std::string p = late_source_problem(plan, old_config, then); !p.empty())
+      throw Error("the results folder " + out + " cannot be resumed: " + p);
   if (old_places != now_places && old_config.is_object() && extends(old_places, now_places)) {
     refuse_while_others_run(plan, claim);
     return extend_manifest(old, old_config, old_places, now_places, plan, manifest_path, fresh_manifest);
@@ -722,6 +752,24 @@ std::string idle_shard(const BatchPlan& plan, const Shard& shard, int most) {
 
 namespace batch_detail {
 
+// The Lua files training with a curriculum reads (docs/batch.md), each with its fingerprint, named
+// relative to the project when inside it: a results folder is resumed only while none changed.
+json source_fingerprints(const std::vector<fs::path>& files) {
+  const fs::path root = fs::weakly_canonical(project_root());
+  json out = json::object();
+  for (const fs::path& f : files) {
+    const fs::path rel = f.lexically_relative(root);
+    const bool inside = !rel.empty() && *rel.begin() != "..";
+    out[inside ? rel.generic_string() : f.generic_string()] = fingerprint(read_file_text(f.string()));
+  }
+  return out;
+}
+
+fs::path source_file_path(const std::string& name) {
+  const fs::path p(name);
+  return p.is_absolute() ? p : fs::weakly_canonical(project_root()) / p;
+}
+
 std::vector<std::string> evaluation_scenarios(const BatchScript& b) {
   std::vector<std::string> names;
   for (const BatchEvaluation& e : b.evaluations)
@@ -749,8 +797,24 @@ SourceWatch::SourceWatch(const std::string& curriculum_file, const SandboxLimits
   for (const fs::path& f : files) files_.emplace_back(f.string(), fingerprint(read_file_text(f.string())));
 }
 
+void SourceWatch::learn(const json& sources) {
+  if (!sources.is_object()) return;
+  const std::lock_guard<std::mutex> hold(mutex_);
+  for (const auto& [name, print] : sources.items()) {
+    const std::string path = source_file_path(name).string();
+    if (!print.is_string() || std::any_of(files_.begin(), files_.end(), [&](const auto& f) { return f.first == path; }))
+      continue;
+    files_.emplace_back(path, print.get<std::string>());
+  }
+}
+
 void SourceWatch::check() const {
-  for (const auto& [path, print] : files_) {
+  std::vector<std::pair<std::string, std::string>> files;
+  {
+    const std::lock_guard<std::mutex> hold(mutex_);
+    files = files_;
+  }
+  for (const auto& [path, print] : files) {
     std::error_code ec;
     if (!fs::is_regular_file(path, ec))
       throw FileError("cannot read '" + path + "': it was removed while the run was using it", path, ENOENT);

@@ -64,6 +64,9 @@ std::string optional_field_problem(const json& r) {
       if (!a.is_string()) return "field \"psi\" must hold action names, got " + a.dump();
   }
   if (r.contains("checkpoints") && !r["checkpoints"].is_array()) return "field \"checkpoints\" must be a list";
+  if (r.contains("sources") && !(r["sources"].is_object() && std::all_of(r["sources"].begin(), r["sources"].end(),
+                                                                         [](const json& f) { return f.is_string(); })))
+    return "field \"sources\" must map the Lua files the trial read to their fingerprints";
   if (r.contains("skipped_tasks") && !r["skipped_tasks"].is_array())
     return "field \"skipped_tasks\" must be a list of the training tasks skipped";
   for (const char* key : {"outcomes", "final_outcomes"})

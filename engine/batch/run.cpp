@@ -366,6 +366,7 @@ nlohmann::json training_trial(const BatchPlan& plan, const PlannedTrial& t, cons
   nlohmann::json cps = nlohmann::json::array();
   for (const auto& c : r.checkpoints) cps.push_back(checkpoint_json(c));
   j["checkpoints"] = cps;
+  j["sources"] = source_fingerprints(r.source_files);  // a resumed run compares them (check_manifest)
   return j;
 }
 
@@ -421,6 +422,7 @@ nlohmann::json evaluation_trial(const BatchPlan& plan, const PlannedTrial& t, Cl
             {"skills", skills},
             {"wall_s", std::chrono::duration<double>(Clock::now() - t0).count()}});
   j["outcomes"] = r.eval.outcomes;  // each episode's, for the report's intervals (report_evaluations.cpp)
+  j["sources"] = source_fingerprints(r.source_files);
   return j;
 }
 
@@ -770,7 +772,7 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
   std::map<std::string, const PlannedTrial*> by_id;
   for (const auto& p : plan.phases)
     for (const auto& t : p) by_id[t.id] = &t;
-  const SourceWatch sources(plan.script->curriculum_file, plan.script->limits, evaluation_scenarios(*plan.script));
+  SourceWatch sources(plan.script->curriculum_file, plan.script->limits, evaluation_scenarios(*plan.script));
   std::atomic<size_t> finished_now{0};  // trials this run finished (the others done were finished before)
   const TrialFunction trial = [&](const std::string& id, const std::string& dir) -> nlohmann::json {
     const PlannedTrial& t = *by_id.at(id);
@@ -782,6 +784,7 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
       // finished (found by the fault test once policies were compared: the trial before the stop
       // recorded the edited curriculum's digest). The trial is then not kept; the resumed run redoes it.
       sources.check();
+      sources.learn(result["sources"]);  // a module a callback required: watched from now on
       ++finished_now;
       return result;
     } catch (const FileError&) {

@@ -53,6 +53,15 @@ struct StageRun {
   // after they are made (c:with makes another), so a copy made earlier is the copy made now.
   Judge judge{stage.absorbing.get()};
 
+  // Every Lua file the run has compiled so far: the curriculum's and the scenario's, and the modules
+  // they required, including those a callback required while episodes ran (which no load lists).
+  std::vector<std::filesystem::path> files_read() {
+    std::vector<std::filesystem::path> files = cur.source_files();
+    for (const auto& f : scenario.sandbox().source_files())
+      if (std::find(files.begin(), files.end(), f) == files.end()) files.push_back(f);
+    return files;
+  }
+
   // One episode of the stage's semi-MDP through the episode loop; the stage's Lua functions, if
   // any, are called at decision points only.
   // An error is rethrown as an EpisodeFault naming `phase`, `index` and the world seed.
@@ -726,6 +735,7 @@ TrainResult train_stage(const TrainOptions& options) {
     throw;
   }
   if (teacher) record_teacher(res, *teacher, stage);
+  res.source_files = run.files_read();
   res.explain = options.explain;
   res.wall_s = seconds_since(t0);
   return res;
@@ -888,6 +898,7 @@ void with_policy_file(const PolicyEvalOptions& given, PolicyEvalResult& out,
   out.scenario_file = run.scenario.path();
   use(run, q, (options.first_seed >= 0 ? uint64_t(options.first_seed) : stage.checkpoints.seeds) + options.seed_offset,
       meta, options);
+  out.source_files = run.files_read();
 }
 
 // Psi and the controllers inside it, breadth first, each once, at most `limit`. A part is held

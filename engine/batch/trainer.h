@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <memory>
@@ -220,6 +221,9 @@ struct TrainResult {
   int evals_reused = 0;           // those whose every episode was reused
   int eval_episodes = 0;          // their episodes
   int eval_episodes_reused = 0;   // those reused
+  // Every Lua file the trial compiled, in load order: the curriculum's and scenario's, and modules
+  // a callback required while episodes ran (a batch records their fingerprints in result.json).
+  std::vector<std::filesystem::path> source_files;
 };
 
 // Trains one stage/context for one seed. Learned skills the context uses come from
@@ -322,6 +326,7 @@ struct PolicyEvalResult {
   bool test_set_changed = false;   // the curriculum's test set is no longer the one the file keeps
   GreedyEval eval;
   std::vector<std::pair<std::string, std::string>> params;
+  std::vector<std::filesystem::path> source_files;  // as TrainResult's
 };
 
 // Rebuilds a saved policy's Psi from the curriculum (and its embedded learned skills) and runs it
