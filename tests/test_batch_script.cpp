@@ -570,6 +570,8 @@ TEST_CASE("roger check says every entry's problem, and which entries wait for a 
                          "  tables = {\n"
                          "    { title = 'x', run = 'SG' },\n"
                          "    { title = 'y', evaluation = 'none' },\n"
+                         "    { title = 'z', compare = { 'SG/B1', 'SG2/B1' } },\n"
+                         "    { title = 's', sorting = { { objects = 2, hand = 'SG2' } } },\n"
                          "  },\n"
                          "  figures = { { file = 'f', run = 'SG', kind = 'pie' } },\n"
                          "}\n";
@@ -579,7 +581,9 @@ TEST_CASE("roger check says every entry's problem, and which entries wait for a 
   CHECK_THAT(problems.errors[0].what(), Catch::Contains("all.lua:4: run 'SG': stage 'SG' has no context 'DC9'"));
   CHECK_THAT(problems.errors[1].what(), Catch::Contains("all.lua:5: run 'SG2': the curriculum"));
   CHECK_THAT(problems.errors[1].what(), Catch::Contains("'SGG'"));
-  CHECK(problems.unchecked == std::vector<std::string>{"run 'T'", "table 'x'", "table 'y'", "figure 'f'"});
+  // A comparison's "run/context" rows and a sorting row's runs are names too (found by a probe).
+  CHECK(problems.unchecked ==
+        std::vector<std::string>{"run 'T'", "table 'x'", "table 'y'", "table 'z'", "table 's'", "figure 'f'"});
   // roger run stops at the first, as before.
   CHECK_THAT(load_error(file.string()), Catch::Contains("all.lua:4:") && !Catch::Contains("all.lua:5:"));
 

@@ -295,12 +295,20 @@ struct EntryProblems {
   const BatchScript& b;
   bool failed = false;  // a run or an evaluation was not read
 
-  // Whether `j` names, as a 'run' or an 'evaluation' at any depth, one not read.
+  // Whether `j` names, as a 'run' or an 'evaluation' at any depth, one not read: also a sorting
+  // row's 'learned' and 'hand' runs and a comparison's "run/context" rows (found by a probe: a
+  // misspelt stage was followed by "table 'Compare': no run 'Fetch'; the runs are (none)").
   bool names_unread(const json& j) const {
     if (j.is_array()) return std::any_of(j.begin(), j.end(), [&](const json& e) { return names_unread(e); });
     if (!j.is_object()) return false;
+    const auto unread_run = [&](const std::string& name) { return !b.run(name); };
     for (auto it = j.begin(); it != j.end(); ++it) {
-      if (it->is_string() && it.key() == "run" && !b.run(it->get<std::string>())) return true;
+      const std::string& key = it.key();
+      if (it->is_string() && (key == "run" || key == "learned" || key == "hand") && unread_run(*it)) return true;
+      if (key == "compare" && it->is_array())
+        for (const json& row : *it)
+          if (row.is_string() && unread_run(row.get<std::string>().substr(0, row.get<std::string>().find('/'))))
+            return true;
       if (it->is_string() && it.key() == "evaluation" &&
           std::none_of(b.evaluations.begin(), b.evaluations.end(), [&](const BatchEvaluation& e) { return e.name == *it; }))
         return true;
