@@ -635,6 +635,13 @@ TEST_CASE("a placement step of lib/place.lua names what the scenario lacks, at t
   CHECK_THAT(error_of("place_robot", "place.robot(world, rng, p)"),
              Contains("roger_test_place_robot.lua:5: place.robot reads the scenario parameter "
                         "'robot_wall_margin', which the scenario does not declare: add it to its params"));
+  // Found by a probe: the rng given to place.goal, which takes none, failed inside lib/place.lua.
+  CHECK_THAT(error_of("place_goal_rng", "place.goal(world, rng, p)"),
+             Contains("roger_test_place_goal_rng.lua:5: place.goal(world, p): p must be the generator's parameters "
+                      "(its third argument), got roger.Rng"));
+  CHECK_THAT(error_of("place_object_nil", "place.object(world, p)"),
+             Contains("roger_test_place_object_nil.lua:5: place.object(world, rng, p): p must be the generator's "
+                      "parameters (its third argument), got nil"));
   CHECK_THAT(error_of("place_goal", "place.goal(world, p)"),
              Contains("roger_test_place_goal.lua:5: place.goal reads the scenario parameters 'goal_y', "
                       "'goal_radius', which the scenario does not declare: add them"));

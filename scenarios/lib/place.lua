@@ -20,7 +20,17 @@ local NEEDS = {
   object = { "shape", "mass", "object_wall_margin", "robot_distance" },
   obstacles = { "obstacles", "obstacle_min_size", "obstacle_max_size", "obstacle_clearance" },
 }
+local SIGNATURE = { goal = "(world, p)", robot = "(world, rng, p)", object = "(world, rng, p)",
+                    obstacles = "(world, rng, p)" }
 local function check_params(step, p)
+  -- Found by a probe: place.goal(world, rng, p) failed inside this file, "bad argument #1 to
+  -- 'rawget' (table expected, got roger.Rng)", naming no line of the scenario.
+  if type(p) ~= "table" then
+    -- tostring names the engine's userdata by kind ("roger.Rng: 0x..."), where type says "userdata".
+    local got = type(p) == "userdata" and tostring(p):match("^[%w%.]+") or type(p)
+    error(string.format("place.%s%s: p must be the generator's parameters (its third argument), got %s",
+                        step, SIGNATURE[step], got), 3)
+  end
   local missing = {}
   for _, name in ipairs(NEEDS[step]) do
     if rawget(p, name) == nil then missing[#missing + 1] = name end
