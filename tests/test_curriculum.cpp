@@ -257,6 +257,33 @@ TEST_CASE("a stage a library made takes a scenario path beside the curriculum th
                                        ", then nobot.lua from the current folder, then in the project"));
 }
 
+// Found by a probe: a step reward of 1e308 was taken, and training stopped at its first backup with
+// "q-table: update() needs a finite reward", naming no file.
+TEST_CASE("a reward too large for an episode's sum is refused at the curriculum's line", "[curriculum]") {
+  const test::TempDir tmp("roger_curriculum_huge_reward");
+  auto write = [&](const std::string& name, const std::string& reward) {
+    std::ofstream(tmp.path / name)
+        << "local p = require('lib.skills').primitives()\n"
+           "return { stages = { roger.stage{ name = 'S', time_limit = 5, absorbing = roger.converged(p.phi3),\n"
+           "  reward = " << reward << ",\n"
+           "  budget = { episodes = 3 }, contexts = { { name = 'A', actions = { p.phi3, p.phi0 } } } } } }\n";
+    return (tmp.path / name).string();
+  };
+  CHECK_THAT(error_of([&] { Curriculum::load(write("step.lua", "{ step = 1e308 }")); }),
+             Catch::Matchers::Contains("step.lua:3: stage 'S': reward: field 'step' must be at most 1e12 in magnitude "
+                                       "(an episode's sum of rewards and the Q values must stay finite), got 1e+308"));
+  CHECK_THAT(error_of([&] { Curriculum::load(write("timeout.lua", "{ timeout = -2e12 }")); }),
+             Catch::Matchers::Contains("field 'timeout' must be at most 1e12 in magnitude"));
+  CHECK_NOTHROW(Curriculum::load(write("edge.lua", "{ absorbing = 1e12, timeout = -1e12, step = -1 }")));
+  const std::vector<std::string> problems =
+      check_curriculum(write("fn.lua", "function(state, action, event) return 1e300 end"));
+  REQUIRE(problems.size() == 1);
+  CHECK_THAT(problems[0], Catch::Matchers::Contains("fn.lua:3: stage 'S', context 'A': the reward function must "
+                                                    "return at most 1e12 in magnitude (an episode's sum of rewards "
+                                                    "and the Q values must stay finite), got 1e+300 (event "
+                                                    "'decision')"));
+}
+
 TEST_CASE("a context's init names a context written before it", "[curriculum]") {
   const test::TempDir tmp("roger_curriculum_init");
   auto write = [&](const std::string& name, const std::string& b_init, const std::string& b_actions = "p.phi3, p.phi1") {

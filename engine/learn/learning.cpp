@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/text.h"
 #include "learn/episode.h"
 #include "learn/learning_internal.h"
 
@@ -58,9 +59,13 @@ double ExplorationSchedule::epsilon(double spent) const {
 void LearningEpisodeOptions::validate() const {
   if (!(time_limit > 0.0) || !finite(time_limit))
     throw Error("learning episode: time_limit must be positive and finite");
-  if (!finite(success_reward)) throw Error("learning episode: success_reward must be finite");
-  if (!finite(timeout_reward)) throw Error("learning episode: timeout_reward must be finite");
-  if (!finite(step_reward)) throw Error("learning episode: step_reward must be finite");
+  for (const auto& [name, r] : {std::pair<const char*, double>{"success_reward", success_reward},
+                                {"timeout_reward", timeout_reward}, {"step_reward", step_reward}}) {
+    if (!finite(r)) throw Error(std::string("learning episode: ") + name + " must be finite");
+    if (std::fabs(r) > kMaxRewardMagnitude)
+      throw Error(std::string("learning episode: ") + name + " must be at most 1e12 in magnitude (sums over an "
+                  "episode and the Q values must stay finite), got " + format_number(r));
+  }
   if (!(discount_seconds >= 0.0) || !finite(discount_seconds))
     throw Error("learning episode: discount_seconds must be >= 0 and finite");
 }

@@ -184,6 +184,11 @@ class ExplorationSchedule {
   BudgetUnit unit_;
 };
 
+// The largest magnitude of one reward: an episode's sum of them (thousands of ticks) and the Q
+// values built from them stay finite and far from overflow (found by a probe: a step reward of 1e308
+// was taken, and training stopped at "q-table: update() needs a finite reward").
+constexpr double kMaxRewardMagnitude = 1e12;
+
 // How a learning episode runs and pays (the paper: +100 absorbing, -100 time-out, 0 otherwise).
 struct LearningEpisodeOptions {
   double time_limit = 5.0;         // simulated seconds (the paper: 5 for search-grasp, 10 transport)
