@@ -453,6 +453,18 @@ TEST_CASE("a map context with fields, and bad context params, are read where the
                         "  contexts = { { name = 'A', actions = { p.phi0 }, params = { eye_pixels = {} } } } } } }\n";
   CHECK_THROWS_WITH(Curriculum::load(bad), Catch::Matchers::Contains("bad.lua:4:") &&  // the context's line
                                                Catch::Matchers::Contains("params.eye_pixels must be a number, string or boolean"));
+  // Found by a probe: a map context with a misspelt 'actions' was told "the actions must be a plain
+  // list {a, b, ...}, got the key string 'action'".
+  const std::string typo = (dir.path / "typo.lua").string();
+  std::ofstream(typo) << "local p = require('lib.skills').primitives()\n"
+                         "return { stages = { roger.stage{ name = 'S', time_limit = 2,\n"
+                         "  absorbing = roger.converged(p.phi0), budget = { episodes = 1 },\n"
+                         "  contexts = { A = { p.phi0 }, B = { actoins = { p.phi0 }, params = { eye_pixels = 16 } } } } } }\n";
+  CHECK_THAT(error_of([&] { Curriculum::load(typo); }),
+             Catch::Matchers::Contains("typo.lua:4: stage 'S', context 'B': a context of the map form is a list of "
+                                       "actions {a, b, ...} or a table {actions = {...}, params = {...}, init = "
+                                       "{...}}; this one has the field 'actoins' (did you mean 'actions'?) and no "
+                                       "field 'actions'"));
   const std::string unbuildable = (dir.path / "unbuildable.lua").string();
   std::ofstream(unbuildable) << "local p = require('lib.skills').primitives()\n"
                                 "return { stages = { roger.stage{ name = 'S', time_limit = 2,\n"

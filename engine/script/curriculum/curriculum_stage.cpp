@@ -131,7 +131,18 @@ std::vector<ContextEntry> context_map(lua_State* L, int t, const CurriculumStage
     ContextEntry entry;
     entry.name = name;
     entry.actions = lua_gettop(L);
-    if (has_actions_field(L, entry.actions)) read_context_fields(L, entry.actions, st.where(name), false, entry);
+    if (has_actions_field(L, entry.actions)) {
+      read_context_fields(L, entry.actions, st.where(name), false, entry);
+    } else if (lua_istable(L, entry.actions)) {
+      // A table of fields without 'actions' is no list of actions either (found by a probe: a typo
+      // 'action' was told "the actions must be a plain list {a, b, ...}, got the key string 'action'").
+      const std::string key = key_beside_list(L, entry.actions, lua_Integer(lua_rawlen(L, entry.actions)));
+      if (!key.empty() && key.front() == '\'')
+        luaL_error(L, "%s: a context of the map form is a list of actions {a, b, ...} or a table {actions = {...}, "
+                   "params = {...}, init = {...}}; this one has the field %s%s and no field 'actions'",
+                   st.where(name).c_str(), key.c_str(),
+                   suggestion(key.substr(1, key.size() - 2), {"actions", "params", "init"}).c_str());
+    }
     entries.push_back(entry);
   }
   return entries;
