@@ -285,7 +285,7 @@ def teacher_trial(folder, id, spec):
             # wall_s holds the checkpoints' evaluations too: not the cost's denominator
             "wall_s": 3 * train_wall + 1.0, "test": {"seed": 59, "tasks": 200},
             "teacher": {"kind": spec["kind"], "state": teacher_state(spec, episodes), "wall_s": teacher_wall},
-            "skipped_tasks": [{"episode": e, "error": "scenarios/lib/place.lua:68: world:sample_position: no placement",
+            "skipped_tasks": [{"episode": e, "error": "scenarios/lib/place.lua:78: world:sample_position: no placement",
                                "task": {"obstacles": 2, "robot_distance": r, "shape": "circle"}}
                               for e, r in spec.get("skipped", [])]})
     else:
