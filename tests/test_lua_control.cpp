@@ -781,6 +781,12 @@ TEST_CASE("a policy whose goal cannot hold within its time limit is refused at t
   CHECK_THAT(load_with("roger.all(roger.converged(p.phi1), roger.held(roger.converged(p.phi0), 6))", "5"),
              Contains("can hold only after 6 simulated seconds"));
   CHECK_THAT(load_with("roger.any()", "5"), Contains("can never hold"));
+  // Found by a probe: roger.all() of no parts, which is true, passed: every episode would have
+  // succeeded at its first tick. Refused as the any() of none is, and whatever the limit.
+  CHECK_THAT(load_with("roger.all()", "5"),
+             Contains("held.lua:3: policy 't': field 'goal': all() always holds: it rests on a roger.all() of no "
+                      "parts, which is true, so every episode would end in success at its first tick"));
+  CHECK_THAT(load_with("roger.all{roger.all{}}", "{ per_object = 5 }"), Contains("all(all()) always holds"));
   // What can hold is taken: a hold as long as the episode, an any with a short part, a negation,
   // and a limit per object, which grows with the world.
   CHECK(load_with("roger.held(roger.converged(p.phi0), 5)", "5").empty());

@@ -33,6 +33,11 @@ constexpr double kMaxTimeLimit = 3600.0;
 // than the episode, often a count of ticks written where seconds are meant), or "" when it can.
 std::string never_holds_within(const Predicate& goal, double time_limit);
 
+// Why `goal` holds at an episode's first tick whatever happens (it rests on a roger.all() of no
+// parts, which is true), or "" when it does not: refused as roger.any() of none is, as a goal no
+// learning can matter to. Whatever the time limit.
+std::string holds_at_once(const Predicate& goal);
+
 // Installs the control-basis API into the sandbox's global `roger` table, creating the table if
 // the sandbox has none yet (a scenario loader may already have made it: it is extended, not
 // replaced). Throws ScriptError if the state is out of memory. Call once per sandbox.

@@ -219,6 +219,8 @@ void read_absorbing(lua_State* L, const LuaFields& f, const std::string& where, 
   } else {
     st.absorbing = lua_check_predicate(L, -1, where, "field 'absorbing'");
     lua_pop(L, 1);
+    const std::string at_once = holds_at_once(*st.absorbing);
+    if (!at_once.empty()) f.fail("field 'absorbing': " + at_once);
     // After read_time_limit: a fixed limit bounds when the absorbing state can first hold.
     const std::string never = st.time_per_object > 0.0 ? "" : never_holds_within(*st.absorbing, st.time_limit);
     if (!never.empty()) f.fail("field 'absorbing': " + never);
