@@ -582,6 +582,35 @@ TEST_CASE("a stage whose absorbing state holds at once is refused, as one that n
   CHECK(stage_error(tmp.path, "time_limit = 4, absorbing = roger.all{roger.converged(p.phi0)},").empty());
 }
 
+// Found by a probe: `absorbing = roger.converged` (the function, its call forgotten) loaded, and
+// roger check blamed "[C]:", no line of the curriculum, for the arguments of the call it then made
+// as a callback's; `reward = roger.converged` too.
+TEST_CASE("a control function given itself as absorbing or reward is refused at its field", "[curriculum]") {
+  const test::TempDir tmp("roger_stage_function_itself");
+  using Catch::Matchers::Contains;
+  CHECK_THAT(stage_error(tmp.path, "time_limit = 4, absorbing = roger.converged,"),
+             Contains("stage.lua:3: stage 'S': field 'absorbing' is the function roger.converged itself, not a "
+                      "predicate: did you mean roger.converged(c)?"));
+  const std::vector<std::pair<std::string, std::string>> makers = {
+      {"gamma", "roger.gamma(c, \"CONV\")"}, {"all", "roger.all{p1, p2}"},     {"any", "roger.any{p1, p2}"},
+      {"negate", "roger.negate(p)"},        {"held", "roger.held(p, seconds)"}, {"sorted", "roger.sorted()"}};
+  for (const auto& [name, call] : makers)
+    CHECK_THAT(stage_error(tmp.path, "time_limit = 4, absorbing = roger." + name + ","),
+               Contains("stage.lua:3: stage 'S': field 'absorbing' is the function roger." + name +
+                        " itself, not a predicate: did you mean " + call + "?"));
+  CHECK_THAT(stage_error(tmp.path, "time_limit = 4, absorbing = roger.primitive,"),
+             Contains("stage.lua:3: stage 'S': field 'absorbing' is the function roger.primitive itself, not a "
+                      "predicate: write a predicate such as roger.converged(c), or a function(state)"));
+  CHECK_THAT(stage_error(tmp.path, "time_limit = 4, absorbing = roger.converged(p.phi0), reward = roger.converged,"),
+             Contains("stage.lua:3: stage 'S': field 'reward' is the function roger.converged itself, not a reward: "
+                      "give a table {absorbing = 100, timeout = -100, step = 0} or a function(state, action, "
+                      "event); a condition such as roger.converged(c) belongs in 'absorbing'"));
+  // A Lua function is a callback, as before.
+  CHECK(stage_error(tmp.path, "time_limit = 4, absorbing = function(state) return state.phi0 == 'CONV' end,\n"
+                              "  reward = function() return 0 end,")
+            .empty());
+}
+
 TEST_CASE("changes made to a roger.stage table after the call count and are checked", "[curriculum]") {
   // A wrapper that shortens a required curriculum's budgets once trained the original's 400
   // episodes silently (tests/scripts/kill_curriculum.lua among them).

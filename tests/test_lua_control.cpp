@@ -365,6 +365,14 @@ TEST_CASE("predicates", "[lua_control]") {
         "predicate any(converged(phi1), not(converged(phi2)))");
   CHECK_THAT(lua.error("roger.all{roger.primitive('phi1')}").what(),
              Contains("roger.all: element 1 must be a predicate") && Contains("write roger.converged(c)"));
+  // Found by a probe: a predicate's maker given itself, its call forgotten, was "got a function".
+  CHECK_THAT(lua.error("roger.negate(roger.converged)").what(),
+             Contains("roger.negate: argument 1 must be a predicate (roger.converged, roger.gamma, roger.all, "
+                      "roger.any, roger.negate, roger.held), got a function (the function roger.converged itself: "
+                      "did you mean roger.converged(c)?)"));
+  CHECK_THAT(lua.error("roger.any{roger.converged('phi1'), roger.held}").what(),
+             Contains("element 2 must be a predicate") && Contains("(the function roger.held itself: did you mean "
+                                                                   "roger.held(p, seconds)?)"));
   CHECK_THAT(lua.error("roger.gamma('phi1', 'DONE')").what(),
              Contains("roger.gamma: argument 2 must be \"NOREF\", \"!CONV\" or \"CONV\", got string 'DONE'"));
   CHECK_THAT(lua.error("roger.held(roger.converged('phi1'), -1)").what(),

@@ -88,6 +88,17 @@ ControllerPtr lua_check_controller(lua_State* L, int index, const std::string& c
 PredicatePtr lua_check_predicate(lua_State* L, int index, const std::string& context,
                                  const std::string& what);
 
+// One of the control API's functions, given itself where what it makes was meant (absorbing =
+// roger.converged, its call forgotten): its name, "roger.converged", and for one that makes a
+// predicate, a call of it as a script writes one, "roger.converged(c)" ("" for the others).
+struct ApiFunction {
+  std::string name;            // "" when the value is none of them
+  std::string predicate_call;
+};
+
+// The control API function the value at `index` is, or empty names.
+ApiFunction lua_control_function(lua_State* L, int index);
+
 // A Lua value as messages show it: "number 3", "string 'x'", "nil", "a table",
 // "controller 'phi1'", "predicate converged(phi3)".
 std::string lua_describe_value(lua_State* L, int index);
