@@ -587,6 +587,69 @@ TEST_CASE("a stage's bad field is reported at the line it is written on", "[curr
                       "named entry 'Extra', which would be left out: write it in the list"));
 }
 
+namespace {
+
+// Loads a one-stage curriculum whose stage has `fields` (absorbing, reward, time_limit) on its
+// third line; the error's message, "" when it loads.
+std::string stage_error(const std::filesystem::path& dir, const std::string& fields) {
+  const auto path = dir / "stage.lua";
+  std::ofstream(path) << "local p = require('lib.skills').primitives()\n"
+                         "return { stages = { roger.stage{ name = 'S', budget = { episodes = 3 },\n"
+                      << "  " << fields << "\n"
+                      << "  contexts = { { name = 'A', actions = { p.search, p.phi0 } } } } } }\n";
+  return error_of([&] { Curriculum::load(path.string()); });
+}
+
+}  // namespace
+
+// Found by a probe: `absorbing = roger.all{}` passed roger check, and every episode would have
+// succeeded at its first tick, where roger.any{} (which never holds) was refused.
+TEST_CASE("a stage whose absorbing state holds at once is refused, as one that never holds", "[curriculum]") {
+  const test::TempDir tmp("roger_stage_all_empty");
+  using Catch::Matchers::Contains;
+  CHECK_THAT(stage_error(tmp.path, "time_limit = 4, absorbing = roger.all{},"),
+             Contains("stage.lua:3: stage 'S': field 'absorbing': all() always holds: it rests on a roger.all() of no "
+                      "parts, which is true, so every episode would end in success at its first tick"));
+  CHECK_THAT(stage_error(tmp.path, "time_limit = 4, absorbing = roger.any{},"),
+             Contains("stage.lua:3: stage 'S': field 'absorbing': any() can never hold: it needs a roger.any() of no "
+                      "parts, which is false"));
+  // Whatever the time limit, and through an any it decides.
+  CHECK_THAT(stage_error(tmp.path, "time_limit = { per_object = 4 }, absorbing = roger.all{},"),
+             Contains("stage.lua:3: stage 'S': field 'absorbing': all() always holds"));
+  CHECK_THAT(stage_error(tmp.path, "time_limit = 4, absorbing = roger.any{roger.converged(p.phi0), roger.all()},"),
+             Contains("field 'absorbing': any(converged(phi0), all()) always holds"));
+  CHECK(stage_error(tmp.path, "time_limit = 4, absorbing = roger.all{roger.converged(p.phi0)},").empty());
+}
+
+// Found by a probe: `absorbing = roger.converged` (the function, its call forgotten) loaded, and
+// roger check blamed "[C]:", no line of the curriculum, for the arguments of the call it then made
+// as a callback's; `reward = roger.converged` too.
+TEST_CASE("a control function given itself as absorbing or reward is refused at its field", "[curriculum]") {
+  const test::TempDir tmp("roger_stage_function_itself");
+  using Catch::Matchers::Contains;
+  CHECK_THAT(stage_error(tmp.path, "time_limit = 4, absorbing = roger.converged,"),
+             Contains("stage.lua:3: stage 'S': field 'absorbing' is the function roger.converged itself, not a "
+                      "predicate: did you mean roger.converged(c)?"));
+  const std::vector<std::pair<std::string, std::string>> makers = {
+      {"gamma", "roger.gamma(c, \"CONV\")"}, {"all", "roger.all{p1, p2}"},     {"any", "roger.any{p1, p2}"},
+      {"negate", "roger.negate(p)"},        {"held", "roger.held(p, seconds)"}, {"sorted", "roger.sorted()"}};
+  for (const auto& [name, call] : makers)
+    CHECK_THAT(stage_error(tmp.path, "time_limit = 4, absorbing = roger." + name + ","),
+               Contains("stage.lua:3: stage 'S': field 'absorbing' is the function roger." + name +
+                        " itself, not a predicate: did you mean " + call + "?"));
+  CHECK_THAT(stage_error(tmp.path, "time_limit = 4, absorbing = roger.primitive,"),
+             Contains("stage.lua:3: stage 'S': field 'absorbing' is the function roger.primitive itself, not a "
+                      "predicate: write a predicate such as roger.converged(c), or a function(state)"));
+  CHECK_THAT(stage_error(tmp.path, "time_limit = 4, absorbing = roger.converged(p.phi0), reward = roger.converged,"),
+             Contains("stage.lua:3: stage 'S': field 'reward' is the function roger.converged itself, not a reward: "
+                      "give a table {absorbing = 100, timeout = -100, step = 0} or a function(state, action, "
+                      "event); a condition such as roger.converged(c) belongs in 'absorbing'"));
+  // A Lua function is a callback, as before.
+  CHECK(stage_error(tmp.path, "time_limit = 4, absorbing = function(state) return state.phi0 == 'CONV' end,\n"
+                              "  reward = function() return 0 end,")
+            .empty());
+}
+
 TEST_CASE("changes made to a roger.stage table after the call count and are checked", "[curriculum]") {
   // A wrapper that shortens a required curriculum's budgets once trained the original's 400
   // episodes silently (tests/scripts/kill_curriculum.lua among them).

@@ -365,6 +365,14 @@ TEST_CASE("predicates", "[lua_control]") {
         "predicate any(converged(phi1), not(converged(phi2)))");
   CHECK_THAT(lua.error("roger.all{roger.primitive('phi1')}").what(),
              Contains("roger.all: element 1 must be a predicate") && Contains("write roger.converged(c)"));
+  // Found by a probe: a predicate's maker given itself, its call forgotten, was "got a function".
+  CHECK_THAT(lua.error("roger.negate(roger.converged)").what(),
+             Contains("roger.negate: argument 1 must be a predicate (roger.converged, roger.gamma, roger.all, "
+                      "roger.any, roger.negate, roger.held), got a function (the function roger.converged itself: "
+                      "did you mean roger.converged(c)?)"));
+  CHECK_THAT(lua.error("roger.any{roger.converged('phi1'), roger.held}").what(),
+             Contains("element 2 must be a predicate") && Contains("(the function roger.held itself: did you mean "
+                                                                   "roger.held(p, seconds)?)"));
   CHECK_THAT(lua.error("roger.gamma('phi1', 'DONE')").what(),
              Contains("roger.gamma: argument 2 must be \"NOREF\", \"!CONV\" or \"CONV\", got string 'DONE'"));
   CHECK_THAT(lua.error("roger.held(roger.converged('phi1'), -1)").what(),
@@ -781,6 +789,12 @@ TEST_CASE("a policy whose goal cannot hold within its time limit is refused at t
   CHECK_THAT(load_with("roger.all(roger.converged(p.phi1), roger.held(roger.converged(p.phi0), 6))", "5"),
              Contains("can hold only after 6 simulated seconds"));
   CHECK_THAT(load_with("roger.any()", "5"), Contains("can never hold"));
+  // Found by a probe: roger.all() of no parts, which is true, passed: every episode would have
+  // succeeded at its first tick. Refused as the any() of none is, and whatever the limit.
+  CHECK_THAT(load_with("roger.all()", "5"),
+             Contains("held.lua:3: policy 't': field 'goal': all() always holds: it rests on a roger.all() of no "
+                      "parts, which is true, so every episode would end in success at its first tick"));
+  CHECK_THAT(load_with("roger.all{roger.all{}}", "{ per_object = 5 }"), Contains("all(all()) always holds"));
   // What can hold is taken: a hold as long as the episode, an any with a short part, a negation,
   // and a limit per object, which grows with the world.
   CHECK(load_with("roger.held(roger.converged(p.phi0), 5)", "5").empty());

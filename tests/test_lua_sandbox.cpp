@@ -1158,6 +1158,46 @@ TEST_CASE("the static pass finds a string compared with a state or an event that
   }
 }
 
+// Found by a probe: `absorbing = roger.converged(p.phi0) and roger.converged(p.search)` passed
+// roger check, and the stage's absorbing state was converged(search) alone: a predicate is a
+// userdata, which Lua's and, or and not take for true, and they cannot be overloaded.
+TEST_CASE("the static pass finds a predicate that and, or or not takes for a truth value", "[lua_sandbox][static]") {
+  const std::string stage = "local p = require('lib.skills').primitives()\n"
+                            "return { absorbing = roger.converged(p.phi0) and roger.converged(p.search) }\n";
+  CHECK(problems_in(stage, ScriptKind::kCurriculum) ==
+        std::vector<std::string>{
+            "2: roger.converged(p.phi0) and roger.converged(p.search) is roger.converged(p.search) alone: Lua takes "
+            "a predicate for true, so 'and' gives its right operand; for both to hold, write "
+            "roger.all{roger.converged(p.phi0), roger.converged(p.search)}"});
+  CHECK(problems_in("return roger.gamma('phi1', \"CONV\") or roger.held(roger.converged('phi2'), 2)\n") ==
+        std::vector<std::string>{
+            "1: roger.gamma(\"phi1\", \"CONV\") or roger.held(roger.converged(\"phi2\"), 2) is "
+            "roger.gamma(\"phi1\", \"CONV\") alone: Lua takes a predicate for true, so 'or' gives the predicate and "
+            "never looks further; for either to hold, write roger.any{roger.gamma(\"phi1\", \"CONV\"), "
+            "roger.held(roger.converged(\"phi2\"), 2)}"});
+  // Through an alias of roger too, quoted as written.
+  CHECK(problems_in("local R = roger\nreturn not R.converged('phi1')\n") ==
+        std::vector<std::string>{"2: not R.converged(\"phi1\") is false: Lua takes a predicate for true; for the "
+                                 "condition that holds when R.converged(\"phi1\") does not, write "
+                                 "roger.negate(R.converged(\"phi1\"))"});
+  // A chain is one finding, its operands whole (and binds tighter than or).
+  CHECK(problems_in("local a, b = 'phi1', 'phi2'\nreturn roger.all{} and roger.converged(a) and b == 1 or roger.sorted()\n") ==
+        std::vector<std::string>{"2: roger.all{} and roger.converged(a) and b == 1 is b == 1 alone: Lua takes a "
+                                 "predicate for true, so 'and' gives its right operand; for every one to hold, write "
+                                 "roger.all{roger.all{}, roger.converged(a), b == 1}"});
+  // Sound: a predicate chosen by a flag (`flag and P or Q`), guarded by a value, combined with
+  // roger.all or roger.any, negated with roger.negate, or read for its text.
+  const std::string sound = "local flag, c = true, 'phi1'\n"
+                            "local p = flag and roger.converged(c) or roger.converged('phi2')\n"
+                            "local q = c and roger.converged(c)\n"
+                            "local r = roger.all{roger.converged(c), roger.negate(roger.converged('phi2'))}\n"
+                            "local s = roger.any(roger.converged(c), roger['not'](roger.sorted()))\n"
+                            "local t = tostring(roger.converged(c)) and 1\n"
+                            "roger.converged(c):nothing()\n"
+                            "return p, q, r, s, t\n";
+  CHECK(problems_in(sound).empty());
+}
+
 TEST_CASE("the static pass leaves sound comparisons of strings alone", "[lua_sandbox][static]") {
   const std::string sound = "local M = {}\n"
                             "function M:f(a, b, c) return c == \"timout\" end  -- a method is no callback\n"

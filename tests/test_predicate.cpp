@@ -135,6 +135,20 @@ TEST_CASE("earliest_seconds bounds when a predicate can first hold", "[predicate
   CHECK(held_at_limit);
 }
 
+// Found by a probe: roger.all{} as a stage's absorbing state passed roger check (every episode would
+// have succeeded at its first tick), where roger.any{}, which never holds, was refused.
+TEST_CASE("always_holds tells an all of no parts, and an all or any that rests on one alone", "[predicate]") {
+  auto a = std::make_shared<Scripted>("a");
+  CHECK(all_of({})->always_holds());
+  CHECK(all_of({all_of({}), all_of({})})->always_holds());
+  CHECK(any_of({converged(a), all_of({})})->always_holds());
+  CHECK_FALSE(any_of({})->always_holds());
+  CHECK_FALSE(all_of({all_of({}), converged(a)})->always_holds());
+  CHECK_FALSE(converged(a)->always_holds());
+  CHECK_FALSE(held(all_of({}), 1.0)->always_holds());  // holds only after its second
+  CHECK_FALSE(negate(all_of({}))->always_holds());
+}
+
 TEST_CASE("sorted() judges every colour with a region, sorted(colour) one of them", "[predicate]") {
   const Colour red{220, 30, 30}, blue{40, 80, 220}, grey{128, 128, 128};
   WorldModel model;

@@ -531,6 +531,24 @@ TEST_CASE("script mistakes are reported at the script's file:line", "[scenario]"
     CHECK(e.message == "parameter 'goal_radius': min bounds a number, and the default is string '0.35' (its type "
                        "is the default's: write it as a number for a numeric parameter)");
   }
+  SECTION("a choice outside the parameter's own bounds, at its line") {
+    // Found by a probe: choices = {1, 2, 4} with max = 3 loaded, and roger check then refused k=4
+    // with "expects one of 1, 2, 4, got '4'", at no line.
+    const auto path = std::filesystem::temp_directory_path() / "roger_test_choice_bounds.lua";
+    const auto write_with = [&](const std::string& param) {
+      std::ofstream(path) << "return {\n  params = {\n    " << param << ",\n  },\n"
+                             "  generate = function(world) world:robot{ x = 0, y = 0 } end,\n}\n";
+      return path.string();
+    };
+    const ScriptError above = load_error(write_with("k = { default = 2, choices = { 1, 2, 4 }, min = 0, max = 3 }"));
+    CHECK(above.line == 3);
+    CHECK(above.message == "parameter 'k': the choice 4 is above its max = 3, so it could never be set");
+    CHECK(load_error(write_with("r = { default = 0.5, choices = { 0.05, 0.5 }, min = 0.1 }")).message ==
+          "parameter 'r': the choice 0.05 is below its min = 0.1, so it could never be set");
+    // Choices within the bounds load as before.
+    CHECK_NOTHROW(Scenario::load(write_with("k = { default = 2, choices = { 1, 2, 3 }, min = 1, max = 3 }")));
+    std::filesystem::remove(path);
+  }
   SECTION("an unknown shape lists the known ones") {
     Scenario s = Scenario::load("tests/scripts/bad_shape_name.lua");
     const ScriptError e = generate_error(s);

@@ -104,12 +104,12 @@ function roger.converged(c) end
 ---@return roger.Predicate
 function roger.gamma(c, state) end
 
----Holds when every part holds (true when empty): roger.all{p1, p2} or roger.all(p1, p2).
+---Holds when every part holds (true when empty, refused as a goal or absorbing state): roger.all{p1, p2} or roger.all(p1, p2).
 ---@param ... roger.Predicate|roger.Predicate[]
 ---@return roger.Predicate
 function roger.all(...) end
 
----Holds when some part holds (false when empty): roger.any{p1, p2} or roger.any(p1, p2).
+---Holds when some part holds (false when empty, refused as a goal or absorbing state): roger.any{p1, p2} or roger.any(p1, p2).
 ---@param ... roger.Predicate|roger.Predicate[]
 ---@return roger.Predicate
 function roger.any(...) end

@@ -55,6 +55,10 @@ class Combine final : public Predicate {
       earliest = all_ ? std::max(earliest, p->earliest_seconds()) : std::min(earliest, p->earliest_seconds());
     return earliest;
   }
+  bool always_holds() const override {
+    const auto always = [](const PredicatePtr& p) { return p->always_holds(); };
+    return all_ ? std::all_of(parts_.begin(), parts_.end(), always) : std::any_of(parts_.begin(), parts_.end(), always);
+  }
   void reset() override {
     for (auto& p : parts_) p->reset();
   }

@@ -14,6 +14,7 @@
 #include <lua.hpp>
 
 #include "core/fileio.h"
+#include "core/text.h"
 #include "script/sandbox/lua_sandbox.h"  // edit_distance
 #include "script/sandbox/lua_tokens.h"
 
@@ -443,7 +444,98 @@ class Scanner {
     const bool write = statement_level() && op(k + 1, "=");
     if (!alias) note(write && path == "roger" ? Access::kWrite : Access::kRead, "roger", line);
     if (path != "roger") note(write ? Access::kMemberWrite : Access::kMember, path, line);
+    if (!write && predicate_maker(path)) predicate_call(i_, k);
     i_ = k;
+  }
+
+  // ---- a predicate taken for a truth value: and, or, not ----
+  // A predicate is a userdata, which Lua's and, or and not take for true whatever its condition:
+  // `roger.converged(a) and roger.converged(b)` is the second alone (found by a probe: a stage's
+  // absorbing waited for one of its two conditions, and roger check said ok). Lua cannot overload
+  // them, so only a call written in place is seen; one held in a variable is not followed.
+
+  static bool predicate_maker(const std::string& path) {
+    return among({"roger.converged", "roger.gamma", "roger.all", "roger.any", "roger.negate", "roger.not",
+                  "roger.held", "roger.sorted"},
+                 path);
+  }
+
+  // The call of a predicate maker whose name runs from token `first` to `last`: reported when it is
+  // the whole left operand of and / or, or the operand of not.
+  void predicate_call(size_t first, size_t last) {
+    size_t end = last + 1;
+    if (op(end, "(") || op(end, "{")) end = matching(end);
+    else if (at(end).type != LuaToken::kString) return;  // the function itself, not a predicate
+    const size_t n = end + 1;
+    if (at(n).type == LuaToken::kString || op(n, "(") || op(n, "{") || op(n, "[") || op(n, ".") || op(n, ":"))
+      return;  // something of the predicate, not the predicate
+    if (in_reported_chain_.count(first)) return;
+    const int line = at(first).line;
+    const std::string p = written(first, end);
+    if (first > 0 && word(first - 1, "not")) {
+      note(Access::kFinding,
+           "not " + p + " is false: Lua takes a predicate for true; for the condition that holds when " + p +
+               " does not, write roger.negate(" + p + ")",
+           line);
+      return;
+    }
+    if (!starts_operand(first)) return;
+    // `flag and P or Q` is the choice idiom: or's left operand is the whole `flag and P`.
+    const bool is_and = word(n, "and"), is_or = word(n, "or") && !(first > 0 && word(first - 1, "and"));
+    if (!is_and && !is_or) return;
+    std::vector<std::string> parts = {p};
+    size_t k = n;
+    while (word(k, is_and ? "and" : "or")) {
+      const size_t part_end = logical_operand_end(k + 1, is_and);
+      parts.push_back(written(k + 1, part_end));
+      in_reported_chain_.insert(k + 1);
+      k = part_end + 1;
+    }
+    note(Access::kFinding, dropped_operands(parts, is_and), line);
+  }
+
+  // "P and Q is Q alone: ...; for both to hold, write roger.all{P, Q}", or the same of or.
+  static std::string dropped_operands(const std::vector<std::string>& parts, bool is_and) {
+    const std::string w = is_and ? "and" : "or";
+    std::string m = join(parts, (" " + w + " ").c_str()) + " is " + (is_and ? parts.back() : parts.front()) +
+                    " alone: Lua takes a predicate for true, so '" + w + "' gives ";
+    m += is_and ? "its right operand" : "the predicate and never looks further";
+    const std::string how = parts.size() == 2 ? (is_and ? "both" : "either") : is_and ? "every one" : "any one";
+    return m + "; for " + how + " to hold, write roger." + (is_and ? "all" : "any") + "{" + join(parts) + "}";
+  }
+
+  // The last token of an operand of and (of or) starting at k: up to the next and or or (the next
+  // or; and binds tighter), a comma or the expression's end, brackets and function bodies whole.
+  size_t logical_operand_end(size_t k, bool in_and) const {
+    for (;; ++k) {
+      if (at(k).type == LuaToken::kEnd) return k - 1;
+      if (op(k, "(") || op(k, "{") || op(k, "[")) k = matching(k);
+      else if (word(k, "function")) k = function_end(k);
+      else if (!operand_end(k)) continue;
+      const LuaToken& next = at(k + 1);
+      const bool stop = word(k + 1, "or") || (in_and && word(k + 1, "and"));
+      if (!stop && (next.type == LuaToken::kString || op(k + 1, "(") || op(k + 1, "{") || op(k + 1, "[") ||
+                    op(k + 1, ".") || op(k + 1, ":") || binary_operator(next)))
+        continue;
+      return k;
+    }
+  }
+
+  // Tokens first to last as they would be written: spaces between words and around operators,
+  // none inside calls, indexes and fields; long ones cut.
+  std::string written(size_t first, size_t last) const {
+    std::string out;
+    for (size_t k = first; k <= last; ++k) {
+      const LuaToken& t = at(k);
+      const bool tight_before = op(k, ")") || op(k, "}") || op(k, "]") || op(k, ",") || op(k, ".") || op(k, ":") ||
+                                ((op(k, "(") || op(k, "{") || op(k, "[") || t.type == LuaToken::kString) &&
+                                 k > first && operand_end(k - 1));
+      const bool tight_after = k > first && (op(k - 1, "(") || op(k - 1, "{") || op(k - 1, "[") || op(k - 1, ".") ||
+                                             op(k - 1, ":") || op(k - 1, "#") || word(k - 1, "function"));
+      if (k > first && !tight_before && !tight_after) out += " ";
+      out += t.type == LuaToken::kString ? "\"" + t.text + "\"" : t.text;
+    }
+    return shortened_text(out, 80);
   }
 
   // ---- a string literal compared with a controller's state or a reward function's event ----
@@ -567,6 +659,7 @@ class Scanner {
   std::vector<Frame> frames_;
   std::vector<PendingLocals> pending_;  // innermost last
   size_t i_ = 0;
+  std::set<size_t> in_reported_chain_;  // where the later operands of a reported and / or start
 };
 
 struct ScannedFile {

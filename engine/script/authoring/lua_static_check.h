@@ -9,7 +9,11 @@
 //   - a string literal compared (== or ~=) with a value of a closed vocabulary, near one of its
 //     words but none of them, so never equal: with an index expression (state.phi3, s[name]), a
 //     controller's state ("conv" for "CONV"); with `event` or a function's third parameter, a
-//     reward function's event ("timout" for "timeout").
+//     reward function's event ("timout" for "timeout");
+//   - a predicate made in place (roger.converged(c), roger.all{...}, ...) that and, or or not takes
+//     for a truth value: Lua takes any predicate for true, so `roger.converged(a) and
+//     roger.converged(b)` is the second alone (roger.all{...} is meant), an `or` the first alone
+//     and a `not` false.
 // Names come from a live sandbox of the script's kind (script_api.h). Scoping is followed as Lua
 // does (locals of blocks, functions, loops, parameters, `local function`), so a sound script
 // yields nothing; what the pass cannot see (a name built at run time) it does not report.

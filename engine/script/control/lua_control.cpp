@@ -244,6 +244,28 @@ void install_book_and_cache(lua_State* L) {
   lua_rawsetp(L, LUA_REGISTRYINDEX, &cache_key);
 }
 
+// The functions of the global `roger` table, each that makes a predicate with a call of it as a
+// script writes one: a message about the function given itself, its call forgotten, shows it.
+struct ApiEntry {
+  const char* name;
+  lua_CFunction function;
+  const char* predicate_call;  // null: it makes no predicate
+};
+const ApiEntry kFunctions[] = {{"primitive", l_primitive, nullptr},
+                               {"subject_to", l_subject_to, nullptr},
+                               {"compose", l_compose, nullptr},
+                               {"sequence", l_sequence, nullptr},
+                               {"policy", l_policy, nullptr},
+                               {"converged", l_converged, "roger.converged(c)"},
+                               {"sorted", l_sorted, "roger.sorted()"},
+                               {"gamma", l_gamma, "roger.gamma(c, \"CONV\")"},
+                               {"all", l_all, "roger.all{p1, p2}"},
+                               {"any", l_any, "roger.any{p1, p2}"},
+                               {"negate", l_negate, "roger.negate(p)"},
+                               {"not", l_negate, "roger.negate(p)"},
+                               {"held", l_held, "roger.held(p, seconds)"},
+                               {"bind", l_bind, nullptr}};
+
 // The functions in the global `roger` table (made if the script has none yet), and
 // roger.primitive_kinds.
 void install_functions(lua_State* L) {
@@ -253,15 +275,10 @@ void install_functions(lua_State* L) {
     lua_pushvalue(L, -1);
     lua_setglobal(L, "roger");
   }
-  const luaL_Reg functions[] = {{"primitive", l_primitive}, {"subject_to", l_subject_to},
-                                {"compose", l_compose},     {"sequence", l_sequence},
-                                {"policy", l_policy},       {"converged", l_converged}, {"sorted", l_sorted},
-                                {"gamma", l_gamma},         {"all", l_all},
-                                {"any", l_any},             {"negate", l_negate},
-                                {"not", l_negate},          {"held", l_held},
-                                {"bind", l_bind},
-                                {nullptr, nullptr}};
-  luaL_setfuncs(L, functions, 0);
+  for (const ApiEntry& e : kFunctions) {
+    lua_pushcfunction(L, e.function);
+    lua_setfield(L, -2, e.name);
+  }
   const auto& kinds = primitive_names();
   lua_createtable(L, int(kinds.size()), 0);
   for (size_t i = 0; i < kinds.size(); ++i) {
@@ -442,11 +459,22 @@ ControllerPtr lua_check_controller(lua_State* L, int index, const std::string& c
   return it->second.ref;
 }
 
+ApiFunction lua_control_function(lua_State* L, int index) {
+  const lua_CFunction f = lua_tocfunction(L, index);
+  if (!f) return {};
+  for (const auto& e : lua_control_detail::kFunctions)
+    if (e.function == f) return {std::string("roger.") + e.name, e.predicate_call ? e.predicate_call : ""};
+  return {};
+}
+
 PredicatePtr lua_check_predicate(lua_State* L, int index, const std::string& context, const std::string& what) {
   if (PredicatePtr* p = test_predicate(L, index)) return *p;
+  const ApiFunction maker = lua_control_function(L, index);
   const std::string hint = test_controller(L, index)
                                ? " (a controller is an action, not a condition: write roger.converged(c) "
                                  "or roger.gamma(c, \"CONV\"))"
+                           : !maker.predicate_call.empty()
+                               ? " (the function " + maker.name + " itself: did you mean " + maker.predicate_call + "?)"
                                : "";
   raise(L, context + ": " + what + " must be a predicate (roger.converged, roger.gamma, roger.all, "
                                    "roger.any, roger.negate, roger.held), got " +

@@ -33,6 +33,11 @@ constexpr double kMaxTimeLimit = 3600.0;
 // than the episode, often a count of ticks written where seconds are meant), or "" when it can.
 std::string never_holds_within(const Predicate& goal, double time_limit);
 
+// Why `goal` holds at an episode's first tick whatever happens (it rests on a roger.all() of no
+// parts, which is true), or "" when it does not: refused as roger.any() of none is, as a goal no
+// learning can matter to. Whatever the time limit.
+std::string holds_at_once(const Predicate& goal);
+
 // Installs the control-basis API into the sandbox's global `roger` table, creating the table if
 // the sandbox has none yet (a scenario loader may already have made it: it is extended, not
 // replaced). Throws ScriptError if the state is out of memory. Call once per sandbox.
@@ -82,6 +87,17 @@ ControllerPtr lua_check_controller(lua_State* L, int index, const std::string& c
 // Reads a predicate where one is expected, or raises "context: <what> must be a predicate ...".
 PredicatePtr lua_check_predicate(lua_State* L, int index, const std::string& context,
                                  const std::string& what);
+
+// One of the control API's functions, given itself where what it makes was meant (absorbing =
+// roger.converged, its call forgotten): its name, "roger.converged", and for one that makes a
+// predicate, a call of it as a script writes one, "roger.converged(c)" ("" for the others).
+struct ApiFunction {
+  std::string name;            // "" when the value is none of them
+  std::string predicate_call;
+};
+
+// The control API function the value at `index` is, or empty names.
+ApiFunction lua_control_function(lua_State* L, int index);
 
 // A Lua value as messages show it: "number 3", "string 'x'", "nil", "a table",
 // "controller 'phi1'", "predicate converged(phi3)".

@@ -129,4 +129,10 @@ std::string never_holds_within(const Predicate& goal, double time_limit) {
          format_number(time_limit) + " s: no episode could reach it (roger.held counts seconds, not ticks)";
 }
 
+std::string holds_at_once(const Predicate& goal) {
+  if (!goal.always_holds()) return "";
+  return shortened_text(goal.describe(), 120) + " always holds: it rests on a roger.all() of no parts, which is true, "
+         "so every episode would end in success at its first tick";
+}
+
 }  // namespace roger

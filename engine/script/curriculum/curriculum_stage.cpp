@@ -218,18 +218,32 @@ void read_stage_params(lua_State* L, const LuaFields& f, CurriculumStage& st) {
   lua_pop(L, 1);
 }
 
+// "field 'absorbing' is the function roger.converged itself, ": a control API function given where
+// a callback is taken, its call forgotten. Called as a callback it would fail inside C, at no line of
+// the script (found by a probe: blamed at "[C]:"), so it is refused at its field.
+std::string function_itself(const char* field, const ApiFunction& fn) {
+  return "field '" + std::string(field) + "' is the function " + fn.name + " itself, ";
+}
+
 // Reads the stage's 'absorbing': a predicate, or a Lua function kept in the registry.
 void read_absorbing(lua_State* L, const LuaFields& f, const std::string& where, CurriculumStage& st,
                     LuaCallback& absorb_fn) {
   // absorbing: a predicate (evaluated in C++ every tick) or a Lua function (at decision points).
   const int at = f.push("absorbing");
   if (at == LUA_TNIL) f.fail("missing required field 'absorbing' (a predicate such as roger.converged(c), or a function(state))");
+  const ApiFunction fn = lua_control_function(L, -1);
+  if (!fn.name.empty())
+    f.fail(function_itself("absorbing", fn) + "not a predicate: " +
+           (fn.predicate_call.empty() ? "write a predicate such as roger.converged(c), or a function(state)"
+                                      : "did you mean " + fn.predicate_call + "?"));
   if (at == LUA_TFUNCTION) {
     absorb_fn = LuaCallback::keep(L);
     st.absorbing_lua = true;
   } else {
     st.absorbing = lua_check_predicate(L, -1, where, "field 'absorbing'");
     lua_pop(L, 1);
+    const std::string at_once = holds_at_once(*st.absorbing);
+    if (!at_once.empty()) f.fail("field 'absorbing': " + at_once);
     // After read_time_limit: a fixed limit bounds when the absorbing state can first hold.
     const std::string never = st.time_per_object > 0.0 ? "" : never_holds_within(*st.absorbing, st.time_limit);
     if (!never.empty()) f.fail("field 'absorbing': " + never);
@@ -242,6 +256,11 @@ void read_reward(lua_State* L, const LuaFields& f, const std::string& where, Cur
                  LuaCallback& reward_fn) {
   // reward: the paper's constants by default, a table of them, or a Lua function.
   const int rt = f.push("reward");
+  const ApiFunction fn = lua_control_function(L, -1);
+  if (!fn.name.empty())
+    f.fail(function_itself("reward", fn) + "not a reward: give a table {absorbing = 100, timeout = -100, step = 0} "
+           "or a function(state, action, event)" +
+           (fn.predicate_call.empty() ? "" : "; a condition such as " + fn.predicate_call + " belongs in 'absorbing'"));
   if (rt == LUA_TFUNCTION) {
     reward_fn = LuaCallback::keep(L);
     st.reward_lua = true;

@@ -260,6 +260,7 @@ struct Scenario::Impl {
                     std::vector<std::string>& choices) const;
   void read_default(lua_State* L, int value, const std::string& ctx,
                     scenario_detail::ParamSlot& slot) const;
+  void check_choices_in_bounds(const ScenarioParam& p, const std::string& ctx) const;
 };
 
 }  // namespace roger

@@ -220,12 +220,26 @@ ParamSlot Scenario::Impl::read_param(lua_State* L) const {
     throw error(ctx + ": a list's default is a string of comma-separated choices (\"\" for none), got " +
                 param_type_name(slot.info.type) + " " + slot_text(slot));
   slot.info.choices = choices;
+  if (numeric) check_choices_in_bounds(slot.info, ctx);
   slot.info.default_value = slot.info.value = slot_text(slot);
   std::string why;
   ParamSlot check = slot;
   if (!parse_slot(check, slot.info.default_value, why))
     throw error(ctx + ": the default " + slot.info.default_value + " is not " + why);
   return slot;
+}
+
+// A numeric choice outside the parameter's own min or max could never be set: the value would be
+// refused for the bounds while the refusal named it among the choices (found by a probe: "expects
+// one of 1, 2, 4, got '4'", at no line). Refused at the declaration instead.
+void Scenario::Impl::check_choices_in_bounds(const ScenarioParam& p, const std::string& ctx) const {
+  for (const std::string& c : p.choices) {
+    double value = 0.0;
+    if (!parse_number_text(c, value)) continue;  // not a number: the default's check names it
+    const std::string choice = ctx + ": the choice " + c + " is ", never = ", so it could never be set";
+    if (p.min && value < *p.min) throw error(choice + "below its min = " + format_number(*p.min) + never);
+    if (p.max && value > *p.max) throw error(choice + "above its max = " + format_number(*p.max) + never);
+  }
 }
 
 // The long form {default=, description=, choices=, list=, min=, max=}: fills the slot's

@@ -245,6 +245,8 @@ SkillScript::NamedPolicy read_policy(lua_State* L, int ps, const std::string& na
   f.push("goal");
   np.goal = lua_check_predicate(L, -1, context, "field 'goal'");
   lua_pop(L, 1);
+  const std::string at_once = holds_at_once(*np.goal);
+  if (!at_once.empty()) f.fail("field 'goal': " + at_once);
   line = map.policy_field(name, "time_limit");
   if (f.push("time_limit") == LUA_TTABLE) {
     // {per_object = s}: a task over however many objects the world holds (sorting).
