@@ -325,6 +325,36 @@ TEST_CASE("roger check of a batch script takes --set as roger run does", "[cli]"
   fs::remove_all(dir);
 }
 
+// Found by a probe: a curriculum's scenario = "cluttered" trained in the shipped scenario while an
+// edited cluttered.lua lay beside it, without a word. roger check (of it and of a batch running
+// it), roger train and roger run say so (the note itself: test_curriculum.cpp).
+TEST_CASE("roger check, train and run note a bare scenario name with a scenario of that name beside", "[cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_bare_beside_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "cluttered.lua") << slurp("scenarios/cluttered.lua");
+  std::ofstream(dir / "cur.lua") << "local p = require('lib.skills').primitives()\n"
+                                    "return { stages = { roger.stage{ name = 'S', scenario = 'cluttered', time_limit = 4,\n"
+                                    "  absorbing = roger.converged(p.phi0), budget = { episodes = 10 },\n"
+                                    "  checkpoints = { every = 10, episodes = 2, threshold = 0.9, final = 2 },\n"
+                                    "  contexts = { { name = 'A', actions = { p.search, p.phi0 } } } } } }\n";
+  std::ofstream(dir / "b.lua") << "return { curriculum = 'cur.lua', runs = { { name = 'S', stage = 'S' } } }\n";
+  const std::string note = "cur.lua:2: stage 'S': scenario 'cluttered' is the project's ";
+  const std::string cd = "cd " + dir.string() + " && ";
+  const Run check = run_roger_command(cd, "check cur.lua");
+  CHECK(check.status == 0);
+  CHECK_THAT(check.err, Catch::Matchers::StartsWith("roger: note: " + note) &&
+                            Catch::Matchers::Contains("not cluttered.lua of the same name: to train in that one, name "
+                                                      "it with its \".lua\" (scenario = \"cluttered.lua\")"));
+  CHECK_THAT(run_roger_command(cd, "check b.lua").err, Catch::Matchers::StartsWith("roger: note: " + note));
+  const Run train = run_roger_command(cd, "train cur.lua --stage S --context A --seed 1 --out t");
+  CHECK(train.status == 0);
+  CHECK_THAT(train.out, Catch::Matchers::Contains("\n  note           " + note));
+  const Run run = run_roger_command(cd, "run b.lua --out out");
+  CHECK(run.status == 0);
+  CHECK_THAT(run.err, Catch::Matchers::StartsWith("roger run: note: " + note));
+  fs::remove_all(dir);
+}
+
 // Found by a probe: a batch's params overrode a context's own without a word; roger check and
 // roger run say each one before any trial (the notes themselves: test_batch_script.cpp).
 TEST_CASE("roger check and roger run of a batch script note a context's params its params override", "[cli]") {

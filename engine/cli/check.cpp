@@ -336,6 +336,7 @@ int check_curriculum_file(const std::string& path, const std::string& shown, con
     // budget, a scenario path found only from this folder, exploration that rises.
     for (const std::string& w : {st.teacher_window_warning(), st.scenario_warning(), st.learner_warning()})
       if (!w.empty()) std::fprintf(stderr, "roger: warning: %s\n", w.c_str());
+    if (const std::string n = st.scenario_note(); !n.empty()) std::fprintf(stderr, "roger: note: %s\n", n.c_str());
     warn_stimulus_unseen(st, limits, sets);
     std::string contexts;
     for (const auto& c : st.contexts) contexts += (contexts.empty() ? "" : " ") + c.name;

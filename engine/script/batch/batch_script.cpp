@@ -446,6 +446,9 @@ void read_runs(const json& top, const Reader& rd, int top_line, const Curriculum
   for (const json& rj : top["runs"])
     problems.entry(rj, "run", [&] {
       b.runs.push_back(read_run(rj, rd, runs_line, cur, stage_names, overrides, b));
+      // A stage's bare scenario name with a scenario of that name beside the curriculum, once.
+      const std::string n = cur.stage(b.runs.back().stage).scenario_note();
+      if (!n.empty() && std::find(b.notes.begin(), b.notes.end(), n) == b.notes.end()) b.notes.push_back(n);
       note_context_overrides(rj, rd, top_line, cur, overrides, b);
     });
 }
