@@ -188,6 +188,43 @@ TEST_CASE("a run's parameters that go out of range only together are refused at 
   fs::remove_all(dir);
 }
 
+// Found by a probe: a batch's params (obstacles = 0) and a run's (eye_pixels = 64) replaced the
+// own params of context Coarse (eye_pixels = 32, obstacles = 2) without a word, so it trained
+// exactly as context Full. Each overridden one is a note at the line of the params that win (the
+// run's line for a --set), as roger train marks a --set's; a run that gives the context's own
+// values back, and a context without params, have none.
+TEST_CASE("a context's own params that a batch's params override are noted where those are written", "[batch_script]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_batch_ctx_params_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "cur.lua") << "local p = require('lib.skills').primitives()\n"
+                                    "return { stages = { roger.stage{ name = 'S', scenario = 'cluttered', time_limit = 4,\n"
+                                    "  params = { obstacles = 1 }, absorbing = roger.converged(p.phi0), budget = { episodes = 20 },\n"
+                                    "  contexts = { { name = 'Coarse', actions = { p.search, p.phi0 }, "
+                                    "params = { eye_pixels = 32, obstacles = 2 } },\n"
+                                    "               { name = 'Full', actions = { p.search, p.phi0 } } } } } }\n";
+  const std::string path = (dir / "b.lua").string();
+  std::ofstream(path) << "return {\n  curriculum = 'cur.lua',\n  params = { obstacles = 0 },\n  runs = {\n"
+                         "    { name = 'S', stage = 'S',\n      params = { eye_pixels = 64 } },\n"
+                         "    { name = 'Back', stage = 'S', contexts = { 'Coarse' },\n"
+                         "      params = { eye_pixels = 32, obstacles = 2 } },\n  },\n}\n";
+  const std::string why = " (a batch's params and --set win over a context's own, as --set does in roger train)";
+  CHECK(load_batch_script(path).notes ==
+        std::vector<std::string>{
+            path + ":6: run 'S': context 'Coarse' of stage 'S' sets eye_pixels = 32, overridden by the run's params "
+                   "eye_pixels = 64" + why,
+            path + ":3: run 'S': context 'Coarse' of stage 'S' sets obstacles = 2, overridden by the batch script's "
+                   "params obstacles = 0" + why});
+  BatchOverrides sets;
+  sets.sets = {{"eye_pixels", "128"}};
+  const std::vector<std::string> notes = load_batch_script(path, sets).notes;
+  REQUIRE(notes.size() == 3);
+  CHECK(notes[0] == path + ":5: run 'S': context 'Coarse' of stage 'S' sets eye_pixels = 32, overridden by --set "
+                           "eye_pixels=128" + why);
+  CHECK(notes[2] == path + ":7: run 'Back': context 'Coarse' of stage 'S' sets eye_pixels = 32, overridden by --set "
+                           "eye_pixels=128" + why);
+  fs::remove_all(dir);
+}
+
 TEST_CASE("a script is of the kind of the module it returns", "[batch_script]") {
   CHECK(is_batch_script("tests/scripts/wrapped_batch.lua"));
   const BatchScript b = load_batch_script("tests/scripts/wrapped_batch.lua");

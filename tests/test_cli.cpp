@@ -325,6 +325,61 @@ TEST_CASE("roger check of a batch script takes --set as roger run does", "[cli]"
   fs::remove_all(dir);
 }
 
+// Found by a probe: a curriculum's scenario = "cluttered" trained in the shipped scenario while an
+// edited cluttered.lua lay beside it, without a word. roger check (of it and of a batch running
+// it), roger train and roger run say so (the note itself: test_curriculum.cpp).
+TEST_CASE("roger check, train and run note a bare scenario name with a scenario of that name beside", "[cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_bare_beside_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "cluttered.lua") << slurp("scenarios/cluttered.lua");
+  std::ofstream(dir / "cur.lua") << "local p = require('lib.skills').primitives()\n"
+                                    "return { stages = { roger.stage{ name = 'S', scenario = 'cluttered', time_limit = 4,\n"
+                                    "  absorbing = roger.converged(p.phi0), budget = { episodes = 10 },\n"
+                                    "  checkpoints = { every = 10, episodes = 2, threshold = 0.9, final = 2 },\n"
+                                    "  contexts = { { name = 'A', actions = { p.search, p.phi0 } } } } } }\n";
+  std::ofstream(dir / "b.lua") << "return { curriculum = 'cur.lua', runs = { { name = 'S', stage = 'S' } } }\n";
+  const std::string note = "cur.lua:2: stage 'S': scenario 'cluttered' is the project's ";
+  const std::string cd = "cd " + dir.string() + " && ";
+  const Run check = run_roger_command(cd, "check cur.lua");
+  CHECK(check.status == 0);
+  CHECK_THAT(check.err, Catch::Matchers::StartsWith("roger: note: " + note) &&
+                            Catch::Matchers::Contains("not cluttered.lua of the same name: to train in that one, name "
+                                                      "it with its \".lua\" (scenario = \"cluttered.lua\")"));
+  CHECK_THAT(run_roger_command(cd, "check b.lua").err, Catch::Matchers::StartsWith("roger: note: " + note));
+  const Run train = run_roger_command(cd, "train cur.lua --stage S --context A --seed 1 --out t");
+  CHECK(train.status == 0);
+  CHECK_THAT(train.out, Catch::Matchers::Contains("\n  note           " + note));
+  const Run run = run_roger_command(cd, "run b.lua --out out");
+  CHECK(run.status == 0);
+  CHECK_THAT(run.err, Catch::Matchers::StartsWith("roger run: note: " + note));
+  fs::remove_all(dir);
+}
+
+// Found by a probe: a batch's params overrode a context's own without a word; roger check and
+// roger run say each one before any trial (the notes themselves: test_batch_script.cpp).
+TEST_CASE("roger check and roger run of a batch script note a context's params its params override", "[cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_batch_ctx_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "cur.lua") << "local p = require('lib.skills').primitives()\n"
+                                    "return { stages = { roger.stage{ name = 'S', scenario = 'cluttered', time_limit = 4,\n"
+                                    "  absorbing = roger.converged(p.phi0), budget = { episodes = 10 },\n"
+                                    "  checkpoints = { every = 10, episodes = 2, threshold = 0.9, final = 2 },\n"
+                                    "  contexts = { { name = 'Coarse', actions = { p.search, p.phi0 }, "
+                                    "params = { obstacles = 2 } } } } } }\n";
+  const std::string batch = (dir / "b.lua").string();
+  std::ofstream(batch) << "return { curriculum = 'cur.lua', params = { obstacles = 0 },\n"
+                          "  runs = { { name = 'S', stage = 'S' } } }\n";
+  const std::string note = "b.lua:1: run 'S': context 'Coarse' of stage 'S' sets obstacles = 2, overridden by the "
+                           "batch script's params obstacles = 0 (";
+  const Run check = roger("check " + batch);
+  CHECK(check.status == 0);
+  CHECK_THAT(check.err, Catch::Matchers::Contains("roger: note: " + batch.substr(0, batch.size() - 5) + note));
+  const Run run = roger("run " + batch + " --out " + (dir / "out").string());
+  CHECK(run.status == 0);
+  CHECK_THAT(run.err, Catch::Matchers::StartsWith("roger run: note: " + batch.substr(0, batch.size() - 5) + note));
+  fs::remove_all(dir);
+}
+
 // Found by a newcomer's walk through the docs: `roger check` of a skill script and of a module
 // ignored --set, and said ok of a misspelt name or a value roger eval refuses.
 TEST_CASE("roger check of a skill script takes --set as roger eval does, and a module refuses it", "[cli]") {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "script/curriculum/curriculum.h"
+#include "script/scenario/scenario.h"
 #include "core/error.h"
 #include "learn/learning.h"
 #include "batch/trainer.h"
@@ -282,6 +283,43 @@ TEST_CASE("a reward too large for an episode's sum is refused at the curriculum'
                                                     "return at most 1e12 in magnitude (an episode's sum of rewards "
                                                     "and the Q values must stay finite), got 1e+300 (event "
                                                     "'decision')"));
+}
+
+// Found by a probe: a stage's scenario = "cluttered" trained in the shipped scenarios/cluttered.lua
+// while an edited cluttered.lua lay beside the curriculum, without a word. A bare name is one of
+// scenarios/ (docs/curricula.md), so shipped curricula and results stay as they were; the stage
+// says which file it takes and how to take the other (roger check, train and run print it).
+TEST_CASE("a bare scenario name with a scenario of that name beside the curriculum is noted", "[curriculum]") {
+  const test::TempDir tmp("roger_curriculum_bare_beside");
+  std::ofstream(tmp.path / "cluttered.lua") << test::slurp("scenarios/cluttered.lua");
+  const auto write = [&](const std::string& name, const std::string& scenario) {
+    std::ofstream(tmp.path / name) << "local p = require('lib.skills').primitives()\n"
+                                      "return { stages = { roger.stage{ name = 'S', time_limit = 2,\n" << scenario <<
+                                      "  absorbing = roger.converged(p.phi0), budget = { episodes = 1 },\n"
+                                      "  contexts = { { name = 'A', actions = { p.phi0 } } } } } }\n";
+    return Curriculum::load((tmp.path / name).string());
+  };
+  const std::string path = (tmp.path / "cur.lua").string(), copy = (tmp.path / "cluttered.lua").string();
+  const Curriculum cur = write("cur.lua", "  scenario = 'cluttered',\n");
+  CHECK(cur.stage("S").scenario == "cluttered");  // still the shipped one
+  CHECK(cur.stage("S").scenario_note() ==
+        path + ":3: stage 'S': scenario 'cluttered' is the project's " + resolve_scenario_path("cluttered") +
+            " (a bare name is one of scenarios/), not " + copy + " of the same name: to train in that one, name it "
+            "with its \".lua\" (scenario = \"cluttered.lua\")");
+  // Named with its .lua, the copy is taken, and nothing is said.
+  const Curriculum local = write("local.lua", "  scenario = 'cluttered.lua',\n");
+  CHECK(local.stage("S").scenario == copy);
+  CHECK(local.stage("S").scenario_note().empty());
+  // The default scenario too, at the stage's line; a file of the name that is no scenario is not one.
+  std::ofstream(tmp.path / "unobstructed.lua") << test::slurp("scenarios/unobstructed.lua");
+  CHECK_THAT(write("default.lua", "").stage("S").scenario_note(),
+             Catch::Matchers::StartsWith((tmp.path / "default.lua").string() + ":2: stage 'S': scenario 'unobstructed' "));
+  std::ofstream(tmp.path / "unobstructed.lua") << "return { shift = 1 }\n";
+  CHECK(write("module.lua", "").stage("S").scenario_note().empty());
+  // Shipped curricula beside their own libraries (curricula/lib/sorting.lua, of stages of scenario
+  // "sorting") have none.
+  for (const char* shipped : {"paper", "sorting", "maturation", "teachers", "ablation"})
+    for (const auto& st : Curriculum::load(shipped).stages()) CHECK(st.scenario_note().empty());
 }
 
 TEST_CASE("a context's init names a context written before it", "[curriculum]") {

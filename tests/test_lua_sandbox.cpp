@@ -1220,6 +1220,34 @@ TEST_CASE("the static pass leaves sound comparisons of strings alone", "[lua_san
   CHECK(problems_in(sound, ScriptKind::kCurriculum).empty());
 }
 
+// Found by a probe: a valid scenario whose parameter has the choices {"conv", "box"} failed
+// roger check, its p.hull == "conv" taken for a misspelt controller state. A state or an event
+// reaches only a curriculum's callbacks; and a literal the file writes as a value elsewhere (a
+// choice, a default, a task axis's) is one a value can hold. The mistake is still found.
+TEST_CASE("the static pass leaves a value compared with one of its choices alone", "[lua_sandbox][static]") {
+  const std::string scenario = "local shapes = require('lib.shapes')\n"
+                               "return { params = { hull = { default = 'conv', choices = { 'conv', 'box' } } },\n"
+                               "  generate = function(world, rng, p)\n"
+                               "    if p.hull == 'conv' then world:robot{ x = 0, y = 0 } end\n"
+                               "  end }\n";
+  CHECK(problems_in(scenario, ScriptKind::kScenario).empty());
+  // In a scenario, whatever the literal: no callback there is given a state or an event.
+  CHECK(problems_in("return { generate = function(world, rng, p) return p.hull == 'conv' end }",
+                    ScriptKind::kScenario).empty());
+  // Checked alone (a module of no known kind, which a curriculum may require), the choices still
+  // tell a value; a literal written only in comparisons is still a state misspelt.
+  CHECK(static_check_text(scenario, "t.lua", std::nullopt).empty());
+  CHECK(static_check_text("return function(p) return p.hull == 'conv' end", "t.lua", std::nullopt).size() == 1);
+  // A curriculum's teacher function over a task axis of those choices; its reward's state.
+  const std::string curriculum = "local teach = function(history) local t = history[#history]\n"
+                                 "  return { hull = (t and t.task.hull == 'conv') and 'box' or 'conv' } end\n"
+                                 "local axis = roger.choice{ 'conv', 'box' }\n"
+                                 "return function(state) return state.phi3 == 'Conv' end, teach, axis\n";
+  CHECK(problems_in(curriculum, ScriptKind::kCurriculum) ==
+        std::vector<std::string>{"4: \"Conv\" is compared with state.phi3, but a controller's state is \"NOREF\", "
+                                 "\"!CONV\" or \"CONV\" (did you mean \"CONV\"?)"});
+}
+
 TEST_CASE("no shipped Lua file has a static problem", "[lua_sandbox][static]") {
   int files = 0;
   for (const char* folder : {"scenarios", "curricula", "scripts", "docs/examples", "tests/scripts"}) {

@@ -539,6 +539,7 @@ TrainResult trial_header(const Curriculum& cur, const CurriculumStage& stage, co
   res.curriculum_path = cur.path();
   res.curriculum_digest = curriculum_digest(cur);
   res.teacher_warning = stage.teacher_window_warning();
+  res.scenario_note = stage.scenario_note();
   res.curriculum_name = cur.name();
   res.stage = stage.name;
   res.context = ctx.name;

@@ -174,6 +174,7 @@ struct TrainResult {
   std::string curriculum_path, curriculum_name, stage, context, scenario;
   std::string curriculum_digest;  // of the curriculum file's text (curriculum_digest in trainer.cpp)
   std::string teacher_warning;    // CurriculumStage::teacher_window_warning: why it could not move
+  std::string scenario_note;      // CurriculumStage::scenario_note: a same-named scenario beside, not taken
   uint64_t seed = 0;
   std::vector<std::string> psi;
   std::shared_ptr<QTable> q;

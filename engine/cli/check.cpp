@@ -79,6 +79,7 @@ int check_batch(const std::string& path, const std::string& shown, const LuaLimi
                  problems.unchecked.size() == 1 ? "it names" : "each names", join(problems.unchecked).c_str());
   if (!problems.errors.empty()) return 1;
   if (!b.curriculum_warning.empty()) std::fprintf(stderr, "roger: warning: %s\n", b.curriculum_warning.c_str());
+  for (const std::string& n : b.notes) std::fprintf(stderr, "roger: note: %s\n", n.c_str());
   // The curriculum it runs, as `roger check CURRICULUM` reads it (found by a probe: a curriculum
   // whose check failed on an undefined global passed as its batch script's).
   std::error_code ec;
@@ -335,6 +336,7 @@ int check_curriculum_file(const std::string& path, const std::string& shown, con
     // budget, a scenario path found only from this folder, exploration that rises.
     for (const std::string& w : {st.teacher_window_warning(), st.scenario_warning(), st.learner_warning()})
       if (!w.empty()) std::fprintf(stderr, "roger: warning: %s\n", w.c_str());
+    if (const std::string n = st.scenario_note(); !n.empty()) std::fprintf(stderr, "roger: note: %s\n", n.c_str());
     warn_stimulus_unseen(st, limits, sets);
     std::string contexts;
     for (const auto& c : st.contexts) contexts += (contexts.empty() ? "" : " ") + c.name;

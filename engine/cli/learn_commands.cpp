@@ -513,6 +513,8 @@ void print_trained_on(const TrainArgs& a, const TrainResult& r) {
   std::printf("roger train: %s stage %s context %s seed %llu (%zu action%s) in %s\n",
               r.curriculum_path.c_str(), r.stage.c_str(), r.context.c_str(), static_cast<unsigned long long>(r.seed),
               r.psi.size(), r.psi.size() == 1 ? "" : "s", r.scenario.c_str());
+  // Before anything trains: the trial is in the project's scenario, and may not be the one meant.
+  if (!r.scenario_note.empty()) std::printf("  note           %s\n", r.scenario_note.c_str());
   print_stage_params(r.stage_params, r.stage, r.context, a.sets);
   // As roger eval says it, so that a trial on another body never reads as one on the default body.
   std::string sets;

@@ -248,6 +248,7 @@ int command_run(const RunArgs& a) {
     const Shard shard = a.shard.empty() ? Shard() : parse_shard(a.shard);
     auto script = std::make_shared<const BatchScript>(load_batch_script(a.script, overrides_of(a)));
     const BatchScript& b = *script;
+    for (const std::string& n : b.notes) log << "roger run: note: " << n << "\n";  // as roger check says them
     const BatchPlan plan = plan_batch(script, a.out.empty() ? "results/" + b.name : a.out);
     check_selectors(plan, a.only);
     if (refuse_unplaceable_test_tasks(b, log)) return 1;

@@ -29,6 +29,7 @@ struct Access {
                      // a finding's whole message
   int line;
   std::vector<std::string> locals = {};  // of a read: the locals in scope, for suggestions
+  std::string literal = {};              // of a finding: the string literal compared
 };
 
 // A scope (block, function, loop, branch) or a bracket; locals live in scopes only. Aliases are
@@ -136,6 +137,7 @@ class Scanner {
         pending_.pop_back();
       }
     }
+    drop_findings_of_values();
   }
   std::vector<Access> accesses;
 
@@ -635,7 +637,23 @@ class Scanner {
       const std::string shown = with == "event" ? with : with + ", a function's third parameter";
       if (!meant.empty()) message = never_equal(literal.text, shown, "a reward function's event", kEvents, meant);
     }
-    if (!message.empty()) note(Access::kFinding, message, literal.line);
+    ++compared_[literal.text];
+    if (!message.empty()) accesses.push_back({Access::kFinding, message, literal.line, {}, literal.text});
+  }
+
+  // A literal the file also writes outside such comparisons (a parameter's choice or default, a
+  // task axis's value) is a value its tables hold, so what is compared with it can equal it: no
+  // finding. Found by a probe: a scenario's p.hull == "conv", over the choices {"conv", "box"},
+  // was taken for a misspelt controller state.
+  void drop_findings_of_values() {
+    std::map<std::string, int> written;
+    for (const LuaToken& t : t_)
+      if (t.type == LuaToken::kString) ++written[t.text];
+    accesses.erase(std::remove_if(accesses.begin(), accesses.end(),
+                                  [&](const Access& a) {
+                                    return a.kind == Access::kFinding && written[a.literal] > compared_[a.literal];
+                                  }),
+                   accesses.end());
   }
 
   // Whether a plain name is a reward function's event: named so, or a function's third parameter.
@@ -658,6 +676,7 @@ class Scanner {
   std::vector<LuaToken> t_;
   std::vector<Frame> frames_;
   std::vector<PendingLocals> pending_;  // innermost last
+  std::map<std::string, int> compared_;  // string literals compared with an index or an event, by text
   size_t i_ = 0;
   std::set<size_t> in_reported_chain_;  // where the later operands of a reported and / or start
 };
@@ -712,7 +731,7 @@ class Judge {
       std::string message;
       if (a.kind == Access::kRead) message = global(a.name, a.locals);
       if (a.kind == Access::kMember) message = member(a.name);
-      if (a.kind == Access::kFinding) message = a.name;
+      if (a.kind == Access::kFinding && callbacks_possible()) message = a.name;
       if (!message.empty() && seen.insert({a.line, message}).second) out.push_back({f.shown, a.line, message});
     }
   }
@@ -775,6 +794,12 @@ class Judge {
     }
     return m + "; " + prefix + " has: " + join(siblings);
   }
+
+  // Whether the files can hold a curriculum's callbacks (absorbing, reward), the only functions
+  // given a controller's state or an event: a scenario's, a skill script's or a batch script's
+  // index expressions are parameters and tables of their own (found by a probe: a scenario's
+  // p.hull == "conv" was taken for a misspelt state). A module checked alone may be a curriculum's.
+  bool callbacks_possible() const { return !kind_ || *kind_ == ScriptKind::kCurriculum; }
 
   // "a scenario", or "any script" when the kind is not known.
   std::string what() const { return kind_ ? std::string("a ") + script_kind_name(*kind_) : "any script"; }

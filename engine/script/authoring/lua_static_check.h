@@ -9,7 +9,9 @@
 //   - a string literal compared (== or ~=) with a value of a closed vocabulary, near one of its
 //     words but none of them, so never equal: with an index expression (state.phi3, s[name]), a
 //     controller's state ("conv" for "CONV"); with `event` or a function's third parameter, a
-//     reward function's event ("timout" for "timeout");
+//     reward function's event ("timout" for "timeout"). Only where a curriculum's callbacks may
+//     be (a curriculum, or a file of no known kind), and not for a literal the file also writes
+//     as a value (a parameter's choice), which what is compared may hold;
 //   - a predicate made in place (roger.converged(c), roger.all{...}, ...) that and, or or not takes
 //     for a truth value: Lua takes any predicate for true, so `roger.converged(a) and
 //     roger.converged(b)` is the second alone (roger.all{...} is meant), an `or` the first alone

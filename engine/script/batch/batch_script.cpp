@@ -412,6 +412,35 @@ BatchRun read_run(const json& rj, const Reader& rd, int runs_line, const Curricu
   return r;
 }
 
+// A note for each parameter of a run's context's own `params` that the run's params (the script's,
+// the run's, --set, merged in that order) set to another value, at the line of the params whose
+// value wins. Found by a probe: a batch setting obstacles = 0 and a run eye_pixels = 64 trained
+// context Coarse (eye_pixels = 32, obstacles = 2) exactly as context Full, without a word. The
+// override may be meant, as a --set of roger train is, which says so: a note, not an error.
+void note_context_overrides(const json& rj, const Reader& rd, int top_line, const Curriculum& cur,
+                            const BatchOverrides& overrides, BatchScript& b) {
+  const BatchRun& r = b.runs.back();
+  const Params own = rd.params(rj, "params", "run '" + r.name + "'", r.line);
+  const auto named = [](const Params& ps, const std::string& name) {
+    return std::find_if(ps.begin(), ps.end(), [&](const auto& p) { return p.first == name; });
+  };
+  for (const std::string& c : r.contexts)
+    for (const auto& [name, value] : cur.stage(r.stage).context(c).params) {
+      const auto wins = named(r.params, name);
+      if (wins == r.params.end() || wins->second == value) continue;
+      std::string by = "--set " + name + "=" + wins->second;
+      int line = r.line;  // a --set is the command line's: the run it reaches
+      if (std::find(overrides.sets.begin(), overrides.sets.end(), *wins) == overrides.sets.end()) {
+        const bool run_own = named(own, name) != own.end();
+        by = (run_own ? "the run's params " : "the batch script's params ") + name + " = " + wins->second;
+        line = rd.line_of_key("params", run_own ? r.line : top_line);  // as an error in those params names it
+      }
+      b.notes.push_back(b.path + ":" + std::to_string(line) + ": run '" + r.name + "': context '" + c +
+                        "' of stage '" + r.stage + "' sets " + name + " = " + value + ", overridden by " + by +
+                        " (a batch's params and --set win over a context's own, as --set does in roger train)");
+    }
+}
+
 // Reads 'runs', in order (a run takes skills only from the runs before it).
 void read_runs(const json& top, const Reader& rd, int top_line, const Curriculum& cur,
                const BatchOverrides& overrides, BatchScript& b, EntryProblems& problems) {
@@ -423,7 +452,13 @@ void read_runs(const json& top, const Reader& rd, int top_line, const Curriculum
   if (!top["runs"].is_array() || top["runs"].empty())
     rd.fail(runs_line, "the batch script: 'runs' must be a non-empty list of {name = ..., stage = ..., contexts = {...}}");
   for (const json& rj : top["runs"])
-    problems.entry(rj, "run", [&] { b.runs.push_back(read_run(rj, rd, runs_line, cur, stage_names, overrides, b)); });
+    problems.entry(rj, "run", [&] {
+      b.runs.push_back(read_run(rj, rd, runs_line, cur, stage_names, overrides, b));
+      // A stage's bare scenario name with a scenario of that name beside the curriculum, once.
+      const std::string n = cur.stage(b.runs.back().stage).scenario_note();
+      if (!n.empty() && std::find(b.notes.begin(), b.notes.end(), n) == b.notes.end()) b.notes.push_back(n);
+      note_context_overrides(rj, rd, top_line, cur, overrides, b);
+    });
 }
 
 // Reads one evaluation of 'evaluations' (written from line `el` on).

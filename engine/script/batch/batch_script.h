@@ -142,6 +142,11 @@ struct BatchScript {
   std::vector<BatchEvaluation> evaluations;
   std::vector<BatchTable> tables;
   std::vector<BatchFigure> figures;
+  // What roger check and roger run say before any trial, each "file:line: ...": a run's stage
+  // whose bare scenario name is not the scenario of that name beside the curriculum
+  // (CurriculumStage::scenario_note), and a context's own scenario parameter that the script's, a
+  // run's or --set's params override (as roger train marks one a --set overrides).
+  std::vector<std::string> notes;
 
   // A run by name, or null.
   const BatchRun* run(const std::string& name) const;

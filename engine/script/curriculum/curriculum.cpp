@@ -123,6 +123,15 @@ std::string CurriculumStage::scenario_warning() const {
   return (at > 0 ? file + ":" + std::to_string(at) + ": " : std::string()) + where() + ": " + w;
 }
 
+std::string CurriculumStage::scenario_note() const {
+  if (scenario_beside.empty()) return "";
+  const int field = curriculum_detail::field_line(*this, "", "scenario"), at = field > 0 ? field : line;
+  return (at > 0 ? file + ":" + std::to_string(at) + ": " : std::string()) + where() + ": scenario '" + scenario +
+         "' is the project's " + resolve_scenario_path(scenario) + " (a bare name is one of scenarios/), not " +
+         scenario_beside + " of the same name: to train in that one, name it with its \".lua\" (scenario = \"" +
+         fs::path(scenario_beside).filename().string() + "\")";
+}
+
 std::string CurriculumStage::learner_warning() const {
   if (!(learner.epsilon_start < learner.epsilon_end)) return "";
   const int at = curriculum_detail::field_line(*this, "", "learner");

@@ -101,6 +101,9 @@ struct CurriculumStage {
   TestSetSpec test;
   std::string file;  // where the stage is written
   int line = 0;
+  // A scenario file of the bare name `scenario` beside the stage's file or its curriculum, which
+  // the name does not take (scenario_beside): "" when none. scenario_note() says it.
+  std::string scenario_beside;
   // Whether training episodes have tasks chosen by a teacher (then evaluations run a test set).
   bool teaches() const { return !tasks.empty() || teacher.has_value() || teacher_lua; }
   // The test set's tasks for a trial whose task space is `space` (the stage's, less what --set
@@ -126,6 +129,10 @@ struct CurriculumStage {
   // "" or, at the `scenario` field's file:line, why the scenario's path will not be found from
   // another folder than this one (scenario_found_from_here). A warning for roger check.
   std::string scenario_warning() const;
+  // "" or, at the `scenario` field's file:line (the stage's when the default), that the bare name
+  // is the project's scenario and not scenario_beside, and how to name that one. A note for
+  // roger check, train and run: the shipped one is what the name documentedly means.
+  std::string scenario_note() const;
   // "" or, at the `learner` field's file:line, that exploration rises over the budget
   // (epsilon_start below epsilon_end: the two swapped, most likely). A warning for roger check.
   std::string learner_warning() const;

@@ -429,6 +429,7 @@ void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& abso
   } catch (const Error& e) {
     f.fail(std::string("field 'scenario': ") + e.what());
   }
+  st.scenario_beside = scenario_beside(st.scenario, naming_file, curriculum_file);
   read_stage_params(L, f, st);
   read_time_limit(L, f, where, st);
   read_absorbing(L, f, where, st, absorb_fn);

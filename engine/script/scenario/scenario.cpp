@@ -471,6 +471,26 @@ std::string resolve_scenario_near(const std::string& name, const std::string& na
   return in_project ? rel.generic_string() : real.string();
 }
 
+std::string scenario_beside(const std::string& name, const std::string& naming_file, const std::string& also_beside) {
+  if (path_like(name)) return "";
+  std::string shipped;
+  try {
+    shipped = resolve_scenario_path(name);
+  } catch (const Error&) {
+    return "";
+  }
+  std::error_code ec;
+  for (const std::string& shown : {naming_file, also_beside}) {
+    if (shown.empty()) continue;
+    const fs::path file = as_found(shown), copy = file.parent_path() / (name + ".lua");
+    if (!fs::is_regular_file(copy, ec) || fs::equivalent(copy, shipped, ec) || fs::equivalent(copy, file, ec)) continue;
+    // Only a scenario: curricula/lib/sorting.lua beside a stage of scenario "sorting" is a library.
+    if (!script_has_key(copy.string(), "generate") || script_has_key(copy.string(), "stages")) continue;
+    return (fs::path(shown).parent_path() / (name + ".lua")).string();
+  }
+  return "";
+}
+
 std::string scenario_found_from_here(const std::string& recorded, const std::string& naming_file,
                                      const std::string& kind) {
   std::error_code ec;

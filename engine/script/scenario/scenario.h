@@ -123,6 +123,13 @@ std::string resolve_scenario_path(const std::string& name_or_path);
 std::string resolve_scenario_near(const std::string& name, const std::string& naming_file,
                                   const std::string& also_beside = "");
 
+// "" or, when `name` is a bare name (one of the project's scenarios/, as resolve_scenario_near
+// records it) and a scenario `<name>.lua` lies beside `naming_file` or else beside `also_beside`,
+// that file as those are shown ("cluttered.lua" beside "cur.lua"): a copy made to be edited, which
+// the bare name does not take. For the note roger check, train and run give of it.
+std::string scenario_beside(const std::string& name, const std::string& naming_file,
+                            const std::string& also_beside = "");
+
 // For `roger check`: "" or, when `recorded` (what resolve_scenario_near returned for a name of
 // `naming_file`) is a path found only from the current folder (not beside the file, not in the
 // project), why it will not be found from another folder and how to write it beside the file.
