@@ -651,7 +651,7 @@ class Scanner {
       if (t.type == LuaToken::kString) ++written[t.text];
     accesses.erase(std::remove_if(accesses.begin(), accesses.end(),
                                   [&](const Access& a) {
-                                    return a.kind == Access::kFinding && written[a.literal] > compared_[a.literal];
+                                    return a.kind == Access::kFinding && !a.literal.empty() && written[a.literal] > compared_[a.literal];
                                   }),
                    accesses.end());
   }
@@ -731,7 +731,9 @@ class Judge {
       std::string message;
       if (a.kind == Access::kRead) message = global(a.name, a.locals);
       if (a.kind == Access::kMember) message = member(a.name);
-      if (a.kind == Access::kFinding && callbacks_possible()) message = a.name;
+      // A compared literal (a misspelt state or event) only where callbacks can be; a predicate taken
+      // for a truth value (no literal) wherever predicates are made.
+      if (a.kind == Access::kFinding && (a.literal.empty() || callbacks_possible())) message = a.name;
       if (!message.empty() && seen.insert({a.line, message}).second) out.push_back({f.shown, a.line, message});
     }
   }
