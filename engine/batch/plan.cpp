@@ -57,7 +57,6 @@ std::string fingerprint(const std::string& text) {
   return buf;
 }
 
-
 // A value of a configuration for a message: whole when short, else 70 characters from a little
 // before `at`, where it first differs from the other side's, so that the change shows.
 std::string excerpt(const std::string& s, size_t at) {
@@ -477,9 +476,6 @@ void refuse_while_others_run(const BatchPlan& plan, const RunningClaim* claim) {
               "parameters now");
 }
 
-// Checks that an existing manifest was made by this engine and configuration, or by one that this
-// configuration extends (extends(): then the manifest is rewritten with it, and the returned note
-// says what changed; "" otherwise).
 // Why the folder's finished trials cannot be resumed with: a Lua file a trial read that the
 // configuration's sources do not list (a module a callback required while episodes ran, after the
 // curriculum was loaded) and that has changed or gone since; "" when none has. `then` places the
@@ -519,6 +515,9 @@ std::string late_source_problem(const BatchPlan& plan, const json& old_config, c
   return "";
 }
 
+// Checks that an existing manifest was made by this engine and configuration, or by one that this
+// configuration extends (extends(): then the manifest is rewritten with it, and the returned note
+// says what changed; "" otherwise).
 std::string check_manifest(const BatchPlan& plan, const fs::path& manifest_path, json config,
                            const json& fresh_manifest, const RunningClaim* claim) {
   json old;

@@ -56,15 +56,20 @@ double ExplorationSchedule::epsilon(double spent) const {
   return start_ + (end_ - start_) * f;
 }
 
+std::string reward_magnitude_problem(double reward) {
+  if (!(std::fabs(reward) > kMaxRewardMagnitude)) return "";
+  return "at most 1e12 in magnitude (an episode's sum of rewards and the Q values must stay finite), got " +
+         format_number(reward);
+}
+
 void LearningEpisodeOptions::validate() const {
   if (!(time_limit > 0.0) || !finite(time_limit))
     throw Error("learning episode: time_limit must be positive and finite");
   for (const auto& [name, r] : {std::pair<const char*, double>{"success_reward", success_reward},
                                 {"timeout_reward", timeout_reward}, {"step_reward", step_reward}}) {
     if (!finite(r)) throw Error(std::string("learning episode: ") + name + " must be finite");
-    if (std::fabs(r) > kMaxRewardMagnitude)
-      throw Error(std::string("learning episode: ") + name + " must be at most 1e12 in magnitude (sums over an "
-                  "episode and the Q values must stay finite), got " + format_number(r));
+    if (const std::string p = reward_magnitude_problem(r); !p.empty())
+      throw Error(std::string("learning episode: ") + name + " must be " + p);
   }
   if (!(discount_seconds >= 0.0) || !finite(discount_seconds))
     throw Error("learning episode: discount_seconds must be >= 0 and finite");

@@ -189,6 +189,10 @@ class ExplorationSchedule {
 // was taken, and training stopped at "q-table: update() needs a finite reward").
 constexpr double kMaxRewardMagnitude = 1e12;
 
+// "" or, for a reward beyond kMaxRewardMagnitude, what its refusal says after "must be" or "must
+// return": "at most 1e12 in magnitude (...), got 1e+308". One wording for every place a reward is read.
+std::string reward_magnitude_problem(double reward);
+
 // How a learning episode runs and pays (the paper: +100 absorbing, -100 time-out, 0 otherwise).
 struct LearningEpisodeOptions {
   double time_limit = 5.0;         // simulated seconds (the paper: 5 for search-grasp, 10 transport)

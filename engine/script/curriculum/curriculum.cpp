@@ -666,10 +666,8 @@ double Curriculum::call_reward(const CurriculumStage& stage, const CurriculumCon
     throw ScriptError(stage.where(context.name) + ": the reward function must return a finite number, got " +
                           lua_describe_value(L, -1) + " (event '" + event + "')",
                       fn.file, fn.line, "");
-  if (std::fabs(lua_tonumber(L, -1)) > kMaxRewardMagnitude)
-    throw ScriptError(stage.where(context.name) + ": the reward function must return at most 1e12 in magnitude (an "
-                          "episode's sum of rewards and the Q values must stay finite), got " +
-                          format_number(lua_tonumber(L, -1)) + " (event '" + event + "')",
+  if (const std::string p = reward_magnitude_problem(lua_tonumber(L, -1)); !p.empty())
+    throw ScriptError(stage.where(context.name) + ": the reward function must return " + p + " (event '" + event + "')",
                       fn.file, fn.line, "");
   return lua_tonumber(L, -1);
 }

@@ -271,9 +271,8 @@ void read_reward(lua_State* L, const LuaFields& f, const std::string& where, Cur
     st.rewards.step_reward = r.number("step", 0.0);
     for (const auto& [key, v] : {std::pair<const char*, double>{"absorbing", st.rewards.success_reward},
                                  {"timeout", st.rewards.timeout_reward}, {"step", st.rewards.step_reward}})
-      if (std::fabs(v) > kMaxRewardMagnitude)
-        r.fail(std::string("field '") + key + "' must be at most 1e12 in magnitude (an episode's sum of rewards and "
-               "the Q values must stay finite), got " + format_number(v));
+      if (const std::string p = reward_magnitude_problem(v); !p.empty())
+        r.fail(std::string("field '") + key + "' must be " + p);
     lua_pop(L, 1);
   } else if (rt != LUA_TNIL) {
     f.wrong_type("reward", "a table {absorbing = 100, timeout = -100, step = 0} or a function(state, action, event)");

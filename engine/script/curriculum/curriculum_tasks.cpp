@@ -52,11 +52,9 @@ double bound(lua_State* L, int index, const char* call, bool integer) {
   // no longer holds every integer, so math.maxinteger would be drawn as 2^63, a value out of range.
   constexpr double kExactIntegers = 9007199254740992.0;  // 2^53
   if (integer && std::fabs(v) > kExactIntegers) {
-    if (lua_isinteger(L, index))
-      luaL_error(L, "%s(lo, hi): %s must lie within -2^53..2^53 (-9007199254740992..9007199254740992), got %I",
-                 call, index == 1 ? "lo" : "hi", lua_tointeger(L, index));
+    const std::string given = lua_isinteger(L, index) ? std::to_string(lua_tointeger(L, index)) : format_number(v);
     luaL_error(L, "%s(lo, hi): %s must lie within -2^53..2^53 (-9007199254740992..9007199254740992), got %s", call,
-               index == 1 ? "lo" : "hi", format_number(v).c_str());
+               index == 1 ? "lo" : "hi", given.c_str());
   }
   return v;
 }
