@@ -318,8 +318,10 @@ TEST_CASE("a bare scenario name with a scenario of that name beside the curricul
   CHECK(write("module.lua", "").stage("S").scenario_note().empty());
   // Shipped curricula beside their own libraries (curricula/lib/sorting.lua, of stages of scenario
   // "sorting") have none.
-  for (const char* shipped : {"paper", "sorting", "maturation", "teachers", "ablation"})
-    for (const auto& st : Curriculum::load(shipped).stages()) CHECK(st.scenario_note().empty());
+  for (const char* shipped : {"paper", "sorting", "maturation", "teachers", "ablation"}) {
+    const Curriculum curriculum = Curriculum::load(shipped);  // named: a range-for over a temporary's member dangles
+    for (const auto& st : curriculum.stages()) CHECK(st.scenario_note().empty());
+  }
 }
 
 TEST_CASE("a context's init names a context written before it", "[curriculum]") {
