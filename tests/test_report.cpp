@@ -27,6 +27,7 @@
 #include "batch/batch.h"
 #include "cli/cli_internal.h"
 #include "cli/commands.h"
+#include "core/text.h"
 #include "learn/learning.h"
 #include "report/report.h"
 #include "report/report_internal.h"
@@ -322,8 +323,9 @@ TEST_CASE("curve_bands: mean, std and the IQM with its bootstrap interval at eac
   CHECK(b.std[1] == Approx(population_std({10, 20, 30, 40, -1000})));
   CHECK(b.iqm[1] == Approx(interquartile_mean({10, 20, 30, 40, -1000})));
   CHECK(b.iqm[1] > 0.0);
-  // Point k is bootstrap_ci of interquartile_mean seeded seed + k.
-  const ConfidenceInterval ci = bootstrap_ci({10, 20, 30, 40, -1000}, interquartile_mean, 8, 500);
+  // Every point is bootstrap_ci of interquartile_mean with the same seed: one set of resampled
+  // trials for the whole curve.
+  const ConfidenceInterval ci = bootstrap_ci({10, 20, 30, 40, -1000}, interquartile_mean, 7, 500);
   CHECK(b.iqm_low[1] == ci.low);
   CHECK(b.iqm_high[1] == ci.high);
   CHECK(b.iqm_low[1] < b.iqm[1]);
@@ -331,6 +333,19 @@ TEST_CASE("curve_bands: mean, std and the IQM with its bootstrap interval at eac
   CHECK(b.iqm_low[0] == 0.0);
   CHECK(b.iqm_high[2] == 100.0);
   CHECK(curve_bands(values, 7, 500).iqm_low == b.iqm_low);  // the same curves, the same bands
+  // Found by a probe: with a seed per point, three trials' band notched where the curves were
+  // straight. Curves that are one shape shifted give a band shifted by the same amount.
+  std::vector<std::vector<double>> lines;
+  for (double start : {3.0, 10.0, 4.0}) {
+    lines.push_back({});
+    for (int k = 0; k < 40; ++k) lines.back().push_back(start + k);
+  }
+  const CurveBands straight = curve_bands(lines, 7, 1000);
+  for (size_t k = 1; k < 40; ++k) {
+    CHECK(straight.iqm_low[k] - straight.iqm_low[k - 1] == Approx(1.0));
+    CHECK(straight.iqm_high[k] - straight.iqm_high[k - 1] == Approx(1.0));
+  }
+  CHECK(straight.iqm_low[0] < straight.iqm[0]);
   CHECK_THROWS_WITH(curve_bands({}, 7, 500), Contains("at least one trial"));
   CHECK_THROWS_WITH(curve_bands({{1, 2}, {1}}, 7, 500), Contains("trial 1 has 1 points but trial 0 has 2"));
 }
@@ -1285,6 +1300,77 @@ TEST_CASE("a trial result whose summary disagrees with its own episodes is refus
   }
 }
 
+// Found by a probe: an evaluation trial kept no episodes, so a reward mean edited by hand beside
+// outcomes left alone was reported; a training trial's final.jsonl backed its outcomes only.
+TEST_CASE("a trial's per-episode records back its reward, time and outcomes", "[report]") {
+  const KillCopy folder("episode_records");
+  const fs::path eval_dir = folder.dir / "trials" / "eval" / "gen" / "circle" / "000";
+  const std::string eval_file = (eval_dir / "eval.jsonl").string(), final_file =
+      (folder.dir / "trials" / "T" / "DC6" / "000" / "final.jsonl").string();
+  const json eval_result = folder.read("trials/eval/gen/circle/000/result.json");
+  CHECK(eval_result["episodes_file"] == "eval.jsonl");
+  const std::string lines = slurp(eval_file);
+  REQUIRE(std::count(lines.begin(), lines.end(), '\n') == 12);
+  double sum = 0.0;
+  std::istringstream in(lines);
+  for (std::string line; std::getline(in, line);) {
+    const json record = json::parse(line);
+    CHECK(record["success"] == true);
+    sum += record["reward"].get<double>();
+  }
+  CHECK(sum / 12 == Approx(eval_result["reward_mean"].get<double>()));
+  auto refused = [&](const std::string& says, const std::string& ending = "") {
+    INFO(says);
+    std::string said;
+    CHECK(folder.report(said) == 1);
+    CHECK_THAT(said, Contains("CORRUPT: " + says) && Contains(ending));
+    CHECK_THROWS_WITH(write_report(folder.dir.string()), Contains(says) && Contains(ending));
+  };
+  const double mean = eval_result["reward_mean"].get<double>();
+  {  // the result's mean edited
+    json bad = eval_result;
+    bad["reward_mean"] = mean + 1.0;
+    folder.write("trials/eval/gen/circle/000/result.json", bad);
+    refused(eval_file + ": its episodes' \"reward\" give a mean of " + format_number(mean) +
+            ", but the trial's result.json records " + bad["reward_mean"].dump() + " (\"reward_mean\"): edited?");
+    folder.write("trials/eval/gen/circle/000/result.json", eval_result);
+  }
+  {  // a training trial's final std and time mean edited
+    const json good = folder.read("trials/T/DC6/000/result.json");
+    for (const char* field : {"reward_std", "final_time_mean"}) {
+      json bad = good;
+      bad[field] = good[field].get<double>() + 0.5;
+      folder.write("trials/T/DC6/000/result.json", bad);
+      refused(final_file + ": its episodes' \"" + (field == std::string("reward_std") ? "reward\" give a std" : "sim_s\" give a mean"),
+              std::string("(\"") + field + "\"): edited?");
+    }
+    folder.write("trials/T/DC6/000/result.json", good);
+  }
+  {  // an episode's reward edited, a success flipped, a line lost, the file gone
+    std::string one_reward = lines;
+    const size_t at = one_reward.find("\"reward\":") + 9;
+    one_reward.insert(at, "1");
+    spit(eval_file, one_reward);
+    refused(eval_file + ": its episodes' \"reward\" give a mean of ");
+    std::string flipped = lines;
+    const size_t third = flipped.find("\"success\":true", flipped.find('\n', flipped.find('\n') + 1));
+    flipped.replace(third, 14, "\"success\":false");
+    spit(eval_file, flipped);
+    refused(eval_file + ":3: \"success\": false, but the trial's result.json records episode 3 a success (\"outcomes\")");
+    spit(eval_file, lines.substr(0, lines.rfind('\n', lines.size() - 2) + 1));
+    refused(eval_file + ": holds 11 evaluation episodes, but the trial's result.json records 12 (\"outcomes\")");
+    fs::remove(eval_file);
+    refused(eval_file + ": missing: the trial's result.json records 12 evaluation episodes (\"outcomes\")");
+  }
+  {  // a result from before eval.jsonl was written has no episodes_file, and is read as before
+    json old = eval_result;
+    old.erase("episodes_file");
+    folder.write("trials/eval/gen/circle/000/result.json", old);
+    std::string said;
+    CHECK(folder.report(said) == 0);
+  }
+}
+
 // Found by a probe: a report whose script no longer asks for a figure left that figure's files
 // beside it, ready to be published with a report that does not name them.
 TEST_CASE("a report removes the figures of the previous report that it no longer draws", "[report]") {
@@ -1662,6 +1748,39 @@ TEST_CASE("a curve keeps its colour when the figure's other curves are pending",
     CHECK_THAT(partial, Contains(orange));
     CHECK(partial.find(blue) == std::string::npos);
   }
+}
+
+// Found by a probe: a success-rate curve read "Test tasks mastered" on a stage without a test set,
+// whose checkpoints' success rates are over their held-out episodes, not over any set of tasks.
+TEST_CASE("a success-rate curve says test tasks mastered only when its trials had a test set", "[report]") {
+  KillCopy copy("success_label");
+  json manifest = copy.read("manifest.json");
+  manifest["config"]["figures"].push_back(
+      {{"file", "success_SG"}, {"title", ""}, {"kind", "curves"}, {"run", "SG"}, {"log_x", false}, {"y", "success"}});
+  copy.write("manifest.json", manifest);
+  auto label = [&]() {
+    std::string said;
+    REQUIRE(copy.report(said) == 0);
+    const std::string page = slurp(copy.dir / "dashboard.js");
+    const json report = json::parse(page.substr(page.find('=') + 1, page.rfind(';') - page.find('=') - 1));
+    std::map<std::string, std::string> labels;
+    for (const json& f : report["figures"])
+      if (f["kind"] == "curves") labels[f["file"].get<std::string>()] = f.value("y_label", std::string());
+    return labels;
+  };
+  std::map<std::string, std::string> labels = label();
+  CHECK(labels["success_SG"] == "Checkpoint episodes succeeded (%)");
+  CHECK(labels["figure3"] == "Greedy episodic reward");
+  CHECK_THAT(slurp(copy.dir / "tables.md"), Contains("without one, the share of the checkpoint's held-out episodes"));
+  // The same trials, as if each had run a test set of 4 tasks at its checkpoints.
+  for (const char* id : {"SG/B1/000", "SG/B1/001", "SG/DC2/000", "SG/DC2/001"}) {
+    const fs::path file = copy.dir / "trials" / id / "result.json";
+    json r = json::parse(slurp(file));
+    r["test"]["tasks"] = 4;
+    spit(file, r.dump(1));
+  }
+  labels = label();
+  CHECK(labels["success_SG"] == "Test tasks mastered (%)");
 }
 
 // Found by a probe: with every evaluation pending, Table III's note read "...drawn from: . It is".

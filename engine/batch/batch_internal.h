@@ -63,10 +63,16 @@ std::filesystem::path source_file_path(const std::string& name);
 
 // ---- records.cpp: reading a results folder back, every file checked ----
 
+// An evaluation trial's episodes, one JSON line each (eval_episode_lines), named by its result's
+// "episodes_file".
+inline constexpr const char* kEvalEpisodesFile = "eval.jsonl";
+
 // A trial's state on disk: "ok" (filling `result`), "failed" (filling `error` with its message),
 // "corrupt" (filling `error` with the file at fault and what is wrong: a result.json, error.json or
-// a training trial's policy.json that is truncated, empty, edited or another trial's, or its
-// final.jsonl missing, cut short or holding another count of episodes than the result) or "pending".
+// a training trial's policy.json that is truncated, empty, edited or another trial's, or the
+// episodes of its final evaluation (final.jsonl) or of an evaluation trial (eval.jsonl) missing,
+// cut short, or disagreeing with the result's outcomes, reward mean and std, time mean or objects
+// sorted) or "pending".
 std::string trial_status(const std::string& out, const PlannedTrial& t, nlohmann::json& result, std::string& error);
 
 // The scenario parameters the plan runs trial t with (the batch's, its run's or evaluation's, and

@@ -5,6 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+#include <tuple>
+#include <vector>
 
 #include "batch/batch_internal.h"
 #include "core/error.h"
@@ -310,17 +315,53 @@ std::string result_problem(const json& r, const PlannedTrial& t) {
 
 namespace {
 
-// Throws roger::Error when a training trial's final.jsonl, which the report's tables split by
-// feature read, is missing or holds another count of episodes than its result.json records: the
-// tables would silently count fewer episodes.
-void check_final_records(const fs::path& dir, const json& result) {
-  if (!result.contains("final_outcomes")) return;  // a result from before final.jsonl was written
-  const std::string path = (dir / "final.jsonl").string();
-  const size_t episodes = result["final_outcomes"].get_ref<const std::string&>().size();
+// Where a trial's per-episode records are, and which of its result's fields summarize them.
+struct EpisodeRecords {
+  const char* file;         // "final.jsonl", "eval.jsonl"
+  const char* outcomes;     // its outcomes' field: "final_outcomes", "outcomes"
+  const char* what;         // "final-evaluation episodes"
+  // The result's means and std over the lines' fields: {result field, line field, std?}.
+  std::vector<std::tuple<const char*, const char*, bool>> summaries;
+};
+
+// Whether `said` (a result's number) is what the records give (`from`, computed as the trainer
+// does: the same sums in the same order, so equal but for the last bits of a JSON round trip).
+bool agrees(double said, double from) { return std::abs(said - from) <= 1e-9 * std::max(1.0, std::abs(from)); }
+
+// Why the lines' summaries disagree with the result's ("" when they agree): a reward mean edited
+// by hand beside outcomes left alone (found by a probe) would print in the tables.
+std::string summary_problem(const std::string& path, const json& result, const EpisodeRecords& records,
+                            const std::map<std::string, std::vector<double>>& columns) {
+  for (const auto& [field, column, is_std] : records.summaries) {
+    if (!result.contains(field) || !result[field].is_number()) continue;  // the result's check names it
+    const auto c = columns.find(column);
+    if (c == columns.end()) continue;  // lines without it (objects sorted in worlds with none to sort)
+    const std::vector<double>& xs = c->second;
+    double mean = 0.0, var = 0.0;
+    for (double x : xs) mean += x;
+    mean /= double(std::max<size_t>(1, xs.size()));
+    for (double x : xs) var += (x - mean) * (x - mean);
+    const double from = is_std ? std::sqrt(var / double(std::max<size_t>(1, xs.size()))) : mean;
+    if (!agrees(result[field].get<double>(), from))
+      return path + ": its episodes' \"" + column + "\" give a " + (is_std ? "std" : "mean") + " of " +
+             format_number(from) + ", but the trial's result.json records " + result[field].dump() + " (\"" + field +
+             "\"): edited?";
+  }
+  return "";
+}
+
+// Throws roger::Error when a trial's per-episode records (a training trial's final.jsonl, an
+// evaluation trial's eval.jsonl), which the report's tables split by feature read and which
+// back its result's numbers, are missing, cut short, or disagree with the result: another count
+// of episodes, another outcome, another mean or std.
+void check_episode_records(const fs::path& dir, const json& result, const EpisodeRecords& records) {
+  const std::string path = (dir / records.file).string();
+  const std::string& outcomes = result[records.outcomes].get_ref<const std::string&>();
+  const size_t episodes = outcomes.size();
   std::error_code ec;
   if (!fs::is_regular_file(path, ec))
-    throw Error(path + ": missing: the trial's result.json records " + std::to_string(episodes) +
-                " final-evaluation episodes (\"final_outcomes\"), and this file holds them, one line each");
+    throw Error(path + ": missing: the trial's result.json records " + std::to_string(episodes) + " " + records.what +
+                " (\"" + records.outcomes + "\"), and this file holds them, one line each");
   // A file cut at a line's end parses line by line: only the count shows episodes lost. One cut
   // within a line has a last line without its end (found by a probe: it passed, and only a report
   // --by, which parses the lines, failed on it, every time, since the trial was kept).
@@ -329,7 +370,7 @@ void check_final_records(const fs::path& dir, const json& result) {
     throw Error(path + ": its last line has no end, as a file cut short has: truncated or edited?");
   // Each episode's outcome is the one result.json records (found by a probe: 25 successes flipped
   // to failures passed, and one report gave the trials 100% in Table II and 75% split by obstacles).
-  const std::string& outcomes = result["final_outcomes"].get_ref<const std::string&>();
+  std::map<std::string, std::vector<double>> columns;  // each summarized field, over the lines
   size_t lines = 0;
   for (size_t at = 0; at < text.size();) {
     const size_t end = std::min(text.find('\n', at), text.size());
@@ -337,21 +378,55 @@ void check_final_records(const fs::path& dir, const json& result) {
       throw Error(path + ":" + std::to_string(lines + 1) + ": not a JSON object on one line: truncated or edited?");
     // (A line that is no record, or whose success is no boolean, is the reader's to refuse, with
     // its own words: final_record.)
-    if (end > at && lines < outcomes.size()) {
+    if (end > at && lines < episodes) {
       const json record = json::parse(text.begin() + long(at), text.begin() + long(end), nullptr, false);
       const bool success = outcomes[lines] == '1';
       if (record.is_object() && record.contains("success") && record["success"].is_boolean() &&
           record["success"] != success)
         throw Error(path + ":" + std::to_string(lines + 1) + ": \"success\": " + record["success"].dump() +
                     ", but the trial's result.json records episode " + std::to_string(lines + 1) + " " +
-                    (success ? "a success" : "a failure") + " (\"final_outcomes\"): edited?");
+                    (success ? "a success" : "a failure") + " (\"" + records.outcomes + "\"): edited?");
+      std::set<std::string> read;  // a column two summaries share (a mean and a std) is read once
+      for (const auto& summary : records.summaries) {
+        const char* column = std::get<1>(summary);
+        if (!record.is_object() || !record.contains(column) || !read.insert(column).second) continue;
+        if (!record[column].is_number())
+          throw Error(path + ":" + std::to_string(lines + 1) + ": field \"" + column + "\" must be a number, got " +
+                      record[column].dump());
+        columns[column].push_back(record[column].get<double>());
+      }
     }
     lines += end > at;
     at = end + 1;
   }
   if (lines != episodes)
-    throw Error(path + ": holds " + std::to_string(lines) + " final-evaluation episodes, but the trial's result.json "
-                "records " + std::to_string(episodes) + " (\"final_outcomes\"): truncated or edited?");
+    throw Error(path + ": holds " + std::to_string(lines) + " " + records.what + ", but the trial's result.json "
+                "records " + std::to_string(episodes) + " (\"" + records.outcomes + "\"): truncated or edited?");
+  for (auto& [column, xs] : columns)
+    if (xs.size() != episodes)
+      throw Error(path + ": " + std::to_string(episodes - xs.size()) + " of its " + std::to_string(episodes) +
+                  " lines have no \"" + column + "\", which the others have: edited?");
+  if (auto p = summary_problem(path, result, records, columns); !p.empty()) throw Error(p);
+}
+
+// A training trial's final evaluation (final.jsonl); nothing for a result from before it was written.
+void check_final_records(const fs::path& dir, const json& result) {
+  if (!result.contains("final_outcomes")) return;
+  check_episode_records(dir, result,
+                        {"final.jsonl", "final_outcomes", "final-evaluation episodes",
+                         {{"reward_mean", "reward", false}, {"reward_std", "reward", true},
+                          {"final_time_mean", "sim_s", false}, {"final_sorted_mean", "sorted", false}}});
+}
+
+// An evaluation trial's episodes (eval.jsonl, named by its result since they were written).
+void check_evaluation_records(const fs::path& dir, const json& result) {
+  if (!result.contains("episodes_file")) return;  // a result from before eval.jsonl was written
+  if (result["episodes_file"] != kEvalEpisodesFile || !result.contains("outcomes"))
+    throw Error((dir / "result.json").string() + ": field \"episodes_file\" must be \"" + kEvalEpisodesFile +
+                "\" beside the episodes' \"outcomes\", got " + result["episodes_file"].dump());
+  check_episode_records(dir, result,
+                        {kEvalEpisodesFile, "outcomes", "evaluation episodes",
+                         {{"reward_mean", "reward", false}, {"reward_std", "reward", true}, {"time_mean", "sim_s", false}}});
 }
 
 // Throws roger::Error when a training trial's policy.json is another trial's: its stage, context
@@ -385,6 +460,8 @@ std::string trial_status(const std::string& out, const PlannedTrial& t, json& re
         QTable::from_json(saved, psi, policy);
         check_policy_owner(policy, saved, t);
         check_final_records(d, result);
+      } else {
+        check_evaluation_records(d, result);
       }
       return "ok";
     }

@@ -384,8 +384,10 @@ uint64_t evaluation_seed_offset(const BatchEvaluation& e, const PlannedTrial& t)
 }
 
 // An evaluation trial: the policy of a trained trial, without retraining, in the evaluation's
-// worlds (evaluation_seed_offset).
-nlohmann::json evaluation_trial(const BatchPlan& plan, const PlannedTrial& t, Clock::time_point t0) {
+// worlds (evaluation_seed_offset). Its episodes go to eval.jsonl in `dir`, before result.json,
+// so that every number the report reads from result.json can be checked against them.
+nlohmann::json evaluation_trial(const BatchPlan& plan, const PlannedTrial& t, const std::string& dir,
+                                Clock::time_point t0) {
   const BatchEvaluation& e = *t.evaluation;
   const std::string from = batch_trial_id(e.run, e.context, t.index);
   PolicyEvalOptions o;
@@ -398,6 +400,7 @@ nlohmann::json evaluation_trial(const BatchPlan& plan, const PlannedTrial& t, Cl
   o.episodes = e.episodes;
   o.first_seed = e.first_seed;
   o.seed_offset = evaluation_seed_offset(e, t);
+  o.keep_episodes = true;
   nlohmann::json skills = nlohmann::json::object();
   for (const BatchSkill& s : e.skills) {
     const std::string source = batch_trial_id(s.run, s.context, t.index);
@@ -422,6 +425,9 @@ nlohmann::json evaluation_trial(const BatchPlan& plan, const PlannedTrial& t, Cl
             {"skills", skills},
             {"wall_s", std::chrono::duration<double>(Clock::now() - t0).count()}});
   j["outcomes"] = r.eval.outcomes;  // each episode's, for the report's intervals (report_evaluations.cpp)
+  write_file_atomic((fs::path(dir) / kEvalEpisodesFile).string(), eval_episode_lines(r.eval),
+                    "cannot write the evaluation's episodes");
+  j["episodes_file"] = kEvalEpisodesFile;  // checked by trial_status (records.cpp)
   j["sources"] = source_fingerprints(r.source_files);
   return j;
 }
@@ -779,7 +785,7 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
     const auto t0 = Clock::now();
     try {
       sources.check();
-      nlohmann::json result = t.run ? training_trial(plan, t, dir, control) : evaluation_trial(plan, t, t0);
+      nlohmann::json result = t.run ? training_trial(plan, t, dir, control) : evaluation_trial(plan, t, dir, t0);
       // And after: a file edited while the trial loaded it would otherwise be in a result kept as
       // finished (found by the fault test once policies were compared: the trial before the stop
       // recorded the edited curriculum's digest). The trial is then not kept; the resumed run redoes it.

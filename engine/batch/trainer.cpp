@@ -1013,12 +1013,12 @@ PolicyEvalResult evaluate_policy_file(const PolicyEvalOptions& given) {
   with_policy_file(given, out, [&](StageRun& run, QTable& q, uint64_t first, const PolicyMetadata& meta,
                                    const PolicyEvalOptions& options) {
     if (!options.test_set) {
-      out.eval = greedy_eval(run, q, EvalWorlds{first, options.episodes}, "evaluation");
+      out.eval = greedy_eval(run, q, EvalWorlds{first, options.episodes}, "evaluation", nullptr, options.keep_episodes);
       return;
     }
     const uint64_t first_seed = resolve_test_set(run, meta, options, out);
     out.eval = greedy_eval(run, q, EvalWorlds{first_seed, int(out.test_tasks.size()), nullptr, nullptr, {}, &out.test_tasks},
-                           "evaluation");
+                           "evaluation", nullptr, options.keep_episodes);
   });
   return out;
 }

@@ -241,6 +241,11 @@ nlohmann::json train_summary_json(const TrainResult& result);
 // action's share of the decisions).
 nlohmann::json eval_summary_json(const GreedyEval& eval);
 
+// A greedy evaluation's episodes (kept: GreedyEval::runs), one JSON line each, as final.jsonl and
+// an evaluation trial's eval.jsonl hold them: index, seed, reward, success, sim_s, world, the task
+// with a test set, and the objects sorted when the worlds have some to sort.
+std::string eval_episode_lines(const GreedyEval& eval);
+
 // One checkpoint as checkpoints.jsonl and a trial's result.json write it: where training stood
 // (episodes, sim_s, decisions, wall_s), the greedy evaluation's success rate and reward, its wall
 // time, whether the policy had changed since the last checkpoint, and the teacher's state then
@@ -296,6 +301,7 @@ struct PolicyEvalOptions {
   // `sets`, so that the policy runs in the trial's worlds (roger eval and render; a batch
   // evaluation gives its own parameters).
   bool trial_params = false;
+  bool keep_episodes = false;  // keep the episodes in the result's GreedyEval::runs (eval.jsonl)
   // The command a hint shows ("roger eval", "roger render"): a policy given with another
   // curriculum than its own is told the command with that one.
   std::string command = "roger eval";

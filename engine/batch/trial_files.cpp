@@ -33,6 +33,19 @@ nlohmann::json eval_summary_json(const GreedyEval& e) {
           {"time_mean", e.time_mean},     {"usage", usage}};
 }
 
+std::string eval_episode_lines(const GreedyEval& g) {
+  std::ostringstream out;
+  for (size_t i = 0; i < g.runs.size(); ++i) {
+    nlohmann::json line = {{"index", i}, {"seed", g.runs[i].seed}, {"reward", g.runs[i].reward},
+                           {"success", g.runs[i].success}, {"sim_s", g.runs[i].sim_seconds},
+                           {"world", g.worlds[i].to_json()}};
+    if (!g.tasks[i].is_null()) line["task"] = g.tasks[i];
+    if (g.sortable > 0) line["sorted"] = g.runs[i].objects_sorted;
+    out << line.dump() << "\n";
+  }
+  return out.str();
+}
+
 nlohmann::json checkpoint_json(const CheckpointRecord& c) {
   nlohmann::json j = point_json(c.at);
   j["success_rate"] = c.success_rate;
@@ -220,16 +233,7 @@ void stage_episodes_file(const TrainResult& r, const StagedFiles& staged) {
 
 // final.jsonl: the final evaluation's episodes, one line each (a success rate split by task or world).
 void stage_final_file(const TrainResult& r, const StagedFiles& staged) {
-  std::ostringstream fin;
-  const GreedyEval& g = r.final_eval;
-  for (size_t i = 0; i < g.runs.size(); ++i) {
-    nlohmann::json line = {{"index", i}, {"seed", g.runs[i].seed}, {"reward", g.runs[i].reward},
-                           {"success", g.runs[i].success}, {"sim_s", g.runs[i].sim_seconds},
-                           {"world", g.worlds[i].to_json()}};
-    if (!g.tasks[i].is_null()) line["task"] = g.tasks[i];
-    fin << line.dump() << "\n";
-  }
-  write_file_atomic(staged.stage("final.jsonl"), fin.str());
+  write_file_atomic(staged.stage("final.jsonl"), eval_episode_lines(r.final_eval));
 }
 
 // Removes `names` from `dir` where they exist: another trial's files.

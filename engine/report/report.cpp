@@ -176,13 +176,15 @@ void write_figures(const BatchScript& b, const Folder& folder, std::vector<std::
         "one; a trial that stopped early keeps its last value. Lines are the mean over trials, bands ± one "
         "(population) std. IQM learning curves (one per stage): on the same grid, the interquartile mean over "
         "trials with its 95% percentile-bootstrap interval at each time (" << dashboard::kCurveResamples
-     << " resamples). Cumulative training time: mean simulated time-to-threshold of the skill's source "
+     << " resamples of whole trials, one set for the whole curve). Cumulative training time: mean simulated time-to-threshold of the skill's source "
         "trials (each trial uses the policy of the same-numbered source trial) stacked under the run's own, "
         "in the contexts that use the skill (directly or inside another skill); a context that does not "
         "shows its own time alone.\n";
   if (std::any_of(b.figures.begin(), b.figures.end(), [](const BatchFigure& f) { return f.y == "success"; }))
-    md << "\nCurves of the share of test tasks mastered: the checkpoints' success rates in place of their rewards, "
-          "and the band (mean ± one std) cut to the possible range, 0 to 100%.\n";
+    md << "\nCurves of success (`y = \"success\"`): the checkpoints' success rates in place of their rewards "
+          "(with a test set, the share of its tasks mastered; without one, the share of the checkpoint's "
+          "held-out episodes that succeeded, and the axis says so), and the band (mean ± one std) cut to the "
+          "possible range, 0 to 100%.\n";
 }
 
 }  // namespace

@@ -28,6 +28,7 @@ struct ContextCurves {
   std::vector<double> minutes;
   std::vector<std::vector<double>> values;
   CurveBands bands;
+  bool test_set = true;  // every trial's checkpoints ran a test set (so a success rate is a share mastered)
 };
 
 // Learning curves per row (a run's context): the greedy reward (or, with `success`, the success
@@ -42,7 +43,10 @@ std::vector<ContextCurves> row_curves(const BatchScript& b, const std::vector<Ba
     const BatchRow& row = rows[place];
     const Results r = folder.run(*b.run(row.run), row.context);
     std::vector<std::vector<std::pair<double, double>>> trials;
+    bool test_set = true;
     for (const auto& j : r.ok) {
+      const json& test = j.value("test", json::object());
+      test_set = test_set && test.is_object() && test.value("tasks", 0) > 0;
       std::vector<std::pair<double, double>> pts;
       for (const auto& cp : j.value("checkpoints", json::array()))
         pts.emplace_back(num(cp, "sim_s"), success ? 100.0 * num(cp, "success_rate") : num(cp, "reward_mean"));
@@ -50,7 +54,7 @@ std::vector<ContextCurves> row_curves(const BatchScript& b, const std::vector<Ba
     }
     CurveGrid g = curve_grid(trials, kCurvePoints, log_x);
     if (g.t.empty()) continue;
-    ContextCurves cc{runs ? row.label() : row.context, place, {}, std::move(g.values), {}};
+    ContextCurves cc{runs ? row.label() : row.context, place, {}, std::move(g.values), {}, test_set};
     for (double t : g.t) cc.minutes.push_back(t / 60.0);
     cc.bands = curve_bands(cc.values, dashboard::kCurveBootstrapSeed, dashboard::kCurveResamples);
     out.push_back(std::move(cc));
@@ -65,11 +69,17 @@ std::vector<BatchRow> rows_of_run(const BatchRun& run) {
   return rows;
 }
 
-// The axes of every learning-curve figure (the greedy reward, or the % of test tasks mastered).
-CurveOptions curve_options(bool log_x, bool success = false) {
+// The y axis of a success-rate curve: with a test set, the share of its tasks mastered; without
+// one, the share of each checkpoint's held-out episodes that succeeded (the stage's own worlds).
+std::string success_label(bool test_set) {
+  return test_set ? "Test tasks mastered (%, greedy)" : "Checkpoint episodes succeeded (%, greedy)";
+}
+
+// The axes of every learning-curve figure (the greedy reward, or a success rate in %).
+CurveOptions curve_options(bool log_x, bool success = false, bool test_set = true) {
   CurveOptions o;
   o.x_label = "Simulated training time (min)";
-  o.y_label = success ? "Test tasks mastered (%, greedy)" : "Average episodic reward (greedy)";
+  o.y_label = success ? success_label(test_set) : "Average episodic reward (greedy)";
   if (success) o.y_min = 0.0, o.y_max = 100.0;
   o.log_x = log_x;
   return o;
@@ -122,7 +132,9 @@ bool curves_figure(const BatchScript& b, const BatchFigure& f, const Folder& fol
   const bool success = f.y == "success";
   std::vector<CurveSeries> series;
   json page_series = json::array();
+  bool test_set = true;  // the label says "mastered" only when every curve drawn had a test set
   for (const ContextCurves& cc : row_curves(b, f.compare.empty() ? rows_of_run(run) : f.compare, folder, f.log_x, success)) {
+    test_set = test_set && cc.test_set;
     page_series.push_back(dashboard::curve_series(cc.context, cc.minutes, cc.bands, cc.values.size()));
     page_series.back()["colour"] = cc.place;  // the page's curve keeps the picture's colour
     if (!success) {
@@ -142,10 +154,12 @@ bool curves_figure(const BatchScript& b, const BatchFigure& f, const Folder& fol
                                                       (run.name == run.stage ? std::string() : " (run " + run.name + ")")
                                                 : "Learning curves";
   page.push_back({{"kind", "curves"}, {"file", f.file}, {"run", f.compare.empty() ? run.name : std::string()},
-                  {"log_x", f.log_x}, {"y", f.y}, {"title", title}, {"series", page_series}});
+                  {"log_x", f.log_x}, {"y", f.y}, {"title", title}, {"series", page_series},
+                  {"y_label", !success ? "Greedy episodic reward"
+                              : test_set ? "Test tasks mastered (%)" : "Checkpoint episodes succeeded (%)"}});
   if (series.empty()) return false;
   const auto paths = figure_paths(folder.out(), f.file);
-  plot_learning_curves(paths, title, series, curve_options(f.log_x, success));
+  plot_learning_curves(paths, title, series, curve_options(f.log_x, success, test_set));
   written.insert(written.end(), paths.begin(), paths.end());
   return true;
 }

@@ -455,13 +455,35 @@ CurveBands curve_bands(const std::vector<std::vector<double>>& values, uint64_t 
       throw Error("stats: curve_bands: trial " + std::to_string(t) + " has " +
                   std::to_string(values[t].size()) + " points but trial 0 has " +
                   std::to_string(points) + "; every curve must be on the same grid");
+  // One set of resampled trials for the whole curve (each resample a multiset of whole trials, as
+  // rliable draws them): with a seed per point, the few distinct resamples of 3 trials fell
+  // differently at neighbouring points and the band's edge jumped between them. The draws are
+  // bootstrap_ci's with `seed`, so every point's interval is bootstrap_ci(point, seed).
+  if (resamples < 1)
+    throw Error("stats: curve_bands: resamples is " + std::to_string(resamples) + ", expected at least 1");
+  if (!(level > 0.0 && level < 1.0))
+    throw Error("stats: curve_bands: level is " + number(level) + ", expected a number strictly between 0 and 1");
+  Rng rng(seed);
+  const size_t n = values.size();
+  std::vector<uint32_t> drawn(size_t(resamples) * n);
+  for (uint32_t& i : drawn) i = uint32_t(rng.integer(0, int64_t(n) - 1));
   CurveBands b;
-  std::vector<double> v(values.size());
+  std::vector<double> v(n), resample(n), iqms(static_cast<size_t>(resamples));
   for (size_t k = 0; k < points; ++k) {
-    for (size_t t = 0; t < values.size(); ++t) v[t] = values[t][k];
+    for (size_t t = 0; t < n; ++t) v[t] = values[t][k];
     b.mean.push_back(mean(v));
     b.std.push_back(population_std(v));
-    const ConfidenceInterval ci = bootstrap_ci(v, interquartile_mean, seed + k, resamples, level);
+    check_sample(v, "curve_bands");
+    ConfidenceInterval ci;
+    ci.level = level;
+    ci.estimate = interquartile_mean(v);
+    for (size_t r = 0; r < size_t(resamples); ++r) {
+      for (size_t t = 0; t < n; ++t) resample[t] = v[drawn[r * n + t]];
+      iqms[r] = interquartile_mean(resample);
+    }
+    std::sort(iqms.begin(), iqms.end());
+    ci.low = sorted_quantile(iqms, (1.0 - level) / 2.0);
+    ci.high = sorted_quantile(iqms, 1.0 - (1.0 - level) / 2.0);
     b.iqm.push_back(ci.estimate);
     b.iqm_low.push_back(ci.low);
     b.iqm_high.push_back(ci.high);

@@ -117,8 +117,9 @@ struct CurveBands {
 };
 
 // The bands of curves given as values[trial][point] (every trial with the same number of points,
-// at least one trial). Point k's interval is bootstrap_ci of interquartile_mean with seed
-// `seed + k`, `resamples` resamples and coverage `level`: the same curves give the same bands.
+// at least one trial). Every point's interval is bootstrap_ci of interquartile_mean with seed
+// `seed`, `resamples` resamples and coverage `level`: one set of resampled trials for the whole
+// curve, so the band moves only where the curves do; the same curves give the same bands.
 CurveBands curve_bands(const std::vector<std::vector<double>>& values, uint64_t seed, int resamples,
                        double level = 0.95);
 
