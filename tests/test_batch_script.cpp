@@ -13,6 +13,7 @@
 
 #include "script/batch/batch_script.h"
 #include "core/error.h"
+#include "test_files.h"
 
 using namespace roger;
 namespace fs = std::filesystem;
@@ -188,6 +189,34 @@ TEST_CASE("a run's parameters that go out of range only together are refused at 
   fs::remove_all(dir);
 }
 
+// Found by a probe: a batch's `capsule = 0` for a boolean parameter was taken as false, where Lua
+// reads 0 as true; a --set capsule=0 on the command line is taken.
+TEST_CASE("a boolean parameter in a batch script takes true or false, a --set also 0 or 1", "[batch_script]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_batch_boolean_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "corridor.lua") << test::slurp("docs/examples/corridor.lua");
+  std::ofstream(dir / "cur.lua") << "local p = require('lib.skills').primitives()\n"
+                                    "return { stages = { roger.stage{ name = 'S', scenario = 'corridor.lua', time_limit = 4,\n"
+                                    "  absorbing = roger.converged(p.phi0), budget = { episodes = 1 },\n"
+                                    "  contexts = { { name = 'A', actions = { p.phi0 } } } } } }\n";
+  auto with = [&](const std::string& value) {
+    std::ofstream(dir / "batch.lua") << "return { name = 'b', curriculum = 'cur.lua', trials = 1,\n"
+                                        "  runs = { { name = 'S', stage = 'S', contexts = { 'A' },\n"
+                                        "             params = { capsule = " << value << " } } } }\n";
+    return load_error((dir / "batch.lua").string());
+  };
+  CHECK_THAT(with("0"), Catch::StartsWith((dir / "batch.lua").string() + ":2: run 'S': ") &&
+                            Catch::Contains("parameter 'capsule' of scenario 'corridor' is a boolean: write capsule = "
+                                            "true or capsule = false, got '0'"));
+  CHECK(with("false").empty());
+  std::ofstream(dir / "batch.lua") << "return { name = 'b', curriculum = 'cur.lua', trials = 1,\n"
+                                      "  runs = { { name = 'S', stage = 'S', contexts = { 'A' } } } }\n";
+  BatchOverrides sets;
+  sets.sets = {{"capsule", "0"}};
+  CHECK(load_error_with((dir / "batch.lua").string(), sets).empty());
+  fs::remove_all(dir);
+}
+
 // Found by a probe: a batch's params (obstacles = 0) and a run's (eye_pixels = 64) replaced the
 // own params of context Coarse (eye_pixels = 32, obstacles = 2) without a word, so it trained
 // exactly as context Full. Each overridden one is a note at the line of the params that win (the
@@ -222,6 +251,36 @@ TEST_CASE("a context's own params that a batch's params override are noted where
                            "eye_pixels=128" + why);
   CHECK(notes[2] == path + ":7: run 'Back': context 'Coarse' of stage 'S' sets eye_pixels = 32, overridden by --set "
                            "eye_pixels=128" + why);
+  fs::remove_all(dir);
+}
+
+// Found by a probe: an evaluation's params were compared with nothing: a context's eye_pixels = 32
+// overridden by them, or left at another scenario's default 128, without a word.
+TEST_CASE("a context's own params an evaluation does not run with are noted", "[batch_script]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_batch_eval_params_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "cur.lua") << "local p = require('lib.skills').primitives()\n"
+                                    "return { stages = { roger.stage{ name = 'S', scenario = 'cluttered', time_limit = 4,\n"
+                                    "  absorbing = roger.converged(p.phi0), budget = { episodes = 1 },\n"
+                                    "  contexts = { { name = 'Coarse', actions = { p.phi0 }, params = { eye_pixels = 32 } },\n"
+                                    "               { name = 'Full', actions = { p.phi0 } } } } } }\n";
+  const std::string path = (dir / "b.lua").string();
+  std::ofstream(path) << "return { name = 'b', curriculum = 'cur.lua', trials = 1,\n"
+                         "  runs = { { name = 'S', stage = 'S', contexts = { 'Coarse', 'Full' } } },\n"
+                         "  evaluations = {\n"
+                         "    { name = 'same', run = 'S', context = 'Coarse', params = { eye_pixels = 64 } },\n"
+                         "    { name = 'kept', run = 'S', context = 'Coarse', params = { eye_pixels = 32 } },\n"
+                         "    { name = 'other', run = 'S', context = 'Coarse', scenario = 'unobstructed' },\n"
+                         "    { name = 'given', run = 'S', context = 'Coarse', scenario = 'unobstructed',\n"
+                         "      params = { eye_pixels = 32 } },\n"
+                         "    { name = 'full', run = 'S', context = 'Full', scenario = 'unobstructed' } } }\n";
+  CHECK(load_batch_script(path).notes ==
+        std::vector<std::string>{
+            path + ":4: evaluation 'same': stage 'S', context 'Coarse' sets eye_pixels = 32, overridden by the "
+                   "evaluation's params eye_pixels = 64 (an evaluation's params win over a context's own)",
+            path + ":6: evaluation 'other': stage 'S', context 'Coarse' sets eye_pixels = 32, which this evaluation "
+                   "leaves at scenario 'unobstructed''s default 128: in another scenario than its stage's an "
+                   "evaluation runs with its own params only (give params = {eye_pixels = 32} to evaluate as trained)"});
   fs::remove_all(dir);
 }
 

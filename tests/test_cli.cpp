@@ -328,7 +328,7 @@ TEST_CASE("roger check of a batch script takes --set as roger run does", "[cli]"
 // Found by a probe: a curriculum's scenario = "cluttered" trained in the shipped scenario while an
 // edited cluttered.lua lay beside it, without a word. roger check (of it and of a batch running
 // it), roger train and roger run say so (the note itself: test_curriculum.cpp).
-TEST_CASE("roger check, train and run note a bare scenario name with a scenario of that name beside", "[cli]") {
+TEST_CASE("roger check, train, eval and run note a bare scenario name with a scenario of that name beside", "[cli]") {
   const fs::path dir = fs::temp_directory_path() / ("roger_cli_bare_beside_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   std::ofstream(dir / "cluttered.lua") << slurp("scenarios/cluttered.lua");
@@ -349,6 +349,10 @@ TEST_CASE("roger check, train and run note a bare scenario name with a scenario 
   const Run train = run_roger_command(cd, "train cur.lua --stage S --context A --seed 1 --out t");
   CHECK(train.status == 0);
   CHECK_THAT(train.out, Catch::Matchers::Contains("\n  note           " + note));
+  // And roger eval of the policy it wrote, in the stage's own scenario (found by a later probe).
+  const Run eval = run_roger_command(cd, "eval cur.lua --policy t/policy.json --episodes 2");
+  CHECK(eval.status == 0);
+  CHECK_THAT(eval.out, Catch::Matchers::Contains("\n  note           " + note));
   const Run run = run_roger_command(cd, "run b.lua --out out");
   CHECK(run.status == 0);
   CHECK_THAT(run.err, Catch::Matchers::StartsWith("roger run: note: " + note));

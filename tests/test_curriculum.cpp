@@ -538,6 +538,25 @@ TEST_CASE("a map context with fields, and bad context params, are read where the
   CHECK_THAT(error_of([&] { Curriculum::load(plain); }),
              Catch::Matchers::Contains("plain.lua:5: stage 'S': params: parameter 'obstacles' of scenario 'cluttered' "
                                        "expects an integer in [0, 8], got '40'"));
+  // Found by a probe: `capsule = 0` for a boolean parameter was taken as false (the command
+  // line's --set capsule=0), where Lua reads 0 as true. In Lua a boolean takes true or false.
+  const std::string corridor = (dir.path / "corridor.lua").string();
+  std::ofstream(corridor) << test::slurp("docs/examples/corridor.lua");
+  auto with_capsule = [&](const std::string& value) {
+    std::ofstream(dir.path / "boolean.lua") << "local p = require('lib.skills').primitives()\n"
+                                                "return { stages = { roger.stage{ name = 'S', time_limit = 2,\n"
+                                                "  absorbing = roger.converged(p.phi0), budget = { episodes = 1 },\n"
+                                                "  scenario = 'corridor.lua',\n"
+                                                "  params = { capsule = " << value << " },\n"
+                                                "  contexts = { { name = 'A', actions = { p.phi0 } } } } } }\n";
+    return error_of([&] { Curriculum::load((dir.path / "boolean.lua").string()); });
+  };
+  CHECK_THAT(with_capsule("0"), Catch::Matchers::Contains("boolean.lua:5: stage 'S': params: parameter 'capsule' of "
+                                                          "scenario 'corridor' is a boolean: write capsule = true or "
+                                                          "capsule = false, got '0' (Lua reads 0 as true"));
+  CHECK_THAT(with_capsule("'no'"), Catch::Matchers::Contains("is a boolean: write capsule = true"));
+  CHECK(with_capsule("false").empty());
+  CHECK(with_capsule("true").empty());
   const auto problems = check_curriculum(unbuildable);
   REQUIRE(problems.size() == 1);
   CHECK_THAT(problems[0], Catch::Matchers::Contains("context 'Tiny'") && Catch::Matchers::Contains("eye_pixels"));
@@ -649,10 +668,13 @@ TEST_CASE("a stage whose absorbing state holds at once is refused, as one that n
   using Catch::Matchers::Contains;
   CHECK_THAT(stage_error(tmp.path, "time_limit = 4, absorbing = roger.all{},"),
              Contains("stage.lua:3: stage 'S': field 'absorbing': all() always holds: it rests on a roger.all() of no "
-                      "parts, which is true, so every episode would end in success at its first tick"));
+                      "parts, which is true, or on the roger.negate of a predicate that never holds, so every episode "
+                      "would end in success at its first tick"));
   CHECK_THAT(stage_error(tmp.path, "time_limit = 4, absorbing = roger.any{},"),
-             Contains("stage.lua:3: stage 'S': field 'absorbing': any() can never hold: it needs a roger.any() of no "
+             Contains("stage.lua:3: stage 'S': field 'absorbing': any() can never hold: it rests on a roger.any() of no "
                       "parts, which is false"));
+  CHECK_THAT(stage_error(tmp.path, "time_limit = 4, absorbing = roger.negate(roger.any{}),"),
+             Contains("stage.lua:3: stage 'S': field 'absorbing': not(any()) always holds"));
   // Whatever the time limit, and through an any it decides.
   CHECK_THAT(stage_error(tmp.path, "time_limit = { per_object = 4 }, absorbing = roger.all{},"),
              Contains("stage.lua:3: stage 'S': field 'absorbing': all() always holds"));

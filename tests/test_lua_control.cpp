@@ -793,8 +793,17 @@ TEST_CASE("a policy whose goal cannot hold within its time limit is refused at t
   // succeeded at its first tick. Refused as the any() of none is, and whatever the limit.
   CHECK_THAT(load_with("roger.all()", "5"),
              Contains("held.lua:3: policy 't': field 'goal': all() always holds: it rests on a roger.all() of no "
-                      "parts, which is true, so every episode would end in success at its first tick"));
+                      "parts, which is true, or on the roger.negate of a predicate that never holds, so every episode "
+                      "would end in success at its first tick"));
   CHECK_THAT(load_with("roger.all{roger.all{}}", "{ per_object = 5 }"), Contains("all(all()) always holds"));
+  // Found by a probe: their negations passed, roger.negate(roger.any{}) as a goal met at once.
+  CHECK_THAT(load_with("roger.negate(roger.any{})", "5"), Contains("field 'goal': not(any()) always holds"));
+  CHECK_THAT(load_with("roger.any(roger.converged(p.phi1), roger.negate(roger.held(roger.any{}, 2)))", "5"),
+             Contains("always holds"));
+  CHECK_THAT(load_with("roger.negate(roger.all{})", "5"),
+             Contains("field 'goal': not(all()) can never hold: it rests on a roger.any() of no parts, which is false, "
+                      "or on the roger.negate of a predicate that always holds"));
+  CHECK_THAT(load_with("roger.negate(roger.negate(roger.all{}))", "5"), Contains("not(not(all())) always holds"));
   // What can hold is taken: a hold as long as the episode, an any with a short part, a negation,
   // and a limit per object, which grows with the world.
   CHECK(load_with("roger.held(roger.converged(p.phi0), 5)", "5").empty());

@@ -877,7 +877,10 @@ void with_policy_file(const PolicyEvalOptions& given, PolicyEvalResult& out,
   out.trained_curriculum = other_curriculum(meta, cur);  // found by a probe: judged by another's goal, unsaid
   // Found by a probe: a curriculum edited in place was said to be "another", naming itself.
   out.trained_curriculum_edited = !out.trained_curriculum.empty() && same_curriculum_file(out.trained_curriculum, cur);
-  if (options.scenario.empty() || options.scenario == stage.scenario) out.stage_params = stage.scenario_params(ctx);
+  if (options.scenario.empty() || options.scenario == stage.scenario) {
+    out.stage_params = stage.scenario_params(ctx);
+    out.scenario_note = stage.scenario_note();  // found by a probe: train said it, eval did not
+  }
   out.time_limit = stage.time_limit_text();
   out.stage_test_tasks = stage.teaches() ? stage.final_test_tasks() : 0;
   if (options.trial_params) {

@@ -323,6 +323,9 @@ struct PolicyEvalResult {
   // The stage's and its context's own scenario parameters, in the stage's scenario (as TrainResult's).
   std::vector<std::pair<std::string, std::string>> stage_params;
   std::string time_limit;  // the stage's time-out, as text: "12 s limit", "30 s per object limit"
+  // In the stage's own scenario: CurriculumStage::scenario_note (a bare name taken for the shipped
+  // scenario beside a same-named one), as roger train says it; "" otherwise.
+  std::string scenario_note;
   // A teaching stage's trials end on this many test tasks (its task space or teacher), which this
   // evaluation, on the stage's own parameters and held-out seeds, does not run; 0 for other stages.
   int stage_test_tasks = 0;

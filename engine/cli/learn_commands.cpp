@@ -141,6 +141,7 @@ void print_stage_params(const Params& params, const std::string& stage, const st
 // left out.
 void print_trial_params(const PolicyEvalResult& r, const std::string& scenario, const std::vector<std::string>& sets) {
   print_stage_params(r.stage_params, r.stage, r.context, sets, r.trial_sets);
+  if (!r.scenario_note.empty()) std::printf("  note           %s\n", r.scenario_note.c_str());
   if (r.trained_curriculum_edited)
     std::printf("  note           the curriculum %s changed since the policy was trained; stage %s, context %s of it "
                 "as it is now judge it here (their goal, reward and time limit, and its actions' definitions)\n",

@@ -91,6 +91,10 @@ class Not final : public Predicate {
   std::string describe() const override { return "not(" + p_->describe() + ")"; }
   void controllers(std::vector<const Controller*>& out) const override { p_->controllers(out); }
   bool timed() const override { return p_->timed(); }
+  // The negation of a part that never holds holds always, and of one that always holds never
+  // (found by a probe: roger.negate(roger.any{}) passed as a goal met at the first tick).
+  bool always_holds() const override { return !std::isfinite(p_->earliest_seconds()); }
+  double earliest_seconds() const override { return p_->always_holds() ? INFINITY : 0.0; }
   PredicatePtr copy() const override { return std::make_shared<Not>(*this); }
   void relink(Duplicates& done) override { p_ = duplicate(p_, done); }
 

@@ -32,7 +32,8 @@ class Predicate {
   // seconds; all takes its parts' latest, any their earliest.
   virtual double earliest_seconds() const { return 0.0; }
   // Whether it holds at every tick whatever the controllers and the world do: an all of no parts,
-  // and an all or any built on such parts alone. As a goal it is met at an episode's first tick.
+  // the negation of a predicate that never holds, and an all or any built on such parts alone. As
+  // a goal it is met at an episode's first tick.
   virtual bool always_holds() const { return false; }
   // A copy of this predicate alone (parts still the originals'), for duplicate() only.
   virtual std::shared_ptr<Predicate> copy() const = 0;

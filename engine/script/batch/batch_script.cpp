@@ -256,6 +256,8 @@ void check_scenario_params(const std::string& scenario, const Params& params, co
   Scenario s = Scenario::load(scenario, limits);
   for (const auto& param : params) {
     try {
+      const bool from_lua = std::find(sets.begin(), sets.end(), param) == sets.end();
+      if (const auto problems = s.param_problems({param}, from_lua); !problems.empty()) throw Error(problems.front());
       s.set_param(param.first, param.second);
     } catch (const Error& e) {
       // A --set goes to every run, those --only leaves out too (a folder's trials all share it):
@@ -543,6 +545,44 @@ BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const 
   return e;
 }
 
+// A note for each of the evaluated stage's and context's own params that the evaluation does not
+// run with: in the stage's scenario, one its params set to another value (as a run's are noted);
+// in another scenario, where they do not apply, one that scenario declares and the evaluation
+// leaves at its default. Found by a probe: a context's frozen eyes (eye_pixels = 32) evaluated in
+// cluttered with its default 128 eyes, and nothing said it.
+void note_evaluation_params(const Reader& rd, const Curriculum& cur, BatchScript& b) {
+  const BatchEvaluation& e = b.evaluations.back();
+  const CurriculumStage& stage = cur.stage(b.run(e.run)->stage);
+  const Params own = stage.scenario_params(stage.context(e.context));
+  if (own.empty()) return;
+  const bool same = e.scenario.empty() || e.scenario == stage.scenario;
+  std::vector<ScenarioParam> declared;
+  std::string other;  // the other scenario's name
+  if (!same) {
+    const Scenario scenario = Scenario::load(e.scenario, b.limits);
+    declared = scenario.params();
+    other = scenario.name();
+  }
+  const std::string where = b.path + ":" + std::to_string(e.line) + ": evaluation '" + e.name + "': stage '" +
+                            stage.name + "', context '" + e.context + "' sets ";
+  for (const auto& [name, value] : own) {
+    const auto given = std::find_if(e.params.begin(), e.params.end(), [&](const auto& p) { return p.first == name; });
+    if (same && given != e.params.end() && given->second != value) {
+      b.notes.push_back(b.path + ":" + std::to_string(rd.line_of_key("params", e.line)) + ": evaluation '" + e.name +
+                        "': stage '" + stage.name + "', context '" + e.context + "' sets " + name + " = " + value +
+                        ", overridden by the evaluation's params " + name + " = " + given->second +
+                        " (an evaluation's params win over a context's own)");
+    } else if (!same && given == e.params.end()) {
+      const auto p = std::find_if(declared.begin(), declared.end(), [&](const auto& d) { return d.name == name; });
+      if (p == declared.end()) continue;  // nothing to set there
+      b.notes.push_back(where + name + " = " + value + ", which this evaluation leaves at scenario '" +
+                        other + "''s default " + p->default_value +
+                        ": in another scenario than its stage's an evaluation runs with its own params only (give "
+                        "params = {" + name + " = " + value + "} to evaluate as trained)");
+    }
+  }
+}
+
 // Reads the optional 'evaluations'.
 void read_evaluations(const json& top, const Reader& rd, const BatchOverrides& overrides, const Curriculum& cur,
                       BatchScript& b, EntryProblems& problems) {
@@ -550,7 +590,10 @@ void read_evaluations(const json& top, const Reader& rd, const BatchOverrides& o
     const int el = rd.line_of_key("evaluations", 1);
     if (!top["evaluations"].is_array()) rd.fail(el, "the batch script: 'evaluations' must be a list");
     for (const json& ej : top["evaluations"])
-      problems.entry(ej, "evaluation", [&] { b.evaluations.push_back(read_evaluation(ej, rd, el, overrides, cur, b)); });
+      problems.entry(ej, "evaluation", [&] {
+        b.evaluations.push_back(read_evaluation(ej, rd, el, overrides, cur, b));
+        note_evaluation_params(rd, cur, b);
+      });
   }
 }
 

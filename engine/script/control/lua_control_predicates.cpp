@@ -124,7 +124,9 @@ std::string never_holds_within(const Predicate& goal, double time_limit) {
   if (can_hold_within(goal, time_limit, params.dt * params.substeps)) return "";
   const double earliest = goal.earliest_seconds();
   const std::string what = shortened_text(goal.describe(), 120);
-  if (!std::isfinite(earliest)) return what + " can never hold: it needs a roger.any() of no parts, which is false";
+  if (!std::isfinite(earliest))
+    return what + " can never hold: it rests on a roger.any() of no parts, which is false, or on the roger.negate of "
+           "a predicate that always holds";
   return what + " can hold only after " + format_number(earliest) + " simulated seconds, past the time_limit of " +
          format_number(time_limit) + " s: no episode could reach it (roger.held counts seconds, not ticks)";
 }
@@ -132,7 +134,7 @@ std::string never_holds_within(const Predicate& goal, double time_limit) {
 std::string holds_at_once(const Predicate& goal) {
   if (!goal.always_holds()) return "";
   return shortened_text(goal.describe(), 120) + " always holds: it rests on a roger.all() of no parts, which is true, "
-         "so every episode would end in success at its first tick";
+         "or on the roger.negate of a predicate that never holds, so every episode would end in success at its first tick";
 }
 
 }  // namespace roger

@@ -159,8 +159,8 @@ void check_stage_params(const CurriculumStage& st) {
     if (problems.empty()) return;
     throw ScriptError(st.where(context) + ": params: " + join(problems, "; "), st.file, params_line(st, context), "");
   };
-  refuse(scenario.param_problems(st.params), "");
-  for (const auto& c : st.contexts) refuse(scenario.param_problems(c.params), c.name);
+  refuse(scenario.param_problems(st.params, true), "");
+  for (const auto& c : st.contexts) refuse(scenario.param_problems(c.params, true), c.name);
 }
 
 }  // namespace curriculum_detail

@@ -184,11 +184,21 @@ void Scenario::set_param(const std::string& key, const std::string& value) {
   impl_->params[key] = std::move(updated);
 }
 
-std::vector<std::string> Scenario::param_problems(const std::vector<std::pair<std::string, std::string>>& values) const {
+std::vector<std::string> Scenario::param_problems(const std::vector<std::pair<std::string, std::string>>& values,
+                                                  bool from_lua) const {
   std::vector<std::string> problems;
   ParamSlot unused;
-  for (const auto& [key, value] : values)
-    if (const auto why = impl_->parse_param(key, value, unused)) problems.push_back(*why);
+  for (const auto& [key, value] : values) {
+    if (const auto why = impl_->parse_param(key, value, unused)) {
+      problems.push_back(*why);
+    } else if (from_lua && unused.info.type == ParamType::kBoolean && !unused.info.list && value != "true" &&
+               value != "false") {
+      problems.push_back("parameter '" + key + "' of scenario '" + impl_->name + "' is a boolean: write " + key +
+                         " = true or " + key + " = false, got '" + value + "' (Lua reads 0 as true, so a number " +
+                         "or a word would say one thing in Lua and another to roger; --set " + key + "=" + value +
+                         " on the command line is taken)");
+    }
+  }
   return problems;
 }
 

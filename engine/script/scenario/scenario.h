@@ -74,8 +74,11 @@ class Scenario {
   // every one that set_param would refuse, joined by "; ".
   void set_params(const std::vector<std::pair<std::string, std::string>>& values);
   // What set_param would say of each of `values`, in order (empty when all would be taken);
-  // changes nothing.
-  std::vector<std::string> param_problems(const std::vector<std::pair<std::string, std::string>>& values) const;
+  // changes nothing. `from_lua`: the values were written in a Lua table (a stage's, a context's or
+  // a batch script's params), where a boolean parameter takes true or false only: Lua reads 0 as
+  // true, so `capsule = 0` is refused rather than taken as the command line's --set capsule=0.
+  std::vector<std::string> param_problems(const std::vector<std::pair<std::string, std::string>>& values,
+                                          bool from_lua = false) const;
 
   // Runs the generator for a seed with a fresh Rng(seed) and the current parameters, and returns
   // the validated world. Throws ScriptError (file:line) on any problem, PlacementError when the
