@@ -370,6 +370,41 @@ TEST_CASE("a legend beside the plot, and a figure too narrow to hold it", "[plot
   CHECK(read_all(dir.file("after.svg")).find("</svg>") != std::string::npos);
 }
 
+// Found by a probe: the legend sat in a fixed corner, over the curves of a context that never
+// learned and over the tallest bar. By default it takes the corner the data leaves free.
+TEST_CASE("a legend goes where the data is not, or beside the plot", "[plot]") {
+  TempDir dir;
+  const std::string png = dir.file("legend.png");
+  CHECK(plot_learning_curves(png, "", figure3_series()) == LegendPosition::kBottomRight);  // rising curves
+  auto flat_at = [](double y, const char* name) {
+    CurveSeries c;
+    c.name = name;
+    for (int i = 0; i <= 40; ++i) {
+      c.x.push_back(i);
+      c.mean.push_back(y);
+      c.std.push_back(2.0);
+    }
+    return c;
+  };
+  // A context that never learned lies along the bottom: the top left is free.
+  CHECK(plot_learning_curves(png, "", {flat_at(-100, "B1")}) == LegendPosition::kTopLeft);
+  // One along the bottom and one along the top: every corner holds a curve.
+  CHECK(plot_learning_curves(png, "", {flat_at(-100, "B1"), flat_at(100, "DC2")}) == LegendPosition::kOutsideRight);
+  CurveOptions fixed;
+  fixed.legend = LegendPosition::kBottomRight;  // asked for: kept, over the data or not
+  CHECK(plot_learning_curves(png, "", {flat_at(-100, "B1")}, fixed) == LegendPosition::kBottomRight);
+  // Too narrow for a legend beside the plot: the corner that hides the least.
+  CurveOptions narrow;
+  narrow.width_px = 400;
+  CHECK(plot_learning_curves(png, "", {flat_at(-100, std::string(60, 'x').c_str()), flat_at(100, "DC2")}, narrow) !=
+        LegendPosition::kOutsideRight);
+  // Bars: the tall one on the right leaves the top left free.
+  const std::vector<BarStack> stacks{{"SG", {1.0, 8.0}, {}}, {"T", {1.0, 10.0}, {}}};
+  CHECK(plot_stacked_bars(png, "", {"B2", "DC6"}, stacks) == LegendPosition::kTopLeft);
+  const std::vector<BarStack> left_tall{{"SG", {8.0, 1.0}, {}}, {"T", {10.0, 1.0}, {}}};
+  CHECK(plot_stacked_bars(png, "", {"B2", "DC6"}, left_tall) == LegendPosition::kTopRight);
+}
+
 TEST_CASE("a figure replaces an old file whole, and a failure keeps the old one", "[plot]") {
   TempDir dir;
   const std::string png = dir.file("fig.png");

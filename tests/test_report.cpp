@@ -1712,6 +1712,20 @@ TEST_CASE("a partial cumulative figure names its skill's missing trials", "[repo
   INFO(tables);
   CHECK(std::regex_search(tables, std::regex("figure5\\.svg`: [^\\n]*\\(SG/DC2 from 1 of 2 trials\\)\\n")));
   CHECK(std::regex_search(tables, std::regex("figure4\\.svg`: [^\\n]*[^)]\\n")));  // T's own trials are all there
+  // With none of the skill's trials, its legend entry says it has no bar (found by a probe: it
+  // named a colour the figure lacked).
+  auto stack_names = [&]() {
+    const std::string page = slurp(copy.dir / "dashboard.js");
+    const json report = json::parse(page.substr(page.find('=') + 1, page.rfind(';') - page.find('=') - 1));
+    for (const json& f : report["figures"])
+      if (f["kind"] == "cumulative") return f["stacks"];
+    return json();
+  };
+  CHECK(stack_names()[0]["name"] == "SG (Phi_SG, DC2)");
+  make_failed(copy, "SG/DC2/000");
+  REQUIRE(partial_report(copy, said) == 0);
+  CHECK(stack_names()[0]["name"] == "SG (Phi_SG, DC2) (not drawn)");
+  CHECK(stack_names()[1]["name"] == "T");
 }
 
 TEST_CASE("a partial report with one trial's result says it in the singular", "[report]") {

@@ -38,7 +38,9 @@ struct CurveSeries {
 };
 
 // Where the legend sits: in a corner of the plot area, or beside it on the right (for busy plots).
-enum class LegendPosition { kBottomRight, kBottomLeft, kTopRight, kTopLeft, kOutsideRight };
+// kBest: the inside corner the data covers least (curves prefer the bottom right, bars the top
+// right, on ties), or beside the plot when the data reaches into every corner.
+enum class LegendPosition { kBottomRight, kBottomLeft, kTopRight, kTopLeft, kOutsideRight, kBest };
 
 // How plot_learning_curves draws.
 struct CurveOptions {
@@ -51,7 +53,7 @@ struct CurveOptions {
   double band_alpha = 0.2;     // opacity of the mean +- std bands, in [0, 1]
   int width_px = 1000;         // PNG size in pixels (SVG: the same size in points)
   int height_px = 650;
-  LegendPosition legend = LegendPosition::kBottomRight;
+  LegendPosition legend = LegendPosition::kBest;
 };
 
 // One part of every stacked bar (Figure 5: "SG" and "T").
@@ -73,7 +75,7 @@ struct BarOptions {
   bool total_labels = true;  // label each bar's total above it
   int width_px = 1000;
   int height_px = 650;
-  LegendPosition legend = LegendPosition::kTopRight;
+  LegendPosition legend = LegendPosition::kBest;
 };
 
 // A heat map: a share in [0, 1] per cell of a grid of columns (bins of the x axis) and rows
@@ -101,23 +103,25 @@ void plot_heat_map(const std::vector<std::string>& paths, const std::string& tit
 Colour plot_colour(size_t index);
 
 // Draws learning curves (a line per series over a translucent mean +- std band) to path.
-void plot_learning_curves(const std::string& path, const std::string& title,
+// Returns where the legend went (kBest resolved to a corner or beside the plot).
+LegendPosition plot_learning_curves(const std::string& path, const std::string& title,
                           const std::vector<CurveSeries>& series,
                           const CurveOptions& options = CurveOptions());
 
 // Draws the same learning curves to every path (e.g. one .png and one .svg); pass a named vector.
-void plot_learning_curves(const std::vector<std::string>& paths, const std::string& title,
+LegendPosition plot_learning_curves(const std::vector<std::string>& paths, const std::string& title,
                           const std::vector<CurveSeries>& series,
                           const CurveOptions& options = CurveOptions());
 
-// Draws one stacked bar per category (an approach), split into the stacks, to path.
-void plot_stacked_bars(const std::string& path, const std::string& title,
+// Draws one stacked bar per category (an approach), split into the stacks, to path. Returns where
+// the legend went.
+LegendPosition plot_stacked_bars(const std::string& path, const std::string& title,
                        const std::vector<std::string>& categories,
                        const std::vector<BarStack>& stacks,
                        const BarOptions& options = BarOptions());
 
 // Draws the same stacked bars to every path (e.g. one .png and one .svg); pass a named vector.
-void plot_stacked_bars(const std::vector<std::string>& paths, const std::string& title,
+LegendPosition plot_stacked_bars(const std::vector<std::string>& paths, const std::string& title,
                        const std::vector<std::string>& categories,
                        const std::vector<BarStack>& stacks,
                        const BarOptions& options = BarOptions());

@@ -152,15 +152,30 @@ void draw_bar_legend(const std::vector<BarStack>& stacks, LegendPosition positio
   draw_legend(legend_names, lines, boxes, false, position);
 }
 
-}  // namespace
-
-void plot_stacked_bars(const std::string& path, const std::string& title,
-                       const std::vector<std::string>& categories,
-                       const std::vector<BarStack>& stacks, const BarOptions& options) {
-  plot_stacked_bars(std::vector<std::string>{path}, title, categories, stacks, options);
+// How much of the bars lies in a box of the plot area (its fractions): the area the box shares
+// with each bar and the label over its total (two character heights).
+DataCover bar_cover(const std::vector<double>& totals, double y_hi) {
+  return [&totals, y_hi](double x0, double x1, double y0, double y1) {
+    const double n = double(totals.size()), label = 2.0 / viewport_chars().second;
+    double covered = 0.0;
+    for (size_t i = 0; i < totals.size(); ++i) {
+      const double left = (double(i) + 0.5 - kBarHalf) / n, right = (double(i) + 0.5 + kBarHalf) / n;
+      const double top = totals[i] / y_hi + label;
+      covered += std::max(0.0, std::min(x1, right) - std::max(x0, left)) * std::max(0.0, std::min(y1, top) - y0);
+    }
+    return covered;
+  };
 }
 
-void plot_stacked_bars(const std::vector<std::string>& paths, const std::string& title,
+}  // namespace
+
+LegendPosition plot_stacked_bars(const std::string& path, const std::string& title,
+                                 const std::vector<std::string>& categories,
+                                 const std::vector<BarStack>& stacks, const BarOptions& options) {
+  return plot_stacked_bars(std::vector<std::string>{path}, title, categories, stacks, options);
+}
+
+LegendPosition plot_stacked_bars(const std::vector<std::string>& paths, const std::string& title,
                        const std::vector<std::string>& categories,
                        const std::vector<BarStack>& stacks, const BarOptions& o) {
   check_bars(categories, stacks);
@@ -178,14 +193,17 @@ void plot_stacked_bars(const std::vector<std::string>& paths, const std::string&
 
   std::vector<std::string> names;
   for (const auto& st : stacks) names.push_back(st.name);
-  const double right = right_margin(o.legend, names);
   const PLINT colours = PLINT(kFirstSeries + n_stack);
+  LegendPosition placed = o.legend;
   draw_figure(paths, o.width_px, o.height_px, colours, [&] {
     for (size_t k = 0; k < n_stack; ++k) {
       const Colour c = plot_colour(k);
       plscol0a(PLINT(kFirstSeries + k), c.r, c.g, c.b, 1.0);
     }
-    set_viewport(right);
+    const LegendPosition legend = placed =
+        place_legend(o.legend, names, bar_cover(totals, y_hi),
+                     {LegendPosition::kTopRight, LegendPosition::kTopLeft, LegendPosition::kBottomRight,
+                      LegendPosition::kBottomLeft});
     plwind(0.0, double(n_cat), 0.0, y_hi);
 
     const double y_step = nice_step(y_hi, y_tick_target(viewport_chars().second));
@@ -198,8 +216,9 @@ void plot_stacked_bars(const std::vector<std::string>& paths, const std::string&
 
     draw_axes("", 0.0, y_step);
     draw_labels(title, "", o.y_label);
-    draw_bar_legend(stacks, o.legend);
+    draw_bar_legend(stacks, legend);
   });
+  return placed;
 }
 
 }  // namespace roger

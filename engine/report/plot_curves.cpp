@@ -182,14 +182,37 @@ void draw_curve_legend(const std::vector<CurveSeries>& series,
   draw_legend(names, lines, boxes, true, position);
 }
 
-}  // namespace
-
-void plot_learning_curves(const std::string& path, const std::string& title,
-                          const std::vector<CurveSeries>& series, const CurveOptions& options) {
-  plot_learning_curves(std::vector<std::string>{path}, title, series, options);
+// How much of the curves lies in a box of the plot area (its fractions): the mean lines' points
+// (and points between them, so a steep line crossing the box counts), and the bands' at half
+// weight where the box's height meets them.
+DataCover curve_cover(const std::vector<CurveSeries>& series, const CurveWindow& w, const CurveOptions& o) {
+  return [&series, w, o](double x0, double x1, double y0, double y1) {
+    const auto fx = [&](double x) { return (world_x(x, o) - w.x_lo) / (w.x_hi - w.x_lo); };
+    const auto fy = [&](double y) { return (y - w.y_lo) / (w.y_hi - w.y_lo); };
+    double covered = 0.0;
+    for (const CurveSeries& c : series)
+      for (size_t i = 0; i < c.x.size(); ++i) {
+        const double xa = fx(c.x[i]), ya = fy(c.mean[i]);
+        const double xb = i + 1 < c.x.size() ? fx(c.x[i + 1]) : xa, yb = i + 1 < c.x.size() ? fy(c.mean[i + 1]) : ya;
+        for (int k = 0; k < 8; ++k) {
+          const double t = k / 8.0, x = xa + t * (xb - xa), y = ya + t * (yb - ya);
+          covered += x >= x0 && x <= x1 && y >= y0 && y <= y1;
+        }
+        if (has_band(c) && xa >= x0 && xa <= x1 && fy(band_low(c, i)) <= y1 && fy(band_high(c, i)) >= y0)
+          covered += 0.5;
+      }
+    return covered;
+  };
 }
 
-void plot_learning_curves(const std::vector<std::string>& paths, const std::string& title,
+}  // namespace
+
+LegendPosition plot_learning_curves(const std::string& path, const std::string& title,
+                                    const std::vector<CurveSeries>& series, const CurveOptions& options) {
+  return plot_learning_curves(std::vector<std::string>{path}, title, series, options);
+}
+
+LegendPosition plot_learning_curves(const std::vector<std::string>& paths, const std::string& title,
                           const std::vector<CurveSeries>& series, const CurveOptions& o) {
   check_series(series, o);
   for (const auto& p : paths) format_of(p);
@@ -200,8 +223,8 @@ void plot_learning_curves(const std::vector<std::string>& paths, const std::stri
   const size_t n = series.size();
   std::vector<std::string> names;
   for (const auto& c : series) names.push_back(c.name);
-  const double right = right_margin(o.legend, names);
   const PLINT colours = PLINT(kFirstSeries + 2 * n);
+  LegendPosition placed = o.legend;
 
   draw_figure(paths, o.width_px, o.height_px, colours, [&] {
     for (size_t s = 0; s < n; ++s) {
@@ -209,7 +232,11 @@ void plot_learning_curves(const std::vector<std::string>& paths, const std::stri
       plscol0a(line_index(s), c.r, c.g, c.b, 1.0);
       plscol0a(band_index(n, s), c.r, c.g, c.b, o.band_alpha);
     }
-    set_viewport(right);
+    // Curves that learn rise to the right: the bottom right is most often free.
+    const LegendPosition legend = placed =
+        place_legend(o.legend, names, curve_cover(series, w, o),
+                     {LegendPosition::kBottomRight, LegendPosition::kTopLeft, LegendPosition::kBottomLeft,
+                      LegendPosition::kTopRight});
     plwind(w.x_lo, w.x_hi, w.y_lo, w.y_hi);
     const std::string x_axis = o.log_x ? "l" : "";
 
@@ -227,8 +254,9 @@ void plot_learning_curves(const std::vector<std::string>& paths, const std::stri
 
     draw_axes("nst" + x_axis, x_step, y_step);
     draw_labels(title, o.x_label, o.y_label);
-    draw_curve_legend(series, names, o.legend);
+    draw_curve_legend(series, names, legend);
   });
+  return placed;
 }
 
 }  // namespace roger

@@ -23,7 +23,8 @@ PLINT legend_position(LegendPosition p) {
     case LegendPosition::kTopRight: return kIn | PL_POSITION_TOP | PL_POSITION_RIGHT;
     case LegendPosition::kTopLeft: return kIn | PL_POSITION_TOP | PL_POSITION_LEFT;
     case LegendPosition::kOutsideRight: return PL_POSITION_OUTSIDE | PL_POSITION_RIGHT;
-    case LegendPosition::kBottomRight: break;
+    case LegendPosition::kBottomRight:
+    case LegendPosition::kBest: break;  // resolved by place_legend before drawing
   }
   return kIn | PL_POSITION_BOTTOM | PL_POSITION_RIGHT;
 }
@@ -128,6 +129,50 @@ void draw_labels(const std::string& title, const std::string& x_label, const std
     plsfont(PL_FCI_SANS, PL_FCI_UPRIGHT, PL_FCI_MEDIUM);
   }
   plschr(0.0, 1.0);
+}
+
+namespace {
+
+// The characters of a UTF-8 text (a legend entry's width).
+size_t text_chars(const std::string& text) {
+  return size_t(std::count_if(text.begin(), text.end(), [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; }));
+}
+
+// The box a legend of `names` takes in `corner` of the plot area, in its fractions {x0, x1, y0,
+// y1}: draw_legend's offsets (0.02, 0.03), its symbol (0.06 of the width), each entry two
+// character heights, its text 0.62 of a height per character, and some air.
+std::vector<double> legend_box(LegendPosition corner, const std::vector<std::string>& names) {
+  const auto [w, h] = viewport_chars();
+  size_t longest = 0;
+  for (const auto& name : names) longest = std::max(longest, text_chars(name));
+  const double bw = 0.06 + (3.0 + 0.62 * double(longest)) / w, bh = (2.0 * double(names.size()) + 1.0) / h;
+  const bool right = corner == LegendPosition::kBottomRight || corner == LegendPosition::kTopRight;
+  const bool top = corner == LegendPosition::kTopRight || corner == LegendPosition::kTopLeft;
+  const double x0 = right ? 1.0 - 0.02 - bw : 0.02, y0 = top ? 1.0 - 0.03 - bh : 0.03;
+  return {x0, x0 + bw, y0, y0 + bh};
+}
+
+}  // namespace
+
+LegendPosition place_legend(LegendPosition wanted, const std::vector<std::string>& names, const DataCover& cover,
+                            const std::vector<LegendPosition>& order) {
+  set_viewport(right_margin(wanted, names));
+  if (wanted != LegendPosition::kBest) return wanted;
+  LegendPosition best = order.front();
+  double least = INFINITY;
+  for (LegendPosition corner : order) {
+    const std::vector<double> b = legend_box(corner, names);
+    const double covered = cover(b[0], b[1], b[2], b[3]);
+    if (covered < least) least = covered, best = corner;
+  }
+  if (least <= 0.0) return best;
+  try {  // every corner hides some data: beside the plot, if the figure is wide enough
+    set_viewport(right_margin(LegendPosition::kOutsideRight, names));
+    return LegendPosition::kOutsideRight;
+  } catch (const Error&) {
+    set_viewport(right_margin(best, names));
+    return best;
+  }
 }
 
 // A legend of n entries; `lines` draws a line over each colour box (learning curves).

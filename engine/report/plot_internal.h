@@ -85,6 +85,17 @@ void set_viewport(double right);
 // Title above the plot area and the two axis labels.
 void draw_labels(const std::string& title, const std::string& x_label, const std::string& y_label);
 
+// How much of the data lies in a box of the plot area, given in its fractions (x0, x1, y0, y1 in
+// [0, 1], left to right and bottom to top): 0 when none does.
+using DataCover = std::function<double(double x0, double x1, double y0, double y1)>;
+
+// Sets the plot area (set_viewport) and resolves `wanted`: kBest becomes the first of the
+// inside corners `order` whose legend box (for `names`, as draw_legend draws them) covers the
+// least data, or kOutsideRight, with the plot area narrowed for it, when every corner covers some
+// and the figure is wide enough. Other positions are kept. Call before plwind.
+LegendPosition place_legend(LegendPosition wanted, const std::vector<std::string>& names, const DataCover& cover,
+                            const std::vector<LegendPosition>& order);
+
 // A legend of n entries; `lines` draws a line over each colour box (learning curves).
 void draw_legend(const std::vector<std::string>& names, const std::vector<PLINT>& line_colours,
                  const std::vector<PLINT>& box_colours, bool lines, LegendPosition position);

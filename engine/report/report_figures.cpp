@@ -207,6 +207,7 @@ bool cumulative_figure(const BatchScript& b, const BatchFigure& f, const Folder&
   std::vector<BarStack> stacks;
   for (const auto& s : run.skills) stacks.push_back({s.run + " (" + s.skill + ", " + s.context + ")", {}, {}});
   stacks.push_back({run.name, {}, {}});
+  std::vector<bool> drawn(run.skills.size(), false);  // a skill's part has a bar somewhere
   for (const auto& c : run.contexts) {
     const Results r = folder.run(run, c);
     if (r.ok.empty()) continue;
@@ -227,6 +228,7 @@ bool cumulative_figure(const BatchScript& b, const BatchFigure& f, const Folder&
       }
       stacks[k].values.push_back(v.empty() ? 0.0 : mean(v));
       stacks[k].lower_bound.push_back(censored);
+      drawn[k] = drawn[k] || !v.empty();
     }
     std::vector<double> v;
     bool censored = false;
@@ -237,6 +239,11 @@ bool cumulative_figure(const BatchScript& b, const BatchFigure& f, const Folder&
     stacks.back().values.push_back(mean(v));
     stacks.back().lower_bound.push_back(censored);
   }
+  // A skill whose source trials have no result (pending or failed) under every context drawn has
+  // no bar: its legend entry says so rather than name a colour the figure lacks (found by a probe
+  // on an interrupted run). It keeps its place, and so every colour its place in the full figure.
+  for (size_t k = 0; k < run.skills.size(); ++k)
+    if (!drawn[k] && !categories.empty()) stacks[k].name += " (not drawn)";
   json page_stacks = json::array();
   for (const auto& st : stacks)
     page_stacks.push_back({{"name", st.name}, {"minutes", st.values}, {"lower_bound", st.lower_bound}});
