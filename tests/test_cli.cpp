@@ -966,6 +966,19 @@ TEST_CASE("a key given twice with two values is refused naming both", "[cli]") {
   CHECK(same.status == 0);
 }
 
+// Found by a probe: --set "obstacles = 2" said the scenario has no parameter 'obstacles ' and
+// listed every parameter, and "obstacles= 2" that ' 2' is no integer.
+TEST_CASE("a --set with blanks around its '=' says how to write it", "[cli]") {
+  for (const char* given : {"obstacles = 2", "obstacles =2", "obstacles= 2", " obstacles=2", "obstacles=2 "}) {
+    const Run r = roger(std::string("check scenarios/cluttered.lua --seeds 1 --set '") + given + "'");
+    INFO(given << ": " << r.err);
+    CHECK(r.status == 1);
+    CHECK_THAT(r.err, Catch::Matchers::Contains(std::string("--set '") + given + "': a key=value takes no blanks around "
+                                                "'=' or at its ends; write --set obstacles=2"));
+  }
+  CHECK(roger("check scenarios/cluttered.lua --seeds 1 --set obstacles=2").status == 0);
+}
+
 // Found by a probe: an option bound to a list took every word up to the next option, so
 // `roger run --set mass=0.7 my/mine.lua` said "script is required". One value per occurrence.
 TEST_CASE("a repeatable option takes one value and leaves the script that follows it", "[cli]") {

@@ -1,5 +1,6 @@
 // learn_commands.cpp: `roger eval` (a policy over seeded episodes) and `roger train` (one trial).
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -31,6 +32,18 @@ std::vector<std::pair<std::string, std::string>> split_sets(const std::vector<st
     const size_t eq = kv.find('=');
     if (eq == std::string::npos || eq == 0) throw Error(std::string(option) + " expects key=value, got '" + kv + "'");
     std::pair<std::string, std::string> set{kv.substr(0, eq), kv.substr(eq + 1)};
+    // A blank beside '=' (--set "obstacles = 2", quoted as one word) was read as the key
+    // 'obstacles ' that no scenario has, or the value ' 2': say how to write it.
+    const auto blank = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
+    const bool key_blank = std::any_of(set.first.begin(), set.first.end(), blank);
+    if (key_blank || (!set.second.empty() && (blank(set.second.front()) || blank(set.second.back())))) {
+      std::string key = set.first, value = set.second;
+      key.erase(std::remove_if(key.begin(), key.end(), blank), key.end());
+      value.erase(0, value.find_first_not_of(" \t"));
+      value.erase(value.find_last_not_of(" \t") + 1);
+      throw Error(std::string(option) + " '" + kv + "': a key=value takes no blanks around '=' or at its ends; write " +
+                  option + " " + key + "=" + value);
+    }
     // A key given twice with two values is a mistake in the command (which one the run used would
     // show only in its manifest), not an override: refused, naming both.
     const auto same_key = std::find_if(out.begin(), out.end(), [&](const auto& o) { return o.first == set.first; });
