@@ -563,19 +563,22 @@ void note_evaluation_params(const Reader& rd, const Curriculum& cur, BatchScript
     declared = scenario.params();
     other = scenario.name();
   }
-  const std::string where = b.path + ":" + std::to_string(e.line) + ": evaluation '" + e.name + "': stage '" +
-                            stage.name + "', context '" + e.context + "' sets ";
-  for (const auto& [name, value] : own) {
+  const auto at = [&](int line) {
+    return b.path + ":" + std::to_string(line) + ": evaluation '" + e.name + "': stage '" + stage.name +
+           "', context '" + e.context + "' sets ";
+  };
+  for (const auto& param : own) {
+    const std::string& name = param.first;  // a lambda may not capture a structured binding (C++17)
+    const std::string& value = param.second;
     const auto given = std::find_if(e.params.begin(), e.params.end(), [&](const auto& p) { return p.first == name; });
     if (same && given != e.params.end() && given->second != value) {
-      b.notes.push_back(b.path + ":" + std::to_string(rd.line_of_key("params", e.line)) + ": evaluation '" + e.name +
-                        "': stage '" + stage.name + "', context '" + e.context + "' sets " + name + " = " + value +
+      b.notes.push_back(at(rd.line_of_key("params", e.line)) + name + " = " + value +
                         ", overridden by the evaluation's params " + name + " = " + given->second +
                         " (an evaluation's params win over a context's own)");
     } else if (!same && given == e.params.end()) {
       const auto p = std::find_if(declared.begin(), declared.end(), [&](const auto& d) { return d.name == name; });
       if (p == declared.end()) continue;  // nothing to set there
-      b.notes.push_back(where + name + " = " + value + ", which this evaluation leaves at scenario '" +
+      b.notes.push_back(at(e.line) + name + " = " + value + ", which this evaluation leaves at scenario '" +
                         other + "''s default " + p->default_value +
                         ": in another scenario than its stage's an evaluation runs with its own params only (give "
                         "params = {" + name + " = " + value + "} to evaluate as trained)");
