@@ -254,6 +254,9 @@ bool extends(json old, json now, bool any_evaluation = false) {
 // evaluation's scenario as written: "pen.lua") is first taken beside the script, as the loader
 // takes it. What the files hold is compared by config["sources"], so a moved copy resumes and an
 // edited one does not (docs/batch.md, Resuming).
+// How a place under the batch script's folder begins (relocated_path).
+const std::string kScriptFolder = "<script folder>/";
+
 struct Places {
   fs::path root;           // the project root the configuration was made under
   fs::path script_dir;     // the batch script's folder (absolute)
@@ -276,7 +279,7 @@ std::string relocated_path(const std::string& value, const Places& at) {
     // script when there is one (resolve_scenario_near), else as spelt.
     if (value.find('/') == std::string::npos && p.extension() != ".lua") return value;
     if (at.relative_base.empty() || !fs::exists(at.relative_base / p, ec)) return value;
-    return "<script folder>/" + p.lexically_normal().generic_string();
+    return kScriptFolder + p.lexically_normal().generic_string();
   }
   p = p.lexically_normal();
   const auto under = [&](const fs::path& folder) -> std::optional<std::string> {
@@ -286,11 +289,11 @@ std::string relocated_path(const std::string& value, const Places& at) {
     return rel.generic_string();
   };
   if (auto r = under(at.root)) return *r;
-  if (auto r = under(at.script_dir)) return "<script folder>/" + *r;
+  if (auto r = under(at.script_dir)) return kScriptFolder + *r;
   // Sources are recorded by their real paths: the script folder through a link is the same.
-  if (auto r = under(fs::weakly_canonical(at.script_dir, ec))) return "<script folder>/" + *r;
+  if (auto r = under(fs::weakly_canonical(at.script_dir, ec))) return kScriptFolder + *r;
   if (at.script_dir.empty()) return value;
-  const std::string place = "<script folder>/" + p.lexically_relative(at.script_dir).generic_string();
+  const std::string place = kScriptFolder + p.lexically_relative(at.script_dir).generic_string();
   if (at.outside) at.outside->insert(place);
   return at.moved_with_script.count(place) ? place : value;
 }
@@ -501,7 +504,7 @@ std::string late_source_problem(const BatchPlan& plan, const json& old_config, c
       for (const auto& [name, print] : r["sources"].items()) {
         if (listed.count(name) || !seen.insert(name).second || !print.is_string()) continue;
         std::string place = name.empty() || name[0] != '/' ? name : relocated_path(name, then);
-        if (place.rfind("<script folder>/", 0) == 0) place = (then.relative_base / place.substr(16)).string();
+        if (place.rfind(kScriptFolder, 0) == 0) place = (then.relative_base / place.substr(kScriptFolder.size())).string();
         const fs::path path = source_file_path(place);
         const bool gone = !fs::is_regular_file(path, ec);
         if (!gone && fingerprint(read_file_text(path.string())) == print.get<std::string>()) continue;
