@@ -1727,6 +1727,17 @@ TEST_CASE("a teacher function reads its history read-only and strictly as traini
   const std::string reads = "local n = 0\n for _, h in ipairs(history) do for k in pairs(h.task) do n = n + 1 end end\n"
                             "    assert(n == 2 * #history and history[#history + 1] == nil)";
   CHECK(problems_of("reads", reads).second.empty());
+  // Found by a probe: pairs over an entry, or over its task, visited the fields in the order of
+  // Lua's string hashes, seeded per state, so a teacher that chose by that order picked other tasks
+  // from one seed. Each check is a new state: four of them with the fields in order.
+  const std::string in_order = "for _, h in ipairs(history) do\n"
+                               "      local keys, axes = {}, {}\n"
+                               "      for k in pairs(h) do keys[#keys + 1] = k end\n"
+                               "      for k in pairs(h.task) do axes[#axes + 1] = k end\n"
+                               "      assert(table.concat(keys, ',') == 'reward,success,task,time', table.concat(keys, ','))\n"
+                               "      assert(table.concat(axes, ',') == 'obstacles,shape', table.concat(axes, ','))\n"
+                               "    end";
+  for (int state = 0; state < 4; ++state) CHECK(problems_of("ordered", in_order).second.empty());
   // Found by a probe: next(history) gave the view's private key, so `next(history) == nil` (the usual
   // test of an empty table) was false for an empty history; and an entry's task given back as it is
   // was refused as "the key a userdata".

@@ -86,18 +86,12 @@ int view_len(lua_State* L) {
   return 1;
 }
 
-int view_next(lua_State* L) {
-  lua_settop(L, 2);
-  if (lua_next(L, 1)) return 2;
-  lua_pushnil(L);
-  return 1;
-}
-
+// pairs of a view visits its data as the sandbox's pairs visits a table: in the same order in every
+// run (found by a probe: a teacher that read the fields of an entry with pairs took them in the
+// order of Lua's string hashes, seeded per run, and chose other tasks from one seed).
 int view_pairs(lua_State* L) {
-  lua_pushcfunction(L, view_next);
   push_view_data(L, 1);
-  lua_pushnil(L);
-  return 3;
+  return lua_pairs_in_order(L, -1);
 }
 
 // Replaces the table on the stack top with a read-only view of it, of metatable `type_name`

@@ -186,6 +186,45 @@ int sorted_next(lua_State* L) {
   return 2;
 }
 
+// Pushes the iterator over the keys of the table at `index` in order, with that table and nil, as
+// Lua's pairs returns next, t, nil; charges the sort to the budget.
+void push_sorted_iteration(lua_State* L, int index) {
+  index = lua_absindex(L, index);
+  lua_newtable(L);  // the keys as collected, which keeps them alive while they are sorted
+  const int collected = lua_gettop(L);
+  std::vector<SortKey> keys;
+  lua_pushnil(L);
+  while (lua_next(L, index)) {
+    lua_pop(L, 1);
+    const int slot = int(keys.size()) + 1;
+    keys.push_back(describe_key(L, slot));
+    lua_pushvalue(L, -1);
+    lua_rawseti(L, collected, slot);
+  }
+  const double levels = keys.size() > 1 ? std::log2(double(keys.size())) : 1.0;
+  charge_budget(L, uint64_t(double(keys.size()) * (1.0 + levels)) * kKeyCost, "pairs",
+                "the table is too large to visit within the budget left");
+  std::stable_sort(keys.begin(), keys.end(), key_below);
+  lua_pushvalue(L, index);
+  lua_createtable(L, int(keys.size()), 0);
+  const int ordered = lua_gettop(L);
+  lua_createtable(L, 0, int(keys.size()));
+  const int positions = lua_gettop(L);
+  for (size_t i = 0; i < keys.size(); ++i) {
+    lua_rawgeti(L, collected, keys[i].slot);
+    lua_pushvalue(L, -1);
+    lua_rawseti(L, ordered, lua_Integer(i) + 1);
+    lua_pushinteger(L, lua_Integer(i) + 1);
+    lua_rawset(L, positions);
+  }
+  lua_pushinteger(L, 0);
+  lua_insert(L, positions);  // upvalues: the table, the keys in order, 0, the positions
+  lua_pushcclosure(L, sorted_next, 4);
+  lua_replace(L, collected);
+  lua_pushvalue(L, index);
+  lua_pushnil(L);
+}
+
 // pairs(t): Lua's own (upvalue 1) for a value with __pairs or that is no table (or none); else
 // the iterator above over t's keys in order, with t and nil, as Lua's returns next, t, nil.
 int sorted_pairs(lua_State* L) {
@@ -197,37 +236,7 @@ int sorted_pairs(lua_State* L) {
     return lua_tocfunction(L, lua_upvalueindex(1))(L);
   }
   lua_settop(L, 1);
-  lua_newtable(L);  // 2: the keys as collected, which keeps them alive while they are sorted
-  std::vector<SortKey> keys;
-  lua_pushnil(L);
-  while (lua_next(L, 1)) {
-    lua_pop(L, 1);
-    const int slot = int(keys.size()) + 1;
-    keys.push_back(describe_key(L, slot));
-    lua_pushvalue(L, -1);
-    lua_rawseti(L, 2, slot);
-  }
-  const double levels = keys.size() > 1 ? std::log2(double(keys.size())) : 1.0;
-  charge_budget(L, uint64_t(double(keys.size()) * (1.0 + levels)) * kKeyCost, "pairs",
-                "the table is too large to visit within the budget left");
-  std::stable_sort(keys.begin(), keys.end(), key_below);
-  lua_pushvalue(L, 1);
-  lua_createtable(L, int(keys.size()), 0);
-  const int ordered = lua_gettop(L);
-  lua_createtable(L, 0, int(keys.size()));
-  const int positions = lua_gettop(L);
-  for (size_t i = 0; i < keys.size(); ++i) {
-    lua_rawgeti(L, 2, keys[i].slot);
-    lua_pushvalue(L, -1);
-    lua_rawseti(L, ordered, lua_Integer(i) + 1);
-    lua_pushinteger(L, lua_Integer(i) + 1);
-    lua_rawset(L, positions);
-  }
-  lua_pushinteger(L, 0);
-  lua_insert(L, positions);  // upvalues: the table, the keys in order, 0, the positions
-  lua_pushcclosure(L, sorted_next, 4);
-  lua_pushvalue(L, 1);
-  lua_pushnil(L);
+  push_sorted_iteration(L, 1);
   return 3;
 }
 
@@ -265,5 +274,10 @@ void install_pairs(lua_State* L) {
 }  // namespace sandbox_detail
 
 void* lua_view_data_key() { return &sandbox_detail::view_data_key; }
+
+int lua_pairs_in_order(lua_State* L, int index) {
+  sandbox_detail::push_sorted_iteration(L, index);
+  return 3;
+}
 
 }  // namespace roger

@@ -256,6 +256,11 @@ class LuaFields {
 // The sandbox's next walks a view's data, so next(view) sees what pairs and # see, not the key.
 void* lua_view_data_key();
 
+// Pushes what the sandbox's pairs returns for the table at `index` (the iterator over its keys in
+// the order that is the same in every run, the table, nil) and returns 3: for a view's __pairs,
+// which would otherwise visit its data in the order of Lua's string hashes, seeded per run.
+int lua_pairs_in_order(lua_State* L, int index);
+
 // For an __index metamethod refusing a name: raises `text` at the line of the Lua function that
 // read the name (level 1: the function that called the metamethod; level 2, used before, named
 // that function's caller, so a misspelt name inside a helper was reported at the helper's call).
