@@ -217,6 +217,28 @@ TEST_CASE("roger check warns of a stimulus colour no object has", "[cli]") {
   fs::remove(red);
 }
 
+// Found by a probe: a scenario declared `clutter` and placed its obstacles from `obstacles`, and a
+// sweep over clutter trained on the same worlds at every level without a word.
+TEST_CASE("roger check warns of a declared parameter generate never reads", "[cli]") {
+  const std::string head = "local base = require('unobstructed')\nlocal params = {}\n"
+                           "for k, v in pairs(base.params) do params[k] = v end\n"
+                           "params.clutter = { default = 2, min = 0, max = 5 }\n";
+  const fs::path unread = temp_file("roger_cli_unread.lua", head + "return { params = params, generate = function(world, rng, p)\n"
+                                                                   "  base.generate(world, rng, p)\nend }\n");
+  const Run r = roger("check " + unread.string() + " --seeds 3");
+  INFO(r.err);
+  CHECK(r.status == 0);  // a warning: the world is sound
+  CHECK_THAT(r.err, Catch::Matchers::Contains("roger: warning: generate never reads the parameter 'clutter' (world seeds "
+                                              "0 to 2, and each choice and range end, tried): setting it changes no "
+                                              "world; read it from generate's params, or remove it"));
+  const fs::path read = temp_file("roger_cli_read.lua", head + "return { params = params, generate = function(world, rng, p)\n"
+                                                               "  assert(p.clutter >= 0)\n  base.generate(world, rng, p)\nend }\n");
+  CHECK(roger("check " + read.string() + " --seeds 3").err.find("never reads") == std::string::npos);
+  CHECK(roger("check cluttered --seeds 3").err.find("never reads") == std::string::npos);
+  fs::remove(unread);
+  fs::remove(read);
+}
+
 // Found by a probe: `roger check curricula/*.lua` was refused (one script only).
 TEST_CASE("roger check checks several scripts, a problem in one not stopping the others", "[cli]") {
   const Run good = roger("check scenarios/unobstructed.lua curricula/scripted.lua --seeds 2");

@@ -1725,7 +1725,9 @@ TEST_CASE("a teacher function reads its history read-only and strictly as traini
   }
   // Reading as a teacher reads: #, ipairs, pairs, an index past the end.
   const std::string reads = "local n = 0\n for _, h in ipairs(history) do for k in pairs(h.task) do n = n + 1 end end\n"
-                            "    assert(n == 2 * #history and history[#history + 1] == nil)";
+                            "    assert(n == 2 * #history and history[#history + 1] == nil)\n"
+                            "    assert(rawlen(history) == #history and rawget(history, #history) == history[#history])\n"
+                            "    assert(#history == 0 or rawget(history[1], 'task') == history[1].task)";
   CHECK(problems_of("reads", reads).second.empty());
   // Found by a probe: pairs over an entry, or over its task, visited the fields in the order of
   // Lua's string hashes, seeded per state, so a teacher that chose by that order picked other tasks

@@ -360,6 +360,23 @@ int check_skill_script_file(const std::string& path, const std::string& shown, c
   return 0;
 }
 
+// A declared parameter that no generate read, over every world roger check built (each seed, and
+// each choice and range end): setting it changes no world (found by a probe: a scenario declared
+// `clutter` and placed its obstacles from `obstacles`, and a sweep over clutter trained on the same
+// worlds at every level without a word).
+void warn_unread_params(Scenario& scenario, int seeds) {
+  const std::vector<std::string> unread = scenario.unread_params();
+  if (unread.empty()) return;
+  std::string names;
+  for (size_t i = 0; i < unread.size(); ++i)
+    names += (i == 0 ? "'" : i + 1 == unread.size() ? " and '" : ", '") + unread[i] + "'";
+  const char* it = unread.size() == 1 ? "it" : "them";
+  std::fprintf(stderr,
+               "roger: warning: generate never reads the parameter%s %s (world seeds 0 to %d, and each choice and "
+               "range end, tried): setting %s changes no world; read %s from generate's params, or remove %s\n",
+               unread.size() == 1 ? "" : "s", names.c_str(), seeds - 1, it, it, it);
+}
+
 // A scenario: its worlds generated and built for seeds 0..N-1, then (without --set) every declared
 // parameter choice and each end of every declared range.
 int check_scenario_file(const CheckArgs& a, const std::string& shown, const SandboxLimits& limits) {
@@ -403,6 +420,7 @@ int check_scenario_file(const CheckArgs& a, const std::string& shown, const Sand
     }
     for (const auto& w : range_ends)  // the message without Lua's traceback: the value and the line say it
       std::fprintf(stderr, "roger: warning: at a range's end: %s\n", w.substr(0, w.find("\nstack traceback:")).c_str());
+    warn_unread_params(scenario, a.seeds);
   }
   prints.finish();
   std::string tried;

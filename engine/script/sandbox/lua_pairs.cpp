@@ -10,7 +10,7 @@
 // The order: numbers by value, then strings byte by byte (not strcoll's, which depends on the
 // locale), then false and true, then the keys that have no order of their own (tables, functions,
 // userdata, threads) in Lua's order, which is the one part that can change between runs.
-// `next` stays Lua's own, but for a read-only view (lua_view_data_key), whose data it walks.
+// `next`, `rawget` and `rawlen` stay Lua's own, but for a view (lua_view_data_key), whose data they read.
 #include <algorithm>
 #include <climits>
 #include <cmath>
@@ -240,40 +240,90 @@ int sorted_pairs(lua_State* L) {
   return 3;
 }
 
-char view_data_key;
+char view_data_key, view_reads_key;
 
-// next(t, k): Lua's own (upvalue 1), except on a read-only view, where the keys are its data's
-// (found by a probe: next(history) gave the view's private key, so `next(history) == nil`, the
-// usual test of an empty table, was false for an empty history).
+// The data of the view at `index` pushed, and true; or nothing pushed, and false, for any other
+// value.
+bool push_data_of_view(lua_State* L, int index) {
+  if (lua_type(L, index) != LUA_TTABLE) return false;
+  lua_pushlightuserdata(L, &view_data_key);
+  if (lua_rawget(L, index) == LUA_TTABLE) return true;
+  lua_pop(L, 1);
+  return false;
+}
+
+// next(t, k): Lua's own (upvalue 1), except on a view, where the keys are its data's (found by a
+// probe: next(history) gave the view's private key, so `next(history) == nil`, the usual test of
+// an empty table, was false for an empty history); a key it gives counts as read.
 int view_aware_next(lua_State* L) {
-  if (lua_type(L, 1) == LUA_TTABLE) {
-    lua_pushlightuserdata(L, &view_data_key);
-    if (lua_rawget(L, 1) == LUA_TTABLE) {
-      lua_replace(L, 1);
-      lua_settop(L, 2);
-      if (lua_next(L, 1)) return 2;
-      lua_pushnil(L);
-      return 1;
-    }
-    lua_pop(L, 1);
+  const int args = lua_gettop(L);
+  if (args < 1 || !push_data_of_view(L, 1)) return lua_tocfunction(L, lua_upvalueindex(1))(L);
+  const int data = lua_gettop(L);
+  if (args >= 2) lua_pushvalue(L, 2); else lua_pushnil(L);
+  if (!lua_next(L, data)) {
+    lua_pushnil(L);
+    return 1;
   }
-  return lua_tocfunction(L, lua_upvalueindex(1))(L);
+  lua_view_note_read(L, 1, -2);
+  return 2;
+}
+
+// rawget(t, k): Lua's own (upvalue 1), except on a view, whose fields are its data's (a field set
+// on the view itself with rawset first): a library testing whether a scenario declares a parameter
+// with rawget(params, name) sees what params.name would read. The key counts as read.
+int view_aware_rawget(lua_State* L) {
+  if (lua_gettop(L) < 2 || !push_data_of_view(L, 1)) return lua_tocfunction(L, lua_upvalueindex(1))(L);
+  lua_replace(L, 3);  // the data; what came after the key is dropped, as Lua's rawget drops it
+  lua_settop(L, 3);
+  lua_pushvalue(L, 2);
+  if (lua_rawget(L, 1) != LUA_TNIL) return 1;
+  lua_pop(L, 1);
+  lua_view_note_read(L, 1, 2);
+  lua_pushvalue(L, 2);
+  lua_rawget(L, 3);
+  return 1;
+}
+
+// rawlen(t): Lua's own (upvalue 1), except on a view: its data's length, as # gives it.
+int view_aware_rawlen(lua_State* L) {
+  if (lua_gettop(L) < 1 || !push_data_of_view(L, 1)) return lua_tocfunction(L, lua_upvalueindex(1))(L);
+  lua_pushinteger(L, lua_Integer(lua_rawlen(L, -1)));
+  return 1;
+}
+
+// Replaces the global `name` by `wrapper`, which holds the original as its upvalue 1.
+void wrap_global(lua_State* L, const char* name, lua_CFunction wrapper) {
+  lua_getglobal(L, name);
+  lua_pushcclosure(L, wrapper, 1);
+  lua_setglobal(L, name);
 }
 
 }  // namespace
 
 void install_pairs(lua_State* L) {
-  lua_getglobal(L, "pairs");
-  lua_pushcclosure(L, sorted_pairs, 1);
-  lua_setglobal(L, "pairs");
-  lua_getglobal(L, "next");
-  lua_pushcclosure(L, view_aware_next, 1);
-  lua_setglobal(L, "next");
+  wrap_global(L, "pairs", sorted_pairs);
+  wrap_global(L, "next", view_aware_next);
+  wrap_global(L, "rawget", view_aware_rawget);
+  wrap_global(L, "rawlen", view_aware_rawlen);
 }
 
 }  // namespace sandbox_detail
 
 void* lua_view_data_key() { return &sandbox_detail::view_data_key; }
+
+void* lua_view_reads_key() { return &sandbox_detail::view_reads_key; }
+
+void lua_view_note_read(lua_State* L, int view, int key) {
+  if (lua_type(L, key) != LUA_TSTRING) return;  // a view's reads are of its named fields
+  view = lua_absindex(L, view), key = lua_absindex(L, key);
+  lua_pushlightuserdata(L, &sandbox_detail::view_reads_key);
+  if (lua_rawget(L, view) == LUA_TTABLE) {
+    lua_pushvalue(L, key);
+    lua_pushboolean(L, 1);
+    lua_rawset(L, -3);
+  }
+  lua_pop(L, 1);
+}
 
 int lua_pairs_in_order(lua_State* L, int index) {
   sandbox_detail::push_sorted_iteration(L, index);

@@ -253,8 +253,16 @@ class LuaFields {
 
 // A read-only view (a teacher's history): an empty table holding its data under this key, a light
 // userdata no script can write, with a metatable that reads through (__index, __len, __pairs).
-// The sandbox's next walks a view's data, so next(view) sees what pairs and # see, not the key.
+// The sandbox's next, rawget and rawlen read a view's data, so they see what pairs, an index and #
+// see, not the key.
 void* lua_view_data_key();
+
+// A view may keep a table of the names read through it (a scenario's params: roger check's warning
+// about a parameter generate never reads), under this key: its __index notes each name it reads
+// (lua_view_note_read), and so do the sandbox's rawget and next.
+void* lua_view_reads_key();
+// Notes the string key at index `key` as read in the view at index `view`, if it keeps reads.
+void lua_view_note_read(lua_State* L, int view, int key);
 
 // Pushes what the sandbox's pairs returns for the table at `index` (the iterator over its keys in
 // the order that is the same in every run, the table, nil) and returns 3: for a view's __pairs,

@@ -361,6 +361,45 @@ WorldSpec checked_world(const WorldBuilder& w, uint64_t seed, const std::map<std
 
 }  // namespace
 
+// generate's third argument: a view of the values in force (scenario_world.cpp), whose reads go to
+// the scenario's table of names read (made on the first generate).
+void Scenario::Impl::push_params_view(lua_State* L) {
+  lua_createtable(L, 0, int(params.size()));
+  for (const auto& [key, slot] : params) {
+    push_slot(L, slot);
+    lua_setfield(L, -2, key.c_str());
+  }
+  const int data = lua_gettop(L);
+  lua_createtable(L, 0, 2);
+  lua_pushlightuserdata(L, lua_view_data_key());
+  lua_pushvalue(L, data);
+  lua_rawset(L, -3);
+  lua_pushlightuserdata(L, lua_view_reads_key());
+  if (reads_ref == LUA_NOREF) {
+    lua_newtable(L);
+    lua_pushvalue(L, -1);
+    reads_ref = luaL_ref(L, LUA_REGISTRYINDEX);
+  } else {
+    lua_rawgeti(L, LUA_REGISTRYINDEX, reads_ref);
+  }
+  lua_rawset(L, -3);
+  luaL_setmetatable(L, kParamsType);  // reading an undeclared parameter is an error
+  lua_replace(L, data);
+}
+
+std::vector<std::string> Scenario::unread_params() {
+  std::vector<std::string> unread;
+  impl_->protect([&](lua_State* L) {
+    if (impl_->reads_ref == LUA_NOREF) lua_newtable(L); else lua_rawgeti(L, LUA_REGISTRYINDEX, impl_->reads_ref);
+    for (const auto& [key, slot] : impl_->params) {
+      if (lua_getfield(L, -1, key.c_str()) == LUA_TNIL) unread.push_back(key);
+      lua_pop(L, 1);
+    }
+    lua_pop(L, 1);
+  });
+  return unread;
+}
+
 WorldSpec Scenario::generate_world(uint64_t seed) {
   Impl& impl = *impl_;
   WorldSpec out;
@@ -374,12 +413,7 @@ WorldSpec Scenario::generate_world(uint64_t seed) {
     w->no_placement = &impl.no_placement;
     lua_pushvalue(L, -1);
     lua_setiuservalue(L, world, 1);  // the world keeps the rng alive
-    lua_createtable(L, 0, int(impl.params.size()));
-    for (const auto& [key, slot] : impl.params) {
-      push_slot(L, slot);
-      lua_setfield(L, -2, key.c_str());
-    }
-    luaL_setmetatable(L, kParamsType);  // reading an undeclared parameter is an error
+    impl.push_params_view(L);
     lua_pushvalue(L, world);  // keep the world on this frame after the call
     lua_insert(L, world - 1);
     {

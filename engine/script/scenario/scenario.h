@@ -66,6 +66,10 @@ class Scenario {
   // The parameters, sorted by name, with their defaults and current values.
   std::vector<ScenarioParam> params() const;
 
+  // The declared parameters no generate of this scenario has read (by name, by rawget, by pairs or
+  // next), sorted: after roger check's worlds, those no --set or teacher could change a world with.
+  std::vector<std::string> unread_params();
+
   // Sets a parameter from text (the CLI's --set key=value), converting by the default's type.
   // Throws roger::Error for an unknown key (listing the known ones), a value of the wrong type or
   // one outside the declared choices or bounds.

@@ -222,6 +222,7 @@ struct Scenario::Impl {
   std::string name, description;
   int generate_ref = LUA_NOREF;
   int generate_line = 0;
+  int reads_ref = LUA_NOREF;  // the names generate's params were read by (push_params_view), once one ran
   bool no_placement = false;  // the last generate's world:sample_position found no place
   std::map<std::string, scenario_detail::ParamSlot> params;
 
@@ -238,6 +239,9 @@ struct Scenario::Impl {
     return ScriptError(message, path, line < 0 ? reading_line : line, "");
   }
 
+  // Pushes generate's third argument: a view of the values in force (scenario_world.cpp), whose
+  // reads go to the table of names read (reads_ref, made by the first generate).
+  void push_params_view(lua_State* L);
   // Reads the `params` table (scenario_params.cpp); `map`: where the script's tables are written,
   // `node` the constructor of this one in it (-1: not written in the text).
   void read_params(lua_State* L, int index, const LuaTableMap& map, int node);

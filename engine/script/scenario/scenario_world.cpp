@@ -348,12 +348,55 @@ void new_class(lua_State* L, const char* type, const luaL_Reg* methods, lua_CFun
 // the reader's line, with the nearest. Before, `p.goal_raduis` read nil, and world:goal{radius =
 // nil} quietly took its default, so `--set goal_radius=...` changed nothing. Only names are
 // parameters: another key (ipairs reading p[1]) reads nil, as in any table.
-int l_no_param(lua_State* L) {
-  if (lua_type(L, 2) != LUA_TSTRING) return 0;
+// generate's params is a view (lua_view_data_key): an empty table whose metatable reads and writes
+// its data, so that every name read is noted (roger check warns of a declared parameter generate
+// never reads, which no --set or teacher could change). To a script it is the table of the values
+// in force: reading, writing, pairs, next, #, rawget and rawlen give what they would on that table.
+void push_params_data(lua_State* L, int view) {
+  lua_pushlightuserdata(L, lua_view_data_key());
+  lua_rawget(L, view);
+}
+
+// __index: the value, noted as read; reading an undeclared parameter is an error.
+int l_param_read(lua_State* L) {
+  push_params_data(L, 1);
+  const int data = lua_gettop(L);
+  lua_pushvalue(L, 2);
+  if (lua_rawget(L, data) != LUA_TNIL) {
+    lua_view_note_read(L, 1, 2);
+    return 1;
+  }
+  if (lua_type(L, 2) != LUA_TSTRING) return 1;  // nil, as an absent field of a table
   const std::string name = lua_tostring(L, 2);
-  const std::vector<std::string> params = sorted_names(L, 1);
+  const std::vector<std::string> params = sorted_names(L, data);
   return raise_at_reader(L, "the scenario has no parameter '" + name + "'" + suggestion(name, params) +
                                 (params.empty() ? std::string("; it declares none") : "; its parameters: " + join(params)));
+}
+
+// __newindex: a write goes to the data, where later reads find it.
+int l_param_write(lua_State* L) {
+  push_params_data(L, 1);
+  lua_insert(L, 2);
+  lua_rawset(L, 2);
+  return 0;
+}
+
+// __pairs: the data in the sandbox's order; a loop over them all reads them all.
+int l_params_pairs(lua_State* L) {
+  push_params_data(L, 1);
+  const int data = lua_gettop(L);
+  lua_pushnil(L);
+  while (lua_next(L, data)) {
+    lua_pop(L, 1);
+    lua_view_note_read(L, 1, -1);
+  }
+  return lua_pairs_in_order(L, data);
+}
+
+int l_params_len(lua_State* L) {
+  push_params_data(L, 1);
+  lua_pushinteger(L, lua_Integer(lua_rawlen(L, -1)));
+  return 1;
 }
 
 // The __index of roger.body_metrics's result: a misspelt number is an error at the reader's line.
@@ -389,8 +432,9 @@ int install_api(lua_State* L) {
   new_rng_class(L);
   new_class(L, kShapeType, nullptr, destroy<ShapeBox>, l_shape_tostring);
   luaL_newmetatable(L, kParamsType);
-  lua_pushcfunction(L, l_no_param);
-  lua_setfield(L, -2, "__index");
+  const luaL_Reg params_methods[] = {{"__index", l_param_read}, {"__newindex", l_param_write},
+                                     {"__pairs", l_params_pairs}, {"__len", l_params_len}, {nullptr, nullptr}};
+  luaL_setfuncs(L, params_methods, 0);
   lua_pop(L, 1);
   luaL_newmetatable(L, kBodyMetricsType);
   lua_pushcfunction(L, l_no_metric);
