@@ -219,7 +219,7 @@ TEST_CASE("roger check warns of a stimulus colour no object has", "[cli]") {
 
 // Found by a probe: a scenario declared `clutter` and placed its obstacles from `obstacles`, and a
 // sweep over clutter trained on the same worlds at every level without a word.
-TEST_CASE("roger check warns of a declared parameter generate never reads", "[cli]") {
+TEST_CASE("roger check warns of a declared parameter generate never reads, and of a stage that sets one", "[cli]") {
   const std::string head = "local base = require('unobstructed')\nlocal params = {}\n"
                            "for k, v in pairs(base.params) do params[k] = v end\n"
                            "params.clutter = { default = 2, min = 0, max = 5 }\n";
@@ -235,8 +235,32 @@ TEST_CASE("roger check warns of a declared parameter generate never reads", "[cl
                                                                "  assert(p.clutter >= 0)\n  base.generate(world, rng, p)\nend }\n");
   CHECK(roger("check " + read.string() + " --seeds 3").err.find("never reads") == std::string::npos);
   CHECK(roger("check cluttered --seeds 3").err.find("never reads") == std::string::npos);
-  fs::remove(unread);
-  fs::remove(read);
+  // A curriculum whose stage draws it as a task axis, or sets it, says so at the stage.
+  const std::string stage = "local p = require('lib.skills').primitives()\n"
+                            "return { name = 'c', stages = { roger.stage{ name = 'S', scenario = '" + unread.string() + "',\n"
+                            "  time_limit = 2, absorbing = roger.converged(p.phi0), budget = { episodes = 10 },\n"
+                            "  contexts = { { name = 'A', actions = { p.search, p.phi0 } },\n"
+                            "               { name = 'B', actions = { p.search, p.phi0 }, params = { clutter = 1 } } },\n";
+  const fs::path drawn = temp_file("roger_cli_unread_tasks.lua", stage + "  tasks = { shape = roger.choice{ 'circle', 'spade' }, "
+                                                                         "mass = roger.real(0.2, 1) } } } }\n");
+  const Run c = roger("check " + drawn.string());
+  INFO(c.err);
+  CHECK(c.status == 0);
+  CHECK_THAT(c.err, Catch::Matchers::Contains("roger: warning: stage 'S': scenario '" + unread.string() + "' never reads the "
+                                              "parameter 'clutter' (context B's params.clutter), in any world roger check "
+                                              "builds of it (world seeds 0 to 4, and each choice and range end): setting it "
+                                              "changes no world"));
+  const fs::path clean = temp_file("roger_cli_read_tasks.lua", "local p = require('lib.skills').primitives()\n"
+                                                               "return { name = 'c', stages = { roger.stage{ name = 'S', scenario = '" +
+                                                                   read.string() + "',\n"
+                                                                   "  time_limit = 2, absorbing = roger.converged(p.phi0), budget = { episodes = 10 },\n"
+                                                                   "  contexts = { { name = 'A', actions = { p.search, p.phi0 } } },\n"
+                                                                   "  tasks = { clutter = roger.int(0, 3) } } } }\n");
+  const Run c2 = roger("check " + clean.string());
+  INFO(c2.err);
+  CHECK(c2.status == 0);
+  CHECK(c2.err.find("never reads") == std::string::npos);
+  for (const fs::path& f : {unread, read, drawn, clean}) fs::remove(f);
 }
 
 // Found by a probe: `roger check curricula/*.lua` was refused (one script only).

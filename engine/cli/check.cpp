@@ -322,6 +322,48 @@ void warn_stimulus_unseen(const CurriculumStage& st, const SandboxLimits& limits
   }
 }
 
+// World seeds a curriculum's check builds of each stage's scenario for warn_unread_in_stage (with
+// each choice and range end): a few, since the scenario's own check tries its 20.
+constexpr int kUnreadSeeds = 5;
+
+// A stage that sets or draws a scenario parameter (a task axis, its own params, a context's) that
+// no world of its scenario reads, over the worlds roger check of the scenario builds: a teacher's
+// draws of it, or a context's value, would change no world (the scenarios' own warning, said where
+// the curriculum names it). `unread` keeps each scenario's answer across stages.
+void warn_unread_in_stage(const CurriculumStage& st, const SandboxLimits& limits,
+                          std::map<std::string, std::vector<std::string>>& unread) {
+  if (!unread.count(st.scenario)) {
+    std::vector<std::string>& names = unread[st.scenario];
+    try {
+      Scenario scenario = Scenario::load(st.scenario, limits);
+      QuietPrints prints(scenario.sandbox(), "roger check built the scenario's worlds");
+      prints.quiet();
+      for (int seed = 0; seed < kUnreadSeeds; ++seed) scenario.generate(uint64_t(seed));
+      check_scenario(scenario, 0);
+      names = scenario.unread_params();
+    } catch (const std::exception&) {
+      return;  // a scenario that fails is the stage checks' to say
+    }
+  }
+  const std::vector<std::string>& names = unread[st.scenario];
+  std::vector<std::string> said;  // each as 'name' (where the stage names it)
+  auto say = [&](const std::string& name, const std::string& where) {
+    if (std::binary_search(names.begin(), names.end(), name)) said.push_back("'" + name + "' (" + where + ")");
+  };
+  for (const TaskDim& d : st.tasks.dims()) say(d.name, "tasks." + d.name);
+  for (const auto& [k, v] : st.params) say(k, "params." + k);
+  for (const auto& ctx : st.contexts)
+    for (const auto& [k, v] : ctx.params) say(k, "context " + ctx.name + "'s params." + k);
+  if (said.empty()) return;
+  std::string listed;
+  for (size_t i = 0; i < said.size(); ++i) listed += (i == 0 ? "" : i + 1 == said.size() ? " and " : ", ") + said[i];
+  std::fprintf(stderr,
+               "roger: warning: %s: scenario '%s' never reads the parameter%s %s, in any world roger check builds of "
+               "it (world seeds 0 to %d, and each choice and range end): setting %s changes no world\n",
+               st.where().c_str(), st.scenario.c_str(), said.size() == 1 ? "" : "s", listed.c_str(), kUnreadSeeds - 1,
+               said.size() == 1 ? "it" : "them");
+}
+
 // A curriculum: its stages' callbacks called once each (check_curriculum), then its stages listed.
 int check_curriculum_file(const std::string& path, const std::string& shown, const SandboxLimits& limits,
                           const ParamList& sets) {
@@ -331,6 +373,7 @@ int check_curriculum_file(const std::string& path, const std::string& shown, con
   if (!problems.empty()) return 1;
   const Curriculum cur = Curriculum::load(path, limits);
   std::string stages;
+  std::map<std::string, std::vector<std::string>> unread;  // by scenario
   for (const auto& st : cur.stages()) {
     // What loads and trains, but not as its writer meant: a teacher that cannot move within the
     // budget, a scenario path found only from this folder, exploration that rises.
@@ -338,6 +381,7 @@ int check_curriculum_file(const std::string& path, const std::string& shown, con
       if (!w.empty()) std::fprintf(stderr, "roger: warning: %s\n", w.c_str());
     if (const std::string n = st.scenario_note(); !n.empty()) std::fprintf(stderr, "roger: note: %s\n", n.c_str());
     warn_stimulus_unseen(st, limits, sets);
+    warn_unread_in_stage(st, limits, unread);
     std::string contexts;
     for (const auto& c : st.contexts) contexts += (contexts.empty() ? "" : " ") + c.name;
     stages += (stages.empty() ? "" : "; ") + st.name + ": " + contexts;
