@@ -260,7 +260,29 @@ TEST_CASE("roger check warns of a declared parameter generate never reads, and o
   INFO(c2.err);
   CHECK(c2.status == 0);
   CHECK(c2.err.find("never reads") == std::string::npos);
-  for (const fs::path& f : {unread, read, drawn, clean}) fs::remove(f);
+  // A batch script's run over it, and an evaluation, say it at the run and the evaluation.
+  const fs::path batch = temp_file("roger_cli_unread_batch.lua",
+                                   "return { name = 'sweep', curriculum = '" + clean.string() + "', trials = 1,\n"
+                                   "  runs = { { name = 'R0', stage = 'S', contexts = { 'A' }, params = { mass = 0.4 } },\n"
+                                   "           { name = 'R1', stage = 'S', contexts = { 'A' } } },\n"
+                                   "  evaluations = { { name = 'E', run = 'R1', context = 'A', scenario = '" + unread.string() +
+                                       "',\n"
+                                   "    params = { clutter = 3 }, shapes = { 'circle' }, episodes = 2 } } }\n");
+  const Run b = roger("check " + batch.string());
+  INFO(b.err);
+  CHECK(b.status == 0);
+  CHECK(b.err.find("run 'R0'") == std::string::npos);  // mass is read
+  CHECK_THAT(b.err, Catch::Matchers::Contains("roger: warning: evaluation 'E': scenario '" + unread.string() +
+                                              "' never reads the parameter 'clutter' (params.clutter)"));
+  const fs::path run_batch = temp_file("roger_cli_unread_run.lua",
+                                       "return { name = 'sweep2', curriculum = '" + drawn.string() + "', trials = 1,\n"
+                                       "  runs = { { name = 'R2', stage = 'S', contexts = { 'A' }, params = { clutter = 2 } } } }\n");
+  const Run rb = roger("check " + run_batch.string());
+  INFO(rb.err);
+  CHECK(rb.status == 0);
+  CHECK_THAT(rb.err, Catch::Matchers::Contains("roger: warning: run 'R2': scenario '" + unread.string() +
+                                               "' never reads the parameter 'clutter' (params.clutter)"));
+  for (const fs::path& f : {unread, read, drawn, clean, batch, run_batch}) fs::remove(f);
 }
 
 // Found by a probe: `roger check curricula/*.lua` was refused (one script only).

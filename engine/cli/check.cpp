@@ -44,6 +44,91 @@ size_t report_static_problems(const std::string& script) {
   return problems.size();
 }
 
+// World seeds a curriculum's or a batch script's check builds of a scenario for its parameters'
+// reads (with each choice and range end): a few, since the scenario's own check tries its 20.
+constexpr int kUnreadSeeds = 5;
+
+// The declared parameters of each scenario that no world roger check builds of it reads, by
+// scenario as a stage names it (answered once each).
+using UnreadCache = std::map<std::string, std::vector<std::string>>;
+
+const std::vector<std::string>& unread_params_of(const std::string& scenario_name, const SandboxLimits& limits,
+                                                 UnreadCache& cache) {
+  const auto known = cache.find(scenario_name);
+  if (known != cache.end()) return known->second;
+  std::vector<std::string>& names = cache[scenario_name];
+  try {
+    Scenario scenario = Scenario::load(scenario_name, limits);
+    QuietPrints prints(scenario.sandbox(), "roger check built the scenario's worlds");
+    prints.quiet();
+    for (int seed = 0; seed < kUnreadSeeds; ++seed) scenario.generate(uint64_t(seed));
+    check_scenario(scenario, 0);
+    names = scenario.unread_params();
+  } catch (const std::exception&) {
+    names.clear();  // a scenario that fails is the other checks' to say
+  }
+  return names;
+}
+
+// Parameters a curriculum or a batch script sets or draws, each with where it names it.
+using NamedParams = std::vector<std::pair<std::string, std::string>>;
+
+// Warns of those of `named` that scenario `scenario_name` never reads: a teacher's draws of one, a
+// context's value or a run's would change no world (the scenario's own warning, said where the
+// script names it). `who`: "stage 'S'", "run 'R'", ...
+void warn_unread(const std::string& who, const std::string& scenario_name, const NamedParams& named,
+                 const SandboxLimits& limits, UnreadCache& cache) {
+  const std::vector<std::string>& unread = unread_params_of(scenario_name, limits, cache);
+  std::vector<std::string> said;  // each as 'name' (where the script names it)
+  for (const auto& [name, where] : named)
+    if (std::binary_search(unread.begin(), unread.end(), name)) said.push_back("'" + name + "' (" + where + ")");
+  if (said.empty()) return;
+  std::string listed;
+  for (size_t i = 0; i < said.size(); ++i) listed += (i == 0 ? "" : i + 1 == said.size() ? " and " : ", ") + said[i];
+  std::fprintf(stderr,
+               "roger: warning: %s: scenario '%s' never reads the parameter%s %s, in any world roger check builds of "
+               "it (world seeds 0 to %d, and each choice and range end): setting %s changes no world\n",
+               who.c_str(), scenario_name.c_str(), said.size() == 1 ? "" : "s", listed.c_str(), kUnreadSeeds - 1,
+               said.size() == 1 ? "it" : "them");
+}
+
+// A stage's task axes, its params and its contexts' params that its scenario never reads.
+void warn_unread_in_stage(const CurriculumStage& st, const SandboxLimits& limits, UnreadCache& cache) {
+  NamedParams named;
+  for (const TaskDim& d : st.tasks.dims()) named.push_back({d.name, "tasks." + d.name});
+  for (const auto& [k, v] : st.params) named.push_back({k, "params." + k});
+  for (const auto& ctx : st.contexts)
+    for (const auto& [k, v] : ctx.params) named.push_back({k, "context " + ctx.name + "'s params." + k});
+  warn_unread(st.where(), st.scenario, named, limits, cache);
+}
+
+// A batch script's runs' and evaluations' params that the scenario they play never reads (a sweep
+// over one trains every run on the same worlds).
+void warn_unread_in_batch(const BatchScript& b) {
+  const Curriculum cur = Curriculum::load(b.curriculum_file, b.limits);
+  UnreadCache cache;
+  auto scenario_of = [&](const std::string& stage) -> const CurriculumStage* {
+    for (const auto& st : cur.stages())
+      if (st.name == stage) return &st;
+    return nullptr;
+  };
+  auto named = [](const Params& params) {
+    NamedParams out;
+    for (const auto& [k, v] : params) out.push_back({k, "params." + k});
+    return out;
+  };
+  for (const BatchRun& r : b.runs)
+    if (const CurriculumStage* st = scenario_of(r.stage))
+      warn_unread("run '" + r.name + "'", st->scenario, named(r.params), b.limits, cache);
+  for (const BatchEvaluation& e : b.evaluations) {
+    std::string scenario = e.scenario;
+    for (const BatchRun& r : b.runs)
+      if (scenario.empty() && r.name == e.run)
+        if (const CurriculumStage* st = scenario_of(r.stage)) scenario = st->scenario;
+    if (!scenario.empty()) warn_unread("evaluation '" + e.name + "'", scenario, named(e.params), b.limits, cache);
+  }
+}
+
 // Each run's stage of the curriculum checked as its trials train it: with the run's parameters
 // and the command's --set (check_curriculum: the ends of its task space, its test tasks), runs of
 // the same parameters together. Prints each problem; returns their number.
@@ -87,6 +172,7 @@ int check_batch(const std::string& path, const std::string& shown, const LuaLimi
   const bool below = !ec && !here.empty() && *here.begin() != "..";
   if (report_static_problems(below ? here.string() : b.curriculum_file) > 0) return 1;
   if (check_runs_stages(b) > 0) return 1;
+  warn_unread_in_batch(b);
   std::string runs;
   for (const auto& r : b.runs) {
     const size_t n = r.contexts.size();
@@ -322,48 +408,6 @@ void warn_stimulus_unseen(const CurriculumStage& st, const SandboxLimits& limits
   }
 }
 
-// World seeds a curriculum's check builds of each stage's scenario for warn_unread_in_stage (with
-// each choice and range end): a few, since the scenario's own check tries its 20.
-constexpr int kUnreadSeeds = 5;
-
-// A stage that sets or draws a scenario parameter (a task axis, its own params, a context's) that
-// no world of its scenario reads, over the worlds roger check of the scenario builds: a teacher's
-// draws of it, or a context's value, would change no world (the scenarios' own warning, said where
-// the curriculum names it). `unread` keeps each scenario's answer across stages.
-void warn_unread_in_stage(const CurriculumStage& st, const SandboxLimits& limits,
-                          std::map<std::string, std::vector<std::string>>& unread) {
-  if (!unread.count(st.scenario)) {
-    std::vector<std::string>& names = unread[st.scenario];
-    try {
-      Scenario scenario = Scenario::load(st.scenario, limits);
-      QuietPrints prints(scenario.sandbox(), "roger check built the scenario's worlds");
-      prints.quiet();
-      for (int seed = 0; seed < kUnreadSeeds; ++seed) scenario.generate(uint64_t(seed));
-      check_scenario(scenario, 0);
-      names = scenario.unread_params();
-    } catch (const std::exception&) {
-      return;  // a scenario that fails is the stage checks' to say
-    }
-  }
-  const std::vector<std::string>& names = unread[st.scenario];
-  std::vector<std::string> said;  // each as 'name' (where the stage names it)
-  auto say = [&](const std::string& name, const std::string& where) {
-    if (std::binary_search(names.begin(), names.end(), name)) said.push_back("'" + name + "' (" + where + ")");
-  };
-  for (const TaskDim& d : st.tasks.dims()) say(d.name, "tasks." + d.name);
-  for (const auto& [k, v] : st.params) say(k, "params." + k);
-  for (const auto& ctx : st.contexts)
-    for (const auto& [k, v] : ctx.params) say(k, "context " + ctx.name + "'s params." + k);
-  if (said.empty()) return;
-  std::string listed;
-  for (size_t i = 0; i < said.size(); ++i) listed += (i == 0 ? "" : i + 1 == said.size() ? " and " : ", ") + said[i];
-  std::fprintf(stderr,
-               "roger: warning: %s: scenario '%s' never reads the parameter%s %s, in any world roger check builds of "
-               "it (world seeds 0 to %d, and each choice and range end): setting %s changes no world\n",
-               st.where().c_str(), st.scenario.c_str(), said.size() == 1 ? "" : "s", listed.c_str(), kUnreadSeeds - 1,
-               said.size() == 1 ? "it" : "them");
-}
-
 // A curriculum: its stages' callbacks called once each (check_curriculum), then its stages listed.
 int check_curriculum_file(const std::string& path, const std::string& shown, const SandboxLimits& limits,
                           const ParamList& sets) {
@@ -373,7 +417,7 @@ int check_curriculum_file(const std::string& path, const std::string& shown, con
   if (!problems.empty()) return 1;
   const Curriculum cur = Curriculum::load(path, limits);
   std::string stages;
-  std::map<std::string, std::vector<std::string>> unread;  // by scenario
+  UnreadCache unread;
   for (const auto& st : cur.stages()) {
     // What loads and trains, but not as its writer meant: a teacher that cannot move within the
     // budget, a scenario path found only from this folder, exploration that rises.
