@@ -844,6 +844,7 @@ TEST_CASE("generate's params reads, writes and walks as a table of the values in
     for k, v in pairs(p) do keys[#keys + 1] = k .. "=" .. tostring(v) end
     assert(table.concat(keys, " ") == "a=x b=2 c=true", table.concat(keys, " "))
     assert(rawget(p, "b") == 2 and rawget(p, "nope") == nil and #p == 0 and rawlen(p) == 0)
+    assert(rawget(p, "b", "extra", 4) == 2 and select("#", rawget(p, "b", 1)) == 1)
     assert(type(p) == "table" and next(p) ~= nil)
     p.b = p.b + 1
     p.extra = 5
@@ -860,7 +861,7 @@ TEST_CASE("generate's params reads, writes and walks as a table of the values in
     s.generate(0);
     FAIL("generate read an undeclared parameter without an error");
   } catch (const ScriptError& e) {
-    CHECK(e.line == 16);
+    CHECK(e.line == 17);
     CHECK_THAT(e.what(), Contains("the scenario has no parameter 'bb' (did you mean 'b'?); its parameters: a, b, c"));
   }
 }

@@ -273,7 +273,7 @@ int view_aware_next(lua_State* L) {
 // with rawget(params, name) sees what params.name would read. The key counts as read.
 int view_aware_rawget(lua_State* L) {
   if (lua_gettop(L) < 2 || !push_data_of_view(L, 1)) return lua_tocfunction(L, lua_upvalueindex(1))(L);
-  lua_replace(L, 3);  // the data; what came after the key is dropped, as Lua's rawget drops it
+  lua_copy(L, lua_gettop(L), 3);  // the data at 3; what came after the key is dropped, as Lua's rawget drops it
   lua_settop(L, 3);
   lua_pushvalue(L, 2);
   if (lua_rawget(L, 1) != LUA_TNIL) return 1;
