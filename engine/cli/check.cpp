@@ -70,6 +70,13 @@ const std::vector<std::string>& unread_params_of(const std::string& scenario_nam
   return names;
 }
 
+// Items as a sentence lists them: "a", "a and b", "a, b and c".
+std::string listed_with_and(const std::vector<std::string>& items) {
+  std::string out;
+  for (size_t i = 0; i < items.size(); ++i) out += (i == 0 ? "" : i + 1 == items.size() ? " and " : ", ") + items[i];
+  return out;
+}
+
 // Parameters a curriculum or a batch script sets or draws, each with where it names it.
 using NamedParams = std::vector<std::pair<std::string, std::string>>;
 
@@ -83,8 +90,7 @@ void warn_unread(const std::string& who, const std::string& scenario_name, const
   for (const auto& [name, where] : named)
     if (std::binary_search(unread.begin(), unread.end(), name)) said.push_back("'" + name + "' (" + where + ")");
   if (said.empty()) return;
-  std::string listed;
-  for (size_t i = 0; i < said.size(); ++i) listed += (i == 0 ? "" : i + 1 == said.size() ? " and " : ", ") + said[i];
+  const std::string listed = listed_with_and(said);
   std::fprintf(stderr,
                "roger: warning: %s: scenario '%s' never reads the parameter%s %s, in any world roger check builds of "
                "it (world seeds 0 to %d, and each choice and range end): setting %s changes no world\n",
@@ -455,9 +461,9 @@ int check_skill_script_file(const std::string& path, const std::string& shown, c
 void warn_unread_params(Scenario& scenario, int seeds) {
   const std::vector<std::string> unread = scenario.unread_params();
   if (unread.empty()) return;
-  std::string names;
-  for (size_t i = 0; i < unread.size(); ++i)
-    names += (i == 0 ? "'" : i + 1 == unread.size() ? " and '" : ", '") + unread[i] + "'";
+  std::vector<std::string> quoted;
+  for (const std::string& name : unread) quoted.push_back("'" + name + "'");
+  const std::string names = listed_with_and(quoted);
   const char* it = unread.size() == 1 ? "it" : "them";
   std::fprintf(stderr,
                "roger: warning: generate never reads the parameter%s %s (world seeds 0 to %d, and each choice and "

@@ -344,10 +344,6 @@ void new_class(lua_State* L, const char* type, const luaL_Reg* methods, lua_CFun
   lua_pop(L, 1);
 }
 
-// The __index of generate's parameters table: a name the scenario does not declare is an error at
-// the reader's line, with the nearest. Before, `p.goal_raduis` read nil, and world:goal{radius =
-// nil} quietly took its default, so `--set goal_radius=...` changed nothing. Only names are
-// parameters: another key (ipairs reading p[1]) reads nil, as in any table.
 // generate's params is a view (lua_view_data_key): an empty table whose metatable reads and writes
 // its data, so that every name read is noted (roger check warns of a declared parameter generate
 // never reads, which no --set or teacher could change). To a script it is the table of the values
@@ -357,7 +353,10 @@ void push_params_data(lua_State* L, int view) {
   lua_rawget(L, view);
 }
 
-// __index: the value, noted as read; reading an undeclared parameter is an error.
+// __index: the value, noted as read. A name the scenario does not declare is an error at the
+// reader's line, with the nearest. Before, `p.goal_raduis` read nil, and world:goal{radius = nil}
+// quietly took its default, so `--set goal_radius=...` changed nothing. Only names are
+// parameters: another key (ipairs reading p[1]) reads nil, as in any table.
 int l_param_read(lua_State* L) {
   push_params_data(L, 1);
   const int data = lua_gettop(L);
