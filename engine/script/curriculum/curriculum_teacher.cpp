@@ -34,20 +34,15 @@ void push_param_value(lua_State* L, const std::string& text) {
 
 // The history a teacher function reads is a view of the trial's record, read-only: a write
 // (`history[1].success = 7`, `table.remove(history)`) would change what every later call sees.
-// A view is the sandbox's (lua_view_data_key): an empty table holding its data under a key no
+// A view is the sandbox's (lua_new_view): an empty table holding its data under a key no
 // script can write, whose metatable reads through: a missing field of an entry or a task is an
 // error naming the fields (a nil from `h.sucess` or `h.task.obstacls` would quietly change what
 // the teacher picks), a list index past the end is nil, `#`, pairs and next see the data.
 char kNote;  // a lightuserdata key: what a task view adds to its unknown-field message
 
-void push_view_data(lua_State* L, int view) {
-  lua_pushlightuserdata(L, lua_view_data_key());
-  lua_rawget(L, view);
-}
-
 // __index of an entry or a task view: the field, or an error naming the fields there are.
 int view_index(lua_State* L) {
-  push_view_data(L, 1);
+  lua_push_view_data(L, 1);
   lua_pushvalue(L, 2);
   if (lua_rawget(L, -2) != LUA_TNIL) return 1;
   lua_pop(L, 1);
@@ -69,7 +64,7 @@ int view_index(lua_State* L) {
 
 // __index of the list: an entry, or nil past the end (`history[#history]` of an empty history).
 int view_list_index(lua_State* L) {
-  push_view_data(L, 1);
+  lua_push_view_data(L, 1);
   lua_pushvalue(L, 2);
   lua_rawget(L, -2);
   return 1;
@@ -80,17 +75,11 @@ int view_newindex(lua_State* L) {
                             "teacher; keep notes of your own in a table of your own (an upvalue, say)");
 }
 
-int view_len(lua_State* L) {
-  push_view_data(L, 1);
-  lua_pushinteger(L, lua_Integer(lua_rawlen(L, -1)));
-  return 1;
-}
-
 // pairs of a view visits its data as the sandbox's pairs visits a table: in the same order in every
 // run (found by a probe: a teacher that read the fields of an entry with pairs took them in the
 // order of Lua's string hashes, seeded per run, and chose other tasks from one seed).
 int view_pairs(lua_State* L) {
-  push_view_data(L, 1);
+  lua_push_view_data(L, 1);
   return lua_pairs_in_order(L, -1);
 }
 
@@ -98,17 +87,14 @@ int view_pairs(lua_State* L) {
 // (made once per state). A task view has a `note`, which ends its unknown-field message.
 void make_view(lua_State* L, const char* type_name, lua_CFunction index, const std::string* note = nullptr) {
   const int data = lua_gettop(L);
-  lua_createtable(L, 0, 2);
-  lua_pushlightuserdata(L, lua_view_data_key());
-  lua_pushvalue(L, data);
-  lua_rawset(L, -3);
+  lua_new_view(L, data);
   if (note) {
     lua_pushlightuserdata(L, &kNote);
     lua_pushstring(L, note->c_str());
     lua_rawset(L, -3);
   }
   if (luaL_newmetatable(L, type_name)) {
-    const luaL_Reg methods[] = {{"__index", index}, {"__newindex", view_newindex}, {"__len", view_len},
+    const luaL_Reg methods[] = {{"__index", index}, {"__newindex", view_newindex}, {"__len", lua_view_len},
                                 {"__pairs", view_pairs}, {nullptr, nullptr}};
     luaL_setfuncs(L, methods, 0);
     lua_pushstring(L, "the teacher's history (read-only)");
@@ -253,9 +239,7 @@ class LuaTeacher final : public Teacher {
                                 std::string(luaL_typename(L, -1)), fn_.file, fn_.line, "");
         // A history entry's task given back as it is (`return history[#history].task`): its data
         // (found by a probe: its private key was refused as "the key a userdata").
-        push_view_data(L, lua_gettop(L));
-        if (lua_istable(L, -1)) lua_replace(L, -2);
-        else lua_pop(L, 1);
+        if (lua_push_view_data(L, lua_gettop(L))) lua_replace(L, -2);
         refuse_numeric_strings(L, lua_gettop(L));
         lua_read_params(L, -1, where_ + "'s result", given);
       });

@@ -10,7 +10,7 @@
 // The order: numbers by value, then strings byte by byte (not strcoll's, which depends on the
 // locale), then false and true, then the keys that have no order of their own (tables, functions,
 // userdata, threads) in Lua's order, which is the one part that can change between runs.
-// `next`, `rawget` and `rawlen` stay Lua's own, but for a view (lua_view_data_key), whose data they read.
+// `next`, `rawget` and `rawlen` stay Lua's own, but for a view (lua_new_view), whose data they read.
 #include <algorithm>
 #include <climits>
 #include <cmath>
@@ -242,22 +242,12 @@ int sorted_pairs(lua_State* L) {
 
 char view_data_key, view_reads_key;
 
-// The data of the view at `index` pushed, and true; or nothing pushed, and false, for any other
-// value.
-bool push_data_of_view(lua_State* L, int index) {
-  if (lua_type(L, index) != LUA_TTABLE) return false;
-  lua_pushlightuserdata(L, &view_data_key);
-  if (lua_rawget(L, index) == LUA_TTABLE) return true;
-  lua_pop(L, 1);
-  return false;
-}
-
 // next(t, k): Lua's own (upvalue 1), except on a view, where the keys are its data's (found by a
 // probe: next(history) gave the view's private key, so `next(history) == nil`, the usual test of
 // an empty table, was false for an empty history); a key it gives counts as read.
 int view_aware_next(lua_State* L) {
   const int args = lua_gettop(L);
-  if (args < 1 || !push_data_of_view(L, 1)) return lua_tocfunction(L, lua_upvalueindex(1))(L);
+  if (args < 1 || !lua_push_view_data(L, 1)) return lua_tocfunction(L, lua_upvalueindex(1))(L);
   const int data = lua_gettop(L);
   if (args >= 2) lua_pushvalue(L, 2); else lua_pushnil(L);
   if (!lua_next(L, data)) {
@@ -272,7 +262,7 @@ int view_aware_next(lua_State* L) {
 // on the view itself with rawset first): a library testing whether a scenario declares a parameter
 // with rawget(params, name) sees what params.name would read. The key counts as read.
 int view_aware_rawget(lua_State* L) {
-  if (lua_gettop(L) < 2 || !push_data_of_view(L, 1)) return lua_tocfunction(L, lua_upvalueindex(1))(L);
+  if (lua_gettop(L) < 2 || !lua_push_view_data(L, 1)) return lua_tocfunction(L, lua_upvalueindex(1))(L);
   lua_copy(L, lua_gettop(L), 3);  // the data at 3; what came after the key is dropped, as Lua's rawget drops it
   lua_settop(L, 3);
   lua_pushvalue(L, 2);
@@ -286,7 +276,7 @@ int view_aware_rawget(lua_State* L) {
 
 // rawlen(t): Lua's own (upvalue 1), except on a view: its data's length, as # gives it.
 int view_aware_rawlen(lua_State* L) {
-  if (lua_gettop(L) < 1 || !push_data_of_view(L, 1)) return lua_tocfunction(L, lua_upvalueindex(1))(L);
+  if (lua_gettop(L) < 1 || !lua_push_view_data(L, 1)) return lua_tocfunction(L, lua_upvalueindex(1))(L);
   lua_pushinteger(L, lua_Integer(lua_rawlen(L, -1)));
   return 1;
 }
@@ -309,7 +299,28 @@ void install_pairs(lua_State* L) {
 
 }  // namespace sandbox_detail
 
-void* lua_view_data_key() { return &sandbox_detail::view_data_key; }
+void lua_new_view(lua_State* L, int data) {
+  data = lua_absindex(L, data);
+  lua_createtable(L, 0, 2);
+  lua_pushlightuserdata(L, &sandbox_detail::view_data_key);
+  lua_pushvalue(L, data);
+  lua_rawset(L, -3);
+}
+
+bool lua_push_view_data(lua_State* L, int index) {
+  if (lua_type(L, index) != LUA_TTABLE) return false;
+  index = lua_absindex(L, index);
+  lua_pushlightuserdata(L, &sandbox_detail::view_data_key);
+  if (lua_rawget(L, index) == LUA_TTABLE) return true;
+  lua_pop(L, 1);
+  return false;
+}
+
+int lua_view_len(lua_State* L) {
+  if (!lua_push_view_data(L, 1)) return luaL_argerror(L, 1, "a view expected");
+  lua_pushinteger(L, lua_Integer(lua_rawlen(L, -1)));
+  return 1;
+}
 
 void* lua_view_reads_key() { return &sandbox_detail::view_reads_key; }
 

@@ -251,11 +251,17 @@ class LuaFields {
   std::string context_;
 };
 
-// A read-only view (a teacher's history): an empty table holding its data under this key, a light
-// userdata no script can write, with a metatable that reads through (__index, __len, __pairs).
-// The sandbox's next, rawget and rawlen read a view's data, so they see what pairs, an index and #
-// see, not the key.
-void* lua_view_data_key();
+// A view (a teacher's history, generate's params): an empty table holding its data under a key no
+// script can write (a light userdata), with a metatable of its maker's that reads through (__index,
+// __len, __pairs). The sandbox's next, rawget and rawlen read a view's data, so they see what
+// pairs, an index and # see, not the key.
+// Pushes a new view of the table at `data`, with no metatable yet.
+void lua_new_view(lua_State* L, int data);
+// Pushes the data of the view at `index` and returns true; for any other value pushes nothing and
+// returns false.
+bool lua_push_view_data(lua_State* L, int index);
+// A view's __len: its data's length, as # on the data gives it.
+int lua_view_len(lua_State* L);
 
 // A view may keep a table of the names read through it (a scenario's params: roger check's warning
 // about a parameter generate never reads), under this key: its __index notes each name it reads

@@ -370,10 +370,7 @@ void Scenario::Impl::push_params_view(lua_State* L) {
     lua_setfield(L, -2, key.c_str());
   }
   const int data = lua_gettop(L);
-  lua_createtable(L, 0, 2);
-  lua_pushlightuserdata(L, lua_view_data_key());
-  lua_pushvalue(L, data);
-  lua_rawset(L, -3);
+  lua_new_view(L, data);
   lua_pushlightuserdata(L, lua_view_reads_key());
   if (reads_ref == LUA_NOREF) {
     lua_newtable(L);

@@ -344,21 +344,16 @@ void new_class(lua_State* L, const char* type, const luaL_Reg* methods, lua_CFun
   lua_pop(L, 1);
 }
 
-// generate's params is a view (lua_view_data_key): an empty table whose metatable reads and writes
+// generate's params is a view (lua_new_view): an empty table whose metatable reads and writes
 // its data, so that every name read is noted (roger check warns of a declared parameter generate
 // never reads, which no --set or teacher could change). To a script it is the table of the values
 // in force: reading, writing, pairs, next, #, rawget and rawlen give what they would on that table.
-void push_params_data(lua_State* L, int view) {
-  lua_pushlightuserdata(L, lua_view_data_key());
-  lua_rawget(L, view);
-}
-
 // __index: the value, noted as read. A name the scenario does not declare is an error at the
 // reader's line, with the nearest. Before, `p.goal_raduis` read nil, and world:goal{radius = nil}
 // quietly took its default, so `--set goal_radius=...` changed nothing. Only names are
 // parameters: another key (ipairs reading p[1]) reads nil, as in any table.
 int l_param_read(lua_State* L) {
-  push_params_data(L, 1);
+  lua_push_view_data(L, 1);
   const int data = lua_gettop(L);
   lua_pushvalue(L, 2);
   if (lua_rawget(L, data) != LUA_TNIL) {
@@ -374,7 +369,7 @@ int l_param_read(lua_State* L) {
 
 // __newindex: a write goes to the data, where later reads find it.
 int l_param_write(lua_State* L) {
-  push_params_data(L, 1);
+  lua_push_view_data(L, 1);
   lua_insert(L, 2);
   lua_rawset(L, 2);
   return 0;
@@ -382,7 +377,7 @@ int l_param_write(lua_State* L) {
 
 // __pairs: the data in the sandbox's order; a loop over them all reads them all.
 int l_params_pairs(lua_State* L) {
-  push_params_data(L, 1);
+  lua_push_view_data(L, 1);
   const int data = lua_gettop(L);
   lua_pushnil(L);
   while (lua_next(L, data)) {
@@ -390,12 +385,6 @@ int l_params_pairs(lua_State* L) {
     lua_view_note_read(L, 1, -1);
   }
   return lua_pairs_in_order(L, data);
-}
-
-int l_params_len(lua_State* L) {
-  push_params_data(L, 1);
-  lua_pushinteger(L, lua_Integer(lua_rawlen(L, -1)));
-  return 1;
 }
 
 // The __index of roger.body_metrics's result: a misspelt number is an error at the reader's line.
@@ -432,7 +421,7 @@ int install_api(lua_State* L) {
   new_class(L, kShapeType, nullptr, destroy<ShapeBox>, l_shape_tostring);
   luaL_newmetatable(L, kParamsType);
   const luaL_Reg params_methods[] = {{"__index", l_param_read}, {"__newindex", l_param_write},
-                                     {"__pairs", l_params_pairs}, {"__len", l_params_len}, {nullptr, nullptr}};
+                                     {"__pairs", l_params_pairs}, {"__len", lua_view_len}, {nullptr, nullptr}};
   luaL_setfuncs(L, params_methods, 0);
   lua_pop(L, 1);
   luaL_newmetatable(L, kBodyMetricsType);
