@@ -15,6 +15,7 @@
 
 #include "core/fileio.h"
 #include "core/text.h"
+#include "script/control/lua_control.h"  // makes_predicate
 #include "script/sandbox/lua_sandbox.h"  // edit_distance
 #include "script/sandbox/lua_tokens.h"
 
@@ -446,7 +447,7 @@ class Scanner {
     const bool write = statement_level() && op(k + 1, "=");
     if (!alias) note(write && path == "roger" ? Access::kWrite : Access::kRead, "roger", line);
     if (path != "roger") note(write ? Access::kMemberWrite : Access::kMember, path, line);
-    if (!write && predicate_maker(path)) predicate_call(i_, k);
+    if (!write && makes_predicate(path)) predicate_call(i_, k);
     i_ = k;
   }
 
@@ -455,12 +456,6 @@ class Scanner {
   // `roger.converged(a) and roger.converged(b)` is the second alone (found by a probe: a stage's
   // absorbing waited for one of its two conditions, and roger check said ok). Lua cannot overload
   // them, so only a call written in place is seen; one held in a variable is not followed.
-
-  static bool predicate_maker(const std::string& path) {
-    return among({"roger.converged", "roger.gamma", "roger.all", "roger.any", "roger.negate", "roger.not",
-                  "roger.held", "roger.sorted"},
-                 path);
-  }
 
   // The call of a predicate maker whose name runs from token `first` to `last`: reported when it is
   // the whole left operand of and / or, or the operand of not.
@@ -714,9 +709,9 @@ void append_in_line_order(std::vector<StaticProblem> found, const std::vector<St
 }
 
 // What the files define and what the kind's sandbox has; judges each access.
-class Judge {
+class AccessJudge {
  public:
-  Judge(std::optional<ScriptKind> kind, const std::vector<ScannedFile>& files) : kind_(kind), api_(script_api_names(kind)) {
+  AccessJudge(std::optional<ScriptKind> kind, const std::vector<ScannedFile>& files) : kind_(kind), api_(script_api_names(kind)) {
     for (const auto& f : files)
       for (const auto& a : f.accesses) {
         if (a.kind == Access::kWrite) written_.insert(a.name);
@@ -888,7 +883,7 @@ std::vector<StaticProblem> static_check_text(const std::string& text, const std:
   if (auto syntax = syntax_problem(text, shown)) return {*syntax};
   const std::vector<ScannedFile> files{{shown, Scanner(text).accesses, duplicate_keys(text, shown)}};
   std::vector<StaticProblem> judged, out;
-  Judge(kind, files).judge(files[0], judged);
+  AccessJudge(kind, files).judge(files[0], judged);
   append_in_line_order(judged, files[0].duplicate_keys, out);
   return out;
 }
@@ -954,7 +949,7 @@ std::vector<StaticProblem> static_check(const std::string& path, std::optional<S
       if (!module.empty() && seen.insert(module).second) queue.push_back(module);
     }
   }
-  const Judge judge(kind, files);
+  const AccessJudge judge(kind, files);
   std::vector<StaticProblem> out = syntax_errors;
   for (const auto& f : files) {
     std::vector<StaticProblem> judged;

@@ -467,6 +467,12 @@ ApiFunction lua_control_function(lua_State* L, int index) {
   return {};
 }
 
+bool makes_predicate(const std::string& path) {
+  for (const auto& e : lua_control_detail::kFunctions)
+    if (e.predicate_call && path == std::string("roger.") + e.name) return true;
+  return false;
+}
+
 PredicatePtr lua_check_predicate(lua_State* L, int index, const std::string& context, const std::string& what) {
   if (PredicatePtr* p = test_predicate(L, index)) return *p;
   const ApiFunction maker = lua_control_function(L, index);

@@ -99,6 +99,10 @@ struct ApiFunction {
 // The control API function the value at `index` is, or empty names.
 ApiFunction lua_control_function(lua_State* L, int index);
 
+// Whether `path` ("roger.converged") names a control API function that makes a predicate: for
+// roger check's static pass, which reports a call of one taken for a truth value by and, or, not.
+bool makes_predicate(const std::string& path);
+
 // A Lua value as messages show it: "number 3", "string 'x'", "nil", "a table",
 // "controller 'phi1'", "predicate converged(phi3)".
 std::string lua_describe_value(lua_State* L, int index);
