@@ -1283,6 +1283,30 @@ TEST_CASE("the static pass follows literal requires and reports at the module's 
   CHECK_THAT(problems[0].message, Contains("did you mean roger.sequence?"));
 }
 
+// Found by a probe: a script saved by an editor that writes a UTF-8 byte-order mark (Notepad), or
+// one starting with a shebang line, ran, but roger check refused it ("unexpected symbol near
+// '<\239>'"), as Lua's file loader skips both and a compiler given the text does not. Both are read
+// as Lua reads a file, in the sandbox and in the static pass, with every line where it was.
+TEST_CASE("a file with a byte-order mark or a shebang line is read as Lua reads a file with every line in place",
+          "[lua_sandbox][static]") {
+  TempDir dir;
+  const std::string bom = "\xEF\xBB\xBF";
+  std::ofstream(dir.path / "helper.lua") << bom << "#!/usr/bin/env lua\nlocal M = {}\nfunction M.make() return roger.sequnce('s', {'phi0'}) end\nreturn M\n";
+  std::ofstream(dir.path / "main.lua") << bom << "local h = require(\"helper\")\nreturn { policies = { p = { action = h.make(), "
+                                          "goal = roger.converged('phi0'), time_limit = 1 } } }\n";
+  const auto problems = static_check((dir.path / "main.lua").string(), ScriptKind::kSkillScript);
+  REQUIRE(problems.size() == 1);  // not a syntax error in either file
+  CHECK(fs::path(problems[0].file).filename() == "helper.lua");
+  CHECK(problems[0].line == 3);
+  CHECK_THAT(problems[0].message, Contains("did you mean roger.sequence?"));
+
+  std::ofstream(dir.path / "run.lua") << bom << "#!/usr/bin/env lua\nlocal t = {}\nreturn t.missing.field\n";
+  LuaSandbox sandbox;
+  const ScriptError e = file_error(sandbox, (dir.path / "run.lua").string());
+  CHECK(e.line == 3);
+  CHECK_THAT(e.message, Contains("attempt to index a nil value"));
+}
+
 // Found by a probe: the static pass followed requires the sandbox refuses, a name climbing out
 // ("..tmp.x" read //tmp/x.lua) or a module linked out of the script folders, and quoted the file it
 // read ("/etc/os-release:5: undefined global 'bookworm'"). It reads what require would load, only.

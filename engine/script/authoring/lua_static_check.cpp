@@ -858,7 +858,8 @@ std::optional<StaticProblem> syntax_problem(const std::string& text, const std::
   lua_State* L = luaL_newstate();
   if (!L) return std::nullopt;
   std::optional<StaticProblem> out;
-  if (luaL_loadbufferx(L, text.data(), text.size(), ("=" + shown).c_str(), "t") != LUA_OK) {
+  const std::string source = lua_file_text(text);  // a byte-order mark, a shebang: as Lua's loader
+  if (luaL_loadbufferx(L, source.data(), source.size(), ("=" + shown).c_str(), "t") != LUA_OK) {
     const std::string message = lua_isstring(L, -1) ? lua_tostring(L, -1) : "does not compile";
     StaticProblem p{shown, 0, message};
     const std::string head = shown + ":";

@@ -331,4 +331,9 @@ std::string resolve_script_path(const std::string& arg, const std::string& folde
 // without running it.
 bool script_has_key(const std::string& path, const std::string& key);
 
+// A Lua file's text as Lua's file loader (luaL_loadfilex: `lua script.lua`, dofile, require)
+// compiles it: without a UTF-8 byte-order mark, which editors on Windows write, and with a first
+// line starting with '#' (a shebang) emptied, its line break kept so that line numbers hold.
+std::string lua_file_text(std::string text);
+
 }  // namespace roger

@@ -73,16 +73,14 @@ std::string module_display(const LuaSandbox::Impl& s, const fs::path& root, cons
 
 }  // namespace
 
-// Compiles source text as a "@shown" chunk and pushes it, or returns the error as a ScriptError.
-// Like luaL_loadfilex: skips a UTF-8 byte-order mark and a first line starting with '#' (keeping
-// the line count); refuses bytecode.
+// Compiles a file's text as a "@shown" chunk and pushes it, or returns the error as a ScriptError.
+// Like luaL_loadfilex: skips what lua_file_text skips; refuses bytecode.
 std::optional<ScriptError> compile(lua_State* L, LuaSandbox::Impl& s, std::string text,
                                    const std::string& shown) {
-  if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);
+  text = lua_file_text(std::move(text));
   if (text.rfind(LUA_SIGNATURE, 0) == 0)
     return ScriptError("attempt to load a binary chunk: roger loads Lua source text only "
                        "(precompiled bytecode is refused)", shown, 0, "");
-  if (!text.empty() && text[0] == '#') text.erase(0, std::min(text.find('\n'), text.size()));
   if (std::find(s.chunk_names.begin(), s.chunk_names.end(), shown) == s.chunk_names.end())
     s.chunk_names.push_back(shown);
   const std::string chunkname = "@" + shown;
@@ -335,6 +333,12 @@ fs::path find_module_file(const std::vector<fs::path>& roots, const std::string&
   const sandbox_detail::ModuleSearch search = sandbox_detail::search_module(roots, name);
   const bool kept = search.root < roots.size() && !search.real.empty() && sandbox_detail::inside(roots[search.root], search.real);
   return kept ? search.real : fs::path();  // require refuses one outside its root
+}
+
+std::string lua_file_text(std::string text) {
+  if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);
+  if (!text.empty() && text[0] == '#') text.erase(0, std::min(text.find('\n'), text.size()));
+  return text;
 }
 
 }  // namespace roger

@@ -122,8 +122,10 @@ struct Lexer {
 
 std::vector<LuaToken> lua_tokenize(const std::string& s) {
   Lexer lexer(s);
-  // A first line starting with '#' (a shebang) is skipped, as Lua's loader does.
-  if (s.rfind("#", 0) == 0) lexer.i = s.find('\n') == std::string::npos ? s.size() : s.find('\n');
+  // A UTF-8 byte-order mark and a first line starting with '#' (a shebang) are skipped, as Lua's
+  // file loader does (lua_file_text).
+  if (s.rfind("\xEF\xBB\xBF", 0) == 0) lexer.i = 3;
+  if (s.compare(lexer.i, 1, "#") == 0) lexer.i = std::min(s.find('\n', lexer.i), s.size());
   while (lexer.i < s.size()) lexer.token();
   lexer.out.push_back({LuaToken::kEnd, "", lexer.line});
   return std::move(lexer.out);
