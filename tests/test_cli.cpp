@@ -285,6 +285,47 @@ TEST_CASE("roger check warns of a declared parameter generate never reads, and o
   for (const fs::path& f : {unread, read, drawn, clean, batch, run_batch}) fs::remove(f);
 }
 
+// Found by a probe: roger check warned of a parameter generate never reads, but `--set clutter=3`
+// of roger train and eval said nothing, and the trial ran in the worlds it would have run in anyway.
+TEST_CASE("roger train and eval say which --set generate never read in their worlds", "[cli]") {
+  const std::string head = "local base = require('unobstructed')\nlocal params = {}\n"
+                           "for k, v in pairs(base.params) do params[k] = v end\n"
+                           "params.clutter = { default = 2, min = 0, max = 5 }\n";
+  const fs::path unread = temp_file("roger_cli_unread_set.lua", head + "return { params = params, generate = function(world, rng, p)\n"
+                                                                       "  base.generate(world, rng, p)\nend }\n");
+  const fs::path curriculum = temp_file("roger_cli_unread_set_c.lua",
+                                        "local p = require('lib.skills').primitives()\n"
+                                        "return { name = 'c', stages = { roger.stage{ name = 'S', scenario = '" + unread.string() + "',\n"
+                                        "  time_limit = 2, absorbing = roger.converged(p.phi0), budget = { episodes = 10 },\n"
+                                        "  checkpoints = { every = 5, episodes = 2, final = 2 },\n"
+                                        "  contexts = { { name = 'A', actions = { p.search, p.phi0 } } } } } }\n");
+  const std::string note = "  note           --set clutter changed no world here: the scenario's generate never read it "
+                           "(roger check " + unread.string() + " lists each parameter it never reads)";
+  const fs::path out = fs::temp_directory_path() / "roger_cli_unread_set_out";
+  fs::remove_all(out);
+  const Run train = roger("train " + curriculum.string() + " --stage S --context A --seed 1 --set clutter=3 --set mass=0.4 --out " +
+                          out.string());
+  INFO(train.out << train.err);
+  REQUIRE(train.status == 0);
+  CHECK_THAT(train.out, Catch::Matchers::Contains(note));  // mass is read, and not named
+  const Run saved = roger("eval " + curriculum.string() + " --policy " + (out / "policy.json").string() +
+                          " --episodes 1 --set clutter=1");
+  INFO(saved.out << saved.err);
+  CHECK(saved.status == 0);
+  CHECK_THAT(saved.out, Catch::Matchers::Contains(note));
+  const Run script = roger("eval curricula/scripted.lua --policy task --scenario " + unread.string() +
+                           " --episodes 1 --set clutter=1 --set goal_radius=0.3");
+  INFO(script.out << script.err);
+  CHECK(script.status == 0);
+  CHECK_THAT(script.out, Catch::Matchers::Contains(note));
+  const Run read = roger("eval curricula/scripted.lua --policy task --scenario " + unread.string() +
+                         " --episodes 1 --set goal_radius=0.3");
+  CHECK(read.status == 0);
+  CHECK(read.out.find("changed no world") == std::string::npos);
+  fs::remove_all(out);
+  for (const fs::path& f : {unread, curriculum}) fs::remove(f);
+}
+
 // Found by a probe: `roger check curricula/*.lua` was refused (one script only).
 TEST_CASE("roger check checks several scripts, a problem in one not stopping the others", "[cli]") {
   const Run good = roger("check scenarios/unobstructed.lua curricula/scripted.lua --seeds 2");

@@ -172,6 +172,7 @@ struct SkillSource {
 // Everything a trial produced.
 struct TrainResult {
   std::string curriculum_path, curriculum_name, stage, context, scenario;
+  std::string scenario_file;      // the scenario script's path, as resolved (scenario is its name)
   std::string curriculum_digest;  // of the curriculum file's text (curriculum_digest in trainer.cpp)
   std::string teacher_warning;    // CurriculumStage::teacher_window_warning: why it could not move
   std::string scenario_note;      // CurriculumStage::scenario_note: a same-named scenario beside, not taken
@@ -225,6 +226,9 @@ struct TrainResult {
   // Every Lua file the trial compiled, in load order: the curriculum's and scenario's, and modules
   // a callback required while episodes ran (a batch records their fingerprints in result.json).
   std::vector<std::filesystem::path> source_files;
+  // The names of options.sets that the scenario's generate read in none of the trial's worlds:
+  // setting them changed no world (roger train says so). Not written to any result file.
+  std::vector<std::string> unread_sets;
 };
 
 // Trains one stage/context for one seed. Learned skills the context uses come from
@@ -337,6 +341,7 @@ struct PolicyEvalResult {
   GreedyEval eval;
   std::vector<std::pair<std::string, std::string>> params;
   std::vector<std::filesystem::path> source_files;  // as TrainResult's
+  std::vector<std::string> unread_sets;  // as TrainResult's: the --set names no world read
 };
 
 // Rebuilds a saved policy's Psi from the curriculum (and its embedded learned skills) and runs it

@@ -36,6 +36,14 @@ SandboxLimits sandbox_limits(const LuaLimitArgs& lua);
 // Applies `--set key=value` options to a scenario.
 void apply_sets(Scenario& scenario, const std::vector<std::string>& sets);
 
+// The names of `sets` (--set key=value) that the scenario's generate read in none of the worlds it
+// has built (Scenario::unread_params), in order.
+std::vector<std::string> unread_sets(Scenario& scenario, const std::vector<std::string>& sets);
+
+// Says, in a note line, that the --set of `unread` changed no world: generate never read them in
+// `scenario` (a path or name). Nothing when `unread` is empty.
+void print_unread_sets(const std::vector<std::string>& unread, const std::string& scenario);
+
 // Splits key=value options into pairs, each key once (a key repeated with another value is an
 // error; with the same value, kept once); `option` names the option in the errors.
 std::vector<std::pair<std::string, std::string>> split_sets(const std::vector<std::string>& sets, const char* option);

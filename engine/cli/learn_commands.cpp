@@ -255,6 +255,7 @@ void print_policy_eval(const EvalArgs& a, const PolicyEvalResult& r, const std::
   if (r.eval.successes == 0 && !stimulus_unseen.empty()) std::printf("  note           %s\n", stimulus_unseen.c_str());
   if (const std::string judge = lua_judge_never_note(a, r); !judge.empty())
     std::printf("  note           %s\n", judge.c_str());
+  print_unread_sets(r.unread_sets, r.scenario_file);
 }
 
 // eval --policy FILE.json --json: the figures, the trial's parameters and with --test-set its tasks.
@@ -385,6 +386,7 @@ int evaluate_command(const EvalArgs& a) {
   std::printf("  reward         %.1f +- %.1f\n", r.reward_mean, r.reward_std);
   std::printf("  episode time   %.2f s (mean, simulated)\n", r.time_mean);
   print_never_referenced(r);
+  print_unread_sets(unread_sets(scenario, a.sets), scenario.path());
   if (a.json) {
     nlohmann::json j = {{"script", script.path()},      {"policy", policy.name},
                         {"scenario", scenario.name()},  {"scenario_file", scenario.path()},
@@ -622,6 +624,7 @@ int command_train(const TrainArgs& a) {
   write_train_outputs(r, a.out);
   print_outcome(r);
   if (r.teaches) print_teacher(r);
+  print_unread_sets(r.unread_sets, r.scenario_file);
   if (!r.reached || r.explain) {
     std::vector<std::string> causes = diagnose_training(r).causes();
     if (!r.reached) {  // the eyes' colour first: what it leaves undone the other causes only describe
