@@ -287,7 +287,7 @@ TEST_CASE("roger check warns of a declared parameter generate never reads, and o
 
 // Found by a probe: roger check warned of a parameter generate never reads, but `--set clutter=3`
 // of roger train and eval said nothing, and the trial ran in the worlds it would have run in anyway.
-TEST_CASE("roger train and eval say which --set generate never read in their worlds", "[cli]") {
+TEST_CASE("roger train and eval and run say which --set generate never read in their worlds", "[cli]") {
   const std::string head = "local base = require('unobstructed')\nlocal params = {}\n"
                            "for k, v in pairs(base.params) do params[k] = v end\n"
                            "params.clutter = { default = 2, min = 0, max = 5 }\n";
@@ -322,8 +322,22 @@ TEST_CASE("roger train and eval say which --set generate never read in their wor
                          " --episodes 1 --set goal_radius=0.3");
   CHECK(read.status == 0);
   CHECK(read.out.find("changed no world") == std::string::npos);
+  // roger run says it before anything trains, of the runs whose scenario never reads it.
+  const fs::path batch = temp_file("roger_cli_unread_set_b.lua",
+                                   "return { name = 'sweep', curriculum = '" + curriculum.string() + "', trials = 1,\n"
+                                   "  runs = { { name = 'R0', stage = 'S', contexts = { 'A' } },\n"
+                                   "           { name = 'R1', stage = 'S', contexts = { 'A' } } } }\n");
   fs::remove_all(out);
-  for (const fs::path& f : {unread, curriculum}) fs::remove(f);
+  const Run run = roger("run " + batch.string() + " --set clutter=3 --set mass=0.4 --jobs 2 --no-report --out " + out.string());
+  INFO(run.err);
+  CHECK(run.status == 0);
+  CHECK_THAT(run.err, Catch::Matchers::Contains("roger run: warning: --set clutter changes no world of runs R0 and R1: "
+                                                "scenario '" + unread.string() + "' never reads it, in any world roger "
+                                                "check builds of it (world seeds 0 to 4, and each choice and range end)\n"
+                                                "roger run: " + batch.string()));  // before the run starts
+  CHECK(run.err.find("--set mass") == std::string::npos);
+  fs::remove_all(out);
+  for (const fs::path& f : {unread, curriculum, batch}) fs::remove(f);
 }
 
 // Found by a probe: `roger check curricula/*.lua` was refused (one script only).

@@ -135,6 +135,38 @@ void warn_unread_in_batch(const BatchScript& b) {
   }
 }
 
+}  // namespace
+
+std::vector<std::string> unread_sets_in_batch(const BatchScript& b, const Params& sets) {
+  if (sets.empty()) return {};
+  const Curriculum cur = Curriculum::load(b.curriculum_file, b.limits);
+  UnreadCache cache;
+  std::map<std::pair<std::string, std::string>, std::vector<std::string>> runs_of;  // (set, scenario) -> runs
+  std::vector<std::pair<std::string, std::string>> order;
+  for (const BatchRun& r : b.runs)
+    for (const CurriculumStage& st : cur.stages()) {
+      if (st.name != r.stage) continue;
+      const std::vector<std::string>& unread = unread_params_of(st.scenario, b.limits, cache);
+      for (const auto& set : sets) {
+        if (!std::binary_search(unread.begin(), unread.end(), set.first)) continue;
+        auto& runs = runs_of[{set.first, st.scenario}];
+        if (runs.empty()) order.push_back({set.first, st.scenario});
+        runs.push_back(r.name);
+      }
+    }
+  std::vector<std::string> out;
+  for (const auto& key : order) {
+    const std::vector<std::string>& runs = runs_of[key];
+    out.push_back("--set " + key.first + " changes no world of run" + (runs.size() == 1 ? " " : "s ") +
+                  listed_with_and(runs) + ": scenario '" + key.second + "' never reads it, in any world roger check "
+                  "builds of it (world seeds 0 to " + std::to_string(kUnreadSeeds - 1) +
+                  ", and each choice and range end)");
+  }
+  return out;
+}
+
+namespace {
+
 // Each run's stage of the curriculum checked as its trials train it: with the run's parameters
 // and the command's --set (check_curriculum: the ends of its task space, its test tasks), runs of
 // the same parameters together. Prints each problem; returns their number.

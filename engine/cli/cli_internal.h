@@ -14,6 +14,14 @@
 
 namespace roger {
 
+struct BatchScript;
+
+// For roger run: of `sets` (its --set, added to every run's parameters), those a run's scenario
+// never reads in any world roger check builds of it, a message each ("--set clutter changes no
+// world of runs R1 and R2: ..."), so a sweep over an unwired parameter is seen before it trains.
+std::vector<std::string> unread_sets_in_batch(const BatchScript& b,
+                                              const std::vector<std::pair<std::string, std::string>>& sets);
+
 // One line for a file the machine could not write or read (core/error.h): the message, what went
 // wrong in plain words (a full disk, no permission, a script removed) and what to do. `resumes`:
 // the command resumes where it stopped when run again (roger run, roger report).
