@@ -135,6 +135,9 @@ TEST_CASE("roger check calls the Lua callbacks as at an episode's first decision
       {"bad_curriculum_predicate_raises.lua", "bad_curriculum_predicate_raises.lua:5: stage 'S', context 'A'"},
       {"bad_curriculum_state_name.lua", "bad_curriculum_state_name.lua:5: stage 'S', context 'A': absorbing function: "
                                         "state has no action 'Phi3' (did you mean 'phi3'?); its actions: phi3"},
+      // Found by a probe: the state's metatable's __index called by hand on a number crashed roger.
+      {"bad_curriculum_state_metatable.lua", "bad_curriculum_state_metatable.lua:5: stage 'S', context 'A': absorbing "
+                                             "function: bad argument #1 to '__index' (table expected, got number)"},
       // Found by probes: a misspelt field of a world entry read nil, and check said ok. The error
       // is at the helper's line that reads it, not at the line that called the helper.
       {"bad_curriculum_world_entry.lua",

@@ -866,6 +866,24 @@ TEST_CASE("generate's params reads, writes and walks as a table of the values in
   }
 }
 
+// Found by a probe: getmetatable(p).__index({}, "x") crashed roger (the metamethod took a table
+// without the view's data for one), and so did the body metrics' __index called on a number.
+// generate's params hide their metatable, as a teacher's history does; the metrics' refuses a
+// number; and neither is followed on a value it was not made for.
+TEST_CASE("a metamethod a script reaches and calls by hand is refused on another value", "[scenario]") {
+  Scenario s = test::scenario_from("metamethods", R"(return { params = { b = 2 },
+  generate = function(world, rng, p)
+    assert(getmetatable(p) == "generate's params", tostring(getmetatable(p)))
+    assert(not pcall(setmetatable, p, nil) and p.b == 2)
+    local m = roger.body_metrics({})
+    local ok, err = pcall(getmetatable(m).__index, 5, "x")
+    assert(not ok and err:find("table expected, got number"), tostring(err))
+    world:robot{ x = 0, y = 0 }
+  end }
+)");
+  CHECK_NOTHROW(s.generate(0));
+}
+
 // Found by a probe: a scenario declared `clutter` and placed its obstacles from `obstacles`, and a
 // sweep over clutter trained on the same worlds at every level. A name counts as read by an index,
 // rawget (lib/place.lua tests declarations so), a pairs loop or next; one read only under another

@@ -429,6 +429,7 @@ namespace {
 // the callback's line naming the actions, where a nil would make `state.Phi3 == "CONV"` false for
 // good and the stage fail to learn without a word.
 int state_unknown_action(lua_State* L) {
+  luaL_checktype(L, 1, LUA_TTABLE);  // getmetatable(state).__index(5, "x") reached lua_next on a number
   std::vector<std::string> names;
   lua_pushnil(L);
   while (lua_next(L, 1)) {

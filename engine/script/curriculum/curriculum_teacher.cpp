@@ -42,7 +42,7 @@ char kNote;  // a lightuserdata key: what a task view adds to its unknown-field 
 
 // __index of an entry or a task view: the field, or an error naming the fields there are.
 int view_index(lua_State* L) {
-  lua_push_view_data(L, 1);
+  lua_check_view_data(L, "the teacher's history");
   lua_pushvalue(L, 2);
   if (lua_rawget(L, -2) != LUA_TNIL) return 1;
   lua_pop(L, 1);
@@ -64,7 +64,7 @@ int view_index(lua_State* L) {
 
 // __index of the list: an entry, or nil past the end (`history[#history]` of an empty history).
 int view_list_index(lua_State* L) {
-  lua_push_view_data(L, 1);
+  lua_check_view_data(L, "the teacher's history");
   lua_pushvalue(L, 2);
   lua_rawget(L, -2);
   return 1;
@@ -79,7 +79,7 @@ int view_newindex(lua_State* L) {
 // run (found by a probe: a teacher that read the fields of an entry with pairs took them in the
 // order of Lua's string hashes, seeded per run, and chose other tasks from one seed).
 int view_pairs(lua_State* L) {
-  lua_push_view_data(L, 1);
+  lua_check_view_data(L, "the teacher's history");
   return lua_pairs_in_order(L, -1);
 }
 

@@ -316,8 +316,12 @@ bool lua_push_view_data(lua_State* L, int index) {
   return false;
 }
 
+void lua_check_view_data(lua_State* L, const char* what) {
+  if (!lua_push_view_data(L, 1)) luaL_argerror(L, 1, lua_pushfstring(L, "%s expected", what));  // a Lua string: the error jumps
+}
+
 int lua_view_len(lua_State* L) {
-  if (!lua_push_view_data(L, 1)) return luaL_argerror(L, 1, "a view expected");
+  lua_check_view_data(L, "a view");
   lua_pushinteger(L, lua_Integer(lua_rawlen(L, -1)));
   return 1;
 }

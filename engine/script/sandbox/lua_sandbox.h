@@ -260,6 +260,9 @@ void lua_new_view(lua_State* L, int data);
 // Pushes the data of the view at `index` and returns true; for any other value pushes nothing and
 // returns false.
 bool lua_push_view_data(lua_State* L, int index);
+// For a view's metamethods: pushes the data of the view that is argument 1, or raises "bad
+// argument #1 (<what> expected)" for any other value (a metamethod a script calls itself).
+void lua_check_view_data(lua_State* L, const char* what);
 // A view's __len: its data's length, as # on the data gives it.
 int lua_view_len(lua_State* L);
 

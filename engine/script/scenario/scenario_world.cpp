@@ -353,7 +353,7 @@ void new_class(lua_State* L, const char* type, const luaL_Reg* methods, lua_CFun
 // quietly took its default, so `--set goal_radius=...` changed nothing. Only names are
 // parameters: another key (ipairs reading p[1]) reads nil, as in any table.
 int l_param_read(lua_State* L) {
-  lua_push_view_data(L, 1);
+  lua_check_view_data(L, "generate's params");
   const int data = lua_gettop(L);
   lua_pushvalue(L, 2);
   if (lua_rawget(L, data) != LUA_TNIL) {
@@ -369,7 +369,7 @@ int l_param_read(lua_State* L) {
 
 // __newindex: a write goes to the data, where later reads find it.
 int l_param_write(lua_State* L) {
-  lua_push_view_data(L, 1);
+  lua_check_view_data(L, "generate's params");
   lua_insert(L, 2);
   lua_rawset(L, 2);
   return 0;
@@ -377,7 +377,7 @@ int l_param_write(lua_State* L) {
 
 // __pairs: the data in the sandbox's order; a loop over them all reads them all.
 int l_params_pairs(lua_State* L) {
-  lua_push_view_data(L, 1);
+  lua_check_view_data(L, "generate's params");
   const int data = lua_gettop(L);
   lua_pushnil(L);
   while (lua_next(L, data)) {
@@ -391,6 +391,7 @@ int l_params_pairs(lua_State* L) {
 // Found by a probe: `m.footprnt_radius` read nil, world:sample_position took radius 0, and the
 // mistake surfaced seeds later as a base sticking out of the arena.
 int l_no_metric(lua_State* L) {
+  luaL_checktype(L, 1, LUA_TTABLE);  // getmetatable(m).__index(5, "x") reached lua_next on a number
   if (lua_type(L, 2) != LUA_TSTRING) return 0;
   const std::string name = lua_tostring(L, 2);
   const std::vector<std::string> fields = sorted_names(L, 1);
@@ -423,6 +424,11 @@ int install_api(lua_State* L) {
   const luaL_Reg params_methods[] = {{"__index", l_param_read}, {"__newindex", l_param_write},
                                      {"__pairs", l_params_pairs}, {"__len", lua_view_len}, {nullptr, nullptr}};
   luaL_setfuncs(L, params_methods, 0);
+  // Hidden, as a teacher's history's is: its metamethods are the view (setmetatable(p, nil) would
+  // leave an empty table), and called on another table they found no data (found by a probe:
+  // getmetatable(p).__index({}, "x") crashed roger).
+  lua_pushstring(L, "generate's params");
+  lua_setfield(L, -2, "__metatable");
   lua_pop(L, 1);
   luaL_newmetatable(L, kBodyMetricsType);
   lua_pushcfunction(L, l_no_metric);
