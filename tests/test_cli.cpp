@@ -217,12 +217,15 @@ TEST_CASE("roger check warns of a stimulus colour no object has", "[cli]") {
   fs::remove(red);
 }
 
+// The head of a scenario: unobstructed's parameters and a `clutter` of its own, with its generate to follow.
+const std::string kUnobstructedWithClutter = "local base = require('unobstructed')\nlocal params = {}\n"
+                                             "for k, v in pairs(base.params) do params[k] = v end\n"
+                                             "params.clutter = { default = 2, min = 0, max = 5 }\n";
+
 // Found by a probe: a scenario declared `clutter` and placed its obstacles from `obstacles`, and a
 // sweep over clutter trained on the same worlds at every level without a word.
 TEST_CASE("roger check warns of a declared parameter generate never reads, and of a stage that sets one", "[cli]") {
-  const std::string head = "local base = require('unobstructed')\nlocal params = {}\n"
-                           "for k, v in pairs(base.params) do params[k] = v end\n"
-                           "params.clutter = { default = 2, min = 0, max = 5 }\n";
+  const std::string head = kUnobstructedWithClutter;
   const fs::path unread = temp_file("roger_cli_unread.lua", head + "return { params = params, generate = function(world, rng, p)\n"
                                                                    "  base.generate(world, rng, p)\nend }\n");
   const Run r = roger("check " + unread.string() + " --seeds 3");
@@ -288,11 +291,9 @@ TEST_CASE("roger check warns of a declared parameter generate never reads, and o
 // Found by a probe: roger check warned of a parameter generate never reads, but `--set clutter=3`
 // of roger train and eval said nothing, and the trial ran in the worlds it would have run in anyway.
 TEST_CASE("roger train and eval and run say which --set generate never read in their worlds", "[cli]") {
-  const std::string head = "local base = require('unobstructed')\nlocal params = {}\n"
-                           "for k, v in pairs(base.params) do params[k] = v end\n"
-                           "params.clutter = { default = 2, min = 0, max = 5 }\n";
-  const fs::path unread = temp_file("roger_cli_unread_set.lua", head + "return { params = params, generate = function(world, rng, p)\n"
-                                                                       "  base.generate(world, rng, p)\nend }\n");
+  const fs::path unread = temp_file("roger_cli_unread_set.lua",
+                                    kUnobstructedWithClutter + "return { params = params, generate = function(world, rng, p)\n"
+                                                               "  base.generate(world, rng, p)\nend }\n");
   const fs::path curriculum = temp_file("roger_cli_unread_set_c.lua",
                                         "local p = require('lib.skills').primitives()\n"
                                         "return { name = 'c', stages = { roger.stage{ name = 'S', scenario = '" + unread.string() + "',\n"
