@@ -53,20 +53,6 @@ struct StageRun {
   // after they are made (c:with makes another), so a copy made earlier is the copy made now.
   Judge judge{stage.absorbing.get()};
 
-  // The names of `sets` that generate read in none of the worlds the run has built (in order, once
-  // each): a --set that changed no world, a parameter declared but never wired or read only when
-  // another is set (found by a probe: roger check warned of such a parameter, but a --set of it in
-  // roger train or eval said nothing, and the trial ran in the worlds it would have run in anyway).
-  std::vector<std::string> unread(const ParamList& sets) {
-    const std::vector<std::string> never = scenario.unread_params();
-    std::vector<std::string> out;
-    for (const auto& set : sets)
-      if (std::find(never.begin(), never.end(), set.first) != never.end() &&
-          std::find(out.begin(), out.end(), set.first) == out.end())
-        out.push_back(set.first);
-    return out;
-  }
-
   // Every Lua file the run has compiled so far: the curriculum's and the scenario's, and the modules
   // they required, including those a callback required while episodes ran (which no load lists).
   std::vector<std::filesystem::path> files_read() {
@@ -752,7 +738,9 @@ TrainResult train_stage(const TrainOptions& options) {
   }
   if (teacher) record_teacher(res, *teacher, stage);
   res.source_files = run.files_read();
-  res.unread_sets = run.unread(options.sets);
+  // Found by a probe: roger check warned of a parameter generate never reads, but a --set of it in
+  // roger train or eval said nothing, and the trial ran in the worlds it would have run in anyway.
+  res.unread_sets = run.scenario.unread_params(options.sets);
   res.explain = options.explain;
   res.wall_s = seconds_since(t0);
   return res;
@@ -919,7 +907,7 @@ void with_policy_file(const PolicyEvalOptions& given, PolicyEvalResult& out,
   use(run, q, (options.first_seed >= 0 ? uint64_t(options.first_seed) : stage.checkpoints.seeds) + options.seed_offset,
       meta, options);
   out.source_files = run.files_read();
-  out.unread_sets = run.unread(given.sets);  // the command's own, not the trial's added above
+  out.unread_sets = run.scenario.unread_params(given.sets);  // the command's own, not the trial's added above
 }
 
 // Psi and the controllers inside it, breadth first, each once, at most `limit`. A part is held

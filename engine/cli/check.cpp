@@ -70,13 +70,6 @@ const std::vector<std::string>& unread_params_of(const std::string& scenario_nam
   return names;
 }
 
-// Items as a sentence lists them: "a", "a and b", "a, b and c".
-std::string listed_with_and(const std::vector<std::string>& items) {
-  std::string out;
-  for (size_t i = 0; i < items.size(); ++i) out += (i == 0 ? "" : i + 1 == items.size() ? " and " : ", ") + items[i];
-  return out;
-}
-
 // Parameters a curriculum or a batch script sets or draws, each with where it names it.
 using NamedParams = std::vector<std::pair<std::string, std::string>>;
 
@@ -136,6 +129,12 @@ void warn_unread_in_batch(const BatchScript& b) {
 }
 
 }  // namespace
+
+std::string listed_with_and(const std::vector<std::string>& items) {
+  std::string out;
+  for (size_t i = 0; i < items.size(); ++i) out += (i == 0 ? "" : i + 1 == items.size() ? " and " : ", ") + items[i];
+  return out;
+}
 
 std::vector<std::string> unread_sets_in_batch(const BatchScript& b, const Params& sets) {
   if (sets.empty()) return {};

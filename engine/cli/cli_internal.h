@@ -44,9 +44,8 @@ SandboxLimits sandbox_limits(const LuaLimitArgs& lua);
 // Applies `--set key=value` options to a scenario.
 void apply_sets(Scenario& scenario, const std::vector<std::string>& sets);
 
-// The names of `sets` (--set key=value) that the scenario's generate read in none of the worlds it
-// has built (Scenario::unread_params), in order.
-std::vector<std::string> unread_sets(Scenario& scenario, const std::vector<std::string>& sets);
+// Items as a sentence lists them: "a", "a and b", "a, b and c".
+std::string listed_with_and(const std::vector<std::string>& items);
 
 // Says, in a note line, that the --set of `unread` changed no world: generate never read them in
 // `scenario` (a path or name). Nothing when `unread` is empty.

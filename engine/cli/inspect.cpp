@@ -1,5 +1,4 @@
 // inspect.cpp: `roger render` (a picture of a world, or an episode of a skill script's policy).
-#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -27,19 +26,11 @@ void apply_sets(Scenario& scenario, const std::vector<std::string>& sets) {
   scenario.set_params(split_sets(sets, "--set"));
 }
 
-std::vector<std::string> unread_sets(Scenario& scenario, const std::vector<std::string>& sets) {
-  const std::vector<std::string> never = scenario.unread_params();
-  std::vector<std::string> out;
-  for (const auto& [name, value] : split_sets(sets, "--set"))
-    if (std::find(never.begin(), never.end(), name) != never.end()) out.push_back(name);
-  return out;
-}
-
 void print_unread_sets(const std::vector<std::string>& unread, const std::string& scenario) {
   if (unread.empty()) return;
-  std::string sets;
-  for (size_t i = 0; i < unread.size(); ++i)
-    sets += (i == 0 ? "" : i + 1 == unread.size() ? " and " : ", ") + ("--set " + unread[i]);
+  std::vector<std::string> options;
+  for (const std::string& name : unread) options.push_back("--set " + name);
+  const std::string sets = listed_with_and(options);
   const bool one = unread.size() == 1;
   std::printf("  note           %s changed no world here: the scenario's generate never read %s (roger check %s "
               "lists each parameter it never reads)\n",

@@ -386,7 +386,7 @@ int evaluate_command(const EvalArgs& a) {
   std::printf("  reward         %.1f +- %.1f\n", r.reward_mean, r.reward_std);
   std::printf("  episode time   %.2f s (mean, simulated)\n", r.time_mean);
   print_never_referenced(r);
-  print_unread_sets(unread_sets(scenario, a.sets), scenario.path());
+  print_unread_sets(scenario.unread_params(split_sets(a.sets, "--set")), scenario.path());
   if (a.json) {
     nlohmann::json j = {{"script", script.path()},      {"policy", policy.name},
                         {"scenario", scenario.name()},  {"scenario_file", scenario.path()},

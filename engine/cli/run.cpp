@@ -246,10 +246,11 @@ int command_run(const RunArgs& a) {
   catch_interrupts();  // Ctrl-C keeps what finished and writes the report of it (below)
   try {
     const Shard shard = a.shard.empty() ? Shard() : parse_shard(a.shard);
-    auto script = std::make_shared<const BatchScript>(load_batch_script(a.script, overrides_of(a)));
+    const BatchOverrides overrides = overrides_of(a);
+    auto script = std::make_shared<const BatchScript>(load_batch_script(a.script, overrides));
     const BatchScript& b = *script;
     for (const std::string& n : b.notes) log << "roger run: note: " << n << "\n";  // as roger check says them
-    for (const std::string& w : unread_sets_in_batch(b, overrides_of(a).sets)) log << "roger run: warning: " << w << "\n";
+    for (const std::string& w : unread_sets_in_batch(b, overrides.sets)) log << "roger run: warning: " << w << "\n";
     const BatchPlan plan = plan_batch(script, a.out.empty() ? "results/" + b.name : a.out);
     check_selectors(plan, a.only);
     if (refuse_unplaceable_test_tasks(b, log)) return 1;

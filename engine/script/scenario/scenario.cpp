@@ -397,6 +397,16 @@ std::vector<std::string> Scenario::unread_params() {
   return unread;
 }
 
+std::vector<std::string> Scenario::unread_params(const std::vector<std::pair<std::string, std::string>>& sets) {
+  const std::vector<std::string> never = unread_params();
+  std::vector<std::string> out;
+  for (const auto& set : sets)
+    if (std::binary_search(never.begin(), never.end(), set.first) &&
+        std::find(out.begin(), out.end(), set.first) == out.end())
+      out.push_back(set.first);
+  return out;
+}
+
 WorldSpec Scenario::generate_world(uint64_t seed) {
   Impl& impl = *impl_;
   WorldSpec out;

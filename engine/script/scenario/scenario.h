@@ -69,6 +69,9 @@ class Scenario {
   // The declared parameters no generate of this scenario has read (by name, by rawget, by pairs or
   // next), sorted: after roger check's worlds, those no --set or teacher could change a world with.
   std::vector<std::string> unread_params();
+  // Of the names `sets` gives (a command's --set), those unread_params holds, in their order, once
+  // each: a --set that changed no world (roger train, eval and run say so).
+  std::vector<std::string> unread_params(const std::vector<std::pair<std::string, std::string>>& sets);
 
   // Sets a parameter from text (the CLI's --set key=value), converting by the default's type.
   // Throws roger::Error for an unknown key (listing the known ones), a value of the wrong type or
