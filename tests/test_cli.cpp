@@ -290,7 +290,7 @@ TEST_CASE("roger check warns of a declared parameter generate never reads, and o
 
 // Found by a probe: roger check warned of a parameter generate never reads, but `--set clutter=3`
 // of roger train and eval said nothing, and the trial ran in the worlds it would have run in anyway.
-TEST_CASE("roger train and eval and run say which --set generate never read in their worlds", "[cli]") {
+TEST_CASE("roger train and eval and run and render say which --set generate never read in their worlds", "[cli]") {
   const fs::path unread = temp_file("roger_cli_unread_set.lua",
                                     kUnobstructedWithClutter + "return { params = params, generate = function(world, rng, p)\n"
                                                                "  base.generate(world, rng, p)\nend }\n");
@@ -323,6 +323,26 @@ TEST_CASE("roger train and eval and run say which --set generate never read in t
                          " --episodes 1 --set goal_radius=0.3");
   CHECK(read.status == 0);
   CHECK(read.out.find("changed no world") == std::string::npos);
+  // roger render of a world's picture, of a skill script's episode and of a saved policy's: the
+  // picture would not show why nothing changed.
+  const std::string render_note = "note: " + note.substr(note.find("--set"));
+  const fs::path picture = fs::temp_directory_path() / "roger_cli_unread_set.png";
+  const fs::path episode = fs::temp_directory_path() / "roger_cli_unread_set_episode.png";
+  for (const std::string& args :
+       {unread.string() + " --set clutter=1 --out " + picture.string(),
+        "curricula/scripted.lua --policy task --scenario " + unread.string() + " --set clutter=1 --out " + episode.string(),
+        curriculum.string() + " --policy " + (out / "policy.json").string() + " --set clutter=1 --out " + episode.string()}) {
+    const Run render = roger("render " + args);
+    INFO(args << "\n" << render.out << render.err);
+    CHECK(render.status == 0);
+    CHECK_THAT(render.out, Catch::Matchers::Contains(render_note));
+    const Run read_render = roger("render " + args.substr(0, args.find(" --set")) + " --set goal_radius=0.3" +
+                                  args.substr(args.find(" --out")));
+    CHECK(read_render.status == 0);
+    CHECK(read_render.out.find("changed no world") == std::string::npos);
+  }
+  fs::remove(picture);
+  fs::remove(episode);
   // roger run says it before anything trains, of the runs whose scenario never reads it.
   const fs::path batch = temp_file("roger_cli_unread_set_b.lua",
                                    "return { name = 'sweep', curriculum = '" + curriculum.string() + "', trials = 1,\n"
@@ -1877,6 +1897,21 @@ TEST_CASE("a path that cannot be written is refused for its true cause", "[cli]"
   CHECK(sys.status == 1);
   CHECK_THAT(sys.err, Catch::Matchers::Contains("cannot create the results folder '/sys/roger_x'"));
   CHECK(sys.err.find("resumes") == std::string::npos);
+}
+
+// Found by a probe: `roger eval --json > r.json` on a full disk exited 0, the JSON cut short.
+TEST_CASE("a standard output that cannot be written is an error and not a cut result", "[cli]") {
+  const fs::path err = fs::temp_directory_path() / ("roger_cli_full_" + std::to_string(::getpid()));
+  for (const std::string& args :
+       {"eval curricula/scripted.lua --policy task --episodes 1 --json", "check scenarios/unobstructed.lua", "--help"}) {
+    const int raw = std::system((std::string(ROGER_BINARY) + " " + args + " >/dev/full 2>" + err.string()).c_str());
+    INFO(args << "\n" << slurp(err));
+    REQUIRE(WIFEXITED(raw));
+    CHECK(WEXITSTATUS(raw) == 1);
+    CHECK_THAT(slurp(err), Catch::Matchers::Contains("roger: error: could not write the standard output (No space left "
+                                                     "on device): what the command printed there is incomplete"));
+  }
+  fs::remove(err);
 }
 
 // Found by a probe: with ROGER_HOME naming a lab's own project folder, its scenarios could require

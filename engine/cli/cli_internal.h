@@ -47,8 +47,11 @@ void apply_sets(Scenario& scenario, const std::vector<std::string>& sets);
 // Items as a sentence lists them: "a", "a and b", "a, b and c".
 std::string listed_with_and(const std::vector<std::string>& items);
 
-// Says, in a note line, that the --set of `unread` changed no world: generate never read them in
-// `scenario` (a path or name). Nothing when `unread` is empty.
+// Says that the --set of `unread` changed no world: generate never read them in `scenario` (a path
+// or name). Empty when `unread` is.
+std::string unread_sets_note(const std::vector<std::string>& unread, const std::string& scenario);
+
+// The same as a note line of roger train's and roger eval's summary. Nothing when `unread` is empty.
 void print_unread_sets(const std::vector<std::string>& unread, const std::string& scenario);
 
 // Splits key=value options into pairs, each key once (a key repeated with another value is an

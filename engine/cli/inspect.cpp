@@ -26,16 +26,27 @@ void apply_sets(Scenario& scenario, const std::vector<std::string>& sets) {
   scenario.set_params(split_sets(sets, "--set"));
 }
 
-void print_unread_sets(const std::vector<std::string>& unread, const std::string& scenario) {
-  if (unread.empty()) return;
+std::string unread_sets_note(const std::vector<std::string>& unread, const std::string& scenario) {
+  if (unread.empty()) return "";
   std::vector<std::string> options;
   for (const std::string& name : unread) options.push_back("--set " + name);
-  const std::string sets = listed_with_and(options);
-  const bool one = unread.size() == 1;
-  std::printf("  note           %s changed no world here: the scenario's generate never read %s (roger check %s "
-              "lists each parameter it never reads)\n",
-              sets.c_str(), one ? "it" : "them", scenario.c_str());
+  return listed_with_and(options) + " changed no world here: the scenario's generate never read " +
+         (unread.size() == 1 ? "it" : "them") + " (roger check " + scenario + " lists each parameter it never reads)";
 }
+
+void print_unread_sets(const std::vector<std::string>& unread, const std::string& scenario) {
+  if (!unread.empty()) std::printf("  note           %s\n", unread_sets_note(unread, scenario).c_str());
+}
+
+namespace {
+
+// roger render's line for the --set its one world never read: the picture would not show why.
+void print_unread_note(Scenario& scenario, const std::vector<std::string>& sets) {
+  const std::vector<std::string> unread = scenario.unread_params(split_sets(sets, "--set"));
+  if (!unread.empty()) std::printf("note: %s\n", unread_sets_note(unread, scenario.path()).c_str());
+}
+
+}  // namespace
 
 void refuse_foreign_files(const std::string& out, const std::string& command,
                           const std::function<bool(const std::string&)>& own) {
@@ -151,6 +162,8 @@ int run_render_policy_file(const RenderArgs& a) {
   // Found by a probe: eval said so, render did not, and its title gave no body.
   if (!r.about.trial_sets_left.empty())
     std::printf("note: %s\n", trial_params_left_note(r.about.trial_sets_left, r.about.scenario).c_str());
+  if (!r.about.unread_sets.empty())
+    std::printf("note: %s\n", unread_sets_note(r.about.unread_sets, r.about.scenario_file).c_str());
   write_rendered_episode(a, r.spec, r.episode,
                          r.about.stage + "/" + r.about.context + " (" + a.policy + ") in " + r.about.scenario +
                              trained + sets_note(a.sets) + ", seed " + std::to_string(r.episode.seed) + task);
@@ -183,6 +196,7 @@ int run_render_episode(const RenderArgs& a) {
   if (watch.size() > 12) watch.resize(12);
   Agent agent;
   const EpisodeResult episode = run_episode(agent, spec, a.seed, *policy.action, *policy.goal, options, watch);
+  print_unread_note(scenario, a.sets);
   write_rendered_episode(a, spec, episode,
                          script.name() + ": " + policy.name + " in " + scenario.name() +
                              (policy.params.empty() ? "" : " (" + params_text(policy.params) + ")") + sets_note(a.sets) +
@@ -234,6 +248,7 @@ int command_render(const RenderArgs& a) {
   options.width_px = a.width;
   options.show_grid = a.grid;
   render_frame(spec, world.frame(), a.out, options);
+  print_unread_note(scenario, a.sets);
   std::printf("wrote %s (%s, seed %llu)\n", a.out.c_str(), a.scenario.c_str(),
               static_cast<unsigned long long>(a.seed));
   return 0;

@@ -451,6 +451,33 @@ int run_command(Commands& c) {
   return 2;
 }
 
+// What a command printed must have reached its standard output: `roger eval --json > r.json` on a
+// full disk would otherwise leave a cut JSON and exit 0 (found by a probe with /dev/full).
+int with_output_written(int status) {
+  errno = 0;
+  std::cout.flush();
+  if (std::fflush(stdout) == 0 && !std::ferror(stdout) && std::cout.good()) return status;
+  const int cause = errno;
+  std::cerr << "roger: error: could not write the standard output"
+            << (cause != 0 ? std::string(" (") + std::strerror(cause) + ")" : std::string())
+            << ": what the command printed there is incomplete\n";
+  return status == 0 ? 1 : status;
+}
+
+int run_checked(Commands& commands) {
+  try {
+    return run_command(commands);
+  } catch (const FileError& e) {
+    std::fflush(stdout);
+    std::cerr << "roger: error: " << file_error_line(e, false) << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::fflush(stdout);
+    std::cerr << "roger: error: " << printable_text(e.what()) << "\n";
+    return 1;
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -464,16 +491,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", [] { return std::string("roger ") + ROGER_VERSION + " (project folder: " +
                                                 project_in_use() + ")"; });
   Commands commands(app);
-  if (const int status = parse_command_line(app, commands, argc, argv); status >= 0) return status;
-  try {
-    return run_command(commands);
-  } catch (const FileError& e) {
-    std::fflush(stdout);
-    std::cerr << "roger: error: " << file_error_line(e, false) << "\n";
-    return 1;
-  } catch (const std::exception& e) {
-    std::fflush(stdout);
-    std::cerr << "roger: error: " << printable_text(e.what()) << "\n";
-    return 1;
-  }
+  if (const int status = parse_command_line(app, commands, argc, argv); status >= 0)
+    return with_output_written(status);
+  return with_output_written(run_checked(commands));
 }
