@@ -410,6 +410,40 @@ TEST_CASE("render_rgb is the PNG's picture, in memory, as rows of RGB bytes") {
   CHECK_THROWS_AS(render_rgb(spec, frame, tiny), Error);
 }
 
+// Found by a probe: a goal of radius 1e300 m (its centre in the arena, as a scenario may write it)
+// hung roger render, cairo drawing its arc in segments by its length.
+TEST_CASE("a goal larger than the picture draws at once and as a disk just covering the picture does") {
+  RenderOptions options;
+  options.width_px = 400;
+  WorldSpec spec = make_spec();
+  const PictureSize size = picture_size(spec, options);
+  const double w = size.width, h = size.height;
+  const Vec2 centre = picture_point(spec, options, w, h, kGoal);
+  const double px_per_m = (picture_point(spec, options, w, h, kGoal + Vec2(1, 0)) - centre).norm();
+  const double reach = std::hypot(std::max(centre.x(), w - centre.x()), std::max(centre.y(), h - centre.y()));
+  spec.goals[0].radius = (reach + 4) / px_per_m;  // its rim 4 pixels past the farthest corner
+  const RgbPicture covering = render_rgb(spec, make_frame(), options);
+  spec.goals[0].radius = 1e300;
+  const RgbPicture huge = render_rgb(spec, make_frame(), options);
+  CHECK(huge.pixels == covering.pixels);
+  spec.goals[0].radius = 0.3;
+  CHECK(render_rgb(spec, make_frame(), options).pixels != covering.pixels);  // the goal does cover it
+  // On the floor only: the header's corner and the wall's keep their colours.
+  spec.goals.clear();
+  const RgbPicture none = render_rgb(spec, make_frame(), options);
+  const Vec2 wall = picture_point(spec, options, w, h, Vec2(spec.arena.xmin - 0.02, spec.arena.ymin - 0.02));
+  for (const Vec2& at : {Vec2(1, 1), wall}) {
+    const size_t i = (size_t(std::lround(at.y())) * size_t(w) + size_t(std::lround(at.x()))) * 3;
+    INFO("pixel (" << at.x() << ", " << at.y() << ")");
+    CHECK(std::equal(huge.pixels.begin() + long(i), huge.pixels.begin() + long(i) + 3, none.pixels.begin() + long(i)));
+  }
+  spec.goals = make_spec().goals;
+  TempDir dir;
+  spec.goals[0].radius = 1e300;
+  render_frame(spec, make_frame(), dir.file("huge.svg"), options);
+  CHECK(fs::file_size(dir.file("huge.svg")) > 0);
+}
+
 // Seen in a rendered frame: the force labels of a three-contact grasp around a small object sat on each
 // other and read as one number ("53.13 N 43.5").
 TEST_CASE("force labels that would overlap are moved apart, and a label alone stays where it was") {

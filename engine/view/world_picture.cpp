@@ -3,6 +3,7 @@
 #include "view/render_internal.h"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "core/error.h"
@@ -13,10 +14,17 @@ namespace roger::picture {
 // ---- shapes
 // --------------------------------------------------------------------------------------
 
-// Adds a world disk to the current path as its own closed sub-path.
+// Adds a world disk to the current path as its own closed sub-path. A disk past every corner of
+// the drawing's clip is drawn as one just past them (its rim still outside, by more than any line's
+// width): the same pixels, where cairo's arc of a goal of radius 1e300 m, in segments by its
+// length, never ended (found by a probe).
 void disk_path(cairo_t* cr, const Layout& l, const Vec2& c, double r) {
+  const double x = l.px(c.x()), y = l.py(c.y());
+  double x1 = 0, y1 = 0, x2 = 0, y2 = 0;
+  cairo_clip_extents(cr, &x1, &y1, &x2, &y2);
+  const double reach = std::hypot(std::max(std::abs(x - x1), std::abs(x2 - x)), std::max(std::abs(y - y1), std::abs(y2 - y)));
   cairo_new_sub_path(cr);
-  cairo_arc(cr, l.px(c.x()), l.py(c.y()), r * l.scale, 0, 2 * kPi);
+  cairo_arc(cr, x, y, std::min(r * l.scale, reach + 16 * l.u), 0, 2 * kPi);
   cairo_close_path(cr);
 }
 
@@ -188,8 +196,12 @@ void draw_arena(cairo_t* cr, const Layout& l, const WorldSpec& spec, const Rende
 // ---- goals, obstacles, objects
 // -------------------------------------------------------------------
 
-// Goal regions: translucent disks with a dashed rim, drawn first because they are floor markings.
+// Goal regions: translucent disks with a dashed rim, drawn first because they are floor markings,
+// and on the floor only (a goal past a wall tinted the wall, and a large one the whole picture).
 void draw_goals(cairo_t* cr, const Layout& l, const WorldSpec& spec) {
+  cairo_save(cr);
+  cairo_rectangle(cr, l.x0, l.y0, l.aw, l.ah);
+  cairo_clip(cr);
   for (const GoalRegion& g : spec.goals) {
     if (!finite(g.center) || !(g.radius > 0)) continue;
     const Rgb c = rgb(g.colour);
@@ -204,6 +216,7 @@ void draw_goals(cairo_t* cr, const Layout& l, const WorldSpec& spec) {
     cairo_stroke(cr);
     cairo_set_dash(cr, nullptr, 0, 0);
   }
+  cairo_restore(cr);
 }
 
 // Object poses for this frame: the frame's, or the spec's starting poses for a frame without any

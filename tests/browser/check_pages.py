@@ -991,6 +991,41 @@ def check_cycle(b, folder, work):
           % (label["above"], label["below"]))
 
 
+HUGE_GOAL = """return { name = "huge_goal", generate = function(world, rng, p)
+  world:arena{ xmin = -2, xmax = 2, ymin = -2, ymax = 2 }
+  world:goal{ name = "everywhere", x = 1, y = 1, radius = 1e300 }
+  world:robot{ x = -1, y = 0 }
+  world:object{ name = "ball", x = 1, y = 0, shape = roger.shape{ disks = { { r = 0.1 } } } }
+end }
+"""
+
+
+def check_huge_goal(b, roger, work):
+    """Found by a probe: a goal of radius 1e300 m hung roger render (cairo's arc, in segments by
+    its length), and a goal drawn past the floor tinted the walls. The viewer draws such a goal at
+    once, on the floor only: the walls keep their own colour."""
+    scenario = os.path.join(work, "huge_goal.lua")
+    with open(scenario, "w") as f:
+        f.write(HUGE_GOAL)
+    folder = os.path.join(work, "huge_goal_episode")
+    run([roger, "render", "curricula/scripted.lua", "--policy", "search_grasp", "--scenario", scenario, "--out", folder])
+    b.open(os.path.join(folder, "index.html"), "window.viewer !== undefined")
+    wall = json.load(open(os.path.join(folder, "episode.json")))["world"]["arena"]["wall_colour"]
+    counts = b.evaluate("""(() => { const c = document.getElementById('world');
+        const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+        const w = [%d, %d, %d];
+        let walls = 0, floor = 0;
+        for (let i = 0; i < d.length; i += 4) {
+          if (d[i] === w[0] && d[i+1] === w[1] && d[i+2] === w[2]) ++walls;
+          if (d[i] === 248 && d[i+1] === 247 && d[i+2] === 242) ++floor;
+        }
+        return {walls: walls, floor: floor, total: d.length / 4}; })()""" % tuple(int(wall[k:k + 2], 16) for k in (1, 3, 5)))
+    check(counts["walls"] > 0.01 * counts["total"] and counts["floor"] == 0,
+          "viewer (goal of radius 1e300 m): the floor tinted by the goal and the walls not (%d wall-coloured and %d "
+          "bare floor pixels of %d)" % (counts["walls"], counts["floor"], counts["total"]))
+    check(b.errors() == [], "viewer (goal of radius 1e300 m): no console errors (%s)" % b.errors())
+
+
 def check_time_axis(b, folder, work):
     """The time axis's labels stand apart and inside the timeline, on this episode and on a copy
     claiming to last 240 s (found by a probe: a fixed 5 s step ran a long episode's labels
@@ -1147,6 +1182,7 @@ def main():
         check_keys(b, episode)
         check_cycle(b, episode, a.work)
         check_time_axis(b, episode, a.work)
+        check_huge_goal(b, a.roger, a.work)
         check_timeline_labels(b, episode, a.work)
         check_teachers(b, teachers)
     finally:
