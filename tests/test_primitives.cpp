@@ -281,6 +281,48 @@ TEST_CASE("phi1 is NOREF when the goal region is walled off", "[primitives]") {
   CHECK(phi1->evaluate(agent.input()).gamma == Gamma::kNoRef);
 }
 
+// Found by a probe: a goal region holding every free cell Roger can reach left the planner nothing
+// to solve, and phi1 said NOREF, as if there were no region: the scripted task in a world whose
+// goal has a radius of 10 m failed every episode.
+TEST_CASE("phi1 is CONV at once in a goal region that holds all the floor Roger can reach", "[primitives]") {
+  for (const double radius : {10.0, 1e300}) {
+    WorldSpec spec = open_world(false);
+    spec.robot.pose = {-1.2, -1.2, 0.0};
+    GoalRegion goal;
+    goal.center = Vec2(1.0, 1.0);
+    goal.radius = radius;
+    spec.goals.push_back(goal);
+    auto phi1 = make_primitive("phi1");
+    phi1->set_text("goal", "region");
+    Agent agent;
+    agent.reset(spec);
+    phi1->reset(0);
+    agent.step(*phi1);
+    INFO("radius " << radius);
+    CHECK(phi1->evaluate(agent.input()).gamma == Gamma::kConv);
+  }
+  // Walled in by posts in a region that holds the pocket inside them: at the goal too.
+  WorldSpec spec = open_world(false);
+  spec.robot.pose = {0.0, 0.0, 0.0};
+  GoalRegion goal;
+  goal.center = Vec2(0.0, 0.0);
+  goal.radius = 0.9;
+  spec.goals.push_back(goal);
+  for (int k = 0; k < 24; ++k) {
+    ObstacleSpec post;
+    post.shape = ball_shape(0.12);
+    post.pose = {0.75 * std::cos(k * M_PI / 12), 0.75 * std::sin(k * M_PI / 12), 0.0};
+    spec.obstacles.push_back(post);
+  }
+  auto phi1 = make_primitive("phi1");
+  phi1->set_text("goal", "region");
+  Agent agent;
+  agent.reset(spec);
+  phi1->reset(0);
+  agent.step(*phi1);
+  CHECK(phi1->evaluate(agent.input()).gamma == Gamma::kConv);
+}
+
 TEST_CASE("phi1 drives around obstacles to the goal without touching them", "[primitives][planner]") {
   // 20 random layouts whose goal is reachable (layouts the planner reports as walled off for
   // Roger's footprint are drawn again).

@@ -186,7 +186,11 @@ class Navigate final : public Primitive {
       bare_region_ = int(k);
       build_map(in);  // set_grid finds the goal cells again on the new grid
     }
-    return solve ? planner_.update() : planner_.update_reachability();
+    // A region holding every free cell of its components leaves the planner nothing to solve
+    // (update is false), yet its goal is there: a point in it is at its goal (found by a probe: a
+    // goal of radius 10 m in a 4 m arena left phi1 NOREF everywhere, as if it had no region).
+    const bool to_solve = solve ? planner_.update() : planner_.update_reachability();
+    return to_solve || planner_.goal_cells() > 0;
   }
 
   // Whether an obstacle object lying in region k is stamped with a growth.
