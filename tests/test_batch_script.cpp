@@ -615,6 +615,34 @@ TEST_CASE("a run with a computed name is blamed at its own line; own final world
   fs::remove_all(dir);
 }
 
+// Found by a probe: a table nested 33 deep in a batch script crashed roger check as the sandbox
+// closed (the reader held a key and a value per level on Lua's stack, which guarantees 20 slots),
+// and a line of 100,000 characters crashed it as the reader looked for a line (std::regex's
+// matcher recursed once per character).
+TEST_CASE("a batch script nested too deeply or with a very long line is refused at its line and never crashes",
+          "[batch_script]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_deep_batch_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path file = dir / "deep.lua";
+  std::ofstream(file) << "local deep = {}\nlocal at = deep\nfor i = 1, 1000 do at[1] = {} at = at[1] end\n"
+                         "return { name = 'deep', curriculum = 'paper', trials = 1, notes = deep,\n"
+                         "  runs = { { name = 'SG', stage = 'SG', contexts = { 'B1' } } } }\n";
+  CHECK_THAT(load_error(file.string()), Catch::Contains("deep.lua:4: field 'notes[1][1]") &&
+                                            Catch::Contains("[1]': nested too deeply"));
+  const std::string padding(100000, ' ');
+  std::ofstream(file) << "local runs = {}\n"
+                         "for _, s in ipairs({ 'SG' }) do runs[#runs + 1] = { name = s, stage = s," << padding
+                      << "contexts = { 'DC9' } } end\n"
+                         "return { name = 'long', curriculum = 'paper', trials = 1, runs = runs }\n";
+  CHECK_THAT(load_error(file.string()), Catch::Contains("deep.lua:2: run 'SG': stage 'SG' has no context 'DC9'"));
+  std::ofstream(file) << "return { name = 'long', curriculum = 'paper', trials = 1,\n"
+                         "  runs = { { name = 'SG', stage = 'SG', contexts = { 'B1' } },\n"
+                         "           { name = '" << std::string(100000, 'x') << "', stage = 'SG', contexts = { 'DC9' } } } }\n";
+  CHECK_THAT(load_error(file.string()), Catch::Contains("deep.lua:3: run 'xxxxxxxxxx") &&
+                                            Catch::Contains("': stage 'SG' has no context 'DC9'"));
+  fs::remove_all(dir);
+}
+
 // Found by a probe: description = "caf\233 au lait" (Latin-1) passed roger check, and roger run
 // stopped with "[json.exception.type_error.316] invalid UTF-8 byte at index 4" naming nothing.
 TEST_CASE("a batch script's text that is no UTF-8 is refused at load, naming the field", "[batch_script]") {

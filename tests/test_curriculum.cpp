@@ -647,6 +647,19 @@ TEST_CASE("a stage's bad field is reported at the line it is written on", "[curr
   CHECK_THAT(error_of([&] { Curriculum::load(path.string()); }),
              Contains("stages.lua:6: the curriculum: 'stages' must be a list {roger.stage{...}, ...}; it also has the "
                       "named entry 'Extra', which would be left out: write it in the list"));
+  // Found by a probe: a message quoting 100,000 characters crashed roger check: std::regex's
+  // matcher, reading the message for its field's line, recursed once per character and
+  // overflowed the stack. So did finding a plain-table stage's line by a name that long.
+  CHECK_THAT(error_with("long.lua", "learner = {\n    [string.rep('x', 100000)] = 1 },", good),
+             Contains("long.lua:6: stage 'S': learner: unknown field 'xxxxxxxxxx"));
+  const std::string long_name(100000, 'x');
+  const auto plain = tmp.path / "plain.lua";
+  std::ofstream(plain) << "local p = require('lib.skills').primitives()\n"
+                          "return { stages = {\n"
+                          "  { name = '" << long_name << "', time_limit = 5, absorbing = roger.converged(p.phi3),\n"
+                          "    budget = { episodes = 3 }, contexts = { { name = 'A', actions = { p.phi3 } } }, bogus = 1 } } }\n";
+  CHECK_THAT(error_of([&] { Curriculum::load(plain.string()); }),
+             Contains("plain.lua:3: stage '" + long_name + "': unknown field 'bogus'"));
 }
 
 namespace {

@@ -1248,6 +1248,31 @@ TEST_CASE("the static pass leaves a value compared with one of its choices alone
                                  "\"!CONV\" or \"CONV\" (did you mean \"CONV\"?)"});
 }
 
+// Found by a probe: a script whose one line returned a name of 100,000 characters crashed roger
+// check, which told its kind by std::regex, line by line (its matcher recursed per character).
+// Read from the tokens now, a key written in a string or a comment no longer counts either.
+TEST_CASE("a script's kind is told from its tokens whatever its lines' lengths", "[lua_sandbox][static]") {
+  TempDir dir;
+  auto kind_of = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir.path / name) << text;
+    return script_kind_of((dir.path / name).string());
+  };
+  const std::string long_name(100000, 'x');
+  CHECK_FALSE(kind_of("long.lua", "return " + long_name + "\n"));
+  CHECK(kind_of("long_line.lua", "local t = { " + long_name + " = 1, stages = {} }\nreturn t\n") == ScriptKind::kCurriculum);
+  CHECK(kind_of("spaces.lua", "local m =" + std::string(100000, ' ') + "require('lib.shapes')\nreturn { generate = "
+                "function() end }\n") == ScriptKind::kScenario);
+  CHECK(kind_of("said.lua", "return { description = 'no stages = here', generate = function() end }\n") ==
+        ScriptKind::kScenario);
+  CHECK(kind_of("commented.lua", "--[[\n  stages = {}\n]]\nreturn { generate = function() end }\n") ==
+        ScriptKind::kScenario);
+  // A script returning a module it requires is of the module's kind.
+  std::ofstream(dir.path / "mine.lua") << "return { name = 'm', stages = {} }\n";
+  CHECK(kind_of("wrapper.lua", "local c = require('mine')\nc.name = 'w'\nreturn c\n") == ScriptKind::kCurriculum);
+  CHECK(kind_of("direct.lua", "return require 'mine'\n") == ScriptKind::kCurriculum);
+  CHECK_FALSE(kind_of("other.lua", "local c = require('mine')\nreturn nil\n"));
+}
+
 TEST_CASE("no shipped Lua file has a static problem", "[lua_sandbox][static]") {
   int files = 0;
   for (const char* folder : {"scenarios", "curricula", "scripts", "docs/examples", "tests/scripts"}) {

@@ -1390,6 +1390,35 @@ TEST_CASE("a report removes the figures of the previous report that it no longer
   CHECK(slurp(folder.dir / "notes.png") == "a file of the user's");
 }
 
+// Found by a probe: a task axis choosing among strings of 100,000 characters crashed roger run
+// at its report: the figure of the teacher's draws read the axis from the recorded task space by
+// std::regex, whose matcher recursed once per character and overflowed the stack.
+TEST_CASE("the figure of a teacher's draws reads an axis of long choices", "[report][run]") {
+  const test::TempDir dir("roger_report_long_choice");
+  const std::string scenario = (dir.path / "scenario.lua").string(), curriculum = (dir.path / "curriculum.lua").string();
+  spit(scenario, "local base = require('unobstructed')\nlocal params = {}\n"
+                 "for k, v in pairs(base.params) do params[k] = v end\n"
+                 "params.label = { default = 'a', choices = { 'a', string.rep('x', 100000) } }\n"
+                 "return { params = params, generate = function(world, rng, p)\n"
+                 "  local _ = p.label\n  base.generate(world, rng, p)\nend }\n");
+  spit(curriculum, "local p = require('lib.skills').primitives()\n"
+                   "return { name = 'c', stages = { roger.stage{ name = 'S', scenario = '" + scenario + "',\n"
+                   "  time_limit = 1, absorbing = roger.converged(p.phi0), budget = { episodes = 4 },\n"
+                   "  checkpoints = { every = 2, threshold = 0.9 }, test = { tasks = 2, seed = 1 },\n"
+                   "  tasks = { label = roger.choice{ 'a', string.rep('x', 100000) } },\n"
+                   "  contexts = { { name = 'A', actions = { p.search, p.phi0 } } } } } }\n");
+  spit(dir.path / "batch.lua", "return { name = 'b', curriculum = '" + curriculum + "', trials = 1,\n"
+                               "  runs = { { name = 'R', stage = 'S', contexts = { 'A' } } },\n"
+                               "  figures = { { file = 'tasks_R', kind = 'tasks', run = 'R', param = 'label' } } }\n");
+  const std::string out = (dir.path / "out").string();
+  const int raw = std::system((std::string(ROGER_BINARY) + " run " + (dir.path / "batch.lua").string() + " --out " + out +
+                               " > " + (dir.path / "log").string() + " 2>&1").c_str());
+  INFO(slurp(dir.path / "log").substr(0, 2000));
+  REQUIRE(WIFEXITED(raw));
+  CHECK(WEXITSTATUS(raw) == 0);
+  CHECK(fs::exists(fs::path(out) / "tasks_R.svg"));
+}
+
 // Found by deleting a training trial's final.jsonl: the report's table by obstacles silently
 // counted 30 episodes of 40, and a resumed run took the trial as finished.
 TEST_CASE("a training trial's final.jsonl missing or cut short is refused and the trial run again", "[report][run]") {

@@ -3,9 +3,9 @@
 #include "report/report.h"
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <map>
-#include <regex>
 #include <set>
 #include <sstream>
 
@@ -89,10 +89,14 @@ std::set<std::string> previous_figure_files(const std::string& dir) {
   if (open == std::string::npos || close == std::string::npos || close < open) return files;
   const json data = json::parse(text.substr(open, close - open + 1), nullptr, false);
   if (!data.is_object() || !data.contains("figures") || !data["figures"].is_array()) return files;
-  static const std::regex plain_name("[A-Za-z0-9_.-]+");
+  // A plain name ([A-Za-z0-9_.-]+), tested by hand: std::regex recursed per character of a long one.
+  auto plain_name = [](const std::string& name) {
+    return !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
+      return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '-';
+    });
+  };
   for (const json& f : data["figures"])
-    if (f.is_object() && f.contains("file") && f["file"].is_string() &&
-        std::regex_match(f["file"].get<std::string>(), plain_name))
+    if (f.is_object() && f.contains("file") && f["file"].is_string() && plain_name(f["file"].get<std::string>()))
       for (const char* ext : {".png", ".svg"}) files.insert(f["file"].get<std::string>() + ext);
   return files;
 }

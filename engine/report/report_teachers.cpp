@@ -4,12 +4,12 @@
 #include "report/report_internal.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <map>
 #include <optional>
-#include <regex>
 #include <set>
 #include <sstream>
 
@@ -358,32 +358,71 @@ struct Axis {
   std::vector<std::string> choices;
 };
 
-std::optional<Axis> axis_of(const std::string& space, const std::string& param) {
-  const std::string name = std::regex_replace(param, std::regex(R"([^A-Za-z0-9_])"), "");
-  if (name != param || name.empty()) return std::nullopt;
-  std::smatch m;
-  const std::string number = R"(([-+0-9.eE]+))";
-  if (std::regex_search(space, m, std::regex("(^|, )" + name + " = roger\\.(int|real)\\(" + number + ", " + number + "\\)"))) {
+// Where `name = roger.` begins an axis of a space's text (at its start or after ", "), from `from`;
+// npos when nowhere. Read by hand, not by std::regex, whose matcher recurses once per character:
+// a choice of a 100 KB string overflowed the stack (found by a probe).
+size_t axis_head(const std::string& space, const std::string& name, size_t from) {
+  const std::string head = name + " = roger.";
+  for (size_t at = space.find(head, from); at != std::string::npos; at = space.find(head, at + 1))
+    if (at == 0 || (at >= 2 && space.compare(at - 2, 2, ", ") == 0)) return at + head.size();
+  return std::string::npos;
+}
+
+// A number as the text of a range's end writes it ([-+0-9.eE]+), consumed from `at`; "" if none.
+std::string range_end(const std::string& s, size_t& at) {
+  const size_t from = at;
+  while (at < s.size() && s[at] != '\0' && std::strchr("-+0123456789.eE", s[at])) ++at;
+  return s.substr(from, at - from);
+}
+
+std::optional<Axis> range_axis(const std::string& space, const std::string& name) {
+  for (size_t at = axis_head(space, name, 0); at != std::string::npos; at = axis_head(space, name, at)) {
     Axis a;
-    a.kind = m[2] == "int" ? Axis::Kind::kInt : Axis::Kind::kReal;
-    a.lo = std::strtod(m[3].str().c_str(), nullptr);
-    a.hi = std::strtod(m[4].str().c_str(), nullptr);
-    if (!(a.hi > a.lo) || (a.kind == Axis::Kind::kInt && a.hi - a.lo > 40)) return std::nullopt;
+    size_t i = at;
+    if (space.compare(i, 4, "int(") == 0) a.kind = Axis::Kind::kInt, i += 4;
+    else if (space.compare(i, 5, "real(") == 0) a.kind = Axis::Kind::kReal, i += 5;
+    else continue;
+    const std::string lo = range_end(space, i);
+    if (lo.empty() || space.compare(i, 2, ", ") != 0) continue;
+    i += 2;
+    const std::string hi = range_end(space, i);
+    if (hi.empty() || space.compare(i, 1, ")") != 0) continue;
+    a.lo = std::strtod(lo.c_str(), nullptr);
+    a.hi = std::strtod(hi.c_str(), nullptr);
     return a;
   }
-  if (std::regex_search(space, m, std::regex("(^|, )" + name + " = roger\\.choice\\{([^}]*)\\}"))) {
+  return std::nullopt;
+}
+
+std::optional<Axis> choice_axis(const std::string& space, const std::string& name) {
+  for (size_t at = axis_head(space, name, 0); at != std::string::npos; at = axis_head(space, name, at)) {
+    if (space.compare(at, 7, "choice{") != 0) continue;
+    const size_t close = space.find('}', at + 7);
+    if (close == std::string::npos) continue;
     Axis a;
     a.kind = Axis::Kind::kChoice;
-    const std::string list = m[2].str();  // "circle, triangle, spade", as TaskDim::text() joins them
-    for (size_t at = 0; at <= list.size();) {
-      const size_t comma = list.find(", ", at);
-      a.choices.push_back(list.substr(at, comma == std::string::npos ? std::string::npos : comma - at));
+    const std::string list = space.substr(at + 7, close - at - 7);  // "circle, triangle, spade", as TaskDim::text() joins them
+    for (size_t from = 0; from <= list.size();) {
+      const size_t comma = list.find(", ", from);
+      a.choices.push_back(list.substr(from, comma == std::string::npos ? std::string::npos : comma - from));
       if (comma == std::string::npos) break;
-      at = comma + 2;
+      from = comma + 2;
     }
     return a;
   }
   return std::nullopt;
+}
+
+std::optional<Axis> axis_of(const std::string& space, const std::string& param) {
+  if (param.empty() || !std::all_of(param.begin(), param.end(), [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+      }))
+    return std::nullopt;
+  if (const std::optional<Axis> a = range_axis(space, param)) {
+    if (!(a->hi > a->lo) || (a->kind == Axis::Kind::kInt && a->hi - a->lo > 40)) return std::nullopt;
+    return a;
+  }
+  return choice_axis(space, param);
 }
 
 Drawn drawn_values(const BatchRun& run, const std::string& context, const std::string& param, const Folder& folder) {

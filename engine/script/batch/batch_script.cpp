@@ -1,13 +1,13 @@
 #include "script/batch/batch_script.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <map>
-#include <regex>
 #include <set>
 #include <sstream>
 
@@ -53,17 +53,6 @@ std::string resolve_script(const std::string& arg) {
   return resolve_script_path(arg, "scripts", "batch script", "batch scripts in scripts/");
 }
 
-// The line of the final `return` (for errors about the whole table).
-int return_line(const std::string& text) {
-  int top_line = 1;
-  {
-    std::istringstream in(text);
-    std::string l;
-    for (int n = 1; std::getline(in, l); ++n)
-      if (std::regex_search(l, std::regex("^\\s*return\\b"))) top_line = n;
-  }
-  return top_line;
-}
 
 // The table the script returned (on top of the stack, then popped) as JSON.
 json returned_table(lua_State* L, const Reader& rd, int top_line) {
@@ -100,8 +89,10 @@ void read_limits(const json& top, const Reader& rd, const BatchOverrides& overri
 // Whether a name can be a folder's of the results (a trial id's segment, a figure's file): letters,
 // digits, '.', '_' and '-', and not '.' or '..'.
 bool folder_name(const std::string& s) {
-  static const std::regex plain("[A-Za-z0-9_.-]+");
-  return std::regex_match(s, plain) && s != "." && s != "..";
+  const bool plain = !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '-';
+  });
+  return plain && s != "." && s != "..";
 }
 
 // A description or title is one line of the report (found by a probe: a line break let the rest
@@ -996,7 +987,7 @@ BatchScript read_batch_script(const std::string& path_in, const BatchOverrides& 
   lua_State* L = sandbox.state();
   const std::string text = read_file_text(path);
   const Reader rd(b.path, text);
-  const int top_line = return_line(text);
+  const int top_line = rd.return_line();
   const json top = returned_table(L, rd, top_line);
 
   read_header(top, rd, top_line, path, overrides, b);

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "script/batch/batch_script.h"
+#include "script/sandbox/lua_tokens.h"
 
 struct lua_State;
 
@@ -38,7 +39,9 @@ json lua_to_json(lua_State* L, int index, const std::string& path, int depth = 0
 // Reads a validated script out of the JSON the Lua script returned, with lines for messages.
 class Reader {
  public:
-  Reader(std::string display, std::string text) : display_(std::move(display)), text_(std::move(text)) {}
+  // The lines of what a message names are found in the text's tokens, not by std::regex: its matcher
+  // recursed once per character of a long line and overflowed the stack (found by a probe).
+  Reader(std::string display, const std::string& text) : display_(std::move(display)), tokens_(lua_tokenize(text)) {}
 
   // Throws a ScriptError at the script's line.
   [[noreturn]] void fail(int line, const std::string& message) const;
@@ -50,6 +53,8 @@ class Reader {
   int line_of_built_name(const std::string& marker, int from = 1) const;
   // The line where `key =` is first written at or after line `from`, else `from`.
   int line_of_key(const std::string& key, int from = 1) const;
+  // The line of the last `return` that begins its line (1 when none): the returned table's.
+  int return_line() const;
 
   // Checks that a value is an object with only known keys.
   void check_object(const json& j, const std::string& what, const std::vector<std::string>& known, int line) const;
@@ -73,11 +78,10 @@ class Reader {
   Params params(const json& o, const char* key, const std::string& what, int line) const;
 
  private:
-  // The text with every character but letters, digits and '_' matching any character.
-  static std::string escape(const std::string& s);
-  // The line where `pattern` first matches at or after line `from` (0 when not found).
-  int line_of(const std::string& pattern, int from) const;
-  std::string display_, text_;
+  // Whether token i is the name `key` followed by `=` (not `==`).
+  bool is_assignment(size_t i, const std::string& key) const;
+  std::string display_;
+  std::vector<LuaToken> tokens_;
 };
 
 }  // namespace batch_detail

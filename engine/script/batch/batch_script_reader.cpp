@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <regex>
 
 #include <lua.hpp>
 
@@ -65,6 +64,10 @@ json lua_to_json(lua_State* L, int index, const std::string& path, int depth) {
       }
     case LUA_TSTRING: return utf8_text(L, index, where);
     case LUA_TTABLE: {
+      // Each level holds a key and a value on Lua's stack while the next reads its own: room for
+      // them, which Lua guarantees for 20 slots only (found by a probe: a table nested 33 deep
+      // wrote past the stack, and the sandbox crashed when it closed).
+      if (!lua_checkstack(L, 3)) throw Error(where + ": nested too deeply");
       json obj = json::object();
       std::map<lua_Integer, json> items;
       lua_pushnil(L);
@@ -106,7 +109,12 @@ void Reader::fail(int line, const std::string& message) const {
 
 // The line where `name = "value"` is first written at or after line `from` (0 when not found).
 int Reader::line_of_name(const std::string& value, int from) const {
-  return line_of("name\\s*=\\s*[\"']" + escape(value) + "[\"']", from);
+  return lua_line_of_string_field(tokens_, "name", value, from);
+}
+
+bool Reader::is_assignment(size_t i, const std::string& key) const {
+  return tokens_[i].type == LuaToken::kName && tokens_[i].text == key && tokens_[i + 1].type == LuaToken::kOp &&
+         tokens_[i + 1].text == "=";
 }
 
 // The line of a table the script builds with a computed name (`name = stage`, in a loop): the
@@ -114,19 +122,32 @@ int Reader::line_of_name(const std::string& value, int from) const {
 // its line or one of the next three (`stage` for a run); 0 when there is none. Found by a probe:
 // such a run was reported at the line of another run, the first after `runs =`.
 int Reader::line_of_built_name(const std::string& marker, int from) const {
-  const std::string pattern = "(^|[^A-Za-z0-9_])name\\s*=\\s*[^\"'\\s\\[][^\\n]*(\\n[^\\n]*){0,3}[^A-Za-z0-9_]" +
-                              escape(marker) + "\\s*=[^=]";
   for (int start : {from, 1}) {
-    const int l = line_of(pattern, start);
-    if (l) return l;
+    for (size_t i = 0; tokens_[i].type != LuaToken::kEnd; ++i) {
+      if (tokens_[i].line < start || !is_assignment(i, "name")) continue;
+      const LuaToken& value = tokens_[i + 2];
+      if (value.type == LuaToken::kString || value.type == LuaToken::kEnd || value.text == "[") continue;
+      for (size_t j = i + 3; tokens_[j].type != LuaToken::kEnd && tokens_[j].line <= value.line + 3; ++j)
+        if (is_assignment(j, marker)) return tokens_[i].line;
+    }
   }
   return 0;
 }
 
 // The line where `key =` is first written at or after line `from`, else `from`.
 int Reader::line_of_key(const std::string& key, int from) const {
-  const int l = line_of("(^|[^A-Za-z0-9_])" + escape(key) + "\\s*=[^=]", from);
-  return l ? l : from;
+  for (size_t i = 0; tokens_[i].type != LuaToken::kEnd; ++i)
+    if (tokens_[i].line >= from && is_assignment(i, key)) return tokens_[i].line;
+  return from;
+}
+
+int Reader::return_line() const {
+  int line = 1;
+  for (size_t i = 0; tokens_[i].type != LuaToken::kEnd; ++i)
+    if (tokens_[i].type == LuaToken::kName && tokens_[i].text == "return" &&
+        (i == 0 || tokens_[i - 1].line < tokens_[i].line))
+      line = tokens_[i].line;
+  return line;
 }
 
 // Checks that a value is an object with only known keys.
@@ -227,28 +248,6 @@ Params Reader::params(const json& o, const char* key, const std::string& what, i
     out.emplace_back(it.key(), text);
   }
   return out;
-}
-
-// The text with every character but letters, digits and '_' matching any character.
-std::string Reader::escape(const std::string& s) {
-  return std::regex_replace(s, std::regex("[^A-Za-z0-9_]"), ".");
-}
-
-// The line where `pattern` first matches at or after line `from` (0 when not found).
-int Reader::line_of(const std::string& pattern, int from) const {
-  size_t pos = 0;
-  for (int l = 1; l < from && pos != std::string::npos; ++l) {
-    pos = text_.find('\n', pos);
-    if (pos != std::string::npos) ++pos;
-  }
-  if (pos == std::string::npos) return 0;
-  std::smatch m;
-  const std::regex re(pattern);
-  auto begin = text_.cbegin() + long(pos);
-  if (std::regex_search(begin, text_.cend(), m, re))
-    return int(std::count(text_.cbegin(), begin + m.position(0), '\n')) + 1 +
-           (m.length(1) > 0 && m.str(1) == "\n" ? 1 : 0);
-  return 0;
 }
 
 }  // namespace batch_detail

@@ -7,7 +7,6 @@
 #include <functional>
 #include <map>
 #include <optional>
-#include <regex>
 #include <set>
 #include <sstream>
 
@@ -230,10 +229,7 @@ namespace {
 
 // The line where a plain-table stage's name is written (a table carries no lines), 0 if none.
 int line_of_stage(const std::string& text, const std::string& name) {
-  const std::regex re("name\\s*=\\s*[\"']" + std::regex_replace(name, std::regex("[^A-Za-z0-9_]"), ".") + "[\"']");
-  std::smatch m;
-  if (std::regex_search(text, m, re)) return int(std::count(text.begin(), text.begin() + m.position(0), '\n')) + 1;
-  return 0;
+  return lua_line_of_string_field(lua_tokenize(text), "name", name);
 }
 
 // The stage on top of the stack, read as the script left it when it returned, so that changes

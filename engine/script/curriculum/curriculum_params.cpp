@@ -3,7 +3,7 @@
 // `params` table that gives it (rather than later, by the trial or roger check, with no line).
 #include <filesystem>
 #include <optional>
-#include <regex>
+#include <algorithm>
 #include <tuple>
 
 #include "core/fileio.h"
@@ -79,32 +79,145 @@ int field_line(const CurriculumStage& st, const std::string& context, const std:
 
 namespace {
 
+// The messages below are read by hand, not by std::regex: its matcher recurses once per character,
+// and a message quoting a 100 KB string of a stage's overflowed the stack (found by a probe:
+// `params = { shape = string.rep("x", 100000) }` crashed roger check).
+struct MessageScan {
+  const std::string& text;
+  size_t at = 0;
+
+  // Consumes `literal` if it comes next.
+  bool take(const std::string& literal) {
+    if (text.compare(at, literal.size(), literal) != 0) return false;
+    at += literal.size();
+    return true;
+  }
+  // Consumes the longest run of characters `in` accepts, if it has `first` at its head; "" if none.
+  template <class First, class In>
+  std::string take_run(First first, In in) {
+    const size_t from = at;
+    if (at < text.size() && first(text[at]))
+      for (++at; at < text.size() && in(text[at]);) ++at;
+    return text.substr(from, at - from);
+  }
+  // Consumes the text up to (not including) the next `c`; nullopt, consuming nothing, if none.
+  std::optional<std::string> take_until(char c) {
+    const size_t end = text.find(c, at);
+    if (end == std::string::npos) return std::nullopt;
+    std::string run = text.substr(at, end - at);
+    at = end;
+    return run;
+  }
+  // The rest of the text, if it is one line (as a regex's `.*$` took it).
+  std::optional<std::string> rest_of_line() const {
+    if (text.find_first_of("\r\n", at) != std::string::npos) return std::nullopt;
+    return text.substr(at);
+  }
+};
+
+bool is_lower_name_char(char c) { return (c >= 'a' && c <= 'z') || c == '_'; }
+bool is_digit(char c) { return c >= '0' && c <= '9'; }
+bool is_identifier_head(char c) { return (c >= 'A' && c <= 'Z') || is_lower_name_char(c); }
+bool is_identifier_char(char c) { return is_identifier_head(c) || is_digit(c); }
+
+// A message's head naming a sub-table: "learner: rest" (name), or "context 2: rest" (context 2).
+struct SubTableHead {
+  std::string name;
+  size_t context = 0;  // 1-based; 0 for a named sub-table
+  std::string rest;
+};
+
+std::optional<SubTableHead> sub_table_head(const std::string& message) {
+  MessageScan scan{message};
+  SubTableHead head;
+  if (scan.take("context ")) {
+    const std::string digits = scan.take_run(is_digit, is_digit);
+    if (!digits.empty() && scan.take(": ")) {
+      const std::optional<std::string> rest = scan.rest_of_line();
+      if (!rest) return std::nullopt;
+      for (char d : digits) head.context = std::min<size_t>(head.context * 10 + size_t(d - '0'), 1u << 30);
+      head.rest = *rest;
+      return head;
+    }
+    scan.at = 0;
+  }
+  head.name = scan.take_run(is_lower_name_char, is_lower_name_char);
+  if (head.name.empty() || !scan.take(": ")) return std::nullopt;
+  const std::optional<std::string> rest = scan.rest_of_line();
+  if (!rest) return std::nullopt;
+  head.rest = *rest;
+  return head;
+}
+
 // Descends from `node` along a message's path of sub-tables ("learner: ", "context 2: ") to the
 // constructor its field is written in; `line` follows to the deepest one found. The rest of the
 // message is left in `rest`.
 int descend(const LuaTableMap& map, int node, int& line, std::string& rest) {
-  static const std::regex sub(R"(^(context (\d+)|[a-z_]+): (.*)$)");
-  std::smatch m;
-  while (node >= 0 && std::regex_match(rest, m, sub)) {
+  while (node >= 0) {
+    const std::optional<SubTableHead> head = sub_table_head(rest);
+    if (!head) break;
     int child = -1;
-    if (m[2].matched) {  // "context 2": the second item of the contexts' list
+    if (head->context > 0) {  // "context 2": the second item of the contexts' list
       const auto* contexts = map.entry(node, "contexts");
       const int list = contexts ? map.value_node(*contexts) : -1;
-      const size_t k = size_t(std::stoul(m[2].str()));
-      if (list >= 0 && k >= 1 && k <= map.nodes()[size_t(list)].items.size())
-        child = map.nodes()[size_t(list)].items[k - 1];
+      if (list >= 0 && head->context <= map.nodes()[size_t(list)].items.size())
+        child = map.nodes()[size_t(list)].items[head->context - 1];
       if (child >= 0) line = map.nodes()[size_t(child)].line;
-    } else if (const auto* e = map.entry(node, m[1].str())) {
+    } else if (const auto* e = map.entry(node, head->name)) {
       line = e->line;
       child = map.value_node(*e);
     } else {
       return node;  // a sentence, not a field's name: the field is in `node`
     }
-    rest = m[3].str();
+    rest = head->rest;
     if (child < 0) return -1;
     node = child;
   }
   return node;
+}
+
+// "stage 'S': rest" or "stage 'S', context 'C': rest".
+struct StageMessage {
+  std::optional<std::string> context;
+  std::string rest;
+};
+
+std::optional<StageMessage> stage_message(const std::string& message) {
+  MessageScan scan{message};
+  StageMessage m;
+  if (!scan.take("stage '") || !scan.take_until('\'') || !scan.take("'")) return std::nullopt;
+  const size_t after_stage = scan.at;
+  if (scan.take(", context '")) {
+    m.context = scan.take_until('\'');
+    if (!m.context || !scan.take("'")) m.context.reset(), scan.at = after_stage;
+  }
+  if (!scan.take(": ")) return std::nullopt;
+  const std::optional<std::string> rest = scan.rest_of_line();
+  if (!rest) return std::nullopt;
+  m.rest = *rest;
+  return m;
+}
+
+// The field a message's rest names at its head: "unknown field 'x'", "unknown fields 'x', ...",
+// "field 'x' ..." (key ""), or "tasks.goal_radius ..." (field "tasks", key "goal_radius").
+struct NamedField {
+  std::string field, key;
+};
+
+std::optional<NamedField> named_field(const std::string& rest) {
+  MessageScan scan{rest};
+  if (scan.take("unknown fields ") || scan.take("unknown field ") || scan.take("field ")) {
+    std::string name;
+    if (scan.take("'") && !(name = scan.take_run(is_identifier_head, is_identifier_char)).empty() && scan.take("'"))
+      return NamedField{name, ""};
+    scan.at = 0;
+  }
+  NamedField dotted;
+  dotted.field = scan.take_run(is_lower_name_char, is_lower_name_char);
+  if (dotted.field.empty() || !scan.take(".")) return std::nullopt;
+  dotted.key = scan.take_run(is_identifier_head, is_identifier_char);
+  if (dotted.key.empty() || !scan.take(" ")) return std::nullopt;
+  return dotted;
 }
 
 }  // namespace
@@ -112,36 +225,32 @@ int descend(const LuaTableMap& map, int node, int& line, std::string& rest) {
 std::optional<ScriptError> at_stage_field(const ScriptError& e) {
   // Found by a probe: a stage's misspelt or ill-typed field was reported at its roger.stage{
   // line, however far below it was written. A table carries no lines; the text does.
-  static const std::regex stage(R"(^stage '([^']*)'(?:, context '([^']*)')?: (.*)$)");
-  std::smatch m;
+  //
   // A field's line only for an error of the roger.stage{...} call itself (raised in Lua, with a
   // traceback): one found when the returned table is read again may be of a field changed after
   // the call (a wrapper's paper.stages[2].budget = {...}), which the text does not show. A
   // context's line also for an error found later (an action's name, a learned skill no stage
   // yields), when the context is written in the stage's text.
   const bool in_call = !e.traceback.empty();
-  if (e.file.empty() || e.line <= 0 || !std::regex_match(e.message, m, stage)) return std::nullopt;
-  if (!in_call && !m[2].matched) return std::nullopt;
+  if (e.file.empty() || e.line <= 0) return std::nullopt;
+  const std::optional<StageMessage> m = stage_message(e.message);
+  if (!m || (!in_call && !m->context)) return std::nullopt;
   const std::string text = source_text(e.file);
   if (text.empty()) return std::nullopt;
   const LuaTableMap map(text);
   int node = stage_node(map, e.line), line = e.line;
   if (node < 0 || map.nodes()[size_t(node)].line != e.line) return std::nullopt;  // raised elsewhere (a callback)
-  if (m[2].matched) std::tie(node, line) = context_node(map, node, m[2].str(), line);
+  if (m->context) std::tie(node, line) = context_node(map, node, *m->context, line);
   if (!in_call) return node >= 0 ? std::optional<ScriptError>(ScriptError(e.message, e.file, line, "")) : std::nullopt;
-  std::string rest = m[3].str();
+  std::string rest = m->rest;
   node = descend(map, node, line, rest);
-  static const std::regex field(R"(^(?:unknown fields? |field )'([A-Za-z_][A-Za-z0-9_]*)')");
   // "tasks.goal_radius must be ...": the key's line in the field's table (found by a probe).
-  static const std::regex dotted(R"(^([a-z_]+)\.([A-Za-z_][A-Za-z0-9_]*) )");
-  std::smatch f;
-  if (node >= 0 && std::regex_search(rest, f, field)) {
-    if (const auto* entry = map.entry(node, f[1].str())) line = entry->line;
-  } else if (node >= 0 && std::regex_search(rest, f, dotted)) {
-    if (const auto* entry = map.entry(node, f[1].str())) {
+  const std::optional<NamedField> f = node >= 0 ? named_field(rest) : std::nullopt;
+  if (f) {
+    if (const auto* entry = map.entry(node, f->field)) {
       line = entry->line;
-      const int table = map.value_node(*entry);
-      if (const auto* key = table >= 0 ? map.entry(table, f[2].str()) : nullptr) line = key->line;
+      const int table = f->key.empty() ? -1 : map.value_node(*entry);
+      if (const auto* key = table >= 0 ? map.entry(table, f->key) : nullptr) line = key->line;
     }
   }
   if (line == e.line) return std::nullopt;

@@ -6,7 +6,6 @@
 #include <cstring>
 #include <fstream>
 #include <map>
-#include <regex>
 #include <sstream>
 
 #include <lua.hpp>
@@ -14,6 +13,7 @@
 #include "core/fileio.h"
 #include "core/text.h"
 #include "script/sandbox/lua_sandbox_internal.h"
+#include "script/sandbox/lua_tokens.h"
 
 namespace roger {
 namespace sandbox_detail {
@@ -298,25 +298,48 @@ fs::path module_file(const fs::path& folder, const std::string& name) {
   return {};
 }
 
+// Whether token i is `require "m"` or `require("m")` with a module name m; i moves past it.
+bool required_module(const std::vector<LuaToken>& t, size_t& i, std::string& module) {
+  if (t[i].type != LuaToken::kName || t[i].text != "require") return false;
+  size_t j = i + 1;
+  const bool paren = t[j].type == LuaToken::kOp && t[j].text == "(";
+  if (paren) ++j;
+  if (t[j].type != LuaToken::kString || t[j].text.empty()) return false;
+  for (char c : t[j].text)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.')) return false;
+  module = t[j].text;
+  i = j + (paren && t[j + 1].type == LuaToken::kOp && t[j + 1].text == ")" ? 2 : 1);
+  return true;
+}
+
+// Read from the script's tokens, not by std::regex, whose matcher recurses once per character: a
+// line of 100,000 characters overflowed the stack (found by a probe: roger check crashed on a
+// script whose one line returned a long name). Strings and comments no longer count either.
 bool has_key(const std::string& path, const std::string& key, int depth) {
-  std::istringstream in(read_file_text(path));
-  const std::regex field("(^|[{,;.\\s])" + key + "\\s*=[^=]");  // also `t.key = ...`
+  const std::vector<LuaToken> t = lua_tokenize(read_file_text(path));
+  auto is_op = [&](size_t i, const char* op) { return t[i].type == LuaToken::kOp && t[i].text == op; };
   // A script that returns a module it requires (`local p = require("paper") ... return p`, or
   // `return require("paper")`) is of that module's kind.
-  const std::regex required("local\\s+([A-Za-z_]\\w*)\\s*=\\s*require\\s*\\(?\\s*[\"']([\\w.]+)[\"']");
-  const std::regex returned("(^|[\\s;])return\\s+(require\\s*\\(?\\s*[\"']([\\w.]+)[\"']|([A-Za-z_]\\w*))\\s*\\)?\\s*;?\\s*$");
   std::map<std::string, std::string> modules;  // local name -> module
   std::string result_module;
-  std::string line;
-  std::smatch m;
-  while (std::getline(in, line)) {
-    const size_t comment = line.find("--");
-    if (comment != std::string::npos) line.resize(comment);
-    if (std::regex_search(line + " ", field)) return true;
-    if (std::regex_search(line, m, required)) modules[m[1]] = m[2];
-    if (std::regex_search(line, m, returned)) {
-      const auto it = modules.find(m[4]);
-      result_module = m[3].matched ? std::string(m[3]) : it != modules.end() ? it->second : std::string();
+  for (size_t i = 0; t[i].type != LuaToken::kEnd; ++i) {
+    if (t[i].type != LuaToken::kName) continue;
+    if (t[i].text == key && is_op(i + 1, "=")) return true;  // also `t.key = ...`
+    std::string module;
+    if (t[i].text == "local" && t[i + 1].type == LuaToken::kName && is_op(i + 2, "=")) {
+      size_t j = i + 3;
+      if (required_module(t, j, module)) modules[t[i + 1].text] = module;
+    } else if (t[i].text == "return") {
+      // `return require("m")` or `return p`, ending its line (a `;` may follow)
+      size_t j = i + 1;
+      if (!required_module(t, j, module)) {
+        if (t[j].type != LuaToken::kName) continue;  // `return nil` too: it leaves no module
+        const auto it = modules.find(t[j].text);
+        module = it != modules.end() ? it->second : std::string();
+        ++j;
+      }
+      if (is_op(j, ";")) ++j;
+      if (t[j].type == LuaToken::kEnd || t[j].line > t[i].line) result_module = module;
     }
   }
   if (result_module.empty() || depth >= 8) return false;

@@ -139,6 +139,24 @@ bool lua_keyword(const std::string& name) {
   return words.count(name) > 0;
 }
 
+bool lua_string_written_as(const std::string& written, const std::string& value) {
+  if (written.size() != value.size()) return false;
+  for (size_t k = 0; k < value.size(); ++k) {
+    const char c = value[k];
+    const bool plain = std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+    if (plain && written[k] != c) return false;
+  }
+  return true;
+}
+
+int lua_line_of_string_field(const std::vector<LuaToken>& t, const std::string& key, const std::string& value, int from) {
+  for (size_t i = 0; i + 2 < t.size(); ++i)
+    if (t[i].line >= from && t[i].type == LuaToken::kName && t[i].text == key && t[i + 1].type == LuaToken::kOp &&
+        t[i + 1].text == "=" && t[i + 2].type == LuaToken::kString && lua_string_written_as(t[i + 2].text, value))
+      return t[i].line;
+  return 0;
+}
+
 // One pass over a script's tokens, tracking the open braces, parentheses, brackets and blocks.
 struct LuaTableMap::Reader {
   enum Frame { kBrace, kParen, kBracket, kBlock };

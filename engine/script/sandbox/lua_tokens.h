@@ -23,6 +23,16 @@ std::vector<LuaToken> lua_tokenize(const std::string& text);
 // Whether a name is one of Lua 5.4's reserved words.
 bool lua_keyword(const std::string& name);
 
+// Whether a string token's text (escapes as written) may be `value`: the same length, and the
+// same letters, digits and '_' (each other character of `value` may be written otherwise).
+bool lua_string_written_as(const std::string& written, const std::string& value);
+
+// The line of the first `key = "value"` written at or after line `from` (0 when none), the string
+// told by lua_string_written_as. Passes over text without a regex: std::regex's matcher recursed
+// once per character of a long line and overflowed the stack (found by a probe).
+int lua_line_of_string_field(const std::vector<LuaToken>& tokens, const std::string& key, const std::string& value,
+                             int from = 1);
+
 // The table constructors written in a Lua source text, with their lines. A Lua table carries no
 // line numbers, so a message about a field of a table a script returned or passed (a skill
 // script's policy, a stage's params) finds where it is written here. Read from the tokens only:
