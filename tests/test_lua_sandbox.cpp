@@ -1273,6 +1273,16 @@ TEST_CASE("a script's kind is told from its tokens whatever its lines' lengths",
   CHECK_FALSE(kind_of("other.lua", "local c = require('mine')\nreturn nil\n"));
 }
 
+// Found by a probe: roger check said "deep.lua:0: C stack overflow" of a table nested past Lua's
+// compiler's limit, a line that does not exist (Lua's own message names none).
+TEST_CASE("a compile error of no line is said without one", "[lua_sandbox][static]") {
+  const std::string deep = "return " + std::string(100000, '{') + std::string(100000, '}') + "\n";
+  const std::vector<StaticProblem> found = static_check_text(deep, "deep.lua", std::nullopt);
+  REQUIRE(found.size() == 1);
+  CHECK(found[0].what() == "deep.lua: C stack overflow");
+  CHECK(static_check_text("return {", "open.lua", std::nullopt).at(0).what() == "open.lua:1: unexpected symbol near <eof>");
+}
+
 TEST_CASE("no shipped Lua file has a static problem", "[lua_sandbox][static]") {
   int files = 0;
   for (const char* folder : {"scenarios", "curricula", "scripts", "docs/examples", "tests/scripts"}) {

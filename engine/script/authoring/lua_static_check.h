@@ -29,12 +29,13 @@
 
 namespace roger {
 
-// One finding: what() is "file:line: message".
+// One finding: what() is "file:line: message", or "file: message" for one of no line (Lua's "C
+// stack overflow" of a file nested past its compiler's limit names none).
 struct StaticProblem {
   std::string file;  // as shown to the user
   int line = 0;
   std::string message;
-  std::string what() const { return file + ":" + std::to_string(line) + ": " + message; }
+  std::string what() const { return file + (line > 0 ? ":" + std::to_string(line) : "") + ": " + message; }
 };
 
 // Checks a script file as a script of `kind` (without one, against every kind's names), and every
