@@ -10,6 +10,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/json_input.h"
 #include "core/rng.h"
 #include "core/shape.h"
 #include "core/text.h"
@@ -159,4 +160,25 @@ TEST_CASE("shell_word quotes what a shell would split or expand", "[core]") {
   CHECK(shell_word("it's") == "'it'\\''s'");
   CHECK(shell_word("$HOME") == "'$HOME'");
   CHECK(shell_word("") == "''");
+}
+
+// Found by a probe: a result.json nesting 100,000 brackets crashed roger report, nlohmann copying
+// and writing a value by recursion. The nesting is bounded where a file's JSON is read.
+TEST_CASE("parse_json reads JSON as nlohmann does and refuses nesting past its bound", "[core]") {
+  auto nested = [](int depth, const std::string& inside = "1") {
+    return std::string(size_t(depth), '[') + inside + std::string(size_t(depth), ']');
+  };
+  CHECK(roger::parse_json(nested(roger::kJsonMaxDepth)) == nlohmann::json::parse(nested(roger::kJsonMaxDepth)));
+  CHECK_THROWS_WITH(roger::parse_json(nested(roger::kJsonMaxDepth + 1)),
+                    Catch::Contains("parse error at byte 65: nested more than 64 levels deep"));
+  CHECK_THROWS_AS(roger::parse_json(nested(100000)), nlohmann::json::parse_error);
+  // Brackets in strings, escaped quotes among them, are text, not nesting.
+  const std::string text = "{\"a\": \"" + std::string(100, '[') + "\\\"" + std::string(100, '{') + "\"}";
+  CHECK(roger::parse_json(text)["a"].get<std::string>().size() == 201);
+  // Without exceptions, a discarded value, as nlohmann gives for text that does not parse.
+  const std::string deep = nested(100000);
+  CHECK(roger::parse_json(deep.cbegin(), deep.cend(), false).is_discarded());
+  const std::string bad = "{\"a\": ";
+  CHECK(roger::parse_json(bad.cbegin(), bad.cend(), false).is_discarded());
+  CHECK_THROWS_AS(roger::parse_json(bad), nlohmann::json::parse_error);
 }

@@ -885,7 +885,8 @@ TEST_CASE("a damaged trial result is a roger::Error naming its file, never an ab
   good["success_rate"] = 1.0 / 3;  // its 1 success in 3 episodes: a rate that disagrees is refused
   for (auto& c : good["checkpoints"]) c["success_rate"] = 0.5;
   const std::string policy = QTable({"phi1", "Phi7"}).to_json().dump();
-  auto report_with = [&](const json& result) {
+  // `marked` replaces the text "__MARK__" in each trial's record (a value json could not hold).
+  auto report_with = [&](const json& result, const std::string& marked = "") {
     fs::remove_all(dir);
     fs::create_directories(dir);
     fs::copy_file("tests/fuzz/report_manifest.json", dir / "manifest.json");
@@ -895,7 +896,9 @@ TEST_CASE("a damaged trial result is a roger::Error naming its file, never an ab
         fs::create_directories(d);
         json r = result;
         if (r.is_object()) r["id"] = t.id, r["trial"] = t.index;  // each trial's own, as roger run writes
-        spit(d / "result.json", r.dump());
+        std::string text = r.dump();
+        if (const size_t at = text.find("\"__MARK__\""); at != std::string::npos) text.replace(at, 10, marked);
+        spit(d / "result.json", text);
         if (t.run) spit(d / "policy.json", policy);
       }
     write_report(dir.string());
@@ -943,6 +946,16 @@ TEST_CASE("a damaged trial result is a roger::Error naming its file, never an ab
     } catch (const Error& e) {
       CHECK_THAT(e.what(), Catch::Contains(what) && Catch::Contains("result.json"));
     }
+  }
+  // Found by a probe: a field nesting 100,000 brackets crashed roger report: nlohmann copies and
+  // writes a value by recursion, a frame per level, and a message quoted the field.
+  json marked = good;
+  marked["psi"] = "__MARK__";
+  try {
+    report_with(marked, std::string(100000, '[') + std::string(100000, ']'));
+    FAIL("reported a result nested 100,000 deep");
+  } catch (const Error& e) {
+    CHECK_THAT(e.what(), Catch::Contains("result.json") && Catch::Contains("nested more than 64 levels deep"));
   }
   fs::remove_all(dir);
 }

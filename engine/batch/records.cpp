@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "batch/batch_internal.h"
+#include "core/json_input.h"
 #include "core/error.h"
 #include "core/fileio.h"
 #include "core/text.h"
@@ -271,7 +272,7 @@ json read_json_file(const std::string& path) {
   const std::string text = read_file_text(path);
   if (text.empty()) throw Error(path + ": empty (0 bytes)");
   try {
-    return json::parse(text);
+    return parse_json(text);
   } catch (const std::exception& e) {
     throw Error(path + ": not JSON (" + std::to_string(text.size()) + " bytes: truncated or edited?): " + json_error_text(e.what()));
   }
@@ -380,7 +381,7 @@ void check_episode_records(const fs::path& dir, const json& result, const Episod
     // (A line that is no record, or whose success is no boolean, is the reader's to refuse, with
     // its own words: final_record.)
     if (end > at && lines < episodes) {
-      const json record = json::parse(text.begin() + long(at), text.begin() + long(end), nullptr, false);
+      const json record = parse_json(text.cbegin() + long(at), text.cbegin() + long(end), false);
       const bool success = outcomes[lines] == '1';
       if (record.is_object() && record.contains("success") && record["success"].is_boolean() &&
           record["success"] != success)

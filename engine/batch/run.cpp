@@ -20,6 +20,7 @@
 
 #include "batch/batch_internal.h"
 #include "batch/trainer.h"
+#include "core/json_input.h"
 #include "core/error.h"
 #include "core/fileio.h"
 #include "core/text.h"
@@ -832,7 +833,7 @@ void refresh_status_place(const std::string& out) {
   try {
     std::error_code ec;
     if (!fs::is_regular_file(fs::path(out) / "status.json", ec)) return;
-    nlohmann::json j = nlohmann::json::parse(read_file_text((fs::path(out) / "status.json").string()));
+    nlohmann::json j = parse_json(read_file_text((fs::path(out) / "status.json").string()));
     set_status_place(j, out);
     write_status_files(out, j);
   } catch (const std::exception&) {
@@ -842,7 +843,7 @@ void refresh_status_place(const std::string& out) {
 
 void write_closing_status(const std::string& out, const std::string& report) {
   try {
-    nlohmann::json j = nlohmann::json::parse(read_file_text((fs::path(out) / "status.json").string()));
+    nlohmann::json j = parse_json(read_file_text((fs::path(out) / "status.json").string()));
     set_status_place(j, out);
     j["running"] = false;
     j["finishing"] = false;

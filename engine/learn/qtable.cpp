@@ -3,6 +3,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/json_input.h"
 #include "core/error.h"
 #include "core/fileio.h"
 #include "core/text.h"
@@ -352,7 +353,7 @@ QTable QTable::load(const std::string& path, const std::vector<std::string>& exp
   if (text.empty() && !std::ifstream(path, std::ios::binary)) throw Error(path + ": cannot read the policy file");
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(text);
+    j = parse_json(text);
   } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for 1e999
     throw Error(path + ": not valid JSON" + (text.empty() ? std::string(" (an empty file)") : "") + ": " + json_error_text(e.what()));
   }

@@ -14,6 +14,7 @@
 #include <set>
 
 #include "batch/trainer.h"
+#include "core/json_input.h"
 #include "core/error.h"
 #include "core/fileio.h"
 #include "core/rng.h"
@@ -231,7 +232,7 @@ void claim_search_folder(const ProposeOptions& o, const std::string& module, con
   if (fs::exists(file)) {
     nlohmann::json before;
     try {
-      before = nlohmann::json::parse(read_file_text(file));
+      before = parse_json(read_file_text(file));
     } catch (const nlohmann::json::exception& e) {
       throw Error(file + ": not valid JSON (" + json_error_text(e.what()) + "); remove it to search here again");
     }
@@ -270,7 +271,7 @@ CandidateTrial run_trial(const ProposeOptions& o, const CandidateSpec& spec, con
     // an unreadable one (records are written atomically, so a disk fault or an edit) is said.
     std::string why;
     try {
-      const nlohmann::json j = nlohmann::json::parse(read_file_text(file));
+      const nlohmann::json j = parse_json(read_file_text(file));
       if (j.at("hash") == hash && j.at("seed") == seed && j.at("cap_s") == cap_s) {
         CandidateTrial tr;
         tr.seed = seed;

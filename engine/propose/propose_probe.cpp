@@ -8,6 +8,7 @@
 #include <ostream>
 
 #include "batch/trainer.h"
+#include "core/json_input.h"
 #include "core/error.h"
 #include "core/fileio.h"
 #include "core/rng.h"
@@ -87,7 +88,7 @@ nlohmann::json probe_trial(const ProposeOptions& o, const std::string& context, 
     // one of other sources or another cap (a curriculum edited since) is run again silently.
     std::string why;
     try {
-      nlohmann::json j = nlohmann::json::parse(read_file_text(file));
+      nlohmann::json j = parse_json(read_file_text(file));
       const bool same = j.value("key", "") == key && j.value("cap_s", -1.0) == cap_s;
       if (same && sound_probe_record(j)) {
         *reused = true;

@@ -23,6 +23,7 @@
 #include "batch/environment.h"
 #include "batch/trainer.h"
 #include "core/error.h"
+#include "core/json_input.h"
 #include "core/rng.h"
 #include "core/text.h"
 #include "learn/learning.h"
@@ -109,7 +110,7 @@ EnvironmentOptions make_options(const std::string& curriculum, const std::string
                                 const std::string& teacher_file = "", const std::string& embedded_skills = "") {
   EnvironmentOptions o;
   // A policy file's extra.skills (make(..., policy=...)): the learned skills `roger eval` binds.
-  if (!embedded_skills.empty()) o.embedded_skills = nlohmann::json::parse(embedded_skills);
+  if (!embedded_skills.empty()) o.embedded_skills = parse_json(embedded_skills);
   // The package writes a tasks dict as Lua text; a teacher comes as Lua text or a file.
   if (!tasks.empty()) o.tasks = {tasks, "make(tasks=...)", false};
   if (!teacher.empty()) o.teacher = {teacher, "make(teacher=...)", false};

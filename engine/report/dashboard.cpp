@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "batch/batch.h"
+#include "core/json_input.h"
 #include "core/error.h"
 #include "core/fileio.h"
 #include "report/report.h"
@@ -66,7 +67,7 @@ json trial_entry(const std::string& dir, const std::string& id, int index) {
   if (fs::exists(d / "result.json", ec)) {
     t["state"] = "ok";
     try {
-      const json r = json::parse(read_text(d / "result.json"));
+      const json r = parse_json(read_text(d / "result.json"));
       for (const char* key : {"time_to_threshold_s", "reached", "success_rate", "reward_mean"})
         if (r.contains(key)) t[key] = r[key].is_number() ? json(rounded(r[key].get<double>())) : r[key];
     } catch (const std::exception&) {
@@ -77,7 +78,7 @@ json trial_entry(const std::string& dir, const std::string& id, int index) {
     // Why it failed, for the chip's tooltip: the first line of the message (error.json, linked
     // below, holds the whole of it and the traceback).
     try {
-      const json e = json::parse(read_text(d / "error.json"));
+      const json e = parse_json(read_text(d / "error.json"));
       const std::string message = e.value("error", std::string());
       t["error"] = message.substr(0, message.find('\n'));
     } catch (const std::exception&) {

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "batch/batch.h"
+#include "core/json_input.h"
 #include "core/error.h"
 #include "core/fileio.h"
 #include "core/text.h"
@@ -87,7 +88,7 @@ std::set<std::string> previous_figure_files(const std::string& dir) {
   }
   const size_t open = text.find('{'), close = text.rfind('}');
   if (open == std::string::npos || close == std::string::npos || close < open) return files;
-  const json data = json::parse(text.substr(open, close - open + 1), nullptr, false);
+  const json data = parse_json(text.cbegin() + long(open), text.cbegin() + long(close) + 1, false);
   if (!data.is_object() || !data.contains("figures") || !data["figures"].is_array()) return files;
   // A plain name ([A-Za-z0-9_.-]+), tested by hand: std::regex recursed per character of a long one.
   auto plain_name = [](const std::string& name) {

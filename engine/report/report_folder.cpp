@@ -11,6 +11,7 @@
 #include <map>
 #include <sstream>
 
+#include "core/json_input.h"
 #include "core/error.h"
 #include "core/fileio.h"
 #include "core/text.h"
@@ -87,7 +88,7 @@ Results Folder::trials(const std::vector<std::string>& ids) const {
     if (state != TrialState::kResult) continue;
     const fs::path file = fs::path(trial_dir(dir_, id)) / "result.json";
     try {
-      r.ok.push_back(json::parse(read_text(file)));
+      r.ok.push_back(parse_json(read_text(file)));
     } catch (const std::exception& e) {
       throw Error(file.string() + ": not JSON: " + json_error_text(e.what()));
     }

@@ -13,6 +13,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/json_input.h"
 #include "core/error.h"
 #include "core/fileio.h"
 #include "core/text.h"
@@ -196,7 +197,7 @@ struct FeatureRecords {
 json final_record(const std::string& line, const fs::path& file, int line_no) {
   json record;
   try {
-    record = json::parse(line);
+    record = parse_json(line);
   } catch (const std::exception& e) {
     throw Error(file.string() + ":" + std::to_string(line_no) + ": not JSON: " + json_error_text(e.what()));
   }
@@ -343,7 +344,7 @@ struct Drawn {
 // roger.choice{circle, spade}"), or "" (an unreadable record is the tables' to report).
 std::string recorded_space(const fs::path& result) {
   try {
-    const json r = json::parse(read_file_text(result.string()));
+    const json r = parse_json(read_file_text(result.string()));
     return r.is_object() && r.contains("tasks") && r["tasks"].is_string() ? r["tasks"].get<std::string>() : "";
   } catch (const std::exception&) {
     return "";
@@ -446,7 +447,7 @@ Drawn drawn_values(const BatchRun& run, const std::string& context, const std::s
       if (line.empty()) continue;
       json e;
       try {
-        e = json::parse(line);
+        e = parse_json(line);
       } catch (const std::exception& ex) {
         throw Error(file.string() + ":" + std::to_string(line_no) + ": not JSON: " + ex.what());
       }
