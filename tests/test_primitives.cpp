@@ -254,31 +254,47 @@ TEST_CASE("vision-based primitives are NOREF when an obstacle hides the ball", "
   CHECK(b.gamma(agent, b.search) == Gamma::kNotConv);  // search always has work to do
 }
 
-TEST_CASE("phi1 is NOREF when the goal region is walled off", "[primitives]") {
+namespace {
+
+// An open arena with Roger at `pose` and one goal region.
+WorldSpec world_with_region(const Pose& pose, const Vec2& centre, double radius) {
   WorldSpec spec = open_world(false);
-  spec.robot.pose = {-1.2, -1.2, 0.0};
+  spec.robot.pose = pose;
   GoalRegion goal;
-  goal.center = Vec2(1.0, 1.0);
-  goal.radius = 0.2;
+  goal.center = centre;
+  goal.radius = radius;
   spec.goals.push_back(goal);
+  return spec;
+}
+
+// `posts` posts of radius 0.12 m in a ring of radius `ring` around `centre`.
+void add_ring_of_posts(WorldSpec& spec, const Vec2& centre, double ring, int posts) {
+  for (int k = 0; k < posts; ++k) {
+    ObstacleSpec post;
+    post.shape = ball_shape(0.12);
+    post.pose = {centre.x() + ring * std::cos(2 * k * M_PI / posts), centre.y() + ring * std::sin(2 * k * M_PI / posts), 0.0};
+    spec.obstacles.push_back(post);
+  }
+}
+
+// phi1's state towards the region, after one tick of it in the world.
+Gamma region_gamma(const WorldSpec& spec) {
   auto phi1 = make_primitive("phi1");
   phi1->set_text("goal", "region");
   Agent agent;
   agent.reset(spec);
   phi1->reset(0);
   agent.step(*phi1);
-  CHECK(phi1->evaluate(agent.input()).gamma == Gamma::kNotConv);
-  // A ring of posts around the goal: no way in.
-  for (int k = 0; k < 16; ++k) {
-    ObstacleSpec post;
-    post.shape = ball_shape(0.12);
-    post.pose = {1.0 + 0.55 * std::cos(k * M_PI / 8), 1.0 + 0.55 * std::sin(k * M_PI / 8), 0.0};
-    spec.obstacles.push_back(post);
-  }
-  agent.reset(spec);
-  phi1->reset(0);
-  agent.step(*phi1);
-  CHECK(phi1->evaluate(agent.input()).gamma == Gamma::kNoRef);
+  return phi1->evaluate(agent.input()).gamma;
+}
+
+}  // namespace
+
+TEST_CASE("phi1 is NOREF when the goal region is walled off", "[primitives]") {
+  WorldSpec spec = world_with_region({-1.2, -1.2, 0.0}, Vec2(1.0, 1.0), 0.2);
+  CHECK(region_gamma(spec) == Gamma::kNotConv);
+  add_ring_of_posts(spec, Vec2(1.0, 1.0), 0.55, 16);  // no way in
+  CHECK(region_gamma(spec) == Gamma::kNoRef);
 }
 
 // Found by a probe: a goal region holding every free cell Roger can reach left the planner nothing
@@ -286,41 +302,13 @@ TEST_CASE("phi1 is NOREF when the goal region is walled off", "[primitives]") {
 // goal has a radius of 10 m failed every episode.
 TEST_CASE("phi1 is CONV at once in a goal region that holds all the floor Roger can reach", "[primitives]") {
   for (const double radius : {10.0, 1e300}) {
-    WorldSpec spec = open_world(false);
-    spec.robot.pose = {-1.2, -1.2, 0.0};
-    GoalRegion goal;
-    goal.center = Vec2(1.0, 1.0);
-    goal.radius = radius;
-    spec.goals.push_back(goal);
-    auto phi1 = make_primitive("phi1");
-    phi1->set_text("goal", "region");
-    Agent agent;
-    agent.reset(spec);
-    phi1->reset(0);
-    agent.step(*phi1);
     INFO("radius " << radius);
-    CHECK(phi1->evaluate(agent.input()).gamma == Gamma::kConv);
+    CHECK(region_gamma(world_with_region({-1.2, -1.2, 0.0}, Vec2(1.0, 1.0), radius)) == Gamma::kConv);
   }
   // Walled in by posts in a region that holds the pocket inside them: at the goal too.
-  WorldSpec spec = open_world(false);
-  spec.robot.pose = {0.0, 0.0, 0.0};
-  GoalRegion goal;
-  goal.center = Vec2(0.0, 0.0);
-  goal.radius = 0.9;
-  spec.goals.push_back(goal);
-  for (int k = 0; k < 24; ++k) {
-    ObstacleSpec post;
-    post.shape = ball_shape(0.12);
-    post.pose = {0.75 * std::cos(k * M_PI / 12), 0.75 * std::sin(k * M_PI / 12), 0.0};
-    spec.obstacles.push_back(post);
-  }
-  auto phi1 = make_primitive("phi1");
-  phi1->set_text("goal", "region");
-  Agent agent;
-  agent.reset(spec);
-  phi1->reset(0);
-  agent.step(*phi1);
-  CHECK(phi1->evaluate(agent.input()).gamma == Gamma::kConv);
+  WorldSpec spec = world_with_region({0.0, 0.0, 0.0}, Vec2(0.0, 0.0), 0.9);
+  add_ring_of_posts(spec, Vec2(0.0, 0.0), 0.75, 24);
+  CHECK(region_gamma(spec) == Gamma::kConv);
 }
 
 TEST_CASE("phi1 drives around obstacles to the goal without touching them", "[primitives][planner]") {
