@@ -123,7 +123,7 @@ bool is_identifier_char(char c) { return is_identifier_head(c) || is_digit(c); }
 // A message's head naming a sub-table: "learner: rest" (name), or "context 2: rest" (context 2).
 struct SubTableHead {
   std::string name;
-  size_t context = 0;  // 1-based; 0 for a named sub-table
+  std::optional<size_t> context;  // 1-based, as written; none for a named sub-table
   std::string rest;
 };
 
@@ -135,7 +135,9 @@ std::optional<SubTableHead> sub_table_head(const std::string& message) {
     if (!digits.empty() && scan.take(": ")) {
       const std::optional<std::string> rest = scan.rest_of_line();
       if (!rest) return std::nullopt;
-      for (char d : digits) head.context = std::min<size_t>(head.context * 10 + size_t(d - '0'), 1u << 30);
+      size_t k = 0;
+      for (char d : digits) k = std::min<size_t>(k * 10 + size_t(d - '0'), 1u << 30);
+      head.context = k;
       head.rest = *rest;
       return head;
     }
@@ -157,11 +159,12 @@ int descend(const LuaTableMap& map, int node, int& line, std::string& rest) {
     const std::optional<SubTableHead> head = sub_table_head(rest);
     if (!head) break;
     int child = -1;
-    if (head->context > 0) {  // "context 2": the second item of the contexts' list
+    if (head->context) {  // "context 2": the second item of the contexts' list
+      const size_t k = *head->context;
       const auto* contexts = map.entry(node, "contexts");
       const int list = contexts ? map.value_node(*contexts) : -1;
-      if (list >= 0 && head->context <= map.nodes()[size_t(list)].items.size())
-        child = map.nodes()[size_t(list)].items[head->context - 1];
+      if (list >= 0 && k >= 1 && k <= map.nodes()[size_t(list)].items.size())
+        child = map.nodes()[size_t(list)].items[k - 1];
       if (child >= 0) line = map.nodes()[size_t(child)].line;
     } else if (const auto* e = map.entry(node, head->name)) {
       line = e->line;
