@@ -1754,6 +1754,17 @@ TEST_CASE("a teacher function reads its history read-only and strictly as traini
   CHECK(problems_of("nexts", nexts).second.empty());
   const auto [replay_path, replay] = problems_of("replay", "if #history > 0 then return history[#history].task end");
   CHECK(replay.empty());
+  // Found by a probe: rng:choice(history) read the view raw and said "the list is empty" with an
+  // episode in it; rng:shuffle(history) returned it unshuffled without a word.
+  const std::string choose = "if #history > 0 then\n"
+                             "      local h = rng:choice(history)\n"
+                             "      assert(h.task.shape and h.task == history[1].task or #history > 1)\n"
+                             "    end";
+  CHECK(problems_of("choose", choose).second.empty());
+  const auto [shuffle_path, shuffled] = problems_of("shuffle", "if #history > 0 then rng:shuffle(history) end");
+  REQUIRE(shuffled.size() == 1);
+  CHECK_THAT(shuffled[0], Contains(shuffle_path + ":10: stage 'S': teacher function: rng:shuffle: shuffles its list in place, "
+                                   "and the teacher's history (read-only) cannot change: shuffle a copy"));
   // With --set obstacles=2 a task holds no obstacles, in check as in training, and says why.
   const std::string reader = "if #history > 0 then local n = history[#history].task.obstacles + 1 end";
   CHECK(problems_of("fixed", reader).second.empty());

@@ -128,11 +128,14 @@ int l_rng_angle(lua_State* L) {
   return 1;
 }
 
-// rng:choice(list): one element, uniformly.
+// rng:choice(list): one element, uniformly. A view (a teacher's history) is read through to its
+// data: read raw, it was empty (found by a probe: rng:choice(history) said "the list is empty"
+// with an episode in it).
 int l_rng_choice(lua_State* L) {
   Rng& rng = live_rng(L, "rng:choice").rng;
   lua_check_arity(L, "rng:choice", 1, "1 argument (a list)");
   if (!lua_istable(L, 2)) return luaL_error(L, "rng:choice: expects a list, got %s", luaL_typename(L, 2));
+  if (lua_push_view_data(L, 2)) lua_replace(L, 2);
   const lua_Integer n = lua_Integer(lua_rawlen(L, 2));
   if (n == 0) return luaL_error(L, "rng:choice: the list is empty");
   lua_rawgeti(L, 2, rng.integer(1, n));
@@ -144,6 +147,11 @@ int l_rng_shuffle(lua_State* L) {
   Rng& rng = live_rng(L, "rng:shuffle").rng;
   lua_check_arity(L, "rng:shuffle", 1, "1 argument (a list)");
   if (!lua_istable(L, 2)) return luaL_error(L, "rng:shuffle: expects a list, got %s", luaL_typename(L, 2));
+  // A view cannot change (found by a probe: rng:shuffle(history) returned it as it was, unsaid).
+  if (lua_push_view_data(L, 2))
+    return luaL_error(L, "rng:shuffle: shuffles its list in place, and %s cannot change: shuffle a copy (local t = "
+                      "{} for i, v in ipairs(list) do t[i] = v end)",
+                      luaL_getmetafield(L, 2, "__metatable") == LUA_TSTRING ? lua_tostring(L, -1) : "a view");
   for (lua_Integer i = lua_Integer(lua_rawlen(L, 2)); i > 1; --i) {
     const lua_Integer j = rng.integer(1, i);
     lua_rawgeti(L, 2, i);
