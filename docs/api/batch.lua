@@ -11,7 +11,7 @@
 
 ---A training run: one stage's contexts, `trials` seeded trials each.
 ---@class roger.BatchRun
----@field name string unique: letters, digits, `.`, `_`, `-` (not "eval"); the first segment of its trial ids (`T/DC3/007`)
+---@field name string unique: letters, digits, `.`, `_`, `-`, at most 200 (not "eval"); the first segment of its trial ids (`T/DC3/007`)
 ---@field stage string a stage of the curriculum
 ---@field contexts? string[] some of its contexts, in the tables' order (default: all of them; not empty)
 ---@field trials? integer overrides the script's `trials` (1 to 100000; default: the script's)
@@ -21,7 +21,7 @@
 
 ---Greedy runs of the final policies of a run's trials elsewhere, without retraining.
 ---@class roger.BatchEvaluation
----@field name string unique: letters, digits, `.`, `_`, `-`; trial ids are eval/<name>/<shape>/<trial>
+---@field name string unique: letters, digits, `.`, `_`, `-`, at most 200; trial ids are eval/<name>/<shape>/<trial>
 ---@field run string the run whose trials' final policies are evaluated
 ---@field context? string a context of that run (default: the run's last context)
 ---@field scenario? string a scenario name or path, looked for beside the batch script first (default: the stage's)

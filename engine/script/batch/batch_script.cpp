@@ -87,9 +87,11 @@ void read_limits(const json& top, const Reader& rd, const BatchOverrides& overri
 }
 
 // Whether a name can be a folder's of the results (a trial id's segment, a figure's file): letters,
-// digits, '.', '_' and '-', and not '.' or '..'.
+// digits, '.', '_' and '-', at most 200 of them (a file system takes 255 bytes a name, and the
+// atomic writers add a suffix to their temporaries: found by a probe, a figure named with 300
+// letters passed roger check and stopped the run at its report), and not '.' or '..'.
 bool folder_name(const std::string& s) {
-  const bool plain = !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
+  const bool plain = !s.empty() && s.size() <= 200 && std::all_of(s.begin(), s.end(), [](char c) {
     return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '-';
   });
   return plain && s != "." && s != "..";
@@ -350,7 +352,8 @@ BatchRun read_run(const json& rj, const Reader& rd, int runs_line, const Curricu
   rd.check_object(rj, what, {"name", "stage", "contexts", "trials", "params", "skills", "final_worlds"}, r.line);
   r.name = rd.str(rj, "name", what, r.line, "", true);
   if (!folder_name(r.name) || r.name == "eval")
-    rd.fail(r.line, what + ": a run name uses letters, digits, '.', '_' and '-' (and is not 'eval', '.' or '..')");
+    rd.fail(r.line, what + ": a run name uses letters, digits, '.', '_' and '-', at most 200 of them (and is not 'eval', "
+                         "'.' or '..')");
   if (b.run(r.name)) rd.fail(r.line, "a second run named '" + r.name + "'");
   r.stage = rd.str(rj, "stage", what, r.line, "", true);
   const CurriculumStage* stage = nullptr;
@@ -377,8 +380,8 @@ BatchRun read_run(const json& rj, const Reader& rd, int runs_line, const Curricu
     if (!folder_name(c))
       rd.fail(rj.contains("contexts") ? rd.line_of_key("contexts", r.line) : r.line,
               what + ": the context '" + c + "' of stage '" + r.stage + "' cannot name its trials' folders (trials/" +
-                  r.name + "/<context>/000): a context a batch runs uses letters, digits, '.', '_' and '-' (rename "
-                  "it in the curriculum)");
+                  r.name + "/<context>/000): a context a batch runs uses letters, digits, '.', '_' and '-', at most "
+                  "200 of them (rename it in the curriculum)");
   r.trials = int(rd.integer(rj, "trials", what, r.line, b.trials, 1, 100000));
   if (overrides.trials > 0) r.trials = overrides.trials;
   r.params = b.params;
@@ -489,7 +492,7 @@ BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const 
                   e.line);
   e.name = rd.str(ej, "name", what, e.line, "", true);
   if (!folder_name(e.name))
-    rd.fail(e.line, what + ": a name uses letters, digits, '.', '_' and '-' (and is not '.' or '..')");
+    rd.fail(e.line, what + ": a name uses letters, digits, '.', '_' and '-', at most 200 of them (and is not '.' or '..')");
   for (const auto& o : b.evaluations)
     if (o.name == e.name) rd.fail(e.line, "a second evaluation named '" + e.name + "'");
   e.run = rd.str(ej, "run", what, e.line, "", true);
@@ -515,7 +518,8 @@ BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const 
   e.shapes = rd.strings(ej, "shapes", what, e.line, false);
   for (const auto& s : e.shapes)
     if (!folder_name(s))
-      rd.fail(rd.line_of_key("shapes", e.line), what + ": shape '" + s + "' is not a plain name");
+      rd.fail(rd.line_of_key("shapes", e.line), what + ": shape '" + s + "' is not a plain name (letters, digits, '.', "
+                                                 "'_' and '-', at most 200 of them)");
   if (std::any_of(e.params.begin(), e.params.end(), [](const auto& p) { return p.first == "shape"; }) &&
       !e.shapes.empty())
     rd.fail(rd.line_of_key("shapes", e.line), what + ": give the shape either in 'params' or in 'shapes', not both");
@@ -793,7 +797,8 @@ void read_tables(const json& top, const Reader& rd, const Curriculum& cur, Batch
 std::string read_figure_file(const json& fj, const Reader& rd, int l, const std::string& what, const BatchScript& b) {
   const std::string file = rd.str(fj, "file", what, l, "", true);
   if (!folder_name(file))
-    rd.fail(l, what + ": 'file' is a plain name (no folder, no extension): <file>.png and <file>.svg are written");
+    rd.fail(l, what + ": 'file' is a plain name (letters, digits, '.', '_' and '-', at most 200 of them; no folder, no "
+                      "extension): <file>.png and <file>.svg are written");
   // Found by a probe: file = "curves.png" passed check, and the report wrote curves.png.png.
   for (const char* ext : {".png", ".svg", ".PNG", ".SVG"})
     if (file.size() > 4 && file.compare(file.size() - 4, 4, ext) == 0) {
