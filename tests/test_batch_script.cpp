@@ -14,6 +14,7 @@
 #include "script/batch/batch_script.h"
 #include "core/error.h"
 #include "test_files.h"
+#include "temp_dir.h"
 
 using namespace roger;
 namespace fs = std::filesystem;
@@ -626,9 +627,8 @@ TEST_CASE("a run with a computed name is blamed at its own line; own final world
 // matcher recursed once per character).
 TEST_CASE("a batch script nested too deeply or with a very long line is refused at its line and never crashes",
           "[batch_script]") {
-  const fs::path dir = fs::temp_directory_path() / ("roger_deep_batch_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  const fs::path file = dir / "deep.lua";
+  const test::TempDir dir("roger_deep_batch");
+  const fs::path file = dir.path / "deep.lua";
   std::ofstream(file) << "local deep = {}\nlocal at = deep\nfor i = 1, 1000 do at[1] = {} at = at[1] end\n"
                          "return { name = 'deep', curriculum = 'paper', trials = 1, notes = deep,\n"
                          "  runs = { { name = 'SG', stage = 'SG', contexts = { 'B1' } } } }\n";
@@ -643,10 +643,9 @@ TEST_CASE("a batch script nested too deeply or with a very long line is refused 
   std::ofstream(file) << "return { name = 'long', curriculum = 'paper', trials = 1,\n"
                          "  runs = { { name = 'SG', stage = 'SG', contexts = { 'B1' } },\n"
                          "           { name = '" << std::string(100000, 'x') << "', stage = 'SG', contexts = { 'DC9' } } } }\n";
-  CHECK_THAT(load_error(file.string()), Catch::Contains("deep.lua:3: run 'xxxxxxxxxx") &&
+  CHECK_THAT(load_error(file.string()), Catch::Contains("deep.lua:3: run '" + std::string(10, 'x')) &&
                                             Catch::Contains("': a run name uses letters, digits, '.', '_' and '-', at "
                                                             "most 200 of them"));
-  fs::remove_all(dir);
 }
 
 // Found by a probe: description = "caf\233 au lait" (Latin-1) passed roger check, and roger run

@@ -90,14 +90,8 @@ std::set<std::string> previous_figure_files(const std::string& dir) {
   if (open == std::string::npos || close == std::string::npos || close < open) return files;
   const json data = parse_json(text.cbegin() + long(open), text.cbegin() + long(close) + 1, false);
   if (!data.is_object() || !data.contains("figures") || !data["figures"].is_array()) return files;
-  // A plain name ([A-Za-z0-9_.-]+), tested by hand: std::regex recursed per character of a long one.
-  auto plain_name = [](const std::string& name) {
-    return !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
-      return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '-';
-    });
-  };
   for (const json& f : data["figures"])
-    if (f.is_object() && f.contains("file") && f["file"].is_string() && plain_name(f["file"].get<std::string>()))
+    if (f.is_object() && f.contains("file") && f["file"].is_string() && results_name(f["file"].get<std::string>()))
       for (const char* ext : {".png", ".svg"}) files.insert(f["file"].get<std::string>() + ext);
   return files;
 }

@@ -86,17 +86,6 @@ void read_limits(const json& top, const Reader& rd, const BatchOverrides& overri
   apply_limit_overrides(overrides, b.limits);
 }
 
-// Whether a name can be a folder's of the results (a trial id's segment, a figure's file): letters,
-// digits, '.', '_' and '-', at most 200 of them (a file system takes 255 bytes a name, and the
-// atomic writers add a suffix to their temporaries: found by a probe, a figure named with 300
-// letters passed roger check and stopped the run at its report), and not '.' or '..'.
-bool folder_name(const std::string& s) {
-  const bool plain = !s.empty() && s.size() <= 200 && std::all_of(s.begin(), s.end(), [](char c) {
-    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '-';
-  });
-  return plain && s != "." && s != "..";
-}
-
 // A description or title is one line of the report (found by a probe: a line break let the rest
 // of a description open a Markdown heading of tables.md).
 void refuse_line_break(const Reader& rd, const std::string& text, const std::string& what, int line) {
@@ -351,7 +340,7 @@ BatchRun read_run(const json& rj, const Reader& rd, int runs_line, const Curricu
   const std::string what = nm.empty() ? "a run" : "run '" + nm + "'";
   rd.check_object(rj, what, {"name", "stage", "contexts", "trials", "params", "skills", "final_worlds"}, r.line);
   r.name = rd.str(rj, "name", what, r.line, "", true);
-  if (!folder_name(r.name) || r.name == "eval")
+  if (!results_name(r.name) || r.name == "eval")
     rd.fail(r.line, what + ": a run name uses letters, digits, '.', '_' and '-', at most 200 of them (and is not 'eval', "
                          "'.' or '..')");
   if (b.run(r.name)) rd.fail(r.line, "a second run named '" + r.name + "'");
@@ -377,7 +366,7 @@ BatchRun read_run(const json& rj, const Reader& rd, int runs_line, const Curricu
   // A context names its trials' folders (trials/<run>/<context>/000). Found by a probe: one named
   // "C<img ...>" passed roger check, and roger run refused it after writing the results folder.
   for (const auto& c : r.contexts)
-    if (!folder_name(c))
+    if (!results_name(c))
       rd.fail(rj.contains("contexts") ? rd.line_of_key("contexts", r.line) : r.line,
               what + ": the context '" + c + "' of stage '" + r.stage + "' cannot name its trials' folders (trials/" +
                   r.name + "/<context>/000): a context a batch runs uses letters, digits, '.', '_' and '-', at most "
@@ -491,7 +480,7 @@ BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const 
                    "trials", "skills"},
                   e.line);
   e.name = rd.str(ej, "name", what, e.line, "", true);
-  if (!folder_name(e.name))
+  if (!results_name(e.name))
     rd.fail(e.line, what + ": a name uses letters, digits, '.', '_' and '-', at most 200 of them (and is not '.' or '..')");
   for (const auto& o : b.evaluations)
     if (o.name == e.name) rd.fail(e.line, "a second evaluation named '" + e.name + "'");
@@ -517,7 +506,7 @@ BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const 
   e.params = rd.params(ej, "params", what, e.line);
   e.shapes = rd.strings(ej, "shapes", what, e.line, false);
   for (const auto& s : e.shapes)
-    if (!folder_name(s))
+    if (!results_name(s))
       rd.fail(rd.line_of_key("shapes", e.line), what + ": shape '" + s + "' is not a plain name (letters, digits, '.', "
                                                  "'_' and '-', at most 200 of them)");
   if (std::any_of(e.params.begin(), e.params.end(), [](const auto& p) { return p.first == "shape"; }) &&
@@ -796,7 +785,7 @@ void read_tables(const json& top, const Reader& rd, const Curriculum& cur, Batch
 // Reads a figure's 'file': a plain name, not the one the report gives a run's IQM curves.
 std::string read_figure_file(const json& fj, const Reader& rd, int l, const std::string& what, const BatchScript& b) {
   const std::string file = rd.str(fj, "file", what, l, "", true);
-  if (!folder_name(file))
+  if (!results_name(file))
     rd.fail(l, what + ": 'file' is a plain name (letters, digits, '.', '_' and '-', at most 200 of them; no folder, no "
                       "extension): <file>.png and <file>.svg are written");
   // Found by a probe: file = "curves.png" passed check, and the report wrote curves.png.png.
@@ -954,6 +943,13 @@ std::vector<const BatchRun*> BatchScript::ordered_runs() const {
     if (!progress) throw Error("batch script: runs take skills from each other in a cycle");
   }
   return out;
+}
+
+bool results_name(const std::string& s) {
+  const bool plain = !s.empty() && s.size() <= 200 && std::all_of(s.begin(), s.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '-';
+  });
+  return plain && s != "." && s != "..";
 }
 
 std::string batch_trial_id(const std::string& run, const std::string& context, int trial) {

@@ -206,6 +206,12 @@ BatchScript batch_config_from_json(const nlohmann::json& config);
 
 // A training trial's id: "SG/B1/003".
 std::string batch_trial_id(const std::string& run, const std::string& context, int trial);
+
+// Whether a name can name a folder or a file of the results (a trial id's segment, a figure's
+// file): letters, digits, '.', '_' and '-', at most 200 of them (a file system takes 255 bytes a
+// name, and the atomic writers add a suffix to their temporaries: found by a probe, a figure named
+// with 300 letters passed roger check and stopped the run at its report), and not '.' or '..'.
+bool results_name(const std::string& name);
 // An evaluation trial's id: "eval/generalization/circle/003".
 std::string batch_eval_id(const std::string& evaluation, const std::string& shape, int trial);
 // The group name of an evaluation's shape ("all" when it names no shapes).
