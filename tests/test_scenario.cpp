@@ -849,8 +849,12 @@ TEST_CASE("generate's params reads, writes and walks as a table of the values in
     p.b = p.b + 1
     p.extra = 5
     assert(p.b == 3 and rawget(p, "b") == 3 and p.extra == 5)
-    rawset(p, "a", "y")
+    assert(rawset(p, "a", "y") == p)
     assert(p.a == "y" and rawget(p, "a") == "y")
+    -- a raw write is a write of the table's: pairs and next see it too
+    keys = {}
+    for k, v in pairs(p) do keys[#keys + 1] = k .. "=" .. tostring(v) end
+    assert(table.concat(keys, " ") == "a=y b=3 c=true extra=5", table.concat(keys, " "))
     p[1] = "first"
     assert(#p == 1 and rawlen(p) == 1)
     world:robot{ x = 0, y = 0 }
@@ -861,7 +865,7 @@ TEST_CASE("generate's params reads, writes and walks as a table of the values in
     s.generate(0);
     FAIL("generate read an undeclared parameter without an error");
   } catch (const ScriptError& e) {
-    CHECK(e.line == 17);
+    CHECK(e.line == 21);
     CHECK_THAT(e.what(), Contains("the scenario has no parameter 'bb' (did you mean 'b'?); its parameters: a, b, c"));
   }
 }

@@ -1697,7 +1697,7 @@ TEST_CASE("roger check calls a teacher function on a history and finds its error
 }
 
 // Found by a probe: a teacher function's writes to its history stayed (`history[1].success = 7` was
-// seen by every later call), a misspelt field of an entry's task read as nil, and `roger check
+// seen by every later call, and so was a rawset on it), a misspelt field of an entry's task read as nil, and `roger check
 // --set obstacles=2` called the function on tasks holding obstacles, which training (where the
 // run fixes it) does not give: check said ok of a function that failed in training.
 TEST_CASE("a teacher function reads its history read-only and strictly as training gives it", "[teach][errors]") {
@@ -1710,7 +1710,10 @@ TEST_CASE("a teacher function reads its history read-only and strictly as traini
     return std::make_pair(path.string(), check_curriculum(path.string(), {}, sets));
   };
   for (const char* write : {"if #history > 0 then history[1].success = 7 end", "if #history > 0 then history[#history].task.shape = 'x' end",
-                            "if #history > 0 then table.remove(history) end", "history[#history + 1] = {}"}) {
+                            "if #history > 0 then table.remove(history) end", "history[#history + 1] = {}",
+                            // Found by a probe: rawset passed the read-only history, and later calls read the value.
+                            "rawset(history, 1, 3)", "if #history > 0 then rawset(history[1], 'success', 7) end",
+                            "if #history > 0 then rawset(history[1].task, 'shape', 'x') end"}) {
     const auto [path, problems] = problems_of("write", write);
     INFO(write);
     REQUIRE(problems.size() == 1);

@@ -10,7 +10,8 @@
 // The order: numbers by value, then strings byte by byte (not strcoll's, which depends on the
 // locale), then false and true, then the keys that have no order of their own (tables, functions,
 // userdata, threads) in Lua's order, which is the one part that can change between runs.
-// `next`, `rawget` and `rawlen` stay Lua's own, but for a view (lua_new_view), whose data they read.
+// `next`, `rawget`, `rawlen` and `rawset` stay Lua's own, but for a view (lua_new_view), whose data
+// they read (rawset: write as the view's own rule for writes says).
 #include <algorithm>
 #include <climits>
 #include <cmath>
@@ -258,16 +259,13 @@ int view_aware_next(lua_State* L) {
   return 2;
 }
 
-// rawget(t, k): Lua's own (upvalue 1), except on a view, whose fields are its data's (a field set
-// on the view itself with rawset first): a library testing whether a scenario declares a parameter
-// with rawget(params, name) sees what params.name would read. The key counts as read.
+// rawget(t, k): Lua's own (upvalue 1), except on a view, whose fields are its data's: a library
+// testing whether a scenario declares a parameter with rawget(params, name) sees what params.name
+// would read. The key counts as read.
 int view_aware_rawget(lua_State* L) {
   if (lua_gettop(L) < 2 || !lua_push_view_data(L, 1)) return lua_tocfunction(L, lua_upvalueindex(1))(L);
   lua_copy(L, lua_gettop(L), 3);  // the data at 3; what came after the key is dropped, as Lua's rawget drops it
   lua_settop(L, 3);
-  lua_pushvalue(L, 2);
-  if (lua_rawget(L, 1) != LUA_TNIL) return 1;
-  lua_pop(L, 1);
   lua_view_note_read(L, 1, 2);
   lua_pushvalue(L, 2);
   lua_rawget(L, 3);
@@ -279,6 +277,32 @@ int view_aware_rawlen(lua_State* L) {
   if (lua_gettop(L) < 1 || !lua_push_view_data(L, 1)) return lua_tocfunction(L, lua_upvalueindex(1))(L);
   lua_pushinteger(L, lua_Integer(lua_rawlen(L, -1)));
   return 1;
+}
+
+// rawset(t, k, v): Lua's own (upvalue 1), except on a view, where it does what `t[k] = v` does: the
+// view's __newindex, its maker's rule for a write. A raw write is one that no metamethod of the
+// table sees, and a view's metamethods are its table's raw access: generate's params take the
+// value in their data (where pairs, next and # find it), a teacher's history refuses it. Before,
+// the value landed on the view itself (found by a probe: rawset(history, 1, 3) passed the
+// read-only history, and every later call of the teacher read 3 for its first entry).
+int view_aware_rawset(lua_State* L) {
+  if (lua_gettop(L) < 3 || !lua_push_view_data(L, 1)) return lua_tocfunction(L, lua_upvalueindex(1))(L);
+  lua_settop(L, 3);
+  if (luaL_getmetafield(L, 1, "__newindex") != LUA_TFUNCTION)
+    return luaL_error(L, "a view without a rule for writes");  // every view's maker gives one
+  lua_insert(L, 1);
+  lua_pushvalue(L, 2);  // rawset returns its table
+  lua_insert(L, 1);
+  // Called from here, the rule's error would name no line (its caller is this C function): it is
+  // raised again at the line that called rawset, as `t[k] = v` there would raise it.
+  const int status = lua_pcall(L, 3, 0, 0);
+  if (status == LUA_OK) return 1;
+  if (status == LUA_ERRRUN && lua_type(L, -1) == LUA_TSTRING) {
+    luaL_where(L, 1);
+    lua_insert(L, -2);
+    lua_concat(L, 2);
+  }
+  return lua_error(L);
 }
 
 // Replaces the global `name` by `wrapper`, which holds the original as its upvalue 1.
@@ -295,6 +319,7 @@ void install_pairs(lua_State* L) {
   wrap_global(L, "next", view_aware_next);
   wrap_global(L, "rawget", view_aware_rawget);
   wrap_global(L, "rawlen", view_aware_rawlen);
+  wrap_global(L, "rawset", view_aware_rawset);
 }
 
 }  // namespace sandbox_detail

@@ -188,7 +188,8 @@ void install_patterns(lua_State* L, int string_table);
 // ---- lua_pairs.cpp: pairs in an order that is the same in every run ----
 
 // Replaces pairs by one visiting a plain table's keys in a fixed order (numbers, strings, booleans),
-// and next, rawget and rawlen by ones that read a view's data (lua_new_view).
+// and next, rawget, rawlen and rawset by ones that read a view's data (lua_new_view) and write
+// it by the view's rule.
 void install_pairs(lua_State* L);
 
 // ---- lua_sandbox_libs.cpp: what a script sees ----
