@@ -278,6 +278,35 @@ TEST_CASE("LCAS lifts only once the success curve has saturated, never while it 
   CHECK_THROWS_WITH(make_teacher(in_space, s, 1), Contains("obstacles = 9 is outside the task space"));
 }
 
+// Found by a probe: with window 10 and slope 0.1, a gain of one success in ten (0.5 after 0.4) read
+// as 0.09999999999999998, below the slope, and lifted; the rule says a gain less than the slope.
+// The gain is counted in successes, so one in ten is 0.1 exactly, and only a flat curve lifts.
+TEST_CASE("LCAS compares a gain of whole successes with its slope exactly", "[teach]") {
+  const TaskSpace s = paper_space();
+  TeacherSpec spec;
+  spec.kind = TeacherSpec::Kind::kLcas;
+  spec.lift = "eye_pixels";
+  spec.levels = {"32", "64"};
+  spec.window = 10;
+  spec.slope = 0.1;
+  auto play_windows = [&](const std::vector<int>& successes) {
+    auto t = make_teacher(spec, s, 2);
+    for (int wins : successes)
+      for (int e = 0; e < 10; ++e) t->record(outcome(t->next(), e < wins));
+    return t->state();
+  };
+  // 4 then 5 of 10, 9 then 10 of 10, 0 then 1: each a gain of exactly the slope, not less.
+  for (const auto& pair : std::vector<std::vector<int>>{{4, 5}, {9, 10}, {0, 1}, {2, 3}, {6, 7}}) {
+    INFO(pair[0] << " then " << pair[1]);
+    CHECK(play_windows(pair)["level"] == 1);
+  }
+  // No gain: lifted, and the gain it records is the exact 0.
+  const nlohmann::json flat = play_windows({5, 5});
+  CHECK(flat["level"] == 2);
+  CHECK(flat["lifts"][0]["gain"].get<double>() == 0.0);
+  CHECK(flat["lifts"][0]["rate"].get<double>() == 0.5);
+}
+
 TEST_CASE("LCAS with a floor waits out a curve flat at zero; without one it lifts at the first chance", "[teach]") {
   const TaskSpace s = paper_space();
   TeacherSpec spec;
