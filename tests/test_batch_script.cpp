@@ -402,6 +402,12 @@ TEST_CASE("a damaged manifest configuration is a roger::Error, never undefined b
       {"run 'nope'", [](nlohmann::json& j) { j["evaluations"][0]["run"] = "nope"; }},
       {"run 'nope'", [](nlohmann::json& j) { j["runs"][1]["skills"][0]["run"] = "nope"; }},
       {"incomplete", [](nlohmann::json& j) { j.erase("runs"); }},
+      // Found by a probe: a figure's file "../../pwn" made the report write outside the folder.
+      {"figure file '../../pwn' is not a name", [](nlohmann::json& j) { j["figures"][0]["file"] = "../../pwn"; }},
+      {"run '../../zz' is not a name", [](nlohmann::json& j) { j["runs"][0]["name"] = "../../zz"; }},
+      {"context '..' is not a name", [](nlohmann::json& j) { j["runs"][0]["contexts"][0] = ".."; }},
+      {"evaluation 'a/b' is not a name", [](nlohmann::json& j) { j["evaluations"][0]["name"] = "a/b"; }},
+      {"shape '/etc' is not a name", [](nlohmann::json& j) { j["evaluations"][0]["shapes"][0] = "/etc"; }},
   };
   for (const auto& [what, spoil] : cases) {
     nlohmann::json j = good;

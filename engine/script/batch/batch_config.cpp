@@ -115,6 +115,23 @@ void check_config_references(const BatchScript& b) {
     if (!r || std::find(r->contexts.begin(), r->contexts.end(), row.context) == r->contexts.end())
       fail(who + " names '" + row.label() + "', which it lacks");
   };
+  // A name that names a folder or a file of the results passed results_name when the script was
+  // read; an edited manifest's may not (found by a probe: a figure's file "../../pwn" made the report
+  // write outside the folder, a run "../../zz" sent it to read trials elsewhere).
+  auto folder_name = [&](const std::string& name, const std::string& what) {
+    if (!results_name(name))
+      fail(what + " '" + name + "' is not a name for the results' folders and files (letters, digits, '_', '.' "
+           "and '-', at most 200 characters)");
+  };
+  for (const auto& r : b.runs) {
+    folder_name(r.name, "run");
+    for (const auto& c : r.contexts) folder_name(c, "run '" + r.name + "': context");
+  }
+  for (const auto& e : b.evaluations) {
+    folder_name(e.name, "evaluation");
+    for (const auto& s : e.shapes) folder_name(s, "evaluation '" + e.name + "': shape");
+  }
+  for (const auto& f : b.figures) folder_name(f.file, "figure file");
   for (const auto& r : b.runs)
     for (const auto& s : r.skills)
       if (!b.run(s.run)) fail("run '" + r.name + "' takes a skill from run '" + s.run + "', which it lacks");
