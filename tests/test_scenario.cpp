@@ -718,6 +718,25 @@ TEST_CASE("the Lua API checks its arguments where they are given", "[scenario]")
             .find("non-convex") != std::string::npos);
   CHECK(run("roger.shape{name = 'd', disks = {{x = 0, y = 0, r = -1}}}", "radius") ==
         "roger.shape: shape 'd' disk 1: radius must be at least 0.01 m, got -1");
+  // Found by a probe: a list field took its positions 1..#t and dropped any other key unsaid (a
+  // point without its list kept nothing 3 m away; a joint under a name was not locked).
+  CHECK(run("world:robot{x = -1, y = 0} world:sample_position{radius = 0.2, away_from = {x = 1, y = 1, distance = 3}}",
+            "away_one") == "world:sample_position: field 'away_from' must be a list {{x=, y=, distance=}, ...}, got the "
+                           "key 'distance' (one point? write away_from = {{x = ..., y = ..., distance = ...}})");
+  CHECK(run("world:robot{x = 0, y = 0, body = {locked = {'left_eye', right = 'right_eye'}}}", "locked_key") ==
+        "world:robot: body: field 'locked' must be a list of joint names {\"left_elbow\", ...}, got the key 'right'");
+  CHECK(run("roger.shape{name = 'd', disks = {x = 0.3, r = 0.1}}", "lone_disk") ==
+        "roger.shape: field 'disks' must be a list of disks {{x=, y=, r=}, ...}, got the key 'r' (one disk? write "
+        "disks = {{...}})");
+  CHECK(run("roger.shape{name = 'd', disks = {{r = 0.1}, second = {r = 0.2}}}", "disk_key") ==
+        "roger.shape: field 'disks' must be a list of disks {{x=, y=, r=}, ...}, got the key 'second'");
+  CHECK(run("local tri = {{0, 0}, {0.2, 0}, {0, 0.2}} roger.shape{name = 'p', polygons = {tri, [3] = tri}}", "poly_hole") ==
+        "roger.shape: field 'polygons' must be a list of polygons {p1, p2, ...}, got the key [3]");
+  CHECK(run("roger.shape{name = 'p', polygons = {{{0, 0}, {0.2, 0}, {0, 0.2}, x = 1}}}", "vertex_key") ==
+        "roger.shape: shape 'p' polygon 1 must be a list of {x, y} vertices, got the key 'x'");
+  CHECK(run("roger.shape{name = 'p', polygons = {{{0, 0, 0}, {0.2, 0}, {0, 0.2}}}}", "vertex_z") ==
+        "roger.shape: shape 'p' polygon 1 vertex 1 must be {x, y} (or {x = ..., y = ...}) and nothing else, got a "
+        "table of 3 entries");
   CHECK(run("rng:int(5, 1)", "range") == "rng:int: the range 5..1 is empty");
   CHECK(run("rng:choice({})", "choice") == "rng:choice: the list is empty");
   CHECK(run("rng.uniform(0, 1)", "rng_dot") ==
@@ -745,6 +764,9 @@ TEST_CASE("the Lua API checks its arguments where they are given", "[scenario]")
             "assert(rng:int(math.maxinteger - 1, math.maxinteger) >= math.maxinteger - 1) "
             "assert(rng:int(math.mininteger, math.mininteger + 1) <= math.mininteger + 1) "
             "assert(rng:int(-1, 0) <= 0) "
+            // Found by a probe: a finite range wider than the largest double gave inf.
+            "for i = 1, 100 do local u = rng:uniform(-1e308, 1e308) assert(u >= -1e308 and u < 1e308, u) end "
+            "for i = 1, 100 do local u = rng:uniform(-1.7e308, 1.7e308) assert(u >= -1.7e308 and u < 1.7e308, u) end "
             "assert(rng:fork():uniform() < 1 and rng:angle() < math.pi and rng:normal(1, 0) == 1) "
             "local xmin, xmax = world:bounds() assert(xmin == -2 and xmax == 2) "
             "world:stimulus{colour = '#00ff00'} error('reached the end')", "ok") == "reached the end");

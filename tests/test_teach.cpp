@@ -746,7 +746,12 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
       // seed became 2^64 - 1.
       {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 64, x = 1 } } } }",
        ":8: roger.teacher.lcas: lift.eye_pixels must be a plain list of levels, the most constrained first, got the "
-       "key string 'x'"},
+       "key 'x'"},
+      // Found by a probe: a test list's task after a hole, or under a name, was left out unsaid.
+      {"{ tasks = { obstacles = roger.int(0, 3) }, test = { list = { { obstacles = 1 }, [3] = { obstacles = 2 } } } }",
+       "stage 'S': test: field 'list' must be a list of tasks {{param = value, ...}, ...}, got the key [3]"},
+      {"{ tasks = { obstacles = roger.int(0, 3) }, test = { list = { { obstacles = 1 }, x = { obstacles = 2 } } } }",
+       "stage 'S': test: field 'list' must be a list of tasks {{param = value, ...}, ...}, got the key 'x'"},
       {"{ tasks = { obstacles = roger.int(0, 3) }, test = { tasks = 5, seed = -1 } }",
        ":6: stage 'S': test: field 'seed' must be a non-negative integer, got -1"},
       {"{ tasks = { obstacles = roger.int(0, 20) } }",

@@ -40,8 +40,14 @@ class Rng {
   // Uniform in [0, 1).
   double uniform() { return double(next() >> 11) * 0x1.0p-53; }
 
-  // Uniform in [lo, hi).
-  double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
+  // Uniform in [lo, hi). A span past the largest double (hi - lo overflows: found by a probe, rng:
+  // uniform(-1e308, 1e308) gave inf) is drawn at half scale and doubled, exactly; every finite span
+  // keeps the one formula, and every range the same one draw.
+  double uniform(double lo, double hi) {
+    const double u = uniform();
+    if (const double span = hi - lo; std::isfinite(span)) return lo + span * u;
+    return 2.0 * (0.5 * lo + (0.5 * hi - 0.5 * lo) * u);
+  }
 
   // Uniform integer in [lo, hi] (inclusive); lo <= hi.
   int64_t integer(int64_t lo, int64_t hi) {

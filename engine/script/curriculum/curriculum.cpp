@@ -401,7 +401,7 @@ void Curriculum::read_stages(Impl& impl, const std::string& path) {
     const lua_Integer n = lua_Integer(lua_rawlen(L, ss));
     if (n == 0) top.fail("'stages' is empty (or not a list): define at least one stage");
     // A stage written `Extra = roger.stage{...}` beside the list would be dropped without a word.
-    if (const std::string key = curriculum_detail::key_beside_list(L, ss, n); !key.empty())
+    if (const std::string key = lua_key_beside_list(L, ss); !key.empty())
       top.fail("'stages' must be a list {roger.stage{...}, ...}; it also has the named entry " + key +
                ", which would be left out: write it in the list");
     for (lua_Integer i = 1; i <= n; ++i) {

@@ -55,9 +55,6 @@ void set_strict_index(lua_State* L, const char* type_name, lua_CFunction unknown
 
 // ---- teachers (curriculum_tasks.cpp, curriculum_teacher.cpp)
 
-// The first key (in sorted order) of the table at `index` that is not a position 1..n of its list
-// part, as messages show it ("'Extra'", "[7]"); "" when it is a plain list of n items.
-std::string key_beside_list(lua_State* L, int index, lua_Integer n);
 // Registers roger.int, roger.real, roger.choice and roger.teacher.* (on the `roger` global).
 void install_teaching_api(lua_State* L);
 // Reads a stage's `tasks`, `teacher` and `test` (after its contexts), checking them against the

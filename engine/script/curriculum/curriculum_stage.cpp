@@ -94,7 +94,7 @@ bool has_actions_field(lua_State* L, int index) {
 std::vector<ContextEntry> context_list(lua_State* L, int t, lua_Integer n, const std::string& where) {
   // A named context beside the list (`{ {name = 'A', ...}, B = {...} }`) would be dropped without
   // a word: found by a probe, whose context B was not trained and roger check said ok.
-  if (const std::string key = key_beside_list(L, t, n); !key.empty())
+  if (const std::string key = lua_key_beside_list(L, t); !key.empty())
     luaL_error(L, "%s: field 'contexts' mixes a list with the named entry %s: write it in the list as {name = "
                "..., actions = {...}}, or every context as a map {A = {...}, B = {...}}", where.c_str(), key.c_str());
   std::vector<ContextEntry> entries;
@@ -136,7 +136,7 @@ std::vector<ContextEntry> context_map(lua_State* L, int t, const CurriculumStage
     } else if (lua_istable(L, entry.actions)) {
       // A table of fields without 'actions' is no list of actions either (found by a probe: a typo
       // 'action' was told "the actions must be a plain list {a, b, ...}, got the key string 'action'").
-      const std::string key = key_beside_list(L, entry.actions, lua_Integer(lua_rawlen(L, entry.actions)));
+      const std::string key = lua_key_beside_list(L, entry.actions);
       if (!key.empty() && key.front() == '\'')
         luaL_error(L, "%s: a context of the map form is a list of actions {a, b, ...} or a table {actions = {...}, "
                    "params = {...}, init = {...}}; this one has the field %s%s and no field 'actions'",
@@ -441,20 +441,6 @@ void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& abso
   read_skill(L, f, where, st);
   // After the contexts: a task parameter may not be one a context fixes.
   parse_teaching(L, f, st, teacher_fn, checkpoints_field(L, f, "episodes"), checkpoints_field(L, f, "final"));
-}
-
-std::string key_beside_list(lua_State* L, int index, lua_Integer n) {
-  index = lua_absindex(L, index);
-  std::vector<std::string> keys;
-  lua_pushnil(L);
-  while (lua_next(L, index)) {
-    lua_pop(L, 1);
-    if (lua_isinteger(L, -1) && lua_tointeger(L, -1) >= 1 && lua_tointeger(L, -1) <= n) continue;
-    keys.push_back(lua_type(L, -1) == LUA_TSTRING ? "'" + std::string(lua_tostring(L, -1)) + "'"
-                                                  : "[" + lua_describe_value(L, -1) + "]");
-  }
-  std::sort(keys.begin(), keys.end());
-  return keys.empty() ? "" : keys.front();
 }
 
 }  // namespace curriculum_detail

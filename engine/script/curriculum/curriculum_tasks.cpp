@@ -59,20 +59,6 @@ double bound(lua_State* L, int index, const char* call, bool integer) {
   return v;
 }
 
-// Whether the table at `index` holds a key beside its list 1..#t: a named key is a slip that would
-// be dropped without a word. When it does, the key is left on the top of the stack for the
-// caller's message.
-bool key_beside_list(lua_State* L, int index) {
-  index = lua_absindex(L, index);
-  const lua_Integer n = lua_Integer(lua_rawlen(L, index));
-  lua_pushnil(L);
-  while (lua_next(L, index)) {
-    lua_pop(L, 1);
-    if (!lua_isinteger(L, -1) || lua_tointeger(L, -1) < 1 || lua_tointeger(L, -1) > n) return true;
-  }
-  return false;
-}
-
 int l_int(lua_State* L) {
   TaskDim d;
   d.kind = TaskDim::Kind::kInt;
@@ -108,8 +94,8 @@ int l_choice(lua_State* L) {
   TaskDim d;
   d.kind = TaskDim::Kind::kChoice;
   const lua_Integer n = lua_Integer(lua_rawlen(L, 1));
-  if (key_beside_list(L, 1))
-    luaL_error(L, "roger.choice{...}: expects a plain list of values, got the key %s", lua_describe_value(L, -1).c_str());
+  if (const std::string key = lua_key_beside_list(L, 1); !key.empty())
+    luaL_error(L, "roger.choice{...}: expects a plain list of values, got the key %s", key.c_str());
   std::set<std::string> seen;
   for (lua_Integer i = 1; i <= n; ++i) {
     lua_rawgeti(L, 1, i);
@@ -229,9 +215,8 @@ int l_teacher_sequence(lua_State* L) {
     luaL_error(L, "roger.teacher.sequence{...}: expects a list of steps {{param = value, promote = 0.9, window = 20}, "
                "...}, got %s", lua_describe_value(L, 1).c_str());
   const lua_Integer n = lua_Integer(lua_rawlen(L, 1));
-  if (key_beside_list(L, 1))
-    luaL_error(L, "roger.teacher.sequence{...}: expects a plain list of steps, got the key %s",
-               lua_describe_value(L, -1).c_str());
+  if (const std::string key = lua_key_beside_list(L, 1); !key.empty())
+    luaL_error(L, "roger.teacher.sequence{...}: expects a plain list of steps, got the key %s", key.c_str());
   if (n == 0) luaL_error(L, "roger.teacher.sequence{...}: the list of steps is empty");
   for (lua_Integer i = 1; i <= n; ++i) {
     lua_rawgeti(L, 1, i);
@@ -279,9 +264,8 @@ void read_lift_levels(lua_State* L, LuaFields& f, int levels, TeacherSpec& spec)
                     : std::string("a table with no levels 1, 2, ... (an empty list)")));
   }
   // Found by a probe: {32, 64, x = 1} dropped the x without a word.
-  if (key_beside_list(L, levels))
-    f.fail(name + " must be a plain list of levels, the most constrained first, got the key " +
-           lua_describe_value(L, -1));
+  if (const std::string key = lua_key_beside_list(L, levels); !key.empty())
+    f.fail(name + " must be a plain list of levels, the most constrained first, got the key " + key);
   const lua_Integer count = lua_Integer(lua_rawlen(L, levels));
   for (lua_Integer i = 1; i <= count; ++i) {
     lua_rawgeti(L, levels, i);
@@ -562,6 +546,9 @@ void read_test(lua_State* L, const LuaFields& f, CurriculumStage& st, bool episo
     if (t.has("tasks")) t.fail("give either 'tasks' (a number drawn from the space) or 'list', not both");
     const int list = lua_gettop(L);
     if (!lua_istable(L, list) || lua_rawlen(L, list) == 0) t.wrong_type("list", "a non-empty list of tasks {{param = value, ...}, ...}");
+    // Found by a probe: {{...}, [3] = {...}} and {{...}, x = {...}} tested on the first task alone.
+    if (const std::string key = lua_key_beside_list(L, list); !key.empty())
+      t.fail("field 'list' must be a list of tasks {{param = value, ...}, ...}, got the key " + key);
     for (lua_Integer i = 1; i <= lua_Integer(lua_rawlen(L, list)); ++i) {
       lua_rawgeti(L, list, i);
       const std::string where = st.where() + ": test.list[" + std::to_string(i) + "]";

@@ -9,6 +9,7 @@
 
 #include <lua.hpp>
 
+#include "core/text.h"
 #include "script/sandbox/lua_sandbox.h"
 
 namespace roger {
@@ -40,6 +41,29 @@ LuaFields::LuaFields(lua_State* L, int index, std::string context, std::vector<s
     fail(std::string(unknown.size() == 1 ? "unknown field " : "unknown fields ") + named +
          "; known fields: " + join(known));
   }
+}
+
+std::string lua_key_beside_list(lua_State* L, int index) {
+  index = lua_absindex(L, index);
+  const lua_Integer n = lua_Integer(lua_rawlen(L, index));
+  std::vector<std::string> keys;
+  lua_pushnil(L);
+  while (lua_next(L, index)) {
+    lua_pop(L, 1);
+    if (lua_isinteger(L, -1) && lua_tointeger(L, -1) >= 1 && lua_tointeger(L, -1) <= n) continue;
+    // Read without conversions: lua_tostring on a number key would change the key lua_next walks.
+    if (lua_type(L, -1) == LUA_TSTRING) {
+      size_t length = 0;
+      const char* text = lua_tolstring(L, -1, &length);
+      keys.push_back("'" + shortened_text(std::string(text, length), 40) + "'");
+    } else if (lua_type(L, -1) == LUA_TNUMBER) {
+      keys.push_back("[" + (lua_isinteger(L, -1) ? std::to_string(lua_tointeger(L, -1)) : format_number(lua_tonumber(L, -1))) + "]");
+    } else {
+      keys.push_back(std::string("[a ") + luaL_typename(L, -1) + "]");
+    }
+  }
+  std::sort(keys.begin(), keys.end());
+  return keys.empty() ? "" : keys.front();
 }
 
 void lua_check_arity(lua_State* L, const char* call, int most, const char* takes, const char* hint) {

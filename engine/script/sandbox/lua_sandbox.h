@@ -208,6 +208,12 @@ void lua_charge(lua_State* L, uint64_t units);
 // colon, "rng:int") does not count its object.
 void lua_check_arity(lua_State* L, const char* call, int most, const char* takes, const char* hint = nullptr);
 
+// The first key (in sorted order) of the table at `index` that is not a position 1..#t of its list
+// part, as messages show it ("'x'", "[7]"); "" when the table is a plain list. A list field's
+// reader reads 1..#t, so such a key (`away_from = {x = 1, y = 1, distance = 3}` for a list of one
+// point, `{a, [3] = c}`) would be dropped without a word: every list reader refuses it.
+std::string lua_key_beside_list(lua_State* L, int index);
+
 // Reads the named fields of a table argument such as world:object{...}. The constructor rejects
 // keys that are not in `known` (listing the known ones) and positional values; the accessors check
 // types. Every message starts with the context ("world:object") and is raised with luaL_error, so

@@ -83,6 +83,9 @@ unsigned locked_joints(const LuaFields& f) {
   unsigned mask = 0;
   read_subtable(f, "locked", "a list of joint names {\"left_elbow\", ...}", [&](int t) {
     lua_State* L = f.state();
+    // Found by a probe: {"left_eye", right = "right_eye"} locked the left eye alone, unsaid.
+    if (const std::string key = lua_key_beside_list(L, t); !key.empty())
+      f.fail("field 'locked' must be a list of joint names {\"left_elbow\", ...}, got the key " + key);
     const lua_Integer n = lua_Integer(lua_rawlen(L, t));
     for (lua_Integer i = 1; i <= n; ++i) {
       lua_rawgeti(L, t, i);

@@ -265,6 +265,9 @@ int Scenario::Impl::read_param_table(lua_State* L, int value, const std::string&
 void Scenario::Impl::read_choices(lua_State* L, const LuaFields& f, const std::string& ctx,
                                   std::vector<std::string>& choices) const {
   if (!lua_istable(L, -1)) f.wrong_type("choices", "a list of allowed values");
+  // Found by a probe: {"a", "b", extra = "c"} dropped the "c" without a word.
+  if (const std::string key = lua_key_beside_list(L, -1); !key.empty())
+    throw error(ctx + ": choices must be a list {\"a\", \"b\", ...}, got the key " + key);
   for (lua_Integer i = 1; i <= lua_Integer(lua_rawlen(L, -1)); ++i) {
     lua_rawgeti(L, -1, i);
     if (lua_type(L, -1) == LUA_TNUMBER || lua_type(L, -1) == LUA_TSTRING)

@@ -70,6 +70,11 @@ std::vector<Away> read_away_from(lua_State* L, const LuaFields& f) {
   std::vector<Away> away;
   if (f.push("away_from") != LUA_TNIL) {
     if (!lua_istable(L, -1)) f.wrong_type("away_from", "a list of {x=, y=, distance=, name=}");
+    // Found by a probe: away_from = {x = 1, y = 1, distance = 3}, one point without its list, was a
+    // list of none: the 3 m were never kept, and roger check said ok.
+    if (const std::string key = lua_key_beside_list(L, -1); !key.empty())
+      f.fail("field 'away_from' must be a list {{x=, y=, distance=}, ...}, got the key " + key +
+             " (one point? write away_from = {{x = ..., y = ..., distance = ...}})");
     const lua_Integer n = lua_Integer(lua_rawlen(L, -1));
     for (lua_Integer i = 1; i <= n; ++i) {
       lua_rawgeti(L, -1, i);

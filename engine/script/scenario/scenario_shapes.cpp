@@ -36,6 +36,14 @@ Vec2 read_vertex(lua_State* L, int index, const std::string& where) {
     xy[k] = lua_tonumber(L, -1);
     lua_pop(L, 1);
   }
+  // Nothing beside the two (found by a probe: {0, 0, 0} and {x = 0, y = 0, z = 1} were taken).
+  int entries = 0;
+  index = lua_absindex(L, index);
+  lua_pushnil(L);
+  while (lua_next(L, index)) lua_pop(L, 1), ++entries;
+  if (entries != 2)
+    luaL_error(L, "%s must be {x, y} (or {x = ..., y = ...}) and nothing else, got a table of %d entries", where.c_str(),
+               entries);
   return Vec2(xy[0], xy[1]);
 }
 
@@ -51,6 +59,8 @@ int l_shape(lua_State* L) {
     const std::string ctx = "roger.shape: shape '" + shape.name + "'";
     if (f.push("polygons") != LUA_TNIL) {
       if (!lua_istable(L, -1)) f.wrong_type("polygons", "a list of polygons, each a list of {x, y}");
+      if (const std::string key = lua_key_beside_list(L, -1); !key.empty())
+        f.fail("field 'polygons' must be a list of polygons {p1, p2, ...}, got the key " + key);
       const lua_Integer n = lua_Integer(lua_rawlen(L, -1));
       if (size_t(n) > kMaxParts) f.fail("more than " + std::to_string(kMaxParts) + " polygons");
       for (lua_Integer i = 1; i <= n; ++i) {
@@ -58,6 +68,8 @@ int l_shape(lua_State* L) {
         const std::string where = ctx + " polygon " + std::to_string(i);
         if (!lua_istable(L, -1)) luaL_error(L, "%s must be a list of {x, y} vertices, got %s", where.c_str(), luaL_typename(L, -1));
         Polygon poly;
+        if (const std::string key = lua_key_beside_list(L, -1); !key.empty())
+          luaL_error(L, "%s must be a list of {x, y} vertices, got the key %s", where.c_str(), key.c_str());
         const lua_Integer m = lua_Integer(lua_rawlen(L, -1));
         if (m > kMaxPolygonVertices)
           luaL_error(L, "%s: expected 3 to %d vertices, got %d", where.c_str(), kMaxPolygonVertices, int(m));
@@ -73,6 +85,10 @@ int l_shape(lua_State* L) {
     lua_pop(L, 1);
     if (f.push("disks") != LUA_TNIL) {
       if (!lua_istable(L, -1)) f.wrong_type("disks", "a list of disks {x=, y=, r=}");
+      // A lone disk written without its list ({x = 0, r = 0.1}) said "has no parts".
+      if (const std::string key = lua_key_beside_list(L, -1); !key.empty())
+        f.fail("field 'disks' must be a list of disks {{x=, y=, r=}, ...}, got the key " + key +
+               (lua_type(L, -1) == LUA_TTABLE && lua_getfield(L, -1, "r") != LUA_TNIL ? " (one disk? write disks = {{...}})" : ""));
       const lua_Integer n = lua_Integer(lua_rawlen(L, -1));
       if (size_t(n) + shape.polygons.size() > kMaxParts) f.fail("more than " + std::to_string(kMaxParts) + " parts");
       for (lua_Integer i = 1; i <= n; ++i) {
