@@ -147,6 +147,22 @@ TEST_CASE("scripts/paper.lua describes the paper's protocol", "[batch_script]") 
   CHECK(q.evaluations[0].trials == 3);
   CHECK(q.runs[0].params == Params{{"mass", "0.7"}});
   CHECK(load_batch_script("scripts/quick.lua").trials == 2);
+  // Found by a probe: an evaluation's own trials were checked against its run's count after --trials
+  // replaced it: `--trials 1` refused trials = 3 ("must be between 1 and 1"), blaming the script.
+  const test::TempDir dir("roger_trials_override");
+  const fs::path file = dir.path / "three.lua";
+  std::ofstream(file) << "return { name = 'three', curriculum = 'paper', trials = 2,\n"
+                         "  runs = { { name = 'SG', stage = 'SG', contexts = { 'DC2' }, trials = 3 } },\n"
+                         "  evaluations = { { name = 'e', run = 'SG', episodes = 2, trials = 3 } } }\n";
+  BatchOverrides one;
+  one.trials = 1;
+  const BatchScript smoke = load_batch_script(file.string(), one);
+  CHECK(smoke.runs[0].trials == 1);
+  CHECK(smoke.evaluations[0].trials == 1);
+  BatchOverrides five;
+  five.trials = 5;
+  CHECK(load_batch_script(file.string(), five).evaluations[0].trials == 5);
+  CHECK(load_batch_script(file.string()).evaluations[0].trials == 3);
 }
 
 // Found by a probe: a script returning another it requires was read by its own text alone, so
@@ -740,4 +756,22 @@ TEST_CASE("roger check says every entry's problem, and which entries wait for a 
   CHECK_THAT(problems.errors[2].what(), Catch::Contains("all.lua:8: figure 'f': 'kind' is"));
   CHECK(problems.unchecked.empty());
   fs::remove_all(dir);
+}
+
+// Found by a probe: a second run (or evaluation) of the same name was refused at the first's line.
+TEST_CASE("a second run or evaluation of a name is refused at its own line", "[batch_script]") {
+  const test::TempDir dir("roger_second_name");
+  const fs::path file = dir.path / "twice.lua";
+  std::ofstream(file) << "return { name = 'twice', curriculum = 'paper', trials = 1,\n"
+                         "  runs = {\n"
+                         "    { name = 'SG', stage = 'SG', contexts = { 'DC2' } },\n"
+                         "    { name = 'SG', stage = 'SG', contexts = { 'B1' } } } }\n";
+  CHECK_THAT(load_error(file.string()), Catch::Contains("twice.lua:4: a second run named 'SG' (the first is at line 3)"));
+  std::ofstream(file) << "return { name = 'twice', curriculum = 'paper', trials = 1,\n"
+                         "  runs = { { name = 'SG', stage = 'SG', contexts = { 'DC2' } } },\n"
+                         "  evaluations = {\n"
+                         "    { name = 'e', run = 'SG', episodes = 2 },\n"
+                         "    { name = 'e', run = 'SG', episodes = 3 } } }\n";
+  CHECK_THAT(load_error(file.string()),
+             Catch::Contains("twice.lua:5: a second evaluation named 'e' (the first is at line 4)"));
 }

@@ -14,6 +14,7 @@
 #include <functional>
 #include <map>
 #include <regex>
+#include <set>
 #include <stdexcept>
 #include <sstream>
 #include <tuple>
@@ -904,6 +905,11 @@ TEST_CASE("a damaged trial result is a roger::Error naming its file, never an ab
     write_report(dir.string());
   };
   CHECK_NOTHROW(report_with(good));
+  // Found by a probe: a seed past 2^53 (an evaluation's first_seed of 2^53 and its offsets) was
+  // refused as "not a seed", so no report could read the folder; seeds are integers to 2^64 - 1.
+  json big_seed = good;
+  big_seed["first_seed"] = 18446744073709551615u;
+  CHECK_NOTHROW(report_with(big_seed));
   const std::vector<std::pair<std::string, std::function<void(json&)>>> cases = {
       {"must be a JSON object", [](json& j) { j = json::array({1}); }},
       {"\"usage\" must be an object", [](json& j) { j.erase("usage"); }},
@@ -915,6 +921,7 @@ TEST_CASE("a damaged trial result is a roger::Error naming its file, never an ab
       {"\"skipped_tasks\" must be a list", [](json& j) { j["skipped_tasks"] = 4; }},
       {"is not a count of episodes", [](json& j) { j["episodes"] = 1e300; }},
       {"'first_seed' is not a seed", [](json& j) { j["first_seed"] = -3; }},
+      {"'first_seed' is not a seed (an integer from 0 to 2^64 - 1): 2.5", [](json& j) { j["first_seed"] = 2.5; }},
       {"\"outcomes\" must be a string of episode outcomes", [](json& j) { j["outcomes"] = "1x0"; }},
       {"\"outcomes\" must be a string of episode outcomes", [](json& j) { j["outcomes"] = 101; }},
       {"\"final_outcomes\" must be a string of episode outcomes", [](json& j) { j["final_outcomes"] = "yes"; }},
@@ -1913,4 +1920,19 @@ TEST_CASE("bins are labelled finely enough to say where they lie", "[report]") {
   CHECK(report_detail::bin_label(0.0, 1000.0, 2, 10) == "200 to 300");
   CHECK(report_detail::bin_label(0.0, 0.001, 1, 10) == "0.0001 to 0.0002");
   CHECK(report_detail::bin_label(0.3, 2.4, 0, 5) == "0.3 to 0.72");
+}
+
+// Found by a probe: two trials' first seeds just below 2^53 (9007199254740991 and ...993) read as
+// doubles became one layout, so an evaluation of 4 worlds counted 3 and its interval was resampled
+// as if two policies had shared a world. Seeds are read as the integers they are.
+TEST_CASE("rate cells keep every world seed apart, past 2^53 too", "[report]") {
+  std::vector<RateCell> cells;
+  report_detail::append_rate_cells(json{{"first_seed", 9007199254740991u}, {"episodes", 2}, {"outcomes", "10"}}, 0, "first_seed",
+                    "episodes", "outcomes", cells);
+  report_detail::append_rate_cells(json{{"first_seed", 9007199254740993u}, {"episodes", 2}, {"outcomes", "01"}}, 1, "first_seed",
+                    "episodes", "outcomes", cells);
+  std::set<int64_t> layouts;
+  for (const RateCell& c : cells) layouts.insert(c.layout);
+  CHECK(layouts.size() == 4);
+  CHECK(cells[2].layout == int64_t(9007199254740993u));
 }

@@ -166,9 +166,15 @@ Pooled pool(const std::vector<json>& evals, const char* episodes_key) {
 
 void append_rate_cells(const json& j, int64_t policy, const char* first_seed_key, const char* episodes_key,
                        const char* outcomes_key, std::vector<RateCell>& cells) {
-  const double first = num(j, first_seed_key), n = num(j, episodes_key);
-  if (!(first >= 0 && first <= 9007199254740992.0 && first == std::floor(first)))
-    throw Error(record_of(j) + "a trial result's '" + first_seed_key + "' is not a seed: " + fmt("%g", first));
+  // The seed as the integer it is: read as a double, seeds past 2^53 were refused (found by a probe:
+  // an evaluation's first_seed of 2^53 left a folder no report could read) and two seeds just below
+  // it rounded to one layout (4 worlds counted as 3, and the interval resampled as if shared).
+  const double n = num(j, episodes_key);
+  const json* seed = j.contains(first_seed_key) ? &j[first_seed_key] : nullptr;
+  if (!seed || !(seed->is_number_unsigned() || (seed->is_number_integer() && seed->get<int64_t>() >= 0)))
+    throw Error(record_of(j) + "a trial result's '" + first_seed_key + "' is not a seed (an integer from 0 to "
+                "2^64 - 1): " + (seed ? seed->dump() : std::string("none")));
+  const uint64_t first = seed->get<uint64_t>();
   if (!(n >= 0 && n <= 1e6 && n == std::floor(n)))  // a batch evaluation runs at most a million
     throw Error(record_of(j) + "a trial result's '" + episodes_key + "' is not a count of episodes up to a million: " +
                 fmt("%g", n));
@@ -180,7 +186,9 @@ void append_rate_cells(const json& j, int64_t policy, const char* first_seed_key
                 " outcomes for " + fmt("%g", n) + " episodes");
   const double rate = known ? 0.0 : num(j, "success_rate");
   for (int64_t k = 0; k < int64_t(n); ++k)
-    cells.push_back({policy, int64_t(first) + k, known ? double(outcomes[size_t(k)] == '1') : rate, 1.0});
+    // A layout is the world's seed, which wraps past 2^64 as the engine's does; kept in int64_t,
+    // one to one.
+    cells.push_back({policy, int64_t(first + uint64_t(k)), known ? double(outcomes[size_t(k)] == '1') : rate, 1.0});
 }
 
 std::string resampled_name(Resampled by) {

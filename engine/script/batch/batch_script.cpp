@@ -343,7 +343,12 @@ BatchRun read_run(const json& rj, const Reader& rd, int runs_line, const Curricu
   if (!results_name(r.name) || r.name == "eval")
     rd.fail(r.line, what + ": a run name uses letters, digits, '.', '_' and '-', at most 200 of them (and is not 'eval', "
                          "'.' or '..')");
-  if (b.run(r.name)) rd.fail(r.line, "a second run named '" + r.name + "'");
+  // At the second's line, not the first's (found by a probe: both looked for the first `name =`).
+  if (const BatchRun* first = b.run(r.name)) {
+    const int second = rd.line_of_name(r.name, first->line + 1);
+    rd.fail(second ? second : r.line, "a second run named '" + r.name + "' (the first is at line " +
+                                          std::to_string(first->line) + ")");
+  }
   r.stage = rd.str(rj, "stage", what, r.line, "", true);
   const CurriculumStage* stage = nullptr;
   for (const auto& st : cur.stages())
@@ -483,7 +488,11 @@ BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const 
   if (!results_name(e.name))
     rd.fail(e.line, what + ": a name uses letters, digits, '.', '_' and '-', at most 200 of them (and is not '.' or '..')");
   for (const auto& o : b.evaluations)
-    if (o.name == e.name) rd.fail(e.line, "a second evaluation named '" + e.name + "'");
+    if (o.name == e.name) {
+      const int second = rd.line_of_name(e.name, o.line + 1);
+      rd.fail(second ? second : e.line, "a second evaluation named '" + e.name + "' (the first is at line " +
+                                            std::to_string(o.line) + ")");
+    }
   e.run = rd.str(ej, "run", what, e.line, "", true);
   const BatchRun* from = b.run(e.run);
   if (!from) {
@@ -519,8 +528,12 @@ BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const 
     rd.fail(rd.line_of_key("worlds", e.line), what + ": worlds is 'own' (each policy its own) or 'shared' (the same "
                                                      "worlds for every policy), not '" + worlds + "'");
   e.shared_worlds = worlds == "shared";
-  e.trials = int(rd.integer(ej, "trials", what, e.line, from->trials, 1, from->trials));
-  if (overrides.trials > 0) e.trials = std::min(overrides.trials, from->trials);
+  // --trials N replaces the evaluation's trials as it replaces the run's: the script's own is checked
+  // against no run's count it overrides (found by a probe: `--trials 1` refused an evaluation of
+  // trials = 3 as "must be between 1 and 1", blaming the script).
+  const int most = overrides.trials > 0 ? 100000 : from->trials;
+  e.trials = int(rd.integer(ej, "trials", what, e.line, from->trials, 1, most));
+  if (overrides.trials > 0) e.trials = from->trials;
   read_evaluation_skills(ej, rd, what, cur, b, e);
   std::string scenario = e.scenario;
   for (const auto& st : cur.stages())
