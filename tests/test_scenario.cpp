@@ -453,6 +453,11 @@ TEST_CASE("a list parameter takes any of its choices, comma-separated, and refus
                                                        "list = true } }, generate = function() end }"),
                     Contains("parameter 'n': a list's default is a string of comma-separated choices (\"\" for "
                              "none), got integer 1"));
+  // Found by a probe: an item holding a comma loaded, and no value could ever name it.
+  CHECK_THROWS_WITH(test::scenario_from("list_comma", "return { params = { k = { default = '', choices = { 'a,b', 'c' }, "
+                                                      "list = true } }, generate = function() end }"),
+                    Contains("parameter 'k': list = true joins its items with commas, so an item cannot hold one, got "
+                             "'a,b'"));
 }
 
 TEST_CASE("script mistakes are reported at the script's file:line", "[scenario]") {
@@ -696,6 +701,10 @@ TEST_CASE("the Lua API checks its arguments where they are given", "[scenario]")
   CHECK(run("world:robot{x = 0, y = 0} world:arena{xmin = -3}", "late_arena") ==
         "world:arena: call world:arena first, before anything is placed or sampled (the default "
         "arena is already in use)");
+  CHECK(run("world:arena{xmin = 99998, xmax = 100002}", "far") ==
+        "world:arena: the arena must lie within 1000 m of the origin along x, got [99998, 100002] (the physics holds "
+        "positions in single precision, which far out loses the millimetres Roger moves by: move the arena's "
+        "coordinates nearer 0)");
   CHECK(run("world:arena{xmin = -2, xmax = 2.1}", "cells") ==
         "world:arena: the x extent 4.1 m is not a whole number of 0.0625 m cells");
   CHECK(run("world:object{shape = {}, x = 0, y = 0}", "shape_type") ==

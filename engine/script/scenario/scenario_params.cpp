@@ -255,6 +255,12 @@ int Scenario::Impl::read_param_table(lua_State* L, int value, const std::string&
   slot.info.list = f.boolean("list", false);
   if (slot.info.list && choices.empty())
     throw error(ctx + ": list = true takes the items from choices = {...}, and there are none");
+  // A list's value is its items joined by commas: an item holding one could never be given
+  // (found by a probe: choices {"a,b", "c"} loaded, and its default failed at the first world).
+  for (const std::string& c : choices)
+    if (slot.info.list && (c.find(',') != std::string::npos || c.empty()))
+      throw error(ctx + ": list = true joins its items with commas, so an item cannot " +
+                  (c.empty() ? std::string("be empty") : "hold one, got '" + c + "'"));
   f.push("default");
   value = lua_gettop(L);
   if (lua_isnil(L, value)) throw error(ctx + ": missing its 'default'");

@@ -104,6 +104,13 @@ int l_world_arena(lua_State* L) {
     for (auto [lo, hi, axis] : {std::tuple{a.xmin, a.xmax, "x"}, std::tuple{a.ymin, a.ymax, "y"}}) {
       if (!(hi - lo >= 0.5) || hi - lo > 1000.0)
         f.fail(std::string("the ") + axis + " extent must be 0.5 to 1000 m, got [" + fmt(lo) + ", " + fmt(hi) + "]");
+      // The physics holds positions in single precision: 100 km out a step is 8 mm, and Roger's base
+      // could not move there (found by a probe: roger check said ok, and every episode failed).
+      // Within 1000 m of the origin a step is under 0.1 mm.
+      if (lo < -1000.0 || hi > 1000.0)
+        f.fail(std::string("the arena must lie within 1000 m of the origin along ") + axis + ", got [" + fmt(lo) +
+               ", " + fmt(hi) + "] (the physics holds positions in single precision, which far out loses the "
+               "millimetres Roger moves by: move the arena's coordinates nearer 0)");
       if (!(a.cell > 0.0)) f.fail("cell must be a positive size in metres, got " + fmt(a.cell));
       const double cells = (hi - lo) / a.cell;
       if (std::abs(cells - std::round(cells)) > 1e-6 * std::max(1.0, cells))
