@@ -775,3 +775,28 @@ TEST_CASE("a second run or evaluation of a name is refused at its own line", "[b
   CHECK_THAT(load_error(file.string()),
              Catch::Contains("twice.lua:5: a second evaluation named 'e' (the first is at line 4)"));
 }
+
+// Found by a probe: a usage row whose skill subsumed itself printed a share of nothing.
+TEST_CASE("a usage row's skill does not subsume itself", "[batch_script]") {
+  const test::TempDir dir("roger_usage_self");
+  const fs::path file = dir.path / "usage.lua";
+  std::ofstream(file) << "return { name = 'usage', curriculum = 'paper', trials = 1,\n"
+                         "  runs = { { name = 'SG', stage = 'SG', contexts = { 'B1', 'DC1' } } },\n"
+                         "  tables = { { run = 'SG', usage = {\n"
+                         "    { context = 'DC1', skill = 'Phi7', subsumes = { 'phi1', 'Phi7' } } } } } }\n";
+  CHECK_THAT(load_error(file.string()),
+             Catch::Contains("'Phi7' subsumes itself: list the actions it stands for, not the skill"));
+}
+
+// Found by a probe: an evaluation whose scenario named a curriculum failed inside the curriculum
+// ("skills.lua:45: attempt to call a nil value"), at no line of the batch script.
+TEST_CASE("an evaluation's scenario of another kind of script is refused at its line, saying the kind", "[batch_script]") {
+  const test::TempDir dir("roger_eval_kind");
+  const fs::path file = dir.path / "kind.lua";
+  std::ofstream(file) << "return { name = 'kind', curriculum = 'paper', trials = 1,\n"
+                         "  runs = { { name = 'SG', stage = 'SG', contexts = { 'DC2' } } },\n"
+                         "  evaluations = { { name = 'e', run = 'SG', episodes = 2,\n"
+                         "    scenario = 'curricula/paper.lua' } } }\n";
+  CHECK_THAT(load_error(file.string()),
+             Catch::Contains("kind.lua:4: evaluation 'e': curricula/paper.lua is a curriculum, not a scenario"));
+}

@@ -1180,6 +1180,9 @@ TEST_CASE("bad usage exits 2 naming the option and what it expects", "[cli]") {
       {"run scripts/quick.lua --out ''", "--out: expected a path, got ''"},
       {"propose curricula/paper.lua --stage T --out /tmp/roger_cli_p --budget 0",
        "--budget: expected a number above 0, got '0'"},
+      // Found by a probe: a --set without its '=' exited 1, as a script's mistake does.
+      {"run scripts/quick.lua --set mass", "--set: expected key=value, got 'mass'"},
+      {"eval curricula/scripted.lua --policy task --set =2", "--set: expected key=value, got '=2'"},
   };
   for (const auto& c : cases) {
     INFO(c.args);
@@ -1303,6 +1306,34 @@ TEST_CASE("roger bench --json ends with the figures", "[cli]") {
 
 // Found by a newcomer: the noisy line set lib.body's noise parameters on the scenario, so a
 // scenario built without lib.body (the docs' corridor) could not be measured at all.
+// Found by a probe: roger check of a batch script grouped its runs by their params alone, so a
+// refusal of stage LookLcas named run 'alp' (which trains Look), and a value given by --set was
+// blamed on that run's params.
+TEST_CASE("roger check of a batch script names the run that trains the refused stage", "[cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_runs_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "b5.lua") << "return { name = 'tb5', curriculum = 'docs/examples/teachers_example.lua',\n"
+                                   "  runs = { { name = 'alp', stage = 'Look' }, { name = 'lcas', stage = 'LookLcas' } } }\n";
+  const Run r = roger("check " + (dir / "b5.lua").string() + " --set eye_pixels=64");
+  fs::remove_all(dir);
+  INFO(r.err);
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Matchers::Contains("stage 'LookLcas': 'eye_pixels' is fixed by the params of run 'lcas' or "
+                                              "--set, and it is the parameter its teacher"));
+}
+
+// Found by a probe: a scenario with noise of its own was measured as "the noise-free pipeline", and
+// M replaced its noise in the line under M, unsaid. The noise-free lines take its noise off, and say so.
+TEST_CASE("roger bench measures a noisy scenario's worlds without their noise and says so", "[cli]") {
+  const Run r = roger("bench --scenario docs/examples/worn_sensors.lua --seconds 1 --repeats 1 --episodes 2 --json");
+  INFO(r.out << r.err);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("docs/examples/worn_sensors.lua's worlds have noise of their own: every "
+                                              "line above measures them"));
+  const Run plain = roger("bench --seconds 1 --repeats 1 --episodes 2");
+  CHECK(plain.out.find("noise of their own") == std::string::npos);
+}
+
 TEST_CASE("roger bench measures a scenario whose robot is not built with lib.body", "[cli]") {
   const Run r = roger("bench --scenario docs/examples/corridor.lua --seconds 1 --repeats 1 --episodes 2");
   INFO(r.err);

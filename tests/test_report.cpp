@@ -760,6 +760,20 @@ TEST_CASE("roger report into a read-only folder gives advice that fits roger rep
   }
 }
 
+// Found by a probe: a folder that took no dashboard page left "roger run: open " unfinished on the
+// progress line before the error. The page is written before the line names it. (A directory where
+// the page goes refuses it even to root, which writes through permissions.)
+TEST_CASE("a dashboard that cannot be written leaves no half line", "[report][run]") {
+  Fixture f("dashboard_refused");
+  REQUIRE(f.run("out", 1, 1) == 0);
+  fs::remove(f.root / "out/index.html");
+  fs::create_directories(f.root / "out/index.html/kept");
+  std::string log;
+  CHECK(f.run("out", 1, 1, &log) != 0);
+  INFO(log);
+  CHECK(log.find("roger run: open") == std::string::npos);
+}
+
 TEST_CASE("a results folder is not resumed after a module the curriculum requires changed", "[report][run]") {
   // The fixture's curriculum requires lib.skills; a copy beside it is found first.
   Fixture f("module");

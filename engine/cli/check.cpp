@@ -169,20 +169,21 @@ namespace {
 // Each run's stage of the curriculum checked as its trials train it: with the run's parameters
 // and the command's --set (check_curriculum: the ends of its task space, its test tasks), runs of
 // the same parameters together. Prints each problem; returns their number.
-size_t check_runs_stages(const BatchScript& b) {
-  std::map<Params, std::vector<std::string>> stages_by_params;
-  std::map<Params, std::string> first_run;  // named in messages: "the params of run 'R'"
-  for (const BatchRun& r : b.runs) {
-    stages_by_params[r.params].push_back(r.stage);
-    first_run.emplace(r.params, r.name);
-  }
+size_t check_runs_stages(const BatchScript& b, const ParamList& sets) {
+  // Each stage with each set of params once, named by the first run that trains it so (found by a
+  // probe: grouped by params alone, a stage's refusal named a run of another stage, and a value
+  // given by --set was blamed on a run's params).
+  std::map<std::pair<Params, std::string>, std::string> first_run;
+  for (const BatchRun& r : b.runs) first_run.emplace(std::make_pair(r.params, r.stage), r.name);
   size_t count = 0;
-  for (const auto& [params, stages] : stages_by_params)
-    for (const std::string& p : check_curriculum(b.curriculum_file, b.limits, params, stages,
-                                                 "the params of run '" + first_run[params] + "'")) {
+  for (const auto& [params_stage, run] : first_run) {
+    const std::string fixed_by = "the params of run '" + run + "'" + (sets.empty() ? "" : " or --set");
+    for (const std::string& p :
+         check_curriculum(b.curriculum_file, b.limits, params_stage.first, {params_stage.second}, fixed_by)) {
       std::fprintf(stderr, "roger: error: %s\n", p.c_str());
       ++count;
     }
+  }
   return count;
 }
 
@@ -208,7 +209,7 @@ int check_batch(const std::string& path, const std::string& shown, const LuaLimi
   const std::filesystem::path here = std::filesystem::relative(b.curriculum_file, ec);
   const bool below = !ec && !here.empty() && *here.begin() != "..";
   if (report_static_problems(below ? here.string() : b.curriculum_file) > 0) return 1;
-  if (check_runs_stages(b) > 0) return 1;
+  if (check_runs_stages(b, sets) > 0) return 1;
   warn_unread_in_batch(b);
   std::string runs;
   for (const auto& r : b.runs) {

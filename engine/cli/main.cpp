@@ -88,6 +88,19 @@ CLI::Option* repeatable(CLI::Option* o) {
   return o->expected(1)->allow_extra_args(false)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
 }
 
+// --set key=value, repeatable; a word without its '=' (or without a key) is the parser's refusal,
+// status 2 as every malformed option's (found by a probe: `--set mass` exited 1, as a script's
+// mistake does).
+void add_sets(CLI::App* c, std::vector<std::string>& sets, const char* help) {
+  repeatable(c->add_option("--set", sets, help))
+      ->check(CLI::Validator(
+          [](std::string& kv) -> std::string {
+            const size_t eq = kv.find('=');
+            return eq == std::string::npos || eq == 0 ? "expected key=value, got '" + kv + "'" : "";
+          },
+          "KEY=VALUE"));
+}
+
 // --lua-instructions and --lua-memory, for commands that run scripts.
 void add_lua_limits(CLI::App* c, LuaLimitArgs& a, const char* whose) {
   c->add_option("--lua-instructions", a.instructions,
@@ -116,7 +129,7 @@ CLI::App* add_render(CLI::App& app, RenderArgs& a) {
   c->add_option("--seed", a.seed, "World seed")->capture_default_str()->check(seed_value());
   c->add_option("--out", a.out, "Output picture (.png or .svg); with --policy, a folder or a .png summary")
       ->check(path_value())->required();
-  repeatable(c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)"));
+  add_sets(c, a.sets, "Scenario parameter key=value (repeatable)");
   // render.cpp's range, as Python's render_width has it.
   c->add_option("--width", a.width, "Picture width in pixels (of each frame of an episode's strip)")
       ->capture_default_str()
@@ -144,7 +157,7 @@ CLI::App* add_render(CLI::App& app, RenderArgs& a) {
 CLI::App* add_check(CLI::App& app, CheckArgs& a) {
   auto* c = app.add_subcommand("check", "Load and validate a script without running an episode");
   c->add_option("scripts", a.scripts, "Scripts (.lua): each is checked")->required();
-  repeatable(c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)"));
+  add_sets(c, a.sets, "Scenario parameter key=value (repeatable)");
   c->add_option("--seeds", a.seeds, "Seeds to generate")->capture_default_str()->check(integer_in(1, 100000));
   add_lua_limits(c, a.lua, "; a batch script's own limits otherwise");
   return c;
@@ -157,7 +170,7 @@ CLI::App* add_eval(CLI::App& app, EvalArgs& a, CLI::Option*& seed) {
                 "Policy name in the skill script, or with a curriculum a policy.json written by roger train")
       ->required();
   c->add_option("--scenario", a.scenario, "Scenario (default: the policy's)");
-  repeatable(c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)"));
+  add_sets(c, a.sets, "Scenario parameter key=value (repeatable)");
   repeatable(c->add_option("--skill", a.skills,
                            "With a saved policy: a learned skill's policy NAME=FILE.json instead of the one it embeds "
                            "(repeatable), e.g. a Phi_SG retrained on another body"));
@@ -183,7 +196,7 @@ CLI::App* add_train(CLI::App& app, TrainArgs& a) {
   c->add_flag("--json", a.json, "End with one JSON line of the figures");
   repeatable(c->add_option("--skill", a.skills,
                            "A learned skill's policy NAME=FILE.json (repeatable; default: train its stage first)"));
-  repeatable(c->add_option("--set", a.sets, "Scenario parameter key=value (repeatable)"));
+  add_sets(c, a.sets, "Scenario parameter key=value (repeatable)");
   c->add_option("--init", a.init,
                 "A policy.json learned earlier: the Q-table starts from its values over the actions the two "
                 "share by name (a warm start), the others at initial_q");
@@ -219,7 +232,7 @@ CLI::App* add_run(CLI::App& app, RunArgs& a) {
   c->add_option("--out", a.out,
                 "Results folder (default: results/<name>, the batch script's name field, which roger check shows)")
       ->check(path_value());
-  repeatable(c->add_option("--set", a.sets, "Scenario parameter key=value for every run (repeatable)"));
+  add_sets(c, a.sets, "Scenario parameter key=value for every run (repeatable)");
   repeatable(c->add_option("--only", a.only, "Only this run, RUN/CONTEXT, or eval/NAME (repeatable)"));
   c->add_flag("--live", a.live, "A live progress bar (default on a terminal)");
   c->add_flag("--no-report", a.no_report, "Skip the report at the end");

@@ -182,8 +182,11 @@ void print_run_start(const BatchPlan& plan, const Shard& shard, std::ostream& lo
   log << "roger run: " << b.path << " -> " << plan.out << " (" << trials << (trials == 1 ? " trial" : " trials")
       << ", curriculum " << b.curriculum << (found == b.curriculum ? "" : ": " + found) << ")\n";
   if (shard.active()) log << "roger run: " << describe_shard(plan, shard) << "\n";
-  // The dashboard from the start: it follows the run's status.js until the report is written.
-  log << "roger run: open " << write_dashboard_page(plan.out) << " to follow the run\n";
+  // The dashboard from the start: it follows the run's status.js until the report is written. Written
+  // before the line names it: a folder that takes no file left "roger run: open " unfinished above
+  // the error (found by a probe).
+  const std::string page = write_dashboard_page(plan.out);
+  log << "roger run: open " << page << " to follow the run\n";
 }
 
 // After the trials: the report (unless a shard, --no-report or unreadable trials), summary.csv,

@@ -195,7 +195,7 @@ std::vector<std::string> write_dashboard(const std::string& dir, const json& rep
 
 std::string write_dashboard_page(const std::string& dir) {
   const std::string page = (std::filesystem::path(dir) / "index.html").string();
-  write_file_atomic(page, kDashboardPageHtml, "roger: cannot write the dashboard");
+  write_file_atomic(page, kDashboardPageHtml, "cannot write the dashboard");
   return page;
 }
 

@@ -507,7 +507,11 @@ BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const 
   e.scenario = rd.str(ej, "scenario", what, e.line, "");
   if (!e.scenario.empty()) {
     try {
+      const std::string written = e.scenario;
       e.scenario = resolve_scenario_near(e.scenario, b.path);  // beside the batch script first, as require
+      // A curriculum or a batch script named here failed inside it, at no line of this script
+      // (found by a probe: "skills.lua:45: attempt to call a nil value").
+      require_script_kind(written, e.scenario, {"scenario"}, "");
     } catch (const Error& ex) {
       rd.fail(rd.line_of_key("scenario", e.line), what + ": " + ex.what());
     }
@@ -617,6 +621,10 @@ void read_usage(const json& tj, const Reader& rd, const std::string& what, int u
       rd.fail(ul, what + ", usage: run '" + t.run + "' " + has_no("context", u.context, r->contexts));
     u.skill = rd.str(uj, "skill", what + ", usage", ul, "", true);
     u.subsumes = rd.strings(uj, "subsumes", what + ", usage", ul, true);
+    // Found by a probe: a skill that subsumes itself read as "50% of the decisions among itself and
+    // the actions it subsumes (itself)", a share of nothing.
+    if (std::find(u.subsumes.begin(), u.subsumes.end(), u.skill) != u.subsumes.end())
+      rd.fail(ul, what + ", usage: '" + u.skill + "' subsumes itself: list the actions it stands for, not the skill");
     std::vector<std::string> psi;
     for (const auto& a : cur.stage(r->stage).context(u.context).actions) psi.push_back(a->name());
     std::vector<std::string> all = u.subsumes;
