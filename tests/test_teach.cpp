@@ -747,6 +747,10 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
       {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 64, x = 1 } } } }",
        ":8: roger.teacher.lcas: lift.eye_pixels must be a plain list of levels, the most constrained first, got the "
        "key 'x'"},
+      // Found by a probe: {"1", "01", "1e0"} over a number parameter were three slices of one world.
+      {"{ tasks = { obstacles = roger.choice{ 1, '01' } } }",
+       "value 2 is the string \"01\": parameter 'obstacles' of scenario 'cluttered' takes a number: write 01 without "
+       "quotes"},
       // Found by a probe: a test list's task after a hole, or under a name, was left out unsaid.
       {"{ tasks = { obstacles = roger.int(0, 3) }, test = { list = { { obstacles = 1 }, [3] = { obstacles = 2 } } } }",
        "stage 'S': test: field 'list' must be a list of tasks {{param = value, ...}, ...}, got the key [3]"},
@@ -1728,6 +1732,17 @@ TEST_CASE("roger check calls a teacher function on a history and finds its error
                                    "space") && Contains("before training episode 11"));
   // The documented example's functions pass.
   CHECK(check_curriculum("docs/examples/teachers_example.lua").empty());
+  // Found by a probe: check's history had rewards 0 and 1 and a time of 5 s past a 1 s limit, so a
+  // function that read them passed here and failed in training. Now as training records them.
+  const fs::path reads = write_stage(dir.path, "reads", "{ tasks = { obstacles = roger.int(0, 3) },\n"
+                                                        "  teacher = function(history, rng)\n"
+                                                        "    for _, h in ipairs(history) do\n"
+                                                        "      assert(h.reward == (h.success and 100 or -100), h.reward)\n"
+                                                        "      assert(h.time <= 1 and h.time > 0, h.time)\n"
+                                                        "    end\n"
+                                                        "    return {}\n"
+                                                        "  end }");
+  CHECK(check_curriculum(reads.string()) == std::vector<std::string>{});
 }
 
 // Found by a probe: a teacher function's writes to its history stayed (`history[1].success = 7` was

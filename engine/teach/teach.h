@@ -40,6 +40,7 @@ struct TaskDim {
   Kind kind = Kind::kReal;
   double lo = 0.0, hi = 1.0;         // int: lo..hi inclusive; real: [lo, hi]
   std::vector<std::string> choices;  // choice: the values as text (as a scenario parameter takes them)
+  std::vector<size_t> string_choices;  // choice: those written as Lua strings (refused for a number parameter)
   std::string file;                  // where it was written (roger.int(...)), "" when unknown
   int line = 0;
   // "roger.int(0, 6)", "roger.real(0.5, 2)", "roger.choice{circle, spade}".

@@ -916,6 +916,7 @@ void check_teacher_function(Curriculum& cur, const CurriculumStage& st, const Pa
                             std::vector<std::string>& problems) {
   if (!st.teacher_lua) return;
   constexpr int kEpisodes = 30, kFailed = 10;
+  const double limit = st.time_limit > 0.0 ? st.time_limit : st.time_per_object;  // a world of one object
   int episode = 0;
   QuietPrints prints(cur.sandbox(), "roger check called the teacher function again");  // shown for the first call
   try {
@@ -926,8 +927,11 @@ void check_teacher_function(Curriculum& cur, const CurriculumStage& st, const Pa
       o.task = teacher->next().task;
       o.world_seed = uint64_t(episode);
       o.success = episode >= kFailed;
-      o.reward = o.success ? 1.0 : 0.0;
-      o.sim_s = 5.0;
+      // As training records them with the stage's fixed rewards: a failure times out at the limit, a
+      // success ends halfway (found by a probe: rewards 0 and 1 and a time of 5 s past a 4 s limit,
+      // so a function that read them passed here and failed at training's first episode).
+      o.reward = o.success ? st.rewards.success_reward : st.rewards.timeout_reward;
+      o.sim_s = o.success ? 0.5 * limit : limit;
       teacher->record(o);
     }
   } catch (const std::exception& e) {

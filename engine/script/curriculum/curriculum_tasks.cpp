@@ -101,6 +101,7 @@ int l_choice(lua_State* L) {
     lua_rawgeti(L, 1, i);
     const std::string v = lua_param_text(L, -1, "roger.choice{...}: value " + std::to_string(i));
     if (!seen.insert(v).second) luaL_error(L, "roger.choice{...}: the value '%s' is listed twice", v.c_str());
+    if (lua_type(L, -1) == LUA_TSTRING) d.string_choices.push_back(d.choices.size());
     d.choices.push_back(v);
     lua_pop(L, 1);
   }
@@ -379,6 +380,14 @@ void check_against_scenario(const CurriculumStage& st) {
     if ((it->second.type == ParamType::kString || it->second.type == ParamType::kBoolean) && d.kind != TaskDim::Kind::kChoice)
       fail_at(where + ": '" + d.name + "' is a " + param_type_name(it->second.type) + " parameter of scenario '" +
                   s.name() + "': use roger.choice{...}", d.file, d.line);
+    // A number parameter's choice written as a string ("1") is refused, as a teacher's step's and an
+    // LCAS level's are (found by a probe: {"1", "01", "1e0"} were three slices of the one world).
+    const bool number = it->second.type == ParamType::kInteger || it->second.type == ParamType::kNumber;
+    if (d.kind == TaskDim::Kind::kChoice && number)
+      for (size_t i : d.string_choices)
+        fail_at(where + ": value " + std::to_string(i + 1) + " is the string \"" + d.choices[i] + "\": parameter '" +
+                    d.name + "' of scenario '" + s.name() + "' takes a number: write " + d.choices[i] + " without quotes",
+                d.file, d.line);
     if (d.kind == TaskDim::Kind::kChoice)
       for (const auto& c : d.choices) check_value(d.name, c, where, d.file, d.line);
     else
