@@ -633,6 +633,14 @@ TEST_CASE("script mistakes are reported at the script's file:line", "[scenario]"
     // Returning the world itself, or nothing, is what a generator may do.
     CHECK_NOTHROW(test::scenario_from("returns_world", head + "  return world\nend }\n").generate(0));
     CHECK_NOTHROW(test::scenario_from("returns_nil", head + "  return nil\nend }\n").generate(0));
+    // Found by a probe: a second value passed, as Lua keeps the first.
+    try {
+      test::scenario_from("returns_two", head + "  return nil, 5\nend }\n").generate(0);
+      FAIL("a generator's second value was accepted");
+    } catch (const ScriptError& e) {
+      CHECK(e.line == 1);
+      CHECK_THAT(e.message, StartsWith("the generator returned a second value (a number), which is not read"));
+    }
   }
   SECTION("a runaway generator") {
     Scenario s = Scenario::load("tests/scripts/bad_runtime.lua", SandboxLimits{200000, 64u << 20});

@@ -429,7 +429,17 @@ WorldSpec Scenario::generate_world(uint64_t seed) {
         WorldBuilder* w;
         ~Finish() { w->finished = true; }
       } finish{w};
-      lua_call(L, 3, 1);
+      const int base = lua_gettop(L) - 4;  // below generate and its three arguments
+      lua_call(L, 3, LUA_MULTRET);
+      // One result at most (found by a probe: `return nil, 5` passed, as Lua keeps the first).
+      if (lua_gettop(L) - base > 1) {
+        lua_settop(L, base + 2);  // the second result: the one that goes unread
+        throw impl.error(std::string("the generator returned a second value (a ") + luaL_typename(L, -1) +
+                             "), which is not read: it builds the world through world:robot{...}, world:object{...} "
+                             "and the other methods of world, and returns nothing",
+                         impl.generate_line);
+      }
+      if (lua_gettop(L) == base) lua_pushnil(L);
     }
     // Its rng (and its forks) draw no more: a failed generate's are past by the next one's epoch,
     // and nothing else runs in a scenario's Lua state.
