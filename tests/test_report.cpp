@@ -1317,6 +1317,9 @@ TEST_CASE("a trial result whose summary disagrees with its own episodes is refus
        "field \"time_to_threshold_s\" is 1, but its checkpoints reached the threshold at "},
       {"T/DC6/000", [](json& r) { r["checkpoints"].back()["success_rate"] = 0.0; },
        "field \"reached\" is true, but its last checkpoint's success rate is below the threshold 0.9"},
+      // Found by a probe: with no checkpoint at all it spoke of the last one's rate.
+      {"T/DC6/000", [](json& r) { r["checkpoints"] = json::array(); },
+       "field \"reached\" is true, but it has no checkpoint that could have reached the threshold"},
   };
   for (const Edit& e : edits) {
     const std::string file = "trials/" + std::string(e.trial) + "/result.json";
@@ -1949,4 +1952,12 @@ TEST_CASE("rate cells keep every world seed apart, past 2^53 too", "[report]") {
   for (const RateCell& c : cells) layouts.insert(c.layout);
   CHECK(layouts.size() == 4);
   CHECK(cells[2].layout == int64_t(9007199254740993u));
+}
+
+// Found by a probe: a label of -1e308 ("%.2f": 313 characters) was cut at 63 by a fixed buffer.
+TEST_CASE("a number formatted for the report is never cut", "[report]") {
+  const std::string huge = report_detail::fmt("%.2f", -1e308);
+  CHECK(huge.size() == 313);  // "-", 309 digits, ".00"
+  CHECK(huge.substr(huge.size() - 3) == ".00");
+  CHECK(report_detail::fmt("%.2f", 0.5) == "0.50");
 }

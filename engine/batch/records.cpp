@@ -99,6 +99,7 @@ std::string threshold_problem(const json& r) {
   const double threshold = r["threshold"].get<double>();
   size_t first = cps.size();
   while (first > 0 && cps[first - 1]["success_rate"].get<double>() >= threshold) --first;
+  if (cps.empty()) return "field \"reached\" is true, but it has no checkpoint that could have reached the threshold";
   if (first == cps.size())
     return "field \"reached\" is true, but its last checkpoint's success rate is below the threshold " +
            format_number(threshold);

@@ -31,9 +31,12 @@ std::string record_of(const json& j) {
 }  // namespace
 
 std::string fmt(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
+  // Sized by the text: "%.2f" of -1e308 is 313 characters, and a buffer of 64 cut it (found by a
+  // probe, on a hand-edited episode's obstacles).
+  const int n = std::snprintf(nullptr, 0, f, v);
+  std::string text(size_t(std::max(n, 0)), '\0');
+  std::snprintf(text.data(), text.size() + 1, f, v);
+  return text;
 }
 
 std::string bin_label(double lo, double hi, int b, int bins) {
