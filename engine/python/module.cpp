@@ -20,6 +20,8 @@
 #include <utility>
 #include <vector>
 
+#include <unistd.h>
+
 #include "batch/environment.h"
 #include "batch/trainer.h"
 #include "core/error.h"
@@ -295,6 +297,12 @@ py::array_t<uint8_t> render_array(const StageEnvironment& e, int width, const st
   return a;
 }
 
+// "1 value", "2 values": a count in words that agree with it (found by a probe: "the observation
+// has 1 values").
+std::string counted(py::ssize_t n, const std::string& what) {
+  return std::to_string(n) + " " + what + (n == 1 ? "" : "s");
+}
+
 // A saved policy.json: the greedy action of a state, as `roger eval` takes it.
 class Policy {
  public:
@@ -304,14 +312,14 @@ class Policy {
       std::string shape;
       for (py::ssize_t d = 0; d < obs.ndim(); ++d) shape += (d ? ", " : "") + std::to_string(obs.shape(d));
       const std::string expected =
-          "act: takes one observation, a vector of " + std::to_string(q_.actions()) + " values (one per action)";
+          "act: takes one observation, a vector of " + counted(q_.actions(), "value") + " (one per action)";
       if (obs.ndim() == 0) throw Error(expected + ", got a single number");
       throw Error(expected + ", not a batch: got a " + std::to_string(obs.ndim()) + "-D array of shape (" + shape +
                   "); for a batch of observations, act on each row: [policy.act(o) for o in obs]");
     }
     if (obs.shape(0) != q_.actions())
-      throw Error(path_ + ": the policy has " + std::to_string(q_.actions()) +
-                  " actions but the observation has " + std::to_string(obs.size()) + " values");
+      throw Error(path_ + ": the policy has " + counted(q_.actions(), "action") + " but the observation has " +
+                  counted(obs.size(), "value"));
     std::vector<Gamma> g(size_t(q_.actions()));
     for (int a = 0; a < q_.actions(); ++a) {
       const int64_t v = obs.at(a);
@@ -796,8 +804,22 @@ void vec_restore(VecEnvironment& v, const py::list& state) {
   without_gil([&] { v.restore(snapshots); });
 }
 
+// A batch's deleter: in a process other than the one that made it (a fork()ed child) a batch with
+// worker threads is left to the process's end, not deleted. Its workers exist only in the process
+// that made it, and ~VecEnvironment joins them: found by a probe, a child that closed such a batch,
+// or only exited with it alive, aborted (std::system_error from join; roger/__init__.py refuses
+// every other use there). Its memory is the child's copy, freed when the child ends.
+struct ForkSafeDelete {
+  pid_t maker = getpid();
+  void operator()(VecEnvironment* v) const {
+    if (v->threads() > 1 && getpid() != maker) return;
+    delete v;
+  }
+};
+using VecHolder = std::unique_ptr<VecEnvironment, ForkSafeDelete>;
+
 void bind_vec(py::module_& m) {
-  py::class_<VecEnvironment>(m, "VecEnvironment")
+  py::class_<VecEnvironment, VecHolder>(m, "VecEnvironment")
       .def(py::init([](const std::string& curriculum, const std::string& stage, const std::string& context,
                        const std::string& scenario, const py::dict& params, const py::dict& skills, int num_envs,
                        int threads, const std::string& autoreset, const std::string& embedded_skills) {
@@ -805,8 +827,9 @@ void bind_vec(py::module_& m) {
                  make_options(curriculum, stage, context, scenario, params, skills, false, "", "", "", embedded_skills);
              const Autoreset mode = autoreset_of(autoreset);
              return without_gil([&] {
-               return make_environment(o, "make_vec",
-                                       [&] { return std::make_unique<VecEnvironment>(o, num_envs, threads, mode); });
+               return VecHolder(make_environment(o, "make_vec", [&] {
+                                  return std::make_unique<VecEnvironment>(o, num_envs, threads, mode);
+                                }).release());
              });
            }),
            py::arg("curriculum"), py::arg("stage"), py::arg("context"), py::arg("scenario") = "",

@@ -44,6 +44,7 @@ EXAMPLE = "docs/examples/curriculum_example.lua"
 BAD_REWARD = "tests/python/fixtures/bad_reward.lua"
 TIMEOUT_FAULT = "tests/python/fixtures/timeout_fault.lua"
 ABSORBING_AT_ONCE = "tests/python/fixtures/absorbing_at_once.lua"
+GENERATE_FAILS_ONCE = "tests/python/fixtures/generate_fails_once.lua"
 PAPER = "curricula/paper.lua"
 FIRST_SEED = 1000000
 
@@ -861,6 +862,70 @@ class VectorApi(unittest.TestCase):
                 for i, w in enumerate(self.worlds_played(vec, 150)):
                     self.assertEqual(w, [seeds[i] + 3 * (k + 1) for k in range(len(w))])
 
+    def test_seeds_across_the_wrap_play_apart(self):
+        # Found by a probe: schedules were kept apart by their residues modulo num_envs, which the
+        # wrap past 2^64 - 1 changes when num_envs does not divide 2^64: 3 environments seeded
+        # [2^64 - 1, None, None] played 2^64 - 1, 2, 5, 8 in environment 0, environment 2's worlds one
+        # episode behind; a masked reset to 2^64 - 1 after reset(seed=0) alike; and reset(seed=2^64 - 2),
+        # whose schedules never meet, moved environment 2 to a schedule of its own.
+        top = 2**64 - 1
+        own = [roger.mix(2, k) >> 1 for k in range(1, 30)]  # a schedule of its own, from 2
+        def played(vec, first):
+            return [[int(s)] + w for s, w in zip(first, self.worlds_played(vec, 150))]
+        def distinct(worlds):
+            flat = [x for w in worlds for x in w]
+            self.assertGreater(len(flat), 20)
+            self.assertEqual(len(flat), len(set(flat)), worlds)
+        vec = self.make()
+        _, info = vec.reset(seed=[top, None, None])
+        worlds = played(vec, info["seed"])
+        distinct(worlds)
+        self.assertEqual(worlds[0][:3], [top, 2, 5])  # ahead of environment 2's 2, which moves on at once
+        self.assertEqual(worlds[1][:3], [1, 4, 7])
+        self.assertIn(worlds[2][0], own)
+        vec = self.make()
+        vec.reset(seed=0)
+        _, info = vec.reset(seed=top, options={"reset_mask": np.array([True, False, False])})
+        worlds = played(vec, [top, 1, 2])
+        distinct(worlds)
+        self.assertEqual((worlds[1][:3], worlds[2][:3]), ([1, 4, 7], [2, 5, 8]))  # ahead of 2^64 - 1: go on
+        self.assertIn(worlds[0][1], own)  # from the world it would have played second
+        vec = self.make()
+        _, info = vec.reset(seed=[top, 2, 100])
+        worlds = played(vec, info["seed"])
+        distinct(worlds)
+        self.assertEqual((worlds[1][:3], worlds[2][:3]), ([2, 5, 8], [100, 103, 106]))
+        # An int seed's schedules never meet, across the wrap too: each goes on along its own.
+        vec = self.make()
+        _, info = vec.reset(seed=2**64 - 2)
+        self.assertEqual([w[:3] for w in played(vec, info["seed"])], [[top - 1, 1, 4], [top, 2, 5], [0, 3, 6]])
+
+    def test_step_after_a_failed_reset_says_so(self):
+        # Found by a probe: after a batch reset that raised (the scenario's generate erring in each
+        # environment's world), step said "environment 0 of 2 has not been reset yet (its reset_mask
+        # entry was False at every reset)", which was false.
+        vec = roger.make_vec(EXAMPLE, "Look", "Gaze", num_envs=2, threads=1, scenario=GENERATE_FAILS_ONCE)
+        with self.assertRaises(roger.ScriptError) as cm:
+            vec.reset(seed=4)
+        self.assertIn("generate_fails_once: the second world", str(cm.exception))
+        with self.assertRaises(roger.RogerError) as cm:
+            vec.step(np.zeros(2, int))
+        text = str(cm.exception)
+        self.assertTrue(text.startswith("step: environment 0 of 2 has no episode: the last reset that asked for it "
+                                        "failed (reset: environment 0 of 2 (seed 4): "), text)
+        self.assertIn("reset it again", text)
+        self.assertNotIn("reset_mask entry was False", text)
+        twin = pickle.loads(pickle.dumps(vec))  # a copy says so too
+        self.assertRaisesRegex(roger.RogerError, "the last reset that asked for it failed", twin.step, np.zeros(2, int))
+        _, info = vec.reset(seed=4)  # the next reset begins them
+        np.testing.assert_array_equal(info["seed"], [4, 5])
+        vec.step(np.zeros(2, int))
+        # One that no reset asked for is still "not reset yet".
+        vec = roger.make_vec(EXAMPLE, "Look", "Gaze", num_envs=2, threads=1)
+        vec.reset(seed=1, options={"reset_mask": np.array([True, False])})
+        self.assertRaisesRegex(roger.RogerError, "environment 1 of 2 has not been reset yet", vec.step,
+                               np.zeros(2, int))
+
     def test_reset_mask(self):
         vec, twin = self.make(), self.make()
         for v in (vec, twin):
@@ -1174,6 +1239,57 @@ class BadArguments(unittest.TestCase):
                                                              f"got {bad!r}"],
                                           roger.make_vec, EXAMPLE, "Look", "Gaze", **args)
         self.assertEqual(roger.make_vec(EXAMPLE, "Look", "Gaze", num_envs=2, threads=np.int64(2)).threads, 2)
+
+    def test_make_vec_counts_are_bounded(self):
+        # Found by a probe: num_envs=2**40, threads=2**40 and max_episode_steps=10**30 raised pybind11's
+        # TypeError with its signature, and num_envs=2**31 - 1 was taken and allocated until
+        # std::bad_alloc. Each is checked against its bound first, named with it and the value.
+        for name, bound, bad in (("num_envs", 4096, 4097), ("num_envs", 4096, 2**40), ("threads", 1024, 1025),
+                                 ("threads", 1024, 2**40), ("max_episode_steps", 2**31 - 1, 2**31),
+                                 ("max_episode_steps", 2**31 - 1, 10**30), ("num_envs", 4096, 2**31 - 1)):
+            with self.subTest(name=name, value=bad):
+                args = {"num_envs": 2, name: bad}
+                self.assertRaisesWith(roger.RogerError, [f"make_vec: {name} is at most {bound} (", f"got {bad}"],
+                                      roger.make_vec, EXAMPLE, "Look", "Gaze", **args)
+        self.assertRaisesWith(roger.RogerError, ["make_vec: num_envs is at most 4096", "an integer of 4001 bits"],
+                              roger.make_vec, EXAMPLE, "Look", "Gaze", num_envs=2**4000)
+        vec = roger.make_vec(EXAMPLE, "Look", "Gaze", num_envs=2, threads=1024, max_episode_steps=2**31 - 1)
+        self.assertEqual(vec.threads, 2)  # more threads than environments run as many as them
+        vec.reset(seed=1)
+        vec.step(np.zeros(2, int))
+
+    def test_arguments_of_the_wrong_kind_are_named(self):
+        # Found by a probe: make(..., policy=5) said "5: cannot read the policy file", load_policy(None)
+        # "None: ...", params={"robot_distance": None} "got 'None'" (str(None) was taken as the text),
+        # roger.axis.choice([None, 1]) "a bound is a finite number", and a policy of 2 actions given
+        # one value "the observation has 1 values".
+        self.assertRaisesWith(roger.RogerError, ["make: policy is the path of a policy.json (a str or os.PathLike) "
+                                                 "or a roger.Policy, got int 5"],
+                              roger.make, EXAMPLE, "Look", "Gaze", policy=5)
+        self.assertRaisesWith(roger.RogerError, ["make_vec: policy is the path", "got list [1]"],
+                              roger.make_vec, EXAMPLE, "Look", "Gaze", num_envs=2, policy=[1])
+        for bad in (None, 5):
+            self.assertRaisesWith(roger.RogerError, ["load_policy: expected the path of a policy.json (a str or "
+                                                     f"os.PathLike), got {type(bad).__name__} {bad!r}"],
+                                  roger.load_policy, bad)
+        self.assertRaisesWith(roger.RogerError, ["params['robot_distance'] is None, which is no value: give a number, "
+                                                 "a string or a bool"],
+                              roger.make, EXAMPLE, "Look", "Gaze", params={"robot_distance": None})
+        self.assertRaisesWith(roger.RogerError, ["params['robot_distance'] is None"], roger.make_vec, EXAMPLE, "Look",
+                              "Gaze", num_envs=2, params={"robot_distance": None})
+        self.assertRaisesWith(roger.RogerError, ["skills['Phi_SG'] is None", "the path of a policy.json"],
+                              roger.make, PAPER, "T", "DC6", skills={"Phi_SG": None})
+        for bad, shown in ((None, "NoneType None"), ([1], "list [1]")):
+            self.assertRaisesWith(roger.RogerError, ["roger.axis.choice: a value is a string, a finite number or a "
+                                                     f"bool, got {shown}"], roger.axis.choice, [bad, 1])
+        self.assertRaisesWith(roger.RogerError, ["roger.axis.choice: a value is a finite number, got inf"],
+                              roger.axis.choice, [float("inf"), 1])
+        self.assertRaisesWith(roger.RogerError, ["roger.axis.int: a bound is a finite number"], roger.axis.int, None, 3)
+        policy = roger.load_policy(train(EXAMPLE, "Look", "Gaze", 3, "look"))
+        e = self.assertRaisesWith(roger.RogerError, ["the policy has 2 actions but the observation has 1 value"],
+                                  policy.act, [1])
+        self.assertNotIn("1 values", str(e))
+        self.assertRaisesWith(roger.RogerError, ["the observation has 3 values"], policy.act, [1, 1, 1])
 
     def test_every_batch_action_is_checked(self):
         # Found by a probe: on a NEXT_STEP autoreset step an out-of-range action of an environment
@@ -1674,6 +1790,68 @@ class DeepRL(unittest.TestCase):
                 self.assertIn(text, e)
         self.assertEqual(len(closed_errors), 1, closed_errors)
         self.assertIn("the vector environment is closed", closed_errors[0])
+
+    def test_a_batch_in_a_forked_child_is_refused(self):
+        # Found by a probe: a make_vec batch of 2 threads used in a fork()ed child hung forever (its
+        # worker threads do not survive fork), and one closed or left alive at the child's exit
+        # aborted it (joining threads that are not there). Refused there, naming both processes;
+        # a copy made in the child, a batch of 1 thread and a single Env work. Each child exits with
+        # a code its parent checks, within a time limit; all in a process of its own, so that a hang
+        # or a crash fails this test rather than the suite.
+        child = textwrap.dedent("""
+            import copy, os, sys, time
+            import numpy as np
+            import roger
+            vec = roger.make_vec(sys.argv[1], "Look", "Gaze", 4, threads=2)
+            one = roger.make_vec(sys.argv[1], "Look", "Gaze", 2, threads=1)
+            env = roger.make(sys.argv[1], "Look", "Gaze")
+            vec.reset(seed=1)
+            one.reset(seed=1)
+            env.reset(seed=1)
+            def fork(child):
+                pid = os.fork()
+                if pid == 0:
+                    child()
+                    os._exit(0)
+                deadline = time.time() + 60
+                while True:
+                    done, status = os.waitpid(pid, os.WNOHANG)
+                    if done:
+                        return os.waitstatus_to_exitcode(status)
+                    if time.time() > deadline:
+                        os.kill(pid, 9)
+                        os.waitpid(pid, 0)
+                        return "hung"
+                    time.sleep(0.05)
+            def uses():
+                code = 42
+                for call in (lambda: vec.step(np.zeros(4, int)), vec.reset, vec.render):
+                    try:
+                        call()
+                        code = 10  # not refused
+                    except roger.RogerError as e:
+                        if (f"this make_vec batch was made in process {os.getppid()} and is used in process "
+                                f"{os.getpid()} (a fork()ed child)" not in str(e)
+                                or "make a new batch in this process" not in str(e)):
+                            code = 11
+                twin = copy.deepcopy(vec)  # a batch of the child's own, which continues the worlds
+                seeds = twin.step(np.zeros(4, int))[4]["seed"].tolist()
+                one.step(np.zeros(2, int))
+                env.step(0)
+                vec.close()  # its threads are not joined here
+                os._exit(code if seeds == [1, 2, 3, 4] else 12)
+            def exits():
+                sys.exit(43)  # the interpreter's end frees the batch, alive
+            print(repr((fork(uses), fork(exits), vec.step(np.zeros(4, int))[4]["seed"].tolist())))
+            """)
+        try:
+            out = subprocess.run([sys.executable, "-c", child, EXAMPLE], capture_output=True, text=True, timeout=240)
+        except subprocess.TimeoutExpired:
+            self.fail("a batch used in a forked child hung")
+        self.assertEqual(out.returncode, 0, out.stderr[-3000:])
+        uses, exits, parent = eval(out.stdout.strip().splitlines()[-1])
+        self.assertEqual((uses, exits), (42, 43), out.stderr[-3000:])
+        self.assertEqual(parent, [1, 2, 3, 4])  # the parent's batch goes on
 
     def test_exit_while_a_daemon_thread_steps(self):
         # Found by a probe: the interpreter exiting (at the script's end, or on Ctrl-C) while a daemon

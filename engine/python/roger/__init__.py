@@ -24,6 +24,7 @@ spaces are gymnasium's and the ids roger/SG-B1-v0 ... roger/T-DC6-v0 and roger/S
 registered, each with make_vec as its vector entry point.
 """
 
+import bisect
 import contextlib
 import copy
 import numbers
@@ -70,11 +71,18 @@ _RENDER_MODES = ["rgb_array"]
 _DECISION_FPS = 4  # frames per second of a video of decisions (a decision lasts about 0.1 to 1 s)
 
 
+# What a value of make's params or skills is, for the message that refuses None.
+_VALUE_OF = {"params": "a number, a string or a bool", "skills": "the path of a policy.json (or a roger.Policy)"}
+
+
 def _text_dict(d, what):
     if d is None:
         return {}
     if not isinstance(d, dict):
         raise RogerError(f"{what} must be a dict, got {type(d).__name__}")
+    for k, v in d.items():
+        if v is None:  # found by a probe: str(None) was taken as the text 'None' (params: "got 'None'")
+            raise RogerError(f"{what}[{k!r}] is None, which is no value: give {_VALUE_OF.get(what, 'a value')}")
     return {str(k): (str(v) if not isinstance(v, bool) else v) for k, v in d.items()}
 
 
@@ -130,6 +138,8 @@ def _refuse_tick_observation(obs, where, expected):
 
 def _short(obs):
     """A value as a message shows it: its repr, cut short (a big array's is thousands of characters)."""
+    if isinstance(obs, int) and obs.bit_length() > 1000:  # repr refuses an int of over 4300 digits
+        return f"an integer of {obs.bit_length()} bits"
     text = repr(obs)
     if len(text) <= 120:
         return text
@@ -223,17 +233,17 @@ class Axis:
         return self.lua
 
 
-def _lua_number(x, what):
+def _lua_number(x, what, kind="a bound"):
     if isinstance(x, np.generic):
         x = x.item()
     if isinstance(x, bool) or not isinstance(x, numbers.Real):
-        raise RogerError(f"{what}: a bound is a finite number, got {x!r}")
+        raise RogerError(f"{what}: {kind} is a finite number, got {x!r}")
     if isinstance(x, numbers.Integral):  # Lua's integers are 64-bit (np.isfinite cannot take a larger int)
         if not -2**63 <= x < 2**63:
-            raise RogerError(f"{what}: a bound is a finite number, an integer within Lua's 64-bit integers, got {x!r}")
+            raise RogerError(f"{what}: {kind} is a finite number, an integer within Lua's 64-bit integers, got {x!r}")
         return str(x)
     if not np.isfinite(float(x)):
-        raise RogerError(f"{what}: a bound is a finite number, got {x!r}")
+        raise RogerError(f"{what}: {kind} is a finite number, got {x!r}")
     return repr(float(x))
 
 
@@ -244,7 +254,9 @@ def _lua_value(v, what):
         return "true" if v else "false"
     if isinstance(v, str):
         return '"' + "".join(c if c.isprintable() and c not in '"\\' else f"\\{ord(c):03d}" for c in v) + '"'
-    return _lua_number(v, what)
+    if not isinstance(v, numbers.Real):  # found by a probe: choice([None, 1]) said "a bound is a finite number"
+        raise RogerError(f"{what}: a value is a string, a finite number or a bool, got {type(v).__name__} {v!r}")
+    return _lua_number(v, what, "a value")
 
 
 class axis:
@@ -935,19 +947,79 @@ def _reset_seeds(seed, n):
 
 
 _APART_TRIES = 100000
+_SEEDS = 2**64  # the seeds of worlds: schedules wrap past 2^64 - 1 to 0
+_HALF = 2**63
+
+
+def _meet(a, b, n):
+    """Whether the schedules a, a + n, a + 2n, ... and b, b + n, ... (modulo 2^64) meet soon: the
+    distance between a and b the shorter way round the 2^64 seeds is a multiple of n, so that one
+    reaches the other's worlds after that distance / n episodes. Schedules that do not meet play
+    distinct worlds for at least 2^63 / n episodes each (a shared world would need a distance of
+    at least 2^64 - 2^63 covered in steps of n). For seeds less than 2^63 apart this is the same
+    residue modulo n; found by a probe: residues alone ignored the wrap past 2^64 - 1, which
+    changes the residue when n does not divide 2^64, so that 3 environments seeded [2^64 - 1,
+    None, None] played 2^64 - 1, 2, 5, ..., the worlds environment 2 had just played."""
+    d = (b - a) % _SEEDS
+    return min(d, _SEEDS - d) % n == 0
+
+
+class _Worlds:
+    """A set of next worlds of schedules, asked whether a schedule meets any of them (_meet) without
+    going through them all: of a world w, the shift of the others by a multiple of 2^64 that lies
+    within 2^63 of it is what the residue modulo n is taken of (a reset of 4096 environments asks
+    it thousands of times)."""
+
+    def __init__(self, n):
+        self.n = n
+        self.near = {}  # residue of w: sorted worlds w
+        self.below = {}  # residue of w - 2^64: sorted worlds (those more than 2^63 above the asker)
+        self.above = {}  # residue of w + 2^64: sorted worlds (those more than 2^63 below the asker)
+        self.tried = {}  # _own_schedule's: of a seed, the last k tried
+
+    def add(self, w):
+        for table, shifted in ((self.near, w), (self.below, w - _SEEDS), (self.above, w + _SEEDS)):
+            bisect.insort(table.setdefault(shifted % self.n, []), w)
+
+    def meets(self, a):
+        r = a % self.n
+        near = self.near.get(r, ())
+        k = bisect.bisect_left(near, max(0, a - _HALF))
+        if k < len(near) and near[k] <= a + _HALF:
+            return True
+        below, above = self.below.get(r), self.above.get(r)
+        return bool(below and below[-1] > a + _HALF) or bool(above and above[0] < a - _HALF)
+
+
+def _ahead_order(indices, nexts, given):
+    """`indices` in the order of their next worlds, the one ahead first: the one the others would
+    reach going up. Of equal ones, one given that seed goes first (found by a probe: an environment
+    left out mid-episode, of a lower index, went on to the world another was given, so that both
+    played it), then the first in index order. The seeds are a circle (they wrap past 2^64 - 1 to
+    0), cut at the widest gap between the worlds: where that is the one across 2^64 (always so for
+    worlds less than 2^63 apart, such as any below 2^63) the order is that of the seeds, as it has
+    always been. By the seeds alone 2^64 - 1 would go ahead of 5 (a masked reset's [2^64 - 1, 4,
+    5], found by a probe), where 2^64 - 1 reaches 5 in 2 episodes and 5 reaches it in 6 * 10^18."""
+    points = sorted({nexts[i] for i in indices})
+    origin, widest = 0, _SEEDS - (points[-1] - points[0])
+    for low, high in zip(points, points[1:]):
+        if high - low > widest:
+            origin, widest = high, high - low
+    return sorted(indices, key=lambda i: (-((nexts[i] - origin) % _SEEDS), i not in given, i))
 
 
 def _apart_from_seeded(vec, mask, seeded, seeds):
-    """Keeps a reset's schedules apart where seeds given would make them meet (the same residue
-    modulo num_envs: one would replay the other's worlds, at once or at a later autoreset). Of the
-    environments given seeds of one residue, and those the mask leaves out mid-episode whose next
-    world has it, the one with the highest (the first of equal ones) goes on along its schedule;
-    each other given a seed plays it first, then continues on a schedule of its own (_own_schedule),
-    and each other left out continues on one from the world it would have played next. The
-    returned {environment: the world it continues at} is for VecEnvironment.continue_at after the
-    reset. An environment reset without a seed goes on along its schedule unless that meets a seed
-    given: it then begins a schedule of its own at once, in `seeds`. Resets fully unseeded never
-    meet this (docs/python.md, Batches)."""
+    """Keeps a reset's schedules apart where seeds given would make them meet (_meet: one would
+    replay the other's worlds, at once or at a later autoreset). Of the environments given seeds,
+    and those the mask leaves out mid-episode (by the world they would play next), the one ahead
+    of those that meet (the highest seed, the first of equal ones) goes on along its schedule;
+    each other given a seed plays it first, then continues on a schedule of its own
+    (_own_schedule), and each other left out continues on one from the world it would have played
+    next. The returned {environment: the world it continues at} is for VecEnvironment.continue_at
+    after the reset. An environment reset without a seed goes on along its schedule unless that
+    meets a seed given: it then begins a schedule of its own at once, in `seeds`. Resets fully
+    unseeded, and an int seed S on every environment (S + i: the distances are below num_envs,
+    wrapped or not), never meet this (docs/python.md, Batches)."""
     n = len(mask)
     given = [i for i in range(n) if mask[i] and seeded[i]]
     if not given:
@@ -955,48 +1027,62 @@ def _apart_from_seeded(vec, mask, seeded, seeds):
     running = [i for i, begun in enumerate(vec.begun) if begun and not mask[i]]
     nexts = []
     for i, (base, started, *_) in enumerate(vec.snapshot()):
-        nexts.append(int(seeds[i]) if mask[i] and seeded[i] else (int(base) + int(started) * n) % 2**64)
+        nexts.append(int(seeds[i]) if mask[i] and seeded[i] else (int(base) + int(started) * n) % _SEEDS)
     later = _apart_given(given, running, nexts, n)
-    taken_by_seeded = {nexts[j] % n for j in given}
+    by_seeded = _Worlds(n)
+    for j in given:
+        by_seeded.add(nexts[j])
     moved_on = {j for j in later if j not in given}  # left out, their next world no longer theirs
+    taken = _Worlds(n)
+    for w in [nexts[j] for j in range(n) if j not in moved_on] + list(later.values()):
+        taken.add(w)
     for i in range(n):
-        if not mask[i] or seeded[i] or nexts[i] % n not in taken_by_seeded:
+        if not mask[i] or seeded[i] or not by_seeded.meets(nexts[i]):
             continue
-        others = {nexts[j] % n for j in range(n) if j != i and j not in moved_on} | {w % n for w in later.values()}
-        world = _own_schedule(nexts[i], others, n)
+        world = _own_schedule(nexts[i], taken)
         seeded[i], seeds[i], nexts[i] = 1, world, world
     return later
 
 
 def _apart_given(given, running, nexts, n):
     """Of the environments given seeds and those running on (left out of the reset), those whose
-    schedules would reach another's next world (all of a residue but the highest world's), each
+    schedules would meet another's (all but the one ahead, _ahead_order, of each that meet), each
     with the world it continues at: one given a seed after its first, one running on instead of
     the world it would have played next."""
-    keeper = {}
-    for i in sorted(given + running):  # the highest of each residue; of equal ones, the first in index order
-        r = nexts[i] % n
-        if r not in keeper or nexts[i] > nexts[keeper[r]]:
-            keeper[r] = i
-    movers = [i for i in sorted(given + running) if keeper[nexts[i] % n] != i]
-    ahead = {nexts[j] % n for j in range(len(nexts)) if j not in movers}
+    seen, movers = _Worlds(n), []
+    for i in _ahead_order(given + running, nexts, set(given)):
+        if seen.meets(nexts[i]):
+            movers.append(i)
+        seen.add(nexts[i])
+    movers.sort()
+    moving, given = set(movers), set(given)
+    ahead = _Worlds(n)  # the next worlds that stay, and a mover's first world (its seed given)
+    for j in range(len(nexts)):
+        if j not in moving or j in given:
+            ahead.add(nexts[j])
     later = {}
     for i in movers:
         # One given a seed goes on from the seed it would have played second, as an unseeded
         # entry's from the one it would play; one running on, from the world it would play next.
-        start = (nexts[i] + n) % 2**64 if i in given else nexts[i]
-        later[i] = _own_schedule(start, ahead, n)
-        ahead.add(later[i] % n)
+        start = (nexts[i] + n) % _SEEDS if i in given else nexts[i]
+        later[i] = _own_schedule(start, ahead)
     return later
 
 
-def _own_schedule(seed, taken, n):
+def _own_schedule(seed, taken):
     """A schedule of its own for an environment whose schedule would meet another's: mix(seed, k) >> 1
-    for k = 1, 2, ... the first whose residue modulo n is not in `taken`."""
-    for k in range(1, _APART_TRIES):
+    for k = 1, 2, ... the first that meets none of `taken` (a _Worlds), which it joins. Of several
+    from one seed (a list of equal seeds), each goes on from the k after the last one's: the worlds
+    before are still taken (`taken` only grows), so the world is the same, found without trying
+    them all again (4096 equal seeds tried 16 million)."""
+    k = taken.tried.get(seed, 0)
+    while k < _APART_TRIES - 1:
+        k += 1
         world = mix(seed, k) >> 1
-        if world % n not in taken:
-            return world
+        if not taken.meets(world):
+            break
+    taken.tried[seed] = k
+    taken.add(world)
     return world
 
 
@@ -1017,6 +1103,15 @@ def _reset_mask(options, n):
         raise RogerError(f"reset: options['reset_mask'] must be a numpy bool array of shape ({n},) with at least "
                          f"one True, got {mask!r}")
     return mask.astype(np.uint8)
+
+
+# make_vec's counts, each at most (bound, why): checked before the extension, whose int would take
+# neither a larger one (docs/python.md, Batches).
+_COUNT_BOUNDS = {
+    "num_envs": (4096, "each environment holds its own Lua state and world"),
+    "threads": (1024, "more than num_envs run as num_envs"),
+    "max_episode_steps": (2**31 - 1, "2^31 - 1: the engine counts an episode's decisions in 32 bits"),
+}
 
 
 def _masked(info, key, values, mask):
@@ -1048,6 +1143,7 @@ class VecEnv(_Copyable, _VecBase):
         # are stepped by its worker threads with the GIL released: two calls at once would step the
         # same worlds from two threads and corrupt them (an abort, or a hang), so one is refused.
         self._lock = threading.RLock()
+        self._maker = os.getpid()  # the process whose threads step the batch (_open)
         if isinstance(policy, Policy):
             policy = policy.path
         curriculum, scenario, teacher, policy = map(_path_text, (curriculum, scenario, teacher, policy))
@@ -1072,7 +1168,12 @@ class VecEnv(_Copyable, _VecBase):
         _names(curriculum, stage, context, "make_vec")
         for name, value in (("num_envs", num_envs), ("threads", threads), ("max_episode_steps", max_episode_steps)):
             if not _positive_integer(value) and (name == "num_envs" or value is not None):  # None: the default
-                raise RogerError(f"make_vec: {name} must be a positive integer, got {value!r}")
+                raise RogerError(f"make_vec: {name} must be a positive integer, got {_short(value)}")
+            # Found by a probe: 2**40 reached the extension's int and raised pybind11's TypeError with
+            # its signature, and num_envs=2**31 - 1 was taken and allocated until std::bad_alloc.
+            bound, why = _COUNT_BOUNDS[name]
+            if value is not None and value > bound:
+                raise RogerError(f"make_vec: {name} is at most {bound} ({why}), got {_short(value)}")
         self.timeout = _timeout(timeout, "make_vec")
         try:
             mode = AutoresetMode(autoreset_mode)
@@ -1082,8 +1183,7 @@ class VecEnv(_Copyable, _VecBase):
         self.render_mode = _render_mode(render_mode, "make_vec")
         self.render_width = _render_width(render_width, "make_vec")
         if threads is None:
-            import os
-            threads = min(int(num_envs), len(os.sched_getaffinity(0)))
+            threads = min(int(num_envs), len(os.sched_getaffinity(0)), _COUNT_BOUNDS["threads"][0])
         params, embedded, played = _with_policy(policy, curriculum, stage, context, params, scenario, "make_vec")
         self._vec = _roger.VecEnvironment(_native(curriculum), _native(stage), _native(context), _native(scenario or ""),
                                           _text_dict(params, "params"), _text_dict(skills, "skills"),
@@ -1102,6 +1202,9 @@ class VecEnv(_Copyable, _VecBase):
         # (its reset_mask entry False) gave it: its first reset starts there, so that it does not
         # replay the worlds of the others' schedules (None: the batch's S = 0, environment i at i).
         self._pending = [None] * int(num_envs)
+        # Each environment no reset has begun because the last reset that asked for it failed: that
+        # reset's error (step refuses it saying so, where "not reset yet" would be false).
+        self._reset_failed = {}
         self._stage_info = self._vec.info
         self.actions = tuple(self._stage_info["actions"])
         try:
@@ -1131,6 +1234,15 @@ class VecEnv(_Copyable, _VecBase):
     def _open(self, what):
         if self._vec is None:
             raise RogerError(f"{what}: the vector environment is closed (make a new one)")
+        if self._maker != os.getpid() and self.threads > 1:
+            # Found by a probe: a batch used in a fork()ed child (multiprocessing's fork start
+            # method, os.fork) hung forever: its worker threads exist only in the process that
+            # made it, and the step waited for them. One thread steps in the caller's own.
+            raise RogerError(
+                f"{what}: this make_vec batch was made in process {self._maker} and is used in process "
+                f"{os.getpid()} (a fork()ed child): its {self.threads} threads are the other process's and "
+                "do not run here; make a new batch in this process (roger.make_vec(...), or copy.deepcopy(batch), "
+                "which continues its worlds), or make the batch with threads=1")
         return self._vec
 
     def reset(self, *, seed=None, options=None):
@@ -1159,9 +1271,22 @@ class VecEnv(_Copyable, _VecBase):
         later = _apart_from_seeded(vec, mask, seeded, seeds)
         try:
             r = vec.reset(mask, seeded, seeds)
+        except RogerError as e:
+            # Found by a probe: after a reset that raised (a scenario's generate erring in one
+            # environment's world), step said that environment "has not been reset yet (its
+            # reset_mask entry was False at every reset)".
+            begun, cause = vec.begun, str(e).splitlines()[0] if str(e) else type(e).__name__
+            for i in map(int, np.flatnonzero(mask)):
+                if begun[i]:
+                    self._reset_failed.pop(i, None)
+                else:
+                    self._reset_failed[i] = cause if len(cause) <= 300 else cause[:300] + "..."
+            raise
         finally:  # also after a failed reset: the schedules are what its next step begins along
             for i, world in later.items():
                 vec.continue_at(i, world)
+        for i in np.flatnonzero(mask):
+            self._reset_failed.pop(int(i), None)
         self._pending = [None if vec.begun[i] else p for i, p in enumerate(pending)]
         info, m = {}, mask.astype(bool)
         for key in ("seed", "sim_seconds", "ticks", "decisions"):
@@ -1183,6 +1308,11 @@ class VecEnv(_Copyable, _VecBase):
         if a.shape != (self.num_envs,) or not np.issubdtype(a.dtype, np.integer):
             raise RogerError(f"step: expected {self.num_envs} integer actions, got {a.dtype} array of shape {a.shape}")
         _refuse_out_of_range(a, len(self.actions))
+        if self._reset_failed:
+            i, cause = min(self._reset_failed.items())
+            raise RogerError(f"step: environment {i} of {self.num_envs} has no episode: the last reset that asked for "
+                             f"it failed ({cause}); reset it again (reset(), or reset(options={{'reset_mask': ...}}) "
+                             "for it alone)")
         try:
             r = vec.step(a.astype(np.int64))
         except RogerError as e:
@@ -1238,11 +1368,12 @@ class VecEnv(_Copyable, _VecBase):
         return self._vec is None
 
     def _state(self):
-        return {"envs": self._vec.snapshot(), "pending": list(self._pending)}
+        return {"envs": self._vec.snapshot(), "pending": list(self._pending), "reset_failed": dict(self._reset_failed)}
 
     def _restore(self, state):
         self._vec.restore(state["envs"])
         self._pending = list(state["pending"])
+        self._reset_failed = dict(state.get("reset_failed", {}))  # a pickle of an older version has none
 
 
 class Policy:
@@ -1252,6 +1383,10 @@ class Policy:
 
     def __init__(self, path):
         import json
+        # Found by a probe: load_policy(None) said "None: cannot read the policy file".
+        if not isinstance(path, (str, bytes, os.PathLike)):
+            raise RogerError(f"load_policy: expected the path of a policy.json (a str or os.PathLike), "
+                             f"got {type(path).__name__} {_short(path)}")
         self._p = _roger.Policy(_native(path))
         self.path = str(path)
         self.actions = tuple(self._p.actions)
@@ -1365,15 +1500,17 @@ def make(curriculum, stage, context, params=None, skills=None, scenario=None, mo
 def make_vec(curriculum, stage, context, num_envs, threads=None, params=None, skills=None, scenario=None,
              autoreset_mode=AutoresetMode.NEXT_STEP, render_mode=None, render_width=1000, timeout="terminate",
              mode="decision", policy=None, teacher=None, max_episode_steps=None):
-    """num_envs environments stepped together in C++ threads (VecEnv); threads (a positive integer,
-    as num_envs) defaults to min(num_envs, the cores this process may use); autoreset_mode an AutoresetMode (or its value,
-    "NextStep", "SameStep", "Disabled"); timeout as make's. The vector entry point of the
-    registered ids (gymnasium.make_vec(id, num_envs, vectorization_mode="vector_entry_point")),
-    which hands over make's keywords: mode must then be "decision"; policy as make's; teacher None
-    (a stage with a teacher is refused: the batch runs none) or False (none: every world has the
-    stage's own parameters, as make(..., teacher=False)); max_episode_steps (a positive integer, or
-    None for none) cuts an episode still running after that many decisions short, as Gymnasium's
-    TimeLimit does (reported as truncated; gymnasium.make_vec hands it over)."""
+    """num_envs environments (a positive integer, at most 4096) stepped together in C++ threads
+    (VecEnv), in the process that made them (a fork()ed child makes its own); threads (a positive
+    integer, at most 1024) defaults to min(num_envs, the cores this process may use);
+    autoreset_mode an AutoresetMode (or its value, "NextStep", "SameStep", "Disabled"); timeout as
+    make's. The vector entry point of the registered ids (gymnasium.make_vec(id, num_envs,
+    vectorization_mode="vector_entry_point")), which hands over make's keywords: mode must then be
+    "decision"; policy as make's; teacher None (a stage with a teacher is refused: the batch runs
+    none) or False (none: every world has the stage's own parameters, as make(...,
+    teacher=False)); max_episode_steps (a positive integer up to 2^31 - 1, or None for none) cuts
+    an episode still running after that many decisions short, as Gymnasium's TimeLimit does
+    (reported as truncated; gymnasium.make_vec hands it over)."""
     return VecEnv(curriculum, stage, context, num_envs, threads=threads, params=params, skills=skills,
                   scenario=scenario, autoreset_mode=autoreset_mode, render_mode=render_mode,
                   render_width=render_width, timeout=timeout, mode=mode, policy=policy, teacher=teacher,
@@ -1387,6 +1524,10 @@ def _with_policy(policy, curriculum, stage, context, params, scenario, where):
     stage's takes none."""
     if policy is None:
         return params, "", None
+    # Found by a probe: make(..., policy=5) said "5: cannot read the policy file".
+    if not isinstance(policy, (Policy, str, bytes, os.PathLike)):
+        raise RogerError(f"{where}: policy is the path of a policy.json (a str or os.PathLike) or a roger.Policy, "
+                         f"got {type(policy).__name__} {_short(policy)}")
     p = policy if isinstance(policy, Policy) else Policy(policy)
     if (p.stage, p.context) != (str(stage), str(context)):
         raise RogerError(f"{where}: policy {p.path} is of stage {p.stage} context {p.context}, not of stage {stage} "
