@@ -747,6 +747,13 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
       {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 64, x = 1 } } } }",
        ":8: roger.teacher.lcas: lift.eye_pixels must be a plain list of levels, the most constrained first, got the "
        "key 'x'"},
+      // Found by a probe: "[20, 100000]" did not say that its lower end is k_max.
+      {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.alp_gmm{ k_max = 8, history = 5 } }",
+       "roger.teacher.alp_gmm: field 'history' must be an integer in [8, 100000] (at least k_max = 8: one episode per "
+       "component), got 5"},
+      // Found by a probe: a task axis given as the teacher read "got a userdata".
+      {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.int(0, 3) }",
+       "field 'teacher' is the task axis roger.int(0, 3), not a teacher: an axis goes in 'tasks'"},
       // Found by a probe: {"1", "01", "1e0"} over a number parameter were three slices of one world.
       {"{ tasks = { obstacles = roger.choice{ 1, '01' } } }",
        "value 2 is the string \"01\": parameter 'obstacles' of scenario 'cluttered' takes a number: write 01 without "
@@ -2033,4 +2040,19 @@ TEST_CASE("a by table's bins of a real parameter run from its least value to its
   REQUIRE(edges.size() == 5);
   CHECK(edges.back() > 10.0);  // edges of one digit and of two
   CHECK(std::is_sorted(edges.begin(), edges.end()));
+}
+
+// Found by a probe: a test list's entry that is not a task was reported at the roger.stage{ line,
+// where every other mistake of `test` is at its own line.
+TEST_CASE("a test list's bad entry is reported at the line of test", "[teach][errors]") {
+  test::TempDir dir("roger_teach_test_line");
+  const fs::path file = dir.path / "listed.lua";
+  std::ofstream(file) << "local p = { phi0 = roger.primitive('phi0') }\n"
+                         "return { stages = { roger.stage{ name = 'S', scenario = 'cluttered', time_limit = 1,\n"
+                         "  absorbing = roger.converged(p.phi0), budget = { episodes = 4 }, checkpoints = { every = 4 },\n"
+                         "  contexts = { { name = 'A', actions = { p.phi0 } } },\n"
+                         "  tasks = { obstacles = roger.int(0, 3) },\n"
+                         "  test = { list = { { obstacles = 1 }, 5 } },\n"
+                         "} } }\n";
+  CHECK_THAT(load_error(file), Contains("listed.lua:6: stage 'S': test: list[2]"));
 }

@@ -316,7 +316,13 @@ int l_teacher_alp_gmm(lua_State* L) {
   spec.k_max = whole(f, "k_max", 6, 2, 20);
   spec.fit_every = whole(f, "fit_every", 50, 2, 100000);
   spec.random_share = fraction(f, "random_share", 0.2, 0.0, 1.0);
-  spec.history = whole(f, "history", 250, spec.k_max, 100000);
+  // At least k_max episodes, one per component: the message says where its lower end comes from
+  // (found by a probe: "[20, 100000]" read as a fixed range, with k_max = 20).
+  const int64_t history = f.integer("history", 250);
+  if (history < spec.k_max || history > 100000)
+    f.fail("field 'history' must be an integer in [" + std::to_string(spec.k_max) + ", 100000] (at least k_max = " +
+           std::to_string(spec.k_max) + ": one episode per component), got " + std::to_string(history));
+  spec.history = int(history);
   push_teacher(L, std::move(spec));
   return 1;
 }
@@ -499,6 +505,11 @@ void read_teacher(lua_State* L, const LuaFields& f, CurriculumStage& st, LuaCall
   }
   if (type != LUA_TNIL) {
     auto* spec = static_cast<TeacherSpec*>(luaL_testudata(L, -1, kTeacherType));
+    // A task axis given as the teacher read "got a userdata" (found by a probe).
+    if (const auto* axis = static_cast<TaskDim*>(luaL_testudata(L, -1, kAxisType)))
+      f.fail("field 'teacher' is the task axis " + axis->text() + ", not a teacher: an axis goes in 'tasks' "
+             "(tasks = {" + (axis->name.empty() ? std::string("param") : axis->name) + " = " + axis->text() +
+             "}), and the teacher draws from them (roger.teacher.random{}, .sequence{...}, ...)");
     if (!spec)
       f.fail("field 'teacher' must be a teacher (roger.teacher.random{}, .sequence{...}, .lcas{...}, "
              ".alp_gmm{...}, .plr{...}) or a function(history, rng), got " + lua_describe_value(L, -1));
@@ -560,7 +571,7 @@ void read_test(lua_State* L, const LuaFields& f, CurriculumStage& st, bool episo
       t.fail("field 'list' must be a list of tasks {{param = value, ...}, ...}, got the key " + key);
     for (lua_Integer i = 1; i <= lua_Integer(lua_rawlen(L, list)); ++i) {
       lua_rawgeti(L, list, i);
-      const std::string where = st.where() + ": test.list[" + std::to_string(i) + "]";
+      const std::string where = st.where() + ": test: list[" + std::to_string(i) + "]";  // "test: " finds its line
       ParamList task;
       lua_read_params(L, lua_gettop(L), where, task);
       for (const auto& [name, value] : task) {
