@@ -800,3 +800,24 @@ TEST_CASE("an evaluation's scenario of another kind of script is refused at its 
   CHECK_THAT(load_error(file.string()),
              Catch::Contains("kind.lua:4: evaluation 'e': curricula/paper.lua is a curriculum, not a scenario"));
 }
+
+// Found by a probe: a sorting row of 8 objects over a run of 2 printed "8 objects, 2 sorted per
+// episode", and a row over a stage of no sorting a count made up from its reward.
+TEST_CASE("a sorting row's runs sort worlds of the row's number of objects", "[batch_script]") {
+  const test::TempDir dir("roger_sorting_rows");
+  const fs::path file = dir.path / "rows.lua";
+  auto script = [&](const std::string& runs, const std::string& row) {
+    std::ofstream(file) << "return { name = 'rows', curriculum = 'curricula/sorting.lua', trials = 1,\n"
+                        << "  runs = { " << runs << " },\n"
+                        << "  tables = { { title = 'sorting', sorting = { " << row << " } } } }\n";
+    return file.string();
+  };
+  const std::string hand2 = "{ name = 'Hand2', stage = 'Hand2', contexts = { 'Scripted' } }";
+  CHECK_NOTHROW(load_batch_script(script(hand2, "{ objects = 2, hand = 'Hand2' }")));
+  CHECK_THAT(load_error(script(hand2, "{ objects = 8, hand = 'Hand2' }")),
+             Catch::Contains("rows.lua:3: table 'sorting': the row is of 8 objects, but run 'Hand2' (context 'Scripted') "
+                             "plays worlds of 2"));
+  CHECK_THAT(load_error(script("{ name = 'SG', stage = 'SG', contexts = { 'DC2' } }", "{ objects = 2, hand = 'SG' }")),
+             Catch::Contains("run 'SG' trains stage 'SG' in scenario") &&
+                 Catch::Contains("which has no parameter 'objects': a sorting row's runs sort"));
+}

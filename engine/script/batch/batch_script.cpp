@@ -637,9 +637,39 @@ void read_usage(const json& tj, const Reader& rd, const std::string& what, int u
   }
 }
 
+// The number of objects in the worlds of run `r` in its context `context`, as its trials train
+// it: the run's params, else the stage's and the context's, else its scenario's default; "" when
+// the scenario has no parameter 'objects' (not a sorting stage).
+std::string objects_of(const BatchRun& r, const std::string& context, const Curriculum& cur) {
+  for (const auto& [key, value] : r.params)
+    if (key == "objects") return value;
+  const CurriculumStage& stage = cur.stage(r.stage);
+  for (const auto& [key, value] : stage.scenario_params(stage.context(context)))
+    if (key == "objects") return value;
+  for (const ScenarioParam& p : Scenario::load(stage.scenario).params())
+    if (p.name == "objects") return p.default_value;
+  return "";
+}
+
+// A sorting row's run plays worlds of the row's number of objects (found by a probe: a row of 8
+// objects over a run of 2 printed "8 objects, 2 sorted per episode", and a row over a stage of no
+// sorting at all a count made up from its reward).
+void check_sorting_run(const BatchRun& r, int objects, const Curriculum& cur, const Reader& rd, const std::string& what,
+                       int l) {
+  for (const std::string& context : r.contexts) {
+    const std::string held = objects_of(r, context, cur);
+    if (held.empty())
+      rd.fail(l, what + ": run '" + r.name + "' trains stage '" + r.stage + "' in scenario '" +
+                     cur.stage(r.stage).scenario + "', which has no parameter 'objects': a sorting row's runs sort");
+    if (held != std::to_string(objects))
+      rd.fail(l, what + ": the row is of " + std::to_string(objects) + " objects, but run '" + r.name + "' (context '" +
+                     context + "') plays worlds of " + held);
+  }
+}
+
 // Reads a sorting table's rows: {objects = n, learned = run, hand = run}, each run one of the script's.
 void read_sorting_rows(const json& rows, const Reader& rd, const std::string& what, int l, const BatchScript& b,
-                       BatchTable& t) {
+                       const Curriculum& cur, BatchTable& t) {
   if (!rows.is_array() || rows.empty())
     rd.fail(l, what + ": 'sorting' must be a list of {objects = n, learned = run, hand = run}");
   for (const json& rj : rows) {
@@ -655,6 +685,8 @@ void read_sorting_rows(const json& rows, const Reader& rd, const std::string& wh
     for (const std::string* name : {&row.learned, &row.hand})
       if (!name->empty() && !b.run(*name))
         rd.fail(l, what + ": no run '" + *name + "'; the runs are " + quoted_list(run_names(b)));
+    for (const std::string* name : {&row.learned, &row.hand})
+      if (!name->empty()) check_sorting_run(*b.run(*name), row.objects, cur, rd, what, l);
     t.sorting.push_back(std::move(row));
   }
 }
@@ -745,12 +777,14 @@ BatchTable read_table_fields(const json& tj, const Reader& rd, int& at, const Cu
   if (tj.contains("sorting")) {
     if (tj.contains("run") || tj.contains("evaluation") || tj.contains("baseline") || tj.contains("usage"))
       rd.fail(l, what + ": a sorting table has rows of its own: no 'run', 'evaluation', 'baseline' or 'usage'");
-    read_sorting_rows(tj["sorting"], rd, what, rd.line_of_key("sorting", l), b, t);
+    read_sorting_rows(tj["sorting"], rd, what, rd.line_of_key("sorting", l), b, cur, t);
     return t;
   }
   t.run = rd.str(tj, "run", what, l, "");
   t.evaluation = rd.str(tj, "evaluation", what, l, "");
-  if (t.run.empty() == t.evaluation.empty()) rd.fail(l, what + ": give 'run', 'evaluation' or 'sorting'");
+  if (t.run.empty() == t.evaluation.empty())
+    rd.fail(l, what + ": give one of 'run', 'evaluation', 'sorting' or 'compare'" +
+                   (t.run.empty() ? "" : std::string(", not both 'run' and 'evaluation'")));
   if (!t.evaluation.empty()) {
     if (std::none_of(b.evaluations.begin(), b.evaluations.end(), [&](const auto& e) { return e.name == t.evaluation; })) {
       std::vector<std::string> names;
