@@ -1503,6 +1503,21 @@ TEST_CASE("a training trial's final.jsonl missing or cut short is refused and th
   CHECK_THROWS_WITH(write_report(folder.dir.string()),
                     Contains(final_file.string() + ":2: \"success\": false, but the trial's result.json records "
                              "episode 2 a success (\"final_outcomes\"): edited?"));
+  // Found by a probe: a world's count edited to a word made a column of its own in a --by table, and
+  // a record without the feature, edited out, was left out of every cell, unsaid.
+  std::string worded = whole;
+  const size_t count_at = worded.find("\"obstacles\":", worded.find("\"world\""));
+  REQUIRE(count_at < worded.find('\n'));
+  worded.replace(count_at, 12, "\"obstacles\":\"many\",\"was\":");
+  spit(final_file, worded);
+  CHECK_THROWS_WITH(write_report(folder.dir.string(), {"obstacles"}),
+                    Contains(final_file.string() + ":1: field \"world\": \"obstacles\" must be a count, got \"many\""));
+  std::string renamed = whole;
+  renamed.replace(count_at, 12, "\"obstaclez\":");
+  spit(final_file, renamed);
+  CHECK_THROWS_WITH(write_report(folder.dir.string(), {"obstacles"}),
+                    Contains(final_file.string() + ":1: a final-evaluation record without 'obstacles', which the "
+                             "others of T/DC6 hold"));
   spit(final_file, whole.substr(0, cut));
   // A resumed run runs that trial again, which writes the same file.
   CHECK(folder.resume(said) == 0);

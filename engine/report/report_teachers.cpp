@@ -191,6 +191,7 @@ struct FeatureRecords {
   FeatureSeen seen;
   int64_t records = 0;             // read, with or without the feature
   std::set<std::string> features;  // what the records have, for a feature none has
+  std::vector<std::string> missing;  // per row: file:line of its first record without the feature
 };
 
 // Line line_no of `file`, checked to be a final-evaluation record; roger::Error at file:line if not.
@@ -206,6 +207,20 @@ json final_record(const std::string& line, const fs::path& file, int line_no) {
   if (!record.contains("success") || !record["success"].is_boolean())
     throw Error(where + "field \"success\" must be true or false, got " +
                 (record.contains("success") ? record["success"].dump() : std::string("nothing")));
+  // What the world held, as roger writes it (found by a probe: "obstacles": "many", edited in, made a
+  // column of its own in a --by table).
+  if (record.contains("world")) {
+    const json& world = record["world"];
+    if (!world.is_object()) throw Error(where + "field \"world\" must be an object, got " + world.dump());
+    for (const char* count : {"obstacles", "objects"})
+      if (world.contains(count) && !(world[count].is_number_unsigned() ||
+                                     (world[count].is_number_integer() && world[count].get<int64_t>() >= 0)))
+        throw Error(where + "field \"world\": \"" + count + "\" must be a count, got " + world[count].dump());
+    if (world.contains("shapes") && !(world["shapes"].is_array() &&
+                                      std::all_of(world["shapes"].begin(), world["shapes"].end(),
+                                                  [](const json& v) { return v.is_string(); })))
+      throw Error(where + "field \"world\": \"shapes\" must be a list of shape names, got " + world["shapes"].dump());
+  }
   return record;
 }
 
@@ -213,6 +228,7 @@ FeatureRecords read_feature(const BatchScript& b, const std::vector<BatchRow>& r
                             const Folder& folder) {
   FeatureRecords r;
   r.seen.resize(rows.size());
+  r.missing.resize(rows.size());
   for (size_t k = 0; k < rows.size(); ++k) {
     const BatchRun& run = *b.run(rows[k].run);
     for (int i = 0; i < run.trials; ++i) {
@@ -230,6 +246,7 @@ FeatureRecords read_feature(const BatchScript& b, const std::vector<BatchRow>& r
             for (const auto& [name, value] : record[part].items()) r.features.insert(name == "shapes" ? "shape" : name);
         const std::string v = feature_of(record, by);
         if (!v.empty()) r.seen[k].push_back({v, record["success"].get<bool>()});
+        else if (r.missing[k].empty()) r.missing[k] = file.string() + ":" + std::to_string(line_no);
       }
     }
   }
@@ -281,6 +298,13 @@ ByFound by_table(const BatchScript& b, const BatchTable& t, const Folder& folder
   };
   const std::vector<BatchRow> rows = rows_of(b, t);
   const FeatureRecords found = read_feature(b, rows, t.by, folder);
+  // A record without the feature the others of its row hold (the row's trials record the same
+  // fields) was left out of every cell, unsaid (found by a probe: a line edited by hand, and a row
+  // read 11 episodes of 12). Rows apart may differ: a run without a teacher records no task.
+  for (size_t k = 0; k < rows.size(); ++k)
+    if (!found.missing[k].empty() && !found.seen[k].empty())
+      throw Error(found.missing[k] + ": a final-evaluation record without '" + t.by + "', which the others of " +
+                  rows[k].label() + " hold");
   const FeatureColumns columns(found.seen);
   std::vector<std::map<std::string, Cell>> cells(rows.size());
   std::set<std::string, decltype(&value_less)> values(&value_less);
