@@ -453,6 +453,10 @@ TEST_CASE("a list parameter takes any of its choices, comma-separated, and refus
                                                        "list = true } }, generate = function() end }"),
                     Contains("parameter 'n': a list's default is a string of comma-separated choices (\"\" for "
                              "none), got integer 1"));
+  // Found by a probe: `--set held=,` (or a trailing comma) held nothing, unsaid; "" alone is none.
+  CHECK_THROWS_WITH(s.set_param("held", "left_elbow,"), Contains("(or none), with no empty item between commas"));
+  CHECK_THROWS_WITH(s.set_param("held", ","), Contains("with no empty item between commas"));
+  CHECK_NOTHROW(s.set_param("held", ""));
   // Found by a probe: an item holding a comma loaded, and no value could ever name it.
   CHECK_THROWS_WITH(test::scenario_from("list_comma", "return { params = { k = { default = '', choices = { 'a,b', 'c' }, "
                                                       "list = true } }, generate = function() end }"),
@@ -754,6 +758,8 @@ TEST_CASE("the Lua API checks its arguments where they are given", "[scenario]")
   CHECK(run("roger.shape{name = 'p', polygons = {{{0, 0, 0}, {0.2, 0}, {0, 0.2}}}}", "vertex_z") ==
         "roger.shape: shape 'p' polygon 1 vertex 1 must be {x, y} (or {x = ..., y = ...}) and nothing else, got a "
         "table of 3 entries");
+  CHECK(run("world:robot{x = 0, y = 0} world:sample_position{radius = 0.2, away_from = {{x = 1, y = 1, distance = -1}}}",
+            "away_negative") == "world:sample_position: away_from[1]: field 'distance' must not be negative, got -1");
   CHECK(run("rng:int(5, 1)", "range") == "rng:int: the range 5..1 is empty");
   CHECK(run("rng:choice({})", "choice") == "rng:choice: the list is empty");
   CHECK(run("rng.uniform(0, 1)", "rng_dot") ==

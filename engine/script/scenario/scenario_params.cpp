@@ -113,6 +113,10 @@ bool check_list_items(const ParamSlot& s, const std::string& canonical, std::str
     std::string item = canonical.substr(from, comma - from);
     item.erase(0, item.find_first_not_of(" \t"));
     item.erase(item.find_last_not_of(" \t") + 1);
+    // An empty item beside others ("left_eye,", ",") is most likely one left out: "" alone is none
+    // (found by a probe: --set locked=, locked nothing, unsaid).
+    if (item.empty() && canonical.find_first_not_of(" \t") != std::string::npos)
+      return why = expected_text(s.info) + ", with no empty item between commas", false;
     if (!item.empty() && std::find(s.info.choices.begin(), s.info.choices.end(), item) == s.info.choices.end())
       return why = expected_text(s.info), false;
     if (!item.empty() && std::find(seen.begin(), seen.end(), item) != seen.end())

@@ -81,6 +81,8 @@ std::vector<Away> read_away_from(lua_State* L, const LuaFields& f) {
       LuaFields a(L, -1, "world:sample_position: away_from[" + std::to_string(i) + "]",
                   {"x", "y", "distance", "name"});
       Away item{Vec2(a.number("x"), a.number("y")), a.number("distance"), ""};
+      // A negative distance keeps nothing away, and said nothing (found by a probe).
+      if (item.distance < 0.0) a.fail("field 'distance' must not be negative, got " + fmt(item.distance));
       item.name = a.string("name", point_text(item.p.x(), item.p.y()));
       away.push_back(std::move(item));
       lua_pop(L, 1);
