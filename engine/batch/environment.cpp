@@ -157,6 +157,17 @@ void check_sources(const EnvironmentOptions& o) {
     // Found nowhere: the loader says where it looked.
   }
   if (!path.empty()) require_script_kind(o.curriculum, path, {"curriculum"});
+  // A curriculum given as the scenario failed inside it (found by a probe: make(scenario=
+  // "curricula/paper.lua") raised "skills.lua:45: attempt to call a nil value").
+  if (!o.scenario.empty()) {
+    std::string scenario_path;
+    try {
+      scenario_path = resolve_scenario_path(o.scenario);
+    } catch (const Error&) {
+      // Found nowhere: the loader says where it looked.
+    }
+    if (!scenario_path.empty()) require_script_kind(o.scenario, scenario_path, {"scenario"}, "scenario=");
+  }
   for (const LuaSource* source : {&o.tasks, &o.teacher})
     if (!source->text.empty())
       for (const StaticProblem& p : static_check_text("return " + source->text, source->name, ScriptKind::kCurriculum))

@@ -1290,6 +1290,10 @@ class BadArguments(unittest.TestCase):
                                   policy.act, [1])
         self.assertNotIn("1 values", str(e))
         self.assertRaisesWith(roger.RogerError, ["the observation has 3 values"], policy.act, [1, 1, 1])
+        # Found by a probe: a curriculum given as the scenario failed inside it ("skills.lua:45: attempt
+        # to call a nil value"); it is named as what it is, as on the command line.
+        self.assertRaisesWith(roger.RogerError, ["scenario= curricula/paper.lua is a curriculum, not a scenario"],
+                              roger.make, EXAMPLE, "Look", "Gaze", scenario=PAPER)
 
     def test_every_batch_action_is_checked(self):
         # Found by a probe: on a NEXT_STEP autoreset step an out-of-range action of an environment
