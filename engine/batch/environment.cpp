@@ -149,25 +149,24 @@ void check_skills_given(const CurriculumContext& ctx, const CurriculumStage& sta
 // with "unknown field 'policies'"), and a member of roger.* that no curriculum has in make's
 // tasks or teacher text, as roger check's static pass names it (teacher='roger.teacher.nosuch{}'
 // read "attempt to call a nil value (field 'nosuch')", not which teachers there are).
-void check_sources(const EnvironmentOptions& o) {
+// `given`, if `resolve` finds it, must be a script of kind `kind`; one found nowhere is left to the
+// loader, which says where it looked.
+void require_kind_if_found(const std::string& given, std::string (*resolve)(const std::string&), const char* kind,
+                           const std::string& option) {
   std::string path;
   try {
-    path = resolve_curriculum_path(o.curriculum);
+    path = resolve(given);
   } catch (const Error&) {
-    // Found nowhere: the loader says where it looked.
+    return;
   }
-  if (!path.empty()) require_script_kind(o.curriculum, path, {"curriculum"});
+  require_script_kind(given, path, {kind}, option);
+}
+
+void check_sources(const EnvironmentOptions& o) {
+  require_kind_if_found(o.curriculum, resolve_curriculum_path, "curriculum", "");
   // A curriculum given as the scenario failed inside it (found by a probe: make(scenario=
   // "curricula/paper.lua") raised "skills.lua:45: attempt to call a nil value").
-  if (!o.scenario.empty()) {
-    std::string scenario_path;
-    try {
-      scenario_path = resolve_scenario_path(o.scenario);
-    } catch (const Error&) {
-      // Found nowhere: the loader says where it looked.
-    }
-    if (!scenario_path.empty()) require_script_kind(o.scenario, scenario_path, {"scenario"}, "scenario=");
-  }
+  if (!o.scenario.empty()) require_kind_if_found(o.scenario, resolve_scenario_path, "scenario", "scenario=");
   for (const LuaSource* source : {&o.tasks, &o.teacher})
     if (!source->text.empty())
       for (const StaticProblem& p : static_check_text("return " + source->text, source->name, ScriptKind::kCurriculum))
