@@ -249,6 +249,20 @@ std::string TaskSpace::describe() const {
   return parts.empty() ? "no parameters" : join(parts);
 }
 
+// Why a step's restriction r of axis i is refused: a value the axis does not take says what the
+// axis takes (2.5 over an int axis is "not an integer", not "outside"), a range its ends.
+static std::string not_covered(const TaskSpace& space, size_t i, const TaskDim& r) {
+  const TaskDim& whole = space.dims()[i];
+  if (r.kind == TaskDim::Kind::kChoice)
+    for (const std::string& c : r.choices) {
+      std::string allowed;
+      if (!space.value_of(i, c, &allowed)) return r.name + " = " + c + " is not in the task space: " + r.name + " takes " + allowed;
+    }
+  if (whole.kind == TaskDim::Kind::kInt && r.kind == TaskDim::Kind::kReal)
+    return r.name + " = " + r.text() + " is a real range, but " + r.name + " takes an integer in " + whole.text();
+  return r.name + " = " + r.text() + " is outside the task space's " + whole.text();
+}
+
 TaskSpace restrict_space(const TaskSpace& space, const std::vector<TaskDim>& restrict) {
   std::vector<TaskDim> dims = space.dims();
   for (const TaskDim& r : restrict) {
@@ -260,8 +274,7 @@ TaskSpace restrict_space(const TaskSpace& space, const std::vector<TaskDim>& res
       throw Error("'" + r.name + "' is neither a step's setting (promote, demote, window) nor a parameter of the "
                   "task space (" + space.describe() + ")" + suggestion(r.name, known));
     }
-    if (!space.covers(r))
-      throw Error(r.name + " = " + r.text() + " is outside the task space's " + space.dims()[size_t(i)].text());
+    if (!space.covers(r)) throw Error(not_covered(space, size_t(i), r));
     TaskDim d = r;
     // A choice of a choice axis keeps the space's spelling of its values, so that its tasks
     // read back through the space (a single value of any axis is a one-value choice).
