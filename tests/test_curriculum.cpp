@@ -747,6 +747,19 @@ TEST_CASE("changes made to a roger.stage table after the call count and are chec
              Catch::Matchers::Contains("curricula/lib/paper_stages.lua:103: stage 'SG': unknown field 'bogus'"));
 }
 
+// Found by a probe: these two took (and dropped) extra arguments, where every other function of
+// the API refuses them at the call's line.
+TEST_CASE("roger.stage and roger.learned refuse an extra argument at its line", "[curriculum]") {
+  test::TempDir dir("roger_stage_arity");
+  const std::string path = (dir.path / "extra.lua").string();
+  std::ofstream(path) << "local x = roger.learned('Phi_SG', 2)\nreturn { stages = {} }\n";
+  CHECK_THAT(error_of([&] { Curriculum::load(path); }),
+             Catch::Matchers::Contains("extra.lua:1: roger.learned: takes 1 argument (the name of a skill), got 2"));
+  std::ofstream(path) << "return { stages = {\n  roger.stage({ name = 'S' }, 2) } }\n";
+  CHECK_THAT(error_of([&] { Curriculum::load(path); }),
+             Catch::Matchers::Contains("extra.lua:2: roger.stage: takes 1 argument (a table of fields), got 2"));
+}
+
 // Found by a probe: a test task that cannot be placed passed roger check and failed every trial at
 // its first checkpoint, after the training.
 TEST_CASE("check builds every test task in its world seed and names one that cannot be placed", "[curriculum]") {

@@ -64,6 +64,7 @@ std::pair<std::string, int> caller(lua_State* L) {
 // made to it since, and places that reading's errors here too.
 int l_stage(lua_State* L) {
   return lua_protect(L, [&]() {
+    lua_check_arity(L, "roger.stage", 1, "1 argument (a table of fields)");
     Book& book = book_of(L);
     CurriculumStage st;
     LuaCallback a, r, t;
@@ -84,6 +85,7 @@ int l_stage(lua_State* L) {
 // roger.learned("Phi_SG"): the stand-in for a skill an earlier stage yields.
 int l_learned(lua_State* L) {
   return lua_protect(L, [&]() {
+    lua_check_arity(L, "roger.learned", 1, "1 argument (the name of a skill)");
     Book& book = book_of(L);
     if (lua_type(L, 1) != LUA_TSTRING)
       luaL_error(L, "roger.learned: expects the name of a skill an earlier stage yields (a string), got %s",
