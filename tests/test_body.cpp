@@ -230,17 +230,30 @@ TEST_CASE("world:robot refuses a bad body or eyes with the file, line, field and
   CHECK_THAT(robot_error("body_locked_twice", "{ x = 0, y = 0, body = { locked = { 'left_elbow', 'left_elbow' } } }"),
              Contains(":2:") && Contains("world:robot: body: field 'locked' entry 2 names 'left_elbow' a second time "
                                          "(another joint meant? the joints: left_eye, right_eye"));
+  // Found by a probe: an arm's or an eye's kv (and an eye's max_effort) was taken and did nothing.
+  CHECK_THAT(robot_error("servo_arm_kv", "{ x = 0, y = 0, body = { servos = { elbow = { kp = 4, kv = 1 } } } }"),
+             Contains(":2:") && Contains("world:robot: body: servos.elbow: field 'kv' would do nothing: an arm's joint "
+                                         "is a Box2D motor, which takes kp, max_rate and max_effort, but no rate gain kv"));
+  CHECK_THAT(robot_error("servo_eye_effort", "{ x = 0, y = 0, body = { servos = { eye = { max_effort = 3 } } } }"),
+             Contains(":2:") && Contains("servos.eye: field 'max_effort' would do nothing: the eyes are kinematic rate "
+                                         "servos, which take kp and max_rate"));
+  CHECK_THAT(robot_error("servo_base_kv", "{ x = 0, y = 0, body = { servos = { base_forward = { kv = -1 } } } }"),
+             Contains(":2:") && Contains("servos.base_forward: field 'kv' must be within [0, 1000]"));
   CHECK_THAT(robot_error("body_fold", "{ x = 0, y = 0, body = { base_radius = 0.8, upper_arm = 0.2, forearm = 0.2 } }"),
              Contains(":2:") && Contains("Roger's body cannot be built: the hands cannot fold clear of the base"));
   // A body that can be built: the world carries it, and the arms start folded as it folds them.
   Scenario ok = scenario_from("body_ok", "return { generate = function(world, rng, p)\n"
-                                    "  world:robot{ x = 0, y = 0, body = { base_radius = 0.2, locked = { 'left_elbow' } },\n"
+                                    "  world:robot{ x = 0, y = 0, body = { base_radius = 0.2, locked = { 'left_elbow' },\n"
+                                    "    servos = { base_heading = { kv = 30 }, shoulder = { max_effort = 12 }, eye = { kp = 5 } } },\n"
                                     "               eyes = { pixels = 64, fov = 1.2 } }\nend }\n");
   const WorldSpec w = ok.generate(0);
   CHECK(w.body.base_radius == 0.2);
   CHECK(w.body.locked == (1u << kLeftElbow));
   CHECK(w.eyes.pixels == 64);
   CHECK(w.eyes.fov == 1.2);
+  CHECK(w.body.base_heading.kv == 30);
+  CHECK(w.body.shoulder.max_effort == 12);
+  CHECK(w.body.eye.kp == 5);
   CHECK(w.robot.left_shoulder == folded_start(w.body).left_shoulder);
 }
 

@@ -47,22 +47,22 @@ roger.robot.shoulder_y = 0.18
 roger.robot.eye_y = 0.08
 
 ---A disk of this radius about the base centre holds the default Roger in its start posture at any
----heading (another body's: roger.body_metrics{body = ...}.footprint_radius).
+---heading (about 0.383; another body's: roger.body_metrics{body = ...}.footprint_radius).
 ---@type number
-roger.robot.footprint_radius = 0.0
+roger.robot.footprint_radius = 0.38281835693315
 
 ---A servo's gains and limits (docs/scenarios.md, Bodies).
 ---@class roger.ServoSpec
 ---@field kp? number position gain (1/s), 0.01-1000
 ---@field max_rate? number largest rate (m/s or rad/s), 0.01-100
----@field kv? number rate gain of the base's servos, 0-1000
----@field max_effort? number largest force or torque (N or N m), 0-1000
+---@field kv? number rate gain (N/(m/s) or N m/(rad/s)), 0-1000: the base's servos alone (an arm's joint is a Box2D motor; an eye, a kinematic rate servo)
+---@field max_effort? number largest force or torque (N or N m), 0-1000: the base's and the arms' servos, not the eyes
 
 ---Roger's body (world:robot's `body`); an omitted field keeps the paper's Roger.
 ---@class roger.BodySpec
 ---@field upper_arm? number upper arm length (m), 0.1-2 (0.5)
 ---@field forearm? number forearm length (m), 0.1-2 (0.5)
----@field base_radius? number base radius (m), 0.05-1 (0.16)
+---@field base_radius? number base radius (m), 0.05-1 (0.16), and above eye_y (0.08 unless given)
 ---@field axle_half_width? number wheel axle half width (m), 0.02-1 (0.2)
 ---@field base_mass? number kg, 0.01-100 (1)
 ---@field link_mass? number kg per link, 0.001-100 (0.2)

@@ -53,26 +53,37 @@ void joint_range(const LuaFields& f, const char* key, double& lo, double& hi, do
   });
 }
 
-// One servo's gains and limits: servos.<key> = {kp, max_rate, kv, max_effort}.
-void servo(const LuaFields& f, const char* key, ServoParams& s) {
+// The fields a servo reads: the base's force and torque servos all four; the arms' Box2D motors
+// (implicit velocity servos) no rate gain kv; the eyes, kinematic rate servos, no force either.
+enum class ServoKind { kBase, kArm, kEye };
+
+// One servo's gains and limits: servos.<key> = {kp, max_rate, kv, max_effort}, of them what it
+// reads (found by a probe: an arm's or an eye's kv was accepted and did nothing).
+void servo(const LuaFields& f, const char* key, ServoParams& s, ServoKind kind) {
+  const bool reads_kv = kind == ServoKind::kBase, reads_effort = kind != ServoKind::kEye;
+  const char* why_not = kind == ServoKind::kArm ? "an arm's joint is a Box2D motor, which takes kp, max_rate and "
+                                                  "max_effort, but no rate gain kv"
+                                                : "the eyes are kinematic rate servos, which take kp and max_rate";
   read_fields(f, key, ".", "a table {kp = ..., max_rate = ..., kv = ..., max_effort = ...}",
-                {"kp", "max_rate", "kv", "max_effort"}, [&](const LuaFields& v) {
-                  s.kp = ranged(v, "kp", s.kp, 0.01, 1000.0, "1/s");
-                  s.max_rate = ranged(v, "max_rate", s.max_rate, 0.01, 100.0, "m/s or rad/s");
-                  s.kv = ranged(v, "kv", s.kv, 0.0, 1000.0, "N/(m/s) or N m/(rad/s)");
-                  s.max_effort = ranged(v, "max_effort", s.max_effort, 0.0, 1000.0, "N or N m");
-                });
+              {"kp", "max_rate", "kv", "max_effort"}, [&](const LuaFields& v) {
+                for (const auto& [name, read] : {std::pair{"kv", reads_kv}, std::pair{"max_effort", reads_effort}})
+                  if (!read && v.has(name)) v.fail(std::string("field '") + name + "' would do nothing: " + why_not);
+                s.kp = ranged(v, "kp", s.kp, 0.01, 1000.0, "1/s");
+                s.max_rate = ranged(v, "max_rate", s.max_rate, 0.01, 100.0, "m/s or rad/s");
+                if (reads_kv) s.kv = ranged(v, "kv", s.kv, 0.0, 1000.0, "N/(m/s) or N m/(rad/s)");
+                if (reads_effort) s.max_effort = ranged(v, "max_effort", s.max_effort, 0.0, 1000.0, "N or N m");
+              });
 }
 
 // body.servos = {base_forward = ..., base_heading = ..., eye = ..., shoulder = ..., elbow = ...}.
 void servos(const LuaFields& f, RobotParams& b) {
   read_fields(f, "servos", ": ", "a table of servos {shoulder = {kp = ...}, ...}",
                 {"base_forward", "base_heading", "eye", "shoulder", "elbow"}, [&](const LuaFields& s) {
-                  servo(s, "base_forward", b.base_forward);
-                  servo(s, "base_heading", b.base_heading);
-                  servo(s, "eye", b.eye);
-                  servo(s, "shoulder", b.shoulder);
-                  servo(s, "elbow", b.elbow);
+                  servo(s, "base_forward", b.base_forward, ServoKind::kBase);
+                  servo(s, "base_heading", b.base_heading, ServoKind::kBase);
+                  servo(s, "eye", b.eye, ServoKind::kEye);
+                  servo(s, "shoulder", b.shoulder, ServoKind::kArm);
+                  servo(s, "elbow", b.elbow, ServoKind::kArm);
                 });
 }
 
