@@ -198,7 +198,13 @@ TEST_CASE("compose reads the paper's notation, right-associative", "[lua_control
   CHECK_THAT(lua.error("return roger.compose('phi1').steps").what(),
              Contains("controller 'phi1' has no field 'steps'; it has name, kind, and the methods"));
   CHECK_THAT(lua.error("return roger.compose('phi1 <| phi2').step").what(),
-             Contains("has no field 'step'; it has name, kind, subordinate, superior, and the methods"));
+             Contains("has no field 'step'; it has name, kind, subordinate, superior, and the method subject_to(sup) "
+                      "(the parameter methods with, param and params are a primitive's)"));
+  // Found by a probe: a sequence's error listed the parameter methods, which it does not have.
+  CHECK_THAT(lua.error("return roger.sequence('Steps3', {'search', 'phi0'}).nosuch").what(),
+             Contains("controller 'Steps3' (sequence) has no field 'nosuch'; it has name, kind, steps, and the method subject_to(sup)"));
+  CHECK_THAT(lua.error("return roger.sequence('Steps2', {'search', 'phi0'}).parms").what(),
+             Contains("has no field 'parms'; it has"));
   // Found by a probe: a misspelt method named the methods but not the one meant.
   CHECK_THAT(lua.error("return roger.compose('phi3'):wth{ reach = 1 }").what(),
              Contains("controller 'phi3' has no field 'wth' (did you mean 'with'?); it has name, kind, and the methods"));

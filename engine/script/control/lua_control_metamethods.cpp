@@ -47,13 +47,20 @@ int l_controller_index(lua_State* L) {
       lua_getmetatable(L, 1);
       lua_getfield(L, -1, key.c_str());
     } else {
+      // The parameter methods are a primitive's alone (found by a probe: a sequence's error
+      // listed them, and calling one only said "only primitives have parameters").
+      const bool primitive = std::dynamic_pointer_cast<const Primitive>(c) != nullptr;
       const std::string parts = sub ? "subordinate, superior, " : seq ? "steps, " : pol ? "actions, " : "";
-      std::vector<std::string> known = {"name", "kind", "with", "subject_to", "param", "params"};
+      std::vector<std::string> known = {"name", "kind", "subject_to"};
+      if (primitive) known.insert(known.end(), {"with", "param", "params"});
       if (sub) known.insert(known.end(), {"subordinate", "superior"});
       if (seq) known.push_back("steps");
       if (pol) known.push_back("actions");
       raise(L, controller_text(*c) + " has no field '" + key + "'" + suggestion(key, known) + "; it has name, kind, " +
-                   parts + "and the methods with{...}, subject_to(sup), param(name), params()");
+                   parts +
+                   (primitive ? "and the methods with{...}, subject_to(sup), param(name), params()"
+                              : "and the method subject_to(sup) (the parameter methods with, param and params are "
+                                "a primitive's)"));
     }
     return 1;
   });
