@@ -17,7 +17,7 @@
 ---Immutable; the same controller is the same Lua value.
 ---@class roger.Controller
 ---@field name string its name, shown in policies, pictures and messages
----@field kind string a primitive kind, "subject_to", "sequence", "policy" or "binding"
+---@field kind string a primitive kind, "subject_to", "sequence", "policy", "binding" or "learned" (roger.learned)
 ---@field subordinate? roger.Controller a composition's subordinate (c2 of c2 <| c1)
 ---@field superior? roger.Controller a composition's superior (c1 of c2 <| c1)
 ---@field steps? roger.Controller[] a sequence's steps
@@ -161,15 +161,16 @@ roger.primitive_kinds = {}
 ---@field sticky_noref? boolean after a NOREF, NOREF through later invocations until one converges (default false)
 ---@field retry_after? number seconds after its start that a NOREF is forgotten: !CONV again, worth a try (0: never)
 
----A time limit that grows with the world: `per_object` simulated seconds for each object.
+---A time limit that grows with the world: `per_object` simulated seconds for each object
+---(`time_limit = {per_object = 3}`; a skill script's policy and a curriculum's stage take it).
 ---@class roger.TimePerObject
----@field per_object number
+---@field per_object number simulated seconds per object (> 0, at most 3600)
 
 ---A policy of a skill script.
 ---@class roger.SkillPolicy
 ---@field action roger.ControllerRef the controller to run
 ---@field goal roger.Predicate success ends the episode
----@field time_limit number|roger.TimePerObject simulated seconds (> 0), or per object of the world
+---@field time_limit number|roger.TimePerObject simulated seconds (> 0, at most 3600), or per object of the world
 ---@field scenario? string scenario name or path (default "unobstructed")
 ---@field params? table<string, number|string|boolean> scenario parameters its episodes run with (--set overrides them)
 ---@field description? string

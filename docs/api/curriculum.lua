@@ -166,9 +166,8 @@ function roger.teacher.plr(options) end
 ---@field settle? boolean a changed policy starts the count again (default true)
 ---@field final? integer episodes of the final evaluation (default 50; not with a `test` set)
 
----A time limit per object of the episode's world (`time_limit = {per_object = 3}`).
----@class roger.TimePerObject
----@field per_object number simulated seconds per object (> 0, at most 3600)
+-- roger.TimePerObject (time_limit = {per_object = 3}) is described in control.lua, which a
+-- curriculum's editor reads beside this file.
 
 ---A stage: a learning problem per developmental context (docs/curricula.md).
 ---@class roger.Stage
