@@ -2019,5 +2019,15 @@ TEST_CASE("eval refuses seeds that would wrap past 2^64 - 1", "[cli]") {
   CHECK(roger("eval curricula/scripted.lua --policy task --seed 18446744073709551612 --episodes 4").status == 0);
   const Run high = roger("eval curricula/paper.lua --policy tests/policies/sg_dc2.json --seed 9223372036854775808 --episodes 1");
   CHECK(high.status == 1);
-  CHECK_THAT(high.err, Catch::Matchers::Contains("a saved policy's evaluation takes a first seed of at most 9223372036854775807"));
+  CHECK_THAT(high.err, Catch::Matchers::Contains(
+                           "roger eval: --seed 9223372036854775808: a saved policy's episodes take a first seed of at "
+                           "most 9223372036854775807"));
+  // The same for roger render's recording (found by a probe: it recorded seed 1000000 unsaid).
+  const Run render = roger("render curricula/paper.lua --policy tests/policies/sg_dc2.json --seed 18446744073709551615 "
+                           "--out /tmp/roger_cli_render_high_seed");
+  CHECK(render.status == 1);
+  CHECK_THAT(render.err, Catch::Matchers::Contains(
+                             "roger render: --seed 18446744073709551615: a saved policy's episodes take a first seed of "
+                             "at most 9223372036854775807"));
+  CHECK_FALSE(std::filesystem::exists("/tmp/roger_cli_render_high_seed"));
 }

@@ -58,6 +58,10 @@ void print_unread_sets(const std::vector<std::string>& unread, const std::string
 // error; with the same value, kept once); `option` names the option in the errors.
 std::vector<std::pair<std::string, std::string>> split_sets(const std::vector<std::string>& sets, const char* option);
 
+// A saved policy's first world seed from --seed: a seed of 2^63 or more would read as none given
+// (its signed form is negative, the held-out seeds') and is refused, naming `command`.
+int64_t saved_policy_first_seed(const char* command, uint64_t seed);
+
 // Whether `script` is a curriculum, so that --policy names a policy.json written by roger train;
 // throws roger::Error when it is and `policy` is not such a file name.
 bool policy_is_saved_file(const std::string& script, const std::string& policy);

@@ -144,7 +144,9 @@ int run_render_policy_file(const RenderArgs& a) {
   o.policy_file = a.policy;
   o.scenario = a.world;
   o.sets = split_sets(a.sets, "--set");
-  o.first_seed = int64_t(a.seed);
+  // Found by a probe: a seed of 2^63 or more read as none given and recorded the first held-out
+  // world (seed 1000000) under a title that named it.
+  o.first_seed = saved_policy_first_seed("roger render", a.seed);
   for (const auto& [name, file] : split_sets(a.skills, "--skill")) o.skill_files[name] = file;
   if (a.test_task > 0 && a.seed_given)
     throw Error("roger render: --test-task runs the task in its own world seed; --seed cannot be given with it");

@@ -26,6 +26,13 @@
 
 namespace roger {
 
+int64_t saved_policy_first_seed(const char* command, uint64_t seed) {
+  if (seed > uint64_t(INT64_MAX))
+    throw Error(std::string(command) + ": --seed " + std::to_string(seed) + ": a saved policy's episodes take a first "
+                "seed of at most " + std::to_string(INT64_MAX));
+  return int64_t(seed);
+}
+
 std::vector<std::pair<std::string, std::string>> split_sets(const std::vector<std::string>& sets, const char* option) {
   std::vector<std::pair<std::string, std::string>> out;
   for (const std::string& kv : sets) {
@@ -182,11 +189,7 @@ PolicyEvalOptions policy_eval_options(const EvalArgs& a) {
   o.scenario = a.scenario;
   o.sets = split_sets(a.sets, "--set");
   o.episodes = a.episodes;
-  // A first seed of 2^63 or more would read as none given (its signed form is negative): refused.
-  if (a.seed_given && a.seed > uint64_t(INT64_MAX))
-    throw Error("roger eval: --seed " + std::to_string(a.seed) + ": a saved policy's evaluation takes a first seed "
-                "of at most " + std::to_string(INT64_MAX));
-  o.first_seed = a.seed_given ? int64_t(a.seed) : -1;
+  o.first_seed = a.seed_given ? saved_policy_first_seed("roger eval", a.seed) : -1;
   for (const auto& [name, file] : split_sets(a.skills, "--skill")) o.skill_files[name] = file;
   o.limits = sandbox_limits(a.lua);
   if (a.test_set && (a.seed_given || a.episodes_given))
