@@ -749,6 +749,25 @@ TEST_CASE("a corrupt record of a results folder is named, never read as zeros, a
          return std::regex_replace(t, std::regex("\"format\": \"[^\"]*\""), "\"format\": \"other\""); }, "\"format\""},
       {"trials/eval/gen/spade/000/result.json", [](const std::string& t) {
          return std::regex_replace(t, std::regex("\"episodes\": [0-9]+,"), ""); }, "no field \"episodes\""},
+      // Found by a probe: each of these was read as the folder's own and moved the tables.
+      {"trials/SG/B1/001/result.json", [](const std::string& t) {
+         return std::regex_replace(t, std::regex("\"reached\": true"), "\"reached\": false"); },
+       "field \"reached\" is false, but its last checkpoint's success rate 1 is at or above the threshold 0.9"},
+      {"trials/SG/B1/001/result.json", [](const std::string& t) {
+         return std::regex_replace(t, std::regex("\"engine\": \"[0-9a-f]+\""), "\"engine\": \"0123\""); },
+       "it was made by another build of the engine (engine 0123), and the folder by engine"},
+      {"trials/SG/B1/001/result.json", [](const std::string& t) {  // a trial of an edited copy of the curriculum
+         return std::regex_replace(t, std::regex("\"tests/scripts/kill_curriculum.lua\": \"[0-9a-f]+\""),
+                                   "\"/elsewhere/kill_curriculum.lua\": \"00000000000000aa\""); },
+       "none of the Lua files it read is the folder's curriculum (fingerprint "},
+      {"trials/SG/B1/001/result.json", [](const std::string& t) {  // another version of a scenario, same name
+         return std::regex_replace(t, std::regex("\"scenarios/unobstructed.lua\": \"[0-9a-f]+\""),
+                                   "\"scenarios/unobstructed.lua\": \"00000000000000bb\""); },
+       "it read scenarios/unobstructed.lua with the fingerprint 00000000000000bb, but the folder's"},
+      {"trials/eval/gen/spade/000/result.json", [](const std::string& t) {  // its policy trained again since
+         return std::regex_replace(t, std::regex("(\"trials/T/DC6/000/policy.json\": )\"[0-9a-f]+\""),
+                                   "$1\"00000000000000cc\""); },
+       "it read trials/T/DC6/000/policy.json with the fingerprint 00000000000000cc, and the file now has "},
   };
   for (const auto& d : damages) {
     const fs::path file = out / d.file;

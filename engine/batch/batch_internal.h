@@ -58,6 +58,12 @@ class SourceWatch {
 // The Lua files `files` with their fingerprints, named relative to the project when inside it, as
 // the manifest's config "sources" and a trial's result.json "sources" record them.
 nlohmann::json source_fingerprints(const std::vector<std::filesystem::path>& files);
+// FNV-1a of a text, as 16 hex digits: what the fingerprints of sources and policies are.
+std::string fingerprint(const std::string& text);
+// The fingerprints of the policy files a trial reads (an evaluation's own, every skill's), by their
+// names inside the results folder `out` ("trials/SG/DC2/000/policy.json"), as its result.json
+// records them in "policies": a trial that read a policy retrained since is run again.
+nlohmann::json policy_fingerprints(const std::string& out, const std::vector<std::string>& names);
 // The file a name of source_fingerprints stands for.
 std::filesystem::path source_file_path(const std::string& name);
 

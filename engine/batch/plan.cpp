@@ -36,17 +36,8 @@ namespace fs = std::filesystem;
 using namespace batch_detail;
 using json = nlohmann::json;
 
-namespace {
-
-// The first five of `items`, joined, and how many more there are.
-std::string join_some(const std::vector<std::string>& items) {
-  std::string s;
-  for (size_t k = 0; k < items.size() && k < 5; ++k) s += (k ? ", " : "") + items[k];
-  return items.size() > 5 ? s + " and " + std::to_string(items.size() - 5) + " more" : s;
-}
-
-// FNV-1a, 64 bits, as 16 hex digits: a stable fingerprint of the curriculum's text.
-std::string fingerprint(const std::string& text) {
+// FNV-1a, 64 bits, as 16 hex digits: a stable fingerprint of a file's text.
+std::string batch_detail::fingerprint(const std::string& text) {
   uint64_t h = 1469598103934665603ull;
   for (unsigned char c : text) {
     h ^= c;
@@ -56,6 +47,16 @@ std::string fingerprint(const std::string& text) {
   std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
   return buf;
 }
+
+namespace {
+
+// The first five of `items`, joined, and how many more there are.
+std::string join_some(const std::vector<std::string>& items) {
+  std::string s;
+  for (size_t k = 0; k < items.size() && k < 5; ++k) s += (k ? ", " : "") + items[k];
+  return items.size() > 5 ? s + " and " + std::to_string(items.size() - 5) + " more" : s;
+}
+
 
 // A value of a configuration for a message: whole when short, else 70 characters from a little
 // before `at`, where it first differs from the other side's, so that the change shows.
@@ -765,6 +766,12 @@ json source_fingerprints(const std::vector<fs::path>& files) {
     out[inside ? rel.generic_string() : f.generic_string()] = fingerprint(read_file_text(f.string()));
   }
   return out;
+}
+
+json policy_fingerprints(const std::string& out, const std::vector<std::string>& names) {
+  json prints = json::object();
+  for (const std::string& name : names) prints[name] = fingerprint(read_file_text((fs::path(out) / name).string()));
+  return prints;
 }
 
 fs::path source_file_path(const std::string& name) {

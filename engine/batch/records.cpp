@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <iterator>
 #include <map>
+#include <mutex>
 #include <set>
 #include <string>
 #include <tuple>
@@ -93,10 +94,18 @@ std::string optional_field_problem(const json& r) {
 // of the passing checkpoints that last to the end. A time edited by hand (a probe turned Table
 // I's B1 into 0:50) is refused, as a success rate that disagrees with its outcomes is.
 std::string threshold_problem(const json& r) {
-  if (!r["reached"].is_boolean() || !r["reached"].get<bool>() || !r.contains("threshold") || !r["threshold"].is_number())
-    return "";
+  if (!r["reached"].is_boolean() || !r.contains("threshold") || !r["threshold"].is_number()) return "";
   const json& cps = r["checkpoints"];
   const double threshold = r["threshold"].get<double>();
+  // A trial reaches its threshold when its last checkpoint passes it (found by a probe: "reached":
+  // false written by hand over a trial that reached it moved Table I's row unseen).
+  if (!r["reached"].get<bool>()) {
+    if (!cps.empty() && cps.back()["success_rate"].get<double>() >= threshold)
+      return "field \"reached\" is false, but its last checkpoint's success rate " +
+             format_number(cps.back()["success_rate"].get<double>()) + " is at or above the threshold " +
+             format_number(threshold);
+    return "";
+  }
   size_t first = cps.size();
   while (first > 0 && cps[first - 1]["success_rate"].get<double>() >= threshold) --first;
   if (cps.empty()) return "field \"reached\" is true, but it has no checkpoint that could have reached the threshold";
@@ -318,6 +327,93 @@ std::string result_problem(const json& r, const PlannedTrial& t) {
 
 namespace {
 
+// What a results folder's manifest says every trial there was made with: the engine, the Lua files
+// by name, and the curriculum's fingerprint. Read once per manifest as it is on disk (a report reads
+// hundreds of trials against it).
+struct FolderProvenance {
+  bool known = false;
+  std::string engine;
+  std::map<std::string, std::string> sources;  // name -> fingerprint (training's and evaluations')
+  std::string curriculum;                      // the curriculum file's fingerprint, "" if not found
+};
+
+FolderProvenance read_provenance(const fs::path& manifest) {
+  FolderProvenance p;
+  json m;
+  try {
+    m = read_manifest_file(manifest.string());
+  } catch (const std::exception&) {
+    return p;  // said by whoever reads the manifest for the plan
+  }
+  p.known = true;
+  p.engine = m["engine"].get<std::string>();
+  const json& config = m["config"];
+  const std::string file = config.value("curriculum_file", std::string());
+  for (const char* field : {"sources", "evaluation_sources"}) {
+    if (!config.contains(field) || !config[field].is_object()) continue;
+    for (const auto& [name, print] : config[field].items()) {
+      if (!print.is_string()) continue;
+      p.sources[name] = print.get<std::string>();
+      // The curriculum is the source its recorded path ends with ("tests/x.lua" of ".../tests/x.lua").
+      const bool is_curriculum = name == file || (file.size() > name.size() && !name.empty() &&
+                                                  file.compare(file.size() - name.size(), name.size(), name) == 0 &&
+                                                  file[file.size() - name.size() - 1] == '/');
+      if (std::string(field) == "sources" && is_curriculum) p.curriculum = print.get<std::string>();
+    }
+  }
+  return p;
+}
+
+const FolderProvenance& folder_provenance(const std::string& out) {
+  static std::mutex mutex;
+  static std::map<std::string, std::pair<std::string, FolderProvenance>> cache;  // folder -> (stamp, what)
+  const fs::path manifest = fs::path(out) / "manifest.json";
+  std::error_code ec;
+  const auto size = fs::file_size(manifest, ec);
+  const auto time = fs::last_write_time(manifest, ec).time_since_epoch().count();
+  const std::string stamp = ec ? "" : std::to_string(size) + "@" + std::to_string(time);
+  std::lock_guard<std::mutex> lock(mutex);
+  auto& entry = cache[fs::absolute(manifest).lexically_normal().string()];
+  if (stamp.empty() || entry.first != stamp) entry = {stamp, stamp.empty() ? FolderProvenance{} : read_provenance(manifest)};
+  return entry.second;
+}
+
+// Why a trial's result was not made for this folder ("" when it was, or when the folder or the
+// result records too little to tell): found by a probe, trials copied in from another folder (a
+// shard run elsewhere, of a curriculum edited there, or by another build of the engine) were read
+// as this folder's and changed its tables; and an evaluation of a policy retrained since was kept.
+std::string provenance_problem(const std::string& out, const json& r) {
+  const FolderProvenance& f = folder_provenance(out);
+  if (!f.known) return "";
+  if (r.contains("engine") && r["engine"].is_string() && r["engine"] != f.engine)
+    return "it was made by another build of the engine (engine " + r["engine"].get<std::string>() +
+           "), and the folder by engine " + f.engine + " (copied from another results folder?)";
+  if (r.contains("sources") && r["sources"].is_object()) {
+    bool read_curriculum = f.curriculum.empty();
+    for (const auto& [name, print] : r["sources"].items()) {
+      read_curriculum = read_curriculum || print == f.curriculum;
+      const auto it = f.sources.find(name);
+      if (it != f.sources.end() && print != it->second)
+        return "it read " + name + " with the fingerprint " + print.get<std::string>() + ", but the folder's " +
+               name + " has " + it->second + " (a trial of another version of it, copied from another results folder?)";
+    }
+    if (!read_curriculum)
+      return "none of the Lua files it read is the folder's curriculum (fingerprint " + f.curriculum +
+             "): a trial of another curriculum, copied from another results folder?";
+  }
+  if (r.contains("policies") && r["policies"].is_object())
+    for (const auto& [name, print] : r["policies"].items()) {
+      const fs::path file = fs::path(out) / name;
+      std::error_code ec;
+      const std::string now = fs::is_regular_file(file, ec) ? fingerprint(read_file_text(file.string())) : "";
+      if (!print.is_string() || print != now)
+        return "it read " + name + " with the fingerprint " + (print.is_string() ? print.get<std::string>() : print.dump()) +
+               ", and " + (now.empty() ? "the file is gone" : "the file now has " + now + " (trained again, or edited, since)") +
+               ": its figures are of another policy";
+    }
+  return "";
+}
+
 // Where a trial's per-episode records are, and which of its result's fields summarize them.
 struct EpisodeRecords {
   const char* file;         // "final.jsonl", "eval.jsonl"
@@ -458,6 +554,7 @@ std::string trial_status(const std::string& out, const PlannedTrial& t, json& re
     if (fs::exists(result_path, ec)) {
       result = read_json_file(result_path);
       if (const std::string p = result_problem(result, t); !p.empty()) throw Error(result_path + ": " + p);
+      if (const std::string p = provenance_problem(out, result); !p.empty()) throw Error(result_path + ": " + p);
       if (t.run) {  // a training trial's policy is what later trials and `roger eval` read
         const std::string policy = (d / "policy.json").string();
         std::vector<std::string> psi;

@@ -19,6 +19,7 @@
 #include <thread>
 
 #include "batch/batch_internal.h"
+#include "engine_fingerprint.h"
 #include "batch/trainer.h"
 #include "core/json_input.h"
 #include "core/error.h"
@@ -359,11 +360,15 @@ nlohmann::json training_trial(const BatchPlan& plan, const PlannedTrial& t, cons
   j["trial"] = t.index;
   j["set_params"] = planned_params_json(t);
   // Paths inside the results folder, so results do not depend on where the folder is.
+  std::vector<std::string> policies;
   for (const auto& [skill, from] : skill_ids)
     if (j.contains("skills") && j["skills"].contains(skill)) {
       j["skills"][skill]["file"] = "trials/" + from + "/policy.json";
       j["skills"][skill]["trial"] = from;
+      policies.push_back("trials/" + from + "/policy.json");
     }
+  j["policies"] = policy_fingerprints(plan.out, policies);  // a retrained skill's users run again
+  j["engine"] = ROGER_ENGINE_FINGERPRINT;
   nlohmann::json cps = nlohmann::json::array();
   for (const auto& c : r.checkpoints) cps.push_back(checkpoint_json(c));
   j["checkpoints"] = cps;
@@ -430,6 +435,10 @@ nlohmann::json evaluation_trial(const BatchPlan& plan, const PlannedTrial& t, co
                     "cannot write the evaluation's episodes");
   j["episodes_file"] = kEvalEpisodesFile;  // checked by trial_status (records.cpp)
   j["sources"] = source_fingerprints(r.source_files);
+  std::vector<std::string> policies{"trials/" + from + "/policy.json"};
+  for (const auto& [skill, file] : skills.items()) policies.push_back(file.get<std::string>());
+  j["policies"] = policy_fingerprints(plan.out, policies);  // a retrained policy's evaluations run again
+  j["engine"] = ROGER_ENGINE_FINGERPRINT;
   return j;
 }
 
