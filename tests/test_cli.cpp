@@ -2,8 +2,11 @@
 // exit, never a crash; good input works end to end.
 #include <catch2/catch.hpp>
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -56,6 +59,8 @@ fs::path temp_file(const std::string& name, const std::string& content) {
   std::ofstream(p, std::ios::binary) << content;
   return p;
 }
+
+void spit(const fs::path& p, const std::string& content) { std::ofstream(p, std::ios::binary) << content; }
 
 }  // namespace
 
@@ -1036,13 +1041,14 @@ TEST_CASE("roger train writes its six files together or leaves the folder as it 
   fs::create_directory(out / "checkpoints.jsonl");
   std::map<std::string, std::string> before;
   for (const auto& e : fs::directory_iterator(out))
-    if (e.is_regular_file()) before[e.path().filename().string()] = slurp(e.path());
+    if (e.is_regular_file() && e.path().filename() != ".lock") before[e.path().filename().string()] = slurp(e.path());
   REQUIRE(before.size() == 5);
   const Run r = roger(train + " --seed 2");
   CHECK(r.status == 1);
   CHECK(r.err.find("checkpoints.jsonl': Is a directory") != std::string::npos);
   size_t entries = 0;
   for (const auto& e : fs::directory_iterator(out)) {
+    if (e.path().filename() == ".lock") continue;  // the folder's claim (OutputClaim)
     ++entries;
     if (e.is_regular_file()) CHECK(slurp(e.path()) == before.at(e.path().filename().string()));
   }
@@ -1050,6 +1056,57 @@ TEST_CASE("roger train writes its six files together or leaves the folder as it 
   fs::remove_all(out / "checkpoints.jsonl");
   CHECK(roger(train + " --seed 2").status == 0);
   CHECK(slurp(out / "policy.json") != before.at("policy.json"));
+  fs::remove_all(out);
+}
+
+// Found by a probe: two trainings into one folder both committed (one's policy beside the other's
+// summary), and what a killed one left staged stayed there for good.
+TEST_CASE("roger train claims its folder: a second writer is refused, a dead one's leftovers go", "[cli]") {
+  const fs::path out = fs::temp_directory_path() / ("roger_cli_train_claim_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  const std::string train = "train curricula/paper.lua --stage SG --context DC2 --seed 1 --out " + out.string();
+  {
+    // A writer at work in the folder, as OutputClaim holds it: a lock on .lock naming the holder.
+    fs::create_directories(out);
+    const int fd = ::open((out / ".lock").c_str(), O_RDWR | O_CREAT, 0666);
+    REQUIRE(fd >= 0);
+    REQUIRE(::flock(fd, LOCK_EX) == 0);
+    const std::string holder = "pid " + std::to_string(::getpid()) + " on here\n";
+    REQUIRE(::write(fd, holder.data(), holder.size()) == ssize_t(holder.size()));
+    const Run r = roger(train);
+    ::close(fd);
+    CHECK(r.status == 1);
+    CHECK_THAT(r.err, Catch::Matchers::Contains("roger train: the folder '" + out.string() +
+                                                "' is in use by another command writing into it (pid " +
+                                                std::to_string(::getpid()) + " on here): wait for it to end"));
+    CHECK_FALSE(fs::exists(out / "policy.json"));
+  }
+  fs::remove_all(out);
+  // A training stopped before it wrote leaves no folder it made (Ctrl-C: "nothing written").
+  const fs::path err = fs::temp_directory_path() / ("roger_cli_train_claim_err_" + std::to_string(::getpid()));
+  const fs::path slow = temp_file("roger_cli_train_claim_slow.lua",  // a reward of some 10 ms a call
+                                  "return { stages = { roger.stage{ name = 'S', scenario = 'unobstructed', time_limit = 5,\n"
+                                  "  budget = { episodes = 1000 }, contexts = { { name = 'A', actions = { 'phi0' } } },\n"
+                                  "  absorbing = function() return false end,\n"
+                                  "  reward = function() local x = 0 for i = 1, 2000000 do x = x + i end return 0 end } } }\n");
+  const int raw = std::system((std::string(ROGER_BINARY) + " train " + slow.string() + " --stage S --context A --seed 1 "
+                               "--out " + out.string() + " >/dev/null 2>" + err.string() +
+                               " & sleep 1; kill -TERM $!; wait $!").c_str());
+  fs::remove(slow);
+  CHECK(WEXITSTATUS(raw) == 143);
+  CHECK_THAT(slurp(err), Catch::Matchers::Contains("nothing written"));
+  CHECK_FALSE(fs::exists(out));
+  fs::remove(err);
+  // A killed writer's staging folder and temporary file are cleared by the next one.
+  fs::create_directories(out / ".staged4242-0-17.tmp");
+  spit(out / ".staged4242-0-17.tmp" / "policy.json", "{}");
+  spit(out / ".summary.json.tmp4242-3-99", "{");
+  spit(out / ".notes", "kept");  // a hidden file of the user's is not a leftover
+  REQUIRE(roger(train).status == 0);
+  CHECK_FALSE(fs::exists(out / ".staged4242-0-17.tmp"));
+  CHECK_FALSE(fs::exists(out / ".summary.json.tmp4242-3-99"));
+  CHECK(fs::exists(out / ".notes"));
+  CHECK(fs::exists(out / "summary.json"));
   fs::remove_all(out);
 }
 

@@ -258,7 +258,11 @@ void write_train_outputs(const TrainResult& r, const std::string& dir) {
   stage_episodes_file(r, staged);
   stage_final_file(r, staged);
   write_file_atomic(staged.stage("summary.json"), train_summary_json(r).dump(1) + "\n");
-  staged.commit({"policy.json", "curve.csv", "checkpoints.jsonl", "episodes.jsonl", "final.jsonl", "summary.json"});
+  // summary.json says the folder is whole: the earlier one goes first and the new one comes last,
+  // so a kill among the moves (found by a probe: policy.json of one trial beside summary.json of
+  // the one before) leaves a folder without it, which is no finished training.
+  staged.commit({"policy.json", "curve.csv", "checkpoints.jsonl", "episodes.jsonl", "final.jsonl", "summary.json"},
+                {"summary.json"});
   remove_stale(dir, {"error.json"});  // of a trial that faulted here before
 }
 

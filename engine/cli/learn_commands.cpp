@@ -16,6 +16,7 @@
 #include "cli/cli_internal.h"
 #include "cli/commands.h"
 #include "core/error.h"
+#include "core/fileio.h"
 #include "core/interrupt.h"
 #include "core/text.h"
 #include "learn/episode.h"
@@ -613,6 +614,9 @@ int command_train(const TrainArgs& a) {
   };
   check_skill_flags(o);
   check_train_out_folder(a.out);
+  // One writer at a time (found by a probe: two trainings into one folder both committed, one's
+  // policy beside the other's summary).
+  const OutputClaim claim(a.out, "roger train");
   // A trial stopped part-way is no result: nothing is written, and the folder keeps what it had.
   catch_interrupts("the trial ends at its next episode and writes nothing");
   TrainResult r;

@@ -1,9 +1,11 @@
 #include "core/fileio.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstring>
@@ -113,6 +115,72 @@ void write_file_atomic(const std::string& path, const std::string& content,
   file.commit();
 }
 
+namespace {
+
+// A writer's leftover in an output folder: StagedFiles' ".staged<pid>-<n>-<r>.tmp" folder or
+// write_file_atomic's ".<name>.tmp<pid>-<n>-<r>" file.
+bool is_leftover(const std::string& name) {
+  if (name.size() < 2 || name[0] != '.') return false;
+  if (name.rfind(".staged", 0) == 0 && name.size() > 11 && name.compare(name.size() - 4, 4, ".tmp") == 0) return true;
+  const size_t tmp = name.rfind(".tmp");
+  if (tmp == std::string::npos || tmp < 2) return false;
+  const std::string rest = name.substr(tmp + 4);  // "<pid>-<n>-<r>"
+  return !rest.empty() && rest.find_first_not_of("0123456789-") == std::string::npos &&
+         std::count(rest.begin(), rest.end(), '-') == 2;
+}
+
+}  // namespace
+
+OutputClaim::OutputClaim(const std::string& dir, const std::string& command) : dir_(dir) {
+  std::error_code ec;
+  made_ = !fs::exists(dir, ec);
+  fs::create_directories(dir, ec);
+  if (ec) throw FileError(command + ": cannot make the folder '" + dir + "': " + ec.message(), dir, ec.value());
+  const std::string path = (fs::path(dir) / ".lock").string();
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+  if (fd_ < 0) {
+    const int err = errno;
+    if (made_) fs::remove(dir, ec);
+    throw FileError(command + ": cannot open '" + path + "': " + std::strerror(err), path, err);
+  }
+  int got;
+  while ((got = ::flock(fd_, LOCK_EX | LOCK_NB)) != 0 && errno == EINTR) {
+  }
+  if (got != 0) {
+    std::string holder(200, '\0');
+    const ssize_t n = ::pread(fd_, holder.data(), holder.size() - 1, 0);
+    holder.resize(n > 0 ? size_t(n) : 0);
+    while (!holder.empty() && (holder.back() == '\n' || holder.back() == '\0')) holder.pop_back();
+    ::close(fd_);
+    fd_ = -1;
+    throw Error(command + ": the folder '" + dir + "' is in use by another command writing into it" +
+                (holder.empty() ? std::string() : " (" + holder + ")") +
+                ": wait for it to end, or give another folder");
+  }
+  char host[256] = {};
+  ::gethostname(host, sizeof host - 1);
+  const std::string text = "pid " + std::to_string(::getpid()) + " on " + host + "\n";
+  if (::ftruncate(fd_, 0) != 0 || ::pwrite(fd_, text.data(), text.size(), 0) != ssize_t(text.size())) {
+    // Only a refusal's message reads it: the lock holds without it.
+  }
+  std::vector<fs::path> left;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+    if (is_leftover(it->path().filename().string())) left.push_back(it->path());
+  for (const fs::path& p : left) fs::remove_all(p, ec);
+}
+
+OutputClaim::~OutputClaim() {
+  if (fd_ < 0) return;
+  std::error_code ec;
+  // A folder this claim made and nothing was written into: as it was, absent.
+  bool empty = made_;
+  for (fs::directory_iterator it(dir_, ec), end; empty && !ec && it != end; it.increment(ec))
+    empty = it->path().filename() == ".lock";
+  if (empty && !ec) fs::remove(fs::path(dir_) / ".lock", ec);
+  ::close(fd_);  // closing releases the lock
+  if (empty && !ec) fs::remove(dir_, ec);
+}
+
 StagedFiles::StagedFiles(const std::string& dir) : dir_(dir) {
   static std::atomic<unsigned> counter{0};
   std::random_device rd;
@@ -138,13 +206,19 @@ StagedFiles::~StagedFiles() {
 
 std::string StagedFiles::stage(const std::string& name) const { return (fs::path(path_) / name).string(); }
 
-std::vector<std::string> StagedFiles::commit(const std::vector<std::string>& names) {
+std::vector<std::string> StagedFiles::commit(const std::vector<std::string>& names,
+                                             const std::vector<std::string>& withdrawn) {
   // A folder where a file goes would stop the moves halfway: refused before the first.
   for (const auto& n : names) {
     const std::string to = (fs::path(dir_) / fs::path(n).filename()).string();
     std::error_code ec;
     if (fs::is_directory(fs::symlink_status(to, ec)))
       throw FileError("cannot write '" + to + "': " + std::strerror(EISDIR), to, EISDIR);
+  }
+  for (const auto& n : withdrawn) {
+    const std::string gone = (fs::path(dir_) / n).string();
+    std::error_code ec;
+    if (fs::remove(gone, ec); ec) throw FileError("cannot remove '" + gone + "': " + ec.message(), gone, ec.value());
   }
   std::vector<std::string> moved;
   for (const auto& n : names) {

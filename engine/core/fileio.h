@@ -70,10 +70,36 @@ class StagedFiles {
   std::string stage(const std::string& name) const;
   // Moves each staged file (a name in the staging folder, or its path there) into dir, in order,
   // and returns their paths in dir. Throws roger::FileError naming the file that could not move.
-  std::vector<std::string> commit(const std::vector<std::string>& names);
+  // `withdrawn` (names in dir) are removed once the moves are checked and before the first: a file
+  // that says the folder is whole (a training's summary.json, moved in last) must not stand beside
+  // some new files when a kill comes among the moves.
+  std::vector<std::string> commit(const std::vector<std::string>& names, const std::vector<std::string>& withdrawn = {});
 
  private:
   std::string dir_, path_;
+};
+
+// One writer's claim on an output folder while it lives (flock on the folder's hidden `.lock`, with
+// this process's id and host in it): a second command writing into the same folder is refused
+// naming the first, instead of both committing and leaving one's policy beside the other's
+// summary. It makes the folder when missing; if it made it and the folder holds nothing else when
+// the claim ends (the command stopped or failed before writing), the folder goes again, so that
+// "nothing written" leaves the disk as it was. On claiming, it removes what a writer killed
+// part-way left there (StagedFiles' folders, write_file_atomic's temporaries): no other writer can
+// be using them.
+class OutputClaim {
+ public:
+  // `command` names the writer in the refusal ("roger train"). Throws roger::Error when another
+  // process holds the folder, roger::FileError when the folder cannot be made or the lock opened.
+  OutputClaim(const std::string& dir, const std::string& command);
+  ~OutputClaim();
+  OutputClaim(const OutputClaim&) = delete;
+  OutputClaim& operator=(const OutputClaim&) = delete;
+
+ private:
+  std::string dir_;
+  int fd_ = -1;
+  bool made_ = false;
 };
 
 // Flushes to disk the folder holding `path`, so that a rename or removal in it survives a crash of
