@@ -1916,6 +1916,11 @@ TEST_CASE("roger eval says when the policy's own curriculum changed since traini
   REQUIRE(roger_in(dir, "train mine.lua --stage S --context A --seed 1 --out trained").status == 0);
   Run r = roger_in(dir, "eval mine.lua --policy trained/policy.json --episodes 2");
   CHECK(r.out.find("note ") == std::string::npos);
+  // Without --episodes it runs the stage's final evaluation again, 2 episodes here (found by a probe:
+  // it ran 50, which did not reproduce the trial's figures).
+  r = roger_in(dir, "eval mine.lua --policy trained/policy.json");
+  CHECK_THAT(r.out, Catch::Matchers::Contains(", 2 episodes from seed 1000000, "));
+  CHECK_THAT(r.out, Catch::Matchers::Contains(" of 2)\n"));
   std::ofstream(dir / "mine.lua") << text << "-- edited\n";
   r = roger_in(dir, "eval mine.lua --policy trained/policy.json --episodes 2");
   CHECK(r.status == 0);

@@ -1021,7 +1021,8 @@ PolicyEvalResult evaluate_policy_file(const PolicyEvalOptions& given) {
   with_policy_file(given, out, [&](StageRun& run, QTable& q, uint64_t first, const PolicyMetadata& meta,
                                    const PolicyEvalOptions& options) {
     if (!options.test_set) {
-      out.eval = greedy_eval(run, q, EvalWorlds{first, options.episodes}, "evaluation", nullptr, options.keep_episodes);
+      const int episodes = options.episodes > 0 ? options.episodes : run.stage.checkpoints.final_episodes;
+      out.eval = greedy_eval(run, q, EvalWorlds{first, episodes}, "evaluation", nullptr, options.keep_episodes);
       return;
     }
     const uint64_t first_seed = resolve_test_set(run, meta, options, out);

@@ -288,7 +288,7 @@ struct PolicyEvalOptions {
   std::string policy_file;                                // a policy.json written by roger train
   std::string scenario;                                   // "" = the stage's
   std::vector<std::pair<std::string, std::string>> sets;  // scenario parameters
-  int episodes = 50;
+  int episodes = 50;                                      // 0 = the stage's final evaluation's count
   int64_t first_seed = -1;                                // -1 = the stage's held-out seeds
   uint64_t seed_offset = 0;                               // added to the first seed (a policy's own worlds)
   // Learned skills from these policy files instead of the ones the policy embeds (skill -> file).

@@ -189,7 +189,9 @@ PolicyEvalOptions policy_eval_options(const EvalArgs& a) {
   o.policy_file = a.policy;
   o.scenario = a.scenario;
   o.sets = split_sets(a.sets, "--set");
-  o.episodes = a.episodes;
+  // Not given: the stage's final evaluation's count (found by a probe: a stage of 20 final episodes
+  // was evaluated on 50, which did not reproduce the trial's figures as the docs say).
+  o.episodes = a.episodes_given ? a.episodes : 0;
   o.first_seed = a.seed_given ? saved_policy_first_seed("roger eval", a.seed) : -1;
   for (const auto& [name, file] : split_sets(a.skills, "--skill")) o.skill_files[name] = file;
   o.limits = sandbox_limits(a.lua);
@@ -355,11 +357,13 @@ void print_never_referenced(const EvalSummary& r) {
 int evaluate_command(const EvalArgs& a) {
   // Seeds S to S + N - 1 must not wrap past 2^64 - 1 to 0, 1, ... (found by a probe: they did, without
   // a word, and reran the worlds of an evaluation from seed 0).
+  // A saved policy's first seed is below 2^63 (saved_policy_first_seed): checked there first, since
+  // this bound would suggest a seed that one refuses (found by a probe).
+  if (policy_is_saved_file(a.script, a.policy)) return run_eval_policy_file(a);
   if (a.seed_given && a.episodes > 0 && a.seed > UINT64_MAX - uint64_t(a.episodes - 1))
     throw Error("roger eval: --seed " + std::to_string(a.seed) + " with --episodes " + std::to_string(a.episodes) +
                 " runs seeds past " + std::to_string(UINT64_MAX) + ": give a --seed of at most " +
                 std::to_string(UINT64_MAX - uint64_t(a.episodes - 1)));
-  if (policy_is_saved_file(a.script, a.policy)) return run_eval_policy_file(a);
   if (a.test_set)
     throw Error("roger eval: --test-set runs a saved policy (--policy FILE.json) of a stage that teaches on its "
                 "test set; policy '" + a.policy + "' of " + a.script + " is a skill script's, which has none");

@@ -174,7 +174,10 @@ CLI::App* add_eval(CLI::App& app, EvalArgs& a, CLI::Option*& seed) {
   repeatable(c->add_option("--skill", a.skills,
                            "With a saved policy: a learned skill's policy NAME=FILE.json instead of the one it embeds "
                            "(repeatable), e.g. a Phi_SG retrained on another body"));
-  c->add_option("--episodes", a.episodes, "Episodes")->capture_default_str()->check(integer_in(1, 1000000));
+  c->add_option("--episodes", a.episodes,
+                "Episodes (default 50; of a saved policy, its stage's final evaluation's, 50 unless the stage sets "
+                "checkpoints.final)")
+      ->check(integer_in(1, 1000000));
   seed = c->add_option("--seed", a.seed, "First seed (then seed+1, ...); with a saved "
                        "policy the default is its stage's held-out seeds")->capture_default_str()->check(seed_value());
   c->add_flag("--test-set", a.test_set,
