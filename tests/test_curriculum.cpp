@@ -742,6 +742,11 @@ TEST_CASE("changes made to a roger.stage table after the call count and are chec
   CHECK_THAT(error_of([&] { Curriculum::load(wrapper); }),
              Catch::Matchers::Contains("curricula/lib/paper_stages.lua:121: stage 'T': budget: field 'episodes' must be a "
                                        "positive integer, got -5"));
+  // Its upper bound is named when crossed (found by a probe).
+  std::ofstream(wrapper) << "local paper = require('paper')\npaper.stages[2].budget = { episodes = 2147483647 }\nreturn paper\n";
+  CHECK_THAT(error_of([&] { Curriculum::load(wrapper); }),
+             Catch::Matchers::Contains("stage 'T': budget: field 'episodes' must be a positive integer of at most "
+                                       "100000000, got 2147483647"));
   std::ofstream(wrapper) << "local paper = require('paper')\npaper.stages[1].bogus = 3\nreturn paper\n";
   CHECK_THAT(error_of([&] { Curriculum::load(wrapper); }),
              Catch::Matchers::Contains("curricula/lib/paper_stages.lua:103: stage 'SG': unknown field 'bogus'"));

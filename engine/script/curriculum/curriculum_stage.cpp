@@ -35,11 +35,15 @@ void find_learned(const Controller* c, std::set<const Controller*>& seen, std::v
   for (const Controller* child : c->children()) find_learned(child, seen, out);
 }
 
-// A positive integer field.
+// A positive (or, with lo 0, non-negative) integer field of at most 10^8, a bound the message
+// names when it is the one crossed (found by a probe: "must be a positive integer, got
+// 2147483647" did not say why).
 int positive_int(const LuaFields& f, const char* key, int64_t fallback, int64_t lo, const std::string& what) {
+  constexpr int64_t kMost = 100000000;
   const int64_t v = f.integer(key, fallback);
-  if (v < lo || v > 100000000)
-    f.fail("field '" + std::string(key) + "' must be " + what + ", got " + std::to_string(v));
+  if (v < lo || v > kMost)
+    f.fail("field '" + std::string(key) + "' must be " + what + (v > kMost ? " of at most " + std::to_string(kMost) : "") +
+           ", got " + std::to_string(v));
   return int(v);
 }
 
