@@ -191,6 +191,13 @@ TEST_CASE("propose is deterministic for a seed, and a re-run resumes from its re
   const ProposeResult e = propose_curriculum(sg_options(dir.path / "a"));
   CHECK(e.trials_run == 1);
   CHECK(tree(dir.path / "a") == before);
+  // A loss its other numbers do not give (found by a probe: ranked as written) is run again too.
+  trial = nlohmann::json::parse(slurp(trial_file));
+  trial["loss"] = trial["loss"].get<double>() + 1.0;
+  std::ofstream(trial_file) << trial.dump();
+  const ProposeResult f = propose_curriculum(sg_options(dir.path / "a"));
+  CHECK(f.trials_run == 1);
+  CHECK(tree(dir.path / "a") == before);
   // A different seed searches differently (another probe).
   ProposeOptions other = sg_options(dir.path / "c");
   other.seed = 2;

@@ -283,6 +283,10 @@ CandidateTrial run_trial(const ProposeOptions& o, const CandidateSpec& spec, con
         tr.time_s = j.at("time_s").get<double>();
         tr.last_success = j.at("last_success").get<double>();
         tr.loss = j.at("loss").get<double>();
+        // The loss is what the record's other numbers give (found by a probe: a loss edited beside
+        // reached = true and its time was ranked as written).
+        const double recorded_cap = j.value("score_cap_s", score_cap_s);
+        const bool loss_agrees = tr.loss == (tr.reached ? tr.time_s : recorded_cap * (2.0 - tr.last_success));
         // A record of a round cap since changed (a longer --budget) scores on this one.
         if (!tr.reached) tr.loss = score_cap_s * (2.0 - tr.last_success);
         tr.checkpoints = j.value("checkpoints", -1);
@@ -292,7 +296,8 @@ CandidateTrial run_trial(const ProposeOptions& o, const CandidateSpec& spec, con
         // Numbers no trial gives (damaged, or edited by hand) make the record unreadable: run again.
         const bool sound = std::isfinite(tr.spent_s) && tr.spent_s >= 0 && std::isfinite(tr.skills_s) &&
                            tr.skills_s >= 0 && tr.skills_s <= tr.spent_s && std::isfinite(tr.time_s) && tr.time_s >= 0 &&
-                           std::isfinite(tr.last_success) && std::isfinite(tr.loss);
+                           (!tr.reached || tr.time_s <= tr.spent_s) && std::isfinite(tr.last_success) &&
+                           tr.last_success >= 0 && tr.last_success <= 1 && std::isfinite(tr.loss) && loss_agrees;
         if (sound) return tr;
         why = "numbers no trial gives";
       }
