@@ -69,6 +69,8 @@ void Scenario::Impl::read_table(lua_State* L, const LuaTableMap& map) {
     else if (type != LUA_TNIL)
       throw error(std::string("the scenario's '") + key + "' must be a string, got " + luaL_typename(L, -1),
                   key_line(key));
+    if (const std::string problem = utf8_problem(v); !problem.empty())  // shown in pictures, pages and results
+      throw error(std::string("the scenario's '") + key + "' must be UTF-8 text, and " + problem, key_line(key));
     lua_pop(L, 1);
     return v;
   };

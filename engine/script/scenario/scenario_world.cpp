@@ -78,6 +78,11 @@ namespace {
 std::string unique_name(const LuaFields& f, const std::string& given, const char* kind, size_t count,
                         const std::vector<std::string>& taken) {
   const std::string name = given.empty() ? std::string(kind) + " " + std::to_string(count + 1) : given;
+  // Pictures, pages and results show the name (found by a probe: roger check took "bad\255" and
+  // every picture then failed with "input string not valid UTF-8", naming neither file nor object).
+  if (const std::string problem = utf8_problem(name); !problem.empty())
+    f.fail("field 'name' must be UTF-8 text (pictures, pages and results show it), and " + problem + " of '" +
+           printable_text(name) + "'");
   if (std::find(taken.begin(), taken.end(), name) != taken.end())
     f.fail(std::string("there is already ") + (std::strchr("aeiou", kind[0]) ? "an " : "a ") + kind + " named '" +
            name + "'");
