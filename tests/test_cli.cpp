@@ -1335,6 +1335,23 @@ TEST_CASE("roger render of an episode makes the folder of a strip and refuses a 
   // One episode is one episode.
   CHECK_THAT(roger("eval curricula/scripted.lua --policy task --episodes 1").out,
              Catch::Matchers::Contains("in unobstructed, 1 episode from seed 1000"));
+  // Found by a probe: EP.PNG wrote a folder of that name; a strip no PNG can hold and a strip named
+  // ".png" failed after the episode, and the second's message asked for the name it had.
+  r = roger("render curricula/scripted.lua --policy task --seed 3 --every 0.5 --out " + (dir / "EP.PNG").string());
+  CHECK(r.status == 0);
+  CHECK(fs::is_regular_file(dir / "EP.PNG"));
+  r = roger("render curricula/scripted.lua --policy task --seed 3 --width 8192 --out " + (dir / "wide.png").string());
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Matchers::Contains("--width 8192: a summary strip is 4 frames wide, 32768 pixels, past the "
+                                              "32767 a picture's side can have: give --width of at most 8191"));
+  r = roger("render curricula/scripted.lua --policy task --seed 3 --out " + (dir / ".png").string());
+  CHECK_THAT(r.err, Catch::Matchers::Contains("names no strip: give it a name, such as episode.png"));
+  // A rendering stopped before it wrote leaves no folder it made ("nothing written").
+  const int raw = std::system((std::string(ROGER_BINARY) + " render curricula/sort_by_hand.lua --policy sort --set objects=8 "
+                               "--seed 170000 --out " + (dir / "stopped").string() + " >/dev/null 2>&1 & sleep 1; "
+                               "kill -TERM $!; wait $!").c_str());
+  CHECK(WEXITSTATUS(raw) == 143);
+  CHECK_FALSE(fs::exists(dir / "stopped"));
   fs::remove_all(dir);
 }
 

@@ -112,7 +112,8 @@ std::string sets_note(const std::vector<std::string>& sets) {
 // Writes a recorded episode: a folder with frames and a replay page, or (for a .png path) one
 // summary strip; then says what it wrote.
 // Whether --out names one summary strip (a .png) rather than a folder of frames.
-bool is_summary_strip(const std::string& out) { return out.size() > 4 && out.compare(out.size() - 4, 4, ".png") == 0; }
+// In any case of letters (found by a probe: x.PNG wrote a folder named x.PNG).
+bool is_summary_strip(const std::string& out) { return lower_ascii(std::filesystem::path(out).extension().string()) == ".png"; }
 
 void write_rendered_episode(const RenderArgs& a, const WorldSpec& spec, const EpisodeResult& episode,
                             const std::string& title) {
@@ -120,6 +121,7 @@ void write_rendered_episode(const RenderArgs& a, const WorldSpec& spec, const Ep
   AnimationOptions anim;
   anim.frame.width_px = a.width;
   anim.title = title;
+  anim.fps = 1.0 / a.every;  // frames per simulated second, as recorded (found by a probe: always 10)
   const bool summary = is_summary_strip(a.out);
   if (summary) {
     throw_if_interrupted();
@@ -177,7 +179,13 @@ int run_render_policy_file(const RenderArgs& a) {
 int run_render_episode(const RenderArgs& a) {
   // Before the episode is run: a folder of other files was written into (found by a probe), and
   // a results folder's index.html, its dashboard, would have been replaced by the replay page.
-  if (!is_summary_strip(a.out)) refuse_foreign_files(a.out, "roger render", render_episode_writes);
+  // One writer at a time into a folder, and a folder made here goes again when nothing is
+  // written (found by a probe: a stopped rendering left an empty folder it said was as it was).
+  std::optional<OutputClaim> claim;
+  if (!is_summary_strip(a.out)) {
+    refuse_foreign_files(a.out, "roger render", render_episode_writes);
+    claim.emplace(a.out, "roger render");
+  }
   if (policy_is_saved_file(a.scenario, a.policy)) return run_render_policy_file(a);
   if (a.test_task > 0)
     throw Error("roger render: --test-task renders a task of a saved policy's test set (CURRICULUM.lua --policy "
@@ -211,9 +219,22 @@ int run_render_episode(const RenderArgs& a) {
 
 // An episode is written to a folder or a .png strip: a picture's other extension (x.svg) would
 // be a folder named like a file, so it is refused before the episode runs.
-void check_episode_out(const std::string& out) {
+void check_episode_out(const std::string& out, int width) {
   namespace fs = std::filesystem;
-  const std::string ext = fs::path(out).extension().string();
+  const std::string ext = lower_ascii(fs::path(out).extension().string());
+  const std::string name = lower_ascii(fs::path(out).filename().string());
+  // ".png" alone is a hidden name, no strip's (found by a probe: refused after the episode, as "not
+  // named .png").
+  if (name == ".png")
+    throw Error("roger render --policy: --out '" + out + "' names no strip: give it a name, such as episode.png");
+  // A strip is four frames side by side: one that no PNG can hold is refused before the episode
+  // (found by a probe: --width 16000 ran the episode, then failed).
+  constexpr int kStripFrames = 4, kMostPixels = 32767;
+  if (ext == ".png" && long(width) * kStripFrames > kMostPixels)
+    throw Error("roger render --policy: --width " + std::to_string(width) + ": a summary strip is " +
+                std::to_string(kStripFrames) + " frames wide, " + std::to_string(long(width) * kStripFrames) +
+                " pixels, past the " + std::to_string(kMostPixels) + " a picture's side can have: give --width " +
+                "of at most " + std::to_string(kMostPixels / kStripFrames) + ", or a folder (frames of any --width)");
   std::error_code ec;
   if (ext.empty() || ext == ".png" || fs::is_directory(out, ec)) return;
   for (const char* picture : {".svg", ".jpg", ".jpeg", ".gif", ".pdf", ".html", ".json", ".webp"})
@@ -225,7 +246,7 @@ void check_episode_out(const std::string& out) {
 
 int command_render(const RenderArgs& a) {
   if (!a.policy.empty()) {
-    check_episode_out(a.out);
+    check_episode_out(a.out, a.width);
     // Stopped part-way, an episode's rendering writes nothing: its folder (or strip) keeps what it
     // had (render_episode stages its files).
     catch_interrupts("the rendering stops and writes nothing");

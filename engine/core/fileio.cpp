@@ -134,6 +134,8 @@ bool is_leftover(const std::string& name) {
 OutputClaim::OutputClaim(const std::string& dir, const std::string& command) : dir_(dir) {
   std::error_code ec;
   made_ = !fs::exists(dir, ec);
+  if (!made_ && !fs::is_directory(dir, ec))
+    throw FileError(command + ": cannot write into '" + dir + "': it exists and is not a folder", dir, ENOTDIR);
   fs::create_directories(dir, ec);
   if (ec) throw FileError(command + ": cannot make the folder '" + dir + "': " + ec.message(), dir, ec.value());
   const std::string path = (fs::path(dir) / ".lock").string();
@@ -141,7 +143,7 @@ OutputClaim::OutputClaim(const std::string& dir, const std::string& command) : d
   if (fd_ < 0) {
     const int err = errno;
     if (made_) fs::remove(dir, ec);
-    throw FileError(command + ": cannot open '" + path + "': " + std::strerror(err), path, err);
+    throw FileError(command + ": cannot write into '" + dir + "': " + std::strerror(err), path, err);
   }
   int got;
   while ((got = ::flock(fd_, LOCK_EX | LOCK_NB)) != 0 && errno == EINTR) {

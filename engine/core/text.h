@@ -59,4 +59,7 @@ std::string shortened_text(const std::string& s, size_t max);
 // is the noun and "s").
 std::string counted(long long n, const std::string& noun);
 
+// `s` with its ASCII letters in lower case (a file extension, a keyword), other bytes as they are.
+std::string lower_ascii(std::string s);
+
 }  // namespace roger

@@ -26,6 +26,7 @@
 
 #include "core/error.h"
 #include "core/fileio.h"
+#include "core/text.h"
 #include "report/plot_internal.h"
 
 namespace roger {
@@ -256,8 +257,7 @@ namespace plot_internal {
 // The format named by path's extension, or an Error naming the two accepted ones.
 Format format_of(const std::string& path) {
   const std::string ext = fs::path(path).extension().string();
-  std::string lower = ext;
-  for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+  const std::string lower = lower_ascii(ext);
   if (lower == ".png") return Format::kPng;
   if (lower == ".svg") return Format::kSvg;
   const std::string why =

@@ -28,6 +28,7 @@
 #include "control/control.h"
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "core/text.h"
 
 namespace roger {
 namespace anim {
@@ -91,7 +92,7 @@ void write_png(const std::string& path, long width, long height, Paint paint) {
     std::ostringstream os;
     os << "animation: cannot write '" << path << "': a " << width << " x " << height
        << " picture is outside 1 to " << kMaxPicturePixels
-       << " pixels per side (use a smaller frame width or fewer panels)";
+       << " pixels per side (use a smaller --width)";
     throw Error(os.str());
   }
   AtomicFile file(path, "animation: cannot write");
@@ -238,8 +239,7 @@ void render_episode(const WorldSpec& spec, const EpisodeResult& episode, const s
 
 void render_episode_summary(const WorldSpec& spec, const EpisodeResult& episode,
                             const std::string& path, const AnimationOptions& options, int panels) {
-  std::string ext = fs::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  const std::string ext = lower_ascii(fs::path(path).extension().string());
   if (ext != ".png")
     throw Error("animation: cannot write summary '" + path + "': the summary is a PNG, name it .png");
   if (panels < 1)

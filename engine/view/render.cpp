@@ -26,6 +26,7 @@
 #include "core/error.h"
 #include "senses/senses.h"
 #include "core/shape.h"
+#include "core/text.h"
 
 namespace roger {
 
@@ -182,8 +183,7 @@ enum class Format { kPng, kSvg };
 // The file format named by path's extension, or an Error naming the two accepted ones.
 Format format_of(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
-  std::string lower = ext;
-  for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+  const std::string lower = lower_ascii(ext);
   if (lower == ".png") return Format::kPng;
   if (lower == ".svg") return Format::kSvg;
   throw Error(

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <limits>
 
+#include "core/text.h"
 #include "script/scenario/scenario_internal.h"
 
 namespace roger {
@@ -95,8 +96,7 @@ bool parse_number_text(const std::string& text, double& value) {
 }
 
 bool parse_boolean_text(const std::string& text, bool& value) {
-  std::string t = text;
-  std::transform(t.begin(), t.end(), t.begin(), ::tolower);
+  const std::string t = lower_ascii(text);
   if (t == "true" || t == "1" || t == "yes" || t == "on") return value = true, true;
   if (t == "false" || t == "0" || t == "no" || t == "off") return value = false, true;
   return false;
