@@ -135,29 +135,41 @@ OutputClaim::OutputClaim(const std::string& dir, const std::string& command) : d
   std::error_code ec;
   made_ = !fs::exists(dir, ec);
   if (!made_ && !fs::is_directory(dir, ec))
-    throw FileError(command + ": cannot write into '" + dir + "': it exists and is not a folder", dir, ENOTDIR);
+    throw FileError(command + ": cannot write into '" + dir + "': " + std::strerror(ENOTDIR), dir, ENOTDIR);
   fs::create_directories(dir, ec);
   if (ec) throw FileError(command + ": cannot make the folder '" + dir + "': " + ec.message(), dir, ec.value());
   const std::string path = (fs::path(dir) / ".lock").string();
-  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
-  if (fd_ < 0) {
-    const int err = errno;
-    if (made_) fs::remove(dir, ec);
-    throw FileError(command + ": cannot write into '" + dir + "': " + std::strerror(err), path, err);
-  }
-  int got;
-  while ((got = ::flock(fd_, LOCK_EX | LOCK_NB)) != 0 && errno == EINTR) {
-  }
-  if (got != 0) {
-    std::string holder(200, '\0');
-    const ssize_t n = ::pread(fd_, holder.data(), holder.size() - 1, 0);
-    holder.resize(n > 0 ? size_t(n) : 0);
-    while (!holder.empty() && (holder.back() == '\n' || holder.back() == '\0')) holder.pop_back();
+  for (;;) {
+    fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    own_file_ = fd_ >= 0;
+    if (fd_ < 0 && errno == EEXIST) fd_ = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
+    if (fd_ < 0) {
+      if (errno == ENOENT) continue;  // removed by a writer ending between the two opens
+      const int err = errno;
+      if (made_) fs::remove(dir, ec);
+      throw FileError(command + ": cannot write into '" + dir + "': " + std::strerror(err), path, err);
+    }
+    int got;
+    while ((got = ::flock(fd_, LOCK_EX | LOCK_NB)) != 0 && errno == EINTR) {
+    }
+    if (got != 0) {
+      std::string holder(200, '\0');
+      const ssize_t n = ::pread(fd_, holder.data(), holder.size() - 1, 0);
+      holder.resize(n > 0 ? size_t(n) : 0);
+      while (!holder.empty() && (holder.back() == '\n' || holder.back() == '\0')) holder.pop_back();
+      ::close(fd_);
+      fd_ = -1;
+      throw Error(command + ": the folder '" + dir + "' is in use by another command writing into it" +
+                  (holder.empty() ? std::string() : " (" + holder + ")") + ": wait for it to end, or give another folder");
+    }
+    // The lock holds only if the file locked is still the one at the path: a writer that ended
+    // removes the file it made, and one locked between its open and that removal holds nothing.
+    struct stat held, named;
+    if (::fstat(fd_, &held) == 0 && ::stat(path.c_str(), &named) == 0 && held.st_ino == named.st_ino &&
+        held.st_dev == named.st_dev)
+      break;
     ::close(fd_);
     fd_ = -1;
-    throw Error(command + ": the folder '" + dir + "' is in use by another command writing into it" +
-                (holder.empty() ? std::string() : " (" + holder + ")") +
-                ": wait for it to end, or give another folder");
   }
   char host[256] = {};
   ::gethostname(host, sizeof host - 1);
@@ -174,13 +186,11 @@ OutputClaim::OutputClaim(const std::string& dir, const std::string& command) : d
 OutputClaim::~OutputClaim() {
   if (fd_ < 0) return;
   std::error_code ec;
-  // A folder this claim made and nothing was written into: as it was, absent.
-  bool empty = made_;
-  for (fs::directory_iterator it(dir_, ec), end; empty && !ec && it != end; it.increment(ec))
-    empty = it->path().filename() == ".lock";
-  if (empty && !ec) fs::remove(fs::path(dir_) / ".lock", ec);
+  // The lock file this claim made goes (a folder keeps only what its command wrote), and a folder it
+  // made and nothing was written into goes too: as it was, absent.
+  if (own_file_) fs::remove(fs::path(dir_) / ".lock", ec);
   ::close(fd_);  // closing releases the lock
-  if (empty && !ec) fs::remove(dir_, ec);
+  if (made_ && fs::is_empty(dir_, ec) && !ec) fs::remove(dir_, ec);
 }
 
 StagedFiles::StagedFiles(const std::string& dir) : dir_(dir) {

@@ -82,9 +82,9 @@ class StagedFiles {
 // One writer's claim on an output folder while it lives (flock on the folder's hidden `.lock`, with
 // this process's id and host in it): a second command writing into the same folder is refused
 // naming the first, instead of both committing and leaving one's policy beside the other's
-// summary. It makes the folder when missing; if it made it and the folder holds nothing else when
-// the claim ends (the command stopped or failed before writing), the folder goes again, so that
-// "nothing written" leaves the disk as it was. On claiming, it removes what a writer killed
+// summary. It makes the folder when missing, and its lock file when missing; both go again when the
+// claim ends (the folder only when nothing was written into it), so that a folder holds only what
+// its command wrote and "nothing written" leaves the disk as it was. On claiming, it removes what a writer killed
 // part-way left there (StagedFiles' folders, write_file_atomic's temporaries): no other writer can
 // be using them.
 class OutputClaim {
@@ -99,7 +99,8 @@ class OutputClaim {
  private:
   std::string dir_;
   int fd_ = -1;
-  bool made_ = false;
+  bool made_ = false;      // the folder did not exist before the claim
+  bool own_file_ = false;  // the claim made the lock file (and removes it when it ends)
 };
 
 // Flushes to disk the folder holding `path`, so that a rename or removal in it survives a crash of
