@@ -401,15 +401,17 @@ std::string provenance_problem(const std::string& out, const json& r) {
       return "none of the Lua files it read is the folder's curriculum (fingerprint " + f.curriculum +
              "): a trial of another curriculum, copied from another results folder?";
   }
+  // A policy gone since (its trial removed, or failed, to run again) changes nothing here: its trial
+  // runs again first, as it ran, and is compared then.
   if (r.contains("policies") && r["policies"].is_object())
     for (const auto& [name, print] : r["policies"].items()) {
       const fs::path file = fs::path(out) / name;
       std::error_code ec;
-      const std::string now = fs::is_regular_file(file, ec) ? fingerprint(read_file_text(file.string())) : "";
+      if (!fs::is_regular_file(file, ec)) continue;
+      const std::string now = fingerprint(read_file_text(file.string()));
       if (!print.is_string() || print != now)
         return "it read " + name + " with the fingerprint " + (print.is_string() ? print.get<std::string>() : print.dump()) +
-               ", and " + (now.empty() ? "the file is gone" : "the file now has " + now + " (trained again, or edited, since)") +
-               ": its figures are of another policy";
+               ", and the file now has " + now + " (trained again, or edited, since): its figures are of another policy";
     }
   return "";
 }
