@@ -157,10 +157,10 @@ TEST_CASE("a task space names what it allows when a value lies outside it", "[te
   CHECK_THROWS_WITH(restrict_space(s, {int_dim("obstacles", 0, 9)}),
                     Contains("obstacles = roger.int(0, 9) is outside the task space's roger.int(0, 6)"));
   CHECK_THROWS_WITH(restrict_space(s, {choice_dim("shape", {"square"})}),
-                    Contains("shape = square is not in the task space: shape takes a value of"));
+                    Contains("shape = square is outside the task space: shape takes a value of"));
   // A single value over an int axis that is no integer says so, not "outside".
   CHECK_THROWS_WITH(restrict_space(s, {choice_dim("obstacles", {"2.5"})}),
-                    Contains("obstacles = 2.5 is not in the task space: obstacles takes an integer in roger.int(0, 6)"));
+                    Contains("obstacles = 2.5 is outside the task space: obstacles takes an integer in roger.int(0, 6)"));
   CHECK_THROWS_WITH(restrict_space(s, {real_dim("obstacles", 1, 2)}),
                     Contains("obstacles = roger.real(1, 2) is a real range, but obstacles takes an integer in roger.int(0, 6)"));
   CHECK_THROWS_WITH(restrict_space(s, {int_dim("mass", 0, 1)}), Contains("nor a parameter of the task space"));
@@ -789,9 +789,9 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
        ".alp_gmm{...}, .plr{...}) or a function(history, rng), got number 3"},
       {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.sequence{ { obstacles = 9 } } }",
        ":8: stage 'S': roger.teacher.sequence ("},
-      // Found by a probe: 2.5 over an int axis was said to be "outside" the space.
+      // Found by a probe: 2.5 over an int axis was "outside the task space's roger.int(0, 3)", not why.
       {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.sequence{ { obstacles = 2.5 } } }",
-       "step 1: obstacles = 2.5 is not in the task space: obstacles takes an integer in roger.int(0, 3)"},
+       "step 1: obstacles = 2.5 is outside the task space: obstacles takes an integer in roger.int(0, 3)"},
       // Found by a probe: thresholds that can never act were accepted.
       {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.sequence{ { obstacles = 0, demote = 0.5 }, {} } }",
        ":8: roger.teacher.sequence: step 1: field 'demote' needs a step before it to go back to (the first step has none)"},

@@ -250,13 +250,13 @@ std::string TaskSpace::describe() const {
 }
 
 // Why a step's restriction r of axis i is refused: a value the axis does not take says what the
-// axis takes (2.5 over an int axis is "not an integer", not "outside"), a range its ends.
+// axis takes (of 2.5 over an int axis: that it takes an integer), a range its ends.
 static std::string not_covered(const TaskSpace& space, size_t i, const TaskDim& r) {
   const TaskDim& whole = space.dims()[i];
   if (r.kind == TaskDim::Kind::kChoice)
     for (const std::string& c : r.choices) {
       std::string allowed;
-      if (!space.value_of(i, c, &allowed)) return r.name + " = " + c + " is not in the task space: " + r.name + " takes " + allowed;
+      if (!space.value_of(i, c, &allowed)) return r.name + " = " + c + " is outside the task space: " + r.name + " takes " + allowed;
     }
   if (whole.kind == TaskDim::Kind::kInt && r.kind == TaskDim::Kind::kReal)
     return r.name + " = " + r.text() + " is a real range, but " + r.name + " takes an integer in " + whole.text();
