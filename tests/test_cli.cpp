@@ -1236,7 +1236,14 @@ TEST_CASE("bad usage exits 2 naming the option and what it expects", "[cli]") {
       // An empty --out wrote into the default results folder.
       {"run scripts/quick.lua --out ''", "--out: expected a path, got ''"},
       {"propose curricula/paper.lua --stage T --out /tmp/roger_cli_p --budget 0",
-       "--budget: expected a number above 0, got '0'"},
+       "--budget: expected a number above 0 to 1000000000, got '0'"},
+      // Found by probes: these exited 1, as a script's mistake does.
+      {"propose curricula/paper.lua --stage T --out /tmp/roger_cli_p --budget 1e18",
+       "--budget: expected a number above 0 to 1000000000, got '1e18'"},
+      {"eval curricula/paper.lua --policy tests/policies/t_dc6.json --skill Phi_SG",
+       "--skill: expected NAME=FILE.json, got 'Phi_SG'"},
+      {"eval curricula/paper.lua --policy tests/policies/t_dc6.json --skill Phi_SG=",
+       "--skill: expected NAME=FILE.json, got 'Phi_SG=' (no file)"},
       // Found by a probe: a --set without its '=' exited 1, as a script's mistake does.
       {"run scripts/quick.lua --set mass", "--set: expected key=value, got 'mass'"},
       {"eval curricula/scripted.lua --policy task --set =2", "--set: expected key=value, got '=2'"},

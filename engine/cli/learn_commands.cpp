@@ -118,8 +118,10 @@ void print_failed_seeds(const EvalArgs& a, const std::vector<uint64_t>& failed,
 // another body or over a retrained skill must not read as the default run.
 void print_changes(const EvalArgs& a) {
   std::string changes;
-  for (const auto& s : a.sets) changes += (changes.empty() ? "" : ", ") + ("--set " + s);
-  for (const auto& s : a.skills) changes += (changes.empty() ? "" : ", ") + ("--skill " + s);
+  // Each once, as split_sets takes a repeated one (found by a probe: the line showed it twice).
+  for (const auto& [k, v] : split_sets(a.sets, "--set")) changes += (changes.empty() ? "" : ", ") + ("--set " + k + "=" + v);
+  for (const auto& [k, v] : split_sets(a.skills, "--skill"))
+    changes += (changes.empty() ? "" : ", ") + ("--skill " + k + "=" + v);
   if (!changes.empty()) std::printf("  with           %s\n", changes.c_str());
 }
 

@@ -91,14 +91,25 @@ CLI::Option* repeatable(CLI::Option* o) {
 // --set key=value, repeatable; a word without its '=' (or without a key) is the parser's refusal,
 // status 2 as every malformed option's (found by a probe: `--set mass` exited 1, as a script's
 // mistake does).
+// A key=value word (`shown` in the help, `expected` in the refusal); with needs_value, a value too.
+CLI::Validator key_value(const char* shown, const char* expected, bool needs_value = false) {
+  return CLI::Validator(
+      [expected, needs_value](std::string& kv) -> std::string {
+        const size_t eq = kv.find('=');
+        if (eq == std::string::npos || eq == 0) return std::string("expected ") + expected + ", got '" + kv + "'";
+        return needs_value && eq + 1 == kv.size() ? std::string("expected ") + expected + ", got '" + kv + "' (no file)"
+                                                  : "";
+      },
+      shown);
+}
+
 void add_sets(CLI::App* c, std::vector<std::string>& sets, const char* help) {
-  repeatable(c->add_option("--set", sets, help))
-      ->check(CLI::Validator(
-          [](std::string& kv) -> std::string {
-            const size_t eq = kv.find('=');
-            return eq == std::string::npos || eq == 0 ? "expected key=value, got '" + kv + "'" : "";
-          },
-          "KEY=VALUE"));
+  repeatable(c->add_option("--set", sets, help))->check(key_value("KEY=VALUE", "key=value"));
+}
+
+// --skill NAME=FILE.json, repeatable, checked as --set is (found by a probe: `--skill Phi_SG` exited 1).
+void add_skills(CLI::App* c, std::vector<std::string>& skills, const char* help) {
+  repeatable(c->add_option("--skill", skills, help))->check(key_value("NAME=FILE.json", "NAME=FILE.json", true));
 }
 
 // --lua-instructions and --lua-memory, for commands that run scripts.
@@ -141,9 +152,9 @@ CLI::App* add_render(CLI::App& app, RenderArgs& a) {
                 "episode of a policy.json written by roger train (a folder with frames and a replay "
                 "page, or a .png summary)");
   c->add_option("--scenario", a.world, "The episode's scenario (default: the policy's)");
-  repeatable(c->add_option("--skill", a.skills,
+  add_skills(c, a.skills,
                            "With a saved policy: a learned skill's policy NAME=FILE.json instead of the one it embeds "
-                           "(repeatable), as roger eval takes it"));
+                           "(repeatable), as roger eval takes it");
   c->add_option("--test-task", a.test_task,
                 "With a saved policy of a stage that teaches: task K (from 1) of the test set its trial ended on, "
                 "in that task's world seed")
@@ -171,9 +182,9 @@ CLI::App* add_eval(CLI::App& app, EvalArgs& a, CLI::Option*& seed) {
       ->required();
   c->add_option("--scenario", a.scenario, "Scenario (default: the policy's)");
   add_sets(c, a.sets, "Scenario parameter key=value (repeatable)");
-  repeatable(c->add_option("--skill", a.skills,
+  add_skills(c, a.skills,
                            "With a saved policy: a learned skill's policy NAME=FILE.json instead of the one it embeds "
-                           "(repeatable), e.g. a Phi_SG retrained on another body"));
+                           "(repeatable), e.g. a Phi_SG retrained on another body");
   c->add_option("--episodes", a.episodes,
                 "Episodes (default 50; of a saved policy, its stage's final evaluation's, 50 unless the stage sets "
                 "checkpoints.final)")
@@ -197,8 +208,8 @@ CLI::App* add_train(CLI::App& app, TrainArgs& a) {
   c->add_option("--seed", a.seed, "Trial seed")->capture_default_str()->check(seed_value());
   c->add_option("--out", a.out, "Output folder")->check(path_value())->required();
   c->add_flag("--json", a.json, "End with one JSON line of the figures");
-  repeatable(c->add_option("--skill", a.skills,
-                           "A learned skill's policy NAME=FILE.json (repeatable; default: train its stage first)"));
+  add_skills(c, a.skills,
+                           "A learned skill's policy NAME=FILE.json (repeatable; default: train its stage first)");
   add_sets(c, a.sets, "Scenario parameter key=value (repeatable)");
   c->add_option("--init", a.init,
                 "A policy.json learned earlier: the Q-table starts from its values over the actions the two "
@@ -214,7 +225,7 @@ CLI::App* add_propose(CLI::App& app, ProposeArgs& a) {
   c->add_option("--stage", a.stage, "The task stage (e.g. T)")->required();
   c->add_option("--context", a.context, "The starting Psi: a context of the stage (default: its first)");
   c->add_option("--budget", a.budget, "Simulated seconds of training the whole search may spend")
-      ->required()->check(number_in(0.0, HUGE_VAL, true));
+      ->required()->check(number_in(0.0, 1e9, true));  // propose_curriculum's bound, the parser's refusal (status 2)
   c->add_option("--out", a.out, "Folder of the proposal, its report and the search's records (re-run resumes)")->check(path_value())->required();
   add_lua_limits(c, a.lua, "");
   c->add_option("--seed", a.seed, "Search seed")->capture_default_str()->check(seed_value());
