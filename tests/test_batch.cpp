@@ -418,7 +418,8 @@ TEST_CASE("a results folder in use by a run is refused to a second run, parts of
     CHECK_THROWS_WITH(RunningClaim(out.string(), Shard{0, 2}),
                       Catch::Contains("in use by another roger run of the same part (--shard 0/2)" + pid));
     CHECK_THROWS_WITH(RunningClaim(out.string(), Shard()),
-                      Catch::Contains("in use by runs of parts of it (--shard or --only):"));
+                      Catch::Contains("in use by runs of parts of it (--shard or --only): --shard 0/2" + pid +
+                                      ", --shard 1/2" + pid + ": two runs of one folder"));
     // Found by a probe: a part that shares trials with a part running (its own shard, narrowed by
     // --only) ran them at the same time.
     CHECK_THROWS_WITH(RunningClaim(out.string(), Shard{1, 2}, {"SG"}),

@@ -392,8 +392,10 @@ std::string same_contents_hint(const json& old_config, const json& config) {
   if (then == now || fingerprints(old_config).empty() || fingerprints(old_config) != fingerprints(config)) return "";
   return "\nEvery Lua file its trials read holds what it held (the same fingerprints), but other files: the "
          "curriculum was " + then + " then and is " + now + " now. A batch script's curriculum is looked for from "
-         "the current folder first (then beside the script, then in the project): run the command from the folder "
-         "the run was started in, or name the curriculum in the script by a path that does not depend on it.";
+         "the current folder first, then beside the script, then in the project, so another current folder or a "
+         "copy of the script elsewhere (beside a copy of its curriculum) finds another file: run the folder's own "
+         "script (manifest.json's script_file) from the folder the run was started in, or name the curriculum in "
+         "the script by a path that depends on neither.";
 }
 
 // The refusal of a folder made with configuration `old_config`, with the differences from
@@ -1165,8 +1167,14 @@ RunningClaim::RunningClaim(const std::string& out, const Shard& shard, const std
     // Parts share the folder's claim: if a shared lock is free, parts hold it; else a whole run.
     const bool parts = try_flock(whole_, LOCK_SH, whole);
     ::close(whole_);
-    throw Error(what + (parts ? "runs of parts of it (--shard or --only)" : "another roger run" + holder_of(whole)) +
-                then);
+    // Each part named with its process (found by a probe: "runs of parts of it" named none).
+    std::vector<std::string> said;
+    if (parts)
+      for (const LivePart& p : live_parts(out, "")) said.push_back(p.said);
+    std::sort(said.begin(), said.end());
+    const std::string running = said.empty() ? "" : ": " + join(said);
+    throw Error(what + (parts ? "runs of parts of it (--shard or --only)" + running
+                              : "another roger run" + holder_of(whole)) + then);
   }
   if (part.empty()) {
     write_holder(whole_);
