@@ -765,6 +765,12 @@ TEST_CASE("a corrupt record of a results folder is named, never read as zeros, a
          return std::regex_replace(t, std::regex("\"scenarios/unobstructed.lua\": \"[0-9a-f]+\""),
                                    "\"scenarios/unobstructed.lua\": \"00000000000000bb\""); },
        "it read scenarios/unobstructed.lua with the fingerprint 00000000000000bb, but the folder's"},
+      {"trials/SG/B1/001/result.json", [](const std::string& t) {  // a checkpoint's rate edited (dashboard)
+         return std::regex_replace(t, std::regex("(\"checkpoints\": \\[\\s*\\{[^}]*\"success_rate\":) [0-9.e+-]+"),
+                                   "$1 0.123"); },
+       "checkpoints.jsonl:1: checkpoint 1 is not the one the trial's result.json records: edited?"},
+      {"trials/SG/B1/001/checkpoints.jsonl", [](const std::string& t) { return t.substr(0, t.find('\n') + 1); },
+       "checkpoints.jsonl: holds 1 checkpoints, but the trial's result.json records "},
       {"trials/eval/gen/spade/000/result.json", [](const std::string& t) {  // its policy trained again since
          return std::regex_replace(t, std::regex("(\"trials/T/DC6/000/policy.json\": )\"[0-9a-f]+\""),
                                    "$1\"00000000000000cc\""); },

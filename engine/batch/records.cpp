@@ -522,6 +522,35 @@ void check_final_records(const fs::path& dir, const json& result) {
                           {"final_time_mean", "sim_s", false}, {"final_sorted_mean", "sorted", false}}});
 }
 
+// A training trial's checkpoints.jsonl, where there is one, holds its result's checkpoints line for
+// line (found by a probe: a checkpoint's rate edited in result.json reached the dashboard unseen,
+// and a damaged line of checkpoints.jsonl was never noticed).
+void check_checkpoint_records(const fs::path& dir, const json& result) {
+  const fs::path file = dir / "checkpoints.jsonl";
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) return;
+  const std::string text = read_file_text(file.string());
+  const json& cps = result["checkpoints"];
+  size_t k = 0, at = 0;
+  for (; at < text.size(); ++k) {
+    const size_t end = std::min(text.find('\n', at), text.size());
+    const std::string where = file.string() + ":" + std::to_string(k + 1);
+    json line;
+    try {
+      line = json::parse(text.substr(at, end - at));
+    } catch (const json::exception& e) {
+      throw Error(where + ": not JSON (" + json_error_text(e.what()) + ")");
+    }
+    if (k >= cps.size() || line != cps[k])
+      throw Error(where + ": checkpoint " + std::to_string(k + 1) + " is not the one the trial's result.json records" +
+                  (k >= cps.size() ? " (it records " + std::to_string(cps.size()) + ")" : "") + ": edited?");
+    at = end + 1;
+  }
+  if (k != cps.size())
+    throw Error(file.string() + ": holds " + std::to_string(k) + " checkpoints, but the trial's result.json records " +
+                std::to_string(cps.size()) + ": truncated or edited?");
+}
+
 // An evaluation trial's episodes (eval.jsonl, named by its result since they were written).
 void check_evaluation_records(const fs::path& dir, const json& result) {
   if (!result.contains("episodes_file")) return;  // a result from before eval.jsonl was written
@@ -565,6 +594,7 @@ std::string trial_status(const std::string& out, const PlannedTrial& t, json& re
         QTable::from_json(saved, psi, policy);
         check_policy_owner(policy, saved, t);
         check_final_records(d, result);
+        check_checkpoint_records(d, result);
       } else {
         check_evaluation_records(d, result);
       }
