@@ -364,7 +364,8 @@ FolderProvenance read_provenance(const fs::path& manifest) {
   return p;
 }
 
-const FolderProvenance& folder_provenance(const std::string& out) {
+// A copy: runs read it from several threads, and a rewritten manifest replaces the cached entry.
+FolderProvenance folder_provenance(const std::string& out) {
   static std::mutex mutex;
   static std::map<std::string, std::pair<std::string, FolderProvenance>> cache;  // folder -> (stamp, what)
   const fs::path manifest = fs::path(out) / "manifest.json";
@@ -383,7 +384,7 @@ const FolderProvenance& folder_provenance(const std::string& out) {
 // shard run elsewhere, of a curriculum edited there, or by another build of the engine) were read
 // as this folder's and changed its tables; and an evaluation of a policy retrained since was kept.
 std::string provenance_problem(const std::string& out, const json& r) {
-  const FolderProvenance& f = folder_provenance(out);
+  const FolderProvenance f = folder_provenance(out);
   if (!f.known) return "";
   if (r.contains("engine") && r["engine"].is_string() && r["engine"] != f.engine)
     return "it was made by another build of the engine (engine " + r["engine"].get<std::string>() +
