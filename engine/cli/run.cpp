@@ -247,6 +247,7 @@ bool refuse_unplaceable_test_tasks(const BatchScript& b, std::ostream& log) {
 int command_run(const RunArgs& a) {
   std::ostream& log = a.progress ? *a.progress : std::cerr;
   catch_interrupts();  // Ctrl-C keeps what finished and writes the report of it (below)
+  std::string out;  // the results folder, once known
   try {
     const Shard shard = a.shard.empty() ? Shard() : parse_shard(a.shard);
     const BatchOverrides overrides = overrides_of(a);
@@ -255,6 +256,7 @@ int command_run(const RunArgs& a) {
     for (const std::string& n : b.notes) log << "roger run: note: " << n << "\n";  // as roger check says them
     for (const std::string& w : unread_sets_in_batch(b, overrides.sets)) log << "roger run: warning: " << w << "\n";
     const BatchPlan plan = plan_batch(script, a.out.empty() ? "results/" + b.name : a.out);
+    out = plan.out;
     check_selectors(plan, a.only);
     if (refuse_unplaceable_test_tasks(b, log)) return 1;
     // A new folder's --only that needs trials outside it is refused before anything is made there
@@ -274,9 +276,10 @@ int command_run(const RunArgs& a) {
     const BatchSummary summary = run_batch(plan, RunControl{a.jobs, a.live, a.max_trials, a.only, &log, shard, !a.no_eval_cache, a.explain});
     return finish_run(a, plan, shard, summary, log);
   } catch (const FileError& e) {
-    // A results folder that could not be made has nothing to resume (found by a probe: --out /sys/x
-    // said "it resumes where this one stopped").
-    const bool made = std::string(e.what()).rfind("cannot create the results folder", 0) != 0;
+    // A folder without a manifest has nothing to resume (found by probes: --out /sys/x, and a
+    // read-only empty folder, said "it resumes where this one stopped").
+    std::error_code ec;
+    const bool made = !out.empty() && std::filesystem::exists(std::filesystem::path(out) / "manifest.json", ec);
     log << "roger run: " << file_error_line(e, made) << "\n";
     return 1;
   } catch (const std::exception& e) {

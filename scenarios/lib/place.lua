@@ -57,11 +57,24 @@ end
 -- roger.body_metrics(...).footprint_radius), so no heading puts a hand in a wall or on the goal;
 -- p.robot_wall_margin is the least distance from the walls to the base centre (the footprint may
 -- make it larger). Returns the base position.
+-- "Roger", and the sizes of its body that are not the paper's (found by a probe: a body too large
+-- for the arena was refused as "no placement for 'Roger'", naming no parameter).
+local SIZES = { "upper_arm", "forearm", "base_radius", "hand_radius" }
+local function roger_name(p)
+  local changed = {}
+  for _, name in ipairs(SIZES) do
+    if p[name] ~= body.PARAMS[name].default then
+      changed[#changed + 1] = name .. " = " .. string.format("%.14g", p[name])
+    end
+  end
+  return #changed == 0 and "Roger" or ("Roger (" .. table.concat(changed, ", ") .. ")")
+end
+
 function place.robot(world, rng, p)
   check_params("robot", p)
   local b = body.of(p, 1)  -- its errors at the scenario's line, as noise_of's
   local x, y = world:sample_position{
-    name = "Roger",
+    name = roger_name(p),
     radius = roger.body_metrics(b).footprint_radius,
     wall_margin = p.robot_wall_margin,
   }
