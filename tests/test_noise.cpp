@@ -192,7 +192,7 @@ TEST_CASE("a noise parameter the world does not use is refused at the generator"
   own.set_param("noise_joints_delay", "0");
   own.set_param("noise_joints_tau", "3");  // a drift's time, unscaled, that the world's noise has not
   CHECK_THROWS_WITH(own.generate(0), Contains("the parameter noise_joints_tau = 3 asks for joints drift tau = 3, but "
-                                              "the world's Roger has 0"));
+                                              "the world's Roger has no drift:"));
   own.set_param("noise_joints_tau", "10");
   own.set_param("noise_scale", "8");
   CHECK_THROWS_WITH(own.generate(0), Contains("noise_scale = 8 (times noise_joints = 0.01) asks for joints sigma = 0.08, "

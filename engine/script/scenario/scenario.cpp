@@ -278,8 +278,10 @@ void check_noise_params_used(const std::map<std::string, ParamSlot>& params, con
         fail(asking + " asks for " + name + " noise, but the world has none: pass body.noise_of(params) to world:robot{ "
              "noise = ... } (scenarios/lib/body.lua), or leave the parameter at 0");
       const bool defaults = !set(param) && !scale_set;
+      // A tau of a world without drift is none, not 0 (found by a probe: "has 0", a tau no world has).
+      const std::string has = tau && c->drift == 0.0 ? "no drift" : format_number(in_world);
       fail(asking + (defaults ? " (its default)" : "") + " asks for " + name + " " + what + " = " + format_number(asked) +
-           ", but the world's Roger has " + format_number(in_world) + ": its generator sets the noise itself rather "
+           ", but the world's Roger has " + has + ": its generator sets the noise itself rather "
            "than passing body.noise_of(params) to world:robot{ noise = ... } (scenarios/lib/body.lua); " +
            (defaults ? "pass it, or give the world's levels as the parameters' defaults (body.with_params(params, { " +
                            param + " = ... }))"
