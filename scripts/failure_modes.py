@@ -93,6 +93,17 @@ def main():
     ap.add_argument("--verbose", action="store_true", help="also print each failing episode and its mode")
     a = ap.parse_args()
     a.roger = find_roger(NAME, a.roger)
+    # Every trial's policy before the table's first line (found by a probe: a missing one stopped the
+    # script after its header was printed).
+    try:
+        trials = [int(t) for t in a.trials.split(",")]
+    except ValueError:
+        ap.error(f"--trials: expected trial numbers separated by commas (0,1,2), got '{a.trials}'")
+    for trial in trials:
+        policy = os.path.join(a.results, "trials", "T", "DC6", "%03d" % trial, "policy.json")
+        if trial < 0 or not os.path.isfile(policy):
+            sys.exit(f"failure_modes: trial {trial}: no T/DC6 policy at {policy} (a results folder of roger run "
+                     "scripts/quick.lua or scripts/paper.lua, with that trial finished, is expected)")
     modes = ["thrash", "detour", "preshape", "grasp", "approach", "unbalanced", "dropped", "other"]
     total = collections.Counter()
     episodes_total = 0
@@ -102,8 +113,8 @@ def main():
         for shape in SHAPES:
             counts = collections.Counter()
             n = 0
-            for trial in a.trials.split(","):
-                policy = os.path.join(a.results, "trials", "T", "DC6", "%03d" % int(trial), "policy.json")
+            for trial in trials:
+                policy = os.path.join(a.results, "trials", "T", "DC6", "%03d" % trial, "policy.json")
                 n += a.episodes
                 for seed in failing_seeds(a.roger, policy, shape, a.seed, a.episodes):
                     folder = os.path.join(tmp, "%s-%s-%d" % (shape, trial, seed))

@@ -226,7 +226,8 @@ def partial_note(folder, trials, status):
 
 def main():
     if len(sys.argv) != 2 or sys.argv[1].startswith("-"):
-        sys.exit("usage: teachers_digest.py RESULTS (a results folder of `roger run scripts/teachers.lua`)")
+        print("usage: teachers_digest.py RESULTS (a results folder of `roger run scripts/teachers.lua`)", file=sys.stderr)
+        sys.exit(2)
     folder = sys.argv[1]
     try:
         trials, status = load(folder)
@@ -240,6 +241,11 @@ def main():
         sys.exit(f"teachers_digest: {e}")
     except (KeyError, TypeError) as e:  # a teacher's state without a field read here
         sys.exit(f"teachers_digest: {folder}: a trial's teacher record has no {e}")
+    # A folder of another script's runs digests to nothing: said, not printed as empty sections
+    # (found by a probe).
+    if not trials and status["done"] > 0:
+        sys.exit(f"teachers_digest: {folder}: no trial there has a teacher's record (a results folder of "
+                 "`roger run scripts/teachers.lua` is expected)")
     note = partial_note(folder, trials, status)
     if note:
         print(note, file=sys.stderr)

@@ -155,7 +155,11 @@ def svg(rates, partial="", short=()):
 
 def main():
     if len(sys.argv) not in (2, 3):
-        sys.exit("usage: transfer_figure.py RESULTS_FOLDER [OUT.svg]")
+        print("usage: transfer_figure.py RESULTS_FOLDER [OUT.svg]", file=sys.stderr)
+        sys.exit(2)
+    # One line, as the other figure scripts say it (found by a probe: a Python traceback).
+    if not os.path.isfile(os.path.join(sys.argv[1], "summary.csv")):
+        sys.exit(f"transfer_figure: {sys.argv[1]} is not a results folder of roger run (no summary.csv)")
     summary = sys.argv[1] + "/summary.csv"
     rates = read_rates(summary)
     if not any(k.startswith(("b_", "c_")) for k in rates):

@@ -39,6 +39,9 @@ read) and checks:
                           while roger run runs): the counts on stderr, the figures of the rest
   teachers_digest_no_file a folder without manifest.json, a result.json cut short, no argument:
                           a one-line error each
+  wrong_folders           a missing folder (transfer_figure.py), another script's folder
+                          (teachers_digest.py), a trial without its policy (failure_modes.py, before
+                          any output): a one-line error each; usage errors exit 2
 
 --scripts: the folder of the scripts to check (default: the source tree's scripts/; give a folder of
 older copies to see the checks fail on them). Exit 0 when every check holds, 1 otherwise (each
@@ -611,10 +614,38 @@ def teachers_digest_no_file(scripts, work):
     one_line_error(run([script]), "teachers_digest.py without a folder")
 
 
+def wrong_folders(scripts, work):
+    # Found by a probe: transfer_figure.py on a missing folder ended in a traceback, teachers_digest.py
+    # on another script's folder printed empty sections with status 0, failure_modes.py printed its
+    # table's header before finding a trial's policy missing, and usage errors exited 1.
+    missing = os.path.join(work, "no_such_folder")
+    line = one_line_error(run([os.path.join(scripts, "transfer_figure.py"), missing]), "transfer_figure.py, no folder")
+    expect("is not a results folder" in line, f"the error does not say it is not a results folder: {line!r}")
+    expect(run([os.path.join(scripts, "transfer_figure.py")]).returncode == 2, "transfer_figure.py's usage: not status 2")
+    expect(run([os.path.join(scripts, "teachers_digest.py")]).returncode == 2, "teachers_digest.py's usage: not status 2")
+    other = os.path.join(work, "not_teachers")
+    teachers_folder(other)
+    for id in TEACHER_TRIALS:  # the same trials without a teacher: another script's folder
+        path = os.path.join(other, "trials", id, "result.json")
+        if os.path.exists(path):
+            with open(path) as f:
+                record = json.load(f)
+            record.pop("teacher", None)
+            with open(path, "w") as f:
+                json.dump(record, f)
+    line = one_line_error(run([os.path.join(scripts, "teachers_digest.py"), other]), "teachers_digest.py, no teacher")
+    expect("no trial there has a teacher's record" in line, f"the error does not say what is missing: {line!r}")
+    env = dict(os.environ, ROGER=sys.executable)  # any program: the check comes before roger runs
+    r = run([os.path.join(scripts, "failure_modes.py"), other, "--trials", "0"], env=env)
+    expect(r.stdout == "", f"failure_modes.py printed before its check:\n{r.stdout}")
+    line = one_line_error(r, "failure_modes.py, a trial without its policy")
+    expect("trial 0: no T/DC6 policy at" in line, f"the error does not name the trial and policy: {line!r}")
+
+
 CHECKS = [transfer_unreached, transfer_partial, transfer_partial_rows, transfer_no_file, atomic_writes,
           failure_modes_no_roger, noise_figure_no_roger, noise_figure_partial, noise_kinds_options,
           noise_kinds_partial, noise_kinds_no_roger, teachers_digest_figures, teachers_digest_partial,
-          teachers_digest_no_file]
+          teachers_digest_no_file, wrong_folders]
 
 
 def main():
