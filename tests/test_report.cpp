@@ -1203,6 +1203,14 @@ struct KillCopy {
   ~KillCopy() { fs::remove_all(dir); }
   json read(const std::string& file) const { return json::parse(slurp(dir / file)); }
   void write(const std::string& file, const json& j) const { spit(dir / file, j.dump(1)); }
+  // A training trial's result.json with its checkpoints written to checkpoints.jsonl as well, which
+  // must hold them line for line.
+  void write_training(const std::string& result_file, const json& j) const {
+    write(result_file, j);
+    std::string lines;
+    for (const json& c : j["checkpoints"]) lines += c.dump() + "\n";
+    spit((dir / result_file).parent_path() / "checkpoints.jsonl", lines);
+  }
   // roger report on the copy: its exit status, and what it said.
   int report(std::string& said) const {
     ReportArgs r;
@@ -1574,7 +1582,7 @@ TEST_CASE("bounds from censored trials are marked in the improvement and the cum
     j["reached"] = false;  // its time is then its whole training time: a lower bound
     last_rate = j["checkpoints"].back()["success_rate"];
     j["checkpoints"].back()["success_rate"] = 0.5;  // as a trial that missed it ends (checked against reached)
-    copy.write(id, j);
+    copy.write_training(id, j);
   }
   REQUIRE(copy.report(said) == 0);
   const std::string tables = slurp(copy.dir / "tables.md");
@@ -1596,7 +1604,7 @@ TEST_CASE("bounds from censored trials are marked in the improvement and the cum
   json dc2 = copy.read("trials/SG/DC2/001/result.json");
   dc2["reached"] = true;
   dc2["checkpoints"].back()["success_rate"] = last_rate;
-  copy.write("trials/SG/DC2/001/result.json", dc2);
+  copy.write_training("trials/SG/DC2/001/result.json", dc2);
   REQUIRE(copy.report(said) == 0);
   CHECK(std::regex_search(slurp(copy.dir / "tables.md"), std::regex("\\| DC2 \\| [0-9]+:[0-9]{2} \\| ≥ -?[0-9.]+% \\|")));
 }

@@ -963,7 +963,7 @@ TEST_CASE("a task whose world cannot be placed is skipped and shown; a space of 
                           Contains(", for training episode 0, world seed ") &&
                           Contains("the task space (robot_distance = roger.real(3.3, 3.4)) asks for worlds the scenario "
                                    "cannot build. The placement failed with: ") &&
-                          Contains("lib/place.lua:78: world:sample_position: no placement for 'circle' after 1000 tries"));
+                          Contains("lib/place.lua:91: world:sample_position: no placement for 'circle' after 1000 tries"));
   // Found by a probe: a narrow space far from Roger, which some layouts hold and the first
   // episode's does not, failed every trial drawing 100 tasks in that one layout. After 10 skips the
   // draws move to another world seed: the trial trains.
@@ -1868,7 +1868,7 @@ TEST_CASE("a test-set task that cannot be placed fails its trial naming the test
   CHECK(placement);
   CHECK_THAT(message, StartsWith(file.string() + ":6: stage 'S': test task 2 of 2 (robot_distance = 3.3) cannot be "
                                                  "placed in world seed 1000001; the test set is not skipped") &&
-                          Contains("The placement failed with: scenarios/lib/place.lua:78: world:sample_position: no "
+                          Contains("The placement failed with: scenarios/lib/place.lua:91: world:sample_position: no "
                                    "placement for 'circle'") &&
                           Contains("(checkpoint 1 evaluation episode 1, world seed 1000001)"));
 }

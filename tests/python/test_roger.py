@@ -2435,7 +2435,7 @@ class Tasks(unittest.TestCase):
         for k in skipped:
             self.assertGreater(float(k["task"]["robot_distance"]), 1.9, k)
             self.assertEqual(k["task_params"]["robot_distance"], float(k["task"]["robot_distance"]))
-            self.assertIn("scenarios/lib/place.lua:78: world:sample_position: no placement for 'circle'", k["error"])
+            self.assertIn("scenarios/lib/place.lua:91: world:sample_position: no placement for 'circle'", k["error"])
         self.assertEqual(resets(env, 8, seed=3), runs)  # the same skips again from the same seed
         self.assertEqual(env.teacher_state["episodes"], 7)  # the 7 earlier episodes, each told at the next reset; no skip
         # A copy's teacher asks the skipped tasks too, so it goes on with the same tasks.
@@ -2446,7 +2446,7 @@ class Tasks(unittest.TestCase):
         with self.assertRaises(roger.PlacementError) as cm:
             env.reset(options={"task": {"robot_distance": 3.3}})
         self.assertIsInstance(cm.exception, roger.ScriptError)
-        self.assertEqual((cm.exception.file, cm.exception.line), ("scenarios/lib/place.lua", 78))
+        self.assertEqual((cm.exception.file, cm.exception.line), ("scenarios/lib/place.lua", 91))
         # A space of worlds that cannot be built: the reset says so rather than drawing forever.
         holes = roger.make(EXAMPLE, "Look", "Gaze", tasks={"robot_distance": roger.axis.real(3.3, 3.4)},
                            teacher="roger.teacher.random{}")
