@@ -64,6 +64,9 @@ std::string fingerprint(const std::string& text);
 // names inside the results folder `out` ("trials/SG/DC2/000/policy.json"), as its result.json
 // records them in "policies": a trial that read a policy retrained since is run again.
 nlohmann::json policy_fingerprints(const std::string& out, const std::vector<std::string>& names);
+// Whether `key`, a source named relative to a project root as source_fingerprints names it
+// ("curricula/paper.lua"), is the file at `path` (".../curricula/paper.lua"): path ends with "/" + key.
+bool source_names_path(const std::string& key, const std::string& path);
 // The file a name of source_fingerprints stands for.
 std::filesystem::path source_file_path(const std::string& name);
 

@@ -57,7 +57,6 @@ std::string join_some(const std::vector<std::string>& items) {
   return items.size() > 5 ? s + " and " + std::to_string(items.size() - 5) + " more" : s;
 }
 
-
 // A value of a configuration for a message: whole when short, else 70 characters from a little
 // before `at`, where it first differs from the other side's, so that the change shows.
 std::string excerpt(const std::string& s, size_t at) {
@@ -307,8 +306,7 @@ fs::path recorded_root(const json& config, const fs::path& fallback) {
   const std::string file = config.value("curriculum_file", std::string());
   for (auto it = config["sources"].begin(); it != config["sources"].end(); ++it) {
     const std::string& key = it.key();
-    if (key.empty() || key[0] == '/' || file.size() <= key.size() + 1) continue;
-    if (file.compare(file.size() - key.size(), key.size(), key) == 0 && file[file.size() - key.size() - 1] == '/')
+    if (key[0] != '/' && source_names_path(key, file))
       return fs::path(file.substr(0, file.size() - key.size() - 1));
   }
   return fallback;
@@ -770,6 +768,11 @@ json source_fingerprints(const std::vector<fs::path>& files) {
   return out;
 }
 
+bool source_names_path(const std::string& key, const std::string& path) {
+  return !key.empty() && path.size() > key.size() + 1 && path.compare(path.size() - key.size(), key.size(), key) == 0 &&
+         path[path.size() - key.size() - 1] == '/';
+}
+
 json policy_fingerprints(const std::string& out, const std::vector<std::string>& names) {
   json prints = json::object();
   for (const std::string& name : names) prints[name] = fingerprint(read_file_text((fs::path(out) / name).string()));
@@ -1035,11 +1038,12 @@ namespace {
 // .roger-plot-PID-N-R.tmp): called only by a run that holds the folder alone, when no writer can
 // be at work. Best effort: one that cannot be removed is left, as before.
 void remove_stale_temporaries(const std::string& out) {
-  static const std::regex temporary(R"(\..+\.tmp[0-9]+-[0-9]+-[0-9]+|\.staged[0-9]+-[0-9]+-[0-9]+\.tmp|)"
-                                    R"(\.roger-plot-[0-9]+-[0-9]+-[0-9]+\.tmp)");
+  static const std::regex plot_temporary(R"(\.roger-plot-[0-9]+-[0-9]+-[0-9]+\.tmp)");
   std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(out, ec))
-    if (std::regex_match(entry.path().filename().string(), temporary)) fs::remove_all(entry.path(), ec);
+  for (const auto& entry : fs::directory_iterator(out, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (is_writer_leftover(name) || std::regex_match(name, plot_temporary)) fs::remove_all(entry.path(), ec);
+  }
 }
 
 // Whether a file at the top of a folder without a manifest can be a run's that is starting beside

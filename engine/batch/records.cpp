@@ -355,10 +355,8 @@ FolderProvenance read_provenance(const fs::path& manifest) {
       if (!print.is_string()) continue;
       p.sources[name] = print.get<std::string>();
       // The curriculum is the source its recorded path ends with ("tests/x.lua" of ".../tests/x.lua").
-      const bool is_curriculum = name == file || (file.size() > name.size() && !name.empty() &&
-                                                  file.compare(file.size() - name.size(), name.size(), name) == 0 &&
-                                                  file[file.size() - name.size() - 1] == '/');
-      if (std::string(field) == "sources" && is_curriculum) p.curriculum = print.get<std::string>();
+      if (std::string(field) == "sources" && (name == file || source_names_path(name, file)))
+        p.curriculum = print.get<std::string>();
     }
   }
   return p;

@@ -5,7 +5,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstring>
@@ -13,6 +12,7 @@
 #include <fstream>
 #include <sstream>
 #include <random>
+#include <regex>
 
 #include "core/error.h"
 
@@ -115,18 +115,45 @@ void write_file_atomic(const std::string& path, const std::string& content,
   file.commit();
 }
 
+bool is_writer_leftover(const std::string& name) {
+  static const std::regex leftover(R"(\..+\.tmp[0-9]+-[0-9]+-[0-9]+|\.staged[0-9]+-[0-9]+-[0-9]+\.tmp)");
+  return std::regex_match(name, leftover);
+}
+
 namespace {
 
-// A writer's leftover in an output folder: StagedFiles' ".staged<pid>-<n>-<r>.tmp" folder or
-// write_file_atomic's ".<name>.tmp<pid>-<n>-<r>" file.
-bool is_leftover(const std::string& name) {
-  if (name.size() < 2 || name[0] != '.') return false;
-  if (name.rfind(".staged", 0) == 0 && name.size() > 11 && name.compare(name.size() - 4, 4, ".tmp") == 0) return true;
-  const size_t tmp = name.rfind(".tmp");
-  if (tmp == std::string::npos || tmp < 2) return false;
-  const std::string rest = name.substr(tmp + 4);  // "<pid>-<n>-<r>"
-  return !rest.empty() && rest.find_first_not_of("0123456789-") == std::string::npos &&
-         std::count(rest.begin(), rest.end(), '-') == 2;
+// Takes the lock of a claim on `path` (made if missing: `made` says so) without waiting, and
+// returns its descriptor; throws naming the holder when another process has it. The lock holds only
+// if the file locked is still the one at the path: a claim that ended removes the file it made, and
+// one locked between its open and that removal holds nothing, so it tries again.
+int take_claim_lock(const std::string& path, const std::string& dir, const std::string& command, bool& made) {
+  for (;;) {
+    int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    made = fd >= 0;
+    if (fd < 0 && errno == EEXIST) fd = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
+    if (fd < 0) {
+      if (errno == ENOENT) continue;  // removed by a claim ending between the two opens
+      const int err = errno;
+      throw FileError(command + ": cannot write into '" + dir + "': " + std::strerror(err), path, err);
+    }
+    int got;
+    while ((got = ::flock(fd, LOCK_EX | LOCK_NB)) != 0 && errno == EINTR) {
+    }
+    if (got != 0) {
+      std::string holder(200, '\0');
+      const ssize_t n = ::pread(fd, holder.data(), holder.size() - 1, 0);
+      holder.resize(n > 0 ? size_t(n) : 0);
+      while (!holder.empty() && (holder.back() == '\n' || holder.back() == '\0')) holder.pop_back();
+      ::close(fd);
+      throw Error(command + ": the folder '" + dir + "' is in use by another command writing into it" +
+                  (holder.empty() ? std::string() : " (" + holder + ")") + ": wait for it to end, or give another folder");
+    }
+    struct stat held, named;
+    if (::fstat(fd, &held) == 0 && ::stat(path.c_str(), &named) == 0 && held.st_ino == named.st_ino &&
+        held.st_dev == named.st_dev)
+      return fd;
+    ::close(fd);
+  }
 }
 
 }  // namespace
@@ -138,38 +165,11 @@ OutputClaim::OutputClaim(const std::string& dir, const std::string& command) : d
     throw FileError(command + ": cannot write into '" + dir + "': " + std::strerror(ENOTDIR), dir, ENOTDIR);
   fs::create_directories(dir, ec);
   if (ec) throw FileError(command + ": cannot make the folder '" + dir + "': " + ec.message(), dir, ec.value());
-  const std::string path = (fs::path(dir) / ".lock").string();
-  for (;;) {
-    fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    own_file_ = fd_ >= 0;
-    if (fd_ < 0 && errno == EEXIST) fd_ = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
-    if (fd_ < 0) {
-      if (errno == ENOENT) continue;  // removed by a writer ending between the two opens
-      const int err = errno;
-      if (made_) fs::remove(dir, ec);
-      throw FileError(command + ": cannot write into '" + dir + "': " + std::strerror(err), path, err);
-    }
-    int got;
-    while ((got = ::flock(fd_, LOCK_EX | LOCK_NB)) != 0 && errno == EINTR) {
-    }
-    if (got != 0) {
-      std::string holder(200, '\0');
-      const ssize_t n = ::pread(fd_, holder.data(), holder.size() - 1, 0);
-      holder.resize(n > 0 ? size_t(n) : 0);
-      while (!holder.empty() && (holder.back() == '\n' || holder.back() == '\0')) holder.pop_back();
-      ::close(fd_);
-      fd_ = -1;
-      throw Error(command + ": the folder '" + dir + "' is in use by another command writing into it" +
-                  (holder.empty() ? std::string() : " (" + holder + ")") + ": wait for it to end, or give another folder");
-    }
-    // The lock holds only if the file locked is still the one at the path: a writer that ended
-    // removes the file it made, and one locked between its open and that removal holds nothing.
-    struct stat held, named;
-    if (::fstat(fd_, &held) == 0 && ::stat(path.c_str(), &named) == 0 && held.st_ino == named.st_ino &&
-        held.st_dev == named.st_dev)
-      break;
-    ::close(fd_);
-    fd_ = -1;
+  try {
+    fd_ = take_claim_lock((fs::path(dir) / ".lock").string(), dir, command, own_file_);
+  } catch (const FileError&) {
+    if (made_) fs::remove(dir, ec);
+    throw;
   }
   char host[256] = {};
   ::gethostname(host, sizeof host - 1);
@@ -179,7 +179,7 @@ OutputClaim::OutputClaim(const std::string& dir, const std::string& command) : d
   }
   std::vector<fs::path> left;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
-    if (is_leftover(it->path().filename().string())) left.push_back(it->path());
+    if (is_writer_leftover(it->path().filename().string())) left.push_back(it->path());
   for (const fs::path& p : left) fs::remove_all(p, ec);
 }
 

@@ -79,6 +79,10 @@ class StagedFiles {
   std::string dir_, path_;
 };
 
+// Whether `name` (a file name, no folder) is what a writer killed part-way leaves behind:
+// write_file_atomic's temporary ".NAME.tmpPID-N-R" or StagedFiles' folder ".stagedPID-N-R.tmp".
+bool is_writer_leftover(const std::string& name);
+
 // One writer's claim on an output folder while it lives (flock on the folder's hidden `.lock`, with
 // this process's id and host in it): a second command writing into the same folder is refused
 // naming the first, instead of both committing and leaving one's policy beside the other's

@@ -189,9 +189,9 @@ void remove_leftovers(const std::string& folder) {
   std::vector<fs::path> left;
   for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
-    const size_t tmp = name.find(".tmp");
-    if (name.size() < 2 || name[0] != '.' || tmp == std::string::npos) continue;
-    if (name.compare(0, 7, ".staged") == 0 || render_episode_writes(name.substr(1, tmp - 1))) left.push_back(it->path());
+    if (!is_writer_leftover(name)) continue;
+    if (name.rfind(".staged", 0) == 0 || render_episode_writes(name.substr(1, name.rfind(".tmp") - 1)))
+      left.push_back(it->path());
   }
   for (const fs::path& p : left) fs::remove_all(p, ec);
 }

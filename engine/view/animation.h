@@ -18,7 +18,7 @@ namespace roger {
 // How an episode is drawn and replayed.
 struct AnimationOptions {
   RenderOptions frame;       // each frame's world picture; its title defaults to `title`
-  double fps = 10.0;         // frames recorded per simulated second, for episode.json (the viewer plays in simulated time)
+  double fps = 10.0;         // frames per simulated second, for episode.json (the viewer plays in simulated time)
   std::string title;         // the page's heading and the pictures' title
   bool show_timeline = true; // the controller-state timeline under each frame
   bool dim_future = true;    // in a frame's timeline, fade what has not happened yet
