@@ -1869,18 +1869,25 @@ TEST_CASE("roger eval runs a learned Sort4 policy from its file, loaded and not 
 
 // Found by a probe: roger check ran a skill script twice (to check it, then to list its
 // policies), so each print at its top level showed twice.
-TEST_CASE("roger check runs a skill script once", "[cli]") {
-  const std::string text = "print('once from the script')\n" + slurp("curricula/scripted.lua");
-  const fs::path script = temp_file("roger_check_once_" + std::to_string(::getpid()) + ".lua", text);
-  const Run r = roger("check " + script.string());
-  INFO(r.out << r.err);
-  CHECK(r.status == 0);
-  const std::string both = r.out + r.err;
-  size_t count = 0;
-  for (size_t at = both.find("once from the script"); at != std::string::npos; at = both.find("once from the script", at + 1))
-    ++count;
-  CHECK(count == 1);
-  fs::remove(script);
+// Found by a probe: a curriculum's top level ran twice under roger check (and three times with a
+// --set), so what it printed was said as often.
+TEST_CASE("roger check runs a skill script or a curriculum once", "[cli]") {
+  for (const auto& [file, sets] : {std::pair<std::string, std::string>{"curricula/scripted.lua", ""},
+                                   {"docs/examples/curriculum_example.lua", ""},
+                                   {"docs/examples/curriculum_example.lua", " --set hand_radius=0.09"}}) {
+    const std::string text = "print('once from the script')\n" + slurp(file);
+    const fs::path script = temp_file("roger_check_once_" + std::to_string(::getpid()) + ".lua", text);
+    const Run r = roger("check " + script.string() + sets);
+    INFO(file << sets << "\n" << r.out << r.err);
+    CHECK(r.status == 0);
+    const std::string both = r.out + r.err;
+    size_t count = 0;
+    for (size_t at = both.find("once from the script"); at != std::string::npos;
+         at = both.find("once from the script", at + 1))
+      ++count;
+    CHECK(count == 1);
+    fs::remove(script);
+  }
 }
 
 // Found by a probe: the report names the batch script as the command typed it, so `roger run

@@ -388,12 +388,10 @@ bool is_module(const std::string& path, const std::vector<ModuleUse>& users) {
 // curriculum was refused for SG, whose scenario has no objects parameter). A parameter that no
 // stage's scenario declares goes to the first stage, whose scenario refuses it with its suggestions.
 // Says on stderr which stages a parameter skipped.
-std::vector<std::string> check_curriculum_sets(const std::string& path, const SandboxLimits& limits,
-                                               const ParamList& sets) {
+std::vector<std::string> check_curriculum_sets(Curriculum& cur, const SandboxLimits& limits, const ParamList& sets) {
   std::vector<std::pair<std::string, ParamList>> plan;  // stage -> the sets its scenario declares
   std::map<std::string, std::vector<std::string>> skipped;  // parameter -> the stages without it
   try {
-    const Curriculum cur = Curriculum::load(path, limits);
     std::map<std::string, std::set<std::string>> declared;  // scenario -> its parameters
     for (const auto& st : cur.stages()) {
       if (!declared.count(st.scenario))
@@ -411,7 +409,7 @@ std::vector<std::string> check_curriculum_sets(const std::string& path, const Sa
       }
     }
   } catch (const std::exception&) {
-    return check_curriculum(path, limits, sets);  // the load's error, as check_curriculum words it
+    return check_curriculum(cur, limits, sets);  // a scenario's error, as check_curriculum words it
   }
   // Stages of the same parameters in one check (each check loads the curriculum), groups in the order
   // of their first stage.
@@ -423,7 +421,7 @@ std::vector<std::string> check_curriculum_sets(const std::string& path, const Sa
   }
   std::vector<std::string> problems;
   for (const auto& [group_sets, stages] : groups)
-    for (const auto& p : check_curriculum(path, limits, group_sets, stages)) problems.push_back(p);
+    for (const auto& p : check_curriculum(cur, limits, group_sets, stages)) problems.push_back(p);
   for (const auto& [k, stages] : skipped)
     if (problems.empty())
       std::fprintf(stderr, "roger check: --set %s not checked on stage%s %s, whose scenario has no such parameter\n",
@@ -449,11 +447,19 @@ void warn_stimulus_unseen(const CurriculumStage& st, const SandboxLimits& limits
 // A curriculum: its stages' callbacks called once each (check_curriculum), then its stages listed.
 int check_curriculum_file(const std::string& path, const std::string& shown, const SandboxLimits& limits,
                           const ParamList& sets) {
+  // Loaded once: its top level runs once (a curriculum that prints printed it twice).
+  std::optional<Curriculum> loaded;
+  try {
+    loaded.emplace(Curriculum::load(path, limits));
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "roger: error: %s\n", e.what());
+    return 1;
+  }
+  Curriculum& cur = *loaded;
   const std::vector<std::string> problems =
-      sets.empty() ? check_curriculum(path, limits) : check_curriculum_sets(path, limits, sets);
+      sets.empty() ? check_curriculum(cur, limits) : check_curriculum_sets(cur, limits, sets);
   for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.c_str());
   if (!problems.empty()) return 1;
-  const Curriculum cur = Curriculum::load(path, limits);
   std::string stages;
   UnreadCache unread;
   for (const auto& st : cur.stages()) {

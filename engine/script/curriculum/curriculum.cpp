@@ -950,17 +950,21 @@ void check_teacher_function(Curriculum& cur, const CurriculumStage& st, const Pa
 
 std::vector<std::string> check_curriculum(const std::string& path, const SandboxLimits& limits, const ParamList& sets,
                                           const std::vector<std::string>& stages, const std::string& sets_from) {
-  std::vector<std::string> problems;
   std::optional<Curriculum> cur;
   try {
     cur.emplace(Curriculum::load(path, limits));
   } catch (const std::exception& e) {
-    problems.push_back(e.what());
-    return problems;
+    return {e.what()};
   }
+  return check_curriculum(*cur, limits, sets, stages, sets_from);
+}
+
+std::vector<std::string> check_curriculum(Curriculum& cur, const SandboxLimits& limits, const ParamList& sets,
+                                          const std::vector<std::string>& stages, const std::string& sets_from) {
+  std::vector<std::string> problems;
   // Each context's world: its parameters may change the body or the senses (contexts of the same
   // parameters are one check).
-  for (const auto& st : cur->stages()) {
+  for (const auto& st : cur.stages()) {
     if (!stages.empty() && std::find(stages.begin(), stages.end(), st.name) == stages.end()) continue;
     std::set<std::vector<std::pair<std::string, std::string>>> checked;
     bool worlds_failed = false;  // a context's world could not be built (said above)
@@ -992,7 +996,7 @@ std::vector<std::string> check_curriculum(const std::string& path, const Sandbox
         if (first) problems.push_back(e.what());
         continue;
       }
-      check_callbacks(*cur, st, ctx, spec, problems);
+      check_callbacks(cur, st, ctx, spec, problems);
     }
     // What training refuses first: a teacher the run's parameters leave nothing to do (found by a
     // probe: check passed with the --set or the run's params that failed every trial).
@@ -1004,14 +1008,14 @@ std::vector<std::string> check_curriculum(const std::string& path, const Sandbox
       problems.push_back(e.what());
       continue;
     }
-    check_teacher_function(*cur, st, sets, problems);
+    check_teacher_function(cur, st, sets, problems);
     // The task space's worlds and the test set's are the same worlds in other parameters: those
     // that could not be built would only be said again (found by a probe: a --set the scenario
     // lacks was said twice, the second time without its line).
     if (worlds_failed) continue;
     const size_t before = problems.size();
     check_task_space_ends(st, limits, sets, problems);
-    if (problems.size() == before) check_test_set(*cur, st, limits, sets, problems);  // else the same holes again
+    if (problems.size() == before) check_test_set(cur, st, limits, sets, problems);  // else the same holes again
   }
   return problems;
 }

@@ -262,6 +262,11 @@ bool is_curriculum_script(const std::string& path);
 std::vector<std::string> check_curriculum(const std::string& path, const SandboxLimits& limits = {},
                                           const ParamList& sets = {}, const std::vector<std::string>& stages = {},
                                           const std::string& sets_from = "--set");
+// The same of a curriculum loaded already (its top level is not run again: `roger check` of a
+// curriculum that prints printed it twice).
+std::vector<std::string> check_curriculum(Curriculum& cur, const SandboxLimits& limits = {}, const ParamList& sets = {},
+                                          const std::vector<std::string>& stages = {},
+                                          const std::string& sets_from = "--set");
 
 // The test sets of `stages` (all when empty) as their trials will meet them, `sets` over the
 // stages' parameters: each test task no layout of its world seed holds, which would fail every
