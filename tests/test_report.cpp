@@ -1571,6 +1571,43 @@ TEST_CASE("a resumed run with another script names the first place the configura
   CHECK(said.find("\n  runs: ") == std::string::npos);
 }
 
+// Found by a probe: one trial of 24 censored marked the row's median and interquartile mean with ≥,
+// though the censored trial (the slowest) lies outside their windows and they are exact.
+TEST_CASE("a row's median and IQM are marked as bounds only when a censored trial enters them", "[report]") {
+  const auto row_of = [](int censored) {
+    report_detail::Results r;
+    for (int i = 0; i < 24; ++i) {
+      const bool reached = i < 24 - censored;
+      r.ok.push_back({{"time_to_threshold_s", reached ? 100.0 + 10.0 * i : 1000.0}, {"reached", reached},
+                      {"final_episodes", 50}, {"reward_mean", 10.0}, {"reward_std", 1.0}, {"success_rate", 0.9}});
+    }
+    BatchTable t;
+    t.baseline = "B1";
+    std::ostringstream md;
+    json rows = json::array();
+    report_detail::run_table_row("DC2", r, t, {}, 0.0, md, rows);
+    return std::make_pair(md.str(), rows[0]);
+  };
+  const auto [one_md, one] = row_of(1);
+  INFO(one_md);
+  CHECK(one["time_lower_bound"] == true);  // the mean's
+  CHECK(one["time_median_lower_bound"] == false);
+  CHECK(one["time_iqm_lower_bound"] == false);
+  // Its resamples would need the censored trial seven times over for the IQM to reach it.
+  CHECK(one["time_iqm_ci_lower_bound"] == json{false, false});
+  CHECK_THAT(one_md, Contains("| DC2 | ≥ 4:03 | - | 10.0 ± 1.0 | 90.0% | 3:35 | 3:35 [2:57, 4:13] | 95.8% |"));
+  const auto [seven_md, seven] = row_of(7);
+  INFO(seven_md);
+  CHECK(seven["time_median_lower_bound"] == false);
+  CHECK(seven["time_iqm_lower_bound"] == true);
+  CHECK(seven["time_iqm_ci_lower_bound"] == json{false, true});
+  CHECK_THAT(seven_md, Contains(" | 3:35 | ≥ "));
+  const auto [none_md, none] = row_of(0);
+  CHECK(none["time_lower_bound"] == false);
+  CHECK(none["time_iqm_ci_lower_bound"] == json{false, false});
+  CHECK(none_md.find("≥") == std::string::npos);
+}
+
 // Found by a probe: a baseline that never reached the threshold made "% Improvement" read as exact,
 // and the cumulative figure labelled censored means without their "≥".
 TEST_CASE("bounds from censored trials are marked in the improvement and the cumulative figure", "[report]") {

@@ -412,6 +412,29 @@ TEST_CASE("censored times rank above every reached time and tie with each other"
   CHECK_THROWS_AS(censored_values({{kNaN, false}}), Error);
 }
 
+// A summary over censored_values() is exact when it equals the same over censored_far_values():
+// the true times lie between the two, and a censored trial inside a summary's window moves it.
+TEST_CASE("a summary is exact when the censored trials lie outside its window", "[stats]") {
+  std::vector<CensoredTime> times;
+  for (int i = 0; i < 23; ++i) times.push_back({100.0 + 10.0 * i, true});
+  times.push_back({1000, false});
+  const std::vector<double> low = censored_values(times), far = censored_far_values(times);
+  CHECK(far.back() > 1e100);
+  CHECK(median(far) == median(low));  // the 12th and 13th of 24: reached ones
+  CHECK(interquartile_mean(far) == interquartile_mean(low));  // ranks 7 to 18
+  CHECK(mean(far) > mean(low));
+  CHECK(quantile(far, 0.99) > quantile(low, 0.99));  // between the 23rd and the 24th
+  // Seven of 24 censored: the IQM's window (ranks 7 to 18) takes the first of them, the median not.
+  for (int i = 17; i < 23; ++i) times[size_t(i)] = {1000, false};
+  const std::vector<double> low7 = censored_values(times), far7 = censored_far_values(times);
+  CHECK(median(far7) == median(low7));
+  CHECK(interquartile_mean(far7) > interquartile_mean(low7));
+  // A censored trial whose budget is shorter than a reached time sorts among them: a bound.
+  const std::vector<CensoredTime> short_budget{{100, true}, {50, false}, {300, true}};
+  CHECK(median(censored_far_values(short_budget)) > median(censored_values(short_budget)));
+  CHECK_THROWS_AS(censored_far_values({{kNaN, false}}), Error);
+}
+
 TEST_CASE("min:sec formatting like the paper's tables", "[stats]") {
   CHECK(format_min_sec(2994) == "49:54");   // Table I, B1
   CHECK(format_min_sec(1495) == "24:55");   // Table I, DC2

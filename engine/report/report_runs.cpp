@@ -63,6 +63,27 @@ BaselineColumns compare_with_baseline(const std::vector<CensoredTime>& times, co
   return col;
 }
 
+// Which of a row's times are lower bounds: those a censored trial enters (censored_far_values),
+// the mean whenever a trial is censored; the median and the interquartile mean only when a
+// censored trial falls inside their window (found by a probe: one of 24 trials censored marked
+// an exact median with ≥).
+struct TimeBounds {
+  bool mean = false, median = false, iqm = false, iqm_low = false, iqm_high = false;
+};
+
+TimeBounds time_bounds(const std::vector<CensoredTime>& times, double med, const ConfidenceInterval& iqm) {
+  TimeBounds b;
+  if (fraction_reached(times) == 1.0) return b;
+  const std::vector<double> far = censored_far_values(times);
+  const ConfidenceInterval far_iqm = bootstrap_ci(far, interquartile_mean, kBootstrapSeed);
+  b.mean = true;
+  b.median = median(far) != med;
+  b.iqm = far_iqm.estimate != iqm.estimate;
+  b.iqm_low = far_iqm.low != iqm.low;
+  b.iqm_high = far_iqm.high != iqm.high;
+  return b;
+}
+
 }  // namespace
 
 // Writes context c's row of a run table (and appends its numbers to rows); returns whether some of
@@ -82,13 +103,17 @@ bool run_table_row(const std::string& c, const Results& r, const BatchTable& t,
   const double m = mean(tv), med = median(tv);
   const ConfidenceInterval iqm = bootstrap_ci(tv, interquartile_mean, kBootstrapSeed);
   const Pooled fin = pool(r.ok, "final_episodes");
-  const std::string lb = censored ? "≥ " : "";
+  const TimeBounds bound = time_bounds(times, med, iqm);
+  const auto lb = [](bool b) { return b ? "≥ " : ""; };
   row["time_mean_s"] = m;
   row["time_median_s"] = med;
   row["time_iqm_s"] = iqm.estimate;
   // One trial has no interval (a bootstrap of one value is that value twice).
   row["time_iqm_ci_s"] = tv.size() < 2 ? json() : json{iqm.low, iqm.high};
-  row["time_lower_bound"] = censored;  // every time of the row, its interval's too
+  row["time_lower_bound"] = censored;  // the mean's: some trial is censored
+  row["time_median_lower_bound"] = bound.median;
+  row["time_iqm_lower_bound"] = bound.iqm;
+  row["time_iqm_ci_lower_bound"] = tv.size() < 2 ? json() : json{bound.iqm_low, bound.iqm_high};
   row["fraction_reached"] = reached;
   row["reward_mean"] = fin.mean;
   row["reward_std"] = fin.std;
@@ -96,11 +121,12 @@ bool run_table_row(const std::string& c, const Results& r, const BatchTable& t,
   row["final_episodes"] = fin.episodes;
   BaselineColumns col;
   if (c != t.baseline && !base_times.empty()) col = compare_with_baseline(times, base_times, base_mean, m, row);
-  md << "| " << c << " | " << lb << format_min_sec(m) << " | " << col.improvement << " | " << fmt("%.1f", fin.mean)
-     << " ± " << fmt("%.1f", fin.std) << " | " << rate_pct(fin.success) << " | " << lb << format_min_sec(med) << " | "
-     << lb << format_min_sec(iqm.estimate)
+  md << "| " << c << " | " << lb(bound.mean) << format_min_sec(m) << " | " << col.improvement << " | "
+     << fmt("%.1f", fin.mean) << " ± " << fmt("%.1f", fin.std) << " | " << rate_pct(fin.success) << " | "
+     << lb(bound.median) << format_min_sec(med) << " | " << lb(bound.iqm) << format_min_sec(iqm.estimate)
      << (tv.size() < 2 ? std::string()
-                       : " [" + lb + format_min_sec(iqm.low) + ", " + lb + format_min_sec(iqm.high) + "]")
+                       : " [" + std::string(lb(bound.iqm_low)) + format_min_sec(iqm.low) + ", " + lb(bound.iqm_high) +
+                             format_min_sec(iqm.high) + "]")
      << " | " << rate_pct(reached) << " | " << col.p_value << " | " << col.p_faster << " | " << trials_note(r) << " |\n";
   rows.push_back(row);
   return censored;
@@ -115,7 +141,8 @@ void run_table_notes(bool any_censored, std::ostringstream& md) {
         "evaluation. Reached: the fraction of trials that reached the threshold within the budget.";
   if (any_censored)
     md << " Trials that never reached it count at their whole training time (right-censored), so the values "
-          "marked ≥ are lower bounds; the Mann-Whitney U test and P(faster) rank them as slower than every trial "
+          "marked ≥ are lower bounds (a median or interquartile mean is exact, and unmarked, when the censored "
+          "trials, the slowest, lie outside its window); the Mann-Whitney U test and P(faster) rank them as slower than every trial "
           "that reached it. A % Improvement marked ≥ or ≤ is a bound for the same reason (the baseline's mean, "
           "or the row's, is a lower bound), and one marked ~ compares two lower bounds, so no bound follows.";
   md << " P(faster): the probability that a trial of the row is faster than one of the baseline; it and the "

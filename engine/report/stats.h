@@ -163,6 +163,14 @@ double fraction_reached(const std::vector<CensoredTime>& times);
 // The times with each censored trial at its budget (summaries of these are lower bounds).
 std::vector<double> censored_values(const std::vector<CensoredTime>& times);
 
+// The times with each censored trial far above every time (1e200 s): the other end of what its
+// true time can be. A summary that grows with each value (a mean, a median, an interquartile
+// mean, a bootstrap interval's ends of one) lies between its value over censored_values() and
+// its value over these, and one that gives a censored trial any weight is huge over these: so it
+// is exact when the two are equal, and a lower bound otherwise (a median of 24 trials, one
+// censored, is exact; their mean is not).
+std::vector<double> censored_far_values(const std::vector<CensoredTime>& times);
+
 // mann_whitney_u on times-to-threshold: censored trials rank above all reached ones, tied.
 MannWhitneyResult mann_whitney_u_censored(
     const std::vector<CensoredTime>& x, const std::vector<CensoredTime>& y,
