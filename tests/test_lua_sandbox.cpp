@@ -1808,6 +1808,10 @@ std::vector<std::string> metamethod_escapes() {
       "return xpcall(function() while true do end end, function(m) return m end)",
       "local s = string.rep('a', 100)\nreturn s:gsub('a', function() while true do end end)",
       "local e = setmetatable({}, {__tostring = function() while true do end end})\nerror(e)",
+      // Found by a probe: a wrap function's error path runs the coroutine's __close handlers, and a
+      // budget they spent came back as an ordinary error pcall caught (the script went on).
+      "local co = coroutine.wrap(function() local x <close> = setmetatable({}, {__close = function() while true do end end}) error('first') end)\n"
+      "local ok = pcall(co) error('went on')",
   };
 }
 

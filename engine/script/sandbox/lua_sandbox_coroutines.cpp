@@ -13,7 +13,8 @@
 //     hook fires at its next instruction whatever happens;
 //   - a coroutine the budget's error killed keeps its hooks off for good (Lua leaves them so for
 //     an error raised in a hook), so its pending __close handlers are never run: neither by
-//     wrap's error path nor by a later coroutine.close.
+//     wrap's error path nor by a later coroutine.close;
+//   - a budget spent by the __close handlers wrap's error path runs is the budget's error too.
 // Everything else (create, yield, status, running, isyieldable, the messages) is Lua's own.
 #include <lua.hpp>
 
@@ -142,9 +143,18 @@ int sandbox_wrapped(lua_State* L) {
   // the caller's position in front when it is a string.
   int status = lua_status(co);
   if (status != LUA_OK && status != LUA_YIELD) {
-    Entered entered(impl_of(L), co);
-    status = lua_resetthread(co);
-    lua_xmove(co, L, 1);
+    {
+      Entered entered(impl_of(L), co);
+      status = lua_resetthread(co);
+      lua_xmove(co, L, 1);
+    }
+    // Its __close handlers spent the budget (found by a probe: pcall caught that error, and the
+    // caller ran on): raised as the budget's error is, the caller's hook firing next.
+    if (budget_spent(impl_of(L))) {
+      lua_sethook(L, count_hook, LUA_MASKCOUNT, 1);
+      disarm_handlers(L);
+      return lua_error(L);
+    }
   }
   if (status != LUA_ERRMEM && lua_type(L, -1) == LUA_TSTRING) {
     luaL_where(L, 1);
