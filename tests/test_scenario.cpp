@@ -645,6 +645,17 @@ TEST_CASE("script mistakes are reported at the script's file:line", "[scenario]"
       CHECK(e.line == 1);
       CHECK_THAT(e.message, StartsWith("the generator returned a second value (a number), which is not read"));
     }
+    // Found by a probe: a budget a generator's pcall caught, returned with pcall's values, was said
+    // to be a second value returned, and the budget went unnamed.
+    try {
+      test::scenario_from("returns_pcall", "local function loop() while true do end end\n" + head +
+                                               "  return pcall(loop)\nend }\n")
+          .generate(0);
+      FAIL("a generator that spent its budget was accepted");
+    } catch (const ScriptError& e) {
+      CHECK(e.line == 1);
+      CHECK_THAT(e.message, Contains("instruction budget of 50000000 exceeded"));
+    }
   }
   SECTION("a runaway generator") {
     Scenario s = Scenario::load("tests/scripts/bad_runtime.lua", SandboxLimits{200000, 64u << 20});

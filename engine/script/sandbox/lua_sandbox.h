@@ -202,6 +202,11 @@ int lua_protect(lua_State* L, const std::function<int()>& body);
 // by a LuaSandbox only.
 void lua_charge(lua_State* L, uint64_t units);
 
+// Whether the running call's budget is spent: a script's pcall caught its error and returned (a
+// generator's `return pcall(loop)`). The call then ends with the budget's error; what the script
+// returned is not worth judging. For states owned by a LuaSandbox only.
+bool lua_budget_spent(lua_State* L);
+
 // Refuses a call of a fixed-arity API function given more than `most` arguments: Lua drops extra
 // arguments silently, and some mislead (roger.converged(c, 0.5) read as a hold time). Raises
 // "call: takes <takes>, got N[; hint]" at the Lua caller's file:line. A method (a `call` with a

@@ -383,6 +383,8 @@ void lua_charge(lua_State* L, uint64_t units) {
   sandbox_detail::charge_budget(L, units, nullptr, nullptr);
 }
 
+bool lua_budget_spent(lua_State* L) { return sandbox_detail::budget_spent(sandbox_detail::impl_of(L)); }
+
 namespace sandbox_detail {
 
 // Counts work done in C against the budget; once it is spent, raises the budget error naming

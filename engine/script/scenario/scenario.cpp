@@ -435,6 +435,9 @@ WorldSpec Scenario::generate_world(uint64_t seed) {
       } finish{w};
       const int base = lua_gettop(L) - 4;  // below generate and its three arguments
       lua_call(L, 3, LUA_MULTRET);
+      // A budget its pcall caught ends the call with the budget's error (found by a probe: `return
+      // pcall(loop)` was said to return a second value).
+      if (lua_budget_spent(L)) return;
       // One result at most (found by a probe: `return nil, 5` passed, as Lua keeps the first).
       if (lua_gettop(L) - base > 1) {
         lua_settop(L, base + 2);  // the second result: the one that goes unread
