@@ -245,6 +245,19 @@ TEST_CASE("gigabyte allocations are refused by the memory cap without crashing",
   CHECK(lua_tointeger(sandbox.state(), -1) == 2000);
 }
 
+// Found by a probe: a collection was charged an instruction per byte of the heap, so a script
+// holding 48 MiB could not collect once, nor five steps with 20 MiB (plain Lua: microseconds).
+TEST_CASE("collecting garbage in a big heap stays within the budget", "[lua_sandbox]") {
+  LuaSandbox sandbox(SandboxLimits{50'000'000, 256u << 20});
+  sandbox.load_string("local s = ('x'):rep(64 * 1024 * 1024)\n"
+                      "local t = {} for i = 1, 100000 do t[i] = {i} end\n"
+                      "for i = 1, 5 do collectgarbage() collectgarbage('step') end\n"
+                      "return #s + #t",
+                      "=collect");
+  sandbox.call(0, 1);
+  CHECK(lua_tointeger(sandbox.state(), -1) == (64 << 20) + 100000);
+}
+
 TEST_CASE("os, io, debug and package are not available and say so", "[lua_sandbox]") {
   LuaSandbox sandbox;
   const ScriptError os = file_error(sandbox, "tests/scripts/bad_os.lua");
