@@ -825,6 +825,17 @@ std::string trained_with(const PolicyMetadata& meta, const Curriculum& cur, cons
          shell_word(recorded) + " --policy " + shell_word(policy_file) + (command == "roger eval" ? ")" : " ...)");
 }
 
+// The note policy_curriculum_note gives, of the curriculum `cur`.
+std::string curriculum_note_of(const PolicyMetadata& meta, const Curriculum& cur) {
+  const std::string recorded = other_curriculum(meta, cur);
+  if (recorded.empty()) return "";
+  const std::string judged = "; stage " + meta.stage + ", context " + meta.context;
+  const std::string what = " judge it here (their goal, reward and time limit, and its actions' definitions)";
+  if (same_curriculum_file(recorded, cur))
+    return "the curriculum " + recorded + " changed since the policy was trained" + judged + " of it as it is now" + what;
+  return "the policy was trained with the curriculum " + recorded + judged + " of this one" + what;
+}
+
 // Loads a saved policy with its stage, context and learned skills, and hands its stage run, its
 // table, the first world seed, what the file says of itself and the options in force (the trial's
 // own parameters among their sets: PolicyEvalOptions::trial_params) to `use`; fills `out`'s stage,
@@ -881,6 +892,7 @@ void with_policy_file(const PolicyEvalOptions& given, PolicyEvalResult& out,
   out.trained_curriculum = other_curriculum(meta, cur);  // found by a probe: judged by another's goal, unsaid
   // Found by a probe: a curriculum edited in place was said to be "another", naming itself.
   out.trained_curriculum_edited = !out.trained_curriculum.empty() && same_curriculum_file(out.trained_curriculum, cur);
+  out.curriculum_note = curriculum_note_of(meta, cur);
   if (options.scenario.empty() || options.scenario == stage.scenario) {
     out.stage_params = stage.scenario_params(ctx);
     out.scenario_note = stage.scenario_note();  // found by a probe: train said it, eval did not
@@ -1015,6 +1027,11 @@ uint64_t resolve_test_set(StageRun& run, const PolicyMetadata& meta, const Polic
 }
 
 }  // namespace
+
+std::string policy_curriculum_note(const PolicyMetadata& meta, const std::string& curriculum,
+                                   const SandboxLimits& limits) {
+  return curriculum_note_of(meta, Curriculum::load(curriculum, limits));
+}
 
 PolicyEvalResult evaluate_policy_file(const PolicyEvalOptions& given) {
   PolicyEvalResult out;

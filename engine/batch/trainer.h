@@ -282,6 +282,12 @@ std::vector<std::pair<std::string, std::string>> policy_trial_params(
     const std::string& scenario, const std::vector<std::pair<std::string, std::string>>& sets,
     const SandboxLimits& limits);
 
+// What is said when a saved policy is played in a curriculum other than the one it trained with
+// (whose stage and context of the same names then judge it), or in the same file changed since;
+// "" when it is the one it trained with. `roger eval --policy` and the Python module say it.
+std::string policy_curriculum_note(const PolicyMetadata& meta, const std::string& curriculum,
+                                   const SandboxLimits& limits);
+
 // What evaluating a saved policy needs.
 struct PolicyEvalOptions {
   std::string curriculum;                                 // the script that defines its stage
@@ -324,6 +330,7 @@ struct PolicyEvalResult {
   // stage and context of the same names then judge it: their goal, reward and time limit); "".
   std::string trained_curriculum;
   bool trained_curriculum_edited = false;  // that curriculum is the one given, changed since
+  std::string curriculum_note;             // what is said of either (policy_curriculum_note), or ""
   // The stage's and its context's own scenario parameters, in the stage's scenario (as TrainResult's).
   std::vector<std::pair<std::string, std::string>> stage_params;
   std::string time_limit;  // the stage's time-out, as text: "12 s limit", "30 s per object limit"

@@ -165,14 +165,7 @@ void print_stage_params(const Params& params, const std::string& stage, const st
 void print_trial_params(const PolicyEvalResult& r, const std::string& scenario, const std::vector<std::string>& sets) {
   print_stage_params(r.stage_params, r.stage, r.context, sets, r.trial_sets);
   if (!r.scenario_note.empty()) std::printf("  note           %s\n", r.scenario_note.c_str());
-  if (r.trained_curriculum_edited)
-    std::printf("  note           the curriculum %s changed since the policy was trained; stage %s, context %s of it "
-                "as it is now judge it here (their goal, reward and time limit, and its actions' definitions)\n",
-                r.trained_curriculum.c_str(), r.stage.c_str(), r.context.c_str());
-  else if (!r.trained_curriculum.empty())
-    std::printf("  note           the policy was trained with the curriculum %s; stage %s, context %s of this one "
-                "judge it here (their goal, reward and time limit, and its actions' definitions)\n",
-                r.trained_curriculum.c_str(), r.stage.c_str(), r.context.c_str());
+  if (!r.curriculum_note.empty()) std::printf("  note           %s\n", r.curriculum_note.c_str());
   if (!r.trial_sets.empty())
     std::printf("  trained with   %s (the trial's own parameters, set here too; a --set of one overrides it)\n",
                 params_text(r.trial_sets).c_str());

@@ -342,6 +342,10 @@ class Policy {
                                                                 const std::string& scenario) const {
     return policy_trial_params(meta_, path_, curriculum, scenario, {}, SandboxLimits{});
   }
+  // What `roger eval --policy` notes of a curriculum that is not the one the policy trained with.
+  std::string curriculum_note(const std::string& curriculum) const {
+    return policy_curriculum_note(meta_, curriculum, SandboxLimits{});
+  }
   const std::string& path() const { return path_; }
 
  private:
@@ -880,6 +884,12 @@ void bind_policy(py::module_& m) {
             return without_gil([&] { return p.trial_params(curriculum, scenario); });
           },
           py::arg("curriculum"), py::arg("scenario") = "")
+      .def(
+          "curriculum_note",
+          [](const Policy& p, const std::string& curriculum) {
+            return python_text(without_gil([&] { return p.curriculum_note(curriculum); }));
+          },
+          py::arg("curriculum"))
       .def_property_readonly("q", [](const Policy& p) {
         const QTable& q = p.table();
         py::array_t<double> a({q.states(), q.actions()});

@@ -1391,6 +1391,38 @@ class BadArguments(unittest.TestCase):
                                                  "no curriculum 'mycur.lua'", "policy.make(curriculum="], policy.make)
         self.assertEqual(policy.make(curriculum=os.path.join(folder, "mycur.lua")).actions, ("search", "phi0"))
 
+    def test_a_policy_played_in_a_changed_or_other_curriculum_is_warned_of(self):
+        # Found by a probe: policy.make() played the project's copy of the curriculum the trial's
+        # folder had an edited copy of, and a curriculum edited since, without a word (roger eval
+        # notes both).
+        import warnings
+        folder = os.path.join(WORK, "edited_project", "docs", "examples")
+        os.makedirs(folder, exist_ok=True)
+        with open(EXAMPLE) as f:
+            text = f.read().replace("time_limit = 4,", "time_limit = 7,")
+        with open(os.path.join(folder, "curriculum_example.lua"), "w") as f:
+            f.write(text)
+        root = os.path.join(WORK, "edited_project")
+        out = os.path.join(root, "out")
+        if not os.path.exists(os.path.join(out, "policy.json")):
+            subprocess.run([ROGER, "train", EXAMPLE, "--stage", "Look", "--context", "Gaze", "--seed", "2",
+                            "--out", "out"], cwd=root, check=True, capture_output=True)
+        policy = roger.load_policy(os.path.join(out, "policy.json"))
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            env = policy.make()  # from here: the project's own copy, which the trial did not train with
+        self.assertEqual(env.stage_info["time_limit"], 4.0)
+        said = [str(w.message) for w in caught if issubclass(w.category, roger.RogerWarning)]
+        self.assertEqual(len(said), 1, said)
+        self.assertIn(f"the curriculum {EXAMPLE} changed since the policy was trained; stage Look, context Gaze",
+                      said[0])
+        self.assertEqual(caught[0].filename, __file__)  # the user's line
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            env = roger.make(os.path.join(folder, "curriculum_example.lua"), "Look", "Gaze", policy=policy)
+        self.assertEqual([w for w in caught if issubclass(w.category, roger.RogerWarning)], [])
+        self.assertEqual(env.stage_info["time_limit"], 7.0)
+
     def test_state_index_overflow(self):
         self.assertEqual(roger.state_index([2] * 19), 3 ** 19 - 1)
         self.assertRaisesWith(roger.RogerError, ["20 actions", "at most 19"], roger.state_index, [2] * 20)

@@ -54,7 +54,7 @@ except ImportError:  # exercised where gymnasium is absent
     _batch_space = None
 
 __all__ = ["make", "make_vec", "load_policy", "Env", "VecEnv", "Policy", "RogerError", "ScriptError", "PlacementError",
-           "AutoresetMode", "GAMMA_NAMES", "PAPER_IDS", "mix", "state_index", "spaces", "project_folder", "axis",
+           "RogerWarning", "AutoresetMode", "GAMMA_NAMES", "PAPER_IDS", "mix", "state_index", "spaces", "project_folder", "axis",
            "Axis"]
 
 
@@ -63,6 +63,24 @@ def __dir__():
     the dunders, not the modules it imports for itself (found by a probe: np, os, copy, ... were
     listed as if they were roger's)."""
     return sorted(set(__all__) | {n for n in globals() if n.startswith("__")})
+
+
+class RogerWarning(UserWarning):
+    """What roger notes beside a result without refusing it, as the command line's "note" lines: a
+    saved policy played in a curriculum other than the one it trained with, or in its own changed
+    since (`warnings.simplefilter("error", roger.RogerWarning)` makes it an error)."""
+
+
+def _warn(message):
+    """Warns (RogerWarning) at the user's line: the first frame outside this package."""
+    import sys
+    import warnings
+    here = os.path.dirname(os.path.abspath(__file__))
+    level, frame = 1, sys._getframe(1)
+    while frame is not None and os.path.dirname(os.path.abspath(frame.f_code.co_filename)) == here:
+        level, frame = level + 1, frame.f_back
+    warnings.warn(message, RogerWarning, stacklevel=level + 1)
+
 
 GAMMA_NAMES = ("NOREF", "!CONV", "CONV")
 _MODES = ("decision", "tick")
@@ -1533,6 +1551,11 @@ def _with_policy(policy, curriculum, stage, context, params, scenario, where):
         raise RogerError(f"{where}: policy {p.path} is of stage {p.stage} context {p.context}, not of stage {stage} "
                          f"context {context}: make it with policy.make(), or give the policy's stage and context")
     trial = dict(p._p.trial_params(_native(curriculum), _native(scenario or "")))
+    # As roger eval notes it (found by a probe: policy.make() played a curriculum edited since,
+    # or the project's copy of a name the trial's folder had its own of, without a word).
+    note = p._p.curriculum_note(_native(curriculum))
+    if note:
+        _warn(f"{where}: {p.path}: {note}")
     given = _text_dict(params, "params")
     return {**{k: v for k, v in trial.items() if k not in given}, **given}, p._p.skills_json, p
 
