@@ -1060,6 +1060,32 @@ TEST_CASE("roger train writes its six files together or leaves the folder as it 
   fs::remove_all(out);
 }
 
+// Found by a probe: a training stopped by a fault in its first episode left the folder as it was,
+// an earlier training's policy.json and summary.json in it, and said nothing of them.
+TEST_CASE("roger train stopped in its first episode says the folder's files are an earlier training's", "[cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_first_fault_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string head = "local p = require('lib.skills').primitives()\n"
+                           "return { stages = { roger.stage{ name = 'S', scenario = 'unobstructed',\n"
+                           "  time_limit = 4, budget = { episodes = 4 }, checkpoints = { every = 2, episodes = 2, final = 2 },\n"
+                           "  contexts = { { name = 'A', actions = { p.search, p.phi0 } } },\n";
+  std::ofstream(dir / "ok.lua") << head << "  absorbing = roger.converged(p.phi0) } } }\n";
+  std::ofstream(dir / "late.lua") << head
+                                  << "  absorbing = function(s, t) if t > 0.5 then error('late') end return false end } } }\n";
+  REQUIRE(roger("train " + (dir / "ok.lua").string() + " --stage S --context A --out " + (dir / "out").string()).status == 0);
+  const std::string policy = slurp(dir / "out" / "policy.json");
+  const Run r = roger("train " + (dir / "late.lua").string() + " --stage S --context A --out " + (dir / "out").string());
+  INFO(r.err);
+  CHECK(r.status == 1);
+  using Catch::Matchers::Contains;
+  CHECK_THAT(r.err, Contains("late.lua:5: ") && Contains("training episode 0") &&
+                        Contains("\n  nothing kept   " + (dir / "out").string() +
+                                 " is as it was: its files are an earlier training's"));
+  CHECK(slurp(dir / "out" / "policy.json") == policy);
+  fs::remove_all(dir);
+}
+
 // Found by a probe: two trainings into one folder both committed (one's policy beside the other's
 // summary), and what a killed one left staged stayed there for good.
 TEST_CASE("roger train claims its folder: a second writer is refused, a dead one's leftovers go", "[cli]") {

@@ -499,10 +499,16 @@ TrainResult train_keeping_progress(TrainOptions& o, const std::string& out) {
   } catch (const FileError&) {
     throw;
   } catch (const std::exception& e) {
-    if (!write_faulted_train_outputs(progress, e.what(), out)) throw;
     // The note goes under the message's first line, before any traceback.
     const std::string message = e.what(), first = message.substr(0, message.find('\n'));
     const std::string rest = message.substr(first.size());
+    if (!write_faulted_train_outputs(progress, e.what(), out)) {
+      // Found by a probe: a fault in the first episode left an earlier training's policy.json and
+      // summary.json in the folder, unsaid, as if they were this one's.
+      std::error_code ec;
+      if (interrupt_requested() || !std::filesystem::exists(std::filesystem::path(out) / "policy.json", ec)) throw;
+      throw Error(first + "\n  nothing kept   " + out + " is as it was: its files are an earlier training's" + rest);
+    }
     throw Error(first + "\n  kept           " + out + "/{episodes.jsonl,checkpoints.jsonl,curve.csv,error.json}: the " +
                 counted(progress.totals.episodes, "training episode") + " and " +
                 counted(int(progress.checkpoints.size()), "checkpoint") + " before the fault" + rest);
