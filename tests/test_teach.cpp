@@ -1721,7 +1721,7 @@ TEST_CASE("roger check calls a teacher function on a history and finds its error
   test::TempDir dir("roger_teach_check_fn");
   // Fine until ten episodes have succeeded, then a misspelt field of a history entry (an entry
   // holds its four fields alone: reading another is an error, not a nil).
-  const fs::path late = write_stage(dir.path, "late", "{ tasks = { obstacles = roger.int(0, 3) },\n"
+  const fs::path late = write_stage(dir.path, "late", "{ tasks = { obstacles = roger.int(0, 3) }, budget = { episodes = 30 },\n"
                                                       "  teacher = function(history, rng)\n"
                                                       "    local wins = 0\n"
                                                       "    for _, h in ipairs(history) do if h.success then wins = wins + 1 end end\n"
@@ -1736,7 +1736,7 @@ TEST_CASE("roger check calls a teacher function on a history and finds its error
                               Contains("(before training episode 20) (roger check's history: 10 episodes failed, then "
                                        "10 succeeded)"));
   // A value outside the task space once the learner succeeds: at the function's line.
-  const fs::path out = write_stage(dir.path, "out", "{ tasks = { obstacles = roger.int(0, 3) },\n"
+  const fs::path out = write_stage(dir.path, "out", "{ tasks = { obstacles = roger.int(0, 3) }, budget = { episodes = 30 },\n"
                                                      "  teacher = function(history, rng)\n"
                                                      "    if #history > 0 and history[#history].success then return { obstacles = 4 } end\n"
                                                      "    return {}\n"
@@ -1748,6 +1748,16 @@ TEST_CASE("roger check calls a teacher function on a history and finds its error
                                    "space") && Contains("before training episode 11"));
   // The documented example's functions pass.
   CHECK(check_curriculum("docs/examples/teachers_example.lua").empty());
+  // No more calls than the budget's episodes (found by a probe: a function failing after ten
+  // episodes of a five-episode budget was refused, and trained).
+  const fs::path short_budget = write_stage(dir.path, "short", "{ tasks = { obstacles = roger.int(0, 3) }, budget = { episodes = 5 },\n"
+                                                               "  checkpoints = { every = 5 },\n"
+                                                               "  teacher = function(history, rng)\n"
+                                                               "    if #history >= 5 then error('only after five') end\n"
+                                                               "    return {}\n"
+                                                               "  end }");
+  CHECK(check_curriculum(short_budget.string()) == std::vector<std::string>{});
+  CHECK_NOTHROW(train_stage(stage_options(short_budget)));
   // Found by a probe: check's history had rewards 0 and 1 and a time of 5 s past a 1 s limit, so a
   // function that read them passed here and failed in training. Now as training records them.
   const fs::path reads = write_stage(dir.path, "reads", "{ tasks = { obstacles = roger.int(0, 3) },\n"

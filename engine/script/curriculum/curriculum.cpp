@@ -910,14 +910,17 @@ void check_regions(const CurriculumStage& st, const CurriculumContext& ctx, Scen
 }
 
 // A stage's Lua teacher function called as between training episodes, on a history it builds:
-// the first ten episodes failed, the next twenty succeeded (a learner that learns), so a function
+// the first ten episodes failed, the next twenty succeeded (a learner that learns; a third and the
+// rest of a budget under 30 episodes), so a function
 // that reads `history` or changes its mind after a run of successes meets both cases. An error
 // in it, or a result outside the task space, is found here rather than after a trial's first
 // episodes.
 void check_teacher_function(Curriculum& cur, const CurriculumStage& st, const ParamList& sets,
                             std::vector<std::string>& problems) {
   if (!st.teacher_lua) return;
-  constexpr int kEpisodes = 30, kFailed = 10;
+  // No more calls than training makes (found by a probe: a function that fails after episode 10 of
+  // a 5-episode budget was refused, and trained).
+  const int kEpisodes = st.budget_episodes > 0 ? std::min(30, st.budget_episodes) : 30, kFailed = kEpisodes / 3;
   const double limit = st.time_limit > 0.0 ? st.time_limit : st.time_per_object;  // a world of one object
   int episode = 0;
   QuietPrints prints(cur.sandbox(), "roger check called the teacher function again");  // shown for the first call
