@@ -403,6 +403,22 @@ TEST_CASE("ALP-GMM samples the learnable band at least twice as often as random 
   }
 }
 
+// Found by a probe: on int and choice axes an episode's progress was measured against the task's
+// first try, so a task that failed once and succeeded ever since showed a progress of 1 for good.
+TEST_CASE("ALP-GMM measures progress against the same task's last try", "[teach]") {
+  const TaskSpace s({int_dim("obstacles", 0, 1)});
+  TeacherSpec spec;
+  spec.kind = TeacherSpec::Kind::kAlpGmm;
+  spec.fit_every = 1000;  // no fit: the pairs alone
+  auto t = make_teacher(spec, s, 1);
+  TaskPick p;
+  p.task = {0.0};
+  t->record(outcome(p, false));  // its first try fails: progress 0 (none before it)
+  t->record(outcome(p, true));   // then succeeds: progress 1
+  for (int e = 0; e < 8; ++e) t->record(outcome(p, true));  // and goes on succeeding: 0 each
+  CHECK(t->state()["mean_alp"] == Approx(0.1));  // 1 of the 10 pairs; against the first try, 0.9
+}
+
 TEST_CASE("PLR replays the levels with the highest scores", "[teach]") {
   // Each level's score is known: its task's x (a TD error that grows with x). PLR's replays, at
   // temperature 0.1, go to the top-ranked levels, but for the staleness share.

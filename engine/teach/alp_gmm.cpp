@@ -67,14 +67,16 @@ class AlpGmmTeacher final : public Teacher {
   }
 
  private:
-  // The outcome of the nearest earlier task in the unit cube (the earliest among equals); this
-  // episode's own outcome when there is none, so the first ALP is 0.
+  // The outcome of the nearest earlier task in the unit cube (the latest among equals: on int and
+  // choice axes the same task's last try, so a task that failed once and succeeds since stops
+  // showing progress; found by a probe: compared with its first try, it showed progress 1 for
+  // good); this episode's own outcome when there is none, so the first ALP is 0.
   double nearest_outcome(const std::vector<double>& u, double fallback) const {
     double best = std::numeric_limits<double>::infinity(), out = fallback;
     for (size_t k = 0; k < tasks_.size(); ++k) {
       double d2 = 0.0;
       for (int i = 0; i < dims_; ++i) d2 += (tasks_[k][size_t(i)] - u[size_t(i)]) * (tasks_[k][size_t(i)] - u[size_t(i)]);
-      if (d2 < best) best = d2, out = outcomes_[k];
+      if (d2 <= best) best = d2, out = outcomes_[k];
     }
     return out;
   }
