@@ -33,7 +33,7 @@ import tempfile
 
 sys.dont_write_bytecode = True  # results_common, imported below, leaves no __pycache__ in scripts/
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # its folder: also when loaded by path or run with -P
-from results_common import find_roger, run_roger
+from results_common import find_roger, positive_int, run_roger, seed_int
 
 NAME = "failure_modes.py"  # in the messages of results_common's functions
 SHAPES = ["circle", "triangle", "pentagon", "spade"]
@@ -86,8 +86,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("results")
     ap.add_argument("--trials", default="0,1,2,3,4")
-    ap.add_argument("--episodes", type=int, default=50)
-    ap.add_argument("--seed", type=int, default=4000)
+    ap.add_argument("--episodes", type=positive_int, default=50)
+    ap.add_argument("--seed", type=seed_int, default=4000)
     ap.add_argument("--roger", help="the roger program (default: $ROGER, else the source tree's "
                     "build/engine/roger, else roger on PATH)")
     ap.add_argument("--verbose", action="store_true", help="also print each failing episode and its mode")

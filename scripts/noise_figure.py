@@ -24,7 +24,8 @@ import sys
 sys.dont_write_bytecode = True  # results_common, imported below, leaves no __pycache__ in scripts/
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # its folder: also when loaded by path or run with -P
 import results_common
-from results_common import find_roger, marked, read_report, run_roger, without, write_atomically
+from results_common import (find_roger, marked, percent, read_report, require_results_folder, require_svg_path,
+                            run_roger, without, write_atomically)
 
 NAME = "noise_figure.py"  # in the messages of results_common's functions
 SCALES = [0, 0.5, 1, 2, 4, 8]
@@ -105,7 +106,7 @@ def printed(points, missing):
     out = []
     for label, pts in points.items():
         short = missing if label == SERIES[2][0] else {}
-        out.append(label + ": " + ", ".join(marked(f"{s} M {100 * k / n:.1f}% ({k}/{n}) [{100 * lo:.1f}, {100 * hi:.1f}]",
+        out.append(label + ": " + ", ".join(marked(f"{s} M {percent(k, n)}% ({k}/{n}) [{100 * lo:.1f}, {100 * hi:.1f}]",
                                                    short.get(s)) for s, (k, n, lo, hi) in sorted(pts.items()) if n))
     return out
 
@@ -174,6 +175,9 @@ def main():
     if len(args) not in (1, 2):
         sys.exit("usage: noise_figure.py RESULTS_FOLDER [OUT.svg] [--roger PATH]")
     results = args[0]
+    require_results_folder(NAME, results)
+    if len(args) == 2:
+        require_svg_path(NAME, args[1])
     table = table_three(results)
     if not table:
         sys.exit(f"{results} holds no evaluation III_x... of scripts/noise.lua (trials/eval/III_x*)")

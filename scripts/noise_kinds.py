@@ -33,7 +33,8 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.dont_write_bytecode = True  # results_common, imported below, leaves no __pycache__ in scripts/
 sys.path.insert(0, HERE)  # its folder: also when loaded by path or run with -P
 import results_common
-from results_common import find_roger, marked, read_report, run_roger, without, write_atomically
+from results_common import (find_roger, marked, percent, positive_int, read_report, run_roger, without,
+                            write_atomically)
 
 NAME = "noise_kinds.py"  # in the messages of results_common's functions
 
@@ -103,7 +104,7 @@ def markdown(rows, missing=None):
     """The table of docs/results.md (kinds.md) from kinds.json's rows; a Table III cell marked with
     the trials it leaves out (missing: left_out), "-" when it has no result at all."""
     missing = missing or {}
-    pct = lambda k, n: f"{100 * k / n:.1f}% ({k}/{n})"
+    pct = lambda k, n: f"{percent(k, n)}% ({k}/{n})"
     lines = ["| kind | level | scripted, unobstructed | scripted, cluttered | sort, 8 objects | "
              "Table III's T/DC6 policies [95% CI] |", "|---|---|---|---|---|---|"]
     for r in rows:
@@ -125,8 +126,8 @@ def main():
     ap.add_argument("results", nargs="?", default="results/noise_kinds")
     ap.add_argument("--roger", help="the roger program (default: $ROGER, else the source tree's build/engine/roger, "
                     "else roger on PATH)")
-    ap.add_argument("--jobs", type=int, default=2, help="worker threads of roger run (default 2)")
-    ap.add_argument("--trials", type=int, help="trials per run, for roger run (default: the script's)")
+    ap.add_argument("--jobs", type=positive_int, default=2, help="worker threads of roger run (default 2)")
+    ap.add_argument("--trials", type=positive_int, help="trials per run, for roger run (default: the script's)")
     ap.add_argument("--only", action="append", default=[], metavar="NAME",
                     help="only this run, RUN/CONTEXT or eval/NAME, for roger run (repeatable)")
     a = ap.parse_args()

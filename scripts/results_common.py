@@ -54,6 +54,57 @@ def run_roger(script, cmd):
     return r.stdout
 
 
+def require_results_folder(script, results):
+    """A one-line error when `results` is no folder (found by a probe: a misspelt folder was told to
+    run `roger report` on it first, which then found no results folder)."""
+    if not os.path.isdir(results):
+        sys.exit(f"{script}: {results} " + ("is not a folder" if os.path.exists(results) else "does not exist"))
+
+
+def require_svg_path(script, out):
+    """A one-line usage error (status 2) for an OUT.svg the figure cannot be written to: another
+    extension (found by a probe: out.png received SVG text) or a folder that does not exist (a
+    traceback, after the evaluations had run). Asked before any work."""
+    if not out.lower().endswith(".svg"):
+        print(f"{script}: {out}: the figure is an SVG picture; name it OUT.svg", file=sys.stderr)
+        sys.exit(2)
+    folder = os.path.dirname(out) or "."
+    if not os.path.isdir(folder):
+        print(f"{script}: {out}: the folder {folder} does not exist", file=sys.stderr)
+        sys.exit(2)
+
+
+def positive_int(text):
+    """An argparse type: a whole number of at least 1 (found by a probe: --episodes -5 printed a
+    table of -5 episodes per shape)."""
+    import argparse
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"expected a whole number of at least 1, got {n}")
+    return n
+
+
+def seed_int(text):
+    """An argparse type: a world seed, a whole number from 0 to 2^64 - 1."""
+    import argparse
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if not 0 <= n < 2 ** 64:
+        raise argparse.ArgumentTypeError(f"expected a seed from 0 to 2^64 - 1, got {n}")
+    return n
+
+
+def percent(k, n):
+    """k of n as a percentage to one decimal, rounded as roger's tables round it (k / n first: 9635 of
+    10000 is 96.4% there, where 100 * k / n prints 96.3%)."""
+    return f"{100.0 * (k / n):.1f}"
+
+
 def read_report(results):
     """RESULTS/report.json, parsed; a missing file, or one that is not JSON, is a one-line error."""
     path = os.path.join(results, "report.json")

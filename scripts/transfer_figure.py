@@ -22,8 +22,8 @@ from collections import defaultdict
 
 sys.dont_write_bytecode = True  # results_common, imported below, leaves no __pycache__ in scripts/
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # its folder: also when loaded by path or run with -P
-from results_common import (marked, partial_of, partial_warning, read_report, total_rows, without, without_result,
-                            write_atomically)
+from results_common import (marked, partial_of, partial_warning, read_report, require_svg_path, total_rows, without,
+                            without_result, write_atomically)
 
 NAME = "transfer_figure.py"  # in the messages of results_common's functions
 BODIES = ["long_arms", "short_arms", "wide_base", "small", "big_hands", "coarse_eyes", "wide_eyes", "frozen_eyes"]
@@ -169,6 +169,7 @@ def main():
                      f"({without({k: sum(m[k] for m in waiting) for k in ('failed', 'pending')})})")
         sys.exit(f"{sys.argv[1]}/summary.csv holds no evaluation of scripts/transfer.lua")
     out = sys.argv[2] if len(sys.argv) == 3 else sys.argv[1] + "/transfer.svg"
+    require_svg_path("transfer_figure", out)
     # Everything before the one file written: a folder the tables cannot read leaves no figure behind.
     report = read_report(sys.argv[1])
     totals = total_rows(report)

@@ -39,9 +39,10 @@ read) and checks:
                           while roger run runs): the counts on stderr, the figures of the rest
   teachers_digest_no_file a folder without manifest.json, a result.json cut short, no argument:
                           a one-line error each
-  wrong_folders           a missing folder (transfer_figure.py), another script's folder
-                          (teachers_digest.py), a trial without its policy (failure_modes.py, before
-                          any output): a one-line error each; usage errors exit 2
+  wrong_folders           a missing folder (transfer_figure.py, noise_figure.py), another script's
+                          folder (teachers_digest.py), a trial without its policy (failure_modes.py,
+                          before any output): a one-line error each; usage errors exit 2 (an OUT
+                          that is no .svg or in no folder, before any work; --episodes below 1)
 
 --scripts: the folder of the scripts to check (default: the source tree's scripts/; give a folder of
 older copies to see the checks fail on them). Exit 0 when every check holds, 1 otherwise (each
@@ -640,6 +641,24 @@ def wrong_folders(scripts, work):
     expect(r.stdout == "", f"failure_modes.py printed before its check:\n{r.stdout}")
     line = one_line_error(r, "failure_modes.py, a trial without its policy")
     expect("trial 0: no T/DC6 policy at" in line, f"the error does not name the trial and policy: {line!r}")
+    # Found by a probe: noise_figure.py on a missing folder said to run `roger report` on it first;
+    # an OUT.svg in a missing folder ended in a traceback (noise_figure.py after its evaluations), and
+    # out.png received SVG text; failure_modes.py --episodes -5 printed a table of -5 episodes.
+    line = one_line_error(run([os.path.join(scripts, "noise_figure.py"), missing]), "noise_figure.py, no folder")
+    expect(line.endswith("does not exist") and "roger report" not in line, f"noise_figure.py, no folder: {line!r}")
+    transfer = os.path.join(work, "wrong_out_transfer")
+    transfer_folder(transfer)
+    noise = os.path.join(work, "wrong_out_noise")
+    noise_folder(noise)
+    for name, folder in (("transfer_figure.py", transfer), ("noise_figure.py", noise)):
+        for out, says in ((os.path.join(work, "figure.png"), "name it OUT.svg"),
+                          (os.path.join(missing, "figure.svg"), "does not exist")):
+            r = run([os.path.join(scripts, name), folder, out], env=env)
+            expect(r.returncode == 2 and r.stdout == "", f"{name} {out}: status {r.returncode}, stdout {r.stdout!r}")
+            expect(says in r.stderr and "Traceback" not in r.stderr, f"{name} {out}: {r.stderr!r}")
+            expect(not os.path.exists(out), f"{name} wrote {out}")
+    r = run([os.path.join(scripts, "failure_modes.py"), other, "--episodes", "-5"], env=env)
+    expect(r.returncode == 2 and "at least 1" in r.stderr and r.stdout == "", f"failure_modes.py --episodes -5: {r}")
 
 
 CHECKS = [transfer_unreached, transfer_partial, transfer_partial_rows, transfer_no_file, atomic_writes,
