@@ -1060,6 +1060,53 @@ TEST_CASE("roger train writes its six files together or leaves the folder as it 
   fs::remove_all(out);
 }
 
+// Found by a probe: a generator that counted its calls in a global (or an upvalue) passed roger
+// check, and a seed's world then depended on the worlds built before it.
+TEST_CASE("roger check refuses a generator that keeps state between calls", "[cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_impure_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string body = "  world:goal{ x = 0, y = 0, radius = 0.3 }\n"
+                           "  world:robot{ x = -1.2, y = 0, heading = 0 }\n"
+                           "  world:object{ shape = shapes.get('circle'), x = 1, y = -1.2 + 0.6 * (counter % 5) }\n"
+                           "end }\n";
+  std::ofstream(dir / "global.lua") << "local shapes = require('lib.shapes')\n"
+                                       "return { generate = function(world, rng, p)\n"
+                                       "  counter = (counter or 0) + 1\n"
+                                    << body;
+  std::ofstream(dir / "upvalue.lua") << "local shapes = require('lib.shapes')\nlocal counter = 0\n"
+                                        "return { generate = function(world, rng, p)\n"
+                                        "  counter = counter + 1\n"
+                                     << body;
+  // A cache that changes no world is no impurity.
+  std::ofstream(dir / "cached.lua") << "local shapes = require('lib.shapes')\nlocal circle\n"
+                                       "return { generate = function(world, rng, p)\n"
+                                       "  circle = circle or shapes.get('circle')\n"
+                                       "  world:robot{ x = -1.2, y = 0, heading = 0 }\n"
+                                       "  world:object{ shape = circle, x = 1, y = rng:uniform(-1, 1) }\n"
+                                       "end }\n";
+  using Catch::Matchers::Contains;
+  for (const char* name : {"global.lua", "upvalue.lua"}) {
+    const Run r = roger("check " + (dir / name).string());
+    INFO(r.err);
+    CHECK(r.status == 1);
+    CHECK_THAT(r.err, Contains(name + std::string(": generate is not a function of its parameters and seed alone: "
+                                                  "world seed 0 built again right after differs in the objects")));
+  }
+  CHECK(roger("check " + (dir / "cached.lua").string()).status == 0);
+  // A curriculum's check says it of its stage's scenario, at the stage's line.
+  std::ofstream(dir / "cur.lua") << "local p = require('lib.skills').primitives()\n"
+                                    "return { stages = { roger.stage{ name = 'S', scenario = 'global.lua',\n"
+                                    "  time_limit = 4, absorbing = roger.converged(p.phi0), budget = { episodes = 4 },\n"
+                                    "  checkpoints = { every = 2, episodes = 2, final = 2 },\n"
+                                    "  contexts = { { name = 'A', actions = { p.search, p.phi0 } } } } } }\n";
+  const Run c = roger("check " + (dir / "cur.lua").string());
+  INFO(c.err);
+  CHECK(c.status == 1);
+  CHECK_THAT(c.err, Contains("cur.lua:2: stage 'S': scenario '") && Contains("global.lua'") && Contains("generate is not a function"));
+  fs::remove_all(dir);
+}
+
 // Found by a probe: a training stopped by a fault in its first episode left the folder as it was,
 // an earlier training's policy.json and summary.json in it, and said nothing of them.
 TEST_CASE("roger train stopped in its first episode says the folder's files are an earlier training's", "[cli]") {

@@ -462,7 +462,20 @@ int check_curriculum_file(const std::string& path, const std::string& shown, con
   if (!problems.empty()) return 1;
   std::string stages;
   UnreadCache unread;
+  std::set<std::string> scenarios;  // each stage's scenario, its generator's purity checked once
   for (const auto& st : cur.stages()) {
+    if (scenarios.insert(st.scenario).second) {
+      Scenario scenario = Scenario::load(st.scenario, limits);
+      for (const auto& [k, v] : st.params) scenario.set_param(k, v);
+      QuietPrints prints(scenario.sandbox(), "roger check built the world again");
+      prints.quiet();
+      if (const std::string impure = scenario.impurity(0); !impure.empty()) {
+        const std::string at = !st.file.empty() && st.line > 0 ? st.file + ":" + std::to_string(st.line) + ": " : "";
+        std::fprintf(stderr, "roger: error: %s%s: scenario '%s' (%s): %s\n", at.c_str(), st.where().c_str(),
+                     st.scenario.c_str(), scenario.path().c_str(), impure.c_str());
+        return 1;
+      }
+    }
     // What loads and trains, but not as its writer meant: a teacher that cannot move within the
     // budget, a scenario path found only from this folder, exploration that rises.
     for (const std::string& w : {st.teacher_window_warning(), st.scenario_warning(), st.learner_warning()})
@@ -534,6 +547,12 @@ int check_scenario_file(const CheckArgs& a, const std::string& shown, const Sand
     } catch (const std::exception& e) {
       throw Error(with_note_on_first_line(e.what(), " (world seed " + std::to_string(seed) + ")"));
     }
+  }
+  // Found by a probe: a generator counting its calls in a global passed, and a seed's world
+  // depended on the worlds built before it.
+  if (const std::string impure = scenario.impurity(0); !impure.empty()) {
+    std::fprintf(stderr, "roger: error: %s: %s\n", scenario.path().c_str(), impure.c_str());
+    return 1;
   }
   // Found by a probe: a blue stimulus over a red ball passed, and every episode failed at search.
   if (!unseen.empty())

@@ -92,6 +92,12 @@ class Scenario {
   // error was world:sample_position finding no place. Not thread-safe: use one Scenario per thread.
   WorldSpec generate(uint64_t seed);
 
+  // Whether the generator keeps state between calls: builds world `seed` three times in a row and
+  // returns what differs between the builds ("generate is not a function of ..."), or "" when
+  // they agree. For roger check (a counter in a global made each world depend on those built
+  // before it). Throws as generate does.
+  std::string impurity(uint64_t seed);
+
   // The sandbox the script runs in.
   LuaSandbox& sandbox();
 
