@@ -874,6 +874,32 @@ TEST_CASE("roger train says why it missed the threshold, and --explain why it re
   fs::remove_all(out);
 }
 
+// Found by a probe: a stage whose absorbing state held at the first tick "reached 90% after 3
+// episodes, 0 decisions" with 100% success, and --explain said its actions were never able to run.
+TEST_CASE("roger train warns of episodes that ended before their first decision", "[trainer][explain][cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_at_start_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "always.lua") << "local p = require('lib.skills').primitives()\n"
+                                       "return { stages = { roger.stage{ name = 'S', scenario = 'unobstructed',\n"
+                                       "  time_limit = 4, absorbing = function(s) return true end, budget = { episodes = 6 },\n"
+                                       "  checkpoints = { every = 3, episodes = 3, final = 3 },\n"
+                                       "  contexts = { { name = 'C', actions = { p.search, p.phi0 } } } } } }\n";
+  const auto [status, text] = run_roger("train " + (dir / "always.lua").string() + " --stage S --context C --json --out " +
+                                        (dir / "out").string());
+  INFO(text);
+  CHECK(status == 0);
+  CHECK(text.find("  warning        9 of 9 episodes (training and final) ended in the absorbing state before their "
+                  "first decision: the goal held in their worlds from the start") != std::string::npos);
+  const auto [explained_status, explained] = run_roger("train " + (dir / "always.lua").string() +
+                                                       " --stage S --context C --explain --out " + (dir / "out").string());
+  CHECK(explained_status == 0);
+  CHECK(explained.find("  why            9 of 9 episodes") != std::string::npos);
+  CHECK(explained.find("never able to run") == std::string::npos);
+  CHECK(nlohmann::json::parse(slurp(dir / "out" / "summary.json"))["diagnosis"]["ended_before_deciding"] == 9);
+  fs::remove_all(dir);
+}
+
 TEST_CASE("checkpoints that passed and then failed are named", "[trainer][explain]") {
   TrainResult r;
   r.psi = {"a", "b"};

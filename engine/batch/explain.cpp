@@ -108,8 +108,17 @@ std::string TrainingDiagnosis::never_reached_cause() const {
                         : "every one of " + episodes + " timed out, so no reward from it was ever learned");
 }
 
+std::string TrainingDiagnosis::goal_at_start_cause() const {
+  if (ended_before_deciding == 0) return "";
+  return std::to_string(ended_before_deciding) + " of " + std::to_string(episodes_seen) +
+         " episodes (training and final) ended in the absorbing state before their first decision: the goal "
+         "held in their worlds from the start, so they teach nothing and count as successes (check the stage's "
+         "absorbing state, or the goal, against its worlds)";
+}
+
 std::vector<std::string> TrainingDiagnosis::causes() const {
   std::vector<std::string> out;
+  if (const std::string at_start = goal_at_start_cause(); !at_start.empty()) out.push_back(at_start);
   if (cycle.turns > 0) out.push_back(cycle_cause());
   for (std::string& c : other_cycle_causes()) out.push_back(std::move(c));
   for (const Stuck& st : stuck)
@@ -142,6 +151,7 @@ nlohmann::json TrainingDiagnosis::to_json() const {
             {"never_chosen", action_names(never_chosen)},
             {"never_tried", action_names(never_tried)},
             {"never_referenced", action_names(never_referenced)},
+            {"ended_before_deciding", ended_before_deciding},
             {"timeouts", {{"training", train_episodes ? double(train_timeouts) / train_episodes : 0.0},
                           {"training_last_quarter",
                            last_quarter_episodes ? double(last_quarter_timeouts) / last_quarter_episodes : 0.0},
@@ -206,7 +216,11 @@ void read_final_episodes(const std::vector<TrainingEpisode>& episodes, TrainingD
 void read_decisions(const TrainResult& r, TrainingDiagnosis& d) {
   const int n = int(r.psi.size());
   std::vector<bool> tried(size_t(n), false), chosen(size_t(n), false), referenced(size_t(n), false);
+  bool any_decision = false;
   const auto note_states = [&](const TrainingEpisode& ep) {
+    ++d.episodes_seen;
+    d.ended_before_deciding += ep.success && ep.decision_states.empty();
+    any_decision = any_decision || !ep.decision_states.empty();
     for (int s : ep.decision_states)
       for (int a = 0; a < n; ++a) referenced[size_t(a)] = referenced[size_t(a)] || gamma_in(s, a, n) != Gamma::kNoRef;
   };
@@ -225,7 +239,8 @@ void read_decisions(const TrainResult& r, TrainingDiagnosis& d) {
     for (int a : ep.actions_taken) chosen[size_t(a)] = true;
     note_states(ep);
   }
-  const bool any_decision = d.train_episodes > 0 || !r.final_eval.runs.empty();
+  // Without a decision, no action was ever seen NOREF (found by a probe: "never able to run" of a
+  // stage whose every episode ended before its first).
   for (int a = 0; a < n; ++a) {
     if (!r.episodes.empty() && !tried[size_t(a)]) d.never_tried.push_back(a);
     if (!r.final_eval.runs.empty() && !chosen[size_t(a)]) d.never_chosen.push_back(a);

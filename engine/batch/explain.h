@@ -39,6 +39,9 @@ struct TrainingDiagnosis {
   std::vector<int> never_chosen;      // actions the final greedy policy never chose
   std::vector<int> never_tried;       // actions never chosen in training, exploration included
   std::vector<int> never_referenced;  // NOREF at every decision state met (training and final)
+  // Episodes (training and final) that ended in the absorbing state before their first decision:
+  // the goal held in their worlds from the start.
+  int ended_before_deciding = 0, episodes_seen = 0;
   int train_episodes = 0, train_timeouts = 0;
   bool absorbing_lua = false;  // the absorbing state is a Lua function's
   int last_quarter_episodes = 0, last_quarter_timeouts = 0;
@@ -57,6 +60,10 @@ struct TrainingDiagnosis {
   // The sentence said for the time-outs when no episode, training or final, reached the absorbing
   // state ("" when one did).
   std::string never_reached_cause() const;
+  // The sentence said when some episodes ended in the absorbing state before deciding ("" when
+  // none did): they teach nothing and count as successes (found by a probe: a stage whose goal
+  // held at the first tick "reached 90% after 3 episodes, 0 decisions").
+  std::string goal_at_start_cause() const;
   // The sentence of the greedy cycle (when cycle.turns > 0), and those of the actions.
   std::string cycle_cause() const;
   // The sentences of the other cycles: the next two in full, then how many episodes the rest hold.

@@ -637,8 +637,11 @@ int command_train(const TrainArgs& a) {
   print_outcome(r);
   if (r.teaches) print_teacher(r);
   print_unread_sets(r.unread_sets, r.scenario_file);
+  const TrainingDiagnosis diagnosis = diagnose_training(r);
+  if (const std::string at_start = diagnosis.goal_at_start_cause(); !at_start.empty() && r.reached && !r.explain)
+    std::printf("  warning        %s\n", at_start.c_str());
   if (!r.reached || r.explain) {
-    std::vector<std::string> causes = diagnose_training(r).causes();
+    std::vector<std::string> causes = diagnosis.causes();
     if (!r.reached) {  // the eyes' colour first: what it leaves undone the other causes only describe
       const std::string scenario = Curriculum::load(o.curriculum, o.limits).stage(o.stage).scenario;
       if (const std::string note = stimulus_unseen_in(scenario, r.params, o.limits, 0, 5); !note.empty())
