@@ -565,6 +565,40 @@ TEST_CASE("script mistakes are reported at the script's file:line", "[scenario]"
     CHECK(e.line == 6);
     CHECK(e.message == "unknown shape 'hexagon'; known shapes: circle, pentagon, spade, triangle");
   }
+  // Found by a probe: a negative width made a box all the same, a size written as a string passed,
+  // and a forgotten name ended in "arithmetic on a nil value" at the library's line.
+  SECTION("the shape helpers check their arguments at the caller's line") {
+    const std::pair<std::string, std::string> cases[] = {
+        {"shapes.box('z', -0.3, 0.5)", "shapes.box('z', ...): w must be a number above 0 (metres), got -0.3"},
+        {"shapes.box('b', 0.3, '0.3')", "shapes.box('b', ...): h must be a number above 0 (metres), got \"0.3\""},
+        {"shapes.box(0.3, 0.3)", "shapes.box: the first argument is the shape's name (a string), got 0.3"},
+        {"shapes.disk('d', 0)", "shapes.disk('d', ...): r must be a number above 0 (metres), got 0"},
+        {"shapes.regular('h', 9, 0.2)",
+         "shapes.regular('h', n, r): n is the number of vertices, an integer from 3 to 8, got 9"},
+        {"shapes.regular('h', 5, -0.2)", "shapes.regular('h', ...): r must be a number above 0 (metres), got -0.2"}};
+    for (const auto& [call, says] : cases) {
+      INFO(call);
+      try {
+        test::scenario_from("shape_args", "local shapes = require('lib.shapes')\n"
+                                          "return { generate = function(world, rng, p)\n"
+                                          "  world:robot{ x = 0, y = 0, heading = 0 }\n"
+                                          "  world:object{ shape = " + call + ", x = 1, y = 0 }\n"
+                                          "end }\n")
+            .generate(0);
+        FAIL("accepted");
+      } catch (const ScriptError& e) {
+        CHECK(e.line == 4);
+        CHECK(e.file.find("shape_args") != std::string::npos);
+        CHECK(e.message == says);
+      }
+    }
+    CHECK_NOTHROW(test::scenario_from("shape_ok", "local shapes = require('lib.shapes')\n"
+                                                  "return { generate = function(world, rng, p)\n"
+                                                  "  world:robot{ x = 0, y = 0, heading = 0 }\n"
+                                                  "  world:object{ shape = shapes.regular('h', 6.0, 0.2), x = 1, y = 0 }\n"
+                                                  "end }\n")
+                      .generate(0));
+  }
   SECTION("impossible placements end in a clear error after bounded retries") {
     Scenario s = Scenario::load("tests/scripts/bad_placement.lua");
     const ScriptError walls = generate_error(s);

@@ -11,13 +11,36 @@
 -- and placement margins fit all of them.
 local shapes = {}
 
+-- The helpers' arguments, checked at the caller's line (found by a probe: a negative width made a
+-- box all the same, a size written as a string passed, and a forgotten name ended in "arithmetic
+-- on a nil value (local 'h')" at this file's line).
+local function check_args(fn, name, sizes)
+  if type(name) ~= "string" then
+    error(string.format("shapes.%s: the first argument is the shape's name (a string), got %s", fn,
+                        type(name) == "number" and tostring(name) or "a " .. type(name)), 3)
+  end
+  for _, size in ipairs(sizes) do
+    local what, value = size[1], size[2]
+    if math.type(value) == nil or value ~= value or value <= 0 or value == math.huge then
+      error(string.format("shapes.%s('%s', ...): %s must be a number above 0 (metres), got %s", fn, name, what,
+                          type(value) == "string" and string.format("%q", value) or tostring(value)), 3)
+    end
+  end
+end
+
 -- A disk of radius r centred on the origin.
 function shapes.disk(name, r)
+  check_args("disk", name, { { "r", r } })
   return roger.shape{ name = name, disks = { { r = r } } }
 end
 
 -- A regular convex polygon: n vertices (3 to 8) on a circle of radius r, the first on +x.
 function shapes.regular(name, n, r)
+  check_args("regular", name, { { "r", r } })
+  if math.type(n) == nil or n ~= math.floor(n) or n < 3 or n > 8 then
+    error(string.format("shapes.regular('%s', n, r): n is the number of vertices, an integer from 3 to 8, got %s",
+                        name, tostring(n)), 2)
+  end
   local vertices = {}
   for i = 0, n - 1 do
     local a = 2 * math.pi * i / n
@@ -28,6 +51,7 @@ end
 
 -- A w x h rectangle centred on the origin.
 function shapes.box(name, w, h)
+  check_args("box", name, { { "w", w }, { "h", h } })
   local x, y = w / 2, h / 2
   return roger.shape{ name = name, polygons = { { { -x, -y }, { x, -y }, { x, y }, { -x, y } } } }
 end
