@@ -1012,23 +1012,34 @@ void check_only_needs(const BatchPlan& plan, const std::vector<std::string>& onl
     return at->second;
   };
   std::vector<std::string> needed, needing, runs;
-  for (const auto& p : plan.phases)
-    for (const auto& t : p) {
-      if (!shard.owns(t) || !trial_selected(t, only) || finished(t)) continue;
-      for (const std::string& id : policy_sources(t)) {
-        const auto it = by_id.find(id);
-        if (it == by_id.end() || trial_selected(*it->second, only) || finished(*it->second)) continue;
-        if (std::find(needed.begin(), needed.end(), id) == needed.end()) needed.push_back(id);
-        if (needing.empty() || needing.back() != t.id) needing.push_back(t.id);
-        const std::string run = id.substr(0, id.rfind('/'));
-        if (std::find(runs.begin(), runs.end(), run) == runs.end()) runs.push_back(run);
-      }
+  // Adds the sources of trial t that neither --only selects nor have a result; true if any.
+  const auto need_sources_of = [&](const PlannedTrial& t) {
+    bool any = false;
+    for (const std::string& id : policy_sources(t)) {
+      const auto it = by_id.find(id);
+      if (it == by_id.end() || trial_selected(*it->second, only) || finished(*it->second)) continue;
+      any = true;
+      if (std::find(needed.begin(), needed.end(), id) == needed.end()) needed.push_back(id);
+      const std::string run = id.substr(0, id.rfind('/'));
+      if (std::find(runs.begin(), runs.end(), run) == runs.end()) runs.push_back(run);
     }
+    return any;
+  };
+  for (const auto& p : plan.phases)
+    for (const auto& t : p)
+      if (shard.owns(t) && trial_selected(t, only) && !finished(t) && need_sources_of(t)) needing.push_back(t.id);
+  // And what those need in turn (found by a probe: the advice to add --only T/DC6 was refused
+  // again for T/DC6's own skill, SG/DC2).
+  const size_t direct = needed.size();
+  for (size_t k = 0; k < needed.size(); ++k) need_sources_of(*by_id.at(needed[k]));
   if (needed.empty()) return;
+  const std::vector<std::string> first(needed.begin(), needed.begin() + long(direct)),
+      then(needed.begin() + long(direct), needed.end());
   throw Error("--only " + join(only, " --only ") + ": its trials need the policies of trials outside it that have " +
-              "no result yet (not run, or failed): " + join_some(needed) + ", for " + join_some(needing) +
-              ". Nothing was run: run them first (e.g. --only " + runs[0] + "), or add --only " +
-              join(runs, " --only ") + " to this command");
+              "no result yet (not run, or failed): " + join_some(first) + ", for " + join_some(needing) +
+              (then.empty() ? std::string() : "; and those need " + join_some(then)) +
+              ". Nothing was run: add --only " + join(runs, " --only ") + " to this command, or run " +
+              (runs.size() == 1 ? "it" : "those") + " first");
 }
 
 namespace {
