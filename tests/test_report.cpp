@@ -676,6 +676,29 @@ TEST_CASE("--explain says which finished trials keep their result without a diag
   CHECK_THAT(said.log, Catch::Matchers::Contains("roger run: wrote " + (f.root / "out" / "summary.csv").string() + "\n"));
 }
 
+// Found by a probe: a folder of 823 trials without a result was 823 lines of roger report.
+TEST_CASE("roger report names the first 20 trials without a result and counts the rest", "[report][run]") {
+  Fixture f("many_missing");
+  RunArgs a = f.args("out", 1);
+  a.trials = 12;  // 60 trials
+  a.max_trials = 1;
+  std::ostringstream ran;
+  a.progress = &ran;
+  REQUIRE(command_run(a) == 0);
+  ReportArgs r;
+  r.dir = a.out;
+  std::ostringstream said;
+  r.progress = &said;
+  CHECK(command_report(r) == 1);
+  INFO(said.str());
+  const std::string text = said.str();
+  CHECK_THAT(text, Catch::Matchers::Contains("roger report: 59 trials of ") &&
+                       Catch::Matchers::Contains("  SG/B1/001 (run SG, context B1, trial 1)\n") &&
+                       Catch::Matchers::Contains("\n  ... and 39 more without a result: ") &&
+                       Catch::Matchers::Contains("eval/gen 24\n"));
+  CHECK(std::count(text.begin(), text.end(), '\n') == 1 + 20 + 1 + 2);
+}
+
 // Found by a probe: `--only T/DC6` in a fresh folder ran its trials, each recorded as failed for the
 // policy of an SG/DC2 trial that had not run.
 TEST_CASE("an --only that needs policies outside it that have no result is refused before any trial", "[report][run]") {

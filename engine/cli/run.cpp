@@ -93,14 +93,36 @@ int print_missing(const std::vector<MissingTrial>& missing, const BatchPlan& pla
   log << "roger report: " << missing.size() << " trial" << (missing.size() == 1 ? "" : "s") << " of " << plan.out
       << (missing.size() == 1 ? " has" : " have") << " no result yet" << (corrupt ? " or a corrupt one" : "")
       << ", so no report was written:\n";
+  // Every corrupt trial, and the first 20 of those without a result; the rest counted by run and
+  // context or evaluation (found by a probe: 823 pending trials were 823 lines).
+  constexpr int kShown = 20;
+  int shown = 0;
+  std::vector<std::pair<std::string, int>> rest;  // "run/context" or "evaluation" -> trials not listed
   for (const auto& m : missing) {
     const PlannedTrial& t = *m.trial;
+    if (m.problem.empty() && shown == kShown) {
+      const std::string group = t.run ? t.run->name + "/" + t.context : "eval/" + t.evaluation->name;
+      auto it = std::find_if(rest.begin(), rest.end(), [&](const auto& g) { return g.first == group; });
+      if (it == rest.end()) it = rest.insert(rest.end(), {group, 0});
+      ++it->second;
+      continue;
+    }
+    if (m.problem.empty()) ++shown;
     log << "  " << t.id << " (";
     if (t.run) log << "run " << t.run->name << ", context " << t.context;
     else log << "evaluation " << t.evaluation->name << (t.shape.empty() ? "" : ", shape " + t.shape);
     log << ", trial " << t.index << (m.owner.empty() ? "" : "; " + m.owner) << ")";
     if (!m.problem.empty()) log << ": CORRUPT: " << m.problem.substr(0, m.problem.find('\n'));
     log << "\n";
+  }
+  if (!rest.empty()) {
+    int more = 0;
+    std::string groups;
+    for (const auto& [group, n] : rest) {
+      more += n;
+      groups += (groups.empty() ? "" : ", ") + group + " " + std::to_string(n);
+    }
+    log << "  ... and " << more << " more without a result: " << groups << "\n";
   }
   log << "Run the roger run command that made the folder again (roger run " << shell_word(plan.script->path)
       << " --out " << shell_word(plan.out) << ", with the same options and the same --shard for a shard) to finish them"
