@@ -370,8 +370,8 @@ std::string fewer_trials_hint(const json& old_config, const json& config) {
   const std::string how = counts.size() == 1 ? "run the command with --trials " + std::to_string(*counts.begin()) +
                                                    ", the folder's number of trials"
                                              : "give the script's runs and evaluations the folder's numbers of trials";
-  return "\nThe folder holds more trials than this command plans (a run with a larger --trials made them): to "
-         "resume it, " + how + ".";
+  return "\nThe folder's manifest plans more trials than this command does (a run with a larger --trials wrote "
+         "it, whether or not those trials ran; a plan never shrinks): to resume it, " + how + ".";
 }
 
 // For a refusal where only the files' places differ: every Lua file holds what it held, but the
