@@ -188,6 +188,16 @@ TEST_CASE("compose reads the paper's notation, right-associative", "[lua_control
   auto phi4_b = as<SubjectTo>(lua.controller("return roger.compose('phi4 <| phi5')"))->subordinate();
   CHECK(phi4_a == phi4_b);
 
+  // A controller subject to itself is refused in each form (found by a probe: it was taken, and
+  // the one controller ran twice a tick).
+  CHECK_THAT(lua.error("local a = roger.primitive('phi0') return a:subject_to(a)").what(),
+             Contains("c:subject_to: the subordinate and the superior are the same controller ('phi0')"));
+  CHECK_THAT(lua.error("local a = roger.primitive('phi0') return roger.subject_to(a, a)").what(),
+             Contains("roger.subject_to: the subordinate and the superior are the same controller"));
+  CHECK_THAT(lua.error("return roger.compose('phi0 <| phi0')").what(),
+             Contains("roger.compose(\"phi0 <| phi0\"): 'phi0' is subject to itself"));
+  CHECK_NOTHROW(lua.controller("return roger.primitive('phi0'):subject_to(roger.primitive('phi0'))"));
+
   // The parts of composites, from Lua.
   CHECK(lua.text("local t = roger.compose('phi1 <| phi4 <| phi5')\n"
                  "return t.subordinate.name .. ' / ' .. t.superior.name .. ' / ' .. t.superior.superior.kind") ==
@@ -740,7 +750,8 @@ TEST_CASE("control functions refuse extra arguments at the caller's line", "[lua
   CHECK_THAT(lua.text(defs + "return roger.held(roger.converged(c), 0.5)"), Contains("held(converged(phi3), 0.5"));
   CHECK(lua.text(defs +
            "roger.gamma(c, 'CONV') roger.primitive('phi0', {gain = 2}) roger.primitive('phi0') "
-           "roger.negate(p) roger['not'](p) roger.subject_to(c, c) c:subject_to(c) roger.compose('phi1 <| phi4', {}) "
+           "roger.negate(p) roger['not'](p) roger.subject_to(c, roger.primitive('phi4')) "
+           "c:subject_to(roger.primitive('phi4')) roger.compose('phi1 <| phi4', {}) "
            "roger.compose('phi1') roger.policy('P', {actions = {c}, table = {}}) c:with({gain = 1}) "
            "c:param('gain') c:params() return 'accepted'") == "accepted");
 }

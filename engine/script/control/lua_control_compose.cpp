@@ -9,6 +9,14 @@ namespace roger {
 namespace lua_control_detail {
 namespace {
 
+// Refuses a controller subject to itself (found by a probe: a:subject_to(a) and "A <| A" were
+// taken, the one controller then run twice each tick, once in its own nullspace).
+void refuse_self(lua_State* L, const ControllerPtr& sub, const ControllerPtr& sup, const std::string& call) {
+  if (sub.get() == sup.get())
+    raise(L, call + ": the subordinate and the superior are the same controller ('" + sub->name() +
+                 "'): a controller cannot be subject to itself; make a second one for the other role");
+}
+
 // Makes sub <| sup and pushes it.
 void push_subject_to(lua_State* L, ControlBook& book, ControllerPtr sub, ControllerPtr sup) {
   count_object(L, book);
@@ -24,6 +32,7 @@ int l_subject_to_method(lua_State* L) {
     ControllerPtr sub = self_controller(L, "subject_to");
     lua_check_arity(L, "c:subject_to", 1, "1 argument (the superior)");
     ControllerPtr sup = lua_check_controller(L, 2, "c:subject_to", "argument 1 (the superior)");
+    refuse_self(L, sub, sup, "c:subject_to");
     push_subject_to(L, book, std::move(sub), std::move(sup));
     return 1;
   });
@@ -36,6 +45,7 @@ int l_subject_to(lua_State* L) {
     lua_check_arity(L, "roger.subject_to", 2, "2 arguments (the subordinate and the superior)");
     ControllerPtr sub = lua_check_controller(L, 1, "roger.subject_to", "argument 1 (the subordinate)");
     ControllerPtr sup = lua_check_controller(L, 2, "roger.subject_to", "argument 2 (the superior)");
+    refuse_self(L, sub, sup, "roger.subject_to");
     push_subject_to(L, book, std::move(sub), std::move(sup));
     return 1;
   });
@@ -76,6 +86,8 @@ class ComposeParser {
     if (!at_operator()) return left;
     pos_ += 2;
     ControllerPtr right = expression();
+    if (left.get() == right.get())
+      fail("'" + left->name() + "' is subject to itself: a controller cannot be; make a second one for the other role");
     count_object(L_, book_);
     return made(book_, std::make_shared<SubjectTo>(std::move(left), std::move(right)));
   }
