@@ -778,6 +778,14 @@ TEST_CASE("the Lua API checks its arguments where they are given", "[scenario]")
   CHECK(run("world:obstacle{shape = shapes.get('circle'), x = 0, y = 0, colour = {300, 0, 0}}", "colour_range") ==
         "world:obstacle: field 'colour' must be a colour: {r, g, b} or {r=, g=, b=} with integers "
         "0-255, or \"#rrggbb\" (component r is missing or not an integer 0-255, got 300)");
+  // Found by a probe: a fourth entry (an alpha) was dropped without a word, and a colour mixing the
+  // two forms was said to miss its g.
+  CHECK(run("world:obstacle{shape = shapes.get('circle'), x = 0, y = 0, colour = {200, 0, 0, 0}}", "colour_alpha") ==
+        "world:obstacle: field 'colour' must be a colour: {r, g, b} or {r=, g=, b=} with integers "
+        "0-255, or \"#rrggbb\": it has [4] beside the three components (a colour has no alpha)");
+  CHECK(run("world:obstacle{shape = shapes.get('circle'), x = 0, y = 0, colour = {1, 2, 3, r = 4}}", "colour_mixed") ==
+        "world:obstacle: field 'colour' must be a colour: {r, g, b} or {r=, g=, b=} with integers "
+        "0-255, or \"#rrggbb\": it mixes {r, g, b} and {r=, g=, b=}");
   CHECK(run("roger.shape{name = 'big', polygons = {{{0,0},{1,0},{1,1},{0.5,1.5},{0,1},{-1,1},{-1,0.5},{-1,-1},{0,-1}}}}", "verts") ==
         "roger.shape: shape 'big' polygon 1: expected 3 to 8 vertices, got 9");
   CHECK(run("roger.shape{name = 'v', polygons = {{{0,0},{1,0},{0.2,0.2},{0,1}}}}", "concave")

@@ -1013,7 +1013,7 @@ uint64_t resolve_test_set(StageRun& run, const PolicyMetadata& meta, const Polic
   if (!saved.recorded) {
     if (!run.stage.teaches())
       throw Error(run.stage.where() + " has no test set: it has no task space or teacher, so its trials end on "
-                  "its held-out seeds (no --test-set or --test-task)");
+                  "its held-out seeds (so --test-set, and roger render's --test-task, have no tasks to run)");
     out.test_set_source = "the curriculum (" + options.policy_file + " records none: written by an earlier roger)";
     out.test_tasks = std::move(now);
     return run.stage.checkpoints.seeds;

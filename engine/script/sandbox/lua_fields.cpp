@@ -217,6 +217,25 @@ Colour lua_to_colour(lua_State* L, int index, const std::string& context) {
     luaL_error(L, "%s must be %s, got %s", context.c_str(), expected, luaL_typename(L, index));
   const bool named = lua_getfield(L, index, "r") != LUA_TNIL;
   lua_pop(L, 1);
+  // Keys beside the three components (found by a probe: {200, 0, 0, 0} passed with its fourth
+  // entry dropped, and {1, 2, 3, r = 4} was said to miss its g).
+  int positional = 0, keyed = 0;
+  std::string other;
+  lua_pushnil(L);
+  while (lua_next(L, index) != 0) {
+    lua_pop(L, 1);
+    int is_int = 0;
+    const lua_Integer k = lua_type(L, -1) == LUA_TNUMBER ? lua_tointegerx(L, -1, &is_int) : 0;
+    const char* name = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : nullptr;
+    if (is_int && k >= 1 && k <= 3) ++positional;
+    else if (name && (!std::strcmp(name, "r") || !std::strcmp(name, "g") || !std::strcmp(name, "b"))) ++keyed;
+    else if (other.empty()) other = name ? "'" + std::string(name) + "'" : is_int ? "[" + std::to_string(k) + "]" : "a " + std::string(luaL_typename(L, -1)) + " key";
+  }
+  if (!other.empty())
+    luaL_error(L, "%s must be %s: it has %s beside the three components (a colour has no alpha)", context.c_str(),
+               expected, other.c_str());
+  if (positional > 0 && keyed > 0)
+    luaL_error(L, "%s must be %s: it mixes {r, g, b} and {r=, g=, b=}", context.c_str(), expected);
   const char* names[3] = {"r", "g", "b"};
   uint8_t out[3];
   for (int i = 0; i < 3; ++i) {
