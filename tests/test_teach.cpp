@@ -1774,6 +1774,18 @@ TEST_CASE("roger check calls a teacher function on a history and finds its error
                                                                "  end }");
   CHECK(check_curriculum(short_budget.string()) == std::vector<std::string>{});
   CHECK_NOTHROW(train_stage(stage_options(short_budget)));
+  // A history entry returned whole is told as such (found by a probe: "result.task must be a
+  // number, string or boolean, got a table").
+  const fs::path entry = write_stage(dir.path, "entry", "{ tasks = { obstacles = roger.int(0, 3) },\n"
+                                                        "  teacher = function(history, rng)\n"
+                                                        "    if #history > 0 then return history[#history] end\n"
+                                                        "    return {}\n"
+                                                        "  end }");
+  problems = check_curriculum(entry.string());
+  REQUIRE(problems.size() == 1);
+  CHECK_THAT(problems[0], Contains(entry.string() + ":9: stage 'S': teacher function returned a history entry (its "
+                                   "fields task, success, reward, time), not a task: return the entry's task, as "
+                                   "`return history[#history].task`"));
   // Found by a probe: check's history had rewards 0 and 1 and a time of 5 s past a 1 s limit, so a
   // function that read them passed here and failed in training. Now as training records them.
   const fs::path reads = write_stage(dir.path, "reads", "{ tasks = { obstacles = roger.int(0, 3) },\n"

@@ -240,6 +240,7 @@ class LuaTeacher final : public Teacher {
         // A history entry's task given back as it is (`return history[#history].task`): its data
         // (found by a probe: its private key was refused as "the key a userdata").
         if (lua_push_view_data(L, lua_gettop(L))) lua_replace(L, -2);
+        refuse_history_entry(L, lua_gettop(L));
         refuse_numeric_strings(L, lua_gettop(L));
         lua_read_params(L, -1, where_ + "'s result", given);
       });
@@ -248,6 +249,18 @@ class LuaTeacher final : public Teacher {
       throw ScriptError(e.message, fn_.file, fn_.line, "");  // a bad value in the result: the function's line
     }
     return given;
+  }
+  // A history entry given back whole (`return history[#history]`) rather than its task (found by
+  // a probe: "result.task must be a number, string or boolean, got a table").
+  void refuse_history_entry(lua_State* L, int t) const {
+    if (space_.index("task") >= 0 || fixed_space_.index("task") >= 0) return;  // an axis named task
+    const bool task = lua_getfield(L, t, "task") == LUA_TTABLE || lua_type(L, -1) == LUA_TUSERDATA;
+    const bool success = lua_getfield(L, t, "success") != LUA_TNIL;
+    lua_pop(L, 2);
+    if (task && success)
+      throw ScriptError(where_ + " returned a history entry (its fields task, success, reward, time), not a task: "
+                            "return the entry's task, as `return history[#history].task`",
+                        fn_.file, fn_.line, "");
   }
   void refuse_numeric_strings(lua_State* L, int t) const {
     lua_pushnil(L);
