@@ -556,6 +556,16 @@ TEST_CASE("script mistakes are reported at the script's file:line", "[scenario]"
           "parameter 'r': the choice 0.05 is below its min = 0.1, so it could never be set");
     // Choices within the bounds load as before.
     CHECK_NOTHROW(Scenario::load(write_with("k = { default = 2, choices = { 1, 2, 3 }, min = 1, max = 3 }")));
+    // Found by a probe: bounds the wrong way round were told as the default outside them, an
+    // integer parameter took a fractional bound, and choices mixed numbers and strings.
+    CHECK(load_error(write_with("a = { default = 0.5, min = 1, max = 0.2 }")).message ==
+          "parameter 'a': min = 1 is above max = 0.2, so no value could be set");
+    CHECK(load_error(write_with("n = { default = 2, min = 0.5, max = 3 }")).message ==
+          "parameter 'n': min = 0.5 bounds an integer parameter (its default 2 is an integer): give a whole number, "
+          "or write the default as 2.0 for a real-valued parameter");
+    CHECK(load_error(write_with("s = { default = 'circle', choices = { 'circle', 3 } }")).message ==
+          "parameter 's': choices mixes numbers and strings; give all of one kind, the default's");
+    CHECK_NOTHROW(Scenario::load(write_with("n = { default = 2.0, min = 0.5, max = 3.5 }")));
     std::filesystem::remove(path);
   }
   SECTION("an unknown shape lists the known ones") {

@@ -223,6 +223,13 @@ ParamSlot Scenario::Impl::read_param(lua_State* L) const {
   if (slot.info.list && slot.info.type != ParamType::kString)
     throw error(ctx + ": a list's default is a string of comma-separated choices (\"\" for none), got " +
                 param_type_name(slot.info.type) + " " + slot_text(slot));
+  // An integer parameter's bounds are whole numbers (found by a probe: min = 0.5 on an integer
+  // default passed, reading as a real-valued bound the parameter can never take).
+  for (const auto& [bound, name] : {std::pair{slot.info.min, "min"}, std::pair{slot.info.max, "max"}})
+    if (slot.info.type == ParamType::kInteger && bound && *bound != std::floor(*bound))
+      throw error(ctx + ": " + name + " = " + format_number(*bound) + " bounds an integer parameter (its default " +
+                  slot_text(slot) + " is an integer): give a whole number, or write the default as " + slot_text(slot) +
+                  ".0 for a real-valued parameter");
   slot.info.choices = choices;
   if (numeric) check_choices_in_bounds(slot.info, ctx);
   slot.info.default_value = slot.info.value = slot_text(slot);
@@ -255,6 +262,10 @@ int Scenario::Impl::read_param_table(lua_State* L, int value, const std::string&
   slot.info.description = f.string("description", "");
   if (f.has("min")) slot.info.min = f.number("min");
   if (f.has("max")) slot.info.max = f.number("max");
+  // Found by a probe: min = 1, max = 0.2 was said as "the default 0.5 is not a number in [1, 0.2]".
+  if (slot.info.min && slot.info.max && *slot.info.min > *slot.info.max)
+    throw error(ctx + ": min = " + format_number(*slot.info.min) + " is above max = " + format_number(*slot.info.max) +
+                ", so no value could be set");
   if (f.push("choices") != LUA_TNIL) read_choices(L, f, ctx, choices);
   slot.info.list = f.boolean("list", false);
   if (slot.info.list && choices.empty())
@@ -278,8 +289,14 @@ void Scenario::Impl::read_choices(lua_State* L, const LuaFields& f, const std::s
   // Found by a probe: {"a", "b", extra = "c"} dropped the "c" without a word.
   if (const std::string key = lua_key_beside_list(L, -1); !key.empty())
     throw error(ctx + ": choices must be a list {\"a\", \"b\", ...}, got the key " + key);
+  int numbers = 0, strings = 0;
   for (lua_Integer i = 1; i <= lua_Integer(lua_rawlen(L, -1)); ++i) {
     lua_rawgeti(L, -1, i);
+    numbers += lua_type(L, -1) == LUA_TNUMBER;
+    strings += lua_type(L, -1) == LUA_TSTRING;
+    // Found by a probe: {"circle", 3} loaded, a choice of another type than the others.
+    if (numbers > 0 && strings > 0)
+      throw error(ctx + ": choices mixes numbers and strings; give all of one kind, the default's");
     if (lua_type(L, -1) == LUA_TNUMBER || lua_type(L, -1) == LUA_TSTRING)
       choices.push_back(lua_isinteger(L, -1) ? std::to_string(lua_tointeger(L, -1))
                         : lua_type(L, -1) == LUA_TNUMBER ? format_number(lua_tonumber(L, -1))
