@@ -2629,6 +2629,14 @@ class GymnasiumJudges(unittest.TestCase):
         self.assertEqual(info["task_params"], again_info["task_params"])
         self.assertEqual(repr(roger.make(EXAMPLE, "Look", "Gaze", tasks=LOOK_TASKS).spec.kwargs["tasks"]),
                          repr({k: v.lua for k, v in LOOK_TASKS.items()}))
+        # Found by a probe: gymnasium.make's spec, set with the arguments as given, held the Axis and
+        # the Policy and did not write to JSON.
+        policy = roger.load_policy(train(EXAMPLE, "Look", "Gaze", 3, "look"))
+        made = self.gym.make("roger/Stage-v0", curriculum=EXAMPLE, stage="Look", context="Gaze", tasks=LOOK_TASKS,
+                             policy=policy)
+        again = self.gym.make(self.gym.envs.registration.EnvSpec.from_json(made.spec.to_json()))
+        self.assertEqual(again.unwrapped.task_space, made.unwrapped.task_space)
+        self.assertEqual(made.unwrapped.spec.kwargs["policy"], policy.path)
 
     def test_registry(self):
         ids = [f"roger/SG-{c}-v0" for c in ("B1", "DC1", "DC2")] + \

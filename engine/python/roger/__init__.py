@@ -550,6 +550,31 @@ class Env(_Copyable, _EnvBase):
 
     metadata = {"render_modes": _RENDER_MODES, "render_fps": _DECISION_FPS}
     _closed_by_vector = False
+    _spec = None
+
+    @property
+    def spec(self):
+        """Gymnasium's EnvSpec of this environment (None without gymnasium)."""
+        return self._spec
+
+    @spec.setter
+    def spec(self, value):
+        # Kept with each axis of its tasks as Lua text and each Policy as its path, which make takes
+        # alike: gymnasium.make sets the spec with the arguments as given, and one holding an Axis
+        # or a Policy did not write to JSON (found by a probe: spec.to_json() raised TypeError).
+        kwargs = getattr(value, "kwargs", None)
+        if isinstance(kwargs, dict):
+            k = dict(kwargs)
+            if "tasks" in k:
+                k["tasks"] = _tasks_text(k["tasks"])
+            if isinstance(k.get("policy"), Policy):
+                k["policy"] = k["policy"].path
+            if isinstance(k.get("skills"), dict):
+                k["skills"] = _skill_paths(k["skills"])
+            if k != kwargs:
+                value = copy.copy(value)
+                value.kwargs = k
+        self._spec = value
 
     def __init__(self, curriculum, stage, context, params=None, skills=None, scenario=None, mode="decision",
                  render_mode=None, render_width=1000, timeout="terminate", tasks=None, teacher=None, policy=None):
