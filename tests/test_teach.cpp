@@ -2029,6 +2029,17 @@ TEST_CASE("a teacher whose window cannot fill within the budget is warned of", "
   CHECK_THAT(warning("alp", "{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.alp_gmm{ fit_every = 4 } }"),
              Contains("alp.lua:8: stage 'S': roger.teacher.alp_gmm: fit_every = 4 is not below the budget's 4 episodes: "
                       "it will never fit its mixture before the last episode, and draws every task uniformly"));
+  // Found by a probe: windows each within the budget that together are not, and two teachers that
+  // are random{} under another name, were said nothing of.
+  CHECK_THAT(warning("seq_sum", "{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.sequence{ "
+                                "{ obstacles = 0, window = 2 }, { obstacles = 1, window = 2 }, {} } }"),
+             Contains("seq_sum.lua:8: stage 'S': roger.teacher.sequence: steps 1 to 2 need 4 episodes (a full window "
+                      "each) before step 3, not fewer than the budget's 4 episodes: no episode will train at step 3"));
+  CHECK_THAT(warning("alp_random", "{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.alp_gmm{ "
+                                   "fit_every = 2, random_share = 1 } }"),
+             Contains("random_share = 1 draws every task uniformly: it never uses its mixture"));
+  CHECK_THAT(warning("plr_never", "{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.plr{ replay = 0 } }"),
+             Contains("replay = 0 never replays a level: it draws every task afresh"));
   // Windows that fit, and a last step's (it never moves on), say nothing.
   CHECK(warning("fits", "{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.sequence{ "
                         "{ obstacles = 0, window = 3 }, { window = 100 } } }").empty());

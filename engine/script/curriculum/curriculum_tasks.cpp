@@ -696,12 +696,27 @@ std::string CurriculumStage::teacher_window_warning() const {
   if (spec.kind == TeacherSpec::Kind::kPlr && spec.replay >= 1.0 && budget_episodes > 1)
     return at + where() + ": " + spec.name() + ": replay = 1 replays a seen level at every episode: after the first "
            "it never draws a new one, and trains on that one task for the whole budget";
+  // Teachers that are random{} under another name (found by a probe: neither was said).
+  if (spec.kind == TeacherSpec::Kind::kAlpGmm && spec.random_share >= 1.0)
+    return at + where() + ": " + spec.name() + ": random_share = 1 draws every task uniformly: it never uses its "
+           "mixture, as roger.teacher.random does";
+  if (spec.kind == TeacherSpec::Kind::kPlr && spec.replay <= 0.0)
+    return at + where() + ": " + spec.name() + ": replay = 0 never replays a level: it draws every task afresh, as "
+           "roger.teacher.random does";
   if (spec.kind != TeacherSpec::Kind::kSequence) return "";
-  for (size_t i = 0; i + 1 < spec.steps.size(); ++i)  // the last step never moves on
+  int64_t before = 0;  // the fewest episodes before step i + 2 can begin: the windows it waits for
+  for (size_t i = 0; i + 1 < spec.steps.size(); ++i) {  // the last step never moves on
     if (spec.steps[i].window >= budget_episodes)
       return at + where() + ": " + spec.name() + ": step " + std::to_string(i + 1) + "'s window = " +
              std::to_string(spec.steps[i].window) + " is not below " + budget + ": the sequence will never move "
              "past it";
+    // Found by a probe: three steps of window 10 in 30 episodes, each alone within the budget.
+    before += spec.steps[i].window;
+    if (before >= budget_episodes)
+      return at + where() + ": " + spec.name() + ": steps 1 to " + std::to_string(i + 1) + " need " +
+             std::to_string(before) + " episodes (a full window each) before step " + std::to_string(i + 2) +
+             ", not fewer than " + budget + ": no episode will train at step " + std::to_string(i + 2);
+  }
   return "";
 }
 
