@@ -464,15 +464,23 @@ int check_curriculum_file(const std::string& path, const std::string& shown, con
   UnreadCache unread;
   std::set<std::string> scenarios;  // each stage's scenario, its generator's purity checked once
   for (const auto& st : cur.stages()) {
-    if (scenarios.insert(st.scenario).second) {
-      Scenario scenario = Scenario::load(st.scenario, limits);
-      for (const auto& [k, v] : st.params) scenario.set_param(k, v);
-      QuietPrints prints(scenario.sandbox(), "roger check built the world again");
-      prints.quiet();
-      if (const std::string impure = scenario.impurity(0); !impure.empty()) {
+    if (scenarios.insert(st.scenario).second && !st.contexts.empty()) {
+      // In its first context's world (the checks above built it); a world that cannot be built
+      // here is said where it is built.
+      std::string impure, path;
+      try {
+        Scenario scenario = Scenario::load(st.scenario, limits);
+        path = scenario.path();
+        for (const auto& [k, v] : st.scenario_params(st.contexts.front())) scenario.set_param(k, v);
+        QuietPrints prints(scenario.sandbox(), "roger check built the world again");
+        prints.quiet();
+        impure = scenario.impurity(0);
+      } catch (const std::exception&) {
+      }
+      if (!impure.empty()) {
         const std::string at = !st.file.empty() && st.line > 0 ? st.file + ":" + std::to_string(st.line) + ": " : "";
         std::fprintf(stderr, "roger: error: %s%s: scenario '%s' (%s): %s\n", at.c_str(), st.where().c_str(),
-                     st.scenario.c_str(), scenario.path().c_str(), impure.c_str());
+                     st.scenario.c_str(), path.c_str(), impure.c_str());
         return 1;
       }
     }
