@@ -832,7 +832,8 @@ std::string curriculum_note_of(const PolicyMetadata& meta, const Curriculum& cur
   const std::string judged = "; stage " + meta.stage + ", context " + meta.context;
   const std::string what = " judge it here (their goal, reward and time limit, and its actions' definitions)";
   if (same_curriculum_file(recorded, cur))
-    return "the curriculum " + recorded + " changed since the policy was trained" + judged + " of it as it is now" + what;
+    return "the curriculum " + recorded + " changed since the policy was trained" + judged + " of it as it is now" +
+           what;
   return "the policy was trained with the curriculum " + recorded + judged + " of this one" + what;
 }
 

@@ -142,8 +142,8 @@ void run_table_notes(bool any_censored, std::ostringstream& md) {
   if (any_censored)
     md << " Trials that never reached it count at their whole training time (right-censored), so the values "
           "marked ≥ are lower bounds (a median or interquartile mean is exact, and unmarked, when the censored "
-          "trials, the slowest, lie outside its window); the Mann-Whitney U test and P(faster) rank them as slower than every trial "
-          "that reached it. A % Improvement marked ≥ or ≤ is a bound for the same reason (the baseline's mean, "
+          "trials, the slowest, lie outside its window); the Mann-Whitney U test and P(faster) rank them as "
+          "slower than every trial that reached it. A % Improvement marked ≥ or ≤ is a bound for the same reason (the baseline's mean, "
           "or the row's, is a lower bound), and one marked ~ compares two lower bounds, so no bound follows.";
   md << " P(faster): the probability that a trial of the row is faster than one of the baseline; it and the "
         "p-value (exact with at most 20 trials a side, or 8 when times tie, then over the midranks; else the "

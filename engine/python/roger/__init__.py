@@ -54,8 +54,8 @@ except ImportError:  # exercised where gymnasium is absent
     _batch_space = None
 
 __all__ = ["make", "make_vec", "load_policy", "Env", "VecEnv", "Policy", "RogerError", "ScriptError", "PlacementError",
-           "RogerWarning", "AutoresetMode", "GAMMA_NAMES", "PAPER_IDS", "mix", "state_index", "spaces", "project_folder", "axis",
-           "Axis"]
+           "RogerWarning", "AutoresetMode", "GAMMA_NAMES", "PAPER_IDS", "mix", "state_index", "spaces", "project_folder",
+           "axis", "Axis"]
 
 
 def __dir__():

@@ -229,7 +229,10 @@ Colour lua_to_colour(lua_State* L, int index, const std::string& context) {
     const char* name = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : nullptr;
     if (is_int && k >= 1 && k <= 3) ++positional;
     else if (name && (!std::strcmp(name, "r") || !std::strcmp(name, "g") || !std::strcmp(name, "b"))) ++keyed;
-    else if (other.empty()) other = name ? "'" + std::string(name) + "'" : is_int ? "[" + std::to_string(k) + "]" : "a " + std::string(luaL_typename(L, -1)) + " key";
+    else if (other.empty())
+      other = name     ? "'" + std::string(name) + "'"
+              : is_int ? "[" + std::to_string(k) + "]"
+                       : "a " + std::string(luaL_typename(L, -1)) + " key";
   }
   if (!other.empty())
     luaL_error(L, "%s must be %s: it has %s beside the three components (a colour has no alpha)", context.c_str(),

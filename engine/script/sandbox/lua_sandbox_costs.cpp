@@ -240,7 +240,6 @@ uint64_t cost_tonumber(lua_State* L) {
   return uint64_t(p + std::strspn(p, kSpaces) - s) / kBytesPerUnit;
 }
 
-// A collection, a step, or a switch of mode (which collects or marks everything) walks the heap.
 // A collection (or a step, or a switch of mode, which may finish one) walks the heap: 0.2 ns a
 // byte of small tables, 0.07 of long strings (plain lua5.4 here). Charged an instruction per 32
 // bytes, a walk's units are allowed (50 ns each) eight times the time it takes; charged one per
