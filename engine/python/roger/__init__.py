@@ -571,9 +571,8 @@ class Env(_Copyable, _EnvBase):
                 k["policy"] = k["policy"].path
             if isinstance(k.get("skills"), dict):
                 k["skills"] = _skill_paths(k["skills"])
-            if k != kwargs:
-                value = copy.copy(value)
-                value.kwargs = k
+            value = copy.copy(value)  # the caller's spec keeps its own arguments
+            value.kwargs = k
         self._spec = value
 
     def __init__(self, curriculum, stage, context, params=None, skills=None, scenario=None, mode="decision",
