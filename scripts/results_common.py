@@ -74,29 +74,28 @@ def require_svg_path(script, out):
         sys.exit(2)
 
 
-def positive_int(text):
-    """An argparse type: a whole number of at least 1 (found by a probe: --episodes -5 printed a
-    table of -5 episodes per shape)."""
+def _whole(text, low, high, expected):
+    """An argparse type's work: `text` as a whole number in [low, high), else an ArgumentTypeError
+    saying `expected`."""
     import argparse
     try:
         n = int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
-    if n < 1:
-        raise argparse.ArgumentTypeError(f"expected a whole number of at least 1, got {n}")
+    if not low <= n < high:
+        raise argparse.ArgumentTypeError(f"expected {expected}, got {n}")
     return n
+
+
+def positive_int(text):
+    """An argparse type: a whole number of at least 1 (found by a probe: --episodes -5 printed a
+    table of -5 episodes per shape)."""
+    return _whole(text, 1, float("inf"), "a whole number of at least 1")
 
 
 def seed_int(text):
     """An argparse type: a world seed, a whole number from 0 to 2^64 - 1."""
-    import argparse
-    try:
-        n = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
-    if not 0 <= n < 2 ** 64:
-        raise argparse.ArgumentTypeError(f"expected a seed from 0 to 2^64 - 1, got {n}")
-    return n
+    return _whole(text, 0, 2 ** 64, "a seed from 0 to 2^64 - 1")
 
 
 def percent(k, n):

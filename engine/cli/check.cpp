@@ -478,9 +478,8 @@ int check_curriculum_file(const std::string& path, const std::string& shown, con
       } catch (const std::exception&) {
       }
       if (!impure.empty()) {
-        const std::string at = !st.file.empty() && st.line > 0 ? st.file + ":" + std::to_string(st.line) + ": " : "";
-        std::fprintf(stderr, "roger: error: %s%s: scenario '%s' (%s): %s\n", at.c_str(), st.where().c_str(),
-                     st.scenario.c_str(), path.c_str(), impure.c_str());
+        std::fprintf(stderr, "roger: error: %s%s: scenario '%s' (%s): %s\n", st.written_at().c_str(),
+                     st.where().c_str(), st.scenario.c_str(), path.c_str(), impure.c_str());
         return 1;
       }
     }

@@ -145,6 +145,10 @@ std::string CurriculumStage::where(const std::string& context) const {
   return "stage '" + name + "'" + (context.empty() ? "" : ", context '" + context + "'");
 }
 
+std::string CurriculumStage::written_at() const {
+  return !file.empty() && line > 0 ? file + ":" + std::to_string(line) + ": " : "";
+}
+
 const CurriculumContext& CurriculumStage::context(const std::string& n) const {
   std::vector<std::string> names;
   for (const auto& c : contexts) {
@@ -902,17 +906,16 @@ void check_regions(const CurriculumStage& st, const CurriculumContext& ctx, Scen
     }
     const RegionUse use = first_region_beyond(action.get(), regions);
     if (!use.controller) continue;
-    const std::string at = !st.file.empty() && st.line > 0 ? st.file + ":" + std::to_string(st.line) + ": " : "";
-    problems.push_back(at + st.where(ctx.name) + ": action '" + action->name() + "': " +
+    problems.push_back(st.written_at() + st.where(ctx.name) + ": action '" + action->name() + "': " +
                        region_use_problem(use, st.scenario, regions));
     return;
   }
 }
 
 // A stage's Lua teacher function called as between training episodes, on a history it builds:
-// the first ten episodes failed, the next twenty succeeded (a learner that learns; a third and the
-// rest of a budget under 30 episodes), so a function
-// that reads `history` or changes its mind after a run of successes meets both cases. An error
+// the first ten episodes failed, the next twenty succeeded (a learner that learns; under a budget
+// of fewer than 30 episodes, a third of them failed and the rest succeeded), so a function that
+// reads `history` or changes its mind after a run of successes meets both cases. An error
 // in it, or a result outside the task space, is found here rather than after a trial's first
 // episodes.
 void check_teacher_function(Curriculum& cur, const CurriculumStage& st, const ParamList& sets,
@@ -920,18 +923,18 @@ void check_teacher_function(Curriculum& cur, const CurriculumStage& st, const Pa
   if (!st.teacher_lua) return;
   // No more calls than training makes (found by a probe: a function that fails after episode 10 of
   // a 5-episode budget was refused, and trained).
-  const int kEpisodes = st.budget_episodes > 0 ? std::min(30, st.budget_episodes) : 30, kFailed = kEpisodes / 3;
+  const int episodes = st.budget_episodes > 0 ? std::min(30, st.budget_episodes) : 30, failed_first = episodes / 3;
   const double limit = st.time_limit > 0.0 ? st.time_limit : st.time_per_object;  // a world of one object
   int episode = 0;
   QuietPrints prints(cur.sandbox(), "roger check called the teacher function again");  // shown for the first call
   try {
     const std::unique_ptr<Teacher> teacher = cur.make_teacher(st, trial_task_space(st, sets), 0);
-    for (; episode < kEpisodes; ++episode) {
+    for (; episode < episodes; ++episode) {
       if (episode == 1) prints.quiet();
       TaskOutcome o;
       o.task = teacher->next().task;
       o.world_seed = uint64_t(episode);
-      o.success = episode >= kFailed;
+      o.success = episode >= failed_first;
       // As training records them with the stage's fixed rewards: a failure times out at the limit, a
       // success ends halfway (found by a probe: rewards 0 and 1 and a time of 5 s past a 4 s limit,
       // so a function that read them passed here and failed at training's first episode).
@@ -941,7 +944,7 @@ void check_teacher_function(Curriculum& cur, const CurriculumStage& st, const Pa
     }
   } catch (const std::exception& e) {
     // The teacher's message names the episode; the history it read is roger check's own.
-    const int failed = std::min(episode, kFailed), succeeded = episode - failed;
+    const int failed = std::min(episode, failed_first), succeeded = episode - failed;
     problems.push_back(episode == 0 ? std::string(e.what())
                                     : with_note_on_first_line(e.what(), " (roger check's history: " + counted(failed, "episode") +
                                                                             " failed" + (succeeded ? ", then " + std::to_string(succeeded) +

@@ -147,6 +147,8 @@ struct CurriculumStage {
   std::string time_limit_text() const;
   // "stage 'SG'" or "stage 'SG', context 'B1'", for messages.
   std::string where(const std::string& context = "") const;
+  // "file.lua:12: ", where the stage is written, in front of a message; "" when not known.
+  std::string written_at() const;
   // The context by name. Throws roger::Error listing the stage's contexts.
   const CurriculumContext& context(const std::string& name) const;
   // The scenario parameters of an episode in `context`: the stage's, with the context's over them.
