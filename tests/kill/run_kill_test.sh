@@ -140,8 +140,8 @@ while ! enough; do
   [ $attempts -le 40 ] || fail "40 attempts and still only $kills kills (training ${killed_in[training]}, evaluation ${killed_in[evaluation]}, report ${killed_in[report]}, report killed before it first existed: $report_first)"
   before=training
   [ -f "$killed/manifest.json" ] && before=$(part_left)
-  # Training: a random moment within half a trial (search-grasp, then transport) after the next
-  # trial finishes; so every kill falls elsewhere and the run moves on. Evaluation: within its trials, then, after two
+  # Training: a random moment within half a search-grasp trial after the next trial finishes, so
+  # every kill falls elsewhere and the run moves on (transport: see below). Evaluation: within its trials, then, after two
   # such kills, within half a report of their end: the report is being written for the first time.
   # Report: within a report-only run.
   aim=$before
@@ -150,8 +150,15 @@ while ! enough; do
     evaluation) trigger='phase 3/3' max_ms=$evaluation_ms ;;
     report) trigger='trials, curriculum' max_ms=$report_ms ;;
   esac
+  # Once search-grasp is done, the transport trials left run side by side and end together: the
+  # moment after the next one finishes is the end of training. While training still needs kills,
+  # a kill aims within half a transport trial of the transport phase's start instead (the run then
+  # keeps what it had); after that the run moves on.
   sg_done=$( { find "$killed/trials/SG" -name result.json 2>/dev/null || true; } | wc -l)
-  if [ "$before" = training ] && [ "$sg_done" -ge 4 ]; then max_ms=$((transport_ms / 2)); fi
+  if [ "$before" = training ] && [ "$sg_done" -ge 4 ]; then
+    max_ms=$((transport_ms / 2))
+    [ "${killed_in[training]}" -ge 2 ] || trigger='phase 2/3: T'
+  fi
   if [ "$before" = evaluation ] && [ "${killed_in[evaluation]}" -ge 2 ]; then
     aim=report trigger=evaluated max_ms=$((report_ms / 2))
   fi
