@@ -1813,6 +1813,33 @@ TEST_CASE("roger eval names the parts that never had a reference when every epis
   fs::remove_all(dir);
 }
 
+// Found by a probe: a skill script's goal that held in every world from the start read as 100%
+// success, where roger train warns of the same.
+TEST_CASE("roger eval warns of episodes that succeeded at their first tick", "[cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_eval_at_start_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "at_start.lua")
+      << "local skills = require('lib.skills')\nlocal p = skills.primitives()\nlocal Phi6 = skills.Phi6(p)\n"
+         "return { policies = {\n"
+         "  at_once = { action = Phi6, goal = roger.negate(roger.converged(p.phi0)), time_limit = 5 },\n"
+         "  search = { action = Phi6, goal = roger.converged(p.phi0), time_limit = 5 },\n"
+         "} }\n";
+  const std::string script = (dir / "at_start.lua").string();
+  Run r = roger("eval " + script + " --policy at_once --episodes 3 --json");
+  INFO(r.out << r.err);
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("  success rate   100.0% (3 of 3)\n"));
+  CHECK_THAT(r.out, Catch::Matchers::Contains("  warning        3 of 3 episodes succeeded at the first tick, when the "
+                                              "goal is first judged: it held in their worlds from the start"));
+  CHECK(nlohmann::json::parse(r.out.substr(r.out.rfind("\n{") + 1))["succeeded_at_first_tick"] == 3);
+  // A goal the action reaches says nothing of it.
+  r = roger("eval " + script + " --policy search --episodes 3 --json");
+  CHECK_THAT(r.out, Catch::Matchers::Contains("  success rate   100.0% (3 of 3)\n"));
+  CHECK(r.out.find("warning") == std::string::npos);
+  CHECK(nlohmann::json::parse(r.out.substr(r.out.rfind("\n{") + 1))["succeeded_at_first_tick"] == 0);
+  fs::remove_all(dir);
+}
+
 // Found by a probe: a stimulus colour one level off the ball's passed the curriculum's check, its
 // training's why lines blamed the Lua absorbing function, and its evaluation said nothing.
 TEST_CASE("a stimulus colour no object has is said by check, train and eval of a curriculum", "[cli]") {

@@ -382,13 +382,21 @@ int evaluate_command(const EvalArgs& a) {
     std::printf("  policy params  %s\n", params_marking_sets(policy.params, a.sets).c_str());
   print_changes(a);
   std::vector<uint64_t> failed;
-  for (size_t i = 0; i < r.results.size(); ++i)
+  int at_first_tick = 0;  // successes judged at the first look: the goal held from the start
+  for (size_t i = 0; i < r.results.size(); ++i) {
     if (!r.results[i].success) failed.push_back(a.seed + i);
+    at_first_tick += r.results[i].success && r.results[i].ticks <= 1;
+  }
   std::printf("  success rate   %.1f%% (%d of %d)\n", 100.0 * r.success_rate, r.successes, r.episodes);
   print_failed_seeds(a, failed);
   std::printf("  reward         %.1f +- %.1f\n", r.reward_mean, r.reward_std);
   std::printf("  episode time   %.2f s (mean, simulated)\n", r.time_mean);
   print_never_referenced(r);
+  // Found by a probe: a goal that held in every world from the start read as 100% success.
+  if (at_first_tick > 0)
+    std::printf("  warning        %d of %s succeeded at the first tick, when the goal is first judged: it held "
+                "in their worlds from the start, so they show nothing of the action (check the goal against "
+                "its worlds)\n", at_first_tick, counted(r.episodes, "episode").c_str());
   print_unread_sets(scenario.unread_params(split_sets(a.sets, "--set")), scenario.path());
   if (a.json) {
     nlohmann::json j = {{"script", script.path()},      {"policy", policy.name},
@@ -397,7 +405,8 @@ int evaluate_command(const EvalArgs& a) {
                         {"first_seed", a.seed},          {"successes", r.successes},
                         {"success_rate", r.success_rate}, {"reward_mean", r.reward_mean},
                         {"reward_std", r.reward_std},    {"time_mean", r.time_mean},
-                        {"failed_seeds", failed},       {"never_referenced", r.never_referenced}};
+                        {"failed_seeds", failed},       {"never_referenced", r.never_referenced},
+                        {"succeeded_at_first_tick", at_first_tick}};
     for (const auto& p : scenario.params()) j["params"][p.name] = p.value;
     std::printf("%s\n", j.dump().c_str());
   }
