@@ -61,8 +61,15 @@ Angles fold_posture(const RobotParams& b) {
   const RobotStart fold;
   const Angles mine = left_arm_towards(b, fold_target(b));
   const Angles theirs = left_arm_towards(ref, fold_target(ref));
-  return {fold.left_shoulder + (mine.shoulder - theirs.shoulder),
-          fold.left_elbow + (mine.elbow - theirs.elbow)};
+  // An elbow the inverse kinematics clamped to its range's end lands there give or take a rounding
+  // step, which must not put it outside (found by a probe: elbow {min = -0.1} refused for
+  // "-0.1000000000000001"); a fold really outside a range stays outside, and is refused.
+  const auto onto = [](double angle, double lo, double hi) {
+    constexpr double rounding = 1e-12;
+    return angle < lo && angle > lo - rounding ? lo : angle > hi && angle < hi + rounding ? hi : angle;
+  };
+  return {onto(fold.left_shoulder + (mine.shoulder - theirs.shoulder), b.shoulder_min, b.shoulder_max),
+          onto(fold.left_elbow + (mine.elbow - theirs.elbow), b.elbow_min, b.elbow_max)};
 }
 
 // The folded footprint's half width: the base's radius or the folded hands' outer edge.
