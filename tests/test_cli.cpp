@@ -1636,6 +1636,13 @@ TEST_CASE("roger eval and render of a saved policy set the parameters its trial 
   CHECK_THAT(r.out, Catch::Matchers::Contains("\n  note           the trial trained with eye_pixels = 64; scenario "
                                               "cluttered plays its own value of it here (--set eye_pixels=64 plays "
                                               "the trial's)\n"));
+  // Found by a probe: a scenario without those parameters was told to --set them, and refused them.
+  r = roger("eval curricula/paper.lua --policy " + policy + " --scenario docs/examples/corridor.lua --episodes 1");
+  CHECK_THAT(r.out, Catch::Matchers::Contains("\n  note           the trial trained with eye_pixels = 64, upper_arm = "
+                                              "0.6; scenario docs/examples/corridor.lua has no parameter eye_pixels, "
+                                              "upper_arm (its "
+                                              "worlds are as the scenario makes them, whatever they were in "
+                                              "training)\n"));
   // Found by a probe: roger render said nothing of it.
   r = roger("render curricula/paper.lua --policy " + policy + " --scenario cluttered --out " +
             (dir / "cluttered").string());

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <set>
 
 #include "batch/batch_internal.h"
 #include "control/agent.h"
@@ -917,6 +918,13 @@ void with_policy_file(const PolicyEvalOptions& given, PolicyEvalResult& out,
   cur.set_world(&run.agent.world());
   out.scenario = run.scenario.name();
   out.scenario_file = run.scenario.path();
+  // The trial's parameters another scenario declares first: a --set can play those (found by a
+  // probe: the note advised --set for parameters the scenario then refused as unknown).
+  std::set<std::string> declared;
+  for (const ScenarioParam& p : run.scenario.params()) declared.insert(p.name);
+  const auto left_declared = std::stable_partition(out.trial_sets_left.begin(), out.trial_sets_left.end(),
+                                                   [&](const auto& kv) { return declared.count(kv.first) > 0; });
+  out.trial_sets_left_declared = size_t(left_declared - out.trial_sets_left.begin());
   use(run, q, (options.first_seed >= 0 ? uint64_t(options.first_seed) : stage.checkpoints.seeds) + options.seed_offset,
       meta, options);
   out.source_files = run.files_read();

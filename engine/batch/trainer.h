@@ -324,6 +324,8 @@ struct PolicyEvalResult {
   // With options.trial_params: the trial's own parameters set (in the stage's scenario), or those
   // left out (in another scenario, which may not declare them), each as the policy file has it.
   std::vector<std::pair<std::string, std::string>> trial_sets, trial_sets_left;
+  // How many of trial_sets_left (the first ones) the other scenario declares; the rest it does not.
+  size_t trial_sets_left_declared = 0;
   // The trial's own parameters that the command's --set overrode here, at their trained values.
   std::vector<std::pair<std::string, std::string>> trial_sets_overridden;
   // The curriculum the policy file says it was trained with, when it is not the one given (whose

@@ -73,9 +73,10 @@ void refuse_foreign_files(const std::string& out, const std::string& command,
                           const std::function<bool(const std::string&)>& own);
 
 // The note on a saved policy's trial parameters that another scenario (--scenario) left at its
-// own values: "the trial trained with forearm = 0.6; scenario cluttered plays its own value of it
-// here (--set forearm=0.6 plays the trial's)".
-std::string trial_params_left_note(const std::vector<std::pair<std::string, std::string>>& left,
+// own values: "the trial trained with forearm = 0.6; scenario cluttered plays its own value of
+// forearm here (--set forearm=0.6 plays the trial's)". The first `declared` of `left` are the
+// scenario's parameters; of the others it says the scenario has none of that name.
+std::string trial_params_left_note(const std::vector<std::pair<std::string, std::string>>& left, size_t declared,
                                    const std::string& scenario);
 
 }  // namespace roger

@@ -66,12 +66,28 @@ void refuse_foreign_files(const std::string& out, const std::string& command,
               "would go among them. Give a new or empty folder (or one " + command + " wrote before)");
 }
 
-std::string trial_params_left_note(const std::vector<std::pair<std::string, std::string>>& left,
+std::string trial_params_left_note(const std::vector<std::pair<std::string, std::string>>& left, size_t declared,
                                    const std::string& scenario) {
+  std::vector<std::string> played, undeclared;
   std::string sets;
-  for (const auto& [key, value] : left) sets += (sets.empty() ? "--set " : " --set ") + key + "=" + value;
-  return "the trial trained with " + params_text(left) + "; scenario " + scenario + " plays its own value" +
-         (left.size() == 1 ? " of it" : "s of them") + " here (" + sets + " plays the trial's)";
+  for (size_t i = 0; i < left.size(); ++i) {
+    if (i >= declared) {
+      undeclared.push_back(left[i].first);
+      continue;
+    }
+    played.push_back(left[i].first);
+    sets += (sets.empty() ? "--set " : " --set ") + left[i].first + "=" + left[i].second;
+  }
+  std::string note = "the trial trained with " + params_text(left) + "; scenario " + scenario;
+  if (!played.empty())
+    note += " plays its own value" + std::string(played.size() == 1 ? " of " : "s of ") +
+            (undeclared.empty() ? std::string(played.size() == 1 ? "it" : "them") : join(played)) + " here (" + sets +
+            " plays the trial's)";
+  if (!played.empty() && !undeclared.empty()) note += ", and";
+  if (!undeclared.empty())
+    note += " has no parameter " + join(undeclared) + " (its worlds are as the scenario makes them, whatever " +
+            (undeclared.size() == 1 ? "it" : "they") + " were in training)";
+  return note;
 }
 
 bool policy_is_saved_file(const std::string& script, const std::string& policy) {
@@ -165,7 +181,7 @@ int run_render_policy_file(const RenderArgs& a) {
   const std::string trained = r.about.trial_sets.empty() ? "" : " with " + params_text(r.about.trial_sets);
   // Found by a probe: eval said so, render did not, and its title gave no body.
   if (!r.about.trial_sets_left.empty())
-    std::printf("note: %s\n", trial_params_left_note(r.about.trial_sets_left, r.about.scenario).c_str());
+    std::printf("note: %s\n", trial_params_left_note(r.about.trial_sets_left, r.about.trial_sets_left_declared, r.about.scenario).c_str());
   if (!r.about.unread_sets.empty())
     std::printf("note: %s\n", unread_sets_note(r.about.unread_sets, r.about.scenario_file).c_str());
   write_rendered_episode(a, r.spec, r.episode,

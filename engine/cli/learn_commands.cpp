@@ -174,7 +174,7 @@ void print_trial_params(const PolicyEvalResult& r, const std::string& scenario, 
     std::printf("  trained with   %s (the trial's own parameters, not in force here)\n",
                 params_marking_sets(r.trial_sets_overridden, sets).c_str());
   if (!r.trial_sets_left.empty())
-    std::printf("  note           %s\n", trial_params_left_note(r.trial_sets_left, scenario).c_str());
+    std::printf("  note           %s\n", trial_params_left_note(r.trial_sets_left, r.trial_sets_left_declared, scenario).c_str());
 }
 
 // eval --policy FILE.json: what to evaluate, from the command line.
