@@ -625,6 +625,30 @@ TEST_CASE("docs/propose.md: every option of roger propose and the library exampl
   CHECK(check_curriculum("docs/examples/propose_example.lua").empty());
 }
 
+// Found by a probe: A["Phi 6"] was nil and dropped from the end of a list, a misspelt field of
+// propose.stage (gaol) was dropped and the stage became the task, and a missing name was an error
+// at a line of curricula/lib/propose.lua.
+TEST_CASE("lib.propose refuses an unknown action or field at the caller's line", "[propose]") {
+  test::TempDir dir("roger_propose");
+  const auto problems = [&](const std::string& stage_fields) {
+    const fs::path file = dir.path / "mine.lua";
+    std::ofstream(file) << "local propose = require('lib.propose')\n"
+                           "local task = propose.task('paper', 'SG')\n"
+                           "local A = propose.actions(task, 'B1')\n"
+                           "return { stages = { propose.stage(task, {\n" << stage_fields << "}) } }\n";
+    const std::vector<std::string> p = check_curriculum(file.string());
+    return p.empty() ? std::string() : p.front();
+  };
+  const std::string contexts = "contexts = { { name = 'P', actions = { A['Phi6'], A['phi1'] } } },\n";
+  CHECK(problems("name = 'S', goal = A['phi1'],\n" + contexts).empty());
+  CHECK_THAT(problems("name = 'S', goal = A['phi1'],\ncontexts = { { name = 'P', actions = { A['phi1'], A['Phi 6'] } } },\n"),
+             Catch::Contains("mine.lua:6: lib.propose: context 'B1' of stage 'SG' has no action 'Phi 6'; its actions: "
+                             "Phi6, phi1, phi3, phi4 <| phi2"));
+  CHECK_THAT(problems("name = 'S', gaol = A['phi1'],\n" + contexts),
+             Catch::Contains("mine.lua:4: lib.propose: propose.stage has no field 'gaol'"));
+  CHECK_THAT(problems(contexts), Catch::Contains("mine.lua:4: a stage: missing required field 'name'"));
+}
+
 // Found by a probe: `roger propose scenarios/cluttered.lua` ended in a Lua traceback, and a batch
 // script in "unknown fields 'curriculum', 'evaluations', ...".
 TEST_CASE("propose names a scenario or a batch script given as its curriculum", "[propose]") {
@@ -703,4 +727,19 @@ TEST_CASE("propose says it stopped on Ctrl-C and names an unreadable record it r
                                             "was run again\n"));
   CHECK_THAT(again.err, Catch::Contains("roger propose: " + record.string() + " cannot be read (") &&
                             Catch::Contains("): its trial runs again\n"));
+  // Found by a probe: a damaged settings.json said "remove it to search here again", and the folder
+  // without it was refused as someone else's. It is written again; every record matches and is reused.
+  const fs::path settings = dir.path / "p" / "settings.json";
+  const std::string written = slurp(settings);
+  for (const std::string damage : {"garbage", "{}"}) {
+    std::ofstream(settings) << damage;
+    const Ran resumed = roger_run(dir.path, args);
+    INFO(resumed.out << resumed.err);
+    CHECK(resumed.status == 0);
+    CHECK_THAT(resumed.err, Catch::Contains("roger propose: " + settings.string() + " cannot be read (") &&
+                                Catch::Contains("): written again with this search's settings; the folder's records "
+                                                "are reused where they are this search's\n"));
+    CHECK_THAT(resumed.out, Catch::Contains(", 0 trials run, 22 reused"));
+    CHECK(slurp(settings) == written);
+  }
 }

@@ -68,12 +68,21 @@ local function context_of(task, context)
         table.concat(names, ", "), 3)
 end
 
--- The actions of the task's context `context`, as a table name -> controller.
+-- The actions of the task's context `context`, as a table name -> controller. A name it does not
+-- hold is an error at the line that reads it, listing the names it holds (found by a probe:
+-- A["Phi 6"] was nil, dropped from the end of an action list without a word).
 function M.actions(task, context)
   local ctx = context_of(task, context)
-  local A = {}
-  for _, a in ipairs(ctx.actions or ctx) do A[a.name] = a end
-  return A
+  local A, names = {}, {}
+  for _, a in ipairs(ctx.actions or ctx) do
+    A[a.name] = a
+    names[#names + 1] = a.name
+  end
+  table.sort(names)
+  return setmetatable(A, { __index = function(_, name)
+    error("lib.propose: context '" .. tostring(context) .. "' of stage '" .. tostring(task.name) ..
+          "' has no action '" .. tostring(name) .. "'; its actions: " .. table.concat(names, ", "), 2)
+  end })
 end
 
 -- The scenario parameters of the task's context `context` (a restricted body or senses), nil when
@@ -88,7 +97,19 @@ end
 -- absorbing when the goal is CONV, with the task's fixed rewards (or +100/-100/0 when the task's
 -- reward is a Lua function, which was written for the task's own actions); without, it is the task
 -- itself with new contexts.
+local stage_fields = { name = true, description = true, goal = true, contexts = true, skill = true }
+
 function M.stage(task, fields)
+  if type(fields) ~= "table" then
+    error("lib.propose: propose.stage's second argument must be a table of fields, got " .. type(fields), 2)
+  end
+  -- Found by a probe: a misspelt field (gaol, skils) was dropped, and the stage became the task.
+  for key in pairs(fields) do
+    if not stage_fields[key] then
+      error("lib.propose: propose.stage has no field '" .. tostring(key) .. "'; it takes name, contexts, goal, " ..
+            "skill and description (the rest comes from the task)", 2)
+    end
+  end
   local reward = task.reward
   if fields.goal and type(reward) ~= "table" then reward = { absorbing = 100, timeout = -100, step = 0 } end
   -- Called from a function of this file, so that roger.stage places its errors and the stage here.
@@ -119,7 +140,11 @@ function M.stage(task, fields)
           "curriculum resolved it, propose.task(\"" .. from.module .. "\", \"" .. tostring(task.name) ..
           "\", { scenario = PATH }) with PATH from the project (roger propose writes it so). " .. tostring(result), 2)
   end
-  error(result, 0)
+  -- roger.stage placed its error at a line of this file, where the stage is written again: the
+  -- caller's line says whose stage it is (found by a probe: a missing name read propose.lua:95).
+  local message = tostring(result)
+  local here = message:match("^[^:]*lib/propose%.lua:%d+: (.*)$")
+  error(here or message, here and 2 or 0)
 end
 
 return M

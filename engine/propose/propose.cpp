@@ -229,13 +229,26 @@ void claim_search_folder(const ProposeOptions& o, const std::string& module, con
                                  {"max_candidates", o.max_candidates}, {"prune_below", o.prune_below}};
   const std::string file = (fs::path(o.out) / "settings.json").string();
   refuse_foreign_folder(o.out, fs::exists(file));
+  // A settings.json that cannot be read (not JSON, or missing what a search writes: a disk fault or
+  // an edit) is written again with this search's settings, as an unreadable record is run again:
+  // the trials' records say themselves which candidate, seed and cap they are of, so only matching
+  // ones are reused (found by a probe: "remove it to search here again" led to "holds other files").
+  std::string unreadable;
+  nlohmann::json before;
   if (fs::exists(file)) {
-    nlohmann::json before;
     try {
       before = parse_json(read_file_text(file));
+      if (!before.is_object()) unreadable = "not a JSON object";
+      for (const auto& [key, value] : search.items())
+        if (unreadable.empty() && !before.contains(key)) unreadable = "no field \"" + key + "\"";
     } catch (const nlohmann::json::exception& e) {
-      throw Error(file + ": not valid JSON (" + json_error_text(e.what()) + "); remove it to search here again");
+      unreadable = "not valid JSON: " + json_error_text(e.what());
     }
+  }
+  if (!unreadable.empty() && o.progress)
+    *o.progress << "roger propose: " << file << " cannot be read (" << unreadable << "): written again with this "
+                << "search's settings; the folder's records are reused where they are this search's\n";
+  if (fs::exists(file) && unreadable.empty()) {
     // Each difference by the option that sets it (found by a probe: "budget_s 3000.0 there").
     const auto option = [](std::string key) {
       if (key == "curriculum") return key;
@@ -248,9 +261,8 @@ void claim_search_folder(const ProposeOptions& o, const std::string& module, con
     };
     std::string differ;
     for (const auto& [key, value] : search.items())
-      if (!before.is_object() || !before.contains(key) || before[key] != value)
-        differ += (differ.empty() ? "" : ", ") + option(key) + " " +
-                  (before.is_object() && before.contains(key) ? shown(before[key]) : "none") + " there, " + shown(value) +
+      if (before[key] != value)
+        differ += (differ.empty() ? "" : ", ") + option(key) + " " + shown(before[key]) + " there, " + shown(value) +
                   " here";
     if (!differ.empty())
       throw Error("roger propose: " + o.out + " holds another search (" + differ +
