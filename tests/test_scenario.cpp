@@ -362,6 +362,16 @@ TEST_CASE("scenario parameters", "[scenario]") {
                           !Contains("noise_base_bias (number"));
     CHECK_THROWS_WITH(s.set_param("noise_joint_bias", "0.01"),
                       Contains("has no parameter 'noise_joint_bias' (did you mean 'noise_joints_bias'?)"));
+    // Found by a probe: a kind or channel by another common name (the docs call quantum the
+    // resolution) got no hint; any other noise name is told how they are spelt.
+    CHECK_THROWS_WITH(s.set_param("noise_joints_resolution", "0.01"),
+                      Contains("has no parameter 'noise_joints_resolution' (did you mean 'noise_joints_quantum'?)"));
+    CHECK_THROWS_WITH(s.set_param("noise_camera", "5"), Contains("(did you mean 'noise_image'?)"));
+    CHECK_THROWS_WITH(s.set_param("noise_encoders_latency", "2"), Contains("(did you mean 'noise_joints_delay'?)"));
+    CHECK_THROWS_WITH(s.set_param("noise", "0.1"),
+                      Contains("has no parameter 'noise' (noise parameters are noise_CHANNEL, its sigma, and "
+                               "noise_CHANNEL_KIND; channels: base, effort, image, joints, touch; kinds: bias, delay, "
+                               "drift, dropout, quantum, tau; and noise_scale); known parameters: "));
   }
   // Before, "expects at most 12" or "expects an integer": a user learnt the range one bound at a time.
   SECTION("a value that does not fit says the whole range, the description and the default") {

@@ -152,6 +152,39 @@ std::string Scenario::Impl::known_params_text() const {
   return join(known, "; ");
 }
 
+// The hint for an unknown noise_* name among a scenario's noise parameters (lib/body's): a kind or a
+// channel called by another common name (resolution for quantum, latency for delay, camera for
+// image...) is pointed to ours, any other noise_ name is told how they are spelt (found by a probe:
+// noise_joints_resolution got the 36 names folded to one entry). "" when `key` is not noise_*.
+static std::string noise_param_hint(const std::string& key, const std::map<std::string, ParamSlot>& params) {
+  static const std::map<std::string, std::string> same = {
+      {"resolution", "quantum"}, {"precision", "quantum"}, {"step", "quantum"}, {"latency", "delay"},
+      {"lag", "delay"},          {"loss", "dropout"},      {"drop", "dropout"}, {"offset", "bias"},
+      {"std", "sigma"},          {"stddev", "sigma"},      {"sd", "sigma"},     {"camera", "image"},
+      {"cameras", "image"},      {"eye", "image"},         {"eyes", "image"},   {"images", "image"},
+      {"joint", "joints"},       {"encoder", "joints"},    {"encoders", "joints"}, {"arms", "joints"},
+      {"pose", "base"},          {"odometry", "base"},     {"contact", "touch"}, {"contacts", "touch"},
+      {"motor", "effort"},       {"motors", "effort"},     {"command", "effort"}, {"commands", "effort"}};
+  if (key != "noise" && key.rfind("noise_", 0) != 0) return "";
+  std::set<std::string> channels, kinds;
+  for (const auto& [k, slot] : params) {
+    if (k.rfind("noise_", 0) != 0 || k == "noise_scale") continue;
+    const size_t cut = k.find('_', 6);
+    channels.insert(k.substr(6, cut == std::string::npos ? std::string::npos : cut - 6));
+    if (cut != std::string::npos) kinds.insert(k.substr(cut + 1));
+  }
+  if (channels.empty()) return "";
+  const auto ours = [&](const std::string& word) { return same.count(word) ? same.at(word) : word; };
+  const std::string rest = key.size() > 6 ? key.substr(6) : "";
+  const size_t cut = rest.find('_');
+  const std::string channel = ours(rest.substr(0, cut)), kind = cut == std::string::npos ? "" : ours(rest.substr(cut + 1));
+  const std::string guess = "noise_" + channel + (kind.empty() || kind == "sigma" ? "" : "_" + kind);
+  if (guess != key && params.count(guess)) return " (did you mean '" + guess + "'?)";
+  return " (noise parameters are noise_CHANNEL, its sigma, and noise_CHANNEL_KIND; channels: " +
+         join(std::vector<std::string>(channels.begin(), channels.end())) +
+         "; kinds: " + join(std::vector<std::string>(kinds.begin(), kinds.end())) + "; and noise_scale)";
+}
+
 // The slot `key` would hold with `value` (in `out`), or why it cannot: an unknown key lists the
 // known parameters (the nearest first); a value that does not fit says what the parameter takes,
 // whole, and what it is for.
@@ -166,6 +199,7 @@ std::optional<std::string> Scenario::Impl::parse_param(const std::string& key, c
     // noise table writes it `sigma`).
     const std::string stem = key.size() > 6 && key.compare(key.size() - 6, 6, "_sigma") == 0 ? key.substr(0, key.size() - 6) : "";
     if (hint.empty() && !stem.empty() && params.count(stem)) hint = " (did you mean '" + stem + "', the channel's sigma?)";
+    if (hint.empty()) hint = noise_param_hint(key, params);
     return "scenario '" + name + "' (" + path + ") has no parameter '" + key + "'" + hint + "; " +
            (names.empty() ? "it has no parameters" : "known parameters: " + known_params_text());
   }
