@@ -1820,6 +1820,21 @@ TEST_CASE("roger eval names the parts that never had a reference when every epis
   fs::remove_all(dir);
 }
 
+// Found by a probe: a drift's tau without a drift, or noise_scale with every level 0, ran as if
+// unset, without a word.
+TEST_CASE("roger eval says when a --set noise setting changed nothing", "[cli][noise]") {
+  Run r = roger("eval curricula/scripted.lua --policy phi6 --episodes 1 --set noise_joints_tau=5 --set noise_scale=3");
+  INFO(r.out << r.err);
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("  note           --set noise_joints_tau changed no world here: "
+                                              "noise_joints_drift is 0, and tau is the drift's correlation time; --set "
+                                              "noise_scale changed no world here: every noise level it multiplies is 0\n"));
+  r = roger("eval curricula/scripted.lua --policy phi6 --episodes 1 --set noise_joints_tau=5 --set noise_scale=3 "
+            "--set noise_joints_drift=0.001");
+  CHECK(r.status == 0);
+  CHECK(r.out.find("changed no world") == std::string::npos);
+}
+
 // Found by a probe: a skill script's goal that held in every world from the start read as 100%
 // success, where roger train warns of the same.
 TEST_CASE("roger eval warns of episodes that succeeded at their first tick", "[cli]") {

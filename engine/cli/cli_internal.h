@@ -54,6 +54,15 @@ std::string unread_sets_note(const std::vector<std::string>& unread, const std::
 // The same as a note line of roger train's and roger eval's summary. Nothing when `unread` is empty.
 void print_unread_sets(const std::vector<std::string>& unread, const std::string& scenario);
 
+// lib/body's noise parameters that `sets` (--set key=value options) gave and that changed nothing
+// with the others in `params` (the parameters as used): a drift's tau without a drift, a
+// noise_scale with every level 0 (found by a probe: both ran as if unset, without a word). "" when none.
+std::string inert_noise_note(const std::vector<std::pair<std::string, std::string>>& params,
+                             const std::vector<std::string>& sets);
+
+// A scenario's parameters and their values, as text.
+std::vector<std::pair<std::string, std::string>> scenario_param_values(const Scenario& scenario);
+
 // Splits key=value options into pairs, each key once (a key repeated with another value is an
 // error; with the same value, kept once); `option` names the option in the errors.
 std::vector<std::pair<std::string, std::string>> split_sets(const std::vector<std::string>& sets, const char* option);

@@ -1,6 +1,8 @@
 // inspect.cpp: `roger render` (a picture of a world, or an episode of a skill script's policy).
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -38,12 +40,43 @@ void print_unread_sets(const std::vector<std::string>& unread, const std::string
   if (!unread.empty()) std::printf("  note           %s\n", unread_sets_note(unread, scenario).c_str());
 }
 
+std::vector<std::pair<std::string, std::string>> scenario_param_values(const Scenario& scenario) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const ScenarioParam& p : scenario.params()) out.emplace_back(p.name, p.value);
+  return out;
+}
+
+std::string inert_noise_note(const std::vector<std::pair<std::string, std::string>>& params,
+                             const std::vector<std::string>& sets) {
+  std::map<std::string, std::string> value(params.begin(), params.end());
+  const auto zero = [&](const std::string& name) { return value.count(name) && std::strtod(value[name].c_str(), nullptr) == 0.0; };
+  const auto ends_with = [](const std::string& s, const std::string& tail) {
+    return s.size() > tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+  };
+  std::vector<std::string> inert;
+  for (const auto& [key, set] : split_sets(sets, "--set")) {
+    if (key.rfind("noise_", 0) == 0 && ends_with(key, "_tau")) {
+      const std::string drift = key.substr(0, key.size() - 4) + "_drift";
+      if (zero(drift)) inert.push_back("--set " + key + " changed no world here: " + drift + " is 0, and tau is the "
+                                       "drift's correlation time");
+    } else if (key == "noise_scale" && value.count(key)) {
+      bool all_zero = true;
+      for (const auto& [name, v] : params)
+        if (name.rfind("noise_", 0) == 0 && name != key && !ends_with(name, "_tau")) all_zero = all_zero && zero(name);
+      if (all_zero) inert.push_back("--set noise_scale changed no world here: every noise level it multiplies is 0");
+    }
+  }
+  return join(inert, "; ");
+}
+
 namespace {
 
 // roger render's line for the --set its one world never read: the picture would not show why.
 void print_unread_note(Scenario& scenario, const std::vector<std::string>& sets) {
   const std::vector<std::string> unread = scenario.unread_params(split_sets(sets, "--set"));
   if (!unread.empty()) std::printf("note: %s\n", unread_sets_note(unread, scenario.path()).c_str());
+  if (const std::string inert = inert_noise_note(scenario_param_values(scenario), sets); !inert.empty())
+    std::printf("note: %s\n", inert.c_str());
 }
 
 }  // namespace
