@@ -118,6 +118,9 @@ TEST_CASE("world:robot refuses bad noise with the file, line, field and range", 
              Contains(":2:") && Contains("field 'delay' must be within [0, 50] ticks, got 60"));
   CHECK_THAT(robot_error("noise_tau", "{ x = 0, y = 0, noise = { base = { drift = { sigma = 0.01 } } } }"),
              Contains(":2:") && Contains("field 'tau' is missing: a drift with a sigma needs its correlation time"));
+  CHECK_THAT(robot_error("noise_drift_sigma", "{ x = 0, y = 0, noise = { joints = { drift = { tau = 10 } } } }"),
+             Contains(":2:") && Contains("noise.joints.drift: field 'sigma' is missing: a drift is its stationary "
+                                         "sigma, in rad, and its correlation time tau (sigma = 0 for none)"));
   CHECK_THAT(robot_error("noise_tau0", "{ x = 0, y = 0, noise = { base = { drift = { sigma = 0.01, tau = 0 } } } }"),
              Contains(":2:") && Contains("noise.base.drift: field 'tau' must be within (0, 3600] s, got 0"));
   CHECK_THAT(robot_error("noise_kind", "{ x = 0, y = 0, noise = { touch = { jitter = 1 } } }"),

@@ -199,6 +199,11 @@ ChannelNoise read_channel(const LuaFields& f, const ChannelRange& r) {
                   if (c.drift > 0.0 && !d.has("tau"))
                     d.fail("field 'tau' is missing: a drift with a sigma needs its correlation time, in s "
                            "(the noise_<channel>_tau parameters default to 10)");
+                  // Found by a probe: { tau = 10 } alone passed as no drift, where { sigma } alone
+                  // was refused: a drift written is asked for, so its sigma is said.
+                  if (!d.has("sigma"))
+                    d.fail("field 'sigma' is missing: a drift is its stationary sigma, in " + std::string(r.unit) +
+                           ", and its correlation time tau (sigma = 0 for none)");
                 });
                 const int64_t delay = k.integer("delay", 0);
                 if (delay < 0 || delay > kMaxNoiseDelay)
