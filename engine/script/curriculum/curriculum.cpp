@@ -967,6 +967,7 @@ std::vector<std::string> check_curriculum(const std::string& path, const Sandbox
 
 std::vector<std::string> check_curriculum(Curriculum& cur, const SandboxLimits& limits, const ParamList& sets,
                                           const std::vector<std::string>& stages, const std::string& sets_from) {
+  struct SetRefused {};  // a value of `sets` the stage's scenario refused, said already
   std::vector<std::string> problems;
   // Each context's world: its parameters may change the body or the senses (contexts of the same
   // parameters are one check).
@@ -983,9 +984,24 @@ std::vector<std::string> check_curriculum(Curriculum& cur, const SandboxLimits& 
       try {
         Scenario s = Scenario::load(st.scenario, limits);
         for (const auto& [k, v] : st.scenario_params(ctx)) s.set_param(k, v);
-        for (const auto& [k, v] : sets) s.set_param(k, v);
+        // A value the command gave is its own error, not the stage's (found by a probe: a misspelt
+        // --set was placed at a line of the shipped library that writes the paper's stages).
+        for (const auto& [k, v] : sets) {
+          try {
+            s.set_param(k, v);
+          } catch (const std::exception& e) {
+            const std::string written = st.file.empty() || st.line <= 0 ? ""
+                                        : " (" + st.file + ":" + std::to_string(st.line) + ")";
+            if (first)
+              problems.push_back(sets_from + " " + k + "=" + v + ": " + where + written + ": " + of_scenario(st, e.what()));
+            throw SetRefused();
+          }
+        }
         spec = s.generate(0);
         check_regions(st, ctx, s, spec, problems);
+      } catch (const SetRefused&) {
+        worlds_failed = true;
+        continue;
       } catch (const std::exception& e) {
         // Placed at the params table that asked for this world (the context's, else the stage's),
         // as a bad parameter is: a level noise_scale carries past its range, say; else at the stage.
