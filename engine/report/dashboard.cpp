@@ -87,7 +87,8 @@ json trial_entry(const std::string& dir, const std::string& id, int index) {
   }
   // The files worth opening: the episodes of training, any error, and any episode page rendered there.
   json files = json::array();
-  for (const char* f : {"episodes.jsonl", "checkpoints.jsonl", "curve.csv", "policy.json", "result.json", "error.json"})
+  for (const char* f : {"episodes.jsonl", "checkpoints.jsonl", "curve.csv", "final.jsonl", "eval.jsonl", "policy.json",
+                        "summary.json", "result.json", "error.json"})
     if (fs::exists(d / f, ec)) files.push_back(f);
   t["files"] = files;
   json pages = json::array();

@@ -22,6 +22,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import urllib.parse
 
 SKIP = 77
 
@@ -398,6 +399,11 @@ def check_no_report(b, folder, work):
     errors = b.errors()
     check(len(errors) <= 1 and all("ERR_FILE_NOT_FOUND" in e and "/dashboard.js?" in e for e in errors),
           "no report: a killed run's page asks once at most for the absent report (%s)" % errors)
+    # News again (a run paused by Ctrl-Z, or started again by its command): the page follows it
+    # again (found by a probe: it stayed on "No news" for good, the run finished below it).
+    write_status(copy, dict(base, updated_ms=int(time.time() * 1000)))
+    got = wait_for(b, "document.getElementById('progress-line').textContent", lambda t: t.startswith("Running"), 15)
+    check(got.startswith("Running"), "no report: a run with news again is followed again (%s)" % got)
 
 
 def check_keys(b, folder):
@@ -679,7 +685,7 @@ def check_partial(b, roger, folder):
     absent = [t["folder"] for t in trials if not os.path.isdir(os.path.join(folder, t["folder"]))]
     check(0 < len(absent) < len(trials), "partial: some trials have no folder (%d of %d)" % (len(absent), len(trials)))
     hrefs = b.evaluate("Array.from(document.querySelectorAll('#trials a')).map(a => a.getAttribute('href'))")
-    broken = sorted({h for h in hrefs if not os.path.exists(os.path.join(folder, h))})
+    broken = sorted({h for h in hrefs if not os.path.exists(os.path.join(folder, urllib.parse.unquote(h)))})
     check(hrefs and broken == [], "partial: every link of the trials' section exists (%d links; broken: %s)"
           % (len(hrefs), broken[:3]))
     chips = b.evaluate("""Array.from(document.querySelectorAll('#trials .trials .trial')).map(c =>
@@ -709,6 +715,17 @@ def check_partial(b, roger, folder):
                       % started["folder"])
     check(chip and chip[0] == "trial started" and chip[1] == started["id"] + ": started, not finished" and chip[2],
           "partial: a trial started and not finished links its folder, in a state of its own in the key (%s)" % chip)
+    # An episode page in a folder whose name a URL would cut or decode (found by a probe: "ep#1" led
+    # to the trial's folder, "ep%41" to "epA"): the link is percent-encoded, and resolves to it.
+    odd = "ep#1 %41 & <b>"
+    os.makedirs(os.path.join(folder, started["folder"], odd))
+    open(os.path.join(folder, started["folder"], odd, "index.html"), "w").write("<title>odd</title>")
+    run([roger, "report", "--partial", folder])
+    b.open(os.path.join(folder, "index.html"), "document.body.getAttribute('data-ready') === '1'")
+    links = b.evaluate("""Array.from(document.querySelectorAll('#trials .files a')).filter(a =>
+        a.textContent.startsWith('ep#1')).map(a => a.href)""")
+    want = "file://" + urllib.parse.quote(os.path.abspath(os.path.join(folder, started["folder"], odd, "index.html")))
+    check(links == [want], "partial: a page's odd folder name is a link that resolves to it (%s, want %s)" % (links, want))
 
 
 def check_no_figures(b, roger, results, work):
@@ -779,6 +796,15 @@ def check_damaged_report(b, chromium, results, work):
     console = [l for l in logged.stderr.splitlines() if "CONSOLE" in l]
     check("cannot be read" in logged.stdout and console == [],
           "damaged report: a browser started as a user starts it says so, nothing in the console (%s)" % console)
+    # A report of another shape that parses (found by a probe: a TypeError, "undefined" as the
+    # title, and "waiting for its report" for ever).
+    with open(script, "w") as f:
+        f.write('window.ROGER_REPORT = {"tables": 5};\n')
+    b.open(os.path.join(folder, "index.html"), "document.body.getAttribute('data-ready') === '1'")
+    note = b.evaluate("document.getElementById('empty-note').textContent")
+    check("cannot be read" in note and b.evaluate("document.title").startswith("undefined") is False,
+          "damaged report: one of another shape is said to be damaged (%s)" % note)
+    check(b.errors() == [], "damaged report: another shape, no console errors (%s)" % b.errors())
 
 
 def check_dashboard(b, folder, screenshot):
