@@ -234,10 +234,11 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control);
 void write_closing_status(const std::string& out, const std::string& report);
 
 // The folder's status.json (and status.js) with its place as it is now and whether it holds a
-// report (`folder`, `dashboard`), the rest as it was: a folder moved or copied since its run named
-// the old place, and its page's commands continued or reported that one (found by a probe).
-// write_closing_status does it too. Does nothing without a status.json; never throws.
-void refresh_status_place(const std::string& out);
+// report (`folder`, `dashboard`), and the trials' counts as their folders have them, the rest as
+// it was: a folder moved or copied since its run named the old place, and its page's commands
+// continued or reported that one (found by a probe). write_closing_status does the place too.
+// Does nothing without a status.json; never throws.
+void refresh_status_place(const BatchPlan& plan);
 
 // What the plan's trials' records say: failed, corrupt and pending trials, and summary.csv's
 // text, one row per planned trial (pending ones included).

@@ -595,6 +595,47 @@ class TimeLeft {
 // object as status.js for a page opened from the file system, where it cannot fetch() a file but
 // can (re)load a script. Rewritten atomically at most once a second by its own thread from what is
 // on disk (result.json, error.json, a trial's folder), so it never slows or changes a trial.
+// A trial's state from its folder: "done", "failed", "started" (files, no record) or "pending".
+std::string trial_state(const std::string& dir) {
+  std::error_code ec;
+  if (fs::exists(fs::path(dir) / "result.json", ec)) return "done";
+  if (fs::exists(fs::path(dir) / "error.json", ec)) return "failed";
+  if (fs::exists(dir, ec)) return "started";
+  return "pending";
+}
+
+// A status's counts of the plan's trials as their folders have them: per run/context and
+// evaluation (in plan order), with totals and the trials started and not finished. `each` (when
+// given) sees every trial and its state.
+nlohmann::json trial_counts(const BatchPlan& plan,
+                            const std::function<void(const PlannedTrial&, const std::string&)>& each = {}) {
+  std::vector<std::string> order;
+  std::map<std::string, nlohmann::json> groups;
+  size_t total = 0, done = 0, failed = 0, started = 0;
+  nlohmann::json started_ids = nlohmann::json::array();
+  for (const auto& p : plan.phases)
+    for (const auto& t : p) {
+      const std::string group = t.run ? t.run->name + "/" + t.context : "eval/" + t.evaluation->name;
+      if (!groups.count(group)) {
+        order.push_back(group);
+        groups[group] = {{"group", group}, {"trials", 0}, {"done", 0}, {"failed", 0}, {"started", 0}};
+      }
+      const std::string state = trial_state(trial_dir(plan.out, t.id));
+      if (each) each(t, state);
+      nlohmann::json& g = groups[group];
+      g["trials"] = g["trials"].get<int>() + 1;
+      ++total;
+      if (state == "pending") continue;
+      g[state] = g[state].get<int>() + 1;
+      (state == "done" ? done : state == "failed" ? failed : started) += 1;
+      if (state == "started") started_ids.push_back(t.id);
+    }
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& k : order) list.push_back(groups[k]);
+  return {{"trials", total}, {"done", done}, {"failed", failed}, {"started", started}, {"started_ids", started_ids},
+          {"groups", list}};
+}
+
 class StatusWriter {
  public:
   StatusWriter(const BatchPlan& plan, const Shard& shard)
@@ -623,48 +664,20 @@ class StatusWriter {
     std::unique_lock<std::mutex> lock(mutex_);
     while (!wake_.wait_for(lock, std::chrono::seconds(1), [this] { return stop_; })) write(true);
   }
-  static std::string state_of(const std::string& dir) {
-    std::error_code ec;
-    if (fs::exists(fs::path(dir) / "result.json", ec)) return "done";
-    if (fs::exists(fs::path(dir) / "error.json", ec)) return "failed";
-    if (fs::exists(dir, ec)) return "started";
-    return "pending";
-  }
   // Remembers the trials finished or started before this invocation, for the time left.
   void remember_earlier() {
     for (const auto& p : plan_.phases)
-      for (const auto& t : p) time_left_.earlier(t.id, state_of(trial_dir(plan_.out, t.id)));
+      for (const auto& t : p) time_left_.earlier(t.id, trial_state(trial_dir(plan_.out, t.id)));
   }
-  // Trials per run/context and evaluation (in plan order), with totals, the trials started and not
-  // finished, and an estimate of the time left (TimeLeft, which this once-a-second scan feeds).
+  // The trials' counts (trial_counts) and an estimate of the time left (TimeLeft, which this
+  // once-a-second scan feeds).
   nlohmann::json scan(bool running) {
-    std::vector<std::string> order;
-    std::map<std::string, nlohmann::json> groups;
-    size_t total = 0, done = 0, failed = 0, started = 0;
     const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
-    nlohmann::json started_ids = nlohmann::json::array();
     time_left_.begin_scan(elapsed);
-    for (const auto& p : plan_.phases)
-      for (const auto& t : p) {
-        const std::string group = t.run ? t.run->name + "/" + t.context : "eval/" + t.evaluation->name;
-        if (!groups.count(group)) {
-          order.push_back(group);
-          groups[group] = {{"group", group}, {"trials", 0}, {"done", 0}, {"failed", 0}, {"started", 0}};
-        }
-        const std::string state = state_of(trial_dir(plan_.out, t.id));
-        time_left_.trial(t, state);
-        nlohmann::json& g = groups[group];
-        g["trials"] = g["trials"].get<int>() + 1;
-        ++total;
-        if (state == "pending") continue;
-        g[state] = g[state].get<int>() + 1;
-        (state == "done" ? done : state == "failed" ? failed : started) += 1;
-        if (state == "started") started_ids.push_back(t.id);
-      }
+    const nlohmann::json counts =
+        trial_counts(plan_, [this](const PlannedTrial& t, const std::string& state) { time_left_.trial(t, state); });
     time_left_.end_scan();
-    const size_t left = total - done - failed;
-    nlohmann::json list = nlohmann::json::array();
-    for (const auto& k : order) list.push_back(groups[k]);
+    const size_t left = counts["trials"].get<size_t>() - counts["done"].get<size_t>() - counts["failed"].get<size_t>();
     auto [eta, uncounted] = running ? time_left_.estimate() : std::make_pair(nlohmann::json(), nlohmann::json::object());
     const auto epoch_ms = [](std::chrono::system_clock::time_point t) {
       return std::chrono::duration_cast<std::chrono::milliseconds>(t.time_since_epoch()).count();
@@ -674,9 +687,7 @@ class StatusWriter {
                         {"interrupted", interrupted_},
                         {"updated_ms", epoch_ms(std::chrono::system_clock::now())},
                         {"started_ms", epoch_ms(wall_start_)}, {"elapsed_s", elapsed},
-                        {"eta_s", eta}, {"eta_uncounted", uncounted}, {"trials", total}, {"done", done},
-                        {"failed", failed}, {"started", started}, {"started_ids", started_ids},
-                        {"groups", list},
+                        {"eta_s", eta}, {"eta_uncounted", uncounted},
                         // What the page names before a report exists, and the command that
                         // continues the run (a killed run's page says it): the batch script as
                         // given, and the folder.
@@ -686,6 +697,7 @@ class StatusWriter {
                         // the page asks for dashboard.js only then, or once the closing status
                         // says the report is written.
                         {"dashboard", fs::exists(fs::path(plan_.out) / "dashboard.js", ec)}};
+    j.update(counts);
     if (shard_.active()) {
       j["shard"] = std::to_string(shard_.index) + "/" + std::to_string(shard_.count);
       // A shard writes no report, and its final status is the closing one (roger run writes none
@@ -838,12 +850,17 @@ void set_status_place(nlohmann::json& j, const std::string& out) {
 
 }  // namespace
 
-void refresh_status_place(const std::string& out) {
+void refresh_status_place(const BatchPlan& plan) {
+  const std::string& out = plan.out;
   try {
     std::error_code ec;
     if (!fs::is_regular_file(fs::path(out) / "status.json", ec)) return;
     nlohmann::json j = parse_json(read_file_text((fs::path(out) / "status.json").string()));
     set_status_place(j, out);
+    // The counts as the trials' folders have them now (found by a probe: a killed run's last
+    // status said 8 done and one started above a partial report of 9); a run still going
+    // writes its own again within a second.
+    j.update(trial_counts(plan));
     write_status_files(out, j);
   } catch (const std::exception&) {
     // As write_closing_status.

@@ -331,7 +331,7 @@ int command_report(const ReportArgs& a) {
     // without a status.json) says it is there. A partial report leaves the status to the trials
     // still to come.
     if (missing.empty()) write_closing_status(plan.out, "written");
-    else refresh_status_place(plan.out);
+    else refresh_status_place(plan);
     if (summary.pending)
       log << "roger report: " << counted(summary.pending, "trial") << (summary.pending == 1 ? " has" : " have")
           << " no result yet (marked pending)\n";
