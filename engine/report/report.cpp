@@ -220,6 +220,7 @@ std::vector<std::string> write_report(const std::string& dir, const std::vector<
   write_file_atomic(tables, md.str(), "cannot write tables.md");
   const std::string report_json = staged.stage("report.json");
   json report = {{"tables", rep}};
+  for (json& t : report["tables"]) t.erase(kUsageOrder);  // the page's alone
   if (done.partial()) report["partial"] = partial_json(done);  // absent when every trial has a result
   write_file_atomic(report_json, report.dump(1) + "\n", "cannot write report.json");
   written.insert(written.begin(), {tables, report_json});

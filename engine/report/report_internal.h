@@ -30,6 +30,9 @@ using json = nlohmann::json;
 
 constexpr uint64_t kBootstrapSeed = 20240601;  // fixed: the same folder gives the same intervals
 constexpr int kCurvePoints = 200;              // the learning curves' common grid
+// A run table's field for the dashboard alone, dropped from report.json: each context's actions in
+// the order tables.md lists them (its usage object's keys come sorted by name).
+constexpr const char* kUsageOrder = "usage_order";
 
 // One number formatted by printf's format f.
 std::string fmt(const char* f, double v);

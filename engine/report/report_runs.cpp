@@ -153,8 +153,9 @@ void run_table_notes(bool any_censored, std::ostringstream& md) {
 namespace {
 
 // Usage: share of the final greedy policies' decisions per action, mean over trials, listed per
-// context; returns the shares by context and action.
-json usage_shares(const BatchRun& run, const Folder& folder, std::ostringstream& md) {
+// context; returns the shares by context and action, and in `order` each context's actions in
+// the order of its Psi, as listed (a JSON object's keys come sorted by name).
+json usage_shares(const BatchRun& run, const Folder& folder, std::ostringstream& md, json& order_of) {
   md << "### Usage of the final policies\n\nShare of the decisions of each action in the final greedy "
         "evaluation, mean over trials.\n\n";
   json usage_rows = json::object();
@@ -170,6 +171,7 @@ json usage_shares(const BatchRun& run, const Folder& folder, std::ostringstream&
     for (const auto& j : r.ok)
       for (auto it = usage_of(j).begin(); it != usage_of(j).end(); ++it) share[it.key()] += it->get<double>() / double(r.ok.size());
     md << "- " << c << ":";
+    order_of[c] = order;
     for (const auto& a : order) {
       md << " " << a << " " << pct(share[a]) << (a == order.back() ? "" : ",");
       usage_rows[c][a] = share[a];
@@ -254,7 +256,9 @@ void run_table(const BatchScript& b, const BatchTable& t, const Folder& folder, 
   for (const auto& c : run.contexts) run_rows.push_back({run.name, c});
   teaching_notes(b, run_rows, folder, md, table);
 
-  table["usage"] = usage_shares(run, folder, md);
+  json usage_order = json::object();
+  table["usage"] = usage_shares(run, folder, md, usage_order);
+  table[kUsageOrder] = usage_order;
   table["usage_comparisons"] = usage_comparisons(run, t, folder, md);
   const json why = why_not_reached(run, folder, md);
   md << "\n";
