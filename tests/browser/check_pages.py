@@ -822,6 +822,25 @@ def check_damaged_report(b, chromium, results, work):
     check(b.errors() == [], "damaged report: another shape, no console errors (%s)" % b.errors())
 
 
+def check_narrow_log_axis(b, folder):
+    """A log axis over 0.83 to 2.7 min (found by a probe: it read 0.83, 1.1, 1.3, 1.7, 2.1, 2.7 where
+    1 and 2 are in range) is marked at round values too, finer ones."""
+    copy = folder.rstrip("/") + "-narrow-log"
+    shutil.rmtree(copy, ignore_errors=True)
+    shutil.copytree(folder, copy)
+    report = read_report(copy)
+    fig = next(f for f in report["figures"] if f["kind"] == "curves" and f.get("log_x"))
+    for series in fig["series"]:
+        lo, hi = series["minutes"][0], series["minutes"][-1]
+        series["minutes"] = [0.83 * (2.7 / 0.83) ** ((m - lo) / (hi - lo)) for m in series["minutes"]]
+    write_report(copy, report)
+    b.open(os.path.join(copy, "index.html"), "document.body.getAttribute('data-ready') === '1'")
+    labels = b.evaluate("""Array.from(document.querySelectorAll('svg[data-figure="%s"] text.tick-x'))
+        .map(t => t.textContent)""" % fig["file"])
+    check(labels == ["1", "1.5", "2"], "dashboard: a narrow log axis is marked at 1, 1.5 and 2 (%s)" % labels)
+    shutil.rmtree(copy)
+
+
 def check_dashboard(b, folder, screenshot):
     check_progress(b, folder)
     page = os.path.join(folder, "index.html")
@@ -875,6 +894,7 @@ def check_dashboard(b, folder, screenshot):
             .map(t => t.textContent)""" % fig["file"])
         check(len(labels) >= 3 and all(re.fullmatch(r"(0\.0*)?[125]0*", l) for l in labels),
               "dashboard: %s's log axis is labelled 1, 2 and 5 times powers of ten (%s)" % (fig["file"], labels))
+    check_narrow_log_axis(b, folder)
     status = json.load(open(os.path.join(folder, "status.json")))
     line = b.evaluate("document.getElementById('progress-line').textContent")
     check(not status["running"] and ("%d/%d trials done" % (status["done"], status["trials"])) in line,
