@@ -183,7 +183,7 @@ void write_rendered_episode(const RenderArgs& a, const WorldSpec& spec, const Ep
   const size_t shown = summary ? std::min(size_t(kPanels), episode.frames.size()) : episode.frames.size();
   const std::string frames = summary ? std::to_string(shown) + " of " + std::to_string(episode.frames.size()) +
                                            " frames recorded"
-                                     : std::to_string(shown) + " frames";
+                                     : counted(long(shown), "frame");
   std::printf("wrote %s (%s after %.2f s, reward %.0f; %s)\n", a.out.c_str(), episode.success ? "success" : "timeout",
               episode.sim_seconds, episode.reward, frames.c_str());
 }

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/text.h"
 #include "learn/decision_cycle.h"
 #include "episode_page_html.h"  // generated from web/episode.html by engine/embed_text.cmake
 
@@ -252,7 +253,7 @@ std::string page_html(const WorldSpec& spec, const EpisodeResult& ep, const Time
   std::string meta = spec.scenario.empty() ? std::string("world")
                                            : "scenario " + valid_utf8(spec.scenario);
   meta += " \u00b7 world seed " + std::to_string(spec.seed) + " \u00b7 episode seed " +
-          std::to_string(ep.seed) + " \u00b7 " + std::to_string(ep.frames.size()) + " frames";
+          std::to_string(ep.seed) + " \u00b7 " + counted(long(ep.frames.size()), "frame");
   return fill(kPage, {{"TITLE", html_escape(title.empty() ? "roger episode"
                                                           : title + " \u2013 roger episode")},
                       {"HEADING", html_escape(title.empty() ? "Episode" : title)},
