@@ -1634,6 +1634,12 @@ TEST_CASE("roger eval and render of a saved policy set the parameters its trial 
   INFO(r.out << r.err);
   CHECK_THAT(r.out, Catch::Matchers::Contains("\n  skill Phi_SG        from " + policy +
                                               "; trained with eye_pixels = 64, upper_arm = 0.6 (here 128, 0.5)\n"));
+  // And where a --skill replaces it in an evaluation (found by a probe: roger eval said nothing).
+  r = roger("eval curricula/paper.lua --policy " + (dir / "t" / "policy.json").string() + " --skill Phi_SG=" + policy +
+            " --episodes 1");
+  INFO(r.out << r.err);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("\n  skill Phi_SG    from " + policy +
+                                              "; trained with eye_pixels = 64, upper_arm = 0.6 (here 128, 0.5)\n"));
   // In another scenario they are named, not set: it may not declare them, or mean another thing.
   r = roger("eval curricula/paper.lua --policy " + policy + " --scenario cluttered --set upper_arm=0.6 --episodes 2");
   CHECK_THAT(r.out, Catch::Matchers::Contains("\n  note           the trial trained with eye_pixels = 64; scenario "

@@ -889,6 +889,7 @@ void with_policy_file(const PolicyEvalOptions& given, PolicyEvalResult& out,
   topt.limits = options.limits;
   topt.skill_files = options.skill_files;
   bind_skills(cur, ctx, topt, &embedded, sources);
+  out.skills = sources;
   out.stage = stage.name;
   out.context = ctx.name;
   out.trained_curriculum = other_curriculum(meta, cur);  // found by a probe: judged by another's goal, unsaid

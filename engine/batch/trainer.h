@@ -328,6 +328,8 @@ struct PolicyEvalResult {
   size_t trial_sets_left_declared = 0;
   // The trial's own parameters that the command's --set overrode here, at their trained values.
   std::vector<std::pair<std::string, std::string>> trial_sets_overridden;
+  // The learned skills the policy ran with: embedded in its file, or given by --skill.
+  std::vector<SkillSource> skills;
   // The curriculum the policy file says it was trained with, when it is not the one given (whose
   // stage and context of the same names then judge it: their goal, reward and time limit); "".
   std::string trained_curriculum;

@@ -224,6 +224,23 @@ std::string lua_judge_never_note(const EvalArgs& a, const PolicyEvalResult& r) {
   }
 }
 
+// "; trained with upper_arm = 0.7 (here 0.5)": the scenario parameters a skill's policy records
+// (its trial's, policy.json's extra.params) that differ from this run's, "" when none does (found
+// by a probe: a skill learned on another body was used without a word).
+static std::string skill_params_note(const SkillSource& s, const std::vector<std::pair<std::string, std::string>>& run) {
+  if (!s.policy.is_object() || !s.policy.contains("extra") || !s.policy["extra"].is_object()) return "";
+  const nlohmann::json params = s.policy["extra"].value("params", nlohmann::json::object());
+  if (!params.is_object()) return "";
+  std::string theirs, here;
+  for (const auto& [name, value] : run) {
+    const auto it = params.find(name);
+    if (it == params.end() || !it->is_string() || it->get<std::string>() == value) continue;
+    theirs += (theirs.empty() ? "" : ", ") + name + " = " + it->get<std::string>();
+    here += (here.empty() ? "" : ", ") + value;
+  }
+  return theirs.empty() ? "" : "; trained with " + theirs + " (here " + here + ")";
+}
+
 // eval --policy FILE.json: what the evaluation found, as text.
 void print_policy_eval(const EvalArgs& a, const PolicyEvalResult& r, const std::string& stimulus_unseen) {
   std::printf("roger eval: %s stage %s context %s (%s) in %s, %s from seed %llu, %s\n", a.script.c_str(),
@@ -233,6 +250,12 @@ void print_policy_eval(const EvalArgs& a, const PolicyEvalResult& r, const std::
               r.time_limit.c_str());
   print_changes(a);
   print_trial_params(r, a.scenario, a.sets);
+  // A skill given by --skill that learned on another body says so, as roger train does (found by a
+  // probe: eval said nothing).
+  for (const SkillSource& s : r.skills)
+    if (!s.embedded)
+      if (const std::string note = skill_params_note(s, r.params); !note.empty())
+        std::printf("  skill %-9s from %s%s\n", s.name.c_str(), s.file.c_str(), note.c_str());
   if (r.stage_test_tasks > 0 && !a.test_set)
     std::printf("  note           stage %s teaches: its trials ended on %d test tasks of its task space, not run here "
                 "(--test-set runs them; these episodes have the stage's own parameters%s)\n",
@@ -431,23 +454,6 @@ int command_eval(const EvalArgs& a) {
     std::fprintf(stderr, "roger eval: stopped; no figures (an evaluation stopped part-way is no result)\n");
     return interrupt_exit_status();
   }
-}
-
-// "; trained with upper_arm = 0.7 (here 0.5)": the scenario parameters a skill's policy records
-// (its trial's, policy.json's extra.params) that differ from this run's, "" when none does (found
-// by a probe: a skill learned on another body was used without a word).
-static std::string skill_params_note(const SkillSource& s, const std::vector<std::pair<std::string, std::string>>& run) {
-  if (!s.policy.is_object() || !s.policy.contains("extra") || !s.policy["extra"].is_object()) return "";
-  const nlohmann::json params = s.policy["extra"].value("params", nlohmann::json::object());
-  if (!params.is_object()) return "";
-  std::string theirs, here;
-  for (const auto& [name, value] : run) {
-    const auto it = params.find(name);
-    if (it == params.end() || !it->is_string() || it->get<std::string>() == value) continue;
-    theirs += (theirs.empty() ? "" : ", ") + name + " = " + it->get<std::string>();
-    here += (here.empty() ? "" : ", ") + value;
-  }
-  return theirs.empty() ? "" : "; trained with " + theirs + " (here " + here + ")";
 }
 
 // Where a skill of the trial came from, as roger train says it.
