@@ -12,6 +12,7 @@
 -- seed).
 local shapes = require("lib.shapes")
 local body = require("lib.body")
+local place = require("lib.place")
 
 -- The types, their colours and their regions, in region order.
 local TYPES = { "circle", "triangle", "pentagon", "spade" }
@@ -89,7 +90,7 @@ return {
     end
     local b = body.of(p)
     local rx, ry = world:sample_position{
-      name = "Roger", radius = roger.body_metrics(b).footprint_radius, wall_margin = 1.0, clearance = 0.2,
+      name = place.robot_name(p), radius = roger.body_metrics(b).footprint_radius, wall_margin = 1.0, clearance = 0.2,
     }
     world:robot{ x = rx, y = ry, heading = rng:angle(), body = b.body, eyes = b.eyes, noise = body.noise_of(p) }
     for i = 1, p.objects do

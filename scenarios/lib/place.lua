@@ -58,9 +58,9 @@ end
 -- p.robot_wall_margin is the least distance from the walls to the base centre (the footprint may
 -- make it larger). Returns the base position.
 -- "Roger", and the sizes of its body that are not the paper's (found by a probe: a body too large
--- for the arena was refused as "no placement for 'Roger'", naming no parameter).
+-- for the arena was refused as "no placement for 'Roger'", naming no parameter); sorting.lua's too.
 local SIZES = { "upper_arm", "forearm", "base_radius", "hand_radius" }
-local function roger_name(p)
+function place.robot_name(p)
   local changed = {}
   for _, name in ipairs(SIZES) do
     if p[name] ~= body.PARAMS[name].default then
@@ -74,7 +74,7 @@ function place.robot(world, rng, p)
   check_params("robot", p)
   local b = body.of(p, 1)  -- its errors at the scenario's line, as noise_of's
   local x, y = world:sample_position{
-    name = roger_name(p),
+    name = place.robot_name(p),
     radius = roger.body_metrics(b).footprint_radius,
     wall_margin = p.robot_wall_margin,
   }
