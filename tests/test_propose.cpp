@@ -197,6 +197,20 @@ TEST_CASE("propose is deterministic for a seed, and a re-run resumes from its re
   std::ofstream(trial_file) << trial.dump();
   const ProposeResult f = propose_curriculum(sg_options(dir.path / "a"));
   CHECK(f.trials_run == 1);
+  CHECK(f.stale_records == 0);  // damaged, not stale
+  CHECK(tree(dir.path / "a") == before);
+  // Records of other sources (the curriculum edited since) run again, and are counted (found by a
+  // probe: "0 reused" after an edit, without a word of why).
+  trial = nlohmann::json::parse(slurp(trial_file));
+  trial["hash"] = "of another text";
+  std::ofstream(trial_file) << trial.dump();
+  probe = nlohmann::json::parse(slurp(probe_file));
+  probe["key"] = "of other sources";
+  std::ofstream(probe_file) << probe.dump();
+  const ProposeResult g = propose_curriculum(sg_options(dir.path / "a"));
+  CHECK(g.stale_records == 2);
+  CHECK(g.trials_run == 1);
+  CHECK(g.unreadable.empty());
   CHECK(tree(dir.path / "a") == before);
   // A different seed searches differently (another probe).
   ProposeOptions other = sg_options(dir.path / "c");

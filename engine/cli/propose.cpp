@@ -49,6 +49,12 @@ int command_propose(const ProposeArgs& a) {
               counted(r.rounds, "round").c_str(), counted(r.trials_run, "trial").c_str(), r.trials_reused);
   for (const auto& file : r.unreadable)
     std::printf("  unreadable     %s could not be read: its trial was run again\n", file.c_str());
+  // Found by a probe: after an edit everything ran again, "0 reused", without a word of why.
+  if (r.stale_records > 0)
+    std::printf("  run again      %s of an earlier search here %s made from other sources (the curriculum, "
+                "its scenario or roger changed since) or with another cap: %s trial%s ran again\n",
+                counted(r.stale_records, "record").c_str(), r.stale_records == 1 ? "was" : "were",
+                r.stale_records == 1 ? "its" : "their", r.stale_records == 1 ? "" : "s");
   // Without a success the "winner" is the starting context unchanged: say why, not only its name.
   if (r.successful_episodes == 0)
     std::printf("  probe          no successful episode in %d training episodes: no subgoal or pruning to build on, "

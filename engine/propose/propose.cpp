@@ -276,11 +276,11 @@ void claim_search_folder(const ProposeOptions& o, const std::string& module, con
 // the budget may have cut cap_s below: the record keeps the loss the ranking uses.
 CandidateTrial run_trial(const ProposeOptions& o, const CandidateSpec& spec, const std::string& sources, uint64_t seed,
                          double cap_s, double score_cap_s, const std::string& file,
-                         std::vector<std::string>* unreadable) {
+                         std::vector<std::string>* unreadable, int* stale) {
   const std::string hash = text_hash(spec.lua + sources);
   if (fs::exists(file)) {
-    // A record of another candidate text or cap (a curriculum edited since) is run again silently;
-    // an unreadable one (records are written atomically, so a disk fault or an edit) is said.
+    // A record of another candidate text or cap (a curriculum edited since) is run again, and
+    // counted; an unreadable one (records are written atomically, so a disk fault or an edit) is said.
     std::string why;
     try {
       const nlohmann::json j = parse_json(read_file_text(file));
@@ -312,6 +312,8 @@ CandidateTrial run_trial(const ProposeOptions& o, const CandidateSpec& spec, con
                            tr.last_success >= 0 && tr.last_success <= 1 && std::isfinite(tr.loss) && loss_agrees;
         if (sound) return tr;
         why = "numbers no trial gives";
+      } else {
+        ++*stale;
       }
     } catch (const nlohmann::json::exception& e) {
       why = json_error_text(e.what());
@@ -492,7 +494,7 @@ std::vector<CandidateTrial> round_trials(const ProposeOptions& o, const TaskRef&
     if (allowed <= 0.0) break;  // the budget is spent
     const uint64_t seed = Rng::mix(o.seed, 0x747269616cull + uint64_t((round - 1) * o.trials + j - 1));
     const std::string file = (fs::path(o.out) / "trials" / trial_file_name(spec.c.id, round, j)).string();
-    CandidateTrial tr = run_trial(o, spec, task.sources, seed, allowed, cap, file, &res.unreadable);
+    CandidateTrial tr = run_trial(o, spec, task.sources, seed, allowed, cap, file, &res.unreadable, &res.stale_records);
     tr.round = round;
     tr.index = j;
     res.spent_s += tr.spent_s;
@@ -635,7 +637,7 @@ ProposeResult propose_curriculum(const ProposeOptions& options) {
   res.budget_s = o.budget_s;
   int probes_reused = 0;
   const ProbeStats probe = run_probe(o, task.context, task.sources, o.budget_s * o.probe_share / o.probe_trials, &probes_reused,
-                                    &res.unreadable);
+                                    &res.unreadable, &res.stale_records);
   res.probe_s = probe.sim_s;
   res.spent_s = probe.sim_s;
   res.successful_episodes = int(probe.successes.size());

@@ -84,6 +84,9 @@ struct ProposeResult {
   // Records in out/probe/ and out/trials/ that could not be read (a disk fault or an edit): their
   // trials ran again, as roger run runs a trial with unreadable files again. Counted in trials_run.
   std::vector<std::string> unreadable;
+  // Records of other sources (the curriculum, its scenario or the engine changed since) or of
+  // another cap: their trials ran again. Counted in trials_run.
+  int stale_records = 0;
   // What makes the ranking less than it seems: a round whose trials ran no checkpoint (every loss
   // the same), a cut that fell in a tie (the candidates' order decided). One sentence each.
   std::vector<std::string> cautions;

@@ -46,7 +46,7 @@ struct ProbeSummary {
 // simulated seconds, reusing the probe records already in out/probe/.
 // `sources` fingerprints the Lua the task is read from: a record of other sources is run again.
 ProbeStats run_probe(const ProposeOptions& options, const std::string& context, const std::string& sources,
-                     double cap_s, int* reused, std::vector<std::string>* unreadable);
+                     double cap_s, int* reused, std::vector<std::string>* unreadable, int* stale);
 
 // A record that exists but cannot be read (`why`): said on options.progress and added to
 // `unreadable`, so that a trial run again over it is not mistaken for one never run.

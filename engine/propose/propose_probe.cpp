@@ -81,11 +81,11 @@ bool sound_probe_record(const nlohmann::json& j) {
 // One probe trial, from its record when an earlier run wrote it.
 nlohmann::json probe_trial(const ProposeOptions& o, const std::string& context, const std::string& sources,
                            uint64_t seed, double cap_s, const std::string& file, bool* reused,
-                           std::vector<std::string>* unreadable) {
+                           std::vector<std::string>* unreadable, int* stale) {
   const std::string key = o.stage + "/" + context + "/" + std::to_string(seed) + "/" + sources;
   if (fs::exists(file)) {
     // An unreadable record (a disk fault: records are written atomically) is run again, and said;
-    // one of other sources or another cap (a curriculum edited since) is run again silently.
+    // one of other sources or another cap (a curriculum edited since) is run again, and counted.
     std::string why;
     try {
       nlohmann::json j = parse_json(read_file_text(file));
@@ -95,6 +95,7 @@ nlohmann::json probe_trial(const ProposeOptions& o, const std::string& context, 
         return j;
       }
       if (same || !j.contains("key")) why = "fields missing or out of range";
+      else ++*stale;
     } catch (const nlohmann::json::exception& e) {
       why = json_error_text(e.what());
     } catch (const std::exception& e) {
@@ -123,13 +124,13 @@ nlohmann::json probe_trial(const ProposeOptions& o, const std::string& context, 
 }  // namespace
 
 ProbeStats run_probe(const ProposeOptions& o, const std::string& context, const std::string& sources, double cap_s,
-                     int* reused, std::vector<std::string>* unreadable) {
+                     int* reused, std::vector<std::string>* unreadable, int* stale) {
   ProbeStats stats;
   for (int k = 0; k < o.probe_trials; ++k) {
     const uint64_t seed = Rng::mix(o.seed, 0x70726f6265ull + uint64_t(k));  // apart from the trials' seeds
     const std::string file = (fs::path(o.out) / "probe" / probe_file_name(k)).string();
     bool was_reused = false;
-    const nlohmann::json j = probe_trial(o, context, sources, seed, cap_s, file, &was_reused, unreadable);
+    const nlohmann::json j = probe_trial(o, context, sources, seed, cap_s, file, &was_reused, unreadable, stale);
     *reused += was_reused;
     stats.psi = j.at("psi").get<std::vector<std::string>>();
     stats.episodes += j.at("episodes").get<int>();
