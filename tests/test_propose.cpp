@@ -502,6 +502,22 @@ TEST_CASE("propose says when a round's trials ran no checkpoint", "[propose]") {
   CHECK(md.find("| no | - | none ran: the cap came before the task's first checkpoint |") != std::string::npos);
 }
 
+// Found by a probe: with --trials 100 each trial's cap was under one episode and the rounds ran out
+// of budget, and the caution blamed the probe, which had taken its share alone.
+TEST_CASE("propose says when --trials leaves each trial less than an episode", "[propose]") {
+  test::TempDir dir("roger_propose");
+  REQUIRE(run_status(std::string(ROGER_BINARY) + " propose paper --stage SG --context B1 --budget 2000 --trials 100 "
+                     "--out " + (dir.path / "p").string() + " >" + (dir.path / "stdout").string() + " 2>/dev/null") == 0);
+  const std::string out = slurp(dir.path / "stdout");
+  INFO(out);
+  CHECK_THAT(out, Catch::Contains("  caution        round 1's trials were each allowed 0.88 simulated s (what the "
+                                  "rounds had left over 6 candidates x --trials 100), under one episode of the stage's "
+                                  "time limit of 5 s") &&
+                      Catch::Contains("no round ranked the candidates, and C1 (the base) wins by default; fewer "
+                                      "--trials, or a larger --budget, ranks them") &&
+                      !Catch::Contains("the probe left"));
+}
+
 // Found by a probe: with --probe-share 0.9 --probe-trials 100 the probe spent the budget (each of
 // its trials ends an episode past its cap): rounds were capped at -0 s, a caution advised "a
 // --budget of about -849056", candidates scored inf and one was dropped without a trial.

@@ -467,10 +467,25 @@ void remove_stale_records(const ProposeOptions& o, const ProposeResult& res) {
 // last complete round's, and the search ends there, saying so (found by a probe: caps of -0 s,
 // "a --budget of about -849056", candidates scored inf, one dropped after no trial at all).
 void note_budget_out(const std::vector<CandidateSpec>& specs, const std::vector<size_t>& alive, int r, int rounds,
-                     ProposeResult& res) {
+                     double cap, int trials, double time_limit, ProposeResult& res) {
   const std::string spent = "(" + format_number(std::round(res.spent_s)) + " of the budget's " +
                             format_number(std::round(res.budget_s)) + " simulated s spent, " +
                             format_number(std::round(res.probe_s)) + " by the probe)";
+  // A cap under one episode that fewer trials would have raised past it: the trials, each running
+  // one at least, overran it (found by a probe: --trials 100 was blamed on the probe, which took its
+  // 20%). Under an episode even for one trial, what the probe left is to blame.
+  if (cap < time_limit && cap * trials >= time_limit) {
+    res.cautions.push_back("round " + std::to_string(r + 1) + "'s trials were each allowed " +
+                           format_number(std::round(cap * 100) / 100) + " simulated s (what the rounds had left over " +
+                           counted(long(alive.size()), "candidate") + " x --trials " + std::to_string(trials) +
+                           "), under one episode of the stage's time limit of " + format_number(time_limit) +
+                           " s, and each runs one at least, so the budget ran out within the round " + spent + ": " +
+                           (r == 0 ? "no round ranked the candidates, and " + specs[alive.front()].c.id +
+                                         " (the base) wins by default"
+                                   : "the winner is the best of round " + std::to_string(r)) +
+                           "; fewer --trials, or a larger --budget, ranks them");
+    return;
+  }
   if (r == 0) {
     res.cautions.push_back("the probe left the " + counted(rounds, "round") + " of successive halving no budget for " +
                            "each candidate's trials " + spent + ": no round ranked the candidates, and " +
@@ -538,7 +553,7 @@ void successive_halving(const ProposeOptions& o, const TaskRef& task, std::vecto
     }
     if (!complete) {
       for (size_t k = 0; k < alive.size(); ++k) specs[alive[k]].c.score = before[k];
-      note_budget_out(specs, alive, r, rounds, res);
+      note_budget_out(specs, alive, r, rounds, cap, o.trials, task.time_limit, res);
       res.rounds = r;
       break;
     }
