@@ -550,6 +550,14 @@ TEST_CASE("roger check of a skill script takes --set as roger eval does, and a m
   // roger eval says which of a policy's own parameters a --set replaced.
   const Run eval = roger("eval docs/examples/sorting_moves.lua --policy four_moves --episodes 1 --set objects=3");
   CHECK_THAT(eval.out, Catch::Matchers::Contains("\n  policy params  objects = 4, overridden by --set objects=3\n"));
+  // A world the values refuse is said once, with the first policy that plays it (found by a probe:
+  // again for each other policy of the same scenario, without its name).
+  const Run scaled = roger("check curricula/scripted.lua --set noise_joints_delay=30 --set noise_scale=2");
+  CHECK(scaled.status == 1);
+  CHECK_THAT(scaled.err, Catch::Matchers::StartsWith("roger: error: policy 'phi6': scenario 'unobstructed': "
+                                                     "scenarios/unobstructed.lua:39: body.noise_of: noise.joints: "
+                                                     "field 'delay' must be within [0, 50] ticks, got 60"));
+  CHECK(std::count(scaled.err.begin(), scaled.err.end(), '\n') == 1);
   const Run fine = roger("check curricula/scripted.lua --set shape=spade");
   INFO(fine.err);
   CHECK(fine.status == 0);

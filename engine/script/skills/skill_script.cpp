@@ -444,6 +444,7 @@ std::vector<std::string> check_skill_script(const std::string& path, const Sandb
     std::unique_ptr<Scenario> scenario;
     std::string error;   // why it did not load
     bool own = false;    // an error at the script's own line (the policy's params)
+    bool worlds_failed = false;  // its worlds could not be made: said once, for the first policy
   };
   std::map<std::pair<std::string, std::vector<std::pair<std::string, std::string>>>, Loaded> loaded_scenarios;
   std::set<std::string> used_sets;  // the --set names some policy's scenario declares
@@ -458,6 +459,7 @@ std::vector<std::string> check_skill_script(const std::string& path, const Sandb
         l.scenario = std::move(scenario);
         if (const std::string problem = worlds_problem(*l.scenario); !problem.empty()) {
           problems.push_back(where + problem);
+          l.worlds_failed = true;
           continue;
         }
       } catch (const ScriptError& e) {
@@ -466,6 +468,9 @@ std::vector<std::string> check_skill_script(const std::string& path, const Sandb
       } catch (const std::exception& e) {
         l.error = e.what();
       }
+    // Found by a probe: a world refused for the first policy was refused again, without the policy's
+    // name, for each other policy playing the same scenario.
+    if (l.worlds_failed) continue;
     if (!l.scenario) {
       problems.push_back(l.own ? l.error : where + l.error);
       continue;
