@@ -360,6 +360,16 @@ EvalSummary evaluate_policy(const SkillScript& script, const SkillScript::NamedP
 // sort's look from elsewhere, in worlds where every object is seen) is no sign of anything.
 void print_never_referenced(const EvalSummary& r) {
   if (r.successes > 0) return;
+  // The kinds of noise these worlds had, not every kind (found by a probe: white noise alone was
+  // said to have lost readings or made them late).
+  std::vector<std::string> effects;
+  if (r.noise_offsets) effects.push_back("perturbed");
+  if (r.noise_lost) effects.push_back("lost");
+  if (r.noise_late) effects.push_back("late");
+  if (r.noise_coarse) effects.push_back("too coarse");
+  std::string readings;
+  for (size_t i = 0; i < effects.size(); ++i)
+    readings += (i == 0 ? "" : i + 1 == effects.size() ? " or " : ", ") + effects[i];
   for (const std::string& name : r.never_referenced) std::printf("  no reference   %s\n", name.c_str());
   if (!r.never_referenced.empty())
     std::printf("  note           %s NOREF at every tick %s ran, in %s: what %s on was never there "
@@ -369,8 +379,8 @@ void print_never_referenced(const EvalSummary& r) {
                 r.episodes == 1 ? "the episode" : ("all " + std::to_string(r.episodes) + " episodes").c_str(),
                 r.never_referenced.size() == 1 ? "it acts" : "they act",
                 // Found by a probe: readings all lost (dropout 1) were blamed on the world alone.
-                r.noisy ? ", or these worlds' noise kept it from the senses (readings lost, late or "
-                          "too coarse)" : "");
+                r.noisy ? (", or these worlds' noise kept it from the senses (readings " + readings + ")").c_str()
+                        : "");
 }
 
 // roger eval itself; command_eval stops it on request.

@@ -297,6 +297,13 @@ EvalSummary evaluate_action(const std::function<WorldSpec(uint64_t)>& make, Cont
     const uint64_t seed = first_seed + uint64_t(e);
     const WorldSpec spec = make(seed);
     s.noisy = s.noisy || spec.noise.any();
+    for (const ChannelNoise* c : {&spec.noise.image, &spec.noise.joints, &spec.noise.base, &spec.noise.touch,
+                                  &spec.noise.effort}) {
+      s.noise_offsets = s.noise_offsets || c->offsets();
+      s.noise_lost = s.noise_lost || c->dropout > 0.0;
+      s.noise_late = s.noise_late || c->delay > 0;
+      s.noise_coarse = s.noise_coarse || c->quantum > 0.0;
+    }
     EpisodeResult r = fixed_action_episode(agent, spec, seed, driver, options, {});
     s.successes += r.success;
     sum += r.reward;

@@ -170,6 +170,9 @@ struct EvalSummary {
   // ("purple {stimulus = \"#7800c8\"} (inside: phi3, phi0)"). What they act on was never there.
   std::vector<std::string> never_referenced;
   bool noisy = false;  // some world had sensor or actuator noise (it may hide what a part acts on)
+  // What that noise did to readings in some world: offset them (white, bias, drift), lose some
+  // (dropout), delay them, round them (quantum); for the note on parts never referenced.
+  bool noise_offsets = false, noise_lost = false, noise_late = false, noise_coarse = false;
 };
 
 // Evaluates an action over `episodes` seeds (seed, seed + 1, ...), making each world with `make`.
