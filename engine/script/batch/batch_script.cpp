@@ -105,7 +105,7 @@ void read_header(const json& top, const Reader& rd, int top_line, const std::str
   // The results go to results/<name> unless --out says otherwise: a name is one folder's name.
   if (b.name.empty() || b.name == "." || b.name == ".." || b.name.find_first_of("/\\") != std::string::npos)
     rd.fail(rd.line_of_key("name", top_line), "the batch script: 'name' names the results folder results/<name>: "
-                                              "a folder's name without '/', not empty, '.' or '..', got '" + b.name + "'");
+                                              "a folder's name without '/' or '\\', not empty, '.' or '..', got '" + b.name + "'");
   b.description = rd.str(top, "description", "the batch script", top_line, "");
   refuse_line_break(rd, b.description, "the batch script's 'description'", rd.line_of_key("description", top_line));
   b.curriculum = rd.str(top, "curriculum", "the batch script", top_line, "", true);
