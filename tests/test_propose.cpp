@@ -502,6 +502,21 @@ TEST_CASE("propose says when a round's trials ran no checkpoint", "[propose]") {
   CHECK(md.find("| no | - | none ran: the cap came before the task's first checkpoint |") != std::string::npos);
 }
 
+// Found by a probe: a probe with successes and the base as the only candidate said "1 candidate"
+// and nothing of why.
+TEST_CASE("propose says why the base is the only candidate after successful probe episodes", "[propose]") {
+  test::TempDir dir("roger_propose");
+  REQUIRE(run_status(std::string(ROGER_BINARY) + " propose docs/examples/curriculum_example.lua --stage Look --context "
+                     "Gaze --budget 300 --out " + (dir.path / "p").string() + " >" + (dir.path / "stdout").string() +
+                     " 2>/dev/null") == 0);
+  const std::string out = slurp(dir.path / "stdout");
+  INFO(out);
+  CHECK_THAT(out, Catch::Contains("1 candidate, 0 rounds") && Catch::Contains("  probe          7 successful episodes") &&
+                      Catch::Contains("  candidates     the base alone: in the successful probe episodes no action of "
+                                      "Psi converged at a decision after the first in at least half of them (no "
+                                      "subgoal), and every action ran 5% of their control ticks or more"));
+}
+
 // Found by a probe: with --trials 100 each trial's cap was under one episode and the rounds ran out
 // of budget, and the caution blamed the probe, which had taken its share alone.
 TEST_CASE("propose says when --trials leaves each trial less than an episode", "[propose]") {

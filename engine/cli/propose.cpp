@@ -63,6 +63,12 @@ int command_propose(const ProposeArgs& a) {
   else
     std::printf("  probe          %d successful episode%s of %d training episodes\n", r.successful_episodes,
                 r.successful_episodes == 1 ? "" : "s", r.probe_episodes);
+  // Successes, and still the base alone: say why (found by a probe: it said only "1 candidate").
+  if (r.successful_episodes > 0 && r.candidates.size() == 1)
+    std::printf("  candidates     the base alone: in the successful probe episodes no action of Psi converged at a "
+                "decision after the first in at least half of them (no subgoal), and every action ran %.0f%% of "
+                "their control ticks or more, or reached the goal (nothing to prune); docs/propose.md, The method\n",
+                100 * a.prune_below);
   std::printf("  spent          %.1f of %.0f simulated s (%.1f%%), of which the probe %.1f\n", r.spent_s, r.budget_s,
               100 * r.spent_s / r.budget_s, r.probe_s);
   for (const auto& caution : r.cautions) std::printf("  caution        %s\n", caution.c_str());
