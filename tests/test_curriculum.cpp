@@ -214,6 +214,37 @@ TEST_CASE("misbehaving Lua callbacks stop training naming stage, context and lin
   }
 }
 
+// Found by a probe: paper.stages{ sg_params = { forarm = 0.6 } } was refused at a line of
+// curricula/lib/paper_stages.lua alone; the traceback names the caller's line. A stage of the
+// file's own has none (its line is the whole story).
+TEST_CASE("a stage's params refused through a library name the caller's line", "[curriculum]") {
+  const test::TempDir tmp("roger_curriculum_through");
+  std::ofstream(tmp.path / "mine.lua") << "local paper = require('lib.paper_stages')\n"
+                                          "local sg, t = paper.stages{ suffix = '_long', sg_params = { forarm = 0.6 } }\n"
+                                          "return { stages = { sg, t } }\n";
+  try {
+    (void)Curriculum::load((tmp.path / "mine.lua").string());
+    FAIL("loaded");
+  } catch (const ScriptError& e) {
+    CHECK_THAT(e.message, Catch::Matchers::Contains("stage 'SG_long', context 'B1': params: scenario 'unobstructed'") &&
+                              Catch::Matchers::Contains("no parameter 'forarm' (did you mean 'forearm'?)"));
+    CHECK_THAT(e.file, Catch::Matchers::EndsWith("lib/paper_stages.lua"));
+    CHECK_THAT(e.traceback, Catch::Matchers::Contains("mine.lua:2: in main chunk"));
+  }
+  std::ofstream(tmp.path / "own.lua")
+      << "local p = require('lib.skills').primitives()\n"
+         "return { stages = { roger.stage{ name = 'S', scenario = 'unobstructed', time_limit = 4,\n"
+         "  absorbing = roger.converged(p.phi0), budget = { episodes = 6 },\n"
+         "  contexts = { { name = 'C', actions = { p.search, p.phi0 }, params = { forarm = 0.6 } } } } } }\n";
+  try {
+    (void)Curriculum::load((tmp.path / "own.lua").string());
+    FAIL("loaded");
+  } catch (const ScriptError& e) {
+    CHECK(e.line == 4);
+    CHECK(e.traceback.empty());
+  }
+}
+
 // Before, a stage's scenario = "rand_clutter.lua" was looked for from the current folder: the
 // same curriculum run from another folder failed with "no scenario".
 TEST_CASE("a stage's scenario path is found beside the curriculum that names it, as require", "[curriculum]") {

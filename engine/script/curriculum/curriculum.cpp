@@ -59,6 +59,17 @@ std::pair<std::string, int> caller(lua_State* L) {
   return {"", 0};
 }
 
+// Whether a Lua function of a file other than `file` is on the stack above roger.stage's caller:
+// the stage is written by a library for that file.
+bool called_through_another_file(lua_State* L, const std::string& file) {
+  lua_Debug ar;
+  for (int level = 2; lua_getstack(L, level, &ar); ++level)
+    if (lua_getinfo(L, "Sl", &ar) && ar.currentline > 0 &&
+        (ar.source && ar.source[0] == '@' ? ar.source + 1 : ar.short_src) != file)
+      return true;
+  return false;
+}
+
 // roger.stage{...}: validates a stage where it is written (errors point at this line) and returns
 // the same table. The curriculum reads the table again when the script returns, with any changes
 // made to it since, and places that reading's errors here too.
@@ -71,7 +82,18 @@ int l_stage(lua_State* L) {
     const auto where = caller(L);
     parse_stage(L, 1, st, a, r, t, where.first);
     st.file = where.first, st.line = where.second;
-    curriculum_detail::check_stage_params(st);
+    try {
+      curriculum_detail::check_stage_params(st);
+    } catch (const ScriptError& e) {
+      // Placed at the stage's params table, which a library may write for its caller (found by a
+      // probe: paper.stages{ sg_params = { forarm = 0.6 } } named curricula/lib/paper_stages.lua
+      // alone): the traceback names the caller's line, as for the library's own errors.
+      if (!e.traceback.empty() || !called_through_another_file(L, where.first)) throw;
+      luaL_traceback(L, L, nullptr, 1);
+      const std::string traceback = lua_tostring(L, -1);
+      lua_pop(L, 1);
+      throw ScriptError(e.message, e.file, e.line, traceback);
+    }
     lua_settop(L, 1);
     book.tables[lua_topointer(L, 1)] = where;
     luaL_getsubtable(L, LUA_REGISTRYINDEX, kStageTablesKey);
