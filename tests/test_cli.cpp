@@ -1855,6 +1855,10 @@ TEST_CASE("roger eval says when a --set noise setting changed nothing", "[cli][n
             "--set noise_joints_drift=0.001");
   CHECK(r.status == 0);
   CHECK(r.out.find("changed no world") == std::string::npos);
+  // A dropout scaled past 1 is held at 1 (every other kind is refused there): said.
+  r = roger("eval curricula/scripted.lua --policy phi6 --episodes 1 --set noise_joints_dropout=0.6 --set noise_scale=2");
+  CHECK_THAT(r.out, Catch::Matchers::Contains("  note           noise_joints_dropout = 0.6 times noise_scale = 2 is held "
+                                              "at a dropout of 1: every reading of the joints channel is lost\n"));
 }
 
 // Found by a probe: a skill script's goal that held in every world from the start read as 100%

@@ -1,4 +1,5 @@
 // inspect.cpp: `roger render` (a picture of a world, or an episode of a skill script's policy).
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -65,6 +66,18 @@ std::string inert_noise_note(const std::vector<std::pair<std::string, std::strin
         if (name.rfind("noise_", 0) == 0 && name != key && !ends_with(name, "_tau")) all_zero = all_zero && zero(name);
       if (all_zero) inert.push_back("--set noise_scale changed no world here: every noise level it multiplies is 0");
     }
+  }
+  // A dropout that noise_scale carries past 1 is held at 1, where every other kind past its range
+  // is refused: said, since every reading of that channel is then lost (found by a probe).
+  const bool scaling_set = std::any_of(sets.begin(), sets.end(), [&](const std::string& s) {
+    return s.rfind("noise_scale=", 0) == 0 || (s.rfind("noise_", 0) == 0 && s.find("_dropout=") != std::string::npos);
+  });
+  const double scale = value.count("noise_scale") ? std::strtod(value["noise_scale"].c_str(), nullptr) : 1.0;
+  for (const auto& [name, v] : params) {
+    const double dropout = std::strtod(v.c_str(), nullptr);
+    if (scaling_set && name.rfind("noise_", 0) == 0 && ends_with(name, "_dropout") && dropout * scale > 1.0)
+      inert.push_back(name + " = " + v + " times noise_scale = " + value["noise_scale"] + " is held at a dropout of 1: "
+                      "every reading of the " + name.substr(6, name.size() - 6 - 8) + " channel is lost");
   }
   return join(inert, "; ");
 }
