@@ -831,7 +831,8 @@ TEST_CASE("a project of one's own finds the shipped scenarios after its own", "[
   const Run typo = roger_in(home, "check curricula/typo.lua", env);
   CHECK(typo.status == 1);
   CHECK_THAT(typo.err, Catch::Matchers::Contains("no scenario 'unobstructd' (did you mean 'unobstructed'?)") &&
-                           Catch::Matchers::Contains("scenarios in scenarios/: blue_ball, cluttered, sorting, unobstructed"));
+                           Catch::Matchers::Contains("scenarios in scenarios/ and roger's own: blue_ball, cluttered, "
+                                                     "sorting, unobstructed"));
   fs::remove_all(home);
 }
 

@@ -506,7 +506,9 @@ std::string resolve_script_path(const std::string& arg, const std::string& folde
   // recorded so) is the same file from any folder.
   if (!bare && fs::path(arg).is_relative() && fs::is_regular_file(project_root() / arg, ec))
     return text_script((project_root() / arg).string());
-  std::vector<std::string> known;  // the project's and the shipped tree's
+  // The project's and the shipped tree's, said so when they are two (found by a probe: a project
+  // of its own without scenarios/ was said to hold the shipped ones there).
+  std::vector<std::string> known;
   for (const fs::path& in : {folder, shipped ? *shipped / folder_name : folder})
     for (const auto& entry : fs::directory_iterator(in, ec))
       if (entry.path().extension() == ".lua" && (!accept || accept(entry.path().string())))
@@ -526,7 +528,7 @@ std::string resolve_script_path(const std::string& arg, const std::string& folde
   throw Error("no " + kind + " '" + arg + "'" + nearest + ": " +
               (bare ? "not a file, and " + folder_name + "/" + file + " does not exist" + where
                     : std::string(fs::exists(arg, ec) ? "not a regular file" : "no such file here or in the project" + where)) +
-              hint + (known.empty() ? "" : "; " + list_label + ": " + join(known)));
+              hint + (known.empty() ? "" : "; " + list_label + (shipped ? " and roger's own" : "") + ": " + join(known)));
 }
 
 }  // namespace roger
