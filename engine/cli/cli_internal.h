@@ -58,7 +58,7 @@ void print_unread_sets(const std::vector<std::string>& unread, const std::string
 // with the others in `params` (the parameters as used): a drift's tau without a drift, a
 // noise_scale with every level 0 (found by a probe: both ran as if unset, without a word); and a
 // dropout that noise_scale carries past 1, held at 1 (every reading lost). "" when none.
-std::string inert_noise_note(const std::vector<std::pair<std::string, std::string>>& params,
+std::string noise_sets_note(const std::vector<std::pair<std::string, std::string>>& params,
                              const std::vector<std::string>& sets);
 
 // A scenario's parameters and their values, as text.

@@ -47,24 +47,24 @@ std::vector<std::pair<std::string, std::string>> scenario_param_values(const Sce
   return out;
 }
 
-std::string inert_noise_note(const std::vector<std::pair<std::string, std::string>>& params,
+std::string noise_sets_note(const std::vector<std::pair<std::string, std::string>>& params,
                              const std::vector<std::string>& sets) {
   std::map<std::string, std::string> value(params.begin(), params.end());
   const auto zero = [&](const std::string& name) { return value.count(name) && std::strtod(value[name].c_str(), nullptr) == 0.0; };
   const auto ends_with = [](const std::string& s, const std::string& tail) {
     return s.size() > tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
   };
-  std::vector<std::string> inert;
+  std::vector<std::string> notes;
   for (const auto& [key, set] : split_sets(sets, "--set")) {
     if (key.rfind("noise_", 0) == 0 && ends_with(key, "_tau")) {
       const std::string drift = key.substr(0, key.size() - 4) + "_drift";
-      if (zero(drift)) inert.push_back("--set " + key + " changed no world here: " + drift + " is 0, and tau is the "
+      if (zero(drift)) notes.push_back("--set " + key + " changed no world here: " + drift + " is 0, and tau is the "
                                        "drift's correlation time");
     } else if (key == "noise_scale" && value.count(key)) {
       bool all_zero = true;
       for (const auto& [name, v] : params)
         if (name.rfind("noise_", 0) == 0 && name != key && !ends_with(name, "_tau")) all_zero = all_zero && zero(name);
-      if (all_zero) inert.push_back("--set noise_scale changed no world here: every noise level it multiplies is 0");
+      if (all_zero) notes.push_back("--set noise_scale changed no world here: every noise level it multiplies is 0");
     }
   }
   // A dropout that noise_scale carries past 1 is held at 1, where every other kind past its range
@@ -72,14 +72,15 @@ std::string inert_noise_note(const std::vector<std::pair<std::string, std::strin
   const bool scaling_set = std::any_of(sets.begin(), sets.end(), [&](const std::string& s) {
     return s.rfind("noise_scale=", 0) == 0 || (s.rfind("noise_", 0) == 0 && s.find("_dropout=") != std::string::npos);
   });
-  const double scale = value.count("noise_scale") ? std::strtod(value["noise_scale"].c_str(), nullptr) : 1.0;
+  const bool scaled = scaling_set && value.count("noise_scale");
+  const double scale = scaled ? std::strtod(value["noise_scale"].c_str(), nullptr) : 1.0;
   for (const auto& [name, v] : params) {
     const double dropout = std::strtod(v.c_str(), nullptr);
-    if (scaling_set && name.rfind("noise_", 0) == 0 && ends_with(name, "_dropout") && dropout * scale > 1.0)
-      inert.push_back(name + " = " + v + " times noise_scale = " + value["noise_scale"] + " is held at a dropout of 1: "
+    if (scaled && name.rfind("noise_", 0) == 0 && ends_with(name, "_dropout") && dropout * scale > 1.0)
+      notes.push_back(name + " = " + v + " times noise_scale = " + value["noise_scale"] + " is held at a dropout of 1: "
                       "every reading of the " + name.substr(6, name.size() - 6 - 8) + " channel is lost");
   }
-  return join(inert, "; ");
+  return join(notes, "; ");
 }
 
 namespace {
@@ -88,8 +89,8 @@ namespace {
 void print_unread_note(Scenario& scenario, const std::vector<std::string>& sets) {
   const std::vector<std::string> unread = scenario.unread_params(split_sets(sets, "--set"));
   if (!unread.empty()) std::printf("note: %s\n", unread_sets_note(unread, scenario.path()).c_str());
-  if (const std::string inert = inert_noise_note(scenario_param_values(scenario), sets); !inert.empty())
-    std::printf("note: %s\n", inert.c_str());
+  if (const std::string noise = noise_sets_note(scenario_param_values(scenario), sets); !noise.empty())
+    std::printf("note: %s\n", noise.c_str());
 }
 
 }  // namespace

@@ -280,8 +280,8 @@ void print_policy_eval(const EvalArgs& a, const PolicyEvalResult& r, const std::
   if (const std::string judge = lua_judge_never_note(a, r); !judge.empty())
     std::printf("  note           %s\n", judge.c_str());
   print_unread_sets(r.unread_sets, r.scenario_file);
-  if (const std::string inert = inert_noise_note(r.params, a.sets); !inert.empty())
-    std::printf("  note           %s\n", inert.c_str());
+  if (const std::string noise = noise_sets_note(r.params, a.sets); !noise.empty())
+    std::printf("  note           %s\n", noise.c_str());
 }
 
 // eval --policy FILE.json --json: the figures, the trial's parameters and with --test-set its tasks.
@@ -433,8 +433,8 @@ int evaluate_command(const EvalArgs& a) {
                 "in their worlds from the start, so they show nothing of the action (check the goal against "
                 "its worlds)\n", at_first_tick, counted(r.episodes, "episode").c_str());
   print_unread_sets(scenario.unread_params(split_sets(a.sets, "--set")), scenario.path());
-  if (const std::string inert = inert_noise_note(scenario_param_values(scenario), a.sets); !inert.empty())
-    std::printf("  note           %s\n", inert.c_str());
+  if (const std::string noise = noise_sets_note(scenario_param_values(scenario), a.sets); !noise.empty())
+    std::printf("  note           %s\n", noise.c_str());
   if (a.json) {
     nlohmann::json j = {{"script", script.path()},      {"policy", policy.name},
                         {"scenario", scenario.name()},  {"scenario_file", scenario.path()},
@@ -666,8 +666,8 @@ int command_train(const TrainArgs& a) {
   print_outcome(r);
   if (r.teaches) print_teacher(r);
   print_unread_sets(r.unread_sets, r.scenario_file);
-  if (const std::string inert = inert_noise_note(r.params, a.sets); !inert.empty())
-    std::printf("  note           %s\n", inert.c_str());
+  if (const std::string noise = noise_sets_note(r.params, a.sets); !noise.empty())
+    std::printf("  note           %s\n", noise.c_str());
   const TrainingDiagnosis diagnosis = diagnose_training(r);
   if (const std::string at_start = diagnosis.goal_at_start_cause(); !at_start.empty() && r.reached && !r.explain)
     std::printf("  warning        %s\n", at_start.c_str());
