@@ -136,7 +136,9 @@ TEST_CASE("roger check calls the Lua callbacks as at an episode's first decision
                                         "must return a finite number, got number nan (event 'decision')"},
       {"bad_curriculum_predicate_raises.lua", "bad_curriculum_predicate_raises.lua:5: stage 'S', context 'A'"},
       {"bad_curriculum_state_name.lua", "bad_curriculum_state_name.lua:5: stage 'S', context 'A': absorbing function: "
-                                        "state has no action 'Phi3' (did you mean 'phi3'?); its actions: phi3"},
+                                        "state has no action 'Phi3' (did you mean 'phi3'?); its actions: phi3 (a "
+                                        "function shared by contexts of other actions reads one they may lack with "
+                                        "rawget(state, name), nil there)"},
       // Found by a probe: the state's metatable's __index called by hand on a number crashed roger.
       {"bad_curriculum_state_metatable.lua", "bad_curriculum_state_metatable.lua:5: stage 'S', context 'A': absorbing "
                                              "function: bad argument #1 to '__index' (table expected, got number)"},

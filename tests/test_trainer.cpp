@@ -891,12 +891,23 @@ TEST_CASE("roger train warns of episodes that ended before their first decision"
   CHECK(status == 0);
   CHECK(text.find("  warning        9 of 9 episodes (training and final) ended in the absorbing state before their "
                   "first decision: the goal held in their worlds from the start") != std::string::npos);
+  // Its Lua absorbing function keeps the evaluation cache off, and the cache's line says why (found
+  // by a probe: "0 of 3 reused" and no word).
+  CHECK(text.find(" reused (none: the stage's Lua reward or absorbing function may keep state between calls)\n") !=
+        std::string::npos);
   const auto [explained_status, explained] = run_roger("train " + (dir / "always.lua").string() +
                                                        " --stage S --context C --explain --out " + (dir / "out").string());
   CHECK(explained_status == 0);
   CHECK(explained.find("  why            9 of 9 episodes") != std::string::npos);
   CHECK(explained.find("never able to run") == std::string::npos);
   CHECK(nlohmann::json::parse(slurp(dir / "out" / "summary.json"))["diagnosis"]["ended_before_deciding"] == 9);
+  // And roger eval of the policy says so too (found by a probe: 100%, 0.00 s, no word).
+  const auto [eval_status, evaluated] = run_roger("eval " + (dir / "always.lua").string() + " --policy " +
+                                                  (dir / "out" / "policy.json").string() + " --episodes 3 --json");
+  CHECK(eval_status == 0);
+  CHECK(evaluated.find("  warning        3 of 3 episodes succeeded at the first tick, when the goal is first judged") !=
+        std::string::npos);
+  CHECK(nlohmann::json::parse(evaluated.substr(evaluated.rfind("\n{") + 1))["succeeded_at_first_tick"] == 3);
   fs::remove_all(dir);
 }
 

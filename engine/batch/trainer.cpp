@@ -225,6 +225,7 @@ GreedyEval greedy_eval(StageRun& run, QTable& q, const EvalWorlds& worlds, const
     const EvalCache::Kept& done = kept ? *kept : cache ? cache->by_seed[seed] = std::move(fresh) : fresh;
     const TrainingEpisode& ep = done.episode;
     g.successes += ep.success;
+    g.succeeded_at_first_tick += ep.success && ep.ticks <= 1;
     if (!ep.success) g.failed_seeds.push_back(seed);
     g.outcomes += ep.success ? '1' : '0';
     rewards.push_back(ep.reward);
@@ -548,6 +549,7 @@ TrainResult trial_header(const Curriculum& cur, const CurriculumStage& stage, co
   res.seed = options.seed;
   res.threshold = stage.checkpoints.threshold;
   res.absorbing_lua = stage.absorbing_lua;
+  res.reward_lua = stage.reward_lua;
   res.psi = controller_names(ctx.actions);
   return res;
 }

@@ -148,6 +148,7 @@ struct GreedyEval {
   // Each episode's outcome in seed order, '1' a success and '0' a failure: what a report needs to
   // resample the worlds (report_evaluations.cpp) without the episodes themselves.
   std::string outcomes;
+  int succeeded_at_first_tick = 0;  // successes at the first tick: the goal held from the start
   std::vector<TrainingEpisode> runs;  // the final evaluation's episodes (for batch/explain.h)
   std::vector<EpisodeWorld> worlds;   // and their worlds
   std::vector<nlohmann::json> tasks;  // and their test tasks (null entries without a test set)
@@ -188,6 +189,7 @@ struct TrainResult {
   TrainPoint totals;
   double threshold = 0.0;
   bool absorbing_lua = false;  // the stage's absorbing state is a Lua function's (for the diagnosis)
+  bool reward_lua = false;     // its reward is (with absorbing_lua: no evaluation is reused, docs/curricula.md)
   double wall_s = 0.0;        // the whole trial, evaluations and skill training included
   GreedyEval final_eval;
   std::vector<SkillSource> skills;

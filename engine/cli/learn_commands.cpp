@@ -241,6 +241,21 @@ static std::string skill_params_note(const SkillSource& s, const std::vector<std
   return theirs.empty() ? "" : "; trained with " + theirs + " (here " + here + ")";
 }
 
+// The episodes that succeeded at the first tick, when the goal is first judged: it held from the
+// start (found by a probe: such a goal read as 100% success, where roger train warns of it).
+int succeeded_at_first_tick(const EvalSummary& r) {
+  int n = 0;
+  for (const EpisodeResult& e : r.results) n += e.success && e.ticks <= 1;
+  return n;
+}
+
+void print_first_tick_warning(int at_first_tick, int episodes) {
+  if (at_first_tick > 0)
+    std::printf("  warning        %d of %s succeeded at the first tick, when the goal is first judged: it held "
+                "in their worlds from the start, so they show nothing of the policy (check the goal against its "
+                "worlds)\n", at_first_tick, counted(episodes, "episode").c_str());
+}
+
 // eval --policy FILE.json: what the evaluation found, as text.
 void print_policy_eval(const EvalArgs& a, const PolicyEvalResult& r, const std::string& stimulus_unseen) {
   std::printf("roger eval: %s stage %s context %s (%s) in %s, %s from seed %llu, %s\n", a.script.c_str(),
@@ -276,6 +291,7 @@ void print_policy_eval(const EvalArgs& a, const PolicyEvalResult& r, const std::
   std::string usage;
   for (const auto& [name, f] : r.eval.usage) usage += (usage.empty() ? "" : ", ") + name + " " + std::to_string(int(std::lround(100 * f))) + "%";
   std::printf("  usage          %s\n", usage.c_str());
+  print_first_tick_warning(r.eval.succeeded_at_first_tick, r.eval.episodes);
   if (r.eval.successes == 0 && !stimulus_unseen.empty()) std::printf("  note           %s\n", stimulus_unseen.c_str());
   if (const std::string judge = lua_judge_never_note(a, r); !judge.empty())
     std::printf("  note           %s\n", judge.c_str());
@@ -287,6 +303,7 @@ void print_policy_eval(const EvalArgs& a, const PolicyEvalResult& r, const std::
 // eval --policy FILE.json --json: the figures, the trial's parameters and with --test-set its tasks.
 nlohmann::json policy_eval_json(const EvalArgs& a, const PolicyEvalResult& r, const std::string& stimulus_unseen) {
   nlohmann::json j = eval_summary_json(r.eval);
+  j["succeeded_at_first_tick"] = r.eval.succeeded_at_first_tick;
   j.update({{"script", a.script}, {"policy", a.policy}, {"stage", r.stage}, {"context", r.context},
             {"scenario", r.scenario}, {"scenario_file", r.scenario_file}, {"failed_seeds", r.eval.failed_seeds}, {"test_set", a.test_set},
             {"stimulus_unseen", stimulus_unseen}});
@@ -417,21 +434,14 @@ int evaluate_command(const EvalArgs& a) {
     std::printf("  policy params  %s\n", params_marking_sets(policy.params, a.sets).c_str());
   print_changes(a);
   std::vector<uint64_t> failed;
-  int at_first_tick = 0;  // successes judged at the first look: the goal held from the start
-  for (size_t i = 0; i < r.results.size(); ++i) {
+  for (size_t i = 0; i < r.results.size(); ++i)
     if (!r.results[i].success) failed.push_back(a.seed + i);
-    at_first_tick += r.results[i].success && r.results[i].ticks <= 1;
-  }
   std::printf("  success rate   %.1f%% (%d of %d)\n", 100.0 * r.success_rate, r.successes, r.episodes);
   print_failed_seeds(a, failed);
   std::printf("  reward         %.1f +- %.1f\n", r.reward_mean, r.reward_std);
   std::printf("  episode time   %.2f s (mean, simulated)\n", r.time_mean);
   print_never_referenced(r);
-  // Found by a probe: a goal that held in every world from the start read as 100% success.
-  if (at_first_tick > 0)
-    std::printf("  warning        %d of %s succeeded at the first tick, when the goal is first judged: it held "
-                "in their worlds from the start, so they show nothing of the action (check the goal against "
-                "its worlds)\n", at_first_tick, counted(r.episodes, "episode").c_str());
+  print_first_tick_warning(succeeded_at_first_tick(r), r.episodes);
   print_unread_sets(scenario.unread_params(split_sets(a.sets, "--set")), scenario.path());
   if (const std::string noise = noise_sets_note(scenario_param_values(scenario), a.sets); !noise.empty())
     std::printf("  note           %s\n", noise.c_str());
@@ -443,7 +453,7 @@ int evaluate_command(const EvalArgs& a) {
                         {"success_rate", r.success_rate}, {"reward_mean", r.reward_mean},
                         {"reward_std", r.reward_std},    {"time_mean", r.time_mean},
                         {"failed_seeds", failed},       {"never_referenced", r.never_referenced},
-                        {"succeeded_at_first_tick", at_first_tick}};
+                        {"succeeded_at_first_tick", succeeded_at_first_tick(r)}};
     for (const auto& p : scenario.params()) j["params"][p.name] = p.value;
     std::printf("%s\n", j.dump().c_str());
   }
@@ -475,7 +485,7 @@ static std::string skill_origin(const SkillSource& s, bool sets_given) {
            s.context + ")";
   if (!s.trained) return "from " + s.file;
   return "trained first: stage " + s.stage + " context " + s.context + ", " +
-         (s.reached ? "reached" : "NOT reached") + " its threshold after " +
+         (s.reached ? "reached" : "did NOT reach") + " its threshold after " +
          counted(s.to_threshold.episodes, "episode") +
          (sets_given ? " (its stage's own task, without --set: to learn it with them, train stage " + s.stage +
                            " with them and give its policy by --skill " + s.name + "=FILE.json)"
@@ -681,8 +691,13 @@ int command_train(const TrainArgs& a) {
     for (size_t k = 0; k < causes.size(); ++k) std::printf("  %-15s%s\n", k ? "" : "why", causes[k].c_str());
     if (causes.empty()) std::printf("  why            nothing stands out in the data\n");
   }
+  // Found by a probe: "0 of 13 reused" with a Lua reward said nothing of why.
+  const char* uncached = !o.eval_cache ? " (--no-eval-cache)"
+                         : r.absorbing_lua || r.reward_lua
+                             ? " (none: the stage's Lua reward or absorbing function may keep state between calls)"
+                             : "";
   std::printf("  evaluations    %d of %d reused whole, %d of %d episodes reused%s\n", r.evals_reused, r.evals,
-              r.eval_episodes_reused, r.eval_episodes, o.eval_cache ? "" : " (--no-eval-cache)");
+              r.eval_episodes_reused, r.eval_episodes, uncached);
   std::printf("  wrote          %s/{policy.json,curve.csv,episodes.jsonl,checkpoints.jsonl,final.jsonl,summary.json} (%.2f wall s)\n",
               a.out.c_str(), r.wall_s);
   if (a.json) std::printf("%s\n", train_summary_json(r).dump().c_str());

@@ -463,7 +463,9 @@ int state_unknown_action(lua_State* L) {
   std::sort(names.begin(), names.end());
   const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : luaL_tolstring(L, 2, nullptr);
   return raise_at_reader(
-      L, "state has no action '" + key + "'" + suggestion(key, names) + "; its actions: " + join(names));
+      L, "state has no action '" + key + "'" + suggestion(key, names) + "; its actions: " + join(names) +
+             " (a function shared by contexts of other actions reads one they may lack with rawget(state, name), "
+             "nil there)");
 }
 
 // Pushes a state as a Lua table {[action name] = "CONV" | "!CONV" | "NOREF"}; reading another name
