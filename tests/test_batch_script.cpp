@@ -774,6 +774,16 @@ TEST_CASE("a second run or evaluation of a name is refused at its own line", "[b
                          "    { name = 'e', run = 'SG', episodes = 3 } } }\n";
   CHECK_THAT(load_error(file.string()),
              Catch::Contains("twice.lua:5: a second evaluation named 'e' (the first is at line 4)"));
+  // Found by a probe: a comparison's row twice drew two identical rows.
+  std::ofstream(file) << "return { name = 'twice', curriculum = 'paper', trials = 1,\n"
+                         "  runs = { { name = 'SG', stage = 'SG', contexts = { 'B1', 'DC2' } } },\n"
+                         "  tables = { { compare = { 'SG/B1', 'SG/DC2', 'SG/B1' } } } }\n";
+  CHECK_THAT(load_error(file.string()), Catch::Contains("'compare' names 'SG/B1' twice"));
+  // A name past 200 bytes would fail at the results folder (found by a probe: "File name too long").
+  std::ofstream(file) << "return { name = '" << std::string(300, 'n') << "', curriculum = 'paper', trials = 1,\n"
+                         "  runs = { { name = 'SG', stage = 'SG', contexts = { 'B1' } } } }\n";
+  CHECK_THAT(load_error(file.string()), Catch::Contains("at most 200 bytes, got 'nnnn") &&
+                                            Catch::Contains("...' (300 bytes)"));
 }
 
 // Found by a probe: a usage row whose skill subsumed itself printed a share of nothing.

@@ -1282,9 +1282,11 @@ TEST_CASE("report --by names what the records have, and a damaged record's file 
   const std::string tables_before = fs::exists(copy.path / "tables.md") ? slurp(copy.path / "tables.md") : "";
   const fs::path err = copy.path / "err.txt";
   REQUIRE(run_shell(report + " --by bogus > /dev/null 2>" + err.string()) == 1);
-  // The records of every table it would split: the comparisons of 8 rows and of 2, and Sequence's.
-  CHECK_THAT(slurp(err), Contains("roger report: --by bogus: none of the 210 final-evaluation episodes has a feature "
-                                  "'bogus'; they have: level, objects, obstacles, shape"));
+  // The records of every table it would split: the comparisons of 8 rows and of 2, and Sequence's,
+  // said to be records (a trial shown by two tables is read twice), not episodes.
+  CHECK_THAT(slurp(err), Contains("roger report: --by bogus: no final-evaluation episode the tables read has a feature "
+                                  "'bogus' (210 records read, a trial's once for each table that shows it); they have: "
+                                  "level, objects, obstacles, shape"));
   CHECK((fs::exists(copy.path / "tables.md") ? slurp(copy.path / "tables.md") : "") == tables_before);
   const fs::path final_records = copy.path / "trials" / "Random" / "A" / "000" / "final.jsonl";
   std::string text = slurp(final_records);

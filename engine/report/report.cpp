@@ -155,8 +155,11 @@ json write_tables(const BatchScript& b, const std::vector<std::string>& by, cons
   }
   for (const auto& feature : by)
     if (by_records[feature] > 0 && !by_found[feature])
-      throw Error("--by " + feature + ": none of the " + counted(by_records[feature], "final-evaluation episode") +
-                  " has a feature '" + feature + "'; they have: " +
+      // Records, not episodes: a trial shown by two tables is read by each (found by a probe: "none
+      // of the 512 episodes" of 336).
+      throw Error("--by " + feature + ": no final-evaluation episode the tables read has a feature '" + feature +
+                  "' (" + counted(by_records[feature], "record") + " read, a trial's once for each table that shows "
+                  "it); they have: " +
                   join(std::vector<std::string>(features.begin(), features.end())));
   return rep;
 }

@@ -103,9 +103,14 @@ void read_header(const json& top, const Reader& rd, int top_line, const std::str
                   top_line);
   b.name = rd.str(top, "name", "the batch script", top_line, fs::path(path).stem().string());
   // The results go to results/<name> unless --out says otherwise: a name is one folder's name.
-  if (b.name.empty() || b.name == "." || b.name == ".." || b.name.find_first_of("/\\") != std::string::npos)
+  // At most 200 bytes, as every name that names a folder (found by a probe: 300 passed roger check
+  // and failed roger run with "File name too long").
+  if (b.name.empty() || b.name == "." || b.name == ".." || b.name.find_first_of("/\\") != std::string::npos ||
+      b.name.size() > 200)
     rd.fail(rd.line_of_key("name", top_line), "the batch script: 'name' names the results folder results/<name>: "
-                                              "a folder's name without '/' or '\\', not empty, '.' or '..', got '" + b.name + "'");
+                                              "a folder's name without '/' or '\\', not empty, '.' or '..', at most "
+                                              "200 bytes, got '" + (b.name.size() > 200 ? b.name.substr(0, 40) + "...' (" +
+                                              std::to_string(b.name.size()) + " bytes)" : b.name + "'"));
   b.description = rd.str(top, "description", "the batch script", top_line, "");
   refuse_line_break(rd, b.description, "the batch script's 'description'", rd.line_of_key("description", top_line));
   b.curriculum = rd.str(top, "curriculum", "the batch script", top_line, "", true);
@@ -706,6 +711,9 @@ std::vector<BatchRow> read_rows(const json& j, const Reader& rd, const std::stri
     if (!r) rd.fail(l, what + ": no run '" + row.run + "'; the runs are " + quoted_list(run_names(b)));
     if (std::find(r->contexts.begin(), r->contexts.end(), row.context) == r->contexts.end())
       rd.fail(l, what + ": run '" + row.run + "' " + has_no("context", row.context, r->contexts));
+    // Found by a probe: a row twice drew two identical rows (a run's contexts twice are refused).
+    for (const BatchRow& before : rows)
+      if (before.label() == row.label()) rd.fail(l, what + ": 'compare' names '" + text + "' twice");
     rows.push_back(std::move(row));
   }
   return rows;
