@@ -51,8 +51,12 @@ std::string listed_with_and(const std::vector<std::string>& items);
 // or name). Empty when `unread` is.
 std::string unread_sets_note(const std::vector<std::string>& unread, const std::string& scenario);
 
-// The same as a note line of roger train's and roger eval's summary. Nothing when `unread` is empty.
-void print_unread_sets(const std::vector<std::string>& unread, const std::string& scenario);
+// The same as a note line of roger train's and roger eval's summary, and after it noise_sets_note's
+// for `params` (the parameters as used) and `sets` (the command's --set). Nothing when neither says
+// anything.
+void print_unread_sets(const std::vector<std::string>& unread, const std::string& scenario,
+                       const std::vector<std::pair<std::string, std::string>>& params,
+                       const std::vector<std::string>& sets);
 
 // lib/body's noise parameters that `sets` (--set key=value options) gave and that changed nothing
 // with the others in `params` (the parameters as used): a drift's tau without a drift, a

@@ -37,10 +37,6 @@ std::string unread_sets_note(const std::vector<std::string>& unread, const std::
          (unread.size() == 1 ? "it" : "them") + " (roger check " + scenario + " lists each parameter it never reads)";
 }
 
-void print_unread_sets(const std::vector<std::string>& unread, const std::string& scenario) {
-  if (!unread.empty()) std::printf("  note           %s\n", unread_sets_note(unread, scenario).c_str());
-}
-
 std::vector<std::pair<std::string, std::string>> scenario_param_values(const Scenario& scenario) {
   std::vector<std::pair<std::string, std::string>> out;
   for (const ScenarioParam& p : scenario.params()) out.emplace_back(p.name, p.value);
@@ -81,6 +77,14 @@ std::string noise_sets_note(const std::vector<std::pair<std::string, std::string
                       "every reading of the " + name.substr(6, name.size() - 6 - 8) + " channel is lost");
   }
   return join(notes, "; ");
+}
+
+void print_unread_sets(const std::vector<std::string>& unread, const std::string& scenario,
+                       const std::vector<std::pair<std::string, std::string>>& params,
+                       const std::vector<std::string>& sets) {
+  if (!unread.empty()) std::printf("  note           %s\n", unread_sets_note(unread, scenario).c_str());
+  if (const std::string noise = noise_sets_note(params, sets); !noise.empty())
+    std::printf("  note           %s\n", noise.c_str());
 }
 
 namespace {

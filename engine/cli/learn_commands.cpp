@@ -243,12 +243,6 @@ static std::string skill_params_note(const SkillSource& s, const std::vector<std
 
 // The episodes that succeeded at the first tick, when the goal is first judged: it held from the
 // start (found by a probe: such a goal read as 100% success, where roger train warns of it).
-int succeeded_at_first_tick(const EvalSummary& r) {
-  int n = 0;
-  for (const EpisodeResult& e : r.results) n += e.success && e.ticks <= 1;
-  return n;
-}
-
 void print_first_tick_warning(int at_first_tick, int episodes) {
   if (at_first_tick > 0)
     std::printf("  warning        %d of %s succeeded at the first tick, when the goal is first judged: it held "
@@ -295,9 +289,7 @@ void print_policy_eval(const EvalArgs& a, const PolicyEvalResult& r, const std::
   if (r.eval.successes == 0 && !stimulus_unseen.empty()) std::printf("  note           %s\n", stimulus_unseen.c_str());
   if (const std::string judge = lua_judge_never_note(a, r); !judge.empty())
     std::printf("  note           %s\n", judge.c_str());
-  print_unread_sets(r.unread_sets, r.scenario_file);
-  if (const std::string noise = noise_sets_note(r.params, a.sets); !noise.empty())
-    std::printf("  note           %s\n", noise.c_str());
+  print_unread_sets(r.unread_sets, r.scenario_file, r.params, a.sets);
 }
 
 // eval --policy FILE.json --json: the figures, the trial's parameters and with --test-set its tasks.
@@ -396,7 +388,7 @@ void print_never_referenced(const EvalSummary& r) {
                 r.episodes == 1 ? "the episode" : ("all " + std::to_string(r.episodes) + " episodes").c_str(),
                 r.never_referenced.size() == 1 ? "it acts" : "they act",
                 // Found by a probe: readings all lost (dropout 1) were blamed on the world alone.
-                r.noisy ? (", or these worlds' noise kept it from the senses (readings " + readings + ")").c_str()
+                r.noisy() ? (", or these worlds' noise kept it from the senses (readings " + readings + ")").c_str()
                         : "");
 }
 
@@ -441,10 +433,9 @@ int evaluate_command(const EvalArgs& a) {
   std::printf("  reward         %.1f +- %.1f\n", r.reward_mean, r.reward_std);
   std::printf("  episode time   %.2f s (mean, simulated)\n", r.time_mean);
   print_never_referenced(r);
-  print_first_tick_warning(succeeded_at_first_tick(r), r.episodes);
-  print_unread_sets(scenario.unread_params(split_sets(a.sets, "--set")), scenario.path());
-  if (const std::string noise = noise_sets_note(scenario_param_values(scenario), a.sets); !noise.empty())
-    std::printf("  note           %s\n", noise.c_str());
+  print_first_tick_warning(r.succeeded_at_first_tick, r.episodes);
+  print_unread_sets(scenario.unread_params(split_sets(a.sets, "--set")), scenario.path(),
+                    scenario_param_values(scenario), a.sets);
   if (a.json) {
     nlohmann::json j = {{"script", script.path()},      {"policy", policy.name},
                         {"scenario", scenario.name()},  {"scenario_file", scenario.path()},
@@ -453,7 +444,7 @@ int evaluate_command(const EvalArgs& a) {
                         {"success_rate", r.success_rate}, {"reward_mean", r.reward_mean},
                         {"reward_std", r.reward_std},    {"time_mean", r.time_mean},
                         {"failed_seeds", failed},       {"never_referenced", r.never_referenced},
-                        {"succeeded_at_first_tick", succeeded_at_first_tick(r)}};
+                        {"succeeded_at_first_tick", r.succeeded_at_first_tick}};
     for (const auto& p : scenario.params()) j["params"][p.name] = p.value;
     std::printf("%s\n", j.dump().c_str());
   }
@@ -675,9 +666,7 @@ int command_train(const TrainArgs& a) {
   write_train_outputs(r, a.out);
   print_outcome(r);
   if (r.teaches) print_teacher(r);
-  print_unread_sets(r.unread_sets, r.scenario_file);
-  if (const std::string noise = noise_sets_note(r.params, a.sets); !noise.empty())
-    std::printf("  note           %s\n", noise.c_str());
+  print_unread_sets(r.unread_sets, r.scenario_file, r.params, a.sets);
   const TrainingDiagnosis diagnosis = diagnose_training(r);
   if (const std::string at_start = diagnosis.goal_at_start_cause(); !at_start.empty() && r.reached && !r.explain)
     std::printf("  warning        %s\n", at_start.c_str());

@@ -296,7 +296,6 @@ EvalSummary evaluate_action(const std::function<WorldSpec(uint64_t)>& make, Cont
   for (int e = 0; e < episodes; ++e) {
     const uint64_t seed = first_seed + uint64_t(e);
     const WorldSpec spec = make(seed);
-    s.noisy = s.noisy || spec.noise.any();
     for (const ChannelNoise* c : {&spec.noise.image, &spec.noise.joints, &spec.noise.base, &spec.noise.touch,
                                   &spec.noise.effort}) {
       s.noise_offsets = s.noise_offsets || c->offsets();
@@ -306,6 +305,7 @@ EvalSummary evaluate_action(const std::function<WorldSpec(uint64_t)>& make, Cont
     }
     EpisodeResult r = fixed_action_episode(agent, spec, seed, driver, options, {});
     s.successes += r.success;
+    s.succeeded_at_first_tick += r.success && r.ticks <= 1;
     sum += r.reward;
     sum2 += r.reward * r.reward;
     time += r.sim_seconds;

@@ -169,10 +169,12 @@ struct EvalSummary {
   // episode: the outermost of them, by name and settings, with the innermost inside each
   // ("purple {stimulus = \"#7800c8\"} (inside: phi3, phi0)"). What they act on was never there.
   std::vector<std::string> never_referenced;
-  bool noisy = false;  // some world had sensor or actuator noise (it may hide what a part acts on)
-  // What that noise did to readings in some world: offset them (white, bias, drift), lose some
-  // (dropout), delay them, round them (quantum); for the note on parts never referenced.
+  // What sensor or actuator noise did to readings in some world: offset them (white, bias, drift),
+  // lose some (dropout), delay them, round them (quantum). It may hide what a part acts on: for the
+  // note on parts never referenced.
   bool noise_offsets = false, noise_lost = false, noise_late = false, noise_coarse = false;
+  bool noisy() const { return noise_offsets || noise_lost || noise_late || noise_coarse; }
+  int succeeded_at_first_tick = 0;  // successes at the first tick: the goal held from the start
 };
 
 // Evaluates an action over `episodes` seeds (seed, seed + 1, ...), making each world with `make`.
