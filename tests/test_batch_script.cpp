@@ -484,6 +484,44 @@ TEST_CASE("a batch script's limits set the sandbox's budgets; the command line's
   fs::remove_all(dir);
 }
 
+TEST_CASE("every seed a batch derives lies within 2^53, and a whole number past int64 is out of range",
+          "[batch_script]") {
+  // Found by a probe: seed = 2^53 with 3 trials passed (its trials' seeds past the bound results keep
+  // exact), and seed = 2^63 was refused as "must be an integer".
+  const fs::path dir = fs::temp_directory_path() / ("roger_seeds_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  auto script = [&](const std::string& seed, const std::string& first_seed) {
+    const fs::path file = dir / "seeds.lua";
+    std::ofstream(file) << "return { name = 'seeds', curriculum = 'curricula/paper.lua', trials = 3, seed = " << seed
+                        << ",\n  runs = { { name = 'SG', stage = 'SG', contexts = { 'DC2' } } },\n"
+                        << "  evaluations = { { name = 'g', run = 'SG', context = 'DC2', shapes = { 'circle', "
+                        << "'spade' },\n    episodes = 10, first_seed = " << first_seed << " } } }\n";
+    return file.string();
+  };
+  // The last trial's seed and the last world's seed may be 2^53 itself.
+  const BatchScript b = load_batch_script(script("2^53 - 2", "2^53 - 59"));
+  CHECK(b.seed == (uint64_t(1) << 53) - 2);
+  CHECK(b.evaluations.at(0).first_seed == (int64_t(1) << 53) - 59);
+  CHECK_THAT(load_error(script("2^53 - 1", "0")),
+             Catch::Matchers::Contains("seeds.lua:1: run 'SG': trial i trains with seed 'seed' + i, so the last seed, "
+                                       "seed + trials - 1 = 9007199254740993, is past 2^53 (9007199254740992), the "
+                                       "largest seed a batch takes: give 'seed' at most 9007199254740990"));
+  BatchOverrides more;
+  more.trials = 5;
+  CHECK_THAT(load_error_with(script("2^53 - 2", "0"), more),
+             Catch::Matchers::Contains("give 'seed' at most 9007199254740988, or fewer --trials"));
+  // Two shapes of 3 trials' 10 episodes each, in worlds of their own: 60 seeds.
+  CHECK_THAT(load_error(script("1", "2^53 - 58")),
+             Catch::Matchers::Contains("seeds.lua:4: evaluation 'g': its 60 worlds take seeds from 'first_seed' on, "
+                                       "so the last seed, first_seed + 59 = 9007199254740993, is past 2^53"));
+  CHECK_THAT(load_error(script("2^63", "0")),
+             Catch::Matchers::Contains("seeds.lua:1: the batch script: field 'seed' must be between 0 and "
+                                       "9007199254740992, got number 9.223372036854776e+18"));
+  CHECK_THAT(load_error(script("1.5", "0")),
+             Catch::Matchers::Contains("field 'seed' must be an integer, got number 1.5"));
+  fs::remove_all(dir);
+}
+
 TEST_CASE("names that would clash or climb out and a skill from another context are refused at load",
           "[batch_script]") {
   // Each once passed the load and failed after the training (a figure over the report's own

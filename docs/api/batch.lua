@@ -28,7 +28,7 @@
 ---@field params? table<string, number|string|boolean> scenario parameters (default: none)
 ---@field shapes? string[] one group per shape (shape=<name>; not with a `shape` in `params`); default: one group called "all"
 ---@field episodes? integer episodes per shape and policy (1 to 1000000; default 50)
----@field first_seed? integer first world seed (default -1: the stage's held-out seeds)
+---@field first_seed? integer first world seed (default -1: the stage's held-out seeds); its last world's seed at most 2^53
 ---@field worlds? "own"|"shared" default "own": shape k's trial i from first_seed + (k * trials + i) * episodes; "shared": every policy on shape k's worlds from first_seed + k * episodes (common random numbers)
 ---@field trials? integer the first `trials` trials of the run (1 to the run's trials; default: all)
 ---@field skills? table<string, roger.BatchSkillSource> learned skills of the context from these runs instead of the ones the policies embed (trial i's; default: the embedded ones)
@@ -79,7 +79,7 @@
 ---@field description? string one line for the report (default: none)
 ---@field curriculum string a curriculum path (from the current folder, the script's folder or the project folder) or a bare name in curricula/
 ---@field trials? integer trials per context of every run (1 to 100000; default 1; --trials overrides it)
----@field seed? integer trial i (0, 1, ...) trains with seed `seed + i` (0 to 2^53; default 1)
+---@field seed? integer trial i (0, 1, ...) trains with seed `seed + i` (every such seed 0 to 2^53; default 1)
 ---@field params? table<string, number|string|boolean> scenario parameters of every training run (default: none; --set over them)
 ---@field limits? roger.BatchLimits the sandbox's budgets for the curriculum, its scenarios and every trial, not this script (--lua-instructions and --lua-memory override them)
 ---@field runs roger.BatchRun[] the training runs, in order (at least one)

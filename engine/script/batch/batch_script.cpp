@@ -122,6 +122,19 @@ void read_header(const json& top, const Reader& rd, int top_line, const std::str
   read_limits(top, rd, overrides, b);
 }
 
+// Every seed a batch derives (seed + i, first_seed + j) lies within 0..2^53, as 'seed' and
+// 'first_seed' do: results name seeds as JSON numbers, which a browser's page reads as doubles, exact
+// to 2^53 only. Found by a probe: seed = 2^53 with 3 trials passed, its trials past the bound.
+void refuse_seeds_past_largest(const Reader& rd, uint64_t first, uint64_t count, int line, const std::string& what,
+                               const std::string& last_said, const std::string& field,
+                               const std::string& or_else = "") {
+  const uint64_t largest = uint64_t(1) << 53;
+  if (count == 0 || first + (count - 1) <= largest) return;
+  rd.fail(line, what + ", so the last seed, " + last_said + " = " + std::to_string(first + (count - 1)) +
+                    ", is past 2^53 (" + std::to_string(largest) + "), the largest seed a batch takes: give " +
+                    field + " at most " + std::to_string(largest - (count - 1)) + or_else);
+}
+
 // Loads the script's curriculum and records its file.
 std::unique_ptr<Curriculum> load_curriculum(const Reader& rd, const std::string& path, const SandboxLimits& limits,
                                             BatchScript& b) {
@@ -383,6 +396,10 @@ BatchRun read_run(const json& rj, const Reader& rd, int runs_line, const Curricu
                   "200 of them (rename it in the curriculum)");
   r.trials = int(rd.integer(rj, "trials", what, r.line, b.trials, 1, 100000));
   if (overrides.trials > 0) r.trials = overrides.trials;
+  refuse_seeds_past_largest(rd, b.seed, uint64_t(r.trials),
+                            rj.contains("trials") ? rd.line_of_key("trials", r.line) : rd.line_of_key("seed", 1),
+                            what + ": trial i trains with seed 'seed' + i", "seed + trials - 1",
+                            "'seed'", overrides.trials > 0 ? ", or fewer --trials" : "");
   r.params = b.params;
   merge_params(r.params, rd.params(rj, "params", what, r.line));
   merge_params(r.params, overrides.sets);
@@ -543,6 +560,13 @@ BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const 
   const int most = overrides.trials > 0 ? 100000 : from->trials;
   e.trials = int(rd.integer(ej, "trials", what, e.line, from->trials, 1, most));
   if (overrides.trials > 0) e.trials = from->trials;
+  if (e.first_seed >= 0) {  // shape k's worlds follow shape k-1's (run.cpp's evaluation_seed_offset)
+    const uint64_t shapes = std::max<uint64_t>(1, e.shapes.size());
+    const uint64_t worlds = shapes * (e.shared_worlds ? 1 : uint64_t(e.trials)) * uint64_t(e.episodes);
+    refuse_seeds_past_largest(rd, uint64_t(e.first_seed), worlds, rd.line_of_key("first_seed", e.line),
+                              what + ": its " + std::to_string(worlds) + " worlds take seeds from 'first_seed' on",
+                              "first_seed + " + std::to_string(worlds - 1), "'first_seed'");
+  }
   read_evaluation_skills(ej, rd, what, cur, b, e);
   std::string scenario = e.scenario;
   for (const auto& st : cur.stages())

@@ -195,6 +195,10 @@ int64_t Reader::integer(const json& o, const char* key, const std::string& what,
   if (v.is_number_integer()) x = v.get<int64_t>();
   else if (v.is_number_float() && std::floor(v.get<double>()) == v.get<double>() && std::fabs(v.get<double>()) < 9.2e18)
     x = int64_t(v.get<double>());  // a whole float (2^53, 2e8) is the integer it holds; the range says the rest
+  else if (v.is_number_float() && std::floor(v.get<double>()) == v.get<double>())
+    // A whole number past int64 (2^63, 1e300) is an integer out of range, not "not an integer".
+    fail(line_of_key(key, line), what + ": field '" + key + "' must be between " + std::to_string(lo) + " and " +
+                                     std::to_string(hi) + ", got " + json_value_said(v));
   else fail(line_of_key(key, line), what + ": field '" + key + "' must be an integer, got " + json_value_said(v));
   if (x < lo || x > hi)
     fail(line_of_key(key, line), what + ": field '" + key + "' must be between " + std::to_string(lo) + " and " +
