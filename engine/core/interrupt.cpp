@@ -59,6 +59,21 @@ extern "C" void on_interrupt(int signal_number) {
   write_stderr(term ? " (a second SIGTERM stops at once)\n" : " (press Ctrl-C again to stop at once)\n");
 }
 
+// The output's reader went away (`roger run ... | head -1` once head has its line): as a stop
+// request, so that the run keeps what finished and its status says interrupted. Without it the
+// pipe's SIGPIPE killed the run before its status was written. Said once, silently after: each
+// later write to the closed pipe raises SIGPIPE again, and saying so would raise it once more.
+extern "C" void on_broken_pipe(int) {
+  if (requested.load(std::memory_order_relaxed)) return;
+  first_at_ns.store(monotonic_ns(), std::memory_order_relaxed);
+  requested_by.store(SIGPIPE, std::memory_order_relaxed);
+  requested.store(true, std::memory_order_relaxed);
+  write_stderr("\nroger: stopping (the output's reader closed the pipe): ");
+  const char* note = stopping_note.load(std::memory_order_relaxed);
+  write_stderr(note ? note : "finishing the episodes in flight, keeping every finished result");
+  write_stderr("\n");
+}
+
 }  // namespace
 
 void catch_interrupts(const char* stopping) {
@@ -67,6 +82,7 @@ void catch_interrupts(const char* stopping) {
   // job control starts background commands with SIGINT ignored, so a terminal's Ctrl-C is not theirs.
   for (int signal_number : {SIGINT, SIGTERM})
     if (std::signal(signal_number, on_interrupt) == SIG_IGN) std::signal(signal_number, SIG_IGN);
+  if (std::signal(SIGPIPE, on_broken_pipe) == SIG_IGN) std::signal(SIGPIPE, SIG_IGN);
 }
 
 bool interrupt_requested() { return requested.load(std::memory_order_relaxed); }

@@ -8,7 +8,8 @@
 # run to exactly the golden results (tests/golden/quick). A second SIGINT soon after the first stops
 # the run at once (the signal's default action: no report), saying so, and that folder resumes to
 # the golden results too; one SIGINT delivered twice at once (as GNU timeout does) is one Ctrl-C. SIGTERM (Slurm's scancel, a job's time limit) stops it as one Ctrl-C does, and it
-# exits 143, as a shell reports a command SIGTERM stopped.
+# exits 143, as a shell reports a command SIGTERM stopped. A closed output pipe (`| head -1`) stops it
+# as one Ctrl-C does, and it exits 141.
 set -euo pipefail
 set -m  # job control: the background run gets SIGINT (without it, a shell starts it ignoring SIGINT)
 
@@ -159,6 +160,20 @@ grep -q "^roger: stopping (SIGTERM): " "$work/log" || fail "no line says the run
   fail "after SIGTERM the last line does not say how to resume"
 [ -z "$(find "$work/term/trials" -name error.json)" ] || fail "a trial SIGTERM stopped was recorded as failed"
 
+# A closed output pipe (`roger run ... 2>&1 | head -1`, head gone after its line) stops the run as
+# one Ctrl-C does (found by a probe: SIGPIPE killed it before any trial, its status left running),
+# and it exits 141, as a shell reports a command a closed pipe stopped.
+set +e  # the pipeline fails (pipefail): its first command's status is the one read
+"$roger" run scripts/quick.lua --jobs 2 --out "$work/pipe" 2>&1 | head -1 >"$work/pipe_head"
+pipe_status=${PIPESTATUS[0]}
+set -e
+[ "$pipe_status" -eq 141 ] || fail "exit status $pipe_status after the output pipe closed, not 141"
+grep -q "^roger run: scripts/quick.lua -> $work/pipe (24 trials" "$work/pipe_head" || fail "head did not get the run's first line"
+grep -q '"running": false' "$work/pipe/status.json" && grep -q '"interrupted": true' "$work/pipe/status.json" ||
+  fail "after a closed pipe status.json does not say the run stopped, interrupted"
+[ -z "$(find "$work/pipe/trials" -name error.json 2>/dev/null)" ] || fail "a trial the closed pipe stopped was recorded as failed"
+resume_to_golden "$work/pipe"
+
 # roger train: a trial stopped part-way is no result. It says so, writes nothing and leaves its
 # folder as it was (here an earlier trial's policy.json). What it trains is said before its first
 # training episode (its skills trained first), not only at the end, so it is there when stopped.
@@ -191,4 +206,4 @@ stop_child
 [ "$(tail -n 1 "$work/log")" = "roger eval: stopped; no figures (an evaluation stopped part-way is no result)" ] ||
   fail "roger eval: the last line does not say it stopped"
 [ ! -s "$work/eval.out" ] || fail "roger eval: figures printed after a Ctrl-C"
-echo "passed: one Ctrl-C keeps what finished and reports it; one during the report finishes it and exits 130; a kill during the report leaves summary.csv agreeing with the report; two stop at once, but not one delivered twice; both resume to the golden run; SIGTERM stops as one Ctrl-C and exits 143; roger train says what it trains at its start, and stopped writes nothing and says so; roger eval stopped says so and prints no figures"
+echo "passed: one Ctrl-C keeps what finished and reports it; one during the report finishes it and exits 130; a kill during the report leaves summary.csv agreeing with the report; two stop at once, but not one delivered twice; both resume to the golden run; SIGTERM stops as one Ctrl-C and exits 143, a closed output pipe too and exits 141; roger train says what it trains at its start, and stopped writes nothing and says so; roger eval stopped says so and prints no figures"
