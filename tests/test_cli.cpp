@@ -1592,6 +1592,33 @@ TEST_CASE("an evaluation over a retrained skill is roger eval --skill, whatever 
   fs::remove_all(two);
 }
 
+// Found by a probe: a --skill learned in another curriculum was used without a word (its actions
+// run as the trial's curriculum defines them). train and eval name it; one of the same text, not.
+TEST_CASE("a --skill learned in another curriculum is named where it is used", "[cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_skill_curriculum_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string copy = (dir / "paper_copy.lua").string();
+  std::ofstream(copy) << slurp("curricula/paper.lua") << "-- a copy\n";
+  const std::string skill = "--skill Phi_SG=tests/policies/sg_dc2.json";
+  const std::string said = "\n  skill Phi_SG        from tests/policies/sg_dc2.json, "
+                           "learned in the curriculum curricula/paper.lua (its actions run here as this curriculum "
+                           "defines them)\n";
+  Run r = roger("train " + copy + " --stage T --context DC6 --seed 2 " + skill + " --out " + (dir / "t").string());
+  INFO(r.out << r.err);
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains(said));
+  r = roger("eval " + copy + " --policy " + (dir / "t" / "policy.json").string() + " " + skill + " --episodes 1");
+  INFO(r.out << r.err);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("\n  skill Phi_SG    from tests/policies/sg_dc2.json, learned in the curriculum "
+                                              "curricula/paper.lua (its actions run here as this curriculum "
+                                              "defines them)\n"));
+  // The curriculum it was learned in: said as the file it was learned from, nothing more.
+  r = roger("train curricula/paper.lua --stage T --context DC6 --seed 2 " + skill + " --out " + (dir / "p").string());
+  CHECK_THAT(r.out, Catch::Matchers::Contains("\n  skill Phi_SG        from tests/policies/sg_dc2.json\n"));
+  fs::remove_all(dir);
+}
+
 // Before, roger eval said "86.7% (26 of 30)" and finding the four failed worlds took a loop of
 // one-episode evaluations. The scripted search_grasp among six obstacles fails in four of seeds
 // 1000-1029 (the deterministic engine's count: a change of it is a change of behaviour).

@@ -88,6 +88,29 @@ struct StageRun {
   }
 };
 
+// The curriculum the policy file records, when it is another than `cur`; "" when the same or none.
+// The same text is the same curriculum, whatever the path said from another folder (found by a
+// probe: a policy trained as c/ok.lua, judged as ./ok.lua from c/, was said to be another's).
+std::string other_curriculum(const PolicyMetadata& meta, const Curriculum& cur) {
+  if (!meta.extra.is_object() || !meta.extra.contains("curriculum") || !meta.extra["curriculum"].is_string()) return "";
+  const std::string recorded = meta.extra["curriculum"].get<std::string>();
+  if (meta.extra.contains("curriculum_digest") && meta.extra["curriculum_digest"].is_string())
+    return meta.extra["curriculum_digest"].get<std::string>() == curriculum_digest(cur) ? "" : recorded;
+  std::error_code ec;
+  if (recorded == cur.path() || fs::equivalent(recorded, cur.file(), ec)) return "";
+  // Trained in another checkout of the project (tests/policies/ were): the same file of it.
+  const std::string own = "/" + cur.path();
+  if (recorded.size() > own.size() && recorded.compare(recorded.size() - own.size(), own.size(), own) == 0) return "";
+  return recorded;
+}
+
+// Whether the curriculum a policy file records is the file `cur` was read from (then edited since,
+// when other_curriculum names it).
+bool same_curriculum_file(const std::string& recorded, const Curriculum& cur) {
+  std::error_code ec;
+  return recorded == cur.path() || fs::equivalent(recorded, cur.file(), ec);
+}
+
 }  // namespace
 
 // The scenario of a stage with its parameters, then the caller's.
@@ -365,6 +388,8 @@ void batch_detail::bind_skills(Curriculum& cur, const CurriculumContext& ctx, co
       if (meta.stage != producer->name || meta.context != pctx.name)
         throw Error(src.file + ": a policy of stage '" + meta.stage + "', context '" + meta.context + "', but the skill '" +
                     name + "' comes from stage '" + producer->name + "', context '" + pctx.name + "'");
+      src.trained_curriculum = other_curriculum(meta, cur);  // found by a probe: another's skill, unsaid
+      src.trained_curriculum_edited = !src.trained_curriculum.empty() && same_curriculum_file(src.trained_curriculum, cur);
     }
     const QTable q = QTable::from_json(src.policy, controller_names(pctx.actions), source, &meta);
     cur.bind_learned(name, make_policy_skill(name, pctx.actions, q, producer->absorbing));
@@ -792,29 +817,6 @@ ParamList policy_trial_params(const PolicyMetadata& meta, const std::string& pol
 }
 
 namespace {
-
-// The curriculum the policy file records, when it is another than `cur`; "" when the same or none.
-// The same text is the same curriculum, whatever the path said from another folder (found by a
-// probe: a policy trained as c/ok.lua, judged as ./ok.lua from c/, was said to be another's).
-std::string other_curriculum(const PolicyMetadata& meta, const Curriculum& cur) {
-  if (!meta.extra.is_object() || !meta.extra.contains("curriculum") || !meta.extra["curriculum"].is_string()) return "";
-  const std::string recorded = meta.extra["curriculum"].get<std::string>();
-  if (meta.extra.contains("curriculum_digest") && meta.extra["curriculum_digest"].is_string())
-    return meta.extra["curriculum_digest"].get<std::string>() == curriculum_digest(cur) ? "" : recorded;
-  std::error_code ec;
-  if (recorded == cur.path() || fs::equivalent(recorded, cur.file(), ec)) return "";
-  // Trained in another checkout of the project (tests/policies/ were): the same file of it.
-  const std::string own = "/" + cur.path();
-  if (recorded.size() > own.size() && recorded.compare(recorded.size() - own.size(), own.size(), own) == 0) return "";
-  return recorded;
-}
-
-// Whether the curriculum a policy file records is the file `cur` was read from (then edited since,
-// when other_curriculum names it).
-bool same_curriculum_file(const std::string& recorded, const Curriculum& cur) {
-  std::error_code ec;
-  return recorded == cur.path() || fs::equivalent(recorded, cur.file(), ec);
-}
 
 // "; the policy was trained with ..." when the policy file records another curriculum than
 // `cur` (a policy of curricula/paper.lua given with another curriculum reads "has no stage 'T'").

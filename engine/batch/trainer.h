@@ -168,6 +168,10 @@ struct SkillSource {
   TrainPoint to_threshold;    // when trained here: its time-to-threshold (or totals if censored)
   TrainPoint totals;
   nlohmann::json policy;      // the policy file's JSON (embedded in the trial's own policy)
+  // A file's skill trained with another curriculum than the trial's (its path; "" when the same or
+  // unrecorded), or with this curriculum's file before an edit: its actions run on this one's now.
+  std::string trained_curriculum;
+  bool trained_curriculum_edited = false;
 };
 
 // Everything a trial produced.

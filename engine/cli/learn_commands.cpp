@@ -224,6 +224,16 @@ std::string lua_judge_never_note(const EvalArgs& a, const PolicyEvalResult& r) {
   }
 }
 
+// "from FILE", and the curriculum it was learned in when that is another (or this one before an
+// edit: found by a probe, a skill from another curriculum was used without a word).
+static std::string skill_file_origin(const SkillSource& s) {
+  if (s.trained_curriculum.empty()) return "from " + s.file;
+  return "from " + s.file + ", learned in " +
+         (s.trained_curriculum_edited ? "an earlier version of " + s.trained_curriculum
+                                      : "the curriculum " + s.trained_curriculum) +
+         " (its actions run here as this curriculum defines them)";
+}
+
 // "; trained with upper_arm = 0.7 (here 0.5)": the scenario parameters a skill's policy records
 // (its trial's, policy.json's extra.params) that differ from this run's, "" when none does (found
 // by a probe: a skill learned on another body was used without a word).
@@ -263,8 +273,8 @@ void print_policy_eval(const EvalArgs& a, const PolicyEvalResult& r, const std::
   // probe: eval said nothing).
   for (const SkillSource& s : r.skills)
     if (!s.embedded)
-      if (const std::string note = skill_params_note(s, r.params); !note.empty())
-        std::printf("  skill %-9s from %s%s\n", s.name.c_str(), s.file.c_str(), note.c_str());
+      if (const std::string note = skill_params_note(s, r.params); !note.empty() || !s.trained_curriculum.empty())
+        std::printf("  skill %-9s %s%s\n", s.name.c_str(), skill_file_origin(s).c_str(), note.c_str());
   if (r.stage_test_tasks > 0 && !a.test_set)
     std::printf("  note           stage %s teaches: its trials ended on %d test tasks of its task space, not run here "
                 "(--test-set runs them; these episodes have the stage's own parameters%s)\n",
@@ -474,7 +484,7 @@ static std::string skill_origin(const SkillSource& s, bool sets_given) {
   if (s.embedded)
     return "embedded in the policy file of the skill learned with it (stage " + s.stage + " context " +
            s.context + ")";
-  if (!s.trained) return "from " + s.file;
+  if (!s.trained) return skill_file_origin(s);
   return "trained first: stage " + s.stage + " context " + s.context + ", " +
          (s.reached ? "reached" : "did NOT reach") + " its threshold after " +
          counted(s.to_threshold.episodes, "episode") +
