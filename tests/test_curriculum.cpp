@@ -785,6 +785,19 @@ TEST_CASE("changes made to a roger.stage table after the call count and are chec
   std::ofstream(wrapper) << "local paper = require('paper')\npaper.stages[1].bogus = 3\nreturn paper\n";
   CHECK_THAT(error_of([&] { Curriculum::load(wrapper); }),
              Catch::Matchers::Contains("curricula/lib/paper_stages.lua:103: stage 'SG': unknown field 'bogus'"));
+  // That line had accepted the table: the error says the change came after (found by a probe: a
+  // wrapper's misspelt learner field read as the library's mistake).
+  std::ofstream(wrapper) << "local paper = require('paper')\npaper.stages[1].learner.alpah = 0.3\nreturn paper\n";
+  CHECK_THAT(error_of([&] { Curriculum::load(wrapper); }),
+             Catch::Matchers::Contains("curricula/lib/paper_stages.lua:103: stage 'SG': learner: unknown field 'alpah' "
+                                       "(did you mean 'alpha'?)"));
+  CHECK_THAT(error_of([&] { Curriculum::load(wrapper); }),
+             Catch::Matchers::Contains("(roger.stage accepted this stage's table here; it was changed after roger.stage "
+                                       "returned it, and the curriculum reads it again, with the change, when the "
+                                       "script returns)"));
+  // A mistake roger.stage saw itself is said without it.
+  std::ofstream(wrapper) << "return { stages = { roger.stage{ name = 'S', bogus = 1 } } }\n";
+  CHECK_THAT(error_of([&] { Curriculum::load(wrapper); }), !Catch::Matchers::Contains("roger.stage accepted"));
 }
 
 // Found by a probe: these two took (and dropped) extra arguments, where every other function of

@@ -264,10 +264,14 @@ int line_of_stage(const std::string& text, const std::string& name) {
 // made to a roger.stage table after the call count (a wrapper that shortens a required
 // curriculum's budgets, say). `file` and `line` become where the stage is written: roger.stage's
 // line, or for a plain table the line where its name is written in `display`.
+// `booked` is true while a roger.stage table is read: an error then comes of a change made to it
+// after roger.stage accepted it.
 CurriculumStage take_stage(lua_State* L, const Book& book, const std::string& display, const std::string& text,
-                           std::string& file, int& line, LuaCallback& a, LuaCallback& r, LuaCallback& teacher) {
+                           std::string& file, int& line, bool& booked, LuaCallback& a, LuaCallback& r,
+                           LuaCallback& teacher) {
   auto it = book.tables.find(lua_topointer(L, -1));
-  if (it != book.tables.end()) {
+  booked = it != book.tables.end();
+  if (booked) {
     file = it->second.first;
     line = it->second.second;
   } else {
@@ -280,6 +284,7 @@ CurriculumStage take_stage(lua_State* L, const Book& book, const std::string& di
   parse_stage(L, -1, st, a, r, teacher, file, display);
   st.file = file, st.line = line;
   curriculum_detail::check_stage_params(st);
+  booked = false;
   return st;
 }
 
@@ -405,7 +410,8 @@ void Curriculum::read_stages(Impl& impl, const std::string& path) {
   const std::string text = read_file_text(path);
   std::string file = impl.path;  // for errors raised while C++ reads the returned table
   int line = 0;
-  sandbox.read_returned_table(file, [&]() { return line; }, [&](lua_State* L) {
+  bool booked = false;  // reading a table roger.stage accepted (take_stage)
+  const auto read = [&](lua_State* L) {
     const int t = lua_gettop(L);
     if (!lua_istable(L, t))
       luaL_error(L, "a curriculum must return a table {name = ..., description = ..., stages = {...}}, got %s",
@@ -435,7 +441,7 @@ void Curriculum::read_stages(Impl& impl, const std::string& path) {
     for (lua_Integer i = 1; i <= n; ++i) {
       lua_rawgeti(L, ss, i);
       LuaCallback a, r, teacher;
-      CurriculumStage st = take_stage(L, impl.book, impl.path, text, file, line, a, r, teacher);
+      CurriculumStage st = take_stage(L, impl.book, impl.path, text, file, line, booked, a, r, teacher);
       for (const auto& other : impl.stages)
         if (other.name == st.name) luaL_error(L, "a second stage named '%s'", st.name.c_str());
       impl.absorbing_fns[st.name] = a;
@@ -444,7 +450,18 @@ void Curriculum::read_stages(Impl& impl, const std::string& path) {
       impl.stages.push_back(std::move(st));
       lua_pop(L, 1);
     }
-  });
+  };
+  try {
+    sandbox.read_returned_table(file, [&]() { return line; }, read);
+  } catch (const ScriptError& e) {
+    // Found by a probe: a wrapper's `stage.learner.alpah = 0.3` after roger.stage returned was
+    // placed at the roger.stage line alone, which had accepted the table.
+    if (!booked) throw;
+    throw ScriptError(e.message + " (roger.stage accepted this stage's table here; it was changed after roger.stage "
+                                  "returned it, and the curriculum reads it again, with the change, when the script "
+                                  "returns)",
+                      e.file, e.line, e.traceback);
+  }
 }
 
 namespace {
