@@ -481,6 +481,34 @@ TEST_CASE("the callbacks' episode table starts empty every episode", "[curriculu
   CHECK(cur.call_reward(st, ctx, state, 0, "timeout", 0.5) == 1.0);
 }
 
+// Found by a probe: roger.sequence in an absorbing function passed roger check and failed in
+// training at its second call ("already a controller named"); roger.primitive, roger.learned and
+// roger.stage there were taken without a word, each call making another.
+TEST_CASE("the functions that make controllers, predicates and stages refuse to once the script has loaded",
+          "[curriculum]") {
+  test::TempDir dir("roger_make_in_callback");
+  const std::string path = (dir.path / "late.lua").string();
+  const std::vector<Gamma> state = {Gamma::kNoRef, Gamma::kNoRef};
+  for (const auto& [call, what] : std::vector<std::pair<std::string, std::string>>{
+           {"roger.sequence('Dup', {'phi0'})", "roger.sequence: controllers and predicates"},
+           {"roger.primitive('phi0')", "roger.primitive: controllers and predicates"},
+           {"roger.converged('phi0')", "roger.converged: controllers and predicates"},
+           {"roger.learned('Phi_X')", "roger.learned: the stand-ins of learned skills"},
+           {"roger.stage{ name = 'X' }", "roger.stage: stages"}}) {
+    std::ofstream(path) << "local function absorbing(state)\n  local made = " << call << "\n  return false\nend\n"
+                        << "return { stages = { roger.stage{ name = 'S', time_limit = 3, absorbing = absorbing, budget = { episodes = 2 },\n"
+                        << "  contexts = { { name = 'A', actions = { 'search', 'phi0' } } } } } }\n";
+    Curriculum cur = Curriculum::load(path);
+    const CurriculumStage& st = cur.stage("S");
+    cur.begin_episode();
+    CHECK_THAT(error_of([&] { cur.call_absorbing(st, st.context("A"), state, 0.0); }),
+               Catch::Matchers::Contains("late.lua:2: stage 'S', context 'A': absorbing function: " + what + " are made while the script loads, and this call "
+                                         "comes once it has loaded, from a function the engine calls as it runs (an "
+                                         "absorbing, reward or teacher function), where each call would make "
+                                         "another: make it at the script's top level and use that one here"));
+  }
+}
+
 // curricula/maturation.lua (docs/curricula.md, Contexts that change the body): a context's scenario
 // parameters lie over its stage's, so SG is learned with coarse eyes and T with the full body.
 TEST_CASE("a context's scenario params restrict the body of its worlds alone", "[curriculum]") {

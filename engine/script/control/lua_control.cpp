@@ -84,6 +84,22 @@ Location author_location(lua_State* L, bool& through_library) {
   std::abort();  // unreachable: luaL_error does not return
 }
 
+}  // namespace lua_control_detail
+
+void lua_refuse_after_load(lua_State* L, const std::string& what) {
+  std::string called = "this function";
+  lua_Debug ar;
+  if (lua_getstack(L, 0, &ar) && lua_getinfo(L, "n", &ar) && ar.name)
+    called = (ar.namewhat && std::string(ar.namewhat) == "method" ? "c:" : "roger.") + std::string(ar.name);
+  luaL_error(L, "%s: %s are made while the script loads, and this call comes once it has loaded, from a function "
+                "the engine calls as it runs (an absorbing, reward or teacher function), where each call would make "
+                "another: make it at the script's top level and use that one here",
+             called.c_str(), what.c_str());
+  std::abort();  // unreachable: luaL_error does not return
+}
+
+namespace lua_control_detail {
+
 // The book of the state, or a Lua error when the control API is not installed.
 ControlBook& book_of(lua_State* L) {
   lua_rawgetp(L, LUA_REGISTRYINDEX, &book_key);
@@ -96,6 +112,7 @@ ControlBook& book_of(lua_State* L) {
 // Counts one more object made by the script against the cap, and a little work against the
 // instruction budget (constructing a controller costs far more than one VM instruction).
 void count_object(lua_State* L, ControlBook& book) {
+  if (book.finished) lua_refuse_after_load(L, "controllers and predicates");
   if (++book.objects > kMaxObjects)
     raise(L, "too many controllers and predicates (a script may make at most " +
                  std::to_string(kMaxObjects) + ")");

@@ -47,8 +47,14 @@ void install_control_api(LuaSandbox& sandbox);
 // was referred to by name before it was defined, and checks that no skill contains itself.
 // Throws ScriptError at the file:line of the reference or definition at fault ("skill 'A' contains
 // itself: A -> B -> A"). After this, a name given where a controller is expected must name an
-// existing controller.
+// existing controller, and the functions that make controllers and predicates refuse to
+// (lua_refuse_after_load).
 void finish_control_definitions(LuaSandbox& sandbox);
+
+// Raises the error of an API function that makes `what` (controllers and predicates, stages)
+// called once the script has loaded: from a function the engine calls as it runs (an absorbing,
+// reward or teacher function), where each call would make another. Names the function called.
+[[noreturn]] void lua_refuse_after_load(lua_State* L, const std::string& what);
 
 // A controller the script gave a name (a sequence, a policy, or a primitive made with name=).
 struct NamedController {

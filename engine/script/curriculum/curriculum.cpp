@@ -39,6 +39,7 @@ struct Book {
   // (kStageTablesKey), so that no other table can take the address of one collected.
   std::map<const void*, std::pair<std::string, int>> tables;
   std::map<std::string, std::shared_ptr<LearnedRef>> learned;
+  bool loaded = false;  // the script has returned: its stages are read (roger.stage refuses then)
 };
 
 constexpr const char* kStageTablesKey = "roger.stage_tables";
@@ -77,6 +78,7 @@ int l_stage(lua_State* L) {
   return lua_protect(L, [&]() {
     lua_check_arity(L, "roger.stage", 1, "1 argument (a table of fields)");
     Book& book = book_of(L);
+    if (book.loaded) lua_refuse_after_load(L, "stages");
     CurriculumStage st;
     LuaCallback a, r, t;
     const auto where = caller(L);
@@ -109,6 +111,7 @@ int l_learned(lua_State* L) {
   return lua_protect(L, [&]() {
     lua_check_arity(L, "roger.learned", 1, "1 argument (the name of a skill)");
     Book& book = book_of(L);
+    if (book.loaded) lua_refuse_after_load(L, "the stand-ins of learned skills");
     if (lua_type(L, 1) != LUA_TSTRING)
       luaL_error(L, "roger.learned: expects the name of a skill an earlier stage yields (a string), got %s",
                  lua_describe_value(L, 1).c_str());
@@ -453,6 +456,7 @@ void Curriculum::read_stages(Impl& impl, const std::string& path) {
   };
   try {
     sandbox.read_returned_table(file, [&]() { return line; }, read);
+    impl.book.loaded = true;
   } catch (const ScriptError& e) {
     // Found by a probe: a wrapper's `stage.learner.alpah = 0.3` after roger.stage returned was
     // placed at the roger.stage line alone, which had accepted the table.
