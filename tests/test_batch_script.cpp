@@ -817,6 +817,21 @@ TEST_CASE("a second run or evaluation of a name is refused at its own line", "[b
                          "  runs = { { name = 'SG', stage = 'SG', contexts = { 'B1', 'DC2' } } },\n"
                          "  tables = { { compare = { 'SG/B1', 'SG/DC2', 'SG/B1' } } } }\n";
   CHECK_THAT(load_error(file.string()), Catch::Contains("'compare' names 'SG/B1' twice"));
+  // Found by a probe: the same table twice was written twice without a word.
+  std::ofstream(file) << "return { name = 'twice', curriculum = 'paper', trials = 1,\n"
+                         "  runs = { { name = 'SG', stage = 'SG', contexts = { 'B1', 'DC2' } } },\n"
+                         "  tables = { { run = 'SG' }, { run = 'SG' } } }\n";
+  CHECK_THAT(load_error(file.string()),
+             Catch::Contains("twice.lua:3: a second table the same as an earlier one ('Stage SG (run SG)'): the "
+                             "report would show it twice"));
+  std::ofstream(file) << "return { name = 'twice', curriculum = 'paper', trials = 1,\n"
+                         "  runs = { { name = 'SG', stage = 'SG', contexts = { 'B1', 'DC2' } } },\n"
+                         "  tables = { { run = 'SG' }, { run = 'SG', baseline = 'DC2' } } }\n";
+  CHECK(load_batch_script(file.string()).tables.size() == 2);
+  // And a one-line script's second figure of a file was said to be at line 2 (it has one).
+  std::ofstream(file) << "return { name = 'twice', curriculum = 'paper', runs = { { name = 'SG', stage = 'SG' } }, "
+                         "figures = { { file = 'f', run = 'SG' }, { file = 'f', run = 'SG' } } }";
+  CHECK_THAT(load_error(file.string()), Catch::Contains("twice.lua:1: a second figure written to 'f'"));
   // A name past 200 bytes would fail at the results folder (found by a probe: "File name too long").
   std::ofstream(file) << "return { name = '" << std::string(300, 'n') << "', curriculum = 'paper', trials = 1,\n"
                          "  runs = { { name = 'SG', stage = 'SG', contexts = { 'B1' } } } }\n";

@@ -838,9 +838,23 @@ BatchTable read_table_fields(const json& tj, const Reader& rd, int& at, const Cu
 }
 
 // Reads one table of 'tables', with its title; `at` is the line to search from, moved past it.
+// Everything a table shows, as one text: two tables with the same are one table written twice.
+std::string table_identity(const BatchTable& t) {
+  std::string id = t.title + '\n' + t.run + '\n' + t.baseline + '\n' + t.evaluation + '\n' + t.by + '\n';
+  for (const auto& u : t.usage) id += "u " + u.context + ' ' + u.skill + ' ' + join(u.subsumes) + '\n';
+  for (const auto& r : t.sorting) id += "s " + std::to_string(r.objects) + ' ' + r.learned + ' ' + r.hand + '\n';
+  for (const auto& r : t.compare) id += "c " + r.label() + '\n';
+  return id;
+}
+
 BatchTable read_table(const json& tj, const Reader& rd, int& at, const Curriculum& cur, const BatchScript& b) {
   BatchTable t = read_table_fields(tj, rd, at, cur, b);
   if (t.title.empty()) t.title = default_title(t, b);
+  // Found by a probe: `tables = {{run = "Y"}, {run = "Y"}}` wrote one table twice without a word.
+  for (const auto& o : b.tables)
+    if (table_identity(o) == table_identity(t))
+      rd.fail(at - 1, "a second table the same as an earlier one ('" + t.title + "'): the report would show it "
+                      "twice; remove one, or give them what differs (a 'title', a 'by', 'usage' rows)");
   return t;
 }
 

@@ -104,7 +104,11 @@ json lua_to_json(lua_State* L, int index, const std::string& path, int depth) {
 
 // Throws a ScriptError at the script's line.
 void Reader::fail(int line, const std::string& message) const {
-  throw ScriptError(message, display_, line, "");
+  // Never past the file's last line: entries are looked for from the line after the one before
+  // (found by a probe: a one-line script's second figure was said to be at line 2).
+  int last = 1;
+  for (size_t i = 0; tokens_[i].type != LuaToken::kEnd; ++i) last = std::max(last, tokens_[i].line);
+  throw ScriptError(message, display_, std::min(line, last), "");
 }
 
 // The line where `name = "value"` is first written at or after line `from` (0 when not found).
