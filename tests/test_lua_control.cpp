@@ -283,6 +283,10 @@ TEST_CASE("policy tables map states to actions, with wildcards", "[lua_control]"
                        "roger.policy('R', {actions = {a, b}, table = {['CONV *'] = 1, ['* CONV'] = 2}})")
                  .what(),
              Contains("snippet.lua:2: roger.policy('R'): the keys \"* CONV\" and \"CONV *\" both match the state CONV CONV"));
+  // Found by a probe: two actions of one name were taken, where a context's Psi refuses them.
+  CHECK_THAT(lua.error("roger.policy('R', {actions = {'phi1', 'phi3', 'phi1'}, table = {}})").what(),
+             Contains("snippet.lua:1: roger.policy('R'): 'actions': two actions are named 'phi1' (actions 1 and 3); "
+                      "a policy's actions must differ, as its states name them"));
   CHECK_THAT(lua.error("roger.policy('R', {actions = {'phi1', 'phi3'}, table = {['CONV'] = 1}})").what(),
              Contains("the key has 1 states but the policy has 2 actions (phi1, phi3)"));
   CHECK_THAT(lua.error("roger.policy('R', {actions = {'phi1'}, table = {['DONE'] = 1}})").what(),

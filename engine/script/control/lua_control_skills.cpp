@@ -177,6 +177,12 @@ std::vector<ControllerPtr> policy_actions(lua_State* L, ControlBook& book, const
   f.push("actions");
   std::vector<ControllerPtr> actions = controller_list(L, -1, context, "'actions'", "action");
   lua_pop(L, 1);
+  // As a context's Psi (found by a probe: {"phi0", "phi0"} was taken, its states' two columns one).
+  for (size_t i = 0; i < actions.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (actions[i]->name() == actions[j]->name())
+        f.fail("'actions': two actions are named '" + actions[i]->name() + "' (actions " + std::to_string(j + 1) +
+               " and " + std::to_string(i + 1) + "); a policy's actions must differ, as its states name them");
   if (int(actions.size()) > kMaxPolicyActions)
     f.fail("at most " + std::to_string(kMaxPolicyActions) + " actions (3^" + std::to_string(kMaxPolicyActions) +
            " states), got " + std::to_string(actions.size()));
