@@ -388,7 +388,7 @@ TEST_CASE("predicates", "[lua_control]") {
   // Found by a probe: a predicate's maker given itself, its call forgotten, was "got a function".
   CHECK_THAT(lua.error("roger.negate(roger.converged)").what(),
              Contains("roger.negate: argument 1 must be a predicate (roger.converged, roger.gamma, roger.all, "
-                      "roger.any, roger.negate, roger.held), got a function (the function roger.converged itself: "
+                      "roger.any, roger.negate, roger.held, roger.sorted), got a function (the function roger.converged itself: "
                       "did you mean roger.converged(c)?)"));
   CHECK_THAT(lua.error("roger.any{roger.converged('phi1'), roger.held}").what(),
              Contains("element 2 must be a predicate") && Contains("(the function roger.held itself: did you mean "

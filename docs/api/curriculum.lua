@@ -182,7 +182,7 @@ function roger.teacher.plr(options) end
 ---@field budget {episodes: integer}
 ---@field checkpoints? roger.Checkpoints
 ---@field contexts roger.Context[]|table<string, roger.ControllerRef[]|{actions: roger.ControllerRef[], params: table<string, number|string|boolean>?, init: roger.ContextInit?}>
----@field skill? {name: string, context: string} the context whose greedy policy becomes a skill
+---@field skill? {name: string, context: string} the context whose greedy policy becomes a skill (the stage's absorbing must then be a predicate, not a Lua function: a skill's gamma is evaluated every tick)
 ---@field tasks? table<string, roger.TaskAxis> scenario parameters each training episode draws (docs/curricula.md, Teachers)
 ---@field teacher? roger.Teacher|fun(history: roger.TeacherEpisode[], rng: roger.Rng): table<string, number|string|boolean> who draws them (default roger.teacher.random{})
 ---@field test? roger.TestSet the tasks the checkpoints and the final evaluation run

@@ -69,7 +69,7 @@ roger.robot.footprint_radius = 0.38281835693315
 ---@field hand_radius? number hand radius (m), 0.01-0.3 (0.08)
 ---@field hand_mass? number kg, 0.001-100 (0.05)
 ---@field shoulder_y? number shoulders at (0, +-shoulder_y) in the base frame (m), 0-1 (0.18)
----@field eye_y? number eyes at (0, +-eye_y) (m), inside the base (0.08)
+---@field eye_y? number eyes at (0, +-eye_y) (m), 0.005 to the base's radius (0.08)
 ---@field shoulder? {min: number?, max: number?} the left shoulder's range (rad, within +-pi; the right mirrors it)
 ---@field elbow? {min: number?, max: number?} the left elbow's range (rad)
 ---@field eye_pan? number each eye pans within +-eye_pan of the heading (rad), 0.05-pi/2
@@ -272,6 +272,7 @@ function Rng:fork() end
 ---@field choices? (string|number)[] allowed values
 ---@field min? number lower bound of a number or integer
 ---@field max? number upper bound
+---@field list? boolean true: the value is a comma-separated list of distinct `choices` (or "")
 
 ---The parameters `generate` receives: each declared parameter's value in force, by name. Reading a
 ---name the scenario does not declare is an error at that line, naming the nearest

@@ -453,7 +453,7 @@ ControllerPtr lua_check_controller(lua_State* L, int index, const std::string& c
                                  ? " (a predicate is a condition, not an action)"
                                  : "";
     raise(L, prefix + " must be a controller (made by roger.primitive, roger.subject_to, roger.compose, "
-                      "roger.sequence or roger.policy) or the name of one, got " +
+                      "roger.sequence, roger.policy or roger.bind) or the name of one, got " +
                  lua_describe_value(L, index) + hint);
   }
   ControlBook& book = book_of(L);
@@ -500,7 +500,7 @@ PredicatePtr lua_check_predicate(lua_State* L, int index, const std::string& con
                                ? " (the function " + maker.name + " itself: did you mean " + maker.predicate_call + "?)"
                                : "";
   raise(L, context + ": " + what + " must be a predicate (roger.converged, roger.gamma, roger.all, "
-                                   "roger.any, roger.negate, roger.held), got " +
+                                   "roger.any, roger.negate, roger.held, roger.sorted), got " +
                lua_describe_value(L, index) + hint);
 }
 
