@@ -728,6 +728,12 @@ void check_step(VecEnvironment& v, const IntArray& actions) {
                 std::to_string(actions.size()));
   // An environment that no reset has begun (its reset_mask entry False at every reset) has no
   // episode to step: refused before anything runs, rather than stepped into a fault.
+  // None begun: no reset yet at all (found by a probe: the reset_mask advice misled there).
+  bool any_begun = false;
+  for (py::ssize_t i = 0; i < n; ++i) any_begun = any_begun || v.env(int(i)).begun();
+  if (!any_begun)
+    throw Error("step: no episode is running in the " + std::to_string(n) + " environments " +
+                "(call reset first)");
   for (py::ssize_t i = 0; i < n; ++i)
     if (!v.env(int(i)).begun())
       throw Error("step: " + env_name(i, n) + " has not been reset yet (its reset_mask entry was False at every "

@@ -569,7 +569,10 @@ class GymnasiumApi(unittest.TestCase):
         self.assertGreater(len(np.unique(frame.reshape(-1, 3), axis=0)), 10)  # a picture, not a blank
         env.step(0)
         self.assertFalse(np.array_equal(env.render(), frame))  # the robot moved
-        self.assertIsNone(roger.make(EXAMPLE, "Look", "Gaze").render())  # no render_mode: nothing
+        # No render_mode: nothing, and a warning says why, as Gymnasium's own environments do.
+        with self.assertWarnsRegex(UserWarning, r"render_mode is None\); make it with make\(\.\.\., "
+                                                r"render_mode='rgb_array'\)"):
+            self.assertIsNone(roger.make(EXAMPLE, "Look", "Gaze").render())
         self.assertRaisesRegex(roger.RogerError, "render_mode", roger.make, EXAMPLE, "Look", "Gaze",
                                render_mode="human")
 
@@ -971,7 +974,8 @@ class VectorApi(unittest.TestCase):
         for f in frames:
             self.assertEqual((f.dtype, f.shape[1:]), (np.uint8, (200, 3)))
         self.assertFalse(np.array_equal(frames[0], frames[1]))  # different worlds
-        self.assertIsNone(self.make().render())
+        with self.assertWarnsRegex(UserWarning, r"make it with make_vec\(\.\.\., render_mode='rgb_array'\)"):
+            self.assertIsNone(self.make().render())
 
     def test_render_before_reset_raises(self):
         # An environment of the batch that no reset has begun has no world: rendering it raises,
@@ -989,6 +993,9 @@ class VectorApi(unittest.TestCase):
         # same (S + i), so that its first reset does not replay another's worlds; stepping it before
         # any reset is refused, naming it, and nothing runs.
         vec = self.make(2)
+        # Before any reset the batch says so plainly (found by a probe: it pointed at reset_mask).
+        self.assertRaisesRegex(roger.RogerError, r"^step: no episode is running in the 2 environments \(call reset "
+                                                 r"first\)$", vec.step, np.array([0, 0]))
         obs, info = vec.reset(seed=1, options={"reset_mask": np.array([True, False])})
         with self.assertRaises(roger.RogerError) as cm:
             vec.step(np.array([0, 0]))
