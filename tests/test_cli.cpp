@@ -760,6 +760,22 @@ TEST_CASE("roger check runs a module as the scripts requiring it do and names th
   const Run misspelt = roger("check " + (dir / "misspelt.lua").string());
   CHECK(misspelt.status == 1);
   CHECK_THAT(misspelt.err, Catch::Matchers::Contains("unknown field 'generat' (did you mean 'generate'?)"));
+  // Found by a probe: a skill script with 'policies' misspelt, whose goal is a predicate, ran as a
+  // scenario ("attempt to call a nil value (field 'converged')"); another kind's field misspelt was
+  // told the scenario's fields alone.
+  std::ofstream(dir / "polices.lua") << "return { polices = { x = { action = 'phi0', goal = roger.converged('phi0'), "
+                                        "time_limit = 5 } } }\n";
+  CHECK_THAT(roger("check " + (dir / "polices.lua").string()).err,
+             Catch::Matchers::Contains("polices.lua:1: the skill script's table has an unknown field 'polices' (did "
+                                       "you mean 'policies'?)"));
+  std::ofstream(dir / "policy.lua") << "return { policy = {} }\n";
+  CHECK_THAT(roger("check " + (dir / "policy.lua").string()).err,
+             Catch::Matchers::Contains("unknown field 'policy'; known fields: description, generate, name, params "
+                                       "(did you mean 'policies'? a skill script returns it; a script is read as a "
+                                       "scenario when it returns no 'stages', 'policies' or 'runs')"));
+  std::ofstream(dir / "stage.lua") << "return { stage = {} }\n";
+  CHECK_THAT(roger("check " + (dir / "stage.lua").string()).err,
+             Catch::Matchers::Contains("(did you mean 'stages'? a curriculum returns it;"));
   fs::remove_all(dir);
 }
 

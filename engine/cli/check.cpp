@@ -283,8 +283,14 @@ std::string check_target(const std::string& arg) {
 // a scenario, as before.
 std::optional<ScriptKind> guessed_kind(const std::string& path) {
   const std::string text = read_file_text(path);
-  if (text.find("roger.stage") != std::string::npos) return ScriptKind::kCurriculum;
-  for (const char* builder : {"lib.skills", "roger.primitive", "roger.sequence", "roger.compose", "roger.subject_to"})
+  if (text.find("roger.stage") != std::string::npos || text.find("roger.learned") != std::string::npos)
+    return ScriptKind::kCurriculum;
+  // The control API's functions, predicates among them (found by a probe: a skill script whose
+  // goal was roger.converged(...) and whose 'policies' was misspelt ran as a scenario, where
+  // roger.converged is nil).
+  for (const char* builder : {"lib.skills", "roger.primitive", "roger.sequence", "roger.compose", "roger.subject_to",
+                              "roger.policy", "roger.bind", "roger.converged", "roger.gamma", "roger.held",
+                              "roger.all", "roger.any", "roger.negate", "roger.sorted"})
     if (text.find(builder) != std::string::npos) return ScriptKind::kSkillScript;
   return std::nullopt;
 }

@@ -25,6 +25,24 @@ namespace roger {
 namespace fs = std::filesystem;
 using namespace scenario_detail;
 
+namespace {
+
+// A script is read as a scenario unless it returns another kind's field (docs/authoring.md): a
+// misspelt one of those ('stage', 'policy') lands here, so the error names the kind it belongs to
+// (found by a probe: `return { policy = {} }` listed the scenario's fields alone).
+std::string other_kind_hint(const std::string& key, const std::vector<std::string>& known) {
+  if (key.empty() || !suggestion(key, known).empty()) return "";
+  for (const auto& [field, kind] : std::vector<std::pair<std::string, std::string>>{
+           {"stages", "a curriculum"}, {"policies", "a skill script"}, {"runs", "a batch script"}})
+    if (!suggestion(key, {field}).empty() ||  // or its singular: 'policy' for 'policies'
+        (key.size() >= 4 && field.rfind(key.substr(0, key.size() - 1), 0) == 0))
+      return " (did you mean '" + field + "'? " + kind + " returns it; a script is read as a scenario when it "
+             "returns no 'stages', 'policies' or 'runs')";
+  return "";
+}
+
+}  // namespace
+
 // Runs `body` inside a protected call (body may use the Lua API and throw). Errors without a
 // location are attributed to the scenario file.
 void Scenario::Impl::protect(const std::function<void(lua_State*)>& body, int nargs) {
@@ -59,7 +77,7 @@ void Scenario::Impl::read_table(lua_State* L, const LuaTableMap& map) {
     if (std::find(known.begin(), known.end(), key) == known.end())
       throw error("the scenario table has an unknown field " +
                       (key.empty() ? std::string("(a non-string key)") : "'" + key + "'" + suggestion(key, known)) +
-                      "; known fields: " + join(known),
+                      "; known fields: " + join(known) + other_kind_hint(key, known),
                   key.empty() ? table_line : key_line(key));
   }
   auto text_field = [&](const char* key, const std::string& fallback) {
