@@ -46,7 +46,7 @@ std::string shown_from_project(const std::string& file) {
 // The closing lines of a run; returns 1 when some trial it selected failed or has corrupt files.
 // The counts of the first line add up to its trials: those with a result, this run's failed and
 // unreadable ones, those it has not run yet, and those outside its --only (not this command's).
-int print_outcome(const BatchSummary& s, std::ostream& log) {
+int print_outcome(const BatchSummary& s, std::ostream& log, const std::string& again) {
   const size_t outside = size_t(s.outside_pending + s.outside_failed + s.outside_corrupt);
   const size_t done = s.trials - s.failed.size() - s.corrupt.size() - size_t(s.pending) - outside;
   log << "roger run: " << done << " of " << s.trials << (s.trials == 1 ? " trial" : " trials") << " done in "
@@ -55,7 +55,7 @@ int print_outcome(const BatchSummary& s, std::ostream& log) {
   if (done > s.finished_now) log << " (" << (done - s.finished_now) << " of them by earlier runs)";
   if (!s.failed.empty()) log << ", " << s.failed.size() << " failed";
   if (!s.corrupt.empty()) log << ", " << s.corrupt.size() << " with unreadable files";
-  if (s.pending) log << ", " << s.pending << " not run yet (run the same command again to continue)";
+  if (s.pending) log << ", " << s.pending << " not run yet (" << again << ")";
   std::vector<std::string> apart;
   if (s.outside_pending) apart.push_back(std::to_string(s.outside_pending) + " outside --only not run");
   if (s.outside_failed) apart.push_back(std::to_string(s.outside_failed) + " outside --only failed earlier");
@@ -124,8 +124,13 @@ int print_missing(const std::vector<MissingTrial>& missing, const BatchPlan& pla
     }
     log << "  ... and " << more << " more without a result: " << groups << "\n";
   }
+  const bool sharded = std::any_of(missing.begin(), missing.end(), [](const MissingTrial& m) { return !m.owner.empty(); });
   log << "Run the roger run command that made the folder again (roger run " << shell_word(plan.script->path)
-      << " --out " << shell_word(plan.out) << ", with the same options and the same --shard for a shard) to finish them"
+      << " --out " << shell_word(plan.out) << ", with the same options and the same --shard for a shard"
+      << (sharded ? "; shards of a Slurm array: scripts/slurm/submit.sh SCRIPT N --array=K for each shard K named "
+                    "above, with the same ROGER_OUT and ROGER_ARGS"
+                  : "")
+      << ") to finish them"
       << (corrupt ? " (it runs a trial with corrupt files again from scratch; removing such a trial's folder "
                     "under trials/ does the same). roger report --partial cannot help: a report never reads a "
                     "corrupt record, not even as pending.\n"
@@ -211,6 +216,15 @@ void print_run_start(const BatchPlan& plan, const Shard& shard, std::ostream& lo
   log << "roger run: open " << page << " to follow the run\n";
 }
 
+// For a task of a Slurm array (--shard slurm), how to submit its shard again, which runs what it
+// left ("" otherwise: the same command does). Found by a probe: a cancelled task's log said "run
+// the same command again", which is array.sbatch's.
+std::string submit_again(const RunArgs& a, const BatchPlan& plan, const Shard& shard) {
+  if (a.shard != "slurm") return "";
+  return "scripts/slurm/submit.sh " + shell_word(plan.script->path) + " " + std::to_string(shard.count) +
+         " --array=" + std::to_string(shard.index) + ", with the same ROGER_OUT and ROGER_ARGS";
+}
+
 // After the trials: the report (unless a shard, --no-report or unreadable trials), summary.csv,
 // the closing status and the exit status, which says whether the run was interrupted.
 int finish_run(const RunArgs& a, const BatchPlan& plan, const Shard& shard, const BatchSummary& summary,
@@ -235,15 +249,18 @@ int finish_run(const RunArgs& a, const BatchPlan& plan, const Shard& shard, cons
   }
   // A shard's final status stays: it says what the run waits for (other shards, roger report).
   if (!shard.active()) write_closing_status(plan.out, report);
-  const int outcome = print_outcome(summary, log) ? 1 : status;
+  const std::string again = submit_again(a, plan, shard);
+  const int outcome =
+      print_outcome(summary, log, again.empty() ? "run the same command again to continue"
+                                                : "to continue, submit this shard again: " + again) ? 1 : status;
   if (!summary.interrupted && interrupt_requested()) {
     log << "roger run: stopped on request after its trials had ended" << (report == "written" ? ", during the "
            "report, which was completed" : "") << "\n";
     return interrupt_exit_status();
   }
   if (!summary.interrupted) return outcome;
-  log << "roger run: interrupted; the trials that were running start afresh when you run the same command "
-         "again\n";
+  log << "roger run: interrupted; the trials that were running start afresh when you "
+      << (again.empty() ? "run the same command again" : "submit this shard again (" + again + ")") << "\n";
   return interrupt_exit_status();  // 130 after Ctrl-C, 143 after SIGTERM, as a shell reports them
 }
 
@@ -290,9 +307,17 @@ int command_run(const RunArgs& a) {
     check_out_folder(plan.out);  // before the claim makes its lock files there
     const RunningClaim claim(plan.out, shard, a.only);  // until the run has ended, its report written
     std::string note;
+    // A shard's first start in a folder another shard made is no resumption (found by a probe: every
+    // shard but the first said "resuming" on the batch's first run).
+    const bool shard_ran_here =
+        shard.active() && std::filesystem::exists(std::filesystem::path(plan.out) / "shards" /
+                                                      (std::to_string(shard.index) + "-of-" +
+                                                       std::to_string(shard.count) + ".json"), ec);
     const bool resuming = open_results_folder(plan, &note, shard, &claim);
     if (!fresh) check_only_needs(plan, a.only, shard);  // before "resuming": a refused --only resumes nothing
-    if (resuming) log << "roger run: resuming " << plan.out << "\n";
+    if (resuming && shard.active() && !shard_ran_here)
+      log << "roger run: joining the shards' folder " << plan.out << " (this shard's first start there)\n";
+    else if (resuming) log << "roger run: resuming " << plan.out << "\n";
     if (!note.empty()) log << "roger run: " << note << "\n";
     print_run_start(plan, shard, log);
     const BatchSummary summary = run_batch(plan, RunControl{a.jobs, a.live, a.max_trials, a.only, &log, shard, !a.no_eval_cache, a.explain});

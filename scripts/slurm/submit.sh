@@ -64,6 +64,7 @@ for option in "$@"; do
     -o | -o* | --output | --output=* | -e | -e* | --error | --error=*)
       die "the jobs' output files are submit.sh's (ROGER_LOGS chooses their folder), got '$option'" ;;
     -J | -J* | --job-name | --job-name=*) die "the jobs' names are submit.sh's (roger-<script>, roger-report-<script>), got '$option'" ;;
+    --comment | --comment=*) die "the array's comment is submit.sh's (it names the results folder, for a shard submitted again), got '$option'" ;;
     --export | --export=*)
       die "the jobs' environment is submit.sh's (--export=ALL: the jobs read ROGER_SCRIPT, ROGER_OUT, ... from it; without them they would run scripts/paper.lua), got '$option': set what the jobs need in the environment of submit.sh" ;;
     *) common+=("$option") ;;
@@ -119,8 +120,15 @@ default_out=$(printf '%s\n' "$checked" | sed -n "s/^  results folder: \(.*\) (ro
 [ -n "$default_out" ] || die "roger check $script did not say where roger run writes (is $bin an older roger?)"
 out=$(absolute "${ROGER_OUT:-$default_out}")
 logs=$(absolute "${ROGER_LOGS:-$out/slurm}")
-# Slurm opens the jobs' output files but creates no folder for them.
+# Slurm opens the jobs' output files but creates no folder for them. Those made here are removed
+# again, while empty, when sbatch refuses the jobs (found by a probe: a misspelt partition left an
+# empty folder behind).
+made=()
+for folder in "$out" "$logs"; do
+  [ -d "$folder" ] || made=("$folder" ${made[@]+"${made[@]}"})
+done
 mkdir -p "$out" "$logs"
+unmake() { for folder in ${made[@]+"${made[@]}"}; do rmdir "$folder" 2>/dev/null || true; done; }
 
 # The jobs read these (sbatch passes the environment on: --export=ALL below).
 export ROGER_BIN=$bin ROGER_SCRIPT=$script ROGER_OUT=$out ROGER_SHARDS=$shards
@@ -130,24 +138,30 @@ export ROGER_ARGS=${ROGER_ARGS:-}
 # report.sbatch go to Slurm's SLURM_SUBMIT_DIR).
 submit() {
   local id
-  id=$(sbatch --parsable --export=ALL "$@") || die "sbatch failed: sbatch $*"
+  id=$(sbatch --parsable --export=ALL "$@") || { unmake; die "sbatch failed: sbatch $*"; }
   echo "${id%%;*}"
 }
 
 # A shard submitted again (--array=LIST) while tasks of an earlier array of this script still wait
 # or run: the new report waits for them too (found by a probe: it ran before them, failed on their
 # trials, and no report followed them). Their ids, colon-separated (afterany:A:B), from squeue.
+# Only this user's arrays of this folder, told by the comment each array carries (found by a
+# probe: another folder's array of the same script, a point of a sweep, held the report too).
+comment="roger-out:$out"
 earlier_arrays() {
   [ "$array" != "0-$((shards - 1))" ] || return 0
-  squeue -h -n "roger-$name" -t PENDING,RUNNING,CONFIGURING,SUSPENDED -o %F 2>/dev/null | sort -u | paste -sd: -
+  squeue -h -u "$(id -un)" -n "roger-$name" -t PENDING,RUNNING,CONFIGURING,SUSPENDED -o '%F|%k' 2>/dev/null |
+    awk -F'|' -v want="$comment" '$2 == want { print $1 }' | sort -u | paste -sd: -
 }
 earlier=$(earlier_arrays || true)
 
-array_id=$(submit --job-name="roger-$name" --array="$array" --output="$logs/shard-%a-%A.out" \
+array_id=$(submit --job-name="roger-$name" --comment="$comment" --array="$array" --output="$logs/shard-%a-%A.out" \
   ${dependency[@]+"${dependency[@]}"} ${common[@]+"${common[@]}"} "$repo/scripts/slurm/array.sbatch")
+made=()  # the array is queued: its folders stay
 # afterok: the report only after every task succeeded; a failed task cancels it (instead of
 # leaving it pending forever): redo the shard with --array=K, which submits a new report.
 report_id=$(submit --job-name="roger-report-$name" --dependency="afterok:$array_id${earlier:+,afterany:$earlier}" --kill-on-invalid-dep=yes \
-  --output="$logs/report-%j.out" ${common[@]+"${common[@]}"} "$repo/scripts/slurm/report.sbatch")
+  --output="$logs/report-%j.out" ${common[@]+"${common[@]}"} "$repo/scripts/slurm/report.sbatch") ||
+  die "the array $array_id is queued, and its report could not be submitted (above): cancel the array (scancel $array_id) and submit again, or run roger report $out once the array is done"
 echo "array $array_id"
 echo "report $report_id"

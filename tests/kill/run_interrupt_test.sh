@@ -160,6 +160,23 @@ grep -q "^roger: stopping (SIGTERM): " "$work/log" || fail "no line says the run
   fail "after SIGTERM the last line does not say how to resume"
 [ -z "$(find "$work/term/trials" -name error.json)" ] || fail "a trial SIGTERM stopped was recorded as failed"
 
+# A task of a Slurm array (--shard slurm) stopped by SIGTERM (scancel, its --time) says how to
+# submit its shard again, not "run the same command again", which is the array's (found by a probe).
+SLURM_ARRAY_TASK_ID=0 ROGER_SHARDS=2 "$roger" run scripts/quick.lua --jobs 2 --shard slurm --out "$work/slurm" \
+  >"$work/log" 2>&1 &
+child=$!
+until [ -n "$(find "$work/slurm/trials" -name result.json 2>/dev/null | head -1)" ]; do
+  kill -0 "$child" 2>/dev/null || fail "the shard ended before its first trial had a result"
+  sleep 0.05
+done
+kill -TERM "$child"
+wait_child
+[ "$status" -eq 143 ] || fail "exit status $status of a shard after SIGTERM, not 143"
+[ "$(tail -n 1 "$work/log")" = "roger run: interrupted; the trials that were running start afresh when you submit this shard again (scripts/slurm/submit.sh scripts/quick.lua 2 --array=0, with the same ROGER_OUT and ROGER_ARGS)" ] ||
+  fail "a stopped task of a Slurm array does not say how to submit its shard again"
+grep -Eq "not run yet \(to continue, submit this shard again: scripts/slurm/submit.sh scripts/quick.lua 2 --array=0," "$work/log" ||
+  fail "a stopped task of a Slurm array counts what is left without saying how to run it"
+
 # A closed output pipe (`roger run ... 2>&1 | head -1`, head gone after its line) stops the run as
 # one Ctrl-C does (found by a probe: SIGPIPE killed it before any trial, its status left running),
 # and it exits 141, as a shell reports a command a closed pipe stopped.

@@ -111,7 +111,7 @@ grep -q "sbatch not found" <<< "$out" || fail "submit.sh without sbatch: unclear
 # Options that would break the pair of jobs: one --output for both, a name that hides which is
 # which, a dependency in a form submit.sh cannot route to the array alone (on the report it would
 # replace the wait for the shards). Refused before anything is made.
-for option in --output=x.out -o -J --job-name=x "-d 5" --export=NONE --export=PATH; do
+for option in --output=x.out -o -J --job-name=x "-d 5" --export=NONE --export=PATH --comment=x; do
   rm -rf "$tmp/refused"
   # shellcheck disable=SC2086  # "-d 5": two words, as a user types them
   if out=$(ROGER_OUT=$tmp/refused bash "$submit" scripts/quick.lua 3 $option 2>&1); then fail "submit.sh took $option"; fi
@@ -177,8 +177,12 @@ grep -q "no parameter 'mas'" <<< "$out" && grep -q "with --set mas=0.7 (above): 
 [ ! -e "$tmp/recorder/args" ] || fail "submit.sh called sbatch with a --set roger check refuses"
 # A shard submitted again while tasks of an earlier array still run: the new report waits for them
 # (found by a probe: it ran first, failed on their trials, and no report followed them). squeue
-# here names two earlier arrays; a whole new array waits for no earlier one.
-printf '#!/bin/sh\nprintf "41\\n41\\n42\\n"\n' > "$tmp/recorder/squeue"
+# here names two earlier arrays of this folder and one of another (each array's comment names its
+# folder: found by a probe, a sweep's other points held the report too); a whole new array waits
+# for no earlier one. The real cluster below checks the comment Slurm keeps.
+printf '#!/bin/sh\nprintf "41|roger-out:%s\\n41|roger-out:%s\\n43|roger-out:/elsewhere\\n42|roger-out:%s\\n"\n' \
+  "$tmp/elsewhere/results/renamed" "$tmp/elsewhere/results/renamed" "$tmp/elsewhere/results/renamed" \
+  > "$tmp/recorder/squeue"
 chmod +x "$tmp/recorder/squeue"
 (cd "$tmp/elsewhere" && PATH=$tmp/recorder:$PATH ROGER_BIN=$roger bash "$submit" file_name.lua 2 --array=1 >/dev/null) ||
   fail "submit.sh refused --array=1"
@@ -369,6 +373,8 @@ for id in "${jobs_ids[@]}"; do
 done
 for k in 0 1 2; do
   grep -q -- "--jobs 2 " "$sharded/slurm/shard-$k-${jobs_ids[0]}.out" || fail "task $k did not run roger with --jobs 2"
+  # Each shard's first start: none resumes (found by a probe: all but the first said "resuming").
+  ! grep -q "^roger run: resuming" "$sharded/slurm/shard-$k-${jobs_ids[0]}.out" || fail "task $k said it resumed on its first start"
 done
 
 log "roger run scripts/quick.lua unsharded, for comparison"
@@ -386,8 +392,33 @@ rm -rf "${sharded:?}/trials/$victim"
 if out=$("$roger" report "$sharded" 2>&1); then fail "roger report succeeded with $victim missing: $out"; fi
 grep -q "$victim" <<< "$out" && grep -q "shard 1 of 3" <<< "$out" ||
   fail "roger report did not name $victim and shard 1 of 3: $out"
+grep -q "shards of a Slurm array: scripts/slurm/submit.sh SCRIPT N --array=K for each shard K named above" <<< "$out" ||
+  fail "roger report does not say how to submit the shard again: $out"
 log "with $victim removed, roger report fails:"
 sed 's/^/  | /' <<< "$out"
+
+# A shard submitted again waits for the earlier arrays of its own folder only, which Slurm tells
+# by the comment submit.sh gives each array (found by a probe: another folder's array of the same
+# script held the report). Here held arrays, cancelled once their dependencies are read.
+held_ids() { awk '$1 == "array" || $1 == "report" { print $2 }' <<< "$1" | xargs; }
+other=$(ROGER_BIN=$roger ROGER_OUT=$tmp/other bash "$submit" scripts/quick.lua 3 --hold) || fail "submit.sh --hold: $other"
+same=$(ROGER_BIN=$roger ROGER_OUT=$sharded bash "$submit" scripts/quick.lua 3 --array=2 --hold) ||
+  fail "submit.sh --array=2 --hold: $same"
+again=$(ROGER_BIN=$roger ROGER_OUT=$sharded bash "$submit" scripts/quick.lua 3 --array=1 --hold) ||
+  fail "submit.sh --array=1 --hold: $again"
+other_array=$(awk '$1 == "array" { print $2 }' <<< "$other") same_array=$(awk '$1 == "array" { print $2 }' <<< "$same")
+waits=$(job_field "$(awk '$1 == "report" { print $2 }' <<< "$again")" Dependency)
+# shellcheck disable=SC2046  # the ids, one word each
+scancel $(held_ids "$other") $(held_ids "$same") $(held_ids "$again")
+grep -q "afterany:${same_array}_" <<< "$waits" || fail "the shard's report does not wait for its folder's array $same_array: $waits"
+! grep -q "${other_array}_" <<< "$waits" || fail "the shard's report waits for another folder's array $other_array: $waits"
+log "a shard submitted again waits for its folder's earlier array, not another's: $waits"
+# A job sbatch refuses leaves no folder behind (found by a probe: an empty one stayed).
+if out=$(ROGER_BIN=$roger ROGER_OUT=$tmp/refused bash "$submit" scripts/quick.lua 3 --partition=nosuch 2>&1); then
+  fail "submit.sh succeeded with --partition=nosuch"
+fi
+grep -q "submit.sh: sbatch failed" <<< "$out" || fail "submit.sh --partition=nosuch: unclear message: $out"
+[ ! -e "$tmp/refused" ] || fail "submit.sh left $tmp/refused behind when sbatch refused the array"
 
 touch "$tmp/before-resume"
 sleep 1
@@ -402,6 +433,7 @@ array_end=$(job_field "$resumed_array" EndTime) report_start=$(job_field "$resum
 log "with --dependency=afterok:$first_array the report still started after the array ($report_start, $array_end)"
 redone=$(cd "$sharded/trials" && find . -name result.json -newer "$tmp/before-resume" | sort | xargs)
 [ "$redone" = "./$victim/result.json" ] || fail "shard 1 redid '${redone:-nothing}', not just $victim"
+grep -q "^roger run: resuming $sharded" "$sharded/slurm/shard-1-$resumed_array.out" || fail "shard 1 again did not say it resumed"
 log "shard 1 redid $victim and nothing else"
 bash "$src/tests/tools/compare_results.sh" "$tmp/plain" "$sharded" || fail "the resumed results differ from the unsharded"
 log "PASSED"
