@@ -167,6 +167,11 @@ TEST_CASE("compose reads the paper's notation, right-associative", "[lua_control
   auto left = as<SubjectTo>(lua.controller("return roger.compose('(phi1 <| phi4) <| phi5')"));
   CHECK(as<SubjectTo>(left->subordinate())->superior()->name() == "phi4");
   CHECK(left->superior()->name() == "phi5");
+  // Named apart from the right-nested chain, another controller (found by a probe: both were
+  // "phi1 <| phi4 <| phi5"), as the method form that nests to the left.
+  CHECK(left->name() == "(phi1 <| phi4) <| phi5");
+  CHECK(lua.controller("local a, b, c = roger.primitive('phi1'), roger.primitive('phi4'), roger.primitive('phi5')\n"
+                       "return a:subject_to(b):subject_to(c)")->name() == "(phi1 <| phi4) <| phi5");
 
   // The method form nests the same way as the notation.
   auto method = as<SubjectTo>(lua.controller(

@@ -145,7 +145,11 @@ DofVector nullspace_project(const TaskJacobian& J, const DofVector& v, double to
 SubjectTo::SubjectTo(ControllerPtr subordinate, ControllerPtr superior)
     : sub_(std::move(subordinate)), sup_(std::move(superior)) {
   if (!sub_ || !sup_) throw Error("subject_to: both sides must be controllers");
-  set_name(sub_->name() + " <| " + sup_->name());
+  // "<|" reads right to left (a <| b <| c is a <| (b <| c)): a subordinate that is itself an
+  // unnamed composite is parenthesized, so that (a <| b) <| c, another controller, reads apart
+  // (found by a probe: both were "a <| b <| c").
+  const bool grouped = std::string(sub_->kind()) == "subject_to" && sub_->name().find(" <| ") != std::string::npos;
+  set_name((grouped ? "(" + sub_->name() + ")" : sub_->name()) + " <| " + sup_->name());
 }
 
 std::vector<const Controller*> SubjectTo::children() const { return {sub_.get(), sup_.get()}; }
