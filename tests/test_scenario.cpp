@@ -835,9 +835,15 @@ TEST_CASE("the Lua API checks its arguments where they are given", "[scenario]")
             "away_negative") == "world:sample_position: away_from[1]: field 'distance' must not be negative, got -1");
   CHECK(run("rng:int(5, 1)", "range") == "rng:int: the range 5..1 is empty");
   CHECK(run("rng:choice({})", "choice") == "rng:choice: the list is empty");
+  // Found by a probe: a table of named entries was "empty", and rng.uniform() "a no value".
+  CHECK(run("rng:choice({a = 1})", "choice_named") ==
+        "rng:choice: expects a list {v1, v2, ...}, got a table whose entries are named (as 'a'): draw from a list "
+        "of its keys or values");
   CHECK(run("rng.uniform(0, 1)", "rng_dot") ==
         "rng:uniform: call it with a colon, as rng:uniform(...) (the first argument is a number, "
         "not the rng)");
+  CHECK(run("rng.uniform()", "rng_dot_none") ==
+        "rng:uniform: call it with a colon, as rng:uniform(...) (it was given no argument, not the rng)");
   CHECK(run("world:robot{x = 0, y = 0} world:robot{x = 1, y = 1}", "twice") ==
         "world:robot: Roger is already placed (call world:robot once)");
   CHECK(run("world:robot{x = 0, y = 0} world:object{name = 'a', shape = shapes.get('circle'), x = 1, y = 1} "

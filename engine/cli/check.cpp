@@ -590,10 +590,10 @@ int check_scenario_file(const CheckArgs& a, const std::string& shown, const Sand
   std::string tried;
   if (a.sets.empty())
     tried = ", every parameter choice and range end tried" +
-            (range_ends.empty() ? std::string() : "; " + std::to_string(range_ends.size()) +
-                                                      " range end(s) could not be built (warnings above)");
-  std::printf("%s: ok (scenario '%s', %d seeds generated and built%s)\n", shown.c_str(),
-              scenario.name().c_str(), a.seeds, tried.c_str());
+            (range_ends.empty() ? std::string() : "; " + counted(int(range_ends.size()), "range end") +
+                                                      " could not be built (warnings above)");
+  std::printf("%s: ok (scenario '%s', %s generated and built%s)\n", shown.c_str(), scenario.name().c_str(),
+              counted(a.seeds, "seed").c_str(), tried.c_str());
   return 0;
 }
 

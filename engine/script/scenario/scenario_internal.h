@@ -101,8 +101,10 @@ T& self(lua_State* L, const char* type, const char* call) {
   if (!p) {
     const std::string c = call;
     const std::string object = c.substr(0, c.find(':'));
-    luaL_error(L, "%s: call it with a colon, as %s(...) (the first argument is a %s, not the %s)",
-               call, call, luaL_typename(L, 1), object.c_str());
+    // Called with no argument at all, the first is none (found by a probe: "is a no value").
+    const std::string first = lua_isnone(L, 1) ? std::string("it was given no argument")
+                                               : std::string("the first argument is a ") + luaL_typename(L, 1);
+    luaL_error(L, "%s: call it with a colon, as %s(...) (%s, not the %s)", call, call, first.c_str(), object.c_str());
   }
   return *static_cast<T*>(p);
 }

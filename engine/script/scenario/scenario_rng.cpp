@@ -137,7 +137,16 @@ int l_rng_choice(lua_State* L) {
   if (!lua_istable(L, 2)) return luaL_error(L, "rng:choice: expects a list, got %s", luaL_typename(L, 2));
   if (lua_push_view_data(L, 2)) lua_replace(L, 2);
   const lua_Integer n = lua_Integer(lua_rawlen(L, 2));
-  if (n == 0) return luaL_error(L, "rng:choice: the list is empty");
+  if (n == 0) {
+    // A table of named entries only is no list (found by a probe: rng:choice{a = 1} said "empty").
+    lua_pushnil(L);
+    if (lua_next(L, 2)) {
+      const std::string key = luaL_tolstring(L, -2, nullptr);
+      return luaL_error(L, "rng:choice: expects a list {v1, v2, ...}, got a table whose entries are named (as '%s'): "
+                           "draw from a list of its keys or values", key.c_str());
+    }
+    return luaL_error(L, "rng:choice: the list is empty");
+  }
   lua_rawgeti(L, 2, rng.integer(1, n));
   return 1;
 }
