@@ -834,6 +834,9 @@ TEST_CASE("the Lua API checks its arguments where they are given", "[scenario]")
   CHECK(run("world:robot{x = 0, y = 0} world:sample_position{radius = 0.2, away_from = {{x = 1, y = 1, distance = -1}}}",
             "away_negative") == "world:sample_position: away_from[1]: field 'distance' must not be negative, got -1");
   CHECK(run("rng:int(5, 1)", "range") == "rng:int: the range 5..1 is empty");
+  // Found by a probe: a reversed region blamed the arena ("leaves no room in a 4 x 4 m arena").
+  CHECK(run("world:robot{x = 0, y = 0} world:sample_position{radius = 0.1, region = {xmin = 1, xmax = -1}}",
+            "region_reversed") == "world:sample_position: region: xmin 1 is past xmax -1: the region holds no point");
   CHECK(run("rng:choice({})", "choice") == "rng:choice: the list is empty");
   // Found by a probe: a table of named entries was "empty", and rng.uniform() "a no value".
   CHECK(run("rng:choice({a = 1})", "choice_named") ==

@@ -124,6 +124,9 @@ SampleArea read_area(lua_State* L, const LuaFields& f, const ArenaSpec& a, doubl
     LuaFields r(L, -1, "world:sample_position: region", {"xmin", "xmax", "ymin", "ymax"});
     const double rx0 = r.number("xmin", a.xmin), rx1 = r.number("xmax", a.xmax);
     const double ry0 = r.number("ymin", a.ymin), ry1 = r.number("ymax", a.ymax);
+    // A reversed region is the script's slip, not the arena's lack of room (found by a probe).
+    if (rx0 > rx1) r.fail("xmin " + fmt(rx0) + " is past xmax " + fmt(rx1) + ": the region holds no point");
+    if (ry0 > ry1) r.fail("ymin " + fmt(ry0) + " is past ymax " + fmt(ry1) + ": the region holds no point");
     x0 = std::max(x0, rx0), x1 = std::min(x1, rx1), y0 = std::max(y0, ry0), y1 = std::min(y1, ry1);
     region_text = " within the region [" + fmt(rx0) + ", " + fmt(rx1) + "] x [" + fmt(ry0) + ", " +
                   fmt(ry1) + "]";
