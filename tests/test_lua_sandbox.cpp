@@ -654,6 +654,12 @@ TEST_CASE("LuaFields checks names and types of table arguments", "[lua_sandbox]"
   CHECK(edit_distance("", "abc") == 3);
   CHECK(edit_distance("kitten", "sitting") == 3);
   CHECK(suggestion("ab", {"xy"}).empty());  // two edits of a two-letter name are no hint
+  // A name cut short or run on, of 4 letters at least, when one known name fits (found by a probe:
+  // reward = {absorb = 1} had no hint).
+  CHECK(suggestion("absorb", {"absorbing", "step", "timeout"}) == " (did you mean 'absorbing'?)");
+  CHECK(suggestion("radiuses", {"radius", "x", "y"}) == " (did you mean 'radius'?)");
+  CHECK(suggestion("abs", {"absorbing"}).empty());
+  CHECK(suggestion("time", {"time_limit", "timeout"}).empty());  // two fit: no one guess
   CHECK(message("thing{size = 1, nmae = 'a', colur = 1, zzz = 0}") ==
         "thing: unknown fields 'colur' (did you mean 'colour'?), 'nmae' (did you mean 'name'?), 'zzz'; "
         "known fields: colour, count, name, on, size");

@@ -838,6 +838,10 @@ TEST_CASE("the Lua API checks its arguments where they are given", "[scenario]")
   CHECK(run("world:robot{x = 0, y = 0} world:sample_position{radius = 0.1, region = {xmin = 1, xmax = -1}}",
             "region_reversed") == "world:sample_position: region: xmin 1 is past xmax -1: the region holds no point");
   CHECK(run("rng:choice({})", "choice") == "rng:choice: the list is empty");
+  // Found by a probe: setting a shape's field said "attempt to index a roger.Shape value".
+  CHECK(run("local s = shapes.get('circle') s.name = 'ball'", "shape_set") ==
+        "a shape cannot be changed (its 'name' was set): a shape is fixed once made; make another with "
+        "roger.shape{...}, or a scaled copy with shape:scaled(k)");
   // Found by a probe: a table of named entries was "empty", and rng.uniform() "a no value".
   CHECK(run("rng:choice({a = 1})", "choice_named") ==
         "rng:choice: expects a list {v1, v2, ...}, got a table whose entries are named (as 'a'): draw from a list "

@@ -181,6 +181,19 @@ std::string suggestion(const std::string& given, const std::vector<std::string>&
     const size_t d = edit_distance(given, k);
     if (d < best_distance && d < std::max(given.size(), k.size())) best = k, best_distance = d;
   }
+  // A name cut short or run on by a few letters (absorb for absorbing, radiuses for radius): the
+  // one known name it begins, or that begins it, of 4 letters at least (found by a probe: no hint
+  // for absorb). A longer run-on is another name (noise_joints_resolution is not noise_joints).
+  if (best.empty()) {
+    for (const auto& k : known) {
+      const std::string& shorter = k.size() < given.size() ? k : given;
+      const std::string& longer = k.size() < given.size() ? given : k;
+      if (shorter.size() < 4 || longer.compare(0, shorter.size(), shorter) != 0) continue;
+      if (&shorter == &k && given.size() - k.size() > 3) continue;
+      if (!best.empty()) return "";  // two of them: no one guess
+      best = k;
+    }
+  }
   return best.empty() ? "" : " (did you mean '" + best + "'?)";
 }
 

@@ -411,6 +411,14 @@ int l_no_metric(lua_State* L) {
                                 "; its numbers: " + join(fields));
 }
 
+// The __newindex of a shape: a shape does not change (found by a probe: `sq.name = "x"` said
+// "attempt to index a roger.Shape value", as if it could not be read).
+int l_shape_newindex(lua_State* L) {
+  const std::string key = luaL_tolstring(L, 2, nullptr);
+  return raise_at_reader(L, "a shape cannot be changed (its '" + key + "' was set): a shape is fixed once made; make "
+                            "another with roger.shape{...}, or a scaled copy with shape:scaled(k)");
+}
+
 // The rng object's class.
 void new_rng_class(lua_State* L) {
   const luaL_Reg rng_methods[] = {{"uniform", l_rng_uniform}, {"int", l_rng_int},
@@ -449,6 +457,8 @@ int install_api(lua_State* L) {
   luaL_getmetatable(L, kShapeType);
   lua_pushcfunction(L, l_shape_index);
   lua_setfield(L, -2, "__index");
+  lua_pushcfunction(L, l_shape_newindex);
+  lua_setfield(L, -2, "__newindex");
   lua_pushcfunction(L, l_shape_scaled);
   lua_setfield(L, -2, "scaled");
   lua_pop(L, 1);
