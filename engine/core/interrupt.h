@@ -1,6 +1,7 @@
-// interrupt.h: Ctrl-C (SIGINT), SIGTERM or a closed output pipe (SIGPIPE) as a request to stop a long command cleanly. A batch run
-// asks for it (roger run); its episodes then end at their next start with Interrupted, its trials
-// in flight are left to run again on resume, and it writes what it has (docs/reliability.md).
+// interrupt.h: Ctrl-C (SIGINT), SIGTERM or a closed output pipe (SIGPIPE) as a request to stop a
+// long command cleanly. A batch run asks for it (roger run); its episodes then end at their next
+// start with Interrupted, its trials in flight are left to run again on resume, and it writes
+// what it has (docs/reliability.md).
 #pragma once
 
 #include "core/error.h"
