@@ -509,6 +509,24 @@ TEST_CASE("the functions that make controllers, predicates and stages refuse to 
   }
 }
 
+// Found by a probe: a teacher's rng kept and drawn in absorbing passed roger check, whose
+// callbacks ran before any teacher, and training refused it at its first episode.
+TEST_CASE("roger check calls the callbacks again once a Lua teacher has run", "[curriculum]") {
+  test::TempDir dir("roger_teacher_rng_kept");
+  const std::string path = (dir.path / "kept.lua").string();
+  std::ofstream(path) << "local kept\n"
+                         "local function teacher(history, rng) kept = rng return {} end\n"
+                         "local function absorbing(state) if kept then kept:uniform() end return false end\n"
+                         "return { stages = { roger.stage{ name = 'S', time_limit = 3, budget = { episodes = 2 },\n"
+                         "  contexts = { { name = 'A', actions = { 'search', 'phi0' } } }, absorbing = absorbing,\n"
+                         "  tasks = { shape = roger.choice{ 'circle', 'spade' } }, teacher = teacher } } }\n";
+  const std::vector<std::string> problems = check_curriculum(path);
+  REQUIRE(problems.size() == 1);
+  CHECK_THAT(problems[0], Catch::Matchers::Contains("kept.lua:3: stage 'S', context 'A': absorbing function: "
+                                                    "rng:uniform: this rng is a teacher function's, and draws only "
+                                                    "while that function runs"));
+}
+
 // curricula/maturation.lua (docs/curricula.md, Contexts that change the body): a context's scenario
 // parameters lie over its stage's, so SG is learned with coarse eyes and T with the full body.
 TEST_CASE("a context's scenario params restrict the body of its worlds alone", "[curriculum]") {

@@ -1020,6 +1020,8 @@ std::vector<std::string> check_curriculum(Curriculum& cur, const SandboxLimits& 
     if (!stages.empty() && std::find(stages.begin(), stages.end(), st.name) == stages.end()) continue;
     std::set<std::vector<std::pair<std::string, std::string>>> checked;
     bool worlds_failed = false;  // a context's world could not be built (said above)
+    const CurriculumContext* called = nullptr;  // the last context whose callbacks were called, in `called_world`
+    WorldSpec called_world;
     for (const auto& ctx : st.contexts) {
       // Every context is built (its actions are its own: check_regions); the errors of its world
       // are said once per set of parameters.
@@ -1064,6 +1066,7 @@ std::vector<std::string> check_curriculum(Curriculum& cur, const SandboxLimits& 
         continue;
       }
       check_callbacks(cur, st, ctx, spec, problems);
+      called = &ctx, called_world = spec;
     }
     // What training refuses first: a teacher the run's parameters leave nothing to do (found by a
     // probe: check passed with the --set or the run's params that failed every trial).
@@ -1075,7 +1078,13 @@ std::vector<std::string> check_curriculum(Curriculum& cur, const SandboxLimits& 
       problems.push_back(e.what());
       continue;
     }
+    const size_t before_teacher = problems.size();
     check_teacher_function(cur, st, sets, problems);
+    // The callbacks again once the teacher has run, as in training, where the teacher draws before
+    // each episode (found by a probe: a teacher's rng kept and drawn in absorbing passed check, the
+    // callbacks having run before any teacher, and training refused it).
+    if (st.teacher_lua && called && problems.size() == before_teacher)
+      check_callbacks(cur, st, *called, called_world, problems);
     // The task space's worlds and the test set's are the same worlds in other parameters: those
     // that could not be built would only be said again (found by a probe: a --set the scenario
     // lacks was said twice, the second time without its line).
