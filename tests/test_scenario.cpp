@@ -776,8 +776,12 @@ TEST_CASE("the Lua API checks its arguments where they are given", "[scenario]")
   CHECK(run("world:robot{x = 0, y = 0, left_eye = 2}", "eye") ==
         "world:robot: field 'left_eye' must be within [-1.5707963267948966, 1.5707963267948966] rad, got 2");
   CHECK(run("world:robot{x = 0, y = 0} world:arena{xmin = -3}", "late_arena") ==
-        "world:arena: call world:arena first, before anything is placed or sampled (the default "
-        "arena is already in use)");
+        "world:arena: call world:arena first, before anything is placed, sampled or measured by world:bounds() "
+        "(the default arena is already in use)");
+  // Found by a probe: after world:bounds() alone the message named placing and sampling only.
+  CHECK(run("local x0 = world:bounds() world:arena{xmin = -3}", "bounds_then_arena") ==
+        "world:arena: call world:arena first, before anything is placed, sampled or measured by world:bounds() "
+        "(the default arena is already in use)");
   CHECK(run("world:arena{xmin = 99998, xmax = 100002}", "far") ==
         "world:arena: the arena must lie within 1000 m of the origin along x, got [99998, 100002] (the physics holds "
         "positions in single precision, which far out loses the millimetres Roger moves by: move the arena's "

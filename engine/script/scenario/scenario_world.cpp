@@ -97,8 +97,8 @@ int l_world_arena(lua_State* L) {
     LuaFields f(L, 2, "world:arena", {"xmin", "xmax", "ymin", "ymax", "cell", "wall_colour"});
     if (w.arena_set) f.fail("the arena is already set (call world:arena once)");
     if (w.arena_fixed)
-      f.fail("call world:arena first, before anything is placed or sampled (the default arena is "
-             "already in use)");
+      f.fail("call world:arena first, before anything is placed, sampled or measured by world:bounds() (the "
+             "default arena is already in use)");
     ArenaSpec a;
     a.xmin = f.number("xmin", a.xmin);
     a.xmax = f.number("xmax", a.xmax);
