@@ -107,6 +107,10 @@ struct Shard {
   int count = 0;  // N; 0 = not sharded (every trial)
   bool active() const { return count > 0; }
   bool owns(const PlannedTrial& t) const { return !active() || t.index % count == index; }
+  // Where a shard that ran in a results folder records its outcome: <out>/shards/K-of-N.json.
+  std::string record_path(const std::string& out) const {
+    return out + "/shards/" + std::to_string(index) + "-of-" + std::to_string(count) + ".json";
+  }
 };
 
 // Reads --shard: "K/N" with 0 <= K < N, or "slurm": K from SLURM_ARRAY_TASK_ID and N from

@@ -860,11 +860,9 @@ BatchSummary record_shard(const BatchPlan& plan, const Shard& shard) {
       s.failed.push_back(t.id + ": " + first_line(error));
       failed.push_back(t.id);
     }
-  const std::string name = std::to_string(shard.index) + "-of-" + std::to_string(shard.count) + ".json";
   const json record = {{"shard", shard.index}, {"shards", shard.count}, {"trials", s.trials},
                                  {"failed", failed},     {"pending", s.pending}};
-  write_file_atomic((fs::path(plan.out) / "shards" / name).string(), record.dump(1) + "\n",
-                    "cannot write the shard's record");
+  write_file_atomic(shard.record_path(plan.out), record.dump(1) + "\n", "cannot write the shard's record");
   return s;
 }
 

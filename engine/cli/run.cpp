@@ -309,10 +309,7 @@ int command_run(const RunArgs& a) {
     std::string note;
     // A shard's first start in a folder another shard made is no resumption (found by a probe: every
     // shard but the first said "resuming" on the batch's first run).
-    const bool shard_ran_here =
-        shard.active() && std::filesystem::exists(std::filesystem::path(plan.out) / "shards" /
-                                                      (std::to_string(shard.index) + "-of-" +
-                                                       std::to_string(shard.count) + ".json"), ec);
+    const bool shard_ran_here = shard.active() && std::filesystem::exists(shard.record_path(plan.out), ec);
     const bool resuming = open_results_folder(plan, &note, shard, &claim);
     if (!fresh) check_only_needs(plan, a.only, shard);  // before "resuming": a refused --only resumes nothing
     if (resuming && shard.active() && !shard_ran_here)

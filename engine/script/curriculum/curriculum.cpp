@@ -1066,7 +1066,7 @@ std::vector<std::string> check_curriculum(Curriculum& cur, const SandboxLimits& 
         continue;
       }
       check_callbacks(cur, st, ctx, spec, problems);
-      called = &ctx, called_world = spec;
+      if (st.teacher_lua) called = &ctx, called_world = spec;  // kept only to call them again below
     }
     // What training refuses first: a teacher the run's parameters leave nothing to do (found by a
     // probe: check passed with the --set or the run's params that failed every trial).
