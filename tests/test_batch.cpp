@@ -368,6 +368,15 @@ TEST_CASE("shards of one script run at once into one folder and report what one 
   CHECK(status()["running"] == false);
   CHECK(status()["finishing"] == false);
   CHECK(status()["waiting"] == "shards");
+  // Each shard's state, from its record: shard 1 ended with its T trials not run (--only), shard 2
+  // owns no trial of quick.lua (trials 0 and 1 only).
+  const auto shard_entry = [&](int k) { return status()["shards"][size_t(k)]; };
+  REQUIRE(status()["shards"].size() == 3);
+  CHECK(shard_entry(0) == nlohmann::json{{"state", "ended"}, {"pending", 0}, {"trials", 12}});
+  CHECK(shard_entry(1)["state"] == "ended");
+  CHECK(shard_entry(1)["pending"].get<int>() > 0);
+  CHECK(shard_entry(2) == nlohmann::json{{"state", "ended"}, {"pending", 0}, {"trials", 0}});
+  CHECK(status()["slurm"] == false);
 
   // The report names what is missing and who owns it, and writes nothing.
   std::string err;
@@ -387,6 +396,7 @@ TEST_CASE("shards of one script run at once into one folder and report what one 
   // tests/golden/quick, made by one roger run of the same script).
   REQUIRE(shell(run + " --shard 1/3 >/dev/null") == 0);
   CHECK(status()["waiting"] == "report");  // every trial is over: the run waits for roger report
+  CHECK(shard_entry(1) == nlohmann::json{{"state", "ended"}, {"pending", 0}, {"trials", 12}});
   REQUIRE(shell(std::string(ROGER_BINARY) + " report " + out.string() + " >/dev/null", &err) == 0);
   // roger report closes the run's status, as roger run does after its report: the page shows it.
   CHECK(status()["report"] == "written");

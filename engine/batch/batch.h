@@ -105,6 +105,7 @@ BatchPlan read_results_plan(const std::string& dir);
 struct Shard {
   int index = 0;  // K, 0-based
   int count = 0;  // N; 0 = not sharded (every trial)
+  bool slurm = false;  // from --shard slurm: a task of a Slurm array (submit.sh runs it again)
   bool active() const { return count > 0; }
   bool owns(const PlannedTrial& t) const { return !active() || t.index % count == index; }
   // Where a shard that ran in a results folder records its outcome: <out>/shards/K-of-N.json.

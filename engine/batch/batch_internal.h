@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <mutex>
 #include <string>
 #include <utility>
@@ -22,10 +23,34 @@ std::string first_line(const std::string& s);
 
 // ---- plan.cpp ----
 
+// What a shard's record says of it: running (from the moment it opened the folder), ended (every
+// trial it owns has a result), or interrupted (a signal stopped it with trials not run). A shard
+// killed outright (SIGKILL, a lost node) stays "running"; the page then says it has no news.
+enum class ShardState { running, ended, interrupted };
+const char* shard_state_name(ShardState state);
+
 // A shard's own outcome, in <out>/shards/K-of-N.json (no other shard writes that file): the trials
-// it owns, which failed and how many it has not run yet. Written as the shard opens the folder (a
-// shard of another N starting meanwhile is refused then) and again as it ends.
-BatchSummary record_shard(const BatchPlan& plan, const Shard& shard);
+// it owns, which failed, how many it has not run yet, and its state. Written as the shard opens the
+// folder (a shard of another N starting meanwhile is refused then) and again as it ends.
+BatchSummary record_shard(const BatchPlan& plan, const Shard& shard, ShardState state);
+
+// Every shard's state, as a sharded run's status.json gives it to the page (docs/browser.md): for
+// K = 0 .. N-1, {"state", "trials", "pending"}: the trials it owns (from the plan), its state and
+// trials not run from shards/K-of-N.json, the state "not started" when it has no record (queued,
+// or cancelled before it started) and "unknown" when its record cannot be read. A record unchanged
+// since the last read (by its time of change) is not read again: every shard reads the others'
+// each second.
+class ShardBoard {
+ public:
+  nlohmann::json read(const BatchPlan& plan, int count);
+
+ private:
+  struct Seen {
+    std::filesystem::file_time_type changed;
+    nlohmann::json entry;
+  };
+  std::map<int, Seen> seen_;
+};
 
 // The scenarios the batch script's evaluations name (those that take their stage's name none).
 std::vector<std::string> evaluation_scenarios(const BatchScript& b);

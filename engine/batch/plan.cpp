@@ -24,6 +24,7 @@
 #include "batch/trainer.h"
 #include "core/error.h"
 #include "core/fileio.h"
+#include "core/json_input.h"
 #include "core/text.h"
 #include "engine_fingerprint.h"
 #include "script/curriculum/curriculum.h"
@@ -700,6 +701,7 @@ Shard slurm_shard() {
   Shard s;
   s.index = int(id);
   s.count = int(count);
+  s.slurm = true;
   return s;
 }
 
@@ -842,9 +844,54 @@ std::string first_line(const std::string& s) {
   return nl == std::string::npos ? s : s.substr(0, nl);
 }
 
+const char* shard_state_name(ShardState state) {
+  switch (state) {
+    case ShardState::running: return "running";
+    case ShardState::ended: return "ended";
+    case ShardState::interrupted: return "interrupted";
+  }
+  return "unknown";
+}
+
+json ShardBoard::read(const BatchPlan& plan, int count) {
+  json board = json::array();
+  if (count < 1) return board;
+  std::vector<int> owned(size_t(count), 0);
+  for (const auto& p : plan.phases)
+    for (const auto& t : p) ++owned[size_t(t.index % count)];
+  for (int k = 0; k < count; ++k) {
+    Shard shard;
+    shard.index = k;
+    shard.count = count;
+    const fs::path path = shard.record_path(plan.out);
+    std::error_code ec;
+    const auto changed = fs::last_write_time(path, ec);
+    if (ec) {
+      seen_.erase(k);
+      board.push_back({{"state", "not started"}, {"trials", owned[size_t(k)]}});
+      continue;
+    }
+    const auto it = seen_.find(k);
+    if (it == seen_.end() || it->second.changed != changed) {
+      json entry = {{"state", "unknown"}};
+      try {
+        const json record = parse_json(read_file_text(path.string()));
+        if (record.is_object() && record.value("state", json()).is_string())
+          entry = {{"state", record["state"]}, {"pending", record.value("pending", json())}};
+      } catch (const std::exception&) {
+        // written whole (write_file_atomic), so only another program's file: "unknown"
+      }
+      entry["trials"] = owned[size_t(k)];
+      seen_[k] = Seen{changed, entry};
+    }
+    board.push_back(seen_[k].entry);
+  }
+  return board;
+}
+
 // A shard's own outcome, in <out>/shards/K-of-N.json (no other shard writes that file): the
-// trials it owns, which failed and how many it has not run yet.
-BatchSummary record_shard(const BatchPlan& plan, const Shard& shard) {
+// trials it owns, which failed, how many it has not run yet, and its state.
+BatchSummary record_shard(const BatchPlan& plan, const Shard& shard, ShardState state) {
   BatchSummary s;
   json failed = json::array();
   for (const auto& p : plan.phases)
@@ -861,7 +908,8 @@ BatchSummary record_shard(const BatchPlan& plan, const Shard& shard) {
       failed.push_back(t.id);
     }
   const json record = {{"shard", shard.index}, {"shards", shard.count}, {"trials", s.trials},
-                                 {"failed", failed},     {"pending", s.pending}};
+                       {"failed", failed},     {"pending", s.pending},   {"state", shard_state_name(state)},
+                       {"slurm", shard.slurm}};
   write_file_atomic(shard.record_path(plan.out), record.dump(1) + "\n", "cannot write the shard's record");
   return s;
 }
@@ -1267,7 +1315,7 @@ bool open_results_folder(const BatchPlan& plan, std::string* note, const Shard& 
   }
   // Recorded under the lock, so that of two shards of different N starting together the second
   // sees the first's N.
-  if (shard.active()) record_shard(plan, shard);
+  if (shard.active()) record_shard(plan, shard, ShardState::running);
   return resuming;
 }
 

@@ -700,12 +700,17 @@ class StatusWriter {
     j.update(counts);
     if (shard_.active()) {
       j["shard"] = std::to_string(shard_.index) + "/" + std::to_string(shard_.count);
+      // Every shard's state, from their records: the page tells an interrupted shard from one that
+      // has not started (found by a probe: a cancelled shard read as queued, "No news").
+      j["shards"] = shards_.read(plan_, shard_.count);
+      j["slurm"] = shard_.slurm;
       // A shard writes no report, and its final status is the closing one (roger run writes none
-      // after a shard): the run then waits for the other shards (their trials are not over), or,
-      // once every trial is, for `roger report` (the report job).
+      // after a shard): the run then waits for the other shards (their trials are not over, an
+      // interrupted shard's own among them), or, once every trial is, for `roger report` (the
+      // report job).
       if (!running) {
         j["finishing"] = false;
-        if (!interrupted_) j["waiting"] = left > 0 ? "shards" : "report";
+        j["waiting"] = left > 0 ? "shards" : "report";
       }
     }
     return j;
@@ -725,6 +730,7 @@ class StatusWriter {
   const std::chrono::system_clock::time_point wall_start_;
   bool interrupted_ = false;
   TimeLeft time_left_;
+  ShardBoard shards_;
   std::mutex mutex_;
   std::condition_variable wake_;
   bool stop_ = false;
@@ -829,9 +835,13 @@ BatchSummary run_batch(const BatchPlan& plan, const RunControl& control) {
   // The trials' final status. The page waits for the closing one (write_closing_status), written
   // after the report, before it reloads dashboard.js: this one comes before the report exists.
   status->set_interrupted(run.interrupted);
+  // A shard's record first, so that its final status reads its own state from it.
+  BatchSummary summary =
+      control.shard.active()
+          ? record_shard(plan, control.shard, run.interrupted ? ShardState::interrupted : ShardState::ended)
+          : summarize_trials(plan);
   status.reset();
   const double wall = std::chrono::duration<double>(Clock::now() - start).count();
-  BatchSummary summary = control.shard.active() ? record_shard(plan, control.shard) : summarize_trials(plan);
   split_outside_only(plan, control, summary);
   summary.wall_s = wall;
   summary.interrupted = run.interrupted;
@@ -858,9 +868,11 @@ void refresh_status_place(const BatchPlan& plan) {
     nlohmann::json j = parse_json(read_file_text((fs::path(out) / "status.json").string()));
     set_status_place(j, out);
     // The counts as the trials' folders have them now (found by a probe: a killed run's last
-    // status said 8 done and one started above a partial report of 9); a run still going
-    // writes its own again within a second.
+    // status said 8 done and one started above a partial report of 9), and the shards' states;
+    // a run still going writes its own again within a second.
     j.update(trial_counts(plan));
+    if (j.contains("shards") && j["shards"].is_array())
+      j["shards"] = ShardBoard().read(plan, int(j["shards"].size()));
     write_status_files(out, j);
   } catch (const std::exception&) {
     // As write_closing_status.

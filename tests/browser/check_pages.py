@@ -18,6 +18,7 @@ import os
 import re
 import select
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -554,6 +555,15 @@ def check_shards(b, folder, work):
     check(b.evaluate(line).startswith("No news") and "other shards may not be running" in got,
           "shards: shards that stopped writing are said to have (%s)" % got)
     # Every shard done: the wait for the report job is followed without a time limit.
+    # A shard of a Slurm array stopped (scancel, its --time): its task is submitted again.
+    shards = [{"state": "ended", "pending": 0, "trials": 12}, {"state": "interrupted", "pending": 4, "trials": 12},
+              {"state": "not started", "trials": 0}]
+    write_status(copy, dict(base, done=final["done"] - 4, waiting="shards", shards=shards, slurm=True, updated_ms=now))
+    b.open(os.path.join(copy, "index.html"), ready)
+    got = b.evaluate("document.getElementById('progress-shards').textContent")
+    check(b.evaluate(line).startswith("Stopped: ") and "Shard 1 of 3 stopped before its end, 4 trials of its not run: "
+          "scripts/slurm/submit.sh %s 3 --array=1 (with the same ROGER_OUT and ROGER_ARGS) submits it again." %
+          final["script"] in got, "shards: a stopped Slurm task is named with its submit.sh (%s)" % got)
     write_status(copy, dict(base, waiting="report", updated_ms=now - 120000))
     b.open(os.path.join(copy, "index.html"), ready)
     got = b.evaluate(line)
@@ -579,6 +589,55 @@ def check_shards(b, folder, work):
     # learns that a file is absent so).
     errors = [e for e in b.errors() if not ("ERR_FILE_NOT_FOUND" in e and "/dashboard.js?" in e)]
     check(errors == [], "shards: no console errors but the absent report's (%s)" % errors)
+
+
+def check_stopped_shard(b, roger, work):
+    """Found by a probe: a cancelled shard read as a queued one ("No news ... the other shards may not
+    be running"). Real shards of quick.lua in three (shard 2 owns no trial): shard 1 stopped by
+    SIGTERM after its first trial, as scancel or its --time stops a Slurm task, while shard 0 has not
+    started; then shard 0 runs to its end, leaving shard 1 the only one with trials not run; then
+    shard 1 runs again. The page says which shard stopped and what runs it again, which has not
+    started, and follows each change as it comes."""
+    folder = os.path.join(work, "stopped")
+    quick = ["scripts/quick.lua", "--jobs", "1", "--out", folder]
+    print("$ %s run %s --shard 1/3, stopped by SIGTERM after its first trial" % (roger, " ".join(quick)), flush=True)
+    p = subprocess.Popen([roger, "run"] + quick + ["--shard", "1/3"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.time() + 60
+    while time.time() < deadline and p.poll() is None:
+        if any("result.json" in files for _, _, files in os.walk(os.path.join(folder, "trials"))):
+            break
+        time.sleep(0.05)
+    p.send_signal(signal.SIGTERM)
+    check(p.wait() == 143, "stopped shard: shard 1/3 exits 143 after SIGTERM (%s)" % p.returncode)
+    status = json.load(open(os.path.join(folder, "status.json")))
+    states = [sh["state"] for sh in status.get("shards", [])]
+    check(states == ["not started", "interrupted", "not started"] and status["shards"][2]["trials"] == 0,
+          "stopped shard: status.json gives each shard's state (%s)" % status.get("shards"))
+    line = "document.getElementById('progress-line').textContent"
+    shards = "document.getElementById('progress-shards') ? document.getElementById('progress-shards').textContent : ''"
+    b.open(os.path.join(folder, "index.html"), "document.getElementById('progress-line') !== null")
+    got, note = b.evaluate(line), b.evaluate(shards)
+    pending = status["shards"][1]["pending"]
+    check(got.startswith("Interrupted: ") and "not done (the shards, below)" in got,
+          "stopped shard: the page says the shard was interrupted (%s)" % got)
+    check(("Shard 1 of 3 stopped before its end, %d trials of its not run: roger run scripts/quick.lua --out %s "
+           "--shard 1/3 (with the same options) runs it again." % (pending, folder)) in note and
+          "Shard 0 of 3 has not started (queued, or cancelled before it started)." in note and "Shard 2" not in note,
+          "stopped shard: the page names the stopped shard, its command and the shard not started (%s)" % note)
+    # Shard 0 runs to its end: only the stopped shard is left, and the page, still following, says so.
+    run([roger, "run"] + quick + ["--shard", "0/3"])
+    got = wait_for(b, line, lambda t: t.startswith("Stopped: "), 12)
+    note = b.evaluate(shards)
+    check(got.startswith("Stopped: ") and "Shard 1 of 3 stopped" in note and "not started" not in note,
+          "stopped shard: once the other shards ended, the run is stopped (%s | %s)" % (got, note))
+    advice = b.evaluate("document.getElementById('progress-advice').textContent")
+    check(advice.startswith("roger report --partial "), "stopped shard: and what reports it as it is (%s)" % advice)
+    # The stopped shard runs again: every trial is over, and the page waits for roger report.
+    run([roger, "run"] + quick + ["--shard", "1/3"])
+    got = wait_for(b, line, lambda t: t.startswith("Every shard is done"), 12)
+    check(got.startswith("Every shard is done, waiting for roger report") and b.evaluate(shards) == "",
+          "stopped shard: run again, the shard ends and the page waits for the report (%s)" % got)
+    check(b.errors() == [], "stopped shard: no console errors (%s)" % b.errors())
 
 
 def check_failures(b, folder, screenshot):
@@ -1233,6 +1292,7 @@ def main():
         check_no_report(b, results, a.work)
         check_run_end(b, results, a.work)
         check_shards(b, results, a.work)
+        check_stopped_shard(b, a.roger, a.work)
         check_failures(b, failures_run, None)
         check_usage_order(b, failures_run)
         check_narrow(b, failures_run)

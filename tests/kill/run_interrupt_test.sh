@@ -176,6 +176,19 @@ wait_child
   fail "a stopped task of a Slurm array does not say how to submit its shard again"
 grep -Eq "not run yet \(to continue, submit this shard again: scripts/slurm/submit.sh scripts/quick.lua 2 --array=0," "$work/log" ||
   fail "a stopped task of a Slurm array counts what is left without saying how to run it"
+# Its record says it was interrupted, and the status the page reads tells it from shard 1, which
+# has not started (found by a probe: a cancelled shard read as a queued one).
+python3 - "$work/slurm" <<'PY' || fail "the stopped shard's record or status does not say it was interrupted"
+import json, sys
+record = json.load(open(sys.argv[1] + "/shards/0-of-2.json"))
+status = json.load(open(sys.argv[1] + "/status.json"))
+states = [s["state"] for s in status["shards"]]
+ok = (record["state"] == "interrupted" and record["slurm"] is True and record["pending"] > 0 and
+      states == ["interrupted", "not started"] and status["shards"][0]["pending"] == record["pending"] and
+      status["slurm"] is True and status["waiting"] == "shards" and status["interrupted"] is True)
+print("record:", record, "status shards:", status["shards"]) if not ok else None
+sys.exit(0 if ok else 1)
+PY
 
 # A closed output pipe (`roger run ... 2>&1 | head -1`, head gone after its line) stops the run as
 # one Ctrl-C does (found by a probe: SIGPIPE killed it before any trial, its status left running),

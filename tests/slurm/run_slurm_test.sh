@@ -436,4 +436,36 @@ redone=$(cd "$sharded/trials" && find . -name result.json -newer "$tmp/before-re
 grep -q "^roger run: resuming $sharded" "$sharded/slurm/shard-1-$resumed_array.out" || fail "shard 1 again did not say it resumed"
 log "shard 1 redid $victim and nothing else"
 bash "$src/tests/tools/compare_results.sh" "$tmp/plain" "$sharded" || fail "the resumed results differ from the unsharded"
+# A task cancelled while it runs (scancel; its --time does the same): Slurm's SIGTERM interrupts the
+# shard, whose record says so, and the status the dashboard reads tells it from the others (found
+# by a probe: a cancelled shard read as a queued one, "No news").
+cancelled=$tmp/cancelled
+out=$(ROGER_BIN=$roger ROGER_OUT=$cancelled bash "$submit" scripts/quick.lua 3) || fail "submit.sh: $out"
+cancel_array=$(awk '$1 == "array" { print $2 }' <<< "$out")
+jobs_ids+=($(held_ids "$out"))
+deadline=$((SECONDS + 120))
+until compgen -G "$cancelled/trials/*/*/001/result.json" >/dev/null; do
+  [ $SECONDS -lt $deadline ] || fail "shard 1 of the array to cancel had no result in 120 s"
+  sleep 0.1
+done
+scancel "${cancel_array}_1"
+deadline=$((SECONDS + 120))
+while [ -n "$(squeue -h -j "$(held_ids "$out" | tr ' ' ,)" 2>/dev/null)" ]; do
+  [ $SECONDS -lt $deadline ] || fail "the cancelled array's jobs did not leave the queue in 120 s"
+  sleep 1
+done
+grep -q "submit this shard again (scripts/slurm/submit.sh scripts/quick.lua 3 --array=1," \
+  "$cancelled/slurm/shard-1-$cancel_array.out" || fail "the cancelled task does not say how to submit it again"
+python3 - "$cancelled" <<'PY' || fail "the cancelled shard's record or the status does not say it was interrupted"
+import json, sys
+record = json.load(open(sys.argv[1] + "/shards/1-of-3.json"))
+status = json.load(open(sys.argv[1] + "/status.json"))
+states = [s["state"] for s in status["shards"]]
+ok = (record["state"] == "interrupted" and record["slurm"] is True and record["pending"] > 0 and
+      states == ["ended", "interrupted", "ended"] and status["slurm"] is True and status["waiting"] == "shards")
+print("record:", record, "status:", status) if not ok else None
+sys.exit(0 if ok else 1)
+PY
+log "a task cancelled while it runs records that it was interrupted, and says how to submit it again"
+
 log "PASSED"
