@@ -76,6 +76,22 @@ TEST_CASE("the paper's curriculum holds the paper's Psi sets", "[curriculum]") {
             .find("stage 'SG' has no context 'dc2' (did you mean 'DC2'?); its contexts: B1, DC1, DC2") != std::string::npos);
 }
 
+// Found by a probe: a curriculum that returns what a module of its own makes (`local make =
+// require("stages") ... return make{...}`) trained with roger train, and roger check ran it as a
+// skill script ("attempt to call a nil value (field 'primitive')"). A return inside a function
+// is not the script's.
+TEST_CASE("a script returning what a required module makes is of that module's kind", "[curriculum]") {
+  const test::TempDir tmp("roger_curriculum_made");
+  std::ofstream(tmp.path / "stages_of_mine.lua") << "return function(t) return { stages = t } end\n";
+  std::ofstream(tmp.path / "made.lua") << "local make = require('stages_of_mine')\nreturn make{}\n";
+  std::ofstream(tmp.path / "made_dot.lua") << "local m = require('stages_of_mine')\nreturn m.build('x')\n";
+  std::ofstream(tmp.path / "inner.lua") << "local m = require('stages_of_mine')\n"
+                                           "local function f() return m(1) end\nreturn { generate = f }\n";
+  CHECK(is_curriculum_script((tmp.path / "made.lua").string()));
+  CHECK(is_curriculum_script((tmp.path / "made_dot.lua").string()));
+  CHECK_FALSE(is_curriculum_script((tmp.path / "inner.lua").string()));
+}
+
 // Found by a probe: a --set the scenario lacks was said twice on a stage with a task space (the
 // second time without its line), and "scenario 'cluttered': scenario 'cluttered' (...)" named it twice.
 // Found by another: placed at the stage's line first, it read as the curriculum's error (a shipped

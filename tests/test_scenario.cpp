@@ -576,6 +576,16 @@ TEST_CASE("script mistakes are reported at the script's file:line", "[scenario]"
     CHECK(load_error(write_with("s = { default = 'circle', choices = { 'circle', 3 } }")).message ==
           "parameter 's': choices mixes numbers and strings; give all of one kind, the default's");
     CHECK_NOTHROW(Scenario::load(write_with("n = { default = 2.0, min = 0.5, max = 3.5 }")));
+    // Found by a probe: a fractional choice of an integer parameter loaded, and was then refused
+    // as not one of the choices it listed; a choice given twice loaded.
+    CHECK(load_error(write_with("k = { default = 2, choices = { 2.5, 2 } }")).message ==
+          "parameter 'k': the choice 2.5 is not whole, and the parameter is an integer (its default 2): give whole "
+          "numbers, or write the default as 2.0 for a real-valued parameter");
+    CHECK(load_error(write_with("s = { default = 'a', choices = { 'a', 'b', 'a' } }")).message ==
+          "parameter 's': the choice a is given twice");
+    CHECK(load_error(write_with("k = { default = 2, choices = { 2, 2.0 } }")).message ==
+          "parameter 'k': the choice 2 is given twice");
+    CHECK_NOTHROW(Scenario::load(write_with("k = { default = 2.0, choices = { 2.5, 2 } }")));
     std::filesystem::remove(path);
   }
   SECTION("an unknown shape lists the known ones") {
@@ -665,7 +675,7 @@ TEST_CASE("script mistakes are reported at the script's file:line", "[scenario]"
           "world:object: object 'object 1' at (0.2, 0) overlaps Roger's base by 0.16 m");
     // Beyond what Box2D holds in single precision, refused here rather than aborting the physics.
     s.set_param("mode", "huge_mass");
-    CHECK(generate_error(s).message == "world:object: field 'mass' must be within (0, 10000] kg, got 1e+39");
+    CHECK(generate_error(s).message == "world:object: field 'mass' must be within [0.001, 10000] kg, got 1e+39");
     s.set_param("mode", "huge_viscosity");
     CHECK(generate_error(s).message ==
           "world:object: field 'angular_viscosity' must be within [0, 10000] 1/s, got 1e+300");
@@ -842,6 +852,20 @@ TEST_CASE("the Lua API checks its arguments where they are given", "[scenario]")
   CHECK(run("world:robot{x = 0, y = 0} world:sample_position{radius = 0.1, region = {xmin = 1, xmax = -1}}",
             "region_reversed") == "world:sample_position: region: xmin 1 is past xmax -1: the region holds no point");
   CHECK(run("rng:choice({})", "choice") == "rng:choice: the list is empty");
+  // Found by a probe: rng:shuffle took a table of named entries unchanged, robot_distance a
+  // negative distance, and an unnamed object whose default name was taken was said at a line
+  // that names nothing; a mass of 1e-46 kg is 0 in the physics' single precision (fixed in place).
+  CHECK(run("rng:shuffle({a = 1})", "shuffle_named") ==
+        "rng:shuffle: expects a list {v1, v2, ...}, got a table whose entries are named (as 'a'): a table's entries "
+        "have no order to shuffle; shuffle a list of its keys");
+  CHECK(run("world:robot{x = 0, y = 0} world:sample_position{radius = 0.1, robot_distance = -1}", "robot_distance") ==
+        "world:sample_position: field 'robot_distance' must not be negative");
+  CHECK(run("world:robot{x = 0, y = 0} world:object{name = 'object 2', shape = shapes.get('circle'), x = 1, y = 1} "
+            "world:object{shape = shapes.get('circle'), x = 1, y = -1}", "default_name") ==
+        "world:object: there is already an object named 'object 2': this one is given no name, and its default name "
+        "('object N' for the Nth object made) is taken; give it a 'name'");
+  CHECK(run("world:robot{x = 0, y = 0} world:object{shape = shapes.get('circle'), x = 1, y = 1, mass = 1e-46}",
+            "tiny_mass") == "world:object: field 'mass' must be within [0.001, 10000] kg, got 1e-46");
   // Found by a probe: setting a shape's field said "attempt to index a roger.Shape value".
   CHECK(run("local s = shapes.get('circle') s.name = 'ball'", "shape_set") ==
         "a shape cannot be changed (its 'name' was set): a shape is fixed once made; make another with "

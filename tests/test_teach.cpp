@@ -368,6 +368,30 @@ TEST_CASE("Gaussian mixtures recover separated clusters and AIC picks their numb
   CHECK(mean0 == Approx(0.8).margin(0.01));
 }
 
+// Found by a probe (fit_every = 2, history = 20): a component left with no point once its one point
+// left the history stayed, weight 0 at the origin, fit after fit, since EM from a warm start never
+// revives an empty component. Such a start is not taken: the fit starts afresh.
+TEST_CASE("a warm start with an empty component fits afresh; one whose components all hold points is kept",
+          "[teach]") {
+  Rng rng(5);
+  Eigen::MatrixXd x(40, 2);
+  for (int i = 0; i < 40; ++i) {
+    x(i, 0) = (i % 2 ? 0.2 : 0.8) + 0.02 * rng.normal();
+    x(i, 1) = (i % 2 ? 0.3 : 0.7) + 0.02 * rng.normal();
+  }
+  Rng fit_rng(9);
+  const teach_detail::Mixture good = teach_detail::fit_mixture(x, 2, fit_rng);
+  teach_detail::Mixture dead = good;
+  dead.parts[1].weight = 0.0;  // what a component whose points all left looks like
+  dead.parts[1].mean.setZero();
+  for (const teach_detail::Mixture* start : std::vector<const teach_detail::Mixture*>{&good, &dead}) {
+    const teach_detail::Mixture m = teach_detail::fit_mixture(x, 2, fit_rng, start);
+    for (const auto& g : m.parts) CHECK(g.weight == Approx(0.5).margin(0.01));
+  }
+  // Kept from a good start: EM has little left to do.
+  CHECK(teach_detail::fit_mixture(x, 2, fit_rng, &good).iterations <= 2);
+}
+
 TEST_CASE("ALP-GMM samples the learnable band at least twice as often as random does", "[teach]") {
   // One axis, x in [0, 1]: below 0.4 the task is trivial (always succeeds), above 0.6 unlearnable
   // (never), between them a band where competence grows with practice there, up to 0.9. Random
@@ -813,6 +837,9 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
        ":8: roger.teacher.sequence: step 1: field 'demote' needs a step before it to go back to (the first step has none)"},
       {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.sequence{ { obstacles = 0 }, { promote = 0.5 } } }",
        ":8: roger.teacher.sequence: step 2: field 'promote' needs a step after it to go on to (the last step has none)"},
+      // Found by a probe: a last step's demote was held below the default promote it never uses.
+      {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.sequence{ { obstacles = 0 }, { obstacles = 1, demote = 0.95 }, {} } }",
+       "step 2: field 'demote' (0.95) must be below 'promote' (0.9)"},
       {"{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.lcas{ lift = { obstacles = { 0, 20 } } } }",
        "the level obstacles = 20 is outside the task space: obstacles takes an integer in roger.int(0, 3)"},
       {"{ teacher = roger.teacher.lcas{ lift = { eye_pixels = { 32, 3 } } } }",
@@ -904,6 +931,11 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
                              Contains("field 'delay' must be within [0, 50] ticks, got 60") &&
                              !Contains("stack traceback"));
   }
+  // A last step's demote stands alone: it promotes to nothing, so no default promote bounds it.
+  const fs::path last_demote = write_stage(dir.path, "last_demote",
+                                           "{ tasks = { obstacles = roger.int(0, 3) }, teacher = roger.teacher.sequence{ "
+                                           "{ obstacles = 0 }, { obstacles = 1, demote = 0.95, window = 5 } } }");
+  CHECK_NOTHROW(Curriculum::load(last_demote.string()));
   // An end that some layouts hold is not an error: training skips the others. Seed 0 cannot place
   // the object 2.6 m from Roger, seed 1 can (before, roger check refused what training ran).
   const fs::path some = write_stage(dir.path, "some", "{ tasks = { robot_distance = roger.real(0.8, 2.6) }, "

@@ -106,8 +106,14 @@ Mixture fit_mixture(const Eigen::MatrixXd& x, int k, Rng& rng, const Mixture* st
   const int n = int(x.rows()), d = int(x.cols());
   Mixture m;
   Eigen::MatrixXd resp = Eigen::MatrixXd::Zero(n, k);
-  if (start && int(start->parts.size()) == k && start->parts.front().mean.size() == d) {
-    m.parts = start->parts;  // warm: the last fit of this k, on data that shares most of its points
+  // Warm from the last fit of this k, on data that shares most of its points, unless a component
+  // of it holds less than a point: EM never revives an empty one (found by a probe: a component
+  // whose one point left the history stayed, weight 0 at the origin, fit after fit).
+  const bool warm = start && int(start->parts.size()) == k && start->parts.front().mean.size() == d &&
+                    std::all_of(start->parts.begin(), start->parts.end(),
+                                [&](const Gaussian& g) { return g.weight * double(n) >= 1.0; });
+  if (warm) {
+    m.parts = start->parts;
   } else {
     // Cold: the hard assignment to the nearest k-means++ centre.
     m.parts.resize(size_t(k));

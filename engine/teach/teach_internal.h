@@ -33,7 +33,8 @@ struct Mixture {
 // Fits k full-covariance components to the rows of x, then EM until the mean log-likelihood gains
 // less than `tol` per point (scikit-learn's default) or `max_iter` iterations. EM starts from
 // `start` when it is a mixture of k components over as many columns (warm: a teacher refits every
-// few episodes on data that mostly overlaps, and EM then needs a few iterations instead of tens),
+// few episodes on data that mostly overlaps, and EM then needs a few iterations instead of tens)
+// and each of its components holds at least a point's weight of x (EM never revives an empty one),
 // else from k-means++ seeds drawn from rng. `reg` is added to every covariance's diagonal (tasks
 // on a discrete axis coincide: without it a component collapses onto one value). Deterministic for
 // the same inputs, start and rng.

@@ -319,17 +319,23 @@ bool has_key(const std::string& path, const std::string& key, int depth) {
   const std::vector<LuaToken> t = lua_tokenize(read_file_text(path));
   auto is_op = [&](size_t i, const char* op) { return t[i].type == LuaToken::kOp && t[i].text == op; };
   // A script that returns a module it requires (`local p = require("paper") ... return p`, or
-  // `return require("paper")`) is of that module's kind.
+  // `return require("paper")`) is of that module's kind; so is one that returns what a required
+  // module makes (`local make = require("stages") ... return make{...}`, `return p.build(...)`:
+  // found by a probe, roger check ran such a curriculum as a skill script, roger train took it).
   std::map<std::string, std::string> modules;  // local name -> module
   std::string result_module;
+  int block = 0;  // the blocks open at token i: only the main chunk's return gives the script's value
   for (size_t i = 0; t[i].type != LuaToken::kEnd; ++i) {
     if (t[i].type != LuaToken::kName) continue;
     if (t[i].text == key && is_op(i + 1, "=")) return true;  // also `t.key = ...`
+    const std::string& word = t[i].text;
+    if (word == "function" || word == "do" || word == "if" || word == "repeat") ++block;
+    if (word == "end" || word == "until") --block;
     std::string module;
     if (t[i].text == "local" && t[i + 1].type == LuaToken::kName && is_op(i + 2, "=")) {
       size_t j = i + 3;
       if (required_module(t, j, module)) modules[t[i + 1].text] = module;
-    } else if (t[i].text == "return") {
+    } else if (t[i].text == "return" && block == 0) {
       // `return require("m")` or `return p`, ending its line (a `;` may follow)
       size_t j = i + 1;
       if (!required_module(t, j, module)) {
@@ -337,6 +343,12 @@ bool has_key(const std::string& path, const std::string& key, int depth) {
         const auto it = modules.find(t[j].text);
         module = it != modules.end() ? it->second : std::string();
         ++j;
+      }
+      const bool made = t[j].type == LuaToken::kString || is_op(j, "(") || is_op(j, "{") || is_op(j, ".") ||
+                        is_op(j, ":");
+      if (made && !module.empty()) {
+        result_module = module;
+        continue;
       }
       if (is_op(j, ";")) ++j;
       if (t[j].type == LuaToken::kEnd || t[j].line > t[i].line) result_module = module;

@@ -16,7 +16,8 @@ double ranged(const LuaFields& f, const char* key, double fallback, double lo, d
   const double v = f.number(key, fallback);
   if (!(v >= lo && v <= hi) || (low_open && v == lo))
     f.fail(std::string("field '") + key + "' must be within " + (low_open ? "(" : "[") + fmt(lo) + ", " +
-           fmt(hi) + "]" + (*unit ? " " : "") + unit + ", got " + fmt(v));  // a number without unit: "[0, 10], got"
+           fmt(hi) + "]" + (*unit ? " " : "") + unit + ", got " +
+           format_number(v));  // a number without unit: "[0, 10], got"; a tiny value as written, not as 0
   return v;
 }
 

@@ -231,8 +231,8 @@ ParamSlot Scenario::Impl::read_param(lua_State* L) const {
                   slot_text(slot) + " is an integer): give a whole number, or write the default as " + slot_text(slot) +
                   ".0 for a real-valued parameter");
   slot.info.choices = choices;
-  if (numeric) check_choices_in_bounds(slot.info, ctx);
   slot.info.default_value = slot.info.value = slot_text(slot);
+  if (numeric) check_choices_in_bounds(slot.info, ctx);
   std::string why;
   ParamSlot check = slot;
   if (!parse_slot(check, slot.info.default_value, why))
@@ -248,6 +248,11 @@ void Scenario::Impl::check_choices_in_bounds(const ScenarioParam& p, const std::
     double value = 0.0;
     if (!parse_number_text(c, value)) continue;  // not a number: the default's check names it
     const std::string choice = ctx + ": the choice " + c + " is ", never = ", so it could never be set";
+    // Found by a probe: choices {2.5, 2} on an integer default loaded, and 2.5 was then refused as
+    // not one of "2.5, 2", at no line.
+    if (p.type == ParamType::kInteger && value != std::floor(value))
+      throw error(choice + "not whole, and the parameter is an integer (its default " + p.default_value +
+                  "): give whole numbers, or write the default as " + p.default_value + ".0 for a real-valued parameter");
     if (p.min && value < *p.min) throw error(choice + "below its min = " + format_number(*p.min) + never);
     if (p.max && value > *p.max) throw error(choice + "above its max = " + format_number(*p.max) + never);
   }
@@ -303,6 +308,9 @@ void Scenario::Impl::read_choices(lua_State* L, const LuaFields& f, const std::s
                                                           : lua_tostring(L, -1));
     else
       throw error(ctx + ": choices must be numbers or strings");
+    // Found by a probe: {1, 1} loaded; a choice given twice is a slip (another value was meant).
+    if (std::find(choices.begin(), choices.end() - 1, choices.back()) != choices.end() - 1)
+      throw error(ctx + ": the choice " + choices.back() + " is given twice");
     lua_pop(L, 1);
   }
   if (choices.empty()) throw error(ctx + ": choices is empty");

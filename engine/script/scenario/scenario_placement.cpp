@@ -102,6 +102,7 @@ SampleRequest read_request(lua_State* L, const LuaFields& f) {
   if (clearance < 0.0) f.fail("field 'clearance' must not be negative");
   const double margin = std::max(f.number("wall_margin", radius + clearance), radius);
   const double robot_distance = f.number("robot_distance", 0.0);
+  if (robot_distance < 0.0) f.fail("field 'robot_distance' must not be negative");
   const bool avoid_goals = f.boolean("avoid_goals", true);
   const int64_t tries = f.integer("tries", 1000);
   if (tries < 1 || tries > 1'000'000) f.fail("field 'tries' must be 1 to 1000000");

@@ -128,6 +128,21 @@ int l_rng_angle(lua_State* L) {
   return 1;
 }
 
+namespace {
+
+// An empty list that is a table of named entries (rng:choice{a = 1}): said as such, with the name
+// of the function; nothing otherwise.
+void refuse_named_entries(lua_State* L, const char* what, const char* instead) {
+  if (lua_rawlen(L, 2) > 0) return;
+  lua_pushnil(L);
+  if (!lua_next(L, 2)) return;
+  const std::string key = luaL_tolstring(L, -2, nullptr);
+  luaL_error(L, "%s: expects a list {v1, v2, ...}, got a table whose entries are named (as '%s'): %s", what,
+             key.c_str(), instead);
+}
+
+}  // namespace
+
 // rng:choice(list): one element, uniformly. A view (a teacher's history) is read through to its
 // data: read raw, it was empty (found by a probe: rng:choice(history) said "the list is empty"
 // with an episode in it).
@@ -137,16 +152,9 @@ int l_rng_choice(lua_State* L) {
   if (!lua_istable(L, 2)) return luaL_error(L, "rng:choice: expects a list, got %s", luaL_typename(L, 2));
   if (lua_push_view_data(L, 2)) lua_replace(L, 2);
   const lua_Integer n = lua_Integer(lua_rawlen(L, 2));
-  if (n == 0) {
-    // A table of named entries only is no list (found by a probe: rng:choice{a = 1} said "empty").
-    lua_pushnil(L);
-    if (lua_next(L, 2)) {
-      const std::string key = luaL_tolstring(L, -2, nullptr);
-      return luaL_error(L, "rng:choice: expects a list {v1, v2, ...}, got a table whose entries are named (as '%s'): "
-                           "draw from a list of its keys or values", key.c_str());
-    }
-    return luaL_error(L, "rng:choice: the list is empty");
-  }
+  // A table of named entries only is no list (found by a probe: rng:choice{a = 1} said "empty").
+  refuse_named_entries(L, "rng:choice", "draw from a list of its keys or values");
+  if (n == 0) return luaL_error(L, "rng:choice: the list is empty");
   lua_rawgeti(L, 2, rng.integer(1, n));
   return 1;
 }
@@ -161,6 +169,8 @@ int l_rng_shuffle(lua_State* L) {
     return luaL_error(L, "rng:shuffle: shuffles its list in place, and %s cannot change: shuffle a copy (local t = "
                       "{} for i, v in ipairs(list) do t[i] = v end)",
                       luaL_getmetafield(L, 2, "__metatable") == LUA_TSTRING ? lua_tostring(L, -1) : "a view");
+  // Found by a probe: rng:shuffle{a = 1} returned it unchanged, where rng:choice refuses it.
+  refuse_named_entries(L, "rng:shuffle", "a table's entries have no order to shuffle; shuffle a list of its keys");
   for (lua_Integer i = lua_Integer(lua_rawlen(L, 2)); i > 1; --i) {
     const lua_Integer j = rng.integer(1, i);
     lua_rawgeti(L, 2, i);

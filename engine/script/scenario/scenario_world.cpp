@@ -83,9 +83,14 @@ std::string unique_name(const LuaFields& f, const std::string& given, const char
   if (const std::string problem = utf8_problem(name); !problem.empty())
     f.fail("field 'name' must be UTF-8 text (pictures, pages and results show it), and " + problem + " of '" +
            printable_text(name) + "'");
+  const std::string a_kind = std::string(std::strchr("aeiou", kind[0]) ? "an " : "a ") + kind;
+  // Found by a probe: an unnamed object's default name taken by a named one was said at a line
+  // that names nothing.
   if (std::find(taken.begin(), taken.end(), name) != taken.end())
-    f.fail(std::string("there is already ") + (std::strchr("aeiou", kind[0]) ? "an " : "a ") + kind + " named '" +
-           name + "'");
+    f.fail("there is already " + a_kind + " named '" + name + "'" +
+           (given.empty() ? std::string(": this one is given no name, and its default name ('") + kind +
+                                " N' for the Nth " + kind + " made) is taken; give it a 'name'"
+                          : std::string()));
   return name;
 }
 
@@ -226,8 +231,9 @@ int l_world_object(lua_State* L) {
     ObjectSpec o;
     read_thing(L, f, "object", w.spec.objects, o);
     // Each within a range Box2D can hold in single precision (a mass of 1e39 kg is infinite
-    // there and aborts it) and wider than any object Roger could move or stop.
-    o.mass = ranged(f, "mass", o.mass, 0.0, 1e4, "kg", true);
+    // there and aborts it; one of 1e-46 kg is 0 there, which fixes the object in place: found by a
+    // probe) and wider than any object Roger could move or stop. The least mass is a link's.
+    o.mass = ranged(f, "mass", o.mass, 0.001, 1e4, "kg");
     o.friction_force = ranged(f, "friction_force", o.friction_force, 0.0, 1e6, "N");
     o.friction_torque = ranged(f, "friction_torque", o.friction_torque, 0.0, 1e6, "N m");
     o.viscosity = ranged(f, "viscosity", o.viscosity, 0.0, 1e4, "1/s");
