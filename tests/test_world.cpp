@@ -3,6 +3,7 @@
 #include <chrono>
 #include <catch2/catch.hpp>
 
+#include "core/error.h"
 #include "core/rng.h"
 #include "core/shape.h"
 #include "sim/world.h"
@@ -184,6 +185,45 @@ TEST_CASE("an object pushed at a wall stops at its face", "[world]") {
   }
   CHECK(world.object_pose(0).x > 1.7);               // it was pushed all the way...
   CHECK(world.object_pose(0).x < 2.0 - 0.2 + 0.02);  // ...and the wall stopped it
+}
+
+// Found by a probe: the light body of docs/scenarios.md drove its base through a wall, 21 m out of
+// a 4 m arena, and the episode went on. Walls hold: a base or an object past one is the physics
+// gone wrong, an error that says what to change.
+TEST_CASE("a base or an object past the walls stops the episode with what to change", "[world]") {
+  World world;
+  world.reset(open_world(true, Vec2(1.5, 0.0)));
+  world.tick();  // inside: nothing said
+  b2Body* ball = nullptr;
+  for (b2Body* b = world.physics()->GetBodyList(); b; b = b->GetNext())
+    if (b->GetType() == b2_dynamicBody && std::abs(b->GetPosition().x - 1.5) < 1e-6 && std::abs(b->GetPosition().y) < 1e-6)
+      ball = b;
+  REQUIRE(ball);
+  ball->SetTransform(b2Vec2(2.5f, 0.0f), 0.0f);  // as if it had tunnelled through the wall at x = 2
+  // (the wall's contact pushes it further out within the tick)
+  CHECK_THROWS_WITH(world.tick(), Catch::StartsWith("the physics failed at t = 0.04 s: object 'ball' went through the "
+                                                    "arena's walls, to (2.") &&
+                                      Catch::EndsWith(", 0), outside [-2, 2] x [-2, 2]: an object of 0.5 kg struck "
+                                                      "hard passes through them; make it heavier"));
+  // The body of the probe, driven by its own servos from rest: its base leaves through a wall.
+  WorldSpec light = open_world(false);
+  light.body.base_mass = 0.01;
+  light.body.link_mass = 0.001;
+  world.reset(light);
+  DofVector errors = DofVector::Zero();
+  errors[kBaseForward] = 5.0;
+  errors[kBaseHeading] = 1.0;
+  std::string message;
+  try {
+    for (int tick = 0; tick < 500; ++tick) {
+      world.command(errors);
+      world.tick();
+    }
+  } catch (const Error& e) {
+    message = e.what();
+  }
+  CHECK_THAT(message, Catch::Contains("Roger's base went through the arena's walls") &&
+                          Catch::Contains("this one (0.01, 0.001, 0.05 kg) is too light for them: make it heavier"));
 }
 
 // Found by a probe: a sorting world's large regions overlap, and an object in its own region that a

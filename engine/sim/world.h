@@ -137,6 +137,9 @@ class World {
  private:
   struct Impl;
   void update_surfaces();
+  // Throws roger::Error when Roger's base or an object is past the arena's walls, which no body
+  // passes: the physics went wrong (a body too light for its servos), and so would every result.
+  void check_walls_hold() const;
   // The object both eyes keep to this tick, from the last tick's sightings in s (-1: the larger).
   static int kept_object(const Senses& s, bool several);
   // Pairs the two eyes' sightings (several: the right eye keeps to the left's object) and
