@@ -653,6 +653,13 @@ TEST_CASE("a table's by and a tasks figure's param are checked against the runs'
   CHECK_THAT(load_error((dir / "fixed.lua").string()),
              Catch::Matchers::Contains("fixed.lua:4: figure 'f': 'param' is 'level', which the params of run 'Fn' fix "
                                        "(level = 0.5): its teacher does not choose it in that run"));
+  // Found by a probe: 'param' alone on a figure of another kind was said as "'param' and 'context'".
+  std::ofstream(dir / "kindless.lua") << "return { name = 'kindless', curriculum = 'tests/scripts/teach_curriculum.lua',\n"
+                                         "  runs = { { name = 'Alp', stage = 'Alp' } },\n"
+                                         "  figures = { { file = 'f', run = 'Alp', param = 'level' } } }\n";
+  CHECK_THAT(load_error((dir / "kindless.lua").string()),
+             Catch::Matchers::Contains("figure 'f': 'param' belongs to a figure of kind \"tasks\" (this one is of "
+                                       "kind \"curves\")"));
   fs::remove_all(dir);
 }
 

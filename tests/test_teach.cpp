@@ -802,8 +802,8 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
        "field 'teacher' is the task axis roger.int(0, 3), not a teacher: an axis goes in 'tasks'"},
       // Found by a probe: {"1", "01", "1e0"} over a number parameter were three slices of one world.
       {"{ tasks = { obstacles = roger.choice{ 1, '01' } } }",
-       "value 2 is the string \"01\": parameter 'obstacles' of scenario 'cluttered' takes a number: write 01 without "
-       "quotes"},
+       "stage 'S': tasks.obstacles: roger.choice's value 2 is the string \"01\": parameter 'obstacles' of scenario "
+       "'cluttered' takes a number: write 01 without quotes"},
       // Found by a probe: a test list's task after a hole, or under a name, was left out unsaid.
       {"{ tasks = { obstacles = roger.int(0, 3) }, test = { list = { { obstacles = 1 }, [3] = { obstacles = 2 } } } }",
        "stage 'S': test: field 'list' must be a list of tasks {{param = value, ...}, ...}, got the key [3]"},
@@ -1837,6 +1837,17 @@ TEST_CASE("roger check calls a teacher function on a history and finds its error
 // seen by every later call, and so was a rawset on it), a misspelt field of an entry's task read as nil, and `roger check
 // --set obstacles=2` called the function on tasks holding obstacles, which training (where the
 // run fixes it) does not give: check said ok of a function that failed in training.
+// Found by a probe: with no episode failed, check said "0 episodes failed, then 1 succeeded".
+TEST_CASE("roger check says the history it fed a teacher function plainly", "[teach][errors]") {
+  const test::TempDir dir("roger_teach_history_said");
+  const fs::path file = write_stage(dir.path, "said", "{ tasks = { obstacles = roger.int(0, 3) }, budget = { episodes = 2 }, "
+                                                      "checkpoints = { every = 2 }, teacher = function(history, rng) if #history == 1 then "
+                                                      "error('look') end return {} end }");
+  const std::vector<std::string> problems = check_curriculum(file.string());
+  REQUIRE(problems.size() == 1);
+  CHECK_THAT(problems[0], Contains(": look (before training episode 1) (roger check's history: 1 episode succeeded)"));
+}
+
 TEST_CASE("a teacher function reads its history read-only and strictly as training gives it", "[teach][errors]") {
   test::TempDir dir("roger_teach_history_view");
   auto problems_of = [&](const std::string& name, const std::string& body, const ParamList& sets = {}) {

@@ -939,7 +939,11 @@ void read_figure_run(const json& fj, const Reader& rd, int l, const std::string&
   if (f.kind == "tasks") {
     read_tasks_figure(fj, rd, l, what, cur, *r, f);
   } else if (fj.contains("param") || fj.contains("context")) {
-    rd.fail(l, what + ": 'param' and 'context' belong to a figure of kind \"tasks\"");
+    // Naming what was given (found by a probe: 'param' alone was said as "'param' and 'context'").
+    const std::string given = fj.contains("param") && fj.contains("context") ? "'param' and 'context' belong"
+                              : fj.contains("param")                        ? "'param' belongs"
+                                                                            : "'context' belongs";
+    rd.fail(l, what + ": " + given + " to a figure of kind \"tasks\" (this one is of kind \"" + f.kind + "\")");
   }
 }
 

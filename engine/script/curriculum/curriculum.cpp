@@ -957,6 +957,14 @@ void check_regions(const CurriculumStage& st, const CurriculumContext& ctx, Scen
   }
 }
 
+// The history roger check fed a teacher function before its error: "2 episodes failed, then 1
+// succeeded", "1 episode failed", or, when none failed, "1 episode succeeded" (it said "0 episodes
+// failed, then 1 succeeded": found by a probe).
+std::string history_said(int failed, int succeeded) {
+  if (failed == 0) return counted(succeeded, "episode") + " succeeded";
+  return counted(failed, "episode") + " failed" + (succeeded ? ", then " + std::to_string(succeeded) + " succeeded" : "");
+}
+
 // A stage's Lua teacher function called as between training episodes, on a history it builds:
 // the first ten episodes failed, the next twenty succeeded (a learner that learns; under a budget
 // of fewer than 30 episodes, a third of them failed and the rest succeeded), so a function that
@@ -991,9 +999,7 @@ void check_teacher_function(Curriculum& cur, const CurriculumStage& st, const Pa
     // The teacher's message names the episode; the history it read is roger check's own.
     const int failed = std::min(episode, failed_first), succeeded = episode - failed;
     problems.push_back(episode == 0 ? std::string(e.what())
-                                    : with_note_on_first_line(e.what(), " (roger check's history: " + counted(failed, "episode") +
-                                                                            " failed" + (succeeded ? ", then " + std::to_string(succeeded) +
-                                                                            " succeeded)" : ")")));
+                                    : with_note_on_first_line(e.what(), " (roger check's history: " + history_said(failed, succeeded) + ")"));
   }
 }
 

@@ -392,8 +392,9 @@ void check_against_scenario(const CurriculumStage& st) {
     // LCAS level's are (found by a probe: {"1", "01", "1e0"} were three slices of the one world).
     const bool number = it->second.type == ParamType::kInteger || it->second.type == ParamType::kNumber;
     if (d.kind == TaskDim::Kind::kChoice && number)
-      for (size_t i : d.string_choices)
-        fail_at(where + ": value " + std::to_string(i + 1) + " is the string \"" + d.choices[i] + "\": parameter '" +
+      for (size_t i : d.string_choices)  // not said through the axis's text, which writes every value bare
+        fail_at(st.where() + ": tasks." + d.name + ": roger.choice's value " + std::to_string(i + 1) + " is the string \"" +
+                    d.choices[i] + "\": parameter '" +
                     d.name + "' of scenario '" + s.name() + "' takes a number: write " + d.choices[i] + " without quotes",
                 d.file, d.line);
     if (d.kind == TaskDim::Kind::kChoice)
