@@ -533,6 +533,27 @@ TEST_CASE("propose says when --trials leaves each trial less than an episode", "
                       !Catch::Contains("the probe left"));
 }
 
+// Found by a probe: with caps above an episode, the trials' overruns (each runs to the end of the
+// episode that passes its cap) spent the round's share before its last trials, and the caution
+// blamed the probe, which the caps had already left out; the summary said "0 rounds" beside it.
+TEST_CASE("propose says when the trials' overruns spent the round's budget", "[propose]") {
+  test::TempDir dir("roger_propose");
+  REQUIRE(run_status(std::string(ROGER_BINARY) + " propose paper --stage SG --context B1 --budget 3000 "
+                     "--max-candidates 2 --trials 60 --out " + (dir.path / "p").string() + " >" +
+                     (dir.path / "stdout").string() + " 2>/dev/null") == 0);
+  const std::string out = slurp(dir.path / "stdout");
+  INFO(out);
+  CHECK_THAT(out, Catch::Contains("6 candidates (2 evaluated, the rest over --max-candidates), 0 of 1 round, 118 trials run") &&
+                      Catch::Contains("  caution        round 1's trials were each allowed 19.93 simulated s (what the "
+                                      "rounds had left over 2 candidates x --trials 60), and each runs on to the end of "
+                                      "the episode that passes its cap (the stage's time limit is 5 s): the 118 trials "
+                                      "run overran their caps by 53 s together, so the budget ran out within the round (") &&
+                      Catch::Contains("no round ranked the candidates, and C1 (the base) wins by default; fewer "
+                                      "--trials, or a larger --budget, ranks them") &&
+                      !Catch::Contains("the probe left"));
+  CHECK_THAT(slurp(dir.path / "p" / "propose.md"), Catch::Contains("Successive halving over 2 candidates in 0 of 1 round,"));
+}
+
 // Found by a probe: with --probe-share 0.9 --probe-trials 100 the probe spent the budget (each of
 // its trials ends an episode past its cap): rounds were capped at -0 s, a caution advised "a
 // --budget of about -849056", candidates scored inf and one was dropped without a trial.
@@ -543,7 +564,7 @@ TEST_CASE("propose says when the probe left the rounds no budget, and the base w
                      " 2>/dev/null") == 0);
   const std::string out = slurp(dir.path / "stdout");
   INFO(out);
-  CHECK_THAT(out, Catch::Contains("6 candidates, 0 rounds") &&
+  CHECK_THAT(out, Catch::Contains("6 candidates, 0 of 3 rounds") &&
                       Catch::Contains("  caution        the probe left the 3 rounds of successive halving no budget for "
                                       "each candidate's trials (") &&
                       Catch::Contains("no round ranked the candidates, and C1 (the base) wins by default") &&

@@ -46,7 +46,7 @@ int command_propose(const ProposeArgs& a) {
                                   : " (" + std::to_string(evaluated) + " evaluated, the rest over --max-candidates)";
   std::printf("roger propose: stage %s, %s%s, %s, %s run, %d reused\n", a.stage.c_str(),
               counted(long(r.candidates.size()), "candidate").c_str(), not_run.c_str(),
-              counted(r.rounds, "round").c_str(), counted(r.trials_run, "trial").c_str(), r.trials_reused);
+              rounds_said(r).c_str(), counted(r.trials_run, "trial").c_str(), r.trials_reused);
   for (const auto& file : r.unreadable)
     std::printf("  unreadable     %s could not be read: its trial was run again\n", file.c_str());
   // Found by a probe: after an edit everything ran again, "0 reused", without a word of why.

@@ -71,6 +71,11 @@ struct Candidate {
 };
 
 // What one proposal search did.
+struct ProposeResult;
+// "2 rounds", or, when the budget ran out before the planned ones, "0 of 1 rounds" (found by a probe:
+// "in 0 rounds" beside a caution naming "the 1 round").
+std::string rounds_said(const ProposeResult& r);
+
 struct ProposeResult {
   std::vector<Candidate> candidates;
   int winner = -1;               // index into candidates
@@ -80,6 +85,7 @@ struct ProposeResult {
   int successful_episodes = 0;   // in the probe
   int probe_episodes = 0;        // training episodes of the probe
   int rounds = 0;
+  int planned_rounds = 0;  // the rounds successive halving planned (more than `rounds` when the budget ran out)
   int trials_run = 0, trials_reused = 0;
   // Records in out/probe/ and out/trials/ that could not be read (a disk fault or an edit): their
   // trials ran again, as roger run runs a trial with unreadable files again. Counted in trials_run.

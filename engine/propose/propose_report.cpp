@@ -141,7 +141,7 @@ void write_propose_report(const ProposeOptions& o, const TaskRef& task, const Pr
      << "counted, as in the time-to-threshold of the paper. Successive halving over "
      << counted(std::count_if(r.candidates.begin(), r.candidates.end(), [](const Candidate& c) { return c.evaluated; }),
                 "candidate")
-     << " in " << counted(r.rounds, "round") << ", " << counted(o.trials, "seeded trial") << " per candidate and round "
+     << " in " << rounds_said(r) << ", " << counted(o.trials, "seeded trial") << " per candidate and round "
      << "(Karnin et al. 2013; Jamieson and Talwalkar 2016; docs/propose.md). The proposal: `proposal.lua` ("
      << r.candidates[size_t(r.winner)].id << "), context P.\n\n";
   probe_section(md, o, probe, summary);
