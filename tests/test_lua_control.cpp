@@ -381,6 +381,53 @@ TEST_CASE("the API extends a `roger` table that a scenario loader made", "[lua_c
   CHECK(scenario.generate(1).objects.size() == 1);  // the scenario still works
 }
 
+// Found by a probe: roger.robot.base_radius = 1 and roger.primitive_kinds[1] = "zzz" were taken,
+// and every later read saw them. Both read as tables still do: an index, #, ipairs, pairs, next,
+// rawget and table.concat.
+TEST_CASE("the API's constant tables read as tables and refuse a write at its line", "[lua_control]") {
+  Scenario scenario = Scenario::load("unobstructed");
+  install_control_api(scenario.sandbox());
+  LuaSandbox& sandbox = scenario.sandbox();
+  sandbox.load_string("local n, keys = 0, 0\n"
+                      "for i, k in ipairs(roger.primitive_kinds) do n = n + 1 end\n"
+                      "for k, v in pairs(roger.robot) do keys = keys + 1 end\n"
+                      "return n == #roger.primitive_kinds and n == 8 and keys == 7 and\n"
+                      "  table.concat(roger.primitive_kinds, ',', 1, 2) == roger.primitive_kinds[1] .. ',' .. roger.primitive_kinds[2] and\n"
+                      "  rawget(roger.robot, 'base_radius') == roger.robot.base_radius and next(roger.robot) ~= nil and\n"
+                      "  rawlen(roger.primitive_kinds) == 8",
+                      "=reads");
+  sandbox.call(0, 1);
+  CHECK(lua_toboolean(sandbox.state(), -1));
+  lua_pop(sandbox.state(), 1);
+  const auto write_error = [&](const std::string& code) {
+    try {
+      sandbox.load_string(code, "@constants.lua");
+      sandbox.call(0, 0);
+    } catch (const ScriptError& e) {
+      return e.file + ":" + std::to_string(e.line) + ": " + e.message;
+    }
+    return std::string("no error");
+  };
+  CHECK_THAT(write_error("local x = 1\nroger.robot.base_radius = 1"),
+             Contains("constants.lua:2: roger.robot is read-only (its field 'base_radius' was set): copy what you need "
+                      "into a table of your own"));
+  CHECK_THAT(write_error("roger.primitive_kinds[1] = 'zzz'"),
+             Contains("constants.lua:1: roger.primitive_kinds is read-only (its field 1 was set)"));
+  CHECK_THAT(write_error("rawset(roger.robot, 'x', 1)"), !Contains("no error"));
+  CHECK_THAT(write_error("setmetatable(roger.robot, nil)"), !Contains("no error"));
+  // docs/control.md's copy, which sorts: it runs as shown.
+  const std::string copy = "local kinds = {}\nfor i, k in ipairs(roger.primitive_kinds) do kinds[i] = k end\ntable.sort(kinds)\n";
+  CHECK(read_file("docs/control.md").find("```lua\n" + copy + "```") != std::string::npos);
+  sandbox.load_string(copy + "return kinds[1] == 'phi0' and kinds[8] == 'search'", "=copy");
+  sandbox.call(0, 1);
+  CHECK(lua_toboolean(sandbox.state(), -1));
+  lua_pop(sandbox.state(), 1);
+  sandbox.load_string("return roger.robot.base_radius == 0.16 and roger.primitive_kinds[1] == 'phi0'", "=after");
+  sandbox.call(0, 1);
+  CHECK(lua_toboolean(sandbox.state(), -1));
+  lua_pop(sandbox.state(), 1);
+}
+
 TEST_CASE("predicates", "[lua_control]") {
   Snippets lua;
   CHECK(lua.text("local a = roger.primitive('phi1') local b = roger.primitive('phi5')\n"

@@ -23,7 +23,11 @@ void list_table(lua_State* L, const std::string& prefix, bool descend, std::map<
       const std::string name = prefix + lua_tostring(L, -2);
       const bool table = lua_istable(L, -1);
       out[name] = table;
-      if (table && (descend || name == "roger")) list_table(L, name + ".", true, out);
+      if (table && (descend || name == "roger")) {
+        const bool view = lua_push_view_data(L, -1);  // a read-only table's fields are its data's
+        list_table(L, name + ".", true, out);
+        if (view) lua_pop(L, 1);
+      }
     }
     lua_pop(L, 1);
   }

@@ -302,6 +302,7 @@ void install_functions(lua_State* L) {
     lua_pushstring(L, kinds[i].c_str());
     lua_rawseti(L, -2, lua_Integer(i + 1));
   }
+  lua_make_read_only(L, "roger.primitive_kinds");
   lua_setfield(L, -2, "primitive_kinds");
   lua_pop(L, 1);
 }

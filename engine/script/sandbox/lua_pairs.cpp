@@ -351,6 +351,49 @@ int lua_view_len(lua_State* L) {
   return 1;
 }
 
+namespace {
+
+int read_only_index(lua_State* L) {
+  lua_check_view_data(L, "a read-only table");
+  lua_pushvalue(L, 2);
+  lua_rawget(L, -2);
+  return 1;
+}
+
+int read_only_newindex(lua_State* L) {
+  const std::string name = lua_tostring(L, lua_upvalueindex(1));
+  const std::string key = lua_type(L, 2) == LUA_TSTRING ? "'" + std::string(lua_tostring(L, 2)) + "'"
+                                                        : luaL_tolstring(L, 2, nullptr);
+  return raise_at_reader(L, name + " is read-only (its field " + key + " was set): copy what you need into a table "
+                                "of your own");
+}
+
+int read_only_pairs(lua_State* L) {
+  lua_check_view_data(L, "a read-only table");
+  return lua_pairs_in_order(L, -1);
+}
+
+}  // namespace
+
+void lua_make_read_only(lua_State* L, const char* name) {
+  const int data = lua_gettop(L);
+  lua_new_view(L, data);
+  lua_createtable(L, 0, 5);
+  lua_pushcfunction(L, read_only_index);
+  lua_setfield(L, -2, "__index");
+  lua_pushstring(L, name);
+  lua_pushcclosure(L, read_only_newindex, 1);
+  lua_setfield(L, -2, "__newindex");
+  lua_pushcfunction(L, lua_view_len);
+  lua_setfield(L, -2, "__len");
+  lua_pushcfunction(L, read_only_pairs);
+  lua_setfield(L, -2, "__pairs");
+  lua_pushfstring(L, "%s (read-only)", name);
+  lua_setfield(L, -2, "__metatable");  // getmetatable shows this; setmetatable is refused
+  lua_setmetatable(L, -2);
+  lua_replace(L, data);
+}
+
 void* lua_view_reads_key() { return &sandbox_detail::view_reads_key; }
 
 void lua_view_note_read(lua_State* L, int view, int key) {

@@ -276,6 +276,11 @@ bool lua_push_view_data(lua_State* L, int index);
 void lua_check_view_data(lua_State* L, const char* what);
 // A view's __len: its data's length, as # on the data gives it.
 int lua_view_len(lua_State* L);
+// Replaces the table on the stack top with a read-only view of it (an API's constants: roger.robot,
+// roger.primitive_kinds): an index, #, pairs, ipairs, next and rawget read the data; a write is an
+// error at the writer's line naming `name` and the field (found by a probe: roger.robot.base_radius
+// = 1 was taken, and every later read saw it).
+void lua_make_read_only(lua_State* L, const char* name);
 
 // A view may keep a table of the names read through it (a scenario's params: roger check's warning
 // about a parameter generate never reads), under this key: its __index notes each name it reads

@@ -485,6 +485,7 @@ int install_api(lua_State* L) {
     lua_pushnumber(L, value);
     lua_setfield(L, -2, key);
   }
+  lua_make_read_only(L, "roger.robot");
   lua_setfield(L, -2, "robot");
   lua_pushcfunction(L, l_body_metrics);
   lua_setfield(L, -2, "body_metrics");
