@@ -92,6 +92,38 @@ TEST_CASE("a script returning what a required module makes is of that module's k
   CHECK_FALSE(is_curriculum_script((tmp.path / "inner.lua").string()));
 }
 
+// Found by a probe: a controller named "search\xffgrasp" passed roger check, trained its whole
+// budget, then failed as the records were written ("[json.exception.type_error.316] invalid UTF-8
+// byte"), leaving nothing. Every name records show is refused at load, at its line.
+TEST_CASE("a name that is not UTF-8 text is refused at its line, before any training", "[curriculum]") {
+  const test::TempDir tmp("roger_curriculum_utf8");
+  const auto error_of_stage = [&](const std::string& stage) {
+    std::ofstream(tmp.path / "bad.lua") << "local p = require('lib.skills').primitives()\n"
+                                         << "return { stages = { " << stage << " } }\n";
+    try {
+      (void)Curriculum::load((tmp.path / "bad.lua").string());
+    } catch (const ScriptError& e) {
+      return e.file.substr(e.file.rfind('/') + 1) + ":" + std::to_string(e.line) + ": " + e.message;
+    }
+    return std::string("loaded");
+  };
+  const std::string rest = "scenario = 'cluttered', time_limit = 4, absorbing = roger.converged(p.phi0), "
+                           "budget = { episodes = 4 }, checkpoints = { every = 4 }, ";
+  CHECK_THAT(error_of_stage("roger.stage{ name = 'S\xff', " + rest + "contexts = { { name = 'A', actions = { p.phi0 } } } }"),
+             Catch::Contains("bad.lua:2: stage 'S\\xFF': field 'name' must be UTF-8 text (records and pages show it): "
+                             "in 'S\\xFF', byte 0xff at byte 2 is not part of a UTF-8 character"));
+  CHECK_THAT(error_of_stage("roger.stage{ name = 'S', " + rest + "contexts = { { name = 'A\xff', actions = { p.phi0 } } } }"),
+             Catch::Contains("field 'name' must be UTF-8 text (records and pages show it): in 'A\\xFF'"));
+  CHECK_THAT(error_of_stage("roger.stage{ name = 'S', " + rest + "contexts = { ['A\xff'] = { p.phi0 } } }"),
+             Catch::Contains("stage 'S': a context's name must be UTF-8 text"));
+  CHECK_THAT(error_of_stage("roger.stage{ name = 'S', " + rest + "contexts = { { name = 'A', actions = { "
+                            "roger.sequence('s\xffg', { p.phi0, p.phi1 }) } } } }"),
+             Catch::Contains("bad.lua:2: roger.sequence('s\\xFFg'): the name must be UTF-8 text"));
+  CHECK_THAT(error_of_stage("roger.stage{ name = 'S', " + rest + "contexts = { { name = 'A', actions = { "
+                            "roger.learned('k\xff') } } } }"),
+             Catch::Contains("roger.learned: the name must be UTF-8 text"));
+}
+
 // Found by a probe: a --set the scenario lacks was said twice on a stage with a task space (the
 // second time without its line), and "scenario 'cluttered': scenario 'cluttered' (...)" named it twice.
 // Found by another: placed at the stage's line first, it read as the curriculum's error (a shipped

@@ -1337,6 +1337,22 @@ TEST_CASE("the static pass follows literal requires and reports at the module's 
   CHECK_THAT(problems[0].message, Contains("did you mean roger.sequence?"));
 }
 
+// Found by a probe: with old-Mac line ends (a lone "\r"), which Lua reads, the static pass saw one
+// line: a first comment hid the whole file, and other problems were said at line 1. Each of "\n",
+// "\r", "\r\n" and "\n\r" ends one line, as Lua's lexer counts them.
+TEST_CASE("the static pass counts lines as Lua does, whatever the line ends", "[lua_sandbox][static]") {
+  TempDir dir;
+  for (const std::string end : {"\n", "\r", "\r\n", "\n\r"}) {
+    const fs::path path = dir.path / "ends.lua";
+    std::ofstream(path, std::ios::binary) << "-- a scenario" << end << "local x = pirnt" << end << end
+                                          << "return { generate = function(world) end }" << end;
+    const auto problems = static_check(path.string(), ScriptKind::kScenario);
+    REQUIRE(problems.size() == 1);
+    CHECK(problems[0].line == 2);
+    CHECK_THAT(problems[0].message, Contains("undefined global 'pirnt'"));
+  }
+}
+
 // Found by a probe: a script saved by an editor that writes a UTF-8 byte-order mark (Notepad), or
 // one starting with a shebang line, ran, but roger check refused it ("unexpected symbol near
 // '<\239>'"), as Lua's file loader skips both and a compiler given the text does not. Both are read

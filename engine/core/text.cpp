@@ -197,4 +197,10 @@ std::string suggestion(const std::string& given, const std::vector<std::string>&
   return best.empty() ? "" : " (did you mean '" + best + "'?)";
 }
 
+std::string name_text_problem(const std::string& name) {
+  const std::string problem = utf8_problem(name);
+  if (problem.empty()) return "";
+  return "must be UTF-8 text (records and pages show it): in '" + printable_text(name) + "', " + problem;
+}
+
 }  // namespace roger

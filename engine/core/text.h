@@ -52,6 +52,12 @@ std::string printable_text(const std::string& s);
 // refused too), or "" when it is.
 std::string utf8_problem(const std::string& s);
 
+// For a name records and pages show (a controller's, a stage's, a context's): "" when it is UTF-8
+// text, else "must be UTF-8 text (records and pages show it): in '<name>', <utf8_problem>"
+// (found by a probe: a controller named "search\xffgrasp" trained its whole budget, then every
+// record's writer refused it).
+std::string name_text_problem(const std::string& name);
+
 // At most `max` bytes of printable_text(s), cut at a character's boundary, "..." added when cut.
 std::string shortened_text(const std::string& s, size_t max);
 

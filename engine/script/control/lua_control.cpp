@@ -162,6 +162,7 @@ ControllerPtr resolve_now(lua_State* L, ControlBook& book, const std::string& na
 void register_name(lua_State* L, ControlBook& book, const std::string& context, const std::string& name,
                    const ControllerPtr& c) {
   if (name.empty()) raise(L, context + ": a name must not be empty");
+  if (const std::string problem = name_text_problem(name); !problem.empty()) raise(L, context + ": the name " + problem);
   if (name.find("<|") != std::string::npos)
     raise(L, context + ": the name '" + name + "' contains '<|', which roger.compose reads as subject-to");
   if (is_kind(name))

@@ -117,6 +117,8 @@ int l_learned(lua_State* L) {
                  lua_describe_value(L, 1).c_str());
     const std::string name = lua_tostring(L, 1);
     if (name.empty()) luaL_error(L, "roger.learned: the name must not be empty");
+    if (const std::string problem = name_text_problem(name); !problem.empty())
+      luaL_error(L, "roger.learned: the name %s", problem.c_str());
     auto it = book.learned.find(name);
     if (it == book.learned.end()) it = book.learned.emplace(name, std::make_shared<LearnedRef>(name)).first;
     lua_push_controller(L, it->second);
@@ -431,6 +433,7 @@ void Curriculum::read_stages(Impl& impl, const std::string& path) {
         }
     LuaFields top(L, t, "the curriculum", known);
     impl.name = top.string("name", fs::path(path).stem().string());
+    if (const std::string problem = name_text_problem(impl.name); !problem.empty()) top.fail("field 'name' " + problem);
     impl.description = top.string("description", "");
     if (top.push("stages") == LUA_TNIL) top.fail("missing required field 'stages' (a list of roger.stage{...})");
     const int ss = lua_gettop(L);

@@ -4,6 +4,7 @@
 #include <map>
 #include <set>
 
+#include "core/text.h"
 #include "core/error.h"
 #include "script/curriculum/curriculum_internal.h"
 #include "script/control/lua_control.h"
@@ -68,6 +69,7 @@ void read_context_fields(lua_State* L, int e, const std::string& ctx, bool named
   if (named) {
     entry.name = f.string("name");
     if (entry.name.empty()) f.fail("field 'name' must not be empty");
+    if (const std::string problem = name_text_problem(entry.name); !problem.empty()) f.fail("field 'name' " + problem);
   }
   if (f.push("actions") == LUA_TNIL) f.fail("missing required field 'actions' (the list of controllers, Psi)");
   entry.actions = lua_gettop(L);
@@ -127,6 +129,8 @@ std::vector<ContextEntry> context_map(lua_State* L, int t, const CurriculumStage
       luaL_error(L, "%s: contexts must be named (B1 = {...}) or a list of {name = ..., actions = ...}, got the key %s",
                  st.where().c_str(), lua_describe_value(L, -1).c_str());
     names.push_back(lua_tostring(L, -1));
+    if (const std::string problem = name_text_problem(names.back()); !problem.empty())
+      luaL_error(L, "%s: a context's name %s", st.where().c_str(), problem.c_str());
   }
   std::sort(names.begin(), names.end());
   std::vector<ContextEntry> entries;
@@ -362,6 +366,7 @@ void read_skill(lua_State* L, const LuaFields& f, const std::string& where, Curr
     const std::string name = s.string("name");
     const std::string ctx = s.string("context");
     if (name.empty()) s.fail("field 'name' must not be empty");
+    if (const std::string problem = name_text_problem(name); !problem.empty()) s.fail("field 'name' " + problem);
     std::vector<std::string> names;
     for (const auto& c : st.contexts) names.push_back(c.name);
     if (std::find(names.begin(), names.end(), ctx) == names.end())
@@ -425,6 +430,7 @@ void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& abso
               {"absorbing", "budget", "checkpoints", "contexts", "description", "learner", "name", "params",
                "reward", "scenario", "skill", "tasks", "teacher", "test", "time_limit"});
   if (st.name.empty()) f.fail("missing required field 'name' (a string such as \"SG\")");
+  if (const std::string problem = name_text_problem(st.name); !problem.empty()) f.fail("field 'name' " + problem);
   st.description = f.string("description", "");
   st.scenario = f.string("scenario", "unobstructed");
   try {

@@ -120,7 +120,32 @@ struct Lexer {
 
 }  // namespace
 
-std::vector<LuaToken> lua_tokenize(const std::string& s) {
+namespace {
+
+// Line ends as Lua's lexer counts them: "\n", "\r", "\r\n" and "\n\r" each end one line (found
+// by a probe: a file with old-Mac endings, a lone "\r", which Lua reads fine, was one line here,
+// so its first comment hid the whole file from the static check).
+std::string with_newlines(const std::string& s) {
+  std::string out;
+  out.reserve(s.size());
+  for (size_t i = 0; i < s.size(); ++i) {
+    const char c = s[i];
+    if (c != '\n' && c != '\r') {
+      out += c;
+      continue;
+    }
+    out += '\n';
+    if (i + 1 < s.size() && (s[i + 1] == '\n' || s[i + 1] == '\r') && s[i + 1] != c) ++i;  // a pair is one end
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<LuaToken> lua_tokenize(const std::string& text) {
+  const bool returns = text.find('\r') != std::string::npos;
+  const std::string normalised = returns ? with_newlines(text) : std::string();
+  const std::string& s = returns ? normalised : text;
   Lexer lexer(s);
   // A UTF-8 byte-order mark and a first line starting with '#' (a shebang) are skipped, as Lua's
   // file loader does (lua_file_text).

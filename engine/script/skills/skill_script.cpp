@@ -229,6 +229,7 @@ SkillScript::NamedPolicy read_policy(lua_State* L, int ps, const std::string& na
     }
   }
   LuaFields f(L, p, context, fields);
+  if (const std::string problem = name_text_problem(name); !problem.empty()) f.fail("the policy's name " + problem);
   SkillScript::NamedPolicy np;
   np.name = name;
   line = map.policy(name);
