@@ -366,6 +366,13 @@ TEST_CASE("primitive parameters reach the C++ controllers", "[lua_control]") {
                        "skills.Phi6(p)").what(),
              Contains("snippet.lua:4: roger.sequence('Phi6'): there is already a controller named 'Phi6' (defined at "
                       "snippet.lua:3); to build another copy, pass the library's builder a name as its last argument"));
+  // Found by a probe: a misspelt builder said only "attempt to call a nil value (field 'Phi8')",
+  // where a misspelt primitive names the ones there are.
+  CHECK_THAT(lua.error("local skills = require('lib.skills')\nlocal p = skills.primitives()\nskills.Phi8(p)").what(),
+             Contains("snippet.lua:3: lib.skills has no \"Phi8\"; it has: Phi6, Phi7, Phi_STG, keep_grasp, primitives, "
+                      "transport, transported"));
+  CHECK_THAT(lua.error("local p = require('lib.skills').primitives()\nlocal x = p.phi33").what(),
+             Contains("snippet.lua:2: skills.primitives() has no controller \"phi33\"; it has: "));
 }
 
 TEST_CASE("the API extends a `roger` table that a scenario loader made", "[lua_control]") {

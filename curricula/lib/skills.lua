@@ -117,4 +117,11 @@ function skills.transported(t)
   return roger.all{ roger.converged(t.subordinate), roger.converged(t.superior) }
 end
 
-return skills
+-- A misspelt builder (skills.Phi8(p)) is an error naming the ones there are, as a misspelt
+-- primitive is: without this, Lua says only "attempt to call a nil value (field 'Phi8')".
+return setmetatable(skills, { __index = function(_, name)
+  local names = {}
+  for k in pairs(skills) do names[#names + 1] = tostring(k) end
+  table.sort(names)
+  error("lib.skills has no " .. string.format("%q", tostring(name)) .. "; it has: " .. table.concat(names, ", "), 2)
+end })
