@@ -38,7 +38,8 @@ BatchSummary record_shard(const BatchPlan& plan, const Shard& shard, ShardState 
 // K = 0 .. N-1, {"state", "trials", "pending"}: the trials it owns (from the plan), its state and
 // trials not run from shards/K-of-N.json, the state "not started" when it has no record (queued,
 // or cancelled before it started) and "unknown" when its record cannot be read. A record unchanged
-// since the last read (by its time of change) is not read again: every shard reads the others'
+// since the last read (its time of change and its size: a shared filesystem may keep whole seconds,
+// and a change of state all but always changes the size) is not read again: every shard reads the others'
 // each second.
 class ShardBoard {
  public:
@@ -47,6 +48,7 @@ class ShardBoard {
  private:
   struct Seen {
     std::filesystem::file_time_type changed;
+    std::uintmax_t size = 0;
     nlohmann::json entry;
   };
   std::map<int, Seen> seen_;

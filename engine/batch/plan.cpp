@@ -866,13 +866,14 @@ json ShardBoard::read(const BatchPlan& plan, int count) {
     const fs::path path = shard.record_path(plan.out);
     std::error_code ec;
     const auto changed = fs::last_write_time(path, ec);
+    const auto size = ec ? std::uintmax_t(0) : fs::file_size(path, ec);
     if (ec) {
       seen_.erase(k);
       board.push_back({{"state", "not started"}, {"trials", owned[size_t(k)]}});
       continue;
     }
     const auto it = seen_.find(k);
-    if (it == seen_.end() || it->second.changed != changed) {
+    if (it == seen_.end() || it->second.changed != changed || it->second.size != size) {
       json entry = {{"state", "unknown"}};
       try {
         const json record = parse_json(read_file_text(path.string()));
@@ -882,7 +883,7 @@ json ShardBoard::read(const BatchPlan& plan, int count) {
         // written whole (write_file_atomic), so only another program's file: "unknown"
       }
       entry["trials"] = owned[size_t(k)];
-      seen_[k] = Seen{changed, entry};
+      seen_[k] = Seen{changed, size, entry};
     }
     board.push_back(seen_[k].entry);
   }
