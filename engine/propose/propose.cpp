@@ -471,19 +471,22 @@ void note_budget_out(const std::vector<CandidateSpec>& specs, const std::vector<
   const std::string spent = "(" + format_number(std::round(res.spent_s)) + " of the budget's " +
                             format_number(std::round(res.budget_s)) + " simulated s spent, " +
                             format_number(std::round(res.probe_s)) + " by the probe)";
+  // Where a round's trials (not the probe) spent the budget: what they were allowed, and what won.
+  const std::string allowed = "round " + std::to_string(r + 1) + "'s trials were each allowed " +
+                              format_number(std::round(cap * 100) / 100) + " simulated s (what the rounds had left " +
+                              "over " + counted(long(alive.size()), "candidate") + " x --trials " +
+                              std::to_string(trials) + ")";
+  const std::string outcome = (r == 0 ? "no round ranked the candidates, and " + specs[alive.front()].c.id +
+                                            " (the base) wins by default"
+                                      : "the winner is the best of round " + std::to_string(r)) +
+                              "; fewer --trials, or a larger --budget, ranks them";
   // A cap under one episode that fewer trials would have raised past it: the trials, each running
   // one at least, overran it (found by a probe: --trials 100 was blamed on the probe, which took its
   // 20%). Under an episode even for one trial, what the probe left is to blame.
   if (cap < time_limit && cap * trials >= time_limit) {
-    res.cautions.push_back("round " + std::to_string(r + 1) + "'s trials were each allowed " +
-                           format_number(std::round(cap * 100) / 100) + " simulated s (what the rounds had left over " +
-                           counted(long(alive.size()), "candidate") + " x --trials " + std::to_string(trials) +
-                           "), under one episode of the stage's time limit of " + format_number(time_limit) +
+    res.cautions.push_back(allowed + ", under one episode of the stage's time limit of " + format_number(time_limit) +
                            " s, and each runs one at least, so the budget ran out within the round " + spent + ": " +
-                           (r == 0 ? "no round ranked the candidates, and " + specs[alive.front()].c.id +
-                                         " (the base) wins by default"
-                                   : "the winner is the best of round " + std::to_string(r)) +
-                           "; fewer --trials, or a larger --budget, ranks them");
+                           outcome);
     return;
   }
   // Each trial runs on to the end of the episode that passes its cap, so with many trials the
@@ -495,17 +498,10 @@ void note_budget_out(const std::vector<CandidateSpec>& specs, const std::vector<
     for (const CandidateTrial& t : specs[i].c.trials)
       if (t.round == r + 1) overrun += std::max(0.0, t.spent_s - t.cap_s), ++ran;
   if (cap >= time_limit && overrun > 0.0) {
-    res.cautions.push_back("round " + std::to_string(r + 1) + "'s trials were each allowed " +
-                           format_number(std::round(cap * 100) / 100) + " simulated s (what the rounds had left over " +
-                           counted(long(alive.size()), "candidate") + " x --trials " + std::to_string(trials) +
-                           "), and each runs on to the end of the episode that passes its cap (the stage's time limit "
-                           "is " + format_number(time_limit) + " s): the " + std::to_string(ran) + " trials run overran "
-                           "their caps by " + format_number(std::round(overrun)) + " s together, so the budget ran out "
-                           "within the round " + spent + ": " +
-                           (r == 0 ? "no round ranked the candidates, and " + specs[alive.front()].c.id +
-                                         " (the base) wins by default"
-                                   : "the winner is the best of round " + std::to_string(r)) +
-                           "; fewer --trials, or a larger --budget, ranks them");
+    res.cautions.push_back(allowed + ", and each runs on to the end of the episode that passes its cap (the stage's "
+                           "time limit is " + format_number(time_limit) + " s): the " + std::to_string(ran) +
+                           " trials run overran their caps by " + format_number(std::round(overrun)) +
+                           " s together, so the budget ran out within the round " + spent + ": " + outcome);
     return;
   }
   if (r == 0) {
