@@ -752,6 +752,12 @@ TEST_CASE("roger check runs a module as the scripts requiring it do and names th
   CHECK(walls.status == 0);
   CHECK_THAT(walls.out, Catch::Matchers::Contains("walls.lua: ok (a module: required as \"walls\" by "));
   CHECK_THAT(walls.out, Catch::Matchers::Contains("room.lua, it returns a table of 1 field: wall)"));
+  // A module that returns nothing gives require true: said so, not as "it returns boolean".
+  std::ofstream(dir / "quiet.lua") << "local x = 1\n";
+  std::ofstream(dir / "uses_quiet.lua") << "local q = require(\"quiet\")\nreturn { generate = function(world) world:robot{x = 0, y = 0} end }\n";
+  const Run quiet = roger("check " + (dir / "quiet.lua").string());
+  INFO(quiet.err);
+  CHECK_THAT(quiet.out, Catch::Matchers::Contains("it returns a boolean (or nothing: require then gives true))"));
   const Run broken = roger("check " + (dir / "broken.lua").string());
   CHECK(broken.status == 1);
   CHECK_THAT(broken.err, Catch::Matchers::Contains("broken.lua:2: attempt to perform arithmetic on a nil value"));

@@ -336,7 +336,9 @@ std::vector<ScriptKind> module_kinds(const std::filesystem::path& module, std::o
 
 // What a module returned, in words: a table's fields, at most eight named.
 std::string returned_summary(const ModuleValue& v) {
-  if (v.type != "table") return "it returns " + v.type;
+  // require gives true for a module that returns nothing (found by a probe: "it returns boolean").
+  if (v.type == "boolean") return "it returns a boolean (or nothing: require then gives true)";
+  if (v.type != "table") return "it returns a " + v.type;
   const size_t n = v.keys.size(), shown = std::min<size_t>(n, 8);
   std::string out = "it returns a table of " + std::to_string(n) + (n == 1 ? " field" : " fields");
   if (n == 0) return out;
