@@ -886,8 +886,8 @@ TEST_CASE("the Lua API checks its arguments where they are given", "[scenario]")
         "world:object: there is already an object named 'a'");
   // Found by a probe: a name no picture could show passed roger check, and every render failed.
   CHECK(run("world:robot{x = 0, y = 0} world:object{name = 'bad\\255utf', shape = shapes.get('circle'), x = 1, y = 1}",
-            "utf8") == "world:object: field 'name' must be UTF-8 text (pictures, pages and results show it), and byte "
-                       "0xff at byte 4 is not part of a UTF-8 character of 'bad\\xFFutf'");
+            "utf8") == "world:object: field 'name' must be UTF-8 text (records and pages show it): in 'bad\\xFFutf', "
+                       "byte 0xff at byte 4 is not part of a UTF-8 character");
   const Vec2 hand = robot_footprint(RobotStart{}).at(1).center;  // left hand, robot at the origin
   CHECK_THAT(run("world:robot{x = 0, y = 0} world:obstacle{shape = shapes.box('b', 0.1, 0.1), x = " +
                      format_number(hand.x()) + ", y = " + format_number(hand.y()) + "}",

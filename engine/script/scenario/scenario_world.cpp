@@ -80,9 +80,7 @@ std::string unique_name(const LuaFields& f, const std::string& given, const char
   const std::string name = given.empty() ? std::string(kind) + " " + std::to_string(count + 1) : given;
   // Pictures, pages and results show the name (found by a probe: roger check took "bad\255" and
   // every picture then failed with "input string not valid UTF-8", naming neither file nor object).
-  if (const std::string problem = utf8_problem(name); !problem.empty())
-    f.fail("field 'name' must be UTF-8 text (pictures, pages and results show it), and " + problem + " of '" +
-           printable_text(name) + "'");
+  if (const std::string problem = name_text_problem(name); !problem.empty()) f.fail("field 'name' " + problem);
   const std::string a_kind = std::string(std::strchr("aeiou", kind[0]) ? "an " : "a ") + kind;
   // Found by a probe: an unnamed object's default name taken by a named one was said at a line
   // that names nothing.
