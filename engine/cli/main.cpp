@@ -491,16 +491,29 @@ int with_output_written(int status) {
   return status == 0 ? 1 : status;
 }
 
+// "roger: error: " before a message, or, when the message already names its command
+// ("roger propose: --budget ..."), "roger propose: error: ...": not "roger: error: roger propose: ".
+std::string error_line(const std::string& message) {
+  const std::string roger = "roger ";
+  if (message.rfind(roger, 0) == 0) {
+    const size_t colon = message.find(": ");
+    const std::string command = message.substr(roger.size(), colon == std::string::npos ? 0 : colon - roger.size());
+    const bool one_word = !command.empty() && command.find_first_not_of("abcdefghijklmnopqrstuvwxyz") == std::string::npos;
+    if (one_word) return message.substr(0, colon) + ": error: " + message.substr(colon + 2);
+  }
+  return "roger: error: " + message;
+}
+
 int run_checked(Commands& commands) {
   try {
     return run_command(commands);
   } catch (const FileError& e) {
     std::fflush(stdout);
-    std::cerr << "roger: error: " << file_error_line(e, false) << "\n";
+    std::cerr << error_line(file_error_line(e, false)) << "\n";
     return 1;
   } catch (const std::exception& e) {
     std::fflush(stdout);
-    std::cerr << "roger: error: " << printable_text(e.what()) << "\n";
+    std::cerr << error_line(printable_text(e.what())) << "\n";
     return 1;
   }
 }
