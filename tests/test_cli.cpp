@@ -230,6 +230,26 @@ const std::string kUnobstructedWithClutter = "local base = require('unobstructed
 
 // Found by a probe: a scenario declared `clutter` and placed its obstacles from `obstacles`, and a
 // sweep over clutter trained on the same worlds at every level without a word.
+// Found by a probe: a nil at the end of an action list (a misspelt field of one's own table) leaves
+// no hole to refuse; check's count of each context's actions shows it.
+TEST_CASE("roger check counts each context's actions", "[cli]") {
+  Run r = roger("check curricula/paper.lua");
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("\n  SG: B1 4 actions, DC1 5 actions, DC2 3 actions\n"
+                                              "  T: B2 5 actions, DC3 6 actions, DC4 4 actions, DC5 4 actions, DC6 2 actions\n"));
+  const fs::path c = temp_file("roger_cli_counts.lua", "local p = require('lib.skills').primitives()\n"
+                                                       "local mine = { reach = p.phi1 }\n"
+                                                       "return { stages = { roger.stage{ name = 'S', time_limit = 5,\n"
+                                                       "  absorbing = roger.converged(p.phi3), budget = { episodes = 3 },\n"
+                                                       "  contexts = { { name = 'A', actions = { p.phi3, mine.raech } },\n"
+                                                       "               { name = 'B', actions = { p.phi3, mine.reach } } } } } }\n");
+  r = roger("check " + c.string());
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("\n  S: A 1 action, B 2 actions\n"));
+  fs::remove(c);
+}
+
 TEST_CASE("roger check warns of a declared parameter generate never reads, and of a stage that sets one", "[cli]") {
   const std::string head = kUnobstructedWithClutter;
   const fs::path unread = temp_file("roger_cli_unread.lua", head + "return { params = params, generate = function(world, rng, p)\n"
@@ -1391,6 +1411,20 @@ TEST_CASE("render, bench and propose take the sandbox's budgets as the other com
   }
   fs::remove(heavy);
   fs::remove(png);
+}
+
+// Found by a probe: "roger: error: roger propose: --budget ..." named the command twice.
+TEST_CASE("an error that names its command names it once", "[cli]") {
+  Run r = roger("propose curricula/paper.lua --stage SG --budget 100 --out " +
+                (fs::temp_directory_path() / "roger_cli_named").string());
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Matchers::StartsWith("roger propose: error: --budget 100 is under 30 episodes"));
+  r = roger("eval curricula/scripted.lua --policy task --seed 18446744073709551615 --episodes 2");
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Matchers::StartsWith("roger eval: error: --seed 18446744073709551615 with --episodes 2"));
+  r = roger("eval curricula/scripted.lua --policy nope");
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Matchers::StartsWith("roger: error: "));
 }
 
 TEST_CASE("roger render draws a scenario to PNG and SVG", "[cli]") {

@@ -503,6 +503,15 @@ int check_curriculum_file(const std::string& path, const std::string& shown, con
     stages += (stages.empty() ? "" : "; ") + st.name + ": " + contexts;
   }
   std::printf("%s: ok (curriculum '%s'; stages %s)\n", shown.c_str(), cur.name().c_str(), stages.c_str());
+  // Each context's count of actions: a nil at the end of an action list (a name misspelt in a
+  // table's field) leaves no hole for the load to refuse, but shows here as one action fewer.
+  for (const auto& st : cur.stages()) {
+    std::string counts;
+    for (const auto& c : st.contexts)
+      counts += (counts.empty() ? "" : ", ") + c.name + " " + std::to_string(c.actions.size()) +
+                (c.actions.size() == 1 ? " action" : " actions");
+    std::printf("  %s: %s\n", st.name.c_str(), counts.c_str());
+  }
   return 0;
 }
 
