@@ -598,6 +598,45 @@ TEST_CASE("a plan that changes is refused while other parts run the folder's", "
   fs::remove_all(dir);
 }
 
+// Found by a probe: scripts/slurm/submit.sh queued shards into a folder each of them refused once it
+// started (shards of another N). inspect_results_folder says what roger run would find, and
+// refuses what it would refuse, writing nothing: not even a plan that grows.
+TEST_CASE("inspect_results_folder says what a run would do in a folder and writes nothing", "[batch][shard]") {
+  const fs::path dir = fresh_dir("inspected"), out = dir / "out";
+  fs::create_directories(dir);
+  std::ofstream(dir / "batch.lua") << "return {\n"
+                                      "  name = \"kill\", curriculum = \"kill_curriculum.lua\", trials = 2, seed = 7,\n"
+                                      "  runs = { { name = \"SG\", stage = \"SG\", contexts = { \"B1\" } } },\n"
+                                      "}\n";
+  fs::copy_file("tests/scripts/kill_curriculum.lua", dir / "kill_curriculum.lua");
+  BatchOverrides four;
+  four.trials = 4;
+  const auto script = std::make_shared<const BatchScript>(load_batch_script((dir / "batch.lua").string()));
+  const auto more = std::make_shared<const BatchScript>(load_batch_script((dir / "batch.lua").string(), four));
+  CHECK(inspect_results_folder(plan_batch(script, out.string()), Shard{0, 2}) ==
+        "a new results folder (roger run makes " + out.string() + ")");
+  CHECK_FALSE(fs::exists(out));
+  CHECK_FALSE(open_results_folder(plan_batch(script, out.string()), nullptr, Shard{0, 2}));
+  const std::string manifest = slurp(out / "manifest.json");
+  CHECK(inspect_results_folder(plan_batch(script, out.string()), Shard{1, 2}) ==
+        "resumes " + out.string() + " (0 of 2 trials have a result)");
+  CHECK_THAT(inspect_results_folder(plan_batch(more, out.string())),
+             Catch::StartsWith("resumes " + out.string() + " (0 of 4 trials have a result); ") &&
+                 Catch::Contains("it plans more trials"));
+  CHECK(slurp(out / "manifest.json") == manifest);  // the grown plan is not written
+  CHECK_THROWS_WITH(inspect_results_folder(plan_batch(script, out.string()), Shard{0, 3}),
+                    Catch::Contains("holds shards of N = 2"));
+  CHECK_FALSE(fs::exists(out / "shards" / "0-of-3.json"));
+  std::ofstream(out / "manifest.json") << std::regex_replace(manifest, std::regex("\"engine\": \"[0-9a-f]+\""),
+                                                             "\"engine\": \"0000000000000000\"");
+  CHECK_THROWS_WITH(inspect_results_folder(plan_batch(script, out.string())),
+                    Catch::Contains("was made by another build of the engine (engine 0000000000000000)"));
+  std::ofstream(dir / "a_file") << "x";
+  CHECK_THROWS_WITH(inspect_results_folder(plan_batch(script, (dir / "a_file").string())),
+                    Catch::Contains("is a file: give another --out"));
+  fs::remove_all(dir);
+}
+
 // Found by an outsider: quick.lua (trials 0 and 1) in 3 shards printed "shard 2 of 3: trials 2, 5,
 // ... of every run", then "0 of 0 trials done".
 TEST_CASE("a shard with no trial to run says so and succeeds", "[batch][shard]") {

@@ -495,6 +495,40 @@ TEST_CASE("roger check of a batch script takes --set as roger run does", "[cli]"
   fs::remove_all(dir);
 }
 
+// Found by a probe: scripts/slurm/submit.sh queued shards into a folder each refused once it started.
+// roger check --out says what roger run would find there, refusing what it would refuse.
+TEST_CASE("roger check of a batch script with --out checks its results folder and writes nothing", "[cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_batch_out_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "b.lua") << "return { name = 'b', curriculum = 'paper', trials = 2,\n"
+                                  "  runs = { { name = 'SG', stage = 'SG', contexts = { 'B1' } } } }\n";
+  const std::string check = "check " + (dir / "b.lua").string() + " --out " + (dir / "out").string();
+  Run r = roger(check + " --shard 0/2");
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("\n  --out " + (dir / "out").string() + " --shard 0/2: a new results "
+                                              "folder (roger run makes " + (dir / "out").string() + ")\n"));
+  CHECK_FALSE(fs::exists(dir / "out"));
+  REQUIRE(roger("run " + (dir / "b.lua").string() + " --jobs 1 --shard 1/2 --out " + (dir / "out").string()).status == 0);
+  r = roger(check + " --shard 0/2");
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains(": resumes " + (dir / "out").string() + " (1 of 2 trials have a result)\n"));
+  r = roger(check + " --shard 0/3");
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Matchers::Contains("holds shards of N = 2 (shards/1-of-2.json), and this is shard 0 of 3"));
+  r = roger(check + " --trials 3 --set robot_distance=1.2");
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Matchers::Contains("params.robot_distance: absent in the folder, \"1.2\" now"));
+  CHECK_FALSE(fs::exists(dir / "out" / "shards" / "0-of-3.json"));
+  r = roger(check + " --shard slurm");
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Matchers::Contains("--shard slurm is a task of a Slurm array, which roger check is not"));
+  r = roger("check curricula/paper.lua --out " + (dir / "out").string());
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Matchers::StartsWith("roger check: error: --trials, --out and --shard check a batch script"));
+  fs::remove_all(dir);
+}
+
 // Found by a probe: a curriculum's scenario = "cluttered" trained in the shipped scenario while an
 // edited cluttered.lua lay beside it, without a word. roger check (of it and of a batch running
 // it), roger train and roger run say so (the note itself: test_curriculum.cpp).

@@ -161,6 +161,13 @@ class RunningClaim;
 bool open_results_folder(const BatchPlan& plan, std::string* note = nullptr, const Shard& shard = Shard(),
                          const RunningClaim* claim = nullptr);
 
+// What roger run of the plan (as shard `shard`, when active) would find in its folder, said without
+// writing or claiming anything (roger check --out; scripts/slurm/submit.sh asks before it queues
+// the shards): throws the roger::Error open_results_folder would (a folder of another engine build
+// or configuration, of shards of another N, holding other files, a file); otherwise returns what
+// the run would do there ("a new results folder ...", "resumes DIR (12 of 50 trials have a result)").
+std::string inspect_results_folder(const BatchPlan& plan, const Shard& shard = Shard());
+
 // A results folder claimed by one roger run for as long as this lives. A run of the whole folder
 // holds it alone; runs of parts of it (a --shard, --only names) hold it together, each part once.
 // A second run of a folder or part in use would empty the first's trials in flight (a resume runs

@@ -452,7 +452,8 @@ Error refusal(const json& old, const json& old_config, const json& config, const
 // trials are the ones its configuration planned, as when resuming, and rewrites the manifest.
 // Returns the note saying what changed.
 std::string extend_manifest(const json& old, const json& old_config, const json& old_places, const json& now_places,
-                            const BatchPlan& plan, const fs::path& manifest_path, const json& fresh_manifest) {
+                            const BatchPlan& plan, const fs::path& manifest_path, const json& fresh_manifest,
+                            bool write) {
   BatchPlan old_plan;
   try {
     old_plan = plan_batch(std::make_shared<BatchScript>(batch_config_from_json(old_config)), plan.out);
@@ -462,7 +463,7 @@ std::string extend_manifest(const json& old, const json& old_config, const json&
   }
   if (const std::string p = planned_trials_problem(old, old_plan, true); !p.empty())
     throw Error(manifest_path.string() + ": " + p + "; this folder cannot be resumed: use another --out");
-  write_file_atomic(manifest_path.string(), fresh_manifest.dump(1) + "\n", "cannot write the manifest");
+  if (write) write_file_atomic(manifest_path.string(), fresh_manifest.dump(1) + "\n", "cannot write the manifest");
   return extension_note(old_places, now_places, plan.out);
 }
 
@@ -524,7 +525,7 @@ std::string late_source_problem(const BatchPlan& plan, const json& old_config, c
 // configuration extends (extends(): then the manifest is rewritten with it, and the returned note
 // says what changed; "" otherwise).
 std::string check_manifest(const BatchPlan& plan, const fs::path& manifest_path, json config,
-                           const json& fresh_manifest, const RunningClaim* claim) {
+                           const json& fresh_manifest, const RunningClaim* claim, bool write = true) {
   json old;
   try {
     old = read_manifest_file(manifest_path.string());
@@ -568,7 +569,7 @@ std::string check_manifest(const BatchPlan& plan, const fs::path& manifest_path,
       throw Error("the results folder " + out + " cannot be resumed: " + p);
   if (old_places != now_places && old_config.is_object() && extends(old_places, now_places)) {
     refuse_while_others_run(plan, claim);
-    return extend_manifest(old, old_config, old_places, now_places, plan, manifest_path, fresh_manifest);
+    return extend_manifest(old, old_config, old_places, now_places, plan, manifest_path, fresh_manifest, write);
   }
   if (old_places != now_places) throw refusal(old, old_places, now_places, plan);
   if (const std::string p = planned_trials_problem(old, plan, true); !p.empty())
@@ -1281,10 +1282,11 @@ RunningClaim::~RunningClaim() {
   ::close(whole_);
 }
 
-bool open_results_folder(const BatchPlan& plan, std::string* note, const Shard& shard, const RunningClaim* claim) {
+namespace {
+
+// The manifest a run of the plan writes in a new folder (its "config" what a resumed one must match).
+json planned_manifest(const BatchPlan& plan) {
   const BatchScript& b = *plan.script;
-  const FolderLock lock(plan.out);
-  if (shard.active()) check_shard_count(plan.out, shard);  // before the manifest is rewritten
   json config = batch_config_json(b);
   const std::vector<fs::path> training = curriculum_source_files(Curriculum::load(b.curriculum_file, b.limits), b.limits);
   config["sources"] = source_fingerprints(training);
@@ -1296,7 +1298,7 @@ bool open_results_folder(const BatchPlan& plan, std::string* note, const Shard& 
       ids.push_back(t.id);
       if (t.run) seeds[t.id] = t.seed;
     }
-  const json manifest = {{"format", "roger-results/1"},
+  json manifest = {{"format", "roger-results/1"},
                          {"script", b.path},
                          {"script_file", fs::absolute(b.file).lexically_normal().string()},
                          {"version", ROGER_VERSION},
@@ -1304,12 +1306,21 @@ bool open_results_folder(const BatchPlan& plan, std::string* note, const Shard& 
                          {"config", config},
                          {"trials", ids},
                          {"seeds", seeds}};
+  return manifest;
+}
+
+}  // namespace
+
+bool open_results_folder(const BatchPlan& plan, std::string* note, const Shard& shard, const RunningClaim* claim) {
+  const FolderLock lock(plan.out);
+  if (shard.active()) check_shard_count(plan.out, shard);  // before the manifest is rewritten
+  const json manifest = planned_manifest(plan);
   const fs::path manifest_path = fs::path(plan.out) / "manifest.json";
   std::error_code ec;
   const bool resuming = fs::exists(manifest_path, ec);
   if (!resuming) check_out_folder(plan.out);  // again under the lock: the caller checked before claiming it
   if (resuming) {
-    const std::string said = check_manifest(plan, manifest_path, config, manifest, claim);
+    const std::string said = check_manifest(plan, manifest_path, manifest["config"], manifest, claim);
     if (note) *note = said;
   } else {
     write_file_atomic(manifest_path.string(), manifest.dump(1) + "\n", "cannot write the manifest");
@@ -1318,6 +1329,25 @@ bool open_results_folder(const BatchPlan& plan, std::string* note, const Shard& 
   // sees the first's N.
   if (shard.active()) record_shard(plan, shard, ShardState::running);
   return resuming;
+}
+
+std::string inspect_results_folder(const BatchPlan& plan, const Shard& shard) {
+  std::error_code ec;
+  if (fs::exists(plan.out, ec) && !fs::is_directory(plan.out, ec))
+    throw Error("the results folder " + plan.out + " is a file: give another --out");
+  if (shard.active()) check_shard_count(plan.out, shard);
+  const fs::path manifest_path = fs::path(plan.out) / "manifest.json";
+  if (!fs::exists(manifest_path, ec)) {
+    check_out_folder(plan.out);
+    return "a new results folder (roger run makes " + plan.out + ")";
+  }
+  const json manifest = planned_manifest(plan);
+  const std::string note = check_manifest(plan, manifest_path, manifest["config"], manifest, nullptr, false);
+  size_t all = 0;
+  for (const auto& p : plan.phases) all += p.size();
+  const size_t left = missing_trials(plan).size();
+  return "resumes " + plan.out + " (" + std::to_string(all - left) + " of " + std::to_string(all) +
+         " trials have a result)" + (note.empty() ? "" : "; " + note);
 }
 
 std::string describe_shard(const BatchPlan& plan, const Shard& shard) {

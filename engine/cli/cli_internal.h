@@ -27,6 +27,10 @@ std::vector<std::string> unread_sets_in_batch(const BatchScript& b,
 // the command resumes where it stopped when run again (roger run, roger report).
 std::string file_error_line(const FileError& e, bool resumes = true);
 
+// "roger: error: MESSAGE", or, when the message names its command ("roger propose: --budget ..."),
+// "roger propose: error: --budget ...": not "roger: error: roger propose: ...".
+std::string error_line(const std::string& message);
+
 // file_error_line for roger report: it writes only into its folder (a folder it may not write
 // into needs another place, or a copy), and it resumes nothing.
 std::string report_file_error_line(const FileError& e);

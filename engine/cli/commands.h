@@ -81,9 +81,15 @@ struct CheckArgs {
   std::vector<std::string> sets;
   int seeds = 20;
   LuaLimitArgs lua;
+  // A batch script's: --trials as roger run takes it, and the results folder (--out) that roger
+  // run (as shard --shard K/N) would open, checked without writing anything.
+  int trials = 0;
+  std::string out;
+  std::string shard;
 };
 
-// Loads and validates a scenario, skill script or curriculum; returns 0, or 1 listing the problems.
+// Loads and validates a scenario, skill script, curriculum or batch script (and the results
+// folder a batch script would run in, with --out or --shard); returns 0, or 1 listing the problems.
 int command_check(const CheckArgs& args);
 
 // The arguments of `roger eval SCRIPT.lua --policy NAME|FILE.json`.

@@ -171,6 +171,12 @@ CLI::App* add_check(CLI::App& app, CheckArgs& a) {
   add_sets(c, a.sets, "Scenario parameter key=value (repeatable)");
   c->add_option("--seeds", a.seeds, "Seeds to generate")->capture_default_str()->check(integer_in(1, 100000));
   add_lua_limits(c, a.lua, "; a batch script's own limits otherwise");
+  c->add_option("--trials", a.trials, "A batch script's trials per run, as roger run --trials takes it")
+      ->check(integer_in(1, 100000));
+  c->add_option("--out", a.out,
+                "A batch script's results folder: checks, writing nothing, that roger run can start or resume "
+                "there (default with --shard: results/<name>)");
+  c->add_option("--shard", a.shard, "With --out: as shard K/N of roger run --shard (a folder of shards of another N is refused)");
   return c;
 }
 
@@ -489,19 +495,6 @@ int with_output_written(int status) {
             << (cause != 0 ? std::string(" (") + std::strerror(cause) + ")" : std::string())
             << ": what the command printed there is incomplete\n";
   return status == 0 ? 1 : status;
-}
-
-// "roger: error: " before a message, or, when the message already names its command
-// ("roger propose: --budget ..."), "roger propose: error: ...": not "roger: error: roger propose: ".
-std::string error_line(const std::string& message) {
-  const std::string roger = "roger ";
-  if (message.rfind(roger, 0) == 0) {
-    const size_t colon = message.find(": ");
-    const std::string command = message.substr(roger.size(), colon == std::string::npos ? 0 : colon - roger.size());
-    const bool one_word = !command.empty() && command.find_first_not_of("abcdefghijklmnopqrstuvwxyz") == std::string::npos;
-    if (one_word) return message.substr(0, colon) + ": error: " + message.substr(colon + 2);
-  }
-  return "roger: error: " + message;
 }
 
 int run_checked(Commands& commands) {

@@ -161,6 +161,17 @@ std::string report_file_error_line(const FileError& e) {
   return file_error_line(e, false);
 }
 
+std::string error_line(const std::string& message) {
+  const std::string roger = "roger ";
+  if (message.rfind(roger, 0) == 0) {
+    const size_t colon = message.find(": ");
+    const std::string command = message.substr(roger.size(), colon == std::string::npos ? 0 : colon - roger.size());
+    const bool one_word = !command.empty() && command.find_first_not_of("abcdefghijklmnopqrstuvwxyz") == std::string::npos;
+    if (one_word) return message.substr(0, colon) + ": error: " + message.substr(colon + 2);
+  }
+  return "roger: error: " + message;
+}
+
 std::string file_error_line(const FileError& e, bool resumes) {
   const std::string rerun = std::string("run the same command again") + (resumes ? ": it resumes where this one stopped" : "");
   const std::string again = "then " + rerun;

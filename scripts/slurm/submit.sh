@@ -110,8 +110,8 @@ read -r -a run_args <<< "${ROGER_ARGS:-}"
 check_args=()
 for ((i = 0; i < ${#run_args[@]}; i++)); do
   case ${run_args[i]} in
-    --set | --lua-instructions | --lua-memory) check_args+=("${run_args[i]}" "${run_args[i + 1]:-}"); i=$((i + 1)) ;;
-    --set=* | --lua-instructions=* | --lua-memory=*) check_args+=("${run_args[i]}") ;;
+    --set | --trials | --lua-instructions | --lua-memory) check_args+=("${run_args[i]}" "${run_args[i + 1]:-}"); i=$((i + 1)) ;;
+    --set=* | --trials=* | --lua-instructions=* | --lua-memory=*) check_args+=("${run_args[i]}") ;;
   esac
 done
 checked=$("$bin" check "$script" ${check_args[@]+"${check_args[@]}"}) ||
@@ -119,6 +119,11 @@ checked=$("$bin" check "$script" ${check_args[@]+"${check_args[@]}"}) ||
 default_out=$(printf '%s\n' "$checked" | sed -n "s/^  results folder: \(.*\) (roger run's default --out)\$/\1/p")
 [ -n "$default_out" ] || die "roger check $script did not say where roger run writes (is $bin an older roger?)"
 out=$(absolute "${ROGER_OUT:-$default_out}")
+# The results folder as each shard will open it, checked before anything waits in the queue: a
+# folder made by another build of roger or another configuration, or holding shards of another N,
+# would refuse every task once it starts (found by a probe).
+"$bin" check "$script" ${check_args[@]+"${check_args[@]}"} --out "$out" --shard "0/$shards" >/dev/null ||
+  die "roger run would refuse the results folder $out (above): nothing was submitted"
 logs=$(absolute "${ROGER_LOGS:-$out/slurm}")
 # Slurm opens the jobs' output files but creates no folder for them. Those made here are removed
 # again, while empty, when sbatch refuses the jobs (found by a probe: a misspelt partition left an

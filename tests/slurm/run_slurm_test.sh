@@ -175,6 +175,23 @@ fi
 grep -q "no parameter 'mas'" <<< "$out" && grep -q "with --set mas=0.7 (above): nothing was submitted" <<< "$out" ||
   fail "submit.sh with a misspelt --set: unclear message: $out"
 [ ! -e "$tmp/recorder/args" ] || fail "submit.sh called sbatch with a --set roger check refuses"
+# The results folder is checked as the shards will open it (found by a probe: a folder of shards of
+# another N, or made by another build of roger, failed every task once it had waited in the queue).
+(cd "$tmp/elsewhere" && "$roger" run file_name.lua --shard 0/3 --jobs 1 >/dev/null 2>&1) ||
+  fail "roger run file_name.lua --shard 0/3 failed"
+if out=$(cd "$tmp/elsewhere" && PATH=$tmp/recorder:$PATH ROGER_BIN=$roger bash "$submit" file_name.lua 2 2>&1); then
+  fail "submit.sh submitted 2 shards to a folder of shards of N = 3"
+fi
+grep -q "holds shards of N = 3" <<< "$out" && grep -q "would refuse the results folder .*: nothing was submitted" <<< "$out" ||
+  fail "submit.sh on a folder of another N: unclear message: $out"
+sed -i 's/"engine": *"[^"]*"/"engine": "0000000000000000"/' "$tmp/elsewhere/results/renamed/manifest.json"
+if out=$(cd "$tmp/elsewhere" && PATH=$tmp/recorder:$PATH ROGER_BIN=$roger bash "$submit" file_name.lua 3 2>&1); then
+  fail "submit.sh submitted to a folder made by another build of roger"
+fi
+grep -q "made by another build of the engine (engine 0000000000000000)" <<< "$out" ||
+  fail "submit.sh on another build's folder: unclear message: $out"
+[ ! -e "$tmp/recorder/args" ] || fail "submit.sh called sbatch for a results folder roger run would refuse"
+rm -rf "$tmp/elsewhere/results/renamed"
 # A shard submitted again while tasks of an earlier array still run: the new report waits for them
 # (found by a probe: it ran first, failed on their trials, and no report followed them). squeue
 # here names two earlier arrays of this folder and one of another (each array's comment names its
@@ -194,7 +211,7 @@ rm -f "$tmp/recorder/args"
 grep -q -- "--dependency=afterok:7 " "$tmp/recorder/args" ||
   fail "a whole array's report waits for other jobs: $(cat "$tmp/recorder/args")"
 rm -f "$tmp/recorder/args" "$tmp/recorder/squeue"
-log "submit.sh writes where roger run writes, submits from its caller's folder, takes a bare script name, checks ROGER_ARGS's --set, has a resubmitted shard's report wait for earlier arrays, and refuses a script roger check refuses before submitting"
+log "submit.sh writes where roger run writes, submits from its caller's folder, takes a bare script name, checks ROGER_ARGS's --set and the results folder, has a resubmitted shard's report wait for earlier arrays, and refuses a script roger check refuses before submitting"
 
 # --- munge --------------------------------------------------------------------------------------
 
