@@ -373,6 +373,21 @@ TEST_CASE("primitive parameters reach the C++ controllers", "[lua_control]") {
                       "transport, transported"));
   CHECK_THAT(lua.error("local p = require('lib.skills').primitives()\nlocal x = p.phi33").what(),
              Contains("snippet.lua:2: skills.primitives() has no controller \"phi33\"; it has: "));
+  // Found by a probe: a misspelt controller in the overrides left that primitive at its defaults
+  // without a word (an ablation trained the phi3 it meant to change), through paper_stages too; a
+  // misspelt parameter was said at the library's line.
+  CHECK_THAT(lua.error("local skills = require('lib.skills')\nlocal p = skills.primitives{ phi33 = { epsilon = 0.05 } }").what(),
+             Contains("snippet.lua:2: skills.primitives has no controller \"phi33\" to override; it has: search, phi0, "
+                      "phi1, phi2, phi3, phi4, phi5, carry"));
+  CHECK_THAT(lua.error("local skills = require('lib.skills')\nlocal p = skills.primitives{ phi3 = 0.05 }").what(),
+             Contains("snippet.lua:2: skills.primitives: the overrides of 'phi3' are a table of its parameters"));
+  CHECK_THAT(lua.error("local skills = require('lib.skills')\nlocal p = skills.primitives{ phi3 = { epsilonn = 0.05 } }").what(),
+             Contains("snippet.lua:2: roger.primitive('phi3'): unknown parameter 'epsilonn' (did you mean 'epsilon'?)"));
+  CHECK_THAT(lua.error("local paper = require('lib.paper_stages')\n"
+                       "local SG, T = paper.stages{ suffix = '_x', primitives = { cary = { speed = 0.5 } } }").what(),
+             Contains("snippet.lua:2: skills.primitives has no controller \"cary\" to override"));
+  CHECK(lua.text("local skills = require('lib.skills')\n"
+                 "return skills.primitives{ phi3 = { epsilon = 0.05 } }.phi3:param('epsilon')") == "0.05");
 }
 
 TEST_CASE("the API extends a `roger` table that a scenario loader made", "[lua_control]") {

@@ -88,7 +88,10 @@ function M.stages(settings)
   local s = with_defaults(settings)
   local c
   if s.primitives then
-    c = controllers(s.primitives)
+    -- A mistake in the overrides (a misspelt controller or parameter) said at the caller's line.
+    local ok, made = pcall(controllers, s.primitives)
+    if not ok then error((tostring(made):gsub("^[^\n]-:%d+: ", "", 1)), 2) end
+    c = made
   else
     paper_controllers = paper_controllers or controllers()
     c = paper_controllers

@@ -34,15 +34,49 @@ local function expect_primitives(p, builder, fields)
   end
 end
 
+local primitive_fields = { "search", "phi0", "phi1", "phi2", "phi3", "phi4", "phi5", "carry" }
+
+-- Why `overrides` cannot be the overrides of skills.primitives, or nil when it can: a misspelt
+-- field ({ phi33 = ... }, { cary = ... }) would otherwise leave that primitive at its defaults
+-- without a word (found by a probe: an ablation trained with the phi3 it meant to change).
+local function primitive_overrides_problem(overrides)
+  if overrides == nil then return nil end
+  if type(overrides) ~= "table" then
+    return "the overrides of skills.primitives are a table of parameters by controller " ..
+           "({ phi3 = { epsilon = 0.05 } }), got " .. described(overrides)
+  end
+  local known = {}
+  for _, field in ipairs(primitive_fields) do known[field] = true end
+  local keys = {}
+  for k in pairs(overrides) do keys[#keys + 1] = k end
+  table.sort(keys, function(a, b) return tostring(a) < tostring(b) end)
+  for _, k in ipairs(keys) do
+    if not known[k] then
+      return "skills.primitives has no controller " .. string.format("%q", tostring(k)) ..
+             " to override; it has: " .. table.concat(primitive_fields, ", ")
+    end
+    if type(overrides[k]) ~= "table" then
+      return "skills.primitives: the overrides of '" .. k .. "' are a table of its parameters " ..
+             "({ " .. k .. " = { ... } }), got " .. described(overrides[k])
+    end
+  end
+  return nil
+end
+
 -- One instance of each primitive with default parameters, plus the carrying navigator. The
 -- skills built from one set share them, as in the paper, where phi4 in "phi4 <| phi2" and in
 -- "phi4 <| phi5" is the same controller. `overrides` maps a field of the set to parameters,
--- e.g. { phi3 = { epsilon = 0.05 } }.
+-- e.g. { phi3 = { epsilon = 0.05 } }; a mistake in them is an error at the caller's line.
 function skills.primitives(overrides)
+  local problem = primitive_overrides_problem(overrides)
+  if problem then error(problem, 2) end
   overrides = overrides or {}
   local p = {}
   for _, kind in ipairs({ "search", "phi0", "phi1", "phi2", "phi3", "phi4", "phi5" }) do
-    p[kind] = roger.primitive(kind, overrides[kind])
+    -- roger.primitive's refusal of a parameter, said at the caller's line, not at this one.
+    local ok, made = pcall(roger.primitive, kind, overrides[kind])
+    if not ok then error((tostring(made):gsub("^[^\n]-:%d+: ", "", 1)), 2) end
+    p[kind] = made
   end
   -- The transport navigator: phi1 towards the scenario's goal region, with its control point
   -- carried ahead of the base at the grasped object's centre (carry = "body": 0.36 m for the
@@ -50,7 +84,9 @@ function skills.primitives(overrides)
   -- the accelerations. Its name stays "phi1", as in the paper's "phi1 <| phi4 <| phi5".
   local carry = { goal = "region", carry = "body", speed = 0.8 }
   for k, v in pairs(overrides.carry or {}) do carry[k] = v end
-  p.carry = roger.primitive("phi1", carry)
+  local ok, made = pcall(roger.primitive, "phi1", carry)
+  if not ok then error((tostring(made):gsub("^[^\n]-:%d+: ", "", 1)), 2) end
+  p.carry = made
   -- A misspelt name (p.phi33, p.Phi3) is an error at the line that reads it. Without this it is
   -- nil, and a nil at the end of an action list vanishes from the table: the stage would train
   -- on one action fewer without a word.
