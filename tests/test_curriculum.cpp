@@ -826,6 +826,10 @@ TEST_CASE("a stage whose absorbing state holds at once is refused, as one that n
   CHECK_THAT(stage_error(tmp.path, "time_limit = 4, absorbing = roger.any{roger.converged(p.phi0), roger.all()},"),
              Contains("field 'absorbing': any(converged(phi0), all()) always holds"));
   CHECK(stage_error(tmp.path, "time_limit = 4, absorbing = roger.all{roger.converged(p.phi0)},").empty());
+  // Found by a probe: held() of a truth passed, and trained to 100% success in two episodes.
+  CHECK_THAT(stage_error(tmp.path, "time_limit = 4, absorbing = roger.held(roger.all{}, 0.5),"),
+             Contains("stage.lua:3: stage 'S': field 'absorbing': held(all(), 0.500 s) holds after 0.5 simulated "
+                      "seconds whatever happens"));
 }
 
 // Found by a probe: `absorbing = roger.converged` (the function, its call forgotten) loaded, and

@@ -899,6 +899,18 @@ TEST_CASE("a policy whose goal cannot hold within its time limit is refused at t
              Contains("field 'goal': not(all()) can never hold: it rests on a roger.any() of no parts, which is false, "
                       "or on the roger.negate of a predicate that always holds"));
   CHECK_THAT(load_with("roger.negate(roger.negate(roger.all{}))", "5"), Contains("not(not(all())) always holds"));
+  // Found by a probe: held() of such a part passed, a goal met after its seconds in every episode.
+  CHECK_THAT(load_with("roger.held(roger.all{}, 1)", "5"),
+             Contains("held.lua:3: policy 't': field 'goal': held(all(), 1.000 s) holds after 1 simulated seconds "
+                      "whatever happens: it rests on a roger.held of a predicate that always holds"));
+  CHECK_THAT(load_with("roger.held(roger.negate(roger.any{}), 0)", "5"), Contains("held(not(any()), 0.000 s) always holds"));
+  CHECK_THAT(load_with("roger.any(roger.converged(p.phi1), roger.held(roger.held(roger.all{}, 1), 2))", "5"),
+             Contains("holds after 3 simulated seconds whatever happens"));
+  CHECK_THAT(load_with("roger.all(roger.held(roger.all{}, 1), roger.held(roger.negate(roger.any{}), 2))", "5"),
+             Contains("holds after 2 simulated seconds whatever happens"));
+  // A part that may stop holding is no certainty: held() of it, or the negation of a held truth.
+  CHECK(load_with("roger.all(roger.held(roger.all{}, 1), roger.converged(p.phi0))", "5").empty());
+  CHECK(load_with("roger.any(roger.converged(p.phi0), roger.negate(roger.held(roger.all{}, 1)))", "5").empty());
   // What can hold is taken: a hold as long as the episode, an any with a short part, a negation,
   // and a limit per object, which grows with the world.
   CHECK(load_with("roger.held(roger.converged(p.phi0), 5)", "5").empty());

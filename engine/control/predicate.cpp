@@ -55,9 +55,10 @@ class Combine final : public Predicate {
       earliest = all_ ? std::max(earliest, p->earliest_seconds()) : std::min(earliest, p->earliest_seconds());
     return earliest;
   }
-  bool always_holds() const override {
-    const auto always = [](const PredicatePtr& p) { return p->always_holds(); };
-    return all_ ? std::all_of(parts_.begin(), parts_.end(), always) : std::any_of(parts_.begin(), parts_.end(), always);
+  double certain_from() const override {
+    double from = all_ ? 0.0 : INFINITY;  // all() of no parts holds at once; any() of none never
+    for (const auto& p : parts_) from = all_ ? std::max(from, p->certain_from()) : std::min(from, p->certain_from());
+    return from;
   }
   void reset() override {
     for (auto& p : parts_) p->reset();
@@ -93,7 +94,7 @@ class Not final : public Predicate {
   bool timed() const override { return p_->timed(); }
   // The negation of a part that never holds holds always, and of one that always holds never
   // (found by a probe: roger.negate(roger.any{}) passed as a goal met at the first tick).
-  bool always_holds() const override { return !std::isfinite(p_->earliest_seconds()); }
+  double certain_from() const override { return std::isfinite(p_->earliest_seconds()) ? INFINITY : 0.0; }
   double earliest_seconds() const override { return p_->always_holds() ? INFINITY : 0.0; }
   PredicatePtr copy() const override { return std::make_shared<Not>(*this); }
   void relink(Duplicates& done) override { p_ = duplicate(p_, done); }
@@ -127,6 +128,8 @@ class Held final : public Predicate {
   bool timed() const override { return true; }
   // Its part holds at the earliest at some time, and must then hold `seconds_` more.
   double earliest_seconds() const override { return p_->earliest_seconds() + seconds_; }
+  // A part that holds for good from some time holds `seconds_` on from then, whatever happens.
+  double certain_from() const override { return p_->certain_from() + seconds_; }
   PredicatePtr copy() const override { return std::make_shared<Held>(*this); }
   void relink(Duplicates& done) override { p_ = duplicate(p_, done); }
 

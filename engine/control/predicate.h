@@ -3,6 +3,7 @@
 // states of stages, success of evaluations and skill goals are written with them.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -31,10 +32,14 @@ class Predicate {
   // may hold at once or nothing tells, infinity when it never holds (an empty any). held() adds its
   // seconds; all takes its parts' latest, any their earliest.
   virtual double earliest_seconds() const { return 0.0; }
-  // Whether it holds at every tick whatever the controllers and the world do: an all of no parts,
-  // the negation of a predicate that never holds, and an all or any built on such parts alone. As
-  // a goal it is met at an episode's first tick.
-  virtual bool always_holds() const { return false; }
+  // The simulated time from which it holds at every tick whatever the controllers and the world
+  // do, infinity when no such time is certain: 0 for an all of no parts and the negation of a
+  // predicate that never holds; a held() of such a part adds its seconds (found by a probe:
+  // roger.held(roger.all{}, 1) passed as a goal met after 1 s in every episode); all takes its
+  // parts' latest, any their earliest.
+  virtual double certain_from() const { return INFINITY; }
+  // Whether it holds at every tick whatever happens: as a goal, met at an episode's first tick.
+  bool always_holds() const { return certain_from() <= 0.0; }
   // A copy of this predicate alone (parts still the originals'), for duplicate() only.
   virtual std::shared_ptr<Predicate> copy() const = 0;
   // Replaces the parts of a fresh copy (predicates and controllers) by their duplicates.

@@ -34,7 +34,8 @@ constexpr double kMaxTimeLimit = 3600.0;
 std::string never_holds_within(const Predicate& goal, double time_limit);
 
 // Why `goal` holds at an episode's first tick whatever happens (it rests on a roger.all() of no
-// parts, which is true, or on the roger.negate of one that never holds), or "" when it does not: refused as roger.any() of none is, as a goal no
+// parts, which is true, or on the roger.negate of one that never holds), or after a roger.held's
+// seconds of such a part, or "" when it does not: refused as roger.any() of none is, as a goal no
 // learning can matter to. Whatever the time limit.
 std::string holds_at_once(const Predicate& goal);
 

@@ -132,9 +132,14 @@ std::string never_holds_within(const Predicate& goal, double time_limit) {
 }
 
 std::string holds_at_once(const Predicate& goal) {
-  if (!goal.always_holds()) return "";
-  return shortened_text(goal.describe(), 120) + " always holds: it rests on a roger.all() of no parts, which is true, "
-         "or on the roger.negate of a predicate that never holds, so every episode would end in success at its first tick";
+  if (goal.always_holds())
+    return shortened_text(goal.describe(), 120) + " always holds: it rests on a roger.all() of no parts, which is true, "
+           "or on the roger.negate of a predicate that never holds, so every episode would end in success at its first tick";
+  const double from = goal.certain_from();
+  if (!std::isfinite(from)) return "";
+  return shortened_text(goal.describe(), 120) + " holds after " + format_number(from) +
+         " simulated seconds whatever happens: it rests on a roger.held of a predicate that always holds (a roger.all() "
+         "of no parts, or the roger.negate of one that never holds), so every episode would end in success then";
 }
 
 }  // namespace roger
