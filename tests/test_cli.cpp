@@ -972,6 +972,12 @@ TEST_CASE("roger check says which project it looked in, and how to name what it 
   const Run pen = roger_in(lab, "check pen", "ROGER_HOME=" + fs::current_path().string());
   CHECK(pen.status == 1);
   CHECK_THAT(pen.err, Catch::Matchers::Contains("pen.lua is a file here: name it with its \".lua\" (roger check pen.lua)"));
+  // Found by a probe: after `roger run quick --out quick`, `roger check quick` read the folder.
+  fs::create_directories(lab / "quick");
+  const Run quick = roger_in(lab, "check quick", "ROGER_HOME=" + fs::current_path().string());
+  INFO(quick.err);
+  CHECK(quick.status == 0);
+  CHECK_THAT(quick.out, Catch::Matchers::StartsWith("quick: ok (batch script 'quick'"));
   fs::remove_all(lab);
 }
 

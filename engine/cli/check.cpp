@@ -266,7 +266,9 @@ namespace {
 std::string check_target(const std::string& arg) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (fs::exists(arg, ec)) return arg;
+  // A bare name is a file here, not a folder (found by a probe: after `roger run quick --out quick`,
+  // `roger check quick` read the results folder, where roger run takes scripts/quick.lua).
+  if (fs::is_regular_file(arg, ec) || (fs::exists(arg, ec) && arg.find('/') != std::string::npos)) return arg;
   if (arg.find('/') != std::string::npos) {
     if (fs::path(arg).is_relative() && fs::is_regular_file(project_root() / arg, ec))
       return (project_root() / arg).string();
