@@ -496,36 +496,40 @@ TEST_CASE("roger check of a batch script takes --set as roger run does", "[cli]"
 }
 
 // Found by a probe: scripts/slurm/submit.sh queued shards into a folder each refused once it started.
-// roger check --out says what roger run would find there, refusing what it would refuse.
-TEST_CASE("roger check of a batch script with --out checks its results folder and writes nothing", "[cli]") {
-  const fs::path dir = fs::temp_directory_path() / ("roger_cli_batch_out_" + std::to_string(::getpid()));
+// roger run --dry-run says what the run would find there, refusing what it would refuse, and writes
+// nothing.
+TEST_CASE("roger run --dry-run checks the run and its results folder, writing nothing", "[cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_cli_dry_run_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   std::ofstream(dir / "b.lua") << "return { name = 'b', curriculum = 'paper', trials = 2,\n"
                                   "  runs = { { name = 'SG', stage = 'SG', contexts = { 'B1' } } } }\n";
-  const std::string check = "check " + (dir / "b.lua").string() + " --out " + (dir / "out").string();
-  Run r = roger(check + " --shard 0/2");
+  const std::string out = (dir / "out").string();
+  const std::string run = "run " + (dir / "b.lua").string() + " --jobs 1 --out " + out;
+  Run r = roger(run + " --shard 0/2 --dry-run");
   INFO(r.err);
   CHECK(r.status == 0);
-  CHECK_THAT(r.out, Catch::Matchers::Contains("\n  --out " + (dir / "out").string() + " --shard 0/2: a new results "
-                                              "folder (roger run makes " + (dir / "out").string() + ")\n"));
+  CHECK(r.out == "roger run --dry-run: " + (dir / "b.lua").string() + " -> " + out +
+                     " (2 trials, curriculum paper: curricula/paper.lua)\n"
+                     "roger run --dry-run: shard 0 of 2: trial 0 of every run and evaluation (i mod 2 = 0), 1 of 2 "
+                     "trials; no report (run roger report " + out + " when every shard is done)\n"
+                     "roger run --dry-run: a new results folder (roger run makes " + out + ")\n"
+                     "roger run --dry-run: nothing written, no trial run\n");
   CHECK_FALSE(fs::exists(dir / "out"));
-  REQUIRE(roger("run " + (dir / "b.lua").string() + " --jobs 1 --shard 1/2 --out " + (dir / "out").string()).status == 0);
-  r = roger(check + " --shard 0/2");
+  REQUIRE(roger(run + " --shard 1/2").status == 0);
+  r = roger(run + " --shard 0/2 --dry-run");
   CHECK(r.status == 0);
-  CHECK_THAT(r.out, Catch::Matchers::Contains(": resumes " + (dir / "out").string() + " (1 of 2 trials have a result)\n"));
-  r = roger(check + " --shard 0/3");
+  CHECK_THAT(r.out, Catch::Matchers::Contains("roger run --dry-run: resumes " + out + " (1 of 2 trials have a result)\n"));
+  r = roger(run + " --shard 0/3 --dry-run");
   CHECK(r.status == 1);
   CHECK_THAT(r.err, Catch::Matchers::Contains("holds shards of N = 2 (shards/1-of-2.json), and this is shard 0 of 3"));
-  r = roger(check + " --trials 3 --set robot_distance=1.2");
+  r = roger(run + " --set robot_distance=1.2 --dry-run");
   CHECK(r.status == 1);
   CHECK_THAT(r.err, Catch::Matchers::Contains("params.robot_distance: absent in the folder, \"1.2\" now"));
+  r = roger(run + " --only SGX --dry-run");
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Matchers::Contains("SGX"));
   CHECK_FALSE(fs::exists(dir / "out" / "shards" / "0-of-3.json"));
-  r = roger(check + " --shard slurm");
-  CHECK(r.status == 1);
-  CHECK_THAT(r.err, Catch::Matchers::Contains("--shard slurm is a task of a Slurm array, which roger check is not"));
-  r = roger("check curricula/paper.lua --out " + (dir / "out").string());
-  CHECK(r.status == 1);
-  CHECK_THAT(r.err, Catch::Matchers::StartsWith("roger check: error: --trials, --out and --shard check a batch script"));
+  CHECK_FALSE(fs::exists(dir / "out" / "trials" / "SG" / "B1" / "000"));
   fs::remove_all(dir);
 }
 

@@ -6,13 +6,11 @@
 #include <filesystem>
 #include <functional>
 #include <map>
-#include <memory>
 #include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
-#include "batch/batch.h"
 #include "cli/cli_internal.h"
 #include "cli/commands.h"
 #include "core/fileio.h"
@@ -189,32 +187,10 @@ size_t check_runs_stages(const BatchScript& b, const ParamList& sets) {
   return count;
 }
 
-// The results folder `out` as roger run (as shard `shard`, "K/N", when given) would open it, said
-// without writing anything: before scripts/slurm/submit.sh queues shards that would each be refused
-// once they start (a folder of another build of roger, of another configuration, of shards of
-// another N). Prints what the run would do there; returns 0, or 1 after the refusal.
-int check_results_folder(const BatchScript& b, const std::string& out, const std::string& shard_text) {
-  try {
-    if (shard_text == "slurm")
-      throw Error("--shard slurm is a task of a Slurm array, which roger check is not: give the shard as K/N");
-    const Shard shard = shard_text.empty() ? Shard() : parse_shard(shard_text);
-    const BatchPlan plan = plan_batch(std::make_shared<const BatchScript>(b), out);
-    std::printf("  --out %s%s: %s\n", out.c_str(),
-                shard.active() ? (" --shard " + shard_text).c_str() : "", inspect_results_folder(plan, shard).c_str());
-    return 0;
-  } catch (const std::exception& e) {
-    std::fflush(stdout);
-    std::fprintf(stderr, "roger: error: %s\n", e.what());
-    return 1;
-  }
-}
-
 // roger check on a batch script: loads it and validates it against its curriculum, with the
 // command's --set as roger run takes them. `shown`: the script as the command line named it.
-int check_batch(const std::string& path, const std::string& shown, const CheckArgs& a, const ParamList& sets) {
-  const LuaLimitArgs& lua = a.lua;
+int check_batch(const std::string& path, const std::string& shown, const LuaLimitArgs& lua, const ParamList& sets) {
   BatchOverrides overrides;
-  overrides.trials = a.trials;
   overrides.sets = sets;
   overrides.instructions = lua.instructions;
   overrides.memory_mib = lua.memory_mib;
@@ -250,8 +226,7 @@ int check_batch(const std::string& path, const std::string& shown, const CheckAr
   // Where roger run writes without --out: scripts/slurm/submit.sh reads this line, so that its
   // jobs write where roger run would (the script's name, not its file's).
   std::printf("  results folder: results/%s (roger run's default --out)\n", b.name.c_str());
-  if (a.out.empty() && a.shard.empty()) return 0;
-  return check_results_folder(b, a.out.empty() ? "results/" + b.name : a.out, a.shard);
+  return 0;
 }
 
 }  // namespace
@@ -672,9 +647,6 @@ static int check_named_script(const CheckArgs& args) {
   CheckArgs a = args;
   a.script = check_target(args.script);
   if (report_static_problems(a.script) > 0) return 1;
-  if ((a.trials > 0 || !a.out.empty() || !a.shard.empty()) && !is_batch_script(a.script))
-    throw Error("roger check: --trials, --out and --shard check a batch script as roger run takes it, and " +
-                args.script + " is not a batch script (one returns runs, curriculum or evaluations)");
   const SandboxLimits limits = sandbox_limits(a.lua);
   if (!script_kind_of(a.script)) {
     const std::vector<ModuleUse> users = module_users(a.script, possible_requirers(a.script));
@@ -694,7 +666,7 @@ static int check_named_script(const CheckArgs& args) {
   if (is_curriculum_script(a.script)) return check_curriculum_file(a.script, args.script, limits, split_sets(a.sets, "--set"));
   if (is_skill_script(a.script))
     return check_skill_script_file(a.script, args.script, limits, split_sets(a.sets, "--set"));
-  if (is_batch_script(a.script)) return check_batch(a.script, args.script, a, split_sets(a.sets, "--set"));
+  if (is_batch_script(a.script)) return check_batch(a.script, args.script, a.lua, split_sets(a.sets, "--set"));
   return check_scenario_file(a, args.script, limits);
 }
 

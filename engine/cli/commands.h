@@ -32,6 +32,7 @@ struct RunArgs {
   std::string shard;                // "K/N" or "slurm": only that shard's trials, and no report ("" = all)
   bool no_eval_cache = false;       // run every greedy evaluation episode (same results, slower)
   bool explain = false;             // every training trial's result.json says why, reached or not
+  bool dry_run = false;             // check everything a run checks before its trials, folder too; run none
   LuaLimitArgs lua;                 // over the script's limits
   std::ostream* progress = nullptr; // where progress and messages go (nullptr = standard error)
 };
@@ -81,15 +82,9 @@ struct CheckArgs {
   std::vector<std::string> sets;
   int seeds = 20;
   LuaLimitArgs lua;
-  // A batch script's: --trials as roger run takes it, and the results folder (--out) that roger
-  // run (as shard --shard K/N) would open, checked without writing anything.
-  int trials = 0;
-  std::string out;
-  std::string shard;
 };
 
-// Loads and validates a scenario, skill script, curriculum or batch script (and the results
-// folder a batch script would run in, with --out or --shard); returns 0, or 1 listing the problems.
+// Loads and validates a scenario, skill script or curriculum; returns 0, or 1 listing the problems.
 int command_check(const CheckArgs& args);
 
 // The arguments of `roger eval SCRIPT.lua --policy NAME|FILE.json`.

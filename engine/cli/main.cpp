@@ -171,12 +171,6 @@ CLI::App* add_check(CLI::App& app, CheckArgs& a) {
   add_sets(c, a.sets, "Scenario parameter key=value (repeatable)");
   c->add_option("--seeds", a.seeds, "Seeds to generate")->capture_default_str()->check(integer_in(1, 100000));
   add_lua_limits(c, a.lua, "; a batch script's own limits otherwise");
-  c->add_option("--trials", a.trials, "A batch script's trials per run, as roger run --trials takes it")
-      ->check(integer_in(1, 100000));
-  c->add_option("--out", a.out,
-                "A batch script's results folder: checks, writing nothing, that roger run can start or resume "
-                "there (default with --shard: results/<name>)");
-  c->add_option("--shard", a.shard, "With --out: as shard K/N of roger run --shard (a folder of shards of another N is refused)");
   return c;
 }
 
@@ -261,6 +255,9 @@ CLI::App* add_run(CLI::App& app, RunArgs& a) {
                 "Run only shard K/N (0-based) of the trials, or 'slurm' inside a Slurm job array; "
                 "shards share one results folder, and roger report writes the report when all are done")
       ->check(shard_value());
+  c->add_flag("--dry-run", a.dry_run,
+              "Check what the run checks before its trials (the script, --only, the results folder as this "
+              "command would open it) and say what it would do there, writing nothing and running no trial");
   add_lua_limits(c, a.lua, ", or the batch script's limits; recorded in the results folder");
   return c;
 }

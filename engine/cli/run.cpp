@@ -211,15 +211,20 @@ namespace {
 
 // What a run says as it starts: its script, folder, trials and curriculum, its shard, and the
 // dashboard that follows it.
-void print_run_start(const BatchPlan& plan, const Shard& shard, std::ostream& log) {
+// "SCRIPT -> OUT (N trials, curriculum C)", and the shard's line, each after `prefix`.
+void print_run_plan(const BatchPlan& plan, const Shard& shard, const std::string& prefix, std::ostream& log) {
   const BatchScript& b = *plan.script;
   size_t trials = 0;
   for (const auto& p : plan.phases) trials += p.size();
   // The curriculum's file as found (a same-named file in the working folder is taken first).
   const std::string found = shown_from_project(b.curriculum_file);
-  log << "roger run: " << b.path << " -> " << plan.out << " (" << trials << (trials == 1 ? " trial" : " trials")
+  log << prefix << b.path << " -> " << plan.out << " (" << trials << (trials == 1 ? " trial" : " trials")
       << ", curriculum " << b.curriculum << (found == b.curriculum ? "" : ": " + found) << ")\n";
-  if (shard.active()) log << "roger run: " << describe_shard(plan, shard) << "\n";
+  if (shard.active()) log << prefix << describe_shard(plan, shard) << "\n";
+}
+
+void print_run_start(const BatchPlan& plan, const Shard& shard, std::ostream& log) {
+  print_run_plan(plan, shard, "roger run: ", log);
   // The dashboard from the start: it follows the run's status.js until the report is written. Written
   // before the line names it: a folder that takes no file left "roger run: open " unfinished above
   // the error (found by a probe).
@@ -275,6 +280,20 @@ int finish_run(const RunArgs& a, const BatchPlan& plan, const Shard& shard, cons
   return interrupt_exit_status();  // 130 after Ctrl-C, 143 after SIGTERM, as a shell reports them
 }
 
+// roger run --dry-run, once the script, its selectors and test tasks have passed: what the run
+// would find in its folder (inspect_results_folder refuses what opening it would), then an --only
+// that needs trials outside it; said on the standard output, nothing written, no trial run.
+// Found by a probe: scripts/slurm/submit.sh queued shards that each refused their folder, or a
+// misspelt option of ROGER_ARGS, once they had waited in the queue.
+int dry_run(const RunArgs& a, const BatchPlan& plan, const Shard& shard) {
+  const std::string folder = inspect_results_folder(plan, shard);
+  check_only_needs(plan, a.only, shard);
+  print_run_plan(plan, shard, "roger run --dry-run: ", std::cout);
+  std::cout << "roger run --dry-run: " << folder << "\n"
+            << "roger run --dry-run: nothing written, no trial run\n";
+  return 0;
+}
+
 // A test task no layout of its world seed holds fails every trial of its run at the first
 // evaluation that runs it: said before any trial starts, as roger check says it (found by a
 // newcomer: the nine trials of such a batch trained to their first checkpoint, then all failed).
@@ -309,6 +328,7 @@ int command_run(const RunArgs& a) {
     out = plan.out;
     check_selectors(plan, a.only);
     if (refuse_unplaceable_test_tasks(b, log)) return 1;
+    if (a.dry_run) return dry_run(a, plan, shard);
     // A new folder's --only that needs trials outside it is refused before anything is made there
     // (found by a probe: its manifest then refused the corrected command's other --trials); an
     // existing folder's once it is opened, against the trials it holds.

@@ -110,8 +110,8 @@ read -r -a run_args <<< "${ROGER_ARGS:-}"
 check_args=()
 for ((i = 0; i < ${#run_args[@]}; i++)); do
   case ${run_args[i]} in
-    --set | --trials | --lua-instructions | --lua-memory) check_args+=("${run_args[i]}" "${run_args[i + 1]:-}"); i=$((i + 1)) ;;
-    --set=* | --trials=* | --lua-instructions=* | --lua-memory=*) check_args+=("${run_args[i]}") ;;
+    --set | --lua-instructions | --lua-memory) check_args+=("${run_args[i]}" "${run_args[i + 1]:-}"); i=$((i + 1)) ;;
+    --set=* | --lua-instructions=* | --lua-memory=*) check_args+=("${run_args[i]}") ;;
   esac
 done
 checked=$("$bin" check "$script" ${check_args[@]+"${check_args[@]}"}) ||
@@ -119,19 +119,29 @@ checked=$("$bin" check "$script" ${check_args[@]+"${check_args[@]}"}) ||
 default_out=$(printf '%s\n' "$checked" | sed -n "s/^  results folder: \(.*\) (roger run's default --out)\$/\1/p")
 [ -n "$default_out" ] || die "roger check $script did not say where roger run writes (is $bin an older roger?)"
 out=$(absolute "${ROGER_OUT:-$default_out}")
-# The results folder as each shard will open it, checked before anything waits in the queue: a
-# folder made by another build of roger or another configuration, or holding shards of another N,
-# would refuse every task once it starts (found by a probe).
-"$bin" check "$script" ${check_args[@]+"${check_args[@]}"} --out "$out" --shard "0/$shards" >/dev/null ||
-  die "roger run would refuse the results folder $out (above): nothing was submitted"
+# Each task's command as array.sbatch runs it, as shard 0 and with --dry-run, before anything waits
+# in the queue: a misspelt option of ROGER_ARGS, an --only naming nothing, a results folder made by
+# another build of roger or another configuration, or holding shards of another N, would fail
+# every task once it starts (found by a probe).
+"$bin" run "$script" --shard "0/$shards" --jobs 1 --out "$out" ${run_args[@]+"${run_args[@]}"} --dry-run >/dev/null ||
+  die "roger run refuses the tasks' command (above: roger run $script --out $out ${ROGER_ARGS:-}): nothing was submitted"
 logs=$(absolute "${ROGER_LOGS:-$out/slurm}")
 # Slurm opens the jobs' output files but creates no folder for them. Those made here are removed
 # again, while empty, when sbatch refuses the jobs (found by a probe: a misspelt partition left an
 # empty folder behind).
+# The folders mkdir -p makes, deepest first: the two and each parent of theirs not there yet
+# (found by a probe: ROGER_OUT=a/b/c left a/ and a/b/ behind).
 made=()
 for folder in "$out" "$logs"; do
-  [ -d "$folder" ] || made=("$folder" ${made[@]+"${made[@]}"})
+  while [ ! -d "$folder" ]; do
+    made=("$folder" ${made[@]+"${made[@]}"})
+    folder=$(dirname "$folder")
+  done
 done
+# Deepest first, each once: logs inside out is removed before out.
+if [ ${#made[@]} -gt 0 ]; then
+  mapfile -t made < <(printf '%s\n' "${made[@]}" | sort -u | awk '{ print length($0) "\t" $0 }' | sort -k1,1rn | cut -f2-)
+fi
 mkdir -p "$out" "$logs"
 unmake() { for folder in ${made[@]+"${made[@]}"}; do rmdir "$folder" 2>/dev/null || true; done; }
 

@@ -182,7 +182,7 @@ grep -q "no parameter 'mas'" <<< "$out" && grep -q "with --set mas=0.7 (above): 
 if out=$(cd "$tmp/elsewhere" && PATH=$tmp/recorder:$PATH ROGER_BIN=$roger bash "$submit" file_name.lua 2 2>&1); then
   fail "submit.sh submitted 2 shards to a folder of shards of N = 3"
 fi
-grep -q "holds shards of N = 3" <<< "$out" && grep -q "would refuse the results folder .*: nothing was submitted" <<< "$out" ||
+grep -q "holds shards of N = 3" <<< "$out" && grep -q "roger run refuses the tasks' command .*: nothing was submitted" <<< "$out" ||
   fail "submit.sh on a folder of another N: unclear message: $out"
 sed -i 's/"engine": *"[^"]*"/"engine": "0000000000000000"/' "$tmp/elsewhere/results/renamed/manifest.json"
 if out=$(cd "$tmp/elsewhere" && PATH=$tmp/recorder:$PATH ROGER_BIN=$roger bash "$submit" file_name.lua 3 2>&1); then
@@ -192,6 +192,15 @@ grep -q "made by another build of the engine (engine 0000000000000000)" <<< "$ou
   fail "submit.sh on another build's folder: unclear message: $out"
 [ ! -e "$tmp/recorder/args" ] || fail "submit.sh called sbatch for a results folder roger run would refuse"
 rm -rf "$tmp/elsewhere/results/renamed"
+# And ROGER_ARGS as the tasks pass them: a misspelt option, an --only that names nothing.
+for args in "--tirals 2" "--only SGX" "--jobs 2"; do
+  if out=$(cd "$tmp/elsewhere" && PATH=$tmp/recorder:$PATH ROGER_BIN=$roger ROGER_ARGS="$args" bash "$submit" file_name.lua 2 2>&1); then
+    fail "submit.sh submitted with ROGER_ARGS=$args"
+  fi
+  grep -q "nothing was submitted" <<< "$out" || fail "submit.sh with ROGER_ARGS=$args: unclear message: $out"
+done
+[ ! -e "$tmp/recorder/args" ] || fail "submit.sh called sbatch with ROGER_ARGS roger run refuses"
+[ ! -e "$tmp/elsewhere/results/renamed" ] || fail "submit.sh's checks made the results folder"
 # A shard submitted again while tasks of an earlier array still run: the new report waits for them
 # (found by a probe: it ran first, failed on their trials, and no report followed them). squeue
 # here names two earlier arrays of this folder and one of another (each array's comment names its
@@ -211,7 +220,7 @@ rm -f "$tmp/recorder/args"
 grep -q -- "--dependency=afterok:7 " "$tmp/recorder/args" ||
   fail "a whole array's report waits for other jobs: $(cat "$tmp/recorder/args")"
 rm -f "$tmp/recorder/args" "$tmp/recorder/squeue"
-log "submit.sh writes where roger run writes, submits from its caller's folder, takes a bare script name, checks ROGER_ARGS's --set and the results folder, has a resubmitted shard's report wait for earlier arrays, and refuses a script roger check refuses before submitting"
+log "submit.sh writes where roger run writes, submits from its caller's folder, takes a bare script name, checks ROGER_ARGS and the results folder with the tasks' own command (--dry-run), has a resubmitted shard's report wait for earlier arrays, and refuses a script roger check refuses before submitting"
 
 # --- munge --------------------------------------------------------------------------------------
 
@@ -431,11 +440,13 @@ grep -q "afterany:${same_array}_" <<< "$waits" || fail "the shard's report does 
 ! grep -q "${other_array}_" <<< "$waits" || fail "the shard's report waits for another folder's array $other_array: $waits"
 log "a shard submitted again waits for its folder's earlier array, not another's: $waits"
 # A job sbatch refuses leaves no folder behind (found by a probe: an empty one stayed).
-if out=$(ROGER_BIN=$roger ROGER_OUT=$tmp/refused bash "$submit" scripts/quick.lua 3 --partition=nosuch 2>&1); then
+# Nor the parents mkdir -p made for it (found by a probe: ROGER_OUT=a/b/c left a/ and a/b/).
+if out=$(ROGER_BIN=$roger ROGER_OUT=$tmp/refused/a/b ROGER_LOGS=$tmp/refused_logs/x bash "$submit" scripts/quick.lua 3 --partition=nosuch 2>&1); then
   fail "submit.sh succeeded with --partition=nosuch"
 fi
 grep -q "submit.sh: sbatch failed" <<< "$out" || fail "submit.sh --partition=nosuch: unclear message: $out"
 [ ! -e "$tmp/refused" ] || fail "submit.sh left $tmp/refused behind when sbatch refused the array"
+[ ! -e "$tmp/refused_logs" ] || fail "submit.sh left $tmp/refused_logs behind when sbatch refused the array"
 
 touch "$tmp/before-resume"
 sleep 1
