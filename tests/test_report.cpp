@@ -469,6 +469,16 @@ TEST_CASE("a tiny batch writes every file, with tables that match the trials, wh
     const std::string shell = "'" + (f.root / "cut '\\''copy'\\''").string() + "'";
     CHECK_THAT(quoted.str(), Catch::Matchers::Contains(" --out " + shell + ", with the same options") &&
                                  Catch::Matchers::Contains("roger report --partial " + shell + " to report"));
+    // The script by where it is, not as it was typed (found by a probe: `roger run quick.lua` of a
+    // lab's own script, pasted in another folder, ran the project's scripts/quick.lua there).
+    json typed = json::parse(slurp(moved / "manifest.json"));
+    typed["script"] = "batch.lua";
+    spit(moved / "manifest.json", typed.dump(1) + "\n");
+    std::ostringstream placed;
+    again.progress = &placed;
+    CHECK(command_report(again) == 1);
+    CHECK_THAT(placed.str(), Catch::Matchers::Contains("(roger run " + (f.root / "batch.lua").string() + " --out " + shell));
+    again.progress = &quoted;
     again.partial = true;
     CHECK(command_report(again) == 0);
     json status = json::parse(slurp(moved / "status.json"));

@@ -939,6 +939,8 @@ BatchPlan read_results_plan(const std::string& dir) {
     throw Error((fs::path(dir) / "manifest.json").string() + ": field \"config\": " + json_error_text(e.what()));
   }
   script->path = manifest["script"].get<std::string>();
+  if (manifest.contains("script_file") && manifest["script_file"].is_string())
+    script->file = manifest["script_file"].get<std::string>();  // where it was: `path` is as it was typed
   BatchPlan plan = plan_batch(std::move(script), dir);
   if (const std::string p = planned_trials_problem(manifest, plan, false); !p.empty())
     throw Error((fs::path(dir) / "manifest.json").string() + ": " + p);

@@ -125,7 +125,10 @@ int print_missing(const std::vector<MissingTrial>& missing, const BatchPlan& pla
     log << "  ... and " << more << " more without a result: " << groups << "\n";
   }
   const bool sharded = std::any_of(missing.begin(), missing.end(), [](const MissingTrial& m) { return !m.owner.empty(); });
-  log << "Run the roger run command that made the folder again (roger run " << shell_word(plan.script->path)
+  // The script by its place, not as it was typed (found by a probe: `roger run quick.lua` of a lab's
+  // own quick.lua, pasted in another folder, ran the project's scripts/quick.lua into the folder).
+  const std::string script = plan.script->file.empty() ? plan.script->path : shown_from_project(plan.script->file);
+  log << "Run the roger run command that made the folder again (roger run " << shell_word(script)
       << " --out " << shell_word(plan.out) << ", with the same options and the same --shard for a shard"
       << (sharded ? "; shards of a Slurm array: scripts/slurm/submit.sh SCRIPT N --array=K for each shard K named "
                     "above, with the same ROGER_OUT and ROGER_ARGS"
