@@ -1794,6 +1794,14 @@ TEST_CASE("roger eval and render of a saved policy set the parameters its trial 
   CHECK_THAT(r.out, Catch::Matchers::Contains("note: the trial trained with eye_pixels = 64, upper_arm = 0.6; scenario "
                                               "cluttered plays its own values of them here (--set eye_pixels=64 --set "
                                               "upper_arm=0.6 plays the trial's)\n"));
+  // In its stage's scenario, render says the trained-with line eval says (found by a probe: docs/cli.md
+  // promised it, and render gave it only in the page's title).
+  r = roger("render curricula/paper.lua --policy " + policy + " --set upper_arm=0.5 --out " + (dir / "own").string());
+  INFO(r.err);
+  CHECK_THAT(r.out, Catch::Matchers::StartsWith(
+                        "trained with: eye_pixels = 64 (the trial's own parameters, set here too; a --set of one "
+                        "overrides it)\ntrained with: upper_arm = 0.6, overridden by --set upper_arm=0.5 (the trial's "
+                        "own parameters, not in force here)\nwrote "));
   // Found by a probe: given with another curriculum, a policy read "has no stage 'SG'" alone.
   r = roger("eval docs/examples/curriculum_example.lua --policy " + policy + " --episodes 2");
   CHECK(r.status == 1);

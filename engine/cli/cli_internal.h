@@ -31,6 +31,13 @@ std::string file_error_line(const FileError& e, bool resumes = true);
 // "roger propose: error: --budget ...": not "roger: error: roger propose: ...".
 std::string error_line(const std::string& message);
 
+// "eye_pixels = 32, overridden by --set eye_pixels=128": `params`, each one a --set of `sets`
+// replaced with another value marked so, and each one of a saved policy's trial sets otherwise
+// (`trial`, set here too) marked as that (learn_commands.cpp).
+std::string params_marking_sets(const std::vector<std::pair<std::string, std::string>>& params,
+                                const std::vector<std::string>& sets,
+                                const std::vector<std::pair<std::string, std::string>>& trial = {});
+
 // file_error_line for roger report: it writes only into its folder (a folder it may not write
 // into needs another place, or a copy), and it resumes nothing.
 std::string report_file_error_line(const FileError& e);

@@ -230,6 +230,14 @@ int run_render_policy_file(const RenderArgs& a) {
     task = ", test task " + std::to_string(a.test_task) + " (" + (task.empty() ? "the stage's own parameters" : task) + ")";
   }
   const std::string trained = r.about.trial_sets.empty() ? "" : " with " + params_text(r.about.trial_sets);
+  // As roger eval says them (found by a probe: docs/cli.md promised the line, and render gave it
+  // only in the page's title).
+  if (!r.about.trial_sets.empty())
+    std::printf("trained with: %s (the trial's own parameters, set here too; a --set of one overrides it)\n",
+                params_text(r.about.trial_sets).c_str());
+  if (!r.about.trial_sets_overridden.empty())
+    std::printf("trained with: %s (the trial's own parameters, not in force here)\n",
+                params_marking_sets(r.about.trial_sets_overridden, a.sets).c_str());
   // Found by a probe: eval said so, render did not, and its title gave no body.
   if (!r.about.trial_sets_left.empty())
     std::printf("note: %s\n", trial_params_left_note(r.about.trial_sets_left, r.about.trial_sets_left_declared, r.about.scenario).c_str());

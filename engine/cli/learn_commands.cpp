@@ -91,6 +91,30 @@ std::string stimulus_unseen_in(const std::string& scenario, const ParamList& par
   }
 }
 
+// "eye_pixels = 32, overridden by --set eye_pixels=128": parameters, each one a --set of `sets`
+// replaced with another value marked so (found by a probe: the line read as if the coarse eyes were
+// in force), and each one a saved policy's trial set otherwise (`trial`, set here too) marked as
+// that (found by a newcomer: eval said obstacles = 0 of a policy trained, and evaluated, with 2).
+std::string params_marking_sets(const std::vector<std::pair<std::string, std::string>>& params,
+                                const std::vector<std::string>& sets,
+                                const std::vector<std::pair<std::string, std::string>>& trial) {
+  std::string text;
+  for (const auto& [name, value] : params) {
+    text += (text.empty() ? "" : ", ") + name + " = " + value;
+    bool by_set = false;
+    for (const std::string& set : sets)
+      if (set.rfind(name + "=", 0) == 0) {
+        by_set = true;
+        if (set.substr(name.size() + 1) != value) text += ", overridden by --set " + set;
+      }
+    if (by_set) continue;
+    for (const auto& [trial_name, trial_value] : trial)
+      if (trial_name == name && trial_value != value)
+        text += ", overridden by the trial's own " + name + " = " + trial_value;
+  }
+  return text;
+}
+
 namespace {
 
 // Which worlds failed, the first few of them (all in --json), and the roger render command that
@@ -127,27 +151,6 @@ void print_changes(const EvalArgs& a) {
 
 using Params = std::vector<std::pair<std::string, std::string>>;
 
-// "eye_pixels = 32, overridden by --set eye_pixels=128": parameters, each one a --set of `sets`
-// replaced with another value marked so (found by a probe: the line read as if the coarse eyes were
-// in force), and each one a saved policy's trial set otherwise (`trial`, set here too) marked as
-// that (found by a newcomer: eval said obstacles = 0 of a policy trained, and evaluated, with 2).
-std::string params_marking_sets(const Params& params, const std::vector<std::string>& sets, const Params& trial = {}) {
-  std::string text;
-  for (const auto& [name, value] : params) {
-    text += (text.empty() ? "" : ", ") + name + " = " + value;
-    bool by_set = false;
-    for (const std::string& set : sets)
-      if (set.rfind(name + "=", 0) == 0) {
-        by_set = true;
-        if (set.substr(name.size() + 1) != value) text += ", overridden by --set " + set;
-      }
-    if (by_set) continue;
-    for (const auto& [trial_name, trial_value] : trial)
-      if (trial_name == name && trial_value != value)
-        text += ", overridden by the trial's own " + name + " = " + trial_value;
-  }
-  return text;
-}
 
 // The stage's and context's own scenario parameters, when they have any (found by a probe: a
 // maturation's frozen eyes were said nowhere in train's or eval's output).
