@@ -1338,6 +1338,13 @@ TEST_CASE("a key given twice with two values is refused naming both", "[cli]") {
   // The same value twice says one thing: it runs.
   const Run same = roger("eval curricula/scripted.lua --policy task --episodes 1 --set shape=spade --set shape=spade");
   CHECK(same.status == 0);
+  // And is said once (found by a probe: roger train listed it twice).
+  const std::string out = (fs::temp_directory_path() / ("roger_cli_same_set_" + std::to_string(::getpid()))).string();
+  const Run trained = roger("train docs/examples/curriculum_example.lua --stage Look --context Gaze --seed 3 "
+                            "--set robot_distance=1 --set robot_distance=1 --out " + out);
+  CHECK(trained.status == 0);
+  CHECK_THAT(trained.out, Catch::Matchers::Contains("\n  with           --set robot_distance=1\n"));
+  fs::remove_all(out);
 }
 
 // Found by a probe: --set "obstacles = 2" said the scenario has no parameter 'obstacles ' and

@@ -585,8 +585,9 @@ void print_trained_on(const TrainArgs& a, const TrainResult& r) {
   if (!r.scenario_note.empty()) std::printf("  note           %s\n", r.scenario_note.c_str());
   print_stage_params(r.stage_params, r.stage, r.context, a.sets);
   // As roger eval says it, so that a trial on another body never reads as one on the default body.
+  // Each key once, as it was taken (found by a probe: a --set given twice was listed twice).
   std::string sets;
-  for (const auto& s : a.sets) sets += (sets.empty() ? "" : ", ") + ("--set " + s);
+  for (const auto& [k, v] : split_sets(a.sets, "--set")) sets += (sets.empty() ? "" : ", ") + ("--set " + k + "=" + v);
   if (!sets.empty()) std::printf("  with           %s\n", sets.c_str());
   for (const auto& s : r.skills)
     std::printf("  skill %s        %s%s\n", s.name.c_str(), skill_origin(s, !a.sets.empty()).c_str(),
