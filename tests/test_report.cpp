@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -28,6 +29,7 @@
 #include "batch/batch.h"
 #include "cli/cli_internal.h"
 #include "cli/commands.h"
+#include "core/interrupt.h"
 #include "core/text.h"
 #include "learn/learning.h"
 #include "report/report.h"
@@ -412,6 +414,20 @@ TEST_CASE("a tiny batch writes every file, with tables that match the trials, wh
 
   REQUIRE(f.run("two", 2) == 0);
   same_results(one, f.root / "two");
+  // A stop that came before the report began (every trial had ended: here, before the command
+  // started) is said so, not as one "during the report" (found by a probe); the report is written.
+  {
+    catch_interrupts();
+    std::raise(SIGTERM);
+    REQUIRE(interrupt_requested());
+    std::string log;
+    const int status = f.run("two", 1, 0, &log);
+    clear_interrupt();
+    CHECK(status == 143);
+    CHECK_THAT(log, Catch::Matchers::EndsWith("roger run: stopped on request after its trials had ended, before the "
+                                              "report, which was written all the same\n"));
+    same_results(one, f.root / "two");
+  }
 
   // The report alone rewrites the same tables.
   const std::string before = slurp(one / "tables.md");

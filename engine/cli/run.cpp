@@ -254,6 +254,9 @@ int finish_run(const RunArgs& a, const BatchPlan& plan, const Shard& shard, cons
   if (summary.undiagnosed) print_undiagnosed(summary.undiagnosed, log);
   int status = 0;
   std::string report = "none";
+  // A stop that came before the report began (a resumed folder whose trials had all ended) is not
+  // one "during the report" (found by a probe).
+  const bool stopped_before_report = interrupt_requested();
   if (!summary.corrupt.empty() && !a.no_report && !shard.active()) {
     log << "roger run: no report: some trials' files cannot be read (listed below)\n";
   } else if (reporting) {
@@ -272,12 +275,17 @@ int finish_run(const RunArgs& a, const BatchPlan& plan, const Shard& shard, cons
   const int outcome =
       print_outcome(summary, log, again.empty() ? "run the same command again to continue"
                                                 : "to continue, submit this shard again: " + again) ? 1 : status;
-  if (!summary.interrupted && interrupt_requested()) {
-    log << "roger run: stopped on request after its trials had ended" << (report == "written" ? ", during the "
-           "report, which was completed" : "") << "\n";
+  // A stop with no selected trial left to run cut nothing (every one had a result before it came).
+  const bool cut = summary.interrupted && summary.pending > 0;
+  if (!cut && interrupt_requested()) {
+    log << "roger run: stopped on request after its trials had ended"
+        << (report != "written"        ? ""
+            : stopped_before_report ? ", before the report, which was written all the same"
+                                    : ", during the report, which was completed")
+        << "\n";
     return interrupt_exit_status();
   }
-  if (!summary.interrupted) return outcome;
+  if (!cut) return outcome;
   log << "roger run: interrupted; the trials that were running start afresh when you "
       << (again.empty() ? "run the same command again" : "submit this shard again (" + again + ")") << "\n";
   return interrupt_exit_status();  // 130 after Ctrl-C, 143 after SIGTERM, as a shell reports them
