@@ -640,7 +640,7 @@ TEST_CASE("roger check of a curriculum sets each --set on the stages that declar
   // the --set blamed, not the line of curricula/lib/paper_stages.lua that writes the stage (found by
   // a probe: a misspelt --set noise_jionts read as the shipped library's error).
   CHECK_THAT(paper.err, Catch::Matchers::Contains("roger: error: --set objects=3: stage 'SG' "
-                                                  "(curricula/lib/paper_stages.lua:103): scenario 'unobstructed' "
+                                                  "(curricula/lib/paper_stages.lua:106): scenario 'unobstructed' "
                                                   "(scenarios/unobstructed.lua) has no parameter 'objects'"));
 
   const fs::path dir = fs::temp_directory_path() / ("roger_cli_per_object_" + std::to_string(::getpid()));

@@ -759,6 +759,19 @@ TEST_CASE("a stage's bad field is reported at the line it is written on", "[curr
   // name nothing defines, was reported at the stage's line; it is at its context's.
   CHECK_THAT(error_with("learned.lua", "", "{ name = 'A', actions = { p.phi3, roger.learned('Nope') } },"),
              Contains("learned.lua:9: stage 'S', context 'A': roger.learned('Nope') names no skill"));
+  // Found by a probe: a learned skill named as a primitive kind, or as a controller the script
+  // defines, passed, and read as that controller in Psi's errors and in usage.
+  CHECK_THAT(error_with("kind.lua", "", "{ name = 'A', actions = { p.phi3, roger.learned('phi0') } },"),
+             Contains("kind.lua:9: roger.learned: the name 'phi0' is a primitive kind, which always means that kind's "
+                      "default primitive; a learned skill needs another name (e.g. 'phi0_learned')"));
+  CHECK_THAT(error_with("yields_kind.lua", "skill = { name = 'phi1', context = 'B' },", good),
+             Contains("yields_kind.lua:6: stage 'S': skill: field 'name': the name 'phi1' is a primitive kind"));
+  CHECK_THAT(error_with("yields_named.lua", "skill = { name = 'Phi6' }, x = require('lib.skills').Phi6(p),", good),
+             Contains("unknown field 'x'"));
+  CHECK_THAT(error_with("yields_named.lua", "skill = { name = 'Phi6', context = 'B' },",
+                        "{ name = 'A', actions = { p.phi3, require('lib.skills').Phi6(p) } },"),
+             Contains("yields_named.lua:6: stage 'S': skill: the name 'Phi6' is a controller's the script defines (at ") &&
+                 Contains("yields_named.lua:9); a learned skill and a controller of one name would read as one"));
   CHECK_THAT(error_with("named.lua", "", "{ name = 'A', actions = { p.phi3, 'transprot' } },"),
              Contains("named.lua:9: stage 'S', context 'A': action 2 names 'transprot', which is not defined"));
   // A named context beside the list was dropped without a word (found by a probe): refused.
@@ -873,7 +886,7 @@ TEST_CASE("changes made to a roger.stage table after the call count and are chec
   const std::string wrapper = (dir.path / "wrapper.lua").string();
   std::ofstream(wrapper) << "local paper = require('paper')\npaper.stages[2].budget = { episodes = -5 }\nreturn paper\n";
   CHECK_THAT(error_of([&] { Curriculum::load(wrapper); }),
-             Catch::Matchers::Contains("curricula/lib/paper_stages.lua:121: stage 'T': budget: field 'episodes' must be a "
+             Catch::Matchers::Contains("curricula/lib/paper_stages.lua:124: stage 'T': budget: field 'episodes' must be a "
                                        "positive integer, got -5"));
   // Its upper bound is named when crossed (found by a probe).
   std::ofstream(wrapper) << "local paper = require('paper')\npaper.stages[2].budget = { episodes = 2147483647 }\nreturn paper\n";
@@ -882,12 +895,12 @@ TEST_CASE("changes made to a roger.stage table after the call count and are chec
                                        "100000000, got 2147483647"));
   std::ofstream(wrapper) << "local paper = require('paper')\npaper.stages[1].bogus = 3\nreturn paper\n";
   CHECK_THAT(error_of([&] { Curriculum::load(wrapper); }),
-             Catch::Matchers::Contains("curricula/lib/paper_stages.lua:103: stage 'SG': unknown field 'bogus'"));
+             Catch::Matchers::Contains("curricula/lib/paper_stages.lua:106: stage 'SG': unknown field 'bogus'"));
   // That line had accepted the table: the error says the change came after (found by a probe: a
   // wrapper's misspelt learner field read as the library's mistake).
   std::ofstream(wrapper) << "local paper = require('paper')\npaper.stages[1].learner.alpah = 0.3\nreturn paper\n";
   CHECK_THAT(error_of([&] { Curriculum::load(wrapper); }),
-             Catch::Matchers::Contains("curricula/lib/paper_stages.lua:103: stage 'SG': learner: unknown field 'alpah' "
+             Catch::Matchers::Contains("curricula/lib/paper_stages.lua:106: stage 'SG': learner: unknown field 'alpah' "
                                        "(did you mean 'alpha'?)"));
   CHECK_THAT(error_of([&] { Curriculum::load(wrapper); }),
              Catch::Matchers::Contains("(roger.stage accepted this stage's table here; it was changed after roger.stage "

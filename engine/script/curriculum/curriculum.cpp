@@ -119,6 +119,8 @@ int l_learned(lua_State* L) {
     if (name.empty()) luaL_error(L, "roger.learned: the name must not be empty");
     if (const std::string problem = name_text_problem(name); !problem.empty())
       luaL_error(L, "roger.learned: the name %s", problem.c_str());
+    if (const std::string problem = curriculum_detail::skill_name_problem(name); !problem.empty())
+      luaL_error(L, "roger.learned: %s", problem.c_str());
     auto it = book.learned.find(name);
     if (it == book.learned.end()) it = book.learned.emplace(name, std::make_shared<LearnedRef>(name)).first;
     lua_push_controller(L, it->second);
@@ -332,6 +334,22 @@ void check_init_order(const std::vector<CurriculumStage>& stages) {
     }
 }
 
+// A skill a stage yields is named apart from the controllers the script names (found by a probe: a
+// skill 'Phi6' beside lib.skills' Phi6 passed, and read as one in Psi's errors and in usage).
+void check_skill_names(const std::vector<CurriculumStage>& stages, LuaSandbox& sandbox) {
+  const std::vector<NamedController> named = named_controllers(sandbox);
+  for (const CurriculumStage& st : stages) {
+    if (!st.skill) continue;
+    for (const NamedController& c : named)
+      if (c.name == st.skill->first)
+        throw ScriptError(st.where() + ": skill: the name '" + c.name + "' is a controller's the script defines" +
+                              (c.file.empty() ? "" : " (at " + c.file + ":" + std::to_string(c.line) + ")") +
+                              "; a learned skill and a controller of one name would read as one in Psi and in usage: "
+                              "give the skill another name",
+                          st.file, curriculum_detail::field_line(st, "", "skill"), "");
+  }
+}
+
 void check_learned_order(const std::vector<CurriculumStage>& stages) {
   std::map<std::string, size_t> produced;
   for (size_t i = 0; i < stages.size(); ++i) {
@@ -397,6 +415,7 @@ Curriculum Curriculum::load(const std::string& path_in, const SandboxLimits& lim
   try {
     read_stages(impl, path);
     check_learned_order(impl.stages);
+    check_skill_names(impl.stages, sandbox);
     check_init_order(impl.stages);
   } catch (const ScriptError& e) {
     if (std::optional<ScriptError> moved = curriculum_detail::at_stage_field(e)) throw *moved;  // its line

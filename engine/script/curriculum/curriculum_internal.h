@@ -71,6 +71,10 @@ void refuse_more_results(lua_State* L, int base, const std::string& what, const 
 std::unique_ptr<Teacher> make_lua_teacher(LuaSandbox& sandbox, const CurriculumStage& stage, const LuaCallback& fn,
                                           const TaskSpace& space, uint64_t seed, const std::string& file_named);
 
+// Why `name` cannot name a learned skill (a primitive kind, which always means that kind's default
+// primitive), or "" (curriculum_stage.cpp).
+std::string skill_name_problem(const std::string& name);
+
 // ---- parameters (curriculum_params.cpp)
 
 // The line where the stage's `params` (or, with a context's name, that context's) is written in

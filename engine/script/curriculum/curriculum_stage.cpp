@@ -6,6 +6,7 @@
 
 #include "core/text.h"
 #include "core/error.h"
+#include "control/primitives.h"
 #include "script/curriculum/curriculum_internal.h"
 #include "script/control/lua_control.h"
 #include "script/scenario/scenario.h"
@@ -170,13 +171,21 @@ void read_actions(lua_State* L, int idx, const std::string& ctx, CurriculumConte
   if (n == 0) luaL_error(L, "%s: Psi is empty: a context needs at least one action", ctx.c_str());
   if (n > 12)
     luaL_error(L, "%s: Psi has %d actions; at most 12 are allowed (3^12 states)", ctx.c_str(), int(n));
-  std::set<std::string> action_names;
+  std::map<std::string, ControllerPtr> action_names;
   for (lua_Integer i = 1; i <= n; ++i) {
     lua_rawgeti(L, idx, i);
     ControllerPtr a = lua_check_controller(L, -1, ctx, "action " + std::to_string(i));
     lua_pop(L, 1);
-    if (!action_names.insert(a->name()).second)
-      luaL_error(L, "%s: two actions are named '%s'; the names of Psi must differ", ctx.c_str(), a->name().c_str());
+    const auto [it, fresh] = action_names.emplace(a->name(), a);
+    if (!fresh) {
+      // A learned skill's stand-in beside a controller of its name: say which is which.
+      const bool learned = dynamic_cast<const LearnedRef*>(a.get()) || dynamic_cast<const LearnedRef*>(it->second.get());
+      const std::string which = learned ? " (one is roger.learned('" + a->name() + "'), the skill a stage yields, the "
+                                          "other a controller the script defines: give the stage's skill another name)"
+                                        : "";
+      luaL_error(L, "%s: two actions are named '%s'%s; the names of Psi must differ", ctx.c_str(), a->name().c_str(),
+                 which.c_str());
+    }
     c.actions.push_back(std::move(a));
   }
   std::set<const Controller*> visited;
@@ -358,6 +367,7 @@ void read_budget_checkpoints(lua_State* L, const LuaFields& f, const std::string
   lua_pop(L, 1);
 }
 
+
 // Reads the stage's optional 'skill' {name, context}: the skill the stage yields.
 void read_skill(lua_State* L, const LuaFields& f, const std::string& where, CurriculumStage& st) {
   if (f.push("skill") != LUA_TNIL) {
@@ -367,6 +377,7 @@ void read_skill(lua_State* L, const LuaFields& f, const std::string& where, Curr
     const std::string ctx = s.string("context");
     if (name.empty()) s.fail("field 'name' must not be empty");
     if (const std::string problem = name_text_problem(name); !problem.empty()) s.fail("field 'name' " + problem);
+    if (const std::string problem = skill_name_problem(name); !problem.empty()) s.fail("field 'name': " + problem);
     std::vector<std::string> names;
     for (const auto& c : st.contexts) names.push_back(c.name);
     if (std::find(names.begin(), names.end(), ctx) == names.end())
@@ -413,6 +424,13 @@ bool checkpoints_field(lua_State* L, const LuaFields& f, const char* key) {
 }
 
 }  // namespace
+
+std::string skill_name_problem(const std::string& name) {
+  const std::vector<std::string>& kinds = primitive_names();
+  if (std::find(kinds.begin(), kinds.end(), name) == kinds.end()) return "";
+  return "the name '" + name + "' is a primitive kind, which always means that kind's default primitive; a learned "
+         "skill needs another name (e.g. '" + name + "_learned')";
+}
 
 // Reads a stage table at `index` into `st`, raising Lua errors "stage 'X': ..." (at the caller's
 // file:line when called from Lua). Functions given for absorbing/reward are kept in the registry.
