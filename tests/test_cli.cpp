@@ -1249,7 +1249,7 @@ TEST_CASE("roger train claims its folder: a second writer is refused, a dead one
     const Run r = roger(train);
     ::close(fd);
     CHECK(r.status == 1);
-    CHECK_THAT(r.err, Catch::Matchers::Contains("roger train: the folder '" + out.string() +
+    CHECK_THAT(r.err, Catch::Matchers::Contains("roger train: error: the folder '" + out.string() +
                                                 "' is in use by another command writing into it (pid " +
                                                 std::to_string(::getpid()) + " on here): wait for it to end"));
     CHECK_FALSE(fs::exists(out / "policy.json"));
@@ -1500,7 +1500,7 @@ TEST_CASE("roger render refuses the options of its other form", "[cli]") {
     const Run r = roger("render scenarios/cluttered.lua --seed 3 " + option + " --out " + png.string());
     INFO(option << ": " << r.err);
     CHECK(r.status == 1);
-    CHECK_THAT(r.err, Catch::Matchers::Contains("roger render: " + option.substr(0, option.find(' ')) +
+    CHECK_THAT(r.err, Catch::Matchers::Contains("roger render: error: " + option.substr(0, option.find(' ')) +
                                                 " is an option of an episode's recording (--policy); without it roger "
                                                 "render draws one world of scenarios/cluttered.lua"));
   }
@@ -1508,7 +1508,7 @@ TEST_CASE("roger render refuses the options of its other form", "[cli]") {
     const Run r = roger("render curricula/scripted.lua --policy task --seed 3 " + option + " --out " + png.string());
     INFO(option << ": " << r.err);
     CHECK(r.status == 1);
-    CHECK_THAT(r.err, Catch::Matchers::Contains("roger render: " + option.substr(0, option.find(' ')) +
+    CHECK_THAT(r.err, Catch::Matchers::Contains("roger render: error: " + option.substr(0, option.find(' ')) +
                                                 " is an option of a world's picture (without --policy)"));
   }
   CHECK_FALSE(fs::exists(png));
@@ -2406,14 +2406,14 @@ TEST_CASE("eval refuses seeds that would wrap past 2^64 - 1", "[cli]") {
   const Run high = roger("eval curricula/paper.lua --policy tests/policies/sg_dc2.json --seed 9223372036854775808 --episodes 1");
   CHECK(high.status == 1);
   CHECK_THAT(high.err, Catch::Matchers::Contains(
-                           "roger eval: --seed 9223372036854775808: a saved policy's episodes take a first seed of at "
+                           "roger eval: error: --seed 9223372036854775808: a saved policy's episodes take a first seed of at "
                            "most 9223372036854775807"));
   // The same for roger render's recording (found by a probe: it recorded seed 1000000 unsaid).
   const Run render = roger("render curricula/paper.lua --policy tests/policies/sg_dc2.json --seed 18446744073709551615 "
                            "--out /tmp/roger_cli_render_high_seed");
   CHECK(render.status == 1);
   CHECK_THAT(render.err, Catch::Matchers::Contains(
-                             "roger render: --seed 18446744073709551615: a saved policy's episodes take a first seed of "
+                             "roger render: error: --seed 18446744073709551615: a saved policy's episodes take a first seed of "
                              "at most 9223372036854775807"));
   CHECK_FALSE(std::filesystem::exists("/tmp/roger_cli_render_high_seed"));
 }
