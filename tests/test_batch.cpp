@@ -1147,10 +1147,10 @@ TEST_CASE("a folder refused for holding more trials says which --trials resumes 
   INFO(text);
   CHECK_FALSE(open(3));
   CHECK_THROWS_WITH(open(0), Catch::Contains("runs[1].trials: 3 in the folder, 2 now") &&
-                                 Catch::Contains("The folder's manifest plans more trials than this command does (a "
-                                                 "run with a larger --trials wrote it, whether or not those trials "
-                                                 "ran; a plan never shrinks): to resume it, run the command with "
-                                                 "--trials 3, the folder's number of trials."));
+                                 Catch::Contains("The folder's manifest plans more trials than this command does (it "
+                                                 "was made, or grown, with more trials than this command gives, "
+                                                 "whether or not those trials ran; a plan never shrinks): to resume "
+                                                 "it, run the command with --trials 3, the folder's number of trials."));
   CHECK(open(3));
   fs::remove_all(dir);
 }

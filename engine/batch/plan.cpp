@@ -371,8 +371,11 @@ std::string fewer_trials_hint(const json& old_config, const json& config) {
   const std::string how = counts.size() == 1 ? "run the command with --trials " + std::to_string(*counts.begin()) +
                                                    ", the folder's number of trials"
                                              : "give the script's runs and evaluations the folder's numbers of trials";
-  return "\nThe folder's manifest plans more trials than this command does (a run with a larger --trials wrote "
-         "it, whether or not those trials ran; a plan never shrinks): to resume it, " + how + ".";
+  // Not "a larger --trials wrote it": the script's own trials may have been cut by --trials now
+  // (found by a probe: `--trials 1` on a folder of the script's 2 blamed a --trials never given).
+  return "\nThe folder's manifest plans more trials than this command does (it was made, or grown, with more "
+         "trials than this command gives, whether or not those trials ran; a plan never shrinks): to resume it, " +
+         how + ".";
 }
 
 // For a refusal where only the files' places differ: every Lua file holds what it held, but the
