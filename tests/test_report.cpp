@@ -909,6 +909,8 @@ TEST_CASE("a failing trial is recorded and does not lose the others", "[report][
   CHECK(finished_ids(out).size() == 6);  // every training trial
   CHECK(fs::exists(fs::path(trial_dir(out.string(), "eval/gen/circle/000")) / "error.json"));
   CHECK(log.find("4 trials failed") != std::string::npos);
+  // The progress line counts them among those done (found by a probe: "4/4 done" read as success).
+  CHECK(log.find("trials: 4/4 done (4 failed), 0 running, 0 left") != std::string::npos);
   CHECK(log.find("eval/gen/spade/001") != std::string::npos);
   CHECK(slurp(out / "summary.csv").find(",failed,") != std::string::npos);
   CHECK(fs::is_regular_file(out / "tables.md"));

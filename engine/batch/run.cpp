@@ -82,6 +82,7 @@ class TrialPool {
       if (!read_finished(trial_dir(options.out_dir, ids[i]), outcomes_[i])) pending_.push_back(i);
     }
     resumed_ = ids.size() - pending_.size();
+    for (const TrialOutcome& o : outcomes_) failed_ += o.resumed && !o.ok;
   }
 
   // Runs the pending trials on `jobs` threads while reporting progress; returns every outcome.
@@ -115,7 +116,10 @@ class TrialPool {
     const size_t left = pending_.size() - done_ - running_;
     std::ostringstream os;
     os << "trials: " << resumed_ + done_ << "/" << outcomes_.size() << " done";
-    if (resumed_) os << " (" << resumed_ << " from an earlier run)";
+    // The failed among them (found by a probe: "2/2 done" above "0 of 2 trials done, 2 failed").
+    if (failed_ || resumed_)
+      os << " (" << (failed_ ? std::to_string(failed_) + " failed" : "") << (failed_ && resumed_ ? ", " : "")
+         << (resumed_ ? std::to_string(resumed_) + " from an earlier run" : "") << ")";
     os << ", " << running_ << " running, " << left << " left, " << format_duration(elapsed) << " elapsed";
     if (!final)
       if (const double to_go = time_to_go(); to_go >= 0) os << ", about " << format_duration(to_go) << " to go";
@@ -162,6 +166,7 @@ class TrialPool {
         --running_;
         began_.erase(k);
         finished ? ++done_ : ++stopped_;
+        failed_ += finished && !outcome.ok;
         // A failed trial may have stopped at once: only those that finished well are timed.
         if (finished && outcome.ok) durations_.push_back(outcome.wall_seconds);
       }
@@ -251,6 +256,7 @@ class TrialPool {
   std::condition_variable wake_;
   std::atomic<size_t> next_{0};
   size_t done_ = 0, running_ = 0, stopped_ = 0;
+  size_t failed_ = 0;  // of those done, and of those from an earlier run: an error.json
   int workers_ = 1;
   std::map<size_t, Clock::time_point> began_;  // when each running trial began, by its place in pending_
   std::vector<double> durations_;              // wall seconds of the trials that finished well
