@@ -772,6 +772,25 @@ TEST_CASE("a stage's bad field is reported at the line it is written on", "[curr
                         "{ name = 'A', actions = { p.phi3, require('lib.skills').Phi6(p) } },"),
              Contains("yields_named.lua:6: stage 'S': skill: the name 'Phi6' is a controller's the script defines (at ") &&
                  Contains("yields_named.lua:9); a learned skill and a controller of one name would read as one"));
+  // Found by a probe: written through a helper module's roger.stage, the name's error named the
+  // module's line alone; its traceback now names the author's line that called it.
+  {
+    std::ofstream(tmp.path / "helper_stages.lua") << "local M = {}\n"
+                                                     "function M.look(p, actions)\n"
+                                                     "  return roger.stage{ name = 'Look', time_limit = 3,\n"
+                                                     "    absorbing = roger.converged(p.phi0), budget = { episodes = 4 },\n"
+                                                     "    contexts = { { name = 'A', actions = actions } } }\n"
+                                                     "end\n"
+                                                     "return M\n";
+    const auto path = tmp.path / "uses_helper.lua";
+    std::ofstream(path) << "local p = require('lib.skills').primitives()\n"
+                           "local M = require('helper_stages')\n"
+                           "return { stages = { M.look(p, { p.search, 'phi00' }) } }\n";
+    const std::string error = error_of([&] { Curriculum::load(path.string()); });
+    CHECK_THAT(error, Contains("helper_stages.lua:5: stage 'Look', context 'A': action 2 names 'phi00', which is not "
+                               "defined anywhere in the script (did you mean 'phi0'?)") &&
+                          Contains("uses_helper.lua:3: in main chunk"));
+  }
   CHECK_THAT(error_with("named.lua", "", "{ name = 'A', actions = { p.phi3, 'transprot' } },"),
              Contains("named.lua:9: stage 'S', context 'A': action 2 names 'transprot', which is not defined"));
   // A named context beside the list was dropped without a word (found by a probe): refused.

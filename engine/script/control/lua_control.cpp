@@ -41,6 +41,23 @@ Location caller_location(lua_State* L) {
   return where;
 }
 
+// Lua's traceback from the running C function when a Lua function of a file other than `file` (its
+// caller's) is on the stack above that caller: a library called from another file, whose line alone
+// would not tell the author where the mistake is (found by a probe: an action name never defined, in
+// a list the author wrote, was placed at the line of the helper module's roger.stage). "" otherwise.
+std::string traceback_through_another_file(lua_State* L, const std::string& file) {
+  lua_Debug ar;
+  bool other = false;
+  for (int level = 2; !other && lua_getstack(L, level, &ar); ++level)
+    other = lua_getinfo(L, "Sl", &ar) && ar.currentline > 0 &&
+            (ar.source && ar.source[0] == '@' ? ar.source + 1 : ar.short_src) != file;
+  if (!other) return "";
+  luaL_traceback(L, L, nullptr, 1);
+  std::string traceback = lua_tostring(L, -1);
+  lua_pop(L, 1);
+  return traceback;
+}
+
 // Whether a chunk's file is one of the project's shipped libraries (curricula/lib/*.lua,
 // scenarios/lib/*.lua): code the script's author calls but did not write.
 // A chunk's name is relative to the project root for a file inside it (the sandbox names modules
@@ -375,7 +392,7 @@ void finish_control_definitions(LuaSandbox& sandbox) {
       for (const auto& n : book->named) candidates.push_back(n.name);
       throw ScriptError(r.context + " names '" + name + "', which is not defined anywhere in the script" +
                             suggestion(name, candidates) + "; " + known_names(*book),
-                        r.where.file, r.where.line, "");
+                        r.where.file, r.where.line, r.traceback);
     }
     r.ref->bind(book->named[it->second].controller);
   }
@@ -472,7 +489,9 @@ ControllerPtr lua_check_controller(lua_State* L, int index, const std::string& c
   auto it = book.references.find(name);
   if (it == book.references.end()) {
     count_object(L, book);
-    it = book.references.emplace(name, Reference{std::make_shared<NameReference>(name), prefix, caller_location(L)}).first;
+    const Location where = caller_location(L);
+    it = book.references.emplace(name, Reference{std::make_shared<NameReference>(name), prefix, where,
+                                                 traceback_through_another_file(L, where.file)}).first;
     book.reference_order.push_back(name);
   }
   return it->second.ref;

@@ -46,6 +46,9 @@ struct Reference {
   std::shared_ptr<NameReference> ref;
   std::string context;  // "roger.sequence('A'): step 2"
   Location where;
+  // Lua's traceback when `where` is a library's line that another file called (a stage built by a
+  // helper module): the error of a name never defined names the caller's line too.
+  std::string traceback;
 };
 
 // What a script has defined: named controllers, default primitives, pending references. Lives in

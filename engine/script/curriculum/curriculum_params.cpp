@@ -3,6 +3,7 @@
 // `params` table that gives it (rather than later, by the trial or roger check, with no line).
 #include <filesystem>
 #include <optional>
+#include <sstream>
 #include <algorithm>
 #include <tuple>
 
@@ -225,6 +226,22 @@ std::optional<NamedField> named_field(const std::string& rest) {
 
 }  // namespace
 
+// e's traceback when it goes on to a file other than e's own (a stage a helper module writes for
+// its caller, whose line tells where the mistake is), else "": within one file it names the
+// roger.stage{ call's line, which the field's line replaces.
+std::string traceback_of_caller(const ScriptError& e) {
+  std::istringstream lines(e.traceback);
+  std::string line;
+  std::getline(lines, line);  // "stack traceback:"
+  while (std::getline(lines, line)) {
+    const size_t start = line.find_first_not_of(" \t");
+    if (start == std::string::npos || line.compare(start, 3, "[C]") == 0) continue;
+    const size_t colon = line.find(':', start);
+    if (colon != std::string::npos && line.substr(start, colon - start) != e.file) return e.traceback;
+  }
+  return "";
+}
+
 std::optional<ScriptError> at_stage_field(const ScriptError& e) {
   // Found by a probe: a stage's misspelt or ill-typed field was reported at its roger.stage{
   // line, however far below it was written. A table carries no lines; the text does.
@@ -244,7 +261,8 @@ std::optional<ScriptError> at_stage_field(const ScriptError& e) {
   int node = stage_node(map, e.line), line = e.line;
   if (node < 0 || map.nodes()[size_t(node)].line != e.line) return std::nullopt;  // raised elsewhere (a callback)
   if (m->context) std::tie(node, line) = context_node(map, node, *m->context, line);
-  if (!in_call) return node >= 0 ? std::optional<ScriptError>(ScriptError(e.message, e.file, line, "")) : std::nullopt;
+  const std::string traceback = traceback_of_caller(e);
+  if (!in_call) return node >= 0 ? std::optional<ScriptError>(ScriptError(e.message, e.file, line, traceback)) : std::nullopt;
   std::string rest = m->rest;
   node = descend(map, node, line, rest);
   // "tasks.goal_radius must be ...": the key's line in the field's table (found by a probe).
@@ -259,7 +277,7 @@ std::optional<ScriptError> at_stage_field(const ScriptError& e) {
   if (line == e.line) return std::nullopt;
   // Without the traceback: it names the roger.stage{ call's line, which the text's line replaces
   // (found by a probe: a message at the context's line 39 above a traceback saying line 30).
-  return ScriptError(e.message, e.file, line, "");
+  return ScriptError(e.message, e.file, line, traceback);
 }
 
 void check_stage_params(const CurriculumStage& st) {
