@@ -27,6 +27,12 @@ std::vector<std::string> unread_sets_in_batch(const BatchScript& b,
 // the command resumes where it stopped when run again (roger run, roger report).
 std::string file_error_line(const FileError& e, bool resumes = true);
 
+// A required option left out that the parser could not require, since what it takes is read from
+// the script (--stage, --context of roger train): exit status 2, as the parser's refusals.
+struct CommandLineError : Error {
+  using Error::Error;
+};
+
 // "roger: error: MESSAGE", or, when the message names its command ("roger propose: --budget ..."),
 // "roger propose: error: --budget ...": not "roger: error: roger propose: ...".
 std::string error_line(const std::string& message);

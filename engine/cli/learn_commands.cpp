@@ -645,13 +645,13 @@ void check_stage_and_context(const TrainArgs& a) {
   if (a.stage.empty()) {
     std::vector<std::string> stages;
     for (const CurriculumStage& s : curriculum.stages()) stages.push_back(s.name);
-    throw Error("--stage is required: curriculum '" + curriculum.name() + "' (" + curriculum.path() +
+    throw CommandLineError("--stage is required: curriculum '" + curriculum.name() + "' (" + curriculum.path() +
                 ") has the stages " + join(stages));
   }
   const CurriculumStage& stage = curriculum.stage(a.stage);
   std::vector<std::string> contexts;
   for (const CurriculumContext& c : stage.contexts) contexts.push_back(c.name);
-  throw Error("--context is required: " + stage.where() + " has the contexts " + join(contexts));
+  throw CommandLineError("--context is required: " + stage.where() + " has the contexts " + join(contexts));
 }
 
 int command_train(const TrainArgs& a) {

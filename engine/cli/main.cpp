@@ -497,6 +497,10 @@ int with_output_written(int status) {
 int run_checked(Commands& commands) {
   try {
     return run_command(commands);
+  } catch (const CommandLineError& e) {
+    std::fflush(stdout);
+    std::cerr << error_line(printable_text(e.what())) << "\nRun with --help for more information.\n";
+    return 2;
   } catch (const FileError& e) {
     std::fflush(stdout);
     std::cerr << error_line(file_error_line(e, false)) << "\n";
