@@ -481,7 +481,7 @@ TEST_CASE("a results folder in use by a run is refused to a second run, parts of
   status_file >> second;
   INFO(err);
   CHECK(second == 1);
-  CHECK_THAT(err, Catch::Contains("roger run: the results folder '" + results.string() + "' is in use by another roger run (pid "));
+  CHECK_THAT(err, Catch::Contains("roger run: error: the results folder '" + results.string() + "' is in use by another roger run (pid "));
   CHECK(shell("bash tests/tools/compare_results.sh --golden tests/golden/quick " + results.string() + " 1>&2", &err) == 0);
   fs::remove_all(results);
   fs::remove_all(out);

@@ -1865,7 +1865,7 @@ TEST_CASE("a script of the wrong kind is named as what it is, with what runs it"
     std::string args, says;
   };
   const std::vector<Case> cases = {
-      {"run scenarios/cluttered.lua --out " + out, "roger run: " + scenario + "batch script" + draw},
+      {"run scenarios/cluttered.lua --out " + out, "roger run: error: " + scenario + "batch script" + draw},
       {"propose scenarios/cluttered.lua --stage SG --budget 3000 --out " + out,
        "roger: error: " + scenario + "curriculum" + draw},
       {"train scenarios/cluttered.lua --stage SG --context B1 --out " + out,
@@ -1878,7 +1878,7 @@ TEST_CASE("a script of the wrong kind is named as what it is, with what runs it"
       {"eval scripts/quick.lua --policy x.json",
        "roger: error: " + batch + "curriculum or skill script: run it with roger run scripts/quick.lua\n"},
       {"run curricula/scripted.lua --out " + out,
-       "roger run: curricula/scripted.lua is a skill script, not a batch script: evaluate one of its policies with "
+       "roger run: error: curricula/scripted.lua is a skill script, not a batch script: evaluate one of its policies with "
        "roger eval curricula/scripted.lua --policy NAME\n"},
       // Found by a probe: render without --policy read a skill script as a scenario (a traceback
       // from curricula/lib/skills.lua), and with --policy a scenario as a skill script.
@@ -1905,7 +1905,7 @@ TEST_CASE("a script of the wrong kind is named as what it is, with what runs it"
        "roger: error: curricula/paper.lua is a curriculum, not a skill script: train one of its stages"},
       // As before: a curriculum given to roger run.
       {"run curricula/paper.lua --out " + out,
-       "roger run: curricula/paper.lua is a curriculum, not a batch script: train one of its stages with roger train "
+       "roger run: error: curricula/paper.lua is a curriculum, not a batch script: train one of its stages with roger train "
        "curricula/paper.lua --stage S --context C --out DIR, or name it as the curriculum of a batch script"},
   };
   for (const auto& c : cases) {

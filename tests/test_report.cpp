@@ -760,7 +760,7 @@ TEST_CASE("an --only that needs policies outside it that have no result is refus
   CHECK(said.status == 1);
   INFO(said.log);
   CHECK_THAT(said.log, Catch::Matchers::Contains(
-                             "roger run: --only T/DC6: its trials need the policies of trials outside it that have no "
+                             "roger run: error: --only T/DC6: its trials need the policies of trials outside it that have no "
                              "result yet (not run, or failed): SG/DC2/000, SG/DC2/001, for T/DC6/000, T/DC6/001. "
                              "Nothing was run: add --only SG/DC2 to this command, or run it first"));
   CHECK_FALSE(fs::exists(trial_dir(a.out, "T/DC6/000")));
@@ -798,7 +798,7 @@ TEST_CASE("roger run refuses a folder with files but no manifest, before touchin
   CHECK(f.run("out", 2) == 1);
   CHECK(f.run("out", 2, 0, &log) == 1);
   INFO(log);
-  CHECK_THAT(log, Catch::Matchers::Contains("roger run: the folder '" + (f.root / "out").string() +
+  CHECK_THAT(log, Catch::Matchers::Contains("roger run: error: the folder '" + (f.root / "out").string() +
                                             "' holds results of roger run (") &&
                       Catch::Matchers::Contains(") but no manifest.json, so nothing tells which script and parameters "
                                                 "made them, and the trials of this run would mix with them. Move them "
@@ -808,7 +808,7 @@ TEST_CASE("roger run refuses a folder with files but no manifest, before touchin
   fs::create_directories(f.root / "notes");
   spit(f.root / "notes" / "tables.md", "x\n");
   CHECK(f.run("notes", 2, 0, &log) == 1);
-  CHECK_THAT(log, Catch::Matchers::Contains("roger run: the folder '" + (f.root / "notes").string() +
+  CHECK_THAT(log, Catch::Matchers::Contains("roger run: error: the folder '" + (f.root / "notes").string() +
                                             "' is not a results folder of roger run (it has no manifest.json) and is "
                                             "not empty: it holds tables.md. roger run would write its trials, report "
                                             "and dashboard (index.html, tables.md) over or among them: give --out a "

@@ -1316,7 +1316,7 @@ TEST_CASE("report --by names what the records have, and a damaged record's file 
   REQUIRE(run_shell(report + " --by bogus > /dev/null 2>" + err.string()) == 1);
   // The records of every table it would split: the comparisons of 8 rows and of 2, and Sequence's,
   // said to be records (a trial shown by two tables is read twice), not episodes.
-  CHECK_THAT(slurp(err), Contains("roger report: --by bogus: no final-evaluation episode the tables read has a feature "
+  CHECK_THAT(slurp(err), Contains("roger report: error: --by bogus: no final-evaluation episode the tables read has a feature "
                                   "'bogus' (210 records read, a trial's once for each table that shows it); they have: "
                                   "level, objects, obstacles, shape"));
   CHECK((fs::exists(copy.path / "tables.md") ? slurp(copy.path / "tables.md") : "") == tables_before);

@@ -366,10 +366,10 @@ int command_run(const RunArgs& a) {
     // read-only empty folder, said "it resumes where this one stopped").
     std::error_code ec;
     const bool made = !out.empty() && std::filesystem::exists(std::filesystem::path(out) / "manifest.json", ec);
-    log << "roger run: " << file_error_line(e, made) << "\n";
+    log << "roger run: error: " << file_error_line(e, made) << "\n";
     return 1;
   } catch (const std::exception& e) {
-    log << "roger run: " << e.what() << "\n";
+    log << "roger run: error: " << e.what() << "\n";
     return 1;
   }
 }
@@ -413,10 +413,10 @@ int command_report(const ReportArgs& a) {
     }
     return 0;
   } catch (const FileError& e) {
-    log << "roger report: " << report_file_error_line(e) << "\n";
+    log << "roger report: error: " << report_file_error_line(e) << "\n";
     return 1;
   } catch (const std::exception& e) {
-    log << "roger report: " << e.what() << "\n";
+    log << "roger report: error: " << e.what() << "\n";
     return 1;
   }
 }

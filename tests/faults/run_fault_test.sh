@@ -127,7 +127,7 @@ case $case in
     "$roger" run "$script" --jobs 2 --out "$out" >"$log" 2>&1
     status=$?
     set -e
-    check_stop $status "^roger run: the disk is full: cannot write .*'$out/[^']+': No space left on device\. Free some space, then run the same command again: it resumes where this one stopped$"
+    check_stop $status "^roger run: error: the disk is full: cannot write .*'$out/[^']+': No space left on device\. Free some space, then run the same command again: it resumes where this one stopped$"
     mount -o remount,size=20m "$dir/disk"
     check_resumed 1
     ;;
@@ -140,13 +140,13 @@ case $case in
     "$roger" run "$script" --jobs 2 --out "$out" >"$log" 2>&1
     status=$?
     set -e
-    check_stop $status "^roger run: cannot [a-z ]+'$out/[^']*': (Read-only file system|Permission denied)\. Make the folder writable \(or give another with --out\), then run the same command again: it resumes where this one stopped$"
+    check_stop $status "^roger run: error: cannot [a-z ]+'$out/[^']*': (Read-only file system|Permission denied)\. Make the folder writable \(or give another with --out\), then run the same command again: it resumes where this one stopped$"
     if [ -n "$mounted" ]; then mount -o remount,rw "$mounted"; else chmod -R u+w "$out"; fi
     check_resumed 4
     ;;
   script_removed)
     run_copy_altering_curriculum rm tests/scripts/kill_curriculum.lua
-    check_stop $status "^roger run: cannot read '$dir/copy/tests/scripts/kill_curriculum.lua': it was removed while the run was using it\. Put it back as it was, then run the same command again: it resumes where this one stopped$"
+    check_stop $status "^roger run: error: cannot read '$dir/copy/tests/scripts/kill_curriculum.lua': it was removed while the run was using it\. Put it back as it was, then run the same command again: it resumes where this one stopped$"
     cp "$dir/kept.lua" tests/scripts/kill_curriculum.lua
     check_resumed 1
     ;;
@@ -154,7 +154,7 @@ case $case in
     # The advice is to put it back (resumed) or to run the new version in another folder, not
     # that a folder does not exist.
     run_copy_altering_curriculum edit_curriculum
-    check_stop $status "^roger run: '$dir/copy/tests/scripts/kill_curriculum.lua' changed while the run was using it\. Put it back as it was, then run the same command again: it resumes where this one stopped; or, to run the new version, give another --out$"
+    check_stop $status "^roger run: error: '$dir/copy/tests/scripts/kill_curriculum.lua' changed while the run was using it\. Put it back as it was, then run the same command again: it resumes where this one stopped; or, to run the new version, give another --out$"
     cp "$dir/kept.lua" tests/scripts/kill_curriculum.lua
     check_resumed 1
     ;;
