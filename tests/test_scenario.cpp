@@ -416,6 +416,9 @@ TEST_CASE("scenario parameters", "[scenario]") {
     CHECK_THROWS_WITH(s.set_param("obstacles", " 2"), StartsWith("parameter 'obstacles' of scenario 'cluttered' "
                                                                  "expects an integer in [0, 8], got ' 2'"));
     CHECK_THROWS_WITH(s.set_param("mass", "\t1"), Contains("expects a number in [0.01, 10000], got '\t1'"));
+    // Found by a probe: hexadecimal, which strtod reads, was taken (eye_pixels=0x20 ran 32 pixels).
+    CHECK_THROWS_WITH(s.set_param("eye_pixels", "0x20"), Contains("expects an integer in [16, 512], got '0x20'"));
+    CHECK_THROWS_WITH(s.set_param("mass", "0X1p-1"), Contains("expects a number in [0.01, 10000], got '0X1p-1'"));
     // Found by a probe: `--set noise_joints_delay=2.0` was refused where a table's `delay = 2.0` is
     // taken. A whole number written as a float is that integer; a fraction is still refused.
     CHECK_NOTHROW(s.set_param("obstacles", "2.0"));

@@ -136,6 +136,9 @@ bool parse_slot(ParamSlot& s, const std::string& text, std::string& why) {
   const bool numeric = s.info.type == ParamType::kInteger || s.info.type == ParamType::kNumber;
   // strtoll and strtod skip leading blanks, which would take " 3" where "3 " is refused.
   if (numeric && !text.empty() && std::isspace(static_cast<unsigned char>(text[0]))) return refuse();
+  // Nor hexadecimal, which strtod takes (found by a probe: --set eye_pixels=0x20 ran 32 pixels and
+  // was recorded as 0x20; robot_distance = "0x10" from Python was 16 m).
+  if (numeric && text.find_first_of("xX") != std::string::npos) return refuse();
   bool parsed = true;
   switch (s.info.type) {
     case ParamType::kInteger: parsed = parse_integer_text(text, s.integer); break;
