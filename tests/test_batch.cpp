@@ -568,10 +568,10 @@ TEST_CASE("a started shard records its N and a run without shards still opens th
   fs::remove_all(out);
 }
 
-// Found by a probe: shard 1 with --trials 4 rewrote the manifest while shard 0 ran the folder's
-// plan of 2; shard 0 ended "done", and no one ran the new trials it owned.
-TEST_CASE("a plan that changes is refused while other parts run the folder's", "[batch][shard]") {
-  const fs::path dir = fresh_dir("shard_replan"), out = dir / "out";
+// The kill curriculum's batch of 2 trials of SG/B1 in `dir`, as written, and with --trials 4: a
+// plan and the plan that grows from it.
+static std::pair<std::shared_ptr<const BatchScript>, std::shared_ptr<const BatchScript>> two_plans_of_kill_batch(
+    const fs::path& dir) {
   fs::create_directories(dir);
   std::ofstream(dir / "batch.lua") << "return {\n"
                                       "  name = \"kill\", curriculum = \"kill_curriculum.lua\", trials = 2, seed = 7,\n"
@@ -582,6 +582,14 @@ TEST_CASE("a plan that changes is refused while other parts run the folder's", "
   four.trials = 4;
   const auto script = std::make_shared<const BatchScript>(load_batch_script((dir / "batch.lua").string()));
   const auto more = std::make_shared<const BatchScript>(load_batch_script((dir / "batch.lua").string(), four));
+  return {script, more};
+}
+
+// Found by a probe: shard 1 with --trials 4 rewrote the manifest while shard 0 ran the folder's
+// plan of 2; shard 0 ended "done", and no one ran the new trials it owned.
+TEST_CASE("a plan that changes is refused while other parts run the folder's", "[batch][shard]") {
+  const fs::path dir = fresh_dir("shard_replan"), out = dir / "out";
+  const auto [script, more] = two_plans_of_kill_batch(dir);
   {
     const RunningClaim zero(out.string(), Shard{0, 2});
     CHECK_FALSE(open_results_folder(plan_batch(script, out.string()), nullptr, Shard{0, 2}, &zero));
@@ -603,16 +611,7 @@ TEST_CASE("a plan that changes is refused while other parts run the folder's", "
 // refuses what it would refuse, writing nothing: not even a plan that grows.
 TEST_CASE("inspect_results_folder says what a run would do in a folder and writes nothing", "[batch][shard]") {
   const fs::path dir = fresh_dir("inspected"), out = dir / "out";
-  fs::create_directories(dir);
-  std::ofstream(dir / "batch.lua") << "return {\n"
-                                      "  name = \"kill\", curriculum = \"kill_curriculum.lua\", trials = 2, seed = 7,\n"
-                                      "  runs = { { name = \"SG\", stage = \"SG\", contexts = { \"B1\" } } },\n"
-                                      "}\n";
-  fs::copy_file("tests/scripts/kill_curriculum.lua", dir / "kill_curriculum.lua");
-  BatchOverrides four;
-  four.trials = 4;
-  const auto script = std::make_shared<const BatchScript>(load_batch_script((dir / "batch.lua").string()));
-  const auto more = std::make_shared<const BatchScript>(load_batch_script((dir / "batch.lua").string(), four));
+  const auto [script, more] = two_plans_of_kill_batch(dir);
   CHECK(inspect_results_folder(plan_batch(script, out.string()), Shard{0, 2}) ==
         "a new results folder (roger run makes " + out.string() + ")");
   CHECK_FALSE(fs::exists(out));
