@@ -525,8 +525,8 @@ std::string late_source_problem(const BatchPlan& plan, const json& old_config, c
 }
 
 // Checks that an existing manifest was made by this engine and configuration, or by one that this
-// configuration extends (extends(): then the manifest is rewritten with it, and the returned note
-// says what changed; "" otherwise).
+// configuration extends (extends(): then the manifest is rewritten with it, unless `write` is false,
+// and the returned note says what changed; "" otherwise).
 std::string check_manifest(const BatchPlan& plan, const fs::path& manifest_path, json config,
                            const json& fresh_manifest, const RunningClaim* claim, bool write = true) {
   json old;
@@ -1304,13 +1304,13 @@ json planned_manifest(const BatchPlan& plan) {
       if (t.run) seeds[t.id] = t.seed;
     }
   json manifest = {{"format", "roger-results/1"},
-                         {"script", b.path},
-                         {"script_file", fs::absolute(b.file).lexically_normal().string()},
-                         {"version", ROGER_VERSION},
-                         {"engine", ROGER_ENGINE_FINGERPRINT},
-                         {"config", config},
-                         {"trials", ids},
-                         {"seeds", seeds}};
+                   {"script", b.path},
+                   {"script_file", fs::absolute(b.file).lexically_normal().string()},
+                   {"version", ROGER_VERSION},
+                   {"engine", ROGER_ENGINE_FINGERPRINT},
+                   {"config", config},
+                   {"trials", ids},
+                   {"seeds", seeds}};
   return manifest;
 }
 

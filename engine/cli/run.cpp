@@ -212,8 +212,6 @@ std::string file_error_line(const FileError& e, bool resumes) {
 
 namespace {
 
-// What a run says as it starts: its script, folder, trials and curriculum, its shard, and the
-// dashboard that follows it.
 // "SCRIPT -> OUT (N trials, curriculum C)", and the shard's line, each after `prefix`.
 void print_run_plan(const BatchPlan& plan, const Shard& shard, const std::string& prefix, std::ostream& log) {
   const BatchScript& b = *plan.script;
@@ -226,6 +224,8 @@ void print_run_plan(const BatchPlan& plan, const Shard& shard, const std::string
   if (shard.active()) log << prefix << describe_shard(plan, shard) << "\n";
 }
 
+// What a run says as it starts: its script, folder, trials and curriculum, its shard, and the
+// dashboard that follows it.
 void print_run_start(const BatchPlan& plan, const Shard& shard, std::ostream& log) {
   print_run_plan(plan, shard, "roger run: ", log);
   // The dashboard from the start: it follows the run's status.js until the report is written. Written
