@@ -236,7 +236,8 @@ TEST_CASE("roger check counts each context's actions", "[cli]") {
   Run r = roger("check curricula/paper.lua");
   CHECK(r.status == 0);
   CHECK_THAT(r.out, Catch::Matchers::Contains("\n  SG: B1 4 actions, DC1 5 actions, DC2 3 actions\n"
-                                              "  T: B2 5 actions, DC3 6 actions, DC4 4 actions, DC5 4 actions, DC6 2 actions\n"));
+                                              "  T: B2 5 actions, DC3 6 actions, DC4 4 actions, DC5 4 actions, DC6 2 actions\n"
+                                              "  sequences: Phi6 2 steps, Phi7 2 steps, Phi_STG 2 steps\n"));
   const fs::path c = temp_file("roger_cli_counts.lua", "local p = require('lib.skills').primitives()\n"
                                                        "local mine = { reach = p.phi1 }\n"
                                                        "return { stages = { roger.stage{ name = 'S', time_limit = 5,\n"
@@ -248,6 +249,16 @@ TEST_CASE("roger check counts each context's actions", "[cli]") {
   CHECK(r.status == 0);
   CHECK_THAT(r.out, Catch::Matchers::Contains("\n  S: A 1 action, B 2 actions\n"));
   fs::remove(c);
+  // And each sequence's steps, in a skill script too (found by a probe: the same nil in a step list).
+  const fs::path k = temp_file("roger_cli_steps.lua", "local p = require('lib.skills').primitives()\n"
+                                                      "local mine = { look = p.phi0 }\n"
+                                                      "local s = roger.sequence('look_then', { p.search, mine.lok })\n"
+                                                      "return { policies = { x = { action = s, goal = "
+                                                      "roger.converged(p.phi0), time_limit = 5 } } }\n");
+  r = roger("check " + k.string());
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("\n  sequences: look_then 1 step\n"));
+  fs::remove(k);
 }
 
 TEST_CASE("roger check warns of a declared parameter generate never reads, and of a stage that sets one", "[cli]") {

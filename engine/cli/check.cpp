@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cli/cli_internal.h"
+#include "control/control.h"
 #include "cli/commands.h"
 #include "core/fileio.h"
 #include "core/text.h"
@@ -454,6 +455,24 @@ void warn_stimulus_unseen(const CurriculumStage& st, const SandboxLimits& limits
   }
 }
 
+// "  sequences: Phi6 2 steps, Phi7 2 steps\n" for each sequence reached from `roots` (once, in the
+// order met), or "" when none is: a nil at the end of a step list (a misspelt field of one's own
+// table) leaves no hole to refuse, and shows here as one step fewer (found by a probe).
+std::string sequence_steps(const std::vector<const Controller*>& roots) {
+  std::set<const Controller*> seen;
+  std::string listed;
+  std::function<void(const Controller*)> visit = [&](const Controller* c) {
+    if (!c || !seen.insert(c).second) return;
+    if (const auto* sequence = dynamic_cast<const Sequence*>(c)) {
+      const size_t n = sequence->steps().size();
+      listed += (listed.empty() ? "" : ", ") + c->name() + " " + std::to_string(n) + (n == 1 ? " step" : " steps");
+    }
+    for (const Controller* child : c->children()) visit(child);
+  };
+  for (const Controller* root : roots) visit(root);
+  return listed.empty() ? "" : "  sequences: " + listed + "\n";
+}
+
 // A curriculum: its stages' callbacks called once each (check_curriculum), then its stages listed.
 int check_curriculum_file(const std::string& path, const std::string& shown, const SandboxLimits& limits,
                           const ParamList& sets) {
@@ -514,6 +533,11 @@ int check_curriculum_file(const std::string& path, const std::string& shown, con
                 (c.actions.size() == 1 ? " action" : " actions");
     std::printf("  %s: %s\n", st.name.c_str(), counts.c_str());
   }
+  std::vector<const Controller*> actions;
+  for (const auto& st : cur.stages())
+    for (const auto& c : st.contexts)
+      for (const auto& a : c.actions) actions.push_back(a.get());
+  std::printf("%s", sequence_steps(actions).c_str());
   return 0;
 }
 
@@ -528,6 +552,9 @@ int check_skill_script_file(const std::string& path, const std::string& shown, c
   std::string names;
   for (const auto& n : script.policy_names()) names += (names.empty() ? "" : ", ") + n;
   std::printf("%s: ok (skill script '%s'; policies: %s)\n", shown.c_str(), script.name().c_str(), names.c_str());
+  std::vector<const Controller*> controllers;
+  for (const ControllerPtr& c : script.controllers()) controllers.push_back(c.get());
+  std::printf("%s", sequence_steps(controllers).c_str());
   return 0;
 }
 
