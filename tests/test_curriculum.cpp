@@ -770,7 +770,7 @@ TEST_CASE("a stage's bad field is reported at the line it is written on", "[curr
              Contains("unknown field 'x'"));
   CHECK_THAT(error_with("yields_named.lua", "skill = { name = 'Phi6', context = 'B' },",
                         "{ name = 'A', actions = { p.phi3, require('lib.skills').Phi6(p) } },"),
-             Contains("yields_named.lua:6: stage 'S': skill: the name 'Phi6' is a controller's the script defines (at ") &&
+             Contains("yields_named.lua:6: stage 'S': skill: 'Phi6' is the name of a controller the script defines (at ") &&
                  Contains("yields_named.lua:9); a learned skill and a controller of one name would read as one"));
   // Found by a probe: written through a helper module's roger.stage, the name's error named the
   // module's line alone; its traceback now names the author's line that called it.

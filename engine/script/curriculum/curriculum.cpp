@@ -342,7 +342,7 @@ void check_skill_names(const std::vector<CurriculumStage>& stages, LuaSandbox& s
     if (!st.skill) continue;
     for (const NamedController& c : named)
       if (c.name == st.skill->first)
-        throw ScriptError(st.where() + ": skill: the name '" + c.name + "' is a controller's the script defines" +
+        throw ScriptError(st.where() + ": skill: '" + c.name + "' is the name of a controller the script defines" +
                               (c.file.empty() ? "" : " (at " + c.file + ":" + std::to_string(c.line) + ")") +
                               "; a learned skill and a controller of one name would read as one in Psi and in usage: "
                               "give the skill another name",

@@ -229,7 +229,7 @@ std::optional<NamedField> named_field(const std::string& rest) {
 // e's traceback when it goes on to a file other than e's own (a stage a helper module writes for
 // its caller, whose line tells where the mistake is), else "": within one file it names the
 // roger.stage{ call's line, which the field's line replaces.
-std::string traceback_of_caller(const ScriptError& e) {
+static std::string traceback_of_caller(const ScriptError& e) {
   std::istringstream lines(e.traceback);
   std::string line;
   std::getline(lines, line);  // "stack traceback:"
