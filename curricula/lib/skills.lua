@@ -63,6 +63,14 @@ local function primitive_overrides_problem(overrides)
   return nil
 end
 
+-- roger.primitive(kind, params) for skills.primitives: its refusal of a parameter is said at the
+-- line that called skills.primitives, not at this file's.
+local function primitive_for_caller(kind, params)
+  local ok, made = pcall(roger.primitive, kind, params)
+  if not ok then error((tostring(made):gsub("^[^\n]-:%d+: ", "", 1)), 3) end
+  return made
+end
+
 -- One instance of each primitive with default parameters, plus the carrying navigator. The
 -- skills built from one set share them, as in the paper, where phi4 in "phi4 <| phi2" and in
 -- "phi4 <| phi5" is the same controller. `overrides` maps a field of the set to parameters,
@@ -73,10 +81,7 @@ function skills.primitives(overrides)
   overrides = overrides or {}
   local p = {}
   for _, kind in ipairs({ "search", "phi0", "phi1", "phi2", "phi3", "phi4", "phi5" }) do
-    -- roger.primitive's refusal of a parameter, said at the caller's line, not at this one.
-    local ok, made = pcall(roger.primitive, kind, overrides[kind])
-    if not ok then error((tostring(made):gsub("^[^\n]-:%d+: ", "", 1)), 2) end
-    p[kind] = made
+    p[kind] = primitive_for_caller(kind, overrides[kind])
   end
   -- The transport navigator: phi1 towards the scenario's goal region, with its control point
   -- carried ahead of the base at the grasped object's centre (carry = "body": 0.36 m for the
@@ -84,9 +89,7 @@ function skills.primitives(overrides)
   -- the accelerations. Its name stays "phi1", as in the paper's "phi1 <| phi4 <| phi5".
   local carry = { goal = "region", carry = "body", speed = 0.8 }
   for k, v in pairs(overrides.carry or {}) do carry[k] = v end
-  local ok, made = pcall(roger.primitive, "phi1", carry)
-  if not ok then error((tostring(made):gsub("^[^\n]-:%d+: ", "", 1)), 2) end
-  p.carry = made
+  p.carry = primitive_for_caller("phi1", carry)
   -- A misspelt name (p.phi33, p.Phi3) is an error at the line that reads it. Without this it is
   -- nil, and a nil at the end of an action list vanishes from the table: the stage would train
   -- on one action fewer without a word.
