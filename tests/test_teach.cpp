@@ -1874,6 +1874,23 @@ TEST_CASE("a teacher function reads its history read-only and strictly as traini
                                             "'obstacls' (did you mean 'obstacles'?); its fields: obstacles, shape "
                                             "(before training episode 1) (roger check's history: 1 episode failed)"));
   }
+  // Found by a probe: a name read on the list itself (`history.success`) was nil, and the teacher
+  // never lifted; the rng's methods there mean the arguments came in the wrong order.
+  {
+    const auto [path, problems] = problems_of("list_field", "if history.success then return {obstacles = 3} end");
+    REQUIRE(problems.size() == 1);
+    CHECK_THAT(problems[0], Contains(path + ":10: stage 'S': teacher function: the history is a list of the trial's "
+                                            "training episodes, in order, and has no field 'success': read an entry's, "
+                                            "history[i].success (the last: history[#history].success, after checking "
+                                            "#history > 0)"));
+  }
+  {
+    const auto [path, problems] = problems_of("swapped", "local r = history:int(0, 3)");
+    REQUIRE(problems.size() == 1);
+    CHECK_THAT(problems[0], Contains(path + ":10: stage 'S': teacher function: the history has no method 'int': a "
+                                            "teacher function takes the history first and the rng second, "
+                                            "function(history, rng) ... rng:int(...) ... end"));
+  }
   // Reading as a teacher reads: #, ipairs, pairs, an index past the end.
   const std::string reads = "local n = 0\n for _, h in ipairs(history) do for k in pairs(h.task) do n = n + 1 end end\n"
                             "    assert(n == 2 * #history and history[#history + 1] == nil)\n"

@@ -173,10 +173,38 @@ void check_sources(const EnvironmentOptions& o) {
         if (p.message.find("is not in the API") != std::string::npos) throw ScriptError(p.message, source->name, p.line, "");
 }
 
+// A teacher or tasks text that failed on a name nothing defines (found by a probe: teacher="alp_gmm"
+// said "gives no value for 'teacher': write a value", and "alp_gmm{}" "attempt to call a nil value"):
+// said as a stage's script is told it, with the way to write a teacher or an axis.
+void explain_undefined_name(const EnvironmentOptions& o, const ScriptError& e) {
+  // Only a failure a nil explains: a name the curriculum defines is one this pass cannot see.
+  const std::string& m = e.message;
+  if (m.rfind("gives no value", 0) != 0 && m.find("a nil value (global '") == std::string::npos) return;
+  for (const LuaSource* source : {&o.tasks, &o.teacher}) {
+    if (source->text.empty() || e.file != source->name) continue;
+    for (const StaticProblem& p : static_check_text("return " + source->text, source->name, ScriptKind::kCurriculum)) {
+      const std::string head = "undefined global '";
+      if (p.message.rfind(head, 0) != 0) continue;
+      const std::string name = p.message.substr(head.size(), p.message.find('\'', head.size()) - head.size());
+      std::string how;
+      for (const char* t : {"random", "sequence", "lcas", "alp_gmm", "plr"})
+        if (name == t) how = "; a teacher is written roger.teacher." + name + "{...}";
+      for (const char* a : {"int", "real", "choice"})
+        if (name == a) how = "; an axis is written roger." + name + "(...)";
+      throw ScriptError(p.message + how, source->name, p.line, "");
+    }
+  }
+}
+
 Curriculum load_checked(const EnvironmentOptions& o) {
   check_sources(o);
   Curriculum cur = Curriculum::load(o.curriculum, o.limits);
-  cur.set_teaching(o.stage, o.tasks, o.teacher, o.scenario);
+  try {
+    cur.set_teaching(o.stage, o.tasks, o.teacher, o.scenario);
+  } catch (const ScriptError& e) {
+    explain_undefined_name(o, e);
+    throw;
+  }
   const CurriculumStage& stage = cur.stage(o.stage);
   check_skills_given(stage.context(o.context), stage, o);
   return cur;
@@ -236,7 +264,13 @@ StageEnvironment::StageEnvironment(const EnvironmentOptions& o) {
   info_.eye_pixels = held_out.eyes.pixels;
   observed_joint_ranges(held_out.body, info_.joint_low, info_.joint_high);
   // (An ALP-GMM teacher left no axis is refused where it is made, with make's own way out.)
-  if (st.teacher && st.teacher->kind == TeacherSpec::Kind::kLcas) st.check_fixed(fixed, "make's params");
+  // Without a teacher the parameter it would lift is the params' to fix (found by a probe: a policy
+  // trained under LCAS records its last level, and policy.make() gave it back with teacher=False).
+  if (o.teaching && st.teacher && st.teacher->kind == TeacherSpec::Kind::kLcas) try {
+      st.check_fixed(fixed, "make's params");
+    } catch (const ScriptError& e) {
+      throw ScriptError(e.message + ", or give teacher=False for none", e.file, e.line, e.traceback);
+    }
   task_space_ = st.tasks.without(fixed);
 }
 

@@ -62,6 +62,9 @@ struct EnvironmentOptions {
   SandboxLimits limits;
   // Another task space or teacher than the stage's (Curriculum::set_teaching); empty: the stage's.
   LuaSource tasks, teacher;
+  // Whether a teacher will run (false: make(..., teacher=False), make_vec): a stage's LCAS teacher
+  // whose lifted parameter the params fix is refused only when it runs.
+  bool teaching = true;
 };
 
 // The stage as the environment runs it: what a learner needs to follow `roger train`'s protocol.

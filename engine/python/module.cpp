@@ -109,8 +109,10 @@ std::string param_text(const py::handle& v) {
 EnvironmentOptions make_options(const std::string& curriculum, const std::string& stage, const std::string& context,
                                 const std::string& scenario, const py::dict& params, const py::dict& skills,
                                 bool per_tick, const std::string& tasks = "", const std::string& teacher = "",
-                                const std::string& teacher_file = "", const std::string& embedded_skills = "") {
+                                const std::string& teacher_file = "", const std::string& embedded_skills = "",
+                                bool teaching = true) {
   EnvironmentOptions o;
+  o.teaching = teaching;
   // A policy file's extra.skills (make(..., policy=...)): the learned skills `roger eval` binds.
   if (!embedded_skills.empty()) o.embedded_skills = parse_json(embedded_skills);
   // The package writes a tasks dict as Lua text; a teacher comes as Lua text or a file.
@@ -571,9 +573,9 @@ void bind_environment(py::module_& m) {
   environment.def(py::init([](const std::string& curriculum, const std::string& stage, const std::string& context,
                             const std::string& scenario, const py::dict& params, const py::dict& skills, bool per_tick,
                             const std::string& tasks, const std::string& teacher, const std::string& teacher_file,
-                            const std::string& embedded_skills) {
+                            const std::string& embedded_skills, bool teaching) {
                   const EnvironmentOptions o = make_options(curriculum, stage, context, scenario, params, skills, per_tick,
-                                                            tasks, teacher, teacher_file, embedded_skills);
+                                                            tasks, teacher, teacher_file, embedded_skills, teaching);
                   return without_gil([&] {
                     auto env = make_environment(o, "make", [&] { return std::make_unique<StageEnvironment>(o); });
                     check_scenario_takes_tasks(o, *env);
@@ -583,7 +585,7 @@ void bind_environment(py::module_& m) {
                 py::arg("curriculum"), py::arg("stage"), py::arg("context"), py::arg("scenario") = "",
                 py::arg("params") = py::dict(), py::arg("skills") = py::dict(), py::arg("per_tick") = false,
                 py::arg("tasks") = "", py::arg("teacher") = "", py::arg("teacher_file") = "",
-                py::arg("embedded_skills") = "");
+                py::arg("embedded_skills") = "", py::arg("teaching") = true);
   def_environment_tasks(environment);
   def_environment_episode(environment);
   def_environment_state(environment);
@@ -849,7 +851,8 @@ void bind_vec(py::module_& m) {
                        const std::string& scenario, const py::dict& params, const py::dict& skills, int num_envs,
                        int threads, const std::string& autoreset, const std::string& embedded_skills) {
              const EnvironmentOptions o =
-                 make_options(curriculum, stage, context, scenario, params, skills, false, "", "", "", embedded_skills);
+                 make_options(curriculum, stage, context, scenario, params, skills, false, "", "", "", embedded_skills,
+                              /*teaching=*/false);  // a batch runs no teacher (the package refuses a stage's)
              const Autoreset mode = autoreset_of(autoreset);
              return without_gil([&] {
                return VecHolder(make_environment(o, "make_vec", [&] {

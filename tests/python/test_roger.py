@@ -45,6 +45,7 @@ BAD_REWARD = "tests/python/fixtures/bad_reward.lua"
 TIMEOUT_FAULT = "tests/python/fixtures/timeout_fault.lua"
 ABSORBING_AT_ONCE = "tests/python/fixtures/absorbing_at_once.lua"
 GENERATE_FAILS_ONCE = "tests/python/fixtures/generate_fails_once.lua"
+LCAS_LIFT = "tests/python/fixtures/lcas_lift.lua"
 PAPER = "curricula/paper.lua"
 FIRST_SEED = 1000000
 
@@ -1137,6 +1138,18 @@ class BadArguments(unittest.TestCase):
         self.assertRaisesWith(roger.ScriptError, ["make(tasks=...):1: roger.intt is not in the API of a curriculum; "
                                                   "did you mean roger.int?"],
                               roger.make, PAPER, "T", "B2", tasks="{obstacles = roger.intt(0, 3)}")
+
+    def test_a_teacher_text_naming_nothing_says_so(self):
+        # Found by a probe: teacher="alp_gmm" said "gives no value for 'teacher': write a value", and
+        # "alp_gmm{}" "attempt to call a nil value", where a stage's script is told the name is undefined.
+        for text in ("alp_gmm", "alp_gmm{}", "alp_gmm{fit_every = 10}"):
+            with self.subTest(teacher=text):
+                self.assertRaisesWith(roger.ScriptError, [
+                    "make(teacher=...):1: undefined global 'alp_gmm'", "a teacher is written roger.teacher.alp_gmm{...}"],
+                    roger.make, TEACHERS, "T_alp", "B2", teacher=text)
+        self.assertRaisesWith(roger.ScriptError, ["make(tasks=...):1: undefined global 'int'",
+                                                  "an axis is written roger.int(...)"],
+                              roger.make, PAPER, "T", "B2", tasks="{obstacles = int(0, 3)}")
 
     def test_a_world_that_cannot_be_placed_names_the_call(self):
         # Found by a probe: make raised the scenario's PlacementError alone, with a Lua traceback
@@ -2349,6 +2362,23 @@ class Tasks(unittest.TestCase):
             roger.make_vec(TEACHERS, "T_alp", "B2", 2, teacher="roger.teacher.random{}")
         self.assertIn("make_vec: teacher is None (the stage's, refused when it has one) or False (none)",
                       str(cm.exception))
+
+    def test_without_the_teacher_params_may_fix_what_it_lifts(self):
+        # Found by a probe: a policy trained under LCAS records the level it reached, and
+        # policy.make() (teacher=False) was refused for fixing "the parameter its teacher lifts".
+        policy = roger.load_policy(train(LCAS_LIFT, "S", "Gaze", 1, "lcas_lift"))
+        self.assertEqual(policy.params, {"eye_pixels": "32"})
+        env = policy.make(mode="tick")
+        self.assertEqual(env.reset(seed=1)[0]["images"].shape, (2, 32, 3))
+        obs, _ = roger.make(TEACHERS, "SG_lcas", "B1", mode="tick", teacher=False, params={"eye_pixels": 64}).reset(seed=1)
+        self.assertEqual(obs["images"].shape, (2, 64, 3))
+        vec = roger.make_vec(TEACHERS, "SG_lcas", "B1", 2, teacher=False, params={"eye_pixels": 64})
+        self.assertEqual(vec.stage_info["eye_pixels"], 64)
+        # With the teacher, fixing its lift is still refused, and the way out named.
+        with self.assertRaises(roger.ScriptError) as cm:
+            roger.make(TEACHERS, "SG_lcas", "B1", params={"eye_pixels": 32})
+        for text in ("teachers.lua:87", "'eye_pixels' is fixed by make's params", "or give teacher=False for none"):
+            self.assertIn(text, str(cm.exception))
 
     def test_teacher_is_told_each_outcome(self):
         env = roger.make(EXAMPLE, "Look", "Gaze", tasks=LOOK_TASKS, teacher=COUNTING_TEACHER)

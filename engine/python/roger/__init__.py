@@ -604,7 +604,7 @@ class Env(_Copyable, _EnvBase):
         teacher_text, teacher_file, teaching = _teacher_source(teacher)
         self._env = _roger.Environment(_native(curriculum), _native(stage), _native(context), _native(scenario or ""),
                                        _text_dict(params, "params"), _text_dict(skills, "skills"), mode == "tick",
-                                       _tasks_source(tasks), teacher_text, _native(teacher_file), embedded)
+                                       _tasks_source(tasks), teacher_text, _native(teacher_file), embedded, teaching)
         self._task_dims = self._env.task_dims
         self.task_space = _task_space(self._task_dims)  # a Dict space, or None: the stage has no tasks
         self._teaching = teaching and self._env.teaches

@@ -63,11 +63,26 @@ int view_index(lua_State* L) {
 }
 
 // __index of the list: an entry, or nil past the end (`history[#history]` of an empty history).
+// A name read on the list itself is an error (found by a probe: `if history.success then` read nil
+// and the teacher never lifted, without a word); the rng's methods on it mean the arguments were
+// taken in the wrong order (`function(rng, history)` read `rng:int` here).
 int view_list_index(lua_State* L) {
   lua_check_view_data(L, "the teacher's history");
-  lua_pushvalue(L, 2);
-  lua_rawget(L, -2);
-  return 1;
+  if (lua_type(L, 2) != LUA_TSTRING) {
+    lua_pushvalue(L, 2);
+    lua_rawget(L, -2);
+    return 1;
+  }
+  const std::string key = lua_tostring(L, 2);
+  static const char* const kRngMethods[] = {"uniform", "int", "normal", "angle", "choice", "shuffle", "fork"};
+  const bool rng_method = std::any_of(std::begin(kRngMethods), std::end(kRngMethods),
+                                      [&](const char* m) { return key == m; });
+  if (rng_method)
+    return raise_at_reader(L, "the history has no method '" + key + "': a teacher function takes the history "
+                              "first and the rng second, function(history, rng) ... rng:" + key + "(...) ... end");
+  return raise_at_reader(L, "the history is a list of the trial's training episodes, in order, and has no field '" +
+                                key + "': read an entry's, history[i]." + key + " (the last: history[#history]." + key +
+                                ", after checking #history > 0)");
 }
 
 int view_newindex(lua_State* L) {
