@@ -807,6 +807,18 @@ TEST_CASE("the Lua API checks its arguments where they are given", "[scenario]")
         "world:goal: goal 'goal 1' centre (5, 0) is outside the 4 x 4 m arena");
   // Found by a newcomer's walk through the docs: the centre's fields were read in the compiler's
   // order of arguments, so an empty goal named y missing first, and x only on the next run.
+  // Found by a probe: a goal whose centre lay under an obstacle passed check, and every episode
+  // failed with "no reference", its note naming other causes. Refused in either order.
+  CHECK(run("world:obstacle{shape = shapes.box('block', 0.8, 0.8), x = 1, y = 1} world:goal{x = 1, y = 1.3, radius = 0.7}",
+            "goal_under") ==
+        "world:goal: goal 'goal 1' has its centre (1, 1.3) under obstacle 'obstacle 1' (at (1, 1)): the navigator goes "
+        "to a goal region's centre, which no one reaches there; move the goal or the obstacle");
+  CHECK(run("world:goal{name = 'home', x = 1, y = 1} world:obstacle{name = 'post', shape = shapes.disk('post', 0.2), "
+            "x = 1.15, y = 1}", "under_goal") ==
+        "world:obstacle: goal 'home' has its centre (1, 1) under obstacle 'post' (at (1.15, 1)): the navigator goes "
+        "to a goal region's centre, which no one reaches there; move the goal or the obstacle");
+  CHECK(run("world:robot{x = -1, y = -1} world:goal{x = 1, y = 1} world:obstacle{shape = shapes.disk('post', 0.2), x = 1.25, y = 1}",
+            "beside_goal") == "no error");
   CHECK(run("world:goal{}", "goal_empty") == "world:goal: missing required field 'x' (a number)");
   CHECK(run("world:goal{x = 1}", "goal_no_y") == "world:goal: missing required field 'y' (a number)");
   CHECK(run("world:obstacle{shape = shapes.get('circle'), x = 0, y = 0, colour = {1, 2}}", "colour") ==
