@@ -668,6 +668,25 @@ TEST_CASE("a policy's params set its scenario's parameters, under --set, checked
     REQUIRE(problems.size() == 1);
     CHECK_THAT(problems[0], Catch::Matchers::StartsWith(file + ":4: " + message));
   }
+  // Found by a probe: a policy's params took a boolean as the command line does (`flag = 0` read as
+  // false, where Lua reads 0 as true), and said only the last of several mistakes.
+  std::ofstream(dir / "flag.lua") << "local shapes = require('lib.shapes')\n"
+                                     "return { params = { flag = false }, generate = function(world, rng, p)\n"
+                                     "  world:robot{ x = 0, y = 0 }\n"
+                                     "  world:object{ shape = shapes.get('circle'), x = 1, y = 1 }\n"
+                                     "end }\n";
+  {
+    std::ofstream(dir / "flagged.lua") << "local p = require('lib.skills').primitives()\n"
+                                          "return { policies = { t = { action = p.phi0, goal = roger.converged(p.phi0),\n"
+                                          "  time_limit = 5, scenario = '" << (dir / "flag.lua").string() << "',\n"
+                                          "  params = { flag = 0, flga = true } } } }\n";
+    const auto problems = check_skill_script((dir / "flagged.lua").string());
+    REQUIRE(problems.size() == 1);
+    CHECK_THAT(problems[0], Contains("flagged.lua:4: policy 't': field 'params': parameter 'flag' of scenario 'flag' is "
+                                     "a boolean: write flag = true or flag = false, got '0'"));
+    CHECK_THAT(problems[0], Contains("; scenario 'flag' (" + (dir / "flag.lua").string() + ") has no parameter 'flga' "
+                                     "(did you mean 'flag'?)"));
+  }
   std::string wrong;
   try {
     SkillScript::load(write("type.lua", "{ objects = {} }"));

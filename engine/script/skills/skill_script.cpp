@@ -128,13 +128,12 @@ const SkillScript::NamedPolicy& SkillScript::policy(const std::string& name) con
 
 Scenario SkillScript::scenario_of(const NamedPolicy& p, const std::string& chosen, const SandboxLimits& limits) const {
   Scenario scenario = Scenario::load(!chosen.empty() ? chosen : p.scenario.empty() ? "unobstructed" : p.scenario, limits);
-  for (const auto& [name, value] : p.params) {
-    try {
-      scenario.set_param(name, value);
-    } catch (const Error& e) {
-      throw ScriptError("policy '" + p.name + "': field 'params': " + e.what(), impl_->path, p.params_line, "");
-    }
-  }
+  // Written in a Lua table, as a stage's params are, and every problem said at once (found by a
+  // probe: `flag = 0` was taken as false, and of three mistakes only the last was said).
+  const std::vector<std::string> problems = scenario.param_problems(p.params, /*from_lua=*/true);
+  if (!problems.empty())
+    throw ScriptError("policy '" + p.name + "': field 'params': " + join(problems, "; "), impl_->path, p.params_line, "");
+  scenario.set_params(p.params);
   return scenario;
 }
 
