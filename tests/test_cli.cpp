@@ -94,6 +94,24 @@ TEST_CASE("roger check shows a generator's prints for the first world only", "[c
   fs::remove(s);
 }
 
+// Found by a probe: a print in the generate of a skill script's policy came 26 times.
+TEST_CASE("roger check of a skill script shows its worlds' prints for the first world only", "[cli]") {
+  const fs::path s = temp_file("roger_cli_policy_prints_world.lua", "return { generate = function(world, rng, p)\n"
+                                                                     "    print('generating')\n"
+                                                                     "    world:robot{ x = 0, y = 0 }\n  end }\n");
+  const fs::path k = temp_file("roger_cli_policy_prints.lua",
+                               "local p = require('lib.skills').primitives()\n"
+                               "return { policies = { t = { action = p.phi0, goal = roger.converged(p.phi0), time_limit = 5,\n"
+                               "  scenario = '" + s.string() + "' } } }\n");
+  const Run r = roger("check " + k.string());
+  INFO(r.err);
+  CHECK(r.status == 0);
+  // 19 more seeds, seed 0 again for the first ticks, seeds 0 to 4 for the goal regions.
+  CHECK(r.err.rfind("generating\n(25 more lines printed while roger check built the policy's worlds, not shown)\n", 0) == 0);
+  fs::remove(s);
+  fs::remove(k);
+}
+
 // Found by a probe: a print in a teacher function came 30 times, once per call roger check made.
 TEST_CASE("roger check shows a teacher function's prints for its first call only", "[cli]") {
   const fs::path c = temp_file("roger_cli_teacher_prints.lua",
