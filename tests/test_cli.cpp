@@ -786,6 +786,18 @@ TEST_CASE("roger check names a misspelt top-level key, and finds bare names of e
   CHECK(skills.status == 1);
   CHECK_THAT(skills.err, Catch::Matchers::Contains("bad_top_key_skills.lua:3: the skill script's table has an unknown field 'policy'"));
   for (const Run& r : {curriculum, skills}) CHECK(r.err.find("lib/skills.lua") == std::string::npos);
+  // Found by a probe: docs/authoring.md's own example, a script that copies a curriculum module's
+  // table, loaded as a curriculum and was then checked as a scenario, failing inside lib/skills.lua.
+  {
+    const fs::path wrapper = temp_file("roger_cli_copied_paper.lua",
+                                       "local t = {} for k, v in pairs(require('paper')) do t[k] = v end return t\n");
+    const Run copied = roger("check " + wrapper.string());
+    INFO(copied.err);
+    CHECK(copied.status == 0);
+    CHECK_THAT(copied.out, Catch::Matchers::Contains("roger_cli_copied_paper.lua: ok (curriculum 'paper'; stages SG: B1 "
+                                                     "DC1 DC2; T: B2 DC3 DC4 DC5 DC6)"));
+    fs::remove(wrapper);
+  }
   const Run missing = roger("check nope.lua");
   CHECK(missing.status == 1);
   CHECK_THAT(missing.err, Catch::Matchers::Contains("no script 'nope.lua': not a file here, and the project has no scenarios/nope.lua, "

@@ -282,19 +282,27 @@ std::string check_target(const std::string& arg) {
 
 // The kind a script whose table names none of the keys that tell kinds apart (a misspelt
 // `stagez`, `policy`) is checked as, so that the loader says which field is unknown, with the
-// nearest one: a curriculum when it builds stages, a skill script when it builds controllers, else
-// a scenario, as before.
+// nearest one: a curriculum when it or a module it requires builds stages, a skill script when
+// they build controllers, else a scenario, as before. The modules count (found by a probe: a
+// script copying require("paper")'s table ran as a scenario, and lib.skills failed inside).
 std::optional<ScriptKind> guessed_kind(const std::string& path) {
-  const std::string text = read_file_text(path);
-  if (text.find("roger.stage") != std::string::npos || text.find("roger.learned") != std::string::npos)
-    return ScriptKind::kCurriculum;
+  std::vector<std::string> texts;
+  for (const std::filesystem::path& file : required_files(path)) try {
+      texts.push_back(read_file_text(file.string()));
+    } catch (const Error&) {
+      // unreadable: the loader says so
+    }
+  const auto any_has = [&](const char* word) {
+    return std::any_of(texts.begin(), texts.end(), [&](const std::string& t) { return t.find(word) != std::string::npos; });
+  };
+  if (any_has("roger.stage") || any_has("roger.learned")) return ScriptKind::kCurriculum;
   // The control API's functions, predicates among them (found by a probe: a skill script whose
   // goal was roger.converged(...) and whose 'policies' was misspelt ran as a scenario, where
   // roger.converged is nil).
   for (const char* builder : {"lib.skills", "roger.primitive", "roger.sequence", "roger.compose", "roger.subject_to",
                               "roger.policy", "roger.bind", "roger.converged", "roger.gamma", "roger.held",
                               "roger.all", "roger.any", "roger.negate", "roger.sorted"})
-    if (text.find(builder) != std::string::npos) return ScriptKind::kSkillScript;
+    if (any_has(builder)) return ScriptKind::kSkillScript;
   return std::nullopt;
 }
 
@@ -685,10 +693,18 @@ static int check_named_script(const CheckArgs& args) {
                     "it with the --set instead");
       return check_module(a.script, args.script, users, limits);
     }
-    // Not a module: its loader throws what is unknown, with the nearest field.
+    // Not a module: its loader throws what is unknown, with the nearest field; one that loads is
+    // checked as that kind (found by a probe: a script copying require("paper")'s table into its own
+    // loaded as a curriculum, and was then checked as a scenario).
     const std::optional<ScriptKind> guess = guessed_kind(a.script);
-    if (guess == ScriptKind::kCurriculum) Curriculum::load(a.script, limits);
-    if (guess == ScriptKind::kSkillScript) SkillScript::load(a.script, limits);
+    if (guess == ScriptKind::kCurriculum) {
+      Curriculum::load(a.script, limits);
+      return check_curriculum_file(a.script, args.script, limits, split_sets(a.sets, "--set"));
+    }
+    if (guess == ScriptKind::kSkillScript) {
+      SkillScript::load(a.script, limits);
+      return check_skill_script_file(a.script, args.script, limits, split_sets(a.sets, "--set"));
+    }
   }
   if (is_curriculum_script(a.script)) return check_curriculum_file(a.script, args.script, limits, split_sets(a.sets, "--set"));
   if (is_skill_script(a.script))

@@ -960,6 +960,28 @@ std::vector<StaticProblem> static_check(const std::string& path, std::optional<S
   return out;
 }
 
+std::vector<fs::path> required_files(const std::string& path) {
+  LuaSandbox sandbox;  // for its module folders
+  sandbox.set_main_script(path);
+  std::error_code ec;
+  std::vector<fs::path> out{fs::weakly_canonical(path, ec)};
+  for (size_t i = 0; i < out.size(); ++i) {
+    std::string text;
+    try {
+      text = read_file_text(out[i].string());
+    } catch (const Error&) {
+      continue;  // unreadable: it requires nothing we can see
+    }
+    if (syntax_problem(text, out[i].string())) continue;
+    for (const auto& a : Scanner(text).accesses) {
+      if (a.kind != Access::kRequire) continue;
+      const fs::path module = find_module_file(sandbox.module_roots(), a.name);
+      if (!module.empty() && std::find(out.begin(), out.end(), module) == out.end()) out.push_back(module);
+    }
+  }
+  return out;
+}
+
 std::vector<ModuleUse> module_users(const fs::path& module, const std::vector<fs::path>& scripts) {
   std::error_code ec;
   const fs::path target = fs::weakly_canonical(module, ec);

@@ -50,6 +50,10 @@ std::vector<StaticProblem> static_check(const std::string& path, std::optional<S
 std::vector<StaticProblem> static_check_text(const std::string& text, const std::string& shown,
                                              std::optional<ScriptKind> kind);
 
+// The script at `path` and every module it requires by a literal name that the sandbox would load,
+// and theirs in turn, each once, in the order found (the files static_check reads).
+std::vector<std::filesystem::path> required_files(const std::string& path);
+
 // A script that requires a module by a literal name: the script, the name, the line of the first
 // such require.
 struct ModuleUse {
