@@ -30,8 +30,9 @@ function loadfile(filename, mode, env) end
 ---@deprecated Not in roger's sandbox: bytecode is refused, in and out.
 function string.dump(f, strip) end
 
----@deprecated Not in roger's sandbox: draw from the rng your function receives (rng:uniform,
----rng:int, ...), so a run is reproducible from its seed.
+---@deprecated Not in roger's sandbox: draw from the rng a scenario's generate or a teacher function
+---receives (rng:uniform, rng:int, ...), so a run is reproducible from its seed; a reward or
+---absorbing function gets none.
 function math.random(m, n) end
 
 ---@deprecated Not in roger's sandbox: the rng your function receives is seeded from the world's

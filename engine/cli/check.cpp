@@ -38,10 +38,10 @@ size_t report_static_problems(const std::string& script) {
   } catch (const Error&) {
     return 0;
   }
-  std::vector<std::string> shadows;
-  const std::vector<StaticProblem> problems = static_check(path, script_kind_of(path), &shadows);
+  std::vector<std::string> warnings;
+  const std::vector<StaticProblem> problems = static_check(path, script_kind_of(path), &warnings);
   for (const auto& p : problems) std::fprintf(stderr, "roger: error: %s\n", p.what().c_str());
-  for (const auto& s : shadows) std::fprintf(stderr, "roger: warning: %s\n", s.c_str());
+  for (const auto& w : warnings) std::fprintf(stderr, "roger: warning: %s\n", w.c_str());
   return problems.size();
 }
 

@@ -31,6 +31,14 @@ struct Access {
   int line;
   std::vector<std::string> locals = {};  // of a read: the locals in scope, for suggestions
   std::string literal = {};              // of a finding: the string literal compared
+  bool in_function = false;              // made inside a function's body
+};
+
+// A local (or a parameter) as declared: a global read of its name elsewhere is a local out of scope.
+struct LocalDeclaration {
+  std::string name;
+  int line;
+  bool parameter = false;  // a function's
 };
 
 // A scope (block, function, loop, branch) or a bracket; locals live in scopes only. Aliases are
@@ -141,6 +149,7 @@ class Scanner {
     drop_findings_of_values();
   }
   std::vector<Access> accesses;
+  std::vector<LocalDeclaration> local_declarations;  // in file order
 
  private:
   const LuaToken& at(size_t k) const { return t_[std::min(k, t_.size() - 1)]; }
@@ -149,7 +158,19 @@ class Scanner {
   bool name(size_t k) const { return at(k).type == LuaToken::kName && !lua_keyword(at(k).text); }
   bool after(const char* s) const { return i_ > 0 && op(i_ - 1, s); }
   Frame& top() { return frames_.back(); }
-  void note(Access::Kind kind, const std::string& n, int line) { accesses.push_back({kind, n, line}); }
+  void note(Access::Kind kind, const std::string& n, int line) {
+    accesses.push_back({kind, n, line});
+    accesses.back().in_function =
+        std::any_of(frames_.begin(), frames_.end(), [](const Frame& f) { return f.kind == Frame::kFunction; });
+  }
+  void declared_at(const LuaToken& t, bool parameter = false) {
+    local_declarations.push_back({t.text, t.line, parameter});
+  }
+  // A global written through the globals' table (_G.x = v) is meant as one, wherever it is written.
+  void meant_global(const std::string& n, int line) {
+    note(Access::kWrite, n, line);
+    accesses.back().in_function = false;
+  }
 
   // Declares a local in the innermost scope (brackets hold none), an alias of roger or not.
   void declare(const std::string& n, bool alias = false) {
@@ -254,6 +275,7 @@ class Scanner {
       size_t k = i_ + 1;
       while (name(k)) {
         declare(at(k).text);
+        declared_at(at(k));
         if (!op(k + 1, ",")) break;
         k += 2;
       }
@@ -294,7 +316,7 @@ class Scanner {
   // local function f ... | local a <const>, b = ...
   void local() {
     if (word(i_ + 1, "function")) {
-      if (name(i_ + 2)) declare(at(i_ + 2).text);  // visible in its own body (recursion)
+      if (name(i_ + 2)) declare(at(i_ + 2).text), declared_at(at(i_ + 2));  // visible in its own body (recursion)
       i_ += 2;
       return open_function(false);
     }
@@ -302,6 +324,7 @@ class Scanner {
     std::vector<std::string> names;
     while (name(k)) {
       names.push_back(at(k).text);
+      declared_at(at(k));
       ++k;
       if (op(k, "<") && name(k + 1) && op(k + 2, ">")) k += 3;  // <const>, <close>
       if (!op(k, ",")) break;
@@ -347,6 +370,7 @@ class Scanner {
       for (++k; !op(k, ")") && at(k).type != LuaToken::kEnd; ++k)
         if (name(k)) {
           f.locals.insert(at(k).text);
+          declared_at(at(k), true);
           if (++params == 3 && !method) f.third = at(k).text;  // a callback is never a method
         }
     }
@@ -405,14 +429,14 @@ class Scanner {
     const size_t k = i_;
     if (at(k).text == "rawset") {
       if (op(k + 1, "(") && (word(k + 2, "_G") || word(k + 2, "_ENV")) && op(k + 3, ",")) {
-        if (at(k + 4).type == LuaToken::kString && op(k + 5, ",")) note(Access::kWrite, at(k + 4).text, line);
+        if (at(k + 4).type == LuaToken::kString && op(k + 5, ",")) meant_global(at(k + 4).text, line);
         else note(Access::kDynamic, "rawset", line);
       }
       return;
     }
-    if (op(k + 1, ".") && name(k + 2) && statement_level() && op(k + 3, "=")) note(Access::kWrite, at(k + 2).text, line);
+    if (op(k + 1, ".") && name(k + 2) && statement_level() && op(k + 3, "=")) meant_global(at(k + 2).text, line);
     if (op(k + 1, "[") && at(k + 2).type == LuaToken::kString && op(k + 3, "]") && statement_level() && op(k + 4, "="))
-      note(Access::kWrite, at(k + 2).text, line);
+      meant_global(at(k + 2).text, line);
     else if (op(k + 1, "[") && !(at(k + 2).type == LuaToken::kString && op(k + 3, "]")))
       note(Access::kDynamic, at(k).text + "[...]", line);  // _G[name]: a global named at run time
   }
@@ -679,6 +703,7 @@ class Scanner {
 struct ScannedFile {
   std::string shown;
   std::vector<Access> accesses;
+  std::vector<LocalDeclaration> local_declarations;
   std::vector<StaticProblem> duplicate_keys;  // found in the text, apart from the names
 };
 
@@ -698,6 +723,11 @@ std::vector<StaticProblem> duplicate_keys(const std::string& text, const std::st
                            "): Lua keeps the last value, and the first is lost"});
   }
   return out;
+}
+
+ScannedFile scanned_file(const std::string& text, const std::string& shown) {
+  Scanner scanned(text);
+  return {shown, std::move(scanned.accesses), std::move(scanned.local_declarations), duplicate_keys(text, shown)};
 }
 
 // The problems judged from a file's names and those of its text, in line order.
@@ -725,6 +755,7 @@ class AccessJudge {
     for (const auto& a : f.accesses) {
       std::string message;
       if (a.kind == Access::kRead) message = global(a.name, a.locals);
+      if (a.kind == Access::kRead && !message.empty()) message = out_of_scope(f, a, message);
       if (a.kind == Access::kMember) message = member(a.name);
       // A compared literal (a misspelt state or event) only where callbacks can be; a predicate taken
       // for a truth value (no literal) wherever predicates are made.
@@ -755,6 +786,30 @@ class AccessJudge {
         return m + "; " + folder + "/lib/" + n + ".lua is a library: local " + n + " = require(\"lib." + n +
                "\") before its first use";
     return m + " (not a local in scope, not assigned in the script, not in the sandbox)";
+  }
+
+  // An undefined global that is the name of a local declared elsewhere in the file: said so, with
+  // its line, in place of a guess at another name (found by a probe: a local declared below its
+  // use was "undefined global 'target'; did you mean rawget?").
+  // One declared on the read's own line is `local x = x`, whose x is the global: no note.
+  static std::string out_of_scope(const ScannedFile& f, const Access& a, const std::string& message) {
+    const LocalDeclaration* before = nullptr;
+    const LocalDeclaration* below = nullptr;
+    for (const LocalDeclaration& l : f.local_declarations)
+      if (l.name == a.name && l.line < a.line && !before) before = &l;
+      else if (l.name == a.name && l.line > a.line && !below) below = &l;
+    const LocalDeclaration* d = before ? before : below;
+    if (!d) return message;
+    const std::string head = "undefined global '" + a.name + "'";
+    const std::string line = std::to_string(d->line);
+    if (d->parameter)
+      return head + ": '" + a.name + "' is a parameter of the function at line " + line +
+             ", seen only inside that function: pass it to this one";
+    if (d == below)
+      return head + ": the local '" + a.name + "' is declared below, at line " + line +
+             ", and a local is seen only after its statement: declare it above its first use";
+    return head + ": the local '" + a.name + "' of line " + line +
+           " is out of scope here (a local is seen to the end of the block or function that declares it)";
   }
 
   // The first segment of a member path that does not exist, with what exists beside it.
@@ -877,12 +932,36 @@ std::optional<StaticProblem> syntax_problem(const std::string& text, const std::
   return out;
 }
 
+// A global assigned inside a function that no statement outside a function assigns: most often a
+// `local` forgotten, whose value then outlives the call (found by a probe: a reward function's
+// `calls = (calls or 0) + 1` passed check, and counted on across episodes into the evaluations).
+// Once per name and file, at its first such line. A global meant as one is assigned at the top.
+std::vector<StaticProblem> globals_set_in_functions(const std::vector<ScannedFile>& files) {
+  std::set<std::string> at_top;
+  for (const auto& f : files)
+    for (const auto& a : f.accesses)
+      if (a.kind == Access::kWrite && !a.in_function) at_top.insert(a.name);
+  std::vector<StaticProblem> out;
+  for (const auto& f : files) {
+    std::set<std::string> said;
+    for (const auto& a : f.accesses)
+      if (a.kind == Access::kWrite && a.in_function && !at_top.count(a.name) && said.insert(a.name).second)
+        out.push_back({f.shown, a.line,
+                       "'" + a.name + "' is assigned inside a function without `local`: it is a global, which keeps "
+                       "its value from one call to the next (a callback's, across episodes and into evaluations); "
+                       "write `local " + a.name + "` for a value of one call (a curriculum's callbacks keep an "
+                       "episode's values in their `episode` argument), or assign it once outside the functions "
+                       "if it is meant to last"});
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<StaticProblem> static_check_text(const std::string& text, const std::string& shown,
                                              std::optional<ScriptKind> kind) {
   if (auto syntax = syntax_problem(text, shown)) return {*syntax};
-  const std::vector<ScannedFile> files{{shown, Scanner(text).accesses, duplicate_keys(text, shown)}};
+  const std::vector<ScannedFile> files{scanned_file(text, shown)};
   std::vector<StaticProblem> judged, out;
   AccessJudge(kind, files).judge(files[0], judged);
   append_in_line_order(judged, files[0].duplicate_keys, out);
@@ -918,7 +997,7 @@ std::string shadow_of(const LuaSandbox& sandbox, const fs::path& file, const std
 }  // namespace
 
 std::vector<StaticProblem> static_check(const std::string& path, std::optional<ScriptKind> kind,
-                                        std::vector<std::string>* shadows) {
+                                        std::vector<std::string>* warnings) {
   LuaSandbox sandbox;  // for its module folders and how it shows file names
   sandbox.set_main_script(path);
   std::error_code ec;
@@ -937,16 +1016,16 @@ std::vector<StaticProblem> static_check(const std::string& path, std::optional<S
       syntax_errors.push_back(*syntax);
       continue;
     }
-    files.push_back({shown, Scanner(text).accesses, duplicate_keys(text, shown)});
+    files.push_back(scanned_file(text, shown));
     for (const auto& a : files.back().accesses) {
       if (a.kind != Access::kRequire) continue;
       // What require would load, never more (found by a probe: a name climbing out, "..tmp.x",
       // or a module linked out of the project made roger check read and quote a file outside it).
       const fs::path module = find_module_file(sandbox.module_roots(), a.name);
-      if (shadows && !module.empty())
+      if (warnings && !module.empty())
         for (const std::string& warning : {shadow_of(sandbox, file, a.name, module), other_of_name(sandbox, a.name, module)})
-          if (!warning.empty() && std::find(shadows->begin(), shadows->end(), warning) == shadows->end())
-            shadows->push_back(warning);
+          if (!warning.empty() && std::find(warnings->begin(), warnings->end(), warning) == warnings->end())
+            warnings->push_back(warning);
       if (!module.empty() && seen.insert(module).second) queue.push_back(module);
     }
   }
@@ -957,6 +1036,8 @@ std::vector<StaticProblem> static_check(const std::string& path, std::optional<S
     judge.judge(f, judged);
     append_in_line_order(judged, f.duplicate_keys, out);
   }
+  if (warnings)
+    for (const StaticProblem& w : globals_set_in_functions(files)) warnings->push_back(w.what());
   return out;
 }
 

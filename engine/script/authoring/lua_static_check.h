@@ -41,10 +41,12 @@ struct StaticProblem {
 // Checks a script file as a script of `kind` (without one, against every kind's names), and every
 // module it requires by a literal name that the sandbox would find. Problems are in file order,
 // then line order.
-// With `shadows`, also a warning for each module of the script's own folder that a shipped library
-// (a file of the project's folders) requires in place of the shipped module of that name.
+// With `warnings`, also a warning for each module of the script's own folder that a shipped library
+// (a file of the project's folders) requires in place of the shipped module of that name, and
+// ("file:line: ...") for each global assigned inside a function that nothing assigns outside one
+// (a `local` forgotten: its value outlives the call).
 std::vector<StaticProblem> static_check(const std::string& path, std::optional<ScriptKind> kind,
-                                        std::vector<std::string>* shadows = nullptr);
+                                        std::vector<std::string>* warnings = nullptr);
 
 // The same over source text (shown as `shown`), without following requires.
 std::vector<StaticProblem> static_check_text(const std::string& text, const std::string& shown,

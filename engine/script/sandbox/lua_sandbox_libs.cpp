@@ -396,9 +396,10 @@ void install_string_and_math(lua_State* L, int g) {
   // Each named as called (found by a probe: math.randomseed was refused as math.random).
   for (const char* name : {"random", "randomseed"})
     set_refusal(L, lua_gettop(L), name,
-                (std::string("math.") + name + " is not available in roger scripts: draw from the rng object your "
-                 "function receives (rng:uniform, rng:int, rng:normal, ...) so every run is reproducible from its "
-                 "seed").c_str());
+                (std::string("math.") + name + " is not available in roger scripts: draw from the rng object a "
+                 "scenario's generate or a teacher function receives (rng:uniform, rng:int, rng:normal, ...) so "
+                 "every run is reproducible from its seed; a reward or absorbing function draws nothing (it gets "
+                 "no rng: make it a function of its arguments)").c_str());
   lua_pop(L, 1);
 }
 
