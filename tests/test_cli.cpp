@@ -94,6 +94,28 @@ TEST_CASE("roger check shows a generator's prints for the first world only", "[c
   fs::remove(s);
 }
 
+// Found by a probe: a generator declaring the noise parameters (body.with_params) but not passing
+// body.noise_of(params) got one warning per range end, 40 of them, of one cause: said once.
+TEST_CASE("roger check says once that a generator does not follow its noise parameters", "[cli]") {
+  const fs::path s = temp_file("roger_cli_no_noise_of.lua", "local body = require('lib.body')\n"
+                                                            "return { params = body.with_params({}),\n"
+                                                            "  generate = function(world, rng, p)\n"
+                                                            "    local b = body.of(p)\n"
+                                                            "    world:robot{ x = 0, y = 0, body = b.body, eyes = b.eyes }\n"
+                                                            "  end }\n");
+  const Run r = roger("check " + s.string());
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.err, Catch::Matchers::StartsWith(
+                        "roger: warning: " + s.string() + ":3: at 40 range ends of the noise parameters (noise_base=1 (its "
+                        "max), noise_base_bias=1 (its max), noise_base_delay=50 (its max) and 37 more) the world's Roger "
+                        "has other noise than they ask for: its generator sets the noise itself rather than passing "
+                        "body.noise_of(params) to world:robot{ noise = ... } (scenarios/lib/body.lua); pass it, or leave "
+                        "the noise parameters at their defaults\nroger: warning: generate never reads"));
+  CHECK(r.err.find("at a range's end") == std::string::npos);
+  fs::remove(s);
+}
+
 // Found by a probe: a print in the generate of a skill script's policy came 26 times.
 TEST_CASE("roger check of a skill script shows its worlds' prints for the first world only", "[cli]") {
   const fs::path s = temp_file("roger_cli_policy_prints_world.lua", "return { generate = function(world, rng, p)\n"
