@@ -1995,7 +1995,20 @@ TEST_CASE("roger eval of a skill script names the policy's line and the world se
   CHECK(sorted.status == 1);
   CHECK_THAT(sorted.err, Catch::Matchers::Contains("so.lua:4: policy 't': roger.sorted(): none of the world's 1 "
                                                    "objects has the colour of a goal region") &&
-                             Catch::Matchers::Contains("(world seed 7)"));
+                             Catch::Matchers::Contains("(world seed 7 of scenario 'unobstructed', "));
+  // Found by a probe: the physics failing in a scenario's own body named the policy's line alone.
+  std::ofstream(dir / "light.lua") << "local shapes = require('lib.shapes')\n"
+                                      "return { generate = function(world, rng, p)\n"
+                                      "  world:goal{ name = 'goal', x = 0, y = 0, radius = 0.25 }\n"
+                                      "  world:robot{ x = -1.55, y = 0.58, heading = 3.1, body = { base_mass = 0.01, link_mass = 0.001 } }\n"
+                                      "  world:object{ name = 'ball', shape = shapes.get('circle'), x = 1, y = 1 }\n"
+                                      "end }\n";
+  const Run light = roger("eval curricula/scripted.lua --policy task --scenario " + (dir / "light.lua").string() +
+                          " --episodes 1");
+  CHECK(light.status == 1);
+  CHECK_THAT(light.err, Catch::Matchers::Contains("curricula/scripted.lua:32: policy 'task': the physics failed at t = ") &&
+                            Catch::Matchers::Contains("make it heavier (world seed 1000 of scenario 'light', " +
+                                                      (dir / "light.lua").string() + ")"));
   fs::remove_all(dir);
 }
 

@@ -371,7 +371,11 @@ EvalSummary evaluate_policy(const SkillScript& script, const SkillScript::NamedP
   } catch (const ScriptError&) {
     throw;
   } catch (const Error& e) {
-    throw ScriptError("policy '" + policy.name + "': " + e.what() + seed_note(), script.path(), policy.goal_line, "");
+    // The world's own failure (the physics of a body too light) names the scenario that made it
+    // (found by a probe: only the policy's line was named, not the body's scenario).
+    throw ScriptError("policy '" + policy.name + "': " + e.what() + " (world seed " + std::to_string(seed) +
+                          " of scenario '" + scenario.name() + "', " + scenario.path() + ")",
+                      script.path(), policy.goal_line, "");
   }
 }
 
