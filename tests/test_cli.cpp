@@ -2009,6 +2009,20 @@ TEST_CASE("roger eval of a skill script names the policy's line and the world se
   CHECK_THAT(light.err, Catch::Matchers::Contains("curricula/scripted.lua:32: policy 'task': the physics failed at t = ") &&
                             Catch::Matchers::Contains("make it heavier (world seed 1000 of scenario 'light', " +
                                                       (dir / "light.lua").string() + ")"));
+  // Found by a probe: a stimulus no object has was noted for a saved policy, not for a skill script's.
+  std::ofstream(dir / "blue.lua") << "local shapes = require('lib.shapes')\n"
+                                     "return { generate = function(world, rng, p)\n"
+                                     "  world:goal{ name = 'goal', x = 0, y = 0, radius = 0.25 }\n"
+                                     "  world:robot{ x = -1.2, y = -1.2, heading = 0.8 }\n"
+                                     "  world:object{ name = 'ball', shape = shapes.get('circle'), x = 1, y = 1 }\n"
+                                     "  world:stimulus{ colour = { 40, 80, 221 } }\n"
+                                     "end }\n";
+  const Run blue = roger("eval curricula/scripted.lua --policy task --scenario " + (dir / "blue.lua").string() +
+                         " --episodes 2");
+  CHECK(blue.status == 0);
+  CHECK_THAT(blue.out, Catch::Matchers::Contains("  success rate   0.0% (0 of 2)") &&
+                           Catch::Matchers::Contains("  note           in 2 of 2 worlds (the first: seed 1000) no object "
+                                                     "has the stimulus colour #2850dd (world:stimulus)"));
   fs::remove_all(dir);
 }
 

@@ -450,6 +450,15 @@ int evaluate_command(const EvalArgs& a) {
   std::printf("  reward         %.1f +- %.1f\n", r.reward_mean, r.reward_std);
   std::printf("  episode time   %.2f s (mean, simulated)\n", r.time_mean);
   print_never_referenced(r);
+  // As for a saved policy (found by a probe: a skill script's policy in a world whose stimulus no
+  // object had said only that its parts had no reference).
+  std::string unseen;
+  if (r.successes == 0 || a.json) {
+    QuietPrints prints(scenario.sandbox(), "roger looked for the stimulus colour in the worlds");
+    prints.quiet();
+    unseen = stimulus_unseen_note(scenario, a.seed, std::min(5, a.episodes));
+  }
+  if (r.successes == 0 && !unseen.empty()) std::printf("  note           %s\n", unseen.c_str());
   print_first_tick_warning(r.succeeded_at_first_tick, r.episodes);
   print_unread_sets(scenario.unread_params(split_sets(a.sets, "--set")), scenario.path(),
                     scenario_param_values(scenario), a.sets);
@@ -461,7 +470,8 @@ int evaluate_command(const EvalArgs& a) {
                         {"success_rate", r.success_rate}, {"reward_mean", r.reward_mean},
                         {"reward_std", r.reward_std},    {"time_mean", r.time_mean},
                         {"failed_seeds", failed},       {"never_referenced", r.never_referenced},
-                        {"succeeded_at_first_tick", r.succeeded_at_first_tick}};
+                        {"succeeded_at_first_tick", r.succeeded_at_first_tick},
+                        {"stimulus_unseen", unseen}};
     for (const auto& p : scenario.params()) j["params"][p.name] = p.value;
     std::printf("%s\n", j.dump().c_str());
   }
