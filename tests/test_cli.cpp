@@ -1846,6 +1846,14 @@ TEST_CASE("roger eval and render of a saved policy set the parameters its trial 
   INFO(r.out << r.err);
   CHECK_THAT(r.out, Catch::Matchers::Contains("\n  skill Phi_SG    from " + policy +
                                               "; trained with eye_pixels = 64, upper_arm = 0.6 (here 128, 0.5)\n"));
+  // In a scenario that builds its own body, the skill's is compared with that body (found by a probe:
+  // a scenario without the body parameters said nothing of a skill trained on another body).
+  r = roger("eval curricula/paper.lua --policy " + (dir / "t" / "policy.json").string() + " --skill Phi_SG=" + policy +
+            " --scenario docs/examples/corridor.lua --episodes 1");
+  INFO(r.out << r.err);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("\n  skill Phi_SG    from " + policy +
+                                              "; trained with upper_arm = 0.6, eye_pixels = 64 (here 0.5, 128, the "
+                                              "scenario's own body, which no parameter sets)\n"));
   // In another scenario they are named, not set: it may not declare them, or mean another thing.
   r = roger("eval curricula/paper.lua --policy " + policy + " --scenario cluttered --set upper_arm=0.6 --episodes 2");
   CHECK_THAT(r.out, Catch::Matchers::Contains("\n  note           the trial trained with eye_pixels = 64; scenario "

@@ -237,21 +237,55 @@ static std::string skill_file_origin(const SkillSource& s) {
          " (its actions run here as this curriculum defines them)";
 }
 
+// The body parameters (body_param_values) of the first world of `scenario_file` with `params`, as
+// text, for a skill's note when the scenario does not declare them; none when it cannot be built.
+static ParamList first_world_body(const std::string& scenario_file, const ParamList& params, const SandboxLimits& limits,
+                                  uint64_t seed) {
+  ParamList out;
+  try {
+    Scenario s = Scenario::load(scenario_file, limits);
+    for (const auto& [k, v] : params) s.set_param(k, v);
+    QuietPrints prints(s.sandbox(), "roger looked at the world's body");
+    prints.quiet();
+    for (const auto& [name, value] : body_param_values(s.generate(seed))) out.push_back({name, format_number(value)});
+  } catch (const std::exception&) {
+    out.clear();
+  }
+  return out;
+}
+
 // "; trained with upper_arm = 0.7 (here 0.5)": the scenario parameters a skill's policy records
 // (its trial's, policy.json's extra.params) that differ from this run's, "" when none does (found
-// by a probe: a skill learned on another body was used without a word).
-static std::string skill_params_note(const SkillSource& s, const std::vector<std::pair<std::string, std::string>>& run) {
+// by a probe: a skill learned on another body was used without a word). A body parameter this
+// run's scenario does not declare is compared with its world's body (`body_here`), "here 0.16, the
+// scenario's own body" (found by a probe: a scenario building its own body said nothing).
+static std::string skill_params_note(const SkillSource& s, const ParamList& run, const ParamList& body_here = {}) {
   if (!s.policy.is_object() || !s.policy.contains("extra") || !s.policy["extra"].is_object()) return "";
   const nlohmann::json params = s.policy["extra"].value("params", nlohmann::json::object());
   if (!params.is_object()) return "";
-  std::string theirs, here;
+  std::string theirs, here, own_theirs, own_here;
   for (const auto& [name, value] : run) {
     const auto it = params.find(name);
     if (it == params.end() || !it->is_string() || it->get<std::string>() == value) continue;
     theirs += (theirs.empty() ? "" : ", ") + name + " = " + it->get<std::string>();
     here += (here.empty() ? "" : ", ") + value;
   }
-  return theirs.empty() ? "" : "; trained with " + theirs + " (here " + here + ")";
+  for (const auto& [name, value] : body_here) {
+    const auto it = params.find(name);
+    const bool declared = std::any_of(run.begin(), run.end(), [&n = name](const auto& p) { return p.first == n; });
+    if (declared || it == params.end() || !it->is_string()) continue;
+    char* end = nullptr;
+    const std::string trained = it->get<std::string>();
+    const double v = std::strtod(trained.c_str(), &end);
+    if (*end != '\0' || format_number(v) == value) continue;
+    own_theirs += (own_theirs.empty() ? "" : ", ") + name + " = " + trained;
+    own_here += (own_here.empty() ? "" : ", ") + value;
+  }
+  std::string note;
+  if (!theirs.empty()) note += "; trained with " + theirs + " (here " + here + ")";
+  if (!own_theirs.empty())
+    note += "; trained with " + own_theirs + " (here " + own_here + ", the scenario's own body, which no parameter sets)";
+  return note;
 }
 
 // The episodes that succeeded at the first tick, when the goal is first judged: it held from the
@@ -274,9 +308,13 @@ void print_policy_eval(const EvalArgs& a, const PolicyEvalResult& r, const std::
   print_trial_params(r, a.scenario, a.sets);
   // A skill given by --skill that learned on another body says so, as roger train does (found by a
   // probe: eval said nothing).
+  const bool given = std::any_of(r.skills.begin(), r.skills.end(), [](const SkillSource& s) { return !s.embedded; });
+  const ParamList body_here =
+      given ? first_world_body(r.scenario_file, r.params, sandbox_limits(a.lua), r.eval.first_seed) : ParamList();
   for (const SkillSource& s : r.skills)
     if (!s.embedded)
-      if (const std::string note = skill_params_note(s, r.params); !note.empty() || !s.trained_curriculum.empty())
+      if (const std::string note = skill_params_note(s, r.params, body_here);
+          !note.empty() || !s.trained_curriculum.empty())
         std::printf("  skill %-9s %s%s\n", s.name.c_str(), skill_file_origin(s).c_str(), note.c_str());
   if (r.stage_test_tasks > 0 && !a.test_set)
     std::printf("  note           stage %s teaches: its trials ended on %d test tasks of its task space, not run here "
@@ -603,10 +641,12 @@ void print_trained_on(const TrainArgs& a, const TrainResult& r) {
   std::string sets;
   for (const auto& [k, v] : split_sets(a.sets, "--set")) sets += (sets.empty() ? "" : ", ") + ("--set " + k + "=" + v);
   if (!sets.empty()) std::printf("  with           %s\n", sets.c_str());
+  const ParamList body_here =
+      r.skills.empty() ? ParamList() : first_world_body(r.scenario_file, r.params, sandbox_limits(a.lua), 0);
   for (const auto& s : r.skills)
     std::printf("  skill %s        %s%s\n", s.name.c_str(), skill_origin(s, !a.sets.empty()).c_str(),
                 // A skill trained first without the --set has said so already.
-                s.trained && !s.embedded && !a.sets.empty() ? "" : skill_params_note(s, r.params).c_str());
+                s.trained && !s.embedded && !a.sets.empty() ? "" : skill_params_note(s, r.params, body_here).c_str());
   if (r.init) {
     const WarmStart& w = *r.init;
     std::printf("  init           %s: %zu of %zu actions shared, %d states with values%s%s\n", w.source.c_str(),

@@ -273,6 +273,12 @@ WorldSpec Scenario::generate(uint64_t seed) {
   }
 }
 
+std::vector<std::pair<std::string, double>> body_param_values(const WorldSpec& world) {
+  return {{"upper_arm", world.body.link_length[0]}, {"forearm", world.body.link_length[1]},
+          {"base_radius", world.body.base_radius},  {"hand_radius", world.body.hand_radius},
+          {"eye_pixels", double(world.eyes.pixels)}, {"eye_fov", world.eyes.fov}};
+}
+
 namespace {
 
 // A parameter's value as a number (0 for one that is not a number or is not declared).
@@ -365,25 +371,20 @@ unsigned locked_mask(const std::string& names) {
 // it as the parameters' defaults (body.with_params's second table).
 void check_body_params_used(const std::map<std::string, ParamSlot>& params, const WorldSpec& world,
                             const std::function<void(const std::string&)>& fail) {
-  const std::pair<const char*, double> numbers[] = {
-      {"upper_arm", world.body.link_length[0]}, {"forearm", world.body.link_length[1]},
-      {"base_radius", world.body.base_radius},  {"hand_radius", world.body.hand_radius},
-      {"eye_pixels", double(world.eyes.pixels)}, {"eye_fov", world.eyes.fov}};
-  auto declared = [&](const char* name) -> const ParamSlot* {
+  auto declared = [&](const std::string& name) -> const ParamSlot* {
     const auto it = params.find(name);
     return it != params.end() ? &it->second : nullptr;
   };
-  auto refuse = [&](const char* name, const std::string& in_world) {
+  auto refuse = [&](const std::string& name, const std::string& in_world) {
     const ParamSlot& p = *declared(name);
     const bool set = slot_text(p) != p.info.default_value;
-    fail("the parameter " + std::string(name) + " = " + slot_text(p) + (set ? "" : " (its default)") +
+    fail("the parameter " + name + " = " + slot_text(p) + (set ? "" : " (its default)") +
          " asks for a body the world's Roger does not have (its " + name + " is " + in_world + "): pass " +
          "body.of(params) to world:robot{ body = ..., eyes = ... } (scenarios/lib/body.lua), or " +
          (set ? "leave the parameter at its default"
-              : "give the world's body as the parameters' defaults (body.with_params(params, { " + std::string(name) +
-                    " = ... }))"));
+              : "give the world's body as the parameters' defaults (body.with_params(params, { " + name + " = ... }))"));
   };
-  for (const auto& [name, in_world] : numbers)
+  for (const auto& [name, in_world] : body_param_values(world))
     if (declared(name) && param_number(params, name, 0.0) != in_world) refuse(name, format_number(in_world));
   if (const ParamSlot* p = declared("locked"); p && locked_mask(p->text) != world.body.locked) {
     std::string names;

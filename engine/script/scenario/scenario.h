@@ -180,6 +180,10 @@ std::string stimulus_unseen_note(Scenario& scenario, uint64_t first_seed, int wo
 // (an integer's rounded inwards); none for other parameters.
 std::vector<std::pair<std::string, std::string>> numeric_ends(const ScenarioParam& p);
 
+// The numeric body parameters of scenarios/lib/body.lua (upper_arm, forearm, base_radius,
+// hand_radius, eye_pixels, eye_fov) as the world's Roger has them.
+std::vector<std::pair<std::string, double>> body_param_values(const WorldSpec& world);
+
 // Gap between two placed shapes: the distance between them when apart, minus the penetration
 // depth when they overlap (exact for unions of convex polygons and disks).
 double shape_gap(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb);
