@@ -328,6 +328,13 @@ TEST_CASE("propose works from any folder on a curriculum whose scenario lies bes
   const std::string proposal = slurp(dir.path / "out" / "proposal.lua");
   CHECK(proposal.find("propose.task(\"mine.propose_beside\", \"Grasp\", "
                       "{ scenario = \"curricula/mine/propose_beside_world.lua\" })") != std::string::npos);
+  // Made with ROGER_HOME, it says it loads with it (found by a probe: its header's commands failed
+  // with "module not found" when run as written).
+  CHECK_THAT(proposal, Catch::Contains("-- Proposed with ROGER_HOME set: it loads with the same ROGER_HOME.\n--   "
+                                       "ROGER_HOME=" + home.string() + " roger check <this file>\n--   ROGER_HOME=" +
+                                       home.string() + " roger train <this file> --stage Grasp"));
+  CHECK_THAT(slurp(dir.path / "log"), Catch::Contains("  note           the proposal loads with ROGER_HOME=" + home.string() +
+                                                      ", as it was proposed"));
   // Every candidate is a curriculum roger check accepts, from yet another folder.
   for (const auto& e : fs::directory_iterator(dir.path / "out" / "candidates")) {
     INFO(e.path());

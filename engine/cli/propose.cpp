@@ -69,11 +69,15 @@ int command_propose(const ProposeArgs& a) {
                 "decision after the first in at least half of them (no subgoal), and every action ran %.0f%% of "
                 "their control ticks or more, or reached the goal (nothing to prune); docs/propose.md, The method\n",
                 100 * a.prune_below);
-  std::printf("  spent          %.1f of %.0f simulated s (%.1f%%), of which the probe %.1f\n", r.spent_s, r.budget_s,
-              100 * r.spent_s / r.budget_s, r.probe_s);
+  // The budget as given (found by a probe: --budget 150.5 read "of 150").
+  std::printf("  spent          %.1f of %s simulated s (%.1f%%), of which the probe %.1f\n", r.spent_s,
+              format_number(r.budget_s).c_str(), 100 * r.spent_s / r.budget_s, r.probe_s);
   for (const auto& caution : r.cautions) std::printf("  caution        %s\n", caution.c_str());
   std::printf("  winner         %s (%s): %s\n", w.id.c_str(), w.kind.c_str(), w.summary.c_str());
   std::printf("  wrote          %s (context P), %s\n", r.proposal_file.c_str(), r.report_file.c_str());
+  if (const char* home = std::getenv("ROGER_HOME"); home && *home)
+    std::printf("  note           the proposal loads with ROGER_HOME=%s, as it was proposed (roger check and roger "
+                "train of it need it set)\n", shell_word(home).c_str());
   return 0;
 }
 

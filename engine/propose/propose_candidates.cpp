@@ -1,6 +1,7 @@
 // propose_candidates.cpp: the candidate curricula a probe suggests, and their Lua text.
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
 #include "propose/propose_internal.h"
@@ -8,6 +9,17 @@
 namespace roger::propose_detail {
 
 namespace {
+
+// A proposal made with ROGER_HOME set loads with it alone (docs/propose.md): its commands say so
+// (found by a probe: run as its header wrote them, they failed with "module 'mine' not found").
+std::string home_prefix() {
+  const char* home = std::getenv("ROGER_HOME");
+  return home && *home ? "ROGER_HOME=" + shell_word(home) + " " : "";
+}
+
+std::string home_note() {
+  return home_prefix().empty() ? "" : "-- Proposed with ROGER_HOME set: it loads with the same ROGER_HOME.\n";
+}
 
 // A Lua string literal.
 std::string lua_quote(const std::string& s) {
@@ -90,8 +102,8 @@ struct LuaCandidate {
     o << "-- " << c.id << ".lua: a curriculum proposed by roger propose for stage '" << task.stage << "' of '"
       << task.module << "'\n-- (" << task.command << "; docs/propose.md).\n--\n"
       << "-- Candidate " << c.id << " (" << c.kind << "): " << c.summary << "\n-- Why: " << c.why << "\n--\n"
-      << "--   roger check <this file>\n--   roger train <this file> --stage " << task.stage
-      << " --context P --seed 1 --out out/" << task.stage << "-P\n"
+      << home_note() << "--   " << home_prefix() << "roger check <this file>\n--   " << home_prefix()
+      << "roger train <this file> --stage " << task.stage << " --context P --seed 1 --out out/" << task.stage << "-P\n"
       << "local propose = require(\"lib.propose\")\n";
     if (!task.scenario.empty())
       o << "-- The scenario as the curriculum resolved it: a path relative to the file that writes the stage\n"
