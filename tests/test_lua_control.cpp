@@ -509,6 +509,18 @@ TEST_CASE("names used before their definition are bound when the script finishes
     CHECK(e.line == 1);
     CHECK_THAT(e.message, Contains("roger.sequence('A'): step 2 names 'Bee', which is not defined anywhere"));
   }
+  // Found by a probe: a variable's name written in quotes read as a missing controller, without a word
+  // on the quotes.
+  Snippets quoted;
+  quoted.controller("local carry = roger.primitive('phi4') return roger.sequence('A', {'phi0', 'carry'})");
+  try {
+    finish_control_definitions(quoted.sandbox);
+    FAIL("an undefined name must be an error");
+  } catch (const ScriptError& e) {
+    CHECK_THAT(e.message, Contains("step 2 names 'carry', which is not defined anywhere in the script (a string names a "
+                                   "controller by the name it was made with; a controller held in a variable carry is "
+                                   "given without quotes, as carry)"));
+  }
 }
 
 TEST_CASE("mistakes in skill scripts name the file and line", "[lua_control]") {

@@ -390,8 +390,20 @@ void finish_control_definitions(LuaSandbox& sandbox) {
       unbind_all();
       std::vector<std::string> candidates = primitive_names();
       for (const auto& n : book->named) candidates.push_back(n.name);
-      throw ScriptError(r.context + " names '" + name + "', which is not defined anywhere in the script" +
-                            suggestion(name, candidates) + "; " + known_names(*book),
+      // A name written in quotes that is the script's variable (found by a probe: `{ search_grasp,
+      // "transport" }` for the local transport): a string names a controller by the name it was made
+      // with, and a variable is written bare.
+      const std::string near = suggestion(name, candidates);
+      const bool identifier = !name.empty() && !std::isdigit(static_cast<unsigned char>(name[0])) &&
+                              std::all_of(name.begin(), name.end(), [](char c) {
+                                return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+                              });
+      const std::string bare = near.empty() && identifier
+                                   ? " (a string names a controller by the name it was made with; a controller held "
+                                     "in a variable " + name + " is given without quotes, as " + name + ")"
+                                   : "";
+      throw ScriptError(r.context + " names '" + name + "', which is not defined anywhere in the script" + near + bare +
+                            "; " + known_names(*book),
                         r.where.file, r.where.line, r.traceback);
     }
     r.ref->bind(book->named[it->second].controller);
