@@ -1011,6 +1011,9 @@ TEST_CASE("the static pass finds a misspelt roger member and names the nearest",
   REQUIRE(nested.size() == 1);
   CHECK_THAT(nested[0], Contains("roger.robot.base_radus is not in the API of a scenario; did you mean roger.robot.base_radius?"));
   CHECK_THAT(problems_in("return roger['nto']").at(0), Contains("did you mean roger.not?"));
+  // Found by a probe: a name in another case had no suggestion, each capital an edit.
+  CHECK_THAT(problems_in("return roger.teacher.ALP_GMM{}", ScriptKind::kCurriculum).at(0),
+             Contains("roger.teacher.ALP_GMM is not in the API of a curriculum; did you mean roger.teacher.alp_gmm?"));
   // A member of another kind of script says whose it is; far from everything, lists what exists.
   CHECK_THAT(problems_in("return roger.stage{}").at(0),
              Contains("roger.stage is not in the API of a skill script (a curriculum has it)"));

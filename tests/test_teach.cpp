@@ -136,6 +136,10 @@ TEST_CASE("a task space names what it allows when a value lies outside it", "[te
   CHECK(why == "a value of roger.choice{circle, triangle, pentagon, spade}");
   CHECK_FALSE(s.task_of({{"obstacles", "9"}, {"robot_distance", "1"}, {"shape", "spade"}}, &why));
   CHECK(why == "obstacles = 9 is outside the task space: obstacles takes an integer in roger.int(0, 6)");
+  // Found by a probe: a choice in another case had no suggestion.
+  CHECK_FALSE(s.task_of({{"obstacles", "1"}, {"robot_distance", "1"}, {"shape", "Spade"}}, &why));
+  CHECK(why == "shape = Spade is outside the task space (did you mean 'spade'?): shape takes a value of "
+               "roger.choice{circle, triangle, pentagon, spade}");
   CHECK_FALSE(s.task_of({{"obstacles", "1"}, {"shape", "spade"}}, &why));
   CHECK(why == "no value for 'robot_distance' (roger.real(0.8, 2))");
   CHECK_FALSE(s.task_of({{"mass", "1"}}, &why));

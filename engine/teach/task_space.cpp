@@ -176,7 +176,10 @@ std::optional<TaskPoint> TaskSpace::task_of(const ParamList& params, std::string
     std::string allowed;
     const std::optional<double> x = value_of(size_t(i), v, &allowed);
     if (!x) {
-      if (why) *why = k + " = " + v + " is outside the task space: " + k + " takes " + allowed;
+      // A choice in another case (shape = "Spade") gets its nearest, as a name does.
+      const TaskDim& d = dims_[size_t(i)];
+      const std::string near = d.kind == TaskDim::Kind::kChoice ? suggestion(v, d.choices) : "";
+      if (why) *why = k + " = " + v + " is outside the task space" + near + ": " + k + " takes " + allowed;
       return std::nullopt;
     }
     t[size_t(i)] = *x;

@@ -202,9 +202,13 @@ class LuaTeacher final : public Teacher {
         throw ScriptError(where_ + " returned '" + key + "', which is not a parameter of the task space" +
                               suggestion(key, names) + " (" + TaskSpace(dims).describe() + ")", fn_.file, fn_.line, "");
       }
-      if (!v)
-        throw ScriptError(where_ + " returned " + key + " = " + value + ", outside the task space: " + key +
-                              " takes " + why, fn_.file, fn_.line, "");
+      if (!v) {
+        // A choice in another case ("Spade") gets its nearest (found by a probe).
+        const TaskDim& d = space.dims()[size_t(i)];
+        const std::string near = d.kind == TaskDim::Kind::kChoice ? suggestion(value, d.choices) : "";
+        throw ScriptError(where_ + " returned " + key + " = " + value + ", outside the task space" + near + ": " +
+                              key + " takes " + why, fn_.file, fn_.line, "");
+      }
       if (!fixed) task[size_t(i)] = *v;
     }
     return {task, {}, std::nullopt};
