@@ -773,6 +773,23 @@ std::string load_error(const fs::path& file) {
 
 }  // namespace
 
+// Found by a probe: a context fixing the parameter an LCAS teacher lifts was said at the teacher's
+// line, where a context's mistakes are said at the context's.
+TEST_CASE("a context fixing what the teacher varies is refused at the context's line", "[teach][errors]") {
+  test::TempDir dir("roger_teach_context_line");
+  const fs::path file = dir.path / "ctx.lua";
+  std::ofstream(file) << "local p = require('lib.skills').primitives()\n"
+                         "return { name = 't', stages = { roger.stage{ name = 'S', scenario = 'cluttered', time_limit = 4,\n"
+                         "  absorbing = roger.converged(p.phi0), budget = { episodes = 30 }, checkpoints = { every = 10 },\n"
+                         "  teacher = roger.teacher.lcas{ lift = { eye_pixels = { 16, 32 } }, window = 5 },\n"
+                         "  contexts = {\n"
+                         "    { name = 'A', actions = { p.search, p.phi0 } },\n"
+                         "    { name = 'B', actions = { p.search, p.phi0 }, params = { eye_pixels = 32 } },\n"
+                         "  } } } }\n";
+  CHECK_THAT(load_error(file), StartsWith(file.string() + ":7: stage 'S', context 'B': the context's params fix "
+                                          "'eye_pixels', which roger.teacher.lcas (" + file.string() + ":4) varies"));
+}
+
 TEST_CASE("a bad task space or teacher is refused at load with file:line, the field and what is allowed",
           "[teach][errors]") {
   test::TempDir dir("roger_teach_bad");

@@ -429,10 +429,11 @@ void check_no_fixed(const CurriculumStage& st, const std::string& name, const st
   if (set_by(st.params))
     fail_at(st.where() + ": " + what + " varies '" + name + "', which the stage's params fix; remove one of them",
             file, line);
+  // A context's mistake at the context's line, where roger.stage's errors of a context are placed
+  // (found by a probe: it was said at the teacher's line).
   for (const auto& c : st.contexts)
-    if (set_by(c.params))
-      fail_at(st.where(c.name) + ": the context's params fix '" + name + "', which " + what +
-                  " varies; " + advice, file, line);
+    if (set_by(c.params)) fail_at(st.where(c.name) + ": the context's params fix '" + name + "', which " + what +
+                                      " varies; " + advice, "", 0);
 }
 
 void read_tasks(lua_State* L, const LuaFields& f, CurriculumStage& st) {
