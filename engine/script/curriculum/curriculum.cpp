@@ -900,7 +900,10 @@ void check_test_set(Curriculum& cur, const CurriculumStage& st, const SandboxLim
     } catch (const PlacementError& e) {
       ParamList task = space.params(tasks[i]);
       task.insert(task.end(), extra.begin(), extra.end());
-      const std::string at = st.file.empty() ? "" : st.file + ":" + std::to_string(st.line) + ": ";
+      // At the stage's `test` field, without the scenario's traceback: the task and seed say it
+      // (found by a probe: it was said at the roger.stage{ line, a traceback after it).
+      const std::string at = st.file.empty() ? "" : st.file + ":" + std::to_string(curriculum_detail::field_line(st, "", "test")) + ": ";
+      const std::string why = e.what();
       problems.push_back(at + (ctx.params.empty() ? st.where() : st.where(ctx.name)) + ": test task " +
                          std::to_string(i + 1) + " of " +
                          std::to_string(tasks.size()) + " (" + params_text(task) + ") cannot be placed in world seed " +
@@ -909,7 +912,7 @@ void check_test_set(Curriculum& cur, const CurriculumStage& st, const SandboxLim
                               ? std::string("checkpoints and final evaluation run it")
                               : "final evaluation runs it (its checkpoints run the first " +
                                     std::to_string(st.checkpoint_test_tasks()) + ")") +
-                         " (the test set is not skipped): " + e.what());
+                         " (the test set is not skipped): " + why.substr(0, why.find("\nstack traceback:")));
     } catch (const std::exception& e) {
       problems.push_back(st.where(ctx.name) + ": " + of_scenario(st, e.what()));
     }
