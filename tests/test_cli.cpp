@@ -326,7 +326,8 @@ TEST_CASE("roger check warns of a declared parameter generate never reads, and o
   const Run c = roger("check " + drawn.string());
   INFO(c.err);
   CHECK(c.status == 0);
-  CHECK_THAT(c.err, Catch::Matchers::Contains("roger: warning: stage 'S': scenario '" + unread.string() + "' never reads the "
+  CHECK_THAT(c.err, Catch::Matchers::Contains("roger: warning: " + drawn.string() + ":2: stage 'S': scenario '" +
+                                              unread.string() + "' never reads the "
                                               "parameter 'clutter' (context B's params.clutter), in any world roger check "
                                               "builds of it (world seeds 0 to 4, and each choice and range end): setting it "
                                               "changes no world"));

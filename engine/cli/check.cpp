@@ -71,34 +71,48 @@ const std::vector<std::string>& unread_params_of(const std::string& scenario_nam
   return names;
 }
 
-// Parameters a curriculum or a batch script sets or draws, each with where it names it.
-using NamedParams = std::vector<std::pair<std::string, std::string>>;
+// A parameter a curriculum or a batch script sets or draws, with where it names it ("tasks.shape")
+// and, when known, the file and line that do ("cur.lua:12").
+struct NamedParam {
+  std::string name, where, at;
+};
+using NamedParams = std::vector<NamedParam>;
 
 // Warns of those of `named` that scenario `scenario_name` never reads: a teacher's draws of one, a
 // context's value or a run's would change no world (the scenario's own warning, said where the
-// script names it). `who`: "stage 'S'", "run 'R'", ...
+// script names it: at the first one's file and line when known). `who`: "stage 'S'", "run 'R'", ...
 void warn_unread(const std::string& who, const std::string& scenario_name, const NamedParams& named,
                  const SandboxLimits& limits, UnreadCache& cache) {
   const std::vector<std::string>& unread = unread_params_of(scenario_name, limits, cache);
   std::vector<std::string> said;  // each as 'name' (where the script names it)
-  for (const auto& [name, where] : named)
-    if (std::binary_search(unread.begin(), unread.end(), name)) said.push_back("'" + name + "' (" + where + ")");
+  std::string at;
+  for (const NamedParam& p : named)
+    if (std::binary_search(unread.begin(), unread.end(), p.name)) {
+      said.push_back("'" + p.name + "' (" + p.where + ")");
+      if (at.empty() && !p.at.empty()) at = p.at + ": ";
+    }
   if (said.empty()) return;
   const std::string listed = listed_with_and(said);
   std::fprintf(stderr,
-               "roger: warning: %s: scenario '%s' never reads the parameter%s %s, in any world roger check builds of "
+               "roger: warning: %s%s: scenario '%s' never reads the parameter%s %s, in any world roger check builds of "
                "it (world seeds 0 to %d, and each choice and range end): setting %s changes no world\n",
-               who.c_str(), scenario_name.c_str(), said.size() == 1 ? "" : "s", listed.c_str(), kUnreadSeeds - 1,
-               said.size() == 1 ? "it" : "them");
+               at.c_str(), who.c_str(), scenario_name.c_str(), said.size() == 1 ? "" : "s", listed.c_str(),
+               kUnreadSeeds - 1, said.size() == 1 ? "it" : "them");
 }
 
-// A stage's task axes, its params and its contexts' params that its scenario never reads.
+// A stage's task axes, its params and its contexts' params that its scenario never reads: an axis
+// at its line, the others at the stage's (found by a probe: the warning had no file:line, where the
+// teacher's beside it had).
 void warn_unread_in_stage(const CurriculumStage& st, const SandboxLimits& limits, UnreadCache& cache) {
+  const auto at = [](const std::string& file, int line) {
+    return file.empty() || line <= 0 ? std::string() : file + ":" + std::to_string(line);
+  };
   NamedParams named;
-  for (const TaskDim& d : st.tasks.dims()) named.push_back({d.name, "tasks." + d.name});
-  for (const auto& [k, v] : st.params) named.push_back({k, "params." + k});
+  for (const TaskDim& d : st.tasks.dims()) named.push_back({d.name, "tasks." + d.name, at(d.file, d.line)});
+  for (const auto& [k, v] : st.params) named.push_back({k, "params." + k, at(st.file, st.line)});
   for (const auto& ctx : st.contexts)
-    for (const auto& [k, v] : ctx.params) named.push_back({k, "context " + ctx.name + "'s params." + k});
+    for (const auto& [k, v] : ctx.params)
+      named.push_back({k, "context " + ctx.name + "'s params." + k, at(st.file, st.line)});
   warn_unread(st.where(), st.scenario, named, limits, cache);
 }
 
@@ -114,7 +128,7 @@ void warn_unread_in_batch(const BatchScript& b) {
   };
   auto named = [](const Params& params) {
     NamedParams out;
-    for (const auto& [k, v] : params) out.push_back({k, "params." + k});
+    for (const auto& [k, v] : params) out.push_back({k, "params." + k, ""});
     return out;
   };
   for (const BatchRun& r : b.runs)
