@@ -819,6 +819,9 @@ TEST_CASE("the Lua API checks its arguments where they are given", "[scenario]")
         "to a goal region's centre, which no one reaches there; move the goal or the obstacle");
   CHECK(run("world:robot{x = -1, y = -1} world:goal{x = 1, y = 1} world:obstacle{shape = shapes.disk('post', 0.2), x = 1.25, y = 1}",
             "beside_goal") == "no error");
+  // Found by a probe: a second call replaced the first colour without a word.
+  CHECK(run("world:stimulus{colour = {40, 80, 221}} world:stimulus{colour = '#00ff00'}", "stimulus_twice") ==
+        "world:stimulus: the stimulus is already set, to #2850dd: the eyes track one colour (call world:stimulus once)");
   CHECK(run("world:goal{}", "goal_empty") == "world:goal: missing required field 'x' (a number)");
   CHECK(run("world:goal{x = 1}", "goal_no_y") == "world:goal: missing required field 'y' (a number)");
   CHECK(run("world:obstacle{shape = shapes.get('circle'), x = 0, y = 0, colour = {1, 2}}", "colour") ==

@@ -306,6 +306,10 @@ int l_world_stimulus(lua_State* L) {
   lua_check_arity(L, "world:stimulus", 1, "1 argument (a table of fields)");
   LuaFields f(L, 2, "world:stimulus", {"colour"});
   if (!f.has("colour")) f.fail("missing required field 'colour'");
+  // The eyes track one colour: a second call would replace the first without a word (found by a probe).
+  if (w.stimulus_set)
+    f.fail("the stimulus is already set, to " + w.spec.stimulus_colour.hex() + ": the eyes track one colour (call "
+           "world:stimulus once)");
   w.spec.stimulus_colour = f.colour("colour", w.spec.stimulus_colour);
   w.stimulus_set = true;
   return 0;
