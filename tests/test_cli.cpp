@@ -2101,6 +2101,11 @@ TEST_CASE("roger eval says when a --set noise setting changed nothing", "[cli][n
   r = roger("eval curricula/scripted.lua --policy phi6 --episodes 1 --set noise_joints_dropout=0.6 --set noise_scale=2");
   CHECK_THAT(r.out, Catch::Matchers::Contains("  note           noise_joints_dropout = 0.6 times noise_scale = 2 is held "
                                               "at a dropout of 1: every reading of the joints channel is lost\n"));
+  // And roger check of the scenario with the same --set (found by a probe: it said only ok).
+  r = roger("check cluttered --set noise_joints_dropout=0.6 --set noise_scale=2");
+  CHECK(r.status == 0);
+  CHECK_THAT(r.err, Catch::Matchers::Contains("roger: warning: noise_joints_dropout = 0.6 times noise_scale = 2 is held "
+                                              "at a dropout of 1: every reading of the joints channel is lost\n"));
 }
 
 // Found by a probe: a skill script's goal that held in every world from the start read as 100%

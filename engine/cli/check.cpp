@@ -678,6 +678,10 @@ int check_scenario_file(const CheckArgs& a, const std::string& shown, const Sand
     warn_unread_params(scenario, a.seeds);
   }
   prints.finish();
+  // What eval and render note of the --set (found by a probe: a dropout that noise_scale carries
+  // past 1, held at 1, was noted there and not here).
+  if (const std::string noise = noise_sets_note(scenario_param_values(scenario), a.sets); !noise.empty())
+    std::fprintf(stderr, "roger: warning: %s\n", noise.c_str());
   std::string tried;
   if (a.sets.empty())
     tried = ", every parameter choice and range end tried" +
