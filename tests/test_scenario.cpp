@@ -819,6 +819,12 @@ TEST_CASE("the Lua API checks its arguments where they are given", "[scenario]")
         "to a goal region's centre, which no one reaches there; move the goal or the obstacle");
   CHECK(run("world:robot{x = -1, y = -1} world:goal{x = 1, y = 1} world:obstacle{shape = shapes.disk('post', 0.2), x = 1.25, y = 1}",
             "beside_goal") == "no error");
+  // Found by a probe: a million tries where no place fits spent the budget as a "runaway loop?".
+  CHECK(run("world:arena{xmin = -20, xmax = 20, ymin = -20, ymax = 20, cell = 0.25} world:robot{x = 0, y = 0} "
+            "for i = 1, 60 do world:obstacle{shape = shapes.box('b', 0.2, 0.2), x = -19 + 0.5 * i, y = 10} end "
+            "local x, y = world:sample_position{radius = 0.2, robot_distance = 30, tries = 1000000}", "tries_budget") ==
+        "world:sample_position: instruction budget of 50000000 exceeded: its tries ran past the budget left before a "
+        "place was found (no place may meet its constraints: with fewer tries it says which failed)");
   // Found by a probe: a second call replaced the first colour without a word.
   CHECK(run("world:stimulus{colour = {40, 80, 221}} world:stimulus{colour = '#00ff00'}", "stimulus_twice") ==
         "world:stimulus: the stimulus is already set, to #2850dd: the eyes track one colour (call world:stimulus once)");

@@ -201,6 +201,9 @@ int lua_protect(lua_State* L, const std::function<int()>& body);
 // Raises the budget error at the Lua caller's file:line when the budget is spent. For states owned
 // by a LuaSandbox only.
 void lua_charge(lua_State* L, uint64_t units);
+// The same, the error naming the call and why it spent the budget ("world:sample_position: instruction
+// budget of N exceeded: <why>") in place of "runaway loop?"; `what` and `why` are static strings.
+void lua_charge(lua_State* L, uint64_t units, const char* what, const char* why);
 
 // Whether the running call's budget is spent: a script's pcall caught its error and returned (a
 // generator's `return pcall(loop)`). The call then ends with the budget's error; what the script

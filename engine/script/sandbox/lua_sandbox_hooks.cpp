@@ -383,6 +383,10 @@ void lua_charge(lua_State* L, uint64_t units) {
   sandbox_detail::charge_budget(L, units, nullptr, nullptr);
 }
 
+void lua_charge(lua_State* L, uint64_t units, const char* what, const char* why) {
+  sandbox_detail::charge_budget(L, units, what, why);
+}
+
 bool lua_budget_spent(lua_State* L) { return sandbox_detail::budget_spent(sandbox_detail::impl_of(L)); }
 
 namespace sandbox_detail {

@@ -170,7 +170,10 @@ std::optional<Vec2> draw_position(lua_State* L, const WorldBuilder& w, const Sam
   const auto& away = r.away;
   const Vec2 base(w.spec.robot.pose.x, w.spec.robot.pose.y);
   for (int64_t t = 0; t < r.tries; ++t) {
-    lua_charge(L, 1 + occ.list.size() + w.spec.goals.size() + away.size());
+    // Found by a probe: a million tries where no place fits ran out of the budget as a "runaway loop?".
+    lua_charge(L, 1 + occ.list.size() + w.spec.goals.size() + away.size(), "world:sample_position",
+               "its tries ran past the budget left before a place was found (no place may meet its constraints: "
+               "with fewer tries it says which failed)");
     // One draw per statement: the order in which a call's arguments are evaluated is unspecified
     // (gcc drew y first, clang x), so the worlds, and every result, depended on the compiler.
     // y first keeps the worlds of the gcc builds that made tests/golden.
