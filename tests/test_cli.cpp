@@ -2478,7 +2478,8 @@ TEST_CASE("roger run refuses a test task no world holds before any trial runs", 
   const Run r = roger("run " + (dir / "batch.lua").string() + " --out " + out);
   INFO(r.err);
   CHECK(r.status == 1);
-  CHECK_THAT(r.err, Catch::Matchers::Contains("curr.lua:2: stage 'S': test task 2 of 2 (robot_distance = 3.3) cannot be "
+  // At the stage's test field (line 6).
+  CHECK_THAT(r.err, Catch::Matchers::Contains("curr.lua:6: stage 'S': test task 2 of 2 (robot_distance = 3.3) cannot be "
                                               "placed in world seed 1000001") &&
                         Catch::Matchers::Contains("roger run: nothing run: every trial of such a run would fail"));
   CHECK_FALSE(fs::exists(out));

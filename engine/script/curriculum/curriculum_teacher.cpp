@@ -74,6 +74,7 @@ int view_list_index(lua_State* L) {
     return 1;
   }
   const std::string key = lua_tostring(L, 2);
+  // The rng object's methods (scenario_world.cpp, new_rng_class).
   static const char* const kRngMethods[] = {"uniform", "int", "normal", "angle", "choice", "shuffle", "fork"};
   const bool rng_method = std::any_of(std::begin(kRngMethods), std::end(kRngMethods),
                                       [&](const char* m) { return key == m; });
