@@ -597,14 +597,12 @@ void warn_unread_params(Scenario& scenario, int seeds) {
                unread.size() == 1 ? "" : "s", names.c_str(), seeds - 1, it, it, it);
 }
 
-// A scenario: its worlds generated and built for seeds 0..N-1, then (without --set) every declared
-// parameter choice and each end of every declared range.
 // The range ends check_scenario could not build, each without Lua's traceback (the value and the
 // line say it); those of noise parameters the world's Roger does not follow, one cause, said once
 // (found by a probe: a generator that did not pass body.noise_of(params) got 40 warnings).
 void warn_range_ends(const std::vector<std::string>& range_ends) {
   std::vector<std::string> unfollowed;  // "noise_base=1 (its max)"
-  std::string where;                    // the generator's line that made the robot
+  std::string where;                    // the generator's file and line the message names
   for (const auto& w : range_ends) {
     const std::string text = w.substr(0, w.find("\nstack traceback:"));
     const size_t seed = text.find(", seed ");
@@ -629,6 +627,8 @@ void warn_range_ends(const std::vector<std::string>& range_ends) {
                where.c_str(), counted(int(unfollowed.size()), "range end").c_str(), named.c_str());
 }
 
+// A scenario: its worlds generated and built for seeds 0..N-1, then (without --set) every declared
+// parameter choice and each end of every declared range.
 int check_scenario_file(const CheckArgs& a, const std::string& shown, const SandboxLimits& limits) {
   Scenario scenario = Scenario::load(a.script, limits);
   apply_sets(scenario, a.sets);
