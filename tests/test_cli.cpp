@@ -821,6 +821,29 @@ TEST_CASE("roger check names a misspelt top-level key, and finds bare names of e
                                                      "DC1 DC2; T: B2 DC3 DC4 DC5 DC6)"));
     fs::remove(wrapper);
   }
+  // Found by a probe: a local named like a kind's key made the script that kind (a skill script's
+  // `local stages`, a scenario's `local runs`), and a comment naming roger.stage guessed a curriculum.
+  {
+    const fs::path skills = temp_file("roger_cli_local_stages.lua",
+                                      "local skills = require('lib.skills')\nlocal p = skills.primitives()\n"
+                                      "local stages = { skills.Phi6(p), p.phi3 }\n"
+                                      "return { policies = { sg = { action = roger.sequence('SG', stages), "
+                                      "goal = roger.converged(p.phi3), time_limit = 5 } } }\n");
+    const Run k = roger("check " + skills.string());
+    INFO(k.err);
+    CHECK(k.status == 0);
+    CHECK_THAT(k.out, Catch::Matchers::Contains("ok (skill script"));
+    const fs::path scenario = temp_file("roger_cli_local_runs.lua",
+                                        "-- its roger.stage{scenario = ...} trains here\nlocal S = {}\n"
+                                        "function S.generate(world, rng, p)\n  local runs = 3\n"
+                                        "  world:robot{ x = 0, y = 0 }\nend\nreturn S\n");
+    const Run c = roger("check " + scenario.string());
+    INFO(c.err);
+    CHECK(c.status == 0);
+    CHECK_THAT(c.out, Catch::Matchers::Contains("ok (scenario"));
+    fs::remove(skills);
+    fs::remove(scenario);
+  }
   const Run missing = roger("check nope.lua");
   CHECK(missing.status == 1);
   CHECK_THAT(missing.err, Catch::Matchers::Contains("no script 'nope.lua': not a file here, and the project has no scenarios/nope.lua, "

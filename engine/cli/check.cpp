@@ -20,6 +20,7 @@
 #include "script/authoring/script_api.h"
 #include "script/batch/batch_script.h"
 #include "script/curriculum/curriculum.h"
+#include "script/sandbox/lua_tokens.h"
 #include "script/scenario/scenario.h"
 #include "script/skills/skill_script.h"
 #include "sim/world.h"
@@ -299,16 +300,22 @@ std::string check_target(const std::string& arg) {
 // nearest one: a curriculum when it or a module it requires builds stages, a skill script when
 // they build controllers, else a scenario, as before. The modules count (found by a probe: a
 // script copying require("paper")'s table ran as a scenario, and lib.skills failed inside).
+// Read from the tokens, so that a comment or a string naming roger.stage decides nothing (found by a
+// probe: a scenario's comment "its roger.stage{...} trains here" ran it as a curriculum).
 std::optional<ScriptKind> guessed_kind(const std::string& path) {
-  std::vector<std::string> texts;
+  std::set<std::string> words;  // "roger.X" as code, and string literals ("lib.skills")
   for (const std::filesystem::path& file : required_files(path)) try {
-      texts.push_back(read_file_text(file.string()));
+      const std::vector<LuaToken> t = lua_tokenize(read_file_text(file.string()));
+      for (size_t i = 0; t[i].type != LuaToken::kEnd; ++i) {
+        if (t[i].type == LuaToken::kString) words.insert(t[i].text);
+        if (t[i].type == LuaToken::kName && t[i].text == "roger" && t[i + 1].type == LuaToken::kOp &&
+            t[i + 1].text == "." && t[i + 2].type == LuaToken::kName)
+          words.insert("roger." + t[i + 2].text);
+      }
     } catch (const Error&) {
       // unreadable: the loader says so
     }
-  const auto any_has = [&](const char* word) {
-    return std::any_of(texts.begin(), texts.end(), [&](const std::string& t) { return t.find(word) != std::string::npos; });
-  };
+  const auto any_has = [&](const char* word) { return words.count(word) > 0; };
   if (any_has("roger.stage") || any_has("roger.learned")) return ScriptKind::kCurriculum;
   // The control API's functions, predicates among them (found by a probe: a skill script whose
   // goal was roger.converged(...) and whose 'policies' was misspelt ran as a scenario, where

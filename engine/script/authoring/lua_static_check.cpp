@@ -32,6 +32,7 @@ struct Access {
   std::vector<std::string> locals = {};  // of a read: the locals in scope, for suggestions
   std::string literal = {};              // of a finding: the string literal compared
   bool in_function = false;              // made inside a function's body
+  std::vector<int> functions = {};       // of a read: the functions it lies in (0: the chunk), outermost first
 };
 
 // A local (or a parameter) as declared: a global read of its name elsewhere is a local out of scope.
@@ -39,6 +40,8 @@ struct LocalDeclaration {
   std::string name;
   int line;
   bool parameter = false;  // a function's
+  int function = 0;        // the function it belongs to (0: the chunk)
+  int function_line = 0;   // where that function is written
 };
 
 // A scope (block, function, loop, branch) or a bracket; locals live in scopes only. Aliases are
@@ -48,6 +51,8 @@ struct Frame {
   std::set<std::string> locals;
   std::set<std::string> aliases = {};
   std::string third = {};  // a function's third parameter: a reward function's event
+  int function = 0;        // a function's number in the file (from 1), its line beside it
+  int function_line = 0;
   bool bracket() const { return kind == kBrace || kind == kParen || kind == kBracket; }
 };
 
@@ -146,10 +151,11 @@ class Scanner {
         pending_.pop_back();
       }
     }
-    drop_findings_of_values();
+    count_values_written();
   }
   std::vector<Access> accesses;
   std::vector<LocalDeclaration> local_declarations;  // in file order
+  std::map<std::string, int> values_written;         // string literals written outside comparisons
 
  private:
   const LuaToken& at(size_t k) const { return t_[std::min(k, t_.size() - 1)]; }
@@ -160,11 +166,23 @@ class Scanner {
   Frame& top() { return frames_.back(); }
   void note(Access::Kind kind, const std::string& n, int line) {
     accesses.push_back({kind, n, line});
-    accesses.back().in_function =
-        std::any_of(frames_.begin(), frames_.end(), [](const Frame& f) { return f.kind == Frame::kFunction; });
+    Access& a = accesses.back();
+    a.in_function = innermost_function() != nullptr;
+    if (kind == Access::kRead) {
+      a.functions.push_back(0);
+      for (const Frame& f : frames_)
+        if (f.kind == Frame::kFunction) a.functions.push_back(f.function);
+    }
   }
-  void declared_at(const LuaToken& t, bool parameter = false) {
-    local_declarations.push_back({t.text, t.line, parameter});
+  const Frame* innermost_function() const {
+    for (auto it = frames_.rbegin(); it != frames_.rend(); ++it)
+      if (it->kind == Frame::kFunction) return &*it;
+    return nullptr;
+  }
+  // A local declared at t, of the innermost function (or of `of`, a function being opened).
+  void declared_at(const LuaToken& t, bool parameter = false, const Frame* of = nullptr) {
+    const Frame* f = of ? of : innermost_function();
+    local_declarations.push_back({t.text, t.line, parameter, f ? f->function : 0, f ? f->function_line : 0});
   }
   // A global written through the globals' table (_G.x = v) is meant as one, wherever it is written.
   void meant_global(const std::string& n, int line) {
@@ -348,7 +366,12 @@ class Scanner {
       std::string path = first;
       while (op(k + 1, ".") && at(k + 2).type == LuaToken::kName) path += "." + at(k + 2).text, k += 2;
       if (op(k + 1, ":") && at(k + 2).type == LuaToken::kName) method = true, k += 2;
-      if (!is_local(first)) {
+      const bool globals_table = first == "_G" || (first == "_ENV" && !owner("_ENV"));
+      if (globals_table && !method && k == i_ + 3) {
+        meant_global(at(k).text, line);  // function _G.f(): as _G.f = function (found by a probe)
+      } else if (owner("_ENV") && path == first) {
+        // under `local _ENV = t`, `function f` makes a field of t (found by a probe: warned of)
+      } else if (!is_local(first)) {
         const bool plain = path == first && !method;
         note(plain ? Access::kWrite : Access::kRead, first, line);
         if (first == "roger" && path != first) note(method ? Access::kMember : Access::kMemberWrite, path, line);
@@ -363,6 +386,8 @@ class Scanner {
   // Opens a function scope holding its parameters; i_ is on the token before "(".
   void open_function(bool method) {
     Frame f{Frame::kFunction, {}};
+    f.function = ++functions_;
+    f.function_line = at(i_).line;
     if (method) f.locals.insert("self");
     size_t k = i_ + 1;
     if (op(k, "(")) {
@@ -370,7 +395,7 @@ class Scanner {
       for (++k; !op(k, ")") && at(k).type != LuaToken::kEnd; ++k)
         if (name(k)) {
           f.locals.insert(at(k).text);
-          declared_at(at(k), true);
+          declared_at(at(k), true, &f);
           if (++params == 3 && !method) f.third = at(k).text;  // a callback is never a method
         }
     }
@@ -407,6 +432,9 @@ class Scanner {
   void variable() {
     const std::string n = at(i_).text;
     const int line = at(i_).line;
+    // The chunk's own _ENV (no local of that name) is the globals' table: `_ENV.x = v` defines x
+    // (found by a probe: it did not).
+    if (n == "_ENV" && !owner("_ENV")) return global_table_write(line);
     if (is_local(n)) return local_variable(n, line);
     // Under `local _ENV = t` a free name is a field of t, which this pass cannot see.
     if (owner("_ENV")) return;
@@ -434,8 +462,9 @@ class Scanner {
       }
       return;
     }
-    if (op(k + 1, ".") && name(k + 2) && statement_level() && op(k + 3, "=")) meant_global(at(k + 2).text, line);
-    if (op(k + 1, "[") && at(k + 2).type == LuaToken::kString && op(k + 3, "]") && statement_level() && op(k + 4, "="))
+    // One target of several too: `_G.a, _G.b = 1, 2` (found by a probe: only the last was defined).
+    if (op(k + 1, ".") && name(k + 2) && assigned(k + 2)) meant_global(at(k + 2).text, line);
+    if (op(k + 1, "[") && at(k + 2).type == LuaToken::kString && op(k + 3, "]") && assigned(k + 3))
       meant_global(at(k + 2).text, line);
     else if (op(k + 1, "[") && !(at(k + 2).type == LuaToken::kString && op(k + 3, "]")))
       note(Access::kDynamic, at(k).text + "[...]", line);  // _G[name]: a global named at run time
@@ -660,19 +689,16 @@ class Scanner {
     if (!message.empty()) accesses.push_back({Access::kFinding, message, literal.line, {}, literal.text});
   }
 
-  // A literal the file also writes outside such comparisons (a parameter's choice or default, a
-  // task axis's value) is a value its tables hold, so what is compared with it can equal it: no
-  // finding. Found by a probe: a scenario's p.hull == "conv", over the choices {"conv", "box"},
-  // was taken for a misspelt controller state.
-  void drop_findings_of_values() {
+  // The literals the file writes outside such comparisons (a parameter's choice or default, a task
+  // axis's value, an argument): values its tables hold, so what is compared with one can equal it,
+  // and the judge drops its finding. Found by a probe: a scenario's p.hull == "conv", over the
+  // choices {"conv", "box"}, was taken for a misspelt controller state.
+  void count_values_written() {
     std::map<std::string, int> written;
     for (const LuaToken& t : t_)
       if (t.type == LuaToken::kString) ++written[t.text];
-    accesses.erase(std::remove_if(accesses.begin(), accesses.end(),
-                                  [&](const Access& a) {
-                                    return a.kind == Access::kFinding && !a.literal.empty() && written[a.literal] > compared_[a.literal];
-                                  }),
-                   accesses.end());
+    for (const auto& [text, n] : written)
+      if (n > compared_[text]) values_written[text] = n - compared_[text];
   }
 
   // Whether a plain name is a reward function's event: named so, or a function's third parameter.
@@ -695,6 +721,7 @@ class Scanner {
   std::vector<LuaToken> t_;
   std::vector<Frame> frames_;
   std::vector<PendingLocals> pending_;  // innermost last
+  int functions_ = 0;                   // the functions opened so far
   std::map<std::string, int> compared_;  // string literals compared with an index or an event, by text
   size_t i_ = 0;
   std::set<size_t> in_reported_chain_;  // where the later operands of a reported and / or start
@@ -704,6 +731,7 @@ struct ScannedFile {
   std::string shown;
   std::vector<Access> accesses;
   std::vector<LocalDeclaration> local_declarations;
+  std::map<std::string, int> values_written;  // Scanner::values_written
   std::vector<StaticProblem> duplicate_keys;  // found in the text, apart from the names
 };
 
@@ -727,7 +755,8 @@ std::vector<StaticProblem> duplicate_keys(const std::string& text, const std::st
 
 ScannedFile scanned_file(const std::string& text, const std::string& shown) {
   Scanner scanned(text);
-  return {shown, std::move(scanned.accesses), std::move(scanned.local_declarations), duplicate_keys(text, shown)};
+  return {shown, std::move(scanned.accesses), std::move(scanned.local_declarations), std::move(scanned.values_written),
+          duplicate_keys(text, shown)};
 }
 
 // The problems judged from a file's names and those of its text, in line order.
@@ -748,6 +777,10 @@ class AccessJudge {
         if (a.kind == Access::kMemberWrite) written_.insert(a.name);
         dynamic_ = dynamic_ || a.kind == Access::kDynamic;
       }
+    // A value any of the files writes (found by a probe: a module's `mode == "per_decision"`, its
+    // third parameter, was given "per_decision" by the curriculum that requires it).
+    for (const auto& f : files)
+      for (const auto& [text, n] : f.values_written) values_.insert(text);
   }
 
   void judge(const ScannedFile& f, std::vector<StaticProblem>& out) const {
@@ -759,7 +792,8 @@ class AccessJudge {
       if (a.kind == Access::kMember) message = member(a.name);
       // A compared literal (a misspelt state or event) only where callbacks can be; a predicate taken
       // for a truth value (no literal) wherever predicates are made.
-      if (a.kind == Access::kFinding && (a.literal.empty() || callbacks_possible())) message = a.name;
+      if (a.kind == Access::kFinding && (a.literal.empty() || (callbacks_possible() && !values_.count(a.literal))))
+        message = a.name;
       if (!message.empty() && seen.insert({a.line, message}).second) out.push_back({f.shown, a.line, message});
     }
   }
@@ -777,6 +811,21 @@ class AccessJudge {
       if (k.find('.') == std::string::npos) names.push_back(k);
     std::string m = "undefined global '" + n + "'";
     if (n == "roger") return m + ": " + what() + " reaches no roger.* API";
+    if (n == "self")  // found by a probe: a method written with `.` read self as a global
+      return m + ": self is the table a function written with `:` receives (function T:name(...)); one written "
+                 "with `.` has no self unless it names it as a parameter";
+    // Lua 5.1's globals, which 5.4 has elsewhere (found by a probe: `table.unpack or unpack`, a
+    // common idiom, said only "not in the sandbox").
+    static const std::pair<const char*, const char*> kLua51[] = {
+        {"unpack", "table.unpack"}, {"loadstring", "load"}, {"setfenv", "_ENV"}, {"getfenv", "_ENV"},
+        {"module", "a table the module returns"}};
+    for (const auto& [old_name, now] : kLua51)
+      if (n == old_name)
+        return m + ": a global of Lua 5.1, for which roger's Lua 5.4 has " + now +
+               (n == "unpack" || n == "loadstring"
+                    ? " (this pass reports every read of it, a fallback's `" + std::string(now) + " or " + n +
+                          "` too: write " + now + " alone)"
+                    : std::string());
     const auto near = nearest_names(n, names);
     if (!near.empty()) return m + "; did you mean " + join(near, " or ") + "?";
     // A shipped library of that name (`shapes` used without its require): say how to get it.
@@ -790,26 +839,42 @@ class AccessJudge {
 
   // An undefined global that is the name of a local declared elsewhere in the file: said so, with
   // its line, in place of a guess at another name (found by a probe: a local declared below its
-  // use was "undefined global 'target'; did you mean rawget?").
-  // One declared on the read's own line is `local x = x`, whose x is the global: no note.
+  // use was "undefined global 'target'; did you mean rawget?"). A local of this code's own
+  // functions (or of the chunk) declared below it is declared too late; one of them declared above
+  // it, in a block that has ended; one of another function is that function's alone (found by a
+  // later probe: "declare it above" of another function's local would not help). One declared on
+  // the read's own line is `local x = x`, whose x is the global: no note.
   static std::string out_of_scope(const ScannedFile& f, const Access& a, const std::string& message) {
-    const LocalDeclaration* before = nullptr;
-    const LocalDeclaration* below = nullptr;
-    for (const LocalDeclaration& l : f.local_declarations)
-      if (l.name == a.name && l.line < a.line && !before) before = &l;
-      else if (l.name == a.name && l.line > a.line && !below) below = &l;
-    const LocalDeclaration* d = before ? before : below;
-    if (!d) return message;
+    const auto enclosing = [&](const LocalDeclaration& l) {
+      return std::find(a.functions.begin(), a.functions.end(), l.function) != a.functions.end();
+    };
+    const LocalDeclaration *below = nullptr, *ended = nullptr, *other = nullptr;
+    for (const LocalDeclaration& l : f.local_declarations) {
+      if (l.name != a.name || l.line == a.line) continue;
+      if (!enclosing(l)) {
+        if (!other) other = &l;
+      } else if (l.line > a.line) {
+        if (!below) below = &l;
+      } else if (!ended) {
+        ended = &l;
+      }
+    }
     const std::string head = "undefined global '" + a.name + "'";
-    const std::string line = std::to_string(d->line);
-    if (d->parameter)
-      return head + ": '" + a.name + "' is a parameter of the function at line " + line +
-             ", seen only inside that function: pass it to this one";
-    if (d == below)
-      return head + ": the local '" + a.name + "' is declared below, at line " + line +
+    const bool in_function = a.functions.size() > 1;
+    if (below)
+      return head + ": the local '" + a.name + "' is declared below, at line " + std::to_string(below->line) +
              ", and a local is seen only after its statement: declare it above its first use";
-    return head + ": the local '" + a.name + "' of line " + line +
-           " is out of scope here (a local is seen to the end of the block or function that declares it)";
+    if (ended)
+      return head + ": the local '" + a.name + "' of line " + std::to_string(ended->line) +
+             " is out of scope here (a local is seen to the end of the block or function that declares it)";
+    if (!other) return message;
+    const std::string where = "the function at line " + std::to_string(other->function_line);
+    if (other->parameter)
+      return head + ": '" + a.name + "' is a parameter of " + where + ", seen only inside that function" +
+             (in_function ? ": pass it to this one" : "");
+    return head + ": the local '" + a.name + "' of line " + std::to_string(other->line) + " belongs to " + where +
+           ", which this code does not see: " +
+           (in_function ? "pass it as an argument, or declare it where both see it" : "declare it at the top");
   }
 
   // The first segment of a member path that does not exist, with what exists beside it.
@@ -859,6 +924,7 @@ class AccessJudge {
   std::optional<ScriptKind> kind_;
   std::map<std::string, bool> api_;
   std::set<std::string> written_;
+  std::set<std::string> values_;  // string literals some file writes outside comparisons
   bool dynamic_ = false;  // some file makes globals this pass cannot name
 };
 

@@ -325,9 +325,22 @@ bool has_key(const std::string& path, const std::string& key, int depth) {
   std::map<std::string, std::string> modules;  // local name -> module
   std::string result_module;
   int block = 0;  // the blocks open at token i: only the main chunk's return gives the script's value
+  std::vector<char> brackets;  // the brackets open at token i, innermost last
   for (size_t i = 0; t[i].type != LuaToken::kEnd; ++i) {
+    if (t[i].type == LuaToken::kOp) {
+      const std::string& op = t[i].text;
+      if (op == "{" || op == "(" || op == "[") brackets.push_back(op[0]);
+      if ((op == "}" || op == ")" || op == "]") && !brackets.empty()) brackets.pop_back();
+    }
     if (t[i].type != LuaToken::kName) continue;
-    if (t[i].text == key && is_op(i + 1, "=")) return true;  // also `t.key = ...`
+    // A table's field, `{ key = ...}` or `t.key = ...`: not a variable of that name (found by a
+    // probe: a skill script's `local stages = {...}` made it a curriculum, a scenario's
+    // `local runs = ...` a batch script).
+    if (t[i].text == key && is_op(i + 1, "=") && i > 0) {
+      const bool field = is_op(i - 1, ".") || is_op(i - 1, "{") ||
+                         ((is_op(i - 1, ",") || is_op(i - 1, ";")) && !brackets.empty() && brackets.back() == '{');
+      if (field) return true;
+    }
     const std::string& word = t[i].text;
     if (word == "function" || word == "do" || word == "if" || word == "repeat") ++block;
     if (word == "end" || word == "until") --block;
