@@ -186,11 +186,12 @@ void explain_undefined_name(const EnvironmentOptions& o, const ScriptError& e) {
       const std::string head = "undefined global '";
       if (p.message.rfind(head, 0) != 0) continue;
       const std::string name = p.message.substr(head.size(), p.message.find('\'', head.size()) - head.size());
-      std::string how;
-      for (const char* t : {"random", "sequence", "lcas", "alp_gmm", "plr"})
-        if (name == t) how = "; a teacher is written roger.teacher." + name + "{...}";
-      for (const char* a : {"int", "real", "choice"})
-        if (name == a) how = "; an axis is written roger." + name + "(...)";
+      const auto among = [&](const std::vector<std::string>& names) {
+        return std::find(names.begin(), names.end(), name) != names.end();
+      };
+      const std::string how = among(teaching_names(true))    ? "; a teacher is written roger.teacher." + name + "{...}"
+                              : among(teaching_names(false)) ? "; an axis is written roger." + name + "(...)"
+                                                             : "";
       throw ScriptError(p.message + how, source->name, p.line, "");
     }
   }

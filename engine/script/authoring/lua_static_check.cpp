@@ -7,6 +7,7 @@
 #include <cctype>
 #include <deque>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <optional>
 #include <set>
@@ -31,8 +32,10 @@ struct Access {
   int line;
   std::vector<std::string> locals = {};  // of a read: the locals in scope, for suggestions
   std::string literal = {};              // of a finding: the string literal compared
-  bool in_function = false;              // made inside a function's body
-  std::vector<int> functions = {};       // of a read: the functions it lies in (0: the chunk), outermost first
+  // The functions it lies in, outermost first, after 0 for the chunk ({0}: at the top; a write
+  // through the globals' table counts as one there, meant as a global wherever it is written).
+  std::vector<int> functions = {};
+  bool in_function() const { return functions.size() > 1; }
 };
 
 // A local (or a parameter) as declared: a global read of its name elsewhere is a local out of scope.
@@ -155,7 +158,7 @@ class Scanner {
   }
   std::vector<Access> accesses;
   std::vector<LocalDeclaration> local_declarations;  // in file order
-  std::map<std::string, int> values_written;         // string literals written outside comparisons
+  std::set<std::string> values_written;              // string literals written outside comparisons
 
  private:
   const LuaToken& at(size_t k) const { return t_[std::min(k, t_.size() - 1)]; }
@@ -167,12 +170,9 @@ class Scanner {
   void note(Access::Kind kind, const std::string& n, int line) {
     accesses.push_back({kind, n, line});
     Access& a = accesses.back();
-    a.in_function = innermost_function() != nullptr;
-    if (kind == Access::kRead) {
-      a.functions.push_back(0);
-      for (const Frame& f : frames_)
-        if (f.kind == Frame::kFunction) a.functions.push_back(f.function);
-    }
+    a.functions.push_back(0);
+    for (const Frame& f : frames_)
+      if (f.kind == Frame::kFunction) a.functions.push_back(f.function);
   }
   const Frame* innermost_function() const {
     for (auto it = frames_.rbegin(); it != frames_.rend(); ++it)
@@ -187,7 +187,7 @@ class Scanner {
   // A global written through the globals' table (_G.x = v) is meant as one, wherever it is written.
   void meant_global(const std::string& n, int line) {
     note(Access::kWrite, n, line);
-    accesses.back().in_function = false;
+    accesses.back().functions = {0};
   }
 
   // Declares a local in the innermost scope (brackets hold none), an alias of roger or not.
@@ -698,7 +698,7 @@ class Scanner {
     for (const LuaToken& t : t_)
       if (t.type == LuaToken::kString) ++written[t.text];
     for (const auto& [text, n] : written)
-      if (n > compared_[text]) values_written[text] = n - compared_[text];
+      if (n > compared_[text]) values_written.insert(text);
   }
 
   // Whether a plain name is a reward function's event: named so, or a function's third parameter.
@@ -731,7 +731,7 @@ struct ScannedFile {
   std::string shown;
   std::vector<Access> accesses;
   std::vector<LocalDeclaration> local_declarations;
-  std::map<std::string, int> values_written;  // Scanner::values_written
+  std::set<std::string> values_written;  // Scanner::values_written
   std::vector<StaticProblem> duplicate_keys;  // found in the text, apart from the names
 };
 
@@ -780,7 +780,7 @@ class AccessJudge {
     // A value any of the files writes (found by a probe: a module's `mode == "per_decision"`, its
     // third parameter, was given "per_decision" by the curriculum that requires it).
     for (const auto& f : files)
-      for (const auto& [text, n] : f.values_written) values_.insert(text);
+      values_.insert(f.values_written.begin(), f.values_written.end());
   }
 
   void judge(const ScannedFile& f, std::vector<StaticProblem>& out) const {
@@ -860,7 +860,7 @@ class AccessJudge {
       }
     }
     const std::string head = "undefined global '" + a.name + "'";
-    const bool in_function = a.functions.size() > 1;
+    const bool in_function = a.in_function();
     if (below)
       return head + ": the local '" + a.name + "' is declared below, at line " + std::to_string(below->line) +
              ", and a local is seen only after its statement: declare it above its first use";
@@ -1012,12 +1012,12 @@ std::vector<StaticProblem> globals_set_in_functions(const std::vector<ScannedFil
   std::set<std::string> at_top;
   for (const auto& f : files)
     for (const auto& a : f.accesses)
-      if (a.kind == Access::kWrite && !a.in_function) at_top.insert(a.name);
+      if (a.kind == Access::kWrite && !a.in_function()) at_top.insert(a.name);
   std::vector<StaticProblem> out;
   for (const auto& f : files) {
     std::set<std::string> said;
     for (const auto& a : f.accesses)
-      if (a.kind == Access::kWrite && a.in_function && !at_top.count(a.name) && said.insert(a.name).second)
+      if (a.kind == Access::kWrite && a.in_function() && !at_top.count(a.name) && said.insert(a.name).second)
         out.push_back({f.shown, a.line,
                        "'" + a.name + "' is assigned inside a function without `local`: it is a global, which keeps "
                        "its value from one call to the next (a callback's, across episodes and into evaluations); "
@@ -1068,39 +1068,63 @@ std::string shadow_of(const LuaSandbox& sandbox, const fs::path& file, const std
 
 }  // namespace
 
-std::vector<StaticProblem> static_check(const std::string& path, std::optional<ScriptKind> kind,
-                                        std::vector<std::string>* warnings) {
-  LuaSandbox sandbox;  // for its module folders and how it shows file names
-  sandbox.set_main_script(path);
+namespace {
+
+// The script at `path`, then each module it requires by a literal name that the sandbox's require
+// would load, and theirs in turn, each once, breadth first. `scan(file)` reads one and returns its
+// accesses (null for one that does not compile or cannot be read: it requires nothing this pass can
+// see); `required(file, name, module)` hears of each require that loads a file.
+void walk_requires(const LuaSandbox& sandbox, const std::string& path,
+                   const std::function<const std::vector<Access>*(const fs::path&)>& scan,
+                   const std::function<void(const fs::path&, const std::string&, const fs::path&)>& required) {
   std::error_code ec;
   std::deque<fs::path> queue{fs::weakly_canonical(path, ec)};
   std::set<fs::path> seen{queue.front()};
-  std::vector<ScannedFile> files;
-  std::vector<StaticProblem> syntax_errors;
   while (!queue.empty()) {
     const fs::path file = queue.front();
     queue.pop_front();
-    // The script itself as the user named it, as the loader's messages show it; modules as the
-    // sandbox shows them.
-    const std::string shown = files.empty() && fs::path(path).is_relative() ? path : sandbox.display_name(file);
-    const std::string text = read_file_text(file.string());
-    if (auto syntax = syntax_problem(text, shown)) {  // its names mean nothing until it compiles
-      syntax_errors.push_back(*syntax);
-      continue;
-    }
-    files.push_back(scanned_file(text, shown));
-    for (const auto& a : files.back().accesses) {
+    const std::vector<Access>* accesses = scan(file);
+    if (!accesses) continue;
+    for (const auto& a : *accesses) {
       if (a.kind != Access::kRequire) continue;
       // What require would load, never more (found by a probe: a name climbing out, "..tmp.x",
       // or a module linked out of the project made roger check read and quote a file outside it).
       const fs::path module = find_module_file(sandbox.module_roots(), a.name);
-      if (warnings && !module.empty())
-        for (const std::string& warning : {shadow_of(sandbox, file, a.name, module), other_of_name(sandbox, a.name, module)})
-          if (!warning.empty() && std::find(warnings->begin(), warnings->end(), warning) == warnings->end())
-            warnings->push_back(warning);
-      if (!module.empty() && seen.insert(module).second) queue.push_back(module);
+      if (module.empty()) continue;
+      required(file, a.name, module);
+      if (seen.insert(module).second) queue.push_back(module);
     }
   }
+}
+
+}  // namespace
+
+std::vector<StaticProblem> static_check(const std::string& path, std::optional<ScriptKind> kind,
+                                        std::vector<std::string>* warnings) {
+  LuaSandbox sandbox;  // for its module folders and how it shows file names
+  sandbox.set_main_script(path);
+  std::vector<ScannedFile> files;
+  std::vector<StaticProblem> syntax_errors;
+  const auto scan = [&](const fs::path& file) -> const std::vector<Access>* {
+    // The script itself as the user named it, as the loader's messages show it; modules as the
+    // sandbox shows them.
+    const bool script = files.empty() && syntax_errors.empty();
+    const std::string shown = script && fs::path(path).is_relative() ? path : sandbox.display_name(file);
+    const std::string text = read_file_text(file.string());
+    if (auto syntax = syntax_problem(text, shown)) {  // its names mean nothing until it compiles
+      syntax_errors.push_back(*syntax);
+      return nullptr;
+    }
+    files.push_back(scanned_file(text, shown));
+    return &files.back().accesses;
+  };
+  const auto required = [&](const fs::path& file, const std::string& name, const fs::path& module) {
+    if (!warnings) return;
+    for (const std::string& warning : {shadow_of(sandbox, file, name, module), other_of_name(sandbox, name, module)})
+      if (!warning.empty() && std::find(warnings->begin(), warnings->end(), warning) == warnings->end())
+        warnings->push_back(warning);
+  };
+  walk_requires(sandbox, path, scan, required);
   const AccessJudge judge(kind, files);
   std::vector<StaticProblem> out = syntax_errors;
   for (const auto& f : files) {
@@ -1116,22 +1140,20 @@ std::vector<StaticProblem> static_check(const std::string& path, std::optional<S
 std::vector<fs::path> required_files(const std::string& path) {
   LuaSandbox sandbox;  // for its module folders
   sandbox.set_main_script(path);
-  std::error_code ec;
-  std::vector<fs::path> out{fs::weakly_canonical(path, ec)};
-  for (size_t i = 0; i < out.size(); ++i) {
-    std::string text;
+  std::vector<fs::path> out;
+  std::vector<Access> accesses;
+  const auto scan = [&](const fs::path& file) -> const std::vector<Access>* {
+    out.push_back(file);
     try {
-      text = read_file_text(out[i].string());
+      const std::string text = read_file_text(file.string());
+      if (syntax_problem(text, file.string())) return nullptr;
+      accesses = Scanner(text).accesses;
     } catch (const Error&) {
-      continue;  // unreadable: it requires nothing we can see
+      return nullptr;  // unreadable: the loader says so
     }
-    if (syntax_problem(text, out[i].string())) continue;
-    for (const auto& a : Scanner(text).accesses) {
-      if (a.kind != Access::kRequire) continue;
-      const fs::path module = find_module_file(sandbox.module_roots(), a.name);
-      if (!module.empty() && std::find(out.begin(), out.end(), module) == out.end()) out.push_back(module);
-    }
-  }
+    return &accesses;
+  };
+  walk_requires(sandbox, path, scan, [](const fs::path&, const std::string&, const fs::path&) {});
   return out;
 }
 

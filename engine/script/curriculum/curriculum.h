@@ -281,4 +281,8 @@ std::vector<std::string> check_test_sets(const std::string& path, const SandboxL
 // so that results are never resumed after any of them changed. Throws like Scenario::load.
 std::vector<std::filesystem::path> curriculum_source_files(const Curriculum& cur, const SandboxLimits& limits = {});
 
+// The names of roger.teacher's teachers (`teachers`), else of the task axes roger.int, .real and
+// .choice, as the curriculum API installs them: for messages naming what exists.
+std::vector<std::string> teaching_names(bool teachers);
+
 }  // namespace roger

@@ -599,6 +599,12 @@ void read_test(lua_State* L, const LuaFields& f, CurriculumStage& st, bool episo
   lua_pop(L, 2);
 }
 
+// roger.int, .real and .choice; roger.teacher's teachers (teaching_names lists them for messages).
+const luaL_Reg kAxes[] = {{"int", l_int}, {"real", l_real}, {"choice", l_choice}, {nullptr, nullptr}};
+const luaL_Reg kTeachers[] = {{"random", l_teacher_random}, {"sequence", l_teacher_sequence},
+                              {"lcas", l_teacher_lcas},     {"alp_gmm", l_teacher_alp_gmm},
+                              {"plr", l_teacher_plr},       {nullptr, nullptr}};
+
 }  // namespace
 
 void install_teaching_api(lua_State* L) {
@@ -613,13 +619,9 @@ void install_teaching_api(lua_State* L) {
     lua_pop(L, 1);
   }
   lua_getglobal(L, "roger");
-  const luaL_Reg axes[] = {{"int", l_int}, {"real", l_real}, {"choice", l_choice}, {nullptr, nullptr}};
-  luaL_setfuncs(L, axes, 0);
+  luaL_setfuncs(L, kAxes, 0);
   lua_newtable(L);
-  const luaL_Reg teachers[] = {{"random", l_teacher_random}, {"sequence", l_teacher_sequence},
-                               {"lcas", l_teacher_lcas},     {"alp_gmm", l_teacher_alp_gmm},
-                               {"plr", l_teacher_plr},       {nullptr, nullptr}};
-  luaL_setfuncs(L, teachers, 0);
+  luaL_setfuncs(L, kTeachers, 0);
   lua_pushvalue(L, -1);
   lua_setfield(L, LUA_REGISTRYINDEX, kTeacherTable);  // kept apart: a script may replace roger.teacher
   lua_setfield(L, -2, "teacher");
@@ -636,6 +638,13 @@ void parse_teaching(lua_State* L, const LuaFields& f, CurriculumStage& st, LuaCa
 }
 
 }  // namespace curriculum_detail
+
+std::vector<std::string> teaching_names(bool teachers) {
+  std::vector<std::string> out;
+  for (const luaL_Reg* r = teachers ? curriculum_detail::kTeachers : curriculum_detail::kAxes; r->name; ++r)
+    out.push_back(r->name);
+  return out;
+}
 
 void CurriculumStage::check_played_in(const std::string& scenario_name, const TaskSpace& space) const {
   CurriculumStage st = *this;

@@ -74,11 +74,7 @@ int view_list_index(lua_State* L) {
     return 1;
   }
   const std::string key = lua_tostring(L, 2);
-  // The rng object's methods (scenario_world.cpp, new_rng_class).
-  static const char* const kRngMethods[] = {"uniform", "int", "normal", "angle", "choice", "shuffle", "fork"};
-  const bool rng_method = std::any_of(std::begin(kRngMethods), std::end(kRngMethods),
-                                      [&](const char* m) { return key == m; });
-  if (rng_method)
+  if (lua_is_rng_method(L, key))
     return raise_at_reader(L, "the history has no method '" + key + "': a teacher function takes the history "
                               "first and the rng second, function(history, rng) ... rng:" + key + "(...) ... end");
   return raise_at_reader(L, "the history is a list of the trial's training episodes, in order, and has no field '" +

@@ -122,6 +122,8 @@ void install_scenario_api(LuaSandbox& sandbox);
 int64_t lua_push_rng(lua_State* L, uint64_t seed);
 void lua_rng_calls_begin(lua_State* L, int64_t key);
 void lua_rng_calls_end(lua_State* L);
+// Whether `name` is a method of the rng objects of state L (false before the first is pushed).
+bool lua_is_rng_method(lua_State* L, const std::string& name);
 
 // The file a scenario argument names: the path itself if it is a file, else
 // <project>/scenarios/<name>.lua for a bare name. Throws roger::Error listing the shipped

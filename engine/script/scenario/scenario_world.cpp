@@ -511,6 +511,14 @@ int install_api(lua_State* L) {
 
 }  // namespace scenario_detail
 
+bool lua_is_rng_method(lua_State* L, const std::string& name) {
+  LuaStackGuard guard(L);
+  if (luaL_getmetatable(L, scenario_detail::kRngType) != LUA_TTABLE) return false;
+  if (lua_getfield(L, -1, "__index") != LUA_TTABLE) return false;
+  lua_pushstring(L, name.c_str());
+  return lua_rawget(L, -2) != LUA_TNIL;
+}
+
 int64_t lua_push_rng(lua_State* L, uint64_t seed) {
   if (luaL_getmetatable(L, scenario_detail::kRngType) == LUA_TNIL) scenario_detail::new_rng_class(L);
   lua_pop(L, 1);
