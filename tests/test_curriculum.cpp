@@ -74,6 +74,10 @@ TEST_CASE("the paper's curriculum holds the paper's Psi sets", "[curriculum]") {
             .find("has no stage 'sg' (did you mean 'SG'?); its stages: SG, T") != std::string::npos);
   CHECK(error_of([] { (void)Curriculum::load("paper").stage("SG").context("dc2"); })
             .find("stage 'SG' has no context 'dc2' (did you mean 'DC2'?); its contexts: B1, DC1, DC2") != std::string::npos);
+  // The stage and context swapped (found by a probe: "has no stage 'DC6'" alone).
+  CHECK(error_of([] { (void)Curriculum::load("paper").stage("DC6"); })
+            .find("has no stage 'DC6' ('DC6' is a context of stage 'T': a stage comes first, then its context); "
+                  "its stages: SG, T") != std::string::npos);
 }
 
 // Found by a probe: a curriculum that returns what a module of its own makes (`local make =

@@ -39,6 +39,25 @@ std::string params_given(const ParamList& sets, const ParamList& task) {
   return text.empty() ? "with the stage's own parameters" : "with the parameters given (" + text + ")";
 }
 
+// The world of `seed`, an error building it given `prefix` in front (which seed, stage and
+// parameters): one that cannot be placed as PlacementError (a teacher's reset skips its task), any
+// other as ScriptError, its traceback kept (found by a probe: make's params={'goal_x': -1e9} said
+// only place.lua's line and the arena, not which call or parameter).
+WorldSpec built_world(Scenario& scenario, uint64_t seed, const std::string& prefix) {
+  try {
+    return scenario.generate(seed);
+  } catch (const PlacementError& e) {
+    throw placement_error(e, prefix);
+  } catch (const ScriptError& e) {
+    const std::string at = e.file.empty() ? "" : e.file + (e.line > 0 ? ":" + std::to_string(e.line) : "") + ": ";
+    ScriptError out(prefix + at + e.message, "", 0, e.traceback);
+    out.message = e.message;
+    out.file = e.file;
+    out.line = e.line;
+    throw out;
+  }
+}
+
 }  // namespace
 
 #if defined(__SSE__) || defined(__x86_64__)
@@ -109,13 +128,10 @@ struct StageEnvironment::Impl {
 
   // The stage's first held-out world, which gives the body.
   WorldSpec held_out_world(const EnvironmentOptions& o) {
-    try {
-      return scenario.generate(stage.checkpoints.seeds);
-    } catch (const PlacementError& e) {
-      throw placement_error(e, "could not build the world of seed " + std::to_string(stage.checkpoints.seeds) +
-                                   " of " + stage.where(ctx.name) + " (its first held-out world, which gives the body) " +
-                                   params_given(o.sets, {}) + ": ");
-    }
+    return built_world(scenario, stage.checkpoints.seeds,
+                       "could not build the world of seed " + std::to_string(stage.checkpoints.seeds) + " of " +
+                           stage.where(ctx.name) + " (its first held-out world, which gives the body) " +
+                           params_given(o.sets, {}) + ": ");
   }
 
   // Ticks until the driver waits for a decision or the episode ends. An error ends the episode.
@@ -273,6 +289,18 @@ StageEnvironment::StageEnvironment(const EnvironmentOptions& o) {
       throw ScriptError(e.message + ", or give teacher=False for none", e.file, e.line, e.traceback);
     }
   task_space_ = st.tasks.without(fixed);
+  if (o.teaching && !(o.tasks.empty() && o.teacher.empty())) check_task_space_ends(o);
+}
+
+// make's own task space, or teacher, refused at make when the parameters at one of its ends give
+// no world, as roger check refuses a stage's (found by a probe: tasks={'goal_x': real(-10, 10)} was
+// taken, and every reset then failed with the arena's error). A task no layout holds is not
+// refused: its reset skips it.
+void StageEnvironment::check_task_space_ends(const EnvironmentOptions& o) const {
+  CurriculumStage st = impl_->stage;
+  if (!o.scenario.empty()) st.scenario = o.scenario;
+  const std::vector<std::string> problems = task_space_end_problems(st, impl_->ctx.name, o.limits, o.sets);
+  if (!problems.empty()) throw ScriptError(join(problems, "\n"), "", 0, "");  // each names its file:line
 }
 
 PlacementError placement_error(const PlacementError& e, const std::string& prefix) {
@@ -371,14 +399,9 @@ const std::vector<Gamma>& StageEnvironment::reset(uint64_t seed, const ParamList
   m.run.reset();
   seed_ = seed;
   m.set_task(task);
-  const WorldSpec spec = [&] {
-    try {
-      return m.scenario.generate(seed);
-    } catch (const PlacementError& e) {
-      throw placement_error(e, "could not build the world of seed " + std::to_string(seed) + " of " +
-                                   m.stage.where(m.ctx.name) + " " + params_given(sets_, task) + ": ");
-    }
-  }();
+  const WorldSpec spec = built_world(m.scenario, seed,
+                                     "could not build the world of seed " + std::to_string(seed) + " of " +
+                                         m.stage.where(m.ctx.name) + " " + params_given(sets_, task) + ": ");
   m.run.emplace(m.agent, spec, seed, m.driver, m.stage.episode_time_limit(spec));
   m.ended = false;
   m.advance();

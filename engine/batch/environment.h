@@ -178,6 +178,8 @@ class StageEnvironment {
   const Agent& agent() const;
 
  private:
+  void check_task_space_ends(const EnvironmentOptions& o) const;
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
   EnvironmentInfo info_;

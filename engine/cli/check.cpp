@@ -260,6 +260,7 @@ std::string check_target(const std::string& arg) {
   // A bare name is a file here, not a folder (found by a probe: after `roger run quick --out quick`,
   // `roger check quick` read the results folder, where roger run takes scripts/quick.lua).
   if (fs::is_regular_file(arg, ec) || (fs::exists(arg, ec) && arg.find('/') != std::string::npos)) return arg;
+  if (arg.empty()) throw Error("no script given: the name is empty");
   if (arg.find('/') != std::string::npos) {
     if (fs::path(arg).is_relative() && fs::is_regular_file(project_root() / arg, ec))
       return (project_root() / arg).string();

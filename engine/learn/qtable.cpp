@@ -1,5 +1,6 @@
 // qtable.cpp: the action-value table of a stage, its backups and its policy file.
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -350,7 +351,10 @@ void QTable::save(const std::string& path, const PolicyMetadata& meta) const {
 QTable QTable::load(const std::string& path, const std::vector<std::string>& expected,
                     PolicyMetadata* meta) {
   const std::string text = read_file_text(path);  // refuses a device or a pipe, which never ends
-  if (text.empty() && !std::ifstream(path, std::ios::binary)) throw Error(path + ": cannot read the policy file");
+  if (text.empty() && !std::ifstream(path, std::ios::binary)) {
+    std::error_code ec;  // which of the two (found by a probe: a missing file was only "cannot read")
+    throw Error(path + (std::filesystem::exists(path, ec) ? ": cannot read the policy file" : ": no such file"));
+  }
   nlohmann::json j;
   try {
     j = parse_json(text);

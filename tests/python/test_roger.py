@@ -399,6 +399,11 @@ class Interface(unittest.TestCase):
         self.assertEqual((params["goal_radius"], params["eye_pixels"], params["shape"], params["locked"]),
                          (0.25, 128, "circle", ""))
         self.assertEqual((type(params["goal_x"]), type(params["eye_pixels"])), (float, int))
+        # A list parameter given as a list, as it reads back joined (found by a probe: its repr was
+        # given to the scenario, which refused "['left_eye', 'right_eye']").
+        for locked in (["left_eye", "right_eye"], ("left_eye", "right_eye"), "left_eye,right_eye"):
+            with roger.make(EXAMPLE, "Look", "Gaze", params={"locked": locked}) as given:
+                self.assertEqual(given.stage_info["params"]["locked"], "left_eye,right_eye")
 
     def test_step_outside_an_episode_says_which_case(self):
         # Found by a probe: after an episode ended, step said "no episode is running ... (call
@@ -1172,6 +1177,23 @@ class BadArguments(unittest.TestCase):
             "the parameters given (robot_distance=2.4): "],
             roger.make_vec(PAPER, "T", "B2", 2, params={"robot_distance": 2.4}).reset, seed=0)
         self.assertEqual(e.env, 0)
+        # Found by a probe: a world the parameters make impossible (not a layout a seed misses) was the
+        # scenario's error alone, naming neither the call nor the parameter.
+        e = self.assertRaisesWith(roger.ScriptError, [
+            "could not build the world of seed 1000000 of stage 'Look', context 'Gaze' (its first held-out world, "
+            "which gives the body) with the parameters given (goal_x=-1000000000.0): scenarios/lib/place.lua:",
+            "centre (-1000000000, 0) is outside the 4 x 4 m arena"],
+            roger.make, EXAMPLE, "Look", "Gaze", params={"goal_x": -1e9})
+        self.assertNotIsInstance(e, roger.PlacementError)  # no seed holds it: not a task to skip
+        self.assertEqual(e.file, "scenarios/lib/place.lua")
+        # make's own task space, checked at its ends as roger check checks a stage's: every reset
+        # failed with the arena's error.
+        e = self.assertRaisesWith(roger.ScriptError, [
+            "make(tasks=...):1: stage 'Look': scenario 'unobstructed' with goal_x = -10 (an end of the stage's "
+            "task space): scenarios/lib/place.lua:52: world:goal: goal 'goal' centre (-10, 0) is outside",
+            "goal_x = 10 (an end"], roger.make, EXAMPLE, "Look", "Gaze", tasks={"goal_x": roger.axis.real(-10, 10)})
+        self.assertNotIn("stack traceback", str(e))
+        roger.make(EXAMPLE, "Look", "Gaze", tasks={"goal_x": roger.axis.real(-10, 10)}, teacher=False)  # no teacher draws
         env = roger.make(EXAMPLE, "Look", "Gaze", tasks={"robot_distance": roger.axis.real(0.5, 3.5)}, teacher=False)
         self.assertRaisesWith(roger.PlacementError, [
             "reset: could not build the world of seed 1 of stage 'Look', context 'Gaze' with the parameters given "
@@ -1208,6 +1230,20 @@ class BadArguments(unittest.TestCase):
         self.assertRaisesWith(roger.RogerError, [EXAMPLE + ": stage 'Look' has no context 'Nope'"], roger.make_vec,
                               EXAMPLE, "Look", "Nope", 2)
         self.assertRaisesWith(roger.RogerError, ["no_such_curriculum"], roger.make, "no_such_curriculum", "T", "B2")
+        # Found by a probe: "curricula/.lua does not exist", the folder's name as a missing script,
+        # a scenario's name with no word of it, and the stage and context swapped said only the first.
+        self.assertRaisesWith(roger.RogerError, ["no curriculum given: the name is empty"], roger.make, "", "T", "B2")
+        folder = os.path.dirname(os.path.abspath(PAPER))
+        self.assertRaisesWith(roger.RogerError, [f"'{folder}' is a folder: give one script in it"],
+                              roger.make, folder, "T", "B2")
+        self.assertRaisesWith(roger.RogerError, ["no curriculum 'unobstructed'",
+                                                 "scenarios/unobstructed.lua is a scenario, another kind of script"],
+                              roger.make, "unobstructed", "T", "B2")
+        self.assertRaisesWith(roger.RogerError, ["has no stage 'DC6' ('DC6' is a context of stage 'T': a stage comes "
+                                                 "first, then its context); its stages: SG, T"],
+                              roger.make, PAPER, "DC6", "T")
+        self.assertRaisesWith(roger.RogerError, [os.path.join(WORK, "none.json") + ": no such file"],
+                              roger.load_policy, os.path.join(WORK, "none.json"))
         self.assertRaisesWith(roger.RogerError, ["shape"], roger.make, PAPER, "T", "B2", params={"shape": "cube"})
 
     def test_missing_learned_skill(self):

@@ -102,7 +102,19 @@ def _text_dict(d, what):
     for k, v in d.items():
         if v is None:  # found by a probe: str(None) was taken as the text 'None' (params: "got 'None'")
             raise RogerError(f"{what}[{k!r}] is None, which is no value: give {_VALUE_OF.get(what, 'a value')}")
-    return {str(k): (str(v) if not isinstance(v, bool) else v) for k, v in d.items()}
+    return {str(k): _param_value(v) if what == "params" else (str(v) if not isinstance(v, bool) else v)
+            for k, v in d.items()}
+
+
+def _param_value(v):
+    """A value of make's params as the engine takes it: a list parameter's list or tuple as the
+    comma-separated text --set takes (found by a probe: ['left_eye', 'right_eye'] reached the
+    scenario as its repr, which it refused)."""
+    if isinstance(v, bool):
+        return v
+    if isinstance(v, (list, tuple)):
+        return ",".join(str(x) for x in v)
+    return str(v)
 
 
 def _seed(seed, what):

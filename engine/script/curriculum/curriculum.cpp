@@ -222,8 +222,16 @@ const CurriculumStage& Curriculum::stage(const std::string& n) const {
     if (s.name == n) return s;
     names.push_back(s.name);
   }
+  // A context's name given as the stage (found by a probe: the stage and context swapped said only
+  // that the stage is missing).
+  std::vector<std::string> having;
+  for (const auto& s : impl_->stages)
+    if (std::any_of(s.contexts.begin(), s.contexts.end(), [&](const auto& c) { return c.name == n; }))
+      having.push_back("'" + s.name + "'");
+  const std::string context_hint =
+      having.empty() ? "" : " ('" + n + "' is a context of stage " + join(having, " and ") + ": a stage comes first, then its context)";
   throw Error("curriculum '" + impl_->name + "' (" + impl_->path + ") has no stage '" + n + "'" + suggestion(n, names) +
-              "; its stages: " + join(names));
+              context_hint + "; its stages: " + join(names));
 }
 
 const CurriculumStage* Curriculum::producer(const std::string& skill) const {
@@ -816,9 +824,12 @@ std::string of_scenario(const CurriculumStage& st, const std::string& what) {
 
 // The worlds at the ends of a stage's task space: each axis at its lowest and highest value (each
 // value of a choice, each level an LCAS teacher lifts), the other axes at their first value, in
-// the first context's parameters and the command's --set: where placements fail first.
+// the parameters of `context` (the first when null) and the command's --set: where placements fail
+// first. Without `layouts`, an end no layout of seeds 0 to 19 holds is no problem, only an error of
+// the parameters (a reset skips a task it cannot place, and says so).
 void check_task_space_ends(const CurriculumStage& st, const SandboxLimits& limits, const ParamList& sets,
-                           std::vector<std::string>& problems) {
+                           std::vector<std::string>& problems, const CurriculumContext* context = nullptr,
+                           bool layouts = true) {
   const TaskSpace space = trial_task_space(st, sets);
   const bool lifts = st.teacher && st.teacher->kind == TeacherSpec::Kind::kLcas && space.index(st.teacher->lift) < 0 &&
                      std::none_of(sets.begin(), sets.end(), [&](const auto& s) { return s.first == st.teacher->lift; });
@@ -846,17 +857,22 @@ void check_task_space_ends(const CurriculumStage& st, const SandboxLimits& limit
   const size_t before = problems.size();
   try {
     Scenario s = Scenario::load(st.scenario, limits);
-    for (const auto& [k, v] : st.scenario_params(st.contexts.front())) s.set_param(k, v);
+    for (const auto& [k, v] : st.scenario_params(context ? *context : st.contexts.front())) s.set_param(k, v);
     for (const auto& [k, v] : sets) s.set_param(k, v);
     for (const auto& [k, v] : space.params(low)) s.set_param(k, v);
     for (const Try& t : tries) {
       const int i = space.index(t.name);
+      const auto problem = [&](const std::exception& e) {
+        problems.push_back(t.at + st.where() + ": scenario '" + st.scenario + "' with " + t.name + " = " + t.value +
+                           " (an end of the stage's task space" + with_sets + "): " + untraced(e));
+      };
       try {
         s.set_param(t.name, t.value);
         generate_some_seed(s);
+      } catch (const PlacementError& e) {
+        if (layouts) problem(e);
       } catch (const std::exception& e) {
-        problems.push_back(t.at + st.where() + ": scenario '" + st.scenario + "' with " + t.name + " = " + t.value +
-                           " (an end of the stage's task space" + with_sets + "): " + untraced(e));
+        problem(e);
       }
       if (i >= 0) s.set_param(t.name, space.params(low)[size_t(i)].second);
     }
@@ -1124,6 +1140,13 @@ std::vector<std::string> check_curriculum(Curriculum& cur, const SandboxLimits& 
     check_task_space_ends(st, limits, sets, problems);
     if (problems.size() == before) check_test_set(cur, st, limits, sets, problems);  // else the same holes again
   }
+  return problems;
+}
+
+std::vector<std::string> task_space_end_problems(const CurriculumStage& stage, const std::string& context,
+                                                const SandboxLimits& limits, const ParamList& sets) {
+  std::vector<std::string> problems;
+  check_task_space_ends(stage, limits, sets, problems, &stage.context(context), false);
   return problems;
 }
 

@@ -270,6 +270,14 @@ std::vector<std::string> check_curriculum(Curriculum& cur, const SandboxLimits& 
                                           const std::vector<std::string>& stages = {},
                                           const std::string& sets_from = "--set");
 
+// What check_curriculum says of a stage's task space, for one given from outside (Python's
+// make(tasks=..., teacher=...)): the worlds at its ends (each axis's lowest and highest value, each
+// choice, each level an LCAS teacher lifts) that cannot be built, in `context`'s parameters and
+// `sets`. Only errors of the parameters count: a task no layout holds is skipped where it is drawn,
+// and said (a space of nothing else is refused at its first reset).
+std::vector<std::string> task_space_end_problems(const CurriculumStage& stage, const std::string& context,
+                                                const SandboxLimits& limits, const ParamList& sets);
+
 // The test sets of `stages` (all when empty) as their trials will meet them, `sets` over the
 // stages' parameters: each test task no layout of its world seed holds, which would fail every
 // trial at its first evaluation (check_curriculum's words). roger run asks before any trial runs.

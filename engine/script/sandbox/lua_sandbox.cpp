@@ -487,12 +487,34 @@ std::string installed_docs_hint(const std::string& path) {
   return "; the documentation's files are installed apart from the project: " + installed.string();
 }
 
+namespace {
+
+// "; scenarios/unobstructed.lua is a scenario" for a bare name that is a script of another
+// folder (found by a probe: roger.make("unobstructed", ...) said only that no curriculum has the
+// name), "; it is a folder" for a folder; "" otherwise.
+std::string misnamed_hint(const std::string& arg, const std::string& folder_name) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(arg, ec)) return "; '" + arg + "' is a folder: give one script in it";
+  if (arg.find('/') != std::string::npos) return "";
+  static const std::pair<const char*, const char*> kinds[] = {
+      {"curricula", "a curriculum or a skill script"}, {"scenarios", "a scenario"}, {"scripts", "a batch script"}};
+  const std::string file = fs::path(arg).extension() == ".lua" ? arg : arg + ".lua";
+  for (const auto& [folder, what] : kinds)
+    if (folder != folder_name && fs::is_regular_file(project_root() / folder / file, ec))
+      return std::string("; ") + folder + "/" + file + " is " + what + ", another kind of script";
+  return "";
+}
+
+}  // namespace
+
 std::string resolve_script_path(const std::string& arg, const std::string& folder_name,
                                 const std::string& kind, const std::string& list_label,
                                 const std::function<bool(const std::string&)>& accept) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (fs::is_regular_file(arg, ec)) return text_script(arg);
+  if (arg.empty()) throw Error("no " + kind + " given: the name is empty");  // not "curricula/.lua does not exist"
   const fs::path folder = project_root() / folder_name;
   const bool bare = arg.find('/') == std::string::npos;
   const std::string file = fs::path(arg).extension() == ".lua" ? arg : arg + ".lua";
@@ -522,8 +544,8 @@ std::string resolve_script_path(const std::string& arg, const std::string& folde
                                                 fs::weakly_canonical(fs::path(ROGER_SOURCE_DIR), ec);
   const std::string where = elsewhere ? " (the project is " + project_in_use() + ")" : "";
   const std::string here = lua_file_here(arg);
-  const std::string hint =
-      (here.empty() ? "" : "; " + here + " is a file here: name it with its \".lua\"") + installed_docs_hint(arg);
+  const std::string hint = (here.empty() ? "" : "; " + here + " is a file here: name it with its \".lua\"") +
+                           installed_docs_hint(arg) + misnamed_hint(arg, folder_name);
   const std::string nearest = bare ? suggestion(fs::path(arg).stem().string(), known) : "";
   throw Error("no " + kind + " '" + arg + "'" + nearest + ": " +
               (bare ? "not a file, and " + folder_name + "/" + file + " does not exist" + where
