@@ -1620,6 +1620,18 @@ TEST_CASE("roger render of an episode makes the folder of a strip and refuses a 
             (dir / "noisy").string());
   CHECK(r.status == 0);
   CHECK_THAT(slurp(dir / "noisy/index.html"), Catch::Matchers::Contains("task in unobstructed with --set noise_joints=0.01, seed 3"));
+  // Found by a probe: the timeline showed the script's first twelve controllers as defined, without a
+  // word, and the carrying the goal reads was not among them. The policy's own come first, from its
+  // action, then its goal's; a note names those a dozen leaves out.
+  std::vector<std::string> rows;
+  const nlohmann::json rendered = nlohmann::json::parse(slurp(dir / "noisy/episode.json"));
+  for (const auto& g : rendered.at("gammas")) rows.push_back(g.at("name"));
+  REQUIRE(rows.size() == 12);
+  CHECK(std::vector<std::string>(rows.begin(), rows.begin() + 3) ==
+        std::vector<std::string>{"Phi_T", "Phi_SG", "phi1 <| phi4 <| phi5"});
+  CHECK(std::find(rows.begin(), rows.end(), "phi4 <| phi5") != rows.end());
+  CHECK_THAT(r.err, Catch::Matchers::Contains("roger: note: the timeline shows 12 of the 15 controllers policy 'task' "
+                                              "runs or its goal reads; not shown: phi4, phi5, phi2"));
   // One episode is one episode.
   CHECK_THAT(roger("eval curricula/scripted.lua --policy task --episodes 1").out,
              Catch::Matchers::Contains("in unobstructed, 1 episode from seed 1000"));

@@ -167,7 +167,8 @@ TEST_CASE("bad curricula are clear errors at file:line", "[curriculum]") {
        {"bad_curriculum_time_field.lua:5:", "stage 'Typo'", "field 'time_limit'", "per_objects", "per_object"}},
       {"bad_curriculum_held_ticks.lua",
        {"bad_curriculum_held_ticks.lua:6:", "stage 'Patient'", "field 'absorbing'",
-        "held(converged(phi3), 250.0 s) can hold only after 250 simulated seconds, past the time_limit of 5 s"}},
+        "held(converged(phi3), 250.0 s) can hold only after 250.02 simulated seconds (the goal is first judged after "
+        "the first tick, at 0.02 s), past the time_limit of 5 s"}},
   };
   // Each at the line its field is written on (the first part), with no traceback: it would name
   // only the roger.stage{ line.

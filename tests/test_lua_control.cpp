@@ -909,11 +909,12 @@ TEST_CASE("a policy whose goal cannot hold within its time limit is refused at t
                                                     ",\n  time_limit = " + limit + " } } }\n");
   };
   CHECK_THAT(load_with("roger.held(roger.converged(p.phi0), 500)", "5"),
-             Contains("held.lua:3: policy 't': field 'goal': held(converged(phi0), 500.0 s) can hold only after 500 "
-                      "simulated seconds, past the time_limit of 5 s: no episode could reach it (roger.held counts "
+             Contains("held.lua:3: policy 't': field 'goal': held(converged(phi0), 500.0 s) can hold only after 500.02 "
+                      "simulated seconds (the goal is first judged after the first tick, at 0.02 s), past the "
+                      "time_limit of 5 s: no episode could reach it (roger.held counts "
                       "seconds, not ticks)"));
   CHECK_THAT(load_with("roger.all(roger.converged(p.phi1), roger.held(roger.converged(p.phi0), 6))", "5"),
-             Contains("can hold only after 6 simulated seconds"));
+             Contains("can hold only after 6.02 simulated seconds"));
   CHECK_THAT(load_with("roger.any()", "5"), Contains("can never hold"));
   // Found by a probe: roger.all() of no parts, which is true, passed: every episode would have
   // succeeded at its first tick. Refused as the any() of none is, and whatever the limit.
@@ -942,11 +943,81 @@ TEST_CASE("a policy whose goal cannot hold within its time limit is refused at t
   // A part that may stop holding is no certainty: held() of it, or the negation of a held truth.
   CHECK(load_with("roger.all(roger.held(roger.all{}, 1), roger.converged(p.phi0))", "5").empty());
   CHECK(load_with("roger.any(roger.converged(p.phi0), roger.negate(roger.held(roger.all{}, 1)))", "5").empty());
-  // What can hold is taken: a hold as long as the episode, an any with a short part, a negation,
-  // and a limit per object, which grows with the world.
-  CHECK(load_with("roger.held(roger.converged(p.phi0), 5)", "5").empty());
+  // Found by a probe: a hold as long as the episode passed, though the goal is first judged after
+  // the first tick (roger eval: held(p, 4.98) met at 5 s in a 5 s episode, 4.99 never).
+  CHECK_THAT(load_with("roger.held(roger.converged(p.phi0), 5)", "5"),
+             Contains("can hold only after 5.02 simulated seconds (the goal is first judged after the first tick, at "
+                      "0.02 s), past the time_limit of 5 s"));
+  CHECK_THAT(load_with("roger.held(roger.converged(p.phi0), 4.99)", "5"), Contains("can hold only after 5.01"));
+  // What can hold is taken: a hold one tick shorter than the episode, an any with a short part, a
+  // negation, and a limit per object, which grows with the world.
+  CHECK(load_with("roger.held(roger.converged(p.phi0), 4.98)", "5").empty());
   CHECK(load_with("roger.any(roger.converged(p.phi1), roger.held(roger.converged(p.phi0), 60))", "5").empty());
   CHECK(load_with("roger.negate(roger.held(roger.converged(p.phi0), 60))", "5").empty());
   CHECK(load_with("roger.held(roger.converged(p.phi0), 60)", "{ per_object = 5 }").empty());
+  fs::remove_all(dir);
+}
+
+// Found by a probe of one's own skill scripts: a goal given as a name (or a number) was told of
+// absorbing, reward and teacher functions, a kind's default named only in the returned table being
+// made after the script loaded; a table entry roger.compose never used was dropped; "<||" was a
+// controller '|'; and phi1's region took 1.5, going to region 1.
+TEST_CASE("a skill script's slips are said as what they are", "[lua_control]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("roger_skill_slips_" + std::to_string(::getpid()));
+  const auto policy = [&](const std::string& action, const std::string& goal) {
+    return skill_script_error(dir / "slip.lua", "return { policies = { x = { action = " + action + ",\n  goal = " +
+                                                    goal + ", time_limit = 5 } } }\n");
+  };
+  CHECK_THAT(policy("'phi0'", "'phi0'"),
+             Contains("slip.lua:2: policy 'x': field 'goal' must be a predicate (roger.converged, roger.gamma, "
+                      "roger.all, roger.any, roger.negate, roger.held, roger.sorted), got string 'phi0' (a predicate is "
+                      "not named: write roger.converged(\"phi0\") for a controller of that name to be at equilibrium)"));
+  CHECK_THAT(policy("'phi0'", "5"), Contains("field 'goal' must be a predicate") && Contains("got number 5") &&
+                                         !Contains("absorbing"));
+  CHECK(policy("'phi0'", "roger.converged('phi0')").empty());  // a kind's default, named only in the table
+  Snippets lua;
+  CHECK_THAT(lua.error("roger.compose('phi4 <| phi2', { phi44 = roger.primitive('phi4', {rate = 0.04}) })").what(),
+             Contains("snippet.lua:1: roger.compose(\"phi4 <| phi2\"): the table's entry 'phi44' is named nowhere in the "
+                      "expression, which names phi4, phi2 (did you mean 'phi4'?): an entry replaces the name it is "
+                      "given under"));
+  CHECK(lua.text("return roger.compose('phi4 <| phi2', { phi4 = roger.primitive('phi4', {rate = 0.04}) })") ==
+        "controller 'phi4 <| phi2' (subject_to)");
+  CHECK_THAT(lua.error("roger.compose('phi4 <|| phi2')").what(),
+             Contains("'|' at column 8 is no controller name: the subject-to operator is written '<|'"));
+  CHECK_THAT(lua.error("roger.compose('phi4 <| grip')\nroger.primitive('phi5', {name = 'grip'})").what(),
+             Contains("unknown controller 'grip' (roger.compose looks its names up when it is called: one defined "
+                      "further down the script is not known yet)"));
+  CHECK_THAT(lua.error("roger.primitive('phi1', { goal = 'region', region = 1.5 })").what(),
+             Contains("roger.primitive('phi1'): parameter 'region' must be a whole number in [0, 63] (an index), got 1.5"));
+  CHECK_THAT(lua.error("roger.primitive('phi1'):with{ region = 2.5 }").what(),
+             Contains("parameter 'region' must be a whole number"));
+  CHECK(lua.text("return roger.primitive('phi1', { goal = 'region', region = 2 }):param('region')") == "2.0");
+  CHECK_THAT(lua.error("roger.policy('P', { actions = {'phi0'}, table = {}, fallback = 1, done = roger.converged })").what(),
+             Contains("roger.policy('P'): field 'done' (a predicate, or a controller whose CONV it takes) must be a "
+                      "predicate") && Contains("(the function roger.converged itself: did you mean roger.converged(c)?)"));
+  CHECK_THAT(lua.error("roger.policy('P2', { actions = {'phi0'}, table = {}, fallback = 1, done = 5 })").what(),
+             Contains("field 'done' (a predicate, or a controller whose CONV it takes) must be a predicate") &&
+                 Contains("got number 5"));
+  // lib.skills' and lib.sorting's builders refuse at the caller's line, with the fix each takes.
+  CHECK_THAT(lua.error("local skills = require('lib.skills')\nlocal p = skills.primitives()\nskills.Phi6(p, 5)").what(),
+             Contains("snippet.lua:3: skills.Phi6: its last argument is the skill's name (a string), got number"));
+  CHECK_THAT(lua.error("local skills = require('lib.skills')\nlocal p = skills.primitives()\nskills.Phi7(p, 'phi1')").what(),
+             Contains("snippet.lua:3: roger.sequence('phi1'): the name 'phi1' is a primitive kind"));
+  const std::string sorting = "local skills = require('lib.skills')\nlocal sorting = require('lib.sorting')\n"
+                              "local t = skills.transport(skills.primitives())\n";
+  CHECK_THAT(Snippets().error(sorting + "sorting.tasks({ sorting.move(t, 'circle') })").what(),
+             Contains("snippet.lua:4: sorting.tasks: takes the 4 moves of sorting.moves (one per type, in region order: "
+                      "circle, triangle, pentagon, spade), got 1 move; for one type, sorting.task(move, type)"));
+  CHECK_THAT(Snippets().error(sorting + "sorting.moves(t)\nsorting.moves(t)").what(),
+             Contains("snippet.lua:5: roger.sequence('move circle'): there is already a controller named 'move circle' "
+                      "(defined at snippet.lua:4); to build another copy, give lib.sorting's builder the option tag"));
+  CHECK_THAT(Snippets().error(sorting + "local r = sorting.REGIONS").what(),
+             Contains("snippet.lua:4: lib.sorting has no \"REGIONS\"; it has: AWAY, CARRY, COLOURS"));
+  CHECK_THAT(Snippets().error(sorting + "sorting.by_hand(sorting.moves(t), 5)").what(),
+             Contains("snippet.lua:4: sorting.by_hand: its second argument is the policy's name (a string), got number"));
+  CHECK_THAT(lua.error("local a = roger.primitive('phi4')\na.subject_to(roger.primitive('phi2'))").what(),
+             Contains("snippet.lua:2: c:subject_to: call it with a colon, as sub:subject_to(sup) (called with one "
+                      "controller, 'phi2', and no superior"));
   fs::remove_all(dir);
 }

@@ -122,17 +122,22 @@ TEST_CASE("earliest_seconds bounds when a predicate can first hold", "[predicate
   CHECK(negate(held(converged(a), 9.0))->earliest_seconds() == 0.0);  // holds at once
   CHECK(std::isinf(any_of({})->earliest_seconds()));
   CHECK(all_of({})->earliest_seconds() == 0.0);
-  // An episode of 5 s has its last tick at 5 s; one of 5.01 s at 5.02 s (ticks of 20 ms).
-  CHECK(can_hold_within(*held(converged(a), 5.0), 5.0, 0.02));
-  CHECK_FALSE(can_hold_within(*held(converged(a), 5.01), 5.0, 0.02));
-  CHECK(can_hold_within(*held(converged(a), 5.02), 5.01, 0.02));
+  // An episode of 5 s has its last tick at 5 s; one of 5.01 s at 5.02 s (ticks of 20 ms). The goal
+  // is first judged after the first tick, at 0.02 s (EpisodeRun), so a hold of 5 s ends at 5.02 s at
+  // the earliest (found by a probe: held(p, 5) in a 5 s policy passed, and never held).
+  CHECK(can_hold_within(*held(converged(a), 4.98), 5.0, 0.02));
+  CHECK_FALSE(can_hold_within(*held(converged(a), 4.99), 5.0, 0.02));
+  CHECK_FALSE(can_hold_within(*held(converged(a), 5.0), 5.0, 0.02));
+  CHECK(can_hold_within(*held(converged(a), 5.0), 5.01, 0.02));
   CHECK_FALSE(can_hold_within(*any_of({}), 5.0, 0.02));
-  // The bound is reached: b converged from the first state (time 0) holds held(b, 5) at 5 s.
-  auto five = held(converged(b), 5.0);
+  // The bound is reached: b converged from the first judged state (0.02 s) holds held(b, 4.98) at
+  // the last tick of a 5 s episode, 5 s, and not before.
+  auto hold = held(converged(b), 4.98);
   b->next = Gamma::kConv;
-  bool held_at_limit = false;
-  for (int tick = 0; tick <= 250; ++tick) held_at_limit = five->holds(at_tick(uint64_t(tick) + 1, tick * 0.02));
-  CHECK(held_at_limit);
+  std::vector<int> holding;
+  for (int tick = 1; tick <= 250; ++tick)
+    if (hold->holds(at_tick(uint64_t(tick), tick * 0.02))) holding.push_back(tick);
+  CHECK(holding == std::vector<int>{250});
 }
 
 // Found by a probe: roger.all{} as a stage's absorbing state passed roger check (every episode would

@@ -36,6 +36,24 @@ end
 
 local primitive_fields = { "search", "phi0", "phi1", "phi2", "phi3", "phi4", "phi5", "carry" }
 
+-- A builder's `name`: the default when nil, else a string, refused at the caller's line.
+local function skill_name(name, default, builder)
+  if name == nil then return default end
+  if type(name) ~= "string" then
+    error(builder .. ": its last argument is the skill's name (a string), got " .. described(name), 3)
+  end
+  return name
+end
+
+-- roger.sequence(name, steps) for a builder: its refusal of the name (a primitive kind's, or one
+-- the script has given another controller) is said at the builder's caller's line, not this file's
+-- (found by a probe: skills.Phi6(p, "phi0") was refused at lib/skills.lua's line).
+local function sequence_for_caller(name, steps)
+  local ok, made = pcall(roger.sequence, name, steps)
+  if not ok then error((tostring(made):gsub("^[^\n]-:%d+: ", "", 1)), 3) end
+  return made
+end
+
 -- Why `overrides` cannot be the overrides of skills.primitives, or nil when it can: a misspelt
 -- field ({ phi33 = ... }, { cary = ... }) would otherwise leave that primitive at its defaults
 -- without a word (found by a probe: an ablation trained with the phi3 it meant to change).
@@ -107,7 +125,8 @@ end
 -- (NOREF), the sequence falls back to search.
 function skills.Phi6(p, name)
   expect_primitives(p, "skills.Phi6", { "search", "phi0" })
-  return roger.sequence(name or "Phi6", { p.search, p.phi0 })
+  local skill = sequence_for_caller(skill_name(name, "Phi6", "skills.Phi6"), { p.search, p.phi0 })
+  return skill  -- not a tail call: the caller's line is two levels up
 end
 
 -- Phi7: "a control policy that combines phi1 and phi4 <| phi2 sequentially to approach an object
@@ -116,7 +135,8 @@ end
 -- conditioning the arms in phi2's nullspace.
 function skills.Phi7(p, name)
   expect_primitives(p, "skills.Phi7", { "phi1", "phi2", "phi4" })
-  return roger.sequence(name or "Phi7", { p.phi1, p.phi4:subject_to(p.phi2) })
+  local skill = sequence_for_caller(skill_name(name, "Phi7", "skills.Phi7"), { p.phi1, p.phi4:subject_to(p.phi2) })
+  return skill  -- not a tail call: the caller's line is two levels up
 end
 
 -- The grasp keeper phi4 <| phi5: phi5 holds the three contacts while the base moves, phi4
@@ -131,7 +151,8 @@ end
 -- a search-grasp skill (learned or hand-written) whose CONV means the grasp is formed.
 function skills.Phi_STG(sg, p, name)
   expect_primitives(p, "skills.Phi_STG (its second argument)", { "phi4", "phi5" })
-  return roger.sequence(name or "Phi_STG", { sg, skills.keep_grasp(p) })
+  local skill = sequence_for_caller(skill_name(name, "Phi_STG", "skills.Phi_STG"), { sg, skills.keep_grasp(p) })
+  return skill  -- not a tail call: the caller's line is two levels up
 end
 
 -- The transport composite of Section III-B, phi1 <| phi4 <| phi5 (= phi1 <| (phi4 <| phi5)):

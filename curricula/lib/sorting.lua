@@ -146,6 +146,13 @@ end
 
 -- The four tasks over `moves` (sorting.moves), in region order.
 function sorting.tasks(moves, tag)
+  -- Found by a probe: one move given was refused inside roger.policy ("'actions' must hold at
+  -- least one action, got an empty list"), naming a policy the caller never wrote.
+  if type(moves) ~= "table" or #moves ~= #sorting.TYPES then
+    error("sorting.tasks: takes the " .. #sorting.TYPES .. " moves of sorting.moves (one per type, in region order: " ..
+          table.concat(sorting.TYPES, ", ") .. "), got " .. (type(moves) == "table" and #moves .. (#moves == 1 and " move" or " moves") or type(moves)) ..
+          "; for one type, sorting.task(move, type)", 2)
+  end
   local tasks = {}
   for k, t in ipairs(sorting.TYPES) do tasks[k] = sorting.task(moves[k], t, tag) end
   return tasks
@@ -186,7 +193,19 @@ function sorting.by_hand(moves, name)
     table_[before .. "!CONV" .. after] = moves[i]
     table_[before .. "CONV" .. after] = moves[i]
   end
-  return roger.policy(name or "sort by hand", { actions = actions, table = table_, fallback = "rotate" })
+  if name ~= nil and type(name) ~= "string" then
+    error("sorting.by_hand: its second argument is the policy's name (a string), got " .. type(name), 2)
+  end
+  local chooser = roger.policy(name or "sort by hand", { actions = actions, table = table_, fallback = "rotate" })
+  return chooser
 end
 
-return sorting
+-- A misspelt name (sorting.mve, sorting.REGIONS) is an error naming the ones there are, as lib.skills
+-- does (found by a probe: a misspelt builder said "attempt to call a nil value", a misspelt table
+-- was nil without a word).
+return setmetatable(sorting, { __index = function(_, name)
+  local names = {}
+  for k in pairs(sorting) do names[#names + 1] = tostring(k) end
+  table.sort(names)
+  error("lib.sorting has no " .. string.format("%q", tostring(name)) .. "; it has: " .. table.concat(names, ", "), 2)
+end })

@@ -249,6 +249,35 @@ int run_render_policy_file(const RenderArgs& a) {
   return 0;
 }
 
+// The controllers a skill script's policy shows on its timeline: those its action runs and its
+// goal reads, in the order a walk from the action, then from the goal's controllers, meets them,
+// then the script's others; at most a dozen, so that it stays legible, and a note naming the
+// policy's own left out (found by a probe: the script's first twelve were shown, in the order
+// they were defined, and the carrying steps the scripted task's goal reads were never among them).
+std::vector<ControllerPtr> timeline_controllers(const SkillScript& script, const SkillScript::NamedPolicy& policy) {
+  constexpr size_t kMost = 12;
+  const std::vector<ControllerPtr> all = script.controllers();
+  std::vector<const Controller*> walk{policy.action.get()};
+  for (size_t i = 0; i < walk.size(); ++i)  // breadth first: the action's own steps before their insides
+    for (const Controller* part : walk[i]->children()) walk.push_back(part);
+  policy.goal->controllers(walk);
+  std::vector<ControllerPtr> used, others;
+  for (const Controller* c : walk)
+    for (const ControllerPtr& named : all)
+      if (named.get() == c && std::find(used.begin(), used.end(), named) == used.end()) used.push_back(named);
+  for (const ControllerPtr& named : all)
+    if (std::find(used.begin(), used.end(), named) == used.end()) others.push_back(named);
+  if (used.size() > kMost) {
+    std::vector<std::string> left;
+    for (size_t i = kMost; i < used.size(); ++i) left.push_back(used[i]->name());
+    std::fprintf(stderr, "roger: note: the timeline shows %zu of the %zu controllers policy '%s' runs or its goal "
+                 "reads; not shown: %s\n", kMost, used.size(), policy.name.c_str(), join(left).c_str());
+  }
+  used.insert(used.end(), others.begin(), others.end());
+  if (used.size() > kMost) used.resize(kMost);
+  return used;
+}
+
 // Renders one episode of a skill script's policy: a folder with frames and a replay page, or
 // (for a .png path) one summary strip.
 int run_render_episode(const RenderArgs& a) {
@@ -276,9 +305,7 @@ int run_render_episode(const RenderArgs& a) {
   const WorldSpec spec = scenario.generate(a.seed);
   EpisodeOptions options = policy.episode_options();
   options.record_every = a.every;
-  // Watch the named controllers (primitives, skills), at most a dozen, so the timeline stays legible.
-  std::vector<ControllerPtr> watch = script.controllers();
-  if (watch.size() > 12) watch.resize(12);
+  const std::vector<ControllerPtr> watch = timeline_controllers(script, policy);
   Agent agent;
   const EpisodeResult episode = run_episode(agent, spec, a.seed, *policy.action, *policy.goal, options, watch);
   print_unread_note(scenario, a.sets);

@@ -239,9 +239,11 @@ PredicatePtr held(PredicatePtr part, double seconds) {
 }
 
 bool can_hold_within(const Predicate& p, double time_limit, double tick_seconds) {
-  // A held() timer may start at the episode's first state (time 0) and compares as Held does.
+  // An episode's goal is first judged after its first tick (EpisodeRun asks once a tick has run),
+  // so a held() timer starts at one tick at the earliest, and compares as Held does (found by a
+  // probe: held(p, 5) in a 5 s episode passed, and could never hold).
   const double last_tick = std::ceil(time_limit / tick_seconds - 1e-9) * tick_seconds;
-  return p.earliest_seconds() <= last_tick + 1e-9;
+  return tick_seconds + p.earliest_seconds() <= last_tick + 1e-9;
 }
 
 PredicatePtr duplicate(const PredicatePtr& p, Duplicates& done) {

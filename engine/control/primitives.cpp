@@ -77,6 +77,13 @@ Primitive::ParamSlot Primitive::declare(const std::string& name, double value, d
   return defs_.size() - 1;
 }
 
+Primitive::ParamSlot Primitive::declare_whole(const std::string& name, double value, double min, double max,
+                                              const std::string& help) {
+  const ParamSlot slot = declare(name, value, min, max, help);
+  defs_[slot].whole = true;
+  return slot;
+}
+
 Primitive::BodySlot Primitive::declare_body(const std::string& name, double BodyMetrics::*metric, double min,
                                             double max, const std::string& help) {
   return follow_body(declare(name, BodyMetrics{}.*metric, min, max, help), metric);
@@ -141,6 +148,10 @@ void Primitive::set_number(const std::string& name, double value) {
        << "], got " << value;
     throw Error(os.str());
   }
+  // Found by a probe: region = 1.5 was taken and went to region 1, where roger.bind refuses it.
+  if (d.whole && value != std::floor(value))
+    throw Error(kind_ + ": parameter '" + name + "' must be a whole number in [" + format_number(d.min) + ", " +
+                format_number(d.max) + "], got " + format_number(value));
   d.value = value;
   d.from_body = false;
   on_param(name, value);

@@ -33,6 +33,7 @@ struct ParamDef {
   // BodyMetrics' member, and `value` is the default Roger's, for display.
   double BodyMetrics::*body = nullptr;
   bool from_body = false;
+  bool whole = false;  // a whole number only (an index: phi1's region)
 };
 
 // A primitive controller with named, validated parameters.
@@ -79,6 +80,8 @@ class Primitive : public Controller {
   };
   // Declares a number parameter with its default, bounds and one-line help; returns its slot.
   ParamSlot declare(const std::string& name, double value, double min, double max, const std::string& help);
+  // Declares a number parameter that takes whole numbers only (an index); returns its slot.
+  ParamSlot declare_whole(const std::string& name, double value, double min, double max, const std::string& help);
   // Declares a string parameter with its choices (the first is the default); returns its slot.
   ParamSlot declare_text(const std::string& name, std::vector<std::string> choices, const std::string& help);
   // Declares a number parameter the body decides (its default: the default Roger's value of

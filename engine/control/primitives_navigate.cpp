@@ -28,7 +28,7 @@ class Navigate final : public Primitive {
   Navigate() : Primitive("phi1", 0.05) {
     p_.goal = declare_text("goal", {"object", "region", "elsewhere"},
                            "approach the perceived object, reach a goal region, or go and look from elsewhere");
-    p_.region = declare("region", 0, 0, 63, "which goal region (index into the scenario's goals) for goal='region'");
+    p_.region = declare_whole("region", 0, 0, 63, "which goal region (index into the scenario's goals) for goal='region'");
     // 0.58, not 0.62: from a ring 4 cm nearer, phi2 has less to travel to its standoff, and the
     // hand-written task in cluttered worlds loses fewer triangles to a preshape that pushes the
     // object ahead of it (docs/results.md, "The triangle at 95%").

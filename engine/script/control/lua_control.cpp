@@ -76,21 +76,32 @@ bool shipped_library(const std::string& file) {
 
 // The location of the innermost Lua frame outside the shipped libraries: the line of the
 // author's script that called the library which made a controller (its own line when it made it
-// itself). `through_library` says whether library frames were passed over.
-Location author_location(lua_State* L, bool& through_library) {
-  through_library = false;
+// itself). `library` is the last library file passed over, "" when none.
+Location author_location(lua_State* L, std::string& library) {
+  library.clear();
   lua_Debug ar;
   for (int level = 1; lua_getstack(L, level, &ar); ++level) {
     if (!lua_getinfo(L, "Sl", &ar) || ar.currentline <= 0) continue;
     const std::string file = ar.source && ar.source[0] == '@' ? ar.source + 1 : ar.short_src;
     if (shipped_library(file)) {
-      through_library = true;
+      library = file;
       continue;
     }
     return Location{file, ar.currentline};
   }
-  through_library = false;
+  library.clear();
   return caller_location(L);
+}
+
+// How to build a second copy of what a shipped library builds: lib.skills' builders take a name as
+// their last argument, lib.sorting's the option tag (found by a probe: sorting.moves twice was told
+// to pass a name, which it does not take).
+std::string another_copy_hint(const std::string& library) {
+  if (library.size() >= 11 && library.compare(library.size() - 11, 11, "sorting.lua") == 0)
+    return "; to build another copy, give lib.sorting's builder the option tag, text added to its names "
+           "(e.g. sorting.moves(Phi_T, { tag = \" 2\" }))";
+  return "; to build another copy, pass the library's builder a name as its last argument (e.g. "
+         "skills.Phi6(p, \"Phi6_b\"))";
 }
 
 }  // namespace
@@ -169,7 +180,10 @@ ControllerPtr resolve_now(lua_State* L, ControlBook& book, const std::string& na
   if (!is_kind(name)) return nullptr;
   auto& slot = book.defaults[name];
   if (!slot) {
-    count_object(L, book);
+    // Once loaded, the engine reads the returned table: a kind's default named only there (action
+    // = "phi0") is made then, not refused as a callback's new object (found by a probe: such a
+    // script was told of absorbing, reward and teacher functions). One per kind: no cap to count.
+    if (!book.finished) count_object(L, book);
     slot = made(book, make_primitive(name));
   }
   return slot;
@@ -187,15 +201,14 @@ void register_name(lua_State* L, ControlBook& book, const std::string& context, 
              "default primitive; choose another name (e.g. '" + name + "_tuned')");
   // A controller a shipped library builds (lib.skills' Phi6) is placed at the author's line that
   // called the builder: the second copy's error, and where the first was defined.
-  bool through_library = false;
-  const Location where = author_location(L, through_library);
+  std::string library;
+  const Location where = author_location(L, library);
+  const bool through_library = !library.empty();
   if (auto it = book.by_name.find(name); it != book.by_name.end()) {
     const auto& other = book.named[it->second];
     const std::string text = context + ": there is already a controller named '" + name + "'" +
                              (other.file.empty() ? "" : " (defined at " + other.file + ":" + std::to_string(other.line) + ")") +
-                             (through_library ? "; to build another copy, pass the library's builder a name as its "
-                                                "last argument (e.g. skills.Phi6(p, \"Phi6_b\"))"
-                                              : "");
+                             (through_library ? another_copy_hint(library) : "");
     if (!through_library || where.file.empty()) raise(L, text);
     lua_pushfstring(L, "%s:%d: %s", where.file.c_str(), where.line, text.c_str());
     lua_error(L);
@@ -531,6 +544,9 @@ PredicatePtr lua_check_predicate(lua_State* L, int index, const std::string& con
                                  "or roger.gamma(c, \"CONV\"))"
                            : !maker.predicate_call.empty()
                                ? " (the function " + maker.name + " itself: did you mean " + maker.predicate_call + "?)"
+                           : lua_type(L, index) == LUA_TSTRING
+                               ? std::string(" (a predicate is not named: write roger.converged(\"") + lua_tostring(L, index) +
+                                     "\") for a controller of that name to be at equilibrium)"
                                : "";
   raise(L, context + ": " + what + " must be a predicate (roger.converged, roger.gamma, roger.all, "
                                    "roger.any, roger.negate, roger.held, roger.sorted), got " +

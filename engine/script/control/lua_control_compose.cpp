@@ -30,6 +30,11 @@ int l_subject_to_method(lua_State* L) {
   return lua_protect(L, [L]() {
     ControlBook& book = book_of(L);
     ControllerPtr sub = self_controller(L, "subject_to");
+    // sub.subject_to(sup): the superior came as the subordinate, and no superior (found by a probe:
+    // "argument 1 (the superior) ... got nil", of a call given one).
+    if (lua_gettop(L) == 1)
+      raise(L, "c:subject_to: call it with a colon, as sub:subject_to(sup) (called with one controller, '" +
+                   sub->name() + "', and no superior: sub.subject_to(sup) passes sup as the subordinate)");
     lua_check_arity(L, "c:subject_to", 1, "1 argument (the superior)");
     ControllerPtr sup = lua_check_controller(L, 2, "c:subject_to", "argument 1 (the superior)");
     refuse_self(L, sub, sup, "c:subject_to");
@@ -65,12 +70,28 @@ class ComposeParser {
     ControllerPtr c = expression();
     skip_space();
     if (pos_ < text_.size()) fail("expected '<|' or the end at column " + std::to_string(pos_ + 1) + ", got '" + text_.substr(pos_) + "'");
+    refuse_unused_entries();
     return c;
   }
 
  private:
   [[noreturn]] void fail(const std::string& message) {
     raise(L_, "roger.compose(\"" + text_ + "\"): " + message);
+  }
+
+  // A table entry the expression never names would be dropped (found by a probe: {phi44 = tuned}
+  // for "phi4 <| phi2" ran the default phi4, the tuned one thrown away without a word).
+  void refuse_unused_entries() {
+    if (!table_) return;
+    lua_pushnil(L_);
+    while (lua_next(L_, table_)) {
+      lua_pop(L_, 1);
+      const std::string key = lua_type(L_, -1) == LUA_TSTRING ? lua_tostring(L_, -1) : "";
+      if (!key.empty() && std::find(used_.begin(), used_.end(), key) != used_.end()) continue;
+      const std::string what = key.empty() ? "the table's key " + lua_describe_value(L_, -1) : "the table's entry '" + key + "'";
+      fail(what + " is named nowhere in the expression, which names " + join(named_) + suggestion(key, named_) +
+           ": an entry replaces the name it is given under");
+    }
   }
 
   void skip_space() {
@@ -109,7 +130,13 @@ class ComposeParser {
            text_[pos_] != ')' && !at_operator())
       ++pos_;
     if (pos_ == start) fail("expected a controller name at column " + std::to_string(start + 1) + ", got '" + text_.substr(start) + "'");
-    return lookup(text_.substr(start, pos_ - start));
+    const std::string name = text_.substr(start, pos_ - start);
+    // "phi4 <|| phi2", "phi4 < phi2": said as the operator mistyped, not as a controller '|'.
+    if (name.find_first_of("<|>") != std::string::npos)
+      fail("'" + name + "' at column " + std::to_string(start + 1) + " is no controller name: the subject-to "
+           "operator is written '<|' (\"phi4 <| phi2\": phi4 subject to phi2)");
+    named_.push_back(name);
+    return lookup(name);
   }
 
   // The table entry, else a named controller, else a primitive kind's default instance.
@@ -117,6 +144,7 @@ class ComposeParser {
     if (table_) {
       lua_pushstring(L_, name.c_str());
       if (lua_rawget(L_, table_) != LUA_TNIL) {
+        used_.push_back(name);
         ControllerPtr* c = test_controller(L_, -1);
         if (!c) fail("the table's entry '" + name + "' must be a controller, got " + lua_describe_value(L_, -1));
         ControllerPtr out = *c;
@@ -140,7 +168,11 @@ class ComposeParser {
       candidates.insert(candidates.end(), keys.begin(), keys.end());
       table_keys = keys.empty() ? "the table is empty; " : "the table has " + join(keys) + "; ";
     }
-    fail("unknown controller '" + name + "'" + suggestion(name, candidates) + "; " + table_keys +
+    // Its names are read when it is called (found by a probe: a controller defined on the next line
+    // was "unknown" with no word of when names are known).
+    const std::string later = book_.finished ? "" : " (roger.compose looks its names up when it is called: one "
+                                                    "defined further down the script is not known yet)";
+    fail("unknown controller '" + name + "'" + suggestion(name, candidates) + later + "; " + table_keys +
          known_names(book_));
   }
 
@@ -149,6 +181,8 @@ class ComposeParser {
   std::string text_;
   int table_;
   size_t pos_ = 0;
+  std::vector<std::string> named_;  // the names the expression gives, in order
+  std::vector<std::string> used_;   // those the table gives
 };
 
 }  // namespace

@@ -121,13 +121,15 @@ int l_held(lua_State* L) {
 
 std::string never_holds_within(const Predicate& goal, double time_limit) {
   const WorldParams params;  // every world's control tick
-  if (can_hold_within(goal, time_limit, params.dt * params.substeps)) return "";
+  const double tick = params.dt * params.substeps;
+  if (can_hold_within(goal, time_limit, tick)) return "";
   const double earliest = goal.earliest_seconds();
   const std::string what = shortened_text(goal.describe(), 120);
   if (!std::isfinite(earliest))
     return what + " can never hold: it rests on a roger.any() of no parts, which is false, or on the roger.negate of "
            "a predicate that always holds";
-  return what + " can hold only after " + format_number(earliest) + " simulated seconds, past the time_limit of " +
+  return what + " can hold only after " + format_number(tick + earliest) + " simulated seconds (the goal is first " +
+         "judged after the first tick, at " + format_number(tick) + " s), past the time_limit of " +
          format_number(time_limit) + " s: no episode could reach it (roger.held counts seconds, not ticks)";
 }
 

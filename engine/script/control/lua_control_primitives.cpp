@@ -94,6 +94,8 @@ void apply_params(lua_State* L, Primitive& p, int index, const std::string& cont
       if (!std::isfinite(v)) raise(L, param + " must be a finite number in " + range_text(*def) + ", got " + format_number(v));
       if (v < def->min || v > def->max)
         raise(L, param + " must be within " + range_text(*def) + ", got " + format_number(v));
+      if (def->whole && v != std::floor(v))
+        raise(L, param + " must be a whole number in " + range_text(*def) + " (an index), got " + format_number(v));
       p.set_number(key, v);
     } else {
       const std::string expected = "one of " + join(def->choices);

@@ -281,8 +281,12 @@ ControllerPtr policy_done(lua_State* L, ControlBook& book, const LuaFields& f, c
     if (PredicatePtr* p = test_predicate(L, -1)) {
       count_object(L, book);
       done = made(book, std::make_shared<PredicateGoal>(*p));
+    } else if (lua_type(L, -1) == LUA_TSTRING || test_controller(L, -1)) {
+      done = lua_check_controller(L, -1, context, "field 'done'");
     } else {
-      done = lua_check_controller(L, -1, context, "field 'done' (a controller or a predicate)");
+      // Neither: said as a predicate's slip, which gives the hint for roger.converged without its
+      // call (found by a probe: "field 'done' (a controller or a predicate) must be a controller").
+      lua_check_predicate(L, -1, context, "field 'done' (a predicate, or a controller whose CONV it takes)");
     }
   }
   lua_pop(L, 1);
