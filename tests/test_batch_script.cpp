@@ -301,6 +301,47 @@ TEST_CASE("a context's own params an evaluation does not run with are noted", "[
   fs::remove_all(dir);
 }
 
+// Found by a probe: a run that trained with eye_pixels = 64 (its params) over a context's 32 was
+// told "give params = {eye_pixels = 32} to evaluate as trained", and evaluated in the stage's own
+// scenario at the context's 32, or a --set's value at the default, without a word.
+TEST_CASE("the params a run trained with and an evaluation does not run with are noted", "[batch_script]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_batch_trained_params_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "cur.lua") << "local p = require('lib.skills').primitives()\n"
+                                    "return { stages = { roger.stage{ name = 'S', scenario = 'cluttered', time_limit = 4,\n"
+                                    "  absorbing = roger.converged(p.phi0), budget = { episodes = 1 },\n"
+                                    "  contexts = { { name = 'Coarse', actions = { p.phi0 }, params = { eye_pixels = 32 } } } } } }\n";
+  const std::string path = (dir / "b.lua").string();
+  std::ofstream(path) << "return { name = 'b', curriculum = 'cur.lua', trials = 1,\n"
+                         "  runs = { { name = 'S', stage = 'S', contexts = { 'Coarse' }, params = { eye_pixels = 64 } } },\n"
+                         "  evaluations = {\n"
+                         "    { name = 'same', run = 'S', context = 'Coarse' },\n"
+                         "    { name = 'other', run = 'S', context = 'Coarse', scenario = 'unobstructed' },\n"
+                         "    { name = 'given', run = 'S', context = 'Coarse', params = { eye_pixels = 64, mass = 0.7 } } } }\n";
+  BatchOverrides sets;
+  sets.sets = {{"mass", "0.6"}};
+  std::vector<std::string> notes;
+  for (const std::string& n : load_batch_script(path, sets).notes)
+    if (n.find("evaluation '") != std::string::npos) notes.push_back(n);
+  const std::string trained = "run 'S' trained stage 'S', context 'Coarse' with ";
+  const std::string not_taken = ": an evaluation runs with the stage's and context's params and its own, not the "
+                                "batch's or --set ";
+  CHECK(notes == std::vector<std::string>{
+      path + ":4: evaluation 'same': " + trained + "eye_pixels = 64 (the batch's params), which this evaluation leaves "
+             "at the context's own 32" + not_taken + "(give params = {eye_pixels = 64} to evaluate as trained)",
+      path + ":4: evaluation 'same': " + trained + "mass = 0.6 (--set), which this evaluation leaves at the scenario's "
+             "default 0.5" + not_taken + "(give params = {mass = 0.6} to evaluate as trained)",
+      path + ":5: evaluation 'other': " + trained + "eye_pixels = 64 (the batch's params), which this evaluation leaves "
+             "at scenario 'unobstructed''s default 128: in another scenario than its stage's an evaluation runs with "
+             "its own params only (give params = {eye_pixels = 64} to evaluate as trained)",
+      path + ":5: evaluation 'other': " + trained + "mass = 0.6 (--set), which this evaluation leaves at scenario "
+             "'unobstructed''s default 0.5: in another scenario than its stage's an evaluation runs with its own params "
+             "only (give params = {mass = 0.6} to evaluate as trained)",
+      path + ":6: evaluation 'given': " + trained + "mass = 0.6 (--set), overridden by the evaluation's params mass = "
+             "0.7 (an evaluation's params win over a context's own)"});
+  fs::remove_all(dir);
+}
+
 TEST_CASE("a script is of the kind of the module it returns", "[batch_script]") {
   CHECK(is_batch_script("tests/scripts/wrapped_batch.lua"));
   const BatchScript b = load_batch_script("tests/scripts/wrapped_batch.lua");
@@ -890,4 +931,20 @@ TEST_CASE("a sorting row's runs sort worlds of the row's number of objects", "[b
   CHECK_THAT(load_error(script("{ name = 'SG', stage = 'SG', contexts = { 'DC2' } }", "{ objects = 2, hand = 'SG' }")),
              Catch::Contains("run 'SG' trains stage 'SG' in scenario") &&
                  Catch::Contains("which has no parameter 'objects': a sorting row's runs sort"));
+  // Found by a probe: 'learned' and 'hand' swapped were taken, and the learned run's trials pooled
+  // as one policy's; two rows of one count were taken too.
+  const std::string both = hand2 + ", { name = 'SG', stage = 'SG', contexts = { 'DC2' } }, { name = 'T', stage = 'T', "
+                           "contexts = { 'DC6' }, skills = { Phi_SG = { run = 'SG', context = 'DC2' } } }, { name = "
+                           "'Sort2', stage = 'Sort2', contexts = { 'Learned' }, skills = { Phi_T = { run = 'T', "
+                           "context = 'DC6' } } }";
+  CHECK_NOTHROW(load_batch_script(script(both, "{ objects = 2, learned = 'Sort2', hand = 'Hand2' }")));
+  CHECK_THAT(load_error(script(both, "{ objects = 2, learned = 'Hand2', hand = 'Sort2' }")),
+             Catch::Contains("rows.lua:3: table 'sorting': 'hand' names run 'Sort2', whose context 'Learned' learns to "
+                             "choose among 4 actions; a hand-written run's contexts have one action, the policy (did you "
+                             "mean learned = 'Sort2'?)"));
+  CHECK_THAT(load_error(script(both, "{ objects = 2, learned = 'Hand2' }")),
+             Catch::Contains("'learned' names run 'Hand2', which learns nothing: each of its contexts has one action "
+                             "(did you mean hand = 'Hand2'?)"));
+  CHECK_THAT(load_error(script(both, "{ objects = 2, learned = 'Sort2' }, { objects = 2, hand = 'Hand2' }")),
+             Catch::Contains("two sorting rows of 2 objects"));
 }

@@ -575,43 +575,71 @@ BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const 
   return e;
 }
 
-// A note for each of the evaluated stage's and context's own params that the evaluation does not
-// run with: in the stage's scenario, one its params set to another value (as a run's are noted);
-// in another scenario, where they do not apply, one that scenario declares and the evaluation
-// leaves at its default. Found by a probe: a context's frozen eyes (eye_pixels = 32) evaluated in
-// cluttered with its default 128 eyes, and nothing said it.
-void note_evaluation_params(const Reader& rd, const Curriculum& cur, BatchScript& b) {
-  const BatchEvaluation& e = b.evaluations.back();
-  const CurriculumStage& stage = cur.stage(b.run(e.run)->stage);
-  const Params own = stage.scenario_params(stage.context(e.context));
-  if (own.empty()) return;
-  const bool same = e.scenario.empty() || e.scenario == stage.scenario;
-  std::vector<ScenarioParam> declared;
-  std::string other;  // the other scenario's name
-  if (!same) {
-    const Scenario scenario = Scenario::load(e.scenario, b.limits);
-    declared = scenario.params();
-    other = scenario.name();
+// What a run trained a context with: the stage's and the context's own params, and the batch's
+// (the script's, the run's, --set) over them, each with who set it ("" for the context's own).
+struct TrainedParam {
+  std::string name, value, by;
+};
+std::vector<TrainedParam> trained_params(const CurriculumStage& stage, const std::string& context, const BatchRun& run,
+                                         const BatchOverrides& overrides) {
+  std::vector<TrainedParam> out;
+  for (const auto& [name, value] : stage.scenario_params(stage.context(context))) out.push_back({name, value, ""});
+  for (const auto& [name, value] : run.params) {
+    const bool by_set = std::find(overrides.sets.begin(), overrides.sets.end(), std::make_pair(name, value)) !=
+                        overrides.sets.end();
+    const std::string by = by_set ? "--set" : "the batch's params";
+    const std::string& key = name;  // a lambda may not capture a structured binding (C++17)
+    const auto it = std::find_if(out.begin(), out.end(), [&](const TrainedParam& t) { return t.name == key; });
+    if (it == out.end()) out.push_back({name, value, by});
+    else if (it->value != value) *it = {name, value, by};
   }
-  const auto at = [&](int line) {
-    return b.path + ":" + std::to_string(line) + ": evaluation '" + e.name + "': stage '" + stage.name +
-           "', context '" + e.context + "' sets ";
+  return out;
+}
+
+// A note for each parameter the evaluated run trained with that the evaluation runs otherwise: in
+// the stage's scenario, one its params set to another value, or one the batch's params or --set
+// gave training, which an evaluation does not take; in another scenario, one that scenario
+// declares and the evaluation leaves at its default. Found by probes: a context's frozen eyes
+// (eye_pixels = 32) evaluated in cluttered with its default 128 eyes, and nothing said it; then a
+// run's eye_pixels = 64 noted with the context's 32 "to evaluate as trained", and the run's own
+// eyes, evaluated in the stage's scenario at 128, not noted at all.
+void note_evaluation_params(const Reader& rd, const Curriculum& cur, const BatchOverrides& overrides, BatchScript& b) {
+  const BatchEvaluation& e = b.evaluations.back();
+  const BatchRun& run = *b.run(e.run);
+  const CurriculumStage& stage = cur.stage(run.stage);
+  const std::vector<TrainedParam> trained = trained_params(stage, e.context, run, overrides);
+  if (trained.empty()) return;
+  const bool same = e.scenario.empty() || e.scenario == stage.scenario;
+  const Scenario scenario = Scenario::load(same ? stage.scenario : e.scenario, b.limits);
+  const std::vector<ScenarioParam> declared = scenario.params();
+  const Params own = stage.scenario_params(stage.context(e.context));
+  const auto at = [&](int line, const TrainedParam& t) {
+    return b.path + ":" + std::to_string(line) + ": evaluation '" + e.name + "': " +
+           (t.by.empty() ? "stage '" + stage.name + "', context '" + e.context + "' sets "
+                         : "run '" + run.name + "' trained stage '" + stage.name + "', context '" + e.context +
+                               "' with ") +
+           t.name + " = " + t.value + (t.by.empty() ? "" : " (" + t.by + ")");
   };
-  for (const auto& param : own) {
-    const std::string& name = param.first;  // a lambda may not capture a structured binding (C++17)
-    const std::string& value = param.second;
-    const auto given = std::find_if(e.params.begin(), e.params.end(), [&](const auto& p) { return p.first == name; });
-    if (same && given != e.params.end() && given->second != value) {
-      b.notes.push_back(at(rd.line_of_key("params", e.line)) + name + " = " + value +
-                        ", overridden by the evaluation's params " + name + " = " + given->second +
-                        " (an evaluation's params win over a context's own)");
-    } else if (!same && given == e.params.end()) {
-      const auto p = std::find_if(declared.begin(), declared.end(), [&](const auto& d) { return d.name == name; });
-      if (p == declared.end()) continue;  // nothing to set there
-      b.notes.push_back(at(e.line) + name + " = " + value + ", which this evaluation leaves at scenario '" +
-                        other + "''s default " + p->default_value +
-                        ": in another scenario than its stage's an evaluation runs with its own params only (give "
-                        "params = {" + name + " = " + value + "} to evaluate as trained)");
+  for (const TrainedParam& t : trained) {
+    const auto given = std::find_if(e.params.begin(), e.params.end(), [&](const auto& p) { return p.first == t.name; });
+    const auto p = std::find_if(declared.begin(), declared.end(), [&](const auto& d) { return d.name == t.name; });
+    const std::string as_trained = "(give params = {" + t.name + " = " + t.value + "} to evaluate as trained)";
+    if (given != e.params.end()) {
+      if (same && given->second != t.value)
+        b.notes.push_back(at(rd.line_of_key("params", e.line), t) + ", overridden by the evaluation's params " +
+                          t.name + " = " + given->second + " (an evaluation's params win over a context's own)");
+    } else if (!same && p != declared.end()) {
+      b.notes.push_back(at(e.line, t) + ", which this evaluation leaves at scenario '" + scenario.name() +
+                        "''s default " + p->default_value +
+                        ": in another scenario than its stage's an evaluation runs with its own params only " +
+                        as_trained);
+    } else if (same && !t.by.empty()) {
+      const auto ctx = std::find_if(own.begin(), own.end(), [&](const auto& o) { return o.first == t.name; });
+      b.notes.push_back(at(e.line, t) + ", which this evaluation leaves at " +
+                        (ctx != own.end() ? "the context's own " + ctx->second
+                                          : "the scenario's default " + (p != declared.end() ? p->default_value : "")) +
+                        ": an evaluation runs with the stage's and context's params and its own, not the batch's "
+                        "or --set " + as_trained);
     }
   }
 }
@@ -625,7 +653,7 @@ void read_evaluations(const json& top, const Reader& rd, const BatchOverrides& o
     for (const json& ej : top["evaluations"])
       problems.entry(ej, "evaluation", [&] {
         b.evaluations.push_back(read_evaluation(ej, rd, el, overrides, cur, b));
-        note_evaluation_params(rd, cur, b);
+        note_evaluation_params(rd, cur, overrides, b);
       });
   }
 }
@@ -696,6 +724,31 @@ void check_sorting_run(const BatchRun& r, int objects, const Curriculum& cur, co
   }
 }
 
+// A sorting row's `hand` run learns nothing (each of its contexts has one action, the hand-written
+// policy), and its `learned` run chooses among actions (found by a probe: the two swapped were
+// taken, the learned run's trials then pooled as one policy's, its interval too narrow).
+void check_sorting_roles(const BatchSortingRow& row, const BatchScript& b, const Curriculum& cur, const Reader& rd,
+                         const std::string& what, int l) {
+  const auto chooser = [&](const std::string& run) -> std::string {  // a context that learns, or ""
+    const BatchRun& r = *b.run(run);
+    for (const std::string& c : r.contexts)
+      if (cur.stage(r.stage).context(c).actions.size() > 1) return c;
+    return "";
+  };
+  if (!row.hand.empty()) {
+    if (const std::string c = chooser(row.hand); !c.empty())
+      rd.fail(l, what + ": 'hand' names run '" + row.hand + "', whose context '" + c + "' learns to choose among " +
+                     std::to_string(cur.stage(b.run(row.hand)->stage).context(c).actions.size()) +
+                     " actions; a hand-written run's contexts have one action, the policy" +
+                     (row.learned.empty() || chooser(row.learned).empty() ? " (did you mean learned = '" + row.hand + "'?)"
+                                                                          : ""));
+  }
+  if (!row.learned.empty() && chooser(row.learned).empty())
+    rd.fail(l, what + ": 'learned' names run '" + row.learned + "', which learns nothing: each of its contexts has "
+                   "one action" + (row.hand.empty() || !chooser(row.hand).empty() ? " (did you mean hand = '" +
+                                                                                      row.learned + "'?)" : ""));
+}
+
 // Reads a sorting table's rows: {objects = n, learned = run, hand = run}, each run one of the script's.
 void read_sorting_rows(const json& rows, const Reader& rd, const std::string& what, int l, const BatchScript& b,
                        const Curriculum& cur, BatchTable& t) {
@@ -716,6 +769,11 @@ void read_sorting_rows(const json& rows, const Reader& rd, const std::string& wh
         rd.fail(l, what + ": no run '" + *name + "'; the runs are " + quoted_list(run_names(b)));
     for (const std::string* name : {&row.learned, &row.hand})
       if (!name->empty()) check_sorting_run(*b.run(*name), row.objects, cur, rd, what, l);
+    check_sorting_roles(row, b, cur, rd, what, l);
+    for (const BatchSortingRow& before : t.sorting)
+      if (before.objects == row.objects)
+        rd.fail(l, what + ": two sorting rows of " + std::to_string(row.objects) + " objects; a row holds a learned "
+                       "run and a hand-written one of that count");
     t.sorting.push_back(std::move(row));
   }
 }
