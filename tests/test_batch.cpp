@@ -422,7 +422,16 @@ TEST_CASE("a results folder in use by a run is refused to a second run, parts of
                                         ": two runs of one folder would each run again the other's trials in flight") &&
                           Catch::Contains("give each its own --shard K/N"));
     CHECK_THROWS_WITH(RunningClaim(out.string(), Shard{0, 2}), Catch::Contains("in use by another roger run" + pid));
+    // roger run --dry-run says so without claiming (found by a probe: it said "resumes", exit 0).
+    CHECK(results_folder_unavailable(out.string(), Shard()) ==
+          "the results folder '" + out.string() + "' is in use by another roger run" + pid);
+    CHECK_THAT(results_folder_unavailable(out.string(), Shard{0, 2}), Catch::Contains("in use by another roger run"));
   }
+  CHECK(results_folder_unavailable(out.string(), Shard()).empty());
+  CHECK(results_folder_unavailable((out / "new" / "deeper").string(), Shard()).empty());
+  std::ofstream(out / "file") << "x";
+  CHECK(results_folder_unavailable((out / "file" / "r").string(), Shard()) ==
+        "'" + (out / "file").string() + "' is a file: the results folder cannot be made there");
   {
     const RunningClaim first(out.string(), Shard{0, 2}), second(out.string(), Shard{1, 2});
     CHECK_THROWS_WITH(RunningClaim(out.string(), Shard{0, 2}),
@@ -438,6 +447,10 @@ TEST_CASE("a results folder in use by a run is refused to a second run, parts of
                                       "would each run again the other's trials in flight"));
     CHECK_THROWS_WITH(RunningClaim(out.string(), Shard(), {"SG/B1"}), Catch::Contains("a roger run of --shard "));
     CHECK(first.others_running() == std::vector<std::string>{"--shard 1/2" + pid});
+    CHECK(results_folder_unavailable(out.string(), Shard()) == "the results folder '" + out.string() +
+                                                                  "' is in use by runs of parts of it (--shard or "
+                                                                  "--only): --shard 0/2" + pid + ", --shard 1/2" + pid);
+    CHECK(results_folder_unavailable(out.string(), Shard(), {"SG"}).empty());  // the run checks parts' overlap
   }
   {
     // Disjoint --only names run together (docs/batch.md); the same names twice, or a name within

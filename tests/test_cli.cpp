@@ -582,6 +582,14 @@ TEST_CASE("roger run --dry-run checks the run and its results folder, writing no
   CHECK_THAT(r.err, Catch::Matchers::Contains("SGX"));
   CHECK_FALSE(fs::exists(dir / "out" / "shards" / "0-of-3.json"));
   CHECK_FALSE(fs::exists(dir / "out" / "trials" / "SG" / "B1" / "000"));
+  // Found by a probe: a script that only plans more trials was told "The manifest now holds this
+  // script" by a dry run, which writes nothing.
+  const std::string manifest = slurp(dir / "out" / "manifest.json");
+  r = roger(run + " --shard 0/2 --trials 4 --dry-run");
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("it plans more trials. The run would write this script into the "
+                                              "manifest and keep the trials there, and run the new ones."));
+  CHECK(slurp(dir / "out" / "manifest.json") == manifest);
   fs::remove_all(dir);
 }
 

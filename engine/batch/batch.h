@@ -168,6 +168,12 @@ bool open_results_folder(const BatchPlan& plan, std::string* note = nullptr, con
 // the run would do there ("a new results folder ...", "resumes DIR (12 of 50 trials have a result)").
 std::string inspect_results_folder(const BatchPlan& plan, const Shard& shard = Shard());
 
+// Why roger run (as shard `shard`, of the trials `only` selects) could not run in the results
+// folder `out` now, said without making or claiming anything (roger run --dry-run): it, or the
+// nearest folder above it, cannot be written, or another run holds it; "" when it could.
+std::string results_folder_unavailable(const std::string& out, const Shard& shard,
+                                       const std::vector<std::string>& only = {});
+
 // A results folder claimed by one roger run for as long as this lives. A run of the whole folder
 // holds it alone; runs of parts of it (a --shard, --only names) hold it together, each part once.
 // A second run of a folder or part in use would empty the first's trials in flight (a resume runs

@@ -338,8 +338,10 @@ json relocated(json config, const Places& at) {
 }
 
 // What changed when a folder is reopened with a configuration that extends its own: the report's
-// fields, the numbers of trials, or both; for the note roger run prints.
-std::string extension_note(const json& old, const json& now, const std::string& out) {
+// fields, the numbers of trials, or both; for the note roger run prints, or, not `written`, roger
+// run --dry-run (found by a probe: "The manifest now holds this script" of a dry run, which wrote
+// nothing).
+std::string extension_note(const json& old, const json& now, const std::string& out, bool written) {
   std::vector<std::string> changed;  // the report's fields that changed, as the docs name them
   for (const char* field : kReportFields)
     if (old.value(field, json()) != now.value(field, json()))
@@ -353,8 +355,10 @@ std::string extension_note(const json& old, const json& now, const std::string& 
                            : !report.empty()       ? report
                                                    : "it plans more trials";
   return "the script differs from the one " + out + " was made with, but only in what trains nothing again: " +
-         what + ". The manifest now holds this script; the trials there are kept" +
-         (more ? ", and the new ones run" : "") + ".";
+         what + (written ? ". The manifest now holds this script; the trials there are kept" +
+                               std::string(more ? ", and the new ones run" : "")
+                         : ". The run would write this script into the manifest and keep the trials there" +
+                               std::string(more ? ", and run the new ones" : "")) + ".";
 }
 
 // For a folder whose configuration extends `config` (it holds more trials than `config` plans,
@@ -467,7 +471,7 @@ std::string extend_manifest(const json& old, const json& old_config, const json&
   if (const std::string p = planned_trials_problem(old, old_plan, true); !p.empty())
     throw Error(manifest_path.string() + ": " + p + "; this folder cannot be resumed: use another --out");
   if (write) write_file_atomic(manifest_path.string(), fresh_manifest.dump(1) + "\n", "cannot write the manifest");
-  return extension_note(old_places, now_places, plan.out);
+  return extension_note(old_places, now_places, plan.out, write);  // a dry run's says what the run would do
 }
 
 // A plan that changes (more trials, another report) rewrites the manifest: not while other parts
@@ -1269,6 +1273,32 @@ RunningClaim::RunningClaim(const std::string& out, const Shard& shard, const std
                   "): the two would each run again the other's trials in flight. Wait for it to end, or give "
                   "parts that share no trial: shards of one N (--shard K/N), or --only names apart");
     }
+}
+
+std::string results_folder_unavailable(const std::string& out, const Shard& shard, const std::vector<std::string>& only) {
+  std::error_code ec;
+  // The folder, or the nearest folder above it that exists, where the run would make it.
+  fs::path place = fs::absolute(out, ec);
+  while (!place.empty() && !fs::exists(place, ec) && place != place.parent_path()) place = place.parent_path();
+  if (fs::exists(place, ec) && !fs::is_directory(place, ec))
+    return "'" + place.string() + "' is a file: the results folder cannot be made there";
+  if (::access(place.c_str(), W_OK | X_OK) != 0) {
+    const int err = errno;
+    return "'" + place.string() + "' cannot be written (" + std::strerror(err) + "): the run could not " +
+           (place == fs::absolute(out, ec) ? "write its results there" : "make the results folder '" + out + "'");
+  }
+  const std::string whole = (fs::path(out) / ".running").string();
+  const int fd = ::open(whole.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return "";  // no run has claimed it yet
+  const bool shared = try_flock(fd, LOCK_SH, whole);  // a whole run holds it alone; parts share it
+  ::close(fd);
+  if (!shared) return "the results folder '" + out + "' is in use by another roger run" + holder_of(whole);
+  if (!run_part(shard, only).first.empty()) return "";  // parts run beside parts (the run checks their overlap)
+  std::vector<std::string> said;
+  for (const LivePart& part : live_parts(out, "")) said.push_back(part.said);
+  std::sort(said.begin(), said.end());
+  return said.empty() ? "" : "the results folder '" + out + "' is in use by runs of parts of it (--shard or --only): " +
+                                 join(said);
 }
 
 std::vector<std::string> RunningClaim::others_running() const {

@@ -298,6 +298,10 @@ int finish_run(const RunArgs& a, const BatchPlan& plan, const Shard& shard, cons
 // misspelt option of ROGER_ARGS, once they had waited in the queue.
 int dry_run(const RunArgs& a, const BatchPlan& plan, const Shard& shard) {
   const std::string folder = inspect_results_folder(plan, shard);
+  // What the run would meet opening the folder (found by a probe: a folder in use by another run,
+  // or read-only, passed the dry run and refused the run).
+  if (const std::string why = results_folder_unavailable(plan.out, shard, a.only); !why.empty())
+    throw Error(why + "; the run would be refused");
   check_only_needs(plan, a.only, shard);
   print_run_plan(plan, shard, "roger run --dry-run: ", std::cout);
   std::cout << "roger run --dry-run: " << folder << "\n"
