@@ -1144,6 +1144,31 @@ bool open_with_trials(const fs::path& dir, int trials) {
 
 }  // namespace
 
+// Found by a probe: after a reward that looped failed every trial, the command with the reward fixed
+// was refused ("its trials and new ones would mix two versions"), though no trial had a result.
+TEST_CASE("a folder without a result resumes after a Lua file its trials read changed", "[batch]") {
+  const fs::path dir = fresh_dir("no_result_yet");
+  fs::create_directories(dir);
+  fs::copy_file("tests/scripts/kill_batch.lua", dir / "batch.lua");
+  fs::copy_file("tests/scripts/kill_curriculum.lua", dir / "kill_curriculum.lua");
+  const auto script = std::make_shared<const BatchScript>(load_batch_script((dir / "batch.lua").string()));
+  CHECK_FALSE(open_results_folder(plan_batch(script, (dir / "out").string())));  // a new folder, no trial run
+  const std::string before = slurp(dir / "out" / "manifest.json");
+  std::ofstream(dir / "kill_curriculum.lua", std::ios::app) << "-- the reward fixed\n";
+  const auto edited = std::make_shared<const BatchScript>(load_batch_script((dir / "batch.lua").string()));
+  const BatchPlan plan = plan_batch(edited, (dir / "out").string());
+  CHECK_THAT(inspect_results_folder(plan), Catch::Contains("but no trial there has a result (each failed or never "
+                                                           "ran), so nothing mixes two versions: the run would record "
+                                                           "the files as they are in the manifest, and run every trial"));
+  CHECK(slurp(dir / "out" / "manifest.json") == before);  // the dry run's look writes nothing
+  std::string note;
+  CHECK(open_results_folder(plan, &note));
+  CHECK_THAT(note, Catch::EndsWith("the manifest now records the files as they are, and every trial runs"));
+  CHECK(slurp(dir / "out" / "manifest.json") != before);
+  CHECK(open_results_folder(plan, &note));  // and resumes as it is
+  fs::remove_all(dir);
+}
+
 // Found by a probe: after --trials 3 extended a folder, the command without it was refused with
 // "runs[1].trials: 3 in the folder, 2 now" and no word of how to resume it.
 TEST_CASE("a folder refused for holding more trials says which --trials resumes it", "[batch]") {

@@ -874,6 +874,7 @@ TEST_CASE("a results folder is not resumed after a module the curriculum require
   INFO(log);
   CHECK(log.find("was made before a Lua file its trials read changed") != std::string::npos);
   CHECK(log.find("lib/skills.lua") != std::string::npos);
+  CHECK(log.find("To resume the folder, put the files listed back as they were") != std::string::npos);
   CHECK(finished_ids(f.root / "out").size() == 1);  // the finished trial is kept
 }
 

@@ -449,10 +449,16 @@ Error refusal(const json& old, const json& old_config, const json& config, const
                            : same_script ? "by this batch script as it was then, with other contents or other "
                                            "parameters (a command's --set, --trials, --lua-instructions and --lua-memory are parameters too)"
                                          : "by another batch script or other parameters";
-  return Error("the results folder " + plan.out + " was made " + made + " (" + old.value("script", std::string("?")) +
-               "); it cannot be resumed with " + plan.script->path + " as it is now. Differences:" + why +
-               "\nTo resume the folder, run it with the script and parameters it was made with (its "
-               "manifest.json records them); for this configuration, give another --out.");
+  // Where only a Lua file changed, the script and parameters are the same: what resumes is the file
+  // as it was (found by a probe: "run it with the script it was made with", which it was).
+  const std::string advice =
+      old_rest == now_rest
+          ? "\nTo resume the folder, put the files listed back as they were (its trials were made with them); for "
+            "the files as they are now, give another --out."
+          : "\nTo resume the folder, run it with the script and parameters it was made with (its manifest.json "
+            "records them); for this configuration, give another --out.";
+  return Error("the results folder " + plan.out + " (of " + old.value("script", std::string("?")) + ") was made " +
+               made + "; it cannot be resumed with " + plan.script->path + " as it is now. Differences:" + why + advice);
 }
 
 // Takes a configuration that extends the folder's own (extends()): checks that the folder's
@@ -531,6 +537,28 @@ std::string late_source_problem(const BatchPlan& plan, const json& old_config, c
 // Checks that an existing manifest was made by this engine and configuration, or by one that this
 // configuration extends (extends(): then the manifest is rewritten with it, unless `write` is false,
 // and the returned note says what changed; "" otherwise).
+// Whether two configurations differ in the fingerprints of the Lua files their trials read alone.
+bool only_sources_differ(json a, json b) {
+  for (const char* field : {"sources", "evaluation_sources"}) {
+    if (a.is_object()) a.erase(field);
+    if (b.is_object()) b.erase(field);
+  }
+  return a == b;
+}
+
+// Whether no trial of the plan has a result in its folder, each failed or not run: a Lua file
+// changed since then made nothing there (found by a probe: after a reward that looped failed every
+// trial, the fixed reward was refused the folder, "its trials and new ones would mix two versions").
+bool holds_no_result(const BatchPlan& plan) {
+  for (const auto& phase : plan.phases)
+    for (const auto& t : phase) {
+      json result;
+      std::string problem;
+      if (trial_status(plan.out, t, result, problem) == "ok") return false;
+    }
+  return true;
+}
+
 std::string check_manifest(const BatchPlan& plan, const fs::path& manifest_path, json config,
                            const json& fresh_manifest, const RunningClaim* claim, bool write = true) {
   json old;
@@ -577,6 +605,14 @@ std::string check_manifest(const BatchPlan& plan, const fs::path& manifest_path,
   if (old_places != now_places && old_config.is_object() && extends(old_places, now_places)) {
     refuse_while_others_run(plan, claim);
     return extend_manifest(old, old_config, old_places, now_places, plan, manifest_path, fresh_manifest, write);
+  }
+  if (old_places != now_places && only_sources_differ(old_places, now_places) && holds_no_result(plan)) {
+    refuse_while_others_run(plan, claim);
+    if (write) write_file_atomic(manifest_path.string(), fresh_manifest.dump(1) + "\n", "cannot write the manifest");
+    return "a Lua file its trials read changed since " + out + " was made, but no trial there has a result (each "
+           "failed or never ran), so nothing mixes two versions: " +
+           (write ? "the manifest now records the files as they are, and every trial runs"
+                  : "the run would record the files as they are in the manifest, and run every trial");
   }
   if (old_places != now_places) throw refusal(old, old_places, now_places, plan);
   if (const std::string p = planned_trials_problem(old, plan, true); !p.empty())
