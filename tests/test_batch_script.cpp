@@ -609,6 +609,13 @@ TEST_CASE("names that would clash or climb out and a skill from another context 
   CHECK_THAT(load_error(empty.string()),
              Catch::Matchers::Contains("empty.lua:3: run 'SG': 'contexts' is empty: name some of the contexts of "
                                        "stage 'SG' ('B1', 'DC1', 'DC2'), or leave the field out"));
+  // So is shapes = {} (found by a probe: one group 'all' without a word).
+  std::ofstream(empty) << "return { name = 'e', curriculum = 'curricula/paper.lua',\n"
+                       << "  runs = { { name = 'SG', stage = 'SG' } },\n"
+                       << "  evaluations = { { name = 'g', run = 'SG', context = 'DC2',\n    shapes = {} } } }\n";
+  CHECK_THAT(load_error(empty.string()),
+             Catch::Matchers::Contains("empty.lua:4: evaluation 'g': 'shapes' is empty: name the shapes to evaluate one "
+                                       "group each, or leave the field out"));
   fs::remove_all(dir);
 }
 
@@ -701,6 +708,14 @@ TEST_CASE("a table's by and a tasks figure's param are checked against the runs'
   CHECK_THAT(load_error((dir / "kindless.lua").string()),
              Catch::Matchers::Contains("figure 'f': 'param' belongs to a figure of kind \"tasks\" (this one is of "
                                        "kind \"curves\")"));
+  // Found by a probe: log_x and y on a figure of another kind were taken, and set nothing.
+  std::ofstream(dir / "axes.lua") << "return { name = 'axes', curriculum = 'tests/scripts/teach_curriculum.lua',\n"
+                                     "  runs = { { name = 'Alp', stage = 'Alp' } },\n"
+                                     "  figures = { { file = 't', kind = 'tasks', run = 'Alp',\n"
+                                     "                log_x = true } } }\n";
+  CHECK_THAT(load_error((dir / "axes.lua").string()),
+             Catch::Matchers::Contains("axes.lua:4: figure 't': 'log_x' belongs to a figure of kind \"curves\" (this "
+                                       "one is of kind \"tasks\", whose axes it does not set)"));
   fs::remove_all(dir);
 }
 

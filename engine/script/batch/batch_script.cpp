@@ -540,6 +540,10 @@ BatchEvaluation read_evaluation(const json& ej, const Reader& rd, int el, const 
   }
   e.params = rd.params(ej, "params", what, e.line);
   e.shapes = rd.strings(ej, "shapes", what, e.line, false);
+  // As a run's empty 'contexts' (found by a probe: shapes = {} was one group 'all' without a word).
+  if (e.shapes.empty() && ej.contains("shapes"))
+    rd.fail(rd.line_of_key("shapes", e.line), what + ": 'shapes' is empty: name the shapes to evaluate one group "
+                                                 "each, or leave the field out for one group 'all' in the scenario's own");
   for (const auto& s : e.shapes)
     if (!results_name(s))
       rd.fail(rd.line_of_key("shapes", e.line), what + ": shape '" + s + "' is not a plain name (letters, digits, '.', "
@@ -1019,6 +1023,11 @@ BatchFigure read_figure(const json& fj, const Reader& rd, int& at, const Curricu
   f.kind = rd.str(fj, "kind", what, l, "curves");
   if (f.kind != "curves" && f.kind != "cumulative" && f.kind != "tasks")
     rd.fail(rd.line_of_key("kind", l), what + ": 'kind' is \"curves\", \"cumulative\" or \"tasks\", got '" + f.kind + "'");
+  // Found by a probe: log_x and y on a cumulative or tasks figure were taken, and drew nothing of them.
+  for (const char* key : {"log_x", "y"})
+    if (f.kind != "curves" && fj.contains(key))
+      rd.fail(rd.line_of_key(key, l), what + ": '" + key + "' belongs to a figure of kind \"curves\" (this one is of "
+                                          "kind \"" + f.kind + "\", whose axes it does not set)");
   f.y = rd.str(fj, "y", what, l, "reward");
   if (f.y != "reward" && f.y != "success")
     rd.fail(rd.line_of_key("y", l), what + ": 'y' is \"reward\" (the greedy episodic reward) or \"success\" (the share "
