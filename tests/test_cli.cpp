@@ -1995,6 +1995,11 @@ TEST_CASE("a script of the wrong kind is named as what it is, with what runs it"
       {"run curricula/scripted.lua --out " + out,
        "roger run: error: curricula/scripted.lua is a skill script, not a batch script: evaluate one of its policies with "
        "roger eval curricula/scripted.lua --policy NAME\n"},
+      // Found by a probe: a batch script's module was read as a batch script ("unknown field 'all'").
+      {"run scripts/noise_kinds_levels.lua --out " + out,
+       "roger run: error: scripts/noise_kinds_levels.lua is a module, not a batch script: required as "
+       "\"noise_kinds_levels\" by scripts/noise_kinds.lua:13; give that script (roger check "
+       "scripts/noise_kinds_levels.lua checks the module)\n"},
       // Found by a probe: render without --policy read a skill script as a scenario (a traceback
       // from curricula/lib/skills.lua), and with --policy a scenario as a skill script.
       {"render curricula/sort_by_hand.lua --set objects=8 --out " + out + ".png",

@@ -424,6 +424,25 @@ bool is_module(const std::string& path, const std::vector<ModuleUse>& users) {
   return !users.empty() || std::filesystem::path(path).parent_path().filename() == "lib";
 }
 
+}  // namespace
+
+// Found by a probe: roger run of a batch script's module said "unknown field 'all'" of the batch
+// script it took it for, where roger check knew it for a module.
+std::string module_given(const std::string& given, const std::string& path, const std::string& wanted) {
+  if (script_kind_of(path)) return "";
+  const std::vector<ModuleUse> users = module_users(path, possible_requirers(path));
+  if (!is_module(path, users)) return "";
+  const LuaSandbox namer;  // shows files as the loaders' messages do
+  if (users.empty()) return given + " is a module (it lies in a lib/ folder), not a " + wanted + ": give the " +
+                            wanted + " that requires it";
+  const ModuleUse& u = users.front();
+  return given + " is a module, not a " + wanted + ": required as \"" + u.name + "\" by " + namer.display_name(u.script) +
+         ":" + std::to_string(u.line) + "; give " + (users.size() == 1 ? "that script" : "the script that requires it") +
+         " (roger check " + given + " checks the module)";
+}
+
+namespace {
+
 // A curriculum checked with --set: each parameter on the stages whose scenario declares it, as
 // `roger train --stage` takes it for those (found by a probe: --set objects=3 on the sorting
 // curriculum was refused for SG, whose scenario has no objects parameter). A parameter that no

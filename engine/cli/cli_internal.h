@@ -55,6 +55,12 @@ std::string stimulus_unseen_in(const std::string& scenario, const std::vector<st
                                const SandboxLimits& limits, uint64_t first_seed, int worlds,
                                const std::vector<std::pair<std::string, std::string>>& where_declared = {});
 
+// For a command given a module (a script of no kind's keys that another requires, or one in a lib/
+// folder) where it takes a script of kind `wanted`: why it cannot run it, naming the script that
+// requires it ("scripts/noise_kinds_levels.lua is a module, required as ... by scripts/noise_kinds.lua:
+// run that batch script"); "" for any other script. `path` is resolved, `given` as typed.
+std::string module_given(const std::string& given, const std::string& path, const std::string& wanted);
+
 // The sandbox limits --lua-instructions and --lua-memory set over the defaults.
 SandboxLimits sandbox_limits(const LuaLimitArgs& lua);
 

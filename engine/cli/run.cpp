@@ -335,6 +335,8 @@ int command_run(const RunArgs& a) {
   try {
     const Shard shard = a.shard.empty() ? Shard() : parse_shard(a.shard);
     const BatchOverrides overrides = overrides_of(a);
+    if (const std::string why = module_given(a.script, resolve_batch_script_path(a.script), "batch script"); !why.empty())
+      throw Error(why);
     auto script = std::make_shared<const BatchScript>(load_batch_script(a.script, overrides));
     const BatchScript& b = *script;
     for (const std::string& n : b.notes) log << "roger run: note: " << n << "\n";  // as roger check says them

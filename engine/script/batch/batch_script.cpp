@@ -49,9 +49,7 @@ void merge_params(Params& into, const Params& more) {
 }
 
 // Finds the script: the path itself, or <project>/scripts/<name>.lua for a bare name.
-std::string resolve_script(const std::string& arg) {
-  return resolve_script_path(arg, "scripts", "batch script", "batch scripts in scripts/");
-}
+std::string resolve_script(const std::string& arg) { return resolve_batch_script_path(arg); }
 
 
 // The table the script returned (on top of the stack, then popped) as JSON.
@@ -1182,6 +1180,10 @@ BatchScript load_batch_script(const std::string& path, const BatchOverrides& ove
 
 BatchScript check_batch_script(const std::string& path, const BatchOverrides& overrides, BatchProblems& problems) {
   return read_batch_script(path, overrides, {}, &problems);
+}
+
+std::string resolve_batch_script_path(const std::string& name_or_path) {
+  return resolve_script_path(name_or_path, "scripts", "batch script", "batch scripts in scripts/", is_batch_script);
 }
 
 bool is_batch_script(const std::string& path) {

@@ -190,6 +190,10 @@ bool is_batch_script(const std::string& path);
 // curriculum may set a field of the others' and is one first.
 std::string script_kind(const std::string& path);
 
+// The file a batch script argument names: the path itself, or <project>/scripts/<name>.lua for a
+// bare name (resolve_script_path's rules and errors).
+std::string resolve_batch_script_path(const std::string& name_or_path);
+
 // Throws roger::Error when the script at `path` (resolved; `given` as the user typed it) reads as
 // a kind not in `wanted` (script_kind's names), naming both and what runs it instead: a script of
 // the wrong kind otherwise fails inside, in a Lua traceback or a list of fields that do not
