@@ -590,6 +590,13 @@ TEST_CASE("roger run --dry-run checks the run and its results folder, writing no
   CHECK_THAT(r.out, Catch::Matchers::Contains("it plans more trials. The run would write this script into the "
                                               "manifest and keep the trials there, and run the new ones."));
   CHECK(slurp(dir / "out" / "manifest.json") == manifest);
+  // Found by a probe: a corrupt record was counted among those without a result, and not named.
+  std::ofstream(dir / "out" / "trials" / "SG" / "B1" / "001" / "result.json") << "{";
+  r = roger(run + " --shard 1/2 --dry-run");
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("resumes " + out + " (0 of 2 trials have a result; 1 has a corrupt record "
+                                              "and would run again (roger report " + out + " says what is wrong): "
+                                              "SG/B1/001)"));
   fs::remove_all(dir);
 }
 

@@ -1416,9 +1416,19 @@ std::string inspect_results_folder(const BatchPlan& plan, const Shard& shard) {
   const std::string note = check_manifest(plan, manifest_path, manifest["config"], manifest, nullptr, false);
   size_t all = 0;
   for (const auto& p : plan.phases) all += p.size();
-  const size_t left = missing_trials(plan).size();
-  return "resumes " + plan.out + " (" + std::to_string(all - left) + " of " + std::to_string(all) +
-         " trials have a result)" + (note.empty() ? "" : "; " + note);
+  const std::vector<MissingTrial> missing = missing_trials(plan);
+  // Corrupt records named (found by a probe: a dry run over a folder with damaged files counted them
+  // among those without a result, and said nothing of them).
+  std::vector<std::string> corrupt;
+  for (const MissingTrial& m : missing)
+    if (!m.problem.empty()) corrupt.push_back(m.trial->id);
+  const std::string damaged =
+      corrupt.empty() ? "" : "; " + std::to_string(corrupt.size()) + (corrupt.size() == 1 ? " has a corrupt record" :
+                                                                                            " have corrupt records") +
+                                 " and would run again (roger report " + plan.out + " says what is wrong): " +
+                                 join_some(corrupt);
+  return "resumes " + plan.out + " (" + std::to_string(all - missing.size()) + " of " + std::to_string(all) +
+         " trials have a result" + damaged + ")" + (note.empty() ? "" : "; " + note);
 }
 
 std::string describe_shard(const BatchPlan& plan, const Shard& shard) {
