@@ -699,7 +699,7 @@ TEST_CASE("a fault of a Lua callback fails its trial only, and error.json says w
   };
   const std::vector<Fault> faults = {
       {"loop", "tests/scripts/faults_curriculum.lua", 18, "instruction budget of 50000000 exceeded"},
-      {"bomb", "tests/scripts/faults_curriculum.lua", 26, "not enough memory (script memory limit of 256 MiB)"},
+      {"bomb", "tests/scripts/faults_curriculum.lua", 26, "not enough memory (script memory limit of 256 MiB; if the data is meant, raise it: --lua-memory"},
       {"nan", "tests/scripts/faults_curriculum.lua", 31, "must return a finite number, got number nan"},
       {"type", "tests/scripts/faults_curriculum.lua", 37, "must return true or false, got string 'yes'"},
       {"unlucky", "tests/scripts/faults_scenario.lua", 9, "an unlucky world"},
@@ -932,6 +932,19 @@ TEST_CASE("a results folder resumes from another folder and after a copy, not wi
     return open_results_folder(plan_batch(b, out.string()));
   };
   CHECK_FALSE(open_in(lab, "my_batch.lua", lab / "results" / "k"));
+  {
+    // One trial's result: a folder none of whose trials has one resumes whatever changed (test
+    // "a folder without a result resumes after a Lua file its trials read changed").
+    fs::current_path(lab);
+    RunControl one;
+    one.jobs = 1, one.max_trials = 1;
+    const BatchSummary done =
+        run_batch(plan_batch(std::make_shared<const BatchScript>(load_batch_script("my_batch.lua")),
+                             (lab / "results" / "k").string()),
+                  one);
+    fs::current_path(project);
+    REQUIRE(done.failed.empty());
+  }
   // The same script from another working folder: the same files, spelt otherwise.
   CHECK(open_in(top, (lab / "my_batch.lua").string(), lab / "results" / "k"));
   // The whole folder copied elsewhere: the same sources at the same places of the copy.
@@ -986,10 +999,10 @@ TEST_CASE("a results folder resumes from another folder and after a copy, not wi
   // The same script with another seed: not "another batch script".
   text.replace(text.find("seed = 7"), 8, "seed = 8");
   std::ofstream(lab / "my_batch.lua") << text;
-  CHECK_THAT(refusal(lab), Catch::Matchers::Contains("was made by this batch script as it was then, with other "
-                                                     "contents or other parameters (a command's --set, --trials, "
-                                                     "--lua-instructions and --lua-memory are parameters too) "
-                                                     "(my_batch.lua)") &&
+  CHECK_THAT(refusal(lab), Catch::Matchers::Contains("(of my_batch.lua) was made by this batch script as it was then, "
+                                                     "with other contents or other parameters (a command's --set, "
+                                                     "--trials, --lua-instructions and --lua-memory are parameters "
+                                                     "too); it cannot be resumed") &&
                                Catch::Matchers::Contains("seed: 7 in the folder, 8 now"));
   fs::remove_all(top);
 }
@@ -1024,6 +1037,14 @@ TEST_CASE("a lab's folders side by side resume after a copy; a shared file that 
   };
   CHECK_FALSE(open(lab / "batch" / "b.lua", lab / "out" / "b"));
   CHECK_FALSE(open(lab / "batch" / "s.lua", lab / "out" / "s"));
+  {
+    // One trial's result in b: a folder without one resumes whatever changed.
+    RunControl one;
+    one.jobs = 1, one.max_trials = 1;
+    REQUIRE(run_batch(plan_batch(std::make_shared<const BatchScript>(load_batch_script((lab / "batch" / "b.lua").string())),
+                                 (lab / "out" / "b").string()),
+                      one).failed.empty());
+  }
   // The whole lab copied: its own files are at the same places of the copy.
   const fs::path copy = top / "copy";
   fs::copy(lab, copy, fs::copy_options::recursive);

@@ -200,11 +200,12 @@ TEST_CASE("an infinite loop is stopped by the instruction budget in well under a
     // Found by a probe: reported at the line after the pcall and blamed on allocation (raising the
     // first error allocated its message). The first report holds: the loop's line, its cause.
     CHECK(caught.line == 3);
-    CHECK_THAT(caught.message, Contains("(runaway loop?)"));
+    CHECK_THAT(caught.message, Contains("(runaway loop? if the work is meant, raise the budget: --lua-instructions N"));
     CHECK_THAT(caught.message, !Contains("allocating"));
     const ScriptError after = error_of(small, "pcall(function()\n  while true do end\nend)\nlocal x = {}\nwhile true do end");
     CHECK(after.line == 2);
-    CHECK(after.message == "instruction budget of 1000000 exceeded (runaway loop?)");
+    CHECK(after.message == "instruction budget of 1000000 exceeded (runaway loop? if the work is meant, raise the "
+                           "budget: --lua-instructions N, or a batch script's limits = { instructions = N })");
   }
   SECTION("the budget is per call: the sandbox works again afterwards") {
     sandbox.load_string("local s = 0 for i = 1, 1000 do s = s + i end return s", "=sum");
@@ -227,12 +228,12 @@ TEST_CASE("gigabyte allocations are refused by the memory cap without crashing",
   }
   SECTION("one huge string") {
     const ScriptError e = file_error(sandbox, "tests/scripts/bad_memory_string.lua");
-    CHECK_THAT(e.message, Contains("not enough memory (script memory limit of 64 MiB)"));
+    CHECK_THAT(e.message, Contains("not enough memory (script memory limit of 64 MiB; if the data is meant, raise it"));
     CHECK(e.file == "tests/scripts/bad_memory_string.lua");
   }
   SECTION("a table growing without end") {
     const ScriptError e = file_error(sandbox, "tests/scripts/bad_memory_table.lua");
-    CHECK_THAT(e.message, Contains("not enough memory (script memory limit of 64 MiB)"));
+    CHECK_THAT(e.message, Contains("not enough memory (script memory limit of 64 MiB; if the data is meant, raise it"));
   }
   SECTION("string doubling") {
     const ScriptError e = error_of(sandbox, "local s = 'x' while true do s = s .. s end");
@@ -724,7 +725,7 @@ TEST_CASE("budgets hold at every call of a callback: instructions per call, memo
   } catch (const ScriptError& e) {
     CHECK(e.file == "callbacks.lua");
     CHECK(e.line == 9);
-    CHECK_THAT(e.message, Contains("not enough memory (script memory limit of 32 MiB)"));
+    CHECK_THAT(e.message, Contains("not enough memory (script memory limit of 32 MiB;"));
   }
   CHECK(sandbox.memory_used() <= (32u << 20));
 }

@@ -388,8 +388,10 @@ void begin_top_level_call(LuaSandbox::Impl& s) {
   }
   if (status == LUA_ERRMEM) {
     const bool located = s.oom_line > 0;
+    // How to raise it said too (found by a probe: neither budget's message said where it is set).
     throw ScriptError("not enough memory (script memory limit of " +
-                          std::to_string(s.limits.memory_bytes >> 20) + " MiB)",
+                          std::to_string(s.limits.memory_bytes >> 20) + " MiB; if the data is meant, raise it: "
+                          "--lua-memory MIB, or a batch script's limits = { memory = MIB })",
                       located ? restore_names(s, s.oom_file.data()) : entry_file, located ? s.oom_line : 0, "");
   }
   // The script's own bytes, made printable: a record and a terminal take every message.

@@ -254,7 +254,8 @@ void spent_message(const LuaSandbox::Impl& s, char* text, size_t size) {
   else if (s.spent_what)
     std::snprintf(text, size, "%s: instruction budget of %llu exceeded: %s", s.spent_what, budget, s.spent_why);
   else
-    std::snprintf(text, size, "instruction budget of %llu exceeded (runaway loop?)", budget);
+    std::snprintf(text, size, "instruction budget of %llu exceeded (runaway loop? if the work is meant, raise the "
+                  "budget: --lua-instructions N, or a batch script's limits = { instructions = N })", budget);
 }
 
 // The processor time a call has been allowed so far (SandboxLimits::seconds and
