@@ -747,7 +747,7 @@ TEST_CASE("roger report names the first 20 trials without a result and counts th
   CHECK_THAT(text, Catch::Matchers::Contains("roger report: 59 trials of ") &&
                        Catch::Matchers::Contains("  SG/B1/001 (run SG, context B1, trial 1)\n") &&
                        Catch::Matchers::Contains("\n  ... and 39 more without a result: ") &&
-                       Catch::Matchers::Contains("eval/gen 24\n"));
+                       Catch::Matchers::Contains("eval/gen (24 trials)\n"));
   CHECK(std::count(text.begin(), text.end(), '\n') == 1 + 20 + 1 + 2);
 }
 

@@ -149,9 +149,9 @@ function sorting.tasks(moves, tag)
   -- Found by a probe: one move given was refused inside roger.policy ("'actions' must hold at
   -- least one action, got an empty list"), naming a policy the caller never wrote.
   if type(moves) ~= "table" or #moves ~= #sorting.TYPES then
+    local got = type(moves) ~= "table" and type(moves) or #moves == 1 and "1 move" or #moves .. " moves"
     error("sorting.tasks: takes the " .. #sorting.TYPES .. " moves of sorting.moves (one per type, in region order: " ..
-          table.concat(sorting.TYPES, ", ") .. "), got " .. (type(moves) == "table" and #moves .. (#moves == 1 and " move" or " moves") or type(moves)) ..
-          "; for one type, sorting.task(move, type)", 2)
+          table.concat(sorting.TYPES, ", ") .. "), got " .. got .. "; for one type, sorting.task(move, type)", 2)
   end
   local tasks = {}
   for k, t in ipairs(sorting.TYPES) do tasks[k] = sorting.task(moves[k], t, tag) end

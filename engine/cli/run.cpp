@@ -95,7 +95,9 @@ int print_missing(const std::vector<MissingTrial>& missing, const BatchPlan& pla
       << ", so no report was written:\n";
   // Every corrupt trial, and the first 20 of those without a result; the rest counted by run and
   // context or evaluation (found by a probe: 823 pending trials were 823 lines).
-  constexpr int kShown = 20;
+  // One more than 20 is listed rather than counted (found by a probe: "... and 1 more").
+  const long pending = std::count_if(missing.begin(), missing.end(), [](const MissingTrial& m) { return m.problem.empty(); });
+  const int kShown = pending <= 21 ? 21 : 20;
   int shown = 0;
   std::vector<std::pair<std::string, int>> rest;  // "run/context" or "evaluation" -> trials not listed
   for (const auto& m : missing) {
@@ -120,7 +122,7 @@ int print_missing(const std::vector<MissingTrial>& missing, const BatchPlan& pla
     std::string groups;
     for (const auto& [group, n] : rest) {
       more += n;
-      groups += (groups.empty() ? "" : ", ") + group + " " + std::to_string(n);
+      groups += (groups.empty() ? "" : ", ") + group + " (" + std::to_string(n) + (n == 1 ? " trial)" : " trials)");
     }
     log << "  ... and " << more << " more without a result: " << groups << "\n";
   }
