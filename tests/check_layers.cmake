@@ -1,6 +1,7 @@
 # check_layers.cmake: fails when an engine module includes a header of a higher (or a sibling)
 # layer, or when a third-party library leaks out of the module that owns it.
 # Run by CTest as `cmake -DENGINE_DIR=... -P check_layers.cmake`.
+cmake_policy(SET CMP0057 NEW)  # if(... IN_LIST ...)
 #
 # The layers, lowest first; modules on one line are siblings and may not include each other.
 set(layer_core 0)
@@ -27,6 +28,12 @@ set(script_layer_curriculum 2)
 set(script_layer_batch 3)
 set(script_layer_authoring 4)
 set(layer_python 10)  # the Python module, on batch and view; nothing includes it
+# Narrower than the layers: a module that may include only some of the layers below it
+# (`only_<module>`), or must not include one that its layer would allow (`avoids_<module>`).
+set(only_teach core)                 # a teacher knows task spaces and outcomes, nothing of worlds
+set(avoids_batch view)               # pictures are drawn by the commands (cli) and Python alone
+set(avoids_report view)
+set(avoids_propose view report)
 # Which module alone may include a library's headers.
 set(owner_box2d "sim")    # <box2d/...>
 set(owner_lua "script")   # <lua.hpp>, <lua.h>, <lauxlib.h>, <lualib.h>
@@ -79,6 +86,10 @@ foreach(file IN LISTS files)
         string(APPEND problems "engine/${file}: includes from unknown folder '${target}': ${line}\n")
       elseif(NOT target STREQUAL module AND NOT layer_${target} LESS layer_${module})
         string(APPEND problems "engine/${file}: layer '${module}' includes '${target}', which is not below it: ${line}\n")
+      elseif(NOT target STREQUAL module AND DEFINED only_${module} AND NOT target IN_LIST only_${module})
+        string(APPEND problems "engine/${file}: '${module}' includes only ${only_${module}}, not '${target}': ${line}\n")
+      elseif(DEFINED avoids_${module} AND target IN_LIST avoids_${module})
+        string(APPEND problems "engine/${file}: '${module}' must not include '${target}': ${line}\n")
       endif()
     elseif(line MATCHES "#[ \t]*include[ \t]*<box2d/" AND NOT module STREQUAL owner_box2d)
       string(APPEND problems "engine/${file}: Box2D belongs to '${owner_box2d}' alone: ${line}\n")
