@@ -2555,6 +2555,15 @@ TEST_CASE("train without --stage or --context names the curriculum's choices", "
   CHECK_THAT(no_stage.err, Catch::Matchers::Contains(
                                "--stage is required: curriculum 'paper' (curricula/paper.lua) has the stages SG, T"));
   CHECK_FALSE(std::filesystem::exists("/tmp/roger_cli_unused"));  // nothing begun
+  // So does eval without --policy (found by a probe: "--policy is required" alone).
+  const Run no_policy = roger("eval curricula/scripted.lua");
+  CHECK(no_policy.status == 2);
+  CHECK_THAT(no_policy.err, Catch::Matchers::Contains("--policy is required: the policy of skill script 'scripted' to "
+                                                      "evaluate, one of: ") &&
+                                Catch::Matchers::Contains("task"));
+  CHECK_THAT(roger("eval curricula/paper.lua").err,
+             Catch::Matchers::Contains("--policy is required: with a curriculum, a policy file roger train wrote"));
+  CHECK_THAT(roger("eval scripts/quick.lua").err, Catch::Matchers::Contains("is a batch script"));
 }
 
 // Found by a probe: --seed S --episodes N ran seeds past 2^64 - 1 as 0, 1, ..., the worlds of an

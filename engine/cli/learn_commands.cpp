@@ -448,7 +448,28 @@ void print_never_referenced(const EvalSummary& r) {
 }
 
 // roger eval itself; command_eval stops it on request.
+// --policy left out, refused naming what it could be, as --stage and --context of train are (found
+// by a probe: "--policy is required" alone, where a misspelt one lists the script's policies).
+void require_policy(const EvalArgs& a) {
+  if (!a.policy.empty()) return;
+  const std::string path = [&] {
+    try {
+      return resolve_curriculum_path(a.script);
+    } catch (const Error&) {
+      (void)policy_is_saved_file(a.script, "");  // says it as eval does: "no curriculum or skill script"
+      throw;
+    }
+  }();
+  if (is_curriculum_script(path))
+    throw CommandLineError("--policy is required: with a curriculum, a policy file roger train wrote "
+                           "(--policy out/policy.json)");
+  const SkillScript script = SkillScript::load(a.script, sandbox_limits(a.lua));
+  throw CommandLineError("--policy is required: the policy of skill script '" + script.name() + "' to evaluate, one "
+                         "of: " + join(script.policy_names()));
+}
+
 int evaluate_command(const EvalArgs& a) {
+  require_policy(a);
   // Seeds S to S + N - 1 must not wrap past 2^64 - 1 to 0, 1, ... (found by a probe: they did, without
   // a word, and reran the worlds of an evaluation from seed 0).
   // A saved policy's first seed is below 2^63 (saved_policy_first_seed): checked there first, since

@@ -177,9 +177,10 @@ CLI::App* add_check(CLI::App& app, CheckArgs& a) {
 CLI::App* add_eval(CLI::App& app, EvalArgs& a, CLI::Option*& seed) {
   auto* c = app.add_subcommand("eval", "Evaluate a policy of a skill script, or one saved by roger train, over seeded episodes");
   c->add_option("script", a.script, "Skill script (.lua), or the curriculum of a policy.json")->required();
+  // Required, and refused without naming what it could be by the command (require_policy).
   c->add_option("--policy", a.policy,
-                "Policy name in the skill script, or with a curriculum a policy.json written by roger train")
-      ->required();
+                "Policy name in the skill script, or with a curriculum a policy.json written by roger train "
+                "(required)");
   c->add_option("--scenario", a.scenario, "Scenario (default: the policy's)");
   add_sets(c, a.sets, "Scenario parameter key=value (repeatable)");
   add_skills(c, a.skills,

@@ -13,6 +13,9 @@ namespace roger::learning_detail {
 
 constexpr const char* kFormat = "roger-policy";
 constexpr int kVersion = 1;
+// The most states a policy file writes every row of (3^6: six actions); a larger table writes only
+// the rows that hold something, keyed by state (QTable::to_json).
+constexpr int kDenseStates = 729;
 constexpr int kMaxActions = 12;  // 3^12 = 531441 states: the same bound as Policy
 
 inline bool finite(double v) { return std::isfinite(v); }

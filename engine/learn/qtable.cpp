@@ -1,5 +1,6 @@
 // qtable.cpp: the action-value table of a stage, its backups and its policy file.
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -89,19 +90,36 @@ QParams read_params(const nlohmann::json& j, const std::string& source) {
   return p;
 }
 
-// A states x actions table field ("q" or "visits"), its shape checked.
-const nlohmann::json& table_rows(const nlohmann::json& j, const char* name, int states, int actions,
-                                 const std::string& source) {
+// A states x actions table field ("q" or "visits"), its shape checked: a list of every state's row,
+// or (a table past kDenseStates states) an object of the rows that hold something, keyed by state;
+// the rows with their states, in order.
+std::vector<std::pair<int, const nlohmann::json*>> table_rows(const nlohmann::json& j, const char* name, int states,
+                                                              int actions, const std::string& source) {
   const auto& r = field(j, name, source);
-  if (!r.is_array() || int(r.size()) != states)
-    throw Error(source + ": field \"" + name + "\" must have " + std::to_string(states) +
-                " rows (3^" + std::to_string(actions) + " states), got " +
-                (r.is_array() ? std::to_string(r.size()) : r.type_name()));
-  for (size_t s = 0; s < r.size(); ++s)
-    if (!r[s].is_array() || int(r[s].size()) != actions)
+  std::vector<std::pair<int, const nlohmann::json*>> rows;
+  if (r.is_object()) {
+    for (auto it = r.begin(); it != r.end(); ++it) {
+      const std::string& key = it.key();
+      char* end = nullptr;
+      const long s = key.empty() || key.size() > 9 ? -1 : std::strtol(key.c_str(), &end, 10);
+      if (s < 0 || s >= states || *end != '\0' || std::to_string(s) != key)
+        throw Error(source + ": field \"" + name + "\" is keyed by state (0 to " + std::to_string(states - 1) +
+                    ", 3^" + std::to_string(actions) + " states), got the key \"" + key + "\"");
+      rows.push_back({int(s), &it.value()});
+    }
+    std::sort(rows.begin(), rows.end());
+  } else if (r.is_array() && int(r.size()) == states) {
+    for (size_t s = 0; s < r.size(); ++s) rows.push_back({int(s), &r[s]});
+  } else {
+    throw Error(source + ": field \"" + name + "\" must have " + std::to_string(states) + " rows (3^" +
+                std::to_string(actions) + " states), or be an object of rows keyed by state, got " +
+                (r.is_array() ? std::to_string(r.size()) + " rows" : std::string(r.type_name())));
+  }
+  for (const auto& [s, row] : rows)
+    if (!row->is_array() || int(row->size()) != actions)
       throw Error(source + ": field \"" + name + "\" row " + std::to_string(s) + " must have " +
                   std::to_string(actions) + " entries (one per action)");
-  return r;
+  return rows;
 }
 
 // The caller's metadata: stage, context, seed and extra.
@@ -296,15 +314,28 @@ nlohmann::json QTable::to_json(const PolicyMetadata& meta) const {
                  {"epsilon_end", params_.epsilon_end},
                  {"initial_q", params_.initial_q}, {"referenced_only", params_.referenced_only},
                  {"unconverged_first", params_.unconverged_first}};
-  nlohmann::json q = nlohmann::json::array(), visits = nlohmann::json::array();
+  // A row per state; past kDenseStates only the rows that hold something (a value other than
+  // initial_q, or a visit), keyed by state: a context of 12 actions has 531441 states, and its
+  // file, which every later stage embeds, was 98 MB of default rows (found by a probe).
+  const bool sparse = states_ > kDenseStates;
+  nlohmann::json q = sparse ? nlohmann::json::object() : nlohmann::json::array();
+  nlohmann::json visits = sparse ? nlohmann::json::object() : nlohmann::json::array();
   for (int s = 0; s < states_; ++s) {
     nlohmann::json qrow = nlohmann::json::array(), vrow = nlohmann::json::array();
+    bool holds = false;
     for (int a = 0; a < actions_; ++a) {
-      qrow.push_back(q_[size_t(s) * size_t(actions_) + size_t(a)]);
-      vrow.push_back(visits_[size_t(s) * size_t(actions_) + size_t(a)]);
+      const size_t k = size_t(s) * size_t(actions_) + size_t(a);
+      qrow.push_back(q_[k]);
+      vrow.push_back(visits_[k]);
+      holds = holds || visits_[k] > 0 || q_[k] != params_.initial_q;
     }
-    q.push_back(std::move(qrow));
-    visits.push_back(std::move(vrow));
+    if (!sparse) {
+      q.push_back(std::move(qrow));
+      visits.push_back(std::move(vrow));
+    } else if (holds) {
+      q[std::to_string(s)] = std::move(qrow);
+      visits[std::to_string(s)] = std::move(vrow);
+    }
   }
   j["q"] = std::move(q);
   j["visits"] = std::move(visits);
@@ -325,20 +356,26 @@ QTable QTable::from_json(const nlohmann::json& j, const std::vector<std::string>
       throw Error(source + ": field \"actions\": " + e.what());
     }
   }();
-  const auto& jq = table_rows(j, "q", t.states_, t.actions_, source);
-  const auto& jv = table_rows(j, "visits", t.states_, t.actions_, source);
-  for (int s = 0; s < t.states_; ++s)
+  const std::vector<std::pair<int, const nlohmann::json*>> qrows = table_rows(j, "q", t.states_, t.actions_, source);
+  const std::vector<std::pair<int, const nlohmann::json*>> vrows =
+      table_rows(j, "visits", t.states_, t.actions_, source);
+  if (qrows.size() != vrows.size() ||
+      !std::equal(qrows.begin(), qrows.end(), vrows.begin(), [](const auto& a, const auto& b) { return a.first == b.first; }))
+    throw Error(source + ": fields \"q\" and \"visits\" must hold the same states");
+  for (size_t r = 0; r < qrows.size(); ++r) {
+    const int s = qrows[r].first;
     for (int a = 0; a < t.actions_; ++a) {
       const size_t k = size_t(s) * size_t(t.actions_) + size_t(a);
-      t.q_[k] = number(jq[size_t(s)][size_t(a)],
+      t.q_[k] = number((*qrows[r].second)[size_t(a)],
                        "field \"q\" [" + std::to_string(s) + "][" + std::to_string(a) + "]", source);
-      const auto& v = jv[size_t(s)][size_t(a)];
+      const auto& v = (*vrows[r].second)[size_t(a)];
       if (!v.is_number_unsigned() && !(v.is_number_integer() && v.get<int64_t>() >= 0))
         throw Error(source + ": field \"visits\" [" + std::to_string(s) + "][" + std::to_string(a) +
                     "] must be a count (an integer >= 0), got " + v.dump());
       t.visits_[k] = v.get<uint64_t>();
       if (t.visits_[k] > 0) t.state_seen_[size_t(s)] = 1;
     }
+  }
   PolicyMetadata m = read_metadata(j, source);
   if (meta) *meta = std::move(m);
   return t;

@@ -1370,6 +1370,9 @@ class BadArguments(unittest.TestCase):
             actions[i] = bad
             self.assertRaisesWith(roger.RogerError, [f"action {bad} of environment {i} is not in [0, 2)"],
                                   vec.step, actions)
+        # Found by a probe: a bool among the indices read as 1 or 0.
+        self.assertRaisesWith(roger.RogerError, ["step: expected 3 integer actions, got a list holding a bool: "
+                                                 "[True, 0, 1]"], vec.step, [True, 0, 1])
         _, _, terminated, truncated, _ = vec.step(np.zeros(3, int))  # the refused steps ran nothing
         self.assertFalse(terminated[i] or truncated[i])
 

@@ -1367,6 +1367,10 @@ class VecEnv(_Copyable, _VecBase):
     def _step(self, actions):
         vec = self._open("step")
         a = np.asarray(actions)
+        # A list mixing bools with indices reads as integers (found by a probe: [True, 0, 1, 0] was taken).
+        if _holds_bool(actions):
+            raise RogerError(f"step: expected {self.num_envs} integer actions, got a list holding a bool: "
+                             f"{list(actions)!r} (an action is an index, 0 to {len(self.actions) - 1})")
         if a.shape != (self.num_envs,) or not np.issubdtype(a.dtype, np.integer):
             raise RogerError(f"step: expected {self.num_envs} integer actions, got {a.dtype} array of shape {a.shape}")
         _refuse_out_of_range(a, len(self.actions))
