@@ -889,8 +889,21 @@ TEST_CASE("roger train warns of episodes that ended before their first decision"
                                         (dir / "out").string());
   INFO(text);
   CHECK(status == 0);
-  CHECK(text.find("  warning        9 of 9 episodes (training and final) ended in the absorbing state before their "
-                  "first decision: the goal held in their worlds from the start") != std::string::npos);
+  CHECK(text.find("  warning        9 of 9 episodes (training and final) ended in the absorbing state at their "
+                  "start (before their first decision, or at the first tick, when the goal is first judged): the goal "
+                  "held in their worlds from the start") != std::string::npos);
+  // So does a predicate that holds at the first tick (found by a probe: 100% without a word).
+  std::ofstream(dir / "negated.lua") << "local p = require('lib.skills').primitives()\n"
+                                        "return { stages = { roger.stage{ name = 'S', scenario = 'unobstructed',\n"
+                                        "  time_limit = 4, absorbing = roger.negate(roger.converged(p.phi3)),\n"
+                                        "  budget = { episodes = 6 }, checkpoints = { every = 3, episodes = 3, final = 3 },\n"
+                                        "  contexts = { { name = 'C', actions = { p.search, p.phi0 } } } } } }\n";
+  const auto [negated_status, negated] = run_roger("train " + (dir / "negated.lua").string() +
+                                                   " --stage S --context C --out " + (dir / "negated").string());
+  INFO(negated);
+  CHECK(negated_status == 0);
+  CHECK(negated.find("  warning        ") != std::string::npos);
+  CHECK(negated.find("ended in the absorbing state at their start") != std::string::npos);
   // Its Lua absorbing function keeps the evaluation cache off, and the cache's line says why (found
   // by a probe: "0 of 3 reused" and no word).
   CHECK(text.find(" reused (none: the stage's Lua reward or absorbing function may keep state between calls)\n") !=

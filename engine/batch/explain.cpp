@@ -111,8 +111,8 @@ std::string TrainingDiagnosis::never_reached_cause() const {
 std::string TrainingDiagnosis::goal_at_start_cause() const {
   if (ended_before_deciding == 0) return "";
   return std::to_string(ended_before_deciding) + " of " + std::to_string(episodes_seen) +
-         " episodes (training and final) ended in the absorbing state before their first decision: the goal "
-         "held in their worlds from the start, so they teach nothing and count as successes (check the stage's "
+         " episodes (training and final) ended in the absorbing state at their start (before their first "
+         "decision, or at the first tick, when the goal is first judged): the goal held in their worlds from the start, so they teach nothing and count as successes (check the stage's "
          "absorbing state, or the goal, against its worlds)";
 }
 
@@ -219,7 +219,10 @@ void read_decisions(const TrainResult& r, TrainingDiagnosis& d) {
   bool any_decision = false;
   const auto note_states = [&](const TrainingEpisode& ep) {
     ++d.episodes_seen;
-    d.ended_before_deciding += ep.success && ep.decision_states.empty();
+    // Before the first decision (a Lua absorbing function asked at the start), or at the first tick,
+    // when a predicate is first judged (found by a probe: not(converged(phi3)), phi3 never run,
+    // trained to 100% in one tick an episode without a word, where roger eval warned).
+    d.ended_before_deciding += ep.success && (ep.decision_states.empty() || ep.ticks <= 1);
     any_decision = any_decision || !ep.decision_states.empty();
     for (int s : ep.decision_states)
       for (int a = 0; a < n; ++a) referenced[size_t(a)] = referenced[size_t(a)] || gamma_in(s, a, n) != Gamma::kNoRef;
