@@ -1041,3 +1041,28 @@ TEST_CASE("lib.skills' builders refuse what they do not take at the caller's lin
     CHECK_THAT(error_of([&] { Curriculum::load(file); }), Catch::Matchers::Contains(says));
   }
 }
+
+// Found by a probe: a learned skill listed twice in a context was told of "a controller the script
+// defines", and p.phi1 beside p.carry (both named phi1) of no positions.
+TEST_CASE("two actions of one name are said with their positions and why they clash", "[curriculum]") {
+  const test::TempDir tmp("roger_two_names");
+  using Catch::Matchers::Contains;
+  const auto psi = [&](const std::string& actions) {
+    const auto path = tmp.path / "psi.lua";
+    std::ofstream(path) << "local p = require('lib.skills').primitives()\n"
+                           "return { stages = {\n"
+                           "  roger.stage{ name = 'A', time_limit = 4, absorbing = roger.converged(p.phi0),\n"
+                           "    budget = { episodes = 3 }, skill = { name = 'Phi_A', context = 'C' },\n"
+                           "    contexts = { { name = 'C', actions = { p.search, p.phi0 } } } },\n"
+                           "  roger.stage{ name = 'B', time_limit = 4, absorbing = roger.converged(p.phi3), budget = { episodes = 3 },\n"
+                           "    contexts = { { name = 'L', actions = { " << actions << " } } } } } }\n";
+    return error_of([&] { Curriculum::load(path.string()); });
+  };
+  CHECK_THAT(psi("roger.learned('Phi_A'), roger.learned('Phi_A'), p.phi3"),
+             Contains("two actions are named 'Phi_A' (actions 1 and 2 are the same action: list it once)"));
+  CHECK_THAT(psi("p.phi1, p.phi3, p.carry"),
+             Contains("two actions are named 'phi1' (actions 1 and 3: a controller is named by its kind unless it is "
+                      "given name = \"...\""));
+  CHECK_THAT(psi("p.phi3, p.phi3"), Contains("(actions 1 and 2 are the same action: list it once)"));
+  CHECK(psi("roger.learned('Phi_A'), p.phi3").empty());
+}

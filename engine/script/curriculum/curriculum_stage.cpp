@@ -171,18 +171,26 @@ void read_actions(lua_State* L, int idx, const std::string& ctx, CurriculumConte
   if (n == 0) luaL_error(L, "%s: Psi is empty: a context needs at least one action", ctx.c_str());
   if (n > 12)
     luaL_error(L, "%s: Psi has %d actions; at most 12 are allowed (3^12 states)", ctx.c_str(), int(n));
-  std::map<std::string, ControllerPtr> action_names;
+  std::map<std::string, std::pair<lua_Integer, ControllerPtr>> action_names;  // name -> its first action
   for (lua_Integer i = 1; i <= n; ++i) {
     lua_rawgeti(L, idx, i);
     ControllerPtr a = lua_check_controller(L, -1, ctx, "action " + std::to_string(i));
     lua_pop(L, 1);
-    const auto [it, fresh] = action_names.emplace(a->name(), a);
+    const auto [it, fresh] = action_names.emplace(a->name(), std::make_pair(i, a));
     if (!fresh) {
-      // A learned skill's stand-in beside a controller of its name: say which is which.
-      const bool learned = dynamic_cast<const LearnedRef*>(a.get()) || dynamic_cast<const LearnedRef*>(it->second.get());
-      const std::string which = learned ? " (one is roger.learned('" + a->name() + "'), the skill a stage yields, the "
-                                          "other a controller the script defines: give the stage's skill another name)"
-                                        : "";
+      // Which two, and why they clash (found by a probe: roger.learned('Phi_Look') listed twice was
+      // told of "a controller the script defines", and p.phi1 beside p.carry of no positions).
+      const ControllerPtr& other = it->second.second;
+      const bool a_learned = dynamic_cast<const LearnedRef*>(a.get()), other_learned = dynamic_cast<const LearnedRef*>(other.get());
+      const std::string both = "actions " + std::to_string(it->second.first) + " and " + std::to_string(i);
+      const std::string which =
+          a.get() == other.get() || (a_learned && other_learned)
+              ? " (" + both + " are the same action: list it once)"
+          : a_learned || other_learned
+              ? " (" + both + ": one is roger.learned('" + a->name() + "'), the skill a stage yields, the other a "
+                "controller the script defines: give the stage's skill another name)"
+              : " (" + both + ": a controller is named by its kind unless it is given name = \"...\", as the carrying "
+                "phi1 of lib.skills is: give one of them another name)";
       luaL_error(L, "%s: two actions are named '%s'%s; the names of Psi must differ", ctx.c_str(), a->name().c_str(),
                  which.c_str());
     }
