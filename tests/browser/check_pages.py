@@ -233,6 +233,13 @@ def check_progress(b, folder):
         line = b.evaluate("document.getElementById('progress-line').textContent")
         check(line.startswith("Running: %d/%d trials done" % (running["done"], running["trials"])) and "1 min 35 s left" in line,
               "dashboard: a running run's progress and time left (%s)" % line)
+        # Found by a probe: 119.6 s read "1 min 60 s", an hour less a breath "59 min 60 s".
+        write_status(folder, dict(running, eta_s=119.6, elapsed_s=3599.7, updated_ms=int(time.time() * 1000)))
+        b.open(os.path.join(folder, "index.html"), "document.getElementById('progress-line') !== null")
+        line = b.evaluate("document.getElementById('progress-line').textContent + ' | ' + "
+                          "document.getElementById('progress-note').textContent")
+        check("2 min 00 s left" in line and "1 h 00 min elapsed" in line and " 60 " not in line,
+              "dashboard: durations never read 60 in a part (%s)" % line)
         check(b.evaluate("document.getElementById('progress').hidden") is False, "dashboard: progress is shown while running")
         write_status(folder, final)  # the run ends: the page must notice within its 2 s poll
         deadline, line = time.time() + 8, ""
@@ -571,12 +578,25 @@ def check_shards(b, folder, work):
           and "may have stopped" not in b.evaluate(note), "shards: the page waits for roger report (%s)" % got)
     # Found by a probe: with failed trials the shards exit with an error and Slurm cancels the report
     # job; the page says so and what writes the report, instead of waiting for ever.
-    write_status(copy, dict(base, waiting="report", done=final["done"] - 2, failed=2, updated_ms=now - 120000))
+    advice = ("document.getElementById('progress-advice') ? "
+              "document.getElementById('progress-advice').textContent : ''")
+    write_status(copy, dict(base, waiting="report", done=final["done"] - 2, failed=2, shards=shards, slurm=True,
+                            updated_ms=now - 120000))
     b.open(os.path.join(copy, "index.html"), ready)
-    got = b.evaluate("document.getElementById('progress-advice') ? "
-                     "document.getElementById('progress-advice').textContent : ''")
-    check("is cancelled: roger report " + final["folder"] + " writes the report now" in got,
+    got = b.evaluate(advice)
+    check("is cancelled: roger report " + final["folder"] + " writes the report now" in got and
+          "scripts/slurm/submit.sh %s 3 --array=K" % final["script"] in got,
           "shards: with failed trials, the page says what writes the report (%s)" % got)
+    # Found by a probe: shards run by hand were told Slurm's command, and the folder came unquoted.
+    odd = "/tmp/sh fail 'q'"
+    write_status(copy, dict(base, waiting="report", done=final["done"] - 2, failed=2, shards=shards, slurm=False,
+                            folder=odd, updated_ms=now - 120000))
+    b.open(os.path.join(copy, "index.html"), ready)
+    got = b.evaluate(advice)
+    quoted = "'" + odd.replace("'", "'\\''") + "'"
+    check("roger report %s writes the report now" % quoted in got and
+          "roger run %s --out %s --shard K/3" % (final["script"], quoted) in got and "submit.sh" not in got,
+          "shards: shards run by hand get their own command, the folder quoted (%s)" % got)
     write_report(copy, dict(report, written_ms=int(time.time() * 1000)))
     write_status(copy, dict(base, report="written", updated_ms=int(time.time() * 1000)))
     title = "document.getElementById('title').textContent"
@@ -919,14 +939,31 @@ def check_dashboard(b, folder, screenshot):
         box.click(); return document.querySelectorAll('svg[data-figure] polyline[data-context]').length; })()""")
     check(after == curves - 1, "dashboard: switching a context off removes its curve (%s -> %s)" % (curves, after))
     b.evaluate("document.querySelector('.legend input[data-context]').click()")
-    hover = b.evaluate("""(() => { const s = document.querySelector('svg[data-figure]');
+    hover_at = """(() => { const s = document.querySelectorAll('svg[data-figure]')[%d];
+        document.getElementById('tip').textContent = '';
         const r = s.getBoundingClientRect();
-        s.dispatchEvent(new MouseEvent('mousemove', {clientX: r.left + r.width * 0.6,
+        s.dispatchEvent(new MouseEvent('mousemove', {clientX: r.left + r.width * %f,
                                                      clientY: r.top + r.height / 2, bubbles: true}));
         return [document.getElementById('tip').textContent,
-                s.closest('.figure').querySelectorAll('input[data-context]').length]; })()""")
-    hover, in_figure = hover
-    check("t = " in hover and hover.count("[") == in_figure > 0, "dashboard: hovering a curve shows every context's value")
+                s.closest('.figure').querySelectorAll('input[data-context]').length]; })()"""
+    hover, in_figure = b.evaluate(hover_at % (0, 0.6))
+    lines = hover.split("\n")
+    check(lines[0].startswith("t = ") and len(lines) == in_figure + 1 > 1 and
+          all("[" in l or "its curve spans" in l for l in lines[1:]),
+          "dashboard: hovering a curve shows every context's value, or where its curve spans (%s)" % hover)
+    # Found by a probe: the header gave the first context's nearest grid time, not the pointer's, and
+    # a curve that had ended gave its last value as the value there. Each figure, near its right end.
+    for k in range(b.evaluate("document.querySelectorAll('svg[data-figure]').length")):
+        times = []
+        for at in (0.3, 0.97):
+            tip, _ = b.evaluate(hover_at % (k, at))
+            if not tip.startswith("t = "):
+                continue
+            m, sec = tip.split("\n")[0][4:].split(" ")[0].split(":")
+            times.append(int(m) * 60 + int(sec))
+            ended = [l for l in tip.split("\n")[1:] if "[" not in l]
+            check(all(": \u2013 (its curve spans " in l for l in ended), "dashboard: an ended curve says so (%s)" % tip)
+        check(len(times) < 2 or times[1] > times[0], "dashboard: the hover's time follows the pointer (%s)" % times)
     # Found by a probe: an action had one colour in Table I's usage chart and another in Table II's.
     legends = b.evaluate("""Array.from(document.querySelectorAll('#usage-body .legend')).map(l =>
         Array.from(l.querySelectorAll('label')).map(x => [x.title, x.querySelector('i').style.background]))""")
