@@ -110,6 +110,21 @@ AnimationOptions small_options() {
 
 }  // namespace
 
+// Found by a probe: a timed-out episode's viewer showed, at its end, the world of its last frame,
+// seconds before the time-out. The last moment is a frame whatever the outcome, once.
+TEST_CASE("an episode's last moment is a frame, a success's or a time-out's") {
+  Phi6Episode timed_out;
+  const EpisodeResult short_one = timed_out.run(0.5);  // too short to track: a time-out at tick 25
+  REQUIRE_FALSE(short_one.success);
+  CHECK(short_one.frame_ticks.back() == short_one.ticks);
+  CHECK(short_one.frame_ticks == std::vector<double>{0, 10, 20, 25});
+  Phi6Episode succeeded;
+  const EpisodeResult whole = succeeded.run(4.0);
+  REQUIRE(whole.success);
+  CHECK(whole.frame_ticks.back() == whole.ticks);
+  CHECK(std::adjacent_find(whole.frame_ticks.begin(), whole.frame_ticks.end()) == whole.frame_ticks.end());
+}
+
 TEST_CASE("an episode becomes frames, a replay page and episode.json") {
   Phi6Episode e;
   const EpisodeResult ep = e.run(4.0);

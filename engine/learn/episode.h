@@ -136,7 +136,7 @@ struct EpisodeResult {
 };
 
 // An observer that records into `result` what run_episode(action) records: a frame every
-// `record_every` seconds (0: none) and the moment of success, the states of the `watch`
+// `record_every` seconds (0: none) and the episode's last moment (its success or time-out), the states of the `watch`
 // controllers every tick, and (when recording either) each change of the path that runs, from the
 // controller the driver chose down to the step or choice running inside it. With any driver
 // (a learned stage's too), so that every kind of episode can be replayed.
