@@ -1809,6 +1809,11 @@ TEST_CASE("an evaluation over a retrained skill is roger eval --skill, whatever 
   r = roger("eval curricula/scripted.lua --policy task --skill Phi_SG=" + sg);
   CHECK(r.status != 0);
   CHECK(r.err.find("--skill replaces a learned skill of a saved policy") != std::string::npos);
+  // A skill script for the skill's policy is said as a Lua script (found by a probe: "not JSON ...
+  // truncated or edited?").
+  r = roger("eval curricula/paper.lua --policy " + policy + " --skill Phi_SG=curricula/scripted.lua");
+  CHECK(r.status != 0);
+  CHECK_THAT(r.err, Catch::Contains("curricula/scripted.lua: a Lua script, not a JSON file roger wrote"));
   fs::remove_all(one);
   fs::remove_all(two);
 }

@@ -284,6 +284,11 @@ json read_json_file(const std::string& path) {
   try {
     return parse_json(text);
   } catch (const std::exception& e) {
+    // A Lua script given where a file roger wrote goes (found by a probe: --skill NAME=a skill
+    // script read "not JSON ... truncated or edited?"): said as what it is.
+    if (fs::path(path).extension() == ".lua")
+      throw Error(path + ": a Lua script, not a JSON file roger wrote (a policy.json of roger train, say); a "
+                  "hand-written skill is used by a context that lists it among its actions");
     throw Error(path + ": not JSON (" + std::to_string(text.size()) + " bytes: truncated or edited?): " + json_error_text(e.what()));
   }
 }
