@@ -1066,3 +1066,28 @@ TEST_CASE("two actions of one name are said with their positions and why they cl
   CHECK_THAT(psi("p.phi3, p.phi3"), Contains("(actions 1 and 2 are the same action: list it once)"));
   CHECK(psi("roger.learned('Phi_A'), p.phi3").empty());
 }
+
+// Found by a probe: an init naming a context written later, a later stage's, or a misspelt stage
+// was each "names no context written before this one; those are: none".
+TEST_CASE("an init that names no earlier context says what it names instead", "[curriculum]") {
+  const test::TempDir tmp("roger_init_target");
+  using Catch::Matchers::Contains;
+  const auto with_init = [&](const std::string& init) {
+    const auto path = tmp.path / "init.lua";
+    std::ofstream(path) << "local p = require('lib.skills').primitives()\n"
+                           "return { stages = {\n"
+                           "  roger.stage{ name = 'Look', time_limit = 4, absorbing = roger.converged(p.phi0), budget = { episodes = 3 },\n"
+                           "    contexts = { { name = 'Gaze', actions = { p.search, p.phi0 }, init = " << init << " },\n"
+                           "                 { name = 'Gaze2', actions = { p.search, p.phi0 } } } },\n"
+                           "  roger.stage{ name = 'Grab', time_limit = 4, absorbing = roger.converged(p.phi3), budget = { episodes = 3 },\n"
+                           "    contexts = { { name = 'L', actions = { p.search, p.phi3 } } } } } }\n";
+    return error_of([&] { Curriculum::load(path.string()); });
+  };
+  CHECK_THAT(with_init("{ context = 'Gaze2' }"),
+             Contains("names a context written after this one: move stage 'Look', context 'Gaze2' before it, or name "
+                      "one written before; the contexts written before this one: none"));
+  CHECK_THAT(with_init("{ stage = 'Grab', context = 'L' }"), Contains("names a context written after this one"));
+  CHECK_THAT(with_init("{ stage = 'Lok', context = 'Gaze2' }"),
+             Contains("names no context: there is no stage 'Lok' (did you mean 'Look'?)"));
+  CHECK_THAT(with_init("{ stage = 'Grab', context = 'X' }"), Contains("names no context: stage 'Grab' has no context 'X'"));
+}

@@ -309,6 +309,27 @@ CurriculumStage take_stage(lua_State* L, const Book& book, const std::string& di
 // own stage), so that training it first never loops, and one that shares an action with it, so
 // that something of its table carries over (found by a probe: a table sharing none passed check
 // and was refused in training, after the init context had trained).
+// What an init that names no context written before its own names instead: a context written
+// later (of its stage or a later one), or nothing at all, with the nearest stage or context (found
+// by a probe: each was "names no context written before this one", whatever the slip).
+std::string init_target_problem(const std::vector<CurriculumStage>& stages, const CurriculumContext& ctx) {
+  std::vector<std::string> stage_names;
+  for (const auto& st : stages) {
+    stage_names.push_back(st.name);
+    if (st.name != ctx.init_stage) continue;
+    std::vector<std::string> contexts;
+    for (const auto& c : st.contexts) {
+      contexts.push_back(c.name);
+      if (c.name == ctx.init_context)
+        return "a context written after this one: move stage '" + st.name + "', context '" + c.name +
+               "' before it, or name one written before";
+    }
+    return "no context: stage '" + st.name + "' has no context '" + ctx.init_context + "'" +
+           suggestion(ctx.init_context, contexts);
+  }
+  return "no context: there is no stage '" + ctx.init_stage + "'" + suggestion(ctx.init_stage, stage_names);
+}
+
 void check_init_order(const std::vector<CurriculumStage>& stages) {
   std::map<std::string, const CurriculumContext*> before;  // the contexts written so far, by "stage/context"
   std::vector<std::string> order;
@@ -325,7 +346,8 @@ void check_init_order(const std::vector<CurriculumStage>& stages) {
         const int line = curriculum_detail::field_line(st, ctx.name, "init");
         const auto found = before.find(target);
         if (found == before.end())
-          throw ScriptError(st.where(ctx.name) + ": " + init + " names no context written before this one; those are: " +
+          throw ScriptError(st.where(ctx.name) + ": " + init + " names " + init_target_problem(stages, ctx) +
+                                "; the contexts written before this one: " +
                                 (order.empty() ? std::string("none") : join(order)),
                             st.file, line, "");
         const std::vector<std::string> mine = names(ctx), theirs = names(*found->second);
