@@ -1091,3 +1091,19 @@ TEST_CASE("an init that names no earlier context says what it names instead", "[
              Contains("names no context: there is no stage 'Lok' (did you mean 'Look'?)"));
   CHECK_THAT(with_init("{ stage = 'Grab', context = 'X' }"), Contains("names no context: stage 'Grab' has no context 'X'"));
 }
+
+// Found by a probe: stages written as a map, as contexts may be, were "empty (or not a list)".
+TEST_CASE("stages written as a map are said to be one", "[curriculum]") {
+  const test::TempDir tmp("roger_stages_map");
+  const auto path = tmp.path / "map.lua";
+  std::ofstream(path) << "local p = require('lib.skills').primitives()\n"
+                         "return { name = 'm', stages = {\n"
+                         "  Look = roger.stage{ name = 'Look', time_limit = 4, absorbing = roger.converged(p.phi0),\n"
+                         "    budget = { episodes = 3 }, contexts = { { name = 'C', actions = { p.search, p.phi0 } } } } } }\n";
+  CHECK_THAT(error_of([&] { Curriculum::load(path.string()); }),
+             Catch::Matchers::Contains("map.lua:2: the curriculum: 'stages' is a map (it has the entry 'Look'), and "
+                                       "stages are a list in the curriculum's order"));
+  std::ofstream(path) << "return { name = 'm', stages = {} }\n";
+  CHECK_THAT(error_of([&] { Curriculum::load(path.string()); }),
+             Catch::Matchers::Contains("'stages' is empty: define at least one stage"));
+}

@@ -488,7 +488,13 @@ void Curriculum::read_stages(Impl& impl, const std::string& path) {
     const int ss = lua_gettop(L);
     if (!lua_istable(L, ss)) top.wrong_type("stages", "a list of stages");
     const lua_Integer n = lua_Integer(lua_rawlen(L, ss));
-    if (n == 0) top.fail("'stages' is empty (or not a list): define at least one stage");
+    if (n == 0) {
+      // A map of stages, as contexts may be written (found by a probe: "is empty" of a map that is not).
+      if (const std::string key = lua_key_beside_list(L, ss); !key.empty())
+        top.fail("'stages' is a map (it has the entry " + key + "), and stages are a list in the curriculum's "
+                 "order: write {roger.stage{name = ...}, ...}");
+      top.fail("'stages' is empty: define at least one stage");
+    }
     // A stage written `Extra = roger.stage{...}` beside the list would be dropped without a word.
     if (const std::string key = lua_key_beside_list(L, ss); !key.empty())
       top.fail("'stages' must be a list {roger.stage{...}, ...}; it also has the named entry " + key +
