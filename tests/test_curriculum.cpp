@@ -433,7 +433,8 @@ TEST_CASE("a context's init names a context written before it", "[curriculum]") 
   CHECK(cur.stage("S").context("A").init_context.empty());
   CHECK_THAT(error_of([&] { Curriculum::load(write("self.lua", "{ context = 'B' }")); }),
              Catch::Matchers::Contains("self.lua:6: stage 'S', context 'B': init = {stage = 'S', context = 'B'} names "
-                                       "no context written before this one; those are: S/A"));
+                                       "this context itself, whose table it would start from: name one written before; "
+                                       "the contexts written before this one: S/A"));
   // Found by a probe: a table that shares no action passed check, and training refused it after
   // the init context had trained.
   CHECK_THAT(error_of([&] { Curriculum::load(write("disjoint.lua", "{ context = 'A' }", "p.phi1, p.phi0")); }),

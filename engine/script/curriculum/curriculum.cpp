@@ -320,9 +320,10 @@ std::string init_target_problem(const std::vector<CurriculumStage>& stages, cons
     std::vector<std::string> contexts;
     for (const auto& c : st.contexts) {
       contexts.push_back(c.name);
-      if (c.name == ctx.init_context)
-        return "a context written after this one: move stage '" + st.name + "', context '" + c.name +
-               "' before it, or name one written before";
+      if (c.name != ctx.init_context) continue;
+      if (&c == &ctx) return "this context itself, whose table it would start from: name one written before";
+      return "a context written after this one: move stage '" + st.name + "', context '" + c.name +
+             "' before it, or name one written before";
     }
     return "no context: stage '" + st.name + "' has no context '" + ctx.init_context + "'" +
            suggestion(ctx.init_context, contexts);
