@@ -222,7 +222,7 @@ void read_decisions(const TrainResult& r, TrainingDiagnosis& d) {
     // Before the first decision (a Lua absorbing function asked at the start), or at the first tick,
     // when a predicate is first judged (found by a probe: not(converged(phi3)), phi3 never run,
     // trained to 100% in one tick an episode without a word, where roger eval warned).
-    d.ended_before_deciding += ep.success && (ep.decision_states.empty() || ep.ticks <= 1);
+    d.ended_before_deciding += ep.success && (ep.decision_states.empty() || ep.ticks == 1);
     any_decision = any_decision || !ep.decision_states.empty();
     for (int s : ep.decision_states)
       for (int a = 0; a < n; ++a) referenced[size_t(a)] = referenced[size_t(a)] || gamma_in(s, a, n) != Gamma::kNoRef;
