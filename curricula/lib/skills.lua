@@ -45,11 +45,12 @@ local function skill_name(name, default, builder)
   return name
 end
 
--- roger.sequence(name, steps) for a builder: its refusal of the name (a primitive kind's, or one
--- the script has given another controller) is said at the builder's caller's line, not this file's
--- (found by a probe: skills.Phi6(p, "phi0") was refused at lib/skills.lua's line).
-local function sequence_for_caller(name, steps)
-  local ok, made = pcall(roger.sequence, name, steps)
+-- make(...) (roger.primitive, roger.sequence) for a builder: its refusal (a parameter, or a name
+-- that is a primitive kind's or the script has given another controller) is said at the line that
+-- called the builder, not at this file's (found by probes: skills.Phi6(p, "phi0") was refused at
+-- lib/skills.lua's line). Called from the builder itself, not in a tail call: that line is three up.
+local function made_for_caller(make, ...)
+  local ok, made = pcall(make, ...)
   if not ok then error((tostring(made):gsub("^[^\n]-:%d+: ", "", 1)), 3) end
   return made
 end
@@ -81,14 +82,6 @@ local function primitive_overrides_problem(overrides)
   return nil
 end
 
--- roger.primitive(kind, params) for skills.primitives: its refusal of a parameter is said at the
--- line that called skills.primitives, not at this file's.
-local function primitive_for_caller(kind, params)
-  local ok, made = pcall(roger.primitive, kind, params)
-  if not ok then error((tostring(made):gsub("^[^\n]-:%d+: ", "", 1)), 3) end
-  return made
-end
-
 -- One instance of each primitive with default parameters, plus the carrying navigator. The
 -- skills built from one set share them, as in the paper, where phi4 in "phi4 <| phi2" and in
 -- "phi4 <| phi5" is the same controller. `overrides` maps a field of the set to parameters,
@@ -99,7 +92,7 @@ function skills.primitives(overrides)
   overrides = overrides or {}
   local p = {}
   for _, kind in ipairs({ "search", "phi0", "phi1", "phi2", "phi3", "phi4", "phi5" }) do
-    p[kind] = primitive_for_caller(kind, overrides[kind])
+    p[kind] = made_for_caller(roger.primitive, kind, overrides[kind])
   end
   -- The transport navigator: phi1 towards the scenario's goal region, with its control point
   -- carried ahead of the base at the grasped object's centre (carry = "body": 0.36 m for the
@@ -107,7 +100,7 @@ function skills.primitives(overrides)
   -- the accelerations. Its name stays "phi1", as in the paper's "phi1 <| phi4 <| phi5".
   local carry = { goal = "region", carry = "body", speed = 0.8 }
   for k, v in pairs(overrides.carry or {}) do carry[k] = v end
-  p.carry = primitive_for_caller("phi1", carry)
+  p.carry = made_for_caller(roger.primitive, "phi1", carry)
   -- A misspelt name (p.phi33, p.Phi3) is an error at the line that reads it. Without this it is
   -- nil, and a nil at the end of an action list vanishes from the table: the stage would train
   -- on one action fewer without a word.
@@ -125,7 +118,7 @@ end
 -- (NOREF), the sequence falls back to search.
 function skills.Phi6(p, name)
   expect_primitives(p, "skills.Phi6", { "search", "phi0" })
-  local skill = sequence_for_caller(skill_name(name, "Phi6", "skills.Phi6"), { p.search, p.phi0 })
+  local skill = made_for_caller(roger.sequence, skill_name(name, "Phi6", "skills.Phi6"), { p.search, p.phi0 })
   return skill  -- not a tail call: the caller's line is two levels up
 end
 
@@ -135,7 +128,8 @@ end
 -- conditioning the arms in phi2's nullspace.
 function skills.Phi7(p, name)
   expect_primitives(p, "skills.Phi7", { "phi1", "phi2", "phi4" })
-  local skill = sequence_for_caller(skill_name(name, "Phi7", "skills.Phi7"), { p.phi1, p.phi4:subject_to(p.phi2) })
+  local skill = made_for_caller(roger.sequence, skill_name(name, "Phi7", "skills.Phi7"),
+                                { p.phi1, p.phi4:subject_to(p.phi2) })
   return skill  -- not a tail call: the caller's line is two levels up
 end
 
@@ -151,7 +145,8 @@ end
 -- a search-grasp skill (learned or hand-written) whose CONV means the grasp is formed.
 function skills.Phi_STG(sg, p, name)
   expect_primitives(p, "skills.Phi_STG (its second argument)", { "phi4", "phi5" })
-  local skill = sequence_for_caller(skill_name(name, "Phi_STG", "skills.Phi_STG"), { sg, skills.keep_grasp(p) })
+  local skill = made_for_caller(roger.sequence, skill_name(name, "Phi_STG", "skills.Phi_STG"),
+                                { sg, skills.keep_grasp(p) })
   return skill  -- not a tail call: the caller's line is two levels up
 end
 
