@@ -238,6 +238,9 @@ TEST_CASE("roger train writes every file and eval --policy reproduces its final 
   REQUIRE(tstatus == 0);
   const nlohmann::json t = nlohmann::json::parse(last_line(tout));
   CHECK(t["skills"]["Phi_SG"]["trained"] == false);
+  // Found by a probe: training that stop_after ended said nothing of it.
+  CHECK((tout.find("  stopped        after " + std::to_string(t["train_episodes"].get<int>()) +
+                   " training episodes, before the budget's end") != std::string::npos) == t["stopped_early"].get<bool>());
   const auto [t2status, t2out] = run_roger("eval curricula/paper.lua --policy " + (tdir / "policy.json").string() + " --json");
   INFO(t2out);
   REQUIRE(t2status == 0);

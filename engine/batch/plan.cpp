@@ -534,9 +534,6 @@ std::string late_source_problem(const BatchPlan& plan, const json& old_config, c
   return "";
 }
 
-// Checks that an existing manifest was made by this engine and configuration, or by one that this
-// configuration extends (extends(): then the manifest is rewritten with it, unless `write` is false,
-// and the returned note says what changed; "" otherwise).
 // Whether two configurations differ in the fingerprints of the Lua files their trials read alone.
 bool only_sources_differ(json a, json b) {
   for (const char* field : {"sources", "evaluation_sources"}) {
@@ -559,6 +556,10 @@ bool holds_no_result(const BatchPlan& plan) {
   return true;
 }
 
+// Checks that an existing manifest was made by this engine and configuration, or by one that this
+// configuration extends (extends(): then the manifest is rewritten with it, unless `write` is false,
+// and the returned note says what changed; "" otherwise), or whose Lua files alone changed while no
+// trial there has a result (rewritten the same way, and said so).
 std::string check_manifest(const BatchPlan& plan, const fs::path& manifest_path, json config,
                            const json& fresh_manifest, const RunningClaim* claim, bool write = true) {
   json old;

@@ -687,6 +687,10 @@ void print_outcome(const TrainResult& r) {
     std::printf("  threshold      %.0f%% NOT reached in %s (%.1f simulated s)\n", 100 * r.threshold,
                 counted(r.totals.episodes, "episode").c_str(), r.totals.sim_s);
   }
+  // Found by a probe: training that stop_after ended said nothing of it (summary.json's stopped_early).
+  if (r.stopped_early)
+    std::printf("  stopped        after %s, before the budget's end: stop_after's consecutive passing checkpoints "
+                "of one greedy policy\n", counted(r.totals.episodes, "training episode").c_str());
   std::string usage;
   for (const auto& [name, f] : r.final_eval.usage)
     usage += (usage.empty() ? "" : ", ") + name + " " + std::to_string(int(std::lround(100 * f))) + "%";
