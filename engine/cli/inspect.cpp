@@ -259,7 +259,8 @@ std::vector<ControllerPtr> timeline_controllers(const SkillScript& script, const
   const std::vector<ControllerPtr> all = script.controllers();
   std::vector<const Controller*> walk{policy.action.get()};
   for (size_t i = 0; i < walk.size(); ++i)  // breadth first: the action's own steps before their insides
-    for (const Controller* part : walk[i]->children()) walk.push_back(part);
+    for (const Controller* part : walk[i]->children())
+      if (std::find(walk.begin(), walk.end(), part) == walk.end()) walk.push_back(part);  // a shared part once
   policy.goal->controllers(walk);
   std::vector<ControllerPtr> used, others;
   for (const Controller* c : walk)
