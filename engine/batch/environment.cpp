@@ -39,6 +39,11 @@ std::string params_given(const ParamList& sets, const ParamList& task) {
   return text.empty() ? "with the stage's own parameters" : "with the parameters given (" + text + ")";
 }
 
+// "file:line: " of a script's error, "" when it has no file.
+std::string located(const ScriptError& e) {
+  return e.file.empty() ? "" : e.file + (e.line > 0 ? ":" + std::to_string(e.line) : "") + ": ";
+}
+
 // The world of `seed`, an error building it given `prefix` in front (which seed, stage and
 // parameters): one that cannot be placed as PlacementError (a teacher's reset skips its task), any
 // other as ScriptError, its traceback kept (found by a probe: make's params={'goal_x': -1e9} said
@@ -49,8 +54,7 @@ WorldSpec built_world(Scenario& scenario, uint64_t seed, const std::string& pref
   } catch (const PlacementError& e) {
     throw placement_error(e, prefix);
   } catch (const ScriptError& e) {
-    const std::string at = e.file.empty() ? "" : e.file + (e.line > 0 ? ":" + std::to_string(e.line) : "") + ": ";
-    ScriptError out(prefix + at + e.message, "", 0, e.traceback);
+    ScriptError out(prefix + located(e) + e.message, "", 0, e.traceback);
     out.message = e.message;
     out.file = e.file;
     out.line = e.line;
@@ -304,8 +308,7 @@ void StageEnvironment::check_task_space_ends(const EnvironmentOptions& o) const 
 }
 
 PlacementError placement_error(const PlacementError& e, const std::string& prefix) {
-  const std::string at = e.file.empty() ? "" : e.file + (e.line > 0 ? ":" + std::to_string(e.line) : "") + ": ";
-  return with_text(e, prefix + at + e.message);
+  return with_text(e, prefix + located(e) + e.message);
 }
 
 PlacementError with_text(const PlacementError& e, const std::string& text) {

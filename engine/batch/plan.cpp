@@ -404,6 +404,15 @@ std::string same_contents_hint(const json& old_config, const json& config) {
          "the script by a path that depends on neither.";
 }
 
+// Whether two configurations differ in the fingerprints of the Lua files their trials read alone.
+bool only_sources_differ(json a, json b) {
+  for (const char* field : {"sources", "evaluation_sources"}) {
+    if (a.is_object()) a.erase(field);
+    if (b.is_object()) b.erase(field);
+  }
+  return a == b;
+}
+
 // The refusal of a folder made with configuration `old_config`, with the differences from
 // `config` and what they mean.
 Error refusal(const json& old, const json& old_config, const json& config, const BatchPlan& plan) {
@@ -431,11 +440,7 @@ Error refusal(const json& old, const json& old_config, const json& config, const
   why += same_contents_hint(old_config, config);
   // Only a Lua file training reads changed: say that, not "another script" (a probe added a
   // comment to its curriculum and read the refusal as about another script).
-  json old_rest = old_config, now_rest = config;
-  for (const char* field : {"sources", "evaluation_sources"}) {
-    if (old_rest.is_object()) old_rest.erase(field);
-    now_rest.erase(field);
-  }
+  const bool sources_alone = only_sources_differ(old_config, config);
   // The same script file (the same path, or the same name in the same place after a move) with
   // other contents is not "another batch script".
   std::error_code ec;
@@ -443,7 +448,7 @@ Error refusal(const json& old, const json& old_config, const json& config, const
   const bool same_script =
       !old_file.empty() && (fs::equivalent(old_file, plan.script->file, ec) ||
                             fs::path(old_file).filename() == fs::path(plan.script->file).filename());
-  const std::string made = old_rest == now_rest
+  const std::string made = sources_alone
                                ? "before a Lua file its trials read changed (its trials and new ones would mix two "
                                  "versions of it)"
                            : same_script ? "by this batch script as it was then, with other contents or other "
@@ -452,7 +457,7 @@ Error refusal(const json& old, const json& old_config, const json& config, const
   // Where only a Lua file changed, the script and parameters are the same: what resumes is the file
   // as it was (found by a probe: "run it with the script it was made with", which it was).
   const std::string advice =
-      old_rest == now_rest
+      sources_alone
           ? "\nTo resume the folder, put the files listed back as they were (its trials were made with them); for "
             "the files as they are now, give another --out."
           : "\nTo resume the folder, run it with the script and parameters it was made with (its manifest.json "
@@ -532,15 +537,6 @@ std::string late_source_problem(const BatchPlan& plan, const json& old_config, c
       }
     }
   return "";
-}
-
-// Whether two configurations differ in the fingerprints of the Lua files their trials read alone.
-bool only_sources_differ(json a, json b) {
-  for (const char* field : {"sources", "evaluation_sources"}) {
-    if (a.is_object()) a.erase(field);
-    if (b.is_object()) b.erase(field);
-  }
-  return a == b;
 }
 
 // Whether no trial of the plan has a result in its folder, each failed or not run: a Lua file

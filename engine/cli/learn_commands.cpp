@@ -447,7 +447,6 @@ void print_never_referenced(const EvalSummary& r) {
                         : "");
 }
 
-// roger eval itself; command_eval stops it on request.
 // --policy left out, refused naming what it could be, as --stage and --context of train are (found
 // by a probe: "--policy is required" alone, where a misspelt one lists the script's policies).
 void require_policy(const EvalArgs& a) {
@@ -468,6 +467,7 @@ void require_policy(const EvalArgs& a) {
                          "of: " + join(script.policy_names()));
 }
 
+// roger eval itself; command_eval stops it on request.
 int evaluate_command(const EvalArgs& a) {
   require_policy(a);
   // Seeds S to S + N - 1 must not wrap past 2^64 - 1 to 0, 1, ... (found by a probe: they did, without

@@ -303,12 +303,6 @@ CurriculumStage take_stage(lua_State* L, const Book& book, const std::string& di
   return st;
 }
 
-// Across stages: a skill is yielded by one stage only, and a learned skill must come from an
-// earlier stage.
-// A context's init names a context written before it (an earlier stage's, or an earlier one of its
-// own stage), so that training it first never loops, and one that shares an action with it, so
-// that something of its table carries over (found by a probe: a table sharing none passed check
-// and was refused in training, after the init context had trained).
 // What an init that names no context written before its own names instead: a context written
 // later (of its stage or a later one), or nothing at all, with the nearest stage or context (found
 // by a probe: each was "names no context written before this one", whatever the slip).
@@ -331,6 +325,12 @@ std::string init_target_problem(const std::vector<CurriculumStage>& stages, cons
   return "no context: there is no stage '" + ctx.init_stage + "'" + suggestion(ctx.init_stage, stage_names);
 }
 
+// Across stages: a skill is yielded by one stage only, and a learned skill must come from an
+// earlier stage.
+// A context's init names a context written before it (an earlier stage's, or an earlier one of its
+// own stage), so that training it first never loops, and one that shares an action with it, so
+// that something of its table carries over (found by a probe: a table sharing none passed check
+// and was refused in training, after the init context had trained).
 void check_init_order(const std::vector<CurriculumStage>& stages) {
   std::map<std::string, const CurriculumContext*> before;  // the contexts written so far, by "stage/context"
   std::vector<std::string> order;
@@ -489,16 +489,15 @@ void Curriculum::read_stages(Impl& impl, const std::string& path) {
     const int ss = lua_gettop(L);
     if (!lua_istable(L, ss)) top.wrong_type("stages", "a list of stages");
     const lua_Integer n = lua_Integer(lua_rawlen(L, ss));
-    if (n == 0) {
-      // A map of stages, as contexts may be written (found by a probe: "is empty" of a map that is not).
-      if (const std::string key = lua_key_beside_list(L, ss); !key.empty())
-        top.fail("'stages' is a map (it has the entry " + key + "), and stages are a list in the curriculum's "
-                 "order: write {roger.stage{name = ...}, ...}");
-      top.fail("'stages' is empty: define at least one stage");
-    }
+    const std::string beside = lua_key_beside_list(L, ss);
+    // A map of stages, as contexts may be written (found by a probe: "is empty" of a map that is not).
+    if (n == 0 && !beside.empty())
+      top.fail("'stages' is a map (it has the entry " + beside + "), and stages are a list in the curriculum's "
+               "order: write {roger.stage{name = ...}, ...}");
+    if (n == 0) top.fail("'stages' is empty: define at least one stage");
     // A stage written `Extra = roger.stage{...}` beside the list would be dropped without a word.
-    if (const std::string key = lua_key_beside_list(L, ss); !key.empty())
-      top.fail("'stages' must be a list {roger.stage{...}, ...}; it also has the named entry " + key +
+    if (!beside.empty())
+      top.fail("'stages' must be a list {roger.stage{...}, ...}; it also has the named entry " + beside +
                ", which would be left out: write it in the list");
     for (lua_Integer i = 1; i <= n; ++i) {
       lua_rawgeti(L, ss, i);
