@@ -212,6 +212,12 @@ void World::Impl::accumulate_touch() {
 }
 
 void World::tick() {
+  tick_physics();
+  check_walls_hold();
+  sense();
+}
+
+void World::tick_physics() {
   if (model_->noise.any) {
     effort_ = noise_.effort();  // one draw of the effort's streams per tick
     if (has_pending_) {
@@ -225,8 +231,6 @@ void World::tick() {
     }
   }
   for (int i = 0; i < params_.substeps; ++i) step_physics();
-  check_walls_hold();
-  sense();
 }
 
 // Found by a probe: the light body of docs/scenarios.md (base_mass 0.01, link_mass 0.001) drove

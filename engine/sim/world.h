@@ -81,6 +81,12 @@ class World {
   // One control tick: `substeps` physics steps, then senses.
   void tick();
 
+  // A tick's physics without its senses: the command delivered as the effort noise says (late,
+  // lost, scaled), then `substeps` physics steps. The effort's streams draw the same every tick
+  // whatever is sensed, so the commands of a run, replayed through it, retrace the run's physics
+  // bit for bit, with noise or without (roger bench's physics alone).
+  void tick_physics();
+
   // One physics step: servos, the no-slip constraint, Box2D, touch accumulation. No sensing.
   void step_physics();
 
