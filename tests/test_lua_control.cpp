@@ -929,7 +929,8 @@ TEST_CASE("a policy whose goal cannot hold within its time limit is refused at t
              Contains("always holds"));
   CHECK_THAT(load_with("roger.negate(roger.all{})", "5"),
              Contains("field 'goal': not(all()) can never hold: it rests on a roger.any() of no parts, which is false, "
-                      "or on the roger.negate of a predicate that always holds"));
+                      "on the roger.negate of a predicate that always holds, or on converged() of a controller that "
+                      "never converges"));
   CHECK_THAT(load_with("roger.negate(roger.negate(roger.all{}))", "5"), Contains("not(not(all())) always holds"));
   // Found by a probe: held() of such a part passed, a goal met after its seconds in every episode.
   CHECK_THAT(load_with("roger.held(roger.all{}, 1)", "5"),
@@ -955,6 +956,51 @@ TEST_CASE("a policy whose goal cannot hold within its time limit is refused at t
   CHECK(load_with("roger.any(roger.converged(p.phi1), roger.held(roger.converged(p.phi0), 60))", "5").empty());
   CHECK(load_with("roger.negate(roger.held(roger.converged(p.phi0), 60))", "5").empty());
   CHECK(load_with("roger.held(roger.converged(p.phi0), 60)", "{ per_object = 5 }").empty());
+  fs::remove_all(dir);
+}
+
+// Found by a probe: the goal converged(P) of a policy P without `done` passed every check, and
+// every episode failed (a policy is CONV only when its done is). Refused at the goal, with the
+// controller named; so is what rests on one, and its negation as a goal met at once.
+TEST_CASE("a goal of converged() on a controller that never converges is refused", "[lua_control]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("roger_never_converges_" + std::to_string(::getpid()));
+  const auto load_with = [&](const std::string& goal) {
+    return skill_script_error(dir / "never.lua",
+                              "local p = require('lib.skills').primitives()\n"
+                              "local P = roger.policy('P', {actions = {p.phi0}, table = {}, fallback = 1})\n"
+                              "local D = roger.policy('D', {actions = {p.phi0}, table = {}, fallback = 1, "
+                              "done = roger.converged(p.phi0)})\n"
+                              "return { policies = { t = { action = P,\n  goal = " + goal + ",\n  time_limit = 5 } } }\n");
+  };
+  CHECK_THAT(load_with("roger.converged(P)"),
+             Contains("never.lua:5: policy 't': field 'goal': converged(P) can never hold: it rests on") &&
+                 Contains("; P never converges (a roger.policy without done is never CONV, nor is a sequence whose "
+                          "last step, a subject-to whose superior or a binding whose skill is one: give the policy a "
+                          "done, or judge another controller)"));
+  CHECK_THAT(load_with("roger.converged(roger.sequence('S', {p.phi1, P}))"), Contains("S never converges"));
+  CHECK_THAT(load_with("roger.converged(roger.subject_to(p.phi0, P))"), Contains("never converges"));
+  CHECK_THAT(load_with("roger.all(roger.converged(p.phi0), roger.held(roger.converged(P), 1))"),
+             Contains("can never hold") && Contains("P never converges"));
+  CHECK_THAT(load_with("roger.negate(roger.converged(P))"), Contains("not(converged(P)) always holds") &&
+                                                                  Contains("P never converges"));
+  // A policy whose done is a goal that never holds never converges either.
+  CHECK_THAT(load_with("roger.converged(roger.policy('E', {actions = {p.phi0}, table = {}, done = roger.any{}}))"),
+             Contains("E never converges"));
+  // What can converge passes: a policy with done, a sequence ending in one, a subordinate that
+  // never converges under a superior that may (a settled subordinate counts), any() with a way.
+  CHECK(load_with("roger.converged(D)").empty());
+  CHECK(load_with("roger.converged(roger.sequence('S', {P, D}))").empty());
+  CHECK(load_with("roger.converged(roger.subject_to(P, p.phi0))").empty());
+  CHECK(load_with("roger.any(roger.converged(P), roger.converged(p.phi0))").empty());
+  CHECK(load_with("roger.gamma(P, '!CONV')").empty());
+  // docs/control.md's example is refused as it says.
+  const std::string doc = read_file("docs/control.md");
+  const size_t start = doc.find("-- roger check refuses this goal: P has no done.\n");
+  REQUIRE(start != std::string::npos);
+  CHECK_THAT(skill_script_error(dir / "doc.lua", doc.substr(start, doc.find("```", start) - start)),
+             Contains("doc.lua:4: policy 'look': field 'goal': converged(P) can never hold") &&
+                 Contains("P never converges"));
   fs::remove_all(dir);
 }
 

@@ -149,6 +149,12 @@ class Controller {
   // The controllers this one is made of, for pictures, usage counts and cycle checks.
   virtual std::vector<const Controller*> children() const { return {}; }
 
+  // Whether its state can ever be CONV, as far as its make tells (true where nothing rules it
+  // out): a policy without a goal (`done`) never converges, nor a sequence whose last step, a
+  // subject-to whose superior or a binding whose skill is one. A goal of converged() on such a
+  // controller would fail every episode, and a load refuses it.
+  virtual bool can_converge() const { return true; }
+
   // The part whose command it passed on at its last evaluation (a sequence's step, a policy's
   // choice, a stand-in's or binding's target), for episode timelines; nullptr when it has none or
   // runs several at once.
@@ -274,6 +280,9 @@ class SubjectTo final : public Controller {
   ControllerPtr copy() const override { return std::make_shared<SubjectTo>(*this); }
   void relink(Duplicates& done) override;
   bool state_is_exact() const override { return sub_->state_is_exact() && sup_->state_is_exact(); }
+  // Its state is never above its superior's (a settled subordinate counts as converged, a
+  // superior never does by the subordinate).
+  bool can_converge() const override { return sup_->can_converge(); }
 
  protected:
   // Records the subordinate's progress for the plateau test (it settles while being executed).
@@ -318,6 +327,8 @@ class Sequence final : public Controller {
   int current() const { return current_; }
   const Controller* inner() const override { return steps_[size_t(current_)].get(); }
   const std::vector<ControllerPtr>& steps() const { return steps_; }
+  // CONV when its last step is.
+  bool can_converge() const override { return steps_.back()->can_converge(); }
   bool state_is_exact() const override;
 
  protected:
@@ -355,6 +366,8 @@ class StandIn : public Controller {
   const Controller* inner() const override { return target_.get(); }
   bool bound() const { return target_ != nullptr; }
   bool state_is_exact() const override { return !target_ || target_->state_is_exact(); }
+  // Unbound (a learned skill before training), nothing tells.
+  bool can_converge() const override { return !target_ || target_->can_converge(); }
   std::vector<const Controller*> children() const override;
   void reset(uint64_t seed) override;
   void relink(Duplicates& done) override;
@@ -410,6 +423,7 @@ class Binding final : public Controller {
   };
   Binding(ControllerPtr target, const Bindings& bindings);
   std::vector<const Controller*> children() const override { return {target_.get()}; }
+  bool can_converge() const override { return target_->can_converge(); }
   const char* kind() const override { return "binding"; }
   std::string settings() const override;
   void reset(uint64_t seed) override;
@@ -484,6 +498,8 @@ class Policy final : public Controller {
          int fallback = -1);
   static constexpr int kRotate = -2;  // `fallback`: the actions in turn
   std::vector<const Controller*> children() const override;
+  // CONV only when `done` is: never without one.
+  bool can_converge() const override { return done_ && done_->can_converge(); }
   const char* kind() const override { return "policy"; }
   void reset(uint64_t seed) override;
   ControllerPtr copy() const override { return std::make_shared<Policy>(*this); }

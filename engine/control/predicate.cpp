@@ -20,6 +20,9 @@ class GammaIs final : public Predicate {
                   : "gamma(" + c_->name() + ") == " + gamma_name(g_);
   }
   void controllers(std::vector<const Controller*>& out) const override { out.push_back(c_.get()); }
+  // converged() of a controller that never converges never holds (found by a probe: the goal
+  // converged(p) of a policy p without `done` passed check and failed every episode).
+  double earliest_seconds() const override { return g_ == Gamma::kConv && !c_->can_converge() ? INFINITY : 0.0; }
   PredicatePtr copy() const override { return std::make_shared<GammaIs>(*this); }
   void relink(Duplicates& done) override { c_ = duplicate(c_, done); }
 

@@ -1,5 +1,6 @@
 // The predicates of the control API: roger.converged, roger.gamma, roger.all, roger.any,
 // roger.negate, roger.held and roger.sorted.
+#include <algorithm>
 #include <cmath>
 
 #include "core/text.h"
@@ -119,6 +120,25 @@ int l_held(lua_State* L) {
 
 }  // namespace lua_control_detail
 
+namespace {
+
+// The controllers `p` reads that can never converge, said for a message ("" when there are none):
+// a converged() of one never holds, its negation always.
+std::string never_converging(const Predicate& p) {
+  std::vector<const Controller*> read;
+  p.controllers(read);
+  std::vector<std::string> names;
+  for (const Controller* c : read)
+    if (!c->can_converge() && std::find(names.begin(), names.end(), c->name()) == names.end())
+      names.push_back(c->name());
+  if (names.empty()) return "";
+  return "; " + join(names, ", ") + (names.size() == 1 ? " never converges" : " never converge") +
+         " (a roger.policy without done is never CONV, nor is a sequence whose last step, a subject-to whose " +
+         "superior or a binding whose skill is one: give the policy a done, or judge another controller)";
+}
+
+}  // namespace
+
 std::string never_holds_within(const Predicate& goal, double time_limit) {
   const WorldParams params;  // every world's control tick
   const double tick = params.dt * params.substeps;
@@ -126,8 +146,9 @@ std::string never_holds_within(const Predicate& goal, double time_limit) {
   const double earliest = goal.earliest_seconds();
   const std::string what = shortened_text(goal.describe(), 120);
   if (!std::isfinite(earliest))
-    return what + " can never hold: it rests on a roger.any() of no parts, which is false, or on the roger.negate of "
-           "a predicate that always holds";
+    return what + " can never hold: it rests on a roger.any() of no parts, which is false, on the roger.negate of "
+           "a predicate that always holds, or on converged() of a controller that never converges" +
+           never_converging(goal);
   return what + " can hold only after " + format_number(tick + earliest) + " simulated seconds (the goal is first " +
          "judged after the first tick, at " + format_number(tick) + " s), past the time_limit of " +
          format_number(time_limit) + " s: no episode could reach it (roger.held counts seconds, not ticks)";
@@ -136,7 +157,8 @@ std::string never_holds_within(const Predicate& goal, double time_limit) {
 std::string holds_at_once(const Predicate& goal) {
   if (goal.always_holds())
     return shortened_text(goal.describe(), 120) + " always holds: it rests on a roger.all() of no parts, which is true, "
-           "or on the roger.negate of a predicate that never holds, so every episode would end in success at its first tick";
+           "or on the roger.negate of a predicate that never holds, so every episode would end in success at its first tick" +
+           never_converging(goal);
   const double from = goal.certain_from();
   if (!std::isfinite(from)) return "";
   return shortened_text(goal.describe(), 120) + " holds after " + format_number(from) +

@@ -2,6 +2,7 @@
 // a state-to-action table over its actions' states.
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 
 #include "script/control/lua_control_internal.h"
 
@@ -23,6 +24,7 @@ class PredicateGoal final : public Controller {
     return out;
   }
   const char* kind() const override { return "predicate"; }
+  bool can_converge() const override { return std::isfinite(p_->earliest_seconds()); }
   ControllerPtr copy() const override { return std::make_shared<PredicateGoal>(*this); }
   void relink(Duplicates& done) override { p_ = duplicate(p_, done); }
   void reset(uint64_t seed) override {
