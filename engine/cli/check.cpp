@@ -13,6 +13,7 @@
 
 #include "cli/cli_internal.h"
 #include "control/control.h"
+#include "control/primitives.h"
 #include "cli/commands.h"
 #include "core/fileio.h"
 #include "core/text.h"
@@ -441,6 +442,30 @@ std::string module_given(const std::string& given, const std::string& path, cons
          " (roger check " + given + " checks the module)";
 }
 
+// phi1 {goal = "region"} plans to the free cells of its static grid (walls and obstacles grown by
+// the body's footprint) within the region's radius less phi1's margin of its centre, and has no
+// reference where there are none (found by a probe: a goal 0.2 m from a wall passed check, and
+// every episode failed at "no reference", the note naming other causes).
+std::string goal_out_of_reach(const WorldModel& model) {
+  static const double margin = make_primitive("phi1")->number("margin");
+  const OccupancyGrid& g = model.grid;
+  for (const GoalRegion& goal : model.spec.goals) {
+    const double reach = std::max(0.5 * g.cell, goal.radius - margin);
+    bool free = false;
+    for (int j = 0; j < g.ny && !free; ++j)
+      for (int i = 0; i < g.nx && !free; ++i)
+        free = !g.at(i, j) && (g.center(i, j) - goal.center).norm() <= reach;
+    int i, j;
+    if (free || (g.cell_of(goal.center, i, j) && !g.at(i, j))) continue;
+    return "goal '" + goal.name + "' at (" + format_number(goal.center.x()) + ", " + format_number(goal.center.y()) + ")" +
+           " lies where Roger's base cannot go: no point within " + format_number(reach) +
+           " m of its centre (its radius less phi1's margin, " + format_number(margin) + " m) is " +
+           format_number(model.grid_inflate) + " m clear of the walls and obstacles (the planner's growth for " +
+           "this body), so phi1 {goal = \"region\"} has no reference there; move the goal inward, or make it larger";
+  }
+  return "";
+}
+
 namespace {
 
 // A curriculum checked with --set: each parameter on the stages whose scenario declares it, as
@@ -667,6 +692,8 @@ int check_scenario_file(const CheckArgs& a, const std::string& shown, const Sand
   // A failure names its seed after the first line, as training does: it may hold for some seeds only.
   std::vector<int> unseen;  // seeds whose objects none has the stimulus colour
   std::string unseen_text;
+  std::vector<int> unreachable;  // seeds with a goal region the navigator cannot reach
+  std::string unreachable_text;
   for (int seed = 0; seed < a.seeds; ++seed) {
     if (seed == 1) prints.quiet();
     try {
@@ -676,6 +703,10 @@ int check_scenario_file(const CheckArgs& a, const std::string& shown, const Sand
         unseen.push_back(seed);
       }
       world.reset(spec);
+      if (const std::string text = goal_out_of_reach(world.model()); !text.empty()) {
+        if (unreachable.empty()) unreachable_text = text;
+        unreachable.push_back(seed);
+      }
     } catch (const std::exception& e) {
       throw Error(with_note_on_first_line(e.what(), " (world seed " + std::to_string(seed) + ")"));
     }
@@ -690,6 +721,9 @@ int check_scenario_file(const CheckArgs& a, const std::string& shown, const Sand
   if (!unseen.empty())
     std::fprintf(stderr, "roger: warning: in %d of %d worlds (the first: seed %d) %s\n", int(unseen.size()), a.seeds,
                  unseen.front(), unseen_text.c_str());
+  if (!unreachable.empty())
+    std::fprintf(stderr, "roger: warning: in %d of %d worlds (the first: seed %d) %s\n", int(unreachable.size()),
+                 a.seeds, unreachable.front(), unreachable_text.c_str());
   // Without --set, also every declared choice of every parameter (each shape, say), and each end
   // of every declared range (the most obstacles, the longest arm): those are warnings, since an
   // end may hold only with other parameters changed too.

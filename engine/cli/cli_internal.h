@@ -55,6 +55,12 @@ std::string stimulus_unseen_in(const std::string& scenario, const std::vector<st
                                const SandboxLimits& limits, uint64_t first_seed, int worlds,
                                const std::vector<std::pair<std::string, std::string>>& where_declared = {});
 
+// The first goal region of `model`'s world the navigator (phi1 {goal = "region"}) cannot reach, said,
+// or "": none of its static grid's free cells lies within the region's radius less phi1's margin
+// of its centre (check.cpp).
+struct WorldModel;
+std::string goal_out_of_reach(const WorldModel& model);
+
 // For a command given a module (a script of no kind's keys that another requires, or one in a lib/
 // folder) where it takes a script of kind `wanted`: why it cannot run it, naming the script that
 // requires it ("scripts/noise_kinds_levels.lua is a module, required as ... by scripts/noise_kinds.lua:

@@ -23,6 +23,7 @@
 #include "script/curriculum/curriculum.h"
 #include "script/scenario/scenario.h"
 #include "script/skills/skill_script.h"
+#include "sim/world_model.h"
 #include "teach/teach.h"
 
 namespace roger {
@@ -417,6 +418,19 @@ EvalSummary evaluate_policy(const SkillScript& script, const SkillScript::NamedP
   }
 }
 
+// goal_out_of_reach of the world of `seed`, said with its seed; "" when every goal region is within
+// reach, or the world cannot be made here (its own error is said elsewhere).
+std::string goal_out_of_reach_at(Scenario& scenario, uint64_t seed) {
+  try {
+    WorldModel model;
+    derive_world_model(scenario.generate(seed), WorldParams{}, -1.0, model);
+    const std::string why = goal_out_of_reach(model);
+    return why.empty() ? "" : "in world seed " + std::to_string(seed) + ", " + why;
+  } catch (const std::exception&) {
+    return "";
+  }
+}
+
 // The parts that never had a reference (EvalSummary::never_referenced), a line each: a policy
 // failing at every seed because its navigator names a goal region past the world's, or its
 // binding a colour no object has, said nothing but its success rate (found by a probe).
@@ -437,7 +451,8 @@ void print_never_referenced(const EvalSummary& r) {
   for (const std::string& name : r.never_referenced) std::printf("  no reference   %s\n", name.c_str());
   if (!r.never_referenced.empty())
     std::printf("  note           %s NOREF at every tick %s ran, in %s: what %s on was never there "
-                "(a goal region past the world's, a colour no object has, an object never reached)%s\n",
+                "(a goal region past the world's, or too near a wall or obstacle for Roger's base to enter, a colour "
+                "no object has, an object never reached)%s\n",
                 r.never_referenced.size() == 1 ? "this part was" : "these parts were",
                 r.never_referenced.size() == 1 ? "it" : "they",
                 r.episodes == 1 ? "the episode" : ("all " + std::to_string(r.episodes) + " episodes").c_str(),
@@ -509,6 +524,9 @@ int evaluate_command(const EvalArgs& a) {
   std::printf("  reward         %.1f +- %.1f\n", r.reward_mean, r.reward_std);
   std::printf("  episode time   %.2f s (mean, simulated)\n", r.time_mean);
   print_never_referenced(r);
+  if (r.successes == 0 && !r.never_referenced.empty())
+    if (const std::string why = goal_out_of_reach_at(scenario, a.seed); !why.empty())
+      std::printf("  note           %s\n", why.c_str());
   // As for a saved policy (found by a probe: a skill script's policy in a world whose stimulus no
   // object had said only that its parts had no reference).
   std::string unseen;
