@@ -389,6 +389,29 @@ TEST_CASE("a body parameter the world does not use is refused at the generator",
   CHECK(is_locked(w.body, kLeftEye));
 }
 
+// Found by a probe: a scenario's own parameter named as one of lib/body.lua's, of another type
+// (noise_joints = "low", upper_arm = "long"), was read as 0 and refused as asking for a body or a
+// noise level of 0. Those names are read as the body's and the noise's numbers: another type is
+// refused as such, naming the parameter.
+TEST_CASE("a parameter of lib/body.lua's names that is not a number is refused as such", "[body]") {
+  const auto error_of = [](const std::string& name, const std::string& params, const std::string& robot) {
+    return test::generate_error(name, "return { params = { " + params + " },\n  generate = function(world, rng, p)\n"
+                                      "    world:robot{ x = -1, y = 0" + robot + " }\n  end }\n");
+  };
+  CHECK_THAT(error_of("own_noise", "noise_joints = 'low'", ", noise = { joints = 0.01 }"),
+             Contains("own_noise.lua:2: the parameter noise_joints is a string (low), but noise_joints is a parameter "
+                      "of scenarios/lib/body.lua, a number (joints sigma), and roger reads a scenario's noise_joints as "
+                      "that: give yours another name"));
+  CHECK_THAT(error_of("own_arm", "upper_arm = 'long'", ", body = { upper_arm = 0.7 }"),
+             Contains("the parameter upper_arm is a string (long), but upper_arm is a parameter of "
+                      "scenarios/lib/body.lua, a number (the body's upper_arm)"));
+  CHECK_THAT(error_of("own_scale", "noise_scale = true", ""),
+             Contains("the parameter noise_scale is a boolean (true)") && Contains("(the factor of every noise level)"));
+  CHECK_THAT(error_of("own_delay", "noise_image_delay = 'late'", ""), Contains("(image delay)"));
+  // A number of the world's own level passes, as before.
+  CHECK(error_of("own_level", "noise_joints = 0.01", ", noise = { joints = 0.01 }") == "no error");
+}
+
 // Found by a probe: a misspelt number of roger.body_metrics's result read nil, and the mistake
 // surfaced seeds later as a base sticking out of the arena.
 TEST_CASE("roger.body_metrics's result refuses a number it does not have, at the reader's line", "[body]") {

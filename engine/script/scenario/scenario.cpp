@@ -289,6 +289,17 @@ double param_number(const std::map<std::string, ParamSlot>& params, const std::s
   return s.info.type == ParamType::kNumber ? s.number : s.info.type == ParamType::kInteger ? double(s.integer) : 0.0;
 }
 
+// Why a declared parameter of one of lib/body.lua's names (`what` it is there) cannot be read as
+// that, or "": those names are read as the body's and the noise's numbers whoever declared them,
+// so one of another type is refused (found by a probe: a scenario's own noise_joints = "low" was
+// read as 0, and the refusal spoke of a joints sigma of 0; upper_arm = "long" likewise).
+std::string not_body_number(const std::string& name, const ParamSlot& p, const std::string& what) {
+  if (p.info.type == ParamType::kNumber || p.info.type == ParamType::kInteger) return "";
+  return "the parameter " + name + " is a " + param_type_name(p.info.type) + " (" + slot_text(p) +
+         "), but " + name + " is a parameter of scenarios/lib/body.lua, a number (" + what +
+         "), and roger reads a scenario's " + name + " as that: give yours another name";
+}
+
 // A noise parameter of body.PARAMS (docs/scenarios.md, Noise) that asks for noise the world does
 // not have: the generator did not pass body.noise_of(p) to world:robot (or passed noise of its
 // own). A noise study would record a level no episode had, so it is refused, naming the first such
@@ -303,6 +314,10 @@ void check_noise_params_used(const std::map<std::string, ParamSlot>& params, con
     const auto it = params.find(name);
     return it != params.end() && slot_text(it->second) != it->second.info.default_value;
   };
+  if (const auto it = params.find("noise_scale"); it != params.end())
+    if (const std::string why = not_body_number("noise_scale", it->second, "the factor of every noise level");
+        !why.empty())
+      return fail(why);
   const double scale = param_number(params, "noise_scale", 1.0);
   const bool scale_set = set("noise_scale");
   const std::pair<const char*, const ChannelNoise*> channels[] = {
@@ -320,6 +335,11 @@ void check_noise_params_used(const std::map<std::string, ParamSlot>& params, con
                           {n + "_delay", "delay", double(c->delay)}, {n + "_dropout", "dropout", c->dropout},
                           {n + "_quantum", "quantum", c->quantum}};
     for (const auto& [param, what, in_world] : kinds) {
+      if (const auto it = params.find(param); it != params.end())
+        if (const std::string why = not_body_number(param, it->second, std::string(name) + " " + what); !why.empty()) {
+          fail(why);
+          continue;
+        }
       const bool tau = param == n + "_tau";  // a time, not scaled
       if (!params.count(param) || (tau && c->drift == 0.0 && !set(param))) continue;  // no drift: tau unused
       double asked = (tau ? 1.0 : scale) * param_number(params, param, 0.0);
@@ -384,8 +404,11 @@ void check_body_params_used(const std::map<std::string, ParamSlot>& params, cons
          (set ? "leave the parameter at its default"
               : "give the world's body as the parameters' defaults (body.with_params(params, { " + name + " = ... }))"));
   };
-  for (const auto& [name, in_world] : body_param_values(world))
-    if (declared(name) && param_number(params, name, 0.0) != in_world) refuse(name, format_number(in_world));
+  for (const auto& [name, in_world] : body_param_values(world)) {
+    if (!declared(name)) continue;
+    if (const std::string why = not_body_number(name, *declared(name), "the body's " + name); !why.empty()) fail(why);
+    else if (param_number(params, name, 0.0) != in_world) refuse(name, format_number(in_world));
+  }
   if (const ParamSlot* p = declared("locked"); p && locked_mask(p->text) != world.body.locked) {
     std::string names;
     for (const auto& [name, dof] : lockable_joints())
