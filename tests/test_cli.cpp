@@ -992,6 +992,29 @@ TEST_CASE("a copy of a shipped batch script works in a folder of one's own", "[c
   fs::remove_all(lab);
 }
 
+// Found by a probe: from a folder of one's own, `roger check curricula/pape.lua` said "no folder
+// curricula either" of the project's folder, with no nearest name; `roger check .` spoke of the
+// project's scenarios/..lua, and a folder named dir.lua was "not a file here".
+TEST_CASE("roger check from elsewhere names the project's nearest script, and a folder as a folder", "[cli]") {
+  const fs::path lab = fs::temp_directory_path() / ("roger_cli_elsewhere_" + std::to_string(::getpid()));
+  fs::create_directories(lab / "dir.lua");
+  fs::create_directories(lab / "quick");
+  const std::string project = "ROGER_HOME=" + fs::current_path().string();
+  CHECK_THAT(roger_in(lab, "check curricula/pape.lua", project).err,
+             Catch::Matchers::EndsWith("roger: error: no script 'curricula/pape.lua': no such file here or in the "
+                                       "project (did you mean 'paper.lua'?)\n"));
+  CHECK_THAT(roger_in(lab, "check nofolder/x.lua", project).err, Catch::Matchers::Contains("(no folder nofolder either)"));
+  for (const char* folder : {".", "dir.lua"})
+    CHECK_THAT(roger_in(lab, std::string("check ") + folder, project).err,
+               Catch::Matchers::EndsWith(std::string("roger: error: '") + folder + "' is a folder here, not a script, "
+                                         "and the project has no script of that name: give one script\n"));
+  // A project script of the folder's name is still the one checked (roger run quick --out quick).
+  const Run quick = roger_in(lab, "check quick", project);
+  CHECK(quick.status == 0);
+  CHECK_THAT(quick.out, Catch::Matchers::StartsWith("quick: ok (batch script 'quick'"));
+  fs::remove_all(lab);
+}
+
 // Found by a probe: with ROGER_HOME a project of one's own, require found the shipped libraries but
 // a stage's scenario = "unobstructed" was not found, and the message called the lab's own scenarios
 // "shipped".

@@ -266,14 +266,18 @@ std::string check_target(const std::string& arg) {
     if (fs::path(arg).is_relative() && fs::is_regular_file(project_root() / arg, ec))
       return (project_root() / arg).string();
     // A missing file: said as a script's (found by a probe: a curriculum's mistyped path was "no
-    // scenario", the kind the check falls back to), with the folder's nearest name.
-    const fs::path folder = fs::path(arg).parent_path();
+    // scenario", the kind the check falls back to), with the folder's nearest name: the project's
+    // folder where there is none here, as the path is looked for there too (found by a probe:
+    // curricula/pape.lua from another folder said "no folder curricula either").
+    fs::path folder = fs::path(arg).parent_path();
+    if (!fs::is_directory(folder, ec) && folder.is_relative() && fs::is_directory(project_root() / folder, ec))
+      folder = project_root() / folder;
     std::vector<std::string> beside;
     for (const auto& entry : fs::directory_iterator(folder, ec))
       if (entry.path().extension() == ".lua") beside.push_back(entry.path().filename().string());
     throw Error("no script '" + arg + "': no such file here or in the project" +
                 (fs::is_directory(folder, ec) ? suggestion(fs::path(arg).filename().string(), beside)
-                                              : " (no folder " + folder.string() + " either)") +
+                                              : " (no folder " + fs::path(arg).parent_path().string() + " either)") +
                 installed_docs_hint(arg));
   }
   const std::string file = fs::path(arg).extension() == ".lua" ? arg : arg + ".lua";
@@ -291,6 +295,9 @@ std::string check_target(const std::string& arg) {
     }
     return (project_root() / found[0]).string();
   }
+  // Found by a probe: `roger check .` spoke of the project's scenarios/..lua, and a folder named
+  // dir.lua here was "not a file here". (A project script of the name comes first, as above.)
+  if (fs::is_directory(arg, ec)) throw Error("'" + arg + "' is a folder here, not a script, and the project has no script of that name: give one script");
   const std::string here = lua_file_here(arg);
   throw Error("no script '" + arg + "': not a file here, and the project has no scenarios/" + file + ", curricula/" +
               file + " or scripts/" + file + " (project: " + project_in_use() + ")" +
