@@ -827,6 +827,14 @@ TEST_CASE("a stage's bad field is reported at the line it is written on", "[curr
                           "    budget = { episodes = 3 }, contexts = { { name = 'A', actions = { p.phi3 } } }, bogus = 1 } } }\n";
   CHECK_THAT(error_of([&] { Curriculum::load(plain.string()); }),
              Contains("plain.lua:3: stage '" + long_name + "': unknown field 'bogus'"));
+  // Found by a probe: a name of the wrong type was "missing required field 'name'".
+  const auto numbered = tmp.path / "numbered.lua";
+  std::ofstream(numbered) << "local p = require('lib.skills').primitives()\n"
+                             "return { stages = { roger.stage{ name = 5, time_limit = 5,\n"
+                             "  absorbing = roger.converged(p.phi3), budget = { episodes = 3 },\n"
+                             "  contexts = { { name = 'A', actions = { p.phi3 } } } } } }\n";
+  CHECK_THAT(error_of([&] { Curriculum::load(numbered.string()); }),
+             Contains("numbered.lua:2: a stage: field 'name' must be a string such as \"SG\", got number 5"));
 }
 
 namespace {

@@ -450,11 +450,15 @@ void parse_stage(lua_State* L, int index, CurriculumStage& st, LuaCallback& abso
                lua_describe_value(L, index).c_str());
   lua_getfield(L, index, "name");
   st.name = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "";
+  // Found by a probe: name = 5 was "missing required field 'name'", where every other field of the
+  // wrong type says what it got.
+  const std::string given = lua_isnil(L, -1) || lua_type(L, -1) == LUA_TSTRING ? "" : lua_describe_value(L, -1);
   lua_pop(L, 1);
   const std::string where = st.name.empty() ? std::string("a stage") : st.where();
   LuaFields f(L, index, where,
               {"absorbing", "budget", "checkpoints", "contexts", "description", "learner", "name", "params",
                "reward", "scenario", "skill", "tasks", "teacher", "test", "time_limit"});
+  if (!given.empty()) f.fail("field 'name' must be a string such as \"SG\", got " + given);
   if (st.name.empty()) f.fail("missing required field 'name' (a string such as \"SG\")");
   if (const std::string problem = name_text_problem(st.name); !problem.empty()) f.fail("field 'name' " + problem);
   st.description = f.string("description", "");
