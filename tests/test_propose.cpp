@@ -720,6 +720,24 @@ TEST_CASE("lib.propose refuses an unknown action or field at the caller's line",
   CHECK_THAT(problems("name = 'S', gaol = A['phi1'],\n" + contexts),
              Catch::Contains("mine.lua:4: lib.propose: propose.stage has no field 'gaol'"));
   CHECK_THAT(problems(contexts), Catch::Contains("mine.lua:4: a stage: missing required field 'name'"));
+  // Found by a probe: a missing argument was "attempt to concatenate a nil value" in
+  // curricula/lib/propose.lua, and a module require could not find was said at that file's line.
+  const auto script_problem = [&](const std::string& lines) {
+    const fs::path file = dir.path / "args.lua";
+    std::ofstream(file) << "local propose = require('lib.propose')\n" << lines << "return { stages = {} }\n";
+    const std::vector<std::string> p = check_curriculum(file.string());
+    return p.empty() ? std::string() : p.front();
+  };
+  CHECK_THAT(script_problem("local task = propose.task('paper')\n"),
+             Catch::Contains("args.lua:2: lib.propose: propose.task takes the curriculum module's name and the stage's "
+                             "name, two strings (propose.task(\"paper\", \"SG\")), got string and nil"));
+  CHECK_THAT(script_problem("local task = propose.task('paper', 'SG')\nlocal A = propose.actions(task)\n"),
+             Catch::Contains("args.lua:3: lib.propose: the second argument must be the name of one of the task's "
+                             "contexts, a string, got nil"));
+  CHECK_THAT(script_problem("local task = propose.task('papr', 'SG')\n"),
+             Catch::Contains("args.lua:2: lib.propose: propose.task could not require the curriculum 'papr': module "
+                             "'papr' not found (did you mean 'paper'?) (a proposal written in a project of one's own "
+                             "is checked and run with that project's ROGER_HOME, as its first lines say)"));
 }
 
 // Found by a probe: `roger propose scenarios/cluttered.lua` ended in a Lua traceback, and a batch

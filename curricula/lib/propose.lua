@@ -27,7 +27,21 @@ end
 -- roger.stage from this file, which would look for that path beside curricula/lib/ instead.
 -- roger propose writes it so. The task returned is a copy of the stage with the scenario replaced.
 function M.task(module, name, resolved)
-  local cur = require(module)
+  -- Found by a probe: a missing argument was "attempt to concatenate a nil value" in this file.
+  if type(module) ~= "string" or type(name) ~= "string" then
+    error("lib.propose: propose.task takes the curriculum module's name and the stage's name, two strings " ..
+          "(propose.task(\"paper\", \"SG\")), got " .. type(module) .. " and " .. type(name), 2)
+  end
+  -- Found by a probe: a module require could not find was said at this file's line, not the
+  -- caller's, and a proposal made in a project of one's own (ROGER_HOME) did not say where to look.
+  local found, cur = pcall(require, module)
+  if not found then
+    local why = tostring(cur)
+    local missing = why:match("^(module .- not found.-);? ?searched:")
+    error("lib.propose: propose.task could not require the curriculum '" .. module .. "': " ..
+          (missing and missing .. " (a proposal written in a project of one's own is checked and run with that " ..
+                       "project's ROGER_HOME, as its first lines say)" or why), 2)
+  end
   if type(cur) ~= "table" or type(cur.stages) ~= "table" then
     error("lib.propose: the module '" .. module .. "' is not a curriculum (no stages)", 2)
   end
@@ -57,6 +71,13 @@ end
 
 -- The task's context named `context` (an error lists the contexts).
 local function context_of(task, context)
+  if type(task) ~= "table" or type(task.contexts) ~= "table" then
+    error("lib.propose: the first argument must be a task from propose.task, got " .. type(task), 3)
+  end
+  if type(context) ~= "string" then
+    error("lib.propose: the second argument must be the name of one of the task's contexts, a string, got " ..
+          type(context), 3)
+  end
   local names = {}
   for key, ctx in pairs(task.contexts) do
     local cname = ctx.name or key
