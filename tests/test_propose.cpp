@@ -225,6 +225,14 @@ TEST_CASE("propose is deterministic for a seed, and a re-run resumes from its re
                     Catch::Contains("holds another search (--seed 2 there, 1 here)") &&
                         Catch::Contains("give another --out, or the same settings to resume it"));
   CHECK(tree(dir.path / "c") == c_before);
+  // Whole numbers as written (found by a probe: seeds past 2^53 both read 1.8446744073709552e+19).
+  const fs::path c_settings = dir.path / "c" / "settings.json";
+  nlohmann::json big = nlohmann::json::parse(slurp(c_settings));
+  big["seed"] = 18446744073709551615ull;
+  std::ofstream(c_settings) << big.dump(1) << "\n";
+  other.seed = 18446744073709551614ull;
+  CHECK_THROWS_WITH(propose_curriculum(other),
+                    Catch::Contains("holds another search (--seed 18446744073709551615 there, 18446744073709551614 here)"));
 }
 
 TEST_CASE("propose killed midway and run again ends as an uninterrupted run", "[propose]") {
@@ -822,7 +830,13 @@ TEST_CASE("propose says it stopped on Ctrl-C and names an unreadable record it r
   // without it was refused as someone else's. It is written again; every record matches and is reused.
   const fs::path settings = dir.path / "p" / "settings.json";
   const std::string written = slurp(settings);
-  for (const std::string damage : {"garbage", "{}"}) {
+  // A field of another type too (found by a probe: "seed": "one" was another search's, which no
+  // command could resume).
+  std::string retyped = written;
+  REQUIRE(retyped.find("\"seed\": ") != std::string::npos);
+  const size_t seed_at = retyped.find("\"seed\": ") + 8;
+  retyped.replace(seed_at, retyped.find_first_not_of("0123456789", seed_at) - seed_at, "\"one\"");
+  for (const std::string damage : {std::string("garbage"), std::string("{}"), retyped}) {
     std::ofstream(settings) << damage;
     const Ran resumed = roger_run(dir.path, args);
     INFO(resumed.out << resumed.err);

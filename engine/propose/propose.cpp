@@ -239,8 +239,14 @@ void claim_search_folder(const ProposeOptions& o, const std::string& module, con
     try {
       before = parse_json(read_file_text(file));
       if (!before.is_object()) unreadable = "not a JSON object";
-      for (const auto& [key, value] : search.items())
-        if (unreadable.empty() && !before.contains(key)) unreadable = "no field \"" + key + "\"";
+      for (const auto& [key, value] : search.items()) {
+        if (!unreadable.empty()) break;
+        if (!before.contains(key)) unreadable = "no field \"" + key + "\"";
+        // Found by a probe: "seed": "one" read as another search's, which no command could resume.
+        else if (before[key].is_number() != value.is_number() || (!value.is_number() && before[key].type() != value.type()))
+          unreadable = "field \"" + key + "\" is " + std::string(before[key].type_name()) + ", where a search writes " +
+                       value.type_name();
+      }
     } catch (const nlohmann::json::exception& e) {
       unreadable = "not valid JSON: " + json_error_text(e.what());
     }
@@ -256,8 +262,10 @@ void claim_search_folder(const ProposeOptions& o, const std::string& module, con
       std::replace(key.begin(), key.end(), '_', '-');
       return "--" + key;
     };
+    // Whole numbers as written (found by a probe: seeds past 2^53 both read 1.8446744073709552e+19).
     const auto shown = [](const nlohmann::json& v) {
-      return v.is_number() ? format_number(v.get<double>()) : v.is_string() ? v.get<std::string>() : v.dump();
+      return v.is_number_integer() ? v.dump() : v.is_number() ? format_number(v.get<double>())
+                                              : v.is_string() ? v.get<std::string>() : v.dump();
     };
     std::string differ;
     for (const auto& [key, value] : search.items())
