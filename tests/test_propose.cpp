@@ -315,6 +315,20 @@ TEST_CASE("propose refuses bad input with a clear message", "[propose]") {
   CHECK(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(5));
 }
 
+// Found by a probe: the caution of a cut inside a tie named the two candidates beside the cut ("C2
+// did, C3 did not"), where C1 went on too and C4, C6 and C8 were dropped too.
+TEST_CASE("a round cut inside a tie names every tied candidate on each side", "[propose]") {
+  test::TempDir dir("roger_propose");
+  ProposeOptions o = sg_options(dir.path / "t", 60000);
+  o.stage = "T", o.context = "B2", o.probe_share = 0.3, o.seed = 2;
+  const ProposeResult r = propose_curriculum(o);
+  std::string said;
+  for (const std::string& c : r.cautions) said += c + "\n";
+  CHECK_THAT(said, Catch::Contains("round 1: C1, C2, C3, C4, C6, C8 tied at a mean loss of 2235.3 where the round "
+                                   "cut, and the candidates' order decided which went on (C1, C2 did; C3, C4, C6, "
+                                   "C8 did not)\n"));
+}
+
 TEST_CASE("propose works from any folder on a curriculum whose scenario lies beside it", "[propose]") {
   test::TempDir dir("roger_propose");
   const fs::path home = fixture_home(dir.path);

@@ -434,14 +434,19 @@ void note_round(const ProposeOptions& o, const TaskRef& task, const std::vector<
     return;
   }
   if (keep >= alive.size() || specs[alive[keep - 1]].c.score != specs[alive[keep]].c.score) return;
-  std::vector<std::string> tied;
-  for (size_t i : alive)
-    if (specs[i].c.score == specs[alive[keep]].c.score) tied.push_back(specs[i].c.id);
+  // Every tied candidate on each side of the cut (found by a probe: the caution named the two beside
+  // it, "C2 did, C3 did not", where C1 went on too and C4, C6 and C8 were dropped too).
+  std::vector<std::string> tied, went_on, dropped;
+  for (size_t k = 0; k < alive.size(); ++k) {
+    if (specs[alive[k]].c.score != specs[alive[keep]].c.score) continue;
+    tied.push_back(specs[alive[k]].c.id);
+    (k < keep ? went_on : dropped).push_back(specs[alive[k]].c.id);
+  }
   char loss[32];
   std::snprintf(loss, sizeof loss, "%.1f", specs[alive[keep]].c.score);
   res.cautions.push_back("round " + std::to_string(round) + ": " + join(tied) + " tied at a mean loss of " + loss +
-                         " where the round cut, and the candidates' order decided which went on (" +
-                         specs[alive[keep - 1]].c.id + " did, " + specs[alive[keep]].c.id + " did not)");
+                         " where the round cut, and the candidates' order decided which went on (" + join(went_on) +
+                         (went_on.size() == 1 ? " did, " : " did; ") + join(dropped) + " did not)");
 }
 
 // The folder as a fresh run of this search leaves it: a record or candidate of an earlier run of it
