@@ -861,4 +861,13 @@ TEST_CASE("propose says it stopped on Ctrl-C and names an unreadable record it r
     CHECK_THAT(resumed.out, Catch::Contains(", 0 trials run, 22 reused"));
     CHECK(slurp(settings) == written);
   }
+  // Removed too (found by a probe: the search's own folder was then "other files").
+  fs::remove(settings);
+  const Ran lost = roger_run(dir.path, args);
+  INFO(lost.out << lost.err);
+  CHECK(lost.status == 0);
+  CHECK_THAT(lost.err, Catch::Contains("holds a search's files and no settings.json: it is written with this search's "
+                                       "settings; the folder's records are reused where they are this search's\n"));
+  CHECK_THAT(lost.out, Catch::Contains(", 0 trials run, 22 reused"));
+  CHECK(slurp(settings) == written);
 }

@@ -194,15 +194,20 @@ void refuse(const std::vector<std::string>& refusals) {
 // A folder of other files is no search's: settings.json, written before anything else, makes a
 // folder a search's. A roger run results folder (manifest.json) has a trials/ folder of its own,
 // whose records a search would mix with its own; any other files are someone's work.
-void refuse_foreign_folder(const std::string& out, bool has_settings) {
+// Returns whether the folder holds a search's files alone without its settings.json (lost, or
+// removed): read as a search whose settings cannot be read, whose records are reused where they
+// are this search's (found by a probe: the search's own folder was "other files").
+bool refuse_foreign_folder(const std::string& out, bool has_settings) {
   if (fs::exists(fs::path(out) / "manifest.json"))
     throw Error("roger propose: " + out + " is a roger run results folder (it holds manifest.json), whose trials/ "
                 "the search's records would mix with; give another --out (a new or empty folder, or an earlier "
                 "search's to resume it)");
-  if (has_settings) return;
+  if (has_settings) return false;
   std::vector<std::string> names;
   for (const auto& entry : fs::directory_iterator(out)) names.push_back(entry.path().filename().string());
-  if (names.empty()) return;
+  if (names.empty()) return false;
+  static const std::set<std::string> written = {"candidates", "probe", "trials", "proposal.lua", "propose.md"};
+  if (std::all_of(names.begin(), names.end(), [](const std::string& n) { return written.count(n) > 0; })) return true;
   std::sort(names.begin(), names.end());
   const size_t shown = std::min<size_t>(names.size(), 3);
   std::string list = join(std::vector<std::string>(names.begin(), names.begin() + long(shown)));
@@ -228,7 +233,7 @@ void claim_search_folder(const ProposeOptions& o, const std::string& module, con
                                  {"probe_trials", o.probe_trials}, {"probe_share", o.probe_share},
                                  {"max_candidates", o.max_candidates}, {"prune_below", o.prune_below}};
   const std::string file = (fs::path(o.out) / "settings.json").string();
-  refuse_foreign_folder(o.out, fs::exists(file));
+  const bool settings_lost = refuse_foreign_folder(o.out, fs::exists(file));
   // A settings.json that cannot be read (not JSON, or missing what a search writes: a disk fault or
   // an edit) is written again with this search's settings, as an unreadable record is run again:
   // the trials' records say themselves which candidate, seed and cap they are of, so only matching
@@ -251,6 +256,9 @@ void claim_search_folder(const ProposeOptions& o, const std::string& module, con
       unreadable = "not valid JSON: " + json_error_text(e.what());
     }
   }
+  if (settings_lost && o.progress)
+    *o.progress << "roger propose: " << o.out << " holds a search's files and no settings.json: it is written with "
+                << "this search's settings; the folder's records are reused where they are this search's\n";
   if (!unreadable.empty() && o.progress)
     *o.progress << "roger propose: " << file << " cannot be read (" << unreadable << "): written again with this "
                 << "search's settings; the folder's records are reused where they are this search's\n";
