@@ -87,6 +87,32 @@ TEST_CASE("a run's default figures are named by its stage, and by the run when i
   fs::remove_all(dir);
 }
 
+// Found by a probe: a list parameter's values written as a list ({"left_eye", "right_eye"}) were
+// "must be a number, string or boolean", where a stage's params and Python's make() take them.
+TEST_CASE("a run's list parameter may be written as a list", "[batch_script]") {
+  const fs::path dir = fs::temp_directory_path() / ("roger_batch_list_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path path = dir / "batch.lua";
+  const auto write = [&](const std::string& locked) {
+    std::ofstream(path) << "return {\n  name = 'listed', curriculum = '"
+                        << fs::absolute("tests/scripts/kill_curriculum.lua").string()
+                        << "', trials = 1,\n  runs = { { name = 'SG', stage = 'SG', contexts = { 'DC2' },\n"
+                           "    params = { locked = " << locked << " } } },\n}\n";
+  };
+  write("{ 'left_eye', 'right_eye' }");
+  const BatchScript b = load_batch_script(path.string());
+  CHECK(b.runs.at(0).params == Params{{"locked", "left_eye,right_eye"}});
+  write("{ 'left_eye,right_eye' }");
+  CHECK_THROWS_WITH(load_batch_script(path.string()),
+                    Catch::Matchers::Contains("batch.lua:4: run 'SG': parameter 'locked' as a list takes names or "
+                                              "numbers without commas, got \"left_eye,right_eye\""));
+  write("{ x = 1 }");
+  CHECK_THROWS_WITH(load_batch_script(path.string()),
+                    Catch::Matchers::Contains("parameter 'locked' must be a number, string or boolean, or a list of "
+                                              "names {\"a\", \"b\"} (a list parameter's values)"));
+  fs::remove_all(dir);
+}
+
 TEST_CASE("an evaluation may take a learned skill from another run", "[batch_script]") {
   const BatchScript b = load_batch_script("tests/scripts/batch_eval_skill.lua");
   REQUIRE(b.evaluations.size() == 2);

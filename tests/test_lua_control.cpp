@@ -705,7 +705,25 @@ TEST_CASE("a policy's params set its scenario's parameters, under --set, checked
   } catch (const ScriptError& e) {
     wrong = e.what();
   }
-  CHECK_THAT(wrong, Contains("type.lua:4: policy 't': params.objects must be a number, string or boolean, got a table"));
+  CHECK_THAT(wrong, Contains("type.lua:4: policy 't': params.objects must be a number, string or boolean, or a list of "
+                             "names {\"a\", \"b\"} (a list parameter's values), got an empty table (a list parameter "
+                             "with no values is \"\")"));
+  // A list parameter's values as a list are its comma-separated text, as Python's make() joins a
+  // list (found by a probe: locked = {"left_eye"} was "must be a number, string or boolean").
+  const SkillScript listed = SkillScript::load(write("listed.lua", "{ locked = { 'left_eye', 'right_eye' } }"));
+  CHECK(listed.policy("t").params ==
+        std::vector<std::pair<std::string, std::string>>{{"locked", "left_eye,right_eye"}});
+  for (const auto& [value, said] : std::vector<std::pair<std::string, std::string>>{
+           {"{ 'left_eye', x = 1 }", "got a table with the key string 'x'"},
+           {"{ 'left_eye', {} }", "got a table with the item a table"},
+           {"{ 'left_eye,right_eye' }", "params.locked: item 1 ('left_eye,right_eye') holds a comma"}}) {
+    try {
+      SkillScript::load(write("badlist.lua", "{ locked = " + value + " }"));
+      FAIL("loaded " << value);
+    } catch (const ScriptError& e) {
+      CHECK_THAT(e.what(), Contains("badlist.lua:4: policy 't': ") && Contains(said));
+    }
+  }
   fs::remove_all(dir);
 }
 

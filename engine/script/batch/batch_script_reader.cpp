@@ -239,7 +239,8 @@ std::vector<std::string> Reader::strings(const json& o, const char* key, const s
   return out;
 }
 
-// Scenario parameters: a table of name = number, string or boolean.
+// Scenario parameters: a table of name = number, string or boolean, or a list parameter's values as
+// a list ({"left_eye", "right_eye"}: the text "left_eye,right_eye", as a stage's params take it).
 Params Reader::params(const json& o, const char* key, const std::string& what, int line) const {
   Params out;
   if (!o.contains(key)) return out;
@@ -252,7 +253,21 @@ Params Reader::params(const json& o, const char* key, const std::string& what, i
     else if (it->is_number_integer()) text = std::to_string(it->get<int64_t>());
     else if (it->is_number_float()) text = format_number(it->get<double>());
     else if (it->is_boolean()) text = it->get<bool>() ? "true" : "false";
-    else fail(line_of_key(key, line), what + ": parameter '" + it.key() + "' must be a number, string or boolean");
+    else if (it->is_array() && !it->empty()) {
+      bool first = true;
+      for (const json& item : *it) {
+        const std::string value = item.is_string() ? item.get<std::string>()
+                                  : item.is_number_integer() ? std::to_string(item.get<int64_t>())
+                                  : item.is_number() ? format_number(item.get<double>()) : ",";
+        if (value.find(',') != std::string::npos)
+          fail(line_of_key(key, line), what + ": parameter '" + it.key() + "' as a list takes names or numbers "
+               "without commas, got " + item.dump());
+        text += (first ? "" : ",") + value;
+        first = false;
+      }
+    } else
+      fail(line_of_key(key, line), what + ": parameter '" + it.key() + "' must be a number, string or boolean, or a "
+           "list of names {\"a\", \"b\"} (a list parameter's values)");
     out.emplace_back(it.key(), text);
   }
   return out;

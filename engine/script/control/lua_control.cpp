@@ -553,6 +553,47 @@ PredicatePtr lua_check_predicate(lua_State* L, int index, const std::string& con
                lua_describe_value(L, index) + hint);
 }
 
+namespace {
+
+// A list parameter's values written as a Lua list ({"left_eye", "right_eye"}): the comma-separated
+// text --set takes, as Python's make() joins a list (found by a probe: "must be a number, string or
+// boolean, got a table", where world:robot{ body = { locked = {...} } } takes a table).
+std::string lua_param_list_text(lua_State* L, int index, const std::string& where) {
+  index = lua_absindex(L, index);
+  const lua_Integer n = lua_Integer(lua_rawlen(L, index));
+  lua_pushnil(L);
+  const bool empty = lua_next(L, index) == 0;
+  if (!empty) lua_pop(L, 2);
+  if (empty)
+    luaL_error(L, "%s must be a number, string or boolean, or a list of names {\"a\", \"b\"} (a list parameter's "
+                  "values), got an empty table (a list parameter with no values is \"\")", where.c_str());
+  std::string text;
+  lua_pushnil(L);
+  while (lua_next(L, index)) {
+    const bool item = lua_isinteger(L, -2) && lua_tointeger(L, -2) >= 1 && lua_tointeger(L, -2) <= n;
+    const int type = lua_type(L, -1);
+    if (!item || (type != LUA_TSTRING && type != LUA_TNUMBER))
+      luaL_error(L, "%s must be a number, string or boolean, or a list of names {\"a\", \"b\"} (a list parameter's "
+                    "values; or their text \"a,b\"), got a table with the %s %s", where.c_str(),
+                 item ? "item" : "key", lua_describe_value(L, item ? -1 : -2).c_str());
+    lua_pop(L, 1);
+  }
+  for (lua_Integer i = 1; i <= n; ++i) {
+    lua_rawgeti(L, index, i);
+    const std::string value = lua_isinteger(L, -1) ? std::to_string(lua_tointeger(L, -1))
+                              : lua_type(L, -1) == LUA_TNUMBER ? format_number(lua_tonumber(L, -1))
+                                                                : lua_tostring(L, -1);
+    lua_pop(L, 1);
+    if (value.find(',') != std::string::npos)
+      luaL_error(L, "%s: item %d ('%s') holds a comma, which separates a list parameter's values", where.c_str(),
+                 int(i), value.c_str());
+    text += (i > 1 ? "," : "") + value;
+  }
+  return text;
+}
+
+}  // namespace
+
 std::string lua_param_text(lua_State* L, int index, const std::string& where) {
   switch (lua_type(L, index)) {
     case LUA_TNUMBER:
@@ -577,7 +618,8 @@ void lua_read_params(lua_State* L, int index, const std::string& where,
       luaL_error(L, "%s must have string keys {param = value}, got the key %s (a list? name each value)", where.c_str(),
                  lua_describe_value(L, -2).c_str());
     const std::string key = lua_tostring(L, -2);
-    out.push_back({key, lua_param_text(L, -1, (key_where.empty() ? where + "." : key_where) + key)});
+    const std::string at = (key_where.empty() ? where + "." : key_where) + key;
+    out.push_back({key, lua_istable(L, -1) ? lua_param_list_text(L, -1, at) : lua_param_text(L, -1, at)});
     lua_pop(L, 1);
   }
   std::sort(out.begin(), out.end());
