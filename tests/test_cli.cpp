@@ -2214,6 +2214,23 @@ TEST_CASE("roger eval says when a --set noise setting changed nothing", "[cli][n
   CHECK(r.status == 0);
   CHECK_THAT(r.err, Catch::Matchers::Contains("roger: warning: noise_joints_dropout = 0.6 times noise_scale = 2 is held "
                                               "at a dropout of 1: every reading of the joints channel is lost\n"));
+  // Found by a probe: a level under noise_scale 0, a delay scaled under half a tick and an image
+  // quantum of one level ran as no noise, unsaid.
+  for (const auto& [sets, said] : std::vector<std::pair<std::string, std::string>>{
+           {"--set noise_joints=0.01 --set noise_scale=0",
+            "--set noise_joints changed no world here: noise_scale is 0, and it multiplies every level"},
+           {"--set noise_joints_delay=1 --set noise_scale=0.4",
+            "--set noise_joints_delay changed no world here: times noise_scale = 0.4 it is 0.4 ticks, which rounds "
+            "to none"},
+           {"--set noise_image_quantum=1",
+            "--set noise_image_quantum changed no world here: an image quantum of one colour level or less rounds "
+            "no colour (colours are whole levels)"}}) {
+    r = roger("eval curricula/scripted.lua --policy phi6 --episodes 1 " + sets);
+    CHECK(r.status == 0);
+    CHECK_THAT(r.out, Catch::Matchers::Contains("  note           " + said + "\n"));
+  }
+  r = roger("eval curricula/scripted.lua --policy phi6 --episodes 1 --set noise_joints_delay=2 --set noise_scale=0.4");
+  CHECK(r.out.find("changed no world") == std::string::npos);  // 0.8 ticks: one
 }
 
 // Found by a probe: a skill script's goal that held in every world from the start read as 100%

@@ -61,6 +61,19 @@ std::string noise_sets_note(const std::vector<std::pair<std::string, std::string
       for (const auto& [name, v] : params)
         if (name.rfind("noise_", 0) == 0 && name != key && !ends_with(name, "_tau")) all_zero = all_zero && zero(name);
       if (all_zero) notes.push_back("--set noise_scale changed no world here: every noise level it multiplies is 0");
+    } else if (key.rfind("noise_", 0) == 0 && value.count(key) && !zero(key)) {
+      // Found by a probe: a level under noise_scale 0, a delay scaled under half a tick and an image
+      // quantum of a level or less ran as no noise at all, unsaid.
+      const double scale = value.count("noise_scale") ? std::strtod(value["noise_scale"].c_str(), nullptr) : 1.0;
+      const double asked = std::strtod(value[key].c_str(), nullptr) * scale;
+      if (scale == 0.0)
+        notes.push_back("--set " + key + " changed no world here: noise_scale is 0, and it multiplies every level");
+      else if (ends_with(key, "_delay") && std::floor(asked + 0.5) == 0.0)
+        notes.push_back("--set " + key + " changed no world here: times noise_scale = " + value["noise_scale"] +
+                        " it is " + format_number(asked) + " ticks, which rounds to none");
+      else if (key == "noise_image_quantum" && std::round(asked) <= 1.0)
+        notes.push_back("--set " + key + " changed no world here: an image quantum of one colour level or less "
+                        "rounds no colour (colours are whole levels)");
     }
   }
   // A dropout that noise_scale carries past 1 is held at 1, where every other kind past its range
