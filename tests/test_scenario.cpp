@@ -758,6 +758,20 @@ TEST_CASE("a placement step of lib/place.lua names what the scenario lacks, at t
   CHECK_THAT(error_of("place_goal", "place.goal(world, p)"),
              Contains("roger_test_place_goal.lua:5: place.goal reads the scenario parameters 'goal_y', "
                       "'goal_radius', which the scenario does not declare: add them"));
+  // Found by a probe: obstacles declared as a real (2.0) took --set obstacles=2.5 and built 2.
+  Scenario counted = test::scenario_from(
+      "place_count", "local body = require('lib.body')\nlocal place = require('lib.place')\n"
+                     "return { params = body.with_params{ obstacles = { default = 2.0, min = 0 },\n"
+                     "    obstacle_min_size = { default = 0.1 }, obstacle_max_size = { default = 0.3 },\n"
+                     "    obstacle_clearance = { default = 0.2 } },\n"
+                     "  generate = function(world, rng, p)\n    world:robot{ x = -1, y = 0 }\n"
+                     "    place.obstacles(world, rng, p)\n  end }\n");
+  CHECK(counted.generate(0).obstacles.size() == 2);
+  counted.set_param("obstacles", "2.5");
+  CHECK_THROWS_WITH(counted.generate(0),
+                    Contains("roger_test_place_count.lua:8: place.obstacles: the parameter obstacles is a count, got "
+                             "2.5 (declare it with a whole default, { default = 3, min = 0 }, and it takes whole numbers "
+                             "only)"));
 }
 
 TEST_CASE("the Lua API checks its arguments where they are given", "[scenario]") {

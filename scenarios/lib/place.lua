@@ -117,6 +117,12 @@ function place.obstacles(world, rng, p)
     error(string.format("obstacle_min_size (%g) exceeds obstacle_max_size (%g)",
                         p.obstacle_min_size, p.obstacle_max_size), 2)
   end
+  -- Found by a probe: obstacles declared with a default of 2.0 (a real) took --set obstacles=2.5
+  -- and built 2, unsaid.
+  if math.type(p.obstacles) ~= "integer" and p.obstacles ~= math.floor(p.obstacles) then
+    error(string.format("place.obstacles: the parameter obstacles is a count, got %g (declare it with a whole " ..
+                        "default, { default = 3, min = 0 }, and it takes whole numbers only)", p.obstacles), 2)
+  end
   for i = 1, p.obstacles do
     local name = "obstacle " .. i
     local shape
