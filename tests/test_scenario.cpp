@@ -772,6 +772,16 @@ TEST_CASE("a placement step of lib/place.lua names what the scenario lacks, at t
                     Contains("roger_test_place_count.lua:8: place.obstacles: the parameter obstacles is a count, got "
                              "2.5 (declare it with a whole default, { default = 3, min = 0 }, and it takes whole numbers "
                              "only)"));
+  // Found by a probe: a shape default no library shape has failed at lib/place.lua's line.
+  CHECK_THAT(test::generate_error("place_shape",
+                                  "local body = require('lib.body')\nlocal place = require('lib.place')\n"
+                                  "return { params = body.with_params{ shape = 'hexagon', mass = { default = 0.5 },\n"
+                                  "    object_wall_margin = { default = 0.9 }, robot_distance = { default = 1.0 } },\n"
+                                  "  generate = function(world, rng, p)\n    world:robot{ x = -1, y = 0 }\n"
+                                  "    place.object(world, rng, p)\n  end }\n"),
+             Contains("roger_test_place_shape.lua:7: place.object: the parameter shape is 'hexagon', which is no shape "
+                      "of lib.shapes; known shapes: circle, pentagon, spade, triangle (declare it with choices = "
+                      "shapes.names() to have it checked where it is set)"));
 }
 
 TEST_CASE("the Lua API checks its arguments where they are given", "[scenario]") {
