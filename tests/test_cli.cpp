@@ -1542,6 +1542,9 @@ TEST_CASE("bad usage exits 2 naming the option and what it expects", "[cli]") {
       {"run scripts/quick.lua --out ''", "--out: expected a path, got ''"},
       {"propose curricula/paper.lua --stage T --out /tmp/roger_cli_p --budget 0",
        "--budget: expected a number above 0 to 1000000000, got '0'"},
+      // It searched from the stage's first context, as if the option were left out.
+      {"propose curricula/paper.lua --stage T --context '' --out /tmp/roger_cli_p --budget 100",
+       "--context: expected a context's name (leave --context out for the stage's first), got ''"},
       // Found by probes: these exited 1, as a script's mistake does.
       {"propose curricula/paper.lua --stage T --out /tmp/roger_cli_p --budget 1e18",
        "--budget: expected a number above 0 to 1000000000, got '1e18'"},

@@ -64,6 +64,14 @@ CLI::Validator path_value() {
                         "PATH");
 }
 
+// A name given: not empty (found by a probe: `roger propose --context ''` searched from the stage's
+// first context, as if the option were left out, where --stage '' was refused).
+CLI::Validator name_value(const char* what) {
+  return CLI::Validator([what](std::string& text) {
+    return text.empty() ? "expected " + std::string(what) + ", got ''" : std::string();
+  }, "NAME");
+}
+
 // --shard: K/N with 0 <= K < N, or slurm (read from the job's environment when the run starts).
 CLI::Validator shard_value() {
   return CLI::Validator(
@@ -224,7 +232,8 @@ CLI::App* add_propose(CLI::App& app, ProposeArgs& a) {
   auto* c = app.add_subcommand("propose", "Propose a developmental curriculum for a stage by a budgeted search");
   c->add_option("curriculum", a.curriculum, "Curriculum script (.lua)")->required();
   c->add_option("--stage", a.stage, "The task stage (e.g. T)")->required();
-  c->add_option("--context", a.context, "The starting Psi: a context of the stage (default: its first)");
+  c->add_option("--context", a.context, "The starting Psi: a context of the stage (default: its first)")
+      ->check(name_value("a context's name (leave --context out for the stage's first)"));
   c->add_option("--budget", a.budget, "Simulated seconds of training the whole search may spend")
       ->required()->check(number_in(0.0, 1e9, true));  // propose_curriculum's bound, the parser's refusal (status 2)
   c->add_option("--out", a.out, "Folder of the proposal, its report and the search's records (re-run resumes)")->check(path_value())->required();
