@@ -859,6 +859,15 @@ TEST_CASE("roger check names a misspelt top-level key, and finds bare names of e
     fs::remove(skills);
     fs::remove(scenario);
   }
+  // A script that returns no table is no scenario more than anything else (found by a probe: `return
+  // 42` was "a scenario script must return a table").
+  const fs::path number = temp_file("roger_cli_number.lua", "return 42\n");
+  CHECK_THAT(roger("check " + number.string()).err,
+             Catch::Matchers::Contains("roger_cli_number.lua:1: a script must return a table: a scenario's {generate = "
+                                       "function(world, rng, params) ... end}, a skill script's {policies = {...}}, a "
+                                       "curriculum's {stages = {...}} or a batch script's {curriculum = ..., runs = "
+                                       "{...}}, got number"));
+  fs::remove(number);
   const Run missing = roger("check nope.lua");
   CHECK(missing.status == 1);
   CHECK_THAT(missing.err, Catch::Matchers::Contains("no script 'nope.lua': not a file here, and the project has no scenarios/nope.lua, "

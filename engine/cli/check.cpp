@@ -825,7 +825,20 @@ static int check_named_script(const CheckArgs& args) {
   if (is_skill_script(a.script))
     return check_skill_script_file(a.script, args.script, limits, split_sets(a.sets, "--set"));
   if (is_batch_script(a.script)) return check_batch(a.script, args.script, a.lua, split_sets(a.sets, "--set"));
-  return check_scenario_file(a, args.script, limits);
+  if (script_kind_of(a.script)) return check_scenario_file(a, args.script, limits);
+  // A script of no kind is checked as a scenario; one that returns no table at all is no more a
+  // scenario than anything else (found by a probe: `return 42` was "a scenario script must return
+  // a table").
+  try {
+    return check_scenario_file(a, args.script, limits);
+  } catch (const ScriptError& e) {
+    const std::string scenario_said = "a scenario script must return a table {";
+    if (e.message.rfind(scenario_said, 0) != 0) throw;
+    throw ScriptError("a script must return a table: a scenario's {generate = function(world, rng, params) ... end}, "
+                      "a skill script's {policies = {...}}, a curriculum's {stages = {...}} or a batch script's "
+                      "{curriculum = ..., runs = {...}}, got " + e.message.substr(e.message.rfind(", got ") + 6),
+                      e.file, e.line, e.traceback);
+  }
 }
 
 }  // namespace roger
