@@ -351,6 +351,20 @@ class Interface(unittest.TestCase):
         self.assertNotEqual(r.returncode, 0)
         self.assertEqual(r.stderr.strip(), "bench_python.py: --roger /nonexistent/roger: no such program")
 
+    def test_paper_ids_map_the_registered_ids(self):
+        # docs/python.md's loop over roger.PAPER_IDS, which was undocumented (found by a probe).
+        self.assertEqual(sorted(roger.PAPER_IDS), sorted(
+            [f"roger/SG-{c}-v0" for c in ("B1", "DC1", "DC2")] +
+            [f"roger/T-{c}-v0" for c in ("B2", "DC3", "DC4", "DC5", "DC6")]))
+        with open("docs/python.md") as f:
+            self.assertIn("for env_id, (stage, context) in roger.PAPER_IDS.items()", f.read())
+        for env_id, (stage, context) in roger.PAPER_IDS.items():
+            if stage == "SG":
+                env = roger.make("paper", stage, context)
+                env.reset(seed=1)
+                self.assertEqual((env.stage_info["stage"], env.stage_info["context"]), (stage, context))
+                env.close()
+
     def test_dir_lists_the_public_names(self):
         # Found by a probe: dir(roger) listed the modules it imports for itself (np, os, copy, ...).
         public = [n for n in dir(roger) if not n.startswith("_")]
