@@ -297,7 +297,9 @@ std::string check_target(const std::string& arg) {
   }
   // Found by a probe: `roger check .` spoke of the project's scenarios/..lua, and a folder named
   // dir.lua here was "not a file here". (A project script of the name comes first, as above.)
-  if (fs::is_directory(arg, ec)) throw Error("'" + arg + "' is a folder here, not a script, and the project has no script of that name: give one script");
+  if (fs::is_directory(arg, ec))
+    throw Error("'" + arg + "' is a folder here, not a script, and the project has no script of that name: give one "
+                "script");
   const std::string here = lua_file_here(arg);
   throw Error("no script '" + arg + "': not a file here, and the project has no scenarios/" + file + ", curricula/" +
               file + " or scripts/" + file + " (project: " + project_in_use() + ")" +
@@ -464,8 +466,8 @@ std::string goal_out_of_reach(const WorldModel& model) {
         free = !g.at(i, j) && (g.center(i, j) - goal.center).norm() <= reach;
     int i, j;
     if (free || (g.cell_of(goal.center, i, j) && !g.at(i, j))) continue;
-    return "goal '" + goal.name + "' at (" + format_number(goal.center.x()) + ", " + format_number(goal.center.y()) + ")" +
-           " lies where Roger's base cannot go: no point within " + format_number(reach) +
+    return "goal '" + goal.name + "' at (" + format_number(goal.center.x()) + ", " +
+           format_number(goal.center.y()) + ") lies where Roger's base cannot go: no point within " + format_number(reach) +
            " m of its centre (its radius less phi1's margin, " + format_number(margin) + " m) is " +
            format_number(model.grid_inflate) + " m clear of the walls and obstacles (the planner's growth for " +
            "this body), so phi1 {goal = \"region\"} has no reference there; move the goal inward, or make it larger";
