@@ -790,6 +790,47 @@ TEST_CASE("a context fixing what the teacher varies is refused at the context's 
                                           "'eye_pixels', which roger.teacher.lcas (" + file.string() + ":4) varies"));
 }
 
+// Found by a probe: roger.int(1, 5) over a parameter of choices 1, 3, 5 passed (its ends are
+// choices) and training failed at a 2 with no file or stage; a boolean took roger.choice{0, 1} and
+// {"yes", "no"} as --set's text, and a teacher returning false was then outside the space; a
+// number's choice "two" was told to lose its quotes.
+TEST_CASE("a task axis takes the values its parameter takes, said at the axis's line", "[teach][errors]") {
+  test::TempDir dir("roger_teach_axis_values");
+  std::ofstream(dir.path / "odd.lua") << "return { params = { level = { default = 3, choices = { 1, 3, 5 } },\n"
+                                         "    flag = { default = false }, count = { default = 1 } },\n"
+                                         "  generate = function(world, rng, p)\n"
+                                         "    world:robot{ x = 0, y = 0, heading = p.level + p.count + (p.flag and 1 or 0) }\n"
+                                         "  end }\n";
+  const auto error_of = [&](const std::string& tasks) {
+    const fs::path file = dir.path / "axis.lua";
+    std::ofstream(file) << "local p = require('lib.skills').primitives()\n"
+                           "return { name = 't', stages = { roger.stage{ name = 'S', scenario = 'odd.lua', time_limit = 4,\n"
+                           "  absorbing = roger.converged(p.phi0), budget = { episodes = 30 },\n"
+                           "  tasks = " << tasks << ",\n"
+                           "  contexts = { { name = 'A', actions = { p.search, p.phi0 } } } } } }\n";
+    try {
+      Curriculum::load(file.string());
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string("loaded");
+  };
+  CHECK_THAT(error_of("{ level = roger.int(1, 5) }"),
+             Contains("axis.lua:4: stage 'S': tasks.level = roger.int(1, 5): 'level' of scenario 'odd' takes only 1, 3, "
+                      "5: vary it with roger.choice{1, 3, 5} (or some of them)"));
+  CHECK_THAT(error_of("{ flag = roger.choice{ 0, 1 } }"),
+             Contains("axis.lua:4: stage 'S': tasks.flag: roger.choice's value 1 is 0: parameter 'flag' of scenario "
+                      "'odd' is a boolean: write roger.choice{true, false}"));
+  CHECK_THAT(error_of("{ flag = roger.choice{ 'true', 'false' } }"),
+             Contains("tasks.flag: roger.choice's value 1 is the string \"true\": parameter 'flag' of scenario 'odd' "
+                      "is a boolean: write roger.choice{true, false}"));
+  CHECK_THAT(error_of("{ count = roger.choice{ 1, 'two' } }"),
+             Catch::Matchers::EndsWith("roger.choice's value 2 is the string \"two\": parameter 'count' of scenario 'odd' takes a "
+                      "number"));
+  CHECK(error_of("{ level = roger.choice{ 1, 5 }, flag = roger.choice{ true, false }, count = roger.int(1, 3) }") ==
+        "loaded");
+}
+
 TEST_CASE("a bad task space or teacher is refused at load with file:line, the field and what is allowed",
           "[teach][errors]") {
   test::TempDir dir("roger_teach_bad");

@@ -87,13 +87,7 @@ end
 -- Roger's hands and of the goal region. Returns the object's position.
 function place.object(world, rng, p)
   check_params("object", p)
-  -- At the caller's line (found by a probe: a default of "hexagon" failed at this file's line).
-  if shapes.library[p.shape] == nil then
-    error(string.format("place.object: the parameter shape is '%s', which is no shape of lib.shapes; known " ..
-                        "shapes: %s (declare it with choices = shapes.names() to have it checked where it is set)",
-                        tostring(p.shape), table.concat(shapes.names(), ", ")), 2)
-  end
-  local shape = shapes.get(p.shape)
+  local shape = shapes.get(p.shape, "place.object")
   local x, y = world:sample_position{
     name = p.shape,
     shape = shape,

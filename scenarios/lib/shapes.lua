@@ -88,10 +88,16 @@ function shapes.names()
 end
 
 -- The library shape called `name`; an unknown name is an error at the caller's line that lists
--- the known shapes.
-function shapes.get(name)
+-- the known shapes. A library step reading the scenario's `shape` parameter names itself as
+-- `step`: the error is then at its caller's line, the scenario's (found by a probe: a default of
+-- "hexagon" failed at lib/place.lua's line).
+function shapes.get(name, step)
   local shape = shapes.library[name]
-  if shape == nil then
+  if shape == nil and step then
+    error(string.format("%s: the parameter shape is '%s', which is no shape of lib.shapes; known shapes: %s " ..
+                        "(declare it with choices = shapes.names() to have it checked where it is set)",
+                        step, tostring(name), table.concat(shapes.names(), ", ")), 3)
+  elseif shape == nil then
     error(string.format("unknown shape '%s'; known shapes: %s", tostring(name),
                         table.concat(shapes.names(), ", ")), 2)
   end

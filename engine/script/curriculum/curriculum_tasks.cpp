@@ -3,9 +3,11 @@
 // `tasks`, `teacher` and `test`, checked against the stage's scenario where they are written.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <set>
 
 #include "core/error.h"
+#include "core/text.h"
 #include "script/control/lua_control.h"
 #include "script/curriculum/curriculum_internal.h"
 #include "script/sandbox/lua_sandbox.h"
@@ -14,6 +16,13 @@
 namespace roger {
 namespace curriculum_detail {
 namespace {
+
+// Whether `text` reads whole as a number ("2", "1e0"): the text of a number written in quotes.
+bool is_number_text(const std::string& text) {
+  char* end = nullptr;
+  std::strtod(text.c_str(), &end);
+  return !text.empty() && end != text.c_str() && *end == '\0';
+}
 
 constexpr const char* kAxisType = "roger.TaskAxis";
 constexpr const char* kTeacherType = "roger.Teacher";
@@ -388,14 +397,31 @@ void check_against_scenario(const CurriculumStage& st) {
     if ((it->second.type == ParamType::kString || it->second.type == ParamType::kBoolean) && d.kind != TaskDim::Kind::kChoice)
       fail_at(where + ": '" + d.name + "' is a " + param_type_name(it->second.type) + " parameter of scenario '" +
                   s.name() + "': use roger.choice{...}", d.file, d.line);
+    // A range over a parameter of a few values would draw the others (found by a probe: roger.int(1, 5)
+    // over choices 1, 3, 5 passed its ends, and training failed at a 2 with no file or stage).
+    if (!it->second.choices.empty() && d.kind != TaskDim::Kind::kChoice)
+      fail_at(where + ": '" + d.name + "' of scenario '" + s.name() + "' takes only " + join(it->second.choices, ", ") +
+                  ": vary it with roger.choice{" + join(it->second.choices, ", ") + "} (or some of them)",
+              d.file, d.line);
+    // A boolean's choices are true and false, as its params are (found by a probe: roger.choice{0, 1}
+    // and {"yes", "no"} passed as --set's text, and a teacher returning false was outside the space).
+    if (it->second.type == ParamType::kBoolean && d.kind == TaskDim::Kind::kChoice)
+      for (size_t i = 0; i < d.choices.size(); ++i) {
+        const bool quoted = std::find(d.string_choices.begin(), d.string_choices.end(), i) != d.string_choices.end();
+        if (quoted || (d.choices[i] != "true" && d.choices[i] != "false"))
+          fail_at(st.where() + ": tasks." + d.name + ": roger.choice's value " + std::to_string(i + 1) + " is " +
+                      (quoted ? "the string \"" + d.choices[i] + "\"" : d.choices[i]) + ": parameter '" + d.name +
+                      "' of scenario '" + s.name() + "' is a boolean: write roger.choice{true, false}",
+                  d.file, d.line);
+      }
     // A number parameter's choice written as a string ("1") is refused, as a teacher's step's and an
     // LCAS level's are (found by a probe: {"1", "01", "1e0"} were three slices of the one world).
     const bool number = it->second.type == ParamType::kInteger || it->second.type == ParamType::kNumber;
     if (d.kind == TaskDim::Kind::kChoice && number)
       for (size_t i : d.string_choices)  // not said through the axis's text, which writes every value bare
         fail_at(st.where() + ": tasks." + d.name + ": roger.choice's value " + std::to_string(i + 1) + " is the string \"" +
-                    d.choices[i] + "\": parameter '" +
-                    d.name + "' of scenario '" + s.name() + "' takes a number: write " + d.choices[i] + " without quotes",
+                    d.choices[i] + "\": parameter '" + d.name + "' of scenario '" + s.name() + "' takes a number" +
+                    (is_number_text(d.choices[i]) ? ": write " + d.choices[i] + " without quotes" : ""),
                 d.file, d.line);
     if (d.kind == TaskDim::Kind::kChoice)
       for (const auto& c : d.choices) check_value(d.name, c, where, d.file, d.line);
@@ -409,7 +435,8 @@ void check_against_scenario(const CurriculumStage& st) {
     for (size_t i : st.teacher->string_levels)
       fail_at(st.where() + ": " + st.teacher->name() + ": lift." + st.teacher->lift + "[" + std::to_string(i + 1) +
                   "] is the string \"" + st.teacher->levels[i] + "\": parameter '" + st.teacher->lift +
-                  "' of scenario '" + s.name() + "' takes a number: write " + st.teacher->levels[i] + " without quotes",
+                  "' of scenario '" + s.name() + "' takes a number" +
+                  (is_number_text(st.teacher->levels[i]) ? ": write " + st.teacher->levels[i] + " without quotes" : ""),
               st.teacher->file, st.teacher->line);
   if (st.teacher && st.teacher->kind == TeacherSpec::Kind::kLcas && st.tasks.index(st.teacher->lift) < 0)
     for (const auto& level : st.teacher->levels)
