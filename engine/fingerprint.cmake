@@ -1,10 +1,15 @@
 # engine/fingerprint.cmake: writes OUT, a header defining ROGER_ENGINE_FINGERPRINT, the SHA-256
-# (first 16 hex digits) of the engine's sources: each file's path (from engine/) and text, in name order.
-# `roger run` records it in a results folder's manifest and refuses to resume the folder with an
-# engine built from other sources. Run by the build (cmake -P) whenever a source changes; OUT is
-# rewritten only when the value changes.
-file(GLOB_RECURSE sources ${ENGINE_DIR}/*.cpp ${ENGINE_DIR}/*.h)
-list(REMOVE_ITEM sources ${ENGINE_DIR}/cli/main.cpp)
+# (first 16 hex digits) of the sources of MODULES (comma-separated folders of engine/: what a trial
+# runs, engine/batch/CMakeLists.txt finds them): each file's path (from engine/) and text, in name
+# order. `roger run` records it in a results folder's manifest and refuses to resume the folder with
+# an engine whose trials were built from other sources. Run by the build (cmake -P) whenever a source
+# changes; OUT is rewritten only when the value changes.
+string(REPLACE "," ";" modules "${MODULES}")
+set(sources "")
+foreach(module IN LISTS modules)
+  file(GLOB_RECURSE module_sources ${ENGINE_DIR}/${module}/*.cpp ${ENGINE_DIR}/${module}/*.h)
+  list(APPEND sources ${module_sources})
+endforeach()
 list(SORT sources)
 set(all "")
 foreach(f IN LISTS sources)
