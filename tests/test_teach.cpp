@@ -797,9 +797,11 @@ TEST_CASE("a context fixing what the teacher varies is refused at the context's 
 TEST_CASE("a task axis takes the values its parameter takes, said at the axis's line", "[teach][errors]") {
   test::TempDir dir("roger_teach_axis_values");
   std::ofstream(dir.path / "odd.lua") << "return { params = { level = { default = 3, choices = { 1, 3, 5 } },\n"
-                                         "    flag = { default = false }, count = { default = 1 } },\n"
+                                         "    flag = { default = false }, count = { default = 1 },\n"
+                                         "    eyes = { default = '', choices = { 'left', 'right' }, list = true } },\n"
                                          "  generate = function(world, rng, p)\n"
-                                         "    world:robot{ x = 0, y = 0, heading = p.level + p.count + (p.flag and 1 or 0) }\n"
+                                         "    world:robot{ x = 0, y = 0, heading = p.level + p.count + (p.flag and 1 or 0) +\n"
+                                         "      #p.eyes }\n"
                                          "  end }\n";
   const auto error_of = [&](const std::string& tasks) {
     const fs::path file = dir.path / "axis.lua";
@@ -827,8 +829,12 @@ TEST_CASE("a task axis takes the values its parameter takes, said at the axis's 
   CHECK_THAT(error_of("{ count = roger.choice{ 1, 'two' } }"),
              Catch::Matchers::EndsWith("roger.choice's value 2 is the string \"two\": parameter 'count' of scenario 'odd' takes a "
                       "number"));
-  CHECK(error_of("{ level = roger.choice{ 1, 5 }, flag = roger.choice{ true, false }, count = roger.int(1, 3) }") ==
-        "loaded");
+  // A list's choices are sets: the same items in another order are the same worlds.
+  CHECK_THAT(error_of("{ eyes = roger.choice{ 'left,right', '', 'right, left' } }"),
+             Contains("tasks.eyes: roger.choice's values 1 and 3 (\"left,right\" and \"right, left\") list the same items "
+                      "of 'eyes', which build the same worlds: give each set once"));
+  CHECK(error_of("{ level = roger.choice{ 1, 5 }, flag = roger.choice{ true, false }, count = roger.int(1, 3),\n"
+                 "  eyes = roger.choice{ '', 'left', 'left,right' } }") == "loaded");
 }
 
 TEST_CASE("a bad task space or teacher is refused at load with file:line, the field and what is allowed",

@@ -17,6 +17,19 @@ namespace roger {
 namespace curriculum_detail {
 namespace {
 
+// The items of a list parameter's text, the spaces around each dropped, the empty ones left out.
+std::vector<std::string> list_items(const std::string& text) {
+  std::vector<std::string> items;
+  size_t start = 0;
+  while (start <= text.size()) {
+    const size_t end = std::min(text.find(',', start), text.size());
+    const size_t first = text.find_first_not_of(' ', start);
+    if (first < end) items.push_back(text.substr(first, text.find_last_not_of(' ', end - 1) + 1 - first));
+    start = end + 1;
+  }
+  return items;
+}
+
 // Whether `text` reads whole as a number ("2", "1e0"): the text of a number written in quotes.
 bool is_number_text(const std::string& text) {
   char* end = nullptr;
@@ -414,6 +427,23 @@ void check_against_scenario(const CurriculumStage& st) {
                       "' of scenario '" + s.name() + "' is a boolean: write roger.choice{true, false}",
                   d.file, d.line);
       }
+    // A list parameter's choices are sets of items: the same items in another order build the same
+    // worlds (found by a probe: "left_eye,right_eye" and "right_eye,left_eye" were two tasks).
+    if (it->second.list && d.kind == TaskDim::Kind::kChoice) {
+      std::vector<std::vector<std::string>> sets;
+      for (size_t i = 0; i < d.choices.size(); ++i) {
+        std::vector<std::string> items = list_items(d.choices[i]);
+        std::sort(items.begin(), items.end());
+        const auto same = std::find(sets.begin(), sets.end(), items);
+        if (same != sets.end())
+          fail_at(st.where() + ": tasks." + d.name + ": roger.choice's values " +
+                      std::to_string(same - sets.begin() + 1) + " and " + std::to_string(i + 1) + " (\"" +
+                      d.choices[size_t(same - sets.begin())] + "\" and \"" + d.choices[i] + "\") list the same items of '" +
+                      d.name + "', which build the same worlds: give each set once",
+                  d.file, d.line);
+        sets.push_back(std::move(items));
+      }
+    }
     // A number parameter's choice written as a string ("1") is refused, as a teacher's step's and an
     // LCAS level's are (found by a probe: {"1", "01", "1e0"} were three slices of the one world).
     const bool number = it->second.type == ParamType::kInteger || it->second.type == ParamType::kNumber;
