@@ -854,6 +854,10 @@ TEST_CASE("a bad task space or teacher is refused at load with file:line, the fi
       {"{ tasks = { obstacles = roger.int(0, math.maxinteger) } }",
        ":8: roger.int(lo, hi): hi must lie within -2^53..2^53 (-9007199254740992..9007199254740992), got "
        "9223372036854775807"},
+      // Found by a probe: 2^53 + 1 became 2^53 as a double, and passed.
+      {"{ tasks = { obstacles = roger.int(0, 9007199254740993) } }",
+       ":8: roger.int(lo, hi): hi must lie within -2^53..2^53 (-9007199254740992..9007199254740992), got "
+       "9007199254740993"},
       {"{ tasks = { shape = roger.choice{ 'circle' } } }",
        ":8: roger.choice{circle}: one value (a single value needs no axis: give the value itself, in params or in a teacher's step); give at least two"},
       // Found by a probe: a key beside the levels was dropped without a word, and a negative test

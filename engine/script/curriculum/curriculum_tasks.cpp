@@ -72,8 +72,14 @@ double bound(lua_State* L, int index, const char* call, bool integer) {
                integer ? "an integer" : "finite", format_number(v).c_str());
   // An int axis's values travel as doubles (tasks, records, teachers' fits): beyond 2^53 a double
   // no longer holds every integer, so math.maxinteger would be drawn as 2^63, a value out of range.
+  // The test is on the integer itself where Lua holds one (found by a probe: 2^53 + 1 rounded to 2^53
+  // as a double, and passed as 2^53).
   constexpr double kExactIntegers = 9007199254740992.0;  // 2^53
-  if (integer && std::fabs(v) > kExactIntegers) {
+  constexpr lua_Integer kExactInteger = 9007199254740992;
+  const bool beyond = lua_isinteger(L, index) ? (lua_tointeger(L, index) > kExactInteger ||
+                                                 lua_tointeger(L, index) < -kExactInteger)
+                                              : std::fabs(v) > kExactIntegers;
+  if (integer && beyond) {
     const std::string given = lua_isinteger(L, index) ? std::to_string(lua_tointeger(L, index)) : format_number(v);
     luaL_error(L, "%s(lo, hi): %s must lie within -2^53..2^53 (-9007199254740992..9007199254740992), got %s", call,
                index == 1 ? "lo" : "hi", given.c_str());
