@@ -1219,6 +1219,28 @@ TEST_CASE("usage errors say what is wrong", "[cli]") {
                  "report, bench, propose (see roger --help)\n");
 }
 
+// Found by a probe: a warm start from another stage's policy, learned for another goal and rewards,
+// was said as one from this stage's (docs/cli.md's example).
+TEST_CASE("roger train --init notes a policy learned in another stage", "[cli]") {
+  const fs::path out = fs::temp_directory_path() / ("roger_cli_init_stage_" + std::to_string(::getpid()));
+  Run r = roger("train curricula/paper.lua --stage T --context B2 --out " + out.string() +
+                " --init tests/policies/sg_dc2.json");
+  INFO(r.out << r.err);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains(
+                        "  init           tests/policies/sg_dc2.json: 3 of 5 actions shared, 63 states with values; at "
+                        "initial_q: phi4 <| phi5, phi1 <| phi4 <| phi5\n"
+                        "  note           --init's policy was learned in stage SG, context DC2, not T: its values are of "
+                        "that stage's goal and rewards, a start that helps only where the two agree\n"));
+  fs::remove_all(out);
+  r = roger("train curricula/paper.lua --stage T --context DC6 --out " + out.string() +
+            " --skill Phi_SG=tests/policies/sg_dc2.json --init tests/policies/t_dc6.json");
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("  init           tests/policies/t_dc6.json: "));
+  CHECK(r.out.find("--init's policy was learned in stage") == std::string::npos);  // the same stage
+  fs::remove_all(out);
+}
+
 // A device never ends and a named pipe waits for a writer: read as scripts or policies, they hung
 // (check /dev/zero grew to gigabytes) where a folder or a missing file was refused.
 TEST_CASE("a device or a pipe or a folder given as a file is refused and not read", "[cli]") {
