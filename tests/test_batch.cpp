@@ -450,7 +450,21 @@ TEST_CASE("a results folder in use by a run is refused to a second run, parts of
     CHECK(results_folder_unavailable(out.string(), Shard()) == "the results folder '" + out.string() +
                                                                   "' is in use by runs of parts of it (--shard or "
                                                                   "--only): --shard 0/2" + pid + ", --shard 1/2" + pid);
-    CHECK(results_folder_unavailable(out.string(), Shard(), {"SG"}).empty());  // the run checks parts' overlap
+    // --only SG shares trials with both shards: the run would be refused, and the dry run says so.
+    CHECK_THAT(results_folder_unavailable(out.string(), Shard(), {"SG"}),
+               Catch::Contains("is in use by a roger run of --shard ") &&
+                   Catch::EndsWith(", whose trials include some of this part's"));
+    // A part that shares trials with a part running (the same shard among them) is in use for it
+    // (found by a probe: --dry-run of a shard said "resumes" while that shard ran).
+    CHECK(results_folder_unavailable(out.string(), Shard{0, 2}) ==
+          "the results folder '" + out.string() + "' is in use by a roger run of --shard 0/2" + pid +
+              ", whose trials include some of this part's");
+    CHECK_THAT(results_folder_unavailable(out.string(), Shard{1, 2}, {"SG"}), Catch::Contains("--shard 1/2" + pid));
+    CHECK(results_folder_unavailable(out.string(), Shard{0, 3}).size() > 0);  // another N overlaps both
+    // A part refused for its overlap leaves no claim naming it (found by a probe: the claim file
+    // of --shard 1/3 named the pid of a command refused and gone).
+    CHECK_THROWS(RunningClaim(out.string(), Shard{1, 3}));
+    CHECK(fs::file_size(out / ".running-shard-1-of-3") == 0);
   }
   {
     // Disjoint --only names run together (docs/batch.md); the same names twice, or a name within

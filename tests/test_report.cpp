@@ -751,6 +751,26 @@ TEST_CASE("roger report names the first 20 trials without a result and counts th
   CHECK(std::count(text.begin(), text.end(), '\n') == 1 + 20 + 1 + 2);
 }
 
+// Found by a probe: of a 50-shard run's 568 trials past the 20 listed, the shards went unsaid, and
+// the advice to submit again "each shard K named above" named only the first 21.
+TEST_CASE("roger report names the shards of the pending trials it does not list", "[report][run]") {
+  Fixture f("report_shards");
+  RunArgs a = f.args("out", 1);
+  a.trials = 12;  // 60 trials, shard 7 of 10 running the 5 of index 7
+  a.shard = "7/10";
+  std::ostringstream ran;
+  a.progress = &ran;
+  REQUIRE(command_run(a) == 0);
+  ReportArgs r;
+  r.dir = a.out;
+  std::ostringstream said;
+  r.progress = &said;
+  CHECK(command_report(r) == 1);
+  INFO(said.str());
+  CHECK_THAT(said.str(), Catch::Matchers::Matches("(.|\n)*\n  \.\.\. and [0-9]+ more without a result: [^\n]*; of "
+                                                  "shards 0-6, 8-9\n(.|\n)*"));
+}
+
 // Found by a probe: `--only T/DC6` in a fresh folder ran its trials, each recorded as failed for the
 // policy of an SG/DC2 trial that had not run.
 TEST_CASE("an --only that needs policies outside it that have no result is refused before any trial", "[report][run]") {

@@ -1300,6 +1300,9 @@ RunningClaim::RunningClaim(const std::string& out, const Shard& shard, const std
   out_ = out, own_file_ = part_file;
   for (const LivePart& other : live_parts(out, part_file))
     if (parts_overlap(shard, names, other.shard, other.only)) {
+      // Emptied as the destructor empties it: a refused run leaves no claim naming it (found by a
+      // probe: .running-shard-1-of-3 named the pid of a command refused and gone).
+      if (::ftruncate(own_, 0) != 0) {}
       ::close(own_);
       ::close(whole_);
       throw Error(what + "a roger run of " + other.said + ", whose trials include some of this part's (" + part +
@@ -1326,7 +1329,18 @@ std::string results_folder_unavailable(const std::string& out, const Shard& shar
   const bool shared = try_flock(fd, LOCK_SH, whole);  // a whole run holds it alone; parts share it
   ::close(fd);
   if (!shared) return "the results folder '" + out + "' is in use by another roger run" + holder_of(whole);
-  if (!run_part(shard, only).first.empty()) return "";  // parts run beside parts (the run checks their overlap)
+  if (!run_part(shard, only).first.empty()) {
+    // Parts run beside parts that share no trial: one that does (the same part among them) holds
+    // the folder for this one (found by a probe: --dry-run of a shard said "resumes" while it ran).
+    std::vector<std::string> names = only;
+    std::sort(names.begin(), names.end());
+    names.erase(std::unique(names.begin(), names.end()), names.end());
+    for (const LivePart& other : live_parts(out, ""))
+      if (parts_overlap(shard, names, other.shard, other.only))
+        return "the results folder '" + out + "' is in use by a roger run of " + other.said +
+               ", whose trials include some of this part's";
+    return "";
+  }
   std::vector<std::string> said;
   for (const LivePart& part : live_parts(out, "")) said.push_back(part.said);
   std::sort(said.begin(), said.end());
@@ -1422,7 +1436,7 @@ std::string inspect_results_folder(const BatchPlan& plan, const Shard& shard) {
   const std::string damaged =
       corrupt.empty() ? "" : "; " + std::to_string(corrupt.size()) + (corrupt.size() == 1 ? " has a corrupt record" :
                                                                                             " have corrupt records") +
-                                 " and would run again (roger report " + plan.out + " says what is wrong): " +
+                                 " and would run again (roger report " + shell_word(plan.out) + " says what is wrong): " +
                                  join_some(corrupt);
   return "resumes " + plan.out + " (" + std::to_string(all - missing.size()) + " of " + std::to_string(all) +
          " trials have a result" + damaged + ")" + (note.empty() ? "" : "; " + note);
@@ -1443,7 +1457,7 @@ std::string describe_shard(const BatchPlan& plan, const Shard& shard) {
   for (int i = shard.index; i < most; i += shard.count) indices.push_back(std::to_string(i));
   return "shard " + k + " of " + n + ": trial" + (indices.size() == 1 ? " " : "s ") + join_some(indices) +
          " of every run and evaluation (i mod " + n + " = " + k + "), " + std::to_string(owned) + " of " +
-         std::to_string(all) + " trials; no report (run roger report " + plan.out + " when every shard is done)";
+         std::to_string(all) + " trials; no report (run roger report " + shell_word(plan.out) + " when every shard is done)";
 }
 
 namespace {

@@ -2,10 +2,12 @@
 // `roger report` (tables and figures from a results folder). docs/batch.md describes both.
 #include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <map>
 #include <memory>
+#include <set>
 #include <vector>
 #include <string>
 
@@ -87,6 +89,27 @@ void print_undiagnosed(int n, std::ostream& log) {
       << "the command with --explain into a new --out\n";
 }
 
+// scripts/slurm/submit.sh as a path that works from here: as it is in the project folder, else whole
+// (found by a probe: a task's log said "submit this shard again: scripts/slurm/submit.sh ..." to a
+// researcher submitting from a folder of their own, which has no scripts/).
+std::string submit_script() {
+  std::error_code ec;
+  if (std::filesystem::equivalent(std::filesystem::current_path(ec), project_root(), ec)) return "scripts/slurm/submit.sh";
+  return shell_word((project_root() / "scripts" / "slurm" / "submit.sh").string());
+}
+
+// "0-3, 7, 9-11": whole numbers, runs of consecutive ones as their ends.
+std::string number_ranges(const std::set<int>& numbers) {
+  std::string text;
+  for (auto it = numbers.begin(); it != numbers.end();) {
+    auto end = it;
+    while (std::next(end) != numbers.end() && *std::next(end) == *end + 1) ++end;
+    text += (text.empty() ? "" : ", ") + std::to_string(*it) + (end == it ? "" : "-" + std::to_string(*end));
+    it = std::next(end);
+  }
+  return text;
+}
+
 // Lists the trials a report still needs; returns 1.
 int print_missing(const std::vector<MissingTrial>& missing, const BatchPlan& plan, std::ostream& log) {
   const bool corrupt = std::any_of(missing.begin(), missing.end(), [](const MissingTrial& m) { return !m.problem.empty(); });
@@ -100,6 +123,7 @@ int print_missing(const std::vector<MissingTrial>& missing, const BatchPlan& pla
   const int kShown = pending <= 21 ? 21 : 20;
   int shown = 0;
   std::vector<std::pair<std::string, int>> rest;  // "run/context" or "evaluation" -> trials not listed
+  std::set<int> rest_shards;                       // the shards of those, for the advice below
   for (const auto& m : missing) {
     const PlannedTrial& t = *m.trial;
     if (m.problem.empty() && shown == kShown) {
@@ -107,6 +131,8 @@ int print_missing(const std::vector<MissingTrial>& missing, const BatchPlan& pla
       auto it = std::find_if(rest.begin(), rest.end(), [&](const auto& g) { return g.first == group; });
       if (it == rest.end()) it = rest.insert(rest.end(), {group, 0});
       ++it->second;
+      int shard = 0, shards = 0;
+      if (std::sscanf(m.owner.c_str(), "shard %d of %d", &shard, &shards) == 2) rest_shards.insert(shard);
       continue;
     }
     if (m.problem.empty()) ++shown;
@@ -124,7 +150,10 @@ int print_missing(const std::vector<MissingTrial>& missing, const BatchPlan& pla
       more += n;
       groups += (groups.empty() ? "" : ", ") + group + " (" + std::to_string(n) + (n == 1 ? " trial)" : " trials)");
     }
-    log << "  ... and " << more << " more without a result: " << groups << "\n";
+    // Their shards too (found by a probe: 568 more of a 50-shard run, and the advice to submit again
+    // "each shard K named above" named only the first 21).
+    log << "  ... and " << more << " more without a result: " << groups
+        << (rest_shards.empty() ? "" : "; of shards " + number_ranges(rest_shards)) << "\n";
   }
   const bool sharded = std::any_of(missing.begin(), missing.end(), [](const MissingTrial& m) { return !m.owner.empty(); });
   // The script by its place, not as it was typed (found by a probe: `roger run quick.lua` of a lab's
@@ -132,7 +161,7 @@ int print_missing(const std::vector<MissingTrial>& missing, const BatchPlan& pla
   const std::string script = plan.script->file.empty() ? plan.script->path : shown_from_project(plan.script->file);
   log << "Run the roger run command that made the folder again (roger run " << shell_word(script)
       << " --out " << shell_word(plan.out) << ", with the same options and the same --shard for a shard"
-      << (sharded ? "; shards of a Slurm array: scripts/slurm/submit.sh SCRIPT N --array=K for each shard K named "
+      << (sharded ? "; shards of a Slurm array: " + submit_script() + " SCRIPT N --array=K for each shard K named "
                     "above, with the same ROGER_OUT and ROGER_ARGS"
                   : "")
       << ") to finish them"
@@ -242,7 +271,7 @@ void print_run_start(const BatchPlan& plan, const Shard& shard, std::ostream& lo
 // the same command again", which is array.sbatch's.
 std::string submit_again(const RunArgs& a, const BatchPlan& plan, const Shard& shard) {
   if (a.shard != "slurm") return "";
-  return "scripts/slurm/submit.sh " + shell_word(plan.script->path) + " " + std::to_string(shard.count) +
+  return submit_script() + " " + shell_word(plan.script->path) + " " + std::to_string(shard.count) +
          " --array=" + std::to_string(shard.index) + ", with the same ROGER_OUT and ROGER_ARGS";
 }
 

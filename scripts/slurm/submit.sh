@@ -112,6 +112,8 @@ for ((i = 0; i < ${#run_args[@]}; i++)); do
   case ${run_args[i]} in
     --set | --lua-instructions | --lua-memory) check_args+=("${run_args[i]}" "${run_args[i + 1]:-}"); i=$((i + 1)) ;;
     --set=* | --lua-instructions=* | --lua-memory=*) check_args+=("${run_args[i]}") ;;
+    # Every task would run nothing, and the report job fail (found by a probe).
+    --dry-run) die "ROGER_ARGS has --dry-run: every task would run nothing, and the report job find no results; to see what a shard would do, run: $bin run $script --shard 0/$shards --dry-run" ;;
   esac
 done
 checked=$("$bin" check "$script" ${check_args[@]+"${check_args[@]}"}) ||

@@ -201,6 +201,13 @@ for args in "--tirals 2" "--only SGX" "--jobs 2"; do
 done
 [ ! -e "$tmp/recorder/args" ] || fail "submit.sh called sbatch with ROGER_ARGS roger run refuses"
 [ ! -e "$tmp/elsewhere/results/renamed" ] || fail "submit.sh's checks made the results folder"
+# Found by a probe: ROGER_ARGS=--dry-run passed, every task ran nothing and the report job failed.
+if out=$(cd "$tmp/elsewhere" && PATH=$tmp/recorder:$PATH ROGER_BIN=$roger ROGER_ARGS="--dry-run" bash "$submit" file_name.lua 2 2>&1); then
+  fail "submit.sh submitted with ROGER_ARGS=--dry-run"
+fi
+grep -q "ROGER_ARGS has --dry-run: every task would run nothing" <<< "$out" ||
+  fail "submit.sh with ROGER_ARGS=--dry-run: unclear message: $out"
+[ ! -e "$tmp/recorder/args" ] || fail "submit.sh called sbatch with ROGER_ARGS=--dry-run"
 # A shard submitted again while tasks of an earlier array still run: the new report waits for them
 # (found by a probe: it ran first, failed on their trials, and no report followed them). squeue
 # here names two earlier arrays of this folder and one of another (each array's comment names its
