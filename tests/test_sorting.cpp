@@ -537,7 +537,9 @@ std::string sorting_script(const fs::path& dir, const std::string& name, const s
   std::ofstream(dir / name) << "local sorting = require(\"lib.sorting\")\n"
                             << line2 << "\n"
                             << "return { name = \"x\", policies = { p = { action = " << action
-                            << ", goal = roger.converged(" << action << "), time_limit = 1 } } }\n";
+                            // Not converged(action): a chooser of sorting.by_hand has no done, and never
+                            // converges (a load refuses such a goal); these scripts are only loaded.
+                            << ", goal = roger.gamma(" << action << ", \"!CONV\"), time_limit = 1 } } }\n";
   return (dir / name).string();
 }
 
