@@ -73,6 +73,12 @@ done
 
 command -v sbatch >/dev/null 2>&1 ||
   die "sbatch not found: run this on a Slurm submit host (or put Slurm's commands on PATH)"
+# A job array's indices stop below the cluster's MaxArraySize (found by a probe: N = 5000 got
+# sbatch's bare "Invalid job array specification").
+max_array=$(scontrol show config 2>/dev/null | awk -F= '/^MaxArraySize/ { gsub(/ /, "", $2); print $2 }' || true)
+if [[ $max_array =~ ^[0-9]+$ ]] && [ "$shards" -gt "$max_array" ]; then
+  die "N = $shards shards: this cluster's MaxArraySize is $max_array, so a job array's tasks are 0 to $((max_array - 1)); give N at most $max_array (each shard then runs more trials)"
+fi
 
 here=$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")
 repo=$(cd "$here/../.." && pwd)

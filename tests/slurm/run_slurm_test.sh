@@ -208,6 +208,16 @@ fi
 grep -q "ROGER_ARGS has --dry-run: every task would run nothing" <<< "$out" ||
   fail "submit.sh with ROGER_ARGS=--dry-run: unclear message: $out"
 [ ! -e "$tmp/recorder/args" ] || fail "submit.sh called sbatch with ROGER_ARGS=--dry-run"
+# More shards than the cluster's job arrays take is said, not left to sbatch (found by a probe).
+printf '#!/bin/sh\necho "MaxArraySize            = 1001"\n' > "$tmp/recorder/scontrol"
+chmod +x "$tmp/recorder/scontrol"
+if out=$(cd "$tmp/elsewhere" && PATH=$tmp/recorder:$PATH ROGER_BIN=$roger bash "$submit" file_name.lua 5000 2>&1); then
+  fail "submit.sh submitted 5000 shards past MaxArraySize 1001"
+fi
+grep -q "N = 5000 shards: this cluster's MaxArraySize is 1001, so a job array's tasks are 0 to 1000" <<< "$out" ||
+  fail "submit.sh past MaxArraySize: unclear message: $out"
+[ ! -e "$tmp/recorder/args" ] || fail "submit.sh called sbatch past MaxArraySize"
+rm -f "$tmp/recorder/scontrol"
 # A shard submitted again while tasks of an earlier array still run: the new report waits for them
 # (found by a probe: it ran first, failed on their trials, and no report followed them). squeue
 # here names two earlier arrays of this folder and one of another (each array's comment names its
