@@ -728,12 +728,11 @@ TEST_CASE("--explain says which finished trials keep their result without a diag
   CHECK_THAT(said.log, Catch::Matchers::Contains("roger run: wrote " + (f.root / "out" / "summary.csv").string() + "\n"));
 }
 
-// Found by a probe: a folder of 823 trials without a result was 823 lines of roger report.
-TEST_CASE("roger report names the first 20 trials without a result and counts the rest", "[report][run]") {
-  Fixture f("many_missing");
-  RunArgs a = f.args("out", 1);
-  a.trials = 12;  // 60 trials
-  a.max_trials = 1;
+namespace {
+
+// What roger report says of the folder `a` leaves, after running it (exit status 1 expected: it
+// leaves trials without a result).
+std::string report_after_run(RunArgs a) {
   std::ostringstream ran;
   a.progress = &ran;
   REQUIRE(command_run(a) == 0);
@@ -742,8 +741,19 @@ TEST_CASE("roger report names the first 20 trials without a result and counts th
   std::ostringstream said;
   r.progress = &said;
   CHECK(command_report(r) == 1);
-  INFO(said.str());
-  const std::string text = said.str();
+  return said.str();
+}
+
+}  // namespace
+
+// Found by a probe: a folder of 823 trials without a result was 823 lines of roger report.
+TEST_CASE("roger report names the first 20 trials without a result and counts the rest", "[report][run]") {
+  Fixture f("many_missing");
+  RunArgs a = f.args("out", 1);
+  a.trials = 12;  // 60 trials
+  a.max_trials = 1;
+  const std::string text = report_after_run(a);
+  INFO(text);
   CHECK_THAT(text, Catch::Matchers::Contains("roger report: 59 trials of ") &&
                        Catch::Matchers::Contains("  SG/B1/001 (run SG, context B1, trial 1)\n") &&
                        Catch::Matchers::Contains("\n  ... and 39 more without a result: ") &&
@@ -758,17 +768,10 @@ TEST_CASE("roger report names the shards of the pending trials it does not list"
   RunArgs a = f.args("out", 1);
   a.trials = 12;  // 60 trials, shard 7 of 10 running the 5 of index 7
   a.shard = "7/10";
-  std::ostringstream ran;
-  a.progress = &ran;
-  REQUIRE(command_run(a) == 0);
-  ReportArgs r;
-  r.dir = a.out;
-  std::ostringstream said;
-  r.progress = &said;
-  CHECK(command_report(r) == 1);
-  INFO(said.str());
-  CHECK_THAT(said.str(), Catch::Matchers::Matches("(.|\n)*\n  \.\.\. and [0-9]+ more without a result: [^\n]*; of "
-                                                  "shards 0-6, 8-9\n(.|\n)*"));
+  const std::string text = report_after_run(a);
+  INFO(text);
+  CHECK_THAT(text, Catch::Matchers::Contains("\n  ... and 35 more without a result: ") &&
+                       Catch::Matchers::Contains("; of shards 0-6, 8-9\n"));
 }
 
 // Found by a probe: `--only T/DC6` in a fresh folder ran its trials, each recorded as failed for the
