@@ -868,6 +868,14 @@ TEST_CASE("the Lua API checks its arguments where they are given", "[scenario]")
   CHECK(run("world:obstacle{shape = shapes.get('circle'), x = 0, y = 0, colour = {1, 2, 3, r = 4}}", "colour_mixed") ==
         "world:obstacle: field 'colour' must be a colour: {r, g, b} or {r=, g=, b=} with integers "
         "0-255, or \"#rrggbb\": it mixes {r, g, b} and {r=, g=, b=}");
+  // Found by a probe: "#-1-1-1" read as white and "# 1 2 3" as #010203 (sscanf's %x takes a sign,
+  // spaces and a 0x), without a word; "#rrggbb" is six hex digits.
+  for (const char* text : {"#-1-1-1", "# 1 2 3", "#0x1e1e", "#+f+f+f", "#dc1e1g"})
+    CHECK(run(std::string("world:obstacle{shape = shapes.get('circle'), x = 0, y = 0, colour = '") + text + "'}",
+              "colour_text") == std::string("world:obstacle: field 'colour' must be a colour: {r, g, b} or {r=, g=, b=} "
+                                            "with integers 0-255, or \"#rrggbb\", got \"") + text + "\"");
+  CHECK(run("world:robot{x = -1, y = 0} world:obstacle{shape = shapes.get('circle'), x = 1, y = 1, colour = '#DC1e1E'}",
+            "colour_hex") == "no error");
   CHECK(run("roger.shape{name = 'big', polygons = {{{0,0},{1,0},{1,1},{0.5,1.5},{0,1},{-1,1},{-1,0.5},{-1,-1},{0,-1}}}}", "verts") ==
         "roger.shape: shape 'big' polygon 1: expected 3 to 8 vertices, got 9");
   CHECK(run("roger.shape{name = 'v', polygons = {{{0,0},{1,0},{0.2,0.2},{0,1}}}}", "concave")

@@ -207,10 +207,12 @@ Colour lua_to_colour(lua_State* L, int index, const std::string& context) {
   const char* expected = "a colour: {r, g, b} or {r=, g=, b=} with integers 0-255, or \"#rrggbb\"";
   if (lua_type(L, index) == LUA_TSTRING) {
     const std::string text = lua_tostring(L, index);
+    // Six hex digits after the '#': sscanf's %x alone took a sign, spaces and a 0x (found by a probe:
+    // "#-1-1-1" was white, and "# 1 2 3" #010203, each without a word).
+    const bool hex = text.size() == 7 && text[0] == '#' &&
+                     std::all_of(text.begin() + 1, text.end(), [](char c) { return std::isxdigit(uint8_t(c)) != 0; });
     unsigned r, g, b;
-    char tail;
-    if (text.size() == 7 && std::sscanf(text.c_str(), "#%2x%2x%2x%c", &r, &g, &b, &tail) == 3)
-      return Colour{uint8_t(r), uint8_t(g), uint8_t(b)};
+    if (hex && std::sscanf(text.c_str(), "#%2x%2x%2x", &r, &g, &b) == 3) return Colour{uint8_t(r), uint8_t(g), uint8_t(b)};
     luaL_error(L, "%s must be %s, got \"%s\"", context.c_str(), expected, text.c_str());
   }
   if (!lua_istable(L, index))
