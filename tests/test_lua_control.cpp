@@ -1080,6 +1080,19 @@ TEST_CASE("a skill script's slips are said as what they are", "[lua_control]") {
              Contains("snippet.lua:4: lib.sorting has no \"REGIONS\"; it has: AWAY, CARRY, COLOURS"));
   CHECK_THAT(Snippets().error(sorting + "sorting.by_hand(sorting.moves(t), 5)").what(),
              Contains("snippet.lua:4: sorting.by_hand: its second argument is the policy's name (a string), got number"));
+  // Found by a probe: moves in another order were taken (each task judged one type while its move
+  // sorted another), a table { tag, colour } judged one colour in all four tasks, and a second
+  // by_hand was told of an option tag it does not take.
+  CHECK_THAT(Snippets().error(sorting + "local m = sorting.moves(t)\nsorting.tasks({ m[4], m[3], m[2], m[1] })").what(),
+             Contains("snippet.lua:5: sorting.tasks: move 1 must be the circle move of sorting.moves (in region order: "
+                      "circle, triangle, pentagon, spade), got 'sort spade'"));
+  CHECK_THAT(Snippets().error(sorting + "sorting.tasks(sorting.moves(t), { tag = ' x', colour = '#2850dc' })").what(),
+             Contains("snippet.lua:4: sorting.tasks: its second argument is the tag (text appended to the names), got "
+                      "table; a colour is one type's: give it to sorting.task(move, type, { colour = ... })"));
+  CHECK_THAT(Snippets().error(sorting + "sorting.by_hand(sorting.moves(t))\n"
+                              "sorting.by_hand(sorting.moves(t, { tag = ' 2' }))").what(),
+             Contains("snippet.lua:5: roger.policy('sort by hand'): there is already a controller named 'sort by hand'") &&
+                 Contains("sorting.by_hand a name (sorting.by_hand(moves, \"sort 2\"))"));
   CHECK_THAT(lua.error("local a = roger.primitive('phi4')\na.subject_to(roger.primitive('phi2'))").what(),
              Contains("snippet.lua:2: c:subject_to: call it with a colon, as sub:subject_to(sup) (called with one "
                       "controller, 'phi2', and no superior"));

@@ -153,6 +153,20 @@ function sorting.tasks(moves, tag)
     error("sorting.tasks: takes the " .. #sorting.TYPES .. " moves of sorting.moves (one per type, in region order: " ..
           table.concat(sorting.TYPES, ", ") .. "), got " .. got .. "; for one type, sorting.task(move, type)", 2)
   end
+  -- Found by a probe: moves in another order were taken, each task judging one type while its move
+  -- sorted another, and a table { tag, colour } judged one colour in all four tasks.
+  if tag ~= nil and type(tag) ~= "string" then
+    error("sorting.tasks: its second argument is the tag (text appended to the names), got " .. type(tag) ..
+          "; a colour is one type's: give it to sorting.task(move, type, { colour = ... })", 2)
+  end
+  for k, t in ipairs(sorting.TYPES) do
+    local ok, name = pcall(function() return moves[k].name end)
+    if not ok or type(name) ~= "string" or name:sub(1, #("sort " .. t)) ~= "sort " .. t then
+      error("sorting.tasks: move " .. k .. " must be the " .. t .. " move of sorting.moves (in region order: " ..
+            table.concat(sorting.TYPES, ", ") .. "), got " .. (ok and type(name) == "string" and "'" .. name .. "'"
+            or tostring(moves[k])), 2)
+    end
+  end
   local tasks = {}
   for k, t in ipairs(sorting.TYPES) do tasks[k] = sorting.task(moves[k], t, tag) end
   return tasks

@@ -99,7 +99,8 @@ Location author_location(lua_State* L, std::string& library) {
 std::string another_copy_hint(const std::string& library) {
   if (library.size() >= 11 && library.compare(library.size() - 11, 11, "sorting.lua") == 0)
     return "; to build another copy, give lib.sorting's builder the option tag, text added to its names "
-           "(e.g. sorting.moves(Phi_T, { tag = \" 2\" }))";
+           "(e.g. sorting.moves(Phi_T, { tag = \" 2\" })); sorting.tasks takes the tag as its second argument "
+           "(sorting.tasks(moves, \" 2\")), and sorting.by_hand a name (sorting.by_hand(moves, \"sort 2\"))";
   return "; to build another copy, pass the library's builder a name as its last argument (e.g. "
          "skills.Phi6(p, \"Phi6_b\"))";
 }
