@@ -1089,6 +1089,18 @@ TEST_CASE("a skill script's slips are said as what they are", "[lua_control]") {
   CHECK_THAT(Snippets().error(sorting + "sorting.tasks(sorting.moves(t), { tag = ' x', colour = '#2850dc' })").what(),
              Contains("snippet.lua:4: sorting.tasks: its second argument is the tag (text appended to the names), got "
                       "table; a colour is one type's: give it to sorting.task(move, type, { colour = ... })"));
+  // Found by a probe: a value roger.bind, roger.sequence or roger.policy refused inside lib.sorting
+  // was said at the library's line, and a nil move was an empty list of actions.
+  CHECK_THAT(Snippets().error(sorting + "sorting.move(t, 'circle', { colour = 'red' })").what(),
+             Contains("snippet.lua:4: roger.bind('sort circle'): field 'stimulus' must be a colour") &&
+                 !Contains("sorting.lua"));
+  CHECK_THAT(Snippets().error(sorting + "sorting.moves(t, { retry_after = -1 })").what(),
+             Contains("snippet.lua:4: roger.bind('sort circle'): field 'retry_after'") && !Contains("sorting.lua"));
+  CHECK_THAT(Snippets().error(sorting + "sorting.task(nil, 'circle')").what(),
+             Contains("snippet.lua:4: sorting.task: its first argument is the type's move (sorting.move), got nil"));
+  CHECK_THAT(Snippets().error(sorting + "local m = sorting.moves(t)\nsorting.by_hand({ m[1], m[1] })").what(),
+             Contains("snippet.lua:5: roger.policy('sort by hand'): 'actions': two actions are named 'sort circle'") &&
+                 !Contains("sorting.lua"));
   CHECK_THAT(Snippets().error(sorting + "sorting.by_hand(sorting.moves(t))\n"
                               "sorting.by_hand(sorting.moves(t, { tag = ' 2' }))").what(),
              Contains("snippet.lua:5: roger.policy('sort by hand'): there is already a controller named 'sort by hand'") &&

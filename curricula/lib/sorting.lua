@@ -88,24 +88,51 @@ local function colour_and_region(t, options)
   return colour, region
 end
 
+-- Returns f()'s value; its error is raised at the line `level` levels above this function (as
+-- error's levels count), without this file's place: a value that roger.bind, roger.sequence or
+-- roger.policy refuses is the caller's (found by a probe: sorting.move's colour = "red" read
+-- "curricula/lib/sorting.lua:98: roger.bind('sort circle'): field 'stimulus' ..."). An error
+-- placed already at the author's line (a name used twice) keeps its place.
+local function at_caller(level, f)
+  local ok, result = pcall(f)
+  if ok then return result end
+  local message = tostring(result)
+  local rest = message:match("^[^\n]-lib/sorting%.lua:%d+: (.*)$")
+  if rest then error(rest, level) end
+  error(message, 0)
+end
+
+-- The move of one type: its errors at the caller of sorting.move or sorting.moves (4 levels up
+-- from at_caller: at_caller, this, sorting.move(s), the caller).
+local function build_move(transport, t, colour, region, options)
+  local tag = options.tag or ""
+  local steps = at_caller(4, function()
+    return roger.sequence("move " .. t .. tag, { roger.primitive("release"), transport, roger.primitive("release") },
+                          { fall_back = false })
+  end)
+  local move = at_caller(4, function()
+    return roger.bind("sort " .. t .. tag, steps,
+                      { stimulus = colour, region = region,
+                        patience = sorting.PATIENCE, sticky_noref = options.sticky_noref or false,
+                        retry_after = options.retry_after or 0 })
+  end)
+  return move
+end
+
 function sorting.move(transport, t, options)
   options = check_options("sorting.move", options, MOVE_OPTIONS, 3)
   local colour, region = colour_and_region(t, options)
-  local tag = options.tag or ""
-  local steps = roger.sequence("move " .. t .. tag,
-                               { roger.primitive("release"), transport, roger.primitive("release") },
-                               { fall_back = false })
-  return roger.bind("sort " .. t .. tag, steps,
-                    { stimulus = colour, region = region,
-                      patience = sorting.PATIENCE, sticky_noref = options.sticky_noref or false,
-                      retry_after = options.retry_after or 0 })
+  local move = build_move(transport, t, colour, region, options)  -- not a tail call: it keeps the levels
+  return move
 end
 
 -- The four moves, in region order (`options` as for sorting.move).
 function sorting.moves(transport, options)
   options = check_options("sorting.moves", options, MOVES_OPTIONS, 3)
   local moves = {}
-  for k, t in ipairs(sorting.TYPES) do moves[k] = sorting.move(transport, t, options) end
+  for k, t in ipairs(sorting.TYPES) do
+    moves[k] = build_move(transport, t, sorting.COLOURS[t], sorting.REGION[t], options)
+  end
   return moves
 end
 
@@ -129,19 +156,34 @@ sorting.SETTLE = 1.0
 -- sorting.move's colour is (by default COLOURS[t]).
 local TASK_OPTIONS = { { "tag", "string" }, { "colour", "table or string" } }
 
+-- The task of one type: its errors at the caller of sorting.task or sorting.tasks (4 levels up
+-- from at_caller, as build_move's).
+local function build_task(move, t, colour, tag)
+  local task = at_caller(4, function()
+    return roger.policy("put away " .. t .. (tag or ""), {
+      actions = { move }, table = { ["*"] = move }, rest_when_done = true,
+      done = roger.held(roger.sorted(colour), sorting.SETTLE),
+    })
+  end)
+  return task
+end
+
 function sorting.task(move, t, options)
   if type(options) ~= "table" then options = { tag = options } end
   options = check_options("sorting.task", options, TASK_OPTIONS, 3)
+  -- Found by a probe: a nil move was "'actions' must hold at least one action", of a policy the
+  -- caller never wrote.
+  if type(move) ~= "userdata" then
+    error("sorting.task: its first argument is the type's move (sorting.move), got " .. type(move), 2)
+  end
   -- roger.sorted(nil) would judge every colour, not this type's.
   local colour = options.colour or sorting.COLOURS[t]
   if type(t) ~= "string" or colour == nil then
     error("sorting.task: unknown type '" .. tostring(t) .. "' (known: " .. table.concat(sorting.TYPES, ", ") ..
           "); for a type of your own give the option colour, as to sorting.move", 2)
   end
-  return roger.policy("put away " .. t .. (options.tag or ""), {
-    actions = { move }, table = { ["*"] = move }, rest_when_done = true,
-    done = roger.held(roger.sorted(colour), sorting.SETTLE),
-  })
+  local task = build_task(move, t, colour, options.tag)
+  return task
 end
 
 -- The four tasks over `moves` (sorting.moves), in region order.
@@ -168,7 +210,7 @@ function sorting.tasks(moves, tag)
     end
   end
   local tasks = {}
-  for k, t in ipairs(sorting.TYPES) do tasks[k] = sorting.task(moves[k], t, tag) end
+  for k, t in ipairs(sorting.TYPES) do tasks[k] = build_task(moves[k], t, sorting.COLOURS[t], tag) end
   return tasks
 end
 
@@ -210,7 +252,9 @@ function sorting.by_hand(moves, name)
   if name ~= nil and type(name) ~= "string" then
     error("sorting.by_hand: its second argument is the policy's name (a string), got " .. type(name), 2)
   end
-  local chooser = roger.policy(name or "sort by hand", { actions = actions, table = table_, fallback = "rotate" })
+  local chooser = at_caller(3, function()
+    return roger.policy(name or "sort by hand", { actions = actions, table = table_, fallback = "rotate" })
+  end)
   return chooser
 end
 
