@@ -88,18 +88,15 @@ local function colour_and_region(t, options)
   return colour, region
 end
 
--- Returns f()'s value; its error is raised at the line `level` levels above this function (as
--- error's levels count), without this file's place: a value that roger.bind, roger.sequence or
--- roger.policy refuses is the caller's (found by a probe: sorting.move's colour = "red" read
--- "curricula/lib/sorting.lua:98: roger.bind('sort circle'): field 'stimulus' ..."). An error
--- placed already at the author's line (a name used twice) keeps its place.
+-- Returns f()'s value; its error is raised, its place replaced, at the line `level` levels above
+-- this function (as error's levels count): a value that roger.bind, roger.sequence or roger.policy
+-- refuses is the caller's (found by a probe: sorting.move's colour = "red" read
+-- "curricula/lib/sorting.lua:98: roger.bind('sort circle'): field 'stimulus' ..."). lib.skills'
+-- made_for_caller is the same rule for builders one level shallower.
 local function at_caller(level, f)
   local ok, result = pcall(f)
-  if ok then return result end
-  local message = tostring(result)
-  local rest = message:match("^[^\n]-lib/sorting%.lua:%d+: (.*)$")
-  if rest then error(rest, level) end
-  error(message, 0)
+  if not ok then error((tostring(result):gsub("^[^\n]-:%d+: ", "", 1)), level) end
+  return result
 end
 
 -- The move of one type: its errors at the caller of sorting.move or sorting.moves (4 levels up

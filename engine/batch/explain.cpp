@@ -112,8 +112,9 @@ std::string TrainingDiagnosis::goal_at_start_cause() const {
   if (ended_before_deciding == 0) return "";
   return std::to_string(ended_before_deciding) + " of " + std::to_string(episodes_seen) +
          " episodes (training and final) ended in the absorbing state at their start (before their first "
-         "decision, or at the first tick, when the goal is first judged): the goal held in their worlds from the start, so they teach nothing and count as successes (check the stage's "
-         "absorbing state, or the goal, against its worlds)";
+         "decision, or at the first tick, when the goal is first judged): the goal held in their worlds from the "
+         "start, so they teach nothing and count as successes (check the stage's absorbing state, or the goal, "
+         "against its worlds)";
 }
 
 std::vector<std::string> TrainingDiagnosis::causes() const {

@@ -1171,11 +1171,17 @@ Error foreign_folder_error(const std::string& out, const std::vector<std::string
                "them: give --out a new or empty folder");
 }
 
-// The part of a results folder a run claims: its shard and its --only names ("--shard 0/2 --only
-// SG"), and the claim file's name for it (".running-shard-0-of-2-only-SG"); "" for the whole.
-std::pair<std::string, std::string> run_part(const Shard& shard, std::vector<std::string> only) {
+// A part's --only names as its claim knows them: sorted, each once.
+std::vector<std::string> part_names(std::vector<std::string> only) {
   std::sort(only.begin(), only.end());
   only.erase(std::unique(only.begin(), only.end()), only.end());
+  return only;
+}
+
+// The part of a results folder a run claims: its shard and its --only names ("--shard 0/2 --only
+// SG"), and the claim file's name for it (".running-shard-0-of-2-only-SG"); "" for the whole.
+std::pair<std::string, std::string> run_part(const Shard& shard, const std::vector<std::string>& given) {
+  const std::vector<std::string> only = part_names(given);
   std::string said, file;
   if (shard.active()) {
     said = "--shard " + std::to_string(shard.index) + "/" + std::to_string(shard.count);
@@ -1293,9 +1299,7 @@ RunningClaim::RunningClaim(const std::string& out, const Shard& shard, const std
     ::close(whole_);
     throw Error(what + "another roger run of the same part (" + part + ")" + holder + then);
   }
-  std::vector<std::string> names = only;
-  std::sort(names.begin(), names.end());
-  names.erase(std::unique(names.begin(), names.end()), names.end());
+  const std::vector<std::string> names = part_names(only);
   write_holder(own_, part_line(shard, names));
   out_ = out, own_file_ = part_file;
   for (const LivePart& other : live_parts(out, part_file))
@@ -1332,9 +1336,7 @@ std::string results_folder_unavailable(const std::string& out, const Shard& shar
   if (!run_part(shard, only).first.empty()) {
     // Parts run beside parts that share no trial: one that does (the same part among them) holds
     // the folder for this one (found by a probe: --dry-run of a shard said "resumes" while it ran).
-    std::vector<std::string> names = only;
-    std::sort(names.begin(), names.end());
-    names.erase(std::unique(names.begin(), names.end()), names.end());
+    const std::vector<std::string> names = part_names(only);
     for (const LivePart& other : live_parts(out, ""))
       if (parts_overlap(shard, names, other.shard, other.only))
         return "the results folder '" + out + "' is in use by a roger run of " + other.said +

@@ -586,8 +586,10 @@ void start_table(TrainResult& res, const CurriculumStage& stage, const Curriculu
                  const TrainOptions& options) {
   if (!options.init_file.empty()) {
     res.init.emplace();
-    res.q = std::make_shared<QTable>(
-        warm_start_table(res.psi, stage.learner, QTable::load(options.init_file, {}), options.init_file, &*res.init));
+    PolicyMetadata meta;
+    const QTable earlier = QTable::load(options.init_file, {}, &meta);
+    res.init_from = {meta.stage, meta.context};
+    res.q = std::make_shared<QTable>(warm_start_table(res.psi, stage.learner, earlier, options.init_file, &*res.init));
   } else if (!ctx.init_context.empty()) {
     const TrainOptions sub = first_training(options, ctx.init_stage, ctx.init_context);
     const TrainResult first = train_first(sub, "its init");

@@ -200,7 +200,7 @@ struct TrainResult {
   std::optional<WarmStart> init;  // where the table started from (TrainOptions::init_file, a context's init)
   std::optional<TrainPoint> init_trained;  // a context's init trained first: what it spent
   bool init_reached = false;               // and whether it reached its threshold
-  std::pair<std::string, std::string> init_from;  // its stage and context
+  std::pair<std::string, std::string> init_from;  // its stage and context (a file's, as the file says them)
   // The stage's and its context's own scenario parameters (a maturation's locked joints, a
   // sorting stage's objects), said beside the command's --set so a restricted trial reads as one.
   std::vector<std::pair<std::string, std::string>> stage_params;

@@ -13,6 +13,7 @@
 
 #include "cli/cli_internal.h"
 #include "control/control.h"
+#include "control/planner.h"
 #include "control/primitives.h"
 #include "cli/commands.h"
 #include "core/fileio.h"
@@ -457,15 +458,12 @@ std::string module_given(const std::string& given, const std::string& path, cons
 // every episode failed at "no reference", the note naming other causes).
 std::string goal_out_of_reach(const WorldModel& model) {
   static const double margin = make_primitive("phi1")->number("margin");
-  const OccupancyGrid& g = model.grid;
+  HarmonicPlanner planner;  // its own goal cells, as the navigator sets them
+  planner.set_grid(model.grid);
   for (const GoalRegion& goal : model.spec.goals) {
-    const double reach = std::max(0.5 * g.cell, goal.radius - margin);
-    bool free = false;
-    for (int j = 0; j < g.ny && !free; ++j)
-      for (int i = 0; i < g.nx && !free; ++i)
-        free = !g.at(i, j) && (g.center(i, j) - goal.center).norm() <= reach;
-    int i, j;
-    if (free || (g.cell_of(goal.center, i, j) && !g.at(i, j))) continue;
+    const double reach = std::max(0.5 * model.grid.cell, goal.radius - margin);  // Navigate::prepare_region's
+    planner.set_goal(goal.center, reach);
+    if (planner.goal_cells() > 0) continue;
     return "goal '" + goal.name + "' at (" + format_number(goal.center.x()) + ", " +
            format_number(goal.center.y()) + ") lies where Roger's base cannot go: no point within " + format_number(reach) +
            " m of its centre (its radius less phi1's margin, " + format_number(margin) + " m) is " +

@@ -18,7 +18,6 @@
 #include "core/error.h"
 #include "core/fileio.h"
 #include "core/interrupt.h"
-#include "core/json_input.h"
 #include "core/text.h"
 #include "learn/episode.h"
 #include "script/curriculum/curriculum.h"
@@ -666,17 +665,6 @@ TrainOptions train_options(const TrainArgs& a) {
   return o;
 }
 
-// The stage and context a policy file says it was learned in ("" each when it does not say, or
-// cannot be read here: training read it already, and says its own errors).
-std::pair<std::string, std::string> policy_origin(const std::string& file) {
-  try {
-    const nlohmann::json j = parse_json(read_file_text(file));
-    return {j.value("stage", std::string()), j.value("context", std::string())};
-  } catch (const std::exception&) {
-    return {};
-  }
-}
-
 // What the trial trains on: its stage's parameters, the --set, its skills and its warm start.
 // Said before its first training episode (found by a probe: a trial of minutes said nothing until
 // it ended, and nothing at all when stopped), so a mistaken --set or skill can be stopped early.
@@ -706,8 +694,8 @@ void print_trained_on(const TrainArgs& a, const TrainResult& r) {
                 w.dropped.empty() ? "" : ("; left out: " + join(w.dropped)).c_str());
     // Found by a probe: a warm start from another stage's policy, learned for another goal and
     // rewards, was said as one from this stage's.
-    const auto [stage, context] = a.init.empty() ? std::pair<std::string, std::string>() : policy_origin(a.init);
-    if (!stage.empty() && stage != r.stage)
+    const auto& [stage, context] = r.init_from;
+    if (!a.init.empty() && !stage.empty() && stage != r.stage)
       std::printf("  note           --init's policy was learned in stage %s%s, not %s: its values are of that "
                   "stage's goal and rewards, a start that helps only where the two agree\n",
                   stage.c_str(), context.empty() ? "" : (", context " + context).c_str(), r.stage.c_str());

@@ -201,11 +201,10 @@ class Recorder final : public EpisodeObserver {
     if (every_ && tick % every_ == 0) record(agent, tick);
     if (every_ || !watch_.empty()) note_decision(tick, ran);
   }
-  void on_end(const Agent& agent, bool success, int ticks) override {
+  void on_end(const Agent& agent, bool /*success*/, int ticks) override {
     // The episode's last moment is always shown, whatever the frame period: the goal reached, or the
     // world at the time-out (found by a probe: a failed episode's viewer showed, at its end, the
     // world of its last frame seconds before, the very moment one renders a failure to see).
-    (void)success;
     if (every_ && (result_.frame_ticks.empty() || result_.frame_ticks.back() != ticks)) record(agent, ticks);
   }
 

@@ -581,9 +581,7 @@ std::string lua_param_list_text(lua_State* L, int index, const std::string& wher
   }
   for (lua_Integer i = 1; i <= n; ++i) {
     lua_rawgeti(L, index, i);
-    const std::string value = lua_isinteger(L, -1) ? std::to_string(lua_tointeger(L, -1))
-                              : lua_type(L, -1) == LUA_TNUMBER ? format_number(lua_tonumber(L, -1))
-                                                                : lua_tostring(L, -1);
+    const std::string value = lua_param_text(L, -1, where);  // a string or a number: checked above
     lua_pop(L, 1);
     if (value.find(',') != std::string::npos)
       luaL_error(L, "%s: item %d ('%s') holds a comma, which separates a list parameter's values", where.c_str(),

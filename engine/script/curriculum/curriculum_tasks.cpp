@@ -3,7 +3,6 @@
 // `tasks`, `teacher` and `test`, checked against the stage's scenario where they are written.
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <set>
 
 #include "core/error.h"
@@ -17,24 +16,10 @@ namespace roger {
 namespace curriculum_detail {
 namespace {
 
-// The items of a list parameter's text, the spaces around each dropped, the empty ones left out.
-std::vector<std::string> list_items(const std::string& text) {
-  std::vector<std::string> items;
-  size_t start = 0;
-  while (start <= text.size()) {
-    const size_t end = std::min(text.find(',', start), text.size());
-    const size_t first = text.find_first_not_of(' ', start);
-    if (first < end) items.push_back(text.substr(first, text.find_last_not_of(' ', end - 1) + 1 - first));
-    start = end + 1;
-  }
-  return items;
-}
-
-// Whether `text` reads whole as a number ("2", "1e0"): the text of a number written in quotes.
+// Whether `text` reads as a number ("2", "1e0"): the text of a number written in quotes.
 bool is_number_text(const std::string& text) {
-  char* end = nullptr;
-  std::strtod(text.c_str(), &end);
-  return !text.empty() && end != text.c_str() && *end == '\0';
+  double value;
+  return parse_number_text(text, value);
 }
 
 constexpr const char* kAxisType = "roger.TaskAxis";
@@ -438,7 +423,8 @@ void check_against_scenario(const CurriculumStage& st) {
     if (it->second.list && d.kind == TaskDim::Kind::kChoice) {
       std::vector<std::vector<std::string>> sets;
       for (size_t i = 0; i < d.choices.size(); ++i) {
-        std::vector<std::string> items = list_items(d.choices[i]);
+        std::vector<std::string> items = list_param_items(d.choices[i]);
+        items.erase(std::remove(items.begin(), items.end(), std::string()), items.end());
         std::sort(items.begin(), items.end());
         const auto same = std::find(sets.begin(), sets.end(), items);
         if (same != sets.end())

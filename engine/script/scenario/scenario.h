@@ -34,6 +34,13 @@ enum class ParamType { kNumber, kInteger, kString, kBoolean };
 // "number", "integer", "string" or "boolean".
 const char* param_type_name(ParamType type);
 
+// Whether `text` is a finite number as a number parameter reads it (--set's rules), and its value.
+bool parse_number_text(const std::string& text, double& value);
+
+// The items of a list parameter's text, split at its commas, the spaces and tabs around each
+// dropped; empty ones kept ("" is one empty item).
+std::vector<std::string> list_param_items(const std::string& text);
+
 // One scenario parameter: its default, current value (both as text) and constraints.
 struct ScenarioParam {
   std::string name;

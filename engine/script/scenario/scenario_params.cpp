@@ -12,6 +12,31 @@
 
 namespace roger {
 
+// A finite number; one too small for a double (1e-400) is its nearest, not an error: only
+// overflow is.
+bool parse_number_text(const std::string& text, double& value) {
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(text.c_str(), &end);
+  const bool underflow = errno == ERANGE && std::fabs(v) <= std::numeric_limits<double>::min();
+  if (text.empty() || *end || (errno && !underflow) || !std::isfinite(v)) return false;
+  value = v;
+  return true;
+}
+
+std::vector<std::string> list_param_items(const std::string& text) {
+  std::vector<std::string> items;
+  for (size_t from = 0; from <= text.size();) {
+    const size_t comma = std::min(text.find(',', from), text.size());
+    std::string item = text.substr(from, comma - from);
+    item.erase(0, item.find_first_not_of(" \t"));
+    item.erase(item.find_last_not_of(" \t") + 1);
+    items.push_back(std::move(item));
+    from = comma + 1;
+  }
+  return items;
+}
+
 const char* param_type_name(ParamType type) {
   switch (type) {
     case ParamType::kNumber: return "number";
@@ -83,18 +108,6 @@ bool parse_integer_text(const std::string& text, int64_t& value) {
   return true;
 }
 
-// A finite number; one too small for a double (1e-400) is its nearest, not an error: only
-// overflow is.
-bool parse_number_text(const std::string& text, double& value) {
-  char* end = nullptr;
-  errno = 0;
-  const double v = std::strtod(text.c_str(), &end);
-  const bool underflow = errno == ERANGE && std::fabs(v) <= std::numeric_limits<double>::min();
-  if (text.empty() || *end || (errno && !underflow) || !std::isfinite(v)) return false;
-  value = v;
-  return true;
-}
-
 bool parse_boolean_text(const std::string& text, bool& value) {
   const std::string t = lower_ascii(text);
   if (t == "true" || t == "1" || t == "yes" || t == "on") return value = true, true;
@@ -106,13 +119,8 @@ bool parse_boolean_text(const std::string& text, bool& value) {
 // there once (a name twice is most likely another mistyped as it: world:robot refuses it, at a
 // library's line).
 bool check_list_items(const ParamSlot& s, const std::string& canonical, std::string& why) {
-  size_t from = 0;
   std::vector<std::string> seen;
-  while (from <= canonical.size()) {
-    const size_t comma = std::min(canonical.find(',', from), canonical.size());
-    std::string item = canonical.substr(from, comma - from);
-    item.erase(0, item.find_first_not_of(" \t"));
-    item.erase(item.find_last_not_of(" \t") + 1);
+  for (const std::string& item : list_param_items(canonical)) {
     // An empty item beside others ("left_eye,", ",") is most likely one left out: "" alone is none
     // (found by a probe: --set locked=, locked nothing, unsaid).
     if (item.empty() && canonical.find_first_not_of(" \t") != std::string::npos)
@@ -122,7 +130,6 @@ bool check_list_items(const ParamSlot& s, const std::string& canonical, std::str
     if (!item.empty() && std::find(seen.begin(), seen.end(), item) != seen.end())
       return why = expected_text(s.info) + ", each once", false;
     seen.push_back(item);
-    from = comma + 1;
   }
   return true;
 }
